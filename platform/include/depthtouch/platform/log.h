@@ -1,0 +1,62 @@
+#pragma once
+/// \file
+/// \brief Logging for non-real-time threads: one category per module, printf-style messages, one line each.
+///
+/// Output: "[   12.345678] WARN  Category: message" on stderr (or a sink installed for tests).
+/// The level is set per category from the environment variable DT_LOG ("debug", or "Haptic:debug,*:warn")
+/// or with setLogLevel(). Thread-safety: thread-safe (a mutex serialises lines). **Never call from the
+/// real-time thread**: formatting and the stderr write may allocate or block.
+
+#include <atomic>
+#include <cstdarg>
+
+namespace depthtouch::platform {
+
+enum class LogLevel : int { Debug = 0, Info = 1, Warning = 2, Error = 3, Off = 4 };
+
+/// A log category: a static name and its current threshold. Declare with DT_LOG_CATEGORY.
+struct LogCategory {
+    const char *name;
+    mutable std::atomic<int> level{-1}; ///< -1: not yet resolved from DT_LOG.
+
+    [[nodiscard]] LogLevel threshold() const noexcept;
+    [[nodiscard]] bool enabled(LogLevel l) const noexcept { return static_cast<int>(l) >= static_cast<int>(threshold()); }
+};
+
+/// Receives each formatted line (without newline). Used by tests to capture output.
+using LogSink = void (*)(void *user, LogLevel level, const char *category, const char *message);
+
+/// Writes one line if \a level passes the category's threshold.
+void logMessage(const LogCategory &category, LogLevel level, const char *format, ...) noexcept
+    __attribute__((format(printf, 3, 4)));
+void logMessageV(const LogCategory &category, LogLevel level, const char *format, std::va_list args) noexcept;
+
+/// Sets the threshold of every category (overrides DT_LOG).
+void setLogLevel(LogLevel level) noexcept;
+/// Parses "debug", "info", "warn", "error", "off". \return false when the text is none of them.
+bool parseLogLevel(const char *text, LogLevel &out) noexcept;
+/// Installs \a sink (nullptr restores stderr). Thread-safe.
+void setLogSink(LogSink sink, void *user) noexcept;
+
+} // namespace depthtouch::platform
+
+/// Declares a log category in a .cpp file: `DT_LOG_CATEGORY(Haptic)` then `DT_LOG(Haptic, Info, "...")`.
+#define DT_LOG_CATEGORY(Name)                                                                      \
+    namespace {                                                                                    \
+    const ::depthtouch::platform::LogCategory kLogCategory##Name{#Name};                           \
+    }
+
+#define DT_LOG(Name, Level, ...)                                                                   \
+    do {                                                                                           \
+        if (kLogCategory##Name.enabled(::depthtouch::platform::LogLevel::Level))                   \
+            ::depthtouch::platform::logMessage(kLogCategory##Name,                                 \
+                                               ::depthtouch::platform::LogLevel::Level, __VA_ARGS__); \
+    } while (0)
+
+/// Logs only the first time this line runs (process-wide).
+#define DT_LOG_ONCE(Name, Level, ...)                                                              \
+    do {                                                                                           \
+        static std::atomic<bool> dtLoggedOnce_{false};                                             \
+        if (!dtLoggedOnce_.exchange(true))                                                         \
+            DT_LOG(Name, Level, __VA_ARGS__);                                                      \
+    } while (0)

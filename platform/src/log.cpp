@@ -1,0 +1,137 @@
+#include "depthtouch/platform/log.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <mutex>
+#include <strings.h>
+
+namespace depthtouch::platform {
+
+namespace {
+
+std::mutex gMutex;                       // Serialises output lines and guards the sink.
+LogSink gSink = nullptr;                 // Guarded by gMutex.
+void *gSinkUser = nullptr;               // Guarded by gMutex.
+std::atomic<int> gGlobalOverride{-1};    // setLogLevel(); -1 when unset.
+
+const char *levelTag(LogLevel level) noexcept
+{
+    switch (level) {
+    case LogLevel::Debug: return "DEBUG";
+    case LogLevel::Info: return "INFO ";
+    case LogLevel::Warning: return "WARN ";
+    case LogLevel::Error: return "ERROR";
+    case LogLevel::Off: break;
+    }
+    return "     ";
+}
+
+/// Resolves a category's threshold from DT_LOG: a list of "[Category:]level" items separated by commas;
+/// "*" or a bare level sets the default. Later items win.
+LogLevel levelFromEnvironment(const char *category) noexcept
+{
+    LogLevel result = LogLevel::Info;
+    const char *env = std::getenv("DT_LOG");
+    if (env == nullptr)
+        return result;
+    const std::size_t catLen = std::strlen(category);
+    const char *item = env;
+    while (*item != '\0') {
+        const char *end = std::strchr(item, ',');
+        const std::size_t len = end != nullptr ? static_cast<std::size_t>(end - item) : std::strlen(item);
+        char buf[64];
+        const std::size_t n = len < sizeof(buf) - 1 ? len : sizeof(buf) - 1;
+        std::memcpy(buf, item, n);
+        buf[n] = '\0';
+        char *colon = std::strchr(buf, ':');
+        LogLevel parsed{};
+        if (colon == nullptr) {
+            if (parseLogLevel(buf, parsed))
+                result = parsed;
+        } else {
+            *colon = '\0';
+            const bool matches = std::strcmp(buf, "*") == 0 ||
+                                 (std::strlen(buf) == catLen && strncasecmp(buf, category, catLen) == 0);
+            if (matches && parseLogLevel(colon + 1, parsed))
+                result = parsed;
+        }
+        if (end == nullptr)
+            break;
+        item = end + 1;
+    }
+    return result;
+}
+
+} // namespace
+
+LogLevel LogCategory::threshold() const noexcept
+{
+    const int global = gGlobalOverride.load(std::memory_order_relaxed);
+    if (global >= 0)
+        return static_cast<LogLevel>(global);
+    int l = level.load(std::memory_order_relaxed);
+    if (l < 0) {
+        l = static_cast<int>(levelFromEnvironment(name));
+        level.store(l, std::memory_order_relaxed);
+    }
+    return static_cast<LogLevel>(l);
+}
+
+bool parseLogLevel(const char *text, LogLevel &out) noexcept
+{
+    struct Name {
+        const char *name;
+        LogLevel level;
+    };
+    static constexpr Name kNames[] = {
+        {"debug", LogLevel::Debug}, {"info", LogLevel::Info},   {"warn", LogLevel::Warning},
+        {"warning", LogLevel::Warning}, {"error", LogLevel::Error}, {"off", LogLevel::Off},
+    };
+    if (text == nullptr)
+        return false;
+    for (const Name &n : kNames) {
+        if (strcasecmp(text, n.name) == 0) {
+            out = n.level;
+            return true;
+        }
+    }
+    return false;
+}
+
+void setLogLevel(LogLevel level) noexcept { gGlobalOverride.store(static_cast<int>(level)); }
+
+void setLogSink(LogSink sink, void *user) noexcept
+{
+    std::lock_guard<std::mutex> lock(gMutex);
+    gSink = sink;
+    gSinkUser = user;
+}
+
+void logMessageV(const LogCategory &category, LogLevel level, const char *format, std::va_list args) noexcept
+{
+    if (!category.enabled(level) || level == LogLevel::Off)
+        return;
+    char message[1024];
+    std::vsnprintf(message, sizeof(message), format, args);
+    std::lock_guard<std::mutex> lock(gMutex);
+    if (gSink != nullptr) {
+        gSink(gSinkUser, level, category.name, message);
+        return;
+    }
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    std::fprintf(stderr, "[%5lld.%06ld] %s %s: %s\n", static_cast<long long>(ts.tv_sec), ts.tv_nsec / 1000,
+                 levelTag(level), category.name, message);
+}
+
+void logMessage(const LogCategory &category, LogLevel level, const char *format, ...) noexcept
+{
+    std::va_list args;
+    va_start(args, format);
+    logMessageV(category, level, format, args);
+    va_end(args);
+}
+
+} // namespace depthtouch::platform
