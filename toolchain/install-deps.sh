@@ -28,6 +28,8 @@ HOST_PACKAGES=(
 # -dev packages the cross build links against, per Debian architecture.
 CROSS_DEV_PACKAGES=(
     libgtest-dev libgmock-dev
+    libavcodec-dev libavformat-dev libavutil-dev libswscale-dev
+    libegl-dev libgles-dev libgbm-dev libdrm-dev
     libusb-1.0-0-dev libevdev-dev
 )
 

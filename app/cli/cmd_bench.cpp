@@ -1,0 +1,17 @@
+/// \file
+/// \brief `depthtouch bench`: benchmark programs (speed and accuracy figures, CSV + PNG charts).
+
+#include <CLI/CLI.hpp>
+
+#include "commands.h"
+
+namespace depthtouch::cli {
+
+void registerBenchCommand(CLI::App &app, int &exitCode)
+{
+    CLI::App *bench = app.add_subcommand("bench", "Benchmarks: print figures, write CSV, JSON and PNG charts");
+    bench->require_subcommand(1);
+    registerBenchHapticsCommand(*bench, exitCode);
+}
+
+} // namespace depthtouch::cli
