@@ -17,6 +17,8 @@ HOST_PACKAGES=(
     googletest libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
     # libraries used by the app layer
     libglm-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
+    # depth enhancement: Delaunay triangulation
+    libcgal-dev
     # drivers: FFmpeg (decode, encode, image I/O) and its command-line tools for tests
     libavcodec-dev libavformat-dev libavutil-dev libswscale-dev ffmpeg
     # drivers: EGL + GLES on Mesa (llvmpipe when there is no GPU), GBM/KMS, X11
