@@ -1,0 +1,153 @@
+#pragma once
+/// \file
+/// \brief The touchable surface: an implicit triangulated height field over the current and the next
+/// buffered depth frame, with local surface interpolation (paper IV.B, Eq. 1; DESIGN.md §3).
+///
+/// No mesh is ever built: a vertex height is computed from the samples only when an update asks for it,
+/// so an update costs the same at 720×486 and at 3840×2160. Thread-safety: thread-bound (the haptic
+/// thread); the frames it views must stay alive and unchanged while they are set.
+
+#include <cmath>
+#include <cstdint>
+
+#include <glm/vec3.hpp>
+
+#include "depthtouch/haptics/depth_frame.h"
+#include "depthtouch/platform/result.h"
+
+namespace depthtouch::haptics {
+
+/// \brief One triangle of the grid: cell (c, r) split by the diagonal (c, r)–(c+1, r+1) (DESIGN.md §3).
+///
+/// `upper == 0`: vertices (c, r), (c+1, r), (c+1, r+1) — the half where (u − c) ≥ (v − r).
+/// `upper == 1`: vertices (c, r), (c+1, r+1), (c, r+1). Columns/rows are sample indices.
+struct TriangleId {
+    int c = 0;
+    int r = 0;
+    int upper = 0;
+    friend bool operator==(const TriangleId &, const TriangleId &) = default;
+};
+
+/// \return the grid coordinates (column, row) of vertex \a k (0..2) of \a tri, in the order above.
+inline void triangleVertex(const TriangleId &tri, int k, int &c, int &r) noexcept
+{
+    if (k == 0) {
+        c = tri.c;
+        r = tri.r;
+    } else if (k == 1) {
+        c = tri.c + 1;
+        r = tri.upper ? tri.r + 1 : tri.r;
+    } else {
+        c = tri.upper ? tri.c : tri.c + 1;
+        r = tri.r + 1;
+    }
+}
+
+/// \brief A W×H height field in the scene box, interpolated in time between two frames.
+///
+/// Frame (DESIGN.md §3): metres, origin at the box centre, x right, y up, z toward the viewer.
+/// Vertex (c, r) is at `x = (c − (W−1)/2)·s`, `y = ((H−1)/2 − r)·s`, `s = box.width/(W−1)`,
+/// `z = (v/v_max − 0.5)·box.depth`. Grid coordinates `u = x/s + (W−1)/2` (column) and
+/// `v = (H−1)/2 − y/s` (row) are used internally.
+///
+/// Time (paper Eq. 1): after setTime(t, true) a vertex height is `z_i + (z_{i+1} − z_i)·α`,
+/// `α = (t − t_i)/(t_{i+1} − t_i)` clamped to [0, 1]; with setTime(t, false) or no next frame it is z_i
+/// (sample-and-hold). A vertex whose height changes by more than the cut threshold between the two
+/// frames is held at z_i until the frame boundary instead of being interpolated: a scene cut or the
+/// edge of a fast object stays a step that force-jump safety (paper IV.C) can see, rather than a fast
+/// ramp that it cannot tell from a firm stroke.
+class HeightField {
+public:
+    HeightField() noexcept = default;
+    /// \param box scene box (both sizes > 0, checked by setFrames()).
+    explicit HeightField(SceneBox box) noexcept : box_(box), cut_(0.25 * box.depth) {}
+
+    /// \brief Views \a current (frame i) and optionally \a next (frame i+1). No copy, no allocation.
+    /// \param next may be null (then the surface is held at frame i); same W×H as \a current,
+    /// PTS greater than current's.
+    /// \return Errc::InvalidArgument (and the previous frames stay set) when a frame is malformed,
+    /// the sizes differ, the PTS do not increase or the box is not positive.
+    [[nodiscard]] Result<void> setFrames(const DepthFrameView &current,
+                                         const DepthFrameView *next) noexcept;
+
+    /// \brief Sets the haptic time \a t (s, same clock as the frames' PTS) and whether to interpolate.
+    void setTime(double t, bool interpolate) noexcept;
+
+    /// \brief Vertices whose height changes by more than \a metres between frame i and i+1 are held
+    /// (not interpolated). Default 0.25·box depth; +infinity interpolates every vertex.
+    void setCutThreshold(double metres) noexcept
+    {
+        cutSetting_ = metres;
+        cut_ = std::isnan(metres) ? 0.25 * box_.depth : metres;
+    }
+    /// \return the cut threshold in effect, m.
+    [[nodiscard]] double cutThreshold() const noexcept { return cut_; }
+
+    [[nodiscard]] bool valid() const noexcept { return current_.data != nullptr; }
+    [[nodiscard]] int columns() const noexcept { return current_.width; }  ///< W
+    [[nodiscard]] int rows() const noexcept { return current_.height; }    ///< H
+    [[nodiscard]] double spacing() const noexcept { return spacing_; }     ///< s, m
+    [[nodiscard]] double alpha() const noexcept { return alpha_; }         ///< Eq. 1 weight in [0, 1]
+    [[nodiscard]] const SceneBox &box() const noexcept { return box_; }
+    [[nodiscard]] const DepthFrameView &current() const noexcept { return current_; }
+    [[nodiscard]] bool hasNext() const noexcept { return hasNext_; }
+
+    /// Grid ↔ scene-box coordinates (pixels ↔ m).
+    [[nodiscard]] double xToColumn(double x) const noexcept { return x * invSpacing_ + halfW_; }
+    [[nodiscard]] double yToRow(double y) const noexcept { return halfH_ - y * invSpacing_; }
+    [[nodiscard]] double columnToX(double u) const noexcept { return (u - halfW_) * spacing_; }
+    [[nodiscard]] double rowToY(double v) const noexcept { return (halfH_ - v) * spacing_; }
+
+    /// \return z of \a frame's sample (c, r), m, without interpolation.
+    [[nodiscard]] double frameZ(const DepthFrameView &frame, int c, int r) const noexcept
+    {
+        return static_cast<double>(frame.sample(c, r)) * (box_.depth / maxSampleValue(frame.format)) -
+               0.5 * box_.depth;
+    }
+
+    /// \return the interpolated height of vertex (c, r), m. \pre 0 ≤ c < W, 0 ≤ r < H.
+    [[nodiscard]] double vertexZ(int c, int r) const noexcept
+    {
+        const double z0 = static_cast<double>(current_.sample(c, r)) * zScaleCurrent_ - halfDepth_;
+        if (alpha_ <= 0.0)
+            return z0;
+        const double z1 = static_cast<double>(next_.sample(c, r)) * zScaleNext_ - halfDepth_;
+        const double dz = z1 - z0;
+        if (std::fabs(dz) > cut_)
+            return z0;
+        return z0 + dz * alpha_;
+    }
+
+    /// \return vertex (c, r) in the scene-box frame, m.
+    [[nodiscard]] glm::dvec3 vertex(int c, int r) const noexcept
+    {
+        return {columnToX(c), rowToY(r), vertexZ(c, r)};
+    }
+
+    /// \return true when (x, y) (m) lies over the grid (inside the box's x–y extent, borders included).
+    [[nodiscard]] bool contains(double x, double y) const noexcept;
+
+    /// \return the surface height h(x, y), m, on the triangle under (x, y). \pre contains(x, y).
+    [[nodiscard]] double heightAt(double x, double y) const noexcept;
+
+    /// \return the triangle under (x, y). \pre contains(x, y).
+    [[nodiscard]] TriangleId triangleAt(double x, double y) const noexcept;
+
+private:
+    SceneBox box_{};
+    DepthFrameView current_{};
+    DepthFrameView next_{};
+    bool hasNext_ = false;
+    double spacing_ = 0.0;
+    double invSpacing_ = 0.0;
+    double halfW_ = 0.0;
+    double halfH_ = 0.0;
+    double halfDepth_ = 0.0;
+    double zScaleCurrent_ = 0.0;
+    double zScaleNext_ = 0.0;
+    double alpha_ = 0.0;
+    double cutSetting_ = std::nan(""); ///< NaN: 0.25·box depth
+    double cut_ = 0.25 * SceneBox{}.depth;
+};
+
+} // namespace depthtouch::haptics

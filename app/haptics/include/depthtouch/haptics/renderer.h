@@ -1,0 +1,175 @@
+#pragma once
+/// \file
+/// \brief Haptic renderers for depth video: the modified proxy graph (paper IV) and, for comparison
+/// only, its baselines (`proxy-graph` = the same class with fixes a–c off, `mesh-bvh` in mesh_bvh.h).
+///
+/// One update per haptic tick: `update(hip, t)` → proxy, force. Units (DESIGN.md §3): m, s, N, N/m,
+/// N·s/m; positions in the scene-box frame (x right, y up, z toward the viewer).
+/// Thread-safety of every renderer: thread-bound (the haptic thread). update() and setFrames() are
+/// noexcept and never allocate; all memory is taken at construction.
+
+#include <cstdint>
+#include <memory>
+#include <string_view>
+
+#include <glm/vec3.hpp>
+
+#include "depthtouch/haptics/collision.h"
+#include "depthtouch/haptics/depth_frame.h"
+#include "depthtouch/haptics/height_field.h"
+#include "depthtouch/platform/result.h"
+
+namespace depthtouch::haptics {
+
+/// \brief Which renderer (the `--method` option).
+enum class Method : std::uint8_t {
+    Modified,   ///< Modified proxy graph, fixes (a)(b)(c) on: the player's renderer.
+    ProxyGraph, ///< Walker & Salisbury on sample-and-hold frames: fixes off (baseline).
+    MeshBvh,    ///< Full triangle mesh + AABB tree rebuilt for every frame (baseline).
+};
+
+/// \return "modified", "proxy-graph" or "mesh-bvh".
+const char *methodName(Method method) noexcept;
+/// \brief Parses a methodName(). \return Errc::InvalidArgument for any other text.
+Result<Method> parseMethod(std::string_view text) noexcept;
+
+/// \brief What force-jump safety does once it trips (paper IV.C and beyond).
+enum class Reengage : std::uint8_t {
+    Release, ///< Paper IV.C: the proxy collocates with the HIP (zero force) and may stay inside.
+    Ramp,    ///< The proxy is re-seated on the surface above the HIP and the force ramps in.
+};
+
+/// \brief Renderer parameters. Defaults are the player's (DESIGN.md §3).
+struct RendererConfig {
+    SceneBox box{};             ///< Scene box the frames fill, m.
+    double stiffness = 800.0;   ///< k, N/m (> 0).
+    double damping = 0.0;       ///< b, N·s/m (≥ 0); F −= b·v_HIP while in contact.
+    double maxForce = 8.5;      ///< Device maximum, N (> 0): |F| is clamped to it.
+    bool correction = true;     ///< Fix (a), paper IV.A: lift the previous proxy with the surface.
+    bool interpolation = true;  ///< Fix (b), paper IV.B Eq. 1: interpolate frames i → i+1.
+    bool safety = true;         ///< Fix (c), paper IV.C: force-jump safety.
+    /// Force-jump threshold, N per update. Default 2 N: at k = 800 N/m a stroke at 1 m/s into a steep
+    /// smooth wall changes the force by at most k·1 mm = 0.8 N per 1 ms update and surface motion that
+    /// is interpolated (< cut threshold per frame) adds < 0.3 N, so smooth use never trips; a cut of half
+    /// the box depth (20 mm) changes the unclamped force by 16 N, so it always trips. The check uses the
+    /// unclamped force, so it trips even when the clamped force was already at the maximum.
+    double maxForceStep = 2.0;
+    Reengage reengage = Reengage::Release; ///< Action after a trip.
+    double rampTime = 0.25;     ///< Ramp duration for Reengage::Ramp, s (> 0).
+    /// Vertices moving more than this between two frames are not interpolated (held, then stepped at
+    /// the frame boundary) so a cut stays visible to safety, m. NaN = 0.25·box depth.
+    double cutThreshold = std::nan("");
+
+    /// \return the configuration of \a method: Modified all fixes on; ProxyGraph and MeshBvh all off.
+    static RendererConfig forMethod(Method method) noexcept;
+    /// \brief Checks ranges. \return Errc::InvalidArgument with a static message.
+    [[nodiscard]] Result<void> validate() const noexcept;
+};
+
+/// \brief Result of one haptic update (one force-log row, DESIGN.md §4).
+struct HapticOutput {
+    glm::dvec3 hip{};       ///< HIP, m.
+    glm::dvec3 proxy{};     ///< Proxy after the update, m.
+    glm::dvec3 force{};     ///< Commanded force, N (clamped, ramped, slew-limited).
+    bool contact = false;   ///< Proxy held on the surface.
+    bool released = false;  ///< Safety tripped on this update.
+    int constraints = 0;    ///< Active constraint planes at the proxy (0 in free space).
+    int cellsVisited = 0;   ///< Cost figures of this update (collision detection).
+    int cellsTested = 0;
+    int proxySteps = 0;     ///< Triangles the proxy slid across.
+};
+
+/// \brief Interface shared by the renderers (tests, benchmark and the replay loop use it).
+class HapticRenderer {
+public:
+    virtual ~HapticRenderer() = default;
+
+    /// \brief Sets frame i (\a current) and the buffered frame i+1 (\a next, may be null).
+    /// The views' pixels must stay alive and unchanged until the next setFrames().
+    /// \return Errc::InvalidArgument for malformed frames or a size above the constructed maximum.
+    [[nodiscard]] virtual Result<void> setFrames(const DepthFrameView &current,
+                                                 const DepthFrameView *next) noexcept = 0;
+
+    /// \brief One haptic update at haptic time \a t (s, the frames' clock) with HIP \a hip (m).
+    /// \pre setFrames() succeeded at least once; \a t does not decrease.
+    virtual HapticOutput update(const glm::dvec3 &hip, double t) noexcept = 0;
+
+    /// \brief Forgets the proxy and force history; the proxy collocates with \a hip.
+    virtual void reset(const glm::dvec3 &hip) noexcept = 0;
+
+    [[nodiscard]] virtual Method method() const noexcept = 0;
+
+protected:
+    HapticRenderer() = default;
+    HapticRenderer(const HapticRenderer &) = default;
+    HapticRenderer &operator=(const HapticRenderer &) = default;
+};
+
+/// \brief The force stage shared by all renderers: spring, damping, clamp, force-jump safety (IV.C),
+/// ramp re-engagement and slew limit. Thread-bound; no allocation.
+class ForceStage {
+public:
+    explicit ForceStage(const RendererConfig &config) noexcept : config_(config) {}
+
+    /// \brief Inputs of one update and the surface height lookup for re-seating.
+    /// \param[in,out] proxy proxy after the update; set to the HIP (Release) or re-seated (Ramp) on a trip.
+    /// \param surfaceAboveHip height of the surface above the HIP, m, or NaN when there is none.
+    /// \return the commanded force, N, and fills out.released / out.contact.
+    glm::dvec3 apply(const glm::dvec3 &hip, glm::dvec3 &proxy, bool &contact, double t,
+                     double surfaceAboveHip, bool &released) noexcept;
+    void reset() noexcept;
+
+private:
+    RendererConfig config_;
+    bool havePrev_ = false;
+    glm::dvec3 prevRaw_{};
+    glm::dvec3 prevCommand_{};
+    glm::dvec3 prevHip_{};
+    double prevT_ = 0.0;
+    bool ramping_ = false;
+    double rampStartT_ = 0.0;
+    glm::dvec3 rampStart_{};
+};
+
+/// \brief The modified proxy graph renderer (paper IV) on an implicit height field; with fixes off
+/// it is the `proxy-graph` baseline (Walker & Salisbury on sample-and-hold frames).
+///
+/// Per update: (a) lift the previous proxy by how far the surface under it rose since the last update;
+/// (b) vertex heights interpolated by the haptic time (HeightField); collision detection by 2-D DDA
+/// (collision.h); god-object proxy update (proxy_solver.h); force `k·(proxy − HIP)` − damping, clamped;
+/// (c) force-jump safety (ForceStage). Per new frame: two pointers are stored (no mesh, no tree).
+class ProxyGraphRenderer final : public HapticRenderer {
+public:
+    /// \param config validated by the caller (see RendererConfig::validate()).
+    explicit ProxyGraphRenderer(const RendererConfig &config) noexcept;
+
+    [[nodiscard]] Result<void> setFrames(const DepthFrameView &current,
+                                         const DepthFrameView *next) noexcept override;
+    HapticOutput update(const glm::dvec3 &hip, double t) noexcept override;
+    void reset(const glm::dvec3 &hip) noexcept override;
+    [[nodiscard]] Method method() const noexcept override
+    {
+        return config_.correction || config_.interpolation || config_.safety ? Method::Modified
+                                                                             : Method::ProxyGraph;
+    }
+
+    /// The surface as of the last update (for tests and diagnostics).
+    [[nodiscard]] const HeightField &surface() const noexcept { return field_; }
+    [[nodiscard]] const RendererConfig &config() const noexcept { return config_; }
+
+private:
+    RendererConfig config_;
+    HeightField field_;
+    ForceStage force_;
+    glm::dvec3 proxy_{};
+    bool haveProxy_ = false;
+    double surfaceUnderProxy_ = 0.0; ///< h(proxy.xy) at the end of the last update, or NaN.
+};
+
+/// \brief Creates the renderer of \a method with \a config (its fix flags are used as given).
+/// \param maxWidth, maxHeight largest frame the renderer will see (mesh-bvh preallocates for it).
+/// \return Errc::InvalidArgument for a bad config, Errc::OutOfResources when allocation fails.
+Result<std::unique_ptr<HapticRenderer>> makeRenderer(Method method, const RendererConfig &config,
+                                                     int maxWidth, int maxHeight);
+
+} // namespace depthtouch::haptics

@@ -1,0 +1,20 @@
+#include "depthtouch/haptics/depth_frame.h"
+
+#include <cmath>
+
+namespace depthtouch::haptics {
+
+Result<void> DepthFrameView::validate() const noexcept
+{
+    if (data == nullptr)
+        return unexpected(Errc::InvalidArgument, "depth frame has no pixels");
+    if (width < 2 || height < 2)
+        return unexpected(Errc::InvalidArgument, "depth frame must be at least 2x2 samples");
+    if (strideBytes < static_cast<std::size_t>(width) * bytesPerSample(format))
+        return unexpected(Errc::InvalidArgument, "depth frame row stride is shorter than a row");
+    if (!std::isfinite(pts))
+        return unexpected(Errc::InvalidArgument, "depth frame PTS is not finite");
+    return ok();
+}
+
+} // namespace depthtouch::haptics

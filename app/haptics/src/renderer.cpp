@@ -1,0 +1,221 @@
+#include "depthtouch/haptics/renderer.h"
+
+#include <cmath>
+#include <new>
+
+#include <glm/geometric.hpp>
+
+#include "depthtouch/haptics/mesh_bvh.h"
+#include "depthtouch/haptics/proxy_solver.h"
+
+namespace depthtouch::haptics {
+
+namespace {
+
+glm::dvec3 clampLength(const glm::dvec3 &v, double maxLength) noexcept
+{
+    const double len = glm::length(v);
+    if (len > maxLength && len > 0.0)
+        return v * (maxLength / len);
+    return v;
+}
+
+} // namespace
+
+const char *methodName(Method method) noexcept
+{
+    switch (method) {
+    case Method::Modified: return "modified";
+    case Method::ProxyGraph: return "proxy-graph";
+    case Method::MeshBvh: return "mesh-bvh";
+    }
+    return "?";
+}
+
+Result<Method> parseMethod(std::string_view text) noexcept
+{
+    for (Method m : {Method::Modified, Method::ProxyGraph, Method::MeshBvh})
+        if (text == methodName(m))
+            return m;
+    return unexpected(Errc::InvalidArgument, "unknown method (modified, proxy-graph or mesh-bvh)");
+}
+
+RendererConfig RendererConfig::forMethod(Method method) noexcept
+{
+    RendererConfig c;
+    const bool fixes = method == Method::Modified;
+    c.correction = fixes;
+    c.interpolation = fixes;
+    c.safety = fixes;
+    return c;
+}
+
+Result<void> RendererConfig::validate() const noexcept
+{
+    auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+    if (!positive(box.width) || !positive(box.depth))
+        return unexpected(Errc::InvalidArgument, "box width and depth must be positive");
+    if (!positive(stiffness))
+        return unexpected(Errc::InvalidArgument, "stiffness must be positive");
+    if (!std::isfinite(damping) || damping < 0.0)
+        return unexpected(Errc::InvalidArgument, "damping must be zero or positive");
+    if (!positive(maxForce))
+        return unexpected(Errc::InvalidArgument, "max force must be positive");
+    if (!positive(maxForceStep))
+        return unexpected(Errc::InvalidArgument, "max force step must be positive");
+    if (!positive(rampTime))
+        return unexpected(Errc::InvalidArgument, "ramp time must be positive");
+    if (!std::isnan(cutThreshold) && !(cutThreshold > 0.0))
+        return unexpected(Errc::InvalidArgument, "cut threshold must be positive");
+    return ok();
+}
+
+// ---------------------------------------------------------------------------------------------------
+
+void ForceStage::reset() noexcept
+{
+    havePrev_ = false;
+    prevRaw_ = prevCommand_ = prevHip_ = glm::dvec3(0.0);
+    prevT_ = 0.0;
+    ramping_ = false;
+}
+
+glm::dvec3 ForceStage::apply(const glm::dvec3 &hip, glm::dvec3 &proxy, bool &contact, double t,
+                             double surfaceAboveHip, bool &released) noexcept
+{
+    const double k = config_.stiffness;
+    glm::dvec3 raw = k * (proxy - hip);
+    if (contact && config_.damping > 0.0 && havePrev_ && t > prevT_)
+        raw -= config_.damping * (hip - prevHip_) / (t - prevT_);
+    released = false;
+    glm::dvec3 command;
+    if (!config_.safety) {
+        command = clampLength(raw, config_.maxForce);
+    } else {
+        // Paper IV.C: watch the force; a change above the threshold in one update is a scene cut or
+        // the edge of a fast object, not something the viewer did.
+        if (havePrev_ && glm::length(raw - prevRaw_) > config_.maxForceStep) {
+            released = true;
+            if (config_.reengage == Reengage::Release || std::isnan(surfaceAboveHip) ||
+                !(surfaceAboveHip > hip.z)) {
+                proxy = hip;
+                contact = false;
+            } else {
+                proxy = glm::dvec3(hip.x, hip.y, surfaceAboveHip);
+                contact = true;
+            }
+            raw = k * (proxy - hip);
+            ramping_ = config_.reengage == Reengage::Ramp && contact;
+            rampStartT_ = t;
+            rampStart_ = prevCommand_;
+        }
+        glm::dvec3 target = raw;
+        if (ramping_) {
+            const double a = (t - rampStartT_) / config_.rampTime;
+            if (a >= 1.0)
+                ramping_ = false;
+            else
+                target = rampStart_ + (raw - rampStart_) * std::max(a, 0.0);
+        }
+        target = clampLength(target, config_.maxForce);
+        // Final guard: the commanded force never moves by more than the threshold in one update
+        // (a release from a large force unloads over a few updates instead of in one step).
+        command = prevCommand_ + clampLength(target - prevCommand_, config_.maxForceStep);
+    }
+    prevRaw_ = raw;
+    prevCommand_ = command;
+    prevHip_ = hip;
+    prevT_ = t;
+    havePrev_ = true;
+    return command;
+}
+
+// ---------------------------------------------------------------------------------------------------
+
+ProxyGraphRenderer::ProxyGraphRenderer(const RendererConfig &config) noexcept
+    : config_(config), field_(config.box), force_(config)
+{
+    field_.setCutThreshold(config.cutThreshold);
+}
+
+Result<void> ProxyGraphRenderer::setFrames(const DepthFrameView &current,
+                                           const DepthFrameView *next) noexcept
+{
+    return field_.setFrames(current, next);
+}
+
+void ProxyGraphRenderer::reset(const glm::dvec3 &hip) noexcept
+{
+    proxy_ = hip;
+    haveProxy_ = false;
+    surfaceUnderProxy_ = std::nan("");
+    force_.reset();
+}
+
+HapticOutput ProxyGraphRenderer::update(const glm::dvec3 &hip, double t) noexcept
+{
+    HapticOutput out;
+    out.hip = hip;
+    field_.setTime(t, config_.interpolation);
+    glm::dvec3 start = haveProxy_ ? proxy_ : hip;
+    // Fix (a), paper IV.A / Fig. 7: move the previous proxy up by how far the surface under it rose
+    // since the last update, so a rising surface cannot pass through it.
+    if (config_.correction && haveProxy_ && !std::isnan(surfaceUnderProxy_) &&
+        field_.contains(start.x, start.y)) {
+        const double rise = field_.heightAt(start.x, start.y) - surfaceUnderProxy_;
+        if (rise > 0.0)
+            start.z += rise;
+    }
+    glm::dvec3 proxy = hip;
+    bool contact = false;
+    const Crossing hit = firstCrossing(field_, start, hip);
+    out.cellsVisited = hit.cellsVisited;
+    out.cellsTested = hit.cellsTested;
+    if (hit.hit) {
+        const ProxySolution sol = solveProxy(field_, hit.triangle, hip);
+        out.proxySteps = sol.steps;
+        // The proxy may have slid to where nothing separates it from the HIP any more (it went
+        // round a ridge): then it is free.
+        const Crossing again = firstCrossing(field_, sol.point, hip);
+        out.cellsVisited += again.cellsVisited;
+        out.cellsTested += again.cellsTested;
+        if (again.hit) {
+            proxy = sol.point;
+            contact = true;
+            out.constraints = sol.constraints;
+        }
+    }
+    const double above =
+        field_.contains(hip.x, hip.y) ? field_.heightAt(hip.x, hip.y) : std::nan("");
+    out.force = force_.apply(hip, proxy, contact, t, above, out.released);
+    if (out.released)
+        out.constraints = contact ? 1 : 0;
+    out.proxy = proxy;
+    out.contact = contact;
+    proxy_ = proxy;
+    haveProxy_ = true;
+    surfaceUnderProxy_ =
+        field_.contains(proxy.x, proxy.y) ? field_.heightAt(proxy.x, proxy.y) : std::nan("");
+    return out;
+}
+
+Result<std::unique_ptr<HapticRenderer>> makeRenderer(Method method, const RendererConfig &config,
+                                                     int maxWidth, int maxHeight)
+{
+    DT_TRY(config.validate());
+    if (maxWidth < 2 || maxHeight < 2)
+        return unexpected(Errc::InvalidArgument, "frame size must be at least 2x2");
+    std::unique_ptr<HapticRenderer> r;
+    if (method == Method::MeshBvh) {
+        try {
+            r = std::make_unique<MeshBvhRenderer>(config, maxWidth, maxHeight);
+        } catch (const std::bad_alloc &) {
+            return unexpected(Errc::OutOfResources, "not enough memory for the mesh and its tree");
+        }
+    } else {
+        r = std::make_unique<ProxyGraphRenderer>(config);
+    }
+    return r;
+}
+
+} // namespace depthtouch::haptics
