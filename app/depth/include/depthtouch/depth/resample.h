@@ -1,0 +1,49 @@
+#pragma once
+/// \file
+/// \brief Resampling a depth map to another grid (depth to the color grid, or to `--size`).
+///
+/// Sample centres are aligned: output sample (x, y) looks at source position
+/// `((x + 0.5)·Ws/W − 0.5, (y + 0.5)·Hs/H − 0.5)`.
+///  - Nearest: the closest source sample; never invents depths between a foreground and a background
+///    ("flying pixels"), blocky when upscaling.
+///  - EdgeAware: bilinear interpolation of the 2×2 source neighbours when their range (max − min) is at
+///    most \a edgeThreshold levels, otherwise the nearest sample: smooth on surfaces, sharp at depth
+///    discontinuities.
+/// Resample after fillInvalid() (holes would otherwise leak into their neighbours).
+/// Thread-safety: reentrant.
+
+#include <cstdint>
+
+#include "depthtouch/depth/plane.h"
+#include "depthtouch/platform/result.h"
+
+namespace depthtouch::depth {
+
+enum class ResampleMethod : std::uint8_t { Nearest, EdgeAware };
+
+/// \brief Resamples \a src (Ws×Hs, nearness levels) to \a width × \a height.
+/// \param[in] edgeThreshold EdgeAware only: largest 2×2 range (nearness levels) still interpolated
+/// \return the W×H plane; Errc::InvalidArgument when \a src is empty or the size is not positive.
+Result<Plane<float>> resample(const Plane<float> &src, int width, int height,
+                              ResampleMethod method = ResampleMethod::EdgeAware,
+                              float edgeThreshold = 4.0f);
+
+/// \brief Nearest-sample resampling of any plane (e.g. a validity mask). Same alignment as resample().
+/// \pre src non-empty, width > 0, height > 0 (an empty plane is returned otherwise).
+template <class T>
+Plane<T> resampleNearest(const Plane<T> &src, int width, int height)
+{
+    if (src.empty() || width <= 0 || height <= 0)
+        return {};
+    Plane<T> out(width, height);
+    for (int y = 0; y < height; ++y) {
+        const int sy = static_cast<int>((static_cast<double>(y) + 0.5) * src.height / height);
+        for (int x = 0; x < width; ++x) {
+            const int sx = static_cast<int>((static_cast<double>(x) + 0.5) * src.width / width);
+            out.at(x, y) = src.clamped(sx, sy);
+        }
+    }
+    return out;
+}
+
+} // namespace depthtouch::depth

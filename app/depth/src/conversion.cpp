@@ -1,0 +1,139 @@
+/// \file
+/// \brief Metric depth → nearness conversion (see conversion.h).
+
+#include "depthtouch/depth/conversion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace depthtouch::depth {
+
+const char *mappingName(DepthMapping mapping) noexcept
+{
+    switch (mapping) {
+    case DepthMapping::InverseZ:
+        return "inverse_z";
+    case DepthMapping::Linear:
+        return "linear";
+    }
+    return "inverse_z";
+}
+
+Result<DepthMapping> parseMapping(std::string_view text) noexcept
+{
+    if (text == "inverse_z" || text == "inverse" || text == "1/z" || text == "mpeg")
+        return DepthMapping::InverseZ;
+    if (text == "linear")
+        return DepthMapping::Linear;
+    return unexpected(Errc::InvalidArgument, "Unknown depth mapping (use inverse_z or linear)");
+}
+
+double metresToNearness(double zM, DepthRange range, DepthMapping mapping, double vmax) noexcept
+{
+    double t = 0.0;
+    if (mapping == DepthMapping::InverseZ)
+        t = (1.0 / zM - 1.0 / range.farM) / (1.0 / range.nearM - 1.0 / range.farM);
+    else
+        t = (range.farM - zM) / (range.farM - range.nearM);
+    return std::clamp(t, 0.0, 1.0) * vmax;
+}
+
+double nearnessToMetres(double v, DepthRange range, DepthMapping mapping, double vmax) noexcept
+{
+    const double t = std::clamp(v / vmax, 0.0, 1.0);
+    if (mapping == DepthMapping::InverseZ)
+        return 1.0 / (t * (1.0 / range.nearM - 1.0 / range.farM) + 1.0 / range.farM);
+    return range.farM - t * (range.farM - range.nearM);
+}
+
+Result<DepthRange> robustRange(const Plane<std::uint16_t> &raw, const RawDepthFormat &format,
+                               double lowFraction, double highFraction)
+{
+    if (!(lowFraction >= 0.0 && lowFraction < highFraction && highFraction <= 1.0))
+        return unexpected(Errc::InvalidArgument, "Depth range quantiles must satisfy 0 <= low < high <= 1");
+    if (!(format.metresPerUnit > 0.0))
+        return unexpected(Errc::InvalidArgument, "Depth scale must be positive");
+    std::vector<std::uint16_t> valid;
+    valid.reserve(raw.size());
+    for (const std::uint16_t v : raw.samples)
+        if (format.isValid(v))
+            valid.push_back(v);
+    if (valid.empty())
+        return unexpected(Errc::InvalidArgument, "No valid depth sample to estimate near/far from");
+
+    const auto quantile = [&valid](double f) {
+        const auto last = static_cast<double>(valid.size() - 1);
+        const auto k = static_cast<std::size_t>(std::lround(f * last));
+        std::nth_element(valid.begin(), valid.begin() + static_cast<std::ptrdiff_t>(k), valid.end());
+        return static_cast<double>(valid[k]);
+    };
+    DepthRange range{quantile(lowFraction) * format.metresPerUnit,
+                     quantile(highFraction) * format.metresPerUnit};
+    if (range.farM <= range.nearM * 1.0001) {
+        const double mid = 0.5 * (range.nearM + range.farM);
+        range = DepthRange{mid * 0.99, mid * 1.01};
+    }
+    return range;
+}
+
+Result<NearnessFrame> metricToNearness(const Plane<std::uint16_t> &raw, const ConvertOptions &options)
+{
+    if (raw.empty() || raw.width <= 0 || raw.height <= 0)
+        return unexpected(Errc::InvalidArgument, "Empty depth frame");
+    if (!(options.vmax > 0.0))
+        return unexpected(Errc::InvalidArgument, "Nearness scale vmax must be positive");
+    if (!(options.raw.metresPerUnit > 0.0))
+        return unexpected(Errc::InvalidArgument, "Depth scale must be positive");
+
+    NearnessFrame frame;
+    if (options.range) {
+        if (!(options.range->nearM > 0.0 && options.range->nearM < options.range->farM))
+            return unexpected(Errc::InvalidArgument, "Depth planes must satisfy 0 < near < far");
+        frame.range = *options.range;
+    } else {
+        auto r = robustRange(raw, options.raw, options.lowFraction, options.highFraction);
+        if (!r)
+            return unexpected(r.error());
+        frame.range = *r;
+    }
+
+    frame.nearness = Plane<float>(raw.width, raw.height, 0.0f);
+    frame.valid = Plane<std::uint8_t>(raw.width, raw.height, 0);
+    for (std::size_t i = 0; i < raw.size(); ++i) {
+        const std::uint16_t v = raw.samples[i];
+        if (!options.raw.isValid(v)) {
+            ++frame.invalidCount;
+            continue;
+        }
+        const double z = static_cast<double>(v) * options.raw.metresPerUnit;
+        frame.nearness.samples[i] =
+            static_cast<float>(metresToNearness(z, frame.range, options.mapping, options.vmax));
+        frame.valid.samples[i] = 1;
+    }
+    return frame;
+}
+
+NearnessFrame nearnessFrom8Bit(const Plane<std::uint8_t> &nearness8)
+{
+    NearnessFrame frame;
+    frame.nearness = Plane<float>(nearness8.width, nearness8.height);
+    frame.valid = Plane<std::uint8_t>(nearness8.width, nearness8.height, 1);
+    for (std::size_t i = 0; i < nearness8.size(); ++i)
+        frame.nearness.samples[i] = static_cast<float>(nearness8.samples[i]);
+    frame.range = DepthRange{};
+    return frame;
+}
+
+Plane<std::uint16_t> quantize(const Plane<float> &nearness, double vmax)
+{
+    const double top = std::clamp(vmax, 0.0, 65535.0);
+    Plane<std::uint16_t> out(nearness.width, nearness.height);
+    for (std::size_t i = 0; i < nearness.size(); ++i) {
+        const double v = std::clamp(std::round(static_cast<double>(nearness.samples[i])), 0.0, top);
+        out.samples[i] = static_cast<std::uint16_t>(v);
+    }
+    return out;
+}
+
+} // namespace depthtouch::depth
