@@ -224,7 +224,7 @@ Crossing MeshBvhRenderer::firstCrossingBvh(const glm::dvec3 &p0, const glm::dvec
 void MeshBvhRenderer::reset(const glm::dvec3 &hip) noexcept
 {
     proxy_ = hip;
-    haveProxy_ = false;
+    haveProxy_ = true;
     force_.reset();
 }
 

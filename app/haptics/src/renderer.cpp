@@ -147,7 +147,7 @@ Result<void> ProxyGraphRenderer::setFrames(const DepthFrameView &current,
 void ProxyGraphRenderer::reset(const glm::dvec3 &hip) noexcept
 {
     proxy_ = hip;
-    haveProxy_ = false;
+    haveProxy_ = true;
     surfaceUnderProxy_ = std::nan("");
     force_.reset();
 }

@@ -1,0 +1,133 @@
+#include "depthtouch/haptics/proxy_solver.h"
+
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "app/haptics/synthetic.h"
+#include "depthtouch/haptics/collision.h"
+
+namespace depthtouch::haptics {
+namespace {
+
+using test::OwnedFrame;
+
+constexpr SceneBox kBox{0.10, 0.04};
+
+/// A 16-bit frame whose nearness is an exact function of (c, r).
+template <class F>
+OwnedFrame gridFrame(int w, int h, F v)
+{
+    OwnedFrame f(w, h, SampleFormat::Gray16, 0.0);
+    for (int r = 0; r < h; ++r)
+        for (int c = 0; c < w; ++c)
+            f.set(c, r, static_cast<std::uint32_t>(v(c, r)));
+    return f;
+}
+
+ProxySolution solveFrom(const HeightField &hf, const glm::dvec3 &above, const glm::dvec3 &hip)
+{
+    const Crossing c = firstCrossing(hf, above, hip);
+    EXPECT_TRUE(c.hit);
+    return solveProxy(hf, c.triangle, hip);
+}
+
+TEST(ProxySolverTest, closestPointRegionsOfATriangle)
+{
+    const glm::dvec3 a(0, 0, 0);
+    const glm::dvec3 b(1, 0, 0);
+    const glm::dvec3 c(0, 1, 0);
+    TriangleRegion rg{};
+    EXPECT_LT(glm::length(closestPointOnTriangle({0.2, 0.2, -1}, a, b, c, rg) -
+                          glm::dvec3(0.2, 0.2, 0)),
+              1e-15);
+    EXPECT_EQ(rg, TriangleRegion::Face);
+    EXPECT_EQ(closestPointOnTriangle({0.5, -1, 0}, a, b, c, rg), glm::dvec3(0.5, 0, 0));
+    EXPECT_EQ(rg, TriangleRegion::EdgeAB);
+    closestPointOnTriangle({1, 1, 0}, a, b, c, rg);
+    EXPECT_EQ(rg, TriangleRegion::EdgeBC);
+    EXPECT_EQ(closestPointOnTriangle({-1, -1, 3}, a, b, c, rg), a);
+    EXPECT_EQ(rg, TriangleRegion::VertexA);
+    EXPECT_EQ(closestPointOnTriangle({2, -0.5, 0}, a, b, c, rg), b);
+    EXPECT_EQ(rg, TriangleRegion::VertexB);
+}
+
+TEST(ProxySolverTest, slidesToTheOrthogonalProjectionOnATiltedPlane)
+{
+    // GIVEN an exact plane (nearness linear in column and row)
+    const OwnedFrame f = gridFrame(21, 15, [](int c, int r) { return 20000 + 900 * c + 400 * r; });
+    HeightField hf(kBox);
+    ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
+    const glm::dvec3 p0 = hf.vertex(0, 0);
+    const glm::dvec3 n =
+        glm::normalize(glm::cross(hf.vertex(1, 0) - p0, hf.vertex(0, 1) - p0)) * -1.0;
+    ASSERT_GT(n.z, 0.0);
+    // WHEN the HIP is 3 mm under the plane far from where it entered
+    const glm::dvec3 onPlane = hf.vertex(12, 6) + glm::dvec3(0.0011, -0.0007, 0.0);
+    const glm::dvec3 surfacePoint(onPlane.x, onPlane.y, hf.heightAt(onPlane.x, onPlane.y));
+    const glm::dvec3 hip = surfacePoint - 0.003 * n;
+    const ProxySolution sol = solveFrom(hf, hf.vertex(5, 5) + glm::dvec3(0, 0, 0.001), hip);
+    // THEN the proxy is the orthogonal projection: on one face, exactly k-independent geometry
+    EXPECT_NEAR(glm::length(sol.point - surfacePoint), 0.0, 1e-12);
+    EXPECT_EQ(sol.constraints, 1);
+    EXPECT_GT(sol.steps, 3); // it slid across several triangles within this one update
+}
+
+TEST(ProxySolverTest, restsInAConcaveCreaseWithTwoConstraints)
+{
+    // GIVEN a V-shaped valley along column 10
+    const OwnedFrame f = gridFrame(21, 15, [](int c, int) { return 20000 + 1500 * std::abs(c - 10); });
+    HeightField hf(kBox);
+    ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
+    const glm::dvec3 bottom = hf.vertex(10, 7);
+    // WHEN the HIP presses straight down under the valley line
+    const glm::dvec3 hip = bottom + glm::dvec3(0.0, 0.001, -0.004);
+    const ProxySolution sol = solveFrom(hf, bottom + glm::dvec3(0.003, 0.001, 0.01), hip);
+    // THEN the proxy sits on the crease above the HIP
+    EXPECT_NEAR(sol.point.x, bottom.x, 1e-12);
+    EXPECT_NEAR(sol.point.y, hip.y, 1e-12);
+    EXPECT_NEAR(sol.point.z, bottom.z, 1e-12);
+    EXPECT_EQ(sol.constraints, 2);
+}
+
+TEST(ProxySolverTest, restsInAConcaveCornerWithThreeConstraints)
+{
+    // GIVEN a pit whose lowest point is vertex (10, 7)
+    const OwnedFrame f = gridFrame(
+        21, 15, [](int c, int r) { return 20000 + 1500 * std::abs(c - 10) + 1300 * std::abs(r - 7); });
+    HeightField hf(kBox);
+    ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
+    const glm::dvec3 pit = hf.vertex(10, 7);
+    const glm::dvec3 hip = pit + glm::dvec3(0.0, 0.0, -0.005);
+    const ProxySolution sol = solveFrom(hf, pit + glm::dvec3(-0.004, 0.003, 0.02), hip);
+    EXPECT_NEAR(glm::length(sol.point - pit), 0.0, 1e-12);
+    EXPECT_EQ(sol.constraints, 3);
+}
+
+TEST(ProxySolverTest, staysOnAConvexRidgeWhenPressedUnderIt)
+{
+    // GIVEN a roof whose ridge runs along column 10
+    const OwnedFrame f = gridFrame(21, 15, [](int c, int) { return 40000 - 1500 * std::abs(c - 10); });
+    HeightField hf(kBox);
+    ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
+    const glm::dvec3 top = hf.vertex(10, 7);
+    // WHEN pressed straight under the ridge THEN the proxy slides off the ridge onto a face: inside a
+    // convex wedge the nearest surface point is on a face, at 1 mm·cos(slope), never on the edge
+    const glm::dvec3 hipUnder = top + glm::dvec3(0.0, 0.0013, -0.001);
+    const ProxySolution onRidge = solveFrom(hf, top + glm::dvec3(0.0, 0.0, 0.01), hipUnder);
+    const double slope = (hf.vertex(10, 7).z - hf.vertex(11, 7).z) / hf.spacing();
+    EXPECT_NEAR(glm::length(onRidge.point - hipUnder), 0.001 / std::sqrt(1.0 + slope * slope), 1e-12);
+    EXPECT_EQ(onRidge.constraints, 1);
+    EXPECT_NEAR(onRidge.point.z, hf.heightAt(onRidge.point.x, onRidge.point.y), 1e-12);
+    // WHEN pressed under one side THEN it slides down onto that side's face
+    const glm::dvec3 side = hf.vertex(14, 7);
+    const ProxySolution onFace =
+        solveFrom(hf, top + glm::dvec3(0.0, 0.0, 0.01), side + glm::dvec3(0.0, 0.0003, -0.002));
+    EXPECT_EQ(onFace.constraints, 1);
+    EXPECT_GT(onFace.point.x, top.x);
+    EXPECT_NEAR(onFace.point.z, hf.heightAt(onFace.point.x, onFace.point.y), 1e-12);
+}
+
+} // namespace
+} // namespace depthtouch::haptics

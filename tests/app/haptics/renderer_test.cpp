@@ -1,0 +1,252 @@
+#include "depthtouch/haptics/renderer.h"
+
+#include <cmath>
+#include <random>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "app/haptics/synthetic.h"
+#include "depthtouch/haptics/mesh_bvh.h"
+
+namespace depthtouch::haptics {
+namespace {
+
+using test::makeFrame;
+using test::OwnedFrame;
+
+constexpr SceneBox kBox{0.10, 0.04};
+
+double bumpy(double x, double y)
+{
+    return 0.006 * std::sin(90.0 * x) * std::cos(70.0 * y) + 0.003 * std::sin(150.0 * x + 3.0 * y);
+}
+
+/// Moves the HIP from 5 mm above (x, y, zSurface) down to \a depth below it in 1 kHz steps.
+HapticOutput pressDown(HapticRenderer &r, double x, double y, double zSurface, double depth, double &t)
+{
+    HapticOutput out;
+    for (double z = zSurface + 0.005; z > zSurface - depth; z -= 0.0001) {
+        out = r.update({x, y, z}, t);
+        t += 0.001;
+    }
+    out = r.update({x, y, zSurface - depth}, t);
+    t += 0.001;
+    return out;
+}
+
+TEST(RendererTest, pressingIntoAFlatSurfaceGivesASpringForce)
+{
+    // GIVEN a flat surface and the modified renderer
+    const OwnedFrame f = makeFrame(kBox, 64, 48, 0.0, [](double, double) { return 0.002; });
+    RendererConfig cfg;
+    ProxyGraphRenderer r(cfg);
+    ASSERT_TRUE(r.setFrames(f.view(), nullptr));
+    const double z = r.surface().vertexZ(0, 0);
+    double t = 0.0;
+    r.reset({0.01, 0.005, z + 0.005});
+    // WHEN the HIP is pressed 3 mm in
+    const HapticOutput out = pressDown(r, 0.01, 0.005, z, 0.003, t);
+    // THEN F = k·(proxy − HIP) = 800 N/m · 3 mm along +z, proxy on the surface
+    EXPECT_TRUE(out.contact);
+    EXPECT_NEAR(out.force.z, 800.0 * 0.003, 1e-9);
+    EXPECT_NEAR(out.force.x, 0.0, 1e-12);
+    EXPECT_NEAR(out.proxy.z, z, 1e-12);
+    EXPECT_FALSE(out.released);
+    // WHEN it lifts off (at 0.1 m/s) THEN the force is zero and the proxy follows the HIP
+    HapticOutput free;
+    for (double hz = z - 0.003; hz < z + 0.0002; hz += 0.0001, t += 0.001)
+        free = r.update({0.01, 0.005, hz}, t);
+    EXPECT_FALSE(free.released);
+    EXPECT_FALSE(free.contact);
+    EXPECT_EQ(free.force, glm::dvec3(0.0));
+    EXPECT_EQ(free.proxy, free.hip);
+}
+
+TEST(RendererTest, forceIsClampedToTheDeviceMaximum)
+{
+    const OwnedFrame f = makeFrame(kBox, 32, 24, 0.0, [](double, double) { return 0.0; });
+    RendererConfig cfg;
+    cfg.safety = false;
+    ProxyGraphRenderer r(cfg);
+    ASSERT_TRUE(r.setFrames(f.view(), nullptr));
+    const double z = r.surface().vertexZ(0, 0);
+    double t = 0.0;
+    r.reset({0.0, 0.0, z + 0.005});
+    const HapticOutput out = pressDown(r, 0.0, 0.0, z, 0.015, t); // k·15 mm = 12 N
+    EXPECT_NEAR(glm::length(out.force), 8.5, 1e-12);
+    EXPECT_NEAR(out.proxy.z - out.hip.z, 0.015, 1e-12);
+}
+
+TEST(RendererTest, dampingOpposesTheHipVelocityInContact)
+{
+    const OwnedFrame f = makeFrame(kBox, 32, 24, 0.0, [](double, double) { return 0.0; });
+    RendererConfig cfg;
+    cfg.damping = 2.0; // N·s/m
+    ProxyGraphRenderer r(cfg);
+    ASSERT_TRUE(r.setFrames(f.view(), nullptr));
+    const double z = r.surface().vertexZ(0, 0);
+    r.reset({0.0, 0.0, z + 0.001});
+    (void)r.update({0.0, 0.0, z - 0.0010}, 0.000);
+    // WHEN the HIP moves down at 0.1 m/s while in contact
+    const HapticOutput out = r.update({0.0, 0.0, z - 0.0011}, 0.001);
+    // THEN F = k·1.1 mm + b·0.1 m/s, upward
+    EXPECT_NEAR(out.force.z, 800.0 * 0.0011 + 2.0 * 0.1, 1e-9);
+}
+
+TEST(RendererTest, strokingATiltedPlaneKeepsTheForceAlongItsNormal)
+{
+    // GIVEN an exact tilted plane (nearness linear in c, r)
+    OwnedFrame f(101, 81, SampleFormat::Gray16, 0.0);
+    for (int r = 0; r < 81; ++r)
+        for (int c = 0; c < 101; ++c)
+            f.set(c, r, static_cast<std::uint32_t>(15000 + 300 * c + 120 * r));
+    ProxyGraphRenderer rend(RendererConfig{});
+    ASSERT_TRUE(rend.setFrames(f.view(), nullptr));
+    const HeightField &hf = rend.surface();
+    const glm::dvec3 n = glm::normalize(
+        glm::cross(hf.vertex(0, 1) - hf.vertex(0, 0), hf.vertex(1, 0) - hf.vertex(0, 0)));
+    ASSERT_GT(n.z, 0.0);
+    const double depth = 0.002;
+    glm::dvec3 p(-0.03, 0.0, 0.0);
+    p.z = hf.heightAt(p.x, p.y) + 0.003;
+    rend.reset(p);
+    double t = 0.0;
+    double worst = 0.0;
+    // WHEN the HIP presses 2 mm in (along −n) and strokes 60 mm across at 0.1 m/s
+    for (int i = 0; i < 700; ++i, t += 0.001) {
+        const double x = -0.03 + 0.0001 * std::max(0, i - 100);
+        const double d = std::min(1.0, i / 100.0) * (depth + 0.003) - 0.003;
+        const glm::dvec3 onSurface(x, 0.004, hf.heightAt(x, 0.004));
+        const HapticOutput out = rend.update(onSurface - d * n, t);
+        if (i > 100) {
+            ASSERT_TRUE(out.contact) << i;
+            worst = std::max(worst, glm::length(out.force - 800.0 * depth * n));
+        }
+    }
+    // THEN the force is k·depth along the normal at every update
+    EXPECT_LT(worst, 1e-9);
+}
+
+TEST(ForceStageTest, releasesOnAForceJumpAndNeverStepsAboveTheThreshold)
+{
+    RendererConfig cfg;
+    cfg.maxForceStep = 1.0;
+    ForceStage fs(cfg);
+    bool contact = true;
+    bool released = false;
+    glm::dvec3 hip(0.0, 0.0, -0.004);
+    glm::dvec3 proxy(0.0, 0.0, 0.0); // 4 mm: 3.2 N
+    glm::dvec3 f = fs.apply(hip, proxy, contact, 0.0, 0.0, released);
+    EXPECT_FALSE(released);
+    EXPECT_NEAR(f.z, 1.0, 1e-12); // slew-limited from zero on the very first update
+    for (int i = 1; i < 5; ++i)
+        f = fs.apply(hip, proxy, contact, 0.001 * i, 0.0, released);
+    EXPECT_NEAR(f.z, 3.2, 1e-12);
+    // WHEN the proxy is thrown 10 mm up (a cut)
+    proxy = glm::dvec3(0.0, 0.0, 0.010);
+    f = fs.apply(hip, proxy, contact, 0.005, 0.010, released);
+    // THEN safety releases the proxy to the HIP and the force unloads by at most 1 N per update
+    EXPECT_TRUE(released);
+    EXPECT_FALSE(contact);
+    EXPECT_EQ(proxy, hip);
+    EXPECT_NEAR(f.z, 2.2, 1e-12);
+}
+
+TEST(ForceStageTest, rampReseatsTheProxyAboveTheHipAndRampsTheForceIn)
+{
+    RendererConfig cfg;
+    cfg.reengage = Reengage::Ramp;
+    cfg.rampTime = 0.1;
+    ForceStage fs(cfg);
+    bool contact = false;
+    bool released = false;
+    glm::dvec3 hip(0.001, 0.002, -0.003);
+    glm::dvec3 proxy = hip;
+    (void)fs.apply(hip, proxy, contact, 0.0, std::nan(""), released);
+    // WHEN the surface appears 5 mm above the HIP with the proxy thrown onto it elsewhere
+    proxy = glm::dvec3(0.004, 0.002, 0.002);
+    contact = true;
+    glm::dvec3 f = fs.apply(hip, proxy, contact, 0.001, 0.002, released);
+    // THEN the proxy is re-seated straight above the HIP and the force starts from zero
+    EXPECT_TRUE(released);
+    EXPECT_TRUE(contact);
+    EXPECT_EQ(proxy, glm::dvec3(hip.x, hip.y, 0.002));
+    EXPECT_NEAR(glm::length(f), 0.0, 1e-12);
+    // AND ramps linearly to k·5 mm = 4 N over 0.1 s
+    for (int i = 1; i <= 50; ++i)
+        f = fs.apply(hip, proxy, contact, 0.001 + 0.001 * i, 0.002, released);
+    EXPECT_FALSE(released);
+    EXPECT_NEAR(f.z, 2.0, 1e-9);
+    for (int i = 51; i <= 120; ++i)
+        f = fs.apply(hip, proxy, contact, 0.001 + 0.001 * i, 0.002, released);
+    EXPECT_NEAR(f.z, 4.0, 1e-12);
+}
+
+TEST(MeshBvhTest, treeQueriesAgreeWithTheGridWalk)
+{
+    const OwnedFrame f = makeFrame(kBox, 40, 30, 0.0, bumpy);
+    MeshBvhRenderer mesh(RendererConfig::forMethod(Method::MeshBvh), 64, 64);
+    ASSERT_TRUE(mesh.setFrames(f.view(), nullptr));
+    EXPECT_GT(mesh.nodeCount(), 2u * 39u * 29u / 4u);
+    HeightField hf(kBox);
+    ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> ux(-0.05, 0.05);
+    std::uniform_real_distribution<double> uz(-0.01, 0.01);
+    std::uniform_real_distribution<double> step(-0.004, 0.004);
+    int hits = 0;
+    int mismatches = 0;
+    for (int i = 0; i < 2000; ++i) {
+        const glm::dvec3 a(ux(rng), 0.7 * ux(rng), uz(rng));
+        const glm::dvec3 b = a + glm::dvec3(step(rng), step(rng), step(rng));
+        const Crossing grid = firstCrossing(hf, a, b);
+        const Crossing tree = mesh.firstCrossingBvh(a, b);
+        hits += grid.hit ? 1 : 0;
+        if (grid.hit != tree.hit || (grid.hit && std::fabs(grid.t - tree.t) > 1e-9))
+            ++mismatches;
+    }
+    EXPECT_EQ(mismatches, 0);
+    EXPECT_GT(hits, 50);
+}
+
+TEST(MeshBvhTest, rendersTheSameForcesAsTheProxyGraphOnAStillFrame)
+{
+    const OwnedFrame f = makeFrame(kBox, 48, 36, 0.0, bumpy);
+    auto mesh = makeRenderer(Method::MeshBvh, RendererConfig::forMethod(Method::MeshBvh), 48, 36);
+    auto grid = makeRenderer(Method::ProxyGraph, RendererConfig::forMethod(Method::ProxyGraph), 48, 36);
+    ASSERT_TRUE(mesh && grid);
+    ASSERT_TRUE((*mesh)->setFrames(f.view(), nullptr));
+    ASSERT_TRUE((*grid)->setFrames(f.view(), nullptr));
+    (*mesh)->reset({-0.03, 0.0, 0.02});
+    (*grid)->reset({-0.03, 0.0, 0.02});
+    double worst = 0.0;
+    int contacts = 0;
+    for (int i = 0; i < 3000; ++i) {
+        const double t = 0.001 * i;
+        const glm::dvec3 hip(-0.03 + 0.00002 * i, 0.01 * std::sin(3.0 * t), 0.02 - 0.00001 * i);
+        const HapticOutput a = (*mesh)->update(hip, t);
+        const HapticOutput b = (*grid)->update(hip, t);
+        contacts += b.contact ? 1 : 0;
+        worst = std::max(worst, glm::length(a.force - b.force));
+    }
+    EXPECT_LT(worst, 1e-9);
+    EXPECT_GT(contacts, 500);
+}
+
+TEST(RendererConfigTest, rejectsOutOfRangeParameters)
+{
+    RendererConfig c;
+    EXPECT_TRUE(c.validate());
+    c.stiffness = -1.0;
+    EXPECT_FALSE(c.validate());
+    c = RendererConfig{};
+    c.maxForceStep = std::nan("");
+    EXPECT_FALSE(c.validate());
+    EXPECT_EQ(*parseMethod("mesh-bvh"), Method::MeshBvh);
+    EXPECT_FALSE(parseMethod("bvh"));
+    EXPECT_FALSE(makeRenderer(Method::Modified, RendererConfig{}, 1, 10));
+}
+
+} // namespace
+} // namespace depthtouch::haptics
