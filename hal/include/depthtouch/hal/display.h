@@ -1,0 +1,107 @@
+#pragma once
+/// \file
+/// \brief Display: an output surface with a rendering context, presented in step with the display's
+/// vertical refresh. Real backends hold an EGL display, an OpenGL ES 3 context and a window or GBM
+/// surface; the HAL itself includes no EGL or GL header.
+///
+/// State machine:
+/// \verbatim
+///   Closed --open()--> Open --(display unplugged, GPU reset)--> Lost
+///     ^                 |                                        |
+///     +----close()------+-------------------close()--------------+
+/// \endverbatim
+/// A call that is not allowed in the current state returns Errc::InvalidState and has no effect. In
+/// Lost, makeCurrent() and present() return Errc::NoDevice; the caller closes and opens again
+/// (open() fails with NoDevice while no display is connected).
+///
+/// Time: PresentInfo::vsyncTime is on the backend clock (BackendConfig::clock).
+/// Thread-safety: thread-bound: call every method from the render thread, the one that calls
+/// makeCurrent() (a GL context is current on one thread only). Not real-time safe.
+
+#include <cstdint>
+#include <string>
+
+#include "depthtouch/hal/types.h"
+#include "depthtouch/platform/clock.h"
+#include "depthtouch/platform/macros.h"
+#include "depthtouch/platform/result.h"
+
+namespace depthtouch::hal {
+
+/// \brief What open() should set up. Zero fields ask for the backend's default (the connected
+/// display's preferred mode, or 1280×720 at 60 Hz for windows and offscreen surfaces).
+struct DisplayConfig {
+    int width = 0;          ///< Pixels.
+    int height = 0;         ///< Pixels.
+    double refreshHz = 0.0; ///< Vertical refresh rate in hertz.
+    std::string mode; ///< Backend-specific mode or connector, e.g. "HDMI-A-1" or "1920x1080@60";
+                      ///< empty = default.
+};
+
+/// \brief What a display backend can do. Constant for the display's lifetime.
+struct DisplayCapabilities {
+    bool hasGlesContext = false; ///< An OpenGL ES 3 context is current after makeCurrent().
+    bool offscreen = false;      ///< Nothing is shown on a screen (surfaceless, or simulated).
+};
+
+/// Pixel size of a surface.
+struct Size {
+    int width = 0;
+    int height = 0;
+};
+
+/// \brief When a presented frame reached the screen.
+struct PresentInfo {
+    platform::TimePoint vsyncTime{}; ///< The vertical blank at which the frame became visible.
+    std::uint64_t frameCounter =
+        0; ///< Frames presented since open(), this one included (1, 2, ...).
+    std::uint32_t skippedVsyncs =
+        0; ///< Refresh periods since the previous frame without a new frame.
+};
+
+/// \brief A display output with a GL ES context.
+class Display {
+public:
+    enum class State : std::uint8_t { Closed, Open, Lost };
+
+    virtual ~Display() = default;
+
+    /// \return what the backend can do; constant for its whole lifetime.
+    [[nodiscard]] virtual const DisplayCapabilities &capabilities() const noexcept = 0;
+
+    /// \return the current state.
+    [[nodiscard]] virtual State state() const noexcept = 0;
+
+    /// \brief Opens the output and creates the context and surface.
+    /// \pre Closed.
+    /// \param[in] cfg Requested size, refresh and mode.
+    /// \return nothing on success (state Open). Errors: InvalidState (not Closed), NoDevice (no
+    /// display connected), NotSupported (the mode cannot be set), InvalidArgument (malformed cfg).
+    [[nodiscard]] virtual Result<void> open(const DisplayConfig &cfg) = 0;
+
+    /// \brief Destroys the surface and context. Always allowed; no-op when Closed.
+    virtual void close() noexcept = 0;
+
+    /// \return the surface size in pixels; {0, 0} when Closed.
+    [[nodiscard]] virtual Size size() const noexcept = 0;
+
+    /// \return the refresh rate of the opened mode in hertz; 0 when Closed.
+    [[nodiscard]] virtual double refreshHz() const noexcept = 0;
+
+    /// \brief Makes the context current on the calling thread (the render thread).
+    /// \pre Open.
+    /// \return nothing on success. Errors: InvalidState (Closed), NoDevice (Lost).
+    [[nodiscard]] virtual Result<void> makeCurrent() = 0;
+
+    /// \brief Shows the frame drawn since the last present() at the next vertical blank; blocks
+    /// until then on the backend clock (at most one refresh period, plus the time the caller is
+    /// late). \pre Open. \return when it became visible. Errors: InvalidState (Closed), NoDevice
+    /// (the display was lost: state Lost).
+    [[nodiscard]] virtual Result<PresentInfo> present() = 0;
+
+protected:
+    Display() = default;
+    DT_DISABLE_COPY_AND_MOVE(Display)
+};
+
+} // namespace depthtouch::hal

@@ -1,0 +1,143 @@
+#pragma once
+/// \file
+/// \brief MediaSource: a demuxer that reads the color and depth streams of a 3D video (DESIGN §4).
+///
+/// State machine:
+/// \verbatim
+///   Closed --open(url)--> Open --close()--> Closed
+///                          |  readPacket(), seek()
+/// \endverbatim
+/// A call that is not allowed in the current state returns Errc::InvalidState and has no effect.
+/// open() on an Open source is InvalidState (close first).
+///
+/// Ownership: the source owns the packet data; Packet::data stays valid until the next
+/// readPacket(), seek(), close() or the destruction of the source. info() is valid while Open.
+/// Thread-safety: thread-bound (the decode thread). Not real-time safe (file and network I/O).
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "depthtouch/hal/types.h"
+#include "depthtouch/platform/macros.h"
+#include "depthtouch/platform/result.h"
+
+namespace depthtouch::hal {
+
+/// Compression of a video stream.
+enum class CodecId : std::uint8_t {
+    Unknown,
+    H264,
+    Hevc,
+    Ffv1,
+    RawVideo,
+    Mjpeg,
+    Mock, ///< Synthetic packets of drivers/mock (MockMediaSource → MockVideoDecoder).
+};
+
+/// \return the codec's name, e.g. "h264" (static string).
+const char *codecName(CodecId codec) noexcept;
+
+/// \brief How the samples of a depth stream map to distance (DESIGN §3, metadata tags depth_near,
+/// depth_far, depth_mapping, depth_bits).
+struct DepthMetadata {
+    double nearMetres = 0.0; ///< Distance of the maximum nearness value; 0 when not given.
+    double farMetres = 0.0;  ///< Distance of nearness 0; 0 when not given.
+    std::string
+        mapping; ///< Mapping name, e.g. "inverse" (MPEG 3DV 1/Z) or "linear"; empty when not given.
+    int bits = 0; ///< Significant bits per depth sample (8, 10 or 16); 0 when not given.
+};
+
+/// \brief One stream of an opened source.
+struct StreamInfo {
+    int index = -1;                      ///< Packet::streamIndex of its packets.
+    StreamKind kind = StreamKind::Color; ///< From the stream title ("color" / "depth").
+    std::string title;                   ///< The container's stream title.
+    CodecId codec = CodecId::Unknown;
+    PixelFormat format = PixelFormat::Unknown; ///< Decoded pixel format the stream declares.
+    int width = 0;                             ///< Pixels.
+    int height = 0;                            ///< Pixels.
+    Rational frameRate;                        ///< Frames per second; den == 0 when unknown.
+    Rational timeBase; ///< Container time base (informational: Packet times are Pts).
+    std::vector<std::uint8_t> extradata; ///< Codec setup data (e.g. H.264 SPS/PPS), possibly empty.
+    DepthMetadata depth;                 ///< Meaningful when kind == StreamKind::Depth.
+};
+
+/// \brief What an opened source contains.
+struct MediaInfo {
+    std::vector<StreamInfo> streams; ///< In container order; streams[i].index == i.
+    platform::Duration
+        duration{};        ///< Length of the longest stream; zero when unknown (live stream).
+    bool seekable = false; ///< Whether seek() can succeed.
+};
+
+/// \brief One compressed packet of one stream. Non-owning: see MediaSource for the lifetime of
+/// data.
+struct Packet {
+    int streamIndex = -1;
+    const std::uint8_t *data = nullptr;
+    std::size_t size =
+        0; ///< Bytes at data. 0 with data == nullptr marks end of stream (decoder drain).
+    Pts pts = kNoPts;      ///< Presentation time on the stream timeline.
+    Pts dts = kNoPts;      ///< Decode time on the stream timeline.
+    bool keyframe = false; ///< The packet starts an independently decodable picture.
+
+    /// An end-of-stream packet: queueing it into a VideoDecoder drains the decoder.
+    static constexpr Packet endOfStream(int stream = -1) noexcept
+    {
+        Packet p;
+        p.streamIndex = stream;
+        return p;
+    }
+    [[nodiscard]] constexpr bool isEndOfStream() const noexcept
+    {
+        return data == nullptr && size == 0;
+    }
+};
+
+/// \brief A demuxer: opens a file or stream URL and reads its packets in container order.
+class MediaSource {
+public:
+    enum class State : std::uint8_t { Closed, Open };
+
+    virtual ~MediaSource() = default;
+
+    /// \return the current state.
+    [[nodiscard]] virtual State state() const noexcept = 0;
+
+    /// \brief Opens \a url and reads the stream list.
+    /// \pre Closed.
+    /// \param[in] url A file path or stream URL the backend understands (NUL-terminated).
+    /// \return nothing on success (state Open; see info()). Errors: InvalidState (not Closed),
+    /// NotSupported (scheme or container the backend cannot read), NoDevice or Io (cannot open or
+    /// read), InvalidArgument (malformed file, no video stream). On error the source stays Closed.
+    [[nodiscard]] virtual Result<void> open(const char *url) = 0;
+
+    /// \brief Closes the source and frees its buffers. Always allowed; no-op when Closed.
+    virtual void close() noexcept = 0;
+
+    /// \return the streams, duration and seekability of the opened source.
+    /// \pre Open (when Closed: an empty MediaInfo).
+    [[nodiscard]] virtual const MediaInfo &info() const noexcept = 0;
+
+    /// \brief Reads the next packet of any stream, in container order.
+    /// \pre Open.
+    /// \return the packet (its data valid until the next call, seek() or close()). Errors:
+    /// InvalidState (not Open), EndOfStream (no more packets: the normal end), Io (read failure or
+    /// truncated file; the source stays Open and seek() may recover).
+    [[nodiscard]] virtual Result<Packet> readPacket() = 0;
+
+    /// \brief Moves the read position so the next packets start at the keyframe at or before \a
+    /// position. \pre Open. \param[in] position Target on the stream timeline; clamped to [0,
+    /// duration]. \return nothing on success. Errors: InvalidState (not Open), NotSupported (not
+    /// seekable), Io (the seek failed; the read position is unspecified but the source stays Open).
+    [[nodiscard]] virtual Result<void> seek(Pts position) = 0;
+
+protected:
+    MediaSource() = default;
+    DT_DISABLE_COPY_AND_MOVE(MediaSource)
+};
+
+} // namespace depthtouch::hal
