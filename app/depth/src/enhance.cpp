@@ -19,9 +19,9 @@ struct Block {
     int x0, y0, x1, y1;
 };
 
-/// Largest |depth − bilinear interpolation of the block's corners| inside the block, stopping early
-/// once \a limit is exceeded.
-float linearError(const Plane<float> &d, const Block &b, float limit)
+/// True when the block's depth departs from the bilinear interpolation of its four corners by more than
+/// \a meanLimit on average or by more than \a maxLimit at any sample.
+bool exceedsLinearError(const Plane<float> &d, const Block &b, float meanLimit, float maxLimit)
 {
     const float c00 = d.at(b.x0, b.y0);
     const float c10 = d.at(b.x1, b.y0);
@@ -29,7 +29,7 @@ float linearError(const Plane<float> &d, const Block &b, float limit)
     const float c11 = d.at(b.x1, b.y1);
     const float invW = 1.0f / static_cast<float>(b.x1 - b.x0);
     const float invH = 1.0f / static_cast<float>(b.y1 - b.y0);
-    float worst = 0.0f;
+    double sum = 0.0;
     for (int y = b.y0; y <= b.y1; ++y) {
         const float v = static_cast<float>(y - b.y0) * invH;
         const float left = c00 + (c01 - c00) * v;
@@ -37,23 +37,23 @@ float linearError(const Plane<float> &d, const Block &b, float limit)
         for (int x = b.x0; x <= b.x1; ++x) {
             const float u = static_cast<float>(x - b.x0) * invW;
             const float e = std::fabs(d.at(x, y) - (left + (right - left) * u));
-            if (e > worst) {
-                worst = e;
-                if (worst > limit)
-                    return worst;
-            }
+            if (e > maxLimit)
+                return true;
+            sum += static_cast<double>(e);
         }
     }
-    return worst;
+    const double n = static_cast<double>(b.x1 - b.x0 + 1) * static_cast<double>(b.y1 - b.y0 + 1);
+    return sum / n > static_cast<double>(meanLimit);
 }
 
-float blockMax(const Plane<float> &g, const Block &b)
+/// Mean of \a g over the block.
+double blockMean(const Plane<float> &g, const Block &b)
 {
-    float m = 0.0f;
+    double sum = 0.0;
     for (int y = b.y0; y <= b.y1; ++y)
         for (int x = b.x0; x <= b.x1; ++x)
-            m = std::max(m, g.at(x, y));
-    return m;
+            sum += static_cast<double>(g.at(x, y));
+    return sum / (static_cast<double>(b.x1 - b.x0 + 1) * static_cast<double>(b.y1 - b.y0 + 1));
 }
 
 std::int64_t cross(PixelPoint o, PixelPoint a, PixelPoint b)
@@ -165,9 +165,10 @@ std::vector<PixelPoint> samplePoints(const Plane<float> &filtered, const Samplin
         bool split = false;
         if (side > minBlock) {
             if (options.criterion == SamplingCriterion::LinearError)
-                split = linearError(filtered, b, options.tolerance) > options.tolerance;
+                split = exceedsLinearError(filtered, b, options.tolerance,
+                                           options.tolerance * std::max(1.0f, options.outlierFactor));
             else
-                split = static_cast<float>(side) * blockMax(grad, b) > options.tolerance;
+                split = side * blockMean(grad, b) > static_cast<double>(options.tolerance);
         }
         if (!split) {
             used.at(b.x0, b.y0) = 1;

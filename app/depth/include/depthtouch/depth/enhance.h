@@ -39,19 +39,21 @@ struct Mesh {
 
 /// \brief What decides where a block of the sampling quadtree is split.
 enum class SamplingCriterion : std::uint8_t {
-    /// Split while the depth inside the block differs from the bilinear interpolation of its four corners by
-    /// more than the tolerance (max abs). Planes, however steep, stay coarse; curvature and edges refine.
-    /// Default: the model needs no more points than the tolerance requires.
+    /// Split while the depth inside the block departs from the bilinear interpolation of its four corners by
+    /// more than the tolerance on average (mean abs), or by more than outlierFactor × tolerance at any sample.
+    /// Planes, however steep, stay coarse; curvature and edges (where the gradient changes) refine; noise below
+    /// the tolerance does not. Default: the model needs no more points than the tolerance requires.
     LinearError,
-    /// Paper-literal first-gradient analysis: split while block size × the largest first-order gradient
-    /// magnitude in the block (Sobel, levels/pixel) exceeds the tolerance, i.e. while the depth may vary by more
-    /// than the tolerance across the block. Density ∝ (gradient / tolerance)²; steep planes get dense points.
+    /// Paper-literal first-gradient analysis: split while block side × the mean first-order gradient magnitude
+    /// in the block (Sobel, levels/pixel) exceeds the tolerance, i.e. while the depth varies across the block by
+    /// more than the tolerance. Density ∝ (gradient / tolerance)²: steep planes and noise get dense points.
     Gradient,
 };
 
 /// \brief Options of samplePoints().
 struct SamplingOptions {
     float tolerance = 1.0f;  ///< Error tolerance in nearness levels (> 0); smaller → more points.
+    float outlierFactor = 4.0f; ///< LinearError: a single sample off by more than this × tolerance splits.
     SamplingCriterion criterion = SamplingCriterion::LinearError;
     int maxBlock = 32;       ///< Largest block side (pixels): the sparsest point spacing. ≥ minBlock.
     int minBlock = 2;        ///< Smallest block side (pixels): the densest spacing, at edges. ≥ 1.

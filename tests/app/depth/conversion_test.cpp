@@ -1,0 +1,131 @@
+/// \file
+/// \brief Metric depth → nearness: mappings, robust planes, invalid samples, depth scale.
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+
+#include "depthtouch/depth/conversion.h"
+
+using namespace depthtouch;
+using namespace depthtouch::depth;
+
+TEST(DepthMappingTest, inverseZRoundTripsAndHitsThePlanes)
+{
+    // GIVEN planes at 0.5 m and 4 m
+    const DepthRange range{0.5, 4.0};
+    for (const DepthMapping m : {DepthMapping::InverseZ, DepthMapping::Linear}) {
+        // THEN the planes map to v_max and 0, and every depth in between round-trips
+        EXPECT_DOUBLE_EQ(metresToNearness(0.5, range, m, 255.0), 255.0);
+        EXPECT_NEAR(metresToNearness(4.0, range, m, 255.0), 0.0, 1e-12);
+        for (double z = 0.5; z <= 4.0; z += 0.05) {
+            const double v = metresToNearness(z, range, m, 65535.0);
+            EXPECT_NEAR(nearnessToMetres(v, range, m, 65535.0), z, 1e-9) << mappingName(m) << " z=" << z;
+        }
+    }
+}
+
+TEST(DepthMappingTest, nearerIsBrighterAndOutsideIsClamped)
+{
+    const DepthRange range{0.8, 3.0};
+    for (const DepthMapping m : {DepthMapping::InverseZ, DepthMapping::Linear}) {
+        double previous = 256.0;
+        for (double z = 0.8; z <= 3.0; z += 0.01) {
+            const double v = metresToNearness(z, range, m, 255.0);
+            EXPECT_LT(v, previous) << "farther must be darker at z=" << z;
+            previous = v;
+        }
+        EXPECT_DOUBLE_EQ(metresToNearness(0.1, range, m, 255.0), 255.0);
+        EXPECT_DOUBLE_EQ(metresToNearness(10.0, range, m, 255.0), 0.0);
+    }
+}
+
+TEST(DepthMappingTest, inverseZGivesHalfScaleAtTheHarmonicMean)
+{
+    // 1/Z halfway between 1/near and 1/far: Z = 2·near·far/(near + far) = 0.8 m for 0.5 and 2 m.
+    EXPECT_NEAR(metresToNearness(0.8, DepthRange{0.5, 2.0}, DepthMapping::InverseZ, 255.0), 127.5, 1e-9);
+    // The linear mapping puts the arithmetic mean there instead.
+    EXPECT_NEAR(metresToNearness(1.25, DepthRange{0.5, 2.0}, DepthMapping::Linear, 255.0), 127.5, 1e-9);
+}
+
+TEST(DepthMappingTest, parsesNamesAndRefusesOthers)
+{
+    EXPECT_EQ(parseMapping("inverse_z").value(), DepthMapping::InverseZ);
+    EXPECT_EQ(parseMapping("linear").value(), DepthMapping::Linear);
+    EXPECT_EQ(parseMapping(mappingName(DepthMapping::Linear)).value(), DepthMapping::Linear);
+    const auto bad = parseMapping("log");
+    ASSERT_FALSE(bad);
+    EXPECT_EQ(bad.error().code, Errc::InvalidArgument);
+}
+
+TEST(MetricToNearnessTest, flagsZeroAndSaturationAsInvalidAndNeverMapsThem)
+{
+    // GIVEN a frame in mm with a 0 and a 65535 sample
+    Plane<std::uint16_t> raw(4, 1);
+    raw.samples = {1000, 0, 2000, 65535};
+    ConvertOptions o;
+    o.range = DepthRange{1.0, 2.0};
+    // WHEN converted
+    const auto f = metricToNearness(raw, o);
+    ASSERT_TRUE(f);
+    // THEN the two invalid samples are flagged and counted, the valid ones sit on the planes
+    EXPECT_EQ(f->invalidCount, 2u);
+    EXPECT_EQ(f->valid.samples, (std::vector<std::uint8_t>{1, 0, 1, 0}));
+    EXPECT_FLOAT_EQ(f->nearness.samples[0], 255.0f);
+    EXPECT_FLOAT_EQ(f->nearness.samples[2], 0.0f);
+}
+
+TEST(MetricToNearnessTest, depthScaleReadsTumUnits)
+{
+    // GIVEN TUM depth: metres = value / 5000; 5000 → 1 m, 10000 → 2 m
+    Plane<std::uint16_t> raw(2, 1);
+    raw.samples = {5000, 10000};
+    ConvertOptions o;
+    o.raw.metresPerUnit = 1.0 / 5000.0;
+    o.mapping = DepthMapping::Linear;
+    o.range = DepthRange{1.0, 3.0};
+    const auto f = metricToNearness(raw, o);
+    ASSERT_TRUE(f);
+    EXPECT_NEAR(f->nearness.samples[0], 255.0, 1e-4);
+    EXPECT_NEAR(f->nearness.samples[1], 127.5, 1e-4);
+}
+
+TEST(MetricToNearnessTest, estimatesPlanesFromTheValidDataIgnoringOutliers)
+{
+    // GIVEN 1000 valid samples 1000..1999 mm, 5 far outliers and many invalid samples
+    Plane<std::uint16_t> raw(1100, 1, 0);
+    for (int i = 0; i < 1000; ++i)
+        raw.samples[static_cast<std::size_t>(i)] = static_cast<std::uint16_t>(1000 + i);
+    for (int i = 0; i < 5; ++i)
+        raw.samples[static_cast<std::size_t>(1000 + i)] = 30000;
+    raw.samples[1099] = 65535;
+    // WHEN the planes are estimated at the 1 % and 99 % quantiles
+    const auto r = robustRange(raw, RawDepthFormat{});
+    ASSERT_TRUE(r);
+    // THEN they bracket the bulk and ignore invalid samples and the outliers
+    EXPECT_NEAR(r->nearM, 1.010, 0.002);
+    EXPECT_NEAR(r->farM, 1.995, 0.006);
+}
+
+TEST(MetricToNearnessTest, refusesBadInput)
+{
+    ConvertOptions o;
+    EXPECT_EQ(metricToNearness(Plane<std::uint16_t>{}, o).error().code, Errc::InvalidArgument);
+    // No valid sample to estimate the planes from.
+    EXPECT_EQ(metricToNearness(Plane<std::uint16_t>(3, 3, 0), o).error().code, Errc::InvalidArgument);
+    o.range = DepthRange{2.0, 1.0};
+    EXPECT_EQ(metricToNearness(Plane<std::uint16_t>(3, 3, 1000), o).error().code, Errc::InvalidArgument);
+}
+
+TEST(MetricToNearnessTest, eightBitNearnessPassesThroughAndQuantizeRoundTrips)
+{
+    Plane<std::uint8_t> n8(3, 1);
+    n8.samples = {0, 128, 255};
+    const NearnessFrame f = nearnessFrom8Bit(n8);
+    EXPECT_EQ(f.invalidCount, 0u);
+    const Plane<std::uint16_t> q = quantize(f.nearness, 255.0);
+    EXPECT_EQ(q.samples, (std::vector<std::uint16_t>{0, 128, 255}));
+    Plane<float> over(2, 1);
+    over.samples = {-3.0f, 300.4f};
+    EXPECT_EQ(quantize(over, 255.0).samples, (std::vector<std::uint16_t>{0, 255}));
+}
