@@ -56,7 +56,8 @@ struct SamplingOptions {
     float outlierFactor = 4.0f; ///< LinearError: a single sample off by more than this × tolerance splits.
     SamplingCriterion criterion = SamplingCriterion::LinearError;
     int maxBlock = 32;       ///< Largest block side (pixels): the sparsest point spacing. ≥ minBlock.
-    int minBlock = 2;        ///< Smallest block side (pixels): the densest spacing, at edges. ≥ 1.
+    int minBlock = 1;        ///< Smallest block side (pixels): the densest spacing, at edges. ≥ 1. With 1,
+                             ///< no triangle spans a depth step wider than one pixel.
 };
 
 /// \brief Paper §V.B step 2: feature points sampled adaptively over a quadtree of blocks covering the image;
@@ -77,9 +78,9 @@ Result<Mesh> triangulate(const std::vector<PixelPoint> &points, const Plane<floa
 
 /// \brief Options of smoothHeights().
 struct SmoothOptions {
-    int iterations = 2;         ///< Smoothing passes (0 = none); more passes widen the Gaussian.
+    int iterations = 1;         ///< Smoothing passes (0 = none); more passes widen the Gaussian.
     float sigma = 1.0f;         ///< Gaussian width in units of the vertex's mean edge length (> 0).
-    float edgeThreshold = 4.0f; ///< Levels: a mesh edge whose line departs from the surface by more than this
+    float edgeThreshold = 2.0f; ///< Levels: a mesh edge whose line departs from the surface by more than this
                                 ///< crosses a depth discontinuity and is not smoothed across.
 };
 
