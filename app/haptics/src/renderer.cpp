@@ -109,15 +109,15 @@ glm::dvec3 ForceStage::apply(const glm::dvec3 &hip, glm::dvec3 &proxy, bool &con
             rampStartT_ = t;
             rampStart_ = prevCommand_;
         }
-        glm::dvec3 target = raw;
+        glm::dvec3 target = clampLength(raw, config_.maxForce);
         if (ramping_) {
+            // Linear blend from the force at the trip to the (clamped) force of the new contact.
             const double a = (t - rampStartT_) / config_.rampTime;
             if (a >= 1.0)
                 ramping_ = false;
             else
-                target = rampStart_ + (raw - rampStart_) * std::max(a, 0.0);
+                target = rampStart_ + (target - rampStart_) * std::max(a, 0.0);
         }
-        target = clampLength(target, config_.maxForce);
         // Final guard: the commanded force never moves by more than the threshold in one update
         // (a release from a large force unloads over a few updates instead of in one step).
         command = prevCommand_ + clampLength(target - prevCommand_, config_.maxForceStep);
