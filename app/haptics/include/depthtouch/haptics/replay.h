@@ -1,0 +1,102 @@
+#pragma once
+/// \file
+/// \brief Offline replay of a HIP trajectory against a depth video at the haptic rate (the core of
+/// `depthtouch touch`): the trajectory CSV reader, a frame-provider interface, the deterministic replay
+/// loop and the force-log CSV writer (DESIGN.md §4). Not for the haptic thread: these allocate.
+/// Thread-safety: reentrant functions; a FrameProvider is thread-bound.
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "depthtouch/haptics/depth_frame.h"
+#include "depthtouch/haptics/renderer.h"
+#include "depthtouch/platform/result.h"
+
+namespace depthtouch::haptics {
+
+/// \brief One trajectory row: time (s, t = 0 at the first depth frame's PTS) and HIP position (m,
+/// scene-box frame).
+struct TrajectorySample {
+    double t = 0.0;
+    double x = 0.0;
+    double y = 0.0;
+    double z = 0.0;
+};
+
+/// \brief Parses a trajectory CSV (header naming columns `t,x,y,z` in any order, extra columns ignored).
+/// \param[out] errorLine when not null, receives the 1-based line of the first problem (0 if none).
+/// \return the rows, or Errc::InvalidArgument: missing column, wrong field count, a value that is not a
+/// finite number, time not strictly increasing, no rows.
+Result<std::vector<TrajectorySample>> parseTrajectoryCsv(std::string_view text,
+                                                         std::size_t *errorLine = nullptr);
+
+/// \return the HIP at time \a t, linearly interpolated between rows; held at the first/last row
+/// outside them. \pre \a trajectory is not empty and sorted by time.
+TrajectorySample sampleTrajectory(const std::vector<TrajectorySample> &trajectory, double t) noexcept;
+
+/// \brief Source of depth frames with PTS, so the replay can run on frames decoded by the media layer.
+///
+/// frame(i) may be called for increasing i; a returned view must stay valid until frame(i + 2) is
+/// requested (the replay holds frames i and i+1).
+class FrameProvider {
+public:
+    virtual ~FrameProvider() = default;
+    /// \return the number of frames (≥ 1 for a usable source).
+    [[nodiscard]] virtual std::size_t frameCount() const noexcept = 0;
+    /// \return frame \a i, or an error (Io, InvalidArgument).
+    virtual Result<DepthFrameView> frame(std::size_t i) noexcept = 0;
+
+protected:
+    FrameProvider() = default;
+    FrameProvider(const FrameProvider &) = default;
+    FrameProvider &operator=(const FrameProvider &) = default;
+};
+
+/// \brief Frames stored back to back in memory (a raw 8/16-bit gray video: W×H samples per frame, rows
+/// packed, host byte order), PTS = i/fps.
+class RawVideoFrameProvider final : public FrameProvider {
+public:
+    /// \param bytes the whole video; its size must be a whole number of frames (checked by validate()).
+    RawVideoFrameProvider(std::vector<std::uint8_t> bytes, int width, int height, SampleFormat format,
+                          double fps);
+    /// \return Errc::InvalidArgument when the size, the frame rate or the byte count is unusable.
+    [[nodiscard]] Result<void> validate() const noexcept;
+    [[nodiscard]] std::size_t frameCount() const noexcept override;
+    Result<DepthFrameView> frame(std::size_t i) noexcept override;
+
+private:
+    std::vector<std::uint8_t> bytes_;
+    int width_;
+    int height_;
+    SampleFormat format_;
+    double fps_;
+};
+
+/// \brief Options of a replay (the `depthtouch touch` options).
+struct ReplayOptions {
+    double rate = 1000.0;                 ///< Haptic updates per second (> 0).
+    Method method = Method::Modified;     ///< Renderer.
+    RendererConfig config{};              ///< Its parameters (fix flags used as given).
+};
+
+/// \brief One force-log row (DESIGN.md §4).
+struct ForceLogRow {
+    double t = 0.0; ///< Haptic time, s (0 at the first frame).
+    HapticOutput out{};
+};
+
+/// \brief Replays \a trajectory against \a frames, one update every 1/rate s from t = 0 to the last
+/// trajectory time. Deterministic: the same inputs give the same rows.
+/// \return the rows, or the first error (bad options, no frames, a frame that fails or changes size).
+Result<std::vector<ForceLogRow>> replay(FrameProvider &frames,
+                                        const std::vector<TrajectorySample> &trajectory,
+                                        const ReplayOptions &options);
+
+/// \return the force log CSV: header `t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released`
+/// then one line per row (times µs-exact, positions to 1 nm, forces to 1 µN).
+std::string formatForceLog(const std::vector<ForceLogRow> &rows);
+
+} // namespace depthtouch::haptics
