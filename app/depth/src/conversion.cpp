@@ -51,7 +51,8 @@ Result<DepthRange> robustRange(const Plane<std::uint16_t> &raw, const RawDepthFo
                                double lowFraction, double highFraction)
 {
     if (!(lowFraction >= 0.0 && lowFraction < highFraction && highFraction <= 1.0))
-        return unexpected(Errc::InvalidArgument, "Depth range quantiles must satisfy 0 <= low < high <= 1");
+        return unexpected(Errc::InvalidArgument,
+                          "Depth range quantiles must satisfy 0 <= low < high <= 1");
     if (!(format.metresPerUnit > 0.0))
         return unexpected(Errc::InvalidArgument, "Depth scale must be positive");
     std::vector<std::uint16_t> valid;
@@ -65,7 +66,8 @@ Result<DepthRange> robustRange(const Plane<std::uint16_t> &raw, const RawDepthFo
     const auto quantile = [&valid](double f) {
         const auto last = static_cast<double>(valid.size() - 1);
         const auto k = static_cast<std::size_t>(std::lround(f * last));
-        std::nth_element(valid.begin(), valid.begin() + static_cast<std::ptrdiff_t>(k), valid.end());
+        std::nth_element(valid.begin(), valid.begin() + static_cast<std::ptrdiff_t>(k),
+                         valid.end());
         return static_cast<double>(valid[k]);
     };
     DepthRange range{quantile(lowFraction) * format.metresPerUnit,
@@ -77,7 +79,8 @@ Result<DepthRange> robustRange(const Plane<std::uint16_t> &raw, const RawDepthFo
     return range;
 }
 
-Result<NearnessFrame> metricToNearness(const Plane<std::uint16_t> &raw, const ConvertOptions &options)
+Result<NearnessFrame> metricToNearness(const Plane<std::uint16_t> &raw,
+                                       const ConvertOptions &options)
 {
     if (raw.empty() || raw.width <= 0 || raw.height <= 0)
         return unexpected(Errc::InvalidArgument, "Empty depth frame");

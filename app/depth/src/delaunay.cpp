@@ -1,5 +1,6 @@
 /// \file
-/// \brief triangulate(): the only translation unit that includes CGAL (its headers are costly to compile).
+/// \brief triangulate(): the only translation unit that includes CGAL (its headers are costly to
+/// compile).
 
 #include "depthtouch/depth/enhance.h"
 
@@ -7,8 +8,8 @@
 #include <vector>
 
 #if DT_DEPTH_HAVE_CGAL
-// GCC's optimiser reports a possible null dereference inside CGAL's Compact_container even though the
-// headers are system headers; silence that one diagnostic for CGAL's code only.
+// GCC's optimiser reports a possible null dereference inside CGAL's Compact_container even though
+// the headers are system headers; silence that one diagnostic for CGAL's code only.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wnull-dereference"
 #include <CGAL/Delaunay_triangulation_2.h>

@@ -1,5 +1,6 @@
 /// \file
-/// \brief Depth enhancement pipeline (see enhance.h). The Delaunay step lives in delaunay.cpp (CGAL).
+/// \brief Depth enhancement pipeline (see enhance.h). The Delaunay step lives in delaunay.cpp
+/// (CGAL).
 
 #include "depthtouch/depth/enhance.h"
 
@@ -19,8 +20,8 @@ struct Block {
     int x0, y0, x1, y1;
 };
 
-/// True when the block's depth departs from the bilinear interpolation of its four corners by more than
-/// \a meanLimit on average or by more than \a maxLimit at any sample.
+/// True when the block's depth departs from the bilinear interpolation of its four corners by more
+/// than \a meanLimit on average or by more than \a maxLimit at any sample.
 bool exceedsLinearError(const Plane<float> &d, const Block &b, float meanLimit, float maxLimit)
 {
     const float c00 = d.at(b.x0, b.y0);
@@ -62,7 +63,8 @@ std::int64_t cross(PixelPoint o, PixelPoint a, PixelPoint b)
            static_cast<std::int64_t>(a.y - o.y) * (b.x - o.x);
 }
 
-/// Largest departure of \a surface along the segment a–b from the straight line between its end values.
+/// Largest departure of \a surface along the segment a–b from the straight line between its end
+/// values.
 float departureAlong(const Plane<float> &surface, PixelPoint a, PixelPoint b)
 {
     const int n = std::max(std::abs(b.x - a.x), std::abs(b.y - a.y));
@@ -156,7 +158,8 @@ std::vector<PixelPoint> samplePoints(const Plane<float> &filtered, const Samplin
     std::vector<Block> stack;
     for (int y0 = 0; y0 < h - 1; y0 += maxBlock)
         for (int x0 = 0; x0 < w - 1; x0 += maxBlock)
-            stack.push_back(Block{x0, y0, std::min(x0 + maxBlock, w - 1), std::min(y0 + maxBlock, h - 1)});
+            stack.push_back(
+                Block{x0, y0, std::min(x0 + maxBlock, w - 1), std::min(y0 + maxBlock, h - 1)});
 
     while (!stack.empty()) {
         const Block b = stack.back();
@@ -165,8 +168,9 @@ std::vector<PixelPoint> samplePoints(const Plane<float> &filtered, const Samplin
         bool split = false;
         if (side > minBlock) {
             if (options.criterion == SamplingCriterion::LinearError)
-                split = exceedsLinearError(filtered, b, options.tolerance,
-                                           options.tolerance * std::max(1.0f, options.outlierFactor));
+                split =
+                    exceedsLinearError(filtered, b, options.tolerance,
+                                       options.tolerance * std::max(1.0f, options.outlierFactor));
             else
                 split = side * blockMean(grad, b) > static_cast<double>(options.tolerance);
         }
@@ -202,7 +206,8 @@ void smoothHeights(Mesh &mesh, const Plane<float> &surface, const SmoothOptions 
     if (options.iterations <= 0 || n == 0 || mesh.heights.size() != n)
         return;
 
-    // 1-ring neighbours that lie on the same surface (the mesh edge does not cross a depth discontinuity).
+    // 1-ring neighbours that lie on the same surface (the mesh edge does not cross a depth
+    // discontinuity).
     std::vector<std::vector<std::uint32_t>> ring(n);
     for (const auto &t : mesh.triangles)
         for (int k = 0; k < 3; ++k) {
@@ -217,8 +222,8 @@ void smoothHeights(Mesh &mesh, const Plane<float> &surface, const SmoothOptions 
         r.erase(std::unique(r.begin(), r.end()), r.end());
         r.erase(std::remove_if(r.begin(), r.end(),
                                [&](std::uint32_t j) {
-                                   return departureAlong(surface, mesh.vertices[i], mesh.vertices[j]) >
-                                          options.edgeThreshold;
+                                   return departureAlong(surface, mesh.vertices[i],
+                                                         mesh.vertices[j]) > options.edgeThreshold;
                                }),
                 r.end());
     }
@@ -236,7 +241,8 @@ void smoothHeights(Mesh &mesh, const Plane<float> &surface, const SmoothOptions 
             for (const std::uint32_t j : r)
                 meanDist += std::hypot(mesh.vertices[j].x - p.x, mesh.vertices[j].y - p.y);
             meanDist /= static_cast<double>(r.size());
-            // Weighted least-squares plane h = a + b·u + c·v in coordinates scaled by the mean distance.
+            // Weighted least-squares plane h = a + b·u + c·v in coordinates scaled by the mean
+            // distance.
             double m[3][3] = {{1.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
             double rhs[3] = {static_cast<double>(mesh.heights[i]), 0.0, 0.0};
             for (const std::uint32_t j : r) {
@@ -296,8 +302,8 @@ Plane<float> renderMesh(const Mesh &mesh, int width, int height, std::size_t *un
                 const std::int64_t wa = cross(b, c, p);
                 const std::int64_t wb = cross(c, a, p);
                 const std::int64_t wc = cross(a, b, p);
-                const bool inside = area > 0 ? (wa >= 0 && wb >= 0 && wc >= 0)
-                                             : (wa <= 0 && wb <= 0 && wc <= 0);
+                const bool inside =
+                    area > 0 ? (wa >= 0 && wb >= 0 && wc >= 0) : (wa <= 0 && wb <= 0 && wc <= 0);
                 if (!inside)
                     continue;
                 const double v = (static_cast<double>(wa) * ha + static_cast<double>(wb) * hb +
@@ -346,7 +352,8 @@ Result<EnhanceResult> enhance(const Plane<float> &nearness, const EnhanceOptions
     if (nearness.width < 2 || nearness.height < 2)
         return unexpected(Errc::InvalidArgument, "Depth map too small to enhance (needs 2x2)");
     const SamplingOptions &s = options.sampling;
-    if (!(s.tolerance > 0.0f) || s.minBlock < 1 || s.maxBlock < s.minBlock || options.medianRadius < 0)
+    if (!(s.tolerance > 0.0f) || s.minBlock < 1 || s.maxBlock < s.minBlock ||
+        options.medianRadius < 0)
         return unexpected(Errc::InvalidArgument, "Invalid depth enhancement options");
 
     const Plane<float> median = medianFilter(nearness, options.medianRadius);
@@ -377,7 +384,8 @@ Result<EnhanceResult> enhance(const Plane<float> &nearness, const EnhanceOptions
     r.meanAbsError = sum / count;
     r.rmsError = std::sqrt(sumSq / count);
     const auto k99 = static_cast<std::size_t>(0.99 * (count - 1.0));
-    std::nth_element(absErr.begin(), absErr.begin() + static_cast<std::ptrdiff_t>(k99), absErr.end());
+    std::nth_element(absErr.begin(), absErr.begin() + static_cast<std::ptrdiff_t>(k99),
+                     absErr.end());
     r.p99AbsError = absErr[k99];
 
     const Masks masks = makeMasks(median, options.measure);

@@ -38,7 +38,8 @@ Level pull(const Level &fine)
                 for (int dx = 0; dx < 2; ++dx) {
                     const int fx = 2 * x + dx;
                     const int fy = 2 * y + dy;
-                    if (fx >= fine.value.width || fy >= fine.value.height || fine.has.at(fx, fy) == 0)
+                    if (fx >= fine.value.width || fy >= fine.value.height ||
+                        fine.has.at(fx, fy) == 0)
                         continue;
                     sum += static_cast<double>(fine.value.at(fx, fy));
                     ++n;
@@ -68,7 +69,9 @@ void push(Level &fine, const Level &coarse)
             const double cx = (x + 0.5) / 2.0 - 0.5;
             const int x0 = static_cast<int>(std::floor(cx));
             const double tx = cx - x0;
-            const auto at = [&c](int cx0, int cy0) { return static_cast<double>(c.clamped(cx0, cy0)); };
+            const auto at = [&c](int cx0, int cy0) {
+                return static_cast<double>(c.clamped(cx0, cy0));
+            };
             const double top = (1.0 - tx) * at(x0, y0) + tx * at(x0 + 1, y0);
             const double bottom = (1.0 - tx) * at(x0, y0 + 1) + tx * at(x0 + 1, y0 + 1);
             fine.value.at(x, y) = static_cast<float>((1.0 - ty) * top + ty * bottom);
@@ -82,7 +85,8 @@ void push(Level &fine, const Level &coarse)
 Result<std::size_t> fillInvalid(Plane<float> &nearness, const Plane<std::uint8_t> &valid)
 {
     if (nearness.empty() || !nearness.sameSize(valid))
-        return unexpected(Errc::InvalidArgument, "Depth and validity planes are empty or differ in size");
+        return unexpected(Errc::InvalidArgument,
+                          "Depth and validity planes are empty or differ in size");
 
     std::size_t holes = 0;
     for (const std::uint8_t v : valid.samples)

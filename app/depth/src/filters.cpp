@@ -40,8 +40,10 @@ Plane<float> gradientMagnitude(const Plane<float> &src)
                 return static_cast<double>(src.clamped(x + dx, y + dy));
             };
             // Sobel kernels sum to 8× the per-pixel slope of a ramp.
-            const double gx = (s(1, -1) + 2.0 * s(1, 0) + s(1, 1) - s(-1, -1) - 2.0 * s(-1, 0) - s(-1, 1)) / 8.0;
-            const double gy = (s(-1, 1) + 2.0 * s(0, 1) + s(1, 1) - s(-1, -1) - 2.0 * s(0, -1) - s(1, -1)) / 8.0;
+            const double gx =
+                (s(1, -1) + 2.0 * s(1, 0) + s(1, 1) - s(-1, -1) - 2.0 * s(-1, 0) - s(-1, 1)) / 8.0;
+            const double gy =
+                (s(-1, 1) + 2.0 * s(0, 1) + s(1, 1) - s(-1, -1) - 2.0 * s(0, -1) - s(1, -1)) / 8.0;
             out.at(x, y) = static_cast<float>(std::sqrt(gx * gx + gy * gy));
         }
     }

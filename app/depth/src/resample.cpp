@@ -12,7 +12,8 @@ Result<Plane<float>> resample(const Plane<float> &src, int width, int height, Re
                               float edgeThreshold)
 {
     if (src.empty() || width <= 0 || height <= 0)
-        return unexpected(Errc::InvalidArgument, "Cannot resample an empty depth map or to an empty size");
+        return unexpected(Errc::InvalidArgument,
+                          "Cannot resample an empty depth map or to an empty size");
     if (method == ResampleMethod::Nearest)
         return resampleNearest(src, width, height);
 
@@ -34,8 +35,10 @@ Result<Plane<float>> resample(const Plane<float> &src, int width, int height, Re
             const float lo = std::min({a, b, c, d});
             const float hi = std::max({a, b, c, d});
             if (hi - lo <= edgeThreshold) {
-                const double top = (1.0 - tx) * static_cast<double>(a) + tx * static_cast<double>(b);
-                const double bottom = (1.0 - tx) * static_cast<double>(c) + tx * static_cast<double>(d);
+                const double top =
+                    (1.0 - tx) * static_cast<double>(a) + tx * static_cast<double>(b);
+                const double bottom =
+                    (1.0 - tx) * static_cast<double>(c) + tx * static_cast<double>(d);
                 out.at(x, y) = static_cast<float>((1.0 - ty) * top + ty * bottom);
             } else {
                 out.at(x, y) = src.clamped(static_cast<int>(std::lround(sx)),

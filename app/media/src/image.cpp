@@ -26,7 +26,8 @@ Image Image::make(int width, int height, PixelFormat format)
     img.width = width < 0 ? 0 : width;
     img.height = height < 0 ? 0 : height;
     img.format = format;
-    img.stride = static_cast<std::size_t>(img.width) * static_cast<std::size_t>(bytesPerPixel(format));
+    img.stride =
+        static_cast<std::size_t>(img.width) * static_cast<std::size_t>(bytesPerPixel(format));
     img.data.assign(img.stride * static_cast<std::size_t>(img.height), 0);
     return img;
 }

@@ -81,8 +81,8 @@ PixelFormat nativeLayout(AVPixelFormat f) noexcept
     return d->comp[0].depth > 8 ? PixelFormat::Gray16 : PixelFormat::Gray8;
 }
 
-/// Deprecated full-range "J" YUV formats → their plain equivalent plus the full-range flag, which is how
-/// libswscale wants them.
+/// Deprecated full-range "J" YUV formats → their plain equivalent plus the full-range flag, which
+/// is how libswscale wants them.
 AVPixelFormat dejpeg(AVPixelFormat f, bool &fullRange) noexcept
 {
     fullRange = true;
@@ -104,9 +104,9 @@ AVPixelFormat dejpeg(AVPixelFormat f, bool &fullRange) noexcept
 }
 
 /// Converts (or copies, when the layouts match) a picture between two buffers of the same size.
-Result<void> convert(const std::uint8_t *const srcData[4], const int srcStride[4], AVPixelFormat srcFmt,
-                     bool srcFullRange, std::uint8_t *const dstData[4], const int dstStride[4],
-                     AVPixelFormat dstFmt, int width, int height)
+Result<void> convert(const std::uint8_t *const srcData[4], const int srcStride[4],
+                     AVPixelFormat srcFmt, bool srcFullRange, std::uint8_t *const dstData[4],
+                     const int dstStride[4], AVPixelFormat dstFmt, int width, int height)
 {
     if (srcFmt == dstFmt) {
         // Only our packed single-plane layouts reach here (dstFmt is always one of them).
@@ -116,10 +116,11 @@ Result<void> convert(const std::uint8_t *const srcData[4], const int srcStride[4
         av_image_copy_plane(dstData[0], dstStride[0], srcData[0], srcStride[0], rowBytes, height);
         return ok();
     }
-    // Exact sizes, so SWS_POINT only selects the cheapest unscaled path; BITEXACT + ACCURATE_RND keep it
-    // deterministic across CPUs.
+    // Exact sizes, so SWS_POINT only selects the cheapest unscaled path; BITEXACT + ACCURATE_RND
+    // keep it deterministic across CPUs.
     SwsPtr sws(sws_getContext(width, height, srcFmt, width, height, dstFmt,
-                              SWS_POINT | SWS_BITEXACT | SWS_ACCURATE_RND, nullptr, nullptr, nullptr));
+                              SWS_POINT | SWS_BITEXACT | SWS_ACCURATE_RND, nullptr, nullptr,
+                              nullptr));
     if (!sws) {
         DT_LOG(Media, Warning, "Failed to convert %s to %s", av_get_pix_fmt_name(srcFmt),
                av_get_pix_fmt_name(dstFmt));
@@ -133,8 +134,8 @@ Result<void> convert(const std::uint8_t *const srcData[4], const int srcStride[4
         int brightness = 0;
         int contrast = 0;
         int saturation = 0;
-        if (sws_getColorspaceDetails(sws.get(), &invTable, &srcRange, &table, &dstRange, &brightness,
-                                     &contrast, &saturation) >= 0)
+        if (sws_getColorspaceDetails(sws.get(), &invTable, &srcRange, &table, &dstRange,
+                                     &brightness, &contrast, &saturation) >= 0)
             sws_setColorspaceDetails(sws.get(), invTable, 1, table, dstRange, brightness, contrast,
                                      saturation);
     }
@@ -163,8 +164,9 @@ int receiveFrame(AVCodecContext *codec, AVFrame *frame, bool &drained)
 Result<Image> readImage(const std::string &path, std::optional<PixelFormat> format)
 {
     AVFormatContext *rawFmt = nullptr;
-    // No forced demuxer: probing the content picks the image2 family's demuxer for the actual format
-    // (png_pipe, jpeg_pipe, pgm_pipe, ...), so a misnamed file still reads and a non-image is refused.
+    // No forced demuxer: probing the content picks the image2 family's demuxer for the actual
+    // format (png_pipe, jpeg_pipe, pgm_pipe, ...), so a misnamed file still reads and a non-image
+    // is refused.
     int ret = avformat_open_input(&rawFmt, path.c_str(), nullptr, nullptr);
     if (ret < 0) {
         DT_LOG(Media, Warning, "Failed to open image %s: %s", path.c_str(), AvErrorText(ret).text);
@@ -181,7 +183,8 @@ Result<Image> readImage(const std::string &path, std::optional<PixelFormat> form
     if (index < 0 || decoder == nullptr) {
         DT_LOG(Media, Warning, "Failed to find a picture in %s: %s", path.c_str(),
                AvErrorText(index).text);
-        return unexpected(index == AVERROR_DECODER_NOT_FOUND ? Errc::NotSupported : Errc::InvalidArgument,
+        return unexpected(index == AVERROR_DECODER_NOT_FOUND ? Errc::NotSupported
+                                                             : Errc::InvalidArgument,
                           "File holds no decodable picture");
     }
     const AVStream *stream = fmt->streams[index];
@@ -264,7 +267,8 @@ Result<Image> readImage(const std::string &path, std::optional<PixelFormat> form
 Result<void> writePng(const std::string &path, const Image &image)
 {
     if (image.empty() ||
-        image.stride < static_cast<std::size_t>(image.width) * static_cast<std::size_t>(bytesPerPixel(image.format)) ||
+        image.stride < static_cast<std::size_t>(image.width) *
+                           static_cast<std::size_t>(bytesPerPixel(image.format)) ||
         image.data.size() < image.stride * static_cast<std::size_t>(image.height) ||
         image.stride > static_cast<std::size_t>(INT32_MAX))
         return unexpected(Errc::InvalidArgument, "Image is empty or its buffer is inconsistent");
@@ -288,7 +292,8 @@ Result<void> writePng(const std::string &path, const Image &image)
     codec->thread_count = 1;
     int ret = avcodec_open2(codec.get(), encoder, nullptr);
     if (ret < 0) {
-        DT_LOG(Media, Warning, "Failed to open PNG encoder for %s: %s", path.c_str(), AvErrorText(ret).text);
+        DT_LOG(Media, Warning, "Failed to open PNG encoder for %s: %s", path.c_str(),
+               AvErrorText(ret).text);
         return unexpected(Errc::NotSupported, "Failed to open PNG encoder");
     }
 
@@ -299,8 +304,8 @@ Result<void> writePng(const std::string &path, const Image &image)
         return unexpected(Errc::OutOfResources, "Failed to allocate PNG frame");
     const std::uint8_t *srcData[4] = {image.data.data(), nullptr, nullptr, nullptr};
     const int srcStride[4] = {static_cast<int>(image.stride), 0, 0, 0};
-    DT_TRY(convert(srcData, srcStride, toAv(image.format), false, frame->data, frame->linesize, pngFmt,
-                   image.width, image.height));
+    DT_TRY(convert(srcData, srcStride, toAv(image.format), false, frame->data, frame->linesize,
+                   pngFmt, image.width, image.height));
 
     if ((ret = avcodec_send_frame(codec.get(), frame.get())) < 0 ||
         (ret = avcodec_receive_packet(codec.get(), packet.get())) < 0) {

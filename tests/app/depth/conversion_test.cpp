@@ -20,7 +20,8 @@ TEST(DepthMappingTest, inverseZRoundTripsAndHitsThePlanes)
         EXPECT_NEAR(metresToNearness(4.0, range, m, 255.0), 0.0, 1e-12);
         for (double z = 0.5; z <= 4.0; z += 0.05) {
             const double v = metresToNearness(z, range, m, 65535.0);
-            EXPECT_NEAR(nearnessToMetres(v, range, m, 65535.0), z, 1e-9) << mappingName(m) << " z=" << z;
+            EXPECT_NEAR(nearnessToMetres(v, range, m, 65535.0), z, 1e-9)
+                << mappingName(m) << " z=" << z;
         }
     }
 }
@@ -43,9 +44,11 @@ TEST(DepthMappingTest, nearerIsBrighterAndOutsideIsClamped)
 TEST(DepthMappingTest, inverseZGivesHalfScaleAtTheHarmonicMean)
 {
     // 1/Z halfway between 1/near and 1/far: Z = 2·near·far/(near + far) = 0.8 m for 0.5 and 2 m.
-    EXPECT_NEAR(metresToNearness(0.8, DepthRange{0.5, 2.0}, DepthMapping::InverseZ, 255.0), 127.5, 1e-9);
+    EXPECT_NEAR(metresToNearness(0.8, DepthRange{0.5, 2.0}, DepthMapping::InverseZ, 255.0), 127.5,
+                1e-9);
     // The linear mapping puts the arithmetic mean there instead.
-    EXPECT_NEAR(metresToNearness(1.25, DepthRange{0.5, 2.0}, DepthMapping::Linear, 255.0), 127.5, 1e-9);
+    EXPECT_NEAR(metresToNearness(1.25, DepthRange{0.5, 2.0}, DepthMapping::Linear, 255.0), 127.5,
+                1e-9);
 }
 
 TEST(DepthMappingTest, parsesNamesAndRefusesOthers)
@@ -112,9 +115,11 @@ TEST(MetricToNearnessTest, refusesBadInput)
     ConvertOptions o;
     EXPECT_EQ(metricToNearness(Plane<std::uint16_t>{}, o).error().code, Errc::InvalidArgument);
     // No valid sample to estimate the planes from.
-    EXPECT_EQ(metricToNearness(Plane<std::uint16_t>(3, 3, 0), o).error().code, Errc::InvalidArgument);
+    EXPECT_EQ(metricToNearness(Plane<std::uint16_t>(3, 3, 0), o).error().code,
+              Errc::InvalidArgument);
     o.range = DepthRange{2.0, 1.0};
-    EXPECT_EQ(metricToNearness(Plane<std::uint16_t>(3, 3, 1000), o).error().code, Errc::InvalidArgument);
+    EXPECT_EQ(metricToNearness(Plane<std::uint16_t>(3, 3, 1000), o).error().code,
+              Errc::InvalidArgument);
 }
 
 TEST(MetricToNearnessTest, eightBitNearnessPassesThroughAndQuantizeRoundTrips)

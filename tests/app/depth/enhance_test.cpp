@@ -1,5 +1,6 @@
 /// \file
-/// \brief Depth enhancement (paper §V.B): adaptive sampling, Delaunay, smoothing, re-render, measures.
+/// \brief Depth enhancement (paper §V.B): adaptive sampling, Delaunay, smoothing, re-render,
+/// measures.
 
 #include <gtest/gtest.h>
 
@@ -24,7 +25,9 @@ Plane<float> bump(int w, int h, float amplitude)
         for (int x = 0; x < w; ++x) {
             const double dx = x - w / 2.0;
             const double dy = y - h / 2.0;
-            p.at(x, y) = static_cast<float>(40.0 + static_cast<double>(amplitude) * std::exp(-(dx * dx + dy * dy) / (2.0 * 144.0)));
+            p.at(x, y) =
+                static_cast<float>(40.0 + static_cast<double>(amplitude) *
+                                              std::exp(-(dx * dx + dy * dy) / (2.0 * 144.0)));
         }
     return p;
 }
@@ -145,8 +148,8 @@ TEST(TriangulateTest, refusesDegenerateInput)
 
 TEST(EnhanceTest, removesNoiseOnFlatRegionsAndKeepsAStepEdge)
 {
-    // GIVEN a 160×120 map: a 45-level plane tilted on the left, a flat 120-level plateau on the right
-    // (a 75-level step at x = 80), plus uniform noise of ±3 levels
+    // GIVEN a 160×120 map: a 45-level plane tilted on the left, a flat 120-level plateau on the
+    // right (a 75-level step at x = 80), plus uniform noise of ±3 levels
     Plane<float> truth(160, 120);
     for (int y = 0; y < 120; ++y)
         for (int x = 0; x < 160; ++x)
@@ -165,11 +168,11 @@ TEST(EnhanceTest, removesNoiseOnFlatRegionsAndKeepsAStepEdge)
     ASSERT_GT(rep.flatPixels, 10000u);
     EXPECT_LT(rep.enhanced.roughness, 0.2 * rep.input.roughness);
     EXPECT_LT(rep.enhanced.roughness, 0.5 * rep.median.roughness);
-    // AND the step keeps at least 90 % of its true contrast (63..75 levels along the edge), measured on the
-    // same edge pixels
+    // AND the step keeps at least 90 % of its true contrast (63..75 levels along the edge),
+    // measured on the same edge pixels
     ASSERT_GT(rep.edgePixels, 100u);
-    const SurfaceMeasures ideal =
-        measureSurface(medianFilter(noisy, EnhanceOptions{}.medianRadius), truth, EnhanceOptions{}.measure);
+    const SurfaceMeasures ideal = measureSurface(medianFilter(noisy, EnhanceOptions{}.medianRadius),
+                                                 truth, EnhanceOptions{}.measure);
     EXPECT_GT(ideal.edgeContrast, 60.0);
     EXPECT_GT(rep.enhanced.edgeContrast, 0.9 * ideal.edgeContrast);
     std::printf("points %zu of %zu, error mean %.3f max %.2f, roughness %.3f -> %.3f -> %.3f, "
@@ -179,7 +182,8 @@ TEST(EnhanceTest, removesNoiseOnFlatRegionsAndKeepsAStepEdge)
                 rep.enhanced.edgeContrast, ideal.edgeContrast);
     // AND few points model the scene
     EXPECT_LT(rep.pointsFraction(), 0.10);
-    // AND away from the step the result is closer to the truth than the noise was (mean |noise| = 1.5)
+    // AND away from the step the result is closer to the truth than the noise was (mean |noise|
+    // = 1.5)
     double sumErr = 0.0;
     std::size_t n = 0;
     for (int y = 0; y < 120; ++y)
@@ -197,7 +201,8 @@ TEST(EnhanceTest, refusesBadOptionsAndTinyMaps)
     EnhanceOptions o;
     o.sampling.tolerance = 0.0f;
     EXPECT_EQ(enhance(Plane<float>(8, 8, 1.0f), o).error().code, Errc::InvalidArgument);
-    EXPECT_EQ(enhance(Plane<float>(1, 8, 1.0f), EnhanceOptions{}).error().code, Errc::InvalidArgument);
+    EXPECT_EQ(enhance(Plane<float>(1, 8, 1.0f), EnhanceOptions{}).error().code,
+              Errc::InvalidArgument);
     const EnhanceOptions sixteen = EnhanceOptions::forScale(65535.0);
     EXPECT_FLOAT_EQ(sixteen.sampling.tolerance, 257.0f);
 }

@@ -43,7 +43,7 @@ std::string kitchenFrame(int n, const char *kind)
 #define DT_REQUIRE_KITCHEN()                                                                       \
     do {                                                                                           \
         if (sharedData().empty() || !fs::exists(kitchenFrame(0, "depth.png")))                     \
-            GTEST_SKIP() << "7-Scenes frames not found: set DT_SHARED_DATA to ../shared/data";    \
+            GTEST_SKIP() << "7-Scenes frames not found: set DT_SHARED_DATA to ../shared/data";     \
     } while (0)
 
 Plane<std::uint16_t> readDepth(const std::string &path)
@@ -101,7 +101,8 @@ TEST(DepthRealDataTest, depthResamplesToAnotherGrid)
     EXPECT_EQ(f->nearness.width, color->width);
     const auto half = resample(f->nearness, 320, 240);
     ASSERT_TRUE(half);
-    const auto [lo, hi] = std::minmax_element(f->nearness.samples.begin(), f->nearness.samples.end());
+    const auto [lo, hi] =
+        std::minmax_element(f->nearness.samples.begin(), f->nearness.samples.end());
     for (const float v : half->samples) {
         ASSERT_GE(v, *lo);
         ASSERT_LE(v, *hi);
@@ -121,12 +122,14 @@ TEST(DepthRealDataTest, enhancementRemovesSensorNoiseAndKeepsEdges)
             GTEST_SKIP() << "built without CGAL";
         ASSERT_TRUE(r);
         const EnhanceReport &rep = r->report;
-        std::printf("frame %d: points %zu of %zu (%.2f %%), |error| mean %.3f p99 %.2f max %.2f levels, "
-                    "flat roughness %.3f -> %.3f (median %.3f) on %zu px, edge contrast %.2f -> %.2f on %zu px\n",
-                    n, rep.points, rep.pixels, 100.0 * rep.pointsFraction(), rep.meanAbsError,
-                    rep.p99AbsError, rep.maxAbsError, rep.input.roughness, rep.enhanced.roughness,
-                    rep.median.roughness, rep.flatPixels, rep.input.edgeContrast, rep.enhanced.edgeContrast,
-                    rep.edgePixels);
+        std::printf(
+            "frame %d: points %zu of %zu (%.2f %%), |error| mean %.3f p99 %.2f max %.2f levels, "
+            "flat roughness %.3f -> %.3f (median %.3f) on %zu px, edge contrast %.2f -> %.2f on "
+            "%zu px\n",
+            n, rep.points, rep.pixels, 100.0 * rep.pointsFraction(), rep.meanAbsError,
+            rep.p99AbsError, rep.maxAbsError, rep.input.roughness, rep.enhanced.roughness,
+            rep.median.roughness, rep.flatPixels, rep.input.edgeContrast, rep.enhanced.edgeContrast,
+            rep.edgePixels);
         RecordProperty("points_frame_" + std::to_string(n), static_cast<int>(rep.points));
         // THEN flat-region roughness falls below a third of the input's, ...
         ASSERT_GT(rep.flatPixels, 50000u);

@@ -188,8 +188,9 @@ TEST_F(ImageIoTest, writeRefusesEmptyImagesAndUnwritablePaths)
     Image bad = Image::make(4, 4, PixelFormat::Rgb24);
     bad.data.resize(10);
     EXPECT_EQ(writePng(path("b.png"), bad).error().code, Errc::InvalidArgument);
-    EXPECT_EQ(writePng(path("no-such-dir/x.png"), Image::make(4, 4, PixelFormat::Gray8)).error().code,
-              Errc::Io);
+    EXPECT_EQ(
+        writePng(path("no-such-dir/x.png"), Image::make(4, 4, PixelFormat::Gray8)).error().code,
+        Errc::Io);
 }
 
 TEST_F(ImageIoTest, readsRealJpegColourAndTruncatedJpegFails)
@@ -238,7 +239,8 @@ TEST_F(ImageIoTest, readsReal16BitDepthPngAndBigEndianPgm)
         if (v != 0 && v != 65535)
             valid.push_back(v);
     ASSERT_GT(valid.size(), 100000u);
-    std::nth_element(valid.begin(), valid.begin() + static_cast<std::ptrdiff_t>(valid.size() / 2), valid.end());
+    std::nth_element(valid.begin(), valid.begin() + static_cast<std::ptrdiff_t>(valid.size() / 2),
+                     valid.end());
     EXPECT_GT(valid[valid.size() / 2], 400);
     EXPECT_LT(valid[valid.size() / 2], 8000);
 

@@ -46,27 +46,31 @@ Result<Frame> loadFrame(const EnhanceSweepOptions &o, int number)
     auto filled = fillInvalid(converted->nearness, converted->valid);
     if (!filled)
         return unexpected(filled.error());
-    return Frame{std::move(converted->nearness),
-                 100.0 * static_cast<double>(*filled) / static_cast<double>(converted->valid.size())};
+    return Frame{std::move(converted->nearness), 100.0 * static_cast<double>(*filled) /
+                                                     static_cast<double>(converted->valid.size())};
 }
 
 void writeGnuplotScript(std::FILE *gp, const std::string &csv, const std::string &png)
 {
-    std::fprintf(gp,
-                 "set terminal pngcairo size 900,600 noenhanced\n"
-                 "set output '%s'\n"
-                 "set datafile separator ','\n"
-                 "set title 'Depth enhancement (paper V.B) on 7-Scenes: points kept against error'\n"
-                 "set xlabel 'points kept (%% of pixels)'\n"
-                 "set ylabel 'mean |enhanced - median-filtered| (8-bit nearness levels)'\n"
-                 "set logscale x\n"
-                 "set grid\n"
-                 "set key top right\n"
-                 "plot '%s' using ($1==0?$5:1/0):7 with linespoints pt 7 title 'linear-error criterion', \\\n"
-                 "     '' using ($1==0?$5:1/0):7:(sprintf('%%g',$2)) with labels offset 1.2,0.6 notitle, \\\n"
-                 "     '' using ($1==1?$5:1/0):7 with linespoints pt 5 title 'gradient criterion (paper)', \\\n"
-                 "     '' using ($1==1?$5:1/0):7:(sprintf('%%g',$2)) with labels offset 1.2,-0.6 notitle\n",
-                 png.c_str(), csv.c_str());
+    std::fprintf(
+        gp,
+        "set terminal pngcairo size 900,600 noenhanced\n"
+        "set output '%s'\n"
+        "set datafile separator ','\n"
+        "set title 'Depth enhancement (paper V.B) on 7-Scenes: points kept against error'\n"
+        "set xlabel 'points kept (%% of pixels)'\n"
+        "set ylabel 'mean |enhanced - median-filtered| (8-bit nearness levels)'\n"
+        "set logscale x\n"
+        "set grid\n"
+        "set key top right\n"
+        "plot '%s' using ($1==0?$5:1/0):7 with linespoints pt 7 title 'linear-error criterion', "
+        "\\\n"
+        "     '' using ($1==0?$5:1/0):7:(sprintf('%%g',$2)) with labels offset 1.2,0.6 notitle, "
+        "\\\n"
+        "     '' using ($1==1?$5:1/0):7 with linespoints pt 5 title 'gradient criterion (paper)', "
+        "\\\n"
+        "     '' using ($1==1?$5:1/0):7:(sprintf('%%g',$2)) with labels offset 1.2,-0.6 notitle\n",
+        png.c_str(), csv.c_str());
 }
 
 } // namespace
@@ -122,18 +126,19 @@ Result<EnhanceSweepResult> runEnhanceSweep(const EnhanceSweepOptions &o)
             }
             const auto n = static_cast<double>(frames.size());
             row.frames = frames.size();
-            for (double *v : {&row.pixels, &row.points, &row.meanAbsError, &row.rmsError, &row.p99AbsError,
-                              &row.maxAbsError, &row.roughnessInput, &row.roughnessMedian,
-                              &row.roughnessEnhanced, &row.edgeContrastInput, &row.edgeContrastEnhanced,
-                              &row.holesPercent})
+            for (double *v : {&row.pixels, &row.points, &row.meanAbsError, &row.rmsError,
+                              &row.p99AbsError, &row.maxAbsError, &row.roughnessInput,
+                              &row.roughnessMedian, &row.roughnessEnhanced, &row.edgeContrastInput,
+                              &row.edgeContrastEnhanced, &row.holesPercent})
                 *v /= n;
             row.pointsPercent = 100.0 * row.points / row.pixels;
             row.millisPerFrame = 1000.0 * seconds / n;
             DT_LOG(DepthBench, Info,
-                   "%s tol %.3g: points %.0f (%.2f %%), mean err %.3f, rough %.3f -> %.3f, edge %.2f -> %.2f",
-                   criterionName(criterion), static_cast<double>(tolerance), row.points, row.pointsPercent,
-                   row.meanAbsError, row.roughnessInput, row.roughnessEnhanced, row.edgeContrastInput,
-                   row.edgeContrastEnhanced);
+                   "%s tol %.3g: points %.0f (%.2f %%), mean err %.3f, rough %.3f -> %.3f, edge "
+                   "%.2f -> %.2f",
+                   criterionName(criterion), static_cast<double>(tolerance), row.points,
+                   row.pointsPercent, row.meanAbsError, row.roughnessInput, row.roughnessEnhanced,
+                   row.edgeContrastInput, row.edgeContrastEnhanced);
             result.rows.push_back(row);
         }
     }
@@ -146,17 +151,22 @@ Result<EnhanceSweepResult> runEnhanceSweep(const EnhanceSweepOptions &o)
             return unexpected(Errc::Io, "Failed to create the sweep CSV");
         }
         // criterion_id first so gnuplot can select a curve numerically.
-        std::fprintf(csv.get(),
-                     "criterion_id,tolerance,criterion,frames,points_percent,points,mean_abs_error,rms_error,"
-                     "p99_abs_error,max_abs_error,roughness_input,roughness_median,roughness_enhanced,"
-                     "edge_contrast_input,edge_contrast_enhanced,holes_percent,ms_per_frame,pixels\n");
+        std::fprintf(
+            csv.get(),
+            "criterion_id,tolerance,criterion,frames,points_percent,points,mean_abs_error,rms_"
+            "error,"
+            "p99_abs_error,max_abs_error,roughness_input,roughness_median,roughness_enhanced,"
+            "edge_contrast_input,edge_contrast_enhanced,holes_percent,ms_per_frame,pixels\n");
         for (const EnhanceSweepRow &r : result.rows)
-            std::fprintf(csv.get(), "%d,%g,%s,%zu,%.4f,%.1f,%.4f,%.4f,%.4f,%.3f,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f,%.1f,%.0f\n",
+            std::fprintf(csv.get(),
+                         "%d,%g,%s,%zu,%.4f,%.1f,%.4f,%.4f,%.4f,%.3f,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f,"
+                         "%.1f,%.0f\n",
                          r.criterion == SamplingCriterion::Gradient ? 1 : 0,
                          static_cast<double>(r.tolerance), criterionName(r.criterion), r.frames,
-                         r.pointsPercent, r.points, r.meanAbsError, r.rmsError, r.p99AbsError, r.maxAbsError,
-                         r.roughnessInput, r.roughnessMedian, r.roughnessEnhanced, r.edgeContrastInput,
-                         r.edgeContrastEnhanced, r.holesPercent, r.millisPerFrame, r.pixels);
+                         r.pointsPercent, r.points, r.meanAbsError, r.rmsError, r.p99AbsError,
+                         r.maxAbsError, r.roughnessInput, r.roughnessMedian, r.roughnessEnhanced,
+                         r.edgeContrastInput, r.edgeContrastEnhanced, r.holesPercent,
+                         r.millisPerFrame, r.pixels);
         if (std::fflush(csv.get()) != 0 || std::ferror(csv.get()) != 0)
             return unexpected(Errc::Io, "Failed to write the sweep CSV");
     }

@@ -1,14 +1,18 @@
 #pragma once
 /// \file
-/// \brief Metric depth (sensor units, e.g. mm) → nearness levels, and back (DESIGN.md §3 "Metric depth input").
+/// \brief Metric depth (sensor units, e.g. mm) → nearness levels, and back (DESIGN.md §3 "Metric
+/// depth input").
 ///
-/// Nearness v is what the depth stream carries: 0 = far plane, v_max = near plane (255 for 8-bit, 65535 for
-/// 16-bit), brighter is nearer. Two mappings from metric depth Z (metres) with planes near < far:
-///  - InverseZ (MPEG 3DV): `v = v_max·(1/Z − 1/far)/(1/near − 1/far)`; uniform in disparity, so near
+/// Nearness v is what the depth stream carries: 0 = far plane, v_max = near plane (255 for 8-bit,
+/// 65535 for 16-bit), brighter is nearer. Two mappings from metric depth Z (metres) with planes
+/// near < far:
+///  - InverseZ (MPEG 3DV): `v = v_max·(1/Z − 1/far)/(1/near − 1/far)`; uniform in disparity, so
+///  near
 ///    objects get more levels;
 ///  - Linear: `v = v_max·(far − Z)/(far − near)`.
-/// Depth outside [near, far] is clamped to v_max or 0. Invalid raw samples (0, or ≥ the sensor's saturation
-/// value such as 65535) are flagged, never mapped: fill them with fillInvalid() (fill.h) before encoding.
+/// Depth outside [near, far] is clamped to v_max or 0. Invalid raw samples (0, or ≥ the sensor's
+/// saturation value such as 65535) are flagged, never mapped: fill them with fillInvalid() (fill.h)
+/// before encoding.
 ///
 /// Paper: Cha et al., "3D video player system with haptic interaction based on depth image-based
 /// representation", §V.A (depth video from a depth camera) and §V.B (its noise and holes).
@@ -30,7 +34,8 @@ enum class DepthMapping : std::uint8_t {
     Linear,   ///< Linear in Z.
 };
 
-/// \return "inverse_z" or "linear": the value of the container's `depth_mapping` tag and of `--depth-mapping`.
+/// \return "inverse_z" or "linear": the value of the container's `depth_mapping` tag and of
+/// `--depth-mapping`.
 const char *mappingName(DepthMapping mapping) noexcept;
 /// Parses "inverse_z" (also "inverse", "1/z", "mpeg") or "linear".
 /// \return the mapping, or Errc::InvalidArgument for any other text.
@@ -44,7 +49,8 @@ struct DepthRange {
 
 /// \brief How raw 16-bit depth samples are to be read.
 struct RawDepthFormat {
-    /// Metres per raw unit (`--depth-scale`): 0.001 for millimetres (Kinect, 7-Scenes), 0.0002 for TUM (1/5000 m).
+    /// Metres per raw unit (`--depth-scale`): 0.001 for millimetres (Kinect, 7-Scenes), 0.0002 for
+    /// TUM (1/5000 m).
     double metresPerUnit = 0.001;
     /// Raw values ≥ this are invalid (sensor saturation / "no return"). 0 is always invalid.
     std::uint16_t saturation = 65535;
@@ -65,37 +71,42 @@ double metresToNearness(double zM, DepthRange range, DepthMapping mapping, doubl
 /// \brief Inverse of metresToNearness() for v in [0, vmax]: nearness level → metres in [near, far].
 double nearnessToMetres(double v, DepthRange range, DepthMapping mapping, double vmax) noexcept;
 
-/// \brief Near/far planes from the valid data's robust range: the \a lowFraction and \a highFraction quantiles
-/// of the valid samples' depth (default 1 % and 99 %), so a few outliers do not waste levels.
-/// \param[in] raw W×H raw depth (units of \a format.metresPerUnit)
-/// \return the range in metres; a degenerate range (flat scene) is widened to ±1 % around its depth.
-///         Errc::InvalidArgument when there is no valid sample or the fractions are not 0 ≤ low < high ≤ 1.
+/// \brief Near/far planes from the valid data's robust range: the \a lowFraction and \a
+/// highFraction quantiles of the valid samples' depth (default 1 % and 99 %), so a few outliers do
+/// not waste levels. \param[in] raw W×H raw depth (units of \a format.metresPerUnit) \return the
+/// range in metres; a degenerate range (flat scene) is widened to ±1 % around its depth.
+///         Errc::InvalidArgument when there is no valid sample or the fractions are not 0 ≤ low <
+///         high ≤ 1.
 Result<DepthRange> robustRange(const Plane<std::uint16_t> &raw, const RawDepthFormat &format,
                                double lowFraction = 0.01, double highFraction = 0.99);
 
 /// \brief Options of metricToNearness().
 struct ConvertOptions {
-    RawDepthFormat raw{};                         ///< Units and invalid values of the input.
+    RawDepthFormat raw{};                          ///< Units and invalid values of the input.
     DepthMapping mapping = DepthMapping::InverseZ; ///< `--depth-mapping`.
-    double vmax = 255.0;                          ///< Output scale: 255 (8-bit) or 65535 (16-bit).
-    std::optional<DepthRange> range;              ///< Given `--near/--far`; nullopt → robustRange().
-    double lowFraction = 0.01;                    ///< Quantiles used when range is nullopt.
+    double vmax = 255.0;                           ///< Output scale: 255 (8-bit) or 65535 (16-bit).
+    std::optional<DepthRange> range; ///< Given `--near/--far`; nullopt → robustRange().
+    double lowFraction = 0.01;       ///< Quantiles used when range is nullopt.
     double highFraction = 0.99;
 };
 
 /// \brief A depth frame in nearness levels with its validity mask.
 struct NearnessFrame {
-    Plane<float> nearness;      ///< W×H nearness levels in [0, vmax]; 0 where invalid (fill before use!).
-    Plane<std::uint8_t> valid;  ///< W×H: 1 = measured, 0 = invalid (hole).
-    DepthRange range{};         ///< Planes used (metres): write to the container's depth_near/depth_far tags.
+    Plane<float>
+        nearness; ///< W×H nearness levels in [0, vmax]; 0 where invalid (fill before use!).
+    Plane<std::uint8_t> valid; ///< W×H: 1 = measured, 0 = invalid (hole).
+    DepthRange
+        range{}; ///< Planes used (metres): write to the container's depth_near/depth_far tags.
     std::size_t invalidCount = 0; ///< Number of zeros in \a valid.
 };
 
 /// \brief Converts raw metric depth to nearness (unfilled).
 /// \param[in] raw W×H raw samples (e.g. a 16-bit depth PNG in mm)
-/// \return the frame, or Errc::InvalidArgument when the plane is empty, vmax ≤ 0, metresPerUnit ≤ 0, the given
+/// \return the frame, or Errc::InvalidArgument when the plane is empty, vmax ≤ 0, metresPerUnit ≤
+/// 0, the given
 ///         range is not 0 < near < far, or no sample is valid while the range must be estimated.
-Result<NearnessFrame> metricToNearness(const Plane<std::uint16_t> &raw, const ConvertOptions &options);
+Result<NearnessFrame> metricToNearness(const Plane<std::uint16_t> &raw,
+                                       const ConvertOptions &options);
 
 /// \brief 8-bit nearness passes through: each sample becomes a float level, every sample valid.
 /// The planes are unknown here (they travel with the source): \a range is left at its defaults.

@@ -2,8 +2,8 @@
 /// \file
 /// \brief Plane<T>: a plain owning 2-D array of samples, the data type of the depth pipeline.
 ///
-/// Thread-safety: value type; distinct objects may be used from distinct threads, one object from several
-/// threads only for reading.
+/// Thread-safety: value type; distinct objects may be used from distinct threads, one object from
+/// several threads only for reading.
 
 #include <cstddef>
 #include <vector>
@@ -12,12 +12,11 @@ namespace depthtouch::depth {
 
 /// \brief A W×H grid of samples of type T, row-major, tightly packed (row stride = width samples).
 ///
-/// Sample (column x, row y) is `samples[y·width + x]`, x in [0, width), y in [0, height); row 0 is the
-/// top of the image. The unit depends on the use: raw sensor units (e.g. mm) in `Plane<uint16_t>`,
-/// nearness levels (0 = far plane, v_max = near plane, DESIGN.md §3) in `Plane<float>` or
-/// `Plane<uint16_t>`, flags (0/1) in `Plane<uint8_t>`.
-template <class T>
-struct Plane {
+/// Sample (column x, row y) is `samples[y·width + x]`, x in [0, width), y in [0, height); row 0 is
+/// the top of the image. The unit depends on the use: raw sensor units (e.g. mm) in
+/// `Plane<uint16_t>`, nearness levels (0 = far plane, v_max = near plane, DESIGN.md §3) in
+/// `Plane<float>` or `Plane<uint16_t>`, flags (0/1) in `Plane<uint8_t>`.
+template <class T> struct Plane {
     int width = 0;
     int height = 0;
     std::vector<T> samples;
@@ -50,8 +49,7 @@ struct Plane {
         return samples[index(x, y)];
     }
     /// True when both planes have the same width and height.
-    template <class U>
-    [[nodiscard]] bool sameSize(const Plane<U> &o) const noexcept
+    template <class U> [[nodiscard]] bool sameSize(const Plane<U> &o) const noexcept
     {
         return width == o.width && height == o.height;
     }

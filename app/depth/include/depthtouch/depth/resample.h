@@ -4,11 +4,13 @@
 ///
 /// Sample centres are aligned: output sample (x, y) looks at source position
 /// `((x + 0.5)·Ws/W − 0.5, (y + 0.5)·Hs/H − 0.5)`.
-///  - Nearest: the closest source sample; never invents depths between a foreground and a background
+///  - Nearest: the closest source sample; never invents depths between a foreground and a
+///  background
 ///    ("flying pixels"), blocky when upscaling.
-///  - EdgeAware: bilinear interpolation of the 2×2 source neighbours when their range (max − min) is at
-///    most \a edgeThreshold levels, otherwise the nearest sample: smooth on surfaces, sharp at depth
-///    discontinuities.
+///  - EdgeAware: bilinear interpolation of the 2×2 source neighbours when their range (max − min)
+///  is at
+///    most \a edgeThreshold levels, otherwise the nearest sample: smooth on surfaces, sharp at
+///    depth discontinuities.
 /// Resample after fillInvalid() (holes would otherwise leak into their neighbours).
 /// Thread-safety: reentrant.
 
@@ -28,10 +30,9 @@ Result<Plane<float>> resample(const Plane<float> &src, int width, int height,
                               ResampleMethod method = ResampleMethod::EdgeAware,
                               float edgeThreshold = 4.0f);
 
-/// \brief Nearest-sample resampling of any plane (e.g. a validity mask). Same alignment as resample().
-/// \pre src non-empty, width > 0, height > 0 (an empty plane is returned otherwise).
-template <class T>
-Plane<T> resampleNearest(const Plane<T> &src, int width, int height)
+/// \brief Nearest-sample resampling of any plane (e.g. a validity mask). Same alignment as
+/// resample(). \pre src non-empty, width > 0, height > 0 (an empty plane is returned otherwise).
+template <class T> Plane<T> resampleNearest(const Plane<T> &src, int width, int height)
 {
     if (src.empty() || width <= 0 || height <= 0)
         return {};

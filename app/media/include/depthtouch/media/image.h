@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// \brief Image: a plain owning picture (8/16-bit gray or RGB) as read and written by image_io.h, and its
-/// conversion to and from depth::Plane.
+/// \brief Image: a plain owning picture (8/16-bit gray or RGB) as read and written by image_io.h,
+/// and its conversion to and from depth::Plane.
 ///
 /// Thread-safety: value type; distinct objects may be used from distinct threads.
 
@@ -28,7 +28,8 @@ constexpr int bytesPerPixel(PixelFormat format) noexcept
 /// \return "gray8", "gray16" or "rgb24".
 const char *pixelFormatName(PixelFormat format) noexcept;
 
-/// \brief A W×H picture: row y starts at byte `y·stride` of \a data; `stride ≥ width·bytesPerPixel(format)`.
+/// \brief A W×H picture: row y starts at byte `y·stride` of \a data; `stride ≥
+/// width·bytesPerPixel(format)`.
 struct Image {
     int width = 0;
     int height = 0;
@@ -41,7 +42,10 @@ struct Image {
 
     [[nodiscard]] bool empty() const noexcept { return width <= 0 || height <= 0 || data.empty(); }
     /// First byte of row \a y. \pre 0 ≤ y < height.
-    [[nodiscard]] std::uint8_t *row(int y) noexcept { return data.data() + static_cast<std::size_t>(y) * stride; }
+    [[nodiscard]] std::uint8_t *row(int y) noexcept
+    {
+        return data.data() + static_cast<std::size_t>(y) * stride;
+    }
     [[nodiscard]] const std::uint8_t *row(int y) const noexcept
     {
         return data.data() + static_cast<std::size_t>(y) * stride;
@@ -52,8 +56,8 @@ struct Image {
     void setSample16(int x, int y, std::uint16_t value) noexcept;
 };
 
-/// \brief Gray16 image → plane of uint16 samples (e.g. raw depth in mm). Gray8 samples are widened unchanged
-/// (0..255). \return an empty plane for Rgb24.
+/// \brief Gray16 image → plane of uint16 samples (e.g. raw depth in mm). Gray8 samples are widened
+/// unchanged (0..255). \return an empty plane for Rgb24.
 depth::Plane<std::uint16_t> toPlane16(const Image &image);
 /// \brief Gray8 image → plane of bytes (e.g. 8-bit nearness). \return an empty plane unless Gray8.
 depth::Plane<std::uint8_t> toPlane8(const Image &image);
