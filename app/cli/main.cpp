@@ -15,6 +15,8 @@ using depthtouch::cli::RegisterCommand;
 constexpr RegisterCommand kCommands[] = {
     &depthtouch::cli::registerDemoCommand,
     &depthtouch::cli::registerBackendsCommand,
+    &depthtouch::cli::registerTouchCommand,
+    &depthtouch::cli::registerBenchCommand,
 };
 
 } // namespace

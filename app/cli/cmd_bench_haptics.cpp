@@ -1,0 +1,72 @@
+/// \file
+/// \brief `depthtouch bench haptics`: per-update time distribution and accuracy of the haptic renderers
+/// (modified proxy graph, proxy-graph, mesh-bvh) at 720×486, 1920×1080 and 3840×2160; writes CSV, JSON
+/// and PNG charts (speed vs accuracy, PSD with and without interpolation) into --out.
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.h"
+#include "depthtouch/haptics/haptics_bench.h"
+
+namespace depthtouch::cli {
+
+namespace {
+
+struct BenchHapticsOptions {
+    std::string out = "bench-out/haptics";
+    bool quick = false;
+    int runs = 3;
+    int updates = 20000;
+};
+
+int runBenchHaptics(const BenchHapticsOptions &o)
+{
+    using namespace depthtouch::haptics::bench;
+    if (o.runs < 1 || o.updates < 1000) {
+        std::fprintf(stderr, "depthtouch bench haptics: --runs must be >= 1 and --updates >= 1000\n");
+        return kExitBadInput;
+    }
+    BenchOptions opt;
+    opt.quick = o.quick;
+    opt.runs = o.runs;
+    opt.updates = o.updates;
+    const BenchReport report = runHapticsBenchmark(opt);
+    std::printf("\ngoals (this run):\n");
+    std::printf("  modified p99.9 at 720x486, 1 m/s: %.0f ns (goal <= 2000 ns): %s\n",
+                report.modifiedP999At720Fast, report.modifiedP999At720Fast <= 2000.0 ? "met" : "NOT met");
+    std::printf("  modified median 3840x2160 / 720x486 (worst motion): %.2f (goal <= 1.5): %s\n",
+                report.resolutionRatio, report.resolutionRatio <= 1.5 ? "met" : "NOT met");
+    std::printf("  mesh-bvh per-frame rebuild / modified per-frame cost at 720x486: %.0fx (goal >= 1000x): %s\n",
+                report.rebuildRatio, report.rebuildRatio >= 1000.0 ? "met" : "NOT met");
+    std::string error;
+    std::string note;
+    if (!writeBenchOutputs(report, o.out, error, note)) {
+        std::fprintf(stderr, "depthtouch bench haptics: %s\n", error.c_str());
+        return kExitFailure;
+    }
+    if (!note.empty())
+        std::printf("note: %s\n", note.c_str());
+    std::printf("wrote %s/{haptics_bench.csv,haptics_bench.json,psd.csv,speed_vs_accuracy.png,psd.png}\n",
+                o.out.c_str());
+    return kExitOk;
+}
+
+} // namespace
+
+void registerBenchHapticsCommand(CLI::App &bench, int &exitCode)
+{
+    auto o = std::make_shared<BenchHapticsOptions>();
+    CLI::App *cmd = bench.add_subcommand(
+        "haptics", "Haptic renderers: update-time percentiles, per-frame cost, force error, PSD; CSV/JSON/PNG");
+    cmd->add_option("--out", o->out, "Output directory")->capture_default_str();
+    cmd->add_flag("--quick", o->quick, "Short run (1 repetition, 3000 updates per setting)");
+    cmd->add_option("--runs", o->runs, "Repetitions per setting (medians are reported)")->capture_default_str();
+    cmd->add_option("--updates", o->updates, "Haptic updates per run")->capture_default_str();
+    cmd->callback([o, &exitCode]() { exitCode = runBenchHaptics(*o); });
+}
+
+} // namespace depthtouch::cli

@@ -1,0 +1,68 @@
+#pragma once
+/// \file
+/// \brief `depthtouch bench haptics`: speed and accuracy of the haptic renderers (issue 3).
+///
+/// For each method (modified, proxy-graph, mesh-bvh), depth resolution (720×486, 1920×1080,
+/// 3840×2160) and HIP motion (still, stroking at 0.1 m/s and at 1 m/s) it replays a moving analytic
+/// surface (a travelling sinusoid, 30 fps video, 1 kHz haptics) and measures the per-update time
+/// distribution, the cost per new depth frame, the force RMS error against the analytic ground truth
+/// (k × the true penetration along the true normal), pop-throughs, and the PSD of |F| at the frame rate.
+/// Uses std::chrono::steady_clock (bench program only). Thread-safety: call from one thread.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace depthtouch::haptics::bench {
+
+/// \brief Options of one benchmark run.
+struct BenchOptions {
+    bool quick = false;    ///< Fewer updates and repetitions.
+    int runs = 3;          ///< Repetitions per setting; statistics are medians over runs.
+    int updates = 20000;   ///< Haptic updates per run (modified, proxy-graph).
+    bool verbose = true;   ///< Print progress and the table to stdout.
+};
+
+/// \brief One (method, resolution, motion) setting.
+struct BenchRow {
+    std::string method;       ///< modified | modified-hold | proxy-graph | mesh-bvh
+    int width = 0;
+    int height = 0;
+    std::string motion;       ///< still | 0.1 m/s | 1 m/s
+    std::size_t updates = 0;  ///< Updates per run.
+    double medianNs = 0.0;    ///< Per-update time, ns (median over runs of each statistic).
+    double p99Ns = 0.0;
+    double p999Ns = 0.0;
+    double maxNs = 0.0;
+    double frameCostNs = 0.0; ///< Median cost of handing one new depth frame to the renderer, ns.
+    double forceRmsError = 0.0; ///< N, against the analytic ground truth.
+    long popThroughs = 0;     ///< Updates ending with the proxy below the renderer's surface.
+    double psdFrameRateDb = 0.0; ///< PSD of |F| at 30 Hz, dB re 1 N²/Hz (still runs; 0 otherwise).
+};
+
+/// \brief The PSD curves for the Fig. 12-like chart (720×486, HIP still).
+struct PsdCurves {
+    double binHz = 0.0;
+    std::vector<double> interpolatedDb; ///< modified
+    std::vector<double> holdDb;         ///< modified with interpolation off (sample-and-hold)
+};
+
+/// \brief Everything one run produced, plus the goals of issue 3 evaluated on it.
+struct BenchReport {
+    std::vector<BenchRow> rows;
+    PsdCurves psd;
+    double modifiedP999At720Fast = 0.0;  ///< ns; goal ≤ 2000
+    double resolutionRatio = 0.0;        ///< modified median 3840×2160 / 720×486, worst motion; goal ≤ 1.5
+    double rebuildRatio = 0.0;           ///< mesh-bvh frame cost / modified frame cost at 720×486; goal ≥ 1000
+};
+
+/// \brief Runs the benchmark. Allocates freely (not real-time).
+BenchReport runHapticsBenchmark(const BenchOptions &options);
+
+/// \brief Writes haptics_bench.csv, haptics_bench.json, psd.csv and (with gnuplot) speed_vs_accuracy.png
+/// and psd.png into \a dir (created). \return false and a message in \a error on I/O failure;
+/// a missing gnuplot is reported in \a note, not an error.
+bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::string &error,
+                       std::string &note);
+
+} // namespace depthtouch::haptics::bench

@@ -1,0 +1,435 @@
+#include "depthtouch/haptics/haptics_bench.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <numbers>
+
+#include <glm/geometric.hpp>
+
+#include "depthtouch/haptics/mesh_bvh.h"
+#include "depthtouch/haptics/renderer.h"
+#include "depthtouch/haptics/spectrum.h"
+
+namespace depthtouch::haptics::bench {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr double kRate = 1000.0;
+constexpr double kFps = 30.0;
+constexpr int kPeriodFrames = 16;  // the surface motion repeats every 16 frames (cached frames)
+constexpr double kA = 0.003;       // m, wave amplitude
+constexpr double kKx = 2.0 * std::numbers::pi / 0.04;
+constexpr double kKy = 2.0 * std::numbers::pi / 0.05;
+constexpr double kOmega = 2.0 * std::numbers::pi * kFps / kPeriodFrames; // rad/s
+constexpr double kPen = 0.002;     // m, stroke depth under the surface
+
+/// The analytic moving surface and its derivatives.
+struct Wave {
+    static double z(double x, double y, double t) { return kA * std::sin(kKx * x - kOmega * t) * std::cos(kKy * y); }
+    static void derivatives(double x, double y, double t, double &zx, double &zy, double &zxx,
+                            double &zyy, double &zxy)
+    {
+        const double s = std::sin(kKx * x - kOmega * t);
+        const double c = std::cos(kKx * x - kOmega * t);
+        const double cy = std::cos(kKy * y);
+        const double sy = std::sin(kKy * y);
+        zx = kA * kKx * c * cy;
+        zy = -kA * kKy * s * sy;
+        zxx = -kA * kKx * kKx * s * cy;
+        zyy = -kA * kKy * kKy * s * cy;
+        zxy = -kA * kKx * kKy * c * sy;
+    }
+};
+
+/// Ground truth: k × (closest point of the analytic surface − HIP) when the HIP is under it.
+glm::dvec3 trueForce(const glm::dvec3 &hip, double t, const RendererConfig &cfg)
+{
+    if (hip.z >= Wave::z(hip.x, hip.y, t))
+        return glm::dvec3(0.0);
+    double x = hip.x;
+    double y = hip.y;
+    for (int it = 0; it < 12; ++it) {
+        double zx = 0;
+        double zy = 0;
+        double zxx = 0;
+        double zyy = 0;
+        double zxy = 0;
+        Wave::derivatives(x, y, t, zx, zy, zxx, zyy, zxy);
+        const double dz = Wave::z(x, y, t) - hip.z;
+        const double gx = (x - hip.x) + dz * zx;
+        const double gy = (y - hip.y) + dz * zy;
+        const double hxx = 1.0 + zx * zx + dz * zxx;
+        const double hyy = 1.0 + zy * zy + dz * zyy;
+        const double hxy = zx * zy + dz * zxy;
+        const double det = hxx * hyy - hxy * hxy;
+        if (!(std::fabs(det) > 1e-18))
+            break;
+        const double sx = (hyy * gx - hxy * gy) / det;
+        const double sy = (hxx * gy - hxy * gx) / det;
+        x -= sx;
+        y -= sy;
+        if (std::fabs(sx) + std::fabs(sy) < 1e-13)
+            break;
+    }
+    glm::dvec3 f = cfg.stiffness * (glm::dvec3(x, y, Wave::z(x, y, t)) - hip);
+    const double len = glm::length(f);
+    if (len > cfg.maxForce)
+        f *= cfg.maxForce / len;
+    return f;
+}
+
+/// A 16-bit frame of the wave at frame index i, W×H.
+struct Frame {
+    std::vector<std::uint16_t> pixels;
+    DepthFrameView view(int w, int h, int i) const
+    {
+        return DepthFrameView{reinterpret_cast<const std::uint8_t *>(pixels.data()), w, h,
+                              static_cast<std::size_t>(w) * 2, SampleFormat::Gray16, i / kFps};
+    }
+};
+
+std::vector<Frame> makeFrames(int w, int h, const SceneBox &box)
+{
+    std::vector<Frame> frames(kPeriodFrames);
+    const double s = box.width / (w - 1);
+    std::vector<double> cy(static_cast<std::size_t>(h));
+    for (int r = 0; r < h; ++r)
+        cy[static_cast<std::size_t>(r)] = std::cos(kKy * ((h - 1) * 0.5 - r) * s);
+    for (int i = 0; i < kPeriodFrames; ++i) {
+        std::vector<double> sx(static_cast<std::size_t>(w));
+        for (int c = 0; c < w; ++c)
+            sx[static_cast<std::size_t>(c)] = std::sin(kKx * (c - (w - 1) * 0.5) * s - kOmega * i / kFps);
+        Frame &f = frames[static_cast<std::size_t>(i)];
+        f.pixels.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+        for (int r = 0; r < h; ++r)
+            for (int c = 0; c < w; ++c) {
+                const double z = kA * sx[static_cast<std::size_t>(c)] * cy[static_cast<std::size_t>(r)];
+                const double v = std::round((z / box.depth + 0.5) * 65535.0);
+                f.pixels[static_cast<std::size_t>(r) * static_cast<std::size_t>(w) + static_cast<std::size_t>(c)] =
+                    static_cast<std::uint16_t>(std::clamp(v, 0.0, 65535.0));
+            }
+    }
+    return frames;
+}
+
+/// HIP position at time t for a motion (speed 0 = still).
+glm::dvec3 hipAt(double speed, double t)
+{
+    const double y = 0.002;
+    if (speed == 0.0)
+        return {0.003, y, -kA - kPen};
+    // back and forth along x over ±35 mm (triangle wave), 2 mm under the moving surface
+    const double span = 0.07;
+    double d = std::fmod(speed * t, 2.0 * span);
+    if (d > span)
+        d = 2.0 * span - d;
+    const double x = -0.035 + d;
+    return {x, y, Wave::z(x, y, t) - kPen};
+}
+
+double percentile(std::vector<double> &v, double p)
+{
+    if (v.empty())
+        return 0.0;
+    const auto k = static_cast<std::size_t>(std::min<double>(static_cast<double>(v.size() - 1),
+                                                             std::ceil(p * static_cast<double>(v.size())) - 1));
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+    return v[k];
+}
+
+double median(std::vector<double> v) { return percentile(v, 0.5); }
+
+struct OneRun {
+    double medianNs, p99Ns, p999Ns, maxNs, frameNs, rms;
+    long pops;
+    std::vector<double> forces;
+};
+
+OneRun runOnce(const std::string &method, int w, int h, const std::vector<Frame> &frames, double speed,
+               std::size_t updates)
+{
+    RendererConfig cfg;
+    std::unique_ptr<HapticRenderer> r;
+    ProxyGraphRenderer *grid = nullptr;
+    if (method == "mesh-bvh") {
+        cfg = RendererConfig::forMethod(Method::MeshBvh);
+        r = std::make_unique<MeshBvhRenderer>(cfg, w, h);
+    } else {
+        cfg = RendererConfig::forMethod(method == "proxy-graph" ? Method::ProxyGraph : Method::Modified);
+        if (method == "modified-hold")
+            cfg.interpolation = false;
+        auto g = std::make_unique<ProxyGraphRenderer>(cfg);
+        grid = g.get();
+        r = std::move(g);
+    }
+    HeightField held(cfg.box); // the mesh-bvh's surface (current frame) for the pop-through check
+    std::vector<double> times;
+    times.reserve(updates);
+    std::vector<double> frameTimes;
+    OneRun out{};
+    out.forces.reserve(updates);
+    double errSq = 0.0;
+    std::size_t errN = 0;
+    int current = -1;
+    const glm::dvec3 start = hipAt(speed, 0.0) + glm::dvec3(0, 0, 0.012);
+    r->reset(start);
+    const std::size_t settle = 300;
+    for (std::size_t n = 0; n < updates + settle; ++n) {
+        const double t = static_cast<double>(n) / kRate;
+        const int fi = static_cast<int>(std::floor(t * kFps + 1e-9));
+        if (fi != current) {
+            current = fi;
+            const Frame &a = frames[static_cast<std::size_t>(fi % kPeriodFrames)];
+            const Frame &b = frames[static_cast<std::size_t>((fi + 1) % kPeriodFrames)];
+            const DepthFrameView av = a.view(w, h, fi);
+            const DepthFrameView bv = b.view(w, h, fi + 1);
+            const auto t0 = Clock::now();
+            (void)r->setFrames(av, &bv);
+            const auto t1 = Clock::now();
+            frameTimes.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
+            (void)held.setFrames(av, nullptr);
+        }
+        // Approach from above during the settle period, then follow the motion.
+        glm::dvec3 hip = hipAt(speed, t);
+        if (n < settle)
+            hip = start + (hipAt(speed, static_cast<double>(settle) / kRate) - start) *
+                              (static_cast<double>(n) / static_cast<double>(settle));
+        const auto t0 = Clock::now();
+        const HapticOutput o = r->update(hip, t);
+        const auto t1 = Clock::now();
+        if (n < settle)
+            continue;
+        times.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
+        const glm::dvec3 truth = trueForce(hip, t, cfg);
+        const glm::dvec3 d = o.force - truth;
+        errSq += glm::dot(d, d);
+        ++errN;
+        out.forces.push_back(glm::length(o.force));
+        const HeightField &surf = grid != nullptr ? grid->surface() : held;
+        if (surf.contains(o.proxy.x, o.proxy.y) &&
+            o.proxy.z < surf.heightAt(o.proxy.x, o.proxy.y) - 1e-6 * surf.spacing())
+            ++out.pops;
+    }
+    out.medianNs = percentile(times, 0.5);
+    out.p99Ns = percentile(times, 0.99);
+    out.p999Ns = percentile(times, 0.999);
+    out.maxNs = *std::max_element(times.begin(), times.end());
+    // The first hand-over of a run includes first-touch effects; use the median of all.
+    out.frameNs = median(frameTimes);
+    out.rms = errN ? std::sqrt(errSq / static_cast<double>(errN)) : 0.0;
+    return out;
+}
+
+const char *motionName(double speed)
+{
+    return speed == 0.0 ? "still" : (speed < 0.5 ? "0.1 m/s" : "1 m/s");
+}
+
+} // namespace
+
+BenchReport runHapticsBenchmark(const BenchOptions &options)
+{
+    BenchReport report;
+    const int resolutions[3][2] = {{720, 486}, {1920, 1080}, {3840, 2160}};
+    const double speeds[3] = {0.0, 0.1, 1.0};
+    const int runs = std::max(1, options.quick ? 1 : options.runs);
+    const std::size_t updates = static_cast<std::size_t>(options.quick ? 3000 : std::max(1000, options.updates));
+    const SceneBox box{};
+    for (const auto &res : resolutions) {
+        const int w = res[0];
+        const int h = res[1];
+        if (options.verbose)
+            std::printf("haptics bench: %dx%d: generating %d frames...\n", w, h, kPeriodFrames);
+        const std::vector<Frame> frames = makeFrames(w, h, box);
+        std::vector<std::string> methods = {"modified", "proxy-graph", "mesh-bvh"};
+        if (w == 720)
+            methods.insert(methods.begin() + 1, "modified-hold");
+        for (const std::string &method : methods) {
+            for (double speed : speeds) {
+                if (method == "modified-hold" && speed != 0.0)
+                    continue;
+                const bool mesh = method == "mesh-bvh";
+                // mesh-bvh rebuilds its tree on every frame (seconds at 4K): fewer updates, one run.
+                const std::size_t n = mesh ? (w >= 3840 ? 100u : (options.quick ? 150u : 300u)) : updates;
+                const int reps = mesh ? 1 : runs;
+                std::vector<OneRun> all;
+                for (int k = 0; k < reps; ++k)
+                    all.push_back(runOnce(method, w, h, frames, speed, n));
+                auto med = [&](double OneRun::*field) {
+                    std::vector<double> v;
+                    for (const OneRun &o : all)
+                        v.push_back(o.*field);
+                    return median(v);
+                };
+                BenchRow row;
+                row.method = method;
+                row.width = w;
+                row.height = h;
+                row.motion = motionName(speed);
+                row.updates = n;
+                row.medianNs = med(&OneRun::medianNs);
+                row.p99Ns = med(&OneRun::p99Ns);
+                row.p999Ns = med(&OneRun::p999Ns);
+                row.maxNs = med(&OneRun::maxNs);
+                row.frameCostNs = med(&OneRun::frameNs);
+                row.forceRmsError = med(&OneRun::rms);
+                row.popThroughs = all.front().pops;
+                if (speed == 0.0 && all.front().forces.size() >= 2000) {
+                    const std::vector<double> &f = all.front().forces;
+                    const int segs = static_cast<int>(f.size() / 2000);
+                    const Psd psd = averagedPsd(f.data(), f.size(), segs, kRate, 100.0);
+                    row.psdFrameRateDb = psdPeakDb(psd, kFps, 0.5);
+                    if (w == 720 && (method == "modified" || method == "modified-hold")) {
+                        report.psd.binHz = psd.binHz;
+                        std::vector<double> &dst =
+                            method == "modified" ? report.psd.interpolatedDb : report.psd.holdDb;
+                        dst.clear();
+                        for (double d : psd.density)
+                            dst.push_back(10.0 * std::log10(std::max(d, 1e-30)));
+                    }
+                }
+                if (options.verbose)
+                    std::printf("  %-13s %4dx%-4d %-7s median %8.0f ns  p99 %8.0f  p99.9 %8.0f  max %9.0f  "
+                                "frame %11.0f ns  rms %.4f N  pops %ld  psd@30Hz %.1f dB\n",
+                                row.method.c_str(), w, h, row.motion.c_str(), row.medianNs, row.p99Ns,
+                                row.p999Ns, row.maxNs, row.frameCostNs, row.forceRmsError,
+                                row.popThroughs, row.psdFrameRateDb);
+                report.rows.push_back(row);
+            }
+        }
+    }
+    // Goals, from this run.
+    auto find = [&](const char *m, int w, const char *motion) -> const BenchRow * {
+        for (const BenchRow &r : report.rows)
+            if (r.method == m && r.width == w && r.motion == motion)
+                return &r;
+        return nullptr;
+    };
+    if (const BenchRow *r = find("modified", 720, "1 m/s"))
+        report.modifiedP999At720Fast = r->p999Ns;
+    for (const char *motion : {"still", "0.1 m/s", "1 m/s"}) {
+        const BenchRow *a = find("modified", 720, motion);
+        const BenchRow *b = find("modified", 3840, motion);
+        if (a && b && a->medianNs > 0)
+            report.resolutionRatio = std::max(report.resolutionRatio, b->medianNs / a->medianNs);
+    }
+    const BenchRow *mesh = find("mesh-bvh", 720, "still");
+    const BenchRow *mod = find("modified", 720, "still");
+    if (mesh && mod && mod->frameCostNs > 0)
+        report.rebuildRatio = mesh->frameCostNs / mod->frameCostNs;
+    return report;
+}
+
+bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::string &error,
+                       std::string &note)
+{
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) {
+        error = "Failed to create '" + dir + "': " + ec.message();
+        return false;
+    }
+    const fs::path base(dir);
+    {
+        std::ofstream csv(base / "haptics_bench.csv");
+        csv << "method,width,height,motion,updates,median_ns,p99_ns,p999_ns,max_ns,frame_cost_ns,"
+               "force_rms_error_n,pop_throughs,psd_frame_rate_db\n";
+        for (const BenchRow &r : report.rows) {
+            char line[512];
+            std::snprintf(line, sizeof line, "%s,%d,%d,%s,%zu,%.1f,%.1f,%.1f,%.1f,%.1f,%.6f,%ld,%.2f\n",
+                          r.method.c_str(), r.width, r.height, r.motion.c_str(), r.updates, r.medianNs,
+                          r.p99Ns, r.p999Ns, r.maxNs, r.frameCostNs, r.forceRmsError, r.popThroughs,
+                          r.psdFrameRateDb);
+            csv << line;
+        }
+        if (!csv) {
+            error = "Failed to write haptics_bench.csv";
+            return false;
+        }
+    }
+    {
+        std::ofstream js(base / "haptics_bench.json");
+        js << "{\n  \"rows\": [\n";
+        for (std::size_t i = 0; i < report.rows.size(); ++i) {
+            const BenchRow &r = report.rows[i];
+            char line[768];
+            std::snprintf(line, sizeof line,
+                          "    {\"method\": \"%s\", \"width\": %d, \"height\": %d, \"motion\": \"%s\", "
+                          "\"updates\": %zu, \"median_ns\": %.1f, \"p99_ns\": %.1f, \"p999_ns\": %.1f, "
+                          "\"max_ns\": %.1f, \"frame_cost_ns\": %.1f, \"force_rms_error_n\": %.6f, "
+                          "\"pop_throughs\": %ld, \"psd_frame_rate_db\": %.2f}%s\n",
+                          r.method.c_str(), r.width, r.height, r.motion.c_str(), r.updates, r.medianNs,
+                          r.p99Ns, r.p999Ns, r.maxNs, r.frameCostNs, r.forceRmsError, r.popThroughs,
+                          r.psdFrameRateDb, i + 1 < report.rows.size() ? "," : "");
+            js << line;
+        }
+        char goals[512];
+        std::snprintf(goals, sizeof goals,
+                      "  ],\n  \"goals\": {\"modified_p999_ns_720x486_1mps\": %.1f, \"goal_p999_ns\": 2000, "
+                      "\"median_ratio_3840x2160_over_720x486\": %.3f, \"goal_ratio\": 1.5, "
+                      "\"rebuild_ratio_meshbvh_over_modified\": %.1f, \"goal_rebuild_ratio\": 1000}\n}\n",
+                      report.modifiedP999At720Fast, report.resolutionRatio, report.rebuildRatio);
+        js << goals;
+        if (!js) {
+            error = "Failed to write haptics_bench.json";
+            return false;
+        }
+    }
+    {
+        std::ofstream p(base / "psd.csv");
+        p << "hz,interpolated_db,sample_and_hold_db\n";
+        const std::size_t n = std::min(report.psd.interpolatedDb.size(), report.psd.holdDb.size());
+        for (std::size_t k = 1; k < n; ++k)
+            p << static_cast<double>(k) * report.psd.binHz << ',' << report.psd.interpolatedDb[k] << ','
+              << report.psd.holdDb[k] << '\n';
+    }
+    // Charts with gnuplot, when it is installed.
+    if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
+        note = "gnuplot not found: wrote CSV and JSON only (install gnuplot-nox for the PNG charts)";
+        return true;
+    }
+    {
+        // one data block per method for the speed-vs-accuracy scatter
+        std::ofstream d(base / "speed_vs_accuracy.dat");
+        for (const char *m : {"modified", "modified-hold", "proxy-graph", "mesh-bvh"}) {
+            d << "# " << m << "\n";
+            for (const BenchRow &r : report.rows)
+                if (r.method == m)
+                    d << r.medianNs / 1000.0 << ' ' << std::max(r.forceRmsError, 1e-6) << " \""
+                      << r.width << 'x' << r.height << ' ' << r.motion << "\"\n";
+            d << "\n\n";
+        }
+    }
+    {
+        std::ofstream g(base / "charts.gp");
+        g << "set terminal pngcairo size 1100,700\n"
+             "set output '" << (base / "speed_vs_accuracy.png").string() << "'\n"
+             "set title 'Haptic renderers: update time vs force error (moving sinusoid, 30 fps video, 1 kHz)'\n"
+             "set logscale xy\nset xlabel 'median update time (us)'\nset ylabel 'force RMS error vs analytic truth (N)'\n"
+             "set key outside right\nset grid\n"
+             "plot for [i=0:3] '" << (base / "speed_vs_accuracy.dat").string()
+          << "' index i using 1:2 with points pt 7 ps 1.5 title columnheader(1), \\\n"
+             "     for [i=0:3] '' index i using 1:2:3 with labels offset 0,1 font ',7' notitle\n"
+             "set output '" << (base / "psd.png").string() << "'\n"
+             "unset logscale\nset title 'PSD of |F|, HIP still, 720x486 (cf. paper Fig. 12)'\n"
+             "set xlabel 'frequency (Hz)'\nset ylabel 'PSD (dB re 1 N^2/Hz)'\nset xrange [0:100]\n"
+             "set datafile separator ','\n"
+             "plot '" << (base / "psd.csv").string()
+          << "' using 1:3 with lines title 'sample-and-hold', '' using 1:2 with lines title 'interpolated (Eq. 1)'\n";
+    }
+    const std::string cmd = "gnuplot '" + (base / "charts.gp").string() + "' 2>&1";
+    if (std::system(cmd.c_str()) != 0)
+        note = "gnuplot failed: CSV and JSON written, charts may be missing";
+    return true;
+}
+
+} // namespace depthtouch::haptics::bench
