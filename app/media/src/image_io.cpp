@@ -3,7 +3,7 @@
 
 #include "depthtouch/media/image_io.h"
 
-#include <cstring>
+#include <cstdint>
 #include <memory>
 
 extern "C" {
