@@ -33,6 +33,7 @@ CROSS_DEV_PACKAGES=(
     libavcodec-dev libavformat-dev libavutil-dev libswscale-dev
     libegl-dev libgles-dev libgbm-dev libdrm-dev
     libusb-1.0-0-dev libevdev-dev
+    libcgal-dev
 )
 
 cross_arches=()

@@ -1,0 +1,31 @@
+/// \file
+/// \brief `depthtouch backends`: the compiled-in HAL backends of each kind, in autoprobe order.
+
+#include <cstdio>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.h"
+#include "depthtouch/drivers/backends.h"
+
+namespace depthtouch::cli {
+
+void registerBackendsCommand(CLI::App &app, int &exitCode)
+{
+    CLI::App *cmd = app.add_subcommand("backends", "List the compiled-in HAL backends of each kind");
+    cmd->callback([&exitCode] {
+        using drivers::BackendKind;
+        constexpr BackendKind kKinds[] = {BackendKind::MediaSource,  BackendKind::VideoDecoder,
+                                          BackendKind::Display,      BackendKind::HapticDevice,
+                                          BackendKind::RemoteInput,  BackendKind::DepthCamera};
+        for (BackendKind kind : kKinds) {
+            std::printf("%s:\n", drivers::backendKindName(kind));
+            for (const hal::BackendInfo &b : drivers::listBackends(kind))
+                std::printf("  %-10s %s%s\n", b.name, b.description,
+                            b.autoProbe ? "" : " (only when named)");
+        }
+        exitCode = kExitOk;
+    });
+}
+
+} // namespace depthtouch::cli
