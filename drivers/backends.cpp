@@ -1,0 +1,193 @@
+// The backend tables: the only file that tests the DT_HAVE_* macros (STYLE §2). A real driver adds
+// its row here inside `#if DT_HAVE_<TECH>`, ahead of the mock rows, in the order autoprobe should
+// try.
+#include "depthtouch/drivers/backends.h"
+
+#include "depthtouch/config.h"
+#include "depthtouch/drivers/mock/mock_depth_camera.h"
+#include "depthtouch/drivers/mock/mock_display.h"
+#include "depthtouch/drivers/mock/mock_haptic_device.h"
+#include "depthtouch/drivers/mock/mock_media_source.h"
+#include "depthtouch/drivers/mock/mock_remote_input.h"
+#include "depthtouch/drivers/mock/mock_video_decoder.h"
+#include "depthtouch/drivers/mock/null_haptic_device.h"
+
+namespace depthtouch::drivers {
+
+namespace {
+
+// Simulated backends never autoprobe: a product run must not silently play synthetic video or feel
+// a scripted hand. The `none` backends do, last: no remote or no haptic device is a valid setup.
+
+constexpr hal::Backend<hal::MediaSource> kMediaSourceBackends[] = {
+    {"mock", "Deterministic synthetic color + depth file (mock: URLs)", false,
+     &MockMediaSource::create},
+};
+
+constexpr hal::Backend<hal::VideoDecoder> kVideoDecoderBackends[] = {
+    {"mock", "Deterministic simulated decoder for the Mock codec", false,
+     &MockVideoDecoder::create},
+};
+
+constexpr hal::Backend<hal::Display> kDisplayBackends[] = {
+    {"mock", "Simulated display without GL, paced on the clock", false, &MockDisplay::create},
+};
+
+constexpr hal::Backend<hal::HapticDevice> kHapticDeviceBackends[] = {
+    {"mock", "Simulated 3-DOF device following scripted waypoints", false,
+     &MockHapticDevice::create},
+    {"none", "No haptic device: haptics off", true, &NullHapticDevice::create},
+};
+
+constexpr hal::Backend<hal::RemoteInput> kRemoteInputBackends[] = {
+    {"mock", "Scripted key events (option keys=KEY_PLAY@1+KEY_RIGHT@2)", false,
+     &MockRemoteInput::create},
+    {"none", "No remote control", true, &NullRemoteInput::create},
+};
+
+constexpr hal::Backend<hal::DepthCamera> kDepthCameraBackends[] = {
+    {"mock", "Simulated RGB-D camera: a sphere moving in front of a wall", false,
+     &MockDepthCamera::create},
+};
+
+template <class I> std::vector<hal::BackendInfo> infos(hal::BackendTable<I> table)
+{
+    std::vector<hal::BackendInfo> out;
+    out.reserve(table.size());
+    for (const hal::Backend<I> &b : table)
+        out.push_back({b.name, b.description, b.autoProbe});
+    return out;
+}
+
+} // namespace
+
+const char *backendKindName(BackendKind kind) noexcept
+{
+    switch (kind) {
+    case BackendKind::MediaSource:
+        return "media source";
+    case BackendKind::VideoDecoder:
+        return "video decoder";
+    case BackendKind::Display:
+        return "display";
+    case BackendKind::HapticDevice:
+        return "haptic device";
+    case BackendKind::RemoteInput:
+        return "remote input";
+    case BackendKind::DepthCamera:
+        return "depth camera";
+    }
+    return "unknown";
+}
+
+hal::BackendTable<hal::MediaSource> mediaSourceBackends() noexcept
+{
+    return kMediaSourceBackends;
+}
+hal::BackendTable<hal::VideoDecoder> videoDecoderBackends() noexcept
+{
+    return kVideoDecoderBackends;
+}
+hal::BackendTable<hal::Display> displayBackends() noexcept
+{
+    return kDisplayBackends;
+}
+hal::BackendTable<hal::HapticDevice> hapticDeviceBackends() noexcept
+{
+    return kHapticDeviceBackends;
+}
+hal::BackendTable<hal::RemoteInput> remoteInputBackends() noexcept
+{
+    return kRemoteInputBackends;
+}
+hal::BackendTable<hal::DepthCamera> depthCameraBackends() noexcept
+{
+    return kDepthCameraBackends;
+}
+
+std::vector<hal::BackendInfo> listBackends(BackendKind kind)
+{
+    switch (kind) {
+    case BackendKind::MediaSource:
+        return infos(mediaSourceBackends());
+    case BackendKind::VideoDecoder:
+        return infos(videoDecoderBackends());
+    case BackendKind::Display:
+        return infos(displayBackends());
+    case BackendKind::HapticDevice:
+        return infos(hapticDeviceBackends());
+    case BackendKind::RemoteInput:
+        return infos(remoteInputBackends());
+    case BackendKind::DepthCamera:
+        return infos(depthCameraBackends());
+    }
+    return {};
+}
+
+std::string backendNames(BackendKind kind)
+{
+    switch (kind) {
+    case BackendKind::MediaSource:
+        return hal::backendNames(mediaSourceBackends());
+    case BackendKind::VideoDecoder:
+        return hal::backendNames(videoDecoderBackends());
+    case BackendKind::Display:
+        return hal::backendNames(displayBackends());
+    case BackendKind::HapticDevice:
+        return hal::backendNames(hapticDeviceBackends());
+    case BackendKind::RemoteInput:
+        return hal::backendNames(remoteInputBackends());
+    case BackendKind::DepthCamera:
+        return hal::backendNames(depthCameraBackends());
+    }
+    return {};
+}
+
+Result<std::unique_ptr<hal::MediaSource>> createMediaSource(std::string_view names,
+                                                            const hal::BackendConfig &cfg,
+                                                            hal::SelectionReport *report)
+{
+    return hal::selectBackend(backendKindName(BackendKind::MediaSource), mediaSourceBackends(),
+                              names, cfg, report);
+}
+
+Result<std::unique_ptr<hal::VideoDecoder>> createVideoDecoder(std::string_view names,
+                                                              const hal::BackendConfig &cfg,
+                                                              hal::SelectionReport *report)
+{
+    return hal::selectBackend(backendKindName(BackendKind::VideoDecoder), videoDecoderBackends(),
+                              names, cfg, report);
+}
+
+Result<std::unique_ptr<hal::Display>>
+createDisplay(std::string_view names, const hal::BackendConfig &cfg, hal::SelectionReport *report)
+{
+    return hal::selectBackend(backendKindName(BackendKind::Display), displayBackends(), names, cfg,
+                              report);
+}
+
+Result<std::unique_ptr<hal::HapticDevice>> createHapticDevice(std::string_view names,
+                                                              const hal::BackendConfig &cfg,
+                                                              hal::SelectionReport *report)
+{
+    return hal::selectBackend(backendKindName(BackendKind::HapticDevice), hapticDeviceBackends(),
+                              names, cfg, report);
+}
+
+Result<std::unique_ptr<hal::RemoteInput>> createRemoteInput(std::string_view names,
+                                                            const hal::BackendConfig &cfg,
+                                                            hal::SelectionReport *report)
+{
+    return hal::selectBackend(backendKindName(BackendKind::RemoteInput), remoteInputBackends(),
+                              names, cfg, report);
+}
+
+Result<std::unique_ptr<hal::DepthCamera>> createDepthCamera(std::string_view names,
+                                                            const hal::BackendConfig &cfg,
+                                                            hal::SelectionReport *report)
+{
+    return hal::selectBackend(backendKindName(BackendKind::DepthCamera), depthCameraBackends(),
+                              names, cfg, report);
+}
+
+} // namespace depthtouch::drivers

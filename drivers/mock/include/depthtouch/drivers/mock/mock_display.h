@@ -1,0 +1,84 @@
+#pragma once
+/// \file
+/// \brief MockDisplay: a simulated display with no GL context. present() is paced at the refresh
+/// rate on the injected clock and counted; the display can be lost and restored. Backend name
+/// `mock`.
+///
+/// Vertical blanks fall at open time + k / refreshHz (k = 1, 2, ...). present() sleeps until the
+/// first blank after the previous presented one; when the caller is late it lands on the first
+/// blank at or after now and reports the blanks it skipped. Mode string: "WIDTHxHEIGHT" or
+/// "WIDTHxHEIGHT@HZ" (e.g. "1920x1080@50"); it overrides width, height and refresh of
+/// DisplayConfig. Thread-safety: thread-bound, as hal::Display; loseDisplay() and restoreDisplay()
+/// too.
+
+#include <cstdint>
+#include <memory>
+
+#include "depthtouch/hal/backends.h"
+#include "depthtouch/hal/display.h"
+#include "depthtouch/platform/clock.h"
+
+namespace depthtouch::drivers {
+
+/// \brief Defaults used for the zero fields of DisplayConfig.
+struct MockDisplaySettings {
+    int width = 1280;        ///< Pixels (option `width`).
+    int height = 720;        ///< Pixels (option `height`).
+    double refreshHz = 60.0; ///< Hertz (option `refresh`).
+
+    /// \return the settings from \a options over the defaults; InvalidArgument for an unknown key
+    /// or a value out of range (1..16384 pixels, 1..1000 Hz).
+    static Result<MockDisplaySettings> parse(hal::OptionList options);
+};
+
+class MockDisplay final : public hal::Display {
+public:
+    /// Backend factory: settings from cfg.options, time from cfg.clock.
+    static Result<std::unique_ptr<hal::Display>> create(const hal::BackendConfig &cfg);
+
+    explicit MockDisplay(platform::Clock &clock, const MockDisplaySettings &settings = {});
+    ~MockDisplay() override = default;
+
+    [[nodiscard]] const hal::DisplayCapabilities &capabilities() const noexcept override
+    {
+        return caps_;
+    }
+    [[nodiscard]] State state() const noexcept override { return state_; }
+    [[nodiscard]] Result<void> open(const hal::DisplayConfig &cfg) override;
+    void close() noexcept override;
+    [[nodiscard]] hal::Size size() const noexcept override;
+    [[nodiscard]] double refreshHz() const noexcept override;
+    [[nodiscard]] Result<void> makeCurrent() override;
+    [[nodiscard]] Result<hal::PresentInfo> present() override;
+
+    /// \name Fault injection
+    ///@{
+    /// Unplugs the display: an Open display becomes Lost; open() fails with NoDevice until
+    /// restoreDisplay().
+    void loseDisplay() noexcept;
+    /// Plugs the display back in: open() works again (a Lost display stays Lost until closed).
+    void restoreDisplay() noexcept { connected_ = true; }
+    ///@}
+
+    /// \return presents since open().
+    [[nodiscard]] std::uint64_t presentCount() const noexcept { return presents_; }
+    /// \return whether makeCurrent() succeeded since open().
+    [[nodiscard]] bool isCurrent() const noexcept { return current_; }
+
+private:
+    [[nodiscard]] platform::TimePoint vsyncTime(std::uint64_t k) const noexcept;
+
+    platform::Clock &clock_;
+    const MockDisplaySettings settings_;
+    hal::DisplayCapabilities caps_;
+    State state_ = State::Closed;
+    bool connected_ = true;
+    bool current_ = false;
+    hal::Size size_;
+    double refreshHz_ = 0.0;
+    platform::TimePoint epoch_{};
+    std::uint64_t lastVsync_ = 0; ///< Index of the blank of the last present (0: none yet).
+    std::uint64_t presents_ = 0;
+};
+
+} // namespace depthtouch::drivers

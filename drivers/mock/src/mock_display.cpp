@@ -1,0 +1,177 @@
+#include "depthtouch/drivers/mock/mock_display.h"
+
+#include <cmath>
+#include <cstdio>
+#include <iterator>
+#include <string_view>
+
+#include "depthtouch/platform/log.h"
+
+DT_LOG_CATEGORY(Mock)
+
+namespace depthtouch::drivers {
+
+namespace {
+
+constexpr const char *kOptionKeys[] = {"width", "height", "refresh"};
+constexpr int kMaxPixels = 16384;
+
+bool validSize(int w, int h) noexcept
+{
+    return w >= 1 && h >= 1 && w <= kMaxPixels && h <= kMaxPixels;
+}
+bool validRefresh(double hz) noexcept
+{
+    return hz >= 1.0 && hz <= 1000.0;
+}
+
+} // namespace
+
+Result<MockDisplaySettings> MockDisplaySettings::parse(hal::OptionList options)
+{
+    const std::string_view unknown = options.firstUnknownKey(kOptionKeys, std::size(kOptionKeys));
+    if (!unknown.empty()) {
+        DT_LOG(Mock, Error, "Unknown mock display option '%.*s'", static_cast<int>(unknown.size()),
+               unknown.data());
+        return unexpected(Errc::InvalidArgument, "Unknown mock display option");
+    }
+    MockDisplaySettings s;
+    auto w = options.getInt("width", s.width);
+    auto h = options.getInt("height", s.height);
+    auto hz = options.getDouble("refresh", s.refreshHz);
+    if (!w || !h || !hz || !validSize(*w, *h) || !validRefresh(*hz))
+        return unexpected(Errc::InvalidArgument, "Mock display option out of range");
+    s.width = *w;
+    s.height = *h;
+    s.refreshHz = *hz;
+    return s;
+}
+
+Result<std::unique_ptr<hal::Display>> MockDisplay::create(const hal::BackendConfig &cfg)
+{
+    auto settings = MockDisplaySettings::parse(cfg.options);
+    if (!settings)
+        return unexpected(settings.error());
+    return std::unique_ptr<hal::Display>(std::make_unique<MockDisplay>(cfg.clockRef(), *settings));
+}
+
+MockDisplay::MockDisplay(platform::Clock &clock, const MockDisplaySettings &settings)
+    : clock_(clock), settings_(settings)
+{
+    caps_.hasGlesContext = false;
+    caps_.offscreen = true;
+}
+
+Result<void> MockDisplay::open(const hal::DisplayConfig &cfg)
+{
+    if (state_ != State::Closed) {
+        DT_LOG(Mock, Error, "In state %s trying open() requiring Closed",
+               state_ == State::Open ? "Open" : "Lost");
+        return unexpected(Errc::InvalidState, "open() requires state Closed");
+    }
+    if (!connected_)
+        return unexpected(Errc::NoDevice, "No display connected");
+    int width = cfg.width > 0 ? cfg.width : settings_.width;
+    int height = cfg.height > 0 ? cfg.height : settings_.height;
+    double hz = cfg.refreshHz > 0.0 ? cfg.refreshHz : settings_.refreshHz;
+    if (!cfg.mode.empty()) {
+        int w = 0;
+        int h = 0;
+        int used = 0;
+        const char *mode = cfg.mode.c_str();
+        if (std::sscanf(mode, "%dx%d%n", &w, &h, &used) != 2)
+            return unexpected(Errc::NotSupported, "Mock display modes are WIDTHxHEIGHT[@HZ]");
+        const char *rest = mode + used;
+        if (*rest == '@') {
+            double r = 0.0;
+            int usedHz = 0;
+            if (std::sscanf(rest + 1, "%lf%n", &r, &usedHz) != 1 || rest[1 + usedHz] != '\0')
+                return unexpected(Errc::NotSupported, "Mock display modes are WIDTHxHEIGHT[@HZ]");
+            hz = r;
+        } else if (*rest != '\0') {
+            return unexpected(Errc::NotSupported, "Mock display modes are WIDTHxHEIGHT[@HZ]");
+        }
+        width = w;
+        height = h;
+    }
+    if (!validSize(width, height) || !validRefresh(hz) || cfg.width < 0 || cfg.height < 0 ||
+        cfg.refreshHz < 0.0)
+        return unexpected(Errc::InvalidArgument, "Display size or refresh out of range");
+    size_ = {width, height};
+    refreshHz_ = hz;
+    epoch_ = clock_.now();
+    lastVsync_ = 0;
+    presents_ = 0;
+    current_ = false;
+    state_ = State::Open;
+    return ok();
+}
+
+void MockDisplay::close() noexcept
+{
+    state_ = State::Closed;
+    current_ = false;
+    size_ = {};
+    refreshHz_ = 0.0;
+}
+
+hal::Size MockDisplay::size() const noexcept
+{
+    return state_ == State::Closed ? hal::Size{} : size_;
+}
+
+double MockDisplay::refreshHz() const noexcept
+{
+    return state_ == State::Closed ? 0.0 : refreshHz_;
+}
+
+Result<void> MockDisplay::makeCurrent()
+{
+    if (state_ == State::Closed)
+        return unexpected(Errc::InvalidState, "makeCurrent() requires state Open");
+    if (state_ == State::Lost)
+        return unexpected(Errc::NoDevice, "Display lost");
+    current_ = true;
+    return ok();
+}
+
+platform::TimePoint MockDisplay::vsyncTime(std::uint64_t k) const noexcept
+{
+    return epoch_ + platform::fromSeconds(static_cast<double>(k) / refreshHz_);
+}
+
+Result<hal::PresentInfo> MockDisplay::present()
+{
+    if (state_ == State::Closed)
+        return unexpected(Errc::InvalidState, "present() requires state Open");
+    if (state_ == State::Lost)
+        return unexpected(Errc::NoDevice, "Display lost");
+    const platform::TimePoint now = clock_.now();
+    std::uint64_t k = lastVsync_ + 1;
+    if (vsyncTime(k) < now) {
+        // Late: the frame shows at the first blank at or after now.
+        const double elapsed = platform::toSeconds(now - epoch_) * refreshHz_;
+        k = static_cast<std::uint64_t>(std::ceil(elapsed));
+        while (vsyncTime(k) < now)
+            ++k;
+    }
+    const platform::TimePoint vsync = vsyncTime(k);
+    if (vsync > now)
+        clock_.sleepUntil(vsync);
+    hal::PresentInfo info;
+    info.vsyncTime = vsync;
+    info.skippedVsyncs = static_cast<std::uint32_t>(k - lastVsync_ - 1);
+    info.frameCounter = ++presents_;
+    lastVsync_ = k;
+    return info;
+}
+
+void MockDisplay::loseDisplay() noexcept
+{
+    connected_ = false;
+    if (state_ == State::Open)
+        state_ = State::Lost;
+    current_ = false;
+}
+
+} // namespace depthtouch::drivers

@@ -1,0 +1,55 @@
+#pragma once
+/// \file
+/// \brief A fixed pool of frames lent through hal::FrameRef, shared by the mock decoder and camera.
+///
+/// allocate() (not real-time safe) sizes the pool; acquire()/lend() and the release by FrameRef do
+/// not allocate or lock. Thread-safety: acquire(), lend(), allocate() and abandon() are
+/// thread-bound (the backend's thread); releaseFrame() and lent() are thread-safe.
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "depthtouch/hal/types.h"
+#include "depthtouch/platform/result.h"
+
+namespace depthtouch::drivers {
+
+class MockFramePool final : public hal::FrameOwner {
+public:
+    MockFramePool() = default;
+    ~MockFramePool() override;
+
+    /// \brief Makes \a count frames of \a format, \a width × \a height, tightly packed.
+    /// \return Busy when a frame is still lent (nothing changes).
+    Result<void> allocate(int count, hal::PixelFormat format, int width, int height);
+
+    /// \brief Takes a free frame for filling. \return the frame, or nullptr when every frame is
+    /// lent. \param[out] slot The frame's slot, for lend() or abandon().
+    hal::Frame *acquire(std::uint32_t &slot) noexcept;
+    /// Lends the acquired frame in \a slot.
+    hal::FrameRef lend(std::uint32_t slot) noexcept;
+    /// Gives back an acquired frame that will not be lent.
+    void abandon(std::uint32_t slot) noexcept { releaseFrame(slot); }
+
+    void releaseFrame(std::uint32_t slot) noexcept override;
+
+    /// \return the number of frames acquired or lent and not yet returned.
+    [[nodiscard]] int lent() const noexcept { return lent_.load(std::memory_order_acquire); }
+    /// \return the number of frames.
+    [[nodiscard]] int size() const noexcept { return count_; }
+
+private:
+    struct Slot {
+        std::vector<std::uint8_t> pixels;
+        hal::Frame frame;
+        std::atomic<bool> inUse{false};
+    };
+
+    std::unique_ptr<Slot[]> slots_;
+    int count_ = 0;
+    std::atomic<int> lent_{0};
+};
+
+} // namespace depthtouch::drivers

@@ -1,0 +1,218 @@
+#include "depthtouch/drivers/mock/mock_haptic_device.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <string_view>
+
+#include "depthtouch/platform/log.h"
+
+DT_LOG_CATEGORY(Mock)
+
+namespace depthtouch::drivers {
+
+namespace {
+
+constexpr const char *kOptionKeys[] = {"max_force", "workspace", "servo_rate", "buttons"};
+
+double clampTo(double v, double lo, double hi) noexcept
+{
+    return std::min(std::max(v, lo), hi);
+}
+
+} // namespace
+
+Result<MockHapticSettings> MockHapticSettings::parse(hal::OptionList options)
+{
+    const std::string_view unknown = options.firstUnknownKey(kOptionKeys, std::size(kOptionKeys));
+    if (!unknown.empty()) {
+        DT_LOG(Mock, Error, "Unknown mock haptic device option '%.*s'",
+               static_cast<int>(unknown.size()), unknown.data());
+        return unexpected(Errc::InvalidArgument, "Unknown mock haptic device option");
+    }
+    MockHapticSettings s;
+    auto maxForce = options.getDouble("max_force", s.maxForce);
+    auto workspace = options.getDouble("workspace", s.workspaceHalfExtent);
+    auto rate = options.getDouble("servo_rate", s.servoRateHz);
+    auto buttons = options.getInt("buttons", s.buttonCount);
+    if (!maxForce || !workspace || !rate || !buttons || !(*maxForce > 0.0) || !(*workspace > 0.0) ||
+        !(*rate > 0.0) || *buttons < 0 || *buttons > 32)
+        return unexpected(Errc::InvalidArgument, "Mock haptic device option out of range");
+    s.maxForce = *maxForce;
+    s.workspaceHalfExtent = *workspace;
+    s.servoRateHz = *rate;
+    s.buttonCount = *buttons;
+    return s;
+}
+
+Result<std::unique_ptr<hal::HapticDevice>> MockHapticDevice::create(const hal::BackendConfig &cfg)
+{
+    auto settings = MockHapticSettings::parse(cfg.options);
+    if (!settings)
+        return unexpected(settings.error());
+    return std::unique_ptr<hal::HapticDevice>(
+        std::make_unique<MockHapticDevice>(cfg.clockRef(), *settings));
+}
+
+MockHapticDevice::MockHapticDevice(platform::Clock &clock, const MockHapticSettings &settings)
+    : clock_(clock)
+{
+    caps_.name = "Mock 3-DOF haptic device";
+    caps_.maxForce = settings.maxForce;
+    const double e = settings.workspaceHalfExtent;
+    caps_.workspaceMin = {-e, -e, -e};
+    caps_.workspaceMax = {e, e, e};
+    caps_.servoRateHz = settings.servoRateHz;
+    caps_.buttonCount = settings.buttonCount;
+}
+
+Result<void> MockHapticDevice::open()
+{
+    if (state() != State::Closed) {
+        DT_LOG(Mock, Error, "In state %s trying open() requiring Closed",
+               state() == State::Open ? "Open" : "Disconnected");
+        return unexpected(Errc::InvalidState, "open() requires state Closed");
+    }
+    if (!present_.load(std::memory_order_acquire))
+        return unexpected(Errc::NoDevice, "Mock haptic device unplugged");
+    setOutput({});
+    state_.store(State::Open, std::memory_order_release);
+    return ok();
+}
+
+void MockHapticDevice::close() noexcept
+{
+    setOutput({});
+    state_.store(State::Closed, std::memory_order_release);
+}
+
+bool MockHapticDevice::isConnected() const noexcept
+{
+    return state() == State::Open && present_.load(std::memory_order_acquire);
+}
+
+Result<void> MockHapticDevice::checkUsable() noexcept
+{
+    const State s = state();
+    if (s == State::Closed)
+        return unexpected(Errc::InvalidState, "Haptic device not open");
+    if (s == State::Disconnected)
+        return unexpected(Errc::NoDevice, "Haptic device disconnected");
+    if (!present_.load(std::memory_order_acquire)) {
+        state_.store(State::Disconnected, std::memory_order_release);
+        return unexpected(Errc::NoDevice, "Haptic device disconnected");
+    }
+    if (stalled_.load(std::memory_order_acquire))
+        return unexpected(Errc::Timeout, "Haptic device did not answer");
+    return ok();
+}
+
+Result<void> MockHapticDevice::read(hal::HapticState &out) noexcept
+{
+    DT_TRY(checkUsable());
+    out = sampleAt(clock_.now());
+    readCount_.fetch_add(1, std::memory_order_relaxed);
+    return ok();
+}
+
+Result<void> MockHapticDevice::commandForce(const hal::Vec3 &force) noexcept
+{
+    DT_TRY(checkUsable());
+    forceCount_.fetch_add(1, std::memory_order_relaxed);
+    if (!hal::isFinite(force)) {
+        setOutput({});
+        return unexpected(Errc::InvalidArgument, "Non-finite force");
+    }
+    hal::Vec3 f = force;
+    double magnitude = hal::norm(f);
+    if (magnitude > caps_.maxForce) {
+        f *= caps_.maxForce / magnitude;
+        magnitude = caps_.maxForce;
+        clampCount_.fetch_add(1, std::memory_order_relaxed);
+    }
+    setOutput(f);
+    if (magnitude > maxMagnitude_.load(std::memory_order_relaxed))
+        maxMagnitude_.store(magnitude, std::memory_order_relaxed);
+    return ok();
+}
+
+void MockHapticDevice::setOutput(const hal::Vec3 &f) noexcept
+{
+    const std::uint32_t seq = outSeq_.load(std::memory_order_relaxed);
+    outSeq_.store(seq + 1, std::memory_order_relaxed);
+    std::atomic_thread_fence(std::memory_order_release);
+    outX_.store(f.x, std::memory_order_relaxed);
+    outY_.store(f.y, std::memory_order_relaxed);
+    outZ_.store(f.z, std::memory_order_relaxed);
+    outSeq_.store(seq + 2, std::memory_order_release);
+}
+
+hal::Vec3 MockHapticDevice::lastForce() const noexcept
+{
+    if (!isConnected())
+        return {};
+    hal::Vec3 f;
+    std::uint32_t before = 0;
+    std::uint32_t after = 0;
+    do {
+        before = outSeq_.load(std::memory_order_acquire);
+        f = {outX_.load(std::memory_order_relaxed), outY_.load(std::memory_order_relaxed),
+             outZ_.load(std::memory_order_relaxed)};
+        std::atomic_thread_fence(std::memory_order_acquire);
+        after = outSeq_.load(std::memory_order_relaxed);
+    } while (before != after || (before & 1u) != 0);
+    return f;
+}
+
+void MockHapticDevice::setWaypoints(std::vector<HapticWaypoint> points)
+{
+    std::stable_sort(
+        points.begin(), points.end(),
+        [](const HapticWaypoint &a, const HapticWaypoint &b) { return a.time < b.time; });
+    waypoints_ = std::move(points);
+}
+
+hal::HapticState MockHapticDevice::sampleAt(platform::TimePoint t) const noexcept
+{
+    hal::HapticState s;
+    s.time = t;
+    s.velocityValid = true;
+    if (!waypoints_.empty()) {
+        // First waypoint strictly after t; the one before it (if any) starts the current segment.
+        const auto next = std::upper_bound(
+            waypoints_.begin(), waypoints_.end(), t,
+            [](platform::TimePoint v, const HapticWaypoint &w) { return v < w.time; });
+        if (next == waypoints_.begin()) {
+            s.position = next->position;
+            s.buttons = next->buttons;
+        } else {
+            const HapticWaypoint &a = *(next - 1);
+            s.buttons = a.buttons;
+            if (next == waypoints_.end()) {
+                s.position = a.position;
+            } else {
+                const double span = platform::toSeconds(next->time - a.time);
+                const double f = platform::toSeconds(t - a.time) / span;
+                const hal::Vec3 delta = next->position - a.position;
+                s.position = a.position + delta * f;
+                s.velocity = delta * (1.0 / span);
+            }
+        }
+    }
+    const hal::Vec3 &lo = caps_.workspaceMin;
+    const hal::Vec3 &hi = caps_.workspaceMax;
+    const hal::Vec3 p = s.position;
+    s.position = {clampTo(p.x, lo.x, hi.x), clampTo(p.y, lo.y, hi.y), clampTo(p.z, lo.z, hi.z)};
+    // A clamped axis does not move.
+    if (s.position.x != p.x)
+        s.velocity.x = 0.0;
+    if (s.position.y != p.y)
+        s.velocity.y = 0.0;
+    if (s.position.z != p.z)
+        s.velocity.z = 0.0;
+    if (caps_.buttonCount < 32)
+        s.buttons &= (1u << caps_.buttonCount) - 1u;
+    return s;
+}
+
+} // namespace depthtouch::drivers
