@@ -1,0 +1,150 @@
+#include "contract_support.h"
+
+#include <cctype>
+#include <cstdlib>
+#include <new>
+
+#include "depthtouch/drivers/mock/mock_display.h"
+#include "depthtouch/drivers/mock/mock_haptic_device.h"
+#include "depthtouch/drivers/mock/mock_remote_input.h"
+#include "depthtouch/drivers/mock/mock_depth_camera.h"
+
+// Allocation counting for the real-time contracts: this test program replaces the global operator
+// new.
+namespace {
+thread_local bool tCounting = false;
+thread_local std::size_t tAllocations = 0;
+} // namespace
+
+void *operator new(std::size_t size)
+{
+    if (tCounting)
+        ++tAllocations;
+    if (void *p = std::malloc(size != 0 ? size : 1))
+        return p;
+    throw std::bad_alloc();
+}
+void operator delete(void *p) noexcept
+{
+    std::free(p);
+}
+void operator delete(void *p, std::size_t) noexcept
+{
+    std::free(p);
+}
+
+namespace depthtouch::contract {
+
+AllocationCounter::AllocationCounter() noexcept : start_(tAllocations)
+{
+    tCounting = true;
+}
+AllocationCounter::~AllocationCounter()
+{
+    tCounting = false;
+}
+std::size_t AllocationCounter::count() const noexcept
+{
+    return tAllocations - start_;
+}
+
+std::string backendParamName(const ::testing::TestParamInfo<std::string> &info)
+{
+    std::string out = info.param;
+    for (char &c : out)
+        if (std::isalnum(static_cast<unsigned char>(c)) == 0)
+            c = '_';
+    return out;
+}
+
+// The harness entries. A real backend adds its entry next to the mock one.
+
+const HapticHarness *hapticHarness(std::string_view name)
+{
+    using drivers::MockHapticDevice;
+    static const HapticHarness kMock{
+        "",
+        true,
+        true,
+        [](hal::HapticDevice &d) { dynamic_cast<MockHapticDevice &>(d).disconnect(); },
+        [](hal::HapticDevice &d) { dynamic_cast<MockHapticDevice &>(d).reconnect(); },
+        [](const hal::HapticDevice &d) {
+            return dynamic_cast<const MockHapticDevice &>(d).lastForce();
+        },
+        [](hal::HapticDevice &d, platform::TimePoint t0) {
+            using std::chrono::milliseconds;
+            dynamic_cast<MockHapticDevice &>(d).setWaypoints({
+                {t0, {0.0, 0.0, 0.0}, 0},
+                {t0 + milliseconds(20), {0.2, -0.01, 0.03}, 1}, // beyond +x
+                {t0 + milliseconds(40), {-0.2, 0.3, -0.2}, 3},  // beyond -x, +y, -z
+                {t0 + milliseconds(60), {0.01, 0.02, 0.03}, 0},
+            });
+        },
+    };
+    static const HapticHarness kNone{"", true, false, {}, {}, {}, {}};
+    if (name == "mock")
+        return &kMock;
+    if (name == "none")
+        return &kNone;
+    return nullptr;
+}
+
+const MediaSourceHarness *mediaSourceHarness(std::string_view name)
+{
+    static const MediaSourceHarness kMock{"", "mock://contract?frames=30&gop=10&width=32&height=24",
+                                          "file:///nonexistent/clip.mkv", 30};
+    return name == "mock" ? &kMock : nullptr;
+}
+
+const VideoDecoderHarness *videoDecoderHarness(std::string_view name)
+{
+    static const VideoDecoderHarness kMock{"", true, "mock", "",
+                                           "mock://contract?frames=30&gop=10&width=32&height=24"};
+    return name == "mock" ? &kMock : nullptr;
+}
+
+const DisplayHarness *displayHarness(std::string_view name)
+{
+    using drivers::MockDisplay;
+    static const DisplayHarness kMock{
+        "",
+        true,
+        true,
+        [](hal::Display &d) { dynamic_cast<MockDisplay &>(d).loseDisplay(); },
+        [](hal::Display &d) { dynamic_cast<MockDisplay &>(d).restoreDisplay(); },
+    };
+    return name == "mock" ? &kMock : nullptr;
+}
+
+const RemoteInputHarness *remoteInputHarness(std::string_view name)
+{
+    using drivers::MockRemoteInput;
+    static const RemoteInputHarness kMock{
+        "",
+        true,
+        [](hal::RemoteInput &r, hal::Key key, platform::TimePoint at) {
+            dynamic_cast<MockRemoteInput &>(r).pushKey(key, at);
+        },
+        [](hal::RemoteInput &r) { dynamic_cast<MockRemoteInput &>(r).unplug(); },
+    };
+    static const RemoteInputHarness kNone{"", true, {}, {}};
+    if (name == "mock")
+        return &kMock;
+    if (name == "none")
+        return &kNone;
+    return nullptr;
+}
+
+const DepthCameraHarness *depthCameraHarness(std::string_view name)
+{
+    using drivers::MockDepthCamera;
+    static const DepthCameraHarness kMock{
+        "",
+        true,
+        [](hal::DepthCamera &c) { dynamic_cast<MockDepthCamera &>(c).unplug(); },
+        [](hal::DepthCamera &c) { dynamic_cast<MockDepthCamera &>(c).replug(); },
+    };
+    return name == "mock" ? &kMock : nullptr;
+}
+
+} // namespace depthtouch::contract

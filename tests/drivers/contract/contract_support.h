@@ -1,0 +1,149 @@
+#pragma once
+/// \file
+/// \brief Shared pieces of the HAL contract suites: the per-backend harnesses (how to drive and
+/// fault a backend from a test), the clock, allocation counting and small helpers.
+///
+/// Each suite is value-parameterised over the backend names of its table in drivers/backends.cpp,
+/// so a backend added there runs the suite too. A backend without a harness entry here is skipped
+/// with a message; a backend whose factory reports NoDevice (hardware absent) is skipped.
+
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "depthtouch/drivers/backends.h"
+#include "depthtouch/platform/clock.h"
+
+namespace depthtouch::contract {
+
+/// How the suites drive one haptic device backend.
+struct HapticHarness {
+    std::string options;
+    bool simulatedTime = true; ///< Run on a platform::ManualClock (else the steady clock).
+    bool hasDevice = true;     ///< After open() the device is connected (false for `none`).
+    /// Optional fault hooks and observers; a test that needs a missing one is skipped.
+    std::function<void(hal::HapticDevice &)> unplug;
+    std::function<void(hal::HapticDevice &)> replug;
+    std::function<hal::Vec3(const hal::HapticDevice &)> outputForce;
+    /// Moves the handle through and beyond the workspace, starting at the given time.
+    std::function<void(hal::HapticDevice &, platform::TimePoint)> sweep;
+};
+
+struct MediaSourceHarness {
+    std::string options;
+    std::string url;         ///< A clip with one color and one depth stream, several keyframes.
+    std::string badUrl;      ///< Something open() must refuse.
+    int framesPerStream = 0; ///< Frames in each stream of url; 0 when unknown.
+};
+
+struct VideoDecoderHarness {
+    std::string options;
+    bool simulatedTime = true;
+    std::string sourceBackend; ///< Media source backend whose packets this decoder decodes.
+    std::string sourceOptions;
+    std::string url; ///< At least 30 frames per stream.
+};
+
+struct DisplayHarness {
+    std::string options;
+    bool simulatedTime = true;
+    bool honoursSize = true; ///< open() gives the requested size.
+    std::function<void(hal::Display &)> lose;
+    std::function<void(hal::Display &)> restore;
+};
+
+struct RemoteInputHarness {
+    std::string options;
+    bool simulatedTime = true;
+    /// Makes the remote deliver a press and a release of the key at the time; empty when
+    /// impossible.
+    std::function<void(hal::RemoteInput &, hal::Key, platform::TimePoint)> injectKey;
+    std::function<void(hal::RemoteInput &)> unplug;
+};
+
+struct DepthCameraHarness {
+    std::string options;
+    bool simulatedTime = true;
+    std::function<void(hal::DepthCamera &)> unplug;
+    std::function<void(hal::DepthCamera &)> replug;
+};
+
+/// \return the harness of backend \a name, or nullptr.
+const HapticHarness *hapticHarness(std::string_view name);
+const MediaSourceHarness *mediaSourceHarness(std::string_view name);
+const VideoDecoderHarness *videoDecoderHarness(std::string_view name);
+const DisplayHarness *displayHarness(std::string_view name);
+const RemoteInputHarness *remoteInputHarness(std::string_view name);
+const DepthCameraHarness *depthCameraHarness(std::string_view name);
+
+/// \return the names of \a table, for INSTANTIATE_TEST_SUITE_P.
+template <class I> std::vector<std::string> namesOf(hal::BackendTable<I> table)
+{
+    std::vector<std::string> out;
+    for (const hal::Backend<I> &b : table)
+        out.emplace_back(b.name);
+    return out;
+}
+
+/// gtest parameter name of a backend: its name with other characters than [A-Za-z0-9] replaced by
+/// '_'.
+std::string backendParamName(const ::testing::TestParamInfo<std::string> &info);
+
+/// \return the error code of \a r, or std::nullopt when it succeeded.
+template <class R> std::optional<Errc> errcOf(const R &r)
+{
+    if (r)
+        return std::nullopt;
+    return r.error().code;
+}
+
+/// \brief The clock a contract test runs on: a ManualClock (AutoAdvance, starting at 10 s) for
+/// simulated backends, the steady clock for real ones.
+class TestClock {
+public:
+    explicit TestClock(bool simulated)
+        : manual_(simulated ? std::make_unique<platform::ManualClock>(
+                                  platform::ManualClock::Mode::AutoAdvance,
+                                  platform::TimePoint(std::chrono::seconds(10)))
+                            : nullptr)
+    {
+    }
+    platform::Clock &clock() noexcept
+    {
+        return manual_ ? static_cast<platform::Clock &>(*manual_)
+                       : platform::SteadyClock::instance();
+    }
+    /// Lets time pass: advances a ManualClock, sleeps on the steady clock.
+    void pass(platform::Duration d) noexcept
+    {
+        if (manual_)
+            manual_->advance(d);
+        else
+            platform::SteadyClock::instance().sleepFor(d);
+    }
+    [[nodiscard]] bool simulated() const noexcept { return manual_ != nullptr; }
+
+private:
+    std::unique_ptr<platform::ManualClock> manual_;
+};
+
+/// \brief Counts heap allocations (operator new) made by the calling thread while it is alive.
+class AllocationCounter {
+public:
+    AllocationCounter() noexcept;
+    ~AllocationCounter();
+    AllocationCounter(const AllocationCounter &) = delete;
+    AllocationCounter &operator=(const AllocationCounter &) = delete;
+    [[nodiscard]] std::size_t count() const noexcept;
+
+private:
+    std::size_t start_;
+};
+
+} // namespace depthtouch::contract

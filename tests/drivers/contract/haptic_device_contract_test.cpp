@@ -1,0 +1,259 @@
+// HAL contract: hal::HapticDevice (haptic_device.h), for every backend in the haptic device table.
+#include <cmath>
+#include <type_traits>
+
+#include <gtest/gtest.h>
+
+#include "contract_support.h"
+
+namespace depthtouch::contract {
+namespace {
+
+using hal::HapticDevice;
+using hal::HapticState;
+using hal::Vec3;
+using State = HapticDevice::State;
+using std::chrono::milliseconds;
+
+// The real-time methods are noexcept in every backend (checked on the interface).
+static_assert(noexcept(std::declval<HapticDevice &>().read(std::declval<HapticState &>())));
+static_assert(noexcept(std::declval<HapticDevice &>().commandForce(Vec3{})));
+static_assert(noexcept(std::declval<const HapticDevice &>().isConnected()));
+static_assert(noexcept(std::declval<const HapticDevice &>().state()));
+
+bool inside(const Vec3 &p, const hal::HapticCapabilities &c)
+{
+    constexpr double kEps = 1e-12;
+    return p.x >= c.workspaceMin.x - kEps && p.x <= c.workspaceMax.x + kEps &&
+           p.y >= c.workspaceMin.y - kEps && p.y <= c.workspaceMax.y + kEps &&
+           p.z >= c.workspaceMin.z - kEps && p.z <= c.workspaceMax.z + kEps;
+}
+
+class HapticDeviceContractTest : public ::testing::TestWithParam<std::string> {
+protected:
+    void SetUp() override
+    {
+        harness_ = hapticHarness(GetParam());
+        if (harness_ == nullptr)
+            GTEST_SKIP() << "No contract harness for haptic device backend " << GetParam();
+        clock_ = std::make_unique<TestClock>(harness_->simulatedTime);
+        cfg_.clock = &clock_->clock();
+        cfg_.options = hal::OptionList(harness_->options);
+        auto dev = drivers::createHapticDevice(GetParam(), cfg_);
+        if (!dev && dev.error().code == Errc::NoDevice)
+            GTEST_SKIP() << "Haptic device " << GetParam() << " absent";
+        ASSERT_TRUE(dev) << dev.error().what;
+        dev_ = std::move(*dev);
+    }
+    void TearDown() override
+    {
+        if (dev_)
+            dev_->close();
+    }
+    void openOrFail() { ASSERT_TRUE(dev_->open()); }
+
+    const HapticHarness *harness_ = nullptr;
+    std::unique_ptr<TestClock> clock_;
+    hal::BackendConfig cfg_;
+    std::unique_ptr<HapticDevice> dev_;
+};
+
+TEST_P(HapticDeviceContractTest, capabilitiesAreSaneAndConstant)
+{
+    const hal::HapticCapabilities &c = dev_->capabilities();
+    EXPECT_FALSE(c.name.empty());
+    EXPECT_TRUE(std::isfinite(c.maxForce));
+    EXPECT_GE(c.maxForce, 0.0);
+    EXPECT_LE(c.workspaceMin.x, c.workspaceMax.x);
+    EXPECT_LE(c.workspaceMin.y, c.workspaceMax.y);
+    EXPECT_LE(c.workspaceMin.z, c.workspaceMax.z);
+    // The device frame's origin is the workspace centre.
+    EXPECT_TRUE(inside(Vec3{}, c));
+    EXPECT_GT(c.servoRateHz, 0.0);
+    EXPECT_GE(c.buttonCount, 0);
+    EXPECT_LE(c.buttonCount, 32);
+    const double maxForce = c.maxForce;
+    openOrFail();
+    EXPECT_EQ(&dev_->capabilities(), &c);
+    EXPECT_EQ(dev_->capabilities().maxForce, maxForce);
+}
+
+TEST_P(HapticDeviceContractTest, closedDeviceRejectsIoWithoutEffect)
+{
+    // GIVEN a device never opened
+    EXPECT_EQ(dev_->state(), State::Closed);
+    EXPECT_FALSE(dev_->isConnected());
+    // WHEN reading or commanding  THEN InvalidState, and the output sample is untouched
+    HapticState s;
+    s.buttons = 0xdead;
+    EXPECT_EQ(errcOf(dev_->read(s)), Errc::InvalidState);
+    EXPECT_EQ(s.buttons, 0xdeadu);
+    EXPECT_EQ(errcOf(dev_->commandForce({1.0, 0.0, 0.0})), Errc::InvalidState);
+    EXPECT_EQ(dev_->state(), State::Closed);
+    dev_->close(); // no-op
+    EXPECT_EQ(dev_->state(), State::Closed);
+}
+
+TEST_P(HapticDeviceContractTest, openTwiceIsInvalidState)
+{
+    openOrFail();
+    const State opened = dev_->state();
+    EXPECT_NE(opened, State::Closed);
+    EXPECT_EQ(errcOf(dev_->open()), Errc::InvalidState);
+    EXPECT_EQ(dev_->state(), opened);
+}
+
+TEST_P(HapticDeviceContractTest, deviceWithoutHardwareReportsNoDevice)
+{
+    if (harness_->hasDevice)
+        GTEST_SKIP() << "Backend has a device";
+    openOrFail();
+    HapticState s;
+    EXPECT_EQ(dev_->state(), State::Disconnected);
+    EXPECT_FALSE(dev_->isConnected());
+    EXPECT_EQ(errcOf(dev_->read(s)), Errc::NoDevice);
+    EXPECT_EQ(errcOf(dev_->commandForce({1.0, 0.0, 0.0})), Errc::NoDevice);
+}
+
+TEST_P(HapticDeviceContractTest, readsStayInsideTheWorkspaceWithMonotonicTimestamps)
+{
+    if (!harness_->hasDevice)
+        GTEST_SKIP() << "Backend has no device";
+    openOrFail();
+    ASSERT_TRUE(dev_->isConnected());
+    if (harness_->sweep)
+        harness_->sweep(*dev_, clock_->clock().now());
+    const hal::HapticCapabilities &c = dev_->capabilities();
+    const std::uint32_t buttonMask = c.buttonCount >= 32 ? ~0u : (1u << c.buttonCount) - 1u;
+    platform::TimePoint last{};
+    for (int i = 0; i < 80; ++i) {
+        HapticState s;
+        ASSERT_TRUE(dev_->read(s)) << "read " << i;
+        EXPECT_TRUE(inside(s.position, c))
+            << "read " << i << ": " << s.position.x << ' ' << s.position.y << ' ' << s.position.z;
+        EXPECT_TRUE(hal::isFinite(s.position));
+        if (s.velocityValid) {
+            EXPECT_TRUE(hal::isFinite(s.velocity));
+        }
+        EXPECT_EQ(s.buttons & ~buttonMask, 0u);
+        EXPECT_GE(s.time, last);
+        EXPECT_LE(s.time, clock_->clock().now());
+        last = s.time;
+        clock_->pass(milliseconds(1));
+    }
+}
+
+TEST_P(HapticDeviceContractTest, forcesAreClampedToMaxForceKeepingDirection)
+{
+    if (!harness_->hasDevice)
+        GTEST_SKIP() << "Backend has no device";
+    openOrFail();
+    const double maxForce = dev_->capabilities().maxForce;
+    if (harness_->outputForce) {
+        EXPECT_EQ(harness_->outputForce(*dev_), Vec3{}) << "force must be zero after open()";
+    }
+    // WHEN commanding ten times the maximum along (3, -4, 0)/5
+    ASSERT_TRUE(dev_->commandForce(Vec3{3.0, -4.0, 0.0} * (2.0 * maxForce)));
+    if (!harness_->outputForce)
+        GTEST_SKIP() << "Output force not observable";
+    // THEN the output has the maximum magnitude and the same direction
+    const Vec3 out = harness_->outputForce(*dev_);
+    EXPECT_NEAR(hal::norm(out), maxForce, 1e-9);
+    EXPECT_NEAR(out.x, 0.6 * maxForce, 1e-9);
+    EXPECT_NEAR(out.y, -0.8 * maxForce, 1e-9);
+    EXPECT_NEAR(out.z, 0.0, 1e-12);
+    // AND a force within the limit is output as commanded
+    const Vec3 small{0.1 * maxForce, 0.0, -0.2 * maxForce};
+    ASSERT_TRUE(dev_->commandForce(small));
+    EXPECT_EQ(harness_->outputForce(*dev_), small);
+}
+
+TEST_P(HapticDeviceContractTest, nonFiniteForceOutputsZero)
+{
+    if (!harness_->hasDevice)
+        GTEST_SKIP() << "Backend has no device";
+    openOrFail();
+    ASSERT_TRUE(dev_->commandForce({1.0, 1.0, 1.0}));
+    EXPECT_EQ(errcOf(dev_->commandForce({std::nan(""), 0.0, 0.0})), Errc::InvalidArgument);
+    EXPECT_EQ(errcOf(dev_->commandForce({0.0, HUGE_VAL, 0.0})), Errc::InvalidArgument);
+    EXPECT_TRUE(dev_->isConnected());
+    if (harness_->outputForce) {
+        EXPECT_EQ(harness_->outputForce(*dev_), Vec3{});
+    }
+}
+
+TEST_P(HapticDeviceContractTest, closeOutputsZeroAndReturnsToClosed)
+{
+    if (!harness_->hasDevice)
+        GTEST_SKIP() << "Backend has no device";
+    openOrFail();
+    ASSERT_TRUE(dev_->commandForce({1.0, 0.0, 0.0}));
+    dev_->close();
+    EXPECT_EQ(dev_->state(), State::Closed);
+    EXPECT_FALSE(dev_->isConnected());
+    if (harness_->outputForce) {
+        EXPECT_EQ(harness_->outputForce(*dev_), Vec3{});
+    }
+    HapticState s;
+    EXPECT_EQ(errcOf(dev_->read(s)), Errc::InvalidState);
+    // A closed device opens again with zero force.
+    openOrFail();
+    if (harness_->outputForce) {
+        EXPECT_EQ(harness_->outputForce(*dev_), Vec3{});
+    }
+}
+
+TEST_P(HapticDeviceContractTest, unplugGivesNoDeviceAndZeroForce)
+{
+    if (!harness_->hasDevice || !harness_->unplug || !harness_->replug)
+        GTEST_SKIP() << "Backend cannot simulate an unplug";
+    openOrFail();
+    ASSERT_TRUE(dev_->commandForce({2.0, 0.0, 0.0}));
+    // WHEN the device is unplugged
+    harness_->unplug(*dev_);
+    // THEN read and command fail with NoDevice, the state is Disconnected and the output is zero
+    HapticState s;
+    EXPECT_EQ(errcOf(dev_->read(s)), Errc::NoDevice);
+    EXPECT_EQ(dev_->state(), State::Disconnected);
+    EXPECT_FALSE(dev_->isConnected());
+    EXPECT_EQ(errcOf(dev_->commandForce({2.0, 0.0, 0.0})), Errc::NoDevice);
+    if (harness_->outputForce) {
+        EXPECT_EQ(harness_->outputForce(*dev_), Vec3{});
+    }
+    // AND it stays Disconnected after replug until closed and opened again
+    harness_->replug(*dev_);
+    EXPECT_EQ(errcOf(dev_->read(s)), Errc::NoDevice);
+    dev_->close();
+    harness_->unplug(*dev_);
+    EXPECT_EQ(errcOf(dev_->open()), Errc::NoDevice);
+    EXPECT_EQ(dev_->state(), State::Closed);
+    harness_->replug(*dev_);
+    openOrFail();
+    EXPECT_TRUE(dev_->read(s));
+}
+
+TEST_P(HapticDeviceContractTest, realTimeCallsDoNotAllocate)
+{
+    openOrFail();
+    HapticState s;
+    std::size_t allocations = 0;
+    {
+        const AllocationCounter counter;
+        for (int i = 0; i < 100; ++i) {
+            (void)dev_->read(s);
+            (void)dev_->commandForce({0.01 * i, 0.0, 0.0});
+            (void)dev_->isConnected();
+            (void)dev_->state();
+        }
+        allocations = counter.count();
+    }
+    EXPECT_EQ(allocations, 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, HapticDeviceContractTest,
+                         ::testing::ValuesIn(namesOf(drivers::hapticDeviceBackends())),
+                         backendParamName);
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(HapticDeviceContractTest);
+
+} // namespace
+} // namespace depthtouch::contract

@@ -1,0 +1,89 @@
+// HAL contract: hal::RemoteInput (remote_input.h), for every backend in the remote input table.
+#include <gtest/gtest.h>
+
+#include "contract_support.h"
+
+namespace depthtouch::contract {
+namespace {
+
+using std::chrono::milliseconds;
+
+class RemoteInputContractTest : public ::testing::TestWithParam<std::string> {
+protected:
+    void SetUp() override
+    {
+        harness_ = remoteInputHarness(GetParam());
+        if (harness_ == nullptr)
+            GTEST_SKIP() << "No contract harness for remote input backend " << GetParam();
+        clock_ = std::make_unique<TestClock>(harness_->simulatedTime);
+        cfg_.clock = &clock_->clock();
+        cfg_.options = hal::OptionList(harness_->options);
+        auto r = drivers::createRemoteInput(GetParam(), cfg_);
+        if (!r && r.error().code == Errc::NoDevice)
+            GTEST_SKIP() << "Remote " << GetParam() << " absent";
+        ASSERT_TRUE(r) << r.error().what;
+        remote_ = std::move(*r);
+    }
+
+    const RemoteInputHarness *harness_ = nullptr;
+    std::unique_ptr<TestClock> clock_;
+    hal::BackendConfig cfg_;
+    std::unique_ptr<hal::RemoteInput> remote_;
+};
+
+TEST_P(RemoteInputContractTest, pastDeadlinePollsWithoutWaiting)
+{
+    const platform::TimePoint now = clock_->clock().now();
+    EXPECT_EQ(errcOf(remote_->poll(now - milliseconds(1))), Errc::Timeout);
+    if (clock_->simulated()) {
+        EXPECT_EQ(clock_->clock().now(), now);
+    }
+}
+
+TEST_P(RemoteInputContractTest, quietRemoteTimesOutAtTheDeadline)
+{
+    const hal::Deadline until = clock_->clock().now() + milliseconds(20);
+    EXPECT_EQ(errcOf(remote_->poll(until)), Errc::Timeout);
+    EXPECT_GE(clock_->clock().now(), until);
+}
+
+TEST_P(RemoteInputContractTest, keyArrivesAsPressThenReleaseInTimeOrder)
+{
+    if (!harness_->injectKey)
+        GTEST_SKIP() << "Backend cannot inject keys";
+    const platform::TimePoint at = clock_->clock().now() + milliseconds(30);
+    harness_->injectKey(*remote_, hal::Key::PlayPause, at);
+    // A poll that ends before the key does not see it.
+    EXPECT_EQ(errcOf(remote_->poll(at - milliseconds(10))), Errc::Timeout);
+
+    auto press = remote_->poll(at + milliseconds(500));
+    ASSERT_TRUE(press);
+    EXPECT_EQ(press->key, hal::Key::PlayPause);
+    EXPECT_EQ(press->action, hal::KeyAction::Press);
+    EXPECT_GE(press->time, at);
+    EXPECT_LE(press->time, clock_->clock().now());
+
+    // WHEN the caller is late  THEN an event already due comes out of a poll with a past deadline
+    clock_->pass(std::chrono::seconds(2));
+    auto release = remote_->poll(clock_->clock().now() - milliseconds(1));
+    ASSERT_TRUE(release);
+    EXPECT_EQ(release->key, hal::Key::PlayPause);
+    EXPECT_EQ(release->action, hal::KeyAction::Release);
+    EXPECT_GE(release->time, press->time);
+}
+
+TEST_P(RemoteInputContractTest, unpluggedRemoteReportsNoDevice)
+{
+    if (!harness_->unplug)
+        GTEST_SKIP() << "Backend cannot simulate an unplug";
+    harness_->unplug(*remote_);
+    EXPECT_EQ(errcOf(remote_->poll(clock_->clock().now() + milliseconds(5))), Errc::NoDevice);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, RemoteInputContractTest,
+                         ::testing::ValuesIn(namesOf(drivers::remoteInputBackends())),
+                         backendParamName);
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(RemoteInputContractTest);
+
+} // namespace
+} // namespace depthtouch::contract

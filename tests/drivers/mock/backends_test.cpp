@@ -1,0 +1,113 @@
+#include "depthtouch/drivers/backends.h"
+
+#include <set>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "depthtouch/drivers/mock/mock_haptic_device.h"
+#include "depthtouch/drivers/mock/mock_remote_input.h"
+#include "depthtouch/drivers/mock/null_haptic_device.h"
+#include "mock_test_util.h"
+
+namespace depthtouch::drivers {
+namespace {
+
+using testing::errcOf;
+
+constexpr BackendKind kKinds[] = {BackendKind::MediaSource, BackendKind::VideoDecoder,
+                                  BackendKind::Display,     BackendKind::HapticDevice,
+                                  BackendKind::RemoteInput, BackendKind::DepthCamera};
+
+TEST(BackendTablesTest, everyInterfaceHasAMockBackend)
+{
+    std::set<std::string> kindNames;
+    for (BackendKind kind : kKinds) {
+        const auto list = listBackends(kind);
+        ASSERT_FALSE(list.empty()) << backendKindName(kind);
+        std::set<std::string> names;
+        bool mock = false;
+        for (const hal::BackendInfo &b : list) {
+            EXPECT_TRUE(names.insert(b.name).second) << "duplicate " << b.name;
+            EXPECT_STRNE(b.description, "");
+            mock = mock || std::string(b.name) == "mock";
+            if (std::string(b.name) == "mock") {
+                EXPECT_FALSE(b.autoProbe) << "simulated backends are never autoprobed";
+            }
+        }
+        EXPECT_TRUE(mock) << backendKindName(kind);
+        kindNames.insert(backendKindName(kind));
+    }
+    EXPECT_EQ(kindNames.size(), std::size(kKinds));
+    EXPECT_EQ(backendNames(BackendKind::HapticDevice), "mock, none");
+}
+
+TEST(BackendSelectionTest, byName)
+{
+    platform::ManualClock clock;
+    hal::BackendConfig cfg;
+    cfg.clock = &clock;
+    hal::SelectionReport report;
+    auto dev = createHapticDevice("mock", cfg, &report);
+    ASSERT_TRUE(dev);
+    EXPECT_NE(dynamic_cast<MockHapticDevice *>(dev->get()), nullptr);
+    EXPECT_EQ(report.chosen, "mock");
+    EXPECT_TRUE(createMediaSource("mock", cfg));
+    EXPECT_TRUE(createVideoDecoder("mock", cfg));
+    EXPECT_TRUE(createDisplay("mock", cfg));
+    EXPECT_TRUE(createRemoteInput("mock", cfg));
+    EXPECT_TRUE(createDepthCamera("mock", cfg));
+}
+
+TEST(BackendSelectionTest, autoprobeFallsBackToNone)
+{
+    hal::SelectionReport report;
+    auto dev = createHapticDevice("", {}, &report);
+    ASSERT_TRUE(dev);
+    EXPECT_NE(dynamic_cast<NullHapticDevice *>(dev->get()), nullptr);
+    EXPECT_EQ(report.chosen, "none");
+    auto remote = createRemoteInput("", {}, &report);
+    ASSERT_TRUE(remote);
+    EXPECT_NE(dynamic_cast<NullRemoteInput *>(remote->get()), nullptr);
+}
+
+TEST(BackendSelectionTest, autoprobeWithOnlySimulatedBackendsNamesNothing)
+{
+    // Until real decoders exist, autoprobing finds nothing: a product run never decodes mock
+    // packets.
+    hal::SelectionReport report;
+    auto dec = createVideoDecoder("", {}, &report);
+    ASSERT_FALSE(dec);
+    EXPECT_EQ(dec.error().code, Errc::NotSupported);
+    EXPECT_EQ(report.message, "No video decoder backend to autoprobe: name one explicitly");
+}
+
+TEST(BackendSelectionTest, unknownNameListsTheAvailableOnes)
+{
+    hal::SelectionReport report;
+    auto dev = createHapticDevice("falcon", {}, &report);
+    ASSERT_FALSE(dev);
+    EXPECT_EQ(dev.error().code, Errc::InvalidArgument);
+    EXPECT_EQ(report.message, "Unknown haptic device backend 'falcon' (available: mock, none)");
+    EXPECT_EQ(errcOf(createDisplay("egl", {}, &report)), Errc::InvalidArgument);
+    EXPECT_EQ(report.message, "Unknown display backend 'egl' (available: mock)");
+}
+
+TEST(BackendSelectionTest, badOptionsFallThroughToTheNextName)
+{
+    // GIVEN options the mock refuses  WHEN asking for "mock,none"  THEN none (which ignores
+    // options) is used
+    hal::BackendConfig cfg;
+    cfg.options = hal::OptionList("max_force=-2");
+    hal::SelectionReport report;
+    auto dev = createHapticDevice("mock,none", cfg, &report);
+    ASSERT_TRUE(dev);
+    EXPECT_EQ(report.chosen, "none");
+    auto only = createHapticDevice("mock", cfg, &report);
+    ASSERT_FALSE(only);
+    EXPECT_EQ(only.error().code, Errc::InvalidArgument);
+    EXPECT_NE(report.message.find("'mock'"), std::string::npos);
+}
+
+} // namespace
+} // namespace depthtouch::drivers
