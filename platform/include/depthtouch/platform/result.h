@@ -14,6 +14,8 @@
 #include <type_traits>
 #include <utility>
 
+#include "depthtouch/platform/assert.h"
+
 namespace depthtouch {
 
 /// \brief What went wrong, in the few categories a caller can act on.
@@ -63,7 +65,8 @@ constexpr Unexpected unexpected(Errc code, const char *what, int err = 0) noexce
 /// \brief A value of type T or an Error. Never allocates (T itself may).
 ///
 /// Use: `if (!r) return unexpected(r.error());` then `r.value()` / `*r`. Calling value() on an
-/// error is a programming bug (checked by an assert in debug builds).
+/// error, or error() on a value, is a programming bug (checked by DT_DEBUG_ASSERT in builds without
+/// NDEBUG).
 template <class T>
 class [[nodiscard]] Result {
 public:
@@ -125,17 +128,41 @@ public:
     [[nodiscard]] bool has_value() const noexcept { return ok_; }
     explicit operator bool() const noexcept { return ok_; }
 
-    T &value() & { return storage_.value; }
-    const T &value() const & { return storage_.value; }
-    T &&value() && { return std::move(storage_.value); }
-    T &operator*() & { return storage_.value; }
-    const T &operator*() const & { return storage_.value; }
-    T &&operator*() && { return std::move(storage_.value); }
-    T *operator->() { return &storage_.value; }
-    const T *operator->() const { return &storage_.value; }
+    /// \pre has_value() (checked by DT_DEBUG_ASSERT)
+    T &value() &
+    {
+        DT_DEBUG_ASSERT(ok_);
+        return storage_.value;
+    }
+    /// \pre has_value()
+    const T &value() const &
+    {
+        DT_DEBUG_ASSERT(ok_);
+        return storage_.value;
+    }
+    /// \pre has_value()
+    T &&value() &&
+    {
+        DT_DEBUG_ASSERT(ok_);
+        return std::move(storage_.value);
+    }
+    /// \pre has_value()
+    T &operator*() & { return value(); }
+    /// \pre has_value()
+    const T &operator*() const & { return value(); }
+    /// \pre has_value()
+    T &&operator*() && { return std::move(*this).value(); }
+    /// \pre has_value()
+    T *operator->() { return &value(); }
+    /// \pre has_value()
+    const T *operator->() const { return &value(); }
 
-    /// \pre !has_value()
-    [[nodiscard]] const Error &error() const noexcept { return storage_.error; }
+    /// \pre !has_value() (checked by DT_DEBUG_ASSERT)
+    [[nodiscard]] const Error &error() const noexcept
+    {
+        DT_DEBUG_ASSERT(!ok_);
+        return storage_.error;
+    }
 
     template <class U>
     T value_or(U &&fallback) const &
