@@ -28,42 +28,6 @@ const char *levelTag(LogLevel level) noexcept
     return "     ";
 }
 
-/// Resolves a category's threshold from DT_LOG: a list of "[Category:]level" items separated by commas;
-/// "*" or a bare level sets the default. Later items win.
-LogLevel levelFromEnvironment(const char *category) noexcept
-{
-    LogLevel result = LogLevel::Info;
-    const char *env = std::getenv("DT_LOG");
-    if (env == nullptr)
-        return result;
-    const std::size_t catLen = std::strlen(category);
-    const char *item = env;
-    while (*item != '\0') {
-        const char *end = std::strchr(item, ',');
-        const std::size_t len = end != nullptr ? static_cast<std::size_t>(end - item) : std::strlen(item);
-        char buf[64];
-        const std::size_t n = len < sizeof(buf) - 1 ? len : sizeof(buf) - 1;
-        std::memcpy(buf, item, n);
-        buf[n] = '\0';
-        char *colon = std::strchr(buf, ':');
-        LogLevel parsed{};
-        if (colon == nullptr) {
-            if (parseLogLevel(buf, parsed))
-                result = parsed;
-        } else {
-            *colon = '\0';
-            const bool matches = std::strcmp(buf, "*") == 0 ||
-                                 (std::strlen(buf) == catLen && strncasecmp(buf, category, catLen) == 0);
-            if (matches && parseLogLevel(colon + 1, parsed))
-                result = parsed;
-        }
-        if (end == nullptr)
-            break;
-        item = end + 1;
-    }
-    return result;
-}
-
 } // namespace
 
 LogLevel LogCategory::threshold() const noexcept
@@ -73,7 +37,7 @@ LogLevel LogCategory::threshold() const noexcept
         return static_cast<LogLevel>(global);
     int l = level.load(std::memory_order_relaxed);
     if (l < 0) {
-        l = static_cast<int>(levelFromEnvironment(name));
+        l = static_cast<int>(logLevelFromSpec(std::getenv("DT_LOG"), name));
         level.store(l, std::memory_order_relaxed);
     }
     return static_cast<LogLevel>(l);
@@ -100,7 +64,55 @@ bool parseLogLevel(const char *text, LogLevel &out) noexcept
     return false;
 }
 
+LogLevel logLevelFromSpec(const char *spec, const char *category) noexcept
+{
+    // Later items win within each kind, and an item naming the category wins over "*" and bare
+    // levels wherever it appears, so "Haptic:debug,*:warn" keeps Haptic at debug.
+    LogLevel general = LogLevel::Info;
+    LogLevel specific{};
+    bool haveSpecific = false;
+    if (spec == nullptr)
+        return general;
+    const std::size_t catLen = category != nullptr ? std::strlen(category) : 0;
+    const char *item = spec;
+    while (*item != '\0') {
+        const char *end = std::strchr(item, ',');
+        const std::size_t len =
+            end != nullptr ? static_cast<std::size_t>(end - item) : std::strlen(item);
+        char buf[64];
+        const std::size_t n = len < sizeof(buf) - 1 ? len : sizeof(buf) - 1;
+        std::memcpy(buf, item, n);
+        buf[n] = '\0';
+        char *colon = std::strchr(buf, ':');
+        LogLevel parsed{};
+        if (colon == nullptr) {
+            if (parseLogLevel(buf, parsed))
+                general = parsed;
+        } else {
+            *colon = '\0';
+            if (!parseLogLevel(colon + 1, parsed)) {
+                // ignore the malformed item
+            } else if (std::strcmp(buf, "*") == 0) {
+                general = parsed;
+            } else if (catLen != 0 && std::strlen(buf) == catLen &&
+                       strncasecmp(buf, category, catLen) == 0) {
+                specific = parsed;
+                haveSpecific = true;
+            }
+        }
+        if (end == nullptr)
+            break;
+        item = end + 1;
+    }
+    return haveSpecific ? specific : general;
+}
+
 void setLogLevel(LogLevel level) noexcept { gGlobalOverride.store(static_cast<int>(level)); }
+
+void resetLogLevel() noexcept
+{
+    gGlobalOverride.store(-1);
+}
 
 void setLogSink(LogSink sink, void *user) noexcept
 {

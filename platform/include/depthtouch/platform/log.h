@@ -1,10 +1,12 @@
 #pragma once
 /// \file
-/// \brief Logging for non-real-time threads: one category per module, printf-style messages, one line each.
+/// \brief Logging for non-real-time threads: one category per module, printf-style messages, one
+/// line each.
 ///
 /// Output: "[   12.345678] WARN  Category: message" on stderr (or a sink installed for tests).
-/// The level is set per category from the environment variable DT_LOG ("debug", or "Haptic:debug,*:warn")
-/// or with setLogLevel(). Thread-safety: thread-safe (a mutex serialises lines). **Never call from the
+/// The level is set per category from the environment variable DT_LOG ("debug", or
+/// "Haptic:debug,*:warn"; read once per category, at its first use; see logLevelFromSpec()) or with
+/// setLogLevel(). Thread-safety: thread-safe (a mutex serialises lines). **Never call from the
 /// real-time thread**: formatting and the stderr write may allocate or block.
 
 #include <atomic>
@@ -29,10 +31,18 @@ using LogSink = void (*)(void *user, LogLevel level, const char *category, const
 /// Writes one line if \a level passes the category's threshold.
 void logMessage(const LogCategory &category, LogLevel level, const char *format, ...) noexcept
     __attribute__((format(printf, 3, 4)));
-void logMessageV(const LogCategory &category, LogLevel level, const char *format, std::va_list args) noexcept;
+void logMessageV(const LogCategory &category, LogLevel level, const char *format,
+                 std::va_list args) noexcept __attribute__((format(printf, 3, 0)));
 
 /// Sets the threshold of every category (overrides DT_LOG).
 void setLogLevel(LogLevel level) noexcept;
+/// Removes the setLogLevel() override: every category uses its DT_LOG level again.
+void resetLogLevel() noexcept;
+/// \brief Resolves the threshold of \a category from a DT_LOG text \a spec: comma-separated items
+/// "level", "*:level" or "Category:level" (category names are case-insensitive). An item naming the
+/// category wins over "*" and bare levels wherever it appears; otherwise later items win. Malformed
+/// items are ignored. \return the level, Info when nothing applies (or \a spec is null). Reentrant.
+LogLevel logLevelFromSpec(const char *spec, const char *category) noexcept;
 /// Parses "debug", "info", "warn", "error", "off". \return false when the text is none of them.
 bool parseLogLevel(const char *text, LogLevel &out) noexcept;
 /// Installs \a sink (nullptr restores stderr). Thread-safe.
@@ -56,7 +66,7 @@ void setLogSink(LogSink sink, void *user) noexcept;
 /// Logs only the first time this line runs (process-wide).
 #define DT_LOG_ONCE(Name, Level, ...)                                                              \
     do {                                                                                           \
-        static std::atomic<bool> dtLoggedOnce_{false};                                             \
+        static ::std::atomic<bool> dtLoggedOnce_{false};                                           \
         if (!dtLoggedOnce_.exchange(true))                                                         \
             DT_LOG(Name, Level, __VA_ARGS__);                                                      \
     } while (0)

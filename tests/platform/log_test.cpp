@@ -1,0 +1,158 @@
+#include "depthtouch/platform/log.h"
+
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+DT_LOG_CATEGORY(Capture)
+DT_LOG_CATEGORY(EnvProbe)
+DT_LOG_CATEGORY(EnvOther)
+
+namespace depthtouch::platform {
+namespace {
+
+struct Line {
+    LogLevel level;
+    std::string category;
+    std::string message;
+};
+
+/// Installs a capturing sink for the lifetime of the object and restores stderr afterwards.
+class CapturedLog {
+public:
+    CapturedLog() { setLogSink(&CapturedLog::sink, this); }
+    ~CapturedLog()
+    {
+        setLogSink(nullptr, nullptr);
+        resetLogLevel();
+    }
+    CapturedLog(const CapturedLog &) = delete;
+    CapturedLog &operator=(const CapturedLog &) = delete;
+
+    std::vector<Line> lines;
+
+private:
+    static void sink(void *user, LogLevel level, const char *category, const char *message)
+    {
+        static_cast<CapturedLog *>(user)->lines.push_back({level, category, message});
+    }
+};
+
+void logOnceInALoop(int times)
+{
+    for (int i = 0; i < times; ++i)
+        DT_LOG_ONCE(Capture, Warning, "once %d", i);
+}
+
+TEST(LogTest, sinkReceivesFormattedLine)
+{
+    // GIVEN a capturing sink and every level enabled
+    CapturedLog log;
+    setLogLevel(LogLevel::Debug);
+    // WHEN a message is logged
+    DT_LOG(Capture, Info, "Failed to open %s: %d", "device", 42);
+    // THEN the sink gets one line with level, category and the formatted text
+    ASSERT_EQ(log.lines.size(), 1u);
+    EXPECT_EQ(log.lines[0].level, LogLevel::Info);
+    EXPECT_EQ(log.lines[0].category, "Capture");
+    EXPECT_EQ(log.lines[0].message, "Failed to open device: 42");
+}
+
+TEST(LogTest, levelFiltersMessagesBelowThreshold)
+{
+    // GIVEN a capturing sink and the threshold at Warning
+    CapturedLog log;
+    setLogLevel(LogLevel::Warning);
+    // WHEN one message per level is logged
+    DT_LOG(Capture, Debug, "debug");
+    DT_LOG(Capture, Info, "info");
+    DT_LOG(Capture, Warning, "warning");
+    DT_LOG(Capture, Error, "error");
+    // THEN only Warning and Error pass
+    ASSERT_EQ(log.lines.size(), 2u);
+    EXPECT_EQ(log.lines[0].message, "warning");
+    EXPECT_EQ(log.lines[1].message, "error");
+    // AND Off silences everything
+    setLogLevel(LogLevel::Off);
+    DT_LOG(Capture, Error, "silenced");
+    EXPECT_EQ(log.lines.size(), 2u);
+}
+
+TEST(LogTest, logOnceLogsTheFirstTimeOnly)
+{
+    // GIVEN a capturing sink
+    CapturedLog log;
+    setLogLevel(LogLevel::Debug);
+    // WHEN a DT_LOG_ONCE line runs five times, twice over
+    logOnceInALoop(5);
+    logOnceInALoop(5);
+    // THEN exactly one line came out, from the first run
+    ASSERT_EQ(log.lines.size(), 1u);
+    EXPECT_EQ(log.lines[0].message, "once 0");
+}
+
+TEST(LogTest, parseLogLevelAcceptsKnownNames)
+{
+    // THEN the level names parse case-insensitively, and anything else is rejected untouched
+    LogLevel level = LogLevel::Off;
+    EXPECT_TRUE(parseLogLevel("debug", level));
+    EXPECT_EQ(level, LogLevel::Debug);
+    EXPECT_TRUE(parseLogLevel("WARN", level));
+    EXPECT_EQ(level, LogLevel::Warning);
+    EXPECT_TRUE(parseLogLevel("warning", level));
+    EXPECT_EQ(level, LogLevel::Warning);
+    EXPECT_TRUE(parseLogLevel("off", level));
+    EXPECT_EQ(level, LogLevel::Off);
+    EXPECT_FALSE(parseLogLevel("loud", level));
+    EXPECT_FALSE(parseLogLevel(nullptr, level));
+    EXPECT_EQ(level, LogLevel::Off);
+}
+
+TEST(LogTest, specGivesCategoryItemsPrecedenceOverWildcards)
+{
+    // GIVEN the documented example "Haptic:debug,*:warn"
+    const char *spec = "Haptic:debug,*:warn";
+    // THEN Haptic is at debug even though "*" comes later, and every other category at warn
+    EXPECT_EQ(logLevelFromSpec(spec, "Haptic"), LogLevel::Debug);
+    EXPECT_EQ(logLevelFromSpec(spec, "Video"), LogLevel::Warning);
+    // AND the order of items does not matter for a named category
+    EXPECT_EQ(logLevelFromSpec("*:warn,haptic:ERROR", "Haptic"), LogLevel::Error);
+}
+
+TEST(LogTest, specBareLevelsAndFallbacks)
+{
+    // THEN a bare level is the default, later items win, malformed items are ignored, and nothing
+    // applicable means Info
+    EXPECT_EQ(logLevelFromSpec("debug", "Any"), LogLevel::Debug);
+    EXPECT_EQ(logLevelFromSpec("debug,error", "Any"), LogLevel::Error);
+    EXPECT_EQ(logLevelFromSpec("Any:loud", "Any"), LogLevel::Info);
+    EXPECT_EQ(logLevelFromSpec("Other:debug", "Any"), LogLevel::Info);
+    EXPECT_EQ(logLevelFromSpec("Hap:debug", "Haptic"), LogLevel::Info);
+    EXPECT_EQ(logLevelFromSpec("", "Any"), LogLevel::Info);
+    EXPECT_EQ(logLevelFromSpec(nullptr, "Any"), LogLevel::Info);
+}
+
+TEST(LogTest, environmentSetsCategoryLevelsAtFirstUse)
+{
+    // GIVEN DT_LOG set before the categories EnvProbe and EnvOther are first used, and no
+    // setLogLevel() override
+    resetLogLevel();
+    ASSERT_EQ(setenv("DT_LOG", "EnvProbe:error,*:debug", 1), 0);
+    CapturedLog log;
+    // WHEN each category logs at Debug and at Error
+    DT_LOG(EnvProbe, Debug, "probe debug");
+    DT_LOG(EnvProbe, Error, "probe error");
+    DT_LOG(EnvOther, Debug, "other debug");
+    // THEN EnvProbe follows its own item and EnvOther the wildcard
+    ASSERT_EQ(log.lines.size(), 2u);
+    EXPECT_EQ(log.lines[0].message, "probe error");
+    EXPECT_EQ(log.lines[1].message, "other debug");
+    EXPECT_EQ(kLogCategoryEnvProbe.threshold(), LogLevel::Error);
+    EXPECT_EQ(kLogCategoryEnvOther.threshold(), LogLevel::Debug);
+    unsetenv("DT_LOG");
+}
+
+} // namespace
+} // namespace depthtouch::platform
