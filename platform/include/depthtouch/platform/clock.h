@@ -75,14 +75,17 @@ public:
 /// \brief Simulated time that moves only when told, for deterministic simulation and tests.
 ///
 /// Modes:
-/// - AutoAdvance (default): sleepUntil(t) jumps the time to t at once. A single-threaded loop then runs
-///   as fast as the CPU allows on exact simulated deadlines (offline replay, deterministic tests).
-///   Work can be made to "take time" with advance().
-/// - Blocking: sleepUntil(t) blocks the calling thread until another thread advances the time to t or
-///   beyond (or calls release()). advance() steps through the pending deadlines in time order: it sets
-///   the time to the earliest one, wakes its sleeper and waits until that thread sleeps again or
-///   detaches (detachThread(), or a 2 s real-time guard expires), so threads driven by the clock run in a
-///   reproducible order.
+/// - AutoAdvance (default): sleepUntil(t) jumps the time to t at once. A single-threaded loop
+///   then runs as fast as the CPU allows on exact simulated deadlines (offline replay,
+///   deterministic tests). Work can be made to "take time" with advance().
+/// - Blocking: sleepUntil(t) blocks the calling thread until another thread advances the time to
+///   t or beyond (or calls release()). advance() steps through the pending deadlines in time
+///   order: it sets the time to the earliest one, wakes its sleepers and waits until each of
+///   them sleeps again (a sleepUntil() that returns at once because its deadline has passed does
+///   not count: that thread is still running) or detaches (detachThread(), or a 2 s real-time
+///   guard expires). The time therefore does not move while a woken thread runs, and threads
+///   driven by the clock run in a reproducible order. A woken thread may itself call advance()
+///   (to make its work take simulated time); it is not waited for.
 ///
 /// Thread-safety: thread-safe. Not real-time safe in Blocking mode (it takes a mutex); use it for
 /// simulation only.
@@ -115,13 +118,23 @@ public:
 
 private:
     void advanceLocked(std::unique_lock<std::mutex> &lock, TimePoint target) noexcept;
+    /// Blocking mode: the calling thread stops counting as woken-and-running. \pre mutex_ held.
+    void markNotRunningLocked() noexcept;
+    /// \return true when the calling thread was woken by this clock and has not slept or detached
+    /// since. \pre mutex_ held.
+    [[nodiscard]] bool callerIsRunningLocked() const noexcept;
 
     const Mode mode_;
+    const std::uint64_t id_; ///< Unique per clock object, tags the threads it wakes.
     mutable std::mutex mutex_;
     std::condition_variable cv_;
     TimePoint now_;                ///< Guarded by mutex_.
     int sleepers_ = 0;             ///< Guarded by mutex_.
-    std::uint64_t sleepCalls_ = 0; ///< Guarded by mutex_: counts sleepUntil() entries and detaches.
+    /// Guarded by mutex_: threads woken by advance() that have neither slept again nor detached.
+    int running_ = 0;
+    /// Guarded by mutex_: changes when advance() stops waiting for running threads (real-time
+    /// guard), so the threads woken before do not count themselves off twice.
+    std::uint64_t wakeEpoch_ = 0;
     bool released_ = false;        ///< Guarded by mutex_.
     std::multiset<TimePoint> deadlines_; ///< Guarded by mutex_: deadlines of the sleeping threads.
 };
