@@ -25,7 +25,7 @@ glm::dvec3 closestPointOnTriangle(const glm::dvec3 &p, const glm::dvec3 &a, cons
 /// The triangle is oriented so its normal points up (+z); the segment \a p0 → \a p1 crosses it when
 /// it meets the triangle's plane at a parameter t ∈ [−tTol, 1] inside the triangle (barycentric
 /// tolerance \a baryTol) while moving against the upward normal. Used by the brute-force reference
-/// and the mesh-bvh baseline (Möller–Trumbore).
+/// and the mesh-bvh baseline (plane crossing, then a barycentric test in the x–y projection).
 /// \param[out] t crossing parameter along the segment when true.
 /// \return true on a downward crossing.
 bool segmentCrossesTriangleDownward(const glm::dvec3 &p0, const glm::dvec3 &p1, const glm::dvec3 &a,
