@@ -72,11 +72,19 @@ for arch in "${cross_arches[@]}"; do
     for p in "${CROSS_DEV_PACKAGES[@]}"; do wanted+=("$p:$deb"); done
 done
 
-# Installed means dpkg says "install ok installed" for that exact name (with :arch when given).
+# Installed means dpkg lists the package as "install ok installed" for the wanted architecture (the
+# host's, or the one after ':'), or as an Architecture: all package. With a foreign architecture
+# enabled, dpkg-query prints one line per installed architecture, hence the per-line match.
+native=$(dpkg --print-architecture)
+is_installed() {
+    local name=${1%%:*} arch=$native
+    [ "$name" = "$1" ] || arch=${1#*:}
+    dpkg-query -W -f='${Status}|${Architecture}\n' "$name" 2>/dev/null |
+        grep -qE "^install ok installed\|($arch|all)\$"
+}
 missing=()
 for p in "${wanted[@]}"; do
-    status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
-    [ "$status" = "install ok installed" ] || missing+=("$p")
+    is_installed "$p" || missing+=("$p")
 done
 
 if [ ${#missing[@]} -eq 0 ]; then
