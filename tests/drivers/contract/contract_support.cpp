@@ -10,25 +10,63 @@
 #include "depthtouch/drivers/mock/mock_depth_camera.h"
 
 // Allocation counting for the real-time contracts: this test program replaces the global operator
-// new.
+// new and delete (every unaligned form, so allocation and release always pair malloc with free).
 namespace {
 thread_local bool tCounting = false;
 thread_local std::size_t tAllocations = 0;
+
+void *countedAlloc(std::size_t size) noexcept
+{
+    if (tCounting)
+        ++tAllocations;
+    return std::malloc(size != 0 ? size : 1);
+}
+
+void *countedAllocOrThrow(std::size_t size)
+{
+    if (void *p = countedAlloc(size))
+        return p;
+    throw std::bad_alloc();
+}
 } // namespace
 
 void *operator new(std::size_t size)
 {
-    if (tCounting)
-        ++tAllocations;
-    if (void *p = std::malloc(size != 0 ? size : 1))
-        return p;
-    throw std::bad_alloc();
+    return countedAllocOrThrow(size);
+}
+void *operator new[](std::size_t size)
+{
+    return countedAllocOrThrow(size);
+}
+void *operator new(std::size_t size, const std::nothrow_t &) noexcept
+{
+    return countedAlloc(size);
+}
+void *operator new[](std::size_t size, const std::nothrow_t &) noexcept
+{
+    return countedAlloc(size);
 }
 void operator delete(void *p) noexcept
 {
     std::free(p);
 }
+void operator delete[](void *p) noexcept
+{
+    std::free(p);
+}
 void operator delete(void *p, std::size_t) noexcept
+{
+    std::free(p);
+}
+void operator delete[](void *p, std::size_t) noexcept
+{
+    std::free(p);
+}
+void operator delete(void *p, const std::nothrow_t &) noexcept
+{
+    std::free(p);
+}
+void operator delete[](void *p, const std::nothrow_t &) noexcept
 {
     std::free(p);
 }

@@ -71,15 +71,25 @@ TEST(BackendSelectionTest, autoprobeFallsBackToNone)
     EXPECT_NE(dynamic_cast<NullRemoteInput *>(remote->get()), nullptr);
 }
 
-TEST(BackendSelectionTest, autoprobeWithOnlySimulatedBackendsNamesNothing)
+TEST(BackendSelectionTest, autoprobeNeverPicksASimulatedBackend)
 {
-    // Until real decoders exist, autoprobing finds nothing: a product run never decodes mock
-    // packets.
+    // A product run must not decode mock packets or feel a scripted hand: autoprobe either finds a
+    // real backend (or `none`) or fails, for every interface.
+    const auto check = [](const auto &created, const hal::SelectionReport &report,
+                          BackendKind kind) {
+        if (created) {
+            EXPECT_NE(report.chosen, "mock") << backendKindName(kind);
+        } else {
+            EXPECT_FALSE(report.message.empty()) << backendKindName(kind);
+        }
+    };
     hal::SelectionReport report;
-    auto dec = createVideoDecoder("", {}, &report);
-    ASSERT_FALSE(dec);
-    EXPECT_EQ(dec.error().code, Errc::NotSupported);
-    EXPECT_EQ(report.message, "No video decoder backend to autoprobe: name one explicitly");
+    check(createMediaSource("", {}, &report), report, BackendKind::MediaSource);
+    check(createVideoDecoder("", {}, &report), report, BackendKind::VideoDecoder);
+    check(createDisplay("", {}, &report), report, BackendKind::Display);
+    check(createHapticDevice("", {}, &report), report, BackendKind::HapticDevice);
+    check(createRemoteInput("", {}, &report), report, BackendKind::RemoteInput);
+    check(createDepthCamera("", {}, &report), report, BackendKind::DepthCamera);
 }
 
 TEST(BackendSelectionTest, unknownNameListsTheAvailableOnes)
