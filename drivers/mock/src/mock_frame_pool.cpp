@@ -1,17 +1,13 @@
 #include "mock_frame_pool.h"
 
-#include "depthtouch/platform/log.h"
-
-DT_LOG_CATEGORY(Mock)
+#include "depthtouch/platform/assert.h"
 
 namespace depthtouch::drivers {
 
 MockFramePool::~MockFramePool()
 {
-    if (lent() != 0)
-        DT_LOG(Mock, Error,
-               "Frame pool destroyed with %d frames still lent (FrameRef outlives its backend)",
-               lent());
+    // A FrameRef that outlives its backend would release into freed memory (HAL contract).
+    DT_ASSERT(lent() == 0);
 }
 
 Result<void> MockFramePool::allocate(int count, hal::PixelFormat format, int width, int height)
@@ -59,8 +55,7 @@ hal::FrameRef MockFramePool::lend(std::uint32_t slot) noexcept
 
 void MockFramePool::releaseFrame(std::uint32_t slot) noexcept
 {
-    if (slot >= static_cast<std::uint32_t>(count_))
-        return;
+    DT_DEBUG_ASSERT(slot < static_cast<std::uint32_t>(count_));
     if (slots_[slot].inUse.exchange(false, std::memory_order_acq_rel))
         lent_.fetch_sub(1, std::memory_order_acq_rel);
 }
