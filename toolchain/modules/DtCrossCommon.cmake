@@ -16,10 +16,13 @@ if(DT_SYSROOT)
     set(_dt_target_root ${DT_SYSROOT})
 else()
     # Multiarch: the target's libraries live beside the host's under /usr/lib/<triple>; the cross
-    # compiler's own runtime lives in /usr/<triple>.
+    # compiler's own runtime lives in /usr/<triple>. qemu runs the programs against the target's
+    # own libc (libc6:<arch>, installed with the -dev packages, loader in /lib): the cross
+    # toolchain's copy in /usr/<triple> is a different build, and mixing its loader with the
+    # multiarch libc hangs pthread_create under qemu-user.
     set(CMAKE_FIND_ROOT_PATH /usr/${DT_CROSS_TRIPLE} /)
     set(ENV{PKG_CONFIG_SYSROOT_DIR} "")
-    set(_dt_target_root /usr/${DT_CROSS_TRIPLE})
+    set(_dt_target_root /)
 endif()
 set(ENV{PKG_CONFIG_LIBDIR}
     "${DT_SYSROOT}/usr/lib/${DT_CROSS_TRIPLE}/pkgconfig:${DT_SYSROOT}/usr/share/pkgconfig")
