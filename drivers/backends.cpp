@@ -4,6 +4,10 @@
 #include "depthtouch/drivers/backends.h"
 
 #include "depthtouch/config.h"
+#if DT_HAVE_FFMPEG
+#include "depthtouch/drivers/ffmpeg/ffmpeg_media_source.h"
+#include "depthtouch/drivers/ffmpeg/ffmpeg_video_decoder.h"
+#endif
 #include "depthtouch/drivers/mock/mock_depth_camera.h"
 #include "depthtouch/drivers/mock/mock_display.h"
 #include "depthtouch/drivers/mock/mock_haptic_device.h"
@@ -20,11 +24,21 @@ namespace {
 // a scripted hand. The `none` backends do, last: no remote or no haptic device is a valid setup.
 
 constexpr hal::Backend<hal::MediaSource> kMediaSourceBackends[] = {
+#if DT_HAVE_FFMPEG
+    {"ffmpeg", "libavformat demuxer: files, URLs, image sequences (d/%06d.png, option fps)", true,
+     &FfmpegMediaSource::create},
+#endif
     {"mock", "Deterministic synthetic color + depth file (mock: URLs)", false,
      &MockMediaSource::create},
 };
 
 constexpr hal::Backend<hal::VideoDecoder> kVideoDecoderBackends[] = {
+#if DT_HAVE_FFMPEG
+    {"v4l2m2m", "H.264 on a V4L2 M2M device through libavcodec h264_v4l2m2m", true,
+     &FfmpegVideoDecoder::createV4l2m2m},
+    {"ffmpeg", "libavcodec software decoder (H.264, HEVC, FFV1, raw, MJPEG)", true,
+     &FfmpegVideoDecoder::create},
+#endif
     {"mock", "Deterministic simulated decoder for the Mock codec", false,
      &MockVideoDecoder::create},
 };

@@ -2,10 +2,24 @@
 /// \brief `depthtouch touch DEPTH --trajectory traj.csv --out forces.csv`: replays a HIP trajectory
 /// against a depth video at the haptic rate and writes the force log CSV (DESIGN.md §4),
 /// deterministically. Bad input prints one error line and exits 2 without leaving an output file.
+///
+/// DEPTH is a raw gray file (with --size) or anything FFmpeg reads: a video file, a URL or an image
+/// sequence pattern (`frame-%06d.depth.png`, frame rate --fps). The depth stream (or the only
+/// stream, its luma when it is YUV) is decoded through the `ffmpeg` media source and decoder
+/// backends; frame times come from the PTS. 16-bit samples are nearness unless --near/--far are
+/// given: then they are metric depth (--depth-scale metres per unit, 0 = invalid), converted to
+/// 16-bit nearness (DESIGN §3) with the holes filled.
 
+#include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <deque>
 #include <fstream>
 #include <memory>
+#include <new>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -15,8 +29,12 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "depthtouch/depth/conversion.h"
+#include "depthtouch/depth/fill.h"
+#include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/haptics/replay.h"
+#include "depthtouch/platform/log.h"
 
 namespace depthtouch::cli {
 
@@ -42,6 +60,10 @@ struct TouchOptions {
     double maxForceStep = 2.0;
     std::string reengage = "release";
     double rampTime = 0.25;
+    std::optional<double> nearM;
+    std::optional<double> farM;
+    double depthScale = 0.001;
+    std::string depthMapping = "inverse_z";
 };
 
 int fail(int code, const std::string &message)
@@ -64,6 +86,223 @@ bool readFile(const std::string &path, std::vector<std::uint8_t> &bytes)
     std::fclose(f);
     return ok;
 }
+
+/// \brief Depth frames decoded by the `ffmpeg` backends, lazily and in order (the replay asks for
+/// increasing indices and holds two frames): keeps the last few converted frames only.
+class DecodedFrameProvider final : public haptics::FrameProvider {
+public:
+    struct Metric {
+        depth::ConvertOptions convert;
+    };
+
+    /// Opens \a url; \a error receives a one-line message on failure.
+    bool open(const std::string &url, double fps, std::optional<Metric> metric, std::string &error)
+    {
+        metric_ = std::move(metric);
+        fps_ = fps;
+        fpsOption_ = "fps=" + std::to_string(fps);
+        hal::BackendConfig cfg;
+        cfg.options = hal::OptionList(fpsOption_);
+        auto src = drivers::createMediaSource("ffmpeg", cfg);
+        if (!src) {
+            error = std::string("no FFmpeg media source in this build: ") + src.error().what;
+            return false;
+        }
+        source_ = std::move(*src);
+        if (auto r = source_->open(url.c_str()); !r) {
+            error = "cannot read depth input '" + url + "': " + r.error().what + " (" +
+                    errcName(r.error().code) + ")";
+            return false;
+        }
+        const auto &streams = source_->info().streams;
+        for (const hal::StreamInfo &s : streams)
+            if (s.kind == hal::StreamKind::Depth && stream_ < 0)
+                stream_ = s.index;
+        if (stream_ < 0 && streams.size() == 1)
+            stream_ = streams[0].index;
+        if (stream_ < 0) {
+            error = "no depth stream in '" + url + "' (several streams, none titled depth)";
+            return false;
+        }
+        const hal::StreamInfo &si = streams[static_cast<std::size_t>(stream_)];
+        config_ = hal::StreamConfig::fromStream(si);
+        config_.kind = hal::StreamKind::Depth;
+        if (config_.format != hal::PixelFormat::Gray8 && config_.format != hal::PixelFormat::Gray10 &&
+            config_.format != hal::PixelFormat::Gray16)
+            config_.format = hal::PixelFormat::Gray8; // luma of a YUV/RGB stream, as is
+        if (metric_ && config_.format == hal::PixelFormat::Gray8) {
+            error = "--near/--far convert 16-bit metric depth; '" + url + "' has 8-bit samples";
+            return false;
+        }
+        // Count the frames (demux only) so the replay knows the last one.
+        for (;;) {
+            auto p = source_->readPacket();
+            if (!p) {
+                if (p.error().code != Errc::EndOfStream) {
+                    error = "cannot read depth input '" + url + "': " + p.error().what;
+                    return false;
+                }
+                break;
+            }
+            if (p->streamIndex == stream_)
+                ++count_;
+        }
+        if (count_ == 0) {
+            error = "depth input '" + url + "' has no frames";
+            return false;
+        }
+        if (auto r = source_->seek(hal::Pts{0}); !r) {
+            source_->close();
+            if (auto o = source_->open(url.c_str()); !o) {
+                error = "cannot reopen depth input '" + url + "'";
+                return false;
+            }
+        }
+        auto dec = drivers::createVideoDecoder("ffmpeg", hal::BackendConfig{});
+        if (!dec) {
+            error = std::string("no FFmpeg video decoder: ") + dec.error().what;
+            return false;
+        }
+        decoder_ = std::move(*dec);
+        if (auto r = decoder_->configure(config_); !r) {
+            error = "cannot decode depth input '" + url + "': " + r.error().what;
+            return false;
+        }
+        url_ = url;
+        return true;
+    }
+
+    [[nodiscard]] std::size_t frameCount() const noexcept override { return count_; }
+
+    Result<haptics::DepthFrameView> frame(std::size_t i) noexcept override
+    {
+        try {
+            while (decoded_ <= i) {
+                auto r = decodeNext();
+                if (!r)
+                    return unexpected(r.error());
+            }
+            const std::size_t first = decoded_ - frames_.size();
+            if (i < first)
+                return unexpected(Errc::InvalidArgument, "depth frame requested out of order");
+            const Stored &f = frames_[i - first];
+            haptics::DepthFrameView v;
+            v.data = f.bytes.data();
+            v.width = config_.width;
+            v.height = config_.height;
+            v.format = f.format;
+            v.strideBytes = static_cast<std::size_t>(config_.width) *
+                            haptics::bytesPerSample(f.format);
+            v.pts = f.pts;
+            return v;
+        } catch (const std::bad_alloc &) {
+            return unexpected(Errc::OutOfResources, "out of memory decoding the depth video");
+        }
+    }
+
+private:
+    struct Stored {
+        std::vector<std::uint8_t> bytes;
+        haptics::SampleFormat format = haptics::SampleFormat::Gray8;
+        double pts = 0.0;
+    };
+
+    Result<void> decodeNext()
+    {
+        const platform::TimePoint now = platform::SteadyClock::instance().now();
+        for (int guard = 0; guard < 1'000'000; ++guard) {
+            auto f = decoder_->dequeueFrame(now);
+            if (f)
+                return store(**f);
+            const Errc e = f.error().code;
+            if (e == Errc::EndOfStream)
+                return unexpected(Errc::InvalidArgument,
+                                  "the depth video ended early (damaged or truncated)");
+            if (e == Errc::Io)
+                return unexpected(Errc::InvalidArgument, "a depth frame failed to decode");
+            if (e != Errc::Timeout && e != Errc::InvalidState)
+                return unexpected(f.error());
+            // Needs input.
+            if (eos_)
+                continue;
+            auto p = source_->readPacket();
+            if (!p) {
+                if (p.error().code != Errc::EndOfStream)
+                    return unexpected(Errc::InvalidArgument, "cannot read the depth input");
+                eos_ = true;
+                DT_TRY(decoder_->queuePacket(hal::Packet::endOfStream(stream_)));
+                continue;
+            }
+            if (p->streamIndex != stream_)
+                continue;
+            if (auto q = decoder_->queuePacket(*p); !q)
+                return unexpected(Errc::InvalidArgument, "the decoder refused a depth packet");
+        }
+        return unexpected(Errc::InvalidArgument, "the depth decoder makes no progress");
+    }
+
+    Result<void> store(const hal::Frame &frame)
+    {
+        Stored s;
+        s.pts = frame.pts == hal::kNoPts
+                    ? static_cast<double>(decoded_) / fps_
+                    : std::chrono::duration<double>(frame.pts).count();
+        const hal::ImageView &img = frame.image;
+        const int w = img.width;
+        const int h = img.height;
+        if (img.format == hal::PixelFormat::Gray8) {
+            s.format = haptics::SampleFormat::Gray8;
+            s.bytes.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+            for (int y = 0; y < h; ++y)
+                std::memcpy(s.bytes.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w),
+                            img.row(0, y), static_cast<std::size_t>(w));
+        } else {
+            depth::Plane<std::uint16_t> raw(w, h);
+            const double scale = img.format == hal::PixelFormat::Gray10 && !metric_ ? 65535.0 / 1023.0 : 1.0;
+            for (int y = 0; y < h; ++y) {
+                const std::uint8_t *row = img.row(0, y);
+                for (int x = 0; x < w; ++x) {
+                    std::uint16_t v;
+                    std::memcpy(&v, row + 2 * x, sizeof v);
+                    raw.at(x, y) = scale == 1.0 ? v
+                                                : static_cast<std::uint16_t>(
+                                                      std::lround(static_cast<double>(v) * scale));
+                }
+            }
+            if (metric_) {
+                auto n = depth::metricToNearness(raw, metric_->convert);
+                if (!n)
+                    return unexpected(n.error());
+                if (n->invalidCount > 0 && n->invalidCount < n->valid.size()) {
+                    if (auto filled = depth::fillInvalid(n->nearness, n->valid); !filled)
+                        return unexpected(filled.error());
+                }
+                raw = depth::quantize(n->nearness, metric_->convert.vmax);
+            }
+            s.format = haptics::SampleFormat::Gray16;
+            s.bytes.resize(raw.size() * 2u);
+            std::memcpy(s.bytes.data(), raw.samples.data(), s.bytes.size());
+        }
+        frames_.push_back(std::move(s));
+        if (frames_.size() > 4)
+            frames_.pop_front();
+        ++decoded_;
+        return ok();
+    }
+
+    std::unique_ptr<hal::MediaSource> source_;
+    std::unique_ptr<hal::VideoDecoder> decoder_;
+    hal::StreamConfig config_;
+    std::optional<Metric> metric_;
+    std::string fpsOption_;
+    std::string url_;
+    double fps_ = 30.0;
+    int stream_ = -1;
+    std::size_t count_ = 0;
+    std::size_t decoded_ = 0;
+    bool eos_ = false;
+    std::deque<Stored> frames_;
+};
 
 int runTouch(const TouchOptions &o)
 {
@@ -94,26 +333,54 @@ int runTouch(const TouchOptions &o)
     if (auto v = c.validate(); !v)
         return fail(kExitBadInput, v.error().what);
 
-    // Depth input: raw gray frames for now; video files need the media layer's decoder.
-    if (o.size.empty())
-        return fail(kExitBadInput, "unsupported depth input '" + o.depth +
-                                       "': video files need the media decoder (not built yet); give a "
-                                       "raw gray file with --size WxH --fps N [--bits 8|16]");
-    int w = 0;
-    int h = 0;
-    char x = 0;
-    std::istringstream ss(o.size);
-    if (!(ss >> w >> x >> h) || x != 'x' || w < 2 || h < 2 || !ss.eof())
-        return fail(kExitBadInput, "--size must be WxH with W, H >= 2");
-    if (o.bits != 8 && o.bits != 16)
-        return fail(kExitBadInput, "--bits must be 8 or 16");
-    std::vector<std::uint8_t> bytes;
-    if (!readFile(o.depth, bytes))
-        return fail(kExitBadInput, "cannot read depth file '" + o.depth + "'");
-    RawVideoFrameProvider frames(std::move(bytes), w, h,
-                                 o.bits == 8 ? SampleFormat::Gray8 : SampleFormat::Gray16, o.fps);
-    if (auto v = frames.validate(); !v)
-        return fail(kExitBadInput, std::string(v.error().what) + " ('" + o.depth + "')");
+    // Depth input: a raw gray file with --size, else anything FFmpeg reads.
+    std::unique_ptr<FrameProvider> frames;
+    if (!o.size.empty()) {
+        int w = 0;
+        int h = 0;
+        char x = 0;
+        std::istringstream ss(o.size);
+        if (!(ss >> w >> x >> h) || x != 'x' || w < 2 || h < 2 || !ss.eof())
+            return fail(kExitBadInput, "--size must be WxH with W, H >= 2");
+        if (o.bits != 8 && o.bits != 16)
+            return fail(kExitBadInput, "--bits must be 8 or 16");
+        std::vector<std::uint8_t> bytes;
+        if (!readFile(o.depth, bytes))
+            return fail(kExitBadInput, "cannot read depth file '" + o.depth + "'");
+        auto raw = std::make_unique<RawVideoFrameProvider>(
+            std::move(bytes), w, h, o.bits == 8 ? SampleFormat::Gray8 : SampleFormat::Gray16, o.fps);
+        if (auto v = raw->validate(); !v)
+            return fail(kExitBadInput, std::string(v.error().what) + " ('" + o.depth + "')");
+        frames = std::move(raw);
+    } else {
+        if (!(o.fps > 0.0) || o.fps > 10'000.0)
+            return fail(kExitBadInput, "--fps must be in (0, 10000]");
+        std::optional<DecodedFrameProvider::Metric> metric;
+        if (o.nearM || o.farM) {
+            if (!o.nearM || !o.farM || !(*o.nearM > 0.0) || !(*o.farM > *o.nearM))
+                return fail(kExitBadInput, "--near and --far must both be given with 0 < near < far (m)");
+            if (!(o.depthScale > 0.0))
+                return fail(kExitBadInput, "--depth-scale must be positive");
+            auto mapping = depth::parseMapping(o.depthMapping);
+            if (!mapping)
+                return fail(kExitBadInput, "--depth-mapping must be inverse_z or linear");
+            DecodedFrameProvider::Metric m;
+            m.convert.raw.metresPerUnit = o.depthScale;
+            m.convert.mapping = *mapping;
+            m.convert.vmax = 65535.0;
+            m.convert.range = depth::DepthRange{*o.nearM, *o.farM};
+            metric = m;
+        }
+        // The output contract is one error line on bad input: backend selection chatter (Info)
+        // stays quiet unless the user asked for it with DT_LOG.
+        if (std::getenv("DT_LOG") == nullptr)
+            platform::setLogLevel(platform::LogLevel::Warning);
+        auto decoded = std::make_unique<DecodedFrameProvider>();
+        std::string error;
+        if (!decoded->open(o.depth, o.fps, metric, error))
+            return fail(kExitBadInput, error);
+        frames = std::move(decoded);
+    }
 
     std::vector<std::uint8_t> trajBytes;
     if (!readFile(o.trajectory, trajBytes))
@@ -124,7 +391,7 @@ int runTouch(const TouchOptions &o)
     if (!traj)
         return fail(kExitBadInput, o.trajectory + ":" + std::to_string(line) + ": " + traj.error().what);
 
-    auto rows = replay(frames, *traj, opt);
+    auto rows = replay(*frames, *traj, opt);
     if (!rows)
         return fail(rows.error().code == Errc::Io ? kExitFailure : kExitBadInput, rows.error().what);
 
@@ -154,11 +421,22 @@ void registerTouchCommand(CLI::App &app, int &exitCode)
     auto o = std::make_shared<TouchOptions>();
     CLI::App *cmd = app.add_subcommand(
         "touch", "Replay a HIP trajectory against a depth video at the haptic rate; write the force log CSV");
-    cmd->add_option("DEPTH", o->depth, "Depth video (raw 8/16-bit gray frames with --size)")->required();
+    cmd->add_option("DEPTH", o->depth,
+                    "Depth video: any file, URL or image-sequence pattern FFmpeg reads "
+                    "(frame-%06d.depth.png), or raw 8/16-bit gray frames with --size")
+        ->required();
     cmd->add_option("--trajectory", o->trajectory, "HIP trajectory CSV t,x,y,z (s, m)")->required();
     cmd->add_option("--out", o->out, "Force log CSV to write")->required();
     cmd->add_option("--size", o->size, "Raw depth frame size WxH (pixels)");
-    cmd->add_option("--fps", o->fps, "Raw depth frame rate (frames/s)")->capture_default_str();
+    cmd->add_option("--fps", o->fps, "Frame rate of raw depth and image sequences (frames/s)")
+        ->capture_default_str();
+    cmd->add_option("--near", o->nearM,
+                    "Near plane (m): 16-bit input is metric depth, converted to nearness (with --far)");
+    cmd->add_option("--far", o->farM, "Far plane (m) of the metric depth conversion");
+    cmd->add_option("--depth-scale", o->depthScale, "Metres per metric depth unit (0.001: mm)")
+        ->capture_default_str();
+    cmd->add_option("--depth-mapping", o->depthMapping, "Metric conversion: inverse_z | linear")
+        ->capture_default_str();
     cmd->add_option("--bits", o->bits, "Raw depth sample size: 8 or 16 (host byte order)")->capture_default_str();
     cmd->add_option("--rate", o->rate, "Haptic update rate (Hz)")->capture_default_str();
     cmd->add_option("--stiffness", o->stiffness, "Spring stiffness k (N/m)")->capture_default_str();

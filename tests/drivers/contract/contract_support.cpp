@@ -1,8 +1,11 @@
 #include "contract_support.h"
 
 #include <cctype>
+#include <cstdio>
 #include <cstdlib>
 #include <new>
+
+#include <unistd.h>
 
 #include "depthtouch/drivers/mock/mock_display.h"
 #include "depthtouch/drivers/mock/mock_haptic_device.h"
@@ -127,10 +130,57 @@ const HapticHarness *hapticHarness(std::string_view name)
     return nullptr;
 }
 
+// The ffmpeg backends read a real file: a color (H.264) + depth (FFV1 gray) MKV of 30 frames made
+// once per run with the ffmpeg command-line tool. Empty when the tool is missing (no harness: the
+// suites skip ffmpeg with a message).
+const std::string &ffmpegContractClip()
+{
+    struct Clip {
+        std::string dir;
+        std::string path;
+        Clip()
+        {
+            if (std::system("ffmpeg -version >/dev/null 2>&1") != 0) {
+                std::fprintf(stderr, "ffmpeg CLI not on PATH: no contract clip for the ffmpeg backends\n");
+                return;
+            }
+            char tmpl[] = "/tmp/dt-contract-XXXXXX";
+            if (::mkdtemp(tmpl) == nullptr)
+                return;
+            dir = tmpl;
+            const std::string out = dir + "/clip.mkv";
+            const std::string cmd =
+                "ffmpeg -nostdin -v error -y -f lavfi -i testsrc=size=64x48:rate=30:duration=1 "
+                "-f lavfi -i testsrc=size=64x48:rate=30:duration=1 -map 0 -map 1 "
+                "-c:v:0 libx264 -pix_fmt:v:0 yuv420p -g 10 -bf 0 -c:v:1 ffv1 -pix_fmt:v:1 gray -g 1 "
+                "-metadata:s:v:0 title=color -metadata:s:v:1 title=depth "
+                "-metadata:s:v:1 depth_near=0.5 -metadata:s:v:1 depth_far=4 "
+                "-metadata:s:v:1 depth_mapping=inverse_z -metadata:s:v:1 depth_bits=8 " +
+                out + " </dev/null";
+            if (std::system(cmd.c_str()) == 0)
+                path = out;
+        }
+        ~Clip()
+        {
+            if (!dir.empty()) {
+                std::remove((dir + "/clip.mkv").c_str());
+                ::rmdir(dir.c_str());
+            }
+        }
+    };
+    static const Clip clip;
+    return clip.path;
+}
+
 const MediaSourceHarness *mediaSourceHarness(std::string_view name)
 {
     static const MediaSourceHarness kMock{"", "mock://contract?frames=30&gop=10&width=32&height=24",
                                           "file:///nonexistent/clip.mkv", 30};
+    if (name == "ffmpeg" && !ffmpegContractClip().empty()) {
+        static const MediaSourceHarness kFfmpeg{"", ffmpegContractClip(),
+                                                "/nonexistent/clip.mkv", 30};
+        return &kFfmpeg;
+    }
     return name == "mock" ? &kMock : nullptr;
 }
 
@@ -138,6 +188,10 @@ const VideoDecoderHarness *videoDecoderHarness(std::string_view name)
 {
     static const VideoDecoderHarness kMock{"", true, "mock", "",
                                            "mock://contract?frames=30&gop=10&width=32&height=24"};
+    if (name == "ffmpeg" && !ffmpegContractClip().empty()) {
+        static const VideoDecoderHarness kFfmpeg{"", true, "ffmpeg", "", ffmpegContractClip()};
+        return &kFfmpeg;
+    }
     return name == "mock" ? &kMock : nullptr;
 }
 

@@ -1,0 +1,65 @@
+#pragma once
+/// \file
+/// \brief FfmpegMediaSource: libavformat demuxer of files, URLs and image sequences. Backend name
+/// `ffmpeg`.
+///
+/// Inputs: anything libavformat opens, plus printf-pattern image sequences (`d/frame-%06d.png`, the
+/// image2 demuxer). Options (BackendConfig::options): `fps=N` frame rate of an image sequence
+/// (default 25), `format=NAME` forces the demuxer, `timeout_ms=N` bounds a blocking read (default
+/// 10000; network inputs).
+///
+/// Streams: only video streams are listed (StreamInfo::index renumbers them 0..n-1). Kind from the
+/// stream title `color`/`depth`; an untitled stream of a one-stream input is depth when its pixel
+/// format is gray/gray10/gray16, else color. Depth metadata from the tags depth_near, depth_far,
+/// depth_mapping, depth_bits on the stream, else on the container.
+///
+/// Still-image codecs the HAL has no CodecId for (PNG, TIFF, BMP, PGM…, i.e. image sequences) are
+/// decoded here and delivered as CodecId::RawVideo packets: one tightly packed image per packet in
+/// the StreamInfo::format (host byte order), which any VideoDecoder for RawVideo turns into frames.
+///
+/// Times: Packet::pts/dts are nanoseconds from the container's start time. A packet without a PTS
+/// gets its DTS, else the previous PTS plus one frame duration.
+/// Thread-safety: as hal::MediaSource (thread-bound).
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "depthtouch/hal/backends.h"
+#include "depthtouch/hal/media_source.h"
+#include "depthtouch/platform/clock.h"
+
+namespace depthtouch::drivers {
+
+/// \brief Settings of FfmpegMediaSource (from the backend options).
+struct FfmpegSourceSettings {
+    double fps = 0.0;       ///< Image-sequence frame rate (`fps`); 0 = demuxer default.
+    std::string format;     ///< Forced demuxer (`format`); empty = probe.
+    int timeoutMs = 10'000; ///< Longest blocking libavformat call (`timeout_ms`).
+
+    /// \return the settings, or InvalidArgument for an unknown key or a bad value.
+    static Result<FfmpegSourceSettings> parse(hal::OptionList options);
+};
+
+class FfmpegMediaSource final : public hal::MediaSource {
+public:
+    /// Backend factory.
+    static Result<std::unique_ptr<hal::MediaSource>> create(const hal::BackendConfig &cfg);
+
+    FfmpegMediaSource(platform::Clock &clock, FfmpegSourceSettings settings);
+    ~FfmpegMediaSource() override;
+
+    [[nodiscard]] State state() const noexcept override;
+    [[nodiscard]] Result<void> open(const char *url) override;
+    void close() noexcept override;
+    [[nodiscard]] const hal::MediaInfo &info() const noexcept override;
+    [[nodiscard]] Result<hal::Packet> readPacket() override;
+    [[nodiscard]] Result<void> seek(hal::Pts position) override;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace depthtouch::drivers

@@ -1,0 +1,68 @@
+#pragma once
+/// \file
+/// \brief FfmpegVideoDecoder: libavcodec decoder lending frames from a preallocated pool. Backend
+/// names `ffmpeg` (software: H.264, HEVC, FFV1, raw video, MJPEG) and `v4l2m2m` (H.264 through
+/// h264_v4l2m2m; creation fails with NoDevice when libavcodec lacks it or no /dev/video* exists).
+///
+/// Options: `pool=N` output frames (1..64, default 4), `queue=N` input packets (1..256, default
+/// 8), `threads=N` slice threads (1..16, default 2). Slice threads only, no frame threads: frame
+/// threading holds `threads` packets back, which would break "one queued intra packet gives one
+/// frame" and the drain accounting.
+///
+/// Decoding runs inside dequeueFrame(): queuePacket() copies the packet into a fixed ring and never
+/// blocks; dequeueFrame() feeds queued packets to libavcodec until a frame comes out, then copies
+/// its planes into a free pool frame (tightly packed, format StreamConfig::format). Pool frames
+/// are copies, not AVFrame references, so a held FrameRef never pins libavcodec's buffers. Gray
+/// output of a YUV stream is its luma plane unchanged (gray H.264 is yuv420p with neutral chroma);
+/// gray16be becomes host order. A frame libavcodec flags as damaged is lent with Frame::corrupt
+/// (counted concealed); a packet libavcodec refuses is counted dropped (dequeueFrame() returns Io
+/// for it), and so is every packet that produced no frame at drain or flush.
+/// When nothing is queued and no frame is ready, dequeueFrame() sleeps on the backend clock until
+/// the deadline. Thread-safety: as hal::VideoDecoder.
+
+#include <memory>
+
+#include "depthtouch/hal/backends.h"
+#include "depthtouch/hal/video_decoder.h"
+#include "depthtouch/platform/clock.h"
+
+namespace depthtouch::drivers {
+
+/// \brief Sizes of FfmpegVideoDecoder (from the backend options).
+struct FfmpegDecoderSettings {
+    int poolFrames = 4;
+    int queuePackets = 8;
+    int threads = 2;
+
+    static Result<FfmpegDecoderSettings> parse(hal::OptionList options);
+};
+
+class FfmpegVideoDecoder final : public hal::VideoDecoder {
+public:
+    /// Backend factory of `ffmpeg` (software decoding).
+    static Result<std::unique_ptr<hal::VideoDecoder>> create(const hal::BackendConfig &cfg);
+    /// Backend factory of `v4l2m2m` (H.264 on a V4L2 memory-to-memory device).
+    static Result<std::unique_ptr<hal::VideoDecoder>> createV4l2m2m(const hal::BackendConfig &cfg);
+
+    ~FfmpegVideoDecoder() override;
+
+    [[nodiscard]] const hal::VideoDecoderCapabilities &capabilities() const noexcept override;
+    [[nodiscard]] State state() const noexcept override;
+    [[nodiscard]] Result<void> configure(const hal::StreamConfig &cfg) override;
+    [[nodiscard]] Result<void> queuePacket(const hal::Packet &pkt) override;
+    [[nodiscard]] Result<hal::FrameRef> dequeueFrame(hal::Deadline until) override;
+    [[nodiscard]] Result<void> flush() override;
+    void close() noexcept override;
+    [[nodiscard]] hal::DecoderStats stats() const noexcept override;
+
+    /// \return frames lent and not yet returned. Thread-safe.
+    [[nodiscard]] int framesLent() const noexcept;
+
+    struct Impl;
+
+private:
+    explicit FfmpegVideoDecoder(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace depthtouch::drivers

@@ -1,0 +1,233 @@
+#include "ffmpeg_common.h"
+
+#include <cerrno>
+#include <cstring>
+#include <mutex>
+
+extern "C" {
+#include <libavutil/imgutils.h>
+#include <libavutil/log.h>
+#include <libavutil/pixdesc.h>
+}
+
+namespace depthtouch::drivers::ffmpeg {
+
+void quietLibav() noexcept
+{
+    static std::once_flag once;
+    std::call_once(once, [] { av_log_set_level(AV_LOG_FATAL); });
+}
+
+Errc errcOf(int err, Errc fallback) noexcept
+{
+    if (err == AVERROR(ENOENT) || err == AVERROR(ENODEV) || err == AVERROR(ENXIO))
+        return Errc::NoDevice;
+    if (err == AVERROR(EACCES) || err == AVERROR(EPERM))
+        return Errc::PermissionDenied;
+    if (err == AVERROR_PROTOCOL_NOT_FOUND || err == AVERROR_DEMUXER_NOT_FOUND ||
+        err == AVERROR_DECODER_NOT_FOUND)
+        return Errc::NotSupported;
+    if (err == AVERROR_INVALIDDATA || err == AVERROR_STREAM_NOT_FOUND)
+        return Errc::InvalidArgument;
+    if (err == AVERROR(ENOMEM))
+        return Errc::OutOfResources;
+    if (err == AVERROR_EOF)
+        return Errc::EndOfStream;
+    if (err == AVERROR_EXIT || err == AVERROR(ETIMEDOUT))
+        return Errc::Timeout;
+    if (err == AVERROR(EIO))
+        return Errc::Io;
+    return fallback;
+}
+
+hal::CodecId codecOf(AVCodecID id) noexcept
+{
+    switch (id) {
+    case AV_CODEC_ID_H264:
+        return hal::CodecId::H264;
+    case AV_CODEC_ID_HEVC:
+        return hal::CodecId::Hevc;
+    case AV_CODEC_ID_FFV1:
+        return hal::CodecId::Ffv1;
+    case AV_CODEC_ID_RAWVIDEO:
+        return hal::CodecId::RawVideo;
+    case AV_CODEC_ID_MJPEG:
+        return hal::CodecId::Mjpeg;
+    default:
+        return hal::CodecId::Unknown;
+    }
+}
+
+AVCodecID avCodecOf(hal::CodecId codec) noexcept
+{
+    switch (codec) {
+    case hal::CodecId::H264:
+        return AV_CODEC_ID_H264;
+    case hal::CodecId::Hevc:
+        return AV_CODEC_ID_HEVC;
+    case hal::CodecId::Ffv1:
+        return AV_CODEC_ID_FFV1;
+    case hal::CodecId::RawVideo:
+        return AV_CODEC_ID_RAWVIDEO;
+    case hal::CodecId::Mjpeg:
+        return AV_CODEC_ID_MJPEG;
+    case hal::CodecId::Unknown:
+    case hal::CodecId::Mock:
+        break;
+    }
+    return AV_CODEC_ID_NONE;
+}
+
+namespace {
+
+bool isYuvLike(const AVPixFmtDescriptor *d) noexcept
+{
+    return d != nullptr && (d->flags & AV_PIX_FMT_FLAG_RGB) == 0 &&
+           (d->flags & AV_PIX_FMT_FLAG_PAL) == 0 && (d->flags & AV_PIX_FMT_FLAG_BITSTREAM) == 0 &&
+           (d->flags & AV_PIX_FMT_FLAG_HWACCEL) == 0 && d->comp[0].plane == 0 &&
+           (d->nb_components == 1 || d->comp[1].plane != 0 || d->nb_components == 2);
+}
+
+} // namespace
+
+hal::PixelFormat halFormatOf(AVPixelFormat fmt, hal::StreamKind kind) noexcept
+{
+    switch (fmt) {
+    case AV_PIX_FMT_NONE:
+        return hal::PixelFormat::Unknown;
+    case AV_PIX_FMT_GRAY8:
+        return hal::PixelFormat::Gray8;
+    case AV_PIX_FMT_GRAY10LE:
+    case AV_PIX_FMT_GRAY10BE:
+        return hal::PixelFormat::Gray10;
+    case AV_PIX_FMT_GRAY16LE:
+    case AV_PIX_FMT_GRAY16BE:
+        return hal::PixelFormat::Gray16;
+    case AV_PIX_FMT_YUV420P:
+    case AV_PIX_FMT_YUVJ420P:
+        return kind == hal::StreamKind::Depth ? hal::PixelFormat::Gray8 : hal::PixelFormat::Yuv420p;
+    case AV_PIX_FMT_RGB24:
+        return kind == hal::StreamKind::Depth ? hal::PixelFormat::Gray8 : hal::PixelFormat::Rgb24;
+    default:
+        break;
+    }
+    const AVPixFmtDescriptor *d = av_pix_fmt_desc_get(fmt);
+    if (kind == hal::StreamKind::Depth)
+        return d != nullptr && d->comp[0].depth > 8 ? hal::PixelFormat::Gray16
+                                                    : hal::PixelFormat::Gray8;
+    return hal::PixelFormat::Rgb24;
+}
+
+AVPixelFormat avFormatOf(hal::PixelFormat format) noexcept
+{
+    switch (format) {
+    case hal::PixelFormat::Gray8:
+        return AV_PIX_FMT_GRAY8;
+    case hal::PixelFormat::Gray10:
+        return AV_PIX_FMT_GRAY10;
+    case hal::PixelFormat::Gray16:
+        return AV_PIX_FMT_GRAY16;
+    case hal::PixelFormat::Yuv420p:
+        return AV_PIX_FMT_YUV420P;
+    case hal::PixelFormat::Nv12:
+        return AV_PIX_FMT_NV12;
+    case hal::PixelFormat::Rgb24:
+        return AV_PIX_FMT_RGB24;
+    case hal::PixelFormat::Rgba8:
+        return AV_PIX_FMT_RGBA;
+    case hal::PixelFormat::Yuyv:
+        return AV_PIX_FMT_YUYV422;
+    default:
+        return AV_PIX_FMT_NONE;
+    }
+}
+
+namespace {
+
+void copyPlane(const AVFrame &src, int srcPlane, const hal::ImageView &dst, int dstPlane) noexcept
+{
+    const hal::PlaneLayout l = hal::planeLayout(dst.format, dst.width, dst.height, dstPlane);
+    const auto &p = dst.planes[static_cast<std::size_t>(dstPlane)];
+    av_image_copy_plane(p.data, p.strideBytes, src.data[srcPlane], src.linesize[srcPlane],
+                        l.rowBytes, l.rows);
+}
+
+void copyGray16Swapped(const AVFrame &src, const hal::ImageView &dst) noexcept
+{
+    for (int y = 0; y < dst.height; ++y) {
+        const std::uint8_t *s = src.data[0] + static_cast<std::ptrdiff_t>(y) * src.linesize[0];
+        std::uint8_t *d = dst.row(0, y);
+        for (int x = 0; x < dst.width; ++x) {
+            const auto i = static_cast<std::size_t>(x) * 2u;
+            const std::uint16_t v =
+                static_cast<std::uint16_t>((static_cast<unsigned>(s[i]) << 8) | s[i + 1]);
+            std::memcpy(d + i, &v, sizeof v);
+        }
+    }
+}
+
+constexpr bool kBigEndianHost = AV_PIX_FMT_GRAY16 == AV_PIX_FMT_GRAY16BE;
+
+} // namespace
+
+Result<void> copyFrame(const AVFrame &src, const hal::ImageView &dst, SwsContextPtr &sws) noexcept
+{
+    if (src.width != dst.width || src.height != dst.height)
+        return unexpected(Errc::InvalidArgument, "Decoded frame size differs from the stream's");
+    const auto fmt = static_cast<AVPixelFormat>(src.format);
+    const AVPixFmtDescriptor *d = av_pix_fmt_desc_get(fmt);
+    if (d == nullptr)
+        return unexpected(Errc::InvalidArgument, "Decoded frame has no pixel format");
+    const bool srcBe = (d->flags & AV_PIX_FMT_FLAG_BE) != 0;
+    const int srcBytes = (d->comp[0].depth + 7) / 8;
+    switch (dst.format) {
+    case hal::PixelFormat::Gray8:
+        if (isYuvLike(d) && srcBytes == 1) {
+            copyPlane(src, 0, dst, 0); // luma as is: no range conversion
+            return ok();
+        }
+        break;
+    case hal::PixelFormat::Gray10:
+    case hal::PixelFormat::Gray16:
+        if (isYuvLike(d) && srcBytes == 2 &&
+            (dst.format == hal::PixelFormat::Gray16 || d->comp[0].depth == 10)) {
+            if (srcBe != kBigEndianHost)
+                copyGray16Swapped(src, dst);
+            else
+                copyPlane(src, 0, dst, 0);
+            return ok();
+        }
+        break;
+    case hal::PixelFormat::Yuv420p:
+        if (fmt == AV_PIX_FMT_YUV420P || fmt == AV_PIX_FMT_YUVJ420P) {
+            for (int p = 0; p < 3; ++p)
+                copyPlane(src, p, dst, p);
+            return ok();
+        }
+        break;
+    case hal::PixelFormat::Rgb24:
+        if (fmt == AV_PIX_FMT_RGB24) {
+            copyPlane(src, 0, dst, 0);
+            return ok();
+        }
+        break;
+    default:
+        break;
+    }
+    const AVPixelFormat target = avFormatOf(dst.format);
+    if (target == AV_PIX_FMT_NONE)
+        return unexpected(Errc::NotSupported, "No conversion to the stream's pixel format");
+    SwsContext *ctx = sws_getCachedContext(sws.release(), src.width, src.height, fmt, dst.width,
+                                           dst.height, target, SWS_POINT, nullptr, nullptr, nullptr);
+    sws.reset(ctx);
+    if (ctx == nullptr)
+        return unexpected(Errc::NotSupported, "No conversion to the stream's pixel format");
+    std::uint8_t *planes[4] = {dst.planes[0].data, dst.planes[1].data, dst.planes[2].data, nullptr};
+    int strides[4] = {dst.planes[0].strideBytes, dst.planes[1].strideBytes,
+                      dst.planes[2].strideBytes, 0};
+    if (sws_scale(ctx, src.data, src.linesize, 0, src.height, planes, strides) <= 0)
+        return unexpected(Errc::InvalidArgument, "Pixel format conversion failed");
+    return ok();
+}
+
+} // namespace depthtouch::drivers::ffmpeg

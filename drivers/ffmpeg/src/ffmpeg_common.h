@@ -1,0 +1,70 @@
+#pragma once
+/// \file
+/// \brief Pieces shared by the FFmpeg media source and decoder: RAII deleters for the libav* handles,
+/// error mapping, codec and pixel-format mapping, and the copy of a decoded AVFrame into a tightly
+/// packed hal::ImageView. Private to drivers/ffmpeg. Thread-safety: reentrant functions.
+
+#include <memory>
+
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libavutil/frame.h>
+#include <libavutil/pixfmt.h>
+#include <libswscale/swscale.h>
+}
+
+#include "depthtouch/hal/media_source.h"
+#include "depthtouch/hal/types.h"
+#include "depthtouch/platform/result.h"
+
+namespace depthtouch::drivers::ffmpeg {
+
+struct AvFormatContextDeleter {
+    void operator()(AVFormatContext *c) const noexcept { avformat_close_input(&c); }
+};
+struct AvCodecContextDeleter {
+    void operator()(AVCodecContext *c) const noexcept { avcodec_free_context(&c); }
+};
+struct AvFrameDeleter {
+    void operator()(AVFrame *f) const noexcept { av_frame_free(&f); }
+};
+struct AvPacketDeleter {
+    void operator()(AVPacket *p) const noexcept { av_packet_free(&p); }
+};
+struct SwsContextDeleter {
+    void operator()(SwsContext *s) const noexcept { sws_freeContext(s); }
+};
+using AvFormatContextPtr = std::unique_ptr<AVFormatContext, AvFormatContextDeleter>;
+using AvCodecContextPtr = std::unique_ptr<AVCodecContext, AvCodecContextDeleter>;
+using AvFramePtr = std::unique_ptr<AVFrame, AvFrameDeleter>;
+using AvPacketPtr = std::unique_ptr<AVPacket, AvPacketDeleter>;
+using SwsContextPtr = std::unique_ptr<SwsContext, SwsContextDeleter>;
+
+/// Lowers libav*'s own console logging to fatal messages once per process (our errors say what
+/// failed; a corrupt stream would otherwise print a line per damaged slice).
+void quietLibav() noexcept;
+
+/// \return the HAL code of a libav* error \a err (AVERROR(...)); \a fallback for the unknown ones.
+Errc errcOf(int err, Errc fallback) noexcept;
+
+/// \return the HAL codec of \a id (Unknown when the HAL has no name for it).
+hal::CodecId codecOf(AVCodecID id) noexcept;
+/// \return the libavcodec id of \a codec (AV_CODEC_ID_NONE for Unknown and Mock).
+AVCodecID avCodecOf(hal::CodecId codec) noexcept;
+
+/// \return the HAL format a stream of libav format \a fmt and kind \a kind decodes to: gray
+/// formats stay gray (Gray8/Gray10/Gray16), a depth stream in a YUV format is its luma plane
+/// (Gray8, or Gray16 when deeper than 8 bits), color is Yuv420p when the stream is 4:2:0 8-bit, else
+/// Rgb24. Unknown for AV_PIX_FMT_NONE.
+hal::PixelFormat halFormatOf(AVPixelFormat fmt, hal::StreamKind kind) noexcept;
+/// \return the native-endian libav format of \a format (AV_PIX_FMT_NONE when it has none).
+AVPixelFormat avFormatOf(hal::PixelFormat format) noexcept;
+
+/// \brief Copies \a src into \a dst (allocated by the caller: dst.width/height/format set, planes
+/// valid). Gray targets take the first plane as is (luma of YUV, no range conversion, which would
+/// corrupt depth); gray16be is byte-swapped; other mismatches go through libswscale (\a sws caches
+/// its context). \return InvalidArgument when the sizes differ or the conversion is impossible.
+Result<void> copyFrame(const AVFrame &src, const hal::ImageView &dst, SwsContextPtr &sws) noexcept;
+
+} // namespace depthtouch::drivers::ffmpeg

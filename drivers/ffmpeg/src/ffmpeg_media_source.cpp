@@ -1,0 +1,400 @@
+#include "depthtouch/drivers/ffmpeg/ffmpeg_media_source.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <iterator>
+#include <string_view>
+
+#include "depthtouch/platform/log.h"
+#include "ffmpeg_common.h"
+
+extern "C" {
+#include <libavutil/dict.h>
+#include <libavutil/mathematics.h>
+}
+
+DT_LOG_CATEGORY(Ffmpeg)
+
+namespace depthtouch::drivers {
+
+using namespace ffmpeg;
+
+namespace {
+
+constexpr const char *kOptionKeys[] = {"fps", "format", "timeout_ms"};
+constexpr AVRational kNanoseconds{1, 1'000'000'000};
+
+const char *tagOf(const AVStream &st, const AVFormatContext &fmt, const char *key) noexcept
+{
+    if (const AVDictionaryEntry *e = av_dict_get(st.metadata, key, nullptr, 0))
+        return e->value;
+    if (const AVDictionaryEntry *e = av_dict_get(fmt.metadata, key, nullptr, 0))
+        return e->value;
+    return nullptr;
+}
+
+double tagDouble(const char *text) noexcept
+{
+    if (text == nullptr)
+        return 0.0;
+    char *end = nullptr;
+    const double v = std::strtod(text, &end);
+    return end != text && v > 0.0 ? v : 0.0;
+}
+
+bool isGray(AVPixelFormat f) noexcept
+{
+    return f == AV_PIX_FMT_GRAY8 || f == AV_PIX_FMT_GRAY16LE || f == AV_PIX_FMT_GRAY16BE ||
+           f == AV_PIX_FMT_GRAY10LE || f == AV_PIX_FMT_GRAY10BE;
+}
+
+} // namespace
+
+Result<FfmpegSourceSettings> FfmpegSourceSettings::parse(hal::OptionList options)
+{
+    FfmpegSourceSettings s;
+    const std::string_view unknown = options.firstUnknownKey(kOptionKeys, std::size(kOptionKeys));
+    if (!unknown.empty()) {
+        DT_LOG(Ffmpeg, Error, "Unknown ffmpeg media source option '%.*s'",
+               static_cast<int>(unknown.size()), unknown.data());
+        return unexpected(Errc::InvalidArgument, "Unknown ffmpeg media source option");
+    }
+    auto fps = options.getDouble("fps", 0.0);
+    auto timeout = options.getInt("timeout_ms", s.timeoutMs);
+    if (!fps || *fps < 0.0 || *fps > 10'000.0)
+        return unexpected(Errc::InvalidArgument, "ffmpeg option fps must be in 0..10000");
+    if (!timeout || *timeout < 1)
+        return unexpected(Errc::InvalidArgument, "ffmpeg option timeout_ms must be positive");
+    s.fps = *fps;
+    s.timeoutMs = *timeout;
+    if (auto f = options.find("format"))
+        s.format = std::string(*f);
+    return s;
+}
+
+struct FfmpegMediaSource::Impl {
+    struct Stream {
+        int avIndex = -1;
+        AVRational timeBase{1, 1};
+        hal::Pts frameDuration{0};
+        hal::Pts lastPts = hal::kNoPts;
+        AvCodecContextPtr imageDecoder; ///< Set for still-image codecs delivered as RawVideo.
+    };
+
+    Impl(platform::Clock &c, FfmpegSourceSettings s) : clock(c), settings(std::move(s)) {}
+
+    static int interrupt(void *opaque) noexcept
+    {
+        const auto *self = static_cast<const Impl *>(opaque);
+        return self->clock.now() > self->ioDeadline ? 1 : 0;
+    }
+    void armDeadline() noexcept
+    {
+        ioDeadline = clock.now() + std::chrono::milliseconds(settings.timeoutMs);
+    }
+
+    Result<void> open(const char *url);
+    Result<hal::Packet> read();
+    hal::Pts toPts(std::int64_t ts, const Stream &s) const noexcept
+    {
+        if (ts == AV_NOPTS_VALUE)
+            return hal::kNoPts;
+        return hal::Pts(av_rescale_q(ts, s.timeBase, kNanoseconds)) - start;
+    }
+    void reset() noexcept
+    {
+        packet.reset();
+        frame.reset();
+        fmt.reset();
+        streams.clear();
+        avToHal.clear();
+        info = {};
+        start = hal::Pts{0};
+    }
+
+    platform::Clock &clock;
+    const FfmpegSourceSettings settings;
+    platform::TimePoint ioDeadline{};
+    AvFormatContextPtr fmt;
+    AvPacketPtr packet;
+    AvFramePtr frame;
+    SwsContextPtr sws;
+    std::vector<Stream> streams; ///< By HAL index.
+    std::vector<int> avToHal;    ///< libav stream index → HAL index, -1 when not listed.
+    std::vector<std::uint8_t> raw;
+    hal::MediaInfo info;
+    hal::Pts start{0};
+};
+
+Result<void> FfmpegMediaSource::Impl::open(const char *url)
+{
+    AVFormatContext *ctx = avformat_alloc_context();
+    if (ctx == nullptr)
+        return unexpected(Errc::OutOfResources, "Failed to allocate the demuxer");
+    ctx->interrupt_callback = {&Impl::interrupt, this};
+    const AVInputFormat *forced = nullptr;
+    if (!settings.format.empty()) {
+        forced = av_find_input_format(settings.format.c_str());
+        if (forced == nullptr) {
+            avformat_free_context(ctx);
+            return unexpected(Errc::NotSupported, "Unknown container format (option format)");
+        }
+    }
+    AVDictionary *opts = nullptr;
+    if (settings.fps > 0.0)
+        av_dict_set(&opts, "framerate", std::to_string(settings.fps).c_str(), 0);
+    armDeadline();
+    int r = avformat_open_input(&ctx, url, forced, &opts); // frees ctx on failure
+    av_dict_free(&opts);
+    if (r < 0) {
+        char msg[AV_ERROR_MAX_STRING_SIZE] = {};
+        av_strerror(r, msg, sizeof msg);
+        DT_LOG(Ffmpeg, Debug, "Failed to open '%s': %s", url, msg);
+        return unexpected(errcOf(r, Errc::Io), "Failed to open the media input", AVUNERROR(r));
+    }
+    fmt.reset(ctx);
+    armDeadline();
+    r = avformat_find_stream_info(ctx, nullptr);
+    if (r < 0) {
+        DT_LOG(Ffmpeg, Debug, "Failed to read the stream list of '%s'", url);
+        return unexpected(errcOf(r, Errc::InvalidArgument), "Failed to read the stream list");
+    }
+
+    int videoStreams = 0;
+    for (unsigned i = 0; i < ctx->nb_streams; ++i)
+        if (ctx->streams[i]->codecpar->codec_type == AVMEDIA_TYPE_VIDEO)
+            ++videoStreams;
+    if (videoStreams == 0)
+        return unexpected(Errc::InvalidArgument, "The input has no video stream");
+
+    if (ctx->start_time != AV_NOPTS_VALUE)
+        start = hal::Pts(av_rescale_q(ctx->start_time, AV_TIME_BASE_Q, kNanoseconds));
+    avToHal.assign(ctx->nb_streams, -1);
+    for (unsigned i = 0; i < ctx->nb_streams; ++i) {
+        const AVStream &st = *ctx->streams[i];
+        const AVCodecParameters &par = *st.codecpar;
+        if (par.codec_type != AVMEDIA_TYPE_VIDEO)
+            continue;
+        if ((st.disposition & AV_DISPOSITION_ATTACHED_PIC) != 0)
+            continue;
+        hal::StreamInfo si;
+        si.index = static_cast<int>(info.streams.size());
+        const AVDictionaryEntry *title = av_dict_get(st.metadata, "title", nullptr, 0);
+        si.title = title != nullptr ? title->value : "";
+        const auto pixfmt = static_cast<AVPixelFormat>(par.format);
+        if (si.title == "depth")
+            si.kind = hal::StreamKind::Depth;
+        else if (si.title == "color")
+            si.kind = hal::StreamKind::Color;
+        else
+            si.kind = videoStreams == 1 && isGray(pixfmt) ? hal::StreamKind::Depth
+                                                          : hal::StreamKind::Color;
+        si.codec = codecOf(par.codec_id);
+        si.format = halFormatOf(pixfmt, si.kind);
+        si.width = par.width;
+        si.height = par.height;
+        AVRational rate = st.avg_frame_rate.num > 0 && st.avg_frame_rate.den > 0 ? st.avg_frame_rate
+                                                                                 : st.r_frame_rate;
+        if (rate.num > 0 && rate.den > 0)
+            si.frameRate = {rate.num, rate.den};
+        si.timeBase = {st.time_base.num, st.time_base.den};
+        if (par.extradata != nullptr && par.extradata_size > 0)
+            si.extradata.assign(par.extradata,
+                                par.extradata + static_cast<std::size_t>(par.extradata_size));
+        const char *mapping = tagOf(st, *ctx, "depth_mapping");
+        si.depth.nearMetres = tagDouble(tagOf(st, *ctx, "depth_near"));
+        si.depth.farMetres = tagDouble(tagOf(st, *ctx, "depth_far"));
+        si.depth.mapping = mapping != nullptr ? mapping : "";
+        si.depth.bits = static_cast<int>(tagDouble(tagOf(st, *ctx, "depth_bits")));
+
+        Stream s;
+        s.avIndex = static_cast<int>(i);
+        s.timeBase = st.time_base;
+        if (rate.num > 0 && rate.den > 0)
+            s.frameDuration = hal::Pts(av_rescale_q(1, av_inv_q(rate), kNanoseconds));
+        if (si.codec == hal::CodecId::Unknown) {
+            // A still-image codec (image sequence): decode here, deliver RawVideo packets.
+            const AVCodec *codec = avcodec_find_decoder(par.codec_id);
+            if (codec == nullptr || si.format == hal::PixelFormat::Unknown || si.width <= 0 ||
+                si.height <= 0)
+                continue;
+            AvCodecContextPtr dec(avcodec_alloc_context3(codec));
+            if (!dec || avcodec_parameters_to_context(dec.get(), &par) < 0 ||
+                avcodec_open2(dec.get(), codec, nullptr) < 0)
+                continue;
+            s.imageDecoder = std::move(dec);
+            si.codec = hal::CodecId::RawVideo;
+            si.extradata.clear();
+        }
+        avToHal[i] = si.index;
+        info.streams.push_back(std::move(si));
+        streams.push_back(std::move(s));
+    }
+    if (info.streams.empty())
+        return unexpected(Errc::NotSupported, "No video stream with a codec this build decodes");
+
+    if (ctx->duration != AV_NOPTS_VALUE && ctx->duration > 0) {
+        info.duration = hal::Pts(av_rescale_q(ctx->duration, AV_TIME_BASE_Q, kNanoseconds));
+    } else {
+        for (const Stream &s : streams) {
+            const AVStream &st = *ctx->streams[s.avIndex];
+            if (st.duration != AV_NOPTS_VALUE)
+                info.duration =
+                    std::max(info.duration, hal::Pts(av_rescale_q(st.duration, st.time_base,
+                                                                  kNanoseconds)));
+        }
+    }
+    const bool noFile = (ctx->iformat->flags & AVFMT_NOFILE) != 0;
+    // Image sequences (no file of their own) seek by file number.
+    info.seekable =
+        noFile || (ctx->pb != nullptr && (ctx->pb->seekable & AVIO_SEEKABLE_NORMAL) != 0);
+    packet.reset(av_packet_alloc());
+    frame.reset(av_frame_alloc());
+    if (!packet || !frame)
+        return unexpected(Errc::OutOfResources, "Failed to allocate a packet");
+    return ok();
+}
+
+Result<hal::Packet> FfmpegMediaSource::Impl::read()
+{
+    for (;;) {
+        av_packet_unref(packet.get());
+        armDeadline();
+        const int r = av_read_frame(fmt.get(), packet.get());
+        if (r == AVERROR_EOF)
+            return unexpected(Errc::EndOfStream, "End of the media input");
+        if (r < 0) {
+            if (fmt->pb != nullptr && avio_feof(fmt->pb) != 0)
+                return unexpected(Errc::EndOfStream, "End of the media input");
+            return unexpected(Errc::Io, "Failed to read a packet", AVUNERROR(r));
+        }
+        const AVPacket &p = *packet;
+        if (p.stream_index < 0 || static_cast<std::size_t>(p.stream_index) >= avToHal.size())
+            continue;
+        const int halIndex = avToHal[static_cast<std::size_t>(p.stream_index)];
+        if (halIndex < 0 || p.size <= 0 || p.data == nullptr)
+            continue;
+        Stream &s = streams[static_cast<std::size_t>(halIndex)];
+        hal::Packet out;
+        out.streamIndex = halIndex;
+        out.dts = toPts(p.dts, s);
+        out.pts = toPts(p.pts, s);
+        if (out.pts == hal::kNoPts)
+            out.pts = out.dts;
+        if (out.pts == hal::kNoPts)
+            out.pts = s.lastPts == hal::kNoPts ? hal::Pts{0} : s.lastPts + s.frameDuration;
+        s.lastPts = out.pts;
+        out.keyframe = (p.flags & AV_PKT_FLAG_KEY) != 0;
+        if (!s.imageDecoder) {
+            out.data = p.data;
+            out.size = static_cast<std::size_t>(p.size);
+            return out;
+        }
+        // Still image: decode to a tightly packed RawVideo image.
+        const hal::StreamInfo &si = info.streams[static_cast<std::size_t>(halIndex)];
+        AVCodecContext *dec = s.imageDecoder.get();
+        avcodec_flush_buffers(dec);
+        int d = avcodec_send_packet(dec, packet.get());
+        if (d >= 0)
+            d = avcodec_receive_frame(dec, frame.get());
+        if (d == AVERROR(EAGAIN)) {
+            avcodec_send_packet(dec, nullptr);
+            d = avcodec_receive_frame(dec, frame.get());
+        }
+        if (d < 0)
+            return unexpected(Errc::Io, "Failed to decode an image of the sequence", AVUNERROR(d));
+        raw.resize(hal::imageBytes(si.format, si.width, si.height));
+        hal::ImageView view;
+        view.width = si.width;
+        view.height = si.height;
+        view.format = si.format;
+        std::uint8_t *base = raw.data();
+        for (int plane = 0; plane < hal::planeCount(si.format); ++plane) {
+            const hal::PlaneLayout l = hal::planeLayout(si.format, si.width, si.height, plane);
+            view.planes[static_cast<std::size_t>(plane)] = {base, l.rowBytes};
+            base += static_cast<std::size_t>(l.rowBytes) * static_cast<std::size_t>(l.rows);
+        }
+        auto c = copyFrame(*frame, view, sws);
+        av_frame_unref(frame.get());
+        if (!c)
+            return unexpected(Errc::Io, "An image of the sequence differs in size or format");
+        out.data = raw.data();
+        out.size = raw.size();
+        out.keyframe = true;
+        return out;
+    }
+}
+
+Result<std::unique_ptr<hal::MediaSource>> FfmpegMediaSource::create(const hal::BackendConfig &cfg)
+{
+    auto settings = FfmpegSourceSettings::parse(cfg.options);
+    if (!settings)
+        return unexpected(settings.error());
+    quietLibav();
+    return std::unique_ptr<hal::MediaSource>(
+        std::make_unique<FfmpegMediaSource>(cfg.clockRef(), std::move(*settings)));
+}
+
+FfmpegMediaSource::FfmpegMediaSource(platform::Clock &clock, FfmpegSourceSettings settings)
+    : impl_(std::make_unique<Impl>(clock, std::move(settings)))
+{
+}
+
+FfmpegMediaSource::~FfmpegMediaSource() = default;
+
+hal::MediaSource::State FfmpegMediaSource::state() const noexcept
+{
+    return impl_->fmt ? State::Open : State::Closed;
+}
+
+Result<void> FfmpegMediaSource::open(const char *url)
+{
+    if (impl_->fmt)
+        return unexpected(Errc::InvalidState, "open() on an open media source (close first)");
+    if (url == nullptr || *url == '\0')
+        return unexpected(Errc::InvalidArgument, "Empty media URL");
+    auto r = impl_->open(url);
+    if (!r)
+        impl_->reset();
+    return r;
+}
+
+void FfmpegMediaSource::close() noexcept
+{
+    impl_->reset();
+}
+
+const hal::MediaInfo &FfmpegMediaSource::info() const noexcept
+{
+    return impl_->info;
+}
+
+Result<hal::Packet> FfmpegMediaSource::readPacket()
+{
+    if (!impl_->fmt)
+        return unexpected(Errc::InvalidState, "readPacket() requires an open media source");
+    return impl_->read();
+}
+
+Result<void> FfmpegMediaSource::seek(hal::Pts position)
+{
+    if (!impl_->fmt)
+        return unexpected(Errc::InvalidState, "seek() requires an open media source");
+    if (!impl_->info.seekable)
+        return unexpected(Errc::NotSupported, "The media input is not seekable");
+    position = std::clamp(position, hal::Pts{0}, std::max(impl_->info.duration, hal::Pts{0}));
+    const std::int64_t us =
+        std::chrono::duration_cast<std::chrono::microseconds>(position + impl_->start).count();
+    impl_->armDeadline();
+    const int r = av_seek_frame(impl_->fmt.get(), -1, us, AVSEEK_FLAG_BACKWARD);
+    if (r < 0)
+        return unexpected(Errc::Io, "Failed to seek", AVUNERROR(r));
+    for (auto &s : impl_->streams) {
+        s.lastPts = hal::kNoPts;
+        if (s.imageDecoder)
+            avcodec_flush_buffers(s.imageDecoder.get());
+    }
+    return ok();
+}
+
+} // namespace depthtouch::drivers

@@ -1,0 +1,481 @@
+#include "depthtouch/drivers/ffmpeg/ffmpeg_video_decoder.h"
+
+#include <atomic>
+#include <cstring>
+#include <filesystem>
+#include <iterator>
+#include <string_view>
+#include <system_error>
+#include <vector>
+
+#include "depthtouch/platform/log.h"
+#include "ffmpeg_common.h"
+
+DT_LOG_CATEGORY(Ffmpeg)
+
+namespace depthtouch::drivers {
+
+using namespace ffmpeg;
+
+namespace {
+
+constexpr const char *kOptionKeys[] = {"pool", "queue", "threads"};
+constexpr AVRational kNanoseconds{1, 1'000'000'000};
+constexpr int kMaxSize = 8192;
+
+/// The output pool: tightly packed frames, lent by FrameRef. releaseFrame() is lock-free.
+class FramePool final : public hal::FrameOwner {
+public:
+    ~FramePool() override
+    {
+        if (lent() != 0)
+            DT_LOG(Ffmpeg, Error, "Frame pool destroyed with %d frames still lent", lent());
+    }
+
+    Result<void> allocate(int count, hal::PixelFormat format, int width, int height)
+    {
+        if (lent() != 0)
+            return unexpected(Errc::Busy, "Frames are still lent");
+        auto slots = std::make_unique<Slot[]>(static_cast<std::size_t>(count));
+        for (int i = 0; i < count; ++i) {
+            Slot &s = slots[static_cast<std::size_t>(i)];
+            s.pixels.assign(hal::imageBytes(format, width, height), 0);
+            hal::ImageView &img = s.frame.image;
+            img.width = width;
+            img.height = height;
+            img.format = format;
+            std::uint8_t *p = s.pixels.data();
+            for (int plane = 0; plane < hal::planeCount(format); ++plane) {
+                const hal::PlaneLayout l = hal::planeLayout(format, width, height, plane);
+                img.planes[static_cast<std::size_t>(plane)] = {p, l.rowBytes};
+                p += static_cast<std::size_t>(l.rowBytes) * static_cast<std::size_t>(l.rows);
+            }
+        }
+        slots_ = std::move(slots);
+        count_ = count;
+        return ok();
+    }
+    hal::Frame *acquire(std::uint32_t &slot) noexcept
+    {
+        for (int i = 0; i < count_; ++i) {
+            Slot &s = slots_[static_cast<std::size_t>(i)];
+            bool expected = false;
+            if (s.inUse.compare_exchange_strong(expected, true, std::memory_order_acq_rel)) {
+                lent_.fetch_add(1, std::memory_order_acq_rel);
+                slot = static_cast<std::uint32_t>(i);
+                return &s.frame;
+            }
+        }
+        return nullptr;
+    }
+    [[nodiscard]] bool hasFree() const noexcept { return lent() < count_; }
+    hal::FrameRef lend(std::uint32_t slot) noexcept
+    {
+        return hal::FrameRef(this, slot, &slots_[slot].frame);
+    }
+    void releaseFrame(std::uint32_t slot) noexcept override
+    {
+        if (slot >= static_cast<std::uint32_t>(count_))
+            return;
+        if (slots_[slot].inUse.exchange(false, std::memory_order_acq_rel))
+            lent_.fetch_sub(1, std::memory_order_acq_rel);
+    }
+    [[nodiscard]] int lent() const noexcept { return lent_.load(std::memory_order_acquire); }
+
+private:
+    struct Slot {
+        std::vector<std::uint8_t> pixels;
+        hal::Frame frame;
+        std::atomic<bool> inUse{false};
+    };
+    std::unique_ptr<Slot[]> slots_;
+    int count_ = 0;
+    std::atomic<int> lent_{0};
+};
+
+struct QueuedPacket {
+    std::vector<std::uint8_t> data; ///< Payload + AV_INPUT_BUFFER_PADDING_SIZE zero bytes.
+    std::size_t size = 0;
+    hal::Pts pts = hal::kNoPts;
+    hal::Pts dts = hal::kNoPts;
+    bool keyframe = false;
+};
+
+std::int64_t toAvTs(hal::Pts t) noexcept
+{
+    return t == hal::kNoPts ? AV_NOPTS_VALUE : t.count();
+}
+
+} // namespace
+
+Result<FfmpegDecoderSettings> FfmpegDecoderSettings::parse(hal::OptionList options)
+{
+    FfmpegDecoderSettings s;
+    const std::string_view unknown = options.firstUnknownKey(kOptionKeys, std::size(kOptionKeys));
+    if (!unknown.empty()) {
+        DT_LOG(Ffmpeg, Error, "Unknown ffmpeg video decoder option '%.*s'",
+               static_cast<int>(unknown.size()), unknown.data());
+        return unexpected(Errc::InvalidArgument, "Unknown ffmpeg video decoder option");
+    }
+    auto pool = options.getInt("pool", s.poolFrames);
+    auto queue = options.getInt("queue", s.queuePackets);
+    auto threads = options.getInt("threads", s.threads);
+    if (!pool || *pool < 1 || *pool > 64)
+        return unexpected(Errc::InvalidArgument, "ffmpeg decoder option pool must be 1..64");
+    if (!queue || *queue < 1 || *queue > 256)
+        return unexpected(Errc::InvalidArgument, "ffmpeg decoder option queue must be 1..256");
+    if (!threads || *threads < 1 || *threads > 16)
+        return unexpected(Errc::InvalidArgument, "ffmpeg decoder option threads must be 1..16");
+    s.poolFrames = *pool;
+    s.queuePackets = *queue;
+    s.threads = *threads;
+    return s;
+}
+
+struct FfmpegVideoDecoder::Impl {
+    Impl(platform::Clock &c, const FfmpegDecoderSettings &s, const char *decoderName)
+        : clock(c), settings(s), hwName(decoderName)
+    {
+    }
+
+    Result<void> checkState(bool allowed, const char *call, const char *required) const noexcept
+    {
+        if (allowed)
+            return ok();
+        DT_LOG(Ffmpeg, Debug, "In state %d trying %s() requiring %s", static_cast<int>(state), call,
+               required);
+        return unexpected(Errc::InvalidState, "Call not allowed in the decoder's state");
+    }
+    void dropQueue() noexcept
+    {
+        head = 0;
+        count = 0;
+    }
+    /// Packets given to libavcodec that produced no frame become dropped.
+    void settleDropped() noexcept
+    {
+        if (sent > received)
+            framesDropped.fetch_add(sent - received, std::memory_order_relaxed);
+        sent = 0;
+        received = 0;
+    }
+    Result<hal::FrameRef> lendFrame() noexcept;
+
+    platform::Clock &clock;
+    const FfmpegDecoderSettings settings;
+    const char *hwName; ///< libavcodec decoder by name (h264_v4l2m2m), nullptr for software.
+    hal::VideoDecoderCapabilities caps;
+    State state = State::Closed;
+    hal::StreamConfig config;
+    AvCodecContextPtr ctx;
+    AvPacketPtr packet;
+    AvFramePtr frame;
+    SwsContextPtr sws;
+    FramePool pool;
+
+    std::vector<QueuedPacket> queue;
+    std::size_t head = 0;
+    std::size_t count = 0;
+    bool draining = false;   ///< An end-of-stream packet was queued (sent once the queue is empty).
+    bool eosSent = false;    ///< libavcodec was told to drain.
+    bool ended = false;      ///< libavcodec returned EOF.
+    std::uint64_t sent = 0;  ///< Packets given to libavcodec since configure/flush.
+    std::uint64_t received = 0;
+    std::uint64_t sequence = 0;
+
+    std::atomic<std::uint64_t> packetsQueued{0};
+    std::atomic<std::uint64_t> framesDecoded{0};
+    std::atomic<std::uint64_t> framesConcealed{0};
+    std::atomic<std::uint64_t> framesDropped{0};
+};
+
+Result<hal::FrameRef> FfmpegVideoDecoder::Impl::lendFrame() noexcept
+{
+    std::uint32_t slot = 0;
+    hal::Frame *out = pool.acquire(slot);
+    if (out == nullptr) {
+        av_frame_unref(frame.get());
+        return unexpected(Errc::Busy, "Every pool frame is lent");
+    }
+    auto copied = copyFrame(*frame, out->image, sws);
+    const bool corrupt = frame->decode_error_flags != 0 || (frame->flags & AV_FRAME_FLAG_CORRUPT) != 0;
+    const std::int64_t ts =
+        frame->best_effort_timestamp != AV_NOPTS_VALUE ? frame->best_effort_timestamp : frame->pts;
+    av_frame_unref(frame.get());
+    if (!copied) {
+        pool.releaseFrame(slot);
+        framesDropped.fetch_add(1, std::memory_order_relaxed);
+        return unexpected(Errc::Io, copied.error().what);
+    }
+    out->kind = config.kind;
+    out->pts = ts == AV_NOPTS_VALUE ? hal::kNoPts : hal::Pts(ts);
+    out->time = clock.now();
+    out->sequence = ++sequence;
+    out->corrupt = corrupt;
+    framesDecoded.fetch_add(1, std::memory_order_relaxed);
+    if (corrupt)
+        framesConcealed.fetch_add(1, std::memory_order_relaxed);
+    return pool.lend(slot);
+}
+
+FfmpegVideoDecoder::FfmpegVideoDecoder(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+FfmpegVideoDecoder::~FfmpegVideoDecoder() = default;
+
+Result<std::unique_ptr<hal::VideoDecoder>> FfmpegVideoDecoder::create(const hal::BackendConfig &cfg)
+{
+    auto settings = FfmpegDecoderSettings::parse(cfg.options);
+    if (!settings)
+        return unexpected(settings.error());
+    quietLibav();
+    auto impl = std::make_unique<Impl>(cfg.clockRef(), *settings, nullptr);
+    for (hal::CodecId c : {hal::CodecId::H264, hal::CodecId::Hevc, hal::CodecId::Ffv1,
+                           hal::CodecId::RawVideo, hal::CodecId::Mjpeg})
+        if (avcodec_find_decoder(avCodecOf(c)) != nullptr)
+            impl->caps.codecs |= hal::codecBit(c);
+    if (impl->caps.codecs == 0)
+        return unexpected(Errc::NoDevice, "libavcodec has none of the video decoders");
+    impl->caps.maxWidth = kMaxSize;
+    impl->caps.maxHeight = kMaxSize;
+    impl->caps.poolFrames = settings->poolFrames;
+    impl->caps.queuePackets = settings->queuePackets;
+    impl->caps.hardware = false;
+    return std::unique_ptr<hal::VideoDecoder>(new FfmpegVideoDecoder(std::move(impl)));
+}
+
+Result<std::unique_ptr<hal::VideoDecoder>>
+FfmpegVideoDecoder::createV4l2m2m(const hal::BackendConfig &cfg)
+{
+    auto settings = FfmpegDecoderSettings::parse(cfg.options);
+    if (!settings)
+        return unexpected(settings.error());
+    quietLibav();
+    constexpr const char *kName = "h264_v4l2m2m";
+    if (avcodec_find_decoder_by_name(kName) == nullptr)
+        return unexpected(Errc::NoDevice, "libavcodec has no h264_v4l2m2m decoder");
+    bool device = false;
+    std::error_code ec;
+    for (const auto &e : std::filesystem::directory_iterator("/dev", ec))
+        if (e.path().filename().string().rfind("video", 0) == 0)
+            device = true;
+    if (!device)
+        return unexpected(Errc::NoDevice, "No V4L2 device (/dev/video*) for h264_v4l2m2m");
+    auto impl = std::make_unique<Impl>(cfg.clockRef(), *settings, kName);
+    impl->caps.codecs = hal::codecBit(hal::CodecId::H264);
+    impl->caps.maxWidth = 4096;
+    impl->caps.maxHeight = 4096;
+    impl->caps.poolFrames = settings->poolFrames;
+    impl->caps.queuePackets = settings->queuePackets;
+    impl->caps.hardware = true;
+    return std::unique_ptr<hal::VideoDecoder>(new FfmpegVideoDecoder(std::move(impl)));
+}
+
+const hal::VideoDecoderCapabilities &FfmpegVideoDecoder::capabilities() const noexcept
+{
+    return impl_->caps;
+}
+
+hal::VideoDecoder::State FfmpegVideoDecoder::state() const noexcept
+{
+    return impl_->state;
+}
+
+Result<void> FfmpegVideoDecoder::configure(const hal::StreamConfig &cfg)
+{
+    Impl &d = *impl_;
+    DT_TRY(d.checkState(d.state != State::Running, "configure", "Closed or Configured"));
+    if (!d.caps.supports(cfg.codec) || avCodecOf(cfg.codec) == AV_CODEC_ID_NONE)
+        return unexpected(Errc::NotSupported, "Codec not supported by the ffmpeg decoder");
+    if (cfg.width <= 0 || cfg.height <= 0 || cfg.width > d.caps.maxWidth ||
+        cfg.height > d.caps.maxHeight)
+        return unexpected(Errc::InvalidArgument, "Frame size out of range");
+    hal::PixelFormat format = cfg.format;
+    if (format == hal::PixelFormat::Unknown)
+        format = cfg.kind == hal::StreamKind::Depth ? hal::PixelFormat::Gray8
+                                                    : hal::PixelFormat::Yuv420p;
+    const AVPixelFormat avFormat = avFormatOf(format);
+    if (avFormat == AV_PIX_FMT_NONE || hal::planeCount(format) == 0)
+        return unexpected(Errc::NotSupported, "Output pixel format not supported");
+    if (d.pool.lent() != 0)
+        return unexpected(Errc::Busy, "configure() needs every frame back");
+
+    const AVCodec *codec = d.hwName != nullptr ? avcodec_find_decoder_by_name(d.hwName)
+                                               : avcodec_find_decoder(avCodecOf(cfg.codec));
+    if (codec == nullptr)
+        return unexpected(Errc::NotSupported, "libavcodec has no decoder for the codec");
+    AvCodecContextPtr ctx(avcodec_alloc_context3(codec));
+    AvPacketPtr packet(av_packet_alloc());
+    AvFramePtr frame(av_frame_alloc());
+    if (!ctx || !packet || !frame)
+        return unexpected(Errc::OutOfResources, "Failed to allocate the decoder");
+    ctx->width = cfg.width;
+    ctx->height = cfg.height;
+    ctx->pkt_timebase = kNanoseconds;
+    if (cfg.frameRate.num > 0 && cfg.frameRate.den > 0)
+        ctx->framerate = {cfg.frameRate.num, cfg.frameRate.den};
+    if (cfg.codec == hal::CodecId::RawVideo)
+        ctx->pix_fmt = avFormat; // tightly packed images in the stream's format
+    if (!cfg.extradata.empty()) {
+        const std::size_t n = cfg.extradata.size();
+        ctx->extradata = static_cast<std::uint8_t *>(av_mallocz(n + AV_INPUT_BUFFER_PADDING_SIZE));
+        if (ctx->extradata == nullptr)
+            return unexpected(Errc::OutOfResources, "Failed to allocate the codec setup data");
+        std::memcpy(ctx->extradata, cfg.extradata.data(), n);
+        ctx->extradata_size = static_cast<int>(n);
+    }
+    ctx->thread_count = d.hwName != nullptr ? 1 : d.settings.threads;
+    ctx->thread_type = FF_THREAD_SLICE;
+    const int r = avcodec_open2(ctx.get(), codec, nullptr);
+    if (r < 0) {
+        DT_LOG(Ffmpeg, Error, "Failed to open the %s decoder", codec->name);
+        return unexpected(d.hwName != nullptr ? Errc::NoDevice : errcOf(r, Errc::NotSupported),
+                          "Failed to open the decoder", AVUNERROR(r));
+    }
+    if (auto a = d.pool.allocate(d.settings.poolFrames, format, cfg.width, cfg.height); !a)
+        return unexpected(a.error());
+    std::vector<QueuedPacket> queue(static_cast<std::size_t>(d.settings.queuePackets));
+
+    d.ctx = std::move(ctx);
+    d.packet = std::move(packet);
+    d.frame = std::move(frame);
+    d.queue = std::move(queue);
+    d.sws.reset();
+    d.config = cfg;
+    d.config.format = format;
+    d.dropQueue();
+    d.draining = d.eosSent = d.ended = false;
+    d.sent = d.received = 0;
+    d.state = State::Configured;
+    return ok();
+}
+
+Result<void> FfmpegVideoDecoder::queuePacket(const hal::Packet &pkt)
+{
+    Impl &d = *impl_;
+    DT_TRY(d.checkState(d.state != State::Closed && !d.draining, "queuePacket",
+                        "Configured or Running, before end of stream"));
+    if (pkt.isEndOfStream()) { // a flag, not a queue slot: always accepted
+        d.draining = true;
+        d.state = State::Running;
+        return ok();
+    }
+    if (d.count == d.queue.size())
+        return unexpected(Errc::Busy, "Decoder input queue is full");
+    if (pkt.data == nullptr || pkt.size == 0) {
+        d.framesDropped.fetch_add(1, std::memory_order_relaxed);
+        return unexpected(Errc::InvalidArgument, "Packet without data");
+    }
+    QueuedPacket &q = d.queue[(d.head + d.count) % d.queue.size()];
+    q.size = pkt.size;
+    q.pts = pkt.pts;
+    q.dts = pkt.dts;
+    q.keyframe = pkt.keyframe;
+    q.data.resize(pkt.size + AV_INPUT_BUFFER_PADDING_SIZE);
+    std::memcpy(q.data.data(), pkt.data, pkt.size);
+    std::memset(q.data.data() + pkt.size, 0, AV_INPUT_BUFFER_PADDING_SIZE);
+    d.packetsQueued.fetch_add(1, std::memory_order_relaxed);
+    ++d.count;
+    d.state = State::Running;
+    return ok();
+}
+
+Result<hal::FrameRef> FfmpegVideoDecoder::dequeueFrame(hal::Deadline until)
+{
+    Impl &d = *impl_;
+    DT_TRY(d.checkState(d.state == State::Running, "dequeueFrame", "Running"));
+    if (d.ended)
+        return unexpected(Errc::EndOfStream, "Decoder drained");
+    if (!d.pool.hasFree())
+        return unexpected(Errc::Busy, "Every pool frame is lent");
+    // Each pass either returns or hands one queued packet to libavcodec: bounded by the queue.
+    for (std::size_t pass = 0; pass <= d.queue.size() + 1; ++pass) {
+        const int r = avcodec_receive_frame(d.ctx.get(), d.frame.get());
+        if (r >= 0) {
+            ++d.received;
+            return d.lendFrame();
+        }
+        if (r == AVERROR_EOF) {
+            d.ended = true;
+            d.settleDropped();
+            return unexpected(Errc::EndOfStream, "Decoder drained");
+        }
+        if (r != AVERROR(EAGAIN)) {
+            d.framesDropped.fetch_add(1, std::memory_order_relaxed);
+            return unexpected(Errc::Io, "Failed to decode a frame", AVUNERROR(r));
+        }
+        int s = 0;
+        if (d.count == 0) {
+            if (!d.draining || d.eosSent)
+                break;
+            d.eosSent = true;
+            s = avcodec_send_packet(d.ctx.get(), nullptr);
+        } else {
+            QueuedPacket &q = d.queue[d.head];
+            d.head = (d.head + 1) % d.queue.size();
+            --d.count;
+            AVPacket &p = *d.packet;
+            av_packet_unref(&p);
+            p.data = q.data.data();
+            p.size = static_cast<int>(q.size);
+            p.pts = toAvTs(q.pts);
+            p.dts = toAvTs(q.dts);
+            p.flags = q.keyframe ? AV_PKT_FLAG_KEY : 0;
+            s = avcodec_send_packet(d.ctx.get(), &p);
+            p.data = nullptr;
+            p.size = 0;
+            if (s >= 0)
+                ++d.sent;
+        }
+        if (s < 0 && s != AVERROR_EOF) {
+            d.framesDropped.fetch_add(1, std::memory_order_relaxed);
+            return unexpected(Errc::Io, "The decoder rejected a packet", AVUNERROR(s));
+        }
+    }
+    d.clock.sleepUntil(until);
+    return unexpected(Errc::Timeout, "No frame decoded by the deadline");
+}
+
+Result<void> FfmpegVideoDecoder::flush()
+{
+    Impl &d = *impl_;
+    DT_TRY(d.checkState(d.state != State::Closed, "flush", "Configured or Running"));
+    if (d.state == State::Configured)
+        return ok();
+    d.framesDropped.fetch_add(d.count, std::memory_order_relaxed);
+    d.settleDropped();
+    d.dropQueue();
+    avcodec_flush_buffers(d.ctx.get());
+    d.draining = d.eosSent = d.ended = false;
+    d.state = State::Configured;
+    return ok();
+}
+
+void FfmpegVideoDecoder::close() noexcept
+{
+    Impl &d = *impl_;
+    if (d.state == State::Closed)
+        return;
+    d.settleDropped();
+    d.dropQueue();
+    d.ctx.reset();
+    d.sws.reset();
+    d.draining = d.eosSent = d.ended = false;
+    d.state = State::Closed;
+}
+
+hal::DecoderStats FfmpegVideoDecoder::stats() const noexcept
+{
+    const Impl &d = *impl_;
+    hal::DecoderStats s;
+    s.packetsQueued = d.packetsQueued.load(std::memory_order_relaxed);
+    s.framesDecoded = d.framesDecoded.load(std::memory_order_relaxed);
+    s.framesConcealed = d.framesConcealed.load(std::memory_order_relaxed);
+    s.framesDropped = d.framesDropped.load(std::memory_order_relaxed);
+    return s;
+}
+
+int FfmpegVideoDecoder::framesLent() const noexcept
+{
+    return impl_->pool.lent();
+}
+
+} // namespace depthtouch::drivers

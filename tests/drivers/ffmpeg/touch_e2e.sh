@@ -1,0 +1,54 @@
+#!/bin/sh
+# End-to-end: `depthtouch touch` on depth videos made with the ffmpeg CLI (gray H.264, FFV1 gray16
+# nearness, 16-bit metric PNG sequence with --near/--far), then a bad input. Exit 77 (skip) without
+# the ffmpeg CLI. Usage: touch_e2e.sh /path/to/depthtouch
+set -u
+exe="$1"
+command -v ffmpeg >/dev/null 2>&1 || { echo "ffmpeg CLI not on PATH: skipped"; exit 77; }
+work=$(mktemp -d "${TMPDIR:-/tmp}/dt-touch-e2e.XXXXXX") || exit 1
+trap 'rm -rf "$work"' EXIT
+ff() { ffmpeg -nostdin -hide_banner -v error -y "$@" </dev/null; }
+fail() { echo "FAIL: $*"; exit 1; }
+
+# A flat surface at mid nearness (z = 0 in the scene box); the HIP goes from 2 cm above it to 1 cm
+# below in 1 s: contact from about t = 0.67 s.
+ff -f lavfi -i color=c=0x808080:size=64x48:rate=30:duration=2 -c:v libx264 -pix_fmt gray "$work/gray264.mkv" || fail "ffmpeg gray h264"
+ff -f lavfi -i color=c=0x808080:size=64x48:rate=30:duration=2 -c:v ffv1 -pix_fmt gray16le -metadata:s:v:0 title=depth "$work/ffv1.mkv" || fail "ffmpeg ffv1"
+# Metric depth, 16-bit PNG in mm: 1000 mm everywhere, a hole (0) in the top-left corner.
+ff -f lavfi -i color=c=black:size=64x48:rate=30:duration=2 -vf "format=gray16le,geq=lum='if(lt(X,8)*lt(Y,8),0,1000)'" \
+    -pix_fmt gray16be -start_number 0 "$work/frame-%06d.depth.png" || fail "ffmpeg png sequence"
+printf 't,x,y,z\n0,0,0,0.02\n1,0,0,-0.01\n' > "$work/traj.csv"
+
+check() { # name, depth, extra args...
+    name="$1"; depth="$2"; shift 2
+    "$exe" touch "$depth" --trajectory "$work/traj.csv" --out "$work/$name.csv" "$@" 2>"$work/$name.err" \
+        || { cat "$work/$name.err"; fail "$name: depthtouch touch exited $?"; }
+    head -n 1 "$work/$name.csv" | grep -qx 't,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released' \
+        || fail "$name: force log header"
+    rows=$(($(wc -l <"$work/$name.csv") - 1))
+    [ "$rows" -eq 1001 ] || fail "$name: $rows rows, want 1001 (1 s at 1000 Hz, both ends)"
+    contact=$(awk -F, 'NR > 1 && $11 == 1 { n++ } END { print n + 0 }' "$work/$name.csv")
+    first=$(awk -F, 'NR > 1 && $11 == 1 { print $1; exit }' "$work/$name.csv")
+    [ "$contact" -gt 100 ] || fail "$name: $contact contact rows"
+    echo "$name: $rows rows, $contact in contact, first contact at t=$first s"
+}
+check gray264 "$work/gray264.mkv"
+check ffv1 "$work/ffv1.mkv"
+# 1000 mm between near 0.5 m and far 2 m (inverse Z): nearness 1/3 of v_max → z = -0.0067 m.
+check metric "$work/frame-%06d.depth.png" --near 0.5 --far 2 --fps 30
+first=$(awk -F, 'NR > 1 && $11 == 1 { print $1; exit }' "$work/metric.csv")
+awk -v t="$first" 'BEGIN { exit !(t > 0.85 && t < 0.93) }' || fail "metric: first contact at $first s, want about 0.89 s"
+
+# Bad input: one error line, exit 2, no output file.
+echo "not a video" > "$work/bad.mkv"
+"$exe" touch "$work/bad.mkv" --trajectory "$work/traj.csv" --out "$work/bad.csv" 2>"$work/bad.err"
+rc=$?
+[ "$rc" -eq 2 ] || fail "bad input: exit $rc, want 2"
+[ "$(wc -l <"$work/bad.err")" -eq 1 ] || { cat "$work/bad.err"; fail "bad input: want one error line"; }
+[ ! -e "$work/bad.csv" ] || fail "bad input left an output file"
+ls "$work" | grep -q 'bad.csv.tmp' && fail "bad input left a temporary file"
+echo "bad input: $(cat "$work/bad.err")"
+"$exe" touch "$work/missing.mkv" --trajectory "$work/traj.csv" --out "$work/bad.csv" 2>"$work/bad.err"
+[ $? -eq 2 ] && [ "$(wc -l <"$work/bad.err")" -eq 1 ] || fail "missing input"
+echo "missing input: $(cat "$work/bad.err")"
+echo PASS
