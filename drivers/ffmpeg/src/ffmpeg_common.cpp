@@ -217,8 +217,9 @@ Result<void> copyFrame(const AVFrame &src, const hal::ImageView &dst, SwsContext
     const AVPixelFormat target = avFormatOf(dst.format);
     if (target == AV_PIX_FMT_NONE)
         return unexpected(Errc::NotSupported, "No conversion to the stream's pixel format");
-    SwsContext *ctx = sws_getCachedContext(sws.release(), src.width, src.height, fmt, dst.width,
-                                           dst.height, target, SWS_POINT, nullptr, nullptr, nullptr);
+    SwsContext *ctx =
+        sws_getCachedContext(sws.release(), src.width, src.height, fmt, dst.width, dst.height,
+                             target, SWS_POINT, nullptr, nullptr, nullptr);
     sws.reset(ctx);
     if (ctx == nullptr)
         return unexpected(Errc::NotSupported, "No conversion to the stream's pixel format");

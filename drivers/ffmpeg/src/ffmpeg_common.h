@@ -1,8 +1,8 @@
 #pragma once
 /// \file
-/// \brief Pieces shared by the FFmpeg media source and decoder: RAII deleters for the libav* handles,
-/// error mapping, codec and pixel-format mapping, and the copy of a decoded AVFrame into a tightly
-/// packed hal::ImageView. Private to drivers/ffmpeg. Thread-safety: reentrant functions.
+/// \brief Pieces shared by the FFmpeg media source and decoder: RAII deleters for the libav*
+/// handles, error mapping, codec and pixel-format mapping, and the copy of a decoded AVFrame into a
+/// tightly packed hal::ImageView. Private to drivers/ffmpeg. Thread-safety: reentrant functions.
 
 #include <memory>
 
@@ -55,8 +55,8 @@ AVCodecID avCodecOf(hal::CodecId codec) noexcept;
 
 /// \return the HAL format a stream of libav format \a fmt and kind \a kind decodes to: gray
 /// formats stay gray (Gray8/Gray10/Gray16), a depth stream in a YUV format is its luma plane
-/// (Gray8, or Gray16 when deeper than 8 bits), color is Yuv420p when the stream is 4:2:0 8-bit, else
-/// Rgb24. Unknown for AV_PIX_FMT_NONE.
+/// (Gray8, or Gray16 when deeper than 8 bits), color is Yuv420p when the stream is 4:2:0 8-bit,
+/// else Rgb24. Unknown for AV_PIX_FMT_NONE.
 hal::PixelFormat halFormatOf(AVPixelFormat fmt, hal::StreamKind kind) noexcept;
 /// \return the native-endian libav format of \a format (AV_PIX_FMT_NONE when it has none).
 AVPixelFormat avFormatOf(hal::PixelFormat format) noexcept;

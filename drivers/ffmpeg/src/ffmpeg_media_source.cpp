@@ -239,9 +239,8 @@ Result<void> FfmpegMediaSource::Impl::open(const char *url)
         for (const Stream &s : streams) {
             const AVStream &st = *ctx->streams[s.avIndex];
             if (st.duration != AV_NOPTS_VALUE)
-                info.duration =
-                    std::max(info.duration, hal::Pts(av_rescale_q(st.duration, st.time_base,
-                                                                  kNanoseconds)));
+                info.duration = std::max(
+                    info.duration, hal::Pts(av_rescale_q(st.duration, st.time_base, kNanoseconds)));
         }
     }
     const bool noFile = (ctx->iformat->flags & AVFMT_NOFILE) != 0;

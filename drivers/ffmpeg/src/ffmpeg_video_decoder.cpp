@@ -176,10 +176,10 @@ struct FfmpegVideoDecoder::Impl {
     std::vector<QueuedPacket> queue;
     std::size_t head = 0;
     std::size_t count = 0;
-    bool draining = false;   ///< An end-of-stream packet was queued (sent once the queue is empty).
-    bool eosSent = false;    ///< libavcodec was told to drain.
-    bool ended = false;      ///< libavcodec returned EOF.
-    std::uint64_t sent = 0;  ///< Packets given to libavcodec since configure/flush.
+    bool draining = false;  ///< An end-of-stream packet was queued (sent once the queue is empty).
+    bool eosSent = false;   ///< libavcodec was told to drain.
+    bool ended = false;     ///< libavcodec returned EOF.
+    std::uint64_t sent = 0; ///< Packets given to libavcodec since configure/flush.
     std::uint64_t received = 0;
     std::uint64_t sequence = 0;
 
@@ -198,7 +198,8 @@ Result<hal::FrameRef> FfmpegVideoDecoder::Impl::lendFrame() noexcept
         return unexpected(Errc::Busy, "Every pool frame is lent");
     }
     auto copied = copyFrame(*frame, out->image, sws);
-    const bool corrupt = frame->decode_error_flags != 0 || (frame->flags & AV_FRAME_FLAG_CORRUPT) != 0;
+    const bool corrupt =
+        frame->decode_error_flags != 0 || (frame->flags & AV_FRAME_FLAG_CORRUPT) != 0;
     const std::int64_t ts =
         frame->best_effort_timestamp != AV_NOPTS_VALUE ? frame->best_effort_timestamp : frame->pts;
     av_frame_unref(frame.get());

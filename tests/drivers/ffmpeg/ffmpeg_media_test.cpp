@@ -124,7 +124,8 @@ TEST_F(FfmpegMediaTest, ffv1Gray16AndGray8RoundTripBitExact)
                            raw));
         const Decoded fromPng = decodeAll(pngs, hal::StreamKind::Depth, "fps=10");
         const Decoded fromMkv = decodeAll(mkv, hal::StreamKind::Depth);
-        const hal::PixelFormat want = fmt == "gray" ? hal::PixelFormat::Gray8 : hal::PixelFormat::Gray16;
+        const hal::PixelFormat want =
+            fmt == "gray" ? hal::PixelFormat::Gray8 : hal::PixelFormat::Gray16;
         EXPECT_EQ(fromPng.stream.kind, hal::StreamKind::Depth);
         EXPECT_EQ(fromPng.stream.codec, hal::CodecId::RawVideo);
         EXPECT_EQ(fromPng.stream.format, want);
@@ -159,7 +160,8 @@ TEST_F(FfmpegMediaTest, grayH264IsLumaAsIs)
     const std::string mkv = tmp_.path("gray264.mkv");
     const std::string raw = tmp_.path("gray264.raw");
     ASSERT_TRUE(ffmpeg("-f lavfi -i testsrc=size=64x48:rate=30:duration=0.5 -c:v libx264 "
-                       "-pix_fmt gray " + mkv));
+                       "-pix_fmt gray " +
+                       mkv));
     // The CLI's decode of the luma with no range conversion.
     ASSERT_TRUE(ffmpeg("-i " + mkv + " -vf extractplanes=y -f rawvideo -pix_fmt gray " + raw));
     const Decoded d = decodeAll(mkv, hal::StreamKind::Depth);
@@ -197,7 +199,8 @@ TEST_F(FfmpegMediaTest, imageSequenceWithFrameRateOption)
 {
     const std::string pngs = tmp_.path("frame-%06d.depth.png");
     ASSERT_TRUE(ffmpeg("-f lavfi -i testsrc=size=32x24:rate=30:duration=0.2 -pix_fmt gray16be "
-                       "-start_number 0 " + pngs));
+                       "-start_number 0 " +
+                       pngs));
     auto src = source("fps=15");
     ASSERT_TRUE(src->open(pngs.c_str()));
     ASSERT_EQ(src->info().streams.size(), 1u);
@@ -313,7 +316,8 @@ TEST_F(FfmpegMediaTest, decodeSpeed)
 {
     const std::string url = tmp_.path("speed.mkv");
     ASSERT_TRUE(ffmpeg("-f lavfi -i testsrc=size=640x480:rate=30:duration=5 -c:v libx264 "
-                       "-pix_fmt yuv420p " + url));
+                       "-pix_fmt yuv420p " +
+                       url));
     const auto t0 = std::chrono::steady_clock::now();
     const Decoded d = decodeAll(url, hal::StreamKind::Color);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// \brief Helpers of the FFmpeg driver tests: a temporary directory, running the `ffmpeg` CLI to make
-/// test media at run time, and decoding a whole stream through the HAL backends.
+/// \brief Helpers of the FFmpeg driver tests: a temporary directory, running the `ffmpeg` CLI to
+/// make test media at run time, and decoding a whole stream through the HAL backends.
 
 #include <cstdint>
 #include <cstdlib>
@@ -47,7 +47,8 @@ struct Decoded {
 
 /// Decodes the stream of kind \a kind (or the only stream) of \a url; bounded loops (a stuck
 /// decoder fails the test instead of hanging). \a mutate may damage packet payloads.
-Decoded decodeAll(const std::string &url, hal::StreamKind kind, const std::string &sourceOptions = "",
+Decoded decodeAll(const std::string &url, hal::StreamKind kind,
+                  const std::string &sourceOptions = "",
                   bool (*mutate)(int index, std::vector<std::uint8_t> &bytes) = nullptr);
 
 /// \return the bytes of a file ("" when unreadable).
