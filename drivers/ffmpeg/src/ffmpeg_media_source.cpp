@@ -23,6 +23,7 @@ namespace {
 
 constexpr const char *kOptionKeys[] = {"fps", "format", "timeout_ms"};
 constexpr AVRational kNanoseconds{1, 1'000'000'000};
+constexpr AVRational kMicroseconds{1, AV_TIME_BASE}; // AV_TIME_BASE_Q is a C compound literal
 
 const char *tagOf(const AVStream &st, const AVFormatContext &fmt, const char *key) noexcept
 {
@@ -168,7 +169,7 @@ Result<void> FfmpegMediaSource::Impl::open(const char *url)
         return unexpected(Errc::InvalidArgument, "The input has no video stream");
 
     if (ctx->start_time != AV_NOPTS_VALUE)
-        start = hal::Pts(av_rescale_q(ctx->start_time, AV_TIME_BASE_Q, kNanoseconds));
+        start = hal::Pts(av_rescale_q(ctx->start_time, kMicroseconds, kNanoseconds));
     avToHal.assign(ctx->nb_streams, -1);
     for (unsigned i = 0; i < ctx->nb_streams; ++i) {
         const AVStream &st = *ctx->streams[i];
@@ -234,7 +235,7 @@ Result<void> FfmpegMediaSource::Impl::open(const char *url)
         return unexpected(Errc::NotSupported, "No video stream with a codec this build decodes");
 
     if (ctx->duration != AV_NOPTS_VALUE && ctx->duration > 0) {
-        info.duration = hal::Pts(av_rescale_q(ctx->duration, AV_TIME_BASE_Q, kNanoseconds));
+        info.duration = hal::Pts(av_rescale_q(ctx->duration, kMicroseconds, kNanoseconds));
     } else {
         for (const Stream &s : streams) {
             const AVStream &st = *ctx->streams[s.avIndex];
