@@ -8,6 +8,7 @@
 #include <system_error>
 #include <vector>
 
+#include "depthtouch/drivers/common/frame_pool.h"
 #include "depthtouch/platform/log.h"
 #include "ffmpeg_common.h"
 
@@ -22,76 +23,6 @@ namespace {
 constexpr const char *kOptionKeys[] = {"pool", "queue", "threads"};
 constexpr AVRational kNanoseconds{1, 1'000'000'000};
 constexpr int kMaxSize = 8192;
-
-/// The output pool: tightly packed frames, lent by FrameRef. releaseFrame() is lock-free.
-class FramePool final : public hal::FrameOwner {
-public:
-    ~FramePool() override
-    {
-        if (lent() != 0)
-            DT_LOG(Ffmpeg, Error, "Frame pool destroyed with %d frames still lent", lent());
-    }
-
-    Result<void> allocate(int count, hal::PixelFormat format, int width, int height)
-    {
-        if (lent() != 0)
-            return unexpected(Errc::Busy, "Frames are still lent");
-        auto slots = std::make_unique<Slot[]>(static_cast<std::size_t>(count));
-        for (int i = 0; i < count; ++i) {
-            Slot &s = slots[static_cast<std::size_t>(i)];
-            s.pixels.assign(hal::imageBytes(format, width, height), 0);
-            hal::ImageView &img = s.frame.image;
-            img.width = width;
-            img.height = height;
-            img.format = format;
-            std::uint8_t *p = s.pixels.data();
-            for (int plane = 0; plane < hal::planeCount(format); ++plane) {
-                const hal::PlaneLayout l = hal::planeLayout(format, width, height, plane);
-                img.planes[static_cast<std::size_t>(plane)] = {p, l.rowBytes};
-                p += static_cast<std::size_t>(l.rowBytes) * static_cast<std::size_t>(l.rows);
-            }
-        }
-        slots_ = std::move(slots);
-        count_ = count;
-        return ok();
-    }
-    hal::Frame *acquire(std::uint32_t &slot) noexcept
-    {
-        for (int i = 0; i < count_; ++i) {
-            Slot &s = slots_[static_cast<std::size_t>(i)];
-            bool expected = false;
-            if (s.inUse.compare_exchange_strong(expected, true, std::memory_order_acq_rel)) {
-                lent_.fetch_add(1, std::memory_order_acq_rel);
-                slot = static_cast<std::uint32_t>(i);
-                return &s.frame;
-            }
-        }
-        return nullptr;
-    }
-    [[nodiscard]] bool hasFree() const noexcept { return lent() < count_; }
-    hal::FrameRef lend(std::uint32_t slot) noexcept
-    {
-        return hal::FrameRef(this, slot, &slots_[slot].frame);
-    }
-    void releaseFrame(std::uint32_t slot) noexcept override
-    {
-        if (slot >= static_cast<std::uint32_t>(count_))
-            return;
-        if (slots_[slot].inUse.exchange(false, std::memory_order_acq_rel))
-            lent_.fetch_sub(1, std::memory_order_acq_rel);
-    }
-    [[nodiscard]] int lent() const noexcept { return lent_.load(std::memory_order_acquire); }
-
-private:
-    struct Slot {
-        std::vector<std::uint8_t> pixels;
-        hal::Frame frame;
-        std::atomic<bool> inUse{false};
-    };
-    std::unique_ptr<Slot[]> slots_;
-    int count_ = 0;
-    std::atomic<int> lent_{0};
-};
 
 struct QueuedPacket {
     std::vector<std::uint8_t> data; ///< Payload + AV_INPUT_BUFFER_PADDING_SIZE zero bytes.

@@ -7,7 +7,7 @@
 #include <string_view>
 
 #include "depthtouch/platform/log.h"
-#include "mock_frame_pool.h"
+#include "depthtouch/drivers/common/frame_pool.h"
 
 DT_LOG_CATEGORY(Mock)
 
@@ -101,8 +101,8 @@ Result<std::unique_ptr<hal::DepthCamera>> MockDepthCamera::create(const hal::Bac
 }
 
 MockDepthCamera::MockDepthCamera(platform::Clock &clock, const MockCameraSettings &settings)
-    : clock_(clock), settings_(settings), depthPool_(std::make_unique<MockFramePool>()),
-      colorPool_(std::make_unique<MockFramePool>())
+    : clock_(clock), settings_(settings), depthPool_(std::make_unique<FramePool>()),
+      colorPool_(std::make_unique<FramePool>())
 {
     caps_.name = "Mock RGB-D camera";
     caps_.poolFrames = settings.poolFrames;

@@ -6,7 +6,7 @@
 
 #include "depthtouch/drivers/mock/mock_pattern.h"
 #include "depthtouch/platform/log.h"
-#include "mock_frame_pool.h"
+#include "depthtouch/drivers/common/frame_pool.h"
 
 DT_LOG_CATEGORY(Mock)
 
@@ -69,7 +69,7 @@ Result<std::unique_ptr<hal::VideoDecoder>> MockVideoDecoder::create(const hal::B
 }
 
 MockVideoDecoder::MockVideoDecoder(platform::Clock &clock, const MockDecoderSettings &settings)
-    : clock_(clock), settings_(settings), pool_(std::make_unique<MockFramePool>()),
+    : clock_(clock), settings_(settings), pool_(std::make_unique<FramePool>()),
       queue_(static_cast<std::size_t>(settings.queuePackets))
 {
     caps_.codecs = hal::codecBit(hal::CodecId::Mock);

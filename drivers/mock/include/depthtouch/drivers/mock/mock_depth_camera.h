@@ -21,7 +21,7 @@
 
 namespace depthtouch::drivers {
 
-class MockFramePool;
+class FramePool;
 
 inline constexpr double kMockWallMetres = 1.2;
 inline constexpr double kMockSphereRadius = 0.12;
@@ -80,8 +80,8 @@ private:
     platform::Clock &clock_;
     const MockCameraSettings settings_;
     hal::DepthCameraCapabilities caps_;
-    std::unique_ptr<MockFramePool> depthPool_;
-    std::unique_ptr<MockFramePool> colorPool_;
+    std::unique_ptr<FramePool> depthPool_;
+    std::unique_ptr<FramePool> colorPool_;
     State state_ = State::Unconfigured;
     hal::CameraConfig config_;
     bool present_ = true;

@@ -22,7 +22,7 @@
 
 namespace depthtouch::drivers {
 
-class MockFramePool;
+class FramePool;
 
 /// \brief Sizes of the mock decoder.
 struct MockDecoderSettings {
@@ -87,7 +87,7 @@ private:
     platform::Clock &clock_;
     const MockDecoderSettings settings_;
     hal::VideoDecoderCapabilities caps_;
-    std::unique_ptr<MockFramePool> pool_;
+    std::unique_ptr<FramePool> pool_;
     State state_ = State::Closed;
     hal::StreamConfig config_;
 

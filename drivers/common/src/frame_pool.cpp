@@ -1,16 +1,16 @@
-#include "mock_frame_pool.h"
+#include "depthtouch/drivers/common/frame_pool.h"
 
 #include "depthtouch/platform/assert.h"
 
 namespace depthtouch::drivers {
 
-MockFramePool::~MockFramePool()
+FramePool::~FramePool()
 {
     // A FrameRef that outlives its backend would release into freed memory (HAL contract).
     DT_ASSERT(lent() == 0);
 }
 
-Result<void> MockFramePool::allocate(int count, hal::PixelFormat format, int width, int height)
+Result<void> FramePool::allocate(int count, hal::PixelFormat format, int width, int height)
 {
     if (lent() != 0)
         return unexpected(Errc::Busy, "Frames are still lent");
@@ -34,7 +34,7 @@ Result<void> MockFramePool::allocate(int count, hal::PixelFormat format, int wid
     return ok();
 }
 
-hal::Frame *MockFramePool::acquire(std::uint32_t &slot) noexcept
+hal::Frame *FramePool::acquire(std::uint32_t &slot) noexcept
 {
     for (int i = 0; i < count_; ++i) {
         Slot &s = slots_[static_cast<std::size_t>(i)];
@@ -48,12 +48,12 @@ hal::Frame *MockFramePool::acquire(std::uint32_t &slot) noexcept
     return nullptr;
 }
 
-hal::FrameRef MockFramePool::lend(std::uint32_t slot) noexcept
+hal::FrameRef FramePool::lend(std::uint32_t slot) noexcept
 {
     return hal::FrameRef(this, slot, &slots_[slot].frame);
 }
 
-void MockFramePool::releaseFrame(std::uint32_t slot) noexcept
+void FramePool::releaseFrame(std::uint32_t slot) noexcept
 {
     DT_DEBUG_ASSERT(slot < static_cast<std::uint32_t>(count_));
     if (slots_[slot].inUse.exchange(false, std::memory_order_acq_rel))

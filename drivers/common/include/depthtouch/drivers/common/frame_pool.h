@@ -1,6 +1,7 @@
 #pragma once
 /// \file
-/// \brief A fixed pool of frames lent through hal::FrameRef, shared by the mock decoder and camera.
+/// \brief A fixed pool of frames lent through hal::FrameRef, shared by the backends that lend frames
+/// (mock decoder and camera, FFmpeg decoder).
 ///
 /// allocate() (not real-time safe) sizes the pool; acquire()/lend() and the release by FrameRef do
 /// not allocate or lock. Thread-safety: acquire(), lend(), allocate() and abandon() are
@@ -16,10 +17,11 @@
 
 namespace depthtouch::drivers {
 
-class MockFramePool final : public hal::FrameOwner {
+/// Thread-safety: see the file comment.
+class FramePool final : public hal::FrameOwner {
 public:
-    MockFramePool() = default;
-    ~MockFramePool() override;
+    FramePool() = default;
+    ~FramePool() override;
 
     /// \brief Makes \a count frames of \a format, \a width × \a height, tightly packed.
     /// \return Busy when a frame is still lent (nothing changes).
@@ -39,6 +41,8 @@ public:
     [[nodiscard]] int lent() const noexcept { return lent_.load(std::memory_order_acquire); }
     /// \return the number of frames.
     [[nodiscard]] int size() const noexcept { return count_; }
+    /// \return whether acquire() would find a free frame now.
+    [[nodiscard]] bool hasFree() const noexcept { return lent() < count_; }
 
 private:
     struct Slot {
