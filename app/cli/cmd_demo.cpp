@@ -217,7 +217,7 @@ int runDemo(const DemoOptions &opt)
     auto telemetry = std::make_unique<platform::SpscRing<TelemetrySample, kTelemetryCapacity>>();
     const Duration period = platform::fromSeconds(1.0 / opt.rate);
     platform::PeriodicTimer timer(clock, period);
-    TimePoint mediaStart{}; // haptic time 0 = the first depth frame's PTS; set before the task starts
+    TimePoint mediaStart{}; // haptic time 0 = the first depth frame's PTS (published with the first pair)
     std::uint64_t hapticUpdates = 0;
 
     auto hapticBody = [&](platform::StopToken stop) noexcept {
@@ -348,14 +348,17 @@ int runDemo(const DemoOptions &opt)
         return kExitFailure;
     }
     const double firstPts = depthPts.front();
-    mediaStart = clock.now();
-    // The fingertip script starts with the media clock (the haptic task is not running yet).
-    if (auto *mock = dynamic_cast<drivers::MockHapticDevice *>(&device))
-        mock->setWaypoints(fingertipScript(mediaStart, opt.duration));
+    // Start the haptic task first (locking memory and pre-faulting its stack take a while); it commands
+    // zero force until the first depth frame pair arrives.
     if (auto r = hapticThread.start(); !r) {
         printError("cannot start the haptic task", r.error());
         return kExitFailure;
     }
+    // Media time starts now, and so does the fingertip script. The task reads mediaStart and the device
+    // only after it has taken the first pair from the mailbox, which orders these writes before those reads.
+    mediaStart = clock.now();
+    if (auto *mock = dynamic_cast<drivers::MockHapticDevice *>(&device))
+        mock->setWaypoints(fingertipScript(mediaStart, opt.duration));
 
     for (std::size_t i = 0; !depthFrames.empty(); ++i) {
         const bool haveNext = decodeNextDepth();
