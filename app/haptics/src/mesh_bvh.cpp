@@ -200,12 +200,7 @@ Crossing MeshBvhRenderer::firstCrossingBvh(const glm::dvec3 &p0, const glm::dvec
             ++out.cellsTested;
             const TriangleId tri = triangleOf(triIndex_[j]);
             glm::dvec3 v[3];
-            for (int k = 0; k < 3; ++k) {
-                int c = 0;
-                int r = 0;
-                triangleVertex(tri, k, c, r);
-                v[k] = surf.vertex(c, r);
-            }
+            triangleVertices(surf, tri, v);
             double t = 0.0;
             if (segmentCrossesTriangleDownward(p0, p1, v[0], v[1], v[2], 1e-9, 1e-12, t) &&
                 t < best) {

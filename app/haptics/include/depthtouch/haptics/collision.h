@@ -199,12 +199,7 @@ Crossing firstCrossingBruteForce(const Surface &surf, const glm::dvec3 &p0,
             for (int upper = 0; upper < 2; ++upper) {
                 const TriangleId tri{c, r, upper};
                 glm::dvec3 v[3];
-                for (int k = 0; k < 3; ++k) {
-                    int vc = 0;
-                    int vr = 0;
-                    triangleVertex(tri, k, vc, vr);
-                    v[k] = surf.vertex(vc, vr);
-                }
+                triangleVertices(surf, tri, v);
                 double t = 0.0;
                 if (segmentCrossesTriangleDownward(p0, p1, v[0], v[1], v[2], 1e-12, 1e-12, t) &&
                     t < best) {

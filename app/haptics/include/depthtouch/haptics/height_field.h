@@ -43,6 +43,20 @@ inline void triangleVertex(const TriangleId &tri, int k, int &c, int &r) noexcep
     }
 }
 
+/// \brief The three vertices of \a tri on \a surf, in triangleVertex() order.
+/// \param[in] surf any surface with `glm::dvec3 vertex(int c, int r)` (scene-box frame, m)
+/// \param[out] v the vertices, m
+template <class Surface>
+inline void triangleVertices(const Surface &surf, const TriangleId &tri, glm::dvec3 (&v)[3]) noexcept
+{
+    for (int k = 0; k < 3; ++k) {
+        int c = 0;
+        int r = 0;
+        triangleVertex(tri, k, c, r);
+        v[k] = surf.vertex(c, r);
+    }
+}
+
 /// \brief A W×H height field in the scene box, interpolated in time between two frames.
 ///
 /// Frame (DESIGN.md §3): metres, origin at the box centre, x right, y up, z toward the viewer.

@@ -66,12 +66,7 @@ glm::dvec3 closestOn(const Surface &surf, const TriangleId &tri, const glm::dvec
                      TriangleRegion &region) noexcept
 {
     glm::dvec3 v[3];
-    for (int k = 0; k < 3; ++k) {
-        int c = 0;
-        int r = 0;
-        triangleVertex(tri, k, c, r);
-        v[k] = surf.vertex(c, r);
-    }
+    triangleVertices(surf, tri, v);
     return closestPointOnTriangle(p, v[0], v[1], v[2], region);
 }
 
