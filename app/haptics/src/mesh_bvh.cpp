@@ -72,19 +72,14 @@ void MeshBvhRenderer::build() noexcept
     const auto n = static_cast<std::uint32_t>(triangleCount(w_, h_));
     for (std::uint32_t i = 0; i < n; ++i) {
         triIndex_[i] = i;
-        const TriangleId t = triangleOf(i);
-        glm::dvec3 s(0.0);
-        for (int k = 0; k < 3; ++k) {
-            int c = 0;
-            int r = 0;
-            triangleVertex(t, k, c, r);
-            s += surf.vertex(c, r);
-        }
-        s /= 3.0;
+        glm::dvec3 v[3];
+        triangleVertices(surf, triangleOf(i), v);
+        const glm::dvec3 s = (v[0] + v[1] + v[2]) / 3.0;
         centroids_[3 * i] = static_cast<float>(s.x);
         centroids_[3 * i + 1] = static_cast<float>(s.y);
         centroids_[3 * i + 2] = static_cast<float>(s.z);
     }
+    // Top-down: split each node at the median centroid along the widest centroid extent.
     nodesUsed_ = 1;
     nodes_[0].first = 0;
     nodes_[0].count = n;
@@ -93,39 +88,18 @@ void MeshBvhRenderer::build() noexcept
     stack[top++] = 0;
     while (top > 0) {
         Node &node = nodes_[stack[--top]];
-        // Bounds of the node's triangles (from their vertices) and of their centroids.
-        double lo[3] = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
-                        std::numeric_limits<double>::max()};
-        double hi[3] = {-lo[0], -lo[1], -lo[2]};
+        if (node.count <= kLeafSize || top + 2 > kStackSize)
+            continue;
         float clo[3] = {std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
                         std::numeric_limits<float>::max()};
         float chi[3] = {-clo[0], -clo[1], -clo[2]};
         for (std::uint32_t j = node.first; j < node.first + node.count; ++j) {
-            const TriangleId t = triangleOf(triIndex_[j]);
-            for (int k = 0; k < 3; ++k) {
-                int c = 0;
-                int r = 0;
-                triangleVertex(t, k, c, r);
-                const glm::dvec3 v = surf.vertex(c, r);
-                for (int a = 0; a < 3; ++a) {
-                    lo[a] = std::min(lo[a], v[a]);
-                    hi[a] = std::max(hi[a], v[a]);
-                }
-            }
-            for (int a = 0; a < 3; ++a) {
-                const float cv = centroids_[3 * triIndex_[j] + static_cast<std::uint32_t>(a)];
+            for (std::uint32_t a = 0; a < 3; ++a) {
+                const float cv = centroids_[3 * triIndex_[j] + a];
                 clo[a] = std::min(clo[a], cv);
                 chi[a] = std::max(chi[a], cv);
             }
         }
-        // Float boxes, widened so rounding never loses a triangle.
-        const double pad = 1e-6 * (config_.box.width + config_.box.depth);
-        for (int a = 0; a < 3; ++a) {
-            node.lo[a] = static_cast<float>(lo[a] - pad);
-            node.hi[a] = static_cast<float>(hi[a] + pad);
-        }
-        if (node.count <= kLeafSize || top + 2 > kStackSize)
-            continue;
         int axis = 0;
         for (int a = 1; a < 3; ++a)
             if (chi[a] - clo[a] > chi[axis] - clo[axis])
@@ -148,6 +122,39 @@ void MeshBvhRenderer::build() noexcept
         node.count = 0;
         stack[top++] = left;
         stack[top++] = left + 1;
+    }
+    // Bottom-up: children always have larger indices than their parent, so one reverse sweep fits
+    // every leaf to its triangles and every inner node to its two children (O(n), not O(n log n)).
+    // Float boxes, widened so rounding never loses a triangle.
+    const double pad = 1e-6 * (config_.box.width + config_.box.depth);
+    for (std::size_t k = nodesUsed_; k-- > 0;) {
+        Node &node = nodes_[k];
+        if (node.count == 0) {
+            const Node &l = nodes_[node.first];
+            const Node &r = nodes_[node.first + 1];
+            for (int a = 0; a < 3; ++a) {
+                node.lo[a] = std::min(l.lo[a], r.lo[a]);
+                node.hi[a] = std::max(l.hi[a], r.hi[a]);
+            }
+            continue;
+        }
+        double lo[3] = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+                        std::numeric_limits<double>::max()};
+        double hi[3] = {-lo[0], -lo[1], -lo[2]};
+        for (std::uint32_t j = node.first; j < node.first + node.count; ++j) {
+            glm::dvec3 v[3];
+            triangleVertices(surf, triangleOf(triIndex_[j]), v);
+            for (const glm::dvec3 &p : v) {
+                for (int a = 0; a < 3; ++a) {
+                    lo[a] = std::min(lo[a], p[a]);
+                    hi[a] = std::max(hi[a], p[a]);
+                }
+            }
+        }
+        for (int a = 0; a < 3; ++a) {
+            node.lo[a] = static_cast<float>(lo[a] - pad);
+            node.hi[a] = static_cast<float>(hi[a] + pad);
+        }
     }
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace depthtouch::haptics {
@@ -59,7 +60,7 @@ Psd averagedPsd(const double *x, std::size_t n, int segments, double fs, double 
 double psdPeakDb(const Psd &psd, double hz, double halfWidthHz) noexcept
 {
     if (psd.density.empty() || psd.binHz <= 0.0)
-        return -400.0;
+        return std::numeric_limits<double>::quiet_NaN();
     const double lo = std::max(0.0, (hz - halfWidthHz) / psd.binHz);
     const double hi = (hz + halfWidthHz) / psd.binHz;
     double best = 0.0;
@@ -70,8 +71,10 @@ double psdPeakDb(const Psd &psd, double hz, double halfWidthHz) noexcept
         any = true;
     }
     if (!any)
-        return -400.0;
-    return 10.0 * std::log10(std::max(best, 1e-40));
+        return std::numeric_limits<double>::quiet_NaN();
+    if (best <= 0.0)
+        return -std::numeric_limits<double>::infinity();
+    return 10.0 * std::log10(best);
 }
 
 } // namespace depthtouch::haptics

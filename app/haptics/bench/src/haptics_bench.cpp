@@ -7,10 +7,13 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <numbers>
+#include <string>
 
 #include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
 
 #include "depthtouch/haptics/mesh_bvh.h"
 #include "depthtouch/haptics/renderer.h"
@@ -229,6 +232,18 @@ OneRun runOnce(const std::string &method, int w, int h, const std::vector<Frame>
     return out;
 }
 
+/// The PSD figure as text: "n/a" when not measured (moving HIP), "no force" when |F| had no power.
+std::string psdText(double db, const char *unit)
+{
+    if (std::isnan(db))
+        return "n/a";
+    if (std::isinf(db))
+        return "no force";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.1f%s", db, unit);
+    return buf;
+}
+
 const char *motionName(double speed)
 {
     return speed == 0.0 ? "still" : (speed < 0.5 ? "0.1 m/s" : "1 m/s");
@@ -306,10 +321,10 @@ BenchReport runHapticsBenchmark(const BenchOptions &options)
                 }
                 if (options.verbose)
                     std::printf("  %-13s %4dx%-4d %-7s median %8.0f ns  p99 %8.0f  p99.9 %8.0f  max %9.0f  "
-                                "frame %11.0f ns  rms %.4f N  pops %ld  psd@30Hz %.1f dB\n",
+                                "frame %11.0f ns  rms %.4f N  pops %ld  psd@30Hz %s\n",
                                 row.method.c_str(), w, h, row.motion.c_str(), row.medianNs, row.p99Ns,
                                 row.p999Ns, row.maxNs, row.frameCostNs, row.forceRmsError,
-                                row.popThroughs, row.psdFrameRateDb);
+                                row.popThroughs, psdText(row.psdFrameRateDb, " dB").c_str());
                 report.rows.push_back(row);
             }
         }
@@ -353,10 +368,10 @@ bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::s
                "force_rms_error_n,pop_throughs,psd_frame_rate_db\n";
         for (const BenchRow &r : report.rows) {
             char line[512];
-            std::snprintf(line, sizeof line, "%s,%d,%d,%s,%zu,%.1f,%.1f,%.1f,%.1f,%.1f,%.6f,%ld,%.2f\n",
+            std::snprintf(line, sizeof line, "%s,%d,%d,%s,%zu,%.1f,%.1f,%.1f,%.1f,%.1f,%.6f,%ld,%s\n",
                           r.method.c_str(), r.width, r.height, r.motion.c_str(), r.updates, r.medianNs,
                           r.p99Ns, r.p999Ns, r.maxNs, r.frameCostNs, r.forceRmsError, r.popThroughs,
-                          r.psdFrameRateDb);
+                          psdText(r.psdFrameRateDb, "").c_str());
             csv << line;
         }
         if (!csv) {
@@ -365,28 +380,34 @@ bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::s
         }
     }
     {
+        // NaN (not measured) and −infinity (no power at all) have no JSON number: null.
+        auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+        nlohmann::json rows = nlohmann::json::array();
+        for (const BenchRow &r : report.rows)
+            rows.push_back({{"method", r.method},
+                            {"width", r.width},
+                            {"height", r.height},
+                            {"motion", r.motion},
+                            {"updates", r.updates},
+                            {"median_ns", r.medianNs},
+                            {"p99_ns", r.p99Ns},
+                            {"p999_ns", r.p999Ns},
+                            {"max_ns", r.maxNs},
+                            {"frame_cost_ns", r.frameCostNs},
+                            {"force_rms_error_n", r.forceRmsError},
+                            {"pop_throughs", r.popThroughs},
+                            {"psd_frame_rate_db", number(r.psdFrameRateDb)}});
+        const nlohmann::json doc = {
+            {"rows", rows},
+            {"goals",
+             {{"modified_p999_ns_720x486_1mps", report.modifiedP999At720Fast},
+              {"goal_p999_ns", 2000},
+              {"median_ratio_3840x2160_over_720x486", report.resolutionRatio},
+              {"goal_ratio", 1.5},
+              {"rebuild_ratio_meshbvh_over_modified", report.rebuildRatio},
+              {"goal_rebuild_ratio", 1000}}}};
         std::ofstream js(base / "haptics_bench.json");
-        js << "{\n  \"rows\": [\n";
-        for (std::size_t i = 0; i < report.rows.size(); ++i) {
-            const BenchRow &r = report.rows[i];
-            char line[768];
-            std::snprintf(line, sizeof line,
-                          "    {\"method\": \"%s\", \"width\": %d, \"height\": %d, \"motion\": \"%s\", "
-                          "\"updates\": %zu, \"median_ns\": %.1f, \"p99_ns\": %.1f, \"p999_ns\": %.1f, "
-                          "\"max_ns\": %.1f, \"frame_cost_ns\": %.1f, \"force_rms_error_n\": %.6f, "
-                          "\"pop_throughs\": %ld, \"psd_frame_rate_db\": %.2f}%s\n",
-                          r.method.c_str(), r.width, r.height, r.motion.c_str(), r.updates, r.medianNs,
-                          r.p99Ns, r.p999Ns, r.maxNs, r.frameCostNs, r.forceRmsError, r.popThroughs,
-                          r.psdFrameRateDb, i + 1 < report.rows.size() ? "," : "");
-            js << line;
-        }
-        char goals[512];
-        std::snprintf(goals, sizeof goals,
-                      "  ],\n  \"goals\": {\"modified_p999_ns_720x486_1mps\": %.1f, \"goal_p999_ns\": 2000, "
-                      "\"median_ratio_3840x2160_over_720x486\": %.3f, \"goal_ratio\": 1.5, "
-                      "\"rebuild_ratio_meshbvh_over_modified\": %.1f, \"goal_rebuild_ratio\": 1000}\n}\n",
-                      report.modifiedP999At720Fast, report.resolutionRatio, report.rebuildRatio);
-        js << goals;
+        js << doc.dump(2) << '\n';
         if (!js) {
             error = "Failed to write haptics_bench.json";
             return false;

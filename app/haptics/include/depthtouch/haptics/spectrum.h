@@ -21,8 +21,8 @@ struct Psd {
 /// \return an empty density when n < 2·segments or the inputs are not positive.
 Psd averagedPsd(const double *x, std::size_t n, int segments, double fs, double maxHz);
 
-/// \return 10·log10 of the largest PSD value within ±\a halfWidthHz of \a hz (dB re 1 unit²/Hz), or
-/// −400 when the range is empty.
+/// \return 10·log10 of the largest PSD value within ±\a halfWidthHz of \a hz (dB re 1 unit²/Hz);
+/// −infinity when that power is exactly zero (a constant signal); NaN when the range holds no bin.
 double psdPeakDb(const Psd &psd, double hz, double halfWidthHz) noexcept;
 
 } // namespace depthtouch::haptics

@@ -10,6 +10,7 @@
 /// Uses std::chrono::steady_clock (bench program only). Thread-safety: call from one thread.
 
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -37,7 +38,9 @@ struct BenchRow {
     double frameCostNs = 0.0; ///< Median cost of handing one new depth frame to the renderer, ns.
     double forceRmsError = 0.0; ///< N, against the analytic ground truth.
     long popThroughs = 0;     ///< Updates ending with the proxy below the renderer's surface.
-    double psdFrameRateDb = 0.0; ///< PSD of |F| at 30 Hz, dB re 1 N²/Hz (still runs; 0 otherwise).
+    /// PSD of |F| at 30 Hz, dB re 1 N²/Hz: measured on still runs (NaN otherwise); −infinity when
+    /// the force was constant (e.g. zero: contact lost).
+    double psdFrameRateDb = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// \brief The PSD curves for the Fig. 12-like chart (720×486, HIP still).
