@@ -46,6 +46,11 @@ void logOnceInALoop(int times)
         DT_LOG_ONCE(Capture, Warning, "once %d", i);
 }
 
+void logOnceAtInfo(int value)
+{
+    DT_LOG_ONCE(Capture, Info, "info once %d", value);
+}
+
 TEST(LogTest, sinkReceivesFormattedLine)
 {
     // GIVEN a capturing sink and every level enabled
@@ -91,6 +96,21 @@ TEST(LogTest, logOnceLogsTheFirstTimeOnly)
     // THEN exactly one line came out, from the first run
     ASSERT_EQ(log.lines.size(), 1u);
     EXPECT_EQ(log.lines[0].message, "once 0");
+}
+
+TEST(LogTest, logOnceFilteredOutDoesNotUseUpItsMessage)
+{
+    // GIVEN a capturing sink and the threshold above Info
+    CapturedLog log;
+    setLogLevel(LogLevel::Warning);
+    // WHEN a DT_LOG_ONCE Info line runs while filtered, then again with Info enabled, twice
+    logOnceAtInfo(1);
+    setLogLevel(LogLevel::Debug);
+    logOnceAtInfo(2);
+    logOnceAtInfo(3);
+    // THEN the first enabled run is the one that logs
+    ASSERT_EQ(log.lines.size(), 1u);
+    EXPECT_EQ(log.lines[0].message, "info once 2");
 }
 
 TEST(LogTest, parseLogLevelAcceptsKnownNames)

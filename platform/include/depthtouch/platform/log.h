@@ -63,10 +63,13 @@ void setLogSink(LogSink sink, void *user) noexcept;
                                                ::depthtouch::platform::LogLevel::Level, __VA_ARGS__); \
     } while (0)
 
-/// Logs only the first time this line runs (process-wide).
+/// Logs only the first time this line runs with its level enabled (process-wide): a run that the
+/// level filtered out does not use up the one message.
 #define DT_LOG_ONCE(Name, Level, ...)                                                              \
     do {                                                                                           \
         static ::std::atomic<bool> dtLoggedOnce_{false};                                           \
-        if (!dtLoggedOnce_.exchange(true))                                                         \
-            DT_LOG(Name, Level, __VA_ARGS__);                                                      \
+        if (kLogCategory##Name.enabled(::depthtouch::platform::LogLevel::Level) &&                 \
+            !dtLoggedOnce_.exchange(true))                                                         \
+            ::depthtouch::platform::logMessage(kLogCategory##Name,                                 \
+                                               ::depthtouch::platform::LogLevel::Level, __VA_ARGS__); \
     } while (0)
