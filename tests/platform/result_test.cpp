@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cstring>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -225,6 +226,36 @@ TEST(ResultTest, copyAndAssignSwitchBetweenValueAndError)
     ASSERT_TRUE(error.has_value());
     EXPECT_EQ(*error, std::string(100, 'a'));
     EXPECT_EQ(error->size(), 100u);
+}
+
+/// Copies throw when asked to; moves never do; a destroyed object reads as -1.
+struct ThrowingCopy {
+    static inline bool throwOnCopy = false;
+    int v = 0;
+    explicit ThrowingCopy(int x) : v(x) {}
+    ThrowingCopy(const ThrowingCopy &o) : v(o.v)
+    {
+        if (throwOnCopy)
+            throw std::runtime_error("copy refused");
+    }
+    ThrowingCopy(ThrowingCopy &&o) noexcept = default;
+    ThrowingCopy &operator=(const ThrowingCopy &) = default;
+    ThrowingCopy &operator=(ThrowingCopy &&) noexcept = default;
+    ~ThrowingCopy() { v = -1; } // a destroyed value reads as -1
+};
+
+TEST(ResultTest, copyAssignThatThrowsLeavesTheTargetUnchanged)
+{
+    // GIVEN two value Results of a type whose copy can throw
+    Result<ThrowingCopy> target = ThrowingCopy(1);
+    const Result<ThrowingCopy> source = ThrowingCopy(2);
+    // WHEN the copy throws during assignment
+    ThrowingCopy::throwOnCopy = true;
+    EXPECT_THROW(target = source, std::runtime_error);
+    ThrowingCopy::throwOnCopy = false;
+    // THEN the target still holds its old value (strong guarantee)
+    ASSERT_TRUE(target.has_value());
+    EXPECT_EQ(target->v, 1);
 }
 
 #ifndef NDEBUG

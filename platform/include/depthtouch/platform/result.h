@@ -99,27 +99,29 @@ public:
         else
             storage_.error = o.storage_.error;
     }
+    /// Strong guarantee when T's move is noexcept: a throwing copy leaves *this unchanged.
     Result &operator=(const Result &o)
     {
         if (this != &o) {
-            destroy();
-            ok_ = o.ok_;
-            if (ok_)
-                new (&storage_.value) T(o.storage_.value);
-            else
-                storage_.error = o.storage_.error;
+            Result copy(o);
+            *this = std::move(copy);
         }
         return *this;
     }
+    /// Basic guarantee: if T's move constructor throws, *this holds an Errc::Io error ("value lost
+    /// in assignment") instead of a half-built value.
     Result &operator=(Result &&o) noexcept(std::is_nothrow_move_constructible_v<T>)
     {
         if (this != &o) {
             destroy();
-            ok_ = o.ok_;
-            if (ok_)
+            ok_ = false;
+            storage_.error = Error(Errc::Io, "value lost in assignment");
+            if (o.ok_) {
                 new (&storage_.value) T(std::move(o.storage_.value));
-            else
+                ok_ = true;
+            } else {
                 storage_.error = o.storage_.error;
+            }
         }
         return *this;
     }
