@@ -67,6 +67,8 @@ Result<void> RendererConfig::validate() const noexcept
         return unexpected(Errc::InvalidArgument, "ramp time must be positive");
     if (!std::isnan(cutThreshold) && !(cutThreshold > 0.0))
         return unexpected(Errc::InvalidArgument, "cut threshold must be positive");
+    if (!std::isnan(coarseSpacing) && !(std::isfinite(coarseSpacing) && coarseSpacing >= 0.0))
+        return unexpected(Errc::InvalidArgument, "coarse spacing must be zero or positive");
     return ok();
 }
 
@@ -172,7 +174,11 @@ HapticOutput ProxyGraphRenderer::update(const glm::dvec3 &hip, double t) noexcep
     out.cellsVisited = hit.cellsVisited;
     out.cellsTested = hit.cellsTested;
     if (hit.hit) {
-        const ProxySolution sol = solveProxy(field_, hit.triangle, hip);
+        const double coarse =
+            std::isnan(config_.coarseSpacing) ? config_.box.width / 719.0 : config_.coarseSpacing;
+        const int stride = static_cast<int>(std::floor(coarse / field_.spacing()));
+        const ProxySolution sol =
+            solveProxyCoarseToFine(field_, hit.triangle, hip, stride, static_cast<double>(stride));
         out.proxySteps = sol.steps;
         // The proxy may have slid to where nothing separates it from the HIP any more (it went
         // round a ridge): then it is free.

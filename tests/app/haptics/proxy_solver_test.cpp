@@ -129,5 +129,71 @@ TEST(ProxySolverTest, staysOnAConvexRidgeWhenPressedUnderIt)
     EXPECT_NEAR(onFace.point.z, hf.heightAt(onFace.point.x, onFace.point.y), 1e-12);
 }
 
+TEST(ProxySolverTest, coarseToFineGivesTheFullGridDescentsForceOnASmoothSurface)
+{
+    // GIVEN a smooth 16-bit surface at 3840 × 400 over the default box (spacing 26 µm), and HIPs
+    // pressed 2 mm in at 0.2–1.5 mm (8–58 cells) from the proxy's start triangle
+    const int w = 3840;
+    const int h = 400;
+    const OwnedFrame f = test::makeFrame(kBox, w, h, 0.0, [](double x, double y) {
+        return 0.004 * std::sin(60.0 * x) * std::cos(50.0 * y);
+    });
+    HeightField hf(kBox);
+    ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
+    const int stride = static_cast<int>(std::floor((kBox.width / 719.0) / hf.spacing()));
+    ASSERT_EQ(stride, 5);
+    int compared = 0;
+    long fullSteps = 0;
+    long coarseSteps = 0;
+    for (int i = 0; i < 200; ++i) {
+        const double x0 = -0.03 + 0.0003 * i;
+        const double y0 = -0.002 + 0.00002 * i;
+        const double step = 0.0002 + 0.0013 * (i % 7) / 6.0;
+        const double ang = 0.7 * i;
+        const double x1 = x0 + step * std::cos(ang);
+        const double y1 = y0 + step * std::sin(ang);
+        const TriangleId start = hf.triangleAt(x0, y0);
+        const glm::dvec3 hip(x1, y1, hf.heightAt(x1, y1) - 0.002);
+        // WHEN the proxy slides from the start triangle with and without the coarse pass
+        const ProxySolution full = solveProxy(hf, start, hip);
+        const ProxySolution fast = solveProxyCoarseToFine(hf, start, hip, stride, 2.0 * stride);
+        // THEN both end at a god-object optimum of the same depth: a faceted surface has shallow
+        // local optima along its concave edges, so the two may stop a few pixels apart, but the
+        // force they give differs by < 0.1 % in magnitude and < 2° in direction
+        const double dFull = glm::length(full.point - hip);
+        const double dFast = glm::length(fast.point - hip);
+        EXPECT_LT(std::abs(dFull - dFast), 1e-3 * dFull) << "stroke " << i;
+        EXPECT_LT(glm::length(full.point - fast.point), 3.0 * hf.spacing()) << "stroke " << i;
+        const double cosAngle = glm::dot(full.point - hip, fast.point - hip) / (dFull * dFast);
+        EXPECT_GT(cosAngle, std::cos(2.0 * 3.14159265358979 / 180.0)) << "stroke " << i;
+        EXPECT_GE(fast.point.z, hf.heightAt(fast.point.x, fast.point.y) - 1e-9 * hf.spacing());
+        fullSteps += full.steps;
+        coarseSteps += fast.steps;
+        ++compared;
+    }
+    // AND the two-pass descent crossed far fewer triangles
+    EXPECT_EQ(compared, 200);
+    EXPECT_LT(coarseSteps * 2, fullSteps) << "full " << fullSteps << " coarse-to-fine " << coarseSteps;
+}
+
+TEST(ProxySolverTest, coarseToFineFallsBackToTheFullGridForShortMovesAndSmallGrids)
+{
+    // GIVEN a tilted plane on a small grid
+    const OwnedFrame f = gridFrame(16, 12, [](int c, int r) { return 20000 + 300 * c + 100 * r; });
+    HeightField hf(kBox);
+    ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
+    const TriangleId start = hf.triangleAt(0.0, 0.0);
+    const glm::dvec3 hip(0.01, 0.004, hf.heightAt(0.01, 0.004) - 0.001);
+    // WHEN the grid is smaller than two coarse cells, or the move shorter than minCells
+    const ProxySolution full = solveProxy(hf, start, hip);
+    const ProxySolution small = solveProxyCoarseToFine(hf, start, hip, 8, 1.0);
+    const ProxySolution shortMove = solveProxyCoarseToFine(hf, start, hip, 2, 1000.0);
+    // THEN the result is the full-grid descent's, step for step
+    EXPECT_EQ(small.point, full.point);
+    EXPECT_EQ(small.steps, full.steps);
+    EXPECT_EQ(shortMove.point, full.point);
+    EXPECT_EQ(shortMove.steps, full.steps);
+}
+
 } // namespace
 } // namespace depthtouch::haptics
