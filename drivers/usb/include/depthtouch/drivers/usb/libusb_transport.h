@@ -26,8 +26,8 @@ public:
     LibusbTransport() = default;
     ~LibusbTransport() override;
 
-    /// \return whether a device with these ids is on the bus (enumerates it; not real-time safe).
-    /// Errors: Io (libusb cannot start).
+    /// \return whether a device with these ids is on the bus (enumerates it; not real-time safe);
+    /// false when libusb cannot start (no USB). Errors: Io (listing the devices failed).
     static Result<bool> probe(std::uint16_t vendorId, std::uint16_t productId);
 
     [[nodiscard]] Result<void> open(std::uint16_t vendorId, std::uint16_t productId) override;
