@@ -279,8 +279,8 @@ void FalconHapticDevice::close() noexcept
 {
     if (state() == State::Open && transport_->present()) {
         command_.motors = {};
+        command_.flags = 0; // LEDs off: closed
         output_ = {};
-        homed_ = false; // LEDs red + homing flag: the idle look
         falcon::encodeCommand(command_, outPacket_);
         (void)transport_->exchange(outPacket_.data(), outPacket_.size(), inBuffer_.data(),
                                    inBuffer_.size(), kSetupTimeout);

@@ -359,6 +359,7 @@ TEST_F(FalconDeviceTest, closeSendsZeroForceAndReleasesTheDevice)
     EXPECT_NE(fake_->lastCommand().motors, (falcon::MotorCommands{0, 0, 0}));
     dev_->close();
     EXPECT_EQ(fake_->lastCommand().motors, (falcon::MotorCommands{0, 0, 0}));
+    EXPECT_EQ(fake_->lastCommand().flags, 0); // LEDs off
     EXPECT_FALSE(fake_->present());
     EXPECT_EQ(dev_->state(), State::Closed);
     hal::HapticState s;
@@ -420,6 +421,22 @@ TEST(FalconBackendTest, withoutADeviceTheFactoryReportsNoDevice)
     auto dev = FalconHapticDevice::create({});
     ASSERT_FALSE(dev);
     EXPECT_EQ(dev.error().code, Errc::NoDevice);
+}
+
+TEST(LibusbTransportTest, withoutTheDeviceEverythingReportsNoDevice)
+{
+    auto present = LibusbTransport::probe(kFalconVendorId, kFalconProductId);
+    if (present && *present)
+        GTEST_SKIP() << "A Novint Falcon is connected";
+    LibusbTransport usb;
+    EXPECT_FALSE(usb.present());
+    EXPECT_EQ(codeOf(usb.open(kFalconVendorId, kFalconProductId)), Errc::NoDevice);
+    EXPECT_FALSE(usb.present());
+    std::uint8_t buf[16] = {};
+    EXPECT_EQ(codeOf(usb.exchange(buf, sizeof buf, buf, sizeof buf, std::chrono::milliseconds(1))),
+              Errc::NoDevice);
+    EXPECT_EQ(codeOf(usb.control(FtdiRequest::LatencyTimer, 1)), Errc::NoDevice);
+    usb.close(); // no-op
 }
 
 } // namespace

@@ -7,6 +7,10 @@
 /// is built. A transfer or submission reporting LIBUSB_ERROR_NO_DEVICE / LIBUSB_TRANSFER_NO_DEVICE
 /// marks the device gone (hot unplug).
 ///
+/// \todo #6 libusb's Linux backend callocs its URB array on every transfer submission, so each
+/// exchange() makes one small C-heap allocation inside libusb (not operator new); removing it needs
+/// usbfs URBs submitted directly.
+///
 /// Thread-safety: thread-bound (see UsbTransport); present() is thread-safe.
 
 #include <array>
