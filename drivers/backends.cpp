@@ -8,6 +8,9 @@
 #include "depthtouch/drivers/ffmpeg/ffmpeg_media_source.h"
 #include "depthtouch/drivers/ffmpeg/ffmpeg_video_decoder.h"
 #endif
+#if DT_HAVE_LIBUSB
+#include "depthtouch/drivers/usb/falcon_haptic_device.h"
+#endif
 #include "depthtouch/drivers/mock/mock_depth_camera.h"
 #include "depthtouch/drivers/mock/mock_display.h"
 #include "depthtouch/drivers/mock/mock_haptic_device.h"
@@ -48,6 +51,10 @@ constexpr hal::Backend<hal::Display> kDisplayBackends[] = {
 };
 
 constexpr hal::Backend<hal::HapticDevice> kHapticDeviceBackends[] = {
+#if DT_HAVE_LIBUSB
+    {"falcon", "Novint Falcon over libusb (options firmware=PATH, max_force, emulate)", true,
+     &FalconHapticDevice::create},
+#endif
     {"mock", "Simulated 3-DOF device following scripted waypoints", false,
      &MockHapticDevice::create},
     {"none", "No haptic device: haptics off", true, &NullHapticDevice::create},

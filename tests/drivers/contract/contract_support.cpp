@@ -11,6 +11,10 @@
 #include "depthtouch/drivers/mock/mock_haptic_device.h"
 #include "depthtouch/drivers/mock/mock_remote_input.h"
 #include "depthtouch/drivers/mock/mock_depth_camera.h"
+#if defined(DT_CONTRACT_FALCON)
+#include "depthtouch/drivers/usb/fake_falcon.h"
+#include "depthtouch/drivers/usb/falcon_haptic_device.h"
+#endif
 
 // Allocation counting for the real-time contracts: this test program replaces the global operator
 // new and delete (every unaligned form, so allocation and release always pair malloc with free).
@@ -123,6 +127,29 @@ const HapticHarness *hapticHarness(std::string_view name)
         },
     };
     static const HapticHarness kNone{"", true, false, {}, {}, {}, {}};
+#if defined(DT_CONTRACT_FALCON)
+    // The Falcon driver against its device emulator (option emulate): the real protocol, kinematics
+    // and fault paths without the device.
+    using drivers::FakeFalcon;
+    using drivers::FalconHapticDevice;
+    static const HapticHarness kFalcon{
+        "emulate=1",
+        true,
+        true,
+        [](hal::HapticDevice &d) {
+            dynamic_cast<FakeFalcon &>(dynamic_cast<FalconHapticDevice &>(d).transport()).unplug();
+        },
+        [](hal::HapticDevice &d) {
+            dynamic_cast<FakeFalcon &>(dynamic_cast<FalconHapticDevice &>(d).transport()).replug();
+        },
+        [](const hal::HapticDevice &d) {
+            return dynamic_cast<const FalconHapticDevice &>(d).outputForce();
+        },
+        {},
+    };
+    if (name == "falcon")
+        return &kFalcon;
+#endif
     if (name == "mock")
         return &kMock;
     if (name == "none")
