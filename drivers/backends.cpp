@@ -11,6 +11,9 @@
 #if DT_HAVE_LIBUSB
 #include "depthtouch/drivers/usb/falcon_haptic_device.h"
 #endif
+#if DT_HAVE_EVDEV
+#include "depthtouch/drivers/evdev/evdev_remote_input.h"
+#endif
 #include "depthtouch/drivers/mock/mock_depth_camera.h"
 #include "depthtouch/drivers/mock/mock_display.h"
 #include "depthtouch/drivers/mock/mock_haptic_device.h"
@@ -18,6 +21,7 @@
 #include "depthtouch/drivers/mock/mock_remote_input.h"
 #include "depthtouch/drivers/mock/mock_video_decoder.h"
 #include "depthtouch/drivers/mock/null_haptic_device.h"
+#include "depthtouch/drivers/tty/tty_remote_input.h"
 
 namespace depthtouch::drivers {
 
@@ -61,6 +65,12 @@ constexpr hal::Backend<hal::HapticDevice> kHapticDeviceBackends[] = {
 };
 
 constexpr hal::Backend<hal::RemoteInput> kRemoteInputBackends[] = {
+#if DT_HAVE_EVDEV
+    {"evdev", "Linux input device keys (IR, CEC, USB remotes; option device=/dev/input/eventN)",
+     true, &EvdevRemoteInput::create},
+#endif
+    {"tty", "Single keys on the terminal (space, s, arrows, 3, h, r, q)", false,
+     &TtyRemoteInput::create},
     {"mock", "Scripted key events (option keys=KEY_PLAY@1+KEY_RIGHT@2)", false,
      &MockRemoteInput::create},
     {"none", "No remote control", true, &NullRemoteInput::create},

@@ -10,6 +10,9 @@
 #include "depthtouch/drivers/mock/mock_display.h"
 #include "depthtouch/drivers/mock/mock_haptic_device.h"
 #include "depthtouch/drivers/mock/mock_remote_input.h"
+#ifdef DT_TEST_HAVE_EVDEV
+#include "drivers/evdev/fake_event_source.h"
+#endif
 #include "depthtouch/drivers/mock/mock_depth_camera.h"
 #if defined(DT_CONTRACT_FALCON)
 #include "depthtouch/drivers/usb/fake_falcon.h"
@@ -247,6 +250,35 @@ const RemoteInputHarness *remoteInputHarness(std::string_view name)
         [](hal::RemoteInput &r) { dynamic_cast<MockRemoteInput &>(r).unplug(); },
     };
     static const RemoteInputHarness kNone{"", true, {}, {}};
+#ifdef DT_TEST_HAVE_EVDEV
+    // evdev on a fake event stream: the records a remote's input device would deliver.
+    using drivers::EvdevRemoteInput;
+    using drivers::test::FakeEventSource;
+    static const RemoteInputHarness kEvdev{
+        "",
+        true,
+        [](hal::RemoteInput &r, hal::Key key, platform::TimePoint at) {
+            auto &fake = dynamic_cast<FakeEventSource &>(
+                dynamic_cast<EvdevRemoteInput &>(r).source());
+            const auto code = static_cast<unsigned short>(key);
+            fake.pushKey(at, code, 1);
+            fake.pushKey(at + std::chrono::milliseconds(100), code, 0);
+        },
+        [](hal::RemoteInput &r) {
+            auto &fake = dynamic_cast<FakeEventSource &>(
+                dynamic_cast<EvdevRemoteInput &>(r).source());
+            fake.pushError(platform::TimePoint{}, Errc::NoDevice);
+        },
+        [](const hal::BackendConfig &cfg) -> Result<std::unique_ptr<hal::RemoteInput>> {
+            auto r = EvdevRemoteInput::createWithSource(cfg, std::make_unique<FakeEventSource>());
+            if (!r)
+                return unexpected(r.error());
+            return std::unique_ptr<hal::RemoteInput>(std::move(*r));
+        },
+    };
+    if (name == "evdev")
+        return &kEvdev;
+#endif
     if (name == "mock")
         return &kMock;
     if (name == "none")

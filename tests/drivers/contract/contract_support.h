@@ -65,6 +65,10 @@ struct RemoteInputHarness {
     /// impossible.
     std::function<void(hal::RemoteInput &, hal::Key, platform::TimePoint)> injectKey;
     std::function<void(hal::RemoteInput &)> unplug;
+    /// Optional: creates the backend on a fake device side instead of through the table (the
+    /// backend's own factory would look for real hardware).
+    std::function<Result<std::unique_ptr<hal::RemoteInput>>(const hal::BackendConfig &)> create =
+        nullptr;
 };
 
 struct DepthCameraHarness {

@@ -18,7 +18,8 @@ protected:
         clock_ = std::make_unique<TestClock>(harness_->simulatedTime);
         cfg_.clock = &clock_->clock();
         cfg_.options = hal::OptionList(harness_->options);
-        auto r = drivers::createRemoteInput(GetParam(), cfg_);
+        auto r = harness_->create ? harness_->create(cfg_)
+                                  : drivers::createRemoteInput(GetParam(), cfg_);
         if (!r && r.error().code == Errc::NoDevice)
             GTEST_SKIP() << "Remote " << GetParam() << " absent";
         ASSERT_TRUE(r) << r.error().what;

@@ -1,0 +1,173 @@
+#include "depthtouch/control/control_server.h"
+
+#include <utility>
+
+#include <nlohmann/json.hpp>
+
+#include "depthtouch/platform/log.h"
+
+DT_LOG_CATEGORY(Control)
+
+namespace depthtouch::control {
+
+namespace {
+
+using nlohmann::json;
+
+std::string dump(const json &j)
+{
+    // Replace invalid UTF-8 rather than throw: a reply must always go out.
+    return j.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+json toJson(const player::Value &value)
+{
+    return std::visit(
+        [](const auto &v) -> json {
+            using T = std::decay_t<decltype(v)>;
+            if constexpr (std::is_same_v<T, std::monostate>)
+                return nullptr;
+            else
+                return v;
+        },
+        value);
+}
+
+std::string errorReply(std::string_view reason, const json *requestId = nullptr)
+{
+    json reply = {{"error", reason}};
+    if (requestId != nullptr)
+        reply["request_id"] = *requestId;
+    return dump(reply);
+}
+
+std::string_view trimmed(std::string_view s) noexcept
+{
+    while (!s.empty() && (s.front() == ' ' || s.front() == '\t'))
+        s.remove_prefix(1);
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\t'))
+        s.remove_suffix(1);
+    return s;
+}
+
+} // namespace
+
+std::string handleControlLine(std::string_view line, player::StateMachine &machine)
+{
+    const std::string_view text = trimmed(line);
+    if (text.empty())
+        return {};
+    if (text.front() != '{') {
+        // A plain text command, e.g. "seek -10".
+        const player::CommandOutcome out = machine.execute(text);
+        if (!out.accepted)
+            return errorReply(out.reason);
+        json reply = {{"error", "success"}};
+        if (!std::holds_alternative<std::monostate>(out.data))
+            reply["data"] = toJson(out.data);
+        return dump(reply);
+    }
+
+    json request;
+    try {
+        request = json::parse(text);
+    } catch (const json::parse_error &e) {
+        return errorReply("malformed JSON at byte " + std::to_string(e.byte));
+    }
+    if (!request.is_object())
+        return errorReply("a request must be a JSON object");
+    const auto idIt = request.find("request_id");
+    const json *requestId = idIt != request.end() ? &*idIt : nullptr;
+    const auto cmdIt = request.find("command");
+    if (cmdIt == request.end())
+        return errorReply("missing \"command\"", requestId);
+
+    const player::ParsedCommand parsed = player::parseCommandJson(*cmdIt);
+    if (!parsed)
+        return errorReply(parsed.error, requestId);
+    const player::CommandOutcome out = machine.execute(*parsed.command);
+    if (!out.accepted)
+        return errorReply(out.reason, requestId);
+    json reply = {{"error", "success"}};
+    if (!std::holds_alternative<std::monostate>(out.data))
+        reply["data"] = toJson(out.data);
+    if (requestId != nullptr)
+        reply["request_id"] = *requestId;
+    return dump(reply);
+}
+
+std::string eventJson(const player::PlayerEvent &event)
+{
+    json j = {{"event", player::playerEventName(event.kind)}};
+    switch (event.kind) {
+    case player::PlayerEventKind::StateChanged:
+        j["data"] = player::playerStateName(event.state);
+        break;
+    case player::PlayerEventKind::StereoModeChanged:
+        j["data"] = player::stereoModeName(event.stereoMode);
+        break;
+    case player::PlayerEventKind::HapticsChanged:
+        j["data"] = event.haptics;
+        break;
+    case player::PlayerEventKind::StiffnessChanged:
+        j["data"] = event.stiffness;
+        break;
+    case player::PlayerEventKind::LoopChanged:
+        j["data"] = event.loop;
+        break;
+    case player::PlayerEventKind::EndOfFile:
+    case player::PlayerEventKind::Error:
+        j["data"] = event.message;
+        break;
+    case player::PlayerEventKind::Seeked:
+    case player::PlayerEventKind::Quit:
+        break;
+    }
+    return dump(j);
+}
+
+Result<std::unique_ptr<ControlServer>>
+ControlServer::create(std::string_view path, player::StateMachine &machine,
+                      platform::UnixSocketServerOptions options)
+{
+    std::unique_ptr<ControlServer> control(new ControlServer(machine));
+    auto server = platform::UnixSocketServer::listen(path, *control, options);
+    if (!server)
+        return unexpected(server.error());
+    control->server_ = std::move(*server);
+    control->maxLineBytes_ = options.maxLineBytes;
+    machine.addListener(control.get());
+    return control;
+}
+
+ControlServer::ControlServer(player::StateMachine &machine) noexcept : machine_(machine) {}
+
+ControlServer::~ControlServer()
+{
+    machine_.removeListener(this);
+}
+
+void ControlServer::onLine(platform::UnixSocketServer::ClientId client, std::string_view line)
+{
+    std::string reply = handleControlLine(line, machine_);
+    if (reply.empty())
+        return;
+    reply += '\n';
+    server_->send(client, reply);
+}
+
+void ControlServer::onLineTooLong(platform::UnixSocketServer::ClientId client)
+{
+    DT_LOG(Control, Warning, "Discarding a control line longer than %zu bytes", maxLineBytes_);
+    server_->send(client, errorReply("line too long (limit " + std::to_string(maxLineBytes_) +
+                                     " bytes)") +
+                              "\n");
+}
+
+void ControlServer::onPlayerEvent(const player::PlayerEvent &event)
+{
+    if (server_)
+        server_->broadcast(eventJson(event) + "\n");
+}
+
+} // namespace depthtouch::control

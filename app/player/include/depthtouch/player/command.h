@@ -1,0 +1,154 @@
+#pragma once
+/// \file
+/// \brief The player's commands: names, arguments, the states where each is valid, and parsing from
+/// text ("seek -10") and from JSON arrays (["seek", -10]).
+///
+/// Every input (remote keys, the control socket, the terminal keyboard, tests) sends the same
+/// command names through one table (commandTable(), after mpv's mp_cmds[]): one row per command
+/// with its name, argument parser, the states where it is valid, whether key auto-repeat may send
+/// it, and its handler in the StateMachine.
+///
+/// Units: seek offsets and positions in seconds; stiffness in N/m.
+/// Thread-safety: the table is immutable; the functions are reentrant.
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+namespace depthtouch::player {
+
+/// \brief States of the player (see StateMachine for the diagram).
+enum class PlayerState : std::uint8_t { Idle, Opening, Playing, Paused, Stopped, Error };
+
+/// Number of PlayerState values.
+inline constexpr std::size_t kPlayerStateCount = 6;
+
+/// \return "idle", "opening", "playing", "paused", "stopped" or "error" (static string).
+const char *playerStateName(PlayerState state) noexcept;
+
+/// \brief How the two eye views are packed on the display.
+enum class StereoMode : std::uint8_t {
+    SideBySide,   ///< "sbs": left eye in the left half, right eye in the right half.
+    TopAndBottom, ///< "tab": left eye on top.
+    Anaglyph,     ///< "anaglyph": red/cyan.
+    Mono,         ///< "mono": one eye only (2D).
+    Interleaved,  ///< "interleaved": alternate rows (line-interleaved 3D panels).
+};
+
+/// \return "sbs", "tab", "anaglyph", "mono" or "interleaved" (static string).
+const char *stereoModeName(StereoMode mode) noexcept;
+/// \return the mode called \a name (the names of stereoModeName()), or std::nullopt.
+std::optional<StereoMode> stereoModeFromName(std::string_view name) noexcept;
+/// \return the mode after \a mode in the cycle sbs → tab → anaglyph → mono → interleaved → sbs.
+StereoMode nextStereoMode(StereoMode mode) noexcept;
+
+/// The commands (one per row of commandTable()).
+enum class CommandId : std::uint8_t {
+    Play,           ///< "play [URL]": open and start, or resume when paused.
+    Pause,          ///< "pause".
+    TogglePause,    ///< "toggle-pause": pause when playing, otherwise play.
+    Stop,           ///< "stop".
+    Seek,           ///< "seek SECONDS [relative|absolute]".
+    NextStereoMode, ///< "next-stereo-mode".
+    SetStereoMode,  ///< "stereo-mode sbs|tab|anaglyph|mono|interleaved".
+    Haptics,        ///< "haptics on|off|toggle".
+    Stiffness,      ///< "stiffness +|-|N": one step up or down, or N N/m.
+    Recenter,       ///< "recenter": re-seat the haptic workspace on the surface.
+    Loop,           ///< "loop on|off|toggle": what the end of the stream does.
+    Quit,           ///< "quit".
+    Get,            ///< "get PROPERTY": a query, changes nothing.
+};
+
+/// On / off / toggle argument of haptics and loop.
+enum class Switch : std::uint8_t { On, Off, Toggle };
+/// How a seek's seconds are meant.
+enum class SeekMode : std::uint8_t {
+    Relative, ///< Offset from the current position (negative: back).
+    Absolute, ///< Position from the start of the stream.
+};
+/// What a stiffness command does.
+enum class StiffnessChange : std::uint8_t { Up, Down, Set };
+/// Properties readable with "get".
+enum class Property : std::uint8_t { State, StereoMode, Haptics, Stiffness, Loop, Url, Error };
+
+/// \brief A parsed command: its id and the arguments that apply to it.
+struct Command {
+    CommandId id = CommandId::Play;
+    std::string url;                       ///< Play: URL or path; empty for the current one.
+    double seconds = 0.0;                  ///< Seek: offset or position (s).
+    SeekMode seekMode = SeekMode::Relative; ///< Seek.
+    StereoMode stereoMode = StereoMode::SideBySide; ///< SetStereoMode.
+    Switch toggle = Switch::Toggle;        ///< Haptics, Loop.
+    StiffnessChange stiffnessChange = StiffnessChange::Up; ///< Stiffness.
+    double stiffness = 0.0;                ///< Stiffness with Set: N/m.
+    Property property = Property::State;   ///< Get.
+};
+
+/// \brief A command or why the text could not be parsed.
+struct ParsedCommand {
+    std::optional<Command> command; ///< Set on success.
+    std::string error;              ///< Set on failure, e.g. "seek: 'x' is not a number".
+
+    explicit operator bool() const noexcept { return command.has_value(); }
+};
+
+/// A set of PlayerState values (bit 1 << state).
+using StateMask = std::uint8_t;
+/// \return the mask holding only \a state.
+constexpr StateMask stateBit(PlayerState state) noexcept
+{
+    return static_cast<StateMask>(1u << static_cast<unsigned>(state));
+}
+/// Every state.
+inline constexpr StateMask kAnyState = 0x3f;
+
+class StateMachine;
+struct CommandOutcome;
+
+/// \brief One row of the command table.
+struct CommandSpec {
+    const char *name;  ///< Command name used by every input, e.g. "toggle-pause".
+    CommandId id;
+    const char *usage; ///< Arguments, e.g. "SECONDS [relative|absolute]" ("" for none).
+    const char *help;  ///< One line.
+    StateMask validIn; ///< States where the command is accepted; elsewhere it is refused.
+    bool autoRepeat;   ///< A held remote key may repeat it (seek, stiffness).
+    /// Parses the arguments (the words after the name) into \a out. \return an error text, or
+    /// an empty string on success.
+    std::string (*parse)(std::span<const std::string_view> args, Command &out);
+    /// Carries the command out; called only in a state of validIn.
+    CommandOutcome (*handle)(StateMachine &machine, const Command &command);
+};
+
+/// \return the command table (one row per CommandId, in CommandId order).
+std::span<const CommandSpec> commandTable() noexcept;
+/// \return the row of \a id.
+const CommandSpec &commandSpec(CommandId id) noexcept;
+/// \return the row called \a name, or nullptr.
+const CommandSpec *findCommand(std::string_view name) noexcept;
+
+/// \brief Parses a command from its name and argument words.
+ParsedCommand parseCommand(std::string_view name, std::span<const std::string_view> args);
+/// \brief Parses a text command: words separated by spaces or tabs, e.g. "seek -10",
+/// "haptics off", "play 'my file.mkv'" (single or double quotes group words).
+ParsedCommand parseCommandText(std::string_view text);
+/// \brief Parses a JSON command array, e.g. ["seek", -10] or ["haptics", false].
+///
+/// The first element is the name (a string). Arguments may be strings, numbers or booleans
+/// (true/false become "on"/"off"); anything else is an error.
+ParsedCommand parseCommandJson(const nlohmann::json &array);
+
+/// \return the canonical text of \a command, e.g. "seek -10 relative" (for logs and tests).
+std::string commandText(const Command &command);
+
+/// \return the name of \a property as used by "get", e.g. "stereo-mode".
+const char *propertyName(Property property) noexcept;
+
+} // namespace depthtouch::player

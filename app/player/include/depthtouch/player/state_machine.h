@@ -1,0 +1,230 @@
+#pragma once
+/// \file
+/// \brief The player's state machine: states, the actions it asks the pipeline to carry out, the
+/// events it reports, and the command handlers of the command table (command.h).
+///
+/// \verbatim
+///            play, toggle-pause            opened                pause, toggle-pause
+///   Idle ───────────────────────► Opening ───────► Playing ─────────────────────────► Paused
+///   Stopped ────────────────────►    │               ▲   ◄─────────────────────────    │
+///   Error ──────────────────────►    │               │       play, toggle-pause        │
+///                                    │     seek, recenter, end of stream with loop:    │
+///                                    │     state kept (Playing stays Playing, Paused   │
+///                                    │     stays Paused)                               │
+///   stop (Opening, Playing, Paused, Error), end of stream without loop ──► Stopped
+///   open failed, any action failing (Io, NoDevice, ...), onFailure() ──► Error
+///   quit (any state): stops when active, then every command is refused
+/// \endverbatim
+///
+/// Rules: a command that is not valid in the current state (its CommandSpec::validIn) is refused
+/// with a reason and has no effect: no PlayerActions call, no state or setting change, no event.
+/// A valid command calls at most one action; when it succeeds the new state and settings are taken
+/// and listeners are told. When the action fails with a *refusal* (Errc InvalidArgument,
+/// NotSupported, InvalidState or Busy: the pipeline promises it changed nothing) the command is
+/// refused with the action's reason and nothing changes; any other failure (Io, NoDevice, ...)
+/// moves the machine to Error with that reason. After quit every command is refused.
+///
+/// Thread-safety: thread-bound (the main thread). Listeners are called synchronously on that
+/// thread; a listener must not send commands from its callback (such a command is refused).
+/// Design: DESIGN.md §5 (main thread), STYLE.md §7.
+
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "depthtouch/platform/macros.h"
+#include "depthtouch/platform/result.h"
+#include "depthtouch/player/command.h"
+
+namespace depthtouch::player {
+
+/// \brief What the state machine asks the player pipeline to do (implemented by `play`; by a fake in
+/// tests).
+///
+/// Each call returns when the pipeline has carried it out (or started it, for open()). Errors with
+/// code InvalidArgument, NotSupported, InvalidState or Busy mean "refused, nothing changed"; other
+/// codes mean the pipeline failed. Called on the state machine's thread only.
+class PlayerActions {
+public:
+    virtual ~PlayerActions() = default;
+
+    /// Starts opening \a url (a path or stream URL). Completion is reported later through
+    /// StateMachine::onOpened() or onOpenFailed() (possibly before open() returns is not allowed:
+    /// report after it returned).
+    [[nodiscard]] virtual Result<void> open(std::string_view url) = 0;
+    /// Starts presenting video and running haptics from the current position (after open).
+    [[nodiscard]] virtual Result<void> startPlayback() = 0;
+    /// Freezes video and media time; the haptic surface stays touchable.
+    [[nodiscard]] virtual Result<void> pause() = 0;
+    /// Continues after pause().
+    [[nodiscard]] virtual Result<void> resume() = 0;
+    /// Stops playback and releases the stream; a later open() starts again.
+    [[nodiscard]] virtual Result<void> stop() = 0;
+    /// Seeks by \a seconds from the current position (Relative) or to \a seconds (Absolute).
+    /// Flushes the decoders and re-seats the haptic surface without a force kick; keeps the
+    /// paused/playing condition.
+    [[nodiscard]] virtual Result<void> seek(double seconds, SeekMode mode) = 0;
+    /// Changes how the two eye views are packed.
+    [[nodiscard]] virtual Result<void> setStereoMode(StereoMode mode) = 0;
+    /// Turns force output on or off (off: zero force, the haptic task keeps running).
+    [[nodiscard]] virtual Result<void> setHapticsEnabled(bool enabled) = 0;
+    /// Sets the surface stiffness \a newtonsPerMetre (N/m), already within the configured range.
+    [[nodiscard]] virtual Result<void> setStiffness(double newtonsPerMetre) = 0;
+    /// Re-seats the haptic workspace centre on the surface (the proxy is released, no force kick).
+    [[nodiscard]] virtual Result<void> recenter() = 0;
+
+protected:
+    PlayerActions() = default;
+    DT_DISABLE_COPY_AND_MOVE(PlayerActions)
+};
+
+/// What a PlayerEvent reports.
+enum class PlayerEventKind : std::uint8_t {
+    StateChanged,      ///< state holds the new state.
+    StereoModeChanged, ///< stereoMode holds the new mode.
+    HapticsChanged,    ///< haptics holds the new switch.
+    StiffnessChanged,  ///< stiffness holds the new value (N/m).
+    LoopChanged,       ///< loop holds the new flag.
+    Seeked,            ///< A seek was carried out.
+    EndOfFile,         ///< The stream ended (message: "eof" or "loop").
+    Error,             ///< A failure; message holds the reason (the state becomes Error).
+    Quit,              ///< quit was accepted: the player should shut down.
+};
+
+/// \return the event's name on the control socket: "state", "stereo-mode", "haptics",
+/// "stiffness", "loop", "seek", "end-file", "error", "shutdown" (static string).
+const char *playerEventName(PlayerEventKind kind) noexcept;
+
+/// \brief One event, with a snapshot of the machine after it.
+struct PlayerEvent {
+    PlayerEventKind kind = PlayerEventKind::StateChanged;
+    PlayerState state = PlayerState::Idle;
+    StereoMode stereoMode = StereoMode::SideBySide;
+    bool haptics = true;
+    double stiffness = 0.0; ///< N/m.
+    bool loop = false;
+    std::string message; ///< Error reason, end-of-file reason; empty otherwise.
+};
+
+/// \brief Receives the events of a StateMachine (on its thread).
+class PlayerListener {
+public:
+    virtual ~PlayerListener() = default;
+    virtual void onPlayerEvent(const PlayerEvent &event) = 0;
+
+protected:
+    PlayerListener() = default;
+    DT_DISABLE_COPY_AND_MOVE(PlayerListener)
+};
+
+/// A query result: nothing, a flag, a number or a text.
+using Value = std::variant<std::monostate, bool, double, std::string>;
+
+/// \brief The result of one command.
+struct CommandOutcome {
+    bool accepted = false;
+    std::string reason; ///< Why it was refused or failed; empty when accepted.
+    Value data;         ///< Query result ("get"); monostate otherwise.
+
+    static CommandOutcome accept(Value value = {}) { return {true, {}, std::move(value)}; }
+    static CommandOutcome refuse(std::string why) { return {false, std::move(why), {}}; }
+};
+
+/// Range and step of the stiffness commands (N/m).
+struct StiffnessRange {
+    double min = 100.0;  ///< N/m.
+    double max = 3000.0; ///< N/m.
+    double step = 100.0; ///< N/m per "stiffness +" or "-".
+};
+
+/// \brief Start-up settings of the machine (from options and the config file).
+struct PlayerSettings {
+    std::string url;    ///< What "play" opens when it names nothing.
+    bool loop = false;  ///< End of stream seeks to 0 and keeps playing.
+    StereoMode stereoMode = StereoMode::SideBySide;
+    bool haptics = true;
+    double stiffness = 800.0; ///< N/m, clamped into range.
+    StiffnessRange range;
+};
+
+/// \brief The player state machine. See the file comment for the diagram and the rules.
+class StateMachine {
+public:
+    /// \param[in] actions The pipeline; must outlive the machine.
+    /// \param[in] settings Initial settings; the machine does not push them to \a actions (the
+    /// player starts its pipeline with the same settings).
+    StateMachine(PlayerActions &actions, PlayerSettings settings);
+    ~StateMachine() = default;
+
+    /// \brief Carries out \a command if it is valid in the current state (see the file comment).
+    CommandOutcome execute(const Command &command);
+    /// \brief Parses \a text (parseCommandText()) and executes it; a parse error is a refusal.
+    CommandOutcome execute(std::string_view text);
+    /// \return whether \a id is valid in the current state (quit not yet requested).
+    [[nodiscard]] bool isValid(CommandId id) const noexcept;
+
+    /// \name Notifications from the pipeline
+    /// Each returns false when it does not apply to the current state (a late notification) and
+    /// then changes nothing.
+    ///@{
+    /// Opening finished: starts playback (Playing), or Error when startPlayback() fails.
+    bool onOpened();
+    /// Opening failed: Error with \a reason.
+    bool onOpenFailed(std::string_view reason);
+    /// The last frame was presented (Playing or Paused): with loop, seeks to 0 and stays; without,
+    /// stops (Stopped). Listeners get EndOfFile.
+    bool onEndOfStream();
+    /// The pipeline failed while Opening, Playing or Paused (device unplugged, decode error):
+    /// Error with \a reason.
+    bool onFailure(std::string_view reason);
+    ///@}
+
+    /// \name Current state and settings
+    ///@{
+    [[nodiscard]] PlayerState state() const noexcept { return state_; }
+    [[nodiscard]] StereoMode stereoMode() const noexcept { return stereoMode_; }
+    [[nodiscard]] bool hapticsEnabled() const noexcept { return haptics_; }
+    [[nodiscard]] double stiffness() const noexcept { return stiffness_; } ///< N/m.
+    [[nodiscard]] const StiffnessRange &stiffnessRange() const noexcept { return range_; }
+    [[nodiscard]] bool loop() const noexcept { return loop_; }
+    [[nodiscard]] const std::string &url() const noexcept { return url_; }
+    /// The reason of the last failure (kept until the next one).
+    [[nodiscard]] const std::string &errorReason() const noexcept { return errorReason_; }
+    /// True once quit was accepted.
+    [[nodiscard]] bool quitRequested() const noexcept { return quit_; }
+    ///@}
+
+    /// Adds \a listener (not owned; must outlive the machine or be removed). Setup only.
+    void addListener(PlayerListener *listener);
+    void removeListener(PlayerListener *listener);
+
+private:
+    friend struct CommandHandlers;
+
+    /// Applies the result of an action: success → \a onSuccess runs and the command is accepted;
+    /// refusal → refused with the action's reason; failure → Error.
+    template <class F> CommandOutcome apply(const char *what, Result<void> r, F &&onSuccess);
+    void setState(PlayerState state);
+    void fail(std::string reason);
+    void emit(PlayerEventKind kind, std::string message = {});
+
+    PlayerActions &actions_;
+    std::vector<PlayerListener *> listeners_;
+    PlayerState state_ = PlayerState::Idle;
+    std::string url_;
+    bool loop_;
+    StereoMode stereoMode_;
+    bool haptics_;
+    double stiffness_;
+    StiffnessRange range_;
+    std::string errorReason_;
+    bool quit_ = false;
+    bool notifying_ = false; ///< True while listeners run: commands from them are refused.
+};
+
+/// \return true when \a code means "refused, nothing changed" (InvalidArgument, NotSupported,
+/// InvalidState, Busy) rather than a failure.
+bool isRefusal(Errc code) noexcept;
+
+} // namespace depthtouch::player

@@ -1,0 +1,345 @@
+#include "depthtouch/player/command.h"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+
+#include <nlohmann/json.hpp>
+
+#include "command_parsers.h"
+#include "depthtouch/player/state_machine.h"
+
+namespace depthtouch::player {
+
+namespace {
+
+/// Largest seek offset or position accepted (s): a day; beyond is a typo, not a request.
+constexpr double kMaxSeekSeconds = 86400.0;
+/// Largest stiffness value a command may name (N/m); the machine clamps to its range anyway.
+constexpr double kMaxStiffnessValue = 1.0e6;
+
+constexpr std::array<const char *, kPlayerStateCount> kStateNames = {
+    "idle", "opening", "playing", "paused", "stopped", "error"};
+constexpr std::array<const char *, 5> kStereoNames = {"sbs", "tab", "anaglyph", "mono",
+                                                      "interleaved"};
+constexpr std::array<const char *, 7> kPropertyNames = {"state", "stereo-mode", "haptics",
+                                                        "stiffness", "loop", "url", "error"};
+
+std::string quoted(std::string_view s)
+{
+    std::string out = "'";
+    // Keep messages one printable line whatever the input held.
+    for (char c : s.substr(0, 64)) {
+        const auto u = static_cast<unsigned char>(c);
+        out += (u >= 0x20 && u < 0x7f) ? c : '?';
+    }
+    if (s.size() > 64)
+        out += "...";
+    out += '\'';
+    return out;
+}
+
+bool parseNumber(std::string_view text, double &out)
+{
+    if (!text.empty() && text.front() == '+')
+        text.remove_prefix(1);
+    if (text.empty())
+        return false;
+    const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), out);
+    return ec == std::errc() && ptr == text.data() + text.size() && std::isfinite(out);
+}
+
+bool lowerEquals(std::string_view a, std::string_view b) noexcept
+{
+    if (a.size() != b.size())
+        return false;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        char c = a[i];
+        if (c >= 'A' && c <= 'Z')
+            c = static_cast<char>(c - 'A' + 'a');
+        if (c != b[i])
+            return false;
+    }
+    return true;
+}
+
+} // namespace
+
+const char *playerStateName(PlayerState state) noexcept
+{
+    const auto i = static_cast<std::size_t>(state);
+    return i < kStateNames.size() ? kStateNames[i] : "unknown";
+}
+
+const char *stereoModeName(StereoMode mode) noexcept
+{
+    const auto i = static_cast<std::size_t>(mode);
+    return i < kStereoNames.size() ? kStereoNames[i] : "unknown";
+}
+
+std::optional<StereoMode> stereoModeFromName(std::string_view name) noexcept
+{
+    for (std::size_t i = 0; i < kStereoNames.size(); ++i)
+        if (lowerEquals(name, kStereoNames[i]))
+            return static_cast<StereoMode>(i);
+    if (lowerEquals(name, "side-by-side"))
+        return StereoMode::SideBySide;
+    if (lowerEquals(name, "top-bottom"))
+        return StereoMode::TopAndBottom;
+    return std::nullopt;
+}
+
+StereoMode nextStereoMode(StereoMode mode) noexcept
+{
+    const auto i = (static_cast<std::size_t>(mode) + 1) % kStereoNames.size();
+    return static_cast<StereoMode>(i);
+}
+
+const char *propertyName(Property property) noexcept
+{
+    const auto i = static_cast<std::size_t>(property);
+    return i < kPropertyNames.size() ? kPropertyNames[i] : "unknown";
+}
+
+namespace detail {
+
+std::string parseNoArgs(std::span<const std::string_view> args, Command &)
+{
+    return args.empty() ? std::string() : "takes no arguments";
+}
+
+std::string parsePlayArgs(std::span<const std::string_view> args, Command &out)
+{
+    if (args.size() > 1)
+        return "takes at most one argument (a file or URL)";
+    if (args.size() == 1) {
+        if (args[0].empty())
+            return "the file or URL is empty";
+        out.url = std::string(args[0]);
+    }
+    return {};
+}
+
+std::string parseSeekArgs(std::span<const std::string_view> args, Command &out)
+{
+    if (args.empty() || args.size() > 2)
+        return "needs SECONDS [relative|absolute]";
+    if (!parseNumber(args[0], out.seconds))
+        return quoted(args[0]) + " is not a number of seconds";
+    out.seekMode = SeekMode::Relative;
+    if (args.size() == 2) {
+        if (lowerEquals(args[1], "relative") || lowerEquals(args[1], "rel"))
+            out.seekMode = SeekMode::Relative;
+        else if (lowerEquals(args[1], "absolute") || lowerEquals(args[1], "abs"))
+            out.seekMode = SeekMode::Absolute;
+        else
+            return quoted(args[1]) + " is neither relative nor absolute";
+    }
+    if (std::fabs(out.seconds) > kMaxSeekSeconds)
+        return "seconds out of range";
+    if (out.seekMode == SeekMode::Absolute && out.seconds < 0.0)
+        return "an absolute position cannot be negative";
+    return {};
+}
+
+std::string parseStereoModeArgs(std::span<const std::string_view> args, Command &out)
+{
+    if (args.size() != 1)
+        return "needs one of sbs, tab, anaglyph, mono, interleaved";
+    const auto mode = stereoModeFromName(args[0]);
+    if (!mode)
+        return "unknown stereo mode " + quoted(args[0]) +
+               " (sbs, tab, anaglyph, mono, interleaved)";
+    out.stereoMode = *mode;
+    return {};
+}
+
+std::string parseSwitchArgs(std::span<const std::string_view> args, Command &out)
+{
+    if (args.size() > 1)
+        return "needs on, off or toggle";
+    if (args.empty() || lowerEquals(args[0], "toggle")) {
+        out.toggle = Switch::Toggle;
+        return {};
+    }
+    for (const char *on : {"on", "yes", "true", "1"})
+        if (lowerEquals(args[0], on)) {
+            out.toggle = Switch::On;
+            return {};
+        }
+    for (const char *off : {"off", "no", "false", "0"})
+        if (lowerEquals(args[0], off)) {
+            out.toggle = Switch::Off;
+            return {};
+        }
+    return quoted(args[0]) + " is not on, off or toggle";
+}
+
+std::string parseStiffnessArgs(std::span<const std::string_view> args, Command &out)
+{
+    if (args.size() != 1)
+        return "needs +, - or a value in N/m";
+    const std::string_view a = args[0];
+    if (a == "+" || lowerEquals(a, "up")) {
+        out.stiffnessChange = StiffnessChange::Up;
+        return {};
+    }
+    if (a == "-" || lowerEquals(a, "down")) {
+        out.stiffnessChange = StiffnessChange::Down;
+        return {};
+    }
+    double value = 0.0;
+    if (!parseNumber(a, value) || value <= 0.0 || value > kMaxStiffnessValue)
+        return quoted(a) + " is not +, - or a positive stiffness in N/m";
+    out.stiffnessChange = StiffnessChange::Set;
+    out.stiffness = value;
+    return {};
+}
+
+std::string parseGetArgs(std::span<const std::string_view> args, Command &out)
+{
+    if (args.size() != 1)
+        return "needs a property (state, stereo-mode, haptics, stiffness, loop, url, error)";
+    for (std::size_t i = 0; i < kPropertyNames.size(); ++i)
+        if (lowerEquals(args[0], kPropertyNames[i])) {
+            out.property = static_cast<Property>(i);
+            return {};
+        }
+    return "unknown property " + quoted(args[0]) +
+           " (state, stereo-mode, haptics, stiffness, loop, url, error)";
+}
+
+} // namespace detail
+
+const CommandSpec &commandSpec(CommandId id) noexcept
+{
+    return commandTable()[static_cast<std::size_t>(id)];
+}
+
+const CommandSpec *findCommand(std::string_view name) noexcept
+{
+    for (const CommandSpec &spec : commandTable())
+        if (name == spec.name)
+            return &spec;
+    return nullptr;
+}
+
+ParsedCommand parseCommand(std::string_view name, std::span<const std::string_view> args)
+{
+    ParsedCommand result;
+    const CommandSpec *spec = findCommand(name);
+    if (spec == nullptr) {
+        result.error = name.empty() ? "empty command" : "unknown command " + quoted(name);
+        return result;
+    }
+    Command command;
+    command.id = spec->id;
+    std::string error = spec->parse(args, command);
+    if (!error.empty()) {
+        result.error = std::string(spec->name) + ": " + error;
+        return result;
+    }
+    result.command = std::move(command);
+    return result;
+}
+
+ParsedCommand parseCommandText(std::string_view text)
+{
+    std::vector<std::string> words;
+    std::size_t i = 0;
+    while (i < text.size()) {
+        const char c = text[i];
+        if (c == ' ' || c == '\t' || c == '\r' || c == '\n') {
+            ++i;
+            continue;
+        }
+        std::string word;
+        if (c == '\'' || c == '"') {
+            const std::size_t end = text.find(c, i + 1);
+            if (end == std::string_view::npos)
+                return {std::nullopt, "unterminated quote"};
+            word = std::string(text.substr(i + 1, end - i - 1));
+            i = end + 1;
+        } else {
+            while (i < text.size() && text[i] != ' ' && text[i] != '\t' && text[i] != '\r' &&
+                   text[i] != '\n')
+                word += text[i++];
+        }
+        words.push_back(std::move(word));
+    }
+    if (words.empty())
+        return {std::nullopt, "empty command"};
+    std::vector<std::string_view> args(words.begin() + 1, words.end());
+    return parseCommand(words.front(), args);
+}
+
+ParsedCommand parseCommandJson(const nlohmann::json &array)
+{
+    if (!array.is_array() || array.empty())
+        return {std::nullopt, "command must be a non-empty array, e.g. [\"seek\", 10]"};
+    if (!array[0].is_string())
+        return {std::nullopt, "the command name must be a string"};
+    std::vector<std::string> words;
+    words.reserve(array.size());
+    for (std::size_t i = 1; i < array.size(); ++i) {
+        const nlohmann::json &a = array[i];
+        if (a.is_string())
+            words.push_back(a.get<std::string>());
+        else if (a.is_boolean())
+            words.emplace_back(a.get<bool>() ? "on" : "off");
+        else if (a.is_number_integer() || a.is_number_unsigned())
+            words.push_back(a.dump());
+        else if (a.is_number_float()) {
+            char buf[64];
+            std::snprintf(buf, sizeof buf, "%.17g", a.get<double>());
+            words.emplace_back(buf);
+        } else
+            return {std::nullopt, "argument " + std::to_string(i) +
+                                      " must be a string, a number or a boolean"};
+    }
+    std::vector<std::string_view> args(words.begin(), words.end());
+    return parseCommand(array[0].get_ref<const std::string &>(), args);
+}
+
+std::string commandText(const Command &command)
+{
+    std::string out = commandSpec(command.id).name;
+    char buf[64];
+    switch (command.id) {
+    case CommandId::Play:
+        if (!command.url.empty())
+            out += " " + command.url;
+        break;
+    case CommandId::Seek:
+        std::snprintf(buf, sizeof buf, " %g %s", command.seconds,
+                      command.seekMode == SeekMode::Absolute ? "absolute" : "relative");
+        out += buf;
+        break;
+    case CommandId::SetStereoMode:
+        out += std::string(" ") + stereoModeName(command.stereoMode);
+        break;
+    case CommandId::Haptics:
+    case CommandId::Loop:
+        out += command.toggle == Switch::On    ? " on"
+               : command.toggle == Switch::Off ? " off"
+                                               : " toggle";
+        break;
+    case CommandId::Stiffness:
+        if (command.stiffnessChange == StiffnessChange::Set) {
+            std::snprintf(buf, sizeof buf, " %g", command.stiffness);
+            out += buf;
+        } else {
+            out += command.stiffnessChange == StiffnessChange::Up ? " +" : " -";
+        }
+        break;
+    case CommandId::Get:
+        out += std::string(" ") + propertyName(command.property);
+        break;
+    default:
+        break;
+    }
+    return out;
+}
+
+} // namespace depthtouch::player

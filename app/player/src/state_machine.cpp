@@ -1,0 +1,440 @@
+#include "depthtouch/player/state_machine.h"
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <utility>
+
+#include "command_parsers.h"
+#include "depthtouch/platform/log.h"
+
+DT_LOG_CATEGORY(Player)
+
+namespace depthtouch::player {
+
+namespace {
+
+constexpr StateMask kActive = stateBit(PlayerState::Playing) | stateBit(PlayerState::Paused);
+constexpr StateMask kNotError = kAnyState & static_cast<StateMask>(~stateBit(PlayerState::Error));
+constexpr StateMask kCanStart = stateBit(PlayerState::Idle) | stateBit(PlayerState::Stopped) |
+                                stateBit(PlayerState::Error);
+
+std::string formatNewtonsPerMetre(double v)
+{
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "%g N/m", v);
+    return buf;
+}
+
+} // namespace
+
+/// The handlers of the command table: each runs only in a state of its row's validIn.
+struct CommandHandlers {
+    static CommandOutcome startOrResume(StateMachine &m, const std::string &url)
+    {
+        if (m.state_ == PlayerState::Paused) {
+            if (!url.empty() && url != m.url_)
+                return CommandOutcome::refuse("stop before opening another file");
+            return m.apply("resume", m.actions_.resume(),
+                           [&] { m.setState(PlayerState::Playing); });
+        }
+        const std::string target = url.empty() ? m.url_ : url;
+        if (target.empty())
+            return CommandOutcome::refuse("no file or URL to play");
+        return m.apply("open", m.actions_.open(target), [&] {
+            m.url_ = target;
+            m.setState(PlayerState::Opening);
+        });
+    }
+
+    static CommandOutcome play(StateMachine &m, const Command &c) { return startOrResume(m, c.url); }
+
+    static CommandOutcome pause(StateMachine &m, const Command &)
+    {
+        return m.apply("pause", m.actions_.pause(), [&] { m.setState(PlayerState::Paused); });
+    }
+
+    static CommandOutcome togglePause(StateMachine &m, const Command &c)
+    {
+        return m.state_ == PlayerState::Playing ? pause(m, c) : startOrResume(m, {});
+    }
+
+    static CommandOutcome stop(StateMachine &m, const Command &)
+    {
+        return m.apply("stop", m.actions_.stop(), [&] { m.setState(PlayerState::Stopped); });
+    }
+
+    static CommandOutcome seek(StateMachine &m, const Command &c)
+    {
+        return m.apply("seek", m.actions_.seek(c.seconds, c.seekMode),
+                       [&] { m.emit(PlayerEventKind::Seeked); });
+    }
+
+    static CommandOutcome setStereo(StateMachine &m, StereoMode mode)
+    {
+        if (mode == m.stereoMode_)
+            return CommandOutcome::accept();
+        return m.apply("stereo mode", m.actions_.setStereoMode(mode), [&] {
+            m.stereoMode_ = mode;
+            m.emit(PlayerEventKind::StereoModeChanged);
+        });
+    }
+
+    static CommandOutcome nextStereoMode(StateMachine &m, const Command &)
+    {
+        return setStereo(m, player::nextStereoMode(m.stereoMode_));
+    }
+
+    static CommandOutcome setStereoMode(StateMachine &m, const Command &c)
+    {
+        return setStereo(m, c.stereoMode);
+    }
+
+    static CommandOutcome haptics(StateMachine &m, const Command &c)
+    {
+        const bool target = c.toggle == Switch::Toggle ? !m.haptics_ : c.toggle == Switch::On;
+        if (target == m.haptics_)
+            return CommandOutcome::accept();
+        return m.apply("haptics", m.actions_.setHapticsEnabled(target), [&] {
+            m.haptics_ = target;
+            m.emit(PlayerEventKind::HapticsChanged);
+        });
+    }
+
+    static CommandOutcome stiffness(StateMachine &m, const Command &c)
+    {
+        const StiffnessRange &r = m.range_;
+        double target = m.stiffness_;
+        switch (c.stiffnessChange) {
+        case StiffnessChange::Up:
+            target = std::min(m.stiffness_ + r.step, r.max);
+            if (target == m.stiffness_)
+                return CommandOutcome::refuse("stiffness already at its maximum, " +
+                                              formatNewtonsPerMetre(r.max));
+            break;
+        case StiffnessChange::Down:
+            target = std::max(m.stiffness_ - r.step, r.min);
+            if (target == m.stiffness_)
+                return CommandOutcome::refuse("stiffness already at its minimum, " +
+                                              formatNewtonsPerMetre(r.min));
+            break;
+        case StiffnessChange::Set:
+            if (c.stiffness < r.min || c.stiffness > r.max)
+                return CommandOutcome::refuse("stiffness " + formatNewtonsPerMetre(c.stiffness) +
+                                              " is outside " + formatNewtonsPerMetre(r.min) +
+                                              " .. " + formatNewtonsPerMetre(r.max));
+            target = c.stiffness;
+            if (target == m.stiffness_)
+                return CommandOutcome::accept();
+            break;
+        }
+        return m.apply("stiffness", m.actions_.setStiffness(target), [&] {
+            m.stiffness_ = target;
+            m.emit(PlayerEventKind::StiffnessChanged);
+        });
+    }
+
+    static CommandOutcome recenter(StateMachine &m, const Command &)
+    {
+        return m.apply("recenter", m.actions_.recenter(), [] {});
+    }
+
+    static CommandOutcome loop(StateMachine &m, const Command &c)
+    {
+        const bool target = c.toggle == Switch::Toggle ? !m.loop_ : c.toggle == Switch::On;
+        if (target != m.loop_) {
+            m.loop_ = target;
+            m.emit(PlayerEventKind::LoopChanged);
+        }
+        return CommandOutcome::accept();
+    }
+
+    static CommandOutcome quit(StateMachine &m, const Command &)
+    {
+        const PlayerState s = m.state_;
+        if (s == PlayerState::Opening || s == PlayerState::Playing || s == PlayerState::Paused) {
+            // Quitting cannot be refused: a failing stop is reported, and the player quits anyway.
+            const Result<void> r = m.actions_.stop();
+            if (r)
+                m.setState(PlayerState::Stopped);
+            else
+                m.fail(std::string("stop failed: ") + r.error().what);
+        }
+        m.quit_ = true;
+        m.emit(PlayerEventKind::Quit);
+        return CommandOutcome::accept();
+    }
+
+    static CommandOutcome get(StateMachine &m, const Command &c)
+    {
+        switch (c.property) {
+        case Property::State:
+            return CommandOutcome::accept(std::string(playerStateName(m.state_)));
+        case Property::StereoMode:
+            return CommandOutcome::accept(std::string(stereoModeName(m.stereoMode_)));
+        case Property::Haptics:
+            return CommandOutcome::accept(m.haptics_);
+        case Property::Stiffness:
+            return CommandOutcome::accept(m.stiffness_);
+        case Property::Loop:
+            return CommandOutcome::accept(m.loop_);
+        case Property::Url:
+            return CommandOutcome::accept(m.url_);
+        case Property::Error:
+            return CommandOutcome::accept(m.errorReason_);
+        }
+        return CommandOutcome::refuse("unknown property");
+    }
+};
+
+namespace {
+
+using H = CommandHandlers;
+using namespace detail;
+
+// The one command table: every input sends these names. Rows in CommandId order.
+constexpr CommandSpec kCommands[] = {
+    {"play", CommandId::Play, "[FILE|URL]", "Open and play, or resume when paused",
+     kCanStart | stateBit(PlayerState::Paused), false, &parsePlayArgs, &H::play},
+    {"pause", CommandId::Pause, "", "Pause playback", stateBit(PlayerState::Playing), false,
+     &parseNoArgs, &H::pause},
+    {"toggle-pause", CommandId::TogglePause, "", "Pause when playing, otherwise play",
+     kCanStart | kActive, false, &parseNoArgs, &H::togglePause},
+    {"stop", CommandId::Stop, "", "Stop playback and close the stream",
+     kActive | stateBit(PlayerState::Opening) | stateBit(PlayerState::Error), false, &parseNoArgs,
+     &H::stop},
+    {"seek", CommandId::Seek, "SECONDS [relative|absolute]",
+     "Seek by SECONDS (negative: back) or to a position; keeps paused or playing", kActive, true,
+     &parseSeekArgs, &H::seek},
+    {"next-stereo-mode", CommandId::NextStereoMode, "",
+     "Cycle sbs, tab, anaglyph, mono, interleaved", kNotError, false, &parseNoArgs,
+     &H::nextStereoMode},
+    {"stereo-mode", CommandId::SetStereoMode, "sbs|tab|anaglyph|mono|interleaved",
+     "Set the stereo packing", kNotError, false, &parseStereoModeArgs, &H::setStereoMode},
+    {"haptics", CommandId::Haptics, "on|off|toggle", "Turn force output on or off", kNotError,
+     false, &parseSwitchArgs, &H::haptics},
+    {"stiffness", CommandId::Stiffness, "+|-|N", "Step the stiffness up or down, or set N N/m",
+     kNotError, true, &parseStiffnessArgs, &H::stiffness},
+    {"recenter", CommandId::Recenter, "", "Re-seat the haptic workspace on the surface", kActive,
+     false, &parseNoArgs, &H::recenter},
+    {"loop", CommandId::Loop, "on|off|toggle", "Loop at the end of the stream", kAnyState, false,
+     &parseSwitchArgs, &H::loop},
+    {"quit", CommandId::Quit, "", "Stop and leave the player", kAnyState, false, &parseNoArgs,
+     &H::quit},
+    {"get", CommandId::Get, "PROPERTY",
+     "Read state, stereo-mode, haptics, stiffness, loop, url or error", kAnyState, false,
+     &parseGetArgs, &H::get},
+};
+
+constexpr bool tableInIdOrder()
+{
+    for (std::size_t i = 0; i < std::size(kCommands); ++i)
+        if (static_cast<std::size_t>(kCommands[i].id) != i)
+            return false;
+    return true;
+}
+static_assert(tableInIdOrder(), "kCommands rows must be in CommandId order");
+
+} // namespace
+
+std::span<const CommandSpec> commandTable() noexcept
+{
+    return kCommands;
+}
+
+const char *playerEventName(PlayerEventKind kind) noexcept
+{
+    switch (kind) {
+    case PlayerEventKind::StateChanged:
+        return "state";
+    case PlayerEventKind::StereoModeChanged:
+        return "stereo-mode";
+    case PlayerEventKind::HapticsChanged:
+        return "haptics";
+    case PlayerEventKind::StiffnessChanged:
+        return "stiffness";
+    case PlayerEventKind::LoopChanged:
+        return "loop";
+    case PlayerEventKind::Seeked:
+        return "seek";
+    case PlayerEventKind::EndOfFile:
+        return "end-file";
+    case PlayerEventKind::Error:
+        return "error";
+    case PlayerEventKind::Quit:
+        return "shutdown";
+    }
+    return "unknown";
+}
+
+bool isRefusal(Errc code) noexcept
+{
+    return code == Errc::InvalidArgument || code == Errc::NotSupported ||
+           code == Errc::InvalidState || code == Errc::Busy;
+}
+
+StateMachine::StateMachine(PlayerActions &actions, PlayerSettings settings)
+    : actions_(actions), url_(std::move(settings.url)), loop_(settings.loop),
+      stereoMode_(settings.stereoMode), haptics_(settings.haptics), range_(settings.range)
+{
+    if (range_.min > range_.max)
+        std::swap(range_.min, range_.max);
+    if (!(range_.step > 0.0))
+        range_.step = 1.0;
+    stiffness_ = std::clamp(settings.stiffness, range_.min, range_.max);
+}
+
+bool StateMachine::isValid(CommandId id) const noexcept
+{
+    return !quit_ && (commandSpec(id).validIn & stateBit(state_)) != 0;
+}
+
+CommandOutcome StateMachine::execute(const Command &command)
+{
+    const CommandSpec &spec = commandSpec(command.id);
+    if (notifying_)
+        return CommandOutcome::refuse("a command cannot be sent from an event listener");
+    if (quit_)
+        return CommandOutcome::refuse("the player is quitting");
+    if ((spec.validIn & stateBit(state_)) == 0) {
+        std::string reason;
+        if (command.id == CommandId::Pause && state_ == PlayerState::Paused)
+            reason = "already paused";
+        else if (command.id == CommandId::Play && state_ == PlayerState::Playing)
+            reason = "already playing";
+        else
+            reason = std::string("cannot ") + spec.name + " while " + playerStateName(state_);
+        DT_LOG(Player, Debug, "Refused %s: %s", spec.name, reason.c_str());
+        return CommandOutcome::refuse(std::move(reason));
+    }
+    DT_LOG(Player, Debug, "Command %s in state %s", commandText(command).c_str(),
+           playerStateName(state_));
+    return spec.handle(*this, command);
+}
+
+CommandOutcome StateMachine::execute(std::string_view text)
+{
+    ParsedCommand parsed = parseCommandText(text);
+    if (!parsed)
+        return CommandOutcome::refuse(std::move(parsed.error));
+    return execute(*parsed.command);
+}
+
+template <class F>
+CommandOutcome StateMachine::apply(const char *what, Result<void> r, F &&onSuccess)
+{
+    if (r) {
+        onSuccess();
+        return CommandOutcome::accept();
+    }
+    if (isRefusal(r.error().code))
+        return CommandOutcome::refuse(std::string(what) + " refused: " + r.error().what);
+    fail(std::string(what) + " failed: " + r.error().what);
+    return CommandOutcome::refuse(errorReason_);
+}
+
+bool StateMachine::onOpened()
+{
+    if (state_ != PlayerState::Opening)
+        return false;
+    const Result<void> r = actions_.startPlayback();
+    if (r)
+        setState(PlayerState::Playing);
+    else
+        fail(std::string("start failed: ") + r.error().what);
+    return true;
+}
+
+bool StateMachine::onOpenFailed(std::string_view reason)
+{
+    if (state_ != PlayerState::Opening)
+        return false;
+    fail("open failed: " + std::string(reason));
+    return true;
+}
+
+bool StateMachine::onEndOfStream()
+{
+    if (state_ != PlayerState::Playing && state_ != PlayerState::Paused)
+        return false;
+    if (loop_) {
+        const Result<void> r = actions_.seek(0.0, SeekMode::Absolute);
+        if (r)
+            emit(PlayerEventKind::EndOfFile, "loop");
+        else
+            fail(std::string("loop seek failed: ") + r.error().what);
+        return true;
+    }
+    const Result<void> r = actions_.stop();
+    emit(PlayerEventKind::EndOfFile, "eof");
+    if (r)
+        setState(PlayerState::Stopped);
+    else
+        fail(std::string("stop failed: ") + r.error().what);
+    return true;
+}
+
+bool StateMachine::onFailure(std::string_view reason)
+{
+    if (state_ != PlayerState::Opening && state_ != PlayerState::Playing &&
+        state_ != PlayerState::Paused)
+        return false;
+    fail(std::string(reason));
+    return true;
+}
+
+void StateMachine::addListener(PlayerListener *listener)
+{
+    if (listener != nullptr &&
+        std::find(listeners_.begin(), listeners_.end(), listener) == listeners_.end())
+        listeners_.push_back(listener);
+}
+
+void StateMachine::removeListener(PlayerListener *listener)
+{
+    listeners_.erase(std::remove(listeners_.begin(), listeners_.end(), listener),
+                     listeners_.end());
+}
+
+void StateMachine::setState(PlayerState state)
+{
+    if (state == state_)
+        return;
+    DT_LOG(Player, Info, "State %s -> %s", playerStateName(state_), playerStateName(state));
+    state_ = state;
+    emit(PlayerEventKind::StateChanged);
+}
+
+void StateMachine::fail(std::string reason)
+{
+    DT_LOG(Player, Error, "%s", reason.c_str());
+    errorReason_ = std::move(reason);
+    const bool changed = state_ != PlayerState::Error;
+    state_ = PlayerState::Error;
+    emit(PlayerEventKind::Error, errorReason_);
+    if (changed)
+        emit(PlayerEventKind::StateChanged);
+}
+
+void StateMachine::emit(PlayerEventKind kind, std::string message)
+{
+    if (listeners_.empty())
+        return;
+    PlayerEvent event;
+    event.kind = kind;
+    event.state = state_;
+    event.stereoMode = stereoMode_;
+    event.haptics = haptics_;
+    event.stiffness = stiffness_;
+    event.loop = loop_;
+    event.message = std::move(message);
+    const bool wasNotifying = notifying_;
+    notifying_ = true;
+    // A copy: a listener may remove itself.
+    const std::vector<PlayerListener *> listeners = listeners_;
+    for (PlayerListener *l : listeners)
+        l->onPlayerEvent(event);
+    notifying_ = wasNotifying;
+}
+
+} // namespace depthtouch::player

@@ -1,0 +1,121 @@
+// The input loop: scripted remote keys (mock backend, manual clock) and the control socket feed
+// the one command table.
+#include "depthtouch/control/control_loop.h"
+
+#include <cstring>
+
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "app/player/fake_player_actions.h"
+#include "depthtouch/drivers/mock/mock_remote_input.h"
+
+namespace depthtouch::control {
+namespace {
+
+using hal::Key;
+using hal::KeyAction;
+using platform::ManualClock;
+using platform::TimePoint;
+using player::test::FakePlayerActions;
+using std::chrono::milliseconds;
+using std::chrono::seconds;
+
+player::PlayerSettings settings()
+{
+    player::PlayerSettings s;
+    s.url = "movie.mkv";
+    return s;
+}
+
+TEST(ControlLoopTest, remoteKeysDriveTheMachineUntilQuit)
+{
+    // GIVEN a playing machine and a remote with a scripted key sequence
+    ManualClock clock(ManualClock::Mode::AutoAdvance, TimePoint(seconds(100)));
+    drivers::MockRemoteInput remote(clock);
+    FakePlayerActions fake;
+    player::StateMachine m(fake, settings());
+    ASSERT_TRUE(m.execute("play").accepted);
+    ASSERT_TRUE(m.onOpened());
+    fake.calls.clear();
+    const TimePoint t0 = clock.now();
+    remote.pushKey(Key::Right, t0 + seconds(1));
+    remote.push({Key::Up, KeyAction::Press, t0 + seconds(2)});
+    remote.push({Key::Up, KeyAction::Repeat, t0 + milliseconds(2250)});
+    remote.push({Key::Up, KeyAction::Release, t0 + milliseconds(2300)});
+    remote.pushKey(Key::Mode3d, t0 + seconds(3));
+    remote.pushKey(Key::PlayPause, t0 + seconds(4));
+    remote.push({Key::PlayPause, KeyAction::Repeat, t0 + milliseconds(4050)});
+    remote.pushKey(Key::Pause, t0 + seconds(5)); // refused: already paused
+    remote.pushKey(Key::Digit7, t0 + seconds(6)); // unbound
+    remote.pushKey(Key::Exit, t0 + seconds(7));
+    remote.pushKey(Key::Play, t0 + seconds(8)); // after quit: never read
+
+    // WHEN the loop runs
+    ControlLoop loop(m, &remote, nullptr, clock);
+    ASSERT_TRUE(loop.runUntil(t0 + seconds(60)));
+
+    // THEN each key's command ran in order, repeats only where allowed, and quit ended the loop
+    EXPECT_TRUE(m.quitRequested());
+    EXPECT_EQ(m.state(), player::PlayerState::Stopped);
+    EXPECT_EQ(fake.calls, (std::vector<std::string>{"seek 10 relative", "setStiffness 900",
+                                                    "setStiffness 1000", "setStereoMode tab",
+                                                    "pause", "stop"}));
+    EXPECT_GE(clock.now(), t0 + seconds(7));
+    EXPECT_LT(clock.now(), t0 + seconds(8));
+    EXPECT_EQ(loop.stats().keyCommands, 7u);
+    EXPECT_EQ(loop.stats().refused, 1u);
+    EXPECT_EQ(remote.pending(), 3u) << "Exit's release and the Play key stay unread";
+}
+
+TEST(ControlLoopTest, quietInputReturnsAtTheDeadline)
+{
+    ManualClock clock(ManualClock::Mode::AutoAdvance, TimePoint(seconds(5)));
+    drivers::MockRemoteInput remote(clock);
+    FakePlayerActions fake;
+    player::StateMachine m(fake, settings());
+    ControlLoop loop(m, &remote, nullptr, clock);
+    ASSERT_TRUE(loop.runUntil(clock.now() + seconds(2)));
+    EXPECT_EQ(clock.now(), TimePoint(seconds(7)));
+    EXPECT_FALSE(m.quitRequested());
+    EXPECT_TRUE(fake.calls.empty());
+}
+
+TEST(ControlLoopTest, lostRemoteLeavesTheSocketWorking)
+{
+    char tmpl[] = "/tmp/dt-loop-XXXXXX";
+    ASSERT_NE(::mkdtemp(tmpl), nullptr);
+    const std::string path = std::string(tmpl) + "/dt.sock";
+
+    ManualClock clock(ManualClock::Mode::AutoAdvance, TimePoint(seconds(1)));
+    drivers::MockRemoteInput remote(clock);
+    remote.unplug();
+    FakePlayerActions fake;
+    player::StateMachine m(fake, settings());
+    {
+        auto server = ControlServer::create(path, m);
+        ASSERT_TRUE(server) << server.error().what;
+
+        platform::UniqueFd client(::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
+        sockaddr_un addr{};
+        addr.sun_family = AF_UNIX;
+        std::strncpy(addr.sun_path, path.c_str(), sizeof addr.sun_path - 1);
+        ASSERT_EQ(::connect(client.get(), reinterpret_cast<const sockaddr *>(&addr), sizeof addr),
+                  0);
+        const std::string request = "{\"command\":[\"play\"]}\n{\"command\":[\"quit\"]}\n";
+        ASSERT_EQ(::send(client.get(), request.data(), request.size(), MSG_NOSIGNAL),
+                  static_cast<ssize_t>(request.size()));
+
+        ASSERT_TRUE(runControlLoop(m, &remote, server->get(), clock));
+
+        EXPECT_TRUE(m.quitRequested());
+        EXPECT_EQ(fake.calls, (std::vector<std::string>{"open movie.mkv", "stop"}));
+    }
+    ::rmdir(tmpl);
+}
+
+} // namespace
+} // namespace depthtouch::control

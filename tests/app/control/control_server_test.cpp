@@ -1,0 +1,349 @@
+// The JSON-lines control protocol, alone and over real Unix sockets in a temporary directory.
+#include "depthtouch/control/control_server.h"
+
+#include <cstring>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "app/player/fake_player_actions.h"
+
+namespace depthtouch::control {
+namespace {
+
+using nlohmann::json;
+using player::PlayerSettings;
+using player::PlayerState;
+using player::StateMachine;
+using player::test::FakePlayerActions;
+using std::chrono::milliseconds;
+
+PlayerSettings settings()
+{
+    PlayerSettings s;
+    s.url = "movie.mkv";
+    return s;
+}
+
+json reply(std::string_view line, StateMachine &m)
+{
+    const std::string r = handleControlLine(line, m);
+    EXPECT_FALSE(r.empty()) << line;
+    EXPECT_EQ(r.find('\n'), std::string::npos);
+    return json::parse(r);
+}
+
+TEST(ControlProtocolTest, commandsRepliesAndRequestIds)
+{
+    FakePlayerActions fake;
+    StateMachine m(fake, settings());
+    EXPECT_EQ(reply(R"({"command":["play"]})", m), json({{"error", "success"}}));
+    ASSERT_TRUE(m.onOpened());
+    EXPECT_EQ(reply(R"({"command":["seek",10],"request_id":7})", m),
+              json({{"error", "success"}, {"request_id", 7}}));
+    EXPECT_EQ(reply(R"({"command":["get","state"],"request_id":"a"})", m),
+              json({{"error", "success"}, {"data", "playing"}, {"request_id", "a"}}));
+    EXPECT_EQ(reply(R"({"command":["get","haptics"]})", m),
+              json({{"error", "success"}, {"data", true}}));
+    EXPECT_EQ(reply(R"({"command":["get","stiffness"]})", m),
+              json({{"error", "success"}, {"data", 800.0}}));
+    EXPECT_EQ(reply(R"({"command":["play"],"request_id":8})", m),
+              json({{"error", "already playing"}, {"request_id", 8}}));
+    EXPECT_EQ(fake.calls, (std::vector<std::string>{"open movie.mkv", "startPlayback",
+                                                    "seek 10 relative"}));
+}
+
+TEST(ControlProtocolTest, textCommandsToo)
+{
+    FakePlayerActions fake;
+    StateMachine m(fake, settings());
+    EXPECT_EQ(reply("  toggle-pause ", m), json({{"error", "success"}}));
+    EXPECT_EQ(m.state(), PlayerState::Opening);
+    EXPECT_EQ(reply("get state", m), json({{"error", "success"}, {"data", "opening"}}));
+    EXPECT_EQ(reply("seek", m), json({{"error", "seek: needs SECONDS [relative|absolute]"}}));
+    EXPECT_EQ(handleControlLine("", m), "");
+    EXPECT_EQ(handleControlLine("   ", m), "");
+}
+
+TEST(ControlProtocolTest, badRequestsGetAnErrorAndChangeNothing)
+{
+    FakePlayerActions fake;
+    StateMachine m(fake, settings());
+    const std::pair<std::string, std::string> cases[] = {
+        {R"({"command":["seek",10])", "malformed JSON at byte 23"},
+        {R"({"command":)", "malformed JSON at byte 12"},
+        {R"({} trailing)", "malformed JSON at byte 6"},
+        {R"({"request_id":1})", "missing \"command\""},
+        {R"({"command":"pause"})", "command must be a non-empty array, e.g. [\"seek\", 10]"},
+        {R"({"command":[]})", "command must be a non-empty array, e.g. [\"seek\", 10]"},
+        {R"({"command":[1,2]})", "the command name must be a string"},
+        {R"({"command":["seek",{"x":1}]})", "argument 1 must be a string, a number or a boolean"},
+        {R"({"command":["explode"]})", "unknown command 'explode'"},
+        {R"({"command":["pause"]})", "cannot pause while idle"},
+        {std::string("\x00\xff\xfe garbage", 11), "unknown command '?" "?" "?'"},
+        {"{\"command\":[\"play\",\"\xff\xfe\"]", "malformed JSON at byte 21"},
+    };
+    for (const auto &[line, error] : cases) {
+        const json r = reply(line, m);
+        EXPECT_EQ(r.value("error", ""), error) << line;
+        EXPECT_FALSE(r.contains("data"));
+    }
+    EXPECT_EQ(reply(R"([1,2])", m).value("error", ""), "unknown command '[1,2]'")
+        << "an array is not an object: parsed as a text command";
+    EXPECT_EQ(reply(R"({"command":["fly"],"request_id":[1]})", m),
+              json({{"error", "unknown command 'fly'"}, {"request_id", json::array({1})}}));
+    EXPECT_TRUE(fake.calls.empty());
+    EXPECT_EQ(m.state(), PlayerState::Idle);
+}
+
+TEST(ControlProtocolTest, eventLines)
+{
+    player::PlayerEvent e;
+    e.kind = player::PlayerEventKind::StateChanged;
+    e.state = PlayerState::Paused;
+    EXPECT_EQ(eventJson(e), R"({"data":"paused","event":"state"})");
+    e.kind = player::PlayerEventKind::StereoModeChanged;
+    e.stereoMode = player::StereoMode::Anaglyph;
+    EXPECT_EQ(eventJson(e), R"({"data":"anaglyph","event":"stereo-mode"})");
+    e.kind = player::PlayerEventKind::HapticsChanged;
+    e.haptics = false;
+    EXPECT_EQ(eventJson(e), R"({"data":false,"event":"haptics"})");
+    e.kind = player::PlayerEventKind::StiffnessChanged;
+    e.stiffness = 950.0;
+    EXPECT_EQ(eventJson(e), R"({"data":950.0,"event":"stiffness"})");
+    e.kind = player::PlayerEventKind::EndOfFile;
+    e.message = "eof";
+    EXPECT_EQ(eventJson(e), R"({"data":"eof","event":"end-file"})");
+    e.kind = player::PlayerEventKind::Error;
+    e.message = "decoder lost";
+    EXPECT_EQ(eventJson(e), R"({"data":"decoder lost","event":"error"})");
+    e.kind = player::PlayerEventKind::Quit;
+    EXPECT_EQ(eventJson(e), R"({"event":"shutdown"})");
+}
+
+class ControlServerTest : public ::testing::Test {
+protected:
+    void SetUp() override
+    {
+        char tmpl[] = "/tmp/dt-ctl-XXXXXX";
+        ASSERT_NE(::mkdtemp(tmpl), nullptr);
+        dir_ = tmpl;
+        path_ = dir_ + "/dt.sock";
+        platform::UnixSocketServerOptions options;
+        options.maxLineBytes = 4096;
+        auto r = ControlServer::create(path_, machine_, options);
+        ASSERT_TRUE(r) << r.error().what;
+        server_ = std::move(*r);
+    }
+    void TearDown() override
+    {
+        server_.reset();
+        ::unlink(path_.c_str());
+        ::rmdir(dir_.c_str());
+    }
+
+    platform::UniqueFd connectClient()
+    {
+        platform::UniqueFd fd(::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
+        sockaddr_un addr{};
+        addr.sun_family = AF_UNIX;
+        std::strncpy(addr.sun_path, path_.c_str(), sizeof addr.sun_path - 1);
+        EXPECT_EQ(::connect(fd.get(), reinterpret_cast<const sockaddr *>(&addr), sizeof addr), 0);
+        return fd;
+    }
+
+    void pump(int rounds = 3)
+    {
+        for (int i = 0; i < rounds; ++i)
+            ASSERT_TRUE(server_->poll(milliseconds(1)));
+    }
+
+    static void writeAll(const platform::UniqueFd &fd, std::string_view data)
+    {
+        ASSERT_EQ(::send(fd.get(), data.data(), data.size(), MSG_NOSIGNAL),
+                  static_cast<ssize_t>(data.size()));
+    }
+
+    /// Serves the socket while reading \a count lines from \a fd (at most ~2 s).
+    std::vector<json> readLines(const platform::UniqueFd &fd, std::size_t count)
+    {
+        std::vector<json> lines;
+        std::string &buf = pending_[fd.get()];
+        for (int i = 0; i < 200 && lines.size() < count; ++i) {
+            std::size_t nl;
+            while (lines.size() < count && (nl = buf.find('\n')) != std::string::npos) {
+                lines.push_back(json::parse(buf.substr(0, nl)));
+                buf.erase(0, nl + 1);
+            }
+            if (lines.size() == count)
+                break;
+            EXPECT_TRUE(server_->poll(milliseconds(10)));
+            char chunk[4096];
+            const ssize_t n = ::recv(fd.get(), chunk, sizeof chunk, MSG_DONTWAIT);
+            if (n > 0)
+                buf.append(chunk, static_cast<std::size_t>(n));
+        }
+        return lines;
+    }
+
+    /// Sends \a request and returns the next line that is a reply (events are collected).
+    json roundTrip(const platform::UniqueFd &fd, std::string_view request,
+                   std::vector<json> *events = nullptr)
+    {
+        writeAll(fd, std::string(request) + "\n");
+        for (int i = 0; i < 20; ++i) {
+            const std::vector<json> lines = readLines(fd, 1);
+            if (lines.empty())
+                break;
+            if (!lines.front().contains("event"))
+                return lines.front();
+            if (events != nullptr)
+                events->push_back(lines.front());
+        }
+        ADD_FAILURE() << "no reply to " << request;
+        return {};
+    }
+
+    std::string dir_;
+    std::string path_;
+    FakePlayerActions fake_;
+    StateMachine machine_{fake_, settings()};
+    std::unique_ptr<ControlServer> server_;
+    std::map<int, std::string> pending_;
+};
+
+TEST_F(ControlServerTest, everyCommandRoundTrips)
+{
+    platform::UniqueFd c = connectClient();
+    const json success = {{"error", "success"}};
+    EXPECT_EQ(roundTrip(c, R"({"command":["play"]})"), success);
+    ASSERT_TRUE(machine_.onOpened());
+    EXPECT_EQ(roundTrip(c, R"({"command":["pause"]})"), success);
+    EXPECT_EQ(roundTrip(c, R"({"command":["toggle-pause"]})"), success);
+    EXPECT_EQ(roundTrip(c, R"({"command":["seek",-5]})"), success);
+    EXPECT_EQ(roundTrip(c, R"({"command":["seek",30,"absolute"]})"), success);
+    EXPECT_EQ(roundTrip(c, R"({"command":["next-stereo-mode"]})"), success);
+    EXPECT_EQ(roundTrip(c, R"({"command":["stereo-mode","mono"]})"), success);
+    EXPECT_EQ(roundTrip(c, R"({"command":["haptics","toggle"]})"), success);
+    EXPECT_EQ(roundTrip(c, R"({"command":["stiffness","+"]})"), success);
+    EXPECT_EQ(roundTrip(c, R"({"command":["recenter"]})"), success);
+    EXPECT_EQ(roundTrip(c, R"({"command":["loop",true]})"), success);
+    EXPECT_EQ(roundTrip(c, R"({"command":["get","loop"],"request_id":3})"),
+              json({{"error", "success"}, {"data", true}, {"request_id", 3}}));
+    EXPECT_EQ(roundTrip(c, R"({"command":["stop"]})"), success);
+    EXPECT_EQ(roundTrip(c, R"({"command":["quit"]})"), success);
+    EXPECT_TRUE(machine_.quitRequested());
+    EXPECT_EQ(fake_.calls,
+              (std::vector<std::string>{"open movie.mkv", "startPlayback", "pause", "resume",
+                                        "seek -5 relative", "seek 30 absolute",
+                                        "setStereoMode tab", "setStereoMode mono",
+                                        "setHapticsEnabled off", "setStiffness 900", "recenter",
+                                        "stop"}));
+}
+
+TEST_F(ControlServerTest, eventsReachEveryClient)
+{
+    std::vector<platform::UniqueFd> clients;
+    for (int i = 0; i < 3; ++i)
+        clients.push_back(connectClient());
+    pump();
+    ASSERT_EQ(server_->clientCount(), 3u);
+    ASSERT_TRUE(machine_.execute("play").accepted);
+    ASSERT_TRUE(machine_.onOpened());
+
+    std::vector<json> events;
+    EXPECT_EQ(roundTrip(clients[0], R"({"command":["pause"],"request_id":1})", &events),
+              json({{"error", "success"}, {"request_id", 1}}));
+
+    const std::vector<json> expected = {
+        {{"event", "state"}, {"data", "opening"}},
+        {{"event", "state"}, {"data", "playing"}},
+        {{"event", "state"}, {"data", "paused"}},
+    };
+    EXPECT_EQ(events, expected) << "events before the reply, in order";
+    for (std::size_t i = 1; i < clients.size(); ++i)
+        EXPECT_EQ(readLines(clients[i], 3), expected) << i;
+}
+
+TEST_F(ControlServerTest, oversizedLineIsAnsweredAndTheConnectionKept)
+{
+    platform::UniqueFd c = connectClient();
+    const std::string big = R"({"command":["play",")" + std::string(10000, 'x') + R"("]})";
+    writeAll(c, big + "\n");
+    const std::vector<json> lines = readLines(c, 1);
+    ASSERT_EQ(lines.size(), 1u);
+    EXPECT_EQ(lines[0], json({{"error", "line too long (limit 4096 bytes)"}}));
+    EXPECT_TRUE(fake_.calls.empty());
+    EXPECT_EQ(roundTrip(c, R"({"command":["get","state"]})"),
+              json({{"error", "success"}, {"data", "idle"}}));
+}
+
+TEST_F(ControlServerTest, malformedAndBinaryInputIsAnsweredNeverFatal)
+{
+    platform::UniqueFd c = connectClient();
+    EXPECT_EQ(roundTrip(c, "{\"command\":").value("error", ""), "malformed JSON at byte 12");
+    EXPECT_EQ(roundTrip(c, std::string("\x01\x02\x00\xff\xfe", 5)).value("error", ""),
+              "unknown command '?" "?" "?" "?" "?'");
+    EXPECT_EQ(roundTrip(c, "{\"command\":[\"play\",\"\xc3\x28\"]}").value("error", ""),
+              "malformed JSON at byte 22");
+    EXPECT_EQ(roundTrip(c, R"({"command":["get","state"]})"),
+              json({{"error", "success"}, {"data", "idle"}}));
+    EXPECT_EQ(server_->clientCount(), 1u);
+}
+
+TEST_F(ControlServerTest, clientLeavingMidLineDoesNotDisturbOthers)
+{
+    platform::UniqueFd stay = connectClient();
+    {
+        platform::UniqueFd leave = connectClient();
+        writeAll(leave, R"({"command":["pl)");
+        pump();
+    }
+    pump();
+    EXPECT_EQ(server_->clientCount(), 1u);
+    EXPECT_TRUE(fake_.calls.empty());
+    EXPECT_EQ(roundTrip(stay, "get state"), json({{"error", "success"}, {"data", "idle"}}));
+}
+
+TEST_F(ControlServerTest, manyClientsEachGetTheirOwnReplies)
+{
+    std::vector<platform::UniqueFd> clients;
+    for (int i = 0; i < 12; ++i)
+        clients.push_back(connectClient());
+    pump();
+    EXPECT_EQ(server_->clientCount(), 12u);
+    for (std::size_t i = 0; i < clients.size(); ++i)
+        writeAll(clients[i], R"({"command":["get","url"],"request_id":)" + std::to_string(i) +
+                                 "}\n");
+    for (std::size_t i = 0; i < clients.size(); ++i) {
+        const std::vector<json> lines = readLines(clients[i], 1);
+        ASSERT_EQ(lines.size(), 1u) << i;
+        EXPECT_EQ(lines[0], json({{"error", "success"}, {"data", "movie.mkv"}, {"request_id", i}}));
+    }
+}
+
+TEST_F(ControlServerTest, shutdownRemovesTheSocketFile)
+{
+    struct stat st{};
+    ASSERT_EQ(::lstat(path_.c_str(), &st), 0);
+    EXPECT_EQ(st.st_mode & 0777, 0600u);
+    platform::UniqueFd c = connectClient();
+    pump();
+    server_.reset();
+    EXPECT_NE(::lstat(path_.c_str(), &st), 0);
+    char buf[16];
+    EXPECT_EQ(::recv(c.get(), buf, sizeof buf, 0), 0) << "clients see the connection close";
+    // The machine no longer knows the server: events after it is gone are harmless.
+    EXPECT_TRUE(machine_.execute("play").accepted);
+}
+
+} // namespace
+} // namespace depthtouch::control

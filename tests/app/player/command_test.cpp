@@ -1,0 +1,222 @@
+// Command table and parsing from text and JSON; remote key bindings.
+#include "depthtouch/player/command.h"
+
+#include <set>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "depthtouch/player/key_bindings.h"
+#include "depthtouch/player/state_machine.h"
+
+namespace depthtouch::player {
+namespace {
+
+using nlohmann::json;
+
+TEST(CommandTableTest, oneRowPerCommandWithUniqueNames)
+{
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < commandTable().size(); ++i) {
+        const CommandSpec &spec = commandTable()[i];
+        EXPECT_EQ(static_cast<std::size_t>(spec.id), i);
+        EXPECT_TRUE(names.insert(spec.name).second) << spec.name;
+        EXPECT_NE(spec.validIn, 0) << spec.name;
+        EXPECT_EQ(findCommand(spec.name), &spec);
+        EXPECT_EQ(&commandSpec(spec.id), &spec);
+    }
+    EXPECT_EQ(findCommand("warp"), nullptr);
+    // Only continuous commands may auto-repeat.
+    EXPECT_TRUE(commandSpec(CommandId::Seek).autoRepeat);
+    EXPECT_TRUE(commandSpec(CommandId::Stiffness).autoRepeat);
+    EXPECT_FALSE(commandSpec(CommandId::TogglePause).autoRepeat);
+    EXPECT_FALSE(commandSpec(CommandId::Haptics).autoRepeat);
+    EXPECT_FALSE(commandSpec(CommandId::NextStereoMode).autoRepeat);
+}
+
+TEST(CommandParseTest, textCommands)
+{
+    auto p = parseCommandText("  seek   -12.5 ");
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(p.command->id, CommandId::Seek);
+    EXPECT_EQ(p.command->seconds, -12.5);
+    EXPECT_EQ(p.command->seekMode, SeekMode::Relative);
+
+    p = parseCommandText("seek +30 absolute");
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(p.command->seconds, 30.0);
+    EXPECT_EQ(p.command->seekMode, SeekMode::Absolute);
+
+    p = parseCommandText("play \"my clip.mkv\"");
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(p.command->url, "my clip.mkv");
+
+    p = parseCommandText("haptics OFF");
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(p.command->toggle, Switch::Off);
+
+    p = parseCommandText("stiffness 1200");
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(p.command->stiffnessChange, StiffnessChange::Set);
+    EXPECT_EQ(p.command->stiffness, 1200.0);
+
+    p = parseCommandText("stereo-mode Anaglyph");
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(p.command->stereoMode, StereoMode::Anaglyph);
+
+    p = parseCommandText("get stereo-mode");
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(p.command->property, Property::StereoMode);
+}
+
+TEST(CommandParseTest, badTextIsRejectedWithAReason)
+{
+    const std::pair<const char *, const char *> cases[] = {
+        {"", "empty command"},
+        {"   ", "empty command"},
+        {"warp 9", "unknown command 'warp'"},
+        {"pause now", "pause: takes no arguments"},
+        {"seek", "seek: needs SECONDS [relative|absolute]"},
+        {"seek nan", "seek: 'nan' is not a number of seconds"},
+        {"seek inf", "seek: 'inf' is not a number of seconds"},
+        {"seek 10s", "seek: '10s' is not a number of seconds"},
+        {"seek 1e9", "seek: seconds out of range"},
+        {"seek -3 absolute", "seek: an absolute position cannot be negative"},
+        {"seek 3 sideways", "seek: 'sideways' is neither relative nor absolute"},
+        {"haptics maybe", "haptics: 'maybe' is not on, off or toggle"},
+        {"stiffness -5", "stiffness: '-5' is not +, - or a positive stiffness in N/m"},
+        {"stiffness", "stiffness: needs +, - or a value in N/m"},
+        {"stereo-mode 4d", "stereo-mode: unknown stereo mode '4d' (sbs, tab, anaglyph, mono, "
+                           "interleaved)"},
+        {"get colour", "get: unknown property 'colour' (state, stereo-mode, haptics, stiffness, "
+                       "loop, url, error)"},
+        {"play 'open", "unterminated quote"},
+        {"play a b", "play: takes at most one argument (a file or URL)"},
+    };
+    for (const auto &[text, error] : cases) {
+        const ParsedCommand p = parseCommandText(text);
+        EXPECT_FALSE(p) << text;
+        EXPECT_EQ(p.error, error) << text;
+    }
+}
+
+TEST(CommandParseTest, errorMessagesStayPrintable)
+{
+    const ParsedCommand p = parseCommandText(std::string("seek \x01\xff", 7));
+    ASSERT_FALSE(p);
+    EXPECT_EQ(p.error, "seek: '?" "?' is not a number of seconds");
+}
+
+TEST(CommandParseTest, jsonArrays)
+{
+    auto p = parseCommandJson(json::parse(R"(["seek", 10])"));
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(p.command->seconds, 10.0);
+
+    p = parseCommandJson(json::parse(R"(["seek", -2.25, "relative"])"));
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(p.command->seconds, -2.25);
+
+    p = parseCommandJson(json::parse(R"(["haptics", false])"));
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(p.command->toggle, Switch::Off);
+
+    p = parseCommandJson(json::parse(R"(["stiffness", "+"])"));
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(p.command->stiffnessChange, StiffnessChange::Up);
+
+    p = parseCommandJson(json::parse(R"(["toggle-pause"])"));
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(p.command->id, CommandId::TogglePause);
+}
+
+TEST(CommandParseTest, badJsonIsRejectedWithAReason)
+{
+    const std::pair<const char *, const char *> cases[] = {
+        {R"([])", "command must be a non-empty array, e.g. [\"seek\", 10]"},
+        {R"("pause")", "command must be a non-empty array, e.g. [\"seek\", 10]"},
+        {R"([10])", "the command name must be a string"},
+        {R"(["seek", {"s": 1}])", "argument 1 must be a string, a number or a boolean"},
+        {R"(["seek", null])", "argument 1 must be a string, a number or a boolean"},
+        {R"(["seek", [1]])", "argument 1 must be a string, a number or a boolean"},
+        {R"(["fly"])", "unknown command 'fly'"},
+        {R"(["seek", "ten"])", "seek: 'ten' is not a number of seconds"},
+    };
+    for (const auto &[text, error] : cases) {
+        const ParsedCommand p = parseCommandJson(json::parse(text));
+        EXPECT_FALSE(p) << text;
+        EXPECT_EQ(p.error, error) << text;
+    }
+}
+
+TEST(CommandParseTest, canonicalTextParsesBack)
+{
+    for (const char *text : {"play x.mkv", "seek -10 relative", "seek 5 absolute",
+                             "stereo-mode tab", "haptics off", "loop on", "stiffness +",
+                             "stiffness -", "stiffness 900", "get url", "quit"}) {
+        const ParsedCommand p = parseCommandText(text);
+        ASSERT_TRUE(p) << text;
+        EXPECT_EQ(commandText(*p.command), text);
+    }
+}
+
+TEST(StereoModeTest, namesRoundTripAndCycle)
+{
+    StereoMode m = StereoMode::SideBySide;
+    for (int i = 0; i < 5; ++i) {
+        EXPECT_EQ(stereoModeFromName(stereoModeName(m)), m);
+        m = nextStereoMode(m);
+    }
+    EXPECT_EQ(m, StereoMode::SideBySide);
+    EXPECT_EQ(stereoModeFromName("side-by-side"), StereoMode::SideBySide);
+    EXPECT_EQ(stereoModeFromName("3d"), std::nullopt);
+}
+
+hal::KeyEvent key(hal::Key k, hal::KeyAction a)
+{
+    return {k, a, platform::TimePoint{}};
+}
+
+TEST(KeyBindingsTest, everyBindingParses)
+{
+    std::set<hal::Key> keys;
+    for (const KeyBinding &b : defaultKeyBindings()) {
+        EXPECT_TRUE(parseCommandText(b.command)) << b.command;
+        EXPECT_TRUE(keys.insert(b.key).second) << hal::keyName(b.key) << " bound twice";
+    }
+}
+
+TEST(KeyBindingsTest, pressSendsRepeatOnlyWhereItMakesSense)
+{
+    using A = hal::KeyAction;
+    auto c = commandForKey(key(hal::Key::PlayPause, A::Press));
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->id, CommandId::TogglePause);
+    EXPECT_FALSE(commandForKey(key(hal::Key::PlayPause, A::Repeat))) << "a held toggle repeats";
+    EXPECT_FALSE(commandForKey(key(hal::Key::PlayPause, A::Release)));
+
+    c = commandForKey(key(hal::Key::FastForward, A::Repeat));
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->id, CommandId::Seek);
+    EXPECT_EQ(c->seconds, 10.0);
+    c = commandForKey(key(hal::Key::Left, A::Press));
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->seconds, -10.0);
+    c = commandForKey(key(hal::Key::Down, A::Repeat));
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->id, CommandId::Stiffness);
+    EXPECT_EQ(c->stiffnessChange, StiffnessChange::Down);
+
+    EXPECT_FALSE(commandForKey(key(hal::Key::Mode3d, A::Repeat)));
+    c = commandForKey(key(hal::Key::Mode3d, A::Press));
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->id, CommandId::NextStereoMode);
+    c = commandForKey(key(hal::Key::Exit, A::Press));
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->id, CommandId::Quit);
+    EXPECT_FALSE(commandForKey(key(hal::Key::Digit7, A::Press))) << "unbound key";
+}
+
+} // namespace
+} // namespace depthtouch::player

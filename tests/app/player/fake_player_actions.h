@@ -1,0 +1,77 @@
+#pragma once
+// A PlayerActions that records every call as text and can be told to fail one action.
+
+#include <cstdio>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "depthtouch/player/state_machine.h"
+
+namespace depthtouch::player::test {
+
+class FakePlayerActions final : public PlayerActions {
+public:
+    std::vector<std::string> calls;
+    /// Action name ("open", "pause", ...) → error it returns (every time until erased).
+    std::map<std::string, Error> failures;
+
+    Result<void> open(std::string_view url) override
+    {
+        return record("open", "open " + std::string(url));
+    }
+    Result<void> startPlayback() override { return record("startPlayback", "startPlayback"); }
+    Result<void> pause() override { return record("pause", "pause"); }
+    Result<void> resume() override { return record("resume", "resume"); }
+    Result<void> stop() override { return record("stop", "stop"); }
+    Result<void> seek(double seconds, SeekMode mode) override
+    {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "seek %g %s", seconds,
+                      mode == SeekMode::Absolute ? "absolute" : "relative");
+        return record("seek", buf);
+    }
+    Result<void> setStereoMode(StereoMode mode) override
+    {
+        return record("setStereoMode", std::string("setStereoMode ") + stereoModeName(mode));
+    }
+    Result<void> setHapticsEnabled(bool enabled) override
+    {
+        return record("setHapticsEnabled", enabled ? "setHapticsEnabled on" : "setHapticsEnabled off");
+    }
+    Result<void> setStiffness(double newtonsPerMetre) override
+    {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "setStiffness %g", newtonsPerMetre);
+        return record("setStiffness", buf);
+    }
+    Result<void> recenter() override { return record("recenter", "recenter"); }
+
+private:
+    Result<void> record(const std::string &name, std::string call)
+    {
+        calls.push_back(std::move(call));
+        const auto it = failures.find(name);
+        if (it != failures.end())
+            return unexpected(it->second);
+        return ok();
+    }
+};
+
+/// Records the events of a StateMachine.
+class RecordingListener final : public PlayerListener {
+public:
+    std::vector<PlayerEvent> events;
+    void onPlayerEvent(const PlayerEvent &event) override { events.push_back(event); }
+
+    [[nodiscard]] std::vector<std::string> names() const
+    {
+        std::vector<std::string> out;
+        for (const PlayerEvent &e : events)
+            out.emplace_back(playerEventName(e.kind));
+        return out;
+    }
+};
+
+} // namespace depthtouch::player::test

@@ -1,0 +1,586 @@
+// The player state machine: every command in every state (table-driven), failures, end of stream.
+#include "depthtouch/player/state_machine.h"
+
+#include <set>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "app/player/fake_player_actions.h"
+
+namespace depthtouch::player {
+namespace {
+
+using test::FakePlayerActions;
+using test::RecordingListener;
+
+using S = PlayerState;
+
+constexpr const char *kUrl = "movie.mkv";
+
+PlayerSettings defaultSettings()
+{
+    PlayerSettings s;
+    s.url = kUrl;
+    s.stiffness = 800.0;
+    s.range = {100.0, 3000.0, 100.0};
+    return s;
+}
+
+/// Drives \a m (on \a fake) into \a target through the public API, then clears the record.
+void reach(StateMachine &m, FakePlayerActions &fake, PlayerState target)
+{
+    switch (target) {
+    case S::Idle:
+        break;
+    case S::Opening:
+        ASSERT_TRUE(m.execute("play").accepted);
+        break;
+    case S::Playing:
+        ASSERT_TRUE(m.execute("play").accepted);
+        ASSERT_TRUE(m.onOpened());
+        break;
+    case S::Paused:
+        reach(m, fake, S::Playing);
+        ASSERT_TRUE(m.execute("pause").accepted);
+        break;
+    case S::Stopped:
+        reach(m, fake, S::Playing);
+        ASSERT_TRUE(m.execute("stop").accepted);
+        break;
+    case S::Error:
+        reach(m, fake, S::Playing);
+        ASSERT_TRUE(m.onFailure("decoder lost"));
+        break;
+    }
+    ASSERT_EQ(m.state(), target);
+    fake.calls.clear();
+}
+
+struct Row {
+    PlayerState from;
+    const char *command;
+    bool accepted;
+    PlayerState to;
+    const char *call; ///< The one PlayerActions call expected, or "" for none.
+};
+
+// The specification: every command (one representative text per table row) in every state.
+const std::vector<Row> kRows = {
+    // Idle
+    {S::Idle, "play", true, S::Opening, "open movie.mkv"},
+    {S::Idle, "pause", false, S::Idle, ""},
+    {S::Idle, "toggle-pause", true, S::Opening, "open movie.mkv"},
+    {S::Idle, "stop", false, S::Idle, ""},
+    {S::Idle, "seek 10", false, S::Idle, ""},
+    {S::Idle, "next-stereo-mode", true, S::Idle, "setStereoMode tab"},
+    {S::Idle, "stereo-mode anaglyph", true, S::Idle, "setStereoMode anaglyph"},
+    {S::Idle, "haptics off", true, S::Idle, "setHapticsEnabled off"},
+    {S::Idle, "stiffness +", true, S::Idle, "setStiffness 900"},
+    {S::Idle, "recenter", false, S::Idle, ""},
+    {S::Idle, "loop on", true, S::Idle, ""},
+    {S::Idle, "quit", true, S::Idle, ""},
+    {S::Idle, "get state", true, S::Idle, ""},
+    // Opening
+    {S::Opening, "play", false, S::Opening, ""},
+    {S::Opening, "pause", false, S::Opening, ""},
+    {S::Opening, "toggle-pause", false, S::Opening, ""},
+    {S::Opening, "stop", true, S::Stopped, "stop"},
+    {S::Opening, "seek 10", false, S::Opening, ""},
+    {S::Opening, "next-stereo-mode", true, S::Opening, "setStereoMode tab"},
+    {S::Opening, "stereo-mode anaglyph", true, S::Opening, "setStereoMode anaglyph"},
+    {S::Opening, "haptics off", true, S::Opening, "setHapticsEnabled off"},
+    {S::Opening, "stiffness +", true, S::Opening, "setStiffness 900"},
+    {S::Opening, "recenter", false, S::Opening, ""},
+    {S::Opening, "loop on", true, S::Opening, ""},
+    {S::Opening, "quit", true, S::Stopped, "stop"},
+    {S::Opening, "get state", true, S::Opening, ""},
+    // Playing
+    {S::Playing, "play", false, S::Playing, ""},
+    {S::Playing, "pause", true, S::Paused, "pause"},
+    {S::Playing, "toggle-pause", true, S::Paused, "pause"},
+    {S::Playing, "stop", true, S::Stopped, "stop"},
+    {S::Playing, "seek 10", true, S::Playing, "seek 10 relative"},
+    {S::Playing, "next-stereo-mode", true, S::Playing, "setStereoMode tab"},
+    {S::Playing, "stereo-mode anaglyph", true, S::Playing, "setStereoMode anaglyph"},
+    {S::Playing, "haptics off", true, S::Playing, "setHapticsEnabled off"},
+    {S::Playing, "stiffness +", true, S::Playing, "setStiffness 900"},
+    {S::Playing, "recenter", true, S::Playing, "recenter"},
+    {S::Playing, "loop on", true, S::Playing, ""},
+    {S::Playing, "quit", true, S::Stopped, "stop"},
+    {S::Playing, "get state", true, S::Playing, ""},
+    // Paused
+    {S::Paused, "play", true, S::Playing, "resume"},
+    {S::Paused, "pause", false, S::Paused, ""},
+    {S::Paused, "toggle-pause", true, S::Playing, "resume"},
+    {S::Paused, "stop", true, S::Stopped, "stop"},
+    {S::Paused, "seek 10", true, S::Paused, "seek 10 relative"},
+    {S::Paused, "next-stereo-mode", true, S::Paused, "setStereoMode tab"},
+    {S::Paused, "stereo-mode anaglyph", true, S::Paused, "setStereoMode anaglyph"},
+    {S::Paused, "haptics off", true, S::Paused, "setHapticsEnabled off"},
+    {S::Paused, "stiffness +", true, S::Paused, "setStiffness 900"},
+    {S::Paused, "recenter", true, S::Paused, "recenter"},
+    {S::Paused, "loop on", true, S::Paused, ""},
+    {S::Paused, "quit", true, S::Stopped, "stop"},
+    {S::Paused, "get state", true, S::Paused, ""},
+    // Stopped
+    {S::Stopped, "play", true, S::Opening, "open movie.mkv"},
+    {S::Stopped, "pause", false, S::Stopped, ""},
+    {S::Stopped, "toggle-pause", true, S::Opening, "open movie.mkv"},
+    {S::Stopped, "stop", false, S::Stopped, ""},
+    {S::Stopped, "seek 10", false, S::Stopped, ""},
+    {S::Stopped, "next-stereo-mode", true, S::Stopped, "setStereoMode tab"},
+    {S::Stopped, "stereo-mode anaglyph", true, S::Stopped, "setStereoMode anaglyph"},
+    {S::Stopped, "haptics off", true, S::Stopped, "setHapticsEnabled off"},
+    {S::Stopped, "stiffness +", true, S::Stopped, "setStiffness 900"},
+    {S::Stopped, "recenter", false, S::Stopped, ""},
+    {S::Stopped, "loop on", true, S::Stopped, ""},
+    {S::Stopped, "quit", true, S::Stopped, ""},
+    {S::Stopped, "get state", true, S::Stopped, ""},
+    // Error
+    {S::Error, "play", true, S::Opening, "open movie.mkv"},
+    {S::Error, "pause", false, S::Error, ""},
+    {S::Error, "toggle-pause", true, S::Opening, "open movie.mkv"},
+    {S::Error, "stop", true, S::Stopped, "stop"},
+    {S::Error, "seek 10", false, S::Error, ""},
+    {S::Error, "next-stereo-mode", false, S::Error, ""},
+    {S::Error, "stereo-mode anaglyph", false, S::Error, ""},
+    {S::Error, "haptics off", false, S::Error, ""},
+    {S::Error, "stiffness +", false, S::Error, ""},
+    {S::Error, "recenter", false, S::Error, ""},
+    {S::Error, "loop on", true, S::Error, ""},
+    {S::Error, "quit", true, S::Error, ""},
+    {S::Error, "get state", true, S::Error, ""},
+};
+
+std::string rowName(const Row &r)
+{
+    return std::string(playerStateName(r.from)) + " + '" + r.command + "'";
+}
+
+TEST(StateMachineTest, specificationCoversEveryCommandInEveryState)
+{
+    std::set<std::pair<int, int>> covered;
+    for (const Row &r : kRows) {
+        const ParsedCommand p = parseCommandText(r.command);
+        ASSERT_TRUE(p) << r.command << ": " << p.error;
+        covered.insert({static_cast<int>(r.from), static_cast<int>(p.command->id)});
+    }
+    EXPECT_EQ(covered.size(), kPlayerStateCount * commandTable().size());
+    EXPECT_EQ(kRows.size(), covered.size()) << "a (state, command) pair is listed twice";
+}
+
+TEST(StateMachineTest, everyCommandInEveryStateFollowsTheSpecification)
+{
+    for (const Row &r : kRows) {
+        SCOPED_TRACE(rowName(r));
+        // GIVEN a machine in the row's state
+        FakePlayerActions fake;
+        StateMachine m(fake, defaultSettings());
+        reach(m, fake, r.from);
+        RecordingListener listener;
+        m.addListener(&listener);
+        const StereoMode stereoBefore = m.stereoMode();
+        const bool hapticsBefore = m.hapticsEnabled();
+        const double stiffnessBefore = m.stiffness();
+        const bool loopBefore = m.loop();
+        EXPECT_EQ(m.isValid(parseCommandText(r.command).command->id), r.accepted);
+
+        // WHEN the command is executed
+        const CommandOutcome out = m.execute(r.command);
+
+        // THEN it is accepted or refused as specified, with the specified effect
+        EXPECT_EQ(out.accepted, r.accepted) << out.reason;
+        EXPECT_EQ(m.state(), r.to);
+        if (std::string(r.call).empty()) {
+            EXPECT_TRUE(fake.calls.empty()) << fake.calls.front();
+        } else {
+            EXPECT_EQ(fake.calls, std::vector<std::string>{r.call});
+        }
+        if (!r.accepted) {
+            EXPECT_FALSE(out.reason.empty());
+            EXPECT_TRUE(listener.events.empty()) << "a refused command emitted an event";
+            EXPECT_EQ(m.stereoMode(), stereoBefore);
+            EXPECT_EQ(m.hapticsEnabled(), hapticsBefore);
+            EXPECT_EQ(m.stiffness(), stiffnessBefore);
+            EXPECT_EQ(m.loop(), loopBefore);
+            EXPECT_FALSE(m.quitRequested());
+        } else {
+            EXPECT_TRUE(out.reason.empty());
+        }
+        if (r.to != r.from) {
+            ASSERT_FALSE(listener.events.empty());
+            bool sawState = false;
+            for (const PlayerEvent &e : listener.events)
+                sawState |= e.kind == PlayerEventKind::StateChanged && e.state == r.to;
+            EXPECT_TRUE(sawState);
+        }
+    }
+}
+
+TEST(StateMachineTest, refusalsGiveAReason)
+{
+    FakePlayerActions fake;
+    StateMachine m(fake, defaultSettings());
+    EXPECT_EQ(m.execute("pause").reason, "cannot pause while idle");
+    reach(m, fake, S::Playing);
+    EXPECT_EQ(m.execute("play").reason, "already playing");
+    ASSERT_TRUE(m.execute("pause").accepted);
+    fake.calls.clear();
+    EXPECT_EQ(m.execute("pause").reason, "already paused");
+    EXPECT_EQ(m.execute("warp 9").reason, "unknown command 'warp'");
+    EXPECT_EQ(m.execute("seek fast").reason, "seek: 'fast' is not a number of seconds");
+    EXPECT_TRUE(fake.calls.empty());
+}
+
+TEST(StateMachineTest, seekWhilePausedStaysPaused)
+{
+    FakePlayerActions fake;
+    StateMachine m(fake, defaultSettings());
+    reach(m, fake, S::Paused);
+    RecordingListener listener;
+    m.addListener(&listener);
+
+    EXPECT_TRUE(m.execute("seek -5").accepted);
+    EXPECT_TRUE(m.execute("seek 42 absolute").accepted);
+
+    EXPECT_EQ(m.state(), S::Paused);
+    EXPECT_EQ(fake.calls,
+              (std::vector<std::string>{"seek -5 relative", "seek 42 absolute"}));
+    EXPECT_EQ(listener.names(), (std::vector<std::string>{"seek", "seek"}));
+}
+
+TEST(StateMachineTest, failingActionMovesToErrorWithTheReason)
+{
+    struct Case {
+        PlayerState from;
+        const char *command;
+        const char *action;
+        const char *reason;
+    };
+    const Case cases[] = {
+        {S::Playing, "pause", "pause", "pause failed: USB stalled"},
+        {S::Paused, "toggle-pause", "resume", "resume failed: USB stalled"},
+        {S::Playing, "seek 10", "seek", "seek failed: USB stalled"},
+        {S::Playing, "stop", "stop", "stop failed: USB stalled"},
+        {S::Playing, "haptics toggle", "setHapticsEnabled", "haptics failed: USB stalled"},
+        {S::Playing, "recenter", "recenter", "recenter failed: USB stalled"},
+        {S::Idle, "play", "open", "open failed: USB stalled"},
+        {S::Paused, "stiffness -", "setStiffness", "stiffness failed: USB stalled"},
+        {S::Playing, "next-stereo-mode", "setStereoMode", "stereo mode failed: USB stalled"},
+    };
+    for (const Case &c : cases) {
+        SCOPED_TRACE(c.command);
+        FakePlayerActions fake;
+        StateMachine m(fake, defaultSettings());
+        reach(m, fake, c.from);
+        RecordingListener listener;
+        m.addListener(&listener);
+        const StereoMode stereoBefore = m.stereoMode();
+        const bool hapticsBefore = m.hapticsEnabled();
+        const double stiffnessBefore = m.stiffness();
+        fake.failures[c.action] = Error(Errc::Io, "USB stalled");
+
+        const CommandOutcome out = m.execute(c.command);
+
+        EXPECT_FALSE(out.accepted);
+        EXPECT_EQ(out.reason, c.reason);
+        EXPECT_EQ(m.state(), S::Error);
+        EXPECT_EQ(m.errorReason(), c.reason);
+        EXPECT_EQ(listener.names(), (std::vector<std::string>{"error", "state"}));
+        EXPECT_EQ(listener.events.front().message, c.reason);
+        // The setting the failed action was meant to change is not taken.
+        EXPECT_EQ(m.stereoMode(), stereoBefore);
+        EXPECT_EQ(m.hapticsEnabled(), hapticsBefore);
+        EXPECT_EQ(m.stiffness(), stiffnessBefore);
+        EXPECT_EQ(m.execute("get error").data, Value(std::string(c.reason)));
+    }
+}
+
+TEST(StateMachineTest, actionRefusalRefusesTheCommandAndChangesNothing)
+{
+    FakePlayerActions fake;
+    StateMachine m(fake, defaultSettings());
+    reach(m, fake, S::Playing);
+    RecordingListener listener;
+    m.addListener(&listener);
+    fake.failures["setStereoMode"] = Error(Errc::NotSupported, "display cannot interleave");
+
+    const CommandOutcome out = m.execute("stereo-mode interleaved");
+
+    EXPECT_FALSE(out.accepted);
+    EXPECT_EQ(out.reason, "stereo mode refused: display cannot interleave");
+    EXPECT_EQ(m.state(), S::Playing);
+    EXPECT_EQ(m.stereoMode(), StereoMode::SideBySide);
+    EXPECT_TRUE(listener.events.empty());
+}
+
+TEST(StateMachineTest, openingCompletesOrFails)
+{
+    FakePlayerActions fake;
+    StateMachine m(fake, defaultSettings());
+    EXPECT_FALSE(m.onOpened()) << "not opening";
+    EXPECT_TRUE(fake.calls.empty());
+
+    ASSERT_TRUE(m.execute("play other.mkv").accepted);
+    EXPECT_EQ(m.url(), "other.mkv");
+    EXPECT_TRUE(m.onOpened());
+    EXPECT_EQ(m.state(), S::Playing);
+    EXPECT_EQ(fake.calls, (std::vector<std::string>{"open other.mkv", "startPlayback"}));
+
+    // A second file while paused must be stopped first.
+    ASSERT_TRUE(m.execute("pause").accepted);
+    EXPECT_EQ(m.execute("play third.mkv").reason, "stop before opening another file");
+    EXPECT_EQ(m.state(), S::Paused);
+
+    FakePlayerActions fake2;
+    StateMachine failing(fake2, defaultSettings());
+    ASSERT_TRUE(failing.execute("play").accepted);
+    EXPECT_TRUE(failing.onOpenFailed("no depth stream"));
+    EXPECT_EQ(failing.state(), S::Error);
+    EXPECT_EQ(failing.errorReason(), "open failed: no depth stream");
+    EXPECT_FALSE(failing.onOpenFailed("late")) << "not opening any more";
+
+    FakePlayerActions fake3;
+    StateMachine noStart(fake3, defaultSettings());
+    ASSERT_TRUE(noStart.execute("play").accepted);
+    fake3.failures["startPlayback"] = Error(Errc::Busy, "display busy");
+    EXPECT_TRUE(noStart.onOpened());
+    EXPECT_EQ(noStart.state(), S::Error) << "a refused start cannot leave it opening for ever";
+}
+
+TEST(StateMachineTest, playWithoutUrlIsRefused)
+{
+    FakePlayerActions fake;
+    StateMachine m(fake, PlayerSettings{});
+    EXPECT_EQ(m.execute("play").reason, "no file or URL to play");
+    EXPECT_EQ(m.execute("toggle-pause").reason, "no file or URL to play");
+    EXPECT_EQ(m.state(), S::Idle);
+    EXPECT_TRUE(fake.calls.empty());
+}
+
+TEST(StateMachineTest, endOfStreamWithoutLoopStops)
+{
+    FakePlayerActions fake;
+    StateMachine m(fake, defaultSettings());
+    reach(m, fake, S::Playing);
+    RecordingListener listener;
+    m.addListener(&listener);
+
+    EXPECT_TRUE(m.onEndOfStream());
+
+    EXPECT_EQ(m.state(), S::Stopped);
+    EXPECT_EQ(fake.calls, std::vector<std::string>{"stop"});
+    EXPECT_EQ(listener.names(), (std::vector<std::string>{"end-file", "state"}));
+    EXPECT_EQ(listener.events.front().message, "eof");
+    // A late second notification changes nothing.
+    EXPECT_FALSE(m.onEndOfStream());
+    EXPECT_EQ(fake.calls.size(), 1u);
+}
+
+TEST(StateMachineTest, endOfStreamWithLoopSeeksToTheStart)
+{
+    PlayerSettings settings = defaultSettings();
+    settings.loop = true;
+    FakePlayerActions fake;
+    StateMachine m(fake, settings);
+    reach(m, fake, S::Playing);
+    RecordingListener listener;
+    m.addListener(&listener);
+
+    EXPECT_TRUE(m.onEndOfStream());
+    EXPECT_TRUE(m.onEndOfStream());
+
+    EXPECT_EQ(m.state(), S::Playing);
+    EXPECT_EQ(fake.calls, (std::vector<std::string>{"seek 0 absolute", "seek 0 absolute"}));
+    EXPECT_EQ(listener.names(), (std::vector<std::string>{"end-file", "end-file"}));
+    EXPECT_EQ(listener.events.front().message, "loop");
+
+    // WHEN looping is switched off at run time THEN the next end stops
+    ASSERT_TRUE(m.execute("loop off").accepted);
+    EXPECT_TRUE(m.onEndOfStream());
+    EXPECT_EQ(m.state(), S::Stopped);
+}
+
+TEST(StateMachineTest, endOfStreamIsIgnoredWhenNotPlaying)
+{
+    for (PlayerState s : {S::Idle, S::Opening, S::Stopped, S::Error}) {
+        FakePlayerActions fake;
+        StateMachine m(fake, defaultSettings());
+        reach(m, fake, s);
+        EXPECT_FALSE(m.onEndOfStream()) << playerStateName(s);
+        EXPECT_EQ(m.state(), s);
+        EXPECT_TRUE(fake.calls.empty());
+    }
+}
+
+TEST(StateMachineTest, loopSeekFailureIsAnError)
+{
+    PlayerSettings settings = defaultSettings();
+    settings.loop = true;
+    FakePlayerActions fake;
+    StateMachine m(fake, settings);
+    reach(m, fake, S::Playing);
+    fake.failures["seek"] = Error(Errc::Io, "demuxer cannot seek");
+    EXPECT_TRUE(m.onEndOfStream());
+    EXPECT_EQ(m.state(), S::Error);
+    EXPECT_EQ(m.errorReason(), "loop seek failed: demuxer cannot seek");
+}
+
+TEST(StateMachineTest, failureNotificationOnlyWhileActive)
+{
+    FakePlayerActions fake;
+    StateMachine m(fake, defaultSettings());
+    EXPECT_FALSE(m.onFailure("haptic device unplugged"));
+    EXPECT_EQ(m.state(), S::Idle);
+    reach(m, fake, S::Paused);
+    EXPECT_TRUE(m.onFailure("haptic device unplugged"));
+    EXPECT_EQ(m.state(), S::Error);
+    EXPECT_EQ(m.errorReason(), "haptic device unplugged");
+}
+
+TEST(StateMachineTest, stereoModeCyclesThroughEveryMode)
+{
+    FakePlayerActions fake;
+    StateMachine m(fake, defaultSettings());
+    RecordingListener listener;
+    m.addListener(&listener);
+    std::vector<std::string> seen;
+    for (int i = 0; i < 5; ++i) {
+        ASSERT_TRUE(m.execute("next-stereo-mode").accepted);
+        seen.emplace_back(stereoModeName(m.stereoMode()));
+    }
+    EXPECT_EQ(seen, (std::vector<std::string>{"tab", "anaglyph", "mono", "interleaved", "sbs"}));
+    EXPECT_EQ(listener.events.size(), 5u);
+    EXPECT_EQ(listener.events.back().stereoMode, StereoMode::SideBySide);
+    // Setting the current mode is accepted and does nothing.
+    fake.calls.clear();
+    EXPECT_TRUE(m.execute("stereo-mode sbs").accepted);
+    EXPECT_TRUE(fake.calls.empty());
+}
+
+TEST(StateMachineTest, stiffnessStepsAreClampedToTheRange)
+{
+    PlayerSettings settings = defaultSettings();
+    settings.range = {200.0, 1000.0, 300.0};
+    settings.stiffness = 800.0;
+    FakePlayerActions fake;
+    StateMachine m(fake, settings);
+
+    EXPECT_TRUE(m.execute("stiffness +").accepted);
+    EXPECT_EQ(m.stiffness(), 1000.0) << "800 + 300 clamps to the maximum";
+    const CommandOutcome atMax = m.execute("stiffness +");
+    EXPECT_FALSE(atMax.accepted);
+    EXPECT_EQ(atMax.reason, "stiffness already at its maximum, 1000 N/m");
+    EXPECT_FALSE(m.execute("stiffness 5000").accepted);
+    EXPECT_FALSE(m.execute("stiffness 150").accepted);
+    EXPECT_TRUE(m.execute("stiffness -").accepted);
+    EXPECT_TRUE(m.execute("stiffness -").accepted);
+    EXPECT_TRUE(m.execute("stiffness -").accepted);
+    EXPECT_EQ(m.stiffness(), 200.0);
+    EXPECT_FALSE(m.execute("stiffness down").accepted);
+    EXPECT_TRUE(m.execute("stiffness 450").accepted);
+    EXPECT_EQ(fake.calls, (std::vector<std::string>{"setStiffness 1000", "setStiffness 700",
+                                                    "setStiffness 400", "setStiffness 200",
+                                                    "setStiffness 450"}));
+    EXPECT_EQ(m.execute("get stiffness").data, Value(450.0));
+}
+
+TEST(StateMachineTest, initialStiffnessIsClamped)
+{
+    PlayerSettings settings = defaultSettings();
+    settings.range = {100.0, 500.0, 50.0};
+    settings.stiffness = 9000.0;
+    FakePlayerActions fake;
+    StateMachine m(fake, settings);
+    EXPECT_EQ(m.stiffness(), 500.0);
+}
+
+TEST(StateMachineTest, hapticsSwitch)
+{
+    FakePlayerActions fake;
+    StateMachine m(fake, defaultSettings());
+    EXPECT_TRUE(m.execute("haptics on").accepted) << "already on: accepted, nothing to do";
+    EXPECT_TRUE(fake.calls.empty());
+    EXPECT_TRUE(m.execute("haptics toggle").accepted);
+    EXPECT_FALSE(m.hapticsEnabled());
+    EXPECT_TRUE(m.execute("haptics").accepted);
+    EXPECT_TRUE(m.hapticsEnabled());
+    EXPECT_EQ(fake.calls, (std::vector<std::string>{"setHapticsEnabled off",
+                                                    "setHapticsEnabled on"}));
+}
+
+TEST(StateMachineTest, afterQuitEveryCommandIsRefused)
+{
+    FakePlayerActions fake;
+    StateMachine m(fake, defaultSettings());
+    reach(m, fake, S::Playing);
+    RecordingListener listener;
+    m.addListener(&listener);
+    ASSERT_TRUE(m.execute("quit").accepted);
+    EXPECT_TRUE(m.quitRequested());
+    EXPECT_EQ(listener.names(), (std::vector<std::string>{"state", "shutdown"}));
+    fake.calls.clear();
+    for (const CommandSpec &spec : commandTable()) {
+        EXPECT_FALSE(m.isValid(spec.id)) << spec.name;
+        Command command;
+        command.id = spec.id;
+        EXPECT_EQ(m.execute(command).reason, "the player is quitting") << spec.name;
+    }
+    EXPECT_TRUE(fake.calls.empty());
+}
+
+TEST(StateMachineTest, quitStillQuitsWhenStopFails)
+{
+    FakePlayerActions fake;
+    StateMachine m(fake, defaultSettings());
+    reach(m, fake, S::Playing);
+    fake.failures["stop"] = Error(Errc::Io, "device gone");
+    EXPECT_TRUE(m.execute("quit").accepted);
+    EXPECT_TRUE(m.quitRequested());
+    EXPECT_EQ(m.state(), S::Error);
+    EXPECT_EQ(m.errorReason(), "stop failed: device gone");
+}
+
+TEST(StateMachineTest, listenerCannotSendCommands)
+{
+    struct Reentrant final : PlayerListener {
+        StateMachine *machine = nullptr;
+        std::vector<CommandOutcome> outcomes;
+        void onPlayerEvent(const PlayerEvent &) override
+        {
+            outcomes.push_back(machine->execute("stop"));
+        }
+    };
+    FakePlayerActions fake;
+    StateMachine m(fake, defaultSettings());
+    reach(m, fake, S::Playing);
+    Reentrant listener;
+    listener.machine = &m;
+    m.addListener(&listener);
+    ASSERT_TRUE(m.execute("pause").accepted);
+    ASSERT_EQ(listener.outcomes.size(), 1u);
+    EXPECT_FALSE(listener.outcomes.front().accepted);
+    EXPECT_EQ(m.state(), S::Paused);
+    EXPECT_EQ(fake.calls, std::vector<std::string>{"pause"});
+    m.removeListener(&listener);
+    ASSERT_TRUE(m.execute("play").accepted);
+    EXPECT_EQ(listener.outcomes.size(), 1u) << "removed listeners hear nothing";
+}
+
+TEST(StateMachineTest, queriesReturnTheSettings)
+{
+    FakePlayerActions fake;
+    StateMachine m(fake, defaultSettings());
+    ASSERT_TRUE(m.execute("stereo-mode tab").accepted);
+    EXPECT_EQ(m.execute("get state").data, Value(std::string("idle")));
+    EXPECT_EQ(m.execute("get stereo-mode").data, Value(std::string("tab")));
+    EXPECT_EQ(m.execute("get haptics").data, Value(true));
+    EXPECT_EQ(m.execute("get stiffness").data, Value(800.0));
+    EXPECT_EQ(m.execute("get loop").data, Value(false));
+    EXPECT_EQ(m.execute("get url").data, Value(std::string(kUrl)));
+}
+
+} // namespace
+} // namespace depthtouch::player
