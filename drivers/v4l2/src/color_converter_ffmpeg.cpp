@@ -115,7 +115,8 @@ public:
             return unexpected(Errc::Io, "Failed to decode the MJPEG buffer");
         Result<void> r = ok();
         bool fullRange = false;
-        const AVPixelFormat src = plainFormat(static_cast<AVPixelFormat>(frame_->format), fullRange);
+        const AVPixelFormat src =
+            plainFormat(static_cast<AVPixelFormat>(frame_->format), fullRange);
         if (frame_->width != width_ || frame_->height != height_ ||
             (frame_->decode_error_flags != 0))
             r = unexpected(Errc::Io, "MJPEG buffer has the wrong size or is damaged");
@@ -130,9 +131,9 @@ public:
 private:
     bool scaler(AVPixelFormat src, bool fullRange) noexcept
     {
-        SwsContext *s = sws_getCachedContext(sws_.release(), width_, height_, src, width_, height_,
-                                             AV_PIX_FMT_RGB24, SWS_BILINEAR, nullptr, nullptr,
-                                             nullptr);
+        SwsContext *s =
+            sws_getCachedContext(sws_.release(), width_, height_, src, width_, height_,
+                                 AV_PIX_FMT_RGB24, SWS_BILINEAR, nullptr, nullptr, nullptr);
         sws_.reset(s);
         if (s == nullptr)
             return false;

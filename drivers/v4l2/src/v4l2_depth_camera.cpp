@@ -97,8 +97,10 @@ Result<V4l2CameraSettings> V4l2CameraSettings::parse(const hal::BackendConfig &c
     const hal::OptionList &o = cfg.options;
     const std::string_view unknown = o.firstUnknownKey(kOptionKeys, std::size(kOptionKeys));
     if (!unknown.empty()) {
-        DT_LOG(V4l2, Error, "Unknown v4l2 depth camera option '%.*s' (known: device, color, pool, "
-               "buffers, hfov)", static_cast<int>(unknown.size()), unknown.data());
+        DT_LOG(V4l2, Error,
+               "Unknown v4l2 depth camera option '%.*s' (known: device, color, pool, "
+               "buffers, hfov)",
+               static_cast<int>(unknown.size()), unknown.data());
         return unexpected(Errc::InvalidArgument, "Unknown v4l2 depth camera option");
     }
     V4l2CameraSettings s;
@@ -192,6 +194,8 @@ struct V4l2DepthCamera::Impl {
     /// A matched color buffer, or nullopt when the depth buffer has no partner.
     Result<std::optional<Dequeued>> pairColor(platform::TimePoint depthTime, hal::Deadline until);
     void dropReady() noexcept;
+    /// Sets the nodes' formats, the converter and the pools for mode \a mode of caps.
+    Result<void> applyConfig(const hal::CameraConfig &cfg, std::size_t mode);
     Result<hal::Capture> deliver(const Dequeued &d, const std::optional<Dequeued> &c);
     void convertDepth(const std::uint8_t *src, hal::Frame &out) const noexcept;
     [[nodiscard]] bool colorActive() const noexcept { return color.active; }
@@ -230,8 +234,10 @@ Result<void> V4l2DepthCamera::Impl::buildModes()
                 mjpegOnly = colorFourccs.empty();
         }
         if (mjpegOnly) {
-            DT_LOG(V4l2, Error, "Color node %s offers MJPEG only, and this build has no FFmpeg to "
-                   "decode it (configure with DT_WITH_FFMPEG)", color.path.c_str());
+            DT_LOG(V4l2, Error,
+                   "Color node %s offers MJPEG only, and this build has no FFmpeg to "
+                   "decode it (configure with DT_WITH_FFMPEG)",
+                   color.path.c_str());
             return unexpected(Errc::NotSupported,
                               "MJPEG color needs the FFmpeg feature to decode it");
         }
@@ -322,7 +328,8 @@ Result<void> V4l2DepthCamera::Impl::applyFormat(Node &n)
     if (const int err = v4l2Ioctl(*dev, n.fd.get(), VIDIOC_S_FMT, &f); err != 0)
         return fail(n, err, "Failed to set the V4L2 format");
     // S_FMT never refuses: the driver adjusts to what it can do, so check what it chose.
-    if (f.fmt.pix.pixelformat != n.fourcc || f.fmt.pix.width != static_cast<std::uint32_t>(n.width) ||
+    if (f.fmt.pix.pixelformat != n.fourcc ||
+        f.fmt.pix.width != static_cast<std::uint32_t>(n.width) ||
         f.fmt.pix.height != static_cast<std::uint32_t>(n.height)) {
         char want[5];
         char got[5];
@@ -607,7 +614,7 @@ void V4l2DepthCamera::Impl::convertDepth(const std::uint8_t *src, hal::Frame &ou
 }
 
 Result<hal::Capture> V4l2DepthCamera::Impl::deliver(const Dequeued &d,
-                                                     const std::optional<Dequeued> &c)
+                                                    const std::optional<Dequeued> &c)
 {
     std::uint32_t depthSlot = 0;
     std::uint32_t colorSlot = 0;
@@ -618,7 +625,8 @@ Result<hal::Capture> V4l2DepthCamera::Impl::deliver(const Dequeued &d,
     if (cf != nullptr) {
         const auto *src = static_cast<const std::uint8_t *>(color.buffers[c->index].data);
         if (config.colorFormat == hal::PixelFormat::Yuyv) {
-            const auto rowBytes = static_cast<std::size_t>(cf->image.planes[0].strideBytes);
+            const auto rowBytes = std::min<std::size_t>(
+                static_cast<std::size_t>(cf->image.planes[0].strideBytes), color.bytesPerLine);
             for (int y = 0; y < color.height; ++y)
                 std::memcpy(cf->image.row(0, y),
                             src + static_cast<std::size_t>(y) * color.bytesPerLine, rowBytes);
@@ -660,6 +668,53 @@ Result<hal::Capture> V4l2DepthCamera::Impl::deliver(const Dequeued &d,
     return out;
 }
 
+Result<void> V4l2DepthCamera::Impl::applyConfig(const hal::CameraConfig &cfg, std::size_t mode)
+{
+    const ModeSource src = modeSources[mode];
+    // The depth node always streams: it paces the captures and stamps their time.
+    depth.fourcc = src.depthFourcc;
+    depth.width = cfg.width;
+    depth.height = cfg.height;
+    depth.fps = cfg.fps;
+    depth.active = true;
+    DT_TRY(applyFormat(depth));
+    color.active = cfg.color;
+    converter.reset();
+    if (cfg.color) {
+        color.fourcc = src.colorFourcc;
+        color.width = cfg.width;
+        color.height = cfg.height;
+        color.fps = cfg.fps;
+        DT_TRY(applyFormat(color));
+        if (cfg.colorFormat == hal::PixelFormat::Rgb24) {
+            auto conv = v4l2::makeColorConverter(src.colorFourcc, cfg.width, cfg.height);
+            if (!conv)
+                return unexpected(conv.error());
+            converter = std::move(*conv);
+        }
+    }
+    const hal::PixelFormat depthOut = cfg.depth ? cfg.depthFormat : caps.modes[mode].depthFormat;
+    if (depthOut == hal::PixelFormat::Gray16 && src.depthFourcc != V4L2_PIX_FMT_GREY) {
+        const double nearMm = (cfg.nearMetres > 0.0 ? cfg.nearMetres : 0.3) * 1000.0;
+        const double farMm = (cfg.farMetres > nearMm / 1000.0 ? cfg.farMetres * 1000.0 : 3000.0);
+        nearnessLut.assign(65536, 0);
+        for (std::size_t mm = 1; mm < nearnessLut.size(); ++mm) {
+            const double v =
+                (1.0 / static_cast<double>(mm) - 1.0 / farMm) / (1.0 / nearMm - 1.0 / farMm);
+            nearnessLut[mm] =
+                static_cast<std::uint16_t>(std::lround(std::clamp(v, 0.0, 1.0) * 65535.0));
+        }
+    }
+    // Depth frames are always converted (they pace and stamp the captures); without the depth
+    // stream they are simply not lent.
+    DT_TRY(depthPool.allocate(settings.poolFrames, depthOut, cfg.width, cfg.height));
+    DT_TRY(colorPool.allocate(cfg.color ? settings.poolFrames : 0, cfg.colorFormat, cfg.width,
+                              cfg.height));
+    config = cfg;
+    config.depthFormat = depthOut;
+    return ok();
+}
+
 V4l2DepthCamera::V4l2DepthCamera(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 
 V4l2DepthCamera::~V4l2DepthCamera()
@@ -679,9 +734,9 @@ Result<std::unique_ptr<hal::DepthCamera>> V4l2DepthCamera::create(const hal::Bac
     return std::unique_ptr<hal::DepthCamera>(std::move(*cam));
 }
 
-Result<std::unique_ptr<V4l2DepthCamera>>
-V4l2DepthCamera::open(std::unique_ptr<V4l2Device> device, platform::Clock &clock,
-                      const V4l2CameraSettings &settings)
+Result<std::unique_ptr<V4l2DepthCamera>> V4l2DepthCamera::open(std::unique_ptr<V4l2Device> device,
+                                                               platform::Clock &clock,
+                                                               const V4l2CameraSettings &settings)
 {
     auto impl = std::make_unique<Impl>(std::move(device), clock, settings);
     Impl &d = *impl;
@@ -769,47 +824,17 @@ Result<void> V4l2DepthCamera::configure(const hal::CameraConfig &cfg)
         d.closeNodes();
     DT_TRY(d.openNodes());
 
-    const ModeSource src = d.modeSources[mode];
-    // The depth node always streams: it paces the captures and stamps their time.
-    d.depth.fourcc = src.depthFourcc;
-    d.depth.width = cfg.width;
-    d.depth.height = cfg.height;
-    d.depth.fps = cfg.fps;
-    d.depth.active = true;
-    DT_TRY(d.applyFormat(d.depth));
-    d.color.active = cfg.color;
-    d.converter.reset();
-    if (cfg.color) {
-        d.color.fourcc = src.colorFourcc;
-        d.color.width = cfg.width;
-        d.color.height = cfg.height;
-        d.color.fps = cfg.fps;
-        DT_TRY(d.applyFormat(d.color));
-        if (cfg.colorFormat == hal::PixelFormat::Rgb24) {
-            auto conv = v4l2::makeColorConverter(src.colorFourcc, cfg.width, cfg.height);
-            if (!conv)
-                return unexpected(conv.error());
-            d.converter = std::move(*conv);
-        }
+    // From here the nodes change: a failure leaves the camera Unconfigured, never with pools
+    // that do not match the nodes' formats.
+    if (auto r = d.applyConfig(cfg, mode); !r) {
+        d.state = State::Unconfigured;
+        d.depth.active = false;
+        d.color.active = false;
+        d.converter.reset();
+        (void)d.depthPool.allocate(0, hal::PixelFormat::Unknown, 0, 0);
+        (void)d.colorPool.allocate(0, hal::PixelFormat::Unknown, 0, 0);
+        return r;
     }
-    const hal::PixelFormat depthOut = cfg.depth ? cfg.depthFormat : d.caps.modes[mode].depthFormat;
-    if (depthOut == hal::PixelFormat::Gray16 && src.depthFourcc != V4L2_PIX_FMT_GREY) {
-        const double nearMm = (cfg.nearMetres > 0.0 ? cfg.nearMetres : 0.3) * 1000.0;
-        const double farMm = (cfg.farMetres > nearMm / 1000.0 ? cfg.farMetres * 1000.0 : 3000.0);
-        d.nearnessLut.assign(65536, 0);
-        for (std::size_t mm = 1; mm < d.nearnessLut.size(); ++mm) {
-            const double v = (1.0 / static_cast<double>(mm) - 1.0 / farMm) /
-                             (1.0 / nearMm - 1.0 / farMm);
-            d.nearnessLut[mm] = static_cast<std::uint16_t>(std::lround(std::clamp(v, 0.0, 1.0) * 65535.0));
-        }
-    }
-    // Depth frames are always converted (they pace and stamp the captures); without the depth
-    // stream they are simply not lent.
-    DT_TRY(d.depthPool.allocate(d.settings.poolFrames, depthOut, cfg.width, cfg.height));
-    DT_TRY(d.colorPool.allocate(cfg.color ? d.settings.poolFrames : 0, cfg.colorFormat, cfg.width,
-                                cfg.height));
-    d.config = cfg;
-    d.config.depthFormat = depthOut;
     d.state = State::Configured;
     return ok();
 }

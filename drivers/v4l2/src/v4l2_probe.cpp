@@ -55,9 +55,9 @@ void addRates(V4l2Device &dev, int fd, std::uint32_t fourcc, V4l2FrameSize &size
         }
         // Stepwise or continuous: sample the range (intervals, so the fastest rate is 1/min).
         const auto rate = [](const v4l2_fract &f) {
-            return f.numerator != 0 ? static_cast<double>(f.denominator) /
-                                          static_cast<double>(f.numerator)
-                                    : 0.0;
+            return f.numerator != 0
+                       ? static_cast<double>(f.denominator) / static_cast<double>(f.numerator)
+                       : 0.0;
         };
         const double fastest = rate(iv.stepwise.min);
         const double slowest = rate(iv.stepwise.max);
@@ -79,17 +79,16 @@ void addSizes(V4l2Device &dev, int fd, V4l2FormatDesc &format)
         if (v4l2Ioctl(dev, fd, VIDIOC_ENUM_FRAMESIZES, &fs) != 0)
             break;
         if (fs.type == V4L2_FRMSIZE_TYPE_DISCRETE) {
-            format.sizes.push_back({static_cast<int>(fs.discrete.width),
-                                    static_cast<int>(fs.discrete.height), {}});
+            format.sizes.push_back(
+                {static_cast<int>(fs.discrete.width), static_cast<int>(fs.discrete.height), {}});
             continue;
         }
         const v4l2_frmsize_stepwise &s = fs.stepwise;
         const auto fits = [&s](std::uint32_t w, std::uint32_t h) {
             const std::uint32_t sw = std::max(1U, s.step_width);
             const std::uint32_t sh = std::max(1U, s.step_height);
-            return w >= s.min_width && w <= s.max_width && h >= s.min_height &&
-                   h <= s.max_height && (w - s.min_width) % sw == 0 &&
-                   (h - s.min_height) % sh == 0;
+            return w >= s.min_width && w <= s.max_width && h >= s.min_height && h <= s.max_height &&
+                   (w - s.min_width) % sw == 0 && (h - s.min_height) % sh == 0;
         };
         struct Wh {
             std::uint32_t w, h;

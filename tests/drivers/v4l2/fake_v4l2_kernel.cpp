@@ -81,9 +81,8 @@ struct FakeV4l2Kernel::Node {
     }
     [[nodiscard]] std::uint32_t sizeImage() const noexcept
     {
-        return fourcc == V4L2_PIX_FMT_MJPEG
-                   ? static_cast<std::uint32_t>(width * height * 2)
-                   : bytesPerLine() * static_cast<std::uint32_t>(height);
+        return fourcc == V4L2_PIX_FMT_MJPEG ? static_cast<std::uint32_t>(width * height * 2)
+                                            : bytesPerLine() * static_cast<std::uint32_t>(height);
     }
 };
 
@@ -129,8 +128,8 @@ std::uint16_t FakeV4l2Kernel::depthMm(int x, int y, std::uint32_t seq) noexcept
 {
     if (x % 16 == 15 && y % 16 == 15)
         return 0;
-    return static_cast<std::uint16_t>(400 + (x * 7 + y * 3 + static_cast<int>(seq % 1000) * 11) %
-                                                3000);
+    return static_cast<std::uint16_t>(400 +
+                                      (x * 7 + y * 3 + static_cast<int>(seq % 1000) * 11) % 3000);
 }
 
 std::uint8_t FakeV4l2Kernel::greyValue(int x, int y, std::uint32_t seq) noexcept
@@ -319,8 +318,7 @@ int FakeV4l2Kernel::ioctl(int fd, unsigned long request, void *arg) noexcept
 int FakeV4l2Kernel::dispatch(int fd, Node &n, unsigned long request, void *arg)
 {
     const bool canCapture = (n.spec.deviceCaps & V4L2_CAP_VIDEO_CAPTURE) != 0;
-    const bool m2m =
-        (n.spec.deviceCaps & (V4L2_CAP_VIDEO_M2M | V4L2_CAP_VIDEO_M2M_MPLANE)) != 0;
+    const bool m2m = (n.spec.deviceCaps & (V4L2_CAP_VIDEO_M2M | V4L2_CAP_VIDEO_M2M_MPLANE)) != 0;
     const bool mplane = (n.spec.deviceCaps & V4L2_CAP_VIDEO_M2M_MPLANE) != 0;
 
     // Adjusts \a pix to the nearest supported format (S_FMT and TRY_FMT never refuse).
@@ -329,20 +327,19 @@ int FakeV4l2Kernel::dispatch(int fd, Node &n, unsigned long request, void *arg)
         if (f == nullptr)
             f = &n.spec.capture.front();
         pix.pixelformat = f->fourcc;
-        const auto size = std::find(f->sizes.begin(), f->sizes.end(),
-                                    std::pair<int, int>(static_cast<int>(pix.width),
-                                                        static_cast<int>(pix.height)));
-        const auto chosen = (size == f->sizes.end() || n.spec.sfmtKeepsFirstSize)
-                                ? f->sizes.front()
-                                : *size;
+        const auto size = std::find(
+            f->sizes.begin(), f->sizes.end(),
+            std::pair<int, int>(static_cast<int>(pix.width), static_cast<int>(pix.height)));
+        const auto chosen =
+            (size == f->sizes.end() || n.spec.sfmtKeepsFirstSize) ? f->sizes.front() : *size;
         pix.width = static_cast<std::uint32_t>(chosen.first);
         pix.height = static_cast<std::uint32_t>(chosen.second);
         pix.field = V4L2_FIELD_NONE;
         const std::uint32_t bpp = bytesPerPixel(pix.pixelformat);
         pix.bytesperline = bpp == 0 ? 0 : pix.width * bpp + n.spec.linePadding;
         pix.sizeimage = bpp == 0 ? pix.width * pix.height * 2 : pix.bytesperline * pix.height;
-        pix.colorspace = pix.pixelformat == V4L2_PIX_FMT_MJPEG ? V4L2_COLORSPACE_JPEG
-                                                                : V4L2_COLORSPACE_SRGB;
+        pix.colorspace =
+            pix.pixelformat == V4L2_PIX_FMT_MJPEG ? V4L2_COLORSPACE_JPEG : V4L2_COLORSPACE_SRGB;
     };
 
     switch (request) {
@@ -424,7 +421,8 @@ int FakeV4l2Kernel::dispatch(int fd, Node &n, unsigned long request, void *arg)
             return EINVAL;
         iv->type = V4L2_FRMIVAL_TYPE_DISCRETE;
         iv->discrete.numerator = 1000;
-        iv->discrete.denominator = static_cast<std::uint32_t>(std::lround(f->fps[iv->index] * 1000));
+        iv->discrete.denominator =
+            static_cast<std::uint32_t>(std::lround(f->fps[iv->index] * 1000));
         return 0;
     }
     case VIDIOC_G_PARM:
@@ -449,7 +447,8 @@ int FakeV4l2Kernel::dispatch(int fd, Node &n, unsigned long request, void *arg)
         std::memset(&p->parm, 0, sizeof(p->parm));
         p->parm.capture.capability = V4L2_CAP_TIMEPERFRAME;
         p->parm.capture.timeperframe.numerator = 1000;
-        p->parm.capture.timeperframe.denominator = static_cast<std::uint32_t>(std::lround(n.fps * 1000));
+        p->parm.capture.timeperframe.denominator =
+            static_cast<std::uint32_t>(std::lround(n.fps * 1000));
         return 0;
     }
     case VIDIOC_REQBUFS: {

@@ -47,13 +47,13 @@ struct FakeFormat {
 struct FakeNodeSpec {
     std::string path;
     std::string card = "Fake V4L2 camera";
-    std::uint32_t deviceCaps = 0;        ///< V4L2_CAP_* of the node.
-    std::vector<FakeFormat> capture;     ///< VIDEO_CAPTURE formats.
-    std::vector<std::uint32_t> output;   ///< OUTPUT (OUTPUT_MPLANE) formats of an M2M node.
-    platform::Duration phase{};          ///< Exposure offset after STREAMON.
-    std::uint32_t maxBuffers = 8;        ///< REQBUFS gives at most this many.
-    std::uint32_t linePadding = 0;       ///< Extra bytes per row (bytesperline > width × bpp).
-    bool sfmtKeepsFirstSize = false;     ///< A driver whose S_FMT ignores the requested size.
+    std::uint32_t deviceCaps = 0;      ///< V4L2_CAP_* of the node.
+    std::vector<FakeFormat> capture;   ///< VIDEO_CAPTURE formats.
+    std::vector<std::uint32_t> output; ///< OUTPUT (OUTPUT_MPLANE) formats of an M2M node.
+    platform::Duration phase{};        ///< Exposure offset after STREAMON.
+    std::uint32_t maxBuffers = 8;      ///< REQBUFS gives at most this many.
+    std::uint32_t linePadding = 0;     ///< Extra bytes per row (bytesperline > width × bpp).
+    bool sfmtKeepsFirstSize = false;   ///< A driver whose S_FMT ignores the requested size.
 };
 
 /// \return a depth camera node offering \a fourccs at \a sizes and \a fps.

@@ -20,8 +20,8 @@
 namespace depthtouch::drivers {
 namespace {
 
-using fake::FakeV4l2Kernel;
 using fake::fakeCameraNode;
+using fake::FakeV4l2Kernel;
 using hal::PixelFormat;
 using std::chrono::milliseconds;
 
@@ -49,8 +49,8 @@ template <class R> std::optional<Errc> errcOf(const R &r)
     return r.error().code;
 }
 
-hal::CameraConfig mode(PixelFormat depth, PixelFormat color = PixelFormat::Unknown,
-                              int w = 64, int h = 48, double fps = 30.0)
+hal::CameraConfig mode(PixelFormat depth, PixelFormat color = PixelFormat::Unknown, int w = 64,
+                       int h = 48, double fps = 30.0)
 {
     hal::CameraConfig c;
     c.width = w;
@@ -112,10 +112,10 @@ TEST_F(V4l2DepthCameraTest, negotiationPrefersZ16ThenY16ThenGrey)
         std::vector<std::uint32_t> offered;
         std::uint32_t chosen;
     };
-    for (const Case &c : {Case{{V4L2_PIX_FMT_GREY, V4L2_PIX_FMT_Y16, V4L2_PIX_FMT_Z16},
-                               V4L2_PIX_FMT_Z16},
-                          Case{{V4L2_PIX_FMT_GREY, V4L2_PIX_FMT_Y16}, V4L2_PIX_FMT_Y16},
-                          Case{{V4L2_PIX_FMT_GREY}, V4L2_PIX_FMT_GREY}}) {
+    for (const Case &c :
+         {Case{{V4L2_PIX_FMT_GREY, V4L2_PIX_FMT_Y16, V4L2_PIX_FMT_Z16}, V4L2_PIX_FMT_Z16},
+          Case{{V4L2_PIX_FMT_GREY, V4L2_PIX_FMT_Y16}, V4L2_PIX_FMT_Y16},
+          Case{{V4L2_PIX_FMT_GREY}, V4L2_PIX_FMT_GREY}}) {
         open(makeKernel(c.offered), false);
         const PixelFormat want =
             c.chosen == V4L2_PIX_FMT_GREY ? PixelFormat::Gray16 : PixelFormat::Z16;
@@ -321,7 +321,8 @@ TEST_F(V4l2DepthCameraTest, heldFramesExhaustThePool)
     }
     clock_.advance(milliseconds(50));
     EXPECT_EQ(errcOf(camera_->capture(soon())), Errc::Busy);
-    EXPECT_GE(camera_->stats().framesDropped, 1U) << "the ready frame was dropped, its buffer requeued";
+    EXPECT_GE(camera_->stats().framesDropped, 1U)
+        << "the ready frame was dropped, its buffer requeued";
     held.clear();
     EXPECT_TRUE(camera_->capture(soon()));
 }
@@ -460,6 +461,12 @@ TEST_F(V4l2DepthCameraTest, driverThatChangesTheFormatIsRefused)
               Errc::NotSupported);
     EXPECT_EQ(camera_->state(), hal::DepthCamera::State::Unconfigured);
     EXPECT_TRUE(camera_->configure(mode(PixelFormat::Z16)));
+    // A refusal after a good configuration leaves no stale pools behind: the camera is
+    // Unconfigured.
+    EXPECT_EQ(errcOf(camera_->configure(mode(PixelFormat::Z16, PixelFormat::Unknown, 32, 24))),
+              Errc::NotSupported);
+    EXPECT_EQ(camera_->state(), hal::DepthCamera::State::Unconfigured);
+    EXPECT_EQ(errcOf(camera_->start()), Errc::InvalidState);
 }
 
 TEST_F(V4l2DepthCameraTest, tooFewBuffersIsOutOfResources)

@@ -37,8 +37,8 @@ TEST(V4l2HardwareTest, capturesFromTheConnectedCamera)
     ASSERT_TRUE((*cam)->start());
     std::uint64_t last = 0;
     for (int i = 0; i < 10; ++i) {
-        auto frame = (*cam)->capture(platform::SteadyClock::instance().now() +
-                                     std::chrono::seconds(2));
+        auto frame =
+            (*cam)->capture(platform::SteadyClock::instance().now() + std::chrono::seconds(2));
         ASSERT_TRUE(frame) << frame.error().what;
         ASSERT_TRUE(frame->depth);
         if (i > 0) {

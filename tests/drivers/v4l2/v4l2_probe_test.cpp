@@ -17,9 +17,9 @@
 namespace depthtouch::drivers {
 namespace {
 
-using fake::FakeV4l2Kernel;
 using fake::fakeCameraNode;
 using fake::fakeM2mNode;
+using fake::FakeV4l2Kernel;
 
 class V4l2ProbeTest : public ::testing::Test {
 protected:
@@ -184,7 +184,8 @@ TEST_F(V4l2ProbeTest, fakeKernelMmapStreamingSemantics)
     ASSERT_EQ(v4l2Ioctl(kernel_, fd, VIDIOC_REQBUFS, &req), 0);
     v4l2_format f{};
     f.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-    EXPECT_EQ(v4l2Ioctl(kernel_, fd, VIDIOC_S_FMT, &f), EBUSY) << "format is fixed while buffers exist";
+    EXPECT_EQ(v4l2Ioctl(kernel_, fd, VIDIOC_S_FMT, &f), EBUSY)
+        << "format is fixed while buffers exist";
     v4l2_buffer b{};
     b.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
     b.memory = V4L2_MEMORY_MMAP;

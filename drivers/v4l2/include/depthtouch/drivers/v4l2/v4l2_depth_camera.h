@@ -33,6 +33,9 @@
 /// means frames the driver dropped). EINTR is retried; ENODEV (unplug) makes capture() and
 /// start() return NoDevice; stop() still works and a later start() reopens the nodes.
 ///
+/// A configure() refused by the driver after the camera was Configured (S_FMT answering another
+/// format) leaves it Unconfigured, so no pool is left that does not match the nodes.
+///
 /// Thread-safety: thread-bound, as hal::DepthCamera. Not real-time safe.
 
 #include <cstdint>
@@ -77,8 +80,8 @@ public:
     /// \brief Opens the camera on the kernel side \a device (tests pass a fake kernel).
     /// \return the camera (Unconfigured). Errors: as create().
     static Result<std::unique_ptr<V4l2DepthCamera>> open(std::unique_ptr<V4l2Device> device,
-                                                        platform::Clock &clock,
-                                                        const V4l2CameraSettings &settings);
+                                                         platform::Clock &clock,
+                                                         const V4l2CameraSettings &settings);
 
     ~V4l2DepthCamera() override;
 

@@ -31,8 +31,8 @@ struct V4l2FormatDesc {
 /// What one node is and offers.
 struct V4l2NodeInfo {
     std::string path;
-    std::string card;              ///< v4l2_capability::card, e.g. "Intel(R) RealSense(TM) Depth Ca".
-    std::uint32_t deviceCaps = 0;  ///< device_caps (capabilities when the driver has none).
+    std::string card; ///< v4l2_capability::card, e.g. "Intel(R) RealSense(TM) Depth Ca".
+    std::uint32_t deviceCaps = 0;        ///< device_caps (capabilities when the driver has none).
     std::vector<V4l2FormatDesc> capture; ///< Single-planar VIDEO_CAPTURE formats (empty if none).
 
     /// \return the capture format \a fourcc, or nullptr.
