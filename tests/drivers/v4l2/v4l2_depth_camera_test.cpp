@@ -9,6 +9,7 @@
 #include <cstring>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -396,6 +397,25 @@ TEST_F(V4l2DepthCameraTest, mjpegColorDecodesToRgb)
     EXPECT_EQ(errcOf(camera_->capture(soon())), Errc::Io);
     EXPECT_EQ(camera_->stats().framesDamaged, 1U);
     EXPECT_TRUE(camera_->capture(soon()));
+}
+
+TEST_F(V4l2DepthCameraTest, mjpegOnlyColorNeedsADecoder)
+{
+    // GIVEN a color node that offers MJPEG only
+    V4l2CameraSettings s;
+    s.depthNode = kDepth;
+    s.colorNode = kColor;
+    auto c = V4l2DepthCamera::open(makeKernel({V4L2_PIX_FMT_Z16}, {V4L2_PIX_FMT_MJPEG}), clock_, s);
+    // THEN with libavcodec it decodes to RGB, without it the camera is refused with NotSupported
+    if (c) {
+        const auto &modes = (*c)->capabilities().modes;
+        EXPECT_TRUE(std::any_of(modes.begin(), modes.end(), [](const hal::CameraMode &m) {
+            return m.colorFormat == PixelFormat::Rgb24;
+        }));
+    } else {
+        EXPECT_EQ(c.error().code, Errc::NotSupported);
+        EXPECT_NE(std::string(c.error().what).find("FFmpeg"), std::string::npos);
+    }
 }
 
 TEST_F(V4l2DepthCameraTest, colorIsPairedByTimestamp)
