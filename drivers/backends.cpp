@@ -14,6 +14,11 @@
 #if DT_HAVE_EVDEV
 #include "depthtouch/drivers/evdev/evdev_remote_input.h"
 #endif
+#if DT_HAVE_V4L2
+#include "depthtouch/drivers/v4l2/v4l2_depth_camera.h"
+#include "depthtouch/drivers/v4l2/v4l2_device.h"
+#include "depthtouch/drivers/v4l2/v4l2_probe.h"
+#endif
 #include "depthtouch/drivers/mock/mock_depth_camera.h"
 #include "depthtouch/drivers/mock/mock_display.h"
 #include "depthtouch/drivers/mock/mock_haptic_device.h"
@@ -26,6 +31,20 @@
 namespace depthtouch::drivers {
 
 namespace {
+
+#if DT_HAVE_FFMPEG
+// libavcodec's h264_v4l2m2m needs a V4L2 M2M node whose OUTPUT queue takes H.264; any /dev/video*
+// (a webcam, a depth camera) is not enough.
+Result<std::unique_ptr<hal::VideoDecoder>> createV4l2m2mDecoder(const hal::BackendConfig &cfg)
+{
+#if DT_HAVE_V4L2
+    const auto device = makeV4l2Device(cfg.clockRef());
+    if (auto node = findM2mH264Decoder(*device); !node)
+        return unexpected(node.error());
+#endif
+    return FfmpegVideoDecoder::createV4l2m2m(cfg);
+}
+#endif
 
 // Simulated backends never autoprobe: a product run must not silently play synthetic video or feel
 // a scripted hand. The `none` backends do, last: no remote or no haptic device is a valid setup.
@@ -42,7 +61,7 @@ constexpr hal::Backend<hal::MediaSource> kMediaSourceBackends[] = {
 constexpr hal::Backend<hal::VideoDecoder> kVideoDecoderBackends[] = {
 #if DT_HAVE_FFMPEG
     {"v4l2m2m", "H.264 on a V4L2 M2M device through libavcodec h264_v4l2m2m", true,
-     &FfmpegVideoDecoder::createV4l2m2m},
+     &createV4l2m2mDecoder},
     {"ffmpeg", "libavcodec software decoder (H.264, HEVC, FFV1, raw, MJPEG)", true,
      &FfmpegVideoDecoder::create},
 #endif
@@ -77,6 +96,10 @@ constexpr hal::Backend<hal::RemoteInput> kRemoteInputBackends[] = {
 };
 
 constexpr hal::Backend<hal::DepthCamera> kDepthCameraBackends[] = {
+#if DT_HAVE_V4L2
+    {"v4l2", "V4L2 depth camera: Z16/Y16/GREY depth node (device=), YUYV/MJPEG color node (color=)",
+     true, &V4l2DepthCamera::create},
+#endif
     {"mock", "Simulated RGB-D camera: a sphere moving in front of a wall", false,
      &MockDepthCamera::create},
 };

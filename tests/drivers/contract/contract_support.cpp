@@ -83,6 +83,10 @@ void operator delete[](void *p, const std::nothrow_t &) noexcept
 
 namespace depthtouch::contract {
 
+#if DT_CONTRACT_V4L2
+const DepthCameraHarness *v4l2DepthCameraHarness(); // v4l2_contract_harness.cpp: fake kernel
+#endif
+
 AllocationCounter::AllocationCounter() noexcept : start_(tAllocations)
 {
     tCounting = true;
@@ -295,6 +299,10 @@ const DepthCameraHarness *depthCameraHarness(std::string_view name)
         [](hal::DepthCamera &c) { dynamic_cast<MockDepthCamera &>(c).unplug(); },
         [](hal::DepthCamera &c) { dynamic_cast<MockDepthCamera &>(c).replug(); },
     };
+#if DT_CONTRACT_V4L2
+    if (name == "v4l2")
+        return v4l2DepthCameraHarness();
+#endif
     return name == "mock" ? &kMock : nullptr;
 }
 
