@@ -55,6 +55,7 @@ struct EncodeCliOptions {
     std::optional<double> farM;
     std::string depthMapping = "inverse_z";
     bool enhance = false;
+    bool loop = false;
     float enhanceTolerance = 1.0f;
     std::string colorFormat, colorVideoSize, colorPixFmt;
     std::string depthFormat, depthVideoSize, depthPixFmt;
@@ -240,7 +241,7 @@ int runEncode(const EncodeCliOptions &o)
     if (!presetOk)
         return fail(kExitBadInput, "--preset must be an x264 preset (ultrafast ... veryslow)");
 
-    const auto open = [](const std::string &role, const std::string &spec, double fps,
+    const auto open = [&o](const std::string &role, const std::string &spec, double fps,
                          const std::string &format, const std::string &videoSize,
                          const std::string &pixFmt,
                          std::string &error) -> std::unique_ptr<NamedSource> {
@@ -249,6 +250,7 @@ int runEncode(const EncodeCliOptions &o)
         so.format = format;
         so.videoSize = videoSize;
         so.pixelFormat = pixFmt;
+        so.loop = o.loop;
         auto s = media::openFrameSource(spec, so);
         if (!s) {
             error = "cannot open " + role + " input '" + spec + "': " + describe(s.error());
@@ -363,6 +365,9 @@ void registerEncodeCommand(CLI::App &app, int &exitCode)
     cmd->add_option("--size", o->size, "Output grid WxH (default: the color size)");
     cmd->add_option("--threads", o->threads, "Encoder threads per stream (0: automatic)")
         ->capture_default_str();
+    cmd->add_flag("--loop", o->loop,
+                  "Loop image-sequence inputs forever (a live source; stop with --frames, "
+                  "--duration or Ctrl-C)");
     cmd->add_option("--frames", o->frames, "Encode at most N frame pairs (0: all)");
     cmd->add_option("--duration", o->duration, "Encode at most this many seconds (0: all)");
     cmd->add_option("--depth-scale", o->depthScale,

@@ -150,6 +150,15 @@ Result<std::unique_ptr<Muxer>> Muxer::open(const MuxerOptions &options)
     }
     for (const auto &[key, value] : options.tags)
         av_dict_set(&m.fmt->metadata, key.c_str(), value.c_str(), 0);
+    if (options.container == Container::MpegTs && !options.tags.empty()) {
+        // MPEG-TS carries neither stream titles nor free tags; its service (program) name does
+        // travel, so the tags go there as "key=value;…" (color is stream 0, depth stream 1).
+        std::string text;
+        for (const auto &[key, value] : options.tags)
+            text += (text.empty() ? "" : ";") + key + "=" + value;
+        av_dict_set(&m.fmt->metadata, "service_name", text.c_str(), 0);
+        av_dict_set(&m.fmt->metadata, "service_provider", "DepthTouch", 0);
+    }
     if ((m.fmt->oformat->flags & AVFMT_NOFILE) == 0) {
         ret = avio_open2(&m.fmt->pb, target.c_str(), AVIO_FLAG_WRITE, nullptr, nullptr);
         if (ret < 0) {

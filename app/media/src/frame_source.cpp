@@ -109,16 +109,22 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
     };
     const bool sequence = options.format.empty() && !isUrl(url) && isPrintfPattern(url);
     const bool glob = options.format.empty() && !sequence && isGlobPattern(url);
-    if (sequence || glob || options.format == "image2") {
+    // A single picture loops as a one-image sequence.
+    const bool still = options.loop && options.format.empty() && !sequence && !glob && !isUrl(url);
+    if (sequence || glob || still || options.format == "image2") {
         forced = av_find_input_format("image2");
-        set("pattern_type", glob ? "glob" : "sequence");
+        set("pattern_type", glob ? "glob" : (still ? "none" : "sequence"));
         set("framerate", fpsText(options.fps));
+        if (options.loop)
+            set("loop", "1");
     } else if (!options.format.empty()) {
         forced = av_find_input_format(options.format.c_str());
         if (forced == nullptr)
             return unexpected(Errc::InvalidArgument, "Unknown input format (FFmpeg demuxer name)");
         set("framerate", fpsText(options.fps));
     }
+    if (options.loop && forced == nullptr)
+        return unexpected(Errc::InvalidArgument, "Only image sequences can loop");
     if (!options.videoSize.empty())
         set("video_size", options.videoSize);
     if (!options.pixelFormat.empty()) {
@@ -137,7 +143,8 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
         if (ret == AVERROR_INVALIDDATA)
             return unexpected(Errc::InvalidArgument, "Not a media file FFmpeg can read");
         if (ret == AVERROR(ENOENT))
-            return unexpected(Errc::Io, "No such file (or no image matches the pattern)",
+            return unexpected(Errc::Io,
+                              sequence || glob ? "No image matches the pattern" : "No such file",
                               ENOENT);
         return unexpected(Errc::Io, "Failed to open the input", errnoOf(ret));
     }
@@ -191,6 +198,8 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
     else if (fmt_->duration != AV_NOPTS_VALUE && fmt_->duration > 0)
         info_.frameCount = std::llround(static_cast<double>(fmt_->duration) / AV_TIME_BASE *
                                         info_.fps);
+    if (options.loop)
+        info_.frameCount = 0; // endless
     const char *pixName = av_get_pix_fmt_name(pixFmt);
     info_.description = std::string(fmt_->iformat->name) + " " + decoder->name + " " +
                         std::to_string(info_.width) + "x" + std::to_string(info_.height) + " " +

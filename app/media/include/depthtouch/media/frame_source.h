@@ -78,6 +78,9 @@ struct SourceOptions {
     /// e.g. "gray16le", "rgb24").
     std::string videoSize;
     std::string pixelFormat;
+    /// Image sequences only: start over after the last image, forever (a still or a short
+    /// sequence as an endless live source; stop it with a frame limit or a signal).
+    bool loop = false;
 };
 
 /// \brief The kinds of source spec.
