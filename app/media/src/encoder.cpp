@@ -160,7 +160,15 @@ Result<std::unique_ptr<Muxer>> Muxer::open(const MuxerOptions &options)
         av_dict_set(&m.fmt->metadata, "service_provider", "DepthTouch", 0);
     }
     if ((m.fmt->oformat->flags & AVFMT_NOFILE) == 0) {
-        ret = avio_open2(&m.fmt->pb, target.c_str(), AVIO_FLAG_WRITE, nullptr, nullptr);
+        AVDictionary *ioOpts = nullptr;
+        // Seven 188-byte TS packets per datagram (FFmpeg's UDP default of 1472 bytes splits them),
+        // unless the URL says otherwise.
+        if (url && options.container == Container::MpegTs &&
+            options.output.compare(0, 6, "udp://") == 0 &&
+            options.output.find("pkt_size") == std::string::npos)
+            av_dict_set(&ioOpts, "pkt_size", "1316", 0);
+        ret = avio_open2(&m.fmt->pb, target.c_str(), AVIO_FLAG_WRITE, nullptr, &ioOpts);
+        av_dict_free(&ioOpts);
         if (ret < 0) {
             DT_LOG(Media, Warning, "Failed to create %s: %s", target.c_str(),
                    AvErrorText(ret).text);

@@ -169,7 +169,12 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
         return unexpected(Errc::OutOfResources, "Failed to allocate a decoder");
     if (avcodec_parameters_to_context(codec_.get(), st->codecpar) < 0)
         return unexpected(Errc::InvalidArgument, "Failed to configure the decoder");
-    codec_->thread_count = 0; // as many as the CPU has
+    const bool images = forced != nullptr && std::string(forced->name) == "image2";
+    // A picture is one intra frame: frame threads would gain nothing and hide a damaged file's
+    // error (the frame would silently go missing and break the pairing). Videos: automatic.
+    codec_->thread_count = images ? 1 : 0;
+    if (images)
+        codec_->err_recognition = AV_EF_EXPLODE | AV_EF_CRCCHECK;
     codec_->pkt_timebase = st->time_base;
     if ((ret = avcodec_open2(codec_.get(), decoder, nullptr)) < 0) {
         DT_LOG(Media, Warning, "Failed to open decoder %s for %s: %s", decoder->name,
