@@ -1,8 +1,8 @@
 /// \file
 /// \brief `depthtouch encode --color SRC --depth SRC -o OUT`: the sender. Reads color and depth
 /// frames (image sequences, video files, anything FFmpeg reads), converts depth to nearness
-/// (DESIGN.md §3), optionally enhances it (paper §V.B) and writes color H.264 + depth 4:0:0 into one
-/// MKV/MP4/MPEG-TS file or stream URL (DESIGN.md §4). The pipeline is media::encodeStreams().
+/// (DESIGN.md §3), optionally enhances it (paper §V.B) and writes color H.264 + depth 4:0:0 into
+/// one MKV/MP4/MPEG-TS file or stream URL (DESIGN.md §4). The pipeline is media::encodeStreams().
 ///
 /// Bad input (missing or unreadable source, no video stream, nonsense options, unwritable output)
 /// prints one error line and exits 2 without leaving an output file. SIGINT/SIGTERM stop reading;
@@ -242,15 +242,16 @@ int runEncode(const EncodeCliOptions &o)
         return fail(kExitBadInput, "--preset must be an x264 preset (ultrafast ... veryslow)");
 
     const auto open = [&o](const std::string &role, const std::string &spec, double fps,
-                         const std::string &format, const std::string &videoSize,
-                         const std::string &pixFmt,
-                         std::string &error) -> std::unique_ptr<NamedSource> {
+                           const std::string &format, const std::string &videoSize,
+                           const std::string &pixFmt,
+                           std::string &error) -> std::unique_ptr<NamedSource> {
         media::SourceOptions so;
         so.fps = fps;
         so.format = format;
         so.videoSize = videoSize;
         so.pixelFormat = pixFmt;
         so.loop = o.loop;
+        so.streamTitle = role; // a DepthTouch file gives its color or depth stream
         auto s = media::openFrameSource(spec, so);
         if (!s) {
             error = "cannot open " + role + " input '" + spec + "': " + describe(s.error());
@@ -259,12 +260,12 @@ int runEncode(const EncodeCliOptions &o)
         return std::make_unique<NamedSource>(role, spec, std::move(*s));
     };
     std::string error;
-    auto color = open("color", o.color, o.fps, o.colorFormat, o.colorVideoSize, o.colorPixFmt,
-                      error);
+    auto color =
+        open("color", o.color, o.fps, o.colorFormat, o.colorVideoSize, o.colorPixFmt, error);
     if (!color)
         return fail(kExitBadInput, error);
-    auto depthSrc = open("depth", o.depth, o.fps, o.depthFormat, o.depthVideoSize, o.depthPixFmt,
-                         error);
+    auto depthSrc =
+        open("depth", o.depth, o.fps, o.depthFormat, o.depthVideoSize, o.depthPixFmt, error);
     if (!depthSrc)
         return fail(kExitBadInput, error);
 
@@ -307,7 +308,7 @@ int runEncode(const EncodeCliOptions &o)
         std::printf("depth: metric, near %.4g m, far %.4g m (%s), %s mapping; %lld invalid samples "
                     "filled; %lld frames without valid depth repeated\n",
                     s.range.nearM, s.range.farM, eo.range ? "given" : "robust range of the data",
-                    depth::mappingName(eo.mapping), s.filledSamples, s.repeatedFrames);
+                    depth::mappingName(s.mapping), s.filledSamples, s.repeatedFrames);
     if (s.enhance) {
         const media::EnhanceTotals &t = *s.enhance;
         const double scale = 255.0 / t.levelsMax;
@@ -315,16 +316,17 @@ int runEncode(const EncodeCliOptions &o)
                     "mean %.3f, rms %.3f, max %.1f levels (8-bit scale); flat roughness %.3f -> "
                     "%.3f; edge contrast %.1f -> %.1f\n",
                     t.frames, t.points, t.pixels,
-                    t.pixels > 0 ? 100.0 * static_cast<double>(t.points) /
-                                       static_cast<double>(t.pixels)
-                                 : 0.0,
+                    t.pixels > 0
+                        ? 100.0 * static_cast<double>(t.points) / static_cast<double>(t.pixels)
+                        : 0.0,
                     t.meanAbsError * scale, t.rmsError * scale, t.maxAbsError * scale,
                     t.roughnessInput * scale, t.roughnessOutput * scale,
                     t.edgeContrastInput * scale, t.edgeContrastOutput * scale);
     }
     if (s.interrupted) {
-        std::fprintf(stderr, "depthtouch encode: interrupted; '%s' holds the %lld frame pairs "
-                             "encoded and is complete\n",
+        std::fprintf(stderr,
+                     "depthtouch encode: interrupted; '%s' holds the %lld frame pairs "
+                     "encoded and is complete\n",
                      o.output.c_str(), s.frames);
         return kExitInterrupted;
     }
@@ -348,11 +350,13 @@ void registerEncodeCommand(CLI::App &app, int &exitCode)
         ->required();
     cmd->add_option("-o,--output", o->output, "Output file (.mkv, .mp4, .ts) or URL (udp://...)")
         ->required();
-    cmd->add_option("--format", o->format, "Container: mkv | mp4 | ts (default: by extension; "
-                                           "mkv for files, ts for URLs)");
+    cmd->add_option("--format", o->format,
+                    "Container: mkv | mp4 | ts (default: by extension; "
+                    "mkv for files, ts for URLs)");
     cmd->add_option("--fps", o->fps, "Frame rate of image sequences and raw inputs (frames/s)")
         ->capture_default_str();
-    cmd->add_option("--crf", o->crf, "Color x264 constant rate factor 0..51")->capture_default_str();
+    cmd->add_option("--crf", o->crf, "Color x264 constant rate factor 0..51")
+        ->capture_default_str();
     cmd->add_option("--preset", o->preset, "x264 preset (ultrafast ... veryslow)")
         ->capture_default_str();
     cmd->add_option("--depth-crf", o->depthCrf, "Depth x264 constant rate factor 0..51 (lossy)")

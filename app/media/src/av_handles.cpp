@@ -64,10 +64,9 @@ Result<void> Scaler::convert(const AVFrame &src, std::uint8_t *const dstData[4],
         const bool sameSize = src.width == dstW && src.height == dstH;
         // Same size: SWS_POINT only selects the cheapest unscaled path; BITEXACT + ACCURATE_RND
         // keep it deterministic across CPUs. Resizing: bicubic.
-        const int flags =
-            (sameSize ? SWS_POINT : SWS_BICUBIC) | SWS_BITEXACT | SWS_ACCURATE_RND;
-        sws_.reset(sws_getContext(src.width, src.height, srcFmt, dstW, dstH, dstFmt, flags,
-                                  nullptr, nullptr, nullptr));
+        const int flags = (sameSize ? SWS_POINT : SWS_BICUBIC) | SWS_BITEXACT | SWS_ACCURATE_RND;
+        sws_.reset(sws_getContext(src.width, src.height, srcFmt, dstW, dstH, dstFmt, flags, nullptr,
+                                  nullptr, nullptr));
         if (!sws_) {
             DT_LOG(Media, Warning, "Failed to convert %s %dx%d to %s %dx%d",
                    av_get_pix_fmt_name(srcFmt), src.width, src.height, av_get_pix_fmt_name(dstFmt),
@@ -91,8 +90,8 @@ Result<void> Scaler::convert(const AVFrame &src, std::uint8_t *const dstData[4],
         dstH_ = dstH;
         dstFmt_ = dstFmt;
     }
-    const int lines = sws_scale(sws_.get(), src.data, src.linesize, 0, src.height, dstData,
-                                dstStride);
+    const int lines =
+        sws_scale(sws_.get(), src.data, src.linesize, 0, src.height, dstData, dstStride);
     if (lines != dstH)
         return unexpected(Errc::InvalidArgument, "Failed to convert the frame's pixel format");
     return ok();

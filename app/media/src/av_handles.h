@@ -63,7 +63,8 @@ void quietFfmpegLog() noexcept;
 /// \return the AVPixelFormat of an Image layout (GRAY16 in native byte order).
 AVPixelFormat toAvFormat(PixelFormat f) noexcept;
 
-/// Deprecated full-range "J" YUV formats → their plain equivalent; \a fullRange set when it was one.
+/// Deprecated full-range "J" YUV formats → their plain equivalent; \a fullRange set when it was
+/// one.
 AVPixelFormat dejpeg(AVPixelFormat f, bool &fullRange) noexcept;
 
 /// \brief A cached libswscale context for one conversion (size and formats); rebuilt when they

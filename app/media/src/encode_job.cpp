@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <deque>
 #include <utility>
@@ -221,7 +222,9 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
     DT_TRY(options.validate());
     const platform::SteadyClock &clock = platform::SteadyClock::instance();
     const platform::TimePoint start = clock.now();
-    const auto stopped = [stop] { return stop != nullptr && stop->load(std::memory_order_relaxed); };
+    const auto stopped = [stop] {
+        return stop != nullptr && stop->load(std::memory_order_relaxed);
+    };
 
     EncodeSummary summary;
     const int width = options.width > 0 ? options.width : color.info().width;
@@ -263,6 +266,25 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
         return unexpected(Errc::InvalidArgument, "An input has no frame");
 
     std::optional<depth::DepthRange> range = options.range;
+    depth::DepthMapping mapping = options.mapping;
+    if (!metric && !range) {
+        // Nearness from a DepthTouch file keeps the planes and mapping it was made with.
+        const std::string *nearTag = depth.info().tag("depth_near");
+        const std::string *farTag = depth.info().tag("depth_far");
+        const std::string *mapTag = depth.info().tag("depth_mapping");
+        char *endNear = nullptr;
+        char *endFar = nullptr;
+        if (nearTag != nullptr && farTag != nullptr) {
+            const double n = std::strtod(nearTag->c_str(), &endNear);
+            const double f = std::strtod(farTag->c_str(), &endFar);
+            if (*endNear == '\0' && *endFar == '\0' && n > 0.0 && n < f && std::isfinite(f))
+                range = depth::DepthRange{n, f};
+        }
+        if (range && mapTag != nullptr) {
+            if (auto m = depth::parseMapping(*mapTag))
+                mapping = *m;
+        }
+    }
     if (metric && !range) {
         depth::Plane<std::uint16_t> all;
         for (const Pair &p : ahead) {
@@ -285,7 +307,8 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
     summary.depthBits = pipeline.bits();
 
     // Output: container tags and streams, then the header.
-    const auto tags = depthTags(range, options.mapping, pipeline.bits());
+    const auto tags = depthTags(range, mapping, pipeline.bits());
+    summary.mapping = mapping;
     MuxerOptions mo;
     mo.output = options.output;
     mo.container = options.container.value_or(containerForOutput(options.output));

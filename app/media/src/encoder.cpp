@@ -26,7 +26,8 @@ using namespace detail;
 
 namespace {
 
-/// Every PTS travels in this time base (90 kHz, as MPEG): exact for 24, 25, 30, 60 and 30000/1001 fps.
+/// Every PTS travels in this time base (90 kHz, as MPEG): exact for 24, 25, 30, 60 and 30000/1001
+/// fps.
 constexpr AVRational kTimeBase{1, 90000};
 
 bool endsWith(const std::string &s, const char *suffix)
@@ -217,7 +218,8 @@ Result<void> Muxer::finish()
     }
     if (ret < 0 || closeRet < 0) {
         m.close(true);
-        return unexpected(Errc::Io, "Failed to finish the output", errnoOf(ret < 0 ? ret : closeRet));
+        return unexpected(Errc::Io, "Failed to finish the output",
+                          errnoOf(ret < 0 ? ret : closeRet));
     }
     if (!m.tmpPath.empty() && std::rename(m.tmpPath.c_str(), m.output.c_str()) != 0) {
         const int err = errno;

@@ -3,11 +3,13 @@
 
 #include "depthtouch/media/frame_source.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <string>
 
 extern "C" {
+#include <libavutil/imgutils.h>
 #include <libavutil/pixdesc.h>
 }
 
@@ -153,8 +155,17 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
         DT_LOG(Media, Warning, "Failed to read %s: %s", url.c_str(), AvErrorText(ret).text);
         return unexpected(Errc::InvalidArgument, "Failed to read the input's streams");
     }
+    int wanted = -1;
+    if (!options.streamTitle.empty())
+        for (unsigned i = 0; i < fmt_->nb_streams && wanted < 0; ++i) {
+            const AVDictionaryEntry *t =
+                av_dict_get(fmt_->streams[i]->metadata, "title", nullptr, 0);
+            if (t != nullptr && options.streamTitle == t->value &&
+                fmt_->streams[i]->codecpar->codec_type == AVMEDIA_TYPE_VIDEO)
+                wanted = static_cast<int>(i);
+        }
     const AVCodec *decoder = nullptr;
-    stream_ = av_find_best_stream(fmt_.get(), AVMEDIA_TYPE_VIDEO, -1, -1, &decoder, 0);
+    stream_ = av_find_best_stream(fmt_.get(), AVMEDIA_TYPE_VIDEO, wanted, -1, &decoder, 0);
     if (stream_ == AVERROR_DECODER_NOT_FOUND)
         return unexpected(Errc::NotSupported, "No decoder for the input's video stream");
     if (stream_ < 0 || decoder == nullptr)
@@ -177,8 +188,8 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
         codec_->err_recognition = AV_EF_EXPLODE | AV_EF_CRCCHECK;
     codec_->pkt_timebase = st->time_base;
     if ((ret = avcodec_open2(codec_.get(), decoder, nullptr)) < 0) {
-        DT_LOG(Media, Warning, "Failed to open decoder %s for %s: %s", decoder->name,
-               url.c_str(), AvErrorText(ret).text);
+        DT_LOG(Media, Warning, "Failed to open decoder %s for %s: %s", decoder->name, url.c_str(),
+               AvErrorText(ret).text);
         return unexpected(Errc::NotSupported, "Failed to open the decoder");
     }
     packet_.reset(av_packet_alloc());
@@ -198,13 +209,24 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
     if (st->nb_frames > 0)
         info_.frameCount = st->nb_frames;
     else if (st->duration != AV_NOPTS_VALUE && st->duration > 0)
-        info_.frameCount = std::llround(static_cast<double>(st->duration) * av_q2d(timeBase_) *
-                                        info_.fps);
+        info_.frameCount =
+            std::llround(static_cast<double>(st->duration) * av_q2d(timeBase_) * info_.fps);
     else if (fmt_->duration != AV_NOPTS_VALUE && fmt_->duration > 0)
-        info_.frameCount = std::llround(static_cast<double>(fmt_->duration) / AV_TIME_BASE *
-                                        info_.fps);
+        info_.frameCount =
+            std::llround(static_cast<double>(fmt_->duration) / AV_TIME_BASE * info_.fps);
     if (options.loop)
         info_.frameCount = 0; // endless
+    for (const AVDictionary *meta : {static_cast<const AVDictionary *>(st->metadata),
+                                     static_cast<const AVDictionary *>(fmt_->metadata)}) {
+        const AVDictionaryEntry *e = nullptr;
+        while ((e = av_dict_get(meta, "", e, AV_DICT_IGNORE_SUFFIX)) != nullptr) {
+            std::string key = e->key;
+            for (char &ch : key)
+                ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+            if (info_.tag(key) == nullptr)
+                info_.tags.emplace_back(std::move(key), e->value);
+        }
+    }
     const char *pixName = av_get_pix_fmt_name(pixFmt);
     info_.description = std::string(fmt_->iformat->name) + " " + decoder->name + " " +
                         std::to_string(info_.width) + "x" + std::to_string(info_.height) + " " +
@@ -277,9 +299,22 @@ Result<SourceFrame> FfmpegFrameSource::next(PixelFormat format, int width, int h
     out.image = Image::make(w, h, format);
     if (out.image.empty() || out.image.stride > static_cast<std::size_t>(INT32_MAX))
         return unexpected(Errc::InvalidArgument, "The frame has no pixels or is too wide");
-    std::uint8_t *dstData[4] = {out.image.data.data(), nullptr, nullptr, nullptr};
-    const int dstStride[4] = {static_cast<int>(out.image.stride), 0, 0, 0};
-    DT_TRY(scaler_.convert(*frame_, dstData, dstStride, toAvFormat(format), w, h));
+    const AVPixFmtDescriptor *desc =
+        av_pix_fmt_desc_get(static_cast<AVPixelFormat>(frame_->format));
+    const bool yuv8 = desc != nullptr && (desc->flags & AV_PIX_FMT_FLAG_RGB) == 0 &&
+                      (desc->flags & AV_PIX_FMT_FLAG_PAL) == 0 &&
+                      (desc->flags & AV_PIX_FMT_FLAG_PLANAR) != 0 && desc->nb_components >= 3 &&
+                      desc->comp[0].depth == 8 && desc->comp[0].plane == 0;
+    if (format == PixelFormat::Gray8 && yuv8 && w == frame_->width && h == frame_->height) {
+        // Depth carried in a YUV video (gray H.264 decodes as 4:2:0 with neutral chroma): the
+        // luma samples are the levels as they are; a range conversion would stretch them.
+        av_image_copy_plane(out.image.data.data(), static_cast<int>(out.image.stride),
+                            frame_->data[0], frame_->linesize[0], w, h);
+    } else {
+        std::uint8_t *dstData[4] = {out.image.data.data(), nullptr, nullptr, nullptr};
+        const int dstStride[4] = {static_cast<int>(out.image.stride), 0, 0, 0};
+        DT_TRY(scaler_.convert(*frame_, dstData, dstStride, toAvFormat(format), w, h));
+    }
     av_frame_unref(frame_.get());
     return out;
 }

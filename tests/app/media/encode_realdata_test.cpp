@@ -1,7 +1,8 @@
 /// \file
-/// \brief The sender on real RGB-D data: the first 30 frames (10 enhanced) of 7-Scenes "redkitchen" (JPEG color,
-/// 16-bit mm depth PNG with holes) encoded to MKV with and without the §V.B enhancement, then read
-/// back with libavformat as ffprobe would. Skips (exit 77) when $DT_SHARED_DATA lacks the data.
+/// \brief The sender on real RGB-D data: the first 30 frames (10 enhanced) of 7-Scenes "redkitchen"
+/// (JPEG color, 16-bit mm depth PNG with holes) encoded to MKV with and without the §V.B
+/// enhancement, then read back with libavformat as ffprobe would. Skips (exit 77) when
+/// $DT_SHARED_DATA lacks the data.
 
 #include <gtest/gtest.h>
 
@@ -116,12 +117,12 @@ TEST(EncodeRealDataTest, sevenScenesWithAndWithoutEnhancement)
     EXPECT_LT(t.points, t.pixels / 4) << "the mesh keeps far fewer points than pixels";
     EXPECT_LT(t.roughnessOutput, t.roughnessInput) << "sensor noise on flat regions is removed";
     EXPECT_GT(t.edgeContrastOutput, 0.8 * t.edgeContrastInput) << "edges are kept";
-    std::printf("7-Scenes: %d frames plain %.2f s, %d frames enhanced %.2f s; points %.2f %% of pixels, "
-                "mean |error| %.3f levels, roughness %.3f -> %.3f, edge contrast %.1f -> %.1f\n",
-                kFrames, plain.summary.elapsed, kEnhancedFrames, enhanced.summary.elapsed,
-                100.0 * static_cast<double>(t.points) / static_cast<double>(t.pixels),
-                t.meanAbsError, t.roughnessInput, t.roughnessOutput, t.edgeContrastInput,
-                t.edgeContrastOutput);
+    std::printf(
+        "7-Scenes: %d frames plain %.2f s, %d frames enhanced %.2f s; points %.2f %% of pixels, "
+        "mean |error| %.3f levels, roughness %.3f -> %.3f, edge contrast %.1f -> %.1f\n",
+        kFrames, plain.summary.elapsed, kEnhancedFrames, enhanced.summary.elapsed,
+        100.0 * static_cast<double>(t.points) / static_cast<double>(t.pixels), t.meanAbsError,
+        t.roughnessInput, t.roughnessOutput, t.edgeContrastInput, t.edgeContrastOutput);
     std::error_code ec;
     fs::remove_all(tmp, ec);
 }

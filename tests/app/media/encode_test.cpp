@@ -56,8 +56,8 @@ Image makeNearness8(int i, int w = kW, int h = kH)
     Image img = Image::make(w, h, PixelFormat::Gray8);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
-            img.row(y)[x] = static_cast<std::uint8_t>(
-                (x > w / 2 ? 200 : 20) + ((x * 7 + y * 13 + i * 5) % 41));
+            img.row(y)[x] =
+                static_cast<std::uint8_t>((x > w / 2 ? 200 : 20) + ((x * 7 + y * 13 + i * 5) % 41));
     return img;
 }
 
@@ -67,8 +67,8 @@ Image makeMetric(int i, int w = kW, int h = kH)
     Image img = Image::make(w, h, PixelFormat::Gray16);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
-            img.setSample16(x, y, static_cast<std::uint16_t>((x > w / 2 ? 2000 : 900) + 9 * y +
-                                                             3 * x + i));
+            img.setSample16(
+                x, y, static_cast<std::uint16_t>((x > w / 2 ? 2000 : 900) + 9 * y + 3 * x + i));
     return img;
 }
 
@@ -120,10 +120,7 @@ protected:
         std::error_code ec;
         fs::remove_all(dir_, ec);
     }
-    [[nodiscard]] std::string path(const std::string &name) const
-    {
-        return (dir_ / name).string();
-    }
+    [[nodiscard]] std::string path(const std::string &name) const { return (dir_ / name).string(); }
     [[nodiscard]] std::vector<std::string> files() const
     {
         std::vector<std::string> out;
@@ -186,6 +183,64 @@ TEST_F(EncodeTest, lossless8BitDepthRoundTripsBitExact)
         EXPECT_DOUBLE_EQ(c.pts[static_cast<std::size_t>(i)], d.pts[static_cast<std::size_t>(i)]);
         EXPECT_NEAR(c.pts[static_cast<std::size_t>(i)], i / 30.0, 0.0015);
     }
+}
+
+/// GIVEN a DepthTouch file WHEN read back as sources by stream title THEN the depth source gives
+/// the lossless levels as they are (luma plane, no range conversion) and the color source color.
+TEST_F(EncodeTest, encodedFileReadsBackAsSourcesByTitle)
+{
+    TestSource color([](int i) { return makeColor(i); }, 3, 30.0, PixelFormat::Rgb24);
+    TestSource depthSrc([](int i) { return makeNearness8(i); }, 3, 30.0, PixelFormat::Gray8);
+    EncodeOptions o = fastOptions(path("out.mkv"));
+    o.depthLossless = true;
+    ASSERT_TRUE(encodeStreams(color, depthSrc, o));
+    SourceOptions so;
+    so.streamTitle = "depth";
+    auto d = openFrameSource(path("out.mkv"), so);
+    ASSERT_TRUE(d) << d.error().what;
+    ASSERT_NE(d.value()->info().tag("depth_bits"), nullptr);
+    EXPECT_EQ(*d.value()->info().tag("depth_bits"), "8");
+    EXPECT_EQ(*d.value()->info().tag("title"), "depth");
+    EXPECT_EQ(d.value()->info().nativeFormat, PixelFormat::Rgb24) << "gray H.264 decodes as YUV";
+    so.streamTitle = "color";
+    auto c = openFrameSource(path("out.mkv"), so);
+    ASSERT_TRUE(c) << c.error().what;
+    for (int i = 0; i < 3; ++i) {
+        auto f = d.value()->next(PixelFormat::Gray8);
+        ASSERT_TRUE(f) << f.error().what;
+        EXPECT_EQ(f->image.data, makeNearness8(i).data) << "frame " << i;
+        auto g = c.value()->next(PixelFormat::Rgb24);
+        ASSERT_TRUE(g);
+        EXPECT_GT(test::psnr(g->image, makeColor(i)), 30.0);
+        EXPECT_DOUBLE_EQ(f->pts, g->pts);
+    }
+}
+
+/// GIVEN a DepthTouch file made from metric depth WHEN transcoded (its own streams as sources)
+/// THEN its planes and mapping travel into the new file's tags.
+TEST_F(EncodeTest, transcodeKeepsDepthTags)
+{
+    TestSource color([](int i) { return makeColor(i); }, 3, 30.0, PixelFormat::Rgb24);
+    TestSource depthSrc([](int i) { return makeMetric(i); }, 3, 30.0, PixelFormat::Gray16);
+    EncodeOptions o = fastOptions(path("first.mkv"));
+    o.range = depth::DepthRange{0.75, 3.5};
+    o.mapping = depth::DepthMapping::Linear;
+    ASSERT_TRUE(encodeStreams(color, depthSrc, o));
+
+    SourceOptions so;
+    so.streamTitle = "color";
+    auto c = openFrameSource(path("first.mkv"), so);
+    so.streamTitle = "depth";
+    auto d = openFrameSource(path("first.mkv"), so);
+    ASSERT_TRUE(c && d);
+    auto s = encodeStreams(**c, **d, fastOptions(path("second.mkv")));
+    ASSERT_TRUE(s) << s.error().what;
+    EXPECT_EQ(s->frames, 3);
+    const auto rb = test::readBack(path("second.mkv"), {0}, false);
+    ASSERT_EQ(rb.streams.size(), 2u);
+    EXPECT_EQ(rb.streams[1].tags.at("depth_near"), "0.75");
+    EXPECT_EQ(rb.streams[1].tags.at("depth_far"), "3.5");
+    EXPECT_EQ(rb.streams[1].tags.at("depth_mapping"), "linear");
 }
 
 /// GIVEN 16-bit metric depth and given planes WHEN encoded as FFV1 gray16 THEN the decoded samples
@@ -258,8 +313,8 @@ TEST_F(EncodeTest, gray10LosslessInMp4)
         int mismatches = 0;
         for (int y = 0; y < kH; ++y)
             for (int x = 0; x < kW; ++x) {
-                const auto want = static_cast<std::uint16_t>(
-                    std::lround(src.row(y)[x] * 1023.0 / 255.0));
+                const auto want =
+                    static_cast<std::uint16_t>(std::lround(src.row(y)[x] * 1023.0 / 255.0));
                 mismatches += got.sample16(x, y) != want;
             }
         EXPECT_EQ(mismatches, 0) << "frame " << i;
@@ -359,8 +414,8 @@ TEST_F(EncodeTest, depthOfAnotherSizeIsResampledWithWarning)
     EXPECT_EQ(rb.streams[1].height, kH);
 }
 
-/// GIVEN an endless source WHEN the stop flag is raised after 5 pairs THEN the encoders are flushed,
-/// the trailer written and the file decodes with 5 frames per stream.
+/// GIVEN an endless source WHEN the stop flag is raised after 5 pairs THEN the encoders are
+/// flushed, the trailer written and the file decodes with 5 frames per stream.
 TEST_F(EncodeTest, stopFlagLeavesCompletePlayableFile)
 {
     TestSource color([](int i) { return makeColor(i % 20); }, -1, 30.0, PixelFormat::Rgb24);
@@ -430,7 +485,10 @@ TEST_F(EncodeTest, badOptionsAreRefused)
     EXPECT_TRUE(bad([](EncodeOptions &o) { o.range = depth::DepthRange{2.0, 1.0}; }));
     EXPECT_TRUE(bad([](EncodeOptions &o) { o.range = depth::DepthRange{1.0, 1.0}; }));
     EXPECT_TRUE(bad([](EncodeOptions &o) { o.raw.metresPerUnit = -0.001; }));
-    EXPECT_TRUE(bad([](EncodeOptions &o) { o.width = 63; o.height = 48; }));
+    EXPECT_TRUE(bad([](EncodeOptions &o) {
+        o.width = 63;
+        o.height = 48;
+    }));
     EXPECT_TRUE(bad([](EncodeOptions &o) { o.maxFrames = -3; }));
     EXPECT_TRUE(bad([](EncodeOptions &o) { o.maxDuration = -1.0; }));
     EXPECT_TRUE(bad([this](EncodeOptions &o) {
@@ -622,8 +680,8 @@ TEST_F(FrameSourceTest, specPrefixesAndProviders)
 
     SourceProviders providers;
     std::string asked;
-    providers.synthetic = [&asked](const std::string &target, const SourceOptions &)
-        -> Result<std::unique_ptr<FrameSource>> {
+    providers.synthetic = [&asked](const std::string &target,
+                                   const SourceOptions &) -> Result<std::unique_ptr<FrameSource>> {
         asked = target;
         return std::unique_ptr<FrameSource>(std::make_unique<TestSource>(
             [](int i) { return makeColor(i); }, 1, 30.0, PixelFormat::Rgb24));
@@ -643,7 +701,9 @@ TEST_F(FrameSourceTest, badInputsGiveClearErrors)
     ASSERT_FALSE(noMatch);
     EXPECT_EQ(noMatch.error().code, Errc::Io);
 
-    { std::ofstream(path("junk.mkv")) << "this is not a video file at all, just text\n"; }
+    {
+        std::ofstream(path("junk.mkv")) << "this is not a video file at all, just text\n";
+    }
     auto junk = openFrameSource(path("junk.mkv"), SourceOptions{});
     ASSERT_FALSE(junk);
     EXPECT_EQ(junk.error().code, Errc::InvalidArgument);

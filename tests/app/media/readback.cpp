@@ -46,10 +46,9 @@ Image toImage(const AVFrame &f, bool color)
 {
     if (color) {
         Image img = Image::make(f.width, f.height, PixelFormat::Rgb24);
-        SwsContext *sws = sws_getContext(f.width, f.height, static_cast<AVPixelFormat>(f.format),
-                                         f.width, f.height, AV_PIX_FMT_RGB24,
-                                         SWS_BILINEAR | SWS_ACCURATE_RND, nullptr, nullptr,
-                                         nullptr);
+        SwsContext *sws = sws_getContext(
+            f.width, f.height, static_cast<AVPixelFormat>(f.format), f.width, f.height,
+            AV_PIX_FMT_RGB24, SWS_BILINEAR | SWS_ACCURATE_RND, nullptr, nullptr, nullptr);
         std::uint8_t *dst[4] = {img.data.data(), nullptr, nullptr, nullptr};
         const int stride[4] = {static_cast<int>(img.stride), 0, 0, 0};
         sws_scale(sws, f.data, f.linesize, 0, f.height, dst, stride);

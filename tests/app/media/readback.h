@@ -13,9 +13,9 @@ namespace depthtouch::media::test {
 
 /// One decoded stream.
 struct StreamReadback {
-    std::string codec;                       ///< e.g. "h264", "ffv1".
-    std::string profile;                     ///< e.g. "High 4:4:4 Predictive" ("" when none).
-    std::string pixFmt;                      ///< Decoder output format, e.g. "yuvj420p", "gray16le".
+    std::string codec;   ///< e.g. "h264", "ffv1".
+    std::string profile; ///< e.g. "High 4:4:4 Predictive" ("" when none).
+    std::string pixFmt;  ///< Decoder output format, e.g. "yuvj420p", "gray16le".
     int width = 0;
     int height = 0;
     std::map<std::string, std::string> tags; ///< Keys lower-cased (MKV writes them upper-case).
@@ -32,7 +32,7 @@ struct FileReadback {
     std::string format;                      ///< Demuxer name, e.g. "matroska,webm".
     std::map<std::string, std::string> tags; ///< Container tags, keys lower-cased.
     std::vector<StreamReadback> streams;
-    int decodeErrors = 0;                    ///< Packets or frames the decoders refused/flagged.
+    int decodeErrors = 0; ///< Packets or frames the decoders refused/flagged.
 };
 
 /// Reads \a path; \a colorStreams lists stream indices converted to Rgb24 (others: luma plane).

@@ -7,7 +7,8 @@
 ///
 /// Depth conversion (DESIGN.md §3):
 ///  - 8-bit depth samples are nearness and pass through (scaled to the output's 2^bits − 1);
-///    color-format depth inputs give their luma, likewise.
+///    color-format depth inputs give their luma, likewise. Without given planes, the input's own
+///    depth_near/depth_far/depth_mapping tags (a DepthTouch file) are carried over.
 ///  - 16-bit samples are metric depth (EncodeOptions::depthScale metres per unit): converted with
 ///    near/far planes that are either given or the robust range (1 %..99 % quantiles) of the valid
 ///    samples of the first EncodeOptions::rangeFrames frames, decided once so the mapping is
@@ -42,25 +43,25 @@ namespace depthtouch::media {
 
 /// \brief Everything `depthtouch encode` can set.
 struct EncodeOptions {
-    std::string output;                  ///< File name or URL.
-    std::optional<Container> container;  ///< nullopt: containerForOutput(output).
-    int crf = 23;                        ///< Color x264 CRF 0..51.
-    std::string preset = "medium";       ///< x264 preset of both H.264 streams.
+    std::string output;                           ///< File name or URL.
+    std::optional<Container> container;           ///< nullopt: containerForOutput(output).
+    int crf = 23;                                 ///< Color x264 CRF 0..51.
+    std::string preset = "medium";                ///< x264 preset of both H.264 streams.
     VideoCodec depthCodec = VideoCodec::H264Gray; ///< H264Gray, H264Gray10 or Ffv1Gray16.
-    int depthCrf = 18;                   ///< Depth x264 CRF 0..51 (lossy).
-    bool depthLossless = false;          ///< Depth x264 qp 0 (FFV1 is always lossless).
-    int threads = 0;                     ///< Encoder threads per stream; 0 = automatic.
-    int width = 0;                       ///< Output grid (pixels, even); 0 = the color size.
+    int depthCrf = 18;                            ///< Depth x264 CRF 0..51 (lossy).
+    bool depthLossless = false;                   ///< Depth x264 qp 0 (FFV1 is always lossless).
+    int threads = 0;                              ///< Encoder threads per stream; 0 = automatic.
+    int width = 0; ///< Output grid (pixels, even); 0 = the color size.
     int height = 0;
-    long long maxFrames = 0;             ///< Stop after this many pairs; 0 = no limit.
-    double maxDuration = 0.0;            ///< Stop at this PTS (seconds); 0 = no limit.
+    long long maxFrames = 0;  ///< Stop after this many pairs; 0 = no limit.
+    double maxDuration = 0.0; ///< Stop at this PTS (seconds); 0 = no limit.
 
-    depth::RawDepthFormat raw{};         ///< Metric input: metres per unit, saturation value.
+    depth::RawDepthFormat raw{}; ///< Metric input: metres per unit, saturation value.
     depth::DepthMapping mapping = depth::DepthMapping::InverseZ;
     std::optional<depth::DepthRange> range; ///< Given near/far (metres); nullopt = robust range.
-    int rangeFrames = 5;                 ///< Frames the robust range is taken from (≥ 1).
+    int rangeFrames = 5;                    ///< Frames the robust range is taken from (≥ 1).
 
-    bool enhance = false;                ///< Run the §V.B enhancement on every depth frame.
+    bool enhance = false; ///< Run the §V.B enhancement on every depth frame.
     /// Enhancement options at the 8-bit scale; scaled to the output's bits (forScale()).
     depth::EnhanceOptions enhanceOptions{};
 
@@ -85,27 +86,28 @@ struct EnhanceTotals {
     double rmsError = 0.0;       ///< RMS of the same (levels).
     double maxAbsError = 0.0;    ///< Largest over the frames (levels).
     double roughnessInput = 0.0; ///< Mean over frames of the flat-region roughness before (levels).
-    double roughnessOutput = 0.0; ///< … and after.
-    double edgeContrastInput = 0.0; ///< Mean over frames of the strong-edge contrast before.
+    double roughnessOutput = 0.0;    ///< … and after.
+    double edgeContrastInput = 0.0;  ///< Mean over frames of the strong-edge contrast before.
     double edgeContrastOutput = 0.0; ///< … and after.
-    double levelsMax = 255.0;    ///< The scale of the levels above (2^bits − 1).
+    double levelsMax = 255.0;        ///< The scale of the levels above (2^bits − 1).
 };
 
 /// \brief What the encode did.
 struct EncodeSummary {
-    long long frames = 0;          ///< Pairs written.
-    long long colorBytes = 0;      ///< Compressed color bytes.
-    long long depthBytes = 0;      ///< Compressed depth bytes.
-    double elapsed = 0.0;          ///< Wall-clock seconds.
-    double duration = 0.0;         ///< PTS span written (seconds).
-    bool interrupted = false;      ///< *stop ended it.
-    bool metric = false;           ///< Depth was metric and converted with `range`.
-    depth::DepthRange range{};     ///< Planes used (metric only).
-    int depthBits = 8;             ///< 8, 10 or 16.
-    long long filledSamples = 0;   ///< Invalid depth samples filled.
-    long long repeatedFrames = 0;  ///< Depth frames without valid samples (previous repeated).
-    bool depthResampled = false;   ///< Depth was resampled to the output grid.
-    std::string endedBy;           ///< "color", "depth", "frames", "duration" or "stop".
+    long long frames = 0;      ///< Pairs written.
+    long long colorBytes = 0;  ///< Compressed color bytes.
+    long long depthBytes = 0;  ///< Compressed depth bytes.
+    double elapsed = 0.0;      ///< Wall-clock seconds.
+    double duration = 0.0;     ///< PTS span written (seconds).
+    bool interrupted = false;  ///< *stop ended it.
+    bool metric = false;       ///< Depth was metric and converted with `range`.
+    depth::DepthRange range{}; ///< Planes used (metric, given, or from the input's tags).
+    depth::DepthMapping mapping = depth::DepthMapping::InverseZ; ///< Mapping written.
+    int depthBits = 8;                                           ///< 8, 10 or 16.
+    long long filledSamples = 0;                                 ///< Invalid depth samples filled.
+    long long repeatedFrames = 0; ///< Depth frames without valid samples (previous repeated).
+    bool depthResampled = false;  ///< Depth was resampled to the output grid.
+    std::string endedBy;          ///< "color", "depth", "frames", "duration" or "stop".
     std::optional<EnhanceTotals> enhance;
 };
 

@@ -103,14 +103,14 @@ enum class VideoCodec : std::uint8_t {
 /// \brief Options of VideoEncoder::create().
 struct VideoEncoderConfig {
     VideoCodec codec = VideoCodec::H264Yuv420p;
-    int width = 0;     ///< Pixels (even for 4:2:0).
-    int height = 0;    ///< Pixels (even for 4:2:0).
-    double fps = 30.0; ///< Nominal frames/s (rate control and the container's frame rate).
-    int crf = 23;      ///< x264 constant rate factor 0..51 (ignored when lossless and by FFV1).
-    bool lossless = false;           ///< x264 qp 0 (x264 then uses High 4:4:4 Predictive).
-    std::string preset = "medium";   ///< x264 preset (ultrafast … placebo).
-    int threads = 0;                 ///< Encoder threads; 0 = automatic.
-    std::string title;               ///< Stream title ("color", "depth").
+    int width = 0;         ///< Pixels (even for 4:2:0).
+    int height = 0;        ///< Pixels (even for 4:2:0).
+    double fps = 30.0;     ///< Nominal frames/s (rate control and the container's frame rate).
+    int crf = 23;          ///< x264 constant rate factor 0..51 (ignored when lossless and by FFV1).
+    bool lossless = false; ///< x264 qp 0 (x264 then uses High 4:4:4 Predictive).
+    std::string preset = "medium";                         ///< x264 preset (ultrafast … placebo).
+    int threads = 0;                                       ///< Encoder threads; 0 = automatic.
+    std::string title;                                     ///< Stream title ("color", "depth").
     std::vector<std::pair<std::string, std::string>> tags; ///< Extra stream metadata.
 };
 

@@ -21,6 +21,8 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "depthtouch/media/image.h"
 #include "depthtouch/platform/result.h"
@@ -29,21 +31,33 @@ namespace depthtouch::media {
 
 /// \brief What a source delivers and how fast.
 struct SourceInfo {
-    int width = 0;   ///< Pixels.
-    int height = 0;  ///< Pixels.
-    double fps = 0;  ///< Nominal frame rate (frames/s): the stream's, or SourceOptions::fps.
+    int width = 0;  ///< Pixels.
+    int height = 0; ///< Pixels.
+    double fps = 0; ///< Nominal frame rate (frames/s): the stream's, or SourceOptions::fps.
     /// The Image layout closest to the source's samples: Gray8 (8-bit gray, e.g. nearness), Gray16
     /// (gray deeper than 8 bits, e.g. metric depth in mm), Rgb24 (any color format).
     PixelFormat nativeFormat = PixelFormat::Rgb24;
     /// Frames the source holds when known (image sequences, most files), 0 when unknown (live).
     long long frameCount = 0;
     std::string description; ///< E.g. "image2 png 640x480 gray16be"; for logs and --help text.
+    /// Metadata of the stream and its container, keys lower-case, the stream's first (e.g. the
+    /// depth tags of a DepthTouch file: depth_near, depth_far, depth_mapping, depth_bits).
+    std::vector<std::pair<std::string, std::string>> tags;
+
+    /// \return the value of tag \a key (lower-case), or nullptr.
+    [[nodiscard]] const std::string *tag(std::string_view key) const noexcept
+    {
+        for (const auto &[k, v] : tags)
+            if (k == key)
+                return &v;
+        return nullptr;
+    }
 };
 
 /// \brief One decoded frame.
 struct SourceFrame {
-    Image image;     ///< In the layout asked of next().
-    double pts = 0;  ///< Seconds from the source's first frame (the first frame has 0).
+    Image image;    ///< In the layout asked of next().
+    double pts = 0; ///< Seconds from the source's first frame (the first frame has 0).
 };
 
 /// \brief A sequence of frames: image sequence, video file, camera, synthetic scene.
@@ -55,7 +69,9 @@ public:
     [[nodiscard]] virtual const SourceInfo &info() const noexcept = 0;
 
     /// \brief Decodes the next frame and converts it to \a format (libswscale rules of readImage():
-    /// 16 → 8 bit keeps the high byte, color → gray takes the luma, gray → RGB replicates).
+    /// 16 → 8 bit keeps the high byte, color → gray takes the luma, gray → RGB replicates). Gray8
+    /// from 8-bit planar YUV (a depth video, e.g. gray H.264) copies the luma plane as it is, with
+    /// no range conversion.
     /// \param[in] width, height output size in pixels (bicubic scaling); 0 = the frame's own size
     /// \return the frame; Errc::EndOfStream after the last one; Errc::InvalidArgument for a
     ///         corrupt or undecodable frame (the source cannot go on); Errc::Io when reading fails.
@@ -78,6 +94,9 @@ struct SourceOptions {
     /// e.g. "gray16le", "rgb24").
     std::string videoSize;
     std::string pixelFormat;
+    /// Files with several video streams: take the one with this title (e.g. "depth" to read a
+    /// DepthTouch file's depth); absent or empty: FFmpeg's best video stream.
+    std::string streamTitle;
     /// Image sequences only: start over after the last image, forever (a still or a short
     /// sequence as an endless live source; stop it with a frame limit or a signal).
     bool loop = false;
