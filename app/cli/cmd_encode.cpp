@@ -1,0 +1,401 @@
+/// \file
+/// \brief `depthtouch encode --color SRC --depth SRC -o OUT`: the sender. Reads color and depth
+/// frames (image sequences, video files, anything FFmpeg reads), converts depth to nearness
+/// (DESIGN.md §3), optionally enhances it (paper §V.B) and writes color H.264 + depth 4:0:0 into
+/// one MKV/MP4/MPEG-TS file or stream URL (DESIGN.md §4). The pipeline is media::encodeStreams().
+///
+/// Bad input (missing or unreadable source, no video stream, nonsense options, unwritable output)
+/// prints one error line and exits 2 without leaving an output file. SIGINT/SIGTERM stop reading;
+/// the encoders are flushed and the trailer written, so the file is playable; exit code 130.
+/// Progress (frames, fps, ETA) is drawn on stderr only when stderr is a terminal.
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.h"
+#include "depthtouch/media/encode_job.h"
+#include "depthtouch/media/frame_source.h"
+#include "depthtouch/platform/log.h"
+
+namespace depthtouch::cli {
+
+namespace {
+
+/// Exit code of an encode ended by SIGINT/SIGTERM (128 + SIGINT, as shells report it).
+constexpr int kExitInterrupted = 130;
+
+struct EncodeCliOptions {
+    std::string color;
+    std::string depth;
+    std::string output;
+    std::string format;
+    double fps = 30.0;
+    int crf = 23;
+    std::string preset = "medium";
+    int depthCrf = 18;
+    bool depthLossless = false;
+    int depthBits = 8;
+    std::string size;
+    int threads = 0;
+    long long frames = 0;
+    double duration = 0.0;
+    double depthScale = 0.001;
+    int depthSaturation = 65535;
+    std::optional<double> nearM;
+    std::optional<double> farM;
+    std::string depthMapping = "inverse_z";
+    bool enhance = false;
+    bool loop = false;
+    float enhanceTolerance = 1.0f;
+    std::string colorFormat, colorVideoSize, colorPixFmt;
+    std::string depthFormat, depthVideoSize, depthPixFmt;
+};
+
+std::atomic<bool> gStop{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler needs a lock-free flag");
+
+extern "C" void onStopSignal(int)
+{
+    gStop.store(true, std::memory_order_relaxed);
+}
+
+/// Installs the SIGINT/SIGTERM handlers for its lifetime.
+class StopSignals {
+public:
+    StopSignals()
+    {
+        struct sigaction sa {};
+        sa.sa_handler = &onStopSignal;
+        sigemptyset(&sa.sa_mask);
+        sigaction(SIGINT, &sa, &oldInt_);
+        sigaction(SIGTERM, &sa, &oldTerm_);
+    }
+    ~StopSignals()
+    {
+        sigaction(SIGINT, &oldInt_, nullptr);
+        sigaction(SIGTERM, &oldTerm_, nullptr);
+    }
+    StopSignals(const StopSignals &) = delete;
+    StopSignals &operator=(const StopSignals &) = delete;
+
+private:
+    struct sigaction oldInt_ {};
+    struct sigaction oldTerm_ {};
+};
+
+int fail(int code, const std::string &message)
+{
+    std::fprintf(stderr, "depthtouch encode: %s\n", message.c_str());
+    return code;
+}
+
+std::string describe(const Error &e)
+{
+    char buf[256];
+    return e.format(buf, sizeof buf);
+}
+
+/// A FrameSource that remembers its name and its first error, so the one error line can say which
+/// input failed.
+class NamedSource final : public media::FrameSource {
+public:
+    NamedSource(std::string role, std::string spec, std::unique_ptr<media::FrameSource> inner)
+        : role_(std::move(role)), spec_(std::move(spec)), inner_(std::move(inner))
+    {
+    }
+    [[nodiscard]] const media::SourceInfo &info() const noexcept override { return inner_->info(); }
+    Result<media::SourceFrame> next(media::PixelFormat format, int width, int height) override
+    {
+        auto r = inner_->next(format, width, height);
+        if (!r && r.error().code != Errc::EndOfStream && !failed_) {
+            failed_ = true;
+            error_ = r.error();
+        }
+        return r;
+    }
+    [[nodiscard]] bool failed() const noexcept { return failed_; }
+    [[nodiscard]] std::string message() const
+    {
+        return "cannot read " + role_ + " input '" + spec_ + "': " + describe(error_);
+    }
+
+private:
+    std::string role_;
+    std::string spec_;
+    std::unique_ptr<media::FrameSource> inner_;
+    bool failed_ = false;
+    Error error_{};
+};
+
+bool parseSize(const std::string &text, int &w, int &h)
+{
+    char x = 0;
+    std::istringstream ss(text);
+    return static_cast<bool>(ss >> w >> x >> h) && x == 'x' && ss.eof() && w > 0 && h > 0;
+}
+
+/// Draws "frames, fps, ETA" on one terminal line.
+class Progress {
+public:
+    explicit Progress(bool enabled) : enabled_(enabled) {}
+    void update(const media::EncodeProgress &p)
+    {
+        if (!enabled_ || p.elapsed - lastDraw_ < 0.25)
+            return;
+        lastDraw_ = p.elapsed;
+        const double fps = p.elapsed > 0.0 ? static_cast<double>(p.frames) / p.elapsed : 0.0;
+        if (p.totalFrames > 0 && fps > 0.0) {
+            const double eta = static_cast<double>(p.totalFrames - p.frames) / fps;
+            std::fprintf(stderr, "\rframe %lld/%lld  %.1f fps  ETA %.0f s   ", p.frames,
+                         p.totalFrames, fps, eta > 0.0 ? eta : 0.0);
+        } else {
+            std::fprintf(stderr, "\rframe %lld  %.1f fps   ", p.frames, fps);
+        }
+        std::fflush(stderr);
+        drawn_ = true;
+    }
+    void finish()
+    {
+        if (drawn_)
+            std::fprintf(stderr, "\n");
+        drawn_ = false;
+    }
+
+private:
+    bool enabled_;
+    bool drawn_ = false;
+    double lastDraw_ = -1.0;
+};
+
+int runEncode(const EncodeCliOptions &o)
+{
+    // One error line on bad input: our log stays at errors unless the user asked with DT_LOG.
+    if (std::getenv("DT_LOG") == nullptr)
+        platform::setLogLevel(platform::LogLevel::Error);
+
+    media::EncodeOptions eo;
+    eo.output = o.output;
+    if (!o.format.empty()) {
+        auto c = media::parseContainer(o.format);
+        if (!c)
+            return fail(kExitBadInput, "--format must be mkv, mp4 or ts");
+        eo.container = *c;
+    }
+    eo.crf = o.crf;
+    eo.preset = o.preset;
+    eo.depthCrf = o.depthCrf;
+    eo.depthLossless = o.depthLossless;
+    switch (o.depthBits) {
+    case 8:
+        eo.depthCodec = media::VideoCodec::H264Gray;
+        break;
+    case 10:
+        eo.depthCodec = media::VideoCodec::H264Gray10;
+        break;
+    case 16:
+        eo.depthCodec = media::VideoCodec::Ffv1Gray16;
+        break;
+    default:
+        return fail(kExitBadInput, "--depth-bits must be 8 (H.264 gray), 10 (H.264 gray10) or 16 "
+                                   "(FFV1 gray16)");
+    }
+    if (!o.size.empty() && !parseSize(o.size, eo.width, eo.height))
+        return fail(kExitBadInput, "--size must be WxH (pixels)");
+    eo.threads = o.threads;
+    eo.maxFrames = o.frames;
+    eo.maxDuration = o.duration;
+    eo.raw.metresPerUnit = o.depthScale;
+    if (o.depthSaturation < 1 || o.depthSaturation > 65535)
+        return fail(kExitBadInput, "--depth-saturation must be in 1..65535");
+    eo.raw.saturation = static_cast<std::uint16_t>(o.depthSaturation);
+    auto mapping = depth::parseMapping(o.depthMapping);
+    if (!mapping)
+        return fail(kExitBadInput, "--depth-mapping must be inverse_z or linear");
+    eo.mapping = *mapping;
+    if (o.nearM.has_value() != o.farM.has_value())
+        return fail(kExitBadInput, "--near and --far go together");
+    if (o.nearM)
+        eo.range = depth::DepthRange{*o.nearM, *o.farM};
+    eo.enhance = o.enhance;
+    eo.enhanceOptions.sampling.tolerance = o.enhanceTolerance;
+    if (!(o.fps > 0.0) || o.fps > 1000.0)
+        return fail(kExitBadInput, "--fps must be in (0, 1000]");
+    if (auto v = eo.validate(); !v)
+        return fail(kExitBadInput, v.error().what);
+    static constexpr const char *kPresets[] = {"ultrafast", "superfast", "veryfast", "faster",
+                                               "fast",      "medium",    "slow",     "slower",
+                                               "veryslow",  "placebo"};
+    bool presetOk = false;
+    for (const char *p : kPresets)
+        presetOk = presetOk || o.preset == p;
+    if (!presetOk)
+        return fail(kExitBadInput, "--preset must be an x264 preset (ultrafast ... veryslow)");
+
+    const auto open = [&o](const std::string &role, const std::string &spec, double fps,
+                           const std::string &format, const std::string &videoSize,
+                           const std::string &pixFmt,
+                           std::string &error) -> std::unique_ptr<NamedSource> {
+        media::SourceOptions so;
+        so.fps = fps;
+        so.format = format;
+        so.videoSize = videoSize;
+        so.pixelFormat = pixFmt;
+        so.loop = o.loop;
+        so.streamTitle = role; // a DepthTouch file gives its color or depth stream
+        auto s = media::openFrameSource(spec, so);
+        if (!s) {
+            error = "cannot open " + role + " input '" + spec + "': " + describe(s.error());
+            return nullptr;
+        }
+        return std::make_unique<NamedSource>(role, spec, std::move(*s));
+    };
+    std::string error;
+    auto color =
+        open("color", o.color, o.fps, o.colorFormat, o.colorVideoSize, o.colorPixFmt, error);
+    if (!color)
+        return fail(kExitBadInput, error);
+    auto depthSrc =
+        open("depth", o.depth, o.fps, o.depthFormat, o.depthVideoSize, o.depthPixFmt, error);
+    if (!depthSrc)
+        return fail(kExitBadInput, error);
+
+    Progress progress(::isatty(STDERR_FILENO) == 1);
+    media::EncodeCallbacks callbacks;
+    callbacks.progress = [&progress](const media::EncodeProgress &p) { progress.update(p); };
+    callbacks.warning = [&progress](const std::string &w) {
+        progress.finish();
+        std::fprintf(stderr, "depthtouch encode: warning: %s\n", w.c_str());
+    };
+
+    gStop.store(false);
+    Result<media::EncodeSummary> summary = [&] {
+        StopSignals signals;
+        return media::encodeStreams(*color, *depthSrc, eo, &gStop, callbacks);
+    }();
+    progress.finish();
+    if (!summary) {
+        if (color->failed())
+            return fail(kExitBadInput, color->message());
+        if (depthSrc->failed())
+            return fail(kExitBadInput, depthSrc->message());
+        const Errc code = summary.error().code;
+        const std::string what = describe(summary.error());
+        if (code == Errc::Io)
+            return fail(kExitBadInput, "cannot write '" + o.output + "': " + what);
+        return fail(code == Errc::OutOfResources ? kExitFailure : kExitBadInput, what);
+    }
+
+    const media::EncodeSummary &s = *summary;
+    const int w = eo.width > 0 ? eo.width : color->info().width;
+    const int h = eo.height > 0 ? eo.height : color->info().height;
+    std::printf("encoded %lld frame pairs %dx%d (%.2f s of video) in %.2f s: %.1f fps; color %.1f "
+                "kB, depth %.1f kB (%d-bit); ended by %s\n",
+                s.frames, w, h, s.duration, s.elapsed,
+                s.elapsed > 0.0 ? static_cast<double>(s.frames) / s.elapsed : 0.0,
+                static_cast<double>(s.colorBytes) / 1000.0,
+                static_cast<double>(s.depthBytes) / 1000.0, s.depthBits, s.endedBy.c_str());
+    if (s.metric)
+        std::printf("depth: metric, near %.4g m, far %.4g m (%s), %s mapping; %lld invalid samples "
+                    "filled; %lld frames without valid depth repeated\n",
+                    s.range.nearM, s.range.farM, eo.range ? "given" : "robust range of the data",
+                    depth::mappingName(s.mapping), s.filledSamples, s.repeatedFrames);
+    if (s.enhance) {
+        const media::EnhanceTotals &t = *s.enhance;
+        const double scale = 255.0 / t.levelsMax;
+        std::printf("enhance: %lld frames, points kept %lld of %lld pixels (%.2f %%); depth error "
+                    "mean %.3f, rms %.3f, max %.1f levels (8-bit scale); flat roughness %.3f -> "
+                    "%.3f; edge contrast %.1f -> %.1f\n",
+                    t.frames, t.points, t.pixels,
+                    t.pixels > 0
+                        ? 100.0 * static_cast<double>(t.points) / static_cast<double>(t.pixels)
+                        : 0.0,
+                    t.meanAbsError * scale, t.rmsError * scale, t.maxAbsError * scale,
+                    t.roughnessInput * scale, t.roughnessOutput * scale,
+                    t.edgeContrastInput * scale, t.edgeContrastOutput * scale);
+    }
+    if (s.interrupted) {
+        std::fprintf(stderr,
+                     "depthtouch encode: interrupted; '%s' holds the %lld frame pairs "
+                     "encoded and is complete\n",
+                     o.output.c_str(), s.frames);
+        return kExitInterrupted;
+    }
+    return kExitOk;
+}
+
+} // namespace
+
+void registerEncodeCommand(CLI::App &app, int &exitCode)
+{
+    auto o = std::make_shared<EncodeCliOptions>();
+    CLI::App *cmd = app.add_subcommand(
+        "encode", "Encode color + depth into one file or stream (H.264 color, 4:0:0 depth)");
+    cmd->add_option("--color", o->color,
+                    "Color input: image sequence (frame-%06d.color.jpg, 'd/*.png'), video file, "
+                    "URL, v4l2:/dev/videoN, synthetic:NAME")
+        ->required();
+    cmd->add_option("--depth", o->depth,
+                    "Depth input: 8-bit nearness or 16-bit metric depth (image sequence, video, "
+                    "...)")
+        ->required();
+    cmd->add_option("-o,--output", o->output, "Output file (.mkv, .mp4, .ts) or URL (udp://...)")
+        ->required();
+    cmd->add_option("--format", o->format,
+                    "Container: mkv | mp4 | ts (default: by extension; "
+                    "mkv for files, ts for URLs)");
+    cmd->add_option("--fps", o->fps, "Frame rate of image sequences and raw inputs (frames/s)")
+        ->capture_default_str();
+    cmd->add_option("--crf", o->crf, "Color x264 constant rate factor 0..51")
+        ->capture_default_str();
+    cmd->add_option("--preset", o->preset, "x264 preset (ultrafast ... veryslow)")
+        ->capture_default_str();
+    cmd->add_option("--depth-crf", o->depthCrf, "Depth x264 constant rate factor 0..51 (lossy)")
+        ->capture_default_str();
+    cmd->add_flag("--depth-lossless", o->depthLossless,
+                  "Lossless depth (x264 qp 0, High 4:4:4 Predictive)");
+    cmd->add_option("--depth-bits", o->depthBits,
+                    "Depth samples: 8 = H.264 gray, 10 = H.264 gray10, 16 = FFV1 gray16 (MKV)")
+        ->capture_default_str();
+    cmd->add_option("--size", o->size, "Output grid WxH (default: the color size)");
+    cmd->add_option("--threads", o->threads, "Encoder threads per stream (0: automatic)")
+        ->capture_default_str();
+    cmd->add_flag("--loop", o->loop,
+                  "Loop image-sequence inputs forever (a live source; stop with --frames, "
+                  "--duration or Ctrl-C)");
+    cmd->add_option("--frames", o->frames, "Encode at most N frame pairs (0: all)");
+    cmd->add_option("--duration", o->duration, "Encode at most this many seconds (0: all)");
+    cmd->add_option("--depth-scale", o->depthScale,
+                    "Metres per unit of 16-bit metric depth (0.001: mm; TUM: 0.0002)")
+        ->capture_default_str();
+    cmd->add_option("--depth-saturation", o->depthSaturation,
+                    "16-bit depth values >= this are invalid (as 0 is)")
+        ->capture_default_str();
+    cmd->add_option("--near", o->nearM, "Near plane (m); default: robust range of the data");
+    cmd->add_option("--far", o->farM, "Far plane (m); default: robust range of the data");
+    cmd->add_option("--depth-mapping", o->depthMapping, "Metric → nearness: inverse_z | linear")
+        ->capture_default_str();
+    cmd->add_flag("--enhance", o->enhance,
+                  "Depth enhancement (paper V.B): median, adaptive points, Delaunay, smoothing");
+    cmd->add_option("--enhance-tolerance", o->enhanceTolerance,
+                    "Enhancement error tolerance (nearness levels, 8-bit scale)")
+        ->capture_default_str();
+    cmd->add_option("--color-format", o->colorFormat, "Force the color demuxer (e.g. rawvideo)");
+    cmd->add_option("--color-video-size", o->colorVideoSize, "Raw color frame size WxH");
+    cmd->add_option("--color-pix-fmt", o->colorPixFmt, "Raw color pixel format (e.g. rgb24)");
+    cmd->add_option("--depth-format", o->depthFormat, "Force the depth demuxer (e.g. rawvideo)");
+    cmd->add_option("--depth-video-size", o->depthVideoSize, "Raw depth frame size WxH");
+    cmd->add_option("--depth-pix-fmt", o->depthPixFmt, "Raw depth pixel format (e.g. gray16le)");
+    cmd->callback([o, &exitCode]() { exitCode = runEncode(*o); });
+}
+
+} // namespace depthtouch::cli

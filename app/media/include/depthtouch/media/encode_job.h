@@ -1,0 +1,137 @@
+#pragma once
+/// \file
+/// \brief The sender's pipeline behind `depthtouch encode`: pull paired color and depth frames
+/// from two FrameSources, turn depth into nearness, optionally enhance it (paper §V.B), encode
+/// color H.264 4:2:0 and depth 4:0:0 / gray10 / FFV1 gray16 and mux both into one output
+/// (DESIGN.md §4) with identical PTS for each pair.
+///
+/// Depth conversion (DESIGN.md §3):
+///  - 8-bit depth samples are nearness and pass through (scaled to the output's 2^bits − 1);
+///    color-format depth inputs give their luma, likewise. Without given planes, the input's own
+///    depth_near/depth_far/depth_mapping tags (a DepthTouch file) are carried over.
+///  - 16-bit samples are metric depth (EncodeOptions::depthScale metres per unit): converted with
+///    near/far planes that are either given or the robust range (1 %..99 % quantiles) of the valid
+///    samples of the first EncodeOptions::rangeFrames frames, decided once so the mapping is
+///    constant over the file, in the 1/Z (MPEG 3DV) or linear mapping. Invalid samples (0 and the
+///    saturation value) are filled by push-pull interpolation from valid neighbours (depth/fill.h),
+///    never set to the far plane; a frame without any valid sample repeats the previous frame.
+///  - Depth of another size than the output grid (the color size or EncodeOptions::width/height)
+///    is resampled edge-aware (depth/resample.h), with a warning.
+///  - `enhance`: depth::enhance() per frame (median → adaptive points → Delaunay → Gaussian mesh
+///    smoothing → re-render), its report accumulated in EncodeSummary.
+///
+/// Pairing: frame i of each source forms pair i; its PTS is the color frame's PTS (seconds from
+/// the first), forced strictly increasing. Encoding ends at the shorter source, after maxFrames
+/// pairs or maxDuration seconds, or when *stop becomes true (then the encoders are flushed and
+/// the trailer written: the output stays playable).
+///
+/// Thread-safety: runs on the calling thread; \a stop may be set from any thread or a signal
+/// handler (it is only read, lock-free).
+
+#include <atomic>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "depthtouch/depth/conversion.h"
+#include "depthtouch/depth/enhance.h"
+#include "depthtouch/media/encoder.h"
+#include "depthtouch/media/frame_source.h"
+#include "depthtouch/platform/result.h"
+
+namespace depthtouch::media {
+
+/// \brief Everything `depthtouch encode` can set.
+struct EncodeOptions {
+    std::string output;                           ///< File name or URL.
+    std::optional<Container> container;           ///< nullopt: containerForOutput(output).
+    int crf = 23;                                 ///< Color x264 CRF 0..51.
+    std::string preset = "medium";                ///< x264 preset of both H.264 streams.
+    VideoCodec depthCodec = VideoCodec::H264Gray; ///< H264Gray, H264Gray10 or Ffv1Gray16.
+    int depthCrf = 18;                            ///< Depth x264 CRF 0..51 (lossy).
+    bool depthLossless = false;                   ///< Depth x264 qp 0 (FFV1 is always lossless).
+    int threads = 0;                              ///< Encoder threads per stream; 0 = automatic.
+    int width = 0; ///< Output grid (pixels, even); 0 = the color size.
+    int height = 0;
+    long long maxFrames = 0;  ///< Stop after this many pairs; 0 = no limit.
+    double maxDuration = 0.0; ///< Stop at this PTS (seconds); 0 = no limit.
+
+    depth::RawDepthFormat raw{}; ///< Metric input: metres per unit, saturation value.
+    depth::DepthMapping mapping = depth::DepthMapping::InverseZ;
+    std::optional<depth::DepthRange> range; ///< Given near/far (metres); nullopt = robust range.
+    int rangeFrames = 5;                    ///< Frames the robust range is taken from (≥ 1).
+
+    bool enhance = false; ///< Run the §V.B enhancement on every depth frame.
+    /// Enhancement options at the 8-bit scale; scaled to the output's bits (forScale()).
+    depth::EnhanceOptions enhanceOptions{};
+
+    /// \return Errc::InvalidArgument with a message naming the bad option, or nothing.
+    [[nodiscard]] Result<void> validate() const;
+};
+
+/// \brief Progress after each encoded pair (for a terminal display).
+struct EncodeProgress {
+    long long frames = 0;      ///< Pairs encoded.
+    long long totalFrames = 0; ///< Expected pairs, 0 when unknown.
+    double elapsed = 0.0;      ///< Wall-clock seconds since the start.
+    double pts = 0.0;          ///< PTS of the last pair (seconds).
+};
+
+/// \brief Accumulated §V.B enhancement figures over the encoded frames.
+struct EnhanceTotals {
+    long long frames = 0;
+    long long pixels = 0;        ///< Σ W·H.
+    long long points = 0;        ///< Σ feature points kept.
+    double meanAbsError = 0.0;   ///< Mean |enhanced − median-filtered| over all pixels (levels).
+    double rmsError = 0.0;       ///< RMS of the same (levels).
+    double maxAbsError = 0.0;    ///< Largest over the frames (levels).
+    double roughnessInput = 0.0; ///< Mean over frames of the flat-region roughness before (levels).
+    double roughnessOutput = 0.0;    ///< … and after.
+    double edgeContrastInput = 0.0;  ///< Mean over frames of the strong-edge contrast before.
+    double edgeContrastOutput = 0.0; ///< … and after.
+    double levelsMax = 255.0;        ///< The scale of the levels above (2^bits − 1).
+};
+
+/// \brief What the encode did.
+struct EncodeSummary {
+    long long frames = 0;      ///< Pairs written.
+    long long colorBytes = 0;  ///< Compressed color bytes.
+    long long depthBytes = 0;  ///< Compressed depth bytes.
+    double elapsed = 0.0;      ///< Wall-clock seconds.
+    double duration = 0.0;     ///< PTS span written (seconds).
+    bool interrupted = false;  ///< *stop ended it.
+    bool metric = false;       ///< Depth was metric and converted with `range`.
+    depth::DepthRange range{}; ///< Planes used (metric, given, or from the input's tags).
+    depth::DepthMapping mapping = depth::DepthMapping::InverseZ; ///< Mapping written.
+    int depthBits = 8;                                           ///< 8, 10 or 16.
+    long long filledSamples = 0;                                 ///< Invalid depth samples filled.
+    long long repeatedFrames = 0; ///< Depth frames without valid samples (previous repeated).
+    bool depthResampled = false;  ///< Depth was resampled to the output grid.
+    std::string endedBy;          ///< "color", "depth", "frames", "duration" or "stop".
+    std::optional<EnhanceTotals> enhance;
+};
+
+/// \brief Callbacks of encodeStreams(); each may be empty.
+struct EncodeCallbacks {
+    std::function<void(const EncodeProgress &)> progress; ///< After each pair.
+    std::function<void(const std::string &)> warning;     ///< Once per condition (e.g. resampling).
+};
+
+/// \brief Runs the whole encode (see the file comment).
+/// \param[in] stop may be null; when it becomes true, encoding stops after the current pair.
+/// \return the summary; errors: Errc::InvalidArgument for bad options or input data (no frame,
+///         odd output size, corrupt frame, depth without any valid sample to start from),
+///         Errc::Io when writing fails or the output cannot be created, Errc::NotSupported for an
+///         encoder or container FFmpeg lacks. No output file is left behind on error.
+Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
+                                    const EncodeOptions &options,
+                                    const std::atomic<bool> *stop = nullptr,
+                                    const EncodeCallbacks &callbacks = {});
+
+/// \brief The metadata tags of DESIGN.md §4 written on the depth stream and the container:
+/// depth_near and depth_far (metres, "%.6g"; "unknown" when \a range is nullopt, as for 8-bit
+/// nearness inputs given without planes), depth_mapping ("inverse_z" or "linear"), depth_bits.
+std::vector<std::pair<std::string, std::string>>
+depthTags(const std::optional<depth::DepthRange> &range, depth::DepthMapping mapping, int bits);
+
+} // namespace depthtouch::media

@@ -1,0 +1,153 @@
+#pragma once
+/// \file
+/// \brief The sender's encoders and muxer (DESIGN.md §4): color H.264 4:2:0 and depth H.264 4:0:0
+/// (gray, gray10) or FFV1 gray16, muxed into MKV, MP4 or MPEG-TS, written to a file or to any URL
+/// libavformat can write (udp://, srt://, tcp://…).
+///
+/// Use: Muxer::open() → VideoEncoder::create() once per stream (color first, then depth) →
+/// Muxer::start() → VideoEncoder::encode() per frame → VideoEncoder::flush() each →
+/// Muxer::finish(). Muxer::abort() (or destroying an unfinished Muxer) removes a file output.
+///
+/// File outputs are written to a temporary name in the same directory (`OUT.tmp.PID`) and renamed
+/// to OUT by finish(): a failed encode never leaves a partial file. URLs are written directly.
+///
+/// Time: PTS are seconds, carried in a 90 kHz time base: frames given the same PTS come out of
+/// the muxer with the same PTS in every container. Errors: static messages; FFmpeg's own message is
+/// logged (category "Media", Warning). Thread-safety: thread-bound (one thread drives the muxer
+/// and its encoders).
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "depthtouch/media/image.h"
+#include "depthtouch/platform/result.h"
+
+namespace depthtouch::media {
+
+/// \brief Containers the sender writes.
+enum class Container : std::uint8_t { Matroska, Mp4, MpegTs };
+
+/// \return "matroska", "mp4" or "mpegts" (libavformat muxer names).
+const char *containerName(Container c) noexcept;
+
+/// \brief Parses a `--format` value: "mkv"/"matroska", "mp4", "ts"/"mpegts".
+/// \return the container or Errc::InvalidArgument.
+Result<Container> parseContainer(const std::string &text);
+
+/// \brief The container for an output name when no format is given: by extension (.mkv, .mp4,
+/// .m4v, .mov → MP4, .ts/.m2ts), MPEG-TS for a URL without one (live streams), MKV otherwise.
+Container containerForOutput(const std::string &output);
+
+/// \return true when \a output is a URL (`scheme://…`, but not `file:`), written without a
+/// temporary name.
+bool isOutputUrl(const std::string &output);
+
+/// \brief Options of Muxer::open().
+struct MuxerOptions {
+    std::string output; ///< File name or URL.
+    Container container = Container::Matroska;
+    /// Container-level metadata (e.g. the depth tags, so every tool finds them).
+    std::vector<std::pair<std::string, std::string>> tags;
+};
+
+class VideoEncoder;
+
+/// \brief One output file or stream: owns the libavformat context and the output I/O.
+class Muxer {
+public:
+    ~Muxer();
+    Muxer(const Muxer &) = delete;
+    Muxer &operator=(const Muxer &) = delete;
+
+    /// \brief Creates the output (the temporary file for a file output).
+    /// \return the muxer; Errc::Io when the output cannot be created (missing directory, no
+    ///         permission, unreachable URL), Errc::NotSupported when FFmpeg lacks the muxer.
+    static Result<std::unique_ptr<Muxer>> open(const MuxerOptions &options);
+
+    /// \brief Writes the container header. \pre every stream added (VideoEncoder::create()).
+    /// \return Errc::Io on a write error, Errc::InvalidArgument when the container refuses a
+    ///         stream (e.g. a codec it cannot carry).
+    Result<void> start();
+
+    /// \brief Writes the trailer, closes the output and (file output) renames the temporary
+    /// file to the output name. \pre start() succeeded and every encoder flushed.
+    /// \return Errc::Io when writing, closing or renaming fails (the temporary file is removed).
+    Result<void> finish();
+
+    /// \brief Closes the output without a trailer and removes a file output's temporary file.
+    void abort() noexcept;
+
+    /// \return bytes written so far.
+    [[nodiscard]] long long bytesWritten() const noexcept;
+    /// \return the container.
+    [[nodiscard]] Container container() const noexcept;
+
+    struct Impl;
+
+private:
+    Muxer();
+    std::unique_ptr<Impl> impl_;
+    friend class VideoEncoder;
+};
+
+/// \brief Codecs and sample layouts an encoder produces.
+enum class VideoCodec : std::uint8_t {
+    H264Yuv420p, ///< libx264, 8-bit 4:2:0, from Rgb24 (BT.601 limited range via libswscale).
+    H264Gray,    ///< libx264, 8-bit 4:0:0, from Gray8 (full range: levels 0..255 as they are).
+    H264Gray10,  ///< libx264, 10-bit 4:0:0, from Gray16 holding 0..1023.
+    Ffv1Gray16,  ///< FFV1 level 3 with slice CRCs, 16-bit gray, from Gray16 (always lossless).
+};
+
+/// \brief Options of VideoEncoder::create().
+struct VideoEncoderConfig {
+    VideoCodec codec = VideoCodec::H264Yuv420p;
+    int width = 0;         ///< Pixels (even for 4:2:0).
+    int height = 0;        ///< Pixels (even for 4:2:0).
+    double fps = 30.0;     ///< Nominal frames/s (rate control and the container's frame rate).
+    int crf = 23;          ///< x264 constant rate factor 0..51 (ignored when lossless and by FFV1).
+    bool lossless = false; ///< x264 qp 0 (x264 then uses High 4:4:4 Predictive).
+    std::string preset = "medium";                         ///< x264 preset (ultrafast … placebo).
+    int threads = 0;                                       ///< Encoder threads; 0 = automatic.
+    std::string title;                                     ///< Stream title ("color", "depth").
+    std::vector<std::pair<std::string, std::string>> tags; ///< Extra stream metadata.
+};
+
+/// \brief One stream's encoder, feeding its stream of a Muxer.
+class VideoEncoder {
+public:
+    ~VideoEncoder();
+    VideoEncoder(const VideoEncoder &) = delete;
+    VideoEncoder &operator=(const VideoEncoder &) = delete;
+
+    /// \brief Opens the codec and adds its stream to \a muxer. \pre muxer not started.
+    /// \return the encoder; Errc::InvalidArgument for bad options (size, crf, preset),
+    ///         Errc::NotSupported when FFmpeg lacks the encoder or the container cannot carry it
+    ///         (FFV1 outside MKV).
+    static Result<std::unique_ptr<VideoEncoder>> create(const VideoEncoderConfig &config,
+                                                        Muxer &muxer);
+
+    /// \brief Encodes one picture with presentation time \a ptsSeconds and writes the packets
+    /// that come out. \param[in] image config.width × config.height in the codec's input layout
+    /// (see VideoCodec). \pre Muxer started; PTS strictly increasing.
+    /// \return Errc::InvalidArgument for a picture of the wrong size or layout or a PTS not
+    ///         after the previous one, Errc::Io when writing fails.
+    Result<void> encode(const Image &image, double ptsSeconds);
+
+    /// \brief Drains the encoder's delayed frames into the muxer.
+    Result<void> flush();
+
+    /// \return frames encoded so far.
+    [[nodiscard]] long long frames() const noexcept;
+    /// \return compressed bytes produced so far.
+    [[nodiscard]] long long bytes() const noexcept;
+
+    struct Impl;
+
+private:
+    VideoEncoder();
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace depthtouch::media

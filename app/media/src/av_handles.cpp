@@ -1,0 +1,100 @@
+/// \file
+/// \brief Shared libav helpers of dt_media (see av_handles.h).
+
+#include "av_handles.h"
+
+#include <cstdlib>
+#include <mutex>
+
+#include "depthtouch/platform/log.h"
+
+DT_LOG_CATEGORY(Media)
+
+namespace depthtouch::media::detail {
+
+void quietFfmpegLog() noexcept
+{
+    static std::once_flag once;
+    std::call_once(once, [] {
+        av_log_set_level(std::getenv("DT_LOG") != nullptr ? AV_LOG_ERROR : AV_LOG_FATAL);
+    });
+}
+
+AVPixelFormat toAvFormat(PixelFormat f) noexcept
+{
+    switch (f) {
+    case PixelFormat::Gray8:
+        return AV_PIX_FMT_GRAY8;
+    case PixelFormat::Gray16:
+        return AV_PIX_FMT_GRAY16; // native byte order
+    case PixelFormat::Rgb24:
+        return AV_PIX_FMT_RGB24;
+    }
+    return AV_PIX_FMT_NONE;
+}
+
+AVPixelFormat dejpeg(AVPixelFormat f, bool &fullRange) noexcept
+{
+    fullRange = true;
+    switch (f) {
+    case AV_PIX_FMT_YUVJ420P:
+        return AV_PIX_FMT_YUV420P;
+    case AV_PIX_FMT_YUVJ422P:
+        return AV_PIX_FMT_YUV422P;
+    case AV_PIX_FMT_YUVJ444P:
+        return AV_PIX_FMT_YUV444P;
+    case AV_PIX_FMT_YUVJ440P:
+        return AV_PIX_FMT_YUV440P;
+    case AV_PIX_FMT_YUVJ411P:
+        return AV_PIX_FMT_YUV411P;
+    default:
+        fullRange = false;
+        return f;
+    }
+}
+
+Result<void> Scaler::convert(const AVFrame &src, std::uint8_t *const dstData[4],
+                             const int dstStride[4], AVPixelFormat dstFmt, int dstW, int dstH)
+{
+    bool full = false;
+    const AVPixelFormat srcFmt = dejpeg(static_cast<AVPixelFormat>(src.format), full);
+    full = full || src.color_range == AVCOL_RANGE_JPEG;
+    if (!sws_ || src.width != srcW_ || src.height != srcH_ || srcFmt != srcFmt_ ||
+        full != srcFull_ || dstW != dstW_ || dstH != dstH_ || dstFmt != dstFmt_) {
+        const bool sameSize = src.width == dstW && src.height == dstH;
+        // Same size: SWS_POINT only selects the cheapest unscaled path; BITEXACT + ACCURATE_RND
+        // keep it deterministic across CPUs. Resizing: bicubic.
+        const int flags = (sameSize ? SWS_POINT : SWS_BICUBIC) | SWS_BITEXACT | SWS_ACCURATE_RND;
+        sws_.reset(sws_getContext(src.width, src.height, srcFmt, dstW, dstH, dstFmt, flags, nullptr,
+                                  nullptr, nullptr));
+        if (!sws_) {
+            DT_LOG(Media, Warning, "Failed to convert %s %dx%d to %s %dx%d",
+                   av_get_pix_fmt_name(srcFmt), src.width, src.height, av_get_pix_fmt_name(dstFmt),
+                   dstW, dstH);
+            return unexpected(Errc::NotSupported, "No pixel format conversion for this frame");
+        }
+        if (full) {
+            int *invTable = nullptr;
+            int *table = nullptr;
+            int srcRange = 0, dstRange = 0, brightness = 0, contrast = 0, saturation = 0;
+            if (sws_getColorspaceDetails(sws_.get(), &invTable, &srcRange, &table, &dstRange,
+                                         &brightness, &contrast, &saturation) >= 0)
+                sws_setColorspaceDetails(sws_.get(), invTable, 1, table, dstRange, brightness,
+                                         contrast, saturation);
+        }
+        srcW_ = src.width;
+        srcH_ = src.height;
+        srcFmt_ = srcFmt;
+        srcFull_ = full;
+        dstW_ = dstW;
+        dstH_ = dstH;
+        dstFmt_ = dstFmt;
+    }
+    const int lines =
+        sws_scale(sws_.get(), src.data, src.linesize, 0, src.height, dstData, dstStride);
+    if (lines != dstH)
+        return unexpected(Errc::InvalidArgument, "Failed to convert the frame's pixel format");
+    return ok();
+}
+
+} // namespace depthtouch::media::detail

@@ -1,0 +1,88 @@
+#pragma once
+/// \file
+/// \brief Private to dt_media: RAII owners of libav handles and small libav helpers shared by the
+/// frame sources, the encoders and the muxer. Thread-safety: reentrant.
+
+#include <cstdint>
+#include <memory>
+
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libavutil/dict.h>
+#include <libavutil/error.h>
+#include <libavutil/pixdesc.h>
+#include <libswscale/swscale.h>
+}
+
+#include "depthtouch/media/image.h"
+#include "depthtouch/platform/result.h"
+
+namespace depthtouch::media::detail {
+
+struct InputContextDeleter {
+    void operator()(AVFormatContext *c) const noexcept { avformat_close_input(&c); }
+};
+struct CodecContextDeleter {
+    void operator()(AVCodecContext *c) const noexcept { avcodec_free_context(&c); }
+};
+struct FrameDeleter {
+    void operator()(AVFrame *f) const noexcept { av_frame_free(&f); }
+};
+struct PacketDeleter {
+    void operator()(AVPacket *p) const noexcept { av_packet_free(&p); }
+};
+struct SwsDeleter {
+    void operator()(SwsContext *s) const noexcept { sws_freeContext(s); }
+};
+struct DictDeleter {
+    void operator()(AVDictionary *d) const noexcept { av_dict_free(&d); }
+};
+using InputContextPtr = std::unique_ptr<AVFormatContext, InputContextDeleter>;
+using CodecContextPtr = std::unique_ptr<AVCodecContext, CodecContextDeleter>;
+using FramePtr = std::unique_ptr<AVFrame, FrameDeleter>;
+using PacketPtr = std::unique_ptr<AVPacket, PacketDeleter>;
+using SwsPtr = std::unique_ptr<SwsContext, SwsDeleter>;
+
+/// FFmpeg's message for \a err (av_err2str is a C compound literal, unusable in C++).
+struct AvErrorText {
+    char text[AV_ERROR_MAX_STRING_SIZE] = {};
+    explicit AvErrorText(int err) noexcept { av_strerror(err, text, sizeof text); }
+};
+
+/// The errno behind an AVERROR(errno) code, 0 for FFmpeg's own codes.
+inline int errnoOf(int averr) noexcept
+{
+    return averr < 0 && averr > -4096 ? -averr : 0;
+}
+
+/// Keeps FFmpeg's own log quiet (fatal messages only; errors too when DT_LOG is set): our errors
+/// carry the message. Idempotent, thread-safe.
+void quietFfmpegLog() noexcept;
+
+/// \return the AVPixelFormat of an Image layout (GRAY16 in native byte order).
+AVPixelFormat toAvFormat(PixelFormat f) noexcept;
+
+/// Deprecated full-range "J" YUV formats → their plain equivalent; \a fullRange set when it was
+/// one.
+AVPixelFormat dejpeg(AVPixelFormat f, bool &fullRange) noexcept;
+
+/// \brief A cached libswscale context for one conversion (size and formats); rebuilt when they
+/// change. Same-size conversions are bit-exact and deterministic (SWS_BITEXACT | ACCURATE_RND).
+class Scaler {
+public:
+    /// Converts \a src (any format and size, full-range flag honoured) into the caller's buffer
+    /// \a dstData / \a dstStride of format \a dstFmt and size \a dstW × \a dstH (bicubic when
+    /// the size differs). \return Errc::NotSupported when libswscale has no such conversion,
+    /// Errc::InvalidArgument when it fails.
+    Result<void> convert(const AVFrame &src, std::uint8_t *const dstData[4], const int dstStride[4],
+                         AVPixelFormat dstFmt, int dstW, int dstH);
+
+private:
+    SwsPtr sws_;
+    int srcW_ = 0, srcH_ = 0, dstW_ = 0, dstH_ = 0;
+    AVPixelFormat srcFmt_ = AV_PIX_FMT_NONE, dstFmt_ = AV_PIX_FMT_NONE;
+    bool srcFull_ = false;
+};
+
+} // namespace depthtouch::media::detail

@@ -1,0 +1,424 @@
+/// \file
+/// \brief The sender's encode pipeline (see encode_job.h).
+
+#include "depthtouch/media/encode_job.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <deque>
+#include <utility>
+#include <vector>
+
+#include "depthtouch/depth/fill.h"
+#include "depthtouch/depth/resample.h"
+#include "depthtouch/platform/clock.h"
+
+namespace depthtouch::media {
+
+namespace {
+
+int bitsOf(VideoCodec codec) noexcept
+{
+    switch (codec) {
+    case VideoCodec::H264Gray10:
+        return 10;
+    case VideoCodec::Ffv1Gray16:
+        return 16;
+    default:
+        return 8;
+    }
+}
+
+std::string number(double v)
+{
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+
+/// Depth frame → nearness levels of the output grid, ready for the depth encoder.
+class DepthPipeline {
+public:
+    DepthPipeline(const EncodeOptions &o, int width, int height, bool metric,
+                  std::optional<depth::DepthRange> range, const EncodeCallbacks &cb)
+        : options_(o), callbacks_(cb), width_(width), height_(height), metric_(metric),
+          bits_(bitsOf(o.depthCodec)), vmax_(std::ldexp(1.0, bits_) - 1.0), range_(range)
+    {
+        const auto k = static_cast<float>(vmax_ / 255.0);
+        enhance_ = o.enhanceOptions;
+        enhance_.sampling.tolerance *= k;
+        enhance_.smoothing.edgeThreshold *= k;
+        enhance_.measure.flatGradient *= k;
+        enhance_.measure.edgeGradient *= k;
+    }
+
+    [[nodiscard]] PixelFormat inputLayout() const noexcept
+    {
+        return metric_ ? PixelFormat::Gray16 : PixelFormat::Gray8;
+    }
+    [[nodiscard]] int bits() const noexcept { return bits_; }
+
+    Result<Image> process(const Image &frame, EncodeSummary &summary)
+    {
+        depth::Plane<float> nearness;
+        if (metric_) {
+            depth::ConvertOptions co;
+            co.raw = options_.raw;
+            co.mapping = options_.mapping;
+            co.vmax = vmax_;
+            co.range = range_;
+            auto n = depth::metricToNearness(toPlane16(frame), co);
+            if (!n)
+                return unexpected(n.error());
+            if (n->invalidCount == n->valid.size()) {
+                // Nothing to fill from: hold the last good depth rather than invent a far plane.
+                if (last_.empty())
+                    return unexpected(Errc::InvalidArgument,
+                                      "The first depth frame has no valid sample");
+                ++summary.repeatedFrames;
+                return last_;
+            }
+            if (n->invalidCount > 0) {
+                auto filled = depth::fillInvalid(n->nearness, n->valid);
+                if (!filled)
+                    return unexpected(filled.error());
+                summary.filledSamples += static_cast<long long>(*filled);
+            }
+            nearness = std::move(n->nearness);
+        } else {
+            const depth::Plane<std::uint8_t> p8 = toPlane8(frame);
+            if (p8.empty())
+                return unexpected(Errc::InvalidArgument, "Empty depth frame");
+            nearness = depth::Plane<float>(p8.width, p8.height);
+            const auto k = static_cast<float>(vmax_ / 255.0);
+            for (std::size_t i = 0; i < p8.size(); ++i)
+                nearness.samples[i] = static_cast<float>(p8.samples[i]) * k;
+        }
+        if (nearness.width != width_ || nearness.height != height_) {
+            if (!summary.depthResampled && callbacks_.warning)
+                callbacks_.warning("depth is " + std::to_string(nearness.width) + "x" +
+                                   std::to_string(nearness.height) + ", resampled to the " +
+                                   std::to_string(width_) + "x" + std::to_string(height_) +
+                                   " output grid (edge-aware)");
+            summary.depthResampled = true;
+            auto r = depth::resample(nearness, width_, height_, depth::ResampleMethod::EdgeAware,
+                                     static_cast<float>(4.0 * vmax_ / 255.0));
+            if (!r)
+                return unexpected(r.error());
+            nearness = std::move(*r);
+        }
+        if (options_.enhance) {
+            auto e = depth::enhance(nearness, enhance_);
+            if (!e)
+                return unexpected(e.error());
+            accumulate(e->report, summary);
+            nearness = std::move(e->depth);
+        }
+        const depth::Plane<std::uint16_t> q = depth::quantize(nearness, vmax_);
+        Image out;
+        if (bits_ == 8) {
+            out = Image::make(q.width, q.height, PixelFormat::Gray8);
+            for (int y = 0; y < q.height; ++y) {
+                std::uint8_t *row = out.row(y);
+                for (int x = 0; x < q.width; ++x)
+                    row[x] = static_cast<std::uint8_t>(q.at(x, y));
+            }
+        } else {
+            out = fromPlane(q);
+        }
+        last_ = out;
+        return out;
+    }
+
+private:
+    void accumulate(const depth::EnhanceReport &r, EncodeSummary &summary)
+    {
+        if (!summary.enhance) {
+            summary.enhance = EnhanceTotals{};
+            summary.enhance->levelsMax = vmax_;
+        }
+        EnhanceTotals &t = *summary.enhance;
+        const auto n = static_cast<double>(t.frames);
+        const auto px = static_cast<double>(r.pixels);
+        const double prevPx = static_cast<double>(t.pixels);
+        // Pixel-weighted means of the error; frame means of the surface measures.
+        t.meanAbsError = (t.meanAbsError * prevPx + r.meanAbsError * px) / (prevPx + px);
+        const double sq = t.rmsError * t.rmsError * prevPx + r.rmsError * r.rmsError * px;
+        t.rmsError = std::sqrt(sq / (prevPx + px));
+        t.maxAbsError = std::max(t.maxAbsError, r.maxAbsError);
+        t.roughnessInput = (t.roughnessInput * n + r.input.roughness) / (n + 1.0);
+        t.roughnessOutput = (t.roughnessOutput * n + r.enhanced.roughness) / (n + 1.0);
+        t.edgeContrastInput = (t.edgeContrastInput * n + r.input.edgeContrast) / (n + 1.0);
+        t.edgeContrastOutput = (t.edgeContrastOutput * n + r.enhanced.edgeContrast) / (n + 1.0);
+        t.pixels += static_cast<long long>(r.pixels);
+        t.points += static_cast<long long>(r.points);
+        ++t.frames;
+    }
+
+    const EncodeOptions &options_;
+    const EncodeCallbacks &callbacks_;
+    int width_;
+    int height_;
+    bool metric_;
+    int bits_;
+    double vmax_;
+    std::optional<depth::DepthRange> range_;
+    depth::EnhanceOptions enhance_;
+    Image last_;
+};
+
+} // namespace
+
+Result<void> EncodeOptions::validate() const
+{
+    if (output.empty())
+        return unexpected(Errc::InvalidArgument, "No output given");
+    if (crf < 0 || crf > 51)
+        return unexpected(Errc::InvalidArgument, "--crf must be in 0..51");
+    if (depthCrf < 0 || depthCrf > 51)
+        return unexpected(Errc::InvalidArgument, "--depth-crf must be in 0..51");
+    if (threads < 0)
+        return unexpected(Errc::InvalidArgument, "--threads must be >= 0");
+    if (width < 0 || height < 0 || (width == 0) != (height == 0) || width % 2 != 0 ||
+        height % 2 != 0 || width > 16384 || height > 16384)
+        return unexpected(Errc::InvalidArgument, "--size must be WxH, even, up to 16384");
+    if (maxFrames < 0)
+        return unexpected(Errc::InvalidArgument, "--frames must be >= 0");
+    if (!(maxDuration >= 0.0) || !std::isfinite(maxDuration))
+        return unexpected(Errc::InvalidArgument, "--duration must be >= 0 seconds");
+    if (!(raw.metresPerUnit > 0.0) || !std::isfinite(raw.metresPerUnit))
+        return unexpected(Errc::InvalidArgument, "--depth-scale must be positive");
+    if (range && !(range->nearM > 0.0 && range->nearM < range->farM && std::isfinite(range->farM)))
+        return unexpected(Errc::InvalidArgument, "--near and --far must satisfy 0 < near < far");
+    if (rangeFrames < 1)
+        return unexpected(Errc::InvalidArgument, "The robust range needs at least one frame");
+    if (depthCodec == VideoCodec::H264Yuv420p)
+        return unexpected(Errc::InvalidArgument, "Depth codec must be gray, gray10 or ffv1");
+    if (enhance && !(enhanceOptions.sampling.tolerance > 0.0f))
+        return unexpected(Errc::InvalidArgument, "--enhance-tolerance must be positive");
+    const Container c = container.value_or(containerForOutput(output));
+    if (depthCodec == VideoCodec::Ffv1Gray16 && c != Container::Matroska)
+        return unexpected(Errc::InvalidArgument, "FFV1 gray16 depth needs an MKV output");
+    return ok();
+}
+
+std::vector<std::pair<std::string, std::string>>
+depthTags(const std::optional<depth::DepthRange> &range, depth::DepthMapping mapping, int bits)
+{
+    return {
+        {"depth_near", range ? number(range->nearM) : std::string("unknown")},
+        {"depth_far", range ? number(range->farM) : std::string("unknown")},
+        {"depth_mapping", depth::mappingName(mapping)},
+        {"depth_bits", std::to_string(bits)},
+    };
+}
+
+Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
+                                    const EncodeOptions &options, const std::atomic<bool> *stop,
+                                    const EncodeCallbacks &callbacks)
+{
+    DT_TRY(options.validate());
+    const platform::SteadyClock &clock = platform::SteadyClock::instance();
+    const platform::TimePoint start = clock.now();
+    const auto stopped = [stop] {
+        return stop != nullptr && stop->load(std::memory_order_relaxed);
+    };
+
+    EncodeSummary summary;
+    const int width = options.width > 0 ? options.width : color.info().width;
+    const int height = options.height > 0 ? options.height : color.info().height;
+    if (width % 2 != 0 || height % 2 != 0)
+        return unexpected(Errc::InvalidArgument,
+                          "Color is an odd size; 4:2:0 needs even sizes (use --size)");
+    if (width <= 0 || height <= 0)
+        return unexpected(Errc::InvalidArgument, "Color has no size");
+
+    // Depth layout: 16-bit samples are metric depth; anything else gives 8-bit nearness (the luma
+    // of a color-format depth video).
+    const bool metric = depth.info().nativeFormat == PixelFormat::Gray16;
+    const PixelFormat depthLayout = metric ? PixelFormat::Gray16 : PixelFormat::Gray8;
+
+    // Look ahead: the first frames decide the near/far planes once for the whole file.
+    struct Pair {
+        SourceFrame color;
+        SourceFrame depth;
+    };
+    std::deque<Pair> ahead;
+    const int lookahead = metric && !options.range ? options.rangeFrames : 1;
+    for (int i = 0; i < lookahead; ++i) {
+        if (options.maxFrames > 0 && i >= options.maxFrames)
+            break;
+        auto c = color.next(PixelFormat::Rgb24, width, height);
+        if (!c && c.error().code == Errc::EndOfStream)
+            break;
+        if (!c)
+            return unexpected(c.error());
+        auto d = depth.next(depthLayout);
+        if (!d && d.error().code == Errc::EndOfStream)
+            break;
+        if (!d)
+            return unexpected(d.error());
+        ahead.push_back(Pair{std::move(*c), std::move(*d)});
+    }
+    if (ahead.empty())
+        return unexpected(Errc::InvalidArgument, "An input has no frame");
+
+    std::optional<depth::DepthRange> range = options.range;
+    depth::DepthMapping mapping = options.mapping;
+    if (!metric && !range) {
+        // Nearness from a DepthTouch file keeps the planes and mapping it was made with.
+        const std::string *nearTag = depth.info().tag("depth_near");
+        const std::string *farTag = depth.info().tag("depth_far");
+        const std::string *mapTag = depth.info().tag("depth_mapping");
+        char *endNear = nullptr;
+        char *endFar = nullptr;
+        if (nearTag != nullptr && farTag != nullptr) {
+            const double n = std::strtod(nearTag->c_str(), &endNear);
+            const double f = std::strtod(farTag->c_str(), &endFar);
+            if (*endNear == '\0' && *endFar == '\0' && n > 0.0 && n < f && std::isfinite(f))
+                range = depth::DepthRange{n, f};
+        }
+        if (range && mapTag != nullptr) {
+            if (auto m = depth::parseMapping(*mapTag))
+                mapping = *m;
+        }
+    }
+    if (metric && !range) {
+        depth::Plane<std::uint16_t> all;
+        for (const Pair &p : ahead) {
+            const depth::Plane<std::uint16_t> raw = toPlane16(p.depth.image);
+            all.samples.insert(all.samples.end(), raw.samples.begin(), raw.samples.end());
+        }
+        all.width = static_cast<int>(all.samples.size());
+        all.height = 1;
+        auto r = depth::robustRange(all, options.raw);
+        if (!r)
+            return unexpected(Errc::InvalidArgument,
+                              "The first depth frames have no valid sample to take near/far from");
+        range = *r;
+    }
+    summary.metric = metric;
+    if (range)
+        summary.range = *range;
+
+    DepthPipeline pipeline(options, width, height, metric, range, callbacks);
+    summary.depthBits = pipeline.bits();
+
+    // Output: container tags and streams, then the header.
+    const auto tags = depthTags(range, mapping, pipeline.bits());
+    summary.mapping = mapping;
+    MuxerOptions mo;
+    mo.output = options.output;
+    mo.container = options.container.value_or(containerForOutput(options.output));
+    mo.tags = tags;
+    auto muxer = Muxer::open(mo);
+    if (!muxer)
+        return unexpected(muxer.error());
+    const double fps = color.info().fps > 0.0 ? color.info().fps : 30.0;
+
+    VideoEncoderConfig cc;
+    cc.codec = VideoCodec::H264Yuv420p;
+    cc.width = width;
+    cc.height = height;
+    cc.fps = fps;
+    cc.crf = options.crf;
+    cc.preset = options.preset;
+    cc.threads = options.threads;
+    cc.title = "color";
+    auto colorEnc = VideoEncoder::create(cc, **muxer);
+    if (!colorEnc)
+        return unexpected(colorEnc.error());
+
+    VideoEncoderConfig dc = cc;
+    dc.codec = options.depthCodec;
+    dc.crf = options.depthCrf;
+    dc.lossless = options.depthLossless;
+    dc.title = "depth";
+    dc.tags = tags;
+    auto depthEnc = VideoEncoder::create(dc, **muxer);
+    if (!depthEnc)
+        return unexpected(depthEnc.error());
+    DT_TRY((*muxer)->start());
+
+    long long expected = std::min(color.info().frameCount, depth.info().frameCount);
+    if (expected <= 0)
+        expected = std::max(color.info().frameCount, depth.info().frameCount);
+    if (options.maxFrames > 0 && (expected <= 0 || options.maxFrames < expected))
+        expected = options.maxFrames;
+    if (options.maxDuration > 0.0) {
+        const auto byDuration = static_cast<long long>(std::ceil(options.maxDuration * fps));
+        if (expected <= 0 || byDuration < expected)
+            expected = byDuration;
+    }
+
+    double lastPts = -1.0;
+    for (;;) {
+        if (stopped()) {
+            summary.interrupted = true;
+            summary.endedBy = "stop";
+            break;
+        }
+        if (options.maxFrames > 0 && summary.frames >= options.maxFrames) {
+            summary.endedBy = "frames";
+            break;
+        }
+        if (ahead.empty()) {
+            auto c = color.next(PixelFormat::Rgb24, width, height);
+            if (!c && c.error().code == Errc::EndOfStream) {
+                summary.endedBy = "color";
+                break;
+            }
+            if (!c)
+                return unexpected(c.error());
+            auto d = depth.next(depthLayout);
+            if (!d && d.error().code == Errc::EndOfStream) {
+                summary.endedBy = "depth";
+                break;
+            }
+            if (!d)
+                return unexpected(d.error());
+            ahead.push_back(Pair{std::move(*c), std::move(*d)});
+        }
+        Pair pair = std::move(ahead.front());
+        ahead.pop_front();
+        double pts = pair.color.pts;
+        if (options.maxDuration > 0.0 && pts >= options.maxDuration - 1e-9) {
+            summary.endedBy = "duration";
+            break;
+        }
+        if (pts <= lastPts)
+            pts = lastPts + 1.0 / fps;
+        auto depthImage = pipeline.process(pair.depth.image, summary);
+        if (!depthImage)
+            return unexpected(depthImage.error());
+        DT_TRY((*colorEnc)->encode(pair.color.image, pts));
+        DT_TRY((*depthEnc)->encode(*depthImage, pts));
+        lastPts = pts;
+        summary.duration = pts + 1.0 / fps;
+        ++summary.frames;
+        if (callbacks.progress) {
+            EncodeProgress p;
+            p.frames = summary.frames;
+            p.totalFrames = expected;
+            p.elapsed = platform::toSeconds(clock.now() - start);
+            p.pts = pts;
+            callbacks.progress(p);
+        }
+    }
+    if (summary.frames == 0)
+        return unexpected(Errc::InvalidArgument, "Nothing to encode (no frame pair)");
+    DT_TRY((*colorEnc)->flush());
+    DT_TRY((*depthEnc)->flush());
+    summary.colorBytes = (*colorEnc)->bytes();
+    summary.depthBytes = (*depthEnc)->bytes();
+    // The encoders refer to the muxer's streams: they go first.
+    colorEnc->reset();
+    depthEnc->reset();
+    DT_TRY((*muxer)->finish());
+    summary.elapsed = platform::toSeconds(clock.now() - start);
+    return summary;
+}
+
+} // namespace depthtouch::media

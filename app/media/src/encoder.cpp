@@ -1,0 +1,468 @@
+/// \file
+/// \brief Encoders and muxer of the sender (see encoder.h).
+
+#include "depthtouch/media/encoder.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+#include <unistd.h>
+
+extern "C" {
+#include <libavutil/imgutils.h>
+#include <libavutil/opt.h>
+}
+
+#include "av_handles.h"
+#include "depthtouch/platform/log.h"
+
+DT_LOG_CATEGORY(Media)
+
+namespace depthtouch::media {
+
+using namespace detail;
+
+namespace {
+
+/// Every PTS travels in this time base (90 kHz, as MPEG): exact for 24, 25, 30, 60 and 30000/1001
+/// fps.
+constexpr AVRational kTimeBase{1, 90000};
+
+bool endsWith(const std::string &s, const char *suffix)
+{
+    const std::size_t n = std::strlen(suffix);
+    if (s.size() < n)
+        return false;
+    for (std::size_t i = 0; i < n; ++i) {
+        const char a = s[s.size() - n + i];
+        const char lower = (a >= 'A' && a <= 'Z') ? static_cast<char>(a - 'A' + 'a') : a;
+        if (lower != suffix[i])
+            return false;
+    }
+    return true;
+}
+
+} // namespace
+
+const char *containerName(Container c) noexcept
+{
+    switch (c) {
+    case Container::Matroska:
+        return "matroska";
+    case Container::Mp4:
+        return "mp4";
+    case Container::MpegTs:
+        return "mpegts";
+    }
+    return "matroska";
+}
+
+Result<Container> parseContainer(const std::string &text)
+{
+    if (text == "mkv" || text == "matroska")
+        return Container::Matroska;
+    if (text == "mp4")
+        return Container::Mp4;
+    if (text == "ts" || text == "mpegts")
+        return Container::MpegTs;
+    return unexpected(Errc::InvalidArgument, "Unknown container (use mkv, mp4 or ts)");
+}
+
+bool isOutputUrl(const std::string &output)
+{
+    const std::size_t p = output.find("://");
+    return p != std::string::npos && p > 0 && output.compare(0, p, "file") != 0;
+}
+
+Container containerForOutput(const std::string &output)
+{
+    // The path part of a URL may carry query options (udp://host:port?pkt_size=1316).
+    const std::string path = output.substr(0, output.find('?'));
+    if (endsWith(path, ".mp4") || endsWith(path, ".m4v") || endsWith(path, ".mov"))
+        return Container::Mp4;
+    if (endsWith(path, ".ts") || endsWith(path, ".m2ts") || endsWith(path, ".mts"))
+        return Container::MpegTs;
+    if (endsWith(path, ".mkv") || endsWith(path, ".mka") || endsWith(path, ".webm"))
+        return Container::Matroska;
+    return isOutputUrl(output) ? Container::MpegTs : Container::Matroska;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Muxer
+
+struct Muxer::Impl {
+    AVFormatContext *fmt = nullptr;
+    Container container = Container::Matroska;
+    std::string output;
+    std::string tmpPath; ///< Empty for URLs.
+    bool started = false;
+    bool finished = false;
+
+    ~Impl() { close(true); }
+
+    void close(bool removeTmp) noexcept
+    {
+        if (fmt != nullptr) {
+            if (fmt->pb != nullptr)
+                avio_closep(&fmt->pb);
+            avformat_free_context(fmt);
+            fmt = nullptr;
+        }
+        if (removeTmp && !tmpPath.empty() && !finished)
+            (void)std::remove(tmpPath.c_str());
+    }
+
+    Result<void> write(AVPacket *pkt)
+    {
+        const int ret = av_interleaved_write_frame(fmt, pkt);
+        if (ret < 0) {
+            DT_LOG(Media, Warning, "Failed to write %s: %s", output.c_str(), AvErrorText(ret).text);
+            return unexpected(Errc::Io, "Failed to write the output", errnoOf(ret));
+        }
+        return ok();
+    }
+};
+
+Muxer::Muxer() : impl_(std::make_unique<Impl>()) {}
+Muxer::~Muxer() = default;
+
+Result<std::unique_ptr<Muxer>> Muxer::open(const MuxerOptions &options)
+{
+    if (options.output.empty())
+        return unexpected(Errc::InvalidArgument, "Empty output name");
+    quietFfmpegLog();
+    std::unique_ptr<Muxer> muxer(new Muxer());
+    Impl &m = *muxer->impl_;
+    m.container = options.container;
+    m.output = options.output;
+    const bool url = isOutputUrl(options.output);
+    if (!url)
+        m.tmpPath = options.output + ".tmp." + std::to_string(::getpid());
+    const std::string &target = url ? options.output : m.tmpPath;
+
+    int ret = avformat_alloc_output_context2(&m.fmt, nullptr, containerName(options.container),
+                                             target.c_str());
+    if (ret < 0 || m.fmt == nullptr) {
+        DT_LOG(Media, Warning, "Failed to create muxer %s: %s", containerName(options.container),
+               AvErrorText(ret).text);
+        return unexpected(Errc::NotSupported, "FFmpeg lacks the container's muxer");
+    }
+    for (const auto &[key, value] : options.tags)
+        av_dict_set(&m.fmt->metadata, key.c_str(), value.c_str(), 0);
+    if (options.container == Container::MpegTs && !options.tags.empty()) {
+        // MPEG-TS carries neither stream titles nor free tags; its service (program) name does
+        // travel, so the tags go there as "key=value;…" (color is stream 0, depth stream 1).
+        std::string text;
+        for (const auto &[key, value] : options.tags)
+            text += (text.empty() ? "" : ";") + key + "=" + value;
+        av_dict_set(&m.fmt->metadata, "service_name", text.c_str(), 0);
+        av_dict_set(&m.fmt->metadata, "service_provider", "DepthTouch", 0);
+    }
+    if ((m.fmt->oformat->flags & AVFMT_NOFILE) == 0) {
+        AVDictionary *ioOpts = nullptr;
+        // Seven 188-byte TS packets per datagram (FFmpeg's UDP default of 1472 bytes splits them),
+        // unless the URL says otherwise.
+        if (url && options.container == Container::MpegTs &&
+            options.output.compare(0, 6, "udp://") == 0 &&
+            options.output.find("pkt_size") == std::string::npos)
+            av_dict_set(&ioOpts, "pkt_size", "1316", 0);
+        ret = avio_open2(&m.fmt->pb, target.c_str(), AVIO_FLAG_WRITE, nullptr, &ioOpts);
+        av_dict_free(&ioOpts);
+        if (ret < 0) {
+            DT_LOG(Media, Warning, "Failed to create %s: %s", target.c_str(),
+                   AvErrorText(ret).text);
+            return unexpected(Errc::Io, "Failed to create the output", errnoOf(ret));
+        }
+    }
+    return muxer;
+}
+
+Result<void> Muxer::start()
+{
+    Impl &m = *impl_;
+    if (m.started || m.fmt == nullptr || m.fmt->nb_streams == 0)
+        return unexpected(Errc::InvalidState, "Muxer started twice or without streams");
+    AVDictionary *opts = nullptr;
+    // MP4 keeps only its known tags unless asked to write the others (the depth tags).
+    if (m.container == Container::Mp4)
+        av_dict_set(&opts, "movflags", "+use_metadata_tags", 0);
+    const int ret = avformat_write_header(m.fmt, &opts);
+    av_dict_free(&opts);
+    if (ret < 0) {
+        DT_LOG(Media, Warning, "Failed to write the header of %s: %s", m.output.c_str(),
+               AvErrorText(ret).text);
+        return unexpected(ret == AVERROR(EINVAL) ? Errc::InvalidArgument : Errc::Io,
+                          "Failed to write the output's header", errnoOf(ret));
+    }
+    m.started = true;
+    return ok();
+}
+
+Result<void> Muxer::finish()
+{
+    Impl &m = *impl_;
+    if (!m.started || m.finished)
+        return unexpected(Errc::InvalidState, "Muxer finished twice or never started");
+    int ret = av_write_trailer(m.fmt);
+    if (ret < 0)
+        DT_LOG(Media, Warning, "Failed to write the trailer of %s: %s", m.output.c_str(),
+               AvErrorText(ret).text);
+    int closeRet = 0;
+    if (m.fmt->pb != nullptr) {
+        avio_flush(m.fmt->pb);
+        if (m.fmt->pb->error < 0 && ret >= 0)
+            ret = m.fmt->pb->error;
+        closeRet = avio_closep(&m.fmt->pb);
+    }
+    if (ret < 0 || closeRet < 0) {
+        m.close(true);
+        return unexpected(Errc::Io, "Failed to finish the output",
+                          errnoOf(ret < 0 ? ret : closeRet));
+    }
+    if (!m.tmpPath.empty() && std::rename(m.tmpPath.c_str(), m.output.c_str()) != 0) {
+        const int err = errno;
+        m.close(true);
+        return unexpected(Errc::Io, "Failed to rename the output into place", err);
+    }
+    m.finished = true;
+    m.close(false);
+    return ok();
+}
+
+void Muxer::abort() noexcept
+{
+    impl_->close(true);
+}
+
+long long Muxer::bytesWritten() const noexcept
+{
+    const Impl &m = *impl_;
+    return m.fmt != nullptr && m.fmt->pb != nullptr ? avio_tell(m.fmt->pb) : 0;
+}
+
+Container Muxer::container() const noexcept
+{
+    return impl_->container;
+}
+
+// ---------------------------------------------------------------------------------------------
+// VideoEncoder
+
+struct VideoEncoder::Impl {
+    VideoEncoderConfig config;
+    Muxer::Impl *muxer = nullptr;
+    CodecContextPtr codec;
+    FramePtr frame;
+    PacketPtr packet;
+    Scaler scaler;
+    AVStream *stream = nullptr;
+    PixelFormat input = PixelFormat::Rgb24;
+    std::int64_t lastPts = AV_NOPTS_VALUE;
+    long long frames = 0;
+    long long bytes = 0;
+
+    Result<void> drain()
+    {
+        for (;;) {
+            const int ret = avcodec_receive_packet(codec.get(), packet.get());
+            if (ret == AVERROR(EAGAIN) || ret == AVERROR_EOF)
+                return ok();
+            if (ret < 0) {
+                DT_LOG(Media, Warning, "Failed to encode %s: %s", config.title.c_str(),
+                       AvErrorText(ret).text);
+                return unexpected(Errc::InvalidArgument, "The encoder failed");
+            }
+            bytes += packet->size;
+            packet->stream_index = stream->index;
+            av_packet_rescale_ts(packet.get(), codec->time_base, stream->time_base);
+            auto w = muxer->write(packet.get());
+            av_packet_unref(packet.get());
+            DT_TRY(w);
+        }
+    }
+};
+
+VideoEncoder::VideoEncoder() : impl_(std::make_unique<Impl>()) {}
+VideoEncoder::~VideoEncoder() = default;
+
+Result<std::unique_ptr<VideoEncoder>> VideoEncoder::create(const VideoEncoderConfig &config,
+                                                           Muxer &muxer)
+{
+    Muxer::Impl &m = *muxer.impl_;
+    if (m.started || m.fmt == nullptr)
+        return unexpected(Errc::InvalidState, "Streams must be added before the muxer starts");
+    if (config.width <= 0 || config.height <= 0 || config.width > 16384 || config.height > 16384)
+        return unexpected(Errc::InvalidArgument, "Frame size must be 1..16384 pixels");
+    if (!(config.fps > 0.0) || !std::isfinite(config.fps) || config.fps > 1000.0)
+        return unexpected(Errc::InvalidArgument, "Frame rate must be in (0, 1000]");
+    if (config.crf < 0 || config.crf > 51)
+        return unexpected(Errc::InvalidArgument, "CRF must be in 0..51");
+
+    std::unique_ptr<VideoEncoder> enc(new VideoEncoder());
+    Impl &e = *enc->impl_;
+    e.config = config;
+    e.muxer = &m;
+
+    AVPixelFormat pixFmt = AV_PIX_FMT_YUV420P;
+    const char *codecName = "libx264";
+    switch (config.codec) {
+    case VideoCodec::H264Yuv420p:
+        if (config.width % 2 != 0 || config.height % 2 != 0)
+            return unexpected(Errc::InvalidArgument, "4:2:0 color needs an even width and height");
+        e.input = PixelFormat::Rgb24;
+        break;
+    case VideoCodec::H264Gray:
+        pixFmt = AV_PIX_FMT_GRAY8;
+        e.input = PixelFormat::Gray8;
+        break;
+    case VideoCodec::H264Gray10:
+        pixFmt = AV_PIX_FMT_GRAY10;
+        e.input = PixelFormat::Gray16;
+        break;
+    case VideoCodec::Ffv1Gray16:
+        pixFmt = AV_PIX_FMT_GRAY16;
+        codecName = "ffv1";
+        e.input = PixelFormat::Gray16;
+        if (m.container != Container::Matroska)
+            return unexpected(Errc::NotSupported, "FFV1 depth needs an MKV output");
+        break;
+    }
+    const AVCodec *codec = avcodec_find_encoder_by_name(codecName);
+    if (codec == nullptr)
+        return unexpected(Errc::NotSupported, "FFmpeg lacks the encoder (libx264 or ffv1)");
+    e.codec.reset(avcodec_alloc_context3(codec));
+    e.frame.reset(av_frame_alloc());
+    e.packet.reset(av_packet_alloc());
+    if (!e.codec || !e.frame || !e.packet)
+        return unexpected(Errc::OutOfResources, "Failed to allocate the encoder");
+    AVCodecContext &c = *e.codec;
+    c.width = config.width;
+    c.height = config.height;
+    c.pix_fmt = pixFmt;
+    c.time_base = kTimeBase;
+    c.framerate = av_d2q(config.fps, 100000);
+    c.sample_aspect_ratio = AVRational{1, 1};
+    c.thread_count = config.threads;
+    if (config.codec == VideoCodec::H264Yuv420p) {
+        // libswscale's RGB → YUV matrix is BT.601, limited range.
+        c.color_range = AVCOL_RANGE_MPEG;
+        c.colorspace = AVCOL_SPC_SMPTE170M;
+    } else {
+        // Nearness levels use the whole sample range: 0 = far plane, 2^bits − 1 = near plane.
+        c.color_range = AVCOL_RANGE_JPEG;
+    }
+    if ((m.fmt->oformat->flags & AVFMT_GLOBALHEADER) != 0)
+        c.flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
+
+    AVDictionary *opts = nullptr;
+    if (config.codec == VideoCodec::Ffv1Gray16) {
+        av_dict_set(&opts, "level", "3", 0);
+        av_dict_set(&opts, "slicecrc", "1", 0);
+        c.gop_size = 1;
+    } else {
+        av_dict_set(&opts, "preset", config.preset.c_str(), 0);
+        if (config.lossless)
+            av_dict_set(&opts, "qp", "0", 0);
+        else
+            av_dict_set(&opts, "crf", std::to_string(config.crf).c_str(), 0);
+    }
+    const int ret = avcodec_open2(e.codec.get(), codec, &opts);
+    av_dict_free(&opts);
+    if (ret < 0) {
+        DT_LOG(Media, Warning, "Failed to open encoder %s for %s: %s", codecName,
+               config.title.c_str(), AvErrorText(ret).text);
+        return unexpected(Errc::InvalidArgument,
+                          "Failed to open the encoder (bad preset or options)");
+    }
+
+    e.stream = avformat_new_stream(m.fmt, nullptr);
+    if (e.stream == nullptr)
+        return unexpected(Errc::OutOfResources, "Failed to add a stream");
+    e.stream->time_base = kTimeBase;
+    e.stream->avg_frame_rate = c.framerate;
+    e.stream->r_frame_rate = c.framerate;
+    if (avcodec_parameters_from_context(e.stream->codecpar, e.codec.get()) < 0)
+        return unexpected(Errc::OutOfResources, "Failed to describe the stream");
+    if (!config.title.empty()) {
+        av_dict_set(&e.stream->metadata, "title", config.title.c_str(), 0);
+        // MP4 has no track title: it names a track by its handler.
+        if (m.container == Container::Mp4)
+            av_dict_set(&e.stream->metadata, "handler_name", config.title.c_str(), 0);
+    }
+    for (const auto &[key, value] : config.tags)
+        av_dict_set(&e.stream->metadata, key.c_str(), value.c_str(), 0);
+
+    e.frame->format = pixFmt;
+    e.frame->width = c.width;
+    e.frame->height = c.height;
+    e.frame->color_range = c.color_range;
+    e.frame->colorspace = c.colorspace;
+    if (av_frame_get_buffer(e.frame.get(), 0) < 0)
+        return unexpected(Errc::OutOfResources, "Failed to allocate an encoder frame");
+    return enc;
+}
+
+Result<void> VideoEncoder::encode(const Image &image, double ptsSeconds)
+{
+    Impl &e = *impl_;
+    if (!e.muxer->started)
+        return unexpected(Errc::InvalidState, "Encoding before the muxer started");
+    if (image.width != e.config.width || image.height != e.config.height ||
+        image.format != e.input || image.empty())
+        return unexpected(Errc::InvalidArgument, "Picture of the wrong size or layout");
+    const std::int64_t pts = std::llround(ptsSeconds * kTimeBase.den);
+    if (e.lastPts != AV_NOPTS_VALUE && pts <= e.lastPts)
+        return unexpected(Errc::InvalidArgument, "PTS not after the previous frame's");
+    // The encoder may still hold a reference to the previous picture's buffer.
+    if (av_frame_make_writable(e.frame.get()) < 0)
+        return unexpected(Errc::OutOfResources, "Failed to allocate an encoder frame");
+
+    if (e.config.codec == VideoCodec::H264Yuv420p) {
+        AVFrame src{};
+        src.format = AV_PIX_FMT_RGB24;
+        src.width = image.width;
+        src.height = image.height;
+        src.data[0] = const_cast<std::uint8_t *>(image.data.data());
+        src.linesize[0] = static_cast<int>(image.stride);
+        DT_TRY(e.scaler.convert(src, e.frame->data, e.frame->linesize, AV_PIX_FMT_YUV420P,
+                                image.width, image.height));
+    } else {
+        // Gray layouts match the codec's sample layout bit for bit (gray10/gray16 native order).
+        av_image_copy_plane(e.frame->data[0], e.frame->linesize[0], image.data.data(),
+                            static_cast<int>(image.stride),
+                            image.width * bytesPerPixel(image.format), image.height);
+    }
+    e.frame->pts = pts;
+    e.lastPts = pts;
+    const int ret = avcodec_send_frame(e.codec.get(), e.frame.get());
+    if (ret < 0) {
+        DT_LOG(Media, Warning, "Failed to encode %s: %s", e.config.title.c_str(),
+               AvErrorText(ret).text);
+        return unexpected(Errc::InvalidArgument, "The encoder refused a frame");
+    }
+    ++e.frames;
+    return e.drain();
+}
+
+Result<void> VideoEncoder::flush()
+{
+    Impl &e = *impl_;
+    const int ret = avcodec_send_frame(e.codec.get(), nullptr);
+    if (ret < 0 && ret != AVERROR_EOF)
+        return unexpected(Errc::InvalidArgument, "Failed to flush the encoder");
+    return e.drain();
+}
+
+long long VideoEncoder::frames() const noexcept
+{
+    return impl_->frames;
+}
+
+long long VideoEncoder::bytes() const noexcept
+{
+    return impl_->bytes;
+}
+
+} // namespace depthtouch::media

@@ -1,0 +1,377 @@
+/// \file
+/// \brief Source specs and the FFmpeg frame source (see frame_source.h).
+
+#include "depthtouch/media/frame_source.h"
+
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+extern "C" {
+#include <libavutil/imgutils.h>
+#include <libavutil/pixdesc.h>
+}
+
+#include "av_handles.h"
+#include "depthtouch/platform/log.h"
+
+DT_LOG_CATEGORY(Media)
+
+namespace depthtouch::media {
+
+using namespace detail;
+
+namespace {
+
+/// The Image layout closest to a decoded frame's format.
+PixelFormat nativeLayout(AVPixelFormat f) noexcept
+{
+    const AVPixFmtDescriptor *d = av_pix_fmt_desc_get(f);
+    if (d == nullptr)
+        return PixelFormat::Rgb24;
+    const bool hasAlpha = (d->flags & AV_PIX_FMT_FLAG_ALPHA) != 0;
+    const bool gray = (d->flags & (AV_PIX_FMT_FLAG_PAL | AV_PIX_FMT_FLAG_RGB)) == 0 &&
+                      d->nb_components == (hasAlpha ? 2 : 1);
+    if (!gray)
+        return PixelFormat::Rgb24;
+    return d->comp[0].depth > 8 ? PixelFormat::Gray16 : PixelFormat::Gray8;
+}
+
+bool isUrl(const std::string &s)
+{
+    return s.find("://") != std::string::npos;
+}
+
+/// A printf pattern of an image sequence: a '%' followed by optional digits and 'd'.
+bool isPrintfPattern(const std::string &s)
+{
+    for (std::size_t i = s.find('%'); i != std::string::npos; i = s.find('%', i + 1)) {
+        std::size_t j = i + 1;
+        while (j < s.size() && s[j] >= '0' && s[j] <= '9')
+            ++j;
+        if (j < s.size() && s[j] == 'd')
+            return true;
+    }
+    return false;
+}
+
+bool isGlobPattern(const std::string &s)
+{
+    return !isUrl(s) && s.find_first_of("*?[") != std::string::npos;
+}
+
+std::string fpsText(double fps)
+{
+    // A rational FFmpeg parses exactly (29.97 → 30000/1001 would need av_d2q; the text is parsed
+    // with av_parse_video_rate, which accepts decimals).
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.6g", fps);
+    return buf;
+}
+
+class FfmpegFrameSource final : public FrameSource {
+public:
+    Result<void> open(const std::string &url, const SourceOptions &options);
+
+    [[nodiscard]] const SourceInfo &info() const noexcept override { return info_; }
+    Result<SourceFrame> next(PixelFormat format, int width, int height) override;
+
+private:
+    Result<void> decodeOne();
+
+    InputContextPtr fmt_;
+    CodecContextPtr codec_;
+    PacketPtr packet_;
+    FramePtr frame_;
+    Scaler scaler_;
+    SourceInfo info_;
+    std::string url_;
+    int stream_ = -1;
+    AVRational timeBase_{1, 1};
+    double fps_ = 30.0;
+    long long index_ = 0;
+    std::int64_t firstPts_ = AV_NOPTS_VALUE;
+    bool demuxEnded_ = false;
+    bool drained_ = false;
+};
+
+Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions &options)
+{
+    url_ = url;
+    fps_ = options.fps;
+    if (!(options.fps > 0.0) || !std::isfinite(options.fps))
+        return unexpected(Errc::InvalidArgument, "The frame rate must be positive");
+
+    const AVInputFormat *forced = nullptr;
+    AVDictionary *rawDict = nullptr;
+    std::unique_ptr<AVDictionary, DictDeleter> dict;
+    const auto set = [&rawDict](const char *key, const std::string &value) {
+        av_dict_set(&rawDict, key, value.c_str(), 0);
+    };
+    const bool sequence = options.format.empty() && !isUrl(url) && isPrintfPattern(url);
+    const bool glob = options.format.empty() && !sequence && isGlobPattern(url);
+    // A single picture loops as a one-image sequence.
+    const bool still = options.loop && options.format.empty() && !sequence && !glob && !isUrl(url);
+    if (sequence || glob || still || options.format == "image2") {
+        forced = av_find_input_format("image2");
+        set("pattern_type", glob ? "glob" : (still ? "none" : "sequence"));
+        set("framerate", fpsText(options.fps));
+        if (options.loop)
+            set("loop", "1");
+    } else if (!options.format.empty()) {
+        forced = av_find_input_format(options.format.c_str());
+        if (forced == nullptr)
+            return unexpected(Errc::InvalidArgument, "Unknown input format (FFmpeg demuxer name)");
+        set("framerate", fpsText(options.fps));
+    }
+    if (options.loop && forced == nullptr)
+        return unexpected(Errc::InvalidArgument, "Only image sequences can loop");
+    if (!options.videoSize.empty())
+        set("video_size", options.videoSize);
+    if (!options.pixelFormat.empty()) {
+        if (av_get_pix_fmt(options.pixelFormat.c_str()) == AV_PIX_FMT_NONE)
+            return unexpected(Errc::InvalidArgument, "Unknown pixel format (FFmpeg name)");
+        set("pixel_format", options.pixelFormat);
+    }
+    dict.reset(rawDict);
+
+    AVFormatContext *rawFmt = nullptr;
+    AVDictionary *openDict = dict.release();
+    int ret = avformat_open_input(&rawFmt, url.c_str(), forced, &openDict);
+    dict.reset(openDict);
+    if (ret < 0) {
+        DT_LOG(Media, Warning, "Failed to open %s: %s", url.c_str(), AvErrorText(ret).text);
+        if (ret == AVERROR_INVALIDDATA)
+            return unexpected(Errc::InvalidArgument, "Not a media file FFmpeg can read");
+        if (ret == AVERROR(ENOENT))
+            return unexpected(Errc::Io,
+                              sequence || glob ? "No image matches the pattern" : "No such file",
+                              ENOENT);
+        return unexpected(Errc::Io, "Failed to open the input", errnoOf(ret));
+    }
+    fmt_.reset(rawFmt);
+    if ((ret = avformat_find_stream_info(fmt_.get(), nullptr)) < 0) {
+        DT_LOG(Media, Warning, "Failed to read %s: %s", url.c_str(), AvErrorText(ret).text);
+        return unexpected(Errc::InvalidArgument, "Failed to read the input's streams");
+    }
+    int wanted = -1;
+    if (!options.streamTitle.empty())
+        for (unsigned i = 0; i < fmt_->nb_streams && wanted < 0; ++i) {
+            const AVDictionaryEntry *t =
+                av_dict_get(fmt_->streams[i]->metadata, "title", nullptr, 0);
+            if (t != nullptr && options.streamTitle == t->value &&
+                fmt_->streams[i]->codecpar->codec_type == AVMEDIA_TYPE_VIDEO)
+                wanted = static_cast<int>(i);
+        }
+    const AVCodec *decoder = nullptr;
+    stream_ = av_find_best_stream(fmt_.get(), AVMEDIA_TYPE_VIDEO, wanted, -1, &decoder, 0);
+    if (stream_ == AVERROR_DECODER_NOT_FOUND)
+        return unexpected(Errc::NotSupported, "No decoder for the input's video stream");
+    if (stream_ < 0 || decoder == nullptr)
+        return unexpected(Errc::InvalidArgument, "The input has no video stream");
+    const AVStream *st = fmt_->streams[stream_];
+    timeBase_ = st->time_base;
+    if (st->codecpar->width <= 0 || st->codecpar->height <= 0)
+        return unexpected(Errc::InvalidArgument, "The input's video has no size");
+
+    codec_.reset(avcodec_alloc_context3(decoder));
+    if (!codec_)
+        return unexpected(Errc::OutOfResources, "Failed to allocate a decoder");
+    if (avcodec_parameters_to_context(codec_.get(), st->codecpar) < 0)
+        return unexpected(Errc::InvalidArgument, "Failed to configure the decoder");
+    const bool images = forced != nullptr && std::string(forced->name) == "image2";
+    // A picture is one intra frame: frame threads would gain nothing and hide a damaged file's
+    // error (the frame would silently go missing and break the pairing). Videos: automatic.
+    codec_->thread_count = images ? 1 : 0;
+    if (images)
+        codec_->err_recognition = AV_EF_EXPLODE | AV_EF_CRCCHECK;
+    codec_->pkt_timebase = st->time_base;
+    if ((ret = avcodec_open2(codec_.get(), decoder, nullptr)) < 0) {
+        DT_LOG(Media, Warning, "Failed to open decoder %s for %s: %s", decoder->name, url.c_str(),
+               AvErrorText(ret).text);
+        return unexpected(Errc::NotSupported, "Failed to open the decoder");
+    }
+    packet_.reset(av_packet_alloc());
+    frame_.reset(av_frame_alloc());
+    if (!packet_ || !frame_)
+        return unexpected(Errc::OutOfResources, "Failed to allocate a frame");
+
+    info_.width = st->codecpar->width;
+    info_.height = st->codecpar->height;
+    const AVRational rate = st->avg_frame_rate.num > 0 ? st->avg_frame_rate : st->r_frame_rate;
+    info_.fps = (forced == nullptr && rate.num > 0 && rate.den > 0) ? av_q2d(rate) : options.fps;
+    if (forced != nullptr)
+        info_.fps = options.fps;
+    fps_ = info_.fps;
+    const auto pixFmt = static_cast<AVPixelFormat>(st->codecpar->format);
+    info_.nativeFormat = nativeLayout(pixFmt);
+    if (st->nb_frames > 0)
+        info_.frameCount = st->nb_frames;
+    else if (st->duration != AV_NOPTS_VALUE && st->duration > 0)
+        info_.frameCount =
+            std::llround(static_cast<double>(st->duration) * av_q2d(timeBase_) * info_.fps);
+    else if (fmt_->duration != AV_NOPTS_VALUE && fmt_->duration > 0)
+        info_.frameCount =
+            std::llround(static_cast<double>(fmt_->duration) / AV_TIME_BASE * info_.fps);
+    if (options.loop)
+        info_.frameCount = 0; // endless
+    for (const AVDictionary *meta : {static_cast<const AVDictionary *>(st->metadata),
+                                     static_cast<const AVDictionary *>(fmt_->metadata)}) {
+        const AVDictionaryEntry *e = nullptr;
+        while ((e = av_dict_get(meta, "", e, AV_DICT_IGNORE_SUFFIX)) != nullptr) {
+            std::string key = e->key;
+            for (char &ch : key)
+                ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+            if (info_.tag(key) == nullptr)
+                info_.tags.emplace_back(std::move(key), e->value);
+        }
+    }
+    const char *pixName = av_get_pix_fmt_name(pixFmt);
+    info_.description = std::string(fmt_->iformat->name) + " " + decoder->name + " " +
+                        std::to_string(info_.width) + "x" + std::to_string(info_.height) + " " +
+                        (pixName != nullptr ? pixName : "?");
+    return ok();
+}
+
+Result<void> FfmpegFrameSource::decodeOne()
+{
+    for (;;) {
+        int ret = avcodec_receive_frame(codec_.get(), frame_.get());
+        if (ret == 0)
+            return ok();
+        if (ret == AVERROR_EOF)
+            return unexpected(Errc::EndOfStream, "End of the input");
+        if (ret != AVERROR(EAGAIN)) {
+            DT_LOG(Media, Warning, "Failed to decode %s: %s", url_.c_str(), AvErrorText(ret).text);
+            return unexpected(Errc::InvalidArgument, "Failed to decode a frame (corrupt input)");
+        }
+        if (demuxEnded_) {
+            if (drained_)
+                return unexpected(Errc::EndOfStream, "End of the input");
+            drained_ = true;
+            (void)avcodec_send_packet(codec_.get(), nullptr);
+            continue;
+        }
+        ret = av_read_frame(fmt_.get(), packet_.get());
+        if (ret == AVERROR_EOF) {
+            demuxEnded_ = true;
+            continue;
+        }
+        if (ret < 0) {
+            DT_LOG(Media, Warning, "Failed to read %s: %s", url_.c_str(), AvErrorText(ret).text);
+            // The image2 demuxer reports a missing or unreadable file of the sequence as EIO.
+            return unexpected(ret == AVERROR_INVALIDDATA ? Errc::InvalidArgument : Errc::Io,
+                              "Failed to read the input", errnoOf(ret));
+        }
+        if (packet_->stream_index != stream_) {
+            av_packet_unref(packet_.get());
+            continue;
+        }
+        ret = avcodec_send_packet(codec_.get(), packet_.get());
+        av_packet_unref(packet_.get());
+        if (ret < 0 && ret != AVERROR(EAGAIN)) {
+            DT_LOG(Media, Warning, "Failed to decode %s: %s", url_.c_str(), AvErrorText(ret).text);
+            return unexpected(Errc::InvalidArgument, "Failed to decode a frame (corrupt input)");
+        }
+    }
+}
+
+Result<SourceFrame> FfmpegFrameSource::next(PixelFormat format, int width, int height)
+{
+    DT_TRY(decodeOne());
+    if ((frame_->flags & AV_FRAME_FLAG_CORRUPT) != 0 || frame_->decode_error_flags != 0) {
+        DT_LOG(Media, Warning, "Corrupt frame %lld in %s", index_, url_.c_str());
+        return unexpected(Errc::InvalidArgument, "Failed to decode a frame (corrupt input)");
+    }
+    const std::int64_t pts = frame_->best_effort_timestamp;
+    SourceFrame out;
+    if (pts != AV_NOPTS_VALUE) {
+        if (firstPts_ == AV_NOPTS_VALUE)
+            firstPts_ = pts;
+        out.pts = static_cast<double>(pts - firstPts_) * av_q2d(timeBase_);
+    } else {
+        out.pts = static_cast<double>(index_) / fps_;
+    }
+    ++index_;
+    const int w = width > 0 ? width : frame_->width;
+    const int h = height > 0 ? height : frame_->height;
+    out.image = Image::make(w, h, format);
+    if (out.image.empty() || out.image.stride > static_cast<std::size_t>(INT32_MAX))
+        return unexpected(Errc::InvalidArgument, "The frame has no pixels or is too wide");
+    const AVPixFmtDescriptor *desc =
+        av_pix_fmt_desc_get(static_cast<AVPixelFormat>(frame_->format));
+    const bool yuv8 = desc != nullptr && (desc->flags & AV_PIX_FMT_FLAG_RGB) == 0 &&
+                      (desc->flags & AV_PIX_FMT_FLAG_PAL) == 0 &&
+                      (desc->flags & AV_PIX_FMT_FLAG_PLANAR) != 0 && desc->nb_components >= 3 &&
+                      desc->comp[0].depth == 8 && desc->comp[0].plane == 0;
+    if (format == PixelFormat::Gray8 && yuv8 && w == frame_->width && h == frame_->height) {
+        // Depth carried in a YUV video (gray H.264 decodes as 4:2:0 with neutral chroma): the
+        // luma samples are the levels as they are; a range conversion would stretch them.
+        av_image_copy_plane(out.image.data.data(), static_cast<int>(out.image.stride),
+                            frame_->data[0], frame_->linesize[0], w, h);
+    } else {
+        std::uint8_t *dstData[4] = {out.image.data.data(), nullptr, nullptr, nullptr};
+        const int dstStride[4] = {static_cast<int>(out.image.stride), 0, 0, 0};
+        DT_TRY(scaler_.convert(*frame_, dstData, dstStride, toAvFormat(format), w, h));
+    }
+    av_frame_unref(frame_.get());
+    return out;
+}
+
+} // namespace
+
+Result<SourceSpec> parseSourceSpec(std::string_view spec)
+{
+    if (spec.empty())
+        return unexpected(Errc::InvalidArgument, "Empty source name");
+    struct Prefix {
+        std::string_view text;
+        SourceKind kind;
+    };
+    static constexpr Prefix kPrefixes[] = {
+        {"v4l2:", SourceKind::V4l2},
+        {"synthetic:", SourceKind::Synthetic},
+    };
+    for (const Prefix &p : kPrefixes) {
+        if (spec.substr(0, p.text.size()) == p.text) {
+            if (spec.size() == p.text.size())
+                return unexpected(Errc::InvalidArgument, "Nothing after the source prefix");
+            return SourceSpec{p.kind, std::string(spec.substr(p.text.size()))};
+        }
+    }
+    return SourceSpec{SourceKind::Ffmpeg, std::string(spec)};
+}
+
+Result<std::unique_ptr<FrameSource>> openFfmpegFrameSource(const std::string &url,
+                                                           const SourceOptions &options)
+{
+    quietFfmpegLog();
+    auto source = std::make_unique<FfmpegFrameSource>();
+    DT_TRY(source->open(url, options));
+    return std::unique_ptr<FrameSource>(std::move(source));
+}
+
+Result<std::unique_ptr<FrameSource>> openFrameSource(std::string_view spec,
+                                                     const SourceOptions &options,
+                                                     const SourceProviders &providers)
+{
+    auto parsed = parseSourceSpec(spec);
+    if (!parsed)
+        return unexpected(parsed.error());
+    switch (parsed->kind) {
+    case SourceKind::Ffmpeg:
+        return openFfmpegFrameSource(parsed->target, options);
+    case SourceKind::V4l2:
+        if (!providers.v4l2)
+            return unexpected(Errc::NotSupported, "V4L2 camera sources are not built in");
+        return providers.v4l2(parsed->target, options);
+    case SourceKind::Synthetic:
+        if (!providers.synthetic)
+            return unexpected(Errc::NotSupported, "Synthetic CG scene sources are not built in");
+        return providers.synthetic(parsed->target, options);
+    }
+    return unexpected(Errc::InvalidArgument, "Unknown source kind");
+}
+
+} // namespace depthtouch::media

@@ -1,0 +1,100 @@
+#!/bin/sh
+# End-to-end: `depthtouch encode` through the executable. Inputs are made with the ffmpeg CLI, the
+# output is checked with ffprobe (exit 77, skipped, without them): a color PNG sequence + a 16-bit
+# metric depth PNG sequence with a hole → MKV with two titled streams and the depth tags; lossless
+# depth; MP4 by extension; each bad input (one error line, exit 2, no output or temporary file);
+# SIGINT during an endless encode (exit 130, complete playable file).
+# Usage: encode_e2e.sh /path/to/depthtouch
+set -u
+exe="$1"
+for tool in ffmpeg ffprobe; do
+    command -v "$tool" >/dev/null 2>&1 || { echo "$tool CLI not on PATH: skipped"; exit 77; }
+done
+work=$(mktemp -d "${TMPDIR:-/tmp}/dt-encode-e2e.XXXXXX") || exit 1
+pid=""
+trap '[ -n "$pid" ] && kill "$pid" 2>/dev/null; rm -rf "$work"' EXIT
+ff() { ffmpeg -nostdin -hide_banner -v error -y "$@" </dev/null; }
+fail() { echo "FAIL: $*"; exit 1; }
+probe() { ffprobe -v error "$@"; }
+
+ff -f lavfi -i testsrc=size=64x48:rate=30:duration=0.4 -start_number 0 "$work/c-%03d.png" || fail "ffmpeg color"
+ff -f lavfi -i color=c=black:size=64x48:rate=30:duration=0.4 \
+    -vf "format=gray16le,geq=lum='if(lt(X,8)*lt(Y,8),0,1000+20*X)'" -pix_fmt gray16be \
+    -start_number 0 "$work/d-%03d.png" || fail "ffmpeg depth"
+
+# 1. Success: MKV with both streams, titles, tags; quiet on a non-terminal stderr.
+"$exe" encode --color "$work/c-%03d.png" --depth "$work/d-%03d.png" -o "$work/out.mkv" \
+    --preset ultrafast >"$work/ok.out" 2>"$work/ok.err" || { cat "$work/ok.err"; fail "encode exited $?"; }
+[ -s "$work/ok.err" ] && { cat "$work/ok.err"; fail "stderr not quiet when not a terminal"; }
+grep -q "encoded 12 frame pairs 64x48" "$work/ok.out" || { cat "$work/ok.out"; fail "summary line"; }
+[ "$(probe -show_entries stream=index -of csv=p=0 "$work/out.mkv" | wc -l)" -eq 2 ] || fail "want two streams"
+[ "$(probe -show_entries stream_tags=title -of csv=p=0 "$work/out.mkv" | tr '\n' ' ')" = "color depth " ] \
+    || fail "stream titles"
+tags=$(probe -show_entries format_tags -of flat "$work/out.mkv")
+for t in DEPTH_NEAR DEPTH_FAR DEPTH_MAPPING DEPTH_BITS; do
+    echo "$tags" | grep -qi "$t" || fail "container tag $t missing: $tags"
+done
+counts=$(probe -count_frames -show_entries stream=nb_read_frames -of csv=p=0 "$work/out.mkv" | tr '\n' ' ')
+[ "$counts" = "12 12 " ] || fail "frame counts: $counts"
+[ -z "$(ls "$work" | grep '\.tmp\.')" ] || fail "temporary file left"
+echo "mkv: $(probe -show_entries stream=codec_name,profile -of csv=p=0 "$work/out.mkv" | tr '\n' ' ')"
+
+# 2. Lossless depth: x264 picks High 4:4:4 Predictive. MP4 by extension.
+"$exe" encode --color "$work/c-%03d.png" --depth "$work/d-%03d.png" -o "$work/lossless.mp4" \
+    --preset ultrafast --depth-lossless >/dev/null 2>&1 || fail "lossless mp4"
+probe -show_entries format=format_name -of csv=p=0 "$work/lossless.mp4" | grep -q mp4 || fail "not mp4"
+probe -select_streams v:1 -show_entries stream=profile -of csv=p=0 "$work/lossless.mp4" \
+    | grep -q "High 4:4:4 Predictive" || fail "lossless profile"
+
+# 3. Bad input: one error line, exit 2, no output file, no temporary file.
+echo "not a video" >"$work/junk.mkv"
+ff -f lavfi -i sine=duration=0.2 "$work/audio.wav" || fail "ffmpeg wav"
+bad() { # name, args...
+    name="$1"; shift
+    rm -f "$work/bad.mkv"
+    "$exe" encode "$@" >/dev/null 2>"$work/bad.err"
+    rc=$?
+    [ "$rc" -eq 2 ] || { cat "$work/bad.err"; fail "$name: exit $rc, want 2"; }
+    [ "$(wc -l <"$work/bad.err")" -eq 1 ] || { cat "$work/bad.err"; fail "$name: want one error line"; }
+    [ ! -e "$work/bad.mkv" ] || fail "$name: left an output file"
+    [ -z "$(ls "$work" | grep '\.tmp\.')" ] || fail "$name: left a temporary file"
+    echo "$name: $(cat "$work/bad.err")"
+}
+D="$work/d-%03d.png"
+bad "missing source" --color "$work/none-%03d.png" --depth "$D" -o "$work/bad.mkv"
+bad "missing file" --color "$work/none.mkv" --depth "$D" -o "$work/bad.mkv"
+bad "not media" --color "$work/junk.mkv" --depth "$D" -o "$work/bad.mkv"
+bad "no video stream" --color "$work/audio.wav" --depth "$D" -o "$work/bad.mkv"
+bad "negative crf" --color "$work/c-%03d.png" --depth "$D" -o "$work/bad.mkv" --crf -1
+bad "near >= far" --color "$work/c-%03d.png" --depth "$D" -o "$work/bad.mkv" --near 2 --far 1
+bad "unwritable output" --color "$work/c-%03d.png" --depth "$D" -o "$work/no/such/dir/bad.mkv"
+bad "bad preset" --color "$work/c-%03d.png" --depth "$D" -o "$work/bad.mkv" --preset turbo
+bad "ffv1 in mp4" --color "$work/c-%03d.png" --depth "$D" -o "$work/bad.mp4" --depth-bits 16
+bad "no camera" --color v4l2:/dev/video99 --depth "$D" -o "$work/bad.mkv"
+# A missing required option is CLI11's parse error (its message plus a --help hint), exit 2.
+"$exe" encode --color "$work/c-%03d.png" -o "$work/bad.mkv" >/dev/null 2>&1
+[ $? -eq 2 ] && [ ! -e "$work/bad.mkv" ] || fail "missing --depth: want exit 2 and no file"
+
+# 4. SIGINT during an endless encode: the file is complete and playable.
+"$exe" encode --color "$work/c-000.png" --depth "$work/d-000.png" --loop -o "$work/int.mkv" \
+    --preset ultrafast >"$work/int.out" 2>"$work/int.err" &
+pid=$!
+i=0
+while [ $i -lt 200 ]; do  # until the encoder has opened its output (at most 20 s)
+    ls "$work" | grep -q '^int\.mkv\.tmp\.' && break
+    sleep 0.1; i=$((i + 1))
+done
+sleep 1  # let it encode a while
+kill -INT "$pid"
+wait "$pid"
+rc=$?
+pid=""
+[ "$rc" -eq 130 ] || { cat "$work/int.err"; fail "interrupted encode: exit $rc, want 130"; }
+[ -s "$work/int.mkv" ] || fail "interrupted encode left no file"
+counts=$(probe -count_frames -show_entries stream=nb_read_frames -of csv=p=0 "$work/int.mkv" | tr '\n' ' ')
+set -- $counts
+[ "$#" -eq 2 ] && [ "$1" -gt 0 ] && [ "$1" -eq "$2" ] || fail "interrupted file frame counts: $counts"
+errs=$(ffmpeg -nostdin -v error -i "$work/int.mkv" -f null - 2>&1)
+[ -z "$errs" ] || fail "interrupted file does not decode cleanly: $errs"
+echo "interrupted: $1 frame pairs, $(tail -n 1 "$work/int.err")"
+echo PASS

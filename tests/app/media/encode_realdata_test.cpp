@@ -1,0 +1,130 @@
+/// \file
+/// \brief The sender on real RGB-D data: the first 30 frames (10 enhanced) of 7-Scenes "redkitchen"
+/// (JPEG color, 16-bit mm depth PNG with holes) encoded to MKV with and without the §V.B
+/// enhancement, then read back with libavformat as ffprobe would. Skips (exit 77) when
+/// $DT_SHARED_DATA lacks the data.
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "depthtouch/media/encode_job.h"
+#include "depthtouch/media/frame_source.h"
+#include "readback.h"
+
+using namespace depthtouch;
+using namespace depthtouch::media;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kFrames = 30;
+/// The enhancement costs ~0.1 s per 640×480 frame: fewer frames keep the program short.
+constexpr int kEnhancedFrames = 10;
+
+std::string dataDir()
+{
+    const char *root = std::getenv("DT_SHARED_DATA");
+    if (root == nullptr)
+        return {};
+    const fs::path dir = fs::path(root) / "rgbd-7scenes-redkitchen";
+    return fs::exists(dir / "frame-000000.depth.png") ? dir.string() : std::string();
+}
+
+struct EncodeRun {
+    EncodeSummary summary;
+    test::FileReadback readback;
+};
+
+EncodeRun encode(const std::string &dir, const std::string &out, bool enhance, int frames)
+{
+    EncodeRun run;
+    auto color = openFrameSource(dir + "/frame-%06d.color.jpg", SourceOptions{});
+    auto depthSrc = openFrameSource(dir + "/frame-%06d.depth.png", SourceOptions{});
+    EXPECT_TRUE(color && depthSrc);
+    if (!color || !depthSrc)
+        return run;
+    EXPECT_EQ((*depthSrc)->info().nativeFormat, PixelFormat::Gray16);
+    EncodeOptions o;
+    o.output = out;
+    o.preset = "ultrafast";
+    o.maxFrames = frames;
+    o.enhance = enhance;
+    auto s = encodeStreams(**color, **depthSrc, o);
+    EXPECT_TRUE(s) << (s ? "" : s.error().what);
+    if (!s)
+        return run;
+    run.summary = *s;
+    run.readback = test::readBack(out, {0}, false);
+    return run;
+}
+
+void expectProbeFacts(const EncodeRun &run, int frames)
+{
+    const test::FileReadback &rb = run.readback;
+    ASSERT_TRUE(rb.ok) << rb.error;
+    EXPECT_NE(rb.format.find("matroska"), std::string::npos);
+    ASSERT_EQ(rb.streams.size(), 2u) << "two video streams";
+    EXPECT_EQ(rb.decodeErrors, 0);
+    EXPECT_EQ(rb.streams[0].tags.at("title"), "color");
+    EXPECT_EQ(rb.streams[1].tags.at("title"), "depth");
+    for (const auto &st : rb.streams) {
+        EXPECT_EQ(st.codec, "h264");
+        EXPECT_EQ(st.width, 640);
+        EXPECT_EQ(st.height, 480);
+        EXPECT_EQ(st.pts.size(), static_cast<std::size_t>(frames));
+    }
+    EXPECT_EQ(rb.streams[0].pts, rb.streams[1].pts) << "paired frames share their PTS";
+    // Kinect depth in a kitchen: planes well inside the sensor's 0.5..8 m.
+    const auto &tags = rb.streams[1].tags;
+    const double nearM = std::stod(tags.at("depth_near"));
+    const double farM = std::stod(tags.at("depth_far"));
+    EXPECT_GT(nearM, 0.3);
+    EXPECT_LT(farM, 8.0);
+    EXPECT_LT(nearM, farM);
+    EXPECT_EQ(tags.at("depth_mapping"), "inverse_z");
+    EXPECT_EQ(tags.at("depth_bits"), "8");
+    EXPECT_EQ(rb.tags.at("depth_near"), tags.at("depth_near"));
+    EXPECT_TRUE(run.summary.metric);
+    EXPECT_GT(run.summary.filledSamples, 0) << "7-Scenes depth has holes";
+}
+
+TEST(EncodeRealDataTest, sevenScenesWithAndWithoutEnhancement)
+{
+    const std::string dir = dataDir();
+    if (dir.empty())
+        GTEST_SKIP() << "rgbd-7scenes-redkitchen not found under $DT_SHARED_DATA: skipped";
+    const fs::path tmp =
+        fs::temp_directory_path() / ("dt_encode_realdata_" + std::to_string(getpid()));
+    fs::create_directories(tmp);
+
+    const EncodeRun plain = encode(dir, (tmp / "plain.mkv").string(), false, kFrames);
+    expectProbeFacts(plain, kFrames);
+    EXPECT_FALSE(plain.summary.enhance.has_value());
+
+    const EncodeRun enhanced = encode(dir, (tmp / "enhanced.mkv").string(), true, kEnhancedFrames);
+    expectProbeFacts(enhanced, kEnhancedFrames);
+    ASSERT_TRUE(enhanced.summary.enhance.has_value());
+    const EnhanceTotals &t = *enhanced.summary.enhance;
+    EXPECT_EQ(t.frames, kEnhancedFrames);
+    EXPECT_EQ(t.pixels, 640LL * 480 * kEnhancedFrames);
+    EXPECT_GT(t.points, 0);
+    EXPECT_LT(t.points, t.pixels / 4) << "the mesh keeps far fewer points than pixels";
+    EXPECT_LT(t.roughnessOutput, t.roughnessInput) << "sensor noise on flat regions is removed";
+    EXPECT_GT(t.edgeContrastOutput, 0.8 * t.edgeContrastInput) << "edges are kept";
+    std::printf(
+        "7-Scenes: %d frames plain %.2f s, %d frames enhanced %.2f s; points %.2f %% of pixels, "
+        "mean |error| %.3f levels, roughness %.3f -> %.3f, edge contrast %.1f -> %.1f\n",
+        kFrames, plain.summary.elapsed, kEnhancedFrames, enhanced.summary.elapsed,
+        100.0 * static_cast<double>(t.points) / static_cast<double>(t.pixels), t.meanAbsError,
+        t.roughnessInput, t.roughnessOutput, t.edgeContrastInput, t.edgeContrastOutput);
+    std::error_code ec;
+    fs::remove_all(tmp, ec);
+}
+
+} // namespace

@@ -1,0 +1,768 @@
+/// \file
+/// \brief The sender (app/media): frame sources, encoders, muxer and the encode pipeline, checked
+/// by reading the output back with libavformat/libavcodec (readback.h): lossless depth bit-exact
+/// (H.264 gray qp 0, H.264 gray10 qp 0, FFV1 gray16), color PSNR, stream titles and depth tags,
+/// identical PTS per pair, metric conversion with holes, resampling, stop, containers, a UDP URL,
+/// and the bad inputs.
+
+#include <gtest/gtest.h>
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "depthtouch/depth/conversion.h"
+#include "depthtouch/media/encode_job.h"
+#include "depthtouch/media/frame_source.h"
+#include "depthtouch/media/image_io.h"
+#include "readback.h"
+
+using namespace depthtouch;
+using namespace depthtouch::media;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kW = 64;
+constexpr int kH = 48;
+
+/// Smooth color that x264 codes well: gradients plus a moving square.
+Image makeColor(int i, int w = kW, int h = kH)
+{
+    Image img = Image::make(w, h, PixelFormat::Rgb24);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            std::uint8_t *p = img.row(y) + 3 * x;
+            const bool square = x >= 10 + i && x < 26 + i && y >= 12 && y < 28;
+            p[0] = static_cast<std::uint8_t>(square ? 230 : 40 + 2 * x);
+            p[1] = static_cast<std::uint8_t>(square ? 220 : 60 + 3 * y);
+            p[2] = static_cast<std::uint8_t>(100 + i * 4);
+        }
+    return img;
+}
+
+/// 8-bit nearness with texture and a step edge, different in every frame.
+Image makeNearness8(int i, int w = kW, int h = kH)
+{
+    Image img = Image::make(w, h, PixelFormat::Gray8);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            img.row(y)[x] =
+                static_cast<std::uint8_t>((x > w / 2 ? 200 : 20) + ((x * 7 + y * 13 + i * 5) % 41));
+    return img;
+}
+
+/// 16-bit metric depth (mm) between 800 and 2600, a ramp plus a step.
+Image makeMetric(int i, int w = kW, int h = kH)
+{
+    Image img = Image::make(w, h, PixelFormat::Gray16);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            img.setSample16(
+                x, y, static_cast<std::uint16_t>((x > w / 2 ? 2000 : 900) + 9 * y + 3 * x + i));
+    return img;
+}
+
+/// A FrameSource over images made on demand (endless when count < 0).
+class TestSource final : public FrameSource {
+public:
+    TestSource(std::function<Image(int)> make, int count, double fps, PixelFormat native)
+        : make_(std::move(make)), count_(count)
+    {
+        const Image first = make_(0);
+        info_.width = first.width;
+        info_.height = first.height;
+        info_.fps = fps;
+        info_.nativeFormat = native;
+        info_.frameCount = count < 0 ? 0 : count;
+        info_.description = "test";
+    }
+    [[nodiscard]] const SourceInfo &info() const noexcept override { return info_; }
+    Result<SourceFrame> next(PixelFormat format, int, int) override
+    {
+        if (count_ >= 0 && index_ >= count_)
+            return unexpected(Errc::EndOfStream, "end");
+        SourceFrame f;
+        f.image = make_(index_);
+        EXPECT_EQ(f.image.format, format) << "the pipeline asked for another layout";
+        f.pts = index_ / info_.fps;
+        ++index_;
+        return f;
+    }
+
+private:
+    std::function<Image(int)> make_;
+    int count_;
+    int index_ = 0;
+    SourceInfo info_;
+};
+
+class EncodeTest : public ::testing::Test {
+protected:
+    void SetUp() override
+    {
+        dir_ = fs::temp_directory_path() /
+               ("dt_encode_test_" + std::to_string(getpid()) + "_" +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(dir_);
+    }
+    void TearDown() override
+    {
+        std::error_code ec;
+        fs::remove_all(dir_, ec);
+    }
+    [[nodiscard]] std::string path(const std::string &name) const { return (dir_ / name).string(); }
+    [[nodiscard]] std::vector<std::string> files() const
+    {
+        std::vector<std::string> out;
+        for (const auto &e : fs::directory_iterator(dir_))
+            out.push_back(e.path().filename().string());
+        return out;
+    }
+    static EncodeOptions fastOptions(const std::string &output)
+    {
+        EncodeOptions o;
+        o.output = output;
+        o.preset = "ultrafast";
+        o.threads = 1;
+        return o;
+    }
+
+    fs::path dir_;
+};
+
+/// GIVEN color + 8-bit nearness WHEN encoded with lossless depth (H.264 gray, qp 0) into MKV
+/// THEN depth decodes bit-exact, color is close, titles/tags are there and each pair shares a PTS.
+TEST_F(EncodeTest, lossless8BitDepthRoundTripsBitExact)
+{
+    constexpr int kFrames = 8;
+    TestSource color([](int i) { return makeColor(i); }, kFrames, 30.0, PixelFormat::Rgb24);
+    TestSource depthSrc([](int i) { return makeNearness8(i); }, kFrames, 30.0, PixelFormat::Gray8);
+    EncodeOptions o = fastOptions(path("out.mkv"));
+    o.depthLossless = true;
+    auto s = encodeStreams(color, depthSrc, o);
+    ASSERT_TRUE(s) << s.error().what;
+    EXPECT_EQ(s->frames, kFrames);
+    EXPECT_FALSE(s->metric);
+    EXPECT_EQ(s->endedBy, "color");
+    EXPECT_EQ(files(), std::vector<std::string>{"out.mkv"}) << "no temporary file left";
+
+    const auto rb = test::readBack(path("out.mkv"));
+    ASSERT_TRUE(rb.ok) << rb.error;
+    ASSERT_EQ(rb.streams.size(), 2u);
+    EXPECT_EQ(rb.decodeErrors, 0);
+    const auto &c = rb.streams[0];
+    const auto &d = rb.streams[1];
+    EXPECT_EQ(c.tags.at("title"), "color");
+    EXPECT_EQ(d.tags.at("title"), "depth");
+    EXPECT_EQ(c.codec, "h264");
+    EXPECT_EQ(d.codec, "h264");
+    EXPECT_EQ(d.profile, "High 4:4:4 Predictive");
+    EXPECT_EQ(d.tags.at("depth_bits"), "8");
+    EXPECT_EQ(d.tags.at("depth_mapping"), "inverse_z");
+    EXPECT_EQ(d.tags.at("depth_near"), "unknown");
+    EXPECT_EQ(rb.tags.at("depth_bits"), "8");
+    ASSERT_EQ(c.frames.size(), static_cast<std::size_t>(kFrames));
+    ASSERT_EQ(d.frames.size(), static_cast<std::size_t>(kFrames));
+    for (int i = 0; i < kFrames; ++i) {
+        const Image want = makeNearness8(i);
+        const Image &got = d.frames[static_cast<std::size_t>(i)];
+        ASSERT_EQ(got.format, PixelFormat::Gray8);
+        EXPECT_EQ(got.data, want.data) << "depth frame " << i << " is not bit-exact";
+        EXPECT_GT(test::psnr(c.frames[static_cast<std::size_t>(i)], makeColor(i)), 30.0)
+            << "color frame " << i;
+        EXPECT_DOUBLE_EQ(c.pts[static_cast<std::size_t>(i)], d.pts[static_cast<std::size_t>(i)]);
+        EXPECT_NEAR(c.pts[static_cast<std::size_t>(i)], i / 30.0, 0.0015);
+    }
+}
+
+/// GIVEN a DepthTouch file WHEN read back as sources by stream title THEN the depth source gives
+/// the lossless levels as they are (luma plane, no range conversion) and the color source color.
+TEST_F(EncodeTest, encodedFileReadsBackAsSourcesByTitle)
+{
+    TestSource color([](int i) { return makeColor(i); }, 3, 30.0, PixelFormat::Rgb24);
+    TestSource depthSrc([](int i) { return makeNearness8(i); }, 3, 30.0, PixelFormat::Gray8);
+    EncodeOptions o = fastOptions(path("out.mkv"));
+    o.depthLossless = true;
+    ASSERT_TRUE(encodeStreams(color, depthSrc, o));
+    SourceOptions so;
+    so.streamTitle = "depth";
+    auto d = openFrameSource(path("out.mkv"), so);
+    ASSERT_TRUE(d) << d.error().what;
+    ASSERT_NE(d.value()->info().tag("depth_bits"), nullptr);
+    EXPECT_EQ(*d.value()->info().tag("depth_bits"), "8");
+    EXPECT_EQ(*d.value()->info().tag("title"), "depth");
+    EXPECT_EQ(d.value()->info().nativeFormat, PixelFormat::Rgb24) << "gray H.264 decodes as YUV";
+    so.streamTitle = "color";
+    auto c = openFrameSource(path("out.mkv"), so);
+    ASSERT_TRUE(c) << c.error().what;
+    for (int i = 0; i < 3; ++i) {
+        auto f = d.value()->next(PixelFormat::Gray8);
+        ASSERT_TRUE(f) << f.error().what;
+        EXPECT_EQ(f->image.data, makeNearness8(i).data) << "frame " << i;
+        auto g = c.value()->next(PixelFormat::Rgb24);
+        ASSERT_TRUE(g);
+        EXPECT_GT(test::psnr(g->image, makeColor(i)), 30.0);
+        EXPECT_DOUBLE_EQ(f->pts, g->pts);
+    }
+}
+
+/// GIVEN a DepthTouch file made from metric depth WHEN transcoded (its own streams as sources)
+/// THEN its planes and mapping travel into the new file's tags.
+TEST_F(EncodeTest, transcodeKeepsDepthTags)
+{
+    TestSource color([](int i) { return makeColor(i); }, 3, 30.0, PixelFormat::Rgb24);
+    TestSource depthSrc([](int i) { return makeMetric(i); }, 3, 30.0, PixelFormat::Gray16);
+    EncodeOptions o = fastOptions(path("first.mkv"));
+    o.range = depth::DepthRange{0.75, 3.5};
+    o.mapping = depth::DepthMapping::Linear;
+    ASSERT_TRUE(encodeStreams(color, depthSrc, o));
+
+    SourceOptions so;
+    so.streamTitle = "color";
+    auto c = openFrameSource(path("first.mkv"), so);
+    so.streamTitle = "depth";
+    auto d = openFrameSource(path("first.mkv"), so);
+    ASSERT_TRUE(c && d);
+    auto s = encodeStreams(**c, **d, fastOptions(path("second.mkv")));
+    ASSERT_TRUE(s) << s.error().what;
+    EXPECT_EQ(s->frames, 3);
+    const auto rb = test::readBack(path("second.mkv"), {0}, false);
+    ASSERT_EQ(rb.streams.size(), 2u);
+    EXPECT_EQ(rb.streams[1].tags.at("depth_near"), "0.75");
+    EXPECT_EQ(rb.streams[1].tags.at("depth_far"), "3.5");
+    EXPECT_EQ(rb.streams[1].tags.at("depth_mapping"), "linear");
+}
+
+/// GIVEN 16-bit metric depth and given planes WHEN encoded as FFV1 gray16 THEN the decoded samples
+/// equal the dt_depth nearness conversion bit for bit, and the tags carry the planes.
+TEST_F(EncodeTest, ffv1Gray16RoundTripsBitExact)
+{
+    constexpr int kFrames = 4;
+    TestSource color([](int i) { return makeColor(i); }, kFrames, 25.0, PixelFormat::Rgb24);
+    TestSource depthSrc([](int i) { return makeMetric(i); }, kFrames, 25.0, PixelFormat::Gray16);
+    EncodeOptions o = fastOptions(path("out.mkv"));
+    o.depthCodec = VideoCodec::Ffv1Gray16;
+    o.range = depth::DepthRange{0.5, 4.0};
+    o.mapping = depth::DepthMapping::Linear;
+    auto s = encodeStreams(color, depthSrc, o);
+    ASSERT_TRUE(s) << s.error().what;
+    EXPECT_TRUE(s->metric);
+    EXPECT_EQ(s->depthBits, 16);
+
+    const auto rb = test::readBack(path("out.mkv"));
+    ASSERT_TRUE(rb.ok) << rb.error;
+    ASSERT_EQ(rb.streams.size(), 2u);
+    const auto &d = rb.streams[1];
+    EXPECT_EQ(d.codec, "ffv1");
+    EXPECT_EQ(d.pixFmt, "gray16le");
+    EXPECT_EQ(d.tags.at("depth_near"), "0.5");
+    EXPECT_EQ(d.tags.at("depth_far"), "4");
+    EXPECT_EQ(d.tags.at("depth_mapping"), "linear");
+    EXPECT_EQ(d.tags.at("depth_bits"), "16");
+    ASSERT_EQ(d.frames.size(), static_cast<std::size_t>(kFrames));
+    depth::ConvertOptions co;
+    co.mapping = depth::DepthMapping::Linear;
+    co.vmax = 65535.0;
+    co.range = depth::DepthRange{0.5, 4.0};
+    for (int i = 0; i < kFrames; ++i) {
+        auto n = depth::metricToNearness(toPlane16(makeMetric(i)), co);
+        ASSERT_TRUE(n);
+        const Image want = fromPlane(depth::quantize(n->nearness, 65535.0));
+        EXPECT_EQ(d.frames[static_cast<std::size_t>(i)].data, want.data) << "frame " << i;
+        EXPECT_DOUBLE_EQ(rb.streams[0].pts[static_cast<std::size_t>(i)],
+                         d.pts[static_cast<std::size_t>(i)]);
+    }
+}
+
+/// GIVEN 8-bit nearness WHEN encoded as lossless H.264 gray10 into MP4 THEN samples are the 8-bit
+/// levels scaled to 0..1023, and MP4 carries the titles (handler names) and the container tags.
+TEST_F(EncodeTest, gray10LosslessInMp4)
+{
+    constexpr int kFrames = 3;
+    TestSource color([](int i) { return makeColor(i); }, kFrames, 30.0, PixelFormat::Rgb24);
+    TestSource depthSrc([](int i) { return makeNearness8(i); }, kFrames, 30.0, PixelFormat::Gray8);
+    EncodeOptions o = fastOptions(path("out.mp4"));
+    o.depthCodec = VideoCodec::H264Gray10;
+    o.depthLossless = true;
+    auto s = encodeStreams(color, depthSrc, o);
+    ASSERT_TRUE(s) << s.error().what;
+    const auto rb = test::readBack(path("out.mp4"));
+    ASSERT_TRUE(rb.ok) << rb.error;
+    EXPECT_NE(rb.format.find("mp4"), std::string::npos);
+    ASSERT_EQ(rb.streams.size(), 2u);
+    EXPECT_EQ(rb.streams[0].tags.at("handler_name"), "color");
+    EXPECT_EQ(rb.streams[1].tags.at("handler_name"), "depth");
+    EXPECT_EQ(rb.tags.at("depth_bits"), "10");
+    EXPECT_EQ(rb.tags.at("depth_mapping"), "inverse_z");
+    const auto &d = rb.streams[1];
+    ASSERT_EQ(d.frames.size(), static_cast<std::size_t>(kFrames));
+    for (int i = 0; i < kFrames; ++i) {
+        const Image src = makeNearness8(i);
+        const Image &got = d.frames[static_cast<std::size_t>(i)];
+        ASSERT_EQ(got.format, PixelFormat::Gray16);
+        int mismatches = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                const auto want =
+                    static_cast<std::uint16_t>(std::lround(src.row(y)[x] * 1023.0 / 255.0));
+                mismatches += got.sample16(x, y) != want;
+            }
+        EXPECT_EQ(mismatches, 0) << "frame " << i;
+        EXPECT_DOUBLE_EQ(rb.streams[0].pts[static_cast<std::size_t>(i)],
+                         d.pts[static_cast<std::size_t>(i)]);
+    }
+}
+
+/// GIVEN metric depth of one plane at 1.5 m with holes (0) and saturated samples (65535) WHEN
+/// encoded losslessly THEN every hole carries the plane's nearness, never the far plane (0).
+TEST_F(EncodeTest, metricHolesAreFilledNeverFar)
+{
+    const auto holes = [](int) {
+        Image img = Image::make(kW, kH, PixelFormat::Gray16);
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                std::uint16_t v = 1500;
+                if (x < 12 && y < 10)
+                    v = 0;
+                else if (x > 50 && y > 30)
+                    v = 65535;
+                img.setSample16(x, y, v);
+            }
+        return img;
+    };
+    TestSource color([](int i) { return makeColor(i); }, 2, 30.0, PixelFormat::Rgb24);
+    TestSource depthSrc(holes, 2, 30.0, PixelFormat::Gray16);
+    EncodeOptions o = fastOptions(path("out.mkv"));
+    o.depthLossless = true;
+    o.range = depth::DepthRange{1.0, 2.0};
+    auto s = encodeStreams(color, depthSrc, o);
+    ASSERT_TRUE(s) << s.error().what;
+    EXPECT_EQ(s->filledSamples, 2LL * (12 * 10 + 13 * 17));
+    const auto want = static_cast<std::uint8_t>(std::lround(
+        depth::metresToNearness(1.5, {1.0, 2.0}, depth::DepthMapping::InverseZ, 255.0)));
+    ASSERT_GT(want, 0);
+    const auto rb = test::readBack(path("out.mkv"));
+    ASSERT_TRUE(rb.ok);
+    ASSERT_EQ(rb.streams.size(), 2u);
+    for (const Image &f : rb.streams[1].frames)
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x)
+                ASSERT_EQ(f.row(y)[x], want) << "sample (" << x << ", " << y << ")";
+}
+
+/// GIVEN metric depth without planes WHEN encoded THEN near/far come from the first frames' robust
+/// range, once: the tags hold exactly the planes reported, the same for the whole file.
+TEST_F(EncodeTest, robustRangeDecidedOnceFromFirstFrames)
+{
+    TestSource color([](int i) { return makeColor(i); }, 8, 30.0, PixelFormat::Rgb24);
+    // Later frames move far away; the planes must not follow them.
+    TestSource depthSrc(
+        [](int i) {
+            Image img = makeMetric(0);
+            if (i >= 5)
+                for (int y = 0; y < kH; ++y)
+                    for (int x = 0; x < kW; ++x)
+                        img.setSample16(x, y, static_cast<std::uint16_t>(img.sample16(x, y) * 3));
+            return img;
+        },
+        8, 30.0, PixelFormat::Gray16);
+    EncodeOptions o = fastOptions(path("out.mkv"));
+    auto s = encodeStreams(color, depthSrc, o);
+    ASSERT_TRUE(s) << s.error().what;
+    ASSERT_TRUE(s->metric);
+    auto expected = depth::robustRange(toPlane16(makeMetric(0)), depth::RawDepthFormat{});
+    ASSERT_TRUE(expected);
+    EXPECT_NEAR(s->range.nearM, expected->nearM, 1e-9);
+    EXPECT_NEAR(s->range.farM, expected->farM, 1e-9);
+    const auto rb = test::readBack(path("out.mkv"), {0}, false);
+    ASSERT_EQ(rb.streams.size(), 2u);
+    const auto tags = depthTags(s->range, depth::DepthMapping::InverseZ, 8);
+    for (const auto &[k, v] : tags) {
+        EXPECT_EQ(rb.streams[1].tags.at(k), v) << k;
+        EXPECT_EQ(rb.tags.at(k), v) << k;
+    }
+}
+
+/// GIVEN depth at half the color size WHEN encoded THEN it is resampled to the color grid, with one
+/// warning.
+TEST_F(EncodeTest, depthOfAnotherSizeIsResampledWithWarning)
+{
+    TestSource color([](int i) { return makeColor(i); }, 3, 30.0, PixelFormat::Rgb24);
+    TestSource depthSrc([](int i) { return makeNearness8(i, kW / 2, kH / 2); }, 3, 30.0,
+                        PixelFormat::Gray8);
+    std::vector<std::string> warnings;
+    EncodeCallbacks cb;
+    cb.warning = [&warnings](const std::string &w) { warnings.push_back(w); };
+    auto s = encodeStreams(color, depthSrc, fastOptions(path("out.mkv")), nullptr, cb);
+    ASSERT_TRUE(s) << s.error().what;
+    EXPECT_TRUE(s->depthResampled);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("resampled"), std::string::npos);
+    const auto rb = test::readBack(path("out.mkv"), {0}, false);
+    ASSERT_EQ(rb.streams.size(), 2u);
+    EXPECT_EQ(rb.streams[1].width, kW);
+    EXPECT_EQ(rb.streams[1].height, kH);
+}
+
+/// GIVEN an endless source WHEN the stop flag is raised after 5 pairs THEN the encoders are
+/// flushed, the trailer written and the file decodes with 5 frames per stream.
+TEST_F(EncodeTest, stopFlagLeavesCompletePlayableFile)
+{
+    TestSource color([](int i) { return makeColor(i % 20); }, -1, 30.0, PixelFormat::Rgb24);
+    TestSource depthSrc([](int i) { return makeNearness8(i); }, -1, 30.0, PixelFormat::Gray8);
+    std::atomic<bool> stop{false};
+    EncodeCallbacks cb;
+    cb.progress = [&stop](const EncodeProgress &p) {
+        if (p.frames == 5)
+            stop = true;
+    };
+    auto s = encodeStreams(color, depthSrc, fastOptions(path("out.mkv")), &stop, cb);
+    ASSERT_TRUE(s) << s.error().what;
+    EXPECT_TRUE(s->interrupted);
+    EXPECT_EQ(s->frames, 5);
+    const auto rb = test::readBack(path("out.mkv"), {0}, false);
+    ASSERT_TRUE(rb.ok);
+    ASSERT_EQ(rb.streams.size(), 2u);
+    EXPECT_EQ(rb.decodeErrors, 0);
+    EXPECT_EQ(rb.streams[0].pts.size(), 5u);
+    EXPECT_EQ(rb.streams[1].pts.size(), 5u);
+}
+
+/// GIVEN --frames and --duration limits WHEN encoding an endless source THEN they end it.
+TEST_F(EncodeTest, frameAndDurationLimits)
+{
+    for (const bool byFrames : {true, false}) {
+        TestSource color([](int i) { return makeColor(i % 20); }, -1, 30.0, PixelFormat::Rgb24);
+        TestSource depthSrc([](int i) { return makeNearness8(i); }, -1, 30.0, PixelFormat::Gray8);
+        EncodeOptions o = fastOptions(path(byFrames ? "f.mkv" : "d.mkv"));
+        if (byFrames)
+            o.maxFrames = 4;
+        else
+            o.maxDuration = 0.2; // 6 frames at 30 fps
+        auto s = encodeStreams(color, depthSrc, o);
+        ASSERT_TRUE(s) << s.error().what;
+        EXPECT_EQ(s->frames, byFrames ? 4 : 6);
+        EXPECT_EQ(s->endedBy, byFrames ? "frames" : "duration");
+    }
+}
+
+/// GIVEN MPEG-TS WHEN encoded THEN both streams share each PTS and the depth tags travel in the
+/// service name.
+TEST_F(EncodeTest, mpegTsKeepsPairedPtsAndTags)
+{
+    TestSource color([](int i) { return makeColor(i); }, 5, 30.0, PixelFormat::Rgb24);
+    TestSource depthSrc([](int i) { return makeNearness8(i); }, 5, 30.0, PixelFormat::Gray8);
+    auto s = encodeStreams(color, depthSrc, fastOptions(path("out.ts")));
+    ASSERT_TRUE(s) << s.error().what;
+    const auto rb = test::readBack(path("out.ts"), {0}, false);
+    ASSERT_TRUE(rb.ok);
+    EXPECT_EQ(rb.format, "mpegts");
+    ASSERT_EQ(rb.streams.size(), 2u);
+    ASSERT_EQ(rb.streams[0].pts.size(), 5u);
+    EXPECT_EQ(rb.streams[0].pts, rb.streams[1].pts);
+}
+
+/// Nonsense options are refused before anything is opened.
+TEST_F(EncodeTest, badOptionsAreRefused)
+{
+    const auto bad = [this](auto change) {
+        EncodeOptions o = fastOptions(path("out.mkv"));
+        change(o);
+        return !o.validate();
+    };
+    EXPECT_TRUE(bad([](EncodeOptions &o) { o.crf = -1; }));
+    EXPECT_TRUE(bad([](EncodeOptions &o) { o.depthCrf = 52; }));
+    EXPECT_TRUE(bad([](EncodeOptions &o) { o.range = depth::DepthRange{2.0, 1.0}; }));
+    EXPECT_TRUE(bad([](EncodeOptions &o) { o.range = depth::DepthRange{1.0, 1.0}; }));
+    EXPECT_TRUE(bad([](EncodeOptions &o) { o.raw.metresPerUnit = -0.001; }));
+    EXPECT_TRUE(bad([](EncodeOptions &o) {
+        o.width = 63;
+        o.height = 48;
+    }));
+    EXPECT_TRUE(bad([](EncodeOptions &o) { o.maxFrames = -3; }));
+    EXPECT_TRUE(bad([](EncodeOptions &o) { o.maxDuration = -1.0; }));
+    EXPECT_TRUE(bad([this](EncodeOptions &o) {
+        o.output = path("out.mp4");
+        o.depthCodec = VideoCodec::Ffv1Gray16;
+    }));
+    EXPECT_TRUE(bad([](EncodeOptions &o) { o.output.clear(); }));
+    EXPECT_FALSE(bad([](EncodeOptions &) {}));
+    EXPECT_FALSE(parseContainer("avi"));
+    EXPECT_TRUE(files().empty());
+}
+
+/// GIVEN an output in a missing directory, or a bad preset WHEN encoding THEN a clear error and no
+/// file (not even a temporary one).
+TEST_F(EncodeTest, unwritableOutputAndEncoderErrorsLeaveNoFile)
+{
+    TestSource color([](int i) { return makeColor(i); }, 3, 30.0, PixelFormat::Rgb24);
+    TestSource depthSrc([](int i) { return makeNearness8(i); }, 3, 30.0, PixelFormat::Gray8);
+    auto s = encodeStreams(color, depthSrc, fastOptions(path("missing/dir/out.mkv")));
+    ASSERT_FALSE(s);
+    EXPECT_EQ(s.error().code, Errc::Io);
+
+    TestSource color2([](int i) { return makeColor(i); }, 3, 30.0, PixelFormat::Rgb24);
+    TestSource depth2([](int i) { return makeNearness8(i); }, 3, 30.0, PixelFormat::Gray8);
+    EncodeOptions o = fastOptions(path("out.mkv"));
+    o.preset = "turbo";
+    auto s2 = encodeStreams(color2, depth2, o);
+    ASSERT_FALSE(s2);
+    EXPECT_EQ(s2.error().code, Errc::InvalidArgument);
+    EXPECT_TRUE(files().empty());
+
+    // An odd color size cannot be 4:2:0.
+    TestSource color3([](int i) { return makeColor(i, 63, 48); }, 3, 30.0, PixelFormat::Rgb24);
+    TestSource depth3([](int i) { return makeNearness8(i); }, 3, 30.0, PixelFormat::Gray8);
+    auto s3 = encodeStreams(color3, depth3, fastOptions(path("out.mkv")));
+    ASSERT_FALSE(s3);
+    EXPECT_TRUE(files().empty());
+
+    // Metric depth with no valid sample at all.
+    TestSource color4([](int i) { return makeColor(i); }, 3, 30.0, PixelFormat::Rgb24);
+    TestSource depth4([](int) { return Image::make(kW, kH, PixelFormat::Gray16); }, 3, 30.0,
+                      PixelFormat::Gray16);
+    auto s4 = encodeStreams(color4, depth4, fastOptions(path("out.mkv")));
+    ASSERT_FALSE(s4);
+    EXPECT_EQ(s4.error().code, Errc::InvalidArgument);
+    EXPECT_TRUE(files().empty());
+}
+
+/// GIVEN a local UDP receiver WHEN encoding to udp://127.0.0.1:PORT THEN MPEG-TS packets arrive.
+TEST_F(EncodeTest, streamsToUdpUrl)
+{
+    const int sock = ::socket(AF_INET, SOCK_DGRAM, 0);
+    ASSERT_GE(sock, 0);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    addr.sin_port = 0;
+    ASSERT_EQ(::bind(sock, reinterpret_cast<sockaddr *>(&addr), sizeof addr), 0);
+    socklen_t len = sizeof addr;
+    ASSERT_EQ(::getsockname(sock, reinterpret_cast<sockaddr *>(&addr), &len), 0);
+    const int rcvbuf = 4 << 20;
+    ::setsockopt(sock, SOL_SOCKET, SO_RCVBUF, &rcvbuf, sizeof rcvbuf);
+
+    TestSource color([](int i) { return makeColor(i); }, 3, 30.0, PixelFormat::Rgb24);
+    TestSource depthSrc([](int i) { return makeNearness8(i); }, 3, 30.0, PixelFormat::Gray8);
+    const std::string url = "udp://127.0.0.1:" + std::to_string(ntohs(addr.sin_port));
+    EXPECT_EQ(containerForOutput(url), Container::MpegTs);
+    auto s = encodeStreams(color, depthSrc, fastOptions(url));
+    ASSERT_TRUE(s) << s.error().what;
+    EXPECT_TRUE(files().empty()) << "a URL output writes no local file";
+
+    std::size_t bytes = 0;
+    std::size_t syncOk = 0;
+    std::size_t datagrams = 0;
+    std::uint8_t buf[65536];
+    for (;;) {
+        const ssize_t n = ::recv(sock, buf, sizeof buf, MSG_DONTWAIT);
+        if (n <= 0)
+            break;
+        ++datagrams;
+        bytes += static_cast<std::size_t>(n);
+        syncOk += (n % 188 == 0 && buf[0] == 0x47) ? 1u : 0u;
+    }
+    ::close(sock);
+    EXPECT_GT(datagrams, 0u);
+    EXPECT_EQ(syncOk, datagrams) << "every datagram holds whole TS packets";
+    EXPECT_GT(bytes, 1000u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Frame sources
+
+class FrameSourceTest : public EncodeTest {};
+
+/// GIVEN three 16-bit PNGs WHEN opened by printf pattern and by glob THEN both give the samples
+/// bit-exact, in order, at --fps, and then end.
+TEST_F(FrameSourceTest, pngSequenceByPatternAndGlob)
+{
+    for (int i = 0; i < 3; ++i) {
+        char name[64];
+        std::snprintf(name, sizeof name, "d-%04d.png", i);
+        ASSERT_TRUE(writePng(path(name), makeMetric(i)));
+    }
+    for (const std::string &spec : {path("d-%04d.png"), path("d-*.png")}) {
+        SourceOptions so;
+        so.fps = 15.0;
+        auto src = openFrameSource(spec, so);
+        ASSERT_TRUE(src) << spec << ": " << src.error().what;
+        const SourceInfo &info = (*src)->info();
+        EXPECT_EQ(info.width, kW);
+        EXPECT_EQ(info.height, kH);
+        EXPECT_DOUBLE_EQ(info.fps, 15.0);
+        EXPECT_EQ(info.nativeFormat, PixelFormat::Gray16);
+        EXPECT_EQ(info.frameCount, 3);
+        for (int i = 0; i < 3; ++i) {
+            auto f = (*src)->next(PixelFormat::Gray16);
+            ASSERT_TRUE(f) << f.error().what;
+            EXPECT_EQ(f->image.data, makeMetric(i).data) << spec << " frame " << i;
+            EXPECT_NEAR(f->pts, i / 15.0, 1e-9);
+        }
+        auto end = (*src)->next(PixelFormat::Gray16);
+        ASSERT_FALSE(end);
+        EXPECT_EQ(end.error().code, Errc::EndOfStream);
+    }
+}
+
+/// GIVEN raw gray16le bytes WHEN opened with the rawvideo demuxer and its options THEN the samples
+/// come out as written; a looping still repeats.
+TEST_F(FrameSourceTest, rawVideoOptionsAndLoopingStill)
+{
+    {
+        std::ofstream out(path("d.raw"), std::ios::binary);
+        for (int i = 0; i < 2; ++i) {
+            const Image img = makeMetric(i);
+            out.write(reinterpret_cast<const char *>(img.data.data()),
+                      static_cast<std::streamsize>(img.data.size()));
+        }
+    }
+    SourceOptions so;
+    so.format = "rawvideo";
+    so.videoSize = std::to_string(kW) + "x" + std::to_string(kH);
+    so.pixelFormat = "gray16le";
+    so.fps = 10.0;
+    auto src = openFrameSource(path("d.raw"), so);
+    ASSERT_TRUE(src) << src.error().what;
+    EXPECT_EQ((*src)->info().nativeFormat, PixelFormat::Gray16);
+    for (int i = 0; i < 2; ++i) {
+        auto f = (*src)->next(PixelFormat::Gray16);
+        ASSERT_TRUE(f) << f.error().what;
+        EXPECT_EQ(f->image.data, makeMetric(i).data);
+    }
+    EXPECT_FALSE((*src)->next(PixelFormat::Gray16));
+
+    ASSERT_TRUE(writePng(path("still.png"), makeColor(0)));
+    SourceOptions loop;
+    loop.loop = true;
+    auto still = openFrameSource(path("still.png"), loop);
+    ASSERT_TRUE(still) << still.error().what;
+    for (int i = 0; i < 5; ++i) {
+        auto f = (*still)->next(PixelFormat::Rgb24);
+        ASSERT_TRUE(f) << "looping still ended at " << i;
+        EXPECT_EQ(f->image.data, makeColor(0).data);
+    }
+}
+
+/// Source specs: prefixes parsed in one place; v4l2:/synthetic: are "not built in" without a
+/// provider and reach the provider when there is one.
+TEST_F(FrameSourceTest, specPrefixesAndProviders)
+{
+    auto v = parseSourceSpec("v4l2:/dev/video3");
+    ASSERT_TRUE(v);
+    EXPECT_EQ(v->kind, SourceKind::V4l2);
+    EXPECT_EQ(v->target, "/dev/video3");
+    auto syn = parseSourceSpec("synthetic:sphere");
+    ASSERT_TRUE(syn);
+    EXPECT_EQ(syn->kind, SourceKind::Synthetic);
+    auto f = parseSourceSpec("udp://1.2.3.4:5");
+    ASSERT_TRUE(f);
+    EXPECT_EQ(f->kind, SourceKind::Ffmpeg);
+    EXPECT_FALSE(parseSourceSpec(""));
+    EXPECT_FALSE(parseSourceSpec("v4l2:"));
+
+    auto none = openFrameSource("v4l2:/dev/video0", SourceOptions{});
+    ASSERT_FALSE(none);
+    EXPECT_EQ(none.error().code, Errc::NotSupported);
+    auto none2 = openFrameSource("synthetic:cube", SourceOptions{});
+    ASSERT_FALSE(none2);
+    EXPECT_EQ(none2.error().code, Errc::NotSupported);
+
+    SourceProviders providers;
+    std::string asked;
+    providers.synthetic = [&asked](const std::string &target,
+                                   const SourceOptions &) -> Result<std::unique_ptr<FrameSource>> {
+        asked = target;
+        return std::unique_ptr<FrameSource>(std::make_unique<TestSource>(
+            [](int i) { return makeColor(i); }, 1, 30.0, PixelFormat::Rgb24));
+    };
+    auto s = openFrameSource("synthetic:cube", SourceOptions{}, providers);
+    ASSERT_TRUE(s);
+    EXPECT_EQ(asked, "cube");
+}
+
+/// Missing file, no match, not media, no video stream, bad options, a corrupt image mid-sequence.
+TEST_F(FrameSourceTest, badInputsGiveClearErrors)
+{
+    auto missing = openFrameSource(path("nothing.mkv"), SourceOptions{});
+    ASSERT_FALSE(missing);
+    EXPECT_EQ(missing.error().code, Errc::Io);
+    auto noMatch = openFrameSource(path("f-%06d.png"), SourceOptions{});
+    ASSERT_FALSE(noMatch);
+    EXPECT_EQ(noMatch.error().code, Errc::Io);
+
+    {
+        std::ofstream(path("junk.mkv")) << "this is not a video file at all, just text\n";
+    }
+    auto junk = openFrameSource(path("junk.mkv"), SourceOptions{});
+    ASSERT_FALSE(junk);
+    EXPECT_EQ(junk.error().code, Errc::InvalidArgument);
+
+    // A WAV file: media, but no video stream (header + 0.1 s of 8 kHz 8-bit silence).
+    {
+        std::ofstream w(path("a.wav"), std::ios::binary);
+        const auto u32 = [&w](std::uint32_t v) { w.write(reinterpret_cast<const char *>(&v), 4); };
+        const auto u16 = [&w](std::uint16_t v) { w.write(reinterpret_cast<const char *>(&v), 2); };
+        const std::uint32_t n = 800;
+        w << "RIFF";
+        u32(36 + n);
+        w << "WAVEfmt ";
+        u32(16);
+        u16(1);
+        u16(1);
+        u32(8000);
+        u32(8000);
+        u16(1);
+        u16(8);
+        w << "data";
+        u32(n);
+        w << std::string(n, '\x80');
+    }
+    auto wav = openFrameSource(path("a.wav"), SourceOptions{});
+    ASSERT_FALSE(wav);
+    EXPECT_EQ(wav.error().code, Errc::InvalidArgument);
+    EXPECT_STREQ(wav.error().what, "The input has no video stream");
+
+    SourceOptions badFps;
+    badFps.fps = -1.0;
+    EXPECT_FALSE(openFrameSource(path("a.wav"), badFps));
+    SourceOptions badPix;
+    badPix.format = "rawvideo";
+    badPix.pixelFormat = "nonsense";
+    EXPECT_FALSE(openFrameSource(path("a.wav"), badPix));
+    SourceOptions badDemuxer;
+    badDemuxer.format = "nonsense";
+    EXPECT_FALSE(openFrameSource(path("a.wav"), badDemuxer));
+
+    // Frame 1 of 3 truncated: frames before it decode, then a clear error (not a crash or hang).
+    for (int i = 0; i < 3; ++i) {
+        char name[64];
+        std::snprintf(name, sizeof name, "c-%02d.png", i);
+        ASSERT_TRUE(writePng(path(name), makeColor(i)));
+    }
+    fs::resize_file(path("c-01.png"), 60);
+    auto seq = openFrameSource(path("c-%02d.png"), SourceOptions{});
+    ASSERT_TRUE(seq) << seq.error().what;
+    ASSERT_TRUE((*seq)->next(PixelFormat::Rgb24));
+    bool failed = false;
+    for (int i = 0; i < 3 && !failed; ++i) {
+        auto r = (*seq)->next(PixelFormat::Rgb24);
+        if (!r) {
+            failed = true;
+            EXPECT_NE(r.error().code, Errc::EndOfStream) << "a damaged frame is not an end";
+        }
+    }
+    EXPECT_TRUE(failed);
+}
+
+} // namespace
