@@ -540,13 +540,8 @@ void StereoRenderer::drawAvatar(const EyeView &eye)
     glUniformMatrix4fv(g.avViewProj, 1, GL_FALSE, glm::value_ptr(viewProj));
     glUniform1i(g.avRowParity, eye.rowParity);
     glBindVertexArray(g.sphereVao);
-    // The proxy: an opaque lit sphere resting on the surface.
-    glUniform3f(g.avCenter, static_cast<float>(avatar_.proxy.x), static_cast<float>(avatar_.proxy.y),
-                static_cast<float>(avatar_.proxy.z));
-    glUniform1f(g.avRadius, static_cast<float>(avatar_.radius));
-    glUniform4f(g.avColor, 0.95f, 0.75f, 0.2f, 1.0f);
-    glDrawElements(GL_TRIANGLES, g.sphereIndexCount, GL_UNSIGNED_SHORT, nullptr);
-    // The HIP, when it has sunk below the surface away from the proxy: a faint smaller sphere.
+    // The HIP, when it has sunk below the surface away from the proxy: a faint smaller sphere seen
+    // through the surface; drawn first so the opaque proxy sphere covers it where they overlap.
     if (glm::length(avatar_.proxy - avatar_.hip) > avatar_.separation) {
         glEnable(GL_BLEND);
         glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
@@ -561,6 +556,12 @@ void StereoRenderer::drawAvatar(const EyeView &eye)
         glDepthMask(GL_TRUE);
         glDisable(GL_BLEND);
     }
+    // The proxy: an opaque lit sphere resting on the surface.
+    glUniform3f(g.avCenter, static_cast<float>(avatar_.proxy.x), static_cast<float>(avatar_.proxy.y),
+                static_cast<float>(avatar_.proxy.z));
+    glUniform1f(g.avRadius, static_cast<float>(avatar_.radius));
+    glUniform4f(g.avColor, 0.95f, 0.75f, 0.2f, 1.0f);
+    glDrawElements(GL_TRIANGLES, g.sphereIndexCount, GL_UNSIGNED_SHORT, nullptr);
     glBindVertexArray(0);
 }
 

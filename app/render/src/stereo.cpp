@@ -110,8 +110,12 @@ std::array<EyeView, 2> eyeViews(StereoMode mode, const StereoParams &params, int
 EyeView topView(int width, int height, double boxWidth, double boxHeight, double boxDepth)
 {
     // One pixel per sample: pixel centres on the sample columns and rows.
-    const double hx = 0.5 * boxWidth * width / std::max(1, width - 1);
-    const double hy = 0.5 * boxHeight * height / std::max(1, height - 1);
+    // The outermost pixel centres fall on the box edges; pull them 1/128 pixel inside so the
+    // rasteriser's fill rule (which drops centres exactly on right and bottom edges) keeps them.
+    const double px = boxWidth / std::max(1, width - 1);
+    const double py = boxHeight / std::max(1, height - 1);
+    const double hx = 0.5 * px * width - px / 128.0;
+    const double hy = 0.5 * py * height - py / 128.0;
     EyeView e;
     e.viewport = Viewport{0, 0, width, height};
     e.view = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, static_cast<float>(-boxDepth)));

@@ -77,8 +77,8 @@ EyeView eyeView(const StereoParams &params, double eyeX, double aspect, Viewport
                 double boxWidth, double boxHeight, double boxDepth);
 
 /// \brief An orthographic camera straight down the z axis whose frame covers exactly the box's x–y
-/// rectangle (pixel centres at the sample positions when the frame is W×H): for tests and height
-/// read-back.
+/// rectangle (pixel centres at the sample positions, to 1/128 pixel, when the frame is W×H): for
+/// tests and height read-back.
 EyeView topView(int width, int height, double boxWidth, double boxHeight, double boxDepth);
 
 } // namespace depthtouch::render
