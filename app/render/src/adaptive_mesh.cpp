@@ -33,8 +33,10 @@ inline double cellValue(double z00, double z10, double z11, double z01, double u
 } // namespace
 
 double AdaptiveMesh::tileError(const haptics::DepthFrameView &depth, int tx, int ty, int step,
-                               double limit) const noexcept
+                               double limit, double &mean) const noexcept
 {
+    double sum = 0.0;
+    long count = 0;
     const int c0 = tx * tile_;
     const int r0 = ty * tile_;
     const int c1 = std::min(c0 + tile_, width_ - 1);
@@ -56,6 +58,8 @@ double AdaptiveMesh::tileError(const haptics::DepthFrameView &depth, int tx, int
                     const double u = (c - ca) * invW;
                     const double e = std::fabs(cellValue(z00, z10, z11, z01, u, v) -
                                                static_cast<double>(depth.sample(c, r)));
+                    sum += e;
+                    ++count;
                     if (e > worst) {
                         worst = e;
                         if (worst > limit)
@@ -65,6 +69,7 @@ double AdaptiveMesh::tileError(const haptics::DepthFrameView &depth, int tx, int
             }
         }
     }
+    mean = count > 0 ? sum / static_cast<double>(count) : 0.0;
     return worst;
 }
 
@@ -82,8 +87,8 @@ Result<void> AdaptiveMesh::build(const haptics::DepthFrameView &depth, const Mes
         (!isPowerOfTwo(options.maxStep) || options.maxStep > options.tileSize))
         return unexpected(Errc::InvalidArgument,
                           "mesh maximum step must be a power of two no larger than the tile size");
-    if (!(options.tolerance >= 0.0))
-        return unexpected(Errc::InvalidArgument, "mesh error tolerance must be >= 0 levels");
+    if (!(options.tolerance >= 0.0) || !(options.maxErrorCap >= 0.0))
+        return unexpected(Errc::InvalidArgument, "mesh error tolerance and cap must be >= 0 levels");
     if (static_cast<long long>(depth.width) * depth.height > (1LL << 31))
         return unexpected(Errc::InvalidArgument, "depth frame too large for 32-bit indices");
 
@@ -115,14 +120,19 @@ Result<void> AdaptiveMesh::build(const haptics::DepthFrameView &depth, const Mes
                         hi = std::max(hi, v);
                     }
                 step = 1;
-                if (static_cast<double>(hi - lo) <= options.tolerance) {
+                const double cap = options.criterion == ErrorCriterion::Max ? options.tolerance
+                                                                             : options.maxErrorCap;
+                if (static_cast<double>(hi - lo) <= std::min(cap, options.tolerance)) {
                     step = options.maxStep;
                 } else {
-                    for (int s = options.maxStep; s >= 2; s /= 2)
-                        if (tileError(depth, tx, ty, s, options.tolerance) <= options.tolerance) {
+                    for (int s = options.maxStep; s >= 2; s /= 2) {
+                        double mean = 0.0;
+                        if (tileError(depth, tx, ty, s, cap, mean) <= cap &&
+                            (options.criterion == ErrorCriterion::Max || mean <= options.tolerance)) {
                             step = s;
                             break;
                         }
+                    }
                 }
             }
             steps_[static_cast<std::size_t>(ty * tilesX_ + tx)] = static_cast<std::uint16_t>(step);

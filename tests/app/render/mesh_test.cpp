@@ -35,6 +35,7 @@ MeshOptions adaptive(double tolerance)
     MeshOptions o;
     o.mode = MeshMode::Adaptive;
     o.tolerance = tolerance;
+    o.criterion = ErrorCriterion::Max;
     o.tileSize = 16;
     o.maxStep = 16;
     return o;
@@ -160,4 +161,24 @@ TEST(AdaptiveMeshTest, rejectsBadOptionsAndKeepsThePreviousMesh)
     haptics::DepthFrameView empty;
     EXPECT_EQ(mesh.build(empty, adaptive(1.0)).error().code, Errc::InvalidArgument);
     EXPECT_EQ(mesh.indices(), before);
+}
+
+TEST(AdaptiveMeshTest, meanCriterionIgnoresNoiseButKeepsEdges)
+{
+    // GIVEN a plane with ±1-level noise and a 40-level step edge
+    const Depth8 d(129, 65, [](int c, int r) { return 100 + (c * 7 + r * 3) % 3 - 1 + (c >= 64 ? 40 : 0); });
+    MeshOptions mean = adaptive(0.8);
+    mean.criterion = ErrorCriterion::Mean;
+    mean.maxErrorCap = 4.0;
+    AdaptiveMesh meshMean;
+    ASSERT_TRUE(meshMean.build(d.view(), mean));
+    AdaptiveMesh meshMax;
+    ASSERT_TRUE(meshMax.build(d.view(), adaptive(0.8)));
+    // THEN the mean criterion decimates the noisy plane far more than the max criterion
+    EXPECT_LT(meshMean.stats().triangles * 4, meshMax.stats().triangles);
+    const MeshError e = measureMeshError(d.view(), meshMean.indices());
+    EXPECT_EQ(e.uncovered, 0u);
+    EXPECT_LE(e.mean, 0.8);
+    // AND the step edge stays within the cap (its tiles are not smeared over 16 samples)
+    EXPECT_LE(e.max, 2.0 * 4.0 + 1.0);
 }

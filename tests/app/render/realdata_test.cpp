@@ -44,10 +44,8 @@ TEST(RenderRealDataTest, adaptiveMeshMeetsTheErrorGoalWithFewTrianglesAndNoCrack
         v.width = f.width;
         v.height = f.height;
         v.strideBytes = static_cast<std::size_t>(f.width);
-        // GIVEN the adaptive mesh at a 1-level tolerance
+        // GIVEN the default adaptive mesh (mean criterion, 0.8 levels per tile, cap 16)
         MeshOptions o;
-        o.mode = MeshMode::Adaptive;
-        o.tolerance = 1.0;
         AdaptiveMesh mesh;
         ASSERT_TRUE(mesh.build(v, o));
         const MeshError e = measureMeshError(v, mesh.indices());
@@ -55,8 +53,8 @@ TEST(RenderRealDataTest, adaptiveMeshMeetsTheErrorGoalWithFewTrianglesAndNoCrack
         // stays near the tolerance, and far fewer triangles than the full mesh are drawn
         EXPECT_EQ(e.uncovered, 0u);
         EXPECT_LE(e.mean, 0.5);
-        EXPECT_LE(e.max, 3.0);
-        EXPECT_LT(mesh.stats().triangles, 2u * 719u * 485u / 3u);
+        EXPECT_LE(e.max, 2.0 * o.maxErrorCap);
+        EXPECT_LT(mesh.stats().triangles, 2u * 719u * 485u / 8u);
     }
 }
 
@@ -69,8 +67,7 @@ TEST(RenderRealDataTest, writesASideBySideSnapshot)
     auto frames = bench::loadKitchenFrames(dir, 1, 720, 486);
     ASSERT_TRUE(frames);
     const std::string out = ::testing::TempDir() + "/dt_render_kitchen_sbs.png";
-    MeshOptions o;
-    o.tolerance = 1.0;
+    const MeshOptions o;
     ASSERT_TRUE(bench::writeSideBySideSnapshot(*frames, 0, o, 1440, 486, out));
     EXPECT_GT(fs::file_size(out), 100000u) << "a real scene compresses far less than a blank frame";
 }

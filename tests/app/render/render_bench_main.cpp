@@ -46,8 +46,7 @@ int main(int argc, char **argv)
         std::fprintf(stderr, "render_bench: %s\n", error.c_str());
         return 1;
     }
-    MeshOptions snap;
-    snap.tolerance = 1.0;
+    const MeshOptions snap;
     if (auto r = bench::writeSideBySideSnapshot(*loaded, 0, snap, 1440, 486, out + "/kitchen_sbs.png"); !r)
         std::fprintf(stderr, "render_bench: snapshot: %s\n", r.error().what);
     if (!note.empty())

@@ -154,8 +154,8 @@ std::vector<BenchConfig> defaultConfigs()
         m.fixedStep = step;
         out.push_back({step == 1 ? "full" : "step" + std::to_string(step), m});
     }
-    for (const double tol : {0.5, 1.0, 1.5, 2.0, 3.0, 4.0}) {
-        MeshOptions m;
+    for (const double tol : {0.3, 0.5, 0.7, 0.9, 1.2}) {
+        MeshOptions m; // tile 8, mean criterion, cap 16 levels
         m.mode = MeshMode::Adaptive;
         m.tolerance = tol;
         char name[32];

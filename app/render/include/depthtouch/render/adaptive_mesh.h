@@ -13,9 +13,11 @@
 /// the orientation of DESIGN.md §3 (so step 1 is exactly the haptic renderer's triangulation).
 ///
 /// Level choice (adaptive): the coarsest step whose piecewise-linear surface is within `tolerance`
-/// nearness levels of every sample of the tile, borders included (max-error criterion, as in
+/// nearness levels of the tile's samples, borders included: every sample (ErrorCriterion::Max, as in
 /// error-bounded terrain LOD: Lindstrom et al., "Real-time, continuous level of detail rendering of
-/// height fields", SIGGRAPH 1996; here with whole tiles instead of single vertices).
+/// height fields", SIGGRAPH 1996, here with whole tiles instead of single vertices), or on average
+/// with a cap on the largest error (ErrorCriterion::Mean, the default: real depth carries sensor and
+/// quantisation noise of about a level, which a max bound would follow down to full resolution).
 ///
 /// Crack-free borders: where a tile meets a coarser neighbour, its border vertices are moved along the
 /// border to the neighbour's vertex at or before them (stitching by vertex snapping); triangles that
@@ -40,13 +42,22 @@ enum class MeshMode : std::uint8_t {
     Adaptive, ///< Per-tile step from the error tolerance.
 };
 
+/// \brief What the adaptive tolerance bounds in each tile.
+enum class ErrorCriterion : std::uint8_t {
+    Max,  ///< The largest |surface − sample| of the tile ≤ tolerance.
+    Mean, ///< The tile's mean |surface − sample| ≤ tolerance, and its largest ≤ maxErrorCap (so
+          ///< depth edges stay sharp while sensor noise does not force full resolution).
+};
+
 /// \brief Mesh options.
 struct MeshOptions {
     MeshMode mode = MeshMode::Adaptive;
-    int tileSize = 16;        ///< Cells per tile side T: a power of two, 2..256.
+    int tileSize = 8;         ///< Cells per tile side T: a power of two, 2..256.
     int fixedStep = 1;        ///< Fixed mode: step in samples, a power of two ≤ tileSize.
-    double tolerance = 2.0;   ///< Adaptive: maximum error per tile, nearness levels (≥ 0).
-    int maxStep = 16;         ///< Adaptive: coarsest step allowed, a power of two ≤ tileSize.
+    double tolerance = 0.8;   ///< Adaptive: error bound per tile (see criterion), nearness levels (≥ 0).
+    int maxStep = 8;          ///< Adaptive: coarsest step allowed, a power of two ≤ tileSize.
+    ErrorCriterion criterion = ErrorCriterion::Mean; ///< Adaptive: what tolerance bounds.
+    double maxErrorCap = 16.0; ///< Adaptive, Mean criterion: largest error allowed in a tile, levels.
 };
 
 /// \brief Counts of one build.
@@ -84,8 +95,8 @@ public:
     [[nodiscard]] const MeshStats &stats() const noexcept { return stats_; }
 
 private:
-    double tileError(const haptics::DepthFrameView &depth, int tx, int ty, int step,
-                     double limit) const noexcept;
+    double tileError(const haptics::DepthFrameView &depth, int tx, int ty, int step, double limit,
+                     double &mean) const noexcept;
     void emitTile(int tx, int ty);
 
     std::vector<std::uint32_t> indices_;

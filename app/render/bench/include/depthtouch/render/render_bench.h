@@ -67,7 +67,8 @@ struct BenchOptions {
     std::vector<BenchConfig> configs;  ///< Empty: defaultConfigs().
 };
 
-/// \return full mesh, steps 2/4/8, adaptive at 0.5, 1, 1.5, 2, 3, 4 levels (tile 16, max step 16).
+/// \return full mesh, steps 2/4/8, adaptive (default MeshOptions: tile 8, mean criterion, cap 16
+/// levels) at tolerances 0.3, 0.5, 0.7, 0.9 and 1.2 levels.
 std::vector<BenchConfig> defaultConfigs();
 
 /// \brief Runs every setting on \a frames. \pre a current GLES 3 context with EXT_color_buffer_float
