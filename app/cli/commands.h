@@ -25,5 +25,6 @@ void registerEncodeCommand(CLI::App &app, int &exitCode);
 /// `depthtouch bench`: a group; each benchmark adds itself under it.
 void registerBenchCommand(CLI::App &app, int &exitCode);
 void registerBenchHapticsCommand(CLI::App &bench, int &exitCode);
+void registerBenchRenderCommand(CLI::App &bench, int &exitCode);
 
 } // namespace depthtouch::cli

@@ -1,0 +1,138 @@
+/// \file
+/// \brief `depthtouch bench render`: frame rate (median, p99 frame time) against mean/max geometric
+/// error of the stereo renderer's meshes (full, fixed decimations, adaptive at several tolerances),
+/// side-by-side on real RGB-D frames (7-Scenes redkitchen at 720×486); writes render_bench.csv,
+/// fps_vs_error.png and a side-by-side snapshot into --out and prints a table. The GL context comes
+/// from a Display backend (--display, default headless).
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.h"
+
+#if __has_include("depthtouch/render/render_bench.h")
+#include "depthtouch/drivers/backends.h"
+#include "depthtouch/render/render_bench.h"
+#define DT_CLI_HAVE_RENDER 1
+#else
+#define DT_CLI_HAVE_RENDER 0
+#endif
+
+namespace depthtouch::cli {
+
+namespace {
+
+struct BenchRenderOptions {
+    std::string display = "headless";
+    std::string data;
+    std::string out = "bench-out/render";
+    int frames = 60;
+    int width = 1440;
+    int height = 486;
+    int depthWidth = 720;
+    int depthHeight = 486;
+};
+
+int runBenchRender(const BenchRenderOptions &o)
+{
+#if DT_CLI_HAVE_RENDER
+    using namespace depthtouch::render;
+    if (o.frames < 5 || o.width < 16 || o.height < 16 || o.depthWidth < 2 || o.depthHeight < 2) {
+        std::fprintf(stderr, "depthtouch bench render: --frames must be >= 5 and sizes positive\n");
+        return kExitBadInput;
+    }
+    std::string data = o.data;
+    if (data.empty()) {
+        const char *env = std::getenv("DT_SHARED_DATA");
+        data = env != nullptr ? env : "../shared/data";
+    }
+    const std::string scene = data + "/rgbd-7scenes-redkitchen";
+    if (!std::filesystem::exists(scene + "/frame-000000.depth.png")) {
+        std::fprintf(stderr, "depthtouch bench render: no 7-Scenes frames in %s (use --data or DT_SHARED_DATA)\n",
+                     scene.c_str());
+        return kExitBadInput;
+    }
+    hal::SelectionReport report;
+    auto display = drivers::createDisplay(o.display, hal::BackendConfig{}, &report);
+    if (!display) {
+        std::fprintf(stderr, "depthtouch bench render: %s\n",
+                     report.message.empty() ? display.error().what : report.message.c_str());
+        return display.error().code == Errc::InvalidArgument ? kExitBadInput : kExitFailure;
+    }
+    if (!(*display)->capabilities().hasGlesContext) {
+        std::fprintf(stderr, "depthtouch bench render: display backend '%s' has no OpenGL ES context\n",
+                     report.chosen.c_str());
+        return kExitBadInput;
+    }
+    hal::DisplayConfig dc;
+    dc.width = o.width;
+    dc.height = o.height;
+    if (auto r = (*display)->open(dc); !r) {
+        std::fprintf(stderr, "depthtouch bench render: cannot open the display: %s\n", r.error().what);
+        return kExitFailure;
+    }
+    if (auto r = (*display)->makeCurrent(); !r) {
+        std::fprintf(stderr, "depthtouch bench render: cannot make the GL context current: %s\n", r.error().what);
+        return kExitFailure;
+    }
+    auto frames = bench::loadKitchenFrames(scene, 60, o.depthWidth, o.depthHeight);
+    if (!frames) {
+        std::fprintf(stderr, "depthtouch bench render: cannot read the frames: %s\n", frames.error().what);
+        return kExitBadInput;
+    }
+    bench::BenchOptions bo;
+    bo.outputWidth = o.width;
+    bo.outputHeight = o.height;
+    bo.framesPerConfig = o.frames;
+    auto rows = bench::runRenderBenchmark(*frames, bo);
+    if (!rows) {
+        std::fprintf(stderr, "depthtouch bench render: %s\n", rows.error().what);
+        return kExitFailure;
+    }
+    bench::printTable(*rows, bo);
+    std::string error;
+    std::string note;
+    if (!bench::writeBenchOutputs(*rows, o.out, error, note)) {
+        std::fprintf(stderr, "depthtouch bench render: %s\n", error.c_str());
+        return kExitFailure;
+    }
+    const std::string snap = o.out + "/kitchen_sbs.png";
+    if (auto r = bench::writeSideBySideSnapshot(*frames, 0, MeshOptions{}, o.width, o.height, snap); !r)
+        std::fprintf(stderr, "depthtouch bench render: snapshot not written: %s\n", r.error().what);
+    if (!note.empty())
+        std::printf("note: %s\n", note.c_str());
+    std::printf("wrote %s/{render_bench.csv,fps_vs_error.png,kitchen_sbs.png}\n", o.out.c_str());
+    (*display)->close();
+    return kExitOk;
+#else
+    (void)o;
+    std::fprintf(stderr, "depthtouch bench render: built without the GLES renderer (EGL/GLES not found)\n");
+    return kExitFailure;
+#endif
+}
+
+} // namespace
+
+void registerBenchRenderCommand(CLI::App &bench, int &exitCode)
+{
+    auto o = std::make_shared<BenchRenderOptions>();
+    CLI::App *cmd = bench.add_subcommand(
+        "render", "Stereo renderer: frame rate vs geometric error of full, decimated and adaptive meshes; CSV/PNG");
+    cmd->add_option("--display", o->display, "Display backend providing the GLES context")->capture_default_str();
+    cmd->add_option("--data", o->data, "Shared RGB-D data folder (default: $DT_SHARED_DATA or ../shared/data)");
+    cmd->add_option("--out", o->out, "Output directory")->capture_default_str();
+    cmd->add_option("--frames", o->frames, "Timed frames per mesh setting")->capture_default_str();
+    cmd->add_option("--width", o->width, "Side-by-side output width, pixels (two eyes)")->capture_default_str();
+    cmd->add_option("--height", o->height, "Output height, pixels")->capture_default_str();
+    cmd->add_option("--depth-width", o->depthWidth, "Depth frame width the data is resampled to")
+        ->capture_default_str();
+    cmd->add_option("--depth-height", o->depthHeight, "Depth frame height")->capture_default_str();
+    cmd->callback([o, &exitCode]() { exitCode = runBenchRender(*o); });
+}
+
+} // namespace depthtouch::cli

@@ -1,0 +1,92 @@
+#pragma once
+/// \file
+/// \brief The stereo renderer benchmark (`depthtouch bench render`): frame rate against geometric
+/// error for the full mesh, fixed decimations and the adaptive mesh at several error tolerances,
+/// stereo side-by-side on real RGB-D frames; CSV, a gnuplot chart and a printed table.
+///
+/// Real data: Microsoft 7-Scenes "redkitchen" (DT_SHARED_DATA/rgbd-7scenes-redkitchen: 640×480
+/// Kinect depth in mm + JPEG colour), converted like the sender does it: metric depth → 8-bit
+/// nearness (dt_depth, 1/Z mapping, planes fixed from the first frame's robust range), holes filled,
+/// resampled to the benchmark size; colour → yuv420p BT.601 limited range.
+/// Thread-safety: thread-bound (the GL thread).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "depthtouch/platform/result.h"
+#include "depthtouch/render/adaptive_mesh.h"
+#include "depthtouch/render/stereo.h"
+
+namespace depthtouch::render::bench {
+
+/// \brief One RGB-D frame ready for the renderer: 8-bit nearness and yuv420p colour.
+struct RgbdFrame {
+    int width = 0;  ///< Depth W.
+    int height = 0; ///< Depth H.
+    std::vector<std::uint8_t> nearness; ///< W×H, row-major, 0 = far plane.
+    int colorWidth = 0;
+    int colorHeight = 0;
+    std::vector<std::uint8_t> y, u, v; ///< yuv420p planes, tightly packed.
+};
+
+/// \brief Loads up to \a maxFrames consecutive 7-Scenes frames from \a sceneDir, depth resampled
+/// to \a width × \a height. \return Errc::Io when the folder has no frame-000000.depth.png,
+/// Errc::InvalidArgument for corrupt images or sizes ≤ 1.
+Result<std::vector<RgbdFrame>> loadKitchenFrames(const std::string &sceneDir, int maxFrames, int width,
+                                                 int height);
+
+/// \brief One mesh setting measured.
+struct BenchConfig {
+    std::string name;  ///< e.g. "full", "step4", "adaptive-1.0"
+    MeshOptions mesh;
+};
+
+/// \brief The figures of one setting.
+struct BenchRow {
+    std::string name;
+    double tolerance = 0.0;     ///< Adaptive tolerance, levels (0 for fixed meshes).
+    int step = 0;               ///< Fixed step (0 for adaptive).
+    double meanTriangles = 0.0; ///< Triangles per frame (each drawn twice: one per eye).
+    double medianMs = 0.0;      ///< Frame time, median, ms (upload + mesh + both eyes + finish).
+    double p99Ms = 0.0;         ///< Frame time, 99th percentile, ms.
+    double fps = 0.0;           ///< 1000 / medianMs.
+    double meshMs = 0.0;        ///< Median CPU time of the level choice and index build, ms.
+    double meanError = 0.0;     ///< Mean |surface − sample| over all frames' samples, nearness levels.
+    double maxError = 0.0;      ///< Largest |surface − sample| over all frames, nearness levels.
+    std::size_t uncovered = 0;  ///< Samples not covered by any triangle (cracks): 0 expected.
+};
+
+/// \brief Benchmark options.
+struct BenchOptions {
+    int outputWidth = 1440;            ///< Side-by-side frame: two 720-wide eyes.
+    int outputHeight = 486;
+    StereoMode mode = StereoMode::SideBySide;
+    int framesPerConfig = 60;          ///< Frames rendered per setting (cycling through the data).
+    int warmup = 5;                    ///< Frames rendered and not timed first.
+    std::vector<BenchConfig> configs;  ///< Empty: defaultConfigs().
+};
+
+/// \return full mesh, steps 2/4/8, adaptive (default MeshOptions: tile 8, mean criterion, cap 16
+/// levels) at tolerances 0.3, 0.5, 0.7, 0.9 and 1.2 levels.
+std::vector<BenchConfig> defaultConfigs();
+
+/// \brief Runs every setting on \a frames. \pre a current GLES 3 context with EXT_color_buffer_float
+/// not needed. \return the rows in setting order; errors of the renderer (e.g. NotSupported).
+Result<std::vector<BenchRow>> runRenderBenchmark(const std::vector<RgbdFrame> &frames,
+                                                 const BenchOptions &options);
+
+/// \brief Renders frame \a index of \a frames side-by-side with \a mesh and writes it as PNG.
+Result<void> writeSideBySideSnapshot(const std::vector<RgbdFrame> &frames, std::size_t index,
+                                     const MeshOptions &mesh, int width, int height, const std::string &path);
+
+/// \brief Prints the table to stdout.
+void printTable(const std::vector<BenchRow> &rows, const BenchOptions &options);
+
+/// \brief Writes `render_bench.csv` and, when gnuplot is installed, `fps_vs_error.png` into \a dir.
+/// \param[out] note a remark for the user (e.g. gnuplot missing) \return false with \a error set
+/// when the directory or CSV cannot be written.
+bool writeBenchOutputs(const std::vector<BenchRow> &rows, const std::string &dir, std::string &error,
+                       std::string &note);
+
+} // namespace depthtouch::render::bench

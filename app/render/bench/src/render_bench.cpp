@@ -1,0 +1,335 @@
+#include "depthtouch/render/render_bench.h"
+
+#include <GLES3/gl3.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "depthtouch/depth/conversion.h"
+#include "depthtouch/depth/fill.h"
+#include "depthtouch/depth/resample.h"
+#include "depthtouch/media/image_io.h"
+#include "depthtouch/render/render_target.h"
+#include "depthtouch/render/renderer.h"
+#include "depthtouch/render/snapshot.h"
+
+namespace depthtouch::render::bench {
+
+namespace {
+
+std::string framePath(const std::string &dir, int n, const char *kind)
+{
+    char name[64];
+    std::snprintf(name, sizeof name, "/frame-%06d.%s", n, kind);
+    return dir + name;
+}
+
+/// RGB → yuv420p, BT.601 limited range (what an H.264 sender produces), chroma averaged over 2×2.
+void rgbToYuv420(const media::Image &rgb, RgbdFrame &out)
+{
+    const int w = rgb.width;
+    const int h = rgb.height;
+    const int cw = (w + 1) / 2;
+    const int ch = (h + 1) / 2;
+    out.colorWidth = w;
+    out.colorHeight = h;
+    out.y.assign(static_cast<std::size_t>(w * h), 0);
+    out.u.assign(static_cast<std::size_t>(cw * ch), 0);
+    out.v.assign(static_cast<std::size_t>(cw * ch), 0);
+    std::vector<double> su(out.u.size(), 0.0);
+    std::vector<double> sv(out.v.size(), 0.0);
+    std::vector<int> count(out.u.size(), 0);
+    for (int y = 0; y < h; ++y) {
+        const std::uint8_t *row = rgb.row(y);
+        for (int x = 0; x < w; ++x) {
+            const double r = row[3 * x] / 255.0;
+            const double g = row[3 * x + 1] / 255.0;
+            const double b = row[3 * x + 2] / 255.0;
+            const double luma = 0.299 * r + 0.587 * g + 0.114 * b;
+            out.y[static_cast<std::size_t>(y * w + x)] =
+                static_cast<std::uint8_t>(std::lround(16.0 + 219.0 * luma));
+            const std::size_t ci = static_cast<std::size_t>((y / 2) * cw + x / 2);
+            su[ci] += (b - luma) / 1.772;
+            sv[ci] += (r - luma) / 1.402;
+            ++count[ci];
+        }
+    }
+    for (std::size_t i = 0; i < su.size(); ++i) {
+        out.u[i] = static_cast<std::uint8_t>(std::lround(128.0 + 224.0 * su[i] / count[i]));
+        out.v[i] = static_cast<std::uint8_t>(std::lround(128.0 + 224.0 * sv[i] / count[i]));
+    }
+}
+
+haptics::DepthFrameView depthView(const RgbdFrame &f)
+{
+    haptics::DepthFrameView v;
+    v.data = f.nearness.data();
+    v.width = f.width;
+    v.height = f.height;
+    v.strideBytes = static_cast<std::size_t>(f.width);
+    v.format = haptics::SampleFormat::Gray8;
+    return v;
+}
+
+hal::ImageView colorView(const RgbdFrame &f)
+{
+    hal::ImageView img;
+    img.width = f.colorWidth;
+    img.height = f.colorHeight;
+    img.format = hal::PixelFormat::Yuv420p;
+    const int cw = (f.colorWidth + 1) / 2;
+    img.planes[0] = {const_cast<std::uint8_t *>(f.y.data()), f.colorWidth};
+    img.planes[1] = {const_cast<std::uint8_t *>(f.u.data()), cw};
+    img.planes[2] = {const_cast<std::uint8_t *>(f.v.data()), cw};
+    return img;
+}
+
+double percentile(std::vector<double> v, double p)
+{
+    if (v.empty())
+        return 0.0;
+    std::sort(v.begin(), v.end());
+    const double idx = p * static_cast<double>(v.size() - 1);
+    const auto lo = static_cast<std::size_t>(std::floor(idx));
+    const std::size_t hi = std::min(lo + 1, v.size() - 1);
+    return v[lo] + (v[hi] - v[lo]) * (idx - static_cast<double>(lo));
+}
+
+} // namespace
+
+Result<std::vector<RgbdFrame>> loadKitchenFrames(const std::string &sceneDir, int maxFrames, int width,
+                                                 int height)
+{
+    if (width < 2 || height < 2 || maxFrames < 1)
+        return unexpected(Errc::InvalidArgument, "frame size must be at least 2x2 and count >= 1");
+    if (!std::filesystem::exists(framePath(sceneDir, 0, "depth.png")))
+        return unexpected(Errc::Io, "no frame-000000.depth.png in the scene folder");
+    std::vector<RgbdFrame> frames;
+    std::optional<depth::DepthRange> range;
+    for (int n = 0; n < maxFrames; ++n) {
+        const std::string dpath = framePath(sceneDir, n, "depth.png");
+        if (!std::filesystem::exists(dpath))
+            break;
+        auto dimg = media::readImage(dpath, media::PixelFormat::Gray16);
+        if (!dimg)
+            return unexpected(dimg.error());
+        depth::ConvertOptions co;
+        co.range = range; // planes of the first frame for the whole sequence
+        auto nf = depth::metricToNearness(media::toPlane16(*dimg), co);
+        if (!nf)
+            return unexpected(nf.error());
+        range = nf->range;
+        if (auto filled = depth::fillInvalid(nf->nearness, nf->valid); !filled)
+            return unexpected(filled.error());
+        auto resampled = depth::resample(nf->nearness, width, height);
+        if (!resampled)
+            return unexpected(resampled.error());
+        const depth::Plane<std::uint16_t> q = depth::quantize(*resampled, 255.0);
+        RgbdFrame f;
+        f.width = width;
+        f.height = height;
+        f.nearness.resize(q.samples.size());
+        for (std::size_t i = 0; i < q.samples.size(); ++i)
+            f.nearness[i] = static_cast<std::uint8_t>(q.samples[i]);
+        auto cimg = media::readImage(framePath(sceneDir, n, "color.jpg"), media::PixelFormat::Rgb24);
+        if (!cimg)
+            return unexpected(cimg.error());
+        rgbToYuv420(*cimg, f);
+        frames.push_back(std::move(f));
+    }
+    return frames;
+}
+
+std::vector<BenchConfig> defaultConfigs()
+{
+    std::vector<BenchConfig> out;
+    for (const int step : {1, 2, 4, 8}) {
+        MeshOptions m;
+        m.mode = MeshMode::Fixed;
+        m.fixedStep = step;
+        out.push_back({step == 1 ? "full" : "step" + std::to_string(step), m});
+    }
+    for (const double tol : {0.3, 0.5, 0.7, 0.9, 1.2}) {
+        MeshOptions m; // tile 8, mean criterion, cap 16 levels
+        m.mode = MeshMode::Adaptive;
+        m.tolerance = tol;
+        char name[32];
+        std::snprintf(name, sizeof name, "adaptive-%.1f", tol);
+        out.push_back({name, m});
+    }
+    return out;
+}
+
+Result<std::vector<BenchRow>> runRenderBenchmark(const std::vector<RgbdFrame> &frames,
+                                                 const BenchOptions &options)
+{
+    if (frames.empty())
+        return unexpected(Errc::InvalidArgument, "no frames to render");
+    RendererOptions ro;
+    ro.mode = options.mode;
+    auto renderer = StereoRenderer::create(ro);
+    if (!renderer)
+        return unexpected(renderer.error());
+    auto target = RenderTarget::create(options.outputWidth, options.outputHeight);
+    if (!target)
+        return unexpected(target.error());
+    const std::vector<BenchConfig> configs = options.configs.empty() ? defaultConfigs() : options.configs;
+    std::vector<BenchRow> rows;
+    for (const BenchConfig &cfg : configs) {
+        ro.mesh = cfg.mesh;
+        if (auto r = (*renderer)->setOptions(ro); !r)
+            return unexpected(r.error());
+        BenchRow row;
+        row.name = cfg.name;
+        row.tolerance = cfg.mesh.mode == MeshMode::Adaptive ? cfg.mesh.tolerance : 0.0;
+        row.step = cfg.mesh.mode == MeshMode::Fixed ? cfg.mesh.fixedStep : 0;
+        std::vector<double> frameMs;
+        std::vector<double> meshMs;
+        double triangles = 0.0;
+        double errSum = 0.0;
+        std::size_t errSamples = 0;
+        const int total = options.warmup + options.framesPerConfig;
+        for (int i = 0; i < total; ++i) {
+            const RgbdFrame &f = frames[static_cast<std::size_t>(i) % frames.size()];
+            const auto t0 = std::chrono::steady_clock::now();
+            if (auto r = (*renderer)->setDepth(depthView(f)); !r)
+                return unexpected(r.error());
+            const auto t1 = std::chrono::steady_clock::now();
+            if (auto r = (*renderer)->setColor(colorView(f), ColorSpec{}); !r)
+                return unexpected(r.error());
+            if (auto r = (*renderer)->render(*target); !r)
+                return unexpected(r.error());
+            glFinish();
+            const auto t2 = std::chrono::steady_clock::now();
+            if (i < options.warmup)
+                continue;
+            frameMs.push_back(std::chrono::duration<double, std::milli>(t2 - t0).count());
+            meshMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+            triangles += static_cast<double>((*renderer)->mesh().stats().triangles);
+            // Geometric error of what was drawn (outside the timed part), on a third of the frames.
+            if (i % 3 == 0) {
+                const MeshError e = measureMeshError(depthView(f), (*renderer)->mesh().indices());
+                errSum += e.mean * static_cast<double>(e.samples - e.uncovered);
+                errSamples += e.samples - e.uncovered;
+                row.maxError = std::max(row.maxError, e.max);
+                row.uncovered += e.uncovered;
+            }
+        }
+        row.meanTriangles = triangles / options.framesPerConfig;
+        row.medianMs = percentile(frameMs, 0.5);
+        row.p99Ms = percentile(frameMs, 0.99);
+        row.fps = row.medianMs > 0.0 ? 1000.0 / row.medianMs : 0.0;
+        row.meshMs = percentile(meshMs, 0.5);
+        row.meanError = errSamples > 0 ? errSum / static_cast<double>(errSamples) : 0.0;
+        rows.push_back(row);
+        std::fprintf(stderr, "  %-14s %7.1f fps  mean error %.3f levels\n", row.name.c_str(), row.fps,
+                     row.meanError);
+    }
+    return rows;
+}
+
+Result<void> writeSideBySideSnapshot(const std::vector<RgbdFrame> &frames, std::size_t index,
+                                     const MeshOptions &mesh, int width, int height, const std::string &path)
+{
+    if (index >= frames.size())
+        return unexpected(Errc::InvalidArgument, "snapshot frame index out of range");
+    RendererOptions ro;
+    ro.mode = StereoMode::SideBySide;
+    ro.mesh = mesh;
+    auto renderer = StereoRenderer::create(ro);
+    if (!renderer)
+        return unexpected(renderer.error());
+    auto target = RenderTarget::create(width, height);
+    if (!target)
+        return unexpected(target.error());
+    const RgbdFrame &f = frames[index];
+    if (auto r = (*renderer)->setDepth(depthView(f)); !r)
+        return r;
+    if (auto r = (*renderer)->setColor(colorView(f), ColorSpec{}); !r)
+        return r;
+    if (auto r = (*renderer)->render(*target); !r)
+        return r;
+    return writeSnapshot(*target, path);
+}
+
+void printTable(const std::vector<BenchRow> &rows, const BenchOptions &options)
+{
+    std::printf("\nstereo %s %dx%d output, %d frames per setting (median and p99 frame time include depth\n"
+                "and colour upload, mesh choice and both eyes; error = |mesh - samples| in 8-bit nearness levels)\n\n",
+                stereoModeName(options.mode), options.outputWidth, options.outputHeight,
+                options.framesPerConfig);
+    std::printf("%-14s %10s %9s %9s %8s %8s %11s %10s %9s\n", "mesh", "triangles", "median ms", "p99 ms",
+                "fps", "mesh ms", "mean error", "max error", "uncovered");
+    for (const BenchRow &r : rows)
+        std::printf("%-14s %10.0f %9.2f %9.2f %8.1f %8.2f %11.3f %10.1f %9zu\n", r.name.c_str(), r.meanTriangles,
+                    r.medianMs, r.p99Ms, r.fps, r.meshMs, r.meanError, r.maxError, r.uncovered);
+}
+
+bool writeBenchOutputs(const std::vector<BenchRow> &rows, const std::string &dir, std::string &error,
+                       std::string &note)
+{
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) {
+        error = "cannot create " + dir + ": " + ec.message();
+        return false;
+    }
+    const fs::path base(dir);
+    {
+        std::ofstream csv(base / "render_bench.csv");
+        if (!csv) {
+            error = "cannot write " + (base / "render_bench.csv").string();
+            return false;
+        }
+        csv << "mesh,tolerance_levels,step,triangles,median_ms,p99_ms,fps,mesh_ms,mean_error_levels,"
+               "max_error_levels,uncovered\n";
+        for (const BenchRow &r : rows)
+            csv << r.name << ',' << r.tolerance << ',' << r.step << ',' << r.meanTriangles << ',' << r.medianMs
+                << ',' << r.p99Ms << ',' << r.fps << ',' << r.meshMs << ',' << r.meanError << ',' << r.maxError
+                << ',' << r.uncovered << '\n';
+    }
+    if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
+        note = "gnuplot not found: wrote the CSV only (install gnuplot-nox for the PNG chart)";
+        return true;
+    }
+    {
+        std::ofstream d(base / "fps_vs_error.dat");
+        d << "# fixed\n";
+        for (const BenchRow &r : rows)
+            if (r.step > 0)
+                d << r.meanError << ' ' << r.fps << " \"" << r.name << "\"\n";
+        d << "\n\n# adaptive\n";
+        for (const BenchRow &r : rows)
+            if (r.step == 0)
+                d << r.meanError << ' ' << r.fps << " \"" << r.name << "\"\n";
+        d << "\n";
+    }
+    {
+        std::ofstream gp(base / "fps_vs_error.gp");
+        gp << "set terminal pngcairo size 900,600 noenhanced\n"
+           << "set output '" << (base / "fps_vs_error.png").string() << "'\n"
+           << "set title 'Stereo side-by-side: frame rate vs mean geometric error (llvmpipe)'\n"
+           << "set xlabel 'mean geometric error (8-bit nearness levels)'\n"
+           << "set ylabel 'frames per second (median)'\n"
+           << "set grid\nset key bottom right\n"
+           << "set arrow from 0.5, graph 0 to 0.5, graph 1 nohead dt 2 lc rgb 'gray40'\n"
+           << "set arrow from graph 0, first 30 to graph 1, first 30 nohead dt 2 lc rgb 'gray40'\n"
+           << "plot '" << (base / "fps_vs_error.dat").string()
+           << "' index 0 using 1:2 with linespoints pt 7 title 'full / fixed decimation', \\\n"
+           << "     '' index 0 using 1:2:3 with labels offset 1,1 notitle, \\\n"
+           << "     '' index 1 using 1:2 with linespoints pt 5 title 'adaptive (tolerance sweep)', \\\n"
+           << "     '' index 1 using 1:2:3 with labels offset 1,-1 notitle\n";
+    }
+    const std::string cmd = "gnuplot '" + (base / "fps_vs_error.gp").string() + "' 2>&1";
+    if (std::system(cmd.c_str()) != 0)
+        note = "gnuplot failed: CSV written, the chart may be missing";
+    return true;
+}
+
+} // namespace depthtouch::render::bench

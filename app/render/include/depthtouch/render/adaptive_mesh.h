@@ -1,0 +1,118 @@
+#pragma once
+/// \file
+/// \brief The grid mesh drawn for a depth frame: full resolution, a fixed decimation, or an adaptive
+/// mesh whose level of detail is chosen per tile and per frame from the depth variation inside the
+/// tile, with crack-free tile borders. CPU only (no GL): it produces the triangle list (indices of
+/// full-resolution grid vertices, vertex k = sample (k mod W, k div W)) that the renderer draws with
+/// the heights fetched from the depth texture.
+///
+/// Tiles and levels: the W−1 × H−1 cells are cut into tiles of T×T cells (T = tileSize, a power of
+/// two; the last row and column of tiles may be smaller). A tile at step s (1, 2, 4, … ≤ T) keeps
+/// the vertices whose column and row offsets inside the tile are multiples of s, plus the tile's last
+/// column and row, and splits each cell by its diagonal from the top-left to the bottom-right corner,
+/// the orientation of DESIGN.md §3 (so step 1 is exactly the haptic renderer's triangulation).
+///
+/// Level choice (adaptive): the coarsest step whose piecewise-linear surface is within `tolerance`
+/// nearness levels of the tile's samples, borders included: every sample (ErrorCriterion::Max, as in
+/// error-bounded terrain LOD: Lindstrom et al., "Real-time, continuous level of detail rendering of
+/// height fields", SIGGRAPH 1996, here with whole tiles instead of single vertices), or on average
+/// with a cap on the largest error (ErrorCriterion::Mean, the default: real depth carries sensor and
+/// quantisation noise of about a level, which a max bound would follow down to full resolution).
+///
+/// Crack-free borders: where a tile meets a coarser neighbour, its border vertices are moved along the
+/// border to the neighbour's vertex at or before them (stitching by vertex snapping); triangles that
+/// collapse are dropped. Both tiles then share the same border vertices (no T-junction), so the
+/// surface is watertight for any step ratio. The stitching strip of the finer tile interpolates
+/// between the coarse border and its own first inner row; its error is measured, not bounded.
+///
+/// Thread-safety: thread-bound (one object per render thread); build() reuses its buffers and does
+/// not allocate once they have grown to the largest mesh.
+
+#include <cstdint>
+#include <vector>
+
+#include "depthtouch/haptics/depth_frame.h"
+#include "depthtouch/platform/result.h"
+
+namespace depthtouch::render {
+
+/// \brief How the mesh is chosen.
+enum class MeshMode : std::uint8_t {
+    Fixed,    ///< Every tile at `fixedStep` (1 = full resolution, the haptic triangulation).
+    Adaptive, ///< Per-tile step from the error tolerance.
+};
+
+/// \brief What the adaptive tolerance bounds in each tile.
+enum class ErrorCriterion : std::uint8_t {
+    Max,  ///< The largest |surface − sample| of the tile ≤ tolerance.
+    Mean, ///< The tile's mean |surface − sample| ≤ tolerance, and its largest ≤ maxErrorCap (so
+          ///< depth edges stay sharp while sensor noise does not force full resolution).
+};
+
+/// \brief Mesh options.
+struct MeshOptions {
+    MeshMode mode = MeshMode::Adaptive;
+    int tileSize = 8;         ///< Cells per tile side T: a power of two, 2..256.
+    int fixedStep = 1;        ///< Fixed mode: step in samples, a power of two ≤ tileSize.
+    double tolerance = 0.8;   ///< Adaptive: error bound per tile (see criterion), nearness levels (≥ 0).
+    int maxStep = 8;          ///< Adaptive: coarsest step allowed, a power of two ≤ tileSize.
+    ErrorCriterion criterion = ErrorCriterion::Mean; ///< Adaptive: what tolerance bounds.
+    double maxErrorCap = 16.0; ///< Adaptive, Mean criterion: largest error allowed in a tile, levels.
+};
+
+/// \brief Counts of one build.
+struct MeshStats {
+    std::size_t triangles = 0; ///< Triangles in the list (collapsed ones excluded).
+    int tiles = 0;             ///< Tiles in the frame.
+    int tilesAtStep[9] = {};   ///< Tiles per step: index log2(step) (1, 2, 4 … 256).
+};
+
+/// \brief Geometric error of a mesh against the samples it approximates.
+struct MeshError {
+    double mean = 0.0;             ///< Mean |surface − sample| over the samples, nearness levels.
+    double max = 0.0;              ///< Largest |surface − sample|, nearness levels.
+    std::size_t uncovered = 0;     ///< Samples no triangle covers (a crack or hole): 0 when watertight.
+    std::size_t samples = 0;       ///< Samples measured (W·H).
+};
+
+/// \brief Builds and holds the triangle list of a depth frame.
+class AdaptiveMesh {
+public:
+    /// \brief Chooses the tile steps for \a depth and fills indices().
+    /// \return Errc::InvalidArgument for a malformed frame or options (tile size or step not a power
+    /// of two in range, negative tolerance); the previous mesh stays.
+    [[nodiscard]] Result<void> build(const haptics::DepthFrameView &depth,
+                                     const MeshOptions &options);
+
+    /// \return the triangle list: 3 indices per triangle into the W×H vertex grid (row-major).
+    [[nodiscard]] const std::vector<std::uint32_t> &indices() const noexcept { return indices_; }
+    /// \return the step chosen for each tile, row-major over tilesX()×tilesY().
+    [[nodiscard]] const std::vector<std::uint16_t> &tileSteps() const noexcept { return steps_; }
+    [[nodiscard]] int tilesX() const noexcept { return tilesX_; }
+    [[nodiscard]] int tilesY() const noexcept { return tilesY_; }
+    [[nodiscard]] int columns() const noexcept { return width_; } ///< W of the last build
+    [[nodiscard]] int rows() const noexcept { return height_; }   ///< H of the last build
+    [[nodiscard]] const MeshStats &stats() const noexcept { return stats_; }
+
+private:
+    double tileError(const haptics::DepthFrameView &depth, int tx, int ty, int step, double limit,
+                     double &mean) const noexcept;
+    void emitTile(int tx, int ty);
+
+    std::vector<std::uint32_t> indices_;
+    std::vector<std::uint16_t> steps_;
+    MeshStats stats_{};
+    int width_ = 0;
+    int height_ = 0;
+    int tile_ = 16;
+    int tilesX_ = 0;
+    int tilesY_ = 0;
+};
+
+/// \brief Measures \a indices (a triangle list over the W×H grid of \a depth) against the samples:
+/// each sample's value on the covering triangle (linear interpolation, DESIGN.md §3) minus its own.
+/// Reentrant; allocates a W×H scratch plane.
+MeshError measureMeshError(const haptics::DepthFrameView &depth,
+                           const std::vector<std::uint32_t> &indices);
+
+} // namespace depthtouch::render

@@ -1,0 +1,130 @@
+#pragma once
+/// \file
+/// \brief StereoRenderer: the graphic renderer of the 3D video player (paper §V.D): the depth frame as
+/// geometry (a grid mesh displaced in the vertex shader by the depth texture), the decoded colour
+/// planes as its texture (Y'CbCr → RGB in the fragment shader), drawn from two eye cameras into one
+/// of the stereo output layouts, with the haptic avatar (proxy sphere, HIP marker) and a small
+/// on-screen display.
+///
+/// Geometry: vertex (c, r) of the W×H grid is placed by SurfaceMapping, which is read off the haptic
+/// renderer's HeightField for the same frame and scene box (DESIGN.md §3), and the cells are split
+/// along the same diagonal: at mesh step 1 the drawn surface is the touched surface. The mesh's level
+/// of detail is chosen per frame by AdaptiveMesh (adaptive_mesh.h).
+///
+/// Textures are allocated once per frame size and format (immutable storage) and refreshed with
+/// glTexSubImage2D. Requires a current OpenGL ES 3.0 context with vertex texture fetch.
+/// Thread-safety: thread-bound (the render thread that owns the context). Not real-time safe.
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "depthtouch/haptics/depth_frame.h"
+#include "depthtouch/hal/types.h"
+#include "depthtouch/platform/result.h"
+#include "depthtouch/render/adaptive_mesh.h"
+#include "depthtouch/render/color.h"
+#include "depthtouch/render/stereo.h"
+#include "depthtouch/render/surface_mapping.h"
+
+namespace depthtouch::render {
+
+class RenderTarget;
+
+/// \brief Renderer settings; may be changed between frames with setOptions().
+struct RendererOptions {
+    haptics::SceneBox box{};                  ///< The scene box, m (same as the haptic renderer's).
+    StereoMode mode = StereoMode::SideBySide; ///< Output layout.
+    StereoParams stereo{};                    ///< Eye cameras.
+    MeshOptions mesh{};                       ///< Level of detail.
+    glm::vec3 background{0.0f, 0.0f, 0.0f};   ///< Clear colour, linear RGB in [0, 1].
+};
+
+/// \brief The haptic avatar, scene-box frame (m).
+struct AvatarState {
+    bool visible = false;
+    glm::dvec3 proxy{0.0};       ///< Proxy (god-object) position: where the lit sphere is drawn.
+    glm::dvec3 hip{0.0};         ///< Haptic interface point: a faint marker when apart from the proxy.
+    double radius = 0.0025;      ///< Sphere radius, m.
+    double separation = 0.0005;  ///< HIP marker shown when |proxy − HIP| exceeds this, m.
+};
+
+/// \brief The on-screen display (drawn at zero parallax in each eye).
+struct OsdState {
+    bool visible = false;
+    std::string status;       ///< Player state, e.g. "PLAYING" (upper case letters, digits, . : - / %).
+    bool hapticsOn = false;   ///< Shows "HAPTICS ON" or "HAPTICS OFF".
+    double force = 0.0;       ///< Current force magnitude, N (bar length).
+    double maxForce = 8.5;    ///< Full-scale force of the bar, N (> 0).
+};
+
+/// \brief What drawSurface() writes.
+enum class SurfaceOutput : std::uint8_t {
+    Color,    ///< The textured surface.
+    Position, ///< Scene-box position (x, y, z, 1) of the surface point under each pixel, m (float target).
+};
+
+class StereoRenderer {
+public:
+    /// \brief Compiles the shaders and creates the GL objects. \pre a current GLES 3 context.
+    /// \return Errc::NotSupported when a shader does not compile or link (logged with the GL info
+    /// log), Errc::InvalidArgument for a non-positive box.
+    static Result<std::unique_ptr<StereoRenderer>> create(const RendererOptions &options);
+    ~StereoRenderer();
+    StereoRenderer(const StereoRenderer &) = delete;
+    StereoRenderer &operator=(const StereoRenderer &) = delete;
+
+    /// \brief Changes the options for the next frames. Mode, cameras and background apply at the
+    /// next render(); mesh and box at the next setDepth() (which fully checks the mesh options).
+    /// \return Errc::InvalidArgument for a non-positive box or bad mesh options (nothing changes).
+    [[nodiscard]] Result<void> setOptions(const RendererOptions &options);
+    [[nodiscard]] const RendererOptions &options() const noexcept { return options_; }
+
+    /// \brief Uploads depth frame \a depth (Gray8 → R8, Gray16 → R16UI texture) and rebuilds the
+    /// mesh. The pixels are copied; \a depth need not outlive the call.
+    /// \return Errc::InvalidArgument for a malformed frame (the previous frame stays).
+    [[nodiscard]] Result<void> setDepth(const haptics::DepthFrameView &depth);
+
+    /// \brief Uploads a decoded colour frame: Yuv420p (three R8 textures) or Gray8 (luma only).
+    /// Its size may differ from the depth frame's: it is stretched over the same box.
+    /// \return Errc::NotSupported for other formats, Errc::InvalidArgument for an empty view.
+    [[nodiscard]] Result<void> setColor(const hal::ImageView &image, const ColorSpec &spec);
+
+    void setAvatar(const AvatarState &avatar) noexcept { avatar_ = avatar; }
+    void setOsd(const OsdState &osd) { osd_ = osd; }
+
+    /// \brief Draws one output frame into \a target in the current mode: clear, both eyes' surface
+    /// and avatar, then the on-screen display. \pre setDepth() succeeded once.
+    /// \return Errc::InvalidState without a depth frame.
+    [[nodiscard]] Result<void> render(const RenderTarget &target);
+
+    /// \brief Draws only the surface from \a eye into the bound framebuffer (no clear): tests and
+    /// height read-back. \pre setDepth() succeeded once.
+    [[nodiscard]] Result<void> drawSurface(const EyeView &eye, SurfaceOutput output);
+
+    /// \return the mapping of the current depth frame (read off a HeightField).
+    [[nodiscard]] const SurfaceMapping &mapping() const noexcept { return mapping_; }
+    /// \return the mesh drawn for the current depth frame.
+    [[nodiscard]] const AdaptiveMesh &mesh() const noexcept { return mesh_; }
+
+private:
+    struct Gl;
+    explicit StereoRenderer(const RendererOptions &options);
+    void drawAvatar(const EyeView &eye);
+    void drawOsd(const Viewport &vp);
+
+    RendererOptions options_;
+    AvatarState avatar_{};
+    OsdState osd_{};
+    SurfaceMapping mapping_{};
+    AdaptiveMesh mesh_;
+    haptics::SampleFormat depthFormat_ = haptics::SampleFormat::Gray8;
+    bool haveDepth_ = false;
+    bool indicesDirty_ = false;
+    ColorSpec colorSpec_{};
+    std::unique_ptr<Gl> gl_;
+};
+
+} // namespace depthtouch::render

@@ -1,0 +1,84 @@
+#pragma once
+/// \file
+/// \brief Two eye cameras with off-axis (asymmetric) frusta, and the stereo output layouts.
+///
+/// Viewer model (scene-box frame, metres, DESIGN.md §3): the eyes sit on the line
+/// `y = 0, z = viewDistance`, `±eyeSeparation/2` left and right of the z axis, and look along −z at
+/// the box. The zero-parallax (screen) plane is `convergence` in front of the eyes, i.e. at
+/// `z = viewDistance − convergence`; both eyes' frusta share the window in that plane (off-axis
+/// projection, no toe-in, hence no vertical parallax). A point nearer than the screen plane has
+/// crossed parallax (its left-eye image lies to the right of its right-eye image); a farther one
+/// uncrossed. The window is sized so the box (at z = 0) fills the view at the eye viewport's aspect.
+///
+/// Output layouts of one frame (W×H pixels):
+///  - `mono`: one centred camera, full frame;
+///  - `sbs`: side-by-side, left eye in the left half, right eye in the right half, each eye W/2×H
+///    squeezed horizontally (HDMI frame-compatible: the display stretches each half back);
+///  - `tab`: top-and-bottom, left eye in the top half, each eye W×H/2 squeezed vertically;
+///  - `anaglyph`: red-cyan, left eye into the red channel, right eye into green and blue, full frame;
+///  - `interleaved`: row-interleaved, left eye on the even rows counted from the top, right eye on the
+///    odd rows, full frame (autostereoscopic panels with line-interleaved polarisers).
+///
+/// Thread-safety: pure functions and value types.
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+#include <glm/mat4x4.hpp>
+
+namespace depthtouch::render {
+
+/// \brief How the two eyes share one output frame.
+enum class StereoMode : std::uint8_t { Mono, SideBySide, TopAndBottom, Anaglyph, RowInterleaved };
+
+/// \return "mono", "sbs", "tab", "anaglyph" or "interleaved" (static string).
+const char *stereoModeName(StereoMode mode) noexcept;
+/// \return the mode called \a name (the names above), or nullopt.
+std::optional<StereoMode> parseStereoMode(std::string_view name) noexcept;
+
+/// \brief Eye geometry, in scene-box metres (the box is a miniature: 0.10 m wide by default).
+struct StereoParams {
+    double eyeSeparation = 0.010; ///< Distance between the eyes, m (> 0 for stereo).
+    double viewDistance = 0.20;   ///< Eyes to the box centre along z, m (> box depth).
+    double convergence = 0.20;    ///< Eyes to the zero-parallax plane, m (> 0); default: box centre.
+    double margin = 1.04;         ///< Window size / box size (≥ 1 keeps a border around the box).
+};
+
+/// \brief A pixel rectangle of the output frame, OpenGL convention (x, y of the lower-left corner).
+struct Viewport {
+    int x = 0;
+    int y = 0;
+    int width = 0;
+    int height = 0;
+};
+
+/// \brief One camera: view and projection matrices and where it draws.
+struct EyeView {
+    glm::mat4 view{1.0f};       ///< Scene box → eye frame.
+    glm::mat4 projection{1.0f}; ///< Eye frame → clip space (off-axis frustum).
+    Viewport viewport{};
+    double eyeOffset = 0.0;      ///< Eye x position, m (−sep/2 left, +sep/2 right, 0 mono).
+    int rowParity = -1;          ///< RowInterleaved: draw only window rows y with y % 2 == parity.
+    std::uint8_t colorMask = 0x7; ///< Bits R=1, G=2, B=4 (Anaglyph: left 0x1, right 0x6).
+};
+
+/// \brief The eyes to draw for \a mode in a \a width × \a height frame, left eye first.
+/// \param[in] boxWidth, boxHeight x and y extent of the scene box, m (> 0)
+/// \param[in] boxDepth z extent of the box, m (> 0): sets the near and far planes
+/// \return 1 view (Mono) or 2 views (left, right); \a count receives the number.
+std::array<EyeView, 2> eyeViews(StereoMode mode, const StereoParams &params, int width, int height,
+                                double boxWidth, double boxHeight, double boxDepth, int &count);
+
+/// \brief A single off-axis camera at eye offset \a eyeX, drawing into \a viewport, whose window has
+/// the aspect ratio \a aspect (width/height of the eye image as the viewer sees it).
+EyeView eyeView(const StereoParams &params, double eyeX, double aspect, Viewport viewport,
+                double boxWidth, double boxHeight, double boxDepth);
+
+/// \brief An orthographic camera straight down the z axis whose frame covers exactly the box's x–y
+/// rectangle (pixel centres at the sample positions, to 1/128 pixel, when the frame is W×H): for
+/// tests and height read-back.
+EyeView topView(int width, int height, double boxWidth, double boxHeight, double boxDepth);
+
+} // namespace depthtouch::render

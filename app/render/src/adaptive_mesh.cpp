@@ -1,0 +1,277 @@
+#include "depthtouch/render/adaptive_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+namespace depthtouch::render {
+
+namespace {
+
+bool isPowerOfTwo(int v) noexcept
+{
+    return v > 0 && (v & (v - 1)) == 0;
+}
+
+int log2i(int v) noexcept
+{
+    int l = 0;
+    while ((1 << (l + 1)) <= v)
+        ++l;
+    return l;
+}
+
+/// Value at (c, r) of the linear triangle surface of the cell (ca..cb, ra..rb) split by its
+/// top-left → bottom-right diagonal (DESIGN.md §3).
+inline double cellValue(double z00, double z10, double z11, double z01, double u, double v) noexcept
+{
+    if (u >= v)
+        return z00 + u * (z10 - z00) + v * (z11 - z10);
+    return z00 + v * (z01 - z00) + u * (z11 - z01);
+}
+
+} // namespace
+
+double AdaptiveMesh::tileError(const haptics::DepthFrameView &depth, int tx, int ty, int step,
+                               double limit, double &mean) const noexcept
+{
+    double sum = 0.0;
+    long count = 0;
+    const int c0 = tx * tile_;
+    const int r0 = ty * tile_;
+    const int c1 = std::min(c0 + tile_, width_ - 1);
+    const int r1 = std::min(r0 + tile_, height_ - 1);
+    double worst = 0.0;
+    for (int ra = r0; ra < r1; ra += step) {
+        const int rb = std::min(ra + step, r1);
+        const double invH = 1.0 / (rb - ra);
+        for (int ca = c0; ca < c1; ca += step) {
+            const int cb = std::min(ca + step, c1);
+            const double invW = 1.0 / (cb - ca);
+            const double z00 = depth.sample(ca, ra);
+            const double z10 = depth.sample(cb, ra);
+            const double z11 = depth.sample(cb, rb);
+            const double z01 = depth.sample(ca, rb);
+            for (int r = ra; r <= rb; ++r) {
+                const double v = (r - ra) * invH;
+                for (int c = ca; c <= cb; ++c) {
+                    const double u = (c - ca) * invW;
+                    const double e = std::fabs(cellValue(z00, z10, z11, z01, u, v) -
+                                               static_cast<double>(depth.sample(c, r)));
+                    sum += e;
+                    ++count;
+                    if (e > worst) {
+                        worst = e;
+                        if (worst > limit)
+                            return worst;
+                    }
+                }
+            }
+        }
+    }
+    mean = count > 0 ? sum / static_cast<double>(count) : 0.0;
+    return worst;
+}
+
+Result<void> AdaptiveMesh::build(const haptics::DepthFrameView &depth, const MeshOptions &options)
+{
+    if (auto v = depth.validate(); !v)
+        return v;
+    if (!isPowerOfTwo(options.tileSize) || options.tileSize < 2 || options.tileSize > 256)
+        return unexpected(Errc::InvalidArgument, "mesh tile size must be a power of two in 2..256");
+    const int fixedStep = options.mode == MeshMode::Fixed ? options.fixedStep : 1;
+    if (!isPowerOfTwo(fixedStep) || fixedStep > options.tileSize)
+        return unexpected(Errc::InvalidArgument,
+                          "mesh step must be a power of two no larger than the tile size");
+    if (options.mode == MeshMode::Adaptive &&
+        (!isPowerOfTwo(options.maxStep) || options.maxStep > options.tileSize))
+        return unexpected(Errc::InvalidArgument,
+                          "mesh maximum step must be a power of two no larger than the tile size");
+    if (!(options.tolerance >= 0.0) || !(options.maxErrorCap >= 0.0))
+        return unexpected(Errc::InvalidArgument, "mesh error tolerance and cap must be >= 0 levels");
+    if (static_cast<long long>(depth.width) * depth.height > (1LL << 31))
+        return unexpected(Errc::InvalidArgument, "depth frame too large for 32-bit indices");
+
+    width_ = depth.width;
+    height_ = depth.height;
+    tile_ = options.tileSize;
+    tilesX_ = (width_ - 1 + tile_ - 1) / tile_;
+    tilesY_ = (height_ - 1 + tile_ - 1) / tile_;
+    steps_.assign(static_cast<std::size_t>(tilesX_) * static_cast<std::size_t>(tilesY_), 1);
+    stats_ = MeshStats{};
+    stats_.tiles = tilesX_ * tilesY_;
+
+    for (int ty = 0; ty < tilesY_; ++ty) {
+        for (int tx = 0; tx < tilesX_; ++tx) {
+            int step = fixedStep;
+            if (options.mode == MeshMode::Adaptive) {
+                // A tile whose samples span no more than the tolerance is within it at any step:
+                // the surface interpolates between its samples.
+                const int c0 = tx * tile_;
+                const int r0 = ty * tile_;
+                const int c1 = std::min(c0 + tile_, width_ - 1);
+                const int r1 = std::min(r0 + tile_, height_ - 1);
+                std::uint32_t lo = depth.sample(c0, r0);
+                std::uint32_t hi = lo;
+                for (int r = r0; r <= r1; ++r)
+                    for (int c = c0; c <= c1; ++c) {
+                        const std::uint32_t v = depth.sample(c, r);
+                        lo = std::min(lo, v);
+                        hi = std::max(hi, v);
+                    }
+                step = 1;
+                const double cap = options.criterion == ErrorCriterion::Max ? options.tolerance
+                                                                             : options.maxErrorCap;
+                if (static_cast<double>(hi - lo) <= std::min(cap, options.tolerance)) {
+                    step = options.maxStep;
+                } else {
+                    for (int s = options.maxStep; s >= 2; s /= 2) {
+                        double mean = 0.0;
+                        if (tileError(depth, tx, ty, s, cap, mean) <= cap &&
+                            (options.criterion == ErrorCriterion::Max || mean <= options.tolerance)) {
+                            step = s;
+                            break;
+                        }
+                    }
+                }
+            }
+            steps_[static_cast<std::size_t>(ty * tilesX_ + tx)] = static_cast<std::uint16_t>(step);
+            ++stats_.tilesAtStep[log2i(step)];
+        }
+    }
+
+    indices_.clear();
+    for (int ty = 0; ty < tilesY_; ++ty)
+        for (int tx = 0; tx < tilesX_; ++tx)
+            emitTile(tx, ty);
+    stats_.triangles = indices_.size() / 3;
+    return ok();
+}
+
+void AdaptiveMesh::emitTile(int tx, int ty)
+{
+    const auto stepAt = [this](int x, int y) -> int {
+        if (x < 0 || y < 0 || x >= tilesX_ || y >= tilesY_)
+            return 0;
+        return steps_[static_cast<std::size_t>(y * tilesX_ + x)];
+    };
+    const int s = stepAt(tx, ty);
+    const int top = std::max(s, stepAt(tx, ty - 1));
+    const int bottom = std::max(s, stepAt(tx, ty + 1));
+    const int left = std::max(s, stepAt(tx - 1, ty));
+    const int right = std::max(s, stepAt(tx + 1, ty));
+    const int c0 = tx * tile_;
+    const int r0 = ty * tile_;
+    const int c1 = std::min(c0 + tile_, width_ - 1);
+    const int r1 = std::min(r0 + tile_, height_ - 1);
+    const auto w = static_cast<std::uint32_t>(width_);
+
+    // Border vertices snap back along the border to the coarser neighbour's vertices; the tile's
+    // corners (and its last column/row) are vertices at every step, so they never move.
+    const auto vertex = [&](int c, int r) -> std::uint32_t {
+        if (r == r0 && top > s && c != c1)
+            c = c0 + (c - c0) / top * top;
+        else if (r == r1 && bottom > s && c != c1)
+            c = c0 + (c - c0) / bottom * bottom;
+        if (c == c0 && left > s && r != r1)
+            r = r0 + (r - r0) / left * left;
+        else if (c == c1 && right > s && r != r1)
+            r = r0 + (r - r0) / right * right;
+        return static_cast<std::uint32_t>(r) * w + static_cast<std::uint32_t>(c);
+    };
+    const auto triangle = [this](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+        if (a == b || b == c || a == c)
+            return;
+        indices_.push_back(a);
+        indices_.push_back(b);
+        indices_.push_back(c);
+    };
+
+    for (int ra = r0; ra < r1; ra += s) {
+        const int rb = std::min(ra + s, r1);
+        for (int ca = c0; ca < c1; ca += s) {
+            const int cb = std::min(ca + s, c1);
+            const std::uint32_t a = vertex(ca, ra);
+            const std::uint32_t b = vertex(cb, ra);
+            const std::uint32_t c = vertex(cb, rb);
+            const std::uint32_t d = vertex(ca, rb);
+            triangle(a, b, c); // (c, r), (c+1, r), (c+1, r+1): haptics TriangleId upper == 0
+            triangle(a, c, d); // (c, r), (c+1, r+1), (c, r+1): upper == 1
+        }
+    }
+}
+
+MeshError measureMeshError(const haptics::DepthFrameView &depth,
+                           const std::vector<std::uint32_t> &indices)
+{
+    MeshError out;
+    const int w = depth.width;
+    const int h = depth.height;
+    const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+    std::vector<float> error(n, -1.0f);
+    for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
+        long long cx[3];
+        long long cy[3];
+        double val[3];
+        bool inside = true;
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t i = indices[t + static_cast<std::size_t>(k)];
+            if (i >= n) {
+                inside = false;
+                break;
+            }
+            cx[k] = i % static_cast<std::uint32_t>(w);
+            cy[k] = i / static_cast<std::uint32_t>(w);
+            val[k] = depth.sample(static_cast<int>(cx[k]), static_cast<int>(cy[k]));
+        }
+        if (!inside)
+            continue;
+        const long long area = (cx[1] - cx[0]) * (cy[2] - cy[0]) - (cy[1] - cy[0]) * (cx[2] - cx[0]);
+        if (area == 0)
+            continue;
+        const long long xmin = std::min({cx[0], cx[1], cx[2]});
+        const long long xmax = std::max({cx[0], cx[1], cx[2]});
+        const long long ymin = std::min({cy[0], cy[1], cy[2]});
+        const long long ymax = std::max({cy[0], cy[1], cy[2]});
+        for (long long y = ymin; y <= ymax; ++y) {
+            for (long long x = xmin; x <= xmax; ++x) {
+                // Edge functions (exact in integers): the sample is covered when all have the sign
+                // of the area or are zero (on an edge).
+                long long e[3];
+                for (int k = 0; k < 3; ++k) {
+                    const int k1 = (k + 1) % 3;
+                    const int k2 = (k + 2) % 3;
+                    e[k] = (cx[k2] - cx[k1]) * (y - cy[k1]) - (cy[k2] - cy[k1]) * (x - cx[k1]);
+                    if (area < 0)
+                        e[k] = -e[k];
+                }
+                if (e[0] < 0 || e[1] < 0 || e[2] < 0)
+                    continue;
+                const double a = static_cast<double>(std::llabs(area));
+                const double v = (static_cast<double>(e[0]) * val[0] +
+                                  static_cast<double>(e[1]) * val[1] +
+                                  static_cast<double>(e[2]) * val[2]) /
+                                 a;
+                const std::size_t idx = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                                        static_cast<std::size_t>(x);
+                error[idx] = static_cast<float>(
+                    std::fabs(v - depth.sample(static_cast<int>(x), static_cast<int>(y))));
+            }
+        }
+    }
+    double sum = 0.0;
+    for (const float e : error) {
+        if (e < 0.0f) {
+            ++out.uncovered;
+            continue;
+        }
+        sum += static_cast<double>(e);
+        out.max = std::max(out.max, static_cast<double>(e));
+    }
+    out.samples = n;
+    const std::size_t covered = n - out.uncovered;
+    out.mean = covered > 0 ? sum / static_cast<double>(covered) : 0.0;
+    return out;
+}
+
+} // namespace depthtouch::render

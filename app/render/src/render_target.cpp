@@ -1,0 +1,137 @@
+#include "depthtouch/render/render_target.h"
+
+#include <GLES3/gl3.h>
+
+#include <cstring>
+#include <utility>
+
+namespace depthtouch::render {
+
+Result<RenderTarget> RenderTarget::create(int width, int height, TargetFormat format)
+{
+    GLint maxSize = 0;
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxSize);
+    if (width <= 0 || height <= 0 || width > maxSize || height > maxSize)
+        return unexpected(Errc::InvalidArgument, "render target size out of range");
+    RenderTarget t;
+    t.width_ = width;
+    t.height_ = height;
+    t.format_ = format;
+    glGenFramebuffers(1, &t.fbo_);
+    glGenRenderbuffers(1, &t.color_);
+    glGenRenderbuffers(1, &t.depth_);
+    glBindRenderbuffer(GL_RENDERBUFFER, t.color_);
+    glRenderbufferStorage(GL_RENDERBUFFER, format == TargetFormat::Rgba8 ? GL_RGBA8 : GL_RGBA32F,
+                          width, height);
+    glBindRenderbuffer(GL_RENDERBUFFER, t.depth_);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+    glBindFramebuffer(GL_FRAMEBUFFER, t.fbo_);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t.color_);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t.depth_);
+    const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE || glGetError() != GL_NO_ERROR)
+        return unexpected(Errc::NotSupported, "render target framebuffer is incomplete");
+    return t;
+}
+
+RenderTarget::RenderTarget(RenderTarget &&other) noexcept
+    : fbo_(std::exchange(other.fbo_, 0)), color_(std::exchange(other.color_, 0)),
+      depth_(std::exchange(other.depth_, 0)), width_(other.width_), height_(other.height_),
+      format_(other.format_)
+{
+}
+
+RenderTarget &RenderTarget::operator=(RenderTarget &&other) noexcept
+{
+    if (this != &other) {
+        release();
+        fbo_ = std::exchange(other.fbo_, 0);
+        color_ = std::exchange(other.color_, 0);
+        depth_ = std::exchange(other.depth_, 0);
+        width_ = other.width_;
+        height_ = other.height_;
+        format_ = other.format_;
+    }
+    return *this;
+}
+
+RenderTarget::~RenderTarget()
+{
+    release();
+}
+
+void RenderTarget::release() noexcept
+{
+    if (fbo_ != 0)
+        glDeleteFramebuffers(1, &fbo_);
+    if (color_ != 0)
+        glDeleteRenderbuffers(1, &color_);
+    if (depth_ != 0)
+        glDeleteRenderbuffers(1, &depth_);
+    fbo_ = color_ = depth_ = 0;
+}
+
+void RenderTarget::bind() const noexcept
+{
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+}
+
+Result<void> RenderTarget::readRgb(std::vector<std::uint8_t> &rgb) const
+{
+    if (fbo_ == 0 || format_ != TargetFormat::Rgba8)
+        return unexpected(Errc::InvalidState, "render target is not an RGBA8 target");
+    const auto w = static_cast<std::size_t>(width_);
+    const auto h = static_cast<std::size_t>(height_);
+    std::vector<std::uint8_t> rgba(w * h * 4);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    if (glGetError() != GL_NO_ERROR)
+        return unexpected(Errc::Io, "glReadPixels failed");
+    rgb.resize(w * h * 3);
+    // GL rows run bottom-up; images top-down.
+    for (std::size_t y = 0; y < h; ++y) {
+        const std::uint8_t *src = rgba.data() + (h - 1 - y) * w * 4;
+        std::uint8_t *dst = rgb.data() + y * w * 3;
+        for (std::size_t x = 0; x < w; ++x) {
+            dst[3 * x] = src[4 * x];
+            dst[3 * x + 1] = src[4 * x + 1];
+            dst[3 * x + 2] = src[4 * x + 2];
+        }
+    }
+    return ok();
+}
+
+Result<void> RenderTarget::readRgbaFloat(std::vector<float> &rgba) const
+{
+    if (fbo_ == 0 || format_ != TargetFormat::Rgba32F)
+        return unexpected(Errc::InvalidState, "render target is not a float target");
+    const auto w = static_cast<std::size_t>(width_);
+    const auto h = static_cast<std::size_t>(height_);
+    std::vector<float> raw(w * h * 4);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, raw.data());
+    if (glGetError() != GL_NO_ERROR)
+        return unexpected(Errc::Io, "glReadPixels (float) failed");
+    rgba.resize(w * h * 4);
+    for (std::size_t y = 0; y < h; ++y)
+        std::memcpy(rgba.data() + y * w * 4, raw.data() + (h - 1 - y) * w * 4, w * 4 * sizeof(float));
+    return ok();
+}
+
+Result<void> RenderTarget::blitTo(std::uint32_t dst, int dstWidth, int dstHeight) const
+{
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, dst);
+    if (glCheckFramebufferStatus(GL_DRAW_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        return unexpected(Errc::NotSupported, "destination framebuffer is not complete");
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+    glBlitFramebuffer(0, 0, width_, height_, 0, 0, dstWidth, dstHeight, GL_COLOR_BUFFER_BIT,
+                      GL_LINEAR);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+    if (glGetError() != GL_NO_ERROR)
+        return unexpected(Errc::Io, "glBlitFramebuffer failed");
+    return ok();
+}
+
+} // namespace depthtouch::render

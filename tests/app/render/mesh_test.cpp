@@ -1,0 +1,184 @@
+/// \file
+/// \brief AdaptiveMesh: level choice, the haptic triangulation at step 1, error bound and
+/// watertightness (CPU only).
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+#include <tuple>
+
+#include "app/render/render_test_support.h"
+#include "depthtouch/haptics/height_field.h"
+#include "depthtouch/render/adaptive_mesh.h"
+
+using namespace depthtouch;
+using namespace depthtouch::render;
+using test::Depth8;
+
+namespace {
+
+/// A smooth terrain with a few sharp bumps: flat regions, gentle slopes and steep detail.
+int terrain(int c, int r)
+{
+    double v = 100.0 + 0.2 * c;
+    const double dx = c - 70.0;
+    const double dy = r - 40.0;
+    v += 120.0 * std::exp(-(dx * dx + dy * dy) / 60.0);
+    if (c > 20 && c < 30 && r > 50 && r < 60)
+        v += 40.0;
+    return static_cast<int>(std::lround(v));
+}
+
+MeshOptions adaptive(double tolerance)
+{
+    MeshOptions o;
+    o.mode = MeshMode::Adaptive;
+    o.tolerance = tolerance;
+    o.criterion = ErrorCriterion::Max;
+    o.tileSize = 16;
+    o.maxStep = 16;
+    return o;
+}
+
+} // namespace
+
+TEST(AdaptiveMeshTest, fullResolutionIsTheHapticTriangulation)
+{
+    // GIVEN a 9×7 frame and a fixed step-1 mesh
+    const Depth8 d(9, 7, [](int c, int r) { return 10 * c + r; });
+    MeshOptions o;
+    o.mode = MeshMode::Fixed;
+    o.fixedStep = 1;
+    AdaptiveMesh mesh;
+    ASSERT_TRUE(mesh.build(d.view(), o));
+    // THEN its triangles are exactly the haptic TriangleIds of every cell (same diagonal)
+    std::set<std::set<std::uint32_t>> drawn;
+    const auto &idx = mesh.indices();
+    for (std::size_t i = 0; i < idx.size(); i += 3)
+        drawn.insert({idx[i], idx[i + 1], idx[i + 2]});
+    std::set<std::set<std::uint32_t>> haptic;
+    for (int r = 0; r < 6; ++r)
+        for (int c = 0; c < 8; ++c)
+            for (int upper = 0; upper < 2; ++upper) {
+                std::set<std::uint32_t> tri;
+                for (int k = 0; k < 3; ++k) {
+                    int vc = 0;
+                    int vr = 0;
+                    haptics::triangleVertex(haptics::TriangleId{c, r, upper}, k, vc, vr);
+                    tri.insert(static_cast<std::uint32_t>(vr * 9 + vc));
+                }
+                haptic.insert(tri);
+            }
+    EXPECT_EQ(drawn, haptic);
+    EXPECT_EQ(mesh.stats().triangles, 2u * 8u * 6u);
+}
+
+TEST(AdaptiveMeshTest, planeUsesTheCoarsestStepWithNoError)
+{
+    // GIVEN an exactly planar frame (any linear interpolation reproduces it)
+    const Depth8 d(100, 70, [](int c, int r) { return c + r; });
+    AdaptiveMesh mesh;
+    ASSERT_TRUE(mesh.build(d.view(), adaptive(0.0)));
+    // THEN every tile is at step 16 and the surface has no error at all
+    EXPECT_EQ(mesh.stats().tilesAtStep[4], mesh.stats().tiles);
+    const MeshError e = measureMeshError(d.view(), mesh.indices());
+    EXPECT_EQ(e.uncovered, 0u);
+    EXPECT_NEAR(e.max, 0.0, 1e-9);
+    EXPECT_LT(mesh.stats().triangles, 100u);
+}
+
+TEST(AdaptiveMeshTest, terrainMixesLevelsStaysWatertightAndNearTheTolerance)
+{
+    const Depth8 d(130, 90, terrain);
+    for (const double tol : {0.5, 1.0, 2.0, 4.0}) {
+        AdaptiveMesh mesh;
+        ASSERT_TRUE(mesh.build(d.view(), adaptive(tol)));
+        int levelsUsed = 0;
+        for (int k : mesh.stats().tilesAtStep)
+            levelsUsed += k > 0 ? 1 : 0;
+        EXPECT_GE(levelsUsed, 2) << "tolerance " << tol;
+        // THEN no sample falls through a crack, and the error stays near the tolerance (the
+        // stitching strips interpolate between a coarse border and a finer inner row)
+        const MeshError e = measureMeshError(d.view(), mesh.indices());
+        EXPECT_EQ(e.uncovered, 0u) << "tolerance " << tol;
+        EXPECT_LE(e.max, 2.0 * tol + 1.0) << "tolerance " << tol;
+        EXPECT_LE(e.mean, tol) << "tolerance " << tol;
+        // AND a larger tolerance never needs more triangles than the full mesh
+        EXPECT_LT(mesh.stats().triangles, 2u * 129u * 89u);
+    }
+}
+
+TEST(AdaptiveMeshTest, fixedDecimationCoversOddSizes)
+{
+    // GIVEN sizes that are not multiples of the tile or the step
+    const Depth8 d(37, 23, terrain);
+    for (const int step : {1, 2, 4, 8}) {
+        MeshOptions o;
+        o.mode = MeshMode::Fixed;
+        o.fixedStep = step;
+        o.tileSize = 8;
+        AdaptiveMesh mesh;
+        ASSERT_TRUE(mesh.build(d.view(), o));
+        const MeshError e = measureMeshError(d.view(), mesh.indices());
+        EXPECT_EQ(e.uncovered, 0u) << "step " << step;
+        if (step == 1) {
+            EXPECT_NEAR(e.max, 0.0, 1e-9);
+        }
+    }
+}
+
+TEST(AdaptiveMeshTest, errorGrowsWithTheToleranceAndTrianglesShrink)
+{
+    const Depth8 d(130, 90, terrain);
+    std::size_t lastTriangles = SIZE_MAX;
+    for (const double tol : {0.0, 1.0, 3.0, 10.0}) {
+        AdaptiveMesh mesh;
+        ASSERT_TRUE(mesh.build(d.view(), adaptive(tol)));
+        EXPECT_LE(mesh.stats().triangles, lastTriangles) << "tolerance " << tol;
+        lastTriangles = mesh.stats().triangles;
+        if (tol == 0.0) {
+            const MeshError e = measureMeshError(d.view(), mesh.indices());
+            EXPECT_NEAR(e.max, 0.0, 1e-9) << "zero tolerance must reproduce every sample";
+        }
+    }
+}
+
+TEST(AdaptiveMeshTest, rejectsBadOptionsAndKeepsThePreviousMesh)
+{
+    const Depth8 d(20, 20, terrain);
+    AdaptiveMesh mesh;
+    ASSERT_TRUE(mesh.build(d.view(), adaptive(1.0)));
+    const auto before = mesh.indices();
+    MeshOptions bad = adaptive(1.0);
+    bad.tileSize = 12;
+    EXPECT_EQ(mesh.build(d.view(), bad).error().code, Errc::InvalidArgument);
+    bad = adaptive(-1.0);
+    EXPECT_EQ(mesh.build(d.view(), bad).error().code, Errc::InvalidArgument);
+    bad = adaptive(1.0);
+    bad.maxStep = 32;
+    EXPECT_EQ(mesh.build(d.view(), bad).error().code, Errc::InvalidArgument);
+    haptics::DepthFrameView empty;
+    EXPECT_EQ(mesh.build(empty, adaptive(1.0)).error().code, Errc::InvalidArgument);
+    EXPECT_EQ(mesh.indices(), before);
+}
+
+TEST(AdaptiveMeshTest, meanCriterionIgnoresNoiseButKeepsEdges)
+{
+    // GIVEN a plane with ±1-level noise and a 40-level step edge
+    const Depth8 d(129, 65, [](int c, int r) { return 100 + (c * 7 + r * 3) % 3 - 1 + (c >= 64 ? 40 : 0); });
+    MeshOptions mean = adaptive(0.8);
+    mean.criterion = ErrorCriterion::Mean;
+    mean.maxErrorCap = 4.0;
+    AdaptiveMesh meshMean;
+    ASSERT_TRUE(meshMean.build(d.view(), mean));
+    AdaptiveMesh meshMax;
+    ASSERT_TRUE(meshMax.build(d.view(), adaptive(0.8)));
+    // THEN the mean criterion decimates the noisy plane far more than the max criterion
+    EXPECT_LT(meshMean.stats().triangles * 4, meshMax.stats().triangles);
+    const MeshError e = measureMeshError(d.view(), meshMean.indices());
+    EXPECT_EQ(e.uncovered, 0u);
+    EXPECT_LE(e.mean, 0.8);
+    // AND the step edge stays within the cap (its tiles are not smeared over 16 samples)
+    EXPECT_LE(e.max, 2.0 * 4.0 + 1.0);
+}
