@@ -8,6 +8,9 @@
 #include "depthtouch/drivers/ffmpeg/ffmpeg_media_source.h"
 #include "depthtouch/drivers/ffmpeg/ffmpeg_video_decoder.h"
 #endif
+#if DT_HAVE_EGL
+#include "depthtouch/drivers/egl/egl_headless_display.h"
+#endif
 #include "depthtouch/drivers/mock/mock_depth_camera.h"
 #include "depthtouch/drivers/mock/mock_display.h"
 #include "depthtouch/drivers/mock/mock_haptic_device.h"
@@ -44,6 +47,11 @@ constexpr hal::Backend<hal::VideoDecoder> kVideoDecoderBackends[] = {
 };
 
 constexpr hal::Backend<hal::Display> kDisplayBackends[] = {
+#if DT_HAVE_EGL
+    {"headless", "EGL surfaceless (Mesa) + GLES 3, offscreen, simulated vsync (options width, "
+                 "height, refresh)",
+     true, &EglHeadlessDisplay::create},
+#endif
     {"mock", "Simulated display without GL, paced on the clock", false, &MockDisplay::create},
 };
 

@@ -100,7 +100,8 @@ TEST(BackendSelectionTest, unknownNameListsTheAvailableOnes)
     EXPECT_EQ(dev.error().code, Errc::InvalidArgument);
     EXPECT_EQ(report.message, "Unknown haptic device backend 'falcon' (available: mock, none)");
     EXPECT_EQ(errcOf(createDisplay("egl", {}, &report)), Errc::InvalidArgument);
-    EXPECT_EQ(report.message, "Unknown display backend 'egl' (available: mock)");
+    EXPECT_EQ(report.message, "Unknown display backend 'egl' (available: " +
+                                  backendNames(BackendKind::Display) + ")");
 }
 
 TEST(BackendSelectionTest, badOptionsFallThroughToTheNextName)
