@@ -39,40 +39,27 @@ uniform vec3 uKeyColor;
 uniform vec3 uFillDirection;
 uniform vec3 uFillColor;
 uniform vec3 uAmbient;
+uniform highp sampler3D uNoise;
 out vec4 fragColor;
 
+// Value noise from a 32³ texture of random bytes (trilinear, repeating): one fetch per octave,
+// four independent channels.
 float hash(vec3 p)
 {
-    p = fract(p * 0.3183099 + vec3(0.71, 0.113, 0.419));
-    p *= 17.0;
-    return fract(p.x * p.y * p.z * (p.x + p.y + p.z));
+    return texture(uNoise, (floor(p) + 0.5) / 32.0).r;
 }
-float noise(vec3 x)
-{
-    vec3 i = floor(x);
-    vec3 f = fract(x);
-    f = f * f * (3.0 - 2.0 * f);
-    return mix(mix(mix(hash(i), hash(i + vec3(1, 0, 0)), f.x),
-                   mix(hash(i + vec3(0, 1, 0)), hash(i + vec3(1, 1, 0)), f.x), f.y),
-               mix(mix(hash(i + vec3(0, 0, 1)), hash(i + vec3(1, 0, 1)), f.x),
-                   mix(hash(i + vec3(0, 1, 1)), hash(i + vec3(1, 1, 1)), f.x), f.y), f.z);
-}
+vec4 noise4(vec3 x) { return texture(uNoise, x / 32.0); }
+float noise(vec3 x) { return noise4(x).r; }
 float fbm(vec3 p)
 {
-    float a = 0.5;
-    float s = 0.0;
-    for (int i = 0; i < 4; ++i) {
-        s += a * noise(p);
-        p = p * 2.03 + vec3(1.7, 9.2, 3.1);
-        a *= 0.5;
-    }
-    return s;
+    return 0.5 * noise(p) + 0.25 * noise(p * 2.03 + vec3(1.7, 9.2, 3.1)) +
+           0.125 * noise(p * 4.09 + vec3(5.3, 2.9, 7.7));
 }
 vec3 lin(vec3 srgb) { return pow(srgb, vec3(2.2)); }
 // Tilts the normal by a noise gradient: fine surface relief without geometry.
 vec3 bumped(vec3 n, vec3 p, float strength)
 {
-    vec3 g = vec3(noise(p), noise(p + vec3(19.1, 7.3, 3.7)), noise(p + vec3(5.9, 31.3, 11.1)));
+    vec3 g = noise4(p).gba;
     return normalize(n + strength * (g - 0.5));
 }
 float ellipse(vec2 d, vec2 r) { return dot(d / r, d / r); }

@@ -184,7 +184,7 @@ struct SyntheticScene::Impl {
     GLuint nearness = 0;
     struct {
         GLint model, viewProj, normalMatrix, material, tint, eye, keyPosition, keyColor,
-            fillDirection, fillColor, ambient;
+            fillDirection, fillColor, ambient, noise;
     } u{};
     GLint uDepth = -1;
     GLint uNear = -1;
@@ -196,6 +196,15 @@ struct SyntheticScene::Impl {
     GLuint nearFbo = 0;
     GLuint nearRb = 0;
     GLuint emptyVao = 0;
+    GLuint noiseTex = 0;
+    /// The static part of a shot (curtain; floor and wall), rendered once: color + depth copied
+    /// into the scene framebuffer before the moving objects are drawn. Lights and camera do not
+    /// move, so it is the same every frame.
+    struct Background {
+        GLuint fbo = 0;
+        GLuint color = 0;
+        GLuint depth = 0;
+    } headBackground, spheresBackground;
     std::vector<std::uint8_t> staging;
 
     ~Impl()
@@ -210,14 +219,23 @@ struct SyntheticScene::Impl {
         glDeleteRenderbuffers(1, &nearRb);
         glDeleteTextures(1, &depthTex);
         glDeleteVertexArrays(1, &emptyVao);
+        glDeleteTextures(1, &noiseTex);
+        for (Background *b : {&headBackground, &spheresBackground}) {
+            glDeleteFramebuffers(1, &b->fbo);
+            glDeleteRenderbuffers(1, &b->color);
+            glDeleteRenderbuffers(1, &b->depth);
+        }
     }
 
     Result<void> init();
     void draw(const GpuMesh &mesh, const glm::mat4 &model, Material material,
               const glm::vec3 &tint) const;
     void setLights(const glm::mat4 &viewProj, const glm::vec3 &eye, const glm::vec3 &key) const;
-    void drawHead(double t) const;
-    void drawSpheres(double t) const;
+    void beginFrame() const;
+    /// Draws the head shot at time \a t: its moving objects, or only its static ones.
+    void drawHead(double t, bool staticPart) const;
+    void drawSpheres(double t, bool staticPart) const;
+    Result<void> makeBackground(Background &b, bool headShot);
     Result<void> readBack(GLuint framebuffer, const hal::ImageView &out, bool nearnessOut);
 };
 
@@ -238,6 +256,7 @@ Result<void> SyntheticScene::Impl::init()
     u.fillDirection = glGetUniformLocation(lit, "uFillDirection");
     u.fillColor = glGetUniformLocation(lit, "uFillColor");
     u.ambient = glGetUniformLocation(lit, "uAmbient");
+    u.noise = glGetUniformLocation(lit, "uNoise");
     uDepth = glGetUniformLocation(nearness, "uDepth");
     uNear = glGetUniformLocation(nearness, "uNear");
     uFar = glGetUniformLocation(nearness, "uFar");
@@ -253,6 +272,27 @@ Result<void> SyntheticScene::Impl::init()
         wall = upload(makeCurtain(3.4f, 1.8f, 0.0f, 1.0f, 1, 1));
     }
     glGenVertexArrays(1, &emptyVao);
+
+    // The noise texture of the procedural materials: fixed seed, so every run renders the same.
+    constexpr int kNoiseSize = 32;
+    std::vector<std::uint8_t> noiseBytes(kNoiseSize * kNoiseSize * kNoiseSize * 4);
+    std::uint32_t state = 0x9e3779b9u;
+    for (std::uint8_t &b : noiseBytes) {
+        state ^= state << 13;
+        state ^= state >> 17;
+        state ^= state << 5;
+        b = static_cast<std::uint8_t>(state >> 24);
+    }
+    glGenTextures(1, &noiseTex);
+    glBindTexture(GL_TEXTURE_3D, noiseTex);
+    glTexStorage3D(GL_TEXTURE_3D, 1, GL_RGBA8, kNoiseSize, kNoiseSize, kNoiseSize);
+    glTexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, 0, kNoiseSize, kNoiseSize, kNoiseSize, GL_RGBA,
+                    GL_UNSIGNED_BYTE, noiseBytes.data());
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    for (const GLenum wrap : {GLenum{GL_TEXTURE_WRAP_S}, GLenum{GL_TEXTURE_WRAP_T}, GLenum{GL_TEXTURE_WRAP_R}})
+        glTexParameteri(GL_TEXTURE_3D, wrap, GL_REPEAT);
+    glBindTexture(GL_TEXTURE_3D, 0);
 
     glGenFramebuffers(1, &fbo);
     glGenRenderbuffers(1, &colorRb);
@@ -283,6 +323,11 @@ Result<void> SyntheticScene::Impl::init()
         return unexpected(Errc::NotSupported, "Synthetic scene framebuffer incomplete");
     }
     staging.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 4);
+    if (def->kind != Kind::Spheres)
+        DT_TRY(makeBackground(headBackground, true));
+    if (def->kind != Kind::Head)
+        DT_TRY(makeBackground(spheresBackground, false));
+    glUseProgram(0);
     if (glGetError() != GL_NO_ERROR)
         return unexpected(Errc::NotSupported, "GL error while setting up a synthetic scene");
     return ok();
@@ -312,7 +357,48 @@ void SyntheticScene::Impl::setLights(const glm::mat4 &viewProj, const glm::vec3 
     glUniform3f(u.ambient, 0.07f, 0.07f, 0.08f);
 }
 
-void SyntheticScene::Impl::drawHead(double t) const
+void SyntheticScene::Impl::beginFrame() const
+{
+    glViewport(0, 0, width, height);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glDisable(GL_SCISSOR_TEST);
+    glUseProgram(lit);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_3D, noiseTex);
+    glUniform1i(u.noise, 1);
+    glActiveTexture(GL_TEXTURE0);
+}
+
+Result<void> SyntheticScene::Impl::makeBackground(Background &b, bool headShot)
+{
+    glGenFramebuffers(1, &b.fbo);
+    glGenRenderbuffers(1, &b.color);
+    glGenRenderbuffers(1, &b.depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, b.color);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+    glBindRenderbuffer(GL_RENDERBUFFER, b.depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, width, height);
+    glBindFramebuffer(GL_FRAMEBUFFER, b.fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, b.color);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, b.depth);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        return unexpected(Errc::NotSupported, "Synthetic background framebuffer incomplete");
+    beginFrame();
+    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+    glClearDepthf(1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    if (headShot)
+        drawHead(0.0, true);
+    else
+        drawSpheres(0.0, true);
+    return ok();
+}
+
+void SyntheticScene::Impl::drawHead(double t, bool staticPart) const
 {
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
     const glm::mat4 proj =
@@ -320,6 +406,12 @@ void SyntheticScene::Impl::drawHead(double t) const
     const glm::vec3 eye(0.0f);
     const glm::mat4 view = glm::lookAt(eye, glm::vec3(0.0f, 0.0f, -1.0f), glm::vec3(0, 1, 0));
     setLights(proj * view, eye, glm::vec3(0.45f, 0.45f, 0.05f));
+    if (staticPart) {
+        const glm::mat4 curtainModel =
+            glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, -1.25f));
+        draw(curtain, curtainModel, Cloth, lin(0.36f, 0.44f, 0.55f));
+        return;
+    }
 
     // The head turns and nods about the top of the neck; frame 0 faces the camera.
     constexpr float kTwoPi = 2.0f * std::numbers::pi_v<float>;
@@ -335,11 +427,9 @@ void SyntheticScene::Impl::drawHead(double t) const
 
     draw(head, headModel, Skin, glm::vec3(1.0f));
     draw(bust, neck, Bust, lin(0.30f, 0.18f, 0.22f));
-    const glm::mat4 curtainModel = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, -1.25f));
-    draw(curtain, curtainModel, Cloth, lin(0.36f, 0.44f, 0.55f));
 }
 
-void SyntheticScene::Impl::drawSpheres(double t) const
+void SyntheticScene::Impl::drawSpheres(double t, bool staticPart) const
 {
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
     const glm::mat4 proj =
@@ -348,6 +438,14 @@ void SyntheticScene::Impl::drawSpheres(double t) const
     const glm::mat4 view =
         glm::lookAt(eye, glm::vec3(0.0f, -0.05f, -1.5f), glm::vec3(0.0f, 1.0f, 0.0f));
     setLights(proj * view, eye, glm::vec3(0.8f, 1.2f, -0.4f));
+    if (staticPart) {
+        const glm::mat4 floorModel =
+            glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, -0.35f, -1.5f));
+        draw(floor, floorModel, Wood, glm::vec3(1.0f));
+        const glm::mat4 wallModel = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.50f, -2.6f));
+        draw(wall, wallModel, Plaster, lin(0.85f, 0.82f, 0.74f));
+        return;
+    }
 
     static const SphereTrack kTracks[] = {
         {0.10f, Marble, lin(0.92f, 0.90f, 0.86f), {-0.35f, -0.10f, -1.25f}, {0.15f, 0.06f, 0.35f},
@@ -369,10 +467,6 @@ void SyntheticScene::Impl::drawSpheres(double t) const
         model = glm::scale(model, glm::vec3(s.radius));
         draw(sphere, model, s.material, s.tint);
     }
-    const glm::mat4 floorModel = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, -0.35f, -1.5f));
-    draw(floor, floorModel, Wood, glm::vec3(1.0f));
-    const glm::mat4 wallModel = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.50f, -2.6f));
-    draw(wall, wallModel, Plaster, lin(0.85f, 0.82f, 0.74f));
 }
 
 Result<void> SyntheticScene::Impl::readBack(GLuint framebuffer, const hal::ImageView &out,
@@ -493,28 +587,25 @@ Result<void> SyntheticScene::render(std::uint64_t frameIndex, const hal::ImageVi
     glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &previousRead);
     glGetIntegerv(GL_VIEWPORT, previousViewport.data());
 
-    glBindFramebuffer(GL_FRAMEBUFFER, s.fbo);
-    glViewport(0, 0, width_, height_);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_BLEND);
-    glDisable(GL_SCISSOR_TEST);
-    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
-    glClearDepthf(1.0f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glUseProgram(s.lit);
     const double t = static_cast<double>(frameIndex) / fps_;
     bool headShot = s.def->kind == Kind::Head;
     if (s.def->kind == Kind::Cut) {
         const auto shot = static_cast<std::uint64_t>(std::llround(kShotSeconds * fps_));
         headShot = (frameIndex / (shot > 0 ? shot : 1)) % 2 == 0;
     }
+    // Start from the shot's static background (color and depth), then draw what moves.
+    const Impl::Background &background = headShot ? s.headBackground : s.spheresBackground;
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, background.fbo);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, s.fbo);
+    glDisable(GL_SCISSOR_TEST);
+    glBlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_,
+                      GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_FRAMEBUFFER, s.fbo);
+    s.beginFrame();
     if (headShot)
-        s.drawHead(t);
+        s.drawHead(t, false);
     else
-        s.drawSpheres(t);
+        s.drawSpheres(t, false);
 
     Result<void> r = ok();
     if (!nearness.empty()) {
@@ -533,6 +624,9 @@ Result<void> SyntheticScene::render(std::uint64_t frameIndex, const hal::ImageVi
     }
     if (r && !color.empty())
         r = s.readBack(s.fbo, color, false);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_3D, 0);
+    glActiveTexture(GL_TEXTURE0);
     glBindVertexArray(0);
     glUseProgram(0);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(previousFbo));
