@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -83,6 +84,7 @@ protected:
     }
     static void TearDownTestSuite()
     {
+        scenes_.clear(); // GL objects go before the context
         delete display_;
         display_ = nullptr;
     }
@@ -91,11 +93,18 @@ protected:
         if (display_ == nullptr)
             GTEST_SKIP() << "No headless EGL display (Mesa surfaceless platform)";
     }
-    std::unique_ptr<SyntheticScene> scene(const char *name, double fps = 30.0)
+    /// The scene, created once per suite (creating one builds meshes and compiles shaders).
+    static SyntheticScene *scene(const char *name, double fps = 30.0)
     {
+        const std::string key = std::string(name) + "@" + std::to_string(fps);
+        auto it = scenes_.find(key);
+        if (it != scenes_.end())
+            return it->second.get();
         auto s = SyntheticScene::create(name, kW, kH, fps);
         EXPECT_TRUE(s) << name << ": " << (s ? "" : s.error().what);
-        return s ? std::move(*s) : nullptr;
+        if (!s)
+            return nullptr;
+        return scenes_.emplace(key, std::move(*s)).first->second.get();
     }
     static Frame render(SyntheticScene &s, std::uint64_t frame)
     {
@@ -106,8 +115,10 @@ protected:
     }
 
     static hal::Display *display_;
+    static std::map<std::string, std::unique_ptr<SyntheticScene>> scenes_;
 };
 hal::Display *SyntheticSceneTest::display_ = nullptr;
+std::map<std::string, std::unique_ptr<SyntheticScene>> SyntheticSceneTest::scenes_;
 
 TEST_F(SyntheticSceneTest, listsTheBuiltInScenes)
 {
