@@ -19,6 +19,12 @@
 #include "depthtouch/drivers/v4l2/v4l2_device.h"
 #include "depthtouch/drivers/v4l2/v4l2_probe.h"
 #endif
+#if DT_HAVE_EGL
+#include "depthtouch/drivers/egl/egl_headless_display.h"
+#endif
+#if DT_HAVE_EGL && DT_HAVE_EGL_GBM
+#include "depthtouch/drivers/egl/egl_gbm_display.h"
+#endif
 #include "depthtouch/drivers/mock/mock_depth_camera.h"
 #include "depthtouch/drivers/mock/mock_display.h"
 #include "depthtouch/drivers/mock/mock_haptic_device.h"
@@ -70,6 +76,15 @@ constexpr hal::Backend<hal::VideoDecoder> kVideoDecoderBackends[] = {
 };
 
 constexpr hal::Backend<hal::Display> kDisplayBackends[] = {
+#if DT_HAVE_EGL && DT_HAVE_EGL_GBM
+    {"kms", "GBM/KMS on a DRM card (mode HDMI-A-1[:WxH@HZ]); scan-out still to do", true,
+     &EglGbmDisplay::create},
+#endif
+#if DT_HAVE_EGL
+    {"headless", "EGL surfaceless (Mesa) + GLES 3, offscreen, simulated vsync (options width, "
+                 "height, refresh)",
+     true, &EglHeadlessDisplay::create},
+#endif
     {"mock", "Simulated display without GL, paced on the clock", false, &MockDisplay::create},
 };
 

@@ -102,7 +102,8 @@ TEST(BackendSelectionTest, unknownNameListsTheAvailableOnes)
     EXPECT_EQ(report.message, "Unknown haptic device backend 'phantom' (available: " +
                                   backendNames(BackendKind::HapticDevice) + ")");
     EXPECT_EQ(errcOf(createDisplay("egl", {}, &report)), Errc::InvalidArgument);
-    EXPECT_EQ(report.message, "Unknown display backend 'egl' (available: mock)");
+    EXPECT_EQ(report.message, "Unknown display backend 'egl' (available: " +
+                                  backendNames(BackendKind::Display) + ")");
 }
 
 TEST(BackendSelectionTest, badOptionsFallThroughToTheNextName)

@@ -42,6 +42,7 @@ struct DisplayConfig {
 struct DisplayCapabilities {
     bool hasGlesContext = false; ///< An OpenGL ES 3 context is current after makeCurrent().
     bool offscreen = false;      ///< Nothing is shown on a screen (surfaceless, or simulated).
+    bool readback = false;       ///< readPixels() returns the presented frame.
 };
 
 /// Pixel size of a surface.
@@ -98,6 +99,31 @@ public:
     /// late). \pre Open. \return when it became visible. Errors: InvalidState (Closed), NoDevice
     /// (the display was lost: state Lost).
     [[nodiscard]] virtual Result<PresentInfo> present() = 0;
+
+    /// \brief The GL framebuffer object the renderer draws the next frame into.
+    ///
+    /// makeCurrent() and present() bind it as GL_FRAMEBUFFER; a renderer that binds its own
+    /// framebuffers binds this one again before drawing the frame to show. It may change at every
+    /// present() (an offscreen backend swaps its buffers).
+    /// \return the framebuffer name; 0 (the default) means the EGL surface's own framebuffer, and
+    /// also a display without a GL context, or a Closed one.
+    [[nodiscard]] virtual std::uint32_t framebuffer() const noexcept { return 0; }
+
+    /// \brief Copies the most recently presented frame into \a out (snapshots, tests).
+    ///
+    /// Rows are written top row first (as shown on the screen), converted to out.format.
+    /// Blocks until the GPU has finished that frame. Needs the context current on the calling
+    /// thread (makeCurrent() is called when it is not).
+    /// \pre Open, a frame presented since open().
+    /// \param[in] out Rgba8 or Rgb24, exactly size() pixels, plane 0 with strideBytes ≥ one row.
+    /// \return nothing on success. Errors: NotSupported (capabilities().readback is false: the
+    /// default implementation), InvalidState (Closed, or nothing presented yet), InvalidArgument
+    /// (\a out has another size or format, or no memory), NoDevice (Lost).
+    [[nodiscard]] virtual Result<void> readPixels(const ImageView &out)
+    {
+        (void)out;
+        return unexpected(Errc::NotSupported, "This display cannot read back its frames");
+    }
 
 protected:
     Display() = default;

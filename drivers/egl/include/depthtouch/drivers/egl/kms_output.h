@@ -1,0 +1,83 @@
+#pragma once
+/// \file
+/// \brief The DRM/KMS side of the `kms` display: device discovery and connector/mode selection,
+/// behind the DrmApi seam (plain structs describing cards, connectors and modes) so the logic is
+/// tested against a fake. LibdrmApi is the real one (libdrm).
+///
+/// Selection (selectKmsOutput()): cards in DrmApi::listCards() order; on each, the connected
+/// connectors that have modes, in order, or only the one named by the mode string
+/// ("HDMI-A-1[:WIDTHxHEIGHT[@HZ]]"). Without a requested size the connector's preferred mode is
+/// taken (its first mode when none is flagged). With a size: the modes of that size; with a rate
+/// too, the one nearest to it within 0.5 Hz, else the highest rate of that size.
+/// Thread-safety: reentrant (a DrmApi object is used by one thread at a time).
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "depthtouch/hal/display.h"
+#include "depthtouch/platform/result.h"
+
+namespace depthtouch::drivers {
+
+/// One display mode of a connector.
+struct DrmModeInfo {
+    std::string name;        ///< e.g. "1920x1080".
+    int width = 0;           ///< Pixels.
+    int height = 0;          ///< Pixels.
+    double refreshHz = 0.0;  ///< Vertical refresh, hertz.
+    bool preferred = false;  ///< DRM_MODE_TYPE_PREFERRED (the sink's native mode).
+};
+
+/// One connector (HDMI, DP, ...) of a card.
+struct DrmConnectorInfo {
+    std::uint32_t id = 0;            ///< KMS object id.
+    std::string name;                ///< TYPE-INDEX, e.g. "HDMI-A-1".
+    bool connected = false;          ///< A sink is plugged in.
+    std::vector<DrmModeInfo> modes;  ///< As the sink reports them (EDID order).
+};
+
+/// One KMS-capable DRM card.
+struct DrmCardInfo {
+    std::string path; ///< e.g. "/dev/dri/card0".
+    std::vector<DrmConnectorInfo> connectors;
+};
+
+/// \brief What the kms display needs from DRM to choose an output (the seam for tests).
+class DrmApi {
+public:
+    virtual ~DrmApi() = default;
+    /// \return the DRM card nodes present, in order (e.g. "/dev/dri/card0"); empty when none.
+    virtual std::vector<std::string> listCards() = 0;
+    /// \brief Reads the connectors and modes of card \a path.
+    /// \return the card. Errors: NoDevice (cannot open), NotSupported (not a KMS device),
+    /// PermissionDenied (no access).
+    virtual Result<DrmCardInfo> probeCard(const std::string &path) = 0;
+
+protected:
+    DrmApi() = default;
+};
+
+/// The output chosen by selectKmsOutput().
+struct KmsSelection {
+    DrmCardInfo card;
+    std::size_t connector = 0; ///< Index in card.connectors.
+    std::size_t mode = 0;      ///< Index in card.connectors[connector].modes.
+
+    [[nodiscard]] const DrmConnectorInfo &connectorInfo() const { return card.connectors[connector]; }
+    [[nodiscard]] const DrmModeInfo &modeInfo() const { return connectorInfo().modes[mode]; }
+};
+
+/// \brief Chooses card, connector and mode for \a cfg (size and refresh fields, then cfg.mode).
+/// \return the selection. Errors: NoDevice (no DRM card, no connected connector, or the named
+/// connector absent or disconnected), NotSupported (malformed mode string, or no mode of the
+/// requested size/rate on the chosen connector), InvalidArgument (negative fields).
+Result<KmsSelection> selectKmsOutput(DrmApi &api, const hal::DisplayConfig &cfg);
+
+/// \brief DrmApi on libdrm: cards are /dev/dri/card[0-9]*; connectors and modes from
+/// drmModeGetResources()/drmModeGetConnector().
+std::unique_ptr<DrmApi> makeLibdrmApi();
+
+} // namespace depthtouch::drivers

@@ -1,0 +1,193 @@
+#include "depthtouch/drivers/egl/display_settings.h"
+
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <iterator>
+
+#include "depthtouch/platform/log.h"
+
+DT_LOG_CATEGORY(Egl)
+
+namespace depthtouch::drivers {
+
+namespace {
+
+constexpr const char *kOptionKeys[] = {"width", "height", "refresh", "swap_interval"};
+constexpr int kMaxPixels = 16384;
+
+bool validSize(int w, int h) noexcept
+{
+    return w >= 1 && h >= 1 && w <= kMaxPixels && h <= kMaxPixels;
+}
+bool validRefresh(double hz) noexcept
+{
+    return hz >= 1.0 && hz <= 1000.0;
+}
+
+/// Parses a positive decimal integer that fills \a text.
+bool parseInt(std::string_view text, int &out) noexcept
+{
+    if (text.empty() || text.size() > 6)
+        return false;
+    int v = 0;
+    for (char c : text) {
+        if (c < '0' || c > '9')
+            return false;
+        v = v * 10 + (c - '0');
+    }
+    out = v;
+    return true;
+}
+
+/// Parses a positive decimal number ("60", "59.94") that fills \a text.
+bool parseRate(std::string_view text, double &out) noexcept
+{
+    if (text.empty() || text.size() > 15)
+        return false;
+    char buf[16];
+    text.copy(buf, text.size());
+    buf[text.size()] = '\0';
+    if (std::isdigit(static_cast<unsigned char>(buf[0])) == 0)
+        return false;
+    char *end = nullptr;
+    const double v = std::strtod(buf, &end);
+    if (end != buf + text.size() || !std::isfinite(v))
+        return false;
+    out = v;
+    return true;
+}
+
+/// DRM connector names are TYPE-INDEX: "HDMI-A-1", "eDP-1", "DP-2".
+bool validConnectorName(std::string_view name) noexcept
+{
+    if (name.size() < 3 || name.size() > 32 || name.find('-') == std::string_view::npos ||
+        std::isalpha(static_cast<unsigned char>(name.front())) == 0)
+        return false;
+    for (char c : name)
+        if (std::isalnum(static_cast<unsigned char>(c)) == 0 && c != '-' && c != '_')
+            return false;
+    return true;
+}
+
+} // namespace
+
+Result<EglDisplaySettings> EglDisplaySettings::parse(hal::OptionList options)
+{
+    const std::string_view unknown = options.firstUnknownKey(kOptionKeys, std::size(kOptionKeys));
+    if (!unknown.empty()) {
+        DT_LOG(Egl, Error, "Unknown EGL display option '%.*s' (known: width, height, refresh, "
+                           "swap_interval)",
+               static_cast<int>(unknown.size()), unknown.data());
+        return unexpected(Errc::InvalidArgument, "Unknown EGL display option");
+    }
+    EglDisplaySettings s;
+    auto w = options.getInt("width", s.width);
+    auto h = options.getInt("height", s.height);
+    auto hz = options.getDouble("refresh", s.refreshHz);
+    auto swap = options.getInt("swap_interval", s.swapInterval);
+    if (!w || !h || !hz || !swap || !validSize(*w, *h) || !validRefresh(*hz) || *swap < 0 ||
+        *swap > 4)
+        return unexpected(Errc::InvalidArgument, "EGL display option out of range");
+    s.width = *w;
+    s.height = *h;
+    s.refreshHz = *hz;
+    s.swapInterval = *swap;
+    return s;
+}
+
+Result<ModeSpec> parseModeSpec(std::string_view text)
+{
+    ModeSpec spec;
+    if (text.empty())
+        return spec;
+    // The size part starts at the last ':' or, without one, at the start when it begins with a
+    // digit; otherwise the whole text names a connector.
+    std::string_view size;
+    const std::size_t colon = text.rfind(':');
+    if (colon != std::string_view::npos) {
+        spec.connector = std::string(text.substr(0, colon));
+        size = text.substr(colon + 1);
+        if (!validConnectorName(spec.connector) || size.empty())
+            return unexpected(Errc::NotSupported, "Mode is [CONNECTOR:]WIDTHxHEIGHT[@HZ]");
+    } else if (std::isdigit(static_cast<unsigned char>(text.front())) != 0) {
+        size = text;
+    } else {
+        if (!validConnectorName(text))
+            return unexpected(Errc::NotSupported,
+                              "Connector names are TYPE-INDEX, e.g. HDMI-A-1 or eDP-1");
+        spec.connector = std::string(text);
+        return spec;
+    }
+    const std::size_t x = size.find('x');
+    if (x == std::string_view::npos)
+        return unexpected(Errc::NotSupported, "Mode is [CONNECTOR:]WIDTHxHEIGHT[@HZ]");
+    const std::size_t at = size.find('@', x);
+    const std::string_view ws = size.substr(0, x);
+    const std::string_view hs =
+        size.substr(x + 1, at == std::string_view::npos ? std::string_view::npos : at - x - 1);
+    if (!parseInt(ws, spec.width) || !parseInt(hs, spec.height) || !validSize(spec.width, spec.height))
+        return unexpected(Errc::NotSupported, "Mode is [CONNECTOR:]WIDTHxHEIGHT[@HZ]");
+    if (at != std::string_view::npos &&
+        (!parseRate(size.substr(at + 1), spec.refreshHz) || !validRefresh(spec.refreshHz)))
+        return unexpected(Errc::NotSupported, "Mode refresh rate must be 1..1000 Hz");
+    return spec;
+}
+
+Result<EglDisplaySettings> resolveWindowConfig(const hal::DisplayConfig &cfg,
+                                               const EglDisplaySettings &settings)
+{
+    if (cfg.width < 0 || cfg.height < 0 || cfg.refreshHz < 0.0 || !std::isfinite(cfg.refreshHz))
+        return unexpected(Errc::InvalidArgument, "Display size or refresh is negative");
+    auto spec = parseModeSpec(cfg.mode);
+    if (!spec)
+        return unexpected(spec.error());
+    EglDisplaySettings out = settings;
+    out.width = cfg.width > 0 ? cfg.width : (spec->width > 0 ? spec->width : settings.width);
+    out.height = cfg.height > 0 ? cfg.height : (spec->height > 0 ? spec->height : settings.height);
+    out.refreshHz = cfg.refreshHz > 0.0
+                        ? cfg.refreshHz
+                        : (spec->refreshHz > 0.0 ? spec->refreshHz : settings.refreshHz);
+    if (!validSize(out.width, out.height) || !validRefresh(out.refreshHz))
+        return unexpected(Errc::InvalidArgument, "Display size or refresh out of range");
+    return out;
+}
+
+void VsyncPacer::start(platform::TimePoint epoch, double refreshHz) noexcept
+{
+    epoch_ = epoch;
+    refreshHz_ = refreshHz > 0.0 ? refreshHz : 60.0;
+    lastBlank_ = 0;
+    frames_ = 0;
+}
+
+platform::TimePoint VsyncPacer::blank(std::uint64_t k) const noexcept
+{
+    return epoch_ + platform::fromSeconds(static_cast<double>(k) / refreshHz_);
+}
+
+hal::PresentInfo VsyncPacer::next(platform::Clock &clock) noexcept
+{
+    const platform::TimePoint now = clock.now();
+    std::uint64_t k = lastBlank_ + 1;
+    if (blank(k) < now) {
+        // Late: the frame shows at the first blank at or after now.
+        const double elapsed = platform::toSeconds(now - epoch_) * refreshHz_;
+        k = elapsed > 0.0 ? static_cast<std::uint64_t>(std::ceil(elapsed)) : 1;
+        if (k <= lastBlank_)
+            k = lastBlank_ + 1;
+        while (blank(k) < now)
+            ++k;
+    }
+    const platform::TimePoint t = blank(k);
+    if (t > now)
+        clock.sleepUntil(t);
+    hal::PresentInfo info;
+    info.vsyncTime = t;
+    info.skippedVsyncs = static_cast<std::uint32_t>(k - lastBlank_ - 1);
+    info.frameCounter = ++frames_;
+    lastBlank_ = k;
+    return info;
+}
+
+} // namespace depthtouch::drivers

@@ -1,0 +1,51 @@
+#pragma once
+// Private helpers of the EGL display backends: EGL display references shared within the process,
+// OpenGL ES 3 context creation, error names, and reading a framebuffer back into an ImageView.
+// Thread-safety: acquireEglDisplay()/releaseEglDisplay() are thread-safe; the GL helpers act on
+// the context current on the calling thread.
+
+#include <cstdint>
+#include <vector>
+
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#include <GLES3/gl3.h>
+
+#include "depthtouch/hal/display.h"
+#include "depthtouch/hal/types.h"
+#include "depthtouch/platform/result.h"
+
+namespace depthtouch::drivers::egl {
+
+/// \return the name of an EGL error code, e.g. "EGL_BAD_ALLOC" (static string).
+const char *eglErrorName(EGLint error) noexcept;
+
+/// \brief Gets and initialises the EGL display of \a platform (an EGL_PLATFORM_* value) on
+/// \a nativeDisplay, counting references: EGL hands out one EGLDisplay per platform and native
+/// display, and eglTerminate() would destroy every context on it, so the last release terminates.
+/// \return the display. Errors: NoDevice (the platform or its initialisation is unavailable).
+Result<EGLDisplay> acquireEglDisplay(EGLenum platform, void *nativeDisplay);
+/// Drops a reference taken by acquireEglDisplay(); the last one calls eglTerminate().
+void releaseEglDisplay(EGLDisplay display) noexcept;
+
+/// \brief Chooses an RGBA8888 + depth 24 + stencil 8 config for OpenGL ES 3 rendering to
+/// \a surfaceType (EGL_WINDOW_BIT; 0 for none), whose native visual is \a visualId when non-zero
+/// (X11) or whose EGL_NATIVE_VISUAL_ID is \a visualId (GBM format).
+/// \return the config. Errors: NotSupported.
+Result<EGLConfig> chooseConfig(EGLDisplay display, EGLint surfaceType, EGLint visualId);
+
+/// \brief Creates an OpenGL ES 3 context (binds the ES API first). \a config may be
+/// EGL_NO_CONFIG_KHR on displays with EGL_KHR_no_config_context. Errors: NotSupported.
+Result<EGLContext> createGles3Context(EGLDisplay display, EGLConfig config);
+
+/// \brief Checks that \a out is an Rgba8 or Rgb24 image of exactly \a size with room for a row.
+Result<void> checkReadTarget(const hal::ImageView &out, hal::Size size) noexcept;
+
+/// \brief Reads the \a size pixels of framebuffer \a fbo (0: the surface's) into \a out, top row
+/// first, converting to out.format. \a staging is resized to hold one RGBA copy. Restores the
+/// read-framebuffer binding. \pre checkReadTarget(out, size) passed; a context is current.
+/// \return nothing; Errors: Io (GL error).
+Result<void> readFramebuffer(GLuint fbo, hal::Size size, const hal::ImageView &out,
+                             std::vector<std::uint8_t> &staging);
+
+} // namespace depthtouch::drivers::egl

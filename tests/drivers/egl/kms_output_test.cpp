@@ -1,0 +1,133 @@
+// KMS connector and mode selection against a fake DRM (DrmApi), and the kms backend's NoDevice
+// on a machine without /dev/dri.
+#include <filesystem>
+#include <map>
+
+#include <gtest/gtest.h>
+
+#include "depthtouch/drivers/backends.h"
+#include "depthtouch/drivers/egl/egl_gbm_display.h"
+#include "depthtouch/drivers/egl/kms_output.h"
+
+namespace depthtouch::drivers {
+namespace {
+
+class FakeDrm final : public DrmApi {
+public:
+    std::vector<std::string> listCards() override
+    {
+        std::vector<std::string> out;
+        for (const auto &[path, card] : cards)
+            out.push_back(path);
+        return out;
+    }
+    Result<DrmCardInfo> probeCard(const std::string &path) override
+    {
+        auto it = cards.find(path);
+        if (it == cards.end())
+            return unexpected(Errc::NoDevice, "no such card");
+        if (!it->second)
+            return unexpected(Errc::NotSupported, "not KMS");
+        return *it->second;
+    }
+    std::map<std::string, std::optional<DrmCardInfo>> cards;
+};
+
+DrmModeInfo mode(int w, int h, double hz, bool preferred = false)
+{
+    return {std::to_string(w) + "x" + std::to_string(h), w, h, hz, preferred};
+}
+
+/// card0: a render-only GPU; card1: HDMI-A-1 (connected TV, 1080p preferred) and DP-1 (empty).
+FakeDrm setTopBox()
+{
+    FakeDrm drm;
+    drm.cards["/dev/dri/card0"] = std::nullopt;
+    DrmCardInfo card;
+    card.path = "/dev/dri/card1";
+    card.connectors.push_back({31, "HDMI-A-1", true,
+                               {mode(1280, 720, 60.0), mode(1920, 1080, 60.0, true),
+                                mode(1920, 1080, 50.0), mode(1920, 1080, 59.94),
+                                mode(720, 576, 50.0)}});
+    card.connectors.push_back({32, "DP-1", false, {}});
+    drm.cards["/dev/dri/card1"] = card;
+    return drm;
+}
+
+hal::DisplayConfig withMode(const char *m)
+{
+    hal::DisplayConfig cfg;
+    cfg.mode = m;
+    return cfg;
+}
+
+TEST(KmsOutputTest, defaultIsThePreferredModeOfTheFirstConnectedConnector)
+{
+    FakeDrm drm = setTopBox();
+    auto sel = selectKmsOutput(drm, {});
+    ASSERT_TRUE(sel) << sel.error().what;
+    EXPECT_EQ(sel->card.path, "/dev/dri/card1"); // card0 has no KMS: skipped
+    EXPECT_EQ(sel->connectorInfo().name, "HDMI-A-1");
+    EXPECT_EQ(sel->modeInfo().width, 1920);
+    EXPECT_DOUBLE_EQ(sel->modeInfo().refreshHz, 60.0);
+}
+
+TEST(KmsOutputTest, requestedSizeAndRateChooseTheNearestMode)
+{
+    FakeDrm drm = setTopBox();
+    auto sel = selectKmsOutput(drm, withMode("1920x1080@50"));
+    ASSERT_TRUE(sel);
+    EXPECT_DOUBLE_EQ(sel->modeInfo().refreshHz, 50.0);
+    sel = selectKmsOutput(drm, withMode("HDMI-A-1:1920x1080@59.9"));
+    ASSERT_TRUE(sel);
+    EXPECT_DOUBLE_EQ(sel->modeInfo().refreshHz, 59.94);
+    // Size without a rate: the highest rate of that size.
+    sel = selectKmsOutput(drm, withMode("1920x1080"));
+    ASSERT_TRUE(sel);
+    EXPECT_DOUBLE_EQ(sel->modeInfo().refreshHz, 60.0);
+    // DisplayConfig fields win over the mode string.
+    hal::DisplayConfig cfg = withMode("1920x1080@60");
+    cfg.width = 720;
+    cfg.height = 576;
+    cfg.refreshHz = 50.0;
+    sel = selectKmsOutput(drm, cfg);
+    ASSERT_TRUE(sel);
+    EXPECT_EQ(sel->modeInfo().height, 576);
+}
+
+TEST(KmsOutputTest, missingThingsGiveClearErrors)
+{
+    FakeDrm drm = setTopBox();
+    EXPECT_EQ(selectKmsOutput(drm, withMode("1920x1080@30")).error().code, Errc::NotSupported);
+    EXPECT_EQ(selectKmsOutput(drm, withMode("640x480")).error().code, Errc::NotSupported);
+    EXPECT_EQ(selectKmsOutput(drm, withMode("DP-1")).error().code, Errc::NoDevice);
+    EXPECT_EQ(selectKmsOutput(drm, withMode("HDMI-A-2")).error().code, Errc::NoDevice);
+    EXPECT_EQ(selectKmsOutput(drm, withMode("1920x")).error().code, Errc::NotSupported);
+    hal::DisplayConfig negative;
+    negative.width = -1;
+    EXPECT_EQ(selectKmsOutput(drm, negative).error().code, Errc::InvalidArgument);
+    FakeDrm empty;
+    EXPECT_EQ(selectKmsOutput(empty, {}).error().code, Errc::NoDevice);
+    // A TV unplugged from every connector.
+    drm.cards["/dev/dri/card1"]->connectors[0].connected = false;
+    EXPECT_EQ(selectKmsOutput(drm, {}).error().code, Errc::NoDevice);
+}
+
+TEST(KmsBackendTest, noDrmDeviceIsNoDevice)
+{
+    if (std::filesystem::exists("/dev/dri"))
+        GTEST_SKIP() << "This machine has /dev/dri";
+    EXPECT_EQ(EglGbmDisplay::create({}).error().code, Errc::NoDevice);
+    hal::SelectionReport report;
+    auto d = createDisplay("kms", {}, &report);
+    ASSERT_FALSE(d);
+    EXPECT_EQ(d.error().code, Errc::NoDevice);
+    EXPECT_NE(report.message.find("No DRM device"), std::string::npos) << report.message;
+    // Autoprobe moves on to the next display.
+    auto any = createDisplay("", {}, &report);
+    ASSERT_TRUE(any);
+    EXPECT_NE(report.chosen, "kms");
+}
+
+} // namespace
+} // namespace depthtouch::drivers
