@@ -15,6 +15,7 @@
 #include "depthtouch/drivers/mock/mock_remote_input.h"
 #include "depthtouch/drivers/mock/mock_video_decoder.h"
 #include "depthtouch/drivers/mock/null_haptic_device.h"
+#include "depthtouch/drivers/mock/sim_haptic_device.h"
 
 namespace depthtouch::drivers {
 
@@ -50,6 +51,8 @@ constexpr hal::Backend<hal::Display> kDisplayBackends[] = {
 constexpr hal::Backend<hal::HapticDevice> kHapticDeviceBackends[] = {
     {"mock", "Simulated 3-DOF device following scripted waypoints", false,
      &MockHapticDevice::create},
+    {"sim", "Simulated hand pushed by an intent script and the force (intent=press|stroke|explore)",
+     false, &SimHapticDevice::create},
     {"none", "No haptic device: haptics off", true, &NullHapticDevice::create},
 };
 

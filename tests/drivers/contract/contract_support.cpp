@@ -11,6 +11,7 @@
 #include "depthtouch/drivers/mock/mock_haptic_device.h"
 #include "depthtouch/drivers/mock/mock_remote_input.h"
 #include "depthtouch/drivers/mock/mock_depth_camera.h"
+#include "depthtouch/drivers/mock/sim_haptic_device.h"
 
 // Allocation counting for the real-time contracts: this test program replaces the global operator
 // new and delete (every unaligned form, so allocation and release always pair malloc with free).
@@ -123,6 +124,21 @@ const HapticHarness *hapticHarness(std::string_view name)
         },
     };
     static const HapticHarness kNone{"", true, false, {}, {}, {}, {}};
+    // The simulated hand explores with a strong push, so it reaches the workspace walls.
+    using drivers::SimHapticDevice;
+    static const HapticHarness kSim{
+        "intent=explore,force=8,period=0.02,seed=7",
+        true,
+        true,
+        [](hal::HapticDevice &d) { dynamic_cast<SimHapticDevice &>(d).disconnect(); },
+        [](hal::HapticDevice &d) { dynamic_cast<SimHapticDevice &>(d).reconnect(); },
+        [](const hal::HapticDevice &d) {
+            return dynamic_cast<const SimHapticDevice &>(d).lastForce();
+        },
+        {},
+    };
+    if (name == "sim")
+        return &kSim;
     if (name == "mock")
         return &kMock;
     if (name == "none")

@@ -39,7 +39,7 @@ TEST(BackendTablesTest, everyInterfaceHasAMockBackend)
         kindNames.insert(backendKindName(kind));
     }
     EXPECT_EQ(kindNames.size(), std::size(kKinds));
-    EXPECT_EQ(backendNames(BackendKind::HapticDevice), "mock, none");
+    EXPECT_EQ(backendNames(BackendKind::HapticDevice), "mock, sim, none");
 }
 
 TEST(BackendSelectionTest, byName)
@@ -98,7 +98,7 @@ TEST(BackendSelectionTest, unknownNameListsTheAvailableOnes)
     auto dev = createHapticDevice("falcon", {}, &report);
     ASSERT_FALSE(dev);
     EXPECT_EQ(dev.error().code, Errc::InvalidArgument);
-    EXPECT_EQ(report.message, "Unknown haptic device backend 'falcon' (available: mock, none)");
+    EXPECT_EQ(report.message, "Unknown haptic device backend 'falcon' (available: mock, sim, none)");
     EXPECT_EQ(errcOf(createDisplay("egl", {}, &report)), Errc::InvalidArgument);
     EXPECT_EQ(report.message, "Unknown display backend 'egl' (available: mock)");
 }
