@@ -365,7 +365,12 @@ void HapticTask::cycle(const platform::PeriodicWait &wait) noexcept
         sample.proxy = hip;
     } else {
         if (needReset_) {
-            renderer_->reset(hip);
+            // Seat the proxy above the top of the scene box: this update then stops it on the
+            // surface directly over the HIP (a height field has no overhang), so a finger that is
+            // already inside an object at start or after a reconnect feels it, ramped in, instead
+            // of being left inside with no force.
+            const double top = 0.5 * config_.renderer.box.depth + 1e-3;
+            renderer_->reset({hip.x, hip.y, std::max(hip.z, top)});
             needReset_ = false;
         }
         const double t = std::max(platform::toSeconds(begin - handoff_.mediaOrigin()), lastT_);
