@@ -12,6 +12,7 @@ void registerBenchCommand(CLI::App &app, int &exitCode)
     CLI::App *bench = app.add_subcommand("bench", "Benchmarks: print figures, write CSV, JSON and PNG charts");
     bench->require_subcommand(1);
     registerBenchHapticsCommand(*bench, exitCode);
+    registerBenchRtCommand(*bench, exitCode);
 }
 
 } // namespace depthtouch::cli

@@ -24,5 +24,6 @@ void registerTouchCommand(CLI::App &app, int &exitCode);
 /// `depthtouch bench`: a group; each benchmark adds itself under it.
 void registerBenchCommand(CLI::App &app, int &exitCode);
 void registerBenchHapticsCommand(CLI::App &bench, int &exitCode);
+void registerBenchRtCommand(CLI::App &bench, int &exitCode);
 
 } // namespace depthtouch::cli
