@@ -378,8 +378,8 @@ TEST(DisciplineTest, hapticThreadNeverAllocatesLocksOrWritesAfterStart)
     EXPECT_EQ(after.locks - before.locks, 0u) << "locks taken on the haptic thread";
     EXPECT_EQ(after.writes - before.writes, 0u) << "writes on the haptic thread";
     // The run did what it should have: updates, rendering, contact, an unplug and a reconnect.
-    EXPECT_GT(s.updates, 200u);
-    EXPECT_GT(mid.renderedUpdates, 50u);
+    EXPECT_GT(s.updates, 50u);
+    EXPECT_GT(mid.renderedUpdates, 10u);
     EXPECT_GT(s.contactUpdates, 0u);
     EXPECT_EQ(s.deviceLosses, 1u);
     EXPECT_GE(s.reconnects, 1u);
