@@ -32,6 +32,7 @@
 #include "depthtouch/drivers/mock/mock_remote_input.h"
 #include "depthtouch/drivers/mock/mock_video_decoder.h"
 #include "depthtouch/drivers/mock/null_haptic_device.h"
+#include "depthtouch/drivers/mock/sim_haptic_device.h"
 #include "depthtouch/drivers/tty/tty_remote_input.h"
 
 namespace depthtouch::drivers {
@@ -95,6 +96,8 @@ constexpr hal::Backend<hal::HapticDevice> kHapticDeviceBackends[] = {
 #endif
     {"mock", "Simulated 3-DOF device following scripted waypoints", false,
      &MockHapticDevice::create},
+    {"sim", "Simulated hand pushed by an intent script and the force (intent=press|stroke|explore)",
+     false, &SimHapticDevice::create},
     {"none", "No haptic device: haptics off", true, &NullHapticDevice::create},
 };
 

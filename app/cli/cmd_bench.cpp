@@ -13,6 +13,7 @@ void registerBenchCommand(CLI::App &app, int &exitCode)
     bench->require_subcommand(1);
     registerBenchHapticsCommand(*bench, exitCode);
     registerBenchRenderCommand(*bench, exitCode);
+    registerBenchRtCommand(*bench, exitCode);
 }
 
 } // namespace depthtouch::cli

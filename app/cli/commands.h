@@ -26,5 +26,6 @@ void registerEncodeCommand(CLI::App &app, int &exitCode);
 void registerBenchCommand(CLI::App &app, int &exitCode);
 void registerBenchHapticsCommand(CLI::App &bench, int &exitCode);
 void registerBenchRenderCommand(CLI::App &bench, int &exitCode);
+void registerBenchRtCommand(CLI::App &bench, int &exitCode);
 
 } // namespace depthtouch::cli

@@ -18,6 +18,7 @@
 #include "depthtouch/drivers/usb/fake_falcon.h"
 #include "depthtouch/drivers/usb/falcon_haptic_device.h"
 #endif
+#include "depthtouch/drivers/mock/sim_haptic_device.h"
 
 // Allocation counting for the real-time contracts: this test program replaces the global operator
 // new and delete (every unaligned form, so allocation and release always pair malloc with free).
@@ -157,6 +158,22 @@ const HapticHarness *hapticHarness(std::string_view name)
     if (name == "falcon")
         return &kFalcon;
 #endif
+    #endif
+    // The simulated hand explores with a strong push, so it reaches the workspace walls.
+    using drivers::SimHapticDevice;
+    static const HapticHarness kSim{
+        "intent=explore,force=8,period=0.02,seed=7",
+        true,
+        true,
+        [](hal::HapticDevice &d) { dynamic_cast<SimHapticDevice &>(d).disconnect(); },
+        [](hal::HapticDevice &d) { dynamic_cast<SimHapticDevice &>(d).reconnect(); },
+        [](const hal::HapticDevice &d) {
+            return dynamic_cast<const SimHapticDevice &>(d).lastForce();
+        },
+        {},
+    };
+    if (name == "sim")
+        return &kSim;
     if (name == "mock")
         return &kMock;
     if (name == "none")

@@ -40,7 +40,7 @@ TEST(BackendTablesTest, everyInterfaceHasAMockBackend)
     }
     EXPECT_EQ(kindNames.size(), std::size(kKinds));
     // Real device backends (e.g. falcon) come first when built; the simulated ones end the table.
-    EXPECT_TRUE(backendNames(BackendKind::HapticDevice).ends_with("mock, none"));
+    EXPECT_TRUE(backendNames(BackendKind::HapticDevice).ends_with("mock, sim, none"));
 }
 
 TEST(BackendSelectionTest, byName)

@@ -1,0 +1,77 @@
+#pragma once
+/// \file
+/// \brief `depthtouch bench rt`: wake latency (wake time − deadline) and period error of the haptic
+/// servo loop at 1 kHz and 4 kHz, for a bare PeriodicTimer loop and for the full HapticTask (device
+/// read, renderer on a moving depth video, force command, telemetry), SCHED_FIFO against
+/// SCHED_OTHER in the same run, idle and optionally while other threads load the CPUs. Writes CSV
+/// and a PNG chart.
+///
+/// Not real-time itself: runs the cases one after the other on the calling thread's behalf.
+/// Thread-safety: reentrant functions.
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "depthtouch/hal/haptic_device.h"
+#include "depthtouch/haptic_task/latency_histogram.h"
+#include "depthtouch/platform/result.h"
+#include "depthtouch/platform/thread_config.h"
+
+namespace depthtouch::haptic_task::bench {
+
+/// Creates a fresh haptic device on the steady clock for one task case (e.g. the `sim` hand).
+using DeviceFactory = std::function<Result<std::unique_ptr<hal::HapticDevice>>()>;
+
+struct RtBenchOptions {
+    double secondsPerCase = 5.0;                 ///< Duration of each case, s (> 0).
+    std::vector<double> ratesHz{1000.0, 4000.0}; ///< Servo rates.
+    std::vector<platform::SchedPolicy> policies{platform::SchedPolicy::Fifo,
+                                                platform::SchedPolicy::Other};
+    bool load = false;        ///< Also run every case while loadThreads threads decode-like work.
+    int loadThreads = 2;      ///< Threads of the load (≥ 1).
+    DeviceFactory makeDevice; ///< Device for the task cases; none: only the bare loop runs.
+    /// Called after each case with a one-line summary (progress output); may be empty.
+    std::function<void(const std::string &)> progress;
+};
+
+/// One measured case.
+struct RtCase {
+    std::string loop; ///< "bare" or "task".
+    double rateHz = 0.0;
+    platform::SchedPolicy policy = platform::SchedPolicy::Fifo;
+    bool loaded = false;
+    bool fifoRefused = false; ///< SCHED_FIFO was asked for and the kernel refused it.
+    double seconds = 0.0;     ///< Measured duration, s.
+    std::uint64_t cycles = 0;
+    std::uint64_t overruns = 0;
+    LatencySummary wake;        ///< Wake time − deadline.
+    LatencySummary periodError; ///< |wake_k − wake_{k−1} − period| over on-time cycles.
+    LatencySummary update;      ///< Task only: wake-up to force command.
+    [[nodiscard]] double overrunsPerMinute() const noexcept
+    {
+        return seconds > 0.0 ? static_cast<double>(overruns) * 60.0 / seconds : 0.0;
+    }
+    [[nodiscard]] std::string label() const; ///< e.g. "task 1k FIFO load".
+};
+
+struct RtBenchReport {
+    std::vector<RtCase> cases;
+    std::string taskError; ///< Why the task cases did not run (empty when they did).
+};
+
+/// Runs every case (rates × policies × {bare, task} × {idle, loaded}). \return the report; the
+/// cases that could not run are left out (taskError says why for the task ones).
+RtBenchReport runRtBenchmark(const RtBenchOptions &options);
+
+/// \brief Prints the table and the goal checks (task within 10 % of the bare loop; load moving p99
+/// by at most 20 %) to stdout.
+void printRtReport(const RtBenchReport &report);
+
+/// \brief Writes rt_bench.csv, rt_bench.gp and rt_bench.png (gnuplot, when installed) into \a dir.
+/// \return false with \a error set when a file cannot be written; \a note explains a missing chart.
+bool writeRtBenchOutputs(const RtBenchReport &report, const std::string &dir, std::string &error,
+                         std::string &note);
+
+} // namespace depthtouch::haptic_task::bench

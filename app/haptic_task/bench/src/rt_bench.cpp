@@ -1,0 +1,368 @@
+#include "depthtouch/haptic_task/rt_bench.h"
+
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "depthtouch/haptic_task/depth_handoff.h"
+#include "depthtouch/haptic_task/haptic_task.h"
+#include "depthtouch/platform/clock.h"
+#include "depthtouch/platform/periodic_timer.h"
+#include "depthtouch/platform/realtime_thread.h"
+
+namespace depthtouch::haptic_task::bench {
+
+namespace {
+
+using platform::SchedPolicy;
+using platform::SteadyClock;
+
+const char *policyShort(SchedPolicy p)
+{
+    return p == SchedPolicy::Fifo ? "FIFO" : "OTHER";
+}
+
+platform::ThreadConfig loopConfig(SchedPolicy policy)
+{
+    platform::ThreadConfig c = platform::kHapticThread;
+    if (policy == SchedPolicy::Other) {
+        c.policy = SchedPolicy::Other;
+        c.relativePriority = 0;
+    }
+    return c;
+}
+
+/// Decoder-like load: threads copying 4 MB frames and doing arithmetic on them, at normal priority.
+class Load {
+public:
+    explicit Load(int threads)
+    {
+        for (int i = 0; i < threads; ++i)
+            threads_.emplace_back([this] {
+                std::vector<std::uint8_t> a(4 << 20, 1);
+                std::vector<std::uint8_t> b(4 << 20, 2);
+                std::uint32_t acc = 0;
+                while (!stop_.load(std::memory_order_relaxed)) {
+                    std::memcpy(b.data(), a.data(), a.size());
+                    for (std::size_t k = 0; k < b.size(); k += 64)
+                        acc += b[k] * 31u + static_cast<std::uint32_t>(k);
+                    a[acc % a.size()] = static_cast<std::uint8_t>(acc);
+                }
+                sink_.fetch_add(acc, std::memory_order_relaxed);
+            });
+    }
+    ~Load()
+    {
+        stop_.store(true);
+        for (std::thread &t : threads_)
+            t.join();
+    }
+    Load(const Load &) = delete;
+    Load &operator=(const Load &) = delete;
+
+private:
+    std::vector<std::thread> threads_;
+    std::atomic<bool> stop_{false};
+    std::atomic<std::uint32_t> sink_{0};
+};
+
+RtCase runBare(double rateHz, SchedPolicy policy, double seconds)
+{
+    RtCase c;
+    c.loop = "bare";
+    c.rateHz = rateHz;
+    c.policy = policy;
+    SteadyClock &clock = SteadyClock::instance();
+    const platform::Duration period = platform::fromSeconds(1.0 / rateHz);
+    platform::PeriodicTimer timer(clock, period);
+    auto wake = std::make_unique<LatencyHistogram>();
+    auto periodError = std::make_unique<LatencyHistogram>();
+    platform::RealtimeThreadOptions options;
+    platform::RealtimeThread thread(
+        loopConfig(policy), options, [&](platform::StopToken stop) noexcept {
+            timer.start();
+            std::int64_t previous = -1;
+            while (!stop.stopRequested()) {
+                const platform::PeriodicWait w = timer.wait();
+                wake->add(w.latency.count());
+                const std::int64_t now = w.wakeTime.time_since_epoch().count();
+                if (!w.overrun && previous >= 0)
+                    periodError->add(std::llabs(now - previous - period.count()));
+                previous = now;
+            }
+        });
+    const platform::TimePoint begin = clock.now();
+    if (!thread.start())
+        return c;
+    clock.sleepFor(platform::fromSeconds(seconds));
+    thread.requestStop();
+    thread.join();
+    c.seconds = platform::toSeconds(clock.now() - begin);
+    c.fifoRefused = thread.report().rtRefused;
+    c.cycles = timer.cycles();
+    c.overruns = timer.overruns();
+    c.wake = wake->summary();
+    c.periodError = periodError->summary();
+    return c;
+}
+
+Result<RtCase> runTask(double rateHz, SchedPolicy policy, double seconds, const DeviceFactory &make)
+{
+    RtCase c;
+    c.loop = "task";
+    c.rateHz = rateHz;
+    c.policy = policy;
+    SteadyClock &clock = SteadyClock::instance();
+    constexpr int kW = 320;
+    constexpr int kH = 240;
+    auto handoff = DepthHandoff::create(kW, kH, haptics::SampleFormat::Gray8);
+    if (!handoff)
+        return unexpected(handoff.error());
+    auto device = make();
+    if (!device)
+        return unexpected(device.error());
+    HapticTaskConfig config;
+    config.servoRateHz = rateHz;
+    config.policy = policy;
+    auto task = HapticTask::create(config, **device, **handoff, clock);
+    if (!task)
+        return unexpected(task.error());
+
+    // The decoder: a bump circling over a slanted floor, 30 frames per second in real time.
+    std::atomic<bool> decoding{true};
+    const platform::TimePoint origin = clock.now();
+    (*handoff)->setMediaOrigin(origin);
+    std::thread decoder([&] {
+        std::vector<std::uint8_t> pixels(static_cast<std::size_t>(kW * kH));
+        for (int i = 0; decoding.load(); ++i) {
+            const double t = i / 30.0;
+            const double cx = 0.5 * kW + 0.3 * kW * std::cos(2.0 * t);
+            const double cy = 0.5 * kH + 0.3 * kH * std::sin(2.0 * t);
+            for (int r = 0; r < kH; ++r)
+                for (int col = 0; col < kW; ++col) {
+                    const double d2 = (col - cx) * (col - cx) + (r - cy) * (r - cy);
+                    const double v = 60.0 + 0.2 * r + 150.0 * std::exp(-d2 / 800.0);
+                    pixels[static_cast<std::size_t>(r * kW + col)] =
+                        static_cast<std::uint8_t>(std::lround(std::fmin(v, 255.0)));
+                }
+            const haptics::DepthFrameView view{pixels.data(),
+                                               kW,
+                                               kH,
+                                               static_cast<std::size_t>(kW),
+                                               haptics::SampleFormat::Gray8,
+                                               t};
+            (void)(*handoff)->push(view);
+            clock.sleepUntil(origin + platform::fromSeconds(t)); // frame i+1 out at frame i's PTS
+        }
+    });
+    const platform::TimePoint begin = clock.now();
+    auto started = (*task)->start();
+    if (started) {
+        clock.sleepFor(platform::fromSeconds(seconds));
+        (*task)->stop();
+    }
+    decoding.store(false);
+    decoder.join();
+    (*device)->close();
+    if (!started)
+        return unexpected(started.error());
+    const HapticStats s = (*task)->stats();
+    c.seconds = platform::toSeconds(clock.now() - begin);
+    c.fifoRefused = (*task)->threadReport().rtRefused;
+    c.cycles = s.updates;
+    c.overruns = s.overruns;
+    c.wake = s.wakeLatency;
+    c.periodError = s.periodError;
+    c.update = s.updateTime;
+    return c;
+}
+
+std::string caseLine(const RtCase &c)
+{
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "%-22s wake p50 %7.1f p99 %8.1f p99.9 %8.1f max %8.1f us | period err p50 %6.1f "
+                  "p99 %7.1f p99.9 %7.1f max %8.1f us | %6.1f overruns/min%s",
+                  c.label().c_str(), c.wake.p50Us, c.wake.p99Us, c.wake.p999Us, c.wake.maxUs,
+                  c.periodError.p50Us, c.periodError.p99Us, c.periodError.p999Us,
+                  c.periodError.maxUs, c.overrunsPerMinute(),
+                  c.fifoRefused ? "  (SCHED_FIFO REFUSED: ran at SCHED_OTHER)" : "");
+    return line;
+}
+
+const RtCase *findCase(const RtBenchReport &r, const std::string &loop, double rate,
+                       SchedPolicy policy, bool loaded)
+{
+    for (const RtCase &c : r.cases)
+        if (c.loop == loop && c.rateHz == rate && c.policy == policy && c.loaded == loaded)
+            return &c;
+    return nullptr;
+}
+
+} // namespace
+
+std::string RtCase::label() const
+{
+    char text[64];
+    std::snprintf(text, sizeof text, "%s %gk %s%s", loop.c_str(), rateHz / 1000.0,
+                  policyShort(policy), loaded ? " load" : "");
+    return text;
+}
+
+RtBenchReport runRtBenchmark(const RtBenchOptions &options)
+{
+    RtBenchReport report;
+    std::vector<bool> loads{false};
+    if (options.load)
+        loads.push_back(true);
+    for (const bool loaded : loads) {
+        std::unique_ptr<Load> load;
+        if (loaded)
+            load = std::make_unique<Load>(std::max(options.loadThreads, 1));
+        for (const double rate : options.ratesHz) {
+            for (const SchedPolicy policy : options.policies) {
+                RtCase bare = runBare(rate, policy, options.secondsPerCase);
+                bare.loaded = loaded;
+                if (bare.cycles > 0) {
+                    if (options.progress)
+                        options.progress(caseLine(bare));
+                    report.cases.push_back(bare);
+                }
+                if (!options.makeDevice) {
+                    report.taskError = "no haptic device for the task cases";
+                    continue;
+                }
+                auto task = runTask(rate, policy, options.secondsPerCase, options.makeDevice);
+                if (!task) {
+                    char buf[256];
+                    report.taskError = task.error().format(buf, sizeof buf);
+                    continue;
+                }
+                task->loaded = loaded;
+                if (options.progress)
+                    options.progress(caseLine(*task));
+                report.cases.push_back(*task);
+            }
+        }
+    }
+    return report;
+}
+
+void printRtReport(const RtBenchReport &report)
+{
+    std::printf("\nwake latency (wake time - deadline) and period error |wake_k - wake_k-1 - "
+                "period|:\n");
+    for (const RtCase &c : report.cases)
+        std::printf("  %s\n", caseLine(c).c_str());
+    bool refused = false;
+    for (const RtCase &c : report.cases)
+        refused = refused || c.fifoRefused;
+    if (refused)
+        std::printf("note: SCHED_FIFO was refused (no CAP_SYS_NICE / RLIMIT_RTPRIO): the FIFO rows "
+                    "ran at SCHED_OTHER\n");
+    if (!report.taskError.empty())
+        std::printf("note: the task cases did not run: %s\n", report.taskError.c_str());
+    std::printf("\ngoals (this run):\n");
+    for (const RtCase &task : report.cases) {
+        if (task.loop != "task")
+            continue;
+        if (const RtCase *bare = findCase(report, "bare", task.rateHz, task.policy, task.loaded)) {
+            const double r50 = bare->wake.p50Us > 0 ? task.wake.p50Us / bare->wake.p50Us : 0.0;
+            const double r99 = bare->wake.p99Us > 0 ? task.wake.p99Us / bare->wake.p99Us : 0.0;
+            std::printf("  %-22s task/bare wake p50 %.2f, p99 %.2f (goal <= 1.10): %s\n",
+                        task.label().c_str(), r50, r99,
+                        r50 <= 1.10 && r99 <= 1.10 ? "met" : "NOT met");
+        }
+    }
+    for (const RtCase &loaded : report.cases) {
+        if (!loaded.loaded)
+            continue;
+        if (const RtCase *idle =
+                findCase(report, loaded.loop, loaded.rateHz, loaded.policy, false)) {
+            const double r = idle->wake.p99Us > 0 ? loaded.wake.p99Us / idle->wake.p99Us : 0.0;
+            std::printf("  %-22s loaded/idle wake p99 %.2f (goal <= 1.20): %s\n",
+                        loaded.label().c_str(), r, r <= 1.20 ? "met" : "NOT met");
+        }
+    }
+}
+
+bool writeRtBenchOutputs(const RtBenchReport &report, const std::string &dir, std::string &error,
+                         std::string &note)
+{
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) {
+        error = "cannot create '" + dir + "': " + ec.message();
+        return false;
+    }
+    const fs::path base(dir);
+    const fs::path csv = base / "rt_bench.csv";
+    {
+        std::ofstream out(csv);
+        if (!out) {
+            error = "cannot write '" + csv.string() + "'";
+            return false;
+        }
+        out << "label,loop,rate_hz,policy,load,fifo_refused,seconds,cycles,wake_p50_us,wake_p99_us,"
+               "wake_p999_us,wake_max_us,period_err_p50_us,period_err_p99_us,period_err_p999_us,"
+               "period_err_max_us,overruns,overruns_per_min,update_p50_us,update_p99_us\n";
+        for (const RtCase &c : report.cases) {
+            char line[512];
+            std::snprintf(line, sizeof line,
+                          "%s,%s,%.0f,%s,%d,%d,%.3f,%llu,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,"
+                          "%llu,%.2f,%.2f,%.2f\n",
+                          c.label().c_str(), c.loop.c_str(), c.rateHz,
+                          platform::schedPolicyName(c.policy), c.loaded ? 1 : 0,
+                          c.fifoRefused ? 1 : 0, c.seconds,
+                          static_cast<unsigned long long>(c.cycles), c.wake.p50Us, c.wake.p99Us,
+                          c.wake.p999Us, c.wake.maxUs, c.periodError.p50Us, c.periodError.p99Us,
+                          c.periodError.p999Us, c.periodError.maxUs,
+                          static_cast<unsigned long long>(c.overruns), c.overrunsPerMinute(),
+                          c.update.p50Us, c.update.p99Us);
+            out << line;
+        }
+    }
+    if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
+        note = "gnuplot not found: wrote CSV only (install gnuplot-nox for the PNG chart)";
+        return true;
+    }
+    const fs::path gp = base / "rt_bench.gp";
+    {
+        std::ofstream g(gp);
+        g << "set terminal pngcairo size 1400,900\n"
+             "set output '"
+          << (base / "rt_bench.png").string()
+          << "'\n"
+             "set datafile separator ','\n"
+             "set key autotitle columnhead top left\n"
+             "set style data histograms\nset style histogram clustered gap 1\n"
+             "set style fill solid 0.8 border -1\nset boxwidth 0.9\n"
+             "set logscale y\nset yrange [1:*]\nset grid ytics\n"
+             "set xtics rotate by -30 font ',9'\n"
+             "set multiplot layout 2,1\n"
+             "set title 'Haptic loop wake latency (wake - deadline), per case'\n"
+             "set ylabel 'microseconds (log)'\n"
+             "plot '"
+          << csv.string()
+          << "' using 9:xtic(1) title 'p50', '' using 10 title 'p99', '' using 11 title 'p99.9', "
+             "'' using 12 title 'max'\n"
+             "set title 'Period error |wake_k - wake_{k-1} - period|, per case'\n"
+             "plot '"
+          << csv.string()
+          << "' using 13:xtic(1) title 'p50', '' using 14 title 'p99', '' using 15 title 'p99.9', "
+             "'' using 16 title 'max'\n"
+             "unset multiplot\n";
+    }
+    const std::string cmd = "gnuplot '" + gp.string() + "' 2>&1";
+    if (std::system(cmd.c_str()) != 0)
+        note = "gnuplot failed: CSV written, the chart may be missing";
+    return true;
+}
+
+} // namespace depthtouch::haptic_task::bench

@@ -1,0 +1,178 @@
+#include "depthtouch/haptic_task/depth_handoff.h"
+
+#include <cstring>
+#include <new>
+
+#include "depthtouch/platform/assert.h"
+
+namespace depthtouch::haptic_task {
+
+namespace {
+
+// state_ layout: 4 bits per slot index, kNone when there is none.
+constexpr std::uint32_t kNone = 0xF;
+constexpr std::uint32_t kPubCurShift = 0;
+constexpr std::uint32_t kPubNextShift = 4;
+constexpr std::uint32_t kHeldCurShift = 8;
+constexpr std::uint32_t kHeldNextShift = 12;
+constexpr std::uint32_t kFresh = 1u << 16;
+constexpr std::uint32_t kPubMask = 0xFFu;
+constexpr std::uint32_t kHeldMask = 0xFF00u;
+constexpr std::uint32_t kInitialState = (kNone << kPubCurShift) | (kNone << kPubNextShift) |
+                                        (kNone << kHeldCurShift) | (kNone << kHeldNextShift);
+
+constexpr std::uint32_t field(std::uint32_t state, std::uint32_t shift) noexcept
+{
+    return (state >> shift) & 0xFu;
+}
+
+/// Bit mask of the slots named in the 4-bit field at \a shift.
+constexpr std::uint32_t bitOf(std::uint32_t state, std::uint32_t shift) noexcept
+{
+    const std::uint32_t index = field(state, shift);
+    return index == kNone ? 0u : 1u << index;
+}
+
+static_assert(DepthHandoff::kSlots < static_cast<int>(kNone), "slot indices must fit in 4 bits");
+
+} // namespace
+
+Result<std::unique_ptr<DepthHandoff>> DepthHandoff::create(int width, int height,
+                                                           haptics::SampleFormat format)
+{
+    if (width < 2 || height < 2 || width > 16384 || height > 16384)
+        return unexpected(Errc::InvalidArgument,
+                          "Depth handoff frames must be 2x2 to 16384x16384 samples");
+    try {
+        return std::unique_ptr<DepthHandoff>(new DepthHandoff(width, height, format));
+    } catch (const std::bad_alloc &) {
+        return unexpected(Errc::OutOfResources, "Not enough memory for the depth handoff frames");
+    }
+}
+
+DepthHandoff::DepthHandoff(int width, int height, haptics::SampleFormat format)
+    : width_(width), height_(height), format_(format),
+      frameBytes_(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) *
+                  haptics::bytesPerSample(format)),
+      storage_(frameBytes_ * kSlots, 0), state_(kInitialState)
+{
+}
+
+DepthSlot DepthHandoff::slot(int index) noexcept
+{
+    DepthSlot s;
+    s.data = storage_.data() + static_cast<std::size_t>(index) * frameBytes_;
+    s.bytes = frameBytes_;
+    s.pts = pts_[index];
+    s.index = index;
+    return s;
+}
+
+haptics::DepthFrameView DepthHandoff::view(int index) const noexcept
+{
+    haptics::DepthFrameView v;
+    v.data = storage_.data() + static_cast<std::size_t>(index) * frameBytes_;
+    v.width = width_;
+    v.height = height_;
+    v.strideBytes = static_cast<std::size_t>(width_) * haptics::bytesPerSample(format_);
+    v.format = format_;
+    v.pts = pts_[index];
+    return v;
+}
+
+DepthSlot DepthHandoff::beginFrame() noexcept
+{
+    // acquire: the reader's last reads of the slots it released happen before our writes.
+    const std::uint32_t state = state_.load(std::memory_order_acquire);
+    const std::uint32_t used = bitOf(state, kPubCurShift) | bitOf(state, kPubNextShift) |
+                               bitOf(state, kHeldCurShift) | bitOf(state, kHeldNextShift) |
+                               pendingMask_;
+    for (int i = 0; i < kSlots; ++i) {
+        if ((used & (1u << i)) == 0) {
+            pendingMask_ |= 1u << i;
+            return slot(i);
+        }
+    }
+    DT_ASSERT(false && "DepthHandoff::beginFrame() called more than twice without publish()");
+    return slot(0);
+}
+
+void DepthHandoff::publish(const DepthSlot &current, const DepthSlot *next) noexcept
+{
+    DT_ASSERT(current.index >= 0 && current.index < kSlots);
+    DT_ASSERT(next == nullptr || (next->index >= 0 && next->index < kSlots));
+    // Only slots still being filled get their PTS: a slot already published may be read right now.
+    if ((pendingMask_ & (1u << current.index)) != 0)
+        pts_[current.index] = current.pts;
+    if (next != nullptr && (pendingMask_ & (1u << next->index)) != 0)
+        pts_[next->index] = next->pts;
+    const std::uint32_t pub =
+        (static_cast<std::uint32_t>(current.index) << kPubCurShift) |
+        ((next != nullptr ? static_cast<std::uint32_t>(next->index) : kNone) << kPubNextShift);
+    std::uint32_t state = state_.load(std::memory_order_relaxed);
+    // release: the slot contents and PTS are visible to the reader that takes this pair. Retries
+    // only when the reader took the previous pair meanwhile.
+    while (!state_.compare_exchange_weak(state, (state & kHeldMask) | pub | kFresh,
+                                         std::memory_order_acq_rel, std::memory_order_relaxed)) {
+    }
+    pendingMask_ = 0;
+    published_.fetch_add(1, std::memory_order_relaxed);
+}
+
+Result<void> DepthHandoff::push(const haptics::DepthFrameView &frame) noexcept
+{
+    DT_TRY(frame.validate());
+    if (frame.width != width_ || frame.height != height_ || frame.format != format_)
+        return unexpected(Errc::InvalidArgument,
+                          "Depth frame size or sample format differs from the handoff's");
+    DepthSlot s = beginFrame();
+    const std::size_t rowBytes =
+        static_cast<std::size_t>(width_) * haptics::bytesPerSample(format_);
+    for (int r = 0; r < height_; ++r)
+        std::memcpy(s.data + static_cast<std::size_t>(r) * rowBytes,
+                    frame.data + static_cast<std::size_t>(r) * frame.strideBytes, rowBytes);
+    s.pts = frame.pts;
+    if (lastPushed_ >= 0) {
+        const DepthSlot previous = slot(lastPushed_);
+        publish(previous, &s);
+    } else {
+        publish(s, nullptr);
+    }
+    lastPushed_ = s.index;
+    return ok();
+}
+
+void DepthHandoff::finish() noexcept
+{
+    if (lastPushed_ >= 0)
+        publish(slot(lastPushed_), nullptr);
+}
+
+void DepthHandoff::restart() noexcept
+{
+    lastPushed_ = -1;
+}
+
+bool DepthHandoff::acquire(DepthPair &out) noexcept
+{
+    std::uint32_t state = state_.load(std::memory_order_acquire);
+    for (;;) {
+        if ((state & kFresh) == 0)
+            return false;
+        const std::uint32_t held = (field(state, kPubCurShift) << kHeldCurShift) |
+                                   (field(state, kPubNextShift) << kHeldNextShift);
+        // acq_rel: acquire the published contents; release our reads of the slots we give back.
+        if (state_.compare_exchange_weak(state, (state & kPubMask) | held,
+                                         std::memory_order_acq_rel, std::memory_order_acquire))
+            break;
+    }
+    const std::uint32_t cur = field(state, kPubCurShift);
+    const std::uint32_t next = field(state, kPubNextShift);
+    out.current = view(static_cast<int>(cur));
+    out.hasNext = next != kNone;
+    out.next = out.hasNext ? view(static_cast<int>(next)) : haptics::DepthFrameView{};
+    out.sequence = ++taken_;
+    return true;
+}
+
+} // namespace depthtouch::haptic_task

@@ -1,0 +1,42 @@
+// HapticStats::toJson: the haptic part of the stats JSON (DESIGN.md §4).
+#include "depthtouch/haptic_task/haptic_task.h"
+
+#include <nlohmann/json.hpp>
+
+namespace depthtouch::haptic_task {
+
+namespace {
+
+nlohmann::json summaryJson(const LatencySummary &s)
+{
+    return {{"p50", s.p50Us},   {"p90", s.p90Us}, {"p99", s.p99Us},
+            {"p999", s.p999Us}, {"max", s.maxUs}, {"mean", s.meanUs}};
+}
+
+} // namespace
+
+std::string HapticStats::toJson(int indent) const
+{
+    const nlohmann::json j = {
+        {"haptic_updates", updates},
+        {"haptic_rate_hz", servoRateHz},
+        {"rendered_updates", renderedUpdates},
+        {"contact_updates", contactUpdates},
+        {"overruns", overruns},
+        {"missed_periods", missedPeriods},
+        {"wake_latency_us", summaryJson(wakeLatency)},
+        {"update_time_us", summaryJson(updateTime)},
+        {"period_error_us", summaryJson(periodError)},
+        {"safety_releases", safetyReleases},
+        {"watchdog_trips", watchdogTrips},
+        {"device_losses", deviceLosses},
+        {"reconnects", reconnects},
+        {"telemetry_dropped", telemetryDropped},
+        {"max_force_n", maxForce},
+        {"device_max_force_n", deviceMaxForce},
+        {"haptic_thread", thread},
+    };
+    return j.dump(indent);
+}
+
+} // namespace depthtouch::haptic_task

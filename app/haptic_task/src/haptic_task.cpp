@@ -1,0 +1,541 @@
+#include "depthtouch/haptic_task/haptic_task.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <new>
+#include <utility>
+
+#include <glm/geometric.hpp>
+
+#include "depthtouch/platform/log.h"
+#include "depthtouch/platform/thread_config.h"
+
+DT_LOG_CATEGORY(Haptic)
+
+namespace depthtouch::haptic_task {
+
+namespace {
+
+using platform::Duration;
+using platform::TimePoint;
+
+/// Adds \a delta to a counter only the calling thread writes.
+void bump(std::atomic<std::uint64_t> &counter, std::uint64_t delta = 1) noexcept
+{
+    counter.store(counter.load(std::memory_order_relaxed) + delta, std::memory_order_relaxed);
+}
+
+glm::dvec3 clampLength(const glm::dvec3 &v, double limit) noexcept
+{
+    const double length = glm::length(v);
+    if (!(length <= limit)) // also catches NaN
+        return std::isfinite(length) ? v * (limit / length) : glm::dvec3{};
+    return v;
+}
+
+/// Smooth ramp 0 → 1 with zero slope at both ends.
+double smoothstep(double x) noexcept
+{
+    const double p = std::clamp(x, 0.0, 1.0);
+    return p * p * (3.0 - 2.0 * p);
+}
+
+platform::ThreadConfig hapticThreadConfig(platform::SchedPolicy policy) noexcept
+{
+    platform::ThreadConfig c = platform::kHapticThread;
+    if (policy == platform::SchedPolicy::Other) {
+        c.policy = platform::SchedPolicy::Other;
+        c.relativePriority = 0;
+    }
+    return c;
+}
+
+} // namespace
+
+Result<void> HapticTaskConfig::validate() const noexcept
+{
+    if (!(servoRateHz >= 100.0 && servoRateHz <= 10000.0))
+        return unexpected(Errc::InvalidArgument, "Servo rate must be in [100, 10000] Hz");
+    DT_TRY(renderer.validate());
+    if (!(maxForceRate > 0.0) || !std::isfinite(maxForceRate))
+        return unexpected(Errc::InvalidArgument,
+                          "Force rate limit must be a positive number of N/s");
+    if (!(mapping.scale > 0.0) || !std::isfinite(mapping.scale) ||
+        !std::isfinite(mapping.offset.x) || !std::isfinite(mapping.offset.y) ||
+        !std::isfinite(mapping.offset.z))
+        return unexpected(Errc::InvalidArgument,
+                          "Device mapping needs a positive scale and a finite offset");
+    if (mapping.clutchButton < -1 || mapping.clutchButton > 31)
+        return unexpected(Errc::InvalidArgument, "Clutch button must be -1 (none) or 0..31");
+    if (watchdogMissedDeadlines < 1 || watchdogDeviceTimeouts < 1)
+        return unexpected(Errc::InvalidArgument, "Watchdog limits must be at least 1");
+    if (!(rampTime > 0.0) || !std::isfinite(rampTime))
+        return unexpected(Errc::InvalidArgument, "Force ramp time must be > 0 s");
+    if (telemetryIntervalMs < 1 || telemetryIntervalMs > 1000 || reconnectIntervalMs < 1)
+        return unexpected(Errc::InvalidArgument,
+                          "Telemetry interval must be 1..1000 ms and reconnect interval >= 1 ms");
+    return ok();
+}
+
+Result<std::unique_ptr<HapticTask>> HapticTask::create(const HapticTaskConfig &config,
+                                                       hal::HapticDevice &device,
+                                                       DepthHandoff &handoff,
+                                                       platform::Clock &clock)
+{
+    DT_TRY(config.validate());
+    haptics::RendererConfig rc = config.renderer;
+    const double deviceMax = device.capabilities().maxForce;
+    if (deviceMax > 0.0 && deviceMax < rc.maxForce)
+        rc.maxForce = deviceMax;
+    auto renderer = haptics::makeRenderer(config.method, rc, handoff.width(), handoff.height());
+    if (!renderer)
+        return unexpected(renderer.error());
+    HapticTaskConfig effective = config;
+    effective.renderer = rc;
+    try {
+        return std::unique_ptr<HapticTask>(
+            new HapticTask(effective, device, handoff, clock, std::move(*renderer)));
+    } catch (const std::bad_alloc &) {
+        return unexpected(Errc::OutOfResources, "Not enough memory for the haptic task");
+    }
+}
+
+HapticTask::HapticTask(const HapticTaskConfig &config, hal::HapticDevice &device,
+                       DepthHandoff &handoff, platform::Clock &clock,
+                       std::unique_ptr<haptics::HapticRenderer> renderer)
+    : config_(config), device_(device), handoff_(handoff), clock_(clock),
+      renderer_(std::move(renderer)), ring_(std::make_unique<Ring>()),
+      timer_(clock, platform::fromSeconds(1.0 / config.servoRateHz)),
+      maxForce_(config.renderer.maxForce), period_(1.0 / config.servoRateHz),
+      enabled_(config.startEnabled), offset_(config.mapping.offset),
+      wakeHist_(std::make_unique<LatencyHistogram>()),
+      updateHist_(std::make_unique<LatencyHistogram>()),
+      periodHist_(std::make_unique<LatencyHistogram>())
+{
+    platform::RealtimeThreadOptions options;
+    options.requireRt = config.requireRt;
+    options.lockMemory = config.lockMemory;
+    options.cpuAffinity = config.cpu;
+    thread_ = std::make_unique<platform::RealtimeThread>(
+        hapticThreadConfig(config.policy), options,
+        [this](platform::StopToken stop) noexcept { run(stop); });
+}
+
+HapticTask::~HapticTask()
+{
+    stop();
+}
+
+Result<void> HapticTask::start()
+{
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (started_)
+            return unexpected(Errc::InvalidState, "Haptic task already started");
+        started_ = true;
+    }
+    if (device_.state() == hal::HapticDevice::State::Closed) {
+        if (auto r = device_.open(); !r && r.error().code != Errc::NoDevice)
+            return r;
+    }
+    // The haptic thread starts with the device if it is answering; otherwise the telemetry thread
+    // polls for it (hot-plug) and hands it over once open.
+    owner_.store(device_.isConnected() ? kRtOwns : kLost, std::memory_order_release);
+
+    if (!config_.forceLogPath.empty()) {
+        forceLog_ = std::fopen(config_.forceLogPath.c_str(), "w");
+        if (forceLog_ == nullptr)
+            return unexpected(Errc::Io, "Failed to create the force log", errno);
+        std::fputs("t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released\n",
+                   forceLog_);
+    }
+    serviceStop_ = false;
+    service_ = std::thread([this] { serviceLoop(); });
+    if (auto r = thread_->start(); !r) {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            serviceStop_ = true;
+        }
+        wake_.notify_all();
+        service_.join();
+        if (forceLog_ != nullptr) {
+            std::fclose(forceLog_);
+            forceLog_ = nullptr;
+        }
+        return r;
+    }
+    return ok();
+}
+
+void HapticTask::requestStop() noexcept
+{
+    stopRequested_.store(true, std::memory_order_release);
+}
+
+void HapticTask::stop() noexcept
+{
+    requestStop();
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!started_ || stopped_)
+            return;
+        stopped_ = true;
+    }
+    thread_->requestStop();
+    thread_->join();
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        serviceStop_ = true;
+    }
+    wake_.notify_all();
+    if (service_.joinable())
+        service_.join();
+    std::lock_guard<std::mutex> lock(mutex_);
+    drainLocked();
+    if (forceLog_ != nullptr) {
+        std::fclose(forceLog_);
+        forceLog_ = nullptr;
+    }
+}
+
+const platform::RealtimeThreadReport &HapticTask::threadReport() const noexcept
+{
+    return thread_->report();
+}
+
+// ---------------------------------------------------------------------------------------------
+// The haptic thread. Nothing below until serviceLoop() may allocate, lock, log, write or throw.
+
+void HapticTask::run(platform::StopToken stop) noexcept
+{
+    if (config_.threadHook != nullptr)
+        config_.threadHook(config_.threadHookUser);
+    timer_.start();
+    while (!stop.stopRequested() && !stopRequested()) {
+        const platform::PeriodicWait wait = timer_.wait();
+        if (wait.cancelled || stop.stopRequested() || stopRequested())
+            continue;
+        cycle(wait);
+    }
+    if (owner_.load(std::memory_order_acquire) == kRtOwns)
+        (void)device_.commandForce({});
+    publishForce({});
+    // A simulated clock must not wait for this thread to sleep again.
+    if (auto *manual = dynamic_cast<platform::ManualClock *>(&clock_))
+        manual->detachThread();
+}
+
+void HapticTask::publishForce(const glm::dvec3 &f) noexcept
+{
+    const std::uint32_t seq = forceSeq_.load(std::memory_order_relaxed);
+    forceSeq_.store(seq + 1, std::memory_order_relaxed);
+    std::atomic_thread_fence(std::memory_order_release);
+    forceX_.store(f.x, std::memory_order_relaxed);
+    forceY_.store(f.y, std::memory_order_relaxed);
+    forceZ_.store(f.z, std::memory_order_relaxed);
+    forceSeq_.store(seq + 2, std::memory_order_release);
+}
+
+glm::dvec3 HapticTask::lastForce() const noexcept
+{
+    glm::dvec3 f;
+    std::uint32_t before = 0;
+    std::uint32_t after = 0;
+    do {
+        before = forceSeq_.load(std::memory_order_acquire);
+        f = {forceX_.load(std::memory_order_relaxed), forceY_.load(std::memory_order_relaxed),
+             forceZ_.load(std::memory_order_relaxed)};
+        std::atomic_thread_fence(std::memory_order_acquire);
+        after = forceSeq_.load(std::memory_order_relaxed);
+    } while (before != after || (before & 1u) != 0);
+    return f;
+}
+
+void HapticTask::zeroForce() noexcept
+{
+    prevForce_ = {};
+    phase_ = 0.0;
+    gain_.store(0.0, std::memory_order_relaxed);
+    publishForce({});
+}
+
+void HapticTask::cycle(const platform::PeriodicWait &wait) noexcept
+{
+    const TimePoint begin = wait.wakeTime;
+    TelemetrySample sample;
+    sample.wakeNs = begin.time_since_epoch().count();
+    sample.wakeLatencyNs = static_cast<std::int32_t>(
+        std::clamp<std::int64_t>(wait.latency.count(), INT32_MIN, INT32_MAX));
+    sample.missedPeriods =
+        static_cast<std::uint32_t>(std::min<std::uint64_t>(wait.missedPeriods, UINT32_MAX));
+    if (wait.overrun)
+        sample.flags |= TelemetrySample::Overrun;
+    const std::uint64_t cycleNumber = updates_.load(std::memory_order_relaxed) + 1;
+    sample.cycle = cycleNumber;
+
+    const auto finish = [&]() noexcept {
+        sample.gain = static_cast<float>(gain_.load(std::memory_order_relaxed));
+        sample.updateNs = static_cast<std::int32_t>(
+            std::clamp<std::int64_t>((clock_.now() - begin).count(), 0, INT32_MAX));
+        (void)ring_->tryPush(sample);
+        updates_.store(cycleNumber, std::memory_order_release);
+    };
+
+    // Watchdog 1: the loop itself is late. More than N deadlines missed in a row → zero force now;
+    // the ramp brings the force back once the deadlines are kept again.
+    if (wait.overrun) {
+        missedInARow_ += 1 + static_cast<int>(std::min<std::uint64_t>(wait.missedPeriods, 1000000));
+    } else {
+        missedInARow_ = 0;
+    }
+    const bool late = missedInARow_ > config_.watchdogMissedDeadlines;
+
+    // Newest depth pair, without waiting; the held pair stays if the decoder stalls.
+    DepthPair pair;
+    if (handoff_.acquire(pair)) {
+        if (renderer_->setFrames(pair.current, pair.hasNext ? &pair.next : nullptr))
+            haveFrames_ = true;
+    }
+
+    // Device ownership: while lost, the telemetry thread closes and opens it; don't touch it.
+    std::uint8_t owner = owner_.load(std::memory_order_acquire);
+    if (owner == kRestored) {
+        owner_.store(kRtOwns, std::memory_order_release);
+        owner = kRtOwns;
+        needReset_ = true;
+        clutched_ = false;
+        zeroForce();
+    }
+    if (owner != kRtOwns) {
+        sample.flags |= TelemetrySample::DeviceLost;
+        finish();
+        return;
+    }
+
+    hal::HapticState state;
+    if (auto r = device_.read(state); !r) {
+        if (r.error().code == Errc::Timeout) {
+            sample.flags |= TelemetrySample::DeviceTimeout;
+            if (++timeoutsInARow_ > config_.watchdogDeviceTimeouts && !deviceFailed_.load()) {
+                (void)device_.commandForce({});
+                zeroForce();
+                deviceFailed_.store(true, std::memory_order_release);
+                bump(watchdogTrips_);
+                sample.flags |= TelemetrySample::WatchdogTrip;
+            }
+        } else {
+            // Unplugged (NoDevice) or closed under us: the device outputs zero force; hand it to
+            // the telemetry thread for reconnection.
+            zeroForce();
+            bump(deviceLosses_);
+            owner_.store(kLost, std::memory_order_release);
+            sample.flags |= TelemetrySample::DeviceLost;
+        }
+        finish();
+        return;
+    }
+    timeoutsInARow_ = 0;
+    deviceFailed_.store(false, std::memory_order_relaxed);
+
+    // Device → scene, with the clutch.
+    const glm::dvec3 p(state.position.x, state.position.y, state.position.z);
+    const double scale = config_.mapping.scale;
+    glm::dvec3 hip = scale * p + offset_;
+    const int clutchButton = config_.mapping.clutchButton;
+    const bool clutchHeld = clutchButton >= 0 && ((state.buttons >> clutchButton) & 1u) != 0;
+    if (clutchHeld && !clutched_) {
+        clutched_ = true;
+        frozenHip_ = needReset_ ? hip : lastHip_;
+    }
+    if (clutched_) {
+        if (!clutchHeld) {
+            clutched_ = false;
+            offset_ = frozenHip_ - scale * p; // re-centred: the HIP continues from where it was
+        }
+        hip = frozenHip_;
+        sample.flags |= TelemetrySample::Clutched;
+    }
+    lastHip_ = hip;
+
+    glm::dvec3 target{};
+    if (!haveFrames_) {
+        sample.flags |= TelemetrySample::NoFrames;
+        sample.hip = hip;
+        sample.proxy = hip;
+    } else {
+        if (needReset_) {
+            // Seat the proxy above the top of the scene box: this update then stops it on the
+            // surface directly over the HIP (a height field has no overhang), so a finger that is
+            // already inside an object at start or after a reconnect feels it, ramped in, instead
+            // of being left inside with no force.
+            const double top = 0.5 * config_.renderer.box.depth + 1e-3;
+            renderer_->reset({hip.x, hip.y, std::max(hip.z, top)});
+            needReset_ = false;
+        }
+        const double t = std::max(platform::toSeconds(begin - handoff_.mediaOrigin()), lastT_);
+        lastT_ = t;
+        const haptics::HapticOutput out = renderer_->update(hip, t);
+        sample.t = t;
+        sample.hip = out.hip;
+        sample.proxy = out.proxy;
+        sample.flags |= TelemetrySample::Rendered;
+        bump(rendered_);
+        if (out.contact) {
+            sample.flags |= TelemetrySample::Contact;
+            bump(contacts_);
+        }
+        if (out.released) {
+            sample.flags |= TelemetrySample::Released;
+            bump(releases_);
+        }
+        target = out.force;
+    }
+
+    // Enable ramp; a late loop or the clutch forces the gain to zero.
+    if (late) {
+        if (phase_ > 0.0 || glm::length(prevForce_) > 0.0) {
+            bump(watchdogTrips_);
+            sample.flags |= TelemetrySample::WatchdogTrip;
+        }
+        phase_ = 0.0;
+        prevForce_ = {};
+    } else {
+        const double step = period_ / config_.rampTime;
+        phase_ = enabled() ? std::min(1.0, phase_ + step) : std::max(0.0, phase_ - step);
+    }
+    const double gain = smoothstep(phase_);
+    gain_.store(gain, std::memory_order_relaxed);
+    if (clutched_ || late)
+        target = {};
+    target = clampLength(gain * target, maxForce_);
+
+    // Force-rate limit over the time since the last command (at most a few periods, so a re-sync
+    // after an overrun does not allow a jump).
+    double dt = period_;
+    if (havePrevCommand_)
+        dt = std::clamp(platform::toSeconds(begin - prevCommandTime_), 0.0, 4.0 * period_);
+    glm::dvec3 force =
+        late ? glm::dvec3{}
+             : prevForce_ + clampLength(target - prevForce_, config_.maxForceRate * dt);
+    force = clampLength(force, maxForce_);
+
+    if (auto r = device_.commandForce({force.x, force.y, force.z}); !r) {
+        if (r.error().code == Errc::NoDevice || r.error().code == Errc::InvalidState) {
+            zeroForce();
+            bump(deviceLosses_);
+            owner_.store(kLost, std::memory_order_release);
+            sample.flags |= TelemetrySample::DeviceLost;
+            finish();
+            return;
+        }
+        // Timeout or a rejected value: the device keeps its previous output; try again next cycle.
+    }
+    prevForce_ = force;
+    prevCommandTime_ = begin;
+    havePrevCommand_ = true;
+    publishForce(force);
+    sample.force = force;
+    const double magnitude = glm::length(force);
+    if (magnitude > maxForceSeen_.load(std::memory_order_relaxed))
+        maxForceSeen_.store(magnitude, std::memory_order_relaxed);
+    finish();
+}
+
+// ---------------------------------------------------------------------------------------------
+// The telemetry thread (normal priority).
+
+void HapticTask::serviceLoop()
+{
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!serviceStop_) {
+        drainLocked();
+        lock.unlock();
+        superviseDevice();
+        lock.lock();
+        wake_.wait_for(lock, std::chrono::milliseconds(config_.telemetryIntervalMs),
+                       [this] { return serviceStop_; });
+    }
+}
+
+void HapticTask::superviseDevice()
+{
+    if (owner_.load(std::memory_order_acquire) != kLost) {
+        lostLogged_ = false;
+        return;
+    }
+    if (!lostLogged_) {
+        DT_LOG(Haptic, Warning, "Haptic device lost: zero force; trying to reopen it every %d ms",
+               config_.reconnectIntervalMs);
+        lostLogged_ = true;
+    }
+    const TimePoint now = platform::SteadyClock::instance().now();
+    if (now - lastReconnectTry_ < std::chrono::milliseconds(config_.reconnectIntervalMs))
+        return;
+    lastReconnectTry_ = now;
+    device_.close();
+    if (auto r = device_.open(); r && device_.isConnected()) {
+        DT_LOG(Haptic, Info, "Haptic device back: haptics resume with a %.0f ms ramp",
+               config_.rampTime * 1e3);
+        reconnects_.store(reconnects_.load(std::memory_order_relaxed) + 1,
+                          std::memory_order_relaxed);
+        owner_.store(kRestored, std::memory_order_release);
+    }
+}
+
+void HapticTask::drainTelemetry()
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    drainLocked();
+}
+
+void HapticTask::drainLocked()
+{
+    const auto periodNs = static_cast<std::int64_t>(std::llround(period_ * 1e9));
+    TelemetrySample s;
+    while (ring_->tryPop(s)) {
+        wakeHist_->add(s.wakeLatencyNs);
+        updateHist_->add(s.updateNs);
+        const bool onTime = (s.flags & TelemetrySample::Overrun) == 0;
+        if (prevWakeNs_ >= 0 && onTime && s.cycle == prevCycle_ + 1)
+            periodHist_->add(std::llabs(s.wakeNs - prevWakeNs_ - periodNs));
+        prevWakeNs_ = s.wakeNs;
+        prevCycle_ = s.cycle;
+        if (forceLog_ != nullptr && (s.flags & TelemetrySample::Rendered) != 0) {
+            std::fprintf(forceLog_, "%.6f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%d,%d\n",
+                         s.t, s.hip.x, s.hip.y, s.hip.z, s.proxy.x, s.proxy.y, s.proxy.z, s.force.x,
+                         s.force.y, s.force.z, (s.flags & TelemetrySample::Contact) != 0 ? 1 : 0,
+                         (s.flags & TelemetrySample::Released) != 0 ? 1 : 0);
+        }
+    }
+}
+
+HapticStats HapticTask::stats()
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    drainLocked();
+    HapticStats s;
+    s.servoRateHz = config_.servoRateHz;
+    s.updates = updates_.load(std::memory_order_acquire);
+    s.renderedUpdates = rendered_.load(std::memory_order_relaxed);
+    s.contactUpdates = contacts_.load(std::memory_order_relaxed);
+    s.overruns = timer_.overruns();
+    s.missedPeriods = timer_.missedPeriods();
+    s.watchdogTrips = watchdogTrips_.load(std::memory_order_relaxed);
+    s.safetyReleases = releases_.load(std::memory_order_relaxed) + s.watchdogTrips;
+    s.deviceLosses = deviceLosses_.load(std::memory_order_relaxed);
+    s.reconnects = reconnects_.load(std::memory_order_relaxed);
+    s.telemetryDropped = ring_->dropped();
+    s.maxForce = maxForceSeen_.load(std::memory_order_relaxed);
+    s.deviceMaxForce = device_.capabilities().maxForce;
+    s.wakeLatency = wakeHist_->summary();
+    s.updateTime = updateHist_->summary();
+    s.periodError = periodHist_->summary();
+    if (thread_->joinable() || thread_->finished()) {
+        char line[256];
+        s.thread = thread_->report().format(line, sizeof line);
+    }
+    return s;
+}
+
+} // namespace depthtouch::haptic_task

@@ -1,0 +1,447 @@
+#include "depthtouch/drivers/mock/sim_haptic_device.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <iterator>
+#include <string>
+#include <string_view>
+
+#include "depthtouch/platform/log.h"
+
+DT_LOG_CATEGORY(Sim)
+
+namespace depthtouch::drivers {
+
+namespace {
+
+constexpr const char *kOptionKeys[] = {"intent",     "force",   "x",     "y",         "z",
+                                       "delay",      "path",    "speed", "period",    "seed",
+                                       "mass",       "damping", "grip",  "max_force", "workspace",
+                                       "servo_rate", "buttons"};
+
+/// Integration step of the hand, ns.
+constexpr std::int64_t kStepNs = 100'000;
+/// Longest stretch integrated by one call; the rest of a longer gap is skipped.
+constexpr std::int64_t kMaxStepsPerCall = 10'000;
+
+Error badOption(const char *key, const char *why)
+{
+    DT_LOG(Sim, Error, "Simulated hand option '%s': %s", key, why);
+    return Error(Errc::InvalidArgument, "Invalid simulated hand option");
+}
+
+/// Parses "x:y/x:y/..." into \a out. \return the number of points, or -1 when malformed.
+int parsePath(std::string_view text, double (*out)[2], int capacity)
+{
+    int count = 0;
+    std::string item;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        std::size_t end = text.find('/', start);
+        if (end == std::string_view::npos)
+            end = text.size();
+        item.assign(text.substr(start, end - start));
+        const std::size_t colon = item.find(':');
+        if (colon == std::string::npos || count >= capacity)
+            return -1;
+        char *stop = nullptr;
+        const double x = std::strtod(item.c_str(), &stop);
+        if (stop != item.c_str() + colon)
+            return -1;
+        const char *ys = item.c_str() + colon + 1;
+        const double y = std::strtod(ys, &stop);
+        if (stop == ys || *stop != '\0' || !std::isfinite(x) || !std::isfinite(y))
+            return -1;
+        out[count][0] = x;
+        out[count][1] = y;
+        ++count;
+        start = end + 1;
+    }
+    return count;
+}
+
+double clampTo(double v, double lo, double hi) noexcept
+{
+    return std::min(std::max(v, lo), hi);
+}
+
+/// xorshift64*: a small deterministic generator. \return a number in [0, 1).
+double nextUniform(std::uint64_t &state) noexcept
+{
+    state ^= state >> 12;
+    state ^= state << 25;
+    state ^= state >> 27;
+    const std::uint64_t r = state * 2685821657736338717ull;
+    return static_cast<double>(r >> 11) * (1.0 / 9007199254740992.0);
+}
+
+} // namespace
+
+Result<SimHandSettings> SimHandSettings::parse(hal::OptionList options)
+{
+    const std::string_view unknown = options.firstUnknownKey(kOptionKeys, std::size(kOptionKeys));
+    if (!unknown.empty()) {
+        DT_LOG(Sim, Error, "Unknown simulated hand option '%.*s'", static_cast<int>(unknown.size()),
+               unknown.data());
+        return unexpected(Errc::InvalidArgument, "Unknown simulated hand option");
+    }
+    SimHandSettings s;
+    if (const auto intent = options.find("intent")) {
+        if (*intent == "press")
+            s.intent = Intent::Press;
+        else if (*intent == "stroke")
+            s.intent = Intent::Stroke;
+        else if (*intent == "explore")
+            s.intent = Intent::Explore;
+        else if (*intent == "idle")
+            s.intent = Intent::Idle;
+        else
+            return unexpected(badOption("intent", "must be press, stroke, explore or idle"));
+    }
+    struct Number {
+        const char *key;
+        double *value;
+        double min;
+        bool minExclusive;
+    };
+    const Number numbers[] = {
+        {"force", &s.force, 0.0, false},
+        {"x", &s.x, -HUGE_VAL, false},
+        {"y", &s.y, -HUGE_VAL, false},
+        {"z", &s.z, -HUGE_VAL, false},
+        {"delay", &s.delay, 0.0, false},
+        {"speed", &s.speed, 0.0, true},
+        {"period", &s.period, 0.0, true},
+        {"mass", &s.mass, 0.0, true},
+        {"damping", &s.damping, 0.0, false},
+        {"grip", &s.grip, 0.0, false},
+        {"max_force", &s.maxForce, 0.0, true},
+        {"workspace", &s.workspaceHalfExtent, 0.0, true},
+        {"servo_rate", &s.servoRateHz, 0.0, true},
+    };
+    for (const Number &n : numbers) {
+        auto v = options.getDouble(n.key, *n.value);
+        if (!v)
+            return unexpected(badOption(n.key, "not a number"));
+        if (n.minExclusive ? !(*v > n.min) : !(*v >= n.min))
+            return unexpected(badOption(n.key, n.minExclusive ? "must be > 0" : "must be >= 0"));
+        *n.value = *v;
+    }
+    auto seed = options.getInt("seed", 1);
+    if (!seed)
+        return unexpected(badOption("seed", "not an integer"));
+    s.seed = static_cast<std::uint64_t>(static_cast<std::int64_t>(*seed));
+    auto buttons = options.getInt("buttons", s.buttonCount);
+    if (!buttons || *buttons < 0 || *buttons > 32)
+        return unexpected(badOption("buttons", "must be an integer in 0..32"));
+    s.buttonCount = *buttons;
+    if (const auto path = options.find("path")) {
+        const int n = parsePath(*path, s.path, kMaxPathPoints);
+        if (n < 2)
+            return unexpected(
+                badOption("path", "must be 2 to 16 points 'x:y' separated by '/', in metres"));
+        s.pathPoints = n;
+    }
+    return s;
+}
+
+Result<std::unique_ptr<hal::HapticDevice>> SimHapticDevice::create(const hal::BackendConfig &cfg)
+{
+    auto settings = SimHandSettings::parse(cfg.options);
+    if (!settings)
+        return unexpected(settings.error());
+    return std::unique_ptr<hal::HapticDevice>(
+        std::make_unique<SimHapticDevice>(cfg.clockRef(), *settings));
+}
+
+SimHapticDevice::SimHapticDevice(platform::Clock &clock, const SimHandSettings &settings)
+    : clock_(clock), settings_(settings)
+{
+    caps_.name = "Simulated hand (mass-spring-damper fingertip)";
+    caps_.maxForce = settings.maxForce;
+    const double e = settings.workspaceHalfExtent;
+    caps_.workspaceMin = {-e, -e, -e};
+    caps_.workspaceMax = {e, e, e};
+    caps_.servoRateHz = settings.servoRateHz;
+    caps_.buttonCount = settings.buttonCount;
+    for (int i = 1; i < settings.pathPoints; ++i)
+        pathLength_ += std::hypot(settings.path[i][0] - settings.path[i - 1][0],
+                                  settings.path[i][1] - settings.path[i - 1][1]);
+    resetHand();
+}
+
+void SimHapticDevice::resetHand() noexcept
+{
+    const hal::Vec3 &lo = caps_.workspaceMin;
+    const hal::Vec3 &hi = caps_.workspaceMax;
+    double gx = settings_.x;
+    double gy = settings_.y;
+    if (settings_.intent == SimHandSettings::Intent::Stroke) {
+        gx = settings_.path[0][0];
+        gy = settings_.path[0][1];
+    }
+    pos_ = {clampTo(gx, lo.x, hi.x), clampTo(gy, lo.y, hi.y), clampTo(settings_.z, lo.z, hi.z)};
+    vel_ = {};
+    force_ = {};
+    rng_ = settings_.seed != 0 ? settings_.seed : 0x9E3779B97F4A7C15ull;
+    exploreSegment_ = -1;
+    exploreTo_[0] = pos_.x;
+    exploreTo_[1] = pos_.y;
+    exploreFrom_[0] = pos_.x;
+    exploreFrom_[1] = pos_.y;
+    exploreForce_ = settings_.force;
+    publishPosition();
+}
+
+Result<void> SimHapticDevice::open()
+{
+    if (state() != State::Closed) {
+        DT_LOG(Sim, Error, "In state %s trying open() requiring Closed",
+               state() == State::Open ? "Open" : "Disconnected");
+        return unexpected(Errc::InvalidState, "open() requires state Closed");
+    }
+    if (!present_.load(std::memory_order_acquire))
+        return unexpected(Errc::NoDevice, "Simulated hand unplugged");
+    resetHand();
+    openedAt_ = clock_.now();
+    simTime_ = openedAt_;
+    setOutput({});
+    state_.store(State::Open, std::memory_order_release);
+    return ok();
+}
+
+void SimHapticDevice::close() noexcept
+{
+    force_ = {};
+    setOutput({});
+    state_.store(State::Closed, std::memory_order_release);
+}
+
+bool SimHapticDevice::isConnected() const noexcept
+{
+    return state() == State::Open && present_.load(std::memory_order_acquire);
+}
+
+Result<void> SimHapticDevice::checkUsable() noexcept
+{
+    const State s = state();
+    if (s == State::Closed)
+        return unexpected(Errc::InvalidState, "Haptic device not open");
+    if (s == State::Disconnected)
+        return unexpected(Errc::NoDevice, "Haptic device disconnected");
+    if (!present_.load(std::memory_order_acquire)) {
+        force_ = {};
+        setOutput({});
+        state_.store(State::Disconnected, std::memory_order_release);
+        return unexpected(Errc::NoDevice, "Haptic device disconnected");
+    }
+    if (stalled_.load(std::memory_order_acquire))
+        return unexpected(Errc::Timeout, "Haptic device did not answer");
+    return ok();
+}
+
+void SimHapticDevice::intentAt(double t, double &gx, double &gy, double &press) noexcept
+{
+    gx = settings_.x;
+    gy = settings_.y;
+    press = t >= settings_.delay ? settings_.force : 0.0;
+    switch (settings_.intent) {
+    case SimHandSettings::Intent::Press:
+    case SimHandSettings::Intent::Idle:
+        break;
+    case SimHandSettings::Intent::Stroke: {
+        // Arc length along the polyline, back and forth.
+        double s =
+            pathLength_ > 0.0
+                ? std::fmod(settings_.speed * std::max(t - settings_.delay, 0.0), 2.0 * pathLength_)
+                : 0.0;
+        if (s > pathLength_)
+            s = 2.0 * pathLength_ - s;
+        gx = settings_.path[0][0];
+        gy = settings_.path[0][1];
+        for (int i = 1; i < settings_.pathPoints; ++i) {
+            const double ax = settings_.path[i - 1][0];
+            const double ay = settings_.path[i - 1][1];
+            const double bx = settings_.path[i][0];
+            const double by = settings_.path[i][1];
+            const double length = std::hypot(bx - ax, by - ay);
+            if (s <= length || i == settings_.pathPoints - 1) {
+                const double f = length > 0.0 ? std::min(s / length, 1.0) : 0.0;
+                gx = ax + (bx - ax) * f;
+                gy = ay + (by - ay) * f;
+                break;
+            }
+            s -= length;
+        }
+        break;
+    }
+    case SimHandSettings::Intent::Explore: {
+        const auto segment = static_cast<std::int64_t>(std::floor(t / settings_.period));
+        // Generate the targets up to this segment in order (deterministic for a seed).
+        const double reach = 0.8 * settings_.workspaceHalfExtent;
+        int guard = 0;
+        while (exploreSegment_ < segment && guard++ < 1'000'000) {
+            exploreFrom_[0] = exploreTo_[0];
+            exploreFrom_[1] = exploreTo_[1];
+            exploreTo_[0] = (2.0 * nextUniform(rng_) - 1.0) * reach;
+            exploreTo_[1] = (2.0 * nextUniform(rng_) - 1.0) * reach;
+            exploreForce_ = settings_.force * (0.2 + 0.8 * nextUniform(rng_));
+            ++exploreSegment_;
+        }
+        const double f = std::clamp(t / settings_.period - static_cast<double>(segment), 0.0, 1.0);
+        gx = exploreFrom_[0] + (exploreTo_[0] - exploreFrom_[0]) * f;
+        gy = exploreFrom_[1] + (exploreTo_[1] - exploreFrom_[1]) * f;
+        if (t >= settings_.delay)
+            press = exploreForce_;
+        break;
+    }
+    }
+}
+
+void SimHapticDevice::step(double h) noexcept
+{
+    const double t = platform::toSeconds(simTime_ - openedAt_);
+    const double m = settings_.mass;
+    const double k = settings_.grip;
+    // Extra damping on the grip so it is at least critically damped.
+    const double gripDamping = std::max(0.0, 2.0 * std::sqrt(k * m) - settings_.damping);
+    hal::Vec3 f = force_ - vel_ * settings_.damping;
+    if (settings_.intent != SimHandSettings::Intent::Idle) {
+        double gx = 0.0;
+        double gy = 0.0;
+        double press = 0.0;
+        intentAt(t, gx, gy, press);
+        f.x += k * (gx - pos_.x) - gripDamping * vel_.x;
+        f.y += k * (gy - pos_.y) - gripDamping * vel_.y;
+        if (t < settings_.delay)
+            f.z += k * (settings_.z - pos_.z) - gripDamping * vel_.z; // hover
+        else
+            f.z -= press;
+    }
+    vel_ += f * (h / m);
+    pos_ += vel_ * h;
+    // Hard stops at the workspace walls.
+    const hal::Vec3 &lo = caps_.workspaceMin;
+    const hal::Vec3 &hi = caps_.workspaceMax;
+    double *p[3] = {&pos_.x, &pos_.y, &pos_.z};
+    double *v[3] = {&vel_.x, &vel_.y, &vel_.z};
+    const double los[3] = {lo.x, lo.y, lo.z};
+    const double his[3] = {hi.x, hi.y, hi.z};
+    for (int i = 0; i < 3; ++i) {
+        if (*p[i] < los[i]) {
+            *p[i] = los[i];
+            *v[i] = std::max(*v[i], 0.0);
+        } else if (*p[i] > his[i]) {
+            *p[i] = his[i];
+            *v[i] = std::min(*v[i], 0.0);
+        }
+    }
+}
+
+void SimHapticDevice::integrateToNow() noexcept
+{
+    const platform::TimePoint now = clock_.now();
+    if (now <= simTime_)
+        return;
+    std::int64_t steps = (now - simTime_).count() / kStepNs;
+    if (steps > kMaxStepsPerCall) {
+        simTime_ += platform::Duration((steps - kMaxStepsPerCall) * kStepNs);
+        steps = kMaxStepsPerCall;
+    }
+    const double h = static_cast<double>(kStepNs) * 1e-9;
+    for (std::int64_t i = 0; i < steps; ++i) {
+        step(h);
+        simTime_ += platform::Duration(kStepNs);
+    }
+    if (steps > 0)
+        publishPosition();
+}
+
+Result<void> SimHapticDevice::read(hal::HapticState &out) noexcept
+{
+    DT_TRY(checkUsable());
+    integrateToNow();
+    out = hal::HapticState{};
+    out.position = pos_;
+    out.velocity = vel_;
+    out.velocityValid = true;
+    out.buttons = 0;
+    out.time = simTime_;
+    return ok();
+}
+
+Result<void> SimHapticDevice::commandForce(const hal::Vec3 &force) noexcept
+{
+    DT_TRY(checkUsable());
+    // The previous force acted until now (zero-order hold).
+    integrateToNow();
+    if (!hal::isFinite(force)) {
+        force_ = {};
+        setOutput({});
+        return unexpected(Errc::InvalidArgument, "Non-finite force");
+    }
+    hal::Vec3 f = force;
+    const double magnitude = hal::norm(f);
+    if (magnitude > caps_.maxForce)
+        f *= caps_.maxForce / magnitude;
+    force_ = f;
+    setOutput(f);
+    return ok();
+}
+
+void SimHapticDevice::setOutput(const hal::Vec3 &f) noexcept
+{
+    const std::uint32_t seq = outSeq_.load(std::memory_order_relaxed);
+    outSeq_.store(seq + 1, std::memory_order_relaxed);
+    std::atomic_thread_fence(std::memory_order_release);
+    outX_.store(f.x, std::memory_order_relaxed);
+    outY_.store(f.y, std::memory_order_relaxed);
+    outZ_.store(f.z, std::memory_order_relaxed);
+    outSeq_.store(seq + 2, std::memory_order_release);
+}
+
+void SimHapticDevice::publishPosition() noexcept
+{
+    const std::uint32_t seq = posSeq_.load(std::memory_order_relaxed);
+    posSeq_.store(seq + 1, std::memory_order_relaxed);
+    std::atomic_thread_fence(std::memory_order_release);
+    posX_.store(pos_.x, std::memory_order_relaxed);
+    posY_.store(pos_.y, std::memory_order_relaxed);
+    posZ_.store(pos_.z, std::memory_order_relaxed);
+    posSeq_.store(seq + 2, std::memory_order_release);
+}
+
+hal::Vec3 SimHapticDevice::lastForce() const noexcept
+{
+    if (!isConnected())
+        return {};
+    hal::Vec3 f;
+    std::uint32_t before = 0;
+    std::uint32_t after = 0;
+    do {
+        before = outSeq_.load(std::memory_order_acquire);
+        f = {outX_.load(std::memory_order_relaxed), outY_.load(std::memory_order_relaxed),
+             outZ_.load(std::memory_order_relaxed)};
+        std::atomic_thread_fence(std::memory_order_acquire);
+        after = outSeq_.load(std::memory_order_relaxed);
+    } while (before != after || (before & 1u) != 0);
+    return f;
+}
+
+hal::Vec3 SimHapticDevice::position() const noexcept
+{
+    hal::Vec3 p;
+    std::uint32_t before = 0;
+    std::uint32_t after = 0;
+    do {
+        before = posSeq_.load(std::memory_order_acquire);
+        p = {posX_.load(std::memory_order_relaxed), posY_.load(std::memory_order_relaxed),
+             posZ_.load(std::memory_order_relaxed)};
+        std::atomic_thread_fence(std::memory_order_acquire);
+        after = posSeq_.load(std::memory_order_relaxed);
+    } while (before != after || (before & 1u) != 0);
+    return p;
+}
+
+} // namespace depthtouch::drivers

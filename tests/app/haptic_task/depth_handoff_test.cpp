@@ -1,0 +1,185 @@
+// DepthHandoff: publication order, stalls, size checks and the slots the reader holds (single
+// thread, deterministic). The concurrent torn-frame check is in depth_handoff_threads_test.cpp.
+#include "depthtouch/haptic_task/depth_handoff.h"
+
+#include <cstring>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "app/haptic_task/frames.h"
+
+namespace depthtouch::haptic_task {
+namespace {
+
+using test::Frame16;
+
+std::unique_ptr<DepthHandoff> makeHandoff(int w = 8, int h = 6)
+{
+    auto r = DepthHandoff::create(w, h, haptics::SampleFormat::Gray16);
+    EXPECT_TRUE(r);
+    return std::move(*r);
+}
+
+Frame16 constantFrame(std::uint16_t value, double pts)
+{
+    Frame16 f(8, 6, pts);
+    std::fill(f.samples.begin(), f.samples.end(), value);
+    return f;
+}
+
+bool allSamples(const haptics::DepthFrameView &v, std::uint16_t value)
+{
+    for (int r = 0; r < v.height; ++r)
+        for (int c = 0; c < v.width; ++c)
+            if (v.sample(c, r) != value)
+                return false;
+    return true;
+}
+
+TEST(DepthHandoffTest, rejectsBadSizes)
+{
+    EXPECT_EQ(DepthHandoff::create(1, 10, haptics::SampleFormat::Gray8).error().code,
+              Errc::InvalidArgument);
+    EXPECT_EQ(DepthHandoff::create(10, 0, haptics::SampleFormat::Gray8).error().code,
+              Errc::InvalidArgument);
+    EXPECT_EQ(DepthHandoff::create(20000, 10, haptics::SampleFormat::Gray8).error().code,
+              Errc::InvalidArgument);
+    auto ok = DepthHandoff::create(64, 48, haptics::SampleFormat::Gray16);
+    ASSERT_TRUE(ok);
+    EXPECT_EQ((*ok)->frameBytes(), 64u * 48u * 2u);
+}
+
+TEST(DepthHandoffTest, nothingBeforeTheFirstPush)
+{
+    auto handoff = makeHandoff();
+    DepthPair pair;
+    pair.sequence = 42;
+    EXPECT_FALSE(handoff->acquire(pair));
+    EXPECT_EQ(pair.sequence, 42u) << "out is untouched when nothing was published";
+}
+
+TEST(DepthHandoffTest, pushPublishesPreviousAndNewFrameAsAPair)
+{
+    auto handoff = makeHandoff();
+    DepthPair pair;
+    // GIVEN the first frame  THEN the pair is (frame 0, none)
+    ASSERT_TRUE(handoff->push(constantFrame(100, 0.0).view()));
+    ASSERT_TRUE(handoff->acquire(pair));
+    EXPECT_FALSE(pair.hasNext);
+    EXPECT_TRUE(allSamples(pair.current, 100));
+    EXPECT_EQ(pair.current.pts, 0.0);
+    // WHEN frame 1 is pushed  THEN the pair is (frame 0, frame 1)
+    ASSERT_TRUE(handoff->push(constantFrame(101, 0.04).view()));
+    ASSERT_TRUE(handoff->acquire(pair));
+    ASSERT_TRUE(pair.hasNext);
+    EXPECT_TRUE(allSamples(pair.current, 100));
+    EXPECT_TRUE(allSamples(pair.next, 101));
+    EXPECT_DOUBLE_EQ(pair.next.pts, 0.04);
+    EXPECT_EQ(pair.sequence, 2u);
+    // AND at the end of the stream the last frame holds
+    handoff->finish();
+    ASSERT_TRUE(handoff->acquire(pair));
+    EXPECT_FALSE(pair.hasNext);
+    EXPECT_TRUE(allSamples(pair.current, 101));
+}
+
+TEST(DepthHandoffTest, stalledDecoderKeepsTheHeldPair)
+{
+    auto handoff = makeHandoff();
+    DepthPair pair;
+    ASSERT_TRUE(handoff->push(constantFrame(7, 0.0).view()));
+    ASSERT_TRUE(handoff->push(constantFrame(8, 0.1).view()));
+    ASSERT_TRUE(handoff->acquire(pair));
+    // WHEN nothing more is published  THEN acquire() says so and the views stay valid
+    for (int i = 0; i < 5; ++i)
+        EXPECT_FALSE(handoff->acquire(pair));
+    EXPECT_TRUE(allSamples(pair.current, 7));
+    EXPECT_TRUE(allSamples(pair.next, 8));
+}
+
+TEST(DepthHandoffTest, readerGetsTheNewestPairAndSkipsTheOthers)
+{
+    auto handoff = makeHandoff();
+    for (int i = 0; i < 10; ++i)
+        ASSERT_TRUE(handoff->push(constantFrame(static_cast<std::uint16_t>(i), i * 0.1).view()));
+    DepthPair pair;
+    ASSERT_TRUE(handoff->acquire(pair));
+    EXPECT_TRUE(allSamples(pair.current, 8));
+    EXPECT_TRUE(allSamples(pair.next, 9));
+    EXPECT_EQ(pair.sequence, 1u);
+    EXPECT_EQ(handoff->published(), 10u);
+}
+
+TEST(DepthHandoffTest, writerNeverOverwritesTheHeldPair)
+{
+    // GIVEN the reader holds the pair (1000, 1001)
+    auto handoff = makeHandoff();
+    ASSERT_TRUE(handoff->push(constantFrame(1000, 0.0).view()));
+    ASSERT_TRUE(handoff->push(constantFrame(1001, 0.1).view()));
+    DepthPair held;
+    ASSERT_TRUE(handoff->acquire(held));
+    // WHEN the decoder pushes many frames without the reader taking any
+    std::set<const std::uint8_t *> written;
+    for (int i = 0; i < 50; ++i) {
+        DepthSlot s = handoff->beginFrame();
+        written.insert(s.data);
+        EXPECT_NE(s.data, held.current.data);
+        EXPECT_NE(s.data, held.next.data);
+        std::memset(s.data, 0xAB, s.bytes);
+        s.pts = 1.0 + i;
+        handoff->publish(s, nullptr);
+    }
+    // THEN the held frames are intact, and the writer cycled through the other slots only
+    EXPECT_TRUE(allSamples(held.current, 1000));
+    EXPECT_TRUE(allSamples(held.next, 1001));
+    EXPECT_LE(written.size(), static_cast<std::size_t>(DepthHandoff::kSlots - 2));
+    DepthPair pair;
+    ASSERT_TRUE(handoff->acquire(pair));
+    EXPECT_DOUBLE_EQ(pair.current.pts, 50.0);
+    EXPECT_FALSE(pair.hasNext);
+}
+
+TEST(DepthHandoffTest, twoNewFramesCanBePublishedAsOnePair)
+{
+    auto handoff = makeHandoff();
+    DepthSlot a = handoff->beginFrame();
+    DepthSlot b = handoff->beginFrame();
+    EXPECT_NE(a.data, b.data);
+    std::memset(a.data, 0, a.bytes);
+    std::memset(b.data, 0xFF, b.bytes);
+    a.pts = 3.0;
+    b.pts = 3.5;
+    handoff->publish(a, &b);
+    DepthPair pair;
+    ASSERT_TRUE(handoff->acquire(pair));
+    EXPECT_TRUE(allSamples(pair.current, 0));
+    EXPECT_TRUE(allSamples(pair.next, 0xFFFF));
+    EXPECT_DOUBLE_EQ(pair.current.pts, 3.0);
+    EXPECT_DOUBLE_EQ(pair.next.pts, 3.5);
+}
+
+TEST(DepthHandoffTest, pushRejectsAFrameOfAnotherShape)
+{
+    auto handoff = makeHandoff();
+    Frame16 wrong(9, 6, 0.0);
+    EXPECT_EQ(handoff->push(wrong.view()).error().code, Errc::InvalidArgument);
+    haptics::DepthFrameView gray8 = constantFrame(1, 0.0).view();
+    gray8.format = haptics::SampleFormat::Gray8;
+    EXPECT_EQ(handoff->push(gray8).error().code, Errc::InvalidArgument);
+    haptics::DepthFrameView empty{};
+    EXPECT_EQ(handoff->push(empty).error().code, Errc::InvalidArgument);
+    DepthPair pair;
+    EXPECT_FALSE(handoff->acquire(pair)) << "nothing was published";
+}
+
+TEST(DepthHandoffTest, mediaOriginRoundTrips)
+{
+    auto handoff = makeHandoff();
+    const platform::TimePoint origin(std::chrono::milliseconds(1234));
+    handoff->setMediaOrigin(origin);
+    EXPECT_EQ(handoff->mediaOrigin(), origin);
+}
+
+} // namespace
+} // namespace depthtouch::haptic_task

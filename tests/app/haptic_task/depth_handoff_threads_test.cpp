@@ -1,0 +1,92 @@
+// DepthHandoff under concurrency: a decoder thread publishes frames as fast as it can while the
+// reader takes pairs and re-checks every sample of the frames it holds. Each frame is filled with
+// one value derived from its PTS, so a frame overwritten while held shows mixed values.
+#include "depthtouch/haptic_task/depth_handoff.h"
+
+#include <atomic>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "app/haptic_task/frames.h"
+
+namespace depthtouch::haptic_task {
+namespace {
+
+std::uint16_t valueOf(double pts)
+{
+    return static_cast<std::uint16_t>(static_cast<std::uint64_t>(pts) * 2654435761u >> 16);
+}
+
+/// \return true when every sample of \a v has the value derived from its PTS.
+bool intact(const haptics::DepthFrameView &v)
+{
+    const std::uint16_t expected = valueOf(v.pts);
+    for (int r = 0; r < v.height; ++r)
+        for (int c = 0; c < v.width; ++c)
+            if (v.sample(c, r) != expected)
+                return false;
+    return true;
+}
+
+TEST(DepthHandoffThreadsTest, manyPublishesWhileReadingGiveNoTornFrame)
+{
+    auto created = DepthHandoff::create(64, 48, haptics::SampleFormat::Gray16);
+    ASSERT_TRUE(created);
+    DepthHandoff &handoff = **created;
+    constexpr int kFrames = 20000;
+    std::atomic<bool> done{false};
+
+    std::thread decoder([&] {
+        test::Frame16 frame(64, 48, 0.0);
+        for (int i = 1; i <= kFrames; ++i) {
+            frame.pts = i;
+            std::fill(frame.samples.begin(), frame.samples.end(), valueOf(i));
+            if (!handoff.push(frame.view())) {
+                ADD_FAILURE() << "push failed";
+                break;
+            }
+        }
+        done.store(true);
+    });
+
+    DepthPair pair;
+    std::uint64_t pairs = 0;
+    std::uint64_t checks = 0;
+    std::uint64_t torn = 0;
+    std::uint64_t outOfOrder = 0;
+    double lastPts = 0.0;
+    bool have = false;
+    for (;;) {
+        const bool finished = done.load();
+        const bool got = handoff.acquire(pair);
+        if (got) {
+            ++pairs;
+            have = true;
+            if (pair.current.pts < lastPts)
+                ++outOfOrder;
+            if (pair.hasNext && pair.next.pts != pair.current.pts + 1.0)
+                ++outOfOrder;
+            lastPts = pair.current.pts;
+        }
+        if (have) {
+            // Checks the held frames again and again while the writer keeps publishing.
+            ++checks;
+            if (!intact(pair.current) || (pair.hasNext && !intact(pair.next)))
+                ++torn;
+        }
+        if (finished && !got)
+            break;
+    }
+    decoder.join();
+    EXPECT_EQ(torn, 0u) << "a held frame changed under the reader";
+    EXPECT_EQ(outOfOrder, 0u);
+    EXPECT_GT(pairs, 1u);
+    EXPECT_GT(checks, pairs);
+    // The newest pair is the last one pushed.
+    ASSERT_TRUE(have);
+    EXPECT_DOUBLE_EQ(pair.next.pts, kFrames);
+}
+
+} // namespace
+} // namespace depthtouch::haptic_task

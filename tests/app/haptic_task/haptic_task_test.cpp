@@ -1,0 +1,494 @@
+// HapticTask on simulated time (platform::ManualClock, Blocking mode: the test advances the clock
+// by one period and the haptic thread runs exactly one update): the closed loop with the simulated
+// hand, the watchdog, hot-plug, the enable ramp, the force-rate limit, the clamp and the stop
+// paths.
+#include "depthtouch/haptic_task/haptic_task.h"
+
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "app/haptic_task/frames.h"
+#include "depthtouch/drivers/mock/mock_haptic_device.h"
+#include "depthtouch/drivers/mock/sim_haptic_device.h"
+
+namespace depthtouch::haptic_task {
+namespace {
+
+using namespace std::chrono_literals;
+using platform::ManualClock;
+using test::Frame16;
+
+constexpr int kW = 32;
+constexpr int kH = 24;
+
+/// A device that makes its reads take simulated time (a slow USB transaction), for the deadline
+/// watchdog. Delegates everything else.
+class SlowDevice final : public hal::HapticDevice {
+public:
+    SlowDevice(hal::HapticDevice &inner, ManualClock &clock) : inner_(inner), clock_(clock) {}
+    const hal::HapticCapabilities &capabilities() const noexcept override
+    {
+        return inner_.capabilities();
+    }
+    State state() const noexcept override { return inner_.state(); }
+    Result<void> open() override { return inner_.open(); }
+    void close() noexcept override { inner_.close(); }
+    Result<void> read(hal::HapticState &out) noexcept override
+    {
+        if (slowCycles_.load() > 0) {
+            slowCycles_.fetch_sub(1);
+            clock_.advance(3ms);
+        }
+        return inner_.read(out);
+    }
+    Result<void> commandForce(const hal::Vec3 &force) noexcept override
+    {
+        return inner_.commandForce(force);
+    }
+    bool isConnected() const noexcept override { return inner_.isConnected(); }
+
+    /// The next \a n reads each take 3 ms (three periods at 1 kHz).
+    void makeSlow(int n) { slowCycles_.store(n); }
+
+private:
+    hal::HapticDevice &inner_;
+    ManualClock &clock_;
+    std::atomic<int> slowCycles_{0};
+};
+
+/// Clock, handoff, device and task; the test thread is the decoder and advances the time.
+class Rig {
+public:
+    Rig() : clock_(ManualClock::Mode::Blocking, platform::TimePoint(10s))
+    {
+        auto h = DepthHandoff::create(kW, kH, haptics::SampleFormat::Gray16);
+        EXPECT_TRUE(h);
+        handoff_ = std::move(*h);
+    }
+    ~Rig() { finish(); }
+
+    ManualClock &clock() { return clock_; }
+    DepthHandoff &handoff() { return *handoff_; }
+    HapticTask &task() { return *task_; }
+
+    static HapticTaskConfig baseConfig()
+    {
+        HapticTaskConfig c;
+        c.policy = platform::SchedPolicy::Other; // no timing is measured here
+        c.lockMemory = false;
+        c.rampTime = 0.1;
+        c.telemetryIntervalMs = 1;
+        c.reconnectIntervalMs = 1;
+        return c;
+    }
+
+    /// Publishes a flat surface at height \a z (m) as the only frame.
+    void publishFlat(double z)
+    {
+        Frame16 f(kW, kH, 0.0);
+        f.fillFlat(z);
+        ASSERT_TRUE(handoff_->push(f.view()));
+    }
+
+    void start(hal::HapticDevice &device, const HapticTaskConfig &config)
+    {
+        handoff_->setMediaOrigin(clock_.now());
+        auto t = HapticTask::create(config, device, *handoff_, clock_);
+        ASSERT_TRUE(t) << t.error().what;
+        task_ = std::move(*t);
+        ASSERT_TRUE(task_->start());
+        ASSERT_TRUE(clock_.waitForSleepers(1));
+    }
+
+    /// Lets \a ms periods pass, one update each.
+    void runMs(int ms)
+    {
+        for (int i = 0; i < ms; ++i)
+            clock_.advance(1ms);
+    }
+
+    /// Runs periods until \a done() holds, waiting in real time for the telemetry thread
+    /// (reconnection); at most 3 s of real time. \return whether it held.
+    template <class F> bool runUntil(F done)
+    {
+        for (int i = 0; i < 3000; ++i) {
+            if (done())
+                return true;
+            clock_.advance(1ms);
+            platform::SteadyClock::instance().sleepFor(1ms);
+        }
+        return done();
+    }
+
+    void finish()
+    {
+        if (task_ && !finished_) {
+            finished_ = true;
+            task_->requestStop();
+            clock_.release();
+            task_->stop();
+        }
+    }
+
+private:
+    ManualClock clock_;
+    std::unique_ptr<DepthHandoff> handoff_;
+    std::unique_ptr<HapticTask> task_;
+    bool finished_ = false;
+};
+
+std::unique_ptr<drivers::SimHapticDevice> makeSim(ManualClock &clock, const char *options)
+{
+    hal::BackendConfig cfg;
+    cfg.clock = &clock;
+    cfg.options = hal::OptionList(options);
+    auto settings = drivers::SimHandSettings::parse(cfg.options);
+    EXPECT_TRUE(settings);
+    return std::make_unique<drivers::SimHapticDevice>(clock, *settings);
+}
+
+/// Mock fingertip: above the surface, then 5 mm into the flat surface at z = 0 from 50 ms on.
+void pressScript(drivers::MockHapticDevice &mock, platform::TimePoint t0, double depth = 0.005)
+{
+    mock.setWaypoints({{t0, {0.0, 0.0, 0.01}, 0},
+                       {t0 + 20ms, {0.0, 0.0, 0.01}, 0},
+                       {t0 + 50ms, {0.0, 0.0, -depth}, 0}});
+}
+
+struct PressRun {
+    glm::dvec3 force{};
+    hal::Vec3 hand{};
+    HapticStats stats;
+};
+
+/// The paper's Fig. 12 set-up on a static surface: the simulated hand presses a point of a flat
+/// surface at z = −10 mm with 2 N.
+PressRun runStaticPress(const std::string &forceLog)
+{
+    Rig rig;
+    auto sim = makeSim(rig.clock(), "intent=press,force=2,x=0.005,y=-0.004,z=0.02");
+    rig.publishFlat(-0.01);
+    HapticTaskConfig c = Rig::baseConfig();
+    c.forceLogPath = forceLog;
+    rig.start(*sim, c);
+    rig.runMs(1500);
+    PressRun run;
+    run.force = rig.task().lastForce();
+    run.hand = sim->position();
+    rig.finish();
+    run.stats = rig.task().stats();
+    return run;
+}
+
+TEST(HapticTaskTest, simulatedHandRestsOnAStaticSurfaceWithForceEqualToKTimesPenetration)
+{
+    char dir[] = "/tmp/dt-haptic-task-XXXXXX";
+    ASSERT_NE(mkdtemp(dir), nullptr);
+    const std::string log = std::string(dir) + "/force-log.csv";
+    const PressRun run = runStaticPress(log);
+    // THEN the hand is in contact, pushed back with its own 2 N, and F = k·penetration
+    const double surface = test::heightOf(test::nearness16(-0.01));
+    const double penetration = surface - run.hand.z;
+    EXPECT_GT(penetration, 0.0);
+    EXPECT_NEAR(run.force.z, 2.0, 0.02);
+    EXPECT_NEAR(run.force.x, 0.0, 0.02);
+    EXPECT_NEAR(run.force.y, 0.0, 0.02);
+    EXPECT_NEAR(run.force.z, 800.0 * penetration, 0.02);
+    EXPECT_GT(run.stats.contactUpdates, 1000u);
+    EXPECT_LE(run.stats.maxForce, 8.5);
+    EXPECT_EQ(run.stats.safetyReleases, 0u);
+    EXPECT_EQ(run.stats.updates, 1500u);
+    EXPECT_EQ(run.stats.overruns, 0u);
+    EXPECT_EQ(run.stats.telemetryDropped, 0u);
+    // AND the force log has the DESIGN.md §4 header and one row per rendered update
+    std::ifstream in(log);
+    std::string line;
+    ASSERT_TRUE(std::getline(in, line));
+    EXPECT_EQ(line, "t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released");
+    std::size_t rows = 0;
+    while (std::getline(in, line))
+        ++rows;
+    EXPECT_EQ(rows, run.stats.renderedUpdates);
+    std::remove(log.c_str());
+    rmdir(dir);
+}
+
+TEST(HapticTaskTest, closedLoopRunIsDeterministicUnderTheManualClock)
+{
+    const PressRun a = runStaticPress("");
+    const PressRun b = runStaticPress("");
+    EXPECT_EQ(a.force.x, b.force.x);
+    EXPECT_EQ(a.force.y, b.force.y);
+    EXPECT_EQ(a.force.z, b.force.z);
+    EXPECT_EQ(a.hand.x, b.hand.x);
+    EXPECT_EQ(a.hand.y, b.hand.y);
+    EXPECT_EQ(a.hand.z, b.hand.z);
+    EXPECT_EQ(a.stats.contactUpdates, b.stats.contactUpdates);
+}
+
+TEST(HapticTaskTest, simulatedHandFollowsAMovingSurface)
+{
+    // GIVEN a 30 fps depth video of a flat surface moving up and down 4 mm at 1 Hz, published by
+    // this thread as the decoder does (pair (i, i+1) from the time of frame i)
+    Rig rig;
+    auto sim = makeSim(rig.clock(), "intent=press,force=2,z=0.02");
+    const auto surfaceAt = [](double t) { return -0.01 + 0.004 * std::sin(2.0 * M_PI * t); };
+    constexpr double kFps = 30.0;
+    const auto pushFrame = [&](int i) {
+        Frame16 f(kW, kH, i / kFps);
+        f.fillFlat(surfaceAt(i / kFps));
+        ASSERT_TRUE(rig.handoff().push(f.view()));
+    };
+    pushFrame(0);
+    pushFrame(1);
+    rig.start(*sim, Rig::baseConfig());
+    int nextFrame = 2;
+    double worstFollow = 0.0;
+    double minForce = 1e9;
+    double maxForce = 0.0;
+    for (int ms = 1; ms <= 3000; ++ms) {
+        const double t = ms * 1e-3;
+        // Frame i+1 goes out when frame i is on screen.
+        while ((nextFrame - 1) / kFps <= t + 1e-9)
+            pushFrame(nextFrame++);
+        rig.clock().advance(1ms);
+        if (ms >= 1000 && ms % 5 == 0) {
+            // THEN the hand rides the surface, 2 N / k below it, and the force stays near 2 N
+            const double f = rig.task().lastForce().z;
+            const double expected = surfaceAt(t) - 2.0 / 800.0;
+            worstFollow = std::max(worstFollow, std::fabs(sim->position().z - expected));
+            minForce = std::min(minForce, f);
+            maxForce = std::max(maxForce, f);
+        }
+    }
+    rig.finish();
+    EXPECT_LT(worstFollow, 0.001);
+    EXPECT_GT(minForce, 1.5);
+    EXPECT_LT(maxForce, 2.5);
+    const HapticStats s = rig.task().stats();
+    EXPECT_EQ(s.safetyReleases, 0u);
+    EXPECT_GT(s.contactUpdates, 2500u);
+}
+
+TEST(HapticTaskTest, missedDeadlinesZeroTheForceAndItRampsBack)
+{
+    Rig rig;
+    drivers::MockHapticDevice mock(rig.clock());
+    SlowDevice slow(mock, rig.clock());
+    pressScript(mock, rig.clock().now());
+    rig.publishFlat(0.0);
+    HapticTaskConfig c = Rig::baseConfig();
+    c.watchdogMissedDeadlines = 5;
+    rig.start(slow, c);
+    rig.runMs(300);
+    ASSERT_NEAR(rig.task().lastForce().z, 4.0, 0.01);
+    // WHEN ten updates in a row take three periods each
+    slow.makeSlow(10);
+    rig.runMs(1);
+    // THEN the watchdog commanded zero force
+    EXPECT_EQ(rig.task().lastForce().z, 0.0);
+    EXPECT_EQ(mock.lastForce(), hal::Vec3{});
+    HapticStats s = rig.task().stats();
+    EXPECT_EQ(s.watchdogTrips, 1u);
+    EXPECT_GE(s.overruns, 10u);
+    EXPECT_GE(s.missedPeriods, 20u);
+    // AND the force ramps back in once the deadlines are kept
+    rig.runMs(20);
+    const double early = rig.task().lastForce().z;
+    EXPECT_GT(early, 0.0);
+    EXPECT_LT(early, 1.0);
+    rig.runMs(150);
+    EXPECT_NEAR(rig.task().lastForce().z, 4.0, 0.01);
+}
+
+TEST(HapticTaskTest, unplugZeroesTheForceAtOnceAndReconnectResumesWithTheRamp)
+{
+    Rig rig;
+    drivers::MockHapticDevice mock(rig.clock());
+    pressScript(mock, rig.clock().now());
+    rig.publishFlat(0.0);
+    rig.start(mock, Rig::baseConfig());
+    rig.runMs(300);
+    ASSERT_NEAR(mock.lastForce().z, 4.0, 0.01);
+    ASSERT_TRUE(rig.task().deviceConnected());
+    // WHEN the device is unplugged mid-play
+    mock.disconnect();
+    rig.runMs(1);
+    // THEN zero force on the very next update, and the task keeps running without it
+    EXPECT_EQ(rig.task().lastForce().z, 0.0);
+    EXPECT_EQ(mock.lastForce(), hal::Vec3{});
+    EXPECT_FALSE(rig.task().deviceConnected());
+    const std::uint64_t before = rig.task().updates();
+    rig.runMs(50);
+    EXPECT_EQ(rig.task().updates(), before + 50);
+    EXPECT_EQ(rig.task().lastForce().z, 0.0);
+    // WHEN it comes back  THEN the telemetry thread reopens it and the force ramps in
+    mock.reconnect();
+    ASSERT_TRUE(rig.runUntil([&] { return rig.task().deviceConnected(); }));
+    rig.runMs(2);
+    const double first = rig.task().lastForce().z;
+    EXPECT_GT(first, 0.0);
+    EXPECT_LT(first, 0.1);
+    rig.runMs(150);
+    EXPECT_NEAR(mock.lastForce().z, 4.0, 0.01);
+    const HapticStats s = rig.task().stats();
+    EXPECT_EQ(s.deviceLosses, 1u);
+    EXPECT_EQ(s.reconnects, 1u);
+}
+
+TEST(HapticTaskTest, deviceThatStopsAnsweringTripsTheWatchdog)
+{
+    Rig rig;
+    drivers::MockHapticDevice mock(rig.clock());
+    pressScript(mock, rig.clock().now());
+    rig.publishFlat(0.0);
+    HapticTaskConfig c = Rig::baseConfig();
+    c.watchdogDeviceTimeouts = 5;
+    rig.start(mock, c);
+    rig.runMs(300);
+    mock.setStalled(true);
+    rig.runMs(5);
+    EXPECT_NEAR(rig.task().lastForce().z, 4.0, 0.01) << "a few time-outs are tolerated";
+    rig.runMs(1);
+    EXPECT_EQ(rig.task().lastForce().z, 0.0);
+    EXPECT_EQ(rig.task().stats().watchdogTrips, 1u);
+    mock.setStalled(false);
+    rig.runMs(150);
+    EXPECT_NEAR(rig.task().lastForce().z, 4.0, 0.01);
+}
+
+TEST(HapticTaskTest, disableAndEnableRampTheForceSmoothly)
+{
+    Rig rig;
+    drivers::MockHapticDevice mock(rig.clock());
+    pressScript(mock, rig.clock().now());
+    rig.publishFlat(0.0);
+    rig.start(mock, Rig::baseConfig()); // ramp 100 ms = 100 updates
+    rig.runMs(300);
+    const double full = rig.task().lastForce().z;
+    ASSERT_NEAR(full, 4.0, 0.01);
+    for (const bool enable : {false, true}) {
+        rig.task().setEnabled(enable);
+        std::vector<double> f;
+        for (int i = 0; i < 110; ++i) {
+            rig.runMs(1);
+            f.push_back(rig.task().lastForce().z);
+        }
+        // THEN a monotonic smoothstep: slow start, half way at 50 updates, done at 100
+        for (std::size_t i = 1; i < f.size(); ++i) {
+            if (enable) {
+                EXPECT_GE(f[i], f[i - 1] - 1e-12) << i;
+            } else {
+                EXPECT_LE(f[i], f[i - 1] + 1e-12) << i;
+            }
+        }
+        const double firstStep = std::fabs(f[0] - (enable ? 0.0 : full));
+        EXPECT_LT(firstStep, 0.1 * full / 100.0) << "the ramp starts with zero slope";
+        EXPECT_NEAR(f[49], 0.5 * full, 0.01 * full);
+        EXPECT_NEAR(f[99], enable ? full : 0.0, 1e-9);
+        EXPECT_NEAR(rig.task().gain(), enable ? 1.0 : 0.0, 1e-12);
+    }
+}
+
+TEST(HapticTaskTest, forceRateIsLimitedAndForceIsClampedToTheDeviceMaximum)
+{
+    Rig rig;
+    drivers::MockHapticDevice mock(rig.clock()); // maximum 8.5 N
+    // HIP jumps 30 mm into the surface: 24 N unclamped.
+    pressScript(mock, rig.clock().now(), 0.03);
+    rig.publishFlat(0.0);
+    HapticTaskConfig c = Rig::baseConfig();
+    c.renderer.safety = false; // the jump would trip force-jump safety (IV.C)
+    c.renderer.maxForce = 20.0;
+    c.maxForceRate = 100.0; // N/s: 0.1 N per update
+    rig.start(mock, c);
+    std::vector<double> f;
+    for (int i = 0; i < 200; ++i) {
+        rig.runMs(1);
+        f.push_back(hal::norm(mock.lastForce()));
+    }
+    double largestStep = 0.0;
+    for (std::size_t i = 1; i < f.size(); ++i)
+        largestStep = std::max(std::fabs(f[i] - f[i - 1]), largestStep);
+    EXPECT_LE(largestStep, 0.1 + 1e-9);
+    EXPECT_GT(largestStep, 0.09) << "the limit was reached";
+    EXPECT_NEAR(f.back(), 8.5, 1e-9) << "clamped to the device maximum";
+    EXPECT_LE(rig.task().stats().maxForce, 8.5 + 1e-9);
+    EXPECT_EQ(mock.clampCount(), 0u) << "the task clamps before the device has to";
+}
+
+HapticTask *gSignalTask = nullptr;
+void onSignal(int)
+{
+    gSignalTask->requestStop();
+}
+
+TEST(HapticTaskTest, signalHandlerStopsTheTaskWithZeroForce)
+{
+    Rig rig;
+    drivers::MockHapticDevice mock(rig.clock());
+    pressScript(mock, rig.clock().now());
+    rig.publishFlat(0.0);
+    rig.start(mock, Rig::baseConfig());
+    rig.runMs(300);
+    ASSERT_NEAR(mock.lastForce().z, 4.0, 0.01);
+    gSignalTask = &rig.task();
+    struct sigaction sa = {};
+    struct sigaction old = {};
+    sa.sa_handler = &onSignal;
+    ASSERT_EQ(sigaction(SIGUSR1, &sa, &old), 0);
+    ASSERT_EQ(raise(SIGUSR1), 0);
+    sigaction(SIGUSR1, &old, nullptr);
+    EXPECT_TRUE(rig.task().stopRequested());
+    rig.finish();
+    EXPECT_EQ(mock.lastForce(), hal::Vec3{});
+    EXPECT_TRUE(mock.isConnected()) << "stop() leaves the device open";
+}
+
+TEST(HapticTaskTest, devicePresentLaterIsPickedUp)
+{
+    // GIVEN a device absent at start  THEN start() succeeds and the task polls for it
+    Rig rig;
+    drivers::MockHapticDevice mock(rig.clock());
+    pressScript(mock, rig.clock().now());
+    mock.disconnect();
+    rig.publishFlat(0.0);
+    rig.start(mock, Rig::baseConfig());
+    rig.runMs(10);
+    EXPECT_FALSE(rig.task().deviceConnected());
+    mock.reconnect();
+    ASSERT_TRUE(rig.runUntil([&] { return rig.task().deviceConnected(); }));
+    rig.runMs(300);
+    EXPECT_NEAR(mock.lastForce().z, 4.0, 0.01);
+}
+
+TEST(HapticTaskTest, badConfigIsRejected)
+{
+    platform::ManualClock clock;
+    drivers::MockHapticDevice mock(clock);
+    auto handoff = DepthHandoff::create(kW, kH, haptics::SampleFormat::Gray16);
+    ASSERT_TRUE(handoff);
+    const auto rejects = [&](auto change) {
+        HapticTaskConfig c = Rig::baseConfig();
+        change(c);
+        auto t = HapticTask::create(c, mock, **handoff, clock);
+        return !t && t.error().code == Errc::InvalidArgument;
+    };
+    EXPECT_TRUE(rejects([](HapticTaskConfig &c) { c.servoRateHz = 50.0; }));
+    EXPECT_TRUE(rejects([](HapticTaskConfig &c) { c.servoRateHz = 20000.0; }));
+    EXPECT_TRUE(rejects([](HapticTaskConfig &c) { c.maxForceRate = 0.0; }));
+    EXPECT_TRUE(rejects([](HapticTaskConfig &c) { c.mapping.scale = -1.0; }));
+    EXPECT_TRUE(rejects([](HapticTaskConfig &c) { c.watchdogMissedDeadlines = 0; }));
+    EXPECT_TRUE(rejects([](HapticTaskConfig &c) { c.rampTime = 0.0; }));
+    EXPECT_TRUE(rejects([](HapticTaskConfig &c) { c.renderer.stiffness = -5.0; }));
+    EXPECT_FALSE(rejects([](HapticTaskConfig &c) { c.servoRateHz = 4000.0; }));
+}
+
+} // namespace
+} // namespace depthtouch::haptic_task
