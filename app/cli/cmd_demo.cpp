@@ -60,7 +60,7 @@ struct DemoOptions {
 haptic_task::HapticTask *gDemoTask = nullptr;
 
 /// SIGINT/SIGTERM: zero force and stop (async-signal-safe: one atomic store).
-extern "C" void onStopSignal(int)
+extern "C" void onDemoStopSignal(int)
 {
     if (gDemoTask != nullptr)
         gDemoTask->requestStop();
@@ -278,8 +278,8 @@ int runDemo(const DemoOptions &opt)
         return kExitFailure;
     }
     gDemoTask = task->get();
-    std::signal(SIGINT, &onStopSignal);
-    std::signal(SIGTERM, &onStopSignal);
+    std::signal(SIGINT, &onDemoStopSignal);
+    std::signal(SIGTERM, &onDemoStopSignal);
     // Media time starts now, and so does the fingertip script.
     const TimePoint mediaStart = clock.now();
     (*handoff)->setMediaOrigin(mediaStart);

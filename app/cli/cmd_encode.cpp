@@ -64,7 +64,7 @@ struct EncodeCliOptions {
 std::atomic<bool> gStop{false};
 static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler needs a lock-free flag");
 
-extern "C" void onStopSignal(int)
+extern "C" void onEncodeStopSignal(int)
 {
     gStop.store(true, std::memory_order_relaxed);
 }
@@ -75,7 +75,7 @@ public:
     StopSignals()
     {
         struct sigaction sa {};
-        sa.sa_handler = &onStopSignal;
+        sa.sa_handler = &onEncodeStopSignal;
         sigemptyset(&sa.sa_mask);
         sigaction(SIGINT, &sa, &oldInt_);
         sigaction(SIGTERM, &sa, &oldTerm_);

@@ -158,7 +158,6 @@ const HapticHarness *hapticHarness(std::string_view name)
     if (name == "falcon")
         return &kFalcon;
 #endif
-    #endif
     // The simulated hand explores with a strong push, so it reaches the workspace walls.
     using drivers::SimHapticDevice;
     static const HapticHarness kSim{
