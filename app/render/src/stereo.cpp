@@ -80,14 +80,18 @@ std::array<EyeView, 2> eyeViews(StereoMode mode, const StereoParams &params, int
         break;
     case StereoMode::SideBySide: {
         const int leftW = width / 2;
-        out[0] = eye(-half, Viewport{0, 0, leftW, height});
-        out[1] = eye(half, Viewport{leftW, 0, width - leftW, height});
+        const double a = params.frameCompatible ? aspect : 0.5 * aspect;
+        out[0] = eyeView(params, -half, a, Viewport{0, 0, leftW, height}, boxWidth, boxHeight, boxDepth);
+        out[1] = eyeView(params, half, a, Viewport{leftW, 0, width - leftW, height}, boxWidth, boxHeight,
+                         boxDepth);
         break;
     }
     case StereoMode::TopAndBottom: {
         const int topH = height / 2;
-        out[0] = eye(-half, Viewport{0, height - topH, width, topH});
-        out[1] = eye(half, Viewport{0, 0, width, height - topH});
+        const double a = params.frameCompatible ? aspect : 2.0 * aspect;
+        out[0] = eyeView(params, -half, a, Viewport{0, height - topH, width, topH}, boxWidth, boxHeight,
+                         boxDepth);
+        out[1] = eyeView(params, half, a, Viewport{0, 0, width, height - topH}, boxWidth, boxHeight, boxDepth);
         break;
     }
     case StereoMode::Anaglyph:

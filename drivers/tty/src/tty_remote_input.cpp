@@ -172,7 +172,6 @@ Result<std::unique_ptr<hal::RemoteInput>> TtyRemoteInput::create(const hal::Back
     if (::tcgetattr(fd, &saved) != 0)
         return unexpected(Errc::NoDevice, "Cannot read the terminal mode", errno);
 
-    bool expected = false;
     if (gSlot.active.load() || gSlot.fd != -1)
         return unexpected(Errc::Busy, "The terminal keyboard is already in use");
     gSlot.fd = fd;
@@ -183,7 +182,7 @@ Result<std::unique_ptr<hal::RemoteInput>> TtyRemoteInput::create(const hal::Back
     sa.sa_flags = 0;
     for (std::size_t i = 0; i < kSignalCount; ++i)
         ::sigaction(kSignals[i], nullptr, &gSlot.previous[i]);
-    gSlot.active.compare_exchange_strong(expected, true);
+    gSlot.active.store(true, std::memory_order_release);
     for (int sig : kSignals)
         ::sigaction(sig, &sa, nullptr);
 

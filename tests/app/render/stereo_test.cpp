@@ -81,6 +81,13 @@ TEST(StereoCameraTest, layoutsSplitTheFrame)
     for (const char *name : {"mono", "sbs", "tab", "anaglyph", "interleaved"})
         EXPECT_STREQ(stereoModeName(*parseStereoMode(name)), name);
     EXPECT_FALSE(parseStereoMode("3d"));
+    // full-aspect halves: each sbs eye projects like a mono view of its own W/2×H size
+    p.frameCompatible = false;
+    p.eyeSeparation = 0.0;
+    e = eyeViews(StereoMode::SideBySide, p, 200, 50, 0.1, 0.05, 0.04, n);
+    const auto mono = eyeViews(StereoMode::Mono, p, 100, 50, 0.1, 0.05, 0.04, n);
+    EXPECT_FLOAT_EQ(e[0].projection[0][0], mono[0].projection[0][0]);
+    EXPECT_FLOAT_EQ(e[0].projection[1][1], mono[0].projection[1][1]);
 }
 
 TEST(SurfaceMappingTest, isTheHapticHeightFieldMapping)

@@ -172,6 +172,7 @@ Result<std::vector<BenchRow>> runRenderBenchmark(const std::vector<RgbdFrame> &f
         return unexpected(Errc::InvalidArgument, "no frames to render");
     RendererOptions ro;
     ro.mode = options.mode;
+    ro.stereo.frameCompatible = options.frameCompatible;
     auto renderer = StereoRenderer::create(ro);
     if (!renderer)
         return unexpected(renderer.error());
@@ -240,6 +241,7 @@ Result<void> writeSideBySideSnapshot(const std::vector<RgbdFrame> &frames, std::
         return unexpected(Errc::InvalidArgument, "snapshot frame index out of range");
     RendererOptions ro;
     ro.mode = StereoMode::SideBySide;
+    ro.stereo.frameCompatible = 2 * height > width; // two full-aspect eyes in a wide frame
     ro.mesh = mesh;
     auto renderer = StereoRenderer::create(ro);
     if (!renderer)

@@ -7,6 +7,24 @@
 /// of a slice (default 20 ms), so a socket command waits at most one slice. When the remote goes
 /// away (NoDevice) or fails, the loop logs it once and goes on with the socket alone.
 /// Thread-safety: thread-bound (the main thread, with the StateMachine).
+///
+/// Wiring in a player's main thread (the pipeline implements player::PlayerActions and reports
+/// back through the StateMachine's notifications):
+/// \code
+///   player::StateMachine machine(pipeline, settings);            // settings.url = FILE
+///   auto remote = drivers::createRemoteInput(remoteNames, cfg);  // evdev, tty, mock, none
+///   std::unique_ptr<control::ControlServer> server;
+///   if (!controlPath.empty())
+///       server = std::move(*control::ControlServer::create(controlPath, machine));
+///   control::ControlLoop loop(machine, remote ? remote->get() : nullptr, server.get(), clock);
+///   machine.execute("play");
+///   while (!machine.quitRequested()) {
+///       loop.runUntil(clock.now() + std::chrono::milliseconds(20));
+///       if (pipeline.opened()) machine.onOpened();          // or onOpenFailed(reason)
+///       if (pipeline.endOfStream()) machine.onEndOfStream();
+///       if (pipeline.failed()) machine.onFailure(pipeline.reason());
+///   }
+/// \endcode
 
 #include <cstddef>
 

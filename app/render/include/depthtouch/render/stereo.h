@@ -12,9 +12,10 @@
 ///
 /// Output layouts of one frame (W×H pixels):
 ///  - `mono`: one centred camera, full frame;
-///  - `sbs`: side-by-side, left eye in the left half, right eye in the right half, each eye W/2×H
-///    squeezed horizontally (HDMI frame-compatible: the display stretches each half back);
-///  - `tab`: top-and-bottom, left eye in the top half, each eye W×H/2 squeezed vertically;
+///  - `sbs`: side-by-side, left eye in the left half, right eye in the right half, each eye W/2×H,
+///    squeezed horizontally when frameCompatible (the display stretches each half back);
+///  - `tab`: top-and-bottom, left eye in the top half, each eye W×H/2 (squeezed vertically when
+///    frameCompatible);
 ///  - `anaglyph`: red-cyan, left eye into the red channel, right eye into green and blue, full frame;
 ///  - `interleaved`: row-interleaved, left eye on the even rows counted from the top, right eye on the
 ///    odd rows, full frame (autostereoscopic panels with line-interleaved polarisers).
@@ -44,6 +45,10 @@ struct StereoParams {
     double viewDistance = 0.20;   ///< Eyes to the box centre along z, m (> box depth).
     double convergence = 0.20;    ///< Eyes to the zero-parallax plane, m (> 0); default: box centre.
     double margin = 1.04;         ///< Window size / box size (≥ 1 keeps a border around the box).
+    /// sbs/tab: true = frame-compatible (each eye squeezed into its half, the display stretches it
+    /// back: HDMI half side-by-side/top-and-bottom); false = each half is a full-aspect eye image
+    /// (e.g. 1440×486 side-by-side of two 720×486 eyes).
+    bool frameCompatible = true;
 };
 
 /// \brief A pixel rectangle of the output frame, OpenGL convention (x, y of the lower-left corner).

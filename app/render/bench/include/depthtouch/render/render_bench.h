@@ -62,6 +62,7 @@ struct BenchOptions {
     int outputWidth = 1440;            ///< Side-by-side frame: two 720-wide eyes.
     int outputHeight = 486;
     StereoMode mode = StereoMode::SideBySide;
+    bool frameCompatible = false;      ///< false: each half is a full-aspect 720×486 eye.
     int framesPerConfig = 60;          ///< Frames rendered per setting (cycling through the data).
     int warmup = 5;                    ///< Frames rendered and not timed first.
     std::vector<BenchConfig> configs;  ///< Empty: defaultConfigs().
