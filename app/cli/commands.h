@@ -21,6 +21,7 @@ using RegisterCommand = void (*)(CLI::App &app, int &exitCode);
 void registerDemoCommand(CLI::App &app, int &exitCode);
 void registerBackendsCommand(CLI::App &app, int &exitCode);
 void registerTouchCommand(CLI::App &app, int &exitCode);
+void registerProbeCommand(CLI::App &app, int &exitCode);
 /// `depthtouch bench`: a group; each benchmark adds itself under it.
 void registerBenchCommand(CLI::App &app, int &exitCode);
 void registerBenchHapticsCommand(CLI::App &bench, int &exitCode);

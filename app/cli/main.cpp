@@ -16,6 +16,7 @@ constexpr RegisterCommand kCommands[] = {
     &depthtouch::cli::registerDemoCommand,
     &depthtouch::cli::registerBackendsCommand,
     &depthtouch::cli::registerTouchCommand,
+    &depthtouch::cli::registerProbeCommand,
     &depthtouch::cli::registerBenchCommand,
 };
 

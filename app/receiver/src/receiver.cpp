@@ -73,6 +73,7 @@ struct Receiver::Impl {
         hal::FrameRef pending; ///< Decoded, waiting for a free store frame.
         bool eosQueued = false;
         bool drained = false;
+        bool paused = false; ///< Drained because its packets stopped while the other's went on.
         std::uint64_t sequence = 0;
     };
 
@@ -82,6 +83,7 @@ struct Receiver::Impl {
     Take takeFrame(Stream &s);
     bool readAndQueue();
     void endInput();
+    void drainLaggingStream();
     void toPaired(Pairer::Output &o, PairedFrame &out);
     void note(std::string text)
     {
@@ -289,11 +291,36 @@ Take Receiver::Impl::takeFrame(Stream &s)
     return Take::Progress;
 }
 
+void Receiver::Impl::drainLaggingStream()
+{
+    // One stream's frames wait while the other's stopped coming (a shorter stream, or a long gap):
+    // drain the quiet stream's decoder so the frames it still holds (reordering delay) pair before
+    // the pairing window forces decisions without them. Packets that come later resume it.
+    if (!streams[0].used || !streams[1].used || inputEnded)
+        return;
+    const auto window = static_cast<std::size_t>(cfg.pairingWindow);
+    Stream *quiet = nullptr;
+    if (pairer->waiting(PairStream::Color) >= window)
+        quiet = &streams[1];
+    else if (pairer->waiting(PairStream::Depth) >= window &&
+             pairer->waiting(PairStream::Color) == 0)
+        quiet = &streams[0];
+    if (quiet == nullptr || quiet->eosQueued)
+        return;
+    if (quiet->decoder->queuePacket(hal::Packet::endOfStream(quiet->info.index))) {
+        quiet->eosQueued = true;
+        quiet->paused = true;
+        DT_LOG(Receiver, Debug, "The %s stream paused or ended: draining its decoder",
+               quiet->which == PairStream::Depth ? "depth" : "color");
+    }
+}
+
 void Receiver::Impl::endInput()
 {
     inputEnded = true;
     havePacket = false;
     for (Stream &s : streams) {
+        s.paused = false;
         if (!s.used || s.eosQueued)
             continue;
         if (s.decoder->queuePacket(hal::Packet::endOfStream(s.info.index))) {
@@ -329,6 +356,14 @@ bool Receiver::Impl::readAndQueue()
         havePacket = true;
     }
     Stream &s = *streamOf(packet.streamIndex);
+    if (s.paused) { // it had only paused: decode again (from its next keyframe)
+        (void)s.decoder->flush();
+        s.paused = s.eosQueued = s.drained = false;
+        pairer->resume(s.which);
+        ++stats.streamsResumed;
+        DT_LOG(Receiver, Warning, "The %s stream resumes after a pause",
+               s.which == PairStream::Depth ? "depth" : "color");
+    }
     auto q = s.decoder->queuePacket(packet);
     if (q) {
         havePacket = false;
@@ -448,6 +483,7 @@ Result<bool> Receiver::next(PairedFrame &out)
             d.ended = true;
             return false;
         }
+        d.drainLaggingStream();
         bool progress = false;
         for (auto &s : d.streams) {
             if (!s.used)
@@ -526,6 +562,7 @@ Result<void> Receiver::seek(hal::Pts position)
         (void)s.decoder->flush();
         s.eosQueued = false;
         s.drained = false;
+        s.paused = false;
     }
     d.pairer->reset();
     d.offered = PairedFrame{};

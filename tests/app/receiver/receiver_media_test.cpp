@@ -164,6 +164,30 @@ TEST_F(ReceiverMediaTest, differentFrameRatesAndLengthsFollowTheColorTimeline)
     EXPECT_EQ((*r)->stats().depthDuplicated, 20u);
 }
 
+TEST_F(ReceiverMediaTest, shorterDepthStreamWithBFramesKeepsItsLastFrames)
+{
+    // GIVEN B-frames (the decoders hold frames back) and a depth stream ending before the color
+    Clip clip = Clip::standard(32, 24, 30, 30);
+    clip.color.bframes = 2;
+    clip.depth.bframes = 2;
+    clip.depth.fps = 15;
+    clip.depth.frames = 11;
+    clip.gop = 30;
+    auto r = openFfmpeg(write("bframes.mkv", clip));
+    ASSERT_TRUE(r);
+    const auto frames = drain(**r);
+    ASSERT_EQ(frames.size(), 30u);
+    // THEN every depth frame is used at its time, the held-back last ones included
+    for (int i = 0; i < 22; ++i)
+        EXPECT_NEAR(ms(frames[static_cast<std::size_t>(i)].depthPts), ms(framePts(i / 2, 15)), 1.0)
+            << i;
+    for (int i = 22; i < 30; ++i)
+        EXPECT_NEAR(ms(frames[static_cast<std::size_t>(i)].depthPts), ms(framePts(10, 15)), 1.0);
+    const auto s = (*r)->stats();
+    EXPECT_EQ(s.depthUnpaired, 0u);
+    EXPECT_EQ(s.pairingForced, 0u);
+}
+
 TEST_F(ReceiverMediaTest, ptsGapsAreCountedAndBridged)
 {
     Clip clip = Clip::standard(32, 24, 10, 30);

@@ -129,11 +129,12 @@ std::string writeClip(const std::string &path, const Clip &clip)
         e->ctx->time_base = {1, s->fps};
         e->ctx->framerate = {s->fps, 1};
         e->ctx->gop_size = clip.gop;
-        e->ctx->max_b_frames = 0;
+        e->ctx->max_b_frames = s->bframes;
         e->ctx->pix_fmt = s->gray ? AV_PIX_FMT_GRAY8 : AV_PIX_FMT_YUV420P;
         if (s->encoder == "libx264") {
             av_opt_set(e->ctx->priv_data, "preset", "ultrafast", 0);
-            av_opt_set(e->ctx->priv_data, "tune", "zerolatency", 0);
+            if (s->bframes == 0)
+                av_opt_set(e->ctx->priv_data, "tune", "zerolatency", 0);
             if (s->lossless)
                 av_opt_set(e->ctx->priv_data, "qp", "0", 0);
         }

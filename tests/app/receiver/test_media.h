@@ -28,6 +28,7 @@ struct ClipStream {
     std::vector<std::int64_t> pts; ///< Optional PTS of each frame in 1/fps units (default: index).
     std::string encoder = "libx264"; ///< libavcodec encoder name: libx264, ffv1, mpeg4...
     bool lossless = false;           ///< libx264 at qp 0 (depth round-trips bit-exact).
+    int bframes = 0;                 ///< B-frames (decoders then hold frames back).
     std::vector<std::pair<std::string, std::string>> metadata; ///< Extra stream tags.
 };
 

@@ -112,6 +112,8 @@ public:
     [[nodiscard]] hal::Pts tolerance() const noexcept { return tolerance_; }
     [[nodiscard]] const PairerStats &stats() const noexcept { return stats_; }
 
+    /// \return the frames of \a s waiting to be decided.
+    [[nodiscard]] std::size_t waiting(PairStream s) const noexcept { return q(s).size(); }
     /// \return whether push() on \a s has room (always true after pull() returned false).
     [[nodiscard]] bool canPush(PairStream s) const noexcept { return !q(s).full(); }
 
@@ -147,6 +149,8 @@ public:
     /// Marks the end of stream \a s: the waiting frames are decided without it.
     void endOfStream(PairStream s) noexcept { ended_[idx(s)] = true; }
     [[nodiscard]] bool ended(PairStream s) const noexcept { return ended_[idx(s)]; }
+    /// Undoes endOfStream(): frames of \a s come again (a stream that only paused).
+    void resume(PairStream s) noexcept { ended_[idx(s)] = false; }
 
     /// \brief Takes the next decided output. \return false when nothing can be decided yet (push
     /// more, or end the streams) or everything has been output.

@@ -130,6 +130,7 @@ struct ReceiverStats {
     std::uint64_t ptsGaps = 0;           ///< PTS steps above 1.5 frame periods.
     std::uint64_t readErrors = 0;        ///< Source read errors (truncated or unreadable input).
     std::uint64_t consumerBusy = 0;      ///< next() calls refused: the consumer held every frame.
+    std::uint64_t streamsResumed = 0;    ///< A stream drained as ended sent packets again.
     std::uint64_t seeks = 0;
 };
 
