@@ -12,7 +12,6 @@ extern "C" {
 #include <libavutil/opt.h>
 }
 
-#include "depthtouch/drivers/backends.h"
 
 namespace depthtouch::receivertest {
 
@@ -101,6 +100,7 @@ std::uint8_t depthPattern(int x, int y, int frame) noexcept
 
 std::string writeClip(const std::string &path, const Clip &clip)
 {
+    av_log_set_level(AV_LOG_ERROR); // x264 prints its settings and statistics otherwise
     AVFormatContext *oc = nullptr;
     int r = avformat_alloc_output_context2(&oc, nullptr,
                                            clip.format.empty() ? nullptr : clip.format.c_str(),
@@ -199,21 +199,6 @@ std::string writeClip(const std::string &path, const Clip &clip)
     encoders.clear();
     avformat_free_context(oc);
     return err;
-}
-
-Result<std::unique_ptr<receiver::Receiver>>
-openFfmpeg(const std::string &path, const receiver::ReceiverConfig &cfg, int threads)
-{
-    auto src = drivers::createMediaSource("ffmpeg", hal::BackendConfig{});
-    if (!src)
-        return unexpected(src.error());
-    const std::string options = "threads=" + std::to_string(threads);
-    receiver::DecoderFactory factory = [options](const hal::StreamInfo &) {
-        hal::BackendConfig c;
-        c.options = hal::OptionList(options);
-        return drivers::createVideoDecoder("ffmpeg", c);
-    };
-    return receiver::Receiver::open(std::move(*src), path.c_str(), factory, cfg);
 }
 
 } // namespace depthtouch::receivertest

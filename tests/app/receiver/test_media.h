@@ -50,6 +50,7 @@ std::string writeClip(const std::string &path, const Clip &clip);
 std::uint8_t depthPattern(int x, int y, int frame) noexcept;
 
 /// Receiver on the ffmpeg source and ffmpeg decoders (`threads` slice threads per decoder).
+/// Defined in open_ffmpeg.cpp (links dt_drivers).
 Result<std::unique_ptr<receiver::Receiver>>
 openFfmpeg(const std::string &path, const receiver::ReceiverConfig &cfg = {}, int threads = 1);
 
