@@ -1,5 +1,6 @@
 #include "test_media.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <random>
@@ -53,16 +54,31 @@ std::string drainPackets(AVFormatContext *oc, Encoder &e, AVPacket *pkt)
     }
 }
 
+/// Deterministic noise in 0..255 for texture.
+int noise(int x, int y) noexcept
+{
+    auto h = static_cast<std::uint32_t>(x) * 0x9e3779b1u ^ static_cast<std::uint32_t>(y) * 0x85ebca77u;
+    h ^= h >> 15;
+    h *= 0x2c1b3c6du;
+    h ^= h >> 12;
+    return static_cast<int>(h & 0xffu);
+}
+
 void fill(Encoder &e, int index)
 {
     AVFrame *f = e.frame;
     const int w = f->width;
     const int h = f->height;
+    const int amp = e.spec->texture;
     for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            f->data[0][y * f->linesize[0] + x] =
-                e.depth ? depthPattern(x, y, index)
-                        : static_cast<std::uint8_t>((x * 4 + y * 2 + index * 8) & 0xff);
+        for (int x = 0; x < w; ++x) {
+            int v = e.depth ? depthPattern(x, y, index) : (x * 4 + y * 2 + index * 8) & 0xff;
+            if (amp > 0) // a texture moving 2 px per frame, plus a little grain
+                v = std::clamp(v / 2 + 64 + (noise(x + 2 * index, y) - 128) * amp / 128 +
+                                   (noise(x, y + 7919 * index) & 7) - 4,
+                               0, 255);
+            f->data[0][y * f->linesize[0] + x] = static_cast<std::uint8_t>(v);
+        }
     if (f->format == AV_PIX_FMT_YUV420P) {
         for (int y = 0; y < (h + 1) / 2; ++y)
             for (int x = 0; x < (w + 1) / 2; ++x) {
@@ -132,7 +148,7 @@ std::string writeClip(const std::string &path, const Clip &clip)
         e->ctx->max_b_frames = s->bframes;
         e->ctx->pix_fmt = s->gray ? AV_PIX_FMT_GRAY8 : AV_PIX_FMT_YUV420P;
         if (s->encoder == "libx264") {
-            av_opt_set(e->ctx->priv_data, "preset", "ultrafast", 0);
+            av_opt_set(e->ctx->priv_data, "preset", s->preset.c_str(), 0);
             if (s->bframes == 0)
                 av_opt_set(e->ctx->priv_data, "tune", "zerolatency", 0);
             if (s->lossless)

@@ -29,6 +29,8 @@ struct ClipStream {
     std::string encoder = "libx264"; ///< libavcodec encoder name: libx264, ffv1, mpeg4...
     bool lossless = false;           ///< libx264 at qp 0 (depth round-trips bit-exact).
     int bframes = 0;                 ///< B-frames (decoders then hold frames back).
+    int texture = 0;                 ///< Amplitude of a moving noise texture (0: smooth pattern).
+    std::string preset = "ultrafast"; ///< libx264 preset.
     std::vector<std::pair<std::string, std::string>> metadata; ///< Extra stream tags.
 };
 
