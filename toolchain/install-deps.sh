@@ -25,6 +25,8 @@ HOST_PACKAGES=(
     libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri libgbm-dev libdrm-dev libx11-dev
     # drivers: USB haptic device, remote-control input
     libusb-1.0-0-dev libevdev-dev
+    # fuzz preset: clang with libFuzzer and the sanitizer runtimes
+    clang-14 libclang-rt-14-dev
 )
 
 # -dev packages the cross build links against, per Debian architecture.

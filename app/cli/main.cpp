@@ -17,6 +17,7 @@ constexpr RegisterCommand kCommands[] = {
     &depthtouch::cli::registerBackendsCommand,
     &depthtouch::cli::registerTouchCommand,
     &depthtouch::cli::registerEncodeCommand,
+    &depthtouch::cli::registerProbeCommand,
     &depthtouch::cli::registerBenchCommand,
 };
 

@@ -1,0 +1,129 @@
+#pragma once
+/// \file
+/// \brief FrameStore: the receiver's preallocated pool of decoded frames, shared by reference count.
+///
+/// The receiver copies each decoded frame out of the decoder's pool into a FrameStore slot at once,
+/// so the decoder never stalls on frames held downstream. A slot is shared through FrameHandle: the
+/// depth frame i is referenced by the paired frame i (current) and by the paired frame i-1 (next),
+/// without a copy. Slots are allocated by allocate() when a file is opened; acquiring, sharing and
+/// releasing never allocate, lock or block.
+///
+/// Thread-safety: allocate() and acquire() are thread-bound (the decode thread). FrameHandle::share(),
+/// the release of a handle (destructor, reset()) and inUse() are thread-safe and lock-free: a handle
+/// may be moved to the render or the haptic thread and dropped there. The store must outlive every
+/// handle (checked by DT_ASSERT in its destructor).
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+
+#include "depthtouch/hal/types.h"
+#include "depthtouch/platform/macros.h"
+#include "depthtouch/platform/result.h"
+
+namespace depthtouch::receiver {
+
+/// \brief A decoded frame held by the receiver: tightly packed planes (strideBytes = row bytes).
+struct StoredFrame {
+    hal::ImageView image; ///< Pixels in the store's memory; read-only for every handle holder.
+    hal::StreamKind kind = hal::StreamKind::Color;
+    hal::Pts pts = hal::kNoPts; ///< Presentation time on the stream timeline (ns).
+    std::uint64_t sequence = 0; ///< Frames of this stream decoded before it since open().
+    bool corrupt = false;       ///< The decoder concealed damage in this frame.
+};
+
+class FrameStore;
+
+/// \brief A counted reference to one StoredFrame. Move-only; share() makes another reference.
+/// Destroying or reset()ting the last reference returns the slot to its store.
+class FrameHandle {
+public:
+    FrameHandle() noexcept = default;
+    FrameHandle(FrameHandle &&other) noexcept : store_(other.store_), slot_(other.slot_)
+    {
+        other.store_ = nullptr;
+    }
+    FrameHandle &operator=(FrameHandle &&other) noexcept
+    {
+        if (this != &other) {
+            reset();
+            store_ = other.store_;
+            slot_ = other.slot_;
+            other.store_ = nullptr;
+        }
+        return *this;
+    }
+    FrameHandle(const FrameHandle &) = delete;
+    FrameHandle &operator=(const FrameHandle &) = delete;
+    ~FrameHandle() { reset(); }
+
+    /// \return another reference to the same frame (empty when this one is empty). Lock-free.
+    [[nodiscard]] FrameHandle share() const noexcept;
+    /// Drops this reference; the handle becomes empty. Lock-free.
+    void reset() noexcept;
+
+    explicit operator bool() const noexcept { return store_ != nullptr; }
+    /// \return the frame, or nullptr when empty.
+    [[nodiscard]] const StoredFrame *get() const noexcept;
+    /// \pre not empty.
+    const StoredFrame &operator*() const noexcept { return *get(); }
+    /// \pre not empty.
+    const StoredFrame *operator->() const noexcept { return get(); }
+
+private:
+    friend class FrameStore;
+    FrameHandle(FrameStore *store, std::uint32_t slot) noexcept : store_(store), slot_(slot) {}
+
+    FrameStore *store_ = nullptr;
+    std::uint32_t slot_ = 0;
+};
+
+/// \return another reference to \a h (PtsPairer payload sharing).
+inline FrameHandle sharePayload(const FrameHandle &h) noexcept
+{
+    return h.share();
+}
+
+/// \brief A fixed number of frames of one format and size (see the file comment).
+class FrameStore {
+public:
+    FrameStore() = default;
+    ~FrameStore();
+
+    /// \brief Makes \a count frames of \a format, \a width × \a height pixels, tightly packed.
+    /// \return nothing on success. Errors: Busy (a handle is still held; nothing changes),
+    /// InvalidArgument (count outside 1..1024, non-positive size, format without planes).
+    Result<void> allocate(int count, hal::PixelFormat format, int width, int height);
+
+    /// \brief Takes a free frame for filling.
+    /// \param[out] writable The frame's storage, valid to write until the handle is first shared.
+    /// \return a handle to it, or an empty handle when every frame is referenced.
+    [[nodiscard]] FrameHandle acquire(StoredFrame *&writable) noexcept;
+
+    /// \return the number of frames referenced now. Thread-safe.
+    [[nodiscard]] int inUse() const noexcept { return inUse_.load(std::memory_order_acquire); }
+    /// \return the number of frames.
+    [[nodiscard]] int size() const noexcept { return count_; }
+    /// \return the bytes of pixels of one frame.
+    [[nodiscard]] std::size_t frameBytes() const noexcept { return frameBytes_; }
+
+private:
+    DT_DISABLE_COPY_AND_MOVE(FrameStore)
+    friend class FrameHandle;
+
+    struct Slot {
+        std::unique_ptr<std::uint8_t[]> pixels;
+        StoredFrame frame;
+        std::atomic<int> refs{0};
+    };
+
+    void addRef(std::uint32_t slot) noexcept;
+    void release(std::uint32_t slot) noexcept;
+
+    std::unique_ptr<Slot[]> slots_;
+    int count_ = 0;
+    std::size_t frameBytes_ = 0;
+    std::atomic<int> inUse_{0};
+};
+
+} // namespace depthtouch::receiver

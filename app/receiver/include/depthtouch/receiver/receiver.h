@@ -1,0 +1,190 @@
+#pragma once
+/// \file
+/// \brief Receiver: demux → decode → pair by PTS of a color + depth 3D video through the HAL
+/// (DESIGN §1 receiver, up to paired frames).
+///
+/// The executable creates the HAL objects: a MediaSource and a factory of VideoDecoders (one per
+/// stream); the Receiver opens the input, chooses the color and depth streams (stream_roles.h),
+/// configures a decoder for each, and turns packets into PairedFrames: a color frame, the depth frame
+/// paired with it by PTS (frame i) and the depth frame after it (frame i+1), which the haptic task
+/// needs to interpolate the surface in time (paper IV.B, Eq. 1). Pairing rules: pts_pairer.h.
+///
+/// Memory: every frame is copied out of the decoder into a FrameStore allocated by open(), sized
+/// for the pairing window plus ReceiverConfig::consumerFrames held downstream; after open() nothing
+/// is allocated per frame.
+///
+/// Bad input never crashes or hangs: a missing stream is reported (ReceiverInfo::mode, notes); a
+/// stream with an unsupported codec or a zero / huge size is left out (or, when required, open()
+/// fails); damaged packets are counted (decodeErrors, framesConcealed) and decoding goes on; PTS
+/// gaps, duplicates and non-monotonic PTS are counted (duplicates and backward frames dropped); a
+/// read error ends the input as if the file ended there (readErrors). All counters: ReceiverStats.
+///
+/// Thread-safety: thread-bound (the decode thread), except that PairedFrames and their handles may
+/// be moved to and dropped on any thread. Not real-time safe. The Receiver must outlive every
+/// PairedFrame it produced.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "depthtouch/hal/media_source.h"
+#include "depthtouch/hal/video_decoder.h"
+#include "depthtouch/platform/macros.h"
+#include "depthtouch/platform/result.h"
+#include "depthtouch/receiver/frame_store.h"
+#include "depthtouch/receiver/stream_roles.h"
+
+namespace depthtouch::receiver {
+
+/// \brief Depth frames i and i+1 of a paired frame, as the haptic task takes them.
+struct DepthPair {
+    const StoredFrame *current = nullptr; ///< Frame i; nullptr when the output has no depth.
+    const StoredFrame *next = nullptr;    ///< Frame i+1; nullptr at the end of the depth video.
+    hal::Pts currentPts = hal::kNoPts;    ///< Stream timeline (ns).
+    hal::Pts nextPts = hal::kNoPts;
+};
+
+/// \brief One output of the receiver: a color frame and its depth frames, with what went wrong.
+/// Move-only (holds FrameHandles); dropping it returns the frames to the receiver.
+struct PairedFrame {
+    FrameHandle color;     ///< Empty without a color stream.
+    FrameHandle depth;     ///< Depth frame i; empty when depthMissing.
+    FrameHandle depthNext; ///< Depth frame i+1; empty at the end of the depth video.
+    hal::Pts pts = hal::kNoPts; ///< Presentation time: the color PTS (depth PTS when depth-only).
+    std::uint64_t index = 0;    ///< Outputs before this one since open() or the last seek().
+    bool depthMissing = false;    ///< No depth frame for it (depth absent, or not yet started).
+    bool depthDuplicated = false; ///< No depth frame within half a frame: the previous one reused.
+    bool concealed = false;       ///< The decoder concealed damage in its color or depth frame.
+    std::uint32_t generation = 0; ///< Seek generation (DecoderThread); 0 from Receiver itself.
+
+    /// \return depth frames i and i+1 with their PTS.
+    [[nodiscard]] DepthPair depthPair() const noexcept;
+};
+
+/// \brief Receives paired frames (the player: depth to the haptic handoff, color to the renderer).
+class PairedFrameSink {
+public:
+    virtual ~PairedFrameSink() = default;
+    /// \brief Takes \a frame (move from it) or refuses it.
+    /// \return false when the sink is full: the frame stays with the caller, offered again later.
+    virtual bool offer(PairedFrame &frame) = 0;
+
+protected:
+    PairedFrameSink() = default;
+    DT_DISABLE_COPY_AND_MOVE(PairedFrameSink)
+};
+
+/// \brief Settings of a Receiver.
+struct ReceiverConfig {
+    int pairingWindow = 8;  ///< Frames one stream may run ahead of the other (1..64).
+    int consumerFrames = 4; ///< Paired frames the consumer may hold at once (1..64).
+    int maxWidth = 8192;    ///< Larger streams are refused (pixels).
+    int maxHeight = 8192;
+    std::size_t maxPoolBytes = std::size_t{1} << 30; ///< Bound of the frame stores (bytes).
+    SingleStream single = SingleStream::Auto;        ///< Role of a single-stream input.
+    bool requireDepth = false; ///< open() fails when no usable depth stream exists.
+    bool requireColor = false; ///< open() fails when no usable color stream exists.
+};
+
+/// \brief Which streams are used.
+enum class ReceiverMode : std::uint8_t { ColorAndDepth, ColorOnly, DepthOnly };
+/// \return "color+depth", "color-only" or "depth-only" (static string).
+const char *receiverModeName(ReceiverMode mode) noexcept;
+
+/// \brief What open() found.
+struct ReceiverInfo {
+    ReceiverMode mode = ReceiverMode::ColorAndDepth;
+    bool hasColor = false;
+    bool hasDepth = false;
+    hal::StreamInfo color; ///< Valid when hasColor.
+    hal::StreamInfo depth; ///< Valid when hasDepth (depth.depth: the metadata).
+    hal::PixelFormat colorFormat = hal::PixelFormat::Unknown; ///< Of the color frames.
+    hal::PixelFormat depthFormat = hal::PixelFormat::Unknown; ///< Of the depth frames (Gray*).
+    hal::Pts colorPeriod{0}; ///< Frame periods used for pairing (ns).
+    hal::Pts depthPeriod{0};
+    hal::Pts tolerance{0}; ///< Pairing tolerance: half the color frame period.
+    StreamRoles roles;
+    std::vector<std::string> notes; ///< Streams left out or assumed, one sentence each.
+    hal::Pts duration{0};
+};
+
+/// \brief Counters since open(). Plain values: copy them with Receiver::stats().
+struct ReceiverStats {
+    std::uint64_t packetsRead = 0;       ///< Packets read from the source (all streams).
+    std::uint64_t packetsIgnored = 0;    ///< Packets of streams not used.
+    std::uint64_t colorFrames = 0;       ///< Color frames decoded.
+    std::uint64_t depthFrames = 0;       ///< Depth frames decoded.
+    std::uint64_t framesOutput = 0;      ///< Paired frames produced.
+    std::uint64_t framesConcealed = 0;   ///< Outputs with a concealed color or depth frame.
+    std::uint64_t decodeErrors = 0;      ///< Packets or frames the decoders dropped or refused.
+    std::uint64_t frameSizeChanges = 0;  ///< Frames dropped: size or format unlike the stream's.
+    std::uint64_t depthMissing = 0;      ///< Outputs without a depth frame (two-stream input).
+    std::uint64_t depthDuplicated = 0;   ///< Outputs whose depth frame was reused.
+    std::uint64_t depthUnpaired = 0;     ///< Depth frames no color frame was paired with.
+    std::uint64_t pairingForced = 0;     ///< Outputs decided early (a stream lagged > window).
+    std::uint64_t ptsMissing = 0;        ///< Frames without PTS (given previous + period).
+    std::uint64_t ptsDuplicates = 0;     ///< Frames dropped: same PTS as the previous one.
+    std::uint64_t ptsNonMonotonic = 0;   ///< Frames dropped: PTS before the previous one.
+    std::uint64_t ptsGaps = 0;           ///< PTS steps above 1.5 frame periods.
+    std::uint64_t readErrors = 0;        ///< Source read errors (truncated or unreadable input).
+    std::uint64_t consumerBusy = 0;      ///< next() calls refused: the consumer held every frame.
+    std::uint64_t streamsResumed = 0;    ///< A stream drained as ended sent packets again.
+    std::uint64_t seeks = 0;
+};
+
+/// Makes the decoder of one stream (the executable's backend choice). Called by open().
+using DecoderFactory =
+    std::function<Result<std::unique_ptr<hal::VideoDecoder>>(const hal::StreamInfo &stream)>;
+
+/// See the file comment.
+class Receiver {
+public:
+    /// \brief Opens \a url on \a source and prepares decoding and pairing.
+    /// \param[in] source A Closed media source; the receiver owns it from now on.
+    /// \param[in] url File path or stream URL.
+    /// \param[in] makeDecoder Creates one decoder per used stream.
+    /// \param[in] cfg Settings.
+    /// \return the receiver. Errors: the source's open() error (NotSupported, Io, InvalidArgument…);
+    /// InvalidArgument "no usable video stream" (every candidate stream was left out: unsupported
+    /// codec, zero or huge size, or a decoder that refused it); NotSupported when requireDepth or
+    /// requireColor cannot be met; InvalidArgument for a config out of range.
+    static Result<std::unique_ptr<Receiver>> open(std::unique_ptr<hal::MediaSource> source,
+                                                  const char *url, const DecoderFactory &makeDecoder,
+                                                  const ReceiverConfig &cfg = {});
+    ~Receiver();
+
+    [[nodiscard]] const ReceiverInfo &info() const noexcept;
+    [[nodiscard]] ReceiverStats stats() const noexcept;
+    /// \return the source (for its MediaInfo; reading it directly breaks the receiver).
+    [[nodiscard]] hal::MediaSource &source() noexcept;
+
+    /// \brief Decodes until the next paired frame is ready.
+    /// \param[out] out The frame (overwritten).
+    /// \return true with a frame, false at the end of the input. Errors: Busy (the consumer holds
+    /// every frame of a store: drop PairedFrames and call again; nothing is lost).
+    Result<bool> next(PairedFrame &out);
+
+    /// \brief Offers frames to \a sink until it refuses one, \a maxFrames were taken, or the input
+    /// ends. A refused frame is kept and offered first next time.
+    /// \return the number of frames the sink took; errors as next().
+    Result<std::size_t> deliver(PairedFrameSink &sink, std::size_t maxFrames);
+
+    /// \return true once next() has returned false (until seek()).
+    [[nodiscard]] bool ended() const noexcept;
+
+    /// \brief Restarts at \a position: seeks the source, flushes the decoders and the pairing, and
+    /// skips the frames before \a position (minus the tolerance).
+    /// \return nothing on success. Errors: the source's seek() error (NotSupported: not seekable);
+    /// the receiver then continues from where it was.
+    Result<void> seek(hal::Pts position);
+
+private:
+    struct Impl;
+    explicit Receiver(std::unique_ptr<Impl> impl);
+    DT_DISABLE_COPY_AND_MOVE(Receiver)
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace depthtouch::receiver

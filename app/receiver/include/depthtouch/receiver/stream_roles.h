@@ -1,0 +1,42 @@
+#pragma once
+/// \file
+/// \brief Which video stream of a 3D video is the color video and which the depth video.
+///
+/// Rules, in order (DESIGN §4): the stream title `color` / `depth` (case-insensitive); then the depth
+/// metadata tags (a stream with depth_near / depth_far / depth_mapping / depth_bits of its own when
+/// not every stream carries them); then a gray pixel format (gray, gray10, gray16: depth); the first
+/// remaining stream is color and, when color is known, the next remaining one is depth (stream
+/// order, reported). A single stream is depth-only or color-only: by the caller's preference, else
+/// depth when gray and color otherwise. Further video streams are ignored (reported).
+/// Thread-safety: reentrant.
+
+#include <string>
+#include <vector>
+
+#include "depthtouch/hal/media_source.h"
+
+namespace depthtouch::receiver {
+
+/// What the caller wants from a single-stream input.
+enum class SingleStream : std::uint8_t {
+    Auto,  ///< Gray pixel format: depth-only; otherwise color-only.
+    Depth, ///< Depth-only (`touch`: a gray H.264 file decodes as 4:2:0 and would look like color).
+    Color, ///< Color-only.
+};
+
+/// The chosen streams (MediaInfo indices, -1 when absent) and why.
+struct StreamRoles {
+    int color = -1;
+    int depth = -1;
+    const char *colorReason = ""; ///< "title", "pixel format", "stream order", "only stream"…
+    const char *depthReason = "";
+    std::vector<std::string> notes; ///< Assumptions and ignored streams, one sentence each.
+};
+
+/// \return whether \a d carries any depth metadata tag.
+bool hasDepthMetadata(const hal::DepthMetadata &d) noexcept;
+
+/// \return the roles of the streams of \a info (see the file comment); both -1 when it has none.
+StreamRoles identifyStreams(const hal::MediaInfo &info, SingleStream single = SingleStream::Auto);
+
+} // namespace depthtouch::receiver

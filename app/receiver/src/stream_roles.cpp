@@ -1,0 +1,113 @@
+#include "depthtouch/receiver/stream_roles.h"
+
+#include <cctype>
+#include <string_view>
+
+namespace depthtouch::receiver {
+
+namespace {
+
+bool equalsNoCase(std::string_view a, std::string_view b) noexcept
+{
+    if (a.size() != b.size())
+        return false;
+    for (std::size_t i = 0; i < a.size(); ++i)
+        if (std::tolower(static_cast<unsigned char>(a[i])) !=
+            std::tolower(static_cast<unsigned char>(b[i])))
+            return false;
+    return true;
+}
+
+bool isGray(hal::PixelFormat f) noexcept
+{
+    return f == hal::PixelFormat::Gray8 || f == hal::PixelFormat::Gray10 ||
+           f == hal::PixelFormat::Gray16 || f == hal::PixelFormat::Z16;
+}
+
+bool sameMetadata(const hal::DepthMetadata &a, const hal::DepthMetadata &b) noexcept
+{
+    return a.nearMetres == b.nearMetres && a.farMetres == b.farMetres && a.mapping == b.mapping &&
+           a.bits == b.bits;
+}
+
+} // namespace
+
+bool hasDepthMetadata(const hal::DepthMetadata &d) noexcept
+{
+    return d.nearMetres > 0.0 || d.farMetres > 0.0 || !d.mapping.empty() || d.bits > 0;
+}
+
+StreamRoles identifyStreams(const hal::MediaInfo &info, SingleStream single)
+{
+    StreamRoles r;
+    const auto &streams = info.streams;
+    const std::size_t n = streams.size();
+    if (n == 0)
+        return r;
+    if (n == 1) {
+        const hal::StreamInfo &s = streams[0];
+        bool depth = false;
+        if (single == SingleStream::Depth)
+            depth = true;
+        else if (single == SingleStream::Auto)
+            depth = equalsNoCase(s.title, "depth") ||
+                    (!equalsNoCase(s.title, "color") && (isGray(s.format) ||
+                                                          hasDepthMetadata(s.depth)));
+        if (depth) {
+            r.depth = s.index;
+            r.depthReason = "only stream";
+        } else {
+            r.color = s.index;
+            r.colorReason = "only stream";
+        }
+        return r;
+    }
+
+    std::vector<bool> taken(n, false);
+    const auto assign = [&](int &role, const char *&reason, std::size_t i, const char *why) {
+        if (role >= 0 || taken[i])
+            return;
+        role = streams[i].index;
+        reason = why;
+        taken[i] = true;
+    };
+    // 1. Titles.
+    for (std::size_t i = 0; i < n; ++i) {
+        if (equalsNoCase(streams[i].title, "color") || equalsNoCase(streams[i].title, "colour"))
+            assign(r.color, r.colorReason, i, "title");
+        else if (equalsNoCase(streams[i].title, "depth"))
+            assign(r.depth, r.depthReason, i, "title");
+    }
+    // 2. Depth metadata of the stream's own (tags every stream shares are the container's).
+    bool allShare = true;
+    for (std::size_t i = 1; i < n; ++i)
+        allShare = allShare && sameMetadata(streams[i].depth, streams[0].depth);
+    if (!allShare)
+        for (std::size_t i = 0; i < n; ++i)
+            if (hasDepthMetadata(streams[i].depth))
+                assign(r.depth, r.depthReason, i, "depth metadata");
+    // 3. Gray pixel format.
+    for (std::size_t i = 0; i < n; ++i)
+        if (isGray(streams[i].format))
+            assign(r.depth, r.depthReason, i, "gray pixel format");
+    // 4. Stream order.
+    for (std::size_t i = 0; i < n; ++i)
+        if (!isGray(streams[i].format))
+            assign(r.color, r.colorReason, i, "stream order");
+    if (r.color >= 0)
+        for (std::size_t i = 0; i < n; ++i)
+            if (r.depth < 0 && !taken[i]) {
+                assign(r.depth, r.depthReason, i, "stream order");
+                r.notes.push_back("stream " + std::to_string(streams[i].index) +
+                                  " taken as depth by stream order (no title, metadata or gray "
+                                  "format says so)");
+            }
+    for (std::size_t i = 0; i < n; ++i)
+        if (!taken[i])
+            r.notes.push_back("stream " + std::to_string(streams[i].index) + " (" +
+                              (streams[i].title.empty() ? std::string("untitled") : streams[i].title) +
+                              ") ignored: an extra video stream");
+    return r;
+}
+
+} // namespace depthtouch::receiver

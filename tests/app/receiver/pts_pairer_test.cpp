@@ -1,0 +1,324 @@
+// PtsPairer: the pairing rules on timestamps alone (pure, no decoding).
+#include <chrono>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "depthtouch/receiver/pts_pairer.h"
+
+namespace depthtouch::receiver {
+namespace {
+
+using std::chrono::milliseconds;
+using Pairer = PtsPairer<int>;
+
+constexpr milliseconds kPeriod{40}; // 25 fps
+
+PairerConfig config(bool color = true, bool depth = true, milliseconds colorPeriod = kPeriod,
+                    milliseconds depthPeriod = kPeriod, int window = 8)
+{
+    PairerConfig c;
+    c.color = color;
+    c.depth = depth;
+    c.colorPeriod = colorPeriod;
+    c.depthPeriod = depthPeriod;
+    c.window = window;
+    return c;
+}
+
+Pairer::Item item(std::int64_t ms, int id, bool corrupt = false)
+{
+    Pairer::Item i;
+    i.pts = milliseconds(ms);
+    i.corrupt = corrupt;
+    i.payload = id;
+    return i;
+}
+
+std::vector<Pairer::Output> pullAll(Pairer &p)
+{
+    std::vector<Pairer::Output> out;
+    Pairer::Output o;
+    while (p.pull(o))
+        out.push_back(o);
+    return out;
+}
+
+/// Pushes color at \a colorMs and depth at \a depthMs interleaved by time, pulling as it goes.
+std::vector<Pairer::Output> run(Pairer &p, const std::vector<std::int64_t> &colorMs,
+                                const std::vector<std::int64_t> &depthMs)
+{
+    std::vector<Pairer::Output> out;
+    std::size_t c = 0;
+    std::size_t d = 0;
+    while (c < colorMs.size() || d < depthMs.size()) {
+        const bool takeColor =
+            d >= depthMs.size() || (c < colorMs.size() && colorMs[c] <= depthMs[d]);
+        if (takeColor) {
+            EXPECT_TRUE(p.canPush(PairStream::Color));
+            p.push(PairStream::Color, item(colorMs[c], static_cast<int>(c)));
+            ++c;
+        } else {
+            EXPECT_TRUE(p.canPush(PairStream::Depth));
+            p.push(PairStream::Depth, item(depthMs[d], 1000 + static_cast<int>(d)));
+            ++d;
+        }
+        for (auto &o : pullAll(p))
+            out.push_back(o);
+    }
+    p.endOfStream(PairStream::Color);
+    p.endOfStream(PairStream::Depth);
+    for (auto &o : pullAll(p))
+        out.push_back(o);
+    EXPECT_TRUE(p.finished());
+    return out;
+}
+
+std::vector<std::int64_t> times(int count, std::int64_t step, std::int64_t start = 0)
+{
+    std::vector<std::int64_t> v;
+    for (int i = 0; i < count; ++i)
+        v.push_back(start + i * step);
+    return v;
+}
+
+TEST(PtsPairerTest, equalRatesPairEachColorFrameWithItsDepthFrameAndTheNext)
+{
+    // GIVEN color and depth at 25 fps with identical PTS
+    Pairer p(config());
+    // WHEN paired
+    const auto out = run(p, times(10, 40), times(10, 40));
+    // THEN every color frame i gets depth i and depth i+1 (none after the last)
+    ASSERT_EQ(out.size(), 10u);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        EXPECT_EQ(out[i].index, i);
+        EXPECT_EQ(out[i].color.payload, static_cast<int>(i));
+        ASSERT_TRUE(out[i].hasDepth);
+        EXPECT_EQ(out[i].depth.payload, 1000 + static_cast<int>(i));
+        EXPECT_EQ(out[i].hasNext, i + 1 < out.size());
+        if (out[i].hasNext) {
+            EXPECT_EQ(out[i].depthNext.payload, 1001 + static_cast<int>(i));
+        }
+        EXPECT_FALSE(out[i].depthDuplicated || out[i].depthMissing);
+    }
+    EXPECT_EQ(p.stats().depthUnpaired, 0u);
+}
+
+TEST(PtsPairerTest, outputWaitsUntilTheNextDepthFrameIsBuffered)
+{
+    Pairer p(config());
+    p.push(PairStream::Color, item(0, 0));
+    p.push(PairStream::Depth, item(0, 100));
+    Pairer::Output o;
+    // THEN frame 0 is not decided until depth frame 1 exists
+    EXPECT_FALSE(p.pull(o));
+    p.push(PairStream::Depth, item(40, 101));
+    ASSERT_TRUE(p.pull(o));
+    EXPECT_EQ(o.depth.payload, 100);
+    ASSERT_TRUE(o.hasNext);
+    EXPECT_EQ(o.depthNext.payload, 101);
+    EXPECT_EQ(o.depthNext.pts, milliseconds(40));
+}
+
+TEST(PtsPairerTest, jitterWithinHalfAFramePairsTheNearestDepthFrame)
+{
+    Pairer p(config());
+    EXPECT_EQ(p.tolerance(), milliseconds(20));
+    // depth PTS off by up to 15 ms
+    const auto out = run(p, {0, 40, 80, 120}, {5, 30, 95, 135});
+    ASSERT_EQ(out.size(), 4u);
+    EXPECT_EQ(out[0].depth.payload, 1000);
+    EXPECT_EQ(out[1].depth.payload, 1001);
+    EXPECT_EQ(out[2].depth.payload, 1002);
+    EXPECT_EQ(out[3].depth.payload, 1003);
+    for (const auto &o : out)
+        EXPECT_FALSE(o.depthDuplicated);
+}
+
+TEST(PtsPairerTest, halfRateDepthIsReusedWithTheFollowingFrameAsNext)
+{
+    // GIVEN color at 25 fps and depth at 12.5 fps
+    Pairer p(config(true, true, kPeriod, milliseconds(80)));
+    const auto out = run(p, times(8, 40), times(4, 80));
+    ASSERT_EQ(out.size(), 8u);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        ASSERT_TRUE(out[i].hasDepth) << i;
+        EXPECT_EQ(out[i].depth.payload, 1000 + static_cast<int>(i / 2)) << i;
+        EXPECT_EQ(out[i].depthDuplicated, i % 2 == 1) << i;
+        if (i + 2 < out.size()) { // odd frames interpolate towards the next depth frame
+            ASSERT_TRUE(out[i].hasNext);
+            EXPECT_EQ(out[i].depthNext.payload, 1001 + static_cast<int>(i / 2));
+        }
+    }
+    EXPECT_EQ(p.stats().depthDuplicated, 4u);
+}
+
+TEST(PtsPairerTest, doubleRateDepthSkipsTheFramesBetweenColorFrames)
+{
+    Pairer p(config(true, true, kPeriod, milliseconds(20)));
+    const auto out = run(p, times(5, 40), times(10, 20));
+    ASSERT_EQ(out.size(), 5u);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        EXPECT_EQ(out[i].depth.payload, 1000 + 2 * static_cast<int>(i));
+        EXPECT_EQ(out[i].depth.pts, out[i].pts);
+    }
+    // the in-between frames: 1, 3, 5, 7, 9
+    EXPECT_EQ(p.stats().depthUnpaired, 5u);
+}
+
+TEST(PtsPairerTest, depthStartingLateLeavesTheFirstFramesWithoutDepth)
+{
+    Pairer p(config());
+    const auto out = run(p, times(6, 40), times(3, 40, 120));
+    ASSERT_EQ(out.size(), 6u);
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_TRUE(out[static_cast<std::size_t>(i)].depthMissing);
+        EXPECT_FALSE(out[static_cast<std::size_t>(i)].hasDepth);
+    }
+    for (int i = 3; i < 6; ++i)
+        EXPECT_EQ(out[static_cast<std::size_t>(i)].depth.payload, 1000 + i - 3);
+    EXPECT_EQ(p.stats().depthMissing, 3u);
+}
+
+TEST(PtsPairerTest, lostDepthFramesAreCountedAsGapAndBridgedByTheLastFrame)
+{
+    Pairer p(config());
+    // depth frames 3 and 4 lost
+    const auto out = run(p, times(8, 40), {0, 40, 80, 200, 240, 280});
+    ASSERT_EQ(out.size(), 8u);
+    EXPECT_TRUE(out[3].depthDuplicated);
+    EXPECT_TRUE(out[4].depthDuplicated);
+    EXPECT_EQ(out[3].depth.payload, 1002);
+    EXPECT_EQ(out[3].depthNext.payload, 1003); // the frame at 200 ms
+    EXPECT_EQ(p.stats().ptsGaps, 1u);
+    EXPECT_EQ(p.stats().depthDuplicated, 2u);
+}
+
+TEST(PtsPairerTest, duplicateAndBackwardPtsAreRefusedAndCounted)
+{
+    Pairer p(config());
+    EXPECT_EQ(p.push(PairStream::Color, item(0, 0)), PushOutcome::Accepted);
+    EXPECT_EQ(p.push(PairStream::Color, item(40, 1)), PushOutcome::Accepted);
+    EXPECT_EQ(p.push(PairStream::Color, item(40, 2)), PushOutcome::Duplicate);
+    EXPECT_EQ(p.push(PairStream::Color, item(20, 3)), PushOutcome::NonMonotonic);
+    EXPECT_EQ(p.push(PairStream::Color, item(80, 4)), PushOutcome::Accepted);
+    EXPECT_EQ(p.stats().ptsDuplicates, 1u);
+    EXPECT_EQ(p.stats().ptsNonMonotonic, 1u);
+    p.endOfStream(PairStream::Color);
+    p.endOfStream(PairStream::Depth);
+    const auto out = pullAll(p);
+    ASSERT_EQ(out.size(), 3u);
+    EXPECT_EQ(out[2].color.payload, 4);
+}
+
+TEST(PtsPairerTest, missingPtsFollowsThePreviousFrame)
+{
+    Pairer p(config(true, false));
+    p.push(PairStream::Color, item(0, 0));
+    Pairer::Item none;
+    none.payload = 1;
+    EXPECT_EQ(p.push(PairStream::Color, std::move(none)), PushOutcome::Accepted);
+    const auto out = pullAll(p);
+    ASSERT_EQ(out.size(), 2u);
+    EXPECT_EQ(out[1].pts, milliseconds(40));
+    EXPECT_EQ(p.stats().ptsMissing, 1u);
+}
+
+TEST(PtsPairerTest, stalledDepthForcesDecisionsWithinTheWindow)
+{
+    // GIVEN a depth stream that stops after two frames while color goes on (not ended)
+    Pairer p(config(true, true, kPeriod, kPeriod, 4));
+    p.push(PairStream::Depth, item(0, 1000));
+    p.push(PairStream::Depth, item(40, 1001));
+    std::size_t outputs = 0;
+    for (int i = 0; i < 30; ++i) {
+        ASSERT_TRUE(p.canPush(PairStream::Color)) << i; // never full: bounded buffering
+        p.push(PairStream::Color, item(40 * i, i));
+        outputs += pullAll(p).size();
+    }
+    // THEN all but the window's worth came out, reusing the last depth frame
+    EXPECT_EQ(outputs, 30u - 4u);
+    EXPECT_GT(p.stats().pairingForced, 0u);
+    EXPECT_GT(p.stats().depthDuplicated, 0u);
+}
+
+TEST(PtsPairerTest, depthRunningAheadOfAStalledColorStreamIsDroppedBeyondTheWindow)
+{
+    Pairer p(config(true, true, kPeriod, kPeriod, 4));
+    for (int i = 0; i < 20; ++i) {
+        ASSERT_TRUE(p.canPush(PairStream::Depth)) << i;
+        p.push(PairStream::Depth, item(40 * i, i));
+        EXPECT_TRUE(pullAll(p).empty());
+    }
+    EXPECT_EQ(p.stats().depthUnpaired, 16u);
+}
+
+TEST(PtsPairerTest, shorterColorStreamLeavesTheRestOfTheDepthUnpaired)
+{
+    Pairer p(config());
+    const auto out = run(p, times(4, 40), times(10, 40));
+    EXPECT_EQ(out.size(), 4u);
+    EXPECT_EQ(p.stats().depthUnpaired, 6u);
+    EXPECT_TRUE(out[3].hasNext); // depth frame 4 exists, so frame 3 interpolates towards it
+}
+
+TEST(PtsPairerTest, shorterDepthStreamLeavesTheLastColorFramesDuplicated)
+{
+    Pairer p(config());
+    const auto out = run(p, times(6, 40), times(3, 40));
+    ASSERT_EQ(out.size(), 6u);
+    EXPECT_FALSE(out[2].hasNext);
+    for (std::size_t i = 3; i < 6; ++i) {
+        EXPECT_TRUE(out[i].depthDuplicated);
+        EXPECT_EQ(out[i].depth.payload, 1002);
+        EXPECT_FALSE(out[i].hasNext);
+    }
+}
+
+TEST(PtsPairerTest, depthOnlyAndColorOnlyInputs)
+{
+    Pairer depthOnly(config(false, true));
+    const auto d = run(depthOnly, {}, times(5, 40));
+    ASSERT_EQ(d.size(), 5u);
+    for (std::size_t i = 0; i < d.size(); ++i) {
+        EXPECT_FALSE(d[i].hasColor);
+        EXPECT_EQ(d[i].depth.payload, 1000 + static_cast<int>(i));
+        EXPECT_EQ(d[i].hasNext, i + 1 < d.size());
+        EXPECT_EQ(d[i].pts, milliseconds(40 * static_cast<int>(i)));
+    }
+    Pairer colorOnly(config(true, false));
+    const auto c = run(colorOnly, times(5, 40), {});
+    ASSERT_EQ(c.size(), 5u);
+    for (const auto &o : c) {
+        EXPECT_TRUE(o.depthMissing);
+        EXPECT_FALSE(o.hasDepth);
+    }
+}
+
+TEST(PtsPairerTest, corruptItemsMarkTheOutputConcealed)
+{
+    Pairer p(config());
+    p.push(PairStream::Color, item(0, 0));
+    p.push(PairStream::Depth, item(0, 100, true));
+    p.push(PairStream::Color, item(40, 1));
+    p.push(PairStream::Depth, item(40, 101));
+    p.endOfStream(PairStream::Color);
+    p.endOfStream(PairStream::Depth);
+    const auto out = pullAll(p);
+    ASSERT_EQ(out.size(), 2u);
+    EXPECT_TRUE(out[0].concealed);
+    EXPECT_FALSE(out[1].concealed);
+}
+
+TEST(PtsPairerTest, resetStartsAFreshTimeline)
+{
+    Pairer p(config());
+    p.push(PairStream::Color, item(400, 0));
+    p.reset();
+    // an earlier PTS is fine after a reset (seek backwards)
+    EXPECT_EQ(p.push(PairStream::Color, item(0, 1)), PushOutcome::Accepted);
+    EXPECT_EQ(p.stats().ptsNonMonotonic, 0u);
+}
+
+} // namespace
+} // namespace depthtouch::receiver

@@ -1,0 +1,75 @@
+#pragma once
+/// \file
+/// \brief Test helpers of the receiver without FFmpeg: a temporary directory, a MediaSource decorator
+/// that injects timestamp and size faults, and what a test records of each paired frame.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "depthtouch/hal/media_source.h"
+#include "depthtouch/receiver/receiver.h"
+
+namespace depthtouch::receivertest {
+
+/// A directory removed with its contents on destruction.
+class TempDir {
+public:
+    TempDir();
+    ~TempDir();
+    TempDir(const TempDir &) = delete;
+    TempDir &operator=(const TempDir &) = delete;
+    [[nodiscard]] std::string path(const std::string &name) const { return dir_ + "/" + name; }
+
+private:
+    std::string dir_;
+};
+
+/// \brief Wraps a MediaSource and lets a test edit what it reports.
+class FaultySource final : public hal::MediaSource {
+public:
+    using InfoEdit = std::function<void(hal::MediaInfo &)>;
+    /// Edits packet number \a ordinal (file order); return false to drop the packet.
+    using PacketEdit = std::function<bool(hal::Packet &, std::uint64_t ordinal)>;
+
+    FaultySource(std::unique_ptr<hal::MediaSource> inner, InfoEdit editInfo, PacketEdit editPacket);
+
+    [[nodiscard]] State state() const noexcept override { return inner_->state(); }
+    [[nodiscard]] Result<void> open(const char *url) override;
+    void close() noexcept override { inner_->close(); }
+    [[nodiscard]] const hal::MediaInfo &info() const noexcept override { return info_; }
+    [[nodiscard]] Result<hal::Packet> readPacket() override;
+    [[nodiscard]] Result<void> seek(hal::Pts position) override { return inner_->seek(position); }
+
+private:
+    std::unique_ptr<hal::MediaSource> inner_;
+    InfoEdit editInfo_;
+    PacketEdit editPacket_;
+    hal::MediaInfo info_;
+    std::uint64_t ordinal_ = 0;
+};
+
+/// What a test checks of one paired frame (the frame itself is dropped at once).
+struct Record {
+    std::uint64_t index = 0;
+    hal::Pts pts = hal::kNoPts;
+    hal::Pts colorPts = hal::kNoPts;
+    hal::Pts depthPts = hal::kNoPts;
+    hal::Pts nextPts = hal::kNoPts;
+    bool hasColor = false;
+    bool hasDepth = false;
+    bool hasNext = false;
+    bool depthMissing = false;
+    bool depthDuplicated = false;
+    bool concealed = false;
+    int depthSample = -1; ///< Depth sample (0, 0) of frame i.
+};
+/// \return the record of \a f.
+Record recordOf(const receiver::PairedFrame &f);
+
+/// Every paired frame of \a r (bounded: fails the test instead of looping forever).
+std::vector<Record> drain(receiver::Receiver &r, std::size_t limit = 100'000);
+
+} // namespace depthtouch::receivertest
