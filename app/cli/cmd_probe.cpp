@@ -47,9 +47,9 @@ struct PairingCensus {
 
 hal::Pts periodOf(const hal::Rational &r)
 {
-    return r.num > 0 && r.den > 0 ? hal::Pts(static_cast<std::int64_t>(
-                                         1e9 * static_cast<double>(r.den) / r.num + 0.5))
-                                  : hal::Pts{0};
+    return r.num > 0 && r.den > 0
+               ? hal::Pts(static_cast<std::int64_t>(1e9 * static_cast<double>(r.den) / r.num + 0.5))
+               : hal::Pts{0};
 }
 
 /// Runs the pairing rules on the streams' packet PTS (presentation order = sorted).
@@ -171,7 +171,9 @@ int runProbe(const ProbeOptions &opt)
     std::string decodeText;
     if (opt.decode) {
         auto src2 = drivers::createMediaSource(sourceName, cfg);
-        const std::string decName = !opt.decoder.empty() ? opt.decoder : mockUrl ? "mock" : "ffmpeg";
+        const std::string decName = !opt.decoder.empty() ? opt.decoder
+                                    : mockUrl            ? "mock"
+                                                         : "ffmpeg";
         receiver::DecoderFactory factory = [&decName](const hal::StreamInfo &) {
             return drivers::createVideoDecoder(decName, hal::BackendConfig{});
         };
@@ -207,18 +209,19 @@ int runProbe(const ProbeOptions &opt)
                       {"pts_non_monotonic", s.ptsNonMonotonic},
                       {"read_errors", s.readErrors}};
         char line[512];
-        std::snprintf(line, sizeof line,
-                      "decode (%s): %llu color + %llu depth frames -> %llu paired; %llu concealed, "
-                      "%llu decode errors, %llu without depth, %llu reused depth, %llu read errors\n",
-                      receiver::receiverModeName((*r)->info().mode),
-                      static_cast<unsigned long long>(s.colorFrames),
-                      static_cast<unsigned long long>(s.depthFrames),
-                      static_cast<unsigned long long>(s.framesOutput),
-                      static_cast<unsigned long long>(s.framesConcealed),
-                      static_cast<unsigned long long>(s.decodeErrors),
-                      static_cast<unsigned long long>(s.depthMissing),
-                      static_cast<unsigned long long>(s.depthDuplicated),
-                      static_cast<unsigned long long>(s.readErrors));
+        std::snprintf(
+            line, sizeof line,
+            "decode (%s): %llu color + %llu depth frames -> %llu paired; %llu concealed, "
+            "%llu decode errors, %llu without depth, %llu reused depth, %llu read errors\n",
+            receiver::receiverModeName((*r)->info().mode),
+            static_cast<unsigned long long>(s.colorFrames),
+            static_cast<unsigned long long>(s.depthFrames),
+            static_cast<unsigned long long>(s.framesOutput),
+            static_cast<unsigned long long>(s.framesConcealed),
+            static_cast<unsigned long long>(s.decodeErrors),
+            static_cast<unsigned long long>(s.depthMissing),
+            static_cast<unsigned long long>(s.depthDuplicated),
+            static_cast<unsigned long long>(s.readErrors));
         decodeText = line;
     }
 
@@ -241,17 +244,18 @@ int runProbe(const ProbeOptions &opt)
         nlohmann::json streams = nlohmann::json::array();
         for (const hal::StreamInfo &s : info.streams) {
             const StreamCount &c = counts[static_cast<std::size_t>(s.index)];
-            streams.push_back({{"index", s.index},
-                               {"title", s.title},
-                               {"role", roleOf(s.index)},
-                               {"codec", hal::codecName(s.codec)},
-                               {"width", s.width},
-                               {"height", s.height},
-                               {"pix_fmt", hal::pixelFormatName(s.format)},
-                               {"frame_rate", s.frameRate.toDouble()},
-                               {"frames", c.packets},
-                               {"keyframes", c.keyframes},
-                               {"duration_s", platform::toSeconds(spans[static_cast<std::size_t>(s.index)])}});
+            streams.push_back(
+                {{"index", s.index},
+                 {"title", s.title},
+                 {"role", roleOf(s.index)},
+                 {"codec", hal::codecName(s.codec)},
+                 {"width", s.width},
+                 {"height", s.height},
+                 {"pix_fmt", hal::pixelFormatName(s.format)},
+                 {"frame_rate", s.frameRate.toDouble()},
+                 {"frames", c.packets},
+                 {"keyframes", c.keyframes},
+                 {"duration_s", platform::toSeconds(spans[static_cast<std::size_t>(s.index)])}});
         }
         j["streams"] = streams;
         if (depth != nullptr)
@@ -305,10 +309,12 @@ int runProbe(const ProbeOptions &opt)
                     static_cast<unsigned long long>(census.stats.depthDuplicated),
                     static_cast<unsigned long long>(census.stats.depthMissing),
                     static_cast<unsigned long long>(census.stats.depthUnpaired),
-                    everyPaired ? "every color frame is paired" : "NOT every color frame is paired");
+                    everyPaired ? "every color frame is paired"
+                                : "NOT every color frame is paired");
     else if (roles.depth >= 0)
-        std::printf("pairing: no color stream (depth only, %llu frames)\n",
-                    static_cast<unsigned long long>(counts[static_cast<std::size_t>(roles.depth)].packets));
+        std::printf(
+            "pairing: no color stream (depth only, %llu frames)\n",
+            static_cast<unsigned long long>(counts[static_cast<std::size_t>(roles.depth)].packets));
     else
         std::printf("pairing: no depth stream (color only: plays flat 2D, haptics off)\n");
     if (census.stats.ptsGaps + census.stats.ptsDuplicates > 0)
@@ -336,8 +342,10 @@ void registerProbeCommand(CLI::App &app, int &exitCode)
     cmd->add_flag("--json", opt->json, "Print JSON instead of text");
     cmd->add_flag("--decode", opt->decode,
                   "Also decode and pair every frame (concealed frames, decode errors)");
-    cmd->add_option("--source", opt->source, "Media source backend (default: ffmpeg; mock for mock: URLs)");
-    cmd->add_option("--decoder", opt->decoder, "Video decoder backend for --decode (default: ffmpeg)");
+    cmd->add_option("--source", opt->source,
+                    "Media source backend (default: ffmpeg; mock for mock: URLs)");
+    cmd->add_option("--decoder", opt->decoder,
+                    "Video decoder backend for --decode (default: ffmpeg)");
     cmd->callback([opt, &exitCode] { exitCode = runProbe(*opt); });
 }
 

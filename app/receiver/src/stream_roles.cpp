@@ -50,9 +50,9 @@ StreamRoles identifyStreams(const hal::MediaInfo &info, SingleStream single)
         if (single == SingleStream::Depth)
             depth = true;
         else if (single == SingleStream::Auto)
-            depth = equalsNoCase(s.title, "depth") ||
-                    (!equalsNoCase(s.title, "color") && (isGray(s.format) ||
-                                                          hasDepthMetadata(s.depth)));
+            depth =
+                equalsNoCase(s.title, "depth") || (!equalsNoCase(s.title, "color") &&
+                                                   (isGray(s.format) || hasDepthMetadata(s.depth)));
         if (depth) {
             r.depth = s.index;
             r.depthReason = "only stream";
@@ -104,9 +104,10 @@ StreamRoles identifyStreams(const hal::MediaInfo &info, SingleStream single)
             }
     for (std::size_t i = 0; i < n; ++i)
         if (!taken[i])
-            r.notes.push_back("stream " + std::to_string(streams[i].index) + " (" +
-                              (streams[i].title.empty() ? std::string("untitled") : streams[i].title) +
-                              ") ignored: an extra video stream");
+            r.notes.push_back(
+                "stream " + std::to_string(streams[i].index) + " (" +
+                (streams[i].title.empty() ? std::string("untitled") : streams[i].title) +
+                ") ignored: an extra video stream");
     return r;
 }
 

@@ -1,4 +1,5 @@
-// DecoderThread: the decode thread feeding a polling consumer through the SPSC queue (mock backends).
+// DecoderThread: the decode thread feeding a polling consumer through the SPSC queue (mock
+// backends).
 #include <chrono>
 #include <memory>
 #include <thread>
@@ -22,14 +23,14 @@ std::unique_ptr<Receiver> openMock(platform::Clock &clock, const std::string &ur
     };
     ReceiverConfig cfg;
     cfg.consumerFrames = static_cast<int>(DecoderThread::kQueueFrames) + 2;
-    auto r = Receiver::open(std::make_unique<drivers::MockMediaSource>(), url.c_str(), factory, cfg);
+    auto r =
+        Receiver::open(std::make_unique<drivers::MockMediaSource>(), url.c_str(), factory, cfg);
     EXPECT_TRUE(r);
     return r ? std::move(*r) : nullptr;
 }
 
 /// Polls until \a done or a real-time guard expires (a hang fails instead of blocking ctest).
-template <class F>
-bool pollUntil(F done)
+template <class F> bool pollUntil(F done)
 {
     const auto guard = std::chrono::steady_clock::now() + std::chrono::seconds(20);
     while (!done()) {

@@ -210,7 +210,8 @@ TEST_F(ReceiverMediaTest, truncatedFilesEndCleanly)
     for (const double keep : {0.9, 0.5}) {
         const std::string cut = tmp_.path("cut.mkv");
         std::filesystem::copy_file(path, cut, std::filesystem::copy_options::overwrite_existing);
-        std::filesystem::resize_file(cut, static_cast<std::uintmax_t>(static_cast<double>(size) * keep));
+        std::filesystem::resize_file(cut,
+                                     static_cast<std::uintmax_t>(static_cast<double>(size) * keep));
         auto r = openFfmpeg(cut);
         ASSERT_TRUE(r) << keep;
         const auto frames = drain(**r);
@@ -267,8 +268,8 @@ TEST_F(ReceiverMediaTest, unsupportedCodecIsAClearError)
     receiver::DecoderFactory factory = [](const hal::StreamInfo &) {
         return drivers::createVideoDecoder("ffmpeg", hal::BackendConfig{});
     };
-    auto r = receiver::Receiver::open(std::make_unique<drivers::MockMediaSource>(), "mock://x",
-                                      factory);
+    auto r =
+        receiver::Receiver::open(std::make_unique<drivers::MockMediaSource>(), "mock://x", factory);
     ASSERT_FALSE(r);
     EXPECT_EQ(r.error().code, Errc::NotSupported);
 }

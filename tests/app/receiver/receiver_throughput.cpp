@@ -1,9 +1,9 @@
 // Decode + pairing throughput of the receiver on the ffmpeg backends, one core (one decoder thread
 // each, the receiver on the calling thread), for a 720×486 and a 1920×1080 color + depth H.264 clip
-// written here (x264 veryfast, 2 B-frames, a moving noise texture so the pictures are not trivial to
-// decode). Prints the median of the runs in frames per second and in multiples of real time at the
-// clip's 30 fps, and writes receiver-throughput.csv and receiver-throughput.png (gnuplot) into the
-// folder given as argument (default: receiver-bench-out).
+// written here (x264 veryfast, 2 B-frames, a moving noise texture so the pictures are not trivial
+// to decode). Prints the median of the runs in frames per second and in multiples of real time at
+// the clip's 30 fps, and writes receiver-throughput.csv and receiver-throughput.png (gnuplot) into
+// the folder given as argument (default: receiver-bench-out).
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -161,15 +161,16 @@ int main(int argc, char **argv)
     }
     csv.close();
     const std::string plot = out + "/receiver-throughput.gp";
-    std::ofstream(plot) << "set terminal pngcairo size 640,400\n"
-                        << "set output '" << out << "/receiver-throughput.png'\n"
-                        << "set datafile separator ','\n"
-                        << "set title 'Receiver decode + pairing, one core (x real time at 30 fps)'\n"
-                        << "set ylabel 'x real time'\nset style data points\nset key off\n"
-                        << "set xtics ('720x486' 0, '1920x1080' 1)\nset xrange [-0.5:1.5]\n"
-                        << "set yrange [0:*]\n"
-                        << "plot '" << out << "/receiver-throughput.csv' using "
-                        << "(strcol(1) eq '720x486' ? 0 : 1):6 every ::1 pt 7 ps 1.5\n";
+    std::ofstream(plot)
+        << "set terminal pngcairo size 640,400\n"
+        << "set output '" << out << "/receiver-throughput.png'\n"
+        << "set datafile separator ','\n"
+        << "set title 'Receiver decode + pairing, one core (x real time at 30 fps)'\n"
+        << "set ylabel 'x real time'\nset style data points\nset key off\n"
+        << "set xtics ('720x486' 0, '1920x1080' 1)\nset xrange [-0.5:1.5]\n"
+        << "set yrange [0:*]\n"
+        << "plot '" << out << "/receiver-throughput.csv' using "
+        << "(strcol(1) eq '720x486' ? 0 : 1):6 every ::1 pt 7 ps 1.5\n";
     if (std::system(("gnuplot " + plot + " 2>/dev/null").c_str()) != 0)
         std::printf("(gnuplot failed: no chart)\n");
     std::printf("files: %s/receiver-throughput.csv, %s/receiver-throughput.png\n", out.c_str(),

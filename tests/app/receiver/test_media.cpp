@@ -13,7 +13,6 @@ extern "C" {
 #include <libavutil/opt.h>
 }
 
-
 namespace depthtouch::receivertest {
 
 namespace {
@@ -57,7 +56,8 @@ std::string drainPackets(AVFormatContext *oc, Encoder &e, AVPacket *pkt)
 /// Deterministic noise in 0..255 for texture.
 int noise(int x, int y) noexcept
 {
-    auto h = static_cast<std::uint32_t>(x) * 0x9e3779b1u ^ static_cast<std::uint32_t>(y) * 0x85ebca77u;
+    auto h =
+        static_cast<std::uint32_t>(x) * 0x9e3779b1u ^ static_cast<std::uint32_t>(y) * 0x85ebca77u;
     h ^= h >> 15;
     h *= 0x2c1b3c6du;
     h ^= h >> 12;
@@ -118,9 +118,8 @@ std::string writeClip(const std::string &path, const Clip &clip)
 {
     av_log_set_level(AV_LOG_ERROR); // x264 prints its settings and statistics otherwise
     AVFormatContext *oc = nullptr;
-    int r = avformat_alloc_output_context2(&oc, nullptr,
-                                           clip.format.empty() ? nullptr : clip.format.c_str(),
-                                           path.c_str());
+    int r = avformat_alloc_output_context2(
+        &oc, nullptr, clip.format.empty() ? nullptr : clip.format.c_str(), path.c_str());
     if (r < 0 || oc == nullptr)
         return avError("output context", r);
     std::vector<std::unique_ptr<Encoder>> encoders;
@@ -178,7 +177,8 @@ std::string writeClip(const std::string &path, const Clip &clip)
     }
     if (encoders.empty())
         return fail("no stream");
-    if (!(oc->oformat->flags & AVFMT_NOFILE) && (r = avio_open(&oc->pb, path.c_str(), AVIO_FLAG_WRITE)) < 0)
+    if (!(oc->oformat->flags & AVFMT_NOFILE) &&
+        (r = avio_open(&oc->pb, path.c_str(), AVIO_FLAG_WRITE)) < 0)
         return fail(avError("open output", r));
     if ((r = avformat_write_header(oc, nullptr)) < 0)
         return fail(avError("write header", r));

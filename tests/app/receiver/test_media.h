@@ -19,17 +19,17 @@ namespace depthtouch::receivertest {
 /// One video stream of a test clip.
 struct ClipStream {
     bool enabled = true;
-    std::string title;            ///< Empty: no title tag.
-    bool gray = false;            ///< 4:0:0 depth content (pix_fmt gray) instead of yuv420p.
-    int width = 64;               ///< Pixels.
-    int height = 48;              ///< Pixels.
-    int fps = 30;                 ///< Frame rate; the stream time base is 1/fps.
-    int frames = 10;              ///< Frames to encode.
+    std::string title;             ///< Empty: no title tag.
+    bool gray = false;             ///< 4:0:0 depth content (pix_fmt gray) instead of yuv420p.
+    int width = 64;                ///< Pixels.
+    int height = 48;               ///< Pixels.
+    int fps = 30;                  ///< Frame rate; the stream time base is 1/fps.
+    int frames = 10;               ///< Frames to encode.
     std::vector<std::int64_t> pts; ///< Optional PTS of each frame in 1/fps units (default: index).
-    std::string encoder = "libx264"; ///< libavcodec encoder name: libx264, ffv1, mpeg4...
-    bool lossless = false;           ///< libx264 at qp 0 (depth round-trips bit-exact).
-    int bframes = 0;                 ///< B-frames (decoders then hold frames back).
-    int texture = 0;                 ///< Amplitude of a moving noise texture (0: smooth pattern).
+    std::string encoder = "libx264";  ///< libavcodec encoder name: libx264, ffv1, mpeg4...
+    bool lossless = false;            ///< libx264 at qp 0 (depth round-trips bit-exact).
+    int bframes = 0;                  ///< B-frames (decoders then hold frames back).
+    int texture = 0;                  ///< Amplitude of a moving noise texture (0: smooth pattern).
     std::string preset = "ultrafast"; ///< libx264 preset.
     std::vector<std::pair<std::string, std::string>> metadata; ///< Extra stream tags.
 };
@@ -55,6 +55,5 @@ std::uint8_t depthPattern(int x, int y, int frame) noexcept;
 /// Defined in open_ffmpeg.cpp (links dt_drivers).
 Result<std::unique_ptr<receiver::Receiver>>
 openFfmpeg(const std::string &path, const receiver::ReceiverConfig &cfg = {}, int threads = 1);
-
 
 } // namespace depthtouch::receivertest

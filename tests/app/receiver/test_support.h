@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// \brief Test helpers of the receiver without FFmpeg: a temporary directory, a MediaSource decorator
-/// that injects timestamp and size faults, and what a test records of each paired frame.
+/// \brief Test helpers of the receiver without FFmpeg: a temporary directory, a MediaSource
+/// decorator that injects timestamp and size faults, and what a test records of each paired frame.
 
 #include <cstdint>
 #include <functional>

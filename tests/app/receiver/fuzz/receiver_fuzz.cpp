@@ -1,9 +1,9 @@
 // libFuzzer target over demux + decode + pairing.
 //
-// Input: byte 0 picks the demuxer (0 Matroska, 1 MPEG-TS, 2 MP4/MOV, 3 probe); the rest is the file,
-// handed to the receiver on the ffmpeg backends as an in-memory file (memfd). The same bytes also
-// drive the pairing rules directly (PtsPairer) as a stream of timestamp events, with the pairing
-// invariants checked on every output. Any violation traps.
+// Input: byte 0 picks the demuxer (0 Matroska, 1 MPEG-TS, 2 MP4/MOV, 3 probe); the rest is the
+// file, handed to the receiver on the ffmpeg backends as an in-memory file (memfd). The same bytes
+// also drive the pairing rules directly (PtsPairer) as a stream of timestamp events, with the
+// pairing invariants checked on every output. Any violation traps.
 #include <sys/mman.h>
 #include <unistd.h>
 
@@ -111,7 +111,8 @@ void fuzzMedia(const std::uint8_t *data, std::size_t size)
     const int fd = memFile();
     if (fd < 0 || size < 1)
         return;
-    if (ftruncate(fd, 0) != 0 || pwrite(fd, data + 1, size - 1, 0) != static_cast<ssize_t>(size - 1))
+    if (ftruncate(fd, 0) != 0 ||
+        pwrite(fd, data + 1, size - 1, 0) != static_cast<ssize_t>(size - 1))
         return;
     const std::string url = "/proc/self/fd/" + std::to_string(fd);
 

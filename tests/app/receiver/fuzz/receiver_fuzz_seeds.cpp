@@ -1,6 +1,6 @@
 // Writes the seed corpus of receiver_fuzz into the folder given as argument: small color + depth
-// clips (written with libavformat/libavcodec at run time, no committed binaries), each prefixed with
-// the demuxer selector byte of the fuzz target.
+// clips (written with libavformat/libavcodec at run time, no committed binaries), each prefixed
+// with the demuxer selector byte of the fuzz target.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>

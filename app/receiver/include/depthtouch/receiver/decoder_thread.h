@@ -84,7 +84,8 @@ private:
     std::atomic<std::int64_t> seekTarget_{0};     ///< ns
     std::atomic<std::uint32_t> generation_{0};    ///< Generation the decoder thread produces.
     std::atomic<bool> ended_{false};
-    std::atomic<bool> waitingForFrames_{false}; ///< The Receiver said Busy: poll() wakes the thread.
+    std::atomic<bool> waitingForFrames_{
+        false}; ///< The Receiver said Busy: poll() wakes the thread.
     std::atomic<bool> failed_{false};
     std::atomic<std::uint64_t> seekFailures_{0};
     Error error_{};

@@ -1,6 +1,7 @@
 #pragma once
 /// \file
-/// \brief FrameStore: the receiver's preallocated pool of decoded frames, shared by reference count.
+/// \brief FrameStore: the receiver's preallocated pool of decoded frames, shared by reference
+/// count.
 ///
 /// The receiver copies each decoded frame out of the decoder's pool into a FrameStore slot at once,
 /// so the decoder never stalls on frames held downstream. A slot is shared through FrameHandle: the
@@ -8,10 +9,10 @@
 /// without a copy. Slots are allocated by allocate() when a file is opened; acquiring, sharing and
 /// releasing never allocate, lock or block.
 ///
-/// Thread-safety: allocate() and acquire() are thread-bound (the decode thread). FrameHandle::share(),
-/// the release of a handle (destructor, reset()) and inUse() are thread-safe and lock-free: a handle
-/// may be moved to the render or the haptic thread and dropped there. The store must outlive every
-/// handle (checked by DT_ASSERT in its destructor).
+/// Thread-safety: allocate() and acquire() are thread-bound (the decode thread).
+/// FrameHandle::share(), the release of a handle (destructor, reset()) and inUse() are thread-safe
+/// and lock-free: a handle may be moved to the render or the haptic thread and dropped there. The
+/// store must outlive every handle (checked by DT_ASSERT in its destructor).
 
 #include <atomic>
 #include <cstdint>

@@ -14,14 +14,15 @@
 ///   Its successor in the depth stream is the output's depthNext. An output is held back until that
 ///   successor has arrived or the depth stream has ended.
 /// - No depth frame within τ (different frame rates, a gap, a lost frame): the latest depth frame
-///   before t is reused (depthDuplicated; depthNext = the first depth frame after t when known); with
-///   no earlier depth frame the output has no depth (depthMissing).
+///   before t is reused (depthDuplicated; depthNext = the first depth frame after t when known);
+///   with no earlier depth frame the output has no depth (depthMissing).
 /// - Depth frames no color frame chose are dropped and counted (depthUnpaired).
 /// - Bounded buffering: when more than `window` color frames wait (depth late, lost or ended), the
 ///   oldest is decided as if the depth stream had ended (pairingForced); when more than `window`
 ///   depth frames wait with no color frame, the oldest is dropped as unpaired. Each queue holds at
 ///   most window + 2 items, so push() after a pull() that returned false always has room.
-/// - Timestamps per stream: a missing PTS (kNoPts) becomes previous + period (ptsMissing); a PTS equal
+/// - Timestamps per stream: a missing PTS (kNoPts) becomes previous + period (ptsMissing); a PTS
+/// equal
 ///   to the previous one (ptsDuplicates) or before it (ptsNonMonotonic) is refused; a step above
 ///   1.5 periods is accepted and counted (ptsGaps).
 ///
@@ -39,11 +40,11 @@ namespace depthtouch::receiver {
 
 /// Which streams exist and how they are timed.
 struct PairerConfig {
-    bool color = true;                            ///< The input has a color stream.
-    bool depth = true;                            ///< The input has a depth stream.
-    hal::Pts colorPeriod = hal::Pts(33'333'333);  ///< Color frame period (ns).
-    hal::Pts depthPeriod = hal::Pts(33'333'333);  ///< Depth frame period (ns).
-    int window = 8;                               ///< Frames a stream may wait for the other, ≥ 1.
+    bool color = true;                           ///< The input has a color stream.
+    bool depth = true;                           ///< The input has a depth stream.
+    hal::Pts colorPeriod = hal::Pts(33'333'333); ///< Color frame period (ns).
+    hal::Pts depthPeriod = hal::Pts(33'333'333); ///< Depth frame period (ns).
+    int window = 8;                              ///< Frames a stream may wait for the other, ≥ 1.
 };
 
 /// Counters of the pairing and of the timestamp checks since construction (reset() keeps them).
@@ -52,9 +53,9 @@ struct PairerStats {
     std::uint64_t depthMissing = 0;    ///< Outputs of a two-stream input without any depth frame.
     std::uint64_t depthDuplicated = 0; ///< Outputs whose depth frame was reused (no partner in τ).
     std::uint64_t depthUnpaired = 0;   ///< Depth frames no color frame was paired with.
-    std::uint64_t pairingForced = 0;   ///< Outputs decided early because a stream lagged by > window.
-    std::uint64_t ptsMissing = 0;      ///< Items without PTS (given previous + period).
-    std::uint64_t ptsDuplicates = 0;   ///< Items refused: same PTS as the previous one.
+    std::uint64_t pairingForced = 0; ///< Outputs decided early because a stream lagged by > window.
+    std::uint64_t ptsMissing = 0;    ///< Items without PTS (given previous + period).
+    std::uint64_t ptsDuplicates = 0; ///< Items refused: same PTS as the previous one.
     std::uint64_t ptsNonMonotonic = 0; ///< Items refused: PTS before the previous one.
     std::uint64_t ptsGaps = 0;         ///< Steps of more than 1.5 frame periods.
 };
@@ -72,8 +73,7 @@ constexpr int sharePayload(const int &v) noexcept
 
 /// \tparam P payload: movable; `P sharePayload(const P &)` (found by ADL or in this namespace)
 /// makes the extra reference a depth frame needs when it is both "current" and "next".
-template <class P>
-class PtsPairer {
+template <class P> class PtsPairer {
 public:
     /// One frame of one stream.
     struct Item {

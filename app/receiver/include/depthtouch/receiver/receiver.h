@@ -5,9 +5,9 @@
 ///
 /// The executable creates the HAL objects: a MediaSource and a factory of VideoDecoders (one per
 /// stream); the Receiver opens the input, chooses the color and depth streams (stream_roles.h),
-/// configures a decoder for each, and turns packets into PairedFrames: a color frame, the depth frame
-/// paired with it by PTS (frame i) and the depth frame after it (frame i+1), which the haptic task
-/// needs to interpolate the surface in time (paper IV.B, Eq. 1). Pairing rules: pts_pairer.h.
+/// configures a decoder for each, and turns packets into PairedFrames: a color frame, the depth
+/// frame paired with it by PTS (frame i) and the depth frame after it (frame i+1), which the haptic
+/// task needs to interpolate the surface in time (paper IV.B, Eq. 1). Pairing rules: pts_pairer.h.
 ///
 /// Memory: every frame is copied out of the decoder into a FrameStore allocated by open(), sized
 /// for the pairing window plus ReceiverConfig::consumerFrames held downstream; after open() nothing
@@ -49,11 +49,11 @@ struct DepthPair {
 /// \brief One output of the receiver: a color frame and its depth frames, with what went wrong.
 /// Move-only (holds FrameHandles); dropping it returns the frames to the receiver.
 struct PairedFrame {
-    FrameHandle color;     ///< Empty without a color stream.
-    FrameHandle depth;     ///< Depth frame i; empty when depthMissing.
-    FrameHandle depthNext; ///< Depth frame i+1; empty at the end of the depth video.
-    hal::Pts pts = hal::kNoPts; ///< Presentation time: the color PTS (depth PTS when depth-only).
-    std::uint64_t index = 0;    ///< Outputs before this one since open() or the last seek().
+    FrameHandle color;            ///< Empty without a color stream.
+    FrameHandle depth;            ///< Depth frame i; empty when depthMissing.
+    FrameHandle depthNext;        ///< Depth frame i+1; empty at the end of the depth video.
+    hal::Pts pts = hal::kNoPts;   ///< Presentation time: the color PTS (depth PTS when depth-only).
+    std::uint64_t index = 0;      ///< Outputs before this one since open() or the last seek().
     bool depthMissing = false;    ///< No depth frame for it (depth absent, or not yet started).
     bool depthDuplicated = false; ///< No depth frame within half a frame: the previous one reused.
     bool concealed = false;       ///< The decoder concealed damage in its color or depth frame.
@@ -112,25 +112,25 @@ struct ReceiverInfo {
 
 /// \brief Counters since open(). Plain values: copy them with Receiver::stats().
 struct ReceiverStats {
-    std::uint64_t packetsRead = 0;       ///< Packets read from the source (all streams).
-    std::uint64_t packetsIgnored = 0;    ///< Packets of streams not used.
-    std::uint64_t colorFrames = 0;       ///< Color frames decoded.
-    std::uint64_t depthFrames = 0;       ///< Depth frames decoded.
-    std::uint64_t framesOutput = 0;      ///< Paired frames produced.
-    std::uint64_t framesConcealed = 0;   ///< Outputs with a concealed color or depth frame.
-    std::uint64_t decodeErrors = 0;      ///< Packets or frames the decoders dropped or refused.
-    std::uint64_t frameSizeChanges = 0;  ///< Frames dropped: size or format unlike the stream's.
-    std::uint64_t depthMissing = 0;      ///< Outputs without a depth frame (two-stream input).
-    std::uint64_t depthDuplicated = 0;   ///< Outputs whose depth frame was reused.
-    std::uint64_t depthUnpaired = 0;     ///< Depth frames no color frame was paired with.
-    std::uint64_t pairingForced = 0;     ///< Outputs decided early (a stream lagged > window).
-    std::uint64_t ptsMissing = 0;        ///< Frames without PTS (given previous + period).
-    std::uint64_t ptsDuplicates = 0;     ///< Frames dropped: same PTS as the previous one.
-    std::uint64_t ptsNonMonotonic = 0;   ///< Frames dropped: PTS before the previous one.
-    std::uint64_t ptsGaps = 0;           ///< PTS steps above 1.5 frame periods.
-    std::uint64_t readErrors = 0;        ///< Source read errors (truncated or unreadable input).
-    std::uint64_t consumerBusy = 0;      ///< next() calls refused: the consumer held every frame.
-    std::uint64_t streamsResumed = 0;    ///< A stream drained as ended sent packets again.
+    std::uint64_t packetsRead = 0;      ///< Packets read from the source (all streams).
+    std::uint64_t packetsIgnored = 0;   ///< Packets of streams not used.
+    std::uint64_t colorFrames = 0;      ///< Color frames decoded.
+    std::uint64_t depthFrames = 0;      ///< Depth frames decoded.
+    std::uint64_t framesOutput = 0;     ///< Paired frames produced.
+    std::uint64_t framesConcealed = 0;  ///< Outputs with a concealed color or depth frame.
+    std::uint64_t decodeErrors = 0;     ///< Packets or frames the decoders dropped or refused.
+    std::uint64_t frameSizeChanges = 0; ///< Frames dropped: size or format unlike the stream's.
+    std::uint64_t depthMissing = 0;     ///< Outputs without a depth frame (two-stream input).
+    std::uint64_t depthDuplicated = 0;  ///< Outputs whose depth frame was reused.
+    std::uint64_t depthUnpaired = 0;    ///< Depth frames no color frame was paired with.
+    std::uint64_t pairingForced = 0;    ///< Outputs decided early (a stream lagged > window).
+    std::uint64_t ptsMissing = 0;       ///< Frames without PTS (given previous + period).
+    std::uint64_t ptsDuplicates = 0;    ///< Frames dropped: same PTS as the previous one.
+    std::uint64_t ptsNonMonotonic = 0;  ///< Frames dropped: PTS before the previous one.
+    std::uint64_t ptsGaps = 0;          ///< PTS steps above 1.5 frame periods.
+    std::uint64_t readErrors = 0;       ///< Source read errors (truncated or unreadable input).
+    std::uint64_t consumerBusy = 0;     ///< next() calls refused: the consumer held every frame.
+    std::uint64_t streamsResumed = 0;   ///< A stream drained as ended sent packets again.
     std::uint64_t seeks = 0;
 };
 
@@ -146,12 +146,13 @@ public:
     /// \param[in] url File path or stream URL.
     /// \param[in] makeDecoder Creates one decoder per used stream.
     /// \param[in] cfg Settings.
-    /// \return the receiver. Errors: the source's open() error (NotSupported, Io, InvalidArgument…);
-    /// InvalidArgument "no usable video stream" (every candidate stream was left out: unsupported
-    /// codec, zero or huge size, or a decoder that refused it); NotSupported when requireDepth or
-    /// requireColor cannot be met; InvalidArgument for a config out of range.
+    /// \return the receiver. Errors: the source's open() error (NotSupported, Io,
+    /// InvalidArgument…); InvalidArgument "no usable video stream" (every candidate stream was left
+    /// out: unsupported codec, zero or huge size, or a decoder that refused it); NotSupported when
+    /// requireDepth or requireColor cannot be met; InvalidArgument for a config out of range.
     static Result<std::unique_ptr<Receiver>> open(std::unique_ptr<hal::MediaSource> source,
-                                                  const char *url, const DecoderFactory &makeDecoder,
+                                                  const char *url,
+                                                  const DecoderFactory &makeDecoder,
                                                   const ReceiverConfig &cfg = {});
     ~Receiver();
 
