@@ -2,6 +2,7 @@
 /// \brief `depthtouch`: the one executable of DepthTouch. Subcommands are listed in kCommands.
 
 #include <cstdio>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -28,6 +29,10 @@ int main(int argc, char **argv)
     CLI::App app{"DepthTouch: play color + depth 3D video and touch it with a haptic device", "depthtouch"};
     app.set_version_flag("--version", "depthtouch " DT_VERSION);
     app.require_subcommand(1);
+    // Bad input gets one clear line (CLI11's default adds a second "Run with --help" line).
+    app.failure_message([](const CLI::App *, const CLI::Error &e) {
+        return std::string("depthtouch: ") + e.what() + " (see --help)\n";
+    });
     int exitCode = depthtouch::cli::kExitOk;
     for (RegisterCommand reg : kCommands)
         reg(app, exitCode);
