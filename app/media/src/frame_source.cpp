@@ -104,10 +104,12 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
         return unexpected(Errc::InvalidArgument, "The frame rate must be positive");
 
     const AVInputFormat *forced = nullptr;
-    AVDictionary *rawDict = nullptr;
+    // Owned from the first entry on, so every early return below frees it.
     std::unique_ptr<AVDictionary, DictDeleter> dict;
-    const auto set = [&rawDict](const char *key, const std::string &value) {
-        av_dict_set(&rawDict, key, value.c_str(), 0);
+    const auto set = [&dict](const char *key, const std::string &value) {
+        AVDictionary *d = dict.release();
+        av_dict_set(&d, key, value.c_str(), 0);
+        dict.reset(d);
     };
     const bool sequence = options.format.empty() && !isUrl(url) && isPrintfPattern(url);
     const bool glob = options.format.empty() && !sequence && isGlobPattern(url);
@@ -134,7 +136,6 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
             return unexpected(Errc::InvalidArgument, "Unknown pixel format (FFmpeg name)");
         set("pixel_format", options.pixelFormat);
     }
-    dict.reset(rawDict);
 
     AVFormatContext *rawFmt = nullptr;
     AVDictionary *openDict = dict.release();

@@ -274,6 +274,7 @@ TEST(HapticTaskTest, simulatedHandFollowsAMovingSurface)
     const HapticStats s = rig.task().stats();
     EXPECT_EQ(s.safetyReleases, 0u);
     EXPECT_GT(s.contactUpdates, 2500u);
+    rig.finish(); // the haptic thread stops before the devices declared after the rig go
 }
 
 TEST(HapticTaskTest, missedDeadlinesZeroTheForceAndItRampsBack)
@@ -305,6 +306,7 @@ TEST(HapticTaskTest, missedDeadlinesZeroTheForceAndItRampsBack)
     EXPECT_LT(early, 1.0);
     rig.runMs(150);
     EXPECT_NEAR(rig.task().lastForce().z, 4.0, 0.01);
+    rig.finish(); // the haptic thread stops before the devices declared after the rig go
 }
 
 TEST(HapticTaskTest, unplugZeroesTheForceAtOnceAndReconnectResumesWithTheRamp)
@@ -340,6 +342,7 @@ TEST(HapticTaskTest, unplugZeroesTheForceAtOnceAndReconnectResumesWithTheRamp)
     const HapticStats s = rig.task().stats();
     EXPECT_EQ(s.deviceLosses, 1u);
     EXPECT_EQ(s.reconnects, 1u);
+    rig.finish(); // the haptic thread stops before the devices declared after the rig go
 }
 
 TEST(HapticTaskTest, deviceThatStopsAnsweringTripsTheWatchdog)
@@ -361,6 +364,7 @@ TEST(HapticTaskTest, deviceThatStopsAnsweringTripsTheWatchdog)
     mock.setStalled(false);
     rig.runMs(150);
     EXPECT_NEAR(rig.task().lastForce().z, 4.0, 0.01);
+    rig.finish(); // the haptic thread stops before the devices declared after the rig go
 }
 
 TEST(HapticTaskTest, disableAndEnableRampTheForceSmoothly)
@@ -394,6 +398,7 @@ TEST(HapticTaskTest, disableAndEnableRampTheForceSmoothly)
         EXPECT_NEAR(f[99], enable ? full : 0.0, 1e-9);
         EXPECT_NEAR(rig.task().gain(), enable ? 1.0 : 0.0, 1e-12);
     }
+    rig.finish(); // the haptic thread stops before the devices declared after the rig go
 }
 
 TEST(HapticTaskTest, forceRateIsLimitedAndForceIsClampedToTheDeviceMaximum)
@@ -421,6 +426,7 @@ TEST(HapticTaskTest, forceRateIsLimitedAndForceIsClampedToTheDeviceMaximum)
     EXPECT_NEAR(f.back(), 8.5, 1e-9) << "clamped to the device maximum";
     EXPECT_LE(rig.task().stats().maxForce, 8.5 + 1e-9);
     EXPECT_EQ(mock.clampCount(), 0u) << "the task clamps before the device has to";
+    rig.finish(); // the haptic thread stops before the devices declared after the rig go
 }
 
 HapticTask *gSignalTask = nullptr;
@@ -449,6 +455,7 @@ TEST(HapticTaskTest, signalHandlerStopsTheTaskWithZeroForce)
     rig.finish();
     EXPECT_EQ(mock.lastForce(), hal::Vec3{});
     EXPECT_TRUE(mock.isConnected()) << "stop() leaves the device open";
+    rig.finish(); // the haptic thread stops before the devices declared after the rig go
 }
 
 TEST(HapticTaskTest, devicePresentLaterIsPickedUp)
@@ -466,6 +473,7 @@ TEST(HapticTaskTest, devicePresentLaterIsPickedUp)
     ASSERT_TRUE(rig.runUntil([&] { return rig.task().deviceConnected(); }));
     rig.runMs(300);
     EXPECT_NEAR(mock.lastForce().z, 4.0, 0.01);
+    rig.finish(); // the haptic thread stops before the devices declared after the rig go
 }
 
 TEST(HapticTaskTest, badConfigIsRejected)
