@@ -11,8 +11,9 @@ if(NOT out MATCHES "haptic updates +([0-9]+) \\(([0-9]+) in contact\\)")
 endif()
 set(updates ${CMAKE_MATCH_1})
 set(contacts ${CMAKE_MATCH_2})
-# One second at 1 kHz: allow for the start-up and scheduling on a loaded machine, not for a dead loop.
-if(updates LESS 900 OR contacts LESS 100)
+# One second at 1 kHz: allow for start-up and for sharing the CPUs with other real-time tests run in
+# parallel (the rate itself is measured by `depthtouch bench rt`), not for a dead loop.
+if(updates LESS 500 OR contacts LESS 100)
     message(FATAL_ERROR "expected ~1000 haptic updates with contact, got ${updates} (${contacts} in contact)")
 endif()
 foreach(f force-log.csv stats.json)
