@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "alloc_counter.h"
+#include "support/allocation_counter.h"
 #include "depthtouch/drivers/mock/mock_media_source.h"
 #include "depthtouch/drivers/mock/mock_pattern.h"
 #include "depthtouch/drivers/mock/mock_video_decoder.h"
@@ -137,7 +137,7 @@ TEST(ReceiverMockTest, noAllocationPerFrameAfterOpen)
     ASSERT_TRUE((*r)->next(f)); // warm-up
     std::size_t frames = 0;
     {
-        AllocationCounter count;
+        testing::AllocationCounter count;
         for (;;) {
             auto n = (*r)->next(f);
             if (!n || !*n)

@@ -3,7 +3,6 @@
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
-#include <new>
 
 #include <unistd.h>
 
@@ -20,86 +19,12 @@
 #endif
 #include "depthtouch/drivers/mock/sim_haptic_device.h"
 
-// Allocation counting for the real-time contracts: this test program replaces the global operator
-// new and delete (every unaligned form, so allocation and release always pair malloc with free).
-namespace {
-thread_local bool tCounting = false;
-thread_local std::size_t tAllocations = 0;
-
-void *countedAlloc(std::size_t size) noexcept
-{
-    if (tCounting)
-        ++tAllocations;
-    return std::malloc(size != 0 ? size : 1);
-}
-
-void *countedAllocOrThrow(std::size_t size)
-{
-    if (void *p = countedAlloc(size))
-        return p;
-    throw std::bad_alloc();
-}
-} // namespace
-
-void *operator new(std::size_t size)
-{
-    return countedAllocOrThrow(size);
-}
-void *operator new[](std::size_t size)
-{
-    return countedAllocOrThrow(size);
-}
-void *operator new(std::size_t size, const std::nothrow_t &) noexcept
-{
-    return countedAlloc(size);
-}
-void *operator new[](std::size_t size, const std::nothrow_t &) noexcept
-{
-    return countedAlloc(size);
-}
-void operator delete(void *p) noexcept
-{
-    std::free(p);
-}
-void operator delete[](void *p) noexcept
-{
-    std::free(p);
-}
-void operator delete(void *p, std::size_t) noexcept
-{
-    std::free(p);
-}
-void operator delete[](void *p, std::size_t) noexcept
-{
-    std::free(p);
-}
-void operator delete(void *p, const std::nothrow_t &) noexcept
-{
-    std::free(p);
-}
-void operator delete[](void *p, const std::nothrow_t &) noexcept
-{
-    std::free(p);
-}
-
 namespace depthtouch::contract {
 
 #if DT_CONTRACT_V4L2
 const DepthCameraHarness *v4l2DepthCameraHarness(); // v4l2_contract_harness.cpp: fake kernel
 #endif
 
-AllocationCounter::AllocationCounter() noexcept : start_(tAllocations)
-{
-    tCounting = true;
-}
-AllocationCounter::~AllocationCounter()
-{
-    tCounting = false;
-}
-std::size_t AllocationCounter::count() const noexcept
-{
-    return tAllocations - start_;
-}
 
 std::string backendParamName(const ::testing::TestParamInfo<std::string> &info)
 {

@@ -19,6 +19,7 @@
 
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/platform/clock.h"
+#include "support/allocation_counter.h"
 
 namespace depthtouch::contract {
 
@@ -137,17 +138,7 @@ private:
     std::unique_ptr<platform::ManualClock> manual_;
 };
 
-/// \brief Counts heap allocations (operator new) made by the calling thread while it is alive.
-class AllocationCounter {
-public:
-    AllocationCounter() noexcept;
-    ~AllocationCounter();
-    AllocationCounter(const AllocationCounter &) = delete;
-    AllocationCounter &operator=(const AllocationCounter &) = delete;
-    [[nodiscard]] std::size_t count() const noexcept;
-
-private:
-    std::size_t start_;
-};
+/// Counts the calling thread's heap allocations (tests/support, linked in by CMake).
+using testing::AllocationCounter;
 
 } // namespace depthtouch::contract

@@ -14,7 +14,7 @@
 
 #include <gtest/gtest.h>
 
-#include "allocation_counter.h"
+#include "support/allocation_counter.h"
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/drivers/usb/fake_falcon.h"
 #include "depthtouch/drivers/usb/libusb_transport.h"
@@ -372,7 +372,7 @@ TEST_F(FalconDeviceTest, readAndCommandDoNotAllocate)
     openOrFail();
     hal::HapticState s;
     const std::uint64_t exchanges = dev_->stats().exchanges;
-    const std::size_t before = testing::threadAllocations();
+    const testing::AllocationCounter allocations;
     for (int i = 0; i < 1000; ++i) {
         (void)fake_->setGripPosition({0.01 * std::sin(i * 0.01), 0.0, 0.005});
         (void)dev_->read(s);
@@ -380,7 +380,7 @@ TEST_F(FalconDeviceTest, readAndCommandDoNotAllocate)
         (void)dev_->isConnected();
         (void)dev_->state();
     }
-    EXPECT_EQ(testing::threadAllocations() - before, 0u);
+    EXPECT_EQ(allocations.count(), 0u);
     EXPECT_EQ(dev_->stats().exchanges - exchanges, 1000u);
 }
 

@@ -1,4 +1,4 @@
-#include "alloc_counter.h"
+#include "support/allocation_counter.h"
 
 #include <cstdlib>
 #include <new>
@@ -65,7 +65,7 @@ void operator delete[](void *p, const std::nothrow_t &) noexcept
     std::free(p);
 }
 
-namespace depthtouch::receivertest {
+namespace depthtouch::testing {
 
 AllocationCounter::AllocationCounter() noexcept : start_(tAllocations)
 {
@@ -80,4 +80,4 @@ std::size_t AllocationCounter::count() const noexcept
     return tAllocations - start_;
 }
 
-} // namespace depthtouch::receivertest
+} // namespace depthtouch::testing
