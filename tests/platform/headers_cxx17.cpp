@@ -9,6 +9,7 @@
 #include "depthtouch/platform/periodic_timer.h"
 #include "depthtouch/platform/realtime_thread.h"
 #include "depthtouch/platform/result.h"
+#include "depthtouch/platform/seqlock.h"
 #include "depthtouch/platform/spsc_ring.h"
 #include "depthtouch/platform/thread_config.h"
 #include "depthtouch/platform/unique_fd.h"
@@ -24,6 +25,7 @@ namespace depthtouch::platform {
 template class SpscRing<std::uint64_t, 8>;
 template class TripleBuffer<std::vector<int>>;
 template class FixedPool<std::vector<int>>;
+template class SeqLockArray<3>;
 
 } // namespace depthtouch::platform
 

@@ -228,28 +228,13 @@ void HapticTask::run(platform::StopToken stop) noexcept
 
 void HapticTask::publishForce(const glm::dvec3 &f) noexcept
 {
-    const std::uint32_t seq = forceSeq_.load(std::memory_order_relaxed);
-    forceSeq_.store(seq + 1, std::memory_order_relaxed);
-    std::atomic_thread_fence(std::memory_order_release);
-    forceX_.store(f.x, std::memory_order_relaxed);
-    forceY_.store(f.y, std::memory_order_relaxed);
-    forceZ_.store(f.z, std::memory_order_relaxed);
-    forceSeq_.store(seq + 2, std::memory_order_release);
+    force_.store({f.x, f.y, f.z});
 }
 
 glm::dvec3 HapticTask::lastForce() const noexcept
 {
-    glm::dvec3 f;
-    std::uint32_t before = 0;
-    std::uint32_t after = 0;
-    do {
-        before = forceSeq_.load(std::memory_order_acquire);
-        f = {forceX_.load(std::memory_order_relaxed), forceY_.load(std::memory_order_relaxed),
-             forceZ_.load(std::memory_order_relaxed)};
-        std::atomic_thread_fence(std::memory_order_acquire);
-        after = forceSeq_.load(std::memory_order_relaxed);
-    } while (before != after || (before & 1u) != 0);
-    return f;
+    const auto f = force_.load();
+    return {f[0], f[1], f[2]};
 }
 
 void HapticTask::zeroForce() noexcept

@@ -138,30 +138,15 @@ Result<void> MockHapticDevice::commandForce(const hal::Vec3 &force) noexcept
 
 void MockHapticDevice::setOutput(const hal::Vec3 &f) noexcept
 {
-    const std::uint32_t seq = outSeq_.load(std::memory_order_relaxed);
-    outSeq_.store(seq + 1, std::memory_order_relaxed);
-    std::atomic_thread_fence(std::memory_order_release);
-    outX_.store(f.x, std::memory_order_relaxed);
-    outY_.store(f.y, std::memory_order_relaxed);
-    outZ_.store(f.z, std::memory_order_relaxed);
-    outSeq_.store(seq + 2, std::memory_order_release);
+    output_.store({f.x, f.y, f.z});
 }
 
 hal::Vec3 MockHapticDevice::lastForce() const noexcept
 {
     if (!isConnected())
         return {};
-    hal::Vec3 f;
-    std::uint32_t before = 0;
-    std::uint32_t after = 0;
-    do {
-        before = outSeq_.load(std::memory_order_acquire);
-        f = {outX_.load(std::memory_order_relaxed), outY_.load(std::memory_order_relaxed),
-             outZ_.load(std::memory_order_relaxed)};
-        std::atomic_thread_fence(std::memory_order_acquire);
-        after = outSeq_.load(std::memory_order_relaxed);
-    } while (before != after || (before & 1u) != 0);
-    return f;
+    const auto f = output_.load();
+    return {f[0], f[1], f[2]};
 }
 
 void MockHapticDevice::setWaypoints(std::vector<HapticWaypoint> points)

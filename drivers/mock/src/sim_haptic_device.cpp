@@ -392,56 +392,26 @@ Result<void> SimHapticDevice::commandForce(const hal::Vec3 &force) noexcept
 
 void SimHapticDevice::setOutput(const hal::Vec3 &f) noexcept
 {
-    const std::uint32_t seq = outSeq_.load(std::memory_order_relaxed);
-    outSeq_.store(seq + 1, std::memory_order_relaxed);
-    std::atomic_thread_fence(std::memory_order_release);
-    outX_.store(f.x, std::memory_order_relaxed);
-    outY_.store(f.y, std::memory_order_relaxed);
-    outZ_.store(f.z, std::memory_order_relaxed);
-    outSeq_.store(seq + 2, std::memory_order_release);
+    output_.store({f.x, f.y, f.z});
 }
 
 void SimHapticDevice::publishPosition() noexcept
 {
-    const std::uint32_t seq = posSeq_.load(std::memory_order_relaxed);
-    posSeq_.store(seq + 1, std::memory_order_relaxed);
-    std::atomic_thread_fence(std::memory_order_release);
-    posX_.store(pos_.x, std::memory_order_relaxed);
-    posY_.store(pos_.y, std::memory_order_relaxed);
-    posZ_.store(pos_.z, std::memory_order_relaxed);
-    posSeq_.store(seq + 2, std::memory_order_release);
+    position_.store({pos_.x, pos_.y, pos_.z});
 }
 
 hal::Vec3 SimHapticDevice::lastForce() const noexcept
 {
     if (!isConnected())
         return {};
-    hal::Vec3 f;
-    std::uint32_t before = 0;
-    std::uint32_t after = 0;
-    do {
-        before = outSeq_.load(std::memory_order_acquire);
-        f = {outX_.load(std::memory_order_relaxed), outY_.load(std::memory_order_relaxed),
-             outZ_.load(std::memory_order_relaxed)};
-        std::atomic_thread_fence(std::memory_order_acquire);
-        after = outSeq_.load(std::memory_order_relaxed);
-    } while (before != after || (before & 1u) != 0);
-    return f;
+    const auto f = output_.load();
+    return {f[0], f[1], f[2]};
 }
 
 hal::Vec3 SimHapticDevice::position() const noexcept
 {
-    hal::Vec3 p;
-    std::uint32_t before = 0;
-    std::uint32_t after = 0;
-    do {
-        before = posSeq_.load(std::memory_order_acquire);
-        p = {posX_.load(std::memory_order_relaxed), posY_.load(std::memory_order_relaxed),
-             posZ_.load(std::memory_order_relaxed)};
-        std::atomic_thread_fence(std::memory_order_acquire);
-        after = posSeq_.load(std::memory_order_relaxed);
-    } while (before != after || (before & 1u) != 0);
-    return p;
+    const auto p = position_.load();
+    return {p[0], p[1], p[2]};
 }
 
 } // namespace depthtouch::drivers

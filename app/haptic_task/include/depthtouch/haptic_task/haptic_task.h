@@ -30,6 +30,7 @@
 #include "depthtouch/platform/periodic_timer.h"
 #include "depthtouch/platform/realtime_thread.h"
 #include "depthtouch/platform/result.h"
+#include "depthtouch/platform/seqlock.h"
 #include "depthtouch/platform/spsc_ring.h"
 
 namespace depthtouch::haptic_task {
@@ -277,10 +278,7 @@ private:
     std::atomic<std::uint64_t> reconnects_{0}; ///< Written by the telemetry thread.
     std::atomic<double> maxForceSeen_{0.0};
     std::atomic<double> gain_{0.0};
-    std::atomic<std::uint32_t> forceSeq_{0};
-    std::atomic<double> forceX_{0.0};
-    std::atomic<double> forceY_{0.0};
-    std::atomic<double> forceZ_{0.0};
+    platform::SeqLockArray<3> force_; ///< Last commanded force, N (read by lastForce()).
 
     // Haptic-thread state (written only by the haptic thread while it runs).
     bool haveFrames_ = false;

@@ -25,6 +25,7 @@
 #include "depthtouch/hal/backends.h"
 #include "depthtouch/hal/haptic_device.h"
 #include "depthtouch/platform/clock.h"
+#include "depthtouch/platform/seqlock.h"
 
 namespace depthtouch::drivers {
 
@@ -136,10 +137,7 @@ private:
 
     // Output force: a sequence lock over three atomics so observers on other threads read a
     // consistent vector without blocking the haptic thread.
-    std::atomic<std::uint32_t> outSeq_{0};
-    std::atomic<double> outX_{0.0};
-    std::atomic<double> outY_{0.0};
-    std::atomic<double> outZ_{0.0};
+    platform::SeqLockArray<3> output_; ///< Output force, N (read by lastForce()).
 
     std::atomic<std::uint64_t> forceCount_{0};
     std::atomic<std::uint64_t> clampCount_{0};

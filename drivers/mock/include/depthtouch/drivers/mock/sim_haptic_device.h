@@ -41,6 +41,7 @@
 #include "depthtouch/hal/backends.h"
 #include "depthtouch/hal/haptic_device.h"
 #include "depthtouch/platform/clock.h"
+#include "depthtouch/platform/seqlock.h"
 
 namespace depthtouch::drivers {
 
@@ -146,14 +147,8 @@ private:
     double pathLength_ = 0.0;
 
     // Observers: sequence locks over atomics.
-    std::atomic<std::uint32_t> outSeq_{0};
-    std::atomic<double> outX_{0.0};
-    std::atomic<double> outY_{0.0};
-    std::atomic<double> outZ_{0.0};
-    std::atomic<std::uint32_t> posSeq_{0};
-    std::atomic<double> posX_{0.0};
-    std::atomic<double> posY_{0.0};
-    std::atomic<double> posZ_{0.0};
+    platform::SeqLockArray<3> output_;   ///< Output force, N (read by lastForce()).
+    platform::SeqLockArray<3> position_; ///< Fingertip position, m (read by position()).
 };
 
 } // namespace depthtouch::drivers
