@@ -35,6 +35,9 @@ struct PacketDeleter {
 struct SwsDeleter {
     void operator()(SwsContext *s) const noexcept { sws_freeContext(s); }
 };
+struct AvioDeleter {
+    void operator()(AVIOContext *io) const noexcept { avio_closep(&io); }
+};
 struct DictDeleter {
     void operator()(AVDictionary *d) const noexcept { av_dict_free(&d); }
 };
@@ -43,6 +46,7 @@ using CodecContextPtr = std::unique_ptr<AVCodecContext, CodecContextDeleter>;
 using FramePtr = std::unique_ptr<AVFrame, FrameDeleter>;
 using PacketPtr = std::unique_ptr<AVPacket, PacketDeleter>;
 using SwsPtr = std::unique_ptr<SwsContext, SwsDeleter>;
+using AvioPtr = std::unique_ptr<AVIOContext, AvioDeleter>;
 
 /// FFmpeg's message for \a err (av_err2str is a C compound literal, unusable in C++).
 struct AvErrorText {

@@ -14,6 +14,7 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
+#include "av_handles.h"
 #include "depthtouch/platform/log.h"
 
 DT_LOG_CATEGORY(Media)
@@ -22,50 +23,13 @@ namespace depthtouch::media {
 
 namespace {
 
-// RAII owners of every libav handle.
-struct FormatContextDeleter {
-    void operator()(AVFormatContext *c) const noexcept { avformat_close_input(&c); }
-};
-struct CodecContextDeleter {
-    void operator()(AVCodecContext *c) const noexcept { avcodec_free_context(&c); }
-};
-struct FrameDeleter {
-    void operator()(AVFrame *f) const noexcept { av_frame_free(&f); }
-};
-struct PacketDeleter {
-    void operator()(AVPacket *p) const noexcept { av_packet_free(&p); }
-};
-struct SwsDeleter {
-    void operator()(SwsContext *s) const noexcept { sws_freeContext(s); }
-};
-struct AvioDeleter {
-    void operator()(AVIOContext *io) const noexcept { avio_closep(&io); }
-};
-using FormatContextPtr = std::unique_ptr<AVFormatContext, FormatContextDeleter>;
-using CodecContextPtr = std::unique_ptr<AVCodecContext, CodecContextDeleter>;
-using FramePtr = std::unique_ptr<AVFrame, FrameDeleter>;
-using PacketPtr = std::unique_ptr<AVPacket, PacketDeleter>;
-using SwsPtr = std::unique_ptr<SwsContext, SwsDeleter>;
-using AvioPtr = std::unique_ptr<AVIOContext, AvioDeleter>;
-
-/// FFmpeg's message for \a err (av_err2str is a C compound literal, unusable in C++).
-struct AvErrorText {
-    char text[AV_ERROR_MAX_STRING_SIZE] = {};
-    explicit AvErrorText(int err) noexcept { av_strerror(err, text, sizeof text); }
-};
-
-AVPixelFormat toAv(PixelFormat f) noexcept
-{
-    switch (f) {
-    case PixelFormat::Gray8:
-        return AV_PIX_FMT_GRAY8;
-    case PixelFormat::Gray16:
-        return AV_PIX_FMT_GRAY16; // native byte order
-    case PixelFormat::Rgb24:
-        return AV_PIX_FMT_RGB24;
-    }
-    return AV_PIX_FMT_NONE;
-}
+using detail::AvErrorText;
+using detail::AvioPtr;
+using detail::CodecContextPtr;
+using detail::FramePtr;
+using detail::PacketPtr;
+using detail::SwsPtr;
+using FormatContextPtr = detail::InputContextPtr;
 
 /// The Image layout closest to a decoded frame's format.
 PixelFormat nativeLayout(AVPixelFormat f) noexcept
@@ -79,28 +43,6 @@ PixelFormat nativeLayout(AVPixelFormat f) noexcept
     if (!gray)
         return PixelFormat::Rgb24;
     return d->comp[0].depth > 8 ? PixelFormat::Gray16 : PixelFormat::Gray8;
-}
-
-/// Deprecated full-range "J" YUV formats → their plain equivalent plus the full-range flag, which
-/// is how libswscale wants them.
-AVPixelFormat dejpeg(AVPixelFormat f, bool &fullRange) noexcept
-{
-    fullRange = true;
-    switch (f) {
-    case AV_PIX_FMT_YUVJ420P:
-        return AV_PIX_FMT_YUV420P;
-    case AV_PIX_FMT_YUVJ422P:
-        return AV_PIX_FMT_YUV422P;
-    case AV_PIX_FMT_YUVJ444P:
-        return AV_PIX_FMT_YUV444P;
-    case AV_PIX_FMT_YUVJ440P:
-        return AV_PIX_FMT_YUV440P;
-    case AV_PIX_FMT_YUVJ411P:
-        return AV_PIX_FMT_YUV411P;
-    default:
-        fullRange = false;
-        return f;
-    }
 }
 
 /// Converts (or copies, when the layouts match) a picture between two buffers of the same size.
@@ -250,12 +192,12 @@ Result<Image> readImage(const std::string &path, std::optional<PixelFormat> form
         return unexpected(Errc::InvalidArgument, "Image too wide");
 
     bool fullRange = false;
-    AVPixelFormat srcFmt = dejpeg(srcFmtRaw, fullRange);
+    AVPixelFormat srcFmt = detail::dejpeg(srcFmtRaw, fullRange);
     fullRange = fullRange || frame->color_range == AVCOL_RANGE_JPEG;
     std::uint8_t *dstData[4] = {image.data.data(), nullptr, nullptr, nullptr};
     const int dstStride[4] = {static_cast<int>(image.stride), 0, 0, 0};
     const auto result = convert(frame->data, frame->linesize, srcFmt, fullRange, dstData, dstStride,
-                                toAv(want), image.width, image.height);
+                                detail::toAvFormat(want), image.width, image.height);
     if (!result) {
         DT_LOG(Media, Warning, "Failed to convert image %s from %s to %s", path.c_str(),
                av_get_pix_fmt_name(srcFmtRaw), pixelFormatName(want));
@@ -304,7 +246,7 @@ Result<void> writePng(const std::string &path, const Image &image)
         return unexpected(Errc::OutOfResources, "Failed to allocate PNG frame");
     const std::uint8_t *srcData[4] = {image.data.data(), nullptr, nullptr, nullptr};
     const int srcStride[4] = {static_cast<int>(image.stride), 0, 0, 0};
-    DT_TRY(convert(srcData, srcStride, toAv(image.format), false, frame->data, frame->linesize,
+    DT_TRY(convert(srcData, srcStride, detail::toAvFormat(image.format), false, frame->data, frame->linesize,
                    pngFmt, image.width, image.height));
 
     if ((ret = avcodec_send_frame(codec.get(), frame.get())) < 0 ||
