@@ -6,7 +6,6 @@
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -16,6 +15,7 @@
 #include "depthtouch/media/encode_job.h"
 #include "depthtouch/media/frame_source.h"
 #include "readback.h"
+#include "support/temp_dir.h"
 
 using namespace depthtouch;
 using namespace depthtouch::media;
@@ -99,9 +99,8 @@ TEST(EncodeRealDataTest, sevenScenesWithAndWithoutEnhancement)
     const std::string dir = dataDir();
     if (dir.empty())
         GTEST_SKIP() << "rgbd-7scenes-redkitchen not found under $DT_SHARED_DATA: skipped";
-    const fs::path tmp =
-        fs::temp_directory_path() / ("dt_encode_realdata_" + std::to_string(getpid()));
-    fs::create_directories(tmp);
+    const depthtouch::testing::TempDir scratch("dt-encode-realdata-");
+    const fs::path &tmp = scratch.dir();
 
     const EncodeRun plain = encode(dir, (tmp / "plain.mkv").string(), false, kFrames);
     expectProbeFacts(plain, kFrames);

@@ -25,6 +25,7 @@
 #include "depthtouch/media/frame_source.h"
 #include "depthtouch/media/image_io.h"
 #include "readback.h"
+#include "support/temp_dir.h"
 
 using namespace depthtouch;
 using namespace depthtouch::media;
@@ -108,23 +109,11 @@ private:
 
 class EncodeTest : public ::testing::Test {
 protected:
-    void SetUp() override
-    {
-        dir_ = fs::temp_directory_path() /
-               ("dt_encode_test_" + std::to_string(getpid()) + "_" +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(dir_);
-    }
-    void TearDown() override
-    {
-        std::error_code ec;
-        fs::remove_all(dir_, ec);
-    }
-    [[nodiscard]] std::string path(const std::string &name) const { return (dir_ / name).string(); }
+    [[nodiscard]] std::string path(const std::string &name) const { return tmp_.path(name); }
     [[nodiscard]] std::vector<std::string> files() const
     {
         std::vector<std::string> out;
-        for (const auto &e : fs::directory_iterator(dir_))
+        for (const auto &e : fs::directory_iterator(tmp_.dir()))
             out.push_back(e.path().filename().string());
         return out;
     }
@@ -137,7 +126,7 @@ protected:
         return o;
     }
 
-    fs::path dir_;
+    depthtouch::testing::TempDir tmp_{"dt-encode-test-"};
 };
 
 /// GIVEN color + 8-bit nearness WHEN encoded with lossless depth (H.264 gray, qp 0) into MKV

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
 
 #include "depthtouch/media/image_io.h"
+#include "support/temp_dir.h"
 
 using namespace depthtouch;
 using namespace depthtouch::media;
@@ -20,24 +20,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// A per-process scratch folder, removed at the end of each test.
+/// A scratch folder per test, removed at its end.
 class ImageIoTest : public ::testing::Test {
 protected:
-    void SetUp() override
-    {
-        dir_ = fs::temp_directory_path() /
-               ("dt_media_test_" + std::to_string(getpid()) + "_" +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(dir_);
-    }
-    void TearDown() override
-    {
-        std::error_code ec;
-        fs::remove_all(dir_, ec);
-    }
-    [[nodiscard]] std::string path(const char *name) const { return (dir_ / name).string(); }
+    [[nodiscard]] std::string path(const char *name) const { return tmp_.path(name); }
 
-    fs::path dir_;
+    depthtouch::testing::TempDir tmp_{"dt-media-test-"};
 };
 
 std::vector<char> readBytes(const std::string &p)

@@ -1,32 +1,10 @@
 #include "test_support.h"
 
 #include <filesystem>
-#include <random>
 
 #include <gtest/gtest.h>
 
 namespace depthtouch::receivertest {
-
-TempDir::TempDir()
-{
-    std::random_device rd;
-    const auto base = std::filesystem::temp_directory_path();
-    for (int i = 0; i < 100; ++i) {
-        auto candidate = base / ("dt-receiver-test-" + std::to_string(rd()));
-        if (std::filesystem::create_directory(candidate)) {
-            dir_ = candidate.string();
-            return;
-        }
-    }
-    ADD_FAILURE() << "Cannot create a temporary directory";
-}
-
-TempDir::~TempDir()
-{
-    std::error_code ec;
-    if (!dir_.empty())
-        std::filesystem::remove_all(dir_, ec);
-}
 
 FaultySource::FaultySource(std::unique_ptr<hal::MediaSource> inner, InfoEdit editInfo,
                            PacketEdit editPacket)

@@ -11,21 +11,12 @@
 
 #include "depthtouch/hal/media_source.h"
 #include "depthtouch/receiver/receiver.h"
+#include "support/temp_dir.h"
 
 namespace depthtouch::receivertest {
 
-/// A directory removed with its contents on destruction.
-class TempDir {
-public:
-    TempDir();
-    ~TempDir();
-    TempDir(const TempDir &) = delete;
-    TempDir &operator=(const TempDir &) = delete;
-    [[nodiscard]] std::string path(const std::string &name) const { return dir_ + "/" + name; }
+using TempDir = testing::TempDir;
 
-private:
-    std::string dir_;
-};
 
 /// \brief Wraps a MediaSource and lets a test edit what it reports.
 class FaultySource final : public hal::MediaSource {

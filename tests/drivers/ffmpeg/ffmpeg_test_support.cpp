@@ -2,7 +2,6 @@
 
 #include <fstream>
 #include <iterator>
-#include <random>
 
 #include <gtest/gtest.h>
 
@@ -18,27 +17,6 @@ bool ffmpeg(const std::string &args)
 {
     const std::string cmd = "ffmpeg -nostdin -hide_banner -v error -y " + args + " </dev/null";
     return std::system(cmd.c_str()) == 0;
-}
-
-TempDir::TempDir()
-{
-    std::random_device rd;
-    const auto base = std::filesystem::temp_directory_path();
-    for (int i = 0; i < 100; ++i) {
-        auto candidate = base / ("dt-ffmpeg-test-" + std::to_string(rd()));
-        if (std::filesystem::create_directory(candidate)) {
-            dir_ = candidate;
-            return;
-        }
-    }
-    ADD_FAILURE() << "Cannot create a temporary directory";
-}
-
-TempDir::~TempDir()
-{
-    std::error_code ec;
-    if (!dir_.empty())
-        std::filesystem::remove_all(dir_, ec);
 }
 
 std::vector<std::uint8_t> readBytes(const std::string &path)

@@ -12,27 +12,17 @@
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/hal/media_source.h"
 #include "depthtouch/hal/video_decoder.h"
+#include "support/temp_dir.h"
 
 namespace depthtouch::ffmpegtest {
+
+using TempDir = testing::TempDir;
 
 /// True when the ffmpeg command-line tool runs.
 bool haveFfmpegCli();
 
 /// Runs `ffmpeg -nostdin -v error -y ARGS`. \return true on exit status 0.
 bool ffmpeg(const std::string &args);
-
-/// A directory removed with its contents on destruction.
-class TempDir {
-public:
-    TempDir();
-    ~TempDir();
-    TempDir(const TempDir &) = delete;
-    TempDir &operator=(const TempDir &) = delete;
-    [[nodiscard]] std::string path(const std::string &name) const { return (dir_ / name).string(); }
-
-private:
-    std::filesystem::path dir_;
-};
 
 /// Every frame of one stream, decoded by the `ffmpeg` backends.
 struct Decoded {
