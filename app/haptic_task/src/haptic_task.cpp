@@ -245,6 +245,14 @@ void HapticTask::zeroForce() noexcept
     publishForce({});
 }
 
+void HapticTask::loseDevice(TelemetrySample &sample) noexcept
+{
+    zeroForce();
+    bump(deviceLosses_);
+    owner_.store(kLost, std::memory_order_release);
+    sample.flags |= TelemetrySample::DeviceLost;
+}
+
 void HapticTask::cycle(const platform::PeriodicWait &wait) noexcept
 {
     const TimePoint begin = wait.wakeTime;
@@ -310,12 +318,8 @@ void HapticTask::cycle(const platform::PeriodicWait &wait) noexcept
                 sample.flags |= TelemetrySample::WatchdogTrip;
             }
         } else {
-            // Unplugged (NoDevice) or closed under us: the device outputs zero force; hand it to
-            // the telemetry thread for reconnection.
-            zeroForce();
-            bump(deviceLosses_);
-            owner_.store(kLost, std::memory_order_release);
-            sample.flags |= TelemetrySample::DeviceLost;
+            // Unplugged (NoDevice) or closed under us: the device outputs zero force.
+            loseDevice(sample);
         }
         finish();
         return;
@@ -407,10 +411,7 @@ void HapticTask::cycle(const platform::PeriodicWait &wait) noexcept
 
     if (auto r = device_.commandForce({force.x, force.y, force.z}); !r) {
         if (r.error().code == Errc::NoDevice || r.error().code == Errc::InvalidState) {
-            zeroForce();
-            bump(deviceLosses_);
-            owner_.store(kLost, std::memory_order_release);
-            sample.flags |= TelemetrySample::DeviceLost;
+            loseDevice(sample);
             finish();
             return;
         }

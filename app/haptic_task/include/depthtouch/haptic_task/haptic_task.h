@@ -247,6 +247,9 @@ private:
     /// One cycle after the wait. Real-time safe.
     void cycle(const platform::PeriodicWait &wait) noexcept;
     void zeroForce() noexcept;
+    /// The device went away (NoDevice) or was closed under the task: zero force, count it, and
+    /// hand the device to the telemetry thread for reconnection. Real-time safe.
+    void loseDevice(TelemetrySample &sample) noexcept;
     void publishForce(const glm::dvec3 &f) noexcept;
     void serviceLoop();
     void superviseDevice();
