@@ -19,6 +19,7 @@ HOST_PACKAGES=(
     libglm-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
     # depth enhancement: Delaunay triangulation
     libcgal-dev
+    libtomlplusplus-dev
     # drivers: FFmpeg (decode, encode, image I/O) and its command-line tools for tests
     libavcodec-dev libavformat-dev libavutil-dev libswscale-dev ffmpeg
     # drivers: EGL + GLES on Mesa (llvmpipe when there is no GPU), GBM/KMS, X11
@@ -36,6 +37,7 @@ CROSS_DEV_PACKAGES=(
     libegl-dev libgles-dev libgbm-dev libdrm-dev
     libusb-1.0-0-dev libevdev-dev
     libcgal-dev
+    libtomlplusplus-dev
 )
 
 cross_arches=()

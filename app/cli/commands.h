@@ -23,6 +23,7 @@ void registerBackendsCommand(CLI::App &app, int &exitCode);
 void registerTouchCommand(CLI::App &app, int &exitCode);
 void registerEncodeCommand(CLI::App &app, int &exitCode);
 void registerProbeCommand(CLI::App &app, int &exitCode);
+void registerPlayCommand(CLI::App &app, int &exitCode);
 /// `depthtouch bench`: a group; each benchmark adds itself under it.
 void registerBenchCommand(CLI::App &app, int &exitCode);
 void registerBenchHapticsCommand(CLI::App &bench, int &exitCode);

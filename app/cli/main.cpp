@@ -15,6 +15,7 @@ using depthtouch::cli::RegisterCommand;
 /// Every subcommand, in the order `depthtouch --help` lists them.
 constexpr RegisterCommand kCommands[] = {
     &depthtouch::cli::registerDemoCommand,
+    &depthtouch::cli::registerPlayCommand,
     &depthtouch::cli::registerBackendsCommand,
     &depthtouch::cli::registerTouchCommand,
     &depthtouch::cli::registerEncodeCommand,

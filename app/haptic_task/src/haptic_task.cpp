@@ -108,7 +108,8 @@ HapticTask::HapticTask(const HapticTaskConfig &config, hal::HapticDevice &device
       renderer_(std::move(renderer)), ring_(std::make_unique<Ring>()),
       timer_(clock, platform::fromSeconds(1.0 / config.servoRateHz)),
       maxForce_(config.renderer.maxForce), period_(1.0 / config.servoRateHz),
-      enabled_(config.startEnabled), offset_(config.mapping.offset),
+      enabled_(config.startEnabled), stiffness_(config.renderer.stiffness),
+      offset_(config.mapping.offset),
       wakeHist_(std::make_unique<LatencyHistogram>()),
       updateHist_(std::make_unique<LatencyHistogram>()),
       periodHist_(std::make_unique<LatencyHistogram>())
@@ -237,6 +238,16 @@ glm::dvec3 HapticTask::lastForce() const noexcept
     return {f[0], f[1], f[2]};
 }
 
+bool HapticTask::lastPose(glm::dvec3 &hip, glm::dvec3 &proxy) const noexcept
+{
+    const auto p = pose_.load();
+    if (p[6] == 0.0)
+        return false;
+    hip = {p[0], p[1], p[2]};
+    proxy = {p[3], p[4], p[5]};
+    return true;
+}
+
 void HapticTask::zeroForce() noexcept
 {
     prevForce_ = {};
@@ -347,6 +358,16 @@ void HapticTask::cycle(const platform::PeriodicWait &wait) noexcept
     }
     lastHip_ = hip;
 
+    // Seek or recenter: re-seat the proxy above the HIP, restart the haptic time (it may jump
+    // backwards) and ramp the force in from zero.
+    const std::uint32_t reseats = reseatRequests_.load(std::memory_order_acquire);
+    if (reseats != reseatsDone_) {
+        reseatsDone_ = reseats;
+        needReset_ = true;
+        lastT_ = -1e300;
+        phase_ = 0.0;
+    }
+
     glm::dvec3 target{};
     if (!haveFrames_) {
         sample.flags |= TelemetrySample::NoFrames;
@@ -378,7 +399,10 @@ void HapticTask::cycle(const platform::PeriodicWait &wait) noexcept
             sample.flags |= TelemetrySample::Released;
             bump(releases_);
         }
-        target = out.force;
+        // Run-time stiffness (setStiffness()): the force is linear in k.
+        target = out.force * (stiffness_.load(std::memory_order_relaxed) /
+                              config_.renderer.stiffness);
+        pose_.store({out.hip.x, out.hip.y, out.hip.z, out.proxy.x, out.proxy.y, out.proxy.z, 1.0});
     }
 
     // Enable ramp; a late loop or the clutch forces the gain to zero.

@@ -206,6 +206,25 @@ public:
     void setEnabled(bool enabled) noexcept { enabled_.store(enabled, std::memory_order_release); }
     [[nodiscard]] bool enabled() const noexcept { return enabled_.load(std::memory_order_acquire); }
 
+    /// \brief Changes the surface stiffness at run time, N/m (> 0; other values are ignored).
+    /// The renderer's force is scaled by \a newtonsPerMetre / config().renderer.stiffness (its
+    /// damping with it) before the clamp to the device maximum and the force-rate limit, so a
+    /// change is felt within a few milliseconds and never as a step. Async-signal-safe.
+    void setStiffness(double newtonsPerMetre) noexcept
+    {
+        if (newtonsPerMetre > 0.0 && newtonsPerMetre < 1e6)
+            stiffness_.store(newtonsPerMetre, std::memory_order_release);
+    }
+    /// \return the stiffness in use, N/m.
+    [[nodiscard]] double stiffness() const noexcept
+    {
+        return stiffness_.load(std::memory_order_acquire);
+    }
+    /// \brief Re-seats the proxy on the surface above the HIP at the next update and ramps the
+    /// force in from zero (rampTime), and restarts the haptic time: for a seek (the media time
+    /// jumps, possibly backwards) and for "recenter". No force kick. Async-signal-safe.
+    void requestReseat() noexcept { reseatRequests_.fetch_add(1, std::memory_order_acq_rel); }
+
     /// \name Observers (thread-safe)
     ///@{
     /// \return cycles of the haptic loop so far.
@@ -222,6 +241,9 @@ public:
     [[nodiscard]] double gain() const noexcept { return gain_.load(std::memory_order_relaxed); }
     /// \return the last force commanded, N (zero while the device is lost).
     [[nodiscard]] glm::dvec3 lastForce() const noexcept;
+    /// \brief The HIP and the proxy of the last rendered update, m, scene box (the avatar the
+    /// graphic renderer draws). \return false before the first rendered update.
+    bool lastPose(glm::dvec3 &hip, glm::dvec3 &proxy) const noexcept;
     /// \return counters and percentiles of the samples drained so far (drains first).
     [[nodiscard]] HapticStats stats();
     /// \return what the haptic thread obtained from the kernel (valid after start()).
@@ -282,6 +304,9 @@ private:
     std::atomic<double> maxForceSeen_{0.0};
     std::atomic<double> gain_{0.0};
     platform::SeqLockArray<3> force_; ///< Last commanded force, N (read by lastForce()).
+    platform::SeqLockArray<7> pose_;  ///< HIP, proxy (m) and a valid flag (lastPose()).
+    std::atomic<double> stiffness_;   ///< N/m (setStiffness()).
+    std::atomic<std::uint32_t> reseatRequests_{0};
 
     // Haptic-thread state (written only by the haptic thread while it runs).
     bool haveFrames_ = false;
@@ -297,6 +322,7 @@ private:
     glm::dvec3 lastHip_{};
     glm::dvec3 frozenHip_{};
     bool needReset_ = true;
+    std::uint32_t reseatsDone_ = 0;
 
     // Telemetry thread and its state; mutex_ guards everything below it.
     std::thread service_;

@@ -1,0 +1,478 @@
+/// \file
+/// \brief `depthtouch play FILE|URL`: the set-top box player (DESIGN.md §1). The backends chosen
+/// here (display, haptic device, decoder, remote) are handed to playback::Playback, driven by the
+/// player::StateMachine; remote keys and the control socket reach the machine through
+/// control::ControlLoop on the main thread. Writes the force log and the stats JSON (DESIGN.md §4)
+/// when asked, and prints a summary.
+///
+/// Options may also come from a TOML file (`--config`): keys are the long option names without
+/// the dashes (`stiffness = 1200`, `display = "headless"`, `loop = true`); options given on the
+/// command line win. Unknown keys and values of the wrong type are errors (exit 2).
+
+#include <atomic>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <toml++/toml.h>
+
+#include "commands.h"
+#include "depthtouch/control/control_loop.h"
+#include "depthtouch/control/control_server.h"
+#include "depthtouch/drivers/backends.h"
+#include "depthtouch/haptics/renderer.h"
+#include "depthtouch/platform/clock.h"
+#include "depthtouch/playback/playback.h"
+#include "depthtouch/player/state_machine.h"
+#include "play.h"
+
+namespace depthtouch::cli {
+
+namespace {
+
+std::atomic<bool> gPlayStop{false};
+
+extern "C" void onPlayStopSignal(int)
+{
+    gPlayStop.store(true);
+}
+
+/// Resident set size, MiB (Linux /proc), or −1.
+double residentMiB()
+{
+    std::ifstream f("/proc/self/statm");
+    long pages = 0;
+    long resident = 0;
+    if (!(f >> pages >> resident))
+        return -1.0;
+    return static_cast<double>(resident) * 4096.0 / (1024.0 * 1024.0);
+}
+
+/// Prints the player's state changes and errors on stderr.
+class StderrListener final : public player::PlayerListener {
+public:
+    void onPlayerEvent(const player::PlayerEvent &e) override
+    {
+        switch (e.kind) {
+        case player::PlayerEventKind::StateChanged:
+            std::fprintf(stderr, "depthtouch play: %s\n", player::playerStateName(e.state));
+            break;
+        case player::PlayerEventKind::Error:
+            std::fprintf(stderr, "depthtouch play: error: %s\n", e.message.c_str());
+            break;
+        case player::PlayerEventKind::EndOfFile:
+            std::fprintf(stderr, "depthtouch play: end of stream (%s)\n", e.message.c_str());
+            break;
+        default:
+            break;
+        }
+    }
+};
+
+bool parseSize(const std::string &text, int &w, int &h)
+{
+    if (text.empty()) {
+        w = h = 0;
+        return true;
+    }
+    char x = 0;
+    char extra = 0;
+    return std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) == 3 && (x == 'x' || x == 'X') &&
+           w >= 16 && h >= 16 && w <= 8192 && h <= 8192;
+}
+
+PlayResult badInput(const std::string &why)
+{
+    std::fprintf(stderr, "depthtouch play: %s\n", why.c_str());
+    return {kExitBadInput, {}};
+}
+
+} // namespace
+
+PlayResult runPlay(const PlayOptions &opt)
+{
+    // Options.
+    const auto stereo = player::stereoModeFromName(opt.stereo);
+    if (!stereo)
+        return badInput("--stereo must be sbs, tab, anaglyph, mono or interleaved");
+    if (!(opt.rate >= 100.0 && opt.rate <= 10000.0))
+        return badInput("--rate must be in [100, 10000] Hz");
+    if (!(opt.stiffness >= 1.0 && opt.stiffness <= 20000.0))
+        return badInput("--stiffness must be in [1, 20000] N/m");
+    if (!(opt.duration >= 0.0 && opt.duration <= 7 * 24 * 3600.0))
+        return badInput("--duration must be >= 0 s");
+    if (opt.reengage != "ramp" && opt.reengage != "release")
+        return badInput("--reengage must be ramp or release");
+    int outW = 0;
+    int outH = 0;
+    if (!parseSize(opt.size, outW, outH))
+        return badInput("--size must be WxH, 16..8192 pixels each");
+    if (opt.url.empty())
+        return badInput("nothing to play: give a file or URL");
+
+    platform::SteadyClock &clock = platform::SteadyClock::instance();
+    hal::BackendConfig cfg;
+    cfg.clock = &clock;
+
+    // Backends.
+    hal::BackendConfig displayCfg = cfg;
+    displayCfg.options = hal::OptionList(opt.displayOptions);
+    hal::SelectionReport displayReport;
+    auto display = drivers::createDisplay(opt.display, displayCfg, &displayReport);
+    if (!display) {
+        std::fprintf(stderr, "depthtouch play: %s\n", displayReport.message.c_str());
+        return {display.error().code == Errc::InvalidArgument ? kExitBadInput : kExitFailure, {}};
+    }
+    hal::BackendConfig hapticCfg = cfg;
+    hapticCfg.options = hal::OptionList(opt.hapticOptions);
+    hal::SelectionReport hapticReport;
+    auto device = drivers::createHapticDevice(opt.haptic, hapticCfg, &hapticReport);
+    if (!device) {
+        std::fprintf(stderr, "depthtouch play: %s\n", hapticReport.message.c_str());
+        return {device.error().code == Errc::InvalidArgument ? kExitBadInput : kExitFailure, {}};
+    }
+    std::unique_ptr<hal::RemoteInput> remote;
+    hal::SelectionReport remoteReport;
+    if (!opt.remote.empty() && opt.remote != "none") {
+        hal::BackendConfig remoteCfg = cfg;
+        remoteCfg.options = hal::OptionList(opt.remoteOptions);
+        auto r = drivers::createRemoteInput(opt.remote, remoteCfg, &remoteReport);
+        if (!r) {
+            std::fprintf(stderr, "depthtouch play: %s\n", remoteReport.message.c_str());
+            return {r.error().code == Errc::InvalidArgument ? kExitBadInput : kExitFailure, {}};
+        }
+        remote = std::move(*r);
+    }
+    // Check the decoder and source names now (one clear line), then make them per open().
+    {
+        hal::SelectionReport rep;
+        if (auto d = drivers::createVideoDecoder(opt.decoder, cfg, &rep); !d) {
+            std::fprintf(stderr, "depthtouch play: %s\n", rep.message.c_str());
+            return {kExitBadInput, {}};
+        }
+        if (auto s = drivers::createMediaSource(opt.source, cfg, &rep); !s) {
+            std::fprintf(stderr, "depthtouch play: %s\n", rep.message.c_str());
+            return {kExitBadInput, {}};
+        }
+    }
+
+    playback::PlaybackConfig pc;
+    pc.haptics.servoRateHz = opt.rate;
+    pc.haptics.renderer.stiffness = opt.stiffness;
+    pc.haptics.renderer.reengage =
+        opt.reengage == "ramp" ? haptics::Reengage::Ramp : haptics::Reengage::Release;
+    pc.haptics.requireRt = opt.requireRt;
+    pc.haptics.forceLogPath = opt.forceLog;
+    pc.stereoMode = *stereo;
+    pc.outputWidth = outW;
+    pc.outputHeight = outH;
+    pc.snapshotDir = opt.snapshotDir;
+    pc.snapshotEvery = opt.snapshotEvery;
+    pc.meshStep = opt.meshStep;
+    playback::PlaybackHal ph;
+    const std::string sourceName = opt.source;
+    const std::string decoderName = opt.decoder;
+    ph.makeSource = [sourceName, cfg]() { return drivers::createMediaSource(sourceName, cfg); };
+    ph.makeDecoder = [decoderName, cfg](const hal::StreamInfo &) {
+        return drivers::createVideoDecoder(decoderName, cfg);
+    };
+    ph.display = display->get();
+    ph.device = hapticReport.chosen == "none" ? nullptr : device->get();
+    ph.clock = &clock;
+    auto pb = playback::Playback::create(pc, ph);
+    if (!pb)
+        return badInput(pb.error().what);
+    playback::Playback &playback = **pb;
+
+    player::PlayerSettings settings;
+    settings.url = opt.url;
+    settings.loop = opt.loop;
+    settings.stereoMode = *stereo;
+    settings.haptics = true;
+    settings.stiffness = opt.stiffness;
+    settings.range.max = std::max(settings.range.max, opt.stiffness);
+    settings.range.min = std::min(settings.range.min, opt.stiffness);
+    player::StateMachine machine(playback, settings);
+    StderrListener listener;
+    if (!opt.quiet)
+        machine.addListener(&listener);
+
+    std::unique_ptr<control::ControlServer> server;
+    if (!opt.control.empty()) {
+        auto s = control::ControlServer::create(opt.control, machine);
+        if (!s) {
+            std::fprintf(stderr, "depthtouch play: cannot create the control socket '%s': %s\n",
+                         opt.control.c_str(), s.error().what);
+            return {kExitFailure, {}};
+        }
+        server = std::move(*s);
+    }
+    control::ControlLoop loop(machine, remote.get(), server.get(), clock,
+                              std::chrono::milliseconds(10));
+
+    gPlayStop.store(false);
+    std::signal(SIGINT, &onPlayStopSignal);
+    std::signal(SIGTERM, &onPlayStopSignal);
+
+    const double rssStart = residentMiB();
+    double rssAfterWarmup = -1.0;
+    const platform::TimePoint start = clock.now();
+    std::string failure;
+    bool opened = false;
+    machine.execute("play");
+    while (!machine.quitRequested()) {
+        if (auto r = loop.runUntil(clock.now() + std::chrono::milliseconds(10)); !r) {
+            std::fprintf(stderr, "depthtouch play: control socket failed: %s\n", r.error().what);
+            server.reset();
+        }
+        playback.report(machine);
+        const player::PlayerState st = machine.state();
+        if (st == player::PlayerState::Playing || st == player::PlayerState::Paused)
+            opened = true;
+        const double elapsed = platform::toSeconds(clock.now() - start);
+        if (rssAfterWarmup < 0.0 && elapsed >= 5.0)
+            rssAfterWarmup = residentMiB();
+        if (gPlayStop.load() || (opt.duration > 0.0 && elapsed >= opt.duration)) {
+            machine.execute("quit");
+            break;
+        }
+        if (st == player::PlayerState::Error) {
+            failure = machine.errorReason();
+            if (!opt.idle)
+                break;
+        }
+        if (st == player::PlayerState::Stopped && !opt.idle)
+            break;
+    }
+    const double rssEnd = residentMiB();
+    (void)playback.stop();
+    std::signal(SIGINT, SIG_DFL);
+    std::signal(SIGTERM, SIG_DFL);
+
+    // Stats.
+    PlayResult result;
+    const playback::PlaybackInfo &info = playback.info();
+    const playback::PlaybackStats ps = playback.stats();
+    const auto hs = playback.hapticStats();
+    nlohmann::json j = hs ? nlohmann::json::parse(hs->toJson()) : nlohmann::json::object();
+    j["url"] = opt.url;
+    j["mode"] = info.mode;
+    j["depth_size"] = {info.depthWidth, info.depthHeight};
+    j["color_size"] = {info.colorWidth, info.colorHeight};
+    j["output_size"] = {info.outputWidth, info.outputHeight};
+    j["fps"] = info.fps;
+    j["display"] = displayReport.chosen;
+    j["haptic_device"] = hapticReport.chosen;
+    j["frames_decoded"] = ps.receiver.colorFrames + ps.receiver.depthFrames;
+    j["frames_received"] = ps.framesReceived;
+    j["frames_presented"] = ps.framesPresented;
+    j["frames_dropped"] = ps.framesDropped;
+    j["frames_late"] = ps.framesLate;
+    j["frames_concealed"] = ps.receiver.framesConcealed;
+    j["decode_errors"] = ps.receiver.decodeErrors;
+    j["depth_pairs_published"] = ps.depthPairsPublished;
+    j["render_ms_p50"] = ps.renderMsP50;
+    j["render_ms_p99"] = ps.renderMsP99;
+    j["presented_fps"] = ps.presentedFps;
+    j["playing_s"] = ps.playingSeconds;
+    j["seeks"] = ps.seeks;
+    j["snapshots_written"] = ps.snapshotsWritten;
+    j["rss_mib_start"] = rssStart;
+    j["rss_mib_after_5s"] = rssAfterWarmup;
+    j["rss_mib_end"] = rssEnd;
+    j["notes"] = info.notes;
+    j["final_state"] = player::playerStateName(machine.state());
+    if (!failure.empty())
+        j["error"] = failure;
+    result.stats = j;
+    if (!opt.stats.empty()) {
+        std::ofstream f(opt.stats);
+        f << j.dump(2) << '\n';
+        if (!f)
+            std::fprintf(stderr, "depthtouch play: cannot write '%s'\n", opt.stats.c_str());
+    }
+
+    if (!opened) {
+        std::fprintf(stderr, "depthtouch play: %s\n",
+                     failure.empty() ? "nothing was played" : failure.c_str());
+        result.exitCode = kExitBadInput;
+        return result;
+    }
+    std::printf("DepthTouch play: %s (%s, %dx%d depth at %.3g fps) on %s, haptics %s\n",
+                opt.url.c_str(), info.mode.c_str(), info.depthWidth, info.depthHeight, info.fps,
+                displayReport.chosen.c_str(),
+                info.haptics ? hapticReport.chosen.c_str() : "off");
+    for (const std::string &n : info.notes)
+        std::printf("  note              %s\n", n.c_str());
+    std::printf("  frames            %llu received, %llu presented, %llu dropped, %llu late "
+                "(%.1f fps presented; render p50 %.1f ms, p99 %.1f ms)\n",
+                static_cast<unsigned long long>(ps.framesReceived),
+                static_cast<unsigned long long>(ps.framesPresented),
+                static_cast<unsigned long long>(ps.framesDropped),
+                static_cast<unsigned long long>(ps.framesLate), ps.presentedFps, ps.renderMsP50,
+                ps.renderMsP99);
+    if (hs) {
+        std::printf("  haptic thread     %s\n", hs->thread.c_str());
+        std::printf("  haptic updates    %llu (%llu in contact), %llu overruns, %llu safety "
+                    "releases\n",
+                    static_cast<unsigned long long>(hs->updates),
+                    static_cast<unsigned long long>(hs->contactUpdates),
+                    static_cast<unsigned long long>(hs->overruns),
+                    static_cast<unsigned long long>(hs->safetyReleases));
+        std::printf("  wake latency      p50 %.1f us, p99 %.1f us; update time p50 %.2f us, p99 "
+                    "%.2f us\n",
+                    hs->wakeLatency.p50Us, hs->wakeLatency.p99Us, hs->updateTime.p50Us,
+                    hs->updateTime.p99Us);
+        std::printf("  max force         %.2f N (device maximum %.2f N)\n", hs->maxForce,
+                    (*device)->capabilities().maxForce);
+    }
+    std::printf("  memory            %.1f MiB resident at start, %.1f MiB at the end\n", rssStart,
+                rssEnd);
+    if (!opt.forceLog.empty() || !opt.stats.empty())
+        std::printf("  files             %s%s%s\n", opt.forceLog.c_str(),
+                    !opt.forceLog.empty() && !opt.stats.empty() ? ", " : "", opt.stats.c_str());
+    result.exitCode = failure.empty() ? kExitOk : kExitFailure;
+    if (hs && hs->maxForce > (*device)->capabilities().maxForce + 1e-9)
+        result.exitCode = kExitFailure;
+    return result;
+}
+
+namespace {
+
+/// Applies the TOML file's keys to the options not given on the command line.
+/// \return an error text, or empty.
+std::string applyConfig(CLI::App &cmd, PlayOptions &o)
+{
+    toml::table tbl;
+    try {
+        tbl = toml::parse_file(o.config);
+    } catch (const toml::parse_error &e) {
+        return "--config '" + o.config + "': " + std::string(e.description());
+    }
+    using Setter = std::function<bool(const toml::node &)>;
+    const auto str = [](std::string &dst) -> Setter {
+        return [&dst](const toml::node &n) {
+            if (auto v = n.value<std::string>()) {
+                dst = *v;
+                return true;
+            }
+            return false;
+        };
+    };
+    const auto num = [](double &dst) -> Setter {
+        return [&dst](const toml::node &n) {
+            if (auto v = n.value<double>()) {
+                dst = *v;
+                return true;
+            }
+            return false;
+        };
+    };
+    const auto flag = [](bool &dst) -> Setter {
+        return [&dst](const toml::node &n) {
+            if (auto v = n.value<bool>()) {
+                dst = *v;
+                return true;
+            }
+            return false;
+        };
+    };
+    const auto count = [](auto &dst) -> Setter {
+        return [&dst](const toml::node &n) {
+            if (auto v = n.value<std::int64_t>(); v && *v >= 0) {
+                dst = static_cast<std::remove_reference_t<decltype(dst)>>(*v);
+                return true;
+            }
+            return false;
+        };
+    };
+    const std::map<std::string, Setter> keys = {
+        {"display", str(o.display)},         {"display-options", str(o.displayOptions)},
+        {"haptic", str(o.haptic)},           {"haptic-options", str(o.hapticOptions)},
+        {"decoder", str(o.decoder)},         {"source", str(o.source)},
+        {"remote", str(o.remote)},           {"remote-options", str(o.remoteOptions)},
+        {"stereo", str(o.stereo)},           {"stiffness", num(o.stiffness)},
+        {"rate", num(o.rate)},               {"reengage", str(o.reengage)},
+        {"loop", flag(o.loop)},              {"duration", num(o.duration)},
+        {"snapshot-dir", str(o.snapshotDir)}, {"snapshot-every", count(o.snapshotEvery)},
+        {"force-log", str(o.forceLog)},      {"stats", str(o.stats)},
+        {"control", str(o.control)},         {"size", str(o.size)},
+        {"mesh-step", count(o.meshStep)},    {"require-rt", flag(o.requireRt)},
+        {"idle", flag(o.idle)},              {"quiet", flag(o.quiet)},
+    };
+    for (const auto &[k, node] : tbl) {
+        const std::string key(k.str());
+        const auto it = keys.find(key);
+        if (it == keys.end())
+            return "--config '" + o.config + "': unknown key '" + key + "'";
+        const CLI::Option *given = cmd.get_option_no_throw("--" + key);
+        if (given != nullptr && given->count() > 0)
+            continue; // the command line wins
+        if (!it->second(node))
+            return "--config '" + o.config + "': '" + key + "' has the wrong type";
+    }
+    return {};
+}
+
+} // namespace
+
+void registerPlayCommand(CLI::App &app, int &exitCode)
+{
+    auto o = std::make_shared<PlayOptions>();
+    CLI::App *cmd = app.add_subcommand(
+        "play", "Play a color + depth file or stream: stereo video and haptics in real time");
+    cmd->add_option("url", o->url, "File path or stream URL")->required();
+    cmd->add_option("--display", o->display, "Display backend(s): headless, kms, mock")
+        ->capture_default_str();
+    cmd->add_option("--display-options", o->displayOptions, "Options of the display backend");
+    cmd->add_option("--haptic", o->haptic, "Haptic device backend(s): falcon, sim, mock, none")
+        ->capture_default_str();
+    cmd->add_option("--haptic-options", o->hapticOptions,
+                    "Options of the haptic device, e.g. intent=stroke for sim");
+    cmd->add_option("--decoder", o->decoder, "Video decoder backend(s)")->capture_default_str();
+    cmd->add_option("--source", o->source, "Media source backend")->capture_default_str();
+    cmd->add_option("--remote", o->remote, "Remote control backend(s): evdev, tty, none")
+        ->capture_default_str();
+    cmd->add_option("--remote-options", o->remoteOptions,
+                    "Options of the remote, e.g. device=/dev/input/event3");
+    cmd->add_option("--stereo", o->stereo, "Stereo layout: sbs, tab, anaglyph, mono, interleaved")
+        ->capture_default_str();
+    cmd->add_option("--stiffness", o->stiffness, "Surface stiffness, N/m")->capture_default_str();
+    cmd->add_option("--rate", o->rate, "Haptic servo rate, Hz")->capture_default_str();
+    cmd->add_option("--reengage", o->reengage,
+                    "After a force jump (scene cut): ramp (re-seat the proxy, ramp the force in) "
+                    "or release (paper IV.C)")
+        ->capture_default_str();
+    cmd->add_flag("--loop", o->loop, "Start again at the end");
+    cmd->add_option("--duration", o->duration, "Stop after this many seconds (0: at the end)");
+    cmd->add_option("--snapshot-dir", o->snapshotDir, "Folder for PNG snapshots of the output");
+    cmd->add_option("--snapshot-every", o->snapshotEvery, "Snapshot every N presented frames");
+    cmd->add_option("--force-log", o->forceLog, "Force log CSV (one row per haptic update)");
+    cmd->add_option("--stats", o->stats, "Stats JSON written at the end");
+    cmd->add_option("--control", o->control, "Control socket path (JSON lines)");
+    cmd->add_option("--config", o->config, "TOML file with any of these options");
+    cmd->add_option("--size", o->size, "Output size WxH (default: 2 x depth width by height)");
+    cmd->add_option("--mesh-step", o->meshStep, "Drawn mesh step (0: adaptive level of detail)");
+    cmd->add_flag("--require-rt", o->requireRt, "Fail when SCHED_FIFO is refused");
+    cmd->add_flag("--idle", o->idle, "Stay up after the end or an error (for --control)");
+    cmd->add_flag("--quiet", o->quiet, "No state-change lines on stderr");
+    cmd->callback([o, cmd, &exitCode] {
+        if (!o->config.empty()) {
+            if (const std::string err = applyConfig(*cmd, *o); !err.empty()) {
+                std::fprintf(stderr, "depthtouch play: %s\n", err.c_str());
+                exitCode = kExitBadInput;
+                return;
+            }
+        }
+        exitCode = runPlay(*o).exitCode;
+    });
+}
+
+} // namespace depthtouch::cli

@@ -1,0 +1,54 @@
+#pragma once
+/// \file
+/// \brief `depthtouch play`: its options and the run, shared with `depthtouch demo` (which plays
+/// the built-in scene with the simulated hand).
+/// Thread-safety: main thread only.
+
+#include <cstdint>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace depthtouch::cli {
+
+/// \brief Options of `play` (each also a key of the `--config` TOML file, without the dashes).
+struct PlayOptions {
+    std::string url;                  ///< File path or stream URL.
+    std::string display = "headless"; ///< Display backend(s), comma-separated, tried in order.
+    std::string displayOptions;
+    std::string haptic = "falcon,none"; ///< Haptic device backend(s).
+    std::string hapticOptions;
+    std::string decoder = "ffmpeg"; ///< Video decoder backend(s).
+    std::string source = "ffmpeg";  ///< Media source backend.
+    std::string remote = "none";    ///< Remote-control backend(s): evdev, tty, none.
+    std::string remoteOptions;
+    std::string stereo = "sbs";     ///< sbs, tab, anaglyph, mono, interleaved.
+    double stiffness = 800.0;       ///< N/m.
+    double rate = 1000.0;           ///< Haptic servo rate, Hz.
+    std::string reengage = "ramp";  ///< After a force-jump release: ramp (re-seat) or release.
+    bool loop = false;
+    double duration = 0.0;          ///< s of wall time, 0: until the end of the stream.
+    std::string snapshotDir;
+    std::uint64_t snapshotEvery = 0;
+    std::string forceLog;
+    std::string stats;
+    std::string control;            ///< Control socket path.
+    std::string config;             ///< TOML file.
+    std::string size;               ///< Output WxH, empty: 2·depth width × depth height.
+    int meshStep = 0;               ///< 0: adaptive level of detail.
+    bool requireRt = false;
+    bool idle = false;              ///< Stay up after the end / an error (control socket).
+    bool quiet = false;             ///< No state-change lines on stderr.
+};
+
+/// \brief What a run of `play` measured: the stats JSON (DESIGN.md §4) and the exit code.
+struct PlayResult {
+    int exitCode = 0;
+    nlohmann::json stats; ///< Empty when nothing was opened.
+};
+
+/// \brief Runs `play` with \a options (after the config file was applied).
+/// \return the result; exit code 0 (ended or quit), 1 (pipeline failure), 2 (bad input).
+PlayResult runPlay(const PlayOptions &options);
+
+} // namespace depthtouch::cli

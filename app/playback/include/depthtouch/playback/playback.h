@@ -1,0 +1,159 @@
+#pragma once
+/// \file
+/// \brief Playback: the set-top box's player pipeline behind the state machine (DESIGN.md §1 and
+/// §5): receiver (demux → decode → PTS pairing on the decode thread) → depth pairs into the haptic
+/// task's lock-free handoff and color + depth into the stereo renderer on the render thread,
+/// presented on a hal::Display paced by its refresh; the SCHED_FIFO haptic task renders the force
+/// on the same depth frames at the servo rate.
+///
+/// Timing: the render thread keeps the media clock. When the first frame after open() or a seek
+/// is shown, media time = its PTS; frame i is presented at origin + PTS_i (late frames whose
+/// successor is also due are skipped and counted as dropped). When frame i goes on screen the pair
+/// (depth i, depth i+1) is published to the DepthHandoff, whose media origin is the same clock
+/// origin, so the haptic time and the picture agree and the surface is interpolated between the
+/// two frames at the servo rate (paper IV.B). Pausing freezes the media clock for both: the
+/// surface stays touchable and holds still. A seek drops the frames queued before it, shows the
+/// first frame of the new position and re-seats the proxy with the force ramped in
+/// (HapticTask::requestReseat()): no force kick.
+///
+/// Inputs without depth play flat (2D) with haptics off, and info().notes says so; inputs without
+/// color show the depth as gray.
+///
+/// Thread-safety: the PlayerActions calls, report(), stats() and the destructor on one thread (the
+/// main thread, with the StateMachine). Internally: a render thread (owns the GL context while the
+/// Playback lives), the receiver's decode thread and the haptic task's threads.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "depthtouch/hal/display.h"
+#include "depthtouch/hal/haptic_device.h"
+#include "depthtouch/hal/media_source.h"
+#include "depthtouch/haptic_task/haptic_task.h"
+#include "depthtouch/platform/clock.h"
+#include "depthtouch/platform/result.h"
+#include "depthtouch/player/state_machine.h"
+#include "depthtouch/receiver/receiver.h"
+
+namespace depthtouch::playback {
+
+/// \brief Settings of a Playback (the `play` options).
+struct PlaybackConfig {
+    receiver::ReceiverConfig receiver{};
+    /// Haptic task: servo rate, renderer (stiffness N/m, scene box, fixes), force log path,
+    /// SCHED_FIFO requirement. Its stiffness is the start value of setStiffness().
+    haptic_task::HapticTaskConfig haptics{};
+    bool hapticsEnabled = true;
+    player::StereoMode stereoMode = player::StereoMode::SideBySide;
+    /// Output size, pixels; 0 = twice the depth width × the depth height (side-by-side at full
+    /// resolution per eye), limited to 3840 × 2160.
+    int outputWidth = 0;
+    int outputHeight = 0;
+    /// Refresh rate asked of the display, Hz (0: the backend's default).
+    double refreshHz = 0.0;
+    /// Side-by-side snapshots: PNG of the presented frame every snapshotEvery frames into
+    /// snapshotDir (empty: none; 0: only on request).
+    std::string snapshotDir;
+    std::uint64_t snapshotEvery = 0;
+    bool osd = true;    ///< On-screen display (state, haptics switch, force bar).
+    bool avatar = true; ///< Proxy sphere and HIP marker.
+    /// Mesh step of the drawn surface: 0 = adaptive level of detail, else a fixed power of two.
+    int meshStep = 0;
+};
+
+/// \brief The HAL objects a Playback uses (the executable chooses the backends).
+struct PlaybackHal {
+    /// Makes a Closed media source for each open().
+    std::function<Result<std::unique_ptr<hal::MediaSource>>()> makeSource;
+    receiver::DecoderFactory makeDecoder; ///< One decoder per used stream.
+    hal::Display *display = nullptr;      ///< Required; opened by create().
+    hal::HapticDevice *device = nullptr;  ///< Optional: nullptr plays without haptics.
+    platform::Clock *clock = nullptr;     ///< Required.
+};
+
+/// \brief Counters since create() (all opens together). Plain values.
+struct PlaybackStats {
+    std::uint64_t opens = 0;
+    std::uint64_t framesReceived = 0;  ///< Paired frames taken from the decode thread.
+    std::uint64_t framesPresented = 0; ///< present() calls that succeeded.
+    std::uint64_t framesDropped = 0;   ///< Frames skipped because their successor was already due.
+    std::uint64_t framesLate = 0;      ///< Presented more than one frame period after their time.
+    std::uint64_t presentErrors = 0;
+    std::uint64_t renderErrors = 0;
+    std::uint64_t depthPairsPublished = 0; ///< Pairs handed to the haptic task.
+    std::uint64_t seeks = 0;
+    std::uint64_t endsOfStream = 0;
+    std::uint64_t snapshotsWritten = 0;
+    double renderMsP50 = 0.0; ///< Time to draw one output frame (upload, both eyes), ms.
+    double renderMsP99 = 0.0;
+    double presentedFps = 0.0; ///< framesPresented over the time spent playing (not paused).
+    double playingSeconds = 0.0;
+    receiver::ReceiverStats receiver{}; ///< Of the current (or last) open.
+};
+
+/// What open() found about the stream, for the summary.
+struct PlaybackInfo {
+    std::string url;
+    std::string mode; ///< "color+depth", "color-only", "depth-only".
+    int depthWidth = 0, depthHeight = 0;
+    int colorWidth = 0, colorHeight = 0;
+    double fps = 0.0;
+    int outputWidth = 0, outputHeight = 0;
+    bool haptics = false; ///< A haptic task runs (depth present and a device given).
+    bool gl = false;      ///< Frames are drawn with the stereo renderer (else only presented).
+    std::vector<std::string> notes;
+};
+
+/// See the file comment.
+class Playback final : public player::PlayerActions {
+public:
+    /// \brief Opens the display and starts the render thread (idle until open()).
+    /// \return Errc::InvalidArgument (missing HAL object, bad config), the display's open() error.
+    static Result<std::unique_ptr<Playback>> create(const PlaybackConfig &config,
+                                                    const PlaybackHal &hal);
+    /// Stops everything (zero force first) and closes the display.
+    ~Playback() override;
+
+    /// \name player::PlayerActions (main thread)
+    ///@{
+    [[nodiscard]] Result<void> open(std::string_view url) override;
+    [[nodiscard]] Result<void> startPlayback() override;
+    [[nodiscard]] Result<void> pause() override;
+    [[nodiscard]] Result<void> resume() override;
+    [[nodiscard]] Result<void> stop() override;
+    [[nodiscard]] Result<void> seek(double seconds, player::SeekMode mode) override;
+    [[nodiscard]] Result<void> setStereoMode(player::StereoMode mode) override;
+    [[nodiscard]] Result<void> setHapticsEnabled(bool enabled) override;
+    [[nodiscard]] Result<void> setStiffness(double newtonsPerMetre) override;
+    [[nodiscard]] Result<void> recenter() override;
+    ///@}
+
+    /// \brief Tells \a machine what happened since the last call: open finished or failed, end of
+    /// stream, a failure of the pipeline. Call it from the main loop every few milliseconds.
+    void report(player::StateMachine &machine);
+
+    /// \return the counters (render-thread figures as of its last frame).
+    [[nodiscard]] PlaybackStats stats() const;
+    /// \return the stream description of the last successful open().
+    [[nodiscard]] const PlaybackInfo &info() const noexcept { return info_; }
+    /// \return the haptic task of the current open, or nullptr (no depth, no device, stopped).
+    [[nodiscard]] haptic_task::HapticTask *hapticTask() noexcept;
+    /// \return the haptic statistics of the last haptic task (kept after stop()), or nullopt.
+    [[nodiscard]] std::optional<haptic_task::HapticStats> hapticStats();
+    /// \return the media position of the frame on screen, s from the first frame.
+    [[nodiscard]] double position() const noexcept;
+    /// Asks for a snapshot of the next presented frame. Thread-safe.
+    void requestSnapshot() noexcept;
+
+    struct Impl;
+
+private:
+    explicit Playback(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+    PlaybackInfo info_;
+};
+
+} // namespace depthtouch::playback

@@ -1,0 +1,851 @@
+/// \file
+/// \brief Playback: see playback.h.
+
+#include "depthtouch/playback/playback.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <condition_variable>
+#include <cstring>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include "depthtouch/haptic_task/depth_handoff.h"
+#include "depthtouch/platform/log.h"
+#include "depthtouch/receiver/decoder_thread.h"
+
+#if DT_PLAYBACK_HAVE_GL
+#include "depthtouch/render/render_target.h"
+#include "depthtouch/render/renderer.h"
+#include "depthtouch/render/snapshot.h"
+#endif
+
+DT_LOG_CATEGORY(Playback)
+
+namespace depthtouch::playback {
+
+namespace {
+
+using platform::Duration;
+using platform::TimePoint;
+
+double ptsSeconds(hal::Pts pts) noexcept
+{
+    return static_cast<double>(pts.count()) * 1e-9;
+}
+
+hal::Pts ptsFromSeconds(double s) noexcept
+{
+    return hal::Pts(static_cast<std::int64_t>(std::llround(s * 1e9)));
+}
+
+/// One open stream: what open() builds and stop() destroys (main thread), used by the render
+/// thread between the two (see Impl::session).
+struct Session {
+    std::unique_ptr<receiver::Receiver> receiver;
+    std::unique_ptr<receiver::DecoderThread> decoder;
+    std::unique_ptr<haptic_task::DepthHandoff> handoff;
+    std::unique_ptr<haptic_task::HapticTask> task;
+    double period = 1.0 / 30.0; ///< Frame period, s.
+    double startPts = 0.0;      ///< PTS of the first frame (s); positions count from it.
+    hal::DisplayConfig displayConfig; ///< For the display's first open.
+    bool haveStart = false;
+};
+
+/// Percentile of \a v (sorted in place), or 0 when empty.
+double percentile(std::vector<double> &v, double q)
+{
+    if (v.empty())
+        return 0.0;
+    std::sort(v.begin(), v.end());
+    const auto i = static_cast<std::size_t>(std::clamp(q * static_cast<double>(v.size() - 1), 0.0,
+                                                       static_cast<double>(v.size() - 1)));
+    return v[i];
+}
+
+#if DT_PLAYBACK_HAVE_GL
+render::StereoMode toRenderMode(player::StereoMode m) noexcept
+{
+    switch (m) {
+    case player::StereoMode::SideBySide: return render::StereoMode::SideBySide;
+    case player::StereoMode::TopAndBottom: return render::StereoMode::TopAndBottom;
+    case player::StereoMode::Anaglyph: return render::StereoMode::Anaglyph;
+    case player::StereoMode::Mono: return render::StereoMode::Mono;
+    case player::StereoMode::Interleaved: return render::StereoMode::RowInterleaved;
+    }
+    return render::StereoMode::SideBySide;
+}
+#endif
+
+} // namespace
+
+struct Playback::Impl {
+    PlaybackConfig config;
+    PlaybackHal hal;
+    platform::Clock &clock;
+
+    // --- Main thread -> render thread (guarded by mutex) ---
+    mutable std::mutex mutex;
+    std::condition_variable cv;
+    Session *session = nullptr;    ///< Current session (owned by `owned`), or null.
+    std::uint64_t sessionGen = 0;  ///< Bumped when session changes.
+    std::uint64_t sessionAck = 0;  ///< The render thread dropped everything of older sessions.
+    bool playing = false;          ///< startPlayback() was called for this session.
+    bool paused = false;
+    std::uint64_t seekGen = 0;     ///< Bumped by seek().
+    double seekTarget = 0.0;       ///< s, stream timeline (absolute).
+    player::StereoMode stereoMode;
+    bool quit = false;
+    // Render thread -> main (guarded by mutex).
+    double position = 0.0;         ///< s from the first frame.
+    PlaybackStats stats;           ///< Render-thread counters (copied out by stats()).
+    std::string failure;           ///< Pipeline failure not yet reported.
+    std::string displayError;      ///< The render thread could not open the display.
+    std::vector<double> renderMs;  ///< Draw time per frame, ms (first 2^16 frames).
+    bool endOfStream = false;      ///< Not yet reported.
+
+    // --- Main thread only ---
+    std::unique_ptr<Session> owned;
+    bool openDone = false;  ///< open() finished: report onOpened().
+    std::string openError;  ///< open() failed: report onOpenFailed().
+    bool hapticsEnabled;
+    double stiffness;
+    std::optional<haptic_task::HapticStats> lastHapticStats;
+
+    std::atomic<bool> snapshotRequest{false};
+    std::thread renderThread;
+
+    Impl(const PlaybackConfig &c, const PlaybackHal &h)
+        : config(c), hal(h), clock(*h.clock), stereoMode(c.stereoMode),
+          hapticsEnabled(c.hapticsEnabled), stiffness(c.haptics.renderer.stiffness)
+    {
+        renderMs.reserve(std::size_t{1} << 16);
+    }
+
+    /// Hands \a next (may be null) to the render thread and waits until it dropped every frame of
+    /// the previous session.
+    void switchSession(Session *next)
+    {
+        std::unique_lock<std::mutex> lock(mutex);
+        session = next;
+        playing = false;
+        paused = false;
+        endOfStream = false;
+        const std::uint64_t gen = ++sessionGen;
+        cv.notify_all();
+        if (renderThread.joinable())
+            cv.wait(lock, [&] { return sessionAck >= gen || quit; });
+    }
+
+    void tearDown()
+    {
+        switchSession(nullptr);
+        if (!owned)
+            return;
+        if (owned->task) {
+            owned->task->stop();
+            lastHapticStats = owned->task->stats();
+        }
+        if (owned->decoder)
+            owned->decoder->stop();
+        {
+            std::lock_guard<std::mutex> lock(mutex);
+            stats.receiver = owned->receiver ? owned->receiver->stats() : stats.receiver;
+        }
+        owned.reset();
+    }
+
+    void renderLoop();
+};
+
+// ---------------------------------------------------------------------------------------------
+// The render thread.
+
+namespace {
+
+/// The render thread's view of one session: frames it holds and its media clock.
+struct RenderState {
+    Session *session = nullptr;
+    std::uint64_t gen = 0;
+    receiver::PairedFrame shown;      ///< On screen.
+    receiver::PairedFrame pending[2]; ///< Taken from the decoder, not yet shown.
+    int pendingCount = 0;
+    bool clockStarted = false;
+    TimePoint origin{};          ///< Clock time at which media time (stream PTS, s) is 0.
+    double pausedAt = 0.0;       ///< Media time frozen by pause, s.
+    bool wasPaused = false;
+    std::uint64_t seekSeen = 0;
+    bool reseat = false;         ///< Next shown frame comes after a seek: re-seat the proxy.
+    bool eosSent = false;
+    TimePoint playStart{};
+    bool playClockRunning = false;
+    double playingSeconds = 0.0;
+
+    [[nodiscard]] bool haveShown() const noexcept
+    {
+        return static_cast<bool>(shown.color) || static_cast<bool>(shown.depth);
+    }
+    void dropFrames() noexcept
+    {
+        shown = receiver::PairedFrame{};
+        for (auto &p : pending)
+            p = receiver::PairedFrame{};
+        pendingCount = 0;
+    }
+    void popFront() noexcept
+    {
+        pending[0] = std::move(pending[1]);
+        pending[1] = receiver::PairedFrame{};
+        --pendingCount;
+    }
+};
+
+/// Copies one stored depth frame into a handoff slot (rows packed).
+void copyDepth(const receiver::StoredFrame &f, const haptic_task::DepthSlot &slot, int width,
+               int height, std::size_t bytesPerSample)
+{
+    const std::size_t rowBytes = static_cast<std::size_t>(width) * bytesPerSample;
+    const int h = std::min(height, f.image.height);
+    const std::size_t copyBytes =
+        std::min(rowBytes, static_cast<std::size_t>(f.image.width) * bytesPerSample);
+    for (int y = 0; y < h; ++y)
+        std::memcpy(slot.data + static_cast<std::size_t>(y) * rowBytes, f.image.row(0, y),
+                    copyBytes);
+}
+
+haptics::DepthFrameView depthView(const receiver::StoredFrame &f, double pts) noexcept
+{
+    haptics::DepthFrameView v;
+    v.data = f.image.planes[0].data;
+    v.width = f.image.width;
+    v.height = f.image.height;
+    v.strideBytes = static_cast<std::size_t>(f.image.planes[0].strideBytes);
+    v.format = f.image.format == hal::PixelFormat::Gray16 ? haptics::SampleFormat::Gray16
+                                                          : haptics::SampleFormat::Gray8;
+    v.pts = pts;
+    return v;
+}
+
+} // namespace
+
+void Playback::Impl::renderLoop()
+{
+    bool gl = false;
+#if DT_PLAYBACK_HAVE_GL
+    std::unique_ptr<render::StereoRenderer> renderer;
+    std::optional<render::RenderTarget> target;
+    std::unique_ptr<render::Snapshotter> snapshotter;
+    std::vector<std::uint8_t> flatDepth; // depth-less input: a flat surface
+#endif
+    RenderState rs;
+
+    for (;;) {
+        // Commands and session changes.
+        bool playingNow = false;
+        bool pausedNow = false;
+        std::uint64_t seekGenNow = 0;
+        double seekTo = 0.0;
+        player::StereoMode modeNow;
+        {
+            std::unique_lock<std::mutex> lock(mutex);
+            if (quit)
+                break;
+            if (rs.gen != sessionGen) {
+                rs.dropFrames();
+                rs = RenderState{};
+                rs.session = session;
+                rs.gen = sessionGen;
+                rs.seekSeen = seekGen;
+#if DT_PLAYBACK_HAVE_GL
+                renderer.reset(); // re-created for the new stream's sizes
+                target.reset();
+#endif
+                // The display belongs to this thread: opened here (sized for the first stream)
+                // so that its GL context is current here and nowhere else.
+                if (rs.session != nullptr && hal.display->state() != hal::Display::State::Open) {
+                    if (auto r = hal.display->open(rs.session->displayConfig); !r) {
+                        displayError = std::string("cannot open the display: ") + r.error().what;
+                    } else if (hal.display->capabilities().hasGlesContext) {
+                        if (auto c = hal.display->makeCurrent(); !c)
+                            DT_LOG(Playback, Warning,
+                                   "No GL context (%s): frames are presented undrawn",
+                                   c.error().what);
+                        else
+                            gl = true;
+                    }
+                }
+                sessionAck = sessionGen;
+                cv.notify_all();
+            }
+            if (rs.session == nullptr || !playing) {
+                cv.wait_for(lock, std::chrono::milliseconds(20));
+                continue;
+            }
+            playingNow = playing;
+            pausedNow = paused;
+            seekGenNow = seekGen;
+            seekTo = seekTarget;
+            modeNow = stereoMode;
+        }
+        (void)playingNow;
+        Session &s = *rs.session;
+        const TimePoint now = clock.now();
+
+        // Playing time (for the presented frame rate).
+        if (!pausedNow && !rs.playClockRunning) {
+            rs.playStart = now;
+            rs.playClockRunning = true;
+        } else if (pausedNow && rs.playClockRunning) {
+            rs.playingSeconds += platform::toSeconds(now - rs.playStart);
+            rs.playClockRunning = false;
+        }
+
+        // Seek: drop what was queued; the decode thread restarts at the target.
+        if (seekGenNow != rs.seekSeen) {
+            rs.seekSeen = seekGenNow;
+            for (auto &p : rs.pending)
+                p = receiver::PairedFrame{};
+            rs.pendingCount = 0;
+            rs.clockStarted = false;
+            rs.reseat = true;
+            rs.eosSent = false;
+            s.decoder->seek(ptsFromSeconds(seekTo));
+        }
+
+        // Pause: the media clock stands still (the haptic time with it).
+        if (pausedNow && rs.clockStarted) {
+            if (!rs.wasPaused)
+                rs.pausedAt = platform::toSeconds(now - rs.origin);
+            rs.origin = now - platform::fromSeconds(rs.pausedAt);
+            if (s.handoff)
+                s.handoff->setMediaOrigin(rs.origin);
+        }
+        rs.wasPaused = pausedNow;
+
+        // Take frames (never blocks).
+        while (rs.pendingCount < 2 &&
+               s.decoder->poll(rs.pending[static_cast<std::size_t>(rs.pendingCount)])) {
+            ++rs.pendingCount;
+            std::lock_guard<std::mutex> lock(mutex);
+            ++stats.framesReceived;
+        }
+        if (s.decoder->failed()) {
+            std::lock_guard<std::mutex> lock(mutex);
+            if (failure.empty())
+                failure = std::string("decoding failed: ") + s.decoder->error().what;
+        }
+
+        if (rs.pendingCount == 0) {
+            // End of stream: the last frame has had its time on screen.
+            if (!rs.eosSent && s.decoder->finished() && rs.haveShown() &&
+                (!rs.clockStarted ||
+                 platform::toSeconds(now - rs.origin) >= ptsSeconds(rs.shown.pts) + s.period)) {
+                rs.eosSent = true;
+                std::lock_guard<std::mutex> lock(mutex);
+                endOfStream = true;
+                ++stats.endsOfStream;
+            }
+            clock.sleepFor(std::chrono::milliseconds(2));
+            continue;
+        }
+
+        receiver::PairedFrame &next = rs.pending[0];
+        const double pts = ptsSeconds(next.pts);
+        if (!s.haveStart) {
+            std::lock_guard<std::mutex> lock(mutex);
+            s.startPts = pts;
+            s.haveStart = true;
+        }
+        if (!rs.clockStarted) {
+            // First frame after open or seek: media time starts at its PTS now.
+            rs.origin = now - platform::fromSeconds(pts);
+            rs.clockStarted = true;
+            rs.pausedAt = pts;
+            if (s.handoff)
+                s.handoff->setMediaOrigin(rs.origin);
+        } else {
+            if (pausedNow && !rs.reseat && rs.haveShown()) {
+                clock.sleepFor(std::chrono::milliseconds(5));
+                continue;
+            }
+            const TimePoint due = rs.origin + platform::fromSeconds(pts);
+            if (now < due) {
+                clock.sleepUntil(std::min(due, now + std::chrono::milliseconds(5)));
+                continue;
+            }
+            // Late: skip this frame when its successor is due too.
+            if (rs.pendingCount == 2 &&
+                now >= rs.origin + platform::fromSeconds(ptsSeconds(rs.pending[1].pts))) {
+                rs.popFront();
+                std::lock_guard<std::mutex> lock(mutex);
+                ++stats.framesDropped;
+                continue;
+            }
+            if (platform::toSeconds(now - due) > s.period) {
+                std::lock_guard<std::mutex> lock(mutex);
+                ++stats.framesLate;
+            }
+        }
+
+        // Frame i goes on screen: the haptic task gets (depth i, depth i+1).
+        rs.shown = std::move(next);
+        rs.popFront();
+        if (s.handoff && rs.shown.depth) {
+            const receiver::DepthPair dp = rs.shown.depthPair();
+            const std::size_t bps = s.handoff->format() == haptics::SampleFormat::Gray16 ? 2 : 1;
+            haptic_task::DepthSlot cur = s.handoff->beginFrame();
+            copyDepth(*dp.current, cur, s.handoff->width(), s.handoff->height(), bps);
+            cur.pts = ptsSeconds(dp.currentPts);
+            if (dp.next != nullptr) {
+                haptic_task::DepthSlot nxt = s.handoff->beginFrame();
+                copyDepth(*dp.next, nxt, s.handoff->width(), s.handoff->height(), bps);
+                nxt.pts = ptsSeconds(dp.nextPts);
+                s.handoff->publish(cur, &nxt);
+            } else {
+                s.handoff->publish(cur, nullptr);
+            }
+            if (rs.reseat && s.task)
+                s.task->requestReseat();
+            std::lock_guard<std::mutex> lock(mutex);
+            ++stats.depthPairsPublished;
+        }
+        rs.reseat = false;
+
+        // Draw and present.
+        const TimePoint drawStart = clock.now();
+        bool drawn = true;
+#if DT_PLAYBACK_HAVE_GL
+        if (gl) {
+            drawn = false;
+            const receiver::StoredFrame *depthFrame = rs.shown.depth ? rs.shown.depth.get() : nullptr;
+            const receiver::StoredFrame *colorFrame = rs.shown.color ? rs.shown.color.get() : nullptr;
+            haptics::DepthFrameView dv;
+            if (depthFrame != nullptr) {
+                dv = depthView(*depthFrame, pts);
+            } else if (colorFrame != nullptr) {
+                const int w = colorFrame->image.width;
+                const int h = colorFrame->image.height;
+                flatDepth.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0);
+                dv = {flatDepth.data(), w, h, static_cast<std::size_t>(w),
+                      haptics::SampleFormat::Gray8, pts};
+            }
+            if (!renderer) {
+                render::RendererOptions ro;
+                ro.box = config.haptics.renderer.box;
+                if (config.meshStep > 0) {
+                    ro.mesh.mode = render::MeshMode::Fixed;
+                    ro.mesh.fixedStep = config.meshStep;
+                    ro.mesh.tileSize = std::max(ro.mesh.tileSize, config.meshStep);
+                }
+                auto r = render::StereoRenderer::create(ro);
+                if (r)
+                    renderer = std::move(*r);
+                else
+                    DT_LOG_ONCE(Playback, Error, "Cannot create the stereo renderer: %s",
+                                r.error().what);
+            }
+            const hal::Size size = hal.display->size();
+            if (!target && renderer) {
+                auto t = render::RenderTarget::create(size.width, size.height);
+                if (t)
+                    target = std::move(*t);
+                else
+                    DT_LOG_ONCE(Playback, Error, "Cannot create the render target: %s",
+                                t.error().what);
+            }
+            if (renderer && target && dv.data != nullptr) {
+                render::RendererOptions ro = renderer->options();
+                ro.mode = toRenderMode(modeNow);
+                (void)renderer->setOptions(ro);
+                bool ok = static_cast<bool>(renderer->setDepth(dv));
+                if (colorFrame != nullptr) {
+                    if (auto r = renderer->setColor(colorFrame->image, render::ColorSpec{}); !r)
+                        DT_LOG_ONCE(Playback, Warning, "Color frames not shown: %s",
+                                    r.error().what);
+                } else if (depthFrame != nullptr &&
+                           depthFrame->image.format == hal::PixelFormat::Gray8) {
+                    (void)renderer->setColor(depthFrame->image, render::ColorSpec{render::YuvMatrix::Bt601, true});
+                }
+                render::AvatarState avatar;
+                if (config.avatar && s.task) {
+                    glm::dvec3 hip, proxy;
+                    if (s.task->lastPose(hip, proxy)) {
+                        avatar.visible = true;
+                        avatar.hip = hip;
+                        avatar.proxy = proxy;
+                    }
+                }
+                renderer->setAvatar(avatar);
+                if (config.osd) {
+                    render::OsdState osd;
+                    osd.visible = true;
+                    osd.status = pausedNow ? "PAUSED" : "PLAYING";
+                    osd.hapticsOn = s.task != nullptr && s.task->enabled();
+                    osd.force = s.task ? glm::length(s.task->lastForce()) : 0.0;
+                    osd.maxForce = std::max(1e-3, config.haptics.renderer.maxForce);
+                    renderer->setOsd(osd);
+                }
+                if (ok && renderer->render(*target)) {
+                    if (target->blitTo(hal.display->framebuffer(), size.width, size.height))
+                        drawn = true;
+                    if (snapshotter) {
+                        if (snapshotRequest.exchange(false))
+                            snapshotter->request();
+                        auto w = snapshotter->onFrame(*target);
+                        if (!w) {
+                            DT_LOG_ONCE(Playback, Warning, "Snapshot not written: %s",
+                                        w.error().what);
+                        } else if (*w) {
+                            std::lock_guard<std::mutex> lock(mutex);
+                            ++stats.snapshotsWritten;
+                        }
+                    }
+                }
+            }
+            if (!snapshotter && !config.snapshotDir.empty())
+                snapshotter = std::make_unique<render::Snapshotter>(config.snapshotDir,
+                                                                    config.snapshotEvery,
+                                                                    "frame");
+        }
+#endif
+        const double ms = platform::toSeconds(clock.now() - drawStart) * 1e3;
+        const auto presented = hal.display->present();
+        {
+            std::lock_guard<std::mutex> lock(mutex);
+            if (!drawn)
+                ++stats.renderErrors;
+            if (presented)
+                ++stats.framesPresented;
+            else
+                ++stats.presentErrors;
+            position = pts - s.startPts;
+            double played = rs.playingSeconds;
+            if (rs.playClockRunning)
+                played += platform::toSeconds(clock.now() - rs.playStart);
+            stats.playingSeconds = played;
+            stats.presentedFps =
+                played > 0 ? static_cast<double>(stats.framesPresented) / played : 0.0;
+            if (renderMs.size() < renderMs.capacity())
+                renderMs.push_back(ms);
+        }
+        (void)gl;
+    }
+
+    // Leaving: drop frames; GL objects go while the context is current.
+    rs.dropFrames();
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        sessionAck = sessionGen;
+        cv.notify_all();
+    }
+#if DT_PLAYBACK_HAVE_GL
+    snapshotter.reset();
+    target.reset();
+    renderer.reset();
+#endif
+    hal.display->close();
+}
+
+// ---------------------------------------------------------------------------------------------
+
+Playback::Playback(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+Result<std::unique_ptr<Playback>> Playback::create(const PlaybackConfig &config,
+                                                   const PlaybackHal &hal)
+{
+    if (!hal.makeSource || !hal.makeDecoder || hal.display == nullptr || hal.clock == nullptr)
+        return Error(Errc::InvalidArgument, "playback needs a media source, decoders, a display "
+                                            "and a clock");
+    if (auto r = config.haptics.validate(); !r)
+        return r.error();
+    if (config.outputWidth < 0 || config.outputHeight < 0 || config.outputWidth > 8192 ||
+        config.outputHeight > 8192)
+        return Error(Errc::InvalidArgument, "output size out of range");
+    if (config.meshStep < 0 || config.meshStep > 64 ||
+        (config.meshStep & (config.meshStep - 1)) != 0)
+        return Error(Errc::InvalidArgument, "mesh step must be 0 or a power of two up to 64");
+    auto impl = std::make_unique<Impl>(config, hal);
+    return std::unique_ptr<Playback>(new Playback(std::move(impl)));
+}
+
+Playback::~Playback()
+{
+    impl_->tearDown();
+    {
+        std::lock_guard<std::mutex> lock(impl_->mutex);
+        impl_->quit = true;
+        impl_->cv.notify_all();
+    }
+    if (impl_->renderThread.joinable())
+        impl_->renderThread.join();
+}
+
+Result<void> Playback::open(std::string_view url)
+{
+    Impl &m = *impl_;
+    m.tearDown();
+    m.openDone = false;
+    m.openError.clear();
+
+    auto fail = [&](std::string why) -> Result<void> {
+        m.openError = std::move(why);
+        return {};
+    };
+    auto source = m.hal.makeSource();
+    if (!source)
+        return fail(std::string("no media source: ") + source.error().what);
+    const std::string urlText(url);
+    auto rec = receiver::Receiver::open(std::move(*source), urlText.c_str(), m.hal.makeDecoder,
+                                        m.config.receiver);
+    if (!rec)
+        return fail(std::string("cannot open '") + urlText + "': " + rec.error().what);
+
+    auto s = std::make_unique<Session>();
+    s->receiver = std::move(*rec);
+    const receiver::ReceiverInfo &ri = s->receiver->info();
+    PlaybackInfo info;
+    info.url = urlText;
+    info.mode = receiver::receiverModeName(ri.mode);
+    info.notes = ri.notes;
+    const hal::StreamInfo &main = ri.hasColor ? ri.color : ri.depth;
+    if (ri.hasDepth) {
+        info.depthWidth = ri.depth.width;
+        info.depthHeight = ri.depth.height;
+    }
+    if (ri.hasColor) {
+        info.colorWidth = ri.color.width;
+        info.colorHeight = ri.color.height;
+    }
+    const hal::Pts period = ri.hasColor ? ri.colorPeriod : ri.depthPeriod;
+    s->period = period.count() > 0 ? ptsSeconds(period) : 1.0 / 30.0;
+    info.fps = 1.0 / s->period;
+
+    // The haptic task on the depth frames.
+    if (ri.hasDepth && m.hal.device != nullptr) {
+        const haptics::SampleFormat fmt = ri.depthFormat == hal::PixelFormat::Gray16
+                                              ? haptics::SampleFormat::Gray16
+                                              : haptics::SampleFormat::Gray8;
+        auto handoff = haptic_task::DepthHandoff::create(ri.depth.width, ri.depth.height, fmt);
+        if (!handoff)
+            return fail(std::string("cannot allocate the depth frames: ") +
+                        handoff.error().what);
+        s->handoff = std::move(*handoff);
+        haptic_task::HapticTaskConfig tc = m.config.haptics;
+        tc.startEnabled = m.hapticsEnabled;
+        auto task = haptic_task::HapticTask::create(tc, *m.hal.device, *s->handoff, m.clock);
+        if (!task)
+            return fail(std::string("cannot create the haptic task: ") + task.error().what);
+        s->task = std::move(*task);
+        s->task->setStiffness(m.stiffness);
+        info.haptics = true;
+    } else if (!ri.hasDepth) {
+        info.notes.emplace_back("no depth stream: playing flat (2D) with haptics off");
+    } else {
+        info.notes.emplace_back("no haptic device: playing without haptics");
+    }
+
+    // The display: sized for the stream on the first open (opened by the render thread).
+    {
+        const int w = ri.hasDepth ? ri.depth.width : main.width;
+        const int h = ri.hasDepth ? ri.depth.height : main.height;
+        s->displayConfig.width =
+            m.config.outputWidth > 0 ? m.config.outputWidth : std::min(2 * w, 3840);
+        s->displayConfig.height = m.config.outputHeight > 0 ? m.config.outputHeight : std::min(h, 2160);
+        s->displayConfig.refreshHz = m.config.refreshHz;
+    }
+    if (!m.renderThread.joinable())
+        m.renderThread = std::thread([&m] { m.renderLoop(); });
+
+    s->decoder = std::make_unique<receiver::DecoderThread>(*s->receiver);
+    if (auto r = s->decoder->start(); !r)
+        return fail(std::string("cannot start the decode thread: ") + r.error().what);
+    if (s->task) {
+        if (auto r = s->task->start(); !r) {
+            s->decoder->stop();
+            return fail(std::string("cannot start the haptic task: ") + r.error().what);
+        }
+    }
+    m.owned = std::move(s);
+    {
+        std::lock_guard<std::mutex> lock(m.mutex);
+        ++m.stats.opens;
+    }
+    m.switchSession(m.owned.get());
+    {
+        std::unique_lock<std::mutex> lock(m.mutex);
+        if (!m.displayError.empty()) {
+            std::string why = std::move(m.displayError);
+            m.displayError.clear();
+            lock.unlock();
+            m.tearDown();
+            return fail(why);
+        }
+    }
+    const hal::Size size = m.hal.display->size();
+    info.outputWidth = size.width;
+    info.outputHeight = size.height;
+#if DT_PLAYBACK_HAVE_GL
+    info.gl = m.hal.display->capabilities().hasGlesContext;
+#endif
+    info_ = std::move(info);
+    m.openDone = true;
+    return {};
+}
+
+Result<void> Playback::startPlayback()
+{
+    Impl &m = *impl_;
+    std::lock_guard<std::mutex> lock(m.mutex);
+    if (m.session == nullptr)
+        return Error(Errc::InvalidState, "nothing is open");
+    m.playing = true;
+    m.paused = false;
+    m.cv.notify_all();
+    return {};
+}
+
+Result<void> Playback::pause()
+{
+    Impl &m = *impl_;
+    std::lock_guard<std::mutex> lock(m.mutex);
+    if (m.session == nullptr)
+        return Error(Errc::InvalidState, "nothing is playing");
+    m.paused = true;
+    return {};
+}
+
+Result<void> Playback::resume()
+{
+    Impl &m = *impl_;
+    std::lock_guard<std::mutex> lock(m.mutex);
+    if (m.session == nullptr)
+        return Error(Errc::InvalidState, "nothing is open");
+    m.paused = false;
+    return {};
+}
+
+Result<void> Playback::stop()
+{
+    impl_->tearDown();
+    return {};
+}
+
+Result<void> Playback::seek(double seconds, player::SeekMode mode)
+{
+    Impl &m = *impl_;
+    if (!std::isfinite(seconds))
+        return Error(Errc::InvalidArgument, "seek: not a number");
+    std::lock_guard<std::mutex> lock(m.mutex);
+    if (m.session == nullptr)
+        return Error(Errc::InvalidState, "nothing is open");
+    const double start = m.session->haveStart ? m.session->startPts : 0.0;
+    double target = mode == player::SeekMode::Absolute ? seconds : m.position + seconds;
+    target = std::max(0.0, target);
+    const double duration = ptsSeconds(m.session->receiver->info().duration);
+    if (duration > 0.0)
+        target = std::min(target, std::max(0.0, duration - m.session->period));
+    m.seekTarget = start + target;
+    m.position = target;
+    ++m.seekGen;
+    ++m.stats.seeks;
+    m.endOfStream = false;
+    return {};
+}
+
+Result<void> Playback::setStereoMode(player::StereoMode mode)
+{
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    impl_->stereoMode = mode;
+    return {};
+}
+
+Result<void> Playback::setHapticsEnabled(bool enabled)
+{
+    impl_->hapticsEnabled = enabled;
+    if (impl_->owned && impl_->owned->task)
+        impl_->owned->task->setEnabled(enabled);
+    return {};
+}
+
+Result<void> Playback::setStiffness(double newtonsPerMetre)
+{
+    if (!(newtonsPerMetre > 0.0))
+        return Error(Errc::InvalidArgument, "stiffness must be positive");
+    impl_->stiffness = newtonsPerMetre;
+    if (impl_->owned && impl_->owned->task)
+        impl_->owned->task->setStiffness(newtonsPerMetre);
+    return {};
+}
+
+Result<void> Playback::recenter()
+{
+    if (!impl_->owned || !impl_->owned->task)
+        return Error(Errc::InvalidState, "no haptic task is running");
+    impl_->owned->task->requestReseat();
+    return {};
+}
+
+void Playback::report(player::StateMachine &machine)
+{
+    Impl &m = *impl_;
+    if (m.openDone) {
+        m.openDone = false;
+        machine.onOpened();
+    }
+    if (!m.openError.empty()) {
+        const std::string why = std::move(m.openError);
+        m.openError.clear();
+        machine.onOpenFailed(why);
+    }
+    std::string failure;
+    bool eos = false;
+    {
+        std::lock_guard<std::mutex> lock(m.mutex);
+        failure.swap(m.failure);
+        eos = m.endOfStream;
+        m.endOfStream = false;
+    }
+    if (!failure.empty())
+        machine.onFailure(failure);
+    if (eos)
+        machine.onEndOfStream();
+}
+
+PlaybackStats Playback::stats() const
+{
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    PlaybackStats s = impl_->stats;
+    std::vector<double> ms = impl_->renderMs;
+    s.renderMsP50 = percentile(ms, 0.50);
+    s.renderMsP99 = percentile(ms, 0.99);
+    if (impl_->owned && impl_->owned->decoder)
+        s.receiver = impl_->owned->decoder->stats();
+    return s;
+}
+
+haptic_task::HapticTask *Playback::hapticTask() noexcept
+{
+    return impl_->owned ? impl_->owned->task.get() : nullptr;
+}
+
+std::optional<haptic_task::HapticStats> Playback::hapticStats()
+{
+    if (impl_->owned && impl_->owned->task)
+        return impl_->owned->task->stats();
+    return impl_->lastHapticStats;
+}
+
+double Playback::position() const noexcept
+{
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    return impl_->position;
+}
+
+void Playback::requestSnapshot() noexcept
+{
+    impl_->snapshotRequest.store(true);
+}
+
+} // namespace depthtouch::playback
