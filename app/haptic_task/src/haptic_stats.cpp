@@ -19,6 +19,7 @@ std::string HapticStats::toJson(int indent) const
 {
     const nlohmann::json j = {
         {"haptic_updates", updates},
+        {"haptic_run_s", runSeconds},
         {"haptic_rate_hz", servoRateHz},
         {"rendered_updates", renderedUpdates},
         {"contact_updates", contactUpdates},

@@ -511,6 +511,8 @@ void HapticTask::drainLocked()
             periodHist_->add(std::llabs(s.wakeNs - prevWakeNs_ - periodNs));
         prevWakeNs_ = s.wakeNs;
         prevCycle_ = s.cycle;
+        if (firstWakeNs_ < 0)
+            firstWakeNs_ = s.wakeNs;
         if (forceLog_ != nullptr && (s.flags & TelemetrySample::Rendered) != 0) {
             std::fprintf(forceLog_, "%.6f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%d,%d\n",
                          s.t, s.hip.x, s.hip.y, s.hip.z, s.proxy.x, s.proxy.y, s.proxy.z, s.force.x,
@@ -541,6 +543,8 @@ HapticStats HapticTask::stats()
     s.wakeLatency = wakeHist_->summary();
     s.updateTime = updateHist_->summary();
     s.periodError = periodHist_->summary();
+    if (firstWakeNs_ >= 0 && prevWakeNs_ > firstWakeNs_)
+        s.runSeconds = static_cast<double>(prevWakeNs_ - firstWakeNs_) * 1e-9;
     if (thread_->joinable() || thread_->finished()) {
         char line[256];
         s.thread = thread_->report().format(line, sizeof line);

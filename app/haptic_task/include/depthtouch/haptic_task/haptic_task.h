@@ -128,6 +128,9 @@ struct TelemetrySample {
 struct HapticStats {
     double servoRateHz = 0.0;
     std::uint64_t updates = 0;         ///< Cycles of the haptic loop.
+    /// Time from the first to the last update drained, s: updates ≈ runSeconds · servoRateHz + 1
+    /// when no period was missed.
+    double runSeconds = 0.0;
     std::uint64_t renderedUpdates = 0; ///< Cycles that ran the renderer.
     std::uint64_t contactUpdates = 0;  ///< Rendered cycles with the proxy on the surface.
     std::uint64_t overruns = 0;        ///< Cycles that started after their deadline.
@@ -144,7 +147,7 @@ struct HapticStats {
     LatencySummary periodError; ///< |wake_k − wake_{k−1} − period| over on-time pairs.
     std::string thread;         ///< What the haptic thread got (RealtimeThreadReport).
 
-    /// \return a JSON object: haptic_updates, haptic_rate_hz, rendered_updates, contact_updates,
+    /// \return a JSON object: haptic_updates, haptic_run_s, haptic_rate_hz, rendered_updates, contact_updates,
     /// overruns, missed_periods, wake_latency_us / update_time_us / period_error_us {p50, p90, p99,
     /// p999, max, mean}, safety_releases, watchdog_trips, device_losses, reconnects,
     /// telemetry_dropped, max_force_n, device_max_force_n, haptic_thread.
@@ -337,6 +340,7 @@ private:
     std::unique_ptr<LatencyHistogram> updateHist_;
     std::unique_ptr<LatencyHistogram> periodHist_;
     std::int64_t prevWakeNs_ = -1;
+    std::int64_t firstWakeNs_ = -1;
     std::uint64_t prevCycle_ = 0;
     bool lostLogged_ = false;
     platform::TimePoint lastReconnectTry_{}; ///< On the steady clock.

@@ -1,0 +1,289 @@
+/// \file
+/// \brief `depthtouch play` end to end, as a user runs it:
+/// - real data: the 7-Scenes kitchen encoded with `depthtouch encode`, played with the simulated
+///   hand on the headless EGL display: every frame received and either presented or counted as
+///   dropped, haptic updates = run time × servo rate within 1 %, contact with the surface, the
+///   surface felt moving under a pressing finger, no force above the device maximum
+///   (skipped with a message when ../shared/data is absent);
+/// - the control socket: a client pauses, queries, seeks, switches the stereo mode and quits a
+///   player that loops a mock clip;
+/// - bad input: a missing file and a nonsense option are one clear line and exit code 2.
+
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "../../support/temp_dir.h"
+
+namespace {
+
+using namespace std::chrono_literals;
+namespace fs = std::filesystem;
+
+struct RunResult {
+    int exitCode = -1;
+    std::string output; ///< stdout and stderr
+};
+
+RunResult run(const std::string &command)
+{
+    RunResult r;
+    FILE *p = ::popen((command + " 2>&1").c_str(), "r");
+    if (p == nullptr)
+        return r;
+    char buf[4096];
+    std::size_t n = 0;
+    while ((n = std::fread(buf, 1, sizeof buf, p)) > 0)
+        r.output.append(buf, n);
+    const int status = ::pclose(p);
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+std::string sharedData()
+{
+    const char *env = std::getenv("DT_SHARED_DATA");
+    return env != nullptr ? env : DT_SOURCE_DIR "/../shared/data";
+}
+
+nlohmann::json readJson(const fs::path &path)
+{
+    std::ifstream f(path);
+    return nlohmann::json::parse(f, nullptr, false);
+}
+
+TEST(PlayEndToEnd, RealKitchenWithTheSimulatedHand)
+{
+    const std::string scene = sharedData() + "/rgbd-7scenes-redkitchen";
+    if (!fs::exists(scene + "/frame-000000.depth.png"))
+        GTEST_SKIP() << "no 7-Scenes data in " << scene << " (set DT_SHARED_DATA)";
+    depthtouch::testing::TempDir tmp("dt-play-e2e-");
+    const fs::path clip = tmp.dir() / "kitchen.mkv";
+    const RunResult enc = run(std::string(DEPTHTOUCH) + " encode --color '" + scene +
+                              "/frame-%06d.color.jpg' --depth '" + scene +
+                              "/frame-%06d.depth.png' -o " + clip.string());
+    ASSERT_EQ(enc.exitCode, 0) << enc.output;
+    unsigned frames = 0;
+    ASSERT_EQ(std::sscanf(enc.output.c_str(), "encoded %u frame pairs", &frames), 1) << enc.output;
+
+    const fs::path stats = tmp.dir() / "stats.json";
+    const fs::path forceLog = tmp.dir() / "force.csv";
+    const RunResult play =
+        run(std::string(DEPTHTOUCH) + " play " + clip.string() +
+            " --haptic sim --haptic-options intent=press --display headless --stats " +
+            stats.string() + " --force-log " + forceLog.string() + " --snapshot-dir " +
+            (tmp.dir() / "snap").string() + " --snapshot-every 15");
+    std::printf("%s", play.output.c_str());
+    ASSERT_EQ(play.exitCode, 0) << play.output;
+    const nlohmann::json j = readJson(stats);
+    ASSERT_TRUE(j.is_object()) << "stats JSON unreadable";
+
+    // Video: every frame came through the receiver, and each was shown or counted as dropped.
+    EXPECT_EQ(j["frames_received"].get<unsigned>(), frames);
+    EXPECT_EQ(j["frames_presented"].get<unsigned>() + j["frames_dropped"].get<unsigned>(), frames);
+    EXPECT_GT(j["frames_presented"].get<unsigned>(), 0u);
+    EXPECT_EQ(j["decode_errors"].get<unsigned>(), 0u);
+    EXPECT_TRUE(fs::exists(tmp.dir() / "snap" / "frame-000000.png"));
+
+    // Haptics at the servo rate for as long as the task ran (missed periods are counted).
+    const double runS = j["haptic_run_s"].get<double>();
+    const double rate = j["haptic_rate_hz"].get<double>();
+    const double updates = j["haptic_updates"].get<double>();
+    const double missed = j["missed_periods"].get<double>();
+    ASSERT_GT(runS, 1.0);
+    EXPECT_NEAR(updates + missed, runS * rate + 1.0, 0.01 * runS * rate);
+    EXPECT_GT(j["contact_updates"].get<double>(), 0.25 * updates);
+    EXPECT_LE(j["max_force_n"].get<double>(), j["device_max_force_n"].get<double>() + 1e-9);
+
+    // The finger presses and holds; the camera moves, so the surface under it moves: the proxy
+    // height changes while the HIP stays in contact.
+    std::ifstream log(forceLog);
+    std::string line;
+    std::getline(log, line);
+    double zMin = 1e9;
+    double zMax = -1e9;
+    std::size_t contactRows = 0;
+    while (std::getline(log, line)) {
+        std::vector<double> v;
+        std::stringstream ss(line);
+        std::string cell;
+        while (std::getline(ss, cell, ','))
+            v.push_back(std::strtod(cell.c_str(), nullptr));
+        ASSERT_EQ(v.size(), 12u) << line;
+        const double fMag = std::sqrt(v[7] * v[7] + v[8] * v[8] + v[9] * v[9]);
+        EXPECT_LE(fMag, j["device_max_force_n"].get<double>() + 1e-6);
+        if (v[10] == 1.0 && v[0] > 0.5) {
+            ++contactRows;
+            zMin = std::min(zMin, v[6]);
+            zMax = std::max(zMax, v[6]);
+        }
+    }
+    ASSERT_GT(contactRows, 100u);
+    EXPECT_GT(zMax - zMin, 0.5e-3) << "the proxy did not follow the moving surface";
+}
+
+/// A client of the control socket: one JSON line out, lines in.
+class ControlClient {
+public:
+    bool connect(const std::string &path, std::chrono::milliseconds timeout)
+    {
+        const auto end = std::chrono::steady_clock::now() + timeout;
+        while (std::chrono::steady_clock::now() < end) {
+            fd_ = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+            sockaddr_un addr{};
+            addr.sun_family = AF_UNIX;
+            std::snprintf(addr.sun_path, sizeof addr.sun_path, "%s", path.c_str());
+            if (::connect(fd_, reinterpret_cast<sockaddr *>(&addr), sizeof addr) == 0)
+                return true;
+            ::close(fd_);
+            fd_ = -1;
+            std::this_thread::sleep_for(50ms);
+        }
+        return false;
+    }
+    ~ControlClient()
+    {
+        if (fd_ >= 0)
+            ::close(fd_);
+    }
+    /// Sends \a request and returns the first reply line (not an event), or "" on time-out.
+    std::string request(const std::string &requestLine)
+    {
+        const std::string out = requestLine + "\n";
+        if (::write(fd_, out.data(), out.size()) != static_cast<ssize_t>(out.size()))
+            return {};
+        const auto end = std::chrono::steady_clock::now() + 5s;
+        while (std::chrono::steady_clock::now() < end) {
+            const std::size_t nl = buffer_.find('\n');
+            if (nl != std::string::npos) {
+                std::string line = buffer_.substr(0, nl);
+                buffer_.erase(0, nl + 1);
+                if (line.find("\"event\"") == std::string::npos)
+                    return line;
+                events.push_back(line);
+                continue;
+            }
+            char buf[1024];
+            timeval tv{0, 100000};
+            ::setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+            const ssize_t n = ::read(fd_, buf, sizeof buf);
+            if (n > 0)
+                buffer_.append(buf, static_cast<std::size_t>(n));
+            else if (n == 0)
+                return {};
+        }
+        return {};
+    }
+    std::vector<std::string> events;
+
+private:
+    int fd_ = -1;
+    std::string buffer_;
+};
+
+TEST(PlayEndToEnd, ControlSocketDrivesTheLoopingPlayer)
+{
+    depthtouch::testing::TempDir tmp("dt-play-ctl-");
+    const std::string sock = (tmp.dir() / "ctl.sock").string();
+    const fs::path stats = tmp.dir() / "stats.json";
+    const std::string cmd = std::string(DEPTHTOUCH) +
+                            " play 'mock://clip?frames=60&fps=30' --source mock --decoder mock "
+                            "--display mock --haptic sim --loop --duration 30 --control " +
+                            sock + " --stats " + stats.string();
+    RunResult result;
+    std::thread player([&] { result = run(cmd); });
+
+    ControlClient c;
+    ASSERT_TRUE(c.connect(sock, 10s)) << "no control socket at " << sock;
+    EXPECT_TRUE(fs::exists(sock));
+    EXPECT_EQ(fs::status(sock).permissions() & fs::perms::all,
+              fs::perms::owner_read | fs::perms::owner_write);
+    std::this_thread::sleep_for(300ms);
+    EXPECT_EQ(c.request(R"({"command":["get","state"]})"), R"({"data":"playing","error":"success"})");
+    EXPECT_EQ(c.request(R"({"command":["pause"],"request_id":7})"),
+              R"({"error":"success","request_id":7})");
+    EXPECT_EQ(c.request(R"({"command":["get","state"]})"), R"({"data":"paused","error":"success"})");
+    EXPECT_EQ(c.request(R"({"command":["seek",1.5,"absolute"]})"), R"({"error":"success"})");
+    EXPECT_EQ(c.request("next-stereo-mode"), R"({"error":"success"})");
+    EXPECT_EQ(c.request(R"({"command":["get","stereo-mode"]})"), R"({"data":"tab","error":"success"})");
+    EXPECT_EQ(c.request(R"({"command":["stiffness",1500]})"), R"({"error":"success"})");
+    // Refused, with a reason, and nothing changes.
+    const std::string refused = c.request(R"({"command":["stiffness",-3]})");
+    EXPECT_NE(refused.find("error"), std::string::npos);
+    EXPECT_EQ(refused.find("success"), std::string::npos) << refused;
+    EXPECT_NE(c.request("{not json").find("error"), std::string::npos);
+    EXPECT_EQ(c.request(R"({"command":["toggle-pause"]})"), R"({"error":"success"})");
+    std::this_thread::sleep_for(300ms);
+    EXPECT_EQ(c.request(R"({"command":["quit"]})"), R"({"error":"success"})");
+    player.join();
+    EXPECT_EQ(result.exitCode, 0) << result.output;
+    bool sawPaused = false;
+    for (const std::string &e : c.events)
+        sawPaused = sawPaused || e == R"({"data":"paused","event":"state"})";
+    EXPECT_TRUE(sawPaused) << "no state event for the pause";
+    const nlohmann::json j = readJson(stats);
+    ASSERT_TRUE(j.is_object());
+    EXPECT_EQ(j["seeks"].get<int>(), 1);
+    EXPECT_GT(j["frames_presented"].get<int>(), 10);
+    EXPECT_FALSE(fs::exists(sock)) << "the socket file is removed at exit";
+}
+
+TEST(PlayEndToEnd, BadInputIsOneLineAndExitCodeTwo)
+{
+    const RunResult missing = run(std::string(DEPTHTOUCH) + " play /nonexistent/clip.mkv --quiet");
+    EXPECT_EQ(missing.exitCode, 2) << missing.output;
+    EXPECT_NE(missing.output.find("cannot open '/nonexistent/clip.mkv'"), std::string::npos)
+        << missing.output;
+    const RunResult stereo =
+        run(std::string(DEPTHTOUCH) + " play x.mkv --stereo diagonal --display mock");
+    EXPECT_EQ(stereo.exitCode, 2);
+    EXPECT_NE(stereo.output.find("--stereo must be"), std::string::npos) << stereo.output;
+
+    depthtouch::testing::TempDir tmp("dt-play-cfg-");
+    const fs::path cfg = tmp.dir() / "play.toml";
+    std::ofstream(cfg) << "stiffness = \"hard\"\n";
+    const RunResult typed = run(std::string(DEPTHTOUCH) + " play x.mkv --config " + cfg.string());
+    EXPECT_EQ(typed.exitCode, 2);
+    EXPECT_NE(typed.output.find("'stiffness' has the wrong type"), std::string::npos)
+        << typed.output;
+    std::ofstream(cfg) << "stifness = 900\n";
+    const RunResult unknown = run(std::string(DEPTHTOUCH) + " play x.mkv --config " + cfg.string());
+    EXPECT_EQ(unknown.exitCode, 2);
+    EXPECT_NE(unknown.output.find("unknown key 'stifness'"), std::string::npos) << unknown.output;
+}
+
+TEST(PlayEndToEnd, ConfigFileSetsOptionsAndTheCommandLineWins)
+{
+    depthtouch::testing::TempDir tmp("dt-play-cfg-");
+    const fs::path cfg = tmp.dir() / "play.toml";
+    const fs::path stats = tmp.dir() / "stats.json";
+    std::ofstream(cfg) << "source = \"mock\"\ndecoder = \"mock\"\ndisplay = \"mock\"\n"
+                          "haptic = \"sim\"\nrate = 500.0\nstats = \""
+                       << stats.string() << "\"\nquiet = true\n";
+    const RunResult r = run(std::string(DEPTHTOUCH) +
+                            " play 'mock://clip?frames=15&fps=30' --rate 800 --config " +
+                            cfg.string());
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const nlohmann::json j = readJson(stats);
+    ASSERT_TRUE(j.is_object()) << r.output;
+    EXPECT_EQ(j["haptic_rate_hz"].get<double>(), 800.0);
+    EXPECT_EQ(j["display"].get<std::string>(), "mock");
+    EXPECT_EQ(j["frames_received"].get<int>(), 15);
+}
+
+} // namespace
