@@ -183,7 +183,8 @@ int runBenchMedia(const BenchMediaOptions &o)
                          o.depthCrfs.size() + 1);
             auto rate = measureRateAccuracy(clip, backends, mo);
             if (!rate)
-                return fail(kExitFailure, std::string("rate vs accuracy: ") + rate.error().what);
+                return fail(rate.error().code == Errc::InvalidArgument ? kExitBadInput : kExitFailure,
+                            std::string("rate vs accuracy: ") + rate.error().what);
             report.rate = std::move(rate->rows);
             report.rateWidth = w;
             report.rateHeight = h;
