@@ -14,6 +14,7 @@ void registerBenchCommand(CLI::App &app, int &exitCode)
     registerBenchHapticsCommand(*bench, exitCode);
     registerBenchRenderCommand(*bench, exitCode);
     registerBenchRtCommand(*bench, exitCode);
+    registerBenchMediaCommand(*bench, exitCode);
 }
 
 } // namespace depthtouch::cli

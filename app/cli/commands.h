@@ -29,5 +29,6 @@ void registerBenchCommand(CLI::App &app, int &exitCode);
 void registerBenchHapticsCommand(CLI::App &bench, int &exitCode);
 void registerBenchRenderCommand(CLI::App &bench, int &exitCode);
 void registerBenchRtCommand(CLI::App &bench, int &exitCode);
+void registerBenchMediaCommand(CLI::App &bench, int &exitCode);
 
 } // namespace depthtouch::cli

@@ -1,4 +1,5 @@
 #include "depthtouch/platform/clock.h"
+#include "depthtouch/platform/cpu_time.h"
 
 #include <atomic>
 #include <cerrno>
@@ -24,6 +25,13 @@ TimePoint SteadyClock::now() const noexcept
     timespec ts{};
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return TimePoint(Duration(static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec));
+}
+
+Duration processCpuTime() noexcept
+{
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return Duration(static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec);
 }
 
 bool SteadyClock::sleepUntil(TimePoint deadline) noexcept

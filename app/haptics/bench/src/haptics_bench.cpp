@@ -18,6 +18,7 @@
 #include "depthtouch/haptics/mesh_bvh.h"
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/haptics/spectrum.h"
+#include "depthtouch/platform/gnuplot.h"
 
 namespace depthtouch::haptics::bench {
 
@@ -421,11 +422,6 @@ bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::s
             p << static_cast<double>(k) * report.psd.binHz << ',' << report.psd.interpolatedDb[k] << ','
               << report.psd.holdDb[k] << '\n';
     }
-    // Charts with gnuplot, when it is installed.
-    if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
-        note = "gnuplot not found: wrote CSV and JSON only (install gnuplot-nox for the PNG charts)";
-        return true;
-    }
     {
         // one data block per method for the speed-vs-accuracy scatter
         std::ofstream d(base / "speed_vs_accuracy.dat");
@@ -455,9 +451,10 @@ bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::s
              "plot '" << (base / "psd.csv").string()
           << "' using 1:3 with lines title 'sample-and-hold', '' using 1:2 with lines title 'interpolated (Eq. 1)'\n";
     }
-    const std::string cmd = "gnuplot '" + (base / "charts.gp").string() + "' 2>&1";
-    if (std::system(cmd.c_str()) != 0)
-        note = "gnuplot failed: CSV and JSON written, charts may be missing";
+    // Charts with gnuplot, when it is installed.
+    const platform::PlotStatus plot = platform::runGnuplot((base / "charts.gp").string());
+    if (plot != platform::PlotStatus::Drawn)
+        note = std::string(platform::plotStatusNote(plot)) + "; CSV and JSON written";
     return true;
 }
 

@@ -14,6 +14,7 @@
 #include "depthtouch/depth/fill.h"
 #include "depthtouch/depth/resample.h"
 #include "depthtouch/media/image_io.h"
+#include "depthtouch/platform/gnuplot.h"
 #include "depthtouch/render/render_target.h"
 #include "depthtouch/render/renderer.h"
 #include "depthtouch/render/snapshot.h"
@@ -296,10 +297,6 @@ bool writeBenchOutputs(const std::vector<BenchRow> &rows, const std::string &dir
                 << ',' << r.p99Ms << ',' << r.fps << ',' << r.meshMs << ',' << r.meanError << ',' << r.maxError
                 << ',' << r.uncovered << '\n';
     }
-    if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
-        note = "gnuplot not found: wrote the CSV only (install gnuplot-nox for the PNG chart)";
-        return true;
-    }
     {
         std::ofstream d(base / "fps_vs_error.dat");
         d << "# fixed\n";
@@ -328,9 +325,9 @@ bool writeBenchOutputs(const std::vector<BenchRow> &rows, const std::string &dir
            << "     '' index 1 using 1:2 with linespoints pt 5 title 'adaptive (tolerance sweep)', \\\n"
            << "     '' index 1 using 1:2:3 with labels offset 1,-1 notitle\n";
     }
-    const std::string cmd = "gnuplot '" + (base / "fps_vs_error.gp").string() + "' 2>&1";
-    if (std::system(cmd.c_str()) != 0)
-        note = "gnuplot failed: CSV written, the chart may be missing";
+    const platform::PlotStatus plot = platform::runGnuplot((base / "fps_vs_error.gp").string());
+    if (plot != platform::PlotStatus::Drawn)
+        note = std::string(platform::plotStatusNote(plot)) + "; CSV written";
     return true;
 }
 

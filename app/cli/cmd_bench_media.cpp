@@ -1,0 +1,247 @@
+/// \file
+/// \brief `depthtouch bench media`: encode and decode + pairing throughput of the color + depth
+/// pair at 720×486 and 1920×1080 per x264 preset (the receiver on the ffmpeg backends, one decoder
+/// thread per stream), and depth bitrate against depth PSNR against the force error of a replayed
+/// stroke (7-Scenes redkitchen, or a synthetic clip with --synthetic); writes media_throughput.csv,
+/// rate_accuracy.csv, rate_vs_accuracy.png and media_throughput.png into --out and prints a table
+/// and the goals (720×486 ≥ 10×, 1920×1080 ≥ 2× real time at 30 fps).
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.h"
+
+#if __has_include("depthtouch/media/media_bench.h")
+#include "depthtouch/drivers/backends.h"
+#include "depthtouch/media/media_bench.h"
+#include "depthtouch/platform/log.h"
+#define DT_CLI_HAVE_MEDIA_BENCH 1
+#else
+#define DT_CLI_HAVE_MEDIA_BENCH 0
+#endif
+
+namespace depthtouch::cli {
+
+namespace {
+
+struct BenchMediaOptions {
+    std::string data;
+    std::string out = "bench-out/media";
+    int frames = 60;
+    int runs = 3;
+    std::vector<std::string> sizes{"720x486", "1920x1080"};
+    std::vector<std::string> presets{"ultrafast", "veryfast", "medium"};
+    std::vector<int> depthCrfs{10, 18, 24, 30, 36, 42};
+    std::string ratePreset = "medium";
+    int encodeThreads = 1;
+    int decodeThreads = 1;
+    bool synthetic = false;
+    bool keepFiles = false;
+};
+
+#if DT_CLI_HAVE_MEDIA_BENCH
+int fail(int code, const std::string &message)
+{
+    std::fprintf(stderr, "depthtouch bench media: %s\n", message.c_str());
+    return code;
+}
+
+bool parseSize(const std::string &text, int &w, int &h)
+{
+    std::istringstream ss(text);
+    char x = 0;
+    return static_cast<bool>(ss >> w >> x >> h) && x == 'x' && ss.eof() && w >= 16 && h >= 16 &&
+           w <= 8192 && h <= 8192 && w % 2 == 0 && h % 2 == 0;
+}
+#endif
+
+int runBenchMedia(const BenchMediaOptions &o)
+{
+#if DT_CLI_HAVE_MEDIA_BENCH
+    using namespace depthtouch::media::bench;
+    if (o.frames < 2 || o.frames > 10000)
+        return fail(kExitBadInput, "--frames must be in 2..10000");
+    if (o.runs < 1 || o.runs > 100)
+        return fail(kExitBadInput, "--runs must be in 1..100");
+    if (o.encodeThreads < 0 || o.encodeThreads > 64)
+        return fail(kExitBadInput, "--encode-threads must be in 0..64 (0 = automatic)");
+    if (o.decodeThreads < 1 || o.decodeThreads > 16)
+        return fail(kExitBadInput, "--decode-threads must be in 1..16");
+    for (const int crf : o.depthCrfs)
+        if (crf < 0 || crf > 51)
+            return fail(kExitBadInput, "--depth-crfs values must be in 0..51 (lossless is always measured)");
+    if (o.presets.empty())
+        return fail(kExitBadInput, "--presets needs at least one x264 preset");
+    std::vector<std::pair<int, int>> sizes;
+    for (const std::string &s : o.sizes) {
+        int w = 0;
+        int h = 0;
+        if (!parseSize(s, w, h))
+            return fail(kExitBadInput, "--sizes entries must be WxH, even, 16..8192 ('" + s + "')");
+        sizes.emplace_back(w, h);
+    }
+    if (sizes.empty())
+        return fail(kExitBadInput, "--sizes needs at least one size");
+
+    std::string scene;
+    if (!o.synthetic) {
+        std::string data = o.data;
+        if (data.empty()) {
+            const char *env = std::getenv("DT_SHARED_DATA");
+            data = env != nullptr ? env : "../shared/data";
+        }
+        scene = data + "/rgbd-7scenes-redkitchen";
+        std::error_code ec;
+        if (!std::filesystem::exists(scene + "/frame-000000.depth.png", ec))
+            return fail(kExitBadInput, "no 7-Scenes frames in " + scene +
+                                           " (set --data or DT_SHARED_DATA, or run on a synthetic clip with --synthetic)");
+    }
+    // The figures are the output: backend chatter and the receiver's expected notes (the depth-only
+    // files of the rate sweep) stay quiet unless DT_LOG asks for them.
+    if (std::getenv("DT_LOG") == nullptr)
+        platform::setLogLevel(platform::LogLevel::Error);
+
+    // Encoded files go to a private scratch folder, removed at the end.
+    std::error_code ec;
+    const std::filesystem::path work = std::filesystem::temp_directory_path(ec) /
+                                       ("dt-bench-media-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(work, ec);
+    if (ec)
+        return fail(kExitFailure, "cannot create a scratch folder: " + ec.message());
+    struct Cleanup {
+        std::filesystem::path dir;
+        bool keep;
+        ~Cleanup()
+        {
+            std::error_code e;
+            if (!keep)
+                std::filesystem::remove_all(dir, e);
+        }
+    } cleanup{work, o.keepFiles};
+
+    const std::string decoderOptions = "threads=" + std::to_string(o.decodeThreads);
+    ReceiverBackends backends;
+    backends.makeSource = [] { return drivers::createMediaSource("ffmpeg", hal::BackendConfig{}); };
+    backends.makeDecoder = [decoderOptions](const hal::StreamInfo &) {
+        hal::BackendConfig c;
+        c.options = hal::OptionList(decoderOptions);
+        return drivers::createVideoDecoder("ffmpeg", c);
+    };
+    backends.description = "ffmpeg media source + ffmpeg decoders (" + decoderOptions + " each)";
+
+    MediaBenchOptions mo;
+    mo.presets = o.presets;
+    mo.encodeThreads = o.encodeThreads;
+    mo.decodeRuns = o.runs;
+    mo.depthCrfs = o.depthCrfs;
+    mo.ratePreset = o.ratePreset;
+    mo.workDir = work.string();
+    mo.keepFiles = o.keepFiles;
+
+    MediaBenchReport report;
+    report.backends = backends.description;
+    double load = 0.0;
+    if (getloadavg(&load, 1) == 1)
+        report.loadBefore = load;
+    report.fps = 30.0;
+    for (std::size_t k = 0; k < sizes.size(); ++k) {
+        const auto [w, h] = sizes[k];
+        std::fprintf(stderr, "bench media: loading %dx%d ...\n", w, h);
+        Clip clip;
+        if (o.synthetic) {
+            clip = makeSyntheticClip(w, h, o.frames);
+        } else {
+            auto loaded = loadKitchenClip(scene, o.frames, w, h);
+            if (!loaded)
+                return fail(loaded.error().code == Errc::Io ? kExitBadInput : kExitFailure,
+                            std::string("cannot read the 7-Scenes frames: ") + loaded.error().what);
+            clip = std::move(*loaded);
+        }
+        report.content += (report.content.empty() ? "" : "; ") + clip.description;
+        report.fps = clip.fps;
+        std::fprintf(stderr, "bench media: %dx%d encode per preset, decode + pairing x%d ...\n", w, h, o.runs);
+        auto rows = measureThroughput(clip, backends, mo);
+        if (!rows)
+            return fail(rows.error().code == Errc::InvalidArgument ? kExitBadInput : kExitFailure,
+                        std::string("throughput at ") + std::to_string(w) + "x" + std::to_string(h) +
+                            ": " + rows.error().what);
+        report.throughput.insert(report.throughput.end(), rows->begin(), rows->end());
+        // Rate against accuracy on the first size (720×486 by default: the paper's frame size).
+        if (k == 0) {
+            std::fprintf(stderr, "bench media: %dx%d depth rate vs accuracy (%zu settings) ...\n", w, h,
+                         o.depthCrfs.size() + 1);
+            auto rate = measureRateAccuracy(clip, backends, mo);
+            if (!rate)
+                return fail(rate.error().code == Errc::InvalidArgument ? kExitBadInput : kExitFailure,
+                            std::string("rate vs accuracy: ") + rate.error().what);
+            report.rate = std::move(rate->rows);
+            report.rateWidth = w;
+            report.rateHeight = h;
+            report.losslessExact = rate->losslessExact;
+            report.stroke = rate->stroke;
+        }
+    }
+    if (getloadavg(&load, 1) == 1)
+        report.loadAfter = load;
+    std::printf("\n");
+    printReport(report);
+    std::string error;
+    std::string note;
+    if (!writeReport(report, o.out, error, note))
+        return fail(kExitFailure, error);
+    if (!note.empty())
+        std::printf("note: %s\n", note.c_str());
+    std::printf("wrote %s/{media_throughput.csv,rate_accuracy.csv,rate_vs_accuracy.png,media_throughput.png}\n",
+                o.out.c_str());
+    if (o.keepFiles)
+        std::printf("encoded files kept in %s\n", work.c_str());
+    return kExitOk;
+#else
+    (void)o;
+    std::fprintf(stderr, "depthtouch bench media: built without FFmpeg (no encoder or decoder)\n");
+    return kExitFailure;
+#endif
+}
+
+} // namespace
+
+void registerBenchMediaCommand(CLI::App &bench, int &exitCode)
+{
+    auto o = std::make_shared<BenchMediaOptions>();
+    CLI::App *cmd = bench.add_subcommand(
+        "media", "Media pipeline: encode and decode + pairing fps per preset and size, depth rate vs PSNR "
+                 "vs haptic force error; CSV/PNG");
+    cmd->add_option("--data", o->data, "Shared RGB-D data folder (default: $DT_SHARED_DATA or ../shared/data)");
+    cmd->add_option("--out", o->out, "Output directory")->capture_default_str();
+    cmd->add_option("--frames", o->frames,
+                    "Frames per clip at 30 fps (the 60 real frames are played forward and back beyond 60)")
+        ->capture_default_str();
+    cmd->add_option("--runs", o->runs, "Decode + pairing runs per file (median run reported)")
+        ->capture_default_str();
+    cmd->add_option("--sizes", o->sizes, "Frame sizes WxH; the first also gets the rate/accuracy sweep")
+        ->capture_default_str();
+    cmd->add_option("--presets", o->presets, "x264 presets timed (color and depth)")->capture_default_str();
+    cmd->add_option("--depth-crfs", o->depthCrfs, "Depth CRFs of the rate/accuracy sweep (lossless always)")
+        ->capture_default_str();
+    cmd->add_option("--rate-preset", o->ratePreset, "x264 preset of the rate/accuracy sweep")
+        ->capture_default_str();
+    cmd->add_option("--encode-threads", o->encodeThreads, "x264 threads per stream (0 = automatic)")
+        ->capture_default_str();
+    cmd->add_option("--decode-threads", o->decodeThreads, "Decoder threads per stream")->capture_default_str();
+    cmd->add_flag("--synthetic", o->synthetic, "Use a synthetic clip instead of the 7-Scenes frames");
+    cmd->add_flag("--keep-files", o->keepFiles, "Keep the encoded files (their folder is printed)");
+    cmd->callback([o, &exitCode]() { exitCode = runBenchMedia(*o); });
+}
+
+} // namespace depthtouch::cli

@@ -1,0 +1,41 @@
+#include "depthtouch/platform/gnuplot.h"
+
+#include <cerrno>
+#include <spawn.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace depthtouch::platform {
+
+PlotStatus runGnuplot(const std::string &script) noexcept
+{
+    char program[] = "gnuplot";
+    // posix_spawnp takes non-const argv strings but does not modify them.
+    char *argv[] = {program, const_cast<char *>(script.c_str()), nullptr};
+    pid_t pid = 0;
+    // glibc's posix_spawnp reports a missing program (ENOENT) as its return value.
+    const int err = posix_spawnp(&pid, program, nullptr, nullptr, argv, environ);
+    if (err == ENOENT)
+        return PlotStatus::NoGnuplot;
+    if (err != 0)
+        return PlotStatus::Failed;
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0) {
+        if (errno != EINTR)
+            return PlotStatus::Failed;
+    }
+    return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? PlotStatus::Drawn : PlotStatus::Failed;
+}
+
+const char *plotStatusNote(PlotStatus status) noexcept
+{
+    switch (status) {
+    case PlotStatus::Drawn: return "";
+    case PlotStatus::NoGnuplot: return "gnuplot not found: no PNG chart (install gnuplot-nox)";
+    case PlotStatus::Failed: return "gnuplot failed: the PNG chart may be missing";
+    }
+    return "";
+}
+
+} // namespace depthtouch::platform
