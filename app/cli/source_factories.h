@@ -4,6 +4,7 @@
 /// and `v4l2:` targets, the synthetic-scene source and the depth-camera source. Declared here so
 /// tests can reach them (e.g. a camera source on the mock camera or a fake V4L2 kernel).
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -71,9 +72,15 @@ public:
     /// \return whether this build renders synthetic scenes (it has OpenGL ES).
     static bool available() noexcept;
 
+    /// \return frames drawn so far by the renderers this factory started (each frame drawn once
+    /// serves every stream attached to its renderer).
+    [[nodiscard]] std::uint64_t framesDrawn() const noexcept;
+
 private:
     std::mutex mutex_;
     std::vector<std::pair<std::string, std::weak_ptr<SyntheticRenderer>>> renderers_;
+    std::shared_ptr<std::atomic<std::uint64_t>> drawn_ =
+        std::make_shared<std::atomic<std::uint64_t>>(0);
 };
 
 // ---------------------------------------------------------------------------------------------

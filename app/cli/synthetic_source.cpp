@@ -7,6 +7,7 @@
 
 #include "source_factories.h"
 
+#include <atomic>
 #include <cmath>
 #include <condition_variable>
 #include <cstdio>
@@ -83,7 +84,8 @@ class SyntheticRenderer {
 public:
     /// Starts the thread and waits until it has its display, context and scene.
     /// Errors: NotSupported (no OpenGL ES display or context; a scene that does not build).
-    static Result<std::shared_ptr<SyntheticRenderer>> start(const SyntheticSpec &spec);
+    static Result<std::shared_ptr<SyntheticRenderer>>
+    start(const SyntheticSpec &spec, std::shared_ptr<std::atomic<std::uint64_t>> drawnTotal);
 
     ~SyntheticRenderer()
     {
@@ -166,7 +168,21 @@ private:
         bool nearness = false;
     };
 
-    explicit SyntheticRenderer(const SyntheticSpec &spec) : spec_(spec) {}
+    SyntheticRenderer(const SyntheticSpec &spec,
+                      std::shared_ptr<std::atomic<std::uint64_t>> drawnTotal)
+        : spec_(spec), drawnTotal_(std::move(drawnTotal))
+    {
+    }
+
+    /// Whether \a e holds every stream \a w asks (an ahead want, with no stream named, is met by
+    /// any entry). Called with mutex_ held.
+    bool has(const Entry &e, const Want &w) const noexcept
+    {
+        if (e.failed)
+            return true;
+        return (!w.color || !e.color.empty()) &&
+               (!w.nearness || (!e.nearness.empty() && e.nearness.format == nearFormat_));
+    }
 
     const Entry *find(std::uint64_t index) const noexcept
     {
@@ -250,9 +266,10 @@ private:
             } else {
                 w.index = *ahead_;
                 ahead_.reset();
-                if (find(w.index) != nullptr)
-                    continue;
             }
+            // A want made while this frame was being drawn ahead is met already.
+            if (const Entry *e = find(w.index); e != nullptr && has(*e, w))
+                continue;
             // Draw every attached stream, so the other one finds the frame in the cache.
             w.color = w.color || colorUsers_ > 0;
             w.nearness = w.nearness || depthUsers_ > 0;
@@ -289,11 +306,13 @@ private:
                 cache_.erase(oldest);
             }
             ++drawn_;
+            drawnTotal_->fetch_add(1, std::memory_order_relaxed);
             done_.notify_all();
         }
     }
 
     const SyntheticSpec spec_;
+    const std::shared_ptr<std::atomic<std::uint64_t>> drawnTotal_;
     std::thread thread_;
 
     std::mutex mutex_;
@@ -317,9 +336,11 @@ private:
 
 };
 
-Result<std::shared_ptr<SyntheticRenderer>> SyntheticRenderer::start(const SyntheticSpec &spec)
+Result<std::shared_ptr<SyntheticRenderer>>
+SyntheticRenderer::start(const SyntheticSpec &spec,
+                         std::shared_ptr<std::atomic<std::uint64_t>> drawnTotal)
 {
-    std::shared_ptr<SyntheticRenderer> r(new SyntheticRenderer(spec));
+    std::shared_ptr<SyntheticRenderer> r(new SyntheticRenderer(spec, std::move(drawnTotal)));
     r->thread_ = std::thread([raw = r.get()] { raw->run(); });
     std::unique_lock lock(r->mutex_);
     r->done_.wait(lock, [&] { return r->started_; });
@@ -463,6 +484,11 @@ bool SyntheticSourceFactory::available() noexcept
     return true;
 }
 
+std::uint64_t SyntheticSourceFactory::framesDrawn() const noexcept
+{
+    return drawn_->load(std::memory_order_relaxed);
+}
+
 Result<std::unique_ptr<media::FrameSource>>
 SyntheticSourceFactory::open(std::string_view target, const media::SourceOptions &options)
 {
@@ -483,7 +509,7 @@ SyntheticSourceFactory::open(std::string_view target, const media::SourceOptions
         ++it;
     }
     if (!renderer) {
-        auto started = SyntheticRenderer::start(*spec);
+        auto started = SyntheticRenderer::start(*spec, drawn_);
         if (!started)
             return unexpected(started.error());
         renderer = std::move(*started);
@@ -505,6 +531,11 @@ SyntheticSourceFactory::~SyntheticSourceFactory() = default;
 bool SyntheticSourceFactory::available() noexcept
 {
     return false;
+}
+
+std::uint64_t SyntheticSourceFactory::framesDrawn() const noexcept
+{
+    return 0;
 }
 
 Result<std::unique_ptr<media::FrameSource>>

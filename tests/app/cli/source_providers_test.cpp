@@ -276,6 +276,30 @@ TEST(SyntheticSourceTest, colorAndDepthShowTheSameFramesWithNearnessTags)
     EXPECT_NE(nearness.front().data, nearness.back().data);
 }
 
+TEST(SyntheticSourceTest, colorAndDepthOfOneSceneDrawEachFrameOnce)
+{
+    // GIVEN the color and depth sources of one scene from one factory
+    SyntheticSourceFactory factory;
+    auto color = factory.open("head,size=64x48,frames=6", optionsFor("color"));
+    if (!color && color.error().code == Errc::NotSupported)
+        GTEST_SKIP() << "No OpenGL ES: " << color.error().what;
+    ASSERT_TRUE(color) << color.error().what;
+    auto depth = factory.open("head,size=64x48,frames=6", optionsFor("depth"));
+    ASSERT_TRUE(depth);
+    // WHEN all six pairs are read, color then depth, as encode does
+    for (int i = 0; i < 6; ++i)
+        ASSERT_TRUE((*color)->next(PixelFormat::Rgb24) && (*depth)->next(PixelFormat::Gray8));
+    // THEN six frames were drawn, not twelve (the frame drawn ahead is never drawn again)
+    EXPECT_EQ(factory.framesDrawn(), 6u);
+
+    // AND a scene of another size gets a renderer of its own
+    auto other = factory.open("head,size=32x24,frames=2", optionsFor("color"));
+    ASSERT_TRUE(other);
+    ASSERT_TRUE((*other)->next(PixelFormat::Rgb24));
+    EXPECT_EQ((*other)->info().width, 32);
+    EXPECT_GE(factory.framesDrawn(), 7u);
+}
+
 TEST(SyntheticSourceTest, sixteenBitNearnessAndOtherLayoutsOnRequest)
 {
     const auto providers = makeSourceProviders();
