@@ -177,9 +177,9 @@ public:
         info_.fps = c.fps;
         info_.frameCount = 0; // live
         const bool nearness = c.depthFormat == hal::PixelFormat::Gray16;
-        info_.nativeFormat = !depth ? media::PixelFormat::Rgb24
-                                    : (nearness ? media::PixelFormat::Gray8
-                                                : media::PixelFormat::Gray16);
+        info_.nativeFormat =
+            !depth ? media::PixelFormat::Rgb24
+                   : (nearness ? media::PixelFormat::Gray8 : media::PixelFormat::Gray16);
         info_.description = share_->capabilities().name + " " + std::to_string(c.width) + "x" +
                             std::to_string(c.height) + " " + (depth ? "depth" : "color");
     }
@@ -284,8 +284,9 @@ Result<std::unique_ptr<media::FrameSource>> openCameraSource(std::shared_ptr<Cam
                                                              bool depth)
 {
     if (!depth && !share->config().color)
-        return unexpected(Errc::NotSupported,
-                          "The camera has no color stream (give its color node: color=/dev/videoM)");
+        return unexpected(
+            Errc::NotSupported,
+            "The camera has no color stream (give its color node: color=/dev/videoM)");
     return std::unique_ptr<media::FrameSource>(
         std::make_unique<CameraFrameSource>(std::move(share), depth));
 }
@@ -297,8 +298,8 @@ CameraSourceFactory::open(std::string_view target, const media::SourceOptions &o
     if (!spec)
         return unexpected(spec.error());
     const std::string key = spec->device + "," + spec->backendOptions + "," +
-                            std::to_string(spec->width) + "x" + std::to_string(spec->height) +
-                            "@" + std::to_string(spec->fps);
+                            std::to_string(spec->width) + "x" + std::to_string(spec->height) + "@" +
+                            std::to_string(spec->fps);
     const std::lock_guard lock(mutex_);
     std::shared_ptr<CameraShare> share;
     for (auto it = cameras_.begin(); it != cameras_.end();) {

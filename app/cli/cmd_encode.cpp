@@ -1,6 +1,7 @@
 /// \file
 /// \brief `depthtouch encode --color SRC --depth SRC -o OUT`: the sender. Reads color and depth
-/// frames (image sequences, video files, anything FFmpeg reads), converts depth to nearness
+/// frames (image sequences, video files, anything FFmpeg reads; built-in CG scenes `synthetic:NAME`
+/// and depth cameras `v4l2:DEVICE` through makeSourceProviders()), converts depth to nearness
 /// (DESIGN.md §3), optionally enhances it (paper §V.B) and writes color H.264 + depth 4:0:0 into
 /// one MKV/MP4/MPEG-TS file or stream URL (DESIGN.md §4). The pipeline is media::encodeStreams().
 ///
@@ -245,10 +246,10 @@ int runEncode(const EncodeCliOptions &o)
     // One set of providers for both inputs: `synthetic:NAME` color and depth share one renderer,
     // `v4l2:DEVICE` color and depth one camera.
     const media::SourceProviders providers = makeSourceProviders();
-    const auto open = [&o, &providers](const std::string &role, const std::string &spec, double fps,
-                           const std::string &format, const std::string &videoSize,
-                           const std::string &pixFmt,
-                           std::string &error) -> std::unique_ptr<NamedSource> {
+    const auto open = [&o, &providers](const std::string &role, const std::string &spec,
+                                       double fps, const std::string &format,
+                                       const std::string &videoSize, const std::string &pixFmt,
+                                       std::string &error) -> std::unique_ptr<NamedSource> {
         media::SourceOptions so;
         so.fps = fps;
         so.format = format;

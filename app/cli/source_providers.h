@@ -5,9 +5,9 @@
 /// open them itself: a camera needs a driver, a scene needs a GL context).
 ///
 /// Which stream a source delivers: SourceOptions::streamTitle "depth" gives the depth stream,
-/// anything else the color stream (`depthtouch encode` sets the title to "color" or "depth"), unless
-/// the spec says `stream=color|depth`. Options go after the name, comma-separated `key=value`
-/// (commas need no quoting in a shell):
+/// anything else the color stream (`depthtouch encode` sets the title to "color" or "depth"),
+/// unless the spec says `stream=color|depth`. Options go after the name, comma-separated
+/// `key=value` (commas need no quoting in a shell):
 ///
 /// `synthetic:NAME[,size=WxH][,fps=F][,frames=N][,stream=color|depth]`: a built-in CG scene
 /// (synthetic::listScenes(): head, spheres, cut) rendered with OpenGL ES 3 on a headless EGL

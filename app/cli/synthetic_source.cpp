@@ -204,8 +204,9 @@ private:
         bool failed = false;
         const auto fail = [&](const std::string &what) {
             failed = true;
-            failure = Error(Errc::NotSupported,
-                            persistentText("No OpenGL ES display for the synthetic scene: " + what));
+            failure =
+                Error(Errc::NotSupported,
+                      persistentText("No OpenGL ES display for the synthetic scene: " + what));
         };
         if (!display) {
             char buf[256];
@@ -333,7 +334,6 @@ private:
     std::optional<std::uint64_t> ahead_;
     std::deque<Entry> cache_;
     std::uint64_t drawn_ = 0;
-
 };
 
 Result<std::shared_ptr<SyntheticRenderer>>

@@ -103,9 +103,9 @@ TEST(SyntheticSpecTest, badSpecsAreInvalidArguments)
     EXPECT_NE(std::string(unknown.error().what).find("head, spheres, cut"), std::string::npos)
         << unknown.error().what;
     EXPECT_NE(std::string(unknown.error().what).find("'hed'"), std::string::npos);
-    for (const char *bad : {"", "head,colour=1", "head,size=160", "head,size=8x8",
-                            "head,size=0x120", "head,fps=0", "head,fps=abc", "head,frames=-1",
-                            "head,frames=1.5", "head,stream=left"}) {
+    for (const char *bad :
+         {"", "head,colour=1", "head,size=160", "head,size=8x8", "head,size=0x120", "head,fps=0",
+          "head,fps=abc", "head,frames=-1", "head,frames=1.5", "head,stream=left"}) {
         auto r = parseSyntheticSpec(bad, o);
         ASSERT_FALSE(r) << bad;
         EXPECT_EQ(r.error().code, Errc::InvalidArgument) << bad;
@@ -119,7 +119,8 @@ TEST(CameraSpecTest, deviceOptionsAndBackendOptionsAreSplit)
 {
     media::SourceOptions o = optionsFor("depth");
     o.fps = 15.0;
-    auto spec = parseCameraSpec("/dev/video4,color=/dev/video6,size=640x480,pool=6,stream=color", o);
+    auto spec =
+        parseCameraSpec("/dev/video4,color=/dev/video6,size=640x480,pool=6,stream=color", o);
     ASSERT_TRUE(spec) << spec.error().what;
     EXPECT_EQ(spec->device, "/dev/video4");
     EXPECT_EQ(spec->backendOptions, "color=/dev/video6,pool=6");
@@ -359,9 +360,8 @@ TEST(EncodeSyntheticTest, headColorAndDepthMakeAPlayableFileWithDepthTags)
     const std::string out = tmp.path("head.mkv");
     const std::string spec = "synthetic:head,size=160x120,frames=8";
     // WHEN encoded
-    const CommandRun run = runDepthtouch("encode --color " + spec + " --depth " + spec + " -o " + out +
-                                      " --preset ultrafast",
-                                  tmp);
+    const CommandRun run = runDepthtouch(
+        "encode --color " + spec + " --depth " + spec + " -o " + out + " --preset ultrafast", tmp);
     ASSERT_EQ(run.exitCode, 0) << run.err;
 
     // THEN the file has a color and a depth stream of 8 frames each
@@ -389,8 +389,8 @@ TEST(EncodeSyntheticTest, unknownSceneIsBadInputWithoutAnOutputFile)
 {
     testing::TempDir tmp("dt-synthetic-encode-");
     const std::string out = tmp.path("bad.mkv");
-    const CommandRun run = runDepthtouch(
-        "encode --color synthetic:heads --depth synthetic:heads -o " + out, tmp);
+    const CommandRun run =
+        runDepthtouch("encode --color synthetic:heads --depth synthetic:heads -o " + out, tmp);
     EXPECT_EQ(run.exitCode, 2);
     EXPECT_FALSE(std::filesystem::exists(out));
     EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;

@@ -67,7 +67,11 @@ void pullPairs(benchmark::State &state, Mode mode)
 
 void sizes(benchmark::internal::Benchmark *b)
 {
-    b->Args({720, 486})->Args({320, 240})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+    b->Args({720, 486})
+        ->Args({320, 240})
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->MinTime(3.0);
 }
 
 BENCHMARK_CAPTURE(pullPairs, shared, Mode::Shared)->Apply(sizes);
