@@ -1,6 +1,7 @@
 /// \file
 /// \brief `depthtouch encode --color SRC --depth SRC -o OUT`: the sender. Reads color and depth
-/// frames (image sequences, video files, anything FFmpeg reads), converts depth to nearness
+/// frames (image sequences, video files, anything FFmpeg reads; built-in CG scenes `synthetic:NAME`
+/// and depth cameras `v4l2:DEVICE` through makeSourceProviders()), converts depth to nearness
 /// (DESIGN.md §3), optionally enhances it (paper §V.B) and writes color H.264 + depth 4:0:0 into
 /// one MKV/MP4/MPEG-TS file or stream URL (DESIGN.md §4). The pipeline is media::encodeStreams().
 ///
@@ -23,6 +24,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "source_providers.h"
 #include "depthtouch/media/encode_job.h"
 #include "depthtouch/media/frame_source.h"
 #include "depthtouch/platform/log.h"
@@ -241,10 +243,13 @@ int runEncode(const EncodeCliOptions &o)
     if (!presetOk)
         return fail(kExitBadInput, "--preset must be an x264 preset (ultrafast ... veryslow)");
 
-    const auto open = [&o](const std::string &role, const std::string &spec, double fps,
-                           const std::string &format, const std::string &videoSize,
-                           const std::string &pixFmt,
-                           std::string &error) -> std::unique_ptr<NamedSource> {
+    // One set of providers for both inputs: `synthetic:NAME` color and depth share one renderer,
+    // `v4l2:DEVICE` color and depth one camera.
+    const media::SourceProviders providers = makeSourceProviders();
+    const auto open = [&o, &providers](const std::string &role, const std::string &spec,
+                                       double fps, const std::string &format,
+                                       const std::string &videoSize, const std::string &pixFmt,
+                                       std::string &error) -> std::unique_ptr<NamedSource> {
         media::SourceOptions so;
         so.fps = fps;
         so.format = format;
@@ -252,7 +257,7 @@ int runEncode(const EncodeCliOptions &o)
         so.pixelFormat = pixFmt;
         so.loop = o.loop;
         so.streamTitle = role; // a DepthTouch file gives its color or depth stream
-        auto s = media::openFrameSource(spec, so);
+        auto s = media::openFrameSource(spec, so, providers);
         if (!s) {
             error = "cannot open " + role + " input '" + spec + "': " + describe(s.error());
             return nullptr;
@@ -260,13 +265,20 @@ int runEncode(const EncodeCliOptions &o)
         return std::make_unique<NamedSource>(role, spec, std::move(*s));
     };
     std::string error;
+    // A camera or display backend that fails to open logs why at Error level; the one error line
+    // below carries the same reason, so the backends stay quiet while opening (unless DT_LOG).
+    const bool quietOpen = std::getenv("DT_LOG") == nullptr;
+    if (quietOpen)
+        platform::setLogLevel(platform::LogLevel::Off);
     auto color =
         open("color", o.color, o.fps, o.colorFormat, o.colorVideoSize, o.colorPixFmt, error);
-    if (!color)
-        return fail(kExitBadInput, error);
     auto depthSrc =
-        open("depth", o.depth, o.fps, o.depthFormat, o.depthVideoSize, o.depthPixFmt, error);
-    if (!depthSrc)
+        color ? open("depth", o.depth, o.fps, o.depthFormat, o.depthVideoSize, o.depthPixFmt,
+                     error)
+              : nullptr;
+    if (quietOpen)
+        platform::setLogLevel(platform::LogLevel::Error);
+    if (!color || !depthSrc)
         return fail(kExitBadInput, error);
 
     Progress progress(::isatty(STDERR_FILENO) == 1);
@@ -342,11 +354,13 @@ void registerEncodeCommand(CLI::App &app, int &exitCode)
         "encode", "Encode color + depth into one file or stream (H.264 color, 4:0:0 depth)");
     cmd->add_option("--color", o->color,
                     "Color input: image sequence (frame-%06d.color.jpg, 'd/*.png'), video file, "
-                    "URL, v4l2:/dev/videoN, synthetic:NAME")
+                    "URL, v4l2:/dev/videoN[,color=/dev/videoM], "
+                    "synthetic:NAME[,size=WxH][,fps=F][,frames=N] (NAME: head, spheres, cut; "
+                    "default 720x486, --fps, 4 s; frames=0: endless)")
         ->required();
     cmd->add_option("--depth", o->depth,
                     "Depth input: 8-bit nearness or 16-bit metric depth (image sequence, video, "
-                    "...)")
+                    "...); the depth of a v4l2: or synthetic: spec (give --color the same spec)")
         ->required();
     cmd->add_option("-o,--output", o->output, "Output file (.mkv, .mp4, .ts) or URL (udp://...)")
         ->required();

@@ -1,0 +1,549 @@
+/// \file
+/// \brief `synthetic:NAME` sources (see source_providers.h): a SyntheticRenderer owns a thread with
+/// a headless EGL display, its GL ES context and one synthetic::SyntheticScene; the color and
+/// depth sources of one scene ask it for frames by index. Each frame is drawn once for every
+/// stream attached, kept in a small cache until the other stream takes it, and the next frame is
+/// drawn ahead while the caller encodes the current one.
+
+#include "source_factories.h"
+
+#include <atomic>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <deque>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "depthtouch/hal/backends.h"
+#include "depthtouch/media/image_convert.h"
+
+#if __has_include("depthtouch/synthetic/synthetic_scene.h")
+#include "depthtouch/drivers/backends.h"
+#include "depthtouch/synthetic/synthetic_scene.h"
+#define DT_CLI_HAVE_SYNTHETIC 1
+#else
+#define DT_CLI_HAVE_SYNTHETIC 0
+#endif
+
+namespace depthtouch::cli {
+
+#if DT_CLI_HAVE_SYNTHETIC
+
+namespace {
+
+/// Frames the renderer keeps for a stream that has not taken them yet.
+constexpr std::size_t kCachedFrames = 4;
+
+std::string numberText(double v)
+{
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.9g", v);
+    return buf;
+}
+
+/// "Unknown synthetic scene 'x' (the scenes are head, spheres, cut)", from the scene list.
+const char *unknownSceneMessage(std::string_view name)
+{
+    std::string t = "Unknown synthetic scene '" + std::string(name) + "' (the scenes are";
+    const char *sep = " ";
+    for (const synthetic::SceneInfo &s : synthetic::listScenes()) {
+        t += sep;
+        t += s.name;
+        sep = ", ";
+    }
+    return persistentText(t + ")");
+}
+
+hal::ImageView viewOf(media::Image &image)
+{
+    hal::ImageView v;
+    v.width = image.width;
+    v.height = image.height;
+    switch (image.format) {
+    case media::PixelFormat::Gray8:
+        v.format = hal::PixelFormat::Gray8;
+        break;
+    case media::PixelFormat::Gray16:
+        v.format = hal::PixelFormat::Gray16;
+        break;
+    case media::PixelFormat::Rgb24:
+        v.format = hal::PixelFormat::Rgb24;
+        break;
+    }
+    v.planes[0] = {image.data.data(), static_cast<int>(image.stride)};
+    return v;
+}
+
+} // namespace
+
+/// \brief Renders frames of one scene on its own thread (the GL context is current there only).
+/// Thread-safe: sources on any threads may call take().
+class SyntheticRenderer {
+public:
+    /// Starts the thread and waits until it has its display, context and scene.
+    /// Errors: NotSupported (no OpenGL ES display or context; a scene that does not build).
+    static Result<std::shared_ptr<SyntheticRenderer>>
+    start(const SyntheticSpec &spec, std::shared_ptr<std::atomic<std::uint64_t>> drawnTotal);
+
+    ~SyntheticRenderer()
+    {
+        {
+            const std::lock_guard lock(mutex_);
+            stop_ = true;
+        }
+        wake_.notify_all();
+        if (thread_.joinable())
+            thread_.join();
+    }
+    SyntheticRenderer(const SyntheticRenderer &) = delete;
+    SyntheticRenderer &operator=(const SyntheticRenderer &) = delete;
+
+    /// A source of the color (\a depth false) or depth stream starts or stops taking frames: the
+    /// frames drawn from then on include that stream or not.
+    void attach(bool depth)
+    {
+        const std::lock_guard lock(mutex_);
+        ++(depth ? depthUsers_ : colorUsers_);
+    }
+    void detach(bool depth)
+    {
+        const std::lock_guard lock(mutex_);
+        --(depth ? depthUsers_ : colorUsers_);
+    }
+
+    /// \brief Frame \a index of one stream: Rgb24 color, or nearness in \a nearFormat (Gray8 or
+    /// Gray16). \a ahead: the frame the caller will ask next (drawn meanwhile), if any.
+    /// \return the image (scene size). Errors: those of SyntheticScene::render(); Io when the
+    /// render thread has ended.
+    Result<media::Image> take(std::uint64_t index, bool depth, media::PixelFormat nearFormat,
+                              std::optional<std::uint64_t> ahead)
+    {
+        std::unique_lock lock(mutex_);
+        if (depth)
+            nearFormat_ = nearFormat;
+        for (;;) {
+            if (const Entry *e = find(index)) {
+                if (e->failed)
+                    return unexpected(e->error);
+                const media::Image &part = depth ? e->nearness : e->color;
+                if (!part.empty() && (!depth || part.format == nearFormat)) {
+                    media::Image copy = part;
+                    if (ahead && find(*ahead) == nullptr) {
+                        ahead_ = ahead;
+                        lock.unlock();
+                        wake_.notify_all();
+                    }
+                    return copy;
+                }
+            }
+            if (threadEnded_)
+                return unexpected(Errc::Io, "The synthetic scene's render thread has ended");
+            bool pending = false;
+            for (const Want &w : wants_)
+                pending = pending || (w.index == index && (depth ? w.nearness : w.color));
+            if (!pending)
+                wants_.push_back(Want{index, !depth, depth});
+            wake_.notify_all();
+            const std::uint64_t seen = drawn_;
+            done_.wait(lock, [&] { return drawn_ != seen || threadEnded_; });
+        }
+    }
+
+    [[nodiscard]] double nearMetres() const noexcept { return nearM_; }
+    [[nodiscard]] double farMetres() const noexcept { return farM_; }
+
+private:
+    struct Entry {
+        std::uint64_t index = 0;
+        media::Image color;    ///< Empty when not drawn.
+        media::Image nearness; ///< Empty when not drawn.
+        bool failed = false;
+        Error error{};
+    };
+    struct Want {
+        std::uint64_t index = 0;
+        bool color = false;
+        bool nearness = false;
+    };
+
+    SyntheticRenderer(const SyntheticSpec &spec,
+                      std::shared_ptr<std::atomic<std::uint64_t>> drawnTotal)
+        : spec_(spec), drawnTotal_(std::move(drawnTotal))
+    {
+    }
+
+    /// Whether \a e holds every stream \a w asks (an ahead want, with no stream named, is met by
+    /// any entry). Called with mutex_ held.
+    bool has(const Entry &e, const Want &w) const noexcept
+    {
+        if (e.failed)
+            return true;
+        return (!w.color || !e.color.empty()) &&
+               (!w.nearness || (!e.nearness.empty() && e.nearness.format == nearFormat_));
+    }
+
+    const Entry *find(std::uint64_t index) const noexcept
+    {
+        for (const Entry &e : cache_)
+            if (e.index == index)
+                return &e;
+        return nullptr;
+    }
+
+    /// The render thread: display, context and scene live and die here.
+    void run()
+    {
+        hal::DisplayConfig dc;
+        dc.width = 16; // the scene draws into its own framebuffer: the display's can be tiny
+        dc.height = 16;
+        auto display = drivers::createDisplay("headless", hal::BackendConfig{});
+        std::unique_ptr<synthetic::SyntheticScene> scene;
+        Error failure{};
+        bool failed = false;
+        const auto fail = [&](const std::string &what) {
+            failed = true;
+            failure =
+                Error(Errc::NotSupported,
+                      persistentText("No OpenGL ES display for the synthetic scene: " + what));
+        };
+        if (!display) {
+            char buf[256];
+            fail(std::string("the headless EGL display failed: ") +
+                 display.error().format(buf, sizeof buf));
+        } else if (!(*display)->capabilities().hasGlesContext) {
+            fail("the headless display has no OpenGL ES context");
+        } else if (auto o = (*display)->open(dc); !o) {
+            char buf[256];
+            fail(std::string("cannot open the headless EGL display: ") +
+                 o.error().format(buf, sizeof buf));
+        } else if (auto c = (*display)->makeCurrent(); !c) {
+            char buf[256];
+            fail(std::string("cannot make its GL context current: ") +
+                 c.error().format(buf, sizeof buf));
+        } else {
+            auto s = synthetic::SyntheticScene::create(spec_.scene, spec_.width, spec_.height,
+                                                       spec_.fps);
+            if (!s) {
+                failed = true;
+                failure = s.error();
+                if (failure.code == Errc::InvalidState)
+                    failure.code = Errc::NotSupported; // no GL ES 3 context current
+            } else {
+                scene = std::move(*s);
+            }
+        }
+        {
+            const std::lock_guard lock(mutex_);
+            started_ = true;
+            startFailed_ = failed;
+            startError_ = failure;
+            if (scene) {
+                nearM_ = scene->nearMetres();
+                farM_ = scene->farMetres();
+            }
+            threadEnded_ = failed;
+        }
+        done_.notify_all();
+        if (!failed)
+            serve(*scene);
+        scene.reset(); // its GL objects go while the context is current
+        if (display && *display)
+            (*display)->close();
+    }
+
+    void serve(synthetic::SyntheticScene &scene)
+    {
+        std::unique_lock lock(mutex_);
+        for (;;) {
+            wake_.wait(lock, [&] { return stop_ || !wants_.empty() || ahead_.has_value(); });
+            if (stop_)
+                break;
+            Want w;
+            if (!wants_.empty()) {
+                w = wants_.front();
+                wants_.pop_front();
+            } else {
+                w.index = *ahead_;
+                ahead_.reset();
+            }
+            // A want made while this frame was being drawn ahead is met already.
+            if (const Entry *e = find(w.index); e != nullptr && has(*e, w))
+                continue;
+            // Draw every attached stream, so the other one finds the frame in the cache.
+            w.color = w.color || colorUsers_ > 0;
+            w.nearness = w.nearness || depthUsers_ > 0;
+            const media::PixelFormat nearFormat = nearFormat_;
+            lock.unlock();
+
+            Entry e;
+            e.index = w.index;
+            if (w.color)
+                e.color = media::Image::make(spec_.width, spec_.height, media::PixelFormat::Rgb24);
+            if (w.nearness)
+                e.nearness = media::Image::make(spec_.width, spec_.height, nearFormat);
+            const hal::ImageView noView;
+            auto r = scene.render(w.index, w.color ? viewOf(e.color) : noView,
+                                  w.nearness ? viewOf(e.nearness) : noView);
+            if (!r) {
+                e.failed = true;
+                e.error = r.error();
+            }
+
+            lock.lock();
+            for (auto it = cache_.begin(); it != cache_.end(); ++it) {
+                if (it->index == e.index) {
+                    cache_.erase(it);
+                    break;
+                }
+            }
+            cache_.push_back(std::move(e));
+            while (cache_.size() > kCachedFrames) {
+                auto oldest = cache_.begin();
+                for (auto it = cache_.begin(); it != cache_.end(); ++it)
+                    if (it->index < oldest->index)
+                        oldest = it;
+                cache_.erase(oldest);
+            }
+            ++drawn_;
+            drawnTotal_->fetch_add(1, std::memory_order_relaxed);
+            done_.notify_all();
+        }
+    }
+
+    const SyntheticSpec spec_;
+    const std::shared_ptr<std::atomic<std::uint64_t>> drawnTotal_;
+    std::thread thread_;
+
+    std::mutex mutex_;
+    std::condition_variable wake_; ///< To the render thread: a want, a frame ahead, or stop.
+    std::condition_variable done_; ///< From the render thread: started, or a frame drawn.
+    // Guarded by mutex_:
+    bool stop_ = false;
+    bool started_ = false;
+    bool startFailed_ = false;
+    bool threadEnded_ = false;
+    Error startError_{};
+    double nearM_ = 0.0;
+    double farM_ = 0.0;
+    int colorUsers_ = 0;
+    int depthUsers_ = 0;
+    media::PixelFormat nearFormat_ = media::PixelFormat::Gray8;
+    std::deque<Want> wants_;
+    std::optional<std::uint64_t> ahead_;
+    std::deque<Entry> cache_;
+    std::uint64_t drawn_ = 0;
+};
+
+Result<std::shared_ptr<SyntheticRenderer>>
+SyntheticRenderer::start(const SyntheticSpec &spec,
+                         std::shared_ptr<std::atomic<std::uint64_t>> drawnTotal)
+{
+    std::shared_ptr<SyntheticRenderer> r(new SyntheticRenderer(spec, std::move(drawnTotal)));
+    r->thread_ = std::thread([raw = r.get()] { raw->run(); });
+    std::unique_lock lock(r->mutex_);
+    r->done_.wait(lock, [&] { return r->started_; });
+    if (r->startFailed_) {
+        const Error e = r->startError_;
+        lock.unlock();
+        return unexpected(e); // the destructor joins the ended thread
+    }
+    return r;
+}
+
+namespace {
+
+/// One stream of a synthetic scene as a FrameSource.
+class SyntheticFrameSource final : public media::FrameSource {
+public:
+    SyntheticFrameSource(std::shared_ptr<SyntheticRenderer> renderer, const SyntheticSpec &spec)
+        : renderer_(std::move(renderer)), spec_(spec)
+    {
+        renderer_->attach(spec_.depth);
+        info_.width = spec.width;
+        info_.height = spec.height;
+        info_.fps = spec.fps;
+        info_.nativeFormat = spec.depth ? media::PixelFormat::Gray8 : media::PixelFormat::Rgb24;
+        info_.frameCount = spec.frames;
+        info_.description = "synthetic " + spec.scene + " " + std::to_string(spec.width) + "x" +
+                            std::to_string(spec.height) + " " + numberText(spec.fps) + " fps " +
+                            (spec.depth ? "nearness" : "color");
+        if (spec.depth)
+            info_.tags = {{"depth_near", numberText(renderer_->nearMetres())},
+                          {"depth_far", numberText(renderer_->farMetres())},
+                          {"depth_mapping", "inverse_z"}};
+    }
+    ~SyntheticFrameSource() override { renderer_->detach(spec_.depth); }
+    SyntheticFrameSource(const SyntheticFrameSource &) = delete;
+    SyntheticFrameSource &operator=(const SyntheticFrameSource &) = delete;
+
+    [[nodiscard]] const media::SourceInfo &info() const noexcept override { return info_; }
+
+    Result<media::SourceFrame> next(media::PixelFormat format, int width, int height) override
+    {
+        const auto frames = static_cast<std::uint64_t>(spec_.frames);
+        if (spec_.frames > 0 && index_ >= frames)
+            return unexpected(Errc::EndOfStream, "End of the synthetic clip");
+        if (width < 0 || height < 0)
+            return unexpected(Errc::InvalidArgument, "Frame size must not be negative");
+        // The nearness the scene computes in the depth of the layout asked (16-bit when asked).
+        const media::PixelFormat drawn =
+            spec_.depth ? (format == media::PixelFormat::Gray16 ? media::PixelFormat::Gray16
+                                                                : media::PixelFormat::Gray8)
+                        : media::PixelFormat::Rgb24;
+        std::optional<std::uint64_t> ahead;
+        if (spec_.frames == 0 || index_ + 1 < frames)
+            ahead = index_ + 1;
+        auto image = renderer_->take(index_, spec_.depth, drawn, ahead);
+        if (!image)
+            return unexpected(image.error());
+        media::SourceFrame frame;
+        frame.pts = static_cast<double>(index_) / spec_.fps;
+        const bool asIs = format == drawn && (width == 0 || width == spec_.width) &&
+                          (height == 0 || height == spec_.height);
+        if (asIs) {
+            frame.image = std::move(*image);
+        } else {
+            auto converted = converter_.convert(*image, format, width, height);
+            if (!converted)
+                return unexpected(converted.error());
+            frame.image = std::move(*converted);
+        }
+        ++index_;
+        return frame;
+    }
+
+private:
+    std::shared_ptr<SyntheticRenderer> renderer_;
+    SyntheticSpec spec_;
+    media::SourceInfo info_;
+    media::ImageConverter converter_;
+    std::uint64_t index_ = 0;
+};
+
+} // namespace
+
+Result<SyntheticSpec> parseSyntheticSpec(std::string_view target,
+                                         const media::SourceOptions &options)
+{
+    const std::size_t comma = target.find(',');
+    const std::string_view name = target.substr(0, comma);
+    const hal::OptionList list(comma == std::string_view::npos ? std::string_view{}
+                                                               : target.substr(comma + 1));
+    SyntheticSpec spec;
+    bool known = false;
+    for (const synthetic::SceneInfo &s : synthetic::listScenes())
+        known = known || name == s.name;
+    if (!known)
+        return unexpected(Errc::InvalidArgument, unknownSceneMessage(name));
+    spec.scene = std::string(name);
+
+    static constexpr const char *kKeys[] = {"size", "fps", "frames", "stream"};
+    if (const std::string_view unknown = list.firstUnknownKey(kKeys, std::size(kKeys));
+        !unknown.empty())
+        return unexpected(Errc::InvalidArgument,
+                          persistentText("Unknown synthetic source option '" +
+                                         std::string(unknown) +
+                                         "' (the options are size, fps, frames, stream)"));
+    if (!options.format.empty() || !options.pixelFormat.empty())
+        return unexpected(Errc::InvalidArgument,
+                          "A synthetic scene takes no demuxer or pixel format option");
+
+    const std::optional<std::string_view> size = list.find("size");
+    const std::string_view sizeText = size ? *size : std::string_view(options.videoSize);
+    if (!sizeText.empty() && !parseSizeText(sizeText, spec.width, spec.height))
+        return unexpected(Errc::InvalidArgument, "Synthetic size must be WxH (pixels)");
+    if (spec.width < 16 || spec.height < 16 || spec.width > 4096 || spec.height > 4096)
+        return unexpected(Errc::InvalidArgument, "Synthetic size must be 16..4096 pixels a side");
+
+    auto fps = list.getDouble("fps", options.fps);
+    if (!fps || !(*fps >= 1.0 && *fps <= 1000.0))
+        return unexpected(Errc::InvalidArgument, "Synthetic fps must be 1..1000 frames/s");
+    spec.fps = *fps;
+
+    const auto defaultFrames =
+        options.loop ? 0 : static_cast<int>(std::lround(kSyntheticDefaultSeconds * spec.fps));
+    auto frames = list.getInt("frames", defaultFrames);
+    if (!frames || *frames < 0)
+        return unexpected(Errc::InvalidArgument,
+                          "Synthetic frames must be a count >= 0 (0: endless)");
+    spec.frames = *frames;
+
+    auto depth = wantsDepthStream(list.find("stream").value_or(std::string_view{}), options);
+    if (!depth)
+        return unexpected(depth.error());
+    spec.depth = *depth;
+    return spec;
+}
+
+SyntheticSourceFactory::~SyntheticSourceFactory() = default;
+
+bool SyntheticSourceFactory::available() noexcept
+{
+    return true;
+}
+
+std::uint64_t SyntheticSourceFactory::framesDrawn() const noexcept
+{
+    return drawn_->load(std::memory_order_relaxed);
+}
+
+Result<std::unique_ptr<media::FrameSource>>
+SyntheticSourceFactory::open(std::string_view target, const media::SourceOptions &options)
+{
+    auto spec = parseSyntheticSpec(target, options);
+    if (!spec)
+        return unexpected(spec.error());
+    const std::string key = spec->scene + "/" + std::to_string(spec->width) + "x" +
+                            std::to_string(spec->height) + "@" + numberText(spec->fps);
+    const std::lock_guard lock(mutex_);
+    std::shared_ptr<SyntheticRenderer> renderer;
+    for (auto it = renderers_.begin(); it != renderers_.end();) {
+        if (it->second.expired()) {
+            it = renderers_.erase(it);
+            continue;
+        }
+        if (it->first == key)
+            renderer = it->second.lock();
+        ++it;
+    }
+    if (!renderer) {
+        auto started = SyntheticRenderer::start(*spec, drawn_);
+        if (!started)
+            return unexpected(started.error());
+        renderer = std::move(*started);
+        renderers_.emplace_back(key, renderer);
+    }
+    return std::unique_ptr<media::FrameSource>(
+        std::make_unique<SyntheticFrameSource>(std::move(renderer), *spec));
+}
+
+#else // no OpenGL ES in this build
+
+Result<SyntheticSpec> parseSyntheticSpec(std::string_view, const media::SourceOptions &)
+{
+    return unexpected(Errc::NotSupported, "Synthetic CG scene sources are not built in");
+}
+
+SyntheticSourceFactory::~SyntheticSourceFactory() = default;
+
+bool SyntheticSourceFactory::available() noexcept
+{
+    return false;
+}
+
+std::uint64_t SyntheticSourceFactory::framesDrawn() const noexcept
+{
+    return 0;
+}
+
+Result<std::unique_ptr<media::FrameSource>>
+SyntheticSourceFactory::open(std::string_view, const media::SourceOptions &)
+{
+    return unexpected(Errc::NotSupported, "Synthetic CG scene sources are not built in");
+}
+
+#endif
+
+} // namespace depthtouch::cli
