@@ -92,6 +92,21 @@ private:
     bool ok_ = false;
 };
 
+/// Locks the calling thread's stack in memory (it was mapped after mlockall(MCL_CURRENT)).
+/// Best effort: a refusal leaves the pre-faulted pages resident as long as nothing swaps.
+void lockOwnStack() noexcept
+{
+    pthread_attr_t attr;
+    if (pthread_getattr_np(pthread_self(), &attr) != 0)
+        return;
+    void *stackLow = nullptr;
+    std::size_t stackSize = 0;
+    const int rc = pthread_attr_getstack(&attr, &stackLow, &stackSize);
+    pthread_attr_destroy(&attr);
+    if (rc == 0)
+        (void)mlock(stackLow, stackSize);
+}
+
 /// Touches \a wanted bytes of the calling thread's stack (minus kStackPrefaultMargin, and never
 /// more than is left below the current frame), one write per page, so the body does not take page
 /// faults on its first deep calls. \return the number of bytes touched.
@@ -192,7 +207,7 @@ Result<void> RealtimeThread::start()
             DT_LOG_ONCE(
                 Thread, Warning,
                 "Not locking memory: this sanitizer build reserves terabytes of shadow memory");
-        } else if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0) {
+        } else if (mlockall(MCL_CURRENT) != 0) {
             const int err = errno;
             if (options_.requireRt)
                 return unexpected(Errc::PermissionDenied, kMlockRefused, err);
@@ -303,6 +318,8 @@ void RealtimeThread::run() noexcept
     }
 
     report_.stackPrefaultedBytes = prefaultStack(report_.stackBytes);
+    if (report_.memoryLocked)
+        lockOwnStack();
 
     int policy = SCHED_OTHER;
     sched_param param{};

@@ -76,7 +76,7 @@ struct HapticTaskConfig {
     /// (for comparison in `depthtouch bench rt`).
     platform::SchedPolicy policy = platform::SchedPolicy::Fifo;
     bool requireRt = false; ///< Fail start() when SCHED_FIFO or mlockall() is refused.
-    bool lockMemory = true; ///< mlockall(MCL_CURRENT | MCL_FUTURE) before the thread starts.
+    bool lockMemory = true; ///< mlockall(MCL_CURRENT) before the thread starts (RealtimeThread).
     int cpu = -1;           ///< CPU to pin the haptic thread to, −1: none.
     /// Instrumentation: called on the haptic thread once, before its first update (e.g. a debug
     /// hook that makes malloc fail loudly on that thread, STYLE.md §4.7). Must be real-time safe.
