@@ -173,6 +173,7 @@ PlayResult runPlay(const PlayOptions &opt)
     pc.stereoMode = *stereo;
     pc.outputWidth = outW;
     pc.outputHeight = outH;
+    pc.frameCompatible = !opt.size.empty(); // a display-sized output is a 3D TV's frame
     pc.snapshotDir = opt.snapshotDir;
     pc.snapshotEvery = opt.snapshotEvery;
     pc.meshStep = opt.meshStep;

@@ -434,6 +434,7 @@ void Playback::Impl::renderLoop()
             if (!renderer) {
                 render::RendererOptions ro;
                 ro.box = config.haptics.renderer.box;
+                ro.stereo.frameCompatible = config.frameCompatible;
                 if (config.meshStep > 0) {
                     ro.mesh.mode = render::MeshMode::Fixed;
                     ro.mesh.fixedStep = config.meshStep;

@@ -52,6 +52,10 @@ struct PlaybackConfig {
     /// resolution per eye), limited to 3840 × 2160.
     int outputWidth = 0;
     int outputHeight = 0;
+    /// Frame-compatible packing: each eye squeezed into its half of the frame for a 3D TV to
+    /// stretch back (the broadcast convention for a display-sized output). false: each eye drawn
+    /// at its own aspect (the default 2W × H output, where each half is a full-resolution eye).
+    bool frameCompatible = true;
     /// Refresh rate asked of the display, Hz (0: the backend's default).
     double refreshHz = 0.0;
     /// Side-by-side snapshots: PNG of the presented frame every snapshotEvery frames into
