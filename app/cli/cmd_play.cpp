@@ -116,6 +116,8 @@ PlayResult runPlay(const PlayOptions &opt)
         return badInput("--size must be WxH, 16..8192 pixels each");
     if (opt.url.empty())
         return badInput("nothing to play: give a file or URL");
+    if (opt.recordCrf < 0 || opt.recordCrf > 51)
+        return badInput("--record-crf must be in [0, 51]");
 
     platform::SteadyClock &clock = platform::SteadyClock::instance();
     hal::BackendConfig cfg;
@@ -176,6 +178,8 @@ PlayResult runPlay(const PlayOptions &opt)
     pc.frameCompatible = !opt.size.empty(); // a display-sized output is a 3D TV's frame
     pc.snapshotDir = opt.snapshotDir;
     pc.snapshotEvery = opt.snapshotEvery;
+    pc.recordPath = opt.record;
+    pc.recordCrf = opt.recordCrf;
     pc.meshStep = opt.meshStep;
     playback::PlaybackHal ph;
     const std::string sourceName = opt.source;
@@ -285,6 +289,7 @@ PlayResult runPlay(const PlayOptions &opt)
     j["playing_s"] = ps.playingSeconds;
     j["seeks"] = ps.seeks;
     j["snapshots_written"] = ps.snapshotsWritten;
+    j["frames_recorded"] = ps.framesRecorded;
     j["rss_mib_start"] = rssStart;
     j["rss_mib_after_5s"] = rssAfterWarmup;
     j["rss_mib_end"] = rssEnd;
@@ -336,6 +341,9 @@ PlayResult runPlay(const PlayOptions &opt)
     }
     std::printf("  memory            %.1f MiB resident at start, %.1f MiB at the end\n", rssStart,
                 rssEnd);
+    if (!opt.record.empty())
+        std::printf("  recording         %s (%llu frames)\n", opt.record.c_str(),
+                    static_cast<unsigned long long>(ps.framesRecorded));
     if (!opt.forceLog.empty() || !opt.stats.empty())
         std::printf("  files             %s%s%s\n", opt.forceLog.c_str(),
                     !opt.forceLog.empty() && !opt.stats.empty() ? ", " : "", opt.stats.c_str());
@@ -404,6 +412,7 @@ std::string applyConfig(CLI::App &cmd, PlayOptions &o)
         {"loop", flag(o.loop)},              {"duration", num(o.duration)},
         {"snapshot-dir", str(o.snapshotDir)}, {"snapshot-every", count(o.snapshotEvery)},
         {"force-log", str(o.forceLog)},      {"stats", str(o.stats)},
+        {"record", str(o.record)},           {"record-crf", count(o.recordCrf)},
         {"control", str(o.control)},         {"size", str(o.size)},
         {"mesh-step", count(o.meshStep)},    {"require-rt", flag(o.requireRt)},
         {"idle", flag(o.idle)},              {"quiet", flag(o.quiet)},
@@ -455,6 +464,10 @@ void registerPlayCommand(CLI::App &app, int &exitCode)
     cmd->add_option("--duration", o->duration, "Stop after this many seconds (0: at the end)");
     cmd->add_option("--snapshot-dir", o->snapshotDir, "Folder for PNG snapshots of the output");
     cmd->add_option("--snapshot-every", o->snapshotEvery, "Snapshot every N presented frames");
+    cmd->add_option("--record", o->record,
+                    "Record the output as the viewer sees it (H.264; .mkv, .mp4, .ts)");
+    cmd->add_option("--record-crf", o->recordCrf, "x264 CRF of the recording")
+        ->capture_default_str();
     cmd->add_option("--force-log", o->forceLog, "Force log CSV (one row per haptic update)");
     cmd->add_option("--stats", o->stats, "Stats JSON written at the end");
     cmd->add_option("--control", o->control, "Control socket path (JSON lines)");

@@ -30,6 +30,8 @@ struct PlayOptions {
     double duration = 0.0;          ///< s of wall time, 0: until the end of the stream.
     std::string snapshotDir;
     std::uint64_t snapshotEvery = 0;
+    std::string record;             ///< Recording of the output (H.264 file).
+    int recordCrf = 20;
     std::string forceLog;
     std::string stats;
     std::string control;            ///< Control socket path.

@@ -17,6 +17,8 @@
 #include "depthtouch/receiver/decoder_thread.h"
 
 #if DT_PLAYBACK_HAVE_GL
+#include "depthtouch/media/encoder.h"
+#include "depthtouch/media/image.h"
 #include "depthtouch/render/render_target.h"
 #include "depthtouch/render/renderer.h"
 #include "depthtouch/render/snapshot.h"
@@ -77,6 +79,76 @@ render::StereoMode toRenderMode(player::StereoMode m) noexcept
     }
     return render::StereoMode::SideBySide;
 }
+#endif
+
+#if DT_PLAYBACK_HAVE_GL
+/// The output recording (render thread): presented frames read back and encoded.
+struct Recorder {
+    std::unique_ptr<media::Muxer> muxer;
+    std::unique_ptr<media::VideoEncoder> encoder;
+    std::vector<std::uint8_t> rgb;
+    media::Image image;
+    TimePoint start{};
+    double lastPts = -1.0;
+    bool failed = false;
+
+    /// \return an error text, or empty.
+    std::string open(const PlaybackConfig &config, int width, int height)
+    {
+        media::MuxerOptions mo;
+        mo.output = config.recordPath;
+        auto m = media::Muxer::open(mo);
+        if (!m)
+            return std::string("cannot record to '") + config.recordPath + "': " + m.error().what;
+        media::VideoEncoderConfig vc;
+        vc.codec = media::VideoCodec::H264Yuv420p;
+        vc.width = width & ~1;
+        vc.height = height & ~1;
+        vc.crf = config.recordCrf;
+        vc.preset = config.recordPreset;
+        vc.title = "output";
+        auto e = media::VideoEncoder::create(vc, **m);
+        if (!e)
+            return std::string("cannot record: ") + e.error().what;
+        if (auto r = (*m)->start(); !r)
+            return std::string("cannot record: ") + r.error().what;
+        muxer = std::move(*m);
+        encoder = std::move(*e);
+        image = media::Image::make(vc.width, vc.height, media::PixelFormat::Rgb24);
+        return {};
+    }
+
+    /// Reads \a target back and encodes it at presentation time \a now. \return an error text.
+    std::string add(const render::RenderTarget &target, TimePoint now)
+    {
+        if (auto r = target.readRgb(rgb); !r)
+            return std::string("cannot read the frame back: ") + r.error().what;
+        const std::size_t srcRow = static_cast<std::size_t>(target.width()) * 3;
+        const std::size_t dstRow = static_cast<std::size_t>(image.width) * 3;
+        for (int y = 0; y < image.height; ++y)
+            std::memcpy(image.row(y), rgb.data() + static_cast<std::size_t>(y) * srcRow, dstRow);
+        if (lastPts < 0.0)
+            start = now;
+        double pts = platform::toSeconds(now - start);
+        if (pts <= lastPts)
+            pts = lastPts + 1e-3;
+        lastPts = pts;
+        if (auto r = encoder->encode(image, pts); !r)
+            return std::string("cannot encode the recording: ") + r.error().what;
+        return {};
+    }
+
+    void finish() noexcept
+    {
+        if (!encoder)
+            return;
+        const bool ok = encoder->flush() && muxer->finish();
+        if (!ok)
+            DT_LOG(Playback, Error, "The recording could not be finished");
+        encoder.reset();
+        muxer.reset();
+    }
+};
 #endif
 
 } // namespace
@@ -237,6 +309,7 @@ void Playback::Impl::renderLoop()
     std::unique_ptr<render::StereoRenderer> renderer;
     std::optional<render::RenderTarget> target;
     std::unique_ptr<render::Snapshotter> snapshotter;
+    Recorder recorder;
     std::vector<std::uint8_t> flatDepth; // depth-less input: a flat surface
 #endif
     RenderState rs;
@@ -491,6 +564,20 @@ void Playback::Impl::renderLoop()
                 if (ok && renderer->render(*target)) {
                     if (target->blitTo(hal.display->framebuffer(), size.width, size.height))
                         drawn = true;
+                    if (!config.recordPath.empty() && !recorder.failed) {
+                        std::string err;
+                        if (!recorder.encoder)
+                            err = recorder.open(config, target->width(), target->height());
+                        if (err.empty())
+                            err = recorder.add(*target, clock.now());
+                        std::lock_guard<std::mutex> lock(mutex);
+                        if (err.empty()) {
+                            ++stats.framesRecorded;
+                        } else {
+                            recorder.failed = true;
+                            failure = err;
+                        }
+                    }
                     if (snapshotter) {
                         if (snapshotRequest.exchange(false))
                             snapshotter->request();
@@ -542,6 +629,7 @@ void Playback::Impl::renderLoop()
         cv.notify_all();
     }
 #if DT_PLAYBACK_HAVE_GL
+    recorder.finish();
     snapshotter.reset();
     target.reset();
     renderer.reset();
@@ -690,6 +778,9 @@ Result<void> Playback::open(std::string_view url)
 #if DT_PLAYBACK_HAVE_GL
     info.gl = m.hal.display->capabilities().hasGlesContext;
 #endif
+    if (!m.config.recordPath.empty() && !info.gl)
+        info.notes.emplace_back("not recording: the display has no OpenGL ES context to read "
+                                "frames from");
     info_ = std::move(info);
     m.openDone = true;
     return {};

@@ -243,6 +243,32 @@ TEST(PlayEndToEnd, ControlSocketDrivesTheLoopingPlayer)
     EXPECT_FALSE(fs::exists(sock)) << "the socket file is removed at exit";
 }
 
+TEST(PlayEndToEnd, RecordsWhatTheViewerSees)
+{
+    depthtouch::testing::TempDir tmp("dt-play-rec-");
+    const fs::path rec = tmp.dir() / "output.mkv";
+    const fs::path stats = tmp.dir() / "stats.json";
+    const RunResult r = run(std::string(DEPTHTOUCH) +
+                            " play 'mock://clip?frames=12&fps=30&width=64&height=48' --source mock"
+                            " --decoder mock --display headless --haptic none --quiet --record " +
+                            rec.string() + " --stats " + stats.string());
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const nlohmann::json j = readJson(stats);
+    ASSERT_TRUE(j.is_object()) << r.output;
+    const int presented = j["frames_presented"].get<int>();
+    EXPECT_GT(presented, 0);
+    EXPECT_EQ(j["frames_recorded"].get<int>(), presented);
+    // The recording is a playable H.264 file of the output size, one frame per presented frame.
+    const RunResult probe = run(std::string(DEPTHTOUCH) + " probe --json " + rec.string());
+    ASSERT_EQ(probe.exitCode, 0) << probe.output;
+    const nlohmann::json p = nlohmann::json::parse(probe.output, nullptr, false);
+    ASSERT_TRUE(p.is_object()) << probe.output;
+    ASSERT_EQ(p["streams"].size(), 1u);
+    EXPECT_EQ(p["streams"][0]["codec"].get<std::string>(), "h264");
+    EXPECT_EQ(p["streams"][0]["width"].get<int>(), 128);
+    EXPECT_EQ(p["streams"][0]["frames"].get<int>(), presented);
+}
+
 TEST(PlayEndToEnd, BadInputIsOneLineAndExitCodeTwo)
 {
     const RunResult missing = run(std::string(DEPTHTOUCH) + " play /nonexistent/clip.mkv --quiet");

@@ -62,6 +62,13 @@ struct PlaybackConfig {
     /// snapshotDir (empty: none; 0: only on request).
     std::string snapshotDir;
     std::uint64_t snapshotEvery = 0;
+    /// Recording of the output: every presented frame, as the viewer sees it, into an H.264
+    /// 4:2:0 file (MKV/MP4/TS by extension; needs a display with a GL context). PTS is the
+    /// presentation time since the first recorded frame (pauses and seeks show as they happened).
+    /// Empty: none.
+    std::string recordPath;
+    int recordCrf = 20;                   ///< x264 CRF of the recording.
+    std::string recordPreset = "veryfast"; ///< x264 preset of the recording.
     bool osd = true;    ///< On-screen display (state, haptics switch, force bar).
     bool avatar = true; ///< Proxy sphere and HIP marker.
     /// Mesh step of the drawn surface: 0 = adaptive level of detail, else a fixed power of two.
@@ -91,6 +98,7 @@ struct PlaybackStats {
     std::uint64_t seeks = 0;
     std::uint64_t endsOfStream = 0;
     std::uint64_t snapshotsWritten = 0;
+    std::uint64_t framesRecorded = 0;
     double renderMsP50 = 0.0; ///< Time to draw one output frame (upload, both eyes), ms.
     double renderMsP99 = 0.0;
     double presentedFps = 0.0; ///< framesPresented over the time spent playing (not paused).
