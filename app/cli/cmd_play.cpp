@@ -96,6 +96,11 @@ PlayResult badInput(const std::string &why)
 
 } // namespace
 
+void requestPlayStop() noexcept
+{
+    gPlayStop.store(true);
+}
+
 PlayResult runPlay(const PlayOptions &opt)
 {
     // Options.

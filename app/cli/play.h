@@ -49,6 +49,9 @@ struct PlayResult {
     nlohmann::json stats; ///< Empty when nothing was opened.
 };
 
+/// \brief Asks a running runPlay() to quit (as SIGINT does). Thread-safe, async-signal-safe.
+void requestPlayStop() noexcept;
+
 /// \brief Runs `play` with \a options (after the config file was applied).
 /// \return the result; exit code 0 (ended or quit), 1 (pipeline failure), 2 (bad input).
 PlayResult runPlay(const PlayOptions &options);

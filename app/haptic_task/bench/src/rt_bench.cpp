@@ -221,9 +221,10 @@ RtBenchReport runRtBenchmark(const RtBenchOptions &options)
     if (options.load)
         loads.push_back(true);
     for (const bool loaded : loads) {
-        std::unique_ptr<Load> load;
+        std::shared_ptr<void> load;
         if (loaded)
-            load = std::make_unique<Load>(std::max(options.loadThreads, 1));
+            load = options.makeLoad ? options.makeLoad()
+                                    : std::make_shared<Load>(std::max(options.loadThreads, 1));
         for (const double rate : options.ratesHz) {
             for (const SchedPolicy policy : options.policies) {
                 RtCase bare = runBare(rate, policy, options.secondsPerCase);
@@ -268,27 +269,34 @@ void printRtReport(const RtBenchReport &report)
     if (!report.taskError.empty())
         std::printf("note: the task cases did not run: %s\n", report.taskError.c_str());
     std::printf("\ngoals (this run):\n");
+    for (const RtGoalRatio &g : rtGoalRatios(report))
+        std::printf("  %-40s %.2f (goal <= %.2f): %s\n", g.label.c_str(), g.ratio, g.goal,
+                    g.ratio <= g.goal ? "met" : "NOT met");
+}
+
+std::vector<RtGoalRatio> rtGoalRatios(const RtBenchReport &report)
+{
+    std::vector<RtGoalRatio> out;
     for (const RtCase &task : report.cases) {
         if (task.loop != "task")
             continue;
         if (const RtCase *bare = findCase(report, "bare", task.rateHz, task.policy, task.loaded)) {
-            const double r50 = bare->wake.p50Us > 0 ? task.wake.p50Us / bare->wake.p50Us : 0.0;
-            const double r99 = bare->wake.p99Us > 0 ? task.wake.p99Us / bare->wake.p99Us : 0.0;
-            std::printf("  %-22s task/bare wake p50 %.2f, p99 %.2f (goal <= 1.10): %s\n",
-                        task.label().c_str(), r50, r99,
-                        r50 <= 1.10 && r99 <= 1.10 ? "met" : "NOT met");
+            out.push_back({task.label() + " task/bare wake p50",
+                           bare->wake.p50Us > 0 ? task.wake.p50Us / bare->wake.p50Us : 0.0, 1.10});
+            out.push_back({task.label() + " task/bare wake p99",
+                           bare->wake.p99Us > 0 ? task.wake.p99Us / bare->wake.p99Us : 0.0, 1.10});
         }
     }
     for (const RtCase &loaded : report.cases) {
         if (!loaded.loaded)
             continue;
         if (const RtCase *idle =
-                findCase(report, loaded.loop, loaded.rateHz, loaded.policy, false)) {
-            const double r = idle->wake.p99Us > 0 ? loaded.wake.p99Us / idle->wake.p99Us : 0.0;
-            std::printf("  %-22s loaded/idle wake p99 %.2f (goal <= 1.20): %s\n",
-                        loaded.label().c_str(), r, r <= 1.20 ? "met" : "NOT met");
-        }
+                findCase(report, loaded.loop, loaded.rateHz, loaded.policy, false))
+            out.push_back({loaded.label() + " loaded/idle wake p99",
+                           idle->wake.p99Us > 0 ? loaded.wake.p99Us / idle->wake.p99Us : 0.0,
+                           1.20});
     }
+    return out;
 }
 
 bool writeRtBenchOutputs(const RtBenchReport &report, const std::string &dir, std::string &error,

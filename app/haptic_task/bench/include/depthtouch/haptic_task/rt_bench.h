@@ -31,6 +31,10 @@ struct RtBenchOptions {
                                                 platform::SchedPolicy::Other};
     bool load = false;        ///< Also run every case while loadThreads threads decode-like work.
     int loadThreads = 2;      ///< Threads of the load (≥ 1).
+    /// The load instead of the decode-like threads, e.g. the player decoding and rendering real
+    /// content in this process: started before the loaded cases, stopped when the returned object
+    /// is destroyed. Empty: the decode-like threads.
+    std::function<std::shared_ptr<void>()> makeLoad;
     DeviceFactory makeDevice; ///< Device for the task cases; none: only the bare loop runs.
     /// Called after each case with a one-line summary (progress output); may be empty.
     std::function<void(const std::string &)> progress;
@@ -64,6 +68,17 @@ struct RtBenchReport {
 /// Runs every case (rates × policies × {bare, task} × {idle, loaded}). \return the report; the
 /// cases that could not run are left out (taskError says why for the task ones).
 RtBenchReport runRtBenchmark(const RtBenchOptions &options);
+
+/// One goal check of a run: a ratio of two wake-latency figures measured in the same run.
+struct RtGoalRatio {
+    std::string label; ///< e.g. "task 1k FIFO task/bare wake p99".
+    double ratio = 0.0;
+    double goal = 0.0; ///< Met when ratio <= goal.
+};
+
+/// \return the goal ratios of \a report: task/bare wake p50 and p99 (goal 1.10) per case, and
+/// loaded/idle wake p99 (goal 1.20) per loaded case.
+std::vector<RtGoalRatio> rtGoalRatios(const RtBenchReport &report);
 
 /// \brief Prints the table and the goal checks (task within 10 % of the bare loop; load moving p99
 /// by at most 20 %) to stdout.
