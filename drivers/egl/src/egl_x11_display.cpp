@@ -57,7 +57,7 @@ struct EglX11Display::X {
     Colormap colormap = 0;
     Atom wmProtocols = 0;
     Atom wmDeleteWindow = 0;
-    bool ioError = false;     ///< Set by the I/O error exit handler: the connection is gone.
+    bool ioError = false;      ///< Set by the I/O error exit handler: the connection is gone.
     bool closedByUser = false; ///< WM_DELETE_WINDOW arrived.
     bool destroyed = false;    ///< DestroyNotify for the window arrived.
 
@@ -71,10 +71,7 @@ struct EglX11Display::X {
 
     /// Called by Xlib on an I/O error of this connection (after the global I/O error handler);
     /// returning keeps the process alive, and Xlib leaves the connection unusable.
-    static void onIoErrorExit(::Display *, void *self)
-    {
-        static_cast<X *>(self)->ioError = true;
-    }
+    static void onIoErrorExit(::Display *, void *self) { static_cast<X *>(self)->ioError = true; }
 
     void destroy() noexcept
     {
@@ -179,9 +176,7 @@ Result<std::unique_ptr<hal::Display>> EglX11Display::create(const hal::BackendCo
 
 EglX11Display::EglX11Display(platform::Clock &clock, const EglDisplaySettings &settings,
                              std::string xDisplayName)
-    : clock_(clock),
-      settings_(settings),
-      xDisplayName_(std::move(xDisplayName)),
+    : clock_(clock), settings_(settings), xDisplayName_(std::move(xDisplayName)),
       x_(std::make_unique<X>())
 {
     caps_.hasGlesContext = true;
@@ -223,9 +218,9 @@ Result<void> EglX11Display::open(const hal::DisplayConfig &cfg)
     // The default visual (24-bit, no alpha) first: a 32-bit ARGB one would let a compositing
     // desktop blend the window with what is behind it.
     const int screen = DefaultScreen(x.dpy);
-    auto config = egl::chooseConfig(
-        x.display, EGL_WINDOW_BIT,
-        static_cast<EGLint>(XVisualIDFromVisual(DefaultVisual(x.dpy, screen))));
+    auto config =
+        egl::chooseConfig(x.display, EGL_WINDOW_BIT,
+                          static_cast<EGLint>(XVisualIDFromVisual(DefaultVisual(x.dpy, screen))));
     if (!config)
         config = egl::chooseConfig(x.display, EGL_WINDOW_BIT, 0);
     if (!config) {
@@ -257,10 +252,9 @@ Result<void> EglX11Display::open(const hal::DisplayConfig &cfg)
     attrs.background_pixel = 0; // black until the first frame
     attrs.border_pixel = 0;
     attrs.event_mask = StructureNotifyMask;
-    x.window = XCreateWindow(x.dpy, root, 0, 0, static_cast<unsigned>(w),
-                             static_cast<unsigned>(h), 0, visual->depth, InputOutput,
-                             visual->visual, CWColormap | CWBackPixel | CWBorderPixel | CWEventMask,
-                             &attrs);
+    x.window = XCreateWindow(x.dpy, root, 0, 0, static_cast<unsigned>(w), static_cast<unsigned>(h),
+                             0, visual->depth, InputOutput, visual->visual,
+                             CWColormap | CWBackPixel | CWBorderPixel | CWEventMask, &attrs);
     XFree(visual);
     XStoreName(x.dpy, x.window, kWindowTitle);
     XClassHint classHint{};
@@ -325,8 +319,8 @@ Result<void> EglX11Display::open(const hal::DisplayConfig &cfg)
                                   x.copyColor);
         const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
         if (status != GL_FRAMEBUFFER_COMPLETE || glGetError() != GL_NO_ERROR) {
-            DT_LOG(Egl, Error, "Failed to create a %dx%d readback framebuffer (status 0x%x)", w,
-                   h, status);
+            DT_LOG(Egl, Error, "Failed to create a %dx%d readback framebuffer (status 0x%x)", w, h,
+                   status);
             x.destroy();
             return unexpected(Errc::OutOfResources, "Readback framebuffer incomplete");
         }

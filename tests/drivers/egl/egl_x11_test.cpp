@@ -316,6 +316,29 @@ TEST_F(EglX11Test, closingTheWindowMakesTheDisplayLost)
     EXPECT_EQ(wm.windowsTitled("DepthTouch").size(), 1u);
 }
 
+TEST_F(EglX11Test, aWindowDestroyedByAnotherClientMakesTheDisplayLost)
+{
+    auto d = create();
+    ASSERT_NE(d, nullptr);
+    hal::DisplayConfig dc;
+    dc.width = 160;
+    dc.height = 120;
+    ASSERT_TRUE(d->open(dc));
+    ASSERT_TRUE(d->makeCurrent());
+    ASSERT_TRUE(d->present());
+    // WHEN another client destroys the window (requests on it then fail with X protocol errors,
+    // which must not end the process)
+    XClient other(gXvfb->server.name());
+    ASSERT_NE(other.get(), nullptr);
+    XDestroyWindow(other.get(),
+                   static_cast<::Window>(dynamic_cast<EglX11Display &>(*d).window()));
+    XSync(other.get(), False);
+    // THEN the display is Lost and closes cleanly
+    ASSERT_TRUE(presentUntilLost(*d));
+    d->close();
+    EXPECT_TRUE(other.windowsTitled("DepthTouch").empty());
+}
+
 TEST_F(EglX11Test, losingTheXServerMakesTheDisplayLostWithoutACrash)
 {
     // GIVEN a display on an X server of its own

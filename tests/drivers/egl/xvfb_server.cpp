@@ -8,11 +8,9 @@
 
 #include <fcntl.h>
 #include <poll.h>
-#include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
-
-extern char **environ;
 
 namespace depthtouch::testing {
 
@@ -62,24 +60,35 @@ bool XvfbServer::start(bool reuseNumber)
     std::vector<std::string> args = {program};
     if (reuseNumber && number_ >= 0)
         args.push_back(":" + std::to_string(number_));
-    for (const char *a : {"-displayfd", "", "-screen", "0", "1280x720x24", "-nolisten", "tcp",
-                          "-noreset"})
+    for (const char *a :
+         {"-displayfd", "", "-screen", "0", "1280x720x24", "-nolisten", "tcp", "-noreset"})
         args.emplace_back(*a != '\0' ? std::string(a) : std::to_string(kDisplayFd));
     std::vector<char *> argv;
     for (std::string &a : args)
         argv.push_back(a.data());
     argv.push_back(nullptr);
 
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_adddup2(&actions, fds[1], kDisplayFd);
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
-    pid_t pid = -1;
-    const int rc = posix_spawn(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
+    // fork() rather than posix_spawn(): the server must end with this program even when it
+    // crashes (PR_SET_PDEATHSIG). Only async-signal-safe calls run between fork() and exec.
+    const int devNull = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+        if (fds[1] == kDisplayFd)
+            ::fcntl(kDisplayFd, F_SETFD, 0); // dup2() onto itself keeps FD_CLOEXEC
+        else
+            ::dup2(fds[1], kDisplayFd);
+        if (devNull >= 0) {
+            ::dup2(devNull, STDOUT_FILENO);
+            ::dup2(devNull, STDERR_FILENO);
+        }
+        ::execv(program.c_str(), argv.data());
+        ::_exit(127);
+    }
+    if (devNull >= 0)
+        ::close(devNull);
     ::close(fds[1]);
-    if (rc != 0) {
+    if (pid < 0) {
         ::close(fds[0]);
         why_ = "cannot start Xvfb";
         return false;

@@ -2,7 +2,8 @@
 /// \file
 /// \brief A private Xvfb X server for tests of the X11 display: started on a free display number
 /// (Xvfb -displayfd picks it and reports it once the server accepts connections), stopped or
-/// killed on request, restarted on the same number.
+/// killed on request, restarted on the same number. The server ends with the thread that started
+/// it, even when the test program crashes (PR_SET_PDEATHSIG).
 /// Thread-safety: thread-bound.
 
 #include <string>

@@ -27,8 +27,8 @@
 /// X server, puts the display in state Lost: present() and makeCurrent() return NoDevice, and the
 /// process goes on: the first open() installs process-wide Xlib error handlers that log and return
 /// (XSetErrorHandler, XSetIOErrorHandler), and each display's connection gets an I/O error exit
-/// handler (XSetIOErrorExitHandler) that marks it Lost; other connections keep Xlib's exit. After close(), open() creates a
-/// new window, or fails with NoDevice while the server is gone.
+/// handler (XSetIOErrorExitHandler) that marks it Lost; other connections keep Xlib's exit. After
+/// close(), open() creates a new window, or fails with NoDevice while the server is gone.
 ///
 /// Options (BackendConfig::options): width, height (pixels, default 1280×720), refresh (Hz,
 /// default 60), swap_interval (0..4, default 1), fullscreen (0/1), readback (0/1).
