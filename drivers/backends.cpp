@@ -25,6 +25,9 @@
 #if DT_HAVE_EGL && DT_HAVE_EGL_GBM
 #include "depthtouch/drivers/egl/egl_gbm_display.h"
 #endif
+#if DT_HAVE_EGL && DT_HAVE_EGL_X11
+#include "depthtouch/drivers/egl/egl_x11_display.h"
+#endif
 #include "depthtouch/drivers/mock/mock_depth_camera.h"
 #include "depthtouch/drivers/mock/mock_display.h"
 #include "depthtouch/drivers/mock/mock_haptic_device.h"
@@ -80,6 +83,11 @@ constexpr hal::Backend<hal::Display> kDisplayBackends[] = {
 #if DT_HAVE_EGL && DT_HAVE_EGL_GBM
     {"kms", "GBM/KMS on a DRM card (mode HDMI-A-1[:WxH@HZ]); scan-out still to do", true,
      &EglGbmDisplay::create},
+#endif
+#if DT_HAVE_EGL && DT_HAVE_EGL_X11
+    {"x11", "EGL + GLES 3 in an X11 window on $DISPLAY (options width, height, refresh, "
+            "swap_interval, fullscreen, readback)",
+     true, &EglX11Display::create},
 #endif
 #if DT_HAVE_EGL
     {"headless", "EGL surfaceless (Mesa) + GLES 3, offscreen, simulated vsync (options width, "

@@ -24,6 +24,8 @@ HOST_PACKAGES=(
     libavcodec-dev libavformat-dev libavutil-dev libswscale-dev ffmpeg
     # drivers: EGL + GLES on Mesa (llvmpipe when there is no GPU), GBM/KMS, X11
     libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri libgbm-dev libdrm-dev libx11-dev
+    # tests of the X11 display: a private virtual X server
+    xvfb
     # drivers: USB haptic device, remote-control input
     libusb-1.0-0-dev libevdev-dev
     # fuzz preset: clang with libFuzzer and the sanitizer runtimes

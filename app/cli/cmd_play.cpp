@@ -444,7 +444,7 @@ void registerPlayCommand(CLI::App &app, int &exitCode)
     CLI::App *cmd = app.add_subcommand(
         "play", "Play a color + depth file or stream: stereo video and haptics in real time");
     cmd->add_option("url", o->url, "File path or stream URL")->required();
-    cmd->add_option("--display", o->display, "Display backend(s): headless, kms, mock")
+    cmd->add_option("--display", o->display, "Display backend(s): headless, x11, kms, mock")
         ->capture_default_str();
     cmd->add_option("--display-options", o->displayOptions, "Options of the display backend");
     cmd->add_option("--haptic", o->haptic, "Haptic device backend(s): falcon, sim, mock, none")

@@ -13,7 +13,9 @@ namespace depthtouch::drivers {
 
 namespace {
 
-constexpr const char *kOptionKeys[] = {"width", "height", "refresh", "swap_interval"};
+constexpr const char *kOptionKeys[] = {"width",         "height",     "refresh",
+                                       "swap_interval", "fullscreen", "readback"};
+constexpr std::size_t kOffscreenKeys = 4; ///< The first keys; the rest are window-only.
 constexpr int kMaxPixels = 16384;
 
 bool validSize(int w, int h) noexcept
@@ -72,13 +74,15 @@ bool validConnectorName(std::string_view name) noexcept
 
 } // namespace
 
-Result<EglDisplaySettings> EglDisplaySettings::parse(hal::OptionList options)
+Result<EglDisplaySettings> EglDisplaySettings::parse(hal::OptionList options, bool window)
 {
-    const std::string_view unknown = options.firstUnknownKey(kOptionKeys, std::size(kOptionKeys));
+    const std::string_view unknown =
+        options.firstUnknownKey(kOptionKeys, window ? std::size(kOptionKeys) : kOffscreenKeys);
     if (!unknown.empty()) {
         DT_LOG(Egl, Error, "Unknown EGL display option '%.*s' (known: width, height, refresh, "
-                           "swap_interval)",
-               static_cast<int>(unknown.size()), unknown.data());
+                           "swap_interval%s)",
+               static_cast<int>(unknown.size()), unknown.data(),
+               window ? ", fullscreen, readback" : "");
         return unexpected(Errc::InvalidArgument, "Unknown EGL display option");
     }
     EglDisplaySettings s;
@@ -93,6 +97,12 @@ Result<EglDisplaySettings> EglDisplaySettings::parse(hal::OptionList options)
     s.height = *h;
     s.refreshHz = *hz;
     s.swapInterval = *swap;
+    auto fullscreen = options.getBool("fullscreen", s.fullscreen);
+    auto readback = options.getBool("readback", s.readback);
+    if (!fullscreen || !readback)
+        return unexpected(Errc::InvalidArgument, "EGL display option fullscreen/readback is 0 or 1");
+    s.fullscreen = *fullscreen;
+    s.readback = *readback;
     return s;
 }
 
@@ -188,6 +198,33 @@ hal::PresentInfo VsyncPacer::next(platform::Clock &clock) noexcept
     info.frameCounter = ++frames_;
     lastBlank_ = k;
     return info;
+}
+
+hal::PresentInfo VsyncPacer::observe(platform::TimePoint shown) noexcept
+{
+    const double periods = platform::toSeconds(shown - blank(lastBlank_)) * refreshHz_;
+    const auto whole = periods > 1.5 ? static_cast<std::uint64_t>(std::llround(periods)) : 1u;
+    const std::uint64_t k = lastBlank_ + whole;
+    // Move the grid so that blank k is the observed one: later frames are paced from it.
+    epoch_ = shown - platform::fromSeconds(static_cast<double>(k) / refreshHz_);
+    hal::PresentInfo info;
+    info.vsyncTime = shown;
+    info.skippedVsyncs = static_cast<std::uint32_t>(whole - 1);
+    info.frameCounter = ++frames_;
+    lastBlank_ = k;
+    return info;
+}
+
+hal::PresentInfo VsyncPacer::follow(platform::Clock &clock, unsigned interval) noexcept
+{
+    const platform::TimePoint now = clock.now();
+    if (interval == 0)
+        return observe(now);
+    const platform::TimePoint due = blank(lastBlank_ + interval);
+    if (now >= due)
+        return observe(now);
+    clock.sleepUntil(due);
+    return observe(due);
 }
 
 } // namespace depthtouch::drivers

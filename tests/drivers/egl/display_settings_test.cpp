@@ -57,6 +57,27 @@ TEST(EglDisplaySettingsTest, optionsOverDefaultsAndBadOptionsRefused)
               Errc::InvalidArgument);
 }
 
+TEST(EglDisplaySettingsTest, windowOnlyOptionsNeedAWindow)
+{
+    // GIVEN the window options THEN a window backend takes them and an offscreen one refuses them
+    auto s = EglDisplaySettings::parse(hal::OptionList("fullscreen=1,readback=yes,swap_interval=0"),
+                                       /*window=*/true);
+    ASSERT_TRUE(s);
+    EXPECT_TRUE(s->fullscreen);
+    EXPECT_TRUE(s->readback);
+    EXPECT_EQ(s->swapInterval, 0);
+    s = EglDisplaySettings::parse(hal::OptionList(""), true);
+    ASSERT_TRUE(s);
+    EXPECT_FALSE(s->fullscreen);
+    EXPECT_FALSE(s->readback);
+    EXPECT_EQ(EglDisplaySettings::parse(hal::OptionList("fullscreen=1")).error().code,
+              Errc::InvalidArgument);
+    EXPECT_EQ(EglDisplaySettings::parse(hal::OptionList("readback=2"), true).error().code,
+              Errc::InvalidArgument);
+    EXPECT_EQ(EglDisplaySettings::parse(hal::OptionList("swap_interval=5"), true).error().code,
+              Errc::InvalidArgument);
+}
+
 TEST(EglDisplaySettingsTest, configFieldsWinOverModeOverSettings)
 {
     const EglDisplaySettings defaults;
@@ -112,6 +133,67 @@ TEST(VsyncPacerTest, blanksFallOnTheGridAndLateFramesSkip)
     // AND a restart counts from 1 again
     pacer.start(clock.now(), 50.0);
     EXPECT_EQ(pacer.next(clock).frameCounter, 1u);
+}
+
+TEST(VsyncPacerTest, followSleepsOnlyWhenTheSwapDidNotWait)
+{
+    platform::ManualClock clock(platform::ManualClock::Mode::AutoAdvance,
+                                platform::TimePoint(std::chrono::seconds(1)));
+    VsyncPacer pacer;
+    const platform::TimePoint epoch = clock.now();
+    pacer.start(epoch, 50.0);
+    // GIVEN swaps that return at once (no server pacing) THEN frames are one period apart
+    hal::PresentInfo a = pacer.follow(clock, 1);
+    EXPECT_EQ(a.vsyncTime, epoch + 20ms);
+    EXPECT_EQ(clock.now(), epoch + 20ms);
+    EXPECT_EQ(pacer.follow(clock, 1).vsyncTime, epoch + 40ms);
+    // AND at interval 2, two periods apart with one blank left out
+    hal::PresentInfo b = pacer.follow(clock, 2);
+    EXPECT_EQ(b.vsyncTime, epoch + 80ms);
+    EXPECT_EQ(b.skippedVsyncs, 1u);
+    // GIVEN a swap the server held until its blank, 21 ms after the previous frame
+    clock.advance(21ms);
+    const platform::TimePoint held = clock.now();
+    hal::PresentInfo c = pacer.follow(clock, 1);
+    // THEN the frame is shown at once, at the swap's return, with no blank skipped
+    EXPECT_EQ(c.vsyncTime, held);
+    EXPECT_EQ(clock.now(), held);
+    EXPECT_EQ(c.skippedVsyncs, 0u);
+    EXPECT_EQ(c.frameCounter, 4u);
+    // AND a caller 50 ms late has about two blanks skipped, with no wait
+    clock.advance(61ms);
+    hal::PresentInfo d = pacer.follow(clock, 1);
+    EXPECT_EQ(d.vsyncTime, held + 61ms);
+    EXPECT_EQ(d.skippedVsyncs, 2u);
+    // AND interval 0 never waits
+    EXPECT_EQ(pacer.follow(clock, 0).vsyncTime, held + 61ms);
+}
+
+TEST(VsyncPacerTest, observedBlanksEstimateTheSkippedOnesAndMoveTheGrid)
+{
+    platform::ManualClock clock(platform::ManualClock::Mode::AutoAdvance,
+                                platform::TimePoint(std::chrono::seconds(1)));
+    VsyncPacer pacer;
+    const platform::TimePoint epoch = clock.now();
+    pacer.start(epoch, 50.0);
+    // GIVEN swaps the server showed at 21 ms, 40 ms (on time, some jitter) and 103 ms (late)
+    hal::PresentInfo a = pacer.observe(epoch + 21ms);
+    EXPECT_EQ(a.vsyncTime, epoch + 21ms);
+    EXPECT_EQ(a.frameCounter, 1u);
+    EXPECT_EQ(a.skippedVsyncs, 0u);
+    hal::PresentInfo b = pacer.observe(epoch + 40ms);
+    EXPECT_EQ(b.skippedVsyncs, 0u);
+    hal::PresentInfo c = pacer.observe(epoch + 103ms);
+    // THEN 63 ms after the previous frame is about three periods: two blanks without a new frame
+    EXPECT_EQ(c.skippedVsyncs, 2u);
+    EXPECT_EQ(c.frameCounter, 3u);
+    // AND a frame shown sooner than a period after the previous one still counts one period
+    EXPECT_EQ(pacer.observe(epoch + 105ms).skippedVsyncs, 0u);
+    // AND simulated pacing afterwards continues from the observed grid
+    clock.advance(105ms); // now = the last observed frame
+    const hal::PresentInfo next = pacer.next(clock);
+    EXPECT_EQ(next.vsyncTime, epoch + 125ms);
+    EXPECT_EQ(next.skippedVsyncs, 0u);
 }
 
 } // namespace

@@ -24,10 +24,14 @@ struct EglDisplaySettings {
     int height = 720;        ///< Pixels (option `height`).
     double refreshHz = 60.0; ///< Hertz (option `refresh`).
     int swapInterval = 1;    ///< X11 only: eglSwapInterval (option `swap_interval`, 0..4).
+    bool fullscreen = false; ///< X11 only: a window covering the screen (option `fullscreen`).
+    bool readback = false;   ///< X11 only: keep a copy of each presented frame for readPixels()
+                             ///< (option `readback`; costs one framebuffer blit per frame).
 
     /// \return the settings from \a options over the defaults. Errors: InvalidArgument for an
     /// unknown key or a value out of range (1..16384 pixels, 1..1000 Hz).
-    static Result<EglDisplaySettings> parse(hal::OptionList options);
+    /// \param[in] window Also accept the window-only keys `fullscreen` and `readback`.
+    static Result<EglDisplaySettings> parse(hal::OptionList options, bool window = false);
 };
 
 /// \brief A parsed DisplayConfig::mode: "[CONNECTOR][:]WIDTHxHEIGHT[@HZ]", e.g. "HDMI-A-1",
@@ -65,6 +69,19 @@ public:
     /// \brief Waits on \a clock for the blank of the next frame.
     /// \return its time, the frame counter (1, 2, ...) and the blanks skipped.
     hal::PresentInfo next(platform::Clock &clock) noexcept;
+    /// \brief Records a frame shown at \a shown, without waiting: the grid moves so that a blank
+    /// falls at \a shown, and the blanks skipped since the previous frame are estimated from the
+    /// time between them and the refresh rate (rounded to whole periods; at least one period per
+    /// frame).
+    /// \return \a shown, the frame counter and the estimated blanks skipped.
+    hal::PresentInfo observe(platform::TimePoint shown) noexcept;
+    /// \brief Paces a frame after a buffer swap that the window system may or may not have held
+    /// until its vertical blank. Called less than \a interval periods after the previous frame's
+    /// blank (a server that does not pace swaps, such as Xvfb), it sleeps on \a clock until then;
+    /// otherwise the frame became visible now (the swap waited for the blank, or the caller is
+    /// late). Then observe(). \a interval 0 never waits.
+    /// \return the frame's time, the frame counter and the estimated blanks skipped.
+    hal::PresentInfo follow(platform::Clock &clock, unsigned interval) noexcept;
     /// \return frames since start().
     [[nodiscard]] std::uint64_t frames() const noexcept { return frames_; }
 
