@@ -604,10 +604,14 @@ void Playback::Impl::renderLoop()
             std::lock_guard<std::mutex> lock(mutex);
             if (!drawn)
                 ++stats.renderErrors;
-            if (presented)
+            if (presented) {
                 ++stats.framesPresented;
-            else
+            } else {
                 ++stats.presentErrors;
+                // The window was closed or the display went away: playback cannot go on.
+                if (presented.error().code == Errc::NoDevice && failure.empty())
+                    failure = std::string("the display was lost: ") + presented.error().what;
+            }
             position = pts - s.startPts;
             double played = rs.playingSeconds;
             if (rs.playClockRunning)
