@@ -427,8 +427,16 @@ Result<void> StereoRenderer::setOptions(const RendererOptions &options)
     return ok();
 }
 
+double StereoRenderer::stageEnd(platform::TimePoint start) const noexcept
+{
+    if (stageTiming_ == StageTiming::Finished)
+        glFinish();
+    return platform::toSeconds(clock_.now() - start) * 1e3;
+}
+
 Result<void> StereoRenderer::setDepth(const haptics::DepthFrameView &depth)
 {
+    platform::TimePoint t = clock_.now();
     // The haptic renderer's height field validates the frame and gives the mapping.
     haptics::HeightField field(options_.box);
     if (auto r = field.setFrames(depth, nullptr); !r)
@@ -437,13 +445,17 @@ Result<void> StereoRenderer::setDepth(const haptics::DepthFrameView &depth)
         return r;
     mapping_ = SurfaceMapping::fromHeightField(field);
     depthFormat_ = depth.format;
+    stageTimes_.mesh = stageEnd(t);
 
+    t = clock_.now();
     Gl &g = *gl_;
     const bool d16 = depth.format == haptics::SampleFormat::Gray16;
     g.depth.ensure(depth.width, depth.height, d16 ? GL_R16UI : GL_R8, GL_NEAREST);
     uploadRows(g.depth, depth.data, depth.strideBytes, depth.width, depth.height,
                d16 ? GL_RED_INTEGER : GL_RED, d16 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE, d16 ? 2 : 1);
+    stageTimes_.depthUpload = stageEnd(t);
 
+    t = clock_.now();
     const auto &idx = mesh_.indices();
     glBindVertexArray(g.surfaceVao);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.indexBuffer);
@@ -452,6 +464,7 @@ Result<void> StereoRenderer::setDepth(const haptics::DepthFrameView &depth)
     glBindVertexArray(0);
     g.indexCount = static_cast<GLsizei>(idx.size());
     haveDepth_ = true;
+    stageTimes_.indexUpload = stageEnd(t);
     return ok();
 }
 
@@ -459,6 +472,7 @@ Result<void> StereoRenderer::setColor(const hal::ImageView &image, const ColorSp
 {
     if (image.empty() || image.width <= 0 || image.height <= 0)
         return unexpected(Errc::InvalidArgument, "colour frame is empty");
+    const platform::TimePoint t = clock_.now();
     Gl &g = *gl_;
     if (image.format == hal::PixelFormat::Yuv420p) {
         const int cw = (image.width + 1) / 2;
@@ -485,6 +499,7 @@ Result<void> StereoRenderer::setColor(const hal::ImageView &image, const ColorSp
         return unexpected(Errc::NotSupported, "colour frames must be yuv420p or gray8");
     }
     colorSpec_ = spec;
+    stageTimes_.colorUpload = stageEnd(t);
     return ok();
 }
 
@@ -647,24 +662,33 @@ Result<void> StereoRenderer::render(const RenderTarget &target)
 {
     if (!haveDepth_)
         return unexpected(Errc::InvalidState, "no depth frame to draw");
+    platform::TimePoint t = clock_.now();
     target.bind();
     glViewport(0, 0, target.width(), target.height());
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthMask(GL_TRUE);
     glClearColor(options_.background.r, options_.background.g, options_.background.b, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    stageTimes_.clear = stageEnd(t);
     int count = 0;
     const auto eyes = eyeViews(options_.mode, options_.stereo, target.width(), target.height(),
                                mapping_.width(), mapping_.height(), options_.box.depth, count);
+    stageTimes_.eye[1] = 0.0;
+    double overlay = 0.0;
     for (int i = 0; i < count; ++i) {
         const EyeView &eye = eyes[static_cast<std::size_t>(i)];
+        t = clock_.now();
         if (i > 0 && options_.mode == StereoMode::Anaglyph)
             glClear(GL_DEPTH_BUFFER_BIT);
         glColorMask((eye.colorMask & 1) != 0, (eye.colorMask & 2) != 0, (eye.colorMask & 4) != 0, GL_TRUE);
         if (auto r = drawSurface(eye, SurfaceOutput::Color); !r)
             return r;
+        stageTimes_.eye[i] = stageEnd(t);
+        t = clock_.now();
         drawAvatar(eye);
+        overlay += stageEnd(t);
     }
+    t = clock_.now();
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     if (options_.mode == StereoMode::SideBySide || options_.mode == StereoMode::TopAndBottom) {
         for (int i = 0; i < count; ++i)
@@ -672,6 +696,7 @@ Result<void> StereoRenderer::render(const RenderTarget &target)
     } else {
         drawOsd(Viewport{0, 0, target.width(), target.height()});
     }
+    stageTimes_.overlay = overlay + stageEnd(t);
     if (glGetError() != GL_NO_ERROR)
         return unexpected(Errc::Io, "GL error while rendering a frame");
     return ok();

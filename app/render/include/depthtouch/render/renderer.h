@@ -23,6 +23,7 @@
 
 #include "depthtouch/haptics/depth_frame.h"
 #include "depthtouch/hal/types.h"
+#include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/result.h"
 #include "depthtouch/render/adaptive_mesh.h"
 #include "depthtouch/render/color.h"
@@ -66,6 +67,29 @@ enum class SurfaceOutput : std::uint8_t {
     Position, ///< Scene-box position (x, y, z, 1) of the surface point under each pixel, m (float target).
 };
 
+/// \brief Wall time of the stages of the last setDepth(), setColor() and render() calls, ms.
+///
+/// The time the calling thread spends in each stage. On a deferred rasterizer (Mesa llvmpipe bins
+/// the triangles when they are drawn and shades them at the next flush, e.g. the glFinish of a
+/// display's present()) a drawing stage holds vertex processing and binning only; with
+/// StageTiming::Finished each stage ends with glFinish, so its time includes the rasterization it
+/// caused (the frame as a whole is then slower: for a breakdown, not for playback).
+struct StageTimes {
+    double depthUpload = 0.0; ///< setDepth(): depth texture upload.
+    double mesh = 0.0;        ///< setDepth(): frame check, level-of-detail choice, index list (CPU).
+    double indexUpload = 0.0; ///< setDepth(): index buffer upload (0 when the list was unchanged).
+    double colorUpload = 0.0; ///< setColor(): plane upload and conversion.
+    double clear = 0.0;       ///< render(): clearing the target.
+    double eye[2] = {};       ///< render(): surface of the left and right eye (Mono: eye[0] only).
+    double overlay = 0.0;     ///< render(): avatar in every eye and the on-screen display.
+};
+
+/// \brief Whether stage times include the GPU work of each stage (see StageTimes).
+enum class StageTiming : std::uint8_t {
+    Cpu,      ///< No extra synchronisation (default): what the calling thread spends.
+    Finished, ///< glFinish after each stage: the stage's full cost, serialised.
+};
+
 class StereoRenderer {
 public:
     /// \brief Compiles the shaders and creates the GL objects. \pre a current GLES 3 context.
@@ -104,6 +128,11 @@ public:
     /// height read-back. \pre setDepth() succeeded once.
     [[nodiscard]] Result<void> drawSurface(const EyeView &eye, SurfaceOutput output);
 
+    /// \brief Selects what stageTimes() measures (default StageTiming::Cpu).
+    void setStageTiming(StageTiming timing) noexcept { stageTiming_ = timing; }
+    /// \return the stage times of the last setDepth(), setColor() and render() calls.
+    [[nodiscard]] const StageTimes &stageTimes() const noexcept { return stageTimes_; }
+
     /// \return the mapping of the current depth frame (read off a HeightField).
     [[nodiscard]] const SurfaceMapping &mapping() const noexcept { return mapping_; }
     /// \return the mesh drawn for the current depth frame.
@@ -114,6 +143,8 @@ private:
     explicit StereoRenderer(const RendererOptions &options);
     void drawAvatar(const EyeView &eye);
     void drawOsd(const Viewport &vp);
+    /// Ends a stage: \return the milliseconds since \a start (after glFinish when Finished).
+    double stageEnd(platform::TimePoint start) const noexcept;
 
     RendererOptions options_;
     AvatarState avatar_{};
@@ -124,6 +155,9 @@ private:
     bool haveDepth_ = false;
     bool indicesDirty_ = false;
     ColorSpec colorSpec_{};
+    StageTiming stageTiming_ = StageTiming::Cpu;
+    StageTimes stageTimes_{};
+    platform::SteadyClock clock_;
     std::unique_ptr<Gl> gl_;
 };
 
