@@ -56,26 +56,40 @@ void main() {
 }
 )";
 
+// The surface's colour: from R'G'B' converted on the CPU (one texture fetch per fragment), or from
+// the three Y'CbCr planes converted here (three fetches and the matrix per fragment).
 constexpr const char *kSurfaceFs = R"(
 precision highp float;
 precision highp int;
+#ifdef YUV
 uniform sampler2D uY;
 uniform sampler2D uU;
 uniform sampler2D uV;
 uniform mat3 uYuvToRgb;
 uniform vec3 uYuvOffset;
+#else
+uniform sampler2D uRgb;
+#endif
+#ifdef ROW_PARITY
 uniform int uRowParity;
+#endif
 in vec2 vTex;
 in vec3 vPos;
 out vec4 fragColor;
 void main() {
-    if (uRowParity >= 0 && (int(gl_FragCoord.y) & 1) != uRowParity)
+#ifdef ROW_PARITY
+    // Only the row-interleaved layout discards: elsewhere the shader has no discard, which lets the
+    // rasterizer test depth before shading (early depth test).
+    if ((int(gl_FragCoord.y) & 1) != uRowParity)
         discard;
-#ifdef POSITION
+#endif
+#if defined(POSITION)
     fragColor = vec4(vPos, 1.0);
-#else
+#elif defined(YUV)
     vec3 yuv = vec3(texture(uY, vTex).r, texture(uU, vTex).r, texture(uV, vTex).r);
     fragColor = vec4(clamp(uYuvToRgb * (yuv - uYuvOffset), 0.0, 1.0), 1.0);
+#else
+    fragColor = texture(uRgb, vTex);
 #endif
 }
 )";
@@ -237,11 +251,26 @@ struct SurfaceProgram {
     GLint yuvToRgb = -1, yuvOffset = -1, rowParity = -1;
 };
 
+/// What the surface fragment shader outputs.
+enum SurfaceVariant : int { kPositionOut = 0, kRgbOut = 1, kYuvOut = 2 };
+
+/// \return true when GL_RENDERER names a software rasterizer (Mesa llvmpipe, softpipe, swrast),
+/// where shading dominates and a CPU colour conversion is far cheaper than the per-fragment one.
+bool softwareRasterizer()
+{
+    const auto *name = reinterpret_cast<const char *>(glGetString(GL_RENDERER));
+    if (name == nullptr)
+        return false;
+    const std::string s(name);
+    return s.find("llvmpipe") != std::string::npos || s.find("softpipe") != std::string::npos ||
+           s.find("swrast") != std::string::npos;
+}
+
 } // namespace
 
 struct StereoRenderer::Gl {
-    // [depth16][position]
-    SurfaceProgram surface[2][2];
+    // [depth16][SurfaceVariant][row parity]
+    SurfaceProgram surface[2][3][2];
     GLuint avatarProgram = 0;
     GLint avCenter = -1, avRadius = -1, avViewProj = -1, avColor = -1, avRowParity = -1;
     GLuint osdProgram = 0;
@@ -257,15 +286,18 @@ struct StereoRenderer::Gl {
     GLuint osdVbo = 0;
     Texture depth;
     Texture y, u, v;
+    Texture rgb; ///< The colour frame as RGBA8 when converted on the CPU.
     Texture font;
+    YuvConverter converter;
     std::vector<float> osdVertices;
 
     ~Gl()
     {
-        for (auto &row : surface)
-            for (auto &p : row)
-                if (p.program != 0)
-                    glDeleteProgram(p.program);
+        for (auto &plane : surface)
+            for (auto &row : plane)
+                for (auto &p : row)
+                    if (p.program != 0)
+                        glDeleteProgram(p.program);
         if (avatarProgram != 0)
             glDeleteProgram(avatarProgram);
         if (osdProgram != 0)
@@ -278,6 +310,7 @@ struct StereoRenderer::Gl {
         y.release();
         u.release();
         v.release();
+        rgb.release();
         font.release();
     }
 };
@@ -294,30 +327,33 @@ Result<std::unique_ptr<StereoRenderer>> StereoRenderer::create(const RendererOpt
     r->gl_ = std::make_unique<Gl>();
     Gl &g = *r->gl_;
 
-    for (int d16 = 0; d16 < 2; ++d16) {
-        for (int pos = 0; pos < 2; ++pos) {
+    for (int variant = 0; variant < 12; ++variant) {
+        {
+            const int d16 = variant & 1;
+            const int out = (variant >> 1) % 3;
+            const int parity = variant / 6;
             std::string defines;
             if (d16 != 0)
                 defines += "#define DEPTH16 1\n";
-            if (pos != 0)
+            if (out == kPositionOut)
                 defines += "#define POSITION 1\n";
-            SurfaceProgram &p = g.surface[d16][pos];
+            if (out == kYuvOut)
+                defines += "#define YUV 1\n";
+            if (parity != 0)
+                defines += "#define ROW_PARITY 1\n";
+            SurfaceProgram &p = g.surface[d16][out][parity];
             p.program = linkProgram(kSurfaceVs, kSurfaceFs, defines.c_str());
             if (p.program == 0)
                 return unexpected(Errc::NotSupported, "surface shader failed to build");
             glUseProgram(p.program);
             glUniform1i(glGetUniformLocation(p.program, "uDepth"), 0);
-            glUniform1i(glGetUniformLocation(p.program, "uY"), 1);
-            glUniform1i(glGetUniformLocation(p.program, "uU"), 2);
-            glUniform1i(glGetUniformLocation(p.program, "uV"), 3);
+            glUniform1i(glGetUniformLocation(p.program, "uRgb"), 1);
             p.columns = glGetUniformLocation(p.program, "uColumns");
             p.origin = glGetUniformLocation(p.program, "uOrigin");
             p.step = glGetUniformLocation(p.program, "uStep");
             p.zMap = glGetUniformLocation(p.program, "uZMap");
             p.texScale = glGetUniformLocation(p.program, "uTexScale");
             p.viewProj = glGetUniformLocation(p.program, "uViewProj");
-            p.yuvToRgb = glGetUniformLocation(p.program, "uYuvToRgb");
-            p.yuvOffset = glGetUniformLocation(p.program, "uYuvOffset");
             p.rowParity = glGetUniformLocation(p.program, "uRowParity");
         }
     }
@@ -411,6 +447,12 @@ Result<std::unique_ptr<StereoRenderer>> StereoRenderer::create(const RendererOpt
     uploadRows(g.u, &grey[1], 1, 1, 1, GL_RED, GL_UNSIGNED_BYTE, 1);
     uploadRows(g.v, &grey[2], 1, 1, 1, GL_RED, GL_UNSIGNED_BYTE, 1);
     r->colorSpec_ = ColorSpec{YuvMatrix::Bt601, true};
+    r->softwareRasterizer_ = softwareRasterizer();
+    const std::uint8_t greyRgba[4] = {180, 180, 180, 255};
+    g.rgb.ensure(1, 1, GL_RGBA8, GL_LINEAR);
+    uploadRows(g.rgb, greyRgba, 4, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, 4);
+    r->colorOnCpu_ = r->options_.colorConversion == ColorConversion::Cpu ||
+                     (r->options_.colorConversion == ColorConversion::Auto && r->softwareRasterizer_);
 
     if (glGetError() != GL_NO_ERROR)
         return unexpected(Errc::NotSupported, "GL error while creating the renderer");
@@ -472,9 +514,18 @@ Result<void> StereoRenderer::setColor(const hal::ImageView &image, const ColorSp
 {
     if (image.empty() || image.width <= 0 || image.height <= 0)
         return unexpected(Errc::InvalidArgument, "colour frame is empty");
+    if (image.format != hal::PixelFormat::Yuv420p && image.format != hal::PixelFormat::Gray8)
+        return unexpected(Errc::NotSupported, "colour frames must be yuv420p or gray8");
     const platform::TimePoint t = clock_.now();
     Gl &g = *gl_;
-    if (image.format == hal::PixelFormat::Yuv420p) {
+    const bool onCpu = options_.colorConversion == ColorConversion::Cpu ||
+                       (options_.colorConversion == ColorConversion::Auto && softwareRasterizer_);
+    if (onCpu) {
+        const std::vector<std::uint32_t> &rgba = g.converter.convert(image, spec);
+        g.rgb.ensure(image.width, image.height, GL_RGBA8, GL_LINEAR);
+        uploadRows(g.rgb, reinterpret_cast<const std::uint8_t *>(rgba.data()), static_cast<std::size_t>(image.width) * 4, image.width, image.height,
+                   GL_RGBA, GL_UNSIGNED_BYTE, 4);
+    } else if (image.format == hal::PixelFormat::Yuv420p) {
         const int cw = (image.width + 1) / 2;
         const int ch = (image.height + 1) / 2;
         g.y.ensure(image.width, image.height, GL_R8, GL_LINEAR);
@@ -486,7 +537,7 @@ Result<void> StereoRenderer::setColor(const hal::ImageView &image, const ColorSp
                    GL_RED, GL_UNSIGNED_BYTE, 1);
         uploadRows(g.v, image.planes[2].data, static_cast<std::size_t>(image.planes[2].strideBytes), cw, ch,
                    GL_RED, GL_UNSIGNED_BYTE, 1);
-    } else if (image.format == hal::PixelFormat::Gray8) {
+    } else {
         const std::uint8_t neutral = 128;
         g.y.ensure(image.width, image.height, GL_R8, GL_LINEAR);
         g.u.ensure(1, 1, GL_R8, GL_LINEAR);
@@ -495,9 +546,8 @@ Result<void> StereoRenderer::setColor(const hal::ImageView &image, const ColorSp
                    image.height, GL_RED, GL_UNSIGNED_BYTE, 1);
         uploadRows(g.u, &neutral, 1, 1, 1, GL_RED, GL_UNSIGNED_BYTE, 1);
         uploadRows(g.v, &neutral, 1, 1, 1, GL_RED, GL_UNSIGNED_BYTE, 1);
-    } else {
-        return unexpected(Errc::NotSupported, "colour frames must be yuv420p or gray8");
     }
+    colorOnCpu_ = onCpu;
     colorSpec_ = spec;
     stageTimes_.colorUpload = stageEnd(t);
     return ok();
@@ -509,7 +559,8 @@ Result<void> StereoRenderer::drawSurface(const EyeView &eye, SurfaceOutput outpu
         return unexpected(Errc::InvalidState, "no depth frame to draw");
     Gl &g = *gl_;
     const bool d16 = depthFormat_ == haptics::SampleFormat::Gray16;
-    const SurfaceProgram &p = g.surface[d16 ? 1 : 0][output == SurfaceOutput::Position ? 1 : 0];
+    const int variant = output == SurfaceOutput::Position ? kPositionOut : colorOnCpu_ ? kRgbOut : kYuvOut;
+    const SurfaceProgram &p = g.surface[d16 ? 1 : 0][variant][eye.rowParity >= 0 ? 1 : 0];
     glViewport(eye.viewport.x, eye.viewport.y, eye.viewport.width, eye.viewport.height);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
@@ -519,11 +570,7 @@ Result<void> StereoRenderer::drawSurface(const EyeView &eye, SurfaceOutput outpu
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, g.depth.name);
     glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, g.y.name);
-    glActiveTexture(GL_TEXTURE2);
-    glBindTexture(GL_TEXTURE_2D, g.u.name);
-    glActiveTexture(GL_TEXTURE3);
-    glBindTexture(GL_TEXTURE_2D, g.v.name);
+    glBindTexture(GL_TEXTURE_2D, g.rgb.name);
     glActiveTexture(GL_TEXTURE0);
     const SurfaceMapping &m = mapping_;
     glUniform1i(p.columns, m.columns);
@@ -533,10 +580,8 @@ Result<void> StereoRenderer::drawSurface(const EyeView &eye, SurfaceOutput outpu
     glUniform2f(p.texScale, 1.0f / static_cast<float>(m.columns), 1.0f / static_cast<float>(m.rows));
     const glm::mat4 viewProj = eye.projection * eye.view;
     glUniformMatrix4fv(p.viewProj, 1, GL_FALSE, glm::value_ptr(viewProj));
-    const YuvToRgb conv = yuvToRgb(colorSpec_);
-    glUniformMatrix3fv(p.yuvToRgb, 1, GL_FALSE, glm::value_ptr(conv.matrix));
-    glUniform3fv(p.yuvOffset, 1, glm::value_ptr(conv.offset));
-    glUniform1i(p.rowParity, eye.rowParity);
+    if (eye.rowParity >= 0)
+        glUniform1i(p.rowParity, eye.rowParity);
     glBindVertexArray(g.surfaceVao);
     glDrawElements(GL_TRIANGLES, g.indexCount, GL_UNSIGNED_INT, nullptr);
     glBindVertexArray(0);

@@ -12,7 +12,10 @@
 /// of detail is chosen per frame by AdaptiveMesh (adaptive_mesh.h).
 ///
 /// Textures are allocated once per frame size and format (immutable storage) and refreshed with
-/// glTexSubImage2D. Requires a current OpenGL ES 3.0 context with vertex texture fetch.
+/// glTexSubImage2D. On a software rasterizer the colour frame is converted to R'G'B' once on the CPU
+/// (ColorConversion::Auto): the surface then fetches one texture per fragment in each eye instead
+/// of three planes and a matrix, which on llvmpipe costs far more than the conversion.
+/// Requires a current OpenGL ES 3.0 context with vertex texture fetch.
 /// Thread-safety: thread-bound (the render thread that owns the context). Not real-time safe.
 
 #include <cstdint>
@@ -40,6 +43,7 @@ struct RendererOptions {
     StereoMode mode = StereoMode::SideBySide; ///< Output layout.
     StereoParams stereo{};                    ///< Eye cameras.
     MeshOptions mesh{};                       ///< Level of detail.
+    ColorConversion colorConversion = ColorConversion::Auto; ///< Where Y'CbCr becomes R'G'B' (setColor()).
     glm::vec3 background{0.0f, 0.0f, 0.0f};   ///< Clear colour, linear RGB in [0, 1].
 };
 
@@ -111,8 +115,10 @@ public:
     /// \return Errc::InvalidArgument for a malformed frame (the previous frame stays).
     [[nodiscard]] Result<void> setDepth(const haptics::DepthFrameView &depth);
 
-    /// \brief Uploads a decoded colour frame: Yuv420p (three R8 textures) or Gray8 (luma only).
-    /// Its size may differ from the depth frame's: it is stretched over the same box.
+    /// \brief Uploads a decoded colour frame: Yuv420p or Gray8 (luma only). Converted to R'G'B' on
+    /// the CPU into one RGBA8 texture, or uploaded as three R8 planes that the fragment shader
+    /// converts, as options().colorConversion says. Its size may differ from the depth frame's: it
+    /// is stretched over the same box.
     /// \return Errc::NotSupported for other formats, Errc::InvalidArgument for an empty view.
     [[nodiscard]] Result<void> setColor(const hal::ImageView &image, const ColorSpec &spec);
 
@@ -137,6 +143,8 @@ public:
     [[nodiscard]] const SurfaceMapping &mapping() const noexcept { return mapping_; }
     /// \return the mesh drawn for the current depth frame.
     [[nodiscard]] const AdaptiveMesh &mesh() const noexcept { return mesh_; }
+    /// \return true when the last colour frame was converted on the CPU (see ColorConversion).
+    [[nodiscard]] bool colorConvertedOnCpu() const noexcept { return colorOnCpu_; }
 
 private:
     struct Gl;
@@ -155,6 +163,8 @@ private:
     bool haveDepth_ = false;
     bool indicesDirty_ = false;
     ColorSpec colorSpec_{};
+    bool softwareRasterizer_ = false;
+    bool colorOnCpu_ = false;
     StageTiming stageTiming_ = StageTiming::Cpu;
     StageTimes stageTimes_{};
     platform::SteadyClock clock_;

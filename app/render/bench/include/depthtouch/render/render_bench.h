@@ -65,9 +65,10 @@ struct BenchRow {
     double cpuMs = 0.0;         ///< Process CPU time per frame (all threads, incl. the rasterizer's), ms:
                                 ///< less sensitive than wall time to other load on a shared machine.
     double meshMs = 0.0;        ///< Median time of the level choice and index list (CPU), ms.
-    double finishMs = 0.0;      ///< Median time spent in the final glFinish (deferred rasterization), ms.
-    /// Stage breakdown, measured on the same frames in a second pass with a glFinish after each
-    /// stage (StageTiming::Finished), so each stage carries its own rasterization: median and 99th
+    double drawMs = 0.0;        ///< Median time in the two eyes' draw calls on the calling thread (vertex
+                                ///< processing and binning on llvmpipe; shading runs later), ms.
+    /// Stage breakdown: each frame drawn a second time with a glFinish after each stage
+    /// (StageTiming::Finished), so each stage carries its own rasterization: median and 99th
     /// percentile per stage (order of stageName()), and of the per-frame sum, ms.
     std::array<double, kStageCount> stageMedianMs{};
     std::array<double, kStageCount> stageP99Ms{};
@@ -97,7 +98,9 @@ struct BenchOptions {
 /// levels) at tolerances 0.3, 0.5, 0.7, 0.9 and 1.2 levels.
 std::vector<BenchConfig> defaultConfigs();
 
-/// \brief Runs every setting on \a frames. \pre a current GLES 3 context with EXT_color_buffer_float
+/// \brief Runs every setting on \a frames; the settings take turns frame by frame (each frame is
+/// drawn by every setting before the next), so a change of load on a shared machine affects them
+/// alike. \pre a current GLES 3 context with EXT_color_buffer_float
 /// not needed. \return the rows in setting order; errors of the renderer (e.g. NotSupported).
 Result<std::vector<BenchRow>> runRenderBenchmark(const std::vector<RgbdFrame> &frames,
                                                  const BenchOptions &options);
