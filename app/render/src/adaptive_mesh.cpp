@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
+#include <tuple>
 
 namespace depthtouch::render {
 
@@ -93,6 +95,61 @@ bool blockWithin(const haptics::DepthFrameView &depth, int c0, int r0, int c1, i
     return true;
 }
 
+/// The two-triangle error of block (c0..c1, r0..r1) over its samples, borders included (see
+/// blockWithin): sum and largest |surface − sample|; stops (with a partial sum) once a row exceeds
+/// \a cap.
+struct BlockError {
+    float sum = 0.0f;
+    float max = 0.0f;
+    int count = 0; ///< Samples of the block, (w + 1)·(h + 1).
+};
+
+template <class T>
+BlockError blockError(const haptics::DepthFrameView &depth, int c0, int r0, int c1, int r1, float cap) noexcept
+{
+    const auto row = [&](int r) {
+        return depth.data + static_cast<std::size_t>(r) * depth.strideBytes;
+    };
+    const float z00 = loadSample<T>(row(r0), c0);
+    const float z10 = loadSample<T>(row(r0), c1);
+    const float z11 = loadSample<T>(row(r1), c1);
+    const float z01 = loadSample<T>(row(r1), c0);
+    const int w = c1 - c0;
+    const int h = r1 - r0;
+    const float invW = 1.0f / static_cast<float>(w);
+    BlockError out;
+    out.count = (w + 1) * (h + 1);
+    double sum = 0.0;
+    for (int r = r0; r <= r1; ++r) {
+        const int dr = r - r0;
+        const float v = static_cast<float>(dr) / static_cast<float>(h);
+        const int split = c0 + (dr * w + h - 1) / h;
+        const std::uint8_t *p = row(r);
+        float rowMax = 0.0f;
+        float rowSum = 0.0f;
+        float a = z00 + v * (z01 - z00);
+        float b = (z11 - z01) * invW;
+        for (int c = c0; c < split; ++c) {
+            const float e = std::fabs(a + b * static_cast<float>(c - c0) - loadSample<T>(p, c));
+            rowSum += e;
+            rowMax = std::max(rowMax, e);
+        }
+        a = z00 + v * (z11 - z10);
+        b = (z10 - z00) * invW;
+        for (int c = split; c <= c1; ++c) {
+            const float e = std::fabs(a + b * static_cast<float>(c - c0) - loadSample<T>(p, c));
+            rowSum += e;
+            rowMax = std::max(rowMax, e);
+        }
+        sum += static_cast<double>(rowSum);
+        out.max = std::max(out.max, rowMax);
+        if (rowMax > cap)
+            break;
+    }
+    out.sum = static_cast<float>(sum);
+    return out;
+}
+
 } // namespace
 
 template <class T>
@@ -136,6 +193,113 @@ void AdaptiveMesh::buildQuadtree(const haptics::DepthFrameView &depth, const Mes
             steps_[static_cast<std::size_t>(ty * tilesX_ + tx)] = static_cast<std::uint16_t>(finest);
             ++stats_.tilesAtStep[log2i(finest)];
         }
+    }
+    stats_.blocks = static_cast<int>(blocks_.size());
+    indices_.clear();
+    for (const Block &b : blocks_)
+        emitBlock(b.c0, b.r0, 1 << b.log2Size);
+}
+
+template <class T>
+void AdaptiveMesh::buildQuadtreeBudget(const haptics::DepthFrameView &depth, const MeshOptions &options)
+{
+    // Greedy refinement against one error budget for the whole frame: every tile starts as one
+    // block; the block whose split removes the most error per added triangle is split next (a
+    // block over the cap or larger than maxStep first), until the mean error over the blocks'
+    // samples is within the tolerance. Each queued block knows its children's errors (one level
+    // of look-ahead), so flat but noisy blocks, whose error a split does not reduce, stay whole.
+    const auto cap = static_cast<float>(options.maxErrorCap);
+    const int cellsX = width_ - 1;
+    const int cellsY = height_ - 1;
+    using Node = QueuedBlock;
+    const auto less = [](const Node &a, const Node &b) { return a.priority < b.priority; };
+    heap_.clear();
+    blocks_.clear();
+    double totalSum = 0.0;
+    double totalCount = 0.0;
+    const auto measure = [&](int c0, int r0, int size) {
+        return blockError<T>(depth, c0, r0, std::min(c0 + size, cellsX), std::min(r0 + size, cellsY), cap);
+    };
+    // Queues block (c0, r0, size) with its own error \a self; size-1 blocks are final (exact).
+    const auto push = [&](int c0, int r0, int size, const BlockError &self) {
+        const int l = log2i(size);
+        if (size == 1) {
+            blocks_.push_back({c0, r0, 0});
+            totalCount += self.count;
+            return;
+        }
+        const int half = size / 2;
+        double childSum = 0.0;
+        double childCount = 0.0;
+        int children = 0;
+        for (int dy = 0; dy <= half; dy += half)
+            for (int dx = 0; dx <= half; dx += half)
+                if (c0 + dx < cellsX && r0 + dy < cellsY) {
+                    ++children;
+                    if (half > 1) {
+                        const BlockError e = measure(c0 + dx, r0 + dy, half);
+                        childSum += static_cast<double>(e.sum);
+                        childCount += e.count;
+                    }
+                }
+        const double mean = self.count > 0 ? static_cast<double>(self.sum) / self.count : 0.0;
+        const double childMean = childCount > 0.0 ? childSum / childCount : 0.0;
+        const double gain = (mean - childMean) * self.count / (2.0 * (children - 1) + 1e-9);
+        const bool mustSplit = size > options.maxStep || self.max > cap;
+        heap_.push_back({mustSplit ? std::numeric_limits<float>::max() : static_cast<float>(gain), c0, r0, l,
+                         self.sum, self.count});
+        std::push_heap(heap_.begin(), heap_.end(), less);
+        totalSum += static_cast<double>(self.sum);
+        totalCount += self.count;
+    };
+    for (int ty = 0; ty < tilesY_; ++ty)
+        for (int tx = 0; tx < tilesX_; ++tx)
+            push(tx * tile_, ty * tile_, tile_, measure(tx * tile_, ty * tile_, tile_));
+    while (!heap_.empty()) {
+        const Node &top = heap_.front();
+        if (top.priority < std::numeric_limits<float>::max() && totalSum <= options.tolerance * totalCount)
+            break;
+        const Node n = top;
+        std::pop_heap(heap_.begin(), heap_.end(), less);
+        heap_.pop_back();
+        totalSum -= static_cast<double>(n.sum);
+        totalCount -= n.count;
+        const int half = 1 << (n.log2Size - 1);
+        for (int dy = 0; dy <= half; dy += half)
+            for (int dx = 0; dx <= half; dx += half)
+                if (n.c0 + dx < cellsX && n.r0 + dy < cellsY) {
+                    const int c = n.c0 + dx;
+                    const int r = n.r0 + dy;
+                    push(c, r, half, half > 1 ? measure(c, r, half) : BlockError{0.0f, 0.0f, 4});
+                }
+    }
+    for (const Node &n : heap_)
+        blocks_.push_back({n.c0, n.r0, n.log2Size});
+    // Emission order: tile by tile, and inside a tile by position, for locality.
+    const int tileShift = log2i(tile_);
+    const auto key = [&](const Block &b) {
+        return std::make_tuple(b.r0 >> tileShift, b.c0 >> tileShift, b.r0, b.c0);
+    };
+    std::sort(blocks_.begin(), blocks_.end(), [&](const Block &a, const Block &b) { return key(a) < key(b); });
+    cellBlock_.resize(static_cast<std::size_t>(cellsX) * static_cast<std::size_t>(cellsY));
+    std::vector<int> &finest = finestScratch_;
+    finest.assign(steps_.size(), tile_);
+    for (const Block &b : blocks_) {
+        const int size = 1 << b.log2Size;
+        ++stats_.blocksAtSize[b.log2Size];
+        const std::size_t t = static_cast<std::size_t>((b.r0 >> tileShift) * tilesX_ + (b.c0 >> tileShift));
+        finest[t] = std::min(finest[t], size);
+        const int c1 = std::min(b.c0 + size, cellsX);
+        const int r1 = std::min(b.r0 + size, cellsY);
+        for (int r = b.r0; r < r1; ++r)
+            std::fill_n(cellBlock_.begin() +
+                            static_cast<std::ptrdiff_t>(static_cast<std::size_t>(r) * static_cast<std::size_t>(cellsX) +
+                                                        static_cast<std::size_t>(b.c0)),
+                        c1 - b.c0, static_cast<std::uint8_t>(b.log2Size));
+    }
+    for (std::size_t t = 0; t < steps_.size(); ++t) {
+        steps_[t] = static_cast<std::uint16_t>(finest[t]);
+        ++stats_.tilesAtStep[log2i(finest[t])];
     }
     stats_.blocks = static_cast<int>(blocks_.size());
     indices_.clear();
@@ -288,10 +452,18 @@ Result<void> AdaptiveMesh::build(const haptics::DepthFrameView &depth, const Mes
     stats_ = MeshStats{};
     stats_.tiles = tilesX_ * tilesY_;
     if (options.mode == MeshMode::Quadtree) {
-        if (depth.format == haptics::SampleFormat::Gray8)
-            buildQuadtree<std::uint8_t>(depth, options);
-        else
-            buildQuadtree<std::uint16_t>(depth, options);
+        const bool budget = options.criterion == ErrorCriterion::Mean;
+        if (depth.format == haptics::SampleFormat::Gray8) {
+            if (budget)
+                buildQuadtreeBudget<std::uint8_t>(depth, options);
+            else
+                buildQuadtree<std::uint8_t>(depth, options);
+        } else {
+            if (budget)
+                buildQuadtreeBudget<std::uint16_t>(depth, options);
+            else
+                buildQuadtree<std::uint16_t>(depth, options);
+        }
         stats_.triangles = indices_.size() / 3;
         return ok();
     }

@@ -166,12 +166,12 @@ std::vector<BenchConfig> defaultConfigs()
         std::snprintf(name, sizeof name, "adaptive-%.1f", tol);
         out.push_back({name, m});
     }
-    for (const double tol : {0.5, 0.8, 1.2, 2.0, 3.0}) {
-        MeshOptions m; // quadtree: root 32, mean criterion, cap 16 levels
+    for (const double tol : {0.3, 0.4, 0.45, 0.5, 0.6}) {
+        MeshOptions m; // quadtree: root 32, frame mean error budget, cap 16 levels
         m.mode = MeshMode::Quadtree;
         m.tolerance = tol;
         char name[32];
-        std::snprintf(name, sizeof name, "quadtree-%.1f", tol);
+        std::snprintf(name, sizeof name, "quadtree-%.2f", tol);
         out.push_back({name, m});
     }
     return out;

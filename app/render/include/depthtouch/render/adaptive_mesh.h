@@ -19,9 +19,13 @@
 /// with a cap on the largest error (ErrorCriterion::Mean, the default: real depth carries sensor and
 /// quantisation noise of about a level, which a max bound would follow down to full resolution).
 ///
-/// Quadtree (the default): a tile is one block; a block that does not meet the criterion above as two
+/// Quadtree (the default): a tile is one block; a block that does not meet the criterion as two
 /// triangles (its four corners, split by the same diagonal), or is larger than `maxStep`, is split
-/// into four, down to single cells. Flat and planar regions (a plane in the scene is a plane in
+/// into four, down to single cells. With ErrorCriterion::Max every block's largest error is bounded
+/// by the tolerance. With ErrorCriterion::Mean the tolerance is one budget for the whole frame: the
+/// block whose split removes the most error per added triangle is split first (blocks over the cap
+/// always), until the mean error over the blocks' samples is within it (greedy rate-distortion
+/// refinement with one level of look-ahead), so the triangles go where they reduce error most. Flat and planar regions (a plane in the scene is a plane in
 /// nearness, which is affine in 1/Z) become a few large triangles and only the blocks along depth
 /// edges go fine, where a per-tile step must refine the whole tile. A restricted-quadtree LOD
 /// without the restriction: Pajarola, "Large scale terrain visualization using the restricted
@@ -57,8 +61,9 @@ enum class MeshMode : std::uint8_t {
 /// \brief What the adaptive tolerance bounds in each tile.
 enum class ErrorCriterion : std::uint8_t {
     Max,  ///< The largest |surface − sample| of the tile ≤ tolerance.
-    Mean, ///< The tile's mean |surface − sample| ≤ tolerance, and its largest ≤ maxErrorCap (so
-          ///< depth edges stay sharp while sensor noise does not force full resolution).
+    Mean, ///< The tile's mean |surface − sample| ≤ tolerance (Quadtree: the frame's mean), and its
+          ///< largest ≤ maxErrorCap (so depth edges stay sharp while sensor noise does not force
+          ///< full resolution).
 };
 
 /// \brief Mesh options.
@@ -66,8 +71,9 @@ struct MeshOptions {
     MeshMode mode = MeshMode::Quadtree;
     int tileSize = 32;        ///< Cells per tile side T: a power of two, 2..256 (Quadtree: root block).
     int fixedStep = 1;        ///< Fixed mode: step in samples, a power of two ≤ tileSize.
-    double tolerance = 0.8;   ///< Adaptive/Quadtree: error bound per tile or block (see criterion),
-                              ///< nearness levels (≥ 0).
+    double tolerance = 0.45;  ///< Error bound (see criterion), nearness levels (≥ 0): per tile
+                              ///< (Adaptive), per block (Quadtree, Max) or the frame's mean error
+                              ///< budget (Quadtree, Mean).
     int maxStep = 32;         ///< Adaptive/Quadtree: coarsest step (block size) allowed, a power of
                               ///< two ≤ tileSize.
     ErrorCriterion criterion = ErrorCriterion::Mean; ///< Adaptive/Quadtree: what tolerance bounds.
@@ -120,6 +126,8 @@ private:
     template <class T>
     void splitBlock(const haptics::DepthFrameView &depth, const MeshOptions &options, int c0, int r0,
                     int size, int &finest);
+    template <class T>
+    void buildQuadtreeBudget(const haptics::DepthFrameView &depth, const MeshOptions &options);
     void emitBlock(int c0, int r0, int size);
 
     /// A quadtree leaf: top-left cell and log2 of its size.
@@ -134,6 +142,15 @@ private:
     std::vector<Block> blocks_;           ///< Quadtree leaves in emission order.
     std::vector<std::uint8_t> cellBlock_; ///< Per cell (W−1 × H−1): log2 size of its leaf block.
     std::vector<std::uint32_t> polygon_;  ///< Scratch: one block's boundary vertices.
+    /// Scratch of the budgeted quadtree: queued blocks (priority, corner, log2 size, error).
+    struct QueuedBlock {
+        float priority;
+        int c0, r0, log2Size;
+        float sum;  ///< Its own error sum, levels.
+        int count;  ///< Its samples.
+    };
+    std::vector<QueuedBlock> heap_;
+    std::vector<int> finestScratch_;
     MeshStats stats_{};
     int width_ = 0;
     int height_ = 0;
