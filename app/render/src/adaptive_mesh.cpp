@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 #include <tuple>
+#include <utility>
 
 namespace depthtouch::render {
 
@@ -206,72 +207,97 @@ void AdaptiveMesh::buildQuadtreeBudget(const haptics::DepthFrameView &depth, con
     // Greedy refinement against one error budget for the whole frame: every tile starts as one
     // block; the block whose split removes the most error per added triangle is split next (a
     // block over the cap or larger than maxStep first), until the mean error over the blocks'
-    // samples is within the tolerance. Each queued block knows its children's errors (one level
-    // of look-ahead), so flat but noisy blocks, whose error a split does not reduce, stay whole.
+    // samples is within the tolerance. Lazy greedy: a block is queued with its own error as an upper
+    // bound of its gain; when it comes first, its children are measured, and it is queued again with
+    // its true gain (their errors kept for the split). Flat but noisy blocks, whose error a split
+    // does not reduce, thus stay whole, and only blocks that reach the top are looked into.
     const auto cap = static_cast<float>(options.maxErrorCap);
     const int cellsX = width_ - 1;
     const int cellsY = height_ - 1;
     using Node = QueuedBlock;
     const auto less = [](const Node &a, const Node &b) { return a.priority < b.priority; };
+    constexpr float kMust = std::numeric_limits<float>::max();
     heap_.clear();
     blocks_.clear();
     double totalSum = 0.0;
     double totalCount = 0.0;
     const auto measure = [&](int c0, int r0, int size) {
+        if (size == 1)
+            return BlockError{0.0f, 0.0f, 4}; // a single cell is exact
         return blockError<T>(depth, c0, r0, std::min(c0 + size, cellsX), std::min(r0 + size, cellsY), cap);
     };
-    // Queues block (c0, r0, size) with its own error \a self; size-1 blocks are final (exact).
+    // The running totals count each sample once: a block owns its w·h samples (not its bottom
+    // and right borders, its neighbours' own), with its error sum scaled to them.
+    const auto owned = [](const BlockError &e, int size, int c0, int r0, int cx, int cy) {
+        const int w = std::min(c0 + size, cx) - c0;
+        const int h = std::min(r0 + size, cy) - r0;
+        const double share = e.count > 0 ? static_cast<double>(w * h) / e.count : 0.0;
+        return std::pair<double, double>(static_cast<double>(e.sum) * share, static_cast<double>(w * h));
+    };
     const auto push = [&](int c0, int r0, int size, const BlockError &self) {
-        const int l = log2i(size);
         if (size == 1) {
             blocks_.push_back({c0, r0, 0});
-            totalCount += self.count;
+            totalCount += 1.0;
             return;
         }
-        const int half = size / 2;
-        double childSum = 0.0;
-        double childCount = 0.0;
-        int children = 0;
-        for (int dy = 0; dy <= half; dy += half)
-            for (int dx = 0; dx <= half; dx += half)
-                if (c0 + dx < cellsX && r0 + dy < cellsY) {
-                    ++children;
-                    if (half > 1) {
-                        const BlockError e = measure(c0 + dx, r0 + dy, half);
-                        childSum += static_cast<double>(e.sum);
-                        childCount += e.count;
-                    }
-                }
-        const double mean = self.count > 0 ? static_cast<double>(self.sum) / self.count : 0.0;
-        const double childMean = childCount > 0.0 ? childSum / childCount : 0.0;
-        const double gain = (mean - childMean) * self.count / (2.0 * (children - 1) + 1e-9);
-        const bool mustSplit = size > options.maxStep || self.max > cap;
-        heap_.push_back({mustSplit ? std::numeric_limits<float>::max() : static_cast<float>(gain), c0, r0, l,
-                         self.sum, self.count});
+        Node n{};
+        n.priority = size > options.maxStep || self.max > cap ? kMust : self.sum;
+        n.c0 = c0;
+        n.r0 = r0;
+        n.log2Size = log2i(size);
+        n.sum = self.sum;
+        n.count = self.count;
+        n.looked = false;
+        heap_.push_back(n);
         std::push_heap(heap_.begin(), heap_.end(), less);
-        totalSum += static_cast<double>(self.sum);
-        totalCount += self.count;
+        const auto [sum, count] = owned(self, size, c0, r0, cellsX, cellsY);
+        totalSum += sum;
+        totalCount += count;
     };
     for (int ty = 0; ty < tilesY_; ++ty)
         for (int tx = 0; tx < tilesX_; ++tx)
             push(tx * tile_, ty * tile_, tile_, measure(tx * tile_, ty * tile_, tile_));
     while (!heap_.empty()) {
-        const Node &top = heap_.front();
-        if (top.priority < std::numeric_limits<float>::max() && totalSum <= options.tolerance * totalCount)
+        if (heap_.front().priority < kMust && totalSum <= options.tolerance * totalCount)
             break;
-        const Node n = top;
         std::pop_heap(heap_.begin(), heap_.end(), less);
+        Node n = heap_.back();
         heap_.pop_back();
-        totalSum -= static_cast<double>(n.sum);
-        totalCount -= n.count;
         const int half = 1 << (n.log2Size - 1);
-        for (int dy = 0; dy <= half; dy += half)
-            for (int dx = 0; dx <= half; dx += half)
-                if (n.c0 + dx < cellsX && n.r0 + dy < cellsY) {
-                    const int c = n.c0 + dx;
-                    const int r = n.r0 + dy;
-                    push(c, r, half, half > 1 ? measure(c, r, half) : BlockError{0.0f, 0.0f, 4});
+        const bool must = n.priority == kMust;
+        if (!n.looked) {
+            // Measure the children once; a block that must split is split at once.
+            double childSum = 0.0;
+            double childCount = 0.0;
+            int k = 0;
+            for (int dy = 0; dy <= half; dy += half)
+                for (int dx = 0; dx <= half; dx += half, ++k) {
+                    BlockError e{0.0f, 0.0f, 0};
+                    if (n.c0 + dx < cellsX && n.r0 + dy < cellsY)
+                        e = measure(n.c0 + dx, n.r0 + dy, half);
+                    n.child[k] = {e.sum, e.max, e.count};
+                    childSum += static_cast<double>(e.sum);
+                    childCount += e.count;
                 }
+            n.looked = true;
+            if (!must) {
+                const double mean = n.count > 0 ? static_cast<double>(n.sum) / n.count : 0.0;
+                const double childMean = childCount > 0.0 ? childSum / childCount : 0.0;
+                n.priority = static_cast<float>((mean - childMean) * n.count / 6.0);
+                heap_.push_back(n);
+                std::push_heap(heap_.begin(), heap_.end(), less);
+                continue;
+            }
+        }
+        const auto [ownSum, ownCount] = owned(BlockError{n.sum, 0.0f, n.count}, 1 << n.log2Size, n.c0, n.r0,
+                                              cellsX, cellsY);
+        totalSum -= ownSum;
+        totalCount -= ownCount;
+        int k = 0;
+        for (int dy = 0; dy <= half; dy += half)
+            for (int dx = 0; dx <= half; dx += half, ++k)
+                if (n.c0 + dx < cellsX && n.r0 + dy < cellsY)
+                    push(n.c0 + dx, n.r0 + dy, half, BlockError{n.child[k].sum, n.child[k].max, n.child[k].count});
     }
     for (const Node &n : heap_)
         blocks_.push_back({n.c0, n.r0, n.log2Size});

@@ -348,12 +348,17 @@ Result<std::unique_ptr<StereoRenderer>> StereoRenderer::create(const RendererOpt
             glUseProgram(p.program);
             glUniform1i(glGetUniformLocation(p.program, "uDepth"), 0);
             glUniform1i(glGetUniformLocation(p.program, "uRgb"), 1);
+            glUniform1i(glGetUniformLocation(p.program, "uY"), 1);
+            glUniform1i(glGetUniformLocation(p.program, "uU"), 2);
+            glUniform1i(glGetUniformLocation(p.program, "uV"), 3);
             p.columns = glGetUniformLocation(p.program, "uColumns");
             p.origin = glGetUniformLocation(p.program, "uOrigin");
             p.step = glGetUniformLocation(p.program, "uStep");
             p.zMap = glGetUniformLocation(p.program, "uZMap");
             p.texScale = glGetUniformLocation(p.program, "uTexScale");
             p.viewProj = glGetUniformLocation(p.program, "uViewProj");
+            p.yuvToRgb = glGetUniformLocation(p.program, "uYuvToRgb");
+            p.yuvOffset = glGetUniformLocation(p.program, "uYuvOffset");
             p.rowParity = glGetUniformLocation(p.program, "uRowParity");
         }
     }
@@ -570,7 +575,13 @@ Result<void> StereoRenderer::drawSurface(const EyeView &eye, SurfaceOutput outpu
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, g.depth.name);
     glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, g.rgb.name);
+    glBindTexture(GL_TEXTURE_2D, variant == kRgbOut ? g.rgb.name : g.y.name);
+    if (variant == kYuvOut) {
+        glActiveTexture(GL_TEXTURE2);
+        glBindTexture(GL_TEXTURE_2D, g.u.name);
+        glActiveTexture(GL_TEXTURE3);
+        glBindTexture(GL_TEXTURE_2D, g.v.name);
+    }
     glActiveTexture(GL_TEXTURE0);
     const SurfaceMapping &m = mapping_;
     glUniform1i(p.columns, m.columns);
@@ -580,6 +591,11 @@ Result<void> StereoRenderer::drawSurface(const EyeView &eye, SurfaceOutput outpu
     glUniform2f(p.texScale, 1.0f / static_cast<float>(m.columns), 1.0f / static_cast<float>(m.rows));
     const glm::mat4 viewProj = eye.projection * eye.view;
     glUniformMatrix4fv(p.viewProj, 1, GL_FALSE, glm::value_ptr(viewProj));
+    if (variant == kYuvOut) {
+        const YuvToRgb conv = yuvToRgb(colorSpec_);
+        glUniformMatrix3fv(p.yuvToRgb, 1, GL_FALSE, glm::value_ptr(conv.matrix));
+        glUniform3fv(p.yuvOffset, 1, glm::value_ptr(conv.offset));
+    }
     if (eye.rowParity >= 0)
         glUniform1i(p.rowParity, eye.rowParity);
     glBindVertexArray(g.surfaceVao);

@@ -144,10 +144,15 @@ private:
     std::vector<std::uint32_t> polygon_;  ///< Scratch: one block's boundary vertices.
     /// Scratch of the budgeted quadtree: queued blocks (priority, corner, log2 size, error).
     struct QueuedBlock {
-        float priority;
+        float priority; ///< Error removed per added triangle (an upper bound until looked).
         int c0, r0, log2Size;
-        float sum;  ///< Its own error sum, levels.
-        int count;  ///< Its samples.
+        float sum;      ///< Its own error sum, levels.
+        int count;      ///< Its samples.
+        bool looked;    ///< child[] measured.
+        struct {
+            float sum, max;
+            int count;
+        } child[4];
     };
     std::vector<QueuedBlock> heap_;
     std::vector<int> finestScratch_;
