@@ -169,6 +169,8 @@ std::vector<BenchConfig> defaultConfigs()
     for (const double tol : {0.3, 0.4, 0.45, 0.5, 0.6}) {
         MeshOptions m; // quadtree: root 32, frame mean error budget, cap 16 levels
         m.mode = MeshMode::Quadtree;
+        m.tileSize = 32;
+        m.maxStep = 32;
         m.tolerance = tol;
         char name[32];
         std::snprintf(name, sizeof name, "quadtree-%.2f", tol);

@@ -19,13 +19,15 @@
 /// with a cap on the largest error (ErrorCriterion::Mean, the default: real depth carries sensor and
 /// quantisation noise of about a level, which a max bound would follow down to full resolution).
 ///
-/// Quadtree (the default): a tile is one block; a block that does not meet the criterion as two
+/// Quadtree: a tile is one block; a block that does not meet the criterion as two
 /// triangles (its four corners, split by the same diagonal), or is larger than `maxStep`, is split
 /// into four, down to single cells. With ErrorCriterion::Max every block's largest error is bounded
 /// by the tolerance. With ErrorCriterion::Mean the tolerance is one budget for the whole frame: the
 /// block whose split removes the most error per added triangle is split first (blocks over the cap
 /// always), until the mean error over the blocks' samples is within it (greedy rate-distortion
-/// refinement with one level of look-ahead), so the triangles go where they reduce error most. Flat and planar regions (a plane in the scene is a plane in
+/// refinement with one level of look-ahead), so the triangles go where they reduce error most. On
+/// the 7-Scenes kitchen it draws about a quarter fewer triangles than the per-tile choice at the
+/// same mean error, but its choice costs more CPU time, so the per-tile mode stays the default. Flat and planar regions (a plane in the scene is a plane in
 /// nearness, which is affine in 1/Z) become a few large triangles and only the blocks along depth
 /// edges go fine, where a per-tile step must refine the whole tile. A restricted-quadtree LOD
 /// without the restriction: Pajarola, "Large scale terrain visualization using the restricted
@@ -68,13 +70,14 @@ enum class ErrorCriterion : std::uint8_t {
 
 /// \brief Mesh options.
 struct MeshOptions {
-    MeshMode mode = MeshMode::Quadtree;
-    int tileSize = 32;        ///< Cells per tile side T: a power of two, 2..256 (Quadtree: root block).
+    MeshMode mode = MeshMode::Adaptive;
+    int tileSize = 8;         ///< Cells per tile side T: a power of two, 2..256 (Quadtree: root block,
+                              ///< e.g. 32).
     int fixedStep = 1;        ///< Fixed mode: step in samples, a power of two ≤ tileSize.
-    double tolerance = 0.45;  ///< Error bound (see criterion), nearness levels (≥ 0): per tile
+    double tolerance = 1.2;   ///< Error bound (see criterion), nearness levels (≥ 0): per tile
                               ///< (Adaptive), per block (Quadtree, Max) or the frame's mean error
                               ///< budget (Quadtree, Mean).
-    int maxStep = 32;         ///< Adaptive/Quadtree: coarsest step (block size) allowed, a power of
+    int maxStep = 8;          ///< Adaptive/Quadtree: coarsest step (block size) allowed, a power of
                               ///< two ≤ tileSize.
     ErrorCriterion criterion = ErrorCriterion::Mean; ///< Adaptive/Quadtree: what tolerance bounds.
     double maxErrorCap = 16.0; ///< Mean criterion: largest error allowed in a tile or block, levels.

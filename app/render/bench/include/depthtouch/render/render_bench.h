@@ -94,9 +94,9 @@ struct BenchOptions {
     std::optional<std::uint32_t> presentFramebuffer;
 };
 
-/// \return full mesh, steps 2/4/8, per-tile adaptive (tile 8, mean criterion, cap 16 levels) at
-/// tolerances 0.3, 0.5, 0.7, 0.9 and 1.2 levels, and the quadtree (default MeshOptions: root 32,
-/// frame mean error budget, cap 16) at budgets 0.3, 0.4, 0.45, 0.5 and 0.6 levels.
+/// \return full mesh, steps 2/4/8, per-tile adaptive (tile 8, mean criterion, cap 16 levels; the
+/// default MeshOptions at 1.2) at tolerances 0.3, 0.5, 0.7, 0.9 and 1.2 levels, and the quadtree
+/// (root 32, frame mean error budget, cap 16) at budgets 0.3, 0.4, 0.45, 0.5 and 0.6 levels.
 std::vector<BenchConfig> defaultConfigs();
 
 /// \brief Runs every setting on \a frames; the settings take turns frame by frame (each frame is
