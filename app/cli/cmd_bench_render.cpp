@@ -1,8 +1,9 @@
 /// \file
 /// \brief `depthtouch bench render`: frame rate (median, p99 frame time) against mean/max geometric
 /// error of the stereo renderer's meshes (full, fixed decimations, adaptive at several tolerances),
-/// side-by-side on real RGB-D frames (7-Scenes redkitchen at 720×486); writes render_bench.csv,
-/// fps_vs_error.png and a side-by-side snapshot into --out and prints a table. The GL context comes
+/// side-by-side on real RGB-D frames (7-Scenes redkitchen at 720×486), with a per-stage breakdown of
+/// the frame; writes render_bench.csv, fps_vs_error.png, stages.png and a side-by-side snapshot into
+/// --out and prints the tables. The GL context comes
 /// from a Display backend (--display, default headless).
 
 #include <cstdio>
@@ -36,6 +37,8 @@ struct BenchRenderOptions {
     int height = 486;
     int depthWidth = 720;
     int depthHeight = 486;
+    std::string only;
+    bool stages = true;
 };
 
 int runBenchRender(const BenchRenderOptions &o)
@@ -85,10 +88,18 @@ int runBenchRender(const BenchRenderOptions &o)
         std::fprintf(stderr, "depthtouch bench render: cannot read the frames: %s\n", frames.error().what);
         return kExitBadInput;
     }
+    auto configs = bench::selectConfigs(o.only);
+    if (!configs) {
+        std::fprintf(stderr, "depthtouch bench render: --only: %s\n", configs.error().what);
+        return kExitBadInput;
+    }
     bench::BenchOptions bo;
     bo.outputWidth = o.width;
     bo.outputHeight = o.height;
     bo.framesPerConfig = o.frames;
+    bo.configs = std::move(*configs);
+    bo.stageBreakdown = o.stages;
+    bo.presentFramebuffer = (*display)->framebuffer();
     auto rows = bench::runRenderBenchmark(*frames, bo);
     if (!rows) {
         std::fprintf(stderr, "depthtouch bench render: %s\n", rows.error().what);
@@ -106,7 +117,7 @@ int runBenchRender(const BenchRenderOptions &o)
         std::fprintf(stderr, "depthtouch bench render: snapshot not written: %s\n", r.error().what);
     if (!note.empty())
         std::printf("note: %s\n", note.c_str());
-    std::printf("wrote %s/{render_bench.csv,fps_vs_error.png,kitchen_sbs.png}\n", o.out.c_str());
+    std::printf("wrote %s/{render_bench.csv,fps_vs_error.png,stages.png,kitchen_sbs.png}\n", o.out.c_str());
     (*display)->close();
     return kExitOk;
 #else
@@ -132,6 +143,8 @@ void registerBenchRenderCommand(CLI::App &bench, int &exitCode)
     cmd->add_option("--depth-width", o->depthWidth, "Depth frame width the data is resampled to")
         ->capture_default_str();
     cmd->add_option("--depth-height", o->depthHeight, "Depth frame height")->capture_default_str();
+    cmd->add_option("--only", o->only, "Comma-separated mesh settings to run (e.g. full,adaptive-0.5; default all)");
+    cmd->add_flag("!--no-stages", o->stages, "Skip the per-stage breakdown pass");
     cmd->callback([o, &exitCode]() { exitCode = runBenchRender(*o); });
 }
 

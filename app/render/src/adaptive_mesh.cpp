@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <tuple>
+#include <utility>
 
 namespace depthtouch::render {
 
@@ -30,7 +34,380 @@ inline double cellValue(double z00, double z10, double z11, double z01, double u
     return z00 + v * (z01 - z00) + u * (z11 - z01);
 }
 
+template <class T> inline float loadSample(const std::uint8_t *row, int c) noexcept
+{
+    T v;
+    std::memcpy(&v, row + static_cast<std::size_t>(c) * sizeof(T), sizeof v);
+    return static_cast<float>(v);
+}
+
+/// Whether the two triangles of block (c0..c1, r0..r1) (corners only, top-left → bottom-right
+/// diagonal) are within \a tolerance of every sample of the block, borders included (Max), or on
+/// average with every sample within \a cap (Mean). Each row is two linear runs (left of the
+/// diagonal: the lower triangle; right of it: the upper), so the loops vectorise; a row over the
+/// cap or a running sum over the mean's budget stops early.
+template <class T>
+bool blockWithin(const haptics::DepthFrameView &depth, int c0, int r0, int c1, int r1, float tolerance,
+                 float cap, bool mean) noexcept
+{
+    const auto row = [&](int r) {
+        return depth.data + static_cast<std::size_t>(r) * depth.strideBytes;
+    };
+    const float z00 = loadSample<T>(row(r0), c0);
+    const float z10 = loadSample<T>(row(r0), c1);
+    const float z11 = loadSample<T>(row(r1), c1);
+    const float z01 = loadSample<T>(row(r1), c0);
+    const int w = c1 - c0;
+    const int h = r1 - r0;
+    const float invW = 1.0f / static_cast<float>(w);
+    const float limit = mean ? cap : tolerance;
+    const double budget = mean ? static_cast<double>(tolerance) * (w + 1) * (h + 1) : 0.0;
+    double sum = 0.0;
+    for (int r = r0; r <= r1; ++r) {
+        const int dr = r - r0;
+        const float v = static_cast<float>(dr) / static_cast<float>(h);
+        // First column on the upper triangle: (c − c0)·h ≥ dr·w.
+        const int split = c0 + (dr * w + h - 1) / h;
+        const std::uint8_t *p = row(r);
+        float rowMax = 0.0f;
+        float rowSum = 0.0f;
+        // Lower triangle (u < v): z00 + v·(z01 − z00) + u·(z11 − z01).
+        float a = z00 + v * (z01 - z00);
+        float b = (z11 - z01) * invW;
+        for (int c = c0; c < split; ++c) {
+            const float e = std::fabs(a + b * static_cast<float>(c - c0) - loadSample<T>(p, c));
+            rowSum += e;
+            rowMax = std::max(rowMax, e);
+        }
+        // Upper triangle (u ≥ v): z00 + u·(z10 − z00) + v·(z11 − z10).
+        a = z00 + v * (z11 - z10);
+        b = (z10 - z00) * invW;
+        for (int c = split; c <= c1; ++c) {
+            const float e = std::fabs(a + b * static_cast<float>(c - c0) - loadSample<T>(p, c));
+            rowSum += e;
+            rowMax = std::max(rowMax, e);
+        }
+        if (rowMax > limit)
+            return false;
+        sum += static_cast<double>(rowSum);
+        if (mean && sum > budget)
+            return false;
+    }
+    return true;
+}
+
+/// The two-triangle error of block (c0..c1, r0..r1) over its samples, borders included (see
+/// blockWithin): sum and largest |surface − sample|; stops (with a partial sum) once a row exceeds
+/// \a cap.
+struct BlockError {
+    float sum = 0.0f;
+    float max = 0.0f;
+    int count = 0; ///< Samples of the block, (w + 1)·(h + 1).
+};
+
+template <class T>
+BlockError blockError(const haptics::DepthFrameView &depth, int c0, int r0, int c1, int r1, float cap) noexcept
+{
+    const auto row = [&](int r) {
+        return depth.data + static_cast<std::size_t>(r) * depth.strideBytes;
+    };
+    const float z00 = loadSample<T>(row(r0), c0);
+    const float z10 = loadSample<T>(row(r0), c1);
+    const float z11 = loadSample<T>(row(r1), c1);
+    const float z01 = loadSample<T>(row(r1), c0);
+    const int w = c1 - c0;
+    const int h = r1 - r0;
+    const float invW = 1.0f / static_cast<float>(w);
+    BlockError out;
+    out.count = (w + 1) * (h + 1);
+    double sum = 0.0;
+    for (int r = r0; r <= r1; ++r) {
+        const int dr = r - r0;
+        const float v = static_cast<float>(dr) / static_cast<float>(h);
+        const int split = c0 + (dr * w + h - 1) / h;
+        const std::uint8_t *p = row(r);
+        float rowMax = 0.0f;
+        float rowSum = 0.0f;
+        float a = z00 + v * (z01 - z00);
+        float b = (z11 - z01) * invW;
+        for (int c = c0; c < split; ++c) {
+            const float e = std::fabs(a + b * static_cast<float>(c - c0) - loadSample<T>(p, c));
+            rowSum += e;
+            rowMax = std::max(rowMax, e);
+        }
+        a = z00 + v * (z11 - z10);
+        b = (z10 - z00) * invW;
+        for (int c = split; c <= c1; ++c) {
+            const float e = std::fabs(a + b * static_cast<float>(c - c0) - loadSample<T>(p, c));
+            rowSum += e;
+            rowMax = std::max(rowMax, e);
+        }
+        sum += static_cast<double>(rowSum);
+        out.max = std::max(out.max, rowMax);
+        if (rowMax > cap)
+            break;
+    }
+    out.sum = static_cast<float>(sum);
+    return out;
+}
+
 } // namespace
+
+template <class T>
+void AdaptiveMesh::splitBlock(const haptics::DepthFrameView &depth, const MeshOptions &options, int c0,
+                              int r0, int size, int &finest)
+{
+    const int c1 = std::min(c0 + size, width_ - 1);
+    const int r1 = std::min(r0 + size, height_ - 1);
+    const bool mean = options.criterion == ErrorCriterion::Mean;
+    if (size == 1 ||
+        (size <= options.maxStep &&
+         blockWithin<T>(depth, c0, r0, c1, r1, static_cast<float>(options.tolerance),
+                        static_cast<float>(options.maxErrorCap), mean))) {
+        const int l = log2i(size);
+        blocks_.push_back({c0, r0, l});
+        ++stats_.blocksAtSize[l];
+        finest = std::min(finest, size);
+        const auto cellsX = static_cast<std::size_t>(width_ - 1);
+        for (int r = r0; r < r1; ++r)
+            std::fill_n(cellBlock_.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(r) * cellsX +
+                                                                         static_cast<std::size_t>(c0)),
+                        c1 - c0, static_cast<std::uint8_t>(l));
+        return;
+    }
+    const int half = size / 2;
+    for (int dy = 0; dy <= half; dy += half)
+        for (int dx = 0; dx <= half; dx += half)
+            if (c0 + dx < width_ - 1 && r0 + dy < height_ - 1)
+                splitBlock<T>(depth, options, c0 + dx, r0 + dy, half, finest);
+}
+
+template <class T>
+void AdaptiveMesh::buildQuadtree(const haptics::DepthFrameView &depth, const MeshOptions &options)
+{
+    blocks_.clear();
+    cellBlock_.resize(static_cast<std::size_t>(width_ - 1) * static_cast<std::size_t>(height_ - 1));
+    for (int ty = 0; ty < tilesY_; ++ty) {
+        for (int tx = 0; tx < tilesX_; ++tx) {
+            int finest = tile_;
+            splitBlock<T>(depth, options, tx * tile_, ty * tile_, tile_, finest);
+            steps_[static_cast<std::size_t>(ty * tilesX_ + tx)] = static_cast<std::uint16_t>(finest);
+            ++stats_.tilesAtStep[log2i(finest)];
+        }
+    }
+    stats_.blocks = static_cast<int>(blocks_.size());
+    indices_.clear();
+    for (const Block &b : blocks_)
+        emitBlock(b.c0, b.r0, 1 << b.log2Size);
+}
+
+template <class T>
+void AdaptiveMesh::buildQuadtreeBudget(const haptics::DepthFrameView &depth, const MeshOptions &options)
+{
+    // Greedy refinement against one error budget for the whole frame: every tile starts as one
+    // block; the block whose split removes the most error per added triangle is split next (a
+    // block over the cap or larger than maxStep first), until the mean error over the blocks'
+    // samples is within the tolerance. Lazy greedy: a block is queued with its own error as an upper
+    // bound of its gain; when it comes first, its children are measured, and it is queued again with
+    // its true gain (their errors kept for the split). Flat but noisy blocks, whose error a split
+    // does not reduce, thus stay whole, and only blocks that reach the top are looked into.
+    const auto cap = static_cast<float>(options.maxErrorCap);
+    const int cellsX = width_ - 1;
+    const int cellsY = height_ - 1;
+    using Node = QueuedBlock;
+    const auto less = [](const Node &a, const Node &b) { return a.priority < b.priority; };
+    constexpr float kMust = std::numeric_limits<float>::max();
+    heap_.clear();
+    blocks_.clear();
+    double totalSum = 0.0;
+    double totalCount = 0.0;
+    const auto measure = [&](int c0, int r0, int size) {
+        if (size == 1)
+            return BlockError{0.0f, 0.0f, 4}; // a single cell is exact
+        return blockError<T>(depth, c0, r0, std::min(c0 + size, cellsX), std::min(r0 + size, cellsY), cap);
+    };
+    // The running totals count each sample once: a block owns its w·h samples (not its bottom
+    // and right borders, its neighbours' own), with its error sum scaled to them.
+    const auto owned = [](const BlockError &e, int size, int c0, int r0, int cx, int cy) {
+        const int w = std::min(c0 + size, cx) - c0;
+        const int h = std::min(r0 + size, cy) - r0;
+        const double share = e.count > 0 ? static_cast<double>(w * h) / e.count : 0.0;
+        return std::pair<double, double>(static_cast<double>(e.sum) * share, static_cast<double>(w * h));
+    };
+    const auto push = [&](int c0, int r0, int size, const BlockError &self) {
+        if (size == 1) {
+            blocks_.push_back({c0, r0, 0});
+            totalCount += 1.0;
+            return;
+        }
+        Node n{};
+        n.priority = size > options.maxStep || self.max > cap ? kMust : self.sum;
+        n.c0 = c0;
+        n.r0 = r0;
+        n.log2Size = log2i(size);
+        n.sum = self.sum;
+        n.count = self.count;
+        n.looked = false;
+        heap_.push_back(n);
+        std::push_heap(heap_.begin(), heap_.end(), less);
+        const auto [sum, count] = owned(self, size, c0, r0, cellsX, cellsY);
+        totalSum += sum;
+        totalCount += count;
+    };
+    for (int ty = 0; ty < tilesY_; ++ty)
+        for (int tx = 0; tx < tilesX_; ++tx)
+            push(tx * tile_, ty * tile_, tile_, measure(tx * tile_, ty * tile_, tile_));
+    while (!heap_.empty()) {
+        if (heap_.front().priority < kMust && totalSum <= options.tolerance * totalCount)
+            break;
+        std::pop_heap(heap_.begin(), heap_.end(), less);
+        Node n = heap_.back();
+        heap_.pop_back();
+        const int half = 1 << (n.log2Size - 1);
+        const bool must = n.priority == kMust;
+        if (!n.looked) {
+            // Measure the children once; a block that must split is split at once.
+            double childSum = 0.0;
+            double childCount = 0.0;
+            int k = 0;
+            for (int dy = 0; dy <= half; dy += half)
+                for (int dx = 0; dx <= half; dx += half, ++k) {
+                    BlockError e{0.0f, 0.0f, 0};
+                    if (n.c0 + dx < cellsX && n.r0 + dy < cellsY)
+                        e = measure(n.c0 + dx, n.r0 + dy, half);
+                    n.child[k] = {e.sum, e.max, e.count};
+                    childSum += static_cast<double>(e.sum);
+                    childCount += e.count;
+                }
+            n.looked = true;
+            if (!must) {
+                const double mean = n.count > 0 ? static_cast<double>(n.sum) / n.count : 0.0;
+                const double childMean = childCount > 0.0 ? childSum / childCount : 0.0;
+                n.priority = static_cast<float>((mean - childMean) * n.count / 6.0);
+                heap_.push_back(n);
+                std::push_heap(heap_.begin(), heap_.end(), less);
+                continue;
+            }
+        }
+        const auto [ownSum, ownCount] = owned(BlockError{n.sum, 0.0f, n.count}, 1 << n.log2Size, n.c0, n.r0,
+                                              cellsX, cellsY);
+        totalSum -= ownSum;
+        totalCount -= ownCount;
+        int k = 0;
+        for (int dy = 0; dy <= half; dy += half)
+            for (int dx = 0; dx <= half; dx += half, ++k)
+                if (n.c0 + dx < cellsX && n.r0 + dy < cellsY)
+                    push(n.c0 + dx, n.r0 + dy, half, BlockError{n.child[k].sum, n.child[k].max, n.child[k].count});
+    }
+    for (const Node &n : heap_)
+        blocks_.push_back({n.c0, n.r0, n.log2Size});
+    // Emission order: tile by tile, and inside a tile by position, for locality.
+    const int tileShift = log2i(tile_);
+    const auto key = [&](const Block &b) {
+        return std::make_tuple(b.r0 >> tileShift, b.c0 >> tileShift, b.r0, b.c0);
+    };
+    std::sort(blocks_.begin(), blocks_.end(), [&](const Block &a, const Block &b) { return key(a) < key(b); });
+    cellBlock_.resize(static_cast<std::size_t>(cellsX) * static_cast<std::size_t>(cellsY));
+    std::vector<int> &finest = finestScratch_;
+    finest.assign(steps_.size(), tile_);
+    for (const Block &b : blocks_) {
+        const int size = 1 << b.log2Size;
+        ++stats_.blocksAtSize[b.log2Size];
+        const std::size_t t = static_cast<std::size_t>((b.r0 >> tileShift) * tilesX_ + (b.c0 >> tileShift));
+        finest[t] = std::min(finest[t], size);
+        const int c1 = std::min(b.c0 + size, cellsX);
+        const int r1 = std::min(b.r0 + size, cellsY);
+        for (int r = b.r0; r < r1; ++r)
+            std::fill_n(cellBlock_.begin() +
+                            static_cast<std::ptrdiff_t>(static_cast<std::size_t>(r) * static_cast<std::size_t>(cellsX) +
+                                                        static_cast<std::size_t>(b.c0)),
+                        c1 - b.c0, static_cast<std::uint8_t>(b.log2Size));
+    }
+    for (std::size_t t = 0; t < steps_.size(); ++t) {
+        steps_[t] = static_cast<std::uint16_t>(finest[t]);
+        ++stats_.tilesAtStep[log2i(finest[t])];
+    }
+    stats_.blocks = static_cast<int>(blocks_.size());
+    indices_.clear();
+    for (const Block &b : blocks_)
+        emitBlock(b.c0, b.r0, 1 << b.log2Size);
+}
+
+void AdaptiveMesh::emitBlock(int c0, int r0, int s)
+{
+    const int cellsX = width_ - 1;
+    const int cellsY = height_ - 1;
+    const auto cellsXu = static_cast<std::size_t>(cellsX);
+    const int c1 = std::min(c0 + s, cellsX);
+    const int r1 = std::min(r0 + s, cellsY);
+    const auto w = static_cast<std::uint32_t>(width_);
+    const auto index = [w](int c, int r) {
+        return static_cast<std::uint32_t>(r) * w + static_cast<std::uint32_t>(c);
+    };
+    // Size of the leaf block covering cell (x, y); 0 outside the grid.
+    const auto sizeAt = [&](int x, int y) -> int {
+        if (x < 0 || y < 0 || x >= cellsX || y >= cellsY)
+            return 0;
+        return 1 << cellBlock_[static_cast<std::size_t>(y) * cellsXu + static_cast<std::size_t>(x)];
+    };
+    // The boundary, clockwise from the top-left corner (the winding of the two-triangle split),
+    // with the corners of every smaller neighbouring block that lie inside a side: blocks are
+    // aligned to their size, so walking the cells just outside a side block by block finds them.
+    polygon_.clear();
+    const auto side = [&](int fixed, int from, int to, bool horizontal, int outside) {
+        // Cells outside the side run from..to−1 along it; push the inner vertices in walking order.
+        const std::size_t first = polygon_.size();
+        for (int p = from; p < to;) {
+            const int n = horizontal ? sizeAt(p, outside) : sizeAt(outside, p);
+            if (n == 0 || n >= s)
+                break; // grid border, or one block at least as large: no vertex inside the side
+            const int next = p / n * n + n;
+            if (next < to)
+                polygon_.push_back(horizontal ? index(next, fixed) : index(fixed, next));
+            p = next;
+        }
+        return polygon_.size() - first;
+    };
+    polygon_.push_back(index(c0, r0));
+    const std::size_t nTop = side(r0, c0, c1, true, r0 - 1);
+    polygon_.push_back(index(c1, r0));
+    const std::size_t nRight = side(c1, r0, r1, false, c1);
+    polygon_.push_back(index(c1, r1));
+    const std::size_t bottomStart = polygon_.size();
+    const std::size_t nBottom = side(r1, c0, c1, true, r1);
+    std::reverse(polygon_.begin() + static_cast<std::ptrdiff_t>(bottomStart), polygon_.end());
+    polygon_.push_back(index(c0, r1));
+    const std::size_t leftStart = polygon_.size();
+    side(c0, r0, r1, false, c0 - 1);
+    std::reverse(polygon_.begin() + static_cast<std::ptrdiff_t>(leftStart), polygon_.end());
+
+    const auto triangle = [this](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+        indices_.push_back(i);
+        indices_.push_back(j);
+        indices_.push_back(k);
+    };
+    const std::size_t n = polygon_.size();
+    if (n == 4) {
+        // No neighbour finer than this block: its two triangles, split like the haptic cells.
+        triangle(polygon_[0], polygon_[1], polygon_[2]); // haptics TriangleId upper == 0
+        triangle(polygon_[0], polygon_[2], polygon_[3]); // upper == 1
+        return;
+    }
+    if (c1 - c0 >= 2 && r1 - r0 >= 2) {
+        // A fan around the block's middle sample (the block is convex, so every triangle is
+        // positive and they tile it exactly); the neighbours' vertices close every T-junction.
+        const std::uint32_t m = index(c0 + (c1 - c0) / 2, r0 + (r1 - r0) / 2);
+        for (std::size_t i = 0; i < n; ++i)
+            triangle(m, polygon_[i], polygon_[(i + 1) % n]);
+        return;
+    }
+    // A block one cell thin (cut by the grid's last column or row): only its long inner side can
+    // hold vertices (the top, or the left), the opposite one being the grid border; fan from a
+    // corner of the border side (bottom-left, or top-right).
+    const std::size_t apex = nTop > 0 ? 3 + nTop + nRight + nBottom : 1;
+    for (std::size_t k = 1; k + 1 < n; ++k)
+        triangle(polygon_[apex], polygon_[(apex + k) % n], polygon_[(apex + k + 1) % n]);
+}
 
 double AdaptiveMesh::tileError(const haptics::DepthFrameView &depth, int tx, int ty, int step,
                                double limit, double &mean) const noexcept
@@ -83,7 +460,7 @@ Result<void> AdaptiveMesh::build(const haptics::DepthFrameView &depth, const Mes
     if (!isPowerOfTwo(fixedStep) || fixedStep > options.tileSize)
         return unexpected(Errc::InvalidArgument,
                           "mesh step must be a power of two no larger than the tile size");
-    if (options.mode == MeshMode::Adaptive &&
+    if (options.mode != MeshMode::Fixed &&
         (!isPowerOfTwo(options.maxStep) || options.maxStep > options.tileSize))
         return unexpected(Errc::InvalidArgument,
                           "mesh maximum step must be a power of two no larger than the tile size");
@@ -100,6 +477,22 @@ Result<void> AdaptiveMesh::build(const haptics::DepthFrameView &depth, const Mes
     steps_.assign(static_cast<std::size_t>(tilesX_) * static_cast<std::size_t>(tilesY_), 1);
     stats_ = MeshStats{};
     stats_.tiles = tilesX_ * tilesY_;
+    if (options.mode == MeshMode::Quadtree) {
+        const bool budget = options.criterion == ErrorCriterion::Mean;
+        if (depth.format == haptics::SampleFormat::Gray8) {
+            if (budget)
+                buildQuadtreeBudget<std::uint8_t>(depth, options);
+            else
+                buildQuadtree<std::uint8_t>(depth, options);
+        } else {
+            if (budget)
+                buildQuadtreeBudget<std::uint16_t>(depth, options);
+            else
+                buildQuadtree<std::uint16_t>(depth, options);
+        }
+        stats_.triangles = indices_.size() / 3;
+        return ok();
+    }
 
     for (int ty = 0; ty < tilesY_; ++ty) {
         for (int tx = 0; tx < tilesX_; ++tx) {

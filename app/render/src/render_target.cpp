@@ -126,8 +126,11 @@ Result<void> RenderTarget::blitTo(std::uint32_t dst, int dstWidth, int dstHeight
     if (glCheckFramebufferStatus(GL_DRAW_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
         return unexpected(Errc::NotSupported, "destination framebuffer is not complete");
     glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+    // At the same size filtering changes nothing, and GL_NEAREST lets the driver copy the pixels
+    // instead of drawing a textured quad (Mesa: a plain copy only for unfiltered blits).
+    const bool sameSize = dstWidth == width_ && dstHeight == height_;
     glBlitFramebuffer(0, 0, width_, height_, 0, 0, dstWidth, dstHeight, GL_COLOR_BUFFER_BIT,
-                      GL_LINEAR);
+                      sameSize ? GL_NEAREST : GL_LINEAR);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
     if (glGetError() != GL_NO_ERROR)
         return unexpected(Errc::Io, "glBlitFramebuffer failed");

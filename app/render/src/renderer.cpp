@@ -56,26 +56,40 @@ void main() {
 }
 )";
 
+// The surface's colour: from R'G'B' converted on the CPU (one texture fetch per fragment), or from
+// the three Y'CbCr planes converted here (three fetches and the matrix per fragment).
 constexpr const char *kSurfaceFs = R"(
 precision highp float;
 precision highp int;
+#ifdef YUV
 uniform sampler2D uY;
 uniform sampler2D uU;
 uniform sampler2D uV;
 uniform mat3 uYuvToRgb;
 uniform vec3 uYuvOffset;
+#else
+uniform sampler2D uRgb;
+#endif
+#ifdef ROW_PARITY
 uniform int uRowParity;
+#endif
 in vec2 vTex;
 in vec3 vPos;
 out vec4 fragColor;
 void main() {
-    if (uRowParity >= 0 && (int(gl_FragCoord.y) & 1) != uRowParity)
+#ifdef ROW_PARITY
+    // Only the row-interleaved layout discards: elsewhere the shader has no discard, which lets the
+    // rasterizer test depth before shading (early depth test).
+    if ((int(gl_FragCoord.y) & 1) != uRowParity)
         discard;
-#ifdef POSITION
+#endif
+#if defined(POSITION)
     fragColor = vec4(vPos, 1.0);
-#else
+#elif defined(YUV)
     vec3 yuv = vec3(texture(uY, vTex).r, texture(uU, vTex).r, texture(uV, vTex).r);
     fragColor = vec4(clamp(uYuvToRgb * (yuv - uYuvOffset), 0.0, 1.0), 1.0);
+#else
+    fragColor = texture(uRgb, vTex);
 #endif
 }
 )";
@@ -237,11 +251,26 @@ struct SurfaceProgram {
     GLint yuvToRgb = -1, yuvOffset = -1, rowParity = -1;
 };
 
+/// What the surface fragment shader outputs.
+enum SurfaceVariant : int { kPositionOut = 0, kRgbOut = 1, kYuvOut = 2 };
+
+/// \return true when GL_RENDERER names a software rasterizer (Mesa llvmpipe, softpipe, swrast),
+/// where shading dominates and a CPU colour conversion is far cheaper than the per-fragment one.
+bool softwareRasterizer()
+{
+    const auto *name = reinterpret_cast<const char *>(glGetString(GL_RENDERER));
+    if (name == nullptr)
+        return false;
+    const std::string s(name);
+    return s.find("llvmpipe") != std::string::npos || s.find("softpipe") != std::string::npos ||
+           s.find("swrast") != std::string::npos;
+}
+
 } // namespace
 
 struct StereoRenderer::Gl {
-    // [depth16][position]
-    SurfaceProgram surface[2][2];
+    // [depth16][SurfaceVariant][row parity]
+    SurfaceProgram surface[2][3][2];
     GLuint avatarProgram = 0;
     GLint avCenter = -1, avRadius = -1, avViewProj = -1, avColor = -1, avRowParity = -1;
     GLuint osdProgram = 0;
@@ -257,15 +286,18 @@ struct StereoRenderer::Gl {
     GLuint osdVbo = 0;
     Texture depth;
     Texture y, u, v;
+    Texture rgb; ///< The colour frame as RGBA8 when converted on the CPU.
     Texture font;
+    YuvConverter converter;
     std::vector<float> osdVertices;
 
     ~Gl()
     {
-        for (auto &row : surface)
-            for (auto &p : row)
-                if (p.program != 0)
-                    glDeleteProgram(p.program);
+        for (auto &plane : surface)
+            for (auto &row : plane)
+                for (auto &p : row)
+                    if (p.program != 0)
+                        glDeleteProgram(p.program);
         if (avatarProgram != 0)
             glDeleteProgram(avatarProgram);
         if (osdProgram != 0)
@@ -278,6 +310,7 @@ struct StereoRenderer::Gl {
         y.release();
         u.release();
         v.release();
+        rgb.release();
         font.release();
     }
 };
@@ -294,19 +327,27 @@ Result<std::unique_ptr<StereoRenderer>> StereoRenderer::create(const RendererOpt
     r->gl_ = std::make_unique<Gl>();
     Gl &g = *r->gl_;
 
-    for (int d16 = 0; d16 < 2; ++d16) {
-        for (int pos = 0; pos < 2; ++pos) {
+    for (int variant = 0; variant < 12; ++variant) {
+        {
+            const int d16 = variant & 1;
+            const int out = (variant >> 1) % 3;
+            const int parity = variant / 6;
             std::string defines;
             if (d16 != 0)
                 defines += "#define DEPTH16 1\n";
-            if (pos != 0)
+            if (out == kPositionOut)
                 defines += "#define POSITION 1\n";
-            SurfaceProgram &p = g.surface[d16][pos];
+            if (out == kYuvOut)
+                defines += "#define YUV 1\n";
+            if (parity != 0)
+                defines += "#define ROW_PARITY 1\n";
+            SurfaceProgram &p = g.surface[d16][out][parity];
             p.program = linkProgram(kSurfaceVs, kSurfaceFs, defines.c_str());
             if (p.program == 0)
                 return unexpected(Errc::NotSupported, "surface shader failed to build");
             glUseProgram(p.program);
             glUniform1i(glGetUniformLocation(p.program, "uDepth"), 0);
+            glUniform1i(glGetUniformLocation(p.program, "uRgb"), 1);
             glUniform1i(glGetUniformLocation(p.program, "uY"), 1);
             glUniform1i(glGetUniformLocation(p.program, "uU"), 2);
             glUniform1i(glGetUniformLocation(p.program, "uV"), 3);
@@ -411,6 +452,12 @@ Result<std::unique_ptr<StereoRenderer>> StereoRenderer::create(const RendererOpt
     uploadRows(g.u, &grey[1], 1, 1, 1, GL_RED, GL_UNSIGNED_BYTE, 1);
     uploadRows(g.v, &grey[2], 1, 1, 1, GL_RED, GL_UNSIGNED_BYTE, 1);
     r->colorSpec_ = ColorSpec{YuvMatrix::Bt601, true};
+    r->softwareRasterizer_ = softwareRasterizer();
+    const std::uint8_t greyRgba[4] = {180, 180, 180, 255};
+    g.rgb.ensure(1, 1, GL_RGBA8, GL_LINEAR);
+    uploadRows(g.rgb, greyRgba, 4, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, 4);
+    r->colorOnCpu_ = r->options_.colorConversion == ColorConversion::Cpu ||
+                     (r->options_.colorConversion == ColorConversion::Auto && r->softwareRasterizer_);
 
     if (glGetError() != GL_NO_ERROR)
         return unexpected(Errc::NotSupported, "GL error while creating the renderer");
@@ -427,8 +474,16 @@ Result<void> StereoRenderer::setOptions(const RendererOptions &options)
     return ok();
 }
 
+double StereoRenderer::stageEnd(platform::TimePoint start) const noexcept
+{
+    if (stageTiming_ == StageTiming::Finished)
+        glFinish();
+    return platform::toSeconds(clock_.now() - start) * 1e3;
+}
+
 Result<void> StereoRenderer::setDepth(const haptics::DepthFrameView &depth)
 {
+    platform::TimePoint t = clock_.now();
     // The haptic renderer's height field validates the frame and gives the mapping.
     haptics::HeightField field(options_.box);
     if (auto r = field.setFrames(depth, nullptr); !r)
@@ -437,13 +492,17 @@ Result<void> StereoRenderer::setDepth(const haptics::DepthFrameView &depth)
         return r;
     mapping_ = SurfaceMapping::fromHeightField(field);
     depthFormat_ = depth.format;
+    stageTimes_.mesh = stageEnd(t);
 
+    t = clock_.now();
     Gl &g = *gl_;
     const bool d16 = depth.format == haptics::SampleFormat::Gray16;
     g.depth.ensure(depth.width, depth.height, d16 ? GL_R16UI : GL_R8, GL_NEAREST);
     uploadRows(g.depth, depth.data, depth.strideBytes, depth.width, depth.height,
                d16 ? GL_RED_INTEGER : GL_RED, d16 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE, d16 ? 2 : 1);
+    stageTimes_.depthUpload = stageEnd(t);
 
+    t = clock_.now();
     const auto &idx = mesh_.indices();
     glBindVertexArray(g.surfaceVao);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.indexBuffer);
@@ -452,6 +511,7 @@ Result<void> StereoRenderer::setDepth(const haptics::DepthFrameView &depth)
     glBindVertexArray(0);
     g.indexCount = static_cast<GLsizei>(idx.size());
     haveDepth_ = true;
+    stageTimes_.indexUpload = stageEnd(t);
     return ok();
 }
 
@@ -459,8 +519,18 @@ Result<void> StereoRenderer::setColor(const hal::ImageView &image, const ColorSp
 {
     if (image.empty() || image.width <= 0 || image.height <= 0)
         return unexpected(Errc::InvalidArgument, "colour frame is empty");
+    if (image.format != hal::PixelFormat::Yuv420p && image.format != hal::PixelFormat::Gray8)
+        return unexpected(Errc::NotSupported, "colour frames must be yuv420p or gray8");
+    const platform::TimePoint t = clock_.now();
     Gl &g = *gl_;
-    if (image.format == hal::PixelFormat::Yuv420p) {
+    const bool onCpu = options_.colorConversion == ColorConversion::Cpu ||
+                       (options_.colorConversion == ColorConversion::Auto && softwareRasterizer_);
+    if (onCpu) {
+        const std::vector<std::uint32_t> &rgba = g.converter.convert(image, spec);
+        g.rgb.ensure(image.width, image.height, GL_RGBA8, GL_LINEAR);
+        uploadRows(g.rgb, reinterpret_cast<const std::uint8_t *>(rgba.data()), static_cast<std::size_t>(image.width) * 4, image.width, image.height,
+                   GL_RGBA, GL_UNSIGNED_BYTE, 4);
+    } else if (image.format == hal::PixelFormat::Yuv420p) {
         const int cw = (image.width + 1) / 2;
         const int ch = (image.height + 1) / 2;
         g.y.ensure(image.width, image.height, GL_R8, GL_LINEAR);
@@ -472,7 +542,7 @@ Result<void> StereoRenderer::setColor(const hal::ImageView &image, const ColorSp
                    GL_RED, GL_UNSIGNED_BYTE, 1);
         uploadRows(g.v, image.planes[2].data, static_cast<std::size_t>(image.planes[2].strideBytes), cw, ch,
                    GL_RED, GL_UNSIGNED_BYTE, 1);
-    } else if (image.format == hal::PixelFormat::Gray8) {
+    } else {
         const std::uint8_t neutral = 128;
         g.y.ensure(image.width, image.height, GL_R8, GL_LINEAR);
         g.u.ensure(1, 1, GL_R8, GL_LINEAR);
@@ -481,10 +551,10 @@ Result<void> StereoRenderer::setColor(const hal::ImageView &image, const ColorSp
                    image.height, GL_RED, GL_UNSIGNED_BYTE, 1);
         uploadRows(g.u, &neutral, 1, 1, 1, GL_RED, GL_UNSIGNED_BYTE, 1);
         uploadRows(g.v, &neutral, 1, 1, 1, GL_RED, GL_UNSIGNED_BYTE, 1);
-    } else {
-        return unexpected(Errc::NotSupported, "colour frames must be yuv420p or gray8");
     }
+    colorOnCpu_ = onCpu;
     colorSpec_ = spec;
+    stageTimes_.colorUpload = stageEnd(t);
     return ok();
 }
 
@@ -494,7 +564,8 @@ Result<void> StereoRenderer::drawSurface(const EyeView &eye, SurfaceOutput outpu
         return unexpected(Errc::InvalidState, "no depth frame to draw");
     Gl &g = *gl_;
     const bool d16 = depthFormat_ == haptics::SampleFormat::Gray16;
-    const SurfaceProgram &p = g.surface[d16 ? 1 : 0][output == SurfaceOutput::Position ? 1 : 0];
+    const int variant = output == SurfaceOutput::Position ? kPositionOut : colorOnCpu_ ? kRgbOut : kYuvOut;
+    const SurfaceProgram &p = g.surface[d16 ? 1 : 0][variant][eye.rowParity >= 0 ? 1 : 0];
     glViewport(eye.viewport.x, eye.viewport.y, eye.viewport.width, eye.viewport.height);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
@@ -504,11 +575,13 @@ Result<void> StereoRenderer::drawSurface(const EyeView &eye, SurfaceOutput outpu
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, g.depth.name);
     glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, g.y.name);
-    glActiveTexture(GL_TEXTURE2);
-    glBindTexture(GL_TEXTURE_2D, g.u.name);
-    glActiveTexture(GL_TEXTURE3);
-    glBindTexture(GL_TEXTURE_2D, g.v.name);
+    glBindTexture(GL_TEXTURE_2D, variant == kRgbOut ? g.rgb.name : g.y.name);
+    if (variant == kYuvOut) {
+        glActiveTexture(GL_TEXTURE2);
+        glBindTexture(GL_TEXTURE_2D, g.u.name);
+        glActiveTexture(GL_TEXTURE3);
+        glBindTexture(GL_TEXTURE_2D, g.v.name);
+    }
     glActiveTexture(GL_TEXTURE0);
     const SurfaceMapping &m = mapping_;
     glUniform1i(p.columns, m.columns);
@@ -518,10 +591,13 @@ Result<void> StereoRenderer::drawSurface(const EyeView &eye, SurfaceOutput outpu
     glUniform2f(p.texScale, 1.0f / static_cast<float>(m.columns), 1.0f / static_cast<float>(m.rows));
     const glm::mat4 viewProj = eye.projection * eye.view;
     glUniformMatrix4fv(p.viewProj, 1, GL_FALSE, glm::value_ptr(viewProj));
-    const YuvToRgb conv = yuvToRgb(colorSpec_);
-    glUniformMatrix3fv(p.yuvToRgb, 1, GL_FALSE, glm::value_ptr(conv.matrix));
-    glUniform3fv(p.yuvOffset, 1, glm::value_ptr(conv.offset));
-    glUniform1i(p.rowParity, eye.rowParity);
+    if (variant == kYuvOut) {
+        const YuvToRgb conv = yuvToRgb(colorSpec_);
+        glUniformMatrix3fv(p.yuvToRgb, 1, GL_FALSE, glm::value_ptr(conv.matrix));
+        glUniform3fv(p.yuvOffset, 1, glm::value_ptr(conv.offset));
+    }
+    if (eye.rowParity >= 0)
+        glUniform1i(p.rowParity, eye.rowParity);
     glBindVertexArray(g.surfaceVao);
     glDrawElements(GL_TRIANGLES, g.indexCount, GL_UNSIGNED_INT, nullptr);
     glBindVertexArray(0);
@@ -647,24 +723,33 @@ Result<void> StereoRenderer::render(const RenderTarget &target)
 {
     if (!haveDepth_)
         return unexpected(Errc::InvalidState, "no depth frame to draw");
+    platform::TimePoint t = clock_.now();
     target.bind();
     glViewport(0, 0, target.width(), target.height());
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthMask(GL_TRUE);
     glClearColor(options_.background.r, options_.background.g, options_.background.b, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    stageTimes_.clear = stageEnd(t);
     int count = 0;
     const auto eyes = eyeViews(options_.mode, options_.stereo, target.width(), target.height(),
                                mapping_.width(), mapping_.height(), options_.box.depth, count);
+    stageTimes_.eye[1] = 0.0;
+    double overlay = 0.0;
     for (int i = 0; i < count; ++i) {
         const EyeView &eye = eyes[static_cast<std::size_t>(i)];
+        t = clock_.now();
         if (i > 0 && options_.mode == StereoMode::Anaglyph)
             glClear(GL_DEPTH_BUFFER_BIT);
         glColorMask((eye.colorMask & 1) != 0, (eye.colorMask & 2) != 0, (eye.colorMask & 4) != 0, GL_TRUE);
         if (auto r = drawSurface(eye, SurfaceOutput::Color); !r)
             return r;
+        stageTimes_.eye[i] = stageEnd(t);
+        t = clock_.now();
         drawAvatar(eye);
+        overlay += stageEnd(t);
     }
+    t = clock_.now();
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     if (options_.mode == StereoMode::SideBySide || options_.mode == StereoMode::TopAndBottom) {
         for (int i = 0; i < count; ++i)
@@ -672,6 +757,7 @@ Result<void> StereoRenderer::render(const RenderTarget &target)
     } else {
         drawOsd(Viewport{0, 0, target.width(), target.height()});
     }
+    stageTimes_.overlay = overlay + stageEnd(t);
     if (glGetError() != GL_NO_ERROR)
         return unexpected(Errc::Io, "GL error while rendering a frame");
     return ok();

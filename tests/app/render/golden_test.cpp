@@ -517,6 +517,61 @@ TEST_F(RenderGoldenTest, avatarOsdAndSnapshot)
         ASSERT_EQ(0, std::memcmp(img->row(y), withAvatar.rgb.data() + static_cast<std::size_t>(y) * 600, 600)) << y;
 }
 
+TEST_F(RenderGoldenTest, cpuAndShaderColourConversionAgree)
+{
+    // GIVEN a bumpy surface with a colour frame of steep gradients that stay in gamut (odd size)
+    const Depth8 d(97, 65, bumpy);
+    Yuv420 col(97, 65, [](int c, int r) {
+        return std::array<int, 3>{50 + c + r, 60 + 3 * c / 2, 170 - r};
+    });
+    ASSERT_TRUE(renderer_->setDepth(d.view()));
+    setMode(StereoMode::SideBySide, 1.04, {MeshMode::Fixed, 16, 1, 0.0, 16});
+    std::vector<Picture> pictures;
+    for (const ColorConversion where : {ColorConversion::Shader, ColorConversion::Cpu}) {
+        RendererOptions o = renderer_->options();
+        o.colorConversion = where;
+        ASSERT_TRUE(renderer_->setOptions(o));
+        ASSERT_TRUE(renderer_->setColor(col.view(), ColorSpec{YuvMatrix::Bt709, false}));
+        EXPECT_EQ(renderer_->colorConvertedOnCpu(), where == ColorConversion::Cpu);
+        // WHEN the same frame is drawn with the conversion in the fragment shader and on the CPU
+        pictures.push_back(draw(300, 120));
+    }
+    // THEN the pictures agree within rounding (the CPU path rounds to 8 bits before filtering; in
+    // gamut, filtering R'G'B' or Y'CbCr is the same linear map)
+    int worst = 0;
+    long long sum = 0;
+    for (std::size_t i = 0; i < pictures[0].rgb.size(); ++i) {
+        const int diff = std::abs(pictures[0].rgb[i] - pictures[1].rgb[i]);
+        worst = std::max(worst, diff);
+        sum += diff;
+    }
+    EXPECT_LE(worst, 3);
+    EXPECT_LT(static_cast<double>(sum) / static_cast<double>(pictures[0].rgb.size()), 0.5);
+    EXPECT_GT(std::count_if(pictures[1].rgb.begin(), pictures[1].rgb.end(), [](std::uint8_t v) { return v > 100; }),
+              1000) << "the surface was drawn";
+}
+
+TEST_F(RenderGoldenTest, stageTimesAreRecordedPerEye)
+{
+    const Depth8 d(64, 48, bumpy);
+    ASSERT_TRUE(renderer_->setDepth(d.view()));
+    renderer_->setStageTiming(StageTiming::Finished);
+    // WHEN a mono frame follows a side-by-side one
+    setMode(StereoMode::SideBySide);
+    (void)draw(200, 100);
+    const StageTimes sbs = renderer_->stageTimes();
+    setMode(StereoMode::Mono);
+    (void)draw(200, 100);
+    const StageTimes mono = renderer_->stageTimes();
+    // THEN both eyes have a time in stereo, the second none in mono
+    EXPECT_GT(sbs.eye[0], 0.0);
+    EXPECT_GT(sbs.eye[1], 0.0);
+    EXPECT_GT(mono.eye[0], 0.0);
+    EXPECT_EQ(mono.eye[1], 0.0);
+    EXPECT_GE(mono.clear, 0.0);
+    EXPECT_GE(mono.overlay, 0.0);
+}
+
 TEST_F(RenderGoldenTest, badInputIsRefused)
 {
     auto t = RenderTarget::create(32, 32);

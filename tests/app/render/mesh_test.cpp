@@ -5,7 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <set>
+#include <utility>
+#include <vector>
 #include <tuple>
 
 #include "app/render/render_test_support.h"
@@ -181,4 +184,130 @@ TEST(AdaptiveMeshTest, meanCriterionIgnoresNoiseButKeepsEdges)
     EXPECT_LE(e.mean, 0.8);
     // AND the step edge stays within the cap (its tiles are not smeared over 16 samples)
     EXPECT_LE(e.max, 2.0 * 4.0 + 1.0);
+}
+
+namespace {
+
+/// Checks that \a idx (triangles over a W×H grid) tiles the grid exactly and conformingly: every
+/// triangle has the winding of the two-triangle split (positive area in image coordinates), the
+/// areas add up to the grid's, and every edge inside the grid is shared by exactly two triangles
+/// in opposite directions (no T-junction, hence no crack once the vertices are lifted).
+void expectConformingTiling(const std::vector<std::uint32_t> &idx, int w, int h)
+{
+    long long area2 = 0;
+    int flipped = 0;
+    std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
+    for (std::size_t t = 0; t + 2 < idx.size(); t += 3) {
+        long long x[3];
+        long long y[3];
+        for (std::size_t k = 0; k < 3; ++k) {
+            x[k] = idx[t + k] % static_cast<std::uint32_t>(w);
+            y[k] = idx[t + k] / static_cast<std::uint32_t>(w);
+            edges.insert({idx[t + k], idx[t + (k + 1) % 3]});
+        }
+        const long long a = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
+        flipped += a <= 0 ? 1 : 0;
+        area2 += a;
+    }
+    EXPECT_EQ(flipped, 0);
+    EXPECT_EQ(area2, 2LL * (w - 1) * (h - 1));
+    int open = 0;
+    for (const auto &[i, j] : edges) {
+        if (edges.count({j, i}) != 0)
+            continue;
+        const auto xi = static_cast<int>(i % static_cast<std::uint32_t>(w));
+        const auto yi = static_cast<int>(i / static_cast<std::uint32_t>(w));
+        const auto xj = static_cast<int>(j % static_cast<std::uint32_t>(w));
+        const auto yj = static_cast<int>(j / static_cast<std::uint32_t>(w));
+        const bool border = (xi == xj && (xi == 0 || xi == w - 1)) || (yi == yj && (yi == 0 || yi == h - 1));
+        open += border ? 0 : 1;
+    }
+    EXPECT_EQ(open, 0) << "edges inside the grid without a twin (T-junctions)";
+}
+
+MeshOptions quadtree(double tolerance, ErrorCriterion criterion)
+{
+    MeshOptions o;
+    o.mode = MeshMode::Quadtree;
+    o.tileSize = 32;
+    o.maxStep = 32;
+    o.tolerance = tolerance;
+    o.criterion = criterion;
+    o.maxErrorCap = 16.0;
+    return o;
+}
+
+} // namespace
+
+TEST(QuadtreeMeshTest, planeIsOneBlockPerTile)
+{
+    // GIVEN an exactly planar frame
+    const Depth8 d(100, 70, [](int c, int r) { return c + r; });
+    for (const ErrorCriterion crit : {ErrorCriterion::Max, ErrorCriterion::Mean}) {
+        AdaptiveMesh mesh;
+        ASSERT_TRUE(mesh.build(d.view(), quadtree(0.0, crit)));
+        // THEN every tile is one leaf block of two triangles and the surface is exact
+        EXPECT_EQ(mesh.stats().blocks, mesh.stats().tiles);
+        EXPECT_EQ(mesh.stats().triangles, 2u * static_cast<std::size_t>(mesh.stats().tiles));
+        const MeshError e = measureMeshError(d.view(), mesh.indices());
+        EXPECT_EQ(e.uncovered, 0u);
+        EXPECT_NEAR(e.max, 0.0, 1e-9);
+    }
+}
+
+TEST(QuadtreeMeshTest, mixedLevelsTileTheGridWithoutTJunctions)
+{
+    // GIVEN a terrain with a step edge and odd sizes (clipped tiles), both criteria, several
+    // tolerances, and sizes whose last block row/column is one cell thin
+    const Depth8 terrainFrame(130, 90, terrain);
+    const Depth8 edge(97, 66, [](int c, int r) { return (c - 40) * (c - 40) + (r - 30) * (r - 30) < 300 ? 200 : 40 + c / 9; });
+    for (const Depth8 *d : {&terrainFrame, &edge})
+        for (const ErrorCriterion crit : {ErrorCriterion::Max, ErrorCriterion::Mean})
+            for (const double tol : {0.3, 1.0, 4.0}) {
+                AdaptiveMesh mesh;
+                ASSERT_TRUE(mesh.build(d->view(), quadtree(tol, crit)));
+                int sizesUsed = 0;
+                for (const int n : mesh.stats().blocksAtSize)
+                    sizesUsed += n > 0 ? 1 : 0;
+                EXPECT_GE(sizesUsed, 3) << "tolerance " << tol;
+                // THEN the triangles tile the grid conformingly, and no sample falls through
+                expectConformingTiling(mesh.indices(), d->width, d->height);
+                EXPECT_EQ(measureMeshError(d->view(), mesh.indices()).uncovered, 0u);
+            }
+}
+
+TEST(QuadtreeMeshTest, maxCriterionBoundsEveryBlockAndFullResolutionAtZero)
+{
+    const Depth8 d(130, 90, terrain);
+    AdaptiveMesh exact;
+    ASSERT_TRUE(exact.build(d.view(), quadtree(0.0, ErrorCriterion::Max)));
+    EXPECT_NEAR(measureMeshError(d.view(), exact.indices()).max, 0.0, 1e-9);
+    AdaptiveMesh coarse;
+    ASSERT_TRUE(coarse.build(d.view(), quadtree(2.0, ErrorCriterion::Max)));
+    // Transition blocks are fanned around their middle sample: within the bound, not only the
+    // two-triangle surface that was checked.
+    EXPECT_LE(measureMeshError(d.view(), coarse.indices()).max, 2.0 + 1e-6);
+    EXPECT_LT(coarse.stats().triangles, exact.stats().triangles / 2);
+}
+
+TEST(QuadtreeMeshTest, meanBudgetSpendsTrianglesWhereTheErrorIs)
+{
+    // GIVEN a noisy plane (±1 level) with a raised disc: noise no split can remove, and an edge
+    const Depth8 d(161, 129, [](int c, int r) {
+        const int noise = (c * 7 + r * 13) % 3 - 1;
+        return 90 + c / 4 + noise + ((c - 100) * (c - 100) + (r - 60) * (r - 60) < 600 ? 60 : 0);
+    });
+    std::size_t lastTriangles = SIZE_MAX;
+    for (const double budget : {0.5, 0.8, 1.2}) {
+        AdaptiveMesh mesh;
+        ASSERT_TRUE(mesh.build(d.view(), quadtree(budget, ErrorCriterion::Mean)));
+        const MeshError e = measureMeshError(d.view(), mesh.indices());
+        // THEN the frame's mean error meets the budget (with the fans' small change), the disc's
+        // edge stays within the cap, and a larger budget needs fewer triangles
+        EXPECT_EQ(e.uncovered, 0u);
+        EXPECT_LE(e.mean, budget * 1.1) << "budget " << budget;
+        EXPECT_LE(e.max, 2.0 * 16.0) << "budget " << budget;
+        EXPECT_LT(mesh.stats().triangles, lastTriangles) << "budget " << budget;
+        lastTriangles = mesh.stats().triangles;
+    }
 }

@@ -44,7 +44,7 @@ TEST(RenderRealDataTest, adaptiveMeshMeetsTheErrorGoalWithFewTrianglesAndNoCrack
         v.width = f.width;
         v.height = f.height;
         v.strideBytes = static_cast<std::size_t>(f.width);
-        // GIVEN the default adaptive mesh (mean criterion, 0.8 levels per tile, cap 16)
+        // GIVEN the default adaptive mesh (tile 8, mean criterion, 1.2 levels per tile, cap 16)
         MeshOptions o;
         AdaptiveMesh mesh;
         ASSERT_TRUE(mesh.build(v, o));

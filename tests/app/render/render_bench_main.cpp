@@ -1,7 +1,9 @@
 /// \file
-/// \brief `render_bench [OUT_DIR] [FRAMES]`: the `depthtouch bench render` figures on the tests'
-/// surfaceless GLES context (no Display backend needed). Reads DT_SHARED_DATA; exits 77 without it.
+/// \brief `render_bench [OUT_DIR] [FRAMES] [SETTINGS]`: the `depthtouch bench render` figures on the
+/// tests' surfaceless GLES context (no Display backend needed); SETTINGS is a comma-separated list of
+/// mesh settings (default all). Reads DT_SHARED_DATA; exits 77 without it.
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -32,8 +34,14 @@ int main(int argc, char **argv)
         std::fprintf(stderr, "render_bench: %s\n", loaded.error().what);
         return 1;
     }
+    auto configs = bench::selectConfigs(argc > 3 ? argv[3] : "");
+    if (!configs) {
+        std::fprintf(stderr, "render_bench: %s\n", configs.error().what);
+        return 2;
+    }
     bench::BenchOptions o;
-    o.framesPerConfig = frames;
+    o.framesPerConfig = std::max(frames, 5);
+    o.configs = std::move(*configs);
     auto rows = bench::runRenderBenchmark(*loaded, o);
     if (!rows) {
         std::fprintf(stderr, "render_bench: %s\n", rows.error().what);
@@ -51,6 +59,6 @@ int main(int argc, char **argv)
         std::fprintf(stderr, "render_bench: snapshot: %s\n", r.error().what);
     if (!note.empty())
         std::printf("note: %s\n", note.c_str());
-    std::printf("wrote %s/{render_bench.csv,fps_vs_error.png,kitchen_sbs.png}\n", out.c_str());
+    std::printf("wrote %s/{render_bench.csv,fps_vs_error.png,stages.png,kitchen_sbs.png}\n", out.c_str());
     return 0;
 }

@@ -4,6 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include <glm/mat3x3.hpp>
 #include <glm/vec4.hpp>
 
 #include "app/render/render_test_support.h"
@@ -138,4 +144,58 @@ TEST(YuvToRgbTest, bt709FullRangeMatchesThePublishedCoefficients)
     EXPECT_NEAR(rgb.r, 120.0 + 1.5748 * 72.0, 0.1);
     EXPECT_NEAR(rgb.g, 120.0 - 0.1873 * -68.0 - 0.4681 * 72.0, 0.1);
     EXPECT_NEAR(rgb.b, 120.0 + 1.8556 * -68.0, 0.1);
+}
+
+TEST(YuvConverterTest, cpuConversionIsTheMatrixWithBilinearChroma)
+{
+    // GIVEN a 6×4 yuv420p frame whose chroma differs per 2×2 block, both matrices and ranges
+    std::vector<std::uint8_t> y(24), u(6), v(6);
+    for (std::size_t i = 0; i < y.size(); ++i)
+        y[i] = static_cast<std::uint8_t>(20 + 9 * i);
+    for (std::size_t i = 0; i < u.size(); ++i) {
+        u[i] = static_cast<std::uint8_t>(60 + 25 * i);
+        v[i] = static_cast<std::uint8_t>(200 - 21 * i);
+    }
+    hal::ImageView img;
+    img.width = 6;
+    img.height = 4;
+    img.format = hal::PixelFormat::Yuv420p;
+    img.planes[0] = {y.data(), 6};
+    img.planes[1] = {u.data(), 3};
+    img.planes[2] = {v.data(), 3};
+    YuvConverter conv;
+    for (const ColorSpec spec : {ColorSpec{YuvMatrix::Bt601, false}, ColorSpec{YuvMatrix::Bt709, true}}) {
+        const std::vector<std::uint32_t> &px = conv.convert(img, spec);
+        ASSERT_EQ(px.size(), 24u);
+        const YuvToRgb m = yuvToRgb(spec);
+        // A GL_LINEAR, clamp-to-edge lookup at the luma sample's centre, in chroma texels.
+        const auto tap = [](int i, int luma, int chroma, int &i0, int &i1, double &w) {
+            const double t = (i + 0.5) / luma * chroma - 0.5;
+            const double f = std::floor(t);
+            w = t - f;
+            i0 = std::clamp(static_cast<int>(f), 0, chroma - 1);
+            i1 = std::clamp(static_cast<int>(f) + 1, 0, chroma - 1);
+        };
+        for (int r = 0; r < 4; ++r)
+            for (int c = 0; c < 6; ++c) {
+                int c0, c1, r0, r1;
+                double wc, wr;
+                tap(c, 6, 3, c0, c1, wc);
+                tap(r, 4, 2, r0, r1, wr);
+                const auto bil = [&](const std::vector<std::uint8_t> &p) {
+                    const auto at = [&](int cc, int rr) { return static_cast<double>(p[static_cast<std::size_t>(rr * 3 + cc)]); };
+                    return (1 - wr) * ((1 - wc) * at(c0, r0) + wc * at(c1, r0)) + wr * ((1 - wc) * at(c0, r1) + wc * at(c1, r1));
+                };
+                const glm::dvec3 yuv(y[static_cast<std::size_t>(r * 6 + c)] / 255.0, bil(u) / 255.0, bil(v) / 255.0);
+                const glm::dvec3 rgb = glm::dmat3(m.matrix) * (yuv - glm::dvec3(m.offset));
+                const std::uint32_t p = px[static_cast<std::size_t>(r * 6 + c)];
+                // THEN each pixel is the matrix applied to the bilinear chroma, within one code
+                for (int k = 0; k < 3; ++k) {
+                    const double want = std::clamp(rgb[k] * 255.0, 0.0, 255.0);
+                    EXPECT_NEAR(static_cast<double>((p >> (8 * k)) & 0xff), want, 1.0)
+                        << "pixel " << c << "," << r << " channel " << k;
+                }
+                EXPECT_EQ(p >> 24, 255u);
+            }
+    }
 }

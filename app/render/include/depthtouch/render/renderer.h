@@ -12,7 +12,10 @@
 /// of detail is chosen per frame by AdaptiveMesh (adaptive_mesh.h).
 ///
 /// Textures are allocated once per frame size and format (immutable storage) and refreshed with
-/// glTexSubImage2D. Requires a current OpenGL ES 3.0 context with vertex texture fetch.
+/// glTexSubImage2D. On a software rasterizer the colour frame is converted to R'G'B' once on the CPU
+/// (ColorConversion::Auto): the surface then fetches one texture per fragment in each eye instead
+/// of three planes and a matrix, which on llvmpipe costs far more than the conversion.
+/// Requires a current OpenGL ES 3.0 context with vertex texture fetch.
 /// Thread-safety: thread-bound (the render thread that owns the context). Not real-time safe.
 
 #include <cstdint>
@@ -23,6 +26,7 @@
 
 #include "depthtouch/haptics/depth_frame.h"
 #include "depthtouch/hal/types.h"
+#include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/result.h"
 #include "depthtouch/render/adaptive_mesh.h"
 #include "depthtouch/render/color.h"
@@ -39,6 +43,7 @@ struct RendererOptions {
     StereoMode mode = StereoMode::SideBySide; ///< Output layout.
     StereoParams stereo{};                    ///< Eye cameras.
     MeshOptions mesh{};                       ///< Level of detail.
+    ColorConversion colorConversion = ColorConversion::Auto; ///< Where Y'CbCr becomes R'G'B' (setColor()).
     glm::vec3 background{0.0f, 0.0f, 0.0f};   ///< Clear colour, linear RGB in [0, 1].
 };
 
@@ -66,6 +71,29 @@ enum class SurfaceOutput : std::uint8_t {
     Position, ///< Scene-box position (x, y, z, 1) of the surface point under each pixel, m (float target).
 };
 
+/// \brief Wall time of the stages of the last setDepth(), setColor() and render() calls, ms.
+///
+/// The time the calling thread spends in each stage. On a deferred rasterizer (Mesa llvmpipe bins
+/// the triangles when they are drawn and shades them at the next flush, e.g. the glFinish of a
+/// display's present()) a drawing stage holds vertex processing and binning only; with
+/// StageTiming::Finished each stage ends with glFinish, so its time includes the rasterization it
+/// caused (the frame as a whole is then slower: for a breakdown, not for playback).
+struct StageTimes {
+    double depthUpload = 0.0; ///< setDepth(): depth texture upload.
+    double mesh = 0.0;        ///< setDepth(): frame check, level-of-detail choice, index list (CPU).
+    double indexUpload = 0.0; ///< setDepth(): index buffer upload (0 when the list was unchanged).
+    double colorUpload = 0.0; ///< setColor(): plane upload and conversion.
+    double clear = 0.0;       ///< render(): clearing the target.
+    double eye[2] = {};       ///< render(): surface of the left and right eye (Mono: eye[0] only).
+    double overlay = 0.0;     ///< render(): avatar in every eye and the on-screen display.
+};
+
+/// \brief Whether stage times include the GPU work of each stage (see StageTimes).
+enum class StageTiming : std::uint8_t {
+    Cpu,      ///< No extra synchronisation (default): what the calling thread spends.
+    Finished, ///< glFinish after each stage: the stage's full cost, serialised.
+};
+
 class StereoRenderer {
 public:
     /// \brief Compiles the shaders and creates the GL objects. \pre a current GLES 3 context.
@@ -87,8 +115,10 @@ public:
     /// \return Errc::InvalidArgument for a malformed frame (the previous frame stays).
     [[nodiscard]] Result<void> setDepth(const haptics::DepthFrameView &depth);
 
-    /// \brief Uploads a decoded colour frame: Yuv420p (three R8 textures) or Gray8 (luma only).
-    /// Its size may differ from the depth frame's: it is stretched over the same box.
+    /// \brief Uploads a decoded colour frame: Yuv420p or Gray8 (luma only). Converted to R'G'B' on
+    /// the CPU into one RGBA8 texture, or uploaded as three R8 planes that the fragment shader
+    /// converts, as options().colorConversion says. Its size may differ from the depth frame's: it
+    /// is stretched over the same box.
     /// \return Errc::NotSupported for other formats, Errc::InvalidArgument for an empty view.
     [[nodiscard]] Result<void> setColor(const hal::ImageView &image, const ColorSpec &spec);
 
@@ -104,16 +134,25 @@ public:
     /// height read-back. \pre setDepth() succeeded once.
     [[nodiscard]] Result<void> drawSurface(const EyeView &eye, SurfaceOutput output);
 
+    /// \brief Selects what stageTimes() measures (default StageTiming::Cpu).
+    void setStageTiming(StageTiming timing) noexcept { stageTiming_ = timing; }
+    /// \return the stage times of the last setDepth(), setColor() and render() calls.
+    [[nodiscard]] const StageTimes &stageTimes() const noexcept { return stageTimes_; }
+
     /// \return the mapping of the current depth frame (read off a HeightField).
     [[nodiscard]] const SurfaceMapping &mapping() const noexcept { return mapping_; }
     /// \return the mesh drawn for the current depth frame.
     [[nodiscard]] const AdaptiveMesh &mesh() const noexcept { return mesh_; }
+    /// \return true when the last colour frame was converted on the CPU (see ColorConversion).
+    [[nodiscard]] bool colorConvertedOnCpu() const noexcept { return colorOnCpu_; }
 
 private:
     struct Gl;
     explicit StereoRenderer(const RendererOptions &options);
     void drawAvatar(const EyeView &eye);
     void drawOsd(const Viewport &vp);
+    /// Ends a stage: \return the milliseconds since \a start (after glFinish when Finished).
+    double stageEnd(platform::TimePoint start) const noexcept;
 
     RendererOptions options_;
     AvatarState avatar_{};
@@ -124,6 +163,11 @@ private:
     bool haveDepth_ = false;
     bool indicesDirty_ = false;
     ColorSpec colorSpec_{};
+    bool softwareRasterizer_ = false;
+    bool colorOnCpu_ = false;
+    StageTiming stageTiming_ = StageTiming::Cpu;
+    StageTimes stageTimes_{};
+    platform::SteadyClock clock_;
     std::unique_ptr<Gl> gl_;
 };
 

@@ -10,7 +10,9 @@
 /// resampled to the benchmark size; colour → yuv420p BT.601 limited range.
 /// Thread-safety: thread-bound (the GL thread).
 
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,16 +44,36 @@ struct BenchConfig {
     MeshOptions mesh;
 };
 
+/// \brief The stages of one frame as the player runs them, in order: depth texture upload, level of
+/// detail and index list (CPU), index upload, colour upload, clear, left eye, right eye, avatar and
+/// on-screen display, blit to the display framebuffer.
+inline constexpr int kStageCount = 9;
+/// \return the short name of stage \a i ("depth", "mesh", "index", "color", "clear", "eye1",
+/// "eye2", "overlay", "blit"); static string.
+const char *stageName(int i) noexcept;
+
 /// \brief The figures of one setting.
 struct BenchRow {
     std::string name;
     double tolerance = 0.0;     ///< Adaptive tolerance, levels (0 for fixed meshes).
     int step = 0;               ///< Fixed step (0 for adaptive).
     double meanTriangles = 0.0; ///< Triangles per frame (each drawn twice: one per eye).
-    double medianMs = 0.0;      ///< Frame time, median, ms (upload + mesh + both eyes + finish).
+    double medianMs = 0.0;      ///< Frame time, median, ms (uploads, mesh, both eyes, avatar, OSD,
+                                ///< blit, glFinish): what the player spends per frame.
     double p99Ms = 0.0;         ///< Frame time, 99th percentile, ms.
     double fps = 0.0;           ///< 1000 / medianMs.
-    double meshMs = 0.0;        ///< Median CPU time of the level choice and index build, ms.
+    double cpuMs = 0.0;         ///< Process CPU time per frame (all threads, incl. the rasterizer's), ms:
+                                ///< less sensitive than wall time to other load on a shared machine.
+    double meshMs = 0.0;        ///< Median time of the level choice and index list (CPU), ms.
+    double drawMs = 0.0;        ///< Median time in the two eyes' draw calls on the calling thread (vertex
+                                ///< processing and binning on llvmpipe; shading runs later), ms.
+    /// Stage breakdown: each frame drawn a second time with a glFinish after each stage
+    /// (StageTiming::Finished), so each stage carries its own rasterization: median and 99th
+    /// percentile per stage (order of stageName()), and of the per-frame sum, ms.
+    std::array<double, kStageCount> stageMedianMs{};
+    std::array<double, kStageCount> stageP99Ms{};
+    double stagedMedianMs = 0.0;
+    double stagedP99Ms = 0.0;
     double meanError = 0.0;     ///< Mean |surface − sample| over all frames' samples, nearness levels.
     double maxError = 0.0;      ///< Largest |surface − sample| over all frames, nearness levels.
     std::size_t uncovered = 0;  ///< Samples not covered by any triangle (cracks): 0 expected.
@@ -65,14 +87,21 @@ struct BenchOptions {
     bool frameCompatible = false;      ///< false: each half is a full-aspect 720×486 eye.
     int framesPerConfig = 60;          ///< Frames rendered per setting (cycling through the data).
     int warmup = 5;                    ///< Frames rendered and not timed first.
+    bool stageBreakdown = true;        ///< Also run the staged pass (BenchRow::stageMedianMs).
     std::vector<BenchConfig> configs;  ///< Empty: defaultConfigs().
+    /// Framebuffer the output is blitted to, as the player does (a display's framebuffer()); unset:
+    /// an offscreen RGBA8 target of the output size, like the headless display's.
+    std::optional<std::uint32_t> presentFramebuffer;
 };
 
-/// \return full mesh, steps 2/4/8, adaptive (default MeshOptions: tile 8, mean criterion, cap 16
-/// levels) at tolerances 0.3, 0.5, 0.7, 0.9 and 1.2 levels.
+/// \return full mesh, steps 2/4/8, per-tile adaptive (tile 8, mean criterion, cap 16 levels; the
+/// default MeshOptions at 1.2) at tolerances 0.3, 0.5, 0.7, 0.9 and 1.2 levels, and the quadtree
+/// (root 32, frame mean error budget, cap 16) at budgets 0.3, 0.4, 0.45, 0.5 and 0.6 levels.
 std::vector<BenchConfig> defaultConfigs();
 
-/// \brief Runs every setting on \a frames. \pre a current GLES 3 context with EXT_color_buffer_float
+/// \brief Runs every setting on \a frames; the settings take turns frame by frame (each frame is
+/// drawn by every setting before the next), so a change of load on a shared machine affects them
+/// alike. \pre a current GLES 3 context with EXT_color_buffer_float
 /// not needed. \return the rows in setting order; errors of the renderer (e.g. NotSupported).
 Result<std::vector<BenchRow>> runRenderBenchmark(const std::vector<RgbdFrame> &frames,
                                                  const BenchOptions &options);
@@ -81,10 +110,15 @@ Result<std::vector<BenchRow>> runRenderBenchmark(const std::vector<RgbdFrame> &f
 Result<void> writeSideBySideSnapshot(const std::vector<RgbdFrame> &frames, std::size_t index,
                                      const MeshOptions &mesh, int width, int height, const std::string &path);
 
-/// \brief Prints the table to stdout.
+/// \return the settings of defaultConfigs() whose names are in \a names (comma-separated; empty:
+/// all). \return Errc::InvalidArgument naming no known setting.
+Result<std::vector<BenchConfig>> selectConfigs(const std::string &names);
+
+/// \brief Prints the tables (frame rate vs error; stage breakdown) to stdout.
 void printTable(const std::vector<BenchRow> &rows, const BenchOptions &options);
 
-/// \brief Writes `render_bench.csv` and, when gnuplot is installed, `fps_vs_error.png` into \a dir.
+/// \brief Writes `render_bench.csv` (one row per setting, stage medians and p99 included) and, when
+/// gnuplot is installed, `fps_vs_error.png` and `stages.png` (stacked stage medians) into \a dir.
 /// \param[out] note a remark for the user (e.g. gnuplot missing) \return false with \a error set
 /// when the directory or CSV cannot be written.
 bool writeBenchOutputs(const std::vector<BenchRow> &rows, const std::string &dir, std::string &error,
