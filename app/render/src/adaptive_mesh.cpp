@@ -41,14 +41,21 @@ template <class T> inline float loadSample(const std::uint8_t *row, int c) noexc
     return static_cast<float>(v);
 }
 
-/// Whether the two triangles of block (c0..c1, r0..r1) (corners only, top-left → bottom-right
-/// diagonal) are within \a tolerance of every sample of the block, borders included (Max), or on
-/// average with every sample within \a cap (Mean). Each row is two linear runs (left of the
-/// diagonal: the lower triangle; right of it: the upper), so the loops vectorise; a row over the
-/// cap or a running sum over the mean's budget stops early.
+/// The two-triangle error of block (c0..c1, r0..r1) (corners only, top-left → bottom-right
+/// diagonal) over its samples, borders included: sum and largest |surface − sample|.
+struct BlockError {
+    float sum = 0.0f;
+    float max = 0.0f;
+    int count = 0;        ///< Samples of the block, (w + 1)·(h + 1).
+    bool stopped = false; ///< The scan stopped early (a limit was passed): sum and max partial.
+};
+
+/// Scans block (c0..c1, r0..r1) row by row. Each row is two linear runs (left of the diagonal: the
+/// lower triangle; right of it: the upper), so the loops vectorise. Stops after a row whose largest
+/// error exceeds \a rowLimit or once the running sum exceeds \a sumLimit.
 template <class T>
-bool blockWithin(const haptics::DepthFrameView &depth, int c0, int r0, int c1, int r1, float tolerance,
-                 float cap, bool mean) noexcept
+BlockError scanBlock(const haptics::DepthFrameView &depth, int c0, int r0, int c1, int r1,
+                     float rowLimit, double sumLimit) noexcept
 {
     const auto row = [&](int r) {
         return depth.data + static_cast<std::size_t>(r) * depth.strideBytes;
@@ -60,8 +67,8 @@ bool blockWithin(const haptics::DepthFrameView &depth, int c0, int r0, int c1, i
     const int w = c1 - c0;
     const int h = r1 - r0;
     const float invW = 1.0f / static_cast<float>(w);
-    const float limit = mean ? cap : tolerance;
-    const double budget = mean ? static_cast<double>(tolerance) * (w + 1) * (h + 1) : 0.0;
+    BlockError out;
+    out.count = (w + 1) * (h + 1);
     double sum = 0.0;
     for (int r = r0; r <= r1; ++r) {
         const int dr = r - r0;
@@ -87,68 +94,33 @@ bool blockWithin(const haptics::DepthFrameView &depth, int c0, int r0, int c1, i
             rowSum += e;
             rowMax = std::max(rowMax, e);
         }
-        if (rowMax > limit)
-            return false;
-        sum += static_cast<double>(rowSum);
-        if (mean && sum > budget)
-            return false;
-    }
-    return true;
-}
-
-/// The two-triangle error of block (c0..c1, r0..r1) over its samples, borders included (see
-/// blockWithin): sum and largest |surface − sample|; stops (with a partial sum) once a row exceeds
-/// \a cap.
-struct BlockError {
-    float sum = 0.0f;
-    float max = 0.0f;
-    int count = 0; ///< Samples of the block, (w + 1)·(h + 1).
-};
-
-template <class T>
-BlockError blockError(const haptics::DepthFrameView &depth, int c0, int r0, int c1, int r1, float cap) noexcept
-{
-    const auto row = [&](int r) {
-        return depth.data + static_cast<std::size_t>(r) * depth.strideBytes;
-    };
-    const float z00 = loadSample<T>(row(r0), c0);
-    const float z10 = loadSample<T>(row(r0), c1);
-    const float z11 = loadSample<T>(row(r1), c1);
-    const float z01 = loadSample<T>(row(r1), c0);
-    const int w = c1 - c0;
-    const int h = r1 - r0;
-    const float invW = 1.0f / static_cast<float>(w);
-    BlockError out;
-    out.count = (w + 1) * (h + 1);
-    double sum = 0.0;
-    for (int r = r0; r <= r1; ++r) {
-        const int dr = r - r0;
-        const float v = static_cast<float>(dr) / static_cast<float>(h);
-        const int split = c0 + (dr * w + h - 1) / h;
-        const std::uint8_t *p = row(r);
-        float rowMax = 0.0f;
-        float rowSum = 0.0f;
-        float a = z00 + v * (z01 - z00);
-        float b = (z11 - z01) * invW;
-        for (int c = c0; c < split; ++c) {
-            const float e = std::fabs(a + b * static_cast<float>(c - c0) - loadSample<T>(p, c));
-            rowSum += e;
-            rowMax = std::max(rowMax, e);
-        }
-        a = z00 + v * (z11 - z10);
-        b = (z10 - z00) * invW;
-        for (int c = split; c <= c1; ++c) {
-            const float e = std::fabs(a + b * static_cast<float>(c - c0) - loadSample<T>(p, c));
-            rowSum += e;
-            rowMax = std::max(rowMax, e);
-        }
         sum += static_cast<double>(rowSum);
         out.max = std::max(out.max, rowMax);
-        if (rowMax > cap)
+        if (rowMax > rowLimit || sum > sumLimit) {
+            out.stopped = true;
             break;
+        }
     }
     out.sum = static_cast<float>(sum);
     return out;
+}
+
+/// Whether the two triangles of block (c0..c1, r0..r1) are within \a tolerance of every sample of
+/// the block (Max), or on average with every sample within \a cap (Mean).
+template <class T>
+bool blockWithin(const haptics::DepthFrameView &depth, int c0, int r0, int c1, int r1, float tolerance,
+                 float cap, bool mean) noexcept
+{
+    const double budget = mean ? static_cast<double>(tolerance) * (c1 - c0 + 1) * (r1 - r0 + 1)
+                               : std::numeric_limits<double>::infinity();
+    return !scanBlock<T>(depth, c0, r0, c1, r1, mean ? cap : tolerance, budget).stopped;
+}
+
+/// The block's error (see scanBlock); stops (with a partial sum) once a row exceeds \a cap.
+template <class T>
+BlockError blockError(const haptics::DepthFrameView &depth, int c0, int r0, int c1, int r1, float cap) noexcept
+{
+    return scanBlock<T>(depth, c0, r0, c1, r1, cap, std::numeric_limits<double>::infinity());
 }
 
 } // namespace
