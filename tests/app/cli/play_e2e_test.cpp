@@ -2,7 +2,7 @@
 /// \brief `depthtouch play` end to end, as a user runs it:
 /// - real data: the 7-Scenes kitchen encoded with `depthtouch encode`, played with the simulated
 ///   hand on the headless EGL display: every frame received and either presented or counted as
-///   dropped, haptic updates = run time × servo rate within 1 %, contact with the surface, the
+///   dropped, haptic updates = run time × servo rate (apart from counted overruns), contact with the surface, the
 ///   surface felt moving under a pressing finger, no force above the device maximum
 ///   (skipped with a message when ../shared/data is absent);
 /// - the control socket: a client pauses, queries, seeks, switches the stereo mode and quits a
@@ -100,13 +100,23 @@ TEST(PlayEndToEnd, RealKitchenWithTheSimulatedHand)
     EXPECT_EQ(j["decode_errors"].get<unsigned>(), 0u);
     EXPECT_TRUE(fs::exists(tmp.dir() / "snap" / "frame-000000.png"));
 
-    // Haptics at the servo rate for as long as the task ran (missed periods are counted).
+    // Haptics at the servo rate for as long as the task ran: every period is either an update or
+    // a period the timer counted as skipped, except the part of a period each overrun's re-sync
+    // loses (< 1 per overrun). A machine that stalls the thread (this shared VM's host does, for
+    // up to ~15 ms, even with nothing else running) shows up as counted overruns, never as
+    // silently missing updates.
     const double runS = j["haptic_run_s"].get<double>();
     const double rate = j["haptic_rate_hz"].get<double>();
     const double updates = j["haptic_updates"].get<double>();
     const double missed = j["missed_periods"].get<double>();
+    const double overruns = j["overruns"].get<double>();
+    const double periods = runS * rate + 1.0;
     ASSERT_GT(runS, 1.0);
-    EXPECT_NEAR(updates + missed, runS * rate + 1.0, 0.01 * runS * rate);
+    EXPECT_LE(updates + missed, periods + 1.0);
+    EXPECT_GE(updates + missed + overruns + 1.0, periods);
+    EXPECT_GT(updates, 0.50 * periods) << "the haptic loop was mostly not running";
+    std::printf("haptic updates %.0f + missed %.0f of %.1f periods (%.2f %%), %.0f overruns\n",
+                updates, missed, periods, 100.0 * (updates + missed) / periods, overruns);
     EXPECT_GT(j["contact_updates"].get<double>(), 0.25 * updates);
     EXPECT_LE(j["max_force_n"].get<double>(), j["device_max_force_n"].get<double>() + 1e-9);
 
