@@ -19,8 +19,11 @@
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/haptics/spectrum.h"
 #include "depthtouch/platform/gnuplot.h"
+#include "depthtouch/platform/percentile.h"
 
 namespace depthtouch::haptics::bench {
+
+using platform::percentile;
 
 namespace {
 
@@ -137,16 +140,6 @@ glm::dvec3 hipAt(double speed, double t)
         d = 2.0 * span - d;
     const double x = -0.035 + d;
     return {x, y, Wave::z(x, y, t) - kPen};
-}
-
-double percentile(std::vector<double> &v, double p)
-{
-    if (v.empty())
-        return 0.0;
-    const auto k = static_cast<std::size_t>(std::min<double>(static_cast<double>(v.size() - 1),
-                                                             std::ceil(p * static_cast<double>(v.size())) - 1));
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-    return v[k];
 }
 
 double median(std::vector<double> v) { return percentile(v, 0.5); }

@@ -23,8 +23,11 @@
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/cpu_time.h"
 #include "depthtouch/platform/gnuplot.h"
+#include "depthtouch/platform/percentile.h"
 
 namespace depthtouch::media::bench {
+
+using platform::percentile;
 
 namespace {
 
@@ -35,17 +38,6 @@ std::string framePath(const std::string &dir, int n, const char *kind)
     char name[64];
     std::snprintf(name, sizeof name, "/frame-%06d.%s", n, kind);
     return dir + name;
-}
-
-/// Nearest-rank percentile of \a v (p in [0, 1]); 0 for an empty vector.
-double percentile(std::vector<double> v, double p)
-{
-    if (v.empty())
-        return 0.0;
-    std::sort(v.begin(), v.end());
-    const double rank = std::ceil(p * static_cast<double>(v.size()));
-    const auto k = static_cast<std::size_t>(std::clamp(rank, 1.0, static_cast<double>(v.size()))) - 1;
-    return v[k];
 }
 
 double kbps(long long bytes, std::size_t frames, double fps)

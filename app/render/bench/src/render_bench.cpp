@@ -19,8 +19,11 @@
 #include "depthtouch/render/render_target.h"
 #include "depthtouch/render/renderer.h"
 #include "depthtouch/render/snapshot.h"
+#include "depthtouch/platform/percentile.h"
 
 namespace depthtouch::render::bench {
+
+using platform::percentile;
 
 namespace {
 
@@ -91,16 +94,6 @@ hal::ImageView colorView(const RgbdFrame &f)
     return img;
 }
 
-double percentile(std::vector<double> v, double p)
-{
-    if (v.empty())
-        return 0.0;
-    std::sort(v.begin(), v.end());
-    const double idx = p * static_cast<double>(v.size() - 1);
-    const auto lo = static_cast<std::size_t>(std::floor(idx));
-    const std::size_t hi = std::min(lo + 1, v.size() - 1);
-    return v[lo] + (v[hi] - v[lo]) * (idx - static_cast<double>(lo));
-}
 
 } // namespace
 
