@@ -14,6 +14,7 @@
 
 #include "depthtouch/haptic_task/depth_handoff.h"
 #include "depthtouch/platform/log.h"
+#include "depthtouch/platform/percentile.h"
 #include "depthtouch/receiver/decoder_thread.h"
 
 #if DT_PLAYBACK_HAVE_GL
@@ -27,6 +28,8 @@
 DT_LOG_CATEGORY(Playback)
 
 namespace depthtouch::playback {
+
+using platform::percentile;
 
 namespace {
 
@@ -56,16 +59,6 @@ struct Session {
     bool haveStart = false;
 };
 
-/// Percentile of \a v (sorted in place), or 0 when empty.
-double percentile(std::vector<double> &v, double q)
-{
-    if (v.empty())
-        return 0.0;
-    std::sort(v.begin(), v.end());
-    const auto i = static_cast<std::size_t>(std::clamp(q * static_cast<double>(v.size() - 1), 0.0,
-                                                       static_cast<double>(v.size() - 1)));
-    return v[i];
-}
 
 #if DT_PLAYBACK_HAVE_GL
 render::StereoMode toRenderMode(player::StereoMode m) noexcept
@@ -316,7 +309,6 @@ void Playback::Impl::renderLoop()
 
     for (;;) {
         // Commands and session changes.
-        bool playingNow = false;
         bool pausedNow = false;
         std::uint64_t seekGenNow = 0;
         double seekTo = 0.0;
@@ -356,13 +348,11 @@ void Playback::Impl::renderLoop()
                 cv.wait_for(lock, std::chrono::milliseconds(20));
                 continue;
             }
-            playingNow = playing;
             pausedNow = paused;
             seekGenNow = seekGen;
             seekTo = seekTarget;
             modeNow = stereoMode;
         }
-        (void)playingNow;
         Session &s = *rs.session;
         const TimePoint now = clock.now();
 
@@ -913,9 +903,8 @@ PlaybackStats Playback::stats() const
 {
     std::lock_guard<std::mutex> lock(impl_->mutex);
     PlaybackStats s = impl_->stats;
-    std::vector<double> ms = impl_->renderMs;
-    s.renderMsP50 = percentile(ms, 0.50);
-    s.renderMsP99 = percentile(ms, 0.99);
+    s.renderMsP50 = percentile(impl_->renderMs, 0.50);
+    s.renderMsP99 = percentile(impl_->renderMs, 0.99);
     if (impl_->owned && impl_->owned->decoder)
         s.receiver = impl_->owned->decoder->stats();
     return s;
