@@ -113,6 +113,8 @@ PlayResult runPlay(const PlayOptions &opt)
         return badInput("--stiffness must be in [1, 20000] N/m");
     if (!(opt.duration >= 0.0 && opt.duration <= 7 * 24 * 3600.0))
         return badInput("--duration must be >= 0 s");
+    if (!(opt.osdSeconds >= 0.0 && opt.osdSeconds <= 86400.0))
+        return badInput("--osd-seconds must be in [0, 86400] s");
     if (opt.reengage != "ramp" && opt.reengage != "release")
         return badInput("--reengage must be ramp or release");
     int outW = 0;
@@ -186,6 +188,7 @@ PlayResult runPlay(const PlayOptions &opt)
     pc.recordPath = opt.record;
     pc.recordCrf = opt.recordCrf;
     pc.meshStep = opt.meshStep;
+    pc.osdSeconds = opt.osdSeconds;
     playback::PlaybackHal ph;
     const std::string sourceName = opt.source;
     const std::string decoderName = opt.decoder;
@@ -421,6 +424,7 @@ std::string applyConfig(CLI::App &cmd, PlayOptions &o)
         {"control", str(o.control)},         {"size", str(o.size)},
         {"mesh-step", count(o.meshStep)},    {"require-rt", flag(o.requireRt)},
         {"idle", flag(o.idle)},              {"quiet", flag(o.quiet)},
+        {"osd-seconds", num(o.osdSeconds)},
     };
     for (const auto &[k, node] : tbl) {
         const std::string key(k.str());
@@ -479,6 +483,8 @@ void registerPlayCommand(CLI::App &app, int &exitCode)
     cmd->add_option("--config", o->config, "TOML file with any of these options");
     cmd->add_option("--size", o->size, "Output size WxH (default: 2 x depth width by height)");
     cmd->add_option("--mesh-step", o->meshStep, "Drawn mesh step (0: adaptive level of detail)");
+    cmd->add_option("--osd-seconds", o->osdSeconds,
+                    "On-screen display time after start and each command, s (0: always shown)");
     cmd->add_flag("--require-rt", o->requireRt, "Fail when SCHED_FIFO is refused");
     cmd->add_flag("--idle", o->idle, "Stay up after the end or an error (for --control)");
     cmd->add_flag("--quiet", o->quiet, "No state-change lines on stderr");

@@ -180,6 +180,7 @@ struct Playback::Impl {
     std::optional<haptic_task::HapticStats> lastHapticStats;
 
     std::atomic<bool> snapshotRequest{false};
+    std::atomic<std::uint64_t> osdEvents{0}; ///< Commands that bring the on-screen display up.
     std::thread renderThread;
 
     Impl(const PlaybackConfig &c, const PlaybackHal &h)
@@ -306,6 +307,8 @@ void Playback::Impl::renderLoop()
     std::vector<std::uint8_t> flatDepth; // depth-less input: a flat surface
 #endif
     RenderState rs;
+    std::uint64_t osdSeen = ~std::uint64_t{0};
+    TimePoint osdSince{};
 
     for (;;) {
         // Commands and session changes.
@@ -542,9 +545,15 @@ void Playback::Impl::renderLoop()
                     }
                 }
                 renderer->setAvatar(avatar);
+                if (const std::uint64_t n = osdEvents.load(std::memory_order_relaxed); n != osdSeen) {
+                    osdSeen = n;
+                    osdSince = clock.now();
+                }
+                const bool osdUp = config.osdSeconds <= 0.0 || pausedNow ||
+                                   platform::toSeconds(clock.now() - osdSince) < config.osdSeconds;
                 if (config.osd) {
                     render::OsdState osd;
-                    osd.visible = true;
+                    osd.visible = osdUp;
                     osd.status = pausedNow ? "PAUSED" : "PLAYING";
                     osd.hapticsOn = s.task != nullptr && s.task->enabled();
                     osd.force = s.task ? glm::length(s.task->lastForce()) : 0.0;
@@ -783,6 +792,7 @@ Result<void> Playback::open(std::string_view url)
 Result<void> Playback::startPlayback()
 {
     Impl &m = *impl_;
+    m.osdEvents.fetch_add(1, std::memory_order_relaxed);
     std::lock_guard<std::mutex> lock(m.mutex);
     if (m.session == nullptr)
         return Error(Errc::InvalidState, "nothing is open");
@@ -795,6 +805,7 @@ Result<void> Playback::startPlayback()
 Result<void> Playback::pause()
 {
     Impl &m = *impl_;
+    m.osdEvents.fetch_add(1, std::memory_order_relaxed);
     std::lock_guard<std::mutex> lock(m.mutex);
     if (m.session == nullptr)
         return Error(Errc::InvalidState, "nothing is playing");
@@ -805,6 +816,7 @@ Result<void> Playback::pause()
 Result<void> Playback::resume()
 {
     Impl &m = *impl_;
+    m.osdEvents.fetch_add(1, std::memory_order_relaxed);
     std::lock_guard<std::mutex> lock(m.mutex);
     if (m.session == nullptr)
         return Error(Errc::InvalidState, "nothing is open");
@@ -821,6 +833,7 @@ Result<void> Playback::stop()
 Result<void> Playback::seek(double seconds, player::SeekMode mode)
 {
     Impl &m = *impl_;
+    m.osdEvents.fetch_add(1, std::memory_order_relaxed);
     if (!std::isfinite(seconds))
         return Error(Errc::InvalidArgument, "seek: not a number");
     std::lock_guard<std::mutex> lock(m.mutex);
@@ -842,6 +855,7 @@ Result<void> Playback::seek(double seconds, player::SeekMode mode)
 
 Result<void> Playback::setStereoMode(player::StereoMode mode)
 {
+    impl_->osdEvents.fetch_add(1, std::memory_order_relaxed);
     std::lock_guard<std::mutex> lock(impl_->mutex);
     impl_->stereoMode = mode;
     return {};
@@ -849,6 +863,7 @@ Result<void> Playback::setStereoMode(player::StereoMode mode)
 
 Result<void> Playback::setHapticsEnabled(bool enabled)
 {
+    impl_->osdEvents.fetch_add(1, std::memory_order_relaxed);
     impl_->hapticsEnabled = enabled;
     if (impl_->owned && impl_->owned->task)
         impl_->owned->task->setEnabled(enabled);
@@ -857,6 +872,7 @@ Result<void> Playback::setHapticsEnabled(bool enabled)
 
 Result<void> Playback::setStiffness(double newtonsPerMetre)
 {
+    impl_->osdEvents.fetch_add(1, std::memory_order_relaxed);
     if (!(newtonsPerMetre > 0.0))
         return Error(Errc::InvalidArgument, "stiffness must be positive");
     impl_->stiffness = newtonsPerMetre;
@@ -867,6 +883,7 @@ Result<void> Playback::setStiffness(double newtonsPerMetre)
 
 Result<void> Playback::recenter()
 {
+    impl_->osdEvents.fetch_add(1, std::memory_order_relaxed);
     if (!impl_->owned || !impl_->owned->task)
         return Error(Errc::InvalidState, "no haptic task is running");
     impl_->owned->task->requestReseat();

@@ -40,7 +40,9 @@ uniform vec2 uZMap;
 uniform vec2 uTexScale;
 uniform mat4 uViewProj;
 out vec2 vTex;
+#ifdef POSITION
 out vec3 vPos;
+#endif
 void main() {
     int c = gl_VertexID % uColumns;
     int r = gl_VertexID / uColumns;
@@ -50,7 +52,9 @@ void main() {
     float t = texelFetch(uDepth, ivec2(c, r), 0).r;
 #endif
     vec3 p = vec3(uOrigin + vec2(float(c), float(r)) * uStep, uZMap.y + t * uZMap.x);
+#ifdef POSITION
     vPos = p;
+#endif
     vTex = (vec2(float(c), float(r)) + 0.5) * uTexScale;
     gl_Position = uViewProj * vec4(p, 1.0);
 }
@@ -74,7 +78,9 @@ uniform sampler2D uRgb;
 uniform int uRowParity;
 #endif
 in vec2 vTex;
+#ifdef POSITION
 in vec3 vPos;
+#endif
 out vec4 fragColor;
 void main() {
 #ifdef ROW_PARITY
@@ -201,23 +207,32 @@ struct Texture {
     int width = 0;
     int height = 0;
     GLenum internalFormat = 0;
+    GLint filter = 0;
 
-    void ensure(int w, int h, GLenum format, GLint filter)
+    void ensure(int w, int h, GLenum format, GLint minMag)
     {
-        if (name != 0 && w == width && h == height && format == internalFormat)
+        if (name != 0 && w == width && h == height && format == internalFormat) {
+            if (minMag != filter) {
+                glBindTexture(GL_TEXTURE_2D, name);
+                glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, minMag);
+                glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, minMag);
+                filter = minMag;
+            }
             return;
+        }
         if (name != 0)
             glDeleteTextures(1, &name);
         glGenTextures(1, &name);
         glBindTexture(GL_TEXTURE_2D, name);
         glTexStorage2D(GL_TEXTURE_2D, 1, format, w, h);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, minMag);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, minMag);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
         width = w;
         height = h;
         internalFormat = format;
+        filter = minMag;
     }
     void release() noexcept
     {
@@ -525,17 +540,20 @@ Result<void> StereoRenderer::setColor(const hal::ImageView &image, const ColorSp
     Gl &g = *gl_;
     const bool onCpu = options_.colorConversion == ColorConversion::Cpu ||
                        (options_.colorConversion == ColorConversion::Auto && softwareRasterizer_);
+    const bool nearest = options_.colorFilter == ColorFilter::Nearest ||
+                         (options_.colorFilter == ColorFilter::Auto && softwareRasterizer_);
+    const GLint filter = nearest ? GL_NEAREST : GL_LINEAR;
     if (onCpu) {
         const std::vector<std::uint32_t> &rgba = g.converter.convert(image, spec);
-        g.rgb.ensure(image.width, image.height, GL_RGBA8, GL_LINEAR);
+        g.rgb.ensure(image.width, image.height, GL_RGBA8, filter);
         uploadRows(g.rgb, reinterpret_cast<const std::uint8_t *>(rgba.data()), static_cast<std::size_t>(image.width) * 4, image.width, image.height,
                    GL_RGBA, GL_UNSIGNED_BYTE, 4);
     } else if (image.format == hal::PixelFormat::Yuv420p) {
         const int cw = (image.width + 1) / 2;
         const int ch = (image.height + 1) / 2;
-        g.y.ensure(image.width, image.height, GL_R8, GL_LINEAR);
-        g.u.ensure(cw, ch, GL_R8, GL_LINEAR);
-        g.v.ensure(cw, ch, GL_R8, GL_LINEAR);
+        g.y.ensure(image.width, image.height, GL_R8, filter);
+        g.u.ensure(cw, ch, GL_R8, filter);
+        g.v.ensure(cw, ch, GL_R8, filter);
         uploadRows(g.y, image.planes[0].data, static_cast<std::size_t>(image.planes[0].strideBytes), image.width,
                    image.height, GL_RED, GL_UNSIGNED_BYTE, 1);
         uploadRows(g.u, image.planes[1].data, static_cast<std::size_t>(image.planes[1].strideBytes), cw, ch,
@@ -544,9 +562,9 @@ Result<void> StereoRenderer::setColor(const hal::ImageView &image, const ColorSp
                    GL_RED, GL_UNSIGNED_BYTE, 1);
     } else {
         const std::uint8_t neutral = 128;
-        g.y.ensure(image.width, image.height, GL_R8, GL_LINEAR);
-        g.u.ensure(1, 1, GL_R8, GL_LINEAR);
-        g.v.ensure(1, 1, GL_R8, GL_LINEAR);
+        g.y.ensure(image.width, image.height, GL_R8, filter);
+        g.u.ensure(1, 1, GL_R8, filter);
+        g.v.ensure(1, 1, GL_R8, filter);
         uploadRows(g.y, image.planes[0].data, static_cast<std::size_t>(image.planes[0].strideBytes), image.width,
                    image.height, GL_RED, GL_UNSIGNED_BYTE, 1);
         uploadRows(g.u, &neutral, 1, 1, 1, GL_RED, GL_UNSIGNED_BYTE, 1);

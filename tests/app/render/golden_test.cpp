@@ -530,6 +530,7 @@ TEST_F(RenderGoldenTest, cpuAndShaderColourConversionAgree)
     for (const ColorConversion where : {ColorConversion::Shader, ColorConversion::Cpu}) {
         RendererOptions o = renderer_->options();
         o.colorConversion = where;
+        o.colorFilter = ColorFilter::Linear; // the CPU path interpolates chroma as GL_LINEAR does
         ASSERT_TRUE(renderer_->setOptions(o));
         ASSERT_TRUE(renderer_->setColor(col.view(), ColorSpec{YuvMatrix::Bt709, false}));
         EXPECT_EQ(renderer_->colorConvertedOnCpu(), where == ColorConversion::Cpu);
@@ -549,6 +550,36 @@ TEST_F(RenderGoldenTest, cpuAndShaderColourConversionAgree)
     EXPECT_LT(static_cast<double>(sum) / static_cast<double>(pictures[0].rgb.size()), 0.5);
     EXPECT_GT(std::count_if(pictures[1].rgb.begin(), pictures[1].rgb.end(), [](std::uint8_t v) { return v > 100; }),
               1000) << "the surface was drawn";
+}
+
+TEST_F(RenderGoldenTest, colourFilterIsHonoured)
+{
+    // GIVEN a flat surface coloured by a 2×2 frame of black and white columns, stretched over the
+    // whole eye, on the CPU path
+    const Depth8 d(32, 32, [](int, int) { return 128; });
+    Yuv420 col(2, 2, [](int c, int) {
+        return std::array<int, 3>{c == 0 ? 16 : 235, 128, 128};
+    });
+    ASSERT_TRUE(renderer_->setDepth(d.view()));
+    setMode(StereoMode::Mono);
+    std::array<std::size_t, 2> mids{};
+    for (const ColorFilter f : {ColorFilter::Nearest, ColorFilter::Linear}) {
+        RendererOptions o = renderer_->options();
+        o.colorConversion = ColorConversion::Cpu;
+        o.colorFilter = f;
+        ASSERT_TRUE(renderer_->setOptions(o));
+        ASSERT_TRUE(renderer_->setColor(col.view(), ColorSpec{YuvMatrix::Bt709, false}));
+        // WHEN drawn with nearest and with bilinear sampling
+        const Picture p = draw(160, 120);
+        std::size_t mid = 0;
+        for (std::size_t i = 0; i < p.rgb.size(); ++i)
+            mid += p.rgb[i] > 40 && p.rgb[i] < 215 ? 1u : 0u;
+        mids[f == ColorFilter::Nearest ? 0 : 1] = mid;
+    }
+    // THEN nearest shows only the two colours (and the black background) while bilinear blends
+    // them into a ramp across the middle
+    EXPECT_EQ(mids[0], 0u);
+    EXPECT_GT(mids[1], 1000u);
 }
 
 TEST_F(RenderGoldenTest, stageTimesAreRecordedPerEye)

@@ -70,6 +70,9 @@ struct PlaybackConfig {
     int recordCrf = 20;                   ///< x264 CRF of the recording.
     std::string recordPreset = "veryfast"; ///< x264 preset of the recording.
     bool osd = true;    ///< On-screen display (state, haptics switch, force bar).
+    /// Seconds the on-screen display stays up after playback starts and after each command (as a
+    /// TV's does); it stays up while paused. 0 = always shown (when osd).
+    double osdSeconds = 4.0;
     bool avatar = true; ///< Proxy sphere and HIP marker.
     /// Mesh step of the drawn surface: 0 = adaptive level of detail, else a fixed power of two.
     int meshStep = 0;

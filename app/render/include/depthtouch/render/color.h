@@ -43,6 +43,18 @@ enum class ColorConversion : std::uint8_t {
     Cpu,    ///< YuvConverter once per frame; the surface samples one RGBA8 texture.
 };
 
+/// \brief How the surface samples its colour texture.
+///
+/// The colour frame and each eye's viewport are usually about the same size (a 720×486 frame in a
+/// 720×486 side-by-side half), so bilinear filtering changes little on screen; on llvmpipe it costs
+/// about a tenth of a stereo frame's CPU time (four texel fetches and the blend per fragment), which
+/// Auto saves there.
+enum class ColorFilter : std::uint8_t {
+    Auto,    ///< Nearest on a software rasterizer (as ColorConversion::Auto), else Linear.
+    Linear,  ///< GL_LINEAR: bilinear.
+    Nearest, ///< GL_NEAREST: the nearest texel.
+};
+
 /// \brief Y'CbCr 4:2:0 (or luma only) → RGBA8 on the CPU, the same conversion the fragment shader
 /// does: chroma is sampled bilinearly at each luma sample's centre as a GL_LINEAR, clamp-to-edge
 /// lookup of the half-size chroma planes does (for even sizes: weights 3/4 and 1/4 of the two

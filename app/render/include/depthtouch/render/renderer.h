@@ -44,6 +44,7 @@ struct RendererOptions {
     StereoParams stereo{};                    ///< Eye cameras.
     MeshOptions mesh{};                       ///< Level of detail.
     ColorConversion colorConversion = ColorConversion::Auto; ///< Where Y'CbCr becomes R'G'B' (setColor()).
+    ColorFilter colorFilter = ColorFilter::Auto; ///< How the colour texture is sampled.
     glm::vec3 background{0.0f, 0.0f, 0.0f};   ///< Clear colour, linear RGB in [0, 1].
 };
 
