@@ -157,7 +157,14 @@ private:
             int count;
         } child[4];
     };
-    std::vector<QueuedBlock> heap_;
+    /// A heap entry: a queued block's priority and its slot in nodes_.
+    struct HeapEntry {
+        float priority;
+        std::uint32_t node;
+    };
+    std::vector<QueuedBlock> nodes_;
+    std::vector<HeapEntry> heap_;
+    std::vector<std::uint64_t> sortKeys_; ///< Scratch: the emission-order keys of the leaves.
     std::vector<int> finestScratch_;
     MeshStats stats_{};
     int width_ = 0;
