@@ -182,5 +182,34 @@ TEST(KmsBackendTest, noDrmDeviceIsNoDevice)
     EXPECT_NE(report.chosen, "kms");
 }
 
+TEST(KmsBackendTest, optionsAreCheckedBeforeTheDevice)
+{
+    // Bad options are bad input (exit code 2 in the CLI) whether or not a card exists.
+    hal::BackendConfig cfg;
+    cfg.options = hal::OptionList("resolution=1080p");
+    EXPECT_EQ(EglGbmDisplay::create(cfg).error().code, Errc::InvalidArgument);
+    cfg.options = hal::OptionList("mode=1920x");
+    EXPECT_EQ(EglGbmDisplay::create(cfg).error().code, Errc::InvalidArgument);
+    cfg.options = hal::OptionList("readback=maybe");
+    EXPECT_EQ(EglGbmDisplay::create(cfg).error().code, Errc::InvalidArgument);
+    // Good ones parse.
+    cfg.options = hal::OptionList("mode=HDMI-A-1:1280x720@50,card=/dev/dri/card1,readback=1");
+    auto s = EglGbmDisplay::Settings::parse(cfg);
+    ASSERT_TRUE(s) << s.error().what;
+    EXPECT_EQ(s->mode, "HDMI-A-1:1280x720@50");
+    EXPECT_EQ(s->card, "/dev/dri/card1");
+    EXPECT_TRUE(s->readback);
+    // The card may come as the device path too.
+    hal::BackendConfig dev;
+    dev.device = "/dev/dri/card2";
+    auto d = EglGbmDisplay::Settings::parse(dev);
+    ASSERT_TRUE(d);
+    EXPECT_EQ(d->card, "/dev/dri/card2");
+    EXPECT_FALSE(d->readback);
+    // A card path that does not exist is no device.
+    cfg.options = hal::OptionList("card=/nonexistent/card7");
+    EXPECT_EQ(EglGbmDisplay::create(cfg).error().code, Errc::NoDevice);
+}
+
 } // namespace
 } // namespace depthtouch::drivers
