@@ -306,11 +306,11 @@ Result<void> EglGbmDisplay::openOutput(const hal::DisplayConfig &cfg)
     auto createSurface = reinterpret_cast<PFNEGLCREATEPLATFORMWINDOWSURFACEEXTPROC>(
         eglGetProcAddress("eglCreatePlatformWindowSurfaceEXT"));
     // EGL_KHR_platform_gbm: the native window is the gbm_surface itself.
-    k.eglSurface = createSurface != nullptr
-                       ? createSurface(k.display, *config, k.surface, nullptr)
-                       : eglCreateWindowSurface(k.display, *config,
-                                                reinterpret_cast<EGLNativeWindowType>(k.surface),
-                                                nullptr);
+    k.eglSurface =
+        createSurface != nullptr
+            ? createSurface(k.display, *config, k.surface, nullptr)
+            : eglCreateWindowSurface(k.display, *config,
+                                     reinterpret_cast<EGLNativeWindowType>(k.surface), nullptr);
     if (k.eglSurface == EGL_NO_SURFACE) {
         DT_LOG(Kms, Error, "Failed to create an EGL window surface on the GBM surface: %s",
                egl::eglErrorName(eglGetError()));
@@ -337,8 +337,8 @@ Result<void> EglGbmDisplay::openOutput(const hal::DisplayConfig &cfg)
                                   k.copyColor);
         const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
         if (status != GL_FRAMEBUFFER_COMPLETE || glGetError() != GL_NO_ERROR) {
-            DT_LOG(Kms, Error, "Failed to create a %dx%d readback framebuffer (status 0x%x)",
-                   width, height, status);
+            DT_LOG(Kms, Error, "Failed to create a %dx%d readback framebuffer (status 0x%x)", width,
+                   height, status);
             return unexpected(Errc::OutOfResources, "Readback framebuffer incomplete");
         }
     }

@@ -49,8 +49,7 @@ Result<void> KmsScanout::begin(const KmsScanoutConfig &cfg)
     if (!saved) {
         DT_LOG(Kms, Error, "Failed to read CRTC %u: %s", cfg.crtcId,
                std::strerror(saved.error().sysErrno));
-        return unexpected(Errc::NoDevice, "Failed to read the CRTC state",
-                          saved.error().sysErrno);
+        return unexpected(Errc::NoDevice, "Failed to read the CRTC state", saved.error().sysErrno);
     }
     cfg_ = cfg;
     saved_ = *saved;
@@ -152,7 +151,8 @@ Result<hal::PresentInfo> KmsScanout::present()
             info.skippedVsyncs = periods > 0 ? periods - 1 : 0;
         } else {
             const double hz = cfg_.mode.refreshHz > 0.0 ? cfg_.mode.refreshHz : 60.0;
-            const double periods = std::round(platform::toSeconds(info.vsyncTime - lastVsync_) * hz);
+            const double periods =
+                std::round(platform::toSeconds(info.vsyncTime - lastVsync_) * hz);
             info.skippedVsyncs = periods > 1.0 ? static_cast<std::uint32_t>(periods - 1.0) : 0;
         }
         lastSequence_ = event->sequence;

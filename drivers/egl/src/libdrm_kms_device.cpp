@@ -69,8 +69,8 @@ public:
         } else {
             drmModeModeInfo mode = toDrmMode(state.mode);
             std::uint32_t connector = connectorId;
-            ret = drmModeSetCrtc(fd_, state.crtcId, state.framebuffer, state.x, state.y,
-                                 &connector, 1, &mode);
+            ret = drmModeSetCrtc(fd_, state.crtcId, state.framebuffer, state.x, state.y, &connector,
+                                 1, &mode);
         }
         if (ret != 0)
             return unexpected(Errc::Io, "drmModeSetCrtc failed", errnoOf(ret));
@@ -83,7 +83,8 @@ public:
         std::uint32_t strides[4] = {};
         std::uint32_t offsets[4] = {};
         std::uint64_t modifiers[4] = {};
-        const std::uint32_t planes = std::min<std::uint32_t>(std::max<std::uint32_t>(b.planes, 1), 4);
+        const std::uint32_t planes =
+            std::min<std::uint32_t>(std::max<std::uint32_t>(b.planes, 1), 4);
         for (std::uint32_t i = 0; i < planes; ++i) {
             handles[i] = b.handles[i];
             strides[i] = b.strides[i];
@@ -97,8 +98,8 @@ public:
             ret = drmModeAddFB2WithModifiers(fd_, b.width, b.height, b.format, handles, strides,
                                              offsets, modifiers, &fb, DRM_MODE_FB_MODIFIERS);
         if (ret != 0)
-            ret = drmModeAddFB2(fd_, b.width, b.height, b.format, handles, strides, offsets, &fb,
-                                0);
+            ret =
+                drmModeAddFB2(fd_, b.width, b.height, b.format, handles, strides, offsets, &fb, 0);
         if (ret != 0 && b.format == DRM_FORMAT_XRGB8888 && planes == 1)
             ret = drmModeAddFB(fd_, b.width, b.height, 24, 32, strides[0], handles[0], &fb);
         if (ret != 0)
@@ -152,8 +153,7 @@ public:
     }
 
 private:
-    static void onFlip(int, unsigned int sequence, unsigned int sec, unsigned int usec,
-                       void *data)
+    static void onFlip(int, unsigned int sequence, unsigned int sec, unsigned int usec, void *data)
     {
         auto *self = static_cast<LibdrmKmsDevice *>(data);
         self->sequence_ = sequence;

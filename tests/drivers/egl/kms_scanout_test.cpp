@@ -120,7 +120,7 @@ public:
         return e;
     }
 
-    KmsCrtcState crtc;               ///< What the CRTC shows now.
+    KmsCrtcState crtc;                    ///< What the CRTC shows now.
     std::optional<std::uint32_t> pending; ///< Framebuffer of the queued flip.
     std::vector<KmsCrtcState> setCrtcCalls;
     std::vector<std::uint32_t> setCrtcConnectors;
@@ -187,10 +187,7 @@ public:
             ++releasesOnScreen;
     }
 
-    void cacheFramebuffer(std::uintptr_t id, std::uint32_t fb) override
-    {
-        framebuffers[id] = fb;
-    }
+    void cacheFramebuffer(std::uintptr_t id, std::uint32_t fb) override { framebuffers[id] = fb; }
 
     std::set<std::uintptr_t> locked;
     std::vector<std::uintptr_t> lockOrder;
@@ -268,9 +265,8 @@ TEST(KmsScanoutTest, firstPresentSetsTheModeAndLaterOnesFlip)
     EXPECT_EQ(set.mode, mode1080());
     EXPECT_EQ(set.framebuffer, 101u);
     EXPECT_EQ(r.device.setCrtcConnectors[0], kConnector);
-    const CallLog expected = {"getCrtc", "addFb 1",   "setCrtc 101", "addFb 2",   "flip 102",
-                              "wait",    "release 1", "addFb 3",     "flip 103",  "wait",
-                              "release 2"};
+    const CallLog expected = {"getCrtc",   "addFb 1", "setCrtc 101", "addFb 2", "flip 102", "wait",
+                              "release 1", "addFb 3", "flip 103",    "wait",    "release 2"};
     EXPECT_EQ(r.log, expected);
     EXPECT_EQ(r.device.crtc.framebuffer, 103u);
     EXPECT_NE(r.device.crtc, console);

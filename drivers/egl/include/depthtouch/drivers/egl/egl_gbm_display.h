@@ -60,8 +60,8 @@ class EglGbmDisplay final : public hal::Display {
 public:
     /// Options of the kms display (see the file comment).
     struct Settings {
-        std::string mode;      ///< Option `mode`: "[CONNECTOR][:]WxH[@HZ]"; empty = DisplayConfig's.
-        std::string card;      ///< Option `card` or BackendConfig::device; empty = discovery.
+        std::string mode; ///< Option `mode`: "[CONNECTOR][:]WxH[@HZ]"; empty = DisplayConfig's.
+        std::string card; ///< Option `card` or BackendConfig::device; empty = discovery.
         bool readback = false; ///< Option `readback`.
 
         /// \return the settings of \a cfg. Errors: InvalidArgument (unknown key, malformed mode

@@ -9,6 +9,8 @@
 /// ("HDMI-A-1[:WIDTHxHEIGHT[@HZ]]"). Without a requested size the connector's preferred mode is
 /// taken (its first mode when none is flagged). With a size: the modes of that size; with a rate
 /// too, the one nearest to it within 0.5 Hz, else the highest rate of that size.
+/// selectKmsScreenMode() adds the rule of the kms display for a size that is the content's rather
+/// than the screen's; chooseCrtc() picks the CRTC that drives the chosen connector.
 /// Thread-safety: reentrant (a DrmApi object is used by one thread at a time).
 
 #include <cstddef>

@@ -21,12 +21,12 @@
 /// (KmsDevice::addFramebuffer) and cached on the buffer (ScanoutBufferSource::cacheFramebuffer);
 /// the source removes it when it destroys the buffer.
 ///
-/// Loss: a flip event that does not come within flipTimeout (or reading it fails), or a DRM call failing with EACCES or
-/// EPERM (DRM master lost: another process took the display), ENODEV or ENXIO (card gone), ENOENT
-/// or EINVAL (connector or CRTC gone, or the mode rejected) makes the scan-out Lost: present()
-/// returns NoDevice from then on, without waiting. A buffer whose flip never completed stays
-/// locked until end(). Other failures (e.g. EBUSY, ENOMEM, no free buffer) return Io, release
-/// the buffer of that frame and keep the last frame on screen.
+/// Loss: a flip event that does not come within flipTimeout (or reading it fails), or a DRM call
+/// failing with EACCES or EPERM (DRM master lost: another process took the display), ENODEV or
+/// ENXIO (card gone), ENOENT or EINVAL (connector or CRTC gone, or the mode rejected) makes the
+/// scan-out Lost: present() returns NoDevice from then on, without waiting. A buffer whose flip
+/// never completed stays locked until end(). Other failures (e.g. EBUSY, ENOMEM, no free buffer)
+/// return Io, release the buffer of that frame and keep the last frame on screen.
 ///
 /// end() restores the saved CRTC state exactly once per begin(), whatever happened since: after
 /// a loss (the display may be back), and after a first present() that failed. It never throws.
@@ -72,16 +72,16 @@ struct KmsFlipEvent {
 
 /// \brief A buffer locked from a ScanoutBufferSource: what a DRM framebuffer needs.
 struct ScanoutBuffer {
-    std::uintptr_t id = 0;    ///< Identifies the buffer (the gbm_bo); never 0.
-    std::uint32_t width = 0;  ///< Pixels.
-    std::uint32_t height = 0; ///< Pixels.
-    std::uint32_t format = 0; ///< DRM fourcc, e.g. DRM_FORMAT_XRGB8888.
-    std::uint32_t planes = 1; ///< Planes used in the arrays below (1..4).
+    std::uintptr_t id = 0;                  ///< Identifies the buffer (the gbm_bo); never 0.
+    std::uint32_t width = 0;                ///< Pixels.
+    std::uint32_t height = 0;               ///< Pixels.
+    std::uint32_t format = 0;               ///< DRM fourcc, e.g. DRM_FORMAT_XRGB8888.
+    std::uint32_t planes = 1;               ///< Planes used in the arrays below (1..4).
     std::array<std::uint32_t, 4> handles{}; ///< GEM handles.
     std::array<std::uint32_t, 4> strides{}; ///< Bytes per row.
     std::array<std::uint32_t, 4> offsets{}; ///< Bytes.
-    std::uint64_t modifier = 0;        ///< Format modifier; DRM_FORMAT_MOD_INVALID when unknown.
-    std::uint32_t framebuffer = 0;     ///< Framebuffer cached on the buffer; 0 when none yet.
+    std::uint64_t modifier = 0;    ///< Format modifier; DRM_FORMAT_MOD_INVALID when unknown.
+    std::uint32_t framebuffer = 0; ///< Framebuffer cached on the buffer; 0 when none yet.
 };
 
 /// \brief The DRM calls of a scan-out (the seam for tests). Errors carry the errno of the failed
@@ -180,11 +180,11 @@ private:
     platform::Clock &eventClock_;
     KmsScanoutConfig cfg_;
     State state_ = State::Idle;
-    std::optional<KmsCrtcState> saved_;      ///< From begin(), until restored.
-    std::uintptr_t shown_ = 0;              ///< Buffer on screen; 0 before the first frame.
-    std::uintptr_t pending_ = 0;            ///< Buffer of a flip that never completed.
+    std::optional<KmsCrtcState> saved_;         ///< From begin(), until restored.
+    std::uintptr_t shown_ = 0;                  ///< Buffer on screen; 0 before the first frame.
+    std::uintptr_t pending_ = 0;                ///< Buffer of a flip that never completed.
     std::optional<std::uint32_t> lastSequence_; ///< Of the last flip event.
-    platform::TimePoint lastVsync_{};       ///< Backend clock.
+    platform::TimePoint lastVsync_{};           ///< Backend clock.
     std::uint64_t frames_ = 0;
 };
 
