@@ -81,7 +81,8 @@ constexpr hal::Backend<hal::VideoDecoder> kVideoDecoderBackends[] = {
 
 constexpr hal::Backend<hal::Display> kDisplayBackends[] = {
 #if DT_HAVE_EGL && DT_HAVE_EGL_GBM
-    {"kms", "GBM/KMS on a DRM card (mode HDMI-A-1[:WxH@HZ]); scan-out still to do", true,
+    {"kms", "GBM/KMS full screen on a DRM card, page flips (options mode=HDMI-A-1[:WxH@HZ], "
+            "card, readback)", true,
      &EglGbmDisplay::create},
 #endif
 #if DT_HAVE_EGL && DT_HAVE_EGL_X11

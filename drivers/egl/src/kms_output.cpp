@@ -98,4 +98,46 @@ Result<KmsSelection> selectKmsOutput(DrmApi &api, const hal::DisplayConfig &cfg)
     return unexpected(Errc::NotSupported, "No connected display offers the requested mode");
 }
 
+Result<KmsSelection> selectKmsScreenMode(DrmApi &api, const hal::DisplayConfig &cfg,
+                                         const std::string &modeText)
+{
+    if (cfg.width < 0 || cfg.height < 0 || cfg.refreshHz < 0.0)
+        return unexpected(Errc::InvalidArgument, "Display size or refresh is negative");
+    const std::string &text = modeText.empty() ? cfg.mode : modeText;
+    auto spec = parseModeSpec(text);
+    if (!spec)
+        return unexpected(spec.error());
+    hal::DisplayConfig onlyText;
+    onlyText.mode = text;
+    auto sel = selectKmsOutput(api, onlyText);
+    const bool sizeAsked = cfg.width > 0 || cfg.height > 0 || cfg.refreshHz > 0.0;
+    if (!sel || spec->width > 0 || spec->height > 0 || spec->refreshHz > 0.0 || !sizeAsked)
+        return sel;
+    // The content size picks a mode of the chosen connector only when the sink has one.
+    const long mode = chooseMode(sel->connectorInfo(), cfg.width, cfg.height, cfg.refreshHz);
+    if (mode >= 0) {
+        sel->mode = static_cast<std::size_t>(mode);
+    } else {
+        DT_LOG(Kms, Info, "%s has no %dx%d@%g mode: using %s at %.2f Hz",
+               sel->connectorInfo().name.c_str(), cfg.width, cfg.height, cfg.refreshHz,
+               sel->modeInfo().name.c_str(), sel->modeInfo().refreshHz);
+    }
+    return sel;
+}
+
+std::uint32_t chooseCrtc(std::uint32_t currentEncoder, const std::vector<DrmEncoderInfo> &encoders,
+                         const std::vector<std::uint32_t> &crtcs)
+{
+    if (currentEncoder != 0) {
+        for (const DrmEncoderInfo &e : encoders)
+            if (e.id == currentEncoder && e.crtcId != 0)
+                return e.crtcId;
+    }
+    for (std::size_t i = 0; i < crtcs.size() && i < 32; ++i)
+        for (const DrmEncoderInfo &e : encoders)
+            if ((e.possibleCrtcs & (1u << i)) != 0)
+                return crtcs[i];
+    return 0;
+}
+
 } // namespace depthtouch::drivers

@@ -2,8 +2,9 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include <cerrno>
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 
 #include "depthtouch/drivers/egl/kms_output.h"
 #include "depthtouch/platform/unique_fd.h"
+#include "libdrm_mode.h"
 
 namespace depthtouch::drivers {
 
@@ -58,17 +60,8 @@ public:
             info.name = std::string(type != nullptr ? type : "Unknown") + "-" +
                         std::to_string(c->connector_type_id);
             info.connected = c->connection == DRM_MODE_CONNECTED;
-            for (int m = 0; m < c->count_modes; ++m) {
-                const drmModeModeInfo &mi = c->modes[m];
-                DrmModeInfo mode;
-                mode.name = mi.name;
-                mode.width = mi.hdisplay;
-                mode.height = mi.vdisplay;
-                const double total = static_cast<double>(mi.htotal) * static_cast<double>(mi.vtotal);
-                mode.refreshHz = total > 0.0 ? mi.clock * 1000.0 / total : mi.vrefresh;
-                mode.preferred = (mi.type & DRM_MODE_TYPE_PREFERRED) != 0;
-                info.modes.push_back(mode);
-            }
+            for (int m = 0; m < c->count_modes; ++m)
+                info.modes.push_back(kms::fromDrmMode(c->modes[m]));
             drmModeFreeConnector(c);
             card.connectors.push_back(std::move(info));
         }
@@ -78,6 +71,60 @@ public:
 };
 
 } // namespace
+
+namespace kms {
+
+DrmModeInfo fromDrmMode(const drmModeModeInfo &mi)
+{
+    DrmModeInfo mode;
+    mode.name.assign(mi.name, strnlen(mi.name, sizeof mi.name));
+    mode.width = mi.hdisplay;
+    mode.height = mi.vdisplay;
+    const double total = static_cast<double>(mi.htotal) * static_cast<double>(mi.vtotal);
+    mode.refreshHz = total > 0.0 ? mi.clock * 1000.0 / total : mi.vrefresh;
+    mode.preferred = (mi.type & DRM_MODE_TYPE_PREFERRED) != 0;
+    DrmModeTimings &t = mode.timings;
+    t.clock = mi.clock;
+    t.hdisplay = mi.hdisplay;
+    t.hsyncStart = mi.hsync_start;
+    t.hsyncEnd = mi.hsync_end;
+    t.htotal = mi.htotal;
+    t.hskew = mi.hskew;
+    t.vdisplay = mi.vdisplay;
+    t.vsyncStart = mi.vsync_start;
+    t.vsyncEnd = mi.vsync_end;
+    t.vtotal = mi.vtotal;
+    t.vscan = mi.vscan;
+    t.vrefresh = mi.vrefresh;
+    t.flags = mi.flags;
+    t.type = mi.type;
+    return mode;
+}
+
+drmModeModeInfo toDrmMode(const DrmModeInfo &m) noexcept
+{
+    drmModeModeInfo mi{};
+    const DrmModeTimings &t = m.timings;
+    mi.clock = t.clock;
+    mi.hdisplay = t.hdisplay;
+    mi.hsync_start = t.hsyncStart;
+    mi.hsync_end = t.hsyncEnd;
+    mi.htotal = t.htotal;
+    mi.hskew = t.hskew;
+    mi.vdisplay = t.vdisplay;
+    mi.vsync_start = t.vsyncStart;
+    mi.vsync_end = t.vsyncEnd;
+    mi.vtotal = t.vtotal;
+    mi.vscan = t.vscan;
+    mi.vrefresh = t.vrefresh;
+    mi.flags = t.flags;
+    mi.type = t.type;
+    const std::size_t n = std::min(m.name.size(), sizeof mi.name - 1);
+    std::memcpy(mi.name, m.name.data(), n);
+    return mi;
+}
+
+} // namespace kms
 
 std::unique_ptr<DrmApi> makeLibdrmApi()
 {

@@ -113,6 +113,59 @@ TEST(KmsOutputTest, missingThingsGiveClearErrors)
     EXPECT_EQ(selectKmsOutput(drm, {}).error().code, Errc::NoDevice);
 }
 
+TEST(KmsOutputTest, screenModeFollowsAnExplicitModeElseTheContentSizeWhenTheSinkHasIt)
+{
+    FakeDrm drm = setTopBox();
+    hal::DisplayConfig content;
+    content.width = 960; // side-by-side of a 480x324 clip: no such mode on a TV
+    content.height = 324;
+    // GIVEN no mode text: the content size has no mode, so the preferred one is used
+    auto sel = selectKmsScreenMode(drm, content, "");
+    ASSERT_TRUE(sel) << sel.error().what;
+    EXPECT_EQ(sel->modeInfo().width, 1920);
+    EXPECT_DOUBLE_EQ(sel->modeInfo().refreshHz, 60.0);
+    // A content size the sink offers is taken.
+    hal::DisplayConfig hd;
+    hd.width = 1280;
+    hd.height = 720;
+    sel = selectKmsScreenMode(drm, hd, "");
+    ASSERT_TRUE(sel);
+    EXPECT_EQ(sel->modeInfo().width, 1280);
+    // An explicit mode (option, else cfg.mode) wins over the content size, and is strict.
+    sel = selectKmsScreenMode(drm, hd, "HDMI-A-1:720x576@50");
+    ASSERT_TRUE(sel);
+    EXPECT_EQ(sel->modeInfo().height, 576);
+    hal::DisplayConfig withText = hd;
+    withText.mode = "1920x1080@50";
+    sel = selectKmsScreenMode(drm, withText, "");
+    ASSERT_TRUE(sel);
+    EXPECT_DOUBLE_EQ(sel->modeInfo().refreshHz, 50.0);
+    EXPECT_EQ(selectKmsScreenMode(drm, hd, "640x480").error().code, Errc::NotSupported);
+    // A connector alone keeps the content-size rule on that connector.
+    sel = selectKmsScreenMode(drm, content, "HDMI-A-1");
+    ASSERT_TRUE(sel);
+    EXPECT_EQ(sel->connectorInfo().name, "HDMI-A-1");
+    EXPECT_EQ(sel->modeInfo().width, 1920);
+    EXPECT_EQ(selectKmsScreenMode(drm, content, "DP-1").error().code, Errc::NoDevice);
+    hal::DisplayConfig negative;
+    negative.height = -5;
+    EXPECT_EQ(selectKmsScreenMode(drm, negative, "").error().code, Errc::InvalidArgument);
+}
+
+TEST(KmsOutputTest, crtcIsTheEncodersCurrentOneElseTheFirstItCanDrive)
+{
+    const std::vector<std::uint32_t> crtcs = {50, 51, 52};
+    // The connector's encoder 20 drives CRTC 52 now: keep it (no flicker, no stealing).
+    EXPECT_EQ(chooseCrtc(20, {{20, 52, 0b111}}, crtcs), 52u);
+    // No current encoder: the first CRTC in card order that one of its encoders can drive.
+    EXPECT_EQ(chooseCrtc(0, {{20, 0, 0b100}, {21, 0, 0b110}}, crtcs), 51u);
+    // The current encoder drives nothing: same rule.
+    EXPECT_EQ(chooseCrtc(20, {{20, 0, 0b100}}, crtcs), 52u);
+    // No encoder can drive any CRTC of the card.
+    EXPECT_EQ(chooseCrtc(0, {{20, 0, 0b1000}}, crtcs), 0u);
+    EXPECT_EQ(chooseCrtc(0, {}, crtcs), 0u);
+}
+
 TEST(KmsBackendTest, noDrmDeviceIsNoDevice)
 {
     if (std::filesystem::exists("/dev/dri"))
@@ -127,6 +180,35 @@ TEST(KmsBackendTest, noDrmDeviceIsNoDevice)
     auto any = createDisplay("", {}, &report);
     ASSERT_TRUE(any);
     EXPECT_NE(report.chosen, "kms");
+}
+
+TEST(KmsBackendTest, optionsAreCheckedBeforeTheDevice)
+{
+    // Bad options are bad input (exit code 2 in the CLI) whether or not a card exists.
+    hal::BackendConfig cfg;
+    cfg.options = hal::OptionList("resolution=1080p");
+    EXPECT_EQ(EglGbmDisplay::create(cfg).error().code, Errc::InvalidArgument);
+    cfg.options = hal::OptionList("mode=1920x");
+    EXPECT_EQ(EglGbmDisplay::create(cfg).error().code, Errc::InvalidArgument);
+    cfg.options = hal::OptionList("readback=maybe");
+    EXPECT_EQ(EglGbmDisplay::create(cfg).error().code, Errc::InvalidArgument);
+    // Good ones parse.
+    cfg.options = hal::OptionList("mode=HDMI-A-1:1280x720@50,card=/dev/dri/card1,readback=1");
+    auto s = EglGbmDisplay::Settings::parse(cfg);
+    ASSERT_TRUE(s) << s.error().what;
+    EXPECT_EQ(s->mode, "HDMI-A-1:1280x720@50");
+    EXPECT_EQ(s->card, "/dev/dri/card1");
+    EXPECT_TRUE(s->readback);
+    // The card may come as the device path too.
+    hal::BackendConfig dev;
+    dev.device = "/dev/dri/card2";
+    auto d = EglGbmDisplay::Settings::parse(dev);
+    ASSERT_TRUE(d);
+    EXPECT_EQ(d->card, "/dev/dri/card2");
+    EXPECT_FALSE(d->readback);
+    // A card path that does not exist is no device.
+    cfg.options = hal::OptionList("card=/nonexistent/card7");
+    EXPECT_EQ(EglGbmDisplay::create(cfg).error().code, Errc::NoDevice);
 }
 
 } // namespace

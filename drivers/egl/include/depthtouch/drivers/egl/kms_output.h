@@ -9,6 +9,8 @@
 /// ("HDMI-A-1[:WIDTHxHEIGHT[@HZ]]"). Without a requested size the connector's preferred mode is
 /// taken (its first mode when none is flagged). With a size: the modes of that size; with a rate
 /// too, the one nearest to it within 0.5 Hz, else the highest rate of that size.
+/// selectKmsScreenMode() adds the rule of the kms display for a size that is the content's rather
+/// than the screen's; chooseCrtc() picks the CRTC that drives the chosen connector.
 /// Thread-safety: reentrant (a DrmApi object is used by one thread at a time).
 
 #include <cstddef>
@@ -22,6 +24,19 @@
 
 namespace depthtouch::drivers {
 
+/// \brief The raw timings of a DRM mode (the fields of drmModeModeInfo besides its name), enough
+/// to set the mode again with drmModeSetCrtc(). Pixel clock in kHz, the rest in pixels or lines.
+struct DrmModeTimings {
+    std::uint32_t clock = 0; ///< Pixel clock, kHz.
+    std::uint16_t hdisplay = 0, hsyncStart = 0, hsyncEnd = 0, htotal = 0, hskew = 0;
+    std::uint16_t vdisplay = 0, vsyncStart = 0, vsyncEnd = 0, vtotal = 0, vscan = 0;
+    std::uint32_t vrefresh = 0; ///< Hertz, rounded.
+    std::uint32_t flags = 0;    ///< DRM_MODE_FLAG_*.
+    std::uint32_t type = 0;     ///< DRM_MODE_TYPE_*.
+
+    friend bool operator==(const DrmModeTimings &, const DrmModeTimings &) = default;
+};
+
 /// One display mode of a connector.
 struct DrmModeInfo {
     std::string name;        ///< e.g. "1920x1080".
@@ -29,6 +44,9 @@ struct DrmModeInfo {
     int height = 0;          ///< Pixels.
     double refreshHz = 0.0;  ///< Vertical refresh, hertz.
     bool preferred = false;  ///< DRM_MODE_TYPE_PREFERRED (the sink's native mode).
+    DrmModeTimings timings{}; ///< As the kernel reports them (LibdrmApi); zero from fakes.
+
+    friend bool operator==(const DrmModeInfo &, const DrmModeInfo &) = default;
 };
 
 /// One connector (HDMI, DP, ...) of a card.
@@ -75,6 +93,32 @@ struct KmsSelection {
 /// connector absent or disconnected), NotSupported (malformed mode string, or no mode of the
 /// requested size/rate on the chosen connector), InvalidArgument (negative fields).
 Result<KmsSelection> selectKmsOutput(DrmApi &api, const hal::DisplayConfig &cfg);
+
+/// \brief Chooses the mode for opening the kms display on a screen (EglGbmDisplay::open()).
+///
+/// A screen has the modes its sink offers, while DisplayConfig's size is usually the size of the
+/// content (the player asks for twice the depth width by its height). So: an explicit \a modeText
+/// (the backend option `mode`, else cfg.mode) that gives a size is followed strictly; otherwise
+/// cfg's size and refresh choose a mode when the connector has one of that size, and when it has
+/// none the connector's preferred mode is used (logged). A connector named in the mode text is
+/// always honoured.
+/// \return the selection. Errors: as selectKmsOutput().
+Result<KmsSelection> selectKmsScreenMode(DrmApi &api, const hal::DisplayConfig &cfg,
+                                         const std::string &modeText);
+
+/// One encoder of a card, as drmModeGetEncoder() reports it.
+struct DrmEncoderInfo {
+    std::uint32_t id = 0;
+    std::uint32_t crtcId = 0;        ///< CRTC it drives now; 0 when none.
+    std::uint32_t possibleCrtcs = 0; ///< Bit i: it can drive the card's i-th CRTC.
+};
+
+/// \brief Chooses the CRTC to drive a connector: the CRTC of its current encoder
+/// (\a currentEncoder, 0 when none) when that encoder drives one, else the first CRTC, in card
+/// order (\a crtcs, drmModeRes::crtcs), that one of the connector's \a encoders can drive.
+/// \return the CRTC id; 0 when no CRTC can drive the connector.
+std::uint32_t chooseCrtc(std::uint32_t currentEncoder, const std::vector<DrmEncoderInfo> &encoders,
+                         const std::vector<std::uint32_t> &crtcs);
 
 /// \brief DrmApi on libdrm: cards are /dev/dri/card[0-9]*; connectors and modes from
 /// drmModeGetResources()/drmModeGetConnector().
