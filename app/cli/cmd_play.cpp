@@ -298,6 +298,7 @@ PlayResult runPlay(const PlayOptions &opt)
     j["seeks"] = ps.seeks;
     j["snapshots_written"] = ps.snapshotsWritten;
     j["frames_recorded"] = ps.framesRecorded;
+    j["frames_prepared_ahead"] = ps.framesPreparedAhead;
     j["rss_mib_start"] = rssStart;
     j["rss_mib_after_5s"] = rssAfterWarmup;
     j["rss_mib_end"] = rssEnd;

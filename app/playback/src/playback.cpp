@@ -4,6 +4,7 @@
 #include "depthtouch/playback/playback.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <condition_variable>
@@ -281,6 +282,193 @@ void copyDepth(const receiver::StoredFrame &f, const haptic_task::DepthSlot &slo
                     copyBytes);
 }
 
+haptics::DepthFrameView depthView(const receiver::StoredFrame &f, double pts) noexcept;
+
+#if DT_PLAYBACK_HAVE_GL
+/// The colour the renderer shows for \a f: its colour frame, or a gray depth frame as a picture
+/// when there is no colour stream; null when neither.
+const hal::ImageView *colorImageOf(const receiver::PairedFrame &f, render::ColorSpec &spec) noexcept
+{
+    if (f.color) {
+        spec = render::ColorSpec{};
+        return &f.color->image;
+    }
+    if (f.depth && f.depth->image.format == hal::PixelFormat::Gray8) {
+        spec = render::ColorSpec{render::YuvMatrix::Bt601, true};
+        return &f.depth->image;
+    }
+    return nullptr;
+}
+
+/// \brief Makes the CPU half of upcoming frames (render::FramePrep: mesh and colour conversion) on
+/// a thread of its own, while the render thread draws the current frame and llvmpipe's threads
+/// rasterize it. Up to kSlots frames; a slot keeps its frames referenced until it is released.
+class PrepWorker {
+public:
+    static constexpr std::size_t kSlots = 3;
+
+    PrepWorker() : thread_([this] { run(); }) {}
+    ~PrepWorker()
+    {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            quit_ = true;
+        }
+        cv_.notify_all();
+        thread_.join();
+    }
+    PrepWorker(const PrepWorker &) = delete;
+    PrepWorker &operator=(const PrepWorker &) = delete;
+
+    /// Queues \a f (a pending frame with depth) unless it is queued already or no slot is free;
+    /// a finished slot whose frame is not among \a pending (dropped) is reused.
+    void submit(const receiver::PairedFrame &f, const receiver::PairedFrame *pending, int pendingCount,
+                const render::MeshOptions &mesh, bool convertColor)
+    {
+        if (!f.depth)
+            return;
+        std::lock_guard<std::mutex> lock(mutex_);
+        Slot *free = nullptr;
+        for (Slot &s : slots_) {
+            if (s.state != State::Free && s.key == f.depth.get())
+                return;
+            if (free == nullptr && s.state == State::Free)
+                free = &s;
+        }
+        if (free == nullptr) {
+            for (Slot &s : slots_) {
+                bool wanted = false;
+                for (int i = 0; i < pendingCount; ++i)
+                    wanted = wanted || (pending[i].depth && pending[i].depth.get() == s.key);
+                if (s.state == State::Ready && !wanted) {
+                    s.reset();
+                    free = &s;
+                    break;
+                }
+            }
+        }
+        if (free == nullptr)
+            return;
+        free->key = f.depth.get();
+        free->depth = f.depth.share();
+        free->color = f.color ? f.color.share() : receiver::FrameHandle{};
+        free->mesh = mesh;
+        free->convertColor = convertColor;
+        free->state = State::Queued;
+        cv_.notify_all();
+    }
+
+    /// \return the finished prep of depth frame \a key (waiting while it is being made), or null
+    /// when it was not queued. Give it back with release().
+    render::FramePrep *take(const receiver::StoredFrame *key)
+    {
+        std::unique_lock<std::mutex> lock(mutex_);
+        for (Slot &s : slots_) {
+            if (s.state == State::Free || s.key != key)
+                continue;
+            cv_.wait(lock, [&] { return s.state != State::Queued && s.state != State::Running; });
+            if (s.state != State::Ready || !s.prep.built()) {
+                s.reset();
+                return nullptr;
+            }
+            s.state = State::InUse;
+            return &s.prep;
+        }
+        return nullptr;
+    }
+
+    void release(render::FramePrep *prep)
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (Slot &s : slots_)
+            if (&s.prep == prep)
+                s.reset();
+    }
+
+    /// Drops every prep and the frame references they hold (seek, new session), waiting for the
+    /// one being made (one mesh build): afterwards no frame of the old session is referenced.
+    void clear()
+    {
+        std::unique_lock<std::mutex> lock(mutex_);
+        for (Slot &s : slots_) {
+            if (s.state == State::Running)
+                s.cancelled = true;
+            else
+                s.reset();
+        }
+        cv_.wait(lock, [&] {
+            return std::none_of(slots_.begin(), slots_.end(),
+                                [](const Slot &s) { return s.state == State::Running; });
+        });
+    }
+
+private:
+    enum class State : std::uint8_t { Free, Queued, Running, Ready, InUse };
+    struct Slot {
+        const receiver::StoredFrame *key = nullptr;
+        receiver::FrameHandle depth;
+        receiver::FrameHandle color;
+        render::MeshOptions mesh{};
+        bool convertColor = false;
+        bool cancelled = false;
+        State state = State::Free;
+        render::FramePrep prep;
+
+        void reset() noexcept
+        {
+            key = nullptr;
+            depth.reset();
+            color.reset();
+            cancelled = false;
+            state = State::Free;
+        }
+    };
+
+    void run()
+    {
+        std::unique_lock<std::mutex> lock(mutex_);
+        for (;;) {
+            Slot *job = nullptr;
+            cv_.wait(lock, [&] {
+                if (quit_)
+                    return true;
+                for (Slot &s : slots_)
+                    if (s.state == State::Queued) {
+                        job = &s;
+                        return true;
+                    }
+                return false;
+            });
+            if (quit_)
+                return;
+            job->state = State::Running;
+            lock.unlock();
+            receiver::PairedFrame view;
+            view.depth = job->depth.share();
+            if (job->color)
+                view.color = job->color.share();
+            render::ColorSpec spec;
+            const hal::ImageView *color = job->convertColor ? colorImageOf(view, spec) : nullptr;
+            const haptics::DepthFrameView dv = depthView(*view.depth, 0.0);
+            const bool built = static_cast<bool>(job->prep.build(dv, color, spec, job->mesh));
+            view = receiver::PairedFrame{};
+            lock.lock();
+            if (job->cancelled || !built)
+                job->reset();
+            else
+                job->state = State::Ready;
+            cv_.notify_all();
+        }
+    }
+
+    std::mutex mutex_;
+    std::condition_variable cv_;
+    bool quit_ = false;
+    std::array<Slot, kSlots> slots_;
+    std::thread thread_; // last: started once the members above exist
+};
+#endif
+
 haptics::DepthFrameView depthView(const receiver::StoredFrame &f, double pts) noexcept
 {
     haptics::DepthFrameView v;
@@ -305,6 +493,7 @@ void Playback::Impl::renderLoop()
     std::unique_ptr<render::Snapshotter> snapshotter;
     Recorder recorder;
     std::vector<std::uint8_t> flatDepth; // depth-less input: a flat surface
+    std::unique_ptr<PrepWorker> prepWorker; // upcoming frames' meshes and colour, made ahead
 #endif
     RenderState rs;
     std::uint64_t osdSeen = ~std::uint64_t{0};
@@ -327,6 +516,8 @@ void Playback::Impl::renderLoop()
                 rs.gen = sessionGen;
                 rs.seekSeen = seekGen;
 #if DT_PLAYBACK_HAVE_GL
+                if (prepWorker)
+                    prepWorker->clear();
                 renderer.reset(); // re-created for the new stream's sizes
                 target.reset();
 #endif
@@ -377,6 +568,10 @@ void Playback::Impl::renderLoop()
             rs.clockStarted = false;
             rs.reseat = true;
             rs.eosSent = false;
+#if DT_PLAYBACK_HAVE_GL
+            if (prepWorker)
+                prepWorker->clear();
+#endif
             s.decoder->seek(ptsFromSeconds(seekTo));
         }
 
@@ -397,6 +592,16 @@ void Playback::Impl::renderLoop()
             std::lock_guard<std::mutex> lock(mutex);
             ++stats.framesReceived;
         }
+#if DT_PLAYBACK_HAVE_GL
+        // The next frame to show gets its mesh and colour made ahead while this thread draws (the
+        // first, or the second when it is due already and the first will be dropped).
+        if (prepWorker && renderer && rs.pendingCount > 0 && rs.clockStarted) {
+            const bool skipFirst = rs.pendingCount == 2 &&
+                                   now >= rs.origin + platform::fromSeconds(ptsSeconds(rs.pending[1].pts));
+            prepWorker->submit(rs.pending[skipFirst ? 1 : 0], rs.pending, rs.pendingCount,
+                               renderer->options().mesh, renderer->convertsColorOnCpu());
+        }
+#endif
         if (s.decoder->failed()) {
             std::lock_guard<std::mutex> lock(mutex);
             if (failure.empty())
@@ -526,14 +731,25 @@ void Playback::Impl::renderLoop()
                 render::RendererOptions ro = renderer->options();
                 ro.mode = toRenderMode(modeNow);
                 (void)renderer->setOptions(ro);
-                bool ok = static_cast<bool>(renderer->setDepth(dv));
-                if (colorFrame != nullptr) {
+                if (!prepWorker)
+                    prepWorker = std::make_unique<PrepWorker>();
+                render::FramePrep *prep = depthFrame != nullptr ? prepWorker->take(depthFrame) : nullptr;
+                bool ok = static_cast<bool>(prep != nullptr ? renderer->setDepth(dv, *prep)
+                                                            : renderer->setDepth(dv));
+                if (prep != nullptr && prep->hasRgba) {
+                    (void)renderer->setColor(*prep);
+                } else if (colorFrame != nullptr) {
                     if (auto r = renderer->setColor(colorFrame->image, render::ColorSpec{}); !r)
                         DT_LOG_ONCE(Playback, Warning, "Color frames not shown: %s",
                                     r.error().what);
                 } else if (depthFrame != nullptr &&
                            depthFrame->image.format == hal::PixelFormat::Gray8) {
                     (void)renderer->setColor(depthFrame->image, render::ColorSpec{render::YuvMatrix::Bt601, true});
+                }
+                if (prep != nullptr) {
+                    prepWorker->release(prep);
+                    std::lock_guard<std::mutex> lock(mutex);
+                    ++stats.framesPreparedAhead;
                 }
                 render::AvatarState avatar;
                 if (config.avatar && s.task) {

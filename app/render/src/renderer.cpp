@@ -496,14 +496,55 @@ double StereoRenderer::stageEnd(platform::TimePoint start) const noexcept
     return platform::toSeconds(clock_.now() - start) * 1e3;
 }
 
+Result<void> FramePrep::build(const haptics::DepthFrameView &depth, const hal::ImageView *color,
+                              const ColorSpec &spec, const MeshOptions &options)
+{
+    built_ = false;
+    hasRgba = false;
+    rgba = nullptr;
+    if (color != nullptr) {
+        if (color->empty() || color->width <= 0 || color->height <= 0)
+            return unexpected(Errc::InvalidArgument, "colour frame is empty");
+        if (color->format != hal::PixelFormat::Yuv420p && color->format != hal::PixelFormat::Gray8)
+            return unexpected(Errc::NotSupported, "colour frames must be yuv420p or gray8");
+    }
+    if (auto r = mesh.build(depth, options); !r)
+        return r;
+    meshOptions = options;
+    depthData = depth.data;
+    if (color != nullptr) {
+        rgba = &converter_.convert(*color, spec);
+        colorWidth = color->width;
+        colorHeight = color->height;
+        hasRgba = true;
+    }
+    built_ = true;
+    return ok();
+}
+
 Result<void> StereoRenderer::setDepth(const haptics::DepthFrameView &depth)
 {
-    platform::TimePoint t = clock_.now();
+    const platform::TimePoint t = clock_.now();
+    if (auto r = mesh_.build(depth, options_.mesh); !r)
+        return r;
+    return uploadDepth(depth, t);
+}
+
+Result<void> StereoRenderer::setDepth(const haptics::DepthFrameView &depth, FramePrep &prep)
+{
+    if (!prep.built() || prep.depthData != depth.data || !(prep.meshOptions == options_.mesh))
+        return setDepth(depth);
+    const platform::TimePoint t = clock_.now();
+    std::swap(mesh_, prep.mesh);
+    return uploadDepth(depth, t);
+}
+
+Result<void> StereoRenderer::uploadDepth(const haptics::DepthFrameView &depth, platform::TimePoint start)
+{
+    platform::TimePoint t = start;
     // The haptic renderer's height field validates the frame and gives the mapping.
     haptics::HeightField field(options_.box);
     if (auto r = field.setFrames(depth, nullptr); !r)
-        return r;
-    if (auto r = mesh_.build(depth, options_.mesh); !r)
         return r;
     mapping_ = SurfaceMapping::fromHeightField(field);
     depthFormat_ = depth.format;
@@ -544,10 +585,7 @@ Result<void> StereoRenderer::setColor(const hal::ImageView &image, const ColorSp
                          (options_.colorFilter == ColorFilter::Auto && softwareRasterizer_);
     const GLint filter = nearest ? GL_NEAREST : GL_LINEAR;
     if (onCpu) {
-        const std::vector<std::uint32_t> &rgba = g.converter.convert(image, spec);
-        g.rgb.ensure(image.width, image.height, GL_RGBA8, filter);
-        uploadRows(g.rgb, reinterpret_cast<const std::uint8_t *>(rgba.data()), static_cast<std::size_t>(image.width) * 4, image.width, image.height,
-                   GL_RGBA, GL_UNSIGNED_BYTE, 4);
+        uploadRgba(g.converter.convert(image, spec).data(), image.width, image.height);
     } else if (image.format == hal::PixelFormat::Yuv420p) {
         const int cw = (image.width + 1) / 2;
         const int ch = (image.height + 1) / 2;
@@ -572,6 +610,27 @@ Result<void> StereoRenderer::setColor(const hal::ImageView &image, const ColorSp
     }
     colorOnCpu_ = onCpu;
     colorSpec_ = spec;
+    stageTimes_.colorUpload = stageEnd(t);
+    return ok();
+}
+
+void StereoRenderer::uploadRgba(const std::uint32_t *rgba, int width, int height)
+{
+    const bool nearest = options_.colorFilter == ColorFilter::Nearest ||
+                         (options_.colorFilter == ColorFilter::Auto && softwareRasterizer_);
+    Gl &g = *gl_;
+    g.rgb.ensure(width, height, GL_RGBA8, nearest ? GL_NEAREST : GL_LINEAR);
+    uploadRows(g.rgb, reinterpret_cast<const std::uint8_t *>(rgba), static_cast<std::size_t>(width) * 4, width,
+               height, GL_RGBA, GL_UNSIGNED_BYTE, 4);
+}
+
+Result<void> StereoRenderer::setColor(const FramePrep &prep)
+{
+    if (!prep.built() || !prep.hasRgba || prep.rgba == nullptr)
+        return unexpected(Errc::InvalidArgument, "the prepared frame holds no converted colour");
+    const platform::TimePoint t = clock_.now();
+    uploadRgba(prep.rgba->data(), prep.colorWidth, prep.colorHeight);
+    colorOnCpu_ = true;
     stageTimes_.colorUpload = stageEnd(t);
     return ok();
 }

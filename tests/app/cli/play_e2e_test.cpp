@@ -98,6 +98,9 @@ TEST(PlayEndToEnd, RealKitchenWithTheSimulatedHand)
     EXPECT_EQ(j["frames_presented"].get<unsigned>() + j["frames_dropped"].get<unsigned>(), frames);
     EXPECT_GT(j["frames_presented"].get<unsigned>(), 0u);
     EXPECT_EQ(j["decode_errors"].get<unsigned>(), 0u);
+    // Frames after the first have their mesh and colour made ahead on the prep worker.
+    EXPECT_GT(j["frames_prepared_ahead"].get<unsigned>(), 0u);
+    EXPECT_LE(j["frames_prepared_ahead"].get<unsigned>(), j["frames_presented"].get<unsigned>());
     EXPECT_TRUE(fs::exists(tmp.dir() / "snap" / "frame-000000.png"));
 
     // Haptics at the servo rate for as long as the task ran: every period is either an update or

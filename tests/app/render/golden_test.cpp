@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <thread>
 #include <vector>
 
 #include <glm/vec4.hpp>
@@ -580,6 +581,51 @@ TEST_F(RenderGoldenTest, colourFilterIsHonoured)
     // them into a ramp across the middle
     EXPECT_EQ(mids[0], 0u);
     EXPECT_GT(mids[1], 1000u);
+}
+
+TEST_F(RenderGoldenTest, framePreparedAheadDrawsTheSamePicture)
+{
+    // GIVEN a bumpy depth frame and a colour frame, on the CPU colour path with the default mesh
+    const Depth8 d(97, 65, bumpy);
+    Yuv420 col(97, 65, [](int c, int r) {
+        return std::array<int, 3>{40 + c + r, 90 + c / 2, 160 - r};
+    });
+    setMode(StereoMode::SideBySide, 1.04, MeshOptions{});
+    RendererOptions o = renderer_->options();
+    o.colorConversion = ColorConversion::Cpu;
+    ASSERT_TRUE(renderer_->setOptions(o));
+    ASSERT_TRUE(renderer_->convertsColorOnCpu());
+    // WHEN drawn directly
+    ASSERT_TRUE(renderer_->setDepth(d.view()));
+    ASSERT_TRUE(renderer_->setColor(col.view(), ColorSpec{YuvMatrix::Bt601, false}));
+    const Picture direct = draw(300, 120);
+    const std::size_t triangles = renderer_->mesh().indices().size() / 3;
+    // AND from a FramePrep built on another thread
+    FramePrep prep;
+    std::thread worker([&] {
+        const hal::ImageView colour = col.view();
+        ASSERT_TRUE(prep.build(d.view(), &colour, ColorSpec{YuvMatrix::Bt601, false}, renderer_->options().mesh));
+    });
+    worker.join();
+    ASSERT_TRUE(prep.built());
+    ASSERT_TRUE(renderer_->setDepth(d.view(), prep));
+    ASSERT_TRUE(renderer_->setColor(prep));
+    const Picture prepared = draw(300, 120);
+    // THEN the pictures and meshes are identical
+    EXPECT_EQ(renderer_->mesh().indices().size() / 3, triangles);
+    EXPECT_EQ(prepared.rgb, direct.rgb);
+    EXPECT_GT(std::count_if(direct.rgb.begin(), direct.rgb.end(), [](std::uint8_t v) { return v > 60; }), 1000)
+        << "the surface was drawn";
+    // AND a prep of another frame, or built with other mesh options, is not used for this one
+    const Depth8 other(97, 65, [](int, int) { return 10; });
+    ASSERT_TRUE(prep.build(other.view(), nullptr, ColorSpec{}, renderer_->options().mesh));
+    ASSERT_TRUE(renderer_->setDepth(d.view(), prep));
+    EXPECT_EQ(renderer_->mesh().indices().size() / 3, triangles);
+    EXPECT_FALSE(renderer_->setColor(prep)) << "no colour was converted";
+    // AND bad colour is refused by the prep
+    const hal::ImageView bad{};
+    EXPECT_FALSE(prep.build(d.view(), &bad, ColorSpec{}, renderer_->options().mesh));
+    EXPECT_FALSE(prep.built());
 }
 
 TEST_F(RenderGoldenTest, stageTimesAreRecordedPerEye)

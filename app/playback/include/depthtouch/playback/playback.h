@@ -102,6 +102,7 @@ struct PlaybackStats {
     std::uint64_t endsOfStream = 0;
     std::uint64_t snapshotsWritten = 0;
     std::uint64_t framesRecorded = 0;
+    std::uint64_t framesPreparedAhead = 0; ///< Drawn with a mesh (and colour) made ahead on a worker.
     double renderMsP50 = 0.0; ///< Time to draw one output frame (upload, both eyes), ms.
     double renderMsP99 = 0.0;
     double presentedFps = 0.0; ///< framesPresented over the time spent playing (not paused).

@@ -84,6 +84,8 @@ struct MeshOptions {
                               ///< two ≤ tileSize.
     ErrorCriterion criterion = ErrorCriterion::Mean; ///< Adaptive/Quadtree: what tolerance bounds.
     double maxErrorCap = 16.0; ///< Mean criterion: largest error allowed in a tile or block, levels.
+
+    bool operator==(const MeshOptions &) const = default;
 };
 
 /// \brief Counts of one build.

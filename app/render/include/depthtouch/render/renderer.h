@@ -95,6 +95,35 @@ enum class StageTiming : std::uint8_t {
     Finished, ///< glFinish after each stage: the stage's full cost, serialised.
 };
 
+/// \brief The CPU half of showing a frame: its mesh (AdaptiveMesh::build()) and, on the CPU colour
+/// path, its R'G'B' conversion (YuvConverter), made ahead of time on any thread so that the render
+/// thread only uploads and draws (StereoRenderer::setDepth(depth, prep), setColor(prep)). On a
+/// 2-core machine with llvmpipe this overlaps the next frame's CPU work with the rasterizer threads
+/// of the current one.
+/// Thread-safety: an object is used by one thread at a time; objects are independent (no GL).
+struct FramePrep {
+    /// \brief Builds the mesh of \a depth with \a mesh and, when \a color is not null, converts
+    /// it (Yuv420p or Gray8) with \a spec.
+    /// \return InvalidArgument (malformed depth frame or mesh options, or an empty colour view),
+    /// NotSupported (colour format); the object is then not usable (built() is false).
+    [[nodiscard]] Result<void> build(const haptics::DepthFrameView &depth, const hal::ImageView *color,
+                                     const ColorSpec &spec, const MeshOptions &mesh);
+
+    [[nodiscard]] bool built() const noexcept { return built_; }
+
+    AdaptiveMesh mesh;                ///< The depth frame's mesh.
+    MeshOptions meshOptions{};        ///< What it was built with.
+    const void *depthData = nullptr;  ///< The depth frame's first sample (identifies the frame).
+    bool hasRgba = false;             ///< A colour frame was converted.
+    int colorWidth = 0;               ///< Its size, pixels.
+    int colorHeight = 0;
+    const std::vector<std::uint32_t> *rgba = nullptr; ///< colorWidth × colorHeight RGBA8 words.
+
+private:
+    YuvConverter converter_;
+    bool built_ = false;
+};
+
 class StereoRenderer {
 public:
     /// \brief Compiles the shaders and creates the GL objects. \pre a current GLES 3 context.
@@ -122,6 +151,21 @@ public:
     /// is stretched over the same box.
     /// \return Errc::NotSupported for other formats, Errc::InvalidArgument for an empty view.
     [[nodiscard]] Result<void> setColor(const hal::ImageView &image, const ColorSpec &spec);
+
+    /// \brief setDepth() with the mesh made ahead in \a prep (built from this \a depth frame with
+    /// options().mesh; else the mesh is built here as setDepth() does). The mesh is moved out of
+    /// \a prep (it gets the previous one's buffers back). \return as setDepth().
+    [[nodiscard]] Result<void> setDepth(const haptics::DepthFrameView &depth, FramePrep &prep);
+    /// \brief setColor() with the colour converted ahead in \a prep (its R'G'B' words are
+    /// uploaded). \return InvalidArgument when \a prep holds no converted colour.
+    [[nodiscard]] Result<void> setColor(const FramePrep &prep);
+    /// \return whether setColor() converts colour on the CPU with the current options (then a
+    /// FramePrep should convert it too).
+    [[nodiscard]] bool convertsColorOnCpu() const noexcept
+    {
+        return options_.colorConversion == ColorConversion::Cpu ||
+               (options_.colorConversion == ColorConversion::Auto && softwareRasterizer_);
+    }
 
     void setAvatar(const AvatarState &avatar) noexcept { avatar_ = avatar; }
     void setOsd(const OsdState &osd) { osd_ = osd; }
@@ -154,6 +198,10 @@ private:
     void drawOsd(const Viewport &vp);
     /// Ends a stage: \return the milliseconds since \a start (after glFinish when Finished).
     double stageEnd(platform::TimePoint start) const noexcept;
+    /// setDepth()'s upload half, after mesh_ holds the frame's mesh.
+    Result<void> uploadDepth(const haptics::DepthFrameView &depth, platform::TimePoint start);
+    /// setColor()'s upload of converted R'G'B' words.
+    void uploadRgba(const std::uint32_t *rgba, int width, int height);
 
     RendererOptions options_;
     AvatarState avatar_{};
