@@ -525,7 +525,9 @@ void Playback::Impl::renderLoop()
                 (void)renderer->setOptions(ro);
                 bool ok = static_cast<bool>(renderer->setDepth(dv));
                 if (colorFrame != nullptr) {
-                    if (auto r = renderer->setColor(colorFrame->image, render::ColorSpec{}); !r)
+                    if (auto r = renderer->setColorFrame(colorFrame->image, colorFrame->dmabuf,
+                                                         render::ColorSpec{});
+                        !r)
                         DT_LOG_ONCE(Playback, Warning, "Color frames not shown: %s",
                                     r.error().what);
                 } else if (depthFrame != nullptr &&
@@ -611,6 +613,14 @@ void Playback::Impl::renderLoop()
                 played > 0 ? static_cast<double>(stats.framesPresented) / played : 0.0;
             if (renderMs.size() < renderMs.capacity())
                 renderMs.push_back(ms);
+#if DT_PLAYBACK_HAVE_GL
+            if (renderer) {
+                const render::DmaBufStats &ds = renderer->dmaBufStats();
+                stats.zeroCopy = ds.zeroCopy;
+                stats.colorFramesImported = ds.imported;
+                stats.colorFramesDmaBufUploaded = ds.uploaded;
+            }
+#endif
         }
         (void)gl;
     }
