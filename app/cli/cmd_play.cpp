@@ -162,7 +162,9 @@ PlayResult runPlay(const PlayOptions &opt)
     // Check the decoder and source names now (one clear line), then make them per open().
     {
         hal::SelectionReport rep;
-        if (auto d = drivers::createVideoDecoder(opt.decoder, cfg, &rep); !d) {
+        hal::BackendConfig decoderCfg = cfg;
+        decoderCfg.options = hal::OptionList(opt.decoderOptions);
+        if (auto d = drivers::createVideoDecoder(opt.decoder, decoderCfg, &rep); !d) {
             std::fprintf(stderr, "depthtouch play: %s\n", rep.message.c_str());
             return {kExitBadInput, {}};
         }
@@ -193,8 +195,11 @@ PlayResult runPlay(const PlayOptions &opt)
     const std::string sourceName = opt.source;
     const std::string decoderName = opt.decoder;
     ph.makeSource = [sourceName, cfg]() { return drivers::createMediaSource(sourceName, cfg); };
-    ph.makeDecoder = [decoderName, cfg](const hal::StreamInfo &) {
-        return drivers::createVideoDecoder(decoderName, cfg);
+    const std::string decoderOptions = opt.decoderOptions;
+    ph.makeDecoder = [decoderName, decoderOptions, cfg](const hal::StreamInfo &) {
+        hal::BackendConfig c = cfg;
+        c.options = hal::OptionList(decoderOptions);
+        return drivers::createVideoDecoder(decoderName, c);
     };
     ph.display = display->get();
     ph.device = hapticReport.chosen == "none" ? nullptr : device->get();
@@ -290,6 +295,10 @@ PlayResult runPlay(const PlayOptions &opt)
     j["frames_late"] = ps.framesLate;
     j["frames_concealed"] = ps.receiver.framesConcealed;
     j["decode_errors"] = ps.receiver.decodeErrors;
+    j["zero_copy"] = ps.zeroCopy;
+    j["color_frames_dmabuf"] = ps.receiver.colorFramesZeroCopy;
+    j["color_frames_imported"] = ps.colorFramesImported;
+    j["color_frames_dmabuf_uploaded"] = ps.colorFramesDmaBufUploaded;
     j["depth_pairs_published"] = ps.depthPairsPublished;
     j["render_ms_p50"] = ps.renderMsP50;
     j["render_ms_p99"] = ps.renderMsP99;
@@ -415,6 +424,7 @@ std::string applyConfig(CLI::App &cmd, PlayOptions &o)
         {"display", str(o.display)},         {"display-options", str(o.displayOptions)},
         {"haptic", str(o.haptic)},           {"haptic-options", str(o.hapticOptions)},
         {"decoder", str(o.decoder)},         {"source", str(o.source)},
+        {"decoder-options", str(o.decoderOptions)},
         {"remote", str(o.remote)},           {"remote-options", str(o.remoteOptions)},
         {"stereo", str(o.stereo)},           {"stiffness", num(o.stiffness)},
         {"rate", num(o.rate)},               {"reengage", str(o.reengage)},
@@ -457,6 +467,8 @@ void registerPlayCommand(CLI::App &app, int &exitCode)
     cmd->add_option("--haptic-options", o->hapticOptions,
                     "Options of the haptic device, e.g. intent=stroke for sim");
     cmd->add_option("--decoder", o->decoder, "Video decoder backend(s)")->capture_default_str();
+    cmd->add_option("--decoder-options", o->decoderOptions,
+                    "Options of the decoder backend(s), e.g. drm-prime (zero-copy) or pool=24");
     cmd->add_option("--source", o->source, "Media source backend")->capture_default_str();
     cmd->add_option("--remote", o->remote, "Remote control backend(s): evdev, tty, none")
         ->capture_default_str();

@@ -19,6 +19,7 @@ struct PlayOptions {
     std::string haptic = "falcon,none"; ///< Haptic device backend(s).
     std::string hapticOptions;
     std::string decoder = "ffmpeg"; ///< Video decoder backend(s).
+    std::string decoderOptions;     ///< Options of the decoder backend(s), e.g. drm-prime.
     std::string source = "ffmpeg";  ///< Media source backend.
     std::string remote = "none";    ///< Remote-control backend(s): evdev, tty, none.
     std::string remoteOptions;

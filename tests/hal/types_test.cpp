@@ -5,6 +5,9 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#if __has_include(<libdrm/drm_fourcc.h>)
+#include <libdrm/drm_fourcc.h> // constants only: checks the HAL's copies
+#endif
 
 #include "depthtouch/hal/media_source.h"
 #include "depthtouch/hal/video_decoder.h"
@@ -129,6 +132,40 @@ TEST(CapabilitiesTest, codecMask)
     EXPECT_FALSE(caps.supports(CodecId::Mock));
     EXPECT_STREQ(codecName(CodecId::Ffv1), "ffv1");
     EXPECT_STREQ(streamKindName(StreamKind::Depth), "depth");
+}
+
+} // namespace
+} // namespace depthtouch::hal
+
+namespace depthtouch::hal {
+namespace {
+
+#if __has_include(<libdrm/drm_fourcc.h>)
+static_assert(kDrmFormatNv12 == DRM_FORMAT_NV12);
+static_assert(kDrmFormatYuv420 == DRM_FORMAT_YUV420);
+static_assert(kDrmFormatModLinear == DRM_FORMAT_MOD_LINEAR);
+static_assert(kDrmFormatModInvalid == DRM_FORMAT_MOD_INVALID);
+#endif
+
+TEST(DmaBufImageTest, aFrameHasNoDmaBufByDefault)
+{
+    // GIVEN a default frame  THEN it carries no dma-buf, and its planes hold no fd
+    const Frame f{};
+    EXPECT_TRUE(f.dmabuf.empty());
+    EXPECT_EQ(f.dmabuf.fourcc, 0u);
+    EXPECT_EQ(f.dmabuf.modifier, kDrmFormatModInvalid);
+    for (const DmaBufPlane &p : f.dmabuf.planes)
+        EXPECT_EQ(p.fd, -1);
+}
+
+TEST(DmaBufImageTest, fourccCodesAreLittleEndianCharacters)
+{
+    // GIVEN the DRM fourcc of "NV12"  THEN 'N' is the lowest byte (drm_fourcc.h fourcc_code)
+    EXPECT_EQ(kDrmFormatNv12, 0x3231564eu);
+    EXPECT_EQ(kDrmFormatYuv420, 0x32315559u);
+    EXPECT_EQ(drmPlaneCount(kDrmFormatNv12), 2);
+    EXPECT_EQ(drmPlaneCount(kDrmFormatYuv420), 3);
+    EXPECT_EQ(drmPlaneCount(drmFourcc('X', 'R', '2', '4')), 0);
 }
 
 } // namespace

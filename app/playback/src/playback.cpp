@@ -291,7 +291,8 @@ const hal::ImageView *colorImageOf(const receiver::PairedFrame &f, render::Color
 {
     if (f.color) {
         spec = render::ColorSpec{};
-        return &f.color->image;
+        // A frame lent as dma-bufs is imported (or mapped) by the renderer itself.
+        return f.color->dmabuf.empty() ? &f.color->image : nullptr;
     }
     if (f.depth && f.depth->image.format == hal::PixelFormat::Gray8) {
         spec = render::ColorSpec{render::YuvMatrix::Bt601, true};
@@ -739,7 +740,9 @@ void Playback::Impl::renderLoop()
                 if (prep != nullptr && prep->hasRgba) {
                     (void)renderer->setColor(*prep);
                 } else if (colorFrame != nullptr) {
-                    if (auto r = renderer->setColor(colorFrame->image, render::ColorSpec{}); !r)
+                    if (auto r = renderer->setColorFrame(colorFrame->image, colorFrame->dmabuf,
+                                                         render::ColorSpec{});
+                        !r)
                         DT_LOG_ONCE(Playback, Warning, "Color frames not shown: %s",
                                     r.error().what);
                 } else if (depthFrame != nullptr &&
@@ -836,6 +839,14 @@ void Playback::Impl::renderLoop()
                 played > 0 ? static_cast<double>(stats.framesPresented) / played : 0.0;
             if (renderMs.size() < renderMs.capacity())
                 renderMs.push_back(ms);
+#if DT_PLAYBACK_HAVE_GL
+            if (renderer) {
+                const render::DmaBufStats &ds = renderer->dmaBufStats();
+                stats.zeroCopy = ds.zeroCopy;
+                stats.colorFramesImported = ds.imported;
+                stats.colorFramesDmaBufUploaded = ds.uploaded;
+            }
+#endif
         }
         (void)gl;
     }

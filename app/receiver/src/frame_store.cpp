@@ -49,6 +49,7 @@ Result<void> FrameStore::allocate(int count, hal::PixelFormat format, int width,
             s.frame.image.planes[static_cast<std::size_t>(p)] = {base, l.rowBytes};
             base += static_cast<std::size_t>(l.rowBytes) * static_cast<std::size_t>(l.rows);
         }
+        s.view = s.frame.image;
     }
     slots_ = std::move(slots);
     count_ = count;
@@ -65,6 +66,8 @@ FrameHandle FrameStore::acquire(StoredFrame *&writable) noexcept
             s.refs.compare_exchange_strong(expected, 1, std::memory_order_acquire,
                                            std::memory_order_relaxed)) {
             inUse_.fetch_add(1, std::memory_order_relaxed);
+            s.frame.image = s.view; // a zero-copy frame may have pointed it elsewhere
+            s.frame.dmabuf = hal::DmaBufImage{};
             writable = &s.frame;
             return FrameHandle(this, static_cast<std::uint32_t>(i));
         }
@@ -81,8 +84,21 @@ void FrameStore::addRef(std::uint32_t slot) noexcept
 void FrameStore::release(std::uint32_t slot) noexcept
 {
     // acq_rel: the holders' reads of the pixels happen before the next acquire() rewrites them.
-    if (slots_[slot].refs.fetch_sub(1, std::memory_order_acq_rel) == 1)
-        inUse_.fetch_sub(1, std::memory_order_release);
+    // The last reference (count 1: no other handle exists to share it, and acquire() takes only
+    // free slots) first returns a zero-copy frame to its decoder, then frees the slot.
+    Slot &s = slots_[slot];
+    int refs = s.refs.load(std::memory_order_acquire);
+    for (;;) {
+        if (refs == 1) {
+            s.frame.decoded.reset();
+            s.refs.store(0, std::memory_order_release);
+            inUse_.fetch_sub(1, std::memory_order_release);
+            return;
+        }
+        if (s.refs.compare_exchange_weak(refs, refs - 1, std::memory_order_acq_rel,
+                                         std::memory_order_acquire))
+            return;
+    }
 }
 
 } // namespace depthtouch::receiver

@@ -34,7 +34,8 @@ hal::Pts periodOf(const hal::Rational &rate) noexcept
     return p >= 1e5 && p <= 1e10 ? hal::Pts(static_cast<std::int64_t>(p + 0.5)) : hal::Pts{0};
 }
 
-enum class Take : std::uint8_t { Progress, Nothing, Busy };
+/// DecoderBusy: the decoder has lent every frame, held here as zero-copy frames.
+enum class Take : std::uint8_t { Progress, Nothing, Busy, DecoderBusy };
 
 } // namespace
 
@@ -74,6 +75,8 @@ struct Receiver::Impl {
         bool eosQueued = false;
         bool drained = false;
         bool paused = false; ///< Drained because its packets stopped while the other's went on.
+        bool zeroCopy = false; ///< Some of its frames were kept as the decoder's dma-bufs.
+        bool decoderBusy = false; ///< Its decoder has lent every frame (held zero-copy): not quiet.
         std::uint64_t sequence = 0;
     };
 
@@ -240,10 +243,14 @@ Take Receiver::Impl::takeFrame(Stream &s)
                 DT_LOG(Receiver, Debug, "%s decoder dropped a packet: %s",
                        s.which == PairStream::Depth ? "Depth" : "Color", f.error().what);
                 return Take::Progress;
-            default: // Timeout, Busy: nothing ready
+            case Errc::Busy: // its frames are held: here only when kept zero-copy
+                s.decoderBusy = s.zeroCopy;
+                return s.zeroCopy ? Take::DecoderBusy : Take::Nothing;
+            default: // Timeout: nothing ready
                 return Take::Nothing;
             }
         }
+        s.decoderBusy = false;
         s.pending = std::move(*f);
         ++(s.which == PairStream::Depth ? stats.depthFrames : stats.colorFrames);
     }
@@ -258,7 +265,10 @@ Take Receiver::Impl::takeFrame(Stream &s)
         return Take::Busy;
     const hal::ImageView &src = fr.image;
     hal::ImageView &dst = w->image;
-    if (src.width != dst.width || src.height != dst.height || src.format != dst.format) {
+    // A colour frame lent as dma-bufs is kept, not copied: the renderer imports it.
+    const bool zeroCopy = !fr.dmabuf.empty() && s.which == PairStream::Color;
+    if (src.width != dst.width || src.height != dst.height ||
+        (src.format != dst.format && !zeroCopy)) {
         ++stats.frameSizeChanges;
         DT_LOG(Receiver, Warning, "Dropped a %s frame of %dx%d %s: the stream is %dx%d %s",
                s.which == PairStream::Depth ? "depth" : "color", src.width, src.height,
@@ -267,11 +277,35 @@ Take Receiver::Impl::takeFrame(Stream &s)
         s.pending.reset();
         return Take::Progress;
     }
-    for (int p = 0; p < hal::planeCount(dst.format); ++p) {
-        const hal::PlaneLayout l = hal::planeLayout(dst.format, dst.width, dst.height, p);
-        const auto rowBytes = static_cast<std::size_t>(l.rowBytes);
-        for (int y = 0; y < l.rows; ++y)
-            std::memcpy(dst.row(p, y), src.row(p, y), rowBytes);
+    if (!zeroCopy && src.empty()) { // dma-buf only, but not a colour frame: no CPU pixels
+        ++stats.decodeErrors;
+        DT_LOG_ONCE(Receiver, Warning, "Dropped %s frames without CPU planes",
+                    s.which == PairStream::Depth ? "depth" : "color");
+        s.pending.reset();
+        return Take::Progress;
+    }
+    if (zeroCopy) {
+        if (!s.zeroCopy) {
+            const int pool = s.decoder->capabilities().poolFrames;
+            DT_LOG(Receiver, Info, "Color frames are kept as the decoder's dma-bufs (no copy)");
+            if (pool < s.store.size())
+                DT_LOG(Receiver, Warning,
+                       "The color decoder lends %d frames, fewer than the %d the receiver may "
+                       "hold: playback may wait for frames (raise the decoder's pool)",
+                       pool, s.store.size());
+        }
+        s.zeroCopy = true;
+        ++stats.colorFramesZeroCopy;
+        dst = src;
+        w->dmabuf = fr.dmabuf;
+        w->decoded = std::move(s.pending); // fr stays valid: w->decoded holds it
+    } else {
+        for (int p = 0; p < hal::planeCount(dst.format); ++p) {
+            const hal::PlaneLayout l = hal::planeLayout(dst.format, dst.width, dst.height, p);
+            const auto rowBytes = static_cast<std::size_t>(l.rowBytes);
+            for (int y = 0; y < l.rows; ++y)
+                std::memcpy(dst.row(p, y), src.row(p, y), rowBytes);
+        }
     }
     w->kind = s.which == PairStream::Depth ? hal::StreamKind::Depth : hal::StreamKind::Color;
     w->pts = fr.pts;
@@ -305,7 +339,8 @@ void Receiver::Impl::drainLaggingStream()
     else if (pairer->waiting(PairStream::Depth) >= window &&
              pairer->waiting(PairStream::Color) == 0)
         quiet = &streams[0];
-    if (quiet == nullptr || quiet->eosQueued)
+    // A decoder waiting for its zero-copy frames to come back is blocked, not quiet.
+    if (quiet == nullptr || quiet->eosQueued || quiet->decoderBusy)
         return;
     if (quiet->decoder->queuePacket(hal::Packet::endOfStream(quiet->info.index))) {
         quiet->eosQueued = true;
@@ -474,6 +509,7 @@ Result<bool> Receiver::next(PairedFrame &out)
         return false;
     int stalled = 0;
     for (;;) {
+        bool decoderBusy = false;
         Pairer::Output o;
         if (d.pairer->pull(o)) {
             d.toPaired(o, out);
@@ -497,9 +533,14 @@ Result<bool> Receiver::next(PairedFrame &out)
                 progress = true;
                 break;
             }
+            decoderBusy = decoderBusy || t == Take::DecoderBusy;
         }
         if (!progress && !d.inputEnded)
             progress = d.readAndQueue();
+        if (!progress && decoderBusy) { // zero-copy frames come back when the consumer drops them
+            ++d.stats.consumerBusy;
+            return unexpected(Errc::Busy, "The consumer holds every zero-copy decoder frame");
+        }
         if (!progress && d.inputEnded) {
             bool allDrained = true;
             for (auto &s : d.streams)

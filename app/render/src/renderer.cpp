@@ -14,6 +14,7 @@
 
 #include "depthtouch/haptics/height_field.h"
 #include "depthtouch/platform/log.h"
+#include "depthtouch/render/dmabuf_import.h"
 #include "depthtouch/render/render_target.h"
 #include "osd_font.h"
 
@@ -609,6 +610,7 @@ Result<void> StereoRenderer::setColor(const hal::ImageView &image, const ColorSp
         uploadRows(g.v, &neutral, 1, 1, 1, GL_RED, GL_UNSIGNED_BYTE, 1);
     }
     colorOnCpu_ = onCpu;
+    colorFromDmaBuf_ = false;
     colorSpec_ = spec;
     stageTimes_.colorUpload = stageEnd(t);
     return ok();
@@ -641,7 +643,7 @@ Result<void> StereoRenderer::drawSurface(const EyeView &eye, SurfaceOutput outpu
         return unexpected(Errc::InvalidState, "no depth frame to draw");
     Gl &g = *gl_;
     const bool d16 = depthFormat_ == haptics::SampleFormat::Gray16;
-    const int variant = output == SurfaceOutput::Position ? kPositionOut : colorOnCpu_ ? kRgbOut : kYuvOut;
+    const int variant = output == SurfaceOutput::Position ? kPositionOut : colorOnCpu_ || colorFromDmaBuf_ ? kRgbOut : kYuvOut;
     const SurfaceProgram &p = g.surface[d16 ? 1 : 0][variant][eye.rowParity >= 0 ? 1 : 0];
     glViewport(eye.viewport.x, eye.viewport.y, eye.viewport.width, eye.viewport.height);
     glEnable(GL_DEPTH_TEST);
@@ -652,7 +654,7 @@ Result<void> StereoRenderer::drawSurface(const EyeView &eye, SurfaceOutput outpu
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, g.depth.name);
     glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, variant == kRgbOut ? g.rgb.name : g.y.name);
+    glBindTexture(GL_TEXTURE_2D, variant == kRgbOut ? (colorFromDmaBuf_ ? dmabuf_->texture() : g.rgb.name) : g.y.name);
     if (variant == kYuvOut) {
         glActiveTexture(GL_TEXTURE2);
         glBindTexture(GL_TEXTURE_2D, g.u.name);

@@ -1,5 +1,7 @@
 #include "depthtouch/drivers/common/frame_pool.h"
 
+#include <new>
+
 #include "depthtouch/platform/assert.h"
 
 namespace depthtouch::drivers {
@@ -10,27 +12,64 @@ FramePool::~FramePool()
     DT_ASSERT(lent() == 0);
 }
 
-Result<void> FramePool::allocate(int count, hal::PixelFormat format, int width, int height)
+namespace {
+
+/// Points \a img (\a format, \a width × \a height) at the tightly packed planes in \a pixels.
+void pointPlanes(hal::ImageView &img, std::uint8_t *pixels, hal::PixelFormat format, int width,
+                 int height) noexcept
+{
+    img.width = width;
+    img.height = height;
+    img.format = format;
+    img.planes = {};
+    std::uint8_t *p = pixels;
+    for (int plane = 0; plane < hal::planeCount(format); ++plane) {
+        const hal::PlaneLayout l = hal::planeLayout(format, width, height, plane);
+        img.planes[static_cast<std::size_t>(plane)] = {p, l.rowBytes};
+        p += static_cast<std::size_t>(l.rowBytes) * static_cast<std::size_t>(l.rows);
+    }
+}
+
+} // namespace
+
+Result<void> FramePool::allocate(int count, hal::PixelFormat format, int width, int height,
+                                 Pixels pixels)
 {
     if (lent() != 0)
         return unexpected(Errc::Busy, "Frames are still lent");
     auto slots = std::make_unique<Slot[]>(static_cast<std::size_t>(count));
     for (int i = 0; i < count; ++i) {
         Slot &s = slots[static_cast<std::size_t>(i)];
-        s.pixels.assign(hal::imageBytes(format, width, height), 0);
-        hal::ImageView &img = s.frame.image;
-        img.width = width;
-        img.height = height;
-        img.format = format;
-        std::uint8_t *p = s.pixels.data();
-        for (int plane = 0; plane < hal::planeCount(format); ++plane) {
-            const hal::PlaneLayout l = hal::planeLayout(format, width, height, plane);
-            img.planes[static_cast<std::size_t>(plane)] = {p, l.rowBytes};
-            p += static_cast<std::size_t>(l.rowBytes) * static_cast<std::size_t>(l.rows);
+        if (pixels == Pixels::Now) {
+            s.pixels.assign(hal::imageBytes(format, width, height), 0);
+            pointPlanes(s.frame.image, s.pixels.data(), format, width, height);
+        } else {
+            s.frame.image.width = width;
+            s.frame.image.height = height;
+            s.frame.image.format = format;
         }
     }
     slots_ = std::move(slots);
     count_ = count;
+    format_ = format;
+    width_ = width;
+    height_ = height;
+    return ok();
+}
+
+Result<void> FramePool::ensurePixels(std::uint32_t slot) noexcept
+{
+    DT_DEBUG_ASSERT(slot < static_cast<std::uint32_t>(count_));
+    Slot &s = slots_[slot];
+    const std::size_t bytes = hal::imageBytes(format_, width_, height_);
+    if (s.pixels.size() != bytes) {
+        try {
+            s.pixels.assign(bytes, 0);
+        } catch (const std::bad_alloc &) {
+            return unexpected(Errc::OutOfResources, "Failed to allocate a frame's pixels");
+        }
+    }
+    pointPlanes(s.frame.image, s.pixels.data(), format_, width_, height_);
     return ok();
 }
 

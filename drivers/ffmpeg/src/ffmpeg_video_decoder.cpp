@@ -9,8 +9,16 @@
 #include <vector>
 
 #include "depthtouch/drivers/common/frame_pool.h"
+#include "depthtouch/drivers/ffmpeg/drm_prime.h"
 #include "depthtouch/platform/log.h"
 #include "ffmpeg_common.h"
+
+extern "C" {
+#include <libavutil/hwcontext.h>
+#include <libavutil/hwcontext_drm.h>
+#include <libavutil/opt.h>
+#include <libavutil/pixdesc.h>
+}
 
 DT_LOG_CATEGORY(Ffmpeg)
 
@@ -20,7 +28,7 @@ using namespace ffmpeg;
 
 namespace {
 
-constexpr const char *kOptionKeys[] = {"pool", "queue", "threads"};
+constexpr const char *kOptionKeys[] = {"pool", "queue", "threads", "drm-prime"};
 constexpr AVRational kNanoseconds{1, 1'000'000'000};
 constexpr int kMaxSize = 8192;
 
@@ -37,6 +45,43 @@ std::int64_t toAvTs(hal::Pts t) noexcept
     return t == hal::kNoPts ? AV_NOPTS_VALUE : t.count();
 }
 
+/// AVCodecContext::get_format of the `drm-prime` option: DRM PRIME frames when the decoder offers
+/// them, else libavcodec's own choice (a software format).
+AVPixelFormat preferDrmPrime(AVCodecContext *ctx, const AVPixelFormat *formats)
+{
+    for (const AVPixelFormat *f = formats; *f != AV_PIX_FMT_NONE; ++f)
+        if (*f == AV_PIX_FMT_DRM_PRIME)
+            return *f;
+    return avcodec_default_get_format(ctx, formats);
+}
+
+/// How \a codec exports DRM PRIME frames.
+enum class DrmPrimeSupport : std::uint8_t { None, Internal, NeedsDrmDevice };
+
+DrmPrimeSupport drmPrimeSupport(const AVCodec *codec) noexcept
+{
+    DrmPrimeSupport best = DrmPrimeSupport::None;
+    for (int i = 0;; ++i) {
+        const AVCodecHWConfig *hw = avcodec_get_hw_config(codec, i);
+        if (hw == nullptr)
+            break;
+        if (hw->pix_fmt != AV_PIX_FMT_DRM_PRIME)
+            continue;
+        if ((hw->methods & AV_CODEC_HW_CONFIG_METHOD_INTERNAL) != 0)
+            return DrmPrimeSupport::Internal;
+        if ((hw->methods & AV_CODEC_HW_CONFIG_METHOD_HW_DEVICE_CTX) != 0 &&
+            hw->device_type == AV_HWDEVICE_TYPE_DRM)
+            best = DrmPrimeSupport::NeedsDrmDevice;
+    }
+    return best;
+}
+
+/// The frames a receiver holds when it keeps zero-copy frames (its colour frames: pairing window
+/// 8 + 4 + 4 held downstream) plus margin: the pool of `drm-prime` unless `pool` is given.
+constexpr int kDrmPrimePoolFrames = 24;
+/// V4L2 capture buffers beyond the pool: the decoder's reference frames stay in the driver.
+constexpr int kCaptureBufferMargin = 8;
+
 } // namespace
 
 Result<FfmpegDecoderSettings> FfmpegDecoderSettings::parse(hal::OptionList options)
@@ -48,7 +93,10 @@ Result<FfmpegDecoderSettings> FfmpegDecoderSettings::parse(hal::OptionList optio
                static_cast<int>(unknown.size()), unknown.data());
         return unexpected(Errc::InvalidArgument, "Unknown ffmpeg video decoder option");
     }
-    auto pool = options.getInt("pool", s.poolFrames);
+    auto drmPrime = options.getBool("drm-prime", s.drmPrime);
+    if (!drmPrime)
+        return unexpected(Errc::InvalidArgument, "ffmpeg decoder option drm-prime must be a boolean");
+    auto pool = options.getInt("pool", *drmPrime ? kDrmPrimePoolFrames : s.poolFrames);
     auto queue = options.getInt("queue", s.queuePackets);
     auto threads = options.getInt("threads", s.threads);
     if (!pool || *pool < 1 || *pool > 64)
@@ -60,6 +108,7 @@ Result<FfmpegDecoderSettings> FfmpegDecoderSettings::parse(hal::OptionList optio
     s.poolFrames = *pool;
     s.queuePackets = *queue;
     s.threads = *threads;
+    s.drmPrime = *drmPrime;
     return s;
 }
 
@@ -91,6 +140,14 @@ struct FfmpegVideoDecoder::Impl {
         received = 0;
     }
     Result<hal::FrameRef> lendFrame() noexcept;
+    /// Drops the AVFrame references of DRM PRIME frames whose FrameRef was returned (decode
+    /// thread: FrameRef release itself only flips the pool slot, lock-free).
+    void releaseReturned() noexcept
+    {
+        for (std::size_t i = 0; i < held.size(); ++i)
+            if (held[i]->buf[0] != nullptr && !pool.isLent(static_cast<std::uint32_t>(i)))
+                av_frame_unref(held[i].get());
+    }
 
     platform::Clock &clock;
     const FfmpegDecoderSettings settings;
@@ -118,6 +175,15 @@ struct FfmpegVideoDecoder::Impl {
     std::atomic<std::uint64_t> framesDecoded{0};
     std::atomic<std::uint64_t> framesConcealed{0};
     std::atomic<std::uint64_t> framesDropped{0};
+    std::atomic<std::uint64_t> framesDmaBuf{0};
+
+    /// `drm-prime` and the decoder can export DRM PRIME: frames may be lent as dma-bufs.
+    bool primeMode = false;
+    bool loggedPrime = false; ///< The first DRM PRIME frame was logged (per configure()).
+    bool loggedCpu = false;   ///< The first CPU frame in prime mode was logged (per configure()).
+    /// Prime mode: per pool slot, the AVFrame whose dma-bufs the lent frame describes; kept until
+    /// the FrameRef is returned. Declared after ctx: freed before it.
+    std::vector<AvFramePtr> held;
 };
 
 Result<hal::FrameRef> FfmpegVideoDecoder::Impl::lendFrame() noexcept
@@ -128,11 +194,53 @@ Result<hal::FrameRef> FfmpegVideoDecoder::Impl::lendFrame() noexcept
         av_frame_unref(frame.get());
         return unexpected(Errc::Busy, "Every pool frame is lent");
     }
-    auto copied = copyFrame(*frame, out->image, sws);
     const bool corrupt =
         frame->decode_error_flags != 0 || (frame->flags & AV_FRAME_FLAG_CORRUPT) != 0;
     const std::int64_t ts =
         frame->best_effort_timestamp != AV_NOPTS_VALUE ? frame->best_effort_timestamp : frame->pts;
+    Result<void> copied = ok();
+    bool dmabuf = false;
+    if (primeMode && frame->format == AV_PIX_FMT_DRM_PRIME) {
+        // Zero-copy: describe the dma-bufs and keep the AVFrame (and so its fds) until returned.
+        av_frame_unref(held[slot].get());
+        const auto *desc = reinterpret_cast<const AVDRMFrameDescriptor *>(frame->data[0]);
+        auto img = desc != nullptr ? dmaBufFromDrmDescriptor(*desc, frame->width, frame->height)
+                                   : Result<hal::DmaBufImage>(unexpected(
+                                         Errc::InvalidArgument, "DRM PRIME frame without a descriptor"));
+        if (img) {
+            out->dmabuf = *img;
+            out->image = hal::ImageView{};
+            out->image.width = img->width;
+            out->image.height = img->height;
+            out->image.format = img->fourcc == hal::kDrmFormatNv12 ? hal::PixelFormat::Nv12
+                                                                   : hal::PixelFormat::Yuv420p;
+            av_frame_move_ref(held[slot].get(), frame.get());
+            dmabuf = true;
+            if (!loggedPrime) {
+                loggedPrime = true;
+                DT_LOG(Ffmpeg, Info, "%s lends DRM PRIME frames (%dx%d, %d planes): no copy",
+                       hwName != nullptr ? hwName : "libavcodec", img->width, img->height,
+                       img->planeCount);
+            }
+        } else {
+            DT_LOG(Ffmpeg, Warning, "Failed to describe a DRM PRIME frame: %s", img.error().what);
+            copied = unexpected(img.error());
+        }
+    } else {
+        if (primeMode) {
+            copied = pool.ensurePixels(slot);
+            if (!loggedCpu) {
+                loggedCpu = true;
+                DT_LOG(Ffmpeg, Warning,
+                       "drm-prime: the decoder gave %s frames, not DRM PRIME: copying them to CPU "
+                       "frames",
+                       av_get_pix_fmt_name(static_cast<AVPixelFormat>(frame->format)));
+            }
+        }
+        if (copied)
+            copied = copyFrame(*frame, out->image, sws);
+        out->dmabuf = hal::DmaBufImage{};
+    }
     av_frame_unref(frame.get());
     if (!copied) {
         pool.releaseFrame(slot);
@@ -145,6 +253,8 @@ Result<hal::FrameRef> FfmpegVideoDecoder::Impl::lendFrame() noexcept
     out->sequence = ++sequence;
     out->corrupt = corrupt;
     framesDecoded.fetch_add(1, std::memory_order_relaxed);
+    if (dmabuf)
+        framesDmaBuf.fetch_add(1, std::memory_order_relaxed);
     if (corrupt)
         framesConcealed.fetch_add(1, std::memory_order_relaxed);
     return pool.lend(slot);
@@ -256,17 +366,56 @@ Result<void> FfmpegVideoDecoder::configure(const hal::StreamConfig &cfg)
     }
     ctx->thread_count = d.hwName != nullptr ? 1 : d.settings.threads;
     ctx->thread_type = FF_THREAD_SLICE;
+    bool prime = false;
+    if (d.settings.drmPrime && cfg.kind == hal::StreamKind::Color) {
+        const DrmPrimeSupport support = drmPrimeSupport(codec);
+        if (support == DrmPrimeSupport::NeedsDrmDevice) {
+            AVBufferRef *device = nullptr;
+            if (av_hwdevice_ctx_create(&device, AV_HWDEVICE_TYPE_DRM, nullptr, nullptr, 0) >= 0)
+                ctx->hw_device_ctx = device; // owned by ctx from now on
+            else
+                DT_LOG(Ffmpeg, Warning, "drm-prime: failed to open a DRM device for %s",
+                       codec->name);
+        }
+        prime = support == DrmPrimeSupport::Internal || ctx->hw_device_ctx != nullptr;
+        if (prime) {
+            ctx->get_format = preferDrmPrime;
+            // Lent frames hold V4L2 capture buffers: the driver needs its own beyond them.
+            if (d.hwName != nullptr)
+                av_opt_set_int(ctx->priv_data, "num_capture_buffers",
+                               d.settings.poolFrames + kCaptureBufferMargin, 0);
+        } else {
+            DT_LOG(Ffmpeg, Warning,
+                   "drm-prime: the %s decoder of this libavcodec cannot export DRM PRIME frames: "
+                   "decoding to CPU frames",
+                   codec->name);
+        }
+    }
     const int r = avcodec_open2(ctx.get(), codec, nullptr);
     if (r < 0) {
         DT_LOG(Ffmpeg, Error, "Failed to open the %s decoder", codec->name);
         return unexpected(d.hwName != nullptr ? Errc::NoDevice : errcOf(r, Errc::NotSupported),
                           "Failed to open the decoder", AVUNERROR(r));
     }
-    if (auto a = d.pool.allocate(d.settings.poolFrames, format, cfg.width, cfg.height); !a)
+    if (auto a = d.pool.allocate(d.settings.poolFrames, format, cfg.width, cfg.height,
+                                 prime ? FramePool::Pixels::OnDemand : FramePool::Pixels::Now);
+        !a)
         return unexpected(a.error());
+    std::vector<AvFramePtr> held;
+    if (prime) {
+        for (int i = 0; i < d.settings.poolFrames; ++i) {
+            held.emplace_back(av_frame_alloc());
+            if (!held.back())
+                return unexpected(Errc::OutOfResources, "Failed to allocate the decoder");
+        }
+    }
     std::vector<QueuedPacket> queue(static_cast<std::size_t>(d.settings.queuePackets));
 
+    d.held.clear(); // no frame is lent (checked above)
     d.ctx = std::move(ctx);
+    d.held = std::move(held);
+    d.primeMode = prime;
+    d.loggedPrime = d.loggedCpu = false;
     d.packet = std::move(packet);
     d.frame = std::move(frame);
     d.queue = std::move(queue);
@@ -314,6 +463,7 @@ Result<hal::FrameRef> FfmpegVideoDecoder::dequeueFrame(hal::Deadline until)
 {
     Impl &d = *impl_;
     DT_TRY(d.checkState(d.state == State::Running, "dequeueFrame", "Running"));
+    d.releaseReturned();
     if (d.ended)
         return unexpected(Errc::EndOfStream, "Decoder drained");
     if (!d.pool.hasFree())
@@ -388,6 +538,7 @@ void FfmpegVideoDecoder::close() noexcept
         return;
     d.settleDropped();
     d.dropQueue();
+    d.releaseReturned();
     d.ctx.reset();
     d.sws.reset();
     d.draining = d.eosSent = d.ended = false;
@@ -402,6 +553,7 @@ hal::DecoderStats FfmpegVideoDecoder::stats() const noexcept
     s.framesDecoded = d.framesDecoded.load(std::memory_order_relaxed);
     s.framesConcealed = d.framesConcealed.load(std::memory_order_relaxed);
     s.framesDropped = d.framesDropped.load(std::memory_order_relaxed);
+    s.framesDmaBuf = d.framesDmaBuf.load(std::memory_order_relaxed);
     return s;
 }
 

@@ -22,6 +22,27 @@ TEST(FfmpegBackendTest, backendsAreInTheTablesAndRejectUnknownOptions)
     EXPECT_EQ(drivers::createVideoDecoder("ffmpeg", cfg).error().code, Errc::InvalidArgument);
 }
 
+TEST(FfmpegBackendTest, drmPrimeOptionIsABooleanAndEnlargesThePool)
+{
+    // GIVEN the drm-prime option  THEN the pool covers a receiver's held colour frames (24) unless
+    // pool is given, and a value that is not a boolean is refused
+    hal::BackendConfig cfg;
+    cfg.options = hal::OptionList("drm-prime");
+    auto dec = drivers::createVideoDecoder("ffmpeg", cfg);
+    ASSERT_TRUE(dec);
+    EXPECT_EQ((*dec)->capabilities().poolFrames, 24);
+    cfg.options = hal::OptionList("drm-prime=1,pool=6");
+    dec = drivers::createVideoDecoder("ffmpeg", cfg);
+    ASSERT_TRUE(dec);
+    EXPECT_EQ((*dec)->capabilities().poolFrames, 6);
+    cfg.options = hal::OptionList("drm-prime=0");
+    dec = drivers::createVideoDecoder("ffmpeg", cfg);
+    ASSERT_TRUE(dec);
+    EXPECT_EQ((*dec)->capabilities().poolFrames, 4);
+    cfg.options = hal::OptionList("drm-prime=maybe");
+    EXPECT_EQ(drivers::createVideoDecoder("ffmpeg", cfg).error().code, Errc::InvalidArgument);
+}
+
 TEST(FfmpegBackendTest, missingFileIsNoDeviceAndTheSourceStaysClosed)
 {
     hal::BackendConfig cfg;

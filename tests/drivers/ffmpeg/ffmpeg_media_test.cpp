@@ -195,6 +195,54 @@ TEST_F(FfmpegMediaTest, grayH264IsLumaAsIs)
     EXPECT_EQ(std::memcmp((*f)->image.row(0, 0), luma.data(), 64), 0);
 }
 
+TEST_F(FfmpegMediaTest, drmPrimeFallsBackToTheSameCpuFrames)
+{
+    // GIVEN a colour H.264 clip and the software decoder, which cannot export DRM PRIME
+    const std::string mkv = tmp_.path("color264.mkv");
+    ASSERT_TRUE(ffmpeg("-f lavfi -i testsrc=size=64x48:rate=30:duration=0.2 -c:v libx264 "
+                       "-pix_fmt yuv420p " +
+                       mkv));
+    const auto firstFrame = [&](const char *options, hal::DecoderStats &stats) {
+        std::vector<std::uint8_t> bytes;
+        auto src = source();
+        EXPECT_TRUE(src->open(mkv.c_str()));
+        hal::StreamConfig sc = hal::StreamConfig::fromStream(src->info().streams[0]);
+        hal::BackendConfig cfg;
+        cfg.options = hal::OptionList(options);
+        auto dec = drivers::createVideoDecoder("ffmpeg", cfg);
+        if (!dec || !(*dec)->configure(sc))
+            return bytes;
+        for (int i = 0; i < 64 && bytes.empty(); ++i) {
+            auto p = src->readPacket();
+            if (!p || !(*dec)->queuePacket(*p))
+                (void)(*dec)->queuePacket(hal::Packet::endOfStream());
+            auto f = (*dec)->dequeueFrame(platform::SteadyClock::instance().now() + milliseconds(200));
+            if (!f)
+                continue;
+            // THEN the frame has CPU planes and no dma-buf
+            EXPECT_TRUE((*f)->dmabuf.empty());
+            EXPECT_FALSE((*f)->image.empty());
+            const hal::ImageView &img = (*f)->image;
+            for (int plane = 0; plane < 3; ++plane) {
+                const hal::PlaneLayout l = hal::planeLayout(img.format, img.width, img.height, plane);
+                for (int y = 0; y < l.rows; ++y)
+                    bytes.insert(bytes.end(), img.row(plane, y), img.row(plane, y) + l.rowBytes);
+            }
+        }
+        stats = (*dec)->stats();
+        return bytes;
+    };
+    // WHEN the first frame is decoded with and without drm-prime
+    hal::DecoderStats plainStats, primeStats;
+    const auto plain = firstFrame("", plainStats);
+    const auto prime = firstFrame("drm-prime", primeStats);
+    // THEN both are the same pixels, and no frame was lent as a dma-buf
+    ASSERT_FALSE(plain.empty());
+    EXPECT_TRUE(prime == plain);
+    EXPECT_EQ(primeStats.framesDmaBuf, 0u);
+    EXPECT_GE(primeStats.framesDecoded, 1u);
+}
+
 TEST_F(FfmpegMediaTest, imageSequenceWithFrameRateOption)
 {
     const std::string pngs = tmp_.path("frame-%06d.depth.png");

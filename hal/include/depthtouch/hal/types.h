@@ -1,7 +1,8 @@
 #pragma once
 /// \file
 /// \brief Plain data types shared by every HAL interface: vectors, pixel formats, image views,
-/// stream kinds, presentation times and FrameRef, the RAII borrow of a backend-owned frame.
+/// stream kinds, presentation times, dma-buf descriptors (DmaBufImage) and FrameRef, the RAII
+/// borrow of a backend-owned frame.
 ///
 /// Units: Vec3 holds metres (positions) or newtons (forces) or metres per second (velocities), as
 /// the field using it says. Times are platform::Duration / platform::TimePoint (nanoseconds).
@@ -183,6 +184,67 @@ enum class StreamKind : std::uint8_t {
 /// \return "color" or "depth" (static string).
 const char *streamKindName(StreamKind kind) noexcept;
 
+/// \return the DRM fourcc code of the four characters \a a \a b \a c \a d (drm_fourcc.h
+/// `fourcc_code`: little-endian, \a a in the lowest byte).
+constexpr std::uint32_t drmFourcc(char a, char b, char c, char d) noexcept
+{
+    return static_cast<std::uint32_t>(static_cast<unsigned char>(a)) |
+           static_cast<std::uint32_t>(static_cast<unsigned char>(b)) << 8 |
+           static_cast<std::uint32_t>(static_cast<unsigned char>(c)) << 16 |
+           static_cast<std::uint32_t>(static_cast<unsigned char>(d)) << 24;
+}
+
+/// DRM_FORMAT_NV12: 2 planes, Y then interleaved CbCr (Cb first), chroma halved both ways, 8 bits.
+inline constexpr std::uint32_t kDrmFormatNv12 = drmFourcc('N', 'V', '1', '2');
+/// DRM_FORMAT_YUV420: 3 planes Y, Cb, Cr, chroma halved both ways, 8 bits.
+inline constexpr std::uint32_t kDrmFormatYuv420 = drmFourcc('Y', 'U', '1', '2');
+/// DRM_FORMAT_MOD_LINEAR: rows of pixels one after the other (no tiling, no compression).
+inline constexpr std::uint64_t kDrmFormatModLinear = 0;
+/// DRM_FORMAT_MOD_INVALID: no explicit modifier; the layout is implied by the driver (in practice
+/// linear for V4L2 decoders).
+inline constexpr std::uint64_t kDrmFormatModInvalid = 0x00ffffffffffffffULL;
+
+/// \brief One plane of a dma-buf image: where its first byte is and how far apart its rows are.
+struct DmaBufPlane {
+    int fd = -1;               ///< The dma-buf (memory object) holding the plane; borrowed.
+    std::uint32_t offset = 0;  ///< Bytes from the start of the object to the plane's first row.
+    std::uint32_t pitch = 0;   ///< Bytes from one row to the next.
+};
+
+/// \brief A frame in device memory shared as Linux dma-bufs (DRM PRIME), as a GPU can import it
+/// (EGL_EXT_image_dma_buf_import).
+///
+/// The layout follows DRM: a fourcc (kDrmFormatNv12, kDrmFormatYuv420) that fixes the number and
+/// meaning of the planes, a format modifier for tiling (kDrmFormatModLinear, or
+/// kDrmFormatModInvalid when the driver implies it), and up to 4 planes, each in a dma-buf object
+/// (several planes may share one fd at different offsets).
+///
+/// Ownership: the fds belong to the backend that lent the frame. They stay open and the memory
+/// unchanged while the FrameRef is held; the borrower never closes them and must not use them
+/// after dropping the FrameRef (an importer that keeps a GPU image of a buffer must keep the
+/// FrameRef until the GPU is done with it). An empty descriptor (planeCount 0, the default) means
+/// the frame has no dma-buf. Thread-safety: plain value.
+struct DmaBufImage {
+    static constexpr int kMaxPlanes = 4;
+
+    std::uint32_t fourcc = 0;                  ///< DRM fourcc; 0 when there is no dma-buf.
+    std::uint64_t modifier = kDrmFormatModInvalid; ///< DRM format modifier, same for every plane.
+    int width = 0;                             ///< Pixels.
+    int height = 0;                            ///< Pixels.
+    int planeCount = 0;                        ///< Planes used in \a planes (0..kMaxPlanes).
+    std::array<DmaBufPlane, kMaxPlanes> planes{};
+
+    /// True when the frame carries no dma-buf.
+    [[nodiscard]] constexpr bool empty() const noexcept { return planeCount == 0; }
+};
+
+/// \return the planes of DRM format \a fourcc: 2 for kDrmFormatNv12, 3 for kDrmFormatYuv420, 0 for
+/// a format the HAL does not describe.
+constexpr int drmPlaneCount(std::uint32_t fourcc) noexcept
+{
+    return fourcc == kDrmFormatNv12 ? 2 : fourcc == kDrmFormatYuv420 ? 3 : 0;
+}
+
 /// \brief A decoded or captured frame as the backend describes it.
 ///
 /// Lives in the backend's pool; reached only through a FrameRef, which keeps it valid.
@@ -195,6 +257,10 @@ struct Frame {
     std::uint64_t sequence =
         0;                ///< Counts frames the source produced; a gap means frames were dropped.
     bool corrupt = false; ///< The data was damaged and the backend concealed the error.
+    /// The frame as dma-bufs (zero-copy decoders), besides or instead of CPU planes: when it is
+    /// not empty, \a image may be empty (width, height and format still set). Valid, like \a image,
+    /// while the FrameRef is held. Empty for every CPU-only backend.
+    DmaBufImage dmabuf{};
 };
 
 /// \brief The pool side of FrameRef: a backend that lends frames implements it.

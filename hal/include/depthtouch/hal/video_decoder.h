@@ -81,6 +81,7 @@ struct DecoderStats {
     std::uint64_t framesDecoded = 0;   ///< Frames lent by dequeueFrame(), concealed ones included.
     std::uint64_t framesConcealed = 0; ///< Frames output with Frame::corrupt set.
     std::uint64_t framesDropped = 0;   ///< Packets that produced no frame (decode error, flush).
+    std::uint64_t framesDmaBuf = 0;    ///< Frames lent as dma-bufs (Frame::dmabuf), no CPU copy.
 };
 
 /// \brief Hardware or software video decoder for one stream.

@@ -107,6 +107,10 @@ struct PlaybackStats {
     double renderMsP99 = 0.0;
     double presentedFps = 0.0; ///< framesPresented over the time spent playing (not paused).
     double playingSeconds = 0.0;
+    /// The last colour frame that came as dma-bufs was imported by the GPU without a copy.
+    bool zeroCopy = false;
+    std::uint64_t colorFramesImported = 0;       ///< Dma-buf colour frames imported (zero-copy).
+    std::uint64_t colorFramesDmaBufUploaded = 0; ///< Dma-buf colour frames uploaded instead.
     receiver::ReceiverStats receiver{}; ///< Of the current (or last) open.
 };
 

@@ -9,6 +9,9 @@
 /// without a copy. Slots are allocated by allocate() when a file is opened; acquiring, sharing and
 /// releasing never allocate, lock or block.
 ///
+/// Zero-copy frames: a slot may instead hold the decoder's frame itself (StoredFrame::decoded, a
+/// colour frame lent as dma-bufs); the last handle's release returns it to the decoder.
+///
 /// Thread-safety: allocate() and acquire() are thread-bound (the decode thread).
 /// FrameHandle::share(), the release of a handle (destructor, reset()) and inUse() are thread-safe
 /// and lock-free: a handle may be moved to the render or the haptic thread and dropped there. The
@@ -24,13 +27,22 @@
 
 namespace depthtouch::receiver {
 
-/// \brief A decoded frame held by the receiver: tightly packed planes (strideBytes = row bytes).
+/// \brief A decoded frame held by the receiver: tightly packed planes (strideBytes = row bytes), or
+/// the decoder's own frame when it came as dma-bufs (zero-copy; see \a dmabuf).
 struct StoredFrame {
-    hal::ImageView image; ///< Pixels in the store's memory; read-only for every handle holder.
+    /// Pixels in the store's memory; read-only for every handle holder. For a zero-copy frame the
+    /// decoder's image instead: size and format, and planes only if the decoder gave CPU planes too.
+    hal::ImageView image;
     hal::StreamKind kind = hal::StreamKind::Color;
     hal::Pts pts = hal::kNoPts; ///< Presentation time on the stream timeline (ns).
     std::uint64_t sequence = 0; ///< Frames of this stream decoded before it since open().
     bool corrupt = false;       ///< The decoder concealed damage in this frame.
+    /// Zero-copy colour frames: the decoder's dma-bufs (hal::DmaBufImage ownership: valid while a
+    /// handle is held, never closed by a holder). Empty for a copied frame.
+    hal::DmaBufImage dmabuf{};
+    /// Zero-copy frames: the decoder's frame, kept until the last handle is dropped (its release
+    /// returns it to the decoder). Empty for a copied frame.
+    hal::FrameRef decoded;
 };
 
 class FrameStore;
@@ -114,6 +126,7 @@ private:
 
     struct Slot {
         std::unique_ptr<std::uint8_t[]> pixels;
+        hal::ImageView view; ///< The slot's own planes, restored by acquire().
         StoredFrame frame;
         std::atomic<int> refs{0};
     };

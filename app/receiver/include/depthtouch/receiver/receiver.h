@@ -11,7 +11,12 @@
 ///
 /// Memory: every frame is copied out of the decoder into a FrameStore allocated by open(), sized
 /// for the pairing window plus ReceiverConfig::consumerFrames held downstream; after open() nothing
-/// is allocated per frame.
+/// is allocated per frame. Zero-copy: a colour frame the decoder lends as dma-bufs
+/// (hal::Frame::dmabuf) is not copied; its FrameRef is kept in the store slot
+/// (StoredFrame::decoded, StoredFrame::dmabuf) until the last handle is dropped, i.e. until the
+/// consumer has shown it. The decoder's pool must then cover the store's colour frames
+/// (pairing window + 4 + consumerFrames); when every decoder frame is held and nothing else can
+/// progress, next() returns Busy until the consumer drops frames.
 ///
 /// Bad input never crashes or hangs: a missing stream is reported (ReceiverInfo::mode, notes); a
 /// stream with an unsupported codec or a zero / huge size is left out (or, when required, open()
@@ -132,6 +137,7 @@ struct ReceiverStats {
     std::uint64_t consumerBusy = 0;     ///< next() calls refused: the consumer held every frame.
     std::uint64_t streamsResumed = 0;   ///< A stream drained as ended sent packets again.
     std::uint64_t seeks = 0;
+    std::uint64_t colorFramesZeroCopy = 0; ///< Color frames kept as the decoder's dma-bufs.
 };
 
 /// Makes the decoder of one stream (the executable's backend choice). Called by open().

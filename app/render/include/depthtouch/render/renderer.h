@@ -30,6 +30,7 @@
 #include "depthtouch/platform/result.h"
 #include "depthtouch/render/adaptive_mesh.h"
 #include "depthtouch/render/color.h"
+#include "depthtouch/render/dmabuf_import.h"
 #include "depthtouch/render/stereo.h"
 #include "depthtouch/render/surface_mapping.h"
 
@@ -166,6 +167,18 @@ public:
         return options_.colorConversion == ColorConversion::Cpu ||
                (options_.colorConversion == ColorConversion::Auto && softwareRasterizer_);
     }
+    /// \brief Sets the colour of a decoded frame that may carry dma-bufs (hal::Frame::dmabuf):
+    /// without one, exactly setColor(\a image). With one, imported without a copy when the
+    /// platform can (dmabuf_import.h); otherwise uploaded from \a image's CPU planes, or from the
+    /// dma-bufs mapped read-only when \a image has none (each fallback logged once). The fds are
+    /// borrowed: the caller keeps the frame (its FrameRef) until the frame has been drawn and
+    /// presented, and a cached EGLImage of a buffer is reused when the decoder lends it again.
+    /// \return the errors of setColor(); InvalidArgument for a malformed descriptor; NotSupported
+    /// for a tiled dma-buf that could not be imported; Io when a dma-buf cannot be mapped.
+    [[nodiscard]] Result<void> setColorFrame(const hal::ImageView &image,
+                                             const hal::DmaBufImage &dmabuf, const ColorSpec &spec);
+    /// \return how the dma-buf colour frames were taken (imported or uploaded).
+    [[nodiscard]] const DmaBufStats &dmaBufStats() const noexcept { return dmaBufStats_; }
 
     void setAvatar(const AvatarState &avatar) noexcept { avatar_ = avatar; }
     void setOsd(const OsdState &osd) { osd_ = osd; }
@@ -218,6 +231,9 @@ private:
     StageTimes stageTimes_{};
     platform::SteadyClock clock_;
     std::unique_ptr<Gl> gl_;
+    std::unique_ptr<DmaBufImporter> dmabuf_; ///< Made at the first dma-buf frame.
+    bool colorFromDmaBuf_ = false;           ///< The colour is dmabuf_->texture() (RGBA8).
+    DmaBufStats dmaBufStats_{};
 };
 
 } // namespace depthtouch::render

@@ -23,9 +23,28 @@ public:
     FramePool() = default;
     ~FramePool() override;
 
+    /// When the pixel memory of each frame is allocated.
+    enum class Pixels : std::uint8_t {
+        Now,      ///< By allocate() (every frame has CPU planes).
+        OnDemand, ///< By ensurePixels(), for frames that need CPU planes (dma-buf backends).
+    };
+
     /// \brief Makes \a count frames of \a format, \a width × \a height, tightly packed.
-    /// \return Busy when a frame is still lent (nothing changes).
-    Result<void> allocate(int count, hal::PixelFormat format, int width, int height);
+    /// With Pixels::OnDemand the frames' images have the size and format but no planes until
+    /// ensurePixels(). \return Busy when a frame is still lent (nothing changes).
+    Result<void> allocate(int count, hal::PixelFormat format, int width, int height,
+                          Pixels pixels = Pixels::Now);
+
+    /// \brief Gives the acquired frame in \a slot its CPU planes (allocated on first use, then
+    /// kept) and points its image at them. Not real-time safe. \pre \a slot is acquired.
+    /// \return OutOfResources when the memory cannot be allocated.
+    Result<void> ensurePixels(std::uint32_t slot) noexcept;
+
+    /// \return whether the frame in \a slot is acquired or lent now. Thread-safe.
+    [[nodiscard]] bool isLent(std::uint32_t slot) const noexcept
+    {
+        return slots_[slot].inUse.load(std::memory_order_acquire);
+    }
 
     /// \brief Takes a free frame for filling. \return the frame, or nullptr when every frame is
     /// lent. \param[out] slot The frame's slot, for lend() or abandon().
@@ -53,6 +72,9 @@ private:
 
     std::unique_ptr<Slot[]> slots_;
     int count_ = 0;
+    hal::PixelFormat format_ = hal::PixelFormat::Unknown;
+    int width_ = 0;
+    int height_ = 0;
     std::atomic<int> lent_{0};
 };
 

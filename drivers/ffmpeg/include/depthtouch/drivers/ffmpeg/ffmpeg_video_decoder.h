@@ -4,8 +4,10 @@
 /// names `ffmpeg` (software: H.264, HEVC, FFV1, raw video, MJPEG) and `v4l2m2m` (H.264 through
 /// h264_v4l2m2m; creation fails with NoDevice when libavcodec lacks it or no /dev/video* exists).
 ///
-/// Options: `pool=N` output frames (1..64, default 4), `queue=N` input packets (1..256, default
-/// 8), `threads=N` slice threads (1..16, default 2). Slice threads only, no frame threads: frame
+/// Options: `pool=N` output frames (1..64, default 4; 24 with `drm-prime`), `queue=N` input
+/// packets (1..256, default 8), `threads=N` slice threads (1..16, default 2), `drm-prime` (boolean,
+/// default off; colour streams only) zero-copy output, see below. Slice threads only, no frame
+/// threads: frame
 /// threading holds `threads` packets back, which would break "one queued intra packet gives one
 /// frame" and the drain accounting.
 ///
@@ -18,7 +20,19 @@
 /// (counted concealed); a packet libavcodec refuses is counted dropped (dequeueFrame() returns Io
 /// for it), and so is every packet that produced no frame at drain or flush.
 /// When nothing is queued and no frame is ready, dequeueFrame() sleeps on the backend clock until
-/// the deadline. Thread-safety: as hal::VideoDecoder.
+/// the deadline.
+///
+/// `drm-prime` (zero-copy, DRM PRIME / dma-buf): when the libavcodec decoder can export
+/// AV_PIX_FMT_DRM_PRIME frames (h264_v4l2m2m of vendor FFmpeg builds; upstream h264_v4l2m2m cannot),
+/// get_format asks for them and each frame is lent with Frame::dmabuf filled
+/// (dmaBufFromDrmDescriptor()) and an image without planes (size and format only); the AVFrame stays
+/// referenced while the FrameRef is held, so its fds stay valid, and is unreferenced on the decode
+/// thread by the next dequeueFrame(), configure() or close() after the FrameRef came back (the
+/// release itself stays lock-free). The pool then has no CPU pixels until a frame needs them, and
+/// the V4L2 capture queue gets pool + 8 buffers. Fallback, logged once as a warning, never an
+/// error: when the decoder cannot export DRM PRIME (or a frame comes out in a software format), the
+/// frames are CPU copies exactly as without the option. DecoderStats::framesDmaBuf counts the
+/// frames lent as dma-bufs. Thread-safety: as hal::VideoDecoder.
 
 #include <memory>
 
@@ -33,6 +47,7 @@ struct FfmpegDecoderSettings {
     int poolFrames = 4;
     int queuePackets = 8;
     int threads = 2;
+    bool drmPrime = false; ///< `drm-prime`: lend DRM PRIME frames when the decoder can.
 
     static Result<FfmpegDecoderSettings> parse(hal::OptionList options);
 };
