@@ -17,6 +17,7 @@
 #include <string>
 
 #include "depthtouch/platform/log.h"
+#include "gl_program.h"
 #include "depthtouch/render/renderer.h"
 
 DT_LOG_CATEGORY(DmaBuf)
@@ -59,23 +60,6 @@ void main() {
     gl_FragColor = vec4(texture2D(uImage, vTex).rgb, 1.0);
 }
 )";
-
-GLuint compile(GLenum type, const char *source)
-{
-    const GLuint s = glCreateShader(type);
-    glShaderSource(s, 1, &source, nullptr);
-    glCompileShader(s);
-    GLint okFlag = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &okFlag);
-    if (okFlag == 0) {
-        char log[1024] = {};
-        glGetShaderInfoLog(s, sizeof log, nullptr, log);
-        DT_LOG(DmaBuf, Warning, "Failed to compile the external-image shader: %s", log);
-        glDeleteShader(s);
-        return 0;
-    }
-    return s;
-}
 
 bool glHasExtension(const char *name)
 {
@@ -212,23 +196,7 @@ std::string DmaBufImporter::Impl::setUp()
         eglGetProcAddress("glEGLImageTargetTexture2DOES"));
     if (createImage == nullptr || destroyImage == nullptr || targetTexture == nullptr)
         return "eglCreateImageKHR or glEGLImageTargetTexture2DOES missing";
-    const GLuint vs = compile(GL_VERTEX_SHADER, kBlitVs);
-    const GLuint fs = compile(GL_FRAGMENT_SHADER, kBlitFs);
-    if (vs != 0 && fs != 0) {
-        program = glCreateProgram();
-        glAttachShader(program, vs);
-        glAttachShader(program, fs);
-        glBindAttribLocation(program, 0, "aPos");
-        glLinkProgram(program);
-        GLint linked = 0;
-        glGetProgramiv(program, GL_LINK_STATUS, &linked);
-        if (linked == 0) {
-            glDeleteProgram(program);
-            program = 0;
-        }
-    }
-    glDeleteShader(vs);
-    glDeleteShader(fs);
+    program = gl::linkProgram(kBlitVs, kBlitFs, "aPos", /*optional=*/true);
     if (program == 0)
         return "the samplerExternalOES shader does not build";
     glUseProgram(program);

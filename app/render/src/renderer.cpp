@@ -13,12 +13,10 @@
 #include <glm/mat4x4.hpp>
 
 #include "depthtouch/haptics/height_field.h"
-#include "depthtouch/platform/log.h"
 #include "depthtouch/render/dmabuf_import.h"
 #include "depthtouch/render/render_target.h"
+#include "gl_program.h"
 #include "osd_font.h"
-
-DT_LOG_CATEGORY(Render)
 
 namespace depthtouch::render {
 
@@ -156,50 +154,10 @@ void main() {
 }
 )";
 
-GLuint compileShader(GLenum type, const std::string &source)
-{
-    const GLuint s = glCreateShader(type);
-    const char *text = source.c_str();
-    glShaderSource(s, 1, &text, nullptr);
-    glCompileShader(s);
-    GLint okFlag = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &okFlag);
-    if (okFlag == 0) {
-        char log[2048] = {};
-        glGetShaderInfoLog(s, sizeof log, nullptr, log);
-        DT_LOG(Render, Error, "Failed to compile shader: %s", log);
-        glDeleteShader(s);
-        return 0;
-    }
-    return s;
-}
-
 GLuint linkProgram(const char *vs, const char *fs, const char *defines)
 {
     const std::string head = std::string("#version 300 es\n") + defines;
-    const GLuint v = compileShader(GL_VERTEX_SHADER, head + vs);
-    const GLuint f = compileShader(GL_FRAGMENT_SHADER, head + fs);
-    if (v == 0 || f == 0) {
-        glDeleteShader(v);
-        glDeleteShader(f);
-        return 0;
-    }
-    const GLuint p = glCreateProgram();
-    glAttachShader(p, v);
-    glAttachShader(p, f);
-    glLinkProgram(p);
-    glDeleteShader(v);
-    glDeleteShader(f);
-    GLint okFlag = 0;
-    glGetProgramiv(p, GL_LINK_STATUS, &okFlag);
-    if (okFlag == 0) {
-        char log[2048] = {};
-        glGetProgramInfoLog(p, sizeof log, nullptr, log);
-        DT_LOG(Render, Error, "Failed to link program: %s", log);
-        glDeleteProgram(p);
-        return 0;
-    }
-    return p;
+    return gl::linkProgram(head + vs, head + fs);
 }
 
 /// A texture with immutable storage, reallocated only when its size or format changes.

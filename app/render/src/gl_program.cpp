@@ -1,0 +1,62 @@
+#include "gl_program.h"
+
+#include "depthtouch/platform/log.h"
+
+DT_LOG_CATEGORY(Render)
+
+namespace depthtouch::render::gl {
+
+GLuint compileShader(GLenum type, const std::string &source, bool optional)
+{
+    const GLuint s = glCreateShader(type);
+    const char *text = source.c_str();
+    glShaderSource(s, 1, &text, nullptr);
+    glCompileShader(s);
+    GLint okFlag = 0;
+    glGetShaderiv(s, GL_COMPILE_STATUS, &okFlag);
+    if (okFlag == 0) {
+        char log[2048] = {};
+        glGetShaderInfoLog(s, sizeof log, nullptr, log);
+        if (optional)
+            DT_LOG(Render, Warning, "Failed to compile shader: %s", log);
+        else
+            DT_LOG(Render, Error, "Failed to compile shader: %s", log);
+        glDeleteShader(s);
+        return 0;
+    }
+    return s;
+}
+
+GLuint linkProgram(const std::string &vs, const std::string &fs, const char *attribute0, bool optional)
+{
+    const GLuint v = compileShader(GL_VERTEX_SHADER, vs, optional);
+    const GLuint f = compileShader(GL_FRAGMENT_SHADER, fs, optional);
+    if (v == 0 || f == 0) {
+        glDeleteShader(v);
+        glDeleteShader(f);
+        return 0;
+    }
+    const GLuint p = glCreateProgram();
+    glAttachShader(p, v);
+    glAttachShader(p, f);
+    if (attribute0 != nullptr)
+        glBindAttribLocation(p, 0, attribute0);
+    glLinkProgram(p);
+    glDeleteShader(v);
+    glDeleteShader(f);
+    GLint okFlag = 0;
+    glGetProgramiv(p, GL_LINK_STATUS, &okFlag);
+    if (okFlag == 0) {
+        char log[2048] = {};
+        glGetProgramInfoLog(p, sizeof log, nullptr, log);
+        if (optional)
+            DT_LOG(Render, Warning, "Failed to link program: %s", log);
+        else
+            DT_LOG(Render, Error, "Failed to link program: %s", log);
+        glDeleteProgram(p);
+        return 0;
+    }
+    return p;
+}
+
+} // namespace depthtouch::render::gl
