@@ -409,7 +409,9 @@ Result<hal::ImageView> DmaBufImporter::map(const hal::DmaBufImage &image)
             while (r != 0 && (errno == EINTR || errno == EAGAIN));
             if (r == 0) {
                 m->synced = true;
-            } else if (errno != ENOTTY) { // ENOTTY: plain memory (memfd), nothing to synchronise
+            } else if (errno != ENOTTY && errno != ENOSYS) {
+                // ENOTTY: plain memory (memfd), nothing to synchronise; ENOSYS: the same ioctl
+                // under an emulator that does not know it (qemu-user).
                 const int err = errno;
                 unmap();
                 return unexpected(Errc::Io, "Failed to start CPU access to a dma-buf", err);
