@@ -285,18 +285,19 @@ void copyDepth(const receiver::StoredFrame &f, const haptic_task::DepthSlot &slo
 haptics::DepthFrameView depthView(const receiver::StoredFrame &f, double pts) noexcept;
 
 #if DT_PLAYBACK_HAVE_GL
-/// The colour the renderer shows for \a f: its colour frame, or a gray depth frame as a picture
-/// when there is no colour stream; null when neither.
-const hal::ImageView *colorImageOf(const receiver::PairedFrame &f, render::ColorSpec &spec) noexcept
+/// The picture the renderer shows for a frame of colour \a color and depth \a depth (either may be
+/// null): the colour frame, or a gray depth frame as a picture when there is no colour stream; null
+/// when neither, or when the colour frame came as dma-bufs (the renderer imports those itself).
+const hal::ImageView *pictureOf(const receiver::StoredFrame *color, const receiver::StoredFrame *depth,
+                                render::ColorSpec &spec) noexcept
 {
-    if (f.color) {
+    if (color != nullptr) {
         spec = render::ColorSpec{};
-        // A frame lent as dma-bufs is imported (or mapped) by the renderer itself.
-        return f.color->dmabuf.empty() ? &f.color->image : nullptr;
+        return color->dmabuf.empty() ? &color->image : nullptr;
     }
-    if (f.depth && f.depth->image.format == hal::PixelFormat::Gray8) {
+    if (depth != nullptr && depth->image.format == hal::PixelFormat::Gray8) {
         spec = render::ColorSpec{render::YuvMatrix::Bt601, true};
-        return &f.depth->image;
+        return &depth->image;
     }
     return nullptr;
 }
@@ -444,15 +445,13 @@ private:
                 return;
             job->state = State::Running;
             lock.unlock();
-            receiver::PairedFrame view;
-            view.depth = job->depth.share();
-            if (job->color)
-                view.color = job->color.share();
+            // The slot's handles keep both frames alive; only this thread touches a Running slot.
             render::ColorSpec spec;
-            const hal::ImageView *color = job->convertColor ? colorImageOf(view, spec) : nullptr;
-            const haptics::DepthFrameView dv = depthView(*view.depth, 0.0);
-            const bool built = static_cast<bool>(job->prep.build(dv, color, spec, job->mesh));
-            view = receiver::PairedFrame{};
+            const hal::ImageView *color =
+                job->convertColor ? pictureOf(job->color ? job->color.get() : nullptr, job->depth.get(), spec)
+                                  : nullptr;
+            const bool built =
+                static_cast<bool>(job->prep.build(depthView(*job->depth, 0.0), color, spec, job->mesh));
             lock.lock();
             if (job->cancelled || !built)
                 job->reset();
@@ -737,17 +736,16 @@ void Playback::Impl::renderLoop()
                 render::FramePrep *prep = depthFrame != nullptr ? prepWorker->take(depthFrame) : nullptr;
                 bool ok = static_cast<bool>(prep != nullptr ? renderer->setDepth(dv, *prep)
                                                             : renderer->setDepth(dv));
+                render::ColorSpec spec;
+                const hal::ImageView *picture = pictureOf(colorFrame, depthFrame, spec);
                 if (prep != nullptr && prep->hasRgba) {
                     (void)renderer->setColor(*prep);
                 } else if (colorFrame != nullptr) {
-                    if (auto r = renderer->setColorFrame(colorFrame->image, colorFrame->dmabuf,
-                                                         render::ColorSpec{});
-                        !r)
+                    if (auto r = renderer->setColorFrame(colorFrame->image, colorFrame->dmabuf, spec); !r)
                         DT_LOG_ONCE(Playback, Warning, "Color frames not shown: %s",
                                     r.error().what);
-                } else if (depthFrame != nullptr &&
-                           depthFrame->image.format == hal::PixelFormat::Gray8) {
-                    (void)renderer->setColor(depthFrame->image, render::ColorSpec{render::YuvMatrix::Bt601, true});
+                } else if (picture != nullptr) {
+                    (void)renderer->setColor(*picture, spec);
                 }
                 if (prep != nullptr) {
                     prepWorker->release(prep);
