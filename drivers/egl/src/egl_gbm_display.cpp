@@ -377,16 +377,6 @@ void EglGbmDisplay::close() noexcept
     refreshHz_ = 0.0;
 }
 
-hal::Size EglGbmDisplay::size() const noexcept
-{
-    return state_ == State::Closed ? hal::Size{} : size_;
-}
-
-double EglGbmDisplay::refreshHz() const noexcept
-{
-    return state_ == State::Closed ? 0.0 : refreshHz_;
-}
-
 void EglGbmDisplay::markLost(const char *why) noexcept
 {
     if (state_ != State::Open)

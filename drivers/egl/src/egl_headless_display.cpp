@@ -145,16 +145,6 @@ void EglHeadlessDisplay::close() noexcept
     refreshHz_ = 0.0;
 }
 
-hal::Size EglHeadlessDisplay::size() const noexcept
-{
-    return state_ == State::Closed ? hal::Size{} : size_;
-}
-
-double EglHeadlessDisplay::refreshHz() const noexcept
-{
-    return state_ == State::Closed ? 0.0 : refreshHz_;
-}
-
 std::uint32_t EglHeadlessDisplay::framebuffer() const noexcept
 {
     return state_ == State::Open ? gl_->fbo[static_cast<std::size_t>(gl_->back)] : 0u;

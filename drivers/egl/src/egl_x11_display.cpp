@@ -354,16 +354,6 @@ void EglX11Display::close() noexcept
     refreshHz_ = 0.0;
 }
 
-hal::Size EglX11Display::size() const noexcept
-{
-    return state_ == State::Closed ? hal::Size{} : size_;
-}
-
-double EglX11Display::refreshHz() const noexcept
-{
-    return state_ == State::Closed ? 0.0 : refreshHz_;
-}
-
 unsigned long EglX11Display::window() const noexcept
 {
     return state_ == State::Closed ? 0ul : x_->window;

@@ -51,12 +51,13 @@
 #include <string>
 
 #include "depthtouch/hal/backends.h"
+#include "depthtouch/drivers/egl/egl_display_base.h"
 #include "depthtouch/hal/display.h"
 #include "depthtouch/platform/clock.h"
 
 namespace depthtouch::drivers {
 
-class EglGbmDisplay final : public hal::Display {
+class EglGbmDisplay final : public EglDisplayBase {
 public:
     /// Options of the kms display (see the file comment).
     struct Settings {
@@ -77,15 +78,8 @@ public:
     EglGbmDisplay(platform::Clock &clock, Settings settings);
     ~EglGbmDisplay() override;
 
-    [[nodiscard]] const hal::DisplayCapabilities &capabilities() const noexcept override
-    {
-        return caps_;
-    }
-    [[nodiscard]] State state() const noexcept override { return state_; }
     [[nodiscard]] Result<void> open(const hal::DisplayConfig &cfg) override;
     void close() noexcept override;
-    [[nodiscard]] hal::Size size() const noexcept override;
-    [[nodiscard]] double refreshHz() const noexcept override;
     [[nodiscard]] Result<void> makeCurrent() override;
     [[nodiscard]] Result<hal::PresentInfo> present() override;
     [[nodiscard]] Result<void> readPixels(const hal::ImageView &out) override;
@@ -99,10 +93,6 @@ private:
 
     platform::Clock &clock_;
     const Settings settings_;
-    hal::DisplayCapabilities caps_;
-    State state_ = State::Closed;
-    hal::Size size_;
-    double refreshHz_ = 0.0;
     std::uint64_t frames_ = 0;
     std::unique_ptr<Kms> kms_;
 };

@@ -21,12 +21,13 @@
 
 #include "depthtouch/drivers/egl/display_settings.h"
 #include "depthtouch/hal/backends.h"
+#include "depthtouch/drivers/egl/egl_display_base.h"
 #include "depthtouch/hal/display.h"
 #include "depthtouch/platform/clock.h"
 
 namespace depthtouch::drivers {
 
-class EglHeadlessDisplay final : public hal::Display {
+class EglHeadlessDisplay final : public EglDisplayBase {
 public:
     /// Backend factory: settings from cfg.options, time from cfg.clock; checks that the
     /// surfaceless EGL platform initialises (NoDevice otherwise).
@@ -35,15 +36,8 @@ public:
     EglHeadlessDisplay(platform::Clock &clock, const EglDisplaySettings &settings);
     ~EglHeadlessDisplay() override;
 
-    [[nodiscard]] const hal::DisplayCapabilities &capabilities() const noexcept override
-    {
-        return caps_;
-    }
-    [[nodiscard]] State state() const noexcept override { return state_; }
     [[nodiscard]] Result<void> open(const hal::DisplayConfig &cfg) override;
     void close() noexcept override;
-    [[nodiscard]] hal::Size size() const noexcept override;
-    [[nodiscard]] double refreshHz() const noexcept override;
     [[nodiscard]] Result<void> makeCurrent() override;
     [[nodiscard]] Result<hal::PresentInfo> present() override;
     [[nodiscard]] std::uint32_t framebuffer() const noexcept override;
@@ -56,10 +50,6 @@ private:
 
     platform::Clock &clock_;
     const EglDisplaySettings settings_;
-    hal::DisplayCapabilities caps_;
-    State state_ = State::Closed;
-    hal::Size size_;
-    double refreshHz_ = 0.0;
     VsyncPacer pacer_;
     std::unique_ptr<Gl> gl_;
 };

@@ -43,12 +43,13 @@
 
 #include "depthtouch/drivers/egl/display_settings.h"
 #include "depthtouch/hal/backends.h"
+#include "depthtouch/drivers/egl/egl_display_base.h"
 #include "depthtouch/hal/display.h"
 #include "depthtouch/platform/clock.h"
 
 namespace depthtouch::drivers {
 
-class EglX11Display final : public hal::Display {
+class EglX11Display final : public EglDisplayBase {
 public:
     /// Backend factory: settings from cfg.options, X display name from cfg.device (empty:
     /// $DISPLAY), time from cfg.clock; checks that the X server answers and that EGL has the X11
@@ -59,15 +60,8 @@ public:
                   std::string xDisplayName);
     ~EglX11Display() override;
 
-    [[nodiscard]] const hal::DisplayCapabilities &capabilities() const noexcept override
-    {
-        return caps_;
-    }
-    [[nodiscard]] State state() const noexcept override { return state_; }
     [[nodiscard]] Result<void> open(const hal::DisplayConfig &cfg) override;
     void close() noexcept override;
-    [[nodiscard]] hal::Size size() const noexcept override;
-    [[nodiscard]] double refreshHz() const noexcept override;
     [[nodiscard]] Result<void> makeCurrent() override;
     [[nodiscard]] Result<hal::PresentInfo> present() override;
     [[nodiscard]] Result<void> readPixels(const hal::ImageView &out) override;
@@ -86,10 +80,6 @@ private:
     platform::Clock &clock_;
     const EglDisplaySettings settings_;
     const std::string xDisplayName_;
-    hal::DisplayCapabilities caps_;
-    State state_ = State::Closed;
-    hal::Size size_;
-    double refreshHz_ = 0.0;
     VsyncPacer pacer_;
     std::unique_ptr<X> x_;
 };
