@@ -227,4 +227,60 @@ Result<void> readFramebuffer(GLuint fbo, hal::Size size, const hal::ImageView &o
     return ok();
 }
 
+Result<void> FrameCopy::create(hal::Size size)
+{
+    glGenFramebuffers(1, &fbo_);
+    glGenRenderbuffers(1, &color_);
+    glBindRenderbuffer(GL_RENDERBUFFER, color_);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, size.width, size.height);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color_);
+    const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (status != GL_FRAMEBUFFER_COMPLETE || glGetError() != GL_NO_ERROR) {
+        DT_LOG(Egl, Error, "Failed to create a %dx%d readback framebuffer (status 0x%x)", size.width,
+               size.height, status);
+        destroy();
+        return unexpected(Errc::OutOfResources, "Readback framebuffer incomplete");
+    }
+    return {};
+}
+
+void FrameCopy::keep(hal::Size size) noexcept
+{
+    if (fbo_ != 0) {
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
+        glBlitFramebuffer(0, 0, size.width, size.height, 0, 0, size.width, size.height,
+                          GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+}
+
+Result<void> FrameCopy::read(const hal::ImageView &out, hal::Size size)
+{
+    if (!presented_)
+        return unexpected(Errc::InvalidState, "readPixels() needs a presented frame");
+    DT_TRY(checkReadTarget(out, size));
+    return readFramebuffer(fbo_, size, out, staging_);
+}
+
+void FrameCopy::destroy() noexcept
+{
+    if (fbo_ != 0)
+        glDeleteFramebuffers(1, &fbo_);
+    if (color_ != 0)
+        glDeleteRenderbuffers(1, &color_);
+    forget();
+}
+
+void FrameCopy::forget() noexcept
+{
+    fbo_ = 0;
+    color_ = 0;
+    presented_ = false;
+    staging_.clear();
+    staging_.shrink_to_fit();
+}
+
 } // namespace depthtouch::drivers::egl

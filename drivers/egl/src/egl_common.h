@@ -48,4 +48,32 @@ Result<void> checkReadTarget(const hal::ImageView &out, hal::Size size) noexcept
 Result<void> readFramebuffer(GLuint fbo, hal::Size size, const hal::ImageView &out,
                              std::vector<std::uint8_t> &staging);
 
+/// \brief A copy of a window surface's last presented frame, for readPixels() on displays whose
+/// buffers are undefined after a swap (x11, kms with readback=1). Every call needs the display's
+/// context current on the calling thread.
+class FrameCopy {
+public:
+    /// \brief Creates the RGBA8 copy of \a size pixels. \return Errors: OutOfResources (incomplete
+    /// framebuffer; logged); the copy is then deleted again.
+    Result<void> create(hal::Size size);
+    [[nodiscard]] bool created() const noexcept { return fbo_ != 0; }
+    /// \brief Copies the surface's framebuffer (0), before a swap; no-op when not created.
+    void keep(hal::Size size) noexcept;
+    /// \brief Records that the kept frame reached the screen (read() may then return it).
+    void markPresented() noexcept { presented_ = true; }
+    /// \brief Reads the kept frame into \a out (checkReadTarget(), readFramebuffer()).
+    /// \return Errors: InvalidState (nothing presented since create() or forget()), and theirs.
+    Result<void> read(const hal::ImageView &out, hal::Size size);
+    /// \brief Deletes the GL objects (context current) and forgets the frame.
+    void destroy() noexcept;
+    /// \brief Forgets the GL objects without deleting them (their context is gone) and the frame.
+    void forget() noexcept;
+
+private:
+    GLuint fbo_ = 0;
+    GLuint color_ = 0;
+    bool presented_ = false;
+    std::vector<std::uint8_t> staging_;
+};
+
 } // namespace depthtouch::drivers::egl

@@ -132,10 +132,7 @@ struct EglGbmDisplay::Kms {
     EGLDisplay display = EGL_NO_DISPLAY;
     EGLSurface eglSurface = EGL_NO_SURFACE;
     EGLContext context = EGL_NO_CONTEXT;
-    GLuint copyFbo = 0; ///< readback=1: the last presented frame.
-    GLuint copyColor = 0;
-    bool presented = false; ///< A frame was presented since open().
-    std::vector<std::uint8_t> staging;
+    egl::FrameCopy copy; ///< readback=1: the last presented frame.
 
     /// Undoes open() in reverse, whatever part of it was done.
     void destroy() noexcept
@@ -146,11 +143,9 @@ struct EglGbmDisplay::Kms {
             scanout->end();
         if (display != EGL_NO_DISPLAY) {
             if (context != EGL_NO_CONTEXT) {
-                if (copyFbo != 0 &&
-                    eglMakeCurrent(display, eglSurface, eglSurface, context) == EGL_TRUE) {
-                    glDeleteFramebuffers(1, &copyFbo);
-                    glDeleteRenderbuffers(1, &copyColor);
-                }
+                if (copy.created() &&
+                    eglMakeCurrent(display, eglSurface, eglSurface, context) == EGL_TRUE)
+                    copy.destroy();
                 eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
                 eglDestroyContext(display, context);
             }
@@ -161,8 +156,6 @@ struct EglGbmDisplay::Kms {
         display = EGL_NO_DISPLAY;
         eglSurface = EGL_NO_SURFACE;
         context = EGL_NO_CONTEXT;
-        copyFbo = 0;
-        copyColor = 0;
         scanout.reset();
         source.reset();
         device.reset();
@@ -176,9 +169,7 @@ struct EglGbmDisplay::Kms {
             drmDropMaster(fd.get());
         master = false;
         fd.reset();
-        presented = false;
-        staging.clear();
-        staging.shrink_to_fit();
+        copy.forget();
     }
 };
 
@@ -328,19 +319,8 @@ Result<void> EglGbmDisplay::openOutput(const hal::DisplayConfig &cfg)
     const int width = mode.width;
     const int height = mode.height;
     if (settings_.readback) {
-        glGenFramebuffers(1, &k.copyFbo);
-        glGenRenderbuffers(1, &k.copyColor);
-        glBindRenderbuffer(GL_RENDERBUFFER, k.copyColor);
-        glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
-        glBindFramebuffer(GL_FRAMEBUFFER, k.copyFbo);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
-                                  k.copyColor);
-        const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-        if (status != GL_FRAMEBUFFER_COMPLETE || glGetError() != GL_NO_ERROR) {
-            DT_LOG(Kms, Error, "Failed to create a %dx%d readback framebuffer (status 0x%x)", width,
-                   height, status);
-            return unexpected(Errc::OutOfResources, "Readback framebuffer incomplete");
-        }
+        if (auto r = k.copy.create({width, height}); !r)
+            return r;
     }
     // A black first frame sets the mode now, so that a mode the sink refuses fails open().
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -419,14 +399,7 @@ Result<hal::PresentInfo> EglGbmDisplay::present()
 {
     DT_TRY(ensureCurrent());
     Kms &k = *kms_;
-    if (k.copyFbo != 0) {
-        // The surface's buffer goes to the screen and then back to GBM: keep the frame.
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, k.copyFbo);
-        glBlitFramebuffer(0, 0, size_.width, size_.height, 0, 0, size_.width, size_.height,
-                          GL_COLOR_BUFFER_BIT, GL_NEAREST);
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    }
+    k.copy.keep(size_);
     if (eglSwapBuffers(k.display, k.eglSurface) == EGL_FALSE) {
         const EGLint err = eglGetError();
         DT_LOG(Kms, Error, "Failed to swap the GBM surface: %s", egl::eglErrorName(err));
@@ -442,7 +415,7 @@ Result<hal::PresentInfo> EglGbmDisplay::present()
             markLost(shown.error().what);
         return unexpected(shown.error());
     }
-    k.presented = true;
+    k.copy.markPresented();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     hal::PresentInfo info = *shown;
     info.frameCounter = ++frames_; // the black frame of open() does not count
@@ -455,10 +428,7 @@ Result<void> EglGbmDisplay::readPixels(const hal::ImageView &out)
         return unexpected(Errc::NotSupported,
                           "This kms display keeps no frame copy (open it with readback=1)");
     DT_TRY(ensureCurrent());
-    if (!kms_->presented)
-        return unexpected(Errc::InvalidState, "readPixels() needs a presented frame");
-    DT_TRY(egl::checkReadTarget(out, size_));
-    return egl::readFramebuffer(kms_->copyFbo, size_, out, kms_->staging);
+    return kms_->copy.read(out, size_);
 }
 
 } // namespace depthtouch::drivers

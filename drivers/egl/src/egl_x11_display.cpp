@@ -64,10 +64,7 @@ struct EglX11Display::X {
     EGLDisplay display = EGL_NO_DISPLAY;
     EGLSurface surface = EGL_NO_SURFACE;
     EGLContext context = EGL_NO_CONTEXT;
-    GLuint copyFbo = 0; ///< readback=1: the last presented frame.
-    GLuint copyColor = 0;
-    bool presented = false; ///< A frame was presented since open().
-    std::vector<std::uint8_t> staging;
+    egl::FrameCopy copy; ///< readback=1: the last presented frame.
 
     /// Called by Xlib on an I/O error of this connection (after the global I/O error handler);
     /// returning keeps the process alive, and Xlib leaves the connection unusable.
@@ -77,11 +74,9 @@ struct EglX11Display::X {
     {
         if (display != EGL_NO_DISPLAY) {
             if (context != EGL_NO_CONTEXT) {
-                if (copyFbo != 0 &&
-                    eglMakeCurrent(display, surface, surface, context) == EGL_TRUE) {
-                    glDeleteFramebuffers(1, &copyFbo);
-                    glDeleteRenderbuffers(1, &copyColor);
-                }
+                if (copy.created() &&
+                    eglMakeCurrent(display, surface, surface, context) == EGL_TRUE)
+                    copy.destroy();
                 eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
                 eglDestroyContext(display, context);
             }
@@ -89,8 +84,6 @@ struct EglX11Display::X {
                 eglDestroySurface(display, surface);
             egl::releaseEglDisplay(display);
         }
-        copyFbo = 0;
-        copyColor = 0;
         context = EGL_NO_CONTEXT;
         surface = EGL_NO_SURFACE;
         display = EGL_NO_DISPLAY;
@@ -109,9 +102,7 @@ struct EglX11Display::X {
         ioError = false;
         closedByUser = false;
         destroyed = false;
-        presented = false;
-        staging.clear();
-        staging.shrink_to_fit();
+        copy.forget();
     }
 };
 
@@ -310,19 +301,9 @@ Result<void> EglX11Display::open(const hal::DisplayConfig &cfg)
                egl::eglErrorName(eglGetError()));
 
     if (settings_.readback) {
-        glGenFramebuffers(1, &x.copyFbo);
-        glGenRenderbuffers(1, &x.copyColor);
-        glBindRenderbuffer(GL_RENDERBUFFER, x.copyColor);
-        glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
-        glBindFramebuffer(GL_FRAMEBUFFER, x.copyFbo);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
-                                  x.copyColor);
-        const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-        if (status != GL_FRAMEBUFFER_COMPLETE || glGetError() != GL_NO_ERROR) {
-            DT_LOG(Egl, Error, "Failed to create a %dx%d readback framebuffer (status 0x%x)", w, h,
-                   status);
+        if (auto r = x.copy.create({w, h}); !r) {
             x.destroy();
-            return unexpected(Errc::OutOfResources, "Readback framebuffer incomplete");
+            return r;
         }
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -424,14 +405,7 @@ Result<hal::PresentInfo> EglX11Display::present()
 {
     DT_TRY(ensureCurrent());
     X &x = *x_;
-    if (x.copyFbo != 0) {
-        // The window's buffers are undefined after the swap: keep the frame for readPixels().
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, x.copyFbo);
-        glBlitFramebuffer(0, 0, size_.width, size_.height, 0, 0, size_.width, size_.height,
-                          GL_COLOR_BUFFER_BIT, GL_NEAREST);
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    }
+    x.copy.keep(size_);
     if (eglSwapBuffers(x.display, x.surface) == EGL_FALSE) {
         const EGLint err = eglGetError();
         pumpEvents();
@@ -447,7 +421,7 @@ Result<hal::PresentInfo> EglX11Display::present()
     pumpEvents();
     if (state_ == State::Lost)
         return unexpected(Errc::NoDevice, "X11 display lost (window closed or X server gone)");
-    x.presented = true;
+    x.copy.markPresented();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     return pacer_.follow(clock_, static_cast<unsigned>(settings_.swapInterval));
 }
@@ -458,10 +432,7 @@ Result<void> EglX11Display::readPixels(const hal::ImageView &out)
         return unexpected(Errc::NotSupported,
                           "This X11 display keeps no frame copy (open it with readback=1)");
     DT_TRY(ensureCurrent());
-    if (!x_->presented)
-        return unexpected(Errc::InvalidState, "readPixels() needs a presented frame");
-    DT_TRY(egl::checkReadTarget(out, size_));
-    return egl::readFramebuffer(x_->copyFbo, size_, out, x_->staging);
+    return x_->copy.read(out, size_);
 }
 
 } // namespace depthtouch::drivers
