@@ -283,7 +283,7 @@ void AdaptiveMesh::buildQuadtreeBudget(const haptics::DepthFrameView &depth, con
         blocks_.push_back({n.c0, n.r0, n.log2Size});
     }
     // Emission order: tile by tile, and inside a tile by position, for locality. One integer key
-    // per block sorts several times faster than comparing tuples: tile row and column (16 bits
+    // per block sorts in about half the time of comparing tuples: tile row and column (16 bits
     // each), row and column inside the tile (8 bits each: tiles are at most 256 cells) and size.
     const int tileShift = log2i(tile_);
     const int inTile = tile_ - 1;
