@@ -191,7 +191,12 @@ void AdaptiveMesh::buildQuadtreeBudget(const haptics::DepthFrameView &depth, con
     // its slot), so heap moves are 8 bytes instead of a whole node.
     const auto less = [](const HeapEntry &a, const HeapEntry &b) { return a.priority < b.priority; };
     nodes_.clear();
+    // Priorities: blocks larger than maxStep first (always split), then blocks over the cap, the
+    // largest first (so under a block budget every depth edge is refined to the same size), then
+    // the rest by error removed per added triangle (at most 256² · 65535 / 6, far below kOverCap).
     constexpr float kMust = std::numeric_limits<float>::max();
+    constexpr float kOverCap = 1e30f;
+    const std::size_t budget = options.maxBlocks;
     heap_.clear();
     blocks_.clear();
     double totalSum = 0.0;
@@ -216,10 +221,13 @@ void AdaptiveMesh::buildQuadtreeBudget(const haptics::DepthFrameView &depth, con
             return;
         }
         Node n{};
-        n.priority = size > options.maxStep || self.max > cap ? kMust : self.sum;
+        const int log2Size = log2i(size);
+        n.priority = size > options.maxStep ? kMust
+                     : self.max > cap       ? kOverCap * static_cast<float>(1 + log2Size)
+                                            : self.sum;
         n.c0 = c0;
         n.r0 = r0;
-        n.log2Size = log2i(size);
+        n.log2Size = log2Size;
         n.sum = self.sum;
         n.count = self.count;
         n.looked = false;
@@ -234,14 +242,20 @@ void AdaptiveMesh::buildQuadtreeBudget(const haptics::DepthFrameView &depth, con
         for (int tx = 0; tx < tilesX_; ++tx)
             push(tx * tile_, ty * tile_, tile_, measure(tx * tile_, ty * tile_, tile_));
     while (!heap_.empty()) {
-        if (heap_.front().priority < kMust && totalSum <= options.tolerance * totalCount)
+        const float top = heap_.front().priority;
+        if (top < kOverCap && totalSum <= options.tolerance * totalCount)
             break;
+        // A split turns one leaf into four (at most); blocks larger than maxStep split regardless.
+        if (budget > 0 && top < kMust && heap_.size() + blocks_.size() + 3 > budget) {
+            stats_.budgetLimited = true;
+            break;
+        }
         std::pop_heap(heap_.begin(), heap_.end(), less);
         const std::uint32_t slot = heap_.back().node;
         heap_.pop_back();
         Node &n = nodes_[slot];
         const int half = 1 << (n.log2Size - 1);
-        const bool must = n.priority == kMust;
+        const bool must = n.priority >= kOverCap;
         if (!n.looked) {
             // Measure the children once; a block that must split is split at once.
             double childSum = 0.0;

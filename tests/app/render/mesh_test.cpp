@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <set>
@@ -309,5 +310,49 @@ TEST(QuadtreeMeshTest, meanBudgetSpendsTrianglesWhereTheErrorIs)
         EXPECT_LE(e.max, 2.0 * 16.0) << "budget " << budget;
         EXPECT_LT(mesh.stats().triangles, lastTriangles) << "budget " << budget;
         lastTriangles = mesh.stats().triangles;
+    }
+}
+
+TEST(QuadtreeMeshTest, blockBudgetBoundsTheLeavesAndRefinesEdgesBreadthFirst)
+{
+    // GIVEN a noisy slope with a raised disc (its edge is over the cap at every coarse size)
+    const Depth8 d(161, 129, [](int c, int r) {
+        const int noise = (c * 7 + r * 13) % 3 - 1;
+        return 90 + c / 4 + noise + ((c - 100) * (c - 100) + (r - 60) * (r - 60) < 600 ? 60 : 0);
+    });
+    AdaptiveMesh unlimited;
+    ASSERT_TRUE(unlimited.build(d.view(), quadtree(0.5, ErrorCriterion::Mean)));
+    EXPECT_FALSE(unlimited.stats().budgetLimited);
+    const auto leaves = static_cast<std::size_t>(unlimited.stats().blocks);
+
+    // A budget above what the tolerance needs changes nothing.
+    MeshOptions o = quadtree(0.5, ErrorCriterion::Mean);
+    o.maxBlocks = leaves + 10;
+    AdaptiveMesh loose;
+    ASSERT_TRUE(loose.build(d.view(), o));
+    EXPECT_FALSE(loose.stats().budgetLimited);
+    EXPECT_EQ(loose.indices(), unlimited.indices());
+
+    double lastMean = 0.0;
+    std::size_t lastBlocks = SIZE_MAX;
+    for (const std::size_t budget : {leaves / 2, leaves / 4, leaves / 8, std::size_t{240}, std::size_t{120}, std::size_t{60}, std::size_t{30}}) {
+        o.maxBlocks = budget;
+        AdaptiveMesh mesh;
+        ASSERT_TRUE(mesh.build(d.view(), o));
+        const MeshError e = measureMeshError(d.view(), mesh.indices());
+        // THEN the leaves stay within the budget, the mesh stays watertight and conforming, and a
+        // smaller budget costs accuracy
+        EXPECT_TRUE(mesh.stats().budgetLimited) << budget;
+        EXPECT_LE(static_cast<std::size_t>(mesh.stats().blocks), budget);
+        EXPECT_LT(static_cast<std::size_t>(mesh.stats().blocks), lastBlocks);
+        EXPECT_EQ(e.uncovered, 0u);
+        expectConformingTiling(mesh.indices(), d.width, d.height);
+        EXPECT_GE(e.mean, lastMean) << budget;
+        lastMean = e.mean;
+        lastBlocks = static_cast<std::size_t>(mesh.stats().blocks);
+        // While the budget is too small for the disc's edge to come within the cap, the edge is
+        // refined evenly, the largest blocks over the cap first: no leaf is a single cell yet.
+        if (budget <= 240)
+            EXPECT_EQ(mesh.stats().blocksAtSize[0], 0) << "budget " << budget;
     }
 }

@@ -169,6 +169,17 @@ std::vector<BenchConfig> defaultConfigs()
         std::snprintf(name, sizeof name, "quadtree-%.2f", tol);
         out.push_back({name, m});
     }
+    for (const int thousands : {3, 6, 9, 12}) {
+        MeshOptions m; // quadtree-0.50 under a leaf-block budget (what the player's LOD sets)
+        m.mode = MeshMode::Quadtree;
+        m.tileSize = 32;
+        m.maxStep = 32;
+        m.tolerance = 0.5;
+        m.maxBlocks = static_cast<std::size_t>(thousands) * 1000;
+        char name[32];
+        std::snprintf(name, sizeof name, "budget-%dk", thousands);
+        out.push_back({name, m});
+    }
     return out;
 }
 
