@@ -240,6 +240,8 @@ struct RenderState {
     receiver::PairedFrame pending[2]; ///< Taken from the decoder, not yet shown.
     int pendingCount = 0;
     bool clockStarted = false;
+    bool prerolling = false;     ///< The first frame after open or seek is being drawn: the media
+                                 ///< clock is anchored again when it is on screen.
     TimePoint origin{};          ///< Clock time at which media time (stream PTS, s) is 0.
     double pausedAt = 0.0;       ///< Media time frozen by pause, s.
     bool wasPaused = false;
@@ -630,9 +632,12 @@ void Playback::Impl::renderLoop()
             s.haveStart = true;
         }
         if (!rs.clockStarted) {
-            // First frame after open or seek: media time starts at its PTS now.
+            // First frame after open or seek: media time starts at its PTS now, and again when it
+            // is on screen (preroll), so the time its first draw takes (shader compilation, first
+            // uploads, a seek's decode) does not make the frames after it late.
             rs.origin = now - platform::fromSeconds(pts);
             rs.clockStarted = true;
+            rs.prerolling = true;
             rs.pausedAt = pts;
             if (s.handoff)
                 s.handoff->setMediaOrigin(rs.origin);
@@ -816,6 +821,13 @@ void Playback::Impl::renderLoop()
 #endif
         const double ms = platform::toSeconds(clock.now() - drawStart) * 1e3;
         const auto presented = hal.display->present();
+        if (rs.prerolling) {
+            // The haptic time never runs backwards (it holds until the new origin catches up).
+            rs.prerolling = false;
+            rs.origin = clock.now() - platform::fromSeconds(pts);
+            if (s.handoff)
+                s.handoff->setMediaOrigin(rs.origin);
+        }
         {
             std::lock_guard<std::mutex> lock(mutex);
             if (!drawn)
