@@ -115,6 +115,8 @@ PlayResult runPlay(const PlayOptions &opt)
         return badInput("--duration must be >= 0 s");
     if (!(opt.osdSeconds >= 0.0 && opt.osdSeconds <= 86400.0))
         return badInput("--osd-seconds must be in [0, 86400] s");
+    if (!(opt.lodTarget >= 0.0 && opt.lodTarget <= 4.0))
+        return badInput("--lod-target must be in [0, 4] frame periods (0: off)");
     if (opt.reengage != "ramp" && opt.reengage != "release")
         return badInput("--reengage must be ramp or release");
     int outW = 0;
@@ -191,6 +193,7 @@ PlayResult runPlay(const PlayOptions &opt)
     pc.recordCrf = opt.recordCrf;
     pc.meshStep = opt.meshStep;
     pc.osdSeconds = opt.osdSeconds;
+    pc.lodTarget = opt.lodTarget;
     playback::PlaybackHal ph;
     const std::string sourceName = opt.source;
     const std::string decoderName = opt.decoder;
@@ -302,6 +305,9 @@ PlayResult runPlay(const PlayOptions &opt)
     j["depth_pairs_published"] = ps.depthPairsPublished;
     j["render_ms_p50"] = ps.renderMsP50;
     j["render_ms_p99"] = ps.renderMsP99;
+    j["mesh_triangles_p50"] = ps.meshTrianglesP50;
+    j["lod_budget_blocks"] = ps.lodBudget;
+    j["frames_lod_limited"] = ps.framesLodLimited;
     j["presented_fps"] = ps.presentedFps;
     j["playing_s"] = ps.playingSeconds;
     j["seeks"] = ps.seeks;
@@ -342,6 +348,11 @@ PlayResult runPlay(const PlayOptions &opt)
                 static_cast<unsigned long long>(ps.framesDropped),
                 static_cast<unsigned long long>(ps.framesLate), ps.presentedFps, ps.renderMsP50,
                 ps.renderMsP99);
+    if (ps.lodBudget > 0)
+        std::printf("  level of detail   %.0f triangles a frame (median); %llu of %llu frames made "
+                    "coarser to keep time, budget now %zu blocks\n",
+                    ps.meshTrianglesP50, static_cast<unsigned long long>(ps.framesLodLimited),
+                    static_cast<unsigned long long>(ps.framesPresented), ps.lodBudget);
     if (hs) {
         std::printf("  haptic thread     %s\n", hs->thread.c_str());
         std::printf("  haptic updates    %llu (%llu in contact), %llu overruns, %llu safety "
@@ -435,7 +446,7 @@ std::string applyConfig(CLI::App &cmd, PlayOptions &o)
         {"control", str(o.control)},         {"size", str(o.size)},
         {"mesh-step", count(o.meshStep)},    {"require-rt", flag(o.requireRt)},
         {"idle", flag(o.idle)},              {"quiet", flag(o.quiet)},
-        {"osd-seconds", num(o.osdSeconds)},
+        {"osd-seconds", num(o.osdSeconds)},  {"lod-target", num(o.lodTarget)},
     };
     for (const auto &[k, node] : tbl) {
         const std::string key(k.str());
@@ -498,6 +509,10 @@ void registerPlayCommand(CLI::App &app, int &exitCode)
     cmd->add_option("--mesh-step", o->meshStep, "Drawn mesh step (0: adaptive level of detail)");
     cmd->add_option("--osd-seconds", o->osdSeconds,
                     "On-screen display time after start and each command, s (0: always shown)");
+    cmd->add_option("--lod-target", o->lodTarget,
+                    "Level of detail: share of the frame period drawing may take; the mesh is "
+                    "made coarser when it takes longer (0: off, full detail)")
+        ->capture_default_str();
     cmd->add_flag("--require-rt", o->requireRt, "Fail when SCHED_FIFO is refused");
     cmd->add_flag("--idle", o->idle, "Stay up after the end or an error (for --control)");
     cmd->add_flag("--quiet", o->quiet, "No state-change lines on stderr");

@@ -22,6 +22,7 @@
 #include "depthtouch/media/encoder.h"
 #include "depthtouch/media/image.h"
 #include "depthtouch/render/render_target.h"
+#include "depthtouch/render/lod_controller.h"
 #include "depthtouch/render/renderer.h"
 #include "depthtouch/render/snapshot.h"
 #endif
@@ -170,6 +171,7 @@ struct Playback::Impl {
     std::string failure;           ///< Pipeline failure not yet reported.
     std::string displayError;      ///< The render thread could not open the display.
     std::vector<double> renderMs;  ///< Draw time per frame, ms (first 2^16 frames).
+    std::vector<double> meshTriangles; ///< Triangles drawn per frame under the LOD (first 2^16).
     bool endOfStream = false;      ///< Not yet reported.
 
     // --- Main thread only ---
@@ -189,6 +191,7 @@ struct Playback::Impl {
           hapticsEnabled(c.hapticsEnabled), stiffness(c.haptics.renderer.stiffness)
     {
         renderMs.reserve(std::size_t{1} << 16);
+        meshTriangles.reserve(std::size_t{1} << 16);
     }
 
     /// Hands \a next (may be null) to the render thread and waits until it dropped every frame of
@@ -496,6 +499,7 @@ void Playback::Impl::renderLoop()
     Recorder recorder;
     std::vector<std::uint8_t> flatDepth; // depth-less input: a flat surface
     std::unique_ptr<PrepWorker> prepWorker; // upcoming frames' meshes and colour, made ahead
+    std::optional<render::LodController> lod; // the mesh's block budget, from the draw times
 #endif
     RenderState rs;
     std::uint64_t osdSeen = ~std::uint64_t{0};
@@ -522,6 +526,7 @@ void Playback::Impl::renderLoop()
                     prepWorker->clear();
                 renderer.reset(); // re-created for the new stream's sizes
                 target.reset();
+                lod.reset();
 #endif
                 // The display belongs to this thread: opened here (sized for the first stream)
                 // so that its GL context is current here and nowhere else.
@@ -735,6 +740,18 @@ void Playback::Impl::renderLoop()
             if (renderer && target && dv.data != nullptr) {
                 render::RendererOptions ro = renderer->options();
                 ro.mode = toRenderMode(modeNow);
+                if (config.lodTarget > 0.0 && config.meshStep == 0 &&
+                    ro.mesh.mode == render::MeshMode::Quadtree) {
+                    if (!lod) {
+                        render::LodOptions lo;
+                        lo.targetSeconds = config.lodTarget * s.period;
+                        lo.minBlocks = std::max<std::size_t>(
+                            lo.minBlocks, static_cast<std::size_t>(dv.width) *
+                                              static_cast<std::size_t>(dv.height) / 256);
+                        lod.emplace(lo);
+                    }
+                    ro.mesh.maxBlocks = lod->budget();
+                }
                 (void)renderer->setOptions(ro);
                 if (!prepWorker)
                     prepWorker = std::make_unique<PrepWorker>();
@@ -819,8 +836,28 @@ void Playback::Impl::renderLoop()
                                                                     "frame");
         }
 #endif
+#if DT_PLAYBACK_HAVE_GL
+        // The level of detail follows the time to draw a frame, without the present's wait for the
+        // vertical blank; a software rasterizer draws on the CPU, so its work is waited for here
+        // (its present would wait for it anyway).
+        if (lod && renderer && drawn && renderer->rendersInSoftware())
+            renderer->finish();
+        const double drawSeconds = platform::toSeconds(clock.now() - drawStart);
+#endif
         const double ms = platform::toSeconds(clock.now() - drawStart) * 1e3;
         const auto presented = hal.display->present();
+#if DT_PLAYBACK_HAVE_GL
+        if (lod && renderer && drawn && presented && !rs.prerolling) {
+            const render::MeshStats &mesh = renderer->mesh().stats();
+            lod->update(drawSeconds, mesh);
+            std::lock_guard<std::mutex> lock(mutex);
+            stats.lodBudget = lod->budget();
+            if (mesh.budgetLimited)
+                ++stats.framesLodLimited;
+            if (meshTriangles.size() < meshTriangles.capacity())
+                meshTriangles.push_back(static_cast<double>(mesh.triangles));
+        }
+#endif
         if (rs.prerolling) {
             // The haptic time never runs backwards (it holds until the new origin catches up).
             rs.prerolling = false;
@@ -1159,6 +1196,7 @@ PlaybackStats Playback::stats() const
     PlaybackStats s = impl_->stats;
     s.renderMsP50 = percentile(impl_->renderMs, 0.50);
     s.renderMsP99 = percentile(impl_->renderMs, 0.99);
+    s.meshTrianglesP50 = percentile(impl_->meshTriangles, 0.50);
     if (impl_->owned && impl_->owned->decoder)
         s.receiver = impl_->owned->decoder->stats();
     return s;

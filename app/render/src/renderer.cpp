@@ -489,9 +489,18 @@ Result<void> StereoRenderer::setDepth(const haptics::DepthFrameView &depth)
     return uploadDepth(depth, t);
 }
 
+void StereoRenderer::finish() const noexcept
+{
+    glFinish();
+}
+
 Result<void> StereoRenderer::setDepth(const haptics::DepthFrameView &depth, FramePrep &prep)
 {
-    if (!prep.built() || prep.depthData != depth.data || !(prep.meshOptions == options_.mesh))
+    // A mesh made under another block budget is taken: the budget follows the frame times and may
+    // lag a frame behind (LodController).
+    MeshOptions made = prep.meshOptions;
+    made.maxBlocks = options_.mesh.maxBlocks;
+    if (!prep.built() || prep.depthData != depth.data || !(made == options_.mesh))
         return setDepth(depth);
     const platform::TimePoint t = clock_.now();
     std::swap(mesh_, prep.mesh);

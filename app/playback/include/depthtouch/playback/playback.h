@@ -7,7 +7,7 @@
 /// on the same depth frames at the servo rate.
 ///
 /// Timing: the render thread keeps the media clock. When the first frame after open() or a seek
-/// is shown, media time = its PTS; frame i is presented at origin + PTS_i (late frames whose
+/// is on screen (after its draw: a preroll), media time = its PTS; frame i is presented at origin + PTS_i (late frames whose
 /// successor is also due are skipped and counted as dropped). When frame i goes on screen the pair
 /// (depth i, depth i+1) is published to the DepthHandoff, whose media origin is the same clock
 /// origin, so the haptic time and the picture agree and the surface is interpolated between the
@@ -15,6 +15,10 @@
 /// surface stays touchable and holds still. A seek drops the frames queued before it, shows the
 /// first frame of the new position and re-seats the proxy with the force ramped in
 /// (HapticTask::requestReseat()): no force kick.
+///
+/// Level of detail: the drawn mesh's block budget follows the measured draw times
+/// (render::LodController, `lodTarget` of the frame period), so a slow renderer draws a coarser
+/// surface instead of dropping frames; the haptic task always touches the full-resolution frames.
 ///
 /// Inputs without depth play flat (2D) with haptics off, and info().notes says so; inputs without
 /// color show the depth as gray.
@@ -76,6 +80,10 @@ struct PlaybackConfig {
     bool avatar = true; ///< Proxy sphere and HIP marker.
     /// Mesh step of the drawn surface: 0 = adaptive level of detail, else a fixed power of two.
     int meshStep = 0;
+    /// Level-of-detail control (meshStep 0): the share of the frame period that drawing and
+    /// presenting a frame may take; the mesh's block budget follows the measured times
+    /// (render::LodController). 0 = off (the mesh always at its full tolerance).
+    double lodTarget = 0.8;
 };
 
 /// \brief The HAL objects a Playback uses (the executable chooses the backends).
@@ -105,6 +113,9 @@ struct PlaybackStats {
     std::uint64_t framesPreparedAhead = 0; ///< Drawn with a mesh (and colour) made ahead on a worker.
     double renderMsP50 = 0.0; ///< Time to draw one output frame (upload, both eyes), ms.
     double renderMsP99 = 0.0;
+    double meshTrianglesP50 = 0.0;   ///< Triangles drawn per frame, median (under the LOD control).
+    std::size_t lodBudget = 0;       ///< The LOD's leaf-block budget at the last frame (0: no LOD).
+    std::uint64_t framesLodLimited = 0; ///< Frames whose mesh the LOD budget made coarser.
     double presentedFps = 0.0; ///< framesPresented over the time spent playing (not paused).
     double playingSeconds = 0.0;
     /// The last colour frame that came as dma-bufs was imported by the GPU without a copy.

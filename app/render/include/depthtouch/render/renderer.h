@@ -154,7 +154,7 @@ public:
     [[nodiscard]] Result<void> setColor(const hal::ImageView &image, const ColorSpec &spec);
 
     /// \brief setDepth() with the mesh made ahead in \a prep (built from this \a depth frame with
-    /// options().mesh; else the mesh is built here as setDepth() does). The mesh is moved out of
+    /// options().mesh, whatever its block budget; else the mesh is built here as setDepth() does). The mesh is moved out of
     /// \a prep (it gets the previous one's buffers back). \return as setDepth().
     [[nodiscard]] Result<void> setDepth(const haptics::DepthFrameView &depth, FramePrep &prep);
     /// \brief setColor() with the colour converted ahead in \a prep (its R'G'B' words are
@@ -201,6 +201,13 @@ public:
     [[nodiscard]] const SurfaceMapping &mapping() const noexcept { return mapping_; }
     /// \return the mesh drawn for the current depth frame.
     [[nodiscard]] const AdaptiveMesh &mesh() const noexcept { return mesh_; }
+    /// \return true when the context renders in software (llvmpipe, softpipe, swrast): the
+    /// rasterizer then shares the CPU with everything else.
+    [[nodiscard]] bool rendersInSoftware() const noexcept { return softwareRasterizer_; }
+    /// \brief Waits until everything submitted is drawn (glFinish). For timing a frame's whole
+    /// draw on a software rasterizer, whose present would wait for it anyway; on a GPU it would
+    /// only stall the pipeline.
+    void finish() const noexcept;
     /// \return true when the last colour frame was converted on the CPU (see ColorConversion).
     [[nodiscard]] bool colorConvertedOnCpu() const noexcept { return colorOnCpu_; }
 
