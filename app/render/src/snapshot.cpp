@@ -9,20 +9,32 @@
 
 #include "depthtouch/media/image.h"
 #include "depthtouch/media/image_io.h"
+#include "depthtouch/platform/log.h"
 #include "depthtouch/render/render_target.h"
 
 namespace depthtouch::render {
+
+DT_LOG_CATEGORY(Snapshot)
+
+namespace {
+
+Result<void> writeRgb(const std::string &path, int width, int height, const std::vector<std::uint8_t> &rgb)
+{
+    media::Image img = media::Image::make(width, height, media::PixelFormat::Rgb24);
+    for (int y = 0; y < img.height; ++y)
+        std::memcpy(img.row(y), rgb.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(img.width) * 3,
+                    static_cast<std::size_t>(img.width) * 3);
+    return media::writePng(path, img);
+}
+
+} // namespace
 
 Result<void> writeSnapshot(const RenderTarget &target, const std::string &path)
 {
     std::vector<std::uint8_t> rgb;
     if (auto r = target.readRgb(rgb); !r)
         return r;
-    media::Image img = media::Image::make(target.width(), target.height(), media::PixelFormat::Rgb24);
-    for (int y = 0; y < img.height; ++y)
-        std::memcpy(img.row(y), rgb.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(img.width) * 3,
-                    static_cast<std::size_t>(img.width) * 3);
-    return media::writePng(path, img);
+    return writeRgb(path, target.width(), target.height(), rgb);
 }
 
 Snapshotter::Snapshotter(std::string dir, std::uint64_t everyN, std::string prefix)
@@ -30,7 +42,75 @@ Snapshotter::Snapshotter(std::string dir, std::uint64_t everyN, std::string pref
 {
 }
 
+Snapshotter::~Snapshotter()
+{
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        stop_ = true;
+    }
+    cv_.notify_all();
+    if (writer_.joinable())
+        writer_.join();
+}
+
+Result<void> Snapshotter::write(const Job &job)
+{
+    auto r = writeRgb(job.path, job.width, job.height, job.rgb);
+    if (r)
+        written_.fetch_add(1, std::memory_order_acq_rel);
+    return r;
+}
+
+void Snapshotter::writerLoop()
+{
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+        cv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
+        if (queue_.empty())
+            return; // stopped, and everything written
+        Job job = std::move(queue_.front());
+        queue_.pop_front();
+        busy_ = true;
+        lock.unlock();
+        auto r = write(job);
+        lock.lock();
+        busy_ = false;
+        if (!r) {
+            DT_LOG(Snapshot, Error, "Failed to write %s: %s", job.path.c_str(), r.error().what);
+            failed_ = true;
+        }
+        cv_.notify_all();
+    }
+}
+
+Result<void> Snapshotter::takeError()
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!failed_)
+        return ok();
+    failed_ = false;
+    return unexpected(Errc::Io, "Failed to write a snapshot (the log names the file)");
+}
+
+Result<void> Snapshotter::flush()
+{
+    {
+        std::unique_lock<std::mutex> lock(mutex_);
+        cv_.wait(lock, [this] { return queue_.empty() && !busy_; });
+    }
+    return takeError();
+}
+
 Result<std::optional<std::string>> Snapshotter::onFrame(const RenderTarget &target)
+{
+    auto taken = snapshot(target);
+    // An earlier snapshot's write error is reported now (this frame's snapshot is taken anyway).
+    if (auto e = takeError(); !e)
+        return unexpected(e.error());
+    return taken;
+}
+
+Result<std::optional<std::string>> Snapshotter::snapshot(const RenderTarget &target)
 {
     const std::uint64_t frame = frames_++;
     const bool periodic = everyN_ > 0 && frame % everyN_ == 0;
@@ -43,10 +123,33 @@ Result<std::optional<std::string>> Snapshotter::onFrame(const RenderTarget &targ
         return unexpected(Errc::Io, "Failed to create the snapshot directory");
     char name[64];
     std::snprintf(name, sizeof name, "-%06llu.png", static_cast<unsigned long long>(frame));
-    std::string path = dir_ + "/" + prefix_ + name;
-    if (auto r = writeSnapshot(target, path); !r)
+    Job job;
+    job.path = dir_ + "/" + prefix_ + name;
+    job.width = target.width();
+    job.height = target.height();
+    if (auto r = target.readRgb(job.rgb); !r)
         return unexpected(r.error());
-    ++written_;
+    std::string path = job.path;
+    {
+        std::unique_lock<std::mutex> lock(mutex_);
+        bool writer = writer_.joinable();
+        if (!writer) {
+            try {
+                writer_ = std::thread([this] { writerLoop(); });
+                writer = true;
+            } catch (const std::system_error &) {
+                // No thread to be had: every snapshot is written here.
+            }
+        }
+        if (writer && queue_.size() < kMaxQueued) {
+            queue_.push_back(std::move(job));
+            cv_.notify_all();
+            return std::optional<std::string>{std::move(path)};
+        }
+    }
+    // The writer is behind: write here rather than lose the snapshot.
+    if (auto r = write(job); !r)
+        return unexpected(r.error());
     return std::optional<std::string>{std::move(path)};
 }
 

@@ -509,6 +509,7 @@ TEST_F(RenderGoldenTest, avatarOsdAndSnapshot)
     auto third = snap.onFrame(*t);
     ASSERT_TRUE(third);
     ASSERT_TRUE(third->has_value());
+    ASSERT_TRUE(snap.flush());
     EXPECT_EQ(snap.written(), 2u);
     auto img = media::readImage(**first, media::PixelFormat::Rgb24);
     ASSERT_TRUE(img);
@@ -516,6 +517,50 @@ TEST_F(RenderGoldenTest, avatarOsdAndSnapshot)
     ASSERT_EQ(img->height, 150);
     for (int y = 0; y < 150; ++y)
         ASSERT_EQ(0, std::memcmp(img->row(y), withAvatar.rgb.data() + static_cast<std::size_t>(y) * 600, 600)) << y;
+}
+
+TEST_F(RenderGoldenTest, snapshotsQueuedFasterThanWrittenAreAllWrittenAndErrorsReported)
+{
+    const Depth8 d(64, 48, bumpy);
+    ASSERT_TRUE(renderer_->setDepth(d.view()));
+    auto t = RenderTarget::create(320, 240);
+    ASSERT_TRUE(t);
+    ASSERT_TRUE(renderer_->render(*t));
+    const std::string dir = ::testing::TempDir() + "/dt_render_snapshot_burst";
+    std::filesystem::remove_all(dir);
+    {
+        // WHEN every one of 12 frames is snapshotted (more than the writer queue holds)
+        Snapshotter snap(dir, 1, "burst");
+        for (int i = 0; i < 12; ++i) {
+            auto r = snap.onFrame(*t);
+            ASSERT_TRUE(r);
+            ASSERT_TRUE(r->has_value());
+        }
+    } // the destructor waits for the writer
+    // THEN every file is there and complete
+    for (int i = 0; i < 12; ++i) {
+        char name[64];
+        std::snprintf(name, sizeof name, "/burst-%06d.png", i);
+        auto img = media::readImage(dir + name, media::PixelFormat::Rgb24);
+        ASSERT_TRUE(img) << name;
+        EXPECT_EQ(img->width, 320);
+    }
+    // WHEN a snapshot's file cannot be written (a directory stands in its way)
+    std::filesystem::remove(dir + "/burst-000000.png");
+    std::filesystem::create_directories(dir + "/burst-000000.png");
+    std::filesystem::remove(dir + "/burst-000001.png");
+    Snapshotter again(dir, 1, "burst");
+    auto r0 = again.onFrame(*t);
+    ASSERT_TRUE(r0);
+    auto r1 = again.onFrame(*t);
+    // THEN the error comes back once (from flush() or the next frame), and the next file is written
+    const auto flushed = again.flush();
+    EXPECT_TRUE(!r1 || !flushed) << "the failed write was not reported";
+    if (!flushed) {
+        EXPECT_EQ(flushed.error().code, Errc::Io);
+    }
+    EXPECT_TRUE(again.flush()) << "an error is reported once";
+    EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/burst-000001.png"));
 }
 
 TEST_F(RenderGoldenTest, cpuAndShaderColourConversionAgree)
