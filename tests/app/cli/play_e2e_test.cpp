@@ -1,19 +1,22 @@
 /// \file
 /// \brief `depthtouch play` end to end, as a user runs it:
 /// - real data: the 7-Scenes kitchen encoded with `depthtouch encode`, played with the simulated
-///   hand on the headless EGL display: every frame received and either presented or counted as
-///   dropped, haptic updates = run time × servo rate (apart from counted overruns), contact with the surface, the
+///   hand on the headless EGL display: every frame received and presented (when the VM's host and
+///   other programs took under 5 % of the CPU while it played; else presented or counted as
+///   dropped), haptic updates = run time × servo rate (apart from counted overruns), contact with the surface, the
 ///   surface felt moving under a pressing finger, no force above the device maximum
 ///   (skipped with a message when ../shared/data is absent);
 /// - the control socket: a client pauses, queries, seeks, switches the stereo mode and quits a
 ///   player that loops a mock clip;
 /// - bad input: a missing file and a nonsense option are one clear line and exit code 2.
 
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -61,6 +64,38 @@ std::string sharedData()
     return env != nullptr ? env : DT_SOURCE_DIR "/../shared/data";
 }
 
+/// CPU time of the whole machine (/proc/stat's "cpu" line) and of this test's finished child
+/// processes (getrusage), in clock ticks.
+struct CpuTimes {
+    double total = 0.0;
+    double busy = 0.0;     ///< Not idle, not waiting for I/O, not stolen.
+    double steal = 0.0;    ///< Taken by the VM's host.
+    double children = 0.0; ///< Used by this test's children that have ended.
+};
+
+CpuTimes cpuTimes()
+{
+    CpuTimes t;
+    std::ifstream f("/proc/stat");
+    std::string cpu;
+    f >> cpu;
+    double v[8] = {}; // user nice system idle iowait irq softirq steal
+    for (double &x : v)
+        f >> x;
+    if (!f || cpu != "cpu")
+        return t;
+    for (const double x : v)
+        t.total += x;
+    t.steal = v[7];
+    t.busy = t.total - v[3] - v[4] - v[7];
+    rusage ru{};
+    ::getrusage(RUSAGE_CHILDREN, &ru);
+    const double ticks = static_cast<double>(::sysconf(_SC_CLK_TCK));
+    t.children = ticks * (static_cast<double>(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
+                          1e-6 * static_cast<double>(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec));
+    return t;
+}
+
 nlohmann::json readJson(const fs::path &path)
 {
     std::ifstream f(path);
@@ -83,6 +118,7 @@ TEST(PlayEndToEnd, RealKitchenWithTheSimulatedHand)
 
     const fs::path stats = tmp.dir() / "stats.json";
     const fs::path forceLog = tmp.dir() / "force.csv";
+    const CpuTimes before = cpuTimes();
     const RunResult play =
         run(std::string(DEPTHTOUCH) + " play " + clip.string() +
             " --haptic sim --haptic-options intent=press --display headless --stats " +
@@ -93,10 +129,27 @@ TEST(PlayEndToEnd, RealKitchenWithTheSimulatedHand)
     const nlohmann::json j = readJson(stats);
     ASSERT_TRUE(j.is_object()) << "stats JSON unreadable";
 
-    // Video: every frame came through the receiver, and each was shown or counted as dropped.
+    const CpuTimes after = cpuTimes();
+    const double span = std::max(after.total - before.total, 1.0);
+    const double steal = (after.steal - before.steal) / span;
+    const double others =
+        std::max(0.0, (after.busy - before.busy) - (after.children - before.children)) / span;
+
+    // Video: every frame came through the receiver and was presented: the level of detail keeps
+    // the draw within the frame period, and the preroll keeps the first draw from making the next
+    // frames late. Both need the CPU the machine promises: where its host (steal time; this VM's
+    // host takes up to a third at times) or other programs took a share of it while the clip
+    // played, frames may still drop and only their count is checked.
+    const unsigned presented = j["frames_presented"].get<unsigned>();
+    std::printf("presented %u of %u frames; during the run the host took %.1f %% of the CPU and "
+                "other programs %.1f %%\n",
+                presented, frames, 100.0 * steal, 100.0 * others);
     EXPECT_EQ(j["frames_received"].get<unsigned>(), frames);
-    EXPECT_EQ(j["frames_presented"].get<unsigned>() + j["frames_dropped"].get<unsigned>(), frames);
-    EXPECT_GT(j["frames_presented"].get<unsigned>(), 0u);
+    EXPECT_EQ(presented + j["frames_dropped"].get<unsigned>(), frames);
+    if (steal + others < 0.05)
+        EXPECT_EQ(presented, frames) << "frames dropped on a machine that had its CPU";
+    else
+        EXPECT_GT(presented, 0u);
     EXPECT_EQ(j["decode_errors"].get<unsigned>(), 0u);
     // Frames after the first have their mesh and colour made ahead on the prep worker.
     EXPECT_GT(j["frames_prepared_ahead"].get<unsigned>(), 0u);
