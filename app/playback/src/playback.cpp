@@ -9,8 +9,10 @@
 #include <cmath>
 #include <condition_variable>
 #include <cstring>
+#include <deque>
 #include <mutex>
 #include <optional>
+#include <system_error>
 #include <thread>
 
 #include "depthtouch/haptic_task/depth_handoff.h"
@@ -78,14 +80,18 @@ render::StereoMode toRenderMode(player::StereoMode m) noexcept
 
 #if DT_PLAYBACK_HAVE_GL
 /// The output recording (render thread): presented frames read back and encoded.
-struct Recorder {
-    std::unique_ptr<media::Muxer> muxer;
-    std::unique_ptr<media::VideoEncoder> encoder;
-    std::vector<std::uint8_t> rgb;
-    media::Image image;
-    TimePoint start{};
-    double lastPts = -1.0;
-    bool failed = false;
+/// The recording: frames read back on the render thread, encoded by a thread of its own (x264 at
+/// 1280×480 takes 10–20 ms a frame here: on the render thread it made frames late). At most
+/// kQueue frames wait; when the encoder is that far behind the render thread waits for it, so
+/// every presented frame is recorded.
+class Recorder {
+public:
+    bool failed = false; ///< Render thread: recording stopped after an error.
+
+    ~Recorder() { finish(); }
+
+    /// \return whether open() succeeded.
+    [[nodiscard]] bool isOpen() const noexcept { return encoder_ != nullptr; }
 
     /// \return an error text, or empty.
     std::string open(const PlaybackConfig &config, int width, int height)
@@ -107,42 +113,117 @@ struct Recorder {
             return std::string("cannot record: ") + e.error().what;
         if (auto r = (*m)->start(); !r)
             return std::string("cannot record: ") + r.error().what;
-        muxer = std::move(*m);
-        encoder = std::move(*e);
-        image = media::Image::make(vc.width, vc.height, media::PixelFormat::Rgb24);
+        muxer_ = std::move(*m);
+        encoder_ = std::move(*e);
+        width_ = vc.width;
+        height_ = vc.height;
+        try {
+            thread_ = std::thread([this] { encodeLoop(); });
+        } catch (const std::system_error &) {
+            encoder_.reset();
+            muxer_.reset();
+            return "cannot record: no thread for the encoder";
+        }
         return {};
     }
 
-    /// Reads \a target back and encodes it at presentation time \a now. \return an error text.
+    /// Reads \a target back and queues it for encoding at presentation time \a now.
+    /// \return an error text (of this frame, or of the encoding of an earlier one).
     std::string add(const render::RenderTarget &target, TimePoint now)
     {
-        if (auto r = target.readRgb(rgb); !r)
+        std::unique_lock<std::mutex> lock(mutex_);
+        spaceCv_.wait(lock, [this] { return queue_.size() < kQueue || !error_.empty(); });
+        if (!error_.empty())
+            return error_;
+        Job job;
+        if (!spare_.empty()) {
+            job.image = std::move(spare_.back());
+            spare_.pop_back();
+        }
+        lock.unlock();
+        if (job.image.width != width_ || job.image.height != height_)
+            job.image = media::Image::make(width_, height_, media::PixelFormat::Rgb24);
+        if (auto r = target.readRgb(rgb_); !r)
             return std::string("cannot read the frame back: ") + r.error().what;
         const std::size_t srcRow = static_cast<std::size_t>(target.width()) * 3;
-        const std::size_t dstRow = static_cast<std::size_t>(image.width) * 3;
-        for (int y = 0; y < image.height; ++y)
-            std::memcpy(image.row(y), rgb.data() + static_cast<std::size_t>(y) * srcRow, dstRow);
-        if (lastPts < 0.0)
-            start = now;
-        double pts = platform::toSeconds(now - start);
-        if (pts <= lastPts)
-            pts = lastPts + 1e-3;
-        lastPts = pts;
-        if (auto r = encoder->encode(image, pts); !r)
-            return std::string("cannot encode the recording: ") + r.error().what;
+        const std::size_t dstRow = static_cast<std::size_t>(width_) * 3;
+        for (int y = 0; y < height_; ++y)
+            std::memcpy(job.image.row(y), rgb_.data() + static_cast<std::size_t>(y) * srcRow, dstRow);
+        if (lastPts_ < 0.0)
+            start_ = now;
+        double pts = platform::toSeconds(now - start_);
+        if (pts <= lastPts_)
+            pts = lastPts_ + 1e-3;
+        lastPts_ = pts;
+        job.pts = pts;
+        lock.lock();
+        queue_.push_back(std::move(job));
+        workCv_.notify_one();
         return {};
     }
 
+    /// Encodes what is queued, ends the file and stops the thread (once).
     void finish() noexcept
     {
-        if (!encoder)
+        if (!thread_.joinable())
             return;
-        const bool ok = encoder->flush() && muxer->finish();
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stop_ = true;
+        }
+        workCv_.notify_one();
+        thread_.join();
+        const bool ok = error_.empty() && encoder_->flush() && muxer_->finish();
         if (!ok)
-            DT_LOG(Playback, Error, "The recording could not be finished");
-        encoder.reset();
-        muxer.reset();
+            DT_LOG(Playback, Error, "The recording could not be finished%s%s", error_.empty() ? "" : ": ",
+                   error_.c_str());
+        encoder_.reset();
+        muxer_.reset();
     }
+
+private:
+    struct Job {
+        media::Image image;
+        double pts = 0.0;
+    };
+    static constexpr std::size_t kQueue = 3;
+
+    void encodeLoop()
+    {
+        std::unique_lock<std::mutex> lock(mutex_);
+        for (;;) {
+            workCv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
+            if (queue_.empty())
+                return;
+            Job job = std::move(queue_.front());
+            queue_.pop_front();
+            lock.unlock();
+            auto r = encoder_->encode(job.image, job.pts);
+            lock.lock();
+            if (!r && error_.empty()) {
+                error_ = std::string("cannot encode the recording: ") + r.error().what;
+                queue_.clear();
+            }
+            spare_.push_back(std::move(job.image));
+            spaceCv_.notify_one();
+        }
+    }
+
+    std::unique_ptr<media::Muxer> muxer_;
+    std::unique_ptr<media::VideoEncoder> encoder_;
+    int width_ = 0;
+    int height_ = 0;
+    std::vector<std::uint8_t> rgb_; ///< Render thread: the read-back.
+    TimePoint start_{};
+    double lastPts_ = -1.0;
+    std::thread thread_;
+    std::mutex mutex_;
+    std::condition_variable workCv_;  ///< A job or stop for the encoder thread.
+    std::condition_variable spaceCv_; ///< Room in the queue (or an error) for the render thread.
+    std::deque<Job> queue_;           ///< Guarded by mutex_.
+    std::vector<media::Image> spare_; ///< Encoded frames' images, reused (guarded by mutex_).
+    std::string error_;               ///< First encoding error (guarded by mutex_).
+    bool stop_ = false;               ///< Guarded by mutex_.
 };
 #endif
 
@@ -804,7 +885,7 @@ void Playback::Impl::renderLoop()
                         drawn = true;
                     if (!config.recordPath.empty() && !recorder.failed) {
                         std::string err;
-                        if (!recorder.encoder)
+                        if (!recorder.isOpen())
                             err = recorder.open(config, target->width(), target->height());
                         if (err.empty())
                             err = recorder.add(*target, clock.now());
