@@ -1,0 +1,106 @@
+/// \file
+/// \brief `haptics_cost`: replays one modified-renderer setting of `depthtouch bench haptics` (same
+/// wave, same HIP trajectory, same approach) without timing it, for instruction counts under
+/// valgrind's callgrind, which are free of the noise of a shared machine.
+///
+/// Usage: `haptics_cost WIDTH HEIGHT SPEED [UPDATES]` (SPEED in m/s, 0 = still; UPDATES default 3000).
+/// Under callgrind only the timed updates' ProxyGraphRenderer::update() calls are collected (the
+/// program toggles collection around them), so with
+/// `valgrind --tool=callgrind --collect-atstart=no --instr-atstart=no haptics_cost ...` the total
+/// Ir divided by UPDATES is the instructions per update. Frame generation runs uninstrumented.
+/// Prints the work counters (cells, steps) and the accuracy (force RMS error against the analytic
+/// truth, pop-throughs) and a force checksum, so variants can be checked to compute the same thing.
+/// Exit code 2 on bad arguments.
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include <glm/geometric.hpp>
+
+#include "depthtouch/haptics/renderer.h"
+#include "depthtouch/haptics/wave_scenario.h"
+
+#if __has_include(<valgrind/callgrind.h>)
+#include <valgrind/callgrind.h>
+#define DT_CG_START() CALLGRIND_START_INSTRUMENTATION
+#define DT_CG_TOGGLE() CALLGRIND_TOGGLE_COLLECT
+#else
+#define DT_CG_START() ((void)0)
+#define DT_CG_TOGGLE() ((void)0)
+#endif
+
+using namespace depthtouch::haptics;
+using namespace depthtouch::haptics::bench;
+
+int main(int argc, char **argv)
+{
+    if (argc < 4 || argc > 5) {
+        std::fprintf(stderr, "usage: haptics_cost WIDTH HEIGHT SPEED_M_PER_S [UPDATES]\n");
+        return 2;
+    }
+    const int w = std::atoi(argv[1]);
+    const int h = std::atoi(argv[2]);
+    const double speed = std::atof(argv[3]);
+    const long updates = argc == 5 ? std::atol(argv[4]) : 3000;
+    if (w < 2 || h < 2 || w > 16384 || h > 16384 || !(speed >= 0.0) || updates < 1) {
+        std::fprintf(stderr, "haptics_cost: bad arguments\n");
+        return 2;
+    }
+    const RendererConfig cfg = RendererConfig::forMethod(Method::Modified);
+    const WaveScenario scene(w, h, cfg.box);
+    ProxyGraphRenderer renderer(cfg);
+    const std::size_t settle = kSettleUpdates;
+    const std::size_t total = settle + static_cast<std::size_t>(updates);
+    renderer.reset(WaveScenario::hipAtUpdate(speed, 0, settle));
+    double errSq = 0.0;
+    double checksum = 0.0;
+    long pops = 0;
+    long contacts = 0;
+    long visited = 0;
+    long tested = 0;
+    long steps = 0;
+    int maxVisited = 0;
+    int maxSteps = 0;
+    int current = -1;
+    DT_CG_START();
+    for (std::size_t n = 0; n < total; ++n) {
+        const double t = WaveScenario::timeAt(n);
+        const int fi = WaveScenario::frameIndexAt(t);
+        if (fi != current) {
+            current = fi;
+            const DepthFrameView a = scene.frame(fi);
+            const DepthFrameView b = scene.frame(fi + 1);
+            (void)renderer.setFrames(a, &b);
+        }
+        const glm::dvec3 hip = WaveScenario::hipAtUpdate(speed, n, settle);
+        const bool timed = n >= settle;
+        if (timed)
+            DT_CG_TOGGLE();
+        const HapticOutput o = renderer.update(hip, t);
+        if (timed)
+            DT_CG_TOGGLE();
+        if (!timed)
+            continue;
+        const glm::dvec3 d = o.force - WaveScenario::trueForce(hip, t, cfg);
+        errSq += glm::dot(d, d);
+        checksum += o.force.x + 3.0 * o.force.y + 7.0 * o.force.z;
+        contacts += o.contact ? 1 : 0;
+        visited += o.cellsVisited;
+        tested += o.cellsTested;
+        steps += o.proxySteps;
+        maxVisited = std::max(maxVisited, o.cellsVisited);
+        maxSteps = std::max(maxSteps, o.proxySteps);
+        const HeightField &surf = renderer.surface();
+        if (surf.contains(o.proxy.x, o.proxy.y) &&
+            o.proxy.z < surf.heightAt(o.proxy.x, o.proxy.y) - 1e-6 * surf.spacing())
+            ++pops;
+    }
+    const double n = static_cast<double>(updates);
+    std::printf("setting %dx%d %g m/s: updates %ld contact %ld rms %.6f N pops %ld checksum %.9e\n", w,
+                h, speed, updates, contacts, std::sqrt(errSq / n), pops, checksum);
+    std::printf("  per update: cells visited %.2f (max %d) tested %.2f, proxy steps %.2f (max %d)\n",
+                static_cast<double>(visited) / n, maxVisited, static_cast<double>(tested) / n,
+                static_cast<double>(steps) / n, maxSteps);
+    return 0;
+}
