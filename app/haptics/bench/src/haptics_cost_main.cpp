@@ -9,12 +9,15 @@
 /// `valgrind --tool=callgrind --collect-atstart=no --instr-atstart=no haptics_cost ...` the total
 /// Ir divided by UPDATES is the instructions per update. Frame generation runs uninstrumented.
 /// Prints the work counters (cells, steps) and the accuracy (force RMS error against the analytic
-/// truth, pop-throughs) and a force checksum, so variants can be checked to compute the same thing.
+/// truth, pop-throughs), a force checksum and a hash of the bits of every proxy and force, so variants
+/// can be checked to compute the same thing (bits equal: identical; checksum close: rounding).
 /// Exit code 2 on bad arguments.
 
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 
 #include <glm/geometric.hpp>
 
@@ -55,6 +58,14 @@ int main(int argc, char **argv)
     renderer.reset(WaveScenario::hipAtUpdate(speed, 0, settle));
     double errSq = 0.0;
     double checksum = 0.0;
+    std::uint64_t hash = 1469598103934665603ull; // FNV-1a over the bits of every proxy and force
+    auto mix = [&hash](const glm::dvec3 &v) {
+        for (int k = 0; k < 3; ++k) {
+            std::uint64_t bits = 0;
+            std::memcpy(&bits, &v[k], sizeof bits);
+            hash = (hash ^ bits) * 1099511628211ull;
+        }
+    };
     long pops = 0;
     long contacts = 0;
     long visited = 0;
@@ -85,6 +96,8 @@ int main(int argc, char **argv)
         const glm::dvec3 d = o.force - WaveScenario::trueForce(hip, t, cfg);
         errSq += glm::dot(d, d);
         checksum += o.force.x + 3.0 * o.force.y + 7.0 * o.force.z;
+        mix(o.proxy);
+        mix(o.force);
         contacts += o.contact ? 1 : 0;
         visited += o.cellsVisited;
         tested += o.cellsTested;
@@ -97,8 +110,10 @@ int main(int argc, char **argv)
             ++pops;
     }
     const double n = static_cast<double>(updates);
-    std::printf("setting %dx%d %g m/s: updates %ld contact %ld rms %.6f N pops %ld checksum %.9e\n", w,
-                h, speed, updates, contacts, std::sqrt(errSq / n), pops, checksum);
+    std::printf("setting %dx%d %g m/s: updates %ld contact %ld rms %.6f N pops %ld checksum %.9e "
+                "bits %016llx\n",
+                w, h, speed, updates, contacts, std::sqrt(errSq / n), pops, checksum,
+                static_cast<unsigned long long>(hash));
     std::printf("  per update: cells visited %.2f (max %d) tested %.2f, proxy steps %.2f (max %d)\n",
                 static_cast<double>(visited) / n, maxVisited, static_cast<double>(tested) / n,
                 static_cast<double>(steps) / n, maxSteps);
