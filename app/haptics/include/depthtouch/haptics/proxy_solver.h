@@ -62,6 +62,62 @@ inline bool triangleAcrossEdge(int w, int h, const TriangleId &tri, TriangleRegi
     return out.c >= 0 && out.c <= w - 2 && out.r >= 0 && out.r <= h - 2;
 }
 
+/// \brief closestPointOnTriangle() for triangle VXY seen from its corner V, with the quantities
+/// the vertex step has already: edges `ex = X − V`, `ey = Y − V`, `gx = (P − V)·ex`,
+/// `gy = (P − V)·ey`. Same Voronoi-region tests (Ericson §5.1.5) with A = V, so
+/// the same point up to rounding; the dot products with P − X and P − Y follow from these by
+/// subtraction. \a pos gives the positions of V, X, Y in the triangle's own vertex order, for
+/// \a region. \pre gx > 0 or gy > 0 (V is not the answer).
+inline glm::dvec3 closestPointOnCorner(const glm::dvec3 &v, const glm::dvec3 &x, const glm::dvec3 &y,
+                                       const glm::dvec3 &ex, const glm::dvec3 &ey, double gx,
+                                       double gy, const int (&pos)[3], TriangleRegion &region) noexcept
+{
+    auto vertexRegion = [](int k) {
+        return k == 0 ? TriangleRegion::VertexA
+                      : (k == 1 ? TriangleRegion::VertexB : TriangleRegion::VertexC);
+    };
+    auto edgeRegion = [](int p, int q) {
+        const int sum = p + q; // {0,1} → 1, {0,2} → 2, {1,2} → 3
+        return sum == 1 ? TriangleRegion::EdgeAB
+                        : (sum == 3 ? TriangleRegion::EdgeBC : TriangleRegion::EdgeCA);
+    };
+    const double xx = glm::dot(ex, ex);
+    const double yy = glm::dot(ey, ey);
+    const double xy = glm::dot(ex, ey);
+    const double d1 = gx;
+    const double d2 = gy;
+    const double d3 = gx - xx; // ex·(P − X)
+    const double d4 = gy - xy; // ey·(P − X)
+    if (d3 >= 0.0 && d4 <= d3) {
+        region = vertexRegion(pos[1]);
+        return x;
+    }
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+        region = edgeRegion(pos[0], pos[1]);
+        return v + (d1 / (d1 - d3)) * ex;
+    }
+    const double d5 = gx - xy; // ex·(P − Y)
+    const double d6 = gy - yy; // ey·(P − Y)
+    if (d6 >= 0.0 && d5 <= d6) {
+        region = vertexRegion(pos[2]);
+        return y;
+    }
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+        region = edgeRegion(pos[0], pos[2]);
+        return v + (d2 / (d2 - d6)) * ey;
+    }
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
+        region = edgeRegion(pos[1], pos[2]);
+        return x + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (y - x);
+    }
+    region = TriangleRegion::Face;
+    const double denom = 1.0 / (va + vb + vc);
+    return v + ex * (vb * denom) + ey * (vc * denom);
+}
+
 /// \brief The six triangles around a grid vertex V and the ring of its six neighbours.
 ///
 /// Ring j is V + (kRingDc[j], kRingDr[j]): E, SE, S, W, NW, N (rows grow downward); ring index 6
@@ -75,8 +131,11 @@ struct VertexStar {
     static constexpr int kTriUpper[6] = {0, 1, 0, 0, 1, 1};
     static constexpr int kTriVerts[6][3] = {{6, 0, 1}, {6, 1, 2}, {3, 6, 2},
                                             {4, 5, 6}, {4, 6, 3}, {5, 0, 6}};
-    /// The two ring vertices of triangle i besides V.
+    /// The two ring vertices of triangle i besides V, X then Y.
     static constexpr int kTriRing[6][2] = {{0, 1}, {1, 2}, {3, 2}, {4, 5}, {4, 3}, {5, 0}};
+    /// Positions (0..2, triangleVertex() order) of V, X and Y in triangle i.
+    static constexpr int kTriPos[6][3] = {{0, 1, 2}, {0, 1, 2}, {1, 0, 2},
+                                          {2, 0, 1}, {1, 0, 2}, {2, 0, 1}};
     /// Star index of the triangle (V.c + dc, V.r + dr, upper) as [dc + 1][dr + 1][upper]
     /// (−1: that triangle does not have V).
     static constexpr int kStarIndex[2][2][2] = {{{3, 4}, {2, -1}}, {{-1, 5}, {0, 1}}};
@@ -177,7 +236,9 @@ ProxySolution solveProxy(const Surface &surf, const TriangleId &start, const glm
             }
             const bool interior = vc >= 1 && vc <= w - 2 && vr >= 1 && vr <= h - 2;
             const glm::dvec3 toHip = hip - sol.point;
-            bool ahead[6] = {false, false, false, false, false, false};
+            // Edges from V and how far the HIP lies along each: g_j = (hip − V)·(X_j − V).
+            glm::dvec3 edge[6];
+            double along[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
             for (int j = 0; j < 6; ++j) {
                 const int c = vc + Star::kRingDc[j];
                 const int r = vr + Star::kRingDr[j];
@@ -185,7 +246,8 @@ ProxySolution solveProxy(const Surface &surf, const TriangleId &start, const glm
                     continue;
                 if (!known[j])
                     ring[j] = surf.vertex(c, r);
-                ahead[j] = glm::dot(ring[j] - sol.point, toHip) > 0.0;
+                edge[j] = ring[j] - sol.point;
+                along[j] = glm::dot(edge[j], toHip);
             }
             for (int i = 0; i < 6; ++i) {
                 if (i == i0)
@@ -193,11 +255,27 @@ ProxySolution solveProxy(const Surface &surf, const TriangleId &start, const glm
                 const TriangleId tri{vc + Star::kTriDc[i], vr + Star::kTriDr[i], Star::kTriUpper[i]};
                 if (!interior && (tri.c < 0 || tri.c > w - 2 || tri.r < 0 || tri.r > h - 2))
                     continue;
-                // Ahead along one of its two ring vertices besides V?
-                if (!ahead[Star::kTriRing[i][0]] && !ahead[Star::kTriRing[i][1]])
+                const int a = Star::kTriRing[i][0];
+                const int b = Star::kTriRing[i][1];
+                // The HIP behind V along both edges: V is this triangle's closest point.
+                if (!(along[a] > 0.0) && !(along[b] > 0.0))
                     continue;
-                const int *tv = Star::kTriVerts[i];
-                tryTriangle(tri, ring[tv[0]], ring[tv[1]], ring[tv[2]]);
+                TriangleRegion rg{};
+                const glm::dvec3 q = detail::closestPointOnCorner(sol.point, ring[a], ring[b],
+                                                                  edge[a], edge[b], along[a],
+                                                                  along[b], Star::kTriPos[i], rg);
+                const glm::dvec3 dq = q - hip;
+                const double d = glm::dot(dq, dq);
+                if (d < need && d < bestD) {
+                    bestD = d;
+                    bestTri = tri;
+                    bestPoint = q;
+                    bestRegion = rg;
+                    const int *tv = Star::kTriVerts[i];
+                    bestV[0] = ring[tv[0]];
+                    bestV[1] = ring[tv[1]];
+                    bestV[2] = ring[tv[2]];
+                }
             }
         }
         if (bestTri == sol.triangle)
