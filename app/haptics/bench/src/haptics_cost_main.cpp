@@ -3,7 +3,10 @@
 /// wave, same HIP trajectory, same approach) without timing it, for instruction counts under
 /// valgrind's callgrind, which are free of the noise of a shared machine.
 ///
-/// Usage: `haptics_cost WIDTH HEIGHT SPEED [UPDATES]` (SPEED in m/s, 0 = still; UPDATES default 3000).
+/// Usage: `haptics_cost WIDTH HEIGHT SPEED [UPDATES [REPEATS]]` (SPEED in m/s, 0 = still; UPDATES
+/// default 3000). With REPEATS, the setting is replayed that many times, each update timed with
+/// steady_clock, and the median and p99.9 of the per-update minimum over the repeats are printed
+/// (wall-clock figures with most interference stripped, for A/B comparisons on a busy machine).
 /// Under callgrind only the timed updates' ProxyGraphRenderer::update() calls are collected (the
 /// program toggles collection around them), so with
 /// `valgrind --tool=callgrind --collect-atstart=no --instr-atstart=no haptics_cost ...` the total
@@ -13,16 +16,21 @@
 /// can be checked to compute the same thing (bits equal: identical; checksum close: rounding).
 /// Exit code 2 on bad arguments.
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/haptics/wave_scenario.h"
+#include "depthtouch/platform/percentile.h"
 
 #if __has_include(<valgrind/callgrind.h>)
 #include <valgrind/callgrind.h>
@@ -38,15 +46,16 @@ using namespace depthtouch::haptics::bench;
 
 int main(int argc, char **argv)
 {
-    if (argc < 4 || argc > 5) {
-        std::fprintf(stderr, "usage: haptics_cost WIDTH HEIGHT SPEED_M_PER_S [UPDATES]\n");
+    if (argc < 4 || argc > 6) {
+        std::fprintf(stderr, "usage: haptics_cost WIDTH HEIGHT SPEED_M_PER_S [UPDATES [REPEATS]]\n");
         return 2;
     }
     const int w = std::atoi(argv[1]);
     const int h = std::atoi(argv[2]);
     const double speed = std::atof(argv[3]);
-    const long updates = argc == 5 ? std::atol(argv[4]) : 3000;
-    if (w < 2 || h < 2 || w > 16384 || h > 16384 || !(speed >= 0.0) || updates < 1) {
+    const long updates = argc >= 5 ? std::atol(argv[4]) : 3000;
+    const long repeats = argc == 6 ? std::atol(argv[5]) : 0;
+    if (w < 2 || h < 2 || w > 16384 || h > 16384 || !(speed >= 0.0) || updates < 1 || repeats < 0) {
         std::fprintf(stderr, "haptics_cost: bad arguments\n");
         return 2;
     }
@@ -110,6 +119,38 @@ int main(int argc, char **argv)
             ++pops;
     }
     const double n = static_cast<double>(updates);
+    if (repeats > 0) {
+        std::vector<double> best(static_cast<std::size_t>(updates),
+                                 std::numeric_limits<double>::infinity());
+        for (long k = 0; k < repeats; ++k) {
+            ProxyGraphRenderer timed(cfg);
+            timed.reset(WaveScenario::hipAtUpdate(speed, 0, settle));
+            int shown = -1;
+            for (std::size_t i = 0; i < total; ++i) {
+                const double t = WaveScenario::timeAt(i);
+                const int fi = WaveScenario::frameIndexAt(t);
+                if (fi != shown) {
+                    shown = fi;
+                    const DepthFrameView a = scene.frame(fi);
+                    const DepthFrameView b = scene.frame(fi + 1);
+                    (void)timed.setFrames(a, &b);
+                }
+                const glm::dvec3 hip = WaveScenario::hipAtUpdate(speed, i, settle);
+                const auto t0 = std::chrono::steady_clock::now();
+                (void)timed.update(hip, t);
+                const auto t1 = std::chrono::steady_clock::now();
+                if (i >= settle) {
+                    double &b = best[i - settle];
+                    b = std::min(b, std::chrono::duration<double, std::nano>(t1 - t0).count());
+                }
+            }
+        }
+        std::printf("  wall clock, per-update minimum over %ld repeats: median %.0f ns p99 %.0f ns "
+                    "p99.9 %.0f ns\n",
+                    repeats, depthtouch::platform::percentile(best, 0.5),
+                    depthtouch::platform::percentile(best, 0.99),
+                    depthtouch::platform::percentile(best, 0.999));
+    }
     std::printf("setting %dx%d %g m/s: updates %ld contact %ld rms %.6f N pops %ld checksum %.9e "
                 "bits %016llx\n",
                 w, h, speed, updates, contacts, std::sqrt(errSq / n), pops, checksum,
