@@ -29,6 +29,7 @@ Result<void> HeightField::setFrames(const DepthFrameView &current, const DepthFr
     zScaleNext_ = hasNext_ ? box_.depth / maxSampleValue(next_.format) : 0.0;
     curWide_ = current_.format == SampleFormat::Gray16;
     nextWide_ = hasNext_ && next_.format == SampleFormat::Gray16;
+    sameLayout_ = curWide_ && nextWide_ && next_.strideBytes == current_.strideBytes;
     cut_ = std::isnan(cutSetting_) ? 0.25 * box_.depth : cutSetting_;
     alpha_ = 0.0;
     return ok();

@@ -143,7 +143,11 @@ ProxyGraphRenderer::ProxyGraphRenderer(const RendererConfig &config) noexcept
 Result<void> ProxyGraphRenderer::setFrames(const DepthFrameView &current,
                                            const DepthFrameView *next) noexcept
 {
-    return field_.setFrames(current, next);
+    DT_TRY(field_.setFrames(current, next));
+    const double coarse =
+        std::isnan(config_.coarseSpacing) ? config_.box.width / 719.0 : config_.coarseSpacing;
+    stride_ = static_cast<int>(std::floor(coarse / field_.spacing()));
+    return ok();
 }
 
 void ProxyGraphRenderer::reset(const glm::dvec3 &hip) noexcept
@@ -174,11 +178,8 @@ HapticOutput ProxyGraphRenderer::update(const glm::dvec3 &hip, double t) noexcep
     out.cellsVisited = hit.cellsVisited;
     out.cellsTested = hit.cellsTested;
     if (hit.hit) {
-        const double coarse =
-            std::isnan(config_.coarseSpacing) ? config_.box.width / 719.0 : config_.coarseSpacing;
-        const int stride = static_cast<int>(std::floor(coarse / field_.spacing()));
         const ProxySolution sol =
-            solveProxyCoarseToFine(field_, hit.triangle, hip, stride, static_cast<double>(stride));
+            solveProxyCoarseToFine(field_, hit.triangle, hip, stride_, static_cast<double>(stride_));
         out.proxySteps = sol.steps;
         // The proxy may have slid to where nothing separates it from the HIP any more (it went
         // round a ridge): then it is free.

@@ -125,12 +125,26 @@ public:
     /// \return the interpolated height of vertex (c, r), m. \pre 0 ≤ c < W, 0 ≤ r < H.
     [[nodiscard]] double vertexZ(int c, int r) const noexcept
     {
-        const double z0 = static_cast<double>(load(current_, curWide_, c, r)) * zScaleCurrent_ -
-                          halfDepth_;
         if (alpha_ <= 0.0)
-            return z0;
-        const double z1 =
-            static_cast<double>(load(next_, nextWide_, c, r)) * zScaleNext_ - halfDepth_;
+            return static_cast<double>(load(current_, curWide_, c, r)) * zScaleCurrent_ - halfDepth_;
+        std::uint32_t s0;
+        std::uint32_t s1;
+        if (sameLayout_) {
+            // Both frames 16-bit with the same stride (the usual case): one offset for both.
+            const std::size_t off = static_cast<std::size_t>(r) * current_.strideBytes +
+                                    2 * static_cast<std::size_t>(c);
+            std::uint16_t a;
+            std::uint16_t b;
+            std::memcpy(&a, current_.data + off, sizeof a);
+            std::memcpy(&b, next_.data + off, sizeof b);
+            s0 = a;
+            s1 = b;
+        } else {
+            s0 = load(current_, curWide_, c, r);
+            s1 = load(next_, nextWide_, c, r);
+        }
+        const double z0 = static_cast<double>(s0) * zScaleCurrent_ - halfDepth_;
+        const double z1 = static_cast<double>(s1) * zScaleNext_ - halfDepth_;
         const double dz = z1 - z0;
         if (std::fabs(dz) > cut_)
             return z0;
@@ -204,6 +218,7 @@ private:
     bool hasNext_ = false;
     bool curWide_ = false;  ///< current_ is Gray16
     bool nextWide_ = false; ///< next_ is Gray16
+    bool sameLayout_ = false; ///< both frames Gray16 with the same stride
     double spacing_ = 0.0;
     double invSpacing_ = 0.0;
     double halfW_ = 0.0;

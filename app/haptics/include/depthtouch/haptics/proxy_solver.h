@@ -323,8 +323,9 @@ public:
     {
         const double u = fine_.xToColumn(x) / stride_;
         const double v = fine_.yToRow(y) / stride_;
-        const int c = std::clamp(static_cast<int>(std::floor(u)), 0, w_ - 2);
-        const int r = std::clamp(static_cast<int>(std::floor(v)), 0, h_ - 2);
+        // Truncation is floor() wherever it matters: for u in (−1, 0) both clamp to column 0.
+        const int c = std::clamp(static_cast<int>(u), 0, w_ - 2);
+        const int r = std::clamp(static_cast<int>(v), 0, h_ - 2);
         return TriangleId{c, r, (u - c) >= (v - r) ? 0 : 1};
     }
 

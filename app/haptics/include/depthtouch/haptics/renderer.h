@@ -170,6 +170,7 @@ private:
     glm::dvec3 proxy_{};
     bool haveProxy_ = false;
     double surfaceUnderProxy_ = 0.0; ///< h(proxy.xy) at the end of the last update, or NaN.
+    int stride_ = 0; ///< Coarse-to-fine stride for the frames set (RendererConfig::coarseSpacing).
 };
 
 /// \brief Creates the renderer of \a method with \a config (its fix flags are used as given).
