@@ -68,7 +68,7 @@ inline bool triangleAcrossEdge(int w, int h, const TriangleId &tri, TriangleRegi
 /// the same point up to rounding; the dot products with P − X and P − Y follow from these by
 /// subtraction. \a pos gives the positions of V, X, Y in the triangle's own vertex order, for
 /// \a region. \pre gx > 0 or gy > 0 (V is not the answer).
-inline glm::dvec3 closestPointOnCorner(const glm::dvec3 &v, const glm::dvec3 &x, const glm::dvec3 &y,
+[[gnu::always_inline]] inline glm::dvec3 closestPointOnCorner(const glm::dvec3 &v, const glm::dvec3 &x, const glm::dvec3 &y,
                                        const glm::dvec3 &ex, const glm::dvec3 &ey, double gx,
                                        double gy, const int (&pos)[3], TriangleRegion &region) noexcept
 {
@@ -237,8 +237,10 @@ ProxySolution solveProxy(const Surface &surf, const TriangleId &start, const glm
             const bool interior = vc >= 1 && vc <= w - 2 && vr >= 1 && vr <= h - 2;
             const glm::dvec3 toHip = hip - sol.point;
             // Edges from V and how far the HIP lies along each: g_j = (hip − V)·(X_j − V).
-            glm::dvec3 edge[6];
+            glm::dvec3 edge[6]{}; // zero outside the grid (never read there)
             double along[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+            // Unrolled: the star tables then become constants (the step's hottest loops).
+#pragma GCC unroll 6
             for (int j = 0; j < 6; ++j) {
                 const int c = vc + Star::kRingDc[j];
                 const int r = vr + Star::kRingDr[j];
@@ -249,6 +251,7 @@ ProxySolution solveProxy(const Surface &surf, const TriangleId &start, const glm
                 edge[j] = ring[j] - sol.point;
                 along[j] = glm::dot(edge[j], toHip);
             }
+#pragma GCC unroll 6
             for (int i = 0; i < 6; ++i) {
                 if (i == i0)
                     continue;
