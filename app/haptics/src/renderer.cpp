@@ -146,7 +146,8 @@ Result<void> ProxyGraphRenderer::setFrames(const DepthFrameView &current,
     DT_TRY(field_.setFrames(current, next));
     const double coarse =
         std::isnan(config_.coarseSpacing) ? config_.box.width / 719.0 : config_.coarseSpacing;
-    stride_ = static_cast<int>(std::floor(coarse / field_.spacing()));
+    coarse_ = CoarseGrid::of(field_.columns(), field_.rows(),
+                             static_cast<int>(std::floor(coarse / field_.spacing())));
     return ok();
 }
 
@@ -178,8 +179,8 @@ HapticOutput ProxyGraphRenderer::update(const glm::dvec3 &hip, double t) noexcep
     out.cellsVisited = hit.cellsVisited;
     out.cellsTested = hit.cellsTested;
     if (hit.hit) {
-        const ProxySolution sol =
-            solveProxyCoarseToFine(field_, hit.triangle, hip, stride_, static_cast<double>(stride_));
+        const ProxySolution sol = solveProxyCoarseToFine(field_, hit.triangle, hip, coarse_,
+                                                         static_cast<double>(coarse_.stride));
         out.proxySteps = sol.steps;
         // The proxy may have slid to where nothing separates it from the HIP any more (it went
         // round a ridge): then it is free.

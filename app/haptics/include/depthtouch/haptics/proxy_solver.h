@@ -301,6 +301,21 @@ ProxySolution solveProxy(const Surface &surf, const TriangleId &start, const glm
     return sol;
 }
 
+/// \brief Size of the grid seen every \a stride-th vertex of a W×H grid (StridedSurface), computed
+/// once per frame size so that an update does no integer division.
+struct CoarseGrid {
+    int stride = 0;  ///< Fine cells per coarse cell (< 2: no coarse pass).
+    int columns = 0; ///< (W − 1) / stride + 1
+    int rows = 0;    ///< (H − 1) / stride + 1
+    /// \return the coarse grid of a \a w × \a h grid at \a stride (columns = rows = 0 for stride < 1).
+    static CoarseGrid of(int w, int h, int stride) noexcept
+    {
+        if (stride < 1)
+            return CoarseGrid{stride, 0, 0};
+        return CoarseGrid{stride, (w - 1) / stride + 1, (h - 1) / stride + 1};
+    }
+};
+
 /// \brief A coarser view of a grid surface: every \a stride-th vertex in each direction, the same
 /// triangulation rule (DESIGN.md §3) one level up. A view only: no copy, no allocation; vertex (c, r)
 /// is the fine vertex (c·stride, r·stride), so coarse vertices lie on the fine surface.
@@ -312,6 +327,12 @@ public:
     StridedSurface(const Surface &fine, int stride) noexcept
         : fine_(fine), stride_(stride), w_((fine.columns() - 1) / stride + 1),
           h_((fine.rows() - 1) / stride + 1)
+    {
+    }
+    /// \brief The same view with its size computed beforehand (no division per construction).
+    /// \pre columns == (fine.columns() − 1) / stride + 1, rows likewise (see CoarseGrid).
+    StridedSurface(const Surface &fine, int stride, int columns, int rows) noexcept
+        : fine_(fine), stride_(stride), w_(columns), h_(rows)
     {
     }
     [[nodiscard]] int columns() const noexcept { return w_; }
@@ -351,21 +372,32 @@ private:
 /// from the start triangle.
 template <class Surface>
 ProxySolution solveProxyCoarseToFine(const Surface &surf, const TriangleId &start,
-                                     const glm::dvec3 &hip, int stride, double minCells) noexcept
+                                     const glm::dvec3 &hip, const CoarseGrid &grid,
+                                     double minCells) noexcept
 {
+    const int stride = grid.stride;
     if (stride < 2 || surf.columns() < 2 * stride + 1 || surf.rows() < 2 * stride + 1)
         return solveProxy(surf, start, hip);
     const double du = surf.xToColumn(hip.x) - (start.c + 0.5);
     const double dv = surf.yToRow(hip.y) - (start.r + 0.5);
     if (du * du + dv * dv <= minCells * minCells)
         return solveProxy(surf, start, hip);
-    const StridedSurface<Surface> coarse(surf, stride);
+    const StridedSurface<Surface> coarse(surf, stride, grid.columns, grid.rows);
     const double sx = surf.columnToX(start.c + 0.5);
     const double sy = surf.rowToY(start.r + 0.5);
     const ProxySolution rough = solveProxy(coarse, coarse.triangleAt(sx, sy), hip);
     ProxySolution fine = solveProxy(surf, surf.triangleAt(rough.point.x, rough.point.y), hip);
     fine.steps += rough.steps;
     return fine;
+}
+
+/// \brief solveProxyCoarseToFine() with the coarse grid of \a stride computed here.
+template <class Surface>
+ProxySolution solveProxyCoarseToFine(const Surface &surf, const TriangleId &start,
+                                     const glm::dvec3 &hip, int stride, double minCells) noexcept
+{
+    return solveProxyCoarseToFine(surf, start, hip,
+                                  CoarseGrid::of(surf.columns(), surf.rows(), stride), minCells);
 }
 
 } // namespace depthtouch::haptics

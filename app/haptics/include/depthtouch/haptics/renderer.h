@@ -17,6 +17,7 @@
 #include "depthtouch/haptics/collision.h"
 #include "depthtouch/haptics/depth_frame.h"
 #include "depthtouch/haptics/height_field.h"
+#include "depthtouch/haptics/proxy_solver.h"
 #include "depthtouch/platform/result.h"
 
 namespace depthtouch::haptics {
@@ -170,7 +171,7 @@ private:
     glm::dvec3 proxy_{};
     bool haveProxy_ = false;
     double surfaceUnderProxy_ = 0.0; ///< h(proxy.xy) at the end of the last update, or NaN.
-    int stride_ = 0; ///< Coarse-to-fine stride for the frames set (RendererConfig::coarseSpacing).
+    CoarseGrid coarse_{}; ///< Coarse-to-fine grid for the frames set (RendererConfig::coarseSpacing).
 };
 
 /// \brief Creates the renderer of \a method with \a config (its fix flags are used as given).
