@@ -202,8 +202,12 @@ HapticOutput ProxyGraphRenderer::update(const glm::dvec3 &hip, double t) noexcep
     out.contact = contact;
     proxy_ = proxy;
     haveProxy_ = true;
-    surfaceUnderProxy_ =
-        field_.contains(proxy.x, proxy.y) ? field_.heightAt(proxy.x, proxy.y) : std::nan("");
+    // h(proxy.xy) without refetching: over the HIP (free, released or re-seated) it is `above`; a
+    // proxy held by the solver lies on the surface, so it is the proxy's own z (up to rounding).
+    if (proxy.x == hip.x && proxy.y == hip.y)
+        surfaceUnderProxy_ = above;
+    else
+        surfaceUnderProxy_ = field_.contains(proxy.x, proxy.y) ? proxy.z : std::nan("");
     return out;
 }
 
