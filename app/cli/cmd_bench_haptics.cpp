@@ -65,6 +65,10 @@ int runBenchHaptics(const BenchHapticsOptions &o)
                 report.modifiedMinOfRunsP999At720Fast <= 2000.0 ? "met" : "NOT met");
     std::printf("  modified median 3840x2160 / 720x486 (worst motion): %.2f (goal <= 1.5): %s\n",
                 report.resolutionRatio, report.resolutionRatio <= 1.5 ? "met" : "NOT met");
+    std::printf("  modified median 3840x2160 / 720x486 (worst motion), interference-filtered (median of "
+                "the per-update minimum over the runs): %.2f (goal <= 1.5): %s\n",
+                report.minOfRunsResolutionRatio,
+                report.minOfRunsResolutionRatio <= 1.5 ? "met" : "NOT met");
     std::printf("  mesh-bvh per-frame rebuild / modified per-frame cost at 720x486: %.0fx (goal >= 1000x): %s\n",
                 report.rebuildRatio, report.rebuildRatio >= 1000.0 ? "met" : "NOT met");
     std::string error;
