@@ -175,6 +175,8 @@ HapticOutput ProxyGraphRenderer::update(const glm::dvec3 &hip, double t) noexcep
     }
     glm::dvec3 proxy = hip;
     bool contact = false;
+    const double above =
+        field_.contains(hip.x, hip.y) ? field_.heightAt(hip.x, hip.y) : std::nan("");
     const Crossing hit = firstCrossing(field_, start, hip);
     out.cellsVisited = hit.cellsVisited;
     out.cellsTested = hit.cellsTested;
@@ -183,18 +185,23 @@ HapticOutput ProxyGraphRenderer::update(const glm::dvec3 &hip, double t) noexcep
                                                          static_cast<double>(coarse_.stride));
         out.proxySteps = sol.steps;
         // The proxy may have slid to where nothing separates it from the HIP any more (it went
-        // round a ridge): then it is free.
-        const Crossing again = firstCrossing(field_, sol.point, hip);
-        out.cellsVisited += again.cellsVisited;
-        out.cellsTested += again.cellsTested;
-        if (again.hit) {
+        // round a ridge): then it is free. The segment starts on the surface; when the HIP is
+        // under the surface by more than the tolerance it ends below it, so firstCrossing() would
+        // find a crossing (at the HIP at the latest): the walk is needed only otherwise.
+        const double tol = kSurfaceTolerance * field_.spacing();
+        bool held = hip.z < above - 2.0 * tol; // false when the HIP is off the grid (NaN)
+        if (!held) {
+            const Crossing again = firstCrossing(field_, sol.point, hip);
+            out.cellsVisited += again.cellsVisited;
+            out.cellsTested += again.cellsTested;
+            held = again.hit;
+        }
+        if (held) {
             proxy = sol.point;
             contact = true;
             out.constraints = sol.constraints;
         }
     }
-    const double above =
-        field_.contains(hip.x, hip.y) ? field_.heightAt(hip.x, hip.y) : std::nan("");
     out.force = force_.apply(hip, proxy, contact, t, above, out.released);
     if (out.released)
         out.constraints = contact ? 1 : 0;
