@@ -81,7 +81,9 @@ struct HapticOutput {
     bool contact = false;   ///< Proxy held on the surface.
     bool released = false;  ///< Safety tripped on this update.
     int constraints = 0;    ///< Active constraint planes at the proxy (0 in free space).
-    int cellsVisited = 0;   ///< Cost figures of this update (collision detection).
+    /// Cost figures of this update: cells the collision walks visited (the proxy-to-HIP walk is
+    /// skipped when the HIP is under the surface, its crossing then being certain).
+    int cellsVisited = 0;
     int cellsTested = 0;
     int proxySteps = 0;     ///< Triangles the proxy slid across.
 };
