@@ -59,8 +59,16 @@ int runBenchHaptics(const BenchHapticsOptions &o)
     std::printf("\ngoals (this run):\n");
     std::printf("  modified p99.9 at 720x486, 1 m/s: %.0f ns (goal <= 2000 ns): %s\n",
                 report.modifiedP999At720Fast, report.modifiedP999At720Fast <= 2000.0 ? "met" : "NOT met");
+    std::printf("  modified p99.9 at 720x486, 1 m/s, interference-filtered (per-update minimum over %d runs): "
+                "%.0f ns (goal <= 2000 ns): %s\n",
+                report.runsAt720Fast, report.modifiedMinOfRunsP999At720Fast,
+                report.modifiedMinOfRunsP999At720Fast <= 2000.0 ? "met" : "NOT met");
     std::printf("  modified median 3840x2160 / 720x486 (worst motion): %.2f (goal <= 1.5): %s\n",
                 report.resolutionRatio, report.resolutionRatio <= 1.5 ? "met" : "NOT met");
+    std::printf("  modified median 3840x2160 / 720x486 (worst motion), interference-filtered (median of "
+                "the per-update minimum over the runs): %.2f (goal <= 1.5): %s\n",
+                report.minOfRunsResolutionRatio,
+                report.minOfRunsResolutionRatio <= 1.5 ? "met" : "NOT met");
     std::printf("  mesh-bvh per-frame rebuild / modified per-frame cost at 720x486: %.0fx (goal >= 1000x): %s\n",
                 report.rebuildRatio, report.rebuildRatio >= 1000.0 ? "met" : "NOT met");
     std::string error;

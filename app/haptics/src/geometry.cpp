@@ -4,53 +4,6 @@
 
 namespace depthtouch::haptics {
 
-glm::dvec3 closestPointOnTriangle(const glm::dvec3 &p, const glm::dvec3 &a, const glm::dvec3 &b,
-                                  const glm::dvec3 &c, TriangleRegion &region) noexcept
-{
-    // Ericson, Real-Time Collision Detection, §5.1.5 (Voronoi regions of the features).
-    const glm::dvec3 ab = b - a;
-    const glm::dvec3 ac = c - a;
-    const glm::dvec3 ap = p - a;
-    const double d1 = glm::dot(ab, ap);
-    const double d2 = glm::dot(ac, ap);
-    if (d1 <= 0.0 && d2 <= 0.0) {
-        region = TriangleRegion::VertexA;
-        return a;
-    }
-    const glm::dvec3 bp = p - b;
-    const double d3 = glm::dot(ab, bp);
-    const double d4 = glm::dot(ac, bp);
-    if (d3 >= 0.0 && d4 <= d3) {
-        region = TriangleRegion::VertexB;
-        return b;
-    }
-    const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
-        region = TriangleRegion::EdgeAB;
-        return a + (d1 / (d1 - d3)) * ab;
-    }
-    const glm::dvec3 cp = p - c;
-    const double d5 = glm::dot(ab, cp);
-    const double d6 = glm::dot(ac, cp);
-    if (d6 >= 0.0 && d5 <= d6) {
-        region = TriangleRegion::VertexC;
-        return c;
-    }
-    const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
-        region = TriangleRegion::EdgeCA;
-        return a + (d2 / (d2 - d6)) * ac;
-    }
-    const double va = d3 * d6 - d5 * d4;
-    if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
-        region = TriangleRegion::EdgeBC;
-        return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
-    }
-    region = TriangleRegion::Face;
-    const double denom = 1.0 / (va + vb + vc);
-    return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
 bool segmentCrossesTriangleDownward(const glm::dvec3 &p0, const glm::dvec3 &p1, const glm::dvec3 &a,
                                     const glm::dvec3 &b, const glm::dvec3 &c, double baryTol,
                                     double tTol, double &t) noexcept

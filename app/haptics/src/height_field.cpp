@@ -27,6 +27,9 @@ Result<void> HeightField::setFrames(const DepthFrameView &current, const DepthFr
     halfDepth_ = 0.5 * box_.depth;
     zScaleCurrent_ = box_.depth / maxSampleValue(current.format);
     zScaleNext_ = hasNext_ ? box_.depth / maxSampleValue(next_.format) : 0.0;
+    curWide_ = current_.format == SampleFormat::Gray16;
+    nextWide_ = hasNext_ && next_.format == SampleFormat::Gray16;
+    sameLayout_ = curWide_ && nextWide_ && next_.strideBytes == current_.strideBytes;
     cut_ = std::isnan(cutSetting_) ? 0.25 * box_.depth : cutSetting_;
     alpha_ = 0.0;
     return ok();
@@ -40,39 +43,6 @@ void HeightField::setTime(double t, bool interpolate) noexcept
     }
     const double a = (t - current_.pts) / (next_.pts - current_.pts);
     alpha_ = std::clamp(a, 0.0, 1.0);
-}
-
-bool HeightField::contains(double x, double y) const noexcept
-{
-    if (!valid())
-        return false;
-    const double u = xToColumn(x);
-    const double v = yToRow(y);
-    return u >= 0.0 && u <= current_.width - 1 && v >= 0.0 && v <= current_.height - 1;
-}
-
-TriangleId HeightField::triangleAt(double x, double y) const noexcept
-{
-    const double u = xToColumn(x);
-    const double v = yToRow(y);
-    const int c = std::clamp(static_cast<int>(std::floor(u)), 0, current_.width - 2);
-    const int r = std::clamp(static_cast<int>(std::floor(v)), 0, current_.height - 2);
-    return TriangleId{c, r, (u - c) >= (v - r) ? 0 : 1};
-}
-
-double HeightField::heightAt(double x, double y) const noexcept
-{
-    const TriangleId t = triangleAt(x, y);
-    const double fu = xToColumn(x) - t.c;
-    const double fv = yToRow(y) - t.r;
-    const double h00 = vertexZ(t.c, t.r);
-    const double h11 = vertexZ(t.c + 1, t.r + 1);
-    if (t.upper == 0) {
-        const double h10 = vertexZ(t.c + 1, t.r);
-        return h00 + fu * (h10 - h00) + fv * (h11 - h10);
-    }
-    const double h01 = vertexZ(t.c, t.r + 1);
-    return h00 + fv * (h01 - h00) + fu * (h11 - h01);
 }
 
 } // namespace depthtouch::haptics

@@ -143,7 +143,12 @@ ProxyGraphRenderer::ProxyGraphRenderer(const RendererConfig &config) noexcept
 Result<void> ProxyGraphRenderer::setFrames(const DepthFrameView &current,
                                            const DepthFrameView *next) noexcept
 {
-    return field_.setFrames(current, next);
+    DT_TRY(field_.setFrames(current, next));
+    const double coarse =
+        std::isnan(config_.coarseSpacing) ? config_.box.width / 719.0 : config_.coarseSpacing;
+    coarse_ = CoarseGrid::of(field_.columns(), field_.rows(),
+                             static_cast<int>(std::floor(coarse / field_.spacing())));
+    return ok();
 }
 
 void ProxyGraphRenderer::reset(const glm::dvec3 &hip) noexcept
@@ -170,29 +175,33 @@ HapticOutput ProxyGraphRenderer::update(const glm::dvec3 &hip, double t) noexcep
     }
     glm::dvec3 proxy = hip;
     bool contact = false;
+    const double above =
+        field_.contains(hip.x, hip.y) ? field_.heightAt(hip.x, hip.y) : std::nan("");
     const Crossing hit = firstCrossing(field_, start, hip);
     out.cellsVisited = hit.cellsVisited;
     out.cellsTested = hit.cellsTested;
     if (hit.hit) {
-        const double coarse =
-            std::isnan(config_.coarseSpacing) ? config_.box.width / 719.0 : config_.coarseSpacing;
-        const int stride = static_cast<int>(std::floor(coarse / field_.spacing()));
-        const ProxySolution sol =
-            solveProxyCoarseToFine(field_, hit.triangle, hip, stride, static_cast<double>(stride));
+        const ProxySolution sol = solveProxyCoarseToFine(field_, hit.triangle, hip, coarse_,
+                                                         static_cast<double>(coarse_.stride));
         out.proxySteps = sol.steps;
         // The proxy may have slid to where nothing separates it from the HIP any more (it went
-        // round a ridge): then it is free.
-        const Crossing again = firstCrossing(field_, sol.point, hip);
-        out.cellsVisited += again.cellsVisited;
-        out.cellsTested += again.cellsTested;
-        if (again.hit) {
+        // round a ridge): then it is free. The segment starts on the surface; when the HIP is
+        // under the surface by more than the tolerance it ends below it, so firstCrossing() would
+        // find a crossing (at the HIP at the latest): the walk is needed only otherwise.
+        const double tol = kSurfaceTolerance * field_.spacing();
+        bool held = hip.z < above - 2.0 * tol; // false when the HIP is off the grid (NaN)
+        if (!held) {
+            const Crossing again = firstCrossing(field_, sol.point, hip);
+            out.cellsVisited += again.cellsVisited;
+            out.cellsTested += again.cellsTested;
+            held = again.hit;
+        }
+        if (held) {
             proxy = sol.point;
             contact = true;
             out.constraints = sol.constraints;
         }
     }
-    const double above =
-        field_.contains(hip.x, hip.y) ? field_.heightAt(hip.x, hip.y) : std::nan("");
     out.force = force_.apply(hip, proxy, contact, t, above, out.released);
     if (out.released)
         out.constraints = contact ? 1 : 0;
@@ -200,8 +209,12 @@ HapticOutput ProxyGraphRenderer::update(const glm::dvec3 &hip, double t) noexcep
     out.contact = contact;
     proxy_ = proxy;
     haveProxy_ = true;
-    surfaceUnderProxy_ =
-        field_.contains(proxy.x, proxy.y) ? field_.heightAt(proxy.x, proxy.y) : std::nan("");
+    // h(proxy.xy) without refetching: over the HIP (free, released or re-seated) it is `above`; a
+    // proxy held by the solver lies on the surface, so it is the proxy's own z (up to rounding).
+    if (proxy.x == hip.x && proxy.y == hip.y)
+        surfaceUnderProxy_ = above;
+    else
+        surfaceUnderProxy_ = field_.contains(proxy.x, proxy.y) ? proxy.z : std::nan("");
     return out;
 }
 

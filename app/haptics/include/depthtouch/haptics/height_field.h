@@ -7,8 +7,11 @@
 /// so an update costs the same at 720×486 and at 3840×2160. Thread-safety: thread-bound (the haptic
 /// thread); the frames it views must stay alive and unchanged while they are set.
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 #include <glm/vec3.hpp>
 
@@ -122,10 +125,26 @@ public:
     /// \return the interpolated height of vertex (c, r), m. \pre 0 ≤ c < W, 0 ≤ r < H.
     [[nodiscard]] double vertexZ(int c, int r) const noexcept
     {
-        const double z0 = static_cast<double>(current_.sample(c, r)) * zScaleCurrent_ - halfDepth_;
         if (alpha_ <= 0.0)
-            return z0;
-        const double z1 = static_cast<double>(next_.sample(c, r)) * zScaleNext_ - halfDepth_;
+            return static_cast<double>(load(current_, curWide_, c, r)) * zScaleCurrent_ - halfDepth_;
+        std::uint32_t s0;
+        std::uint32_t s1;
+        if (sameLayout_) {
+            // Both frames 16-bit with the same stride (the usual case): one offset for both.
+            const std::size_t off = static_cast<std::size_t>(r) * current_.strideBytes +
+                                    2 * static_cast<std::size_t>(c);
+            std::uint16_t a;
+            std::uint16_t b;
+            std::memcpy(&a, current_.data + off, sizeof a);
+            std::memcpy(&b, next_.data + off, sizeof b);
+            s0 = a;
+            s1 = b;
+        } else {
+            s0 = load(current_, curWide_, c, r);
+            s1 = load(next_, nextWide_, c, r);
+        }
+        const double z0 = static_cast<double>(s0) * zScaleCurrent_ - halfDepth_;
+        const double z1 = static_cast<double>(s1) * zScaleNext_ - halfDepth_;
         const double dz = z1 - z0;
         if (std::fabs(dz) > cut_)
             return z0;
@@ -139,19 +158,67 @@ public:
     }
 
     /// \return true when (x, y) (m) lies over the grid (inside the box's x–y extent, borders included).
-    [[nodiscard]] bool contains(double x, double y) const noexcept;
+    [[nodiscard]] bool contains(double x, double y) const noexcept
+    {
+        if (!valid())
+            return false;
+        const double u = xToColumn(x);
+        const double v = yToRow(y);
+        return u >= 0.0 && u <= current_.width - 1 && v >= 0.0 && v <= current_.height - 1;
+    }
 
     /// \return the surface height h(x, y), m, on the triangle under (x, y). \pre contains(x, y).
-    [[nodiscard]] double heightAt(double x, double y) const noexcept;
+    [[nodiscard]] double heightAt(double x, double y) const noexcept
+    {
+        const double u = xToColumn(x);
+        const double v = yToRow(y);
+        const TriangleId t = triangleAtGrid(u, v);
+        const double fu = u - t.c;
+        const double fv = v - t.r;
+        const double h00 = vertexZ(t.c, t.r);
+        const double h11 = vertexZ(t.c + 1, t.r + 1);
+        if (t.upper == 0) {
+            const double h10 = vertexZ(t.c + 1, t.r);
+            return h00 + fu * (h10 - h00) + fv * (h11 - h10);
+        }
+        const double h01 = vertexZ(t.c, t.r + 1);
+        return h00 + fv * (h01 - h00) + fu * (h11 - h01);
+    }
 
     /// \return the triangle under (x, y). \pre contains(x, y).
-    [[nodiscard]] TriangleId triangleAt(double x, double y) const noexcept;
+    [[nodiscard]] TriangleId triangleAt(double x, double y) const noexcept
+    {
+        return triangleAtGrid(xToColumn(x), yToRow(y));
+    }
 
 private:
+    /// The triangle under grid point (u, v), clamped to the grid.
+    [[nodiscard]] TriangleId triangleAtGrid(double u, double v) const noexcept
+    {
+        // Truncation is floor() wherever it matters: for u in (−1, 0) both clamp to column 0.
+        const int c = std::clamp(static_cast<int>(u), 0, current_.width - 2);
+        const int r = std::clamp(static_cast<int>(v), 0, current_.height - 2);
+        return TriangleId{c, r, (u - c) >= (v - r) ? 0 : 1};
+    }
+
+    /// Sample (c, r) of \a frame; \a wide: Gray16 (else Gray8). Same value as frame.sample(c, r).
+    static std::uint32_t load(const DepthFrameView &frame, bool wide, int c, int r) noexcept
+    {
+        const std::uint8_t *row = frame.data + static_cast<std::size_t>(r) * frame.strideBytes;
+        if (!wide)
+            return row[c];
+        std::uint16_t v;
+        std::memcpy(&v, row + 2 * static_cast<std::size_t>(c), sizeof v);
+        return v;
+    }
+
     SceneBox box_{};
     DepthFrameView current_{};
     DepthFrameView next_{};
     bool hasNext_ = false;
+    bool curWide_ = false;  ///< current_ is Gray16
+    bool nextWide_ = false; ///< next_ is Gray16
+    bool sameLayout_ = false; ///< both frames Gray16 with the same stride
     double spacing_ = 0.0;
     double invSpacing_ = 0.0;
     double halfW_ = 0.0;

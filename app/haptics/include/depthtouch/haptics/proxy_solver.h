@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
@@ -40,53 +41,132 @@ inline constexpr int kMaxProxySteps = 4096;
 
 namespace detail {
 
-/// Appends to \a out the triangles (≤ 6) that have vertex (vc, vr). \return how many.
-inline int trianglesAroundVertex(int w, int h, int vc, int vr, TriangleId *out) noexcept
+/// \brief The triangle across edge \a region (EdgeAB, EdgeBC or EdgeCA) of \a tri on a W×H grid.
+/// \return false when that edge is on the grid's border (no triangle across it).
+inline bool triangleAcrossEdge(int w, int h, const TriangleId &tri, TriangleRegion region,
+                               TriangleId &out) noexcept
 {
-    const TriangleId all[6] = {{vc, vr, 0},         {vc, vr, 1},     {vc - 1, vr, 0},
-                               {vc - 1, vr - 1, 0}, {vc - 1, vr - 1, 1}, {vc, vr - 1, 1}};
-    int n = 0;
-    for (const TriangleId &t : all)
-        if (t.c >= 0 && t.c <= w - 2 && t.r >= 0 && t.r <= h - 2)
-            out[n++] = t;
-    return n;
-}
-
-inline bool triangleHasVertex(const TriangleId &tri, int vc, int vr) noexcept
-{
-    for (int k = 0; k < 3; ++k) {
-        int c = 0;
-        int r = 0;
-        triangleVertex(tri, k, c, r);
-        if (c == vc && r == vr)
-            return true;
+    // upper 0 = (c,r) (c+1,r) (c+1,r+1): AB is the top edge, BC the right edge, CA the diagonal;
+    // upper 1 = (c,r) (c+1,r+1) (c,r+1): AB is the diagonal, BC the bottom edge, CA the left edge.
+    const int c = tri.c;
+    const int r = tri.r;
+    if (tri.upper == 0) {
+        out = region == TriangleRegion::EdgeAB   ? TriangleId{c, r - 1, 1}
+              : region == TriangleRegion::EdgeBC ? TriangleId{c + 1, r, 1}
+                                                 : TriangleId{c, r, 1};
+    } else {
+        out = region == TriangleRegion::EdgeAB   ? TriangleId{c, r, 0}
+              : region == TriangleRegion::EdgeBC ? TriangleId{c, r + 1, 0}
+                                                 : TriangleId{c - 1, r, 0};
     }
-    return false;
+    return out.c >= 0 && out.c <= w - 2 && out.r >= 0 && out.r <= h - 2;
 }
 
-template <class Surface>
-glm::dvec3 closestOn(const Surface &surf, const TriangleId &tri, const glm::dvec3 &p,
-                     TriangleRegion &region) noexcept
+/// \brief closestPointOnTriangle() for triangle VXY seen from its corner V, with the quantities
+/// the vertex step has already: edges `ex = X − V`, `ey = Y − V`, `gx = (P − V)·ex`,
+/// `gy = (P − V)·ey`. Same Voronoi-region tests (Ericson §5.1.5) with A = V, so
+/// the same point up to rounding; the dot products with P − X and P − Y follow from these by
+/// subtraction. \a pos gives the positions of V, X, Y in the triangle's own vertex order, for
+/// \a region. \pre gx > 0 or gy > 0 (V is not the answer). Forced inline: the vertex step calls it
+/// for up to five triangles, and inlined it costs about half as many instructions.
+[[gnu::always_inline]] inline glm::dvec3
+closestPointOnCorner(const glm::dvec3 &v, const glm::dvec3 &x, const glm::dvec3 &y,
+                     const glm::dvec3 &ex, const glm::dvec3 &ey, double gx, double gy,
+                     const int (&pos)[3], TriangleRegion &region) noexcept
 {
-    glm::dvec3 v[3];
-    triangleVertices(surf, tri, v);
-    return closestPointOnTriangle(p, v[0], v[1], v[2], region);
+    auto vertexRegion = [](int k) {
+        return k == 0 ? TriangleRegion::VertexA
+                      : (k == 1 ? TriangleRegion::VertexB : TriangleRegion::VertexC);
+    };
+    auto edgeRegion = [](int p, int q) {
+        const int sum = p + q; // {0,1} → 1, {0,2} → 2, {1,2} → 3
+        return sum == 1 ? TriangleRegion::EdgeAB
+                        : (sum == 3 ? TriangleRegion::EdgeBC : TriangleRegion::EdgeCA);
+    };
+    const double xx = glm::dot(ex, ex);
+    const double yy = glm::dot(ey, ey);
+    const double xy = glm::dot(ex, ey);
+    const double d1 = gx;
+    const double d2 = gy;
+    const double d3 = gx - xx; // ex·(P − X)
+    const double d4 = gy - xy; // ey·(P − X)
+    if (d3 >= 0.0 && d4 <= d3) {
+        region = vertexRegion(pos[1]);
+        return x;
+    }
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+        region = edgeRegion(pos[0], pos[1]);
+        return v + (d1 / (d1 - d3)) * ex;
+    }
+    const double d5 = gx - xy; // ex·(P − Y)
+    const double d6 = gy - yy; // ey·(P − Y)
+    if (d6 >= 0.0 && d5 <= d6) {
+        region = vertexRegion(pos[2]);
+        return y;
+    }
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+        region = edgeRegion(pos[0], pos[2]);
+        return v + (d2 / (d2 - d6)) * ey;
+    }
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
+        region = edgeRegion(pos[1], pos[2]);
+        return x + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (y - x);
+    }
+    region = TriangleRegion::Face;
+    const double denom = 1.0 / (va + vb + vc);
+    return v + ex * (vb * denom) + ey * (vc * denom);
 }
+
+/// \brief The six triangles around a grid vertex V and the ring of its six neighbours.
+///
+/// Ring j is V + (kRingDc[j], kRingDr[j]): E, SE, S, W, NW, N (rows grow downward); ring index 6
+/// stands for V. Triangle i is (V.c + kTriDc[i], V.r + kTriDr[i], kTriUpper[i]) and kTriVerts[i]
+/// gives its vertices in triangleVertex() order as ring indices.
+struct VertexStar {
+    static constexpr int kRingDc[6] = {1, 1, 0, -1, -1, 0};
+    static constexpr int kRingDr[6] = {0, 1, 1, 0, -1, -1};
+    static constexpr int kTriDc[6] = {0, 0, -1, -1, -1, 0};
+    static constexpr int kTriDr[6] = {0, 0, 0, -1, -1, -1};
+    static constexpr int kTriUpper[6] = {0, 1, 0, 0, 1, 1};
+    static constexpr int kTriVerts[6][3] = {{6, 0, 1}, {6, 1, 2}, {3, 6, 2},
+                                            {4, 5, 6}, {4, 6, 3}, {5, 0, 6}};
+    /// The two ring vertices of triangle i besides V, X then Y.
+    static constexpr int kTriRing[6][2] = {{0, 1}, {1, 2}, {3, 2}, {4, 5}, {4, 3}, {5, 0}};
+    /// Positions (0..2, triangleVertex() order) of V, X and Y in triangle i.
+    static constexpr int kTriPos[6][3] = {{0, 1, 2}, {0, 1, 2}, {1, 0, 2},
+                                          {2, 0, 1}, {1, 0, 2}, {2, 0, 1}};
+    /// Star index of the triangle (V.c + dc, V.r + dr, upper) as [dc + 1][dr + 1][upper]
+    /// (−1: that triangle does not have V).
+    static constexpr int kStarIndex[2][2][2] = {{{3, 4}, {2, -1}}, {{-1, 5}, {0, 1}}};
+};
 
 } // namespace detail
 
 /// \brief Slides the proxy from triangle \a start to the nearest surface point to \a hip.
 /// \param start triangle where the proxy met the surface (from firstCrossing()).
 /// \param hip haptic interaction point, m (scene-box frame).
+///
+/// Cost: across an edge only the one triangle beyond it is tried; around a vertex V the six
+/// neighbours are computed once for the (up to five) triangles tried, and a triangle VXY is tried
+/// only when the HIP lies ahead of V along VX or VY (`(hip − V)·(X − V) > 0`): otherwise V itself
+/// is that triangle's closest point, which is not nearer than the proxy already at V. Vertices of
+/// the current triangle are reused, never refetched. The triangles moved across and the result are
+/// those of trying every triangle around the feature, bit for bit.
 template <class Surface>
 ProxySolution solveProxy(const Surface &surf, const TriangleId &start, const glm::dvec3 &hip) noexcept
 {
+    using Star = detail::VertexStar;
     const int w = surf.columns();
     const int h = surf.rows();
     ProxySolution sol;
     sol.triangle = start;
+    glm::dvec3 cur[3]; // vertices of sol.triangle, triangleVertex() order
+    triangleVertices(surf, start, cur);
     TriangleRegion region{};
-    sol.point = detail::closestOn(surf, start, hip, region);
+    sol.point = closestPointOnTriangle(hip, cur[0], cur[1], cur[2], region);
     glm::dvec3 diff = sol.point - hip;
     double best = glm::dot(diff, diff);
     // A neighbour must be nearer by more than rounding: relative 1e-12 plus (1e-9·s)².
@@ -94,46 +174,113 @@ ProxySolution solveProxy(const Surface &surf, const TriangleId &start, const glm
     for (; sol.steps < kMaxProxySteps; ++sol.steps) {
         if (region == TriangleRegion::Face)
             break;
-        // The grid vertices that define the feature the closest point lies on.
-        int ka = 0;
-        int kb = -1;
-        switch (region) {
-        case TriangleRegion::EdgeAB: ka = 0; kb = 1; break;
-        case TriangleRegion::EdgeBC: ka = 1; kb = 2; break;
-        case TriangleRegion::EdgeCA: ka = 2; kb = 0; break;
-        case TriangleRegion::VertexA: ka = 0; break;
-        case TriangleRegion::VertexB: ka = 1; break;
-        case TriangleRegion::VertexC: ka = 2; break;
-        case TriangleRegion::Face: break;
-        }
-        int ac = 0;
-        int ar = 0;
-        int bc = 0;
-        int br = 0;
-        triangleVertex(sol.triangle, ka, ac, ar);
-        if (kb >= 0)
-            triangleVertex(sol.triangle, kb, bc, br);
-        TriangleId around[6];
-        const int n = detail::trianglesAroundVertex(w, h, ac, ar, around);
         TriangleId bestTri = sol.triangle;
         glm::dvec3 bestPoint = sol.point;
+        glm::dvec3 bestV[3];
         TriangleRegion bestRegion = region;
         double bestD = best;
         const double need = best * (1.0 - 1e-12) - tol * tol;
-        for (int i = 0; i < n; ++i) {
-            if (around[i] == sol.triangle)
-                continue;
-            if (kb >= 0 && !detail::triangleHasVertex(around[i], bc, br))
-                continue;
+        auto tryTriangle = [&](const TriangleId &tri, const glm::dvec3 &a, const glm::dvec3 &b,
+                               const glm::dvec3 &c) {
             TriangleRegion rg{};
-            const glm::dvec3 q = detail::closestOn(surf, around[i], hip, rg);
+            const glm::dvec3 q = closestPointOnTriangle(hip, a, b, c, rg);
             const glm::dvec3 dq = q - hip;
             const double d = glm::dot(dq, dq);
             if (d < need && d < bestD) {
                 bestD = d;
-                bestTri = around[i];
+                bestTri = tri;
                 bestPoint = q;
                 bestRegion = rg;
+                bestV[0] = a;
+                bestV[1] = b;
+                bestV[2] = c;
+            }
+        };
+        if (region == TriangleRegion::EdgeAB || region == TriangleRegion::EdgeBC ||
+            region == TriangleRegion::EdgeCA) {
+            // One candidate: the triangle across the edge; two of its vertices are the edge's.
+            TriangleId across{};
+            if (detail::triangleAcrossEdge(w, h, sol.triangle, region, across)) {
+                int cc[3];
+                int cr[3];
+                for (int k = 0; k < 3; ++k)
+                    triangleVertex(sol.triangle, k, cc[k], cr[k]);
+                glm::dvec3 v[3];
+                for (int k = 0; k < 3; ++k) {
+                    int c = 0;
+                    int r = 0;
+                    triangleVertex(across, k, c, r);
+                    const int same = c == cc[0] && r == cr[0]   ? 0
+                                     : c == cc[1] && r == cr[1] ? 1
+                                     : c == cc[2] && r == cr[2] ? 2
+                                                                : -1;
+                    v[k] = same >= 0 ? cur[same] : surf.vertex(c, r);
+                }
+                tryTriangle(across, v[0], v[1], v[2]);
+            }
+        } else {
+            // The proxy is at grid vertex V (sol.point, bit for bit): the other triangles around V.
+            const int k = region == TriangleRegion::VertexA ? 0
+                          : region == TriangleRegion::VertexB ? 1
+                                                              : 2;
+            int vc = 0;
+            int vr = 0;
+            triangleVertex(sol.triangle, k, vc, vr);
+            // The current triangle is star triangle i0; its vertices are known already.
+            const int i0 = Star::kStarIndex[sol.triangle.c - vc + 1][sol.triangle.r - vr + 1]
+                                           [sol.triangle.upper];
+            glm::dvec3 ring[7];
+            bool known[7] = {false, false, false, false, false, false, true};
+            ring[6] = sol.point;
+            for (int m = 0; m < 3; ++m) {
+                ring[Star::kTriVerts[i0][m]] = cur[m];
+                known[Star::kTriVerts[i0][m]] = true;
+            }
+            const bool interior = vc >= 1 && vc <= w - 2 && vr >= 1 && vr <= h - 2;
+            const glm::dvec3 toHip = hip - sol.point;
+            // Edges from V and how far the HIP lies along each: g_j = (hip − V)·(X_j − V).
+            glm::dvec3 edge[6]{}; // zero outside the grid (never read there)
+            double along[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+            // Unrolled: the star tables then become constants (the step's hottest loops).
+#pragma GCC unroll 6
+            for (int j = 0; j < 6; ++j) {
+                const int c = vc + Star::kRingDc[j];
+                const int r = vr + Star::kRingDr[j];
+                if (!interior && (c < 0 || c >= w || r < 0 || r >= h))
+                    continue;
+                if (!known[j])
+                    ring[j] = surf.vertex(c, r);
+                edge[j] = ring[j] - sol.point;
+                along[j] = glm::dot(edge[j], toHip);
+            }
+#pragma GCC unroll 6
+            for (int i = 0; i < 6; ++i) {
+                if (i == i0)
+                    continue;
+                const TriangleId tri{vc + Star::kTriDc[i], vr + Star::kTriDr[i], Star::kTriUpper[i]};
+                if (!interior && (tri.c < 0 || tri.c > w - 2 || tri.r < 0 || tri.r > h - 2))
+                    continue;
+                const int a = Star::kTriRing[i][0];
+                const int b = Star::kTriRing[i][1];
+                // The HIP behind V along both edges: V is this triangle's closest point.
+                if (!(along[a] > 0.0) && !(along[b] > 0.0))
+                    continue;
+                TriangleRegion rg{};
+                const glm::dvec3 q = detail::closestPointOnCorner(sol.point, ring[a], ring[b],
+                                                                  edge[a], edge[b], along[a],
+                                                                  along[b], Star::kTriPos[i], rg);
+                const glm::dvec3 dq = q - hip;
+                const double d = glm::dot(dq, dq);
+                if (d < need && d < bestD) {
+                    bestD = d;
+                    bestTri = tri;
+                    bestPoint = q;
+                    bestRegion = rg;
+                    const int *tv = Star::kTriVerts[i];
+                    bestV[0] = ring[tv[0]];
+                    bestV[1] = ring[tv[1]];
+                    bestV[2] = ring[tv[2]];
+                }
             }
         }
         if (bestTri == sol.triangle)
@@ -142,6 +289,9 @@ ProxySolution solveProxy(const Surface &surf, const TriangleId &start, const glm
         sol.point = bestPoint;
         region = bestRegion;
         best = bestD;
+        cur[0] = bestV[0];
+        cur[1] = bestV[1];
+        cur[2] = bestV[2];
     }
     switch (region) {
     case TriangleRegion::Face: sol.constraints = 1; break;
@@ -152,6 +302,21 @@ ProxySolution solveProxy(const Surface &surf, const TriangleId &start, const glm
     }
     return sol;
 }
+
+/// \brief Size of the grid seen every \a stride-th vertex of a W×H grid (StridedSurface), computed
+/// once per frame size so that an update does no integer division.
+struct CoarseGrid {
+    int stride = 0;  ///< Fine cells per coarse cell (< 2: no coarse pass).
+    int columns = 0; ///< (W − 1) / stride + 1
+    int rows = 0;    ///< (H − 1) / stride + 1
+    /// \return the coarse grid of a \a w × \a h grid at \a stride (columns = rows = 0 for stride < 1).
+    static CoarseGrid of(int w, int h, int stride) noexcept
+    {
+        if (stride < 1)
+            return CoarseGrid{stride, 0, 0};
+        return CoarseGrid{stride, (w - 1) / stride + 1, (h - 1) / stride + 1};
+    }
+};
 
 /// \brief A coarser view of a grid surface: every \a stride-th vertex in each direction, the same
 /// triangulation rule (DESIGN.md §3) one level up. A view only: no copy, no allocation; vertex (c, r)
@@ -166,6 +331,12 @@ public:
           h_((fine.rows() - 1) / stride + 1)
     {
     }
+    /// \brief The same view with its size computed beforehand (no division per construction).
+    /// \pre columns == (fine.columns() − 1) / stride + 1, rows likewise (see CoarseGrid).
+    StridedSurface(const Surface &fine, int stride, int columns, int rows) noexcept
+        : fine_(fine), stride_(stride), w_(columns), h_(rows)
+    {
+    }
     [[nodiscard]] int columns() const noexcept { return w_; }
     [[nodiscard]] int rows() const noexcept { return h_; }
     [[nodiscard]] double spacing() const noexcept { return fine_.spacing() * stride_; }
@@ -178,8 +349,9 @@ public:
     {
         const double u = fine_.xToColumn(x) / stride_;
         const double v = fine_.yToRow(y) / stride_;
-        const int c = std::clamp(static_cast<int>(std::floor(u)), 0, w_ - 2);
-        const int r = std::clamp(static_cast<int>(std::floor(v)), 0, h_ - 2);
+        // Truncation is floor() wherever it matters: for u in (−1, 0) both clamp to column 0.
+        const int c = std::clamp(static_cast<int>(u), 0, w_ - 2);
+        const int r = std::clamp(static_cast<int>(v), 0, h_ - 2);
         return TriangleId{c, r, (u - c) >= (v - r) ? 0 : 1};
     }
 
@@ -202,21 +374,32 @@ private:
 /// from the start triangle.
 template <class Surface>
 ProxySolution solveProxyCoarseToFine(const Surface &surf, const TriangleId &start,
-                                     const glm::dvec3 &hip, int stride, double minCells) noexcept
+                                     const glm::dvec3 &hip, const CoarseGrid &grid,
+                                     double minCells) noexcept
 {
+    const int stride = grid.stride;
     if (stride < 2 || surf.columns() < 2 * stride + 1 || surf.rows() < 2 * stride + 1)
         return solveProxy(surf, start, hip);
     const double du = surf.xToColumn(hip.x) - (start.c + 0.5);
     const double dv = surf.yToRow(hip.y) - (start.r + 0.5);
     if (du * du + dv * dv <= minCells * minCells)
         return solveProxy(surf, start, hip);
-    const StridedSurface<Surface> coarse(surf, stride);
+    const StridedSurface<Surface> coarse(surf, stride, grid.columns, grid.rows);
     const double sx = surf.columnToX(start.c + 0.5);
     const double sy = surf.rowToY(start.r + 0.5);
     const ProxySolution rough = solveProxy(coarse, coarse.triangleAt(sx, sy), hip);
     ProxySolution fine = solveProxy(surf, surf.triangleAt(rough.point.x, rough.point.y), hip);
     fine.steps += rough.steps;
     return fine;
+}
+
+/// \brief solveProxyCoarseToFine() with the coarse grid of \a stride computed here.
+template <class Surface>
+ProxySolution solveProxyCoarseToFine(const Surface &surf, const TriangleId &start,
+                                     const glm::dvec3 &hip, int stride, double minCells) noexcept
+{
+    return solveProxyCoarseToFine(surf, start, hip,
+                                  CoarseGrid::of(surf.columns(), surf.rows(), stride), minCells);
 }
 
 } // namespace depthtouch::haptics

@@ -17,6 +17,7 @@
 #include "depthtouch/haptics/collision.h"
 #include "depthtouch/haptics/depth_frame.h"
 #include "depthtouch/haptics/height_field.h"
+#include "depthtouch/haptics/proxy_solver.h"
 #include "depthtouch/platform/result.h"
 
 namespace depthtouch::haptics {
@@ -80,7 +81,9 @@ struct HapticOutput {
     bool contact = false;   ///< Proxy held on the surface.
     bool released = false;  ///< Safety tripped on this update.
     int constraints = 0;    ///< Active constraint planes at the proxy (0 in free space).
-    int cellsVisited = 0;   ///< Cost figures of this update (collision detection).
+    /// Cost figures of this update: cells the collision walks visited (the proxy-to-HIP walk is
+    /// skipped when the HIP is under the surface, its crossing then being certain).
+    int cellsVisited = 0;
     int cellsTested = 0;
     int proxySteps = 0;     ///< Triangles the proxy slid across.
 };
@@ -170,6 +173,7 @@ private:
     glm::dvec3 proxy_{};
     bool haveProxy_ = false;
     double surfaceUnderProxy_ = 0.0; ///< h(proxy.xy) at the end of the last update, or NaN.
+    CoarseGrid coarse_{}; ///< Coarse-to-fine grid for the frames set (RendererConfig::coarseSpacing).
 };
 
 /// \brief Creates the renderer of \a method with \a config (its fix flags are used as given).

@@ -35,6 +35,13 @@ struct BenchRow {
     double p99Ns = 0.0;
     double p999Ns = 0.0;
     double maxNs = 0.0;
+    /// Interference-filtered tail: every run replays identical updates, so the per-update minimum
+    /// over the runs strips interrupts, preemption and steal time but keeps an update that is slow by
+    /// itself. Median, p99 and p99.9 of that minimum, ns (the raw figures of the run when runs == 1).
+    double minOfRunsMedianNs = 0.0;
+    double minOfRunsP99Ns = 0.0;
+    double minOfRunsP999Ns = 0.0;
+    int runsTimed = 1;        ///< Runs the minimum is taken over.
     double frameCostNs = 0.0; ///< Median cost of handing one new depth frame to the renderer, ns.
     double forceRmsError = 0.0; ///< N, against the analytic ground truth.
     long popThroughs = 0;     ///< Updates ending with the proxy below the renderer's surface.
@@ -54,8 +61,11 @@ struct PsdCurves {
 struct BenchReport {
     std::vector<BenchRow> rows;
     PsdCurves psd;
-    double modifiedP999At720Fast = 0.0;  ///< ns; goal ≤ 2000
+    double modifiedP999At720Fast = 0.0;  ///< ns, raw (median over runs); goal ≤ 2000
+    double modifiedMinOfRunsP999At720Fast = 0.0; ///< ns, p99.9 of the per-update minimum; goal ≤ 2000
+    int runsAt720Fast = 0;               ///< runs behind the minimum above
     double resolutionRatio = 0.0;        ///< modified median 3840×2160 / 720×486, worst motion; goal ≤ 1.5
+    double minOfRunsResolutionRatio = 0.0; ///< the same with minOfRunsMedianNs; goal ≤ 1.5
     double rebuildRatio = 0.0;           ///< mesh-bvh frame cost / modified frame cost at 720×486; goal ≥ 1000
 };
 
