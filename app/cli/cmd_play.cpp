@@ -116,7 +116,7 @@ PlayResult runPlay(const PlayOptions &opt)
     if (!(opt.osdSeconds >= 0.0 && opt.osdSeconds <= 86400.0))
         return badInput("--osd-seconds must be in [0, 86400] s");
     if (!(opt.lodTarget >= 0.0 && opt.lodTarget <= 4.0))
-        return badInput("--lod-target must be in [0, 4] frame periods (0: off)");
+        return badInput("--lod-target must be in [0, 4] refresh periods (0: off)");
     if (opt.reengage != "ramp" && opt.reengage != "release")
         return badInput("--reengage must be ramp or release");
     int outW = 0;
@@ -510,8 +510,9 @@ void registerPlayCommand(CLI::App &app, int &exitCode)
     cmd->add_option("--osd-seconds", o->osdSeconds,
                     "On-screen display time after start and each command, s (0: always shown)");
     cmd->add_option("--lod-target", o->lodTarget,
-                    "Level of detail: share of the frame period drawing may take; the mesh is "
-                    "made coarser when it takes longer (0: off, full detail)")
+                    "Level of detail: share of the display's refresh period (or of the frame "
+                    "period, if shorter) drawing may take; the mesh is made coarser when it takes "
+                    "longer (0: off, full detail)")
         ->capture_default_str();
     cmd->add_flag("--require-rt", o->requireRt, "Fail when SCHED_FIFO is refused");
     cmd->add_flag("--idle", o->idle, "Stay up after the end or an error (for --control)");

@@ -40,7 +40,7 @@ struct PlayOptions {
     std::string size;               ///< Output WxH, empty: 2·depth width × depth height.
     int meshStep = 0;               ///< 0: adaptive level of detail.
     double osdSeconds = 4.0;        ///< On-screen display after a command, s (0: always).
-    double lodTarget = 0.8;         ///< Share of the frame period drawing may take (0: LOD off).
+    double lodTarget = 0.9;         ///< Share of a refresh period drawing may take (0: LOD off).
     bool requireRt = false;
     bool idle = false;              ///< Stay up after the end / an error (control socket).
     bool quiet = false;             ///< No state-change lines on stderr.

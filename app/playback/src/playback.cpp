@@ -825,7 +825,15 @@ void Playback::Impl::renderLoop()
                     ro.mesh.mode == render::MeshMode::Quadtree) {
                     if (!lod) {
                         render::LodOptions lo;
-                        lo.targetSeconds = config.lodTarget * s.period;
+                        // A frame drawn within one refresh period is on screen at its time even
+                        // after a late one (the next refresh catches up); one that takes longer
+                        // stays a refresh late until a faster one comes, and the next stall drops
+                        // a frame. So the target is a share of the refresh period (of the frame
+                        // period when that is shorter, or the display does not say).
+                        const double refresh = hal.display->refreshHz();
+                        const double budgetPeriod =
+                            refresh > 0.0 ? std::min(s.period, 1.0 / refresh) : s.period;
+                        lo.targetSeconds = config.lodTarget * budgetPeriod;
                         lo.minBlocks = std::max<std::size_t>(
                             lo.minBlocks, static_cast<std::size_t>(dv.width) *
                                               static_cast<std::size_t>(dv.height) / 256);

@@ -352,7 +352,8 @@ TEST(QuadtreeMeshTest, blockBudgetBoundsTheLeavesAndRefinesEdgesBreadthFirst)
         lastBlocks = static_cast<std::size_t>(mesh.stats().blocks);
         // While the budget is too small for the disc's edge to come within the cap, the edge is
         // refined evenly, the largest blocks over the cap first: no leaf is a single cell yet.
-        if (budget <= 240)
+        if (budget <= 240) {
             EXPECT_EQ(mesh.stats().blocksAtSize[0], 0) << "budget " << budget;
+        }
     }
 }

@@ -17,7 +17,7 @@
 /// (HapticTask::requestReseat()): no force kick.
 ///
 /// Level of detail: the drawn mesh's block budget follows the measured draw times
-/// (render::LodController, `lodTarget` of the frame period), so a slow renderer draws a coarser
+/// (render::LodController, `lodTarget` of the refresh period), so a slow renderer draws a coarser
 /// surface instead of dropping frames; the haptic task always touches the full-resolution frames.
 ///
 /// Inputs without depth play flat (2D) with haptics off, and info().notes says so; inputs without
@@ -80,10 +80,12 @@ struct PlaybackConfig {
     bool avatar = true; ///< Proxy sphere and HIP marker.
     /// Mesh step of the drawn surface: 0 = adaptive level of detail, else a fixed power of two.
     int meshStep = 0;
-    /// Level-of-detail control (meshStep 0): the share of the frame period that drawing and
-    /// presenting a frame may take; the mesh's block budget follows the measured times
-    /// (render::LodController). 0 = off (the mesh always at its full tolerance).
-    double lodTarget = 0.8;
+    /// Level-of-detail control (meshStep 0): the share of the display's refresh period (of the
+    /// frame period when that is shorter) that drawing a frame may take; the mesh's block budget
+    /// follows the measured draw times (render::LodController). Within one refresh, a frame that
+    /// comes late after a stall is caught up at the next refresh; 30 fps on a 60 Hz display
+    /// thus gets 15 ms at 0.9. 0 = off (the mesh always at its full tolerance).
+    double lodTarget = 0.9;
 };
 
 /// \brief The HAL objects a Playback uses (the executable chooses the backends).
