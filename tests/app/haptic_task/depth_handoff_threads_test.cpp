@@ -4,6 +4,7 @@
 #include "depthtouch/haptic_task/depth_handoff.h"
 
 #include <atomic>
+#include <chrono>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -36,10 +37,19 @@ TEST(DepthHandoffThreadsTest, manyPublishesWhileReadingGiveNoTornFrame)
     DepthHandoff &handoff = **created;
     constexpr int kFrames = 20000;
     std::atomic<bool> done{false};
+    std::atomic<int> newestAcquired{0}; // the reader's newest pts, so the writer can let it in
 
     std::thread decoder([&] {
         test::Frame16 frame(64, 48, 0.0);
         for (int i = 1; i <= kFrames; ++i) {
+            // Every 2000 frames, wait (at most 2 s) until the reader has had a pair of the last
+            // stretch: on a loaded machine the writer could otherwise publish all before the
+            // reader runs once, and the test would see no concurrency at all.
+            if (i % 2000 == 0) {
+                const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+                while (newestAcquired.load() < i - 2000 && std::chrono::steady_clock::now() < until)
+                    std::this_thread::yield();
+            }
             frame.pts = i;
             std::fill(frame.samples.begin(), frame.samples.end(), valueOf(i));
             if (!handoff.push(frame.view())) {
@@ -68,6 +78,7 @@ TEST(DepthHandoffThreadsTest, manyPublishesWhileReadingGiveNoTornFrame)
             if (pair.hasNext && pair.next.pts != pair.current.pts + 1.0)
                 ++outOfOrder;
             lastPts = pair.current.pts;
+            newestAcquired.store(static_cast<int>(pair.current.pts));
         }
         if (have) {
             // Checks the held frames again and again while the writer keeps publishing.
