@@ -931,9 +931,9 @@ void Playback::Impl::renderLoop()
         // (its present would wait for it anyway).
         if (lod && renderer && drawn && renderer->rendersInSoftware())
             renderer->finish();
-        const double drawSeconds = platform::toSeconds(clock.now() - drawStart);
 #endif
-        const double ms = platform::toSeconds(clock.now() - drawStart) * 1e3;
+        const double drawSeconds = platform::toSeconds(clock.now() - drawStart);
+        const double ms = drawSeconds * 1e3;
         const auto presented = hal.display->present();
 #if DT_PLAYBACK_HAVE_GL
         if (lod && renderer && drawn && presented && !rs.prerolling) {
