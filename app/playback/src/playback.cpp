@@ -80,8 +80,8 @@ render::StereoMode toRenderMode(player::StereoMode m) noexcept
 
 #if DT_PLAYBACK_HAVE_GL
 /// The output recording (render thread): presented frames read back and encoded.
-/// The recording: frames read back on the render thread, encoded by a thread of its own (x264 at
-/// 1280×480 takes 10–20 ms a frame here: on the render thread it made frames late). At most
+/// The recording: frames read back on the render thread, encoded by a thread of its own (x264's
+/// time per frame would otherwise add to every frame's draw). At most
 /// kQueue frames wait; when the encoder is that far behind the render thread waits for it, so
 /// every presented frame is recorded.
 class Recorder {
