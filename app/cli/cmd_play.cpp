@@ -117,6 +117,8 @@ PlayResult runPlay(const PlayOptions &opt)
         return badInput("--osd-seconds must be in [0, 86400] s");
     if (!(opt.lodTarget >= 0.0 && opt.lodTarget <= 4.0))
         return badInput("--lod-target must be in [0, 4] refresh periods (0: off)");
+    if (!(opt.maxLateness >= 0.0 && opt.maxLateness <= 10.0))
+        return badInput("--max-lateness must be in [0, 10] seconds");
     if (opt.reengage != "ramp" && opt.reengage != "release")
         return badInput("--reengage must be ramp or release");
     int outW = 0;
@@ -194,6 +196,7 @@ PlayResult runPlay(const PlayOptions &opt)
     pc.meshStep = opt.meshStep;
     pc.osdSeconds = opt.osdSeconds;
     pc.lodTarget = opt.lodTarget;
+    pc.maxLateness = opt.maxLateness;
     playback::PlaybackHal ph;
     const std::string sourceName = opt.source;
     const std::string decoderName = opt.decoder;
@@ -296,6 +299,7 @@ PlayResult runPlay(const PlayOptions &opt)
     j["frames_presented"] = ps.framesPresented;
     j["frames_dropped"] = ps.framesDropped;
     j["frames_late"] = ps.framesLate;
+    j["late_ms_max"] = ps.lateMsMax;
     j["frames_concealed"] = ps.receiver.framesConcealed;
     j["decode_errors"] = ps.receiver.decodeErrors;
     j["zero_copy"] = ps.zeroCopy;
@@ -342,12 +346,12 @@ PlayResult runPlay(const PlayOptions &opt)
     for (const std::string &n : info.notes)
         std::printf("  note              %s\n", n.c_str());
     std::printf("  frames            %llu received, %llu presented, %llu dropped, %llu late "
-                "(%.1f fps presented; render p50 %.1f ms, p99 %.1f ms)\n",
+                "(at most %.0f ms; %.1f fps presented; render p50 %.1f ms, p99 %.1f ms)\n",
                 static_cast<unsigned long long>(ps.framesReceived),
                 static_cast<unsigned long long>(ps.framesPresented),
                 static_cast<unsigned long long>(ps.framesDropped),
-                static_cast<unsigned long long>(ps.framesLate), ps.presentedFps, ps.renderMsP50,
-                ps.renderMsP99);
+                static_cast<unsigned long long>(ps.framesLate), ps.lateMsMax, ps.presentedFps,
+                ps.renderMsP50, ps.renderMsP99);
     if (ps.lodBudget > 0)
         std::printf("  level of detail   %.0f triangles a frame (median); %llu of %llu frames made "
                     "coarser to keep time, budget now %zu blocks\n",
@@ -447,6 +451,7 @@ std::string applyConfig(CLI::App &cmd, PlayOptions &o)
         {"mesh-step", count(o.meshStep)},    {"require-rt", flag(o.requireRt)},
         {"idle", flag(o.idle)},              {"quiet", flag(o.quiet)},
         {"osd-seconds", num(o.osdSeconds)},  {"lod-target", num(o.lodTarget)},
+        {"max-lateness", num(o.maxLateness)},
     };
     for (const auto &[k, node] : tbl) {
         const std::string key(k.str());
@@ -513,6 +518,10 @@ void registerPlayCommand(CLI::App &app, int &exitCode)
                     "Level of detail: share of the display's refresh period (or of the frame "
                     "period, if shorter) drawing may take; the mesh is made coarser when it takes "
                     "longer (0: off, full detail)")
+        ->capture_default_str();
+    cmd->add_option("--max-lateness", o->maxLateness,
+                    "Seconds a frame may be late and still be drawn (the next ones catch up); "
+                    "later ones are dropped (0: drop as soon as the next frame is due)")
         ->capture_default_str();
     cmd->add_flag("--require-rt", o->requireRt, "Fail when SCHED_FIFO is refused");
     cmd->add_flag("--idle", o->idle, "Stay up after the end or an error (for --control)");

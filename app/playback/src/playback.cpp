@@ -684,8 +684,11 @@ void Playback::Impl::renderLoop()
         // The next frame to show gets its mesh and colour made ahead while this thread draws (the
         // first, or the second when it is due already and the first will be dropped).
         if (prepWorker && renderer && rs.pendingCount > 0 && rs.clockStarted) {
-            const bool skipFirst = rs.pendingCount == 2 &&
-                                   now >= rs.origin + platform::fromSeconds(ptsSeconds(rs.pending[1].pts));
+            const bool skipFirst =
+                rs.pendingCount == 2 &&
+                now >= rs.origin + platform::fromSeconds(ptsSeconds(rs.pending[1].pts)) &&
+                platform::toSeconds(now - rs.origin) - ptsSeconds(rs.pending[0].pts) >
+                    config.maxLateness;
             prepWorker->submit(rs.pending[skipFirst ? 1 : 0], rs.pending, rs.pendingCount,
                                renderer->options().mesh, renderer->convertsColorOnCpu());
         }
@@ -737,18 +740,20 @@ void Playback::Impl::renderLoop()
                 clock.sleepUntil(std::min(due, now + std::chrono::milliseconds(5)));
                 continue;
             }
-            // Late: skip this frame when its successor is due too.
-            if (rs.pendingCount == 2 &&
+            // Late: skip this frame when its successor is due too and it is later than the
+            // lateness allowed; else draw it, and the next frames catch up.
+            const double late = platform::toSeconds(now - due);
+            if (rs.pendingCount == 2 && late > config.maxLateness &&
                 now >= rs.origin + platform::fromSeconds(ptsSeconds(rs.pending[1].pts))) {
                 rs.popFront();
                 std::lock_guard<std::mutex> lock(mutex);
                 ++stats.framesDropped;
                 continue;
             }
-            if (platform::toSeconds(now - due) > s.period) {
-                std::lock_guard<std::mutex> lock(mutex);
+            std::lock_guard<std::mutex> lock(mutex);
+            if (late > s.period)
                 ++stats.framesLate;
-            }
+            stats.lateMsMax = std::max(stats.lateMsMax, 1e3 * late);
         }
 
         // Frame i goes on screen: the haptic task gets (depth i, depth i+1).
@@ -1021,6 +1026,8 @@ Result<std::unique_ptr<Playback>> Playback::create(const PlaybackConfig &config,
     if (config.meshStep < 0 || config.meshStep > 64 ||
         (config.meshStep & (config.meshStep - 1)) != 0)
         return Error(Errc::InvalidArgument, "mesh step must be 0 or a power of two up to 64");
+    if (!(config.maxLateness >= 0.0 && config.maxLateness <= 10.0))
+        return Error(Errc::InvalidArgument, "max lateness must be in [0, 10] s");
     auto impl = std::make_unique<Impl>(config, hal);
     return std::unique_ptr<Playback>(new Playback(std::move(impl)));
 }

@@ -146,6 +146,8 @@ Result<hal::PresentInfo> MockDisplay::present()
         return unexpected(Errc::InvalidState, "present() requires state Open");
     if (state_ == State::Lost)
         return unexpected(Errc::NoDevice, "Display lost");
+    if (const double stall = stallSeconds_.exchange(0.0); stall > 0.0)
+        clock_.sleepFor(platform::fromSeconds(stall));
     const platform::TimePoint now = clock_.now();
     std::uint64_t k = lastVsync_ + 1;
     if (vsyncTime(k) < now) {

@@ -353,6 +353,11 @@ TEST(PlayEndToEnd, BadInputIsOneLineAndExitCodeTwo)
         run(std::string(DEPTHTOUCH) + " play x.mkv --stereo diagonal --display mock");
     EXPECT_EQ(stereo.exitCode, 2);
     EXPECT_NE(stereo.output.find("--stereo must be"), std::string::npos) << stereo.output;
+    const RunResult lateness =
+        run(std::string(DEPTHTOUCH) + " play x.mkv --max-lateness -1 --display mock");
+    EXPECT_EQ(lateness.exitCode, 2);
+    EXPECT_NE(lateness.output.find("--max-lateness must be"), std::string::npos)
+        << lateness.output;
 
     depthtouch::testing::TempDir tmp("dt-play-cfg-");
     const fs::path cfg = tmp.dir() / "play.toml";
@@ -384,6 +389,7 @@ TEST(PlayEndToEnd, ConfigFileSetsOptionsAndTheCommandLineWins)
     EXPECT_EQ(j["haptic_rate_hz"].get<double>(), 800.0);
     EXPECT_EQ(j["display"].get<std::string>(), "mock");
     EXPECT_EQ(j["frames_received"].get<int>(), 15);
+    EXPECT_GE(j["late_ms_max"].get<double>(), 0.0);
 }
 
 } // namespace

@@ -32,7 +32,7 @@ struct Rig {
     std::unique_ptr<playback::Playback> playback;
     std::unique_ptr<player::StateMachine> machine;
 
-    explicit Rig(bool haptics = true, bool loop = false)
+    explicit Rig(bool haptics = true, bool loop = false, double maxLateness = 0.1)
     {
         hal::BackendConfig cfg;
         cfg.clock = &clock;
@@ -45,6 +45,7 @@ struct Rig {
         playback::PlaybackConfig pc;
         pc.haptics.lockMemory = false;
         pc.haptics.renderer.reengage = haptics::Reengage::Ramp;
+        pc.maxLateness = maxLateness;
         playback::PlaybackHal ph;
         ph.makeSource = [this]() {
             hal::BackendConfig c;
@@ -108,6 +109,36 @@ TEST(Playback, PlaysEveryFrameOnceAndFeedsTheHapticTask)
     EXPECT_GT(hs->updates, 500u); // ~1000 at 1 kHz; the host may stall the thread for ms
     EXPECT_GT(hs->contactUpdates, 0u);
     EXPECT_LE(hs->maxForce, 8.5 + 1e-9);
+}
+
+TEST(Playback, AStallDelaysFramesWithinTheMaxLatenessAndDropsThemBeyondIt)
+{
+    for (const double maxLateness : {0.25, 0.0}) {
+        SCOPED_TRACE(maxLateness);
+        // GIVEN a 2 s clip at 30 fps on a 60 Hz display
+        Rig rig(false, false, maxLateness);
+        auto &display = static_cast<drivers::MockDisplay &>(*rig.display);
+        ASSERT_TRUE(rig.machine->execute("play mock://clip?frames=60&fps=30&width=64&height=48")
+                        .accepted);
+        ASSERT_TRUE(rig.runUntil([&] { return rig.playback->position() > 0.5; }));
+        // WHEN the render thread stalls for 120 ms (3.6 frame periods) in one present
+        display.stallNextPresent(0.12);
+        ASSERT_TRUE(rig.runUntil([&] { return rig.machine->state() == PlayerState::Stopped; }));
+        const playback::PlaybackStats s = rig.playback->stats();
+        EXPECT_EQ(s.framesReceived, 60u);
+        EXPECT_EQ(s.framesPresented + s.framesDropped, 60u);
+        if (maxLateness > 0.0) {
+            // THEN within 0.25 s of lateness every frame is shown, late, and the next catch up:
+            // the frame after the stalled one is taken at least 120 - 33 ms after its time
+            EXPECT_EQ(s.framesDropped, 0u);
+            EXPECT_GE(s.lateMsMax, 80.0);
+            EXPECT_GE(s.framesLate, 1u);
+            EXPECT_LE(s.lateMsMax, 1e3 * maxLateness);
+        } else {
+            // THEN with none allowed the frames whose successors are due are skipped
+            EXPECT_GE(s.framesDropped, 1u);
+        }
+    }
 }
 
 TEST(Playback, PauseFreezesThePositionAndResumeGoesOn)

@@ -86,6 +86,14 @@ struct PlaybackConfig {
     /// comes late after a stall is caught up at the next refresh; 30 fps on a 60 Hz display
     /// thus gets 15 ms at 0.9. 0 = off (the mesh always at its full tolerance).
     double lodTarget = 0.9;
+    /// Longest time a frame may be taken to be drawn after its time, seconds. A frame whose
+    /// successor is due too is still drawn while it is less late than this, and the frames after
+    /// it catch up (a frame drawn within one refresh period shows at the next refresh). A stall of
+    /// the machine then delays a few frames instead of skipping one: a skipped frame is a jerk in
+    /// the motion, a picture up to this late for a moment is not. Later frames are skipped
+    /// (counted as dropped) until the player is back in time. 0: skip a frame as soon as its
+    /// successor is due.
+    double maxLateness = 0.1;
 };
 
 /// \brief The HAL objects a Playback uses (the executable chooses the backends).
@@ -103,8 +111,11 @@ struct PlaybackStats {
     std::uint64_t opens = 0;
     std::uint64_t framesReceived = 0;  ///< Paired frames taken from the decode thread.
     std::uint64_t framesPresented = 0; ///< present() calls that succeeded.
-    std::uint64_t framesDropped = 0;   ///< Frames skipped because their successor was already due.
+    /// Frames skipped because their successor was already due and they were more than
+    /// PlaybackConfig::maxLateness late.
+    std::uint64_t framesDropped = 0;
     std::uint64_t framesLate = 0;      ///< Presented more than one frame period after their time.
+    double lateMsMax = 0.0;            ///< Most a presented frame was late (taken after its time), ms.
     std::uint64_t presentErrors = 0;
     std::uint64_t renderErrors = 0;
     std::uint64_t depthPairsPublished = 0; ///< Pairs handed to the haptic task.

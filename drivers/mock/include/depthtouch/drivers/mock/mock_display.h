@@ -11,6 +11,7 @@
 /// DisplayConfig. Thread-safety: thread-bound, as hal::Display; loseDisplay() and restoreDisplay()
 /// too.
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 
@@ -58,6 +59,9 @@ public:
     void loseDisplay() noexcept;
     /// Plugs the display back in: open() works again (a Lost display stays Lost until closed).
     void restoreDisplay() noexcept { connected_ = true; }
+    /// The next present() first sleeps \a seconds on the clock (the caller's thread stalled, as
+    /// by a busy machine), then lands on the first blank after that. Safe to call from any thread.
+    void stallNextPresent(double seconds) noexcept { stallSeconds_.store(seconds); }
     ///@}
 
     /// \return presents since open().
@@ -79,6 +83,7 @@ private:
     platform::TimePoint epoch_{};
     std::uint64_t lastVsync_ = 0; ///< Index of the blank of the last present (0: none yet).
     std::uint64_t presents_ = 0;
+    std::atomic<double> stallSeconds_{0.0};
 };
 
 } // namespace depthtouch::drivers
