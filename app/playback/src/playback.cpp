@@ -327,6 +327,7 @@ struct RenderState {
     bool prerolling = false;     ///< The first frame after open or seek is being drawn: the media
                                  ///< clock is anchored again when it is on screen.
     TimePoint origin{};          ///< Clock time at which media time (stream PTS, s) is 0.
+    TimePoint onTimeAt{};        ///< When a frame was last taken less than a frame period late.
     double pausedAt = 0.0;       ///< Media time frozen by pause, s.
     bool wasPaused = false;
     std::uint64_t seekSeen = 0;
@@ -336,6 +337,18 @@ struct RenderState {
     bool playClockRunning = false;
     double playingSeconds = 0.0;
 
+    /// \return whether pending[0] is skipped at \a now: its successor is due too, and it is more
+    /// than \a maxLateness late or the player has not been on time for 3 × maxLateness. A stall
+    /// of L seconds is caught up within about 2L more (one refresh gained per frame at 30 fps on
+    /// 60 Hz); frames late for longer mean the player cannot catch up (a slow machine, or 60 fps
+    /// on 60 Hz), and are skipped as with no lateness allowed.
+    [[nodiscard]] bool skipsFront(TimePoint now, double maxLateness) const noexcept
+    {
+        if (pendingCount < 2 || now < origin + platform::fromSeconds(ptsSeconds(pending[1].pts)))
+            return false;
+        const double late = platform::toSeconds(now - origin) - ptsSeconds(pending[0].pts);
+        return late > maxLateness || platform::toSeconds(now - onTimeAt) > 3.0 * maxLateness;
+    }
     [[nodiscard]] bool haveShown() const noexcept
     {
         return static_cast<bool>(shown.color) || static_cast<bool>(shown.depth);
@@ -684,11 +697,7 @@ void Playback::Impl::renderLoop()
         // The next frame to show gets its mesh and colour made ahead while this thread draws (the
         // first, or the second when it is due already and the first will be dropped).
         if (prepWorker && renderer && rs.pendingCount > 0 && rs.clockStarted) {
-            const bool skipFirst =
-                rs.pendingCount == 2 &&
-                now >= rs.origin + platform::fromSeconds(ptsSeconds(rs.pending[1].pts)) &&
-                platform::toSeconds(now - rs.origin) - ptsSeconds(rs.pending[0].pts) >
-                    config.maxLateness;
+            const bool skipFirst = rs.skipsFront(now, config.maxLateness);
             prepWorker->submit(rs.pending[skipFirst ? 1 : 0], rs.pending, rs.pendingCount,
                                renderer->options().mesh, renderer->convertsColorOnCpu());
         }
@@ -725,6 +734,7 @@ void Playback::Impl::renderLoop()
             // is on screen (preroll), so the time its first draw takes (shader compilation, first
             // uploads, a seek's decode) does not make the frames after it late.
             rs.origin = now - platform::fromSeconds(pts);
+            rs.onTimeAt = now;
             rs.clockStarted = true;
             rs.prerolling = true;
             rs.pausedAt = pts;
@@ -740,16 +750,17 @@ void Playback::Impl::renderLoop()
                 clock.sleepUntil(std::min(due, now + std::chrono::milliseconds(5)));
                 continue;
             }
-            // Late: skip this frame when its successor is due too and it is later than the
-            // lateness allowed; else draw it, and the next frames catch up.
+            // Late: skip this frame when its successor is due too and it is too late to catch
+            // up (RenderState::skipsFront); else draw it, and the next frames catch up.
             const double late = platform::toSeconds(now - due);
-            if (rs.pendingCount == 2 && late > config.maxLateness &&
-                now >= rs.origin + platform::fromSeconds(ptsSeconds(rs.pending[1].pts))) {
+            if (rs.skipsFront(now, config.maxLateness)) {
                 rs.popFront();
                 std::lock_guard<std::mutex> lock(mutex);
                 ++stats.framesDropped;
                 continue;
             }
+            if (late <= s.period)
+                rs.onTimeAt = now;
             std::lock_guard<std::mutex> lock(mutex);
             if (late > s.period)
                 ++stats.framesLate;

@@ -141,6 +141,26 @@ TEST(Playback, AStallDelaysFramesWithinTheMaxLatenessAndDropsThemBeyondIt)
     }
 }
 
+TEST(Playback, FramesThatCannotCatchUpAreSkippedAfterThreeTimesTheMaxLateness)
+{
+    // GIVEN 60 fps on a 60 Hz display: every refresh needs a new frame, so a late player cannot
+    // catch up by showing frames for one refresh instead of two
+    Rig rig(false, false, 0.1);
+    auto &display = static_cast<drivers::MockDisplay &>(*rig.display);
+    ASSERT_TRUE(
+        rig.machine->execute("play mock://clip?frames=180&fps=60&width=64&height=48").accepted);
+    ASSERT_TRUE(rig.runUntil([&] { return rig.playback->position() > 0.5; }));
+    // WHEN the render thread stalls for 60 ms, under the 0.1 s of lateness allowed
+    display.stallNextPresent(0.06);
+    ASSERT_TRUE(rig.runUntil([&] { return rig.machine->state() == PlayerState::Stopped; }));
+    const playback::PlaybackStats s = rig.playback->stats();
+    EXPECT_EQ(s.framesPresented + s.framesDropped, 180u);
+    // THEN frames are skipped once the player has been late for 0.3 s, and it is back in time:
+    // it does not stay late to the end (2.5 s, 150 frames)
+    EXPECT_GE(s.framesDropped, 1u);
+    EXPECT_LT(s.framesLate, 60u) << "late frames: the player stayed behind";
+}
+
 TEST(Playback, PauseFreezesThePositionAndResumeGoesOn)
 {
     Rig rig;

@@ -91,8 +91,10 @@ struct PlaybackConfig {
     /// it catch up (a frame drawn within one refresh period shows at the next refresh). A stall of
     /// the machine then delays a few frames instead of skipping one: a skipped frame is a jerk in
     /// the motion, a picture up to this late for a moment is not. Later frames are skipped
-    /// (counted as dropped) until the player is back in time. 0: skip a frame as soon as its
-    /// successor is due.
+    /// (counted as dropped) until the player is back in time, and so are late frames once no
+    /// frame has been on time for 3 × maxLateness (a machine too slow to catch up, or 60 fps on a
+    /// 60 Hz display, where no refresh can be saved). 0: skip a frame as soon as its successor is
+    /// due.
     double maxLateness = 0.1;
 };
 
