@@ -41,7 +41,7 @@ struct PlayOptions {
     int meshStep = 0;               ///< 0: adaptive level of detail.
     double osdSeconds = 4.0;        ///< On-screen display after a command, s (0: always).
     double lodTarget = 0.9;         ///< Share of a refresh period drawing may take (0: LOD off).
-    double maxLateness = 0.1;       ///< Lateness a frame is still drawn with, s (PlaybackConfig).
+    double maxLateness = 0.0;       ///< Lateness a frame is still drawn with, s (PlaybackConfig).
     bool requireRt = false;
     bool idle = false;              ///< Stay up after the end / an error (control socket).
     bool quiet = false;             ///< No state-change lines on stderr.

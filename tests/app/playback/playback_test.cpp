@@ -32,7 +32,7 @@ struct Rig {
     std::unique_ptr<playback::Playback> playback;
     std::unique_ptr<player::StateMachine> machine;
 
-    explicit Rig(bool haptics = true, bool loop = false, double maxLateness = 0.1)
+    explicit Rig(bool haptics = true, bool loop = false, double maxLateness = 0.0)
     {
         hal::BackendConfig cfg;
         cfg.clock = &clock;

@@ -93,9 +93,11 @@ struct PlaybackConfig {
     /// the motion, a picture up to this late for a moment is not. Later frames are skipped
     /// (counted as dropped) until the player is back in time, and so are late frames once no
     /// frame has been on time for 3 × maxLateness (a machine too slow to catch up, or 60 fps on a
-    /// 60 Hz display, where no refresh can be saved). 0: skip a frame as soon as its successor is
-    /// due.
-    double maxLateness = 0.1;
+    /// 60 Hz display, where no refresh can be saved). 0 (the default): skip a frame as soon as its
+    /// successor is due. Catching up needs frames drawn well within a refresh period: with the
+    /// level of detail at 0.9 of it on llvmpipe, 0.1 s gave more late frames and, under heavy
+    /// host steal, more drops than 0 (README, "Real input").
+    double maxLateness = 0.0;
 };
 
 /// \brief The HAL objects a Playback uses (the executable chooses the backends).
