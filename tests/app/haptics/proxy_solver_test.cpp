@@ -1,8 +1,10 @@
 #include "depthtouch/haptics/proxy_solver.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 #include <gtest/gtest.h>
 
 #include "app/haptics/synthetic.h"
@@ -176,7 +178,72 @@ TEST(ProxySolverTest, coarseToFineGivesTheFullGridDescentsForceOnASmoothSurface)
     EXPECT_LT(coarseSteps * 2, fullSteps) << "full " << fullSteps << " coarse-to-fine " << coarseSteps;
 }
 
-TEST(ProxySolverTest, coarseToFineFallsBackToTheFullGridForShortMovesAndSmallGrids)
+TEST(ProxySolverTest, tangentPlaneGuessStepsOverTheLocalOptimaOfAQuantisedFineGrid)
+{
+    // GIVEN z = 4 mm · sin(60 x) · cos(50 y) at 3840 × 400 in 16 bits (26 µm cells; each facet's
+    // normal is off by up to about a degree from rounding), HIPs held 3 mm under it, and the
+    // previous proxy 3 cells from the optimum (where a moving surface leaves it after one update)
+    const int w = 3840;
+    const int h = 400;
+    constexpr double kA = 0.004;
+    const OwnedFrame f = test::makeFrame(kBox, w, h, 0.0, [&](double x, double y) {
+        return kA * std::sin(60.0 * x) * std::cos(50.0 * y);
+    });
+    HeightField hf(kBox);
+    ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
+    const int stride = static_cast<int>(std::floor((kBox.width / 719.0) / hf.spacing()));
+    ASSERT_EQ(stride, 5);
+    // The optimum of the smooth surface: Newton on |(x, y, z(x, y)) − hip|².
+    auto optimum = [&](const glm::dvec3 &hip) {
+        double x = hip.x;
+        double y = hip.y;
+        for (int it = 0; it < 20; ++it) {
+            const double sx = std::sin(60.0 * x), cx = std::cos(60.0 * x);
+            const double sy = std::sin(50.0 * y), cy = std::cos(50.0 * y);
+            const double e = kA * sx * cy - hip.z;
+            const double fx = 60.0 * kA * cx * cy, fy = -50.0 * kA * sx * sy;
+            const double fxx = -3600.0 * kA * sx * cy, fyy = -2500.0 * kA * sx * cy;
+            const double fxy = -3000.0 * kA * cx * sy;
+            const double gx = (x - hip.x) + e * fx, gy = (y - hip.y) + e * fy;
+            const double hxx = 1.0 + fx * fx + e * fxx, hyy = 1.0 + fy * fy + e * fyy;
+            const double hxy = fx * fy + e * fxy;
+            const double det = hxx * hyy - hxy * hxy;
+            x -= (hyy * gx - hxy * gy) / det;
+            y -= (hxx * gy - hxy * gx) / det;
+        }
+        return glm::dvec2(x, y);
+    };
+    double plainErr = 0.0;
+    double guessErr = 0.0;
+    int n = 0;
+    for (int i = 0; i < 200; ++i) {
+        const double x = -0.04 + 0.0004 * i;
+        const double y = -0.004 + 0.00004 * i;
+        const glm::dvec3 hip(x, y, hf.heightAt(x, y) - 0.003);
+        const glm::dvec2 best = optimum(hip);
+        const TriangleId start = hf.triangleAt(best.x + 3.0 * hf.spacing(), best.y);
+        // WHEN the descent starts from the previous proxy, or at the tangent-plane guess
+        const ProxySolution plain = solveProxy(hf, start, hip);
+        const ProxySolution guessed = solveProxyCoarseToFine(hf, start, hip, stride, stride);
+        plainErr += glm::length(glm::dvec2(plain.point) - best);
+        guessErr += glm::length(glm::dvec2(guessed.point) - best);
+        EXPECT_GE(guessed.point.z, hf.heightAt(guessed.point.x, guessed.point.y) - 1e-9 * hf.spacing());
+        ++n;
+    }
+    plainErr /= n;
+    guessErr /= n;
+    // THEN the plain descent stops in the noise's local optima on its way (about a cell from the
+    // smooth optimum); the guessed one ends nearer (about 0.6 cells)
+    EXPECT_LT(guessErr, 0.75 * plainErr) << "mean distance to the optimum, cells: guessed "
+                                        << guessErr / hf.spacing() << ", plain "
+                                        << plainErr / hf.spacing();
+    EXPECT_LT(guessErr, 1.0 * hf.spacing());
+    std::printf("mean distance to the smooth optimum: from the previous proxy %.2f cells, from the "
+                "tangent-plane guess %.2f cells\n",
+                plainErr / hf.spacing(), guessErr / hf.spacing());
+}
+
+TEST(ProxySolverTest, coarseToFineFallsBackToTheFullGridOnSmallGridsAndGuessesShortMoves)
 {
     // GIVEN a tilted plane on a small grid
     const OwnedFrame f = gridFrame(16, 12, [](int c, int r) { return 20000 + 300 * c + 100 * r; });
@@ -184,15 +251,18 @@ TEST(ProxySolverTest, coarseToFineFallsBackToTheFullGridForShortMovesAndSmallGri
     ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
     const TriangleId start = hf.triangleAt(0.0, 0.0);
     const glm::dvec3 hip(0.01, 0.004, hf.heightAt(0.01, 0.004) - 0.001);
-    // WHEN the grid is smaller than two coarse cells, or the move shorter than minCells
+    // WHEN the grid is smaller than two coarse cells
     const ProxySolution full = solveProxy(hf, start, hip);
     const ProxySolution small = solveProxyCoarseToFine(hf, start, hip, 8, 1.0);
-    const ProxySolution shortMove = solveProxyCoarseToFine(hf, start, hip, 2, 1000.0);
     // THEN the result is the full-grid descent's, step for step
     EXPECT_EQ(small.point, full.point);
     EXPECT_EQ(small.steps, full.steps);
-    EXPECT_EQ(shortMove.point, full.point);
-    EXPECT_EQ(shortMove.steps, full.steps);
+    // WHEN the move is shorter than minCells THEN the descent starts at the tangent-plane guess,
+    // which on a plane is the optimum itself: the same point, no triangle crossed
+    const ProxySolution shortMove = solveProxyCoarseToFine(hf, start, hip, 2, 1000.0);
+    EXPECT_LT(glm::length(shortMove.point - full.point), 1e-9 * hf.spacing());
+    EXPECT_EQ(shortMove.steps, 0);
+    EXPECT_GT(full.steps, 0);
 }
 
 } // namespace

@@ -362,16 +362,26 @@ private:
     int h_;
 };
 
-/// \brief solveProxy() in two passes when the proxy has far to go: first on the surface seen every
-/// \a stride-th vertex, then on the full grid from where the coarse pass ended. The number of
-/// triangles crossed per update then no longer grows with the depth resolution (a 1 mm stroke per
-/// update is 38 cells of a 3840-wide frame over 0.1 m, but 7 cells at stride 5). The fine pass ends
-/// at the same kind of point as solveProxy() (a local optimum of the god-object on the full surface,
-/// on the surface, never below it); only features narrower than \a stride cells between the old and
-/// the new proxy can be passed over.
+/// \brief solveProxy() for grids finer than the proxy needs to walk, with a first guess of where the
+/// proxy is going.
+///
+/// The guess is the HIP projected onto the surface's tangent plane at the start, taken from the
+/// vertices \a stride cells around it (the god-object optimum of that plane). Facets a few cells wide
+/// have noisy normals (a 16-bit depth step over a 3840-wide frame tilts a facet by about a degree),
+/// so the plane of the start triangle alone would guess several cells wide of the mark, and a
+/// descent from there stops in one of the shallow local optima that noise makes.
+/// - When the guess is within \a minCells fine cells (x–y) of the start triangle, the full-grid
+///   descent starts at the triangle under the guess.
+/// - Else the proxy has far to go: the descent runs first on the surface seen every \a stride-th
+///   vertex, then on the full grid from where that ended. The number of triangles crossed per update
+///   then no longer grows with the depth resolution (a 1 mm stroke per update is 38 cells of a
+///   3840-wide frame over 0.1 m, but 7 cells at stride 5).
+///
+/// Either way the result is the same kind of point as solveProxy()'s (a local optimum of the
+/// god-object on the full surface, on the surface, never below it); only features narrower than
+/// \a stride cells between the old and the new proxy can be passed over.
 /// \param stride coarse cells per fine cell; ≤ 1, or a grid too small for it, runs solveProxy() alone.
-/// \param minCells the coarse pass runs only when the HIP is more than this many fine cells (in x–y)
-/// from the start triangle.
+/// \param minCells the largest first-guess move, fine cells; farther, the coarse pass runs.
 template <class Surface>
 ProxySolution solveProxyCoarseToFine(const Surface &surf, const TriangleId &start,
                                      const glm::dvec3 &hip, const CoarseGrid &grid,
@@ -380,10 +390,21 @@ ProxySolution solveProxyCoarseToFine(const Surface &surf, const TriangleId &star
     const int stride = grid.stride;
     if (stride < 2 || surf.columns() < 2 * stride + 1 || surf.rows() < 2 * stride + 1)
         return solveProxy(surf, start, hip);
-    const double du = surf.xToColumn(hip.x) - (start.c + 0.5);
-    const double dv = surf.yToRow(hip.y) - (start.r + 0.5);
-    if (du * du + dv * dv <= minCells * minCells)
-        return solveProxy(surf, start, hip);
+    // Tangent plane at the start from central differences over ±stride vertices.
+    const int c = std::clamp(start.c, stride, surf.columns() - 1 - stride);
+    const int r = std::clamp(start.r, stride, surf.rows() - 1 - stride);
+    const glm::dvec3 west = surf.vertex(c - stride, r);
+    const glm::dvec3 east = surf.vertex(c + stride, r);
+    const glm::dvec3 north = surf.vertex(c, r - stride);
+    const glm::dvec3 south = surf.vertex(c, r + stride);
+    const glm::dvec3 n = glm::cross(east - west, south - north);
+    const double nn = glm::dot(n, n);
+    const glm::dvec3 centre = 0.25 * (west + east + north + south);
+    const glm::dvec3 guess = nn > 0.0 ? hip - (glm::dot(hip - centre, n) / nn) * n : hip;
+    const double du = surf.xToColumn(guess.x) - (start.c + 0.5);
+    const double dv = surf.yToRow(guess.y) - (start.r + 0.5);
+    if (du * du + dv * dv <= minCells * minCells) // false for NaN
+        return solveProxy(surf, surf.triangleAt(guess.x, guess.y), hip);
     const StridedSurface<Surface> coarse(surf, stride, grid.columns, grid.rows);
     const double sx = surf.columnToX(start.c + 0.5);
     const double sy = surf.rowToY(start.r + 0.5);
