@@ -61,10 +61,12 @@ struct RendererConfig {
     /// the frame boundary) so a cut stays visible to safety, m. NaN = 0.25·box depth.
     double cutThreshold = std::nan("");
     /// Coarse-to-fine proxy descent (beyond the paper; solveProxyCoarseToFine()): on frames whose
-    /// pixel spacing is finer than this, a proxy with far to go first slides over every k-th vertex,
-    /// k = floor(coarseSpacing / spacing), then over the full grid, so the update cost stops growing
-    /// with the depth resolution. m; 0 = always the full grid. NaN = box width / 719 (a 720-pixel
-    /// frame's spacing: frames up to 720 wide, and 1080p below 2×, never use it).
+    /// pixel spacing is finer than this, the descent starts where the HIP projects onto the tangent
+    /// plane over ±k vertices, k = floor(coarseSpacing / spacing), when that is within k cells; a
+    /// proxy with farther to go first slides over every k-th vertex, then over the full grid. The
+    /// update cost then stops growing with the depth resolution. m; 0 = always the full grid from
+    /// the previous proxy. NaN = box width / 719 (a 720-pixel frame's spacing: frames up to 720
+    /// wide never use it; 1080p has k = 2).
     double coarseSpacing = std::nan("");
 
     /// \return the configuration of \a method: Modified all fixes on; ProxyGraph and MeshBvh all off.
