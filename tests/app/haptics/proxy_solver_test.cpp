@@ -131,18 +131,31 @@ TEST(ProxySolverTest, staysOnAConvexRidgeWhenPressedUnderIt)
     EXPECT_NEAR(onFace.point.z, hf.heightAt(onFace.point.x, onFace.point.y), 1e-12);
 }
 
+/// Amplitude of smoothWave(), m.
+constexpr double kWaveA = 0.004;
+
+/// z = 4 mm · sin(60 x) · cos(50 y) sampled at 3840 × 400 in 16 bits over kBox (26 µm spacing).
+OwnedFrame smoothWave()
+{
+    return test::makeFrame(kBox, 3840, 400, 0.0, [](double x, double y) {
+        return kWaveA * std::sin(60.0 * x) * std::cos(50.0 * y);
+    });
+}
+
+/// The renderer's default coarse stride on \a hf (RendererConfig::coarseSpacing).
+int defaultStride(const HeightField &hf)
+{
+    return static_cast<int>(std::floor((kBox.width / 719.0) / hf.spacing()));
+}
+
 TEST(ProxySolverTest, coarseToFineGivesTheFullGridDescentsForceOnASmoothSurface)
 {
     // GIVEN a smooth 16-bit surface at 3840 × 400 over the default box (spacing 26 µm), and HIPs
     // pressed 2 mm in at 0.2–1.5 mm (8–58 cells) from the proxy's start triangle
-    const int w = 3840;
-    const int h = 400;
-    const OwnedFrame f = test::makeFrame(kBox, w, h, 0.0, [](double x, double y) {
-        return 0.004 * std::sin(60.0 * x) * std::cos(50.0 * y);
-    });
+    const OwnedFrame f = smoothWave();
     HeightField hf(kBox);
     ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
-    const int stride = static_cast<int>(std::floor((kBox.width / 719.0) / hf.spacing()));
+    const int stride = defaultStride(hf);
     ASSERT_EQ(stride, 5);
     int compared = 0;
     long fullSteps = 0;
@@ -183,15 +196,11 @@ TEST(ProxySolverTest, tangentPlaneGuessStepsOverTheLocalOptimaOfAQuantisedFineGr
     // GIVEN z = 4 mm · sin(60 x) · cos(50 y) at 3840 × 400 in 16 bits (26 µm cells; each facet's
     // normal is off by up to about a degree from rounding), HIPs held 3 mm under it, and the
     // previous proxy 3 cells from the optimum (where a moving surface leaves it after one update)
-    const int w = 3840;
-    const int h = 400;
-    constexpr double kA = 0.004;
-    const OwnedFrame f = test::makeFrame(kBox, w, h, 0.0, [&](double x, double y) {
-        return kA * std::sin(60.0 * x) * std::cos(50.0 * y);
-    });
+    constexpr double kA = kWaveA;
+    const OwnedFrame f = smoothWave();
     HeightField hf(kBox);
     ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
-    const int stride = static_cast<int>(std::floor((kBox.width / 719.0) / hf.spacing()));
+    const int stride = defaultStride(hf);
     ASSERT_EQ(stride, 5);
     // The optimum of the smooth surface: Newton on |(x, y, z(x, y)) − hip|².
     auto optimum = [&](const glm::dvec3 &hip) {
