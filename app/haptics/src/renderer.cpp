@@ -4,6 +4,7 @@
 #include <new>
 
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 
 #include "depthtouch/haptics/mesh_bvh.h"
 #include "depthtouch/haptics/proxy_solver.h"
@@ -154,6 +155,7 @@ Result<void> ProxyGraphRenderer::setFrames(const DepthFrameView &current,
 void ProxyGraphRenderer::reset(const glm::dvec3 &hip) noexcept
 {
     proxy_ = hip;
+    lastHip_ = hip;
     haveProxy_ = true;
     surfaceUnderProxy_ = std::nan("");
     force_.reset();
@@ -181,8 +183,18 @@ HapticOutput ProxyGraphRenderer::update(const glm::dvec3 &hip, double t) noexcep
     out.cellsVisited = hit.cellsVisited;
     out.cellsTested = hit.cellsTested;
     if (hit.hit) {
-        const ProxySolution sol = solveProxyCoarseToFine(field_, hit.triangle, hip, coarse_,
-                                                         static_cast<double>(coarse_.stride));
+        // A HIP that moved more than a stride since the last update drags the proxy far: the
+        // coarse pass runs without a tangent-plane guess (whose rows it would read for nothing).
+        const double stride = static_cast<double>(coarse_.stride);
+        double minCells = stride;
+        if (coarse_.stride >= 2) {
+            const glm::dvec2 step(hip - lastHip_);
+            const double reach = stride * field_.spacing();
+            if (glm::dot(step, step) > reach * reach)
+                minCells = 0.0;
+        }
+        const ProxySolution sol =
+            solveProxyCoarseToFine(field_, hit.triangle, hip, coarse_, minCells);
         out.proxySteps = sol.steps;
         // The proxy may have slid to where nothing separates it from the HIP any more (it went
         // round a ridge): then it is free. The segment starts on the surface; when the HIP is
@@ -207,6 +219,7 @@ HapticOutput ProxyGraphRenderer::update(const glm::dvec3 &hip, double t) noexcep
         out.constraints = contact ? 1 : 0;
     out.proxy = proxy;
     out.contact = contact;
+    lastHip_ = hip;
     proxy_ = proxy;
     haveProxy_ = true;
     // h(proxy.xy) without refetching: over the HIP (free, released or re-seated) it is `above`; a

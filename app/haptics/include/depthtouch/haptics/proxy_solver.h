@@ -381,7 +381,8 @@ private:
 /// god-object on the full surface, on the surface, never below it); only features narrower than
 /// \a stride cells between the old and the new proxy can be passed over.
 /// \param stride coarse cells per fine cell; ≤ 1, or a grid too small for it, runs solveProxy() alone.
-/// \param minCells the largest first-guess move, fine cells; farther, the coarse pass runs.
+/// \param minCells the largest first-guess move, fine cells; farther, the coarse pass runs. ≤ 0: no
+/// guess, the coarse pass runs (for a move known to be long, e.g. a fast HIP).
 template <class Surface>
 ProxySolution solveProxyCoarseToFine(const Surface &surf, const TriangleId &start,
                                      const glm::dvec3 &hip, const CoarseGrid &grid,
@@ -390,21 +391,25 @@ ProxySolution solveProxyCoarseToFine(const Surface &surf, const TriangleId &star
     const int stride = grid.stride;
     if (stride < 2 || surf.columns() < 2 * stride + 1 || surf.rows() < 2 * stride + 1)
         return solveProxy(surf, start, hip);
-    // Tangent plane at the start from central differences over ±stride vertices.
-    const int c = std::clamp(start.c, stride, surf.columns() - 1 - stride);
-    const int r = std::clamp(start.r, stride, surf.rows() - 1 - stride);
-    const glm::dvec3 west = surf.vertex(c - stride, r);
-    const glm::dvec3 east = surf.vertex(c + stride, r);
-    const glm::dvec3 north = surf.vertex(c, r - stride);
-    const glm::dvec3 south = surf.vertex(c, r + stride);
-    const glm::dvec3 n = glm::cross(east - west, south - north);
-    const double nn = glm::dot(n, n);
-    const glm::dvec3 centre = 0.25 * (west + east + north + south);
-    const glm::dvec3 guess = nn > 0.0 ? hip - (glm::dot(hip - centre, n) / nn) * n : hip;
-    const double du = surf.xToColumn(guess.x) - (start.c + 0.5);
-    const double dv = surf.yToRow(guess.y) - (start.r + 0.5);
-    if (du * du + dv * dv <= minCells * minCells) // false for NaN
-        return solveProxy(surf, surf.triangleAt(guess.x, guess.y), hip);
+    // No guess asked for (minCells ≤ 0, a long move known beforehand): straight to the coarse pass,
+    // without reading the stencil's rows.
+    if (minCells > 0.0) {
+        // Tangent plane at the start from central differences over ±stride vertices.
+        const int c = std::clamp(start.c, stride, surf.columns() - 1 - stride);
+        const int r = std::clamp(start.r, stride, surf.rows() - 1 - stride);
+        const glm::dvec3 west = surf.vertex(c - stride, r);
+        const glm::dvec3 east = surf.vertex(c + stride, r);
+        const glm::dvec3 north = surf.vertex(c, r - stride);
+        const glm::dvec3 south = surf.vertex(c, r + stride);
+        const glm::dvec3 n = glm::cross(east - west, south - north);
+        const double nn = glm::dot(n, n);
+        const glm::dvec3 centre = 0.25 * (west + east + north + south);
+        const glm::dvec3 guess = nn > 0.0 ? hip - (glm::dot(hip - centre, n) / nn) * n : hip;
+        const double du = surf.xToColumn(guess.x) - (start.c + 0.5);
+        const double dv = surf.yToRow(guess.y) - (start.r + 0.5);
+        if (du * du + dv * dv <= minCells * minCells) // false for NaN
+            return solveProxy(surf, surf.triangleAt(guess.x, guess.y), hip);
+    }
     const StridedSurface<Surface> coarse(surf, stride, grid.columns, grid.rows);
     const double sx = surf.columnToX(start.c + 0.5);
     const double sy = surf.rowToY(start.r + 0.5);

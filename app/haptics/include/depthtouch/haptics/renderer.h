@@ -173,6 +173,7 @@ private:
     HeightField field_;
     ForceStage force_;
     glm::dvec3 proxy_{};
+    glm::dvec3 lastHip_{};        ///< HIP of the last update (how far it moved), m.
     bool haveProxy_ = false;
     double surfaceUnderProxy_ = 0.0; ///< h(proxy.xy) at the end of the last update, or NaN.
     CoarseGrid coarse_{}; ///< Coarse-to-fine grid for the frames set (RendererConfig::coarseSpacing).
