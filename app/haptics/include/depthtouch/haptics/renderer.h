@@ -62,8 +62,9 @@ struct RendererConfig {
     double cutThreshold = std::nan("");
     /// Coarse-to-fine proxy descent (beyond the paper; solveProxyCoarseToFine()): on frames whose
     /// pixel spacing is finer than this, the descent starts where the HIP projects onto the tangent
-    /// plane over ±k vertices, k = floor(coarseSpacing / spacing), when that is within k cells; a
-    /// proxy with farther to go first slides over every k-th vertex, then over the full grid. The
+    /// plane over ±k vertices, k = floor(coarseSpacing / spacing), when that is within k cells and
+    /// the HIP moved less than k cells since the last update; a proxy with farther to go first
+    /// slides over every k-th vertex, then over the full grid. The
     /// update cost then stops growing with the depth resolution. m; 0 = always the full grid from
     /// the previous proxy. NaN = box width / 719 (a 720-pixel frame's spacing: frames up to 720
     /// wide never use it; 1080p has k = 2).
