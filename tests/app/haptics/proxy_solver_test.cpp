@@ -196,7 +196,7 @@ TEST(ProxySolverTest, tangentPlaneGuessStepsOverTheLocalOptimaOfAQuantisedFineGr
     // GIVEN z = 4 mm · sin(60 x) · cos(50 y) at 3840 × 400 in 16 bits (26 µm cells; each facet's
     // normal is off by up to about a degree from rounding), HIPs held 3 mm under it, and the
     // previous proxy 3 cells from the optimum (where a moving surface leaves it after one update)
-    constexpr double kA = kWaveA;
+    constexpr double kA = kWaveA; // short name for the derivatives below
     const OwnedFrame f = smoothWave();
     HeightField hf(kBox);
     ASSERT_TRUE(hf.setFrames(f.view(), nullptr));

@@ -64,10 +64,10 @@ struct RendererConfig {
     /// pixel spacing is finer than this, the descent starts where the HIP projects onto the tangent
     /// plane over ±k vertices, k = floor(coarseSpacing / spacing), when that is within k cells and
     /// the HIP moved less than k cells since the last update; a proxy with farther to go first
-    /// slides over every k-th vertex, then over the full grid. The
-    /// update cost then stops growing with the depth resolution. m; 0 = always the full grid from
-    /// the previous proxy. NaN = box width / 719 (a 720-pixel frame's spacing: frames up to 720
-    /// wide never use it; 1080p has k = 2).
+    /// slides over every k-th vertex, then over the full grid. The update cost then stops growing
+    /// with the depth resolution. m; 0 = always the full grid from the previous proxy. NaN = box
+    /// width / 719 (a 720-pixel frame's spacing: frames up to 720 wide never use it; 1080p has
+    /// k = 2).
     double coarseSpacing = std::nan("");
 
     /// \return the configuration of \a method: Modified all fixes on; ProxyGraph and MeshBvh all off.
