@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
+#include "depthtouch/haptics/finger_renderer.h"
 #include "depthtouch/haptics/mesh_bvh.h"
 #include "depthtouch/haptics/proxy_solver.h"
 
@@ -29,22 +30,24 @@ const char *methodName(Method method) noexcept
     case Method::Modified: return "modified";
     case Method::ProxyGraph: return "proxy-graph";
     case Method::MeshBvh: return "mesh-bvh";
+    case Method::Finger: return "finger";
     }
     return "?";
 }
 
 Result<Method> parseMethod(std::string_view text) noexcept
 {
-    for (Method m : {Method::Modified, Method::ProxyGraph, Method::MeshBvh})
+    for (Method m : {Method::Modified, Method::ProxyGraph, Method::MeshBvh, Method::Finger})
         if (text == methodName(m))
             return m;
-    return unexpected(Errc::InvalidArgument, "unknown method (modified, proxy-graph or mesh-bvh)");
+    return unexpected(Errc::InvalidArgument,
+                      "unknown method (finger, modified, proxy-graph or mesh-bvh)");
 }
 
 RendererConfig RendererConfig::forMethod(Method method) noexcept
 {
     RendererConfig c;
-    const bool fixes = method == Method::Modified;
+    const bool fixes = method == Method::Modified || method == Method::Finger;
     c.correction = fixes;
     c.interpolation = fixes;
     c.safety = fixes;
@@ -70,6 +73,8 @@ Result<void> RendererConfig::validate() const noexcept
         return unexpected(Errc::InvalidArgument, "cut threshold must be positive");
     if (!std::isnan(coarseSpacing) && !(std::isfinite(coarseSpacing) && coarseSpacing >= 0.0))
         return unexpected(Errc::InvalidArgument, "coarse spacing must be zero or positive");
+    if (!std::isnan(fingerRadius) && !(std::isfinite(fingerRadius) && fingerRadius > 0.0))
+        return unexpected(Errc::InvalidArgument, "finger radius must be positive");
     return ok();
 }
 
@@ -78,37 +83,37 @@ Result<void> RendererConfig::validate() const noexcept
 void ForceStage::reset() noexcept
 {
     havePrev_ = false;
+    rebase_ = false;
     prevRaw_ = prevCommand_ = prevHip_ = glm::dvec3(0.0);
     prevT_ = 0.0;
     ramping_ = false;
 }
 
-glm::dvec3 ForceStage::apply(const glm::dvec3 &hip, glm::dvec3 &proxy, bool &contact, double t,
-                             double surfaceAboveHip, bool &released) noexcept
+glm::dvec3 ForceStage::spring(const glm::dvec3 &hip, const glm::dvec3 &proxy, bool contact,
+                              double t) noexcept
 {
-    const double k = config_.stiffness;
-    glm::dvec3 raw = k * (proxy - hip);
-    if (contact && config_.damping > 0.0 && havePrev_ && t > prevT_)
+    glm::dvec3 raw = config_.stiffness * (proxy - hip);
+    if (contact && config_.damping > 0.0 && havePrev_ && !rebase_ && t > prevT_)
         raw -= config_.damping * (hip - prevHip_) / (t - prevT_);
-    released = false;
+    prevHip_ = hip;
+    return raw;
+}
+
+glm::dvec3 ForceStage::shape(glm::dvec3 raw, double t, bool trip, bool rampIn) noexcept
+{
+    if (!std::isfinite(raw.x) || !std::isfinite(raw.y) || !std::isfinite(raw.z))
+        raw = glm::dvec3(0.0);
+    if (rebase_) {
+        // The clock restarted: a ramp in progress keeps its progress on the new clock.
+        rampStartT_ = t - (prevT_ - rampStartT_);
+        rebase_ = false;
+    }
     glm::dvec3 command;
     if (!config_.safety) {
         command = clampLength(raw, config_.maxForce);
     } else {
-        // Paper IV.C: watch the force; a change above the threshold in one update is a scene cut or
-        // the edge of a fast object, not something the viewer did.
-        if (havePrev_ && glm::length(raw - prevRaw_) > config_.maxForceStep) {
-            released = true;
-            if (config_.reengage == Reengage::Release || std::isnan(surfaceAboveHip) ||
-                !(surfaceAboveHip > hip.z)) {
-                proxy = hip;
-                contact = false;
-            } else {
-                proxy = glm::dvec3(hip.x, hip.y, surfaceAboveHip);
-                contact = true;
-            }
-            raw = k * (proxy - hip);
-            ramping_ = config_.reengage == Reengage::Ramp && contact;
+        if (trip) {
+            ramping_ = rampIn;
             rampStartT_ = t;
             rampStart_ = prevCommand_;
         }
@@ -127,10 +132,32 @@ glm::dvec3 ForceStage::apply(const glm::dvec3 &hip, glm::dvec3 &proxy, bool &con
     }
     prevRaw_ = raw;
     prevCommand_ = command;
-    prevHip_ = hip;
     prevT_ = t;
     havePrev_ = true;
     return command;
+}
+
+glm::dvec3 ForceStage::apply(const glm::dvec3 &hip, glm::dvec3 &proxy, bool &contact, double t,
+                             double surfaceAboveHip, bool &released) noexcept
+{
+    const double k = config_.stiffness;
+    glm::dvec3 raw = spring(hip, proxy, contact, t);
+    released = false;
+    // Paper IV.C: watch the force; a change above the threshold in one update is a scene cut or
+    // the edge of a fast object, not something the viewer did.
+    if (config_.safety && havePrev_ && glm::length(raw - prevRaw_) > config_.maxForceStep) {
+        released = true;
+        if (config_.reengage == Reengage::Release || std::isnan(surfaceAboveHip) ||
+            !(surfaceAboveHip > hip.z)) {
+            proxy = hip;
+            contact = false;
+        } else {
+            proxy = glm::dvec3(hip.x, hip.y, surfaceAboveHip);
+            contact = true;
+        }
+        raw = k * (proxy - hip);
+    }
+    return shape(raw, t, released, config_.reengage == Reengage::Ramp && contact);
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -244,6 +271,8 @@ Result<std::unique_ptr<HapticRenderer>> makeRenderer(Method method, const Render
         } catch (const std::bad_alloc &) {
             return unexpected(Errc::OutOfResources, "not enough memory for the mesh and its tree");
         }
+    } else if (method == Method::Finger) {
+        r = std::make_unique<FingerRenderer>(config);
     } else {
         r = std::make_unique<ProxyGraphRenderer>(config);
     }

@@ -27,9 +27,10 @@ enum class Method : std::uint8_t {
     Modified,   ///< Modified proxy graph, fixes (a)(b)(c) on: the player's renderer.
     ProxyGraph, ///< Walker & Salisbury on sample-and-hold frames: fixes off (baseline).
     MeshBvh,    ///< Full triangle mesh + AABB tree rebuilt for every frame (baseline).
+    Finger,     ///< Fingertip proxy on the finger-scale surface (finger_renderer.h): the default.
 };
 
-/// \return "modified", "proxy-graph" or "mesh-bvh".
+/// \return "modified", "proxy-graph", "mesh-bvh" or "finger".
 const char *methodName(Method method) noexcept;
 /// \brief Parses a methodName(). \return Errc::InvalidArgument for any other text.
 Result<Method> parseMethod(std::string_view text) noexcept;
@@ -69,6 +70,11 @@ struct RendererConfig {
     /// width / 719 (a 720-pixel frame's spacing: frames up to 720 wide never use it; 1080p has
     /// k = 2).
     double coarseSpacing = std::nan("");
+    /// Fingertip renderer (Method::Finger) only: half-width r of the 3×3 stencil whose
+    /// least-squares plane is the surface the finger touches, m. Noise and quantisation at pixel
+    /// scale are averaged over it and slopes taken over 2r; edges are rounded over about r.
+    /// NaN = box width / 100 (1 mm in the default 0.1 m box: 6 pixels of a 640-wide frame).
+    double fingerRadius = std::nan("");
 
     /// \return the configuration of \a method: Modified all fixes on; ProxyGraph and MeshBvh all off.
     static RendererConfig forMethod(Method method) noexcept;
@@ -109,6 +115,11 @@ public:
     /// \brief Forgets the proxy and force history; the proxy collocates with \a hip.
     virtual void reset(const glm::dvec3 &hip) noexcept = 0;
 
+    /// \brief The frames' clock restarted (a seek or a loop): the next update's t may be smaller than
+    /// the last. The proxy and the force are kept, so content that continues under the finger keeps
+    /// its support; a surface that changed is what the renderer's safety handles.
+    virtual void restartClock() noexcept {}
+
     [[nodiscard]] virtual Method method() const noexcept = 0;
 
 protected:
@@ -119,6 +130,12 @@ protected:
 
 /// \brief The force stage shared by all renderers: spring, damping, clamp, force-jump safety (IV.C),
 /// ramp re-engagement and slew limit. Thread-bound; no allocation.
+///
+/// Two halves: apply() is paper IV.C as the `modified` renderer runs it (the trip is decided from the
+/// force); spring() and shape() are for a renderer that decides the trip itself (FingerRenderer, from
+/// the depth) and share the shaping: a non-finite force becomes zero, |F| is clamped to maxForce,
+/// after a trip with a contact to re-engage the force ramps from the last command over rampTime, and
+/// with safety on the command moves by at most maxForceStep per update.
 class ForceStage {
 public:
     explicit ForceStage(const RendererConfig &config) noexcept : config_(config) {}
@@ -129,11 +146,21 @@ public:
     /// \return the commanded force, N, and fills out.released / out.contact.
     glm::dvec3 apply(const glm::dvec3 &hip, glm::dvec3 &proxy, bool &contact, double t,
                      double surfaceAboveHip, bool &released) noexcept;
+    /// \return the unshaped force k·(proxy − hip), minus b·v_HIP in contact, N; records the HIP.
+    glm::dvec3 spring(const glm::dvec3 &hip, const glm::dvec3 &proxy, bool contact, double t) noexcept;
+    /// \brief Shapes \a raw (N) into the command of time \a t (s).
+    /// \param trip safety tripped on this update; \param rampIn then ramp the new force in.
+    /// \return the command, N: finite, |F| ≤ maxForce.
+    glm::dvec3 shape(glm::dvec3 raw, double t, bool trip, bool rampIn) noexcept;
     void reset() noexcept;
+    /// \brief The frames' clock restarted (seek, loop): the next t may be smaller. The force history
+    /// is kept (no kick); a ramp in progress continues where it was.
+    void restartClock() noexcept { rebase_ = havePrev_; }
 
 private:
     RendererConfig config_;
     bool havePrev_ = false;
+    bool rebase_ = false;
     glm::dvec3 prevRaw_{};
     glm::dvec3 prevCommand_{};
     glm::dvec3 prevHip_{};
@@ -159,6 +186,7 @@ public:
                                          const DepthFrameView *next) noexcept override;
     HapticOutput update(const glm::dvec3 &hip, double t) noexcept override;
     void reset(const glm::dvec3 &hip) noexcept override;
+    void restartClock() noexcept override { force_.restartClock(); }
     [[nodiscard]] Method method() const noexcept override
     {
         return config_.correction || config_.interpolation || config_.safety ? Method::Modified

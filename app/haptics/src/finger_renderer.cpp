@@ -1,0 +1,156 @@
+#include "depthtouch/haptics/finger_renderer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace depthtouch::haptics {
+
+FingerPlane fitFingerPlane(const HeightField &field, double x, double y, double r) noexcept
+{
+    // Keep the stencil on the grid: its centre is clamped so that every tap lies inside.
+    const double halfX = 0.5 * (field.columns() - 1) * field.spacing();
+    const double halfY = 0.5 * (field.rows() - 1) * field.spacing();
+    const double reachX = std::min(r, halfX);
+    const double reachY = std::min(r, halfY);
+    const double cx = std::clamp(x, -halfX + reachX, halfX - reachX);
+    const double cy = std::clamp(y, -halfY + reachY, halfY - reachY);
+    double sum = 0.0;
+    double sx = 0.0; // Σ i·h
+    double sy = 0.0; // Σ j·h
+    for (int j = -1; j <= 1; ++j) {
+        for (int i = -1; i <= 1; ++i) {
+            const double h = field.heightAt(cx + i * reachX, cy + j * reachY);
+            sum += h;
+            sx += i * h;
+            sy += j * h;
+        }
+    }
+    // Least squares over the 3×3 taps (Prewitt): slope = Σ i·h / (Σ i² · reach), Σ i² = 6.
+    FingerPlane p;
+    p.x = cx;
+    p.y = cy;
+    p.gx = reachX > 0.0 ? sx / (6.0 * reachX) : 0.0;
+    p.gy = reachY > 0.0 ? sy / (6.0 * reachY) : 0.0;
+    // The plane's height at the asked point (x, y) when the stencil was clamped at a border.
+    p.height = sum / 9.0;
+    return p;
+}
+
+glm::dvec3 projectOnPlane(const FingerPlane &plane, const glm::dvec3 &p, double &below) noexcept
+{
+    // Plane: z − height − gx·(x − x0) − gy·(y − y0) = 0, normal n = (−gx, −gy, 1) / |n|.
+    const glm::dvec3 n(-plane.gx, -plane.gy, 1.0);
+    const double nn = glm::dot(n, n);
+    const double f = plane.height + plane.gx * (p.x - plane.x) + plane.gy * (p.y - plane.y) - p.z;
+    // f > 0: p is under the plane by f vertically, by f / |n| along the normal.
+    below = f / std::sqrt(nn);
+    return p + (f / nn) * n;
+}
+
+FingerRenderer::FingerRenderer(const RendererConfig &config) noexcept
+    : config_(config), field_(config.box), force_(config)
+{
+    field_.setCutThreshold(config.cutThreshold);
+    radius_ = std::isnan(config.fingerRadius) ? config.box.width / 100.0 : config.fingerRadius;
+    tripDepth_ = config.maxForceStep / config.stiffness;
+}
+
+Result<void> FingerRenderer::setFrames(const DepthFrameView &current,
+                                       const DepthFrameView *next) noexcept
+{
+    return field_.setFrames(current, next);
+}
+
+void FingerRenderer::reset(const glm::dvec3 &hip) noexcept
+{
+    proxy_ = hip;
+    contact_ = false;
+    behind_ = false;
+    enterAnyDepth_ = true;
+    force_.reset();
+}
+
+void FingerRenderer::restartClock() noexcept { force_.restartClock(); }
+
+glm::dvec3 FingerRenderer::solve(const glm::dvec3 &hip, double startX, double startY,
+                                 FingerPlane &plane, double &startHeight,
+                                 double &below) const noexcept
+{
+    plane = fitFingerPlane(field_, startX, startY, radius_);
+    startHeight = plane.height;
+    glm::dvec3 p = projectOnPlane(plane, hip, below);
+    const double settle = 1e-3 * field_.spacing();
+    for (int it = 0; it < kFingerIterations; ++it) {
+        // Move the stencil to the projection, at most its own reach per refit.
+        double dx = p.x - plane.x;
+        double dy = p.y - plane.y;
+        const double d = std::sqrt(dx * dx + dy * dy);
+        if (!(d > settle))
+            break;
+        if (d > radius_) {
+            dx *= radius_ / d;
+            dy *= radius_ / d;
+        }
+        plane = fitFingerPlane(field_, plane.x + dx, plane.y + dy, radius_);
+        p = projectOnPlane(plane, hip, below);
+    }
+    return p;
+}
+
+HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
+{
+    HapticOutput out;
+    out.hip = hip;
+    field_.setTime(t, config_.interpolation);
+    const bool over = field_.valid() && field_.contains(hip.x, hip.y);
+    // The sensor surface at the HIP's own x–y: above it is free space (what the camera saw).
+    const double raw = over ? field_.heightAt(hip.x, hip.y) : std::nan("");
+    const bool inside = raw > hip.z; // false for NaN
+    glm::dvec3 proxy = hip;
+    bool contact = false;
+    bool trip = false;
+    FingerPlane plane{};
+    double below = 0.0;
+    double startHeight = 0.0;
+    if (!inside) {
+        behind_ = false;
+    } else if (contact_ && config_.correction) {
+        // Slide on from the last proxy, on the current surface (fix (a): it lifts with it).
+        // The first fit is where the last update's ended: fix (c) from the depth compares the
+        // surface there with what it was then (a step since the last update is a cut).
+        proxy = solve(hip, lastX_, lastY_, plane, startHeight, below);
+        if (config_.safety && std::fabs(startHeight - lastHeight_) > tripDepth_)
+            trip = true;
+        contact = below > 0.0;
+    } else if (contact_ || !behind_) {
+        // From the HIP (a new contact, or the proxy-graph baseline without fix (a)).
+        proxy = solve(hip, hip.x, hip.y, plane, startHeight, below);
+        contact = below > 0.0 && (contact_ || enterAnyDepth_ || below <= tripDepth_ ||
+                                  !config_.safety);
+        if (below > 0.0 && !contact)
+            behind_ = true; // came under the surface from the side, or the surface jumped onto it
+    }
+    if (trip && config_.reengage == Reengage::Release) {
+        contact = false;
+        behind_ = true;
+    }
+    if (!contact)
+        proxy = hip;
+    enterAnyDepth_ = false;
+    out.released = trip;
+    const glm::dvec3 rawForce = force_.spring(hip, proxy, contact, t);
+    out.force = force_.shape(rawForce, t, trip, contact);
+    out.proxy = proxy;
+    out.contact = contact;
+    out.constraints = contact ? 1 : 0;
+    contact_ = contact;
+    proxy_ = proxy;
+    lastX_ = plane.x;
+    lastY_ = plane.y;
+    lastHeight_ = plane.height;
+    return out;
+}
+
+} // namespace depthtouch::haptics
