@@ -19,12 +19,15 @@ FingerPlane fitFingerPlane(const HeightField &field, double x, double y, double 
     double sum = 0.0;
     double sx = 0.0; // Σ i·h
     double sy = 0.0; // Σ j·h
+    double centre = 0.0;
     for (int j = -1; j <= 1; ++j) {
         for (int i = -1; i <= 1; ++i) {
             const double h = field.heightAt(cx + i * reachX, cy + j * reachY);
             sum += h;
             sx += i * h;
             sy += j * h;
+            if (i == 0 && j == 0)
+                centre = h;
         }
     }
     // Least squares over the 3×3 taps (Prewitt): slope = Σ i·h / (Σ i² · reach), Σ i² = 6.
@@ -33,8 +36,10 @@ FingerPlane fitFingerPlane(const HeightField &field, double x, double y, double 
     p.y = cy;
     p.gx = reachX > 0.0 ? sx / (6.0 * reachX) : 0.0;
     p.gy = reachY > 0.0 ? sy / (6.0 * reachY) : 0.0;
-    // The plane's height at the asked point (x, y) when the stencil was clamped at a border.
-    p.height = sum / 9.0;
+    // The mean, but never more than r/4 under the sensor surface at the centre: across a
+    // silhouette the mean of a step is half-way down, and a finger there would be inside the
+    // object with no force (pop-through) until the stencil is past the edge.
+    p.height = std::max(sum / 9.0, centre - 0.25 * r);
     return p;
 }
 
@@ -55,6 +60,7 @@ FingerRenderer::FingerRenderer(const RendererConfig &config) noexcept
     field_.setCutThreshold(config.cutThreshold);
     radius_ = std::isnan(config.fingerRadius) ? config.box.width / 100.0 : config.fingerRadius;
     tripDepth_ = config.maxForceStep / config.stiffness;
+    captureDepth_ = std::max(tripDepth_, 0.1 * config.box.depth);
 }
 
 Result<void> FingerRenderer::setFrames(const DepthFrameView &current,
@@ -124,10 +130,27 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
         if (config_.safety && std::fabs(startHeight - lastHeight_) > tripDepth_)
             trip = true;
         contact = below > 0.0;
+        // Held against a wall (the proxy more than r to the side): the wall is an object's
+        // silhouette, and behind it is what the camera did not see. Where the surface at the
+        // HIP's own x–y is nearer than the wall's proxy, the finger has gone round or under the
+        // object: it touches that surface instead of being pulled back through the object.
+        const double sideX = proxy.x - hip.x;
+        const double sideY = proxy.y - hip.y;
+        if (contact && sideX * sideX + sideY * sideY > radius_ * radius_) {
+            FingerPlane localPlane{};
+            double localStart = 0.0;
+            double localBelow = 0.0;
+            const glm::dvec3 local = solve(hip, hip.x, hip.y, localPlane, localStart, localBelow);
+            if (localBelow > 0.0 && localBelow < glm::length(proxy - hip)) {
+                proxy = local;
+                plane = localPlane;
+                below = localBelow;
+            }
+        }
     } else if (contact_ || !behind_) {
         // From the HIP (a new contact, or the proxy-graph baseline without fix (a)).
         proxy = solve(hip, hip.x, hip.y, plane, startHeight, below);
-        contact = below > 0.0 && (contact_ || enterAnyDepth_ || below <= tripDepth_ ||
+        contact = below > 0.0 && (contact_ || enterAnyDepth_ || below <= captureDepth_ ||
                                   !config_.safety);
         if (below > 0.0 && !contact)
             behind_ = true; // came under the surface from the side, or the surface jumped onto it

@@ -187,5 +187,107 @@ TEST(FingerScenarioTest, noisyEightBitTableStrokesHoldWithoutTripsOrSpikes)
     EXPECT_TRUE(modified.trips > 0 || modified.spikesPerSecond > 2.0) << "modified passed";
 }
 
+/// One update of a path run: the HIP and what the renderer gave.
+struct PathRow {
+    double t;
+    glm::dvec3 hip;
+    HapticOutput out;
+};
+
+/// Runs \a renderer at 1 kHz for \a seconds with the HIP at \a hipAt(t), seated 5 mm above the
+/// start first.
+template <class HipAt>
+std::vector<PathRow> runPath(SyntheticVideo &video, HapticRenderer &renderer, HipAt hipAt, double seconds)
+{
+    std::vector<PathRow> rows;
+    const glm::dvec3 start = hipAt(0.0);
+    renderer.reset(start);
+    for (int k = 0; k < static_cast<int>(seconds * 1000.0); ++k) {
+        const double t = k * 1e-3;
+        if (video.advance(t))
+            video.feed(renderer);
+        const glm::dvec3 hip = hipAt(t);
+        rows.push_back({t, hip, renderer.update(hip, t)});
+    }
+    return rows;
+}
+
+/// A silhouette: the backdrop at −10 mm and, for x ≥ 0, an object whose top is \a top (m), in
+/// 8-bit depth with flicker.
+OwnedFrame stepFrame(const SceneBox &box, int i, double top, double halfWidth)
+{
+    OwnedFrame f(kW, kH, SampleFormat::Gray8, i / kFps);
+    std::mt19937 rng(99u + static_cast<unsigned>(i));
+    std::normal_distribution<double> flicker(0.0, 0.6);
+    for (int r = 0; r < kH; ++r) {
+        for (int c = 0; c < kW; ++c) {
+            const double x = test::sampleX(box, kW, c);
+            const double z = (x >= 0.0 && x <= 2.0 * halfWidth) ? top : -0.010;
+            const double v = std::round((z / box.depth + 0.5) * 255.0 + flicker(rng));
+            f.set(c, r, static_cast<std::uint32_t>(std::clamp(v, 0.0, 255.0)));
+        }
+    }
+    return f;
+}
+
+// Issue 15: a finger 1 to 3 mm below the top of a 13 mm silhouette, moving toward it at 5 cm/s,
+// climbs onto the object (a fingertip rides over a rounded edge); the god-object on the
+// triangles stays at the foot of the wall for good.
+TEST(FingerScenarioTest, fingerBelowTheTopOfASilhouetteClimbsOntoIt)
+{
+    const SceneBox box{};
+    const double top = 0.003;
+    for (double under : {1e-3, 2e-3, 3e-3}) {
+        auto hipAt = [&](double t) { return glm::dvec3(-0.010 + 0.05 * t, 0.0, top - under); };
+        SyntheticVideo v1(box, kFps, [&](int i) { return stepFrame(box, i, top, 0.03); });
+        FingerRenderer finger(configFor(Method::Finger, Reengage::Ramp));
+        const auto f = runPath(v1, finger, hipAt, 0.4);
+        SyntheticVideo v2(box, kFps, [&](int i) { return stepFrame(box, i, top, 0.03); });
+        ProxyGraphRenderer modified(configFor(Method::Modified, Reengage::Release));
+        const auto m = runPath(v2, modified, hipAt, 0.4);
+        // At the end the HIP is 10 mm past the edge: the finger's proxy is on the top, pushing up.
+        const HapticOutput &fe = f.back().out;
+        std::printf("%.0f mm under: finger proxy z %.2f mm, Fz %.2f N; modified proxy x %.2f mm z %.2f mm, Fz %.2f N\n",
+                    under * 1e3, fe.proxy.z * 1e3, fe.force.z, m.back().out.proxy.x * 1e3,
+                    m.back().out.proxy.z * 1e3, m.back().out.force.z);
+        EXPECT_TRUE(fe.contact);
+        EXPECT_NEAR(fe.proxy.z, top, 0.5e-3);
+        EXPECT_NEAR(fe.force.z, 800.0 * under, 0.5);
+        // No pop-through on the way: once past the edge by 1.5 mm the finger is held.
+        for (const PathRow &row : f)
+            if (row.hip.x > 0.0015)
+                EXPECT_GT(glm::length(row.out.force), 0.1) << "at x " << row.hip.x;
+        // The old renderer: the proxy stays at the foot of the wall, at the finger's height.
+        EXPECT_LT(m.back().out.proxy.x, 1e-3);
+        EXPECT_LT(m.back().out.proxy.z, top - 0.5 * under);
+    }
+}
+
+// Issue 15: a finger in free space that passes under a thin object (a 9 mm forearm 10 mm above
+// the backdrop) is behind it, not inside it: no force pulls it back once it is past, and none
+// holds it while it is under (the far side is what the camera did not see).
+TEST(FingerScenarioTest, fingerPassingUnderAThinObjectIsNotPulledBack)
+{
+    const SceneBox box{};
+    auto hipAt = [](double t) { return glm::dvec3(-0.015 + 0.1 * t, 0.0, -0.007); };
+    SyntheticVideo v1(box, kFps, [&](int i) { return stepFrame(box, i, 0.0, 0.0045); });
+    FingerRenderer finger(configFor(Method::Finger, Reengage::Ramp));
+    const auto f = runPath(v1, finger, hipAt, 0.3);
+    SyntheticVideo v2(box, kFps, [&](int i) { return stepFrame(box, i, 0.0, 0.0045); });
+    ProxyGraphRenderer modified(configFor(Method::Modified, Reengage::Release));
+    const auto m = runPath(v2, modified, hipAt, 0.3);
+    double fingerAfter = 0.0;
+    double modifiedAfter = 0.0;
+    for (std::size_t k = 0; k < f.size(); ++k) {
+        if (f[k].hip.x > 0.011) { // 2 mm past the far edge, in free space above the backdrop
+            fingerAfter = std::max(fingerAfter, glm::length(f[k].out.force));
+            modifiedAfter = std::max(modifiedAfter, glm::length(m[k].out.force));
+        }
+    }
+    std::printf("force past the forearm: finger %.2f N, modified %.2f N\n", fingerAfter, modifiedAfter);
+    EXPECT_LE(fingerAfter, 0.2);
+    EXPECT_GT(modifiedAfter, 5.0);
+}
+
 } // namespace
 } // namespace depthtouch::haptics

@@ -19,13 +19,17 @@
 ///    times, each move at most r (the stencil's reach). In contact q starts at the last proxy, so
 ///    the proxy slides continuously and holds against a silhouette wall like a god-object; the
 ///    proxy's height is taken on the current surface, so a rising surface lifts it (fix (a)).
+///    Held against a wall (the proxy more than r to the side of the HIP), the proxy moves to the
+///    surface at the HIP's own x–y when that is nearer: a silhouette's far side is what the camera
+///    did not see, not a wall to be pulled back through (a finger that went under a forearm).
 /// 3. **Contact.** Free space is what the camera sees in front of the surface: the HIP is free when
 ///    it is above the sensor surface at its own x–y (the unseen side of an object is not a wall to
 ///    be pulled back through) or on the outer side of the proxy's plane. A free HIP comes into
-///    contact when it goes under both; if it is then deeper than maxForceStep/k (a contact that
-///    would start with a force step above the safety threshold) it came from the side under an
-///    object's silhouette, or the surface jumped onto it: it is *behind* the surface and stays
-///    free until it is out (paper IV.C's release "may stay inside").
+///    contact when it goes under both; if it is then deeper than a tenth of the box depth (4 mm
+///    in the default box; at least maxForceStep/k) it came from the side under an object's
+///    silhouette, or the surface jumped onto it: it is *behind* the surface (the camera did not
+///    see there) and stays free until it is out (paper IV.C's release "may stay inside"). An
+///    edge met less deep than that is climbed.
 /// 4. **Cuts from the depth itself** (fix (c)): the surface under the proxy, fitted at the same x–y,
 ///    moved by more than maxForceStep/k since the last update. Smooth motion is interpolated and
 ///    moves far less per update (HeightField holds vertices that move more than the cut threshold
@@ -51,7 +55,10 @@ inline constexpr int kFingerIterations = 3;
 struct FingerPlane {
     double x = 0.0;      ///< Stencil centre, m.
     double y = 0.0;
-    double height = 0.0; ///< S: mean of the nine heights, m.
+    /// S: mean of the nine heights, but at least the centre's height − r/4 (across a silhouette
+    /// the mean of a step is half-way down; the finger must not be inside the object with no
+    /// force), m.
+    double height = 0.0;
     double gx = 0.0;     ///< ∂S/∂x (dimensionless).
     double gy = 0.0;     ///< ∂S/∂y.
 };
@@ -93,6 +100,7 @@ private:
     ForceStage force_;
     double radius_ = 0.0;      ///< r, m.
     double tripDepth_ = 0.0;   ///< maxForceStep / k, m.
+    double captureDepth_ = 0.0; ///< Deepest new contact: max(tripDepth_, box depth / 10), m.
     glm::dvec3 proxy_{};
     bool contact_ = false;
     bool behind_ = false;      ///< HIP under the surface without contact (see the file comment).
