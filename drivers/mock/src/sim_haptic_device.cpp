@@ -15,10 +15,17 @@ namespace depthtouch::drivers {
 
 namespace {
 
-constexpr const char *kOptionKeys[] = {"intent",     "force",   "x",     "y",         "z",
-                                       "delay",      "path",    "speed", "period",    "seed",
-                                       "mass",       "damping", "grip",  "max_force", "workspace",
-                                       "servo_rate", "buttons"};
+constexpr const char *kOptionKeys[] = {
+    "intent",   "force",     "depth",      "hand_stiffness", "hand_damping", "follow",
+    "reaction", "approach",  "climb",      "reach",          "x",            "y",
+    "z",        "delay",     "path",       "speed",          "period",       "seed",
+    "mass",     "damping",   "grip",       "max_force",      "workspace",    "servo_rate",
+    "buttons"};
+
+/// The hand feels the device push above this force, N.
+constexpr double kFeelForce = 0.05;
+/// Fastest the hand moves its surface estimate while touching, m/s.
+constexpr double kMaxEstimateSpeed = 0.2;
 
 /// Integration step of the hand, ns.
 constexpr std::int64_t kStepNs = 100'000;
@@ -105,8 +112,20 @@ Result<SimHandSettings> SimHandSettings::parse(hal::OptionList options)
         double min;
         bool minExclusive;
     };
+    // Options whose default is derived from others: only read when given.
+    const bool depthGiven = options.find("depth").has_value();
+    const bool handDampingGiven = options.find("hand_damping").has_value();
+    const bool gripGiven = options.find("grip").has_value();
     const Number numbers[] = {
         {"force", &s.force, 0.0, false},
+        {"depth", &s.depth, 0.0, false},
+        {"hand_stiffness", &s.handStiffness, 0.0, true},
+        {"hand_damping", &s.handDamping, 0.0, false},
+        {"follow", &s.follow, 0.0, true},
+        {"reaction", &s.reaction, 0.0, false},
+        {"approach", &s.approach, 0.0, false},
+        {"climb", &s.climb, 0.0, false},
+        {"reach", &s.reach, 0.0, true},
         {"x", &s.x, -HUGE_VAL, false},
         {"y", &s.y, -HUGE_VAL, false},
         {"z", &s.z, -HUGE_VAL, false},
@@ -121,6 +140,9 @@ Result<SimHandSettings> SimHandSettings::parse(hal::OptionList options)
         {"servo_rate", &s.servoRateHz, 0.0, true},
     };
     for (const Number &n : numbers) {
+        if ((n.value == &s.depth && !depthGiven) ||
+            (n.value == &s.handDamping && !handDampingGiven) || (n.value == &s.grip && !gripGiven))
+            continue;
         auto v = options.getDouble(n.key, *n.value);
         if (!v)
             return unexpected(badOption(n.key, "not a number"));
@@ -143,6 +165,8 @@ Result<SimHandSettings> SimHandSettings::parse(hal::OptionList options)
                 badOption("path", "must be 2 to 16 points 'x:y' separated by '/', in metres"));
         s.pathPoints = n;
     }
+    if (!depthGiven)
+        s.depth = s.force / s.handStiffness;
     return s;
 }
 
@@ -158,7 +182,13 @@ Result<std::unique_ptr<hal::HapticDevice>> SimHapticDevice::create(const hal::Ba
 SimHapticDevice::SimHapticDevice(platform::Clock &clock, const SimHandSettings &settings)
     : clock_(clock), settings_(settings)
 {
-    caps_.name = "Simulated hand (mass-spring-damper fingertip)";
+    caps_.name = "Simulated hand (fingertip mass on a hand spring-damper)";
+    const double m = settings.mass;
+    kz_ = settings.handStiffness;
+    cz_ = settings.handDamping >= 0.0 ? settings.handDamping : 2.0 * std::sqrt(kz_ * m);
+    kxy_ = settings.grip >= 0.0 ? settings.grip : kz_;
+    // The same damping ratio along x and y as along z.
+    cxy_ = cz_ * std::sqrt(kxy_ / kz_);
     caps_.maxForce = settings.maxForce;
     const double e = settings.workspaceHalfExtent;
     caps_.workspaceMin = {-e, -e, -e};
@@ -190,7 +220,13 @@ void SimHapticDevice::resetHand() noexcept
     exploreTo_[1] = pos_.y;
     exploreFrom_[0] = pos_.x;
     exploreFrom_[1] = pos_.y;
-    exploreForce_ = settings_.force;
+    exploreDepth_ = settings_.depth;
+    surfaceEstimate_ = pos_.z;
+    lastFeltZ_ = -HUGE_VAL; // no touch yet: search down to the workspace floor
+    retreating_ = false;
+    unfeltSeconds_ = settings_.reaction; // nothing felt yet: search at once
+    lastTarget_ = pos_;
+    haveTarget_ = false;
     publishPosition();
 }
 
@@ -241,11 +277,11 @@ Result<void> SimHapticDevice::checkUsable() noexcept
     return ok();
 }
 
-void SimHapticDevice::intentAt(double t, double &gx, double &gy, double &press) noexcept
+void SimHapticDevice::intentAt(double t, double &gx, double &gy, double &depth) noexcept
 {
     gx = settings_.x;
     gy = settings_.y;
-    press = t >= settings_.delay ? settings_.force : 0.0;
+    depth = settings_.depth;
     switch (settings_.intent) {
     case SimHandSettings::Intent::Press:
     case SimHandSettings::Intent::Idle:
@@ -286,40 +322,89 @@ void SimHapticDevice::intentAt(double t, double &gx, double &gy, double &press) 
             exploreFrom_[1] = exploreTo_[1];
             exploreTo_[0] = (2.0 * nextUniform(rng_) - 1.0) * reach;
             exploreTo_[1] = (2.0 * nextUniform(rng_) - 1.0) * reach;
-            exploreForce_ = settings_.force * (0.2 + 0.8 * nextUniform(rng_));
+            exploreDepth_ = settings_.depth * (0.2 + 0.8 * nextUniform(rng_));
             ++exploreSegment_;
         }
         const double f = std::clamp(t / settings_.period - static_cast<double>(segment), 0.0, 1.0);
         gx = exploreFrom_[0] + (exploreTo_[0] - exploreFrom_[0]) * f;
         gy = exploreFrom_[1] + (exploreTo_[1] - exploreFrom_[1]) * f;
-        if (t >= settings_.delay)
-            press = exploreForce_;
+        depth = exploreDepth_;
         break;
     }
+    }
+}
+
+void SimHapticDevice::updateSurfaceEstimate(double t, double h, double depth, double ux,
+                                            double uy) noexcept
+{
+    if (t < settings_.delay || settings_.approach <= 0.0)
+        return; // hovering, or a fixed hand: the estimate stays at the start height
+    const double felt = hal::norm(force_);
+    if (felt > kFeelForce) {
+        // Touching: regulate the press. Pushed harder than intended (the surface rose) the hand
+        // rises, pushed less it goes down: on a still surface the estimate follows the fingertip
+        // with time constant `follow` and the press settles at hand stiffness × depth. A force
+        // against the stroke (the side of an object in the way) lifts the finger over it.
+        unfeltSeconds_ = 0.0;
+        retreating_ = false;
+        lastFeltZ_ = pos_.z;
+        const double against = std::max(0.0, -(force_.x * ux + force_.y * uy));
+        const double rate =
+            (felt - kz_ * depth) / (kz_ * settings_.follow) + settings_.climb * against;
+        surfaceEstimate_ += std::clamp(rate, -kMaxEstimateSpeed, kMaxEstimateSpeed) * h;
+        return;
+    }
+    unfeltSeconds_ += h;
+    if (retreating_) {
+        // Lost (nothing within reach below the last touch): back up to the start height.
+        surfaceEstimate_ += 2.0 * settings_.approach * h;
+        if (surfaceEstimate_ >= settings_.z) {
+            surfaceEstimate_ = settings_.z;
+            retreating_ = false;
+        }
+        return;
+    }
+    if (unfeltSeconds_ >= settings_.reaction) {
+        surfaceEstimate_ =
+            std::max(surfaceEstimate_ - settings_.approach * h, caps_.workspaceMin.z);
+        if (surfaceEstimate_ < lastFeltZ_ - settings_.reach && surfaceEstimate_ < settings_.z)
+            retreating_ = true;
     }
 }
 
 void SimHapticDevice::step(double h) noexcept
 {
     const double t = platform::toSeconds(simTime_ - openedAt_);
-    const double m = settings_.mass;
-    const double k = settings_.grip;
-    // Extra damping on the grip so it is at least critically damped.
-    const double gripDamping = std::max(0.0, 2.0 * std::sqrt(k * m) - settings_.damping);
     hal::Vec3 f = force_ - vel_ * settings_.damping;
     if (settings_.intent != SimHandSettings::Intent::Idle) {
         double gx = 0.0;
         double gy = 0.0;
-        double press = 0.0;
-        intentAt(t, gx, gy, press);
-        f.x += k * (gx - pos_.x) - gripDamping * vel_.x;
-        f.y += k * (gy - pos_.y) - gripDamping * vel_.y;
-        if (t < settings_.delay)
-            f.z += k * (settings_.z - pos_.z) - gripDamping * vel_.z; // hover
-        else
-            f.z -= press;
+        double depth = 0.0;
+        intentAt(t, gx, gy, depth);
+        // The intended lateral velocity (continuous along a path; zero on the first step).
+        double vx = 0.0;
+        double vy = 0.0;
+        if (haveTarget_) {
+            vx = (gx - lastTarget_.x) / h;
+            vy = (gy - lastTarget_.y) / h;
+        }
+        const double lateralSpeed = std::hypot(vx, vy);
+        const double ux = lateralSpeed > 1e-3 ? vx / lateralSpeed : 0.0;
+        const double uy = lateralSpeed > 1e-3 ? vy / lateralSpeed : 0.0;
+        const double estimateBefore = surfaceEstimate_;
+        updateSurfaceEstimate(t, h, depth, ux, uy);
+        const double gz = t < settings_.delay ? settings_.z : surfaceEstimate_ - depth;
+        // The damper acts on the velocity relative to the intended one: the lateral point's and
+        // the surface estimate's; steps of the depth (hover → press, a new explore depth) move
+        // only the spring's rest point, they are not a velocity.
+        const hal::Vec3 targetVel{vx, vy, (surfaceEstimate_ - estimateBefore) / h};
+        lastTarget_ = {gx, gy, gz};
+        haveTarget_ = true;
+        f.x += kxy_ * (gx - pos_.x) + cxy_ * (targetVel.x - vel_.x);
+        f.y += kxy_ * (gy - pos_.y) + cxy_ * (targetVel.y - vel_.y);
+        f.z += kz_ * (gz - pos_.z) + cz_ * (targetVel.z - vel_.z);
     }
-    vel_ += f * (h / m);
+    vel_ += f * (h / settings_.mass);
     pos_ += vel_ * h;
     // Hard stops at the workspace walls.
     const hal::Vec3 &lo = caps_.workspaceMin;
