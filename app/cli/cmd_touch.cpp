@@ -53,12 +53,13 @@ struct TouchOptions {
     double maxForce = 8.5;
     double boxWidth = 0.10;
     double boxDepth = 0.04;
-    std::string method = "modified";
+    std::string method = "finger";
     bool noCorrection = false;
     bool noInterpolation = false;
     bool noSafety = false;
     double maxForceStep = 2.0;
     std::string reengage = "release";
+    double fingerRadius = std::nan(""); ///< m; NaN: box width / 100
     double rampTime = 0.25;
     std::optional<double> nearM;
     std::optional<double> farM;
@@ -309,7 +310,7 @@ int runTouch(const TouchOptions &o)
     using namespace depthtouch::haptics;
     auto method = parseMethod(o.method);
     if (!method)
-        return fail(kExitBadInput, "--method must be modified, proxy-graph or mesh-bvh");
+        return fail(kExitBadInput, "--method must be finger, modified, proxy-graph or mesh-bvh");
     if (o.reengage != "release" && o.reengage != "ramp")
         return fail(kExitBadInput, "--reengage must be release or ramp");
     if (!(o.rate > 0.0))
@@ -323,13 +324,14 @@ int runTouch(const TouchOptions &o)
     c.damping = o.damping;
     c.maxForce = o.maxForce;
     // The baselines run with every fix off; the --no-* flags turn single fixes off in `modified`.
-    const bool fixes = *method == Method::Modified;
+    const bool fixes = *method == Method::Modified || *method == Method::Finger;
     c.correction = fixes && !o.noCorrection;
     c.interpolation = fixes && !o.noInterpolation;
     c.safety = fixes && !o.noSafety;
     c.maxForceStep = o.maxForceStep;
     c.reengage = o.reengage == "ramp" ? Reengage::Ramp : Reengage::Release;
     c.rampTime = o.rampTime;
+    c.fingerRadius = o.fingerRadius;
     if (auto v = c.validate(); !v)
         return fail(kExitBadInput, v.error().what);
 
@@ -444,7 +446,7 @@ void registerTouchCommand(CLI::App &app, int &exitCode)
     cmd->add_option("--max-force", o->maxForce, "Device maximum force (N)")->capture_default_str();
     cmd->add_option("--box-width", o->boxWidth, "Scene box width (m)")->capture_default_str();
     cmd->add_option("--box-depth", o->boxDepth, "Scene box depth (m)")->capture_default_str();
-    cmd->add_option("--method", o->method, "modified | proxy-graph | mesh-bvh")->capture_default_str();
+    cmd->add_option("--method", o->method, "finger | modified | proxy-graph | mesh-bvh")->capture_default_str();
     cmd->add_flag("--no-correction", o->noCorrection, "Turn off fix (a), collision correction");
     cmd->add_flag("--no-interpolation", o->noInterpolation, "Turn off fix (b), surface interpolation");
     cmd->add_flag("--no-safety", o->noSafety, "Turn off fix (c), force-jump safety");
@@ -454,6 +456,9 @@ void registerTouchCommand(CLI::App &app, int &exitCode)
                     "cut of half the box depth (16 N)")
         ->capture_default_str();
     cmd->add_option("--reengage", o->reengage, "After a trip: release | ramp")->capture_default_str();
+    cmd->add_option("--finger-radius", o->fingerRadius,
+                    "finger method: half-width of the surface patch the finger touches (m); "
+                    "default box width / 100");
     cmd->add_option("--ramp-time", o->rampTime, "Ramp duration for --reengage ramp (s)")->capture_default_str();
     cmd->callback([o, &exitCode]() { exitCode = runTouch(*o); });
 }

@@ -358,8 +358,15 @@ void HapticTask::cycle(const platform::PeriodicWait &wait) noexcept
     }
     lastHip_ = hip;
 
-    // Seek or recenter: re-seat the proxy above the HIP, restart the haptic time (it may jump
-    // backwards) and ramp the force in from zero.
+    // Seek or loop: the haptic time restarts (it may jump backwards); proxy and force are kept.
+    const std::uint32_t restarts = clockRestarts_.load(std::memory_order_acquire);
+    if (restarts != clockRestartsDone_) {
+        clockRestartsDone_ = restarts;
+        lastT_ = -1e300;
+        renderer_->restartClock();
+    }
+    // Recenter: re-seat the proxy above the HIP, restart the haptic time and ramp the force in
+    // from zero.
     const std::uint32_t reseats = reseatRequests_.load(std::memory_order_acquire);
     if (reseats != reseatsDone_) {
         reseatsDone_ = reseats;

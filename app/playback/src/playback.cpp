@@ -785,7 +785,7 @@ void Playback::Impl::renderLoop()
                 s.handoff->publish(cur, nullptr);
             }
             if (rs.reseat && s.task)
-                s.task->requestReseat();
+                s.task->requestClockRestart();
             std::lock_guard<std::mutex> lock(mutex);
             ++stats.depthPairsPublished;
         }

@@ -309,6 +309,46 @@ TEST(HapticTaskTest, missedDeadlinesZeroTheForceAndItRampsBack)
     rig.finish(); // the haptic thread stops before the devices declared after the rig go
 }
 
+/// Presses 5 mm into a flat surface, then restarts the media clock onto the same content (a loop
+/// or a seek) with \a clockRestart, or re-seats (\a clockRestart false, the old seek handling);
+/// \return the smallest force over the 200 ms after it, N.
+double forceAfterLoop(bool clockRestart)
+{
+    Rig rig;
+    drivers::MockHapticDevice mock(rig.clock());
+    pressScript(mock, rig.clock().now());
+    rig.publishFlat(0.0);
+    HapticTaskConfig c = Rig::baseConfig();
+    rig.start(mock, c);
+    rig.runMs(300);
+    EXPECT_NEAR(rig.task().lastForce().z, 4.0, 0.01);
+    // WHEN the clip loops: the same first frame again, the media time back to zero
+    rig.handoff().setMediaOrigin(rig.clock().now());
+    rig.publishFlat(0.0);
+    if (clockRestart)
+        rig.task().requestClockRestart();
+    else
+        rig.task().requestReseat();
+    double least = 1e9;
+    for (int i = 0; i < 200; ++i) {
+        rig.runMs(1);
+        least = std::min(least, rig.task().lastForce().z);
+    }
+    rig.finish();
+    return least;
+}
+
+TEST(HapticTaskTest, loopOntoContinuousContentKeepsTheSupport)
+{
+    // THEN the finger stays supported: the force never falls under half of the 4 N it was
+    const double kept = forceAfterLoop(true);
+    EXPECT_GT(kept, 2.0);
+    // (the re-seat, which a loop used to do, ramps the force in from zero)
+    const double reseated = forceAfterLoop(false);
+    EXPECT_LT(reseated, 1.0);
+    std::printf("least force after a loop: %.2f N kept, %.2f N re-seated\n", kept, reseated);
+}
+
 TEST(HapticTaskTest, unplugZeroesTheForceAtOnceAndReconnectResumesWithTheRamp)
 {
     Rig rig;

@@ -50,9 +50,9 @@ struct HapticTaskConfig {
     double servoRateHz = 1000.0; ///< Updates per second, 100 .. 10000 (4 kHz and more supported).
     /// Renderer: method and parameters (stiffness N/m, damping N·s/m, maxForce N, scene box, fixes
     /// of paper IV). The renderer's maxForce is lowered to the device's maximum when that is less.
-    haptics::Method method = haptics::Method::Modified;
+    haptics::Method method = haptics::Method::Finger;
     haptics::RendererConfig renderer =
-        haptics::RendererConfig::forMethod(haptics::Method::Modified);
+        haptics::RendererConfig::forMethod(haptics::Method::Finger);
     /// Force rate limit, N/s (> 0): the commanded force moves by at most maxForceRate·Δt per
     /// update. Safety zeroing (watchdog, unplug, stop) is not rate-limited. Default: 0 → 8.5 N
     /// in 4.25 ms.
@@ -227,6 +227,14 @@ public:
     /// force in from zero (rampTime), and restarts the haptic time: for a seek (the media time
     /// jumps, possibly backwards) and for "recenter". No force kick. Async-signal-safe.
     void requestReseat() noexcept { reseatRequests_.fetch_add(1, std::memory_order_acq_rel); }
+    /// \brief Restarts the haptic time at the next update (a seek or a loop: the media time jumps,
+    /// possibly backwards) and keeps the proxy and the force, so content that continues under the
+    /// finger keeps its support; a surface that changed under the proxy is a cut for the renderer's
+    /// safety (HapticRenderer::restartClock()). Async-signal-safe.
+    void requestClockRestart() noexcept
+    {
+        clockRestarts_.fetch_add(1, std::memory_order_acq_rel);
+    }
 
     /// \name Observers (thread-safe)
     ///@{
@@ -310,6 +318,8 @@ private:
     platform::SeqLockArray<7> pose_;  ///< HIP, proxy (m) and a valid flag (lastPose()).
     std::atomic<double> stiffness_;   ///< N/m (setStiffness()).
     std::atomic<std::uint32_t> reseatRequests_{0};
+    std::atomic<std::uint32_t> clockRestarts_{0};
+    std::uint32_t clockRestartsDone_ = 0; ///< RT thread only.
 
     // Haptic-thread state (written only by the haptic thread while it runs).
     bool haveFrames_ = false;
