@@ -2,10 +2,18 @@
 /// \brief `depthtouch demo`: the main job with no arguments. Encodes the built-in synthetic scene
 /// (the turning head, rendered with OpenGL ES: color from the color buffer, depth from the
 /// Z-buffer, paper §V.A) into a two-stream file once (kept in the output folder and reused), then
-/// plays it with `play` on the headless EGL display with the simulated hand pressing and stroking
-/// the face, and leaves side-by-side snapshots, the force log, the stats JSON and a PNG chart of
-/// the force over time and its power spectral density (paper Fig. 12) in the output folder.
+/// plays it with `play` on the headless EGL display with the simulated hand stroking the face and
+/// across the head's contour, and leaves side-by-side snapshots, the force log, the stats JSON and
+/// a PNG chart of the force and the heights over play time and the force's power spectral density
+/// (paper Fig. 12) in the output folder. After the run it decodes the clip's depth again and puts
+/// the surface under the finger beside each force-log row, for the feel figures
+/// (haptics::computeFeel: safety trips, pop-through, phantom force, spikes) and the share of the
+/// contact time spent on the head rather than on the curtain.
+/// Units: s, m, N, scene-box frame (DESIGN.md §3; the player's default box and an identity device
+/// mapping, so the simulated hand's device coordinates are box coordinates).
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -18,7 +26,11 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <glm/geometric.hpp>
+
 #include "commands.h"
+#include "depthtouch/haptics/feel.h"
+#include "depthtouch/haptics/height_field.h"
 #include "depthtouch/haptics/spectrum.h"
 #include "depthtouch/media/encode_job.h"
 #include "depthtouch/media/frame_source.h"
@@ -30,6 +42,13 @@ namespace depthtouch::cli {
 
 namespace {
 
+/// The simulated finger on the head (box frame, m; the face is about x ±11 mm, y −4..21 mm, its
+/// nose 8 mm in front of the box centre, the curtain 16 mm behind it): from the forehead over the
+/// right cheek, the chin and the left cheek, across the contour onto the curtain and back, at
+/// 3 cm/s, pressing 4 mm in (1.2 N with the hand's 300 N/m).
+constexpr const char *kHeadStroke = "intent=stroke,path=0:0.015/0.007:0.004/0:-0.001/-0.007:0.004/"
+                                    "-0.02:0.004,speed=0.03,z=0.012,depth=0.004,delay=0.5";
+
 struct DemoOptions {
     double duration = 8.0;     ///< Seconds of playback (the clip loops).
     std::string scene = "head";
@@ -38,7 +57,7 @@ struct DemoOptions {
     std::string outDir = "demo-out";
     std::string display = "headless";
     std::string haptic = "sim";
-    std::string hapticOptions = "intent=stroke";
+    std::string hapticOptions; ///< Empty with sim: kHeadStroke on the head, else "intent=stroke".
     double stiffness = 800.0;
     double rate = 1000.0;
     bool requireRt = false;
@@ -80,23 +99,191 @@ std::string encodeScene(const DemoOptions &o, const std::string &clip)
     return {};
 }
 
-/// Reads the force log; writes force-psd.csv and the chart script; runs gnuplot.
-/// \return a note for the summary.
-std::string chartForce(const std::string &dir, const std::string &forceLog, double rate)
+/// One row of the force log (DESIGN.md §4): media time (s), HIP, proxy (m), force (N), flags.
+struct LogRow {
+    double t = 0.0;
+    glm::dvec3 hip{};
+    glm::dvec3 proxy{};
+    glm::dvec3 force{};
+    bool contact = false;
+    bool released = false;
+};
+
+/// \return the rows of force log \a path (empty when it cannot be read).
+std::vector<LogRow> readForceLog(const std::string &path)
 {
-    std::ifstream in(forceLog);
+    std::vector<LogRow> rows;
+    std::ifstream in(path);
     std::string line;
-    std::getline(in, line);
-    std::vector<double> magnitude;
+    std::getline(in, line); // header
     while (std::getline(in, line)) {
-        double v[12] = {};
-        if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &v[0],
-                        &v[1], &v[2], &v[3], &v[4], &v[5], &v[6], &v[7], &v[8], &v[9], &v[10],
-                        &v[11]) == 12)
-            magnitude.push_back(std::sqrt(v[7] * v[7] + v[8] * v[8] + v[9] * v[9]));
+        LogRow r;
+        int contact = 0;
+        int released = 0;
+        if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%d,%d", &r.t,
+                        &r.hip.x, &r.hip.y, &r.hip.z, &r.proxy.x, &r.proxy.y, &r.proxy.z,
+                        &r.force.x, &r.force.y, &r.force.z, &contact, &released) != 12)
+            continue;
+        r.contact = contact != 0;
+        r.released = released != 0;
+        rows.push_back(r);
     }
-    if (magnitude.size() < 256)
+    return rows;
+}
+
+/// \return the play time of each row, s from the first: the log's time is media time, which
+/// starts again at every loop; a step back (or a gap over 0.5 s) counts as one servo period.
+std::vector<double> playTimes(const std::vector<LogRow> &rows, double rate)
+{
+    std::vector<double> play(rows.size(), 0.0);
+    for (std::size_t i = 1; i < rows.size(); ++i) {
+        double dt = rows[i].t - rows[i - 1].t;
+        if (dt < 0.0 || dt > 0.5)
+            dt = 1.0 / rate;
+        play[i] = play[i - 1] + dt;
+    }
+    return play;
+}
+
+/// The clip's depth as the player touches it: 8-bit nearness (the luma of the depth stream), in
+/// the default scene box, frame i at media time i / fps.
+class ClipSurface {
+public:
+    /// \return an error text, or empty.
+    std::string load(const std::string &clip)
+    {
+        media::SourceOptions so;
+        so.streamTitle = "depth";
+        auto src = media::openFfmpegFrameSource(clip, so);
+        if (!src)
+            return std::string("cannot read the clip's depth: ") + src.error().what;
+        fps_ = (*src)->info().fps > 0 ? (*src)->info().fps : 30.0;
+        for (;;) {
+            auto f = (*src)->next(media::PixelFormat::Gray8);
+            if (!f)
+                break;
+            frames_.push_back(std::move(f->image));
+        }
+        if (frames_.size() < 2)
+            return "the clip's depth has fewer than 2 frames";
+        field_ = haptics::HeightField(haptics::SceneBox{});
+        // The backdrop: the nearest surface in the outer tenth of the first frame on both sides.
+        const media::Image &f0 = frames_.front();
+        int maxV = 0;
+        for (int y = 0; y < f0.height; ++y)
+            for (int x = 0; x < f0.width; ++x)
+                if (x < f0.width / 10 || x >= f0.width - f0.width / 10)
+                    maxV = std::max(maxV, static_cast<int>(f0.row(y)[x]));
+        backdropZ_ = (maxV / 255.0 - 0.5) * haptics::SceneBox{}.depth;
+        return {};
+    }
+
+    /// Sets the surface at media time \a t (frames i and i + 1 interpolated, as the renderer does).
+    void setTime(double t)
+    {
+        const auto n = static_cast<long long>(frames_.size());
+        const long long i = std::clamp(static_cast<long long>(std::floor(t * fps_ + 1e-9)), 0LL, n - 1);
+        const haptics::DepthFrameView cur = view(static_cast<std::size_t>(i));
+        const haptics::DepthFrameView next = view(static_cast<std::size_t>(std::min(i + 1, n - 1)));
+        (void)field_.setFrames(cur, i + 1 < n ? &next : nullptr);
+        field_.setTime(t, true);
+        cur_ = cur;
+        next_ = next;
+    }
+    /// \return the surface height under (x, y), m; NaN off the frame.
+    [[nodiscard]] double heightAt(double x, double y) const noexcept
+    {
+        return field_.contains(x, y) ? field_.heightAt(x, y) : std::nan("");
+    }
+    /// \return true when the sample nearest (x, y) moves by more than the cut threshold between
+    /// the two frames of the last setTime().
+    [[nodiscard]] bool cutAt(double x, double y) const noexcept
+    {
+        if (!field_.contains(x, y))
+            return false;
+        const int c = static_cast<int>(std::lround(field_.xToColumn(x)));
+        const int r = static_cast<int>(std::lround(field_.yToRow(y)));
+        return std::fabs(field_.frameZ(next_, c, r) - field_.frameZ(cur_, c, r)) >
+               field_.cutThreshold();
+    }
+    /// \return the height of the backdrop (curtain), m.
+    [[nodiscard]] double backdropZ() const noexcept { return backdropZ_; }
+
+private:
+    [[nodiscard]] haptics::DepthFrameView view(std::size_t i) const noexcept
+    {
+        const media::Image &im = frames_[i];
+        return {im.data.data(), im.width, im.height, im.stride, haptics::SampleFormat::Gray8,
+                static_cast<double>(i) / fps_};
+    }
+
+    std::vector<media::Image> frames_;
+    double fps_ = 30.0;
+    haptics::HeightField field_;
+    haptics::DepthFrameView cur_{};
+    haptics::DepthFrameView next_{};
+    double backdropZ_ = 0.0;
+};
+
+/// Contact on the figure (head, neck, shoulders) counts when the surface under the proxy is this
+/// much nearer than the backdrop, m.
+constexpr double kFigureMargin = 0.002;
+
+/// What the demo measured in the force log.
+struct DemoFeel {
+    haptics::FeelFigures feel;
+    double contactSeconds = 0.0;
+    double figureSeconds = 0.0; ///< Of the contact time, on the figure (nearer than the backdrop).
+};
+
+/// Fills each row's surface heights and flags, \a plot with the chart's columns, and the figures.
+DemoFeel measureFeel(const std::vector<LogRow> &rows, const std::vector<double> &play,
+                     ClipSurface &surface, std::vector<std::array<double, 6>> &plot)
+{
+    std::vector<haptics::FeelSample> samples(rows.size());
+    DemoFeel d;
+    constexpr std::size_t kSpeedRows = 10; // lateral speed over 10 updates
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const LogRow &r = rows[i];
+        surface.setTime(r.t);
+        haptics::FeelSample &s = samples[i];
+        s.t = play[i];
+        s.hip = r.hip;
+        s.force = r.force;
+        s.surfaceZ = surface.heightAt(r.hip.x, r.hip.y);
+        s.released = r.released;
+        s.surfaceCut = surface.cutAt(r.proxy.x, r.proxy.y);
+        const std::size_t j = i >= kSpeedRows ? i - kSpeedRows : 0;
+        const double span = play[i] - play[j];
+        const double speed =
+            span > 0.0 ? std::hypot(r.hip.x - rows[j].hip.x, r.hip.y - rows[j].hip.y) / span : 0.0;
+        s.sliding = r.contact && speed > 0.002;
+        s.held = r.contact && speed <= 0.002;
+        const double dt = i + 1 < rows.size() ? play[i + 1] - play[i] : 0.0;
+        const double under = surface.heightAt(r.proxy.x, r.proxy.y);
+        const bool onFigure = r.contact && under > surface.backdropZ() + kFigureMargin;
+        if (r.contact) {
+            d.contactSeconds += dt;
+            if (onFigure)
+                d.figureSeconds += dt;
+        }
+        plot.push_back({play[i], glm::length(r.force), r.contact ? 1.0 : 0.0, 1e3 * r.hip.z,
+                        1e3 * s.surfaceZ, onFigure ? 1.0 : 0.0});
+    }
+    d.feel = haptics::computeFeel(samples);
+    return d;
+}
+
+/// Writes force-plot.csv, force-psd.csv and the chart script; runs gnuplot.
+/// \return a note for the summary.
+std::string chartForce(const std::string &dir, const std::vector<std::array<double, 6>> &plot,
+                       double rate)
+{
+    if (plot.size() < 256)
         return "force log too short for a chart";
+    std::vector<double> magnitude(plot.size());
+    for (std::size_t i = 0; i < plot.size(); ++i)
+        magnitude[i] = plot[i][1];
     const haptics::Psd psd =
         haptics::averagedPsd(magnitude.data(), magnitude.size(), 8, rate, rate / 2.0);
     const std::string psdCsv = dir + "/force-psd.csv";
@@ -106,25 +293,72 @@ std::string chartForce(const std::string &dir, const std::string &forceLog, doub
         for (std::size_t k = 1; k < psd.density.size(); ++k)
             f << static_cast<double>(k) * psd.binHz << ',' << psd.density[k] << '\n';
     }
+    const std::string plotCsv = dir + "/force-plot.csv";
+    {
+        std::ofstream f(plotCsv);
+        f << "play_s,force_n,contact,hip_z_mm,surface_z_mm,on_figure\n";
+        for (const auto &p : plot)
+            f << p[0] << ',' << p[1] << ',' << p[2] << ',' << p[3] << ','
+              << (std::isnan(p[4]) ? std::string("NaN") : std::to_string(p[4])) << ',' << p[5]
+              << '\n';
+    }
     const std::string script = dir + "/force.gp";
     {
         std::ofstream g(script);
-        g << "set terminal pngcairo size 1000,700 font ',10'\n"
+        g << "set terminal pngcairo size 1000,900 font ',10'\n"
           << "set output '" << dir << "/force.png'\n"
-          << "set datafile separator ','\n"
-          << "set multiplot layout 2,1 title 'DepthTouch demo: force on the simulated hand'\n"
-          << "set xlabel 'haptic time (s)'\nset ylabel '|F| (N)'\nset grid\n"
-          << "plot '" << forceLog << "' every ::1 using 1:(sqrt($8**2+$9**2+$10**2)) with lines "
-          << "lw 1 title '|F|', '' every ::1 using 1:($11*0.2) with steps lc rgb '#aaaaaa' "
-          << "title 'contact'\n"
+          << "set datafile separator ','\nset datafile missing 'NaN'\n"
+          << "set multiplot layout 3,1 title 'DepthTouch demo: the simulated finger stroking "
+             "the head'\n"
+          << "set grid\nset key outside right top vertical\nset lmargin 10\nset rmargin 20\n"
+          << "set xlabel 'play time (s)'\nset ylabel '|F| (N)'\n"
+          << "plot '" << plotCsv << "' every ::1 using 1:($6*0.3) with filledcurves y=0 "
+          << "lc rgb '#d8e8d0' title 'on the head', '' every ::1 using 1:($3*0.15) with steps "
+          << "lc rgb '#888888' title 'contact', '' every ::1 using 1:2 with lines lw 1 "
+          << "lc rgb '#1f5fbf' title '|F|'\n"
+          << "set ylabel 'height under the finger (mm)'\n"
+          << "plot '" << plotCsv << "' every ::1 using 1:5 with lines lw 1 lc rgb '#c05000' "
+          << "title 'surface', '' every ::1 using 1:4 with lines lw 1 "
+          << "lc rgb '#1f5fbf' title 'finger'\n"
           << "set xlabel 'frequency (Hz)'\nset ylabel 'PSD (N^2/Hz)'\nset logscale y\n"
-          << "plot '" << psdCsv << "' every ::1 using 1:2 with lines lw 1 title 'force PSD "
-          << "(Welch, 8 segments)'\n"
+          << "set format y '10^{%L}'\n"
+          << "plot '" << psdCsv << "' every ::1 using 1:2 with lines lw 1 lc rgb '#1f5fbf' "
+          << "title 'force PSD'\n"
           << "unset multiplot\n";
     }
     const platform::PlotStatus st = platform::runGnuplot(script);
     return st == platform::PlotStatus::Drawn ? dir + "/force.png"
                                              : platform::plotStatusNote(st);
+}
+
+/// Measures the run in \a forceLog against the clip's depth, prints the feel lines and draws the
+/// chart (when the clip or the log cannot be read, prints a note instead).
+void reportFeel(const DemoOptions &o, const std::string &clip, const std::string &forceLog)
+{
+    const std::vector<LogRow> rows = readForceLog(forceLog);
+    ClipSurface surface;
+    if (const std::string err = surface.load(clip); !err.empty() || rows.empty()) {
+        std::printf("  feel              not measured: %s\n",
+                    err.empty() ? "empty force log" : err.c_str());
+        return;
+    }
+    const std::vector<double> play = playTimes(rows, o.rate);
+    std::vector<std::array<double, 6>> plot;
+    plot.reserve(rows.size());
+    const DemoFeel d = measureFeel(rows, play, surface, plot);
+    const haptics::FeelFigures &f = d.feel;
+    std::printf("  feel              %zu safety trips (%zu at real cuts), pop-through %.0f ms, "
+                "phantom force %.0f ms, %.2f spikes/s while sliding (%.1f s)\n",
+                f.trips, f.realCutTrips, f.popThroughMs, f.phantomMs, f.spikesPerSecond,
+                f.slidingSeconds);
+    std::printf("  contact on %-6s %.0f %% of %.1f s in contact (surface over %.0f mm nearer "
+                "than the %s)\n",
+                o.scene == "head" ? "head" : "fig.",
+                d.contactSeconds > 0 ? 100.0 * d.figureSeconds / d.contactSeconds : 0.0,
+                d.contactSeconds, 1e3 * kFigureMargin,
+                o.scene == "head" ? "curtain" : "backdrop");
+    const std::string chart = chartForce(o.outDir, plot, o.rate);
+    std::printf("  chart             %s\n", chart.c_str());
 }
 
 int runDemo(const DemoOptions &o)
@@ -137,6 +371,13 @@ int runDemo(const DemoOptions &o)
         std::fprintf(stderr, "depthtouch demo: --size must be WxH (16..4096) and --frames >= 2\n");
         return kExitBadInput;
     }
+    if (!(o.duration > 0.0) || !std::isfinite(o.duration)) {
+        std::fprintf(stderr, "depthtouch demo: --duration must be a number of seconds > 0\n");
+        return kExitBadInput;
+    }
+    std::string hapticOptions = o.hapticOptions;
+    if (hapticOptions.empty() && o.haptic == "sim")
+        hapticOptions = o.scene == "head" ? kHeadStroke : "intent=stroke";
     std::error_code ec;
     std::filesystem::create_directories(o.outDir + "/snapshots", ec);
     if (ec) {
@@ -163,7 +404,7 @@ int runDemo(const DemoOptions &o)
     p.url = clip;
     p.display = o.display;
     p.haptic = o.haptic;
-    p.hapticOptions = o.hapticOptions;
+    p.hapticOptions = hapticOptions;
     p.stiffness = o.stiffness;
     p.rate = o.rate;
     p.loop = true;
@@ -176,13 +417,12 @@ int runDemo(const DemoOptions &o)
     p.quiet = true;
     std::printf("Playing it for %.0f s on the '%s' display with the '%s' haptic device "
                 "(%s)\n",
-                o.duration, o.display.c_str(), o.haptic.c_str(), o.hapticOptions.c_str());
+                o.duration, o.display.c_str(), o.haptic.c_str(), hapticOptions.c_str());
     std::fflush(stdout);
     const PlayResult r = runPlay(p);
     if (r.exitCode != kExitOk)
         return r.exitCode;
-    const std::string chart = chartForce(o.outDir, p.forceLog, o.rate);
-    std::printf("  chart             %s\n", chart.c_str());
+    reportFeel(o, clip, p.forceLog);
     std::printf("  snapshots         %s/snapshots/ (side-by-side, every 30 frames)\n",
                 o.outDir.c_str());
     return kExitOk;
@@ -206,8 +446,9 @@ void registerDemoCommand(CLI::App &app, int &exitCode)
     cmd->add_option("--display", o->display, "Display backend")->capture_default_str();
     cmd->add_option("--haptic", o->haptic, "Haptic device backend: sim, mock, falcon, none")
         ->capture_default_str();
-    cmd->add_option("--haptic-options", o->hapticOptions, "Options of the haptic device")
-        ->capture_default_str();
+    cmd->add_option("--haptic-options", o->hapticOptions,
+                    "Options of the haptic device (default for sim: a stroke over the face and "
+                    "across the head's contour)");
     cmd->add_option("--stiffness", o->stiffness, "Surface stiffness, N/m")->capture_default_str();
     cmd->add_option("--rate", o->rate, "Haptic servo rate, Hz")->capture_default_str();
     cmd->add_flag("--require-rt", o->requireRt, "Fail when SCHED_FIFO is refused");
