@@ -185,7 +185,7 @@ TEST(Playback, PauseFreezesThePositionAndResumeGoesOn)
     EXPECT_EQ(rig.machine->state(), PlayerState::Stopped);
 }
 
-TEST(Playback, SeekRestartsAtTheTargetAndRampsTheForceIn)
+TEST(Playback, SeekRestartsAtTheTargetAndKeepsTheForce)
 {
     Rig rig;
     ASSERT_TRUE(rig.machine->execute("play mock://clip?frames=300&fps=30").accepted);
@@ -204,10 +204,16 @@ TEST(Playback, SeekRestartsAtTheTargetAndRampsTheForceIn)
             return p >= 4.9 && p < 5.5 && rig.playback->stats().seeks == 1;
         },
         2000ms));
-    // ...and the proxy was re-seated before it was shown: the force ramps in again from zero over
-    // the ramp time (0.25 s), no kick.
-    ASSERT_TRUE(rig.runUntil([&] { return task->gain() < 0.5; }, 500ms));
-    ASSERT_TRUE(rig.runUntil([&] { return task->gain() > 0.99; }, 3000ms));
+    // ...and the haptic clock restarted with the proxy and the force kept: the task's gain is
+    // not ramped from zero (a surface that changed under the proxy is the renderer's cut).
+    double leastGain = 1.0;
+    rig.runUntil(
+        [&] {
+            leastGain = std::min(leastGain, task->gain());
+            return false;
+        },
+        300ms);
+    EXPECT_GT(leastGain, 0.99);
     // Playing on from the target (frames of the new position only), at most as far as the time
     // since the seek.
     const double played =
