@@ -15,6 +15,7 @@ void registerBenchCommand(CLI::App &app, int &exitCode)
     registerBenchRenderCommand(*bench, exitCode);
     registerBenchRtCommand(*bench, exitCode);
     registerBenchMediaCommand(*bench, exitCode);
+    registerBenchFeelCommand(*bench, exitCode);
 }
 
 } // namespace depthtouch::cli

@@ -30,5 +30,6 @@ void registerBenchHapticsCommand(CLI::App &bench, int &exitCode);
 void registerBenchRenderCommand(CLI::App &bench, int &exitCode);
 void registerBenchRtCommand(CLI::App &bench, int &exitCode);
 void registerBenchMediaCommand(CLI::App &bench, int &exitCode);
+void registerBenchFeelCommand(CLI::App &bench, int &exitCode);
 
 } // namespace depthtouch::cli

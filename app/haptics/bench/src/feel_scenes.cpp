@@ -169,6 +169,20 @@ std::vector<std::uint16_t> medianReference(const depth::Plane<float> &nearness, 
     return out;
 }
 
+/// A scene with no frames yet, the size of \a like.
+FeelScene emptyScene(std::string name, const SceneBox &box, double fps, const depth::Plane<std::uint16_t> &like,
+                     SampleFormat format)
+{
+    FeelScene scene;
+    scene.name = std::move(name);
+    scene.box = box;
+    scene.fps = fps;
+    scene.width = like.width;
+    scene.height = like.height;
+    scene.format = format;
+    return scene;
+}
+
 } // namespace
 
 const char *syntheticSceneName(SyntheticScene scene) noexcept
@@ -246,13 +260,8 @@ Result<FeelScene> sceneFromSensorDepth(std::string name, const std::vector<depth
         return unexpected(Errc::InvalidArgument, "the first sensor frames have no valid sample");
     co.range = *range;
 
-    FeelScene scene;
-    scene.name = std::move(name);
-    scene.box = box;
-    scene.fps = fps;
-    scene.width = mm.front().width;
-    scene.height = mm.front().height;
-    scene.format = bits == 8 ? SampleFormat::Gray8 : SampleFormat::Gray16;
+    FeelScene scene = emptyScene(std::move(name), box, fps, mm.front(),
+                                 bits == 8 ? SampleFormat::Gray8 : SampleFormat::Gray16);
     std::vector<int> validCount(mm.front().size(), 0);
     depth::Plane<float> last;
     for (std::size_t f = 0; f < mm.size(); ++f) {
@@ -293,13 +302,7 @@ Result<FeelScene> sceneFromNearness(std::string name, const std::vector<depth::P
 {
     if (frames.empty() || !(fps > 0.0))
         return unexpected(Errc::InvalidArgument, "no frame, or fps not positive");
-    FeelScene scene;
-    scene.name = std::move(name);
-    scene.box = box;
-    scene.fps = fps;
-    scene.width = frames.front().width;
-    scene.height = frames.front().height;
-    scene.format = format;
+    FeelScene scene = emptyScene(std::move(name), box, fps, frames.front(), format);
     const double vmax = maxSampleValue(format);
     for (const auto &p : frames) {
         if (!p.sameSize(frames.front()) || p.width < 2 || p.height < 2)

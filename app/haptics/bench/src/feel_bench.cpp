@@ -1,0 +1,207 @@
+/// \file
+/// \brief `depthtouch bench feel`: the replays and the figures (see feel_bench.h); the outputs are in
+/// feel_report.cpp.
+
+#include "depthtouch/haptics/feel_bench.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <utility>
+
+#include "depthtouch/platform/percentile.h"
+
+namespace depthtouch::haptics::bench {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// Frame whose PTS is the last at or before \a t (as replay() picks them).
+std::size_t frameAt(const FeelScene &scene, double t) noexcept
+{
+    const double f = std::floor(t * scene.fps + 1e-9);
+    if (f <= 0.0)
+        return 0;
+    return std::min(scene.frameCount() - 1, static_cast<std::size_t>(f));
+}
+
+/// True when the surface over (x, y) steps by more than \a cut between frame i−1 and i or i and i+1
+/// at any corner of the grid cell under it.
+bool cutAt(const FeelScene &scene, const HeightField &field, std::size_t i, const glm::dvec3 &p, double cut)
+{
+    if (!field.contains(p.x, p.y))
+        return false;
+    const int c0 = std::min(static_cast<int>(field.xToColumn(p.x)), scene.width - 2);
+    const int r0 = std::min(static_cast<int>(field.yToRow(p.y)), scene.height - 2);
+    const DepthFrameView cur = scene.frame(i);
+    for (int k = -1; k <= 1; k += 2) {
+        if ((k < 0 && i == 0) || (k > 0 && i + 1 >= scene.frameCount()))
+            continue;
+        const DepthFrameView other = scene.frame(k < 0 ? i - 1 : i + 1);
+        for (int dr = 0; dr <= 1; ++dr)
+            for (int dc = 0; dc <= 1; ++dc)
+                if (std::fabs(field.frameZ(cur, c0 + dc, r0 + dr) - field.frameZ(other, c0 + dc, r0 + dr)) > cut)
+                    return true;
+    }
+    return false;
+}
+
+/// Replays one stroke on a fresh renderer; fills \a rows.
+Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const FeelSetting &setting,
+                          const RendererConfig &cfg, std::vector<FeelSample> &rows)
+{
+    auto made = makeRenderer(setting.method, cfg, scene.width, scene.height);
+    if (!made)
+        return unexpected(made.error());
+    HapticRenderer &r = **made;
+    HeightField truth(scene.box);
+    truth.setCutThreshold(cfg.cutThreshold);
+    const double cut = truth.cutThreshold();
+    rows.clear();
+    rows.reserve(stroke.samples.size());
+    std::size_t current = std::numeric_limits<std::size_t>::max();
+    glm::dvec3 prevProxy = stroke.samples.front().hip;
+    for (const StrokeSample &s : stroke.samples) {
+        const std::size_t i = frameAt(scene, s.t);
+        if (i != current) {
+            const DepthFrameView a = scene.frame(i);
+            const DepthFrameView b = i + 1 < scene.frameCount() ? scene.frame(i + 1) : DepthFrameView{};
+            const DepthFrameView *next = i + 1 < scene.frameCount() ? &b : nullptr;
+            DT_TRY(r.setFrames(a, next));
+            DT_TRY(truth.setFrames(a, next));
+            if (current == std::numeric_limits<std::size_t>::max())
+                r.reset(s.hip);
+            current = i;
+        }
+        const auto t0 = Clock::now();
+        const HapticOutput out = r.update(s.hip, s.t);
+        const auto t1 = Clock::now();
+        truth.setTime(s.t, true);
+        FeelSample row;
+        row.t = s.t;
+        row.hip = s.hip;
+        row.force = out.force;
+        row.surfaceZ = truth.contains(s.hip.x, s.hip.y) ? truth.heightAt(s.hip.x, s.hip.y) : std::nan("");
+        row.released = out.released;
+        row.surfaceCut = cutAt(scene, truth, i, prevProxy, cut) || cutAt(scene, truth, i, out.proxy, cut) ||
+                         cutAt(scene, truth, i, s.hip, cut);
+        row.sliding = s.sliding;
+        row.held = s.held;
+        row.updateSeconds = std::chrono::duration<double>(t1 - t0).count();
+        rows.push_back(row);
+        prevProxy = out.proxy;
+    }
+    return {};
+}
+
+FeelRow summarise(const std::string &scene, const std::string &setting,
+                  const std::vector<FeelStrokeResult> &results)
+{
+    FeelRow row;
+    row.scene = scene;
+    row.setting = setting;
+    std::vector<double> times;
+    for (const FeelStrokeResult &s : results) {
+        if (s.setting != setting || (scene != "all" && s.scene != scene))
+            continue;
+        ++row.strokes;
+        times.insert(times.end(), s.updateSeconds.begin(), s.updateSeconds.end());
+        accumulate(row.total, s.figures);
+        if (s.figures.slidingSeconds > 0.0 && s.figures.spikesPerSecond >= row.worstSpikesPerSecond) {
+            row.worstSpikesPerSecond = s.figures.spikesPerSecond;
+            row.worstStroke = s.scene == scene ? s.stroke : s.scene + ": " + s.stroke;
+        }
+    }
+    row.total.updateP50 = platform::percentile(times, 0.5);
+    row.total.updateP999 = platform::percentile(std::move(times), 0.999);
+    const FeelFigures &t = row.total;
+    row.realTripsPerSecond = t.slidingSeconds > 0.0 ? static_cast<double>(t.realCutTrips) / t.slidingSeconds : 0.0;
+    return row;
+}
+
+} // namespace
+
+std::vector<FeelSetting> feelSettings(const std::vector<Method> &methods)
+{
+    std::vector<FeelSetting> out;
+    const auto wants = [&](Method m) {
+        for (Method x : methods)
+            if (x == m)
+                return true;
+        return false;
+    };
+    for (Method m : {Method::Finger, Method::Modified, Method::ProxyGraph, Method::MeshBvh}) {
+        if (!wants(m))
+            continue;
+        RendererConfig c = RendererConfig::forMethod(m);
+        if (m == Method::Modified) {
+            c.reengage = Reengage::Release;
+            out.push_back({"modified-release", m, c});
+            c.reengage = Reengage::Ramp;
+            out.push_back({"modified-ramp", m, c});
+            continue;
+        }
+        out.push_back({methodName(m), m, c});
+    }
+    return out;
+}
+
+Result<std::vector<FeelStrokeResult>> runFeelStrokes(const FeelScene &scene, const std::vector<Stroke> &strokes,
+                                                     const FeelSetting &setting)
+{
+    RendererConfig cfg = setting.config;
+    cfg.box = scene.box;
+    DT_TRY(cfg.validate());
+    std::vector<FeelStrokeResult> out;
+    std::vector<FeelSample> rows;
+    for (const Stroke &stroke : strokes) {
+        if (stroke.samples.empty())
+            continue;
+        DT_TRY(replayStroke(scene, stroke, setting, cfg, rows));
+        FeelStrokeResult r{scene.name, setting.name, stroke.name, stroke.kind, computeFeel(rows), {}};
+        r.updateSeconds.reserve(rows.size());
+        for (const FeelSample &row : rows)
+            r.updateSeconds.push_back(row.updateSeconds);
+        out.push_back(std::move(r));
+    }
+    return out;
+}
+
+FeelReport runFeelBenchmark(const std::vector<FeelScene> &scenes, const std::vector<std::vector<Stroke>> &strokes,
+                            const std::vector<FeelSetting> &settings,
+                            const std::function<void(const std::string &)> &progress)
+{
+    FeelReport report;
+    const auto start = Clock::now();
+    std::vector<bool> failed(settings.size(), false);
+    for (std::size_t s = 0; s < scenes.size() && s < strokes.size(); ++s) {
+        if (strokes[s].empty()) {
+            report.notes.push_back(scenes[s].name + ": no stroke could be placed");
+            continue;
+        }
+        for (std::size_t k = 0; k < settings.size(); ++k) {
+            if (failed[k])
+                continue;
+            auto r = runFeelStrokes(scenes[s], strokes[s], settings[k]);
+            if (!r) {
+                failed[k] = true;
+                report.notes.push_back(settings[k].name + ": skipped (" + r.error().what + ")");
+                continue;
+            }
+            report.strokes.insert(report.strokes.end(), r->begin(), r->end());
+            report.rows.push_back(summarise(scenes[s].name, settings[k].name, report.strokes));
+            if (progress)
+                progress(scenes[s].name + " / " + settings[k].name + ": " + std::to_string(r->size()) +
+                         " strokes");
+        }
+    }
+    for (std::size_t k = 0; k < settings.size(); ++k)
+        if (!failed[k])
+            report.totals.push_back(summarise("all", settings[k].name, report.strokes));
+    report.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return report;
+}
+
+} // namespace depthtouch::haptics::bench
