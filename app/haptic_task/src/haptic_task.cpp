@@ -26,14 +26,6 @@ void bump(std::atomic<std::uint64_t> &counter, std::uint64_t delta = 1) noexcept
     counter.store(counter.load(std::memory_order_relaxed) + delta, std::memory_order_relaxed);
 }
 
-glm::dvec3 clampLength(const glm::dvec3 &v, double limit) noexcept
-{
-    const double length = glm::length(v);
-    if (!(length <= limit)) // also catches NaN
-        return std::isfinite(length) ? v * (limit / length) : glm::dvec3{};
-    return v;
-}
-
 /// Smooth ramp 0 → 1 with zero slope at both ends.
 double smoothstep(double x) noexcept
 {
@@ -428,7 +420,7 @@ void HapticTask::cycle(const platform::PeriodicWait &wait) noexcept
     gain_.store(gain, std::memory_order_relaxed);
     if (clutched_ || late)
         target = {};
-    target = clampLength(gain * target, maxForce_);
+    target = haptics::limitForce(gain * target, maxForce_);
 
     // Force-rate limit over the time since the last command (at most a few periods, so a re-sync
     // after an overrun does not allow a jump).
@@ -437,8 +429,7 @@ void HapticTask::cycle(const platform::PeriodicWait &wait) noexcept
         dt = std::clamp(platform::toSeconds(begin - prevCommandTime_), 0.0, 4.0 * period_);
     glm::dvec3 force =
         late ? glm::dvec3{}
-             : prevForce_ + clampLength(target - prevForce_, config_.maxForceRate * dt);
-    force = clampLength(force, maxForce_);
+             : haptics::slewForce(prevForce_, target, config_.maxForceRate * dt, maxForce_);
 
     if (auto r = device_.commandForce({force.x, force.y, force.z}); !r) {
         if (r.error().code == Errc::NoDevice || r.error().code == Errc::InvalidState) {

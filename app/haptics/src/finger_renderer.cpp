@@ -36,10 +36,11 @@ FingerPlane fitFingerPlane(const HeightField &field, double x, double y, double 
     p.y = cy;
     p.gx = reachX > 0.0 ? sx / (6.0 * reachX) : 0.0;
     p.gy = reachY > 0.0 ? sy / (6.0 * reachY) : 0.0;
-    // The mean, but never more than r/4 under the sensor surface at the centre: across a
-    // silhouette the mean of a step is half-way down, and a finger there would be inside the
-    // object with no force (pop-through) until the stencil is past the edge.
-    p.height = std::max(sum / 9.0, centre - 0.25 * r);
+    // The mean, but within r/4 of the sensor surface at the centre: across a silhouette the mean
+    // of a step is half-way, and a finger there would be inside the object with no force
+    // (pop-through) on the near side, or pushed above the backdrop (phantom force) at its foot.
+    const double margin = 0.25 * r;
+    p.height = std::clamp(sum / 9.0, centre - margin, centre + margin);
     return p;
 }
 
@@ -61,6 +62,7 @@ FingerRenderer::FingerRenderer(const RendererConfig &config) noexcept
     radius_ = std::isnan(config.fingerRadius) ? config.box.width / 100.0 : config.fingerRadius;
     tripDepth_ = config.maxForceStep / config.stiffness;
     captureDepth_ = std::max(tripDepth_, 0.1 * config.box.depth);
+    stepDepth_ = 0.25 * tripDepth_;
 }
 
 Result<void> FingerRenderer::setFrames(const DepthFrameView &current,
@@ -117,6 +119,7 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     glm::dvec3 proxy = hip;
     bool contact = false;
     bool trip = false;
+    bool stepped = false; // the surface under the proxy stepped by less than a cut
     FingerPlane plane{};
     double below = 0.0;
     double startHeight = 0.0;
@@ -127,8 +130,11 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
         // The first fit is where the last update's ended: fix (c) from the depth compares the
         // surface there with what it was then (a step since the last update is a cut).
         proxy = solve(hip, lastX_, lastY_, plane, startHeight, below);
-        if (config_.safety && std::fabs(startHeight - lastHeight_) > tripDepth_)
+        const double step = std::fabs(startHeight - lastHeight_);
+        if (config_.safety && step > field_.cutThreshold())
             trip = true;
+        else if (step > stepDepth_)
+            stepped = true;
         contact = below > 0.0;
         // Held against a wall (the proxy more than r to the side): the wall is an object's
         // silhouette, and behind it is what the camera did not see. Where the surface at the
@@ -164,7 +170,7 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     enterAnyDepth_ = false;
     out.released = trip;
     const glm::dvec3 rawForce = force_.spring(hip, proxy, contact, t);
-    out.force = force_.shape(rawForce, t, trip, contact);
+    out.force = force_.shape(rawForce, t, contact, trip || stepped, contact);
     out.proxy = proxy;
     out.contact = contact;
     out.constraints = contact ? 1 : 0;

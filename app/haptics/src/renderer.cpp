@@ -1,6 +1,7 @@
 #include "depthtouch/haptics/renderer.h"
 
 #include <cmath>
+#include <limits>
 #include <new>
 
 #include <glm/geometric.hpp>
@@ -12,17 +13,20 @@
 
 namespace depthtouch::haptics {
 
-namespace {
-
-glm::dvec3 clampLength(const glm::dvec3 &v, double maxLength) noexcept
+glm::dvec3 limitForce(const glm::dvec3 &force, double limit) noexcept
 {
-    const double len = glm::length(v);
-    if (len > maxLength && len > 0.0)
-        return v * (maxLength / len);
-    return v;
+    const double length = glm::length(force);
+    if (!(length <= limit)) // also catches NaN
+        return std::isfinite(length) ? force * (limit / length) : glm::dvec3(0.0);
+    return force;
 }
 
-} // namespace
+glm::dvec3 slewForce(const glm::dvec3 &previous, const glm::dvec3 &target, double maxStep,
+                     double maxForce) noexcept
+{
+    const glm::dvec3 to = limitForce(target, std::numeric_limits<double>::max());
+    return limitForce(previous + limitForce(to - previous, maxStep), maxForce);
+}
 
 const char *methodName(Method method) noexcept
 {
@@ -99,10 +103,9 @@ glm::dvec3 ForceStage::spring(const glm::dvec3 &hip, const glm::dvec3 &proxy, bo
     return raw;
 }
 
-glm::dvec3 ForceStage::shape(glm::dvec3 raw, double t, bool trip, bool rampIn) noexcept
+glm::dvec3 ForceStage::shape(glm::dvec3 raw, double t, bool contact, bool trip, bool rampIn) noexcept
 {
-    if (!std::isfinite(raw.x) || !std::isfinite(raw.y) || !std::isfinite(raw.z))
-        raw = glm::dvec3(0.0);
+    raw = limitForce(raw, std::numeric_limits<double>::max()); // non-finite → zero
     if (rebase_) {
         // The clock restarted: a ramp in progress keeps its progress on the new clock.
         rampStartT_ = t - (prevT_ - rampStartT_);
@@ -110,14 +113,18 @@ glm::dvec3 ForceStage::shape(glm::dvec3 raw, double t, bool trip, bool rampIn) n
     }
     glm::dvec3 command;
     if (!config_.safety) {
-        command = clampLength(raw, config_.maxForce);
+        command = limitForce(raw, config_.maxForce);
     } else {
         if (trip) {
             ramping_ = rampIn;
             rampStartT_ = t;
             rampStart_ = prevCommand_;
         }
-        glm::dvec3 target = clampLength(raw, config_.maxForce);
+        // A ramp re-engages a contact; once the finger is free there is nothing to ramp to (a
+        // ramp kept then would push on a finger that has left the surface: phantom force).
+        if (!contact)
+            ramping_ = false;
+        glm::dvec3 target = limitForce(raw, config_.maxForce);
         if (ramping_) {
             // Linear blend from the force at the trip to the (clamped) force of the new contact.
             const double a = (t - rampStartT_) / config_.rampTime;
@@ -128,7 +135,7 @@ glm::dvec3 ForceStage::shape(glm::dvec3 raw, double t, bool trip, bool rampIn) n
         }
         // Final guard: the commanded force never moves by more than the threshold in one update
         // (a release from a large force unloads over a few updates instead of in one step).
-        command = prevCommand_ + clampLength(target - prevCommand_, config_.maxForceStep);
+        command = slewForce(prevCommand_, target, config_.maxForceStep, config_.maxForce);
     }
     prevRaw_ = raw;
     prevCommand_ = command;
@@ -157,7 +164,7 @@ glm::dvec3 ForceStage::apply(const glm::dvec3 &hip, glm::dvec3 &proxy, bool &con
         }
         raw = k * (proxy - hip);
     }
-    return shape(raw, t, released, config_.reengage == Reengage::Ramp && contact);
+    return shape(raw, t, contact, released, config_.reengage == Reengage::Ramp && contact);
 }
 
 // ---------------------------------------------------------------------------------------------------

@@ -250,3 +250,26 @@ TEST(RendererConfigTest, rejectsOutOfRangeParameters)
 
 } // namespace
 } // namespace depthtouch::haptics
+
+namespace depthtouch::haptics {
+namespace {
+
+// The one force limit of the renderers and the haptic task: a NaN or infinite force is zero,
+// never passed on; the slew moves by at most the step and ends within the maximum.
+TEST(ForceLimitTest, nonFiniteForcesBecomeZeroAndTheSlewIsBounded)
+{
+    const double nan = std::nan("");
+    EXPECT_EQ(limitForce({nan, 0.0, 1.0}, 8.5), glm::dvec3(0.0));
+    EXPECT_EQ(limitForce({0.0, INFINITY, 0.0}, 8.5), glm::dvec3(0.0));
+    EXPECT_NEAR(glm::length(limitForce({30.0, 40.0, 0.0}, 8.5)), 8.5, 1e-12);
+    EXPECT_EQ(limitForce({1.0, 2.0, 2.0}, 8.5), glm::dvec3(1.0, 2.0, 2.0));
+    const glm::dvec3 prev(0.0, 0.0, 4.0);
+    // toward NaN: toward zero, by at most the step
+    const glm::dvec3 a = slewForce(prev, {nan, nan, nan}, 2.0, 8.5);
+    EXPECT_NEAR(a.z, 2.0, 1e-12);
+    const glm::dvec3 b = slewForce(prev, {0.0, 0.0, 100.0}, 10.0, 8.5);
+    EXPECT_NEAR(b.z, 8.5, 1e-12);
+}
+
+} // namespace
+} // namespace depthtouch::haptics

@@ -13,7 +13,8 @@
 /// 1. **Finger-scale surface.** At a point q the surface is the least-squares plane through the
 ///    heights (fix (b): interpolated between frames i and i+1, paper Eq. 1) at the 3×3 points
 ///    q + (i·r, j·r), i, j ∈ {−1, 0, 1}, r = RendererConfig::fingerRadius (a Prewitt stencil): mean
-///    height S(q) and slope ∇S(q). Noise at pixel scale is averaged; slopes are taken over 2r.
+///    height S(q), kept within r/4 of the sensor surface at q, and slope ∇S(q). Noise at pixel
+///    scale is averaged; slopes, and so the force's direction, are taken over 2r.
 /// 2. **God-object on that surface** (Zilles & Salisbury 1995): the proxy is the HIP projected on the
 ///    plane at q; q moves to the projection's x–y and the plane is refitted, up to kFingerIterations
 ///    times, each move at most r (the stencil's reach). In contact q starts at the last proxy, so
@@ -31,10 +32,12 @@
 ///    see there) and stays free until it is out (paper IV.C's release "may stay inside"). An
 ///    edge met less deep than that is climbed.
 /// 4. **Cuts from the depth itself** (fix (c)): the surface under the proxy, fitted at the same x–y,
-///    moved by more than maxForceStep/k since the last update. Smooth motion is interpolated and
-///    moves far less per update (HeightField holds vertices that move more than the cut threshold
-///    in one frame, so only a cut steps). Release: the proxy goes to the HIP; Ramp: the proxy stays
-///    on the new surface and the force ramps in (ForceStage::shape()).
+///    moved by more than the cut threshold (HeightField::cutThreshold(), a quarter of the box depth)
+///    since the last update. HeightField holds the vertices that move more than that in one frame,
+///    so only a cut steps; smooth motion is interpolated and moves a thirtieth of it per update.
+///    Release: the proxy goes to the HIP; Ramp: the proxy stays on the new surface and the force
+///    ramps in (ForceStage::shape()). A smaller step (over maxForceStep/(4k): a loop or seek onto
+///    content that moved a little) is no cut: the proxy stays and the change of force is ramped in.
 /// 5. **Force** k·(proxy − HIP) − b·v, shaped by ForceStage::shape() (non-finite → zero, clamp to the
 ///    device maximum, ramp, slew ≤ maxForceStep per update).
 ///
@@ -55,9 +58,9 @@ inline constexpr int kFingerIterations = 3;
 struct FingerPlane {
     double x = 0.0;      ///< Stencil centre, m.
     double y = 0.0;
-    /// S: mean of the nine heights, but at least the centre's height − r/4 (across a silhouette
-    /// the mean of a step is half-way down; the finger must not be inside the object with no
-    /// force), m.
+    /// S: mean of the nine heights, kept within r/4 of the centre's height (across a silhouette
+    /// the mean of a step is half-way: the finger must neither be inside the object with no
+    /// force nor pushed above the backdrop at its foot), m.
     double height = 0.0;
     double gx = 0.0;     ///< ∂S/∂x (dimensionless).
     double gy = 0.0;     ///< ∂S/∂y.
@@ -101,6 +104,7 @@ private:
     double radius_ = 0.0;      ///< r, m.
     double tripDepth_ = 0.0;   ///< maxForceStep / k, m.
     double captureDepth_ = 0.0; ///< Deepest new contact: max(tripDepth_, box depth / 10), m.
+    double stepDepth_ = 0.0;   ///< Surface step under the proxy that is ramped in: tripDepth_ / 4, m.
     glm::dvec3 proxy_{};
     bool contact_ = false;
     bool behind_ = false;      ///< HIP under the surface without contact (see the file comment).

@@ -128,13 +128,24 @@ protected:
     HapticRenderer &operator=(const HapticRenderer &) = default;
 };
 
+/// \brief The force limit every force stage applies (the renderers' ForceStage and the haptic
+/// task's output): \return \a force (N) scaled down to |F| ≤ \a limit (N); a non-finite force
+/// gives zero. Reentrant.
+glm::dvec3 limitForce(const glm::dvec3 &force, double limit) noexcept;
+
+/// \brief The slew limit of every force stage: \return \a previous moved toward \a target by at most
+/// \a maxStep (N), then limitForce(·, \a maxForce). A non-finite target is taken as zero.
+glm::dvec3 slewForce(const glm::dvec3 &previous, const glm::dvec3 &target, double maxStep,
+                     double maxForce) noexcept;
+
 /// \brief The force stage shared by all renderers: spring, damping, clamp, force-jump safety (IV.C),
 /// ramp re-engagement and slew limit. Thread-bound; no allocation.
 ///
 /// Two halves: apply() is paper IV.C as the `modified` renderer runs it (the trip is decided from the
 /// force); spring() and shape() are for a renderer that decides the trip itself (FingerRenderer, from
 /// the depth) and share the shaping: a non-finite force becomes zero, |F| is clamped to maxForce,
-/// after a trip with a contact to re-engage the force ramps from the last command over rampTime, and
+/// after a trip with a contact to re-engage the force ramps from the last command over rampTime
+/// (only while the contact lasts: a finger that leaves is not pushed by a ramp), and
 /// with safety on the command moves by at most maxForceStep per update.
 class ForceStage {
 public:
@@ -149,9 +160,11 @@ public:
     /// \return the unshaped force k·(proxy − hip), minus b·v_HIP in contact, N; records the HIP.
     glm::dvec3 spring(const glm::dvec3 &hip, const glm::dvec3 &proxy, bool contact, double t) noexcept;
     /// \brief Shapes \a raw (N) into the command of time \a t (s).
-    /// \param trip safety tripped on this update; \param rampIn then ramp the new force in.
+    /// \param contact the proxy is held on the surface (a ramp stops when it is not).
+    /// \param trip safety tripped, or the surface stepped, on this update; \param rampIn then ramp
+    /// the new force in from the last command.
     /// \return the command, N: finite, |F| ≤ maxForce.
-    glm::dvec3 shape(glm::dvec3 raw, double t, bool trip, bool rampIn) noexcept;
+    glm::dvec3 shape(glm::dvec3 raw, double t, bool contact, bool trip, bool rampIn) noexcept;
     void reset() noexcept;
     /// \brief The frames' clock restarted (seek, loop): the next t may be smaller. The force history
     /// is kept (no kick); a ramp in progress continues where it was.
