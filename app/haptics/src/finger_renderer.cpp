@@ -19,28 +19,32 @@ FingerPlane fitFingerPlane(const HeightField &field, double x, double y, double 
     double sum = 0.0;
     double sx = 0.0; // Σ i·h
     double sy = 0.0; // Σ j·h
-    double centre = 0.0;
+    double taps[9];
+    int k = 0;
     for (int j = -1; j <= 1; ++j) {
         for (int i = -1; i <= 1; ++i) {
             const double h = field.heightAt(cx + i * reachX, cy + j * reachY);
             sum += h;
             sx += i * h;
             sy += j * h;
-            if (i == 0 && j == 0)
-                centre = h;
+            taps[k++] = h;
         }
     }
+    // The median of the nine: on the side of a silhouette where most of the stencil is, and
+    // blind to a lone outlier (a flying pixel or speckle) that the centre sample may be.
+    std::nth_element(taps, taps + 4, taps + 9);
+    const double median = taps[4];
     // Least squares over the 3×3 taps (Prewitt): slope = Σ i·h / (Σ i² · reach), Σ i² = 6.
     FingerPlane p;
     p.x = cx;
     p.y = cy;
     p.gx = reachX > 0.0 ? sx / (6.0 * reachX) : 0.0;
     p.gy = reachY > 0.0 ? sy / (6.0 * reachY) : 0.0;
-    // The mean, but within r/4 of the sensor surface at the centre: across a silhouette the mean
-    // of a step is half-way, and a finger there would be inside the object with no force
-    // (pop-through) on the near side, or pushed above the backdrop (phantom force) at its foot.
+    // The mean, but within r/4 of the median: across a silhouette the mean of a step is
+    // half-way, and a finger there would be inside the object with no force (pop-through) on the
+    // near side, or pushed above the backdrop (phantom force) at its foot.
     const double margin = 0.25 * r;
-    p.height = std::clamp(sum / 9.0, centre - margin, centre + margin);
+    p.height = std::clamp(sum / 9.0, median - margin, median + margin);
     return p;
 }
 
@@ -89,9 +93,15 @@ glm::dvec3 FingerRenderer::solve(const glm::dvec3 &hip, double startX, double st
     plane = fitFingerPlane(field_, startX, startY, radius_);
     startHeight = plane.height;
     glm::dvec3 p = projectOnPlane(plane, hip, below);
+    // The god-object's objective: the distance from the HIP to the surface point at q.
+    auto distance = [&hip](const FingerPlane &f) {
+        const glm::dvec3 d(f.x - hip.x, f.y - hip.y, f.height - hip.z);
+        return glm::dot(d, d);
+    };
+    double best = distance(plane);
     const double settle = 1e-3 * field_.spacing();
     for (int it = 0; it < kFingerIterations; ++it) {
-        // Move the stencil to the projection, at most its own reach per refit.
+        // Move the stencil to the projection (a Gauss-Newton step), at most its own reach.
         double dx = p.x - plane.x;
         double dy = p.y - plane.y;
         const double d = std::sqrt(dx * dx + dy * dy);
@@ -101,7 +111,16 @@ glm::dvec3 FingerRenderer::solve(const glm::dvec3 &hip, double startX, double st
             dx *= radius_ / d;
             dy *= radius_ / d;
         }
-        plane = fitFingerPlane(field_, plane.x + dx, plane.y + dy, radius_);
+        FingerPlane next = fitFingerPlane(field_, plane.x + dx, plane.y + dy, radius_);
+        if (!(distance(next) <= best)) {
+            // Overshot (a surface curved tighter than the HIP is deep, e.g. a forearm's side):
+            // half the step, so that the proxy does not hop between two sides of the optimum.
+            next = fitFingerPlane(field_, plane.x + 0.5 * dx, plane.y + 0.5 * dy, radius_);
+            if (!(distance(next) <= best))
+                break;
+        }
+        plane = next;
+        best = distance(plane);
         p = projectOnPlane(plane, hip, below);
     }
     return p;

@@ -93,6 +93,78 @@ bool lineOk(const FeelScene &s, ReferenceSurface &ref, const glm::dvec2 &a, cons
     return true;
 }
 
+/// Radius of the fingertip that traces a contour (a cross stroke), m.
+constexpr double kTipRadius = 4e-3;
+
+/// \return the height of the bottom of a fingertip of radius kTipRadius resting on the reference
+/// at time \a t over the point \a along (m) of the line \a from → \a to (a ball rolled over the
+/// surface along the line: it rises before a silhouette instead of jumping up it), m; NaN when
+/// the surface is nowhere under it.
+double rolledHeight(ReferenceSurface &ref, double t, const glm::dvec2 &from, const glm::dvec2 &to,
+                    double along)
+{
+    const double len = glm::length(to - from);
+    const glm::dvec2 dir = len > 0.0 ? (to - from) / len : glm::dvec2(1.0, 0.0);
+    double best = std::nan("");
+    constexpr int kTaps = 16;
+    for (int i = -kTaps; i <= kTaps; ++i) {
+        const double d = kTipRadius * i / kTaps;
+        const glm::dvec2 p = from + dir * std::clamp(along + d, 0.0, len);
+        const double h = ref.height(t, p.x, p.y);
+        if (!std::isfinite(h))
+            continue;
+        const double lifted = h + std::sqrt(kTipRadius * kTipRadius - d * d) - kTipRadius;
+        if (!(lifted <= best))
+            best = lifted;
+    }
+    return best;
+}
+
+/// A finger tracing a contour: it moves at \a speed along the 3-D path of the rolled height (up
+/// a silhouette's side at the same speed as along the surface), ping-ponging over the line.
+class ContourTracer {
+public:
+    ContourTracer(ReferenceSurface &ref, const glm::dvec2 &from, const glm::dvec2 &to, double speed)
+        : ref_(ref), from_(from), to_(to), len_(glm::length(to - from)), speed_(speed)
+    {
+    }
+    /// Advances to time \a t by \a dt (s; 0 = only place) and \return the HIP's x–y and the
+    /// height it follows, m.
+    glm::dvec3 step(double t, double dt)
+    {
+        const double target = rolledHeight(ref_, t, from_, to_, along_);
+        if (!std::isfinite(z_))
+            z_ = target;
+        const double reach = speed_ * dt;
+        if (std::isfinite(target) && std::fabs(target - z_) > reach) {
+            z_ += target > z_ ? reach : -reach; // up or down a silhouette's side
+        } else {
+            if (std::isfinite(target))
+                z_ = target;
+            // Along the line, slower where the path is steep (constant speed in 3-D).
+            const double ahead = rolledHeight(ref_, t, from_, to_, along_ + dir_ * 1e-4);
+            const double slope = std::isfinite(ahead) && std::isfinite(target) ? (ahead - target) / 1e-4 : 0.0;
+            along_ += dir_ * reach / std::sqrt(1.0 + slope * slope);
+            if (along_ >= len_ || along_ <= 0.0) {
+                along_ = std::clamp(along_, 0.0, len_);
+                dir_ = -dir_;
+            }
+        }
+        const glm::dvec2 xy = len_ > 0.0 ? from_ + (to_ - from_) * (along_ / len_) : from_;
+        return {xy.x, xy.y, z_};
+    }
+
+private:
+    ReferenceSurface &ref_;
+    glm::dvec2 from_;
+    glm::dvec2 to_;
+    double len_;
+    double speed_;
+    double along_ = 0.0;
+    double dir_ = 1.0;
+    double z_ = std::nan("");
+};
+
 std::string label(const char *what, double depth, double speed, int k)
 {
     char buf[96];
@@ -134,11 +206,21 @@ Stroke makeStroke(const FeelScene &scene, const StrokeSpec &spec, const StrokeTi
     if (!std::isfinite(lastH))
         lastH = 0.0;
     const bool moves = spec.kind != StrokeKind::Press;
+    ReferenceSurface traceRef(scene);
+    ContourTracer tracer(traceRef, spec.from, spec.to, spec.speed);
     for (std::size_t k = 0; k < n; ++k) {
         const double tl = static_cast<double>(k) / rate;
         const double t = spec.startT + tl;
         const double travelled = moves ? spec.speed * std::clamp(tl - p1, 0.0, p2 - p1) : 0.0;
-        const glm::dvec2 xy = pingPong(spec.from, spec.to, travelled);
+        glm::dvec2 xy = pingPong(spec.from, spec.to, travelled);
+        double traced = std::nan("");
+        if (spec.kind == StrokeKind::Cross) {
+            // Across a silhouette the finger traces the contour (see ContourTracer).
+            const bool sliding = tl >= p1 && tl < p2;
+            const glm::dvec3 at = tracer.step(t, sliding ? 1.0 / rate : 0.0);
+            xy = {at.x, at.y};
+            traced = at.z;
+        }
         double offset = tm.above;
         if (tl >= p0 && tl < p1)
             offset = tm.above + (-spec.depth - tm.above) * (tl - p0) / tm.press;
@@ -146,7 +228,7 @@ Stroke makeStroke(const FeelScene &scene, const StrokeSpec &spec, const StrokeTi
             offset = -spec.depth;
         else if (tl >= p3 && tl < p4)
             offset = -spec.depth + (tm.above + spec.depth) * (tl - p3) / tm.lift;
-        const double h = ref.height(t, xy.x, xy.y);
+        const double h = std::isfinite(traced) ? traced : ref.height(t, xy.x, xy.y);
         if (std::isfinite(h))
             lastH = h;
         StrokeSample s;

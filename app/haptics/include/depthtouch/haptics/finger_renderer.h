@@ -13,7 +13,7 @@
 /// 1. **Finger-scale surface.** At a point q the surface is the least-squares plane through the
 ///    heights (fix (b): interpolated between frames i and i+1, paper Eq. 1) at the 3×3 points
 ///    q + (i·r, j·r), i, j ∈ {−1, 0, 1}, r = RendererConfig::fingerRadius (a Prewitt stencil): mean
-///    height S(q), kept within r/4 of the sensor surface at q, and slope ∇S(q). Noise at pixel
+///    height S(q), kept within r/4 of the nine heights' median, and slope ∇S(q). Noise at pixel
 ///    scale is averaged; slopes, and so the force's direction, are taken over 2r.
 /// 2. **God-object on that surface** (Zilles & Salisbury 1995): the proxy is the HIP projected on the
 ///    plane at q; q moves to the projection's x–y and the plane is refitted, up to kFingerIterations
@@ -58,9 +58,9 @@ inline constexpr int kFingerIterations = 3;
 struct FingerPlane {
     double x = 0.0;      ///< Stencil centre, m.
     double y = 0.0;
-    /// S: mean of the nine heights, kept within r/4 of the centre's height (across a silhouette
-    /// the mean of a step is half-way: the finger must neither be inside the object with no
-    /// force nor pushed above the backdrop at its foot), m.
+    /// S: mean of the nine heights, kept within r/4 of their median (across a silhouette the
+    /// mean of a step is half-way: the finger must neither be inside the object with no force
+    /// nor pushed above the backdrop at its foot; the median ignores a lone flying pixel), m.
     double height = 0.0;
     double gx = 0.0;     ///< ∂S/∂x (dimensionless).
     double gy = 0.0;     ///< ∂S/∂y.

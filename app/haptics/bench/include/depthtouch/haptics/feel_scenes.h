@@ -150,7 +150,8 @@ struct StrokeTiming {
 /// \brief What a stroke does.
 enum class StrokeKind : std::uint8_t {
     Slide, ///< Press, slide out along a line and back over smooth valid surface, hold, lift.
-    Cross, ///< The same across a silhouette (SilhouetteCrossing).
+    Cross, ///< Across a silhouette (SilhouetteCrossing), tracing the contour as a 4 mm fingertip
+           ///< would: rising before the step and up its side at the stroke's speed.
     Press, ///< Press and hold still for slide + hold.
 };
 
