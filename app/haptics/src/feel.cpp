@@ -98,7 +98,8 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
         }
         if (!offSurface && r.hip.z < r.surfaceZ && force >= th.popForce)
             contacted = true;
-        if (contacted && !offSurface && r.hip.z < r.surfaceZ - th.depthMargin && force < th.popForce)
+        const double inside = std::isnan(r.depthInside) ? r.surfaceZ - r.hip.z : r.depthInside;
+        if (contacted && !offSurface && inside > th.depthMargin && force < th.popForce)
             f.popThroughMs += 1e3 * dt[i];
         if ((offSurface || r.hip.z > r.surfaceZ + th.depthMargin) && force > th.phantomForce)
             f.phantomMs += 1e3 * dt[i];

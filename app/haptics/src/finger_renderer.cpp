@@ -16,35 +16,54 @@ FingerPlane fitFingerPlane(const HeightField &field, double x, double y, double 
     const double reachY = std::min(r, halfY);
     const double cx = std::clamp(x, -halfX + reachX, halfX - reachX);
     const double cy = std::clamp(y, -halfY + reachY, halfY - reachY);
-    double sum = 0.0;
-    double sx = 0.0; // Σ i·h
-    double sy = 0.0; // Σ j·h
     double taps[9];
-    int k = 0;
-    for (int j = -1; j <= 1; ++j) {
-        for (int i = -1; i <= 1; ++i) {
-            const double h = field.heightAt(cx + i * reachX, cy + j * reachY);
-            sum += h;
-            sx += i * h;
-            sy += j * h;
-            taps[k++] = h;
-        }
-    }
+    for (int k = 0; k < 9; ++k)
+        taps[k] = field.heightAt(cx + (k % 3 - 1) * reachX, cy + (k / 3 - 1) * reachY);
     // The median of the nine: on the side of a silhouette where most of the stencil is, and
     // blind to a lone outlier (a flying pixel or speckle) that the centre sample may be.
-    std::nth_element(taps, taps + 4, taps + 9);
-    const double median = taps[4];
-    // Least squares over the 3×3 taps (Prewitt): slope = Σ i·h / (Σ i² · reach), Σ i² = 6.
+    double sorted[9];
+    std::copy(taps, taps + 9, sorted);
+    std::nth_element(sorted, sorted + 4, sorted + 9);
+    const double median = sorted[4];
+    // Least squares z = a + bx·i + by·j over the taps within kFingerOutlier·r of the median: a
+    // tap across a silhouette or on a flying pixel would tilt the plane of the side the finger
+    // is on (the normal equations of the kept taps, solved by Cramer's rule).
+    const double keep = kFingerOutlier * r;
+    double n = 0, si = 0, sj = 0, sii = 0, sjj = 0, sij = 0, sh = 0, sih = 0, sjh = 0;
+    for (int k = 0; k < 9; ++k) {
+        if (!(std::fabs(taps[k] - median) <= keep))
+            continue;
+        const double i = k % 3 - 1;
+        const double j = k / 3 - 1;
+        n += 1;
+        si += i;
+        sj += j;
+        sii += i * i;
+        sjj += j * j;
+        sij += i * j;
+        sh += taps[k];
+        sih += i * taps[k];
+        sjh += j * taps[k];
+    }
+    const double det = n * (sii * sjj - sij * sij) - si * (si * sjj - sij * sj) + sj * (si * sij - sii * sj);
+    double a = median;
+    double bx = 0.0;
+    double by = 0.0;
+    if (det > 0.5) { // 1 for the fewest taps that span a plane; 324 for all nine
+        a = (sh * (sii * sjj - sij * sij) - si * (sih * sjj - sij * sjh) + sj * (sih * sij - sii * sjh)) / det;
+        bx = (n * (sih * sjj - sij * sjh) - sh * (si * sjj - sij * sj) + sj * (si * sjh - sih * sj)) / det;
+        by = (n * (sii * sjh - sih * sij) - si * (si * sjh - sih * sj) + sh * (si * sij - sii * sj)) / det;
+    }
     FingerPlane p;
     p.x = cx;
     p.y = cy;
-    p.gx = reachX > 0.0 ? sx / (6.0 * reachX) : 0.0;
-    p.gy = reachY > 0.0 ? sy / (6.0 * reachY) : 0.0;
-    // The mean, but within r/4 of the median: across a silhouette the mean of a step is
-    // half-way, and a finger there would be inside the object with no force (pop-through) on the
-    // near side, or pushed above the backdrop (phantom force) at its foot.
+    p.gx = reachX > 0.0 ? bx / reachX : 0.0; // tap (i, j) is at (x + i·reach, y + j·reach)
+    p.gy = reachY > 0.0 ? by / reachY : 0.0;
+    // The fitted height, but within r/4 of the median: across a silhouette the fit of a step
+    // would be half-way, and a finger there would be inside the object with no force
+    // (pop-through) on the near side, or pushed above the backdrop (phantom force) at its foot.
     const double margin = 0.25 * r;
-    p.height = std::clamp(sum / 9.0, median - margin, median + margin);
+    p.height = std::clamp(a, median - margin, median + margin);
     return p;
 }
 
@@ -63,7 +82,7 @@ FingerRenderer::FingerRenderer(const RendererConfig &config) noexcept
     : config_(config), field_(config.box), force_(config)
 {
     field_.setCutThreshold(config.cutThreshold);
-    radius_ = std::isnan(config.fingerRadius) ? config.box.width / 100.0 : config.fingerRadius;
+    radius_ = std::isnan(config.fingerRadius) ? 0.015 * config.box.width : config.fingerRadius;
     tripDepth_ = config.maxForceStep / config.stiffness;
     captureDepth_ = std::max(tripDepth_, 0.1 * config.box.depth);
     stepDepth_ = 0.25 * tripDepth_;

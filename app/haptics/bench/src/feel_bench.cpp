@@ -16,6 +16,27 @@ namespace depthtouch::haptics::bench {
 
 namespace {
 
+/// \return the distance from \a hip to the nearest point of \a truth (its time set), searched
+/// on rings out to \a vertical (the depth under the surface at the HIP's x–y, which bounds it), m.
+double depthInside(const HeightField &truth, const glm::dvec3 &hip, double vertical)
+{
+    double best = vertical;
+    constexpr int kDirections = 24;
+    const double step = 0.2e-3;
+    for (double ring = step; ring < best; ring += step) {
+        for (int k = 0; k < kDirections; ++k) {
+            const double a = 6.283185307179586 * k / kDirections;
+            const double x = hip.x + ring * std::cos(a);
+            const double y = hip.y + ring * std::sin(a);
+            if (!truth.contains(x, y))
+                continue;
+            const double dz = truth.heightAt(x, y) - hip.z;
+            best = std::min(best, std::sqrt(ring * ring + std::max(dz, 0.0) * std::max(dz, 0.0)));
+        }
+    }
+    return best;
+}
+
 using Clock = std::chrono::steady_clock;
 
 /// Frame whose PTS is the last at or before \a t (as replay() picks them).
@@ -84,6 +105,8 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
         row.hip = s.hip;
         row.force = out.force;
         row.surfaceZ = truth.contains(s.hip.x, s.hip.y) ? truth.heightAt(s.hip.x, s.hip.y) : std::nan("");
+        if (row.surfaceZ > s.hip.z)
+            row.depthInside = depthInside(truth, s.hip, row.surfaceZ - s.hip.z);
         row.released = out.released;
         row.surfaceCut = cutAt(scene, truth, i, prevProxy, cut) || cutAt(scene, truth, i, out.proxy, cut) ||
                          cutAt(scene, truth, i, s.hip, cut);
@@ -144,6 +167,16 @@ std::vector<FeelSetting> feelSettings(const std::vector<Method> &methods)
             continue;
         }
         out.push_back({methodName(m), m, c});
+        if (m == Method::Finger) {
+            // The player's re-engagement, and the finger's size either side of its default.
+            c.reengage = Reengage::Ramp;
+            out.push_back({"finger-ramp", m, c});
+            c.reengage = Reengage::Release;
+            c.fingerRadius = 1.0e-3;
+            out.push_back({"finger-r1mm", m, c});
+            c.fingerRadius = 2.0e-3;
+            out.push_back({"finger-r2mm", m, c});
+        }
     }
     return out;
 }

@@ -9,8 +9,8 @@
 /// - **trip**: the renderer's safety released or re-seated the proxy (`released`); it is a *real cut*
 ///   when the surface under the proxy moved by more than the cut threshold between the two depth
 ///   frames around that update (`surfaceCut`), else a *false trip*.
-/// - **pop-through**: after the first contact, the HIP is more than `depthMargin` under the surface
-///   at its own x–y and |F| < `popForce`.
+/// - **pop-through**: after the first contact, the HIP is more than `depthMargin` inside the
+///   surface (FeelSample::depthInside, else under it at its own x–y) and |F| < `popForce`.
 /// - **phantom force**: the HIP is more than `depthMargin` above the surface at its own x–y (or off
 ///   the surface) and |F| > `phantomForce`.
 /// - **spike**: |F(n) − F(n−1)| > `spikeStep` in one update, counted while `sliding`.
@@ -19,6 +19,7 @@
 /// Units: s, m, N (scene-box frame, DESIGN.md §3). Thread-safety: reentrant; allocates (not for the
 /// haptic thread).
 
+#include <cmath>
 #include <cstddef>
 #include <span>
 
@@ -32,6 +33,10 @@ struct FeelSample {
     glm::dvec3 hip{};        ///< HIP, m.
     glm::dvec3 force{};      ///< Commanded force, N.
     double surfaceZ = 0.0;   ///< Height of the surface under the HIP, m; NaN when off the surface.
+    /// How deep the HIP is inside: its distance to the nearest surface point, m, when it is under
+    /// the surface (on a steep side this is far less than surfaceZ − hip.z). NaN: not measured,
+    /// the vertical depth surfaceZ − hip.z is used.
+    double depthInside = std::nan("");
     bool released = false;   ///< Safety tripped on this update.
     bool surfaceCut = false; ///< The surface under the proxy moved more than the cut threshold here.
     bool sliding = false;    ///< Part of a slide (the HIP moving along the surface, pressed in).

@@ -53,6 +53,10 @@ namespace depthtouch::haptics {
 
 /// Plane refits per update after the first (a converged proxy stops earlier).
 inline constexpr int kFingerIterations = 3;
+/// Taps farther than this many stencil half-widths from the stencil's median are left out of the
+/// plane fit (an object's silhouette beside the finger, a flying pixel): slopes up to about 2
+/// (63°) keep every tap.
+inline constexpr double kFingerOutlier = 3.0;
 
 /// \brief The least-squares plane through the 3×3 stencil at a point: z = height + slope·(p − at).
 struct FingerPlane {

@@ -73,7 +73,9 @@ struct RendererConfig {
     /// Fingertip renderer (Method::Finger) only: half-width r of the 3×3 stencil whose
     /// least-squares plane is the surface the finger touches, m. Noise and quantisation at pixel
     /// scale are averaged over it and slopes taken over 2r; edges are rounded over about r.
-    /// NaN = box width / 100 (1 mm in the default 0.1 m box: 6 pixels of a 640-wide frame).
+    /// NaN = 0.015 × box width (1.5 mm in the default 0.1 m box: 10 pixels of a 640-wide frame;
+    /// `bench feel` measured 1 mm (sticks between noise optima on a 3 mm press) against 2 mm
+    /// (rounds a forearm's top) and 1.5 mm best).
     double fingerRadius = std::nan("");
 
     /// \return the configuration of \a method: Modified all fixes on; ProxyGraph and MeshBvh all off.
