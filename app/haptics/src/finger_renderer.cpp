@@ -97,6 +97,7 @@ Result<void> FingerRenderer::setFrames(const DepthFrameView &current,
 void FingerRenderer::reset(const glm::dvec3 &hip) noexcept
 {
     proxy_ = hip;
+    lastHip_ = hip;
     contact_ = false;
     behind_ = false;
     enterAnyDepth_ = true;
@@ -145,6 +146,22 @@ glm::dvec3 FingerRenderer::solve(const glm::dvec3 &hip, double startX, double st
     return p;
 }
 
+glm::dvec3 FingerRenderer::glide(const glm::dvec3 &hip, const glm::dvec3 &proxy,
+                                 FingerPlane &plane) const noexcept
+{
+    const double hx = hip.x - lastHip_.x;
+    const double hy = hip.y - lastHip_.y;
+    const double allowed = std::sqrt(hx * hx + hy * hy) + 0.25 * radius_;
+    const double dx = proxy.x - proxy_.x;
+    const double dy = proxy.y - proxy_.y;
+    const double d = std::sqrt(dx * dx + dy * dy);
+    if (!(d > allowed))
+        return proxy;
+    // Toward the new optimum by what is allowed, on the surface there.
+    plane = fitFingerPlane(field_, proxy_.x + dx * (allowed / d), proxy_.y + dy * (allowed / d), radius_);
+    return {plane.x, plane.y, plane.height};
+}
+
 HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
 {
     HapticOutput out;
@@ -191,6 +208,8 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
                 below = localBelow;
             }
         }
+        if (contact)
+            proxy = glide(hip, proxy, plane);
     } else if (contact_ || !behind_) {
         // From the HIP (a new contact, or the proxy-graph baseline without fix (a)).
         proxy = solve(hip, hip.x, hip.y, plane, startHeight, below);
@@ -214,6 +233,7 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     out.constraints = contact ? 1 : 0;
     contact_ = contact;
     proxy_ = proxy;
+    lastHip_ = hip;
     lastX_ = plane.x;
     lastY_ = plane.y;
     lastHeight_ = plane.height;

@@ -18,16 +18,16 @@ namespace {
 
 /// The figures of \a setting on \a scene over the bench's strokes, summed, and the worst stroke's
 /// spikes per second.
-struct Run {
+struct StrokesRun {
     FeelFigures total;
     double worstSpikes = 0.0;
 };
 
-Run run(const FeelScene &scene, const std::vector<Stroke> &strokes, const FeelSetting &setting)
+StrokesRun runStrokes(const FeelScene &scene, const std::vector<Stroke> &strokes, const FeelSetting &setting)
 {
     auto results = runFeelStrokes(scene, strokes, setting);
     EXPECT_TRUE(results) << (results ? "" : results.error().what);
-    Run r;
+    StrokesRun r;
     if (!results)
         return r;
     for (const FeelStrokeResult &s : *results) {
@@ -52,7 +52,7 @@ FeelSetting setting(const char *name)
 }
 
 /// The goals of issue 15 (FeelGoals' defaults).
-void expectGoalsMet(const Run &r)
+void expectGoalsMet(const StrokesRun &r)
 {
     const FeelGoals goals;
     EXPECT_EQ(r.total.falseTrips, 0u);
@@ -75,13 +75,13 @@ TEST_P(FeelScenarioTest, fingerMeetsTheFeelGoalsWhereModifiedFails)
     ASSERT_TRUE(scene) << scene.error().what;
     const std::vector<Stroke> strokes = makeStrokes(*scene);
     ASSERT_GE(strokes.size(), 9u);
-    expectGoalsMet(run(*scene, strokes, setting("finger")));
-    expectGoalsMet(run(*scene, strokes, setting("finger-ramp")));
-    const Run release = run(*scene, strokes, setting("modified-release"));
+    expectGoalsMet(runStrokes(*scene, strokes, setting("finger")));
+    expectGoalsMet(runStrokes(*scene, strokes, setting("finger-ramp")));
+    const StrokesRun release = runStrokes(*scene, strokes, setting("modified-release"));
     EXPECT_GT(release.total.falseTrips, 0u);
     EXPECT_GT(release.total.spikesPerSecond, 2.0);
     EXPECT_GT(release.total.popThroughMs, 10.0);
-    const Run ramp = run(*scene, strokes, setting("modified-ramp"));
+    const StrokesRun ramp = runStrokes(*scene, strokes, setting("modified-ramp"));
     EXPECT_GT(ramp.total.falseTrips, 0u);
     EXPECT_GT(ramp.total.spikesPerSecond, 2.0);
     if (GetParam() == SyntheticScene::Forearm) // pulled back through the forearm

@@ -20,6 +20,8 @@
 ///    times, each move at most r (the stencil's reach). In contact q starts at the last proxy, so
 ///    the proxy slides continuously and holds against a silhouette wall like a god-object; the
 ///    proxy's height is taken on the current surface, so a rising surface lifts it (fix (a)).
+///    The proxy's x–y moves at most as far as the HIP's plus r/4 per update (glide()), so a jump of
+///    the optimum (over a silhouette's edge) is a glide, not a step of the force.
 ///    Held against a wall (the proxy more than r to the side of the HIP), the proxy moves to the
 ///    surface at the HIP's own x–y when that is nearer: a silhouette's far side is what the camera
 ///    did not see, not a wall to be pulled back through (a finger that went under a forearm).
@@ -102,9 +104,16 @@ private:
     glm::dvec3 solve(const glm::dvec3 &hip, double startX, double startY, FingerPlane &plane,
                      double &startHeight, double &below) const noexcept;
 
+    /// The proxy moves (x–y) at most as far as the HIP did plus r/4 per update: where the optimum
+    /// jumps (from an object's side onto its top, from a wall to the surface behind it) the proxy
+    /// glides there over a few updates instead of stepping the force. \return the proxy, on the
+    /// surface; \a plane is refitted where it stops short.
+    glm::dvec3 glide(const glm::dvec3 &hip, const glm::dvec3 &proxy, FingerPlane &plane) const noexcept;
+
     RendererConfig config_;
     HeightField field_;
     ForceStage force_;
+    glm::dvec3 lastHip_{};     ///< HIP of the last update, m.
     double radius_ = 0.0;      ///< r, m.
     double tripDepth_ = 0.0;   ///< maxForceStep / k, m.
     double captureDepth_ = 0.0; ///< Deepest new contact: max(tripDepth_, box depth / 10), m.

@@ -67,6 +67,11 @@ struct BenchReport {
     double resolutionRatio = 0.0;        ///< modified median 3840×2160 / 720×486, worst motion; goal ≤ 1.5
     double minOfRunsResolutionRatio = 0.0; ///< the same with minOfRunsMedianNs; goal ≤ 1.5
     double rebuildRatio = 0.0;           ///< mesh-bvh frame cost / modified frame cost at 720×486; goal ≥ 1000
+    /// The same goals for the finger renderer (the player's default): p99.9 at 720×486, 1 m/s, raw
+    /// and interference-filtered (goal ≤ 2000 ns), and the filtered 3840×2160 / 720×486 median ratio.
+    double fingerP999At720Fast = 0.0;
+    double fingerMinOfRunsP999At720Fast = 0.0;
+    double fingerMinOfRunsResolutionRatio = 0.0;
 };
 
 /// \brief Runs the benchmark. Allocates freely (not real-time).
