@@ -102,6 +102,7 @@ std::string encodeScene(const DemoOptions &o, const std::string &clip)
 /// One row of the force log (DESIGN.md §4): media time (s), HIP, proxy (m), force (N), flags.
 struct LogRow {
     double t = 0.0;
+    double playT = 0.0; ///< Play time, s from the first update (monotonic through loops).
     glm::dvec3 hip{};
     glm::dvec3 proxy{};
     glm::dvec3 force{};
@@ -120,9 +121,9 @@ std::vector<LogRow> readForceLog(const std::string &path)
         LogRow r;
         int contact = 0;
         int released = 0;
-        if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%d,%d", &r.t,
+        if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%d,%d,%lf", &r.t,
                         &r.hip.x, &r.hip.y, &r.hip.z, &r.proxy.x, &r.proxy.y, &r.proxy.z,
-                        &r.force.x, &r.force.y, &r.force.z, &contact, &released) != 12)
+                        &r.force.x, &r.force.y, &r.force.z, &contact, &released, &r.playT) != 13)
             continue;
         r.contact = contact != 0;
         r.released = released != 0;
@@ -131,17 +132,13 @@ std::vector<LogRow> readForceLog(const std::string &path)
     return rows;
 }
 
-/// \return the play time of each row, s from the first: the log's time is media time, which
-/// starts again at every loop; a step back (or a gap over 0.5 s) counts as one servo period.
-std::vector<double> playTimes(const std::vector<LogRow> &rows, double rate)
+/// \return the play time of each row, s from the first (the log's play_t column; its t is media
+/// time, which starts again at every loop).
+std::vector<double> playTimes(const std::vector<LogRow> &rows)
 {
     std::vector<double> play(rows.size(), 0.0);
-    for (std::size_t i = 1; i < rows.size(); ++i) {
-        double dt = rows[i].t - rows[i - 1].t;
-        if (dt < 0.0 || dt > 0.5)
-            dt = 1.0 / rate;
-        play[i] = play[i - 1] + dt;
-    }
+    for (std::size_t i = 0; i < rows.size(); ++i)
+        play[i] = rows[i].playT - rows.front().playT;
     return play;
 }
 
@@ -342,7 +339,7 @@ void reportFeel(const DemoOptions &o, const std::string &clip, const std::string
                     err.empty() ? "empty force log" : err.c_str());
         return;
     }
-    const std::vector<double> play = playTimes(rows, o.rate);
+    const std::vector<double> play = playTimes(rows);
     std::vector<std::array<double, 6>> plot;
     plot.reserve(rows.size());
     const DemoFeel d = measureFeel(rows, play, surface, plot);

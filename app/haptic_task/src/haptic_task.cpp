@@ -140,7 +140,7 @@ Result<void> HapticTask::start()
         forceLog_ = std::fopen(config_.forceLogPath.c_str(), "w");
         if (forceLog_ == nullptr)
             return unexpected(Errc::Io, "Failed to create the force log", errno);
-        std::fputs("t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released\n",
+        std::fputs("t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released,play_t\n",
                    forceLog_);
     }
     serviceStop_ = false;
@@ -512,10 +512,13 @@ void HapticTask::drainLocked()
         if (firstWakeNs_ < 0)
             firstWakeNs_ = s.wakeNs;
         if (forceLog_ != nullptr && (s.flags & TelemetrySample::Rendered) != 0) {
-            std::fprintf(forceLog_, "%.6f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%d,%d\n",
+            // play_t: seconds since the first update, monotonic through loops and seeks (t is
+            // the media time, which restarts).
+            std::fprintf(forceLog_, "%.6f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%d,%d,%.6f\n",
                          s.t, s.hip.x, s.hip.y, s.hip.z, s.proxy.x, s.proxy.y, s.proxy.z, s.force.x,
                          s.force.y, s.force.z, (s.flags & TelemetrySample::Contact) != 0 ? 1 : 0,
-                         (s.flags & TelemetrySample::Released) != 0 ? 1 : 0);
+                         (s.flags & TelemetrySample::Released) != 0 ? 1 : 0,
+                         static_cast<double>(s.wakeNs - firstWakeNs_) * 1e-9);
         }
     }
 }

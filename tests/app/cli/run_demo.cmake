@@ -30,7 +30,7 @@ foreach(f force-log.csv stats.json force-psd.csv head-160x120-20.mkv snapshots/f
     endif()
 endforeach()
 file(STRINGS ${OUT}/force-log.csv header LIMIT_COUNT 1)
-if(NOT header STREQUAL "t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released")
+if(NOT header STREQUAL "t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released,play_t")
     message(FATAL_ERROR "force log header is '${header}'")
 endif()
 file(READ ${OUT}/stats.json stats)

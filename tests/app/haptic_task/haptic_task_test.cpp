@@ -210,10 +210,17 @@ TEST(HapticTaskTest, simulatedHandRestsOnAStaticSurfaceWithForceEqualToKTimesPen
     std::ifstream in(log);
     std::string line;
     ASSERT_TRUE(std::getline(in, line));
-    EXPECT_EQ(line, "t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released");
+    EXPECT_EQ(line, "t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released,play_t");
     std::size_t rows = 0;
-    while (std::getline(in, line))
+    double lastPlayT = -1.0;
+    while (std::getline(in, line)) {
         ++rows;
+        // play_t, the last column, counts the updates' wake-ups from the first: 1 ms apart here
+        const double playT = std::stod(line.substr(line.rfind(',') + 1));
+        EXPECT_GT(playT, lastPlayT);
+        lastPlayT = playT;
+    }
+    EXPECT_NEAR(lastPlayT, 1.499, 0.002);
     EXPECT_EQ(rows, run.stats.renderedUpdates);
     std::remove(log.c_str());
     rmdir(dir);
