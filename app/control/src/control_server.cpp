@@ -1,5 +1,6 @@
 #include "depthtouch/control/control_server.h"
 
+#include <exception>
 #include <utility>
 
 #include <nlohmann/json.hpp>
@@ -73,6 +74,10 @@ std::string handleControlLine(std::string_view line, player::StateMachine &machi
         request = json::parse(text);
     } catch (const json::parse_error &e) {
         return errorReply("malformed JSON at byte " + std::to_string(e.byte));
+    } catch (const json::exception &) {
+        // out_of_range.406: a number beyond a double's range (1e400); the parser's message would
+        // quote the request, so the reply names the problem only.
+        return errorReply("malformed JSON: a number is out of range");
     }
     if (!request.is_object())
         return errorReply("a request must be a JSON object");
@@ -149,7 +154,14 @@ ControlServer::~ControlServer()
 
 void ControlServer::onLine(platform::UnixSocketServer::ClientId client, std::string_view line)
 {
-    std::string reply = handleControlLine(line, machine_);
+    std::string reply;
+    try {
+        reply = handleControlLine(line, machine_);
+    } catch (const std::exception &e) {
+        // Nothing a client sends may end the player: the client gets the reason instead.
+        DT_LOG(Control, Error, "Control line failed: %s", e.what());
+        reply = errorReply("the command failed: " + std::string(e.what()));
+    }
     if (reply.empty())
         return;
     reply += '\n';
