@@ -118,7 +118,7 @@ Result<hb::FeelScene> loadKitchen(const std::string &dir, const std::string &out
 std::string defaultDataDir()
 {
     const char *env = std::getenv("DT_SHARED_DATA");
-    return std::string(env != nullptr && *env != '\0' ? env : "../shared/data") + "/rgbd-7scenes-redkitchen";
+    return std::string(env != nullptr && *env != '\0' ? env : "../shared/data");
 }
 
 int fail(int code, const std::string &message)
@@ -130,7 +130,7 @@ int fail(int code, const std::string &message)
 /// Gathers the scenes: kitchen (when its data is there), the synthetic ones, the clips.
 int loadScenes(const BenchFeelOptions &o, std::vector<hb::FeelScene> &scenes)
 {
-    const std::string dir = o.data.empty() ? defaultDataDir() : o.data;
+    const std::string dir = (o.data.empty() ? defaultDataDir() : o.data) + "/rgbd-7scenes-redkitchen";
     if (std::filesystem::exists(dir + "/frame-000000.depth.png")) {
         std::fprintf(stderr, "encoding the 7-Scenes kitchen (depthtouch encode defaults) ...\n");
         auto k = loadKitchen(dir, o.out);
@@ -235,7 +235,8 @@ void registerBenchFeelCommand(CLI::App &bench, int &exitCode)
         ->delimiter(',')
         ->capture_default_str();
     cmd->add_option("--data", o->data,
-                    "7-Scenes redkitchen folder (default $DT_SHARED_DATA or ../shared/data, /rgbd-7scenes-redkitchen)");
+                    "Folder of the shared RGB-D captures, holding rgbd-7scenes-redkitchen/ (default "
+                    "$DT_SHARED_DATA, else ../shared/data)");
     cmd->add_flag("--quick", o->quick, "Shorter synthetic clips and one slide per depth x speed");
     cmd->add_flag("!--no-fifo", o->fifo,
                   "Time on a normal thread instead of a SCHED_FIFO one at the haptic priority");
