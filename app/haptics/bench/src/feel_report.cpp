@@ -103,12 +103,12 @@ void writeChartScript(const FeelReport &report, const std::filesystem::path &bas
     const std::string dat = (base / "feel_chart.dat").string();
     const FeelGoals &g = report.goals;
     std::ofstream s(base / "feel.gp");
-    s << "set terminal pngcairo size 1500,900 font ',11'\n"
+    s << "set terminal pngcairo size 1500,1000 font ',11'\n"
       << "set output '" << (base / "feel_vs_speed.png").string() << "'\n"
       << "names = '" << names << "'\nn = words(names)\nfloor = 0.01\n"
       << "set multiplot layout 2,3 title 'bench feel: feel against update time, all scenes and strokes "
          "(one point per renderer setting; dashed: goal; lower is better; 0 drawn at the bottom)' "
-         "margins 0.06,0.98,0.16,0.9 spacing 0.07,0.14\n"
+         "margins 0.06,0.98,0.21,0.91 spacing 0.07,0.13\n"
       << "set logscale xy\nset grid\nset xlabel 'update time p99.9 (us)'\nset format y '%g'\n"
       << "set ytics add ('0' floor)\nset yrange [floor / 2:*]\nset offsets graph 0.1, graph 0.1, graph 0.1, 0\n"
       << "unset key\n";
@@ -126,7 +126,7 @@ void writeChartScript(const FeelReport &report, const std::filesystem::path &bas
     for (const auto &p : panels) {
         s << "set title '" << p.title << "'\n";
         if (first)
-            s << "set key at screen 0.5, screen 0.035 center center horizontal maxcols 4 maxrows 1 box samplen 1 width 1\n";
+            s << "set key at screen 0.5, screen 0.075 center center horizontal maxcols 8 maxrows 1 box samplen 1 width 1\n";
         s << "plot for [i=0:n-1] '" << dat
           << "' index i using 1:($" << p.col << " > floor ? $" << p.col
           << " : floor) with points pt 7 ps 2.2 lc i+1 title word(names, i+1)";
