@@ -2,6 +2,7 @@
 #include "depthtouch/platform/assert.h"
 #include "depthtouch/platform/cache_line.h"
 #include "depthtouch/platform/clock.h"
+#include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/fixed_pool.h"
 #include "depthtouch/platform/log.h"
 #include "depthtouch/platform/macros.h"
