@@ -16,15 +16,12 @@
 #include <cstdlib>
 #include <cstring>
 #include <deque>
-#include <fstream>
 #include <memory>
 #include <new>
 #include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 
@@ -34,6 +31,7 @@
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/haptics/replay.h"
+#include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
 
 namespace depthtouch::cli {
@@ -73,19 +71,24 @@ int fail(int code, const std::string &message)
     return code;
 }
 
-bool readFile(const std::string &path, std::vector<std::uint8_t> &bytes)
+/// Largest raw depth file (--size) and trajectory read into memory, bytes.
+constexpr std::size_t kMaxRawDepthBytes = std::size_t{256} << 20;
+constexpr std::size_t kMaxTrajectoryBytes = std::size_t{64} << 20;
+
+/// Reads \a path whole (platform::readFileBounded: bounded size, a FIFO waits at most 10 s).
+/// \return the bytes, or a one-line reason naming \a what and the path.
+Result<std::vector<std::uint8_t>> readInput(const std::string &path, std::size_t maxBytes,
+                                            const char *what, std::string &error)
 {
-    std::FILE *f = std::fopen(path.c_str(), "rb");
-    if (f == nullptr)
-        return false;
-    bytes.clear();
-    std::uint8_t buf[65536];
-    std::size_t n = 0;
-    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0)
-        bytes.insert(bytes.end(), buf, buf + n);
-    const bool ok = std::ferror(f) == 0;
-    std::fclose(f);
-    return ok;
+    auto r = platform::readFileBounded(path, maxBytes);
+    if (!r) {
+        char buf[256];
+        error = std::string("cannot read ") + what + " '" + path + "': " +
+                (std::strcmp(r.error().what, "is larger than the limit") == 0
+                     ? "it is larger than " + std::to_string(maxBytes >> 20) + " MiB"
+                     : std::string(r.error().format(buf, sizeof buf)));
+    }
+    return r;
 }
 
 /// \brief Depth frames decoded by the `ffmpeg` backends, lazily and in order (the replay asks for
@@ -110,9 +113,23 @@ public:
             return false;
         }
         source_ = std::move(*src);
+        // The frames are counted first, then decoded: a FIFO cannot be read twice (and opening one
+        // would wait for a writer).
+        if (const auto kind = platform::pathKind(url.c_str());
+            kind == platform::PathKind::Fifo || kind == platform::PathKind::Directory ||
+            kind == platform::PathKind::Socket) {
+            error = "cannot read depth input '" + url + "': it is " + platform::pathKindName(kind) +
+                    " (touch reads the depth video twice: give a file)";
+            return false;
+        }
         if (auto r = source_->open(url.c_str()); !r) {
             error = "cannot read depth input '" + url + "': " + r.error().what + " (" +
                     errcName(r.error().code) + ")";
+            return false;
+        }
+        if (!source_->info().seekable && url.find("://") == std::string::npos) {
+            // The frames are counted first, then decoded: a pipe cannot be read twice.
+            error = "depth input '" + url + "' cannot be read twice (a pipe): save it to a file first";
             return false;
         }
         const auto &streams = source_->info().streams;
@@ -313,8 +330,6 @@ int runTouch(const TouchOptions &o)
         return fail(kExitBadInput, "--method must be finger, modified, proxy-graph or mesh-bvh");
     if (o.reengage != "release" && o.reengage != "ramp")
         return fail(kExitBadInput, "--reengage must be release or ramp");
-    if (!(o.rate > 0.0))
-        return fail(kExitBadInput, "--rate must be positive");
     ReplayOptions opt;
     opt.rate = o.rate;
     opt.method = *method;
@@ -332,8 +347,12 @@ int runTouch(const TouchOptions &o)
     c.reengage = o.reengage == "ramp" ? Reengage::Ramp : Reengage::Release;
     c.rampTime = o.rampTime;
     c.fingerRadius = o.fingerRadius;
-    if (auto v = c.validate(); !v)
+    if (auto v = validateReplayOptions(opt); !v)
         return fail(kExitBadInput, v.error().what);
+    // The output first: a directory, a FIFO without a reader or a missing folder fails before
+    // the work, and only a regular file or a new path is ever replaced.
+    if (auto p = platform::planOutput(o.out); !p)
+        return fail(kExitBadInput, "cannot write '" + o.out + "': it " + p.error().what);
 
     // Depth input: a raw gray file with --size, else anything FFmpeg reads.
     std::unique_ptr<FrameProvider> frames;
@@ -346,11 +365,12 @@ int runTouch(const TouchOptions &o)
             return fail(kExitBadInput, "--size must be WxH with W, H >= 2");
         if (o.bits != 8 && o.bits != 16)
             return fail(kExitBadInput, "--bits must be 8 or 16");
-        std::vector<std::uint8_t> bytes;
-        if (!readFile(o.depth, bytes))
-            return fail(kExitBadInput, "cannot read depth file '" + o.depth + "'");
+        std::string error;
+        auto bytes = readInput(o.depth, kMaxRawDepthBytes, "depth file", error);
+        if (!bytes)
+            return fail(kExitBadInput, error);
         auto raw = std::make_unique<RawVideoFrameProvider>(
-            std::move(bytes), w, h, o.bits == 8 ? SampleFormat::Gray8 : SampleFormat::Gray16, o.fps);
+            std::move(*bytes), w, h, o.bits == 8 ? SampleFormat::Gray8 : SampleFormat::Gray16, o.fps);
         if (auto v = raw->validate(); !v)
             return fail(kExitBadInput, std::string(v.error().what) + " ('" + o.depth + "')");
         frames = std::move(raw);
@@ -384,11 +404,12 @@ int runTouch(const TouchOptions &o)
         frames = std::move(decoded);
     }
 
-    std::vector<std::uint8_t> trajBytes;
-    if (!readFile(o.trajectory, trajBytes))
-        return fail(kExitBadInput, "cannot read trajectory '" + o.trajectory + "'");
+    std::string readError;
+    auto trajBytes = readInput(o.trajectory, kMaxTrajectoryBytes, "trajectory", readError);
+    if (!trajBytes)
+        return fail(kExitBadInput, readError);
     std::size_t line = 0;
-    const std::string_view text(reinterpret_cast<const char *>(trajBytes.data()), trajBytes.size());
+    const std::string_view text(reinterpret_cast<const char *>(trajBytes->data()), trajBytes->size());
     auto traj = parseTrajectoryCsv(text, &line);
     if (!traj)
         return fail(kExitBadInput, o.trajectory + ":" + std::to_string(line) + ": " + traj.error().what);
@@ -397,21 +418,12 @@ int runTouch(const TouchOptions &o)
     if (!rows)
         return fail(rows.error().code == Errc::Io ? kExitFailure : kExitBadInput, rows.error().what);
 
-    // Write to a temporary name in the same directory, then rename: never a partial output file.
-    const std::string tmp = o.out + ".tmp." + std::to_string(::getpid());
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        const std::string csv = formatForceLog(*rows);
-        out.write(csv.data(), static_cast<std::streamsize>(csv.size()));
-        out.close();
-        if (!out) {
-            std::remove(tmp.c_str());
-            return fail(kExitFailure, "Failed to write '" + o.out + "'");
-        }
-    }
-    if (std::rename(tmp.c_str(), o.out.c_str()) != 0) {
-        std::remove(tmp.c_str());
-        return fail(kExitFailure, "Failed to rename the force log to '" + o.out + "'");
+    // A regular file or new path is written under a temporary name and renamed (never a partial
+    // file); a device or a FIFO with a reader is written in place, never replaced.
+    if (auto w = platform::writeOutputFile(o.out, formatForceLog(*rows)); !w) {
+        char buf[256];
+        return fail(w.error().code == Errc::Io ? kExitFailure : kExitBadInput,
+                    "cannot write '" + o.out + "': " + w.error().format(buf, sizeof buf));
     }
     return kExitOk;
 }
@@ -429,7 +441,7 @@ void registerTouchCommand(CLI::App &app, int &exitCode)
         ->required();
     cmd->add_option("--trajectory", o->trajectory, "HIP trajectory CSV t,x,y,z (s, m)")->required();
     cmd->add_option("--out", o->out, "Force log CSV to write")->required();
-    cmd->add_option("--size", o->size, "Raw depth frame size WxH (pixels)");
+    cmd->add_option("--size", o->size, "Raw depth frame size WxH (pixels); a raw file is at most 256 MiB");
     cmd->add_option("--fps", o->fps, "Frame rate of raw depth and image sequences (frames/s)")
         ->capture_default_str();
     cmd->add_option("--near", o->nearM,
@@ -440,10 +452,10 @@ void registerTouchCommand(CLI::App &app, int &exitCode)
     cmd->add_option("--depth-mapping", o->depthMapping, "Metric conversion: inverse_z | linear")
         ->capture_default_str();
     cmd->add_option("--bits", o->bits, "Raw depth sample size: 8 or 16 (host byte order)")->capture_default_str();
-    cmd->add_option("--rate", o->rate, "Haptic update rate (Hz)")->capture_default_str();
-    cmd->add_option("--stiffness", o->stiffness, "Spring stiffness k (N/m)")->capture_default_str();
-    cmd->add_option("--damping", o->damping, "Damping b (N·s/m)")->capture_default_str();
-    cmd->add_option("--max-force", o->maxForce, "Device maximum force (N)")->capture_default_str();
+    cmd->add_option("--rate", o->rate, "Haptic update rate (Hz, 100..10000)")->capture_default_str();
+    cmd->add_option("--stiffness", o->stiffness, "Spring stiffness k (N/m, up to 100000)")->capture_default_str();
+    cmd->add_option("--damping", o->damping, "Damping b (N·s/m, 0..1000)")->capture_default_str();
+    cmd->add_option("--max-force", o->maxForce, "Device maximum force (N, up to 1000)")->capture_default_str();
     cmd->add_option("--box-width", o->boxWidth, "Scene box width (m)")->capture_default_str();
     cmd->add_option("--box-depth", o->boxDepth, "Scene box depth (m)")->capture_default_str();
     cmd->add_option("--method", o->method, "finger | modified | proxy-graph | mesh-bvh")->capture_default_str();

@@ -86,8 +86,15 @@ Result<std::vector<TrajectorySample>> parseTrajectoryCsv(std::string_view text, 
         for (int k = 0; k < 4; ++k)
             if (!parseNumber(fields[static_cast<std::size_t>(col[k])], v[k]))
                 return fail("trajectory value is not a finite number");
+        if (std::fabs(v[0]) > ReplayLimits::kMaxTimeSeconds)
+            return fail("trajectory time is beyond 1e6 s");
+        for (int k = 1; k < 4; ++k)
+            if (std::fabs(v[k]) > ReplayLimits::kMaxPositionMetres)
+                return fail("trajectory position is beyond 100 m");
         if (!rows.empty() && !(v[0] > rows.back().t))
             return fail("trajectory time is not strictly increasing");
+        if (rows.size() >= ReplayLimits::kMaxRows)
+            return fail("trajectory has more than 1000000 rows");
         rows.push_back({v[0], v[1], v[2], v[3]});
     }
     if (header)
@@ -153,15 +160,44 @@ Result<DepthFrameView> RawVideoFrameProvider::frame(std::size_t i) noexcept
     return v;
 }
 
+Result<void> validateReplayOptions(const ReplayOptions &options) noexcept
+{
+    using L = ReplayLimits;
+    const auto within = [](double v, double max) { return std::isfinite(v) && v > 0.0 && v <= max; };
+    if (!(options.rate >= L::kMinRate && options.rate <= L::kMaxRate))
+        return unexpected(Errc::InvalidArgument, "haptic rate must be in 100..10000 Hz");
+    DT_TRY(options.config.validate());
+    const RendererConfig &c = options.config;
+    if (!within(c.stiffness, L::kMaxStiffness))
+        return unexpected(Errc::InvalidArgument, "stiffness must be in (0, 100000] N/m");
+    if (!(c.damping >= 0.0 && c.damping <= L::kMaxDamping))
+        return unexpected(Errc::InvalidArgument, "damping must be in [0, 1000] N*s/m");
+    if (!within(c.maxForce, L::kMaxForce))
+        return unexpected(Errc::InvalidArgument, "max force must be in (0, 1000] N");
+    if (!within(c.maxForceStep, L::kMaxForceStep))
+        return unexpected(Errc::InvalidArgument, "max force step must be in (0, 10000] N");
+    if (!within(c.rampTime, L::kMaxRampTime))
+        return unexpected(Errc::InvalidArgument, "ramp time must be in (0, 3600] s");
+    if (!within(c.box.width, L::kMaxBoxMetres) || !within(c.box.depth, L::kMaxBoxMetres))
+        return unexpected(Errc::InvalidArgument, "box width and depth must be in (0, 100] m");
+    if (!std::isnan(c.fingerRadius) && !(c.fingerRadius <= c.box.width))
+        return unexpected(Errc::InvalidArgument, "finger radius must be at most the box width");
+    return ok();
+}
+
 Result<std::vector<ForceLogRow>> replay(FrameProvider &frames,
                                         const std::vector<TrajectorySample> &trajectory,
                                         const ReplayOptions &options)
 {
-    if (!std::isfinite(options.rate) || options.rate <= 0.0)
-        return unexpected(Errc::InvalidArgument, "haptic rate must be positive");
+    DT_TRY(validateReplayOptions(options));
     if (trajectory.empty())
         return unexpected(Errc::InvalidArgument, "trajectory has no rows");
-    DT_TRY(options.config.validate());
+    const double tEnd = trajectory.back().t;
+    if (!(tEnd >= 0.0))
+        return unexpected(Errc::InvalidArgument, "trajectory ends before t = 0 (nothing to replay)");
+    if (!(tEnd * options.rate < static_cast<double>(ReplayLimits::kMaxUpdates)))
+        return unexpected(Errc::InvalidArgument,
+                          "trajectory too long: more than 1000000 haptic updates (1000 s at 1 kHz)");
     const std::size_t count = frames.frameCount();
     if (count == 0)
         return unexpected(Errc::InvalidArgument, "depth video has no frames");
@@ -175,9 +211,7 @@ Result<std::vector<ForceLogRow>> replay(FrameProvider &frames,
         return unexpected(made.error());
     HapticRenderer &renderer = **made;
 
-    const double tEnd = trajectory.back().t;
-    const auto updates =
-        tEnd < 0.0 ? std::size_t{0} : static_cast<std::size_t>(std::floor(tEnd * options.rate + 1e-9)) + 1;
+    const auto updates = static_cast<std::size_t>(std::floor(tEnd * options.rate + 1e-9)) + 1;
     std::vector<ForceLogRow> rows;
     rows.reserve(updates);
     std::size_t current = 0;
@@ -229,15 +263,25 @@ std::string formatForceLog(const std::vector<ForceLogRow> &rows)
     std::string out = "t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released\n";
     out.reserve(out.size() + rows.size() * 120);
     char buf[320];
+    std::string wide;
     for (const ForceLogRow &r : rows) {
         const HapticOutput &o = r.out;
-        const int n = std::snprintf(buf, sizeof buf,
-                                    "%.6f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%d,%d\n", r.t,
-                                    o.hip.x, o.hip.y, o.hip.z, o.proxy.x, o.proxy.y, o.proxy.z,
-                                    o.force.x, o.force.y, o.force.z, o.contact ? 1 : 0,
-                                    o.released ? 1 : 0);
-        if (n > 0)
-            out.append(buf, static_cast<std::size_t>(std::min(n, static_cast<int>(sizeof buf) - 1)));
+        const auto print = [&r, &o](char *to, std::size_t size) {
+            return std::snprintf(to, size, "%.6f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%d,%d\n",
+                                 r.t, o.hip.x, o.hip.y, o.hip.z, o.proxy.x, o.proxy.y, o.proxy.z,
+                                 o.force.x, o.force.y, o.force.z, o.contact ? 1 : 0,
+                                 o.released ? 1 : 0);
+        };
+        const int n = print(buf, sizeof buf);
+        if (n < 0)
+            continue;
+        if (static_cast<std::size_t>(n) < sizeof buf) {
+            out.append(buf, static_cast<std::size_t>(n));
+        } else { // a huge value: %f prints every digit (1e300 is 301 of them)
+            wide.assign(static_cast<std::size_t>(n) + 1, '\0');
+            print(wide.data(), wide.size());
+            out.append(wide.data(), static_cast<std::size_t>(n));
+        }
     }
     return out;
 }

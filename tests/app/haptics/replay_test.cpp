@@ -1,6 +1,8 @@
 #include "depthtouch/haptics/replay.h"
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 #include <cstring>
 
 #include <gtest/gtest.h>
@@ -105,6 +107,124 @@ TEST(ReplayTest, rejectsBadOptionsAndVideos)
     RawVideoFrameProvider truncated(std::vector<std::uint8_t>(8 * 8 * 2 + 3), 8, 8, SampleFormat::Gray16, 30.0);
     EXPECT_FALSE(truncated.validate());
     EXPECT_FALSE(replay(truncated, *traj, ReplayOptions{}));
+}
+
+TEST(TrajectoryCsvTest, rejectsPositionsAndTimesBeyondTheLimits)
+{
+    // GIVEN rows with a coordinate of 1.7e308 m, a time of 1e300 s or 1e9 s (issue 16: NaN forces, a
+    // one-row log, std::bad_alloc)
+    const char *cases[] = {
+        "t,x,y,z\n0,0,0,0\n0.1,1.7e308,0,0\n",
+        "t,x,y,z\n0,0,0,0\n0.1,0,0,-1.7e308\n",
+        "t,x,y,z\n0,0,0,0\n0.1,0,100.5,0\n",
+        "t,x,y,z\n0,0,0,0\n1e300,0,0,0\n",
+        "t,x,y,z\n0,0,0,0\n1e9,0,0,0\n",
+    };
+    for (const char *text : cases) {
+        std::size_t line = 0;
+        const auto r = parseTrajectoryCsv(text, &line);
+        // THEN each is refused at its line
+        ASSERT_FALSE(r) << text;
+        EXPECT_EQ(line, 3u) << text;
+    }
+    // AND the limits themselves are accepted
+    EXPECT_TRUE(parseTrajectoryCsv("t,x,y,z\n0,-100,100,-100\n1e6,0,0,0\n"));
+}
+
+TEST(ReplayTest, refusesATrajectoryTooLongForTheUpdateLimitOrEndingBeforeZero)
+{
+    RawVideoFrameProvider frames(rawVideo(8, 8, 2), 8, 8, SampleFormat::Gray16, 30.0);
+    ReplayOptions opt;
+    // GIVEN 100000 s at 1 kHz (1e8 updates) and the same at 10 kHz for 100.1 s
+    auto longTraj = parseTrajectoryCsv("t,x,y,z\n0,0,0,0\n100000,0,0,0\n");
+    ASSERT_TRUE(longTraj);
+    auto r = replay(frames, *longTraj, opt);
+    ASSERT_FALSE(r);
+    EXPECT_NE(std::string(r.error().what).find("too long"), std::string::npos);
+    opt.rate = 10'000.0;
+    auto justOver = parseTrajectoryCsv("t,x,y,z\n0,0,0,0\n100.1,0,0,0\n");
+    ASSERT_TRUE(justOver);
+    EXPECT_FALSE(replay(frames, *justOver, opt));
+    // AND a trajectory ending before t = 0 has nothing to replay
+    opt.rate = 1000.0;
+    auto negative = parseTrajectoryCsv("t,x,y,z\n-2,0,0,0\n-1,0,0,0\n");
+    ASSERT_TRUE(negative);
+    EXPECT_FALSE(replay(frames, *negative, opt));
+}
+
+TEST(ReplayTest, optionsOutsideTheirRangesAreRefused)
+{
+    const auto bad = [](auto change) {
+        ReplayOptions o;
+        change(o);
+        return !validateReplayOptions(o);
+    };
+    EXPECT_FALSE(bad([](ReplayOptions &) {}));
+    EXPECT_TRUE(bad([](ReplayOptions &o) { o.rate = 1e9; }));
+    EXPECT_TRUE(bad([](ReplayOptions &o) { o.rate = 99.0; }));
+    EXPECT_TRUE(bad([](ReplayOptions &o) { o.rate = std::nan(""); }));
+    EXPECT_TRUE(bad([](ReplayOptions &o) { o.config.stiffness = 1e308; }));
+    EXPECT_TRUE(bad([](ReplayOptions &o) { o.config.damping = 1e308; }));
+    EXPECT_TRUE(bad([](ReplayOptions &o) { o.config.maxForce = 1e308; }));
+    EXPECT_TRUE(bad([](ReplayOptions &o) { o.config.box.width = 1e300; }));
+    EXPECT_TRUE(bad([](ReplayOptions &o) { o.config.maxForceStep = 1e300; }));
+    EXPECT_TRUE(bad([](ReplayOptions &o) { o.config.rampTime = 1e300; }));
+    EXPECT_TRUE(bad([](ReplayOptions &o) { o.config.fingerRadius = 1.0; }));
+}
+
+TEST(ReplayTest, forcesAreFiniteAndWithinTheMaximumAtTheExtremesOfEveryRange)
+{
+    // GIVEN the stiffest, most damped settings allowed, safety off, and a HIP swinging between the
+    // position limits (issue 16: NaN forces with exit 0)
+    auto traj = parseTrajectoryCsv("t,x,y,z\n0,0,0,-0.01\n0.01,100,-100,-100\n0.02,-100,100,100\n"
+                                   "0.03,0.001,0.001,-100\n0.05,0.001,0.001,-0.02\n");
+    ASSERT_TRUE(traj);
+    for (const Method m : {Method::Finger, Method::Modified, Method::ProxyGraph, Method::MeshBvh}) {
+        for (const bool safety : {false, true}) {
+            ReplayOptions opt;
+            opt.method = m;
+            opt.rate = ReplayLimits::kMaxRate;
+            opt.config = RendererConfig::forMethod(m);
+            opt.config.safety = safety;
+            opt.config.stiffness = ReplayLimits::kMaxStiffness;
+            opt.config.damping = ReplayLimits::kMaxDamping;
+            RawVideoFrameProvider frames(rawVideo(16, 12, 3), 16, 12, SampleFormat::Gray16, 30.0);
+            const auto rows = replay(frames, *traj, opt);
+            ASSERT_TRUE(rows) << rows.error().what;
+            ASSERT_EQ(rows->size(), 501u);
+            // THEN every force is finite and within the device maximum
+            for (const ForceLogRow &r : *rows) {
+                const glm::dvec3 &f = r.out.force;
+                ASSERT_TRUE(std::isfinite(f.x) && std::isfinite(f.y) && std::isfinite(f.z))
+                    << methodName(m) << " t=" << r.t;
+                EXPECT_LE(glm::length(f), opt.config.maxForce * (1.0 + 1e-9)) << methodName(m);
+                ASSERT_TRUE(std::isfinite(r.out.proxy.x) && std::isfinite(r.out.proxy.y) &&
+                            std::isfinite(r.out.proxy.z))
+                    << methodName(m) << " t=" << r.t;
+            }
+        }
+    }
+}
+
+TEST(ForceLogTest, rowsAreWholeWhateverTheMagnitudes)
+{
+    // GIVEN rows holding -1e300 (each printed as over 300 digits by %f)
+    std::vector<ForceLogRow> rows(500);
+    for (ForceLogRow &r : rows)
+        r.out.hip = r.out.proxy = r.out.force = glm::dvec3(-1e300);
+    // WHEN formatted
+    const std::string csv = formatForceLog(rows);
+    // THEN there are 501 lines, each with 12 fields (issue 16: rows were cut at 319 characters)
+    std::size_t lines = 0;
+    std::size_t start = 0;
+    for (std::size_t nl = csv.find('\n'); nl != std::string::npos; nl = csv.find('\n', start)) {
+        const std::string line = csv.substr(start, nl - start);
+        EXPECT_EQ(std::count(line.begin(), line.end(), ','), 11) << lines;
+        start = nl + 1;
+        ++lines;
+    }
+    EXPECT_EQ(lines, 501u);
+    EXPECT_EQ(start, csv.size());
 }
 
 } // namespace

@@ -26,10 +26,36 @@ struct TrajectorySample {
     double z = 0.0;
 };
 
+/// \brief Bounds on what a trajectory or a replay may ask for, so hostile input cannot make the replay
+/// allocate without limit or compute with overflowing numbers.
+struct ReplayLimits {
+    /// |x|, |y|, |z| of a trajectory row, m (the scene box is centimetres wide).
+    static constexpr double kMaxPositionMetres = 100.0;
+    /// |t| of a trajectory row, s.
+    static constexpr double kMaxTimeSeconds = 1.0e6;
+    /// Trajectory rows (1000 s sampled at 1 kHz).
+    static constexpr std::size_t kMaxRows = 1'000'000;
+    /// Updates (force-log rows) of one replay: 1000 s at 1 kHz, about 100 MB of rows and 130 MB of
+    /// CSV text.
+    static constexpr std::size_t kMaxUpdates = 1'000'000;
+    /// Haptic rate, Hz (the player's servo range).
+    static constexpr double kMinRate = 100.0;
+    static constexpr double kMaxRate = 10'000.0;
+    /// Renderer parameters: stiffness N/m, damping N·s/m, maximum force N, force step N, ramp time
+    /// s, box width and depth m (all also > 0, damping ≥ 0; see RendererConfig).
+    static constexpr double kMaxStiffness = 100'000.0;
+    static constexpr double kMaxDamping = 1'000.0;
+    static constexpr double kMaxForce = 1'000.0;
+    static constexpr double kMaxForceStep = 10'000.0;
+    static constexpr double kMaxRampTime = 3'600.0;
+    static constexpr double kMaxBoxMetres = 100.0;
+};
+
 /// \brief Parses a trajectory CSV (header naming columns `t,x,y,z` in any order, extra columns ignored).
 /// \param[out] errorLine when not null, receives the 1-based line of the first problem (0 if none).
 /// \return the rows, or Errc::InvalidArgument: missing column, wrong field count, a value that is not a
-/// finite number, time not strictly increasing, no rows.
+/// finite number, a position beyond ReplayLimits::kMaxPositionMetres or a time beyond
+/// kMaxTimeSeconds, time not strictly increasing, more than kMaxRows rows, no rows.
 Result<std::vector<TrajectorySample>> parseTrajectoryCsv(std::string_view text,
                                                          std::size_t *errorLine = nullptr);
 
@@ -88,15 +114,22 @@ struct ForceLogRow {
     HapticOutput out{};
 };
 
+/// \brief Checks \a options against ReplayLimits and RendererConfig::validate().
+/// \return Errc::InvalidArgument with a static message naming the option.
+[[nodiscard]] Result<void> validateReplayOptions(const ReplayOptions &options) noexcept;
+
 /// \brief Replays \a trajectory against \a frames, one update every 1/rate s from t = 0 to the last
 /// trajectory time. Deterministic: the same inputs give the same rows.
-/// \return the rows, or the first error (bad options, no frames, a frame that fails or changes size).
+/// \return the rows, or the first error (bad options (validateReplayOptions()), a trajectory that
+/// ends before t = 0 or needs more than ReplayLimits::kMaxUpdates updates, no frames, a frame that
+/// fails or changes size).
 Result<std::vector<ForceLogRow>> replay(FrameProvider &frames,
                                         const std::vector<TrajectorySample> &trajectory,
                                         const ReplayOptions &options);
 
 /// \return the force log CSV: header `t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released`
-/// then one line per row (times µs-exact, positions to 1 nm, forces to 1 µN).
+/// then one line per row (times µs-exact, positions to 1 nm, forces to 1 µN), whole whatever the
+/// magnitudes.
 std::string formatForceLog(const std::vector<ForceLogRow> &rows);
 
 } // namespace depthtouch::haptics
