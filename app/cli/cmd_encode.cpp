@@ -5,12 +5,14 @@
 /// (DESIGN.md §3), optionally enhances it (paper §V.B) and writes color H.264 + depth 4:0:0 into
 /// one MKV/MP4/MPEG-TS file or stream URL (DESIGN.md §4). The pipeline is media::encodeStreams().
 ///
-/// Bad input (missing or unreadable source, no video stream, nonsense options, unwritable output)
-/// prints one error line and exits 2 without leaving an output file. SIGINT/SIGTERM stop reading;
+/// Bad input (missing, unreadable or silent source, no video stream, nonsense options, an output
+/// path that is a directory or in a missing folder) prints one error line and exits 2 without
+/// leaving an output file; a write of the output that fails (lost output) exits 1. SIGINT/SIGTERM stop reading;
 /// the encoders are flushed and the trailer written, so the file is playable; exit code 130.
 /// Progress (frames, fps, ETA) is drawn on stderr only when stderr is a terminal.
 
 #include <atomic>
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -27,6 +29,7 @@
 #include "source_providers.h"
 #include "depthtouch/media/encode_job.h"
 #include "depthtouch/media/frame_source.h"
+#include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
 
 namespace depthtouch::cli {
@@ -230,10 +233,16 @@ int runEncode(const EncodeCliOptions &o)
         eo.range = depth::DepthRange{*o.nearM, *o.farM};
     eo.enhance = o.enhance;
     eo.enhanceOptions.sampling.tolerance = o.enhanceTolerance;
-    if (!(o.fps > 0.0) || o.fps > 1000.0)
-        return fail(kExitBadInput, "--fps must be in (0, 1000]");
+    if (!(o.fps >= media::kMinEncodeFps) || o.fps > media::kMaxEncodeFps)
+        return fail(kExitBadInput, "--fps must be in 0.1..1000 frames/s");
     if (auto v = eo.validate(); !v)
         return fail(kExitBadInput, v.error().what);
+    if (!media::isOutputUrl(o.output)) {
+        // Before any input is read: only a regular file or a new path is replaced; a device or a
+        // FIFO with a reader is written in place; anything else is refused.
+        if (auto p = platform::planOutput(o.output); !p)
+            return fail(kExitBadInput, "cannot write '" + o.output + "': it " + p.error().what);
+    }
     static constexpr const char *kPresets[] = {"ultrafast", "superfast", "veryfast", "faster",
                                                "fast",      "medium",    "slow",     "slower",
                                                "veryslow",  "placebo"};
@@ -302,8 +311,9 @@ int runEncode(const EncodeCliOptions &o)
             return fail(kExitBadInput, depthSrc->message());
         const Errc code = summary.error().code;
         const std::string what = describe(summary.error());
+        // The inputs read fine: an I/O error is the output's, which is lost (exit 1).
         if (code == Errc::Io)
-            return fail(kExitBadInput, "cannot write '" + o.output + "': " + what);
+            return fail(kExitFailure, "cannot write '" + o.output + "': " + what);
         return fail(code == Errc::OutOfResources ? kExitFailure : kExitBadInput, what);
     }
 
@@ -367,7 +377,8 @@ void registerEncodeCommand(CLI::App &app, int &exitCode)
     cmd->add_option("--format", o->format,
                     "Container: mkv | mp4 | ts (default: by extension; "
                     "mkv for files, ts for URLs)");
-    cmd->add_option("--fps", o->fps, "Frame rate of image sequences and raw inputs (frames/s)")
+    cmd->add_option("--fps", o->fps,
+                    "Frame rate of image sequences and raw inputs (frames/s, 0.1..1000)")
         ->capture_default_str();
     cmd->add_option("--crf", o->crf, "Color x264 constant rate factor 0..51")
         ->capture_default_str();
@@ -386,7 +397,16 @@ void registerEncodeCommand(CLI::App &app, int &exitCode)
     cmd->add_flag("--loop", o->loop,
                   "Loop image-sequence inputs forever (a live source; stop with --frames, "
                   "--duration or Ctrl-C)");
-    cmd->add_option("--frames", o->frames, "Encode at most N frame pairs (0: all)");
+    cmd->add_option("--frames", o->frames, "Encode at most N frame pairs (0: all)")
+        ->check(CLI::Validator(
+            [](std::string &v) -> std::string {
+                char *end = nullptr;
+                errno = 0;
+                const long long n = std::strtoll(v.c_str(), &end, 10);
+                const bool whole = end != v.c_str() && *end == '\0' && errno == 0 && n >= 0;
+                return whole ? std::string() : "must be a whole number >= 0 (0: all), not " + v;
+            },
+            "N >= 0"));
     cmd->add_option("--duration", o->duration, "Encode at most this many seconds (0: all)");
     cmd->add_option("--depth-scale", o->depthScale,
                     "Metres per unit of 16-bit metric depth (0.001: mm; TUM: 0.0002)")

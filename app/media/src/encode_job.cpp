@@ -182,8 +182,12 @@ Result<void> EncodeOptions::validate() const
     if (threads < 0)
         return unexpected(Errc::InvalidArgument, "--threads must be >= 0");
     if (width < 0 || height < 0 || (width == 0) != (height == 0) || width % 2 != 0 ||
-        height % 2 != 0 || width > 16384 || height > 16384)
-        return unexpected(Errc::InvalidArgument, "--size must be WxH, even, up to 16384");
+        height % 2 != 0)
+        return unexpected(Errc::InvalidArgument, "--size must be WxH, even");
+    if (width > 0 && !isEncodableSize(width, height))
+        return unexpected(Errc::InvalidArgument,
+                          "--size is beyond H.264's largest frame (139264 macroblocks, e.g. "
+                          "8192x4352)");
     if (maxFrames < 0)
         return unexpected(Errc::InvalidArgument, "--frames must be >= 0");
     if (!(maxDuration >= 0.0) || !std::isfinite(maxDuration))
@@ -234,6 +238,14 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
                           "Color is an odd size; 4:2:0 needs even sizes (use --size)");
     if (width <= 0 || height <= 0)
         return unexpected(Errc::InvalidArgument, "Color has no size");
+    if (!isEncodableSize(width, height))
+        return unexpected(Errc::InvalidArgument,
+                          "The color input is beyond H.264's largest frame (139264 macroblocks, "
+                          "e.g. 8192x4352): give a smaller --size");
+    const double fps = color.info().fps > 0.0 ? color.info().fps : 30.0;
+    if (!(fps >= kMinEncodeFps) || fps > kMaxEncodeFps)
+        return unexpected(Errc::InvalidArgument,
+                          "The color input's frame rate is outside 0.1..1000 frames/s");
 
     // Depth layout: 16-bit samples are metric depth; anything else gives 8-bit nearness (the luma
     // of a color-format depth video).
@@ -316,7 +328,6 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
     auto muxer = Muxer::open(mo);
     if (!muxer)
         return unexpected(muxer.error());
-    const double fps = color.info().fps > 0.0 ? color.info().fps : 30.0;
 
     VideoEncoderConfig cc;
     cc.codec = VideoCodec::H264Yuv420p;

@@ -8,14 +8,13 @@
 #include <cstring>
 #include <string>
 
-#include <unistd.h>
-
 extern "C" {
 #include <libavutil/imgutils.h>
 #include <libavutil/opt.h>
 }
 
 #include "av_handles.h"
+#include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
 
 DT_LOG_CATEGORY(Media)
@@ -45,6 +44,16 @@ bool endsWith(const std::string &s, const char *suffix)
 }
 
 } // namespace
+
+bool isEncodableSize(int width, int height) noexcept
+{
+    constexpr long long kMaxMacroblocks = 139264; // level 6.2 MaxFS
+    if (width < 1 || height < 1 || width > 16384 || height > 16384)
+        return false;
+    const long long mbs = ((width + 15LL) / 16) * ((height + 15LL) / 16);
+    return mbs <= kMaxMacroblocks &&
+           av_image_check_size(static_cast<unsigned>(width), static_cast<unsigned>(height), 0, nullptr) == 0;
+}
 
 const char *containerName(Container c) noexcept
 {
@@ -96,7 +105,8 @@ struct Muxer::Impl {
     AVFormatContext *fmt = nullptr;
     Container container = Container::Matroska;
     std::string output;
-    std::string tmpPath; ///< Empty for URLs.
+    std::string finalPath; ///< Where tmpPath is renamed to (the output, or a link's target).
+    std::string tmpPath;   ///< Empty for URLs and outputs written in place (devices, FIFOs).
     bool started = false;
     bool finished = false;
 
@@ -138,9 +148,21 @@ Result<std::unique_ptr<Muxer>> Muxer::open(const MuxerOptions &options)
     m.container = options.container;
     m.output = options.output;
     const bool url = isOutputUrl(options.output);
-    if (!url)
-        m.tmpPath = options.output + ".tmp." + std::to_string(::getpid());
-    const std::string &target = url ? options.output : m.tmpPath;
+    std::string target = options.output;
+    if (!url) {
+        // Only a regular file or a new path is replaced (written aside, then renamed); a device or
+        // a FIFO with a reader is written in place; anything else is refused.
+        auto plan = platform::planOutput(options.output);
+        if (!plan)
+            return unexpected(Errc::InvalidArgument, plan.error().what, plan.error().sysErrno);
+        if (plan->mode == platform::OutputMode::Replace) {
+            m.tmpPath = plan->tempPath;
+            m.finalPath = plan->path;
+            target = m.tmpPath;
+        } else {
+            target = plan->path;
+        }
+    }
 
     int ret = avformat_alloc_output_context2(&m.fmt, nullptr, containerName(options.container),
                                              target.c_str());
@@ -221,7 +243,7 @@ Result<void> Muxer::finish()
         return unexpected(Errc::Io, "Failed to finish the output",
                           errnoOf(ret < 0 ? ret : closeRet));
     }
-    if (!m.tmpPath.empty() && std::rename(m.tmpPath.c_str(), m.output.c_str()) != 0) {
+    if (!m.tmpPath.empty() && std::rename(m.tmpPath.c_str(), m.finalPath.c_str()) != 0) {
         const int err = errno;
         m.close(true);
         return unexpected(Errc::Io, "Failed to rename the output into place", err);
@@ -293,10 +315,11 @@ Result<std::unique_ptr<VideoEncoder>> VideoEncoder::create(const VideoEncoderCon
     Muxer::Impl &m = *muxer.impl_;
     if (m.started || m.fmt == nullptr)
         return unexpected(Errc::InvalidState, "Streams must be added before the muxer starts");
-    if (config.width <= 0 || config.height <= 0 || config.width > 16384 || config.height > 16384)
-        return unexpected(Errc::InvalidArgument, "Frame size must be 1..16384 pixels");
-    if (!(config.fps > 0.0) || !std::isfinite(config.fps) || config.fps > 1000.0)
-        return unexpected(Errc::InvalidArgument, "Frame rate must be in (0, 1000]");
+    if (!isEncodableSize(config.width, config.height))
+        return unexpected(Errc::InvalidArgument,
+                          "Frame size beyond H.264's largest (139264 macroblocks, e.g. 8192x4352)");
+    if (!(config.fps >= kMinEncodeFps) || config.fps > kMaxEncodeFps)
+        return unexpected(Errc::InvalidArgument, "Frame rate must be in 0.1..1000 frames/s");
     if (config.crf < 0 || config.crf > 51)
         return unexpected(Errc::InvalidArgument, "CRF must be in 0..51");
 

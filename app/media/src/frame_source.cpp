@@ -4,6 +4,7 @@
 #include "depthtouch/media/frame_source.h"
 
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -14,6 +15,8 @@ extern "C" {
 }
 
 #include "av_handles.h"
+#include "image_sequence.h"
+#include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
 
 DT_LOG_CATEGORY(Media)
@@ -79,7 +82,26 @@ public:
 
 private:
     Result<void> decodeOne();
+    /// Opens the image sequence again from image number \a n (after a gap in the numbers).
+    Result<void> reopenSequenceAt(long long n);
+    /// libavformat's interrupt callback: 1 (give up) once the I/O deadline has passed.
+    static int interrupted(void *self) noexcept
+    {
+        return std::chrono::steady_clock::now() > static_cast<FfmpegFrameSource *>(self)->deadline_;
+    }
+    void armDeadline() noexcept
+    {
+        deadline_ = std::chrono::steady_clock::now() + std::chrono::milliseconds(ioTimeoutMs_);
+    }
+    /// The error of a libavformat call that failed with \a ret (AVERROR_EXIT: the deadline).
+    [[nodiscard]] bool timedOut(int ret) const noexcept
+    {
+        return ret == AVERROR_EXIT && std::chrono::steady_clock::now() > deadline_;
+    }
 
+    std::chrono::steady_clock::time_point deadline_{};
+    int ioTimeoutMs_ = 10'000;
+    platform::UniqueFd fifo_; ///< A FIFO input, read by libavformat as pipe:FD (outlives fmt_).
     InputContextPtr fmt_;
     CodecContextPtr codec_;
     PacketPtr packet_;
@@ -92,6 +114,12 @@ private:
     double fps_ = 30.0;
     long long index_ = 0;
     std::int64_t firstPts_ = AV_NOPTS_VALUE;
+    double ptsOffset_ = 0.0; ///< Seconds before the current run of a sequence with gaps.
+    /// A printf-pattern sequence with gaps: its file numbers, the first of the run being read, and
+    /// the images read of that run (the image2 demuxer stops at the first missing number).
+    std::vector<long long> sequenceNumbers_;
+    long long runStart_ = 0;
+    long long runImages_ = 0;
     bool demuxEnded_ = false;
     bool drained_ = false;
 };
@@ -102,6 +130,9 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
     fps_ = options.fps;
     if (!(options.fps > 0.0) || !std::isfinite(options.fps))
         return unexpected(Errc::InvalidArgument, "The frame rate must be positive");
+    if (options.ioTimeoutMs <= 0)
+        return unexpected(Errc::InvalidArgument, "The I/O timeout must be positive");
+    ioTimeoutMs_ = options.ioTimeoutMs;
 
     const AVInputFormat *forced = nullptr;
     // Owned from the first entry on, so every early return below frees it.
@@ -137,10 +168,29 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
         set("pixel_format", options.pixelFormat);
     }
 
-    AVFormatContext *rawFmt = nullptr;
+    std::string openUrl = url;
+    if (!sequence && !glob && platform::pathKind(url.c_str()) == platform::PathKind::Fifo) {
+        // open(2) of a FIFO blocks until a writer comes: wait for one within the timeout, and
+        // keep the descriptor non-blocking so libavformat's reads honour the deadline.
+        auto fd = platform::openFifoForReading(url.c_str(), std::chrono::milliseconds(ioTimeoutMs_));
+        if (!fd)
+            return unexpected(fd.error().code, fd.error().code == Errc::Timeout
+                                                   ? "A FIFO with no writer (gave up waiting)"
+                                                   : "Failed to open the FIFO",
+                              fd.error().sysErrno);
+        fifo_ = std::move(*fd);
+        openUrl = "pipe:" + std::to_string(fifo_.get());
+    }
+    AVFormatContext *rawFmt = avformat_alloc_context();
+    if (rawFmt == nullptr)
+        return unexpected(Errc::OutOfResources, "Failed to allocate the demuxer");
+    rawFmt->interrupt_callback = {&FfmpegFrameSource::interrupted, this};
     AVDictionary *openDict = dict.release();
-    int ret = avformat_open_input(&rawFmt, url.c_str(), forced, &openDict);
+    armDeadline();
+    int ret = avformat_open_input(&rawFmt, openUrl.c_str(), forced, &openDict); // frees on failure
     dict.reset(openDict);
+    if (timedOut(ret))
+        return unexpected(Errc::Timeout, "No data from the input (gave up waiting)");
     if (ret < 0) {
         DT_LOG(Media, Warning, "Failed to open %s: %s", url.c_str(), AvErrorText(ret).text);
         if (ret == AVERROR_INVALIDDATA)
@@ -152,8 +202,11 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
         return unexpected(Errc::Io, "Failed to open the input", errnoOf(ret));
     }
     fmt_.reset(rawFmt);
+    armDeadline();
     if ((ret = avformat_find_stream_info(fmt_.get(), nullptr)) < 0) {
         DT_LOG(Media, Warning, "Failed to read %s: %s", url.c_str(), AvErrorText(ret).text);
+        if (timedOut(ret))
+            return unexpected(Errc::Timeout, "No data from the input (gave up waiting)");
         return unexpected(Errc::InvalidArgument, "Failed to read the input's streams");
     }
     int wanted = -1;
@@ -215,6 +268,16 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
     else if (fmt_->duration != AV_NOPTS_VALUE && fmt_->duration > 0)
         info_.frameCount =
             std::llround(static_cast<double>(fmt_->duration) / AV_TIME_BASE * info_.fps);
+    if (sequence && !options.loop) {
+        // Frames 0-9 and 20-29: read on across the gap, as the glob form would.
+        std::vector<long long> numbers = detail::imageSequenceNumbers(url);
+        if (!numbers.empty() && numbers.back() - numbers.front() + 1 !=
+                                    static_cast<long long>(numbers.size())) {
+            info_.frameCount = static_cast<long long>(numbers.size());
+            runStart_ = numbers.front();
+            sequenceNumbers_ = std::move(numbers);
+        }
+    }
     if (options.loop)
         info_.frameCount = 0; // endless
     for (const AVDictionary *meta : {static_cast<const AVDictionary *>(st->metadata),
@@ -254,11 +317,22 @@ Result<void> FfmpegFrameSource::decodeOne()
             (void)avcodec_send_packet(codec_.get(), nullptr);
             continue;
         }
+        armDeadline();
         ret = av_read_frame(fmt_.get(), packet_.get());
         if (ret == AVERROR_EOF) {
+            const long long next =
+                sequenceNumbers_.empty()
+                    ? -1
+                    : detail::nextImageNumber(sequenceNumbers_, runStart_ + runImages_ - 1);
+            if (next >= 0) {
+                DT_TRY(reopenSequenceAt(next));
+                continue;
+            }
             demuxEnded_ = true;
             continue;
         }
+        if (timedOut(ret))
+            return unexpected(Errc::Timeout, "No data from the input (gave up waiting)");
         if (ret < 0) {
             DT_LOG(Media, Warning, "Failed to read %s: %s", url_.c_str(), AvErrorText(ret).text);
             // The image2 demuxer reports a missing or unreadable file of the sequence as EIO.
@@ -269,6 +343,7 @@ Result<void> FfmpegFrameSource::decodeOne()
             av_packet_unref(packet_.get());
             continue;
         }
+        ++runImages_;
         ret = avcodec_send_packet(codec_.get(), packet_.get());
         av_packet_unref(packet_.get());
         if (ret < 0 && ret != AVERROR(EAGAIN)) {
@@ -276,6 +351,36 @@ Result<void> FfmpegFrameSource::decodeOne()
             return unexpected(Errc::InvalidArgument, "Failed to decode a frame (corrupt input)");
         }
     }
+}
+
+Result<void> FfmpegFrameSource::reopenSequenceAt(long long n)
+{
+    AVDictionary *d = nullptr;
+    av_dict_set(&d, "pattern_type", "sequence", 0);
+    av_dict_set(&d, "framerate", fpsText(fps_).c_str(), 0);
+    av_dict_set_int(&d, "start_number", n, 0);
+    AVFormatContext *ctx = avformat_alloc_context();
+    if (ctx == nullptr) {
+        av_dict_free(&d);
+        return unexpected(Errc::OutOfResources, "Failed to allocate the demuxer");
+    }
+    ctx->interrupt_callback = {&FfmpegFrameSource::interrupted, this};
+    armDeadline();
+    const int ret = avformat_open_input(&ctx, url_.c_str(), av_find_input_format("image2"), &d);
+    av_dict_free(&d);
+    if (ret < 0) {
+        DT_LOG(Media, Warning, "Failed to read %s from image %lld: %s", url_.c_str(), n,
+               AvErrorText(ret).text);
+        return unexpected(Errc::Io, "Failed to read the images after a gap in the sequence",
+                          errnoOf(ret));
+    }
+    fmt_.reset(ctx);
+    // The demuxer numbers its packets from 0 again: the run goes on after the frames so far.
+    ptsOffset_ = static_cast<double>(index_) / fps_;
+    firstPts_ = AV_NOPTS_VALUE;
+    runStart_ = n;
+    runImages_ = 0;
+    return ok();
 }
 
 Result<SourceFrame> FfmpegFrameSource::next(PixelFormat format, int width, int height)
@@ -290,7 +395,7 @@ Result<SourceFrame> FfmpegFrameSource::next(PixelFormat format, int width, int h
     if (pts != AV_NOPTS_VALUE) {
         if (firstPts_ == AV_NOPTS_VALUE)
             firstPts_ = pts;
-        out.pts = static_cast<double>(pts - firstPts_) * av_q2d(timeBase_);
+        out.pts = ptsOffset_ + static_cast<double>(pts - firstPts_) * av_q2d(timeBase_);
     } else {
         out.pts = static_cast<double>(index_) / fps_;
     }

@@ -9,7 +9,9 @@
 /// Muxer::finish(). Muxer::abort() (or destroying an unfinished Muxer) removes a file output.
 ///
 /// File outputs are written to a temporary name in the same directory (`OUT.tmp.PID`) and renamed
-/// to OUT by finish(): a failed encode never leaves a partial file. URLs are written directly.
+/// to OUT by finish(): a failed encode never leaves a partial file. Only a regular file or a new
+/// path is replaced so; a character device or a FIFO with a reader is written in place, anything
+/// else refused (platform::planOutput()). URLs are written directly.
 ///
 /// Time: PTS are seconds, carried in a 90 kHz time base: frames given the same PTS come out of
 /// the muxer with the same PTS in every container. Errors: static messages; FFmpeg's own message is
@@ -25,6 +27,16 @@
 #include "depthtouch/platform/result.h"
 
 namespace depthtouch::media {
+
+/// Frame rates an encoder takes, frames/s (0.1: one frame every 10 s).
+inline constexpr double kMinEncodeFps = 0.1;
+inline constexpr double kMaxEncodeFps = 1000.0;
+
+/// \return true when a \a width × \a height frame may be encoded: each side 1..16384 pixels and at
+/// most H.264 level 6.2's largest frame, 139264 macroblocks (35.6 Mpixel, e.g. 8192×4352; ITU-T
+/// H.264 Table A-1), within libavutil's image size limit. Checked before any frame is converted,
+/// so a huge size fails at once instead of after gigabytes of buffers.
+bool isEncodableSize(int width, int height) noexcept;
 
 /// \brief Containers the sender writes.
 enum class Container : std::uint8_t { Matroska, Mp4, MpegTs };
@@ -62,8 +74,10 @@ public:
     Muxer &operator=(const Muxer &) = delete;
 
     /// \brief Creates the output (the temporary file for a file output).
-    /// \return the muxer; Errc::Io when the output cannot be created (missing directory, no
-    ///         permission, unreachable URL), Errc::NotSupported when FFmpeg lacks the muxer.
+    /// \return the muxer; Errc::InvalidArgument for an output path that must not be written (a
+    ///         directory, block device, socket, FIFO without a reader, a missing or read-only
+    ///         folder); Errc::Io when the output cannot be created (no permission, unreachable
+    ///         URL), Errc::NotSupported when FFmpeg lacks the muxer.
     static Result<std::unique_ptr<Muxer>> open(const MuxerOptions &options);
 
     /// \brief Writes the container header. \pre every stream added (VideoEncoder::create()).
@@ -105,7 +119,7 @@ struct VideoEncoderConfig {
     VideoCodec codec = VideoCodec::H264Yuv420p;
     int width = 0;         ///< Pixels (even for 4:2:0).
     int height = 0;        ///< Pixels (even for 4:2:0).
-    double fps = 30.0;     ///< Nominal frames/s (rate control and the container's frame rate).
+    double fps = 30.0;     ///< Nominal frames/s, kMinEncodeFps..kMaxEncodeFps.
     int crf = 23;          ///< x264 constant rate factor 0..51 (ignored when lossless and by FFV1).
     bool lossless = false; ///< x264 qp 0 (x264 then uses High 4:4:4 Predictive).
     std::string preset = "medium";                         ///< x264 preset (ultrafast … placebo).

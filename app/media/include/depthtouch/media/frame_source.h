@@ -100,6 +100,9 @@ struct SourceOptions {
     /// Image sequences only: start over after the last image, forever (a still or a short
     /// sequence as an endless live source; stop it with a frame limit or a signal).
     bool loop = false;
+    /// Longest wait of one open or read (ms): a silent URL or a FIFO without a writer fails with
+    /// Errc::Timeout after it instead of blocking for ever. > 0.
+    int ioTimeoutMs = 10'000;
 };
 
 /// \brief The kinds of source spec.
@@ -116,8 +119,11 @@ struct SourceSpec {
 /// included). \return Errc::InvalidArgument for an empty spec or an empty target after a prefix.
 Result<SourceSpec> parseSourceSpec(std::string_view spec);
 
-/// \brief Opens a file, URL or image sequence through FFmpeg (see the file comment).
-/// \return the source; Errc::Io (missing or unreadable file, no image matches the pattern),
+/// \brief Opens a file, URL or image sequence through FFmpeg (see the file comment). A FIFO is
+/// opened without blocking and waits SourceOptions::ioTimeoutMs at most for its writer; every
+/// open and read gives up after that long without data (Errc::Timeout).
+/// \return the source; Errc::Timeout (no data in time), Errc::Io (missing or unreadable file, no
+///         image matches the pattern),
 ///         Errc::InvalidArgument (not media, no video stream, bad options), Errc::NotSupported
 ///         (no decoder). FFmpeg's own message is logged (category "Media", Warning).
 Result<std::unique_ptr<FrameSource>> openFfmpegFrameSource(const std::string &url,
