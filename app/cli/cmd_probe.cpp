@@ -15,6 +15,7 @@
 
 #include "commands.h"
 #include "depthtouch/drivers/backends.h"
+#include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
 #include "depthtouch/receiver/pts_pairer.h"
 #include "depthtouch/receiver/receiver.h"
@@ -120,6 +121,13 @@ int runProbe(const ProbeOptions &opt)
     platform::setLogLevel(platform::LogLevel::Error);
     const bool mockUrl = opt.file.rfind("mock:", 0) == 0;
     const std::string sourceName = !opt.source.empty() ? opt.source : mockUrl ? "mock" : "ffmpeg";
+    if (opt.decode && platform::pathKind(opt.file.c_str()) == platform::PathKind::Fifo) {
+        // --decode reads the input twice (demux census, then the receiver): a FIFO cannot be.
+        std::fprintf(stderr, "depthtouch probe: cannot --decode '%s': it is a FIFO, which can be "
+                             "read only once (probe it without --decode, or save it to a file)\n",
+                     opt.file.c_str());
+        return kExitBadInput;
+    }
     hal::BackendConfig cfg;
     auto src = drivers::createMediaSource(sourceName, cfg);
     if (!src) {

@@ -1,16 +1,20 @@
 #include "depthtouch/drivers/ffmpeg/ffmpeg_media_source.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <iterator>
 #include <string_view>
 
+#include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
 #include "ffmpeg_common.h"
+#include "h264_sps.h"
 
 extern "C" {
 #include <libavutil/dict.h>
 #include <libavutil/mathematics.h>
+#include <libavutil/pixdesc.h>
 }
 
 DT_LOG_CATEGORY(Ffmpeg)
@@ -40,7 +44,28 @@ double tagDouble(const char *text) noexcept
         return 0.0;
     char *end = nullptr;
     const double v = std::strtod(text, &end);
-    return end != text && v > 0.0 ? v : 0.0;
+    return end != text && v > 0.0 && std::isfinite(v) ? v : 0.0;
+}
+
+/// \return the depth_bits tag: 1..16, else 0 (absent or nonsense such as "inf").
+int tagBits(const char *text) noexcept
+{
+    const double v = tagDouble(text);
+    return v >= 1.0 && v <= 16.0 ? static_cast<int>(v) : 0;
+}
+
+/// \return the pixel format a stream's samples really have: an H.264 stream whose SPS says 4:0:0
+/// (monochrome) is gray, though libavcodec reports it as yuv(j)420p with neutral chroma.
+AVPixelFormat samplesFormatOf(const AVCodecParameters &par) noexcept
+{
+    const auto fmt = static_cast<AVPixelFormat>(par.format);
+    if (par.codec_id != AV_CODEC_ID_H264 || par.extradata == nullptr ||
+        h264ChromaFormatIdc(par.extradata, static_cast<std::size_t>(par.extradata_size)) != 0)
+        return fmt;
+    const AVPixFmtDescriptor *d = av_pix_fmt_desc_get(fmt);
+    if (d == nullptr || d->comp[0].depth <= 8)
+        return AV_PIX_FMT_GRAY8;
+    return d->comp[0].depth <= 10 ? AV_PIX_FMT_GRAY10 : AV_PIX_FMT_GRAY16;
 }
 
 bool isGray(AVPixelFormat f) noexcept
@@ -107,6 +132,7 @@ struct FfmpegMediaSource::Impl {
         packet.reset();
         frame.reset();
         fmt.reset();
+        fifo.reset();
         streams.clear();
         avToHal.clear();
         info = {};
@@ -116,6 +142,7 @@ struct FfmpegMediaSource::Impl {
     platform::Clock &clock;
     const FfmpegSourceSettings settings;
     platform::TimePoint ioDeadline{};
+    platform::UniqueFd fifo; ///< A FIFO input, opened here (read by libavformat as pipe:FD).
     AvFormatContextPtr fmt;
     AvPacketPtr packet;
     AvFramePtr frame;
@@ -141,11 +168,24 @@ Result<void> FfmpegMediaSource::Impl::open(const char *url)
             return unexpected(Errc::NotSupported, "Unknown container format (option format)");
         }
     }
+    std::string openUrl = url;
+    if (platform::pathKind(url) == platform::PathKind::Fifo) {
+        // open(2) of a FIFO blocks until a writer comes: wait for one within the timeout instead,
+        // and keep the descriptor non-blocking so libavformat's reads honour the interrupt.
+        auto fd = platform::openFifoForReading(url, std::chrono::milliseconds(settings.timeoutMs));
+        if (!fd) {
+            avformat_free_context(ctx);
+            return unexpected(fd.error().code == Errc::Timeout ? Errc::Timeout : Errc::Io,
+                              "The input is a FIFO with no writer", fd.error().sysErrno);
+        }
+        fifo = std::move(*fd);
+        openUrl = "pipe:" + std::to_string(fifo.get());
+    }
     AVDictionary *opts = nullptr;
     if (settings.fps > 0.0)
         av_dict_set(&opts, "framerate", std::to_string(settings.fps).c_str(), 0);
     armDeadline();
-    int r = avformat_open_input(&ctx, url, forced, &opts); // frees ctx on failure
+    int r = avformat_open_input(&ctx, openUrl.c_str(), forced, &opts); // frees ctx on failure
     av_dict_free(&opts);
     if (r < 0) {
         char msg[AV_ERROR_MAX_STRING_SIZE] = {};
@@ -182,7 +222,8 @@ Result<void> FfmpegMediaSource::Impl::open(const char *url)
         si.index = static_cast<int>(info.streams.size());
         const AVDictionaryEntry *title = av_dict_get(st.metadata, "title", nullptr, 0);
         si.title = title != nullptr ? title->value : "";
-        const auto pixfmt = static_cast<AVPixelFormat>(par.format);
+        const AVPixelFormat pixfmt =
+            si.title == "color" ? static_cast<AVPixelFormat>(par.format) : samplesFormatOf(par);
         if (si.title == "depth")
             si.kind = hal::StreamKind::Depth;
         else if (si.title == "color")
@@ -206,7 +247,7 @@ Result<void> FfmpegMediaSource::Impl::open(const char *url)
         si.depth.nearMetres = tagDouble(tagOf(st, *ctx, "depth_near"));
         si.depth.farMetres = tagDouble(tagOf(st, *ctx, "depth_far"));
         si.depth.mapping = mapping != nullptr ? mapping : "";
-        si.depth.bits = static_cast<int>(tagDouble(tagOf(st, *ctx, "depth_bits")));
+        si.depth.bits = tagBits(tagOf(st, *ctx, "depth_bits"));
 
         Stream s;
         s.avIndex = static_cast<int>(i);

@@ -87,7 +87,7 @@ TEST_F(ReceiverMediaTest, untitledStreamsAreIdentifiedByPixelFormatOrOrder)
     EXPECT_EQ((*r)->info().roles.depth, 1);
     EXPECT_EQ(drain(**r).size(), 5u);
 
-    // gray H.264 reads as 4:2:0: metadata of its own tells, else stream order (reported)
+    // gray H.264 (libavcodec says 4:2:0): metadata of its own tells, else its 4:0:0 SPS (issue 16)
     Clip meta = Clip::standard(32, 24, 5);
     meta.color.title.clear();
     meta.depth.title.clear();
@@ -96,6 +96,13 @@ TEST_F(ReceiverMediaTest, untitledStreamsAreIdentifiedByPixelFormatOrOrder)
     EXPECT_STREQ((*m)->info().roles.depthReason, "depth metadata");
 
     meta.depth.metadata.clear();
+    auto g = openFfmpeg(write("gray264.mkv", meta));
+    ASSERT_TRUE(g);
+    EXPECT_STREQ((*g)->info().roles.depthReason, "gray pixel format");
+    EXPECT_EQ((*g)->info().roles.depth, 1);
+
+    // depth in a 4:2:0 H.264 stream, untitled and untagged: stream order (reported)
+    meta.depth.gray = false;
     auto o = openFfmpeg(write("order.mkv", meta));
     ASSERT_TRUE(o);
     EXPECT_STREQ((*o)->info().roles.depthReason, "stream order");
@@ -112,10 +119,11 @@ TEST_F(ReceiverMediaTest, singleStreamFilesPlayDepthOnlyOrColorOnly)
     depth.depth.title.clear();
     depth.depth.metadata.clear();
     const std::string path = write("depth-only.mkv", depth);
-    // gray H.264 alone looks like color unless the caller wants depth (touch)
+    // gray H.264 alone is depth by its 4:0:0 SPS (issue 16: it played as color), and when the
+    // caller wants depth (touch)
     auto auto_ = openFfmpeg(path);
     ASSERT_TRUE(auto_);
-    EXPECT_EQ((*auto_)->info().mode, ReceiverMode::ColorOnly);
+    EXPECT_EQ((*auto_)->info().mode, ReceiverMode::DepthOnly);
     ReceiverConfig wantDepth;
     wantDepth.single = receiver::SingleStream::Depth;
     wantDepth.requireDepth = true;

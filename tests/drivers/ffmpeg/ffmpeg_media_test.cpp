@@ -7,6 +7,10 @@
 #include <random>
 #include <set>
 #include <cstdio>
+#include <cstdlib>
+#include <thread>
+
+#include <sys/stat.h>
 
 #include <gtest/gtest.h>
 
@@ -165,8 +169,9 @@ TEST_F(FfmpegMediaTest, grayH264IsLumaAsIs)
     // The CLI's decode of the luma with no range conversion.
     ASSERT_TRUE(ffmpeg("-i " + mkv + " -vf extractplanes=y -f rawvideo -pix_fmt gray " + raw));
     const Decoded d = decodeAll(mkv, hal::StreamKind::Depth);
-    // A one-stream untitled yuv(j)420p file is color; the caller asks for its luma as depth.
-    EXPECT_EQ(d.stream.kind, hal::StreamKind::Color);
+    // libavcodec reports gray H.264 as yuv(j)420p; its SPS says 4:0:0, so it is depth (issue 16).
+    EXPECT_EQ(d.stream.kind, hal::StreamKind::Depth);
+    EXPECT_EQ(d.stream.format, hal::PixelFormat::Gray8);
     ASSERT_EQ(d.frames.size(), 15u);
     std::vector<std::uint8_t> luma;
     const std::size_t ySize = 64u * 48u;
@@ -193,6 +198,79 @@ TEST_F(FfmpegMediaTest, grayH264IsLumaAsIs)
     EXPECT_EQ((*f)->image.format, hal::PixelFormat::Gray8);
     EXPECT_EQ((*f)->kind, hal::StreamKind::Depth);
     EXPECT_EQ(std::memcmp((*f)->image.row(0, 0), luma.data(), 64), 0);
+}
+
+TEST_F(FfmpegMediaTest, grayH264IsDepthInEveryContainerAndColorH264StaysColor)
+{
+    // GIVEN untitled one-stream H.264 files: 4:0:0 (8 and 10 bit) in MKV (avcC), MPEG-TS and MP4,
+    // and 4:2:0 color
+    struct Case {
+        const char *name;
+        const char *pixFmt;
+        hal::StreamKind kind;
+        hal::PixelFormat format;
+    } cases[] = {
+        {"gray.mkv", "gray", hal::StreamKind::Depth, hal::PixelFormat::Gray8},
+        {"gray.ts", "gray", hal::StreamKind::Depth, hal::PixelFormat::Gray8},
+        {"gray.mp4", "gray", hal::StreamKind::Depth, hal::PixelFormat::Gray8},
+        {"gray10.mkv", "gray10le", hal::StreamKind::Depth, hal::PixelFormat::Gray10},
+        {"color.mkv", "yuv420p", hal::StreamKind::Color, hal::PixelFormat::Yuv420p},
+        {"colorj.ts", "yuvj420p", hal::StreamKind::Color, hal::PixelFormat::Yuv420p},
+    };
+    for (const Case &c : cases) {
+        const std::string path = tmp_.path(c.name);
+        ASSERT_TRUE(ffmpeg("-f lavfi -i testsrc=size=64x48:rate=30:duration=0.2 -c:v libx264 -pix_fmt " +
+                           std::string(c.pixFmt) + " " + path));
+        // WHEN opened
+        auto src = source();
+        ASSERT_TRUE(src->open(path.c_str())) << c.name;
+        ASSERT_EQ(src->info().streams.size(), 1u);
+        // THEN gray is depth (its luma as it is), color stays color
+        EXPECT_EQ(src->info().streams[0].kind, c.kind) << c.name;
+        EXPECT_EQ(src->info().streams[0].format, c.format) << c.name;
+    }
+}
+
+TEST_F(FfmpegMediaTest, nonsenseDepthBitsTagIsIgnored)
+{
+    // GIVEN a depth stream tagged depth_bits=inf (issue 16: printed as -2147483648 bits)
+    const std::string path = tmp_.path("inf.mkv");
+    ASSERT_TRUE(ffmpeg("-f lavfi -i testsrc=size=64x48:rate=30:duration=0.2 -c:v libx264 -pix_fmt gray "
+                       "-metadata:s:v:0 title=depth -metadata:s:v:0 depth_bits=inf "
+                       "-metadata:s:v:0 depth_near=nan -metadata:s:v:0 depth_far=1e999 " + path));
+    auto src = source();
+    ASSERT_TRUE(src->open(path.c_str()));
+    const hal::DepthMetadata &m = src->info().streams[0].depth;
+    EXPECT_EQ(m.bits, 0);
+    EXPECT_EQ(m.nearMetres, 0.0);
+    EXPECT_EQ(m.farMetres, 0.0);
+}
+
+TEST_F(FfmpegMediaTest, aFifoWithoutAWriterTimesOutAndOneWithAWriterIsRead)
+{
+    // GIVEN a FIFO and a 300 ms source timeout
+    const std::string fifo = tmp_.path("in.fifo");
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    auto src = source("timeout_ms=300");
+    // WHEN no writer comes THEN open gives up in about that time instead of blocking in open(2)
+    const auto t0 = std::chrono::steady_clock::now();
+    auto r = src->open(fifo.c_str());
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().code, Errc::Timeout);
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(3));
+    // AND with a writer the stream is read to its end
+    const std::string clip = twoStreamClip();
+    std::thread writer([&] { (void)std::system(("cat '" + clip + "' > '" + fifo + "'").c_str()); });
+    auto src2 = source("timeout_ms=5000");
+    const bool opened = static_cast<bool>(src2->open(fifo.c_str()));
+    int packets = 0;
+    while (opened && src2->readPacket())
+        ++packets;
+    writer.join();
+    ASSERT_TRUE(opened);
+    EXPECT_EQ(src2->info().streams.size(), 2u);
+    EXPECT_EQ(packets, 60);
+    EXPECT_FALSE(src2->info().seekable);
 }
 
 TEST_F(FfmpegMediaTest, drmPrimeFallsBackToTheSameCpuFrames)

@@ -6,12 +6,16 @@
 /// Inputs: anything libavformat opens, plus printf-pattern image sequences (`d/frame-%06d.png`, the
 /// image2 demuxer). Options (BackendConfig::options): `fps=N` frame rate of an image sequence
 /// (default 25), `format=NAME` forces the demuxer, `timeout_ms=N` bounds a blocking read (default
-/// 10000; network inputs).
+/// 10000; network inputs). A FIFO is opened without blocking and waits timeout_ms at most for its
+/// writer (Errc::Timeout), then is read as a non-seekable stream whose reads honour the timeout.
 ///
 /// Streams: only video streams are listed (StreamInfo::index renumbers them 0..n-1). Kind from the
 /// stream title `color`/`depth`; an untitled stream of a one-stream input is depth when its pixel
-/// format is gray/gray10/gray16, else color. Depth metadata from the tags depth_near, depth_far,
-/// depth_mapping, depth_bits on the stream, else on the container.
+/// format is gray/gray10/gray16, else color. An H.264 stream whose SPS says 4:0:0 (monochrome) is
+/// gray (StreamInfo::format Gray8/Gray10/Gray16) though libavcodec reports it as yuv(j)420p.
+/// Depth metadata from the tags depth_near, depth_far, depth_mapping, depth_bits on the stream,
+/// else on the container; a value that is not a positive finite number (depth_bits: 1..16) is
+/// ignored.
 ///
 /// Still-image codecs the HAL has no CodecId for (PNG, TIFF, BMP, PGM…, i.e. image sequences) are
 /// decoded here and delivered as CodecId::RawVideo packets: one tightly packed image per packet in
