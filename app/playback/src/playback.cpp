@@ -20,6 +20,8 @@
 #include "depthtouch/platform/percentile.h"
 #include "depthtouch/receiver/decoder_thread.h"
 
+#include "async_opener.h"
+
 #if DT_PLAYBACK_HAVE_GL
 #include "depthtouch/media/encoder.h"
 #include "depthtouch/media/image.h"
@@ -257,6 +259,8 @@ struct Playback::Impl {
 
     // --- Main thread only ---
     std::unique_ptr<Session> owned;
+    AsyncOpener opener;     ///< The source's open and probe, off the main thread.
+    std::string openingUrl; ///< What the opener opens.
     bool openDone = false;  ///< open() finished: report onOpened().
     std::string openError;  ///< open() failed: report onOpenFailed().
     bool hapticsEnabled;
@@ -292,6 +296,7 @@ struct Playback::Impl {
 
     void tearDown()
     {
+        opener.abandon();
         switchSession(nullptr);
         if (!owned)
             return;
@@ -333,6 +338,7 @@ struct RenderState {
     std::uint64_t seekSeen = 0;
     bool reseat = false;         ///< Next shown frame comes after a seek: re-seat the proxy.
     bool eosSent = false;
+    bool anyFrame = false;       ///< The decoder has given a frame in this session.
     TimePoint playStart{};
     bool playClockRunning = false;
     double playingSeconds = 0.0;
@@ -690,6 +696,7 @@ void Playback::Impl::renderLoop()
         while (rs.pendingCount < 2 &&
                s.decoder->poll(rs.pending[static_cast<std::size_t>(rs.pendingCount)])) {
             ++rs.pendingCount;
+            rs.anyFrame = true;
             std::lock_guard<std::mutex> lock(mutex);
             ++stats.framesReceived;
         }
@@ -708,6 +715,14 @@ void Playback::Impl::renderLoop()
                 failure = std::string("decoding failed: ") + s.decoder->error().what;
         }
 
+        if (rs.pendingCount == 0 && !rs.anyFrame && s.decoder->finished() && !rs.eosSent) {
+            // The input ended before its first complete frame (a file cut after its header): a
+            // failure, not a player that shows nothing for ever.
+            rs.eosSent = true;
+            std::lock_guard<std::mutex> lock(mutex);
+            if (failure.empty())
+                failure = "the input ended before its first complete frame (truncated?)";
+        }
         if (rs.pendingCount == 0) {
             // End of stream: the last frame has had its time on screen.
             if (!rs.eosSent && s.decoder->finished() && rs.haveShown() &&
@@ -1061,22 +1076,24 @@ Result<void> Playback::open(std::string_view url)
     m.tearDown();
     m.openDone = false;
     m.openError.clear();
-
-    auto fail = [&](std::string why) -> Result<void> {
+    // The source's open and probe may block (a FIFO without a writer, a silent stream): they run
+    // on the opener's thread, and report() finishes the open when they are done.
+    std::string why;
+    if (!m.opener.start(m.hal.makeSource, std::string(url), m.hal.makeDecoder, m.config.receiver,
+                        why))
         m.openError = std::move(why);
-        return {};
-    };
-    auto source = m.hal.makeSource();
-    if (!source)
-        return fail(std::string("no media source: ") + source.error().what);
-    const std::string urlText(url);
-    auto rec = receiver::Receiver::open(std::move(*source), urlText.c_str(), m.hal.makeDecoder,
-                                        m.config.receiver);
-    if (!rec)
-        return fail(std::string("cannot open '") + urlText + "': " + rec.error().what);
+    m.openingUrl = std::string(url);
+    return {};
+}
+
+void Playback::finishOpen(std::unique_ptr<receiver::Receiver> rec)
+{
+    Impl &m = *impl_;
+    const std::string urlText = m.openingUrl;
+    auto fail = [&](std::string why) { m.openError = std::move(why); };
 
     auto s = std::make_unique<Session>();
-    s->receiver = std::move(*rec);
+    s->receiver = std::move(rec);
     const receiver::ReceiverInfo &ri = s->receiver->info();
     PlaybackInfo info;
     info.url = urlText;
@@ -1167,7 +1184,6 @@ Result<void> Playback::open(std::string_view url)
                                 "frames from");
     info_ = std::move(info);
     m.openDone = true;
-    return {};
 }
 
 Result<void> Playback::startPlayback()
@@ -1274,6 +1290,12 @@ Result<void> Playback::recenter()
 void Playback::report(player::StateMachine &machine)
 {
     Impl &m = *impl_;
+    if (std::optional<AsyncOpener::Outcome> opened = m.opener.poll()) {
+        if (opened->receiver)
+            finishOpen(std::move(opened->receiver));
+        else
+            m.openError = std::move(opened->error);
+    }
     if (m.openDone) {
         m.openDone = false;
         machine.onOpened();

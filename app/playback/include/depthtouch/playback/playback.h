@@ -181,6 +181,10 @@ public:
 
     /// \brief Tells \a machine what happened since the last call: open finished or failed, end of
     /// stream, a failure of the pipeline. Call it from the main loop every few milliseconds.
+    /// open() returns at once: the media source's open and probe run on a thread of their own
+    /// (a FIFO without a writer or a silent stream blocks there, not the main thread), and the
+    /// call of report() after they finished builds the session and reports onOpened() or
+    /// onOpenFailed(). stop() or another open() abandons an open in progress.
     void report(player::StateMachine &machine);
 
     /// \return the counters (render-thread figures as of its last frame).
@@ -200,6 +204,8 @@ public:
 
 private:
     explicit Playback(std::unique_ptr<Impl> impl);
+    /// Builds the session on \a rec once the opener has opened it (main thread, from report()).
+    void finishOpen(std::unique_ptr<receiver::Receiver> rec);
     std::unique_ptr<Impl> impl_;
     PlaybackInfo info_;
 };
