@@ -7,6 +7,28 @@
 
 namespace depthtouch::haptics {
 
+namespace {
+
+/// \return the median of nine values: the 19 compare-exchanges of Paeth's median-of-9 network
+/// (Graphics Gems, "Median finding on a 3×3 grid"; as in N. Devillard's opt_med9), branch-free.
+double median9(const double (&in)[9]) noexcept
+{
+    double p[9];
+    std::copy(in, in + 9, p);
+    auto sort2 = [&p](int a, int b) {
+        const double lo = std::min(p[a], p[b]);
+        p[b] = std::max(p[a], p[b]);
+        p[a] = lo;
+    };
+    sort2(1, 2); sort2(4, 5); sort2(7, 8); sort2(0, 1); sort2(3, 4); sort2(6, 7);
+    sort2(1, 2); sort2(4, 5); sort2(7, 8); sort2(0, 3); sort2(5, 8); sort2(4, 7);
+    sort2(3, 6); sort2(1, 4); sort2(2, 5); sort2(4, 7); sort2(4, 2); sort2(6, 4);
+    sort2(4, 2);
+    return p[4];
+}
+
+} // namespace
+
 FingerPlane fitFingerPlane(const HeightField &field, double x, double y, double r) noexcept
 {
     // Keep the stencil on the grid: its centre is clamped so that every tap lies inside.
@@ -21,10 +43,7 @@ FingerPlane fitFingerPlane(const HeightField &field, double x, double y, double 
         taps[k] = field.heightAt(cx + (k % 3 - 1) * reachX, cy + (k / 3 - 1) * reachY);
     // The median of the nine: on the side of a silhouette where most of the stencil is, and
     // blind to a lone outlier (a flying pixel or speckle) that the centre sample may be.
-    double sorted[9];
-    std::copy(taps, taps + 9, sorted);
-    std::nth_element(sorted, sorted + 4, sorted + 9);
-    const double median = sorted[4];
+    const double median = median9(taps);
     // Least squares z = a + bx·i + by·j over the taps within kFingerOutlier·r of the median: a
     // tap across a silhouette or on a flying pixel would tilt the plane of the side the finger
     // is on (the normal equations of the kept taps, solved by Cramer's rule).
@@ -119,7 +138,7 @@ glm::dvec3 FingerRenderer::solve(const glm::dvec3 &hip, double startX, double st
         return glm::dot(d, d);
     };
     double best = distance(plane);
-    const double settle = 1e-3 * field_.spacing();
+    const double settle = 0.2 * field_.spacing();
     for (int it = 0; it < kFingerIterations; ++it) {
         // Move the stencil to the projection (a Gauss-Newton step), at most its own reach.
         double dx = p.x - plane.x;

@@ -150,6 +150,26 @@ TEST(FingerPlaneTest, fitIsExactOnATiltedPlaneAndProjectsAlongItsNormal)
     EXPECT_NEAR(d.y / d.z, -p.gy, 1e-9);
 }
 
+// A tap on an object's silhouette or a flying pixel (far from the stencil's median) does not tilt
+// the plane or lift it: the fit is the plane of the other eight.
+TEST(FingerPlaneTest, aTapFarFromTheMedianIsLeftOutOfTheFit)
+{
+    const SceneBox box{};
+    const double r = 1.5e-3;
+    // A tilted plane with a 15 mm tall pillar under one corner tap of the stencil at (0, 0).
+    const OwnedFrame f = test::makeFrame(box, kW, kH, 0.0, [r](double x, double y) {
+        const double plane = 0.1 * x - 0.05 * y;
+        return std::hypot(x - r, y - r) < 0.4e-3 ? plane + 0.015 : plane;
+    });
+    HeightField field(box);
+    ASSERT_TRUE(field.setFrames(f.view(), nullptr));
+    const FingerPlane p = fitFingerPlane(field, 0.0, 0.0, r);
+    EXPECT_NEAR(p.gx, 0.1, 2e-3);
+    EXPECT_NEAR(p.gy, -0.05, 2e-3);
+    // (with all nine taps the pillar would tilt it by 15 mm / (6 r) = 1.7 in x and y)
+    EXPECT_NEAR(p.height, 0.0, 5e-6);
+}
+
 // Issue 15: on 8-bit depth with sensor flicker, strokes pressed 1 and 3 mm in at 5 and 10 cm/s.
 // The per-triangle descent (`modified`) trips safety with no cut and its force steps; the
 // fingertip renderer neither trips nor spikes, and never lets the finger through.

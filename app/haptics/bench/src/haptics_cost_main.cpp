@@ -3,11 +3,11 @@
 /// wave, same HIP trajectory, same approach) without timing it, for instruction counts under
 /// valgrind's callgrind, which are free of the noise of a shared machine.
 ///
-/// Usage: `haptics_cost WIDTH HEIGHT SPEED [UPDATES [REPEATS]]` (SPEED in m/s, 0 = still; UPDATES
-/// default 3000). With REPEATS, the setting is replayed that many times, each update timed with
+/// Usage: `haptics_cost [--method finger|modified] WIDTH HEIGHT SPEED [UPDATES [REPEATS]]` (SPEED in
+/// m/s, 0 = still; UPDATES default 3000; the method defaults to modified). With REPEATS, the setting is replayed that many times, each update timed with
 /// steady_clock, and the median and p99.9 of the per-update minimum over the repeats are printed
 /// (wall-clock figures with most interference stripped, for A/B comparisons on a busy machine).
-/// Under callgrind only the timed updates' ProxyGraphRenderer::update() calls are collected (the
+/// Under callgrind only the timed updates' update() calls are collected (the
 /// program toggles collection around them), so with
 /// `valgrind --tool=callgrind --collect-atstart=no --instr-atstart=no haptics_cost ...` the total
 /// Ir divided by UPDATES is the instructions per update. Frame generation runs uninstrumented.
@@ -24,10 +24,12 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <string_view>
 #include <vector>
 
 #include <glm/geometric.hpp>
 
+#include "depthtouch/haptics/finger_renderer.h"
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/haptics/wave_scenario.h"
 #include "depthtouch/platform/percentile.h"
@@ -46,8 +48,20 @@ using namespace depthtouch::haptics::bench;
 
 int main(int argc, char **argv)
 {
+    Method method = Method::Modified;
+    if (argc >= 3 && std::string_view(argv[1]) == "--method") {
+        const auto m = parseMethod(argv[2]);
+        if (!m || (*m != Method::Modified && *m != Method::Finger)) {
+            std::fprintf(stderr, "haptics_cost: --method must be modified or finger\n");
+            return 2;
+        }
+        method = *m;
+        argc -= 2;
+        argv += 2;
+    }
     if (argc < 4 || argc > 6) {
-        std::fprintf(stderr, "usage: haptics_cost WIDTH HEIGHT SPEED_M_PER_S [UPDATES [REPEATS]]\n");
+        std::fprintf(stderr, "usage: haptics_cost [--method finger|modified] WIDTH HEIGHT SPEED_M_PER_S "
+                             "[UPDATES [REPEATS]]\n");
         return 2;
     }
     const int w = std::atoi(argv[1]);
@@ -59,9 +73,16 @@ int main(int argc, char **argv)
         std::fprintf(stderr, "haptics_cost: bad arguments\n");
         return 2;
     }
-    const RendererConfig cfg = RendererConfig::forMethod(Method::Modified);
+    const RendererConfig cfg = RendererConfig::forMethod(method);
     const WaveScenario scene(w, h, cfg.box);
-    ProxyGraphRenderer renderer(cfg);
+    auto made = makeRenderer(method, cfg, w, h);
+    if (!made) {
+        std::fprintf(stderr, "haptics_cost: %s\n", made.error().what);
+        return 2;
+    }
+    HapticRenderer &renderer = **made;
+    const auto *grid = dynamic_cast<const ProxyGraphRenderer *>(&renderer);
+    const auto *finger = dynamic_cast<const FingerRenderer *>(&renderer);
     const std::size_t settle = kSettleUpdates;
     const std::size_t total = settle + static_cast<std::size_t>(updates);
     renderer.reset(WaveScenario::hipAtUpdate(speed, 0, settle));
@@ -113,9 +134,10 @@ int main(int argc, char **argv)
         steps += o.proxySteps;
         maxVisited = std::max(maxVisited, o.cellsVisited);
         maxSteps = std::max(maxSteps, o.proxySteps);
-        const HeightField &surf = renderer.surface();
-        if (surf.contains(o.proxy.x, o.proxy.y) &&
-            o.proxy.z < surf.heightAt(o.proxy.x, o.proxy.y) - 1e-6 * surf.spacing())
+        // The finger's surface is a plane fit held within r/4 of the samples (as in the bench).
+        const HeightField &surf = grid != nullptr ? grid->surface() : finger->surface();
+        const double slack = finger != nullptr ? 0.25 * finger->radius() : 1e-6 * surf.spacing();
+        if (surf.contains(o.proxy.x, o.proxy.y) && o.proxy.z < surf.heightAt(o.proxy.x, o.proxy.y) - slack)
             ++pops;
     }
     const double n = static_cast<double>(updates);
@@ -123,7 +145,10 @@ int main(int argc, char **argv)
         std::vector<double> best(static_cast<std::size_t>(updates),
                                  std::numeric_limits<double>::infinity());
         for (long k = 0; k < repeats; ++k) {
-            ProxyGraphRenderer timed(cfg);
+            auto again = makeRenderer(method, cfg, w, h);
+            if (!again)
+                return 2;
+            HapticRenderer &timed = **again;
             timed.reset(WaveScenario::hipAtUpdate(speed, 0, settle));
             int shown = -1;
             for (std::size_t i = 0; i < total; ++i) {

@@ -54,7 +54,7 @@
 namespace depthtouch::haptics {
 
 /// Plane refits per update after the first (a converged proxy stops earlier).
-inline constexpr int kFingerIterations = 3;
+inline constexpr int kFingerIterations = 2;
 /// Taps farther than this many stencil half-widths from the stencil's median are left out of the
 /// plane fit (an object's silhouette beside the finger, a flying pixel): slopes up to about 2
 /// (63°) keep every tap.
