@@ -10,18 +10,21 @@
 /// command line win. Unknown keys and values of the wrong type are errors (exit 2).
 
 #include <atomic>
+#include <cerrno>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
-#include <functional>
-#include <map>
 #include <memory>
+#include <optional>
 #include <string>
+#include <string_view>
+
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
-#include <toml++/toml.h>
 
 #include "commands.h"
 #include "depthtouch/control/control_loop.h"
@@ -29,9 +32,13 @@
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/platform/clock.h"
+#include "depthtouch/platform/log.h"
 #include "depthtouch/playback/playback.h"
 #include "depthtouch/player/state_machine.h"
+#include "message_text.h"
+#include "output_paths.h"
 #include "play.h"
+#include "play_config.h"
 
 namespace depthtouch::cli {
 
@@ -55,26 +62,64 @@ double residentMiB()
     return static_cast<double>(resident) * 4096.0 / (1024.0 * 1024.0);
 }
 
-/// Prints the player's state changes and errors on stderr.
+/// Prints the player's errors on stderr, each once, as it happens (one line), and its state
+/// changes when asked (--verbose; on a terminal unless --quiet).
 class StderrListener final : public player::PlayerListener {
 public:
+    StderrListener(bool states, bool verbose) : states_(states || verbose), verbose_(verbose) {}
+
     void onPlayerEvent(const player::PlayerEvent &e) override
     {
         switch (e.kind) {
         case player::PlayerEventKind::StateChanged:
-            std::fprintf(stderr, "depthtouch play: %s\n", player::playerStateName(e.state));
+            // "opening" says nothing new, and "error" follows its reason's line.
+            if (states_ && e.state != player::PlayerState::Error &&
+                (verbose_ || e.state != player::PlayerState::Opening))
+                std::fprintf(stderr, "depthtouch play: %s\n", player::playerStateName(e.state));
             break;
         case player::PlayerEventKind::Error:
-            std::fprintf(stderr, "depthtouch play: error: %s\n", e.message.c_str());
+            std::fprintf(stderr, "depthtouch play: %s\n", printableText(e.message, 400).c_str());
+            errorPrinted_ = true;
             break;
         case player::PlayerEventKind::EndOfFile:
-            std::fprintf(stderr, "depthtouch play: end of stream (%s)\n", e.message.c_str());
+            if (states_)
+                std::fprintf(stderr, "depthtouch play: end of stream (%s)\n", e.message.c_str());
             break;
         default:
             break;
         }
     }
+
+    /// True once an error line was printed.
+    [[nodiscard]] bool errorPrinted() const noexcept { return errorPrinted_; }
+
+private:
+    bool states_;
+    bool verbose_;
+    bool errorPrinted_ = false;
 };
+
+/// \return the exit code of a control socket that could not be made: bad input (2) when the
+/// path is at fault (exists and is not a socket, another player listens on it, too long, no such
+/// folder, no permission), else failure (1).
+int controlSocketExitCode(const Error &e)
+{
+    if (e.code == Errc::InvalidArgument || e.code == Errc::Busy ||
+        e.code == Errc::PermissionDenied)
+        return kExitBadInput;
+    switch (e.sysErrno) {
+    case ENOENT:
+    case ENOTDIR:
+    case ENAMETOOLONG:
+    case ELOOP:
+    case EROFS:
+    case EADDRINUSE:
+    case EISDIR:
+        return kExitBadInput;
+    default:
+        return kExitFailure;
+    }
+}
 
 bool parseSize(const std::string &text, int &w, int &h)
 {
@@ -88,24 +133,23 @@ bool parseSize(const std::string &text, int &w, int &h)
            w >= 16 && h >= 16 && w <= 8192 && h <= 8192;
 }
 
+/// Prints \a why as the run's one error line (printable, at most 400 bytes of it).
+void failLine(std::string_view why)
+{
+    std::fprintf(stderr, "depthtouch play: %s\n", printableText(why, 400).c_str());
+}
+
 PlayResult badInput(const std::string &why)
 {
-    std::fprintf(stderr, "depthtouch play: %s\n", why.c_str());
+    failLine(why);
     return {kExitBadInput, {}};
 }
 
-} // namespace
-
-void requestPlayStop() noexcept
+/// Checks the options that need no backend (ranges, output paths).
+/// \return the result of a bad option (exit 2) or an unusable output (1 or 2), or nullopt.
+std::optional<PlayResult> checkPlayOptions(const PlayOptions &opt, int &outW, int &outH)
 {
-    gPlayStop.store(true);
-}
-
-PlayResult runPlay(const PlayOptions &opt)
-{
-    // Options.
-    const auto stereo = player::stereoModeFromName(opt.stereo);
-    if (!stereo)
+    if (!player::stereoModeFromName(opt.stereo))
         return badInput("--stereo must be sbs, tab, anaglyph, mono or interleaved");
     if (!(opt.rate >= 100.0 && opt.rate <= 10000.0))
         return badInput("--rate must be in [100, 10000] Hz");
@@ -121,14 +165,38 @@ PlayResult runPlay(const PlayOptions &opt)
         return badInput("--max-lateness must be in [0, 10] seconds");
     if (opt.reengage != "ramp" && opt.reengage != "release")
         return badInput("--reengage must be ramp or release");
-    int outW = 0;
-    int outH = 0;
     if (!parseSize(opt.size, outW, outH))
         return badInput("--size must be WxH, 16..8192 pixels each");
     if (opt.url.empty())
         return badInput("nothing to play: give a file or URL");
     if (opt.recordCrf < 0 || opt.recordCrf > 51)
         return badInput("--record-crf must be in [0, 51]");
+    // Outputs: a missing folder is bad input, an output that takes no byte is lost at once.
+    for (const OutputPathCheck &c : {checkOutputPath("--record", opt.record),
+                                     checkOutputPath("--force-log", opt.forceLog),
+                                     checkOutputPath("--stats", opt.stats, true)}) {
+        if (c.exitCode != kExitOk) {
+            failLine(c.message);
+            return PlayResult{c.exitCode, {}};
+        }
+    }
+    return std::nullopt;
+}
+
+} // namespace
+
+void requestPlayStop() noexcept
+{
+    gPlayStop.store(true);
+}
+
+PlayResult runPlay(const PlayOptions &opt)
+{
+    int outW = 0;
+    int outH = 0;
+    if (std::optional<PlayResult> bad = checkPlayOptions(opt, outW, outH))
+        return *bad;
+    const auto stereo = player::stereoModeFromName(opt.stereo);
 
     platform::SteadyClock &clock = platform::SteadyClock::instance();
     hal::BackendConfig cfg;
@@ -140,7 +208,7 @@ PlayResult runPlay(const PlayOptions &opt)
     hal::SelectionReport displayReport;
     auto display = drivers::createDisplay(opt.display, displayCfg, &displayReport);
     if (!display) {
-        std::fprintf(stderr, "depthtouch play: %s\n", displayReport.message.c_str());
+        failLine(displayReport.message);
         return {display.error().code == Errc::InvalidArgument ? kExitBadInput : kExitFailure, {}};
     }
     hal::BackendConfig hapticCfg = cfg;
@@ -148,7 +216,7 @@ PlayResult runPlay(const PlayOptions &opt)
     hal::SelectionReport hapticReport;
     auto device = drivers::createHapticDevice(opt.haptic, hapticCfg, &hapticReport);
     if (!device) {
-        std::fprintf(stderr, "depthtouch play: %s\n", hapticReport.message.c_str());
+        failLine(hapticReport.message);
         return {device.error().code == Errc::InvalidArgument ? kExitBadInput : kExitFailure, {}};
     }
     std::unique_ptr<hal::RemoteInput> remote;
@@ -158,7 +226,7 @@ PlayResult runPlay(const PlayOptions &opt)
         remoteCfg.options = hal::OptionList(opt.remoteOptions);
         auto r = drivers::createRemoteInput(opt.remote, remoteCfg, &remoteReport);
         if (!r) {
-            std::fprintf(stderr, "depthtouch play: %s\n", remoteReport.message.c_str());
+            failLine(remoteReport.message);
             return {r.error().code == Errc::InvalidArgument ? kExitBadInput : kExitFailure, {}};
         }
         remote = std::move(*r);
@@ -169,11 +237,11 @@ PlayResult runPlay(const PlayOptions &opt)
         hal::BackendConfig decoderCfg = cfg;
         decoderCfg.options = hal::OptionList(opt.decoderOptions);
         if (auto d = drivers::createVideoDecoder(opt.decoder, decoderCfg, &rep); !d) {
-            std::fprintf(stderr, "depthtouch play: %s\n", rep.message.c_str());
+            failLine(rep.message);
             return {kExitBadInput, {}};
         }
         if (auto s = drivers::createMediaSource(opt.source, cfg, &rep); !s) {
-            std::fprintf(stderr, "depthtouch play: %s\n", rep.message.c_str());
+            failLine(rep.message);
             return {kExitBadInput, {}};
         }
     }
@@ -224,17 +292,17 @@ PlayResult runPlay(const PlayOptions &opt)
     settings.range.max = std::max(settings.range.max, opt.stiffness);
     settings.range.min = std::min(settings.range.min, opt.stiffness);
     player::StateMachine machine(playback, settings);
-    StderrListener listener;
-    if (!opt.quiet)
-        machine.addListener(&listener);
+    StderrListener listener(!opt.quiet && ::isatty(STDERR_FILENO) == 1, opt.verbose);
+    machine.addListener(&listener);
 
     std::unique_ptr<control::ControlServer> server;
     if (!opt.control.empty()) {
         auto s = control::ControlServer::create(opt.control, machine);
         if (!s) {
-            std::fprintf(stderr, "depthtouch play: cannot create the control socket '%s': %s\n",
-                         opt.control.c_str(), s.error().what);
-            return {kExitFailure, {}};
+            char why[160];
+            std::fprintf(stderr, "depthtouch play: cannot create the control socket %s: %s\n",
+                         quotedText(opt.control, 120).c_str(), s.error().format(why, sizeof why));
+            return {controlSocketExitCode(s.error()), {}};
         }
         server = std::move(*s);
     }
@@ -248,8 +316,9 @@ PlayResult runPlay(const PlayOptions &opt)
     const double rssStart = residentMiB();
     double rssAfterWarmup = -1.0;
     const platform::TimePoint start = clock.now();
-    std::string failure;
+    std::string failure;         // the reason when the player ends in Error
     bool opened = false;
+    bool stoppedOpening = false; // a signal or --duration came while the input was opening
     machine.execute("play");
     while (!machine.quitRequested()) {
         if (auto r = loop.runUntil(clock.now() + std::chrono::milliseconds(10)); !r) {
@@ -260,18 +329,22 @@ PlayResult runPlay(const PlayOptions &opt)
         const player::PlayerState st = machine.state();
         if (st == player::PlayerState::Playing || st == player::PlayerState::Paused)
             opened = true;
+        // A failure counts while the player stays in Error; one it left (a client's stop or
+        // play, with --idle) was recovered from.
+        if (st == player::PlayerState::Error)
+            failure = machine.errorReason();
+        else
+            failure.clear();
         const double elapsed = platform::toSeconds(clock.now() - start);
         if (rssAfterWarmup < 0.0 && elapsed >= 5.0)
             rssAfterWarmup = residentMiB();
         if (gPlayStop.load() || (opt.duration > 0.0 && elapsed >= opt.duration)) {
+            stoppedOpening = st == player::PlayerState::Opening;
             machine.execute("quit");
             break;
         }
-        if (st == player::PlayerState::Error) {
-            failure = machine.errorReason();
-            if (!opt.idle)
-                break;
-        }
+        if (st == player::PlayerState::Error && !opt.idle)
+            break;
         if (st == player::PlayerState::Stopped && !opt.idle)
             break;
     }
@@ -326,19 +399,35 @@ PlayResult runPlay(const PlayOptions &opt)
     if (!failure.empty())
         j["error"] = failure;
     result.stats = j;
+    std::string lost; // an output that could not be written: exit 1
     if (!opt.stats.empty()) {
-        std::ofstream f(opt.stats);
-        f << j.dump(2) << '\n';
-        if (!f)
-            std::fprintf(stderr, "depthtouch play: cannot write '%s'\n", opt.stats.c_str());
+        if (const std::string why = writeOutputFile(opt.stats, j.dump(2) + "\n"); !why.empty())
+            lost = "cannot write the stats " + quotedText(opt.stats, 120) + ": " + why;
     }
 
+    // An input that opened but failed before giving a single frame (cut after its header) is
+    // bad input like one that does not open.
+    if (opened && ps.framesReceived == 0 && !failure.empty())
+        opened = false;
     if (!opened) {
-        std::fprintf(stderr, "depthtouch play: %s\n",
-                     failure.empty() ? "nothing was played" : failure.c_str());
-        result.exitCode = kExitBadInput;
+        if (!failure.empty()) {
+            if (!listener.errorPrinted()) // else printed when it happened
+                failLine(failure);
+            result.exitCode = kExitBadInput;
+        } else if (stoppedOpening) {
+            failLine("stopped while opening " + quotedText(opt.url, 120));
+            result.exitCode = kExitFailure;
+        } else if (!machine.quitRequested()) {
+            failLine("nothing was played");
+            result.exitCode = kExitBadInput;
+        } else if (!lost.empty()) { // quit was sent before anything played
+            failLine(lost);
+            result.exitCode = kExitFailure;
+        }
         return result;
     }
+    if (!lost.empty() && failure.empty())
+        failLine(lost);
     std::printf("DepthTouch play: %s (%s, %dx%d depth at %.3g fps) on %s, haptics %s\n",
                 opt.url.c_str(), info.mode.c_str(), info.depthWidth, info.depthHeight, info.fps,
                 displayReport.chosen.c_str(),
@@ -380,94 +469,11 @@ PlayResult runPlay(const PlayOptions &opt)
     if (!opt.forceLog.empty() || !opt.stats.empty())
         std::printf("  files             %s%s%s\n", opt.forceLog.c_str(),
                     !opt.forceLog.empty() && !opt.stats.empty() ? ", " : "", opt.stats.c_str());
-    result.exitCode = failure.empty() ? kExitOk : kExitFailure;
+    result.exitCode = failure.empty() && lost.empty() ? kExitOk : kExitFailure;
     if (hs && hs->maxForce > (*device)->capabilities().maxForce + 1e-9)
         result.exitCode = kExitFailure;
     return result;
 }
-
-namespace {
-
-/// Applies the TOML file's keys to the options not given on the command line.
-/// \return an error text, or empty.
-std::string applyConfig(CLI::App &cmd, PlayOptions &o)
-{
-    toml::table tbl;
-    try {
-        tbl = toml::parse_file(o.config);
-    } catch (const toml::parse_error &e) {
-        return "--config '" + o.config + "': " + std::string(e.description());
-    }
-    using Setter = std::function<bool(const toml::node &)>;
-    const auto str = [](std::string &dst) -> Setter {
-        return [&dst](const toml::node &n) {
-            if (auto v = n.value<std::string>()) {
-                dst = *v;
-                return true;
-            }
-            return false;
-        };
-    };
-    const auto num = [](double &dst) -> Setter {
-        return [&dst](const toml::node &n) {
-            if (auto v = n.value<double>()) {
-                dst = *v;
-                return true;
-            }
-            return false;
-        };
-    };
-    const auto flag = [](bool &dst) -> Setter {
-        return [&dst](const toml::node &n) {
-            if (auto v = n.value<bool>()) {
-                dst = *v;
-                return true;
-            }
-            return false;
-        };
-    };
-    const auto count = [](auto &dst) -> Setter {
-        return [&dst](const toml::node &n) {
-            if (auto v = n.value<std::int64_t>(); v && *v >= 0) {
-                dst = static_cast<std::remove_reference_t<decltype(dst)>>(*v);
-                return true;
-            }
-            return false;
-        };
-    };
-    const std::map<std::string, Setter> keys = {
-        {"display", str(o.display)},         {"display-options", str(o.displayOptions)},
-        {"haptic", str(o.haptic)},           {"haptic-options", str(o.hapticOptions)},
-        {"decoder", str(o.decoder)},         {"source", str(o.source)},
-        {"decoder-options", str(o.decoderOptions)},
-        {"remote", str(o.remote)},           {"remote-options", str(o.remoteOptions)},
-        {"stereo", str(o.stereo)},           {"stiffness", num(o.stiffness)},
-        {"rate", num(o.rate)},               {"reengage", str(o.reengage)},
-        {"loop", flag(o.loop)},              {"duration", num(o.duration)},
-        {"snapshot-dir", str(o.snapshotDir)}, {"snapshot-every", count(o.snapshotEvery)},
-        {"force-log", str(o.forceLog)},      {"stats", str(o.stats)},
-        {"record", str(o.record)},           {"record-crf", count(o.recordCrf)},
-        {"control", str(o.control)},         {"size", str(o.size)},
-        {"mesh-step", count(o.meshStep)},    {"require-rt", flag(o.requireRt)},
-        {"idle", flag(o.idle)},              {"quiet", flag(o.quiet)},
-        {"osd-seconds", num(o.osdSeconds)},  {"lod-target", num(o.lodTarget)},
-        {"max-lateness", num(o.maxLateness)},
-    };
-    for (const auto &[k, node] : tbl) {
-        const std::string key(k.str());
-        const auto it = keys.find(key);
-        if (it == keys.end())
-            return "--config '" + o.config + "': unknown key '" + key + "'";
-        const CLI::Option *given = cmd.get_option_no_throw("--" + key);
-        if (given != nullptr && given->count() > 0)
-            continue; // the command line wins
-        if (!it->second(node))
-            return "--config '" + o.config + "': '" + key + "' has the wrong type";
-    }
-    return {};
-}
-
-} // namespace
 
 void registerPlayCommand(CLI::App &app, int &exitCode)
 {
@@ -525,15 +531,29 @@ void registerPlayCommand(CLI::App &app, int &exitCode)
         ->capture_default_str();
     cmd->add_flag("--require-rt", o->requireRt, "Fail when SCHED_FIFO is refused");
     cmd->add_flag("--idle", o->idle, "Stay up after the end or an error (for --control)");
-    cmd->add_flag("--quiet", o->quiet, "No state-change lines on stderr");
+    cmd->add_flag("--quiet", o->quiet, "No state-change lines on stderr (errors only)");
+    cmd->add_flag("--verbose", o->verbose,
+                  "State changes and the log (INFO and up) on stderr; without it a failure is "
+                  "one line");
     cmd->callback([o, cmd, &exitCode] {
         if (!o->config.empty()) {
-            if (const std::string err = applyConfig(*cmd, *o); !err.empty()) {
-                std::fprintf(stderr, "depthtouch play: %s\n", err.c_str());
+            std::string text;
+            std::string err = readPlayConfigFile(o->config, text);
+            if (err.empty())
+                err = applyPlayConfigText(text, o->config, [cmd](const std::string &key) {
+                    const CLI::Option *given = cmd->get_option_no_throw("--" + key);
+                    return given != nullptr && given->count() > 0;
+                }, *o);
+            if (!err.empty()) {
+                std::fprintf(stderr, "depthtouch play: %s\n", printableText(err, 400).c_str());
                 exitCode = kExitBadInput;
                 return;
             }
         }
+        // The log's timestamped lines only when asked for (--verbose, or DT_LOG's levels): the
+        // player's own lines say what went wrong, once.
+        if (std::getenv("DT_LOG") == nullptr)
+            platform::setLogLevel(o->verbose ? platform::LogLevel::Info : platform::LogLevel::Off);
         exitCode = runPlay(*o).exitCode;
     });
 }

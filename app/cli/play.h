@@ -44,7 +44,8 @@ struct PlayOptions {
     double maxLateness = 0.0;       ///< Lateness a frame is still drawn with, s (PlaybackConfig).
     bool requireRt = false;
     bool idle = false;              ///< Stay up after the end / an error (control socket).
-    bool quiet = false;             ///< No state-change lines on stderr.
+    bool quiet = false;             ///< No state-change lines on stderr (errors only).
+    bool verbose = false;           ///< State changes and the log on stderr (`play` sets the log).
 };
 
 /// \brief What a run of `play` measured: the stats JSON (DESIGN.md §4) and the exit code.
@@ -57,7 +58,10 @@ struct PlayResult {
 void requestPlayStop() noexcept;
 
 /// \brief Runs `play` with \a options (after the config file was applied).
-/// \return the result; exit code 0 (ended or quit), 1 (pipeline failure), 2 (bad input).
+/// \return the result; exit code 0 (ended or quit, also after a failure the player recovered
+/// from), 1 (pipeline failure, an output that could not be written, stopped while still opening),
+/// 2 (bad input: an option, an input that does not open, a control socket path or an output
+/// folder that cannot be used). Each failure is one line on stderr.
 PlayResult runPlay(const PlayOptions &options);
 
 } // namespace depthtouch::cli

@@ -1,0 +1,33 @@
+#pragma once
+/// \file
+/// \brief Output files named on the command line (`--record`, `--force-log`, `--stats`): checked
+/// before a run, so that a mistyped folder is bad input at once and an output that cannot take a
+/// byte (/dev/full) is lost output at once, not after a whole run; and written with every error
+/// seen (a short write to a full disk is lost output, not exit 0).
+/// Thread-safety: reentrant.
+
+#include <string>
+#include <string_view>
+
+namespace depthtouch::cli {
+
+/// \brief The result of checkOutputPath(): exit code 0 (usable), 1 (cannot be written: lost
+/// output) or 2 (bad input), and the one-line reason.
+struct OutputPathCheck {
+    int exitCode = 0;
+    std::string message; ///< e.g. "--record '/nonexistent/r.mkv': no folder '/nonexistent'".
+};
+
+/// \brief Checks the output path \a path of option \a option (e.g. "--stats") without creating or
+/// changing anything: its folder must exist and be a folder (else bad input); an existing
+/// directory is bad input unless \a directoryIsLost; an existing non-regular file other than a
+/// FIFO (a device) must accept a write of zero bytes (/dev/full does not: lost output).
+/// An empty \a path is fine (no output).
+OutputPathCheck checkOutputPath(std::string_view option, const std::string &path,
+                                bool directoryIsLost = false);
+
+/// \brief Writes \a text to \a path (created or truncated), checking every write and the close.
+/// \return an empty string, or why the output was lost (one line, strerror text).
+std::string writeOutputFile(const std::string &path, std::string_view text);
+
+} // namespace depthtouch::cli
