@@ -375,12 +375,11 @@ bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::s
         std::ofstream g(base / "charts.gp");
         g << "set terminal pngcairo size 1100,700\n"
              "set output '" << (base / "speed_vs_accuracy.png").string() << "'\n"
-             "set title 'Haptic renderers: update time vs force error (moving sinusoid, 30 fps video, 1 kHz)'\n"
+             "set title 'Haptic renderers: update time vs force error (moving sinusoid, 30 fps video, 1 kHz; one point per resolution and HIP motion, see haptics_bench.csv)'\n"
              "set logscale xy\nset xlabel 'median update time (us)'\nset ylabel 'force RMS error vs analytic truth (N)'\n"
              "set key outside right\nset grid\n"
              "plot for [i=0:4] '" << (base / "speed_vs_accuracy.dat").string()
-          << "' index i using 1:2 with points pt 7 ps 1.5 title word('finger modified modified-hold proxy-graph mesh-bvh', i+1), \\\n"
-             "     for [i=0:4] '' index i using 1:2:3 with labels offset 0,1 font ',7' notitle\n"
+          << "' index i using 1:2 with points pt 7 ps 1.5 title word('finger modified modified-hold proxy-graph mesh-bvh', i+1)\n"
              "set output '" << (base / "psd.png").string() << "'\n"
              "unset logscale\nset title 'PSD of |F|, HIP still, 720x486 (cf. paper Fig. 12)'\n"
              "set xlabel 'frequency (Hz)'\nset ylabel 'PSD (dB re 1 N^2/Hz)'\nset xrange [0:100]\n"
