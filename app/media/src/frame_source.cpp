@@ -81,6 +81,13 @@ public:
     Result<SourceFrame> next(PixelFormat format, int width, int height) override;
 
 private:
+    /// Opens the demuxer of url_ (a FIFO through pipe:FD, waiting for its writer) with \a dict
+    /// and reads its streams, every blocking call bounded by the I/O timeout.
+    Result<void> openDemuxer(const AVInputFormat *forced,
+                             std::unique_ptr<AVDictionary, DictDeleter> &dict, bool pattern);
+    /// Fills info_ from the opened \a stream (size, rate, frame count, tags, description).
+    void describe(const AVStream &stream, const AVCodec &decoder, const SourceOptions &options,
+                  bool forced, bool sequence);
     Result<void> decodeOne();
     /// Opens the image sequence again from image number \a n (after a gap in the numbers).
     Result<void> reopenSequenceAt(long long n);
@@ -168,47 +175,7 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
         set("pixel_format", options.pixelFormat);
     }
 
-    std::string openUrl = url;
-    if (!sequence && !glob && platform::pathKind(url.c_str()) == platform::PathKind::Fifo) {
-        // open(2) of a FIFO blocks until a writer comes: wait for one within the timeout, and
-        // keep the descriptor non-blocking so libavformat's reads honour the deadline.
-        auto fd = platform::openFifoForReading(url.c_str(), std::chrono::milliseconds(ioTimeoutMs_));
-        if (!fd)
-            return unexpected(fd.error().code, fd.error().code == Errc::Timeout
-                                                   ? "A FIFO with no writer (gave up waiting)"
-                                                   : "Failed to open the FIFO",
-                              fd.error().sysErrno);
-        fifo_ = std::move(*fd);
-        openUrl = "pipe:" + std::to_string(fifo_.get());
-    }
-    AVFormatContext *rawFmt = avformat_alloc_context();
-    if (rawFmt == nullptr)
-        return unexpected(Errc::OutOfResources, "Failed to allocate the demuxer");
-    rawFmt->interrupt_callback = {&FfmpegFrameSource::interrupted, this};
-    AVDictionary *openDict = dict.release();
-    armDeadline();
-    int ret = avformat_open_input(&rawFmt, openUrl.c_str(), forced, &openDict); // frees on failure
-    dict.reset(openDict);
-    if (timedOut(ret))
-        return unexpected(Errc::Timeout, "No data from the input (gave up waiting)");
-    if (ret < 0) {
-        DT_LOG(Media, Warning, "Failed to open %s: %s", url.c_str(), AvErrorText(ret).text);
-        if (ret == AVERROR_INVALIDDATA)
-            return unexpected(Errc::InvalidArgument, "Not a media file FFmpeg can read");
-        if (ret == AVERROR(ENOENT))
-            return unexpected(Errc::Io,
-                              sequence || glob ? "No image matches the pattern" : "No such file",
-                              ENOENT);
-        return unexpected(Errc::Io, "Failed to open the input", errnoOf(ret));
-    }
-    fmt_.reset(rawFmt);
-    armDeadline();
-    if ((ret = avformat_find_stream_info(fmt_.get(), nullptr)) < 0) {
-        DT_LOG(Media, Warning, "Failed to read %s: %s", url.c_str(), AvErrorText(ret).text);
-        if (timedOut(ret))
-            return unexpected(Errc::Timeout, "No data from the input (gave up waiting)");
-        return unexpected(Errc::InvalidArgument, "Failed to read the input's streams");
-    }
+    DT_TRY(openDemuxer(forced, dict, sequence || glob));
     int wanted = -1;
     if (!options.streamTitle.empty())
         for (unsigned i = 0; i < fmt_->nb_streams && wanted < 0; ++i) {
@@ -241,7 +208,7 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
     if (images)
         codec_->err_recognition = AV_EF_EXPLODE | AV_EF_CRCCHECK;
     codec_->pkt_timebase = st->time_base;
-    if ((ret = avcodec_open2(codec_.get(), decoder, nullptr)) < 0) {
+    if (const int ret = avcodec_open2(codec_.get(), decoder, nullptr); ret < 0) {
         DT_LOG(Media, Warning, "Failed to open decoder %s for %s: %s", decoder->name, url.c_str(),
                AvErrorText(ret).text);
         return unexpected(Errc::NotSupported, "Failed to open the decoder");
@@ -251,11 +218,67 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
     if (!packet_ || !frame_)
         return unexpected(Errc::OutOfResources, "Failed to allocate a frame");
 
+    describe(*st, *decoder, options, forced != nullptr, sequence);
+    return ok();
+}
+
+Result<void> FfmpegFrameSource::openDemuxer(const AVInputFormat *forced,
+                                            std::unique_ptr<AVDictionary, DictDeleter> &dict,
+                                            bool pattern)
+{
+    std::string openUrl = url_;
+    if (!pattern && platform::pathKind(url_.c_str()) == platform::PathKind::Fifo) {
+        // open(2) of a FIFO blocks until a writer comes: wait for one within the timeout, and
+        // keep the descriptor non-blocking so libavformat's reads honour the deadline.
+        auto fd = platform::openFifoForReading(url_.c_str(), std::chrono::milliseconds(ioTimeoutMs_));
+        if (!fd)
+            return unexpected(fd.error().code, fd.error().code == Errc::Timeout
+                                                   ? "A FIFO with no writer (gave up waiting)"
+                                                   : "Failed to open the FIFO",
+                              fd.error().sysErrno);
+        fifo_ = std::move(*fd);
+        openUrl = "pipe:" + std::to_string(fifo_.get());
+    }
+    AVFormatContext *rawFmt = avformat_alloc_context();
+    if (rawFmt == nullptr)
+        return unexpected(Errc::OutOfResources, "Failed to allocate the demuxer");
+    rawFmt->interrupt_callback = {&FfmpegFrameSource::interrupted, this};
+    AVDictionary *openDict = dict.release();
+    armDeadline();
+    int ret = avformat_open_input(&rawFmt, openUrl.c_str(), forced, &openDict); // frees on failure
+    dict.reset(openDict);
+    if (timedOut(ret))
+        return unexpected(Errc::Timeout, "No data from the input (gave up waiting)");
+    if (ret < 0) {
+        DT_LOG(Media, Warning, "Failed to open %s: %s", url_.c_str(), AvErrorText(ret).text);
+        if (ret == AVERROR_INVALIDDATA)
+            return unexpected(Errc::InvalidArgument, "Not a media file FFmpeg can read");
+        if (ret == AVERROR(ENOENT))
+            return unexpected(Errc::Io,
+                              pattern ? "No image matches the pattern" : "No such file",
+                              ENOENT);
+        return unexpected(Errc::Io, "Failed to open the input", errnoOf(ret));
+    }
+    fmt_.reset(rawFmt);
+    armDeadline();
+    if ((ret = avformat_find_stream_info(fmt_.get(), nullptr)) < 0) {
+        DT_LOG(Media, Warning, "Failed to read %s: %s", url_.c_str(), AvErrorText(ret).text);
+        if (timedOut(ret))
+            return unexpected(Errc::Timeout, "No data from the input (gave up waiting)");
+        return unexpected(Errc::InvalidArgument, "Failed to read the input's streams");
+    }
+    return ok();
+}
+
+void FfmpegFrameSource::describe(const AVStream &stream, const AVCodec &decoder,
+                                 const SourceOptions &options, bool forced, bool sequence)
+{
+    const AVStream *st = &stream;
     info_.width = st->codecpar->width;
     info_.height = st->codecpar->height;
     const AVRational rate = st->avg_frame_rate.num > 0 ? st->avg_frame_rate : st->r_frame_rate;
-    info_.fps = (forced == nullptr && rate.num > 0 && rate.den > 0) ? av_q2d(rate) : options.fps;
-    if (forced != nullptr)
+    info_.fps = (!forced && rate.num > 0 && rate.den > 0) ? av_q2d(rate) : options.fps;
+    if (forced)
         info_.fps = options.fps;
     fps_ = info_.fps;
     const auto pixFmt = static_cast<AVPixelFormat>(st->codecpar->format);
@@ -270,7 +293,7 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
             std::llround(static_cast<double>(fmt_->duration) / AV_TIME_BASE * info_.fps);
     if (sequence && !options.loop) {
         // Frames 0-9 and 20-29: read on across the gap, as the glob form would.
-        std::vector<long long> numbers = detail::imageSequenceNumbers(url);
+        std::vector<long long> numbers = detail::imageSequenceNumbers(url_);
         if (!numbers.empty() && numbers.back() - numbers.front() + 1 !=
                                     static_cast<long long>(numbers.size())) {
             info_.frameCount = static_cast<long long>(numbers.size());
@@ -292,10 +315,9 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
         }
     }
     const char *pixName = av_get_pix_fmt_name(pixFmt);
-    info_.description = std::string(fmt_->iformat->name) + " " + decoder->name + " " +
+    info_.description = std::string(fmt_->iformat->name) + " " + decoder.name + " " +
                         std::to_string(info_.width) + "x" + std::to_string(info_.height) + " " +
                         (pixName != nullptr ? pixName : "?");
-    return ok();
 }
 
 Result<void> FfmpegFrameSource::decodeOne()

@@ -120,6 +120,20 @@ struct FfmpegMediaSource::Impl {
     }
 
     Result<void> open(const char *url);
+    /// \return what libavformat opens for \a url: itself, or for a FIFO `pipe:FD` once a writer
+    /// came within the timeout (open(2) of a FIFO would block until one does; the descriptor stays
+    /// non-blocking so libavformat's reads honour the interrupt callback).
+    Result<std::string> urlToOpen(const char *url)
+    {
+        if (platform::pathKind(url) != platform::PathKind::Fifo)
+            return std::string(url);
+        auto fd = platform::openFifoForReading(url, std::chrono::milliseconds(settings.timeoutMs));
+        if (!fd)
+            return unexpected(fd.error().code == Errc::Timeout ? Errc::Timeout : Errc::Io,
+                              "The input is a FIFO with no writer", fd.error().sysErrno);
+        fifo = std::move(*fd);
+        return "pipe:" + std::to_string(fifo.get());
+    }
     Result<hal::Packet> read();
     hal::Pts toPts(std::int64_t ts, const Stream &s) const noexcept
     {
@@ -168,24 +182,16 @@ Result<void> FfmpegMediaSource::Impl::open(const char *url)
             return unexpected(Errc::NotSupported, "Unknown container format (option format)");
         }
     }
-    std::string openUrl = url;
-    if (platform::pathKind(url) == platform::PathKind::Fifo) {
-        // open(2) of a FIFO blocks until a writer comes: wait for one within the timeout instead,
-        // and keep the descriptor non-blocking so libavformat's reads honour the interrupt.
-        auto fd = platform::openFifoForReading(url, std::chrono::milliseconds(settings.timeoutMs));
-        if (!fd) {
-            avformat_free_context(ctx);
-            return unexpected(fd.error().code == Errc::Timeout ? Errc::Timeout : Errc::Io,
-                              "The input is a FIFO with no writer", fd.error().sysErrno);
-        }
-        fifo = std::move(*fd);
-        openUrl = "pipe:" + std::to_string(fifo.get());
+    auto openUrl = urlToOpen(url);
+    if (!openUrl) {
+        avformat_free_context(ctx);
+        return unexpected(openUrl.error());
     }
     AVDictionary *opts = nullptr;
     if (settings.fps > 0.0)
         av_dict_set(&opts, "framerate", std::to_string(settings.fps).c_str(), 0);
     armDeadline();
-    int r = avformat_open_input(&ctx, openUrl.c_str(), forced, &opts); // frees ctx on failure
+    int r = avformat_open_input(&ctx, openUrl->c_str(), forced, &opts); // frees ctx on failure
     av_dict_free(&opts);
     if (r < 0) {
         char msg[AV_ERROR_MAX_STRING_SIZE] = {};
