@@ -57,7 +57,7 @@ struct TouchOptions {
     bool noSafety = false;
     double maxForceStep = 2.0;
     std::string reengage = "release";
-    double fingerRadius = std::nan(""); ///< m; NaN: box width / 100
+    double fingerRadius = std::nan(""); ///< m; NaN: 0.015 x box width
     double rampTime = 0.25;
     std::optional<double> nearM;
     std::optional<double> farM;
@@ -470,7 +470,7 @@ void registerTouchCommand(CLI::App &app, int &exitCode)
     cmd->add_option("--reengage", o->reengage, "After a trip: release | ramp")->capture_default_str();
     cmd->add_option("--finger-radius", o->fingerRadius,
                     "finger method: half-width of the surface patch the finger touches (m); "
-                    "default box width / 100");
+                    "default 0.015 x box width");
     cmd->add_option("--ramp-time", o->rampTime, "Ramp duration for --reengage ramp (s)")->capture_default_str();
     cmd->callback([o, &exitCode]() { exitCode = runTouch(*o); });
 }
