@@ -54,15 +54,19 @@ Setter flag(bool PlayOptions::*field)
     };
 }
 
-/// A non-negative integer that fits the field's type.
+/// A non-negative TOML integer that fits the field's type. Only an integer node: toml++'s
+/// value<int64_t>() converts a float without a range check (1e30: undefined behaviour).
 template <class T> Setter count(T PlayOptions::*field)
 {
     return [field](const toml::node &n, PlayOptions &o) {
-        const auto v = n.value<std::int64_t>();
-        if (!v || *v < 0 ||
-            static_cast<std::uint64_t>(*v) > static_cast<std::uint64_t>(std::numeric_limits<T>::max()))
+        const toml::value<std::int64_t> *integer = n.as_integer();
+        if (integer == nullptr)
             return false;
-        o.*field = static_cast<T>(*v);
+        const std::int64_t v = integer->get();
+        if (v < 0 ||
+            static_cast<std::uint64_t>(v) > static_cast<std::uint64_t>(std::numeric_limits<T>::max()))
+            return false;
+        o.*field = static_cast<T>(v);
         return true;
     };
 }

@@ -32,11 +32,13 @@
 #include <nlohmann/json.hpp>
 
 #include "../../support/temp_dir.h"
+#include "control_client.h"
 
 namespace {
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
+using depthtouch::testing::ControlClient;
 
 struct RunResult {
     int exitCode = -1;
@@ -210,65 +212,6 @@ TEST(PlayEndToEnd, RealKitchenWithTheSimulatedHand)
     ASSERT_GT(contactRows, 100u);
     EXPECT_GT(zMax - zMin, 0.5e-3) << "the proxy did not follow the moving surface";
 }
-
-/// A client of the control socket: one JSON line out, lines in.
-class ControlClient {
-public:
-    bool connect(const std::string &path, std::chrono::milliseconds timeout)
-    {
-        const auto end = std::chrono::steady_clock::now() + timeout;
-        while (std::chrono::steady_clock::now() < end) {
-            fd_ = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
-            sockaddr_un addr{};
-            addr.sun_family = AF_UNIX;
-            std::snprintf(addr.sun_path, sizeof addr.sun_path, "%s", path.c_str());
-            if (::connect(fd_, reinterpret_cast<sockaddr *>(&addr), sizeof addr) == 0)
-                return true;
-            ::close(fd_);
-            fd_ = -1;
-            std::this_thread::sleep_for(50ms);
-        }
-        return false;
-    }
-    ~ControlClient()
-    {
-        if (fd_ >= 0)
-            ::close(fd_);
-    }
-    /// Sends \a request and returns the first reply line (not an event), or "" on time-out.
-    std::string request(const std::string &requestLine)
-    {
-        const std::string out = requestLine + "\n";
-        if (::write(fd_, out.data(), out.size()) != static_cast<ssize_t>(out.size()))
-            return {};
-        const auto end = std::chrono::steady_clock::now() + 5s;
-        while (std::chrono::steady_clock::now() < end) {
-            const std::size_t nl = buffer_.find('\n');
-            if (nl != std::string::npos) {
-                std::string line = buffer_.substr(0, nl);
-                buffer_.erase(0, nl + 1);
-                if (line.find("\"event\"") == std::string::npos)
-                    return line;
-                events.push_back(line);
-                continue;
-            }
-            char buf[1024];
-            timeval tv{0, 100000};
-            ::setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
-            const ssize_t n = ::read(fd_, buf, sizeof buf);
-            if (n > 0)
-                buffer_.append(buf, static_cast<std::size_t>(n));
-            else if (n == 0)
-                return {};
-        }
-        return {};
-    }
-    std::vector<std::string> events;
-
-private:
-    int fd_ = -1;
-    std::string buffer_;
-};
 
 TEST(PlayEndToEnd, ControlSocketDrivesTheLoopingPlayer)
 {

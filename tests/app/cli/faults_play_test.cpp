@@ -1,0 +1,340 @@
+/// \file
+/// \brief Hostile inputs to `depthtouch play` (issue 16), each run with a time limit: every run
+/// ends within its bound with the documented exit code (0 quit or ended, 1 failure or lost output,
+/// 2 bad input) and exactly one line on stderr; a client's line never ends the player; the control
+/// socket answers within 100 ms while an input opens; SIGTERM ends a player blocked in an open.
+/// Runs on the mock backends (and the ffmpeg ones for FIFOs and files), no GL needed.
+
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "../../support/temp_dir.h"
+#include "cli_process.h"
+#include "control_client.h"
+
+namespace {
+
+using namespace std::chrono_literals;
+namespace fs = std::filesystem;
+using depthtouch::testing::ControlClient;
+using depthtouch::testing::Process;
+using depthtouch::testing::ProcessResult;
+using depthtouch::testing::runProcess;
+using depthtouch::testing::TempDir;
+using Args = std::vector<std::string>;
+
+constexpr auto kLimit = 20s; ///< No run may take longer.
+const std::string kMockClip = "mock://clip?frames=30&fps=30";
+
+/// `depthtouch play URL` on the mock backends (haptic device \a haptic), then \a extra.
+Args mockPlay(const std::string &url, const Args &extra = {}, const std::string &haptic = "none")
+{
+    Args a = {DEPTHTOUCH, "play", url, "--source", "mock", "--decoder", "mock",
+              "--display", "mock", "--haptic", haptic};
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+}
+
+/// `depthtouch play URL` on the ffmpeg source and decoder (mock display), then \a extra.
+Args ffmpegPlay(const std::string &url, const Args &extra = {})
+{
+    Args a = {DEPTHTOUCH, "play", url, "--display", "mock", "--haptic", "none"};
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+}
+
+std::string describe(const ProcessResult &r)
+{
+    return "exit " + std::to_string(r.exitCode) + (r.timedOut ? " (timed out)" : "") +
+           ", signal " + std::to_string(r.signal) + ", " + std::to_string(r.seconds) +
+           " s, stderr:\n" + r.err.substr(0, 2000);
+}
+
+/// The run ended in time with \a code and exactly one line on stderr.
+void expectOneLine(const ProcessResult &r, int code, const std::string &what)
+{
+    EXPECT_FALSE(r.timedOut) << what << ": " << describe(r);
+    EXPECT_EQ(r.exitCode, code) << what << ": " << describe(r);
+    EXPECT_EQ(r.errLines(), 1u) << what << ": " << describe(r);
+    EXPECT_EQ(r.err.find("INFO"), std::string::npos) << what << ": " << describe(r);
+}
+
+void makeFifo(const fs::path &p)
+{
+    ASSERT_EQ(::mkfifo(p.c_str(), 0600), 0) << p;
+}
+
+// --- Item 1: a JSON number beyond a double ---------------------------------------------------
+
+TEST(PlayFaults, NumbersBeyondADoubleOnTheSocketDoNotEndThePlayer)
+{
+    TempDir tmp("dt-faults-");
+    const std::string sock = (tmp.dir() / "ctl.sock").string();
+    Process player(mockPlay(kMockClip, {"--loop", "--control", sock, "--duration", "15"}));
+    ControlClient c;
+    ASSERT_TRUE(c.connect(sock, 10s));
+    for (const char *line : {R"({"command":["seek",1e400]})",
+                             R"({"command":["get","state"],"request_id":1e999})",
+                             R"({"command":["stiffness",1e309]})"})
+        EXPECT_EQ(c.request(line), R"({"error":"malformed JSON: a number is out of range"})");
+    EXPECT_NE(c.request(R"({"command":["get","url"]})").find("success"), std::string::npos);
+    EXPECT_EQ(c.request(R"({"command":["quit"]})"), R"({"error":"success"})");
+    const ProcessResult r = player.wait(kLimit);
+    EXPECT_EQ(r.exitCode, 0) << describe(r);
+    EXPECT_FALSE(fs::exists(sock));
+}
+
+// --- Item 6: an open or a seek does not block the control thread -----------------------------
+
+/// Asks for the state \a n times, 50 ms apart; every reply must come within 100 ms.
+void expectPromptReplies(ControlClient &c, const std::string &state, int n)
+{
+    for (int i = 0; i < n; ++i) {
+        EXPECT_EQ(c.request(R"({"command":["get","state"]})", 2000ms),
+                  R"({"data":")" + state + R"(","error":"success"})");
+        EXPECT_LT(c.lastReplySeconds(), 0.1) << "reply " << i << " while " << state;
+        std::this_thread::sleep_for(50ms);
+    }
+}
+
+TEST(PlayFaults, SocketAnswersWithin100msWhileAFifoOrASilentStreamOpens)
+{
+    TempDir tmp("dt-faults-");
+    const std::string sock = (tmp.dir() / "ctl.sock").string();
+    const fs::path fifo = tmp.dir() / "in.fifo";
+    makeFifo(fifo);
+    Process player(ffmpegPlay(fifo.string(), {"--idle", "--control", sock}));
+    ControlClient c;
+    ASSERT_TRUE(c.connect(sock, 10s));
+    expectPromptReplies(c, "opening", 5);
+    EXPECT_EQ(c.request(R"({"command":["stop"]})"), R"({"error":"success"})");
+    EXPECT_LT(c.lastReplySeconds(), 0.1);
+    EXPECT_EQ(c.request(R"({"command":["play",")" + fifo.string() + R"("]})"),
+              R"({"error":"success"})");
+    EXPECT_LT(c.lastReplySeconds(), 0.1);
+    expectPromptReplies(c, "opening", 5);
+    EXPECT_EQ(c.request(R"({"command":["stop"]})"), R"({"error":"success"})");
+    EXPECT_EQ(c.request(R"({"command":["play","udp://127.0.0.1:9"]})"), R"({"error":"success"})");
+    EXPECT_LT(c.lastReplySeconds(), 0.1);
+    expectPromptReplies(c, "opening", 5);
+    EXPECT_EQ(c.request(R"({"command":["quit"]})"), R"({"error":"success"})");
+    const ProcessResult r = player.wait(kLimit);
+    EXPECT_FALSE(r.timedOut) << describe(r);
+    EXPECT_EQ(r.exitCode, 0) << "quit sent while opening: " << describe(r);
+    EXPECT_LT(r.seconds, 8.0) << "the quit waited for the blocked open";
+}
+
+TEST(PlayFaults, SeekRepliesWithin100ms)
+{
+    TempDir tmp("dt-faults-");
+    const std::string sock = (tmp.dir() / "ctl.sock").string();
+    Process player(mockPlay("mock://clip?frames=300&fps=30", {"--loop", "--control", sock,
+                                                              "--duration", "15"}));
+    ControlClient c;
+    ASSERT_TRUE(c.connect(sock, 10s));
+    std::this_thread::sleep_for(300ms);
+    for (const char *seek : {R"({"command":["seek",5,"absolute"]})", R"({"command":["seek",-3]})",
+                             R"({"command":["seek",0,"absolute"]})"}) {
+        EXPECT_EQ(c.request(seek, 2000ms), R"({"error":"success"})");
+        EXPECT_LT(c.lastReplySeconds(), 0.1) << seek;
+        EXPECT_EQ(c.request(R"({"command":["get","state"]})", 2000ms),
+                  R"({"data":"playing","error":"success"})");
+        EXPECT_LT(c.lastReplySeconds(), 0.1);
+    }
+    EXPECT_EQ(c.request(R"({"command":["quit"]})"), R"({"error":"success"})");
+    EXPECT_EQ(player.wait(kLimit).exitCode, 0);
+}
+
+// --- Item 3 (play): a FIFO never written, SIGTERM and --duration while blocked in an open -----
+
+TEST(PlayFaults, SigtermAndDurationEndAPlayerBlockedInAnOpen)
+{
+    TempDir tmp("dt-faults-");
+    const fs::path fifo = tmp.dir() / "in.fifo";
+    makeFifo(fifo);
+    {
+        Process player(ffmpegPlay(fifo.string()));
+        std::this_thread::sleep_for(700ms);
+        player.signal(SIGTERM);
+        const ProcessResult r = player.wait(5s);
+        expectOneLine(r, 1, "SIGTERM while opening a FIFO");
+        EXPECT_LT(r.seconds, 3.0) << describe(r);
+    }
+    const ProcessResult d = runProcess(ffmpegPlay(fifo.string(), {"--duration", "2"}), kLimit);
+    expectOneLine(d, 1, "--duration 2 while opening a FIFO");
+    EXPECT_LT(d.seconds, 5.0) << describe(d);
+    EXPECT_NE(d.err.find("stopped while opening"), std::string::npos) << d.err;
+}
+
+// --- Items 3 and 11: config files ------------------------------------------------------------
+
+TEST(PlayFaults, ConfigThatIsNotARegularFileIsBadInput)
+{
+    TempDir tmp("dt-faults-");
+    const fs::path fifo = tmp.dir() / "cfg.fifo";
+    makeFifo(fifo);
+    for (const std::string &cfg : {tmp.dir().string(), std::string("/dev/zero"), fifo.string(),
+                                   (tmp.dir() / "missing.toml").string()}) {
+        const ProcessResult r = runProcess(mockPlay(kMockClip, {"--config", cfg}), 10s);
+        expectOneLine(r, 2, "--config " + cfg);
+        EXPECT_LT(r.seconds, 5.0) << cfg;
+    }
+}
+
+TEST(PlayFaults, ConfigErrorsAreReportedAndBounded)
+{
+    TempDir tmp("dt-faults-");
+    const fs::path cfg = tmp.dir() / "play.toml";
+    // A wrong type is an error even when the command line gives the option.
+    std::ofstream(cfg) << "stiffness = \"hard\"\n";
+    ProcessResult r = runProcess(mockPlay(kMockClip, {"--stiffness", "900", "--config", cfg}), 10s);
+    expectOneLine(r, 2, "wrong type, option also given");
+    EXPECT_NE(r.err.find("'stiffness' has the wrong type"), std::string::npos) << r.err;
+    // A 10 MB value or key is not echoed whole (the file is over 1 MiB: refused as such), and
+    // neither is a 100 kB one.
+    for (const std::size_t n : {std::size_t{10} << 20, std::size_t{100} << 10}) {
+        std::ofstream(cfg) << "display = \"" << std::string(n, 'x') << "\"\n"
+                           << std::string(n, 'k') << " = 1\n";
+        r = runProcess(mockPlay(kMockClip, {"--config", cfg}), 10s);
+        expectOneLine(r, 2, "huge value, " + std::to_string(n) + " bytes");
+        EXPECT_LT(r.err.size(), 1000u);
+    }
+}
+
+// --- Item 12: exit codes ---------------------------------------------------------------------
+
+TEST(PlayFaults, BadControlPathIsBadInput)
+{
+    TempDir tmp("dt-faults-");
+    const fs::path file = tmp.dir() / "file";
+    std::ofstream(file) << "x";
+    const fs::path link = tmp.dir() / "link";
+    fs::create_symlink(file, link);
+    const fs::path fifo = tmp.dir() / "fifo";
+    makeFifo(fifo);
+    // A live socket: another process listens on it.
+    const fs::path live = tmp.dir() / "live.sock";
+    const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
+    sockaddr_un addr{};
+    addr.sun_family = AF_UNIX;
+    std::snprintf(addr.sun_path, sizeof addr.sun_path, "%s", live.c_str());
+    ASSERT_EQ(::bind(fd, reinterpret_cast<sockaddr *>(&addr), sizeof addr), 0);
+    ASSERT_EQ(::listen(fd, 4), 0);
+    const std::string tooLong = (tmp.dir() / std::string(120, 's')).string();
+    for (const std::string &path : {file.string(), link.string(), tmp.dir().string(),
+                                    fifo.string(), live.string(), tooLong,
+                                    (tmp.dir() / "no" / "dir.sock").string()}) {
+        const ProcessResult r = runProcess(mockPlay(kMockClip, {"--control", path}), 10s);
+        expectOneLine(r, 2, "--control " + path);
+    }
+    ::close(fd);
+    EXPECT_TRUE(fs::exists(file) && fs::is_fifo(fifo) && fs::is_symlink(link)) << "left alone";
+}
+
+TEST(PlayFaults, QuitAfterARecoveredFailedPlayIsSuccess)
+{
+    TempDir tmp("dt-faults-");
+    const std::string sock = (tmp.dir() / "ctl.sock").string();
+    Process player(mockPlay(kMockClip, {"--loop", "--idle", "--control", sock}));
+    ControlClient c;
+    ASSERT_TRUE(c.connect(sock, 10s));
+    EXPECT_EQ(c.request(R"({"command":["stop"]})"), R"({"error":"success"})");
+    EXPECT_EQ(c.request(R"({"command":["play","/nonexistent/x.mkv"]})"), R"({"error":"success"})");
+    std::string state;
+    for (int i = 0; i < 100 && state.find("error") == std::string::npos; ++i) {
+        std::this_thread::sleep_for(20ms);
+        state = c.request(R"({"command":["get","state"]})");
+    }
+    EXPECT_EQ(state, R"({"data":"error","error":"success"})");
+    EXPECT_EQ(c.request(R"({"command":["play",")" + kMockClip + R"("]})"), R"({"error":"success"})");
+    for (int i = 0; i < 100 && state.find("playing") == std::string::npos; ++i) {
+        std::this_thread::sleep_for(20ms);
+        state = c.request(R"({"command":["get","state"]})");
+    }
+    EXPECT_EQ(state, R"({"data":"playing","error":"success"})");
+    EXPECT_EQ(c.request(R"({"command":["quit"]})"), R"({"error":"success"})");
+    const ProcessResult r = player.wait(kLimit);
+    EXPECT_EQ(r.exitCode, 0) << describe(r);
+    EXPECT_EQ(r.errLines(), 1u) << "the failed open, once: " << describe(r);
+}
+
+TEST(PlayFaults, LostOutputIsFailureAndAMissingFolderBadInput)
+{
+    TempDir tmp("dt-faults-");
+    const struct {
+        Args options;
+        int code;
+    } cases[] = {
+        {{"--force-log", "/dev/full"}, 1},
+        {{"--stats", "/dev/full"}, 1},
+        {{"--stats", tmp.dir().string()}, 1},
+        {{"--record", "/nonexistent/r.mkv"}, 2},
+        {{"--force-log", "/nonexistent/f.csv"}, 2},
+        {{"--stats", "/nonexistent/s.json"}, 2},
+    };
+    for (const auto &c : cases) {
+        const ProcessResult r = runProcess(mockPlay(kMockClip, c.options, "sim"), kLimit);
+        expectOneLine(r, c.code, c.options[0] + " " + c.options[1]);
+    }
+    // /dev/null takes everything: not lost.
+    const ProcessResult ok =
+        runProcess(mockPlay(kMockClip, {"--stats", "/dev/null", "--force-log", "/dev/null"}), kLimit);
+    EXPECT_EQ(ok.exitCode, 0) << describe(ok);
+    EXPECT_EQ(ok.err, "");
+}
+
+// --- Item 15: one line on stderr -------------------------------------------------------------
+
+TEST(PlayFaults, AFailureIsOneLineAndQuietIsSilent)
+{
+    const ProcessResult missing = runProcess(ffmpegPlay("nonexist.mkv"), kLimit);
+    expectOneLine(missing, 2, "play nonexist.mkv");
+    EXPECT_NE(missing.err.find("cannot open 'nonexist.mkv'"), std::string::npos) << missing.err;
+    EXPECT_EQ(missing.err.find("["), std::string::npos) << "no timestamped log line";
+    const ProcessResult quiet = runProcess(mockPlay(kMockClip, {"--quiet"}), kLimit);
+    EXPECT_EQ(quiet.exitCode, 0) << describe(quiet);
+    EXPECT_EQ(quiet.err, "");
+    const ProcessResult plain = runProcess(mockPlay(kMockClip), kLimit);
+    EXPECT_EQ(plain.exitCode, 0) << describe(plain);
+    EXPECT_EQ(plain.err, "") << "no state lines when stderr is not a terminal";
+    const ProcessResult verbose = runProcess(mockPlay(kMockClip, {"--verbose"}), kLimit);
+    EXPECT_EQ(verbose.exitCode, 0) << describe(verbose);
+    EXPECT_NE(verbose.err.find("depthtouch play: playing"), std::string::npos) << verbose.err;
+    EXPECT_NE(verbose.err.find("INFO"), std::string::npos) << verbose.err;
+}
+
+// --- Item 5: a file cut after its header ----------------------------------------------------
+
+TEST(PlayFaults, AFileCutAfterItsHeaderEndsWithOneLine)
+{
+    if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0)
+        GTEST_SKIP() << "no ffmpeg CLI on PATH";
+    TempDir tmp("dt-faults-");
+    const fs::path clip = tmp.dir() / "clip.mkv";
+    const std::string make = "ffmpeg -nostdin -hide_banner -v error -y -f lavfi -i "
+                             "testsrc=size=320x240:rate=30:duration=2 -c:v libx264 -preset "
+                             "ultrafast '" + clip.string() + "'";
+    ASSERT_EQ(std::system(make.c_str()), 0);
+    // 2000 bytes: the Matroska header and part of the first key frame (over 8 kB at 320x240).
+    ASSERT_GT(fs::file_size(clip), 20000u);
+    fs::resize_file(clip, 2000);
+    const ProcessResult r = runProcess(ffmpegPlay(clip.string()), kLimit);
+    expectOneLine(r, 2, "a file cut after its header");
+    EXPECT_NE(r.err.find("ended before its first complete frame"), std::string::npos) << r.err;
+}
+
+} // namespace
