@@ -241,31 +241,29 @@ BenchReport runHapticsBenchmark(const BenchOptions &options)
                 return &r;
         return nullptr;
     };
+    // The worst 3840×2160 / 720×486 ratio over the motions of \a field for \a method.
+    auto worstRatio = [&](const char *method, double BenchRow::*field) {
+        double worst = 0.0;
+        for (const char *motion : {"still", "0.1 m/s", "1 m/s"}) {
+            const BenchRow *a = find(method, 720, motion);
+            const BenchRow *b = find(method, 3840, motion);
+            if (a && b && a->*field > 0)
+                worst = std::max(worst, b->*field / a->*field);
+        }
+        return worst;
+    };
     if (const BenchRow *r = find("finger", 720, "1 m/s")) {
         report.fingerP999At720Fast = r->p999Ns;
         report.fingerMinOfRunsP999At720Fast = r->minOfRunsP999Ns;
     }
-    for (const char *motion : {"still", "0.1 m/s", "1 m/s"}) {
-        const BenchRow *a = find("finger", 720, motion);
-        const BenchRow *b = find("finger", 3840, motion);
-        if (a && b && a->minOfRunsMedianNs > 0)
-            report.fingerMinOfRunsResolutionRatio = std::max(report.fingerMinOfRunsResolutionRatio,
-                                                             b->minOfRunsMedianNs / a->minOfRunsMedianNs);
-    }
+    report.fingerMinOfRunsResolutionRatio = worstRatio("finger", &BenchRow::minOfRunsMedianNs);
     if (const BenchRow *r = find("modified", 720, "1 m/s")) {
         report.modifiedP999At720Fast = r->p999Ns;
         report.modifiedMinOfRunsP999At720Fast = r->minOfRunsP999Ns;
         report.runsAt720Fast = r->runsTimed;
     }
-    for (const char *motion : {"still", "0.1 m/s", "1 m/s"}) {
-        const BenchRow *a = find("modified", 720, motion);
-        const BenchRow *b = find("modified", 3840, motion);
-        if (a && b && a->medianNs > 0)
-            report.resolutionRatio = std::max(report.resolutionRatio, b->medianNs / a->medianNs);
-        if (a && b && a->minOfRunsMedianNs > 0)
-            report.minOfRunsResolutionRatio = std::max(report.minOfRunsResolutionRatio,
-                                                       b->minOfRunsMedianNs / a->minOfRunsMedianNs);
-    }
+    report.resolutionRatio = worstRatio("modified", &BenchRow::medianNs);
+    report.minOfRunsResolutionRatio = worstRatio("modified", &BenchRow::minOfRunsMedianNs);
     const BenchRow *mesh = find("mesh-bvh", 720, "still");
     const BenchRow *mod = find("modified", 720, "still");
     if (mesh && mod && mod->frameCostNs > 0)
