@@ -214,17 +214,20 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
         // silhouette, and behind it is what the camera did not see. Where the surface at the
         // HIP's own x–y is nearer than the wall's proxy, the finger has gone round or under the
         // object: it touches that surface instead of being pulled back through the object.
+        // The HIP slipped off the plane of a steep side while still inside the sensor surface
+        // (an object's edge swept over the finger): it is held by the surface at its own x–y.
         const double sideX = proxy.x - hip.x;
         const double sideY = proxy.y - hip.y;
-        if (contact && sideX * sideX + sideY * sideY > radius_ * radius_) {
+        if (!contact || sideX * sideX + sideY * sideY > radius_ * radius_) {
             FingerPlane localPlane{};
             double localStart = 0.0;
             double localBelow = 0.0;
             const glm::dvec3 local = solve(hip, hip.x, hip.y, localPlane, localStart, localBelow);
-            if (localBelow > 0.0 && localBelow < glm::length(proxy - hip)) {
+            if (localBelow > 0.0 && (!contact || localBelow < glm::length(proxy - hip))) {
                 proxy = local;
                 plane = localPlane;
                 below = localBelow;
+                contact = true;
             }
         }
         if (contact)
