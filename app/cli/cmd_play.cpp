@@ -32,6 +32,7 @@
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/platform/clock.h"
+#include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
 #include "depthtouch/playback/playback.h"
 #include "depthtouch/player/state_machine.h"
@@ -401,8 +402,11 @@ PlayResult runPlay(const PlayOptions &opt)
     result.stats = j;
     std::string lost; // an output that could not be written: exit 1
     if (!opt.stats.empty()) {
-        if (const std::string why = writeOutputFile(opt.stats, j.dump(2) + "\n"); !why.empty())
-            lost = "cannot write the stats " + quotedText(opt.stats, 120) + ": " + why;
+        if (auto w = platform::writeOutputFile(opt.stats, j.dump(2) + "\n"); !w) {
+            char why[160];
+            lost = "cannot write the stats " + quotedText(opt.stats, 120) + ": " +
+                   w.error().format(why, sizeof why);
+        }
     }
 
     // An input that opened but failed before giving a single frame (cut after its header) is

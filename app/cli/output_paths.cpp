@@ -60,26 +60,4 @@ OutputPathCheck checkOutputPath(std::string_view option, const std::string &path
     return {};
 }
 
-std::string writeOutputFile(const std::string &path, std::string_view text)
-{
-    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0)
-        return std::strerror(errno);
-    std::size_t done = 0;
-    while (done < text.size()) {
-        const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n <= 0) {
-            const int err = n < 0 ? errno : EIO;
-            ::close(fd);
-            return std::strerror(err);
-        }
-        done += static_cast<std::size_t>(n);
-    }
-    if (::close(fd) != 0)
-        return std::strerror(errno);
-    return {};
-}
-
 } // namespace depthtouch::cli

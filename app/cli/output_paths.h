@@ -2,8 +2,8 @@
 /// \file
 /// \brief Output files named on the command line (`--record`, `--force-log`, `--stats`): checked
 /// before a run, so that a mistyped folder is bad input at once and an output that cannot take a
-/// byte (/dev/full) is lost output at once, not after a whole run; and written with every error
-/// seen (a short write to a full disk is lost output, not exit 0).
+/// byte (/dev/full) is lost output at once, not after a whole run (they are written with
+/// platform::writeOutputFile, which reports every error).
 /// Thread-safety: reentrant.
 
 #include <string>
@@ -25,9 +25,5 @@ struct OutputPathCheck {
 /// An empty \a path is fine (no output).
 OutputPathCheck checkOutputPath(std::string_view option, const std::string &path,
                                 bool directoryIsLost = false);
-
-/// \brief Writes \a text to \a path (created or truncated), checking every write and the close.
-/// \return an empty string, or why the output was lost (one line, strerror text).
-std::string writeOutputFile(const std::string &path, std::string_view text);
 
 } // namespace depthtouch::cli

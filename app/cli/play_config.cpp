@@ -3,18 +3,13 @@
 
 #include "play_config.h"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <cerrno>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <map>
 
 #include <toml++/toml.h>
 
+#include "depthtouch/platform/file_access.h"
 #include "message_text.h"
 
 namespace depthtouch::cli {
@@ -118,42 +113,13 @@ std::string fileError(const std::string &path, const std::string &why)
 
 std::string readPlayConfigFile(const std::string &path, std::string &text)
 {
-    // stat() first: a device is not even opened (opening one may have side effects), and a FIFO
-    // without a writer would block open(). O_NONBLOCK and fstat() cover a swap in between.
-    struct stat st{};
-    if (::stat(path.c_str(), &st) != 0)
-        return fileError(path, std::strerror(errno));
-    if (S_ISDIR(st.st_mode))
-        return fileError(path, "is a directory, not a TOML file");
-    if (!S_ISREG(st.st_mode))
-        return fileError(path, "is not a regular file (a FIFO, device or socket is not read)");
-    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0)
-        return fileError(path, std::strerror(errno));
-    std::string error;
-    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        error = fileError(path, "is not a regular file");
-    } else if (static_cast<std::uint64_t>(st.st_size) > kMaxPlayConfigBytes) {
-        error = fileError(path, "is larger than 1 MiB; a config file holds a few options");
-    } else {
-        text.assign(static_cast<std::size_t>(st.st_size), '\0');
-        std::size_t got = 0;
-        while (got < text.size()) {
-            const ssize_t n = ::read(fd, text.data() + got, text.size() - got);
-            if (n < 0 && errno == EINTR)
-                continue;
-            if (n < 0) {
-                error = fileError(path, std::strerror(errno));
-                break;
-            }
-            if (n == 0)
-                break; // shrank while read: take what is there
-            got += static_cast<std::size_t>(n);
-        }
-        text.resize(got);
+    auto bytes = platform::readFileBounded(path, kMaxPlayConfigBytes, kPlayConfigFifoWait);
+    if (!bytes) {
+        char why[160];
+        return fileError(path, bytes.error().format(why, sizeof why));
     }
-    ::close(fd);
-    return error;
+    text.assign(bytes->begin(), bytes->end());
+    return {};
 }
 
 std::string applyPlayConfigText(std::string_view text, const std::string &path,

@@ -9,6 +9,7 @@
 /// path (message_text.h).
 /// Thread-safety: reentrant (no shared state).
 
+#include <chrono>
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -20,12 +21,15 @@ namespace depthtouch::cli {
 
 /// Largest config file read, bytes (a real one is a few hundred).
 inline constexpr std::size_t kMaxPlayConfigBytes = std::size_t{1} << 20;
+/// How long a FIFO given as the config file may wait for its writer (a process substitution
+/// writes at once).
+inline constexpr std::chrono::milliseconds kPlayConfigFifoWait{2000};
 
-/// \brief Reads the config file \a path into \a text without ever blocking: only a regular file
-/// of at most kMaxPlayConfigBytes is read (a directory, a FIFO, a device such as /dev/zero or a
-/// socket is refused before it is read from).
-/// \return an empty string, or the error line (e.g. "--config '/dev/zero' is not a regular
-/// file").
+/// \brief Reads the config file \a path into \a text, bounded (platform::readFileBounded): at
+/// most kMaxPlayConfigBytes (/dev/zero is refused after that), a FIFO waits at most
+/// kPlayConfigFifoWait for its writer, a directory or socket is refused.
+/// \return an empty string, or the error line (e.g. "--config '/dev/zero': is larger than the
+/// limit (InvalidArgument)").
 std::string readPlayConfigFile(const std::string &path, std::string &text);
 
 /// Whether the option of a key (its long name without dashes, e.g. "stiffness") was given on

@@ -182,7 +182,7 @@ TEST(PlayFaults, SigtermAndDurationEndAPlayerBlockedInAnOpen)
 
 // --- Items 3 and 11: config files ------------------------------------------------------------
 
-TEST(PlayFaults, ConfigThatIsNotARegularFileIsBadInput)
+TEST(PlayFaults, ConfigThatIsADirectoryDeviceOrSilentFifoIsBadInput)
 {
     TempDir tmp("dt-faults-");
     const fs::path fifo = tmp.dir() / "cfg.fifo";

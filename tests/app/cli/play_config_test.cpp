@@ -1,6 +1,6 @@
 /// \file
-/// \brief The `play --config` loader (app/cli/play_config.h): what it reads (regular files only,
-/// bounded, never blocking) and how it applies and checks keys (issue 16 #11 and the fuzzer's
+/// \brief The `play --config` loader (app/cli/play_config.h): what it reads (bounded in size and
+/// in the wait for a FIFO's writer) and how it applies and checks keys (issue 16 #11 and the fuzzer's
 /// finds).
 
 #include "play_config.h"
@@ -25,7 +25,7 @@ bool noneGiven(const std::string &)
     return false;
 }
 
-TEST(PlayConfig, ReadsOnlyARegularFileOfBoundedSize)
+TEST(PlayConfig, ReadsABoundedFileAndNeverBlocks)
 {
     testing::TempDir tmp("dt-play-config-");
     std::string text;
@@ -41,9 +41,9 @@ TEST(PlayConfig, ReadsOnlyARegularFileOfBoundedSize)
     fs::resize_file(big, kMaxPlayConfigBytes + 1);
     const std::pair<std::string, std::string> refused[] = {
         {tmp.dir().string(), "is a directory"},
-        {"/dev/zero", "is not a regular file"},
-        {fifo.string(), "is not a regular file"},
-        {big.string(), "is larger than 1 MiB"},
+        {"/dev/zero", "is larger than the limit"},
+        {fifo.string(), "is a FIFO with no writer"}, // after kPlayConfigFifoWait
+        {big.string(), "is larger than the limit"},
         {(tmp.dir() / "missing.toml").string(), "No such file"},
     };
     for (const auto &[path, why] : refused) {
