@@ -184,6 +184,7 @@ public:
         const haptics::DepthFrameView next = view(static_cast<std::size_t>(std::min(i + 1, n - 1)));
         (void)field_.setFrames(cur, i + 1 < n ? &next : nullptr);
         field_.setTime(t, true);
+        prev_ = view(static_cast<std::size_t>(std::max(i - 1, 0LL)));
         cur_ = cur;
         next_ = next;
     }
@@ -192,16 +193,27 @@ public:
     {
         return field_.contains(x, y) ? field_.heightAt(x, y) : std::nan("");
     }
-    /// \return true when the sample nearest (x, y) moves by more than the cut threshold between
-    /// the two frames of the last setTime().
+    /// \return true when a sample within a finger's reach of (x, y) (the renderer's stencil, 1.5 %
+    /// of the box width) moves by more than the cut threshold from the previous frame to the
+    /// current one or from it to the next (of the last setTime()).
     [[nodiscard]] bool cutAt(double x, double y) const noexcept
     {
-        if (!field_.contains(x, y))
-            return false;
-        const int c = static_cast<int>(std::lround(field_.xToColumn(x)));
-        const int r = static_cast<int>(std::lround(field_.yToRow(y)));
-        return std::fabs(field_.frameZ(next_, c, r) - field_.frameZ(cur_, c, r)) >
-               field_.cutThreshold();
+        const double reach = 0.015 * field_.box().width;
+        for (int j = -1; j <= 1; ++j) {
+            for (int i = -1; i <= 1; ++i) {
+                const double px = x + i * reach;
+                const double py = y + j * reach;
+                if (!field_.contains(px, py))
+                    continue;
+                const int c = static_cast<int>(std::lround(field_.xToColumn(px)));
+                const int r = static_cast<int>(std::lround(field_.yToRow(py)));
+                const double z = field_.frameZ(cur_, c, r);
+                if (std::fabs(field_.frameZ(next_, c, r) - z) > field_.cutThreshold() ||
+                    std::fabs(z - field_.frameZ(prev_, c, r)) > field_.cutThreshold())
+                    return true;
+            }
+        }
+        return false;
     }
     /// \return the height of the backdrop (curtain), m.
     [[nodiscard]] double backdropZ() const noexcept { return backdropZ_; }
@@ -217,6 +229,7 @@ private:
     std::vector<media::Image> frames_;
     double fps_ = 30.0;
     haptics::HeightField field_;
+    haptics::DepthFrameView prev_{};
     haptics::DepthFrameView cur_{};
     haptics::DepthFrameView next_{};
     double backdropZ_ = 0.0;
@@ -249,7 +262,8 @@ DemoFeel measureFeel(const std::vector<LogRow> &rows, const std::vector<double> 
         s.force = r.force;
         s.surfaceZ = surface.heightAt(r.hip.x, r.hip.y);
         s.released = r.released;
-        s.surfaceCut = surface.cutAt(r.proxy.x, r.proxy.y);
+        s.surfaceCut = surface.cutAt(r.proxy.x, r.proxy.y) ||
+                       (i > 0 && surface.cutAt(rows[i - 1].proxy.x, rows[i - 1].proxy.y));
         const std::size_t j = i >= kSpeedRows ? i - kSpeedRows : 0;
         const double span = play[i] - play[j];
         const double speed =
