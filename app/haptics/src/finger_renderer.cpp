@@ -210,12 +210,12 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
         else if (step > stepDepth_)
             stepped = true;
         contact = below > 0.0;
-        // Held against a wall (the proxy more than r to the side): the wall is an object's
-        // silhouette, and behind it is what the camera did not see. Where the surface at the
-        // HIP's own x–y is nearer than the wall's proxy, the finger has gone round or under the
-        // object: it touches that surface instead of being pulled back through the object.
-        // The HIP slipped off the plane of a steep side while still inside the sensor surface
-        // (an object's edge swept over the finger): it is held by the surface at its own x–y.
+        // Two cases go to the surface at the HIP's own x–y. Held against a wall (the proxy more
+        // than r to the side), the wall is an object's silhouette and behind it is what the
+        // camera did not see: where that surface is nearer than the wall's proxy, the finger went
+        // round or under the object and touches it instead of being pulled back through. And a
+        // HIP that slipped off a steep side's plane while still inside the sensor surface (an
+        // object's edge swept over the finger) is held by that surface.
         const double sideX = proxy.x - hip.x;
         const double sideY = proxy.y - hip.y;
         if (!contact || sideX * sideX + sideY * sideY > radius_ * radius_) {

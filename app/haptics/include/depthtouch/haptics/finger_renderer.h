@@ -24,7 +24,9 @@
 ///    the optimum (over a silhouette's edge) is a glide, not a step of the force.
 ///    Held against a wall (the proxy more than r to the side of the HIP), the proxy moves to the
 ///    surface at the HIP's own x–y when that is nearer: a silhouette's far side is what the camera
-///    did not see, not a wall to be pulled back through (a finger that went under a forearm).
+///    did not see, not a wall to be pulled back through (a finger that went under a forearm);
+///    and a HIP that slipped off a steep side's plane while inside the sensor surface (an
+///    object's edge swept over the finger) is held by the surface at its own x–y.
 /// 3. **Contact.** Free space is what the camera sees in front of the surface: the HIP is free when
 ///    it is above the sensor surface at its own x–y (the unseen side of an object is not a wall to
 ///    be pulled back through) or on the outer side of the proxy's plane. A free HIP comes into
