@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <optional>
 
 #include <toml++/toml.h>
 
@@ -19,30 +20,11 @@ namespace {
 /// Stores a node's value into one field of PlayOptions. \return false when the type is wrong.
 using Setter = std::function<bool(const toml::node &, PlayOptions &)>;
 
-Setter text(std::string PlayOptions::*field)
+/// A string, a number (an integer too) or a boolean, as the field's type T.
+template <class T> Setter scalar(T PlayOptions::*field)
 {
     return [field](const toml::node &n, PlayOptions &o) {
-        const auto v = n.value<std::string>();
-        if (v)
-            o.*field = *v;
-        return v.has_value();
-    };
-}
-
-Setter number(double PlayOptions::*field)
-{
-    return [field](const toml::node &n, PlayOptions &o) {
-        const auto v = n.value<double>();
-        if (v)
-            o.*field = *v;
-        return v.has_value();
-    };
-}
-
-Setter flag(bool PlayOptions::*field)
-{
-    return [field](const toml::node &n, PlayOptions &o) {
-        const auto v = n.value<bool>();
+        const std::optional<T> v = n.value<T>();
         if (v)
             o.*field = *v;
         return v.has_value();
@@ -69,37 +51,37 @@ template <class T> Setter count(T PlayOptions::*field)
 const std::map<std::string, Setter> &setters()
 {
     static const std::map<std::string, Setter> keys = {
-        {"display", text(&PlayOptions::display)},
-        {"display-options", text(&PlayOptions::displayOptions)},
-        {"haptic", text(&PlayOptions::haptic)},
-        {"haptic-options", text(&PlayOptions::hapticOptions)},
-        {"decoder", text(&PlayOptions::decoder)},
-        {"decoder-options", text(&PlayOptions::decoderOptions)},
-        {"source", text(&PlayOptions::source)},
-        {"remote", text(&PlayOptions::remote)},
-        {"remote-options", text(&PlayOptions::remoteOptions)},
-        {"stereo", text(&PlayOptions::stereo)},
-        {"stiffness", number(&PlayOptions::stiffness)},
-        {"rate", number(&PlayOptions::rate)},
-        {"reengage", text(&PlayOptions::reengage)},
-        {"loop", flag(&PlayOptions::loop)},
-        {"duration", number(&PlayOptions::duration)},
-        {"snapshot-dir", text(&PlayOptions::snapshotDir)},
+        {"display", scalar(&PlayOptions::display)},
+        {"display-options", scalar(&PlayOptions::displayOptions)},
+        {"haptic", scalar(&PlayOptions::haptic)},
+        {"haptic-options", scalar(&PlayOptions::hapticOptions)},
+        {"decoder", scalar(&PlayOptions::decoder)},
+        {"decoder-options", scalar(&PlayOptions::decoderOptions)},
+        {"source", scalar(&PlayOptions::source)},
+        {"remote", scalar(&PlayOptions::remote)},
+        {"remote-options", scalar(&PlayOptions::remoteOptions)},
+        {"stereo", scalar(&PlayOptions::stereo)},
+        {"stiffness", scalar(&PlayOptions::stiffness)},
+        {"rate", scalar(&PlayOptions::rate)},
+        {"reengage", scalar(&PlayOptions::reengage)},
+        {"loop", scalar(&PlayOptions::loop)},
+        {"duration", scalar(&PlayOptions::duration)},
+        {"snapshot-dir", scalar(&PlayOptions::snapshotDir)},
         {"snapshot-every", count(&PlayOptions::snapshotEvery)},
-        {"force-log", text(&PlayOptions::forceLog)},
-        {"stats", text(&PlayOptions::stats)},
-        {"record", text(&PlayOptions::record)},
+        {"force-log", scalar(&PlayOptions::forceLog)},
+        {"stats", scalar(&PlayOptions::stats)},
+        {"record", scalar(&PlayOptions::record)},
         {"record-crf", count(&PlayOptions::recordCrf)},
-        {"control", text(&PlayOptions::control)},
-        {"size", text(&PlayOptions::size)},
+        {"control", scalar(&PlayOptions::control)},
+        {"size", scalar(&PlayOptions::size)},
         {"mesh-step", count(&PlayOptions::meshStep)},
-        {"require-rt", flag(&PlayOptions::requireRt)},
-        {"idle", flag(&PlayOptions::idle)},
-        {"quiet", flag(&PlayOptions::quiet)},
-        {"verbose", flag(&PlayOptions::verbose)},
-        {"osd-seconds", number(&PlayOptions::osdSeconds)},
-        {"lod-target", number(&PlayOptions::lodTarget)},
-        {"max-lateness", number(&PlayOptions::maxLateness)},
+        {"require-rt", scalar(&PlayOptions::requireRt)},
+        {"idle", scalar(&PlayOptions::idle)},
+        {"quiet", scalar(&PlayOptions::quiet)},
+        {"verbose", scalar(&PlayOptions::verbose)},
+        {"osd-seconds", scalar(&PlayOptions::osdSeconds)},
+        {"lod-target", scalar(&PlayOptions::lodTarget)},
+        {"max-lateness", scalar(&PlayOptions::maxLateness)},
     };
     return keys;
 }
