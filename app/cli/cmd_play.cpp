@@ -409,6 +409,9 @@ PlayResult runPlay(const PlayOptions &opt)
         }
     }
 
+    if (lost.empty() && hs && hs->forceLogLost)
+        lost = "cannot write the force log " + quotedText(opt.forceLog, 120) + " (disk full?)";
+
     // An input that opened but failed before giving a single frame (cut after its header) is
     // bad input like one that does not open.
     if (opened && ps.framesReceived == 0 && !failure.empty())

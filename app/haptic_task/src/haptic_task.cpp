@@ -187,7 +187,11 @@ void HapticTask::stop() noexcept
     std::lock_guard<std::mutex> lock(mutex_);
     drainLocked();
     if (forceLog_ != nullptr) {
-        std::fclose(forceLog_);
+        // A write that failed (a full disk) shows in the stream's error flag or at the close.
+        if (std::fflush(forceLog_) != 0 || std::ferror(forceLog_) != 0)
+            forceLogLost_ = true;
+        if (std::fclose(forceLog_) != 0)
+            forceLogLost_ = true;
         forceLog_ = nullptr;
     }
 }
@@ -529,6 +533,7 @@ HapticStats HapticTask::stats()
     drainLocked();
     HapticStats s;
     s.servoRateHz = config_.servoRateHz;
+    s.forceLogLost = forceLogLost_ || (forceLog_ != nullptr && std::ferror(forceLog_) != 0);
     s.updates = updates_.load(std::memory_order_acquire);
     s.renderedUpdates = rendered_.load(std::memory_order_relaxed);
     s.contactUpdates = contacts_.load(std::memory_order_relaxed);

@@ -226,6 +226,19 @@ TEST(HapticTaskTest, simulatedHandRestsOnAStaticSurfaceWithForceEqualToKTimesPen
     rmdir(dir);
 }
 
+// A force log that cannot be written whole (a full disk: /dev/full) is reported as lost output,
+// and one that was written is not.
+TEST(HapticTaskTest, aForceLogThatCannotBeWrittenIsReportedLost)
+{
+    EXPECT_TRUE(runStaticPress("/dev/full").stats.forceLogLost);
+    char dir[] = "/tmp/dt-haptic-task-XXXXXX";
+    ASSERT_NE(mkdtemp(dir), nullptr);
+    const std::string log = std::string(dir) + "/force-log.csv";
+    EXPECT_FALSE(runStaticPress(log).stats.forceLogLost);
+    std::remove(log.c_str());
+    rmdir(dir);
+}
+
 TEST(HapticTaskTest, closedLoopRunIsDeterministicUnderTheManualClock)
 {
     const PressRun a = runStaticPress("");

@@ -141,6 +141,9 @@ struct HapticStats {
     std::uint64_t reconnects = 0;      ///< Times it came back.
     std::uint64_t telemetryDropped = 0; ///< Samples lost to a full ring (not in the percentiles).
     double maxForce = 0.0;              ///< Largest commanded force magnitude, N.
+    /// The force log could not be written whole (a write or its close failed: a full disk); the
+    /// run's output is lost.
+    bool forceLogLost = false;
     double deviceMaxForce = 0.0;        ///< The device's maximum, N.
     LatencySummary wakeLatency;         ///< Wake time − deadline.
     LatencySummary updateTime;          ///< Wake-up to force command.
@@ -150,7 +153,7 @@ struct HapticStats {
     /// \return a JSON object: haptic_updates, haptic_run_s, haptic_rate_hz, rendered_updates, contact_updates,
     /// overruns, missed_periods, wake_latency_us / update_time_us / period_error_us {p50, p90, p99,
     /// p999, max, mean}, safety_releases, watchdog_trips, device_losses, reconnects,
-    /// telemetry_dropped, max_force_n, device_max_force_n, haptic_thread.
+    /// telemetry_dropped, max_force_n, device_max_force_n, force_log_lost, haptic_thread.
     [[nodiscard]] std::string toJson(int indent = 2) const;
 };
 
@@ -320,6 +323,7 @@ private:
     std::atomic<std::uint32_t> reseatRequests_{0};
     std::atomic<std::uint32_t> clockRestarts_{0};
     std::uint32_t clockRestartsDone_ = 0; ///< RT thread only.
+    bool forceLogLost_ = false; ///< A force-log write or its close failed (under mutex_).
 
     // Haptic-thread state (written only by the haptic thread while it runs).
     bool haveFrames_ = false;
