@@ -309,5 +309,43 @@ TEST(FingerScenarioTest, fingerPassingUnderAThinObjectIsNotPulledBack)
     EXPECT_GT(modifiedAfter, 5.0);
 }
 
+// Fix (c) from the depth: a scene cut of half the box depth (20 mm) under a finger pressed 3 mm into
+// the first scene trips once; with Ramp the finger is held on the new surface and the force ramps
+// to its new value without a step above the threshold, with Release it is let go and stays free
+// inside (paper IV.C). Smooth content never trips (the noisy-table test).
+TEST(FingerScenarioTest, aSceneCutTripsOnceAndTheForceNeverStepsAboveTheThreshold)
+{
+    const SceneBox box{};
+    auto hipAt = [](double) { return glm::dvec3(0.004, 0.003, -0.015); };
+    for (Reengage mode : {Reengage::Ramp, Reengage::Release}) {
+        SyntheticVideo video(box, 64, 48, kFps, [](double, double, int i) { return i < 10 ? -0.012 : 0.008; });
+        FingerRenderer finger(configFor(Method::Finger, mode));
+        const auto rows = runPath(video, finger, [&](double t) {
+            // From 5 mm above the first scene down to 3 mm in, then held.
+            glm::dvec3 h = hipAt(t);
+            h.z = t < 0.1 ? -0.007 - 0.08 * t : -0.015;
+            return h;
+        }, 0.7);
+        int trips = 0;
+        double worstStep = 0.0;
+        for (std::size_t k = 1; k < rows.size(); ++k) {
+            trips += rows[k].out.released ? 1 : 0;
+            worstStep = std::max(worstStep, glm::length(rows[k].out.force - rows[k - 1].out.force));
+        }
+        const HapticOutput &last = rows.back().out;
+        std::printf("%s: %d trip(s), largest force step %.3f N, final force %.2f N\n",
+                    mode == Reengage::Ramp ? "ramp" : "release", trips, worstStep, glm::length(last.force));
+        EXPECT_EQ(trips, 1);
+        EXPECT_LE(worstStep, RendererConfig{}.maxForceStep + 1e-9);
+        if (mode == Reengage::Ramp) {
+            EXPECT_TRUE(last.contact);
+            EXPECT_NEAR(last.force.z, 8.5, 1e-6); // 23 mm in at 800 N/m, clamped to the maximum
+        } else {
+            EXPECT_FALSE(last.contact);
+            EXPECT_EQ(glm::length(last.force), 0.0);
+        }
+    }
+}
+
 } // namespace
 } // namespace depthtouch::haptics
