@@ -84,15 +84,16 @@ TEST_P(FeelScenarioTest, fingerMeetsTheFeelGoalsWhereModifiedFails)
     const StrokesRun ramp = runStrokes(*scene, strokes, setting("modified-ramp"));
     EXPECT_GT(ramp.total.falseTrips, 0u);
     EXPECT_GT(ramp.total.spikesPerSecond, 2.0);
-    if (GetParam() == SyntheticScene::Forearm) // pulled back through the forearm
+    if (GetParam() == SyntheticScene::Forearm) { // pulled back through the forearm
         EXPECT_GT(ramp.total.phantomMs, 10.0);
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, FeelScenarioTest,
                          ::testing::Values(SyntheticScene::Table, SyntheticScene::Head,
                                            SyntheticScene::Forearm),
-                         [](const auto &info) {
-                             return std::string(syntheticSceneName(info.param)).substr(10);
+                         [](const auto &scene) {
+                             return std::string(syntheticSceneName(scene.param)).substr(10);
                          });
 
 } // namespace

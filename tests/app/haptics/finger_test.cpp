@@ -274,9 +274,11 @@ TEST(FingerScenarioTest, fingerBelowTheTopOfASilhouetteClimbsOntoIt)
         EXPECT_NEAR(fe.proxy.z, top, 0.5e-3);
         EXPECT_NEAR(fe.force.z, 800.0 * under, 0.5);
         // No pop-through on the way: once past the edge by 1.5 mm the finger is held.
-        for (const PathRow &row : f)
-            if (row.hip.x > 0.0015)
+        for (const PathRow &row : f) {
+            if (row.hip.x > 0.0015) {
                 EXPECT_GT(glm::length(row.out.force), 0.1) << "at x " << row.hip.x;
+            }
+        }
         // The old renderer: the proxy stays at the foot of the wall, at the finger's height.
         EXPECT_LT(m.back().out.proxy.x, 1e-3);
         EXPECT_LT(m.back().out.proxy.z, top - 0.5 * under);
