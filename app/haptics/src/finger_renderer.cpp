@@ -102,9 +102,9 @@ FingerRenderer::FingerRenderer(const RendererConfig &config) noexcept
 {
     field_.setCutThreshold(config.cutThreshold);
     radius_ = std::isnan(config.fingerRadius) ? 0.015 * config.box.width : config.fingerRadius;
-    tripDepth_ = config.maxForceStep / config.stiffness;
-    captureDepth_ = std::max(tripDepth_, 0.1 * config.box.depth);
-    stepDepth_ = 0.25 * tripDepth_;
+    const double tripDepth = config.maxForceStep / config.stiffness; // the force step as a depth
+    captureDepth_ = std::max(tripDepth, 0.1 * config.box.depth);
+    stepDepth_ = 0.25 * tripDepth;
 }
 
 Result<void> FingerRenderer::setFrames(const DepthFrameView &current,
@@ -186,7 +186,7 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     HapticOutput out;
     out.hip = hip;
     field_.setTime(t, config_.interpolation);
-    const bool over = field_.valid() && field_.contains(hip.x, hip.y);
+    const bool over = field_.contains(hip.x, hip.y); // false before the first frames
     // The sensor surface at the HIP's own x–y: above it is free space (what the camera saw).
     const double raw = over ? field_.heightAt(hip.x, hip.y) : std::nan("");
     const bool inside = raw > hip.z; // false for NaN
@@ -249,7 +249,7 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     enterAnyDepth_ = false;
     out.released = trip;
     const glm::dvec3 rawForce = force_.spring(hip, proxy, contact, t);
-    out.force = force_.shape(rawForce, t, contact, trip || stepped, contact);
+    out.force = force_.shape(rawForce, t, contact, trip || stepped);
     out.proxy = proxy;
     out.contact = contact;
     out.constraints = contact ? 1 : 0;

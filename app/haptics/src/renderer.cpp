@@ -103,7 +103,7 @@ glm::dvec3 ForceStage::spring(const glm::dvec3 &hip, const glm::dvec3 &proxy, bo
     return raw;
 }
 
-glm::dvec3 ForceStage::shape(glm::dvec3 raw, double t, bool contact, bool trip, bool rampIn) noexcept
+glm::dvec3 ForceStage::shape(glm::dvec3 raw, double t, bool contact, bool trip) noexcept
 {
     raw = limitForce(raw, std::numeric_limits<double>::max()); // non-finite → zero
     if (rebase_) {
@@ -116,7 +116,7 @@ glm::dvec3 ForceStage::shape(glm::dvec3 raw, double t, bool contact, bool trip, 
         command = limitForce(raw, config_.maxForce);
     } else {
         if (trip) {
-            ramping_ = rampIn;
+            ramping_ = true;
             rampStartT_ = t;
             rampStart_ = prevCommand_;
         }
@@ -164,7 +164,8 @@ glm::dvec3 ForceStage::apply(const glm::dvec3 &hip, glm::dvec3 &proxy, bool &con
         }
         raw = k * (proxy - hip);
     }
-    return shape(raw, t, contact, released, config_.reengage == Reengage::Ramp && contact);
+    // Release leaves no contact after a trip, so only Ramp ramps.
+    return shape(raw, t, contact, released);
 }
 
 // ---------------------------------------------------------------------------------------------------

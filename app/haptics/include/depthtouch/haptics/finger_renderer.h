@@ -117,9 +117,8 @@ private:
     ForceStage force_;
     glm::dvec3 lastHip_{};     ///< HIP of the last update, m.
     double radius_ = 0.0;      ///< r, m.
-    double tripDepth_ = 0.0;   ///< maxForceStep / k, m.
-    double captureDepth_ = 0.0; ///< Deepest new contact: max(tripDepth_, box depth / 10), m.
-    double stepDepth_ = 0.0;   ///< Surface step under the proxy that is ramped in: tripDepth_ / 4, m.
+    double captureDepth_ = 0.0; ///< Deepest new contact: max(maxForceStep / k, box depth / 10), m.
+    double stepDepth_ = 0.0;   ///< Surface step under the proxy that is ramped in: maxForceStep / (4k), m.
     glm::dvec3 proxy_{};
     bool contact_ = false;
     bool behind_ = false;      ///< HIP under the surface without contact (see the file comment).

@@ -74,8 +74,8 @@ struct RendererConfig {
     /// least-squares plane is the surface the finger touches, m. Noise and quantisation at pixel
     /// scale are averaged over it and slopes taken over 2r; edges are rounded over about r.
     /// NaN = 0.015 × box width (1.5 mm in the default 0.1 m box: 10 pixels of a 640-wide frame;
-    /// `bench feel` measured 1 mm (sticks between noise optima on a 3 mm press) against 2 mm
-    /// (rounds a forearm's top) and 1.5 mm best).
+    /// in `bench feel` 1 mm let the finger through on the forearm scene and 2 mm spiked crossing
+    /// it, while 1.5 mm met every goal).
     double fingerRadius = std::nan("");
 
     /// \return the configuration of \a method: Modified all fixes on; ProxyGraph and MeshBvh all off.
@@ -162,11 +162,11 @@ public:
     /// \return the unshaped force k·(proxy − hip), minus b·v_HIP in contact, N; records the HIP.
     glm::dvec3 spring(const glm::dvec3 &hip, const glm::dvec3 &proxy, bool contact, double t) noexcept;
     /// \brief Shapes \a raw (N) into the command of time \a t (s).
-    /// \param contact the proxy is held on the surface (a ramp stops when it is not).
-    /// \param trip safety tripped, or the surface stepped, on this update; \param rampIn then ramp
-    /// the new force in from the last command.
+    /// \param contact the proxy is held on the surface (a ramp runs only while it is).
+    /// \param trip safety tripped, or the surface stepped, on this update: the new force is ramped
+    /// in from the last command, if there is a contact to re-engage.
     /// \return the command, N: finite, |F| ≤ maxForce.
-    glm::dvec3 shape(glm::dvec3 raw, double t, bool contact, bool trip, bool rampIn) noexcept;
+    glm::dvec3 shape(glm::dvec3 raw, double t, bool contact, bool trip) noexcept;
     void reset() noexcept;
     /// \brief The frames' clock restarted (seek, loop): the next t may be smaller. The force history
     /// is kept (no kick); a ramp in progress continues where it was.
