@@ -14,6 +14,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "app/haptics/scenario.h"
 #include "app/haptics/synthetic.h"
 #include "app/haptics/video.h"
 #include "depthtouch/haptics/collision.h"
@@ -27,45 +28,35 @@ using test::makeFrame;
 using test::OwnedFrame;
 using test::SyntheticVideo;
 
-constexpr double kRate = 1000.0; // haptic updates per second
-constexpr double kK = 800.0;     // N/m, default stiffness
-constexpr SceneBox kBox{};
+using test::formatName;
+using test::kBox;
+using test::kK;
+using test::kRate;
+using test::modified;
+using test::proxyGraph;
+using test::timeOf;
+using test::Variant;
 
-double timeOf(long n) { return static_cast<double>(n) / kRate; }
-
-RendererConfig modified() { return RendererConfig::forMethod(Method::Modified); }
-RendererConfig proxyGraph() { return RendererConfig::forMethod(Method::ProxyGraph); }
-
-/// One renderer under test with the statistics the scenarios look at.
-struct Variant {
-    std::string name;
-    ProxyGraphRenderer renderer;
-    HapticOutput last{};
-    glm::dvec3 prevForce{0.0};
-    double maxStep = 0.0;
-    double maxForce = 0.0;
-    int releases = 0;
-    explicit Variant(std::string n, const RendererConfig &c) : name(std::move(n)), renderer(c) {}
-    const HapticOutput &step(const glm::dvec3 &hip, double t)
-    {
-        last = renderer.update(hip, t);
-        maxStep = std::max(maxStep, glm::length(last.force - prevForce));
-        maxForce = std::max(maxForce, glm::length(last.force));
-        releases += last.released ? 1 : 0;
-        prevForce = last.force;
-        return last;
-    }
+// -----------------------------------------------------------------------------------------------
+/// The scenarios that run on both storage formats of a depth frame: 16-bit nearness (PNG, FFV1) and
+/// 8-bit (what H.264 4:0:0 decodes to, the usual case on a set-top box).
+class FormatScenarioTest : public ::testing::TestWithParam<SampleFormat> {
 };
+
+INSTANTIATE_TEST_SUITE_P(Formats, FormatScenarioTest,
+                         ::testing::Values(SampleFormat::Gray16, SampleFormat::Gray8),
+                         [](const ::testing::TestParamInfo<SampleFormat> &i) { return formatName(i.param); });
 
 // -----------------------------------------------------------------------------------------------
 // 1. Rising surface (Fig. 5a/5b)
 // -----------------------------------------------------------------------------------------------
 
-TEST(ScenarioTest, risingSurfaceKeepsContactOnlyWithCorrection)
+TEST_P(FormatScenarioTest, risingSurfaceKeepsContactOnlyWithCorrection)
 {
     // GIVEN a flat surface rising 1 mm per frame (30 fps) and a HIP pressed in, then held still
     const double fps = 30.0;
-    SyntheticVideo video(kBox, 64, 48, fps, [](double, double, int i) { return -0.012 + 0.001 * i; });
+    SyntheticVideo video(kBox, 64, 48, fps, [](double, double, int i) { return -0.012 + 0.001 * i; },
+                         GetParam());
     Variant mod("modified", modified());
     Variant pg("proxy-graph", proxyGraph());
     const glm::dvec3 xy(0.003, -0.002, 0.0);
@@ -112,16 +103,17 @@ TEST(ScenarioTest, risingSurfaceKeepsContactOnlyWithCorrection)
                 100.0 * worstRel);
     std::printf("[rising] proxy-graph: %d updates with zero force while the HIP is under the surface\n",
                 pgLost);
-    // THEN the modified renderer tracks k·(penetration + rise) within 2 %
-    EXPECT_GT(checked, 150);
-    EXPECT_LT(worstRel, 0.02);
+    // THEN the modified renderer tracks k·(penetration + rise) exactly (the expectation is computed
+    // from the same quantised frames: only rounding is allowed) on every update after the stop
+    EXPECT_EQ(checked, 250);
+    EXPECT_LT(worstRel, 1e-9);
     EXPECT_EQ(mod.releases, 0);
     // AND the proxy graph loses contact (the surface passed through the previous proxy)
     EXPECT_GT(pgLost, 150);
     EXPECT_EQ(glm::length(pg.last.force), 0.0);
 }
 
-TEST(ScenarioTest, sinusoidMovingUpAndDownNeverSwallowsTheProxy)
+TEST_P(FormatScenarioTest, sinusoidMovingUpAndDownNeverSwallowsTheProxy)
 {
     const double fps = 30.0;
     for (int mmPerFrame = 1; mmPerFrame <= 5; ++mmPerFrame) {
@@ -132,7 +124,7 @@ TEST(ScenarioTest, sinusoidMovingUpAndDownNeverSwallowsTheProxy)
             return 0.004 * std::sin(2 * std::numbers::pi * x / 0.04) *
                        std::cos(2 * std::numbers::pi * y / 0.05) +
                    amp * std::sin(2 * std::numbers::pi * f * i / fps);
-        });
+        }, GetParam());
         Variant mod("modified", modified());
         Variant pg("proxy-graph", proxyGraph());
         mod.renderer.reset({0.015, 0.0, 0.02});
@@ -172,7 +164,7 @@ TEST(ScenarioTest, sinusoidMovingUpAndDownNeverSwallowsTheProxy)
 // 2. Frame-rate tremor (Fig. 12)
 // -----------------------------------------------------------------------------------------------
 
-TEST(ScenarioTest, interpolationRemovesTheFrameRateTremor)
+TEST_P(FormatScenarioTest, interpolationRemovesTheFrameRateTremor)
 {
     // GIVEN a head-like bump moving smoothly (video 15 Hz, haptics 1 kHz) and a HIP held pressed in
     const double fps = 15.0;
@@ -184,7 +176,7 @@ TEST(ScenarioTest, interpolationRemovesTheFrameRateTremor)
         const double r2 = (x - xc) * (x - xc) + (y - yc) * (y - yc);
         return -0.008 + bob + 0.014 * std::exp(-r2 / (2 * 0.015 * 0.015));
     };
-    SyntheticVideo video(kBox, 160, 120, fps, bump);
+    SyntheticVideo video(kBox, 160, 120, fps, bump, GetParam());
     RendererConfig hold = modified();
     hold.interpolation = false;
     Variant interp("modified (interpolation)", modified());
@@ -247,9 +239,10 @@ struct CutResult {
     std::vector<double> force; ///< |F| per update
 };
 
-/// Runs the four variants on \a video with the HIP pressed 2 mm into the surface at \a xy, held.
+/// Runs the four variants on \a video with the HIP pressed \a press (m) into the surface at \a xy,
+/// held; the surface jumps from \a zBefore to \a zAfter (m) during the run.
 void runJump(SyntheticVideo &video, const glm::dvec3 &xy, double zBefore, const char *label,
-             long updates, double zAfter)
+             long updates, double zAfter, double press = 0.002)
 {
     RendererConfig ramp = modified();
     ramp.reengage = Reengage::Ramp;
@@ -260,7 +253,7 @@ void runJump(SyntheticVideo &video, const glm::dvec3 &xy, double zBefore, const 
     Variant nos("modified --no-safety", noSafety);
     Variant pg("proxy-graph", proxyGraph());
     Variant *runs[] = {&rel, &rmp, &nos, &pg};
-    const double hipZ = zBefore - 0.002;
+    const double hipZ = zBefore - press;
     for (Variant *r : runs)
         r->renderer.reset(xy + glm::dvec3(0, 0, zBefore + 0.002));
     std::vector<double> rampForce;
@@ -308,27 +301,44 @@ void runJump(SyntheticVideo &video, const glm::dvec3 &xy, double zBefore, const 
     // AND without safety the viewer gets the kick: one step far above the threshold
     EXPECT_GT(nos.maxStep, 2.0 * thr);
     EXPECT_NEAR(nos.maxForce, 8.5, 1e-9);
+    // AND a release from a press force above the threshold unloads in steps of exactly the threshold
+    // (the force-step limiter: ForceStage::shape()'s final slew)
+    const double pressForce = kK * (zBefore - hipZ);
+    if (pressForce > thr + 1e-9) {
+        EXPECT_NEAR(rel.maxStep, thr, 1e-9);
+    }
     // AND the proxy graph does not kick: the surface passes through its proxy and it loses contact
-    // with the HIP deep inside (the Fig. 5 failure; the kick of Fig. 9 needs fix (a))
-    EXPECT_LE(pg.maxStep, thr);
+    // with the HIP deep inside (the Fig. 5 failure; the kick of Fig. 9 needs fix (a)); its largest
+    // step is losing the press force
+    EXPECT_LE(pg.maxStep, std::max(thr, pressForce + 1e-9));
     EXPECT_EQ(glm::length(pg.last.force), 0.0);
     EXPECT_GT(pgInsideAtEnd, 0.010);
 }
 
-TEST(ScenarioTest, sceneCutIsCaughtBySafety)
+TEST_P(FormatScenarioTest, sceneCutIsCaughtBySafety)
 {
     // GIVEN a depth jump of half the box depth (20 mm) between frames 9 and 10
-    SyntheticVideo video(kBox, 64, 48, 30.0, [](double, double, int i) { return i < 10 ? -0.012 : 0.008; });
+    SyntheticVideo video(kBox, 64, 48, 30.0, [](double, double, int i) { return i < 10 ? -0.012 : 0.008; },
+                         GetParam());
     runJump(video, glm::dvec3(0.004, 0.003, 0.0), video.quantised(-0.012), "cut", 1000,
             video.quantised(0.008));
 }
 
-TEST(ScenarioTest, fastObjectEdgeIsCaughtBySafety)
+TEST_P(FormatScenarioTest, sceneCutUnderADeepPressUnloadsThroughTheForceStepLimiter)
+{
+    // GIVEN the same cut with the HIP pressed 4 mm in (3.2 N, above the 2 N force-step threshold)
+    SyntheticVideo video(kBox, 64, 48, 30.0, [](double, double, int i) { return i < 10 ? -0.012 : 0.008; },
+                         GetParam());
+    runJump(video, glm::dvec3(0.004, 0.003, 0.0), video.quantised(-0.012), "cut, deep press", 1000,
+            video.quantised(0.008), 0.004);
+}
+
+TEST_P(FormatScenarioTest, fastObjectEdgeIsCaughtBySafety)
 {
     // GIVEN a 15 mm block whose edge slides left at 1.5 mm per frame toward a proxy resting on the floor
     SyntheticVideo video(kBox, 200, 150, 30.0, [](double x, double, int i) {
         return x >= 0.004 - 0.0015 * i ? 0.005 : -0.010;
-    });
+    }, GetParam());
     runJump(video, glm::dvec3(-0.002, 0.001, 0.0), video.quantised(-0.010), "edge", 1000,
             video.quantised(0.005));
 }
@@ -342,6 +352,7 @@ struct Analytic {
     std::function<double(double, double)> z;
     std::function<glm::dvec3(double, double)> normal; // unit, upward
     double curvature; // bound on |z_xx|, |z_yy|, |z_xy|, 1/m
+    double worstRel;  // largest relative force error expected on the stroke (measured ×1.5)
 };
 
 TEST(ScenarioTest, forceMatchesTheAnalyticPenetrationOnPlaneSphereAndSinusoid)
@@ -353,19 +364,19 @@ TEST(ScenarioTest, forceMatchesTheAnalyticPenetrationOnPlaneSphereAndSinusoid)
     const double A = 0.004;
     const Analytic surfaces[] = {
         {"plane", [](double x, double y) { return 0.2 * x - 0.1 * y + 0.001; },
-         [](double, double) { return glm::normalize(glm::dvec3(-0.2, 0.1, 1.0)); }, 0.0},
+         [](double, double) { return glm::normalize(glm::dvec3(-0.2, 0.1, 1.0)); }, 0.0, 0.0035},
         {"sphere cap",
          [=](double x, double y) { return zc + std::sqrt(std::max(0.0, R * R - x * x - y * y)); },
          [=](double x, double y) {
              return glm::normalize(glm::dvec3(x, y, std::sqrt(R * R - x * x - y * y)));
          },
-         55.0},
+         55.0, 0.009},
         {"sinusoid", [=](double x, double y) { return A * std::sin(kx * x) * std::cos(ky * y); },
          [=](double x, double y) {
              return glm::normalize(glm::dvec3(-A * kx * std::cos(kx * x) * std::cos(ky * y),
                                               A * ky * std::sin(kx * x) * std::sin(ky * y), 1.0));
          },
-         A * (kx * kx + ky * ky)},
+         A * (kx * kx + ky * ky), 0.025},
     };
     const int w = 400;
     const int h = 300;
@@ -406,8 +417,12 @@ TEST(ScenarioTest, forceMatchesTheAnalyticPenetrationOnPlaneSphereAndSinusoid)
             worstRel = std::max(worstRel, err / glm::length(truth));
             ++checked;
         }
-        std::printf("[exact %s] %d updates: worst |F - k·pen·n| = %.3g N (%.3g %%), allowed 1 %% + %.3g N\n",
-                    a.name, checked, worst, 100.0 * worstRel, bound);
+        std::printf("[exact %s] %d updates: worst |F - k·pen·n| = %.3g N (%.3g %%), allowed 1 %% + %.3g N "
+                    "and %.3g %% overall\n",
+                    a.name, checked, worst, 100.0 * worstRel, bound, 100.0 * a.worstRel);
+        // AND the worst error is what this stroke measured (0.23 %, 0.60 %, 1.7 %) with a margin of
+        // 1.5×: the analytic bound above is a worst case over all surfaces of that curvature
+        EXPECT_LE(worstRel, a.worstRel) << a.name;
     }
 }
 
@@ -444,163 +459,6 @@ TEST(ScenarioTest, fastCollisionDetectorAgreesWithBruteForceOn1e5Segments)
                 mismatches);
     EXPECT_EQ(mismatches, 0);
     EXPECT_GT(hits, 10000);
-}
-
-// -----------------------------------------------------------------------------------------------
-// 6. Pop-through hunt
-// -----------------------------------------------------------------------------------------------
-
-/// Random travelling waves (separable, so a frame costs O(terms·(W+H)) trig calls); the height of any
-/// vertex changes by at most 3 mm per frame. Rough: wavelengths from 15 mm, curvature radii down to
-/// 1 mm. Smooth: total curvature bounded so radii stay above 8 mm (more than the 5 mm the strokes
-/// press in), the surfaces a viewer strokes in practice.
-class RandomWaves {
-public:
-    RandomWaves(std::uint64_t seed, int w, int h, double fps, bool smooth) : w_(w), h_(h), fps_(fps)
-    {
-        std::mt19937_64 rng(seed);
-        std::uniform_real_distribution<double> u(0.0, 1.0);
-        double budget = 0.003; // m per frame, shared by the terms
-        double curvature = 0.0;
-        for (Term &t : terms_) {
-            t.a = 0.001 + 0.004 * u(rng);
-            t.kx = 2 * std::numbers::pi / (0.015 + 0.06 * u(rng));
-            t.ky = 2 * std::numbers::pi / (0.015 + 0.06 * u(rng));
-            curvature += t.a * (t.kx * t.kx + t.ky * t.ky);
-        }
-        const double scale = smooth && curvature > 125.0 ? 125.0 / curvature : 1.0;
-        for (Term &t : terms_) {
-            t.a *= scale;
-            t.px = 6.3 * u(rng);
-            t.py = 6.3 * u(rng);
-            // phase speed per frame so that a·(|dφx| + |dφy|) ≤ this term's share of the budget
-            const double share = budget / static_cast<double>(std::size(terms_));
-            t.dx = (u(rng) - 0.5) * 2.0 * share / (2.0 * t.a);
-            t.dy = (u(rng) - 0.5) * 2.0 * share / (2.0 * t.a);
-        }
-    }
-    OwnedFrame frame(int i) const
-    {
-        const SceneBox box{};
-        OwnedFrame f(w_, h_, SampleFormat::Gray16, i / fps_);
-        std::vector<double> z(static_cast<std::size_t>(w_ * h_), 0.0);
-        std::vector<double> cx(static_cast<std::size_t>(w_));
-        std::vector<double> cy(static_cast<std::size_t>(h_));
-        for (const Term &t : terms_) {
-            for (int c = 0; c < w_; ++c)
-                cx[static_cast<std::size_t>(c)] = std::sin(t.kx * test::sampleX(box, w_, c) + t.px + t.dx * i);
-            for (int r = 0; r < h_; ++r)
-                cy[static_cast<std::size_t>(r)] = std::cos(t.ky * test::sampleY(box, w_, h_, r) + t.py + t.dy * i);
-            for (int r = 0; r < h_; ++r)
-                for (int c = 0; c < w_; ++c)
-                    z[static_cast<std::size_t>(r * w_ + c)] +=
-                        t.a * cx[static_cast<std::size_t>(c)] * cy[static_cast<std::size_t>(r)];
-        }
-        for (int r = 0; r < h_; ++r)
-            for (int c = 0; c < w_; ++c)
-                f.set(c, r, test::toNearness(box, SampleFormat::Gray16, z[static_cast<std::size_t>(r * w_ + c)]));
-        return f;
-    }
-
-private:
-    struct Term {
-        double a, kx, ky, px, py, dx, dy;
-    };
-    int w_;
-    int h_;
-    double fps_;
-    Term terms_[4]{};
-};
-
-struct HuntResult {
-    long updates = 0;
-    long below = 0;
-    long contacts = 0;
-    int releases = 0;
-};
-
-HuntResult hunt(const RendererConfig &cfg, int surfaces, int strokesPerSurface, std::uint64_t seed,
-                bool smooth)
-{
-    HuntResult res;
-    const double fps = 30.0;
-    for (int sIdx = 0; sIdx < surfaces; ++sIdx) {
-        const RandomWaves waves(seed + static_cast<std::uint64_t>(sIdx), 96, 72, fps, smooth);
-        SyntheticVideo video(kBox, fps, [&waves](int i) { return waves.frame(i); });
-        ProxyGraphRenderer r(cfg);
-        std::mt19937_64 rng(seed * 31 + static_cast<std::uint64_t>(sIdx));
-        std::uniform_real_distribution<double> u(0.0, 1.0);
-        glm::dvec3 hip(0.0, 0.0, 0.02);
-        r.reset(hip);
-        long n = 0;
-        bool passThrough = false; // after a Release trip the proxy may legitimately be inside
-        for (int k = 0; k < strokesPerSurface; ++k) {
-            // a stroke: toward a random point up to 6 mm away, 5 mm under to 2 mm over the surface,
-            // at 0.05–1 m/s
-            const double tx = std::clamp(hip.x + 0.012 * (u(rng) - 0.5), -0.048, 0.048);
-            const double ty = std::clamp(hip.y + 0.012 * (u(rng) - 0.5), -0.035, 0.035);
-            const double tz = video.reference(timeOf(n)).valid()
-                                  ? video.reference(timeOf(n)).heightAt(tx, ty) - 0.005 + 0.007 * u(rng)
-                                  : 0.0;
-            const glm::dvec3 target(tx, ty, tz);
-            const double speed = 0.05 + 0.95 * u(rng);
-            const double len = glm::length(target - hip);
-            const long steps = std::max(1L, static_cast<long>(std::ceil(len / (speed / kRate))));
-            const glm::dvec3 from = hip;
-            for (long j = 1; j <= steps; ++j, ++n) {
-                const double t = timeOf(n);
-                if (video.advance(t))
-                    video.feed(r);
-                hip = from + (target - from) * (static_cast<double>(j) / static_cast<double>(steps));
-                const HapticOutput out = r.update(hip, t);
-                const HeightField &ref = video.reference(t);
-                const double surf = ref.heightAt(out.proxy.x, out.proxy.y);
-                if (out.released)
-                    passThrough = true;
-                if (out.contact || ref.heightAt(hip.x, hip.y) < hip.z)
-                    passThrough = false;
-                if (out.proxy.z < surf - 1e-6 * ref.spacing() && !passThrough)
-                    ++res.below;
-                res.contacts += out.contact ? 1 : 0;
-                res.releases += out.released ? 1 : 0;
-                ++res.updates;
-            }
-        }
-    }
-    return res;
-}
-
-TEST(ScenarioTest, popThroughHuntFindsNoProxyBelowTheSurface)
-{
-    // GIVEN 10^5 random strokes (0.05–1 m/s, up to 5 mm deep) over 20 randomly moving surfaces
-    // (≤ 3 mm per frame), half of them rough (curvature radii down to 1 mm), half smooth
-    const HuntResult rough = hunt(modified(), 10, 5000, 11, false);
-    const HuntResult smooth = hunt(modified(), 10, 5000, 21, true);
-    RendererConfig ramp = modified();
-    ramp.reengage = Reengage::Ramp;
-    const HuntResult rmp = hunt(ramp, 2, 5000, 11, false);
-    const HuntResult pg = hunt(proxyGraph(), 2, 5000, 11, false);
-    std::printf("[hunt] modified, rough surfaces: %ld updates (%ld in contact), %ld below the surface, "
-                "%d safety releases\n",
-                rough.updates, rough.contacts, rough.below, rough.releases);
-    std::printf("[hunt] modified, smooth surfaces: %ld updates (%ld in contact), %ld below, %d releases\n",
-                smooth.updates, smooth.contacts, smooth.below, smooth.releases);
-    std::printf("[hunt] modified ramp, rough: %ld updates, %ld below, %d releases\n", rmp.updates,
-                rmp.below, rmp.releases);
-    std::printf("[hunt] proxy-graph, rough: %ld updates, %ld below the surface\n", pg.updates, pg.below);
-    // THEN the modified renderer never ends an update with the proxy below the interpolated surface
-    // (except after a Release trip, where passing through is the paper's intent: not counted)
-    EXPECT_EQ(rough.below, 0);
-    EXPECT_EQ(smooth.below, 0);
-    EXPECT_EQ(rmp.below, 0);
-    EXPECT_GT(rough.contacts, rough.updates / 4);
-    EXPECT_GT(smooth.contacts, smooth.updates / 4);
-    // AND the default force-step threshold never trips on the smooth surfaces (on rough ones the
-    // god-object proxy can jump between two nearest points when pressed deeper than the curvature
-    // radius: safety may then trip, by design)
-    EXPECT_EQ(smooth.releases, 0);
-    // AND the baseline does end below the surface (so the hunt can find such cases)
-    EXPECT_GT(pg.below, 0);
 }
 
 } // namespace
