@@ -96,6 +96,23 @@ template <class I> std::vector<std::string> namesOf(hal::BackendTable<I> table)
     return out;
 }
 
+/// \return the names of \a table for the cases that apply only to backends whose harness meets
+/// \a applies (it has a device, it can simulate an unplug, ...), so that such a case is not
+/// instantiated, rather than skipped, where it does not apply. A backend without a harness is kept:
+/// its cases skip with a message, like every case of a backend that needs hardware absent here.
+template <class I, class H, class P>
+std::vector<std::string> namesWhere(hal::BackendTable<I> table,
+                                    const H *(*harnessOf)(std::string_view), P applies)
+{
+    std::vector<std::string> out;
+    for (const hal::Backend<I> &b : table) {
+        const H *harness = harnessOf(b.name);
+        if (harness == nullptr || applies(*harness))
+            out.emplace_back(b.name);
+    }
+    return out;
+}
+
 /// gtest parameter name of a backend: its name with other characters than [A-Za-z0-9] replaced by
 /// '_'.
 std::string backendParamName(const ::testing::TestParamInfo<std::string> &info);

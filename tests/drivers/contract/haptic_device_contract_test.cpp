@@ -103,10 +103,27 @@ TEST_P(HapticDeviceContractTest, openTwiceIsInvalidState)
     EXPECT_EQ(dev_->state(), opened);
 }
 
-TEST_P(HapticDeviceContractTest, deviceWithoutHardwareReportsNoDevice)
+/// The cases for the backends that are never connected (`none`).
+class HapticNoDeviceContractTest : public HapticDeviceContractTest {};
+
+/// The cases for the backends connected after open(), whose output force the harness observes.
+class HapticConnectedContractTest : public HapticDeviceContractTest {
+protected:
+    void SetUp() override
+    {
+        HapticDeviceContractTest::SetUp();
+        if (harness_ != nullptr && !IsSkipped()) {
+            ASSERT_TRUE(harness_->hasDevice && harness_->outputForce);
+        }
+    }
+};
+
+/// The cases for the connected backends whose harness can unplug and replug the device.
+class HapticUnplugContractTest : public HapticConnectedContractTest {};
+
+TEST_P(HapticNoDeviceContractTest, deviceWithoutHardwareReportsNoDevice)
 {
-    if (harness_->hasDevice)
-        GTEST_SKIP() << "Backend has a device";
+    ASSERT_FALSE(harness_->hasDevice);
     openOrFail();
     HapticState s;
     EXPECT_EQ(dev_->state(), State::Disconnected);
@@ -115,10 +132,8 @@ TEST_P(HapticDeviceContractTest, deviceWithoutHardwareReportsNoDevice)
     EXPECT_EQ(errcOf(dev_->commandForce({1.0, 0.0, 0.0})), Errc::NoDevice);
 }
 
-TEST_P(HapticDeviceContractTest, readsStayInsideTheWorkspaceWithMonotonicTimestamps)
+TEST_P(HapticConnectedContractTest, readsStayInsideTheWorkspaceWithMonotonicTimestamps)
 {
-    if (!harness_->hasDevice)
-        GTEST_SKIP() << "Backend has no device";
     openOrFail();
     ASSERT_TRUE(dev_->isConnected());
     if (harness_->sweep)
@@ -143,19 +158,13 @@ TEST_P(HapticDeviceContractTest, readsStayInsideTheWorkspaceWithMonotonicTimesta
     }
 }
 
-TEST_P(HapticDeviceContractTest, forcesAreClampedToMaxForceKeepingDirection)
+TEST_P(HapticConnectedContractTest, forcesAreClampedToMaxForceKeepingDirection)
 {
-    if (!harness_->hasDevice)
-        GTEST_SKIP() << "Backend has no device";
     openOrFail();
     const double maxForce = dev_->capabilities().maxForce;
-    if (harness_->outputForce) {
-        EXPECT_EQ(harness_->outputForce(*dev_), Vec3{}) << "force must be zero after open()";
-    }
+    EXPECT_EQ(harness_->outputForce(*dev_), Vec3{}) << "force must be zero after open()";
     // WHEN commanding ten times the maximum along (3, -4, 0)/5
     ASSERT_TRUE(dev_->commandForce(Vec3{3.0, -4.0, 0.0} * (2.0 * maxForce)));
-    if (!harness_->outputForce)
-        GTEST_SKIP() << "Output force not observable";
     // THEN the output has the maximum magnitude and the same direction
     const Vec3 out = harness_->outputForce(*dev_);
     EXPECT_NEAR(hal::norm(out), maxForce, 1e-9);
@@ -168,45 +177,34 @@ TEST_P(HapticDeviceContractTest, forcesAreClampedToMaxForceKeepingDirection)
     EXPECT_EQ(harness_->outputForce(*dev_), small);
 }
 
-TEST_P(HapticDeviceContractTest, nonFiniteForceOutputsZero)
+TEST_P(HapticConnectedContractTest, nonFiniteForceOutputsZero)
 {
-    if (!harness_->hasDevice)
-        GTEST_SKIP() << "Backend has no device";
     openOrFail();
     ASSERT_TRUE(dev_->commandForce({1.0, 1.0, 1.0}));
     EXPECT_EQ(errcOf(dev_->commandForce({std::nan(""), 0.0, 0.0})), Errc::InvalidArgument);
     EXPECT_EQ(errcOf(dev_->commandForce({0.0, HUGE_VAL, 0.0})), Errc::InvalidArgument);
     EXPECT_TRUE(dev_->isConnected());
-    if (harness_->outputForce) {
-        EXPECT_EQ(harness_->outputForce(*dev_), Vec3{});
-    }
+    EXPECT_EQ(harness_->outputForce(*dev_), Vec3{});
 }
 
-TEST_P(HapticDeviceContractTest, closeOutputsZeroAndReturnsToClosed)
+TEST_P(HapticConnectedContractTest, closeOutputsZeroAndReturnsToClosed)
 {
-    if (!harness_->hasDevice)
-        GTEST_SKIP() << "Backend has no device";
     openOrFail();
     ASSERT_TRUE(dev_->commandForce({1.0, 0.0, 0.0}));
     dev_->close();
     EXPECT_EQ(dev_->state(), State::Closed);
     EXPECT_FALSE(dev_->isConnected());
-    if (harness_->outputForce) {
-        EXPECT_EQ(harness_->outputForce(*dev_), Vec3{});
-    }
+    EXPECT_EQ(harness_->outputForce(*dev_), Vec3{});
     HapticState s;
     EXPECT_EQ(errcOf(dev_->read(s)), Errc::InvalidState);
     // A closed device opens again with zero force.
     openOrFail();
-    if (harness_->outputForce) {
-        EXPECT_EQ(harness_->outputForce(*dev_), Vec3{});
-    }
+    EXPECT_EQ(harness_->outputForce(*dev_), Vec3{});
 }
 
-TEST_P(HapticDeviceContractTest, unplugGivesNoDeviceAndZeroForce)
+TEST_P(HapticUnplugContractTest, unplugGivesNoDeviceAndZeroForce)
 {
-    if (!harness_->hasDevice || !harness_->unplug || !harness_->replug)
-        GTEST_SKIP() << "Backend cannot simulate an unplug";
+    ASSERT_TRUE(harness_->unplug && harness_->replug);
     openOrFail();
     ASSERT_TRUE(dev_->commandForce({2.0, 0.0, 0.0}));
     // WHEN the device is unplugged
@@ -217,9 +215,7 @@ TEST_P(HapticDeviceContractTest, unplugGivesNoDeviceAndZeroForce)
     EXPECT_EQ(dev_->state(), State::Disconnected);
     EXPECT_FALSE(dev_->isConnected());
     EXPECT_EQ(errcOf(dev_->commandForce({2.0, 0.0, 0.0})), Errc::NoDevice);
-    if (harness_->outputForce) {
-        EXPECT_EQ(harness_->outputForce(*dev_), Vec3{});
-    }
+    EXPECT_EQ(harness_->outputForce(*dev_), Vec3{});
     // AND it stays Disconnected after replug until closed and opened again
     harness_->replug(*dev_);
     EXPECT_EQ(errcOf(dev_->read(s)), Errc::NoDevice);
@@ -254,6 +250,30 @@ INSTANTIATE_TEST_SUITE_P(Backends, HapticDeviceContractTest,
                          ::testing::ValuesIn(namesOf(drivers::hapticDeviceBackends())),
                          backendParamName);
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(HapticDeviceContractTest);
+INSTANTIATE_TEST_SUITE_P(
+    Backends, HapticNoDeviceContractTest,
+    ::testing::ValuesIn(namesWhere(drivers::hapticDeviceBackends(), hapticHarness,
+                                   [](const HapticHarness &h) { return !h.hasDevice; })),
+    backendParamName);
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(HapticNoDeviceContractTest);
+INSTANTIATE_TEST_SUITE_P(Backends, HapticConnectedContractTest,
+                         ::testing::ValuesIn(namesWhere(drivers::hapticDeviceBackends(),
+                                                        hapticHarness,
+                                                        [](const HapticHarness &h) {
+                                                            return h.hasDevice &&
+                                                                   bool(h.outputForce);
+                                                        })),
+                         backendParamName);
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(HapticConnectedContractTest);
+INSTANTIATE_TEST_SUITE_P(Backends, HapticUnplugContractTest,
+                         ::testing::ValuesIn(namesWhere(drivers::hapticDeviceBackends(),
+                                                        hapticHarness,
+                                                        [](const HapticHarness &h) {
+                                                            return h.hasDevice && h.outputForce &&
+                                                                   h.unplug && h.replug;
+                                                        })),
+                         backendParamName);
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(HapticUnplugContractTest);
 
 } // namespace
 } // namespace depthtouch::contract

@@ -48,10 +48,12 @@ TEST_P(RemoteInputContractTest, quietRemoteTimesOutAtTheDeadline)
     EXPECT_GE(clock_->clock().now(), until);
 }
 
-TEST_P(RemoteInputContractTest, keyArrivesAsPressThenReleaseInTimeOrder)
+/// The cases for the backends whose harness can make the remote deliver a key.
+class RemoteInputKeyContractTest : public RemoteInputContractTest {};
+
+TEST_P(RemoteInputKeyContractTest, keyArrivesAsPressThenReleaseInTimeOrder)
 {
-    if (!harness_->injectKey)
-        GTEST_SKIP() << "Backend cannot inject keys";
+    ASSERT_TRUE(harness_->injectKey);
     const platform::TimePoint at = clock_->clock().now() + milliseconds(30);
     harness_->injectKey(*remote_, hal::Key::PlayPause, at);
     // A poll that ends before the key does not see it.
@@ -73,10 +75,12 @@ TEST_P(RemoteInputContractTest, keyArrivesAsPressThenReleaseInTimeOrder)
     EXPECT_GE(release->time, press->time);
 }
 
-TEST_P(RemoteInputContractTest, unpluggedRemoteReportsNoDevice)
+/// The cases for the backends whose harness can unplug the remote.
+class RemoteInputUnplugContractTest : public RemoteInputContractTest {};
+
+TEST_P(RemoteInputUnplugContractTest, unpluggedRemoteReportsNoDevice)
 {
-    if (!harness_->unplug)
-        GTEST_SKIP() << "Backend cannot simulate an unplug";
+    ASSERT_TRUE(harness_->unplug);
     harness_->unplug(*remote_);
     EXPECT_EQ(errcOf(remote_->poll(clock_->clock().now() + milliseconds(5))), Errc::NoDevice);
 }
@@ -85,6 +89,18 @@ INSTANTIATE_TEST_SUITE_P(Backends, RemoteInputContractTest,
                          ::testing::ValuesIn(namesOf(drivers::remoteInputBackends())),
                          backendParamName);
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(RemoteInputContractTest);
+INSTANTIATE_TEST_SUITE_P(
+    Backends, RemoteInputKeyContractTest,
+    ::testing::ValuesIn(namesWhere(drivers::remoteInputBackends(), remoteInputHarness,
+                                   [](const RemoteInputHarness &h) { return bool(h.injectKey); })),
+    backendParamName);
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(RemoteInputKeyContractTest);
+INSTANTIATE_TEST_SUITE_P(
+    Backends, RemoteInputUnplugContractTest,
+    ::testing::ValuesIn(namesWhere(drivers::remoteInputBackends(), remoteInputHarness,
+                                   [](const RemoteInputHarness &h) { return bool(h.unplug); })),
+    backendParamName);
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(RemoteInputUnplugContractTest);
 
 } // namespace
 } // namespace depthtouch::contract
