@@ -1,13 +1,12 @@
 /// \file
 /// \brief Depth conversion, hole filling and enhancement on real RGB-D frames (Microsoft 7-Scenes
-/// "redkitchen", TUM). Skipped when ../shared/data is absent (set DT_SHARED_DATA).
+/// "redkitchen", TUM). Skipped when ../shared/data is absent (set DT_SHARED_DATA); failed instead when
+/// DT_REQUIRE_SHARED_DATA=1.
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdio>
-#include <cstdlib>
-#include <filesystem>
 #include <string>
 
 #include "depthtouch/depth/conversion.h"
@@ -15,36 +14,21 @@
 #include "depthtouch/depth/fill.h"
 #include "depthtouch/depth/resample.h"
 #include "depthtouch/media/image_io.h"
+#include "support/shared_data.h"
 
 using namespace depthtouch;
 using namespace depthtouch::depth;
-namespace fs = std::filesystem;
 
 namespace {
-
-std::string sharedData()
-{
-    const char *env = std::getenv("DT_SHARED_DATA");
-    if (env != nullptr && fs::exists(env))
-        return env;
-    const char *src = std::getenv("DT_SOURCE_DIR");
-    if (src != nullptr && fs::exists(std::string(src) + "/../shared/data"))
-        return std::string(src) + "/../shared/data";
-    return {};
-}
 
 std::string kitchenFrame(int n, const char *kind)
 {
     char name[64];
-    std::snprintf(name, sizeof name, "/rgbd-7scenes-redkitchen/frame-%06d.%s", n, kind);
-    return sharedData() + name;
+    std::snprintf(name, sizeof name, "rgbd-7scenes-redkitchen/frame-%06d.%s", n, kind);
+    return depthtouch::testing::sharedDataPath(name);
 }
 
-#define DT_REQUIRE_KITCHEN()                                                                       \
-    do {                                                                                           \
-        if (sharedData().empty() || !fs::exists(kitchenFrame(0, "depth.png")))                     \
-            GTEST_SKIP() << "7-Scenes frames not found: set DT_SHARED_DATA to ../shared/data";     \
-    } while (0)
+#define DT_REQUIRE_KITCHEN() DT_NEED_SHARED_DATA("rgbd-7scenes-redkitchen/frame-000000.depth.png")
 
 Plane<std::uint16_t> readDepth(const std::string &path)
 {
@@ -147,9 +131,9 @@ TEST(DepthRealDataTest, enhancementRemovesSensorNoiseAndKeepsEdges)
 
 TEST(DepthRealDataTest, tumDepthScaleGivesPlausibleMetres)
 {
-    const std::string tum = sharedData() + "/rgbd-open3d/other_formats/TUM_depth.png";
-    if (sharedData().empty() || !fs::exists(tum))
-        GTEST_SKIP() << "TUM frame not found: set DT_SHARED_DATA to ../shared/data";
+    DT_NEED_SHARED_DATA("rgbd-open3d/other_formats/TUM_depth.png");
+    const std::string tum =
+        depthtouch::testing::sharedDataPath("rgbd-open3d/other_formats/TUM_depth.png");
     // TUM stores metres · 5000.
     ConvertOptions o;
     o.raw.metresPerUnit = 1.0 / 5000.0;

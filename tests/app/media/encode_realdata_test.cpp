@@ -1,20 +1,19 @@
 /// \file
 /// \brief The sender on real RGB-D data: the first 30 frames (10 enhanced) of 7-Scenes "redkitchen"
 /// (JPEG color, 16-bit mm depth PNG with holes) encoded to MKV with and without the §V.B
-/// enhancement, then read back with libavformat as ffprobe would. Skips (exit 77) when
-/// $DT_SHARED_DATA lacks the data.
+/// enhancement, then read back with libavformat as ffprobe would. Skips (exit code 77) when the
+/// shared data lacks the frames, or fails when DT_REQUIRE_SHARED_DATA=1.
 
 #include <gtest/gtest.h>
 
-
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <string>
 
 #include "depthtouch/media/encode_job.h"
 #include "depthtouch/media/frame_source.h"
 #include "readback.h"
+#include "support/shared_data.h"
 #include "support/temp_dir.h"
 
 using namespace depthtouch;
@@ -26,15 +25,6 @@ namespace {
 constexpr int kFrames = 30;
 /// The enhancement costs ~0.1 s per 640×480 frame: fewer frames keep the program short.
 constexpr int kEnhancedFrames = 10;
-
-std::string dataDir()
-{
-    const char *root = std::getenv("DT_SHARED_DATA");
-    if (root == nullptr)
-        return {};
-    const fs::path dir = fs::path(root) / "rgbd-7scenes-redkitchen";
-    return fs::exists(dir / "frame-000000.depth.png") ? dir.string() : std::string();
-}
 
 struct EncodeRun {
     EncodeSummary summary;
@@ -96,9 +86,8 @@ void expectProbeFacts(const EncodeRun &run, int frames)
 
 TEST(EncodeRealDataTest, sevenScenesWithAndWithoutEnhancement)
 {
-    const std::string dir = dataDir();
-    if (dir.empty())
-        GTEST_SKIP() << "rgbd-7scenes-redkitchen not found under $DT_SHARED_DATA: skipped";
+    DT_NEED_SHARED_DATA("rgbd-7scenes-redkitchen/frame-000000.depth.png");
+    const std::string dir = depthtouch::testing::sharedDataPath("rgbd-7scenes-redkitchen");
     const depthtouch::testing::TempDir scratch("dt-encode-realdata-");
     const fs::path &tmp = scratch.dir();
 

@@ -12,11 +12,11 @@
 
 
 #include "depthtouch/media/image_io.h"
+#include "support/shared_data.h"
 #include "support/temp_dir.h"
 
 using namespace depthtouch;
 using namespace depthtouch::media;
-namespace fs = std::filesystem;
 
 namespace {
 
@@ -55,18 +55,6 @@ Image noiseImage(int w, int h, PixelFormat f, std::uint32_t seed)
     for (auto &b : img.data)
         b = static_cast<std::uint8_t>(nextRandom(seed) >> 24);
     return img;
-}
-
-/// The shared RGB-D data folder, or empty when absent.
-std::string sharedData()
-{
-    const char *env = std::getenv("DT_SHARED_DATA");
-    std::string dir = env != nullptr ? env : "";
-    if (dir.empty() || !fs::exists(dir)) {
-        const char *src = std::getenv("DT_SOURCE_DIR");
-        dir = src != nullptr ? std::string(src) + "/../shared/data" : "";
-    }
-    return !dir.empty() && fs::exists(dir) ? dir : std::string();
 }
 
 } // namespace
@@ -183,10 +171,9 @@ TEST_F(ImageIoTest, writeRefusesEmptyImagesAndUnwritablePaths)
 
 TEST_F(ImageIoTest, readsRealJpegColourAndTruncatedJpegFails)
 {
-    const std::string data = sharedData();
-    if (data.empty())
-        GTEST_SKIP() << "shared RGB-D data not found (set DT_SHARED_DATA)";
-    const std::string jpg = data + "/rgbd-7scenes-redkitchen/frame-000000.color.jpg";
+    DT_NEED_SHARED_DATA("rgbd-7scenes-redkitchen/frame-000000.color.jpg");
+    const std::string jpg =
+        depthtouch::testing::sharedDataPath("rgbd-7scenes-redkitchen/frame-000000.color.jpg");
     // WHEN the 7-Scenes colour frame is read
     const auto rgb = readImage(jpg);
     ASSERT_TRUE(rgb);
@@ -214,10 +201,9 @@ TEST_F(ImageIoTest, readsRealJpegColourAndTruncatedJpegFails)
 
 TEST_F(ImageIoTest, readsReal16BitDepthPngAndBigEndianPgm)
 {
-    const std::string data = sharedData();
-    if (data.empty())
-        GTEST_SKIP() << "shared RGB-D data not found (set DT_SHARED_DATA)";
-    const auto depth = readImage(data + "/rgbd-7scenes-redkitchen/frame-000000.depth.png");
+    DT_NEED_SHARED_DATA("rgbd-7scenes-redkitchen/frame-000000.depth.png");
+    const auto depth = readImage(
+        depthtouch::testing::sharedDataPath("rgbd-7scenes-redkitchen/frame-000000.depth.png"));
     ASSERT_TRUE(depth);
     EXPECT_EQ(depth->format, PixelFormat::Gray16);
     EXPECT_EQ(depth->width, 640);
@@ -232,10 +218,9 @@ TEST_F(ImageIoTest, readsReal16BitDepthPngAndBigEndianPgm)
     EXPECT_GT(valid[valid.size() / 2], 400);
     EXPECT_LT(valid[valid.size() / 2], 8000);
 
-    const std::string pgm = data + "/rgbd-open3d/other_formats/NYU_depth.pgm";
-    if (!fs::exists(pgm))
-        GTEST_SKIP() << "NYU_depth.pgm not in the shared data";
-    const auto nyu = readImage(pgm);
+    DT_NEED_SHARED_DATA("rgbd-open3d/other_formats/NYU_depth.pgm");
+    const auto nyu =
+        readImage(depthtouch::testing::sharedDataPath("rgbd-open3d/other_formats/NYU_depth.pgm"));
     ASSERT_TRUE(nyu);
     EXPECT_EQ(nyu->format, PixelFormat::Gray16);
     EXPECT_GT(nyu->width, 0);

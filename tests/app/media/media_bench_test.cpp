@@ -17,6 +17,7 @@
 #include "depthtouch/media/media_bench.h"
 #include "depthtouch/platform/gnuplot.h"
 #include "depthtouch/platform/log.h"
+#include "support/shared_data.h"
 #include "support/temp_dir.h"
 
 namespace {
@@ -222,10 +223,8 @@ TEST(MediaBenchTest, kitchenClipNeedsItsFolder)
 
 TEST(MediaBenchTest, kitchenClipIsStretchedToTheClipSize)
 {
-    const char *data = std::getenv("DT_SHARED_DATA");
-    const std::string scene = std::string(data != nullptr ? data : "../shared/data") + "/rgbd-7scenes-redkitchen";
-    if (!std::filesystem::exists(scene + "/frame-000000.depth.png"))
-        GTEST_SKIP() << "no 7-Scenes frames in " << scene << " (DT_SHARED_DATA)";
+    DT_NEED_SHARED_DATA("rgbd-7scenes-redkitchen/frame-000000.depth.png");
+    const std::string scene = depthtouch::testing::sharedDataPath("rgbd-7scenes-redkitchen");
     // GIVEN the first 5 frames read as a 72×50 clip
     auto clip = loadKitchenClip(scene, 5, 72, 50);
     ASSERT_TRUE(clip) << clip.error().what;

@@ -1,10 +1,10 @@
 /// \file
 /// \brief The renderer on real RGB-D frames (7-Scenes redkitchen at 720×486): the adaptive mesh's
-/// error bound and coverage, and a side-by-side snapshot. Skips without DT_SHARED_DATA.
+/// error bound and coverage, and a side-by-side snapshot. Skips without the shared data (fails instead
+/// when DT_REQUIRE_SHARED_DATA=1).
 
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -12,6 +12,7 @@
 #include "depthtouch/render/render_bench.h"
 #include "depthtouch/render/render_target.h"
 #include "depthtouch/render/renderer.h"
+#include "support/shared_data.h"
 
 using namespace depthtouch;
 using namespace depthtouch::render;
@@ -21,20 +22,15 @@ namespace {
 
 std::string kitchenDir()
 {
-    const char *env = std::getenv("DT_SHARED_DATA");
-    if (env == nullptr)
-        return {};
-    const std::string dir = std::string(env) + "/rgbd-7scenes-redkitchen";
-    return fs::exists(dir + "/frame-000000.depth.png") ? dir : std::string{};
+    return depthtouch::testing::sharedDataPath("rgbd-7scenes-redkitchen");
 }
 
 } // namespace
 
 TEST(RenderRealDataTest, adaptiveMeshMeetsTheErrorGoalWithFewTrianglesAndNoCracks)
 {
+    DT_NEED_SHARED_DATA("rgbd-7scenes-redkitchen/frame-000000.depth.png");
     const std::string dir = kitchenDir();
-    if (dir.empty())
-        GTEST_SKIP() << "7-Scenes frames not found: set DT_SHARED_DATA to ../shared/data";
     auto frames = bench::loadKitchenFrames(dir, 6, 720, 486);
     ASSERT_TRUE(frames) << frames.error().what;
     ASSERT_EQ(frames->size(), 6u);
@@ -60,9 +56,8 @@ TEST(RenderRealDataTest, adaptiveMeshMeetsTheErrorGoalWithFewTrianglesAndNoCrack
 
 TEST(RenderRealDataTest, writesASideBySideSnapshot)
 {
+    DT_NEED_SHARED_DATA("rgbd-7scenes-redkitchen/frame-000000.depth.png");
     const std::string dir = kitchenDir();
-    if (dir.empty())
-        GTEST_SKIP() << "7-Scenes frames not found: set DT_SHARED_DATA to ../shared/data";
     DT_REQUIRE_GLES_CONTEXT(ctx);
     auto frames = bench::loadKitchenFrames(dir, 1, 720, 486);
     ASSERT_TRUE(frames);
