@@ -1,11 +1,13 @@
 /// \file
 /// \brief `depthtouch play` end to end, as a user runs it:
 /// - real data: the 7-Scenes kitchen encoded with `depthtouch encode`, played with the simulated
-///   hand on the headless EGL display: every frame received and presented (when the VM's host and
-///   other programs took under 5 % of the CPU while it played, and not under AddressSanitizer;
-///   else presented or counted as dropped), haptic updates = run time × servo rate (apart from counted overruns), contact with the surface, the
-///   surface felt moving under a pressing finger, no force above the device maximum
-///   (skipped with a message when ../shared/data is absent);
+///   hand on the headless EGL display: every frame received and presented (a play that drops a
+///   frame while the VM's host and other programs took 5 % of the CPU or more is played again, up
+///   to 3 plays; under AddressSanitizer the clip is encoded at 10 frames/s instead of 30), haptic
+///   updates = run time × servo rate (apart from counted overruns), contact with the surface, the
+///   surface felt moving under a pressing finger, no force above the device maximum (skipped with
+///   a message when ../shared/data is absent, failed when DT_REQUIRE_SHARED_DATA=1; its own CTest
+///   entry, play_e2e_realdata_test);
 /// - the control socket: a client pauses, queries, seeks, switches the stereo mode and quits a
 ///   player that loops a mock clip;
 /// - bad input: a missing file and a nonsense option are one clear line and exit code 2.
@@ -31,6 +33,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "../../support/shared_data.h"
 #include "../../support/temp_dir.h"
 #include "control_client.h"
 
@@ -60,19 +63,19 @@ RunResult run(const std::string &command)
     return r;
 }
 
-std::string sharedData()
-{
-    const char *env = std::getenv("DT_SHARED_DATA");
-    return env != nullptr ? env : DT_SOURCE_DIR "/../shared/data";
-}
-
 /// The player under test is built like this test: with AddressSanitizer it runs a few times
-/// slower, and only the frame count is checked.
+/// slower, so the kitchen is encoded at 10 frames/s instead of 30 there, and every frame must still
+/// be presented. Without it a kitchen frame takes 16 to 19 ms to draw (render p50 on this 2-core VM
+/// with llvmpipe; p99 84 to 138 ms, the first draws), half the 33 ms period; three times that is
+/// 57 ms, still under the 100 ms period with 40 % to spare.
 #if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
+constexpr double kKitchenFps = 10.0;
 #else
-constexpr bool kSanitized = false;
+constexpr double kKitchenFps = 30.0;
 #endif
+/// Plays of the kitchen at most: a play that misses a frame while the machine was loaded (the VM's
+/// host or other programs took 5 % of the CPU or more) is played again.
+constexpr int kKitchenAttempts = 3;
 
 /// CPU time of the whole machine (/proc/stat's "cpu" line) and of this test's finished child
 /// processes (getrusage), in clock ticks.
@@ -112,54 +115,79 @@ nlohmann::json readJson(const fs::path &path)
     return nlohmann::json::parse(f, nullptr, false);
 }
 
+/// One play of a clip with the simulated hand pressing, on the headless display, and the share of
+/// the machine's CPU that its host (steal) and other programs took meanwhile.
+struct KitchenPlay {
+    RunResult result;
+    nlohmann::json stats;
+    double steal = 0.0;
+    double others = 0.0;
+    [[nodiscard]] bool loaded() const { return steal + others >= 0.05; }
+};
+
+KitchenPlay playKitchen(const fs::path &clip, const fs::path &stats, const fs::path &forceLog,
+                        const fs::path &snapshots)
+{
+    KitchenPlay k;
+    const CpuTimes before = cpuTimes();
+    k.result = run(std::string(DEPTHTOUCH) + " play " + clip.string() +
+                   " --haptic sim --haptic-options intent=press --display headless --stats " +
+                   stats.string() + " --force-log " + forceLog.string() + " --snapshot-dir " +
+                   snapshots.string() + " --snapshot-every 15");
+    const CpuTimes after = cpuTimes();
+    const double span = std::max(after.total - before.total, 1.0);
+    k.steal = (after.steal - before.steal) / span;
+    k.others =
+        std::max(0.0, (after.busy - before.busy) - (after.children - before.children)) / span;
+    k.stats = readJson(stats);
+    return k;
+}
+
 TEST(PlayEndToEnd, RealKitchenWithTheSimulatedHand)
 {
-    const std::string scene = sharedData() + "/rgbd-7scenes-redkitchen";
-    if (!fs::exists(scene + "/frame-000000.depth.png"))
-        GTEST_SKIP() << "no 7-Scenes data in " << scene << " (set DT_SHARED_DATA)";
+    DT_NEED_SHARED_DATA("rgbd-7scenes-redkitchen/frame-000000.depth.png");
+    const std::string scene = depthtouch::testing::sharedDataPath("rgbd-7scenes-redkitchen");
     depthtouch::testing::TempDir tmp("dt-play-e2e-");
     const fs::path clip = tmp.dir() / "kitchen.mkv";
     const RunResult enc = run(std::string(DEPTHTOUCH) + " encode --color '" + scene +
                               "/frame-%06d.color.jpg' --depth '" + scene +
-                              "/frame-%06d.depth.png' -o " + clip.string());
+                              "/frame-%06d.depth.png' --fps " + std::to_string(kKitchenFps) +
+                              " -o " + clip.string());
     ASSERT_EQ(enc.exitCode, 0) << enc.output;
     unsigned frames = 0;
     ASSERT_EQ(std::sscanf(enc.output.c_str(), "encoded %u frame pairs", &frames), 1) << enc.output;
 
-    const fs::path stats = tmp.dir() / "stats.json";
-    const fs::path forceLog = tmp.dir() / "force.csv";
-    const CpuTimes before = cpuTimes();
-    const RunResult play =
-        run(std::string(DEPTHTOUCH) + " play " + clip.string() +
-            " --haptic sim --haptic-options intent=press --display headless --stats " +
-            stats.string() + " --force-log " + forceLog.string() + " --snapshot-dir " +
-            (tmp.dir() / "snap").string() + " --snapshot-every 15");
-    std::printf("%s", play.output.c_str());
-    ASSERT_EQ(play.exitCode, 0) << play.output;
-    const nlohmann::json j = readJson(stats);
-    ASSERT_TRUE(j.is_object()) << "stats JSON unreadable";
-
-    const CpuTimes after = cpuTimes();
-    const double span = std::max(after.total - before.total, 1.0);
-    const double steal = (after.steal - before.steal) / span;
-    const double others =
-        std::max(0.0, (after.busy - before.busy) - (after.children - before.children)) / span;
-
     // Video: every frame came through the receiver and was presented: the level of detail keeps
     // the draw within the frame period, and the preroll keeps the first draw from making the next
     // frames late. Both need the CPU the machine promises: where its host (steal time; this VM's
-    // host takes up to a third at times) or other programs took a share of it while the clip
-    // played, frames may still drop and only their count is checked.
-    const unsigned presented = j["frames_presented"].get<unsigned>();
-    std::printf("presented %u of %u frames; during the run the host took %.1f %% of the CPU and "
-                "other programs %.1f %%\n",
-                presented, frames, 100.0 * steal, 100.0 * others);
+    // host takes up to a third at times) or other programs took 5 % of it or more while the clip
+    // played and a frame dropped, the clip is played again, up to kKitchenAttempts plays; a drop on
+    // a machine that had its CPU fails at once.
+    const fs::path stats = tmp.dir() / "stats.json";
+    const fs::path forceLog = tmp.dir() / "force.csv";
+    KitchenPlay play;
+    unsigned presented = 0;
+    int attempt = 0;
+    while (attempt < kKitchenAttempts) {
+        ++attempt;
+        play = playKitchen(clip, stats, forceLog, tmp.dir() / "snap");
+        std::printf("%s", play.result.output.c_str());
+        ASSERT_EQ(play.result.exitCode, 0) << play.result.output;
+        ASSERT_TRUE(play.stats.is_object()) << "stats JSON unreadable";
+        presented = play.stats["frames_presented"].get<unsigned>();
+        std::printf("play %d: presented %u of %u frames at %.0f frames/s; during the run the host "
+                    "took %.1f %% of the CPU and other programs %.1f %%\n",
+                    attempt, presented, frames, kKitchenFps, 100.0 * play.steal,
+                    100.0 * play.others);
+        if (presented == frames || !play.loaded())
+            break;
+    }
+    const nlohmann::json &j = play.stats;
     EXPECT_EQ(j["frames_received"].get<unsigned>(), frames);
     EXPECT_EQ(presented + j["frames_dropped"].get<unsigned>(), frames);
-    if (steal + others < 0.05 && !kSanitized)
-        EXPECT_EQ(presented, frames) << "frames dropped on a machine that had its CPU";
-    else
-        EXPECT_GT(presented, 0u);
+    EXPECT_EQ(presented, frames) << "frames dropped in each of " << attempt << " plays"
+                                 << (play.loaded() ? " (the machine was loaded in the last)"
+                                                   : " (the last on a machine that had its CPU)");
     EXPECT_EQ(j["decode_errors"].get<unsigned>(), 0u);
     // Frames after the first have their mesh and colour made ahead on the prep worker.
     EXPECT_GT(j["frames_prepared_ahead"].get<unsigned>(), 0u);
@@ -332,7 +360,13 @@ TEST(PlayEndToEnd, ConfigFileSetsOptionsAndTheCommandLineWins)
     EXPECT_EQ(j["haptic_rate_hz"].get<double>(), 800.0);
     EXPECT_EQ(j["display"].get<std::string>(), "mock");
     EXPECT_EQ(j["frames_received"].get<int>(), 15);
-    EXPECT_GE(j["late_ms_max"].get<double>(), 0.0);
+    // A presented frame counts as late when it went on screen more than a frame period (1/30 s)
+    // after its time: the count and the most any frame was late agree.
+    const double lateMsMax = j["late_ms_max"].get<double>();
+    EXPECT_TRUE(std::isfinite(lateMsMax));
+    EXPECT_GE(lateMsMax, 0.0);
+    EXPECT_EQ(j["frames_late"].get<int>() > 0, lateMsMax > 1e3 / 30.0) << "late_ms_max " << lateMsMax;
+    EXPECT_EQ(j["frames_presented"].get<int>() + j["frames_dropped"].get<int>(), 15);
 }
 
 } // namespace
