@@ -252,12 +252,16 @@ TEST_F(FfmpegMediaTest, aFifoWithoutAWriterTimesOutAndOneWithAWriterIsRead)
     const std::string fifo = tmp_.path("in.fifo");
     ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
     auto src = source("timeout_ms=300");
-    // WHEN no writer comes THEN open gives up in about that time instead of blocking in open(2)
+    // WHEN no writer comes THEN open gives up after that time instead of blocking in open(2): it
+    // waited as long as it was told (less the millisecond the wait rounds down), and well under the
+    // 10 s default (the bound tells the option from the default; it is no speed goal)
     const auto t0 = std::chrono::steady_clock::now();
     auto r = src->open(fifo.c_str());
     ASSERT_FALSE(r);
     EXPECT_EQ(r.error().code, Errc::Timeout);
-    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(3));
+    const auto waited = std::chrono::steady_clock::now() - t0;
+    EXPECT_GE(waited, std::chrono::milliseconds(299));
+    EXPECT_LT(waited, std::chrono::seconds(10));
     // AND with a writer the stream is read to its end
     const std::string clip = twoStreamClip();
     std::thread writer([&] { (void)std::system(("cat '" + clip + "' > '" + fifo + "'").c_str()); });
@@ -438,8 +442,10 @@ TEST_F(FfmpegMediaTest, damagedPacketsAreConcealedOrDroppedAndDecodingGoesOn)
     }
 }
 
-TEST_F(FfmpegMediaTest, decodeSpeed)
+TEST_F(FfmpegMediaTest, decodesEveryFrameOfAFiveSecond640x480H264Clip)
 {
+    // The speed goal lives in `depthtouch bench media` (decode + pairing throughput); here the
+    // frame rate is only reported.
     const std::string url = tmp_.path("speed.mkv");
     ASSERT_TRUE(ffmpeg("-f lavfi -i testsrc=size=640x480:rate=30:duration=5 -c:v libx264 "
                        "-pix_fmt yuv420p " +
@@ -448,10 +454,18 @@ TEST_F(FfmpegMediaTest, decodeSpeed)
     const Decoded d = decodeAll(url, hal::StreamKind::Color);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ASSERT_EQ(d.frames.size(), 150u);
+    EXPECT_EQ(d.stats.framesDecoded, 150u);
+    EXPECT_EQ(d.stats.framesDropped, 0u);
+    ASSERT_EQ(d.pts.size(), 150u);
+    for (std::size_t i = 1; i < d.pts.size(); ++i) {
+        EXPECT_GT(d.pts[i], d.pts[i - 1]) << "frame " << i;
+    }
+    for (const std::vector<std::uint8_t> &f : d.frames) {
+        EXPECT_GE(f.size(), 640u * 480u);
+    }
     const double fps = 150.0 / s;
     RecordProperty("decode_fps_640x480_h264", std::to_string(fps));
     std::printf("ffmpeg backend: 640x480 H.264 demux+decode+copy %.0f frames/s\n", fps);
-    EXPECT_GT(fps, 30.0);
 }
 
 } // namespace
