@@ -255,6 +255,55 @@ TEST_F(FalconDeviceTest, forceIsClampedToMaxForceKeepingItsDirection)
     EXPECT_NEAR(out.z / hal::norm(out), -0.8, 0.005);
 }
 
+TEST_F(FalconDeviceTest, forceBeyondTheMotorRangeIsScaledDownKeepingItsDirection)
+{
+    // GIVEN the grip in a corner of the workspace and a force along an axis that needs more than
+    // the command limit there (found by trying the corners and axes)
+    makeWithUpload();
+    openOrFail();
+    const double h = falcon::kWorkspaceHalfExtent;
+    Vec3 corner;
+    Vec3 force;
+    double most = 0.0;
+    for (double x : {-h, h})
+        for (double y : {-h, h})
+            for (double z : {-h, h})
+                for (const Vec3 &f : {Vec3{8.5, 0, 0}, Vec3{-8.5, 0, 0}, Vec3{0, 8.5, 0},
+                                      Vec3{0, -8.5, 0}, Vec3{0, 0, 8.5}, Vec3{0, 0, -8.5}}) {
+                    falcon::JointAngles th{};
+                    Vec3 tau;
+                    ASSERT_TRUE(falcon::inverseKinematics({x, y, z}, th));
+                    ASSERT_TRUE(falcon::jointTorques(th, {x, y, z}, f, tau));
+                    const double need =
+                        std::max({std::abs(tau.x), std::abs(tau.y), std::abs(tau.z)}) *
+                        falcon::kCountsPerNewtonMetre;
+                    if (need > most) {
+                        most = need;
+                        corner = {x, y, z};
+                        force = f;
+                    }
+                }
+    ASSERT_GT(most, falcon::kMotorCommandLimit);
+    ASSERT_TRUE(fake_->setGripPosition(corner));
+    readOrFail();
+    // WHEN commanding it
+    ASSERT_TRUE(dev_->commandForce(force));
+    readOrFail();
+    // THEN the largest command is at the limit, the force keeps its direction at the size the
+    // limit allows, and the driver reports the force it outputs
+    const falcon::MotorCommands &m = fake_->lastCommand().motors;
+    EXPECT_EQ(std::max({std::abs(m[0]), std::abs(m[1]), std::abs(m[2])}),
+              falcon::kMotorCommandLimit);
+    const Vec3 out = fake_->outputForce();
+    const Vec3 want = force * (falcon::kMotorCommandLimit / most);
+    EXPECT_NEAR(out.x, want.x, 0.02);
+    EXPECT_NEAR(out.y, want.y, 0.02);
+    EXPECT_NEAR(out.z, want.z, 0.02);
+    // (the driver's pose comes from whole encoder counts, within 0.05 mm of the grip's)
+    EXPECT_NEAR(hal::norm(dev_->outputForce() - want), 0.0, 0.005);
+    EXPECT_EQ(dev_->stats().rangeClamps, 1u);
+}
+
 TEST_F(FalconDeviceTest, nonFiniteForceOutputsZero)
 {
     makeWithUpload();

@@ -5,20 +5,30 @@
 /// force → motor-torque map through its transpose.
 ///
 /// Model: R. E. Stamper's analysis of a three-arm parallel manipulator (PhD thesis 97-4, University
-/// of Maryland), with the Falcon's dimensions as published by the libnifalcon project. Arm i (i =
-/// 0, 1, 2) sits at angle phi_i = 90°, −30°, −150° around the z axis. In arm i's frame a point p of
-/// the base frame has coordinates
+/// of Maryland), with the Falcon's dimensions, arm angles, encoder scale and motor command scale of
+/// the libnifalcon project (FalconGeometry.h and FalconKinematicStamper.cpp of its current
+/// release). Arm i (i = 0, 1, 2) sits at angle phi_i = 105°, −15°, −135° around the z axis (120°
+/// apart, turned 15° from 90°, −30°, −150°: libnifalcon's "offset of each axis from the desk
+/// plane"). In arm i's frame a point p of the base frame has coordinates
 ///   u = cos(phi_i)·x + sin(phi_i)·y − r,   v = −sin(phi_i)·x + cos(phi_i)·y − s,   w = z,
 /// and the grip closes the chain when, with theta3 = acos((v + f)/b) (the parallelogram's tilt)
 /// and L = d + e + b·sin(theta3) (its reach in the u-w plane),
 ///   g_i(theta_i, p) = (u + c − a·cos(theta_i))² + (w − a·sin(theta_i))² − L² = 0,
-/// theta_i being the motor arm's angle. a is the motor (upper) arm, b the parallelogram (lower) arm.
+/// theta_i being the motor arm's angle (libnifalcon's theta1). a is the motor (upper) arm, b the
+/// parallelogram (lower) arm.
 ///
-/// Frames: the base frame has its origin at the centre of the three motor axes, x right, y up, z
-/// toward the user, metres. The device frame of hal::HapticDevice is the base frame moved by
-/// kWorkspaceCentreZ along z, so the device-frame origin is the workspace centre. Every function
-/// here takes and returns device-frame positions. Angles in radians, torques in N·m at the arm
-/// joint, forces in newtons.
+/// Frames: the base frame is libnifalcon's kinematic frame: origin at the centre of the three motor
+/// axes, x right, y up, z toward the user, metres. The device frame of hal::HapticDevice is the
+/// base frame moved by kWorkspaceCentreZ along z (same axes), so the device-frame origin is the
+/// workspace centre: device p is libnifalcon's (p.x, p.y, p.z + 0.110). Every function here takes
+/// and returns device-frame positions. Angles in radians, torques in N·m at the arm joint, forces
+/// in newtons.
+///
+/// Forces: tau = Jᵀ·F with J = ∂p/∂theta, the exact derivative of the closure equations.
+/// libnifalcon computes tau the same way, but the z column of its ∂theta/∂p has sin²(theta2) where
+/// the derivative of its own inverse kinematics has sin(theta2)·sin(theta3) (theta2, theta3 as in
+/// its FalconKinematicStamper), so its forces with a z component differ from these (along z at the
+/// workspace centre, libnifalcon's torques are 1.34 times these).
 ///
 /// Thread-safety: pure functions, reentrant; real-time safe (no allocation, no lock, no exception).
 
@@ -29,26 +39,29 @@
 
 namespace depthtouch::drivers::falcon {
 
-/// \name Geometry (metres), after libnifalcon's FalconGeometry (Stamper's notation)
+/// \name Geometry (metres), libnifalcon's FalconGeometry (Stamper's notation)
 ///@{
-inline constexpr double kArmA = 0.060;             ///< Motor (upper) arm length.
-inline constexpr double kArmB = 0.1025;            ///< Parallelogram (lower) arm length.
-inline constexpr double kArmC = 0.014;             ///< Offset of the parallelogram along u.
-inline constexpr double kArmD = 0.01125;           ///< Half-width of the parallelogram, elbow side.
-inline constexpr double kArmE = 0.01125;           ///< Half-width of the parallelogram, grip side.
-inline constexpr double kArmF = -0.025;            ///< Offset of the parallelogram along v.
-inline constexpr double kArmS = -0.027330909;      ///< Offset of the motor axis along v.
-inline constexpr double kArmR = 0.037233758;       ///< Radius of the motor axes from the centre.
+inline constexpr double kArmA = 0.060;    ///< Motor (upper) arm length.
+inline constexpr double kArmB = 0.1025;   ///< Parallelogram (lower) arm length.
+inline constexpr double kArmC = 0.01443;  ///< Offset of the parallelogram along u.
+inline constexpr double kArmD = 0.01125;  ///< Half-width of the parallelogram, elbow side.
+inline constexpr double kArmE = 0.01125;  ///< Half-width of the parallelogram, grip side.
+inline constexpr double kArmF = -0.025;   ///< Offset of the parallelogram along v.
+inline constexpr double kArmS = -0.02309; ///< Offset of the motor axis along v.
+inline constexpr double kArmR = 0.0400;   ///< Offset of the motor axis along u (from the centre).
 inline constexpr double kPi = 3.14159265358979323846;
-/// Arm angles around z, radians (90°, −30°, −150°).
-inline constexpr std::array<double, 3> kArmPhi = {kPi / 2.0, -kPi / 6.0, -5.0 * kPi / 6.0};
+/// Turn of the arms from 90°, −30°, −150°, radians (15°).
+inline constexpr double kArmOffset = kPi / 12.0;
+/// Arm angles around z, radians (105°, −15°, −135°).
+inline constexpr std::array<double, 3> kArmPhi = {kPi / 2.0 + kArmOffset, -kPi / 6.0 + kArmOffset,
+                                                  -5.0 * kPi / 6.0 + kArmOffset};
 ///@}
 
 /// \name Encoders and drive
 ///@{
-inline constexpr int kEncoderSlots = 320;            ///< Slots on the encoder wheel (×4 quadrature).
-inline constexpr double kShaftDiameter = 0.01425;    ///< Motor capstan diameter, metres.
-inline constexpr double kArmDrumDiameter = 0.110;    ///< Arm drum diameter, metres.
+inline constexpr int kEncoderSlots = 320;         ///< Slots on the encoder wheel (×4 quadrature).
+inline constexpr double kShaftDiameter = 0.01425; ///< Motor capstan diameter, metres.
+inline constexpr double kArmDrumDiameter = 0.110; ///< Arm drum diameter, metres.
 /// Gear ratio of the cable drive: arm torque = kGearRatio × motor torque.
 inline constexpr double kGearRatio = kArmDrumDiameter / kShaftDiameter;
 /// Arm angle per encoder count, radians.
@@ -59,21 +72,25 @@ inline constexpr double kThetaAtZeroCount = 35.0 * kPi / 180.0;
 
 /// \name Workspace (device frame)
 ///@{
-/// z of the workspace centre in the base frame, metres: the centre of the largest cube every point of
-/// which the three arms reach.
+/// z of the workspace centre in the base frame, metres. Every point of a 90 mm cube centred here is
+/// within the three arms' reach (the largest such cube, 91 mm, is centred 1 mm further out).
 inline constexpr double kWorkspaceCentreZ = 0.110;
 /// Half the edge of the cubic workspace reported in the capabilities, metres (an 80 mm cube, inside
-/// the reachable 88 mm one).
+/// the reachable one).
 inline constexpr double kWorkspaceHalfExtent = 0.040;
 ///@}
 
 /// \name Motor commands
 ///@{
-/// Largest motor command magnitude the driver sends (the firmware takes a signed 16-bit value).
-inline constexpr int kMotorCommandLimit = 4096;
-/// Motor command counts per N·m of arm-joint torque. A positive joint torque is a negative command
-/// (the firmware's sign convention, as in libnifalcon).
-inline constexpr double kCountsPerNewtonMetre = 4000.0;
+/// Largest motor command magnitude the driver sends: the driver's bound (the firmware takes any
+/// signed 16-bit value), 0.82 N·m at an arm joint. 8.5 N along any axis fits over the inner half of
+/// the workspace (at most 6314 counts a motor; 4482 at the centre); toward the corners of the 80 mm
+/// cube a force that does not fit is scaled down keeping its direction (torquesToCommands()).
+inline constexpr int kMotorCommandLimit = 8192;
+/// Motor command counts per N·m of arm-joint torque (libnifalcon's torque → command scale). A
+/// positive joint torque is a negative command (the firmware's sign convention, as in libnifalcon):
+/// a push along −z (away from the user) is a positive command on each motor.
+inline constexpr double kCountsPerNewtonMetre = 10000.0;
 ///@}
 
 using JointAngles = std::array<double, 3>; ///< Motor arm angles theta_i, radians.
