@@ -43,43 +43,68 @@ unsigned toMillis(platform::Duration d) noexcept
 }
 
 /// Finds and opens the first device with the ids. \return a libusb error code.
-int openFirst(libusb_context *ctx, std::uint16_t vid, std::uint16_t pid,
+int openFirst(const LibusbApi &api, libusb_context *ctx, std::uint16_t vid, std::uint16_t pid,
               libusb_device_handle **handle, bool *found) noexcept
 {
     libusb_device **list = nullptr;
-    const ssize_t n = libusb_get_device_list(ctx, &list);
+    const ssize_t n = api.getDeviceList(ctx, &list);
     if (n < 0)
         return static_cast<int>(n);
     int rc = LIBUSB_ERROR_NO_DEVICE;
     *found = false;
     for (ssize_t i = 0; i < n; ++i) {
         libusb_device_descriptor desc{};
-        if (libusb_get_device_descriptor(list[i], &desc) != 0 || desc.idVendor != vid ||
+        if (api.getDeviceDescriptor(list[i], &desc) != 0 || desc.idVendor != vid ||
             desc.idProduct != pid)
             continue;
         *found = true;
-        rc = handle != nullptr ? libusb_open(list[i], handle) : 0;
+        rc = handle != nullptr ? api.open(list[i], handle) : 0;
         break;
     }
-    libusb_free_device_list(list, 1);
+    api.freeDeviceList(list, 1);
     return rc;
 }
 
 } // namespace
+
+const LibusbApi &systemLibusb() noexcept
+{
+    static const LibusbApi api{
+        .init = &libusb_init,
+        .exit = &libusb_exit,
+        .getDeviceList = &libusb_get_device_list,
+        .freeDeviceList = &libusb_free_device_list,
+        .getDeviceDescriptor = &libusb_get_device_descriptor,
+        .open = &libusb_open,
+        .close = &libusb_close,
+        .setAutoDetachKernelDriver = &libusb_set_auto_detach_kernel_driver,
+        .claimInterface = &libusb_claim_interface,
+        .releaseInterface = &libusb_release_interface,
+        .controlTransfer = &libusb_control_transfer,
+        .bulkTransfer = &libusb_bulk_transfer,
+        .allocTransfer = &libusb_alloc_transfer,
+        .freeTransfer = &libusb_free_transfer,
+        .submitTransfer = &libusb_submit_transfer,
+        .cancelTransfer = &libusb_cancel_transfer,
+        .handleEventsTimeoutCompleted = &libusb_handle_events_timeout_completed,
+    };
+    return api;
+}
 
 LibusbTransport::~LibusbTransport()
 {
     close();
 }
 
-Result<bool> LibusbTransport::probe(std::uint16_t vendorId, std::uint16_t productId)
+Result<bool> LibusbTransport::probe(std::uint16_t vendorId, std::uint16_t productId,
+                                    const LibusbApi &api)
 {
     libusb_context *ctx = nullptr;
-    if (libusb_init(&ctx) != 0) // no USB on this system: no device either
+    if (api.init(&ctx) != 0) // no USB on this system: no device either
         return false;
     bool found = false;
-    const int rc = openFirst(ctx, vendorId, productId, nullptr, &found);
-    libusb_exit(ctx);
+    const int rc = openFirst(api, ctx, vendorId, productId, nullptr, &found);
+    api.exit(ctx);
     if (rc != 0 && rc != LIBUSB_ERROR_NO_DEVICE)
         return unexpected(libusbError(rc, "Failed to list USB devices"));
     return found;
@@ -89,12 +114,17 @@ Result<void> LibusbTransport::open(std::uint16_t vendorId, std::uint16_t product
 {
     if (ctx_ != nullptr)
         return unexpected(Errc::InvalidState, "USB transport already open");
-    if (libusb_init(&ctx_) != 0) {
+    if (api_->init(&ctx_) != 0) {
         ctx_ = nullptr;
         return unexpected(Errc::Io, "Failed to initialise libusb");
     }
     bool found = false;
-    int rc = openFirst(ctx_, vendorId, productId, &handle_, &found);
+    int rc = openFirst(*api_, ctx_, vendorId, productId, &handle_, &found);
+    if (rc != 0 && !found && rc != LIBUSB_ERROR_NO_DEVICE) {
+        DT_LOG(Usb, Error, "Failed to list USB devices: %s", libusb_strerror(rc));
+        close();
+        return unexpected(Errc::Io, "Failed to list USB devices");
+    }
     if (rc != 0) {
         DT_LOG(Usb, Error, "Failed to open USB device %04x:%04x: %s", vendorId, productId,
                found ? libusb_strerror(rc) : "not found");
@@ -105,16 +135,16 @@ Result<void> LibusbTransport::open(std::uint16_t vendorId, std::uint16_t product
                                           ? "No permission to open the USB device (udev rule?)"
                                           : "Failed to open the USB device"));
     }
-    (void)libusb_set_auto_detach_kernel_driver(handle_, 1);
-    rc = libusb_claim_interface(handle_, 0);
+    (void)api_->setAutoDetachKernelDriver(handle_, 1);
+    rc = api_->claimInterface(handle_, 0);
     if (rc != 0) {
         DT_LOG(Usb, Error, "Failed to claim USB interface 0: %s", libusb_strerror(rc));
         close();
         return unexpected(libusbError(rc, "Failed to claim the USB interface"));
     }
     claimed_ = true;
-    out_ = libusb_alloc_transfer(0);
-    in_ = libusb_alloc_transfer(0);
+    out_ = api_->allocTransfer(0);
+    in_ = api_->allocTransfer(0);
     if (out_ == nullptr || in_ == nullptr) {
         close();
         return unexpected(Errc::OutOfResources, "Failed to allocate USB transfers");
@@ -129,18 +159,18 @@ void LibusbTransport::close() noexcept
         return;
     cancelAsync();
     if (out_ != nullptr)
-        libusb_free_transfer(out_);
+        api_->freeTransfer(out_);
     if (in_ != nullptr)
-        libusb_free_transfer(in_);
+        api_->freeTransfer(in_);
     out_ = in_ = nullptr;
     if (handle_ != nullptr) {
         if (claimed_)
-            (void)libusb_release_interface(handle_, 0);
-        libusb_close(handle_);
+            (void)api_->releaseInterface(handle_, 0);
+        api_->close(handle_);
     }
     claimed_ = false;
     handle_ = nullptr;
-    libusb_exit(ctx_);
+    api_->exit(ctx_);
     ctx_ = nullptr;
     gone_.store(true, std::memory_order_release);
 }
@@ -169,15 +199,15 @@ int LibusbTransport::handleEvents(long micros, int *completed) noexcept
     timeval tv{};
     tv.tv_sec = micros / 1'000'000;
     tv.tv_usec = micros % 1'000'000;
-    return libusb_handle_events_timeout_completed(ctx_, &tv, completed);
+    return api_->handleEventsTimeoutCompleted(ctx_, &tv, completed);
 }
 
 void LibusbTransport::cancelAsync() noexcept
 {
     if (inBusy_ != 0)
-        (void)libusb_cancel_transfer(in_);
+        (void)api_->cancelTransfer(in_);
     if (outBusy_ != 0)
-        (void)libusb_cancel_transfer(out_);
+        (void)api_->cancelTransfer(out_);
     // Cancelled transfers complete on the next event handling; bounded wait (the device may be gone).
     for (int i = 0; i < 100 && (inBusy_ != 0 || outBusy_ != 0); ++i)
         (void)handleEvents(10'000, inBusy_ != 0 ? &inCompleted_ : &outCompleted_);
@@ -188,8 +218,8 @@ Result<void> LibusbTransport::control(FtdiRequest request, std::uint16_t value)
 {
     if (!present())
         return unexpected(Errc::NoDevice, "USB device gone");
-    const int rc = libusb_control_transfer(handle_, kVendorOut, static_cast<std::uint8_t>(request),
-                                           value, 0, nullptr, 0, kControlTimeoutMs);
+    const int rc = api_->controlTransfer(handle_, kVendorOut, static_cast<std::uint8_t>(request),
+                                         value, 0, nullptr, 0, kControlTimeoutMs);
     if (rc < 0) {
         if (rc == LIBUSB_ERROR_NO_DEVICE)
             gone_.store(true, std::memory_order_release);
@@ -208,8 +238,8 @@ Result<std::size_t> LibusbTransport::write(const std::uint8_t *data, std::size_t
     cancelAsync();
     int done = 0;
     // libusb takes a non-const buffer for both directions; an OUT transfer only reads it.
-    const int rc = libusb_bulk_transfer(handle_, kEndpointOut, const_cast<std::uint8_t *>(data),
-                                        static_cast<int>(size), &done, toMillis(timeout));
+    const int rc = api_->bulkTransfer(handle_, kEndpointOut, const_cast<std::uint8_t *>(data),
+                                      static_cast<int>(size), &done, toMillis(timeout));
     if (rc != 0) {
         if (rc == LIBUSB_ERROR_NO_DEVICE)
             gone_.store(true, std::memory_order_release);
@@ -233,8 +263,8 @@ Result<std::size_t> LibusbTransport::read(std::uint8_t *data, std::size_t capaci
         if (left <= platform::Duration::zero())
             break;
         int n = 0;
-        const int rc = libusb_bulk_transfer(handle_, kEndpointIn, buf.data(),
-                                            static_cast<int>(buf.size()), &n, toMillis(left));
+        const int rc = api_->bulkTransfer(handle_, kEndpointIn, buf.data(),
+                                          static_cast<int>(buf.size()), &n, toMillis(left));
         if (rc == LIBUSB_ERROR_TIMEOUT)
             break;
         if (rc != 0) {
@@ -256,7 +286,7 @@ Result<void> LibusbTransport::submitIn() noexcept
                               static_cast<int>(inBuf_.size()), &LibusbTransport::onTransferDone,
                               this, 0);
     inCompleted_ = 0;
-    const int rc = libusb_submit_transfer(in_);
+    const int rc = api_->submitTransfer(in_);
     if (rc != 0) {
         if (rc == LIBUSB_ERROR_NO_DEVICE)
             gone_.store(true, std::memory_order_release);
@@ -278,7 +308,7 @@ Result<std::size_t> LibusbTransport::exchange(const std::uint8_t *out, std::size
         libusb_fill_bulk_transfer(out_, handle_, kEndpointOut, outBuf_.data(), static_cast<int>(n),
                                   &LibusbTransport::onTransferDone, this, 0);
         outCompleted_ = 0;
-        const int rc = libusb_submit_transfer(out_);
+        const int rc = api_->submitTransfer(out_);
         if (rc != 0) {
             if (rc == LIBUSB_ERROR_NO_DEVICE)
                 gone_.store(true, std::memory_order_release);

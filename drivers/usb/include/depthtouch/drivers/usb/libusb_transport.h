@@ -11,28 +11,72 @@
 /// exchange() makes one small C-heap allocation inside libusb (not operator new); removing it needs
 /// usbfs URBs submitted directly.
 ///
+/// The libusb calls go through a LibusbApi table (the system's libusb-1.0 by default), so tests can
+/// put a stand-in USB bus with a device on the other side; libusb_fill_bulk_transfer() (an inline
+/// function of libusb.h) and libusb_strerror() (a table of strings) are called directly.
+///
 /// Thread-safety: thread-bound (see UsbTransport); present() is thread-safe.
 
 #include <array>
 #include <atomic>
 #include <cstdint>
 
+#include <sys/types.h>
+
 #include "depthtouch/drivers/usb/usb_transport.h"
 
 struct libusb_context;
+struct libusb_device;
+struct libusb_device_descriptor;
 struct libusb_device_handle;
 struct libusb_transfer;
+struct timeval;
 
 namespace depthtouch::drivers {
 
+/// \brief The libusb-1.0 functions LibusbTransport calls, one pointer each, with libusb's own
+/// signatures, arguments, return values and error codes (LIBUSB_ERROR_*; see libusb.h). A stand-in
+/// must keep libusb's contracts: allocTransfer() returns a transfer freeTransfer() releases, a
+/// submitted transfer completes exactly once (its callback runs inside handleEvents...(), which
+/// sets *completed through the callback's effects), cancelTransfer() makes a posted transfer
+/// complete with LIBUSB_TRANSFER_CANCELLED on a later event handling.
+struct LibusbApi {
+    int (*init)(libusb_context **ctx);
+    void (*exit)(libusb_context *ctx);
+    ssize_t (*getDeviceList)(libusb_context *ctx, libusb_device ***list);
+    void (*freeDeviceList)(libusb_device **list, int unrefDevices);
+    int (*getDeviceDescriptor)(libusb_device *dev, libusb_device_descriptor *desc);
+    int (*open)(libusb_device *dev, libusb_device_handle **handle);
+    void (*close)(libusb_device_handle *handle);
+    int (*setAutoDetachKernelDriver)(libusb_device_handle *handle, int enable);
+    int (*claimInterface)(libusb_device_handle *handle, int interfaceNumber);
+    int (*releaseInterface)(libusb_device_handle *handle, int interfaceNumber);
+    int (*controlTransfer)(libusb_device_handle *handle, std::uint8_t requestType,
+                           std::uint8_t request, std::uint16_t value, std::uint16_t index,
+                           unsigned char *data, std::uint16_t length, unsigned int timeoutMs);
+    int (*bulkTransfer)(libusb_device_handle *handle, unsigned char endpoint, unsigned char *data,
+                        int length, int *transferred, unsigned int timeoutMs);
+    libusb_transfer *(*allocTransfer)(int isoPackets);
+    void (*freeTransfer)(libusb_transfer *transfer);
+    int (*submitTransfer)(libusb_transfer *transfer);
+    int (*cancelTransfer)(libusb_transfer *transfer);
+    int (*handleEventsTimeoutCompleted)(libusb_context *ctx, timeval *tv, int *completed);
+};
+
+/// \return the table of the system's libusb-1.0 (static storage).
+[[nodiscard]] const LibusbApi &systemLibusb() noexcept;
+
 class LibusbTransport final : public UsbTransport {
 public:
-    LibusbTransport() = default;
+    /// \param api The libusb functions to call; referenced, so it must outlive the transport.
+    explicit LibusbTransport(const LibusbApi &api = systemLibusb()) noexcept : api_(&api) {}
     ~LibusbTransport() override;
 
-    /// \return whether a device with these ids is on the bus (enumerates it; not real-time safe);
-    /// false when libusb cannot start (no USB). Errors: Io (listing the devices failed).
-    static Result<bool> probe(std::uint16_t vendorId, std::uint16_t productId);
+    /// \return whether a device with these ids is on the bus (enumerates it through \a api; not
+    /// real-time safe); false when libusb cannot start (no USB). Errors: listing the devices failed
+    /// (Io, or NoDevice, PermissionDenied, Busy, Timeout for those libusb codes).
+    static Result<bool> probe(std::uint16_t vendorId, std::uint16_t productId,
+                              const LibusbApi &api = systemLibusb());
 
     [[nodiscard]] Result<void> open(std::uint16_t vendorId, std::uint16_t productId) override;
     void close() noexcept override;
@@ -57,6 +101,7 @@ private:
 
     static constexpr std::size_t kMaxPacket = 64;
 
+    const LibusbApi *api_;
     libusb_context *ctx_ = nullptr;
     libusb_device_handle *handle_ = nullptr;
     libusb_transfer *out_ = nullptr;
