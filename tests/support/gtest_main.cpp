@@ -53,7 +53,8 @@ std::vector<std::string> skippedCases(const ::testing::UnitTest &unit)
                 reason = skipMessage(unit.ad_hoc_test_result());
             if (reason.empty())
                 reason = "(no message)";
-            lines.push_back(std::string(info.test_suite_name()) + "." + info.name() + ": " + reason);
+            lines.push_back(std::string(info.test_suite_name()) + "." + info.name() + ": " +
+                            reason);
         }
     }
     return lines;

@@ -1,9 +1,9 @@
 #pragma once
 /// \file
-/// \brief Where the real-data tests find the shared RGB-D captures (../shared/data beside the source
-/// tree, or the folder in DT_SHARED_DATA), and DT_NEED_SHARED_DATA, which skips a test when a file
-/// of them is absent, or fails it when DT_REQUIRE_SHARED_DATA=1 (CI, where the data must be there).
-/// Header-only.
+/// \brief Where the real-data tests find the shared RGB-D captures (../shared/data beside the
+/// source tree, or the folder in DT_SHARED_DATA), and DT_NEED_SHARED_DATA, which skips a test when
+/// a file of them is absent, or fails it when DT_REQUIRE_SHARED_DATA=1 (CI, where the data must be
+/// there). Header-only.
 
 #include <cstdlib>
 #include <filesystem>
@@ -51,8 +51,8 @@ inline bool sharedDataRequired()
     return v != nullptr && *v != '\0' && std::string_view(v) != "0";
 }
 
-/// \return why \a relative cannot be read from the shared data (a message naming the folder that was
-/// looked in), or an empty string when it exists.
+/// \return why \a relative cannot be read from the shared data (a message naming the folder that
+/// was looked in), or an empty string when it exists.
 inline std::string missingSharedData(std::string_view relative)
 {
     const std::string path = sharedDataPath(relative);
@@ -61,8 +61,9 @@ inline std::string missingSharedData(std::string_view relative)
         return {};
     const char *env = std::getenv("DT_SHARED_DATA");
     const std::string where = env != nullptr && *env != '\0' ? std::string("DT_SHARED_DATA=") + env
-                              : path.empty() ? std::string("no ../shared/data beside the source tree")
-                                             : path;
+                              : path.empty()
+                                  ? std::string("no ../shared/data beside the source tree")
+                                  : path;
     return "real RGB-D data missing: " + std::string(relative) + " (" + where +
            "; set DT_SHARED_DATA to the shared data folder)";
 }
@@ -73,7 +74,8 @@ inline std::string missingSharedData(std::string_view relative)
 /// test with a message naming what is missing, or fails it when DT_REQUIRE_SHARED_DATA=1.
 #define DT_NEED_SHARED_DATA(relative)                                                              \
     do {                                                                                           \
-        const std::string dtMissingSharedData_ = ::depthtouch::testing::missingSharedData(relative); \
+        const std::string dtMissingSharedData_ =                                                   \
+            ::depthtouch::testing::missingSharedData(relative);                                    \
         if (!dtMissingSharedData_.empty()) {                                                       \
             if (::depthtouch::testing::sharedDataRequired())                                       \
                 FAIL() << dtMissingSharedData_ << " (DT_REQUIRE_SHARED_DATA is set: required)";    \

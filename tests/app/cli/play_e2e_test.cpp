@@ -166,10 +166,10 @@ TEST(PlayEndToEnd, RealKitchenWithTheSimulatedHand)
     const std::string scene = depthtouch::testing::sharedDataPath("rgbd-7scenes-redkitchen");
     depthtouch::testing::TempDir tmp("dt-play-e2e-");
     const fs::path clip = tmp.dir() / "kitchen.mkv";
-    const RunResult enc = run(std::string(DEPTHTOUCH) + " encode --color '" + scene +
-                              "/frame-%06d.color.jpg' --depth '" + scene +
-                              "/frame-%06d.depth.png' --fps " + std::to_string(kKitchenFps) +
-                              " -o " + clip.string());
+    const RunResult enc =
+        run(std::string(DEPTHTOUCH) + " encode --color '" + scene +
+            "/frame-%06d.color.jpg' --depth '" + scene + "/frame-%06d.depth.png' --fps " +
+            std::to_string(kKitchenFps) + " -o " + clip.string());
     ASSERT_EQ(enc.exitCode, 0) << enc.output;
     unsigned frames = 0;
     ASSERT_EQ(std::sscanf(enc.output.c_str(), "encoded %u frame pairs", &frames), 1) << enc.output;
@@ -178,9 +178,9 @@ TEST(PlayEndToEnd, RealKitchenWithTheSimulatedHand)
     // the draw within the frame period, and the preroll keeps the first draw from making the next
     // frames late. Both need the CPU the machine promises: where its host (steal time; this VM's
     // host takes up to a third at times) or other programs took 5 % of it or more while the clip
-    // played and a frame dropped, the clip is played again, up to kKitchenAttempts plays, each after
-    // waiting (at most 30 s) for the machine to be quiet; a drop on a machine that had its CPU fails
-    // at once.
+    // played and a frame dropped, the clip is played again, up to kKitchenAttempts plays, each
+    // after waiting (at most 30 s) for the machine to be quiet; a drop on a machine that had its
+    // CPU fails at once.
     const fs::path stats = tmp.dir() / "stats.json";
     const fs::path forceLog = tmp.dir() / "force.csv";
     KitchenPlay play;
@@ -387,7 +387,8 @@ TEST(PlayEndToEnd, ConfigFileSetsOptionsAndTheCommandLineWins)
     const double lateMsMax = j["late_ms_max"].get<double>();
     EXPECT_TRUE(std::isfinite(lateMsMax));
     EXPECT_GE(lateMsMax, 0.0);
-    EXPECT_EQ(j["frames_late"].get<int>() > 0, lateMsMax > 1e3 / 30.0) << "late_ms_max " << lateMsMax;
+    EXPECT_EQ(j["frames_late"].get<int>() > 0, lateMsMax > 1e3 / 30.0)
+        << "late_ms_max " << lateMsMax;
     EXPECT_EQ(j["frames_presented"].get<int>() + j["frames_dropped"].get<int>(), 15);
 }
 

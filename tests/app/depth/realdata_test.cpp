@@ -1,7 +1,7 @@
 /// \file
 /// \brief Depth conversion, hole filling and enhancement on real RGB-D frames (Microsoft 7-Scenes
-/// "redkitchen", TUM). Skipped when ../shared/data is absent (set DT_SHARED_DATA); failed instead when
-/// DT_REQUIRE_SHARED_DATA=1.
+/// "redkitchen", TUM). Skipped when ../shared/data is absent (set DT_SHARED_DATA); failed instead
+/// when DT_REQUIRE_SHARED_DATA=1.
 
 #include <gtest/gtest.h>
 

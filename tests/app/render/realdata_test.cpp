@@ -1,7 +1,7 @@
 /// \file
 /// \brief The renderer on real RGB-D frames (7-Scenes redkitchen at 720×486): the adaptive mesh's
-/// error bound and coverage, and a side-by-side snapshot. Skips without the shared data (fails instead
-/// when DT_REQUIRE_SHARED_DATA=1).
+/// error bound and coverage, and a side-by-side snapshot. Skips without the shared data (fails
+/// instead when DT_REQUIRE_SHARED_DATA=1).
 
 #include <gtest/gtest.h>
 

@@ -22,8 +22,8 @@ TEST(MockHapticThreadsTest, unplugFromAnotherThreadWhileTheLoopRuns)
     // GIVEN a servo loop on its own thread  WHEN a test thread unplugs  THEN the loop sees NoDevice
     std::atomic<bool> sawNoDevice{false};
     std::atomic<bool> started{false};
-    // The loop runs until it sees the unplug; the 60 s deadline only keeps a loop that never sees it
-    // from hanging the test.
+    // The loop runs until it sees the unplug; the 60 s deadline only keeps a loop that never sees
+    // it from hanging the test.
     const auto hangGuard = std::chrono::steady_clock::now() + std::chrono::seconds(60);
     std::thread loop([&] {
         hal::HapticState s;
