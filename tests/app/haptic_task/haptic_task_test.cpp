@@ -13,9 +13,7 @@
 
 #include <gtest/gtest.h>
 
-#include "app/haptic_task/frames.h"
-#include "depthtouch/drivers/mock/mock_haptic_device.h"
-#include "depthtouch/drivers/mock/sim_haptic_device.h"
+#include "app/haptic_task/task_rig.h"
 
 namespace depthtouch::haptic_task {
 namespace {
@@ -23,9 +21,11 @@ namespace {
 using namespace std::chrono_literals;
 using platform::ManualClock;
 using test::Frame16;
-
-constexpr int kW = 32;
-constexpr int kH = 24;
+using test::kH;
+using test::kW;
+using test::makeSim;
+using test::pressScript;
+using test::Rig;
 
 /// A device that makes its reads take simulated time (a slow USB transaction), for the deadline
 /// watchdog. Delegates everything else.
@@ -61,105 +61,6 @@ private:
     ManualClock &clock_;
     std::atomic<int> slowCycles_{0};
 };
-
-/// Clock, handoff, device and task; the test thread is the decoder and advances the time.
-class Rig {
-public:
-    Rig() : clock_(ManualClock::Mode::Blocking, platform::TimePoint(10s))
-    {
-        auto h = DepthHandoff::create(kW, kH, haptics::SampleFormat::Gray16);
-        EXPECT_TRUE(h);
-        handoff_ = std::move(*h);
-    }
-    ~Rig() { finish(); }
-
-    ManualClock &clock() { return clock_; }
-    DepthHandoff &handoff() { return *handoff_; }
-    HapticTask &task() { return *task_; }
-
-    static HapticTaskConfig baseConfig()
-    {
-        HapticTaskConfig c;
-        c.policy = platform::SchedPolicy::Other; // no timing is measured here
-        c.lockMemory = false;
-        c.rampTime = 0.1;
-        c.telemetryIntervalMs = 1;
-        c.reconnectIntervalMs = 1;
-        return c;
-    }
-
-    /// Publishes a flat surface at height \a z (m) as the only frame.
-    void publishFlat(double z)
-    {
-        Frame16 f(kW, kH, 0.0);
-        f.fillFlat(z);
-        ASSERT_TRUE(handoff_->push(f.view()));
-    }
-
-    void start(hal::HapticDevice &device, const HapticTaskConfig &config)
-    {
-        handoff_->setMediaOrigin(clock_.now());
-        auto t = HapticTask::create(config, device, *handoff_, clock_);
-        ASSERT_TRUE(t) << t.error().what;
-        task_ = std::move(*t);
-        ASSERT_TRUE(task_->start());
-        ASSERT_TRUE(clock_.waitForSleepers(1));
-    }
-
-    /// Lets \a ms periods pass, one update each.
-    void runMs(int ms)
-    {
-        for (int i = 0; i < ms; ++i)
-            clock_.advance(1ms);
-    }
-
-    /// Runs periods until \a done() holds, waiting in real time for the telemetry thread
-    /// (reconnection); at most 3 s of real time. \return whether it held.
-    template <class F> bool runUntil(F done)
-    {
-        for (int i = 0; i < 3000; ++i) {
-            if (done())
-                return true;
-            clock_.advance(1ms);
-            platform::SteadyClock::instance().sleepFor(1ms);
-        }
-        return done();
-    }
-
-    void finish()
-    {
-        if (task_ && !finished_) {
-            finished_ = true;
-            task_->requestStop();
-            clock_.release();
-            task_->stop();
-        }
-    }
-
-private:
-    ManualClock clock_;
-    std::unique_ptr<DepthHandoff> handoff_;
-    std::unique_ptr<HapticTask> task_;
-    bool finished_ = false;
-};
-
-std::unique_ptr<drivers::SimHapticDevice> makeSim(ManualClock &clock, const char *options)
-{
-    hal::BackendConfig cfg;
-    cfg.clock = &clock;
-    cfg.options = hal::OptionList(options);
-    auto settings = drivers::SimHandSettings::parse(cfg.options);
-    EXPECT_TRUE(settings);
-    return std::make_unique<drivers::SimHapticDevice>(clock, *settings);
-}
-
-/// Mock fingertip: above the surface, then 5 mm into the flat surface at z = 0 from 50 ms on.
-void pressScript(drivers::MockHapticDevice &mock, platform::TimePoint t0, double depth = 0.005)
-{
-    mock.setWaypoints({{t0, {0.0, 0.0, 0.01}, 0},
-                       {t0 + 20ms, {0.0, 0.0, 0.01}, 0},
-                       {t0 + 50ms, {0.0, 0.0, -depth}, 0}});
-}
 
 struct PressRun {
     glm::dvec3 force{};
@@ -392,7 +293,7 @@ TEST(HapticTaskTest, unplugZeroesTheForceAtOnceAndReconnectResumesWithTheRamp)
     EXPECT_EQ(rig.task().lastForce().z, 0.0);
     // WHEN it comes back  THEN the telemetry thread reopens it and the force ramps in
     mock.reconnect();
-    ASSERT_TRUE(rig.runUntil([&] { return rig.task().deviceConnected(); }));
+    rig.runUntil([&] { return rig.task().deviceConnected(); });
     rig.runMs(2);
     const double first = rig.task().lastForce().z;
     EXPECT_GT(first, 0.0);
@@ -512,6 +413,16 @@ TEST(HapticTaskTest, signalHandlerStopsTheTaskWithZeroForce)
     ASSERT_EQ(raise(SIGUSR1), 0);
     sigaction(SIGUSR1, &old, nullptr);
     EXPECT_TRUE(rig.task().stopRequested());
+    // THEN at its next wake-up the loop commands zero force and returns, before finish() (whose
+    // stop() would zero the force itself): the device outputs nothing, the loop no longer sleeps
+    // on the clock, and further periods run no update
+    rig.runMs(1);
+    EXPECT_EQ(mock.lastForce(), hal::Vec3{});
+    EXPECT_EQ(rig.task().lastForce(), glm::dvec3{});
+    EXPECT_EQ(rig.clock().sleepers(), 0) << "the haptic loop is still waiting for its next period";
+    const std::uint64_t updates = rig.task().updates();
+    rig.runMs(5);
+    EXPECT_EQ(rig.task().updates(), updates);
     rig.finish();
     EXPECT_EQ(mock.lastForce(), hal::Vec3{});
     EXPECT_TRUE(mock.isConnected()) << "stop() leaves the device open";
@@ -530,7 +441,7 @@ TEST(HapticTaskTest, devicePresentLaterIsPickedUp)
     rig.runMs(10);
     EXPECT_FALSE(rig.task().deviceConnected());
     mock.reconnect();
-    ASSERT_TRUE(rig.runUntil([&] { return rig.task().deviceConnected(); }));
+    rig.runUntil([&] { return rig.task().deviceConnected(); });
     rig.runMs(300);
     EXPECT_NEAR(mock.lastForce().z, 4.0, 0.01);
     rig.finish(); // the haptic thread stops before the devices declared after the rig go
