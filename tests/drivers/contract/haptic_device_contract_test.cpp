@@ -29,6 +29,17 @@ bool inside(const Vec3 &p, const hal::HapticCapabilities &c)
            p.z >= c.workspaceMin.z - kEps && p.z <= c.workspaceMax.z + kEps;
 }
 
+/// The maximum force each backend declares, N: 8.5 N for the simulated devices (their default) and
+/// the Falcon (its specification), none for `none`. A backend not listed must declare some.
+double expectedMaxForce(const std::string &backend)
+{
+    if (backend == "none")
+        return 0.0;
+    if (backend == "mock" || backend == "sim" || backend == "falcon")
+        return 8.5;
+    return std::nan("");
+}
+
 class HapticDeviceContractTest : public ::testing::TestWithParam<std::string> {
 protected:
     void SetUp() override
@@ -63,7 +74,13 @@ TEST_P(HapticDeviceContractTest, capabilitiesAreSaneAndConstant)
     const hal::HapticCapabilities &c = dev_->capabilities();
     EXPECT_FALSE(c.name.empty());
     EXPECT_TRUE(std::isfinite(c.maxForce));
-    EXPECT_GE(c.maxForce, 0.0);
+    // A device that renders forces declares what it can push, within 1e-9 N of its known value.
+    if (const double expected = expectedMaxForce(GetParam()); !std::isnan(expected)) {
+        EXPECT_NEAR(c.maxForce, expected, 1e-9);
+    } else {
+        EXPECT_GT(c.maxForce, 0.0) << "a backend without a known maximum must declare one";
+    }
+    EXPECT_EQ(c.maxForce > 0.0, harness_->hasDevice);
     EXPECT_LE(c.workspaceMin.x, c.workspaceMax.x);
     EXPECT_LE(c.workspaceMin.y, c.workspaceMax.y);
     EXPECT_LE(c.workspaceMin.z, c.workspaceMax.z);
