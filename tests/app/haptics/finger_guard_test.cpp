@@ -1,0 +1,195 @@
+/// \file
+/// \brief The guards of the fingertip renderer (finger_renderer.h) one at a time, on still 8-bit
+/// frames swapped without interpolation (the hardest case: a depth frame that changes at once): the
+/// glide limit, the ramp of a small surface step, the capture depth of a new contact and the local
+/// candidate beside a silhouette. Each test names the guard it pins and what the viewer would feel
+/// without it (the mutants of tests/mutation/mutants/haptics.txt).
+
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "app/haptics/synthetic.h"
+#include "depthtouch/haptics/finger_renderer.h"
+#include "depthtouch/haptics/renderer.h"
+
+namespace depthtouch::haptics {
+namespace {
+
+using test::makeFrame;
+using test::OwnedFrame;
+
+constexpr SceneBox kBox{};
+constexpr int kW = 320;
+constexpr int kH = 240;
+constexpr double kK = 800.0;                         // default stiffness, N/m
+constexpr double kRadius = 0.015 * SceneBox{}.width; // default fingertip half-width, m
+
+OwnedFrame still(const std::function<double(double, double)> &z)
+{
+    return makeFrame(kBox, kW, kH, 0.0, z, SampleFormat::Gray8);
+}
+
+/// A renderer on still frames: shown() swaps the frame at once (no next frame, no Eq. 1 blend).
+struct Rig {
+    FingerRenderer finger{RendererConfig::forMethod(Method::Finger)};
+    OwnedFrame frame;
+    long n = 0;
+    std::vector<HapticOutput> out;
+    void show(OwnedFrame f)
+    {
+        frame = std::move(f);
+        ASSERT_TRUE(finger.setFrames(frame.view(), nullptr));
+    }
+    const HapticOutput &step(const glm::dvec3 &hip)
+    {
+        out.push_back(finger.update(hip, static_cast<double>(n++) * 1e-3));
+        return out.back();
+    }
+    /// From 5 mm above \a hip straight down to it in 50 updates, then held for 100.
+    void press(const glm::dvec3 &hip)
+    {
+        finger.reset(hip + glm::dvec3(0, 0, 0.005));
+        for (int k = 1; k <= 50; ++k)
+            step(hip + glm::dvec3(0, 0, 0.005 * (1.0 - k / 50.0)));
+        for (int k = 0; k < 100; ++k)
+            step(hip);
+    }
+};
+
+double planarStep(const glm::dvec3 &a, const glm::dvec3 &b) { return std::hypot(b.x - a.x, b.y - a.y); }
+
+// Glide: a still finger 3 mm into a table that tilts to 45° about the proxy in one frame. The new
+// optimum is 1.5 mm to the side; the proxy goes there at most r/4 (0.375 mm) per update, so noisy
+// depth cannot throw it across the fingertip's patch in one update (a force spike while sliding).
+TEST(FingerGuardTest, aSuddenTiltMovesTheProxyAtMostAQuarterRadiusPerUpdate)
+{
+    Rig rig;
+    rig.show(still([](double, double) { return 0.0; }));
+    const glm::dvec3 hip(0.0, 0.0, -0.003);
+    rig.press(hip);
+    ASSERT_TRUE(rig.out.back().contact);
+    const std::size_t before = rig.out.size();
+    rig.show(still([](double x, double) { return x; }));
+    for (int k = 0; k < 100; ++k)
+        rig.step(hip);
+    double worst = 0.0;
+    for (std::size_t i = before; i < rig.out.size(); ++i)
+        worst = std::max(worst, planarStep(rig.out[i - 1].proxy, rig.out[i].proxy));
+    const HapticOutput &last = rig.out.back();
+    std::printf("tilt: largest proxy move %.3f mm per update (limit %.3f mm), final proxy x %.3f mm\n",
+                worst * 1e3, 0.25 * kRadius * 1e3, last.proxy.x * 1e3);
+    EXPECT_LE(worst, 0.25 * kRadius + 1e-9);
+    EXPECT_GT(worst, 0.2 * kRadius); // it did glide, at close to the limit
+    // AND it arrives: the projection of the HIP on the plane z = x is (−1.5, 0, −1.5) mm, and the
+    // force is k·3 mm/√2 along the plane's normal (8-bit quantisation: 0.16 mm)
+    EXPECT_TRUE(last.contact);
+    EXPECT_NEAR(last.proxy.x, -0.0015, 2e-4);
+    EXPECT_NEAR(glm::length(last.force), kK * 0.003 / std::sqrt(2.0), 0.15);
+}
+
+// Ramp of a small step: the surface under a finger pressed 2 mm in rises 1.5 mm in one frame (a loop
+// or seek onto a nearby picture: more than maxForceStep/(4k) = 0.625 mm, less than a cut). The force
+// grows from 1.6 N to 2.8 N over the ramp time (0.25 s) instead of in one update.
+TEST(FingerGuardTest, aSmallSurfaceStepUnderThePressedFingerIsRampedIn)
+{
+    Rig rig;
+    rig.show(still([](double, double) { return 0.0; }));
+    const glm::dvec3 hip(0.0, 0.0, -0.002);
+    rig.press(hip);
+    const double before = glm::length(rig.out.back().force);
+    const std::size_t from = rig.out.size();
+    rig.show(still([](double, double) { return 0.0015; }));
+    for (int k = 0; k < 400; ++k)
+        rig.step(hip);
+    double worst = 0.0;
+    int trips = 0;
+    for (std::size_t i = from; i < rig.out.size(); ++i) {
+        worst = std::max(worst, glm::length(rig.out[i].force - rig.out[i - 1].force));
+        trips += rig.out[i].released ? 1 : 0;
+    }
+    const double after = glm::length(rig.out.back().force);
+    std::printf("step 1.5 mm: force %.3f N -> %.3f N, largest step %.4f N per update\n", before, after, worst);
+    // THEN no trip, the force steps by about (2.8 − 1.6) N / 250 updates at most, and ends at k·3.5 mm
+    // (8-bit quantisation of the two surfaces: ±0.16 mm, ±0.13 N)
+    EXPECT_EQ(trips, 0);
+    EXPECT_LE(worst, 2.0 * (after - before) / 250.0);
+    EXPECT_NEAR(before, kK * 0.002, 0.13);
+    EXPECT_NEAR(after, kK * 0.0035, 0.13);
+}
+
+/// The backdrop at −10 mm and an object 15 mm tall (top at +5 mm) for x in [0, width].
+OwnedFrame blockFrame(double width)
+{
+    return still([width](double x, double) { return x >= 0.0 && x <= width ? 0.005 : -0.010; });
+}
+
+// Capture depth: an object 15 mm tall appears in one frame over a free finger held 5 mm above the
+// backdrop (a cut, or an object moving in). The finger is 10 mm under the object's top, deeper than a
+// new contact may start (max(maxForceStep/k, box depth/10) = 4 mm): it is behind the object (the
+// side the camera did not see), not inside it. Without the guard the object would shoot it out with
+// the full force. Once the finger is out above the object, a press on the top is felt again.
+TEST(FingerGuardTest, anObjectAppearingOverAFreeFingerLeavesItBehindWithNoForce)
+{
+    Rig rig;
+    rig.show(still([](double, double) { return -0.010; }));
+    const glm::dvec3 hip(0.010, 0.0, -0.005);
+    rig.finger.reset(hip);
+    for (int k = 0; k < 100; ++k)
+        rig.step(hip);
+    ASSERT_FALSE(rig.out.back().contact);
+    rig.show(blockFrame(0.04));
+    double worst = 0.0;
+    int contacts = 0;
+    for (int k = 0; k < 300; ++k) {
+        const HapticOutput &o = rig.step(hip);
+        worst = std::max(worst, glm::length(o.force));
+        contacts += o.contact ? 1 : 0;
+    }
+    // WHEN it rises out of the object and presses 2 mm into its top
+    for (int k = 1; k <= 120; ++k)
+        rig.step(hip + glm::dvec3(0, 0, 0.012 * k / 120.0));
+    for (int k = 0; k < 400; ++k)
+        rig.step(hip + glm::dvec3(0, 0, 0.008));
+    const HapticOutput &last = rig.out.back();
+    std::printf("object over the finger: largest force %.3f N in %d contact updates; on the top %.3f N\n",
+                worst, contacts, glm::length(last.force));
+    EXPECT_EQ(worst, 0.0);
+    EXPECT_EQ(contacts, 0);
+    EXPECT_TRUE(last.contact);
+    EXPECT_NEAR(last.force.z, kK * 0.002, 0.13);
+}
+
+// Local candidate: a finger pressed 2 mm into the backdrop slides under a thin object (9 mm wide, its
+// top 15 mm above the backdrop) and out the other side. While its proxy is held at the object's near
+// wall, more than r to the side, the backdrop under the HIP is nearer once it is past: the finger
+// touches that instead of being pulled back through the object to the wall's proxy.
+TEST(FingerGuardTest, aPressedFingerPastAThinObjectTouchesTheBackdropBeyondIt)
+{
+    Rig rig;
+    rig.show(blockFrame(0.009));
+    const glm::dvec3 start(-0.010, 0.0, -0.012);
+    rig.press(start);
+    ASSERT_TRUE(rig.out.back().contact);
+    double worstPull = 0.0;
+    glm::dvec3 lastForce(0.0);
+    for (int k = 0; k <= 500; ++k) { // 25 mm at 5 cm/s: x from −10 to +15 mm
+        const glm::dvec3 hip = start + glm::dvec3(0.05e-3 * k, 0.0, 0.0);
+        const HapticOutput &o = rig.step(hip);
+        if (hip.x > 0.009 + 2.0 * kRadius) // past the far edge by twice the fingertip's reach
+            worstPull = std::max(worstPull, -o.force.x);
+        lastForce = o.force;
+    }
+    std::printf("past the object: largest backward pull %.3f N, final force (%.2f, %.2f, %.2f) N\n",
+                worstPull, lastForce.x, lastForce.y, lastForce.z);
+    // THEN no force pulls it back toward the object, and it presses on the backdrop: k·2 mm up
+    EXPECT_LE(worstPull, 0.2);
+    EXPECT_NEAR(lastForce.z, kK * 0.002, 0.2);
+}
+
+} // namespace
+} // namespace depthtouch::haptics
