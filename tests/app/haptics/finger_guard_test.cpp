@@ -5,6 +5,7 @@
 /// candidate beside a silhouette. Each test names the guard it pins and what the viewer would feel
 /// without it (the mutants of tests/mutation/mutants/haptics.txt).
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -189,6 +190,36 @@ TEST(FingerGuardTest, aPressedFingerPastAThinObjectTouchesTheBackdropBeyondIt)
     // THEN no force pulls it back toward the object, and it presses on the backdrop: k·2 mm up
     EXPECT_LE(worstPull, 0.2);
     EXPECT_NEAR(lastForce.z, kK * 0.002, 0.2);
+}
+
+// Local candidate while in contact: a finger pressed 2 mm into the backdrop pushes on sideways into a
+// steep bank (slope 3, 72°) that rises 15 mm to a plateau. The god-object holds its proxy on the
+// bank, farther and farther to the side of the HIP; once the HIP is nearer the plateau above it than
+// the bank (17 mm), the plateau holds it: the force turns from pushing back to pushing up.
+TEST(FingerGuardTest, aFingerPushedDeepIntoASteepBankIsHeldByTheNearerPlateau)
+{
+    Rig rig;
+    rig.show(still([](double x, double) { return std::clamp(-0.010 + 3.0 * (x + 0.005), -0.010, 0.005); }));
+    const glm::dvec3 start(-0.010, 0.0, -0.012);
+    rig.press(start);
+    ASSERT_TRUE(rig.out.back().contact);
+    double pushBack = 0.0;
+    for (int k = 0; k <= 600; ++k) { // 30 mm at 5 cm/s: x from −10 to +20 mm
+        const HapticOutput &o = rig.step(start + glm::dvec3(0.05e-3 * k, 0.0, 0.0));
+        pushBack = std::max(pushBack, -o.force.x);
+    }
+    for (int k = 0; k < 300; ++k) // held, the ramp of the switch done
+        rig.step(start + glm::dvec3(0.030, 0.0, 0.0));
+    const HapticOutput &last = rig.out.back();
+    std::printf("20 mm past the bank's foot: proxy (%.2f, %.2f) mm, force (%.2f, %.2f, %.2f) N; "
+                "largest push back %.2f N\n",
+                last.proxy.x * 1e3, last.proxy.z * 1e3, last.force.x, last.force.y, last.force.z, pushBack);
+    EXPECT_GT(pushBack, 2.0); // the bank did hold it for a while
+    EXPECT_TRUE(last.contact);
+    EXPECT_NEAR(last.proxy.z, 0.005, 3e-4);
+    EXPECT_NEAR(last.proxy.x, 0.020, 1e-3);
+    EXPECT_NEAR(last.force.z, 8.5, 1e-6); // 17 mm at 800 N/m, clamped to the device maximum
+    EXPECT_LT(std::fabs(last.force.x), 0.5);
 }
 
 } // namespace
