@@ -36,7 +36,7 @@ StrokesRun runStrokes(const FeelScene &scene, const std::vector<Stroke> &strokes
     }
     const FeelFigures &f = r.total;
     std::printf("%-18s %-17s false trips %zu, pop-through %.0f ms, phantom %.0f ms, spikes %.2f/s "
-                "(worst stroke %.0f), max %.2f N\n",
+                "(worst stroke %.2f/s), max %.2f N\n",
                 scene.name.c_str(), setting.name.c_str(), f.falseTrips, f.popThroughMs, f.phantomMs,
                 f.spikesPerSecond, r.worstSpikes, f.maxForce);
     return r;
@@ -75,8 +75,15 @@ TEST_P(FeelScenarioTest, fingerMeetsTheFeelGoalsWhereModifiedFails)
     ASSERT_TRUE(scene) << scene.error().what;
     const std::vector<Stroke> strokes = makeStrokes(*scene);
     ASSERT_GE(strokes.size(), 9u);
-    expectGoalsMet(runStrokes(*scene, strokes, setting("finger")));
-    expectGoalsMet(runStrokes(*scene, strokes, setting("finger-ramp")));
+    for (const char *name : {"finger", "finger-ramp"}) {
+        const StrokesRun finger = runStrokes(*scene, strokes, setting(name));
+        expectGoalsMet(finger);
+        // AND no worse than measured on these seeded scenes (worst stroke: table and head 0 spikes/s,
+        // forearm 1.0/s), by a margin of one spike per second: the goals above leave room for regressions
+        // such as losing the local candidate beside a silhouette (forearm: 3/s)
+        const double measured = GetParam() == SyntheticScene::Forearm ? 1.0 : 0.0;
+        EXPECT_LE(finger.worstSpikes, measured + 1.0) << name;
+    }
     const StrokesRun release = runStrokes(*scene, strokes, setting("modified-release"));
     EXPECT_GT(release.total.falseTrips, 0u);
     EXPECT_GT(release.total.spikesPerSecond, 2.0);
