@@ -13,6 +13,8 @@ set -euo pipefail
 HOST_PACKAGES=(
     # build
     build-essential cmake ninja-build pkgconf git
+    # compile cache: shared between build trees (the mutation check's scratch copy)
+    ccache
     # tests and benchmarks
     googletest libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
     # libraries used by the app layer
