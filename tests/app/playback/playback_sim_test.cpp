@@ -297,37 +297,6 @@ TEST(PlaybackSim, SeekRestartsAtTheTargetAndKeepsTheForce)
     EXPECT_EQ(p.playback().stats().seeks, 1u);
 }
 
-TEST(PlaybackSim, AStallDelaysFramesWithinTheMaxLatenessAndDropsThemBeyondIt)
-{
-    for (const double maxLateness : {0.25, 0.0}) {
-        SCOPED_TRACE(maxLateness);
-        // GIVEN a 2 s clip at 30 fps on the 60 Hz mock display: frames on every other blank
-        playback::PlaybackConfig config;
-        config.maxLateness = maxLateness;
-        SimPlayer p(config, nullptr);
-        p.play("mock://clip?frames=60&fps=30&width=64&height=48", 60);
-        p.stepUntil([&] { return p.playback().position() > 0.5; });
-        // WHEN one present stalls 120 ms: it returns at the blank after, 133.3 ms after the
-        // stalled frame's, when its successor is 100 ms late and the next three are due
-        p.display().stallNextPresent(0.12);
-        p.stepUntil([&] { return p.machine().state() == PlayerState::Stopped; });
-        const playback::PlaybackStats s = p.playback().stats();
-        EXPECT_EQ(s.framesReceived, 60u);
-        EXPECT_EQ(s.framesPresented + s.framesDropped, 60u);
-        if (maxLateness > 0.0) {
-            // THEN within 0.25 s of lateness every frame is shown, the first one 100 ms late
-            EXPECT_EQ(s.framesDropped, 0u);
-            EXPECT_NEAR(s.lateMsMax, 100.0, 0.01);
-            // and the four taken more than a frame period late (100, 83.3, 66.7, 50 ms): each
-            // next one catches up a blank (16.7 ms)
-            EXPECT_EQ(s.framesLate, 4u);
-        } else {
-            // THEN with none allowed the three frames whose successors are due are skipped
-            EXPECT_EQ(s.framesDropped, 3u);
-        }
-    }
-}
-
 TEST(PlaybackSim, TheStiffnessCommandScalesTheForceTheFingerFeels)
 {
     // GIVEN the still finger 2 mm into a still surface: k·2 mm = 1.6 N at the default 800 N/m
@@ -344,28 +313,6 @@ TEST(PlaybackSim, TheStiffnessCommandScalesTheForceTheFingerFeels)
     p.step(20);
     EXPECT_NEAR(mock.lastForce().z, p.playback().hapticTask()->stiffness() * 0.002, 0.01);
     EXPECT_LT(p.playback().hapticTask()->stiffness(), 1200.0);
-}
-
-TEST(PlaybackSim, FramesThatCannotCatchUpAreSkippedAfterThreeTimesTheMaxLateness)
-{
-    // GIVEN 30 fps on a 30 Hz display (every blank needs a new frame: a late player cannot catch
-    // up by showing frames for one blank instead of two) and 0.1 s of lateness allowed
-    playback::PlaybackConfig config;
-    config.maxLateness = 0.1;
-    SimPlayer p(config, nullptr, {}, 30.0, "refresh=30");
-    p.play("mock://clip?frames=120&fps=30&width=64&height=48", 120);
-    p.stepUntil([&] { return p.playback().position() > 0.5; });
-    // WHEN one present stalls 80 ms: it returns at the blank 100 ms after the stalled frame's,
-    // and every frame after it is 66.7 ms late (two frames behind, under the 0.1 s allowed)
-    p.display().stallNextPresent(0.08);
-    p.stepUntil([&] { return p.machine().state() == PlayerState::Stopped; });
-    const playback::PlaybackStats s = p.playback().stats();
-    EXPECT_EQ(s.framesPresented + s.framesDropped, 120u);
-    // THEN the frames taken from 100 ms to 300 ms after the stalled one are shown late (six, one
-    // a blank), then two are skipped and the player is back in time to the end
-    EXPECT_NEAR(s.lateMsMax, 200.0 / 3.0, 0.01);
-    EXPECT_EQ(s.framesLate, 6u);
-    EXPECT_EQ(s.framesDropped, 2u);
 }
 
 } // namespace

@@ -1,9 +1,9 @@
 /// \file
 /// \brief The player pipeline (playback::Playback) driven by the real StateMachine on the mock HAL:
 /// mock media source and decoders, the mock display (no GL) and the simulated hand, in real time:
-/// the haptics switch, flat playback without depth, and clean errors. What depends on time
-/// (frames on time, lateness, the haptic rate, pause, seek, loop, a scene cut, stiffness) runs on
-/// simulated time in playback_sim_test.cpp.
+/// lateness after a stall, the haptics switch, flat playback without depth, and clean errors. What
+/// else depends on time (frames on time, the haptic rate, pause, seek, loop, a scene cut,
+/// stiffness) runs on simulated time in playback_sim_test.cpp.
 
 #include <chrono>
 #include <memory>
@@ -89,6 +89,57 @@ struct Rig {
         runUntil([] { return false; }, d);
     }
 };
+
+TEST(Playback, AStallDelaysFramesWithinTheMaxLatenessAndDropsThemBeyondIt)
+{
+    for (const double maxLateness : {0.25, 0.0}) {
+        SCOPED_TRACE(maxLateness);
+        // GIVEN a 2 s clip at 30 fps on a 60 Hz display
+        Rig rig(false, false, maxLateness);
+        auto &display = static_cast<drivers::MockDisplay &>(*rig.display);
+        ASSERT_TRUE(rig.machine->execute("play mock://clip?frames=60&fps=30&width=64&height=48")
+                        .accepted);
+        ASSERT_TRUE(rig.runUntil([&] { return rig.playback->position() > 0.5; }));
+        // WHEN the render thread stalls for 120 ms (3.6 frame periods) in one present
+        display.stallNextPresent(0.12);
+        ASSERT_TRUE(rig.runUntil([&] { return rig.machine->state() == PlayerState::Stopped; }));
+        const playback::PlaybackStats s = rig.playback->stats();
+        EXPECT_EQ(s.framesReceived, 60u);
+        EXPECT_EQ(s.framesPresented + s.framesDropped, 60u);
+        if (maxLateness > 0.0) {
+            // THEN within 0.25 s of lateness every frame is shown, late, and the next catch up:
+            // the frame after the stalled one is taken at least 120 - 33 ms after its time
+            EXPECT_EQ(s.framesDropped, 0u);
+            EXPECT_GE(s.lateMsMax, 80.0);
+            EXPECT_GE(s.framesLate, 1u);
+            EXPECT_LE(s.lateMsMax, 1e3 * maxLateness);
+        } else {
+            // THEN with none allowed the frames whose successors are due are skipped
+            EXPECT_GE(s.framesDropped, 1u);
+        }
+    }
+}
+
+TEST(Playback, FramesThatCannotCatchUpAreSkippedAfterThreeTimesTheMaxLateness)
+{
+    // GIVEN 30 fps on a 30 Hz display: every refresh needs a new frame, so a late player cannot
+    // catch up by showing frames for one refresh instead of two
+    Rig rig(false, false, 0.1, "refresh=30");
+    auto &display = static_cast<drivers::MockDisplay &>(*rig.display);
+    ASSERT_TRUE(
+        rig.machine->execute("play mock://clip?frames=120&fps=30&width=64&height=48").accepted);
+    ASSERT_TRUE(rig.runUntil([&] { return rig.playback->position() > 0.5; }));
+    // WHEN the render thread stalls for 80 ms (more than two frame periods behind, under the
+    // 0.1 s of lateness allowed)
+    display.stallNextPresent(0.08);
+    ASSERT_TRUE(rig.runUntil([&] { return rig.machine->state() == PlayerState::Stopped; }));
+    const playback::PlaybackStats s = rig.playback->stats();
+    EXPECT_EQ(s.framesPresented + s.framesDropped, 120u);
+    // THEN frames are skipped once the player has been late for 0.3 s (about 9 frames), and it is
+    // back in time: it does not stay a frame period late to the end (3.5 s, over 100 frames)
+    EXPECT_GE(s.framesDropped, 1u);
+    EXPECT_LT(s.framesLate, 50u) << "late frames: the player stayed behind";
+}
 
 // (The stiffness's effect on the force: PlaybackSim.TheStiffnessCommandScalesTheForceTheFingerFeels.)
 TEST(Playback, TheHapticsSwitchRampsTheForceOut)

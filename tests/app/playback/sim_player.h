@@ -6,7 +6,7 @@
 /// millisecond at a time. Counts that depend on time (frames presented, haptic updates, lateness)
 /// are then exact and independent of how loaded the machine is. The decode thread does not use
 /// the clock (it polls); before each step the rig waits until it has decoded ahead of the render
-/// thread, so a frame is never late because the decoder was descheduled in real time.
+/// thread, so a frame is not late because the decoder was descheduled in real time.
 ///
 /// Depth content can be scripted: ScriptedDepthDecoder replaces the mock decoder's depth pictures
 /// by flat surfaces whose height the test gives per frame (a scene cut is a frame whose height
@@ -219,7 +219,9 @@ public:
 
 private:
     /// Waits (real time, on the events) until the clock-driven threads sleep and the decode thread
-    /// is two frames ahead of the render thread or has decoded the whole clip.
+    /// has two frames queued beyond those the render thread took (it counts a frame as output
+    /// before it is queued, hence three), or has decoded the whole clip, or is blocked with its
+    /// queue full (its output stopped for 200 ms of real time).
     void settle()
     {
         const player::PlayerState s = machine_->state();
@@ -228,10 +230,19 @@ private:
         const int sleepers = 1 + (playback_->hapticTask() != nullptr ? 1 : 0);
         while (clock_.sleepers() < sleepers)
             std::this_thread::yield();
+        std::uint64_t lastOutput = ~std::uint64_t{0};
+        auto since = std::chrono::steady_clock::now();
         for (;;) {
             const playback::PlaybackStats st = playback_->stats();
-            if (st.receiver.framesOutput >= std::min(st.framesReceived + 2, frames_))
+            if (st.receiver.framesOutput >= std::min(st.framesReceived + 3, frames_))
                 break;
+            const auto now = std::chrono::steady_clock::now();
+            if (st.receiver.framesOutput != lastOutput) {
+                lastOutput = st.receiver.framesOutput;
+                since = now;
+            } else if (now - since > 200ms) {
+                break;
+            }
             std::this_thread::yield();
         }
     }
