@@ -363,10 +363,20 @@ TEST(DisciplineTest, hapticThreadNeverAllocatesLocksOrWritesAfterStart)
     clock.sleepFor(50ms);
     (*task)->setEnabled(true);
     const HapticStats mid = (*task)->stats();
-    sim.disconnect(); // unplug: the lost path and the reconnection
-    clock.sleepFor(30ms);
+    // Unplug, then plug back: the lost path and the reconnection. Each waits for the task to have
+    // seen it (a loaded machine may run the haptic thread late); the 10 s only guards against a hang.
+    auto waitUntil = [&clock](auto done) {
+        const auto deadline = clock.now() + 10s;
+        while (!done() && clock.now() < deadline)
+            clock.sleepFor(1ms);
+        return done();
+    };
+    sim.disconnect();
+    EXPECT_TRUE(waitUntil([&] { return (*task)->stats().deviceLosses >= 1; })) << "the unplug was not seen";
     sim.reconnect();
-    clock.sleepFor(150ms);
+    EXPECT_TRUE(waitUntil([&] { return (*task)->stats().reconnects >= 1; })) << "no reconnection";
+    const std::uint64_t afterReconnect = (*task)->stats().updates;
+    EXPECT_TRUE(waitUntil([&] { return (*task)->stats().updates >= afterReconnect + 50; }));
     (*task)->stop();
     const Counts after = snapshot();
     decoding.store(false);
