@@ -95,8 +95,12 @@ fi
 
 # ---- the scratch tree -----------------------------------------------------------------------------
 step() { printf '\n=== mutation: %s (%s) ===\n' "$1" "$(date -u +%H:%M:%S)"; }
-step "copy the working tree to $scratch"
 mkdir -p "$scratch"
+# One run at a time per scratch tree (a second run waits).
+exec 9> "$scratch/../run.lock"
+flock 9
+
+step "copy the working tree to $scratch"
 # Tracked and untracked-but-not-ignored files, with their times (unchanged files are not rebuilt).
 (cd "$root" && git ls-files -z --cached --others --exclude-standard | xargs -0 -r ls -d 2>/dev/null |
     tar -cf - --no-recursion -T -) | tar -xf - -C "$scratch" || { echo "mutation: copy failed" >&2; exit 1; }
