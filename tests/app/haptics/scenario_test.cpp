@@ -235,10 +235,6 @@ TEST_P(FormatScenarioTest, interpolationRemovesTheFrameRateTremor)
 // 3. Scene cut (Fig. 9a) and 4. fast object edge (Fig. 9b)
 // -----------------------------------------------------------------------------------------------
 
-struct CutResult {
-    std::vector<double> force; ///< |F| per update
-};
-
 /// Runs the four variants on \a video with the HIP pressed \a press (m) into the surface at \a xy,
 /// held; the surface jumps from \a zBefore to \a zAfter (m) during the run.
 void runJump(SyntheticVideo &video, const glm::dvec3 &xy, double zBefore, const char *label,

@@ -380,7 +380,8 @@ private:
 /// Either way the result is the same kind of point as solveProxy()'s (a local optimum of the
 /// god-object on the full surface, on the surface, never below it); only features narrower than
 /// \a stride cells between the old and the new proxy can be passed over.
-/// \param stride coarse cells per fine cell; ≤ 1, or a grid too small for it, runs solveProxy() alone.
+/// \param grid the coarse grid (CoarseGrid::of()): its stride is fine cells per coarse cell; a stride
+/// under 2, or a surface too small for it, runs solveProxy() alone.
 /// \param minCells the largest first-guess move, fine cells; farther, the coarse pass runs. ≤ 0: no
 /// guess, the coarse pass runs (for a move known to be long, e.g. a fast HIP).
 template <class Surface>

@@ -24,7 +24,7 @@ namespace depthtouch::haptics {
 
 /// \brief Which renderer (the `--method` option).
 enum class Method : std::uint8_t {
-    Modified,   ///< Modified proxy graph, fixes (a)(b)(c) on: the player's renderer.
+    Modified,   ///< Modified proxy graph, fixes (a)(b)(c) on: the paper's renderer (section IV).
     ProxyGraph, ///< Walker & Salisbury on sample-and-hold frames: fixes off (baseline).
     MeshBvh,    ///< Full triangle mesh + AABB tree rebuilt for every frame (baseline).
     Finger,     ///< Fingertip proxy on the finger-scale surface (finger_renderer.h): the default.
@@ -41,7 +41,8 @@ enum class Reengage : std::uint8_t {
     Ramp,    ///< The proxy is re-seated on the surface above the HIP and the force ramps in.
 };
 
-/// \brief Renderer parameters. Defaults are the player's (DESIGN.md §3).
+/// \brief Renderer parameters. Defaults are the paper's method with its three fixes on (DESIGN.md §3);
+/// `play` differs only in `reengage`, Ramp by default (app/cli play.h); `touch` keeps Release.
 struct RendererConfig {
     SceneBox box{};             ///< Scene box the frames fill, m.
     double stiffness = 800.0;   ///< k, N/m (> 0).
@@ -153,10 +154,13 @@ class ForceStage {
 public:
     explicit ForceStage(const RendererConfig &config) noexcept : config_(config) {}
 
-    /// \brief Inputs of one update and the surface height lookup for re-seating.
+    /// \brief One update of paper IV.C: the spring force, the trip decided from its jump, the shaping.
+    /// \param hip the HIP, m, scene-box frame; \param t haptic time, s.
     /// \param[in,out] proxy proxy after the update; set to the HIP (Release) or re-seated (Ramp) on a trip.
+    /// \param[in,out] contact the proxy is held on the surface; false after a Release trip.
     /// \param surfaceAboveHip height of the surface above the HIP, m, or NaN when there is none.
-    /// \return the commanded force, N, and fills out.released / out.contact.
+    /// \param[out] released safety tripped on this update.
+    /// \return the commanded force, N: finite, |F| ≤ maxForce.
     glm::dvec3 apply(const glm::dvec3 &hip, glm::dvec3 &proxy, bool &contact, double t,
                      double surfaceAboveHip, bool &released) noexcept;
     /// \return the unshaped force k·(proxy − hip), minus b·v_HIP in contact, N; records the HIP.
