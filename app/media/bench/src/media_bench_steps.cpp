@@ -1,0 +1,257 @@
+#include "media_bench_steps.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <system_error>
+
+#include <glm/geometric.hpp>
+
+#include "depthtouch/haptics/height_field.h"
+#include "depthtouch/media/encode_job.h"
+#include "depthtouch/media/encoder.h"
+#include "depthtouch/platform/clock.h"
+#include "depthtouch/platform/cpu_time.h"
+
+namespace depthtouch::media::bench {
+
+double kbps(long long bytes, std::size_t frames, double fps)
+{
+    const double seconds = static_cast<double>(frames) / fps;
+    return seconds > 0.0 ? static_cast<double>(bytes) * 8.0 / seconds / 1000.0 : 0.0;
+}
+
+Result<Encoded> encodeClip(const Clip &clip, const std::string &path, const EncodeSetting &s)
+{
+    MuxerOptions mo;
+    mo.output = path;
+    mo.container = Container::Matroska;
+    const auto tags = depthTags(std::nullopt, depth::DepthMapping::InverseZ, 8);
+    mo.tags = tags;
+    auto muxer = Muxer::open(mo);
+    if (!muxer)
+        return unexpected(muxer.error());
+    std::unique_ptr<VideoEncoder> color;
+    if (s.withColor) {
+        VideoEncoderConfig cc;
+        cc.codec = VideoCodec::H264Yuv420p;
+        cc.width = clip.width;
+        cc.height = clip.height;
+        cc.fps = clip.fps;
+        cc.crf = s.colorCrf;
+        cc.preset = s.preset;
+        cc.threads = s.threads;
+        cc.title = "color";
+        auto c = VideoEncoder::create(cc, **muxer);
+        if (!c)
+            return unexpected(c.error());
+        color = std::move(*c);
+    }
+    VideoEncoderConfig dc;
+    dc.codec = VideoCodec::H264Gray;
+    dc.width = clip.width;
+    dc.height = clip.height;
+    dc.fps = clip.fps;
+    dc.crf = s.depthCrf;
+    dc.lossless = s.depthLossless;
+    dc.preset = s.preset;
+    dc.threads = s.threads;
+    dc.title = "depth";
+    dc.tags = tags;
+    auto depthEnc = VideoEncoder::create(dc, **muxer);
+    if (!depthEnc)
+        return unexpected(depthEnc.error());
+    DT_TRY((*muxer)->start());
+
+    platform::SteadyClock &clock = platform::SteadyClock::instance();
+    const platform::TimePoint t0 = clock.now();
+    const platform::Duration cpu0 = platform::processCpuTime();
+    for (std::size_t i = 0; i < clip.frames(); ++i) {
+        const double pts = static_cast<double>(i) / clip.fps;
+        if (color)
+            DT_TRY(color->encode(clip.color(i), pts));
+        DT_TRY((*depthEnc)->encode(clip.nearness(i), pts));
+    }
+    if (color)
+        DT_TRY(color->flush());
+    DT_TRY((*depthEnc)->flush());
+    DT_TRY((*muxer)->finish());
+    Encoded out;
+    out.seconds = platform::toSeconds(clock.now() - t0);
+    out.cpuSeconds = platform::toSeconds(platform::processCpuTime() - cpu0);
+    out.colorBytes = color ? color->bytes() : 0;
+    out.depthBytes = (*depthEnc)->bytes();
+    return out;
+}
+
+Result<Decoded> decodeFile(const std::string &path, const ReceiverBackends &backends,
+                           bool depthOnly, bool capture, int width, int height)
+{
+    if (!backends.makeSource || !backends.makeDecoder)
+        return unexpected(Errc::InvalidArgument, "no media source or decoder backend given");
+    auto src = backends.makeSource();
+    if (!src)
+        return unexpected(src.error());
+    receiver::ReceiverConfig cfg;
+    cfg.requireDepth = true;
+    cfg.requireColor = !depthOnly;
+    cfg.single = depthOnly ? receiver::SingleStream::Depth : receiver::SingleStream::Auto;
+    auto rx = receiver::Receiver::open(std::move(*src), path.c_str(), backends.makeDecoder, cfg);
+    if (!rx)
+        return unexpected(rx.error());
+    Decoded out;
+    const std::size_t frameBytes =
+        static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+    platform::SteadyClock &clock = platform::SteadyClock::instance();
+    receiver::PairedFrame f;
+    for (;;) {
+        const platform::Duration cpu0 = platform::processCpuTime();
+        const platform::TimePoint t0 = clock.now();
+        auto got = (*rx)->next(f);
+        const platform::TimePoint t1 = clock.now();
+        const platform::Duration cpu1 = platform::processCpuTime();
+        if (!got)
+            return unexpected(got.error());
+        if (!*got)
+            break;
+        const double s = platform::toSeconds(t1 - t0);
+        out.frameSeconds.push_back(s);
+        out.seconds += s;
+        out.cpuSeconds += platform::toSeconds(cpu1 - cpu0);
+        if (capture) {
+            if (!f.depth || f.depth->image.format != hal::PixelFormat::Gray8 ||
+                f.depth->image.width != width || f.depth->image.height != height)
+                return unexpected(Errc::InvalidArgument,
+                                  "decoded depth frame is not 8-bit gray of the clip size");
+            const std::size_t at = out.depth.size();
+            out.depth.resize(at + frameBytes);
+            for (int y = 0; y < height; ++y)
+                std::memcpy(out.depth.data() + at +
+                                static_cast<std::size_t>(y) * static_cast<std::size_t>(width),
+                            f.depth->image.row(0, y), static_cast<std::size_t>(width));
+        }
+    }
+    f = receiver::PairedFrame{};
+    out.stats = (*rx)->stats();
+    return out;
+}
+
+/// Views of W×H Gray8 frames stored back to back, PTS i/fps.
+std::vector<haptics::DepthFrameView> viewsOf(const std::vector<std::uint8_t> &video, int width,
+                                             int height, double fps)
+{
+    const std::size_t frameBytes =
+        static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+    std::vector<haptics::DepthFrameView> views;
+    for (std::size_t i = 0; frameBytes > 0 && (i + 1) * frameBytes <= video.size(); ++i) {
+        haptics::DepthFrameView v;
+        v.data = video.data() + i * frameBytes;
+        v.width = width;
+        v.height = height;
+        v.strideBytes = static_cast<std::size_t>(width);
+        v.format = haptics::SampleFormat::Gray8;
+        v.pts = static_cast<double>(i) / fps;
+        views.push_back(v);
+    }
+    return views;
+}
+
+/// Index of the frame shown at haptic time \a t (s from the first PTS), as replay() picks it.
+std::size_t frameAt(const std::vector<haptics::DepthFrameView> &frames, double t)
+{
+    std::size_t i = 0;
+    while (i + 1 < frames.size() && frames[i + 1].pts - frames.front().pts <= t)
+        ++i;
+    return i;
+}
+
+/// Updates of \a rows whose proxy ended below the surface the renderer saw (frames i, i+1
+/// interpolated, paper Eq. 1) by more than a millionth of the sample spacing.
+long countPopThroughs(const std::vector<haptics::DepthFrameView> &frames,
+                      const std::vector<haptics::ForceLogRow> &rows, const haptics::SceneBox &box)
+{
+    haptics::HeightField surface(box);
+    std::size_t current = frames.size();
+    long pops = 0;
+    for (const haptics::ForceLogRow &row : rows) {
+        const std::size_t i = frameAt(frames, row.t);
+        if (i != current) {
+            current = i;
+            if (!surface.setFrames(frames[i], i + 1 < frames.size() ? &frames[i + 1] : nullptr))
+                return -1;
+        }
+        surface.setTime(frames.front().pts + row.t, true);
+        const glm::dvec3 &p = row.out.proxy;
+        if (surface.contains(p.x, p.y) &&
+            p.z < surface.heightAt(p.x, p.y) - 1e-6 * surface.spacing())
+            ++pops;
+    }
+    return pops;
+}
+
+namespace {
+
+/// Frames stored back to back in memory that the caller keeps alive: no copy per replay.
+class BorrowedFrames final : public haptics::FrameProvider {
+public:
+    explicit BorrowedFrames(std::vector<haptics::DepthFrameView> views) : views_(std::move(views))
+    {
+    }
+    [[nodiscard]] std::size_t frameCount() const noexcept override { return views_.size(); }
+    Result<haptics::DepthFrameView> frame(std::size_t i) noexcept override
+    {
+        if (i >= views_.size())
+            return unexpected(Errc::InvalidArgument, "depth frame index out of range");
+        return views_[i];
+    }
+
+private:
+    std::vector<haptics::DepthFrameView> views_;
+};
+
+} // namespace
+
+Result<std::vector<haptics::ForceLogRow>>
+replayOn(const std::vector<std::uint8_t> &video, int width, int height, double fps,
+         const std::vector<haptics::TrajectorySample> &stroke,
+         const haptics::ReplayOptions &options)
+{
+    BorrowedFrames frames(viewsOf(video, width, height, fps));
+    return haptics::replay(frames, stroke, options);
+}
+
+std::string tempName(const MediaBenchOptions &o, const std::string &name)
+{
+    return (std::filesystem::path(o.workDir.empty() ? "." : o.workDir) / name).string();
+}
+
+void removeUnlessKept(const MediaBenchOptions &o, const std::string &path)
+{
+    if (!o.keepFiles) {
+        std::error_code ec;
+        std::filesystem::remove(path, ec);
+    }
+}
+
+std::string sizeText(int w, int h)
+{
+    return std::to_string(w) + "x" + std::to_string(h);
+}
+
+std::string psnrText(double db)
+{
+    if (std::isinf(db))
+        return "inf";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.2f", db);
+    return buf;
+}
+
+std::string settingText(const RateRow &r)
+{
+    return r.lossless ? std::string("lossless") : "crf" + std::to_string(r.crf);
+}
+
+} // namespace depthtouch::media::bench
