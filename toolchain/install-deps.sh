@@ -15,6 +15,8 @@ HOST_PACKAGES=(
     build-essential cmake ninja-build pkgconf git
     # compile cache: shared between build trees (the mutation check's scratch copy)
     ccache
+    # .ci/format-check: clang-format-diff on the lines changed since .ci/format-base
+    clang-format-14
     # tests and benchmarks
     googletest libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
     # libraries used by the app layer

@@ -78,9 +78,9 @@ TEST_P(FeelScenarioTest, fingerMeetsTheFeelGoalsWhereModifiedFails)
     for (const char *name : {"finger", "finger-ramp"}) {
         const StrokesRun finger = runStrokes(*scene, strokes, setting(name));
         expectGoalsMet(finger);
-        // AND no worse than measured on these seeded scenes (worst stroke: table and head 0 spikes/s,
-        // forearm 1.0/s), by a margin of one spike per second: the goals above leave room for regressions
-        // such as losing the local candidate beside a silhouette (forearm: 3/s)
+        // AND no worse than measured on these seeded scenes (worst stroke: table and head 0
+        // spikes/s, forearm 1.0/s), by a margin of one spike per second: the goals above leave room
+        // for regressions such as losing the local candidate beside a silhouette (forearm: 3/s)
         const double measured = GetParam() == SyntheticScene::Forearm ? 1.0 : 0.0;
         EXPECT_LE(finger.worstSpikes, measured + 1.0) << name;
     }

@@ -62,7 +62,10 @@ struct Rig {
     }
 };
 
-double planarStep(const glm::dvec3 &a, const glm::dvec3 &b) { return std::hypot(b.x - a.x, b.y - a.y); }
+double planarStep(const glm::dvec3 &a, const glm::dvec3 &b)
+{
+    return std::hypot(b.x - a.x, b.y - a.y);
+}
 
 // Glide: a still finger 3 mm into a table that tilts to 45° about the proxy in one frame. The new
 // optimum is 1.5 mm to the side; the proxy goes there at most r/4 (0.375 mm) per update, so noisy
@@ -82,8 +85,9 @@ TEST(FingerGuardTest, aSuddenTiltMovesTheProxyAtMostAQuarterRadiusPerUpdate)
     for (std::size_t i = before; i < rig.out.size(); ++i)
         worst = std::max(worst, planarStep(rig.out[i - 1].proxy, rig.out[i].proxy));
     const HapticOutput &last = rig.out.back();
-    std::printf("tilt: largest proxy move %.3f mm per update (limit %.3f mm), final proxy x %.3f mm\n",
-                worst * 1e3, 0.25 * kRadius * 1e3, last.proxy.x * 1e3);
+    std::printf(
+        "tilt: largest proxy move %.3f mm per update (limit %.3f mm), final proxy x %.3f mm\n",
+        worst * 1e3, 0.25 * kRadius * 1e3, last.proxy.x * 1e3);
     EXPECT_LE(worst, 0.25 * kRadius + 1e-9);
     EXPECT_GT(worst, 0.2 * kRadius); // it did glide, at close to the limit
     // AND it arrives: the projection of the HIP on the plane z = x is (−1.5, 0, −1.5) mm, and the
@@ -93,9 +97,9 @@ TEST(FingerGuardTest, aSuddenTiltMovesTheProxyAtMostAQuarterRadiusPerUpdate)
     EXPECT_NEAR(glm::length(last.force), kK * 0.003 / std::sqrt(2.0), 0.15);
 }
 
-// Ramp of a small step: the surface under a finger pressed 2 mm in rises 1.5 mm in one frame (a loop
-// or seek onto a nearby picture: more than maxForceStep/(4k) = 0.625 mm, less than a cut). The force
-// grows from 1.6 N to 2.8 N over the ramp time (0.25 s) instead of in one update.
+// Ramp of a small step: the surface under a finger pressed 2 mm in rises 1.5 mm in one frame (a
+// loop or seek onto a nearby picture: more than maxForceStep/(4k) = 0.625 mm, less than a cut). The
+// force grows from 1.6 N to 2.8 N over the ramp time (0.25 s) instead of in one update.
 TEST(FingerGuardTest, aSmallSurfaceStepUnderThePressedFingerIsRampedIn)
 {
     Rig rig;
@@ -114,9 +118,10 @@ TEST(FingerGuardTest, aSmallSurfaceStepUnderThePressedFingerIsRampedIn)
         trips += rig.out[i].released ? 1 : 0;
     }
     const double after = glm::length(rig.out.back().force);
-    std::printf("step 1.5 mm: force %.3f N -> %.3f N, largest step %.4f N per update\n", before, after, worst);
-    // THEN no trip, the force steps by about (2.8 − 1.6) N / 250 updates at most, and ends at k·3.5 mm
-    // (8-bit quantisation of the two surfaces: ±0.16 mm, ±0.13 N)
+    std::printf("step 1.5 mm: force %.3f N -> %.3f N, largest step %.4f N per update\n", before,
+                after, worst);
+    // THEN no trip, the force steps by about (2.8 − 1.6) N / 250 updates at most, and ends at k·3.5
+    // mm (8-bit quantisation of the two surfaces: ±0.16 mm, ±0.13 N)
     EXPECT_EQ(trips, 0);
     EXPECT_LE(worst, 2.0 * (after - before) / 250.0);
     EXPECT_NEAR(before, kK * 0.002, 0.13);
@@ -130,8 +135,8 @@ OwnedFrame blockFrame(double width)
 }
 
 // Capture depth: an object 15 mm tall appears in one frame over a free finger held 5 mm above the
-// backdrop (a cut, or an object moving in). The finger is 10 mm under the object's top, deeper than a
-// new contact may start (max(maxForceStep/k, box depth/10) = 4 mm): it is behind the object (the
+// backdrop (a cut, or an object moving in). The finger is 10 mm under the object's top, deeper than
+// a new contact may start (max(maxForceStep/k, box depth/10) = 4 mm): it is behind the object (the
 // side the camera did not see), not inside it. Without the guard the object would shoot it out with
 // the full force. Once the finger is out above the object, a press on the top is felt again.
 TEST(FingerGuardTest, anObjectAppearingOverAFreeFingerLeavesItBehindWithNoForce)
@@ -157,18 +162,19 @@ TEST(FingerGuardTest, anObjectAppearingOverAFreeFingerLeavesItBehindWithNoForce)
     for (int k = 0; k < 400; ++k)
         rig.step(hip + glm::dvec3(0, 0, 0.008));
     const HapticOutput &last = rig.out.back();
-    std::printf("object over the finger: largest force %.3f N in %d contact updates; on the top %.3f N\n",
-                worst, contacts, glm::length(last.force));
+    std::printf(
+        "object over the finger: largest force %.3f N in %d contact updates; on the top %.3f N\n",
+        worst, contacts, glm::length(last.force));
     EXPECT_EQ(worst, 0.0);
     EXPECT_EQ(contacts, 0);
     EXPECT_TRUE(last.contact);
     EXPECT_NEAR(last.force.z, kK * 0.002, 0.13);
 }
 
-// Local candidate: a finger pressed 2 mm into the backdrop slides under a thin object (9 mm wide, its
-// top 15 mm above the backdrop) and out the other side. While its proxy is held at the object's near
-// wall, more than r to the side, the backdrop under the HIP is nearer once it is past: the finger
-// touches that instead of being pulled back through the object to the wall's proxy.
+// Local candidate: a finger pressed 2 mm into the backdrop slides under a thin object (9 mm wide,
+// its top 15 mm above the backdrop) and out the other side. While its proxy is held at the object's
+// near wall, more than r to the side, the backdrop under the HIP is nearer once it is past: the
+// finger touches that instead of being pulled back through the object to the wall's proxy.
 TEST(FingerGuardTest, aPressedFingerPastAThinObjectTouchesTheBackdropBeyondIt)
 {
     Rig rig;
@@ -192,14 +198,15 @@ TEST(FingerGuardTest, aPressedFingerPastAThinObjectTouchesTheBackdropBeyondIt)
     EXPECT_NEAR(lastForce.z, kK * 0.002, 0.2);
 }
 
-// Local candidate while in contact: a finger pressed 2 mm into the backdrop pushes on sideways into a
-// steep bank (slope 3, 72°) that rises 15 mm to a plateau. The god-object holds its proxy on the
-// bank, farther and farther to the side of the HIP; once the HIP is nearer the plateau above it than
-// the bank (17 mm), the plateau holds it: the force turns from pushing back to pushing up.
+// Local candidate while in contact: a finger pressed 2 mm into the backdrop pushes on sideways into
+// a steep bank (slope 3, 72°) that rises 15 mm to a plateau. The god-object holds its proxy on the
+// bank, farther and farther to the side of the HIP; once the HIP is nearer the plateau above it
+// than the bank (17 mm), the plateau holds it: the force turns from pushing back to pushing up.
 TEST(FingerGuardTest, aFingerPushedDeepIntoASteepBankIsHeldByTheNearerPlateau)
 {
     Rig rig;
-    rig.show(still([](double x, double) { return std::clamp(-0.010 + 3.0 * (x + 0.005), -0.010, 0.005); }));
+    rig.show(still(
+        [](double x, double) { return std::clamp(-0.010 + 3.0 * (x + 0.005), -0.010, 0.005); }));
     const glm::dvec3 start(-0.010, 0.0, -0.012);
     rig.press(start);
     ASSERT_TRUE(rig.out.back().contact);
@@ -213,7 +220,8 @@ TEST(FingerGuardTest, aFingerPushedDeepIntoASteepBankIsHeldByTheNearerPlateau)
     const HapticOutput &last = rig.out.back();
     std::printf("20 mm past the bank's foot: proxy (%.2f, %.2f) mm, force (%.2f, %.2f, %.2f) N; "
                 "largest push back %.2f N\n",
-                last.proxy.x * 1e3, last.proxy.z * 1e3, last.force.x, last.force.y, last.force.z, pushBack);
+                last.proxy.x * 1e3, last.proxy.z * 1e3, last.force.x, last.force.y, last.force.z,
+                pushBack);
     EXPECT_GT(pushBack, 2.0); // the bank did hold it for a while
     EXPECT_TRUE(last.contact);
     EXPECT_NEAR(last.proxy.z, 0.005, 3e-4);

@@ -1,8 +1,9 @@
 /// \file
 /// \brief The pop-through hunt: random strokes over randomly moving surfaces, counting every update
 /// that ends with the proxy below the interpolated surface (paper IV.A–B: the failure the modified
-/// proxy graph algorithm removes). Run at the paper's resolution, on 8-bit frames and at 1920 pixels
-/// wide, where the proxy solver's coarse-to-fine pass (RendererConfig::coarseSpacing) is in use.
+/// proxy graph algorithm removes). Run at the paper's resolution, on 8-bit frames and at 1920
+/// pixels wide, where the proxy solver's coarse-to-fine pass (RendererConfig::coarseSpacing) is in
+/// use.
 
 #include <algorithm>
 #include <cmath>
@@ -36,10 +37,10 @@ using test::timeOf;
 // 6. Pop-through hunt
 // -----------------------------------------------------------------------------------------------
 
-/// Random travelling waves (separable, so a frame costs O(terms·(W+H)) trig calls); the height of any
-/// vertex changes by at most 3 mm per frame. Rough: wavelengths from 15 mm, curvature radii down to
-/// 1 mm. Smooth: total curvature bounded so radii stay above 8 mm (more than the 5 mm the strokes
-/// press in), the surfaces a viewer strokes in practice.
+/// Random travelling waves (separable, so a frame costs O(terms·(W+H)) trig calls); the height of
+/// any vertex changes by at most 3 mm per frame. Rough: wavelengths from 15 mm, curvature radii
+/// down to 1 mm. Smooth: total curvature bounded so radii stay above 8 mm (more than the 5 mm the
+/// strokes press in), the surfaces a viewer strokes in practice.
 class RandomWaves {
 public:
     RandomWaves(std::uint64_t seed, int w, int h, double fps, bool smooth, SampleFormat format)
@@ -75,9 +76,11 @@ public:
         std::vector<double> cy(static_cast<std::size_t>(h_));
         for (const Term &t : terms_) {
             for (int c = 0; c < w_; ++c)
-                cx[static_cast<std::size_t>(c)] = std::sin(t.kx * test::sampleX(box, w_, c) + t.px + t.dx * i);
+                cx[static_cast<std::size_t>(c)] =
+                    std::sin(t.kx * test::sampleX(box, w_, c) + t.px + t.dx * i);
             for (int r = 0; r < h_; ++r)
-                cy[static_cast<std::size_t>(r)] = std::cos(t.ky * test::sampleY(box, w_, h_, r) + t.py + t.dy * i);
+                cy[static_cast<std::size_t>(r)] =
+                    std::cos(t.ky * test::sampleY(box, w_, h_, r) + t.py + t.dy * i);
             for (int r = 0; r < h_; ++r)
                 for (int c = 0; c < w_; ++c)
                     z[static_cast<std::size_t>(r * w_ + c)] +=
@@ -85,7 +88,8 @@ public:
         }
         for (int r = 0; r < h_; ++r)
             for (int c = 0; c < w_; ++c)
-                f.set(c, r, test::toNearness(box, format_, z[static_cast<std::size_t>(r * w_ + c)]));
+                f.set(c, r,
+                      test::toNearness(box, format_, z[static_cast<std::size_t>(r * w_ + c)]));
         return f;
     }
 
@@ -120,8 +124,8 @@ HuntResult hunt(const RendererConfig &cfg, int surfaces, int strokesPerSurface, 
     HuntResult res;
     const double fps = 30.0;
     for (int sIdx = 0; sIdx < surfaces; ++sIdx) {
-        const RandomWaves waves(seed + static_cast<std::uint64_t>(sIdx), frames.w, frames.h, fps, smooth,
-                                frames.format);
+        const RandomWaves waves(seed + static_cast<std::uint64_t>(sIdx), frames.w, frames.h, fps,
+                                smooth, frames.format);
         SyntheticVideo video(kBox, fps, [&waves](int i) { return waves.frame(i); });
         ProxyGraphRenderer r(cfg);
         std::mt19937_64 rng(seed * 31 + static_cast<std::uint64_t>(sIdx));
@@ -137,9 +141,10 @@ HuntResult hunt(const RendererConfig &cfg, int surfaces, int strokesPerSurface, 
             // at 0.05–1 m/s
             const double tx = std::clamp(hip.x + 0.012 * (u(rng) - 0.5), -0.048, 0.048);
             const double ty = std::clamp(hip.y + 0.012 * (u(rng) - 0.5), -yMax, yMax);
-            const double tz = video.reference(timeOf(n)).valid()
-                                  ? video.reference(timeOf(n)).heightAt(tx, ty) - 0.005 + 0.007 * u(rng)
-                                  : 0.0;
+            const double tz =
+                video.reference(timeOf(n)).valid()
+                    ? video.reference(timeOf(n)).heightAt(tx, ty) - 0.005 + 0.007 * u(rng)
+                    : 0.0;
             const glm::dvec3 target(tx, ty, tz);
             const double speed = 0.05 + 0.95 * u(rng);
             const double len = glm::length(target - hip);
@@ -149,7 +154,8 @@ HuntResult hunt(const RendererConfig &cfg, int surfaces, int strokesPerSurface, 
                 const double t = timeOf(n);
                 if (video.advance(t))
                     video.feed(r);
-                hip = from + (target - from) * (static_cast<double>(j) / static_cast<double>(steps));
+                hip =
+                    from + (target - from) * (static_cast<double>(j) / static_cast<double>(steps));
                 const HapticOutput out = r.update(hip, t);
                 const HeightField &ref = video.reference(t);
                 const double surf = ref.heightAt(out.proxy.x, out.proxy.y);
@@ -179,14 +185,17 @@ TEST(ScenarioTest, popThroughHuntFindsNoProxyBelowTheSurface)
     ramp.reengage = Reengage::Ramp;
     const HuntResult rmp = hunt(ramp, 2, 5000, 11, false);
     const HuntResult pg = hunt(proxyGraph(), 2, 5000, 11, false);
-    std::printf("[hunt] modified, rough surfaces: %ld updates (%ld in contact), %ld below the surface, "
-                "%d safety releases\n",
-                rough.updates, rough.contacts, rough.below, rough.releases);
-    std::printf("[hunt] modified, smooth surfaces: %ld updates (%ld in contact), %ld below, %d releases\n",
-                smooth.updates, smooth.contacts, smooth.below, smooth.releases);
+    std::printf(
+        "[hunt] modified, rough surfaces: %ld updates (%ld in contact), %ld below the surface, "
+        "%d safety releases\n",
+        rough.updates, rough.contacts, rough.below, rough.releases);
+    std::printf(
+        "[hunt] modified, smooth surfaces: %ld updates (%ld in contact), %ld below, %d releases\n",
+        smooth.updates, smooth.contacts, smooth.below, smooth.releases);
     std::printf("[hunt] modified ramp, rough: %ld updates, %ld below, %d releases\n", rmp.updates,
                 rmp.below, rmp.releases);
-    std::printf("[hunt] proxy-graph, rough: %ld updates, %ld below the surface\n", pg.updates, pg.below);
+    std::printf("[hunt] proxy-graph, rough: %ld updates, %ld below the surface\n", pg.updates,
+                pg.below);
     // THEN the modified renderer never ends an update with the proxy below the interpolated surface
     // (except after a Release trip, where passing through is the paper's intent: not counted)
     EXPECT_EQ(rough.below, 0);
@@ -202,13 +211,13 @@ TEST(ScenarioTest, popThroughHuntFindsNoProxyBelowTheSurface)
     EXPECT_GT(pg.below, 0);
 }
 
-
 TEST(ScenarioTest, popThroughHuntOnEightBitFramesFindsNoProxyBelowTheSurface)
 {
     // GIVEN the smooth hunt on 8-bit frames (0.16 mm depth steps: what H.264 4:0:0 decodes to)
     const HuntResult smooth =
         hunt(modified(), 4, 3000, 21, true, HuntFrames{96, 72, SampleFormat::Gray8});
-    const HuntResult pg = hunt(proxyGraph(), 2, 3000, 21, true, HuntFrames{96, 72, SampleFormat::Gray8});
+    const HuntResult pg =
+        hunt(proxyGraph(), 2, 3000, 21, true, HuntFrames{96, 72, SampleFormat::Gray8});
     std::printf("[hunt 8-bit] modified, smooth surfaces: %ld updates (%ld in contact), %ld below, "
                 "%d releases; proxy-graph %ld below\n",
                 smooth.updates, smooth.contacts, smooth.below, smooth.releases, pg.below);
@@ -221,16 +230,18 @@ TEST(ScenarioTest, popThroughHuntOnEightBitFramesFindsNoProxyBelowTheSurface)
 
 TEST(ScenarioTest, popThroughHuntAt1920PixelsWideUsesTheCoarsePassAndFindsNoProxyBelowTheSurface)
 {
-    // GIVEN 1920×1080 frames: a coarse stride of floor((0.1 m / 719) / (0.1 m / 1919)) = 2 cells, so
-    // a HIP moving more than 2 cells (0.1 mm) per update takes the coarse-to-fine path
+    // GIVEN 1920×1080 frames: a coarse stride of floor((0.1 m / 719) / (0.1 m / 1919)) = 2 cells,
+    // so a HIP moving more than 2 cells (0.1 mm) per update takes the coarse-to-fine path
     const HuntFrames hd{1920, 1080, SampleFormat::Gray16};
     const RendererConfig cfg = modified();
     const HuntResult smooth = hunt(cfg, 1, 400, 21, true, hd);
     const HuntResult rough = hunt(cfg, 1, 400, 11, false, hd);
-    std::printf("[hunt 1920x1080] modified: smooth %ld updates (%ld in contact), %ld below, %d releases; "
-                "rough %ld updates, %ld below\n",
-                smooth.updates, smooth.contacts, smooth.below, smooth.releases, rough.updates, rough.below);
-    // THEN no update ends below the fine surface (the coarse pass only guesses; the fine pass decides)
+    std::printf(
+        "[hunt 1920x1080] modified: smooth %ld updates (%ld in contact), %ld below, %d releases; "
+        "rough %ld updates, %ld below\n",
+        smooth.updates, smooth.contacts, smooth.below, smooth.releases, rough.updates, rough.below);
+    // THEN no update ends below the fine surface (the coarse pass only guesses; the fine pass
+    // decides)
     EXPECT_EQ(smooth.below, 0);
     EXPECT_EQ(rough.below, 0);
     EXPECT_GT(smooth.contacts, smooth.updates / 4);

@@ -19,13 +19,25 @@ inline constexpr double kK = 800.0;     ///< default stiffness, N/m
 inline constexpr SceneBox kBox{};       ///< default scene box (0.1 m wide, 0.04 m deep)
 
 /// \return haptic time of update \a n, s.
-inline double timeOf(long n) { return static_cast<double>(n) / kRate; }
+inline double timeOf(long n)
+{
+    return static_cast<double>(n) / kRate;
+}
 
-inline RendererConfig modified() { return RendererConfig::forMethod(Method::Modified); }
-inline RendererConfig proxyGraph() { return RendererConfig::forMethod(Method::ProxyGraph); }
+inline RendererConfig modified()
+{
+    return RendererConfig::forMethod(Method::Modified);
+}
+inline RendererConfig proxyGraph()
+{
+    return RendererConfig::forMethod(Method::ProxyGraph);
+}
 
 /// \return "gray16" or "gray8", for test names.
-inline const char *formatName(SampleFormat f) { return f == SampleFormat::Gray8 ? "gray8" : "gray16"; }
+inline const char *formatName(SampleFormat f)
+{
+    return f == SampleFormat::Gray8 ? "gray8" : "gray16";
+}
 
 /// One renderer under test with the statistics the scenarios look at.
 struct Variant {

@@ -40,12 +40,13 @@ using test::Variant;
 // -----------------------------------------------------------------------------------------------
 /// The scenarios that run on both storage formats of a depth frame: 16-bit nearness (PNG, FFV1) and
 /// 8-bit (what H.264 4:0:0 decodes to, the usual case on a set-top box).
-class FormatScenarioTest : public ::testing::TestWithParam<SampleFormat> {
-};
+class FormatScenarioTest : public ::testing::TestWithParam<SampleFormat> {};
 
 INSTANTIATE_TEST_SUITE_P(Formats, FormatScenarioTest,
                          ::testing::Values(SampleFormat::Gray16, SampleFormat::Gray8),
-                         [](const ::testing::TestParamInfo<SampleFormat> &i) { return formatName(i.param); });
+                         [](const ::testing::TestParamInfo<SampleFormat> &i) {
+                             return formatName(i.param);
+                         });
 
 // -----------------------------------------------------------------------------------------------
 // 1. Rising surface (Fig. 5a/5b)
@@ -55,8 +56,8 @@ TEST_P(FormatScenarioTest, risingSurfaceKeepsContactOnlyWithCorrection)
 {
     // GIVEN a flat surface rising 1 mm per frame (30 fps) and a HIP pressed in, then held still
     const double fps = 30.0;
-    SyntheticVideo video(kBox, 64, 48, fps, [](double, double, int i) { return -0.012 + 0.001 * i; },
-                         GetParam());
+    SyntheticVideo video(
+        kBox, 64, 48, fps, [](double, double, int i) { return -0.012 + 0.001 * i; }, GetParam());
     Variant mod("modified", modified());
     Variant pg("proxy-graph", proxyGraph());
     const glm::dvec3 xy(0.003, -0.002, 0.0);
@@ -120,11 +121,14 @@ TEST_P(FormatScenarioTest, sinusoidMovingUpAndDownNeverSwallowsTheProxy)
         // GIVEN a wavy surface bobbing at 3 Hz with a peak speed of mmPerFrame mm per frame
         const double f = 3.0;
         const double amp = 0.001 * mmPerFrame * fps / (2.0 * std::numbers::pi * f);
-        SyntheticVideo video(kBox, 96, 72, fps, [&](double x, double y, int i) {
-            return 0.004 * std::sin(2 * std::numbers::pi * x / 0.04) *
-                       std::cos(2 * std::numbers::pi * y / 0.05) +
-                   amp * std::sin(2 * std::numbers::pi * f * i / fps);
-        }, GetParam());
+        SyntheticVideo video(
+            kBox, 96, 72, fps,
+            [&](double x, double y, int i) {
+                return 0.004 * std::sin(2 * std::numbers::pi * x / 0.04) *
+                           std::cos(2 * std::numbers::pi * y / 0.05) +
+                       amp * std::sin(2 * std::numbers::pi * f * i / fps);
+            },
+            GetParam());
         Variant mod("modified", modified());
         Variant pg("proxy-graph", proxyGraph());
         mod.renderer.reset({0.015, 0.0, 0.02});
@@ -297,8 +301,8 @@ void runJump(SyntheticVideo &video, const glm::dvec3 &xy, double zBefore, const 
     // AND without safety the viewer gets the kick: one step far above the threshold
     EXPECT_GT(nos.maxStep, 2.0 * thr);
     EXPECT_NEAR(nos.maxForce, 8.5, 1e-9);
-    // AND a release from a press force above the threshold unloads in steps of exactly the threshold
-    // (the force-step limiter: ForceStage::shape()'s final slew)
+    // AND a release from a press force above the threshold unloads in steps of exactly the
+    // threshold (the force-step limiter: ForceStage::shape()'s final slew)
     const double pressForce = kK * (zBefore - hipZ);
     if (pressForce > thr + 1e-9) {
         EXPECT_NEAR(rel.maxStep, thr, 1e-9);
@@ -314,8 +318,9 @@ void runJump(SyntheticVideo &video, const glm::dvec3 &xy, double zBefore, const 
 TEST_P(FormatScenarioTest, sceneCutIsCaughtBySafety)
 {
     // GIVEN a depth jump of half the box depth (20 mm) between frames 9 and 10
-    SyntheticVideo video(kBox, 64, 48, 30.0, [](double, double, int i) { return i < 10 ? -0.012 : 0.008; },
-                         GetParam());
+    SyntheticVideo video(
+        kBox, 64, 48, 30.0, [](double, double, int i) { return i < 10 ? -0.012 : 0.008; },
+        GetParam());
     runJump(video, glm::dvec3(0.004, 0.003, 0.0), video.quantised(-0.012), "cut", 1000,
             video.quantised(0.008));
 }
@@ -323,8 +328,9 @@ TEST_P(FormatScenarioTest, sceneCutIsCaughtBySafety)
 TEST_P(FormatScenarioTest, sceneCutUnderADeepPressUnloadsThroughTheForceStepLimiter)
 {
     // GIVEN the same cut with the HIP pressed 4 mm in (3.2 N, above the 2 N force-step threshold)
-    SyntheticVideo video(kBox, 64, 48, 30.0, [](double, double, int i) { return i < 10 ? -0.012 : 0.008; },
-                         GetParam());
+    SyntheticVideo video(
+        kBox, 64, 48, 30.0, [](double, double, int i) { return i < 10 ? -0.012 : 0.008; },
+        GetParam());
     runJump(video, glm::dvec3(0.004, 0.003, 0.0), video.quantised(-0.012), "cut, deep press", 1000,
             video.quantised(0.008), 0.004);
 }
@@ -332,9 +338,10 @@ TEST_P(FormatScenarioTest, sceneCutUnderADeepPressUnloadsThroughTheForceStepLimi
 TEST_P(FormatScenarioTest, fastObjectEdgeIsCaughtBySafety)
 {
     // GIVEN a 15 mm block whose edge slides left at 1.5 mm per frame toward a proxy resting on the floor
-    SyntheticVideo video(kBox, 200, 150, 30.0, [](double x, double, int i) {
-        return x >= 0.004 - 0.0015 * i ? 0.005 : -0.010;
-    }, GetParam());
+    SyntheticVideo video(
+        kBox, 200, 150, 30.0,
+        [](double x, double, int i) { return x >= 0.004 - 0.0015 * i ? 0.005 : -0.010; },
+        GetParam());
     runJump(video, glm::dvec3(-0.002, 0.001, 0.0), video.quantised(-0.010), "edge", 1000,
             video.quantised(0.005));
 }
@@ -413,9 +420,10 @@ TEST(ScenarioTest, forceMatchesTheAnalyticPenetrationOnPlaneSphereAndSinusoid)
             worstRel = std::max(worstRel, err / glm::length(truth));
             ++checked;
         }
-        std::printf("[exact %s] %d updates: worst |F - k·pen·n| = %.3g N (%.3g %%), allowed 1 %% + %.3g N "
-                    "and %.3g %% overall\n",
-                    a.name, checked, worst, 100.0 * worstRel, bound, 100.0 * a.worstRel);
+        std::printf(
+            "[exact %s] %d updates: worst |F - k·pen·n| = %.3g N (%.3g %%), allowed 1 %% + %.3g N "
+            "and %.3g %% overall\n",
+            a.name, checked, worst, 100.0 * worstRel, bound, 100.0 * a.worstRel);
         // AND the worst error is what this stroke measured (0.23 %, 0.60 %, 1.7 %) with a margin of
         // 1.5×: the analytic bound above is a worst case over all surfaces of that curvature
         EXPECT_LE(worstRel, a.worstRel) << a.name;

@@ -362,28 +362,28 @@ private:
     int h_;
 };
 
-/// \brief solveProxy() for grids finer than the proxy needs to walk, with a first guess of where the
-/// proxy is going.
+/// \brief solveProxy() for grids finer than the proxy needs to walk, with a first guess of where
+/// the proxy is going.
 ///
 /// The guess is the HIP projected onto the surface's tangent plane at the start, taken from the
-/// vertices \a stride cells around it (the god-object optimum of that plane). Facets a few cells wide
-/// have noisy normals (a 16-bit depth step over a 3840-wide frame tilts a facet by about a degree),
-/// so the plane of the start triangle alone would guess several cells wide of the mark, and a
-/// descent from there stops in one of the shallow local optima that noise makes.
+/// vertices \a stride cells around it (the god-object optimum of that plane). Facets a few cells
+/// wide have noisy normals (a 16-bit depth step over a 3840-wide frame tilts a facet by about a
+/// degree), so the plane of the start triangle alone would guess several cells wide of the mark,
+/// and a descent from there stops in one of the shallow local optima that noise makes.
 /// - When the guess is within \a minCells fine cells (x–y) of the start triangle, the full-grid
 ///   descent starts at the triangle under the guess.
 /// - Else the proxy has far to go: the descent runs first on the surface seen every \a stride-th
-///   vertex, then on the full grid from where that ended. The number of triangles crossed per update
-///   then no longer grows with the depth resolution (a 1 mm stroke per update is 38 cells of a
-///   3840-wide frame over 0.1 m, but 7 cells at stride 5).
+///   vertex, then on the full grid from where that ended. The number of triangles crossed per
+///   update then no longer grows with the depth resolution (a 1 mm stroke per update is 38 cells of
+///   a 3840-wide frame over 0.1 m, but 7 cells at stride 5).
 ///
 /// Either way the result is the same kind of point as solveProxy()'s (a local optimum of the
 /// god-object on the full surface, on the surface, never below it); only features narrower than
 /// \a stride cells between the old and the new proxy can be passed over.
-/// \param grid the coarse grid (CoarseGrid::of()): its stride is fine cells per coarse cell; a stride
-/// under 2, or a surface too small for it, runs solveProxy() alone.
-/// \param minCells the largest first-guess move, fine cells; farther, the coarse pass runs. ≤ 0: no
-/// guess, the coarse pass runs (for a move known to be long, e.g. a fast HIP).
+/// \param grid the coarse grid (CoarseGrid::of()); its stride is fine cells per coarse cell.
+///   A stride under 2, or a surface too small for it, runs solveProxy() alone.
+/// \param minCells the largest first-guess move, fine cells; farther, the coarse pass runs.
+///   ≤ 0: no guess, the coarse pass runs (for a move known to be long, e.g. a fast HIP).
 template <class Surface>
 ProxySolution solveProxyCoarseToFine(const Surface &surf, const TriangleId &start,
                                      const glm::dvec3 &hip, const CoarseGrid &grid,

@@ -41,8 +41,9 @@ enum class Reengage : std::uint8_t {
     Ramp,    ///< The proxy is re-seated on the surface above the HIP and the force ramps in.
 };
 
-/// \brief Renderer parameters. Defaults are the paper's method with its three fixes on (DESIGN.md §3);
-/// `play` differs only in `reengage`, Ramp by default (app/cli play.h); `touch` keeps Release.
+/// \brief Renderer parameters. Defaults are the paper's method with its three fixes on
+/// (DESIGN.md §3); `play` differs only in `reengage`, Ramp by default (app/cli play.h); `touch`
+/// keeps Release.
 struct RendererConfig {
     SceneBox box{};             ///< Scene box the frames fill, m.
     double stiffness = 800.0;   ///< k, N/m (> 0).
@@ -154,9 +155,10 @@ class ForceStage {
 public:
     explicit ForceStage(const RendererConfig &config) noexcept : config_(config) {}
 
-    /// \brief One update of paper IV.C: the spring force, the trip decided from its jump, the shaping.
-    /// \param hip the HIP, m, scene-box frame; \param t haptic time, s.
-    /// \param[in,out] proxy proxy after the update; set to the HIP (Release) or re-seated (Ramp) on a trip.
+    /// \brief One update of paper IV.C: the spring force, its jump trips safety, then the shaping.
+    /// \param hip the HIP, m, scene-box frame.
+    /// \param t haptic time, s.
+    /// \param[in,out] proxy after the update; the HIP (Release) or re-seated (Ramp) on a trip.
     /// \param[in,out] contact the proxy is held on the surface; false after a Release trip.
     /// \param surfaceAboveHip height of the surface above the HIP, m, or NaN when there is none.
     /// \param[out] released safety tripped on this update.
