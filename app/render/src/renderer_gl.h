@@ -1,0 +1,137 @@
+#pragma once
+/// \file
+/// \brief The GL objects of StereoRenderer, private to dt_render: textures, the surface program
+/// variants, the avatar and OSD programs and buffers. The renderer's members live in three files:
+/// renderer.cpp (shaders and creation), renderer_upload.cpp (depth and colour uploads) and
+/// renderer_draw.cpp (the surface, avatar and OSD passes).
+/// Needs a current GLES context. Thread-safety: the GL thread only.
+
+#include <GLES3/gl3.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "depthtouch/render/color.h"
+#include "depthtouch/render/renderer.h"
+
+namespace depthtouch::render {
+
+namespace gl {
+
+/// A texture with immutable storage, reallocated only when its size or format changes.
+struct Texture {
+    GLuint name = 0;
+    int width = 0;
+    int height = 0;
+    GLenum internalFormat = 0;
+    GLint filter = 0;
+
+    void ensure(int w, int h, GLenum format, GLint minMag)
+    {
+        if (name != 0 && w == width && h == height && format == internalFormat) {
+            if (minMag != filter) {
+                glBindTexture(GL_TEXTURE_2D, name);
+                glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, minMag);
+                glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, minMag);
+                filter = minMag;
+            }
+            return;
+        }
+        if (name != 0)
+            glDeleteTextures(1, &name);
+        glGenTextures(1, &name);
+        glBindTexture(GL_TEXTURE_2D, name);
+        glTexStorage2D(GL_TEXTURE_2D, 1, format, w, h);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, minMag);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, minMag);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        width = w;
+        height = h;
+        internalFormat = format;
+        filter = minMag;
+    }
+    void release() noexcept
+    {
+        if (name != 0)
+            glDeleteTextures(1, &name);
+        name = 0;
+        width = height = 0;
+    }
+};
+
+/// Uploads \a h rows of \a rowSamples samples of \a bytesPerSample bytes, \a stride bytes apart.
+void uploadRows(const Texture &tex, const std::uint8_t *data, std::size_t stride, int w, int h,
+                GLenum format, GLenum type, int bytesPerSample);
+
+/// \brief One surface program and its uniform locations.
+struct SurfaceProgram {
+    GLuint program = 0;
+    GLint columns = -1, origin = -1, step = -1, zMap = -1, texScale = -1, viewProj = -1;
+    GLint yuvToRgb = -1, yuvOffset = -1, rowParity = -1;
+};
+
+/// What the surface fragment shader outputs.
+enum SurfaceVariant : int { kPositionOut = 0, kRgbOut = 1, kYuvOut = 2 };
+
+} // namespace gl
+
+/// \brief Every GL object the renderer owns; released with it.
+struct StereoRenderer::Gl {
+    // [depth16][SurfaceVariant][row parity]
+    gl::SurfaceProgram surface[2][3][2];
+    GLuint avatarProgram = 0;
+    GLint avCenter = -1, avRadius = -1, avViewProj = -1, avColor = -1, avRowParity = -1;
+    GLuint osdProgram = 0;
+    GLint osdViewport = -1, osdColor = -1, osdTextured = -1;
+    GLuint surfaceVao = 0;
+    GLuint indexBuffer = 0;
+    GLsizei indexCount = 0;
+    GLuint sphereVao = 0;
+    GLuint sphereVbo = 0;
+    GLuint sphereIbo = 0;
+    GLsizei sphereIndexCount = 0;
+    GLuint osdVao = 0;
+    GLuint osdVbo = 0;
+    gl::Texture depth;
+    gl::Texture y, u, v;
+    gl::Texture rgb; ///< The colour frame as RGBA8 when converted on the CPU.
+    gl::Texture font;
+    YuvConverter converter;
+    std::vector<float> osdVertices;
+
+    ~Gl()
+    {
+        for (auto &plane : surface)
+            for (auto &row : plane)
+                for (auto &p : row)
+                    if (p.program != 0)
+                        glDeleteProgram(p.program);
+        if (avatarProgram != 0)
+            glDeleteProgram(avatarProgram);
+        if (osdProgram != 0)
+            glDeleteProgram(osdProgram);
+        const GLuint vaos[] = {surfaceVao, sphereVao, osdVao};
+        glDeleteVertexArrays(3, vaos);
+        const GLuint buffers[] = {indexBuffer, sphereVbo, sphereIbo, osdVbo};
+        glDeleteBuffers(4, buffers);
+        depth.release();
+        y.release();
+        u.release();
+        v.release();
+        rgb.release();
+        font.release();
+    }
+
+    /// Builds the twelve surface programs (depth format × output × row parity).
+    Result<void> buildSurfacePrograms();
+    /// Builds the avatar and OSD programs and looks up their uniforms.
+    Result<void> buildOverlayPrograms();
+    /// Makes the avatar's unit UV sphere (positions are the normals) and its vertex array.
+    void buildSphere();
+    /// Makes the OSD glyph atlas and its stream vertex array.
+    void buildOsd();
+};
+
+} // namespace depthtouch::render

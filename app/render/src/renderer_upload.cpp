@@ -1,0 +1,176 @@
+#include <GLES3/gl3.h>
+
+#include <cstdint>
+#include <utility>
+
+#include "depthtouch/haptics/height_field.h"
+#include "depthtouch/render/renderer.h"
+#include "renderer_gl.h"
+
+// StereoRenderer's uploads: the depth frame (mesh, texture, index buffer) and the colour frame
+// (Y'CbCr planes, or RGBA converted on the CPU), with their stage times.
+
+namespace depthtouch::render {
+
+using gl::uploadRows;
+
+double StereoRenderer::stageEnd(platform::TimePoint start) const noexcept
+{
+    if (stageTiming_ == StageTiming::Finished)
+        glFinish();
+    return platform::toSeconds(clock_.now() - start) * 1e3;
+}
+
+Result<void> FramePrep::build(const haptics::DepthFrameView &depth, const hal::ImageView *color,
+                              const ColorSpec &spec, const MeshOptions &options)
+{
+    built_ = false;
+    hasRgba = false;
+    rgba = nullptr;
+    if (color != nullptr) {
+        if (color->empty() || color->width <= 0 || color->height <= 0)
+            return unexpected(Errc::InvalidArgument, "colour frame is empty");
+        if (color->format != hal::PixelFormat::Yuv420p && color->format != hal::PixelFormat::Gray8)
+            return unexpected(Errc::NotSupported, "colour frames must be yuv420p or gray8");
+    }
+    if (auto r = mesh.build(depth, options); !r)
+        return r;
+    meshOptions = options;
+    depthData = depth.data;
+    if (color != nullptr) {
+        rgba = &converter_.convert(*color, spec);
+        colorWidth = color->width;
+        colorHeight = color->height;
+        hasRgba = true;
+    }
+    built_ = true;
+    return ok();
+}
+
+Result<void> StereoRenderer::setDepth(const haptics::DepthFrameView &depth)
+{
+    const platform::TimePoint t = clock_.now();
+    if (auto r = mesh_.build(depth, options_.mesh); !r)
+        return r;
+    return uploadDepth(depth, t);
+}
+
+void StereoRenderer::finish() const noexcept
+{
+    glFinish();
+}
+
+Result<void> StereoRenderer::setDepth(const haptics::DepthFrameView &depth, FramePrep &prep)
+{
+    // A mesh made under another block budget is taken: the budget follows the frame times and may
+    // lag a frame behind (LodController).
+    MeshOptions made = prep.meshOptions;
+    made.maxBlocks = options_.mesh.maxBlocks;
+    if (!prep.built() || prep.depthData != depth.data || !(made == options_.mesh))
+        return setDepth(depth);
+    const platform::TimePoint t = clock_.now();
+    std::swap(mesh_, prep.mesh);
+    return uploadDepth(depth, t);
+}
+
+Result<void> StereoRenderer::uploadDepth(const haptics::DepthFrameView &depth,
+                                         platform::TimePoint start)
+{
+    platform::TimePoint t = start;
+    // The haptic renderer's height field validates the frame and gives the mapping.
+    haptics::HeightField field(options_.box);
+    if (auto r = field.setFrames(depth, nullptr); !r)
+        return r;
+    mapping_ = SurfaceMapping::fromHeightField(field);
+    depthFormat_ = depth.format;
+    stageTimes_.mesh = stageEnd(t);
+
+    t = clock_.now();
+    Gl &g = *gl_;
+    const bool d16 = depth.format == haptics::SampleFormat::Gray16;
+    g.depth.ensure(depth.width, depth.height, d16 ? GL_R16UI : GL_R8, GL_NEAREST);
+    uploadRows(g.depth, depth.data, depth.strideBytes, depth.width, depth.height,
+               d16 ? GL_RED_INTEGER : GL_RED, d16 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE,
+               d16 ? 2 : 1);
+    stageTimes_.depthUpload = stageEnd(t);
+
+    t = clock_.now();
+    const auto &idx = mesh_.indices();
+    glBindVertexArray(g.surfaceVao);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.indexBuffer);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+                 static_cast<GLsizeiptr>(idx.size() * sizeof(std::uint32_t)), idx.data(),
+                 GL_STREAM_DRAW);
+    glBindVertexArray(0);
+    g.indexCount = static_cast<GLsizei>(idx.size());
+    haveDepth_ = true;
+    stageTimes_.indexUpload = stageEnd(t);
+    return ok();
+}
+
+Result<void> StereoRenderer::setColor(const hal::ImageView &image, const ColorSpec &spec)
+{
+    if (image.empty() || image.width <= 0 || image.height <= 0)
+        return unexpected(Errc::InvalidArgument, "colour frame is empty");
+    if (image.format != hal::PixelFormat::Yuv420p && image.format != hal::PixelFormat::Gray8)
+        return unexpected(Errc::NotSupported, "colour frames must be yuv420p or gray8");
+    const platform::TimePoint t = clock_.now();
+    Gl &g = *gl_;
+    const bool onCpu = options_.colorConversion == ColorConversion::Cpu ||
+                       (options_.colorConversion == ColorConversion::Auto && softwareRasterizer_);
+    const bool nearest = options_.colorFilter == ColorFilter::Nearest ||
+                         (options_.colorFilter == ColorFilter::Auto && softwareRasterizer_);
+    const GLint filter = nearest ? GL_NEAREST : GL_LINEAR;
+    if (onCpu) {
+        uploadRgba(g.converter.convert(image, spec).data(), image.width, image.height);
+    } else if (image.format == hal::PixelFormat::Yuv420p) {
+        const int cw = (image.width + 1) / 2;
+        const int ch = (image.height + 1) / 2;
+        g.y.ensure(image.width, image.height, GL_R8, filter);
+        g.u.ensure(cw, ch, GL_R8, filter);
+        g.v.ensure(cw, ch, GL_R8, filter);
+        uploadRows(g.y, image.planes[0].data, static_cast<std::size_t>(image.planes[0].strideBytes),
+                   image.width, image.height, GL_RED, GL_UNSIGNED_BYTE, 1);
+        uploadRows(g.u, image.planes[1].data, static_cast<std::size_t>(image.planes[1].strideBytes),
+                   cw, ch, GL_RED, GL_UNSIGNED_BYTE, 1);
+        uploadRows(g.v, image.planes[2].data, static_cast<std::size_t>(image.planes[2].strideBytes),
+                   cw, ch, GL_RED, GL_UNSIGNED_BYTE, 1);
+    } else {
+        const std::uint8_t neutral = 128;
+        g.y.ensure(image.width, image.height, GL_R8, filter);
+        g.u.ensure(1, 1, GL_R8, filter);
+        g.v.ensure(1, 1, GL_R8, filter);
+        uploadRows(g.y, image.planes[0].data, static_cast<std::size_t>(image.planes[0].strideBytes),
+                   image.width, image.height, GL_RED, GL_UNSIGNED_BYTE, 1);
+        uploadRows(g.u, &neutral, 1, 1, 1, GL_RED, GL_UNSIGNED_BYTE, 1);
+        uploadRows(g.v, &neutral, 1, 1, 1, GL_RED, GL_UNSIGNED_BYTE, 1);
+    }
+    colorOnCpu_ = onCpu;
+    colorFromDmaBuf_ = false;
+    colorSpec_ = spec;
+    stageTimes_.colorUpload = stageEnd(t);
+    return ok();
+}
+
+void StereoRenderer::uploadRgba(const std::uint32_t *rgba, int width, int height)
+{
+    const bool nearest = options_.colorFilter == ColorFilter::Nearest ||
+                         (options_.colorFilter == ColorFilter::Auto && softwareRasterizer_);
+    Gl &g = *gl_;
+    g.rgb.ensure(width, height, GL_RGBA8, nearest ? GL_NEAREST : GL_LINEAR);
+    uploadRows(g.rgb, reinterpret_cast<const std::uint8_t *>(rgba),
+               static_cast<std::size_t>(width) * 4, width, height, GL_RGBA, GL_UNSIGNED_BYTE, 4);
+}
+
+Result<void> StereoRenderer::setColor(const FramePrep &prep)
+{
+    if (!prep.built() || !prep.hasRgba || prep.rgba == nullptr)
+        return unexpected(Errc::InvalidArgument, "the prepared frame holds no converted colour");
+    const platform::TimePoint t = clock_.now();
+    uploadRgba(prep.rgba->data(), prep.colorWidth, prep.colorHeight);
+    colorOnCpu_ = true;
+    stageTimes_.colorUpload = stageEnd(t);
+    return ok();
+}
+
+} // namespace depthtouch::render
