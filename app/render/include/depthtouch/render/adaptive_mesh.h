@@ -146,6 +146,12 @@ private:
                     int size, int &finest);
     template <class T>
     void buildQuadtreeBudget(const haptics::DepthFrameView &depth, const MeshOptions &options);
+    /// The greedy refinement of buildQuadtreeBudget() (adaptive_mesh_quadtree.cpp).
+    template <class T> struct BudgetRefinement;
+    /// Sorts blocks_ into emission order: tile by tile, inside a tile by position.
+    void orderBlocks();
+    /// Marks each cell with its block's size and each tile with its finest step (and the stats).
+    void markBlocks();
     void emitBlock(int c0, int r0, int size);
 
     /// A quadtree leaf: top-left cell and log2 of its size.
