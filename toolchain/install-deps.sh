@@ -17,6 +17,8 @@ HOST_PACKAGES=(
     ccache
     # .ci/format-check: clang-format-diff on the lines changed since .ci/format-base
     clang-format-14
+    # packaging: the man page from --help; dpkg-shlibdeps (dpkg-dev) for the package's Depends
+    help2man dpkg-dev
     # tests and benchmarks
     googletest libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
     # libraries used by the app layer
