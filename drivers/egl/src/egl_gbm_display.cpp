@@ -228,20 +228,14 @@ EglGbmDisplay::~EglGbmDisplay()
     close();
 }
 
-Result<void> EglGbmDisplay::open(const hal::DisplayConfig &cfg)
+Result<void> EglGbmDisplay::openDevice(const hal::DisplayConfig &cfg)
 {
-    if (state_ != State::Closed) {
-        DT_LOG(Kms, Error, "In state %s trying open() requiring Closed",
-               state_ == State::Open ? "Open" : "Lost");
-        return unexpected(Errc::InvalidState, "open() requires state Closed");
-    }
     auto r = openOutput(cfg);
     if (!r) {
         kms_->destroy(); // restores the CRTC when it was saved
         return r;
     }
     frames_ = 0;
-    state_ = State::Open;
     return ok();
 }
 
@@ -347,30 +341,21 @@ Result<void> EglGbmDisplay::openOutput(const hal::DisplayConfig &cfg)
     return ok();
 }
 
-void EglGbmDisplay::close() noexcept
+void EglGbmDisplay::closeDevice() noexcept
 {
-    if (state_ == State::Closed)
-        return;
     kms_->destroy();
-    state_ = State::Closed;
-    size_ = {};
-    refreshHz_ = 0.0;
 }
 
-void EglGbmDisplay::markLost(const char *why) noexcept
+void EglGbmDisplay::lose(const char *why) noexcept
 {
-    if (state_ != State::Open)
+    if (state() != State::Open)
         return;
     DT_LOG(Kms, Warning, "KMS display lost: %s", why);
-    state_ = State::Lost;
+    markLost();
 }
 
 Result<void> EglGbmDisplay::ensureCurrent()
 {
-    if (state_ == State::Closed)
-        return unexpected(Errc::InvalidState, "Display is closed");
-    if (state_ == State::Lost)
-        return unexpected(Errc::NoDevice, "KMS display lost (unplugged, or DRM master taken)");
     Kms &k = *kms_;
     if (eglGetCurrentContext() == k.context)
         return ok();
@@ -379,7 +364,7 @@ Result<void> EglGbmDisplay::ensureCurrent()
         DT_LOG(Kms, Error, "Failed to make the GBM surface context current: %s",
                egl::eglErrorName(err));
         if (err == EGL_CONTEXT_LOST || err == EGL_BAD_NATIVE_WINDOW || err == EGL_BAD_SURFACE) {
-            markLost("the EGL context or surface is gone");
+            lose("the EGL context or surface is gone");
             return unexpected(Errc::NoDevice, "KMS display lost (EGL context gone)");
         }
         return unexpected(Errc::Io, "eglMakeCurrent failed");
@@ -387,7 +372,7 @@ Result<void> EglGbmDisplay::ensureCurrent()
     return ok();
 }
 
-Result<void> EglGbmDisplay::makeCurrent()
+Result<void> EglGbmDisplay::makeCurrentDevice()
 {
     DT_TRY(ensureCurrent());
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -395,7 +380,7 @@ Result<void> EglGbmDisplay::makeCurrent()
     return ok();
 }
 
-Result<hal::PresentInfo> EglGbmDisplay::present()
+Result<hal::PresentInfo> EglGbmDisplay::presentDevice()
 {
     DT_TRY(ensureCurrent());
     Kms &k = *kms_;
@@ -404,7 +389,7 @@ Result<hal::PresentInfo> EglGbmDisplay::present()
         const EGLint err = eglGetError();
         DT_LOG(Kms, Error, "Failed to swap the GBM surface: %s", egl::eglErrorName(err));
         if (err == EGL_CONTEXT_LOST || err == EGL_BAD_SURFACE || err == EGL_BAD_NATIVE_WINDOW) {
-            markLost("the EGL context or surface is gone");
+            lose("the EGL context or surface is gone");
             return unexpected(Errc::NoDevice, "KMS display lost (EGL context gone)");
         }
         return unexpected(Errc::Io, "eglSwapBuffers failed");
@@ -412,7 +397,7 @@ Result<hal::PresentInfo> EglGbmDisplay::present()
     auto shown = k.scanout->present();
     if (!shown) {
         if (k.scanout->state() == KmsScanout::State::Lost)
-            markLost(shown.error().what);
+            lose(shown.error().what);
         return unexpected(shown.error());
     }
     k.copy.markPresented();
@@ -422,11 +407,8 @@ Result<hal::PresentInfo> EglGbmDisplay::present()
     return info;
 }
 
-Result<void> EglGbmDisplay::readPixels(const hal::ImageView &out)
+Result<void> EglGbmDisplay::readPixelsDevice(const hal::ImageView &out)
 {
-    if (!caps_.readback)
-        return unexpected(Errc::NotSupported,
-                          "This kms display keeps no frame copy (open it with readback=1)");
     DT_TRY(ensureCurrent());
     return kms_->copy.read(out, size_);
 }

@@ -69,13 +69,8 @@ EglHeadlessDisplay::~EglHeadlessDisplay()
     close();
 }
 
-Result<void> EglHeadlessDisplay::open(const hal::DisplayConfig &cfg)
+Result<void> EglHeadlessDisplay::openDevice(const hal::DisplayConfig &cfg)
 {
-    if (state_ != State::Closed) {
-        DT_LOG(Egl, Error, "In state %s trying open() requiring Closed",
-               state_ == State::Open ? "Open" : "Lost");
-        return unexpected(Errc::InvalidState, "open() requires state Closed");
-    }
     auto resolved = resolveWindowConfig(cfg, settings_);
     if (!resolved)
         return unexpected(resolved.error());
@@ -131,31 +126,21 @@ Result<void> EglHeadlessDisplay::open(const hal::DisplayConfig &cfg)
     size_ = {w, h};
     refreshHz_ = resolved->refreshHz;
     pacer_.start(clock_.now(), refreshHz_);
-    state_ = State::Open;
     return ok();
 }
 
-void EglHeadlessDisplay::close() noexcept
+void EglHeadlessDisplay::closeDevice() noexcept
 {
-    if (state_ == State::Closed)
-        return;
     gl_->destroy();
-    state_ = State::Closed;
-    size_ = {};
-    refreshHz_ = 0.0;
 }
 
-std::uint32_t EglHeadlessDisplay::framebuffer() const noexcept
+std::uint32_t EglHeadlessDisplay::framebufferDevice() const noexcept
 {
-    return state_ == State::Open ? gl_->fbo[static_cast<std::size_t>(gl_->back)] : 0u;
+    return gl_->fbo[static_cast<std::size_t>(gl_->back)];
 }
 
 Result<void> EglHeadlessDisplay::ensureCurrent()
 {
-    if (state_ == State::Closed)
-        return unexpected(Errc::InvalidState, "Display is closed");
-    if (state_ == State::Lost)
-        return unexpected(Errc::NoDevice, "Display lost");
     if (eglGetCurrentContext() == gl_->context)
         return ok();
     if (eglMakeCurrent(gl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, gl_->context) == EGL_FALSE) {
@@ -163,7 +148,7 @@ Result<void> EglHeadlessDisplay::ensureCurrent()
         DT_LOG(Egl, Error, "Failed to make the headless context current: %s",
                egl::eglErrorName(err));
         if (err == EGL_CONTEXT_LOST) {
-            state_ = State::Lost;
+            markLost();
             return unexpected(Errc::NoDevice, "GL context lost");
         }
         return unexpected(Errc::Io, "eglMakeCurrent failed");
@@ -171,7 +156,7 @@ Result<void> EglHeadlessDisplay::ensureCurrent()
     return ok();
 }
 
-Result<void> EglHeadlessDisplay::makeCurrent()
+Result<void> EglHeadlessDisplay::makeCurrentDevice()
 {
     DT_TRY(ensureCurrent());
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer());
@@ -179,7 +164,7 @@ Result<void> EglHeadlessDisplay::makeCurrent()
     return ok();
 }
 
-Result<hal::PresentInfo> EglHeadlessDisplay::present()
+Result<hal::PresentInfo> EglHeadlessDisplay::presentDevice()
 {
     DT_TRY(ensureCurrent());
     // A screen shows a frame only once it is drawn: wait for the GPU like a flip does.
@@ -190,7 +175,7 @@ Result<hal::PresentInfo> EglHeadlessDisplay::present()
     return pacer_.next(clock_);
 }
 
-Result<void> EglHeadlessDisplay::readPixels(const hal::ImageView &out)
+Result<void> EglHeadlessDisplay::readPixelsDevice(const hal::ImageView &out)
 {
     DT_TRY(ensureCurrent());
     if (!gl_->presented)

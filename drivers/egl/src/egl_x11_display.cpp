@@ -180,13 +180,8 @@ EglX11Display::~EglX11Display()
     close();
 }
 
-Result<void> EglX11Display::open(const hal::DisplayConfig &cfg)
+Result<void> EglX11Display::openDevice(const hal::DisplayConfig &cfg)
 {
-    if (state_ != State::Closed) {
-        DT_LOG(Egl, Error, "In state %s trying open() requiring Closed",
-               state_ == State::Open ? "Open" : "Lost");
-        return unexpected(Errc::InvalidState, "open() requires state Closed");
-    }
     auto resolved = resolveWindowConfig(cfg, settings_);
     if (!resolved)
         return unexpected(resolved.error());
@@ -321,31 +316,25 @@ Result<void> EglX11Display::open(const hal::DisplayConfig &cfg)
     size_ = {w, h};
     refreshHz_ = resolved->refreshHz;
     pacer_.start(clock_.now(), refreshHz_);
-    state_ = State::Open;
     return ok();
 }
 
-void EglX11Display::close() noexcept
+void EglX11Display::closeDevice() noexcept
 {
-    if (state_ == State::Closed)
-        return;
     x_->destroy();
-    state_ = State::Closed;
-    size_ = {};
-    refreshHz_ = 0.0;
 }
 
 unsigned long EglX11Display::window() const noexcept
 {
-    return state_ == State::Closed ? 0ul : x_->window;
+    return state() == State::Closed ? 0ul : x_->window;
 }
 
-void EglX11Display::markLost(const char *why) noexcept
+void EglX11Display::lose(const char *why) noexcept
 {
-    if (state_ != State::Open)
+    if (state() != State::Open)
         return;
     DT_LOG(Egl, Warning, "X11 display lost: %s", why);
-    state_ = State::Lost;
+    markLost();
 }
 
 void EglX11Display::pumpEvents() noexcept
@@ -362,20 +351,17 @@ void EglX11Display::pumpEvents() noexcept
             x.destroyed = true;
     }
     if (x.ioError)
-        markLost("the connection to the X server was lost");
+        lose("the connection to the X server was lost");
     else if (x.destroyed)
-        markLost("the window was destroyed");
+        lose("the window was destroyed");
     else if (x.closedByUser)
-        markLost("the window was closed");
+        lose("the window was closed");
 }
 
 Result<void> EglX11Display::ensureCurrent()
 {
-    if (state_ == State::Closed)
-        return unexpected(Errc::InvalidState, "Display is closed");
-    if (state_ == State::Open)
-        pumpEvents();
-    if (state_ == State::Lost)
+    pumpEvents();
+    if (state() == State::Lost)
         return unexpected(Errc::NoDevice, "X11 display lost (window closed or X server gone)");
     X &x = *x_;
     if (eglGetCurrentContext() == x.context)
@@ -385,7 +371,7 @@ Result<void> EglX11Display::ensureCurrent()
         DT_LOG(Egl, Error, "Failed to make the X11 window context current: %s",
                egl::eglErrorName(err));
         if (err == EGL_CONTEXT_LOST || err == EGL_BAD_NATIVE_WINDOW || err == EGL_BAD_SURFACE) {
-            markLost("the window surface is gone");
+            lose("the window surface is gone");
             return unexpected(Errc::NoDevice, "X11 window surface lost");
         }
         return unexpected(Errc::Io, "eglMakeCurrent failed");
@@ -393,7 +379,7 @@ Result<void> EglX11Display::ensureCurrent()
     return ok();
 }
 
-Result<void> EglX11Display::makeCurrent()
+Result<void> EglX11Display::makeCurrentDevice()
 {
     DT_TRY(ensureCurrent());
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -401,7 +387,7 @@ Result<void> EglX11Display::makeCurrent()
     return ok();
 }
 
-Result<hal::PresentInfo> EglX11Display::present()
+Result<hal::PresentInfo> EglX11Display::presentDevice()
 {
     DT_TRY(ensureCurrent());
     X &x = *x_;
@@ -409,28 +395,25 @@ Result<hal::PresentInfo> EglX11Display::present()
     if (eglSwapBuffers(x.display, x.surface) == EGL_FALSE) {
         const EGLint err = eglGetError();
         pumpEvents();
-        if (state_ == State::Open && (err == EGL_BAD_NATIVE_WINDOW || err == EGL_BAD_SURFACE ||
+        if (state() == State::Open && (err == EGL_BAD_NATIVE_WINDOW || err == EGL_BAD_SURFACE ||
                                       err == EGL_CONTEXT_LOST || err == EGL_BAD_ALLOC))
-            markLost("the window surface is gone");
+            lose("the window surface is gone");
         DT_LOG(Egl, Error, "Failed to swap the X11 window buffers: %s", egl::eglErrorName(err));
-        if (state_ == State::Lost)
+        if (state() == State::Lost)
             return unexpected(Errc::NoDevice, "X11 display lost (window closed or X server gone)");
         return unexpected(Errc::Io, "eglSwapBuffers failed");
     }
     // A swap to a connection that broke meanwhile "succeeds": look before reporting the frame.
     pumpEvents();
-    if (state_ == State::Lost)
+    if (state() == State::Lost)
         return unexpected(Errc::NoDevice, "X11 display lost (window closed or X server gone)");
     x.copy.markPresented();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     return pacer_.follow(clock_, static_cast<unsigned>(settings_.swapInterval));
 }
 
-Result<void> EglX11Display::readPixels(const hal::ImageView &out)
+Result<void> EglX11Display::readPixelsDevice(const hal::ImageView &out)
 {
-    if (!caps_.readback)
-        return unexpected(Errc::NotSupported,
-                          "This X11 display keeps no frame copy (open it with readback=1)");
     DT_TRY(ensureCurrent());
     return x_->copy.read(out, size_);
 }

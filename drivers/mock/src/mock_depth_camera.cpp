@@ -20,22 +20,9 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kHalfFovRadians = 30.0 * kPi / 180.0;
 constexpr double kMotionPeriodSeconds = 2.0;
 
-const char *stateName(hal::DepthCamera::State s) noexcept
-{
-    switch (s) {
-    case hal::DepthCamera::State::Unconfigured:
-        return "Unconfigured";
-    case hal::DepthCamera::State::Configured:
-        return "Configured";
-    case hal::DepthCamera::State::Streaming:
-        return "Streaming";
-    }
-    return "?";
-}
-
 Unexpected denied(hal::DepthCamera::State s, const char *call, const char *required) noexcept
 {
-    DT_LOG(Mock, Error, "In state %s trying %s() requiring %s", stateName(s), call, required);
+    DT_LOG(Mock, Error, "In state %s trying %s() requiring %s", hal::toString(s), call, required);
     return unexpected(Errc::InvalidState, "Call not allowed in the camera's state");
 }
 

@@ -62,13 +62,8 @@ MockDisplay::MockDisplay(platform::Clock &clock, const MockDisplaySettings &sett
     caps_.offscreen = true;
 }
 
-Result<void> MockDisplay::open(const hal::DisplayConfig &cfg)
+Result<void> MockDisplay::openDevice(const hal::DisplayConfig &cfg)
 {
-    if (state_ != State::Closed) {
-        DT_LOG(Mock, Error, "In state %s trying open() requiring Closed",
-               state_ == State::Open ? "Open" : "Lost");
-        return unexpected(Errc::InvalidState, "open() requires state Closed");
-    }
     if (!connected_)
         return unexpected(Errc::NoDevice, "No display connected");
     int width = cfg.width > 0 ? cfg.width : settings_.width;
@@ -103,34 +98,11 @@ Result<void> MockDisplay::open(const hal::DisplayConfig &cfg)
     lastVsync_ = 0;
     presents_ = 0;
     current_ = false;
-    state_ = State::Open;
     return ok();
 }
 
-void MockDisplay::close() noexcept
+Result<void> MockDisplay::makeCurrentDevice()
 {
-    state_ = State::Closed;
-    current_ = false;
-    size_ = {};
-    refreshHz_ = 0.0;
-}
-
-hal::Size MockDisplay::size() const noexcept
-{
-    return state_ == State::Closed ? hal::Size{} : size_;
-}
-
-double MockDisplay::refreshHz() const noexcept
-{
-    return state_ == State::Closed ? 0.0 : refreshHz_;
-}
-
-Result<void> MockDisplay::makeCurrent()
-{
-    if (state_ == State::Closed)
-        return unexpected(Errc::InvalidState, "makeCurrent() requires state Open");
-    if (state_ == State::Lost)
-        return unexpected(Errc::NoDevice, "Display lost");
     current_ = true;
     return ok();
 }
@@ -140,12 +112,8 @@ platform::TimePoint MockDisplay::vsyncTime(std::uint64_t k) const noexcept
     return epoch_ + platform::fromSeconds(static_cast<double>(k) / refreshHz_);
 }
 
-Result<hal::PresentInfo> MockDisplay::present()
+Result<hal::PresentInfo> MockDisplay::presentDevice()
 {
-    if (state_ == State::Closed)
-        return unexpected(Errc::InvalidState, "present() requires state Open");
-    if (state_ == State::Lost)
-        return unexpected(Errc::NoDevice, "Display lost");
     if (const double stall = stallSeconds_.exchange(0.0); stall > 0.0)
         clock_.sleepFor(platform::fromSeconds(stall));
     const platform::TimePoint now = clock_.now();
@@ -171,8 +139,7 @@ Result<hal::PresentInfo> MockDisplay::present()
 void MockDisplay::loseDisplay() noexcept
 {
     connected_ = false;
-    if (state_ == State::Open)
-        state_ = State::Lost;
+    markLost();
     current_ = false;
 }
 

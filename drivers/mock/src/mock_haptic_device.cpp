@@ -66,73 +66,53 @@ MockHapticDevice::MockHapticDevice(platform::Clock &clock, const MockHapticSetti
     caps_.buttonCount = settings.buttonCount;
 }
 
-Result<void> MockHapticDevice::open()
+Result<MockHapticDevice::State> MockHapticDevice::openDevice()
 {
-    if (state() != State::Closed) {
-        DT_LOG(Mock, Error, "In state %s trying open() requiring Closed",
-               state() == State::Open ? "Open" : "Disconnected");
-        return unexpected(Errc::InvalidState, "open() requires state Closed");
-    }
     if (!present_.load(std::memory_order_acquire))
         return unexpected(Errc::NoDevice, "Mock haptic device unplugged");
     setOutput({});
-    state_.store(State::Open, std::memory_order_release);
-    return ok();
+    return State::Open;
 }
 
-void MockHapticDevice::close() noexcept
+void MockHapticDevice::closeDevice() noexcept
 {
     setOutput({});
-    state_.store(State::Closed, std::memory_order_release);
 }
 
-bool MockHapticDevice::isConnected() const noexcept
+bool MockHapticDevice::devicePresent() const noexcept
 {
-    return state() == State::Open && present_.load(std::memory_order_acquire);
+    return present_.load(std::memory_order_acquire);
 }
 
-Result<void> MockHapticDevice::checkUsable() noexcept
+void MockHapticDevice::zeroForceDevice() noexcept
 {
-    const State s = state();
-    if (s == State::Closed)
-        return unexpected(Errc::InvalidState, "Haptic device not open");
-    if (s == State::Disconnected)
-        return unexpected(Errc::NoDevice, "Haptic device disconnected");
-    if (!present_.load(std::memory_order_acquire)) {
-        state_.store(State::Disconnected, std::memory_order_release);
-        return unexpected(Errc::NoDevice, "Haptic device disconnected");
-    }
+    setOutput({});
+}
+
+Result<void> MockHapticDevice::checkStall() const noexcept
+{
     if (stalled_.load(std::memory_order_acquire))
         return unexpected(Errc::Timeout, "Haptic device did not answer");
     return ok();
 }
 
-Result<void> MockHapticDevice::read(hal::HapticState &out) noexcept
+Result<void> MockHapticDevice::readDevice(hal::HapticState &out) noexcept
 {
-    DT_TRY(checkUsable());
+    DT_TRY(checkStall());
     out = sampleAt(clock_.now());
     readCount_.fetch_add(1, std::memory_order_relaxed);
     return ok();
 }
 
-Result<void> MockHapticDevice::commandForce(const hal::Vec3 &force) noexcept
+Result<void> MockHapticDevice::commandForceDevice(const hal::ForceCommand &command) noexcept
 {
-    DT_TRY(checkUsable());
+    DT_TRY(checkStall());
     forceCount_.fetch_add(1, std::memory_order_relaxed);
-    if (!hal::isFinite(force)) {
-        setOutput({});
-        return unexpected(Errc::InvalidArgument, "Non-finite force");
-    }
-    hal::Vec3 f = force;
-    double magnitude = hal::norm(f);
-    if (magnitude > caps_.maxForce) {
-        f *= caps_.maxForce / magnitude;
-        magnitude = caps_.maxForce;
+    if (command.clamped)
         clampCount_.fetch_add(1, std::memory_order_relaxed);
-    }
-    setOutput(f);
-    if (magnitude > maxMagnitude_.load(std::memory_order_relaxed))
-        maxMagnitude_.store(magnitude, std::memory_order_relaxed);
+    setOutput(command.force);
+    if (command.magnitude > maxMagnitude_.load(std::memory_order_relaxed))
+        maxMagnitude_.store(command.magnitude, std::memory_order_relaxed);
     return ok();
 }
 

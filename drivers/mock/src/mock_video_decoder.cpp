@@ -17,19 +17,6 @@ namespace {
 constexpr const char *kOptionKeys[] = {"pool", "queue"};
 constexpr int kMaxSize = 4096;
 
-const char *stateName(hal::VideoDecoder::State s) noexcept
-{
-    switch (s) {
-    case hal::VideoDecoder::State::Closed:
-        return "Closed";
-    case hal::VideoDecoder::State::Configured:
-        return "Configured";
-    case hal::VideoDecoder::State::Running:
-        return "Running";
-    }
-    return "?";
-}
-
 bool outputFormatSupported(hal::StreamKind kind, hal::PixelFormat f) noexcept
 {
     if (kind == hal::StreamKind::Depth)
@@ -87,7 +74,7 @@ Result<void> MockVideoDecoder::checkState(bool allowed, const char *call,
 {
     if (allowed)
         return ok();
-    DT_LOG(Mock, Error, "In state %s trying %s() requiring %s", stateName(state_), call, required);
+    DT_LOG(Mock, Error, "In state %s trying %s() requiring %s", hal::toString(state_), call, required);
     return unexpected(Errc::InvalidState, "Call not allowed in the decoder's state");
 }
 

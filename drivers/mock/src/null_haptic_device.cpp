@@ -15,29 +15,14 @@ NullHapticDevice::NullHapticDevice()
     caps_.buttonCount = 0;
 }
 
-Result<void> NullHapticDevice::open()
+Result<void> NullHapticDevice::readDevice(hal::HapticState &) noexcept
 {
-    if (state() != State::Closed)
-        return unexpected(Errc::InvalidState, "open() requires state Closed");
-    state_.store(State::Disconnected, std::memory_order_release);
-    return ok();
-}
-
-Result<void> NullHapticDevice::noDevice() const noexcept
-{
-    if (state() == State::Closed)
-        return unexpected(Errc::InvalidState, "Haptic device not open");
     return unexpected(Errc::NoDevice, "No haptic device (backend none)");
 }
 
-Result<void> NullHapticDevice::read(hal::HapticState &) noexcept
+Result<void> NullHapticDevice::commandForceDevice(const hal::ForceCommand &) noexcept
 {
-    return noDevice();
-}
-
-Result<void> NullHapticDevice::commandForce(const hal::Vec3 &) noexcept
-{
-    return noDevice();
+    return unexpected(Errc::NoDevice, "No haptic device (backend none)");
 }
 
 } // namespace depthtouch::drivers

@@ -230,48 +230,35 @@ void SimHapticDevice::resetHand() noexcept
     publishPosition();
 }
 
-Result<void> SimHapticDevice::open()
+Result<SimHapticDevice::State> SimHapticDevice::openDevice()
 {
-    if (state() != State::Closed) {
-        DT_LOG(Sim, Error, "In state %s trying open() requiring Closed",
-               state() == State::Open ? "Open" : "Disconnected");
-        return unexpected(Errc::InvalidState, "open() requires state Closed");
-    }
     if (!present_.load(std::memory_order_acquire))
         return unexpected(Errc::NoDevice, "Simulated hand unplugged");
     resetHand();
     openedAt_ = clock_.now();
     simTime_ = openedAt_;
     setOutput({});
-    state_.store(State::Open, std::memory_order_release);
-    return ok();
+    return State::Open;
 }
 
-void SimHapticDevice::close() noexcept
+void SimHapticDevice::closeDevice() noexcept
+{
+    zeroForceDevice();
+}
+
+bool SimHapticDevice::devicePresent() const noexcept
+{
+    return present_.load(std::memory_order_acquire);
+}
+
+void SimHapticDevice::zeroForceDevice() noexcept
 {
     force_ = {};
     setOutput({});
-    state_.store(State::Closed, std::memory_order_release);
 }
 
-bool SimHapticDevice::isConnected() const noexcept
+Result<void> SimHapticDevice::checkStall() const noexcept
 {
-    return state() == State::Open && present_.load(std::memory_order_acquire);
-}
-
-Result<void> SimHapticDevice::checkUsable() noexcept
-{
-    const State s = state();
-    if (s == State::Closed)
-        return unexpected(Errc::InvalidState, "Haptic device not open");
-    if (s == State::Disconnected)
-        return unexpected(Errc::NoDevice, "Haptic device disconnected");
-    if (!present_.load(std::memory_order_acquire)) {
-        force_ = {};
-        setOutput({});
-        state_.store(State::Disconnected, std::memory_order_release);
-        return unexpected(Errc::NoDevice, "Haptic device disconnected");
-    }
     if (stalled_.load(std::memory_order_acquire))
         return unexpected(Errc::Timeout, "Haptic device did not answer");
     return ok();
@@ -443,9 +430,9 @@ void SimHapticDevice::integrateToNow() noexcept
         publishPosition();
 }
 
-Result<void> SimHapticDevice::read(hal::HapticState &out) noexcept
+Result<void> SimHapticDevice::readDevice(hal::HapticState &out) noexcept
 {
-    DT_TRY(checkUsable());
+    DT_TRY(checkStall());
     integrateToNow();
     out = hal::HapticState{};
     out.position = pos_;
@@ -456,22 +443,13 @@ Result<void> SimHapticDevice::read(hal::HapticState &out) noexcept
     return ok();
 }
 
-Result<void> SimHapticDevice::commandForce(const hal::Vec3 &force) noexcept
+Result<void> SimHapticDevice::commandForceDevice(const hal::ForceCommand &command) noexcept
 {
-    DT_TRY(checkUsable());
+    DT_TRY(checkStall());
     // The previous force acted until now (zero-order hold).
     integrateToNow();
-    if (!hal::isFinite(force)) {
-        force_ = {};
-        setOutput({});
-        return unexpected(Errc::InvalidArgument, "Non-finite force");
-    }
-    hal::Vec3 f = force;
-    const double magnitude = hal::norm(f);
-    if (magnitude > caps_.maxForce)
-        f *= caps_.maxForce / magnitude;
-    force_ = f;
-    setOutput(f);
+    force_ = command.force;
+    setOutput(command.force);
     return ok();
 }
 

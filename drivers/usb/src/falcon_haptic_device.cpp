@@ -31,19 +31,6 @@ double clampTo(double v, double lo, double hi) noexcept
     return std::min(std::max(v, lo), hi);
 }
 
-const char *stateName(hal::HapticDevice::State s) noexcept
-{
-    switch (s) {
-    case hal::HapticDevice::State::Closed:
-        return "Closed";
-    case hal::HapticDevice::State::Open:
-        return "Open";
-    case hal::HapticDevice::State::Disconnected:
-        return "Disconnected";
-    }
-    return "?";
-}
-
 /// Reads the firmware image at \a path. Errors: InvalidArgument (missing, unreadable, wrong size).
 Result<std::vector<std::uint8_t>> readFirmware(const std::string &path)
 {
@@ -145,12 +132,8 @@ FalconHapticDevice::~FalconHapticDevice()
     close();
 }
 
-Result<void> FalconHapticDevice::open()
+Result<FalconHapticDevice::State> FalconHapticDevice::openDevice()
 {
-    if (state() != State::Closed) {
-        DT_LOG(Falcon, Error, "In state %s trying open() requiring Closed", stateName(state()));
-        return unexpected(Errc::InvalidState, "open() requires state Closed");
-    }
     DT_TRY(transport_->open(kFalconVendorId, kFalconProductId));
     command_ = {};
     frames_.clear();
@@ -159,11 +142,10 @@ Result<void> FalconHapticDevice::open()
     output_ = {};
     if (auto r = startFirmware(); !r) {
         transport_->close();
-        return r;
+        return unexpected(r.error());
     }
     home();
-    state_.store(State::Open, std::memory_order_release);
-    return ok();
+    return State::Open;
 }
 
 Result<void> FalconHapticDevice::startFirmware()
@@ -275,7 +257,7 @@ Result<void> FalconHapticDevice::exchangeOnce(platform::Duration timeout) noexce
     return ok();
 }
 
-void FalconHapticDevice::close() noexcept
+void FalconHapticDevice::closeDevice() noexcept
 {
     if (state() == State::Open && transport_->present()) {
         command_.motors = {};
@@ -289,18 +271,11 @@ void FalconHapticDevice::close() noexcept
     zeroOutput();
     homed_ = false;
     havePose_ = false;
-    state_.store(State::Closed, std::memory_order_release);
 }
 
-bool FalconHapticDevice::isConnected() const noexcept
+bool FalconHapticDevice::devicePresent() const noexcept
 {
-    return state() == State::Open && transport_->present();
-}
-
-void FalconHapticDevice::markDisconnected() noexcept
-{
-    zeroOutput();
-    state_.store(State::Disconnected, std::memory_order_release);
+    return transport_->present();
 }
 
 void FalconHapticDevice::zeroOutput() noexcept
@@ -309,29 +284,9 @@ void FalconHapticDevice::zeroOutput() noexcept
     output_ = {};
 }
 
-Result<void> FalconHapticDevice::checkUsable() noexcept
+Result<void> FalconHapticDevice::readDevice(hal::HapticState &out) noexcept
 {
-    const State s = state();
-    if (s == State::Closed)
-        return unexpected(Errc::InvalidState, "Haptic device not open");
-    if (s == State::Disconnected)
-        return unexpected(Errc::NoDevice, "Haptic device disconnected");
-    if (!transport_->present()) {
-        markDisconnected();
-        return unexpected(Errc::NoDevice, "Haptic device unplugged");
-    }
-    return ok();
-}
-
-Result<void> FalconHapticDevice::read(hal::HapticState &out) noexcept
-{
-    DT_TRY(checkUsable());
-    auto r = exchangeOnce(settings_.exchangeTimeout);
-    if (!r) {
-        if (r.error().code == Errc::NoDevice)
-            markDisconnected();
-        return r;
-    }
+    DT_TRY(exchangeOnce(settings_.exchangeTimeout));
     hal::HapticState s;
     const hal::Vec3 &lo = caps_.workspaceMin;
     const hal::Vec3 &hi = caps_.workspaceMax;
@@ -343,17 +298,9 @@ Result<void> FalconHapticDevice::read(hal::HapticState &out) noexcept
     return ok();
 }
 
-Result<void> FalconHapticDevice::commandForce(const hal::Vec3 &force) noexcept
+Result<void> FalconHapticDevice::commandForceDevice(const hal::ForceCommand &command) noexcept
 {
-    DT_TRY(checkUsable());
-    if (!hal::isFinite(force)) {
-        zeroOutput();
-        return unexpected(Errc::InvalidArgument, "Non-finite force");
-    }
-    hal::Vec3 f = force;
-    const double magnitude = hal::norm(f);
-    if (magnitude > caps_.maxForce)
-        f *= caps_.maxForce / magnitude;
+    hal::Vec3 f = command.force;
     hal::Vec3 tau;
     if (!homed_ || !havePose_ || !falcon::jointTorques(angles_, position_, f, tau)) {
         zeroOutput();

@@ -124,4 +124,8 @@ protected:
     DT_DISABLE_COPY_AND_MOVE(DepthCamera)
 };
 
+/// \return the name of \a s: "Unconfigured", "Configured" or "Streaming" (a static string; "?" for
+/// another value), for messages. Thread-safe.
+[[nodiscard]] const char *toString(DepthCamera::State s) noexcept;
+
 } // namespace depthtouch::hal

@@ -130,4 +130,8 @@ protected:
     DT_DISABLE_COPY_AND_MOVE(Display)
 };
 
+/// \return the name of \a s: "Closed", "Open" or "Lost" (a static string; "?" for another value),
+/// for messages. Thread-safe.
+[[nodiscard]] const char *toString(Display::State s) noexcept;
+
 } // namespace depthtouch::hal

@@ -107,4 +107,8 @@ protected:
     DT_DISABLE_COPY_AND_MOVE(HapticDevice)
 };
 
+/// \return the name of \a s: "Closed", "Open" or "Disconnected" (a static string; "?" for another
+/// value), for messages. Thread-safe.
+[[nodiscard]] const char *toString(HapticDevice::State s) noexcept;
+
 } // namespace depthtouch::hal

@@ -140,4 +140,8 @@ protected:
     DT_DISABLE_COPY_AND_MOVE(MediaSource)
 };
 
+/// \return the name of \a s: "Closed" or "Open" (a static string; "?" for another value), for
+/// messages. Thread-safe.
+[[nodiscard]] const char *toString(MediaSource::State s) noexcept;
+
 } // namespace depthtouch::hal

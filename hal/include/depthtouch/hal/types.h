@@ -206,9 +206,9 @@ inline constexpr std::uint64_t kDrmFormatModInvalid = 0x00ffffffffffffffULL;
 
 /// \brief One plane of a dma-buf image: where its first byte is and how far apart its rows are.
 struct DmaBufPlane {
-    int fd = -1;               ///< The dma-buf (memory object) holding the plane; borrowed.
-    std::uint32_t offset = 0;  ///< Bytes from the start of the object to the plane's first row.
-    std::uint32_t pitch = 0;   ///< Bytes from one row to the next.
+    int fd = -1;              ///< The dma-buf (memory object) holding the plane; borrowed.
+    std::uint32_t offset = 0; ///< Bytes from the start of the object to the plane's first row.
+    std::uint32_t pitch = 0;  ///< Bytes from one row to the next.
 };
 
 /// \brief A frame in device memory shared as Linux dma-bufs (DRM PRIME), as a GPU can import it
@@ -227,11 +227,11 @@ struct DmaBufPlane {
 struct DmaBufImage {
     static constexpr int kMaxPlanes = 4;
 
-    std::uint32_t fourcc = 0;                  ///< DRM fourcc; 0 when there is no dma-buf.
+    std::uint32_t fourcc = 0;                      ///< DRM fourcc; 0 when there is no dma-buf.
     std::uint64_t modifier = kDrmFormatModInvalid; ///< DRM format modifier, same for every plane.
-    int width = 0;                             ///< Pixels.
-    int height = 0;                            ///< Pixels.
-    int planeCount = 0;                        ///< Planes used in \a planes (0..kMaxPlanes).
+    int width = 0;                                 ///< Pixels.
+    int height = 0;                                ///< Pixels.
+    int planeCount = 0;                            ///< Planes used in \a planes (0..kMaxPlanes).
     std::array<DmaBufPlane, kMaxPlanes> planes{};
 
     /// True when the frame carries no dma-buf.

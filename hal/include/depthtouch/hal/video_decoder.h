@@ -141,4 +141,8 @@ protected:
     DT_DISABLE_COPY_AND_MOVE(VideoDecoder)
 };
 
+/// \return the name of \a s: "Closed", "Configured" or "Running" (a static string; "?" for another
+/// value), for messages. Thread-safe.
+[[nodiscard]] const char *toString(VideoDecoder::State s) noexcept;
+
 } // namespace depthtouch::hal

@@ -51,13 +51,12 @@
 #include <string>
 
 #include "depthtouch/hal/backends.h"
-#include "depthtouch/drivers/egl/egl_display_base.h"
-#include "depthtouch/hal/display.h"
+#include "depthtouch/hal/display_base.h"
 #include "depthtouch/platform/clock.h"
 
 namespace depthtouch::drivers {
 
-class EglGbmDisplay final : public EglDisplayBase {
+class EglGbmDisplay final : public hal::DisplayBase {
 public:
     /// Options of the kms display (see the file comment).
     struct Settings {
@@ -78,18 +77,19 @@ public:
     EglGbmDisplay(platform::Clock &clock, Settings settings);
     ~EglGbmDisplay() override;
 
-    [[nodiscard]] Result<void> open(const hal::DisplayConfig &cfg) override;
-    void close() noexcept override;
-    [[nodiscard]] Result<void> makeCurrent() override;
-    [[nodiscard]] Result<hal::PresentInfo> present() override;
-    [[nodiscard]] Result<void> readPixels(const hal::ImageView &out) override;
+protected:
+    [[nodiscard]] Result<void> openDevice(const hal::DisplayConfig &cfg) override;
+    void closeDevice() noexcept override;
+    [[nodiscard]] Result<void> makeCurrentDevice() override;
+    [[nodiscard]] Result<hal::PresentInfo> presentDevice() override;
+    [[nodiscard]] Result<void> readPixelsDevice(const hal::ImageView &out) override;
 
 private:
     struct Kms; ///< DRM, GBM, EGL and GL handles (keeps their headers out of this header).
 
     [[nodiscard]] Result<void> openOutput(const hal::DisplayConfig &cfg);
     [[nodiscard]] Result<void> ensureCurrent();
-    void markLost(const char *why) noexcept;
+    void lose(const char *why) noexcept;
 
     platform::Clock &clock_;
     const Settings settings_;

@@ -21,13 +21,12 @@
 
 #include "depthtouch/drivers/egl/display_settings.h"
 #include "depthtouch/hal/backends.h"
-#include "depthtouch/drivers/egl/egl_display_base.h"
-#include "depthtouch/hal/display.h"
+#include "depthtouch/hal/display_base.h"
 #include "depthtouch/platform/clock.h"
 
 namespace depthtouch::drivers {
 
-class EglHeadlessDisplay final : public EglDisplayBase {
+class EglHeadlessDisplay final : public hal::DisplayBase {
 public:
     /// Backend factory: settings from cfg.options, time from cfg.clock; checks that the
     /// surfaceless EGL platform initialises (NoDevice otherwise).
@@ -36,12 +35,13 @@ public:
     EglHeadlessDisplay(platform::Clock &clock, const EglDisplaySettings &settings);
     ~EglHeadlessDisplay() override;
 
-    [[nodiscard]] Result<void> open(const hal::DisplayConfig &cfg) override;
-    void close() noexcept override;
-    [[nodiscard]] Result<void> makeCurrent() override;
-    [[nodiscard]] Result<hal::PresentInfo> present() override;
-    [[nodiscard]] std::uint32_t framebuffer() const noexcept override;
-    [[nodiscard]] Result<void> readPixels(const hal::ImageView &out) override;
+protected:
+    [[nodiscard]] Result<void> openDevice(const hal::DisplayConfig &cfg) override;
+    void closeDevice() noexcept override;
+    [[nodiscard]] Result<void> makeCurrentDevice() override;
+    [[nodiscard]] Result<hal::PresentInfo> presentDevice() override;
+    [[nodiscard]] std::uint32_t framebufferDevice() const noexcept override;
+    [[nodiscard]] Result<void> readPixelsDevice(const hal::ImageView &out) override;
 
 private:
     struct Gl; ///< EGL and GL handles (keeps EGL headers out of this header).

@@ -43,13 +43,12 @@
 
 #include "depthtouch/drivers/egl/display_settings.h"
 #include "depthtouch/hal/backends.h"
-#include "depthtouch/drivers/egl/egl_display_base.h"
-#include "depthtouch/hal/display.h"
+#include "depthtouch/hal/display_base.h"
 #include "depthtouch/platform/clock.h"
 
 namespace depthtouch::drivers {
 
-class EglX11Display final : public EglDisplayBase {
+class EglX11Display final : public hal::DisplayBase {
 public:
     /// Backend factory: settings from cfg.options, X display name from cfg.device (empty:
     /// $DISPLAY), time from cfg.clock; checks that the X server answers and that EGL has the X11
@@ -60,14 +59,15 @@ public:
                   std::string xDisplayName);
     ~EglX11Display() override;
 
-    [[nodiscard]] Result<void> open(const hal::DisplayConfig &cfg) override;
-    void close() noexcept override;
-    [[nodiscard]] Result<void> makeCurrent() override;
-    [[nodiscard]] Result<hal::PresentInfo> present() override;
-    [[nodiscard]] Result<void> readPixels(const hal::ImageView &out) override;
-
     /// \return the X window id (an XID) while Open or Lost, 0 when Closed.
     [[nodiscard]] unsigned long window() const noexcept;
+
+protected:
+    [[nodiscard]] Result<void> openDevice(const hal::DisplayConfig &cfg) override;
+    void closeDevice() noexcept override;
+    [[nodiscard]] Result<void> makeCurrentDevice() override;
+    [[nodiscard]] Result<hal::PresentInfo> presentDevice() override;
+    [[nodiscard]] Result<void> readPixelsDevice(const hal::ImageView &out) override;
 
 private:
     struct X; ///< Xlib, EGL and GL handles (keeps X11 and EGL headers out of this header).
@@ -75,7 +75,7 @@ private:
     [[nodiscard]] Result<void> ensureCurrent();
     /// Handles the pending X events; a closed window or a broken connection makes the state Lost.
     void pumpEvents() noexcept;
-    void markLost(const char *why) noexcept;
+    void lose(const char *why) noexcept;
 
     platform::Clock &clock_;
     const EglDisplaySettings settings_;

@@ -8,15 +8,15 @@
 /// first blank after the previous presented one; when the caller is late it lands on the first
 /// blank at or after now and reports the blanks it skipped. Mode string: "WIDTHxHEIGHT" or
 /// "WIDTHxHEIGHT@HZ" (e.g. "1920x1080@50"); it overrides width, height and refresh of
-/// DisplayConfig. Thread-safety: thread-bound, as hal::Display; loseDisplay() and restoreDisplay()
-/// too.
+/// DisplayConfig. The state and its checks are hal::DisplayBase's. Thread-safety: thread-bound, as
+/// hal::Display; loseDisplay() and restoreDisplay() too.
 
 #include <atomic>
 #include <cstdint>
 #include <memory>
 
 #include "depthtouch/hal/backends.h"
-#include "depthtouch/hal/display.h"
+#include "depthtouch/hal/display_base.h"
 #include "depthtouch/platform/clock.h"
 
 namespace depthtouch::drivers {
@@ -32,25 +32,13 @@ struct MockDisplaySettings {
     static Result<MockDisplaySettings> parse(hal::OptionList options);
 };
 
-class MockDisplay final : public hal::Display {
+class MockDisplay final : public hal::DisplayBase {
 public:
     /// Backend factory: settings from cfg.options, time from cfg.clock.
     static Result<std::unique_ptr<hal::Display>> create(const hal::BackendConfig &cfg);
 
     explicit MockDisplay(platform::Clock &clock, const MockDisplaySettings &settings = {});
     ~MockDisplay() override = default;
-
-    [[nodiscard]] const hal::DisplayCapabilities &capabilities() const noexcept override
-    {
-        return caps_;
-    }
-    [[nodiscard]] State state() const noexcept override { return state_; }
-    [[nodiscard]] Result<void> open(const hal::DisplayConfig &cfg) override;
-    void close() noexcept override;
-    [[nodiscard]] hal::Size size() const noexcept override;
-    [[nodiscard]] double refreshHz() const noexcept override;
-    [[nodiscard]] Result<void> makeCurrent() override;
-    [[nodiscard]] Result<hal::PresentInfo> present() override;
 
     /// \name Fault injection
     ///@{
@@ -69,17 +57,19 @@ public:
     /// \return whether makeCurrent() succeeded since open().
     [[nodiscard]] bool isCurrent() const noexcept { return current_; }
 
+protected:
+    [[nodiscard]] Result<void> openDevice(const hal::DisplayConfig &cfg) override;
+    void closeDevice() noexcept override { current_ = false; }
+    [[nodiscard]] Result<void> makeCurrentDevice() override;
+    [[nodiscard]] Result<hal::PresentInfo> presentDevice() override;
+
 private:
     [[nodiscard]] platform::TimePoint vsyncTime(std::uint64_t k) const noexcept;
 
     platform::Clock &clock_;
     const MockDisplaySettings settings_;
-    hal::DisplayCapabilities caps_;
-    State state_ = State::Closed;
     bool connected_ = true;
     bool current_ = false;
-    hal::Size size_;
-    double refreshHz_ = 0.0;
     platform::TimePoint epoch_{};
     std::uint64_t lastVsync_ = 0; ///< Index of the blank of the last present (0: none yet).
     std::uint64_t presents_ = 0;

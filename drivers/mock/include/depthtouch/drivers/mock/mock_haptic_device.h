@@ -10,11 +10,12 @@
 /// the workspace. With no script the handle rests at the workspace centre. Buttons are those of the
 /// waypoint at or before the time.
 ///
-/// Real-time: read(), commandForce(), state() and isConnected() do not allocate, lock or log; they
-/// read the injected clock (a platform::ManualClock takes a mutex: use it for simulation only).
-/// Thread-safety: as hal::HapticDevice. setWaypoints() must not run concurrently with read(). The
-/// fault injection and observer calls are thread-safe (a test thread may unplug the device while
-/// the haptic thread runs).
+/// The state, the clamp and non-finite handling are hal::HapticDeviceBase's; this class is the
+/// device. Real-time: read(), commandForce(), state() and isConnected() do not allocate, lock or
+/// log; they read the injected clock (a platform::ManualClock takes a mutex: use it for simulation
+/// only). Thread-safety: as hal::HapticDevice. setWaypoints() must not run concurrently with
+/// read(). The fault injection and observer calls are thread-safe (a test thread may unplug the
+/// device while the haptic thread runs).
 
 #include <atomic>
 #include <cstdint>
@@ -23,7 +24,7 @@
 #include <vector>
 
 #include "depthtouch/hal/backends.h"
-#include "depthtouch/hal/haptic_device.h"
+#include "depthtouch/hal/haptic_device_base.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/seqlock.h"
 
@@ -49,27 +50,13 @@ struct HapticWaypoint {
     std::uint32_t buttons = 0;  ///< Buttons held from this waypoint to the next.
 };
 
-class MockHapticDevice final : public hal::HapticDevice {
+class MockHapticDevice final : public hal::HapticDeviceBase {
 public:
     /// Backend factory: settings from cfg.options, time from cfg.clock.
     static Result<std::unique_ptr<hal::HapticDevice>> create(const hal::BackendConfig &cfg);
 
     explicit MockHapticDevice(platform::Clock &clock, const MockHapticSettings &settings = {});
     ~MockHapticDevice() override = default;
-
-    [[nodiscard]] const hal::HapticCapabilities &capabilities() const noexcept override
-    {
-        return caps_;
-    }
-    [[nodiscard]] State state() const noexcept override
-    {
-        return state_.load(std::memory_order_acquire);
-    }
-    [[nodiscard]] Result<void> open() override;
-    void close() noexcept override;
-    [[nodiscard]] Result<void> read(hal::HapticState &out) noexcept override;
-    [[nodiscard]] Result<void> commandForce(const hal::Vec3 &force) noexcept override;
-    [[nodiscard]] bool isConnected() const noexcept override;
 
     /// \name Scripting (not concurrently with read())
     ///@{
@@ -119,19 +106,25 @@ public:
     /// \return the scripted handle sample at \a t (position clamped to the workspace).
     [[nodiscard]] hal::HapticState sampleAt(platform::TimePoint t) const noexcept;
 
+protected:
+    [[nodiscard]] Result<State> openDevice() override;
+    void closeDevice() noexcept override;
+    [[nodiscard]] bool devicePresent() const noexcept override;
+    [[nodiscard]] Result<void> readDevice(hal::HapticState &out) noexcept override;
+    [[nodiscard]] Result<void>
+    commandForceDevice(const hal::ForceCommand &command) noexcept override;
+    void zeroForceDevice() noexcept override;
+
 private:
-    /// Checks state and presence for read()/commandForce(). Marks the device Disconnected when
-    /// unplugged.
-    Result<void> checkUsable() noexcept;
+    /// Timeout while stalled.
+    [[nodiscard]] Result<void> checkStall() const noexcept;
     /// Sets the output force (single writer: the haptic thread, or open()/close() when it is not
     /// running).
     void setOutput(const hal::Vec3 &f) noexcept;
 
     platform::Clock &clock_;
-    hal::HapticCapabilities caps_;
     std::vector<HapticWaypoint> waypoints_;
 
-    std::atomic<State> state_{State::Closed};
     std::atomic<bool> present_{true};
     std::atomic<bool> stalled_{false};
 

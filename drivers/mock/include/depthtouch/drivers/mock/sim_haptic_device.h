@@ -51,8 +51,9 @@
 /// Errors: SimHandSettings::parse() and create() give InvalidArgument for an unknown key, a
 /// malformed value or one out of range.
 ///
-/// Real-time: read(), commandForce(), state() and isConnected() do not allocate, lock or log (they
-/// read the injected clock; a ManualClock takes a mutex: simulation only). Thread-safety: as
+/// The state, the clamp and non-finite handling are hal::HapticDeviceBase's; this class is the
+/// hand. Real-time: read(), commandForce(), state() and isConnected() do not allocate, lock or log
+/// (they read the injected clock; a ManualClock takes a mutex: simulation only). Thread-safety: as
 /// hal::HapticDevice; the fault injection and observers are thread-safe.
 
 #include <atomic>
@@ -60,7 +61,7 @@
 #include <memory>
 
 #include "depthtouch/hal/backends.h"
-#include "depthtouch/hal/haptic_device.h"
+#include "depthtouch/hal/haptic_device_base.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/seqlock.h"
 
@@ -76,13 +77,13 @@ struct SimHandSettings {
     double force = 2.0; ///< Steady press, N (≥ 0): sets the default depth (force / handStiffness).
     double depth = 0.0; ///< Intended depth below the felt surface, m (≥ 0); set by parse().
     double handStiffness = 300.0; ///< Hand spring along z, N/m (> 0).
-    double handDamping = -1.0;    ///< Hand damper, N·s/m; < 0: critical, 2·√(handStiffness·mass).
-    double follow = 0.05;         ///< Surface estimate's time constant while touching, s (> 0).
-    double reaction = 0.15;       ///< Time without feel before searching, s (≥ 0).
+    double handDamping = -1.0; ///< Hand damper, N·s/m; < 0: critical, 2·√(handStiffness·mass).
+    double follow = 0.05;      ///< Surface estimate's time constant while touching, s (> 0).
+    double reaction = 0.15;    ///< Time without feel before searching, s (≥ 0).
     double approach = 0.1; ///< Search speed of the surface estimate, m/s (≥ 0; 0: fixed hand).
     double climb = 0.1;    ///< Lift per newton against the stroke, m/s/N (≥ 0).
     double reach = 0.03;   ///< Search depth below the last touch before retreating, m (> 0).
-    double x = 0.0;     ///< Intended point, m.
+    double x = 0.0;        ///< Intended point, m.
     double y = 0.0;
     double z = 0.03;    ///< Start height and first surface estimate, m.
     double delay = 0.0; ///< Hover time before pressing, s (≥ 0).
@@ -105,27 +106,13 @@ struct SimHandSettings {
     static Result<SimHandSettings> parse(hal::OptionList options);
 };
 
-class SimHapticDevice final : public hal::HapticDevice {
+class SimHapticDevice final : public hal::HapticDeviceBase {
 public:
     /// Backend factory: settings from cfg.options, time from cfg.clock.
     static Result<std::unique_ptr<hal::HapticDevice>> create(const hal::BackendConfig &cfg);
 
     SimHapticDevice(platform::Clock &clock, const SimHandSettings &settings);
     ~SimHapticDevice() override = default;
-
-    [[nodiscard]] const hal::HapticCapabilities &capabilities() const noexcept override
-    {
-        return caps_;
-    }
-    [[nodiscard]] State state() const noexcept override
-    {
-        return state_.load(std::memory_order_acquire);
-    }
-    [[nodiscard]] Result<void> open() override;
-    void close() noexcept override;
-    [[nodiscard]] Result<void> read(hal::HapticState &out) noexcept override;
-    [[nodiscard]] Result<void> commandForce(const hal::Vec3 &force) noexcept override;
-    [[nodiscard]] bool isConnected() const noexcept override;
 
     /// \name Fault injection (thread-safe), as MockHapticDevice
     ///@{
@@ -144,8 +131,18 @@ public:
 
     [[nodiscard]] const SimHandSettings &settings() const noexcept { return settings_; }
 
+protected:
+    [[nodiscard]] Result<State> openDevice() override;
+    void closeDevice() noexcept override;
+    [[nodiscard]] bool devicePresent() const noexcept override;
+    [[nodiscard]] Result<void> readDevice(hal::HapticState &out) noexcept override;
+    [[nodiscard]] Result<void>
+    commandForceDevice(const hal::ForceCommand &command) noexcept override;
+    void zeroForceDevice() noexcept override;
+
 private:
-    Result<void> checkUsable() noexcept;
+    /// Timeout while stalled.
+    [[nodiscard]] Result<void> checkStall() const noexcept;
     /// Integrates the hand up to the clock's now.
     void integrateToNow() noexcept;
     void step(double h) noexcept;
@@ -160,9 +157,7 @@ private:
 
     platform::Clock &clock_;
     const SimHandSettings settings_;
-    hal::HapticCapabilities caps_;
 
-    std::atomic<State> state_{State::Closed};
     std::atomic<bool> present_{true};
     std::atomic<bool> stalled_{false};
 

@@ -11,9 +11,10 @@
 /// read(): one packet exchange (the pending motor commands out, one status packet in) waiting at
 /// most one servo period; encoder counts → arm angles → forward kinematics (Newton, warm-started
 /// from the previous position) → position in the device frame, clamped to the capability box.
-/// commandForce(): clamps the force to maxForce, maps it to arm torques through the Jacobian
-/// transpose at the last pose and to motor commands (falcon_kinematics.h), sent on the next read().
-/// A non-finite force commands zero. The blue LED is lit while a non-zero force is output.
+/// commandForce(): the force, clamped to maxForce (a non-finite one: zero) by
+/// hal::HapticDeviceBase, which owns the state and presence checks too, is mapped to arm torques
+/// through the Jacobian transpose at the last pose and to motor commands (falcon_kinematics.h),
+/// sent on the next read(). The blue LED is lit while a non-zero force is output.
 ///
 /// Options: `firmware=PATH` (firmware image to upload when the device needs one), `max_force=N`
 /// (newtons, in (0, 8.5]; default 8.5), `emulate` (use the built-in FakeFalcon instead of USB:
@@ -33,7 +34,7 @@
 #include "depthtouch/drivers/usb/falcon_protocol.h"
 #include "depthtouch/drivers/usb/usb_transport.h"
 #include "depthtouch/hal/backends.h"
-#include "depthtouch/hal/haptic_device.h"
+#include "depthtouch/hal/haptic_device_base.h"
 
 namespace depthtouch::drivers {
 
@@ -42,10 +43,10 @@ namespace depthtouch::drivers {
 inline constexpr double kFalconMaxForce = 8.5;
 
 struct FalconSettings {
-    std::string firmwarePath;           ///< Option `firmware`; empty: no upload possible.
-    double maxForce = kFalconMaxForce;  ///< Option `max_force`.
-    bool emulate = false;               ///< Option `emulate`.
-    int homingPackets = 200;            ///< Option `homing_packets`.
+    std::string firmwarePath;          ///< Option `firmware`; empty: no upload possible.
+    double maxForce = kFalconMaxForce; ///< Option `max_force`.
+    bool emulate = false;              ///< Option `emulate`.
+    int homingPackets = 200;           ///< Option `homing_packets`.
     /// How long read() waits for the answer: one servo period.
     platform::Duration exchangeTimeout = std::chrono::milliseconds(1);
 
@@ -55,38 +56,24 @@ struct FalconSettings {
 
 /// Counters of the servo exchange (observers).
 struct FalconStats {
-    std::uint64_t exchanges = 0;      ///< Successful reads.
-    std::uint64_t timeouts = 0;       ///< Reads without a well-formed answer in time.
-    std::uint64_t framingErrors = 0;  ///< Answers without a complete well-formed packet.
-    std::uint64_t fkIterations = 0;   ///< Newton iterations over all reads.
-    int fkMaxIterations = 0;          ///< Most Newton iterations of one read.
-    std::uint64_t fkFailures = 0;     ///< Reads whose forward kinematics did not converge.
-    std::uint64_t rangeClamps = 0;    ///< Forces scaled down to fit the motor command range.
+    std::uint64_t exchanges = 0;     ///< Successful reads.
+    std::uint64_t timeouts = 0;      ///< Reads without a well-formed answer in time.
+    std::uint64_t framingErrors = 0; ///< Answers without a complete well-formed packet.
+    std::uint64_t fkIterations = 0;  ///< Newton iterations over all reads.
+    int fkMaxIterations = 0;         ///< Most Newton iterations of one read.
+    std::uint64_t fkFailures = 0;    ///< Reads whose forward kinematics did not converge.
+    std::uint64_t rangeClamps = 0;   ///< Forces scaled down to fit the motor command range.
 };
 
-class FalconHapticDevice final : public hal::HapticDevice {
+class FalconHapticDevice final : public hal::HapticDeviceBase {
 public:
-    /// Backend factory: settings from cfg.options. Without `emulate`, checks that a Falcon is on the
-    /// USB bus (NoDevice otherwise), so autoprobing falls through to the next backend.
+    /// Backend factory: settings from cfg.options. Without `emulate`, checks that a Falcon is on
+    /// the USB bus (NoDevice otherwise), so autoprobing falls through to the next backend.
     static Result<std::unique_ptr<hal::HapticDevice>> create(const hal::BackendConfig &cfg);
 
     FalconHapticDevice(platform::Clock &clock, std::unique_ptr<UsbTransport> transport,
                        FalconSettings settings);
     ~FalconHapticDevice() override;
-
-    [[nodiscard]] const hal::HapticCapabilities &capabilities() const noexcept override
-    {
-        return caps_;
-    }
-    [[nodiscard]] State state() const noexcept override
-    {
-        return state_.load(std::memory_order_acquire);
-    }
-    [[nodiscard]] Result<void> open() override;
-    void close() noexcept override;
-    [[nodiscard]] Result<void> read(hal::HapticState &out) noexcept override;
-    [[nodiscard]] Result<void> commandForce(const hal::Vec3 &force) noexcept override;
-    [[nodiscard]] bool isConnected() const noexcept override;
 
     /// \name Observers (thread-bound)
     ///@{
@@ -105,9 +92,16 @@ public:
     [[nodiscard]] const FalconStats &stats() const noexcept { return stats_; }
     ///@}
 
+protected:
+    [[nodiscard]] Result<State> openDevice() override;
+    void closeDevice() noexcept override;
+    [[nodiscard]] bool devicePresent() const noexcept override;
+    [[nodiscard]] Result<void> readDevice(hal::HapticState &out) noexcept override;
+    [[nodiscard]] Result<void>
+    commandForceDevice(const hal::ForceCommand &command) noexcept override;
+    void zeroForceDevice() noexcept override { zeroOutput(); }
+
 private:
-    Result<void> checkUsable() noexcept;
-    void markDisconnected() noexcept;
     void zeroOutput() noexcept;
     void updateFlags() noexcept;
     /// One exchange and decode; updates pose, buttons and homing. Real-time safe.
@@ -118,8 +112,6 @@ private:
     platform::Clock &clock_;
     std::unique_ptr<UsbTransport> transport_;
     FalconSettings settings_;
-    hal::HapticCapabilities caps_;
-    std::atomic<State> state_{State::Closed};
 
     falcon::CommandPacket command_{};
     falcon::Packet outPacket_{};
