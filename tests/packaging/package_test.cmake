@@ -5,6 +5,7 @@
 #  3. (native builds) the package unpacked into a scratch root (dpkg-deb -x) runs: --version and a
 #     short demo from there.
 # -DBUILD=<build dir> -DOUT=<scratch folder> -DVERSION=<x.y.z> -DARCH=<Debian arch> -DRUN=ON|OFF
+# (RUN: a native build, whose program runs here)
 file(REMOVE_RECURSE "${OUT}")
 file(MAKE_DIRECTORY "${OUT}")
 
@@ -27,9 +28,12 @@ endfunction()
 set(ENV{DESTDIR} "${OUT}/stage")
 run(${CMAKE_COMMAND} --install "${BUILD}")
 unset(ENV{DESTDIR})
-foreach(p usr/bin/depthtouch usr/lib/systemd/system/depthtouch.service usr/lib/sysusers.d/depthtouch.conf
-          usr/lib/udev/rules.d/60-novint-falcon.rules etc/depthtouch/play.toml
-          usr/share/man/man1/depthtouch.1 usr/share/doc/depthtouch/README.md)
+set(files usr/bin/depthtouch usr/lib/systemd/system/depthtouch.service usr/lib/sysusers.d/depthtouch.conf
+    usr/lib/udev/rules.d/60-novint-falcon.rules etc/depthtouch/play.toml usr/share/doc/depthtouch/README.md)
+if(RUN) # the man page is made by running the program: native builds only
+    list(APPEND files usr/share/man/man1/depthtouch.1)
+endif()
+foreach(p ${files})
     expect_file("${OUT}/stage" "${p}")
 endforeach()
 file(READ "${OUT}/stage/usr/lib/systemd/system/depthtouch.service" unit)
@@ -60,9 +64,8 @@ if(NOT out MATCHES "^/etc/depthtouch/play.toml")
     message(FATAL_ERROR "conffiles: '${out}'")
 endif()
 run(dpkg-deb -c "${debs}")
-foreach(p ./usr/bin/depthtouch ./etc/depthtouch/play.toml ./usr/lib/systemd/system/depthtouch.service
-          ./usr/lib/udev/rules.d/60-novint-falcon.rules ./usr/share/man/man1/depthtouch.1)
-    string(FIND "${out}" " ${p}" at)
+foreach(p ${files})
+    string(FIND "${out}" " ./${p}" at)
     if(at LESS 0)
         message(FATAL_ERROR "the package lacks ${p}:\n${out}")
     endif()
