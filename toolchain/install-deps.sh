@@ -19,6 +19,8 @@ HOST_PACKAGES=(
     clang-format-14
     # packaging: the man page from --help; dpkg-shlibdeps (dpkg-dev) for the package's Depends
     help2man dpkg-dev
+    # the documentation's examples: socat talks to the control socket (docs/devices.md)
+    socat
     # tests and benchmarks
     googletest libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
     # libraries used by the app layer
