@@ -38,8 +38,6 @@ void DecoderThread::stop() noexcept
     PairedFrame f;
     while (queue_.tryPop(f))
         f = PairedFrame{};
-    held_ = PairedFrame{};
-    haveHeld_ = false;
 }
 
 void DecoderThread::wake() noexcept
@@ -50,11 +48,6 @@ void DecoderThread::wake() noexcept
 
 bool DecoderThread::poll(PairedFrame &out) noexcept
 {
-    if (haveHeld_) {
-        out = std::move(held_);
-        haveHeld_ = false;
-        return true;
-    }
     const std::uint32_t wanted = seekRequested_.load(std::memory_order_acquire);
     while (queue_.tryPop(out)) {
         wake(); // a slot is free
@@ -68,27 +61,10 @@ bool DecoderThread::poll(PairedFrame &out) noexcept
     return false;
 }
 
-std::size_t DecoderThread::pollInto(PairedFrameSink &sink)
-{
-    std::size_t taken = 0;
-    PairedFrame f;
-    while (poll(f)) {
-        if (!sink.offer(f)) {
-            held_ = std::move(f);
-            haveHeld_ = true;
-            break;
-        }
-        ++taken;
-    }
-    return taken;
-}
-
 void DecoderThread::seek(hal::Pts position) noexcept
 {
     seekTarget_.store(position.count(), std::memory_order_relaxed);
     seekRequested_.fetch_add(1, std::memory_order_acq_rel);
-    held_ = PairedFrame{};
-    haveHeld_ = false;
     wake();
 }
 
@@ -97,7 +73,7 @@ bool DecoderThread::finished() const noexcept
     return ended_.load(std::memory_order_acquire) &&
            generation_.load(std::memory_order_acquire) ==
                seekRequested_.load(std::memory_order_acquire) &&
-           queue_.emptyApprox() && !haveHeld_;
+           queue_.emptyApprox();
 }
 
 Error DecoderThread::error() const noexcept

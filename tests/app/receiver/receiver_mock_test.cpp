@@ -359,37 +359,6 @@ TEST(ReceiverMockTest, seekRestartsAtTheTargetWithFreshPairing)
     EXPECT_EQ((*r)->stats().seeks, 2u);
 }
 
-TEST(ReceiverMockTest, sinkBackpressureKeepsTheRefusedFrame)
-{
-    struct Sink final : receiver::PairedFrameSink {
-        std::vector<hal::Pts> pts;
-        std::size_t room = 0;
-        bool offer(PairedFrame &frame) override
-        {
-            if (room == 0)
-                return false;
-            --room;
-            pts.push_back(frame.pts);
-            frame = PairedFrame{};
-            return true;
-        }
-    } sink;
-    MockRig rig;
-    auto r = rig.open("mock://clip?frames=10");
-    ASSERT_TRUE(r);
-    sink.room = 3;
-    auto n = (*r)->deliver(sink, 100);
-    ASSERT_TRUE(n);
-    EXPECT_EQ(*n, 3u);
-    sink.room = 100;
-    n = (*r)->deliver(sink, 100);
-    ASSERT_TRUE(n);
-    EXPECT_EQ(*n, 7u);
-    ASSERT_EQ(sink.pts.size(), 10u);
-    for (std::size_t i = 0; i < sink.pts.size(); ++i)
-        EXPECT_EQ(sink.pts[i], milliseconds(40 * static_cast<int>(i))); // none lost or repeated
-}
-
 TEST(ReceiverMockTest, unreadableInputIsTheSourceError)
 {
     MockRig rig;

@@ -44,9 +44,6 @@ public:
     /// \brief Takes the next paired frame. Never blocks.
     /// \return true with \a out filled; false when nothing is ready.
     bool poll(PairedFrame &out) noexcept;
-    /// \brief Takes ready frames into \a sink until it refuses one (kept for the next call) or none
-    /// is ready. Never blocks. \return the number taken.
-    std::size_t pollInto(PairedFrameSink &sink);
 
     /// \brief Asks the decoder thread to restart at \a position. Never blocks; later poll()s return
     /// only frames decoded after the seek.
@@ -75,8 +72,6 @@ private:
     Receiver &receiver_;
     std::thread thread_;
     platform::SpscRing<PairedFrame, kQueueFrames> queue_;
-    PairedFrame held_; ///< Consumer side: popped by pollInto() and refused by its sink.
-    bool haveHeld_ = false;
 
     std::atomic<std::uint32_t> events_{0}; ///< Bumped on poll, seek and stop; waited on.
     std::atomic<bool> stop_{false};

@@ -68,19 +68,6 @@ struct PairedFrame {
     [[nodiscard]] DepthPair depthPair() const noexcept;
 };
 
-/// \brief Receives paired frames (the player: depth to the haptic handoff, color to the renderer).
-class PairedFrameSink {
-public:
-    virtual ~PairedFrameSink() = default;
-    /// \brief Takes \a frame (move from it) or refuses it.
-    /// \return false when the sink is full: the frame stays with the caller, offered again later.
-    virtual bool offer(PairedFrame &frame) = 0;
-
-protected:
-    PairedFrameSink() = default;
-    DT_DISABLE_COPY_AND_MOVE(PairedFrameSink)
-};
-
 /// \brief Settings of a Receiver.
 struct ReceiverConfig {
     int pairingWindow = 8;  ///< Frames one stream may run ahead of the other (1..64).
@@ -172,11 +159,6 @@ public:
     /// \return true with a frame, false at the end of the input. Errors: Busy (the consumer holds
     /// every frame of a store: drop PairedFrames and call again; nothing is lost).
     Result<bool> next(PairedFrame &out);
-
-    /// \brief Offers frames to \a sink until it refuses one, \a maxFrames were taken, or the input
-    /// ends. A refused frame is kept and offered first next time.
-    /// \return the number of frames the sink took; errors as next().
-    Result<std::size_t> deliver(PairedFrameSink &sink, std::size_t maxFrames);
 
     /// \return true once next() has returned false (until seek()).
     [[nodiscard]] bool ended() const noexcept;

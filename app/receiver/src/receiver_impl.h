@@ -1,0 +1,74 @@
+#pragma once
+/// \file
+/// \brief The inside of Receiver, private to dt_receiver: its streams, pairer and input state. The
+/// Impl's members live in receiver_setup.cpp (choosing and opening the streams) and
+/// receiver_decode.cpp (reading packets, taking decoded frames into the stores, pairing);
+/// receiver.cpp holds the public calls.
+/// Thread-safety: thread-bound, as Receiver. Not real-time safe.
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "depthtouch/receiver/frame_store.h"
+#include "depthtouch/receiver/pts_pairer.h"
+#include "depthtouch/receiver/receiver.h"
+
+namespace depthtouch::receiver {
+
+using Pairer = PtsPairer<FrameHandle>;
+
+/// DecoderBusy: the decoder has lent every frame, held here as zero-copy frames.
+enum class Take : std::uint8_t { Progress, Nothing, Busy, DecoderBusy };
+
+/// \brief The state of one Receiver.
+struct Receiver::Impl {
+    struct Stream {
+        bool used = false;
+        PairStream which = PairStream::Color;
+        hal::StreamInfo info;
+        std::unique_ptr<hal::VideoDecoder> decoder;
+        FrameStore store;
+        hal::FrameRef pending; ///< Decoded, waiting for a free store frame.
+        bool eosQueued = false;
+        bool drained = false;
+        bool paused = false;   ///< Drained because its packets stopped while the other's went on.
+        bool zeroCopy = false; ///< Some of its frames were kept as the decoder's dma-bufs.
+        bool decoderBusy = false; ///< Its decoder has lent every frame (held zero-copy): not quiet.
+        std::uint64_t sequence = 0;
+    };
+
+    Result<void> setUp(const DecoderFactory &makeDecoder);
+    Result<void> setUpStream(Stream &s, int index, PairStream which,
+                             const DecoderFactory &makeDecoder);
+    Take takeFrame(Stream &s);
+    bool readAndQueue();
+    void endInput();
+    void drainLaggingStream();
+    void toPaired(Pairer::Output &o, PairedFrame &out);
+    /// Logs \a text as a warning and keeps it in the receiver's notes.
+    void note(std::string text);
+    /// \return the used stream of container index \a index, or null.
+    Stream *streamOf(int index) noexcept
+    {
+        for (Stream &s : streams)
+            if (s.used && s.info.index == index)
+                return &s;
+        return nullptr;
+    }
+
+    std::unique_ptr<hal::MediaSource> source;
+    ReceiverConfig cfg;
+    ReceiverInfo info;
+    ReceiverStats stats;
+    Stream streams[2]; ///< [0] color, [1] depth.
+    std::unique_ptr<Pairer> pairer;
+    hal::Packet packet; ///< Read, not yet accepted by its decoder.
+    bool havePacket = false;
+    bool inputEnded = false;
+    bool ended = false;
+    hal::Pts skipBefore = hal::kNoPts;
+    Error lastRejection{Errc::InvalidArgument, "The input has no usable video stream"};
+};
+
+} // namespace depthtouch::receiver
