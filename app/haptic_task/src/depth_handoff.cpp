@@ -1,5 +1,6 @@
 #include "depthtouch/haptic_task/depth_handoff.h"
 
+#include <algorithm>
 #include <cstring>
 #include <new>
 
@@ -116,7 +117,41 @@ void DepthHandoff::publish(const DepthSlot &current, const DepthSlot *next) noex
                                          std::memory_order_acq_rel, std::memory_order_relaxed)) {
     }
     pendingMask_ = 0;
+    pairNext_ = -1;
     published_.fetch_add(1, std::memory_order_relaxed);
+}
+
+DepthSlot DepthHandoff::copyIn(const haptics::DepthFrameView &frame) noexcept
+{
+    DepthSlot s = beginFrame();
+    const std::size_t bytesPerSample = haptics::bytesPerSample(format_);
+    const std::size_t rowBytes = static_cast<std::size_t>(width_) * bytesPerSample;
+    const int rows = std::min(height_, frame.height);
+    const std::size_t copyBytes =
+        std::min(rowBytes, static_cast<std::size_t>(frame.width) * bytesPerSample);
+    for (int y = 0; y < rows; ++y)
+        std::memcpy(s.data + static_cast<std::size_t>(y) * rowBytes,
+                    frame.data + static_cast<std::size_t>(y) * frame.strideBytes, copyBytes);
+    s.pts = frame.pts;
+    return s;
+}
+
+void DepthHandoff::publishPair(const haptics::DepthFrameView &current,
+                               const haptics::DepthFrameView *next) noexcept
+{
+    // The previous pair's next frame is on screen now: its slot already holds it.
+    const bool held =
+        pairNext_ >= 0 && current.data == pairNextSource_ && current.pts == pairNextPts_;
+    const DepthSlot cur = held ? slot(pairNext_) : copyIn(current);
+    if (next == nullptr) {
+        publish(cur, nullptr);
+        return;
+    }
+    const DepthSlot nxt = copyIn(*next);
+    publish(cur, &nxt);
+    pairNext_ = nxt.index;
+    pairNextSource_ = next->data;
+    pairNextPts_ = next->pts;
 }
 
 Result<void> DepthHandoff::push(const haptics::DepthFrameView &frame) noexcept
@@ -151,6 +186,7 @@ void DepthHandoff::finish() noexcept
 void DepthHandoff::restart() noexcept
 {
     lastPushed_ = -1;
+    pairNext_ = -1;
 }
 
 bool DepthHandoff::acquire(DepthPair &out) noexcept

@@ -173,6 +173,57 @@ TEST(DepthHandoffTest, pushRejectsAFrameOfAnotherShape)
     EXPECT_FALSE(handoff->acquire(pair)) << "nothing was published";
 }
 
+TEST(DepthHandoffTest, publishPairCopiesEachNewFrameOnce)
+{
+    // GIVEN frames 0, 1, 2 shown in turn, each published as (frame i, frame i+1)
+    auto handoff = makeHandoff();
+    const Frame16 f0 = constantFrame(100, 0.0), f1 = constantFrame(200, 0.1),
+                  f2 = constantFrame(300, 0.2);
+    const auto v0 = f0.view(), v1 = f1.view(), v2 = f2.view();
+    DepthPair first, second;
+    handoff->publishPair(v0, &v1);
+    ASSERT_TRUE(handoff->acquire(first));
+    handoff->publishPair(v1, &v2);
+    ASSERT_TRUE(handoff->acquire(second));
+    // THEN the second pair's current frame is the slot that held the first pair's next frame
+    // (frame 1 was copied once), with its pixels and PTS unchanged
+    EXPECT_EQ(second.current.data, first.next.data);
+    EXPECT_TRUE(allSamples(second.current, 200));
+    EXPECT_DOUBLE_EQ(second.current.pts, 0.1);
+    ASSERT_TRUE(second.hasNext);
+    EXPECT_TRUE(allSamples(second.next, 300));
+    EXPECT_DOUBLE_EQ(second.next.pts, 0.2);
+    EXPECT_NE(second.next.data, first.current.data) << "the reader held frame 0 until now";
+}
+
+TEST(DepthHandoffTest, publishPairCopiesBothAfterASkipOrARestart)
+{
+    // GIVEN (frame 0, frame 1) published
+    auto handoff = makeHandoff();
+    const Frame16 f0 = constantFrame(100, 0.0), f1 = constantFrame(200, 0.1),
+                  f2 = constantFrame(300, 0.2), f3 = constantFrame(400, 0.3);
+    const auto v0 = f0.view(), v1 = f1.view(), v2 = f2.view(), v3 = f3.view();
+    DepthPair pair, after;
+    handoff->publishPair(v0, &v1);
+    ASSERT_TRUE(handoff->acquire(pair));
+    // WHEN frame 1 is dropped: (frame 2, frame 3) is published
+    handoff->publishPair(v2, &v3);
+    ASSERT_TRUE(handoff->acquire(after));
+    // THEN both are copied in
+    EXPECT_NE(after.current.data, pair.next.data);
+    EXPECT_TRUE(allSamples(after.current, 300));
+    EXPECT_TRUE(allSamples(after.next, 400));
+    // WHEN after a restart() (a seek) frame 3 comes again as current, without a next frame
+    handoff->restart();
+    handoff->publishPair(v3, nullptr);
+    DepthPair last;
+    ASSERT_TRUE(handoff->acquire(last));
+    // THEN it is copied again (the old slot is not trusted) and the pair ends there
+    EXPECT_NE(last.current.data, after.next.data);
+    EXPECT_TRUE(allSamples(last.current, 400));
+    EXPECT_FALSE(last.hasNext);
+}
+
 TEST(DepthHandoffTest, mediaOriginRoundTrips)
 {
     auto handoff = makeHandoff();

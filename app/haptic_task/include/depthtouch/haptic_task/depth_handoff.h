@@ -1,12 +1,14 @@
 #pragma once
 /// \file
-/// \brief DepthHandoff: the lock-free hand-over of depth frames from the decoder thread to the
-/// haptic thread (DESIGN.md §1 and §5): preallocated frame slots, published as pairs (frame i,
-/// frame i+1) for the local surface interpolation of paper IV.B (Eq. 1).
+/// \brief DepthHandoff: the lock-free hand-over of depth frames to the haptic thread (DESIGN.md §1
+/// and §5): preallocated frame slots, published as pairs (frame i, frame i+1) for the local surface
+/// interpolation of paper IV.B (Eq. 1). In the player the render thread writes it: when frame i
+/// goes on screen it publishes (depth i, depth i+1) with publishPair(), which copies each new depth
+/// frame once (app/playback, render_loop.cpp).
 ///
-/// Thread-safety: one writer thread (the decoder: beginFrame(), publish(), push(), finish(),
-/// setMediaOrigin()) and one reader thread (the haptic task: acquire(), mediaOrigin()) at the same
-/// time; no other concurrent use. create() and the destructor are for neither thread while the
+/// Thread-safety: one writer thread (the player's render thread: beginFrame(), publish(),
+/// publishPair(), push(), finish(), restart(), setMediaOrigin()) and one reader thread (the haptic
+/// task: acquire(), mediaOrigin()) at the same time; no other concurrent use. create() and the destructor are for neither thread while the
 /// other runs. Real-time safety: every member function except create() is wait-free or lock-free
 /// (a compare-exchange loop that only retries when the other side changed the state), never
 /// allocates, never blocks and never logs.
@@ -42,14 +44,15 @@ struct DepthPair {
     std::uint64_t sequence = 0;        ///< Publications taken by the reader so far (1 = first).
 };
 
-/// \brief Lock-free handoff of preallocated depth frames from one decoder thread to the haptic
-/// thread.
+/// \brief Lock-free handoff of preallocated depth frames from one writer thread (the player's
+/// render thread) to the haptic thread.
 ///
 /// kSlots frames of a fixed size and format are allocated by create(). The writer fills a free
-/// slot (beginFrame()) and publishes a pair of slots (publish()), or uses push(), which copies a
-/// frame and publishes (previous frame, this frame): push frame i+1 when frame i goes on screen.
+/// slot (beginFrame()) and publishes a pair of slots (publish()); or uses publishPair(), which
+/// copies (frame i, frame i+1) and reuses the slot of a frame it published as "next" before; or
+/// push(), which copies a frame and publishes (previous frame, this frame).
 /// The reader's acquire() takes the newest published pair without waiting; the views stay valid
-/// and unchanged until its next successful acquire(). When the decoder stalls, acquire() returns
+/// and unchanged until its next successful acquire(). When the writer stalls, acquire() returns
 /// false and the reader keeps rendering the pair it holds. Pairs published between two acquire()
 /// calls are skipped except the newest.
 ///
@@ -75,7 +78,7 @@ public:
     /// \return bytes of one frame (W·H·bytesPerSample).
     [[nodiscard]] std::size_t frameBytes() const noexcept { return frameBytes_; }
 
-    /// \name Writer (decoder thread)
+    /// \name Writer (one thread: the player's render thread)
     ///@{
     /// \brief Hands out a slot the reader does not use and that is not part of the published pair.
     /// Fill all of data and set pts, then publish() it. Calling it twice before publishing hands
@@ -87,6 +90,15 @@ public:
     /// pair's next frame as the new current frame). Slots handed out by beginFrame() and not named
     /// here become free again.
     void publish(const DepthSlot &current, const DepthSlot *next) noexcept;
+    /// \brief Publishes (\a current, \a next), \a next null when frame i is the last, copying each
+    /// frame into a slot once: when \a current is the frame published as next by the previous
+    /// publishPair() (the same source pixels, \a current.data, and PTS) its slot becomes the current
+    /// one and only \a next is copied. Rows are copied as far as the frame and the handoff overlap
+    /// (W samples of the handoff's sample size per row, at the view's stride); the views' format
+    /// is not checked. Any other publication (publish(), push(), finish()) or restart() in between
+    /// makes the next call copy both frames. Wait-free, no allocation.
+    void publishPair(const haptics::DepthFrameView &current,
+                     const haptics::DepthFrameView *next) noexcept;
     /// \brief Copies \a frame into a free slot and publishes (previously pushed frame, \a frame),
     /// or (\a frame, none) for the first frame since create() or restart().
     /// \return Errc::InvalidArgument (nothing published) when the frame is malformed or its size
@@ -95,8 +107,8 @@ public:
     /// \brief End of stream: publishes (last pushed frame, none), so the surface holds still.
     /// No-op before the first push().
     void finish() noexcept;
-    /// \brief Forgets the last pushed frame (after a seek): the next push() publishes (frame,
-    /// none).
+    /// \brief Forgets the last pushed frame and publishPair()'s next frame (after a seek): the
+    /// next push() publishes (frame, none); the next publishPair() copies both of its frames.
     void restart() noexcept;
     /// \brief Sets the clock time at which the media timeline is at PTS 0: the haptic time of an
     /// update at clock time T is T − origin, in seconds. Thread-safe.
@@ -134,6 +146,8 @@ private:
 
     [[nodiscard]] DepthSlot slot(int index) noexcept;
     [[nodiscard]] haptics::DepthFrameView view(int index) const noexcept;
+    /// Writer: copies \a frame into a slot from beginFrame() (see publishPair()).
+    [[nodiscard]] DepthSlot copyIn(const haptics::DepthFrameView &frame) noexcept;
 
     const int width_;
     const int height_;
@@ -149,6 +163,9 @@ private:
     // Writer-only.
     alignas(platform::kCacheLineBytes) std::uint32_t pendingMask_ = 0; ///< Handed out, unpublished.
     int lastPushed_ = -1;
+    int pairNext_ = -1; ///< Slot of publishPair()'s last next frame, or -1 (see publishPair()).
+    const std::uint8_t *pairNextSource_ = nullptr; ///< Its source pixels (identity only).
+    double pairNextPts_ = 0.0;                      ///< Its PTS, s.
     // Reader-only.
     alignas(platform::kCacheLineBytes) std::uint64_t taken_ = 0;
 };
