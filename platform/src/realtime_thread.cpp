@@ -276,7 +276,11 @@ Result<void> RealtimeThread::start()
     }
 
     char line[256];
-    DT_LOG(Thread, Info, "Started %s", report_.format(line, sizeof(line)));
+    // Real-time threads say what they obtained; the plain ones only when asked (DT_LOG=debug).
+    if (config_.policy == SchedPolicy::Fifo || options_.lockMemory)
+        DT_LOG(Thread, Info, "Started %s", report_.format(line, sizeof(line)));
+    else
+        DT_LOG(Thread, Debug, "Started %s", report_.format(line, sizeof(line)));
     return ok();
 }
 
@@ -317,7 +321,8 @@ void RealtimeThread::run() noexcept
         report_.affinityApplied = true;
     }
 
-    report_.stackPrefaultedBytes = prefaultStack(report_.stackBytes);
+    if (options_.prefaultStack)
+        report_.stackPrefaultedBytes = prefaultStack(report_.stackBytes);
     if (report_.memoryLocked)
         lockOwnStack();
 

@@ -144,19 +144,24 @@ Result<void> HapticTask::start()
                    forceLog_);
     }
     serviceStop_ = false;
-    service_ = std::thread([this] { serviceLoop(); });
-    if (auto r = thread_->start(); !r) {
+    service_ = std::make_unique<platform::RealtimeThread>(
+        platform::kTelemetryThread, platform::kPlainThreadOptions,
+        [this](platform::StopToken) { serviceLoop(); });
+    Result<void> started = service_->start();
+    if (started)
+        started = thread_->start();
+    if (!started) {
         {
             std::lock_guard<std::mutex> lock(mutex_);
             serviceStop_ = true;
         }
         wake_.notify_all();
-        service_.join();
+        service_->join();
         if (forceLog_ != nullptr) {
             std::fclose(forceLog_);
             forceLog_ = nullptr;
         }
-        return r;
+        return started;
     }
     return ok();
 }
@@ -182,8 +187,8 @@ void HapticTask::stop() noexcept
         serviceStop_ = true;
     }
     wake_.notify_all();
-    if (service_.joinable())
-        service_.join();
+    if (service_)
+        service_->join();
     std::lock_guard<std::mutex> lock(mutex_);
     drainLocked();
     if (forceLog_ != nullptr) {

@@ -53,7 +53,14 @@ struct RealtimeThreadOptions {
     bool lockMemory = true;
     /// CPU to pin the thread to, or -1 to leave the affinity alone.
     int cpuAffinity = -1;
+    /// Touch the stack before the body runs (stackBytes minus a 16 KiB margin), so that the body
+    /// takes no page fault on it. Off for threads that only need the table's stack size.
+    bool prefaultStack = true;
 };
+
+/// \brief Options for a SCHED_OTHER thread of the table that is not real-time: no memory locking,
+/// no affinity, no stack pre-faulting; only the table's name, policy and stack size.
+inline constexpr RealtimeThreadOptions kPlainThreadOptions{false, false, -1, false};
 
 /// \brief What RealtimeThread::start() actually obtained from the kernel.
 struct RealtimeThreadReport {
@@ -85,9 +92,10 @@ bool memoryLockingAvailable() noexcept;
 /// start() does, in order: mlockall(MCL_CURRENT) (when
 /// RealtimeThreadOptions::lockMemory); pthread_create() with the config's stack size and explicit
 /// scheduling attributes (SCHED_FIFO at absolutePriority(config), or SCHED_OTHER); then, on the new
-/// thread, the name, the CPU affinity, and pre-faulting of the stack (stackBytes minus a 16 KiB
-/// margin), locked with mlock() when memory is locked, before the body runs. start() returns once the new thread has finished that set-up, so
-/// report() is complete.
+/// thread, the name, the CPU affinity, and (RealtimeThreadOptions::prefaultStack) pre-faulting of
+/// the stack (stackBytes minus a 16 KiB margin), locked with mlock() when memory is locked, before
+/// the body runs. start() returns once the new thread has finished that set-up, so report() is
+/// complete. Real-time starts (SCHED_FIFO, or memory locked) are logged at Info, others at Debug.
 ///
 /// When the kernel refuses SCHED_FIFO (EPERM: no CAP_SYS_NICE and RLIMIT_RTPRIO below the priority)
 /// or mlockall() (EPERM/ENOMEM: no CAP_IPC_LOCK and RLIMIT_MEMLOCK too small), start() logs one

@@ -66,16 +66,23 @@ constexpr bool isValidThreadConfig(const ThreadConfig &config) noexcept
 inline constexpr ThreadConfig kHapticThread{"dt-haptic", SchedPolicy::Fifo, -9, 256 * 1024};
 /// Demux, decode and pairing of color and depth frames.
 inline constexpr ThreadConfig kDecodeThread{"dt-decode", SchedPolicy::Other, 0, 1024 * 1024};
-/// Texture upload, stereo drawing and presentation, paced by vsync.
-inline constexpr ThreadConfig kRenderThread{"dt-render", SchedPolicy::Other, 0, 1024 * 1024};
-/// State machine, remote input and control socket.
+/// Texture upload, stereo drawing and presentation, paced by vsync; publishes the depth pairs. The
+/// GL driver compiles its shaders on it (llvmpipe: LLVM), so it gets a default thread's stack.
+inline constexpr ThreadConfig kRenderThread{"dt-render", SchedPolicy::Other, 0, 8 * 1024 * 1024};
+/// Builds the meshes and colour conversions of upcoming frames while the render thread draws.
+inline constexpr ThreadConfig kPrepThread{"dt-prep", SchedPolicy::Other, 0, 1024 * 1024};
+/// Encodes the output recording (x264) off the render thread.
+inline constexpr ThreadConfig kRecordThread{"dt-record", SchedPolicy::Other, 0, 2 * 1024 * 1024};
+/// State machine, remote input and control socket: the process's main thread (not started from the
+/// table; the row documents it and its stack is the process's).
 inline constexpr ThreadConfig kControlThread{"dt-control", SchedPolicy::Other, 0, 512 * 1024};
-/// Drains the haptic telemetry ring and writes logs, force logs and stats.
+/// Drains the haptic telemetry ring, writes the force log and reopens a lost device.
 inline constexpr ThreadConfig kTelemetryThread{"dt-telemetry", SchedPolicy::Other, 0, 256 * 1024};
 
 /// Every thread of the product, highest priority first.
 inline constexpr ThreadConfig kThreadTable[] = {
-    kHapticThread, kDecodeThread, kRenderThread, kControlThread, kTelemetryThread,
+    kHapticThread, kDecodeThread, kRenderThread,    kPrepThread,
+    kRecordThread, kControlThread, kTelemetryThread,
 };
 
 namespace detail {

@@ -18,7 +18,6 @@
 #include <memory>
 #include <mutex>
 #include <string>
-#include <thread>
 
 #include <glm/vec3.hpp>
 
@@ -84,7 +83,7 @@ struct HapticTaskConfig {
     void *threadHookUser = nullptr;
     ///@}
 
-    /// \name The telemetry thread (normal priority, real time)
+    /// \name The telemetry thread (SCHED_OTHER, kTelemetryThread; not real-time)
     ///@{
     /// Force log CSV (DESIGN.md §4) written as the telemetry drains; empty: none.
     std::string forceLogPath;
@@ -342,14 +341,13 @@ private:
     std::uint32_t reseatsDone_ = 0;
 
     // Telemetry thread and its state; mutex_ guards everything below it.
-    std::thread service_;
+    std::unique_ptr<platform::RealtimeThread> service_; ///< kTelemetryThread, from start().
     std::mutex mutex_;
     std::condition_variable wake_;
     bool serviceStop_ = false;
     bool started_ = false;
     bool stopped_ = false;
     std::FILE *forceLog_ = nullptr;
-    HapticStats totals_;
     std::unique_ptr<LatencyHistogram> wakeHist_;
     std::unique_ptr<LatencyHistogram> updateHist_;
     std::unique_ptr<LatencyHistogram> periodHist_;
