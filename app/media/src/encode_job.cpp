@@ -219,18 +219,33 @@ depthTags(const std::optional<depth::DepthRange> &range, depth::DepthMapping map
     };
 }
 
-Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
-                                    const EncodeOptions &options, const std::atomic<bool> *stop,
-                                    const EncodeCallbacks &callbacks)
-{
-    DT_TRY(options.validate());
-    const platform::SteadyClock &clock = platform::SteadyClock::instance();
-    const platform::TimePoint start = clock.now();
-    const auto stopped = [stop] {
-        return stop != nullptr && stop->load(std::memory_order_relaxed);
-    };
+namespace {
 
-    EncodeSummary summary;
+/// A color and a depth frame read together.
+struct Pair {
+    SourceFrame color;
+    SourceFrame depth;
+};
+
+/// The size and rate the color is encoded at.
+struct ColorShape {
+    int width = 0;
+    int height = 0;
+    double fps = 0.0;
+};
+
+/// The muxer and the two encoders; the encoders refer to the muxer's streams, so they are
+/// declared after it and go first.
+struct Outputs {
+    std::unique_ptr<Muxer> muxer;
+    std::unique_ptr<VideoEncoder> color;
+    std::unique_ptr<VideoEncoder> depth;
+};
+
+/// \return the encoded size (--size or the color's) and rate of \a color, checked for 4:2:0
+/// H.264.
+Result<ColorShape> colorShape(FrameSource &color, const EncodeOptions &options)
+{
     const int width = options.width > 0 ? options.width : color.info().width;
     const int height = options.height > 0 ? options.height : color.info().height;
     if (width % 2 != 0 || height % 2 != 0)
@@ -246,81 +261,125 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
     if (!(fps >= kMinEncodeFps) || fps > kMaxEncodeFps)
         return unexpected(Errc::InvalidArgument,
                           "The color input's frame rate is outside 0.1..1000 frames/s");
+    return ColorShape{width, height, fps};
+}
 
-    // Depth layout: 16-bit samples are metric depth; anything else gives 8-bit nearness (the luma
-    // of a color-format depth video).
-    const bool metric = depth.info().nativeFormat == PixelFormat::Gray16;
-    const PixelFormat depthLayout = metric ? PixelFormat::Gray16 : PixelFormat::Gray8;
+/// Reads the next color and depth frame into \a out. \return false at the end of an input, with
+/// \a endedBy naming it ("color" or "depth").
+Result<bool> readPair(FrameSource &color, FrameSource &depth, const ColorShape &shape,
+                      PixelFormat depthLayout, std::deque<Pair> &out, const char *&endedBy)
+{
+    auto c = color.next(PixelFormat::Rgb24, shape.width, shape.height);
+    if (!c && c.error().code == Errc::EndOfStream) {
+        endedBy = "color";
+        return false;
+    }
+    if (!c)
+        return unexpected(c.error());
+    auto d = depth.next(depthLayout);
+    if (!d && d.error().code == Errc::EndOfStream) {
+        endedBy = "depth";
+        return false;
+    }
+    if (!d)
+        return unexpected(d.error());
+    out.push_back(Pair{std::move(*c), std::move(*d)});
+    return true;
+}
 
-    // Look ahead: the first frames decide the near/far planes once for the whole file.
-    struct Pair {
-        SourceFrame color;
-        SourceFrame depth;
-    };
-    std::deque<Pair> ahead;
-    const int lookahead = metric && !options.range ? options.rangeFrames : 1;
-    for (int i = 0; i < lookahead; ++i) {
+/// Nearness from a DepthTouch file keeps the planes and mapping it was made with: sets \a range
+/// and \a mapping from the tags of \a depth when they are valid.
+void rangeFromTags(const FrameSource &depth, std::optional<depth::DepthRange> &range,
+                   depth::DepthMapping &mapping)
+{
+    const std::string *nearTag = depth.info().tag("depth_near");
+    const std::string *farTag = depth.info().tag("depth_far");
+    const std::string *mapTag = depth.info().tag("depth_mapping");
+    char *endNear = nullptr;
+    char *endFar = nullptr;
+    if (nearTag != nullptr && farTag != nullptr) {
+        const double n = std::strtod(nearTag->c_str(), &endNear);
+        const double f = std::strtod(farTag->c_str(), &endFar);
+        if (*endNear == '\0' && *endFar == '\0' && n > 0.0 && n < f && std::isfinite(f))
+            range = depth::DepthRange{n, f};
+    }
+    if (range && mapTag != nullptr) {
+        if (auto m = depth::parseMapping(*mapTag))
+            mapping = *m;
+    }
+}
+
+/// \return the robust near/far planes of the metric depth frames of \a ahead, taken together.
+Result<depth::DepthRange> robustRangeOf(const std::deque<Pair> &ahead, const EncodeOptions &options)
+{
+    depth::Plane<std::uint16_t> all;
+    for (const Pair &p : ahead) {
+        const depth::Plane<std::uint16_t> raw = toPlane16(p.depth.image);
+        all.samples.insert(all.samples.end(), raw.samples.begin(), raw.samples.end());
+    }
+    all.width = static_cast<int>(all.samples.size());
+    all.height = 1;
+    auto r = depth::robustRange(all, options.raw);
+    if (!r)
+        return unexpected(Errc::InvalidArgument,
+                          "The first depth frames have no valid sample to take near/far from");
+    return *r;
+}
+
+/// Reads up to \a count pairs (no more than --frames) into \a ahead. Errors: InvalidArgument
+/// when an input has no frame.
+Result<void> lookAhead(FrameSource &color, FrameSource &depth, const EncodeOptions &options,
+                       const ColorShape &shape, PixelFormat depthLayout, int count,
+                       std::deque<Pair> &ahead)
+{
+    for (int i = 0; i < count; ++i) {
         if (options.maxFrames > 0 && i >= options.maxFrames)
             break;
-        auto c = color.next(PixelFormat::Rgb24, width, height);
-        if (!c && c.error().code == Errc::EndOfStream)
+        const char *endedBy = nullptr;
+        auto read = readPair(color, depth, shape, depthLayout, ahead, endedBy);
+        if (!read)
+            return unexpected(read.error());
+        if (!*read)
             break;
-        if (!c)
-            return unexpected(c.error());
-        auto d = depth.next(depthLayout);
-        if (!d && d.error().code == Errc::EndOfStream)
-            break;
-        if (!d)
-            return unexpected(d.error());
-        ahead.push_back(Pair{std::move(*c), std::move(*d)});
     }
     if (ahead.empty())
         return unexpected(Errc::InvalidArgument, "An input has no frame");
+    return ok();
+}
 
-    std::optional<depth::DepthRange> range = options.range;
-    depth::DepthMapping mapping = options.mapping;
-    if (!metric && !range) {
-        // Nearness from a DepthTouch file keeps the planes and mapping it was made with.
-        const std::string *nearTag = depth.info().tag("depth_near");
-        const std::string *farTag = depth.info().tag("depth_far");
-        const std::string *mapTag = depth.info().tag("depth_mapping");
-        char *endNear = nullptr;
-        char *endFar = nullptr;
-        if (nearTag != nullptr && farTag != nullptr) {
-            const double n = std::strtod(nearTag->c_str(), &endNear);
-            const double f = std::strtod(farTag->c_str(), &endFar);
-            if (*endNear == '\0' && *endFar == '\0' && n > 0.0 && n < f && std::isfinite(f))
-                range = depth::DepthRange{n, f};
-        }
-        if (range && mapTag != nullptr) {
-            if (auto m = depth::parseMapping(*mapTag))
-                mapping = *m;
-        }
-    }
+/// Completes \a range and \a mapping when the options leave them open: from the tags of a
+/// nearness input, or from the robust range of the metric frames of \a ahead.
+Result<void> chooseRange(const FrameSource &depth, const std::deque<Pair> &ahead,
+                         const EncodeOptions &options, bool metric,
+                         std::optional<depth::DepthRange> &range, depth::DepthMapping &mapping)
+{
+    if (!metric && !range)
+        rangeFromTags(depth, range, mapping);
     if (metric && !range) {
-        depth::Plane<std::uint16_t> all;
-        for (const Pair &p : ahead) {
-            const depth::Plane<std::uint16_t> raw = toPlane16(p.depth.image);
-            all.samples.insert(all.samples.end(), raw.samples.begin(), raw.samples.end());
-        }
-        all.width = static_cast<int>(all.samples.size());
-        all.height = 1;
-        auto r = depth::robustRange(all, options.raw);
+        auto r = robustRangeOf(ahead, options);
         if (!r)
-            return unexpected(Errc::InvalidArgument,
-                              "The first depth frames have no valid sample to take near/far from");
+            return unexpected(r.error());
         range = *r;
     }
-    summary.metric = metric;
-    if (range)
-        summary.range = *range;
+    return ok();
+}
 
-    DepthPipeline pipeline(options, width, height, metric, range, callbacks);
-    summary.depthBits = pipeline.bits();
+/// Calls the progress callback of \a callbacks.
+void reportProgress(const EncodeCallbacks &callbacks, long long frames, long long expected,
+                    double elapsed, double pts)
+{
+    EncodeProgress p;
+    p.frames = frames;
+    p.totalFrames = expected;
+    p.elapsed = elapsed;
+    p.pts = pts;
+    callbacks.progress(p);
+}
 
-    // Output: container tags and streams, then the header.
-    const auto tags = depthTags(range, mapping, pipeline.bits());
-    summary.mapping = mapping;
+/// Opens the muxer with \a tags and the color and depth encoders; the header is written.
+Result<void> openOutputs(const EncodeOptions &options, const ColorShape &shape,
+                         const std::vector<std::pair<std::string, std::string>> &tags, Outputs &out)
+{
     MuxerOptions mo;
     mo.output = options.output;
     mo.container = options.container.value_or(containerForOutput(options.output));
@@ -328,19 +387,21 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
     auto muxer = Muxer::open(mo);
     if (!muxer)
         return unexpected(muxer.error());
+    out.muxer = std::move(*muxer);
 
     VideoEncoderConfig cc;
     cc.codec = VideoCodec::H264Yuv420p;
-    cc.width = width;
-    cc.height = height;
-    cc.fps = fps;
+    cc.width = shape.width;
+    cc.height = shape.height;
+    cc.fps = shape.fps;
     cc.crf = options.crf;
     cc.preset = options.preset;
     cc.threads = options.threads;
     cc.title = "color";
-    auto colorEnc = VideoEncoder::create(cc, **muxer);
+    auto colorEnc = VideoEncoder::create(cc, *out.muxer);
     if (!colorEnc)
         return unexpected(colorEnc.error());
+    out.color = std::move(*colorEnc);
 
     VideoEncoderConfig dc = cc;
     dc.codec = options.depthCodec;
@@ -348,11 +409,17 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
     dc.lossless = options.depthLossless;
     dc.title = "depth";
     dc.tags = tags;
-    auto depthEnc = VideoEncoder::create(dc, **muxer);
+    auto depthEnc = VideoEncoder::create(dc, *out.muxer);
     if (!depthEnc)
         return unexpected(depthEnc.error());
-    DT_TRY((*muxer)->start());
+    out.depth = std::move(*depthEnc);
+    return out.muxer->start();
+}
 
+/// \return the frames the encode is expected to write (for progress), 0 or less when unknown.
+long long expectedFrames(FrameSource &color, FrameSource &depth, const EncodeOptions &options,
+                         double fps)
+{
     long long expected = std::min(color.info().frameCount, depth.info().frameCount);
     if (expected <= 0)
         expected = std::max(color.info().frameCount, depth.info().frameCount);
@@ -363,6 +430,55 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
         if (expected <= 0 || byDuration < expected)
             expected = byDuration;
     }
+    return expected;
+}
+
+} // namespace
+
+Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
+                                    const EncodeOptions &options, const std::atomic<bool> *stop,
+                                    const EncodeCallbacks &callbacks)
+{
+    DT_TRY(options.validate());
+    const platform::SteadyClock &clock = platform::SteadyClock::instance();
+    const platform::TimePoint start = clock.now();
+    const auto stopped = [stop] {
+        return stop != nullptr && stop->load(std::memory_order_relaxed);
+    };
+
+    EncodeSummary summary;
+    auto shapeOk = colorShape(color, options);
+    if (!shapeOk)
+        return unexpected(shapeOk.error());
+    const ColorShape shape = *shapeOk;
+    const double fps = shape.fps;
+
+    // Depth layout: 16-bit samples are metric depth; anything else gives 8-bit nearness (the luma
+    // of a color-format depth video).
+    const bool metric = depth.info().nativeFormat == PixelFormat::Gray16;
+    const PixelFormat depthLayout = metric ? PixelFormat::Gray16 : PixelFormat::Gray8;
+
+    // Look ahead: the first frames decide the near/far planes once for the whole file.
+    std::deque<Pair> ahead;
+    const int lookahead = metric && !options.range ? options.rangeFrames : 1;
+    DT_TRY(lookAhead(color, depth, options, shape, depthLayout, lookahead, ahead));
+
+    std::optional<depth::DepthRange> range = options.range;
+    depth::DepthMapping mapping = options.mapping;
+    DT_TRY(chooseRange(depth, ahead, options, metric, range, mapping));
+    summary.metric = metric;
+    if (range)
+        summary.range = *range;
+
+    DepthPipeline pipeline(options, shape.width, shape.height, metric, range, callbacks);
+    summary.depthBits = pipeline.bits();
+
+    // Output: container tags and streams, then the header.
+    const auto tags = depthTags(range, mapping, pipeline.bits());
+    summary.mapping = mapping;
+    Outputs out;
+    DT_TRY(openOutputs(options, shape, tags, out));
+    const long long expected = expectedFrames(color, depth, options, fps);
 
     double lastPts = -1.0;
     for (;;) {
@@ -376,21 +492,14 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
             break;
         }
         if (ahead.empty()) {
-            auto c = color.next(PixelFormat::Rgb24, width, height);
-            if (!c && c.error().code == Errc::EndOfStream) {
-                summary.endedBy = "color";
+            const char *endedBy = nullptr;
+            auto read = readPair(color, depth, shape, depthLayout, ahead, endedBy);
+            if (!read)
+                return unexpected(read.error());
+            if (!*read) {
+                summary.endedBy = endedBy;
                 break;
             }
-            if (!c)
-                return unexpected(c.error());
-            auto d = depth.next(depthLayout);
-            if (!d && d.error().code == Errc::EndOfStream) {
-                summary.endedBy = "depth";
-                break;
-            }
-            if (!d)
-                return unexpected(d.error());
-            ahead.push_back(Pair{std::move(*c), std::move(*d)});
         }
         Pair pair = std::move(ahead.front());
         ahead.pop_front();
@@ -404,30 +513,25 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
         auto depthImage = pipeline.process(pair.depth.image, summary);
         if (!depthImage)
             return unexpected(depthImage.error());
-        DT_TRY((*colorEnc)->encode(pair.color.image, pts));
-        DT_TRY((*depthEnc)->encode(*depthImage, pts));
+        DT_TRY(out.color->encode(pair.color.image, pts));
+        DT_TRY(out.depth->encode(*depthImage, pts));
         lastPts = pts;
         summary.duration = pts + 1.0 / fps;
         ++summary.frames;
-        if (callbacks.progress) {
-            EncodeProgress p;
-            p.frames = summary.frames;
-            p.totalFrames = expected;
-            p.elapsed = platform::toSeconds(clock.now() - start);
-            p.pts = pts;
-            callbacks.progress(p);
-        }
+        if (callbacks.progress)
+            reportProgress(callbacks, summary.frames, expected,
+                           platform::toSeconds(clock.now() - start), pts);
     }
     if (summary.frames == 0)
         return unexpected(Errc::InvalidArgument, "Nothing to encode (no frame pair)");
-    DT_TRY((*colorEnc)->flush());
-    DT_TRY((*depthEnc)->flush());
-    summary.colorBytes = (*colorEnc)->bytes();
-    summary.depthBytes = (*depthEnc)->bytes();
+    DT_TRY(out.color->flush());
+    DT_TRY(out.depth->flush());
+    summary.colorBytes = out.color->bytes();
+    summary.depthBytes = out.depth->bytes();
     // The encoders refer to the muxer's streams: they go first.
-    colorEnc->reset();
-    depthEnc->reset();
-    DT_TRY((*muxer)->finish());
+    out.color.reset();
+    out.depth.reset();
+    DT_TRY(out.muxer->finish());
     summary.elapsed = platform::toSeconds(clock.now() - start);
     return summary;
 }
