@@ -120,6 +120,14 @@ struct FfmpegMediaSource::Impl {
     }
 
     Result<void> open(const char *url);
+    /// Opens \a url with libavformat (the forced format, the frame rate option, the I/O deadline)
+    /// and reads its stream list into fmt.
+    Result<void> openInput(const char *url);
+    /// Lists libav stream \a i when it is a video stream this build delivers (\a videoStreams:
+    /// the input's video streams, for telling depth from color).
+    void addStream(unsigned i, int videoStreams);
+    /// Sets info.duration from the container, or from the longest listed stream.
+    void readDuration() noexcept;
     /// \return what libavformat opens for \a url: itself, or for a FIFO `pipe:FD` once a writer
     /// came within the timeout (open(2) of a FIFO would block until one does; the descriptor stays
     /// non-blocking so libavformat's reads honour the interrupt callback).
@@ -168,7 +176,7 @@ struct FfmpegMediaSource::Impl {
     hal::Pts start{0};
 };
 
-Result<void> FfmpegMediaSource::Impl::open(const char *url)
+Result<void> FfmpegMediaSource::Impl::openInput(const char *url)
 {
     AVFormatContext *ctx = avformat_alloc_context();
     if (ctx == nullptr)
@@ -206,81 +214,76 @@ Result<void> FfmpegMediaSource::Impl::open(const char *url)
         DT_LOG(Ffmpeg, Debug, "Failed to read the stream list of '%s'", url);
         return unexpected(errcOf(r, Errc::InvalidArgument), "Failed to read the stream list");
     }
+    return ok();
+}
 
-    int videoStreams = 0;
-    for (unsigned i = 0; i < ctx->nb_streams; ++i)
-        if (ctx->streams[i]->codecpar->codec_type == AVMEDIA_TYPE_VIDEO)
-            ++videoStreams;
-    if (videoStreams == 0)
-        return unexpected(Errc::InvalidArgument, "The input has no video stream");
+void FfmpegMediaSource::Impl::addStream(unsigned i, int videoStreams)
+{
+    AVFormatContext *ctx = fmt.get();
+    const AVStream &st = *ctx->streams[i];
+    const AVCodecParameters &par = *st.codecpar;
+    if (par.codec_type != AVMEDIA_TYPE_VIDEO)
+        return;
+    if ((st.disposition & AV_DISPOSITION_ATTACHED_PIC) != 0)
+        return;
+    hal::StreamInfo si;
+    si.index = static_cast<int>(info.streams.size());
+    const AVDictionaryEntry *title = av_dict_get(st.metadata, "title", nullptr, 0);
+    si.title = title != nullptr ? title->value : "";
+    const AVPixelFormat pixfmt =
+        si.title == "color" ? static_cast<AVPixelFormat>(par.format) : samplesFormatOf(par);
+    if (si.title == "depth")
+        si.kind = hal::StreamKind::Depth;
+    else if (si.title == "color")
+        si.kind = hal::StreamKind::Color;
+    else
+        si.kind =
+            videoStreams == 1 && isGray(pixfmt) ? hal::StreamKind::Depth : hal::StreamKind::Color;
+    si.codec = codecOf(par.codec_id);
+    si.format = halFormatOf(pixfmt, si.kind);
+    si.width = par.width;
+    si.height = par.height;
+    AVRational rate = st.avg_frame_rate.num > 0 && st.avg_frame_rate.den > 0 ? st.avg_frame_rate
+                                                                             : st.r_frame_rate;
+    if (rate.num > 0 && rate.den > 0)
+        si.frameRate = {rate.num, rate.den};
+    si.timeBase = {st.time_base.num, st.time_base.den};
+    if (par.extradata != nullptr && par.extradata_size > 0)
+        si.extradata.assign(par.extradata,
+                            par.extradata + static_cast<std::size_t>(par.extradata_size));
+    const char *mapping = tagOf(st, *ctx, "depth_mapping");
+    si.depth.nearMetres = tagDouble(tagOf(st, *ctx, "depth_near"));
+    si.depth.farMetres = tagDouble(tagOf(st, *ctx, "depth_far"));
+    si.depth.mapping = mapping != nullptr ? mapping : "";
+    si.depth.bits = tagBits(tagOf(st, *ctx, "depth_bits"));
 
-    if (ctx->start_time != AV_NOPTS_VALUE)
-        start = hal::Pts(av_rescale_q(ctx->start_time, kMicroseconds, kNanoseconds));
-    avToHal.assign(ctx->nb_streams, -1);
-    for (unsigned i = 0; i < ctx->nb_streams; ++i) {
-        const AVStream &st = *ctx->streams[i];
-        const AVCodecParameters &par = *st.codecpar;
-        if (par.codec_type != AVMEDIA_TYPE_VIDEO)
-            continue;
-        if ((st.disposition & AV_DISPOSITION_ATTACHED_PIC) != 0)
-            continue;
-        hal::StreamInfo si;
-        si.index = static_cast<int>(info.streams.size());
-        const AVDictionaryEntry *title = av_dict_get(st.metadata, "title", nullptr, 0);
-        si.title = title != nullptr ? title->value : "";
-        const AVPixelFormat pixfmt =
-            si.title == "color" ? static_cast<AVPixelFormat>(par.format) : samplesFormatOf(par);
-        if (si.title == "depth")
-            si.kind = hal::StreamKind::Depth;
-        else if (si.title == "color")
-            si.kind = hal::StreamKind::Color;
-        else
-            si.kind = videoStreams == 1 && isGray(pixfmt) ? hal::StreamKind::Depth
-                                                          : hal::StreamKind::Color;
-        si.codec = codecOf(par.codec_id);
-        si.format = halFormatOf(pixfmt, si.kind);
-        si.width = par.width;
-        si.height = par.height;
-        AVRational rate = st.avg_frame_rate.num > 0 && st.avg_frame_rate.den > 0 ? st.avg_frame_rate
-                                                                                 : st.r_frame_rate;
-        if (rate.num > 0 && rate.den > 0)
-            si.frameRate = {rate.num, rate.den};
-        si.timeBase = {st.time_base.num, st.time_base.den};
-        if (par.extradata != nullptr && par.extradata_size > 0)
-            si.extradata.assign(par.extradata,
-                                par.extradata + static_cast<std::size_t>(par.extradata_size));
-        const char *mapping = tagOf(st, *ctx, "depth_mapping");
-        si.depth.nearMetres = tagDouble(tagOf(st, *ctx, "depth_near"));
-        si.depth.farMetres = tagDouble(tagOf(st, *ctx, "depth_far"));
-        si.depth.mapping = mapping != nullptr ? mapping : "";
-        si.depth.bits = tagBits(tagOf(st, *ctx, "depth_bits"));
-
-        Stream s;
-        s.avIndex = static_cast<int>(i);
-        s.timeBase = st.time_base;
-        if (rate.num > 0 && rate.den > 0)
-            s.frameDuration = hal::Pts(av_rescale_q(1, av_inv_q(rate), kNanoseconds));
-        if (si.codec == hal::CodecId::Unknown) {
-            // A still-image codec (image sequence): decode here, deliver RawVideo packets.
-            const AVCodec *codec = avcodec_find_decoder(par.codec_id);
-            if (codec == nullptr || si.format == hal::PixelFormat::Unknown || si.width <= 0 ||
-                si.height <= 0)
-                continue;
-            AvCodecContextPtr dec(avcodec_alloc_context3(codec));
-            if (!dec || avcodec_parameters_to_context(dec.get(), &par) < 0 ||
-                avcodec_open2(dec.get(), codec, nullptr) < 0)
-                continue;
-            s.imageDecoder = std::move(dec);
-            si.codec = hal::CodecId::RawVideo;
-            si.extradata.clear();
-        }
-        avToHal[i] = si.index;
-        info.streams.push_back(std::move(si));
-        streams.push_back(std::move(s));
+    Stream s;
+    s.avIndex = static_cast<int>(i);
+    s.timeBase = st.time_base;
+    if (rate.num > 0 && rate.den > 0)
+        s.frameDuration = hal::Pts(av_rescale_q(1, av_inv_q(rate), kNanoseconds));
+    if (si.codec == hal::CodecId::Unknown) {
+        // A still-image codec (image sequence): decode here, deliver RawVideo packets.
+        const AVCodec *codec = avcodec_find_decoder(par.codec_id);
+        if (codec == nullptr || si.format == hal::PixelFormat::Unknown || si.width <= 0 ||
+            si.height <= 0)
+            return;
+        AvCodecContextPtr dec(avcodec_alloc_context3(codec));
+        if (!dec || avcodec_parameters_to_context(dec.get(), &par) < 0 ||
+            avcodec_open2(dec.get(), codec, nullptr) < 0)
+            return;
+        s.imageDecoder = std::move(dec);
+        si.codec = hal::CodecId::RawVideo;
+        si.extradata.clear();
     }
-    if (info.streams.empty())
-        return unexpected(Errc::NotSupported, "No video stream with a codec this build decodes");
+    avToHal[i] = si.index;
+    info.streams.push_back(std::move(si));
+    streams.push_back(std::move(s));
+}
 
+void FfmpegMediaSource::Impl::readDuration() noexcept
+{
+    const AVFormatContext *ctx = fmt.get();
     if (ctx->duration != AV_NOPTS_VALUE && ctx->duration > 0) {
         info.duration = hal::Pts(av_rescale_q(ctx->duration, kMicroseconds, kNanoseconds));
     } else {
@@ -291,6 +294,28 @@ Result<void> FfmpegMediaSource::Impl::open(const char *url)
                     info.duration, hal::Pts(av_rescale_q(st.duration, st.time_base, kNanoseconds)));
         }
     }
+}
+
+Result<void> FfmpegMediaSource::Impl::open(const char *url)
+{
+    DT_TRY(openInput(url));
+    AVFormatContext *ctx = fmt.get();
+    int videoStreams = 0;
+    for (unsigned i = 0; i < ctx->nb_streams; ++i)
+        if (ctx->streams[i]->codecpar->codec_type == AVMEDIA_TYPE_VIDEO)
+            ++videoStreams;
+    if (videoStreams == 0)
+        return unexpected(Errc::InvalidArgument, "The input has no video stream");
+
+    if (ctx->start_time != AV_NOPTS_VALUE)
+        start = hal::Pts(av_rescale_q(ctx->start_time, kMicroseconds, kNanoseconds));
+    avToHal.assign(ctx->nb_streams, -1);
+    for (unsigned i = 0; i < ctx->nb_streams; ++i)
+        addStream(i, videoStreams);
+    if (info.streams.empty())
+        return unexpected(Errc::NotSupported, "No video stream with a codec this build decodes");
+
+    readDuration();
     const bool noFile = (ctx->iformat->flags & AVFMT_NOFILE) != 0;
     // Image sequences (no file of their own) seek by file number.
     info.seekable =
