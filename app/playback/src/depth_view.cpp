@@ -1,0 +1,26 @@
+/// \file
+/// \brief The depth frame mapping: see depth_view.h.
+
+#include "depth_view.h"
+
+namespace depthtouch::playback {
+
+haptics::SampleFormat sampleFormatOf(hal::PixelFormat format) noexcept
+{
+    return format == hal::PixelFormat::Gray16 ? haptics::SampleFormat::Gray16
+                                              : haptics::SampleFormat::Gray8;
+}
+
+haptics::DepthFrameView depthView(const receiver::StoredFrame &f, double pts) noexcept
+{
+    haptics::DepthFrameView v;
+    v.data = f.image.planes[0].data;
+    v.width = f.image.width;
+    v.height = f.image.height;
+    v.strideBytes = static_cast<std::size_t>(f.image.planes[0].strideBytes);
+    v.format = sampleFormatOf(f.image.format);
+    v.pts = pts;
+    return v;
+}
+
+} // namespace depthtouch::playback

@@ -1,0 +1,344 @@
+/// \file
+/// \brief The GL Presenter (builds with EGL/GLES): the stereo renderer draws each frame into a
+/// render target, blitted to the display's frame buffer; the level of detail follows the draw
+/// times; the prep worker makes upcoming frames' meshes ahead; the recorder and the snapshotter
+/// read the target back. See presenter.h.
+
+#include <algorithm>
+#include <optional>
+#include <vector>
+
+#include "depthtouch/platform/log.h"
+#include "depthtouch/render/lod_controller.h"
+#include "depthtouch/render/render_target.h"
+#include "depthtouch/render/renderer.h"
+#include "depthtouch/render/snapshot.h"
+
+#include "depth_view.h"
+#include "prep_worker.h"
+#include "presenter.h"
+#include "recorder.h"
+
+DT_LOG_CATEGORY(Playback)
+
+namespace depthtouch::playback {
+
+namespace {
+
+render::StereoMode toRenderMode(player::StereoMode m) noexcept
+{
+    switch (m) {
+    case player::StereoMode::SideBySide:
+        return render::StereoMode::SideBySide;
+    case player::StereoMode::TopAndBottom:
+        return render::StereoMode::TopAndBottom;
+    case player::StereoMode::Anaglyph:
+        return render::StereoMode::Anaglyph;
+    case player::StereoMode::Mono:
+        return render::StereoMode::Mono;
+    case player::StereoMode::Interleaved:
+        return render::StereoMode::RowInterleaved;
+    }
+    return render::StereoMode::SideBySide;
+}
+
+/// See the file comment.
+class GlPresenter final : public Presenter {
+public:
+    GlPresenter(const PlaybackConfig &config, hal::Display &display, platform::Clock &clock,
+                std::atomic<bool> &snapshotRequest, const std::atomic<std::uint64_t> &osdEvents)
+        : config_(config), display_(display), clock_(clock), snapshotRequest_(snapshotRequest),
+          osdEvents_(osdEvents)
+    {
+    }
+
+    void contextReady() override { gl_ = true; }
+    void newSession() override
+    {
+        if (prepWorker_)
+            prepWorker_->clear();
+        renderer_.reset(); // re-created for the new stream's sizes
+        target_.reset();
+        lod_.reset();
+    }
+    void dropPrepared() override
+    {
+        if (prepWorker_)
+            prepWorker_->clear();
+    }
+    void prepareAhead(const receiver::PairedFrame &next, const receiver::PairedFrame *queued,
+                      int queuedCount) override
+    {
+        if (prepWorker_ && renderer_)
+            prepWorker_->submit(next, queued, queuedCount, renderer_->options().mesh,
+                                renderer_->convertsColorOnCpu());
+    }
+    DrawOutcome draw(const DrawInput &in) override;
+    void finishDrawing(bool drawn) override
+    {
+        // A software rasterizer draws on the CPU: its work is waited for here (its present
+        // would wait for it anyway), so the level of detail sees the time to draw.
+        if (lod_ && renderer_ && drawn && renderer_->rendersInSoftware())
+            renderer_->finish();
+    }
+    std::optional<LodSample> afterPresent(double drawSeconds, bool drawn, bool presented,
+                                          bool prerolling) override;
+    void addStats(PlaybackStats &stats) const override
+    {
+        if (!renderer_)
+            return;
+        const render::DmaBufStats &ds = renderer_->dmaBufStats();
+        stats.zeroCopy = ds.zeroCopy;
+        stats.colorFramesImported = ds.imported;
+        stats.colorFramesDmaBufUploaded = ds.uploaded;
+    }
+    void shutdown() override
+    {
+        recorder_.finish();
+        snapshotter_.reset();
+        target_.reset();
+        renderer_.reset();
+    }
+
+private:
+    haptics::DepthFrameView depthOf(const DrawInput &in);
+    void ensureRendererAndTarget(hal::Size size);
+    void applyOptions(player::StereoMode mode, const haptics::DepthFrameView &dv, double period);
+    bool setPicture(const receiver::StoredFrame *depthFrame,
+                    const receiver::StoredFrame *colorFrame, const haptics::DepthFrameView &dv,
+                    DrawOutcome &out);
+    void setOverlays(const DrawInput &in);
+    void output(hal::Size size, DrawOutcome &out);
+
+    const PlaybackConfig &config_;
+    hal::Display &display_;
+    platform::Clock &clock_;
+    std::atomic<bool> &snapshotRequest_;
+    const std::atomic<std::uint64_t> &osdEvents_;
+    bool gl_ = false;
+    std::unique_ptr<render::StereoRenderer> renderer_;
+    std::optional<render::RenderTarget> target_;
+    std::unique_ptr<render::Snapshotter> snapshotter_;
+    Recorder recorder_;
+    std::vector<std::uint8_t> flatDepth_;      // depth-less input: a flat surface
+    std::unique_ptr<PrepWorker> prepWorker_;   // upcoming frames' meshes and colour, made ahead
+    std::optional<render::LodController> lod_; // the mesh's block budget, from the draw times
+    std::uint64_t osdSeen_ = ~std::uint64_t{0};
+    platform::TimePoint osdSince_{};
+};
+
+DrawOutcome GlPresenter::draw(const DrawInput &in)
+{
+    DrawOutcome out;
+    if (!gl_)
+        return out;
+    out.drawn = false;
+    const receiver::StoredFrame *depthFrame = in.frame.depth ? in.frame.depth.get() : nullptr;
+    const receiver::StoredFrame *colorFrame = in.frame.color ? in.frame.color.get() : nullptr;
+    const haptics::DepthFrameView dv = depthOf(in);
+    const hal::Size size = display_.size();
+    ensureRendererAndTarget(size);
+    if (renderer_ && target_ && dv.data != nullptr) {
+        applyOptions(in.mode, dv, in.session.period);
+        const bool ok = setPicture(depthFrame, colorFrame, dv, out);
+        setOverlays(in);
+        if (ok && renderer_->render(*target_))
+            output(size, out);
+    }
+    if (!snapshotter_ && !config_.snapshotDir.empty())
+        snapshotter_ = std::make_unique<render::Snapshotter>(config_.snapshotDir,
+                                                             config_.snapshotEvery, "frame");
+    return out;
+}
+
+/// The depth to draw: the frame's, or a flat surface of the colour frame's size without depth.
+haptics::DepthFrameView GlPresenter::depthOf(const DrawInput &in)
+{
+    if (in.frame.depth)
+        return depthView(*in.frame.depth.get(), in.pts);
+    haptics::DepthFrameView dv;
+    if (in.frame.color) {
+        const int w = in.frame.color.get()->image.width;
+        const int h = in.frame.color.get()->image.height;
+        flatDepth_.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0);
+        dv = {flatDepth_.data(),
+              w,
+              h,
+              static_cast<std::size_t>(w),
+              haptics::SampleFormat::Gray8,
+              in.pts};
+    }
+    return dv;
+}
+
+void GlPresenter::ensureRendererAndTarget(hal::Size size)
+{
+    if (!renderer_) {
+        render::RendererOptions ro;
+        ro.box = config_.haptics.renderer.box;
+        ro.stereo.frameCompatible = config_.frameCompatible;
+        if (config_.meshStep > 0) {
+            ro.mesh.mode = render::MeshMode::Fixed;
+            ro.mesh.fixedStep = config_.meshStep;
+            ro.mesh.tileSize = std::max(ro.mesh.tileSize, config_.meshStep);
+        }
+        auto r = render::StereoRenderer::create(ro);
+        if (r)
+            renderer_ = std::move(*r);
+        else
+            DT_LOG_ONCE(Playback, Error, "Cannot create the stereo renderer: %s", r.error().what);
+    }
+    if (!target_ && renderer_) {
+        auto t = render::RenderTarget::create(size.width, size.height);
+        if (t)
+            target_ = std::move(*t);
+        else
+            DT_LOG_ONCE(Playback, Error, "Cannot create the render target: %s", t.error().what);
+    }
+}
+
+/// The stereo mode, and the mesh budget of the level of detail (created with the first frame).
+void GlPresenter::applyOptions(player::StereoMode mode, const haptics::DepthFrameView &dv,
+                               double period)
+{
+    render::RendererOptions ro = renderer_->options();
+    ro.mode = toRenderMode(mode);
+    if (config_.lodTarget > 0.0 && config_.meshStep == 0 &&
+        ro.mesh.mode == render::MeshMode::Quadtree) {
+        if (!lod_) {
+            render::LodOptions lo;
+            // A frame drawn within one refresh period is on screen at its time even after a late
+            // one (the next refresh catches up); one that takes longer stays a refresh late until
+            // a faster one comes, and the next stall drops a frame. So the target is a share of
+            // the refresh period (of the frame period when that is shorter, or the display does
+            // not say).
+            const double refresh = display_.refreshHz();
+            const double budgetPeriod = refresh > 0.0 ? std::min(period, 1.0 / refresh) : period;
+            lo.targetSeconds = config_.lodTarget * budgetPeriod;
+            lo.minBlocks =
+                std::max<std::size_t>(lo.minBlocks, static_cast<std::size_t>(dv.width) *
+                                                        static_cast<std::size_t>(dv.height) / 256);
+            lod_.emplace(lo);
+        }
+        ro.mesh.maxBlocks = lod_->budget();
+    }
+    (void)renderer_->setOptions(ro);
+}
+
+/// Depth (with the prep made ahead, if any) and colour into the renderer. \return the depth's
+/// result.
+bool GlPresenter::setPicture(const receiver::StoredFrame *depthFrame,
+                             const receiver::StoredFrame *colorFrame,
+                             const haptics::DepthFrameView &dv, DrawOutcome &out)
+{
+    if (!prepWorker_)
+        prepWorker_ = std::make_unique<PrepWorker>();
+    render::FramePrep *prep = depthFrame != nullptr ? prepWorker_->take(depthFrame) : nullptr;
+    const bool ok = static_cast<bool>(prep != nullptr ? renderer_->setDepth(dv, *prep)
+                                                      : renderer_->setDepth(dv));
+    render::ColorSpec spec;
+    const hal::ImageView *picture = pictureOf(colorFrame, depthFrame, spec);
+    if (prep != nullptr && prep->hasRgba) {
+        (void)renderer_->setColor(*prep);
+    } else if (colorFrame != nullptr) {
+        if (auto r = renderer_->setColorFrame(colorFrame->image, colorFrame->dmabuf, spec); !r)
+            DT_LOG_ONCE(Playback, Warning, "Color frames not shown: %s", r.error().what);
+    } else if (picture != nullptr) {
+        (void)renderer_->setColor(*picture, spec);
+    }
+    if (prep != nullptr) {
+        prepWorker_->release(prep);
+        out.preparedAhead = true;
+    }
+    return ok;
+}
+
+/// The avatar (proxy and HIP) and the on-screen display.
+void GlPresenter::setOverlays(const DrawInput &in)
+{
+    haptic_task::HapticTask *task = in.session.task.get();
+    render::AvatarState avatar;
+    if (config_.avatar && task != nullptr) {
+        glm::dvec3 hip, proxy;
+        if (task->lastPose(hip, proxy)) {
+            avatar.visible = true;
+            avatar.hip = hip;
+            avatar.proxy = proxy;
+        }
+    }
+    renderer_->setAvatar(avatar);
+    if (const std::uint64_t n = osdEvents_.load(std::memory_order_relaxed); n != osdSeen_) {
+        osdSeen_ = n;
+        osdSince_ = clock_.now();
+    }
+    const bool osdUp = config_.osdSeconds <= 0.0 || in.paused ||
+                       platform::toSeconds(clock_.now() - osdSince_) < config_.osdSeconds;
+    if (config_.osd) {
+        render::OsdState osd;
+        osd.visible = osdUp;
+        osd.status = in.paused ? "PAUSED" : "PLAYING";
+        osd.hapticsOn = task != nullptr && task->enabled();
+        osd.force = task != nullptr ? glm::length(task->lastForce()) : 0.0;
+        osd.maxForce = std::max(1e-3, config_.haptics.renderer.maxForce);
+        renderer_->setOsd(osd);
+    }
+}
+
+/// The rendered target to the display, the recording and the snapshots.
+void GlPresenter::output(hal::Size size, DrawOutcome &out)
+{
+    if (target_->blitTo(display_.framebuffer(), size.width, size.height))
+        out.drawn = true;
+    if (!config_.recordPath.empty() && !recorder_.failed) {
+        std::string err;
+        if (!recorder_.isOpen())
+            err = recorder_.open(config_, target_->width(), target_->height());
+        if (err.empty())
+            err = recorder_.add(*target_, clock_.now());
+        if (err.empty()) {
+            out.recorded = true;
+        } else {
+            recorder_.failed = true;
+            out.recordError = std::move(err);
+        }
+    }
+    if (snapshotter_) {
+        if (snapshotRequest_.exchange(false))
+            snapshotter_->request();
+        auto w = snapshotter_->onFrame(*target_);
+        if (!w)
+            DT_LOG_ONCE(Playback, Warning, "Snapshot not written: %s", w.error().what);
+        else if (*w)
+            out.snapshotWritten = true;
+    }
+}
+
+std::optional<LodSample> GlPresenter::afterPresent(double drawSeconds, bool drawn, bool presented,
+                                                   bool prerolling)
+{
+    if (!lod_ || !renderer_ || !drawn || !presented || prerolling)
+        return std::nullopt;
+    const render::MeshStats &mesh = renderer_->mesh().stats();
+    lod_->update(drawSeconds, mesh);
+    LodSample s;
+    s.budget = lod_->budget();
+    s.limited = mesh.budgetLimited;
+    s.triangles = static_cast<double>(mesh.triangles);
+    return s;
+}
+
+} // namespace
+
+std::unique_ptr<Presenter> makePresenter(const PlaybackConfig &config, hal::Display &display,
+                                         platform::Clock &clock, std::atomic<bool> &snapshotRequest,
+                                         const std::atomic<std::uint64_t> &osdEvents)
+{
+    return std::make_unique<GlPresenter>(config, display, clock, snapshotRequest, osdEvents);
+}
+
+bool presenterDraws(const hal::Display &display) noexcept
+{
+    return display.capabilities().hasGlesContext;
+}
+
+} // namespace depthtouch::playback

@@ -1,0 +1,338 @@
+/// \file
+/// \brief RenderLoop: see render_loop.h.
+
+#include "render_loop.h"
+
+#include <algorithm>
+#include <chrono>
+#include <mutex>
+#include <string>
+
+#include "depthtouch/platform/log.h"
+
+#include "depth_view.h"
+
+DT_LOG_CATEGORY(Playback)
+
+namespace depthtouch::playback {
+
+using platform::TimePoint;
+
+void RenderLoop::Frames::dropFrames() noexcept
+{
+    shown = receiver::PairedFrame{};
+    for (auto &p : pending)
+        p = receiver::PairedFrame{};
+    pendingCount = 0;
+}
+
+void RenderLoop::Frames::popFront() noexcept
+{
+    pending[0] = std::move(pending[1]);
+    pending[1] = receiver::PairedFrame{};
+    --pendingCount;
+}
+
+const double *RenderLoop::Frames::nextPts(double &storage) const noexcept
+{
+    if (pendingCount < 2)
+        return nullptr;
+    storage = ptsSeconds(pending[1].pts);
+    return &storage;
+}
+
+RenderLoop::RenderLoop(RenderShared &shared, const PlaybackConfig &config, hal::Display &display,
+                       platform::Clock &clock)
+    : shared_(shared), config_(config), display_(display), clock_(clock),
+      presenter_(makePresenter(config, display, clock, shared.snapshotRequest, shared.osdEvents)),
+      frameClock_(config.maxLateness)
+{
+}
+
+void RenderLoop::run()
+{
+    for (;;) {
+        Commands cmd;
+        const Turn turn = takeCommands(cmd);
+        if (turn == Turn::Quit)
+            break;
+        if (turn == Turn::Play)
+            play(*frames_.session, cmd);
+    }
+    leave();
+}
+
+/// Commands and session changes. \return Quit, Idle (nothing to play: waited up to 20 ms) or Play.
+RenderLoop::Turn RenderLoop::takeCommands(Commands &cmd)
+{
+    std::unique_lock<std::mutex> lock(shared_.mutex);
+    if (shared_.quit)
+        return Turn::Quit;
+    if (frames_.gen != shared_.sessionGen) {
+        adoptSession();
+        shared_.sessionAck = shared_.sessionGen;
+        shared_.cv.notify_all();
+    }
+    if (frames_.session == nullptr || !shared_.playing) {
+        shared_.cv.wait_for(lock, std::chrono::milliseconds(20));
+        return Turn::Idle;
+    }
+    cmd.paused = shared_.paused;
+    cmd.seekGen = shared_.seekGen;
+    cmd.seekTo = shared_.seekTarget;
+    cmd.mode = shared_.stereoMode;
+    return Turn::Play;
+}
+
+/// A new session (under the lock): drops every frame of the old one and restarts the clock.
+void RenderLoop::adoptSession()
+{
+    frames_.dropFrames();
+    frames_ = Frames{};
+    frames_.session = shared_.session;
+    frames_.gen = shared_.sessionGen;
+    frames_.seekSeen = shared_.seekGen;
+    frameClock_ = FrameClock(config_.maxLateness);
+    presenter_->newSession();
+    if (frames_.session != nullptr && display_.state() != hal::Display::State::Open)
+        openDisplay();
+}
+
+/// The display's first open (under the lock), sized for the first stream, its GL context made
+/// current on this thread.
+void RenderLoop::openDisplay()
+{
+    if (auto r = display_.open(frames_.session->displayConfig); !r) {
+        shared_.displayError = std::string("cannot open the display: ") + r.error().what;
+    } else if (display_.capabilities().hasGlesContext) {
+        if (auto c = display_.makeCurrent(); !c)
+            DT_LOG(Playback, Warning, "No GL context (%s): frames are presented undrawn",
+                   c.error().what);
+        else
+            presenter_->contextReady();
+    }
+}
+
+/// One turn of playing: at most one frame shown, or a short sleep.
+void RenderLoop::play(Session &s, const Commands &cmd)
+{
+    const TimePoint now = clock_.now();
+    frameClock_.trackPlaying(now, cmd.paused);
+    if (cmd.seekGen != frames_.seekSeen) {
+        frames_.seekSeen = cmd.seekGen;
+        seek(s, cmd.seekTo);
+    }
+    // Pause: the media clock stands still (the haptic time with it).
+    if (frameClock_.holdForPause(now, cmd.paused) && s.handoff)
+        s.handoff->setMediaOrigin(frameClock_.origin());
+    takeFrames(s, now);
+    checkDecoder(s, now);
+    if (frames_.pendingCount == 0) {
+        clock_.sleepFor(std::chrono::milliseconds(2));
+        return;
+    }
+    const double pts = ptsSeconds(frames_.pending[0].pts);
+    if (!s.haveStart) {
+        std::lock_guard<std::mutex> lock(shared_.mutex);
+        s.startPts = pts;
+        s.haveStart = true;
+    }
+    if (!pace(s, now, pts, cmd.paused))
+        return;
+    // Frame i goes on screen: the haptic task gets (depth i, depth i+1).
+    frames_.shown = std::move(frames_.pending[0]);
+    frames_.popFront();
+    publishDepth(s);
+    frames_.reseat = false;
+    drawAndPresent(s, cmd, pts);
+}
+
+/// Seek: drop what was queued; the decode thread restarts at \a seekTo (s, stream timeline).
+void RenderLoop::seek(Session &s, double seekTo)
+{
+    for (auto &p : frames_.pending)
+        p = receiver::PairedFrame{};
+    frames_.pendingCount = 0;
+    frameClock_.restart();
+    frames_.reseat = true;
+    frames_.eosSent = false;
+    presenter_->dropPrepared();
+    s.decoder->seek(ptsFromSeconds(seekTo));
+}
+
+/// Takes up to two frames from the decode thread (never blocks), and has the next one to show made
+/// ahead while this thread draws (the first, or the second when it is due already and the first
+/// will be dropped).
+void RenderLoop::takeFrames(Session &s, TimePoint now)
+{
+    while (frames_.pendingCount < 2 &&
+           s.decoder->poll(frames_.pending[static_cast<std::size_t>(frames_.pendingCount)])) {
+        ++frames_.pendingCount;
+        frames_.anyFrame = true;
+        std::lock_guard<std::mutex> lock(shared_.mutex);
+        ++shared_.stats.framesReceived;
+    }
+    if (frames_.pendingCount > 0 && frameClock_.started()) {
+        double nextPts = 0.0;
+        const bool skipFirst = frameClock_.skipsFront(now, ptsSeconds(frames_.pending[0].pts),
+                                                      frames_.nextPts(nextPts));
+        presenter_->prepareAhead(frames_.pending[skipFirst ? 1 : 0], frames_.pending,
+                                 frames_.pendingCount);
+    }
+}
+
+/// Decoder failures, an input cut before its first frame, and the end of the stream (the last
+/// frame has had its time on screen).
+void RenderLoop::checkDecoder(Session &s, TimePoint now)
+{
+    if (s.decoder->failed()) {
+        std::lock_guard<std::mutex> lock(shared_.mutex);
+        if (shared_.failure.empty())
+            shared_.failure = std::string("decoding failed: ") + s.decoder->error().what;
+    }
+    if (frames_.pendingCount == 0 && !frames_.anyFrame && s.decoder->finished() &&
+        !frames_.eosSent) {
+        // The input ended before its first complete frame (a file cut after its header): a
+        // failure, not a player that shows nothing for ever.
+        frames_.eosSent = true;
+        std::lock_guard<std::mutex> lock(shared_.mutex);
+        if (shared_.failure.empty())
+            shared_.failure = "the input ended before its first complete frame (truncated?)";
+    }
+    if (frames_.pendingCount == 0 && !frames_.eosSent && s.decoder->finished() &&
+        frames_.haveShown() &&
+        frameClock_.lastFrameDone(now, ptsSeconds(frames_.shown.pts), s.period)) {
+        frames_.eosSent = true;
+        std::lock_guard<std::mutex> lock(shared_.mutex);
+        shared_.endOfStream = true;
+        ++shared_.stats.endsOfStream;
+    }
+}
+
+/// The pacing decision for pending[0] (PTS \a pts, s): sleeps or drops it and \return false, or
+/// \return true to show it now.
+bool RenderLoop::pace(Session &s, TimePoint now, double pts, bool paused)
+{
+    double nextPtsStorage = 0.0;
+    const bool hold = paused && !frames_.reseat && frames_.haveShown();
+    const Pace p = frameClock_.pace(now, pts, frames_.nextPts(nextPtsStorage), s.period, hold);
+    switch (p.step) {
+    case Pace::Step::Hold:
+        clock_.sleepFor(std::chrono::milliseconds(5));
+        return false;
+    case Pace::Step::Wait:
+        clock_.sleepUntil(p.until);
+        return false;
+    case Pace::Step::Drop: {
+        frames_.popFront();
+        std::lock_guard<std::mutex> lock(shared_.mutex);
+        ++shared_.stats.framesDropped;
+        return false;
+    }
+    case Pace::Step::Show:
+        break;
+    }
+    if (p.starts) {
+        if (s.handoff)
+            s.handoff->setMediaOrigin(frameClock_.origin());
+        return true;
+    }
+    std::lock_guard<std::mutex> lock(shared_.mutex);
+    if (p.lateSeconds > s.period)
+        ++shared_.stats.framesLate;
+    shared_.stats.lateMsMax = std::max(shared_.stats.lateMsMax, 1e3 * p.lateSeconds);
+    return true;
+}
+
+/// The shown frame's depth pair into the hand-off: only the depth frame not yet there is copied
+/// (the previous pair's next frame is this pair's current one). After a seek both are copied and
+/// the haptic clock restarts.
+void RenderLoop::publishDepth(Session &s)
+{
+    if (!s.handoff || !frames_.shown.depth)
+        return;
+    const receiver::DepthPair dp = frames_.shown.depthPair();
+    if (frames_.reseat)
+        s.handoff->restart();
+    const haptics::DepthFrameView current = depthView(*dp.current, ptsSeconds(dp.currentPts));
+    if (dp.next != nullptr) {
+        const haptics::DepthFrameView next = depthView(*dp.next, ptsSeconds(dp.nextPts));
+        s.handoff->publishPair(current, &next);
+    } else {
+        s.handoff->publishPair(current, nullptr);
+    }
+    if (frames_.reseat && s.task)
+        s.task->requestClockRestart();
+    std::lock_guard<std::mutex> lock(shared_.mutex);
+    ++shared_.stats.depthPairsPublished;
+}
+
+/// Draws the shown frame (PTS \a pts, s), presents it, ends the preroll and counts.
+void RenderLoop::drawAndPresent(Session &s, const Commands &cmd, double pts)
+{
+    const TimePoint drawStart = clock_.now();
+    const DrawOutcome d = presenter_->draw(DrawInput{frames_.shown, pts, cmd.mode, cmd.paused, s});
+    presenter_->finishDrawing(d.drawn);
+    const double drawSeconds = platform::toSeconds(clock_.now() - drawStart);
+    const auto presented = display_.present();
+    const std::optional<LodSample> lod = presenter_->afterPresent(
+        drawSeconds, d.drawn, static_cast<bool>(presented), frameClock_.prerolling());
+    if (frameClock_.endPreroll(clock_.now(), pts) && s.handoff)
+        s.handoff->setMediaOrigin(frameClock_.origin());
+    count(s, d, presented, drawSeconds * 1e3, lod, pts);
+}
+
+/// The counters of one presented frame (draw time \a ms), under the lock.
+void RenderLoop::count(Session &s, const DrawOutcome &d, const Result<hal::PresentInfo> &presented,
+                       double ms, const std::optional<LodSample> &lod, double pts)
+{
+    std::lock_guard<std::mutex> lock(shared_.mutex);
+    PlaybackStats &stats = shared_.stats;
+    if (d.preparedAhead)
+        ++stats.framesPreparedAhead;
+    if (d.recorded)
+        ++stats.framesRecorded;
+    if (d.snapshotWritten)
+        ++stats.snapshotsWritten;
+    if (!d.recordError.empty())
+        shared_.failure = d.recordError;
+    if (lod) {
+        stats.lodBudget = lod->budget;
+        if (lod->limited)
+            ++stats.framesLodLimited;
+        if (shared_.meshTriangles.size() < shared_.meshTriangles.capacity())
+            shared_.meshTriangles.push_back(lod->triangles);
+    }
+    if (!d.drawn)
+        ++stats.renderErrors;
+    if (presented) {
+        ++stats.framesPresented;
+    } else {
+        ++stats.presentErrors;
+        // The window was closed or the display went away: playback cannot go on.
+        if (presented.error().code == Errc::NoDevice && shared_.failure.empty())
+            shared_.failure = std::string("the display was lost: ") + presented.error().what;
+    }
+    shared_.position = pts - s.startPts;
+    const double played = frameClock_.playingSeconds(clock_.now());
+    stats.playingSeconds = played;
+    stats.presentedFps = played > 0 ? static_cast<double>(stats.framesPresented) / played : 0.0;
+    if (shared_.renderMs.size() < shared_.renderMs.capacity())
+        shared_.renderMs.push_back(ms);
+    presenter_->addStats(stats);
+}
+
+/// Leaving: drop frames; GL objects go while the context is current.
+void RenderLoop::leave()
+{
+    frames_.dropFrames();
+    {
+        std::lock_guard<std::mutex> lock(shared_.mutex);
+        shared_.sessionAck = shared_.sessionGen;
+        shared_.cv.notify_all();
+    }
+    presenter_->shutdown();
+    display_.close();
+}
+
+} // namespace depthtouch::playback

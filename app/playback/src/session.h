@@ -1,0 +1,46 @@
+#pragma once
+/// \file
+/// \brief Session: one open stream of the player (what Playback::open() builds and stop()
+/// destroys), and the conversions between stream PTS and seconds.
+///
+/// Thread-safety: built and destroyed on the main thread; the render thread uses it between the
+/// two (see RenderShared::session), and writes startPts/haveStart under RenderShared::mutex.
+
+#include <cmath>
+#include <cstdint>
+#include <memory>
+
+#include "depthtouch/hal/display.h"
+#include "depthtouch/haptic_task/depth_handoff.h"
+#include "depthtouch/haptic_task/haptic_task.h"
+#include "depthtouch/receiver/decoder_thread.h"
+#include "depthtouch/receiver/receiver.h"
+
+namespace depthtouch::playback {
+
+/// \return \a pts (stream timeline, ns) in seconds.
+inline double ptsSeconds(hal::Pts pts) noexcept
+{
+    return static_cast<double>(pts.count()) * 1e-9;
+}
+
+/// \return \a s seconds as a stream PTS (ns, rounded to the nearest).
+inline hal::Pts ptsFromSeconds(double s) noexcept
+{
+    return hal::Pts(static_cast<std::int64_t>(std::llround(s * 1e9)));
+}
+
+/// \brief One open stream: its receiver and decode thread, and, with depth and a device, the depth
+/// hand-off and the haptic task.
+struct Session {
+    std::unique_ptr<receiver::Receiver> receiver;
+    std::unique_ptr<receiver::DecoderThread> decoder;
+    std::unique_ptr<haptic_task::DepthHandoff> handoff; ///< Written by the render thread.
+    std::unique_ptr<haptic_task::HapticTask> task;
+    double period = 1.0 / 30.0;       ///< Frame period, s.
+    double startPts = 0.0;            ///< PTS of the first frame (s); positions count from it.
+    hal::DisplayConfig displayConfig; ///< For the display's first open.
+    bool haveStart = false;
+};
+
+} // namespace depthtouch::playback
