@@ -20,6 +20,19 @@ void quietFfmpegLog() noexcept
     });
 }
 
+PixelFormat nativeLayout(AVPixelFormat f) noexcept
+{
+    const AVPixFmtDescriptor *d = av_pix_fmt_desc_get(f);
+    if (d == nullptr)
+        return PixelFormat::Rgb24;
+    const bool hasAlpha = (d->flags & AV_PIX_FMT_FLAG_ALPHA) != 0;
+    const bool gray = (d->flags & (AV_PIX_FMT_FLAG_PAL | AV_PIX_FMT_FLAG_RGB)) == 0 &&
+                      d->nb_components == (hasAlpha ? 2 : 1);
+    if (!gray)
+        return PixelFormat::Rgb24;
+    return d->comp[0].depth > 8 ? PixelFormat::Gray16 : PixelFormat::Gray8;
+}
+
 AVPixelFormat toAvFormat(PixelFormat f) noexcept
 {
     switch (f) {

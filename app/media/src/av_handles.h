@@ -64,6 +64,9 @@ inline int errnoOf(int averr) noexcept
 /// carry the message. Idempotent, thread-safe.
 void quietFfmpegLog() noexcept;
 
+/// \return the Image layout closest to a decoded frame's format \a f.
+PixelFormat nativeLayout(AVPixelFormat f) noexcept;
+
 /// \return the AVPixelFormat of an Image layout (GRAY16 in native byte order).
 AVPixelFormat toAvFormat(PixelFormat f) noexcept;
 

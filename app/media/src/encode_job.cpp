@@ -389,15 +389,8 @@ Result<void> openOutputs(const EncodeOptions &options, const ColorShape &shape,
         return unexpected(muxer.error());
     out.muxer = std::move(*muxer);
 
-    VideoEncoderConfig cc;
-    cc.codec = VideoCodec::H264Yuv420p;
-    cc.width = shape.width;
-    cc.height = shape.height;
-    cc.fps = shape.fps;
-    cc.crf = options.crf;
-    cc.preset = options.preset;
-    cc.threads = options.threads;
-    cc.title = "color";
+    const VideoEncoderConfig cc = colorStreamConfig(shape.width, shape.height, shape.fps,
+                                                    options.crf, options.preset, options.threads);
     auto colorEnc = VideoEncoder::create(cc, *out.muxer);
     if (!colorEnc)
         return unexpected(colorEnc.error());

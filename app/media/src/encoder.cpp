@@ -52,7 +52,8 @@ bool isEncodableSize(int width, int height) noexcept
         return false;
     const long long mbs = ((width + 15LL) / 16) * ((height + 15LL) / 16);
     return mbs <= kMaxMacroblocks &&
-           av_image_check_size(static_cast<unsigned>(width), static_cast<unsigned>(height), 0, nullptr) == 0;
+           av_image_check_size(static_cast<unsigned>(width), static_cast<unsigned>(height), 0,
+                               nullptr) == 0;
 }
 
 const char *containerName(Container c) noexcept
@@ -308,6 +309,21 @@ struct VideoEncoder::Impl {
 
 VideoEncoder::VideoEncoder() : impl_(std::make_unique<Impl>()) {}
 VideoEncoder::~VideoEncoder() = default;
+
+VideoEncoderConfig colorStreamConfig(int width, int height, double fps, int crf,
+                                     const std::string &preset, int threads)
+{
+    VideoEncoderConfig cc;
+    cc.codec = VideoCodec::H264Yuv420p;
+    cc.width = width;
+    cc.height = height;
+    cc.fps = fps;
+    cc.crf = crf;
+    cc.preset = preset;
+    cc.threads = threads;
+    cc.title = "color";
+    return cc;
+}
 
 Result<std::unique_ptr<VideoEncoder>> VideoEncoder::create(const VideoEncoderConfig &config,
                                                            Muxer &muxer)

@@ -27,20 +27,6 @@ using namespace detail;
 
 namespace {
 
-/// The Image layout closest to a decoded frame's format.
-PixelFormat nativeLayout(AVPixelFormat f) noexcept
-{
-    const AVPixFmtDescriptor *d = av_pix_fmt_desc_get(f);
-    if (d == nullptr)
-        return PixelFormat::Rgb24;
-    const bool hasAlpha = (d->flags & AV_PIX_FMT_FLAG_ALPHA) != 0;
-    const bool gray = (d->flags & (AV_PIX_FMT_FLAG_PAL | AV_PIX_FMT_FLAG_RGB)) == 0 &&
-                      d->nb_components == (hasAlpha ? 2 : 1);
-    if (!gray)
-        return PixelFormat::Rgb24;
-    return d->comp[0].depth > 8 ? PixelFormat::Gray16 : PixelFormat::Gray8;
-}
-
 bool isUrl(const std::string &s)
 {
     return s.find("://") != std::string::npos;

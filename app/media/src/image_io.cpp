@@ -27,23 +27,10 @@ using detail::AvErrorText;
 using detail::AvioPtr;
 using detail::CodecContextPtr;
 using detail::FramePtr;
+using detail::nativeLayout;
 using detail::PacketPtr;
 using detail::SwsPtr;
 using FormatContextPtr = detail::InputContextPtr;
-
-/// The Image layout closest to a decoded frame's format.
-PixelFormat nativeLayout(AVPixelFormat f) noexcept
-{
-    const AVPixFmtDescriptor *d = av_pix_fmt_desc_get(f);
-    if (d == nullptr)
-        return PixelFormat::Rgb24;
-    const bool hasAlpha = (d->flags & AV_PIX_FMT_FLAG_ALPHA) != 0;
-    const bool gray = (d->flags & (AV_PIX_FMT_FLAG_PAL | AV_PIX_FMT_FLAG_RGB)) == 0 &&
-                      d->nb_components == (hasAlpha ? 2 : 1);
-    if (!gray)
-        return PixelFormat::Rgb24;
-    return d->comp[0].depth > 8 ? PixelFormat::Gray16 : PixelFormat::Gray8;
-}
 
 /// Converts (or copies, when the layouts match) a picture between two buffers of the same size.
 Result<void> convert(const std::uint8_t *const srcData[4], const int srcStride[4],

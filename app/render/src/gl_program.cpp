@@ -6,6 +6,20 @@ DT_LOG_CATEGORY(Render)
 
 namespace depthtouch::render::gl {
 
+namespace {
+
+/// Logs that \a what failed with the GL info \a log: a warning when \a optional (a feature with a
+/// fallback), an error otherwise.
+void logFailure(bool optional, const char *what, const char *log)
+{
+    if (optional)
+        DT_LOG(Render, Warning, "Failed to %s: %s", what, log);
+    else
+        DT_LOG(Render, Error, "Failed to %s: %s", what, log);
+}
+
+} // namespace
+
 GLuint compileShader(GLenum type, const std::string &source, bool optional)
 {
     const GLuint s = glCreateShader(type);
@@ -17,17 +31,15 @@ GLuint compileShader(GLenum type, const std::string &source, bool optional)
     if (okFlag == 0) {
         char log[2048] = {};
         glGetShaderInfoLog(s, sizeof log, nullptr, log);
-        if (optional)
-            DT_LOG(Render, Warning, "Failed to compile shader: %s", log);
-        else
-            DT_LOG(Render, Error, "Failed to compile shader: %s", log);
+        logFailure(optional, "compile shader", log);
         glDeleteShader(s);
         return 0;
     }
     return s;
 }
 
-GLuint linkProgram(const std::string &vs, const std::string &fs, const char *attribute0, bool optional)
+GLuint linkProgram(const std::string &vs, const std::string &fs, const char *attribute0,
+                   bool optional)
 {
     const GLuint v = compileShader(GL_VERTEX_SHADER, vs, optional);
     const GLuint f = compileShader(GL_FRAGMENT_SHADER, fs, optional);
@@ -49,10 +61,7 @@ GLuint linkProgram(const std::string &vs, const std::string &fs, const char *att
     if (okFlag == 0) {
         char log[2048] = {};
         glGetProgramInfoLog(p, sizeof log, nullptr, log);
-        if (optional)
-            DT_LOG(Render, Warning, "Failed to link program: %s", log);
-        else
-            DT_LOG(Render, Error, "Failed to link program: %s", log);
+        logFailure(optional, "link program", log);
         glDeleteProgram(p);
         return 0;
     }

@@ -33,31 +33,19 @@ Result<Encoded> encodeClip(const Clip &clip, const std::string &path, const Enco
     auto muxer = Muxer::open(mo);
     if (!muxer)
         return unexpected(muxer.error());
+    const VideoEncoderConfig cc =
+        colorStreamConfig(clip.width, clip.height, clip.fps, s.colorCrf, s.preset, s.threads);
     std::unique_ptr<VideoEncoder> color;
     if (s.withColor) {
-        VideoEncoderConfig cc;
-        cc.codec = VideoCodec::H264Yuv420p;
-        cc.width = clip.width;
-        cc.height = clip.height;
-        cc.fps = clip.fps;
-        cc.crf = s.colorCrf;
-        cc.preset = s.preset;
-        cc.threads = s.threads;
-        cc.title = "color";
         auto c = VideoEncoder::create(cc, **muxer);
         if (!c)
             return unexpected(c.error());
         color = std::move(*c);
     }
-    VideoEncoderConfig dc;
+    VideoEncoderConfig dc = cc;
     dc.codec = VideoCodec::H264Gray;
-    dc.width = clip.width;
-    dc.height = clip.height;
-    dc.fps = clip.fps;
     dc.crf = s.depthCrf;
     dc.lossless = s.depthLossless;
-    dc.preset = s.preset;
-    dc.threads = s.threads;
     dc.title = "depth";
     dc.tags = tags;
     auto depthEnc = VideoEncoder::create(dc, **muxer);

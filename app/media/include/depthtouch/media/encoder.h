@@ -128,6 +128,12 @@ struct VideoEncoderConfig {
     std::vector<std::pair<std::string, std::string>> tags; ///< Extra stream metadata.
 };
 
+/// \return the settings of the color stream of a DepthTouch file ("color", H.264 4:2:0): \a width
+/// × \a height at \a fps, x264 \a crf and \a preset, \a threads. The depth stream's settings are
+/// these with its own codec, quality, title and tags.
+VideoEncoderConfig colorStreamConfig(int width, int height, double fps, int crf,
+                                     const std::string &preset, int threads);
+
 /// \brief One stream's encoder, feeding its stream of a Muxer.
 class VideoEncoder {
 public:
