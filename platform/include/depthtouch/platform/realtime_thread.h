@@ -48,8 +48,8 @@ struct RealtimeThreadOptions {
     /// starts (STYLE.md), so it is covered, while MCL_FUTURE would make every later mapping of
     /// other threads (GL driver, decoder pools) fault in and lock all its pages at once under the
     /// address-space lock: measured with the player on llvmpipe, haptic wake latency p99 1.6 ms
-    /// instead of 0.5 ms, and 480 MB resident instead of 140 MB. Skipped in AddressSanitizer/ThreadSanitizer builds, see
-    /// memoryLockingAvailable().
+    /// instead of 0.5 ms, and 480 MB resident instead of 140 MB. Skipped in
+    /// AddressSanitizer/ThreadSanitizer builds, see memoryLockingAvailable().
     bool lockMemory = true;
     /// CPU to pin the thread to, or -1 to leave the affinity alone.
     int cpuAffinity = -1;

@@ -81,7 +81,7 @@ inline constexpr ThreadConfig kTelemetryThread{"dt-telemetry", SchedPolicy::Othe
 
 /// Every thread of the product, highest priority first.
 inline constexpr ThreadConfig kThreadTable[] = {
-    kHapticThread, kDecodeThread, kRenderThread,    kPrepThread,
+    kHapticThread, kDecodeThread,  kRenderThread,    kPrepThread,
     kRecordThread, kControlThread, kTelemetryThread,
 };
 

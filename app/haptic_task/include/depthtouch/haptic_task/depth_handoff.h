@@ -8,10 +8,10 @@
 ///
 /// Thread-safety: one writer thread (the player's render thread: beginFrame(), publish(),
 /// publishPair(), push(), finish(), restart(), setMediaOrigin()) and one reader thread (the haptic
-/// task: acquire(), mediaOrigin()) at the same time; no other concurrent use. create() and the destructor are for neither thread while the
-/// other runs. Real-time safety: every member function except create() is wait-free or lock-free
-/// (a compare-exchange loop that only retries when the other side changed the state), never
-/// allocates, never blocks and never logs.
+/// task: acquire(), mediaOrigin()) at the same time; no other concurrent use. create() and the
+/// destructor are for neither thread while the other runs. Real-time safety: every member function
+/// except create() is wait-free or lock-free (a compare-exchange loop that only retries when the
+/// other side changed the state), never allocates, never blocks and never logs.
 
 #include <atomic>
 #include <cstddef>
@@ -92,11 +92,11 @@ public:
     void publish(const DepthSlot &current, const DepthSlot *next) noexcept;
     /// \brief Publishes (\a current, \a next), \a next null when frame i is the last, copying each
     /// frame into a slot once: when \a current is the frame published as next by the previous
-    /// publishPair() (the same source pixels, \a current.data, and PTS) its slot becomes the current
-    /// one and only \a next is copied. Rows are copied as far as the frame and the handoff overlap
-    /// (W samples of the handoff's sample size per row, at the view's stride); the views' format
-    /// is not checked. Any other publication (publish(), push(), finish()) or restart() in between
-    /// makes the next call copy both frames. Wait-free, no allocation.
+    /// publishPair() (the same source pixels, \a current.data, and PTS) its slot becomes the
+    /// current one and only \a next is copied. Rows are copied as far as the frame and the handoff
+    /// overlap (W samples of the handoff's sample size per row, at the view's stride); the views'
+    /// format is not checked. Any other publication (publish(), push(), finish()) or restart() in
+    /// between makes the next call copy both frames. Wait-free, no allocation.
     void publishPair(const haptics::DepthFrameView &current,
                      const haptics::DepthFrameView *next) noexcept;
     /// \brief Copies \a frame into a free slot and publishes (previously pushed frame, \a frame),
@@ -165,7 +165,7 @@ private:
     int lastPushed_ = -1;
     int pairNext_ = -1; ///< Slot of publishPair()'s last next frame, or -1 (see publishPair()).
     const std::uint8_t *pairNextSource_ = nullptr; ///< Its source pixels (identity only).
-    double pairNextPts_ = 0.0;                      ///< Its PTS, s.
+    double pairNextPts_ = 0.0;                     ///< Its PTS, s.
     // Reader-only.
     alignas(platform::kCacheLineBytes) std::uint64_t taken_ = 0;
 };

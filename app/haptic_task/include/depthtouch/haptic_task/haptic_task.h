@@ -50,8 +50,7 @@ struct HapticTaskConfig {
     /// Renderer: method and parameters (stiffness N/m, damping N·s/m, maxForce N, scene box, fixes
     /// of paper IV). The renderer's maxForce is lowered to the device's maximum when that is less.
     haptics::Method method = haptics::Method::Finger;
-    haptics::RendererConfig renderer =
-        haptics::RendererConfig::forMethod(haptics::Method::Finger);
+    haptics::RendererConfig renderer = haptics::RendererConfig::forMethod(haptics::Method::Finger);
     /// Force rate limit, N/s (> 0): the commanded force moves by at most maxForceRate·Δt per
     /// update. Safety zeroing (watchdog, unplug, stop) is not rate-limited. Default: 0 → 8.5 N
     /// in 4.25 ms.
@@ -126,7 +125,7 @@ struct TelemetrySample {
 /// \brief Counters and percentiles of a run (the haptic part of the stats JSON, DESIGN.md §4).
 struct HapticStats {
     double servoRateHz = 0.0;
-    std::uint64_t updates = 0;         ///< Cycles of the haptic loop.
+    std::uint64_t updates = 0; ///< Cycles of the haptic loop.
     /// Time from the first to the last update drained, s: updates ≈ runSeconds · servoRateHz + 1
     /// when no period was missed.
     double runSeconds = 0.0;
@@ -143,16 +142,17 @@ struct HapticStats {
     /// The force log could not be written whole (a write or its close failed: a full disk); the
     /// run's output is lost.
     bool forceLogLost = false;
-    double deviceMaxForce = 0.0;        ///< The device's maximum, N.
-    LatencySummary wakeLatency;         ///< Wake time − deadline.
-    LatencySummary updateTime;          ///< Wake-up to force command.
-    LatencySummary periodError; ///< |wake_k − wake_{k−1} − period| over on-time pairs.
-    std::string thread;         ///< What the haptic thread got (RealtimeThreadReport).
+    double deviceMaxForce = 0.0; ///< The device's maximum, N.
+    LatencySummary wakeLatency;  ///< Wake time − deadline.
+    LatencySummary updateTime;   ///< Wake-up to force command.
+    LatencySummary periodError;  ///< |wake_k − wake_{k−1} − period| over on-time pairs.
+    std::string thread;          ///< What the haptic thread got (RealtimeThreadReport).
 
-    /// \return a JSON object: haptic_updates, haptic_run_s, haptic_rate_hz, rendered_updates, contact_updates,
-    /// overruns, missed_periods, wake_latency_us / update_time_us / period_error_us {p50, p90, p99,
-    /// p999, max, mean}, safety_releases, watchdog_trips, device_losses, reconnects,
-    /// telemetry_dropped, max_force_n, device_max_force_n, force_log_lost, haptic_thread.
+    /// \return a JSON object: haptic_updates, haptic_run_s, haptic_rate_hz, rendered_updates,
+    /// contact_updates, overruns, missed_periods, wake_latency_us / update_time_us /
+    /// period_error_us {p50, p90, p99, p999, max, mean}, safety_releases, watchdog_trips,
+    /// device_losses, reconnects, telemetry_dropped, max_force_n, device_max_force_n,
+    /// force_log_lost, haptic_thread.
     [[nodiscard]] std::string toJson(int indent = 2) const;
 };
 
@@ -233,10 +233,7 @@ public:
     /// possibly backwards) and keeps the proxy and the force, so content that continues under the
     /// finger keeps its support; a surface that changed under the proxy is a cut for the renderer's
     /// safety (HapticRenderer::restartClock()). Async-signal-safe.
-    void requestClockRestart() noexcept
-    {
-        clockRestarts_.fetch_add(1, std::memory_order_acq_rel);
-    }
+    void requestClockRestart() noexcept { clockRestarts_.fetch_add(1, std::memory_order_acq_rel); }
 
     /// \name Observers (thread-safe)
     ///@{
@@ -322,7 +319,7 @@ private:
     std::atomic<std::uint32_t> reseatRequests_{0};
     std::atomic<std::uint32_t> clockRestarts_{0};
     std::uint32_t clockRestartsDone_ = 0; ///< RT thread only.
-    bool forceLogLost_ = false; ///< A force-log write or its close failed (under mutex_).
+    bool forceLogLost_ = false;           ///< A force-log write or its close failed (under mutex_).
 
     // Haptic-thread state (written only by the haptic thread while it runs).
     bool haveFrames_ = false;

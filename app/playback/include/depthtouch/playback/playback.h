@@ -6,15 +6,16 @@
 /// presented on a hal::Display paced by its refresh; the SCHED_FIFO haptic task renders the force
 /// on the same depth frames at the servo rate.
 ///
-/// Timing: the render thread keeps the media clock. When the first frame after open() or a seek
-/// is on screen (after its draw: a preroll), media time = its PTS; frame i is presented at origin + PTS_i (late frames whose
-/// successor is also due are skipped and counted as dropped). When frame i goes on screen the pair
-/// (depth i, depth i+1) is published to the DepthHandoff, whose media origin is the same clock
-/// origin, so the haptic time and the picture agree and the surface is interpolated between the
-/// two frames at the servo rate (paper IV.B). Pausing freezes the media clock for both: the
-/// surface stays touchable and holds still. A seek drops the frames queued before it, shows the
-/// first frame of the new position and re-seats the proxy with the force ramped in
-/// (HapticTask::requestReseat()): no force kick.
+/// Timing: the render thread keeps the media clock (FrameClock). When the first frame after open()
+/// or a seek is on screen (after its draw: a preroll), media time = its PTS; frame i is presented
+/// at origin + PTS_i (late frames whose successor is also due are skipped and counted as dropped).
+/// When frame i goes on screen the render thread publishes the pair (depth i, depth i+1) to the
+/// DepthHandoff (each new depth frame copied once), whose media origin is the same clock origin,
+/// so the haptic time and the picture agree and the surface is interpolated between the two
+/// frames at the servo rate (paper IV.B). Pausing freezes the media clock for both: the surface
+/// stays touchable and holds still. A seek drops the frames queued before it, shows the first
+/// frame of the new position and restarts the haptic time there keeping the proxy and the force
+/// (HapticTask::requestClockRestart()): no force kick, no dip.
 ///
 /// Level of detail: the drawn mesh's block budget follows the measured draw times
 /// (render::LodController, `lodTarget` of the refresh period), so a slow renderer draws a coarser
@@ -24,8 +25,11 @@
 /// color show the depth as gray.
 ///
 /// Thread-safety: the PlayerActions calls, report(), stats() and the destructor on one thread (the
-/// main thread, with the StateMachine). Internally: a render thread (owns the GL context while the
-/// Playback lives), the receiver's decode thread and the haptic task's threads.
+/// main thread, with the StateMachine). Internally, started from the thread table
+/// (platform/thread_config.h): the render thread (kRenderThread, owns the GL context while the
+/// Playback lives; from the first open), its prep worker (kPrepThread) and recorder
+/// (kRecordThread); the receiver's decode thread and the haptic task's threads; and the opener's
+/// thread (async_opener.h, a plain detached thread).
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -71,9 +75,9 @@ struct PlaybackConfig {
     /// presentation time since the first recorded frame (pauses and seeks show as they happened).
     /// Empty: none.
     std::string recordPath;
-    int recordCrf = 20;                   ///< x264 CRF of the recording.
+    int recordCrf = 20;                    ///< x264 CRF of the recording.
     std::string recordPreset = "veryfast"; ///< x264 preset of the recording.
-    bool osd = true;    ///< On-screen display (state, haptics switch, force bar).
+    bool osd = true; ///< On-screen display (state, haptics switch, force bar).
     /// Seconds the on-screen display stays up after playback starts and after each command (as a
     /// TV's does); it stays up while paused. 0 = always shown (when osd).
     double osdSeconds = 4.0;
@@ -118,8 +122,8 @@ struct PlaybackStats {
     /// Frames skipped because their successor was already due and they were more than
     /// PlaybackConfig::maxLateness late.
     std::uint64_t framesDropped = 0;
-    std::uint64_t framesLate = 0;      ///< Presented more than one frame period after their time.
-    double lateMsMax = 0.0;            ///< Most a presented frame was late (taken after its time), ms.
+    std::uint64_t framesLate = 0; ///< Presented more than one frame period after their time.
+    double lateMsMax = 0.0;       ///< Most a presented frame was late (taken after its time), ms.
     std::uint64_t presentErrors = 0;
     std::uint64_t renderErrors = 0;
     std::uint64_t depthPairsPublished = 0; ///< Pairs handed to the haptic task.
@@ -127,11 +131,12 @@ struct PlaybackStats {
     std::uint64_t endsOfStream = 0;
     std::uint64_t snapshotsWritten = 0;
     std::uint64_t framesRecorded = 0;
-    std::uint64_t framesPreparedAhead = 0; ///< Drawn with a mesh (and colour) made ahead on a worker.
+    std::uint64_t framesPreparedAhead =
+        0;                    ///< Drawn with a mesh (and colour) made ahead on a worker.
     double renderMsP50 = 0.0; ///< Time to draw one output frame (upload, both eyes), ms.
     double renderMsP99 = 0.0;
-    double meshTrianglesP50 = 0.0;   ///< Triangles drawn per frame, median (under the LOD control).
-    std::size_t lodBudget = 0;       ///< The LOD's leaf-block budget at the last frame (0: no LOD).
+    double meshTrianglesP50 = 0.0; ///< Triangles drawn per frame, median (under the LOD control).
+    std::size_t lodBudget = 0;     ///< The LOD's leaf-block budget at the last frame (0: no LOD).
     std::uint64_t framesLodLimited = 0; ///< Frames whose mesh the LOD budget made coarser.
     double presentedFps = 0.0; ///< framesPresented over the time spent playing (not paused).
     double playingSeconds = 0.0;
@@ -139,7 +144,7 @@ struct PlaybackStats {
     bool zeroCopy = false;
     std::uint64_t colorFramesImported = 0;       ///< Dma-buf colour frames imported (zero-copy).
     std::uint64_t colorFramesDmaBufUploaded = 0; ///< Dma-buf colour frames uploaded instead.
-    receiver::ReceiverStats receiver{}; ///< Of the current (or last) open.
+    receiver::ReceiverStats receiver{};          ///< Of the current (or last) open.
 };
 
 /// What open() found about the stream, for the summary.
@@ -167,6 +172,8 @@ public:
 
     /// \name player::PlayerActions (main thread)
     ///@{
+    /// \brief Starts opening \a url (see report()). \return Errc::OutOfResources when no thread
+    /// could be started for it; every other failure comes later as onOpenFailed().
     [[nodiscard]] Result<void> open(std::string_view url) override;
     [[nodiscard]] Result<void> startPlayback() override;
     [[nodiscard]] Result<void> pause() override;
