@@ -16,6 +16,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "option_cli.h"
 #include "depthtouch/haptics/feel_bench.h"
 #include "depthtouch/haptics/feel_scenes.h"
 #include "depthtouch/media/encode_job.h"
@@ -38,6 +39,34 @@ struct BenchFeelOptions {
     std::string data;
     bool quick = false;
     bool fifo = true;
+};
+
+/// What `bench feel` measures (its line in `depthtouch bench --help`).
+constexpr const char *kAbout =
+    "Feel on real content: false trips, pop-through, phantom force, spikes, ripple vs update time";
+
+/// The options of `bench feel`, in `--help` order.
+const OptionRow<BenchFeelOptions> kBenchFeelRows[] = {
+    {"out", &BenchFeelOptions::out, "Output directory"},
+    {"clip",
+     &BenchFeelOptions::clips,
+     "Also touch the depth of this video or DepthTouch file (repeatable)",
+     {},
+     kHideDefault},
+    {"method",
+     &BenchFeelOptions::methods,
+     "Renderers (comma-separated): finger, modified, proxy-graph, mesh-bvh",
+     {},
+     kCommaList},
+    {"data", &BenchFeelOptions::data,
+     "Folder of the shared RGB-D captures, holding rgbd-7scenes-redkitchen/ (default "
+     "$DT_SHARED_DATA, else ../shared/data)"},
+    {"quick", &BenchFeelOptions::quick, "Shorter synthetic clips and one slide per depth x speed"},
+    {"no-fifo",
+     &BenchFeelOptions::fifo,
+     "Time on a normal thread instead of a SCHED_FIFO one at the haptic priority",
+     {},
+     kNegated},
 };
 
 constexpr long long kMaxClipFrames = 300; ///< 10 s at 30 fps: bounds the run time of a --clip.
@@ -69,12 +98,13 @@ Result<hb::FeelScene> loadClip(const std::string &url, const std::string &name)
         }
     }
     const double fps = info.fps > 0.0 ? info.fps : 30.0;
-    return hb::sceneFromNearness(name, frames, wide ? haptics::SampleFormat::Gray16 : haptics::SampleFormat::Gray8,
-                                 fps, haptics::SceneBox{});
+    return hb::sceneFromNearness(
+        name, frames, wide ? haptics::SampleFormat::Gray16 : haptics::SampleFormat::Gray8, fps,
+        haptics::SceneBox{});
 }
 
-/// The kitchen: encoded with `depthtouch encode`'s defaults into \a outDir/kitchen.mkv, its depth decoded
-/// again (8-bit); the stroke mask from the raw PNGs (valid in >= 90 % of the frames).
+/// The kitchen: encoded with `depthtouch encode`'s defaults into \a outDir/kitchen.mkv, its depth
+/// decoded again (8-bit); the stroke mask from the raw PNGs (valid in >= 90 % of the frames).
 Result<hb::FeelScene> loadKitchen(const std::string &dir, const std::string &outDir)
 {
     const std::string colorSpec = dir + "/frame-%06d.color.jpg";
@@ -130,7 +160,8 @@ int fail(int code, const std::string &message)
 /// Gathers the scenes: kitchen (when its data is there), the synthetic ones, the clips.
 int loadScenes(const BenchFeelOptions &o, std::vector<hb::FeelScene> &scenes)
 {
-    const std::string dir = (o.data.empty() ? defaultDataDir() : o.data) + "/rgbd-7scenes-redkitchen";
+    const std::string dir =
+        (o.data.empty() ? defaultDataDir() : o.data) + "/rgbd-7scenes-redkitchen";
     if (std::filesystem::exists(dir + "/frame-000000.depth.png")) {
         std::fprintf(stderr, "encoding the 7-Scenes kitchen (depthtouch encode defaults) ...\n");
         auto k = loadKitchen(dir, o.out);
@@ -138,7 +169,8 @@ int loadScenes(const BenchFeelOptions &o, std::vector<hb::FeelScene> &scenes)
             return fail(kExitFailure, "kitchen: " + std::string(k.error().what));
         scenes.push_back(std::move(*k));
     } else {
-        std::printf("note: no 7-Scenes kitchen in %s (set DT_SHARED_DATA or --data): skipped\n", dir.c_str());
+        std::printf("note: no 7-Scenes kitchen in %s (set DT_SHARED_DATA or --data): skipped\n",
+                    dir.c_str());
     }
     hb::SyntheticSceneOptions so;
     so.seconds = o.quick ? 2.0 : 3.0;
@@ -147,13 +179,15 @@ int loadScenes(const BenchFeelOptions &o, std::vector<hb::FeelScene> &scenes)
         std::fprintf(stderr, "rendering %s ...\n", hb::syntheticSceneName(s));
         auto sc = hb::makeSyntheticScene(s, so);
         if (!sc)
-            return fail(kExitFailure, std::string(hb::syntheticSceneName(s)) + ": " + sc.error().what);
+            return fail(kExitFailure,
+                        std::string(hb::syntheticSceneName(s)) + ": " + sc.error().what);
         scenes.push_back(std::move(*sc));
     }
     for (const std::string &clip : o.clips) {
         auto c = loadClip(clip, std::filesystem::path(clip).filename().string());
         if (!c)
-            return fail(kExitBadInput, "cannot read depth of --clip '" + clip + "': " + c.error().what);
+            return fail(kExitBadInput,
+                        "cannot read depth of --clip '" + clip + "': " + c.error().what);
         scenes.push_back(std::move(*c));
     }
     return kExitOk;
@@ -166,7 +200,8 @@ int runBenchFeel(const BenchFeelOptions &o)
     for (const std::string &m : o.methods) {
         auto parsed = haptics::parseMethod(m);
         if (!parsed)
-            return fail(kExitBadInput, "--method: unknown method '" + m + "' (finger, modified, proxy-graph, mesh-bvh)");
+            return fail(kExitBadInput, "--method: unknown method '" + m +
+                                           "' (finger, modified, proxy-graph, mesh-bvh)");
         methods.push_back(*parsed);
     }
     for (const std::string &clip : o.clips)
@@ -186,25 +221,29 @@ int runBenchFeel(const BenchFeelOptions &o)
     std::vector<std::vector<hb::Stroke>> strokes;
     for (const hb::FeelScene &s : scenes) {
         strokes.push_back(hb::makeStrokes(s, plan));
-        std::printf("%-20s %dx%d %s, %zu frames at %.0f fps, %zu strokes\n", s.name.c_str(), s.width, s.height,
-                    s.format == haptics::SampleFormat::Gray8 ? "8-bit" : "16-bit", s.frameCount(), s.fps,
-                    strokes.back().size());
+        std::printf("%-20s %dx%d %s, %zu frames at %.0f fps, %zu strokes\n", s.name.c_str(),
+                    s.width, s.height,
+                    s.format == haptics::SampleFormat::Gray8 ? "8-bit" : "16-bit", s.frameCount(),
+                    s.fps, strokes.back().size());
     }
     std::fflush(stdout);
     const auto settings = hb::feelSettings(methods);
-    // Time the updates on a SCHED_FIFO thread at the haptic priority, as `bench haptics` does, so other
-    // processes do not preempt them; normal scheduling (with a note) when the kernel refuses.
+    // Time the updates on a SCHED_FIFO thread at the haptic priority, as `bench haptics` does, so
+    // other processes do not preempt them; normal scheduling (with a note) when the kernel refuses.
     hb::FeelReport report;
     platform::RealtimeThreadOptions rt;
     rt.lockMemory = false;
-    const platform::ThreadConfig cfg{"dt-bench-feel", o.fifo ? platform::SchedPolicy::Fifo : platform::SchedPolicy::Other,
-                                     o.fifo ? platform::kHapticThread.relativePriority : 0, 8u << 20};
+    const platform::ThreadConfig cfg{
+        "dt-bench-feel", o.fifo ? platform::SchedPolicy::Fifo : platform::SchedPolicy::Other,
+        o.fifo ? platform::kHapticThread.relativePriority : 0, 8u << 20};
     platform::RealtimeThread worker(cfg, rt, [&](platform::StopToken) {
-        report = hb::runFeelBenchmark(scenes, strokes, settings,
-                                      [](const std::string &line) { std::fprintf(stderr, "  %s\n", line.c_str()); });
+        report = hb::runFeelBenchmark(scenes, strokes, settings, [](const std::string &line) {
+            std::fprintf(stderr, "  %s\n", line.c_str());
+        });
     });
     if (Result<void> started = worker.start(); !started)
-        return fail(kExitFailure, std::string("cannot start the bench thread: ") + started.error().what);
+        return fail(kExitFailure,
+                    std::string("cannot start the bench thread: ") + started.error().what);
     char how[160];
     std::printf("\nupdate times: steady_clock around update() on the timing thread: %s\n\n",
                 worker.report().format(how, sizeof how));
@@ -216,8 +255,10 @@ int runBenchFeel(const BenchFeelOptions &o)
         return fail(kExitFailure, error);
     if (!note.empty())
         std::printf("note: %s\n", note.c_str());
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("wrote %s/{feel.csv,feel_strokes.csv,feel.json,feel_vs_speed.png} in %.0f s (replays %.1f s)\n",
+    const double secs =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("wrote %s/{feel.csv,feel_strokes.csv,feel.json,feel_vs_speed.png} in %.0f s "
+                "(replays %.1f s)\n",
                 o.out.c_str(), secs, report.seconds);
     return kExitOk;
 }
@@ -226,21 +267,8 @@ int runBenchFeel(const BenchFeelOptions &o)
 
 void registerBenchFeelCommand(CLI::App &bench, int &exitCode)
 {
-    auto o = std::make_shared<BenchFeelOptions>();
-    CLI::App *cmd = bench.add_subcommand(
-        "feel", "Feel on real content: false trips, pop-through, phantom force, spikes, ripple vs update time");
-    cmd->add_option("--out", o->out, "Output directory")->capture_default_str();
-    cmd->add_option("--clip", o->clips, "Also touch the depth of this video or DepthTouch file (repeatable)");
-    cmd->add_option("--method", o->methods, "Renderers (comma-separated): finger, modified, proxy-graph, mesh-bvh")
-        ->delimiter(',')
-        ->capture_default_str();
-    cmd->add_option("--data", o->data,
-                    "Folder of the shared RGB-D captures, holding rgbd-7scenes-redkitchen/ (default "
-                    "$DT_SHARED_DATA, else ../shared/data)");
-    cmd->add_flag("--quick", o->quick, "Shorter synthetic clips and one slide per depth x speed");
-    cmd->add_flag("!--no-fifo", o->fifo,
-                  "Time on a normal thread instead of a SCHED_FIFO one at the haptic priority");
-    cmd->callback([o, &exitCode]() { exitCode = runBenchFeel(*o); });
+    addTableCommand<BenchFeelOptions>(bench, "feel", kAbout, kBenchFeelRows, runBenchFeel,
+                                      exitCode);
 }
 
 } // namespace depthtouch::cli

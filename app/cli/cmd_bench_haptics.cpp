@@ -1,7 +1,8 @@
 /// \file
-/// \brief `depthtouch bench haptics`: per-update time distribution and accuracy of the haptic renderers
-/// (modified proxy graph, proxy-graph, mesh-bvh) at 720×486, 1920×1080 and 3840×2160; writes CSV, JSON
-/// and PNG charts (speed vs accuracy, PSD with and without interpolation) into --out.
+/// \brief `depthtouch bench haptics`: per-update time distribution and accuracy of the haptic
+/// renderers (modified proxy graph, proxy-graph, mesh-bvh) at 720×486, 1920×1080 and 3840×2160;
+/// writes CSV, JSON and PNG charts (speed vs accuracy, PSD with and without interpolation) into
+/// --out.
 
 #include <cstdio>
 #include <memory>
@@ -10,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "option_cli.h"
 #include "depthtouch/haptics/haptics_bench.h"
 #include "depthtouch/platform/realtime_thread.h"
 #include "depthtouch/platform/thread_config.h"
@@ -26,11 +28,35 @@ struct BenchHapticsOptions {
     bool fifo = true;
 };
 
+/// What `bench haptics` measures (its line in `depthtouch bench --help`).
+constexpr const char *kAbout =
+    "Haptic renderers: update-time percentiles, per-frame cost, force error, PSD; CSV/JSON/PNG";
+
+/// The options of `bench haptics`, in `--help` order.
+const OptionRow<BenchHapticsOptions> kBenchHapticsRows[] = {
+    {"out", &BenchHapticsOptions::out, "Output directory"},
+    {"quick", &BenchHapticsOptions::quick, "Short run (1 repetition, 3000 updates per setting)"},
+    {"runs", &BenchHapticsOptions::runs, "Repetitions per setting (medians are reported)"},
+    {"updates", &BenchHapticsOptions::updates, "Haptic updates per run"},
+    {"no-fifo",
+     &BenchHapticsOptions::fifo,
+     "Time on a normal thread instead of a SCHED_FIFO one at the haptic priority",
+     {},
+     kNegated},
+};
+
+/// \return "met" or "NOT met" of a goal.
+const char *metText(bool met)
+{
+    return met ? "met" : "NOT met";
+}
+
 int runBenchHaptics(const BenchHapticsOptions &o)
 {
     using namespace depthtouch::haptics::bench;
     if (o.runs < 1 || o.updates < 1000) {
-        std::fprintf(stderr, "depthtouch bench haptics: --runs must be >= 1 and --updates >= 1000\n");
+        std::fprintf(stderr,
+                     "depthtouch bench haptics: --runs must be >= 1 and --updates >= 1000\n");
         return kExitBadInput;
     }
     BenchOptions opt;
@@ -43,11 +69,11 @@ int runBenchHaptics(const BenchHapticsOptions &o)
     BenchReport report;
     platform::RealtimeThreadOptions rt;
     rt.lockMemory = false;
-    const platform::ThreadConfig cfg{"dt-bench", o.fifo ? platform::SchedPolicy::Fifo
-                                                       : platform::SchedPolicy::Other,
-                                     o.fifo ? platform::kHapticThread.relativePriority : 0, 8u << 20};
-    platform::RealtimeThread worker(cfg, rt,
-                                    [&](platform::StopToken) { report = runHapticsBenchmark(opt); });
+    const platform::ThreadConfig cfg{
+        "dt-bench", o.fifo ? platform::SchedPolicy::Fifo : platform::SchedPolicy::Other,
+        o.fifo ? platform::kHapticThread.relativePriority : 0, 8u << 20};
+    platform::RealtimeThread worker(
+        cfg, rt, [&](platform::StopToken) { report = runHapticsBenchmark(opt); });
     if (Result<void> started = worker.start(); !started) {
         std::fprintf(stderr, "depthtouch bench haptics: cannot start the bench thread: %s\n",
                      started.error().what);
@@ -58,26 +84,30 @@ int runBenchHaptics(const BenchHapticsOptions &o)
     worker.join();
     std::printf("\ngoals (this run):\n");
     std::printf("  modified p99.9 at 720x486, 1 m/s: %.0f ns (goal <= 2000 ns): %s\n",
-                report.modifiedP999At720Fast, report.modifiedP999At720Fast <= 2000.0 ? "met" : "NOT met");
-    std::printf("  modified p99.9 at 720x486, 1 m/s, interference-filtered (per-update minimum over %d runs): "
+                report.modifiedP999At720Fast, metText(report.modifiedP999At720Fast <= 2000.0));
+    std::printf("  modified p99.9 at 720x486, 1 m/s, interference-filtered (per-update minimum "
+                "over %d runs): "
                 "%.0f ns (goal <= 2000 ns): %s\n",
                 report.runsAt720Fast, report.modifiedMinOfRunsP999At720Fast,
-                report.modifiedMinOfRunsP999At720Fast <= 2000.0 ? "met" : "NOT met");
+                metText(report.modifiedMinOfRunsP999At720Fast <= 2000.0));
     std::printf("  modified median 3840x2160 / 720x486 (worst motion): %.2f (goal <= 1.5): %s\n",
-                report.resolutionRatio, report.resolutionRatio <= 1.5 ? "met" : "NOT met");
-    std::printf("  modified median 3840x2160 / 720x486 (worst motion), interference-filtered (median of "
-                "the per-update minimum over the runs): %.2f (goal <= 1.5): %s\n",
-                report.minOfRunsResolutionRatio,
-                report.minOfRunsResolutionRatio <= 1.5 ? "met" : "NOT met");
-    std::printf("  finger p99.9 at 720x486, 1 m/s: %.0f ns raw, %.0f ns interference-filtered (goal <= 2000 ns): "
+                report.resolutionRatio, metText(report.resolutionRatio <= 1.5));
+    std::printf(
+        "  modified median 3840x2160 / 720x486 (worst motion), interference-filtered (median of "
+        "the per-update minimum over the runs): %.2f (goal <= 1.5): %s\n",
+        report.minOfRunsResolutionRatio, metText(report.minOfRunsResolutionRatio <= 1.5));
+    std::printf("  finger p99.9 at 720x486, 1 m/s: %.0f ns raw, %.0f ns interference-filtered "
+                "(goal <= 2000 ns): "
                 "%s\n",
                 report.fingerP999At720Fast, report.fingerMinOfRunsP999At720Fast,
-                report.fingerMinOfRunsP999At720Fast <= 2000.0 ? "met" : "NOT met");
-    std::printf("  finger median 3840x2160 / 720x486 (worst motion), interference-filtered: %.2f (goal <= 1.5): %s\n",
+                metText(report.fingerMinOfRunsP999At720Fast <= 2000.0));
+    std::printf("  finger median 3840x2160 / 720x486 (worst motion), interference-filtered: %.2f "
+                "(goal <= 1.5): %s\n",
                 report.fingerMinOfRunsResolutionRatio,
-                report.fingerMinOfRunsResolutionRatio <= 1.5 ? "met" : "NOT met");
-    std::printf("  mesh-bvh per-frame rebuild / modified per-frame cost at 720x486: %.0fx (goal >= 1000x): %s\n",
-                report.rebuildRatio, report.rebuildRatio >= 1000.0 ? "met" : "NOT met");
+                metText(report.fingerMinOfRunsResolutionRatio <= 1.5));
+    std::printf("  mesh-bvh per-frame rebuild / modified per-frame cost at 720x486: %.0fx (goal >= "
+                "1000x): %s\n",
+                report.rebuildRatio, metText(report.rebuildRatio >= 1000.0));
     std::string error;
     std::string note;
     if (!writeBenchOutputs(report, o.out, error, note)) {
@@ -86,8 +116,9 @@ int runBenchHaptics(const BenchHapticsOptions &o)
     }
     if (!note.empty())
         std::printf("note: %s\n", note.c_str());
-    std::printf("wrote %s/{haptics_bench.csv,haptics_bench.json,psd.csv,speed_vs_accuracy.png,psd.png}\n",
-                o.out.c_str());
+    std::printf(
+        "wrote %s/{haptics_bench.csv,haptics_bench.json,psd.csv,speed_vs_accuracy.png,psd.png}\n",
+        o.out.c_str());
     return kExitOk;
 }
 
@@ -95,16 +126,8 @@ int runBenchHaptics(const BenchHapticsOptions &o)
 
 void registerBenchHapticsCommand(CLI::App &bench, int &exitCode)
 {
-    auto o = std::make_shared<BenchHapticsOptions>();
-    CLI::App *cmd = bench.add_subcommand(
-        "haptics", "Haptic renderers: update-time percentiles, per-frame cost, force error, PSD; CSV/JSON/PNG");
-    cmd->add_option("--out", o->out, "Output directory")->capture_default_str();
-    cmd->add_flag("--quick", o->quick, "Short run (1 repetition, 3000 updates per setting)");
-    cmd->add_option("--runs", o->runs, "Repetitions per setting (medians are reported)")->capture_default_str();
-    cmd->add_option("--updates", o->updates, "Haptic updates per run")->capture_default_str();
-    cmd->add_flag("!--no-fifo", o->fifo,
-                  "Time on a normal thread instead of a SCHED_FIFO one at the haptic priority");
-    cmd->callback([o, &exitCode]() { exitCode = runBenchHaptics(*o); });
+    addTableCommand<BenchHapticsOptions>(bench, "haptics", kAbout, kBenchHapticsRows,
+                                         runBenchHaptics, exitCode);
 }
 
 } // namespace depthtouch::cli

@@ -21,6 +21,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "option_cli.h"
 
 #if __has_include("depthtouch/media/media_bench.h")
 #include "depthtouch/drivers/backends.h"
@@ -48,6 +49,29 @@ struct BenchMediaOptions {
     int decodeThreads = 1;
     bool synthetic = false;
     bool keepFiles = false;
+};
+
+/// The options of `bench media`, in `--help` order.
+const OptionRow<BenchMediaOptions> kBenchMediaRows[] = {
+    {"data", &BenchMediaOptions::data,
+     "Shared RGB-D data folder (default: $DT_SHARED_DATA or ../shared/data)"},
+    {"out", &BenchMediaOptions::out, "Output directory"},
+    {"frames", &BenchMediaOptions::frames,
+     "Frames per clip at 30 fps (the 60 real frames are played forward and back beyond 60)"},
+    {"runs", &BenchMediaOptions::runs, "Decode + pairing runs per file (median run reported)"},
+    {"sizes", &BenchMediaOptions::sizes,
+     "Frame sizes WxH; the first also gets the rate/accuracy sweep"},
+    {"presets", &BenchMediaOptions::presets, "x264 presets timed (color and depth)"},
+    {"depth-crfs", &BenchMediaOptions::depthCrfs,
+     "Depth CRFs of the rate/accuracy sweep (lossless always)"},
+    {"rate-preset", &BenchMediaOptions::ratePreset, "x264 preset of the rate/accuracy sweep"},
+    {"encode-threads", &BenchMediaOptions::encodeThreads,
+     "x264 threads per stream (0 = automatic)"},
+    {"decode-threads", &BenchMediaOptions::decodeThreads, "Decoder threads per stream"},
+    {"synthetic", &BenchMediaOptions::synthetic,
+     "Use a synthetic clip instead of the 7-Scenes frames"},
+    {"keep-files", &BenchMediaOptions::keepFiles,
+     "Keep the encoded files (their folder is printed)"},
 };
 
 #if DT_CLI_HAVE_MEDIA_BENCH
@@ -80,7 +104,8 @@ int runBenchMedia(const BenchMediaOptions &o)
         return fail(kExitBadInput, "--decode-threads must be in 1..16");
     for (const int crf : o.depthCrfs)
         if (crf < 0 || crf > 51)
-            return fail(kExitBadInput, "--depth-crfs values must be in 0..51 (lossless is always measured)");
+            return fail(kExitBadInput,
+                        "--depth-crfs values must be in 0..51 (lossless is always measured)");
     if (o.presets.empty())
         return fail(kExitBadInput, "--presets needs at least one x264 preset");
     std::vector<std::pair<int, int>> sizes;
@@ -104,8 +129,10 @@ int runBenchMedia(const BenchMediaOptions &o)
         scene = data + "/rgbd-7scenes-redkitchen";
         std::error_code ec;
         if (!std::filesystem::exists(scene + "/frame-000000.depth.png", ec))
-            return fail(kExitBadInput, "no 7-Scenes frames in " + scene +
-                                           " (set --data or DT_SHARED_DATA, or run on a synthetic clip with --synthetic)");
+            return fail(
+                kExitBadInput,
+                "no 7-Scenes frames in " + scene +
+                    " (set --data or DT_SHARED_DATA, or run on a synthetic clip with --synthetic)");
     }
     // The figures are the output: backend chatter and the receiver's expected notes (the depth-only
     // files of the rate sweep) stay quiet unless DT_LOG asks for them.
@@ -114,8 +141,8 @@ int runBenchMedia(const BenchMediaOptions &o)
 
     // Encoded files go to a private scratch folder, removed at the end.
     std::error_code ec;
-    const std::filesystem::path work = std::filesystem::temp_directory_path(ec) /
-                                       ("dt-bench-media-" + std::to_string(::getpid()));
+    const std::filesystem::path work =
+        std::filesystem::temp_directory_path(ec) / ("dt-bench-media-" + std::to_string(::getpid()));
     std::filesystem::create_directories(work, ec);
     if (ec)
         return fail(kExitFailure, "cannot create a scratch folder: " + ec.message());
@@ -170,20 +197,22 @@ int runBenchMedia(const BenchMediaOptions &o)
         }
         report.content += (report.content.empty() ? "" : "; ") + clip.description;
         report.fps = clip.fps;
-        std::fprintf(stderr, "bench media: %dx%d encode per preset, decode + pairing x%d ...\n", w, h, o.runs);
+        std::fprintf(stderr, "bench media: %dx%d encode per preset, decode + pairing x%d ...\n", w,
+                     h, o.runs);
         auto rows = measureThroughput(clip, backends, mo);
         if (!rows)
             return fail(rows.error().code == Errc::InvalidArgument ? kExitBadInput : kExitFailure,
-                        std::string("throughput at ") + std::to_string(w) + "x" + std::to_string(h) +
-                            ": " + rows.error().what);
+                        std::string("throughput at ") + std::to_string(w) + "x" +
+                            std::to_string(h) + ": " + rows.error().what);
         report.throughput.insert(report.throughput.end(), rows->begin(), rows->end());
         // Rate against accuracy on the first size (720×486 by default: the paper's frame size).
         if (k == 0) {
-            std::fprintf(stderr, "bench media: %dx%d depth rate vs accuracy (%zu settings) ...\n", w, h,
-                         o.depthCrfs.size() + 1);
+            std::fprintf(stderr, "bench media: %dx%d depth rate vs accuracy (%zu settings) ...\n",
+                         w, h, o.depthCrfs.size() + 1);
             auto rate = measureRateAccuracy(clip, backends, mo);
             if (!rate)
-                return fail(rate.error().code == Errc::InvalidArgument ? kExitBadInput : kExitFailure,
+                return fail(rate.error().code == Errc::InvalidArgument ? kExitBadInput
+                                                                       : kExitFailure,
                             std::string("rate vs accuracy: ") + rate.error().what);
             report.rate = std::move(rate->rows);
             report.rateWidth = w;
@@ -202,8 +231,10 @@ int runBenchMedia(const BenchMediaOptions &o)
         return fail(kExitFailure, error);
     if (!note.empty())
         std::printf("note: %s\n", note.c_str());
-    std::printf("wrote %s/{media_throughput.csv,rate_accuracy.csv,rate_vs_accuracy.png,media_throughput.png}\n",
-                o.out.c_str());
+    std::printf(
+        "wrote "
+        "%s/{media_throughput.csv,rate_accuracy.csv,rate_vs_accuracy.png,media_throughput.png}\n",
+        o.out.c_str());
     if (o.keepFiles)
         std::printf("encoded files kept in %s\n", work.c_str());
     return kExitOk;
@@ -218,30 +249,11 @@ int runBenchMedia(const BenchMediaOptions &o)
 
 void registerBenchMediaCommand(CLI::App &bench, int &exitCode)
 {
-    auto o = std::make_shared<BenchMediaOptions>();
-    CLI::App *cmd = bench.add_subcommand(
-        "media", "Media pipeline: encode and decode + pairing fps per preset and size, depth rate vs PSNR "
-                 "vs haptic force error; CSV/PNG");
-    cmd->add_option("--data", o->data, "Shared RGB-D data folder (default: $DT_SHARED_DATA or ../shared/data)");
-    cmd->add_option("--out", o->out, "Output directory")->capture_default_str();
-    cmd->add_option("--frames", o->frames,
-                    "Frames per clip at 30 fps (the 60 real frames are played forward and back beyond 60)")
-        ->capture_default_str();
-    cmd->add_option("--runs", o->runs, "Decode + pairing runs per file (median run reported)")
-        ->capture_default_str();
-    cmd->add_option("--sizes", o->sizes, "Frame sizes WxH; the first also gets the rate/accuracy sweep")
-        ->capture_default_str();
-    cmd->add_option("--presets", o->presets, "x264 presets timed (color and depth)")->capture_default_str();
-    cmd->add_option("--depth-crfs", o->depthCrfs, "Depth CRFs of the rate/accuracy sweep (lossless always)")
-        ->capture_default_str();
-    cmd->add_option("--rate-preset", o->ratePreset, "x264 preset of the rate/accuracy sweep")
-        ->capture_default_str();
-    cmd->add_option("--encode-threads", o->encodeThreads, "x264 threads per stream (0 = automatic)")
-        ->capture_default_str();
-    cmd->add_option("--decode-threads", o->decodeThreads, "Decoder threads per stream")->capture_default_str();
-    cmd->add_flag("--synthetic", o->synthetic, "Use a synthetic clip instead of the 7-Scenes frames");
-    cmd->add_flag("--keep-files", o->keepFiles, "Keep the encoded files (their folder is printed)");
-    cmd->callback([o, &exitCode]() { exitCode = runBenchMedia(*o); });
+    addTableCommand<BenchMediaOptions>(
+        bench, "media",
+        "Media pipeline: encode and decode + pairing fps per preset "
+        "and size, depth rate vs PSNR vs haptic force error; CSV/PNG",
+        kBenchMediaRows, runBenchMedia, exitCode);
 }
 
 } // namespace depthtouch::cli

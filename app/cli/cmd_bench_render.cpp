@@ -1,8 +1,9 @@
 /// \file
 /// \brief `depthtouch bench render`: frame rate (median, p99 frame time) against mean/max geometric
 /// error of the stereo renderer's meshes (full, fixed decimations, adaptive at several tolerances),
-/// side-by-side on real RGB-D frames (7-Scenes redkitchen at 720×486), with a per-stage breakdown of
-/// the frame; writes render_bench.csv, fps_vs_error.png, stages.png and a side-by-side snapshot into
+/// side-by-side on real RGB-D frames (7-Scenes redkitchen at 720×486), with a per-stage breakdown
+/// of the frame; writes render_bench.csv, fps_vs_error.png, stages.png and a side-by-side snapshot
+/// into
 /// --out and prints the tables. The GL context comes
 /// from a Display backend (--display, default headless).
 
@@ -15,6 +16,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "option_cli.h"
 
 #if __has_include("depthtouch/render/render_bench.h")
 #include "depthtouch/drivers/backends.h"
@@ -41,6 +43,26 @@ struct BenchRenderOptions {
     bool stages = true;
 };
 
+/// What `bench render` measures (its line in `depthtouch bench --help`).
+constexpr const char *kAbout = "Stereo renderer: frame rate vs geometric error of full, decimated "
+                               "and adaptive meshes; CSV/PNG";
+
+/// The options of `bench render`, in `--help` order.
+const OptionRow<BenchRenderOptions> kBenchRenderRows[] = {
+    {"display", &BenchRenderOptions::display, "Display backend providing the GLES context"},
+    {"data", &BenchRenderOptions::data,
+     "Shared RGB-D data folder (default: $DT_SHARED_DATA or ../shared/data)"},
+    {"out", &BenchRenderOptions::out, "Output directory"},
+    {"frames", &BenchRenderOptions::frames, "Timed frames per mesh setting"},
+    {"width", &BenchRenderOptions::width, "Side-by-side output width, pixels (two eyes)"},
+    {"height", &BenchRenderOptions::height, "Output height, pixels"},
+    {"depth-width", &BenchRenderOptions::depthWidth, "Depth frame width the data is resampled to"},
+    {"depth-height", &BenchRenderOptions::depthHeight, "Depth frame height"},
+    {"only", &BenchRenderOptions::only,
+     "Comma-separated mesh settings to run (e.g. full,adaptive-0.5; default all)"},
+    {"no-stages", &BenchRenderOptions::stages, "Skip the per-stage breakdown pass", {}, kNegated},
+};
+
 int runBenchRender(const BenchRenderOptions &o)
 {
 #if DT_CLI_HAVE_RENDER
@@ -56,8 +78,10 @@ int runBenchRender(const BenchRenderOptions &o)
     }
     const std::string scene = data + "/rgbd-7scenes-redkitchen";
     if (!std::filesystem::exists(scene + "/frame-000000.depth.png")) {
-        std::fprintf(stderr, "depthtouch bench render: no 7-Scenes frames in %s (use --data or DT_SHARED_DATA)\n",
-                     scene.c_str());
+        std::fprintf(
+            stderr,
+            "depthtouch bench render: no 7-Scenes frames in %s (use --data or DT_SHARED_DATA)\n",
+            scene.c_str());
         return kExitBadInput;
     }
     hal::SelectionReport report;
@@ -68,7 +92,8 @@ int runBenchRender(const BenchRenderOptions &o)
         return display.error().code == Errc::InvalidArgument ? kExitBadInput : kExitFailure;
     }
     if (!(*display)->capabilities().hasGlesContext) {
-        std::fprintf(stderr, "depthtouch bench render: display backend '%s' has no OpenGL ES context\n",
+        std::fprintf(stderr,
+                     "depthtouch bench render: display backend '%s' has no OpenGL ES context\n",
                      report.chosen.c_str());
         return kExitBadInput;
     }
@@ -76,16 +101,19 @@ int runBenchRender(const BenchRenderOptions &o)
     dc.width = o.width;
     dc.height = o.height;
     if (auto r = (*display)->open(dc); !r) {
-        std::fprintf(stderr, "depthtouch bench render: cannot open the display: %s\n", r.error().what);
+        std::fprintf(stderr, "depthtouch bench render: cannot open the display: %s\n",
+                     r.error().what);
         return kExitFailure;
     }
     if (auto r = (*display)->makeCurrent(); !r) {
-        std::fprintf(stderr, "depthtouch bench render: cannot make the GL context current: %s\n", r.error().what);
+        std::fprintf(stderr, "depthtouch bench render: cannot make the GL context current: %s\n",
+                     r.error().what);
         return kExitFailure;
     }
     auto frames = bench::loadKitchenFrames(scene, 60, o.depthWidth, o.depthHeight);
     if (!frames) {
-        std::fprintf(stderr, "depthtouch bench render: cannot read the frames: %s\n", frames.error().what);
+        std::fprintf(stderr, "depthtouch bench render: cannot read the frames: %s\n",
+                     frames.error().what);
         return kExitBadInput;
     }
     auto configs = bench::selectConfigs(o.only);
@@ -113,16 +141,19 @@ int runBenchRender(const BenchRenderOptions &o)
         return kExitFailure;
     }
     const std::string snap = o.out + "/kitchen_sbs.png";
-    if (auto r = bench::writeSideBySideSnapshot(*frames, 0, MeshOptions{}, o.width, o.height, snap); !r)
+    if (auto r = bench::writeSideBySideSnapshot(*frames, 0, MeshOptions{}, o.width, o.height, snap);
+        !r)
         std::fprintf(stderr, "depthtouch bench render: snapshot not written: %s\n", r.error().what);
     if (!note.empty())
         std::printf("note: %s\n", note.c_str());
-    std::printf("wrote %s/{render_bench.csv,fps_vs_error.png,stages.png,kitchen_sbs.png}\n", o.out.c_str());
+    std::printf("wrote %s/{render_bench.csv,fps_vs_error.png,stages.png,kitchen_sbs.png}\n",
+                o.out.c_str());
     (*display)->close();
     return kExitOk;
 #else
     (void)o;
-    std::fprintf(stderr, "depthtouch bench render: built without the GLES renderer (EGL/GLES not found)\n");
+    std::fprintf(stderr,
+                 "depthtouch bench render: built without the GLES renderer (EGL/GLES not found)\n");
     return kExitFailure;
 #endif
 }
@@ -131,21 +162,8 @@ int runBenchRender(const BenchRenderOptions &o)
 
 void registerBenchRenderCommand(CLI::App &bench, int &exitCode)
 {
-    auto o = std::make_shared<BenchRenderOptions>();
-    CLI::App *cmd = bench.add_subcommand(
-        "render", "Stereo renderer: frame rate vs geometric error of full, decimated and adaptive meshes; CSV/PNG");
-    cmd->add_option("--display", o->display, "Display backend providing the GLES context")->capture_default_str();
-    cmd->add_option("--data", o->data, "Shared RGB-D data folder (default: $DT_SHARED_DATA or ../shared/data)");
-    cmd->add_option("--out", o->out, "Output directory")->capture_default_str();
-    cmd->add_option("--frames", o->frames, "Timed frames per mesh setting")->capture_default_str();
-    cmd->add_option("--width", o->width, "Side-by-side output width, pixels (two eyes)")->capture_default_str();
-    cmd->add_option("--height", o->height, "Output height, pixels")->capture_default_str();
-    cmd->add_option("--depth-width", o->depthWidth, "Depth frame width the data is resampled to")
-        ->capture_default_str();
-    cmd->add_option("--depth-height", o->depthHeight, "Depth frame height")->capture_default_str();
-    cmd->add_option("--only", o->only, "Comma-separated mesh settings to run (e.g. full,adaptive-0.5; default all)");
-    cmd->add_flag("!--no-stages", o->stages, "Skip the per-stage breakdown pass");
-    cmd->callback([o, &exitCode]() { exitCode = runBenchRender(*o); });
+    addTableCommand<BenchRenderOptions>(bench, "render", kAbout, kBenchRenderRows, runBenchRender,
+                                        exitCode);
 }
 
 } // namespace depthtouch::cli

@@ -15,6 +15,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "option_cli.h"
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptic_task/rt_bench.h"
 #include "depthtouch/platform/clock.h"
@@ -35,6 +36,26 @@ struct BenchRtOptions {
     int runs = 1;         ///< Repetitions of the whole set; goal ratios as medians over them.
     std::string haptic = "sim";
     std::string hapticOptions = "intent=stroke,force=1.5,z=0.01,speed=0.05";
+};
+
+/// What `bench rt` measures (its line in `depthtouch bench --help`).
+constexpr const char *kAbout = "Haptic loop timing: wake latency and period error, bare loop vs "
+                               "haptic task, SCHED_FIFO vs SCHED_OTHER; CSV/PNG";
+
+/// The options of `bench rt`, in `--help` order.
+const OptionRow<BenchRtOptions> kBenchRtRows[] = {
+    {"out", &BenchRtOptions::out, "Output directory"},
+    {"duration", &BenchRtOptions::duration, "Seconds per case"},
+    {"rates", &BenchRtOptions::rates, "Servo rates, Hz"},
+    {"policies", &BenchRtOptions::policies, "fifo, other or fifo,other"},
+    {"load", &BenchRtOptions::load, "Also run every case while other threads load the CPUs"},
+    {"load-threads", &BenchRtOptions::loadThreads, "Threads of the load"},
+    {"runs", &BenchRtOptions::runs, "Repetitions; goal ratios as medians over them"},
+    {"load-clip", &BenchRtOptions::loadClip,
+     "Load = the player playing this color + depth file (headless, looping) in this process, "
+     "instead of the decode-like threads"},
+    {"haptic", &BenchRtOptions::haptic, "Haptic device of the task cases"},
+    {"haptic-options", &BenchRtOptions::hapticOptions, "Its options"},
 };
 
 /// The player as the load: `play CLIP --loop` on the headless display, without haptics, on a
@@ -182,25 +203,7 @@ int runBenchRt(const BenchRtOptions &o)
 
 void registerBenchRtCommand(CLI::App &bench, int &exitCode)
 {
-    auto o = std::make_shared<BenchRtOptions>();
-    CLI::App *cmd = bench.add_subcommand(
-        "rt", "Haptic loop timing: wake latency and period error, bare loop vs haptic task, "
-              "SCHED_FIFO vs SCHED_OTHER; CSV/PNG");
-    cmd->add_option("--out", o->out, "Output directory")->capture_default_str();
-    cmd->add_option("--duration", o->duration, "Seconds per case")->capture_default_str();
-    cmd->add_option("--rates", o->rates, "Servo rates, Hz")->capture_default_str();
-    cmd->add_option("--policies", o->policies, "fifo, other or fifo,other")->capture_default_str();
-    cmd->add_flag("--load", o->load, "Also run every case while other threads load the CPUs");
-    cmd->add_option("--load-threads", o->loadThreads, "Threads of the load")->capture_default_str();
-    cmd->add_option("--runs", o->runs, "Repetitions; goal ratios as medians over them")
-        ->capture_default_str();
-    cmd->add_option("--load-clip", o->loadClip,
-                    "Load = the player playing this color + depth file (headless, looping) in "
-                    "this process, instead of the decode-like threads");
-    cmd->add_option("--haptic", o->haptic, "Haptic device of the task cases")
-        ->capture_default_str();
-    cmd->add_option("--haptic-options", o->hapticOptions, "Its options")->capture_default_str();
-    cmd->callback([o, &exitCode]() { exitCode = runBenchRt(*o); });
+    addTableCommand<BenchRtOptions>(bench, "rt", kAbout, kBenchRtRows, runBenchRt, exitCode);
 }
 
 } // namespace depthtouch::cli

@@ -29,6 +29,7 @@
 #include <glm/geometric.hpp>
 
 #include "commands.h"
+#include "option_cli.h"
 #include "depthtouch/haptics/feel.h"
 #include "depthtouch/haptics/height_field.h"
 #include "depthtouch/haptics/spectrum.h"
@@ -50,10 +51,10 @@ constexpr const char *kHeadStroke = "intent=stroke,path=0:0.015/0.007:0.004/0:-0
                                     "-0.02:0.004,speed=0.03,z=0.012,depth=0.004,delay=0.5";
 
 struct DemoOptions {
-    double duration = 8.0;     ///< Seconds of playback (the clip loops).
+    double duration = 8.0; ///< Seconds of playback (the clip loops).
     std::string scene = "head";
     std::string size = "480x324"; ///< Clip size WxH.
-    int frames = 120;          ///< Clip length, frames at 30 fps.
+    int frames = 120;             ///< Clip length, frames at 30 fps.
     std::string outDir = "demo-out";
     std::string display = "headless";
     std::string haptic = "sim";
@@ -64,12 +65,34 @@ struct DemoOptions {
     bool rebuild = false; ///< Encode the clip again even when it exists.
 };
 
+/// What `demo` does (its line in `depthtouch --help`).
+constexpr const char *kAbout =
+    "The main job: play the built-in head scene and touch it with the simulated hand";
+
+/// The options of `demo`, in `--help` order.
+const OptionRow<DemoOptions> kDemoRows[] = {
+    {"duration", &DemoOptions::duration, "Seconds of playback"},
+    {"out", &DemoOptions::outDir, "Folder for the clip, snapshots, force log, stats, chart"},
+    {"scene", &DemoOptions::scene, "Built-in scene: head, spheres, cut"},
+    {"size", &DemoOptions::size, "Clip size WxH"},
+    {"frames", &DemoOptions::frames, "Clip length in frames (30 fps)"},
+    {"display", &DemoOptions::display, "Display backend"},
+    {"haptic", &DemoOptions::haptic, "Haptic device backend: sim, mock, falcon, none"},
+    {"haptic-options", &DemoOptions::hapticOptions,
+     "Options of the haptic device (default for sim: a stroke over the face and across the head's "
+     "contour)"},
+    {"stiffness", &DemoOptions::stiffness, "Surface stiffness, N/m"},
+    {"rate", &DemoOptions::rate, "Haptic servo rate, Hz"},
+    {"require-rt", &DemoOptions::requireRt, "Fail when SCHED_FIFO is refused"},
+    {"rebuild", &DemoOptions::rebuild, "Render and encode the clip again"},
+};
+
 /// Encodes the scene into \a clip. \return an error text, or empty.
 std::string encodeScene(const DemoOptions &o, const std::string &clip)
 {
     media::SourceProviders providers = makeSourceProviders();
-    const std::string spec = "synthetic:" + o.scene + ",size=" + o.size +
-                             ",frames=" + std::to_string(o.frames);
+    const std::string spec =
+        "synthetic:" + o.scene + ",size=" + o.size + ",frames=" + std::to_string(o.frames);
     media::SourceOptions so;
     so.streamTitle = "color";
     auto color = media::openFrameSource(spec, so, providers);
@@ -179,7 +202,8 @@ public:
     void setTime(double t)
     {
         const auto n = static_cast<long long>(frames_.size());
-        const long long i = std::clamp(static_cast<long long>(std::floor(t * fps_ + 1e-9)), 0LL, n - 1);
+        const long long i =
+            std::clamp(static_cast<long long>(std::floor(t * fps_ + 1e-9)), 0LL, n - 1);
         const haptics::DepthFrameView cur = view(static_cast<std::size_t>(i));
         const haptics::DepthFrameView next = view(static_cast<std::size_t>(std::min(i + 1, n - 1)));
         (void)field_.setFrames(cur, i + 1 < n ? &next : nullptr);
@@ -222,7 +246,11 @@ private:
     [[nodiscard]] haptics::DepthFrameView view(std::size_t i) const noexcept
     {
         const media::Image &im = frames_[i];
-        return {im.data.data(), im.width, im.height, im.stride, haptics::SampleFormat::Gray8,
+        return {im.data.data(),
+                im.width,
+                im.height,
+                im.stride,
+                haptics::SampleFormat::Gray8,
                 static_cast<double>(i) / fps_};
     }
 
@@ -338,8 +366,7 @@ std::string chartForce(const std::string &dir, const std::vector<std::array<doub
           << "unset multiplot\n";
     }
     const platform::PlotStatus st = platform::runGnuplot(script);
-    return st == platform::PlotStatus::Drawn ? dir + "/force.png"
-                                             : platform::plotStatusNote(st);
+    return st == platform::PlotStatus::Drawn ? dir + "/force.png" : platform::plotStatusNote(st);
 }
 
 /// Measures the run in \a forceLog against the clip's depth, prints the feel lines and draws the
@@ -366,8 +393,7 @@ void reportFeel(const DemoOptions &o, const std::string &clip, const std::string
                 "than the %s)\n",
                 o.scene == "head" ? "head" : "fig.",
                 d.contactSeconds > 0 ? 100.0 * d.figureSeconds / d.contactSeconds : 0.0,
-                d.contactSeconds, 1e3 * kFigureMargin,
-                o.scene == "head" ? "curtain" : "backdrop");
+                d.contactSeconds, 1e3 * kFigureMargin, o.scene == "head" ? "curtain" : "backdrop");
     const std::string chart = chartForce(o.outDir, plot, o.rate);
     std::printf("  chart             %s\n", chart.c_str());
 }
@@ -377,8 +403,8 @@ int runDemo(const DemoOptions &o)
     int w = 0;
     int h = 0;
     char x = 0;
-    if (std::sscanf(o.size.c_str(), "%d%c%d", &w, &x, &h) != 3 || w < 16 || h < 16 ||
-        w > 4096 || h > 4096 || o.frames < 2 || o.frames > 100000) {
+    if (std::sscanf(o.size.c_str(), "%d%c%d", &w, &x, &h) != 3 || w < 16 || h < 16 || w > 4096 ||
+        h > 4096 || o.frames < 2 || o.frames > 100000) {
         std::fprintf(stderr, "depthtouch demo: --size must be WxH (16..4096) and --frames >= 2\n");
         return kExitBadInput;
     }
@@ -443,28 +469,7 @@ int runDemo(const DemoOptions &o)
 
 void registerDemoCommand(CLI::App &app, int &exitCode)
 {
-    auto o = std::make_shared<DemoOptions>();
-    CLI::App *cmd = app.add_subcommand(
-        "demo", "The main job: play the built-in head scene and touch it with the simulated hand");
-    cmd->add_option("--duration", o->duration, "Seconds of playback")->capture_default_str();
-    cmd->add_option("--out", o->outDir, "Folder for the clip, snapshots, force log, stats, chart")
-        ->capture_default_str();
-    cmd->add_option("--scene", o->scene, "Built-in scene: head, spheres, cut")
-        ->capture_default_str();
-    cmd->add_option("--size", o->size, "Clip size WxH")->capture_default_str();
-    cmd->add_option("--frames", o->frames, "Clip length in frames (30 fps)")
-        ->capture_default_str();
-    cmd->add_option("--display", o->display, "Display backend")->capture_default_str();
-    cmd->add_option("--haptic", o->haptic, "Haptic device backend: sim, mock, falcon, none")
-        ->capture_default_str();
-    cmd->add_option("--haptic-options", o->hapticOptions,
-                    "Options of the haptic device (default for sim: a stroke over the face and "
-                    "across the head's contour)");
-    cmd->add_option("--stiffness", o->stiffness, "Surface stiffness, N/m")->capture_default_str();
-    cmd->add_option("--rate", o->rate, "Haptic servo rate, Hz")->capture_default_str();
-    cmd->add_flag("--require-rt", o->requireRt, "Fail when SCHED_FIFO is refused");
-    cmd->add_flag("--rebuild", o->rebuild, "Render and encode the clip again");
-    cmd->callback([o, &exitCode] { exitCode = runDemo(*o); });
+    addTableCommand<DemoOptions>(app, "demo", kAbout, kDemoRows, runDemo, exitCode);
 }
 
 } // namespace depthtouch::cli

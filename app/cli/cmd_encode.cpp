@@ -7,9 +7,9 @@
 ///
 /// Bad input (missing, unreadable or silent source, no video stream, nonsense options, an output
 /// path that is a directory or in a missing folder) prints one error line and exits 2 without
-/// leaving an output file; a write of the output that fails (lost output) exits 1. SIGINT/SIGTERM stop reading;
-/// the encoders are flushed and the trailer written, so the file is playable; exit code 130.
-/// Progress (frames, fps, ETA) is drawn on stderr only when stderr is a terminal.
+/// leaving an output file; a write of the output that fails (lost output) exits 1. SIGINT/SIGTERM
+/// stop reading; the encoders are flushed and the trailer written, so the file is playable; exit
+/// code 130. Progress (frames, fps, ETA) is drawn on stderr only when stderr is a terminal.
 
 #include <atomic>
 #include <cerrno>
@@ -26,6 +26,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "option_cli.h"
 #include "source_providers.h"
 #include "depthtouch/media/encode_job.h"
 #include "depthtouch/media/frame_source.h"
@@ -255,9 +256,9 @@ int runEncode(const EncodeCliOptions &o)
     // One set of providers for both inputs: `synthetic:NAME` color and depth share one renderer,
     // `v4l2:DEVICE` color and depth one camera.
     const media::SourceProviders providers = makeSourceProviders();
-    const auto open = [&o, &providers](const std::string &role, const std::string &spec,
-                                       double fps, const std::string &format,
-                                       const std::string &videoSize, const std::string &pixFmt,
+    const auto open = [&o, &providers](const std::string &role, const std::string &spec, double fps,
+                                       const std::string &format, const std::string &videoSize,
+                                       const std::string &pixFmt,
                                        std::string &error) -> std::unique_ptr<NamedSource> {
         media::SourceOptions so;
         so.fps = fps;
@@ -282,8 +283,7 @@ int runEncode(const EncodeCliOptions &o)
     auto color =
         open("color", o.color, o.fps, o.colorFormat, o.colorVideoSize, o.colorPixFmt, error);
     auto depthSrc =
-        color ? open("depth", o.depth, o.fps, o.depthFormat, o.depthVideoSize, o.depthPixFmt,
-                     error)
+        color ? open("depth", o.depth, o.fps, o.depthFormat, o.depthVideoSize, o.depthPixFmt, error)
               : nullptr;
     if (quietOpen)
         platform::setLogLevel(platform::LogLevel::Error);
@@ -355,81 +355,94 @@ int runEncode(const EncodeCliOptions &o)
     return kExitOk;
 }
 
+/// `--frames`: a whole number >= 0 (a CLI11 check, so that "1.5" or "-1" is refused at once).
+std::string wholeFrameCount(std::string &v)
+{
+    char *end = nullptr;
+    errno = 0;
+    const long long n = std::strtoll(v.c_str(), &end, 10);
+    const bool whole = end != v.c_str() && *end == '\0' && errno == 0 && n >= 0;
+    return whole ? std::string() : "must be a whole number >= 0 (0: all), not " + v;
+}
+
+/// The options of `encode`, in `--help` order.
+const OptionRow<EncodeCliOptions> kEncodeRows[] = {
+    {"color",
+     &EncodeCliOptions::color,
+     "Color input: image sequence (frame-%06d.color.jpg, 'd/*.png'), video file, URL, "
+     "v4l2:/dev/videoN[,color=/dev/videoM], synthetic:NAME[,size=WxH][,fps=F][,frames=N] (NAME: "
+     "head, spheres, cut; default 720x486, --fps, 4 s; frames=0: endless)",
+     {},
+     kRequired},
+    {"depth",
+     &EncodeCliOptions::depth,
+     "Depth input: 8-bit nearness or 16-bit metric depth (image sequence, video, ...); the depth "
+     "of a v4l2: or synthetic: spec (give --color the same spec)",
+     {},
+     kRequired},
+    {"output",
+     &EncodeCliOptions::output,
+     "Output file (.mkv, .mp4, .ts) or URL (udp://...)",
+     {},
+     kRequired,
+     'o'},
+    {"format", &EncodeCliOptions::format,
+     "Container: mkv | mp4 | ts (default: by extension; mkv for files, ts for URLs)"},
+    {"fps", &EncodeCliOptions::fps,
+     "Frame rate of image sequences and raw inputs (frames/s, 0.1..1000)"},
+    {"crf", &EncodeCliOptions::crf, "Color x264 constant rate factor 0..51"},
+    {"preset", &EncodeCliOptions::preset, "x264 preset (ultrafast ... veryslow)"},
+    {"depth-crf", &EncodeCliOptions::depthCrf, "Depth x264 constant rate factor 0..51 (lossy)"},
+    {"depth-lossless", &EncodeCliOptions::depthLossless,
+     "Lossless depth (x264 qp 0, High 4:4:4 Predictive)"},
+    {"depth-bits", &EncodeCliOptions::depthBits,
+     "Depth samples: 8 = H.264 gray, 10 = H.264 gray10, 16 = FFV1 gray16 (MKV)"},
+    {"size", &EncodeCliOptions::size, "Output grid WxH (default: the color size)"},
+    {"threads", &EncodeCliOptions::threads, "Encoder threads per stream (0: automatic)"},
+    {"loop", &EncodeCliOptions::loop,
+     "Loop image-sequence inputs forever (a live source; stop with --frames, --duration or "
+     "Ctrl-C)"},
+    {"frames",
+     &EncodeCliOptions::frames,
+     "Encode at most N frame pairs (0: all)",
+     {},
+     kHideDefault},
+    {"duration", &EncodeCliOptions::duration, "Encode at most this many seconds (0: all)"},
+    {"depth-scale", &EncodeCliOptions::depthScale,
+     "Metres per unit of 16-bit metric depth (0.001: mm; TUM: 0.0002)"},
+    {"depth-saturation", &EncodeCliOptions::depthSaturation,
+     "16-bit depth values >= this are invalid (as 0 is)"},
+    {"near",
+     &EncodeCliOptions::nearM,
+     "Near plane (m); default: robust range of the data",
+     {},
+     kHideDefault},
+    {"far",
+     &EncodeCliOptions::farM,
+     "Far plane (m); default: robust range of the data",
+     {},
+     kHideDefault},
+    {"depth-mapping", &EncodeCliOptions::depthMapping, "Metric → nearness: inverse_z | linear"},
+    {"enhance", &EncodeCliOptions::enhance,
+     "Depth enhancement (paper V.B): median, adaptive points, Delaunay, smoothing"},
+    {"enhance-tolerance", &EncodeCliOptions::enhanceTolerance,
+     "Enhancement error tolerance (nearness levels, 8-bit scale)"},
+    {"color-format", &EncodeCliOptions::colorFormat, "Force the color demuxer (e.g. rawvideo)"},
+    {"color-video-size", &EncodeCliOptions::colorVideoSize, "Raw color frame size WxH"},
+    {"color-pix-fmt", &EncodeCliOptions::colorPixFmt, "Raw color pixel format (e.g. rgb24)"},
+    {"depth-format", &EncodeCliOptions::depthFormat, "Force the depth demuxer (e.g. rawvideo)"},
+    {"depth-video-size", &EncodeCliOptions::depthVideoSize, "Raw depth frame size WxH"},
+    {"depth-pix-fmt", &EncodeCliOptions::depthPixFmt, "Raw depth pixel format (e.g. gray16le)"},
+};
+
 } // namespace
 
 void registerEncodeCommand(CLI::App &app, int &exitCode)
 {
-    auto o = std::make_shared<EncodeCliOptions>();
-    CLI::App *cmd = app.add_subcommand(
-        "encode", "Encode color + depth into one file or stream (H.264 color, 4:0:0 depth)");
-    cmd->add_option("--color", o->color,
-                    "Color input: image sequence (frame-%06d.color.jpg, 'd/*.png'), video file, "
-                    "URL, v4l2:/dev/videoN[,color=/dev/videoM], "
-                    "synthetic:NAME[,size=WxH][,fps=F][,frames=N] (NAME: head, spheres, cut; "
-                    "default 720x486, --fps, 4 s; frames=0: endless)")
-        ->required();
-    cmd->add_option("--depth", o->depth,
-                    "Depth input: 8-bit nearness or 16-bit metric depth (image sequence, video, "
-                    "...); the depth of a v4l2: or synthetic: spec (give --color the same spec)")
-        ->required();
-    cmd->add_option("-o,--output", o->output, "Output file (.mkv, .mp4, .ts) or URL (udp://...)")
-        ->required();
-    cmd->add_option("--format", o->format,
-                    "Container: mkv | mp4 | ts (default: by extension; "
-                    "mkv for files, ts for URLs)");
-    cmd->add_option("--fps", o->fps,
-                    "Frame rate of image sequences and raw inputs (frames/s, 0.1..1000)")
-        ->capture_default_str();
-    cmd->add_option("--crf", o->crf, "Color x264 constant rate factor 0..51")
-        ->capture_default_str();
-    cmd->add_option("--preset", o->preset, "x264 preset (ultrafast ... veryslow)")
-        ->capture_default_str();
-    cmd->add_option("--depth-crf", o->depthCrf, "Depth x264 constant rate factor 0..51 (lossy)")
-        ->capture_default_str();
-    cmd->add_flag("--depth-lossless", o->depthLossless,
-                  "Lossless depth (x264 qp 0, High 4:4:4 Predictive)");
-    cmd->add_option("--depth-bits", o->depthBits,
-                    "Depth samples: 8 = H.264 gray, 10 = H.264 gray10, 16 = FFV1 gray16 (MKV)")
-        ->capture_default_str();
-    cmd->add_option("--size", o->size, "Output grid WxH (default: the color size)");
-    cmd->add_option("--threads", o->threads, "Encoder threads per stream (0: automatic)")
-        ->capture_default_str();
-    cmd->add_flag("--loop", o->loop,
-                  "Loop image-sequence inputs forever (a live source; stop with --frames, "
-                  "--duration or Ctrl-C)");
-    cmd->add_option("--frames", o->frames, "Encode at most N frame pairs (0: all)")
-        ->check(CLI::Validator(
-            [](std::string &v) -> std::string {
-                char *end = nullptr;
-                errno = 0;
-                const long long n = std::strtoll(v.c_str(), &end, 10);
-                const bool whole = end != v.c_str() && *end == '\0' && errno == 0 && n >= 0;
-                return whole ? std::string() : "must be a whole number >= 0 (0: all), not " + v;
-            },
-            "N >= 0"));
-    cmd->add_option("--duration", o->duration, "Encode at most this many seconds (0: all)");
-    cmd->add_option("--depth-scale", o->depthScale,
-                    "Metres per unit of 16-bit metric depth (0.001: mm; TUM: 0.0002)")
-        ->capture_default_str();
-    cmd->add_option("--depth-saturation", o->depthSaturation,
-                    "16-bit depth values >= this are invalid (as 0 is)")
-        ->capture_default_str();
-    cmd->add_option("--near", o->nearM, "Near plane (m); default: robust range of the data");
-    cmd->add_option("--far", o->farM, "Far plane (m); default: robust range of the data");
-    cmd->add_option("--depth-mapping", o->depthMapping, "Metric → nearness: inverse_z | linear")
-        ->capture_default_str();
-    cmd->add_flag("--enhance", o->enhance,
-                  "Depth enhancement (paper V.B): median, adaptive points, Delaunay, smoothing");
-    cmd->add_option("--enhance-tolerance", o->enhanceTolerance,
-                    "Enhancement error tolerance (nearness levels, 8-bit scale)")
-        ->capture_default_str();
-    cmd->add_option("--color-format", o->colorFormat, "Force the color demuxer (e.g. rawvideo)");
-    cmd->add_option("--color-video-size", o->colorVideoSize, "Raw color frame size WxH");
-    cmd->add_option("--color-pix-fmt", o->colorPixFmt, "Raw color pixel format (e.g. rgb24)");
-    cmd->add_option("--depth-format", o->depthFormat, "Force the depth demuxer (e.g. rawvideo)");
-    cmd->add_option("--depth-video-size", o->depthVideoSize, "Raw depth frame size WxH");
-    cmd->add_option("--depth-pix-fmt", o->depthPixFmt, "Raw depth pixel format (e.g. gray16le)");
-    cmd->callback([o, &exitCode]() { exitCode = runEncode(*o); });
+    CLI::App *cmd = addTableCommand<EncodeCliOptions>(
+        app, "encode", "Encode color + depth into one file or stream (H.264 color, 4:0:0 depth)",
+        kEncodeRows, runEncode, exitCode);
+    cmd->get_option("--frames")->check(CLI::Validator(wholeFrameCount, "N >= 0"));
 }
 
 } // namespace depthtouch::cli

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "option_cli.h"
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
@@ -31,6 +32,21 @@ struct ProbeOptions {
     bool decode = false;
     std::string source;  ///< Media source backend; empty: mock for mock: URLs, else ffmpeg.
     std::string decoder; ///< Decoder backend for --decode; empty: matches the source.
+};
+
+/// What `probe` does (its line in `depthtouch --help`).
+constexpr const char *kAbout =
+    "Show the streams, depth metadata and color/depth pairing of a 3D video";
+
+/// The options of `probe`, in `--help` order.
+const OptionRow<ProbeOptions> kProbeRows[] = {
+    {"file", &ProbeOptions::file, "Video file or stream URL", {}, kPositional | kRequired},
+    {"json", &ProbeOptions::json, "Print JSON instead of text"},
+    {"decode", &ProbeOptions::decode,
+     "Also decode and pair every frame (concealed frames, decode errors)"},
+    {"source", &ProbeOptions::source,
+     "Media source backend (default: ffmpeg; mock for mock: URLs)"},
+    {"decoder", &ProbeOptions::decoder, "Video decoder backend for --decode (default: ffmpeg)"},
 };
 
 /// Per-stream packet census of the demux pass.
@@ -123,8 +139,9 @@ int runProbe(const ProbeOptions &opt)
     const std::string sourceName = !opt.source.empty() ? opt.source : mockUrl ? "mock" : "ffmpeg";
     if (opt.decode && platform::pathKind(opt.file.c_str()) == platform::PathKind::Fifo) {
         // --decode reads the input twice (demux census, then the receiver): a FIFO cannot be.
-        std::fprintf(stderr, "depthtouch probe: cannot --decode '%s': it is a FIFO, which can be "
-                             "read only once (probe it without --decode, or save it to a file)\n",
+        std::fprintf(stderr,
+                     "depthtouch probe: cannot --decode '%s': it is a FIFO, which can be "
+                     "read only once (probe it without --decode, or save it to a file)\n",
                      opt.file.c_str());
         return kExitBadInput;
     }
@@ -343,18 +360,7 @@ int runProbe(const ProbeOptions &opt)
 
 void registerProbeCommand(CLI::App &app, int &exitCode)
 {
-    auto opt = std::make_shared<ProbeOptions>();
-    CLI::App *cmd = app.add_subcommand(
-        "probe", "Show the streams, depth metadata and color/depth pairing of a 3D video");
-    cmd->add_option("file", opt->file, "Video file or stream URL")->required();
-    cmd->add_flag("--json", opt->json, "Print JSON instead of text");
-    cmd->add_flag("--decode", opt->decode,
-                  "Also decode and pair every frame (concealed frames, decode errors)");
-    cmd->add_option("--source", opt->source,
-                    "Media source backend (default: ffmpeg; mock for mock: URLs)");
-    cmd->add_option("--decoder", opt->decoder,
-                    "Video decoder backend for --decode (default: ffmpeg)");
-    cmd->callback([opt, &exitCode] { exitCode = runProbe(*opt); });
+    addTableCommand<ProbeOptions>(app, "probe", kAbout, kProbeRows, runProbe, exitCode);
 }
 
 } // namespace depthtouch::cli

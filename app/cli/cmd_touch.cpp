@@ -26,6 +26,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "option_cli.h"
 #include "depthtouch/depth/conversion.h"
 #include "depthtouch/depth/fill.h"
 #include "depthtouch/drivers/backends.h"
@@ -63,6 +64,56 @@ struct TouchOptions {
     std::optional<double> farM;
     double depthScale = 0.001;
     std::string depthMapping = "inverse_z";
+};
+
+/// What `touch` does (its line in `depthtouch --help`).
+constexpr const char *kAbout =
+    "Replay a HIP trajectory against a depth video at the haptic rate; write the force log CSV";
+
+/// The options of `touch`, in `--help` order.
+const OptionRow<TouchOptions> kTouchRows[] = {
+    {"DEPTH",
+     &TouchOptions::depth,
+     "Depth video: any file, URL or image-sequence pattern FFmpeg reads (frame-%06d.depth.png), or "
+     "raw 8/16-bit gray frames with --size",
+     {},
+     kPositional | kRequired},
+    {"trajectory", &TouchOptions::trajectory, "HIP trajectory CSV t,x,y,z (s, m)", {}, kRequired},
+    {"out", &TouchOptions::out, "Force log CSV to write", {}, kRequired},
+    {"size", &TouchOptions::size,
+     "Raw depth frame size WxH (pixels); a raw file is at most 256 MiB"},
+    {"fps", &TouchOptions::fps, "Frame rate of raw depth and image sequences (frames/s)"},
+    {"near",
+     &TouchOptions::nearM,
+     "Near plane (m): 16-bit input is metric depth, converted to nearness (with --far)",
+     {},
+     kHideDefault},
+    {"far", &TouchOptions::farM, "Far plane (m) of the metric depth conversion", {}, kHideDefault},
+    {"depth-scale", &TouchOptions::depthScale, "Metres per metric depth unit (0.001: mm)"},
+    {"depth-mapping", &TouchOptions::depthMapping, "Metric conversion: inverse_z | linear"},
+    {"bits", &TouchOptions::bits, "Raw depth sample size: 8 or 16 (host byte order)"},
+    {"rate", &TouchOptions::rate, "Haptic update rate (Hz, 100..10000)"},
+    {"stiffness", &TouchOptions::stiffness, "Spring stiffness k (N/m, up to 100000)"},
+    {"damping", &TouchOptions::damping, "Damping b (N·s/m, 0..1000)"},
+    {"max-force", &TouchOptions::maxForce, "Device maximum force (N, up to 1000)"},
+    {"box-width", &TouchOptions::boxWidth, "Scene box width (m)"},
+    {"box-depth", &TouchOptions::boxDepth, "Scene box depth (m)"},
+    {"method", &TouchOptions::method, "finger | modified | proxy-graph | mesh-bvh"},
+    {"no-correction", &TouchOptions::noCorrection, "Turn off fix (a), collision correction"},
+    {"no-interpolation", &TouchOptions::noInterpolation, "Turn off fix (b), surface interpolation"},
+    {"no-safety", &TouchOptions::noSafety, "Turn off fix (c), force-jump safety"},
+    {"max-force-step", &TouchOptions::maxForceStep,
+     "Force change per update that trips safety (N); the default 2 N never trips while stroking "
+     "smooth surfaces at 1 m/s (k=800: <= 0.8 N/update) and always trips at a cut of half the box "
+     "depth (16 N)"},
+    {"reengage", &TouchOptions::reengage, "After a trip: release | ramp"},
+    {"finger-radius",
+     &TouchOptions::fingerRadius,
+     "finger method: half-width of the surface patch the finger touches (m); default 0.015 x box "
+     "width",
+     {},
+     kHideDefault},
+    {"ramp-time", &TouchOptions::rampTime, "Ramp duration for --reengage ramp (s)"},
 };
 
 int fail(int code, const std::string &message)
@@ -129,7 +180,8 @@ public:
         }
         if (!source_->info().seekable && url.find("://") == std::string::npos) {
             // The frames are counted first, then decoded: a pipe cannot be read twice.
-            error = "depth input '" + url + "' cannot be read twice (a pipe): save it to a file first";
+            error =
+                "depth input '" + url + "' cannot be read twice (a pipe): save it to a file first";
             return false;
         }
         const auto &streams = source_->info().streams;
@@ -145,7 +197,8 @@ public:
         const hal::StreamInfo &si = streams[static_cast<std::size_t>(stream_)];
         config_ = hal::StreamConfig::fromStream(si);
         config_.kind = hal::StreamKind::Depth;
-        if (config_.format != hal::PixelFormat::Gray8 && config_.format != hal::PixelFormat::Gray10 &&
+        if (config_.format != hal::PixelFormat::Gray8 &&
+            config_.format != hal::PixelFormat::Gray10 &&
             config_.format != hal::PixelFormat::Gray16)
             config_.format = hal::PixelFormat::Gray8; // luma of a YUV/RGB stream, as is
         if (metric_ && config_.format == hal::PixelFormat::Gray8) {
@@ -209,8 +262,8 @@ public:
             v.width = config_.width;
             v.height = config_.height;
             v.format = f.format;
-            v.strideBytes = static_cast<std::size_t>(config_.width) *
-                            haptics::bytesPerSample(f.format);
+            v.strideBytes =
+                static_cast<std::size_t>(config_.width) * haptics::bytesPerSample(f.format);
             v.pts = f.pts;
             return v;
         } catch (const std::bad_alloc &) {
@@ -262,9 +315,8 @@ private:
     Result<void> store(const hal::Frame &frame)
     {
         Stored s;
-        s.pts = frame.pts == hal::kNoPts
-                    ? static_cast<double>(decoded_) / fps_
-                    : std::chrono::duration<double>(frame.pts).count();
+        s.pts = frame.pts == hal::kNoPts ? static_cast<double>(decoded_) / fps_
+                                         : std::chrono::duration<double>(frame.pts).count();
         const hal::ImageView &img = frame.image;
         const int w = img.width;
         const int h = img.height;
@@ -272,11 +324,13 @@ private:
             s.format = haptics::SampleFormat::Gray8;
             s.bytes.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
             for (int y = 0; y < h; ++y)
-                std::memcpy(s.bytes.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w),
+                std::memcpy(s.bytes.data() +
+                                static_cast<std::size_t>(y) * static_cast<std::size_t>(w),
                             img.row(0, y), static_cast<std::size_t>(w));
         } else {
             depth::Plane<std::uint16_t> raw(w, h);
-            const double scale = img.format == hal::PixelFormat::Gray10 && !metric_ ? 65535.0 / 1023.0 : 1.0;
+            const double scale =
+                img.format == hal::PixelFormat::Gray10 && !metric_ ? 65535.0 / 1023.0 : 1.0;
             for (int y = 0; y < h; ++y) {
                 const std::uint8_t *row = img.row(0, y);
                 for (int x = 0; x < w; ++x) {
@@ -370,7 +424,8 @@ int runTouch(const TouchOptions &o)
         if (!bytes)
             return fail(kExitBadInput, error);
         auto raw = std::make_unique<RawVideoFrameProvider>(
-            std::move(*bytes), w, h, o.bits == 8 ? SampleFormat::Gray8 : SampleFormat::Gray16, o.fps);
+            std::move(*bytes), w, h, o.bits == 8 ? SampleFormat::Gray8 : SampleFormat::Gray16,
+            o.fps);
         if (auto v = raw->validate(); !v)
             return fail(kExitBadInput, std::string(v.error().what) + " ('" + o.depth + "')");
         frames = std::move(raw);
@@ -380,7 +435,8 @@ int runTouch(const TouchOptions &o)
         std::optional<DecodedFrameProvider::Metric> metric;
         if (o.nearM || o.farM) {
             if (!o.nearM || !o.farM || !(*o.nearM > 0.0) || !(*o.farM > *o.nearM))
-                return fail(kExitBadInput, "--near and --far must both be given with 0 < near < far (m)");
+                return fail(kExitBadInput,
+                            "--near and --far must both be given with 0 < near < far (m)");
             if (!(o.depthScale > 0.0))
                 return fail(kExitBadInput, "--depth-scale must be positive");
             auto mapping = depth::parseMapping(o.depthMapping);
@@ -409,14 +465,17 @@ int runTouch(const TouchOptions &o)
     if (!trajBytes)
         return fail(kExitBadInput, readError);
     std::size_t line = 0;
-    const std::string_view text(reinterpret_cast<const char *>(trajBytes->data()), trajBytes->size());
+    const std::string_view text(reinterpret_cast<const char *>(trajBytes->data()),
+                                trajBytes->size());
     auto traj = parseTrajectoryCsv(text, &line);
     if (!traj)
-        return fail(kExitBadInput, o.trajectory + ":" + std::to_string(line) + ": " + traj.error().what);
+        return fail(kExitBadInput,
+                    o.trajectory + ":" + std::to_string(line) + ": " + traj.error().what);
 
     auto rows = replay(*frames, *traj, opt);
     if (!rows)
-        return fail(rows.error().code == Errc::Io ? kExitFailure : kExitBadInput, rows.error().what);
+        return fail(rows.error().code == Errc::Io ? kExitFailure : kExitBadInput,
+                    rows.error().what);
 
     // A regular file or new path is written under a temporary name and renamed (never a partial
     // file); a device or a FIFO with a reader is written in place, never replaced.
@@ -432,47 +491,7 @@ int runTouch(const TouchOptions &o)
 
 void registerTouchCommand(CLI::App &app, int &exitCode)
 {
-    auto o = std::make_shared<TouchOptions>();
-    CLI::App *cmd = app.add_subcommand(
-        "touch", "Replay a HIP trajectory against a depth video at the haptic rate; write the force log CSV");
-    cmd->add_option("DEPTH", o->depth,
-                    "Depth video: any file, URL or image-sequence pattern FFmpeg reads "
-                    "(frame-%06d.depth.png), or raw 8/16-bit gray frames with --size")
-        ->required();
-    cmd->add_option("--trajectory", o->trajectory, "HIP trajectory CSV t,x,y,z (s, m)")->required();
-    cmd->add_option("--out", o->out, "Force log CSV to write")->required();
-    cmd->add_option("--size", o->size, "Raw depth frame size WxH (pixels); a raw file is at most 256 MiB");
-    cmd->add_option("--fps", o->fps, "Frame rate of raw depth and image sequences (frames/s)")
-        ->capture_default_str();
-    cmd->add_option("--near", o->nearM,
-                    "Near plane (m): 16-bit input is metric depth, converted to nearness (with --far)");
-    cmd->add_option("--far", o->farM, "Far plane (m) of the metric depth conversion");
-    cmd->add_option("--depth-scale", o->depthScale, "Metres per metric depth unit (0.001: mm)")
-        ->capture_default_str();
-    cmd->add_option("--depth-mapping", o->depthMapping, "Metric conversion: inverse_z | linear")
-        ->capture_default_str();
-    cmd->add_option("--bits", o->bits, "Raw depth sample size: 8 or 16 (host byte order)")->capture_default_str();
-    cmd->add_option("--rate", o->rate, "Haptic update rate (Hz, 100..10000)")->capture_default_str();
-    cmd->add_option("--stiffness", o->stiffness, "Spring stiffness k (N/m, up to 100000)")->capture_default_str();
-    cmd->add_option("--damping", o->damping, "Damping b (N·s/m, 0..1000)")->capture_default_str();
-    cmd->add_option("--max-force", o->maxForce, "Device maximum force (N, up to 1000)")->capture_default_str();
-    cmd->add_option("--box-width", o->boxWidth, "Scene box width (m)")->capture_default_str();
-    cmd->add_option("--box-depth", o->boxDepth, "Scene box depth (m)")->capture_default_str();
-    cmd->add_option("--method", o->method, "finger | modified | proxy-graph | mesh-bvh")->capture_default_str();
-    cmd->add_flag("--no-correction", o->noCorrection, "Turn off fix (a), collision correction");
-    cmd->add_flag("--no-interpolation", o->noInterpolation, "Turn off fix (b), surface interpolation");
-    cmd->add_flag("--no-safety", o->noSafety, "Turn off fix (c), force-jump safety");
-    cmd->add_option("--max-force-step", o->maxForceStep,
-                    "Force change per update that trips safety (N); the default 2 N never trips while "
-                    "stroking smooth surfaces at 1 m/s (k=800: <= 0.8 N/update) and always trips at a "
-                    "cut of half the box depth (16 N)")
-        ->capture_default_str();
-    cmd->add_option("--reengage", o->reengage, "After a trip: release | ramp")->capture_default_str();
-    cmd->add_option("--finger-radius", o->fingerRadius,
-                    "finger method: half-width of the surface patch the finger touches (m); "
-                    "default 0.015 x box width");
-    cmd->add_option("--ramp-time", o->rampTime, "Ramp duration for --reengage ramp (s)")->capture_default_str();
-    cmd->callback([o, &exitCode]() { exitCode = runTouch(*o); });
+    addTableCommand<TouchOptions>(app, "touch", kAbout, kTouchRows, runTouch, exitCode);
 }
 
 } // namespace depthtouch::cli

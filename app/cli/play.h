@@ -9,9 +9,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "depthtouch/playback/playback.h"
+
 namespace depthtouch::cli {
 
-/// \brief Options of `play` (each also a key of the `--config` TOML file, without the dashes).
+/// \brief The player library's defaults, where `play`'s options that land in its config start.
+const playback::PlaybackConfig &playbackDefaults();
+
+/// \brief Options of `play`, one field per row of its option table (play_options.h), which gives
+/// each one's option name (also its `--config` TOML key), check, help and where it lands in
+/// playback::PlaybackConfig. The initializers are the defaults.
 struct PlayOptions {
     std::string url;                  ///< File path or stream URL.
     std::string display = "headless"; ///< Display backend(s), comma-separated, tried in order.
@@ -23,29 +30,29 @@ struct PlayOptions {
     std::string source = "ffmpeg";  ///< Media source backend.
     std::string remote = "none";    ///< Remote-control backend(s): evdev, tty, none.
     std::string remoteOptions;
-    std::string stereo = "sbs";     ///< sbs, tab, anaglyph, mono, interleaved.
-    double stiffness = 800.0;       ///< N/m.
-    double rate = 1000.0;           ///< Haptic servo rate, Hz.
-    std::string reengage = "ramp";  ///< After a force-jump release: ramp (re-seat) or release.
+    std::string stereo = "sbs"; ///< sbs, tab, anaglyph, mono, interleaved.
+    double stiffness = playbackDefaults().haptics.renderer.stiffness; ///< N/m.
+    double rate = playbackDefaults().haptics.servoRateHz;             ///< Haptic servo rate, Hz.
+    std::string reengage = "ramp"; ///< After a force-jump release: ramp (re-seat) or release.
     bool loop = false;
-    double duration = 0.0;          ///< s of wall time, 0: until the end of the stream.
+    double duration = 0.0; ///< s of wall time, 0: until the end of the stream.
     std::string snapshotDir;
-    std::uint64_t snapshotEvery = 0;
-    std::string record;             ///< Recording of the output (H.264 file).
-    int recordCrf = 20;
+    std::uint64_t snapshotEvery = playbackDefaults().snapshotEvery;
+    std::string record; ///< Recording of the output (H.264 file).
+    int recordCrf = playbackDefaults().recordCrf;
     std::string forceLog;
     std::string stats;
-    std::string control;            ///< Control socket path.
-    std::string config;             ///< TOML file.
-    std::string size;               ///< Output WxH, empty: 2·depth width × depth height.
-    int meshStep = 0;               ///< 0: adaptive level of detail.
-    double osdSeconds = 4.0;        ///< On-screen display after a command, s (0: always).
-    double lodTarget = 0.9;         ///< Share of a refresh period drawing may take (0: LOD off).
-    double maxLateness = 0.0;       ///< Lateness a frame is still drawn with, s (PlaybackConfig).
-    bool requireRt = false;
-    bool idle = false;              ///< Stay up after the end / an error (control socket).
-    bool quiet = false;             ///< No state-change lines on stderr (errors only).
-    bool verbose = false;           ///< State changes and the log on stderr (`play` sets the log).
+    std::string control; ///< Control socket path.
+    std::string config;  ///< TOML file.
+    std::string size;    ///< Output WxH, empty: 2·depth width × depth height.
+    int meshStep = playbackDefaults().meshStep;        ///< 0: adaptive level of detail.
+    double osdSeconds = playbackDefaults().osdSeconds; ///< On-screen display after a command, s.
+    double lodTarget = playbackDefaults().lodTarget;   ///< Share of a refresh period drawing takes.
+    double maxLateness = playbackDefaults().maxLateness; ///< Lateness a frame is still drawn with.
+    bool requireRt = playbackDefaults().haptics.requireRt;
+    bool idle = false;    ///< Stay up after the end / an error (control socket).
+    bool quiet = false;   ///< No state-change lines on stderr (errors only).
+    bool verbose = false; ///< State changes and the log on stderr (`play` sets the log).
 };
 
 /// \brief What a run of `play` measured: the stats JSON (DESIGN.md §4) and the exit code.

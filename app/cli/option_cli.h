@@ -1,0 +1,64 @@
+#pragma once
+/// \file
+/// \brief The command line of an option table (option_table.h): each row becomes a CLI11 option,
+/// flag or argument with its help and, unless the row hides it, its default; and a command made
+/// of a table and the function that runs it.
+/// Thread-safety: main thread only (CLI11).
+
+#include <memory>
+#include <span>
+#include <string>
+#include <type_traits>
+#include <utility>
+
+#include <CLI/CLI.hpp>
+
+#include "option_table.h"
+
+namespace depthtouch::cli {
+
+/// \brief Adds one CLI11 option (or flag, or argument) per row of \a table to \a cmd, each
+/// storing into its field of \a options (which must outlive the parse).
+template <class Options>
+void addOptions(CLI::App &cmd, OptionTable<std::type_identity_t<Options>> table, Options &options)
+{
+    for (const OptionRow<Options> &row : table) {
+        std::string names = optionLabel(row);
+        if (row.shortName != 0)
+            names = std::string("-") + row.shortName + "," + names;
+        const std::string help(row.help);
+        std::visit(
+            [&](auto field) {
+                auto &value = options.*field;
+                if constexpr (std::is_same_v<std::remove_reference_t<decltype(value)>, bool>) {
+                    cmd.add_flag(((row.flags & kNegated) != 0 ? "!" : "") + names, value, help);
+                } else {
+                    CLI::Option *opt = cmd.add_option(names, value, help);
+                    if ((row.flags & kHideDefault) == 0)
+                        opt->capture_default_str();
+                    if ((row.flags & kRequired) != 0)
+                        opt->required();
+                    if ((row.flags & kCommaList) != 0)
+                        opt->delimiter(',');
+                }
+            },
+            row.field);
+    }
+}
+
+/// \brief Adds the subcommand \a name to \a parent with the options of \a table; when it is
+/// chosen, \a run gets the parsed options and its return value becomes \a exitCode. Options is
+/// given: addTableCommand<TouchOptions>(...).
+/// \return the subcommand (for options outside the table).
+template <class Options, class Run>
+CLI::App *addTableCommand(CLI::App &parent, const char *name, const char *description,
+                          OptionTable<std::type_identity_t<Options>> table, Run run, int &exitCode)
+{
+    auto options = std::make_shared<Options>();
+    CLI::App *cmd = parent.add_subcommand(name, description);
+    addOptions(*cmd, table, *options);
+    cmd->callback([options, run = std::move(run), &exitCode] { exitCode = run(*options); });
+    return cmd;
+}
+
+} // namespace depthtouch::cli

@@ -1,0 +1,181 @@
+/// \file
+/// \brief The option table of `depthtouch play`: see play_options.h.
+
+#include "play_options.h"
+
+#include <cstdio>
+
+#include "depthtouch/player/state_machine.h"
+
+namespace depthtouch::cli {
+
+namespace {
+
+using Config = playback::PlaybackConfig;
+
+/// Parses \a text as WxH; \return false unless both are in 16..8192 (empty: 0 × 0).
+bool parseOutputSize(std::string_view text, int &w, int &h)
+{
+    w = h = 0;
+    if (text.empty())
+        return true;
+    const std::string s(text);
+    char x = 0;
+    char extra = 0;
+    return std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) == 3 && (x == 'x' || x == 'X') &&
+           w >= 16 && h >= 16 && w <= 8192 && h <= 8192;
+}
+
+bool isStereoMode(std::string_view text)
+{
+    return player::stereoModeFromName(text).has_value();
+}
+
+/// Every option of `play`, in `--help` order.
+const OptionRow<PlayOptions> kPlayRows[] = {
+    {"url",
+     &PlayOptions::url,
+     "File path or stream URL",
+     {},
+     kPositional | kRequired | kCommandLineOnly},
+    {"display", &PlayOptions::display, "Display backend(s): headless, x11, kms, mock"},
+    {"display-options", &PlayOptions::displayOptions, "Options of the display backend"},
+    {"haptic", &PlayOptions::haptic, "Haptic device backend(s): falcon, sim, mock, none"},
+    {"haptic-options", &PlayOptions::hapticOptions,
+     "Options of the haptic device, e.g. intent=stroke for sim"},
+    {"decoder", &PlayOptions::decoder, "Video decoder backend(s)"},
+    {"decoder-options", &PlayOptions::decoderOptions,
+     "Options of the decoder backend(s), e.g. drm-prime (zero-copy) or pool=24"},
+    {"source", &PlayOptions::source, "Media source backend"},
+    {"remote", &PlayOptions::remote, "Remote control backend(s): evdev, tty, none"},
+    {"remote-options", &PlayOptions::remoteOptions,
+     "Options of the remote, e.g. device=/dev/input/event3"},
+    {.name = "stereo",
+     .field = &PlayOptions::stereo,
+     .help = "Stereo layout: sbs, tab, anaglyph, mono, interleaved",
+     .check = textWhere(isStereoMode, "sbs, tab, anaglyph, mono or interleaved"),
+     .land = [](const PlayOptions &o,
+                Config &c) { c.stereoMode = *player::stereoModeFromName(o.stereo); }},
+    {.name = "stiffness",
+     .field = &PlayOptions::stiffness,
+     .help = "Surface stiffness, N/m",
+     .check = inRange(1.0, 20000.0, "N/m"),
+     .land = [](const PlayOptions &o, Config &c) { c.haptics.renderer.stiffness = o.stiffness; }},
+    {.name = "rate",
+     .field = &PlayOptions::rate,
+     .help = "Haptic servo rate, Hz",
+     .check = inRange(100.0, 10000.0, "Hz"),
+     .land = [](const PlayOptions &o, Config &c) { c.haptics.servoRateHz = o.rate; }},
+    {.name = "reengage",
+     .field = &PlayOptions::reengage,
+     .help = "After a force jump (scene cut): ramp (re-seat the proxy, ramp the force in) or "
+             "release (paper IV.C)",
+     .check = oneOf("ramp release"),
+     .land =
+         [](const PlayOptions &o, Config &c) {
+             c.haptics.renderer.reengage =
+                 o.reengage == "ramp" ? haptics::Reengage::Ramp : haptics::Reengage::Release;
+         }},
+    {"loop", &PlayOptions::loop, "Start again at the end"},
+    {.name = "duration",
+     .field = &PlayOptions::duration,
+     .help = "Stop after this many seconds (0: at the end)",
+     .check = inRangeSaying(0.0, 7 * 24 * 3600.0, ">= 0 s")},
+    {.name = "snapshot-dir",
+     .field = &PlayOptions::snapshotDir,
+     .help = "Folder for PNG snapshots of the output",
+     .land = [](const PlayOptions &o, Config &c) { c.snapshotDir = o.snapshotDir; }},
+    {.name = "snapshot-every",
+     .field = &PlayOptions::snapshotEvery,
+     .help = "Snapshot every N presented frames",
+     .land = [](const PlayOptions &o, Config &c) { c.snapshotEvery = o.snapshotEvery; }},
+    {.name = "record",
+     .field = &PlayOptions::record,
+     .help = "Record the output as the viewer sees it (H.264; .mkv, .mp4, .ts)",
+     .land = [](const PlayOptions &o, Config &c) { c.recordPath = o.record; }},
+    {.name = "record-crf",
+     .field = &PlayOptions::recordCrf,
+     .help = "x264 CRF of the recording",
+     .check = inRange(0, 51),
+     .land = [](const PlayOptions &o, Config &c) { c.recordCrf = o.recordCrf; }},
+    {.name = "force-log",
+     .field = &PlayOptions::forceLog,
+     .help = "Force log CSV (one row per haptic update)",
+     .land = [](const PlayOptions &o, Config &c) { c.haptics.forceLogPath = o.forceLog; }},
+    {"stats", &PlayOptions::stats, "Stats JSON written at the end"},
+    {"control", &PlayOptions::control, "Control socket path (JSON lines)"},
+    {"config", &PlayOptions::config, "TOML file with any of these options", {}, kCommandLineOnly},
+    {.name = "size",
+     .field = &PlayOptions::size,
+     .help = "Output size WxH (default: 2 x depth width by height)",
+     .check = textWhere(isOutputSize, "WxH, 16..8192 pixels each"),
+     .land =
+         [](const PlayOptions &o, Config &c) {
+             parseOutputSize(o.size, c.outputWidth, c.outputHeight);
+             c.frameCompatible = !o.size.empty(); // a display-sized output is a 3D TV's frame
+         }},
+    {.name = "mesh-step",
+     .field = &PlayOptions::meshStep,
+     .help = "Drawn mesh step (0: adaptive level of detail)",
+     .land = [](const PlayOptions &o, Config &c) { c.meshStep = o.meshStep; }},
+    {.name = "osd-seconds",
+     .field = &PlayOptions::osdSeconds,
+     .help = "On-screen display time after start and each command, s (0: always shown)",
+     .check = inRange(0.0, 86400.0, "s"),
+     .land = [](const PlayOptions &o, Config &c) { c.osdSeconds = o.osdSeconds; }},
+    {.name = "lod-target",
+     .field = &PlayOptions::lodTarget,
+     .help = "Level of detail: share of the display's refresh period (or of the frame period, if "
+             "shorter) drawing may take; the mesh is made coarser when it takes longer (0: off, "
+             "full detail)",
+     .check = inRange(0.0, 4.0, "refresh periods (0: off)"),
+     .land = [](const PlayOptions &o, Config &c) { c.lodTarget = o.lodTarget; }},
+    {.name = "max-lateness",
+     .field = &PlayOptions::maxLateness,
+     .help = "Seconds a frame may be late and still be drawn (the next ones catch up); later ones "
+             "are dropped (0: drop as soon as the next frame is due)",
+     .check = inRange(0.0, 10.0, "seconds"),
+     .land = [](const PlayOptions &o, Config &c) { c.maxLateness = o.maxLateness; }},
+    {.name = "require-rt",
+     .field = &PlayOptions::requireRt,
+     .help = "Fail when SCHED_FIFO is refused",
+     .land = [](const PlayOptions &o, Config &c) { c.haptics.requireRt = o.requireRt; }},
+    {"idle", &PlayOptions::idle, "Stay up after the end or an error (for --control)"},
+    {"quiet", &PlayOptions::quiet, "No state-change lines on stderr (errors only)"},
+    {"verbose", &PlayOptions::verbose,
+     "State changes and the log (INFO and up) on stderr; without it a failure is one line"},
+};
+
+} // namespace
+
+const playback::PlaybackConfig &playbackDefaults()
+{
+    static const playback::PlaybackConfig defaults;
+    return defaults;
+}
+
+OptionTable<PlayOptions> playOptionTable()
+{
+    return kPlayRows;
+}
+
+bool isOutputSize(std::string_view text)
+{
+    int w = 0;
+    int h = 0;
+    return parseOutputSize(text, w, h);
+}
+
+std::string checkPlayOptionValues(const PlayOptions &options)
+{
+    return checkOptions(playOptionTable(), options);
+}
+
+playback::PlaybackConfig landPlayOptions(const PlayOptions &options)
+{
+    playback::PlaybackConfig config = playbackDefaults();
+    landOptions(playOptionTable(), options, config);
+    return config;
+}
+
+} // namespace depthtouch::cli

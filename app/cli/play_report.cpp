@@ -1,0 +1,130 @@
+/// \file
+/// \brief The stats JSON and summary of `depthtouch play`: see play_report.h.
+
+#include "play_report.h"
+
+#include <cstdio>
+#include <fstream>
+
+namespace depthtouch::cli {
+
+namespace {
+
+/// Adds the player's own figures (frames, render, level of detail) to \a j.
+void addPlaybackStats(nlohmann::json &j, const playback::PlaybackStats &ps)
+{
+    j["frames_decoded"] = ps.receiver.colorFrames + ps.receiver.depthFrames;
+    j["frames_received"] = ps.framesReceived;
+    j["frames_presented"] = ps.framesPresented;
+    j["frames_dropped"] = ps.framesDropped;
+    j["frames_late"] = ps.framesLate;
+    j["late_ms_max"] = ps.lateMsMax;
+    j["frames_concealed"] = ps.receiver.framesConcealed;
+    j["decode_errors"] = ps.receiver.decodeErrors;
+    j["zero_copy"] = ps.zeroCopy;
+    j["color_frames_dmabuf"] = ps.receiver.colorFramesZeroCopy;
+    j["color_frames_imported"] = ps.colorFramesImported;
+    j["color_frames_dmabuf_uploaded"] = ps.colorFramesDmaBufUploaded;
+    j["depth_pairs_published"] = ps.depthPairsPublished;
+    j["render_ms_p50"] = ps.renderMsP50;
+    j["render_ms_p99"] = ps.renderMsP99;
+    j["mesh_triangles_p50"] = ps.meshTrianglesP50;
+    j["lod_budget_blocks"] = ps.lodBudget;
+    j["frames_lod_limited"] = ps.framesLodLimited;
+    j["presented_fps"] = ps.presentedFps;
+    j["playing_s"] = ps.playingSeconds;
+    j["seeks"] = ps.seeks;
+    j["snapshots_written"] = ps.snapshotsWritten;
+    j["frames_recorded"] = ps.framesRecorded;
+    j["frames_prepared_ahead"] = ps.framesPreparedAhead;
+}
+
+/// Prints the haptic task's lines of the summary.
+void printHapticSummary(const haptic_task::HapticStats &hs, double deviceMaxForce)
+{
+    std::printf("  haptic thread     %s\n", hs.thread.c_str());
+    std::printf("  haptic updates    %llu (%llu in contact), %llu overruns, %llu safety "
+                "releases\n",
+                static_cast<unsigned long long>(hs.updates),
+                static_cast<unsigned long long>(hs.contactUpdates),
+                static_cast<unsigned long long>(hs.overruns),
+                static_cast<unsigned long long>(hs.safetyReleases));
+    std::printf("  wake latency      p50 %.1f us, p99 %.1f us; update time p50 %.2f us, p99 "
+                "%.2f us\n",
+                hs.wakeLatency.p50Us, hs.wakeLatency.p99Us, hs.updateTime.p50Us,
+                hs.updateTime.p99Us);
+    std::printf("  max force         %.2f N (device maximum %.2f N)\n", hs.maxForce,
+                deviceMaxForce);
+}
+
+} // namespace
+
+double residentMiB()
+{
+    std::ifstream f("/proc/self/statm");
+    long pages = 0;
+    long resident = 0;
+    if (!(f >> pages >> resident))
+        return -1.0;
+    return static_cast<double>(resident) * 4096.0 / (1024.0 * 1024.0);
+}
+
+nlohmann::json playStatsJson(const std::string &url, const PlayRunFigures &run)
+{
+    const playback::PlaybackInfo &info = *run.info;
+    nlohmann::json j =
+        run.haptic ? nlohmann::json::parse(run.haptic->toJson()) : nlohmann::json::object();
+    j["url"] = url;
+    j["mode"] = info.mode;
+    j["depth_size"] = {info.depthWidth, info.depthHeight};
+    j["color_size"] = {info.colorWidth, info.colorHeight};
+    j["output_size"] = {info.outputWidth, info.outputHeight};
+    j["fps"] = info.fps;
+    j["display"] = run.display;
+    j["haptic_device"] = run.hapticDevice;
+    addPlaybackStats(j, run.stats);
+    j["rss_mib_start"] = run.rssStart;
+    j["rss_mib_after_5s"] = run.rssAfterWarmup;
+    j["rss_mib_end"] = run.rssEnd;
+    j["notes"] = info.notes;
+    j["final_state"] = run.finalState;
+    if (!run.failure.empty())
+        j["error"] = run.failure;
+    return j;
+}
+
+void printPlaySummary(const std::string &url, const PlayRunFigures &run, const std::string &record,
+                      const std::string &forceLog, const std::string &statsFile)
+{
+    const playback::PlaybackInfo &info = *run.info;
+    const playback::PlaybackStats &ps = run.stats;
+    std::printf("DepthTouch play: %s (%s, %dx%d depth at %.3g fps) on %s, haptics %s\n",
+                url.c_str(), info.mode.c_str(), info.depthWidth, info.depthHeight, info.fps,
+                run.display.c_str(), info.haptics ? run.hapticDevice.c_str() : "off");
+    for (const std::string &n : info.notes)
+        std::printf("  note              %s\n", n.c_str());
+    std::printf("  frames            %llu received, %llu presented, %llu dropped, %llu late "
+                "(at most %.0f ms; %.1f fps presented; render p50 %.1f ms, p99 %.1f ms)\n",
+                static_cast<unsigned long long>(ps.framesReceived),
+                static_cast<unsigned long long>(ps.framesPresented),
+                static_cast<unsigned long long>(ps.framesDropped),
+                static_cast<unsigned long long>(ps.framesLate), ps.lateMsMax, ps.presentedFps,
+                ps.renderMsP50, ps.renderMsP99);
+    if (ps.lodBudget > 0)
+        std::printf("  level of detail   %.0f triangles a frame (median); %llu of %llu frames made "
+                    "coarser to keep time, budget now %zu blocks\n",
+                    ps.meshTrianglesP50, static_cast<unsigned long long>(ps.framesLodLimited),
+                    static_cast<unsigned long long>(ps.framesPresented), ps.lodBudget);
+    if (run.haptic)
+        printHapticSummary(*run.haptic, run.deviceMaxForce);
+    std::printf("  memory            %.1f MiB resident at start, %.1f MiB at the end\n",
+                run.rssStart, run.rssEnd);
+    if (!record.empty())
+        std::printf("  recording         %s (%llu frames)\n", record.c_str(),
+                    static_cast<unsigned long long>(ps.framesRecorded));
+    if (!forceLog.empty() || !statsFile.empty())
+        std::printf("  files             %s%s%s\n", forceLog.c_str(),
+                    !forceLog.empty() && !statsFile.empty() ? ", " : "", statsFile.c_str());
+}
+
+} // namespace depthtouch::cli

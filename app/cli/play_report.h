@@ -1,0 +1,43 @@
+#pragma once
+/// \file
+/// \brief What `depthtouch play` reports at the end of a run: the stats JSON (DESIGN.md §4) and
+/// the summary on stdout.
+/// Thread-safety: main thread only.
+
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "depthtouch/haptic_task/haptic_task.h"
+#include "depthtouch/playback/playback.h"
+
+namespace depthtouch::cli {
+
+/// \return the resident set size, MiB (Linux /proc), or −1.
+double residentMiB();
+
+/// \brief What one run of the player gave: the player's figures and the run's own.
+struct PlayRunFigures {
+    const playback::PlaybackInfo *info = nullptr;   ///< The opened input (never null).
+    playback::PlaybackStats stats;                  ///< The player's counters.
+    std::optional<haptic_task::HapticStats> haptic; ///< The haptic task's, when it ran.
+    std::string display;                            ///< The display backend chosen.
+    std::string hapticDevice;                       ///< The haptic device backend chosen.
+    double deviceMaxForce = 0.0;                    ///< Its maximum force, N.
+    double rssStart = -1.0;                         ///< Resident memory, MiB (−1: unknown).
+    double rssAfterWarmup = -1.0;
+    double rssEnd = -1.0;
+    std::string finalState; ///< The player's state at the end.
+    std::string failure;    ///< Why the player ended in Error (empty: it did not).
+};
+
+/// \return the stats JSON of a run of \a url.
+nlohmann::json playStatsJson(const std::string &url, const PlayRunFigures &run);
+
+/// \brief Prints the summary of a run of \a url on stdout (with its recording, force log and stats
+/// files, when given).
+void printPlaySummary(const std::string &url, const PlayRunFigures &run, const std::string &record,
+                      const std::string &forceLog, const std::string &statsFile);
+
+} // namespace depthtouch::cli

@@ -1,0 +1,259 @@
+/// \file
+/// \brief `play`'s option table (app/cli/play_options.h) drives the command line, the `--config`
+/// TOML file, the checks and `--help` alike: every row set on the command line and in TOML gives
+/// the same value, every value out of range gives the same one-line error on both paths, every row
+/// lands in the player's config, and `--help` lists every row.
+
+#include "play_options.h"
+
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <gtest/gtest.h>
+
+#include "option_cli.h"
+#include "play_config.h"
+
+namespace depthtouch::cli {
+namespace {
+
+using Row = OptionRow<PlayOptions>;
+
+bool noneGiven(const std::string &)
+{
+    return false;
+}
+
+/// \return \a opt after parsing `play URL` + \a args on a command made of the table, or the
+/// CLI11 error text in \a error.
+PlayOptions fromCommandLine(const std::vector<std::string> &args, std::string *error = nullptr)
+{
+    PlayOptions opt;
+    CLI::App app{"play"};
+    addOptions(app, playOptionTable(), opt);
+    std::vector<std::string> argv = {"x.mkv"};
+    argv.insert(argv.end(), args.begin(), args.end());
+    std::vector<std::string> reversed(argv.rbegin(), argv.rend()); // CLI11 takes them reversed
+    try {
+        app.parse(reversed);
+    } catch (const CLI::ParseError &e) {
+        if (error != nullptr)
+            *error = e.what();
+    }
+    return opt;
+}
+
+/// \return \a opt after applying `url = ...` less TOML \a text, or the error in \a error.
+PlayOptions fromConfig(const std::string &text, std::string *error = nullptr)
+{
+    PlayOptions opt;
+    opt.url = "x.mkv";
+    const std::string err = applyPlayConfigText(text, "p.toml", noneGiven, opt);
+    if (error != nullptr)
+        *error = err;
+    return opt;
+}
+
+/// A value of a row's type as command-line text and as TOML text (a flag: given / true).
+struct Sample {
+    std::string cli;
+    std::string toml;
+};
+
+Sample sampleOf(const Row &row, bool outOfRange)
+{
+    return std::visit(
+        [&](auto field) -> Sample {
+            using T = std::remove_cvref_t<decltype(PlayOptions{}.*field)>;
+            if constexpr (std::is_same_v<T, bool>) {
+                return {"", "true"};
+            } else if constexpr (std::is_same_v<T, std::string>) {
+                const std::string v = outOfRange ? "nonsense" : "value-1";
+                return {v, "\"" + v + "\""};
+            } else {
+                // In range: a quarter of the way up; out of range: past the upper end.
+                const OptionCheck &c = row.check;
+                double v = 7.0;
+                if (outOfRange)
+                    v = c.max + 1.0;
+                else if (c.kind == OptionCheck::Kind::Range)
+                    v = c.min + (c.max - c.min) / 4;
+                char buf[32];
+                std::snprintf(buf, sizeof buf, std::is_integral_v<T> ? "%.0f" : "%.1f", v);
+                return {buf, buf};
+            }
+        },
+        row.field);
+}
+
+/// \return the command-line arguments that give \a row the value \a s.
+std::vector<std::string> argsOf(const Row &row, const Sample &s)
+{
+    std::vector<std::string> args = {"--" + std::string(row.name)};
+    if (!s.cli.empty())
+        args.push_back(s.cli);
+    return args;
+}
+
+bool sameField(const Row &row, const PlayOptions &a, const PlayOptions &b)
+{
+    return std::visit([&](auto field) { return a.*field == b.*field; }, row.field);
+}
+
+/// The rows of the config file (all but the url argument and --config).
+std::vector<Row> configRows()
+{
+    std::vector<Row> rows;
+    for (const Row &row : playOptionTable())
+        if ((row.flags & kCommandLineOnly) == 0)
+            rows.push_back(row);
+    return rows;
+}
+
+TEST(PlayOptionTable, EachRowGivesTheSameValueOnTheCommandLineAndInTheConfigFile)
+{
+    for (const Row &row : configRows()) {
+        const Sample s = sampleOf(row, false);
+        std::string cliError;
+        std::string tomlError;
+        const PlayOptions cli = fromCommandLine(argsOf(row, s), &cliError);
+        const PlayOptions toml =
+            fromConfig(std::string(row.name) + " = " + s.toml + "\n", &tomlError);
+        EXPECT_EQ(cliError, "") << row.name;
+        EXPECT_EQ(tomlError, "") << row.name;
+        EXPECT_TRUE(sameField(row, cli, toml)) << row.name;
+        EXPECT_FALSE(sameField(row, cli, PlayOptions{})) << row.name << ": the value was stored";
+    }
+}
+
+TEST(PlayOptionTable, AValueOutOfRangeGivesTheSameErrorOnBothPaths)
+{
+    int checked = 0;
+    for (const Row &row : configRows()) {
+        if (row.check.kind == OptionCheck::Kind::None)
+            continue;
+        const Sample s = sampleOf(row, true);
+        const std::string cli = checkPlayOptionValues(fromCommandLine(argsOf(row, s)));
+        const std::string toml =
+            checkPlayOptionValues(fromConfig(std::string(row.name) + " = " + s.toml + "\n"));
+        EXPECT_EQ(cli, checkMessage(row)) << row.name;
+        EXPECT_EQ(toml, cli) << row.name;
+        EXPECT_EQ(cli.rfind("--" + std::string(row.name) + " must be ", 0), 0u) << cli;
+        // A value within the range passes, on both paths.
+        const Sample low = sampleOf(row, false);
+        if (row.check.kind == OptionCheck::Kind::Range) {
+            EXPECT_EQ(checkPlayOptionValues(fromCommandLine(argsOf(row, low))), "") << row.name;
+            EXPECT_EQ(
+                checkPlayOptionValues(fromConfig(std::string(row.name) + " = " + low.toml + "\n")),
+                "")
+                << row.name;
+        }
+        ++checked;
+    }
+    EXPECT_EQ(checked, 10) << "stereo, stiffness, rate, reengage, duration, record-crf, size, "
+                              "osd-seconds, lod-target, max-lateness";
+}
+
+TEST(PlayOptionTable, TheMessagesOfBadValuesStayAsTheyWere)
+{
+    const std::pair<std::vector<std::string>, std::string> cases[] = {
+        {{"--stereo", "3d"}, "--stereo must be sbs, tab, anaglyph, mono or interleaved"},
+        {{"--rate", "50"}, "--rate must be in [100, 10000] Hz"},
+        {{"--stiffness", "0"}, "--stiffness must be in [1, 20000] N/m"},
+        {{"--duration", "-1"}, "--duration must be >= 0 s"},
+        {{"--osd-seconds", "1e9"}, "--osd-seconds must be in [0, 86400] s"},
+        {{"--lod-target", "5"}, "--lod-target must be in [0, 4] refresh periods (0: off)"},
+        {{"--max-lateness", "-1"}, "--max-lateness must be in [0, 10] seconds"},
+        {{"--reengage", "snap"}, "--reengage must be ramp or release"},
+        {{"--size", "8x8"}, "--size must be WxH, 16..8192 pixels each"},
+        {{"--record-crf", "52"}, "--record-crf must be in [0, 51]"},
+        {{"--rate", "nan"}, "--rate must be in [100, 10000] Hz"},
+    };
+    for (const auto &[args, message] : cases)
+        EXPECT_EQ(checkPlayOptionValues(fromCommandLine(args)), message) << args[0];
+    EXPECT_EQ(checkPlayOptionValues(PlayOptions{}), "") << "the defaults pass";
+    EXPECT_EQ(checkPlayOptionValues(fromCommandLine({"--stereo", "Side-By-Side"})), "")
+        << "the player's own names of the layouts";
+}
+
+TEST(PlayOptionTable, ArgumentAndConfigPathAreNotConfigKeys)
+{
+    for (const char *key : {"url", "config"}) {
+        std::string error;
+        fromConfig(std::string(key) + " = \"a\"\n", &error);
+        EXPECT_EQ(error, "--config 'p.toml': unknown key '" + std::string(key) + "'");
+    }
+}
+
+TEST(PlayOptionTable, OptionsLandInThePlayersConfig)
+{
+    const playback::PlaybackConfig defaults = landPlayOptions(PlayOptions{});
+    EXPECT_EQ(defaults.haptics.servoRateHz, playbackDefaults().haptics.servoRateHz);
+    EXPECT_EQ(defaults.haptics.renderer.reengage, haptics::Reengage::Ramp) << "play's own default";
+    EXPECT_FALSE(defaults.frameCompatible);
+
+    const PlayOptions o = fromCommandLine(
+        {"--stereo",     "tab",       "--stiffness",    "1200", "--rate",           "2000",
+         "--reengage",   "release",   "--snapshot-dir", "s",    "--snapshot-every", "30",
+         "--record",     "r.mkv",     "--record-crf",   "30",   "--force-log",      "f.csv",
+         "--size",       "1920x1080", "--mesh-step",    "4",    "--osd-seconds",    "0",
+         "--lod-target", "0.5",       "--max-lateness", "0.1",  "--require-rt"});
+    ASSERT_EQ(checkPlayOptionValues(o), "");
+    const playback::PlaybackConfig c = landPlayOptions(o);
+    EXPECT_EQ(c.stereoMode, player::StereoMode::TopAndBottom);
+    EXPECT_EQ(c.haptics.renderer.stiffness, 1200.0);
+    EXPECT_EQ(c.haptics.servoRateHz, 2000.0);
+    EXPECT_EQ(c.haptics.renderer.reengage, haptics::Reengage::Release);
+    EXPECT_EQ(c.snapshotDir, "s");
+    EXPECT_EQ(c.snapshotEvery, 30u);
+    EXPECT_EQ(c.recordPath, "r.mkv");
+    EXPECT_EQ(c.recordCrf, 30);
+    EXPECT_EQ(c.haptics.forceLogPath, "f.csv");
+    EXPECT_EQ(c.outputWidth, 1920);
+    EXPECT_EQ(c.outputHeight, 1080);
+    EXPECT_TRUE(c.frameCompatible);
+    EXPECT_EQ(c.meshStep, 4);
+    EXPECT_EQ(c.osdSeconds, 0.0);
+    EXPECT_EQ(c.lodTarget, 0.5);
+    EXPECT_EQ(c.maxLateness, 0.1);
+    EXPECT_TRUE(c.haptics.requireRt);
+}
+
+/// \return whether \a help names \a row (an argument by its placeholder, an option as --name).
+bool helpNames(const std::string &help, const Row &row)
+{
+    return help.find(optionLabel(row)) != std::string::npos &&
+           help.find(std::string(row.help).substr(0, 30)) != std::string::npos;
+}
+
+TEST(PlayOptionTable, HelpListsEveryRow)
+{
+    PlayOptions opt;
+    CLI::App app{"play"};
+    addOptions(app, playOptionTable(), opt);
+    const std::string help = app.help();
+    for (const Row &row : playOptionTable())
+        EXPECT_TRUE(helpNames(help, row)) << row.name << "\n" << help;
+}
+
+#ifdef DEPTHTOUCH
+TEST(PlayOptionTable, PlayHelpOfTheExecutableListsEveryRow)
+{
+    std::unique_ptr<FILE, int (*)(FILE *)> p(::popen(DEPTHTOUCH " play --help 2>&1", "r"),
+                                             &::pclose);
+    ASSERT_NE(p, nullptr);
+    std::string help;
+    char buf[4096];
+    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p.get())) > 0;)
+        help.append(buf, n);
+    for (const Row &row : playOptionTable())
+        EXPECT_TRUE(helpNames(help, row)) << row.name << "\n" << help;
+}
+#endif
+
+} // namespace
+} // namespace depthtouch::cli
