@@ -166,6 +166,21 @@ const char *RealtimeThreadReport::format(char *buf, std::size_t size) const noex
     return buf;
 }
 
+namespace {
+
+/// Real-time threads say what they obtained; the plain ones only when asked (DT_LOG=debug).
+void logStarted(const ThreadConfig &config, const RealtimeThreadOptions &options,
+                const RealtimeThreadReport &report) noexcept
+{
+    char line[256];
+    if (config.policy == SchedPolicy::Fifo || options.lockMemory)
+        DT_LOG(Thread, Info, "Started %s", report.format(line, sizeof(line)));
+    else
+        DT_LOG(Thread, Debug, "Started %s", report.format(line, sizeof(line)));
+}
+
+} // namespace
+
 RealtimeThread::RealtimeThread(const ThreadConfig &config, RealtimeThreadOptions options, Body body)
     : config_(config), options_(options), body_(std::move(body))
 {
@@ -275,12 +290,7 @@ Result<void> RealtimeThread::start()
             setupErrno_);
     }
 
-    char line[256];
-    // Real-time threads say what they obtained; the plain ones only when asked (DT_LOG=debug).
-    if (config_.policy == SchedPolicy::Fifo || options_.lockMemory)
-        DT_LOG(Thread, Info, "Started %s", report_.format(line, sizeof(line)));
-    else
-        DT_LOG(Thread, Debug, "Started %s", report_.format(line, sizeof(line)));
+    logStarted(config_, options_, report_);
     return ok();
 }
 
