@@ -74,7 +74,8 @@ Result<void> MockVideoDecoder::checkState(bool allowed, const char *call,
 {
     if (allowed)
         return ok();
-    DT_LOG(Mock, Error, "In state %s trying %s() requiring %s", hal::toString(state_), call, required);
+    DT_LOG(Mock, Error, "In state %s trying %s() requiring %s", hal::toString(state_), call,
+           required);
     return unexpected(Errc::InvalidState, "Call not allowed in the decoder's state");
 }
 

@@ -12,7 +12,8 @@
 /// \endverbatim
 /// A call that is not allowed in the current state returns Errc::InvalidState and has no effect. In
 /// Lost, makeCurrent() and present() return Errc::NoDevice; the caller closes and opens again
-/// (open() fails with NoDevice while no display is connected).
+/// (open() fails with NoDevice while no display is connected). Backends derive from DisplayBase
+/// (display_base.h), which does the state checks of this contract and leaves them the device work.
 ///
 /// Time: PresentInfo::vsyncTime is on the backend clock (BackendConfig::clock).
 /// Thread-safety: thread-bound: call every method from the render thread, the one that calls

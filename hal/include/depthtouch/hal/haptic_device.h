@@ -20,7 +20,9 @@
 ///
 /// Safety: the output force is zero in Closed and Disconnected, after close(), and until the first
 /// commandForce() after open(). Every backend clamps the commanded force to Capabilities::maxForce
-/// (keeping its direction) and outputs zero for a non-finite force.
+/// (keeping its direction) and outputs zero for a non-finite force. Backends derive from
+/// HapticDeviceBase (haptic_device_base.h), which does the state, presence, clamp and non-finite
+/// checks of this contract and leaves them only the device I/O.
 ///
 /// Thread-safety and real-time: read(), commandForce(), state() and isConnected() are called from
 /// the haptic SCHED_FIFO thread at the servo rate: in every backend they are noexcept and do not
