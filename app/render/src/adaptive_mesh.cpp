@@ -102,7 +102,7 @@ void AdaptiveMesh::emitBlock(int c0, int r0, int s)
         triangle(polygon_[apex], polygon_[(apex + k) % n], polygon_[(apex + k + 1) % n]);
 }
 
-double AdaptiveMesh::tileError(const haptics::DepthFrameView &depth, int tx, int ty, int step,
+double AdaptiveMesh::tileError(const scene::DepthFrameView &depth, int tx, int ty, int step,
                                double limit, double &mean) const noexcept
 {
     double sum = 0.0;
@@ -143,7 +143,7 @@ double AdaptiveMesh::tileError(const haptics::DepthFrameView &depth, int tx, int
     return worst;
 }
 
-Result<void> AdaptiveMesh::build(const haptics::DepthFrameView &depth, const MeshOptions &options)
+Result<void> AdaptiveMesh::build(const scene::DepthFrameView &depth, const MeshOptions &options)
 {
     if (auto v = depth.validate(); !v)
         return v;
@@ -175,7 +175,7 @@ Result<void> AdaptiveMesh::build(const haptics::DepthFrameView &depth, const Mes
     stats_.tiles = tilesX_ * tilesY_;
     if (options.mode == MeshMode::Quadtree) {
         const bool budget = options.criterion == ErrorCriterion::Mean;
-        if (depth.format == haptics::SampleFormat::Gray8) {
+        if (depth.format == scene::SampleFormat::Gray8) {
             if (budget)
                 buildQuadtreeBudget<std::uint8_t>(depth, options);
             else
@@ -291,7 +291,7 @@ void AdaptiveMesh::emitTile(int tx, int ty)
     }
 }
 
-MeshError measureMeshError(const haptics::DepthFrameView &depth,
+MeshError measureMeshError(const scene::DepthFrameView &depth,
                            const std::vector<std::uint32_t> &indices)
 {
     MeshError out;

@@ -38,7 +38,7 @@ struct BlockError {
 /// lower triangle; right of it: the upper), so the loops vectorise. Stops after a row whose largest
 /// error exceeds \a rowLimit or once the running sum exceeds \a sumLimit.
 template <class T>
-BlockError scanBlock(const haptics::DepthFrameView &depth, int c0, int r0, int c1, int r1,
+BlockError scanBlock(const scene::DepthFrameView &depth, int c0, int r0, int c1, int r1,
                      float rowLimit, double sumLimit) noexcept
 {
     const auto row = [&](int r) {
@@ -92,7 +92,7 @@ BlockError scanBlock(const haptics::DepthFrameView &depth, int c0, int r0, int c
 /// Whether the two triangles of block (c0..c1, r0..r1) are within \a tolerance of every sample of
 /// the block (Max), or on average with every sample within \a cap (Mean).
 template <class T>
-bool blockWithin(const haptics::DepthFrameView &depth, int c0, int r0, int c1, int r1,
+bool blockWithin(const scene::DepthFrameView &depth, int c0, int r0, int c1, int r1,
                  float tolerance, float cap, bool mean) noexcept
 {
     const double budget = mean ? static_cast<double>(tolerance) * (c1 - c0 + 1) * (r1 - r0 + 1)
@@ -102,7 +102,7 @@ bool blockWithin(const haptics::DepthFrameView &depth, int c0, int r0, int c1, i
 
 /// The block's error (see scanBlock); stops (with a partial sum) once a row exceeds \a cap.
 template <class T>
-BlockError blockError(const haptics::DepthFrameView &depth, int c0, int r0, int c1, int r1,
+BlockError blockError(const scene::DepthFrameView &depth, int c0, int r0, int c1, int r1,
                       float cap) noexcept
 {
     return scanBlock<T>(depth, c0, r0, c1, r1, cap, std::numeric_limits<double>::infinity());
@@ -129,7 +129,7 @@ std::pair<double, double> owned(const BlockError &e, int size, int c0, int r0, i
 } // namespace
 
 template <class T>
-void AdaptiveMesh::splitBlock(const haptics::DepthFrameView &depth, const MeshOptions &options,
+void AdaptiveMesh::splitBlock(const scene::DepthFrameView &depth, const MeshOptions &options,
                               int c0, int r0, int size, int &finest)
 {
     const int c1 = std::min(c0 + size, width_ - 1);
@@ -158,7 +158,7 @@ void AdaptiveMesh::splitBlock(const haptics::DepthFrameView &depth, const MeshOp
 }
 
 template <class T>
-void AdaptiveMesh::buildQuadtree(const haptics::DepthFrameView &depth, const MeshOptions &options)
+void AdaptiveMesh::buildQuadtree(const scene::DepthFrameView &depth, const MeshOptions &options)
 {
     blocks_.clear();
     cellBlock_.resize(static_cast<std::size_t>(width_ - 1) * static_cast<std::size_t>(height_ - 1));
@@ -184,7 +184,7 @@ template <class T> struct AdaptiveMesh::BudgetRefinement {
     using Node = QueuedBlock;
 
     AdaptiveMesh &m;
-    const haptics::DepthFrameView &depth;
+    const scene::DepthFrameView &depth;
     const MeshOptions &options;
     const float cap;
     const int cellsX;
@@ -318,7 +318,7 @@ template <class T> struct AdaptiveMesh::BudgetRefinement {
 };
 
 template <class T>
-void AdaptiveMesh::buildQuadtreeBudget(const haptics::DepthFrameView &depth,
+void AdaptiveMesh::buildQuadtreeBudget(const scene::DepthFrameView &depth,
                                        const MeshOptions &options)
 {
     // Greedy refinement against one error budget for the whole frame: every tile starts as one
@@ -392,13 +392,13 @@ void AdaptiveMesh::markBlocks()
     }
 }
 
-template void AdaptiveMesh::buildQuadtree<std::uint8_t>(const haptics::DepthFrameView &,
+template void AdaptiveMesh::buildQuadtree<std::uint8_t>(const scene::DepthFrameView &,
                                                         const MeshOptions &);
-template void AdaptiveMesh::buildQuadtree<std::uint16_t>(const haptics::DepthFrameView &,
+template void AdaptiveMesh::buildQuadtree<std::uint16_t>(const scene::DepthFrameView &,
                                                          const MeshOptions &);
-template void AdaptiveMesh::buildQuadtreeBudget<std::uint8_t>(const haptics::DepthFrameView &,
+template void AdaptiveMesh::buildQuadtreeBudget<std::uint8_t>(const scene::DepthFrameView &,
                                                               const MeshOptions &);
-template void AdaptiveMesh::buildQuadtreeBudget<std::uint16_t>(const haptics::DepthFrameView &,
+template void AdaptiveMesh::buildQuadtreeBudget<std::uint16_t>(const scene::DepthFrameView &,
                                                                const MeshOptions &);
 
 } // namespace depthtouch::render

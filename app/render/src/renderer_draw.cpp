@@ -27,7 +27,7 @@ Result<void> StereoRenderer::drawSurface(const EyeView &eye, SurfaceOutput outpu
     if (!haveDepth_)
         return unexpected(Errc::InvalidState, "no depth frame to draw");
     Gl &g = *gl_;
-    const bool d16 = depthFormat_ == haptics::SampleFormat::Gray16;
+    const bool d16 = depthFormat_ == scene::SampleFormat::Gray16;
     const int variant = output == SurfaceOutput::Position ? kPositionOut
                         : colorOnCpu_ || colorFromDmaBuf_ ? kRgbOut
                                                           : kYuvOut;

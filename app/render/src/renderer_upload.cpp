@@ -3,7 +3,6 @@
 #include <cstdint>
 #include <utility>
 
-#include "depthtouch/haptics/height_field.h"
 #include "depthtouch/render/renderer.h"
 #include "renderer_gl.h"
 
@@ -21,7 +20,7 @@ double StereoRenderer::stageEnd(platform::TimePoint start) const noexcept
     return platform::toSeconds(clock_.now() - start) * 1e3;
 }
 
-Result<void> FramePrep::build(const haptics::DepthFrameView &depth, const hal::ImageView *color,
+Result<void> FramePrep::build(const scene::DepthFrameView &depth, const hal::ImageView *color,
                               const ColorSpec &spec, const MeshOptions &options)
 {
     built_ = false;
@@ -47,7 +46,7 @@ Result<void> FramePrep::build(const haptics::DepthFrameView &depth, const hal::I
     return ok();
 }
 
-Result<void> StereoRenderer::setDepth(const haptics::DepthFrameView &depth)
+Result<void> StereoRenderer::setDepth(const scene::DepthFrameView &depth)
 {
     const platform::TimePoint t = clock_.now();
     if (auto r = mesh_.build(depth, options_.mesh); !r)
@@ -60,7 +59,7 @@ void StereoRenderer::finish() const noexcept
     glFinish();
 }
 
-Result<void> StereoRenderer::setDepth(const haptics::DepthFrameView &depth, FramePrep &prep)
+Result<void> StereoRenderer::setDepth(const scene::DepthFrameView &depth, FramePrep &prep)
 {
     // A mesh made under another block budget is taken: the budget follows the frame times and may
     // lag a frame behind (LodController).
@@ -73,21 +72,21 @@ Result<void> StereoRenderer::setDepth(const haptics::DepthFrameView &depth, Fram
     return uploadDepth(depth, t);
 }
 
-Result<void> StereoRenderer::uploadDepth(const haptics::DepthFrameView &depth,
+Result<void> StereoRenderer::uploadDepth(const scene::DepthFrameView &depth,
                                          platform::TimePoint start)
 {
     platform::TimePoint t = start;
-    // The haptic renderer's height field validates the frame and gives the mapping.
-    haptics::HeightField field(options_.box);
-    if (auto r = field.setFrames(depth, nullptr); !r)
-        return r;
-    mapping_ = SurfaceMapping::fromHeightField(field);
+    // The scene layer validates the frame and gives the mapping (the haptic renderer's, to the bit).
+    auto mapping = SurfaceMapping::of(options_.box, depth);
+    if (!mapping)
+        return unexpected(mapping.error());
+    mapping_ = *mapping;
     depthFormat_ = depth.format;
     stageTimes_.mesh = stageEnd(t);
 
     t = clock_.now();
     Gl &g = *gl_;
-    const bool d16 = depth.format == haptics::SampleFormat::Gray16;
+    const bool d16 = depth.format == scene::SampleFormat::Gray16;
     g.depth.ensure(depth.width, depth.height, d16 ? GL_R16UI : GL_R8, GL_NEAREST);
     uploadRows(g.depth, depth.data, depth.strideBytes, depth.width, depth.height,
                d16 ? GL_RED_INTEGER : GL_RED, d16 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE,

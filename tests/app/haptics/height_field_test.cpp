@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "app/haptics/synthetic.h"
+#include "depthtouch/scene/surface_mapping.h"
 
 namespace depthtouch::haptics {
 namespace {
@@ -108,6 +109,40 @@ TEST(HeightFieldTest, rejectsMalformedFrames)
     EXPECT_FALSE(hf.valid());
     HeightField badBox(SceneBox{0.0, 0.04});
     EXPECT_FALSE(badBox.setFrames(a.view(), nullptr));
+}
+
+// The scene layer's mapping (what the stereo renderer draws) is read off the height field (what the
+// haptic renderer touches) to the bit: origin and steps from its column, row and sample conversions,
+// for both sample formats, odd and even sizes and other boxes.
+TEST(HeightFieldTest, theSceneMappingIsTheHeightFieldsToTheBit)
+{
+    for (const SceneBox box : {SceneBox{}, SceneBox{0.37, 0.11}}) {
+        for (const SampleFormat format : {SampleFormat::Gray8, SampleFormat::Gray16}) {
+            for (const auto &[w, h] : {std::pair{4, 3}, std::pair{640, 480}, std::pair{719, 485}}) {
+                const OwnedFrame f = makeFrame(box, w, h, 0.0, [](double, double) { return 0.0; }, format);
+                HeightField hf(box);
+                ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
+                const auto m = scene::SurfaceMapping::of(box, f.view());
+                ASSERT_TRUE(m);
+                EXPECT_EQ(m->columns, w);
+                EXPECT_EQ(m->rows, h);
+                EXPECT_EQ(m->x0, hf.columnToX(0.0));
+                EXPECT_EQ(m->dx, hf.columnToX(1.0) - hf.columnToX(0.0));
+                EXPECT_EQ(m->y0, hf.rowToY(0.0));
+                EXPECT_EQ(m->dy, hf.rowToY(1.0) - hf.rowToY(0.0));
+                EXPECT_EQ(m->vmax, maxSampleValue(format));
+                // z at nearness 0 and at v_max, through the height field's own sample conversion
+                test::OwnedFrame probe(2, 1, format, 0.0);
+                probe.set(0, 0, 0);
+                probe.set(1, 0, static_cast<std::uint32_t>(maxSampleValue(format)));
+                EXPECT_EQ(m->z0, hf.frameZ(probe.view(), 0, 0));
+                EXPECT_EQ(m->dz, hf.frameZ(probe.view(), 1, 0) - hf.frameZ(probe.view(), 0, 0));
+            }
+        }
+    }
+    const OwnedFrame f = makeFrame(SceneBox{}, 4, 3, 0.0, [](double, double) { return 0.0; });
+    EXPECT_FALSE(scene::SurfaceMapping::of(SceneBox{0.0, 0.04}, f.view()));
+    EXPECT_FALSE(scene::SurfaceMapping::of(SceneBox{}, DepthFrameView{}));
 }
 
 } // namespace

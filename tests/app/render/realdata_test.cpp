@@ -35,7 +35,7 @@ TEST(RenderRealDataTest, adaptiveMeshMeetsTheErrorGoalWithFewTrianglesAndNoCrack
     ASSERT_TRUE(frames) << frames.error().what;
     ASSERT_EQ(frames->size(), 6u);
     for (const auto &f : *frames) {
-        haptics::DepthFrameView v;
+        scene::DepthFrameView v;
         v.data = f.nearness.data();
         v.width = f.width;
         v.height = f.height;

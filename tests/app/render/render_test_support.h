@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "depthtouch/hal/types.h"
-#include "depthtouch/haptics/depth_frame.h"
+#include "depthtouch/scene/depth_frame.h"
 
 namespace depthtouch::test {
 
@@ -28,14 +28,14 @@ struct Depth8 {
                 samples[static_cast<std::size_t>(r * w + c)] =
                     static_cast<std::uint8_t>(std::clamp(f(c, r), 0, 255));
     }
-    [[nodiscard]] haptics::DepthFrameView view() const
+    [[nodiscard]] scene::DepthFrameView view() const
     {
-        haptics::DepthFrameView v;
+        scene::DepthFrameView v;
         v.data = samples.data();
         v.width = width;
         v.height = height;
         v.strideBytes = static_cast<std::size_t>(width);
-        v.format = haptics::SampleFormat::Gray8;
+        v.format = scene::SampleFormat::Gray8;
         return v;
     }
 };
@@ -54,14 +54,14 @@ struct Depth16 {
                 samples[static_cast<std::size_t>(r * w + c)] =
                     static_cast<std::uint16_t>(std::clamp(f(c, r), 0, 65535));
     }
-    [[nodiscard]] haptics::DepthFrameView view() const
+    [[nodiscard]] scene::DepthFrameView view() const
     {
-        haptics::DepthFrameView v;
+        scene::DepthFrameView v;
         v.data = reinterpret_cast<const std::uint8_t *>(samples.data());
         v.width = width;
         v.height = height;
         v.strideBytes = static_cast<std::size_t>(width) * 2;
-        v.format = haptics::SampleFormat::Gray16;
+        v.format = scene::SampleFormat::Gray16;
         return v;
     }
 };

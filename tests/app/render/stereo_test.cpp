@@ -102,7 +102,9 @@ TEST(SurfaceMappingTest, isTheHapticHeightFieldMapping)
     haptics::SceneBox box{0.12, 0.05};
     haptics::HeightField hf(box);
     ASSERT_TRUE(hf.setFrames(d.view(), nullptr));
-    const SurfaceMapping m = SurfaceMapping::fromHeightField(hf);
+    const auto mapping = SurfaceMapping::of(box, d.view());
+    ASSERT_TRUE(mapping);
+    const SurfaceMapping m = *mapping;
     EXPECT_EQ(m.columns, 11);
     EXPECT_EQ(m.rows, 7);
     for (int r = 0; r < 7; ++r)

@@ -70,14 +70,14 @@ void rgbToYuv420(const media::Image &rgb, RgbdFrame &out)
     }
 }
 
-haptics::DepthFrameView depthView(const RgbdFrame &f)
+scene::DepthFrameView depthView(const RgbdFrame &f)
 {
-    haptics::DepthFrameView v;
+    scene::DepthFrameView v;
     v.data = f.nearness.data();
     v.width = f.width;
     v.height = f.height;
     v.strideBytes = static_cast<std::size_t>(f.width);
-    v.format = haptics::SampleFormat::Gray8;
+    v.format = scene::SampleFormat::Gray8;
     return v;
 }
 

@@ -1,72 +1,19 @@
 #pragma once
 /// \file
-/// \brief Depth frames as the haptic renderer sees them: a borrowed view of W×H nearness samples and the
-/// scene box they are mapped into (DESIGN.md §3).
+/// \brief Depth frames as the haptic renderer sees them: the scene layer's types
+/// (depthtouch/scene/depth_frame.h, DESIGN.md §3) under the haptics namespace, where the renderer and
+/// its callers name them.
 ///
 /// Thread-safety: value types; a view does not own its pixels (the caller keeps them alive).
 
-#include <cstddef>
-#include <cstdint>
-#include <cstring>
-
-#include "depthtouch/platform/result.h"
+#include "depthtouch/scene/depth_frame.h"
 
 namespace depthtouch::haptics {
 
-/// \brief Size of the scene box a depth frame fills (DESIGN.md §3). Metres.
-///
-/// The frame's W columns span `width` along x, its H rows span `width·(H−1)/(W−1)` along y, and
-/// nearness 0..v_max spans `depth` along z, centred on the origin.
-struct SceneBox {
-    double width = 0.10; ///< Box width along x, m (> 0).
-    double depth = 0.04; ///< Box depth along z, m (> 0).
-};
-
-/// \brief Storage of one nearness sample.
-enum class SampleFormat : std::uint8_t {
-    Gray8,  ///< One byte per sample, v_max = 255.
-    Gray16, ///< Two bytes per sample in host byte order, v_max = 65535.
-};
-
-/// \return bytes per sample of \a format (1 or 2).
-constexpr std::size_t bytesPerSample(SampleFormat format) noexcept
-{
-    return format == SampleFormat::Gray8 ? 1u : 2u;
-}
-
-/// \return v_max of \a format (255 or 65535).
-constexpr double maxSampleValue(SampleFormat format) noexcept
-{
-    return format == SampleFormat::Gray8 ? 255.0 : 65535.0;
-}
-
-/// \brief A borrowed W×H nearness image (0 = farthest, v_max = nearest) with its presentation time.
-///
-/// Row r starts at `data + r·strideBytes`; sample (c, r) is the c-th sample of that row.
-/// The view never owns or frees the pixels.
-struct DepthFrameView {
-    const std::uint8_t *data = nullptr;    ///< First byte of row 0; not owned.
-    int width = 0;                         ///< W, samples per row (≥ 2).
-    int height = 0;                        ///< H, rows (≥ 2).
-    std::size_t strideBytes = 0;           ///< Bytes from one row to the next (≥ W·bytesPerSample).
-    SampleFormat format = SampleFormat::Gray8; ///< Sample storage.
-    double pts = 0.0;                      ///< Presentation time, s.
-
-    /// \brief Checks the shape: data present, W, H ≥ 2, stride large enough, finite PTS.
-    /// \return Errc::InvalidArgument with a static message when malformed.
-    [[nodiscard]] Result<void> validate() const noexcept;
-
-    /// \return the raw sample value at column \a c, row \a r. \pre 0 ≤ c < W, 0 ≤ r < H.
-    [[nodiscard]] std::uint32_t sample(int c, int r) const noexcept
-    {
-        const std::uint8_t *p = data + static_cast<std::size_t>(r) * strideBytes +
-                                static_cast<std::size_t>(c) * bytesPerSample(format);
-        if (format == SampleFormat::Gray8)
-            return *p;
-        std::uint16_t v;
-        std::memcpy(&v, p, sizeof v);
-        return v;
-    }
-};
+using scene::bytesPerSample;
+using scene::DepthFrameView;
+using scene::maxSampleValue;
+using scene::SampleFormat;
+using scene::SceneBox;
 
 } // namespace depthtouch::haptics

@@ -49,7 +49,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "depthtouch/haptics/depth_frame.h"
+#include "depthtouch/scene/depth_frame.h"
 #include "depthtouch/platform/result.h"
 
 namespace depthtouch::render {
@@ -122,7 +122,7 @@ public:
     /// \brief Chooses the tile steps for \a depth and fills indices().
     /// \return Errc::InvalidArgument for a malformed frame or options (tile size or step not a power
     /// of two in range, negative tolerance); the previous mesh stays.
-    [[nodiscard]] Result<void> build(const haptics::DepthFrameView &depth,
+    [[nodiscard]] Result<void> build(const scene::DepthFrameView &depth,
                                      const MeshOptions &options);
 
     /// \return the triangle list: 3 indices per triangle into the W×H vertex grid (row-major).
@@ -137,15 +137,15 @@ public:
     [[nodiscard]] const MeshStats &stats() const noexcept { return stats_; }
 
 private:
-    double tileError(const haptics::DepthFrameView &depth, int tx, int ty, int step, double limit,
+    double tileError(const scene::DepthFrameView &depth, int tx, int ty, int step, double limit,
                      double &mean) const noexcept;
     void emitTile(int tx, int ty);
-    template <class T> void buildQuadtree(const haptics::DepthFrameView &depth, const MeshOptions &options);
+    template <class T> void buildQuadtree(const scene::DepthFrameView &depth, const MeshOptions &options);
     template <class T>
-    void splitBlock(const haptics::DepthFrameView &depth, const MeshOptions &options, int c0, int r0,
+    void splitBlock(const scene::DepthFrameView &depth, const MeshOptions &options, int c0, int r0,
                     int size, int &finest);
     template <class T>
-    void buildQuadtreeBudget(const haptics::DepthFrameView &depth, const MeshOptions &options);
+    void buildQuadtreeBudget(const scene::DepthFrameView &depth, const MeshOptions &options);
     /// The greedy refinement of buildQuadtreeBudget() (adaptive_mesh_quadtree.cpp).
     template <class T> struct BudgetRefinement;
     /// Sorts blocks_ into emission order: tile by tile, inside a tile by position.
@@ -198,7 +198,7 @@ private:
 /// \brief Measures \a indices (a triangle list over the W×H grid of \a depth) against the samples:
 /// each sample's value on the covering triangle (linear interpolation, DESIGN.md §3) minus its own.
 /// Reentrant; allocates a W×H scratch plane.
-MeshError measureMeshError(const haptics::DepthFrameView &depth,
+MeshError measureMeshError(const scene::DepthFrameView &depth,
                            const std::vector<std::uint32_t> &indices);
 
 } // namespace depthtouch::render

@@ -24,7 +24,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "depthtouch/haptics/depth_frame.h"
+#include "depthtouch/scene/depth_frame.h"
 #include "depthtouch/hal/types.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/result.h"
@@ -40,7 +40,7 @@ class RenderTarget;
 
 /// \brief Renderer settings; may be changed between frames with setOptions().
 struct RendererOptions {
-    haptics::SceneBox box{};                  ///< The scene box, m (same as the haptic renderer's).
+    scene::SceneBox box{};                  ///< The scene box, m (same as the haptic renderer's).
     StereoMode mode = StereoMode::SideBySide; ///< Output layout.
     StereoParams stereo{};                    ///< Eye cameras.
     MeshOptions mesh{};                       ///< Level of detail.
@@ -107,7 +107,7 @@ struct FramePrep {
     /// it (Yuv420p or Gray8) with \a spec.
     /// \return InvalidArgument (malformed depth frame or mesh options, or an empty colour view),
     /// NotSupported (colour format); the object is then not usable (built() is false).
-    [[nodiscard]] Result<void> build(const haptics::DepthFrameView &depth, const hal::ImageView *color,
+    [[nodiscard]] Result<void> build(const scene::DepthFrameView &depth, const hal::ImageView *color,
                                      const ColorSpec &spec, const MeshOptions &mesh);
 
     [[nodiscard]] bool built() const noexcept { return built_; }
@@ -144,7 +144,7 @@ public:
     /// \brief Uploads depth frame \a depth (Gray8 → R8, Gray16 → R16UI texture) and rebuilds the
     /// mesh. The pixels are copied; \a depth need not outlive the call.
     /// \return Errc::InvalidArgument for a malformed frame (the previous frame stays).
-    [[nodiscard]] Result<void> setDepth(const haptics::DepthFrameView &depth);
+    [[nodiscard]] Result<void> setDepth(const scene::DepthFrameView &depth);
 
     /// \brief Uploads a decoded colour frame: Yuv420p or Gray8 (luma only). Converted to R'G'B' on
     /// the CPU into one RGBA8 texture, or uploaded as three R8 planes that the fragment shader
@@ -156,7 +156,7 @@ public:
     /// \brief setDepth() with the mesh made ahead in \a prep (built from this \a depth frame with
     /// options().mesh, whatever its block budget; else the mesh is built here as setDepth() does). The mesh is moved out of
     /// \a prep (it gets the previous one's buffers back). \return as setDepth().
-    [[nodiscard]] Result<void> setDepth(const haptics::DepthFrameView &depth, FramePrep &prep);
+    [[nodiscard]] Result<void> setDepth(const scene::DepthFrameView &depth, FramePrep &prep);
     /// \brief setColor() with the colour converted ahead in \a prep (its R'G'B' words are
     /// uploaded). \return InvalidArgument when \a prep holds no converted colour.
     [[nodiscard]] Result<void> setColor(const FramePrep &prep);
@@ -219,7 +219,7 @@ private:
     /// Ends a stage: \return the milliseconds since \a start (after glFinish when Finished).
     double stageEnd(platform::TimePoint start) const noexcept;
     /// setDepth()'s upload half, after mesh_ holds the frame's mesh.
-    Result<void> uploadDepth(const haptics::DepthFrameView &depth, platform::TimePoint start);
+    Result<void> uploadDepth(const scene::DepthFrameView &depth, platform::TimePoint start);
     /// setColor()'s upload of converted R'G'B' words.
     void uploadRgba(const std::uint32_t *rgba, int width, int height);
 
@@ -228,7 +228,7 @@ private:
     OsdState osd_{};
     SurfaceMapping mapping_{};
     AdaptiveMesh mesh_;
-    haptics::SampleFormat depthFormat_ = haptics::SampleFormat::Gray8;
+    scene::SampleFormat depthFormat_ = scene::SampleFormat::Gray8;
     bool haveDepth_ = false;
     bool indicesDirty_ = false;
     ColorSpec colorSpec_{};

@@ -1,49 +1,14 @@
 #pragma once
 /// \file
-/// \brief The affine map from a depth sample (column c, row r, normalised nearness t = v/v_max) to
-/// the scene box (DESIGN.md §3), taken from the haptic renderer's own HeightField so that what is
-/// seen and what is touched are one surface.
+/// \brief The affine map from a depth sample to the scene box that the renderer draws with: the scene
+/// layer's (depthtouch/scene/surface_mapping.h), the same one the haptic renderer touches with.
 ///
 /// Thread-safety: value type.
 
-#include <glm/vec3.hpp>
-
-#include "depthtouch/haptics/depth_frame.h"
-#include "depthtouch/haptics/height_field.h"
-#include "depthtouch/platform/result.h"
+#include "depthtouch/scene/surface_mapping.h"
 
 namespace depthtouch::render {
 
-/// \brief `x = x0 + c·dx`, `y = y0 + r·dy`, `z = z0 + t·dz` with t = v/v_max in [0, 1]. Metres.
-///
-/// For a W×H frame in a box of width b and depth d: dx = s = b/(W−1), dy = −s, x0 = −(W−1)/2·s,
-/// y0 = (H−1)/2·s, z0 = −d/2, dz = d (DESIGN.md §3 "Vertices").
-struct SurfaceMapping {
-    int columns = 0;     ///< W, samples per row.
-    int rows = 0;        ///< H, rows.
-    double x0 = 0.0;     ///< x of column 0, m.
-    double y0 = 0.0;     ///< y of row 0, m.
-    double dx = 0.0;     ///< x step per column, m (= s).
-    double dy = 0.0;     ///< y step per row, m (= −s).
-    double z0 = 0.0;     ///< z at nearness 0, m.
-    double dz = 0.0;     ///< z span from nearness 0 to v_max, m.
-    double vmax = 255.0; ///< v_max of the sample format.
-
-    /// \brief Reads the mapping off \a field (the haptic renderer's column/row/z conversions).
-    /// \pre field.valid().
-    static SurfaceMapping fromHeightField(const haptics::HeightField &field) noexcept;
-
-    /// \return the scene-box point of sample (c, r) with nearness \a v (levels), m.
-    [[nodiscard]] glm::dvec3 point(double c, double r, double v) const noexcept
-    {
-        return {x0 + c * dx, y0 + r * dy, z0 + (v / vmax) * dz};
-    }
-    /// \return one nearness level in metres along z.
-    [[nodiscard]] double levelMetres() const noexcept { return dz / vmax; }
-    /// \return box width (x extent), m.
-    [[nodiscard]] double width() const noexcept { return dx * (columns - 1); }
-    /// \return box height (y extent), m.
-    [[nodiscard]] double height() const noexcept { return -dy * (rows - 1); }
-};
+using scene::SurfaceMapping;
 
 } // namespace depthtouch::render

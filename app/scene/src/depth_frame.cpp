@@ -1,8 +1,8 @@
-#include "depthtouch/haptics/depth_frame.h"
+#include "depthtouch/scene/depth_frame.h"
 
 #include <cmath>
 
-namespace depthtouch::haptics {
+namespace depthtouch::scene {
 
 Result<void> DepthFrameView::validate() const noexcept
 {
@@ -17,4 +17,4 @@ Result<void> DepthFrameView::validate() const noexcept
     return ok();
 }
 
-} // namespace depthtouch::haptics
+} // namespace depthtouch::scene
