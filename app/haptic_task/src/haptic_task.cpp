@@ -1,17 +1,13 @@
 #include "depthtouch/haptic_task/haptic_task.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <new>
 #include <utility>
 
 #include <glm/geometric.hpp>
 
-#include "depthtouch/platform/log.h"
 #include "depthtouch/platform/thread_config.h"
-
-DT_LOG_CATEGORY(Haptic)
 
 namespace depthtouch::haptic_task {
 
@@ -207,7 +203,7 @@ const platform::RealtimeThreadReport &HapticTask::threadReport() const noexcept
 }
 
 // ---------------------------------------------------------------------------------------------
-// The haptic thread. Nothing below until serviceLoop() may allocate, lock, log, write or throw.
+// The haptic thread. Nothing below may allocate, lock, log, write or throw.
 
 void HapticTask::run(platform::StopToken stop) noexcept
 {
@@ -265,28 +261,36 @@ void HapticTask::loseDevice(TelemetrySample &sample) noexcept
     sample.flags |= TelemetrySample::DeviceLost;
 }
 
-void HapticTask::cycle(const platform::PeriodicWait &wait) noexcept
+// One haptic update, step by step. Each step is real-time safe and always inlined, so cycle() costs
+// what one function did; the arithmetic is the same, in the same order, as before the split.
+
+[[gnu::always_inline]] inline TelemetrySample
+HapticTask::beginSample(const platform::PeriodicWait &wait) const noexcept
 {
-    const TimePoint begin = wait.wakeTime;
     TelemetrySample sample;
-    sample.wakeNs = begin.time_since_epoch().count();
+    sample.wakeNs = wait.wakeTime.time_since_epoch().count();
     sample.wakeLatencyNs = static_cast<std::int32_t>(
         std::clamp<std::int64_t>(wait.latency.count(), INT32_MIN, INT32_MAX));
     sample.missedPeriods =
         static_cast<std::uint32_t>(std::min<std::uint64_t>(wait.missedPeriods, UINT32_MAX));
     if (wait.overrun)
         sample.flags |= TelemetrySample::Overrun;
-    const std::uint64_t cycleNumber = updates_.load(std::memory_order_relaxed) + 1;
-    sample.cycle = cycleNumber;
+    sample.cycle = updates_.load(std::memory_order_relaxed) + 1;
+    return sample;
+}
 
-    const auto finish = [&]() noexcept {
-        sample.gain = static_cast<float>(gain_.load(std::memory_order_relaxed));
-        sample.updateNs = static_cast<std::int32_t>(
-            std::clamp<std::int64_t>((clock_.now() - begin).count(), 0, INT32_MAX));
-        (void)ring_->tryPush(sample);
-        updates_.store(cycleNumber, std::memory_order_release);
-    };
+[[gnu::always_inline]] inline void HapticTask::finishCycle(CycleContext &c) noexcept
+{
+    c.sample.gain = static_cast<float>(gain_.load(std::memory_order_relaxed));
+    c.sample.updateNs = static_cast<std::int32_t>(
+        std::clamp<std::int64_t>((clock_.now() - c.begin).count(), 0, INT32_MAX));
+    (void)ring_->tryPush(c.sample);
+    updates_.store(c.sample.cycle, std::memory_order_release);
+}
 
+[[gnu::always_inline]] inline bool
+HapticTask::watchDeadlines(const platform::PeriodicWait &wait) noexcept
+{
     // Watchdog 1: the loop itself is late. More than N deadlines missed in a row → zero force now;
     // the ramp brings the force back once the deadlines are kept again.
     if (wait.overrun) {
@@ -294,15 +298,21 @@ void HapticTask::cycle(const platform::PeriodicWait &wait) noexcept
     } else {
         missedInARow_ = 0;
     }
-    const bool late = missedInARow_ > config_.watchdogMissedDeadlines;
+    return missedInARow_ > config_.watchdogMissedDeadlines;
+}
 
+[[gnu::always_inline]] inline void HapticTask::takeFrames() noexcept
+{
     // Newest depth pair, without waiting; the held pair stays if the decoder stalls.
     DepthPair pair;
     if (handoff_.acquire(pair)) {
         if (renderer_->setFrames(pair.current, pair.hasNext ? &pair.next : nullptr))
             haveFrames_ = true;
     }
+}
 
+[[gnu::always_inline]] inline bool HapticTask::ownDevice(TelemetrySample &sample) noexcept
+{
     // Device ownership: while lost, the telemetry thread closes and opens it; don't touch it.
     std::uint8_t owner = owner_.load(std::memory_order_acquire);
     if (owner == kRestored) {
@@ -314,11 +324,14 @@ void HapticTask::cycle(const platform::PeriodicWait &wait) noexcept
     }
     if (owner != kRtOwns) {
         sample.flags |= TelemetrySample::DeviceLost;
-        finish();
-        return;
+        return false;
     }
+    return true;
+}
 
-    hal::HapticState state;
+[[gnu::always_inline]] inline bool HapticTask::readDevice(hal::HapticState &state,
+                                                          TelemetrySample &sample) noexcept
+{
     if (auto r = device_.read(state); !r) {
         if (r.error().code == Errc::Timeout) {
             sample.flags |= TelemetrySample::DeviceTimeout;
@@ -333,12 +346,16 @@ void HapticTask::cycle(const platform::PeriodicWait &wait) noexcept
             // Unplugged (NoDevice) or closed under us: the device outputs zero force.
             loseDevice(sample);
         }
-        finish();
-        return;
+        return false;
     }
     timeoutsInARow_ = 0;
     deviceFailed_.store(false, std::memory_order_relaxed);
+    return true;
+}
 
+[[gnu::always_inline]] inline glm::dvec3 HapticTask::mapToScene(const hal::HapticState &state,
+                                                                TelemetrySample &sample) noexcept
+{
     // Device → scene, with the clutch.
     const glm::dvec3 p(state.position.x, state.position.y, state.position.z);
     const double scale = config_.mapping.scale;
@@ -358,7 +375,11 @@ void HapticTask::cycle(const platform::PeriodicWait &wait) noexcept
         sample.flags |= TelemetrySample::Clutched;
     }
     lastHip_ = hip;
+    return hip;
+}
 
+[[gnu::always_inline]] inline void HapticTask::applyRestarts() noexcept
+{
     // Seek or loop: the haptic time restarts (it may jump backwards); proxy and force are kept.
     const std::uint32_t restarts = clockRestarts_.load(std::memory_order_acquire);
     if (restarts != clockRestartsDone_) {
@@ -375,49 +396,57 @@ void HapticTask::cycle(const platform::PeriodicWait &wait) noexcept
         lastT_ = -1e300;
         phase_ = 0.0;
     }
+}
 
-    glm::dvec3 target{};
+[[gnu::always_inline]] inline glm::dvec3 HapticTask::render(const glm::dvec3 &hip,
+                                                            CycleContext &c) noexcept
+{
+    TelemetrySample &sample = c.sample;
     if (!haveFrames_) {
         sample.flags |= TelemetrySample::NoFrames;
         sample.hip = hip;
         sample.proxy = hip;
-    } else {
-        if (needReset_) {
-            // Seat the proxy above the top of the scene box: this update then stops it on the
-            // surface directly over the HIP (a height field has no overhang), so a finger that is
-            // already inside an object at start or after a reconnect feels it, ramped in, instead
-            // of being left inside with no force.
-            const double top = 0.5 * config_.renderer.box.depth + 1e-3;
-            renderer_->reset({hip.x, hip.y, std::max(hip.z, top)});
-            needReset_ = false;
-        }
-        const double t = std::max(platform::toSeconds(begin - handoff_.mediaOrigin()), lastT_);
-        lastT_ = t;
-        const haptics::HapticOutput out = renderer_->update(hip, t);
-        sample.t = t;
-        sample.hip = out.hip;
-        sample.proxy = out.proxy;
-        sample.flags |= TelemetrySample::Rendered;
-        bump(rendered_);
-        if (out.contact) {
-            sample.flags |= TelemetrySample::Contact;
-            bump(contacts_);
-        }
-        if (out.released) {
-            sample.flags |= TelemetrySample::Released;
-            bump(releases_);
-        }
-        // Run-time stiffness (setStiffness()): the force is linear in k.
-        target = out.force * (stiffness_.load(std::memory_order_relaxed) /
-                              config_.renderer.stiffness);
-        pose_.store({out.hip.x, out.hip.y, out.hip.z, out.proxy.x, out.proxy.y, out.proxy.z, 1.0});
+        return {};
     }
+    if (needReset_) {
+        // Seat the proxy above the top of the scene box: this update then stops it on the surface
+        // directly over the HIP (a height field has no overhang), so a finger that is already
+        // inside an object at start or after a reconnect feels it, ramped in, instead of being
+        // left inside with no force.
+        const double top = 0.5 * config_.renderer.box.depth + 1e-3;
+        renderer_->reset({hip.x, hip.y, std::max(hip.z, top)});
+        needReset_ = false;
+    }
+    const double t = std::max(platform::toSeconds(c.begin - handoff_.mediaOrigin()), lastT_);
+    lastT_ = t;
+    const haptics::HapticOutput out = renderer_->update(hip, t);
+    sample.t = t;
+    sample.hip = out.hip;
+    sample.proxy = out.proxy;
+    sample.flags |= TelemetrySample::Rendered;
+    bump(rendered_);
+    if (out.contact) {
+        sample.flags |= TelemetrySample::Contact;
+        bump(contacts_);
+    }
+    if (out.released) {
+        sample.flags |= TelemetrySample::Released;
+        bump(releases_);
+    }
+    // Run-time stiffness (setStiffness()): the force is linear in k.
+    const glm::dvec3 target =
+        out.force * (stiffness_.load(std::memory_order_relaxed) / config_.renderer.stiffness);
+    pose_.store({out.hip.x, out.hip.y, out.hip.z, out.proxy.x, out.proxy.y, out.proxy.z, 1.0});
+    return target;
+}
 
+[[gnu::always_inline]] inline double HapticTask::rampGain(CycleContext &c) noexcept
+{
     // Enable ramp; a late loop or the clutch forces the gain to zero.
-    if (late) {
+    if (c.late) {
         if (phase_ > 0.0 || glm::length(prevForce_) > 0.0) {
             bump(watchdogTrips_);
-            sample.flags |= TelemetrySample::WatchdogTrip;
+            c.sample.flags |= TelemetrySample::WatchdogTrip;
         }
         phase_ = 0.0;
         prevForce_ = {};
@@ -427,6 +456,13 @@ void HapticTask::cycle(const platform::PeriodicWait &wait) noexcept
     }
     const double gain = smoothstep(phase_);
     gain_.store(gain, std::memory_order_relaxed);
+    return gain;
+}
+
+[[gnu::always_inline]] inline glm::dvec3
+HapticTask::shapeForce(glm::dvec3 target, double gain, const CycleContext &c) const noexcept
+{
+    const bool late = c.late;
     if (clutched_ || late)
         target = {};
     target = haptics::limitForce(gain * target, maxForce_);
@@ -435,132 +471,53 @@ void HapticTask::cycle(const platform::PeriodicWait &wait) noexcept
     // after an overrun does not allow a jump).
     double dt = period_;
     if (havePrevCommand_)
-        dt = std::clamp(platform::toSeconds(begin - prevCommandTime_), 0.0, 4.0 * period_);
-    glm::dvec3 force =
-        late ? glm::dvec3{}
-             : haptics::slewForce(prevForce_, target, config_.maxForceRate * dt, maxForce_);
+        dt = std::clamp(platform::toSeconds(c.begin - prevCommandTime_), 0.0, 4.0 * period_);
+    return late ? glm::dvec3{}
+                : haptics::slewForce(prevForce_, target, config_.maxForceRate * dt, maxForce_);
+}
 
+[[gnu::always_inline]] inline bool HapticTask::command(const glm::dvec3 &force,
+                                                       CycleContext &c) noexcept
+{
     if (auto r = device_.commandForce({force.x, force.y, force.z}); !r) {
         if (r.error().code == Errc::NoDevice || r.error().code == Errc::InvalidState) {
-            loseDevice(sample);
-            finish();
-            return;
+            loseDevice(c.sample);
+            return false;
         }
         // Timeout or a rejected value: the device keeps its previous output; try again next cycle.
     }
     prevForce_ = force;
-    prevCommandTime_ = begin;
+    prevCommandTime_ = c.begin;
     havePrevCommand_ = true;
+    return true;
+}
+
+[[gnu::always_inline]] inline void HapticTask::recordForce(const glm::dvec3 &force,
+                                                           TelemetrySample &sample) noexcept
+{
     publishForce(force);
     sample.force = force;
     const double magnitude = glm::length(force);
     if (magnitude > maxForceSeen_.load(std::memory_order_relaxed))
         maxForceSeen_.store(magnitude, std::memory_order_relaxed);
-    finish();
 }
 
-// ---------------------------------------------------------------------------------------------
-// The telemetry thread (normal priority).
-
-void HapticTask::serviceLoop()
+void HapticTask::cycle(const platform::PeriodicWait &wait) noexcept
 {
-    std::unique_lock<std::mutex> lock(mutex_);
-    while (!serviceStop_) {
-        drainLocked();
-        lock.unlock();
-        superviseDevice();
-        lock.lock();
-        wake_.wait_for(lock, std::chrono::milliseconds(config_.telemetryIntervalMs),
-                       [this] { return serviceStop_; });
+    CycleContext c{wait.wakeTime, beginSample(wait), false};
+    c.late = watchDeadlines(wait);
+    takeFrames();
+    hal::HapticState state;
+    if (ownDevice(c.sample) && readDevice(state, c.sample)) {
+        const glm::dvec3 hip = mapToScene(state, c.sample);
+        applyRestarts();
+        const glm::dvec3 target = render(hip, c);
+        const double gain = rampGain(c);
+        const glm::dvec3 force = shapeForce(target, gain, c);
+        if (command(force, c))
+            recordForce(force, c.sample);
     }
-}
-
-void HapticTask::superviseDevice()
-{
-    if (owner_.load(std::memory_order_acquire) != kLost) {
-        lostLogged_ = false;
-        return;
-    }
-    if (!lostLogged_) {
-        DT_LOG(Haptic, Warning, "Haptic device lost: zero force; trying to reopen it every %d ms",
-               config_.reconnectIntervalMs);
-        lostLogged_ = true;
-    }
-    const TimePoint now = platform::SteadyClock::instance().now();
-    if (now - lastReconnectTry_ < std::chrono::milliseconds(config_.reconnectIntervalMs))
-        return;
-    lastReconnectTry_ = now;
-    device_.close();
-    if (auto r = device_.open(); r && device_.isConnected()) {
-        DT_LOG(Haptic, Info, "Haptic device back: haptics resume with a %.0f ms ramp",
-               config_.rampTime * 1e3);
-        reconnects_.store(reconnects_.load(std::memory_order_relaxed) + 1,
-                          std::memory_order_relaxed);
-        owner_.store(kRestored, std::memory_order_release);
-    }
-}
-
-void HapticTask::drainTelemetry()
-{
-    std::lock_guard<std::mutex> lock(mutex_);
-    drainLocked();
-}
-
-void HapticTask::drainLocked()
-{
-    const auto periodNs = static_cast<std::int64_t>(std::llround(period_ * 1e9));
-    TelemetrySample s;
-    while (ring_->tryPop(s)) {
-        wakeHist_->add(s.wakeLatencyNs);
-        updateHist_->add(s.updateNs);
-        const bool onTime = (s.flags & TelemetrySample::Overrun) == 0;
-        if (prevWakeNs_ >= 0 && onTime && s.cycle == prevCycle_ + 1)
-            periodHist_->add(std::llabs(s.wakeNs - prevWakeNs_ - periodNs));
-        prevWakeNs_ = s.wakeNs;
-        prevCycle_ = s.cycle;
-        if (firstWakeNs_ < 0)
-            firstWakeNs_ = s.wakeNs;
-        if (forceLog_ != nullptr && (s.flags & TelemetrySample::Rendered) != 0) {
-            // play_t: seconds since the first update, monotonic through loops and seeks (t is
-            // the media time, which restarts).
-            std::fprintf(forceLog_, "%.6f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%d,%d,%.6f\n",
-                         s.t, s.hip.x, s.hip.y, s.hip.z, s.proxy.x, s.proxy.y, s.proxy.z, s.force.x,
-                         s.force.y, s.force.z, (s.flags & TelemetrySample::Contact) != 0 ? 1 : 0,
-                         (s.flags & TelemetrySample::Released) != 0 ? 1 : 0,
-                         static_cast<double>(s.wakeNs - firstWakeNs_) * 1e-9);
-        }
-    }
-}
-
-HapticStats HapticTask::stats()
-{
-    std::lock_guard<std::mutex> lock(mutex_);
-    drainLocked();
-    HapticStats s;
-    s.servoRateHz = config_.servoRateHz;
-    s.forceLogLost = forceLogLost_ || (forceLog_ != nullptr && std::ferror(forceLog_) != 0);
-    s.updates = updates_.load(std::memory_order_acquire);
-    s.renderedUpdates = rendered_.load(std::memory_order_relaxed);
-    s.contactUpdates = contacts_.load(std::memory_order_relaxed);
-    s.overruns = timer_.overruns();
-    s.missedPeriods = timer_.missedPeriods();
-    s.watchdogTrips = watchdogTrips_.load(std::memory_order_relaxed);
-    s.safetyReleases = releases_.load(std::memory_order_relaxed) + s.watchdogTrips;
-    s.deviceLosses = deviceLosses_.load(std::memory_order_relaxed);
-    s.reconnects = reconnects_.load(std::memory_order_relaxed);
-    s.telemetryDropped = ring_->dropped();
-    s.maxForce = maxForceSeen_.load(std::memory_order_relaxed);
-    s.deviceMaxForce = device_.capabilities().maxForce;
-    s.wakeLatency = wakeHist_->summary();
-    s.updateTime = updateHist_->summary();
-    s.periodError = periodHist_->summary();
-    if (firstWakeNs_ >= 0 && prevWakeNs_ > firstWakeNs_)
-        s.runSeconds = static_cast<double>(prevWakeNs_ - firstWakeNs_) * 1e-9;
-    if (thread_->joinable() || thread_->finished()) {
-        char line[256];
-        s.thread = thread_->report().format(line, sizeof line);
-    }
-    return s;
+    finishCycle(c);
 }
 
 } // namespace depthtouch::haptic_task

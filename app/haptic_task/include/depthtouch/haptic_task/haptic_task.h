@@ -275,9 +275,48 @@ private:
                platform::Clock &clock, std::unique_ptr<haptics::HapticRenderer> renderer);
     DT_DISABLE_COPY_AND_MOVE(HapticTask)
 
+    /// What the steps of one cycle hand on to each other (on the haptic thread's stack).
+    struct CycleContext {
+        platform::TimePoint begin; ///< Wake-up time of the cycle.
+        TelemetrySample sample;    ///< The cycle's telemetry, pushed by finishCycle().
+        bool late = false;         ///< The deadline watchdog holds the force at zero.
+    };
+
     void run(platform::StopToken stop) noexcept;
-    /// One cycle after the wait. Real-time safe.
+    /// One cycle after the wait: the steps below, in order. Real-time safe.
     void cycle(const platform::PeriodicWait &wait) noexcept;
+    /// \name The steps of cycle() (haptic thread only, real-time safe)
+    ///@{
+    /// \return the cycle's telemetry sample with its wake-up, latency, overrun and cycle number.
+    TelemetrySample beginSample(const platform::PeriodicWait &wait) const noexcept;
+    /// \return true when the loop missed more than watchdogMissedDeadlines deadlines in a row.
+    bool watchDeadlines(const platform::PeriodicWait &wait) noexcept;
+    /// Hands the newest depth pair of the handoff, if any, to the renderer.
+    void takeFrames() noexcept;
+    /// Takes a reopened device back. \return false while the device is lost.
+    bool ownDevice(TelemetrySample &sample) noexcept;
+    /// Reads the device; a time-out counts for the device watchdog, any other error loses the
+    /// device. \return false when \a state was not read.
+    bool readDevice(hal::HapticState &state, TelemetrySample &sample) noexcept;
+    /// \return the HIP: the device position mapped to the scene, held while the clutch is.
+    glm::dvec3 mapToScene(const hal::HapticState &state, TelemetrySample &sample) noexcept;
+    /// Applies the clock restarts and re-seats asked for since the last cycle.
+    void applyRestarts() noexcept;
+    /// Runs the renderer at \a hip. \return its force at the run-time stiffness, N (zero without
+    /// frames).
+    glm::dvec3 render(const glm::dvec3 &hip, CycleContext &c) noexcept;
+    /// Moves the enable ramp (zero when late). \return the gain in [0, 1].
+    double rampGain(CycleContext &c) noexcept;
+    /// \return \a target with the gain, zeroed by the clutch or a late loop, clamped to the
+    /// maximum and rate-limited.
+    glm::dvec3 shapeForce(glm::dvec3 target, double gain, const CycleContext &c) const noexcept;
+    /// Commands \a force. \return false when the device was lost.
+    bool command(const glm::dvec3 &force, CycleContext &c) noexcept;
+    /// Publishes the commanded force and records it in the telemetry and the maximum.
+    void recordForce(const glm::dvec3 &force, TelemetrySample &sample) noexcept;
+    /// Pushes the telemetry sample and counts the cycle.
+    void finishCycle(CycleContext &c) noexcept;
+    ///@}
     void zeroForce() noexcept;
     /// The device went away (NoDevice) or was closed under the task: zero force, count it, and
     /// hand the device to the telemetry thread for reconnection. Real-time safe.
