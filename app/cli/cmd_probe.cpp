@@ -131,20 +131,297 @@ std::string rateText(const hal::Rational &r)
     return buf;
 }
 
+/// The demux pass: every packet's stream, keyframe flag and PTS, and why reading stopped early.
+struct DemuxCensus {
+    std::vector<StreamCount> counts;
+    std::uint64_t packets = 0;
+    std::string readError; ///< Empty when reading reached the end of the stream.
+};
+
+/// Everything the report prints: the demux census, the pairing census and the --decode pass.
+struct ProbeReport {
+    hal::MediaInfo info;
+    receiver::StreamRoles roles;
+    DemuxCensus demux;
+    std::vector<hal::Pts> spans;
+    PairingCensus census;
+    std::uint64_t unpairedColor = 0;
+    bool everyPaired = false;
+    nlohmann::json decodeJson;
+    std::string decodeText;
+};
+
+/// --decode reads the input twice (demux census, then the receiver): a FIFO cannot be. Prints why
+/// and returns false for a FIFO under --decode.
+bool decodeInputReadable(const ProbeOptions &opt)
+{
+    if (opt.decode && platform::pathKind(opt.file.c_str()) == platform::PathKind::Fifo) {
+        std::fprintf(stderr,
+                     "depthtouch probe: cannot --decode '%s': it is a FIFO, which can be "
+                     "read only once (probe it without --decode, or save it to a file)\n",
+                     opt.file.c_str());
+        return false;
+    }
+    return true;
+}
+
+/// Reads every packet of an open source (then closes it), counting them per stream.
+DemuxCensus countPackets(hal::MediaSource &src, std::size_t streams)
+{
+    DemuxCensus out;
+    out.counts.resize(streams);
+    for (;;) {
+        auto p = src.readPacket();
+        if (!p) {
+            if (p.error().code != Errc::EndOfStream)
+                out.readError = p.error().what;
+            break;
+        }
+        ++out.packets;
+        if (p->streamIndex < 0 || static_cast<std::size_t>(p->streamIndex) >= out.counts.size())
+            continue;
+        StreamCount &sc = out.counts[static_cast<std::size_t>(p->streamIndex)];
+        ++sc.packets;
+        sc.keyframes += p->keyframe ? 1u : 0u;
+        sc.pts.push_back(p->pts);
+    }
+    src.close();
+    return out;
+}
+
+/// Each stream's duration: its PTS range plus one frame period (0 for a stream without packets).
+std::vector<hal::Pts> streamSpans(const hal::MediaInfo &info,
+                                  const std::vector<StreamCount> &counts)
+{
+    std::vector<hal::Pts> spans(counts.size(), hal::Pts{0});
+    for (std::size_t i = 0; i < counts.size(); ++i) {
+        const auto &v = counts[i].pts;
+        if (!v.empty()) {
+            const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+            spans[i] = *hi - *lo + periodOf(info.streams[i].frameRate);
+        }
+    }
+    return spans;
+}
+
+/// The receiver's counters as the JSON report's "decode" object.
+nlohmann::json decodeStatsJson(const char *mode, const receiver::ReceiverStats &s)
+{
+    return {{"mode", mode},
+            {"color_frames", s.colorFrames},
+            {"depth_frames", s.depthFrames},
+            {"paired_frames", s.framesOutput},
+            {"concealed", s.framesConcealed},
+            {"decode_errors", s.decodeErrors},
+            {"depth_missing", s.depthMissing},
+            {"depth_duplicated", s.depthDuplicated},
+            {"depth_unpaired", s.depthUnpaired},
+            {"pts_gaps", s.ptsGaps},
+            {"pts_duplicates", s.ptsDuplicates},
+            {"pts_non_monotonic", s.ptsNonMonotonic},
+            {"read_errors", s.readErrors}};
+}
+
+/// The receiver's counters as the text report's "decode" line.
+std::string decodeStatsText(const char *mode, const receiver::ReceiverStats &s)
+{
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "decode (%s): %llu color + %llu depth frames -> %llu paired; %llu concealed, "
+                  "%llu decode errors, %llu without depth, %llu reused depth, %llu read errors\n",
+                  mode, static_cast<unsigned long long>(s.colorFrames),
+                  static_cast<unsigned long long>(s.depthFrames),
+                  static_cast<unsigned long long>(s.framesOutput),
+                  static_cast<unsigned long long>(s.framesConcealed),
+                  static_cast<unsigned long long>(s.decodeErrors),
+                  static_cast<unsigned long long>(s.depthMissing),
+                  static_cast<unsigned long long>(s.depthDuplicated),
+                  static_cast<unsigned long long>(s.readErrors));
+    return line;
+}
+
+/// The --decode pass: runs the real receiver (decode + pairing) over the whole input and keeps its
+/// counters in the report. Returns kExitOk, or kExitBadInput after printing why it could not run.
+int runDecodePass(const ProbeOptions &opt, const std::string &sourceName, bool mockUrl,
+                  const hal::BackendConfig &cfg, ProbeReport &rep)
+{
+    auto src2 = drivers::createMediaSource(sourceName, cfg);
+    const std::string decName = !opt.decoder.empty() ? opt.decoder : mockUrl ? "mock" : "ffmpeg";
+    receiver::DecoderFactory factory = [&decName](const hal::StreamInfo &) {
+        return drivers::createVideoDecoder(decName, hal::BackendConfig{});
+    };
+    if (!src2) {
+        std::fprintf(stderr, "depthtouch probe: no media source '%s'\n", sourceName.c_str());
+        return kExitBadInput;
+    }
+    auto r = receiver::Receiver::open(std::move(*src2), opt.file.c_str(), factory);
+    if (!r) {
+        std::fprintf(stderr, "depthtouch probe: cannot decode '%s': %s (%s)\n", opt.file.c_str(),
+                     r.error().what, errcName(r.error().code));
+        return kExitBadInput;
+    }
+    receiver::PairedFrame f;
+    for (;;) {
+        auto n = (*r)->next(f);
+        if (!n || !*n)
+            break;
+    }
+    f = receiver::PairedFrame{};
+    const receiver::ReceiverStats s = (*r)->stats();
+    rep.decodeJson = decodeStatsJson(receiver::receiverModeName((*r)->info().mode), s);
+    rep.decodeText = decodeStatsText(receiver::receiverModeName((*r)->info().mode), s);
+    return kExitOk;
+}
+
+/// The role a stream plays, with the reason it was chosen ("ignored" for any other stream).
+std::string roleOf(const receiver::StreamRoles &roles, int index)
+{
+    if (index == roles.color)
+        return std::string("color (") + roles.colorReason + ")";
+    if (index == roles.depth)
+        return std::string("depth (") + roles.depthReason + ")";
+    return "ignored";
+}
+
+/// The depth stream's description, or nullptr when the file has none.
+const hal::StreamInfo *depthStreamOf(const ProbeReport &rep)
+{
+    return rep.roles.depth >= 0 ? &rep.info.streams[static_cast<std::size_t>(rep.roles.depth)]
+                                : nullptr;
+}
+
+/// The JSON report's "streams" array.
+nlohmann::json streamsJson(const ProbeReport &rep)
+{
+    nlohmann::json streams = nlohmann::json::array();
+    for (const hal::StreamInfo &s : rep.info.streams) {
+        const StreamCount &c = rep.demux.counts[static_cast<std::size_t>(s.index)];
+        streams.push_back(
+            {{"index", s.index},
+             {"title", s.title},
+             {"role", roleOf(rep.roles, s.index)},
+             {"codec", hal::codecName(s.codec)},
+             {"width", s.width},
+             {"height", s.height},
+             {"pix_fmt", hal::pixelFormatName(s.format)},
+             {"frame_rate", s.frameRate.toDouble()},
+             {"frames", c.packets},
+             {"keyframes", c.keyframes},
+             {"duration_s", platform::toSeconds(rep.spans[static_cast<std::size_t>(s.index)])}});
+    }
+    return streams;
+}
+
+/// Prints the report as JSON (--json).
+void printJsonReport(const ProbeOptions &opt, const ProbeReport &rep)
+{
+    const PairingCensus &census = rep.census;
+    const hal::StreamInfo *depth = depthStreamOf(rep);
+    nlohmann::json j;
+    j["file"] = opt.file;
+    j["duration_s"] = platform::toSeconds(rep.info.duration);
+    j["packets"] = rep.demux.packets;
+    j["read_error"] =
+        rep.demux.readError.empty() ? nlohmann::json(nullptr) : nlohmann::json(rep.demux.readError);
+    j["streams"] = streamsJson(rep);
+    if (depth != nullptr)
+        j["depth_metadata"] = {{"near_m", depth->depth.nearMetres},
+                               {"far_m", depth->depth.farMetres},
+                               {"mapping", depth->depth.mapping},
+                               {"bits", depth->depth.bits}};
+    else
+        j["depth_metadata"] = nullptr;
+    j["pairing"] = {{"color_frames", census.colorFrames},
+                    {"color_with_depth_partner", census.colorWithPartner},
+                    {"color_without_depth_partner", rep.unpairedColor},
+                    {"depth_reused", census.stats.depthDuplicated},
+                    {"depth_missing", census.stats.depthMissing},
+                    {"depth_unpaired", census.stats.depthUnpaired},
+                    {"pts_gaps", census.stats.ptsGaps},
+                    {"pts_duplicates", census.stats.ptsDuplicates},
+                    {"every_color_frame_paired", rep.everyPaired}};
+    j["notes"] = rep.roles.notes;
+    if (opt.decode)
+        j["decode"] = rep.decodeJson;
+    std::printf("%s\n", j.dump(2).c_str());
+}
+
+/// Prints the text report's header line, one line per stream and the depth metadata line.
+void printStreamsText(const ProbeOptions &opt, const ProbeReport &rep)
+{
+    const hal::MediaInfo &info = rep.info;
+    std::printf("%s: %zu video stream%s, %.3f s\n", opt.file.c_str(), info.streams.size(),
+                info.streams.size() == 1 ? "" : "s", platform::toSeconds(info.duration));
+    for (const hal::StreamInfo &s : info.streams) {
+        const StreamCount &c = rep.demux.counts[static_cast<std::size_t>(s.index)];
+        std::printf("  #%d %-8s %-26s %-6s %dx%d %-8s %s fps, %llu frames (%.3f s)\n", s.index,
+                    s.title.empty() ? "-" : s.title.c_str(), roleOf(rep.roles, s.index).c_str(),
+                    hal::codecName(s.codec), s.width, s.height, hal::pixelFormatName(s.format),
+                    rateText(s.frameRate).c_str(), static_cast<unsigned long long>(c.packets),
+                    platform::toSeconds(rep.spans[static_cast<std::size_t>(s.index)]));
+    }
+    if (const hal::StreamInfo *depth = depthStreamOf(rep); depth != nullptr) {
+        const hal::DepthMetadata &m = depth->depth;
+        if (receiver::hasDepthMetadata(m))
+            std::printf("depth metadata: near %g m, far %g m, mapping %s, %d bits\n", m.nearMetres,
+                        m.farMetres, m.mapping.empty() ? "-" : m.mapping.c_str(), m.bits);
+        else
+            std::printf("depth metadata: none\n");
+    }
+}
+
+/// Prints the text report's pairing line and timestamp line.
+void printPairingText(const ProbeReport &rep)
+{
+    const receiver::StreamRoles &roles = rep.roles;
+    const PairingCensus &census = rep.census;
+    if (roles.color >= 0 && roles.depth >= 0)
+        std::printf("pairing: %llu of %llu color frames have a depth partner within half a frame "
+                    "(%llu without: %llu reuse the previous depth frame, %llu have none); %llu "
+                    "depth frames unpaired; %s\n",
+                    static_cast<unsigned long long>(census.colorWithPartner),
+                    static_cast<unsigned long long>(census.colorFrames),
+                    static_cast<unsigned long long>(rep.unpairedColor),
+                    static_cast<unsigned long long>(census.stats.depthDuplicated),
+                    static_cast<unsigned long long>(census.stats.depthMissing),
+                    static_cast<unsigned long long>(census.stats.depthUnpaired),
+                    rep.everyPaired ? "every color frame is paired"
+                                    : "NOT every color frame is paired");
+    else if (roles.depth >= 0)
+        std::printf("pairing: no color stream (depth only, %llu frames)\n",
+                    static_cast<unsigned long long>(
+                        rep.demux.counts[static_cast<std::size_t>(roles.depth)].packets));
+    else
+        std::printf("pairing: no depth stream (color only: plays flat 2D, haptics off)\n");
+    if (census.stats.ptsGaps + census.stats.ptsDuplicates > 0)
+        std::printf("timestamps: %llu gaps, %llu duplicates\n",
+                    static_cast<unsigned long long>(census.stats.ptsGaps),
+                    static_cast<unsigned long long>(census.stats.ptsDuplicates));
+}
+
+/// Prints the report as text (the default).
+void printTextReport(const ProbeOptions &opt, const ProbeReport &rep)
+{
+    printStreamsText(opt, rep);
+    printPairingText(rep);
+    for (const std::string &n : rep.roles.notes)
+        std::printf("note: %s\n", n.c_str());
+    if (!rep.demux.readError.empty())
+        std::printf("warning: reading stopped after %llu packets: %s (truncated or damaged file)\n",
+                    static_cast<unsigned long long>(rep.demux.packets),
+                    rep.demux.readError.c_str());
+    if (opt.decode)
+        std::printf("%s", rep.decodeText.c_str());
+}
+
 int runProbe(const ProbeOptions &opt)
 {
     // Library warnings would interleave with the report; the report says what matters.
     platform::setLogLevel(platform::LogLevel::Error);
     const bool mockUrl = opt.file.rfind("mock:", 0) == 0;
     const std::string sourceName = !opt.source.empty() ? opt.source : mockUrl ? "mock" : "ffmpeg";
-    if (opt.decode && platform::pathKind(opt.file.c_str()) == platform::PathKind::Fifo) {
-        // --decode reads the input twice (demux census, then the receiver): a FIFO cannot be.
-        std::fprintf(stderr,
-                     "depthtouch probe: cannot --decode '%s': it is a FIFO, which can be "
-                     "read only once (probe it without --decode, or save it to a file)\n",
-                     opt.file.c_str());
+    if (!decodeInputReadable(opt))
         return kExitBadInput;
-    }
     hal::BackendConfig cfg;
     auto src = drivers::createMediaSource(sourceName, cfg);
     if (!src) {
@@ -157,202 +434,24 @@ int runProbe(const ProbeOptions &opt)
                      r.error().what, errcName(r.error().code));
         return kExitBadInput;
     }
-    const hal::MediaInfo info = (*src)->info();
-    const receiver::StreamRoles roles = receiver::identifyStreams(info);
-
-    std::vector<StreamCount> counts(info.streams.size());
-    std::uint64_t packets = 0;
-    std::string readError;
-    for (;;) {
-        auto p = (*src)->readPacket();
-        if (!p) {
-            if (p.error().code != Errc::EndOfStream)
-                readError = p.error().what;
-            break;
-        }
-        ++packets;
-        if (p->streamIndex < 0 || static_cast<std::size_t>(p->streamIndex) >= counts.size())
-            continue;
-        StreamCount &sc = counts[static_cast<std::size_t>(p->streamIndex)];
-        ++sc.packets;
-        sc.keyframes += p->keyframe ? 1u : 0u;
-        sc.pts.push_back(p->pts);
-    }
-    (*src)->close();
-    std::vector<hal::Pts> spans(counts.size(), hal::Pts{0});
-    for (std::size_t i = 0; i < counts.size(); ++i) {
-        const auto &v = counts[i].pts;
-        if (!v.empty()) {
-            const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-            spans[i] = *hi - *lo + periodOf(info.streams[i].frameRate);
-        }
-    }
-    const PairingCensus census = pairPackets(info, roles, counts);
-    const std::uint64_t unpairedColor = census.colorFrames - census.colorWithPartner;
-    const bool everyPaired = roles.color >= 0 && roles.depth >= 0 && unpairedColor == 0;
+    ProbeReport rep;
+    rep.info = (*src)->info();
+    rep.roles = receiver::identifyStreams(rep.info);
+    rep.demux = countPackets(**src, rep.info.streams.size());
+    rep.spans = streamSpans(rep.info, rep.demux.counts);
+    rep.census = pairPackets(rep.info, rep.roles, rep.demux.counts);
+    rep.unpairedColor = rep.census.colorFrames - rep.census.colorWithPartner;
+    rep.everyPaired = rep.roles.color >= 0 && rep.roles.depth >= 0 && rep.unpairedColor == 0;
 
     // Optional: the real receiver (decode + pairing).
-    nlohmann::json decodeJson;
-    std::string decodeText;
     if (opt.decode) {
-        auto src2 = drivers::createMediaSource(sourceName, cfg);
-        const std::string decName = !opt.decoder.empty() ? opt.decoder
-                                    : mockUrl            ? "mock"
-                                                         : "ffmpeg";
-        receiver::DecoderFactory factory = [&decName](const hal::StreamInfo &) {
-            return drivers::createVideoDecoder(decName, hal::BackendConfig{});
-        };
-        if (!src2) {
-            std::fprintf(stderr, "depthtouch probe: no media source '%s'\n", sourceName.c_str());
-            return kExitBadInput;
-        }
-        auto r = receiver::Receiver::open(std::move(*src2), opt.file.c_str(), factory);
-        if (!r) {
-            std::fprintf(stderr, "depthtouch probe: cannot decode '%s': %s (%s)\n",
-                         opt.file.c_str(), r.error().what, errcName(r.error().code));
-            return kExitBadInput;
-        }
-        receiver::PairedFrame f;
-        for (;;) {
-            auto n = (*r)->next(f);
-            if (!n || !*n)
-                break;
-        }
-        f = receiver::PairedFrame{};
-        const receiver::ReceiverStats s = (*r)->stats();
-        decodeJson = {{"mode", receiver::receiverModeName((*r)->info().mode)},
-                      {"color_frames", s.colorFrames},
-                      {"depth_frames", s.depthFrames},
-                      {"paired_frames", s.framesOutput},
-                      {"concealed", s.framesConcealed},
-                      {"decode_errors", s.decodeErrors},
-                      {"depth_missing", s.depthMissing},
-                      {"depth_duplicated", s.depthDuplicated},
-                      {"depth_unpaired", s.depthUnpaired},
-                      {"pts_gaps", s.ptsGaps},
-                      {"pts_duplicates", s.ptsDuplicates},
-                      {"pts_non_monotonic", s.ptsNonMonotonic},
-                      {"read_errors", s.readErrors}};
-        char line[512];
-        std::snprintf(
-            line, sizeof line,
-            "decode (%s): %llu color + %llu depth frames -> %llu paired; %llu concealed, "
-            "%llu decode errors, %llu without depth, %llu reused depth, %llu read errors\n",
-            receiver::receiverModeName((*r)->info().mode),
-            static_cast<unsigned long long>(s.colorFrames),
-            static_cast<unsigned long long>(s.depthFrames),
-            static_cast<unsigned long long>(s.framesOutput),
-            static_cast<unsigned long long>(s.framesConcealed),
-            static_cast<unsigned long long>(s.decodeErrors),
-            static_cast<unsigned long long>(s.depthMissing),
-            static_cast<unsigned long long>(s.depthDuplicated),
-            static_cast<unsigned long long>(s.readErrors));
-        decodeText = line;
+        if (const int rc = runDecodePass(opt, sourceName, mockUrl, cfg, rep); rc != kExitOk)
+            return rc;
     }
-
-    const auto roleOf = [&](int index) -> std::string {
-        if (index == roles.color)
-            return std::string("color (") + roles.colorReason + ")";
-        if (index == roles.depth)
-            return std::string("depth (") + roles.depthReason + ")";
-        return "ignored";
-    };
-    const hal::StreamInfo *depth =
-        roles.depth >= 0 ? &info.streams[static_cast<std::size_t>(roles.depth)] : nullptr;
-
-    if (opt.json) {
-        nlohmann::json j;
-        j["file"] = opt.file;
-        j["duration_s"] = platform::toSeconds(info.duration);
-        j["packets"] = packets;
-        j["read_error"] = readError.empty() ? nlohmann::json(nullptr) : nlohmann::json(readError);
-        nlohmann::json streams = nlohmann::json::array();
-        for (const hal::StreamInfo &s : info.streams) {
-            const StreamCount &c = counts[static_cast<std::size_t>(s.index)];
-            streams.push_back(
-                {{"index", s.index},
-                 {"title", s.title},
-                 {"role", roleOf(s.index)},
-                 {"codec", hal::codecName(s.codec)},
-                 {"width", s.width},
-                 {"height", s.height},
-                 {"pix_fmt", hal::pixelFormatName(s.format)},
-                 {"frame_rate", s.frameRate.toDouble()},
-                 {"frames", c.packets},
-                 {"keyframes", c.keyframes},
-                 {"duration_s", platform::toSeconds(spans[static_cast<std::size_t>(s.index)])}});
-        }
-        j["streams"] = streams;
-        if (depth != nullptr)
-            j["depth_metadata"] = {{"near_m", depth->depth.nearMetres},
-                                   {"far_m", depth->depth.farMetres},
-                                   {"mapping", depth->depth.mapping},
-                                   {"bits", depth->depth.bits}};
-        else
-            j["depth_metadata"] = nullptr;
-        j["pairing"] = {{"color_frames", census.colorFrames},
-                        {"color_with_depth_partner", census.colorWithPartner},
-                        {"color_without_depth_partner", unpairedColor},
-                        {"depth_reused", census.stats.depthDuplicated},
-                        {"depth_missing", census.stats.depthMissing},
-                        {"depth_unpaired", census.stats.depthUnpaired},
-                        {"pts_gaps", census.stats.ptsGaps},
-                        {"pts_duplicates", census.stats.ptsDuplicates},
-                        {"every_color_frame_paired", everyPaired}};
-        j["notes"] = roles.notes;
-        if (opt.decode)
-            j["decode"] = decodeJson;
-        std::printf("%s\n", j.dump(2).c_str());
-        return kExitOk;
-    }
-
-    std::printf("%s: %zu video stream%s, %.3f s\n", opt.file.c_str(), info.streams.size(),
-                info.streams.size() == 1 ? "" : "s", platform::toSeconds(info.duration));
-    for (const hal::StreamInfo &s : info.streams) {
-        const StreamCount &c = counts[static_cast<std::size_t>(s.index)];
-        std::printf("  #%d %-8s %-26s %-6s %dx%d %-8s %s fps, %llu frames (%.3f s)\n", s.index,
-                    s.title.empty() ? "-" : s.title.c_str(), roleOf(s.index).c_str(),
-                    hal::codecName(s.codec), s.width, s.height, hal::pixelFormatName(s.format),
-                    rateText(s.frameRate).c_str(), static_cast<unsigned long long>(c.packets),
-                    platform::toSeconds(spans[static_cast<std::size_t>(s.index)]));
-    }
-    if (depth != nullptr) {
-        const hal::DepthMetadata &m = depth->depth;
-        if (receiver::hasDepthMetadata(m))
-            std::printf("depth metadata: near %g m, far %g m, mapping %s, %d bits\n", m.nearMetres,
-                        m.farMetres, m.mapping.empty() ? "-" : m.mapping.c_str(), m.bits);
-        else
-            std::printf("depth metadata: none\n");
-    }
-    if (roles.color >= 0 && roles.depth >= 0)
-        std::printf("pairing: %llu of %llu color frames have a depth partner within half a frame "
-                    "(%llu without: %llu reuse the previous depth frame, %llu have none); %llu "
-                    "depth frames unpaired; %s\n",
-                    static_cast<unsigned long long>(census.colorWithPartner),
-                    static_cast<unsigned long long>(census.colorFrames),
-                    static_cast<unsigned long long>(unpairedColor),
-                    static_cast<unsigned long long>(census.stats.depthDuplicated),
-                    static_cast<unsigned long long>(census.stats.depthMissing),
-                    static_cast<unsigned long long>(census.stats.depthUnpaired),
-                    everyPaired ? "every color frame is paired"
-                                : "NOT every color frame is paired");
-    else if (roles.depth >= 0)
-        std::printf(
-            "pairing: no color stream (depth only, %llu frames)\n",
-            static_cast<unsigned long long>(counts[static_cast<std::size_t>(roles.depth)].packets));
+    if (opt.json)
+        printJsonReport(opt, rep);
     else
-        std::printf("pairing: no depth stream (color only: plays flat 2D, haptics off)\n");
-    if (census.stats.ptsGaps + census.stats.ptsDuplicates > 0)
-        std::printf("timestamps: %llu gaps, %llu duplicates\n",
-                    static_cast<unsigned long long>(census.stats.ptsGaps),
-                    static_cast<unsigned long long>(census.stats.ptsDuplicates));
-    for (const std::string &n : roles.notes)
-        std::printf("note: %s\n", n.c_str());
-    if (!readError.empty())
-        std::printf("warning: reading stopped after %llu packets: %s (truncated or damaged file)\n",
-                    static_cast<unsigned long long>(packets), readError.c_str());
-    if (opt.decode)
-        std::printf("%s", decodeText.c_str());
+        printTextReport(opt, rep);
     return kExitOk;
 }
 
