@@ -183,13 +183,10 @@ private:
     double lastDraw_ = -1.0;
 };
 
-int runEncode(const EncodeCliOptions &o)
+/// The output, container, color encoder, depth codec, grid and limits. Returns kExitOk, or the exit
+/// code after printing the one error line.
+int setOutputOptions(const EncodeCliOptions &o, media::EncodeOptions &eo)
 {
-    // One error line on bad input: our log stays at errors unless the user asked with DT_LOG.
-    if (std::getenv("DT_LOG") == nullptr)
-        platform::setLogLevel(platform::LogLevel::Error);
-
-    media::EncodeOptions eo;
     eo.output = o.output;
     if (!o.format.empty()) {
         auto c = media::parseContainer(o.format);
@@ -220,6 +217,13 @@ int runEncode(const EncodeCliOptions &o)
     eo.threads = o.threads;
     eo.maxFrames = o.frames;
     eo.maxDuration = o.duration;
+    return kExitOk;
+}
+
+/// The raw depth conversion, the nearness mapping and range, and the enhancement. Returns kExitOk,
+/// or the exit code after printing the one error line.
+int setDepthOptions(const EncodeCliOptions &o, media::EncodeOptions &eo)
+{
     eo.raw.metresPerUnit = o.depthScale;
     if (o.depthSaturation < 1 || o.depthSaturation > 65535)
         return fail(kExitBadInput, "--depth-saturation must be in 1..65535");
@@ -234,6 +238,14 @@ int runEncode(const EncodeCliOptions &o)
         eo.range = depth::DepthRange{*o.nearM, *o.farM};
     eo.enhance = o.enhance;
     eo.enhanceOptions.sampling.tolerance = o.enhanceTolerance;
+    return kExitOk;
+}
+
+/// The checks that need the whole option set: frame rate, the options' own validation, the output
+/// path (before any input is read) and the x264 preset. Returns kExitOk, or the exit code after
+/// printing the one error line.
+int checkEncodeOptions(const EncodeCliOptions &o, const media::EncodeOptions &eo)
+{
     if (!(o.fps >= media::kMinEncodeFps) || o.fps > media::kMaxEncodeFps)
         return fail(kExitBadInput, "--fps must be in 0.1..1000 frames/s");
     if (auto v = eo.validate(); !v)
@@ -252,41 +264,141 @@ int runEncode(const EncodeCliOptions &o)
         presetOk = presetOk || o.preset == p;
     if (!presetOk)
         return fail(kExitBadInput, "--preset must be an x264 preset (ultrafast ... veryslow)");
+    return kExitOk;
+}
 
-    // One set of providers for both inputs: `synthetic:NAME` color and depth share one renderer,
-    // `v4l2:DEVICE` color and depth one camera.
-    const media::SourceProviders providers = makeSourceProviders();
-    const auto open = [&o, &providers](const std::string &role, const std::string &spec, double fps,
-                                       const std::string &format, const std::string &videoSize,
-                                       const std::string &pixFmt,
-                                       std::string &error) -> std::unique_ptr<NamedSource> {
-        media::SourceOptions so;
-        so.fps = fps;
-        so.format = format;
-        so.videoSize = videoSize;
-        so.pixelFormat = pixFmt;
-        so.loop = o.loop;
-        so.streamTitle = role; // a DepthTouch file gives its color or depth stream
-        auto s = media::openFrameSource(spec, so, providers);
-        if (!s) {
-            error = "cannot open " + role + " input '" + spec + "': " + describe(s.error());
-            return nullptr;
-        }
-        return std::make_unique<NamedSource>(role, spec, std::move(*s));
-    };
-    std::string error;
+/// How one input is opened: its role ("color" or "depth"), spec and forced demuxer settings.
+struct InputSpec {
+    const char *role;
+    const std::string &spec;
+    const std::string &format;
+    const std::string &videoSize;
+    const std::string &pixFmt;
+};
+
+/// Opens one input; on failure sets `error` to the one error line and returns nullptr.
+std::unique_ptr<NamedSource> openInput(const EncodeCliOptions &o,
+                                       const media::SourceProviders &providers, const InputSpec &in,
+                                       std::string &error)
+{
+    const std::string role = in.role;
+    media::SourceOptions so;
+    so.fps = o.fps;
+    so.format = in.format;
+    so.videoSize = in.videoSize;
+    so.pixelFormat = in.pixFmt;
+    so.loop = o.loop;
+    so.streamTitle = role; // a DepthTouch file gives its color or depth stream
+    auto s = media::openFrameSource(in.spec, so, providers);
+    if (!s) {
+        error = "cannot open " + role + " input '" + in.spec + "': " + describe(s.error());
+        return nullptr;
+    }
+    return std::make_unique<NamedSource>(role, in.spec, std::move(*s));
+}
+
+/// Opens the color input, then (if that opened) the depth input; on failure sets `error`.
+void openInputs(const EncodeCliOptions &o, const media::SourceProviders &providers,
+                std::unique_ptr<NamedSource> &color, std::unique_ptr<NamedSource> &depthSrc,
+                std::string &error)
+{
     // A camera or display backend that fails to open logs why at Error level; the one error line
     // below carries the same reason, so the backends stay quiet while opening (unless DT_LOG).
     const bool quietOpen = std::getenv("DT_LOG") == nullptr;
     if (quietOpen)
         platform::setLogLevel(platform::LogLevel::Off);
-    auto color =
-        open("color", o.color, o.fps, o.colorFormat, o.colorVideoSize, o.colorPixFmt, error);
-    auto depthSrc =
-        color ? open("depth", o.depth, o.fps, o.depthFormat, o.depthVideoSize, o.depthPixFmt, error)
+    color = openInput(o, providers,
+                      {"color", o.color, o.colorFormat, o.colorVideoSize, o.colorPixFmt}, error);
+    depthSrc =
+        color ? openInput(o, providers,
+                          {"depth", o.depth, o.depthFormat, o.depthVideoSize, o.depthPixFmt}, error)
               : nullptr;
     if (quietOpen)
         platform::setLogLevel(platform::LogLevel::Error);
+}
+
+/// The exit code of a failed encode, after its one error line: the input that failed, else the
+/// output (an I/O error: lost output) or the encoder.
+int encodeFailure(const EncodeCliOptions &o, const NamedSource &color, const NamedSource &depthSrc,
+                  const Error &error)
+{
+    if (color.failed())
+        return fail(kExitBadInput, color.message());
+    if (depthSrc.failed())
+        return fail(kExitBadInput, depthSrc.message());
+    const Errc code = error.code;
+    const std::string what = describe(error);
+    // The inputs read fine: an I/O error is the output's, which is lost (exit 1).
+    if (code == Errc::Io)
+        return fail(kExitFailure, "cannot write '" + o.output + "': " + what);
+    return fail(code == Errc::OutOfResources ? kExitFailure : kExitBadInput, what);
+}
+
+/// Prints the enhancement line of the summary.
+void printEnhanceTotals(const media::EnhanceTotals &t)
+{
+    const double scale = 255.0 / t.levelsMax;
+    std::printf(
+        "enhance: %lld frames, points kept %lld of %lld pixels (%.2f %%); depth error "
+        "mean %.3f, rms %.3f, max %.1f levels (8-bit scale); flat roughness %.3f -> "
+        "%.3f; edge contrast %.1f -> %.1f\n",
+        t.frames, t.points, t.pixels,
+        t.pixels > 0 ? 100.0 * static_cast<double>(t.points) / static_cast<double>(t.pixels) : 0.0,
+        t.meanAbsError * scale, t.rmsError * scale, t.maxAbsError * scale, t.roughnessInput * scale,
+        t.roughnessOutput * scale, t.edgeContrastInput * scale, t.edgeContrastOutput * scale);
+}
+
+/// Prints the summary of a finished encode; returns its exit code (kExitInterrupted after a
+/// SIGINT/SIGTERM, with a line on stderr).
+int reportEncode(const EncodeCliOptions &o, const media::EncodeOptions &eo,
+                 const NamedSource &color, const media::EncodeSummary &s)
+{
+    const int w = eo.width > 0 ? eo.width : color.info().width;
+    const int h = eo.height > 0 ? eo.height : color.info().height;
+    std::printf("encoded %lld frame pairs %dx%d (%.2f s of video) in %.2f s: %.1f fps; color %.1f "
+                "kB, depth %.1f kB (%d-bit); ended by %s\n",
+                s.frames, w, h, s.duration, s.elapsed,
+                s.elapsed > 0.0 ? static_cast<double>(s.frames) / s.elapsed : 0.0,
+                static_cast<double>(s.colorBytes) / 1000.0,
+                static_cast<double>(s.depthBytes) / 1000.0, s.depthBits, s.endedBy.c_str());
+    if (s.metric)
+        std::printf("depth: metric, near %.4g m, far %.4g m (%s), %s mapping; %lld invalid samples "
+                    "filled; %lld frames without valid depth repeated\n",
+                    s.range.nearM, s.range.farM, eo.range ? "given" : "robust range of the data",
+                    depth::mappingName(s.mapping), s.filledSamples, s.repeatedFrames);
+    if (s.enhance)
+        printEnhanceTotals(*s.enhance);
+    if (s.interrupted) {
+        std::fprintf(stderr,
+                     "depthtouch encode: interrupted; '%s' holds the %lld frame pairs "
+                     "encoded and is complete\n",
+                     o.output.c_str(), s.frames);
+        return kExitInterrupted;
+    }
+    return kExitOk;
+}
+
+int runEncode(const EncodeCliOptions &o)
+{
+    // One error line on bad input: our log stays at errors unless the user asked with DT_LOG.
+    if (std::getenv("DT_LOG") == nullptr)
+        platform::setLogLevel(platform::LogLevel::Error);
+
+    media::EncodeOptions eo;
+    if (const int rc = setOutputOptions(o, eo); rc != kExitOk)
+        return rc;
+    if (const int rc = setDepthOptions(o, eo); rc != kExitOk)
+        return rc;
+    if (const int rc = checkEncodeOptions(o, eo); rc != kExitOk)
+        return rc;
+
+    // One set of providers for both inputs: `synthetic:NAME` color and depth share one renderer,
+    // `v4l2:DEVICE` color and depth one camera.
+    const media::SourceProviders providers = makeSourceProviders();
+    std::unique_ptr<NamedSource> color;
+    std::unique_ptr<NamedSource> depthSrc;
+    std::string error;
+    openInputs(o, providers, color, depthSrc, error);
     if (!color || !depthSrc)
         return fail(kExitBadInput, error);
 
@@ -304,55 +416,9 @@ int runEncode(const EncodeCliOptions &o)
         return media::encodeStreams(*color, *depthSrc, eo, &gStop, callbacks);
     }();
     progress.finish();
-    if (!summary) {
-        if (color->failed())
-            return fail(kExitBadInput, color->message());
-        if (depthSrc->failed())
-            return fail(kExitBadInput, depthSrc->message());
-        const Errc code = summary.error().code;
-        const std::string what = describe(summary.error());
-        // The inputs read fine: an I/O error is the output's, which is lost (exit 1).
-        if (code == Errc::Io)
-            return fail(kExitFailure, "cannot write '" + o.output + "': " + what);
-        return fail(code == Errc::OutOfResources ? kExitFailure : kExitBadInput, what);
-    }
-
-    const media::EncodeSummary &s = *summary;
-    const int w = eo.width > 0 ? eo.width : color->info().width;
-    const int h = eo.height > 0 ? eo.height : color->info().height;
-    std::printf("encoded %lld frame pairs %dx%d (%.2f s of video) in %.2f s: %.1f fps; color %.1f "
-                "kB, depth %.1f kB (%d-bit); ended by %s\n",
-                s.frames, w, h, s.duration, s.elapsed,
-                s.elapsed > 0.0 ? static_cast<double>(s.frames) / s.elapsed : 0.0,
-                static_cast<double>(s.colorBytes) / 1000.0,
-                static_cast<double>(s.depthBytes) / 1000.0, s.depthBits, s.endedBy.c_str());
-    if (s.metric)
-        std::printf("depth: metric, near %.4g m, far %.4g m (%s), %s mapping; %lld invalid samples "
-                    "filled; %lld frames without valid depth repeated\n",
-                    s.range.nearM, s.range.farM, eo.range ? "given" : "robust range of the data",
-                    depth::mappingName(s.mapping), s.filledSamples, s.repeatedFrames);
-    if (s.enhance) {
-        const media::EnhanceTotals &t = *s.enhance;
-        const double scale = 255.0 / t.levelsMax;
-        std::printf("enhance: %lld frames, points kept %lld of %lld pixels (%.2f %%); depth error "
-                    "mean %.3f, rms %.3f, max %.1f levels (8-bit scale); flat roughness %.3f -> "
-                    "%.3f; edge contrast %.1f -> %.1f\n",
-                    t.frames, t.points, t.pixels,
-                    t.pixels > 0
-                        ? 100.0 * static_cast<double>(t.points) / static_cast<double>(t.pixels)
-                        : 0.0,
-                    t.meanAbsError * scale, t.rmsError * scale, t.maxAbsError * scale,
-                    t.roughnessInput * scale, t.roughnessOutput * scale,
-                    t.edgeContrastInput * scale, t.edgeContrastOutput * scale);
-    }
-    if (s.interrupted) {
-        std::fprintf(stderr,
-                     "depthtouch encode: interrupted; '%s' holds the %lld frame pairs "
-                     "encoded and is complete\n",
-                     o.output.c_str(), s.frames);
-        return kExitInterrupted;
-    }
-    return kExitOk;
+    if (!summary)
+        return encodeFailure(o, *color, *depthSrc, summary.error());
+    return reportEncode(o, eo, *color, *summary);
 }
 
 /// `--frames`: a whole number >= 0 (a CLI11 check, so that "1.5" or "-1" is refused at once).
