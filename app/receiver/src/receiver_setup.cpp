@@ -52,8 +52,13 @@ Result<void> Receiver::Impl::setUpStream(Stream &s, int index, PairStream which,
     }
     hal::StreamConfig sc = hal::StreamConfig::fromStream(si);
     sc.kind = depth ? hal::StreamKind::Depth : hal::StreamKind::Color;
-    if (depth && !isGray(sc.format)) // gray H.264 decodes as 4:2:0: its luma is the depth
-        sc.format = si.depth.bits > 8 ? hal::PixelFormat::Gray16 : hal::PixelFormat::Gray8;
+    // Gray H.264 decodes as 4:2:0: its luma is the depth. Depth of 9 to 16 bits comes out as Gray16
+    // (10-bit nearness scaled to the full 16-bit range), the format the player, the stereo renderer
+    // and the haptic renderer read.
+    if (depth && (!isGray(sc.format) || sc.format == hal::PixelFormat::Gray10))
+        sc.format = si.depth.bits > 8 || sc.format == hal::PixelFormat::Gray10
+                        ? hal::PixelFormat::Gray16
+                        : hal::PixelFormat::Gray8;
     if (!depth && sc.format == hal::PixelFormat::Unknown)
         sc.format = hal::PixelFormat::Yuv420p;
 

@@ -168,6 +168,27 @@ void copyGray16Swapped(const AVFrame &src, const hal::ImageView &dst) noexcept
 
 constexpr bool kBigEndianHost = AV_PIX_FMT_GRAY16 == AV_PIX_FMT_GRAY16BE;
 
+/// Luma of 10-bit samples into 16-bit Gray16 with the full range kept: v·65535/1023 by bit
+/// replication ((v << 6) | (v >> 4): 0 → 0, 1023 → 65535), byte-swapped when \a swapped. Depth
+/// nearness, not video: no limited-range conversion.
+void copyGray10As16(const AVFrame &src, const hal::ImageView &dst, bool swapped) noexcept
+{
+    for (int y = 0; y < dst.height; ++y) {
+        const std::uint8_t *s = src.data[0] + static_cast<std::ptrdiff_t>(y) * src.linesize[0];
+        std::uint8_t *d = dst.row(0, y);
+        for (int x = 0; x < dst.width; ++x) {
+            const auto i = static_cast<std::size_t>(x) * 2u;
+            std::uint16_t raw;
+            std::memcpy(&raw, s + i, sizeof raw);
+            if (swapped)
+                raw = static_cast<std::uint16_t>((raw >> 8) | (raw << 8));
+            const unsigned v = raw & 0x3ffu;
+            const auto wide = static_cast<std::uint16_t>((v << 6) | (v >> 4));
+            std::memcpy(d + i, &wide, sizeof wide);
+        }
+    }
+}
+
 } // namespace
 
 Result<void> copyFrame(const AVFrame &src, const hal::ImageView &dst, SwsContextPtr &sws) noexcept
@@ -189,6 +210,11 @@ Result<void> copyFrame(const AVFrame &src, const hal::ImageView &dst, SwsContext
         break;
     case hal::PixelFormat::Gray10:
     case hal::PixelFormat::Gray16:
+        if (isYuvLike(d) && srcBytes == 2 && d->comp[0].depth == 10 &&
+            dst.format == hal::PixelFormat::Gray16) {
+            copyGray10As16(src, dst, srcBe != kBigEndianHost);
+            return ok();
+        }
         if (isYuvLike(d) && srcBytes == 2 &&
             (dst.format == hal::PixelFormat::Gray16 || d->comp[0].depth == 10)) {
             if (srcBe != kBigEndianHost)

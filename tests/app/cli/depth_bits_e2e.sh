@@ -1,0 +1,41 @@
+#!/bin/sh
+# End-to-end: a flat depth picture 1.5 m away (near 1 m, far 3 m) encoded with 8-, 10- and 16-bit
+# depth (H.264 4:0:0 8 and 10 bits, FFV1 16 bits) and played with the simulated hand pressing on it:
+# the finger must rest on the same surface in all three (the proxy's height in the force log, within
+# one 8-bit nearness level, 0.16 mm). Before, 10-bit depth reached the player as 8-bit samples and
+# the surface was 20 mm off.
+# Usage: depth_bits_e2e.sh DEPTHTOUCH   (exit 77 without the ffmpeg CLI)
+exe=$1
+command -v ffmpeg >/dev/null 2>&1 || { echo "SKIP: no ffmpeg CLI"; exit 77; }
+work=$(mktemp -d "${TMPDIR:-/tmp}/dt-depth-bits.XXXXXX") || exit 1
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+ff() { ffmpeg -nostdin -hide_banner -v error -y "$@" </dev/null; }
+
+ff -f lavfi -i testsrc=size=64x48:rate=30:duration=1 -start_number 0 "$work/c-%03d.png" || fail "ffmpeg color"
+ff -f lavfi -i color=c=black:size=64x48:rate=30:duration=1 -vf "format=gray16le,geq=lum='1500'" \
+    -pix_fmt gray16be -start_number 0 "$work/d-%03d.png" || fail "ffmpeg depth"
+
+# The median height of the proxy while in contact (force log column 7: proxy_z, column 11: contact).
+proxy_z() {
+    awk -F, 'NR > 1 && $11 == 1 { print $7 }' "$1" | sort -g | awk '{ v[NR] = $1 } END { if (NR) print v[int((NR + 1) / 2)] }'
+}
+
+for bits in 8 10 16; do
+    "$exe" encode --color "$work/c-%03d.png" --depth "$work/d-%03d.png" -o "$work/d$bits.mkv" \
+        --depth-bits "$bits" --near 1 --far 3 --preset ultrafast >/dev/null 2>"$work/enc$bits.err" ||
+        { cat "$work/enc$bits.err"; fail "encode --depth-bits $bits"; }
+    "$exe" play "$work/d$bits.mkv" --display mock --haptic sim --haptic-options intent=press \
+        --duration 1.2 --force-log "$work/f$bits.csv" >/dev/null 2>"$work/play$bits.err" ||
+        { cat "$work/play$bits.err"; fail "play of the $bits-bit file"; }
+    z=$(proxy_z "$work/f$bits.csv")
+    [ -n "$z" ] || fail "$bits-bit depth: the finger never touched"
+    echo "depth $bits bits: finger rests at z = $z m"
+    eval "z$bits=$z"
+done
+for bits in 10 16; do
+    eval "z=\$z$bits"
+    awk -v a="$z8" -v b="$z" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 0.04 / 255) }' ||
+        fail "$bits-bit depth puts the surface at $z m, 8-bit at $z8 m (more than one 8-bit level apart)"
+done
+echo "PASS"
