@@ -88,12 +88,13 @@ bool parseSize(const std::string &text, int &w, int &h)
     return static_cast<bool>(ss >> w >> x >> h) && x == 'x' && ss.eof() && w >= 16 && h >= 16 &&
            w <= 8192 && h <= 8192 && w % 2 == 0 && h % 2 == 0;
 }
-#endif
 
-int runBenchMedia(const BenchMediaOptions &o)
+using namespace depthtouch::media::bench;
+
+/// Checks the numeric options and parses --sizes. Returns kExitOk, or the exit code after printing
+/// the one error line.
+int checkBenchOptions(const BenchMediaOptions &o, std::vector<std::pair<int, int>> &sizes)
 {
-#if DT_CLI_HAVE_MEDIA_BENCH
-    using namespace depthtouch::media::bench;
     if (o.frames < 2 || o.frames > 10000)
         return fail(kExitBadInput, "--frames must be in 2..10000");
     if (o.runs < 1 || o.runs > 100)
@@ -108,7 +109,6 @@ int runBenchMedia(const BenchMediaOptions &o)
                         "--depth-crfs values must be in 0..51 (lossless is always measured)");
     if (o.presets.empty())
         return fail(kExitBadInput, "--presets needs at least one x264 preset");
-    std::vector<std::pair<int, int>> sizes;
     for (const std::string &s : o.sizes) {
         int w = 0;
         int h = 0;
@@ -118,8 +118,13 @@ int runBenchMedia(const BenchMediaOptions &o)
     }
     if (sizes.empty())
         return fail(kExitBadInput, "--sizes needs at least one size");
+    return kExitOk;
+}
 
-    std::string scene;
+/// Finds the 7-Scenes folder (unless --synthetic: `scene` stays empty). Returns kExitOk, or the
+/// exit code after printing the one error line.
+int findScene(const BenchMediaOptions &o, std::string &scene)
+{
     if (!o.synthetic) {
         std::string data = o.data;
         if (data.empty()) {
@@ -134,30 +139,25 @@ int runBenchMedia(const BenchMediaOptions &o)
                 "no 7-Scenes frames in " + scene +
                     " (set --data or DT_SHARED_DATA, or run on a synthetic clip with --synthetic)");
     }
-    // The figures are the output: backend chatter and the receiver's expected notes (the depth-only
-    // files of the rate sweep) stay quiet unless DT_LOG asks for them.
-    if (std::getenv("DT_LOG") == nullptr)
-        platform::setLogLevel(platform::LogLevel::Error);
+    return kExitOk;
+}
 
-    // Encoded files go to a private scratch folder, removed at the end.
-    std::error_code ec;
-    const std::filesystem::path work =
-        std::filesystem::temp_directory_path(ec) / ("dt-bench-media-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(work, ec);
-    if (ec)
-        return fail(kExitFailure, "cannot create a scratch folder: " + ec.message());
-    struct Cleanup {
-        std::filesystem::path dir;
-        bool keep;
-        ~Cleanup()
-        {
-            std::error_code e;
-            if (!keep)
-                std::filesystem::remove_all(dir, e);
-        }
-    } cleanup{work, o.keepFiles};
+/// Removes the scratch folder when it goes out of scope, unless the files are kept.
+struct ScratchCleanup {
+    std::filesystem::path dir;
+    bool keep;
+    ~ScratchCleanup()
+    {
+        std::error_code e;
+        if (!keep)
+            std::filesystem::remove_all(dir, e);
+    }
+};
 
-    const std::string decoderOptions = "threads=" + std::to_string(o.decodeThreads);
+/// The receiver on the ffmpeg backends, `decodeThreads` decoder threads per stream.
+ReceiverBackends ffmpegBackends(int decodeThreads)
+{
+    const std::string decoderOptions = "threads=" + std::to_string(decodeThreads);
     ReceiverBackends backends;
     backends.makeSource = [] { return drivers::createMediaSource("ffmpeg", hal::BackendConfig{}); };
     backends.makeDecoder = [decoderOptions](const hal::StreamInfo &) {
@@ -166,7 +166,12 @@ int runBenchMedia(const BenchMediaOptions &o)
         return drivers::createVideoDecoder("ffmpeg", c);
     };
     backends.description = "ffmpeg media source + ffmpeg decoders (" + decoderOptions + " each)";
+    return backends;
+}
 
+/// The library's bench options from the command line's, encoding into `work`.
+MediaBenchOptions benchOptions(const BenchMediaOptions &o, const std::filesystem::path &work)
+{
     MediaBenchOptions mo;
     mo.presets = o.presets;
     mo.encodeThreads = o.encodeThreads;
@@ -175,54 +180,82 @@ int runBenchMedia(const BenchMediaOptions &o)
     mo.ratePreset = o.ratePreset;
     mo.workDir = work.string();
     mo.keepFiles = o.keepFiles;
+    return mo;
+}
 
-    MediaBenchReport report;
-    report.backends = backends.description;
-    double load = 0.0;
-    if (getloadavg(&load, 1) == 1)
-        report.loadBefore = load;
-    report.fps = 30.0;
-    for (std::size_t k = 0; k < sizes.size(); ++k) {
-        const auto [w, h] = sizes[k];
-        std::fprintf(stderr, "bench media: loading %dx%d ...\n", w, h);
-        Clip clip;
-        if (o.synthetic) {
-            clip = makeSyntheticClip(w, h, o.frames);
-        } else {
-            auto loaded = loadKitchenClip(scene, o.frames, w, h);
-            if (!loaded)
-                return fail(loaded.error().code == Errc::Io ? kExitBadInput : kExitFailure,
-                            std::string("cannot read the 7-Scenes frames: ") + loaded.error().what);
-            clip = std::move(*loaded);
-        }
-        report.content += (report.content.empty() ? "" : "; ") + clip.description;
-        report.fps = clip.fps;
-        std::fprintf(stderr, "bench media: %dx%d encode per preset, decode + pairing x%d ...\n", w,
-                     h, o.runs);
-        auto rows = measureThroughput(clip, backends, mo);
-        if (!rows)
-            return fail(rows.error().code == Errc::InvalidArgument ? kExitBadInput : kExitFailure,
-                        std::string("throughput at ") + std::to_string(w) + "x" +
-                            std::to_string(h) + ": " + rows.error().what);
-        report.throughput.insert(report.throughput.end(), rows->begin(), rows->end());
-        // Rate against accuracy on the first size (720×486 by default: the paper's frame size).
-        if (k == 0) {
-            std::fprintf(stderr, "bench media: %dx%d depth rate vs accuracy (%zu settings) ...\n",
-                         w, h, o.depthCrfs.size() + 1);
-            auto rate = measureRateAccuracy(clip, backends, mo);
-            if (!rate)
-                return fail(rate.error().code == Errc::InvalidArgument ? kExitBadInput
-                                                                       : kExitFailure,
-                            std::string("rate vs accuracy: ") + rate.error().what);
-            report.rate = std::move(rate->rows);
-            report.rateWidth = w;
-            report.rateHeight = h;
-            report.losslessExact = rate->losslessExact;
-            report.stroke = rate->stroke;
-        }
+/// The clip of one size: synthetic, or the 7-Scenes frames. Returns kExitOk, or the exit code
+/// after printing the one error line.
+int loadClip(const BenchMediaOptions &o, const std::string &scene, int w, int h, Clip &clip)
+{
+    if (o.synthetic) {
+        clip = makeSyntheticClip(w, h, o.frames);
+    } else {
+        auto loaded = loadKitchenClip(scene, o.frames, w, h);
+        if (!loaded)
+            return fail(loaded.error().code == Errc::Io ? kExitBadInput : kExitFailure,
+                        std::string("cannot read the 7-Scenes frames: ") + loaded.error().what);
+        clip = std::move(*loaded);
     }
-    if (getloadavg(&load, 1) == 1)
-        report.loadAfter = load;
+    return kExitOk;
+}
+
+/// Rate against accuracy on one clip, into the report. Returns kExitOk, or the exit code after
+/// printing the one error line.
+int measureRate(const BenchMediaOptions &o, const Clip &clip, int w, int h,
+                const ReceiverBackends &backends, const MediaBenchOptions &mo,
+                MediaBenchReport &report)
+{
+    std::fprintf(stderr, "bench media: %dx%d depth rate vs accuracy (%zu settings) ...\n", w, h,
+                 o.depthCrfs.size() + 1);
+    auto rate = measureRateAccuracy(clip, backends, mo);
+    if (!rate)
+        return fail(rate.error().code == Errc::InvalidArgument ? kExitBadInput : kExitFailure,
+                    std::string("rate vs accuracy: ") + rate.error().what);
+    report.rate = std::move(rate->rows);
+    report.rateWidth = w;
+    report.rateHeight = h;
+    report.losslessExact = rate->losslessExact;
+    report.stroke = rate->stroke;
+    return kExitOk;
+}
+
+/// What every size is measured with.
+struct BenchSetup {
+    const BenchMediaOptions &o;
+    const std::string &scene;
+    const ReceiverBackends &backends;
+    const MediaBenchOptions &mo;
+};
+
+/// Loads the clip of size `k` and measures its throughput, and on the first size also rate against
+/// accuracy, into the report. Returns kExitOk, or the exit code after printing the one error line.
+int measureSize(const BenchSetup &b, std::size_t k, int w, int h, MediaBenchReport &report)
+{
+    const BenchMediaOptions &o = b.o;
+    std::fprintf(stderr, "bench media: loading %dx%d ...\n", w, h);
+    Clip clip;
+    if (const int rc = loadClip(o, b.scene, w, h, clip); rc != kExitOk)
+        return rc;
+    report.content += (report.content.empty() ? "" : "; ") + clip.description;
+    report.fps = clip.fps;
+    std::fprintf(stderr, "bench media: %dx%d encode per preset, decode + pairing x%d ...\n", w, h,
+                 o.runs);
+    auto rows = measureThroughput(clip, b.backends, b.mo);
+    if (!rows)
+        return fail(rows.error().code == Errc::InvalidArgument ? kExitBadInput : kExitFailure,
+                    std::string("throughput at ") + std::to_string(w) + "x" + std::to_string(h) +
+                        ": " + rows.error().what);
+    report.throughput.insert(report.throughput.end(), rows->begin(), rows->end());
+    // Rate against accuracy on the first size (720×486 by default: the paper's frame size).
+    if (k == 0)
+        return measureRate(o, clip, w, h, b.backends, b.mo, report);
+    return kExitOk;
+}
+
+/// Prints the table and writes the CSV/PNG files. Returns the command's exit code.
+int finishReport(const BenchMediaOptions &o, const MediaBenchReport &report,
+                 const std::filesystem::path &work)
+{
     std::printf("\n");
     printReport(report);
     std::string error;
@@ -238,6 +271,48 @@ int runBenchMedia(const BenchMediaOptions &o)
     if (o.keepFiles)
         std::printf("encoded files kept in %s\n", work.c_str());
     return kExitOk;
+}
+#endif
+
+int runBenchMedia(const BenchMediaOptions &o)
+{
+#if DT_CLI_HAVE_MEDIA_BENCH
+    std::vector<std::pair<int, int>> sizes;
+    if (const int rc = checkBenchOptions(o, sizes); rc != kExitOk)
+        return rc;
+    std::string scene;
+    if (const int rc = findScene(o, scene); rc != kExitOk)
+        return rc;
+    // The figures are the output: backend chatter and the receiver's expected notes (the depth-only
+    // files of the rate sweep) stay quiet unless DT_LOG asks for them.
+    if (std::getenv("DT_LOG") == nullptr)
+        platform::setLogLevel(platform::LogLevel::Error);
+
+    // Encoded files go to a private scratch folder, removed at the end.
+    std::error_code ec;
+    const std::filesystem::path work =
+        std::filesystem::temp_directory_path(ec) / ("dt-bench-media-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(work, ec);
+    if (ec)
+        return fail(kExitFailure, "cannot create a scratch folder: " + ec.message());
+    const ScratchCleanup cleanup{work, o.keepFiles};
+
+    const ReceiverBackends backends = ffmpegBackends(o.decodeThreads);
+    const MediaBenchOptions mo = benchOptions(o, work);
+    MediaBenchReport report;
+    report.backends = backends.description;
+    double load = 0.0;
+    if (getloadavg(&load, 1) == 1)
+        report.loadBefore = load;
+    report.fps = 30.0;
+    for (std::size_t k = 0; k < sizes.size(); ++k) {
+        const auto [w, h] = sizes[k];
+        if (const int rc = measureSize({o, scene, backends, mo}, k, w, h, report); rc != kExitOk)
+            return rc;
+    }
+    if (getloadavg(&load, 1) == 1)
+        report.loadAfter = load;
+    return finishReport(o, report, work);
 #else
     (void)o;
     std::fprintf(stderr, "depthtouch bench media: built without FFmpeg (no encoder or decoder)\n");
