@@ -1,7 +1,5 @@
 #include "depthtouch/receiver/decoder_thread.h"
 
-#include <system_error>
-
 #include "depthtouch/platform/log.h"
 
 DT_LOG_CATEGORY(Receiver)
@@ -17,24 +15,26 @@ DecoderThread::~DecoderThread()
 
 Result<void> DecoderThread::start()
 {
-    if (thread_.joinable())
+    if (thread_ && thread_->joinable())
         return unexpected(Errc::InvalidState, "The decoder thread already runs");
     stop_.store(false, std::memory_order_release);
-    try {
-        thread_ = std::thread([this] { run(); });
-    } catch (const std::system_error &) {
-        return unexpected(Errc::OutOfResources, "Failed to create the decoder thread");
+    thread_.emplace(platform::kDecodeThread, platform::kPlainThreadOptions,
+                    [this](platform::StopToken) { run(); });
+    if (auto r = thread_->start(); !r) {
+        thread_.reset();
+        return r;
     }
     return ok();
 }
 
 void DecoderThread::stop() noexcept
 {
-    if (thread_.joinable()) {
+    if (thread_ && thread_->joinable()) {
         stop_.store(true, std::memory_order_release);
         wake();
-        thread_.join();
+        thread_->join();
     }
+    thread_.reset();
     PairedFrame f;
     while (queue_.tryPop(f))
         f = PairedFrame{};

@@ -49,8 +49,8 @@ Snapshotter::~Snapshotter()
         stop_ = true;
     }
     cv_.notify_all();
-    if (writer_.joinable())
-        writer_.join();
+    if (writer_)
+        writer_->join();
 }
 
 Result<void> Snapshotter::write(const Job &job)
@@ -83,6 +83,17 @@ void Snapshotter::writerLoop()
     }
 }
 
+bool Snapshotter::startWriter()
+{
+    if (writer_)
+        return true;
+    writer_.emplace(platform::kSnapshotThread, platform::kPlainThreadOptions,
+                    [this](platform::StopToken) { writerLoop(); });
+    if (auto r = writer_->start(); !r)
+        writer_.reset(); // no thread to be had: this snapshot is written on the calling thread
+    return writer_.has_value();
+}
+
 Result<void> Snapshotter::takeError()
 {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -103,10 +114,13 @@ Result<void> Snapshotter::flush()
 
 Result<std::optional<std::string>> Snapshotter::onFrame(const RenderTarget &target)
 {
-    auto taken = snapshot(target);
     // An earlier snapshot's write error is reported now (this frame's snapshot is taken anyway).
-    if (auto e = takeError(); !e)
-        return unexpected(e.error());
+    // It is taken before this frame's snapshot: the writer thread, already running, may fail this
+    // frame's write before the call returns, and that error belongs to the next call.
+    const Result<void> earlier = takeError();
+    auto taken = snapshot(target);
+    if (!earlier)
+        return unexpected(earlier.error());
     return taken;
 }
 
@@ -132,15 +146,7 @@ Result<std::optional<std::string>> Snapshotter::snapshot(const RenderTarget &tar
     std::string path = job.path;
     {
         std::unique_lock<std::mutex> lock(mutex_);
-        bool writer = writer_.joinable();
-        if (!writer) {
-            try {
-                writer_ = std::thread([this] { writerLoop(); });
-                writer = true;
-            } catch (const std::system_error &) {
-                // No thread to be had: every snapshot is written here.
-            }
-        }
+        const bool writer = startWriter();
         if (writer && queue_.size() < kMaxQueued) {
             queue_.push_back(std::move(job));
             cv_.notify_all();

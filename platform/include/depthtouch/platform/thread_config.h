@@ -9,6 +9,12 @@
 /// handlers (50) and below the kernel's own priority-99 threads (watchdog, migration helpers),
 /// which must not be starved by a runaway user thread.
 ///
+/// Every thread of the product is started from its row (platform::RealtimeThread; the threads that
+/// are not real-time with platform::kPlainThreadOptions), except two: the process's main thread,
+/// which runs the control loop (kControlThread documents it), and the player's asynchronous opener
+/// (app/playback/src/async_opener.*), a detached std::thread per opened clip that must outlive a
+/// player that abandons it, so it is not in the table.
+///
 /// Thread-safety: constant data and reentrant functions. The header is C++17-clean.
 
 #include <cstddef>
@@ -73,6 +79,10 @@ inline constexpr ThreadConfig kRenderThread{"dt-render", SchedPolicy::Other, 0, 
 inline constexpr ThreadConfig kPrepThread{"dt-prep", SchedPolicy::Other, 0, 1024 * 1024};
 /// Encodes the output recording (x264) off the render thread.
 inline constexpr ThreadConfig kRecordThread{"dt-record", SchedPolicy::Other, 0, 2 * 1024 * 1024};
+/// Encodes the snapshots (PNG through FFmpeg's encoder) off the render thread. libavcodec's
+/// encoders want more stack than a small worker's: 4 MiB.
+inline constexpr ThreadConfig kSnapshotThread{"dt-snapshot", SchedPolicy::Other, 0,
+                                              4 * 1024 * 1024};
 /// State machine, remote input and control socket: the process's main thread (not started from the
 /// table; the row documents it and its stack is the process's).
 inline constexpr ThreadConfig kControlThread{"dt-control", SchedPolicy::Other, 0, 512 * 1024};
@@ -81,8 +91,8 @@ inline constexpr ThreadConfig kTelemetryThread{"dt-telemetry", SchedPolicy::Othe
 
 /// Every thread of the product, highest priority first.
 inline constexpr ThreadConfig kThreadTable[] = {
-    kHapticThread, kDecodeThread,  kRenderThread,    kPrepThread,
-    kRecordThread, kControlThread, kTelemetryThread,
+    kHapticThread, kDecodeThread,   kRenderThread,  kPrepThread,
+    kRecordThread, kSnapshotThread, kControlThread, kTelemetryThread,
 };
 
 namespace detail {

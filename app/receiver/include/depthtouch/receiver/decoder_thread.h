@@ -18,9 +18,10 @@
 #include <atomic>
 #include <cstdint>
 #include <mutex>
-#include <thread>
+#include <optional>
 
 #include "depthtouch/platform/macros.h"
+#include "depthtouch/platform/realtime_thread.h"
 #include "depthtouch/platform/result.h"
 #include "depthtouch/platform/spsc_ring.h"
 #include "depthtouch/receiver/receiver.h"
@@ -35,8 +36,8 @@ public:
     explicit DecoderThread(Receiver &receiver) noexcept;
     ~DecoderThread(); ///< stop().
 
-    /// \brief Starts the thread. \return InvalidState when already started; OutOfResources when
-    /// the thread cannot be created.
+    /// \brief Starts the thread from the thread table's kDecodeThread row. \return InvalidState
+    /// when already started; OutOfResources when the thread cannot be created.
     Result<void> start();
     /// \brief Stops and joins the thread and drops the queued frames. Idempotent.
     void stop() noexcept;
@@ -70,7 +71,7 @@ private:
     void publishStats();
 
     Receiver &receiver_;
-    std::thread thread_;
+    std::optional<platform::RealtimeThread> thread_; ///< kDecodeThread, from start().
     platform::SpscRing<PairedFrame, kQueueFrames> queue_;
 
     std::atomic<std::uint32_t> events_{0}; ///< Bumped on poll, seek and stop; waited on.

@@ -16,9 +16,9 @@
 #include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
+#include "depthtouch/platform/realtime_thread.h"
 #include "depthtouch/platform/result.h"
 
 namespace depthtouch::render {
@@ -71,6 +71,8 @@ private:
     };
     Result<std::optional<std::string>> snapshot(const RenderTarget &target);
     void writerLoop();
+    /// Starts the writer thread unless it runs (mutex_ held). \return false: no thread to be had.
+    bool startWriter();
     Result<void> write(const Job &job);
     Result<void> takeError();
 
@@ -86,7 +88,8 @@ private:
     bool busy_ = false;      ///< The writer is writing a job (guarded by mutex_).
     bool stop_ = false;      ///< Guarded by mutex_.
     bool failed_ = false;    ///< A write failed since the last report (guarded by mutex_).
-    std::thread writer_;     ///< Started with the first snapshot.
+    /// The writer thread (kSnapshotThread), started with the first snapshot (guarded by mutex_).
+    std::optional<platform::RealtimeThread> writer_;
 };
 
 } // namespace depthtouch::render
