@@ -364,7 +364,8 @@ TEST(DisciplineTest, hapticThreadNeverAllocatesLocksOrWritesAfterStart)
     (*task)->setEnabled(true);
     const HapticStats mid = (*task)->stats();
     // Unplug, then plug back: the lost path and the reconnection. Each waits for the task to have
-    // seen it (a loaded machine may run the haptic thread late); the 10 s only guards against a hang.
+    // seen it (a loaded machine may run the haptic thread late); the 10 s only guards against a
+    // hang.
     auto waitUntil = [&clock](auto done) {
         const auto deadline = clock.now() + 10s;
         while (!done() && clock.now() < deadline)
@@ -372,7 +373,8 @@ TEST(DisciplineTest, hapticThreadNeverAllocatesLocksOrWritesAfterStart)
         return done();
     };
     sim.disconnect();
-    EXPECT_TRUE(waitUntil([&] { return (*task)->stats().deviceLosses >= 1; })) << "the unplug was not seen";
+    EXPECT_TRUE(waitUntil([&] { return (*task)->stats().deviceLosses >= 1; }))
+        << "the unplug was not seen";
     sim.reconnect();
     EXPECT_TRUE(waitUntil([&] { return (*task)->stats().reconnects >= 1; })) << "no reconnection";
     const std::uint64_t afterReconnect = (*task)->stats().updates;

@@ -138,9 +138,8 @@ TEST(HapticTaskEffectsTest, theDeviceMappingPlacesTheHandleInTheSceneBox)
     drivers::MockHapticDevice mock(rig.clock());
     const platform::TimePoint t0 = rig.clock().now();
     const hal::Vec3 p{0.003, 0.004, -0.002};
-    mock.setWaypoints({{t0, {p.x, p.y, 0.01}, 0},
-                       {t0 + 20ms, {p.x, p.y, 0.01}, 0},
-                       {t0 + 50ms, p, 0}});
+    mock.setWaypoints(
+        {{t0, {p.x, p.y, 0.01}, 0}, {t0 + 20ms, {p.x, p.y, 0.01}, 0}, {t0 + 50ms, p, 0}});
     rig.publishFlat(0.0);
     HapticTaskConfig c = Rig::baseConfig();
     c.mapping.scale = 2.0;

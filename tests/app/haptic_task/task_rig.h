@@ -102,7 +102,8 @@ private:
     bool finished_ = false;
 };
 
-inline std::unique_ptr<drivers::SimHapticDevice> makeSim(platform::ManualClock &clock, const char *options)
+inline std::unique_ptr<drivers::SimHapticDevice> makeSim(platform::ManualClock &clock,
+                                                         const char *options)
 {
     hal::BackendConfig cfg;
     cfg.clock = &clock;
@@ -113,7 +114,8 @@ inline std::unique_ptr<drivers::SimHapticDevice> makeSim(platform::ManualClock &
 }
 
 /// Mock fingertip: above the surface, then 5 mm into the flat surface at z = 0 from 50 ms on.
-inline void pressScript(drivers::MockHapticDevice &mock, platform::TimePoint t0, double depth = 0.005)
+inline void pressScript(drivers::MockHapticDevice &mock, platform::TimePoint t0,
+                        double depth = 0.005)
 {
     mock.setWaypoints({{t0, {0.0, 0.0, 0.01}, 0},
                        {t0 + 20ms, {0.0, 0.0, 0.01}, 0},
