@@ -143,6 +143,137 @@ struct VertexStar {
     static constexpr int kStarIndex[2][2][2] = {{{3, 4}, {2, -1}}, {{-1, 5}, {0, 1}}};
 };
 
+/// \brief The nearest triangle one descent step has found so far: where the proxy goes next.
+struct DescentCandidate {
+    TriangleId tri;        ///< Triangle (the current one until a nearer is found).
+    glm::dvec3 point;      ///< Its closest point to the HIP, m.
+    glm::dvec3 v[3];       ///< Its vertices, triangleVertex() order (set with a nearer triangle).
+    TriangleRegion region; ///< The feature \a point lies on.
+    double d;              ///< Squared distance from \a point to the HIP, m².
+};
+
+/// \brief Takes triangle \a tri (vertices \a a, \a b, \a c, closest point \a q on feature \a rg,
+/// at squared distance \a d from the HIP) as \a best when it is nearer by more than \a need asks.
+[[gnu::always_inline]] inline void offerTriangle(DescentCandidate &best, double need,
+                                                 const TriangleId &tri, const glm::dvec3 &q,
+                                                 TriangleRegion rg, double d, const glm::dvec3 &a,
+                                                 const glm::dvec3 &b, const glm::dvec3 &c) noexcept
+{
+    if (d < need && d < best.d) {
+        best.d = d;
+        best.tri = tri;
+        best.point = q;
+        best.region = rg;
+        best.v[0] = a;
+        best.v[1] = b;
+        best.v[2] = c;
+    }
+}
+
+/// \brief The triangle across edge \a region of \a tri (vertices \a cur) and its vertices \a v; the
+/// two on the edge are taken from \a cur, not refetched.
+/// \return false when that edge is on the grid's border (\a v is then not set).
+template <class Surface>
+[[gnu::always_inline]] inline bool
+triangleAcrossEdge(const Surface &surf, int w, int h, const TriangleId &tri, TriangleRegion region,
+                   const glm::dvec3 (&cur)[3], TriangleId &across, glm::dvec3 (&v)[3]) noexcept
+{
+    if (!triangleAcrossEdge(w, h, tri, region, across))
+        return false;
+    int cc[3];
+    int cr[3];
+    for (int k = 0; k < 3; ++k)
+        triangleVertex(tri, k, cc[k], cr[k]);
+    for (int k = 0; k < 3; ++k) {
+        int c = 0;
+        int r = 0;
+        triangleVertex(across, k, c, r);
+        const int same = c == cc[0] && r == cr[0]   ? 0
+                         : c == cc[1] && r == cr[1] ? 1
+                         : c == cc[2] && r == cr[2] ? 2
+                                                    : -1;
+        v[k] = same >= 0 ? cur[same] : surf.vertex(c, r);
+    }
+    return true;
+}
+
+/// \brief The descent step from grid vertex V of \a tri (vertex \a region, at \a at bit for bit;
+/// vertices \a cur): tries the other triangles around V whose closest point can be nearer than V.
+template <class Surface>
+[[gnu::always_inline]] inline void
+tryAroundVertex(const Surface &surf, int w, int h, const TriangleId &tri, const glm::dvec3 &at,
+                TriangleRegion region, const glm::dvec3 (&cur)[3], const glm::dvec3 &hip,
+                double need, DescentCandidate &best) noexcept
+{
+    using Star = VertexStar;
+    const int k = region == TriangleRegion::VertexA ? 0 : region == TriangleRegion::VertexB ? 1 : 2;
+    int vc = 0;
+    int vr = 0;
+    triangleVertex(tri, k, vc, vr);
+    // The current triangle is star triangle i0; its vertices are known already.
+    const int i0 = Star::kStarIndex[tri.c - vc + 1][tri.r - vr + 1][tri.upper];
+    glm::dvec3 ring[7];
+    bool known[7] = {false, false, false, false, false, false, true};
+    ring[6] = at;
+    for (int m = 0; m < 3; ++m) {
+        ring[Star::kTriVerts[i0][m]] = cur[m];
+        known[Star::kTriVerts[i0][m]] = true;
+    }
+    const bool interior = vc >= 1 && vc <= w - 2 && vr >= 1 && vr <= h - 2;
+    const glm::dvec3 toHip = hip - at;
+    // Edges from V and how far the HIP lies along each: g_j = (hip − V)·(X_j − V).
+    glm::dvec3 edge[6]{}; // zero outside the grid (never read there)
+    double along[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    // Unrolled: the star tables then become constants (the step's hottest loops).
+#pragma GCC unroll 6
+    for (int j = 0; j < 6; ++j) {
+        const int c = vc + Star::kRingDc[j];
+        const int r = vr + Star::kRingDr[j];
+        if (!interior && (c < 0 || c >= w || r < 0 || r >= h))
+            continue;
+        if (!known[j])
+            ring[j] = surf.vertex(c, r);
+        edge[j] = ring[j] - at;
+        along[j] = glm::dot(edge[j], toHip);
+    }
+#pragma GCC unroll 6
+    for (int i = 0; i < 6; ++i) {
+        if (i == i0)
+            continue;
+        const TriangleId t{vc + Star::kTriDc[i], vr + Star::kTriDr[i], Star::kTriUpper[i]};
+        if (!interior && (t.c < 0 || t.c > w - 2 || t.r < 0 || t.r > h - 2))
+            continue;
+        const int a = Star::kTriRing[i][0];
+        const int b = Star::kTriRing[i][1];
+        // The HIP behind V along both edges: V is this triangle's closest point.
+        if (!(along[a] > 0.0) && !(along[b] > 0.0))
+            continue;
+        TriangleRegion rg{};
+        const glm::dvec3 q = closestPointOnCorner(at, ring[a], ring[b], edge[a], edge[b], along[a],
+                                                  along[b], Star::kTriPos[i], rg);
+        const glm::dvec3 dq = q - hip;
+        const double d = glm::dot(dq, dq);
+        const int *tv = Star::kTriVerts[i];
+        offerTriangle(best, need, t, q, rg, d, ring[tv[0]], ring[tv[1]], ring[tv[2]]);
+    }
+}
+
+/// \return the active constraint planes where the proxy rests on feature \a region: 1 on a face,
+/// 2 on an edge, 3 at a vertex.
+inline int activeConstraints(TriangleRegion region) noexcept
+{
+    switch (region) {
+    case TriangleRegion::Face:
+        return 1;
+    case TriangleRegion::EdgeAB:
+    case TriangleRegion::EdgeBC:
+    case TriangleRegion::EdgeCA:
+        return 2;
+    default:
+        return 3;
+    }
+}
+
 } // namespace detail
 
 /// \brief Slides the proxy from triangle \a start to the nearest surface point to \a hip.
@@ -158,7 +289,6 @@ struct VertexStar {
 template <class Surface>
 ProxySolution solveProxy(const Surface &surf, const TriangleId &start, const glm::dvec3 &hip) noexcept
 {
-    using Star = detail::VertexStar;
     const int w = surf.columns();
     const int h = surf.rows();
     ProxySolution sol;
@@ -174,132 +304,41 @@ ProxySolution solveProxy(const Surface &surf, const TriangleId &start, const glm
     for (; sol.steps < kMaxProxySteps; ++sol.steps) {
         if (region == TriangleRegion::Face)
             break;
-        TriangleId bestTri = sol.triangle;
-        glm::dvec3 bestPoint = sol.point;
-        glm::dvec3 bestV[3];
-        TriangleRegion bestRegion = region;
-        double bestD = best;
+        detail::DescentCandidate next;
+        next.tri = sol.triangle;
+        next.point = sol.point;
+        next.region = region;
+        next.d = best;
         const double need = best * (1.0 - 1e-12) - tol * tol;
         auto tryTriangle = [&](const TriangleId &tri, const glm::dvec3 &a, const glm::dvec3 &b,
                                const glm::dvec3 &c) {
             TriangleRegion rg{};
             const glm::dvec3 q = closestPointOnTriangle(hip, a, b, c, rg);
             const glm::dvec3 dq = q - hip;
-            const double d = glm::dot(dq, dq);
-            if (d < need && d < bestD) {
-                bestD = d;
-                bestTri = tri;
-                bestPoint = q;
-                bestRegion = rg;
-                bestV[0] = a;
-                bestV[1] = b;
-                bestV[2] = c;
-            }
+            detail::offerTriangle(next, need, tri, q, rg, glm::dot(dq, dq), a, b, c);
         };
         if (region == TriangleRegion::EdgeAB || region == TriangleRegion::EdgeBC ||
             region == TriangleRegion::EdgeCA) {
-            // One candidate: the triangle across the edge; two of its vertices are the edge's.
+            // One candidate: the triangle across the edge.
             TriangleId across{};
-            if (detail::triangleAcrossEdge(w, h, sol.triangle, region, across)) {
-                int cc[3];
-                int cr[3];
-                for (int k = 0; k < 3; ++k)
-                    triangleVertex(sol.triangle, k, cc[k], cr[k]);
-                glm::dvec3 v[3];
-                for (int k = 0; k < 3; ++k) {
-                    int c = 0;
-                    int r = 0;
-                    triangleVertex(across, k, c, r);
-                    const int same = c == cc[0] && r == cr[0]   ? 0
-                                     : c == cc[1] && r == cr[1] ? 1
-                                     : c == cc[2] && r == cr[2] ? 2
-                                                                : -1;
-                    v[k] = same >= 0 ? cur[same] : surf.vertex(c, r);
-                }
+            glm::dvec3 v[3];
+            if (detail::triangleAcrossEdge(surf, w, h, sol.triangle, region, cur, across, v))
                 tryTriangle(across, v[0], v[1], v[2]);
-            }
-        } else {
-            // The proxy is at grid vertex V (sol.point, bit for bit): the other triangles around V.
-            const int k = region == TriangleRegion::VertexA ? 0
-                          : region == TriangleRegion::VertexB ? 1
-                                                              : 2;
-            int vc = 0;
-            int vr = 0;
-            triangleVertex(sol.triangle, k, vc, vr);
-            // The current triangle is star triangle i0; its vertices are known already.
-            const int i0 = Star::kStarIndex[sol.triangle.c - vc + 1][sol.triangle.r - vr + 1]
-                                           [sol.triangle.upper];
-            glm::dvec3 ring[7];
-            bool known[7] = {false, false, false, false, false, false, true};
-            ring[6] = sol.point;
-            for (int m = 0; m < 3; ++m) {
-                ring[Star::kTriVerts[i0][m]] = cur[m];
-                known[Star::kTriVerts[i0][m]] = true;
-            }
-            const bool interior = vc >= 1 && vc <= w - 2 && vr >= 1 && vr <= h - 2;
-            const glm::dvec3 toHip = hip - sol.point;
-            // Edges from V and how far the HIP lies along each: g_j = (hip − V)·(X_j − V).
-            glm::dvec3 edge[6]{}; // zero outside the grid (never read there)
-            double along[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-            // Unrolled: the star tables then become constants (the step's hottest loops).
-#pragma GCC unroll 6
-            for (int j = 0; j < 6; ++j) {
-                const int c = vc + Star::kRingDc[j];
-                const int r = vr + Star::kRingDr[j];
-                if (!interior && (c < 0 || c >= w || r < 0 || r >= h))
-                    continue;
-                if (!known[j])
-                    ring[j] = surf.vertex(c, r);
-                edge[j] = ring[j] - sol.point;
-                along[j] = glm::dot(edge[j], toHip);
-            }
-#pragma GCC unroll 6
-            for (int i = 0; i < 6; ++i) {
-                if (i == i0)
-                    continue;
-                const TriangleId tri{vc + Star::kTriDc[i], vr + Star::kTriDr[i], Star::kTriUpper[i]};
-                if (!interior && (tri.c < 0 || tri.c > w - 2 || tri.r < 0 || tri.r > h - 2))
-                    continue;
-                const int a = Star::kTriRing[i][0];
-                const int b = Star::kTriRing[i][1];
-                // The HIP behind V along both edges: V is this triangle's closest point.
-                if (!(along[a] > 0.0) && !(along[b] > 0.0))
-                    continue;
-                TriangleRegion rg{};
-                const glm::dvec3 q = detail::closestPointOnCorner(sol.point, ring[a], ring[b],
-                                                                  edge[a], edge[b], along[a],
-                                                                  along[b], Star::kTriPos[i], rg);
-                const glm::dvec3 dq = q - hip;
-                const double d = glm::dot(dq, dq);
-                if (d < need && d < bestD) {
-                    bestD = d;
-                    bestTri = tri;
-                    bestPoint = q;
-                    bestRegion = rg;
-                    const int *tv = Star::kTriVerts[i];
-                    bestV[0] = ring[tv[0]];
-                    bestV[1] = ring[tv[1]];
-                    bestV[2] = ring[tv[2]];
-                }
-            }
+        } else { // the proxy is at a grid vertex (sol.point, bit for bit)
+            detail::tryAroundVertex(surf, w, h, sol.triangle, sol.point, region, cur, hip, need,
+                                    next);
         }
-        if (bestTri == sol.triangle)
+        if (next.tri == sol.triangle)
             break;
-        sol.triangle = bestTri;
-        sol.point = bestPoint;
-        region = bestRegion;
-        best = bestD;
-        cur[0] = bestV[0];
-        cur[1] = bestV[1];
-        cur[2] = bestV[2];
+        sol.triangle = next.tri;
+        sol.point = next.point;
+        region = next.region;
+        best = next.d;
+        cur[0] = next.v[0];
+        cur[1] = next.v[1];
+        cur[2] = next.v[2];
     }
-    switch (region) {
-    case TriangleRegion::Face: sol.constraints = 1; break;
-    case TriangleRegion::EdgeAB:
-    case TriangleRegion::EdgeBC:
-    case TriangleRegion::EdgeCA: sol.constraints = 2; break;
-    default: sol.constraints = 3; break;
-    }
+    sol.constraints = detail::activeConstraints(region);
     return sol;
 }
 
