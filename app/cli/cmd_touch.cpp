@@ -376,6 +376,66 @@ private:
     std::deque<Stored> frames_;
 };
 
+/// The depth input as a raw gray file (--size). Returns kExitOk, or the exit code after printing
+/// the one error line.
+int openRawDepth(const TouchOptions &o, std::unique_ptr<haptics::FrameProvider> &frames)
+{
+    using namespace depthtouch::haptics;
+    int w = 0;
+    int h = 0;
+    char x = 0;
+    std::istringstream ss(o.size);
+    if (!(ss >> w >> x >> h) || x != 'x' || w < 2 || h < 2 || !ss.eof())
+        return fail(kExitBadInput, "--size must be WxH with W, H >= 2");
+    if (o.bits != 8 && o.bits != 16)
+        return fail(kExitBadInput, "--bits must be 8 or 16");
+    std::string error;
+    auto bytes = readInput(o.depth, kMaxRawDepthBytes, "depth file", error);
+    if (!bytes)
+        return fail(kExitBadInput, error);
+    auto raw = std::make_unique<RawVideoFrameProvider>(
+        std::move(*bytes), w, h, o.bits == 8 ? SampleFormat::Gray8 : SampleFormat::Gray16, o.fps);
+    if (auto v = raw->validate(); !v)
+        return fail(kExitBadInput, std::string(v.error().what) + " ('" + o.depth + "')");
+    frames = std::move(raw);
+    return kExitOk;
+}
+
+/// The depth input through the ffmpeg backends, with the metric conversion of --near/--far.
+/// Returns kExitOk, or the exit code after printing the one error line.
+int openDecodedDepth(const TouchOptions &o, std::unique_ptr<haptics::FrameProvider> &frames)
+{
+    if (!(o.fps > 0.0) || o.fps > 10'000.0)
+        return fail(kExitBadInput, "--fps must be in (0, 10000]");
+    std::optional<DecodedFrameProvider::Metric> metric;
+    if (o.nearM || o.farM) {
+        if (!o.nearM || !o.farM || !(*o.nearM > 0.0) || !(*o.farM > *o.nearM))
+            return fail(kExitBadInput,
+                        "--near and --far must both be given with 0 < near < far (m)");
+        if (!(o.depthScale > 0.0))
+            return fail(kExitBadInput, "--depth-scale must be positive");
+        auto mapping = depth::parseMapping(o.depthMapping);
+        if (!mapping)
+            return fail(kExitBadInput, "--depth-mapping must be inverse_z or linear");
+        DecodedFrameProvider::Metric m;
+        m.convert.raw.metresPerUnit = o.depthScale;
+        m.convert.mapping = *mapping;
+        m.convert.vmax = 65535.0;
+        m.convert.range = depth::DepthRange{*o.nearM, *o.farM};
+        metric = m;
+    }
+    // The output contract is one error line on bad input: backend selection chatter (Info)
+    // stays quiet unless the user asked for it with DT_LOG.
+    if (std::getenv("DT_LOG") == nullptr)
+        platform::setLogLevel(platform::LogLevel::Warning);
+    auto decoded = std::make_unique<DecodedFrameProvider>();
+    std::string error;
+    if (!decoded->open(o.depth, o.fps, metric, error))
+        return fail(kExitBadInput, error);
+    frames = std::move(decoded);
+    return kExitOk;
+}
+
 int runTouch(const TouchOptions &o)
 {
     using namespace depthtouch::haptics;
@@ -410,55 +470,9 @@ int runTouch(const TouchOptions &o)
 
     // Depth input: a raw gray file with --size, else anything FFmpeg reads.
     std::unique_ptr<FrameProvider> frames;
-    if (!o.size.empty()) {
-        int w = 0;
-        int h = 0;
-        char x = 0;
-        std::istringstream ss(o.size);
-        if (!(ss >> w >> x >> h) || x != 'x' || w < 2 || h < 2 || !ss.eof())
-            return fail(kExitBadInput, "--size must be WxH with W, H >= 2");
-        if (o.bits != 8 && o.bits != 16)
-            return fail(kExitBadInput, "--bits must be 8 or 16");
-        std::string error;
-        auto bytes = readInput(o.depth, kMaxRawDepthBytes, "depth file", error);
-        if (!bytes)
-            return fail(kExitBadInput, error);
-        auto raw = std::make_unique<RawVideoFrameProvider>(
-            std::move(*bytes), w, h, o.bits == 8 ? SampleFormat::Gray8 : SampleFormat::Gray16,
-            o.fps);
-        if (auto v = raw->validate(); !v)
-            return fail(kExitBadInput, std::string(v.error().what) + " ('" + o.depth + "')");
-        frames = std::move(raw);
-    } else {
-        if (!(o.fps > 0.0) || o.fps > 10'000.0)
-            return fail(kExitBadInput, "--fps must be in (0, 10000]");
-        std::optional<DecodedFrameProvider::Metric> metric;
-        if (o.nearM || o.farM) {
-            if (!o.nearM || !o.farM || !(*o.nearM > 0.0) || !(*o.farM > *o.nearM))
-                return fail(kExitBadInput,
-                            "--near and --far must both be given with 0 < near < far (m)");
-            if (!(o.depthScale > 0.0))
-                return fail(kExitBadInput, "--depth-scale must be positive");
-            auto mapping = depth::parseMapping(o.depthMapping);
-            if (!mapping)
-                return fail(kExitBadInput, "--depth-mapping must be inverse_z or linear");
-            DecodedFrameProvider::Metric m;
-            m.convert.raw.metresPerUnit = o.depthScale;
-            m.convert.mapping = *mapping;
-            m.convert.vmax = 65535.0;
-            m.convert.range = depth::DepthRange{*o.nearM, *o.farM};
-            metric = m;
-        }
-        // The output contract is one error line on bad input: backend selection chatter (Info)
-        // stays quiet unless the user asked for it with DT_LOG.
-        if (std::getenv("DT_LOG") == nullptr)
-            platform::setLogLevel(platform::LogLevel::Warning);
-        auto decoded = std::make_unique<DecodedFrameProvider>();
-        std::string error;
-        if (!decoded->open(o.depth, o.fps, metric, error))
-            return fail(kExitBadInput, error);
-        frames = std::move(decoded);
-    }
+    if (const int rc = !o.size.empty() ? openRawDepth(o, frames) : openDecodedDepth(o, frames);
+        rc != kExitOk)
+        return rc;
 
     std::string readError;
     auto trajBytes = readInput(o.trajectory, kMaxTrajectoryBytes, "trajectory", readError);
