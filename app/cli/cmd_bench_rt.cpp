@@ -88,22 +88,29 @@ private:
     std::thread thread_;
 };
 
-int runBenchRt(const BenchRtOptions &o)
+using namespace depthtouch::haptic_task::bench;
+
+/// Checks --duration, --rates and --load-threads; prints the one error line when they are off.
+bool checkRates(const BenchRtOptions &o)
 {
-    using namespace depthtouch::haptic_task::bench;
-    RtBenchOptions opt;
     if (!(o.duration > 0.0 && o.duration <= 600.0) || o.rates.empty() || o.loadThreads < 1 ||
         o.loadThreads > 64) {
         std::fprintf(stderr, "depthtouch bench rt: --duration must be in (0, 600] s, --rates not "
                              "empty, --load-threads in 1..64\n");
-        return kExitBadInput;
+        return false;
     }
     for (const double r : o.rates) {
         if (!(r >= 100.0 && r <= 10000.0)) {
             std::fprintf(stderr, "depthtouch bench rt: --rates must be in [100, 10000] Hz\n");
-            return kExitBadInput;
+            return false;
         }
     }
+    return true;
+}
+
+/// The scheduling policies of --policies; prints the one error line when it names none.
+bool setPolicies(const BenchRtOptions &o, RtBenchOptions &opt)
+{
     opt.policies.clear();
     if (o.policies.find("fifo") != std::string::npos)
         opt.policies.push_back(platform::SchedPolicy::Fifo);
@@ -111,17 +118,20 @@ int runBenchRt(const BenchRtOptions &o)
         opt.policies.push_back(platform::SchedPolicy::Other);
     if (opt.policies.empty()) {
         std::fprintf(stderr, "depthtouch bench rt: --policies takes fifo, other or fifo,other\n");
-        return kExitBadInput;
+        return false;
     }
-    opt.secondsPerCase = o.duration;
-    opt.ratesHz = o.rates;
-    opt.load = o.load;
-    opt.loadThreads = o.loadThreads;
+    return true;
+}
+
+/// With --load-clip, the load is the player playing that clip; prints the one error line when the
+/// clip does not exist.
+bool setLoadClip(const BenchRtOptions &o, RtBenchOptions &opt)
+{
     if (!o.loadClip.empty()) {
         if (!std::filesystem::exists(o.loadClip)) {
             std::fprintf(stderr, "depthtouch bench rt: no clip '%s' for --load-clip\n",
                          o.loadClip.c_str());
-            return kExitBadInput;
+            return false;
         }
         opt.load = true;
         const std::string clip = o.loadClip;
@@ -131,14 +141,20 @@ int runBenchRt(const BenchRtOptions &o)
             return load;
         };
     }
-    // Check the device options once, before minutes of measuring.
+    return true;
+}
+
+/// Checks the device options once, before minutes of measuring, and sets how each case makes its
+/// device; prints the one error line when the device cannot be made.
+bool setDevice(const BenchRtOptions &o, RtBenchOptions &opt)
+{
     hal::BackendConfig cfg;
     cfg.clock = &platform::SteadyClock::instance();
     cfg.options = hal::OptionList(o.hapticOptions);
     hal::SelectionReport report;
     if (auto probe = drivers::createHapticDevice(o.haptic, cfg, &report); !probe) {
         std::fprintf(stderr, "depthtouch bench rt: %s\n", report.message.c_str());
-        return kExitBadInput;
+        return false;
     }
     opt.makeDevice = [o]() {
         hal::BackendConfig c;
@@ -146,17 +162,27 @@ int runBenchRt(const BenchRtOptions &o)
         c.options = hal::OptionList(o.hapticOptions);
         return drivers::createHapticDevice(o.haptic, c);
     };
-    opt.progress = [](const std::string &line) {
-        std::printf("%s\n", line.c_str());
-        std::fflush(stdout);
-    };
-    const std::size_t cases = o.rates.size() * opt.policies.size() * 2 * (opt.load ? 2 : 1);
-    std::printf("depthtouch bench rt: %zu cases of %.1f s (haptic device %s)\n", cases, o.duration,
-                o.haptic.c_str());
-    if (o.runs < 1 || o.runs > 50) {
-        std::fprintf(stderr, "depthtouch bench rt: --runs must be in 1..50\n");
-        return kExitBadInput;
+    return true;
+}
+
+/// Prints each goal's median ratio over the runs (with its range) and whether it is met.
+void printGoalMedians(int runs, std::map<std::string, std::vector<double>> &ratios,
+                      std::map<std::string, double> &goals)
+{
+    std::printf("\ngoals, median over %d runs (min .. max):\n", runs);
+    for (auto &[label, v] : ratios) {
+        std::sort(v.begin(), v.end());
+        const std::size_t n = v.size();
+        const double median = n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+        std::printf("  %-40s %.2f (%.2f .. %.2f; goal <= %.2f): %s\n", label.c_str(), median,
+                    v.front(), v.back(), goals[label], median <= goals[label] ? "met" : "NOT met");
     }
+}
+
+/// Measures every case --runs times, printing each run's report (and, over several runs, the goals'
+/// medians); returns every run's cases and the first run's task error.
+RtBenchReport measureRuns(const BenchRtOptions &o, const RtBenchOptions &opt)
+{
     // Each run measures every case once; the goals compare figures of the same run, and over
     // several runs their medians are what counts on a shared, noisy machine.
     RtBenchReport result;
@@ -176,17 +202,34 @@ int runBenchRt(const BenchRtOptions &o)
         for (RtCase &c : one.cases)
             result.cases.push_back(std::move(c));
     }
-    if (o.runs > 1) {
-        std::printf("\ngoals, median over %d runs (min .. max):\n", o.runs);
-        for (auto &[label, v] : ratios) {
-            std::sort(v.begin(), v.end());
-            const std::size_t n = v.size();
-            const double median = n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-            std::printf("  %-40s %.2f (%.2f .. %.2f; goal <= %.2f): %s\n", label.c_str(), median,
-                        v.front(), v.back(), goals[label],
-                        median <= goals[label] ? "met" : "NOT met");
-        }
+    if (o.runs > 1)
+        printGoalMedians(o.runs, ratios, goals);
+    return result;
+}
+
+int runBenchRt(const BenchRtOptions &o)
+{
+    RtBenchOptions opt;
+    if (!checkRates(o) || !setPolicies(o, opt))
+        return kExitBadInput;
+    opt.secondsPerCase = o.duration;
+    opt.ratesHz = o.rates;
+    opt.load = o.load;
+    opt.loadThreads = o.loadThreads;
+    if (!setLoadClip(o, opt) || !setDevice(o, opt))
+        return kExitBadInput;
+    opt.progress = [](const std::string &line) {
+        std::printf("%s\n", line.c_str());
+        std::fflush(stdout);
+    };
+    const std::size_t cases = o.rates.size() * opt.policies.size() * 2 * (opt.load ? 2 : 1);
+    std::printf("depthtouch bench rt: %zu cases of %.1f s (haptic device %s)\n", cases, o.duration,
+                o.haptic.c_str());
+    if (o.runs < 1 || o.runs > 50) {
+        std::fprintf(stderr, "depthtouch bench rt: --runs must be in 1..50\n");
+        return kExitBadInput;
     }
+    RtBenchReport result = measureRuns(o, opt);
     std::string error;
     std::string note;
     if (!writeRtBenchOutputs(result, o.out, error, note)) {
