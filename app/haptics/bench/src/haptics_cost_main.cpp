@@ -24,6 +24,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -46,56 +47,67 @@
 using namespace depthtouch::haptics;
 using namespace depthtouch::haptics::bench;
 
-int main(int argc, char **argv)
-{
+namespace {
+
+/// The command line, checked.
+struct CostArgs {
     Method method = Method::Modified;
+    int w = 0;
+    int h = 0;
+    double speed = 0.0;
+    long updates = 3000;
+    long repeats = 0;
+};
+
+/// Parses the command line; prints what is wrong and returns nothing on bad arguments.
+std::optional<CostArgs> parseArgs(int argc, char **argv)
+{
+    CostArgs args;
     if (argc >= 3 && std::string_view(argv[1]) == "--method") {
         const auto m = parseMethod(argv[2]);
         if (!m || (*m != Method::Modified && *m != Method::Finger)) {
             std::fprintf(stderr, "haptics_cost: --method must be modified or finger\n");
-            return 2;
+            return std::nullopt;
         }
-        method = *m;
+        args.method = *m;
         argc -= 2;
         argv += 2;
     }
     if (argc < 4 || argc > 6) {
         std::fprintf(stderr, "usage: haptics_cost [--method finger|modified] WIDTH HEIGHT SPEED_M_PER_S "
                              "[UPDATES [REPEATS]]\n");
-        return 2;
+        return std::nullopt;
     }
-    const int w = std::atoi(argv[1]);
-    const int h = std::atoi(argv[2]);
-    const double speed = std::atof(argv[3]);
-    const long updates = argc >= 5 ? std::atol(argv[4]) : 3000;
-    const long repeats = argc == 6 ? std::atol(argv[5]) : 0;
-    if (w < 2 || h < 2 || w > 16384 || h > 16384 || !(speed >= 0.0) || updates < 1 || repeats < 0) {
+    args.w = std::atoi(argv[1]);
+    args.h = std::atoi(argv[2]);
+    args.speed = std::atof(argv[3]);
+    args.updates = argc >= 5 ? std::atol(argv[4]) : 3000;
+    args.repeats = argc == 6 ? std::atol(argv[5]) : 0;
+    if (args.w < 2 || args.h < 2 || args.w > 16384 || args.h > 16384 || !(args.speed >= 0.0) ||
+        args.updates < 1 || args.repeats < 0) {
         std::fprintf(stderr, "haptics_cost: bad arguments\n");
-        return 2;
+        return std::nullopt;
     }
-    const RendererConfig cfg = RendererConfig::forMethod(method);
-    const WaveScenario scene(w, h, cfg.box);
-    auto made = makeRenderer(method, cfg, w, h);
-    if (!made) {
-        std::fprintf(stderr, "haptics_cost: %s\n", made.error().what);
-        return 2;
-    }
-    HapticRenderer &renderer = **made;
-    const auto *grid = dynamic_cast<const ProxyGraphRenderer *>(&renderer);
-    const auto *finger = dynamic_cast<const FingerRenderer *>(&renderer);
-    const std::size_t settle = kSettleUpdates;
-    const std::size_t total = settle + static_cast<std::size_t>(updates);
-    renderer.reset(WaveScenario::hipAtUpdate(speed, 0, settle));
+    return args;
+}
+
+/// Shows the renderer the frame pair around time \p t when it is not the one it holds.
+void showFrames(HapticRenderer &renderer, const WaveScenario &scene, double t, int &current)
+{
+    const int fi = WaveScenario::frameIndexAt(t);
+    if (fi == current)
+        return;
+    current = fi;
+    const DepthFrameView a = scene.frame(fi);
+    const DepthFrameView b = scene.frame(fi + 1);
+    (void)renderer.setFrames(a, &b);
+}
+
+/// What the counted replay adds up over its timed updates.
+struct Tally {
     double errSq = 0.0;
     double checksum = 0.0;
     std::uint64_t hash = 1469598103934665603ull; // FNV-1a over the bits of every proxy and force
-    auto mix = [&hash](const glm::dvec3 &v) {
-        for (int k = 0; k < 3; ++k) {
-            std::uint64_t bits = 0;
-            std::memcpy(&bits, &v[k], sizeof bits);
-            hash = (hash ^ bits) * 1099511628211ull;
-        }
-    };
     long pops = 0;
     long contacts = 0;
     long visited = 0;
@@ -103,18 +115,56 @@ int main(int argc, char **argv)
     long steps = 0;
     int maxVisited = 0;
     int maxSteps = 0;
+
+    void mix(const glm::dvec3 &v)
+    {
+        for (int k = 0; k < 3; ++k) {
+            std::uint64_t bits = 0;
+            std::memcpy(&bits, &v[k], sizeof bits);
+            hash = (hash ^ bits) * 1099511628211ull;
+        }
+    }
+};
+
+/// Adds one timed update's output to the tally.
+void count(Tally &tally, const HapticRenderer &renderer, const HapticOutput &o,
+           const glm::dvec3 &hip, double t, const RendererConfig &cfg)
+{
+    const auto *grid = dynamic_cast<const ProxyGraphRenderer *>(&renderer);
+    const auto *finger = dynamic_cast<const FingerRenderer *>(&renderer);
+    const glm::dvec3 d = o.force - WaveScenario::trueForce(hip, t, cfg);
+    tally.errSq += glm::dot(d, d);
+    tally.checksum += o.force.x + 3.0 * o.force.y + 7.0 * o.force.z;
+    tally.mix(o.proxy);
+    tally.mix(o.force);
+    tally.contacts += o.contact ? 1 : 0;
+    tally.visited += o.cellsVisited;
+    tally.tested += o.cellsTested;
+    tally.steps += o.proxySteps;
+    tally.maxVisited = std::max(tally.maxVisited, o.cellsVisited);
+    tally.maxSteps = std::max(tally.maxSteps, o.proxySteps);
+    // The finger's surface is a plane fit held within r/4 of the samples (as in the bench).
+    const HeightField &surf = grid != nullptr ? grid->surface() : finger->surface();
+    const double slack = finger != nullptr ? 0.25 * finger->radius() : 1e-6 * surf.spacing();
+    if (surf.contains(o.proxy.x, o.proxy.y) &&
+        o.proxy.z < surf.heightAt(o.proxy.x, o.proxy.y) - slack)
+        ++tally.pops;
+}
+
+/// Replays the setting once, collecting (under callgrind) and counting only the timed updates.
+Tally replayCounted(const CostArgs &args, const RendererConfig &cfg, const WaveScenario &scene,
+                    HapticRenderer &renderer)
+{
+    const std::size_t settle = kSettleUpdates;
+    const std::size_t total = settle + static_cast<std::size_t>(args.updates);
+    renderer.reset(WaveScenario::hipAtUpdate(args.speed, 0, settle));
+    Tally tally;
     int current = -1;
     DT_CG_START();
     for (std::size_t n = 0; n < total; ++n) {
         const double t = WaveScenario::timeAt(n);
-        const int fi = WaveScenario::frameIndexAt(t);
-        if (fi != current) {
-            current = fi;
-            const DepthFrameView a = scene.frame(fi);
-            const DepthFrameView b = scene.frame(fi + 1);
-            (void)renderer.setFrames(a, &b);
-        }
-        const glm::dvec3 hip = WaveScenario::hipAtUpdate(speed, n, settle);
+        showFrames(renderer, scene, t, current);
+        const glm::dvec3 hip = WaveScenario::hipAtUpdate(args.speed, n, settle);
         const bool timed = n >= settle;
         if (timed)
             DT_CG_TOGGLE();
@@ -123,65 +173,84 @@ int main(int argc, char **argv)
             DT_CG_TOGGLE();
         if (!timed)
             continue;
-        const glm::dvec3 d = o.force - WaveScenario::trueForce(hip, t, cfg);
-        errSq += glm::dot(d, d);
-        checksum += o.force.x + 3.0 * o.force.y + 7.0 * o.force.z;
-        mix(o.proxy);
-        mix(o.force);
-        contacts += o.contact ? 1 : 0;
-        visited += o.cellsVisited;
-        tested += o.cellsTested;
-        steps += o.proxySteps;
-        maxVisited = std::max(maxVisited, o.cellsVisited);
-        maxSteps = std::max(maxSteps, o.proxySteps);
-        // The finger's surface is a plane fit held within r/4 of the samples (as in the bench).
-        const HeightField &surf = grid != nullptr ? grid->surface() : finger->surface();
-        const double slack = finger != nullptr ? 0.25 * finger->radius() : 1e-6 * surf.spacing();
-        if (surf.contains(o.proxy.x, o.proxy.y) && o.proxy.z < surf.heightAt(o.proxy.x, o.proxy.y) - slack)
-            ++pops;
+        count(tally, renderer, o, hip, t, cfg);
     }
-    const double n = static_cast<double>(updates);
-    if (repeats > 0) {
-        std::vector<double> best(static_cast<std::size_t>(updates),
-                                 std::numeric_limits<double>::infinity());
-        for (long k = 0; k < repeats; ++k) {
-            auto again = makeRenderer(method, cfg, w, h);
-            if (!again)
-                return 2;
-            HapticRenderer &timed = **again;
-            timed.reset(WaveScenario::hipAtUpdate(speed, 0, settle));
-            int shown = -1;
-            for (std::size_t i = 0; i < total; ++i) {
-                const double t = WaveScenario::timeAt(i);
-                const int fi = WaveScenario::frameIndexAt(t);
-                if (fi != shown) {
-                    shown = fi;
-                    const DepthFrameView a = scene.frame(fi);
-                    const DepthFrameView b = scene.frame(fi + 1);
-                    (void)timed.setFrames(a, &b);
-                }
-                const glm::dvec3 hip = WaveScenario::hipAtUpdate(speed, i, settle);
-                const auto t0 = std::chrono::steady_clock::now();
-                (void)timed.update(hip, t);
-                const auto t1 = std::chrono::steady_clock::now();
-                if (i >= settle) {
-                    double &b = best[i - settle];
-                    b = std::min(b, std::chrono::duration<double, std::nano>(t1 - t0).count());
-                }
+    return tally;
+}
+
+/// Replays the setting REPEATS times on fresh renderers and keeps each timed update's minimum wall
+/// clock in ns; nothing when a renderer cannot be made.
+std::optional<std::vector<double>> replayTimed(const CostArgs &args, const RendererConfig &cfg,
+                                               const WaveScenario &scene)
+{
+    const std::size_t settle = kSettleUpdates;
+    const std::size_t total = settle + static_cast<std::size_t>(args.updates);
+    std::vector<double> best(static_cast<std::size_t>(args.updates),
+                             std::numeric_limits<double>::infinity());
+    for (long k = 0; k < args.repeats; ++k) {
+        auto again = makeRenderer(args.method, cfg, args.w, args.h);
+        if (!again)
+            return std::nullopt;
+        HapticRenderer &timed = **again;
+        timed.reset(WaveScenario::hipAtUpdate(args.speed, 0, settle));
+        int shown = -1;
+        for (std::size_t i = 0; i < total; ++i) {
+            const double t = WaveScenario::timeAt(i);
+            showFrames(timed, scene, t, shown);
+            const glm::dvec3 hip = WaveScenario::hipAtUpdate(args.speed, i, settle);
+            const auto t0 = std::chrono::steady_clock::now();
+            (void)timed.update(hip, t);
+            const auto t1 = std::chrono::steady_clock::now();
+            if (i >= settle) {
+                double &b = best[i - settle];
+                b = std::min(b, std::chrono::duration<double, std::nano>(t1 - t0).count());
             }
         }
-        std::printf("  wall clock, per-update minimum over %ld repeats: median %.0f ns p99 %.0f ns "
-                    "p99.9 %.0f ns\n",
-                    repeats, depthtouch::platform::percentile(best, 0.5),
-                    depthtouch::platform::percentile(best, 0.99),
-                    depthtouch::platform::percentile(best, 0.999));
     }
+    return best;
+}
+
+/// Prints the setting's counters, accuracy, checksum and bits.
+void report(const CostArgs &args, const Tally &tally)
+{
+    const double n = static_cast<double>(args.updates);
     std::printf("setting %dx%d %g m/s: updates %ld contact %ld rms %.6f N pops %ld checksum %.9e "
                 "bits %016llx\n",
-                w, h, speed, updates, contacts, std::sqrt(errSq / n), pops, checksum,
-                static_cast<unsigned long long>(hash));
-    std::printf("  per update: cells visited %.2f (max %d) tested %.2f, proxy steps %.2f (max %d)\n",
-                static_cast<double>(visited) / n, maxVisited, static_cast<double>(tested) / n,
-                static_cast<double>(steps) / n, maxSteps);
+                args.w, args.h, args.speed, args.updates, tally.contacts,
+                std::sqrt(tally.errSq / n), tally.pops, tally.checksum,
+                static_cast<unsigned long long>(tally.hash));
+    std::printf(
+        "  per update: cells visited %.2f (max %d) tested %.2f, proxy steps %.2f (max %d)\n",
+        static_cast<double>(tally.visited) / n, tally.maxVisited,
+        static_cast<double>(tally.tested) / n, static_cast<double>(tally.steps) / n,
+        tally.maxSteps);
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+    const auto args = parseArgs(argc, argv);
+    if (!args)
+        return 2;
+    const RendererConfig cfg = RendererConfig::forMethod(args->method);
+    const WaveScenario scene(args->w, args->h, cfg.box);
+    auto made = makeRenderer(args->method, cfg, args->w, args->h);
+    if (!made) {
+        std::fprintf(stderr, "haptics_cost: %s\n", made.error().what);
+        return 2;
+    }
+    const Tally tally = replayCounted(*args, cfg, scene, **made);
+    if (args->repeats > 0) {
+        const auto best = replayTimed(*args, cfg, scene);
+        if (!best)
+            return 2;
+        std::printf("  wall clock, per-update minimum over %ld repeats: median %.0f ns p99 %.0f ns "
+                    "p99.9 %.0f ns\n",
+                    args->repeats, depthtouch::platform::percentile(*best, 0.5),
+                    depthtouch::platform::percentile(*best, 0.99),
+                    depthtouch::platform::percentile(*best, 0.999));
+    }
+    report(*args, tally);
     return 0;
 }
