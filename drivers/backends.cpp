@@ -1,6 +1,6 @@
-// The backend tables: the only file that tests the DT_HAVE_* macros (STYLE §2). A real driver adds
-// its row here inside `#if DT_HAVE_<TECH>`, ahead of the mock rows, in the order autoprobe should
-// try.
+// The backend tables: the only file that tests the DT_HAVE_* macros (docs/style.md §2). A real
+// driver adds its row here inside `#if DT_HAVE_<TECH>`, ahead of the mock rows, in the order
+// autoprobe should try.
 #include "depthtouch/drivers/backends.h"
 
 #include "depthtouch/config.h"

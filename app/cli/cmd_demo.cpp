@@ -9,8 +9,8 @@
 /// the surface under the finger beside each force-log row, for the feel figures
 /// (haptics::computeFeel: safety trips, pop-through, phantom force, spikes) and the share of the
 /// contact time spent on the head rather than on the curtain.
-/// Units: s, m, N, scene-box frame (DESIGN.md §3; the player's default box and an identity device
-/// mapping, so the simulated hand's device coordinates are box coordinates).
+/// Units: s, m, N, scene-box frame (docs/architecture.md §3; the player's default box and an
+/// identity device mapping, so the simulated hand's device coordinates are box coordinates).
 
 #include <algorithm>
 #include <array>
@@ -122,7 +122,8 @@ std::string encodeScene(const DemoOptions &o, const std::string &clip)
     return {};
 }
 
-/// One row of the force log (DESIGN.md §4): media time (s), HIP, proxy (m), force (N), flags.
+/// One row of the force log (docs/architecture.md §4): media time (s), HIP, proxy (m), force (N),
+/// flags.
 struct LogRow {
     double t = 0.0;
     double playT = 0.0; ///< Play time, s from the first update (monotonic through loops).

@@ -2,8 +2,9 @@
 /// \brief `depthtouch encode --color SRC --depth SRC -o OUT`: the sender. Reads color and depth
 /// frames (image sequences, video files, anything FFmpeg reads; built-in CG scenes `synthetic:NAME`
 /// and depth cameras `v4l2:DEVICE` through makeSourceProviders()), converts depth to nearness
-/// (DESIGN.md §3), optionally enhances it (paper §V.B) and writes color H.264 + depth 4:0:0 into
-/// one MKV/MP4/MPEG-TS file or stream URL (DESIGN.md §4). The pipeline is media::encodeStreams().
+/// (docs/architecture.md §3), optionally enhances it (paper §V.B) and writes color H.264 + depth
+/// 4:0:0 into one MKV/MP4/MPEG-TS file or stream URL (docs/architecture.md §4). The pipeline is
+/// media::encodeStreams().
 ///
 /// Bad input (missing, unreadable or silent source, no video stream, nonsense options, an output
 /// path that is a directory or in a missing folder) prints one error line and exits 2 without

@@ -1,9 +1,9 @@
 /// \file
-/// \brief `depthtouch play FILE|URL`: the set-top box player (DESIGN.md §1). The backends chosen
-/// here (display, haptic device, decoder, remote) are handed to playback::Playback, driven by the
-/// player::StateMachine; remote keys and the control socket reach the machine through
-/// control::ControlLoop on the main thread. Writes the force log and the stats JSON (DESIGN.md §4)
-/// when asked, and prints a summary.
+/// \brief `depthtouch play FILE|URL`: the set-top box player (docs/architecture.md §1). The
+/// backends chosen here (display, haptic device, decoder, remote) are handed to playback::Playback,
+/// driven by the player::StateMachine; remote keys and the control socket reach the machine through
+/// control::ControlLoop on the main thread. Writes the force log and the stats JSON
+/// (docs/architecture.md §4) when asked, and prints a summary.
 ///
 /// The options are the rows of `play`'s option table (play_options.h); they may also come from a
 /// TOML file (`--config`, play_config.h): keys are the long option names without the dashes

@@ -1,7 +1,8 @@
 /// \file
 /// \brief `depthtouch probe FILE`: what a 3D video holds and whether its color and depth frames
-/// pair (DESIGN §4): the streams, the depth metadata, which stream plays which role and why, and
-/// how many color frames lack a depth partner. Demux only by default (packet PTS, fast); with
+/// pair (docs/architecture.md §4): the streams, the depth metadata, which stream plays which role
+/// and why, and how many color frames lack a depth partner. Demux only by default (packet PTS,
+/// fast); with
 /// --decode it runs the receiver (decode + pairing) and reports its counters too.
 
 #include <algorithm>

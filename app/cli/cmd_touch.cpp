@@ -1,6 +1,6 @@
 /// \file
 /// \brief `depthtouch touch DEPTH --trajectory traj.csv --out forces.csv`: replays a HIP trajectory
-/// against a depth video at the haptic rate and writes the force log CSV (DESIGN.md §4),
+/// against a depth video at the haptic rate and writes the force log CSV (docs/architecture.md §4),
 /// deterministically. Bad input prints one error line and exits 2 without leaving an output file.
 ///
 /// DEPTH is a raw gray file (with --size) or anything FFmpeg reads: a video file, a URL or an image
@@ -8,7 +8,7 @@
 /// stream, its luma when it is YUV) is decoded through the `ffmpeg` media source and decoder
 /// backends; frame times come from the PTS. 16-bit samples are nearness unless --near/--far are
 /// given: then they are metric depth (--depth-scale metres per unit, 0 = invalid), converted to
-/// 16-bit nearness (DESIGN §3) with the holes filled.
+/// 16-bit nearness (docs/architecture.md §3) with the holes filled.
 
 #include <chrono>
 #include <cmath>

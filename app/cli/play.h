@@ -55,7 +55,8 @@ struct PlayOptions {
     bool verbose = false; ///< State changes and the log on stderr (`play` sets the log).
 };
 
-/// \brief What a run of `play` measured: the stats JSON (DESIGN.md §4) and the exit code.
+/// \brief What a run of `play` measured: the stats JSON (docs/architecture.md §4) and the exit
+/// code.
 struct PlayResult {
     int exitCode = 0;
     nlohmann::json stats; ///< Empty when nothing was opened.

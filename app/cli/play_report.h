@@ -1,8 +1,7 @@
 #pragma once
 /// \file
-/// \brief What `depthtouch play` reports at the end of a run: the stats JSON (DESIGN.md §4) and
-/// the summary on stdout.
-/// Thread-safety: main thread only.
+/// \brief What `depthtouch play` reports at the end of a run: the stats JSON (docs/architecture.md
+/// §4) and the summary on stdout. Thread-safety: main thread only.
 
 #include <optional>
 #include <string>

@@ -14,8 +14,8 @@
 /// display of its own. Defaults: 720×486 (or SourceOptions::videoSize), SourceOptions::fps (30),
 /// 4 s of frames (round(4·fps): 120 at 30 fps); `frames=0` or SourceOptions::loop: endless.
 /// The color stream is Rgb24; the depth stream is nearness (nativeFormat Gray8; next(Gray16) gives
-/// the 16-bit nearness the scene computes), inverse-Z mapped (DESIGN §3) between the scene's
-/// near and far planes, which the source's tags carry (depth_near, depth_far, depth_mapping
+/// the 16-bit nearness the scene computes), inverse-Z mapped (docs/architecture.md §3) between the
+/// scene's near and far planes, which the source's tags carry (depth_near, depth_far, depth_mapping
 /// inverse_z) so the encoder writes them to the file. Frame i shows time i / fps and has PTS
 /// i / fps. The color and depth sources of one scene, size and rate opened through the same
 /// SourceProviders share one renderer: each frame is drawn once for both streams.

@@ -1,4 +1,4 @@
-// HapticStats::toJson: the haptic part of the stats JSON (DESIGN.md §4).
+// HapticStats::toJson: the haptic part of the stats JSON (docs/architecture.md §4).
 #include "depthtouch/haptic_task/haptic_task.h"
 
 #include <nlohmann/json.hpp>

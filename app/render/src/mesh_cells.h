@@ -16,7 +16,7 @@ inline int log2i(int v) noexcept
 }
 
 /// Value at (c, r) of the linear triangle surface of the cell (ca..cb, ra..rb) split by its
-/// top-left → bottom-right diagonal (DESIGN.md §3).
+/// top-left → bottom-right diagonal (docs/architecture.md §3).
 inline double cellValue(double z00, double z10, double z11, double z01, double u, double v) noexcept
 {
     if (u >= v)

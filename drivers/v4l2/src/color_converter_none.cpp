@@ -1,5 +1,6 @@
-// Builds without the FFmpeg feature: no YUYV→RGB conversion and no MJPEG decoding (STYLE: no
-// hand-written image code). The camera then offers YUYV color as Yuyv only and refuses MJPEG.
+// Builds without the FFmpeg feature: no YUYV→RGB conversion and no MJPEG decoding (image
+// conversion is left to libswscale and libavcodec). The camera then offers YUYV color as Yuyv only
+// and refuses MJPEG.
 #include "color_converter.h"
 
 namespace depthtouch::drivers::v4l2 {

@@ -38,7 +38,7 @@ struct Frame16 {
     {
     }
 
-    /// Fills z(x, y) sampled on the scene box grid of width \a boxWidth (DESIGN.md §3).
+    /// Fills z(x, y) sampled on the scene box grid of width \a boxWidth (docs/architecture.md §3).
     void fill(const std::function<double(double, double)> &z, double boxWidth = 0.10)
     {
         const double s = boxWidth / (width - 1);

@@ -107,7 +107,7 @@ TEST(HapticTaskTest, simulatedHandRestsOnAStaticSurfaceWithForceEqualToKTimesPen
     EXPECT_EQ(run.stats.updates, 1500u);
     EXPECT_EQ(run.stats.overruns, 0u);
     EXPECT_EQ(run.stats.telemetryDropped, 0u);
-    // AND the force log has the DESIGN.md §4 header and one row per rendered update
+    // AND the force log has the docs/architecture.md §4 header and one row per rendered update
     std::ifstream in(log);
     std::string line;
     ASSERT_TRUE(std::getline(in, line));

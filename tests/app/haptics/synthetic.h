@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// \brief Synthetic depth videos for the haptic tests: frames sampled from analytic surfaces z(x, y, t)
-/// in the scene box (DESIGN.md §3), stored as 16-bit (or 8-bit) nearness.
+/// \brief Synthetic depth videos for the haptic tests: frames sampled from analytic surfaces z(x,
+/// y, t) in the scene box (docs/architecture.md §3), stored as 16-bit (or 8-bit) nearness.
 
 #include <algorithm>
 #include <cmath>
@@ -51,7 +51,7 @@ private:
     std::vector<std::uint8_t> bytes_;
 };
 
-/// x, y (m) of sample (c, r) in a W×H frame over \a box (DESIGN.md §3).
+/// x, y (m) of sample (c, r) in a W×H frame over \a box (docs/architecture.md §3).
 inline double sampleX(const SceneBox &box, int w, int c)
 {
     return (c - 0.5 * (w - 1)) * box.width / (w - 1);

@@ -41,7 +41,8 @@ struct Clip {
     std::string format; ///< libavformat muxer; empty: from the file extension.
     int gop = 10;       ///< Keyframe interval.
 
-    /// The DESIGN §4 layout: titled color (yuv420p H.264) + depth (gray H.264) with metadata.
+    /// The docs/architecture.md §4 layout: titled color (yuv420p H.264) + depth (gray H.264) with
+    /// metadata.
     static Clip standard(int width = 64, int height = 48, int frames = 10, int fps = 30);
 };
 

@@ -342,7 +342,7 @@ double distanceToSurface(const haptics::HeightField &hf, double x, double y, dou
             const double fu = u - c;
             const double fv = v - r;
             for (int upper = 0; upper < 2; ++upper) {
-                // barycentric coordinates in the cell (DESIGN.md §3 diagonal)
+                // barycentric coordinates in the cell (docs/architecture.md §3 diagonal)
                 const double b0 = upper == 0 ? 1.0 - fu : 1.0 - fv;
                 const double b1 = upper == 0 ? fu - fv : fu;
                 const double b2 = upper == 0 ? fv : fv - fu;

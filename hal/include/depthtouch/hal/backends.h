@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// \brief Backend descriptors, the configuration every backend factory receives, and the run-time
-/// selection of a backend from an explicit, ordered table (STYLE §2).
+/// selection of a backend from an explicit, ordered table (docs/style.md §2).
 ///
 /// The tables themselves live in drivers/backends.cpp, the only place that knows which backends
 /// were compiled in. The app asks for a backend by name ("--haptic mock,none") or lets the table

@@ -14,10 +14,10 @@
 /// the camera is unplugged, capture() and start() return Errc::NoDevice; stop() is still allowed.
 ///
 /// Images: depth is Z16 (millimetres along the optical axis, 0 = no measurement) or Gray16 nearness
-/// (DESIGN §3 mapping with CameraConfig near/far); color is Rgb24, Yuyv or Mjpeg as the mode says.
-/// Ownership: a Capture lends pool frames (FrameRef); destroying it returns them. The camera must
-/// outlive every Capture; configure() needs every frame back (Busy otherwise). When the caller
-/// holds every pool frame, the camera drops new frames and capture() returns Busy. Time:
+/// (docs/architecture.md §3 mapping with CameraConfig near/far); color is Rgb24, Yuyv or Mjpeg as
+/// the mode says. Ownership: a Capture lends pool frames (FrameRef); destroying it returns them.
+/// The camera must outlive every Capture; configure() needs every frame back (Busy otherwise). When
+/// the caller holds every pool frame, the camera drops new frames and capture() returns Busy. Time:
 /// Frame::time is the capture time on the backend clock; Frame::pts the time since start();
 /// Frame::sequence counts frames since start(), so a gap means dropped frames.
 /// Thread-safety: thread-bound (the capture thread), except FrameRef release (any thread).

@@ -5,7 +5,8 @@
 ///
 /// Device frame (every position, velocity and force here): right-handed, metres (positions), m/s
 /// (velocities), newtons (forces); origin at the centre of the workspace; x to the user's right, y
-/// up, z toward the user. The app maps it to the scene-box frame of DESIGN §3 (same axes).
+/// up, z toward the user. The app maps it to the scene-box frame of docs/architecture.md §3 (same
+/// axes).
 ///
 /// State machine:
 /// \verbatim

@@ -1,6 +1,7 @@
 #pragma once
 /// \file
-/// \brief MediaSource: a demuxer that reads the color and depth streams of a 3D video (DESIGN §4).
+/// \brief MediaSource: a demuxer that reads the color and depth streams of a 3D video
+/// (docs/architecture.md §4).
 ///
 /// State machine:
 /// \verbatim
@@ -40,8 +41,8 @@ enum class CodecId : std::uint8_t {
 /// \return the codec's name, e.g. "h264" (static string).
 const char *codecName(CodecId codec) noexcept;
 
-/// \brief How the samples of a depth stream map to distance (DESIGN §3, metadata tags depth_near,
-/// depth_far, depth_mapping, depth_bits).
+/// \brief How the samples of a depth stream map to distance (docs/architecture.md §3, metadata tags
+/// depth_near, depth_far, depth_mapping, depth_bits).
 struct DepthMetadata {
     double nearMetres = 0.0; ///< Distance of the maximum nearness value; 0 when not given.
     double farMetres = 0.0;  ///< Distance of nearness 0; 0 when not given.

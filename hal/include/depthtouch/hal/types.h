@@ -115,7 +115,7 @@ struct Rational {
 /// \brief Pixel formats of decoded frames, camera images and display surfaces.
 ///
 /// Multi-byte samples are in host byte order. "Nearness" depth (Gray8/Gray10/Gray16 in a depth
-/// stream) follows DESIGN §3: 0 = farthest, maximum = nearest.
+/// stream) follows docs/architecture.md §3: 0 = farthest, maximum = nearest.
 enum class PixelFormat : std::uint8_t {
     Unknown,
     Gray8,   ///< 1 plane, 8 bits per sample.

@@ -2,7 +2,7 @@
 /// \file
 /// \brief VideoDecoder: turns the packets of one stream into frames lent from a backend-owned pool.
 ///
-/// State machine (STYLE §2):
+/// State machine (docs/style.md §2):
 /// \verbatim
 ///   Closed --configure()--> Configured --queuePacket()--> Running
 ///     ^                       ^   |  ^                      |

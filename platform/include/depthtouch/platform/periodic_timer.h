@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// \brief PeriodicTimer: the fixed-rate wait of a periodic task (the 1 kHz haptic loop), on
-/// absolute deadlines, with overrun re-sync and lock-free statistics (STYLE.md §4.4, §4.6).
+/// absolute deadlines, with overrun re-sync and lock-free statistics (docs/style.md §4.4, §4.6).
 ///
 /// The header is C++17-clean.
 

@@ -1,9 +1,9 @@
 #pragma once
 /// \file
 /// \brief RealtimeThread: a thread started from a ThreadConfig entry with the real-time start-up
-/// order of STYLE.md §4 (lock memory, explicit scheduling attributes, name, affinity, pre-faulted
-/// stack), and the "graceful on host, strict on target" fallback when the kernel refuses
-/// SCHED_FIFO.
+/// order of docs/style.md §4 (lock memory, explicit scheduling attributes, name, affinity,
+/// pre-faulted stack), and the "graceful on host, strict on target" fallback when the kernel
+/// refuses SCHED_FIFO.
 ///
 /// The header is C++17-clean.
 
@@ -45,10 +45,10 @@ struct RealtimeThreadOptions {
     bool requireRt = false;
     /// Call mlockall(MCL_CURRENT) before creating the thread and mlock() its stack (process-wide,
     /// idempotent). Not MCL_FUTURE: everything a real-time thread touches is allocated before it
-    /// starts (STYLE.md), so it is covered, while MCL_FUTURE would make every later mapping of
-    /// other threads (GL driver, decoder pools) fault in and lock all its pages at once under the
-    /// address-space lock: measured with the player on llvmpipe, haptic wake latency p99 1.6 ms
-    /// instead of 0.5 ms, and 480 MB resident instead of 140 MB. Skipped in
+    /// starts (docs/style.md §4.2), so it is covered, while MCL_FUTURE would make every later
+    /// mapping of other threads (GL driver, decoder pools) fault in and lock all its pages at once
+    /// under the address-space lock: measured with the player on llvmpipe, haptic wake latency
+    /// p99 1.6 ms instead of 0.5 ms, and 480 MB resident instead of 140 MB. Skipped in
     /// AddressSanitizer/ThreadSanitizer builds, see memoryLockingAvailable().
     bool lockMemory = true;
     /// CPU to pin the thread to, or -1 to leave the affinity alone.

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// \brief SpscRing: lock-free, wait-free ring buffer for one producer thread and one consumer
-/// thread. The hand-over between the haptic thread and the rest of the stack (STYLE.md §4.5).
+/// thread. The hand-over between the haptic thread and the rest of the stack (docs/style.md §4.5).
 ///
 /// The header is C++17-clean.
 

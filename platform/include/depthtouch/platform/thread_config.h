@@ -5,9 +5,9 @@
 ///
 /// Priorities are relative to sched_get_priority_max(SCHED_FIFO): 0 is the maximum, -1 one below,
 /// and so on, so the table does not depend on the kernel's range. Only the haptic thread is
-/// SCHED_FIFO (DESIGN.md §5, STYLE.md §4.8). It sits at max − 9 (90 on Linux), above threaded IRQ
-/// handlers (50) and below the kernel's own priority-99 threads (watchdog, migration helpers),
-/// which must not be starved by a runaway user thread.
+/// SCHED_FIFO (docs/architecture.md §5, docs/style.md §4.8). It sits at max − 9 (90 on Linux),
+/// above threaded IRQ handlers (50) and below the kernel's own priority-99 threads (watchdog,
+/// migration helpers), which must not be starved by a runaway user thread.
 ///
 /// Every thread of the product is started from its row (platform::RealtimeThread; the threads that
 /// are not real-time with platform::kPlainThreadOptions), except two: the process's main thread,

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// \brief Metric depth (sensor units, e.g. mm) → nearness levels, and back (DESIGN.md §3 "Metric
-/// depth input").
+/// \brief Metric depth (sensor units, e.g. mm) → nearness levels, and back (docs/architecture.md §3
+/// "Metric depth input").
 ///
 /// Nearness v is what the depth stream carries: 0 = far plane, v_max = near plane (255 for 8-bit,
 /// 65535 for 16-bit), brighter is nearer. Two mappings from metric depth Z (metres) with planes

@@ -5,9 +5,9 @@
 /// → re-render of the mesh into a depth map; plus the measures that say what it did (points kept,
 /// error, roughness, edges).
 ///
-/// All depths are nearness levels (0 = far plane, v_max = near plane; DESIGN.md §3) as float;
-/// positions are pixels (column x right, row y down). Level thresholds in the options default to an
-/// 8-bit scale (v_max = 255); use EnhanceOptions::forScale() for 16-bit nearness.
+/// All depths are nearness levels (0 = far plane, v_max = near plane; docs/architecture.md §3) as
+/// float; positions are pixels (column x right, row y down). Level thresholds in the options
+/// default to an 8-bit scale (v_max = 255); use EnhanceOptions::forScale() for 16-bit nearness.
 ///
 /// The mesh is a model of the surface with no more vertices than the error tolerance needs: flat
 /// and planar regions get a few large triangles (their sensor noise disappears), depth edges and

@@ -14,8 +14,8 @@ namespace depthtouch::depth {
 ///
 /// Sample (column x, row y) is `samples[y·width + x]`, x in [0, width), y in [0, height); row 0 is
 /// the top of the image. The unit depends on the use: raw sensor units (e.g. mm) in
-/// `Plane<uint16_t>`, nearness levels (0 = far plane, v_max = near plane, DESIGN.md §3) in
-/// `Plane<float>` or `Plane<uint16_t>`, flags (0/1) in `Plane<uint8_t>`.
+/// `Plane<uint16_t>`, nearness levels (0 = far plane, v_max = near plane, docs/architecture.md §3)
+/// in `Plane<float>` or `Plane<uint16_t>`, flags (0/1) in `Plane<uint8_t>`.
 template <class T> struct Plane {
     int width = 0;
     int height = 0;

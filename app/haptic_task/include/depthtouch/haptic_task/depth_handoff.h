@@ -1,10 +1,10 @@
 #pragma once
 /// \file
-/// \brief DepthHandoff: the lock-free hand-over of depth frames to the haptic thread (DESIGN.md §1
-/// and §5): preallocated frame slots, published as pairs (frame i, frame i+1) for the local surface
-/// interpolation of paper IV.B (Eq. 1). In the player the render thread writes it: when frame i
-/// goes on screen it publishes (depth i, depth i+1) with publishPair(), which copies each new depth
-/// frame once (app/playback, render_loop.cpp).
+/// \brief DepthHandoff: the lock-free hand-over of depth frames to the haptic thread
+/// (docs/architecture.md §1 and §5): preallocated frame slots, published as pairs (frame i, frame
+/// i+1) for the local surface interpolation of paper IV.B (Eq. 1). In the player the render thread
+/// writes it: when frame i goes on screen it publishes (depth i, depth i+1) with publishPair(),
+/// which copies each new depth frame once (app/playback, render_loop.cpp).
 ///
 /// Thread-safety: one writer thread (the player's render thread: beginFrame(), publish(),
 /// publishPair(), push(), finish(), restart(), setMediaOrigin()) and one reader thread (the haptic

@@ -1,14 +1,14 @@
 #pragma once
 /// \file
-/// \brief HapticTask: the real-time haptic servo loop of the receiver (DESIGN.md §1, §5): a
-/// SCHED_FIFO thread that reads the haptic device, maps its position into the scene box, runs the
-/// modified proxy graph renderer (paper IV) against the depth frames of a DepthHandoff, clamps and
-/// rate-limits the force, commands it and pushes one telemetry sample per update; plus the
-/// non-real-time telemetry thread (force log CSV, counters, percentiles) and the device watchdog
-/// with hot-plug recovery.
+/// \brief HapticTask: the real-time haptic servo loop of the receiver (docs/architecture.md §1,
+/// §5): a SCHED_FIFO thread that reads the haptic device, maps its position into the scene box,
+/// runs the modified proxy graph renderer (paper IV) against the depth frames of a DepthHandoff,
+/// clamps and rate-limits the force, commands it and pushes one telemetry sample per update; plus
+/// the non-real-time telemetry thread (force log CSV, counters, percentiles) and the device
+/// watchdog with hot-plug recovery.
 ///
-/// Units and frames: DESIGN.md §3 (metres, seconds, newtons; scene box x right, y up, z toward the
-/// viewer). The device frame has the same axes (hal/haptic_device.h); the mapping is
+/// Units and frames: docs/architecture.md §3 (metres, seconds, newtons; scene box x right, y up, z
+/// toward the viewer). The device frame has the same axes (hal/haptic_device.h); the mapping is
 /// `HIP = scale·p_device + offset`, and the force is sent to the device unchanged (newtons).
 
 #include <atomic>
@@ -77,14 +77,15 @@ struct HapticTaskConfig {
     bool lockMemory = true; ///< mlockall(MCL_CURRENT) before the thread starts (RealtimeThread).
     int cpu = -1;           ///< CPU to pin the haptic thread to, −1: none.
     /// Instrumentation: called on the haptic thread once, before its first update (e.g. a debug
-    /// hook that makes malloc fail loudly on that thread, STYLE.md §4.7). Must be real-time safe.
+    /// hook that makes malloc fail loudly on that thread, docs/style.md §4.7). Must be real-time
+    /// safe.
     void (*threadHook)(void *user) = nullptr;
     void *threadHookUser = nullptr;
     ///@}
 
     /// \name The telemetry thread (SCHED_OTHER, kTelemetryThread; not real-time)
     ///@{
-    /// Force log CSV (DESIGN.md §4) written as the telemetry drains; empty: none.
+    /// Force log CSV (docs/architecture.md §4) written as the telemetry drains; empty: none.
     std::string forceLogPath;
     /// How often the telemetry thread drains the ring and checks the device, ms (1 .. 1000).
     int telemetryIntervalMs = 5;
@@ -122,7 +123,8 @@ struct TelemetrySample {
     std::uint16_t flags = 0;
 };
 
-/// \brief Counters and percentiles of a run (the haptic part of the stats JSON, DESIGN.md §4).
+/// \brief Counters and percentiles of a run (the haptic part of the stats JSON,
+/// docs/architecture.md §4).
 struct HapticStats {
     double servoRateHz = 0.0;
     std::uint64_t updates = 0; ///< Cycles of the haptic loop.

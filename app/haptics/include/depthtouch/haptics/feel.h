@@ -6,7 +6,8 @@
 /// the finger. Used by `depthtouch bench feel`, the demo's summary and the scenario tests.
 ///
 /// Definitions (all per update; thresholds in FeelThresholds):
-/// - **trip**: the renderer's safety released or re-seated the proxy (`released`); it is a *real cut*
+/// - **trip**: the renderer's safety released or re-seated the proxy (`released`); it is a *real
+/// cut*
 ///   when the surface under the proxy moved by more than the cut threshold between the two depth
 ///   frames around that update (`surfaceCut`), else a *false trip*.
 /// - **pop-through**: after the first contact, the HIP is more than `depthMargin` inside the
@@ -16,8 +17,8 @@
 /// - **spike**: |F(n) − F(n−1)| > `spikeStep` in one update, counted while `sliding`.
 /// - **ripple**: RMS of |F| about its mean over the updates marked `held` (HIP still, pressed in),
 ///   also given relative to that mean (the force just-noticeable difference is 5–10 %).
-/// Units: s, m, N (scene-box frame, DESIGN.md §3). Thread-safety: reentrant; allocates (not for the
-/// haptic thread).
+/// Units: s, m, N (scene-box frame, docs/architecture.md §3). Thread-safety: reentrant; allocates
+/// (not for the haptic thread).
 
 #include <cmath>
 #include <cstddef>

@@ -1,32 +1,33 @@
 #pragma once
 /// \file
-/// \brief The fingertip proxy: the modified proxy graph (paper IV) on a surface seen at the scale of
-/// a finger, so that sensor noise, depth quantisation and silhouettes feel as they would to a finger
-/// rather than as the solver's local optima. The player's and `touch`'s default renderer.
+/// \brief The fingertip proxy: the modified proxy graph (paper IV) on a surface seen at the scale
+/// of a finger, so that sensor noise, depth quantisation and silhouettes feel as they would to a
+/// finger rather than as the solver's local optima. The player's and `touch`'s default renderer.
 ///
 /// Why: on real depth video the per-triangle god-object descent (proxy_solver.h) stops in local
 /// optima that noise makes (an 8-bit depth step over a 0.1 m box is as tall as a pixel is wide: the
 /// surface is a staircase of 45° facets), then jumps by millimetres, which the force-jump safety of
 /// paper IV.C reads as a scene cut. A finger touches a patch, not a facet.
 ///
-/// Method, per update (haptic time t, HIP h; DESIGN.md §3 frame, m):
+/// Method, per update (haptic time t, HIP h; docs/architecture.md §3 frame, m):
 /// 1. **Finger-scale surface.** At a point q the surface is the least-squares plane through the
 ///    heights (fix (b): interpolated between frames i and i+1, paper Eq. 1) at the 3×3 points
 ///    q + (i·r, j·r), i, j ∈ {−1, 0, 1}, r = RendererConfig::fingerRadius (a Prewitt stencil): mean
 ///    height S(q), kept within r/4 of the nine heights' median, and slope ∇S(q). Noise at pixel
 ///    scale is averaged; slopes, and so the force's direction, are taken over 2r.
-/// 2. **God-object on that surface** (Zilles & Salisbury 1995): the proxy is the HIP projected on the
-///    plane at q; q moves to the projection's x–y and the plane is refitted, up to kFingerIterations
-///    times, each move at most r (the stencil's reach). In contact q starts at the last proxy, so
-///    the proxy slides continuously and holds against a silhouette wall like a god-object; the
-///    proxy's height is taken on the current surface, so a rising surface lifts it (fix (a)).
-///    The proxy's x–y moves at most as far as the HIP's plus r/4 per update (glide()), so a jump of
-///    the optimum (over a silhouette's edge) is a glide, not a step of the force.
-///    Held against a wall (the proxy more than r to the side of the HIP), the proxy moves to the
-///    surface at the HIP's own x–y when that is nearer: a silhouette's far side is what the camera
-///    did not see, not a wall to be pulled back through (a finger that went under a forearm);
-///    and a HIP that slipped off a steep side's plane while inside the sensor surface (an
-///    object's edge swept over the finger) is held by the surface at its own x–y.
+/// 2. **God-object on that surface** (Zilles & Salisbury 1995): the proxy is the HIP projected on
+/// the
+///    plane at q; q moves to the projection's x–y and the plane is refitted, up to
+///    kFingerIterations times, each move at most r (the stencil's reach). In contact q starts at
+///    the last proxy, so the proxy slides continuously and holds against a silhouette wall like a
+///    god-object; the proxy's height is taken on the current surface, so a rising surface lifts it
+///    (fix (a)). The proxy's x–y moves at most as far as the HIP's plus r/4 per update (glide()),
+///    so a jump of the optimum (over a silhouette's edge) is a glide, not a step of the force. Held
+///    against a wall (the proxy more than r to the side of the HIP), the proxy moves to the surface
+///    at the HIP's own x–y when that is nearer: a silhouette's far side is what the camera did not
+///    see, not a wall to be pulled back through (a finger that went under a forearm); and a HIP
+///    that slipped off a steep side's plane while inside the sensor surface (an object's edge swept
+///    over the finger) is held by the surface at its own x–y.
 /// 3. **Contact.** Free space is what the camera sees in front of the surface: the HIP is free when
 ///    it is above the sensor surface at its own x–y (the unseen side of an object is not a wall to
 ///    be pulled back through) or on the outer side of the proxy's plane. A free HIP comes into
@@ -35,14 +36,17 @@
 ///    silhouette, or the surface jumped onto it: it is *behind* the surface (the camera did not
 ///    see there) and stays free until it is out (paper IV.C's release "may stay inside"). An
 ///    edge met less deep than that is climbed.
-/// 4. **Cuts from the depth itself** (fix (c)): the surface under the proxy, fitted at the same x–y,
-///    moved by more than the cut threshold (HeightField::cutThreshold(), a quarter of the box depth)
-///    since the last update. HeightField holds the vertices that move more than that in one frame,
-///    so only a cut steps; smooth motion is interpolated and moves a thirtieth of it per update.
-///    Release: the proxy goes to the HIP; Ramp: the proxy stays on the new surface and the force
-///    ramps in (ForceStage::shape()). A smaller step (over maxForceStep/(4k): a loop or seek onto
-///    content that moved a little) is no cut: the proxy stays and the change of force is ramped in.
-/// 5. **Force** k·(proxy − HIP) − b·v, shaped by ForceStage::shape() (non-finite → zero, clamp to the
+/// 4. **Cuts from the depth itself** (fix (c)): the surface under the proxy, fitted at the same
+/// x–y,
+///    moved by more than the cut threshold (HeightField::cutThreshold(), a quarter of the box
+///    depth) since the last update. HeightField holds the vertices that move more than that in one
+///    frame, so only a cut steps; smooth motion is interpolated and moves a thirtieth of it per
+///    update. Release: the proxy goes to the HIP; Ramp: the proxy stays on the new surface and the
+///    force ramps in (ForceStage::shape()). A smaller step (over maxForceStep/(4k): a loop or seek
+///    onto content that moved a little) is no cut: the proxy stays and the change of force is
+///    ramped in.
+/// 5. **Force** k·(proxy − HIP) − b·v, shaped by ForceStage::shape() (non-finite → zero, clamp to
+/// the
 ///    device maximum, ramp, slew ≤ maxForceStep per update).
 ///
 /// Cost: 9 height lookups per plane fit, at most 1 + kFingerIterations fits and one raw lookup an

@@ -1,11 +1,12 @@
 #pragma once
 /// \file
-/// \brief The touchable surface: an implicit triangulated height field over the current and the next
-/// buffered depth frame, with local surface interpolation (paper IV.B, Eq. 1; DESIGN.md §3).
+/// \brief The touchable surface: an implicit triangulated height field over the current and the
+/// next buffered depth frame, with local surface interpolation (paper IV.B, Eq. 1;
+/// docs/architecture.md §3).
 ///
-/// No mesh is ever built: a vertex height is computed from the samples only when an update asks for it,
-/// so an update costs the same at 720×486 and at 3840×2160. Thread-safety: thread-bound (the haptic
-/// thread); the frames it views must stay alive and unchanged while they are set.
+/// No mesh is ever built: a vertex height is computed from the samples only when an update asks for
+/// it, so an update costs the same at 720×486 and at 3840×2160. Thread-safety: thread-bound (the
+/// haptic thread); the frames it views must stay alive and unchanged while they are set.
 
 #include <algorithm>
 #include <cmath>
@@ -20,7 +21,8 @@
 
 namespace depthtouch::haptics {
 
-/// \brief One triangle of the grid: cell (c, r) split by the diagonal (c, r)–(c+1, r+1) (DESIGN.md §3).
+/// \brief One triangle of the grid: cell (c, r) split by the diagonal (c, r)–(c+1, r+1)
+/// (docs/architecture.md §3).
 ///
 /// `upper == 0`: vertices (c, r), (c+1, r), (c+1, r+1) — the half where (u − c) ≥ (v − r).
 /// `upper == 1`: vertices (c, r), (c+1, r+1), (c, r+1). Columns/rows are sample indices.
@@ -62,17 +64,17 @@ inline void triangleVertices(const Surface &surf, const TriangleId &tri, glm::dv
 
 /// \brief A W×H height field in the scene box, interpolated in time between two frames.
 ///
-/// Frame (DESIGN.md §3): metres, origin at the box centre, x right, y up, z toward the viewer.
-/// Vertex (c, r) is at `x = (c − (W−1)/2)·s`, `y = ((H−1)/2 − r)·s`, `s = box.width/(W−1)`,
+/// Frame (docs/architecture.md §3): metres, origin at the box centre, x right, y up, z toward the
+/// viewer. Vertex (c, r) is at `x = (c − (W−1)/2)·s`, `y = ((H−1)/2 − r)·s`, `s = box.width/(W−1)`,
 /// `z = (v/v_max − 0.5)·box.depth`. Grid coordinates `u = x/s + (W−1)/2` (column) and
 /// `v = (H−1)/2 − y/s` (row) are used internally.
 ///
 /// Time (paper Eq. 1): after setTime(t, true) a vertex height is `z_i + (z_{i+1} − z_i)·α`,
-/// `α = (t − t_i)/(t_{i+1} − t_i)` clamped to [0, 1]; with setTime(t, false) or no next frame it is z_i
-/// (sample-and-hold). A vertex whose height changes by more than the cut threshold between the two
-/// frames is held at z_i until the frame boundary instead of being interpolated: a scene cut or the
-/// edge of a fast object stays a step that force-jump safety (paper IV.C) can see, rather than a fast
-/// ramp that it cannot tell from a firm stroke.
+/// `α = (t − t_i)/(t_{i+1} − t_i)` clamped to [0, 1]; with setTime(t, false) or no next frame it is
+/// z_i (sample-and-hold). A vertex whose height changes by more than the cut threshold between the
+/// two frames is held at z_i until the frame boundary instead of being interpolated: a scene cut or
+/// the edge of a fast object stays a step that force-jump safety (paper IV.C) can see, rather than
+/// a fast ramp that it cannot tell from a firm stroke.
 class HeightField {
 public:
     HeightField() noexcept = default;

@@ -358,9 +358,9 @@ struct CoarseGrid {
 };
 
 /// \brief A coarser view of a grid surface: every \a stride-th vertex in each direction, the same
-/// triangulation rule (DESIGN.md §3) one level up. A view only: no copy, no allocation; vertex (c, r)
-/// is the fine vertex (c·stride, r·stride), so coarse vertices lie on the fine surface.
-/// Thread-safety: as the fine surface (const use is reentrant).
+/// triangulation rule (docs/architecture.md §3) one level up. A view only: no copy, no allocation;
+/// vertex (c, r) is the fine vertex (c·stride, r·stride), so coarse vertices lie on the fine
+/// surface. Thread-safety: as the fine surface (const use is reentrant).
 template <class Surface>
 class StridedSurface {
 public:

@@ -1,10 +1,11 @@
 #pragma once
 /// \file
 /// \brief Haptic renderers for depth video: the modified proxy graph (paper IV) and, for comparison
-/// only, its baselines (`proxy-graph` = the same class with fixes a–c off, `mesh-bvh` in mesh_bvh.h).
+/// only, its baselines (`proxy-graph` = the same class with fixes a–c off, `mesh-bvh` in
+/// mesh_bvh.h).
 ///
-/// One update per haptic tick: `update(hip, t)` → proxy, force. Units (DESIGN.md §3): m, s, N, N/m,
-/// N·s/m; positions in the scene-box frame (x right, y up, z toward the viewer).
+/// One update per haptic tick: `update(hip, t)` → proxy, force. Units (docs/architecture.md §3): m,
+/// s, N, N/m, N·s/m; positions in the scene-box frame (x right, y up, z toward the viewer).
 /// Thread-safety of every renderer: thread-bound (the haptic thread). update() and setFrames() are
 /// noexcept and never allocate; all memory is taken at construction.
 
@@ -42,8 +43,8 @@ enum class Reengage : std::uint8_t {
 };
 
 /// \brief Renderer parameters. Defaults are the paper's method with its three fixes on
-/// (DESIGN.md §3); `play` differs only in `reengage`, Ramp by default (app/cli play.h); `touch`
-/// keeps Release.
+/// (docs/architecture.md §3); `play` differs only in `reengage`, Ramp by default (app/cli play.h);
+/// `touch` keeps Release.
 struct RendererConfig {
     SceneBox box{};             ///< Scene box the frames fill, m.
     double stiffness = 800.0;   ///< k, N/m (> 0).
@@ -86,7 +87,7 @@ struct RendererConfig {
     [[nodiscard]] Result<void> validate() const noexcept;
 };
 
-/// \brief Result of one haptic update (one force-log row, DESIGN.md §4).
+/// \brief Result of one haptic update (one force-log row, docs/architecture.md §4).
 struct HapticOutput {
     glm::dvec3 hip{};       ///< HIP, m.
     glm::dvec3 proxy{};     ///< Proxy after the update, m.

@@ -1,9 +1,9 @@
 #pragma once
 /// \file
 /// \brief Offline replay of a HIP trajectory against a depth video at the haptic rate (the core of
-/// `depthtouch touch`): the trajectory CSV reader, a frame-provider interface, the deterministic replay
-/// loop and the force-log CSV writer (DESIGN.md §4). Not for the haptic thread: these allocate.
-/// Thread-safety: reentrant functions; a FrameProvider is thread-bound.
+/// `depthtouch touch`): the trajectory CSV reader, a frame-provider interface, the deterministic
+/// replay loop and the force-log CSV writer (docs/architecture.md §4). Not for the haptic thread:
+/// these allocate. Thread-safety: reentrant functions; a FrameProvider is thread-bound.
 
 #include <cstddef>
 #include <cstdint>
@@ -108,7 +108,7 @@ struct ReplayOptions {
     RendererConfig config{};              ///< Its parameters (fix flags used as given).
 };
 
-/// \brief One force-log row (DESIGN.md §4).
+/// \brief One force-log row (docs/architecture.md §4).
 struct ForceLogRow {
     double t = 0.0; ///< Haptic time, s (0 at the first frame).
     HapticOutput out{};

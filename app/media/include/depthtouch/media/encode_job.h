@@ -3,9 +3,9 @@
 /// \brief The sender's pipeline behind `depthtouch encode`: pull paired color and depth frames
 /// from two FrameSources, turn depth into nearness, optionally enhance it (paper §V.B), encode
 /// color H.264 4:2:0 and depth 4:0:0 / gray10 / FFV1 gray16 and mux both into one output
-/// (DESIGN.md §4) with identical PTS for each pair.
+/// (docs/architecture.md §4) with identical PTS for each pair.
 ///
-/// Depth conversion (DESIGN.md §3):
+/// Depth conversion (docs/architecture.md §3):
 ///  - 8-bit depth samples are nearness and pass through (scaled to the output's 2^bits − 1);
 ///    color-format depth inputs give their luma, likewise. Without given planes, the input's own
 ///    depth_near/depth_far/depth_mapping tags (a DepthTouch file) are carried over.
@@ -128,9 +128,10 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
                                     const std::atomic<bool> *stop = nullptr,
                                     const EncodeCallbacks &callbacks = {});
 
-/// \brief The metadata tags of DESIGN.md §4 written on the depth stream and the container:
-/// depth_near and depth_far (metres, "%.6g"; "unknown" when \a range is nullopt, as for 8-bit
-/// nearness inputs given without planes), depth_mapping ("inverse_z" or "linear"), depth_bits.
+/// \brief The metadata tags of docs/architecture.md §4 written on the depth stream and the
+/// container: depth_near and depth_far (metres, "%.6g"; "unknown" when \a range is nullopt, as for
+/// 8-bit nearness inputs given without planes), depth_mapping ("inverse_z" or "linear"),
+/// depth_bits.
 std::vector<std::pair<std::string, std::string>>
 depthTags(const std::optional<depth::DepthRange> &range, depth::DepthMapping mapping, int bits);
 

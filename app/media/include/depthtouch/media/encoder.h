@@ -1,8 +1,8 @@
 #pragma once
 /// \file
-/// \brief The sender's encoders and muxer (DESIGN.md §4): color H.264 4:2:0 and depth H.264 4:0:0
-/// (gray, gray10) or FFV1 gray16, muxed into MKV, MP4 or MPEG-TS, written to a file or to any URL
-/// libavformat can write (udp://, srt://, tcp://…).
+/// \brief The sender's encoders and muxer (docs/architecture.md §4): color H.264 4:2:0 and depth
+/// H.264 4:0:0 (gray, gray10) or FFV1 gray16, muxed into MKV, MP4 or MPEG-TS, written to a file or
+/// to any URL libavformat can write (udp://, srt://, tcp://…).
 ///
 /// Use: Muxer::open() → VideoEncoder::create() once per stream (color first, then depth) →
 /// Muxer::start() → VideoEncoder::encode() per frame → VideoEncoder::flush() each →

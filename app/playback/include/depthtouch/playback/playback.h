@@ -1,10 +1,10 @@
 #pragma once
 /// \file
-/// \brief Playback: the set-top box's player pipeline behind the state machine (DESIGN.md §1 and
-/// §5): receiver (demux → decode → PTS pairing on the decode thread) → depth pairs into the haptic
-/// task's lock-free handoff and color + depth into the stereo renderer on the render thread,
-/// presented on a hal::Display paced by its refresh; the SCHED_FIFO haptic task renders the force
-/// on the same depth frames at the servo rate.
+/// \brief Playback: the set-top box's player pipeline behind the state machine
+/// (docs/architecture.md §1 and §5): receiver (demux → decode → PTS pairing on the decode thread) →
+/// depth pairs into the haptic task's lock-free handoff and color + depth into the stereo renderer
+/// on the render thread, presented on a hal::Display paced by its refresh; the SCHED_FIFO haptic
+/// task renders the force on the same depth frames at the servo rate.
 ///
 /// Timing: the render thread keeps the media clock (FrameClock). When the first frame after open()
 /// or a seek is on screen (after its draw: a preroll), media time = its PTS; frame i is presented

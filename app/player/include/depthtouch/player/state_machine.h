@@ -26,7 +26,7 @@
 ///
 /// Thread-safety: thread-bound (the main thread). Listeners are called synchronously on that
 /// thread; a listener must not send commands from its callback (such a command is refused).
-/// Design: DESIGN.md §5 (main thread), STYLE.md §7.
+/// Design: docs/architecture.md §5 (main thread), docs/style.md §7.
 
 #include <string>
 #include <string_view>

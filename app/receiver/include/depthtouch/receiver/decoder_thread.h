@@ -1,8 +1,8 @@
 #pragma once
 /// \file
 /// \brief DecoderThread: runs a Receiver (demux → decode → pair) on its own normal-priority thread
-/// and hands paired frames to a consumer through a bounded lock-free SPSC queue (DESIGN §5, the
-/// decode thread).
+/// and hands paired frames to a consumer through a bounded lock-free SPSC queue
+/// (docs/architecture.md §5, the decode thread).
 ///
 /// The consumer never blocks: poll() takes a frame or returns false at once. Backpressure blocks
 /// only the decoder thread: with the queue full (or the consumer holding every receiver frame) it

@@ -1,8 +1,8 @@
 #pragma once
 /// \file
 /// \brief PtsPairer: pairs the color and depth frames of a 3D video by presentation time, keeping
-/// the depth frame after the current one buffered (DESIGN §1, §3 "Time"; paper IV.B: the haptic
-/// renderer interpolates the surface between depth frames i and i+1, Eq. 1).
+/// the depth frame after the current one buffered (docs/architecture.md §1, §3 "Time"; paper IV.B:
+/// the haptic renderer interpolates the surface between depth frames i and i+1, Eq. 1).
 ///
 /// Pure logic on (PTS, payload) items: the receiver feeds it decoded frames (payload: FrameHandle),
 /// `depthtouch probe` feeds it packet timestamps (payload: an index). No I/O, no clock.

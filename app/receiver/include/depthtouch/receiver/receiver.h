@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// \brief Receiver: demux → decode → pair by PTS of a color + depth 3D video through the HAL
-/// (DESIGN §1 receiver, up to paired frames).
+/// (docs/architecture.md §1 receiver, up to paired frames).
 ///
 /// The executable creates the HAL objects: a MediaSource and a factory of VideoDecoders (one per
 /// stream); the Receiver opens the input, chooses the color and depth streams (stream_roles.h),

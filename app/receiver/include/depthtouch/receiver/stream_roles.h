@@ -2,13 +2,13 @@
 /// \file
 /// \brief Which video stream of a 3D video is the color video and which the depth video.
 ///
-/// Rules, in order (DESIGN §4): the stream title `color` / `depth` (case-insensitive); then the
-/// depth metadata tags (a stream with depth_near / depth_far / depth_mapping / depth_bits of its
-/// own when not every stream carries them); then a gray pixel format (gray, gray10, gray16: depth);
-/// the first remaining stream is color and, when color is known, the next remaining one is depth
-/// (stream order, reported). A single stream is depth-only or color-only: by the caller's
-/// preference, else depth when gray and color otherwise. Further video streams are ignored
-/// (reported). Thread-safety: reentrant.
+/// Rules, in order (docs/architecture.md §4): the stream title `color` / `depth`
+/// (case-insensitive); then the depth metadata tags (a stream with depth_near / depth_far /
+/// depth_mapping / depth_bits of its own when not every stream carries them); then a gray pixel
+/// format (gray, gray10, gray16: depth); the first remaining stream is color and, when color is
+/// known, the next remaining one is depth (stream order, reported). A single stream is depth-only
+/// or color-only: by the caller's preference, else depth when gray and color otherwise. Further
+/// video streams are ignored (reported). Thread-safety: reentrant.
 
 #include <string>
 #include <vector>

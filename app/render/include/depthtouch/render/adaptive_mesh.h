@@ -1,23 +1,25 @@
 #pragma once
 /// \file
-/// \brief The grid mesh drawn for a depth frame: full resolution, a fixed decimation, or an adaptive
-/// mesh whose level of detail is chosen per tile and per frame from the depth variation inside the
-/// tile, with crack-free tile borders. CPU only (no GL): it produces the triangle list (indices of
-/// full-resolution grid vertices, vertex k = sample (k mod W, k div W)) that the renderer draws with
-/// the heights fetched from the depth texture.
+/// \brief The grid mesh drawn for a depth frame: full resolution, a fixed decimation, or an
+/// adaptive mesh whose level of detail is chosen per tile and per frame from the depth variation
+/// inside the tile, with crack-free tile borders. CPU only (no GL): it produces the triangle list
+/// (indices of full-resolution grid vertices, vertex k = sample (k mod W, k div W)) that the
+/// renderer draws with the heights fetched from the depth texture.
 ///
 /// Tiles and levels: the W−1 × H−1 cells are cut into tiles of T×T cells (T = tileSize, a power of
 /// two; the last row and column of tiles may be smaller). A tile at step s (1, 2, 4, … ≤ T) keeps
-/// the vertices whose column and row offsets inside the tile are multiples of s, plus the tile's last
-/// column and row, and splits each cell by its diagonal from the top-left to the bottom-right corner,
-/// the orientation of DESIGN.md §3 (so step 1 is exactly the haptic renderer's triangulation).
+/// the vertices whose column and row offsets inside the tile are multiples of s, plus the tile's
+/// last column and row, and splits each cell by its diagonal from the top-left to the bottom-right
+/// corner, the orientation of docs/architecture.md §3 (so step 1 is exactly the haptic renderer's
+/// triangulation).
 ///
 /// Level choice (adaptive): the coarsest step whose piecewise-linear surface is within `tolerance`
-/// nearness levels of the tile's samples, borders included: every sample (ErrorCriterion::Max, as in
-/// error-bounded terrain LOD: Lindstrom et al., "Real-time, continuous level of detail rendering of
-/// height fields", SIGGRAPH 1996, here with whole tiles instead of single vertices), or on average
-/// with a cap on the largest error (ErrorCriterion::Mean, the default: real depth carries sensor and
-/// quantisation noise of about a level, which a max bound would follow down to full resolution).
+/// nearness levels of the tile's samples, borders included: every sample (ErrorCriterion::Max, as
+/// in error-bounded terrain LOD: Lindstrom et al., "Real-time, continuous level of detail rendering
+/// of height fields", SIGGRAPH 1996, here with whole tiles instead of single vertices), or on
+/// average with a cap on the largest error (ErrorCriterion::Mean, the default: real depth carries
+/// sensor and quantisation noise of about a level, which a max bound would follow down to full
+/// resolution).
 ///
 /// Quadtree: a tile is one block; a block that does not meet the criterion as two
 /// triangles (its four corners, split by the same diagonal), or is larger than `maxStep`, is split
@@ -27,16 +29,17 @@
 /// always), until the mean error over the blocks' samples is within it (greedy rate-distortion
 /// refinement with one level of look-ahead), so the triangles go where they reduce error most. On
 /// the 7-Scenes kitchen it draws about a quarter fewer triangles than the per-tile choice at the
-/// same mean error; its choice costs more CPU time, but the fewer triangles win on llvmpipe, so it is the default. Flat and planar regions (a plane in the scene is a plane in
-/// nearness, which is affine in 1/Z) become a few large triangles and only the blocks along depth
-/// edges go fine, where a per-tile step must refine the whole tile. A restricted-quadtree LOD
-/// without the restriction: Pajarola, "Large scale terrain visualization using the restricted
-/// quadtree triangulation", IEEE Visualization 1998, with the cracks closed by snapping as below.
+/// same mean error; its choice costs more CPU time, but the fewer triangles win on llvmpipe, so it
+/// is the default. Flat and planar regions (a plane in the scene is a plane in nearness, which is
+/// affine in 1/Z) become a few large triangles and only the blocks along depth edges go fine, where
+/// a per-tile step must refine the whole tile. A restricted-quadtree LOD without the restriction:
+/// Pajarola, "Large scale terrain visualization using the restricted quadtree triangulation", IEEE
+/// Visualization 1998, with the cracks closed by snapping as below.
 ///
-/// Crack-free borders: where a tile meets a coarser neighbour, its border vertices are moved along the
-/// border to the neighbour's vertex at or before them (stitching by vertex snapping); triangles that
-/// collapse are dropped. Both tiles then share the same border vertices (no T-junction), so the
-/// surface is watertight for any step ratio. The stitching strip of the finer tile interpolates
+/// Crack-free borders: where a tile meets a coarser neighbour, its border vertices are moved along
+/// the border to the neighbour's vertex at or before them (stitching by vertex snapping); triangles
+/// that collapse are dropped. Both tiles then share the same border vertices (no T-junction), so
+/// the surface is watertight for any step ratio. The stitching strip of the finer tile interpolates
 /// between the coarse border and its own first inner row; its error is measured, not bounded.
 ///
 /// In quadtree mode the same holds per leaf block: a block's corner on the side of a larger
@@ -196,8 +199,8 @@ private:
 };
 
 /// \brief Measures \a indices (a triangle list over the W×H grid of \a depth) against the samples:
-/// each sample's value on the covering triangle (linear interpolation, DESIGN.md §3) minus its own.
-/// Reentrant; allocates a W×H scratch plane.
+/// each sample's value on the covering triangle (linear interpolation, docs/architecture.md §3)
+/// minus its own. Reentrant; allocates a W×H scratch plane.
 MeshError measureMeshError(const scene::DepthFrameView &depth,
                            const std::vector<std::uint32_t> &indices);
 

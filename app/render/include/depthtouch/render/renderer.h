@@ -1,20 +1,20 @@
 #pragma once
 /// \file
-/// \brief StereoRenderer: the graphic renderer of the 3D video player (paper §V.D): the depth frame as
-/// geometry (a grid mesh displaced in the vertex shader by the depth texture), the decoded colour
-/// planes as its texture (Y'CbCr → RGB in the fragment shader), drawn from two eye cameras into one
-/// of the stereo output layouts, with the haptic avatar (proxy sphere, HIP marker) and a small
-/// on-screen display.
+/// \brief StereoRenderer: the graphic renderer of the 3D video player (paper §V.D): the depth frame
+/// as geometry (a grid mesh displaced in the vertex shader by the depth texture), the decoded
+/// colour planes as its texture (Y'CbCr → RGB in the fragment shader), drawn from two eye cameras
+/// into one of the stereo output layouts, with the haptic avatar (proxy sphere, HIP marker) and a
+/// small on-screen display.
 ///
-/// Geometry: vertex (c, r) of the W×H grid is placed by SurfaceMapping, which is read off the haptic
-/// renderer's HeightField for the same frame and scene box (DESIGN.md §3), and the cells are split
-/// along the same diagonal: at mesh step 1 the drawn surface is the touched surface. The mesh's level
-/// of detail is chosen per frame by AdaptiveMesh (adaptive_mesh.h).
+/// Geometry: vertex (c, r) of the W×H grid is placed by SurfaceMapping, which is read off the
+/// haptic renderer's HeightField for the same frame and scene box (docs/architecture.md §3), and
+/// the cells are split along the same diagonal: at mesh step 1 the drawn surface is the touched
+/// surface. The mesh's level of detail is chosen per frame by AdaptiveMesh (adaptive_mesh.h).
 ///
 /// Textures are allocated once per frame size and format (immutable storage) and refreshed with
-/// glTexSubImage2D. On a software rasterizer the colour frame is converted to R'G'B' once on the CPU
-/// (ColorConversion::Auto): the surface then fetches one texture per fragment in each eye instead
-/// of three planes and a matrix, which on llvmpipe costs far more than the conversion.
+/// glTexSubImage2D. On a software rasterizer the colour frame is converted to R'G'B' once on the
+/// CPU (ColorConversion::Auto): the surface then fetches one texture per fragment in each eye
+/// instead of three planes and a matrix, which on llvmpipe costs far more than the conversion.
 /// Requires a current OpenGL ES 3.0 context with vertex texture fetch.
 /// Thread-safety: thread-bound (the render thread that owns the context). Not real-time safe.
 

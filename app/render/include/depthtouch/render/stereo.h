@@ -2,13 +2,14 @@
 /// \file
 /// \brief Two eye cameras with off-axis (asymmetric) frusta, and the stereo output layouts.
 ///
-/// Viewer model (scene-box frame, metres, DESIGN.md §3): the eyes sit on the line
+/// Viewer model (scene-box frame, metres, docs/architecture.md §3): the eyes sit on the line
 /// `y = 0, z = viewDistance`, `±eyeSeparation/2` left and right of the z axis, and look along −z at
 /// the box. The zero-parallax (screen) plane is `convergence` in front of the eyes, i.e. at
 /// `z = viewDistance − convergence`; both eyes' frusta share the window in that plane (off-axis
 /// projection, no toe-in, hence no vertical parallax). A point nearer than the screen plane has
 /// crossed parallax (its left-eye image lies to the right of its right-eye image); a farther one
-/// uncrossed. The window is sized so the box (at z = 0) fills the view at the eye viewport's aspect.
+/// uncrossed. The window is sized so the box (at z = 0) fills the view at the eye viewport's
+/// aspect.
 ///
 /// Output layouts of one frame (W×H pixels):
 ///  - `mono`: one centred camera, full frame;
@@ -16,8 +17,10 @@
 ///    squeezed horizontally when frameCompatible (the display stretches each half back);
 ///  - `tab`: top-and-bottom, left eye in the top half, each eye W×H/2 (squeezed vertically when
 ///    frameCompatible);
-///  - `anaglyph`: red-cyan, left eye into the red channel, right eye into green and blue, full frame;
-///  - `interleaved`: row-interleaved, left eye on the even rows counted from the top, right eye on the
+///  - `anaglyph`: red-cyan, left eye into the red channel, right eye into green and blue, full
+///  frame;
+///  - `interleaved`: row-interleaved, left eye on the even rows counted from the top, right eye on
+///  the
 ///    odd rows, full frame (autostereoscopic panels with line-interleaved polarisers).
 ///
 /// Thread-safety: pure functions and value types.

@@ -1,8 +1,9 @@
 #pragma once
 /// \file
-/// \brief The scene geometry that the haptic renderer and the stereo renderer share: the scene box a
-/// depth frame fills, the storage of a nearness sample, and a borrowed view of a W×H depth frame
-/// (DESIGN.md §3). What is seen and what is touched are one surface because both read it from here.
+/// \brief The scene geometry that the haptic renderer and the stereo renderer share: the scene box
+/// a depth frame fills, the storage of a nearness sample, and a borrowed view of a W×H depth frame
+/// (docs/architecture.md §3). What is seen and what is touched are one surface because both read it
+/// from here.
 ///
 /// Thread-safety: value types; a view does not own its pixels (the caller keeps them alive).
 
@@ -14,7 +15,7 @@
 
 namespace depthtouch::scene {
 
-/// \brief Size of the scene box a depth frame fills (DESIGN.md §3). Metres.
+/// \brief Size of the scene box a depth frame fills (docs/architecture.md §3). Metres.
 ///
 /// The frame's W columns span `width` along x, its H rows span `width·(H−1)/(W−1)` along y, and
 /// nearness 0..v_max spans `depth` along z, centred on the origin.

@@ -1,8 +1,8 @@
 #pragma once
 /// \file
 /// \brief The affine map from a depth sample (column c, row r, nearness v) to the scene box
-/// (DESIGN.md §3 "Vertices"): the one the stereo renderer draws with and the haptic renderer's
-/// HeightField touches with (haptics_unit_test checks that the two agree to the bit).
+/// (docs/architecture.md §3 "Vertices"): the one the stereo renderer draws with and the haptic
+/// renderer's HeightField touches with (haptics_unit_test checks that the two agree to the bit).
 ///
 /// Thread-safety: value type.
 
@@ -16,7 +16,7 @@ namespace depthtouch::scene {
 /// \brief `x = x0 + c·dx`, `y = y0 + r·dy`, `z = z0 + (v/v_max)·dz`. Metres.
 ///
 /// For a W×H frame in a box of width b and depth d: dx = s = b/(W−1), dy = −s, x0 = −(W−1)/2·s,
-/// y0 = (H−1)/2·s, z0 = −d/2, dz = d (DESIGN.md §3 "Vertices").
+/// y0 = (H−1)/2·s, z0 = −d/2, dz = d (docs/architecture.md §3 "Vertices").
 struct SurfaceMapping {
     int columns = 0;     ///< W, samples per row.
     int rows = 0;        ///< H, rows.

@@ -16,10 +16,10 @@
 ///   between the last frame of a shot and the first of the next). Near/far 0.5 m / 3.0 m.
 ///
 /// Depth: the Z-buffer (32-bit float) of the camera whose clip planes are near()/far() is turned
-/// into metric distance Z, then into nearness by DESIGN §3's metric mapping (MPEG 3DV inverse-Z):
-/// `v = v_max·(1/Z − 1/far)/(1/near − 1/far)` (0 = far plane, v_max = nearest), computed in 16 bits
-/// on the GPU; 8-bit output is the 16-bit value rounded. Write near()/far() to the file's
-/// depth_near/depth_far tags (mapping `inverse_z`).
+/// into metric distance Z, then into nearness by docs/architecture.md §3's metric mapping (MPEG 3DV
+/// inverse-Z): `v = v_max·(1/Z − 1/far)/(1/near − 1/far)` (0 = far plane, v_max = nearest),
+/// computed in 16 bits on the GPU; 8-bit output is the 16-bit value rounded. Write near()/far() to
+/// the file's depth_near/depth_far tags (mapping `inverse_z`).
 ///
 /// Requirements: an OpenGL ES 3.0 context current on the calling thread for create(), render()
 /// and the destructor (e.g. a headless hal::Display after makeCurrent()). render() renders into its

@@ -37,7 +37,7 @@
 namespace depthtouch::media::bench {
 
 /// \brief A color + depth clip in memory: Rgb24 color and Gray8 nearness (0 = far plane, 255 =
-/// near plane, DESIGN.md §3) of one size, \a fps frames per second.
+/// near plane, docs/architecture.md §3) of one size, \a fps frames per second.
 ///
 /// Frame i of the clip is picture order[i] of the stored pictures, so a short sequence can be
 /// played forward and backward without copies.

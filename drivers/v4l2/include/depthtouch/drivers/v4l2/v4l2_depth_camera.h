@@ -14,9 +14,9 @@
 ///
 /// Formats: the depth node's format is chosen per mode in the order Z16, Y16, GREY. Z16 and Y16
 /// are read as 16-bit little-endian millimetres and delivered as hal Z16, or as Gray16 nearness
-/// through CameraConfig near/far (DESIGN §3: v = 65535·(1/Z − 1/far)/(1/near − 1/far), 0 stays
-/// 0 = no measurement); GREY is 8-bit nearness delivered as Gray16 (v·257). Color: YUYV is
-/// delivered as Yuyv or converted to Rgb24 with libswscale; MJPEG is decoded to Rgb24 with
+/// through CameraConfig near/far (docs/architecture.md §3: v = 65535·(1/Z − 1/far)/(1/near −
+/// 1/far), 0 stays 0 = no measurement); GREY is 8-bit nearness delivered as Gray16 (v·257). Color:
+/// YUYV is delivered as Yuyv or converted to Rgb24 with libswscale; MJPEG is decoded to Rgb24 with
 /// libavcodec. Both conversions need the FFmpeg feature: without it, only Yuyv is offered and an
 /// MJPEG-only color node is refused with a clear error. Modes are the depth node's sizes and rates;
 /// a mode carries a color format when the color node offers the same size and rate.
