@@ -1,5 +1,6 @@
-// Compiled with dt_render's usage requirements only: the renderer's headers build on the scene layer,
-// and the haptic renderer's headers are not on the include path (layering_render_does_not_carry_haptics).
+// Compiled with dt_render's usage requirements only: the renderer's headers build on the scene
+// layer, and the haptic renderer's headers are not on the include path
+// (layering_render_does_not_carry_haptics).
 #include "depthtouch/render/renderer.h"
 #include "depthtouch/scene/surface_mapping.h"
 
@@ -7,4 +8,7 @@
 #error "dt_render carries dt_haptics: the renderer must depend on the scene layer only"
 #endif
 
-int dtLayeringRenderWithoutHaptics() { return sizeof(depthtouch::scene::SurfaceMapping) > 0 ? 0 : 1; }
+int dtLayeringRenderWithoutHaptics()
+{
+    return sizeof(depthtouch::scene::SurfaceMapping) > 0 ? 0 : 1;
+}

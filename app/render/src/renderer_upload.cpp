@@ -76,7 +76,8 @@ Result<void> StereoRenderer::uploadDepth(const scene::DepthFrameView &depth,
                                          platform::TimePoint start)
 {
     platform::TimePoint t = start;
-    // The scene layer validates the frame and gives the mapping (the haptic renderer's, to the bit).
+    // The scene layer validates the frame and gives the mapping (the haptic renderer's, to the
+    // bit).
     auto mapping = SurfaceMapping::of(options_.box, depth);
     if (!mapping)
         return unexpected(mapping.error());

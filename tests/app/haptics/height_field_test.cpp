@@ -112,14 +112,15 @@ TEST(HeightFieldTest, rejectsMalformedFrames)
 }
 
 // The scene layer's mapping (what the stereo renderer draws) is read off the height field (what the
-// haptic renderer touches) to the bit: origin and steps from its column, row and sample conversions,
-// for both sample formats, odd and even sizes and other boxes.
+// haptic renderer touches) to the bit: origin and steps from its column, row and sample
+// conversions, for both sample formats, odd and even sizes and other boxes.
 TEST(HeightFieldTest, theSceneMappingIsTheHeightFieldsToTheBit)
 {
     for (const SceneBox box : {SceneBox{}, SceneBox{0.37, 0.11}}) {
         for (const SampleFormat format : {SampleFormat::Gray8, SampleFormat::Gray16}) {
             for (const auto &[w, h] : {std::pair{4, 3}, std::pair{640, 480}, std::pair{719, 485}}) {
-                const OwnedFrame f = makeFrame(box, w, h, 0.0, [](double, double) { return 0.0; }, format);
+                const OwnedFrame f = makeFrame(
+                    box, w, h, 0.0, [](double, double) { return 0.0; }, format);
                 HeightField hf(box);
                 ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
                 const auto m = scene::SurfaceMapping::of(box, f.view());

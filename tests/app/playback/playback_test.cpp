@@ -103,7 +103,8 @@ playback::PlaybackStats playWithAStall(double maxLateness)
 {
     Rig rig(false, false, maxLateness);
     auto &display = static_cast<drivers::MockDisplay &>(*rig.display);
-    EXPECT_TRUE(rig.machine->execute("play mock://clip?frames=60&fps=30&width=64&height=48").accepted);
+    EXPECT_TRUE(
+        rig.machine->execute("play mock://clip?frames=60&fps=30&width=64&height=48").accepted);
     EXPECT_TRUE(rig.runUntil([&] { return rig.playback->position() > 0.5; }));
     display.stallNextPresent(0.12);
     EXPECT_TRUE(rig.runUntil([&] { return rig.machine->state() == PlayerState::Stopped; }));
@@ -114,14 +115,15 @@ TEST(Playback, AStallDelaysFramesWithinTheMaxLatenessAndDropsThemBeyondIt)
 {
     for (const double maxLateness : {0.25, 0.0}) {
         SCOPED_TRACE(maxLateness);
-        // THEN within 0.25 s of lateness every frame is shown, late, and the next catch up (the frame
-        // after the stalled one is taken at least 120 − 33 ms after its time); with none allowed the
-        // frames whose successors are due are skipped
+        // THEN within 0.25 s of lateness every frame is shown, late, and the next catch up (the
+        // frame after the stalled one is taken at least 120 − 33 ms after its time); with none
+        // allowed the frames whose successors are due are skipped
         auto meets = [maxLateness](const playback::PlaybackStats &s) {
-            const bool complete = s.framesReceived == 60u && s.framesPresented + s.framesDropped == 60u;
+            const bool complete =
+                s.framesReceived == 60u && s.framesPresented + s.framesDropped == 60u;
             if (maxLateness > 0.0)
-                return complete && s.framesDropped == 0u && s.lateMsMax >= 80.0 && s.framesLate >= 1u &&
-                       s.lateMsMax <= 1e3 * maxLateness;
+                return complete && s.framesDropped == 0u && s.lateMsMax >= 80.0 &&
+                       s.framesLate >= 1u && s.lateMsMax <= 1e3 * maxLateness;
             return complete && s.framesDropped >= 1u;
         };
         playback::PlaybackStats s;
@@ -131,8 +133,10 @@ TEST(Playback, AStallDelaysFramesWithinTheMaxLatenessAndDropsThemBeyondIt)
             if (meets(s))
                 break;
         }
-        std::printf("max lateness %.2f s: %d play(s); presented %llu, dropped %llu, late %llu, late max %.1f ms\n",
-                    maxLateness, std::min(attempt, kAttempts), static_cast<unsigned long long>(s.framesPresented),
+        std::printf("max lateness %.2f s: %d play(s); presented %llu, dropped %llu, late %llu, "
+                    "late max %.1f ms\n",
+                    maxLateness, std::min(attempt, kAttempts),
+                    static_cast<unsigned long long>(s.framesPresented),
                     static_cast<unsigned long long>(s.framesDropped),
                     static_cast<unsigned long long>(s.framesLate), s.lateMsMax);
         EXPECT_TRUE(meets(s)) << "missed in " << kAttempts << " plays";
@@ -150,7 +154,8 @@ TEST(Playback, FramesThatCannotCatchUpAreSkippedAfterThreeTimesTheMaxLateness)
     // THEN frames are skipped once the player has been late for 0.3 s (about 9 frames), and it is
     // back in time: it does not stay a frame period late to the end (3.5 s, over 100 frames)
     auto meets = [](const playback::PlaybackStats &s) {
-        return s.framesPresented + s.framesDropped == 120u && s.framesDropped >= 1u && s.framesLate < 50u;
+        return s.framesPresented + s.framesDropped == 120u && s.framesDropped >= 1u &&
+               s.framesLate < 50u;
     };
     playback::PlaybackStats s;
     for (int attempt = 1; attempt <= kAttempts; ++attempt) {
@@ -170,7 +175,8 @@ TEST(Playback, FramesThatCannotCatchUpAreSkippedAfterThreeTimesTheMaxLateness)
     EXPECT_LT(s.framesLate, 50u) << "late frames: the player stayed behind";
 }
 
-// (The stiffness's effect on the force: PlaybackSim.TheStiffnessCommandScalesTheForceTheFingerFeels.)
+// (The stiffness's effect on the force:
+// PlaybackSim.TheStiffnessCommandScalesTheForceTheFingerFeels.)
 TEST(Playback, TheHapticsSwitchRampsTheForceOut)
 {
     Rig rig;

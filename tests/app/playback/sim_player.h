@@ -40,8 +40,8 @@ using DepthScript = std::function<double(std::uint32_t index)>;
 /// picture with the flat surface DepthScript gives for its frame (nearness = z / box depth + 1/2).
 class ScriptedDepthDecoder final : public hal::VideoDecoder {
 public:
-    ScriptedDepthDecoder(std::unique_ptr<hal::VideoDecoder> inner, DepthScript script,
-                         double fps, double boxDepth)
+    ScriptedDepthDecoder(std::unique_ptr<hal::VideoDecoder> inner, DepthScript script, double fps,
+                         double boxDepth)
         : inner_(std::move(inner)), script_(std::move(script)), fps_(fps), boxDepth_(boxDepth)
     {
     }
@@ -72,8 +72,8 @@ public:
 private:
     void paint(const hal::ImageView &image, hal::Pts pts) const
     {
-        const auto index =
-            static_cast<std::uint32_t>(std::llround(static_cast<double>(pts.count()) * 1e-9 * fps_));
+        const auto index = static_cast<std::uint32_t>(
+            std::llround(static_cast<double>(pts.count()) * 1e-9 * fps_));
         const double nearness = std::fmin(std::fmax(script_(index) / boxDepth_ + 0.5, 0.0), 1.0);
         for (int y = 0; y < image.height; ++y) {
             std::uint8_t *row = image.row(0, y);
@@ -120,8 +120,9 @@ public:
             c.clock = &clock_;
             return drivers::MockMediaSource::create(c);
         };
-        ph.makeDecoder = [this, depth, fps, boxDepth](const hal::StreamInfo &stream)
-            -> Result<std::unique_ptr<hal::VideoDecoder>> {
+        ph.makeDecoder =
+            [this, depth, fps, boxDepth](
+                const hal::StreamInfo &stream) -> Result<std::unique_ptr<hal::VideoDecoder>> {
             hal::BackendConfig c;
             c.clock = &clock_;
             auto inner = drivers::MockVideoDecoder::create(c);

@@ -143,7 +143,8 @@ private:
     double tileError(const scene::DepthFrameView &depth, int tx, int ty, int step, double limit,
                      double &mean) const noexcept;
     void emitTile(int tx, int ty);
-    template <class T> void buildQuadtree(const scene::DepthFrameView &depth, const MeshOptions &options);
+    template <class T>
+    void buildQuadtree(const scene::DepthFrameView &depth, const MeshOptions &options);
     template <class T>
     void splitBlock(const scene::DepthFrameView &depth, const MeshOptions &options, int c0, int r0,
                     int size, int &finest);

@@ -40,7 +40,7 @@ class RenderTarget;
 
 /// \brief Renderer settings; may be changed between frames with setOptions().
 struct RendererOptions {
-    scene::SceneBox box{};                  ///< The scene box, m (same as the haptic renderer's).
+    scene::SceneBox box{};                    ///< The scene box, m (same as the haptic renderer's).
     StereoMode mode = StereoMode::SideBySide; ///< Output layout.
     StereoParams stereo{};                    ///< Eye cameras.
     MeshOptions mesh{};                       ///< Level of detail.
@@ -107,8 +107,9 @@ struct FramePrep {
     /// it (Yuv420p or Gray8) with \a spec.
     /// \return InvalidArgument (malformed depth frame or mesh options, or an empty colour view),
     /// NotSupported (colour format); the object is then not usable (built() is false).
-    [[nodiscard]] Result<void> build(const scene::DepthFrameView &depth, const hal::ImageView *color,
-                                     const ColorSpec &spec, const MeshOptions &mesh);
+    [[nodiscard]] Result<void> build(const scene::DepthFrameView &depth,
+                                     const hal::ImageView *color, const ColorSpec &spec,
+                                     const MeshOptions &mesh);
 
     [[nodiscard]] bool built() const noexcept { return built_; }
 

@@ -1,7 +1,8 @@
 #pragma once
 /// \file
-/// \brief The affine map from a depth sample to the scene box that the renderer draws with: the scene
-/// layer's (depthtouch/scene/surface_mapping.h), the same one the haptic renderer touches with.
+/// \brief The affine map from a depth sample to the scene box that the renderer draws with: the
+/// scene layer's (depthtouch/scene/surface_mapping.h), the same one the haptic renderer touches
+/// with.
 ///
 /// Thread-safety: value type.
 

@@ -47,12 +47,12 @@ constexpr double maxSampleValue(SampleFormat format) noexcept
 /// Row r starts at `data + r·strideBytes`; sample (c, r) is the c-th sample of that row.
 /// The view never owns or frees the pixels.
 struct DepthFrameView {
-    const std::uint8_t *data = nullptr;    ///< First byte of row 0; not owned.
-    int width = 0;                         ///< W, samples per row (≥ 2).
-    int height = 0;                        ///< H, rows (≥ 2).
-    std::size_t strideBytes = 0;           ///< Bytes from one row to the next (≥ W·bytesPerSample).
+    const std::uint8_t *data = nullptr; ///< First byte of row 0; not owned.
+    int width = 0;                      ///< W, samples per row (≥ 2).
+    int height = 0;                     ///< H, rows (≥ 2).
+    std::size_t strideBytes = 0;        ///< Bytes from one row to the next (≥ W·bytesPerSample).
     SampleFormat format = SampleFormat::Gray8; ///< Sample storage.
-    double pts = 0.0;                      ///< Presentation time, s.
+    double pts = 0.0;                          ///< Presentation time, s.
 
     /// \brief Checks the shape: data present, W, H ≥ 2, stride large enough, finite PTS.
     /// \return Errc::InvalidArgument with a static message when malformed.
