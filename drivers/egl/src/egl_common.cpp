@@ -181,6 +181,17 @@ Result<EGLContext> createGles3Context(EGLDisplay display, EGLConfig config)
     return ctx;
 }
 
+EGLSurface createWindowSurface(EGLDisplay display, EGLConfig config, void *platformWindow,
+                               void *nativeWindow)
+{
+    auto createSurface = reinterpret_cast<PFNEGLCREATEPLATFORMWINDOWSURFACEEXTPROC>(
+        eglGetProcAddress("eglCreatePlatformWindowSurfaceEXT"));
+    return createSurface != nullptr
+               ? createSurface(display, config, platformWindow, nullptr)
+               : eglCreateWindowSurface(
+                     display, config, reinterpret_cast<EGLNativeWindowType>(nativeWindow), nullptr);
+}
+
 Result<void> checkReadTarget(const hal::ImageView &out, hal::Size size) noexcept
 {
     if (out.format != hal::PixelFormat::Rgba8 && out.format != hal::PixelFormat::Rgb24)

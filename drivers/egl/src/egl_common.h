@@ -38,6 +38,13 @@ Result<EGLConfig> chooseConfig(EGLDisplay display, EGLint surfaceType, EGLint vi
 /// EGL_NO_CONFIG_KHR on displays with EGL_KHR_no_config_context. Errors: NotSupported.
 Result<EGLContext> createGles3Context(EGLDisplay display, EGLConfig config);
 
+/// \brief Creates a window surface with eglCreatePlatformWindowSurfaceEXT on \a platformWindow
+/// when EGL has it, else with eglCreateWindowSurface on \a nativeWindow: the same window as the
+/// EGLNativeWindowType value, passed as void * since that type depends on the platform headers a
+/// file includes. \return the surface, EGL_NO_SURFACE on failure (eglGetError()).
+EGLSurface createWindowSurface(EGLDisplay display, EGLConfig config, void *platformWindow,
+                               void *nativeWindow);
+
 /// \brief Checks that \a out is an Rgba8 or Rgb24 image of exactly \a size with room for a row.
 Result<void> checkReadTarget(const hal::ImageView &out, hal::Size size) noexcept;
 

@@ -288,14 +288,8 @@ Result<void> EglGbmDisplay::openOutput(const hal::DisplayConfig &cfg)
     auto config = egl::chooseConfig(k.display, EGL_WINDOW_BIT, GBM_FORMAT_XRGB8888);
     if (!config)
         return unexpected(config.error());
-    auto createSurface = reinterpret_cast<PFNEGLCREATEPLATFORMWINDOWSURFACEEXTPROC>(
-        eglGetProcAddress("eglCreatePlatformWindowSurfaceEXT"));
     // EGL_KHR_platform_gbm: the native window is the gbm_surface itself.
-    k.eglSurface =
-        createSurface != nullptr
-            ? createSurface(k.display, *config, k.surface, nullptr)
-            : eglCreateWindowSurface(k.display, *config,
-                                     reinterpret_cast<EGLNativeWindowType>(k.surface), nullptr);
+    k.eglSurface = egl::createWindowSurface(k.display, *config, k.surface, k.surface);
     if (k.eglSurface == EGL_NO_SURFACE) {
         DT_LOG(Kms, Error, "Failed to create an EGL window surface on the GBM surface: %s",
                egl::eglErrorName(eglGetError()));

@@ -70,6 +70,20 @@ struct EglX11Display::X {
     /// returning keeps the process alive, and Xlib leaves the connection unusable.
     static void onIoErrorExit(::Display *, void *self) { static_cast<X *>(self)->ioError = true; }
 
+    /// Connects to X server \a name and gets its EGL display. Errors: NoDevice, and EGL's.
+    Result<void> connect(const std::string &name);
+    /// \return an EGL window config, of the screen's default visual when one fits.
+    Result<EGLConfig> chooseConfig();
+    /// \return the X visual of \a config (XFree() it). Errors: NotSupported.
+    Result<XVisualInfo *> visualOf(EGLConfig config);
+    /// \brief Creates the window for \a config, of \a size or covering the screen, and waits for
+    /// the server to map it. \return the window's size. Errors: NotSupported, NoDevice.
+    Result<hal::Size> createWindow(EGLConfig config, hal::Size size, bool fullscreen);
+    /// Sets the window's title, class, WM_DELETE_WINDOW protocol and size or full-screen state.
+    void setWindowProperties(hal::Size size, bool fullscreen);
+    /// Creates the EGL window surface and the GLES 3 context, and makes them current.
+    Result<void> createContext(EGLConfig config);
+
     void destroy() noexcept
     {
         if (display != EGL_NO_DISPLAY) {
@@ -180,114 +194,146 @@ EglX11Display::~EglX11Display()
     close();
 }
 
-Result<void> EglX11Display::openDevice(const hal::DisplayConfig &cfg)
+Result<void> EglX11Display::X::connect(const std::string &name)
 {
-    auto resolved = resolveWindowConfig(cfg, settings_);
-    if (!resolved)
-        return unexpected(resolved.error());
-
-    installXErrorHandlers();
-    X &x = *x_;
-    x.dpy = XOpenDisplay(xDisplayName_.c_str());
-    if (x.dpy == nullptr) {
-        DT_LOG(Egl, Error, "Failed to connect to X server '%s'", xDisplayName_.c_str());
+    dpy = XOpenDisplay(name.c_str());
+    if (dpy == nullptr) {
+        DT_LOG(Egl, Error, "Failed to connect to X server '%s'", name.c_str());
         return unexpected(Errc::NoDevice, "No X server: cannot connect to $DISPLAY");
     }
-    XSetIOErrorExitHandler(x.dpy, &X::onIoErrorExit, &x);
+    XSetIOErrorExitHandler(dpy, &X::onIoErrorExit, this);
+    auto eglDisplay = egl::acquireEglDisplay(EGL_PLATFORM_X11_KHR, dpy);
+    if (!eglDisplay)
+        return unexpected(eglDisplay.error());
+    display = *eglDisplay;
+    return ok();
+}
 
-    auto display = egl::acquireEglDisplay(EGL_PLATFORM_X11_KHR, x.dpy);
-    if (!display) {
-        x.destroy();
-        return unexpected(display.error());
-    }
-    x.display = *display;
+Result<EGLConfig> EglX11Display::X::chooseConfig()
+{
     // The default visual (24-bit, no alpha) first: a 32-bit ARGB one would let a compositing
     // desktop blend the window with what is behind it.
-    const int screen = DefaultScreen(x.dpy);
+    const int screen = DefaultScreen(dpy);
     auto config =
-        egl::chooseConfig(x.display, EGL_WINDOW_BIT,
-                          static_cast<EGLint>(XVisualIDFromVisual(DefaultVisual(x.dpy, screen))));
+        egl::chooseConfig(display, EGL_WINDOW_BIT,
+                          static_cast<EGLint>(XVisualIDFromVisual(DefaultVisual(dpy, screen))));
     if (!config)
-        config = egl::chooseConfig(x.display, EGL_WINDOW_BIT, 0);
-    if (!config) {
-        x.destroy();
-        return unexpected(config.error());
-    }
+        config = egl::chooseConfig(display, EGL_WINDOW_BIT, 0);
+    return config;
+}
+
+Result<XVisualInfo *> EglX11Display::X::visualOf(EGLConfig config)
+{
     EGLint visualId = 0;
-    eglGetConfigAttrib(x.display, *config, EGL_NATIVE_VISUAL_ID, &visualId);
+    eglGetConfigAttrib(display, config, EGL_NATIVE_VISUAL_ID, &visualId);
     XVisualInfo wanted{};
     wanted.visualid = static_cast<VisualID>(visualId);
     int visualCount = 0;
-    XVisualInfo *visual = XGetVisualInfo(x.dpy, VisualIDMask, &wanted, &visualCount);
+    XVisualInfo *visual = XGetVisualInfo(dpy, VisualIDMask, &wanted, &visualCount);
     if (visual == nullptr || visualCount < 1) {
         DT_LOG(Egl, Error, "Failed to find X visual 0x%x of the EGL config", visualId);
-        x.destroy();
         return unexpected(Errc::NotSupported, "No X visual for the EGL config");
     }
+    return visual;
+}
 
-    const ::Window root = RootWindow(x.dpy, screen);
-    int w = resolved->width;
-    int h = resolved->height;
-    if (settings_.fullscreen) {
-        w = DisplayWidth(x.dpy, screen);
-        h = DisplayHeight(x.dpy, screen);
-    }
-    x.colormap = XCreateColormap(x.dpy, root, visual->visual, AllocNone);
+Result<hal::Size> EglX11Display::X::createWindow(EGLConfig config, hal::Size size, bool fullscreen)
+{
+    auto visual = visualOf(config);
+    if (!visual)
+        return unexpected(visual.error());
+    const int screen = DefaultScreen(dpy);
+    const ::Window root = RootWindow(dpy, screen);
+    if (fullscreen)
+        size = {DisplayWidth(dpy, screen), DisplayHeight(dpy, screen)};
+    colormap = XCreateColormap(dpy, root, (*visual)->visual, AllocNone);
     XSetWindowAttributes attrs{};
-    attrs.colormap = x.colormap;
+    attrs.colormap = colormap;
     attrs.background_pixel = 0; // black until the first frame
     attrs.border_pixel = 0;
     attrs.event_mask = StructureNotifyMask;
-    x.window = XCreateWindow(x.dpy, root, 0, 0, static_cast<unsigned>(w), static_cast<unsigned>(h),
-                             0, visual->depth, InputOutput, visual->visual,
-                             CWColormap | CWBackPixel | CWBorderPixel | CWEventMask, &attrs);
-    XFree(visual);
-    XStoreName(x.dpy, x.window, kWindowTitle);
+    window = XCreateWindow(dpy, root, 0, 0, static_cast<unsigned>(size.width),
+                           static_cast<unsigned>(size.height), 0, (*visual)->depth, InputOutput,
+                           (*visual)->visual,
+                           CWColormap | CWBackPixel | CWBorderPixel | CWEventMask, &attrs);
+    XFree(*visual);
+    setWindowProperties(size, fullscreen);
+    XMapWindow(dpy, window);
+    XSync(dpy, False);
+    if (ioError)
+        return unexpected(Errc::NoDevice, "Lost the X server while creating the window");
+    return size;
+}
+
+void EglX11Display::X::setWindowProperties(hal::Size size, bool fullscreen)
+{
+    XStoreName(dpy, window, kWindowTitle);
     XClassHint classHint{};
     char resName[] = "depthtouch";
     char resClass[] = "DepthTouch";
     classHint.res_name = resName;
     classHint.res_class = resClass;
-    XSetClassHint(x.dpy, x.window, &classHint);
-    x.wmProtocols = XInternAtom(x.dpy, "WM_PROTOCOLS", False);
-    x.wmDeleteWindow = XInternAtom(x.dpy, "WM_DELETE_WINDOW", False);
-    XSetWMProtocols(x.dpy, x.window, &x.wmDeleteWindow, 1);
-    if (settings_.fullscreen)
-        setFullscreen(x.dpy, x.window);
+    XSetClassHint(dpy, window, &classHint);
+    wmProtocols = XInternAtom(dpy, "WM_PROTOCOLS", False);
+    wmDeleteWindow = XInternAtom(dpy, "WM_DELETE_WINDOW", False);
+    XSetWMProtocols(dpy, window, &wmDeleteWindow, 1);
+    if (fullscreen)
+        setFullscreen(dpy, window);
     else
-        setFixedSize(x.dpy, x.window, w, h);
-    XMapWindow(x.dpy, x.window);
-    XSync(x.dpy, False);
-    if (x.ioError) {
-        x.destroy();
-        return unexpected(Errc::NoDevice, "Lost the X server while creating the window");
-    }
+        setFixedSize(dpy, window, size.width, size.height);
+}
 
-    auto createSurface = reinterpret_cast<PFNEGLCREATEPLATFORMWINDOWSURFACEEXTPROC>(
-        eglGetProcAddress("eglCreatePlatformWindowSurfaceEXT"));
-    ::Window nativeWindow = x.window;
-    x.surface = createSurface != nullptr
-                    ? createSurface(x.display, *config, &nativeWindow, nullptr)
-                    : eglCreateWindowSurface(x.display, *config,
-                                             static_cast<EGLNativeWindowType>(x.window), nullptr);
-    if (x.surface == EGL_NO_SURFACE) {
+Result<void> EglX11Display::X::createContext(EGLConfig config)
+{
+    ::Window nativeWindow = window;
+    surface =
+        egl::createWindowSurface(display, config, &nativeWindow, reinterpret_cast<void *>(window));
+    if (surface == EGL_NO_SURFACE) {
         DT_LOG(Egl, Error, "Failed to create an EGL window surface: %s",
                egl::eglErrorName(eglGetError()));
-        x.destroy();
         return unexpected(Errc::NotSupported, "Failed to create an EGL window surface");
     }
-    auto context = egl::createGles3Context(x.display, *config);
-    if (!context) {
-        x.destroy();
-        return unexpected(context.error());
-    }
-    x.context = *context;
-    if (eglMakeCurrent(x.display, x.surface, x.surface, x.context) == EGL_FALSE) {
+    auto created = egl::createGles3Context(display, config);
+    if (!created)
+        return unexpected(created.error());
+    context = *created;
+    if (eglMakeCurrent(display, surface, surface, context) == EGL_FALSE) {
         DT_LOG(Egl, Error, "Failed to make the X11 window context current: %s",
                egl::eglErrorName(eglGetError()));
-        x.destroy();
         return unexpected(Errc::NotSupported, "X11 window context cannot be made current");
     }
+    return ok();
+}
+
+Result<void> EglX11Display::openDevice(const hal::DisplayConfig &cfg)
+{
+    auto resolved = resolveWindowConfig(cfg, settings_);
+    if (!resolved)
+        return unexpected(resolved.error());
+    installXErrorHandlers();
+    // A step that fails leaves what it made in x_, released here (no-op when nothing was made).
+    auto size = openWindow(*resolved);
+    if (!size) {
+        x_->destroy();
+        return unexpected(size.error());
+    }
+    size_ = *size;
+    refreshHz_ = resolved->refreshHz;
+    pacer_.start(clock_.now(), refreshHz_);
+    return ok();
+}
+
+Result<hal::Size> EglX11Display::openWindow(const EglDisplaySettings &resolved)
+{
+    X &x = *x_;
+    DT_TRY(x.connect(xDisplayName_));
+    auto config = x.chooseConfig();
+    if (!config)
+        return unexpected(config.error());
+    auto size = x.createWindow(*config, {resolved.width, resolved.height}, settings_.fullscreen);
+    if (!size)
+        return unexpected(size.error());
+    DT_TRY(x.createContext(*config));
 
     // A server on a GPU then holds swaps until its vertical blank; Xvfb and Mesa's software path
     // accept the interval and ignore it, and present() paces those frames itself.
@@ -295,28 +341,20 @@ Result<void> EglX11Display::openDevice(const hal::DisplayConfig &cfg)
         DT_LOG(Egl, Warning, "Failed to set swap interval %d: %s", settings_.swapInterval,
                egl::eglErrorName(eglGetError()));
 
-    if (settings_.readback) {
-        if (auto r = x.copy.create({w, h}); !r) {
-            x.destroy();
-            return r;
-        }
-    }
+    if (settings_.readback)
+        DT_TRY(x.copy.create(*size));
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glViewport(0, 0, w, h);
+    glViewport(0, 0, size->width, size->height);
     glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
     DT_LOG(Egl, Info, "X11 %s %dx%d on '%s' at %.3g Hz, swap interval %d, on %s",
-           settings_.fullscreen ? "full-screen window" : "window", w, h, xDisplayName_.c_str(),
-           resolved->refreshHz, settings_.swapInterval,
+           settings_.fullscreen ? "full-screen window" : "window", size->width, size->height,
+           xDisplayName_.c_str(), resolved.refreshHz, settings_.swapInterval,
            reinterpret_cast<const char *>(glGetString(GL_RENDERER)));
     // The context belongs to the render thread, which binds it with makeCurrent(): release it
     // here so that open() may run on another thread.
     eglMakeCurrent(x.display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-
-    size_ = {w, h};
-    refreshHz_ = resolved->refreshHz;
-    pacer_.start(clock_.now(), refreshHz_);
-    return ok();
+    return size;
 }
 
 void EglX11Display::closeDevice() noexcept
@@ -396,7 +434,7 @@ Result<hal::PresentInfo> EglX11Display::presentDevice()
         const EGLint err = eglGetError();
         pumpEvents();
         if (state() == State::Open && (err == EGL_BAD_NATIVE_WINDOW || err == EGL_BAD_SURFACE ||
-                                      err == EGL_CONTEXT_LOST || err == EGL_BAD_ALLOC))
+                                       err == EGL_CONTEXT_LOST || err == EGL_BAD_ALLOC))
             lose("the window surface is gone");
         DT_LOG(Egl, Error, "Failed to swap the X11 window buffers: %s", egl::eglErrorName(err));
         if (state() == State::Lost)

@@ -72,6 +72,10 @@ protected:
 private:
     struct X; ///< Xlib, EGL and GL handles (keeps X11 and EGL headers out of this header).
 
+    /// \brief The steps of openDevice(): connects, creates the window, its EGL surface and
+    /// context, and clears the first frame. What a failed step made is left in x_.
+    /// \return the window's size.
+    [[nodiscard]] Result<hal::Size> openWindow(const EglDisplaySettings &resolved);
     [[nodiscard]] Result<void> ensureCurrent();
     /// Handles the pending X events; a closed window or a broken connection makes the state Lost.
     void pumpEvents() noexcept;
