@@ -145,6 +145,143 @@ const char *motionName(double speed)
     return speed == 0.0 ? "still" : (speed < 0.5 ? "0.1 m/s" : "1 m/s");
 }
 
+/// Whether the bench measures \a method at width \a w with the HIP moving at \a speed.
+bool measured(const std::string &method, int w, double speed, bool quick)
+{
+    if (method == "modified-hold" && speed != 0.0)
+        return false;
+    // A 3840×2160 tree rebuild takes tens of seconds here: still HIP only, and not in --quick.
+    return !(method == "mesh-bvh" && w >= 3840 && (quick || speed != 0.0));
+}
+
+/// The median over the runs of one of their statistics.
+double medianOver(const std::vector<OneRun> &all, double OneRun::*field)
+{
+    std::vector<double> v;
+    for (const OneRun &o : all)
+        v.push_back(o.*field);
+    return median(v);
+}
+
+/// The timing and accuracy columns of \a row from its runs.
+void fillFigures(BenchRow &row, const std::vector<OneRun> &all, int reps)
+{
+    row.medianNs = medianOver(all, &OneRun::medianNs);
+    row.p99Ns = medianOver(all, &OneRun::p99Ns);
+    row.p999Ns = medianOver(all, &OneRun::p999Ns);
+    row.maxNs = medianOver(all, &OneRun::maxNs);
+    {
+        const std::vector<double> best = perUpdateMinimum(all);
+        row.runsTimed = reps;
+        row.minOfRunsMedianNs = percentile(best, 0.5);
+        row.minOfRunsP99Ns = percentile(best, 0.99);
+        row.minOfRunsP999Ns = percentile(best, 0.999);
+    }
+    row.frameCostNs = medianOver(all, &OneRun::frameNs);
+    row.forceRmsError = medianOver(all, &OneRun::rms);
+    row.popThroughs = all.front().pops;
+}
+
+/// The |F| spectrum of a still HIP: the tremor at the frame rate, and at 720×486 the curves of the
+/// PSD chart.
+void fillSpectrum(BenchRow &row, const OneRun &first, double speed, BenchReport &report)
+{
+    if (speed != 0.0 || first.forces.size() < 2000)
+        return;
+    const std::vector<double> &f = first.forces;
+    const int segs = static_cast<int>(f.size() / 2000);
+    const Psd psd = averagedPsd(f.data(), f.size(), segs, kHapticRate, 100.0);
+    // Sample-and-hold puts the tremor at fs ± the motion frequency (1.875 Hz): look within ±2.5 Hz.
+    row.psdFrameRateDb = psdPeakDb(psd, kVideoFps, 2.5);
+    if (row.width == 720 && (row.method == "modified" || row.method == "modified-hold")) {
+        report.psd.binHz = psd.binHz;
+        std::vector<double> &dst =
+            row.method == "modified" ? report.psd.interpolatedDb : report.psd.holdDb;
+        dst.clear();
+        for (double d : psd.density)
+            dst.push_back(10.0 * std::log10(std::max(d, 1e-30)));
+    }
+}
+
+/// The progress line of one measured row.
+void printRow(const BenchRow &row)
+{
+    std::printf("  %-13s %4dx%-4d %-7s median %8.0f ns  p99 %8.0f  p99.9 %8.0f  max %9.0f  "
+                "frame %11.0f ns  rms %.4f N  pops %ld  psd@30Hz %s  |  per-update min "
+                "of %d runs: median %6.0f  p99.9 %7.0f\n",
+                row.method.c_str(), row.width, row.height, row.motion.c_str(), row.medianNs,
+                row.p99Ns, row.p999Ns, row.maxNs, row.frameCostNs, row.forceRmsError,
+                row.popThroughs, psdText(row.psdFrameRateDb, " dB").c_str(), row.runsTimed,
+                row.minOfRunsMedianNs, row.minOfRunsP999Ns);
+}
+
+/// Runs one setting (method, resolution, HIP motion) and makes its row.
+BenchRow measureSetting(const std::string &method, const WaveScenario &scene, double speed,
+                        std::size_t updates, int runs, bool quick, BenchReport &report)
+{
+    const int w = scene.width();
+    const bool mesh = method == "mesh-bvh";
+    // mesh-bvh rebuilds its tree on every frame (seconds at 4K): fewer updates, one run.
+    const std::size_t n = mesh ? (w >= 3840 ? 40u : (quick ? 100u : 300u)) : updates;
+    const int reps = mesh ? 1 : runs;
+    std::vector<OneRun> all;
+    for (int k = 0; k < reps; ++k)
+        all.push_back(runOnce(method, scene, speed, n));
+    BenchRow row;
+    row.method = method;
+    row.width = w;
+    row.height = scene.height();
+    row.motion = motionName(speed);
+    row.updates = n;
+    fillFigures(row, all, reps);
+    fillSpectrum(row, all.front(), speed, report);
+    return row;
+}
+
+/// The BenchRow of \a method at width \a w and \a motion, or nullptr.
+const BenchRow *findRow(const BenchReport &report, const char *m, int w, const char *motion)
+{
+    for (const BenchRow &r : report.rows)
+        if (r.method == m && r.width == w && r.motion == motion)
+            return &r;
+    return nullptr;
+}
+
+/// The worst 3840×2160 / 720×486 ratio over the motions of \a field for \a method.
+double worstRatio(const BenchReport &report, const char *method, double BenchRow::*field)
+{
+    double worst = 0.0;
+    for (const char *motion : {"still", "0.1 m/s", "1 m/s"}) {
+        const BenchRow *a = findRow(report, method, 720, motion);
+        const BenchRow *b = findRow(report, method, 3840, motion);
+        if (a && b && a->*field > 0)
+            worst = std::max(worst, b->*field / a->*field);
+    }
+    return worst;
+}
+
+/// The goal figures, from the rows of this run.
+void setGoals(BenchReport &report)
+{
+    if (const BenchRow *r = findRow(report, "finger", 720, "1 m/s")) {
+        report.fingerP999At720Fast = r->p999Ns;
+        report.fingerMinOfRunsP999At720Fast = r->minOfRunsP999Ns;
+    }
+    report.fingerMinOfRunsResolutionRatio =
+        worstRatio(report, "finger", &BenchRow::minOfRunsMedianNs);
+    if (const BenchRow *r = findRow(report, "modified", 720, "1 m/s")) {
+        report.modifiedP999At720Fast = r->p999Ns;
+        report.modifiedMinOfRunsP999At720Fast = r->minOfRunsP999Ns;
+        report.runsAt720Fast = r->runsTimed;
+    }
+    report.resolutionRatio = worstRatio(report, "modified", &BenchRow::medianNs);
+    report.minOfRunsResolutionRatio = worstRatio(report, "modified", &BenchRow::minOfRunsMedianNs);
+    const BenchRow *mesh = findRow(report, "mesh-bvh", 720, "still");
+    const BenchRow *mod = findRow(report, "modified", 720, "still");
+    if (mesh && mod && mod->frameCostNs > 0)
+        report.rebuildRatio = mesh->frameCostNs / mod->frameCostNs;
+}
+
 } // namespace
 
 BenchReport runHapticsBenchmark(const BenchOptions &options)
@@ -169,105 +306,16 @@ BenchReport runHapticsBenchmark(const BenchOptions &options)
             methods.insert(methods.begin() + 1, "modified-hold");
         for (const std::string &method : methods) {
             for (double speed : speeds) {
-                if (method == "modified-hold" && speed != 0.0)
+                if (!measured(method, w, speed, options.quick))
                     continue;
-                const bool mesh = method == "mesh-bvh";
-                // A 3840×2160 tree rebuild takes tens of seconds here: still HIP only, and not in --quick.
-                if (mesh && w >= 3840 && (options.quick || speed != 0.0))
-                    continue;
-                // mesh-bvh rebuilds its tree on every frame (seconds at 4K): fewer updates, one run.
-                const std::size_t n = mesh ? (w >= 3840 ? 40u : (options.quick ? 100u : 300u)) : updates;
-                const int reps = mesh ? 1 : runs;
-                std::vector<OneRun> all;
-                for (int k = 0; k < reps; ++k)
-                    all.push_back(runOnce(method, scene, speed, n));
-                auto med = [&](double OneRun::*field) {
-                    std::vector<double> v;
-                    for (const OneRun &o : all)
-                        v.push_back(o.*field);
-                    return median(v);
-                };
-                BenchRow row;
-                row.method = method;
-                row.width = w;
-                row.height = h;
-                row.motion = motionName(speed);
-                row.updates = n;
-                row.medianNs = med(&OneRun::medianNs);
-                row.p99Ns = med(&OneRun::p99Ns);
-                row.p999Ns = med(&OneRun::p999Ns);
-                row.maxNs = med(&OneRun::maxNs);
-                {
-                    const std::vector<double> best = perUpdateMinimum(all);
-                    row.runsTimed = reps;
-                    row.minOfRunsMedianNs = percentile(best, 0.5);
-                    row.minOfRunsP99Ns = percentile(best, 0.99);
-                    row.minOfRunsP999Ns = percentile(best, 0.999);
-                }
-                row.frameCostNs = med(&OneRun::frameNs);
-                row.forceRmsError = med(&OneRun::rms);
-                row.popThroughs = all.front().pops;
-                if (speed == 0.0 && all.front().forces.size() >= 2000) {
-                    const std::vector<double> &f = all.front().forces;
-                    const int segs = static_cast<int>(f.size() / 2000);
-                    const Psd psd = averagedPsd(f.data(), f.size(), segs, kHapticRate, 100.0);
-                    // Sample-and-hold puts the tremor at fs ± the motion frequency (1.875 Hz): look within ±2.5 Hz.
-                    row.psdFrameRateDb = psdPeakDb(psd, kVideoFps, 2.5);
-                    if (w == 720 && (method == "modified" || method == "modified-hold")) {
-                        report.psd.binHz = psd.binHz;
-                        std::vector<double> &dst =
-                            method == "modified" ? report.psd.interpolatedDb : report.psd.holdDb;
-                        dst.clear();
-                        for (double d : psd.density)
-                            dst.push_back(10.0 * std::log10(std::max(d, 1e-30)));
-                    }
-                }
+                report.rows.push_back(
+                    measureSetting(method, scene, speed, updates, runs, options.quick, report));
                 if (options.verbose)
-                    std::printf("  %-13s %4dx%-4d %-7s median %8.0f ns  p99 %8.0f  p99.9 %8.0f  max %9.0f  "
-                                "frame %11.0f ns  rms %.4f N  pops %ld  psd@30Hz %s  |  per-update min "
-                                "of %d runs: median %6.0f  p99.9 %7.0f\n",
-                                row.method.c_str(), w, h, row.motion.c_str(), row.medianNs, row.p99Ns,
-                                row.p999Ns, row.maxNs, row.frameCostNs, row.forceRmsError,
-                                row.popThroughs, psdText(row.psdFrameRateDb, " dB").c_str(),
-                                row.runsTimed, row.minOfRunsMedianNs, row.minOfRunsP999Ns);
-                report.rows.push_back(row);
+                    printRow(report.rows.back());
             }
         }
     }
-    // Goals, from this run.
-    auto find = [&](const char *m, int w, const char *motion) -> const BenchRow * {
-        for (const BenchRow &r : report.rows)
-            if (r.method == m && r.width == w && r.motion == motion)
-                return &r;
-        return nullptr;
-    };
-    // The worst 3840×2160 / 720×486 ratio over the motions of \a field for \a method.
-    auto worstRatio = [&](const char *method, double BenchRow::*field) {
-        double worst = 0.0;
-        for (const char *motion : {"still", "0.1 m/s", "1 m/s"}) {
-            const BenchRow *a = find(method, 720, motion);
-            const BenchRow *b = find(method, 3840, motion);
-            if (a && b && a->*field > 0)
-                worst = std::max(worst, b->*field / a->*field);
-        }
-        return worst;
-    };
-    if (const BenchRow *r = find("finger", 720, "1 m/s")) {
-        report.fingerP999At720Fast = r->p999Ns;
-        report.fingerMinOfRunsP999At720Fast = r->minOfRunsP999Ns;
-    }
-    report.fingerMinOfRunsResolutionRatio = worstRatio("finger", &BenchRow::minOfRunsMedianNs);
-    if (const BenchRow *r = find("modified", 720, "1 m/s")) {
-        report.modifiedP999At720Fast = r->p999Ns;
-        report.modifiedMinOfRunsP999At720Fast = r->minOfRunsP999Ns;
-        report.runsAt720Fast = r->runsTimed;
-    }
-    report.resolutionRatio = worstRatio("modified", &BenchRow::medianNs);
-    report.minOfRunsResolutionRatio = worstRatio("modified", &BenchRow::minOfRunsMedianNs);
-    const BenchRow *mesh = find("mesh-bvh", 720, "still");
-    const BenchRow *mod = find("modified", 720, "still");
-    if (mesh && mod && mod->frameCostNs > 0)
-        report.rebuildRatio = mesh->frameCostNs / mod->frameCostNs;
+    setGoals(report);
     return report;
 }
 
