@@ -36,6 +36,89 @@ struct Crossing {
     int cellsTested = 0;    ///< Cells not skipped by the height test (triangles tested exactly).
 };
 
+/// \brief Where the walk of firstCrossing() is: not yet known, above the surface, below it.
+enum class CrossingState { Unknown, Above, Below };
+
+/// \brief The segment of firstCrossing() in grid units: u = u0 + t·du (columns), v = v0 + t·dv
+/// (rows), z = p0.z + t·dz (m).
+struct GridSegment {
+    double u0, v0, du, dv, dz;
+};
+
+/// \brief Heights of the corners (c, r), (c + 1, r), (c, r + 1), (c + 1, r + 1) of a cell, m.
+struct CellCorners {
+    double h00, h10, h01, h11;
+};
+
+/// \brief The exact test of firstCrossing() in cell (\a c, \a r), corner heights \a corners, over
+/// segment parameters [\a tA, \a tB]: each piece of the segment over one of the cell's two
+/// triangles is tested on that triangle's plane, in order, updating \a state.
+/// \return true at the first downward crossing, with \a out's hit, t, triangle and point set.
+[[gnu::always_inline]] inline bool crossCell(const glm::dvec3 &p0, const glm::dvec3 &p1,
+                                             const GridSegment &seg, int c, int r,
+                                             const CellCorners &corners, double tA, double tB,
+                                             double tol, CrossingState &state,
+                                             Crossing &out) noexcept
+{
+    using State = CrossingState;
+    const double u0 = seg.u0;
+    const double v0 = seg.v0;
+    const double du = seg.du;
+    const double dv = seg.dv;
+    const double dz = seg.dz;
+    const double h00 = corners.h00;
+    const double h10 = corners.h10;
+    const double h01 = corners.h01;
+    const double h11 = corners.h11;
+    // Split at the diagonal (u − c) = (v − r): d(t) = (u0 − c − v0 + r) + t·(du − dv).
+    const double d0 = u0 - c - v0 + r;
+    const double dd = du - dv;
+    double pieces[3] = {tA, tB, tB};
+    int nPieces = 1;
+    if (dd != 0.0) {
+        const double tD = -d0 / dd;
+        if (tD > tA && tD < tB) {
+            pieces[1] = tD;
+            nPieces = 2;
+        }
+    }
+    for (int k = 0; k < nPieces; ++k) {
+        const double pa = pieces[k];
+        const double pb = pieces[k + 1];
+        const double tm = 0.5 * (pa + pb);
+        const int upper = (d0 + tm * dd) >= 0.0 ? 0 : 1;
+        auto g = [&](double t) {
+            const double fu = u0 + t * du - c;
+            const double fv = v0 + t * dv - r;
+            const double hs = upper == 0 ? h00 + fu * (h10 - h00) + fv * (h11 - h10)
+                                         : h00 + fv * (h01 - h00) + fu * (h11 - h01);
+            return p0.z + t * dz - hs;
+        };
+        const double ga = g(pa);
+        const double gb = g(pb);
+        if (state == State::Unknown)
+            state = ga >= -tol ? State::Above : State::Below;
+        if (state == State::Above) {
+            if (gb < -tol) {
+                const double tc = ga <= 0.0 ? pa : pa + (pb - pa) * (ga / (ga - gb));
+                out.hit = true;
+                out.t = tc;
+                out.triangle = TriangleId{c, r, upper};
+                out.point = p0 + tc * (p1 - p0);
+                // Put the point exactly on the crossed plane (removes rounding along z).
+                const double fu = u0 + tc * du - c;
+                const double fv = v0 + tc * dv - r;
+                out.point.z = upper == 0 ? h00 + fu * (h10 - h00) + fv * (h11 - h10)
+                                         : h00 + fv * (h01 - h00) + fu * (h11 - h01);
+                return true;
+            }
+        } else if (gb >= -tol) {
+            state = State::Above; // came back out of the surface
+        }
+    }
+    return false;
+}
+
 /// \brief First downward crossing of segment \a p0 → \a p1 with the height field (2-D DDA walk).
 ///
 /// "Below" means z < h(x, y) − tol with tol = kSurfaceTolerance·s. A segment that starts below the
@@ -60,6 +143,7 @@ Crossing firstCrossing(const Surface &surf, const glm::dvec3 &p0, const glm::dve
     const double dz = p1.z - p0.z;
     const double uMax = w - 1;
     const double vMax = h - 1;
+    const GridSegment seg{u0, v0, du, dv, dz};
 
     // Clip the parameter range to the grid rectangle (slabs in u and v).
     double tMin = 0.0;
@@ -95,7 +179,8 @@ Crossing firstCrossing(const Surface &surf, const glm::dvec3 &p0, const glm::dve
     double tNextU = du > 0.0 ? (c + 1 - u0) / du : (du < 0.0 ? (c - u0) / du : kInf);
     double tNextV = dv > 0.0 ? (r + 1 - v0) / dv : (dv < 0.0 ? (r - v0) / dv : kInf);
 
-    enum class State { Unknown, Above, Below } state = State::Unknown;
+    using State = CrossingState;
+    State state = State::Unknown;
     double tA = tMin;
     for (;;) {
         const double tB = std::min({tNextU, tNextV, tMax});
@@ -111,52 +196,9 @@ Crossing firstCrossing(const Surface &surf, const glm::dvec3 &p0, const glm::dve
             state = State::Above; // Walker & Salisbury: the whole cell lies below the segment
         } else {
             ++out.cellsTested;
-            // Split at the diagonal (u − c) = (v − r): d(t) = (u0 − c − v0 + r) + t·(du − dv).
-            const double d0 = u0 - c - v0 + r;
-            const double dd = du - dv;
-            double pieces[3] = {tA, tB, tB};
-            int nPieces = 1;
-            if (dd != 0.0) {
-                const double tD = -d0 / dd;
-                if (tD > tA && tD < tB) {
-                    pieces[1] = tD;
-                    nPieces = 2;
-                }
-            }
-            for (int k = 0; k < nPieces; ++k) {
-                const double pa = pieces[k];
-                const double pb = pieces[k + 1];
-                const double tm = 0.5 * (pa + pb);
-                const int upper = (d0 + tm * dd) >= 0.0 ? 0 : 1;
-                auto g = [&](double t) {
-                    const double fu = u0 + t * du - c;
-                    const double fv = v0 + t * dv - r;
-                    const double hs = upper == 0 ? h00 + fu * (h10 - h00) + fv * (h11 - h10)
-                                                 : h00 + fv * (h01 - h00) + fu * (h11 - h01);
-                    return p0.z + t * dz - hs;
-                };
-                const double ga = g(pa);
-                const double gb = g(pb);
-                if (state == State::Unknown)
-                    state = ga >= -tol ? State::Above : State::Below;
-                if (state == State::Above) {
-                    if (gb < -tol) {
-                        const double tc = ga <= 0.0 ? pa : pa + (pb - pa) * (ga / (ga - gb));
-                        out.hit = true;
-                        out.t = tc;
-                        out.triangle = TriangleId{c, r, upper};
-                        out.point = p0 + tc * (p1 - p0);
-                        // Put the point exactly on the crossed plane (removes rounding along z).
-                        const double fu = u0 + tc * du - c;
-                        const double fv = v0 + tc * dv - r;
-                        out.point.z = upper == 0 ? h00 + fu * (h10 - h00) + fv * (h11 - h10)
-                                                 : h00 + fv * (h01 - h00) + fu * (h11 - h01);
-                        return out;
-                    }
-                } else if (gb >= -tol) {
-                    state = State::Above; // came back out of the surface
-                }
-            }
+            if (crossCell(p0, p1, seg, c, r, CellCorners{h00, h10, h01, h11}, tA, tB, tol, state,
+                          out))
+                return out;
         }
         if (tB >= tMax)
             break;
