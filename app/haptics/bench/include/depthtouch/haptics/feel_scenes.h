@@ -1,19 +1,20 @@
 #pragma once
 /// \file
 /// \brief Content and strokes for the feel figures (feel.h): depth videos held in memory (synthetic
-/// scenes seen through a Kinect-style sensor model, or real frames), and the strokes a finger makes on
-/// them (press, slide, hold, lift; across silhouettes; still presses). Used by `depthtouch bench feel`
-/// and the haptic scenario tests.
+/// scenes seen through a Kinect-style sensor model, or real frames), and the strokes a finger makes
+/// on them (press, slide, hold, lift; across silhouettes; still presses). Used by `depthtouch bench
+/// feel` and the haptic scenario tests.
 ///
-/// Frames and units (DESIGN.md §3): nearness samples (0 = far plane, v_max = near plane) filling the
-/// scene box; positions in the scene-box frame, m (x right, y up, z toward the viewer, origin at the
-/// box centre); times in s, frame i at i / fps. Sensor depth is mapped to nearness the way `depthtouch
-/// encode` does by default (depth/conversion.h, depth/fill.h): near/far from the robust range
-/// (1 %..99 %) of the first 5 frames, 1/Z mapping, holes filled by push-pull, rounded to 8 bits (what
-/// the H.264 4:0:0 depth stream decodes to) unless 16 bits are asked for. The H.264 coding loss itself
-/// is not modelled here (the bench encodes real captures through the encoder).
-/// Thread-safety: reentrant functions; a FeelScene is a value (share it read-only); ReferenceSurface
-/// and SceneFrameProvider are thread-bound. Not for the haptic thread (they allocate).
+/// Frames and units (docs/architecture.md §3): nearness samples (0 = far plane, v_max = near plane)
+/// filling the scene box; positions in the scene-box frame, m (x right, y up, z toward the viewer,
+/// origin at the box centre); times in s, frame i at i / fps. Sensor depth is mapped to nearness
+/// the way `depthtouch encode` does by default (depth/conversion.h, depth/fill.h): near/far from
+/// the robust range (1 %..99 %) of the first 5 frames, 1/Z mapping, holes filled by push-pull,
+/// rounded to 8 bits (what the H.264 4:0:0 depth stream decodes to) unless 16 bits are asked for.
+/// The H.264 coding loss itself is not modelled here (the bench encodes real captures through the
+/// encoder). Thread-safety: reentrant functions; a FeelScene is a value (share it read-only);
+/// ReferenceSurface and SceneFrameProvider are thread-bound. Not for the haptic thread (they
+/// allocate).
 
 #include <cstddef>
 #include <cstdint>

@@ -4,9 +4,10 @@
 /// `haptics_cost` instruction-count program: a travelling sinusoid sampled into 16-bit depth frames
 /// (30 fps video, 1 kHz haptics) and a HIP held still or stroking 2 mm under it.
 ///
-/// Surface (scene-box frame, DESIGN.md §3, m, s): `z = A·sin(kx·x − ω·t)·cos(ky·y)`, A = 3 mm,
-/// wavelengths 40 mm (x) and 50 mm (y), ω such that the motion repeats every 16 frames (the frames are
-/// generated once and cycled). Allocates (not real-time). Thread-safety: const use is reentrant.
+/// Surface (scene-box frame, docs/architecture.md §3, m, s): `z = A·sin(kx·x − ω·t)·cos(ky·y)`, A =
+/// 3 mm, wavelengths 40 mm (x) and 50 mm (y), ω such that the motion repeats every 16 frames (the
+/// frames are generated once and cycled). Allocates (not real-time). Thread-safety: const use is
+/// reentrant.
 
 #include <cstddef>
 #include <cstdint>
