@@ -19,6 +19,7 @@ endif()
 if(NOT out MATCHES "frames +([0-9]+) received, ([0-9]+) presented, ([0-9]+) dropped")
     message(FATAL_ERROR "no frames summary line")
 endif()
+set(received ${CMAKE_MATCH_1})
 set(presented ${CMAKE_MATCH_2})
 set(dropped ${CMAKE_MATCH_3})
 foreach(f force-log.csv stats.json force-psd.csv head-160x120-20.mkv snapshots/frame-000000.png)
@@ -51,7 +52,9 @@ endfunction()
 #   and the last wake-up's lateness);
 # - the haptic loop ran the whole time the clip played, within 100 ms (open and stop);
 # - every frame period of the playing time (30 fps) was presented or dropped, within 3 frames (the
-#   first frame's preroll and the frames pending at the stop).
+#   first frame's preroll and the frames pending at the stop) and one frame per loop of the 20-frame
+#   clip (a loop's restart takes up to a frame period: a fresh clone measured 83 frames in 2883 ms,
+#   4.2 loops, 3.5 frames short).
 string(JSON runS GET "${stats}" haptic_run_s)
 string(JSON playingS GET "${stats}" playing_s)
 string(JSON missed GET "${stats}" missed_periods)
@@ -70,7 +73,8 @@ if(runGap LESS -100 OR runGap GREATER 100)
     message(FATAL_ERROR "haptic run ${runMs} ms, playing ${playingMs} ms")
 endif()
 math(EXPR frameGap "(${presented} + ${dropped}) * 1000 - ${playingMs} * 30")
-if(frameGap LESS -3000 OR frameGap GREATER 3000)
+math(EXPR loopAllowance "3000 + 1000 * ((${received} + 19) / 20)")
+if(frameGap LESS -${loopAllowance} OR frameGap GREATER 3000)
     message(FATAL_ERROR "${presented} presented + ${dropped} dropped in ${playingMs} ms at 30 fps")
 endif()
 if(playingMs LESS 1000)
