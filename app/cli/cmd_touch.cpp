@@ -10,6 +10,7 @@
 /// given: then they are metric depth (--depth-scale metres per unit, 0 = invalid), converted to
 /// 16-bit nearness (docs/architecture.md §3) with the holes filled.
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -24,6 +25,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <glm/geometric.hpp>
 
 #include "commands.h"
 #include "option_cli.h"
@@ -64,6 +66,7 @@ struct TouchOptions {
     std::optional<double> farM;
     double depthScale = 0.001;
     std::string depthMapping = "inverse_z";
+    bool quiet = false; ///< No summary after the run.
 };
 
 /// What `touch` does (its line in `depthtouch --help`).
@@ -107,6 +110,8 @@ const OptionRow<TouchOptions> kTouchRows[] = {
      "smooth surfaces at 1 m/s (k=800: <= 0.8 N/update) and always trips at a cut of half the box "
      "depth (16 N)"},
     {"reengage", &TouchOptions::reengage, "After a trip: release | ramp"},
+    {"quiet", &TouchOptions::quiet,
+     "No summary of the run (on stdout; on stderr when --out is stdout)"},
     {"finger-radius",
      &TouchOptions::fingerRadius,
      "finger method: half-width of the surface patch the finger touches (m); default 0.015 x box "
@@ -436,6 +441,32 @@ int openDecodedDepth(const TouchOptions &o, std::unique_ptr<haptics::FrameProvid
     return kExitOk;
 }
 
+/// One paragraph after a run: updates, time and rate, method, the share in contact, the largest
+/// force and the safety trips, and where the force log went. On stdout, or on stderr when the
+/// force log itself goes to stdout.
+void printTouchSummary(const TouchOptions &o, const std::vector<haptics::ForceLogRow> &rows)
+{
+    std::size_t contact = 0;
+    std::size_t trips = 0;
+    double maxForce = 0.0;
+    for (const haptics::ForceLogRow &r : rows) {
+        contact += r.out.contact ? 1u : 0u;
+        trips += r.out.released ? 1u : 0u;
+        maxForce = std::max(maxForce, glm::length(r.out.force));
+    }
+    const double seconds = rows.empty() ? 0.0 : rows.back().t - rows.front().t;
+    const double share =
+        rows.empty() ? 0.0
+                     : 100.0 * static_cast<double>(contact) / static_cast<double>(rows.size());
+    std::FILE *sink = o.out == "/dev/stdout" || o.out == "-" ? stderr : stdout;
+    std::fprintf(
+        sink,
+        "touch: %zu updates over %.3f s at %g Hz (%s): %.0f %% in contact, max force %.2f N "
+        "(device maximum %.2f N), %zu safety trips; force log %s\n",
+        rows.size(), seconds, o.rate, o.method.c_str(), share, maxForce, o.maxForce, trips,
+        o.out.c_str());
+}
+
 int runTouch(const TouchOptions &o)
 {
     using namespace depthtouch::haptics;
@@ -498,6 +529,8 @@ int runTouch(const TouchOptions &o)
         return fail(w.error().code == Errc::Io ? kExitFailure : kExitBadInput,
                     "cannot write '" + o.out + "': " + w.error().format(buf, sizeof buf));
     }
+    if (!o.quiet)
+        printTouchSummary(o, *rows);
     return kExitOk;
 }
 

@@ -22,7 +22,7 @@ printf 't,x,y,z\n0,0,0,0.02\n1,0,0,-0.01\n' > "$work/traj.csv"
 check() { # name, depth, extra args...
     name="$1"; depth="$2"; shift 2
     "$exe" touch "$depth" --trajectory "$work/traj.csv" --out "$work/$name.csv" "$@" 2>"$work/$name.err" \
-        || { cat "$work/$name.err"; fail "$name: depthtouch touch exited $?"; }
+        >"$work/$name.out" || { cat "$work/$name.err"; fail "$name: depthtouch touch exited $?"; }
     head -n 1 "$work/$name.csv" | grep -qx 't,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released' \
         || fail "$name: force log header"
     rows=$(($(wc -l <"$work/$name.csv") - 1))
@@ -30,12 +30,24 @@ check() { # name, depth, extra args...
     contact=$(awk -F, 'NR > 1 && $11 == 1 { n++ } END { print n + 0 }' "$work/$name.csv")
     first=$(awk -F, 'NR > 1 && $11 == 1 { print $1; exit }' "$work/$name.csv")
     [ "$contact" -gt 100 ] || fail "$name: $contact contact rows"
+    # The summary agrees with the force log: updates and the share in contact.
+    share=$(awk -v c="$contact" -v n="$rows" 'BEGIN { printf "%.0f", 100 * c / n }')
+    grep -q "^touch: $rows updates over 1.000 s at 1000 Hz (finger): $share % in contact, max force " \
+        "$work/$name.out" || { cat "$work/$name.out"; fail "$name: summary line (want $rows updates, $share % in contact)"; }
     echo "$name: $rows rows, $contact in contact, first contact at t=$first s"
 }
 check gray264 "$work/gray264.mkv"
 check ffv1 "$work/ffv1.mkv"
 # 1000 mm between near 0.5 m and far 2 m (inverse Z): nearness 1/3 of v_max → z = -0.0067 m.
 check metric "$work/frame-%06d.depth.png" --near 0.5 --far 2 --fps 30
+# --quiet: nothing on stdout; --out /dev/stdout: the force log alone on stdout, the summary on stderr.
+"$exe" touch "$work/ffv1.mkv" --trajectory "$work/traj.csv" --out "$work/q.csv" --quiet >"$work/q.out" ||
+    fail "--quiet run"
+[ ! -s "$work/q.out" ] || { cat "$work/q.out"; fail "--quiet printed something"; }
+"$exe" touch "$work/ffv1.mkv" --trajectory "$work/traj.csv" --out /dev/stdout >"$work/s.csv" 2>"$work/s.err" ||
+    fail "--out /dev/stdout run"
+cmp -s "$work/s.csv" "$work/ffv1.csv" || fail "--out /dev/stdout: the force log differs from the file's"
+grep -q "^touch: 1001 updates" "$work/s.err" || fail "--out /dev/stdout: no summary on stderr"
 first=$(awk -F, 'NR > 1 && $11 == 1 { print $1; exit }' "$work/metric.csv")
 awk -v t="$first" 'BEGIN { exit !(t > 0.85 && t < 0.93) }' || fail "metric: first contact at $first s, want about 0.89 s"
 
