@@ -98,8 +98,9 @@ std::string applyPlayConfigText(std::string_view text, const std::string &path,
         // The type is checked on a scratch copy when the command line gives the option.
         PlayOptions scratch;
         PlayOptions &into = given && given(key) ? scratch : options;
+        const auto &value = node; // a lambda may not capture a structured binding (clang 14)
         const bool stored =
-            std::visit([&](auto field) { return storeValue(node, into.*field); }, row->field);
+            std::visit([&](auto field) { return storeValue(value, into.*field); }, row->field);
         if (!stored)
             return fileError(path, quotedText(key) + " has the wrong type or is out of range");
     }

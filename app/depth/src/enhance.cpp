@@ -68,8 +68,8 @@ std::int64_t cross(PixelPoint o, PixelPoint a, PixelPoint b)
 float departureAlong(const Plane<float> &surface, PixelPoint a, PixelPoint b)
 {
     const int n = std::max(std::abs(b.x - a.x), std::abs(b.y - a.y));
-    const double ha = surface.at(a.x, a.y);
-    const double hb = surface.at(b.x, b.y);
+    const double ha = static_cast<double>(surface.at(a.x, a.y));
+    const double hb = static_cast<double>(surface.at(b.x, b.y));
     if (n <= 1)
         return static_cast<float>(std::fabs(hb - ha));
     float worst = 0.0f;
@@ -249,7 +249,7 @@ void smoothHeights(Mesh &mesh, const Plane<float> &surface, const SmoothOptions 
                 const double u = (mesh.vertices[j].x - p.x) / meanDist;
                 const double v = (mesh.vertices[j].y - p.y) / meanDist;
                 const double wgt = std::exp(-0.5 * (u * u + v * v) / (sigma * sigma));
-                const double hj = mesh.heights[j];
+                const double hj = static_cast<double>(mesh.heights[j]);
                 const double basis[3] = {1.0, u, v};
                 for (int a = 0; a < 3; ++a) {
                     for (int b = 0; b < 3; ++b)
@@ -288,9 +288,9 @@ Plane<float> renderMesh(const Mesh &mesh, int width, int height, std::size_t *un
         const std::int64_t area = cross(a, b, c);
         if (area == 0)
             continue;
-        const double ha = mesh.heights[t[0]];
-        const double hb = mesh.heights[t[1]];
-        const double hc = mesh.heights[t[2]];
+        const double ha = static_cast<double>(mesh.heights[t[0]]);
+        const double hb = static_cast<double>(mesh.heights[t[1]]);
+        const double hc = static_cast<double>(mesh.heights[t[2]]);
         const int xMin = std::max(0, std::min({a.x, b.x, c.x}));
         const int xMax = std::min(out.width - 1, std::max({a.x, b.x, c.x}));
         const int yMin = std::max(0, std::min({a.y, b.y, c.y}));
@@ -386,7 +386,7 @@ Result<EnhanceResult> enhance(const Plane<float> &nearness, const EnhanceOptions
     const auto k99 = static_cast<std::size_t>(0.99 * (count - 1.0));
     std::nth_element(absErr.begin(), absErr.begin() + static_cast<std::ptrdiff_t>(k99),
                      absErr.end());
-    r.p99AbsError = absErr[k99];
+    r.p99AbsError = static_cast<double>(absErr[k99]);
 
     const Masks masks = makeMasks(median, options.measure);
     r.flatPixels = masks.flatCount;
