@@ -233,6 +233,9 @@ int vfprintf(FILE *f, const char *format, va_list args)
     countIf(gWrites);
     return real(f, format, args);
 }
+// The interposers pass their caller's format on (clang's -Wformat-nonliteral would stop them).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wformat-nonliteral"
 int fprintf(FILE *f, const char *format, ...)
 {
     va_list args;
@@ -253,6 +256,7 @@ int __vfprintf_chk(FILE *f, int, const char *format, va_list args)
 {
     return vfprintf(f, format, args);
 }
+#pragma GCC diagnostic pop
 int fflush(FILE *f)
 {
     static const auto real = resolve<int (*)(FILE *)>("fflush");

@@ -54,7 +54,8 @@ void findSilhouettes(const depth::Plane<float> &z, const KinectNoiseOptions &o, 
         const float a = z.at(xa, ya);
         const float b = z.at(xb, yb);
         if (!surface(a) || !surface(b) ||
-            std::fabs(static_cast<double>(a) - static_cast<double>(b)) <= o.edgeJump * std::min<double>(a, b))
+            std::fabs(static_cast<double>(a) - static_cast<double>(b)) <=
+                o.edgeJump * std::min(static_cast<double>(a), static_cast<double>(b)))
             return false;
         other.at(xa, ya) = b;
         other.at(xb, yb) = a;
@@ -66,8 +67,8 @@ void findSilhouettes(const depth::Plane<float> &z, const KinectNoiseOptions &o, 
                 edge(x, y, x, y + 1);
             if (x + 1 >= z.width || !edge(x, y, x + 1, y))
                 continue;
-            const double far = z.at(x, y);
-            const double near = z.at(x + 1, y);
+            const double far = static_cast<double>(z.at(x, y));
+            const double near = static_cast<double>(z.at(x + 1, y));
             if (far <= near)
                 continue;
             const double w = o.focalPx * o.baseline * (1.0 / near - 1.0 / far);
@@ -110,7 +111,7 @@ depth::Plane<std::uint16_t> applyKinectNoise(const depth::Plane<float> &clean, c
     const Draws draws(o.seed, frameIndex);
     speckle(draws, o, hole);
     for (std::size_t i = 0; i < clean.size(); ++i) {
-        double z = clean.samples[i];
+        double z = static_cast<double>(clean.samples[i]);
         if (!surface(clean.samples[i]) || hole.samples[i])
             continue;
         if (other.samples[i] > 0.0f) {
@@ -118,8 +119,8 @@ depth::Plane<std::uint16_t> applyKinectNoise(const depth::Plane<float> &clean, c
             if (u < o.edgeHoleProbability)
                 continue;
             if (draws.uniform(i, 3) < o.flyingProbability) {
-                const double lo = std::min<double>(z, other.samples[i]);
-                const double hi = std::max<double>(z, other.samples[i]);
+                const double lo = std::min(z, static_cast<double>(other.samples[i]));
+                const double hi = std::max(z, static_cast<double>(other.samples[i]));
                 z = lo + (0.2 + 0.6 * draws.uniform(i, 4)) * (hi - lo);
             }
         }

@@ -287,8 +287,8 @@ Result<FeelScene> sceneFromSensorDepth(std::string name, const std::vector<depth
         std::vector<std::uint16_t> ref(z.size(), 0);
         for (std::size_t i = 0; i < z.size(); ++i)
             if (z.samples[i] > 0.0f)
-                ref[i] = static_cast<std::uint16_t>(std::lround(
-                    depth::metresToNearness(z.samples[i], *range, co.mapping, 65535.0)));
+                ref[i] = static_cast<std::uint16_t>(std::lround(depth::metresToNearness(
+                    static_cast<double>(z.samples[i]), *range, co.mapping, 65535.0)));
         scene.reference.push_back(std::move(ref));
     }
     scene.valid = depth::Plane<std::uint8_t>(scene.width, scene.height, 0);
