@@ -155,6 +155,72 @@ private:
     std::unique_ptr<platform::ManualClock> manual_;
 };
 
+/// \brief The fixture of a contract suite over the backends of the HAL interface \a I, whose
+/// harnesses are of type \a H; the test parameter is the backend's name.
+///
+/// createBackend() finds the backend's harness, puts the backend on a TestClock when the harness
+/// has `simulatedTime`, fills cfg_ and creates the backend into backend_: through the harness's own
+/// `create` where it has one that is set, else through the table's factory. Thread-bound: the
+/// test's thread.
+template <class I, class H>
+class BackendContractTest : public ::testing::TestWithParam<std::string> {
+protected:
+    /// A table's factory (drivers::createDisplay, ...).
+    using TableFactory = Result<std::unique_ptr<I>> (*)(std::string_view,
+                                                        const hal::BackendConfig &,
+                                                        hal::SelectionReport *);
+
+    /// Call from SetUp(), then return from it while backend_ is null (the test skipped or failed).
+    /// \param harnessOf the suite's harness lookup; no harness skips the test with a message naming
+    ///                  \a kind ("display", ...).
+    /// \param absent    the device's name in the message of the skip when the factory reports
+    ///                  NoDevice (hardware absent); nullptr: NoDevice fails the test like any
+    ///                  error.
+    /// \param factory   the table's factory, called with the backend's name alone.
+    void createBackend(const H *(*harnessOf)(std::string_view), const char *kind,
+                       const char *absent, TableFactory factory)
+    {
+        harness_ = harnessOf(GetParam());
+        if (harness_ == nullptr)
+            GTEST_SKIP() << "No contract harness for " << kind << " backend " << GetParam();
+        if constexpr (requires { harness_->simulatedTime; }) {
+            clock_ = std::make_unique<TestClock>(harness_->simulatedTime);
+            cfg_.clock = &clock_->clock();
+        }
+        cfg_.options = hal::OptionList(harness_->options);
+        Result<std::unique_ptr<I>> created = [&] {
+            if constexpr (requires { harness_->create; }) {
+                if (harness_->create)
+                    return harness_->create(cfg_);
+            }
+            return factory(GetParam(), cfg_, nullptr);
+        }();
+        if (absent != nullptr && !created && created.error().code == Errc::NoDevice)
+            GTEST_SKIP() << absent << " " << GetParam() << " absent";
+        ASSERT_TRUE(created) << created.error().what;
+        backend_ = std::move(*created);
+    }
+
+    const H *harness_ = nullptr;
+    std::unique_ptr<TestClock> clock_; ///< Null for harnesses without `simulatedTime`.
+    hal::BackendConfig cfg_;
+    std::unique_ptr<I> backend_;
+};
+
+/// Instantiates the contract suite \a suite over every backend of \a table (a BackendTable).
+#define DT_CONTRACT_ON_ALL_BACKENDS(suite, table)                                                  \
+    INSTANTIATE_TEST_SUITE_P(Backends, suite, ::testing::ValuesIn(namesOf(table)),                 \
+                             backendParamName);                                                    \
+    GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(suite)
+
+/// Instantiates \a suite over the backends of \a table whose harness (from \a harnessOf) meets the
+/// predicate \a applies, and those without a harness (see namesWhere()).
+#define DT_CONTRACT_ON_BACKENDS_WHERE(suite, table, harnessOf, applies)                            \
+    INSTANTIATE_TEST_SUITE_P(Backends, suite,                                                      \
+                             ::testing::ValuesIn(namesWhere(table, harnessOf, applies)),           \
+                             backendParamName);                                                    \
+    GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(suite)
+
 /// Counts the calling thread's heap allocations (tests/support, linked in by CMake).
 using testing::AllocationCounter;
 

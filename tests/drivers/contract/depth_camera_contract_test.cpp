@@ -13,21 +13,13 @@ using hal::DepthCamera;
 using State = DepthCamera::State;
 using std::chrono::milliseconds;
 
-class DepthCameraContractTest : public ::testing::TestWithParam<std::string> {
+class DepthCameraContractTest : public BackendContractTest<DepthCamera, DepthCameraHarness> {
 protected:
     void SetUp() override
     {
-        harness_ = depthCameraHarness(GetParam());
-        if (harness_ == nullptr)
-            GTEST_SKIP() << "No contract harness for depth camera backend " << GetParam();
-        clock_ = std::make_unique<TestClock>(harness_->simulatedTime);
-        cfg_.clock = &clock_->clock();
-        cfg_.options = hal::OptionList(harness_->options);
-        auto c = drivers::createDepthCamera(GetParam(), cfg_);
-        if (!c && c.error().code == Errc::NoDevice)
-            GTEST_SKIP() << "Camera " << GetParam() << " absent";
-        ASSERT_TRUE(c) << c.error().what;
-        camera_ = std::move(*c);
+        createBackend(depthCameraHarness, "depth camera", "Camera", drivers::createDepthCamera);
+        if (!camera_)
+            return;
         ASSERT_FALSE(camera_->capabilities().modes.empty());
     }
     void TearDown() override
@@ -64,10 +56,7 @@ protected:
     }
     hal::Deadline soon() const { return clock_->clock().now() + std::chrono::seconds(1); }
 
-    const DepthCameraHarness *harness_ = nullptr;
-    std::unique_ptr<TestClock> clock_;
-    hal::BackendConfig cfg_;
-    std::unique_ptr<DepthCamera> camera_;
+    std::unique_ptr<DepthCamera> &camera_ = backend_;
 };
 
 TEST_P(DepthCameraContractTest, modesAreSane)
@@ -212,10 +201,7 @@ TEST_P(DepthCameraContractTest, unpluggedCameraReportsNoDevice)
     EXPECT_TRUE(camera_->capture(soon()));
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, DepthCameraContractTest,
-                         ::testing::ValuesIn(namesOf(drivers::depthCameraBackends())),
-                         backendParamName);
-GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(DepthCameraContractTest);
+DT_CONTRACT_ON_ALL_BACKENDS(DepthCameraContractTest, drivers::depthCameraBackends());
 
 } // namespace
 } // namespace depthtouch::contract

@@ -9,21 +9,11 @@ namespace {
 using hal::Display;
 using State = Display::State;
 
-class DisplayContractTest : public ::testing::TestWithParam<std::string> {
+class DisplayContractTest : public BackendContractTest<Display, DisplayHarness> {
 protected:
     void SetUp() override
     {
-        harness_ = displayHarness(GetParam());
-        if (harness_ == nullptr)
-            GTEST_SKIP() << "No contract harness for display backend " << GetParam();
-        clock_ = std::make_unique<TestClock>(harness_->simulatedTime);
-        cfg_.clock = &clock_->clock();
-        cfg_.options = hal::OptionList(harness_->options);
-        auto d = drivers::createDisplay(GetParam(), cfg_);
-        if (!d && d.error().code == Errc::NoDevice)
-            GTEST_SKIP() << "Display " << GetParam() << " absent";
-        ASSERT_TRUE(d) << d.error().what;
-        display_ = std::move(*d);
+        createBackend(displayHarness, "display", "Display", drivers::createDisplay);
     }
     void TearDown() override
     {
@@ -32,10 +22,7 @@ protected:
     }
     void openOrFail(const hal::DisplayConfig &cfg = {}) { ASSERT_TRUE(display_->open(cfg)); }
 
-    const DisplayHarness *harness_ = nullptr;
-    std::unique_ptr<TestClock> clock_;
-    hal::BackendConfig cfg_;
-    std::unique_ptr<Display> display_;
+    std::unique_ptr<Display> &display_ = backend_;
 };
 
 TEST_P(DisplayContractTest, closedDisplayRejectsCallsWithoutEffect)
@@ -137,17 +124,9 @@ TEST_P(DisplayLossContractTest, lostDisplayReportsNoDeviceUntilReopened)
     EXPECT_EQ(info->frameCounter, 1u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, DisplayContractTest,
-                         ::testing::ValuesIn(namesOf(drivers::displayBackends())),
-                         backendParamName);
-GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(DisplayContractTest);
-INSTANTIATE_TEST_SUITE_P(Backends, DisplayLossContractTest,
-                         ::testing::ValuesIn(namesWhere(drivers::displayBackends(), displayHarness,
-                                                        [](const DisplayHarness &h) {
-                                                            return h.lose && h.restore;
-                                                        })),
-                         backendParamName);
-GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(DisplayLossContractTest);
+DT_CONTRACT_ON_ALL_BACKENDS(DisplayContractTest, drivers::displayBackends());
+DT_CONTRACT_ON_BACKENDS_WHERE(DisplayLossContractTest, drivers::displayBackends(), displayHarness,
+                              [](const DisplayHarness &h) { return h.lose && h.restore; });
 
 } // namespace
 } // namespace depthtouch::contract

@@ -40,21 +40,11 @@ double expectedMaxForce(const std::string &backend)
     return std::nan("");
 }
 
-class HapticDeviceContractTest : public ::testing::TestWithParam<std::string> {
+class HapticDeviceContractTest : public BackendContractTest<HapticDevice, HapticHarness> {
 protected:
     void SetUp() override
     {
-        harness_ = hapticHarness(GetParam());
-        if (harness_ == nullptr)
-            GTEST_SKIP() << "No contract harness for haptic device backend " << GetParam();
-        clock_ = std::make_unique<TestClock>(harness_->simulatedTime);
-        cfg_.clock = &clock_->clock();
-        cfg_.options = hal::OptionList(harness_->options);
-        auto dev = drivers::createHapticDevice(GetParam(), cfg_);
-        if (!dev && dev.error().code == Errc::NoDevice)
-            GTEST_SKIP() << "Haptic device " << GetParam() << " absent";
-        ASSERT_TRUE(dev) << dev.error().what;
-        dev_ = std::move(*dev);
+        createBackend(hapticHarness, "haptic device", "Haptic device", drivers::createHapticDevice);
     }
     void TearDown() override
     {
@@ -63,10 +53,7 @@ protected:
     }
     void openOrFail() { ASSERT_TRUE(dev_->open()); }
 
-    const HapticHarness *harness_ = nullptr;
-    std::unique_ptr<TestClock> clock_;
-    hal::BackendConfig cfg_;
-    std::unique_ptr<HapticDevice> dev_;
+    std::unique_ptr<HapticDevice> &dev_ = backend_;
 };
 
 TEST_P(HapticDeviceContractTest, capabilitiesAreSaneAndConstant)
@@ -263,34 +250,17 @@ TEST_P(HapticDeviceContractTest, realTimeCallsDoNotAllocate)
     EXPECT_EQ(allocations, 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, HapticDeviceContractTest,
-                         ::testing::ValuesIn(namesOf(drivers::hapticDeviceBackends())),
-                         backendParamName);
-GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(HapticDeviceContractTest);
-INSTANTIATE_TEST_SUITE_P(
-    Backends, HapticNoDeviceContractTest,
-    ::testing::ValuesIn(namesWhere(drivers::hapticDeviceBackends(), hapticHarness,
-                                   [](const HapticHarness &h) { return !h.hasDevice; })),
-    backendParamName);
-GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(HapticNoDeviceContractTest);
-INSTANTIATE_TEST_SUITE_P(Backends, HapticConnectedContractTest,
-                         ::testing::ValuesIn(namesWhere(drivers::hapticDeviceBackends(),
-                                                        hapticHarness,
-                                                        [](const HapticHarness &h) {
-                                                            return h.hasDevice &&
-                                                                   bool(h.outputForce);
-                                                        })),
-                         backendParamName);
-GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(HapticConnectedContractTest);
-INSTANTIATE_TEST_SUITE_P(Backends, HapticUnplugContractTest,
-                         ::testing::ValuesIn(namesWhere(drivers::hapticDeviceBackends(),
-                                                        hapticHarness,
-                                                        [](const HapticHarness &h) {
-                                                            return h.hasDevice && h.outputForce &&
-                                                                   h.unplug && h.replug;
-                                                        })),
-                         backendParamName);
-GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(HapticUnplugContractTest);
+DT_CONTRACT_ON_ALL_BACKENDS(HapticDeviceContractTest, drivers::hapticDeviceBackends());
+DT_CONTRACT_ON_BACKENDS_WHERE(HapticNoDeviceContractTest, drivers::hapticDeviceBackends(),
+                              hapticHarness, [](const HapticHarness &h) { return !h.hasDevice; });
+DT_CONTRACT_ON_BACKENDS_WHERE(HapticConnectedContractTest, drivers::hapticDeviceBackends(),
+                              hapticHarness, [](const HapticHarness &h) {
+                                  return h.hasDevice && bool(h.outputForce);
+                              });
+DT_CONTRACT_ON_BACKENDS_WHERE(HapticUnplugContractTest, drivers::hapticDeviceBackends(),
+                              hapticHarness, [](const HapticHarness &h) {
+                                  return h.hasDevice && h.outputForce && h.unplug && h.replug;
+                              });
 
 } // namespace
 } // namespace depthtouch::contract

@@ -12,23 +12,15 @@ namespace {
 using hal::MediaSource;
 using State = MediaSource::State;
 
-class MediaSourceContractTest : public ::testing::TestWithParam<std::string> {
+class MediaSourceContractTest : public BackendContractTest<MediaSource, MediaSourceHarness> {
 protected:
     void SetUp() override
     {
-        harness_ = mediaSourceHarness(GetParam());
-        if (harness_ == nullptr)
-            GTEST_SKIP() << "No contract harness for media source backend " << GetParam();
-        cfg_.options = hal::OptionList(harness_->options);
-        auto src = drivers::createMediaSource(GetParam(), cfg_);
-        ASSERT_TRUE(src) << src.error().what;
-        src_ = std::move(*src);
+        createBackend(mediaSourceHarness, "media source", nullptr, drivers::createMediaSource);
     }
     void openOrFail() { ASSERT_TRUE(src_->open(harness_->url.c_str())) << harness_->url; }
 
-    const MediaSourceHarness *harness_ = nullptr;
-    hal::BackendConfig cfg_;
-    std::unique_ptr<MediaSource> src_;
+    std::unique_ptr<MediaSource> &src_ = backend_;
 };
 
 TEST_P(MediaSourceContractTest, closedSourceRejectsReadsAndSeeks)
@@ -171,10 +163,7 @@ TEST_P(MediaSourceContractTest, closeAndReopen)
     EXPECT_TRUE(p->keyframe);
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, MediaSourceContractTest,
-                         ::testing::ValuesIn(namesOf(drivers::mediaSourceBackends())),
-                         backendParamName);
-GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(MediaSourceContractTest);
+DT_CONTRACT_ON_ALL_BACKENDS(MediaSourceContractTest, drivers::mediaSourceBackends());
 
 } // namespace
 } // namespace depthtouch::contract

@@ -8,28 +8,14 @@ namespace {
 
 using std::chrono::milliseconds;
 
-class RemoteInputContractTest : public ::testing::TestWithParam<std::string> {
+class RemoteInputContractTest : public BackendContractTest<hal::RemoteInput, RemoteInputHarness> {
 protected:
     void SetUp() override
     {
-        harness_ = remoteInputHarness(GetParam());
-        if (harness_ == nullptr)
-            GTEST_SKIP() << "No contract harness for remote input backend " << GetParam();
-        clock_ = std::make_unique<TestClock>(harness_->simulatedTime);
-        cfg_.clock = &clock_->clock();
-        cfg_.options = hal::OptionList(harness_->options);
-        auto r = harness_->create ? harness_->create(cfg_)
-                                  : drivers::createRemoteInput(GetParam(), cfg_);
-        if (!r && r.error().code == Errc::NoDevice)
-            GTEST_SKIP() << "Remote " << GetParam() << " absent";
-        ASSERT_TRUE(r) << r.error().what;
-        remote_ = std::move(*r);
+        createBackend(remoteInputHarness, "remote input", "Remote", drivers::createRemoteInput);
     }
 
-    const RemoteInputHarness *harness_ = nullptr;
-    std::unique_ptr<TestClock> clock_;
-    hal::BackendConfig cfg_;
-    std::unique_ptr<hal::RemoteInput> remote_;
+    std::unique_ptr<hal::RemoteInput> &remote_ = backend_;
 };
 
 TEST_P(RemoteInputContractTest, pastDeadlinePollsWithoutWaiting)
@@ -85,22 +71,13 @@ TEST_P(RemoteInputUnplugContractTest, unpluggedRemoteReportsNoDevice)
     EXPECT_EQ(errcOf(remote_->poll(clock_->clock().now() + milliseconds(5))), Errc::NoDevice);
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, RemoteInputContractTest,
-                         ::testing::ValuesIn(namesOf(drivers::remoteInputBackends())),
-                         backendParamName);
-GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(RemoteInputContractTest);
-INSTANTIATE_TEST_SUITE_P(
-    Backends, RemoteInputKeyContractTest,
-    ::testing::ValuesIn(namesWhere(drivers::remoteInputBackends(), remoteInputHarness,
-                                   [](const RemoteInputHarness &h) { return bool(h.injectKey); })),
-    backendParamName);
-GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(RemoteInputKeyContractTest);
-INSTANTIATE_TEST_SUITE_P(
-    Backends, RemoteInputUnplugContractTest,
-    ::testing::ValuesIn(namesWhere(drivers::remoteInputBackends(), remoteInputHarness,
-                                   [](const RemoteInputHarness &h) { return bool(h.unplug); })),
-    backendParamName);
-GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(RemoteInputUnplugContractTest);
+DT_CONTRACT_ON_ALL_BACKENDS(RemoteInputContractTest, drivers::remoteInputBackends());
+DT_CONTRACT_ON_BACKENDS_WHERE(RemoteInputKeyContractTest, drivers::remoteInputBackends(),
+                              remoteInputHarness,
+                              [](const RemoteInputHarness &h) { return bool(h.injectKey); });
+DT_CONTRACT_ON_BACKENDS_WHERE(RemoteInputUnplugContractTest, drivers::remoteInputBackends(),
+                              remoteInputHarness,
+                              [](const RemoteInputHarness &h) { return bool(h.unplug); });
 
 } // namespace
 } // namespace depthtouch::contract

@@ -28,21 +28,13 @@ struct OwnedPacket {
     }
 };
 
-class VideoDecoderContractTest : public ::testing::TestWithParam<std::string> {
+class VideoDecoderContractTest : public BackendContractTest<VideoDecoder, VideoDecoderHarness> {
 protected:
     void SetUp() override
     {
-        harness_ = videoDecoderHarness(GetParam());
-        if (harness_ == nullptr)
-            GTEST_SKIP() << "No contract harness for video decoder backend " << GetParam();
-        clock_ = std::make_unique<TestClock>(harness_->simulatedTime);
-        cfg_.clock = &clock_->clock();
-        cfg_.options = hal::OptionList(harness_->options);
-        auto dec = drivers::createVideoDecoder(GetParam(), cfg_);
-        if (!dec && dec.error().code == Errc::NoDevice)
-            GTEST_SKIP() << "Decoder " << GetParam() << " absent";
-        ASSERT_TRUE(dec) << dec.error().what;
-        dec_ = std::move(*dec);
+        createBackend(videoDecoderHarness, "video decoder", "Decoder", drivers::createVideoDecoder);
+        if (!dec_)
+            return;
         readClip();
     }
 
@@ -80,10 +72,7 @@ protected:
     }
     hal::Deadline soon() const { return clock_->clock().now() + milliseconds(500); }
 
-    const VideoDecoderHarness *harness_ = nullptr;
-    std::unique_ptr<TestClock> clock_;
-    hal::BackendConfig cfg_;
-    std::unique_ptr<VideoDecoder> dec_;
+    std::unique_ptr<VideoDecoder> &dec_ = backend_;
     std::vector<hal::StreamInfo> streams_;
     std::vector<std::vector<OwnedPacket>> packets_;
 };
@@ -342,10 +331,7 @@ TEST_P(VideoDecoderContractTest, dequeueWithNothingQueuedTimesOutAtTheDeadline)
     EXPECT_GE(clock_->clock().now(), until);
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, VideoDecoderContractTest,
-                         ::testing::ValuesIn(namesOf(drivers::videoDecoderBackends())),
-                         backendParamName);
-GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(VideoDecoderContractTest);
+DT_CONTRACT_ON_ALL_BACKENDS(VideoDecoderContractTest, drivers::videoDecoderBackends());
 
 } // namespace
 } // namespace depthtouch::contract
