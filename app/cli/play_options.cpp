@@ -23,7 +23,7 @@ bool parseOutputSize(std::string_view text, int &w, int &h)
     char x = 0;
     char extra = 0;
     return std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) == 3 && (x == 'x' || x == 'X') &&
-           w >= 16 && h >= 16 && w <= 8192 && h <= 8192;
+           w >= 16 && h >= 16 && w <= Config::kMaxOutputSize && h <= Config::kMaxOutputSize;
 }
 
 bool isStereoMode(std::string_view text)
@@ -134,7 +134,7 @@ const OptionRow<PlayOptions> kPlayRows[] = {
      .field = &PlayOptions::maxLateness,
      .help = "Seconds a frame may be late and still be drawn (the next ones catch up); later ones "
              "are dropped (0: drop as soon as the next frame is due)",
-     .check = inRange(0.0, 10.0, "seconds"),
+     .check = inRange(0.0, Config::kMaxLateness, "seconds"),
      .land = [](const PlayOptions &o, Config &c) { c.maxLateness = o.maxLateness; }},
     {.name = "require-rt",
      .field = &PlayOptions::requireRt,

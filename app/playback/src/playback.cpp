@@ -114,13 +114,14 @@ Result<std::unique_ptr<Playback>> Playback::create(const PlaybackConfig &config,
                                             "and a clock");
     if (auto r = config.haptics.validate(); !r)
         return r.error();
-    if (config.outputWidth < 0 || config.outputHeight < 0 || config.outputWidth > 8192 ||
-        config.outputHeight > 8192)
+    if (config.outputWidth < 0 || config.outputHeight < 0 ||
+        config.outputWidth > PlaybackConfig::kMaxOutputSize ||
+        config.outputHeight > PlaybackConfig::kMaxOutputSize)
         return Error(Errc::InvalidArgument, "output size out of range");
-    if (config.meshStep < 0 || config.meshStep > 64 ||
+    if (config.meshStep < 0 || config.meshStep > PlaybackConfig::kMaxMeshStep ||
         (config.meshStep & (config.meshStep - 1)) != 0)
         return Error(Errc::InvalidArgument, "mesh step must be 0 or a power of two up to 64");
-    if (!(config.maxLateness >= 0.0 && config.maxLateness <= 10.0))
+    if (!(config.maxLateness >= 0.0 && config.maxLateness <= PlaybackConfig::kMaxLateness))
         return Error(Errc::InvalidArgument, "max lateness must be in [0, 10] s");
     auto impl = std::make_unique<Impl>(config, hal);
     return std::unique_ptr<Playback>(new Playback(std::move(impl)));

@@ -50,6 +50,13 @@ namespace depthtouch::playback {
 
 /// \brief Settings of a Playback (the `play` options).
 struct PlaybackConfig {
+    /// Largest output width and height, pixels (Playback::create and `play --size` check it).
+    static constexpr int kMaxOutputSize = 8192;
+    /// Largest fixed mesh step (a power of two).
+    static constexpr int kMaxMeshStep = 64;
+    /// Largest maxLateness, s (Playback::create and `play --max-lateness` check it).
+    static constexpr double kMaxLateness = 10.0;
+
     receiver::ReceiverConfig receiver{};
     /// Haptic task: servo rate, renderer (stiffness N/m, scene box, fixes), force log path,
     /// SCHED_FIFO requirement. Its stiffness is the start value of setStiffness().
