@@ -6,6 +6,7 @@
 #include <iterator>
 #include <string_view>
 
+#include "depthtouch/drivers/common/backend_options.h"
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
 #include "ffmpeg_common.h"
@@ -79,12 +80,8 @@ bool isGray(AVPixelFormat f) noexcept
 Result<FfmpegSourceSettings> FfmpegSourceSettings::parse(hal::OptionList options)
 {
     FfmpegSourceSettings s;
-    const std::string_view unknown = options.firstUnknownKey(kOptionKeys, std::size(kOptionKeys));
-    if (!unknown.empty()) {
-        DT_LOG(Ffmpeg, Error, "Unknown ffmpeg media source option '%.*s'",
-               static_cast<int>(unknown.size()), unknown.data());
-        return unexpected(Errc::InvalidArgument, "Unknown ffmpeg media source option");
-    }
+    DT_TRY(rejectUnknownOptions(options, kOptionKeys, std::size(kOptionKeys), kLogCategoryFfmpeg,
+                                "Unknown ffmpeg media source option"));
     auto fps = options.getDouble("fps", 0.0);
     auto timeout = options.getInt("timeout_ms", s.timeoutMs);
     if (!fps || *fps < 0.0 || *fps > 10'000.0)

@@ -8,6 +8,7 @@
 #include <system_error>
 #include <vector>
 
+#include "depthtouch/drivers/common/backend_options.h"
 #include "depthtouch/drivers/common/frame_pool.h"
 #include "depthtouch/drivers/ffmpeg/drm_prime.h"
 #include "depthtouch/platform/log.h"
@@ -87,12 +88,8 @@ constexpr int kCaptureBufferMargin = 8;
 Result<FfmpegDecoderSettings> FfmpegDecoderSettings::parse(hal::OptionList options)
 {
     FfmpegDecoderSettings s;
-    const std::string_view unknown = options.firstUnknownKey(kOptionKeys, std::size(kOptionKeys));
-    if (!unknown.empty()) {
-        DT_LOG(Ffmpeg, Error, "Unknown ffmpeg video decoder option '%.*s'",
-               static_cast<int>(unknown.size()), unknown.data());
-        return unexpected(Errc::InvalidArgument, "Unknown ffmpeg video decoder option");
-    }
+    DT_TRY(rejectUnknownOptions(options, kOptionKeys, std::size(kOptionKeys), kLogCategoryFfmpeg,
+                                "Unknown ffmpeg video decoder option"));
     auto drmPrime = options.getBool("drm-prime", s.drmPrime);
     if (!drmPrime)
         return unexpected(Errc::InvalidArgument, "ffmpeg decoder option drm-prime must be a boolean");

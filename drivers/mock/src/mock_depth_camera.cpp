@@ -6,6 +6,7 @@
 #include <iterator>
 #include <string_view>
 
+#include "depthtouch/drivers/common/backend_options.h"
 #include "depthtouch/platform/log.h"
 #include "depthtouch/drivers/common/frame_pool.h"
 
@@ -64,12 +65,8 @@ hal::Vec3 mockSphereCentre(double seconds) noexcept
 
 Result<MockCameraSettings> MockCameraSettings::parse(hal::OptionList options)
 {
-    const std::string_view unknown = options.firstUnknownKey(kOptionKeys, std::size(kOptionKeys));
-    if (!unknown.empty()) {
-        DT_LOG(Mock, Error, "Unknown mock depth camera option '%.*s'",
-               static_cast<int>(unknown.size()), unknown.data());
-        return unexpected(Errc::InvalidArgument, "Unknown mock depth camera option");
-    }
+    DT_TRY(rejectUnknownOptions(options, kOptionKeys, std::size(kOptionKeys), kLogCategoryMock,
+                                "Unknown mock depth camera option"));
     MockCameraSettings s;
     auto pool = options.getInt("pool", s.poolFrames);
     if (!pool || *pool < 1 || *pool > 32)
@@ -80,11 +77,7 @@ Result<MockCameraSettings> MockCameraSettings::parse(hal::OptionList options)
 
 Result<std::unique_ptr<hal::DepthCamera>> MockDepthCamera::create(const hal::BackendConfig &cfg)
 {
-    auto settings = MockCameraSettings::parse(cfg.options);
-    if (!settings)
-        return unexpected(settings.error());
-    return std::unique_ptr<hal::DepthCamera>(
-        std::make_unique<MockDepthCamera>(cfg.clockRef(), *settings));
+    return createFromSettings<hal::DepthCamera, MockDepthCamera, MockCameraSettings>(cfg);
 }
 
 MockDepthCamera::MockDepthCamera(platform::Clock &clock, const MockCameraSettings &settings)

@@ -5,6 +5,7 @@
 #include <iterator>
 #include <string_view>
 
+#include "depthtouch/drivers/common/backend_options.h"
 #include "depthtouch/platform/log.h"
 
 DT_LOG_CATEGORY(Mock)
@@ -29,12 +30,8 @@ bool validRefresh(double hz) noexcept
 
 Result<MockDisplaySettings> MockDisplaySettings::parse(hal::OptionList options)
 {
-    const std::string_view unknown = options.firstUnknownKey(kOptionKeys, std::size(kOptionKeys));
-    if (!unknown.empty()) {
-        DT_LOG(Mock, Error, "Unknown mock display option '%.*s'", static_cast<int>(unknown.size()),
-               unknown.data());
-        return unexpected(Errc::InvalidArgument, "Unknown mock display option");
-    }
+    DT_TRY(rejectUnknownOptions(options, kOptionKeys, std::size(kOptionKeys), kLogCategoryMock,
+                                "Unknown mock display option"));
     MockDisplaySettings s;
     auto w = options.getInt("width", s.width);
     auto h = options.getInt("height", s.height);
@@ -49,10 +46,7 @@ Result<MockDisplaySettings> MockDisplaySettings::parse(hal::OptionList options)
 
 Result<std::unique_ptr<hal::Display>> MockDisplay::create(const hal::BackendConfig &cfg)
 {
-    auto settings = MockDisplaySettings::parse(cfg.options);
-    if (!settings)
-        return unexpected(settings.error());
-    return std::unique_ptr<hal::Display>(std::make_unique<MockDisplay>(cfg.clockRef(), *settings));
+    return createFromSettings<hal::Display, MockDisplay, MockDisplaySettings>(cfg);
 }
 
 MockDisplay::MockDisplay(platform::Clock &clock, const MockDisplaySettings &settings)

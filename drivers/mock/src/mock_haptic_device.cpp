@@ -5,6 +5,7 @@
 #include <iterator>
 #include <string_view>
 
+#include "depthtouch/drivers/common/backend_options.h"
 #include "depthtouch/platform/log.h"
 
 DT_LOG_CATEGORY(Mock)
@@ -24,12 +25,8 @@ double clampTo(double v, double lo, double hi) noexcept
 
 Result<MockHapticSettings> MockHapticSettings::parse(hal::OptionList options)
 {
-    const std::string_view unknown = options.firstUnknownKey(kOptionKeys, std::size(kOptionKeys));
-    if (!unknown.empty()) {
-        DT_LOG(Mock, Error, "Unknown mock haptic device option '%.*s'",
-               static_cast<int>(unknown.size()), unknown.data());
-        return unexpected(Errc::InvalidArgument, "Unknown mock haptic device option");
-    }
+    DT_TRY(rejectUnknownOptions(options, kOptionKeys, std::size(kOptionKeys), kLogCategoryMock,
+                                "Unknown mock haptic device option"));
     MockHapticSettings s;
     auto maxForce = options.getDouble("max_force", s.maxForce);
     auto workspace = options.getDouble("workspace", s.workspaceHalfExtent);
@@ -47,11 +44,7 @@ Result<MockHapticSettings> MockHapticSettings::parse(hal::OptionList options)
 
 Result<std::unique_ptr<hal::HapticDevice>> MockHapticDevice::create(const hal::BackendConfig &cfg)
 {
-    auto settings = MockHapticSettings::parse(cfg.options);
-    if (!settings)
-        return unexpected(settings.error());
-    return std::unique_ptr<hal::HapticDevice>(
-        std::make_unique<MockHapticDevice>(cfg.clockRef(), *settings));
+    return createFromSettings<hal::HapticDevice, MockHapticDevice, MockHapticSettings>(cfg);
 }
 
 MockHapticDevice::MockHapticDevice(platform::Clock &clock, const MockHapticSettings &settings)

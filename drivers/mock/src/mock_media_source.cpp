@@ -3,6 +3,7 @@
 #include <iterator>
 #include <string_view>
 
+#include "depthtouch/drivers/common/backend_options.h"
 #include "depthtouch/platform/log.h"
 
 DT_LOG_CATEGORY(Mock)
@@ -24,12 +25,8 @@ hal::Pts framePts(std::uint64_t frame, int fps) noexcept
 Result<MockMediaSettings> MockMediaSettings::parse(hal::OptionList options,
                                                    const MockMediaSettings &base)
 {
-    const std::string_view unknown = options.firstUnknownKey(kOptionKeys, std::size(kOptionKeys));
-    if (!unknown.empty()) {
-        DT_LOG(Mock, Error, "Unknown mock media source option '%.*s'",
-               static_cast<int>(unknown.size()), unknown.data());
-        return unexpected(Errc::InvalidArgument, "Unknown mock media source option");
-    }
+    DT_TRY(rejectUnknownOptions(options, kOptionKeys, std::size(kOptionKeys), kLogCategoryMock,
+                                "Unknown mock media source option"));
     MockMediaSettings s = base;
     auto width = options.getInt("width", s.width);
     auto height = options.getInt("height", s.height);

@@ -4,6 +4,7 @@
 #include <iterator>
 #include <string_view>
 
+#include "depthtouch/drivers/common/backend_options.h"
 #include "depthtouch/drivers/mock/mock_pattern.h"
 #include "depthtouch/platform/log.h"
 #include "depthtouch/drivers/common/frame_pool.h"
@@ -30,12 +31,8 @@ bool outputFormatSupported(hal::StreamKind kind, hal::PixelFormat f) noexcept
 
 Result<MockDecoderSettings> MockDecoderSettings::parse(hal::OptionList options)
 {
-    const std::string_view unknown = options.firstUnknownKey(kOptionKeys, std::size(kOptionKeys));
-    if (!unknown.empty()) {
-        DT_LOG(Mock, Error, "Unknown mock video decoder option '%.*s'",
-               static_cast<int>(unknown.size()), unknown.data());
-        return unexpected(Errc::InvalidArgument, "Unknown mock video decoder option");
-    }
+    DT_TRY(rejectUnknownOptions(options, kOptionKeys, std::size(kOptionKeys), kLogCategoryMock,
+                                "Unknown mock video decoder option"));
     MockDecoderSettings s;
     auto pool = options.getInt("pool", s.poolFrames);
     auto queue = options.getInt("queue", s.queuePackets);
@@ -48,11 +45,7 @@ Result<MockDecoderSettings> MockDecoderSettings::parse(hal::OptionList options)
 
 Result<std::unique_ptr<hal::VideoDecoder>> MockVideoDecoder::create(const hal::BackendConfig &cfg)
 {
-    auto settings = MockDecoderSettings::parse(cfg.options);
-    if (!settings)
-        return unexpected(settings.error());
-    return std::unique_ptr<hal::VideoDecoder>(
-        std::make_unique<MockVideoDecoder>(cfg.clockRef(), *settings));
+    return createFromSettings<hal::VideoDecoder, MockVideoDecoder, MockDecoderSettings>(cfg);
 }
 
 MockVideoDecoder::MockVideoDecoder(platform::Clock &clock, const MockDecoderSettings &settings)

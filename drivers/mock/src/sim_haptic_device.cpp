@@ -7,6 +7,7 @@
 #include <string>
 #include <string_view>
 
+#include "depthtouch/drivers/common/backend_options.h"
 #include "depthtouch/platform/log.h"
 
 DT_LOG_CATEGORY(Sim)
@@ -87,12 +88,8 @@ double nextUniform(std::uint64_t &state) noexcept
 
 Result<SimHandSettings> SimHandSettings::parse(hal::OptionList options)
 {
-    const std::string_view unknown = options.firstUnknownKey(kOptionKeys, std::size(kOptionKeys));
-    if (!unknown.empty()) {
-        DT_LOG(Sim, Error, "Unknown simulated hand option '%.*s'", static_cast<int>(unknown.size()),
-               unknown.data());
-        return unexpected(Errc::InvalidArgument, "Unknown simulated hand option");
-    }
+    DT_TRY(rejectUnknownOptions(options, kOptionKeys, std::size(kOptionKeys), kLogCategorySim,
+                                "Unknown simulated hand option"));
     SimHandSettings s;
     if (const auto intent = options.find("intent")) {
         if (*intent == "press")
@@ -172,11 +169,7 @@ Result<SimHandSettings> SimHandSettings::parse(hal::OptionList options)
 
 Result<std::unique_ptr<hal::HapticDevice>> SimHapticDevice::create(const hal::BackendConfig &cfg)
 {
-    auto settings = SimHandSettings::parse(cfg.options);
-    if (!settings)
-        return unexpected(settings.error());
-    return std::unique_ptr<hal::HapticDevice>(
-        std::make_unique<SimHapticDevice>(cfg.clockRef(), *settings));
+    return createFromSettings<hal::HapticDevice, SimHapticDevice, SimHandSettings>(cfg);
 }
 
 SimHapticDevice::SimHapticDevice(platform::Clock &clock, const SimHandSettings &settings)
