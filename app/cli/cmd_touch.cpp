@@ -6,9 +6,12 @@
 /// DEPTH is a raw gray file (with --size) or anything FFmpeg reads: a video file, a URL or an image
 /// sequence pattern (`frame-%06d.depth.png`, frame rate --fps). The depth stream (or the only
 /// stream, its luma when it is YUV) is decoded through the `ffmpeg` media source and decoder
-/// backends; frame times come from the PTS. 16-bit samples are nearness unless --near/--far are
-/// given: then they are metric depth (--depth-scale metres per unit, 0 = invalid), converted to
-/// 16-bit nearness (docs/architecture.md §3) with the holes filled.
+/// backends; frame times come from the PTS. 16-bit samples of a depth stream (titled depth, or
+/// carrying depth metadata) are nearness unless --near/--far are given: then they are metric depth
+/// (--depth-scale metres per unit, 0 = invalid), converted to 16-bit nearness
+/// (docs/architecture.md §3) with the holes filled. The 16-bit samples of an input that says
+/// nothing of depth (an image sequence from a depth camera) are metric depth: without --near/--far
+/// its planes are the robust range of the first frame (as `encode` takes it), named in the summary.
 
 #include <algorithm>
 #include <chrono>
@@ -155,8 +158,12 @@ public:
         depth::ConvertOptions convert;
     };
 
-    /// Opens \a url; \a error receives a one-line message on failure.
-    bool open(const std::string &url, double fps, std::optional<Metric> metric, std::string &error)
+    /// Opens \a url; \a error receives a one-line message on failure. \a metric: the given
+    /// planes (--near/--far), or nullopt; \a unplanned: the conversion used, with its range taken
+    /// from the first frame, when \a metric is nullopt and the input's 16-bit samples are metric
+    /// (it says nothing of depth).
+    bool open(const std::string &url, double fps, std::optional<Metric> metric,
+              const Metric &unplanned, std::string &error)
     {
         metric_ = std::move(metric);
         fps_ = fps;
@@ -200,6 +207,11 @@ public:
             return false;
         }
         const hal::StreamInfo &si = streams[static_cast<std::size_t>(stream_)];
+        // Nothing says depth (no title, no metadata: a depth camera's image sequence): 16-bit
+        // samples are its metric depth.
+        if (!metric_ && si.format == hal::PixelFormat::Gray16 && si.title.empty() &&
+            si.depth.nearMetres == 0.0)
+            metric_ = unplanned;
         config_ = hal::StreamConfig::fromStream(si);
         config_.kind = hal::StreamKind::Depth;
         if (config_.format != hal::PixelFormat::Gray8 &&
@@ -249,6 +261,22 @@ public:
     }
 
     [[nodiscard]] std::size_t frameCount() const noexcept override { return count_; }
+
+    /// \return how the depth was read when the input said nothing of depth and no planes were
+    /// given ("metric depth, near … m, far … m, the robust range of the first frame"); empty
+    /// otherwise.
+    [[nodiscard]] std::string readingNote() const
+    {
+        if (!rangeTaken_ || !metric_ || !metric_->convert.range)
+            return {};
+        char buf[200];
+        std::snprintf(buf, sizeof buf,
+                      "16-bit samples read as metric depth (%g m per unit), near %.4g m, far "
+                      "%.4g m: the robust range of the first frame (--near/--far set them)",
+                      metric_->convert.raw.metresPerUnit, metric_->convert.range->nearM,
+                      metric_->convert.range->farM);
+        return buf;
+    }
 
     Result<haptics::DepthFrameView> frame(std::size_t i) noexcept override
     {
@@ -347,6 +375,16 @@ private:
                 }
             }
             if (metric_) {
+                if (!metric_->convert.range) {
+                    auto r = depth::robustRange(raw, metric_->convert.raw,
+                                                metric_->convert.lowFraction,
+                                                metric_->convert.highFraction);
+                    if (!r)
+                        return unexpected(Errc::InvalidArgument,
+                                          "the first depth frame has no valid metric sample");
+                    metric_->convert.range = *r;
+                    rangeTaken_ = true;
+                }
                 auto n = depth::metricToNearness(raw, metric_->convert);
                 if (!n)
                     return unexpected(n.error());
@@ -378,6 +416,7 @@ private:
     std::size_t count_ = 0;
     std::size_t decoded_ = 0;
     bool eos_ = false;
+    bool rangeTaken_ = false; ///< The planes are the first frame's robust range.
     std::deque<Stored> frames_;
 };
 
@@ -406,45 +445,50 @@ int openRawDepth(const TouchOptions &o, std::unique_ptr<haptics::FrameProvider> 
     return kExitOk;
 }
 
-/// The depth input through the ffmpeg backends, with the metric conversion of --near/--far.
-/// Returns kExitOk, or the exit code after printing the one error line.
-int openDecodedDepth(const TouchOptions &o, std::unique_ptr<haptics::FrameProvider> &frames)
+/// The depth input through the ffmpeg backends, with the metric conversion of --near/--far (or
+/// of the first frame's robust range, for an input that says nothing of depth). \a decoded
+/// receives the provider (owned by \a frames). Returns kExitOk, or the exit code after printing
+/// the one error line.
+int openDecodedDepth(const TouchOptions &o, std::unique_ptr<haptics::FrameProvider> &frames,
+                     DecodedFrameProvider *&decoded)
 {
     if (!(o.fps > 0.0) || o.fps > 10'000.0)
         return fail(kExitBadInput, "--fps must be in (0, 10000]");
+    if (!(o.depthScale > 0.0))
+        return fail(kExitBadInput, "--depth-scale must be positive");
+    auto mapping = depth::parseMapping(o.depthMapping);
+    if (!mapping)
+        return fail(kExitBadInput, "--depth-mapping must be inverse_z or linear");
+    DecodedFrameProvider::Metric unplanned;
+    unplanned.convert.raw.metresPerUnit = o.depthScale;
+    unplanned.convert.mapping = *mapping;
+    unplanned.convert.vmax = 65535.0;
     std::optional<DecodedFrameProvider::Metric> metric;
     if (o.nearM || o.farM) {
         if (!o.nearM || !o.farM || !(*o.nearM > 0.0) || !(*o.farM > *o.nearM))
             return fail(kExitBadInput,
                         "--near and --far must both be given with 0 < near < far (m)");
-        if (!(o.depthScale > 0.0))
-            return fail(kExitBadInput, "--depth-scale must be positive");
-        auto mapping = depth::parseMapping(o.depthMapping);
-        if (!mapping)
-            return fail(kExitBadInput, "--depth-mapping must be inverse_z or linear");
-        DecodedFrameProvider::Metric m;
-        m.convert.raw.metresPerUnit = o.depthScale;
-        m.convert.mapping = *mapping;
-        m.convert.vmax = 65535.0;
-        m.convert.range = depth::DepthRange{*o.nearM, *o.farM};
-        metric = m;
+        metric = unplanned;
+        metric->convert.range = depth::DepthRange{*o.nearM, *o.farM};
     }
     // The output contract is one error line on bad input: backend selection chatter (Info)
     // stays quiet unless the user asked for it with DT_LOG.
     if (std::getenv("DT_LOG") == nullptr)
         platform::setLogLevel(platform::LogLevel::Warning);
-    auto decoded = std::make_unique<DecodedFrameProvider>();
+    auto provider = std::make_unique<DecodedFrameProvider>();
     std::string error;
-    if (!decoded->open(o.depth, o.fps, metric, error))
+    if (!provider->open(o.depth, o.fps, metric, unplanned, error))
         return fail(kExitBadInput, error);
-    frames = std::move(decoded);
+    decoded = provider.get();
+    frames = std::move(provider);
     return kExitOk;
 }
 
 /// One paragraph after a run: updates, time and rate, method, the share in contact, the largest
 /// force and the safety trips, and where the force log went. On stdout, or on stderr when the
 /// force log itself goes to stdout.
-void printTouchSummary(const TouchOptions &o, const std::vector<haptics::ForceLogRow> &rows)
+void printTouchSummary(const TouchOptions &o, const std::vector<haptics::ForceLogRow> &rows,
+                       const std::string &readingNote)
 {
     std::size_t contact = 0;
     std::size_t trips = 0;
@@ -465,6 +509,8 @@ void printTouchSummary(const TouchOptions &o, const std::vector<haptics::ForceLo
         "(device maximum %.2f N), %zu safety trips; force log %s\n",
         rows.size(), seconds, o.rate, o.method.c_str(), share, maxForce, o.maxForce, trips,
         o.out.c_str());
+    if (!readingNote.empty())
+        std::fprintf(sink, "touch: depth: %s\n", readingNote.c_str());
 }
 
 int runTouch(const TouchOptions &o)
@@ -501,7 +547,9 @@ int runTouch(const TouchOptions &o)
 
     // Depth input: a raw gray file with --size, else anything FFmpeg reads.
     std::unique_ptr<FrameProvider> frames;
-    if (const int rc = !o.size.empty() ? openRawDepth(o, frames) : openDecodedDepth(o, frames);
+    DecodedFrameProvider *decoded = nullptr;
+    if (const int rc =
+            !o.size.empty() ? openRawDepth(o, frames) : openDecodedDepth(o, frames, decoded);
         rc != kExitOk)
         return rc;
 
@@ -530,7 +578,7 @@ int runTouch(const TouchOptions &o)
                     "cannot write '" + o.out + "': " + w.error().format(buf, sizeof buf));
     }
     if (!o.quiet)
-        printTouchSummary(o, *rows);
+        printTouchSummary(o, *rows, decoded != nullptr ? decoded->readingNote() : std::string());
     return kExitOk;
 }
 

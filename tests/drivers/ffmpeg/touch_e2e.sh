@@ -40,6 +40,11 @@ check gray264 "$work/gray264.mkv"
 check ffv1 "$work/ffv1.mkv"
 # 1000 mm between near 0.5 m and far 2 m (inverse Z): nearness 1/3 of v_max → z = -0.0067 m.
 check metric "$work/frame-%06d.depth.png" --near 0.5 --far 2 --fps 30
+# The same sequence without planes: metric depth over the first frame's robust range (a flat 1 m
+# widened to +-1 %: the surface near mid nearness), said in the summary.
+check metric-auto "$work/frame-%06d.depth.png" --fps 30
+grep -q "^touch: depth: 16-bit samples read as metric depth (0.001 m per unit), near 0.99 m, far 1.01 m" \
+    "$work/metric-auto.out" || { cat "$work/metric-auto.out"; fail "metric-auto: no reading note"; }
 # --quiet: nothing on stdout; --out /dev/stdout: the force log alone on stdout, the summary on stderr.
 "$exe" touch "$work/ffv1.mkv" --trajectory "$work/traj.csv" --out "$work/q.csv" --quiet >"$work/q.out" ||
     fail "--quiet run"
