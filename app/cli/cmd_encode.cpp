@@ -349,6 +349,10 @@ void printEnhanceTotals(const media::EnhanceTotals &t)
         t.roughnessOutput * scale, t.edgeContrastInput * scale, t.edgeContrastOutput * scale);
 }
 
+/// Farthest depth a depth camera measures, m (time-of-flight and stereo sensors stop at about
+/// 10 m): a robust range beyond it means a wrong --depth-scale.
+constexpr double kFarthestSensorRange = 12.0;
+
 /// Prints the summary of a finished encode; returns its exit code (kExitInterrupted after a
 /// SIGINT/SIGTERM, with a line on stderr).
 int reportEncode(const EncodeCliOptions &o, const media::EncodeOptions &eo,
@@ -367,6 +371,11 @@ int reportEncode(const EncodeCliOptions &o, const media::EncodeOptions &eo,
                     "filled; %lld frames without valid depth repeated\n",
                     s.range.nearM, s.range.farM, eo.range ? "given" : "robust range of the data",
                     depth::mappingName(s.mapping), s.filledSamples, s.repeatedFrames);
+    if (s.metric && !eo.range && s.range.farM > kFarthestSensorRange)
+        std::fprintf(stderr,
+                     "depthtouch encode: warning: the depth reaches %.4g m, beyond what depth "
+                     "cameras measure: check --depth-scale (%g m per unit now; TUM RGB-D: 0.0002)\n",
+                     s.range.farM, eo.raw.metresPerUnit);
     if (s.enhance)
         printEnhanceTotals(*s.enhance);
     if (s.interrupted) {

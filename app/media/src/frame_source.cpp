@@ -150,6 +150,10 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
         if (forced == nullptr)
             return unexpected(Errc::InvalidArgument, "Unknown input format (FFmpeg demuxer name)");
         set("framerate", fpsText(options.fps));
+    } else if (!isUrl(url)) {
+        // A probed file without times of its own (a single picture, a raw elementary stream)
+        // takes the rate of the option, as a sequence does, not the demuxer's default of 25.
+        set("framerate", fpsText(options.fps));
     }
     if (options.loop && forced == nullptr)
         return unexpected(Errc::InvalidArgument, "Only image sequences can loop");

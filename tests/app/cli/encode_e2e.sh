@@ -39,6 +39,19 @@ counts=$(probe -count_frames -show_entries stream=nb_read_frames -of csv=p=0 "$w
 [ -z "$(ls "$work" | grep '\.tmp\.')" ] || fail "temporary file left"
 echo "mkv: $(probe -show_entries stream=codec_name,profile -of csv=p=0 "$work/out.mkv" | tr '\n' ' ')"
 
+# 1b. A depth scale that puts the scene beyond any depth camera's range (as the default 1 mm does
+# on TUM RGB-D's 0.2 mm units): encoded, with one warning naming --depth-scale.
+"$exe" encode --color "$work/c-%03d.png" --depth "$work/d-%03d.png" -o "$work/far.mkv" \
+    --preset ultrafast --depth-scale 0.02 >"$work/far.out" 2>"$work/far.err" || fail "far encode exited $?"
+[ "$(wc -l <"$work/far.err")" -eq 1 ] && grep -q "warning: the depth reaches .* check --depth-scale" "$work/far.err" \
+    || { cat "$work/far.err"; fail "far: want one warning naming --depth-scale"; }
+
+# 1c. One still pair: one frame at --fps (30 by default), not the image demuxer's 25.
+"$exe" encode --color "$work/c-000.png" --depth "$work/d-000.png" -o "$work/still.mkv" \
+    --preset ultrafast >/dev/null 2>&1 || fail "still encode"
+[ "$(probe -show_entries stream=r_frame_rate -of csv=p=0 "$work/still.mkv" | tr '\n' ' ')" = "30/1 30/1 " ] \
+    || fail "still: rates $(probe -show_entries stream=r_frame_rate -of csv=p=0 "$work/still.mkv" | tr '\n' ' ')"
+
 # 2. Lossless depth: x264 picks High 4:4:4 Predictive. MP4 by extension.
 "$exe" encode --color "$work/c-%03d.png" --depth "$work/d-%03d.png" -o "$work/lossless.mp4" \
     --preset ultrafast --depth-lossless >/dev/null 2>&1 || fail "lossless mp4"
