@@ -372,10 +372,11 @@ int reportEncode(const EncodeCliOptions &o, const media::EncodeOptions &eo,
                     s.range.nearM, s.range.farM, eo.range ? "given" : "robust range of the data",
                     depth::mappingName(s.mapping), s.filledSamples, s.repeatedFrames);
     if (s.metric && !eo.range && s.range.farM > kFarthestSensorRange)
-        std::fprintf(stderr,
-                     "depthtouch encode: warning: the depth reaches %.4g m, beyond what depth "
-                     "cameras measure: check --depth-scale (%g m per unit now; TUM RGB-D: 0.0002)\n",
-                     s.range.farM, eo.raw.metresPerUnit);
+        std::fprintf(
+            stderr,
+            "depthtouch encode: warning: the depth reaches %.4g m, beyond what depth "
+            "cameras measure: check --depth-scale (%g m per unit now; TUM RGB-D: 0.0002)\n",
+            s.range.farM, eo.raw.metresPerUnit);
     if (s.enhance)
         printEnhanceTotals(*s.enhance);
     if (s.interrupted) {

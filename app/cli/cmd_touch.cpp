@@ -376,9 +376,9 @@ private:
             }
             if (metric_) {
                 if (!metric_->convert.range) {
-                    auto r = depth::robustRange(raw, metric_->convert.raw,
-                                                metric_->convert.lowFraction,
-                                                metric_->convert.highFraction);
+                    auto r =
+                        depth::robustRange(raw, metric_->convert.raw, metric_->convert.lowFraction,
+                                           metric_->convert.highFraction);
                     if (!r)
                         return unexpected(Errc::InvalidArgument,
                                           "the first depth frame has no valid metric sample");
