@@ -2,16 +2,20 @@
 /// \brief `depthtouch bench render`: frame rate (median, p99 frame time) against mean/max geometric
 /// error of the stereo renderer's meshes (full, fixed decimations, adaptive at several tolerances),
 /// side-by-side on real RGB-D frames (7-Scenes redkitchen at 720×486), with a per-stage breakdown
-/// of the frame; writes render_bench.csv, fps_vs_error.png, stages.png and a side-by-side snapshot
-/// into
-/// --out and prints the tables. The GL context comes
+/// of the frame and the render thread's CPU time for the depth geometry (geom_cpu_ms), at one depth
+/// size or several (--depth-sizes: the kitchen and the synthetic head at each); writes
+/// render_bench.csv, fps_vs_error.png, stages.png, cpu_vs_depth_size.png and a side-by-side
+/// snapshot into --out and prints the tables. The GL context comes
 /// from a Display backend (--display, default headless).
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -39,6 +43,7 @@ struct BenchRenderOptions {
     int height = 486;
     int depthWidth = 720;
     int depthHeight = 486;
+    std::vector<std::string> depthSizes;
     std::string only;
     bool stages = true;
 };
@@ -58,6 +63,13 @@ const OptionRow<BenchRenderOptions> kBenchRenderRows[] = {
     {"height", &BenchRenderOptions::height, "Output height, pixels"},
     {"depth-width", &BenchRenderOptions::depthWidth, "Depth frame width the data is resampled to"},
     {"depth-height", &BenchRenderOptions::depthHeight, "Depth frame height"},
+    {"depth-sizes",
+     &BenchRenderOptions::depthSizes,
+     "Depth sizes WxH to run (the kitchen resampled and the synthetic head at each; replaces "
+     "--depth-width/--depth-height; after the first: full,step4,quadtree-0.50,budget-6k unless "
+     "--only, a quarter of --frames, no stage pass)",
+     {},
+     kCommaList},
     {"only", &BenchRenderOptions::only,
      "Comma-separated mesh settings to run (e.g. full,adaptive-0.5; default all)"},
     {"no-stages", &BenchRenderOptions::stages, "Skip the per-stage breakdown pass", {}, kNegated},
@@ -110,43 +122,81 @@ int runBenchRender(const BenchRenderOptions &o)
                      r.error().what);
         return kExitFailure;
     }
-    auto frames = bench::loadKitchenFrames(scene, 60, o.depthWidth, o.depthHeight);
-    if (!frames) {
-        std::fprintf(stderr, "depthtouch bench render: cannot read the frames: %s\n",
-                     frames.error().what);
-        return kExitBadInput;
-    }
     auto configs = bench::selectConfigs(o.only);
     if (!configs) {
         std::fprintf(stderr, "depthtouch bench render: --only: %s\n", configs.error().what);
         return kExitBadInput;
     }
+    std::vector<std::pair<int, int>> sizes;
+    for (const std::string &text : o.depthSizes) {
+        int w = 0;
+        int h = 0;
+        if (!bench::parseDepthSize(text, w, h)) {
+            std::fprintf(stderr, "depthtouch bench render: --depth-sizes: '%s' is not WxH\n",
+                         text.c_str());
+            return kExitBadInput;
+        }
+        sizes.emplace_back(w, h);
+    }
+    const bool withHead = !sizes.empty();
+    if (sizes.empty())
+        sizes.emplace_back(o.depthWidth, o.depthHeight);
     bench::BenchOptions bo;
     bo.outputWidth = o.width;
     bo.outputHeight = o.height;
-    bo.framesPerConfig = o.frames;
-    bo.configs = std::move(*configs);
-    bo.stageBreakdown = o.stages;
     bo.presentFramebuffer = (*display)->framebuffer();
-    auto rows = bench::runRenderBenchmark(*frames, bo);
-    if (!rows) {
-        std::fprintf(stderr, "depthtouch bench render: %s\n", rows.error().what);
-        return kExitFailure;
+    std::vector<bench::BenchRow> rows;
+    std::vector<bench::RgbdFrame> firstFrames;
+    for (std::size_t si = 0; si < sizes.size(); ++si) {
+        const auto [w, h] = sizes[si];
+        // Fewer frames of a larger size: about the memory of 60 frames of 720×486.
+        const double area = static_cast<double>(w) * h;
+        const int count = std::clamp(static_cast<int>(60.0 * 720.0 * 486.0 / area), 8, 60);
+        for (const char *source : {"kitchen", "head"}) {
+            const bool kitchen = source[0] == 'k';
+            if (!kitchen && !withHead)
+                continue;
+            auto frames = kitchen ? bench::loadKitchenFrames(scene, count, w, h)
+                                  : bench::loadHeadFrames(std::min(count, 12), w, h);
+            if (!frames) {
+                std::fprintf(stderr, "depthtouch bench render: cannot make the %s frames: %s\n",
+                             source, frames.error().what);
+                return kExitBadInput;
+            }
+            const bool first = si == 0 && kitchen;
+            bo.source = source;
+            bo.configs = first || !o.only.empty() ? *configs : bench::depthSizeConfigs();
+            bo.framesPerConfig = first ? o.frames : std::max(5, o.frames / 4);
+            bo.warmup = first ? 5 : 2;
+            bo.stageBreakdown = first && o.stages;
+            auto part = bench::runRenderBenchmark(*frames, bo);
+            if (!part) {
+                std::fprintf(stderr, "depthtouch bench render: %s\n", part.error().what);
+                return kExitFailure;
+            }
+            rows.insert(rows.end(), part->begin(), part->end());
+            if (first)
+                firstFrames = std::move(*frames);
+        }
     }
-    bench::printTable(*rows, bo);
+    bo.stageBreakdown = o.stages;
+    bo.framesPerConfig = o.frames;
+    bench::printTable(rows, bo);
     std::string error;
     std::string note;
-    if (!bench::writeBenchOutputs(*rows, o.out, error, note)) {
+    if (!bench::writeBenchOutputs(rows, o.out, error, note)) {
         std::fprintf(stderr, "depthtouch bench render: %s\n", error.c_str());
         return kExitFailure;
     }
     const std::string snap = o.out + "/kitchen_sbs.png";
-    if (auto r = bench::writeSideBySideSnapshot(*frames, 0, MeshOptions{}, o.width, o.height, snap);
+    if (auto r =
+            bench::writeSideBySideSnapshot(firstFrames, 0, MeshOptions{}, o.width, o.height, snap);
         !r)
         std::fprintf(stderr, "depthtouch bench render: snapshot not written: %s\n", r.error().what);
     if (!note.empty())
         std::printf("note: %s\n", note.c_str());
-    std::printf("wrote %s/{render_bench.csv,fps_vs_error.png,stages.png,kitchen_sbs.png}\n",
+    std::printf("wrote %s/{render_bench.csv,fps_vs_error.png,stages.png,cpu_vs_depth_size.png,"
+                "kitchen_sbs.png}\n",
                 o.out.c_str());
     (*display)->close();
     return kExitOk;

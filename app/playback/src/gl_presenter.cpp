@@ -1,10 +1,13 @@
 /// \file
 /// \brief The GL Presenter (builds with EGL/GLES): the stereo renderer draws each frame into a
-/// render target, blitted to the display's frame buffer; the level of detail follows the draw
-/// times; the prep worker makes upcoming frames' meshes ahead; the recorder and the snapshotter
+/// render target, blitted to the display's frame buffer; on a GPU every depth sample is drawn from
+/// a static grid unless its draw time is over the target, otherwise (and on a software rasterizer)
+/// the quadtree's level of detail follows the draw times; the prep worker makes upcoming frames'
+/// meshes ahead; the recorder and the snapshotter
 /// read the target back. See presenter.h.
 
 #include <algorithm>
+#include <array>
 #include <optional>
 #include <vector>
 
@@ -60,6 +63,8 @@ public:
         renderer_.reset(); // re-created for the new stream's sizes
         target_.reset();
         lod_.reset();
+        fullResolution_ = false;
+        trialCount_ = 0;
     }
     void dropPrepared() override
     {
@@ -77,8 +82,12 @@ public:
     void finishDrawing(bool drawn) override
     {
         // A software rasterizer draws on the CPU: its work is waited for here (its present
-        // would wait for it anyway), so the level of detail sees the time to draw.
-        if (lod_ && renderer_ && drawn && renderer_->rendersInSoftware())
+        // would wait for it anyway), so the level of detail sees the time to draw. On a GPU the
+        // first frames of the full-resolution mesh are waited for too, to see its draw time.
+        if (!renderer_ || !drawn)
+            return;
+        if ((lod_ && renderer_->rendersInSoftware()) ||
+            (fullResolution_ && trialCount_ < kTrialFrames))
             renderer_->finish();
     }
     std::optional<LodSample> afterPresent(double drawSeconds, bool drawn, bool presented,
@@ -109,6 +118,12 @@ private:
                     DrawOutcome &out);
     void setOverlays(const DrawInput &in);
     void output(hal::Size size, DrawOutcome &out);
+    /// The full-resolution mesh's draw times: after kTrialFrames, a median over the level of
+    /// detail's target hands the mesh to the quadtree and its controller.
+    void checkFullResolution(double drawSeconds);
+
+    /// Draw times of the full-resolution mesh looked at (each waited for with glFinish).
+    static constexpr int kTrialFrames = 9;
 
     const PlaybackConfig &config_;
     hal::Display &display_;
@@ -123,6 +138,10 @@ private:
     std::vector<std::uint8_t> flatDepth_;      // depth-less input: a flat surface
     std::unique_ptr<PrepWorker> prepWorker_;   // upcoming frames' meshes and colour, made ahead
     std::optional<render::LodController> lod_; // the mesh's block budget, from the draw times
+    double lodTargetSeconds_ = 0.0;            // the draw-time goal (a share of the refresh)
+    bool fullResolution_ = false;              // a GPU draws every depth sample (no --mesh-step)
+    std::array<double, kTrialFrames> trial_{}; // the full mesh's draw times, s
+    int trialCount_ = 0;
     std::uint64_t osdSeen_ = ~std::uint64_t{0};
     platform::TimePoint osdSince_{};
 };
@@ -187,6 +206,16 @@ void GlPresenter::ensureRendererAndTarget(hal::Size size)
             renderer_ = std::move(*r);
         else
             DT_LOG_ONCE(Playback, Error, "Cannot create the stereo renderer: %s", r.error().what);
+        // On a GPU the surface the eyes see is the surface the hand touches: every depth sample,
+        // from a static grid (no CPU work per frame), unless its draw time says otherwise
+        // (checkFullResolution()). A software rasterizer keeps the quadtree and its controller.
+        if (renderer_ && config_.meshStep == 0 && config_.lodTarget > 0.0 &&
+            !renderer_->rendersInSoftware()) {
+            ro.mesh.mode = render::MeshMode::Fixed;
+            ro.mesh.fixedStep = 1;
+            fullResolution_ = static_cast<bool>(renderer_->setOptions(ro));
+            trialCount_ = 0;
+        }
     }
     if (!target_ && renderer_) {
         auto t = render::RenderTarget::create(size.width, size.height);
@@ -203,18 +232,18 @@ void GlPresenter::applyOptions(player::StereoMode mode, const haptics::DepthFram
 {
     render::RendererOptions ro = renderer_->options();
     ro.mode = toRenderMode(mode);
+    // A frame drawn within one refresh period is on screen at its time even after a late one
+    // (the next refresh catches up); one that takes longer stays a refresh late until a faster
+    // one comes, and the next stall drops a frame. So the target is a share of the refresh
+    // period (of the frame period when that is shorter, or the display does not say).
+    const double refresh = display_.refreshHz();
+    const double budgetPeriod = refresh > 0.0 ? std::min(period, 1.0 / refresh) : period;
+    lodTargetSeconds_ = config_.lodTarget * budgetPeriod;
     if (config_.lodTarget > 0.0 && config_.meshStep == 0 &&
         ro.mesh.mode == render::MeshMode::Quadtree) {
         if (!lod_) {
             render::LodOptions lo;
-            // A frame drawn within one refresh period is on screen at its time even after a late
-            // one (the next refresh catches up); one that takes longer stays a refresh late until
-            // a faster one comes, and the next stall drops a frame. So the target is a share of
-            // the refresh period (of the frame period when that is shorter, or the display does
-            // not say).
-            const double refresh = display_.refreshHz();
-            const double budgetPeriod = refresh > 0.0 ? std::min(period, 1.0 / refresh) : period;
-            lo.targetSeconds = config_.lodTarget * budgetPeriod;
+            lo.targetSeconds = lodTargetSeconds_;
             lo.minBlocks =
                 std::max<std::size_t>(lo.minBlocks, static_cast<std::size_t>(dv.width) *
                                                         static_cast<std::size_t>(dv.height) / 256);
@@ -313,10 +342,39 @@ void GlPresenter::output(hal::Size size, DrawOutcome &out)
     }
 }
 
+void GlPresenter::checkFullResolution(double drawSeconds)
+{
+    trial_[static_cast<std::size_t>(trialCount_ % kTrialFrames)] = drawSeconds;
+    if (++trialCount_ < kTrialFrames)
+        return;
+    std::array<double, kTrialFrames> sorted = trial_;
+    std::nth_element(sorted.begin(), sorted.begin() + kTrialFrames / 2, sorted.end());
+    const double median = sorted[kTrialFrames / 2];
+    if (!(median > lodTargetSeconds_))
+        return;
+    render::RendererOptions ro = renderer_->options();
+    ro.mesh = render::MeshOptions{};
+    if (renderer_->setOptions(ro)) {
+        fullResolution_ = false;
+        DT_LOG(
+            Playback, Info,
+            "The full-resolution mesh takes %.1f ms to draw (target %.1f ms): level of detail on",
+            median * 1e3, lodTargetSeconds_ * 1e3);
+    }
+}
+
 std::optional<LodSample> GlPresenter::afterPresent(double drawSeconds, bool drawn, bool presented,
                                                    bool prerolling)
 {
-    if (!lod_ || !renderer_ || !drawn || !presented || prerolling)
+    if (!renderer_ || !drawn || !presented || prerolling)
+        return std::nullopt;
+    if (fullResolution_) {
+        checkFullResolution(drawSeconds);
+        LodSample s;
+        s.triangles = static_cast<double>(renderer_->mesh().stats().triangles);
+        return s;
+    }
+    if (!lod_)
         return std::nullopt;
     const render::MeshStats &mesh = renderer_->mesh().stats();
     lod_->update(drawSeconds, mesh);

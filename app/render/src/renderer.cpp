@@ -325,11 +325,11 @@ Result<std::unique_ptr<StereoRenderer>> StereoRenderer::create(const RendererOpt
     DT_TRY(g.buildSurfacePrograms());
     DT_TRY(g.buildOverlayPrograms());
 
-    // Surface: no attributes (gl_VertexID), one index buffer rewritten per depth frame.
+    // Surface: no attributes (gl_VertexID); its index buffer is a static grid's (uploaded once
+    // per frame size and step) or one of the two dynamic ones (meshes made per frame), bound at
+    // each draw.
     glGenVertexArrays(1, &g.surfaceVao);
-    glGenBuffers(1, &g.indexBuffer);
-    glBindVertexArray(g.surfaceVao);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.indexBuffer);
+    glGenBuffers(2, g.dynamic.buffer);
 
     // Avatar: a unit UV sphere (positions are the normals).
     g.buildSphere();

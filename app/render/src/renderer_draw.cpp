@@ -68,6 +68,7 @@ Result<void> StereoRenderer::drawSurface(const EyeView &eye, SurfaceOutput outpu
     if (eye.rowParity >= 0)
         glUniform1i(p.rowParity, eye.rowParity);
     glBindVertexArray(g.surfaceVao);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.drawBuffer);
     glDrawElements(GL_TRIANGLES, g.indexCount, GL_UNSIGNED_INT, nullptr);
     glBindVertexArray(0);
     if (glGetError() != GL_NO_ERROR)

@@ -8,10 +8,12 @@
 
 #include <GLES3/gl3.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include "depthtouch/render/adaptive_mesh.h"
 #include "depthtouch/render/color.h"
 #include "depthtouch/render/renderer.h"
 
@@ -65,6 +67,35 @@ struct Texture {
 void uploadRows(const Texture &tex, const std::uint8_t *data, std::size_t stride, int w, int h,
                 GLenum format, GLenum type, int bytesPerSample);
 
+/// \brief A triangle list uploaded once: the static grid of a fixed step (full resolution or a
+/// decimation) for one depth frame size, drawn as is for every frame of that size. The CPU copy
+/// (mesh) stays for StereoRenderer::mesh() (its stats and its indices).
+struct StaticGrid {
+    GLuint buffer = 0;
+    GLsizei count = 0; ///< Indices in buffer.
+    int width = 0;     ///< Depth frame size it was made for, samples.
+    int height = 0;
+    int step = 0;     ///< MeshOptions::fixedStep (0: the slot is free).
+    int tileSize = 0; ///< MeshOptions::tileSize (the emission order).
+    std::uint64_t lastUse = 0;
+    AdaptiveMesh mesh;
+
+    [[nodiscard]] bool holds(int w, int h, const MeshOptions &m) const noexcept
+    {
+        return step != 0 && w == width && h == height && m.fixedStep == step &&
+               m.tileSize == tileSize;
+    }
+};
+
+/// \brief The index buffers of meshes made per frame (quadtree, adaptive): two, used in turn so
+/// that an upload never waits for the draws of the frame before, each grown (glBufferData) only
+/// when a list outgrows it and otherwise refreshed with glBufferSubData (no reallocation).
+struct DynamicIndices {
+    GLuint buffer[2] = {0, 0};
+    std::size_t capacity[2] = {0, 0}; ///< Indices each buffer holds.
+    int next = 0;                     ///< The buffer the next upload writes.
+};
+
 /// \brief One surface program and its uniform locations.
 struct SurfaceProgram {
     GLuint program = 0;
@@ -86,8 +117,12 @@ struct StereoRenderer::Gl {
     GLuint osdProgram = 0;
     GLint osdViewport = -1, osdColor = -1, osdTextured = -1;
     GLuint surfaceVao = 0;
-    GLuint indexBuffer = 0;
-    GLsizei indexCount = 0;
+    GLuint drawBuffer = 0;  ///< The index buffer the surface draws (a static grid's or dynamic).
+    GLsizei indexCount = 0; ///< Indices in drawBuffer to draw.
+    gl::DynamicIndices dynamic;
+    static constexpr std::size_t kStaticGrids = 4; ///< Fixed steps kept at once (1, 2, 4, 8).
+    std::array<gl::StaticGrid, kStaticGrids> grids;
+    std::uint64_t gridUses = 0;
     GLuint sphereVao = 0;
     GLuint sphereVbo = 0;
     GLuint sphereIbo = 0;
@@ -114,8 +149,12 @@ struct StereoRenderer::Gl {
             glDeleteProgram(osdProgram);
         const GLuint vaos[] = {surfaceVao, sphereVao, osdVao};
         glDeleteVertexArrays(3, vaos);
-        const GLuint buffers[] = {indexBuffer, sphereVbo, sphereIbo, osdVbo};
-        glDeleteBuffers(4, buffers);
+        const GLuint buffers[] = {dynamic.buffer[0], dynamic.buffer[1], sphereVbo, sphereIbo,
+                                  osdVbo};
+        glDeleteBuffers(5, buffers);
+        for (const gl::StaticGrid &grid : grids)
+            if (grid.buffer != 0)
+                glDeleteBuffers(1, &grid.buffer);
         depth.release();
         y.release();
         u.release();

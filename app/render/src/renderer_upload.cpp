@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <utility>
+#include <vector>
 
 #include "depthtouch/render/renderer.h"
 #include "renderer_gl.h"
@@ -32,8 +33,13 @@ Result<void> FramePrep::build(const scene::DepthFrameView &depth, const hal::Ima
         if (color->format != hal::PixelFormat::Yuv420p && color->format != hal::PixelFormat::Gray8)
             return unexpected(Errc::NotSupported, "colour frames must be yuv420p or gray8");
     }
-    if (auto r = mesh.build(depth, options); !r)
+    // A fixed step draws the renderer's static grid: nothing to make per frame.
+    if (options.mode == MeshMode::Fixed) {
+        if (auto v = depth.validate(); !v)
+            return v;
+    } else if (auto r = mesh.build(depth, options); !r) {
         return r;
+    }
     meshOptions = options;
     depthData = depth.data;
     if (color != nullptr) {
@@ -49,9 +55,11 @@ Result<void> FramePrep::build(const scene::DepthFrameView &depth, const hal::Ima
 Result<void> StereoRenderer::setDepth(const scene::DepthFrameView &depth)
 {
     const platform::TimePoint t = clock_.now();
+    if (options_.mesh.mode == MeshMode::Fixed)
+        return setStaticDepth(depth, t);
     if (auto r = mesh_.build(depth, options_.mesh); !r)
         return r;
-    return uploadDepth(depth, t);
+    return uploadDepth(depth, t, -1);
 }
 
 void StereoRenderer::finish() const noexcept
@@ -61,6 +69,8 @@ void StereoRenderer::finish() const noexcept
 
 Result<void> StereoRenderer::setDepth(const scene::DepthFrameView &depth, FramePrep &prep)
 {
+    if (options_.mesh.mode == MeshMode::Fixed)
+        return setStaticDepth(depth, clock_.now());
     // A mesh made under another block budget is taken: the budget follows the frame times and may
     // lag a frame behind (LodController).
     MeshOptions made = prep.meshOptions;
@@ -69,11 +79,51 @@ Result<void> StereoRenderer::setDepth(const scene::DepthFrameView &depth, FrameP
         return setDepth(depth);
     const platform::TimePoint t = clock_.now();
     std::swap(mesh_, prep.mesh);
-    return uploadDepth(depth, t);
+    return uploadDepth(depth, t, -1);
+}
+
+Result<void> StereoRenderer::setStaticDepth(const scene::DepthFrameView &depth,
+                                            platform::TimePoint start)
+{
+    // The grid of this size and step is made and uploaded once (its slot kept while frames of
+    // that size and step come); a frame only refreshes the depth texture.
+    if (auto v = depth.validate(); !v)
+        return v;
+    Gl &g = *gl_;
+    const MeshOptions &m = options_.mesh;
+    std::size_t slot = 0;
+    for (std::size_t i = 0; i < g.grids.size(); ++i) {
+        if (g.grids[i].holds(depth.width, depth.height, m)) {
+            slot = i;
+            break;
+        }
+        if (g.grids[i].lastUse < g.grids[slot].lastUse)
+            slot = i; // else the least recently used one is replaced
+    }
+    gl::StaticGrid &grid = g.grids[slot];
+    if (!grid.holds(depth.width, depth.height, m)) {
+        if (auto r = grid.mesh.build(depth, m); !r)
+            return r;
+        if (grid.buffer == 0)
+            glGenBuffers(1, &grid.buffer);
+        const auto &idx = grid.mesh.indices();
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, grid.buffer);
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+                     static_cast<GLsizeiptr>(idx.size() * sizeof(std::uint32_t)), idx.data(),
+                     GL_STATIC_DRAW);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
+        grid.count = static_cast<GLsizei>(idx.size());
+        grid.width = depth.width;
+        grid.height = depth.height;
+        grid.step = m.fixedStep;
+        grid.tileSize = m.tileSize;
+    }
+    grid.lastUse = ++g.gridUses;
+    return uploadDepth(depth, start, static_cast<int>(slot));
 }
 
 Result<void> StereoRenderer::uploadDepth(const scene::DepthFrameView &depth,
-                                         platform::TimePoint start)
+                                         platform::TimePoint start, int gridSlot)
 {
     platform::TimePoint t = start;
     // The scene layer validates the frame and gives the mapping (the haptic renderer's, to the
@@ -95,17 +145,41 @@ Result<void> StereoRenderer::uploadDepth(const scene::DepthFrameView &depth,
     stageTimes_.depthUpload = stageEnd(t);
 
     t = clock_.now();
-    const auto &idx = mesh_.indices();
-    glBindVertexArray(g.surfaceVao);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.indexBuffer);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER,
-                 static_cast<GLsizeiptr>(idx.size() * sizeof(std::uint32_t)), idx.data(),
-                 GL_STREAM_DRAW);
-    glBindVertexArray(0);
-    g.indexCount = static_cast<GLsizei>(idx.size());
+    if (gridSlot >= 0) {
+        const gl::StaticGrid &grid = g.grids[static_cast<std::size_t>(gridSlot)];
+        g.drawBuffer = grid.buffer;
+        g.indexCount = grid.count;
+        drawnMesh_ = &grid.mesh;
+    } else {
+        uploadIndices(mesh_.indices());
+        drawnMesh_ = &mesh_;
+    }
     haveDepth_ = true;
     stageTimes_.indexUpload = stageEnd(t);
     return ok();
+}
+
+void StereoRenderer::uploadIndices(const std::vector<std::uint32_t> &idx)
+{
+    Gl &g = *gl_;
+    gl::DynamicIndices &d = g.dynamic;
+    const auto k = static_cast<std::size_t>(d.next);
+    d.next = 1 - d.next;
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, d.buffer[k]);
+    const auto bytes = [](std::size_t n) {
+        return static_cast<GLsizeiptr>(n * sizeof(std::uint32_t));
+    };
+    if (idx.size() > d.capacity[k]) {
+        // Grown with headroom, so a mesh that varies a little from frame to frame does not
+        // reallocate again.
+        d.capacity[k] = idx.size() + idx.size() / 4;
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, bytes(d.capacity[k]), nullptr, GL_DYNAMIC_DRAW);
+    }
+    if (!idx.empty())
+        glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, bytes(idx.size()), idx.data());
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
+    g.drawBuffer = d.buffer[k];
+    g.indexCount = static_cast<GLsizei>(idx.size());
 }
 
 Result<void> StereoRenderer::setColor(const hal::ImageView &image, const ColorSpec &spec)

@@ -200,8 +200,9 @@ public:
 
     /// \return the mapping of the current depth frame (read off a HeightField).
     [[nodiscard]] const SurfaceMapping &mapping() const noexcept { return mapping_; }
-    /// \return the mesh drawn for the current depth frame.
-    [[nodiscard]] const AdaptiveMesh &mesh() const noexcept { return mesh_; }
+    /// \return the mesh drawn for the current depth frame (with a fixed step, the static grid of
+    /// its size: the same object from frame to frame).
+    [[nodiscard]] const AdaptiveMesh &mesh() const noexcept { return *drawnMesh_; }
     /// \return true when the context renders in software (llvmpipe, softpipe, swrast): the
     /// rasterizer then shares the CPU with everything else.
     [[nodiscard]] bool rendersInSoftware() const noexcept { return softwareRasterizer_; }
@@ -219,8 +220,16 @@ private:
     void drawOsd(const Viewport &vp);
     /// Ends a stage: \return the milliseconds since \a start (after glFinish when Finished).
     double stageEnd(platform::TimePoint start) const noexcept;
-    /// setDepth()'s upload half, after mesh_ holds the frame's mesh.
-    Result<void> uploadDepth(const scene::DepthFrameView &depth, platform::TimePoint start);
+    /// setDepth() with a fixed step: the static grid of the frame's size (made and uploaded at
+    /// the first frame of that size and step), then uploadDepth().
+    Result<void> setStaticDepth(const scene::DepthFrameView &depth, platform::TimePoint start);
+    /// setDepth()'s upload half: the mapping and the depth texture, then the index buffer drawn:
+    /// static grid \a gridSlot (Gl::grids), or mesh_ uploaded into a dynamic buffer (-1).
+    Result<void> uploadDepth(const scene::DepthFrameView &depth, platform::TimePoint start,
+                             int gridSlot);
+    /// Uploads a per-frame triangle list into the next dynamic index buffer (no reallocation
+    /// unless it outgrows it).
+    void uploadIndices(const std::vector<std::uint32_t> &indices);
     /// setColor()'s upload of converted R'G'B' words.
     void uploadRgba(const std::uint32_t *rgba, int width, int height);
 
@@ -228,10 +237,10 @@ private:
     AvatarState avatar_{};
     OsdState osd_{};
     SurfaceMapping mapping_{};
-    AdaptiveMesh mesh_;
+    AdaptiveMesh mesh_;                      ///< The mesh made per frame (not Fixed).
+    const AdaptiveMesh *drawnMesh_ = &mesh_; ///< mesh_ or the static grid drawn.
     scene::SampleFormat depthFormat_ = scene::SampleFormat::Gray8;
     bool haveDepth_ = false;
-    bool indicesDirty_ = false;
     ColorSpec colorSpec_{};
     bool softwareRasterizer_ = false;
     bool colorOnCpu_ = false;

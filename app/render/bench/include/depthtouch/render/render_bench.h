@@ -2,13 +2,15 @@
 /// \file
 /// \brief The stereo renderer benchmark (`depthtouch bench render`): frame rate against geometric
 /// error for the full mesh, fixed decimations and the adaptive mesh at several error tolerances,
-/// stereo side-by-side on real RGB-D frames; CSV, a gnuplot chart and a printed table.
+/// stereo side-by-side on real RGB-D frames (and the synthetic head), with the render thread's CPU
+/// time for each frame's depth geometry at several depth sizes; CSV, gnuplot charts and a printed
+/// table.
 ///
 /// Real data: Microsoft 7-Scenes "redkitchen" (DT_SHARED_DATA/rgbd-7scenes-redkitchen: 640×480
 /// Kinect depth in mm + JPEG colour), converted like the sender does it: metric depth → 8-bit
-/// nearness (dt_depth, 1/Z mapping, planes fixed from the first frame's robust range), holes filled,
-/// resampled to the benchmark size; colour → yuv420p BT.601 limited range.
-/// Thread-safety: thread-bound (the GL thread).
+/// nearness (dt_depth, 1/Z mapping, planes fixed from the first frame's robust range), holes
+/// filled, resampled to the benchmark size; colour → yuv420p BT.601 limited range. Thread-safety:
+/// thread-bound (the GL thread).
 
 #include <array>
 #include <cstdint>
@@ -38,6 +40,15 @@ struct RgbdFrame {
 Result<std::vector<RgbdFrame>> loadKitchenFrames(const std::string &sceneDir, int maxFrames, int width,
                                                  int height);
 
+/// \brief Renders \a maxFrames frames of the synthetic `head` scene (app/synthetic: every third
+/// frame of its 30 fps animation) at \a width × \a height, depth as 8-bit nearness and colour as
+/// yuv420p BT.601 limited range. \pre a current GLES 3 context. \return InvalidArgument for sizes
+/// outside 16..4096 or a count < 1; the scene's errors.
+Result<std::vector<RgbdFrame>> loadHeadFrames(int maxFrames, int width, int height);
+
+/// \brief Parses a depth size "WxH" (each 2..8192). \return false when malformed.
+bool parseDepthSize(const std::string &text, int &width, int &height);
+
 /// \brief One mesh setting measured.
 struct BenchConfig {
     std::string name;  ///< e.g. "full", "step4", "adaptive-1.0"
@@ -55,6 +66,20 @@ const char *stageName(int i) noexcept;
 /// \brief The figures of one setting.
 struct BenchRow {
     std::string name;
+    std::string family; ///< "fixed", "adaptive", "quadtree" or "budgets" (chart lines).
+    std::string source; ///< The frames: "kitchen" or "head".
+    int depthWidth = 0; ///< Depth frame size, samples.
+    int depthHeight = 0;
+    /// Render-thread CPU time of the frame's depth geometry (StereoRenderer::setDepth() with the
+    /// mesh made ahead, as the player calls it: level choice left, index selection, depth texture
+    /// upload, mapping), median over the frames, ms; thread CPU time (CLOCK_THREAD_CPUTIME_ID).
+    double geomCpuMs = 0.0;
+    double geomCpuP99Ms = 0.0; ///< Its 99th percentile, ms.
+    /// CPU time of the work the player does on its prep thread for that frame (FramePrep::build()
+    /// without colour: the quadtree's level choice and triangle list; nothing for a fixed step,
+    /// whose grid is static), median, ms; thread CPU time. Here run on the render thread before
+    /// the frame, so the frame time includes it.
+    double prepCpuMs = 0.0;
     double tolerance = 0.0;     ///< Adaptive tolerance, levels (0 for fixed meshes).
     int step = 0;               ///< Fixed step (0 for adaptive).
     double meanTriangles = 0.0; ///< Triangles per frame (each drawn twice: one per eye).
@@ -81,6 +106,7 @@ struct BenchRow {
 
 /// \brief Benchmark options.
 struct BenchOptions {
+    std::string source = "kitchen";    ///< Name of the frames, for the rows (BenchRow::source).
     int outputWidth = 1440;            ///< Side-by-side frame: two 720-wide eyes.
     int outputHeight = 486;
     StereoMode mode = StereoMode::SideBySide;
@@ -98,6 +124,11 @@ struct BenchOptions {
 /// default MeshOptions at 1.2) at tolerances 0.3, 0.5, 0.7, 0.9 and 1.2 levels, and the quadtree
 /// (root 32, frame mean error budget, cap 16) at budgets 0.3, 0.4, 0.45, 0.5 and 0.6 levels.
 std::vector<BenchConfig> defaultConfigs();
+
+/// \return the settings run at the depth sizes after the first of `--depth-sizes` (their full
+/// mesh draws millions of triangles on a software rasterizer): full, step4, quadtree-0.50 and
+/// budget-6k.
+std::vector<BenchConfig> depthSizeConfigs();
 
 /// \brief Runs every setting on \a frames; the settings take turns frame by frame (each frame is
 /// drawn by every setting before the next), so a change of load on a shared machine affects them
@@ -117,8 +148,10 @@ Result<std::vector<BenchConfig>> selectConfigs(const std::string &names);
 /// \brief Prints the tables (frame rate vs error; stage breakdown) to stdout.
 void printTable(const std::vector<BenchRow> &rows, const BenchOptions &options);
 
-/// \brief Writes `render_bench.csv` (one row per setting, stage medians and p99 included) and, when
-/// gnuplot is installed, `fps_vs_error.png` and `stages.png` (stacked stage medians) into \a dir.
+/// \brief Writes `render_bench.csv` (one row per setting, frame source and depth size; stage
+/// medians and p99 included) and, when gnuplot is installed, `fps_vs_error.png` (one line per
+/// family, the rows of the first source and size), `stages.png` (stacked stage medians, same rows)
+/// and `cpu_vs_depth_size.png` (geometry CPU per frame against the depth size) into \a dir.
 /// \param[out] note a remark for the user (e.g. gnuplot missing) \return false with \a error set
 /// when the directory or CSV cannot be written.
 bool writeBenchOutputs(const std::vector<BenchRow> &rows, const std::string &dir, std::string &error,

@@ -1,0 +1,261 @@
+/// \file
+/// \brief The renderer's per-frame geometry on a real GLES 3 context (EGL surfaceless, llvmpipe;
+/// skips without one): the static grid of a fixed step is made once per frame size and draws what
+/// a fresh renderer draws (the golden pictures do not change), the quadtree's per-frame lists of
+/// changing length stay watertight and draw no stale triangles from the reused index buffers, and
+/// the per-frame path (the mesh made ahead, depth, colour, overlays, both eyes) allocates nothing
+/// once warm (a counting operator new: support/allocation_counter.h).
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include "app/render/egl_test_context.h"
+#include "app/render/render_test_support.h"
+#include "depthtouch/render/render_target.h"
+#include "depthtouch/render/renderer.h"
+#include "support/allocation_counter.h"
+
+using namespace depthtouch;
+using namespace depthtouch::render;
+using test::Depth8;
+using test::Yuv420;
+
+namespace {
+
+int bumpy(int c, int r)
+{
+    const double dx = c - 40.0;
+    const double dy = r - 30.0;
+    return static_cast<int>(std::lround(60.0 + 0.5 * c +
+                                        150.0 * std::exp(-(dx * dx + dy * dy) / 80.0) +
+                                        ((c / 7 + r / 5) % 3 == 0 ? 30.0 : 0.0)));
+}
+
+int gentle(int c, int r)
+{
+    return 100 + c / 6 + r / 9;
+}
+
+MeshOptions fixedStep(int step)
+{
+    MeshOptions m;
+    m.mode = MeshMode::Fixed;
+    m.fixedStep = step;
+    return m;
+}
+
+/// Edges inside the grid without a twin (T-junctions or holes) and the triangles' doubled area,
+/// which is 2·(W−1)·(H−1) when they tile the grid.
+std::pair<int, long long> openEdgesAndArea(const std::vector<std::uint32_t> &idx, int w, int h)
+{
+    std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
+    long long area2 = 0;
+    const auto uw = static_cast<std::uint32_t>(w);
+    for (std::size_t t = 0; t + 2 < idx.size(); t += 3) {
+        long long x[3];
+        long long y[3];
+        for (std::size_t k = 0; k < 3; ++k) {
+            x[k] = idx[t + k] % uw;
+            y[k] = idx[t + k] / uw;
+            edges.insert({idx[t + k], idx[t + (k + 1) % 3]});
+        }
+        area2 += (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
+    }
+    int open = 0;
+    for (const auto &[i, j] : edges) {
+        if (edges.count({j, i}) != 0)
+            continue;
+        const auto xi = static_cast<int>(i % uw);
+        const auto yi = static_cast<int>(i / uw);
+        const auto xj = static_cast<int>(j % uw);
+        const auto yj = static_cast<int>(j / uw);
+        const bool border =
+            (xi == xj && (xi == 0 || xi == w - 1)) || (yi == yj && (yi == 0 || yi == h - 1));
+        open += border ? 0 : 1;
+    }
+    return {open, area2};
+}
+
+class RenderGeometryTest : public ::testing::Test {
+protected:
+    void SetUp() override
+    {
+        std::string why;
+        ctx_ = test::EglTestContext::create(why);
+        if (!ctx_)
+            GTEST_SKIP() << "No GLES 3 context on the EGL surfaceless platform: " << why;
+    }
+
+    static std::unique_ptr<StereoRenderer> make(const MeshOptions &mesh)
+    {
+        RendererOptions o;
+        o.mode = StereoMode::SideBySide;
+        o.mesh = mesh;
+        auto r = StereoRenderer::create(o);
+        EXPECT_TRUE(r);
+        return r ? std::move(*r) : nullptr;
+    }
+
+    /// Draws the current frame of \a r into a 240×90 side-by-side target; \return its pixels.
+    static std::vector<std::uint8_t> picture(StereoRenderer &r)
+    {
+        auto t = RenderTarget::create(240, 90);
+        EXPECT_TRUE(t);
+        EXPECT_TRUE(r.render(*t));
+        std::vector<std::uint8_t> rgb;
+        EXPECT_TRUE(t->readRgb(rgb));
+        return rgb;
+    }
+
+    /// The picture a renderer made for this frame alone draws of \a d with \a mesh.
+    static std::vector<std::uint8_t> freshPicture(const Depth8 &d, Yuv420 &col,
+                                                  const MeshOptions &mesh)
+    {
+        auto r = make(mesh);
+        EXPECT_TRUE(r->setDepth(d.view()));
+        EXPECT_TRUE(r->setColor(col.view(), ColorSpec{}));
+        return picture(*r);
+    }
+
+    std::unique_ptr<test::EglTestContext> ctx_;
+};
+
+} // namespace
+
+TEST_F(RenderGeometryTest, staticGridIsMadeOncePerSizeAndDrawsWhatAFreshRendererDraws)
+{
+    // GIVEN two frames of one size and one of another, and a renderer at full resolution
+    const Depth8 a(97, 65, bumpy);
+    const Depth8 b(97, 65, gentle);
+    const Depth8 small(64, 48, bumpy);
+    Yuv420 col(97, 65, [](int c, int r) {
+        return std::array<int, 3>{40 + c + r, 90 + c / 2, 160 - r};
+    });
+    auto r = make(fixedStep(1));
+    ASSERT_TRUE(r);
+    ASSERT_TRUE(r->setColor(col.view(), ColorSpec{}));
+    ASSERT_TRUE(r->setDepth(a.view()));
+    const AdaptiveMesh *grid = &r->mesh();
+    const std::uint32_t *first = grid->indices().data();
+    // WHEN the next frame of that size comes
+    ASSERT_TRUE(r->setDepth(b.view()));
+    // THEN the same grid is drawn, not made again: every cell's two triangles (the haptic ones)
+    EXPECT_EQ(&r->mesh(), grid);
+    EXPECT_EQ(r->mesh().indices().data(), first);
+    EXPECT_EQ(r->mesh().stats().triangles, 2u * 96u * 64u);
+    const auto [open, area2] = openEdgesAndArea(r->mesh().indices(), 97, 65);
+    EXPECT_EQ(open, 0);
+    EXPECT_EQ(area2, 2LL * 96 * 64);
+    // AND its picture is the picture of a renderer made for that frame alone, bit for bit
+    EXPECT_EQ(picture(*r), freshPicture(b, col, fixedStep(1)));
+    // AND after five other steps and another size (more than the grids kept), each still draws
+    // its own grid and the full mesh's picture is unchanged
+    for (const int step : {2, 4, 8, 16, 32}) {
+        RendererOptions o = r->options();
+        o.mesh = fixedStep(step);
+        ASSERT_TRUE(r->setOptions(o));
+        ASSERT_TRUE(r->setDepth(b.view()));
+        const int cells = ((96 + step - 1) / step) * ((64 + step - 1) / step);
+        EXPECT_EQ(r->mesh().stats().triangles, 2u * static_cast<std::size_t>(cells))
+            << "step " << step;
+        EXPECT_EQ(picture(*r), freshPicture(b, col, fixedStep(step))) << "step " << step;
+    }
+    RendererOptions o = r->options();
+    o.mesh = fixedStep(1);
+    ASSERT_TRUE(r->setOptions(o));
+    ASSERT_TRUE(r->setDepth(small.view()));
+    EXPECT_EQ(r->mesh().stats().triangles, 2u * 63u * 47u);
+    ASSERT_TRUE(r->setDepth(b.view()));
+    EXPECT_EQ(r->mesh().stats().triangles, 2u * 96u * 64u);
+    EXPECT_EQ(picture(*r), freshPicture(b, col, fixedStep(1)));
+}
+
+TEST_F(RenderGeometryTest, quadtreeListsOfChangingLengthStayWatertightAndDrawNoStaleTriangles)
+{
+    // GIVEN a detailed frame (a long triangle list) and a gentle one (a short list), the quadtree
+    const Depth8 detailed(130, 90, bumpy);
+    const Depth8 plain(130, 90, gentle);
+    Yuv420 col(130, 90, [](int c, int r) {
+        return std::array<int, 3>{60 + c, 100 + r / 2, 150 - c / 3};
+    });
+    const MeshOptions mesh{};
+    auto r = make(mesh);
+    ASSERT_TRUE(r);
+    ASSERT_TRUE(r->setColor(col.view(), ColorSpec{}));
+    const std::vector<std::uint8_t> plainAlone = freshPicture(plain, col, mesh);
+    FramePrep prep;
+    for (int round = 0; round < 3; ++round) {
+        // WHEN they alternate, directly and with the mesh made ahead (the reused buffers then hold
+        // a longer list's tail)
+        ASSERT_TRUE(r->setDepth(detailed.view()));
+        const std::size_t longList = r->mesh().indices().size();
+        auto [open, area2] = openEdgesAndArea(r->mesh().indices(), 130, 90);
+        EXPECT_EQ(open, 0) << "T-junctions at block borders";
+        EXPECT_EQ(area2, 2LL * 129 * 89);
+        ASSERT_TRUE(prep.build(plain.view(), nullptr, ColorSpec{}, r->options().mesh));
+        ASSERT_TRUE(r->setDepth(plain.view(), prep));
+        // THEN each list tiles the grid with no T-junction, and the short one draws exactly the
+        // picture of a renderer that never held the long one
+        EXPECT_LT(r->mesh().indices().size(), longList);
+        std::tie(open, area2) = openEdgesAndArea(r->mesh().indices(), 130, 90);
+        EXPECT_EQ(open, 0) << "T-junctions at block borders";
+        EXPECT_EQ(area2, 2LL * 129 * 89);
+        EXPECT_EQ(picture(*r), plainAlone) << "round " << round;
+    }
+}
+
+TEST_F(RenderGeometryTest, perFramePathAllocatesNothingOnceWarm)
+{
+    // GIVEN two frames that alternate, for the full-resolution grid and the quadtree (its mesh
+    // made ahead, as the player does), with the avatar and the on-screen display
+    const Depth8 a(130, 90, bumpy);
+    const Depth8 b(130, 90, gentle);
+    Yuv420 col(130, 90, [](int c, int r) {
+        return std::array<int, 3>{60 + c, 100 + r / 2, 150 - c / 3};
+    });
+    for (const MeshOptions &mesh : {fixedStep(1), MeshOptions{}}) {
+        auto r = make(mesh);
+        ASSERT_TRUE(r);
+        auto target = RenderTarget::create(240, 90);
+        ASSERT_TRUE(target);
+        AvatarState avatar;
+        avatar.visible = true;
+        avatar.hip = glm::dvec3(0.0, 0.0, -0.002);
+        OsdState osd;
+        osd.visible = true;
+        osd.status = "PLAYING";
+        osd.hapticsOn = true;
+        FramePrep prep;
+        const auto frame = [&](const Depth8 &d) {
+            ASSERT_TRUE(prep.build(d.view(), nullptr, ColorSpec{}, r->options().mesh));
+            ASSERT_TRUE(r->setDepth(d.view(), prep));
+            ASSERT_TRUE(r->setColor(col.view(), ColorSpec{}));
+            r->setAvatar(avatar);
+            r->setOsd(osd);
+            ASSERT_TRUE(r->render(*target));
+        };
+        for (int warm = 0; warm < 3; ++warm) {
+            frame(a);
+            frame(b);
+        }
+        r->finish();
+        // WHEN four more frames are made and drawn
+        std::size_t allocations = 0;
+        {
+            const depthtouch::testing::AllocationCounter counter;
+            frame(a);
+            frame(b);
+            frame(a);
+            frame(b);
+            allocations = counter.count();
+        }
+        r->finish();
+        // THEN nothing was allocated with operator new on the way
+        EXPECT_EQ(allocations, 0u)
+            << (mesh.mode == MeshMode::Fixed ? "full resolution" : "quadtree");
+    }
+}
