@@ -10,28 +10,27 @@ using namespace std::chrono_literals;
 
 TEST(ModeSpecTest, parsesConnectorsSizesAndRates)
 {
-    auto s = parseModeSpec("1920x1080@50");
-    ASSERT_TRUE(s);
-    EXPECT_EQ(s->connector, "");
-    EXPECT_EQ(s->width, 1920);
-    EXPECT_EQ(s->height, 1080);
-    EXPECT_DOUBLE_EQ(s->refreshHz, 50.0);
-
-    s = parseModeSpec("HDMI-A-1");
-    ASSERT_TRUE(s);
-    EXPECT_EQ(s->connector, "HDMI-A-1");
-    EXPECT_EQ(s->width, 0);
-
-    s = parseModeSpec("DP-2:1280x720@59.94");
-    ASSERT_TRUE(s);
-    EXPECT_EQ(s->connector, "DP-2");
-    EXPECT_EQ(s->width, 1280);
-    EXPECT_EQ(s->height, 720);
-    EXPECT_DOUBLE_EQ(s->refreshHz, 59.94);
-
-    s = parseModeSpec("640x480");
-    ASSERT_TRUE(s);
-    EXPECT_EQ(s->refreshHz, 0.0);
+    struct Case {
+        const char *text;
+        const char *connector;
+        int width;
+        int height;
+        double refreshHz; ///< 0: none given
+    };
+    const Case cases[] = {
+        {"1920x1080@50", "", 1920, 1080, 50.0},
+        {"HDMI-A-1", "HDMI-A-1", 0, 0, 0.0},
+        {"DP-2:1280x720@59.94", "DP-2", 1280, 720, 59.94},
+        {"640x480", "", 640, 480, 0.0},
+    };
+    for (const Case &c : cases) {
+        const auto s = parseModeSpec(c.text);
+        ASSERT_TRUE(s) << c.text;
+        EXPECT_EQ(s->connector, c.connector) << c.text;
+        EXPECT_EQ(s->width, c.width) << c.text;
+        EXPECT_EQ(s->height, c.height) << c.text;
+        EXPECT_DOUBLE_EQ(s->refreshHz, c.refreshHz) << c.text;
+    }
 }
 
 TEST(ModeSpecTest, rejectsMalformedModes)
@@ -108,14 +107,20 @@ TEST(EglDisplaySettingsTest, configFieldsWinOverModeOverSettings)
     EXPECT_EQ(resolveWindowConfig(cfg, defaults).error().code, Errc::NotSupported);
 }
 
-TEST(VsyncPacerTest, blanksFallOnTheGridAndLateFramesSkip)
-{
-    // GIVEN a 50 Hz pacer on a manual clock
-    platform::ManualClock clock(platform::ManualClock::Mode::AutoAdvance,
-                                platform::TimePoint(std::chrono::seconds(1)));
+/// A 50 Hz pacer started at 1 s on a manual clock.
+class VsyncPacerTest : public ::testing::Test {
+protected:
+    void SetUp() override { pacer.start(epoch, 50.0); }
+
+    platform::ManualClock clock{platform::ManualClock::Mode::AutoAdvance,
+                                platform::TimePoint(std::chrono::seconds(1))};
     VsyncPacer pacer;
     const platform::TimePoint epoch = clock.now();
-    pacer.start(epoch, 50.0);
+};
+
+TEST_F(VsyncPacerTest, blanksFallOnTheGridAndLateFramesSkip)
+{
+    // GIVEN a 50 Hz pacer on a manual clock
     // WHEN frames come on time THEN each lands on the next blank, 20 ms apart
     for (std::uint64_t i = 1; i <= 3; ++i) {
         const hal::PresentInfo info = pacer.next(clock);
@@ -135,13 +140,8 @@ TEST(VsyncPacerTest, blanksFallOnTheGridAndLateFramesSkip)
     EXPECT_EQ(pacer.next(clock).frameCounter, 1u);
 }
 
-TEST(VsyncPacerTest, followSleepsOnlyWhenTheSwapDidNotWait)
+TEST_F(VsyncPacerTest, followSleepsOnlyWhenTheSwapDidNotWait)
 {
-    platform::ManualClock clock(platform::ManualClock::Mode::AutoAdvance,
-                                platform::TimePoint(std::chrono::seconds(1)));
-    VsyncPacer pacer;
-    const platform::TimePoint epoch = clock.now();
-    pacer.start(epoch, 50.0);
     // GIVEN swaps that return at once (no server pacing) THEN frames are one period apart
     hal::PresentInfo a = pacer.follow(clock, 1);
     EXPECT_EQ(a.vsyncTime, epoch + 20ms);
@@ -169,13 +169,8 @@ TEST(VsyncPacerTest, followSleepsOnlyWhenTheSwapDidNotWait)
     EXPECT_EQ(pacer.follow(clock, 0).vsyncTime, held + 61ms);
 }
 
-TEST(VsyncPacerTest, observedBlanksEstimateTheSkippedOnesAndMoveTheGrid)
+TEST_F(VsyncPacerTest, observedBlanksEstimateTheSkippedOnesAndMoveTheGrid)
 {
-    platform::ManualClock clock(platform::ManualClock::Mode::AutoAdvance,
-                                platform::TimePoint(std::chrono::seconds(1)));
-    VsyncPacer pacer;
-    const platform::TimePoint epoch = clock.now();
-    pacer.start(epoch, 50.0);
     // GIVEN swaps the server showed at 21 ms, 40 ms (on time, some jitter) and 103 ms (late)
     hal::PresentInfo a = pacer.observe(epoch + 21ms);
     EXPECT_EQ(a.vsyncTime, epoch + 21ms);

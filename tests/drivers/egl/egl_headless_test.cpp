@@ -9,13 +9,15 @@
 
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/drivers/egl/egl_headless_display.h"
+#include "gl_pixels.h"
 
 namespace depthtouch::drivers {
 namespace {
 
-struct Rgb {
-    std::uint8_t r, g, b;
-};
+using test::drawHalves;
+using test::pixelAt;
+using test::pixelView;
+using test::Rgb;
 
 class EglHeadlessTest : public ::testing::Test {
 protected:
@@ -27,36 +29,6 @@ protected:
             GTEST_SKIP() << "No EGL surfaceless platform: " << d.error().what;
         ASSERT_TRUE(d) << d.error().what;
         display_ = std::move(*d);
-    }
-
-    static hal::ImageView view(std::vector<std::uint8_t> &buf, int w, int h,
-                               hal::PixelFormat format = hal::PixelFormat::Rgb24)
-    {
-        const int bpp = format == hal::PixelFormat::Rgba8 ? 4 : 3;
-        buf.assign(static_cast<std::size_t>(w * h * bpp), 0);
-        hal::ImageView v;
-        v.width = w;
-        v.height = h;
-        v.format = format;
-        v.planes[0] = {buf.data(), w * bpp};
-        return v;
-    }
-    static Rgb at(const hal::ImageView &v, int x, int y)
-    {
-        const std::uint8_t *p = v.row(0, y) + x * 3;
-        return {p[0], p[1], p[2]};
-    }
-    /// Clears the current draw framebuffer to \a bottom, then its top half to \a top.
-    static void drawHalves(int w, int h, Rgb top, Rgb bottom)
-    {
-        glDisable(GL_SCISSOR_TEST);
-        glClearColor(bottom.r / 255.0f, bottom.g / 255.0f, bottom.b / 255.0f, 1.0f);
-        glClear(GL_COLOR_BUFFER_BIT);
-        glEnable(GL_SCISSOR_TEST);
-        glScissor(0, h / 2, w, h - h / 2); // GL rows count from the bottom
-        glClearColor(top.r / 255.0f, top.g / 255.0f, top.b / 255.0f, 1.0f);
-        glClear(GL_COLOR_BUFFER_BIT);
-        glDisable(GL_SCISSOR_TEST);
     }
 
     platform::ManualClock clock_{platform::ManualClock::Mode::AutoAdvance};
@@ -82,7 +54,7 @@ TEST_F(EglHeadlessTest, presentedFrameReadsBackTopRowFirst)
     EXPECT_EQ(display_->size().height, 48);
     EXPECT_DOUBLE_EQ(display_->refreshHz(), 50.0);
     std::vector<std::uint8_t> buf;
-    const hal::ImageView img = view(buf, 64, 48);
+    const hal::ImageView img = pixelView(buf, 64, 48);
     // GIVEN nothing presented THEN there is nothing to read
     EXPECT_EQ(display_->readPixels(img).error().code, Errc::InvalidState);
 
@@ -99,8 +71,8 @@ TEST_F(EglHeadlessTest, presentedFrameReadsBackTopRowFirst)
     // AND drawing it does not change what was presented
     drawHalves(64, 48, {0, 255, 0}, {0, 255, 0});
     ASSERT_TRUE(display_->readPixels(img));
-    const Rgb top = at(img, 10, 2);
-    const Rgb bottom = at(img, 50, 45);
+    const Rgb top = pixelAt(img, 10, 2);
+    const Rgb bottom = pixelAt(img, 50, 45);
     EXPECT_EQ(top.r, 255);
     EXPECT_EQ(top.b, 0);
     EXPECT_EQ(bottom.r, 0);
@@ -108,7 +80,7 @@ TEST_F(EglHeadlessTest, presentedFrameReadsBackTopRowFirst)
     // AND presenting the green frame shows green, as RGBA too
     ASSERT_TRUE(display_->present());
     std::vector<std::uint8_t> rgbaBuf;
-    const hal::ImageView rgba = view(rgbaBuf, 64, 48, hal::PixelFormat::Rgba8);
+    const hal::ImageView rgba = pixelView(rgbaBuf, 64, 48, hal::PixelFormat::Rgba8);
     ASSERT_TRUE(display_->readPixels(rgba));
     EXPECT_EQ(rgba.row(0, 0)[1], 255);
     EXPECT_EQ(rgba.row(0, 47)[2], 0);
@@ -119,8 +91,8 @@ TEST_F(EglHeadlessTest, readPixelsRefusesAWrongImage)
     ASSERT_TRUE(display_->open({}));
     ASSERT_TRUE(display_->present());
     std::vector<std::uint8_t> buf;
-    EXPECT_EQ(display_->readPixels(view(buf, 64, 48)).error().code, Errc::InvalidArgument);
-    hal::ImageView gray = view(buf, 1280, 720);
+    EXPECT_EQ(display_->readPixels(pixelView(buf, 64, 48)).error().code, Errc::InvalidArgument);
+    hal::ImageView gray = pixelView(buf, 1280, 720);
     gray.format = hal::PixelFormat::Gray8;
     EXPECT_EQ(display_->readPixels(gray).error().code, Errc::InvalidArgument);
     hal::ImageView none;
@@ -129,7 +101,7 @@ TEST_F(EglHeadlessTest, readPixelsRefusesAWrongImage)
     none.format = hal::PixelFormat::Rgb24;
     EXPECT_EQ(display_->readPixels(none).error().code, Errc::InvalidArgument);
     display_->close();
-    EXPECT_EQ(display_->readPixels(view(buf, 1280, 720)).error().code, Errc::InvalidState);
+    EXPECT_EQ(display_->readPixels(pixelView(buf, 1280, 720)).error().code, Errc::InvalidState);
 }
 
 TEST_F(EglHeadlessTest, twoDisplaysInOneProcessKeepTheirOwnContexts)
@@ -149,9 +121,9 @@ TEST_F(EglHeadlessTest, twoDisplaysInOneProcessKeepTheirOwnContexts)
     drawHalves(32, 16, {10, 20, 30}, {10, 20, 30});
     ASSERT_TRUE(display_->present());
     std::vector<std::uint8_t> buf;
-    const hal::ImageView img = view(buf, 32, 16);
+    const hal::ImageView img = pixelView(buf, 32, 16);
     ASSERT_TRUE(display_->readPixels(img));
-    EXPECT_EQ(at(img, 5, 5).g, 20);
+    EXPECT_EQ(pixelAt(img, 5, 5).g, 20);
 }
 
 TEST_F(EglHeadlessTest, reopensAfterCloseAndRefusesBadModes)

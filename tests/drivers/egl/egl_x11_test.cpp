@@ -17,6 +17,7 @@
 
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/drivers/egl/egl_x11_display.h"
+#include "gl_pixels.h"
 #include "xvfb_server.h"
 
 // Last: Xlib defines macros (None, Bool, Status) that other headers must not see.
@@ -25,6 +26,12 @@
 
 namespace depthtouch::drivers {
 namespace {
+
+using test::drawHalves;
+using test::expectRgb;
+using test::pixelAt;
+using test::pixelView;
+using test::Rgb;
 
 using testing::XvfbServer;
 using State = hal::Display::State;
@@ -69,10 +76,6 @@ public:
 
 private:
     std::string saved_;
-};
-
-struct Rgb {
-    std::uint8_t r, g, b;
 };
 
 /// An X client of its own, as a window manager or a user would be.
@@ -148,38 +151,24 @@ protected:
         return d ? std::move(*d) : nullptr;
     }
 
-    static hal::ImageView view(std::vector<std::uint8_t> &buf, int w, int h)
+    /// Creates a display into \a d and opens a 160×120 window with \a dc, makes it current when
+    /// \a current, and presents once; fails the test (fatally) where any step fails.
+    void openWindow(std::unique_ptr<hal::Display> &d, hal::DisplayConfig &dc, bool current)
     {
-        buf.assign(static_cast<std::size_t>(w * h * 3), 0);
-        hal::ImageView v;
-        v.width = w;
-        v.height = h;
-        v.format = hal::PixelFormat::Rgb24;
-        v.planes[0] = {buf.data(), w * 3};
-        return v;
+        d = create();
+        ASSERT_NE(d, nullptr);
+        dc.width = 160;
+        dc.height = 120;
+        ASSERT_TRUE(d->open(dc));
+        if (current) {
+            ASSERT_TRUE(d->makeCurrent());
+        }
+        ASSERT_TRUE(d->present());
     }
-    static Rgb at(const hal::ImageView &v, int x, int y)
+    /// \return the X window of the x11 display \a d.
+    static ::Window windowOf(hal::Display &d)
     {
-        const std::uint8_t *p = v.row(0, y) + x * 3;
-        return {p[0], p[1], p[2]};
-    }
-    /// Clears the current draw framebuffer to \a bottom, then its top half to \a top.
-    static void drawHalves(int w, int h, Rgb top, Rgb bottom)
-    {
-        glDisable(GL_SCISSOR_TEST);
-        glClearColor(bottom.r / 255.0f, bottom.g / 255.0f, bottom.b / 255.0f, 1.0f);
-        glClear(GL_COLOR_BUFFER_BIT);
-        glEnable(GL_SCISSOR_TEST);
-        glScissor(0, h / 2, w, h - h / 2); // GL rows count from the bottom
-        glClearColor(top.r / 255.0f, top.g / 255.0f, top.b / 255.0f, 1.0f);
-        glClear(GL_COLOR_BUFFER_BIT);
-        glDisable(GL_SCISSOR_TEST);
-    }
-    static void expectRgb(Rgb got, Rgb want, const char *where)
-    {
-        EXPECT_EQ(got.r, want.r) << where;
-        EXPECT_EQ(got.g, want.g) << where;
-        EXPECT_EQ(got.b, want.b) << where;
+        return static_cast<::Window>(dynamic_cast<EglX11Display &>(d).window());
     }
     /// Presents until the display reports Lost (X events arrive asynchronously).
     static bool presentUntilLost(hal::Display &d)
@@ -222,7 +211,7 @@ TEST_F(EglX11Test, opensAFixedSizeWindowTitledDepthTouch)
     EXPECT_EQ(attrs.height, 200);
     EXPECT_EQ(attrs.map_state, IsViewable);
     std::vector<std::uint8_t> buf;
-    EXPECT_EQ(d->readPixels(view(buf, 320, 200)).error().code, Errc::NotSupported);
+    EXPECT_EQ(d->readPixels(pixelView(buf, 320, 200)).error().code, Errc::NotSupported);
 
     // AND close() takes the window away
     d->close();
@@ -240,7 +229,7 @@ TEST_F(EglX11Test, clearedColoursReadBackTopRowFirst)
     dc.height = 64;
     ASSERT_TRUE(d->open(dc));
     std::vector<std::uint8_t> buf;
-    hal::ImageView img = view(buf, 96, 64);
+    hal::ImageView img = pixelView(buf, 96, 64);
     EXPECT_EQ(d->readPixels(img).error().code, Errc::InvalidState); // nothing presented yet
     ASSERT_TRUE(d->makeCurrent());
     // GIVEN a frame whose top half is orange and bottom half blue
@@ -252,19 +241,19 @@ TEST_F(EglX11Test, clearedColoursReadBackTopRowFirst)
     EXPECT_EQ(info->frameCounter, 1u);
     // THEN the presented frame reads back with its top row first
     ASSERT_TRUE(d->readPixels(img));
-    expectRgb(at(img, 0, 0), orange, "top left");
-    expectRgb(at(img, 95, 31), orange, "end of the top half");
-    expectRgb(at(img, 0, 32), blue, "start of the bottom half");
-    expectRgb(at(img, 95, 63), blue, "bottom right");
+    expectRgb(pixelAt(img, 0, 0), orange, "top left");
+    expectRgb(pixelAt(img, 95, 31), orange, "end of the top half");
+    expectRgb(pixelAt(img, 0, 32), blue, "start of the bottom half");
+    expectRgb(pixelAt(img, 95, 63), blue, "bottom right");
     // AND drawing the next frame does not change what was presented
     drawHalves(96, 64, blue, blue);
     ASSERT_TRUE(d->readPixels(img));
-    expectRgb(at(img, 0, 0), orange, "top left while the next frame is drawn");
+    expectRgb(pixelAt(img, 0, 0), orange, "top left while the next frame is drawn");
     ASSERT_TRUE(d->present());
     ASSERT_TRUE(d->readPixels(img));
-    expectRgb(at(img, 0, 0), blue, "top left of the second frame");
+    expectRgb(pixelAt(img, 0, 0), blue, "top left of the second frame");
     std::vector<std::uint8_t> small;
-    EXPECT_EQ(d->readPixels(view(small, 48, 32)).error().code, Errc::InvalidArgument);
+    EXPECT_EQ(d->readPixels(pixelView(small, 48, 32)).error().code, Errc::InvalidArgument);
 }
 
 TEST_F(EglX11Test, openedOnOneThreadRendersOnAnother)
@@ -284,24 +273,20 @@ TEST_F(EglX11Test, openedOnOneThreadRendersOnAnother)
     drawHalves(64, 48, {10, 200, 30}, {10, 200, 30});
     ASSERT_TRUE(d->present());
     std::vector<std::uint8_t> buf;
-    hal::ImageView img = view(buf, 64, 48);
+    hal::ImageView img = pixelView(buf, 64, 48);
     ASSERT_TRUE(d->readPixels(img));
-    expectRgb(at(img, 32, 24), {10, 200, 30}, "centre");
+    expectRgb(pixelAt(img, 32, 24), {10, 200, 30}, "centre");
 }
 
 TEST_F(EglX11Test, closingTheWindowMakesTheDisplayLost)
 {
-    auto d = create();
-    ASSERT_NE(d, nullptr);
+    std::unique_ptr<hal::Display> d;
     hal::DisplayConfig dc;
-    dc.width = 160;
-    dc.height = 120;
-    ASSERT_TRUE(d->open(dc));
-    ASSERT_TRUE(d->present());
+    ASSERT_NO_FATAL_FAILURE(openWindow(d, dc, false));
     // WHEN the user closes the window
     XClient wm(gXvfb->server.name());
     ASSERT_NE(wm.get(), nullptr);
-    wm.closeWindow(static_cast<::Window>(dynamic_cast<EglX11Display &>(*d).window()));
+    wm.closeWindow(windowOf(*d));
     // THEN present() reports NoDevice and the display is Lost
     ASSERT_TRUE(presentUntilLost(*d));
     EXPECT_EQ(d->present().error().code, Errc::NoDevice);
@@ -318,20 +303,14 @@ TEST_F(EglX11Test, closingTheWindowMakesTheDisplayLost)
 
 TEST_F(EglX11Test, aWindowDestroyedByAnotherClientMakesTheDisplayLost)
 {
-    auto d = create();
-    ASSERT_NE(d, nullptr);
+    std::unique_ptr<hal::Display> d;
     hal::DisplayConfig dc;
-    dc.width = 160;
-    dc.height = 120;
-    ASSERT_TRUE(d->open(dc));
-    ASSERT_TRUE(d->makeCurrent());
-    ASSERT_TRUE(d->present());
+    ASSERT_NO_FATAL_FAILURE(openWindow(d, dc, true));
     // WHEN another client destroys the window (requests on it then fail with X protocol errors,
     // which must not end the process)
     XClient other(gXvfb->server.name());
     ASSERT_NE(other.get(), nullptr);
-    XDestroyWindow(other.get(),
-                   static_cast<::Window>(dynamic_cast<EglX11Display &>(*d).window()));
+    XDestroyWindow(other.get(), windowOf(*d));
     XSync(other.get(), False);
     // THEN the display is Lost and closes cleanly
     ASSERT_TRUE(presentUntilLost(*d));
@@ -345,14 +324,9 @@ TEST_F(EglX11Test, losingTheXServerMakesTheDisplayLostWithoutACrash)
     XvfbServer server;
     ASSERT_TRUE(server.start()) << server.why();
     cfg_.device = server.name();
-    auto d = create();
-    ASSERT_NE(d, nullptr);
+    std::unique_ptr<hal::Display> d;
     hal::DisplayConfig dc;
-    dc.width = 160;
-    dc.height = 120;
-    ASSERT_TRUE(d->open(dc));
-    ASSERT_TRUE(d->makeCurrent());
-    ASSERT_TRUE(d->present());
+    ASSERT_NO_FATAL_FAILURE(openWindow(d, dc, true));
     // WHEN the server dies
     server.stop(SIGKILL);
     // THEN the display is Lost, and opening fails with NoDevice while no server runs
