@@ -10,6 +10,7 @@
 /// (`stiffness = 1200`, `display = "headless"`, `loop = true`); options given on the command line
 /// win. Unknown keys and values of the wrong type are errors (exit 2).
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cmath>
@@ -34,6 +35,7 @@
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
+#include "depthtouch/platform/memory_lock.h"
 #include "depthtouch/playback/playback.h"
 #include "depthtouch/player/state_machine.h"
 #include "message_text.h"
@@ -260,6 +262,7 @@ struct LoopOutcome {
     double rssStart = -1.0;
     double rssAfterWarmup = -1.0;
     double rssEnd = -1.0;
+    double lockedMiB = -1.0; ///< Locked memory (VmLck), MiB: the larger of the 5 s and end samples.
 };
 
 /// Runs the control loop until the player quits, ends (without --idle), a signal or --duration.
@@ -288,8 +291,10 @@ LoopOutcome playUntilDone(const PlayOptions &opt, player::StateMachine &machine,
         else
             out.failure.clear();
         const double elapsed = platform::toSeconds(clock.now() - start);
-        if (out.rssAfterWarmup < 0.0 && elapsed >= 5.0)
+        if (out.rssAfterWarmup < 0.0 && elapsed >= 5.0) {
             out.rssAfterWarmup = residentMiB();
+            out.lockedMiB = platform::lockedMiB();
+        }
         if (gPlayStop.load() || (opt.duration > 0.0 && elapsed >= opt.duration)) {
             out.stoppedOpening = st == player::PlayerState::Opening;
             machine.execute("quit");
@@ -299,6 +304,7 @@ LoopOutcome playUntilDone(const PlayOptions &opt, player::StateMachine &machine,
             break;
     }
     out.rssEnd = residentMiB();
+    out.lockedMiB = std::max(out.lockedMiB, platform::lockedMiB());
     return out;
 }
 
@@ -399,6 +405,7 @@ PlayResult runPlay(const PlayOptions &opt)
     run.rssStart = out.rssStart;
     run.rssAfterWarmup = out.rssAfterWarmup;
     run.rssEnd = out.rssEnd;
+    run.lockedMiB = out.lockedMiB;
     run.finalState = player::playerStateName(machine.state());
     run.failure = out.failure;
     return finishPlay(opt, run, out, machine.quitRequested(), listener.errorPrinted());

@@ -4,7 +4,8 @@
 #include "play_report.h"
 
 #include <cstdio>
-#include <fstream>
+
+#include "depthtouch/platform/memory_lock.h"
 
 namespace depthtouch::cli {
 
@@ -53,6 +54,11 @@ void printHapticSummary(const haptic_task::HapticStats &hs, double deviceMaxForc
                 "%.2f us\n",
                 hs.wakeLatency.p50Us, hs.wakeLatency.p99Us, hs.updateTime.p50Us,
                 hs.updateTime.p99Us);
+    std::printf("  page faults       %llu minor, %llu major on the haptic thread after its "
+                "warm-up (%llu in it); %.1f MiB locked for it\n",
+                static_cast<unsigned long long>(hs.pageFaultsMinor),
+                static_cast<unsigned long long>(hs.pageFaultsMajor),
+                static_cast<unsigned long long>(hs.pageFaultsWarmup), hs.lockedMiB);
     std::printf("  max force         %.2f N (device maximum %.2f N)\n", hs.maxForce,
                 deviceMaxForce);
 }
@@ -61,12 +67,7 @@ void printHapticSummary(const haptic_task::HapticStats &hs, double deviceMaxForc
 
 double residentMiB()
 {
-    std::ifstream f("/proc/self/statm");
-    long pages = 0;
-    long resident = 0;
-    if (!(f >> pages >> resident))
-        return -1.0;
-    return static_cast<double>(resident) * 4096.0 / (1024.0 * 1024.0);
+    return platform::residentMiB();
 }
 
 nlohmann::json playStatsJson(const std::string &url, const PlayRunFigures &run)
@@ -86,6 +87,7 @@ nlohmann::json playStatsJson(const std::string &url, const PlayRunFigures &run)
     j["rss_mib_start"] = run.rssStart;
     j["rss_mib_after_5s"] = run.rssAfterWarmup;
     j["rss_mib_end"] = run.rssEnd;
+    j["locked_mib"] = run.lockedMiB;
     j["notes"] = info.notes;
     j["final_state"] = run.finalState;
     if (!run.failure.empty())
@@ -117,8 +119,9 @@ void printPlaySummary(const std::string &url, const PlayRunFigures &run, const s
                     static_cast<unsigned long long>(ps.framesPresented), ps.lodBudget);
     if (run.haptic)
         printHapticSummary(*run.haptic, run.deviceMaxForce);
-    std::printf("  memory            %.1f MiB resident at start, %.1f MiB at the end\n",
-                run.rssStart, run.rssEnd);
+    std::printf("  memory            %.1f MiB resident at start, %.1f MiB at the end; %.1f MiB "
+                "locked\n",
+                run.rssStart, run.rssEnd, run.lockedMiB);
     if (!record.empty())
         std::printf("  recording         %s (%llu frames)\n", record.c_str(),
                     static_cast<unsigned long long>(ps.framesRecorded));

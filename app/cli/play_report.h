@@ -13,7 +13,7 @@
 
 namespace depthtouch::cli {
 
-/// \return the resident set size, MiB (Linux /proc), or −1.
+/// \return the resident set size, MiB (VmRSS of /proc/self/status), or −1.
 double residentMiB();
 
 /// \brief What one run of the player gave: the player's figures and the run's own.
@@ -27,6 +27,9 @@ struct PlayRunFigures {
     double rssStart = -1.0;                         ///< Resident memory, MiB (−1: unknown).
     double rssAfterWarmup = -1.0;
     double rssEnd = -1.0;
+    /// Locked memory (VmLck of /proc/self/status), MiB: the larger of the samples after 5 s and at
+    /// the end (−1: unknown). The haptic thread's own share is HapticStats::lockedMiB.
+    double lockedMiB = -1.0;
     std::string finalState; ///< The player's state at the end.
     std::string failure;    ///< Why the player ended in Error (empty: it did not).
 };

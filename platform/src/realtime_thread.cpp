@@ -35,8 +35,9 @@ constexpr const char *kFifoRefused = "SCHED_FIFO refused by the kernel: run as r
                                      "priorities with RLIMIT_RTPRIO (limits.conf "
                                      "'@group - rtprio 99', systemd LimitRTPRIO=99)";
 constexpr const char *kMlockRefused =
-    "mlockall refused by the kernel: run as root or with CAP_IPC_LOCK, or raise RLIMIT_MEMLOCK "
-    "(limits.conf '@group - memlock unlimited', systemd LimitMEMLOCK=infinity)";
+    "Memory locking (mlock/mlockall) refused by the kernel: run as root or with CAP_IPC_LOCK, or "
+    "raise RLIMIT_MEMLOCK (limits.conf '@group - memlock unlimited', systemd "
+    "LimitMEMLOCK=infinity)";
 
 /// Stack left untouched below the pre-faulting frame: room for the frames that run it and for a
 /// signal handler that may arrive meanwhile.
@@ -92,19 +93,66 @@ private:
     bool ok_ = false;
 };
 
-/// Locks the calling thread's stack in memory (it was mapped after mlockall(MCL_CURRENT)).
-/// Best effort: a refusal leaves the pre-faulted pages resident as long as nothing swaps.
-void lockOwnStack() noexcept
+/// Locks the calling thread's stack in memory (mapped after the process-wide lock, or the thread's
+/// own under MemoryLockMode::Owned). Best effort: a refusal leaves the pre-faulted pages resident
+/// as long as nothing reclaims them. \return the region locked (empty when refused).
+MemoryRegion lockOwnStack() noexcept
 {
     pthread_attr_t attr;
     if (pthread_getattr_np(pthread_self(), &attr) != 0)
-        return;
+        return {};
     void *stackLow = nullptr;
     std::size_t stackSize = 0;
     const int rc = pthread_attr_getstack(&attr, &stackLow, &stackSize);
     pthread_attr_destroy(&attr);
-    if (rc == 0)
-        (void)mlock(stackLow, stackSize);
+    if (rc != 0 || mlock(stackLow, stackSize) != 0)
+        return {};
+    return {stackLow, stackSize};
+}
+
+/// Process-wide mlockall() of MemoryLockMode::All or OnFault. \return 0 or the errno of the
+/// refusal; \a applied is the mode in force (All where the kernel does not know MCL_ONFAULT).
+int lockAll(MemoryLockMode mode, MemoryLockMode &applied) noexcept
+{
+    applied = mode;
+#ifdef MCL_ONFAULT
+    if (mode == MemoryLockMode::OnFault) {
+        if (mlockall(MCL_CURRENT | MCL_FUTURE | MCL_ONFAULT) == 0)
+            return 0;
+        if (errno != EINVAL)
+            return errno;
+        DT_LOG_ONCE(Thread, Warning,
+                    "mlockall(MCL_ONFAULT) is not known to this kernel (Linux < 4.4): locking "
+                    "every mapped page instead (mlockall(MCL_CURRENT))");
+    }
+#endif
+    applied = MemoryLockMode::All;
+    return mlockall(MCL_CURRENT) == 0 ? 0 : errno;
+}
+
+/// MemoryLockMode::Owned: mlock() of \a self (the thread object: its stop flag and the body's
+/// captures), the runtime's and the options' objects and the regions. \return 0 or the errno of
+/// the first refusal (the rest is still locked); adds to \a bytes.
+int lockOwned(const MemoryRegion &self, const RealtimeThreadOptions &options,
+              std::size_t &bytes) noexcept
+{
+    LockResult all = lockRegion(self);
+    const LockResult runtime = lockLoadedObjects(kRuntimeObjects);
+    all.bytes += runtime.bytes;
+    if (all.failedErrno == 0)
+        all.failedErrno = runtime.failedErrno;
+    const LockResult extra = lockLoadedObjects(options.lockObjects);
+    all.bytes += extra.bytes;
+    if (all.failedErrno == 0)
+        all.failedErrno = extra.failedErrno;
+    for (std::size_t i = 0; options.regions != nullptr && i < options.regionCount; ++i) {
+        const LockResult r = lockRegion(options.regions[i]);
+        all.bytes += r.bytes;
+        if (all.failedErrno == 0)
+            all.failedErrno = r.failedErrno;
+    }
+    bytes += all.bytes;
+    return all.failedErrno;
 }
 
 /// Touches \a wanted bytes of the calling thread's stack (minus kStackPrefaultMargin, and never
@@ -159,10 +207,17 @@ const char *RealtimeThreadReport::format(char *buf, std::size_t size) const noex
         std::snprintf(cpuText, sizeof(cpuText), "CPU %d", cpu);
     else
         std::snprintf(cpuText, sizeof(cpuText), "CPU %d not applied", cpu);
+    char lockText[64];
+    if (!memoryLocked)
+        std::snprintf(lockText, sizeof(lockText), "not locked");
+    else if (lockMode == MemoryLockMode::Owned)
+        std::snprintf(lockText, sizeof(lockText), "locked (owned, %.1f MiB)",
+                      static_cast<double>(lockedBytes) / (1024.0 * 1024.0));
+    else
+        std::snprintf(lockText, sizeof(lockText), "locked (%s)", memoryLockModeName(lockMode));
     std::snprintf(buf, size, "%s: %s priority %d%s, memory %s, %s, stack %zu B (%zu B pre-faulted)",
                   name, schedPolicyName(policy), priority, rtRefused ? " (SCHED_FIFO refused)" : "",
-                  memoryLocked ? "locked" : "not locked", cpuText, stackBytes,
-                  stackPrefaultedBytes);
+                  lockText, cpuText, stackBytes, stackPrefaultedBytes);
     return buf;
 }
 
@@ -173,7 +228,8 @@ void logStarted(const ThreadConfig &config, const RealtimeThreadOptions &options
                 const RealtimeThreadReport &report) noexcept
 {
     char line[256];
-    if (config.policy == SchedPolicy::Fifo || options.lockMemory)
+    if (config.policy == SchedPolicy::Fifo ||
+        (options.lockMemory && options.lockMode != MemoryLockMode::None))
         DT_LOG(Thread, Info, "Started %s", report.format(line, sizeof(line)));
     else
         DT_LOG(Thread, Debug, "Started %s", report.format(line, sizeof(line)));
@@ -192,6 +248,38 @@ RealtimeThread::~RealtimeThread()
     requestStop();
     join();
     sem_destroy(&ready_);
+}
+
+Result<void> RealtimeThread::lockMemory()
+{
+    if (!options_.lockMemory || options_.lockMode == MemoryLockMode::None)
+        return ok();
+    if (!memoryLockingAvailable()) {
+        DT_LOG_ONCE(Thread, Warning,
+                    "Not locking memory: this sanitizer build reserves terabytes of shadow memory");
+        return ok();
+    }
+    MemoryLockMode applied = options_.lockMode;
+    std::size_t bytes = 0;
+    const int err = options_.lockMode == MemoryLockMode::Owned
+                        ? lockOwned({this, sizeof(*this)}, options_, bytes)
+                        : lockAll(options_.lockMode, applied);
+    if (err != 0) {
+        if (options_.requireRt)
+            return unexpected(Errc::PermissionDenied, kMlockRefused, err);
+        char errText[128];
+        DT_LOG_ONCE(Thread, Warning,
+                    "Failed to lock memory (%s, %s): %s; real-time threads may take page faults. "
+                    "Grant CAP_IPC_LOCK or raise RLIMIT_MEMLOCK (limits.conf memlock, systemd "
+                    "LimitMEMLOCK=infinity)",
+                    applied == MemoryLockMode::Owned ? "mlock" : "mlockall",
+                    memoryLockModeName(applied), errnoText(err, errText, sizeof(errText)));
+        return ok();
+    }
+    report_.memoryLocked = true;
+    report_.lockMode = applied;
+    report_.lockedBytes = bytes;
+    return ok();
 }
 
 Result<void> RealtimeThread::start()
@@ -216,26 +304,9 @@ Result<void> RealtimeThread::start()
     char errText[128];
 
     // 1. Lock memory before anything real-time exists, so neither the stack about to be created
-    //    nor any later allocation takes a page fault on the real-time path.
-    if (options_.lockMemory) {
-        if (!memoryLockingAvailable()) {
-            DT_LOG_ONCE(
-                Thread, Warning,
-                "Not locking memory: this sanitizer build reserves terabytes of shadow memory");
-        } else if (mlockall(MCL_CURRENT) != 0) {
-            const int err = errno;
-            if (options_.requireRt)
-                return unexpected(Errc::PermissionDenied, kMlockRefused, err);
-            DT_LOG_ONCE(
-                Thread, Warning,
-                "Failed to lock memory (mlockall): %s; real-time threads may take page faults. "
-                "Grant CAP_IPC_LOCK or raise RLIMIT_MEMLOCK (limits.conf memlock, systemd "
-                "LimitMEMLOCK=infinity)",
-                errnoText(err, errText, sizeof(errText)));
-        } else {
-            report_.memoryLocked = true;
-        }
-    }
+    //    nor the data and code the body runs take a page fault on the real-time path.
+    if (auto locked = lockMemory(); !locked)
+        return locked;
 
     // 2. Create the thread with explicit attributes: it is born with its stack size and policy, and
     //    does not inherit the creator's (possibly SCHED_FIFO) scheduling.
@@ -333,8 +404,12 @@ void RealtimeThread::run() noexcept
 
     if (options_.prefaultStack)
         report_.stackPrefaultedBytes = prefaultStack(report_.stackBytes);
-    if (report_.memoryLocked)
-        lockOwnStack();
+    stackLocked_ = {};
+    if (report_.memoryLocked && report_.lockMode != MemoryLockMode::OnFault) {
+        stackLocked_ = lockOwnStack();
+        if (report_.lockMode == MemoryLockMode::Owned)
+            report_.lockedBytes += stackLocked_.bytes;
+    }
 
     int policy = SCHED_OTHER;
     sched_param param{};
@@ -347,6 +422,9 @@ void RealtimeThread::run() noexcept
     // the writes above before start() returns).
     sem_post(&ready_);
     body_(StopToken(stop_));
+    // glibc keeps the stacks of ended threads for reuse: give the pages back to the kernel's
+    // reclaim now rather than keep them locked in its cache.
+    unlockRegion(stackLocked_);
     finished_.store(true, std::memory_order_release);
 }
 

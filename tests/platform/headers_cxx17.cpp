@@ -7,6 +7,7 @@
 #include "depthtouch/platform/log.h"
 #include "depthtouch/platform/macros.h"
 #include "depthtouch/platform/mailbox.h"
+#include "depthtouch/platform/memory_lock.h"
 #include "depthtouch/platform/periodic_timer.h"
 #include "depthtouch/platform/realtime_thread.h"
 #include "depthtouch/platform/result.h"

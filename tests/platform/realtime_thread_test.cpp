@@ -1,4 +1,4 @@
-// RealtimeThread changes process-wide state (scheduling, mlockall, rlimits, capabilities): every
+// RealtimeThread changes process-wide state (scheduling, mlock, rlimits, capabilities): every
 // case that could do so runs in a forked child, which reports back through a pipe; the parent
 // asserts.
 
@@ -181,14 +181,15 @@ bool probeFifo(int priority)
     return WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
-/// \return true when a forked child may mlockall(MCL_CURRENT | MCL_FUTURE).
+/// \return true when a forked child may lock what the default MemoryLockMode::Owned locks (the
+/// runtime's objects, a few MiB: more than some RLIMIT_MEMLOCK defaults allow without privilege).
 bool probeMlockall()
 {
     if (!memoryLockingAvailable())
         return false;
     const pid_t pid = fork();
     if (pid == 0)
-        _exit(mlockall(MCL_CURRENT | MCL_FUTURE) == 0 ? 0 : 1);
+        _exit(lockLoadedObjects(kRuntimeObjects).failedErrno == 0 ? 0 : 1);
     int status = 0;
     waitpid(pid, &status, 0);
     return WIFEXITED(status) && WEXITSTATUS(status) == 0;
@@ -321,11 +322,12 @@ TEST(RealtimeThreadTest, refusedFifoFallsBackOrFailsWhenRequired)
     EXPECT_TRUE(contains(strict.what, "RLIMIT_RTPRIO")) << strict.what;
 }
 
-TEST(RealtimeThreadTest, refusedMlockallFallsBackOrFailsWhenRequired)
+TEST(RealtimeThreadTest, refusedMemoryLockFallsBackOrFailsWhenRequired)
 {
     if (!memoryLockingAvailable())
         GTEST_SKIP() << "sanitizer build: memory locking is skipped by design";
-    // GIVEN a child where the kernel refuses mlockall: RLIMIT_MEMLOCK 0 and no CAP_IPC_LOCK
+    // GIVEN a child where the kernel refuses mlock and mlockall: RLIMIT_MEMLOCK 0 and no
+    // CAP_IPC_LOCK
     ChildOutcome out;
     ASSERT_TRUE(runInChild(
         [](ChildOutcome &o) {
@@ -336,15 +338,20 @@ TEST(RealtimeThreadTest, refusedMlockallFallsBackOrFailsWhenRequired)
                          "cannot lower RLIMIT_MEMLOCK or drop CAP_IPC_LOCK");
                 return;
             }
-            if (mlockall(MCL_CURRENT) == 0) {
+            static char probe[1];
+            if (mlock(probe, 1) == 0 || mlockall(MCL_CURRENT) == 0) {
                 munlockall();
                 o.skipped = true;
-                copyText(o.skipReason, sizeof(o.skipReason), "the kernel still grants mlockall");
+                copyText(o.skipReason, sizeof(o.skipReason), "the kernel still grants mlock");
                 return;
             }
-            // WHEN a thread with memory locking starts in graceful mode, then with requireRt
+            // WHEN a thread with memory locking starts in graceful mode (the default lock: the
+            // memory it owns), then with requireRt, then with requireRt and mlockall (All)
             startAndJoin(kTelemetryThread, RealtimeThreadOptions{false, true, -1}, o.starts[0]);
             startAndJoin(kTelemetryThread, RealtimeThreadOptions{true, true, -1}, o.starts[1]);
+            RealtimeThreadOptions all{true, true, -1};
+            all.lockMode = MemoryLockMode::All;
+            startAndJoin(kTelemetryThread, all, o.starts[2]);
         },
         out));
     if (out.skipped)
@@ -354,15 +361,20 @@ TEST(RealtimeThreadTest, refusedMlockallFallsBackOrFailsWhenRequired)
     ASSERT_TRUE(out.starts[0].started) << out.starts[0].what;
     EXPECT_TRUE(out.starts[0].bodyRan);
     EXPECT_FALSE(out.starts[0].memoryLocked);
+    EXPECT_TRUE(contains(out.starts[0].line, "not locked")) << out.starts[0].line;
     EXPECT_EQ(out.warnings, 1);
-    EXPECT_TRUE(contains(out.firstWarning, "mlockall")) << out.firstWarning;
-    // AND the strict start fails with PermissionDenied naming mlockall and the fix
-    const StartOutcome &strict = out.starts[1];
-    EXPECT_FALSE(strict.started);
-    EXPECT_FALSE(strict.bodyRan);
-    EXPECT_EQ(strict.errc, static_cast<int>(Errc::PermissionDenied));
-    EXPECT_TRUE(contains(strict.what, "mlockall")) << strict.what;
-    EXPECT_TRUE(contains(strict.what, "RLIMIT_MEMLOCK")) << strict.what;
+    EXPECT_TRUE(contains(out.firstWarning, "Failed to lock memory (mlock, owned)"))
+        << out.firstWarning;
+    // AND the strict starts fail with PermissionDenied naming the call and the fix
+    for (int i = 1; i < 3; ++i) {
+        const StartOutcome &strict = out.starts[i];
+        EXPECT_FALSE(strict.started);
+        EXPECT_FALSE(strict.bodyRan);
+        EXPECT_EQ(strict.errc, static_cast<int>(Errc::PermissionDenied));
+        EXPECT_TRUE(strict.sysErrno == EPERM || strict.sysErrno == ENOMEM) << strict.sysErrno;
+        EXPECT_TRUE(contains(strict.what, "mlock/mlockall")) << strict.what;
+        EXPECT_TRUE(contains(strict.what, "RLIMIT_MEMLOCK")) << strict.what;
+    }
 }
 
 TEST(RealtimeThreadTest, cpuAffinityIsAppliedOrRejected)
@@ -477,6 +489,8 @@ TEST(RealtimeThreadTest, reportFormatsAsOneLine)
     rt.policy = SchedPolicy::Fifo;
     rt.priority = 90;
     rt.memoryLocked = true;
+    rt.lockMode = MemoryLockMode::Owned;
+    rt.lockedBytes = 10 * 1024 * 1024 + 512 * 1024;
     rt.cpu = 1;
     rt.affinityApplied = true;
     rt.stackBytes = 262144;
@@ -490,8 +504,13 @@ TEST(RealtimeThreadTest, reportFormatsAsOneLine)
     refused.affinityApplied = false;
     char buf[256];
     // THEN each prints as one line
-    EXPECT_STREQ(rt.format(buf, sizeof(buf)), "dt-haptic: SCHED_FIFO priority 90, memory locked, "
-                                              "CPU 1, stack 262144 B (245760 B pre-faulted)");
+    EXPECT_STREQ(rt.format(buf, sizeof(buf)),
+                 "dt-haptic: SCHED_FIFO priority 90, memory locked (owned, 10.5 MiB), CPU 1, stack "
+                 "262144 B (245760 B pre-faulted)");
+    RealtimeThreadReport all = rt;
+    all.lockMode = MemoryLockMode::All;
+    all.lockedBytes = 0;
+    EXPECT_TRUE(contains(all.format(buf, sizeof(buf)), "memory locked (all), CPU 1")) << buf;
     EXPECT_STREQ(refused.format(buf, sizeof(buf)), "dt-haptic: SCHED_OTHER priority 0 (SCHED_FIFO "
                                                    "refused), memory not locked, no CPU affinity, "
                                                    "stack 262144 B (245760 B pre-faulted)");

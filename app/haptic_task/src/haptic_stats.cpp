@@ -37,6 +37,9 @@ std::string HapticStats::toJson(int indent) const
         {"device_max_force_n", deviceMaxForce},
         {"force_log_lost", forceLogLost},
         {"haptic_thread", thread},
+        {"haptic_page_faults",
+         {{"minor", pageFaultsMinor}, {"major", pageFaultsMajor}, {"warmup", pageFaultsWarmup}}},
+        {"haptic_locked_mib", lockedMiB},
     };
     return j.dump(indent);
 }

@@ -7,6 +7,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "depthtouch/platform/memory_lock.h"
 #include "depthtouch/platform/thread_config.h"
 
 namespace depthtouch::haptic_task {
@@ -28,6 +29,14 @@ double smoothstep(double x) noexcept
     const double p = std::clamp(x, 0.0, 1.0);
     return p * p * (3.0 - 2.0 * p);
 }
+
+/// Libraries whose code a haptic device's driver runs on the haptic thread (the Falcon's libusb);
+/// one that is not loaded locks nothing.
+const char *const kDeviceObjects[] = {"libusb-1.0.so", nullptr};
+
+/// Bytes locked from the start of an object of unknown size that may not be a heap block (the
+/// device): its page and the next three, as far as they are mapped.
+constexpr std::size_t kUnknownObjectBytes = 16 * 1024;
 
 platform::ThreadConfig hapticThreadConfig(platform::SchedPolicy policy) noexcept
 {
@@ -105,10 +114,35 @@ HapticTask::HapticTask(const HapticTaskConfig &config, hal::HapticDevice &device
     platform::RealtimeThreadOptions options;
     options.requireRt = config.requireRt;
     options.lockMemory = config.lockMemory;
+    options.lockMode = config.memoryLock;
     options.cpuAffinity = config.cpu;
+    collectLockRegions();
+    options.regions = lockRegions_;
+    options.regionCount = lockRegionCount_;
+    options.lockObjects = kDeviceObjects;
     thread_ = std::make_unique<platform::RealtimeThread>(
         hapticThreadConfig(config.policy), options,
         [this](platform::StopToken stop) noexcept { run(stop); });
+}
+
+void HapticTask::collectLockRegions() noexcept
+{
+    // What the haptic thread reads and writes besides its stack and static data: this object
+    // (counters, timer, state), the telemetry ring, the hand-off and its pixels, the renderer (its
+    // height field and force stage are members: no buffer of its own for finger, modified and
+    // proxy-graph; makeRenderer() allocates it with new) and the device object.
+    const platform::MemoryRegion regions[] = {
+        {this, sizeof(*this)},
+        {ring_.get(), sizeof(Ring)},
+        {&handoff_, sizeof(DepthHandoff)},
+        handoff_.pixelRegion(),
+        {renderer_.get(), platform::heapBlockBytes(renderer_.get(), kUnknownObjectBytes)},
+        {dynamic_cast<const void *>(&device_), kUnknownObjectBytes},
+    };
+    static_assert(sizeof(regions) <= sizeof(lockRegions_));
+    lockRegionCount_ = 0;
+    for (const platform::MemoryRegion &r : regions)
+        lockRegions_[lockRegionCount_++] = r;
 }
 
 HapticTask::~HapticTask()
@@ -209,19 +243,40 @@ void HapticTask::run(platform::StopToken stop) noexcept
 {
     if (config_.threadHook != nullptr)
         config_.threadHook(config_.threadHookUser);
+    const platform::PageFaults atStart = platform::threadPageFaults();
+    platform::PageFaults afterWarmup{};
+    std::uint64_t cycles = 0;
     timer_.start();
     while (!stop.stopRequested() && !stopRequested()) {
         const platform::PeriodicWait wait = timer_.wait();
         if (wait.cancelled || stop.stopRequested() || stopRequested())
             continue;
         cycle(wait);
+        ++cycles;
+        if (cycles == kWarmupUpdates) {
+            afterWarmup = platform::threadPageFaults();
+            faultsWarmup_.store(afterWarmup.minor + afterWarmup.major - atStart.minor -
+                                    atStart.major,
+                                std::memory_order_relaxed);
+        } else if (cycles > kWarmupUpdates && cycles % 256 == 0) {
+            countFaults(afterWarmup);
+        }
     }
+    if (cycles > kWarmupUpdates)
+        countFaults(afterWarmup);
     if (owner_.load(std::memory_order_acquire) == kRtOwns)
         (void)device_.commandForce({});
     publishForce({});
     // A simulated clock must not wait for this thread to sleep again.
     if (auto *manual = dynamic_cast<platform::ManualClock *>(&clock_))
         manual->detachThread();
+}
+
+void HapticTask::countFaults(const platform::PageFaults &since) noexcept
+{
+    const platform::PageFaults now = platform::threadPageFaults();
+    faultsMinor_.store(now.minor - since.minor, std::memory_order_relaxed);
+    faultsMajor_.store(now.major - since.major, std::memory_order_relaxed);
 }
 
 void HapticTask::publishForce(const glm::dvec3 &f) noexcept

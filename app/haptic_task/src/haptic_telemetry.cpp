@@ -111,7 +111,11 @@ HapticStats HapticTask::stats()
     if (thread_->joinable() || thread_->finished()) {
         char line[256];
         s.thread = thread_->report().format(line, sizeof line);
+        s.lockedMiB = static_cast<double>(thread_->report().lockedBytes) / (1024.0 * 1024.0);
     }
+    s.pageFaultsMinor = faultsMinor_.load(std::memory_order_relaxed);
+    s.pageFaultsMajor = faultsMajor_.load(std::memory_order_relaxed);
+    s.pageFaultsWarmup = faultsWarmup_.load(std::memory_order_relaxed);
     return s;
 }
 

@@ -14,6 +14,7 @@
 #include <semaphore.h>
 
 #include "depthtouch/platform/macros.h"
+#include "depthtouch/platform/memory_lock.h"
 #include "depthtouch/platform/result.h"
 #include "depthtouch/platform/thread_config.h"
 
@@ -40,15 +41,11 @@ private:
 
 /// \brief How strictly RealtimeThread::start() applies the real-time settings.
 struct RealtimeThreadOptions {
-    /// When the kernel refuses SCHED_FIFO or mlockall(), fail start() with Errc::PermissionDenied
-    /// instead of logging once and running without it (the target's --require-rt).
+    /// When the kernel refuses SCHED_FIFO or the memory lock, fail start() with
+    /// Errc::PermissionDenied instead of logging once and running without it (the target's
+    /// --require-rt).
     bool requireRt = false;
-    /// Call mlockall(MCL_CURRENT) before creating the thread and mlock() its stack (process-wide,
-    /// idempotent). Not MCL_FUTURE: everything a real-time thread touches is allocated before it
-    /// starts (docs/style.md §4.2), so it is covered, while MCL_FUTURE would make every later
-    /// mapping of other threads (GL driver, decoder pools) fault in and lock all its pages at once
-    /// under the address-space lock: measured with the player on llvmpipe, haptic wake latency
-    /// p99 1.6 ms instead of 0.5 ms, and 480 MB resident instead of 140 MB. Skipped in
+    /// Keep the thread's memory resident as lockMode says (process-wide, idempotent). Skipped in
     /// AddressSanitizer/ThreadSanitizer builds, see memoryLockingAvailable().
     bool lockMemory = true;
     /// CPU to pin the thread to, or -1 to leave the affinity alone.
@@ -56,6 +53,21 @@ struct RealtimeThreadOptions {
     /// Touch the stack before the body runs (stackBytes minus a 16 KiB margin), so that the body
     /// takes no page fault on it. Off for threads that only need the table's stack size.
     bool prefaultStack = true;
+    /// How the memory is kept resident (with lockMemory). MemoryLockMode::Owned, the default,
+    /// mlock()s the thread's stack, the code and static data of the program and of the C/C++
+    /// runtime (kRuntimeObjects and lockObjects) and \a regions: a few MiB, where
+    /// mlockall(MCL_CURRENT) (MemoryLockMode::All, the behaviour before issue #21) faulted in and
+    /// locked every library and every thread's stack mapped at that moment (measured with the
+    /// player: 280-420 MiB locked, 180-260 MiB more resident than without haptics; docs/memory.md).
+    MemoryLockMode lockMode = MemoryLockMode::Owned;
+    /// MemoryLockMode::Owned: the data the body reads or writes (its objects, buffers and rings),
+    /// \a regionCount of them; read by start() only. Null for none.
+    const MemoryRegion *regions = nullptr;
+    std::size_t regionCount = 0; ///< Entries of \a regions.
+    /// MemoryLockMode::Owned: soname prefixes of further loaded objects whose code the body runs
+    /// (e.g. "libusb-1.0.so" for a USB device), null-terminated; read by start() only. Null for
+    /// none.
+    const char *const *lockObjects = nullptr;
 };
 
 /// \brief Options for a SCHED_OTHER thread of the table that is not real-time: no memory locking,
@@ -70,7 +82,13 @@ struct RealtimeThreadReport {
     int priority = 0;       ///< Absolute priority read back on the thread (0 for SCHED_OTHER).
     bool rtRefused =
         false; ///< SCHED_FIFO was requested, refused, and the thread runs at SCHED_OTHER.
-    bool memoryLocked = false; ///< mlockall(MCL_CURRENT) succeeded for this start().
+    bool memoryLocked = false; ///< The memory lock of lockMode succeeded for this start().
+    /// The lock applied: RealtimeThreadOptions::lockMode, All where OnFault fell back, None when
+    /// nothing was locked.
+    MemoryLockMode lockMode = MemoryLockMode::None;
+    /// MemoryLockMode::Owned: bytes this start() locked (stack, objects, regions; pages locked
+    /// before by another start() count again). 0 for the other modes.
+    std::size_t lockedBytes = 0;
     int cpu = -1;              ///< Requested CPU (RealtimeThreadOptions::cpuAffinity), -1 for none.
     bool affinityApplied = false;         ///< The thread is pinned to \a cpu.
     std::size_t stackBytes = 0;           ///< Stack size in bytes as created (page-rounded).
@@ -83,14 +101,16 @@ struct RealtimeThreadReport {
 };
 
 /// \return false in builds whose sanitizer reserves terabytes of shadow memory (AddressSanitizer,
-/// ThreadSanitizer, MemorySanitizer), where mlockall() would try to lock all of it; RealtimeThread
-/// then skips mlockall() (logged once). true otherwise. Reentrant.
+/// ThreadSanitizer, MemorySanitizer), where mlockall() would try to lock all of it (and mlock() of
+/// the runtime's objects all their shadow); RealtimeThread then locks nothing (logged once). true
+/// otherwise. Reentrant.
 bool memoryLockingAvailable() noexcept;
 
 /// \brief A POSIX thread configured from one ThreadConfig of the priority table.
 ///
-/// start() does, in order: mlockall(MCL_CURRENT) (when
-/// RealtimeThreadOptions::lockMemory); pthread_create() with the config's stack size and explicit
+/// start() does, in order: the memory lock of RealtimeThreadOptions::lockMode (when
+/// RealtimeThreadOptions::lockMemory: mlock() of the objects and regions for Owned, mlockall()
+/// for OnFault and All); pthread_create() with the config's stack size and explicit
 /// scheduling attributes (SCHED_FIFO at absolutePriority(config), or SCHED_OTHER); then, on the new
 /// thread, the name, the CPU affinity, and (RealtimeThreadOptions::prefaultStack) pre-faulting of
 /// the stack (stackBytes minus a 16 KiB margin), locked with mlock() when memory is locked, before
@@ -98,7 +118,8 @@ bool memoryLockingAvailable() noexcept;
 /// complete. Real-time starts (SCHED_FIFO, or memory locked) are logged at Info, others at Debug.
 ///
 /// When the kernel refuses SCHED_FIFO (EPERM: no CAP_SYS_NICE and RLIMIT_RTPRIO below the priority)
-/// or mlockall() (EPERM/ENOMEM: no CAP_IPC_LOCK and RLIMIT_MEMLOCK too small), start() logs one
+/// or the memory lock (mlock()/mlockall(): EPERM/ENOMEM, no CAP_IPC_LOCK and RLIMIT_MEMLOCK too
+/// small), start() logs one
 /// warning per process and continues without it (SCHED_OTHER, unlocked memory) unless
 /// RealtimeThreadOptions::requireRt is set; then it fails with Errc::PermissionDenied and an
 /// Error::what that says how to grant the privilege.
@@ -126,7 +147,7 @@ public:
     /// - Errc::InvalidState: already started;
     /// - Errc::InvalidArgument: no body, an invalid ThreadConfig, or a CPU that does not exist
     ///   or is not allowed (sysErrno from pthread_setaffinity_np; the body does not run);
-    /// - Errc::PermissionDenied: requireRt and the kernel refused SCHED_FIFO or mlockall();
+    /// - Errc::PermissionDenied: requireRt and the kernel refused SCHED_FIFO or the memory lock;
     /// - Errc::OutOfResources: pthread_create() failed with EAGAIN.
     [[nodiscard]] Result<void> start();
 
@@ -156,6 +177,8 @@ private:
     DT_DISABLE_COPY_AND_MOVE(RealtimeThread)
 
     static void *entry(void *self) noexcept;
+    /// Step 1 of start(): the memory lock of options_.lockMode, into report_.
+    Result<void> lockMemory();
     void run() noexcept;
 
     const ThreadConfig config_;
@@ -165,6 +188,7 @@ private:
     pthread_t thread_{};
     bool joinable_ = false;
     sem_t ready_;                 ///< Posted by the new thread when its set-up is done.
+    MemoryRegion stackLocked_;    ///< The stack the new thread locked (unlocked when it ends).
     int setupErrno_ = 0;          ///< Written by the new thread before posting ready_.
     RealtimeThreadReport report_; ///< Thread-side fields written before posting ready_.
     std::atomic<bool> stop_{false};

@@ -23,6 +23,7 @@
 #include "depthtouch/platform/cache_line.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/macros.h"
+#include "depthtouch/platform/memory_lock.h"
 #include "depthtouch/platform/result.h"
 
 namespace depthtouch::haptic_task {
@@ -139,6 +140,14 @@ public:
     }
 
     ~DepthHandoff() = default;
+
+    /// \return the memory the haptic thread reads: the slots' pixels (kSlots frames back to back),
+    /// for RealtimeThreadOptions::regions (the object itself is sizeof(DepthHandoff) at this).
+    /// Thread-safe (constant after create()).
+    [[nodiscard]] platform::MemoryRegion pixelRegion() const noexcept
+    {
+        return {storage_.data(), storage_.size()};
+    }
 
 private:
     DepthHandoff(int width, int height, haptics::SampleFormat format);

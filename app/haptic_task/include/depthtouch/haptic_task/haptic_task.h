@@ -73,8 +73,14 @@ struct HapticTaskConfig {
     /// SCHED_FIFO (the default: the highest priority of the table, kHapticThread) or SCHED_OTHER
     /// (for comparison in `depthtouch bench rt`).
     platform::SchedPolicy policy = platform::SchedPolicy::Fifo;
-    bool requireRt = false; ///< Fail start() when SCHED_FIFO or mlockall() is refused.
-    bool lockMemory = true; ///< mlockall(MCL_CURRENT) before the thread starts (RealtimeThread).
+    bool requireRt = false; ///< Fail start() when SCHED_FIFO or the memory lock is refused.
+    /// Keep the haptic path resident before the thread starts (RealtimeThread, memoryLock).
+    bool lockMemory = true;
+    /// How: Owned (the default) mlock()s the haptic thread's stack, the task, its telemetry ring,
+    /// the renderer, the device object, the hand-off and its pixels, and the code of the program,
+    /// the C/C++ runtime and libusb (docs/memory.md); All is mlockall(MCL_CURRENT), the behaviour
+    /// before issue #21 (for `bench rt`).
+    platform::MemoryLockMode memoryLock = platform::MemoryLockMode::Owned;
     int cpu = -1;           ///< CPU to pin the haptic thread to, −1: none.
     /// Instrumentation: called on the haptic thread once, before its first update (e.g. a debug
     /// hook that makes malloc fail loudly on that thread, docs/style.md §4.7). Must be real-time
@@ -149,12 +155,20 @@ struct HapticStats {
     LatencySummary updateTime;   ///< Wake-up to force command.
     LatencySummary periodError;  ///< |wake_k − wake_{k−1} − period| over on-time pairs.
     std::string thread;          ///< What the haptic thread got (RealtimeThreadReport).
+    /// Page faults the haptic thread took after its warm-up (the first kWarmupUpdates updates;
+    /// getrusage(RUSAGE_THREAD) read by the thread itself every 256 updates and at its end). With
+    /// the memory locked: 0, also under memory pressure.
+    std::uint64_t pageFaultsMinor = 0;
+    std::uint64_t pageFaultsMajor = 0;  ///< As pageFaultsMinor, faults that needed I/O.
+    std::uint64_t pageFaultsWarmup = 0; ///< Minor + major faults of the warm-up.
+    double lockedMiB = 0.0; ///< Memory the haptic thread's start locked (Owned mode), MiB.
 
     /// \return a JSON object: haptic_updates, haptic_run_s, haptic_rate_hz, rendered_updates,
     /// contact_updates, overruns, missed_periods, wake_latency_us / update_time_us /
     /// period_error_us {p50, p90, p99, p999, max, mean}, safety_releases, watchdog_trips,
     /// device_losses, reconnects, telemetry_dropped, max_force_n, device_max_force_n,
-    /// force_log_lost, haptic_thread.
+    /// force_log_lost, haptic_thread, haptic_page_faults {minor, major, warmup},
+    /// haptic_locked_mib.
     [[nodiscard]] std::string toJson(int indent = 2) const;
 };
 
@@ -180,6 +194,9 @@ class HapticTask {
 public:
     /// Capacity of the telemetry ring: 8 s at 1 kHz, drained every few milliseconds.
     static constexpr std::size_t kTelemetryCapacity = 8192;
+    /// Updates of the warm-up: the first pass over the haptic path (lazy symbol bindings resolved,
+    /// every buffer touched once) before the page faults are counted (HapticStats).
+    static constexpr std::uint64_t kWarmupUpdates = 32;
 
     /// \brief Validates \a config, creates the renderer for the handoff's frame size and allocates
     /// the telemetry ring. \a device, \a handoff and \a clock must outlive the task.
@@ -320,6 +337,10 @@ private:
     void finishCycle(CycleContext &c) noexcept;
     ///@}
     void zeroForce() noexcept;
+    /// Fills lockRegions_ (constructor).
+    void collectLockRegions() noexcept;
+    /// Stores the haptic thread's page faults since \a since. Real-time safe (one syscall).
+    void countFaults(const platform::PageFaults &since) noexcept;
     /// The device went away (NoDevice) or was closed under the task: zero force, count it, and
     /// hand the device to the telemetry thread for reconnection. Real-time safe.
     void loseDevice(TelemetrySample &sample) noexcept;
@@ -360,7 +381,14 @@ private:
     std::atomic<std::uint32_t> reseatRequests_{0};
     std::atomic<std::uint32_t> clockRestarts_{0};
     std::uint32_t clockRestartsDone_ = 0; ///< RT thread only.
-    bool forceLogLost_ = false;           ///< A force-log write or its close failed (under mutex_).
+    // Page faults of the haptic thread (written by it only; HapticStats::pageFaults*).
+    std::atomic<std::uint64_t> faultsMinor_{0};
+    std::atomic<std::uint64_t> faultsMajor_{0};
+    std::atomic<std::uint64_t> faultsWarmup_{0};
+    /// What the haptic thread's start locks (MemoryLockMode::Owned): filled by the constructor.
+    platform::MemoryRegion lockRegions_[8];
+    std::size_t lockRegionCount_ = 0;
+    bool forceLogLost_ = false; ///< A force-log write or its close failed (under mutex_).
 
     // Haptic-thread state (written only by the haptic thread while it runs).
     bool haveFrames_ = false;
