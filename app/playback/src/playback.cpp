@@ -374,6 +374,16 @@ Result<void> Playback::recenter()
     return {};
 }
 
+Result<void> Playback::snapshot()
+{
+    if (impl_->config.snapshotDir.empty())
+        return Error(Errc::InvalidState, "no snapshot folder: play with --snapshot-dir");
+    if (!presenterDraws(*impl_->hal.display))
+        return Error(Errc::NotSupported, "this display draws no picture to save");
+    requestSnapshot();
+    return {};
+}
+
 void Playback::report(player::StateMachine &machine)
 {
     Impl &m = *impl_;

@@ -6,7 +6,8 @@ namespace {
 
 using hal::Key;
 
-// Remote keys and the terminal keyboard (drivers/tty maps h → KEY_RED, r → KEY_GREEN, 3 →
+// Remote keys and the terminal keyboard (drivers/tty maps h → KEY_RED, r → KEY_GREEN, c →
+// KEY_YELLOW, 3 →
 // KEY_3D_MODE, q → KEY_EXIT, space → KEY_PLAYPAUSE, s → KEY_STOP, arrows → arrows).
 constexpr KeyBinding kBindings[] = {
     {Key::PlayPause, "toggle-pause"},
@@ -25,6 +26,7 @@ constexpr KeyBinding kBindings[] = {
     {Key::Digit3, "next-stereo-mode"},
     {Key::Red, "haptics toggle"},
     {Key::Green, "recenter"},
+    {Key::Yellow, "snapshot"},
     {Key::Exit, "quit"},
     {Key::Power, "quit"},
 };

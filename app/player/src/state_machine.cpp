@@ -139,6 +139,11 @@ struct CommandHandlers {
         return m.apply("recenter", m.actions_.recenter(), [] {});
     }
 
+    static CommandOutcome snapshot(StateMachine &m, const Command &)
+    {
+        return m.apply("snapshot", m.actions_.snapshot(), [] {});
+    }
+
     static CommandOutcome loop(StateMachine &m, const Command &c)
     {
         const bool target = c.toggle == Switch::Toggle ? !m.loop_ : c.toggle == Switch::On;
@@ -224,6 +229,8 @@ constexpr CommandSpec kCommands[] = {
     {"get", CommandId::Get, "PROPERTY",
      "Read state, stereo-mode, haptics, stiffness, loop, url or error", kAnyState, false,
      &parseGetArgs, &H::get},
+    {"snapshot", CommandId::Snapshot, "", "Save the presented frame as PNG (play --snapshot-dir)",
+     kActive, false, &parseNoArgs, &H::snapshot},
 };
 
 constexpr bool tableInIdOrder()

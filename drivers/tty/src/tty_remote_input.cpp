@@ -73,6 +73,9 @@ hal::Key keyOfByte(char c) noexcept
     case 'r':
     case 'R':
         return hal::Key::Green;
+    case 'c':
+    case 'C':
+        return hal::Key::Yellow;
     case 'q':
     case 'Q':
         return hal::Key::Exit;

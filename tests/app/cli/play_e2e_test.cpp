@@ -294,6 +294,9 @@ TEST(PlayEndToEnd, ControlSocketDrivesTheLoopingPlayer)
     EXPECT_NE(refused.find("error"), std::string::npos);
     EXPECT_EQ(refused.find("success"), std::string::npos) << refused;
     EXPECT_NE(c.request("{not json").find("error"), std::string::npos);
+    // No --snapshot-dir: a snapshot is refused, not silently dropped.
+    const std::string noSnapshot = c.request(R"({"command":["snapshot"]})");
+    EXPECT_NE(noSnapshot.find("snapshot-dir"), std::string::npos) << noSnapshot;
     EXPECT_EQ(c.request(R"({"command":["toggle-pause"]})"), R"({"error":"success"})");
     std::this_thread::sleep_for(300ms);
     EXPECT_EQ(c.request(R"({"command":["quit"]})"), R"({"error":"success"})");
@@ -308,6 +311,34 @@ TEST(PlayEndToEnd, ControlSocketDrivesTheLoopingPlayer)
     EXPECT_EQ(j["seeks"].get<int>(), 1);
     EXPECT_GT(j["frames_presented"].get<int>(), 10);
     EXPECT_FALSE(fs::exists(sock)) << "the socket file is removed at exit";
+}
+
+TEST(PlayEndToEnd, TheSnapshotCommandSavesThePresentedFrame)
+{
+    // --snapshot-dir without --snapshot-every: snapshots on request only, one per command.
+    depthtouch::testing::TempDir tmp("dt-play-snap-");
+    const std::string sock = (tmp.dir() / "ctl.sock").string();
+    const fs::path snaps = tmp.dir() / "snaps";
+    const std::string cmd = std::string(DEPTHTOUCH) +
+                            " play 'mock://clip?frames=60&fps=30' --source mock --decoder mock "
+                            "--display headless --haptic none --loop --duration 30 --control " +
+                            sock + " --snapshot-dir " + snaps.string();
+    RunResult result;
+    std::thread player([&] { result = run(cmd); });
+    ControlClient c;
+    ASSERT_TRUE(c.connect(sock, 10s)) << "no control socket at " << sock;
+    std::this_thread::sleep_for(300ms);
+    EXPECT_EQ(c.request(R"({"command":["snapshot"]})"), R"({"error":"success"})");
+    std::this_thread::sleep_for(500ms);
+    EXPECT_EQ(c.request(R"({"command":["quit"]})"), R"({"error":"success"})");
+    player.join();
+    ASSERT_EQ(result.exitCode, 0) << result.output;
+    std::vector<fs::path> pngs;
+    for (const auto &e : fs::directory_iterator(snaps))
+        if (e.path().extension() == ".png")
+            pngs.push_back(e.path());
+    ASSERT_EQ(pngs.size(), 1u) << "one snapshot command, one PNG";
+    EXPECT_GT(fs::file_size(pngs[0]), 1000u);
 }
 
 TEST(PlayEndToEnd, RecordsWhatTheViewerSees)

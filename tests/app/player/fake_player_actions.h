@@ -47,6 +47,7 @@ public:
         return record("setStiffness", buf);
     }
     Result<void> recenter() override { return record("recenter", "recenter"); }
+    Result<void> snapshot() override { return record("snapshot", "snapshot"); }
 
 private:
     Result<void> record(const std::string &name, std::string call)

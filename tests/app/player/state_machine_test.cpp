@@ -82,6 +82,7 @@ const std::vector<Row> kRows = {
     {S::Idle, "loop on", true, S::Idle, ""},
     {S::Idle, "quit", true, S::Idle, ""},
     {S::Idle, "get state", true, S::Idle, ""},
+    {S::Idle, "snapshot", false, S::Idle, ""},
     // Opening
     {S::Opening, "play", false, S::Opening, ""},
     {S::Opening, "pause", false, S::Opening, ""},
@@ -96,6 +97,7 @@ const std::vector<Row> kRows = {
     {S::Opening, "loop on", true, S::Opening, ""},
     {S::Opening, "quit", true, S::Stopped, "stop"},
     {S::Opening, "get state", true, S::Opening, ""},
+    {S::Opening, "snapshot", false, S::Opening, ""},
     // Playing
     {S::Playing, "play", false, S::Playing, ""},
     {S::Playing, "pause", true, S::Paused, "pause"},
@@ -110,6 +112,7 @@ const std::vector<Row> kRows = {
     {S::Playing, "loop on", true, S::Playing, ""},
     {S::Playing, "quit", true, S::Stopped, "stop"},
     {S::Playing, "get state", true, S::Playing, ""},
+    {S::Playing, "snapshot", true, S::Playing, "snapshot"},
     // Paused
     {S::Paused, "play", true, S::Playing, "resume"},
     {S::Paused, "pause", false, S::Paused, ""},
@@ -124,6 +127,7 @@ const std::vector<Row> kRows = {
     {S::Paused, "loop on", true, S::Paused, ""},
     {S::Paused, "quit", true, S::Stopped, "stop"},
     {S::Paused, "get state", true, S::Paused, ""},
+    {S::Paused, "snapshot", true, S::Paused, "snapshot"},
     // Stopped
     {S::Stopped, "play", true, S::Opening, "open movie.mkv"},
     {S::Stopped, "pause", false, S::Stopped, ""},
@@ -138,6 +142,7 @@ const std::vector<Row> kRows = {
     {S::Stopped, "loop on", true, S::Stopped, ""},
     {S::Stopped, "quit", true, S::Stopped, ""},
     {S::Stopped, "get state", true, S::Stopped, ""},
+    {S::Stopped, "snapshot", false, S::Stopped, ""},
     // Error
     {S::Error, "play", true, S::Opening, "open movie.mkv"},
     {S::Error, "pause", false, S::Error, ""},
@@ -152,6 +157,7 @@ const std::vector<Row> kRows = {
     {S::Error, "loop on", true, S::Error, ""},
     {S::Error, "quit", true, S::Error, ""},
     {S::Error, "get state", true, S::Error, ""},
+    {S::Error, "snapshot", false, S::Error, ""},
 };
 
 std::string rowName(const Row &r)

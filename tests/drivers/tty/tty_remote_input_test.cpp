@@ -33,9 +33,9 @@ std::vector<Key> decode(std::string_view bytes, std::size_t *used = nullptr)
 
 TEST(TerminalKeysTest, decodesLettersAndArrows)
 {
-    EXPECT_EQ(decode(" sS3hrqQpx"),
+    EXPECT_EQ(decode(" sS3hrcqQpx"),
               (std::vector<Key>{Key::PlayPause, Key::Stop, Key::Stop, Key::Mode3d, Key::Red,
-                                Key::Green, Key::Exit, Key::Exit, Key::PlayPause}));
+                                Key::Green, Key::Yellow, Key::Exit, Key::Exit, Key::PlayPause}));
     EXPECT_EQ(decode("\x1b[A\x1b[B\x1b[C\x1b[D\x1bOA\x1bOD"),
               (std::vector<Key>{Key::Up, Key::Down, Key::Right, Key::Left, Key::Up, Key::Left}));
     // Other sequences (F5, Delete, a cursor report) are skipped whole.

@@ -191,6 +191,9 @@ public:
     [[nodiscard]] Result<void> setHapticsEnabled(bool enabled) override;
     [[nodiscard]] Result<void> setStiffness(double newtonsPerMetre) override;
     [[nodiscard]] Result<void> recenter() override;
+    /// Errc::InvalidState without PlaybackConfig::snapshotDir, Errc::NotSupported on a display
+    /// that draws nothing (mock); else requestSnapshot().
+    [[nodiscard]] Result<void> snapshot() override;
     ///@}
 
     /// \brief Tells \a machine what happened since the last call: open finished or failed, end of

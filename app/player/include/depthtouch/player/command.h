@@ -64,6 +64,7 @@ enum class CommandId : std::uint8_t {
     Loop,           ///< "loop on|off|toggle": what the end of the stream does.
     Quit,           ///< "quit".
     Get,            ///< "get PROPERTY": a query, changes nothing.
+    Snapshot,       ///< "snapshot": save the presented frame as PNG (play --snapshot-dir).
 };
 
 /// On / off / toggle argument of haptics and loop.

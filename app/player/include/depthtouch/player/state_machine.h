@@ -73,6 +73,12 @@ public:
     [[nodiscard]] virtual Result<void> setStiffness(double newtonsPerMetre) = 0;
     /// Re-seats the haptic workspace centre on the surface (the proxy is released, no force kick).
     [[nodiscard]] virtual Result<void> recenter() = 0;
+    /// Saves the next presented frame as a PNG snapshot. The default refuses with
+    /// Errc::NotSupported (a player without snapshots).
+    [[nodiscard]] virtual Result<void> snapshot()
+    {
+        return unexpected(Errc::NotSupported, "this player takes no snapshots");
+    }
 
 protected:
     PlayerActions() = default;

@@ -4,9 +4,10 @@
 /// for developers at a shell.
 ///
 /// Keys: space or p → KEY_PLAYPAUSE, s → KEY_STOP, ← / → → KEY_LEFT / KEY_RIGHT, ↑ / ↓ → KEY_UP /
-/// KEY_DOWN, 3 → KEY_3D_MODE, h → KEY_RED (haptics), r → KEY_GREEN (recenter), q → KEY_EXIT
-/// (letters in either case; arrows as "ESC [ A" or "ESC O A"). Each key is reported as a press
-/// followed by a release at the same time (a terminal has no key-up). Other bytes are skipped.
+/// KEY_DOWN, 3 → KEY_3D_MODE, h → KEY_RED (haptics), r → KEY_GREEN (recenter), c → KEY_YELLOW
+/// (snapshot), q → KEY_EXIT (letters in either case; arrows as "ESC [ A" or "ESC O A"). Each key is
+/// reported as a press followed by a release at the same time (a terminal has no key-up). Other
+/// bytes are skipped.
 ///
 /// The terminal is put in non-canonical mode without echo while the backend exists (signal keys
 /// such as Ctrl-C keep working) and restored when it is destroyed, and also when SIGINT, SIGTERM,
