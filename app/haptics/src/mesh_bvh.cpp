@@ -205,17 +205,7 @@ Crossing MeshBvhRenderer::firstCrossingBvh(const glm::dvec3 &p0, const glm::dvec
         }
         for (std::uint32_t j = node.first; j < node.first + node.count; ++j) {
             ++out.cellsTested;
-            const TriangleId tri = triangleOf(triIndex_[j]);
-            glm::dvec3 v[3];
-            triangleVertices(surf, tri, v);
-            double t = 0.0;
-            if (segmentCrossesTriangleDownward(p0, p1, v[0], v[1], v[2], 1e-9, 1e-12, t) &&
-                t < best) {
-                best = t;
-                out.hit = true;
-                out.t = std::max(t, 0.0);
-                out.triangle = tri;
-            }
+            keepNearerCrossing(surf, triangleOf(triIndex_[j]), p0, p1, 1e-9, best, out);
         }
     }
     if (out.hit)

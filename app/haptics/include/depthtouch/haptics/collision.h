@@ -36,6 +36,26 @@ struct Crossing {
     int cellsTested = 0;    ///< Cells not skipped by the height test (triangles tested exactly).
 };
 
+/// \brief One exact test of the brute-force reference and of the mesh-bvh baseline: when the
+/// segment \a p0 → \a p1 crosses triangle \a tri of \a surf downward
+/// (segmentCrossesTriangleDownward() with barycentric tolerance \a baryTol and parameter tolerance
+/// 1e-12) at a parameter below \a best, records it as the nearest so far: \a best, and hit, t
+/// (clamped to ≥ 0) and triangle of \a out. Reentrant; allocation-free.
+template <class Surface>
+void keepNearerCrossing(const Surface &surf, const TriangleId &tri, const glm::dvec3 &p0,
+                        const glm::dvec3 &p1, double baryTol, double &best, Crossing &out) noexcept
+{
+    glm::dvec3 v[3];
+    triangleVertices(surf, tri, v);
+    double t = 0.0;
+    if (segmentCrossesTriangleDownward(p0, p1, v[0], v[1], v[2], baryTol, 1e-12, t) && t < best) {
+        best = t;
+        out.hit = true;
+        out.t = std::max(t, 0.0);
+        out.triangle = tri;
+    }
+}
+
 /// \brief Where the walk of firstCrossing() is: not yet known, above the surface, below it.
 enum class CrossingState { Unknown, Above, Below };
 
@@ -238,19 +258,8 @@ Crossing firstCrossingBruteForce(const Surface &surf, const glm::dvec3 &p0,
     double best = std::numeric_limits<double>::infinity();
     for (int r = r0; r <= r1; ++r) {
         for (int c = c0; c <= c1; ++c) {
-            for (int upper = 0; upper < 2; ++upper) {
-                const TriangleId tri{c, r, upper};
-                glm::dvec3 v[3];
-                triangleVertices(surf, tri, v);
-                double t = 0.0;
-                if (segmentCrossesTriangleDownward(p0, p1, v[0], v[1], v[2], 1e-12, 1e-12, t) &&
-                    t < best) {
-                    best = t;
-                    out.hit = true;
-                    out.t = std::max(t, 0.0);
-                    out.triangle = tri;
-                }
-            }
+            for (int upper = 0; upper < 2; ++upper)
+                keepNearerCrossing(surf, TriangleId{c, r, upper}, p0, p1, 1e-12, best, out);
         }
     }
     if (out.hit)
