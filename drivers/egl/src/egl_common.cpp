@@ -294,4 +294,40 @@ void FrameCopy::forget() noexcept
     staging_.shrink_to_fit();
 }
 
+EGLint makeCurrentUnlessCurrent(EGLDisplay display, EGLSurface surface, EGLContext context) noexcept
+{
+    if (eglGetCurrentContext() == context)
+        return EGL_SUCCESS;
+    if (eglMakeCurrent(display, surface, surface, context) == EGL_FALSE)
+        return eglGetError();
+    return EGL_SUCCESS;
+}
+
+bool isSurfaceGone(EGLint error) noexcept
+{
+    return error == EGL_CONTEXT_LOST || error == EGL_BAD_NATIVE_WINDOW || error == EGL_BAD_SURFACE;
+}
+
+void bindDrawTarget(GLuint fbo, hal::Size size) noexcept
+{
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(0, 0, size.width, size.height);
+}
+
+void destroyWindowContext(EGLDisplay display, EGLSurface surface, EGLContext context,
+                          FrameCopy &copy) noexcept
+{
+    if (display == EGL_NO_DISPLAY)
+        return;
+    if (context != EGL_NO_CONTEXT) {
+        if (copy.created() && eglMakeCurrent(display, surface, surface, context) == EGL_TRUE)
+            copy.destroy();
+        eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        eglDestroyContext(display, context);
+    }
+    if (surface != EGL_NO_SURFACE)
+        eglDestroySurface(display, surface);
+    releaseEglDisplay(display);
+}
+
 } // namespace depthtouch::drivers::egl

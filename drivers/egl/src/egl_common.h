@@ -45,6 +45,21 @@ Result<EGLContext> createGles3Context(EGLDisplay display, EGLConfig config);
 EGLSurface createWindowSurface(EGLDisplay display, EGLConfig config, void *platformWindow,
                                void *nativeWindow);
 
+/// \brief Makes \a context current on the calling thread, drawing to and reading from \a surface
+/// (EGL_NO_SURFACE for a surfaceless context), unless it already is current.
+/// \return EGL_SUCCESS, or the eglGetError() code of the eglMakeCurrent() that failed.
+EGLint makeCurrentUnlessCurrent(EGLDisplay display, EGLSurface surface,
+                                EGLContext context) noexcept;
+
+/// \return true for the eglMakeCurrent()/eglSwapBuffers() errors that mean the context or the
+/// window surface is gone for good (the display is lost): EGL_CONTEXT_LOST, EGL_BAD_NATIVE_WINDOW,
+/// EGL_BAD_SURFACE.
+bool isSurfaceGone(EGLint error) noexcept;
+
+/// \brief Binds framebuffer \a fbo (0: the surface's) for drawing and reading, with a viewport of
+/// \a size. \pre a context is current on the calling thread.
+void bindDrawTarget(GLuint fbo, hal::Size size) noexcept;
+
 /// \brief Checks that \a out is an Rgba8 or Rgb24 image of exactly \a size with room for a row.
 Result<void> checkReadTarget(const hal::ImageView &out, hal::Size size) noexcept;
 
@@ -82,5 +97,12 @@ private:
     bool presented_ = false;
     std::vector<std::uint8_t> staging_;
 };
+
+/// \brief Undoes the EGL part of a window display (x11, kms): deletes \a copy with \a context
+/// current on \a surface, unbinds and destroys the context, destroys the surface and drops the
+/// reference on \a display. Each handle may be EGL_NO_*; nothing happens without a display.
+/// The caller then forgets the handles.
+void destroyWindowContext(EGLDisplay display, EGLSurface surface, EGLContext context,
+                          FrameCopy &copy) noexcept;
 
 } // namespace depthtouch::drivers::egl

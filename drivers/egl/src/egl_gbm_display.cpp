@@ -141,18 +141,7 @@ struct EglGbmDisplay::Kms {
         // released and their framebuffers removed.
         if (scanout)
             scanout->end();
-        if (display != EGL_NO_DISPLAY) {
-            if (context != EGL_NO_CONTEXT) {
-                if (copy.created() &&
-                    eglMakeCurrent(display, eglSurface, eglSurface, context) == EGL_TRUE)
-                    copy.destroy();
-                eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-                eglDestroyContext(display, context);
-            }
-            if (eglSurface != EGL_NO_SURFACE)
-                eglDestroySurface(display, eglSurface);
-            egl::releaseEglDisplay(display);
-        }
+        egl::destroyWindowContext(display, eglSurface, context, copy);
         display = EGL_NO_DISPLAY;
         eglSurface = EGL_NO_SURFACE;
         context = EGL_NO_CONTEXT;
@@ -351,26 +340,22 @@ void EglGbmDisplay::lose(const char *why) noexcept
 Result<void> EglGbmDisplay::ensureCurrent()
 {
     Kms &k = *kms_;
-    if (eglGetCurrentContext() == k.context)
+    const EGLint err = egl::makeCurrentUnlessCurrent(k.display, k.eglSurface, k.context);
+    if (err == EGL_SUCCESS)
         return ok();
-    if (eglMakeCurrent(k.display, k.eglSurface, k.eglSurface, k.context) == EGL_FALSE) {
-        const EGLint err = eglGetError();
-        DT_LOG(Kms, Error, "Failed to make the GBM surface context current: %s",
-               egl::eglErrorName(err));
-        if (err == EGL_CONTEXT_LOST || err == EGL_BAD_NATIVE_WINDOW || err == EGL_BAD_SURFACE) {
-            lose("the EGL context or surface is gone");
-            return unexpected(Errc::NoDevice, "KMS display lost (EGL context gone)");
-        }
-        return unexpected(Errc::Io, "eglMakeCurrent failed");
+    DT_LOG(Kms, Error, "Failed to make the GBM surface context current: %s",
+           egl::eglErrorName(err));
+    if (egl::isSurfaceGone(err)) {
+        lose("the EGL context or surface is gone");
+        return unexpected(Errc::NoDevice, "KMS display lost (EGL context gone)");
     }
-    return ok();
+    return unexpected(Errc::Io, "eglMakeCurrent failed");
 }
 
 Result<void> EglGbmDisplay::makeCurrentDevice()
 {
     DT_TRY(ensureCurrent());
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glViewport(0, 0, size_.width, size_.height);
+    egl::bindDrawTarget(0, size_);
     return ok();
 }
 
@@ -382,7 +367,7 @@ Result<hal::PresentInfo> EglGbmDisplay::presentDevice()
     if (eglSwapBuffers(k.display, k.eglSurface) == EGL_FALSE) {
         const EGLint err = eglGetError();
         DT_LOG(Kms, Error, "Failed to swap the GBM surface: %s", egl::eglErrorName(err));
-        if (err == EGL_CONTEXT_LOST || err == EGL_BAD_SURFACE || err == EGL_BAD_NATIVE_WINDOW) {
+        if (egl::isSurfaceGone(err)) {
             lose("the EGL context or surface is gone");
             return unexpected(Errc::NoDevice, "KMS display lost (EGL context gone)");
         }

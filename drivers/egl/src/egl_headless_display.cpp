@@ -141,26 +141,21 @@ std::uint32_t EglHeadlessDisplay::framebufferDevice() const noexcept
 
 Result<void> EglHeadlessDisplay::ensureCurrent()
 {
-    if (eglGetCurrentContext() == gl_->context)
+    const EGLint err = egl::makeCurrentUnlessCurrent(gl_->display, EGL_NO_SURFACE, gl_->context);
+    if (err == EGL_SUCCESS)
         return ok();
-    if (eglMakeCurrent(gl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, gl_->context) == EGL_FALSE) {
-        const EGLint err = eglGetError();
-        DT_LOG(Egl, Error, "Failed to make the headless context current: %s",
-               egl::eglErrorName(err));
-        if (err == EGL_CONTEXT_LOST) {
-            markLost();
-            return unexpected(Errc::NoDevice, "GL context lost");
-        }
-        return unexpected(Errc::Io, "eglMakeCurrent failed");
+    DT_LOG(Egl, Error, "Failed to make the headless context current: %s", egl::eglErrorName(err));
+    if (err == EGL_CONTEXT_LOST) {
+        markLost();
+        return unexpected(Errc::NoDevice, "GL context lost");
     }
-    return ok();
+    return unexpected(Errc::Io, "eglMakeCurrent failed");
 }
 
 Result<void> EglHeadlessDisplay::makeCurrentDevice()
 {
     DT_TRY(ensureCurrent());
-    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer());
-    glViewport(0, 0, size_.width, size_.height);
+    egl::bindDrawTarget(framebuffer(), size_);
     return ok();
 }
 

@@ -86,18 +86,7 @@ struct EglX11Display::X {
 
     void destroy() noexcept
     {
-        if (display != EGL_NO_DISPLAY) {
-            if (context != EGL_NO_CONTEXT) {
-                if (copy.created() &&
-                    eglMakeCurrent(display, surface, surface, context) == EGL_TRUE)
-                    copy.destroy();
-                eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-                eglDestroyContext(display, context);
-            }
-            if (surface != EGL_NO_SURFACE)
-                eglDestroySurface(display, surface);
-            egl::releaseEglDisplay(display);
-        }
+        egl::destroyWindowContext(display, surface, context, copy);
         context = EGL_NO_CONTEXT;
         surface = EGL_NO_SURFACE;
         display = EGL_NO_DISPLAY;
@@ -402,26 +391,21 @@ Result<void> EglX11Display::ensureCurrent()
     if (state() == State::Lost)
         return unexpected(Errc::NoDevice, "X11 display lost (window closed or X server gone)");
     X &x = *x_;
-    if (eglGetCurrentContext() == x.context)
+    const EGLint err = egl::makeCurrentUnlessCurrent(x.display, x.surface, x.context);
+    if (err == EGL_SUCCESS)
         return ok();
-    if (eglMakeCurrent(x.display, x.surface, x.surface, x.context) == EGL_FALSE) {
-        const EGLint err = eglGetError();
-        DT_LOG(Egl, Error, "Failed to make the X11 window context current: %s",
-               egl::eglErrorName(err));
-        if (err == EGL_CONTEXT_LOST || err == EGL_BAD_NATIVE_WINDOW || err == EGL_BAD_SURFACE) {
-            lose("the window surface is gone");
-            return unexpected(Errc::NoDevice, "X11 window surface lost");
-        }
-        return unexpected(Errc::Io, "eglMakeCurrent failed");
+    DT_LOG(Egl, Error, "Failed to make the X11 window context current: %s", egl::eglErrorName(err));
+    if (egl::isSurfaceGone(err)) {
+        lose("the window surface is gone");
+        return unexpected(Errc::NoDevice, "X11 window surface lost");
     }
-    return ok();
+    return unexpected(Errc::Io, "eglMakeCurrent failed");
 }
 
 Result<void> EglX11Display::makeCurrentDevice()
 {
     DT_TRY(ensureCurrent());
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glViewport(0, 0, size_.width, size_.height);
+    egl::bindDrawTarget(0, size_);
     return ok();
 }
 
