@@ -111,15 +111,12 @@ Result<void> MockHapticDevice::commandForceDevice(const hal::ForceCommand &comma
 
 void MockHapticDevice::setOutput(const hal::Vec3 &f) noexcept
 {
-    output_.store({f.x, f.y, f.z});
+    output_.store(f);
 }
 
 hal::Vec3 MockHapticDevice::lastForce() const noexcept
 {
-    if (!isConnected())
-        return {};
-    const auto f = output_.load();
-    return {f[0], f[1], f[2]};
+    return isConnected() ? output_.load() : hal::Vec3{};
 }
 
 void MockHapticDevice::setWaypoints(std::vector<HapticWaypoint> points)

@@ -448,26 +448,22 @@ Result<void> SimHapticDevice::commandForceDevice(const hal::ForceCommand &comman
 
 void SimHapticDevice::setOutput(const hal::Vec3 &f) noexcept
 {
-    output_.store({f.x, f.y, f.z});
+    output_.store(f);
 }
 
 void SimHapticDevice::publishPosition() noexcept
 {
-    position_.store({pos_.x, pos_.y, pos_.z});
+    position_.store(pos_);
 }
 
 hal::Vec3 SimHapticDevice::lastForce() const noexcept
 {
-    if (!isConnected())
-        return {};
-    const auto f = output_.load();
-    return {f[0], f[1], f[2]};
+    return isConnected() ? output_.load() : hal::Vec3{};
 }
 
 hal::Vec3 SimHapticDevice::position() const noexcept
 {
-    const auto p = position_.load();
-    return {p[0], p[1], p[2]};
+    return position_.load();
 }
 
 } // namespace depthtouch::drivers

@@ -26,7 +26,7 @@
 #include "depthtouch/hal/backends.h"
 #include "depthtouch/hal/haptic_device_base.h"
 #include "depthtouch/platform/clock.h"
-#include "depthtouch/platform/seqlock.h"
+#include "depthtouch/drivers/mock/vec3_cell.h"
 
 namespace depthtouch::drivers {
 
@@ -130,7 +130,7 @@ private:
 
     // Output force: a sequence lock over three atomics so observers on other threads read a
     // consistent vector without blocking the haptic thread.
-    platform::SeqLockArray<3> output_; ///< Output force, N (read by lastForce()).
+    Vec3Cell output_; ///< Output force, N (read by lastForce()).
 
     std::atomic<std::uint64_t> forceCount_{0};
     std::atomic<std::uint64_t> clampCount_{0};

@@ -63,7 +63,7 @@
 #include "depthtouch/hal/backends.h"
 #include "depthtouch/hal/haptic_device_base.h"
 #include "depthtouch/platform/clock.h"
-#include "depthtouch/platform/seqlock.h"
+#include "depthtouch/drivers/mock/vec3_cell.h"
 
 namespace depthtouch::drivers {
 
@@ -188,8 +188,8 @@ private:
     double cxy_ = 0.0;
 
     // Observers: sequence locks over atomics.
-    platform::SeqLockArray<3> output_;   ///< Output force, N (read by lastForce()).
-    platform::SeqLockArray<3> position_; ///< Fingertip position, m (read by position()).
+    Vec3Cell output_;   ///< Output force, N (read by lastForce()).
+    Vec3Cell position_; ///< Fingertip position, m (read by position()).
 };
 
 } // namespace depthtouch::drivers
