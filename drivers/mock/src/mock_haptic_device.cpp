@@ -7,6 +7,7 @@
 
 #include "depthtouch/drivers/common/backend_options.h"
 #include "depthtouch/platform/log.h"
+#include "simulated_caps.h"
 
 DT_LOG_CATEGORY(Mock)
 
@@ -50,13 +51,7 @@ Result<std::unique_ptr<hal::HapticDevice>> MockHapticDevice::create(const hal::B
 MockHapticDevice::MockHapticDevice(platform::Clock &clock, const MockHapticSettings &settings)
     : clock_(clock)
 {
-    caps_.name = "Mock 3-DOF haptic device";
-    caps_.maxForce = settings.maxForce;
-    const double e = settings.workspaceHalfExtent;
-    caps_.workspaceMin = {-e, -e, -e};
-    caps_.workspaceMax = {e, e, e};
-    caps_.servoRateHz = settings.servoRateHz;
-    caps_.buttonCount = settings.buttonCount;
+    caps_ = simulatedCapabilities("Mock 3-DOF haptic device", settings);
 }
 
 Result<MockHapticDevice::State> MockHapticDevice::openDevice()

@@ -9,6 +9,7 @@
 
 #include "depthtouch/drivers/common/backend_options.h"
 #include "depthtouch/platform/log.h"
+#include "simulated_caps.h"
 
 DT_LOG_CATEGORY(Sim)
 
@@ -175,19 +176,14 @@ Result<std::unique_ptr<hal::HapticDevice>> SimHapticDevice::create(const hal::Ba
 SimHapticDevice::SimHapticDevice(platform::Clock &clock, const SimHandSettings &settings)
     : clock_(clock), settings_(settings)
 {
-    caps_.name = "Simulated hand (fingertip mass on a hand spring-damper)";
+    caps_ =
+        simulatedCapabilities("Simulated hand (fingertip mass on a hand spring-damper)", settings);
     const double m = settings.mass;
     kz_ = settings.handStiffness;
     cz_ = settings.handDamping >= 0.0 ? settings.handDamping : 2.0 * std::sqrt(kz_ * m);
     kxy_ = settings.grip >= 0.0 ? settings.grip : kz_;
     // The same damping ratio along x and y as along z.
     cxy_ = cz_ * std::sqrt(kxy_ / kz_);
-    caps_.maxForce = settings.maxForce;
-    const double e = settings.workspaceHalfExtent;
-    caps_.workspaceMin = {-e, -e, -e};
-    caps_.workspaceMax = {e, e, e};
-    caps_.servoRateHz = settings.servoRateHz;
-    caps_.buttonCount = settings.buttonCount;
     for (int i = 1; i < settings.pathPoints; ++i)
         pathLength_ += std::hypot(settings.path[i][0] - settings.path[i - 1][0],
                                   settings.path[i][1] - settings.path[i - 1][1]);
