@@ -1,7 +1,8 @@
 /// \file
 /// \brief `depthtouch bench rt`: wake latency and period error of the haptic servo loop (bare loop
 /// and the full haptic task with the simulated hand on a moving depth video) at 1 kHz and 4 kHz,
-/// SCHED_FIFO against SCHED_OTHER, idle and optionally loaded; CSV and a PNG chart into --out.
+/// SCHED_FIFO against SCHED_OTHER, the memory lock of issue #21 against mlockall(MCL_CURRENT)
+/// (alternating), idle and optionally loaded; CSV and a PNG chart into --out.
 
 #include <algorithm>
 #include <cstdio>
@@ -30,6 +31,7 @@ struct BenchRtOptions {
     double duration = 5.0;
     std::vector<double> rates{1000.0, 4000.0};
     std::string policies = "fifo,other";
+    std::string locks = "owned,all";
     bool load = false;
     int loadThreads = 2;
     std::string loadClip; ///< Load = the player playing this clip in this process.
@@ -40,7 +42,7 @@ struct BenchRtOptions {
 
 /// What `bench rt` measures (its line in `depthtouch bench --help`).
 constexpr const char *kAbout = "Haptic loop timing: wake latency and period error, bare loop vs "
-                               "haptic task, SCHED_FIFO vs SCHED_OTHER; CSV/PNG";
+                               "haptic task, SCHED_FIFO vs SCHED_OTHER, memory locks; CSV/PNG";
 
 /// The options of `bench rt`, in `--help` order.
 const OptionRow<BenchRtOptions> kBenchRtRows[] = {
@@ -48,6 +50,10 @@ const OptionRow<BenchRtOptions> kBenchRtRows[] = {
     {"duration", &BenchRtOptions::duration, "Seconds per case"},
     {"rates", &BenchRtOptions::rates, "Servo rates, Hz"},
     {"policies", &BenchRtOptions::policies, "fifo, other or fifo,other"},
+    {"locks", &BenchRtOptions::locks,
+     "Memory locks compared, alternating: owned (mlock of what the haptic thread owns, the "
+     "default), all (mlockall(MCL_CURRENT), the lock before issue #21), onfault "
+     "(mlockall(MCL_CURRENT|MCL_FUTURE|MCL_ONFAULT)), none"},
     {"load", &BenchRtOptions::load, "Also run every case while other threads load the CPUs"},
     {"load-threads", &BenchRtOptions::loadThreads, "Threads of the load"},
     {"runs", &BenchRtOptions::runs, "Repetitions; goal ratios as medians over them"},
@@ -121,6 +127,35 @@ bool setPolicies(const BenchRtOptions &o, RtBenchOptions &opt)
         return false;
     }
     return true;
+}
+
+/// The memory locks of --locks, in the order given; prints the one error line when it names none.
+bool setLocks(const BenchRtOptions &o, RtBenchOptions &opt)
+{
+    opt.lockModes.clear();
+    std::size_t begin = 0;
+    while (begin <= o.locks.size()) {
+        std::size_t end = o.locks.find(',', begin);
+        if (end == std::string::npos)
+            end = o.locks.size();
+        const std::string name = o.locks.substr(begin, end - begin);
+        bool known = false;
+        for (const platform::MemoryLockMode m :
+             {platform::MemoryLockMode::Owned, platform::MemoryLockMode::All,
+              platform::MemoryLockMode::OnFault, platform::MemoryLockMode::None}) {
+            if (name == platform::memoryLockModeName(m)) {
+                opt.lockModes.push_back(m);
+                known = true;
+            }
+        }
+        if (!known) {
+            std::fprintf(stderr, "depthtouch bench rt: --locks takes owned, all, onfault or none, "
+                                 "comma-separated\n");
+            return false;
+        }
+        begin = end + 1;
+    }
+    return !opt.lockModes.empty();
 }
 
 /// With --load-clip, the load is the player playing that clip; prints the one error line when the
@@ -210,7 +245,7 @@ RtBenchReport measureRuns(const BenchRtOptions &o, const RtBenchOptions &opt)
 int runBenchRt(const BenchRtOptions &o)
 {
     RtBenchOptions opt;
-    if (!checkRates(o) || !setPolicies(o, opt))
+    if (!checkRates(o) || !setPolicies(o, opt) || !setLocks(o, opt))
         return kExitBadInput;
     opt.secondsPerCase = o.duration;
     opt.ratesHz = o.rates;
@@ -222,7 +257,8 @@ int runBenchRt(const BenchRtOptions &o)
         std::printf("%s\n", line.c_str());
         std::fflush(stdout);
     };
-    const std::size_t cases = o.rates.size() * opt.policies.size() * 2 * (opt.load ? 2 : 1);
+    const std::size_t cases =
+        o.rates.size() * opt.policies.size() * opt.lockModes.size() * 2 * (opt.load ? 2 : 1);
     std::printf("depthtouch bench rt: %zu cases of %.1f s (haptic device %s)\n", cases, o.duration,
                 o.haptic.c_str());
     if (o.runs < 1 || o.runs > 50) {

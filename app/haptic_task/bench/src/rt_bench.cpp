@@ -7,11 +7,13 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sys/mman.h>
 #include <thread>
 
 #include "depthtouch/haptic_task/depth_handoff.h"
 #include "depthtouch/haptic_task/haptic_task.h"
 #include "depthtouch/platform/clock.h"
+#include "depthtouch/platform/memory_lock.h"
 #include "depthtouch/platform/periodic_timer.h"
 #include "depthtouch/platform/realtime_thread.h"
 
@@ -71,18 +73,38 @@ private:
     std::atomic<std::uint32_t> sink_{0};
 };
 
-RtCase runBare(double rateHz, SchedPolicy policy, double seconds)
+/// Undoes a process-wide lock of a case (mlockall of All/OnFault) so that the next case starts from
+/// an unlocked process, and records what the case held.
+void endLock(RtCase &c)
+{
+    c.lockedMiB = platform::lockedMiB();
+    c.residentMiB = platform::residentMiB();
+    if (c.lockMode == platform::MemoryLockMode::All ||
+        c.lockMode == platform::MemoryLockMode::OnFault)
+        (void)munlockall();
+}
+
+RtCase runBare(double rateHz, SchedPolicy policy, platform::MemoryLockMode lock, double seconds)
 {
     RtCase c;
     c.loop = "bare";
     c.rateHz = rateHz;
     c.policy = policy;
+    c.lockMode = lock;
     SteadyClock &clock = SteadyClock::instance();
     const platform::Duration period = platform::fromSeconds(1.0 / rateHz);
     platform::PeriodicTimer timer(clock, period);
     auto wake = std::make_unique<LatencyHistogram>();
     auto periodError = std::make_unique<LatencyHistogram>();
     platform::RealtimeThreadOptions options;
+    options.lockMode = lock;
+    const platform::MemoryRegion regions[] = {
+        {&timer, sizeof(timer)},
+        {wake.get(), sizeof(LatencyHistogram)},
+        {periodError.get(), sizeof(LatencyHistogram)},
+    };
+    options.regions = regions;
+    options.regionCount = 3;
     platform::RealtimeThread thread(
         loopConfig(policy), options, [&](platform::StopToken stop) noexcept {
             timer.start();
@@ -100,10 +122,12 @@ RtCase runBare(double rateHz, SchedPolicy policy, double seconds)
     if (!thread.start())
         return c;
     clock.sleepFor(platform::fromSeconds(seconds));
+    endLock(c);
     thread.requestStop();
     thread.join();
     c.seconds = platform::toSeconds(clock.now() - begin);
     c.fifoRefused = thread.report().rtRefused;
+    c.lockRefused = !thread.report().memoryLocked && platform::memoryLockingAvailable();
     c.cycles = timer.cycles();
     c.overruns = timer.overruns();
     c.wake = wake->summary();
@@ -111,12 +135,14 @@ RtCase runBare(double rateHz, SchedPolicy policy, double seconds)
     return c;
 }
 
-Result<RtCase> runTask(double rateHz, SchedPolicy policy, double seconds, const DeviceFactory &make)
+Result<RtCase> runTask(double rateHz, SchedPolicy policy, platform::MemoryLockMode lock,
+                       double seconds, const DeviceFactory &make)
 {
     RtCase c;
     c.loop = "task";
     c.rateHz = rateHz;
     c.policy = policy;
+    c.lockMode = lock;
     SteadyClock &clock = SteadyClock::instance();
     constexpr int kW = 320;
     constexpr int kH = 240;
@@ -129,6 +155,7 @@ Result<RtCase> runTask(double rateHz, SchedPolicy policy, double seconds, const 
     HapticTaskConfig config;
     config.servoRateHz = rateHz;
     config.policy = policy;
+    config.memoryLock = lock;
     auto task = HapticTask::create(config, **device, **handoff, clock);
     if (!task)
         return unexpected(task.error());
@@ -164,6 +191,7 @@ Result<RtCase> runTask(double rateHz, SchedPolicy policy, double seconds, const 
     auto started = (*task)->start();
     if (started) {
         clock.sleepFor(platform::fromSeconds(seconds));
+        endLock(c);
         (*task)->stop();
     }
     decoding.store(false);
@@ -174,6 +202,7 @@ Result<RtCase> runTask(double rateHz, SchedPolicy policy, double seconds, const 
     const HapticStats s = (*task)->stats();
     c.seconds = platform::toSeconds(clock.now() - begin);
     c.fifoRefused = (*task)->threadReport().rtRefused;
+    c.lockRefused = !(*task)->threadReport().memoryLocked && platform::memoryLockingAvailable();
     c.cycles = s.updates;
     c.overruns = s.overruns;
     c.wake = s.wakeLatency;
@@ -184,22 +213,26 @@ Result<RtCase> runTask(double rateHz, SchedPolicy policy, double seconds, const 
 
 std::string caseLine(const RtCase &c)
 {
-    char line[256];
+    char line[512];
     std::snprintf(line, sizeof line,
                   "%-22s wake p50 %7.1f p99 %8.1f p99.9 %8.1f max %8.1f us | period err p50 %6.1f "
-                  "p99 %7.1f p99.9 %7.1f max %8.1f us | %6.1f overruns/min%s",
+                  "p99 %7.1f p99.9 %7.1f max %8.1f us | %6.1f overruns/min | %5.1f MiB locked, "
+                  "%5.1f MiB resident%s%s",
                   c.label().c_str(), c.wake.p50Us, c.wake.p99Us, c.wake.p999Us, c.wake.maxUs,
                   c.periodError.p50Us, c.periodError.p99Us, c.periodError.p999Us,
-                  c.periodError.maxUs, c.overrunsPerMinute(),
-                  c.fifoRefused ? "  (SCHED_FIFO REFUSED: ran at SCHED_OTHER)" : "");
+                  c.periodError.maxUs, c.overrunsPerMinute(), c.lockedMiB, c.residentMiB,
+                  c.fifoRefused ? "  (SCHED_FIFO REFUSED: ran at SCHED_OTHER)" : "",
+                  c.lockRefused ? "  (MEMORY LOCK REFUSED)" : "");
     return line;
 }
 
 const RtCase *findCase(const RtBenchReport &r, const std::string &loop, double rate,
-                       SchedPolicy policy, bool loaded)
+                       SchedPolicy policy, bool loaded,
+                       platform::MemoryLockMode lock = platform::MemoryLockMode::Owned)
 {
     for (const RtCase &c : r.cases)
-        if (c.loop == loop && c.rateHz == rate && c.policy == policy && c.loaded == loaded)
+        if (c.loop == loop && c.rateHz == rate && c.policy == policy && c.loaded == loaded &&
+            c.lockMode == lock)
             return &c;
     return nullptr;
 }
@@ -209,10 +242,42 @@ const RtCase *findCase(const RtBenchReport &r, const std::string &loop, double r
 std::string RtCase::label() const
 {
     char text[64];
-    std::snprintf(text, sizeof text, "%s %gk %s%s", loop.c_str(), rateHz / 1000.0,
-                  policyShort(policy), loaded ? " load" : "");
+    std::snprintf(text, sizeof text, "%s %gk %s %s%s", loop.c_str(), rateHz / 1000.0,
+                  policyShort(policy), platform::memoryLockModeName(lockMode),
+                  loaded ? " load" : "");
     return text;
 }
+
+namespace {
+
+/// Measures the bare loop and the task at one rate, policy, lock and load; adds them to \a report.
+void runCasePair(const RtBenchOptions &options, double rate, SchedPolicy policy,
+                 platform::MemoryLockMode lock, bool loaded, RtBenchReport &report)
+{
+    RtCase bare = runBare(rate, policy, lock, options.secondsPerCase);
+    bare.loaded = loaded;
+    if (bare.cycles > 0) {
+        if (options.progress)
+            options.progress(caseLine(bare));
+        report.cases.push_back(bare);
+    }
+    if (!options.makeDevice) {
+        report.taskError = "no haptic device for the task cases";
+        return;
+    }
+    auto task = runTask(rate, policy, lock, options.secondsPerCase, options.makeDevice);
+    if (!task) {
+        char buf[256];
+        report.taskError = task.error().format(buf, sizeof buf);
+        return;
+    }
+    task->loaded = loaded;
+    if (options.progress)
+        options.progress(caseLine(*task));
+    report.cases.push_back(*task);
+}
+
+} // namespace
 
 RtBenchReport runRtBenchmark(const RtBenchOptions &options)
 {
@@ -225,31 +290,10 @@ RtBenchReport runRtBenchmark(const RtBenchOptions &options)
         if (loaded)
             load = options.makeLoad ? options.makeLoad()
                                     : std::make_shared<Load>(std::max(options.loadThreads, 1));
-        for (const double rate : options.ratesHz) {
-            for (const SchedPolicy policy : options.policies) {
-                RtCase bare = runBare(rate, policy, options.secondsPerCase);
-                bare.loaded = loaded;
-                if (bare.cycles > 0) {
-                    if (options.progress)
-                        options.progress(caseLine(bare));
-                    report.cases.push_back(bare);
-                }
-                if (!options.makeDevice) {
-                    report.taskError = "no haptic device for the task cases";
-                    continue;
-                }
-                auto task = runTask(rate, policy, options.secondsPerCase, options.makeDevice);
-                if (!task) {
-                    char buf[256];
-                    report.taskError = task.error().format(buf, sizeof buf);
-                    continue;
-                }
-                task->loaded = loaded;
-                if (options.progress)
-                    options.progress(caseLine(*task));
-                report.cases.push_back(*task);
-            }
-        }
+        for (const double rate : options.ratesHz)
+            for (const SchedPolicy policy : options.policies)
+                for (const platform::MemoryLockMode lock : options.lockModes)
+                    runCasePair(options, rate, policy, lock, loaded, report);
     }
     return report;
 }
@@ -280,7 +324,8 @@ std::vector<RtGoalRatio> rtGoalRatios(const RtBenchReport &report)
     for (const RtCase &task : report.cases) {
         if (task.loop != "task")
             continue;
-        if (const RtCase *bare = findCase(report, "bare", task.rateHz, task.policy, task.loaded)) {
+        if (const RtCase *bare =
+                findCase(report, "bare", task.rateHz, task.policy, task.loaded, task.lockMode)) {
             out.push_back({task.label() + " task/bare wake p50",
                            bare->wake.p50Us > 0 ? task.wake.p50Us / bare->wake.p50Us : 0.0, 1.10});
             out.push_back({task.label() + " task/bare wake p99",
@@ -291,10 +336,18 @@ std::vector<RtGoalRatio> rtGoalRatios(const RtBenchReport &report)
         if (!loaded.loaded)
             continue;
         if (const RtCase *idle =
-                findCase(report, loaded.loop, loaded.rateHz, loaded.policy, false))
+                findCase(report, loaded.loop, loaded.rateHz, loaded.policy, false, loaded.lockMode))
             out.push_back({loaded.label() + " loaded/idle wake p99",
                            idle->wake.p99Us > 0 ? loaded.wake.p99Us / idle->wake.p99Us : 0.0,
                            1.20});
+    }
+    for (const RtCase &owned : report.cases) {
+        if (owned.lockMode != platform::MemoryLockMode::Owned)
+            continue;
+        if (const RtCase *all = findCase(report, owned.loop, owned.rateHz, owned.policy,
+                                         owned.loaded, platform::MemoryLockMode::All))
+            out.push_back({owned.label() + " owned/all wake p99",
+                           all->wake.p99Us > 0 ? owned.wake.p99Us / all->wake.p99Us : 0.0, 1.00});
     }
     return out;
 }
@@ -319,12 +372,13 @@ bool writeRtBenchOutputs(const RtBenchReport &report, const std::string &dir, st
         }
         out << "label,loop,rate_hz,policy,load,fifo_refused,seconds,cycles,wake_p50_us,wake_p99_us,"
                "wake_p999_us,wake_max_us,period_err_p50_us,period_err_p99_us,period_err_p999_us,"
-               "period_err_max_us,overruns,overruns_per_min,update_p50_us,update_p99_us\n";
+               "period_err_max_us,overruns,overruns_per_min,update_p50_us,update_p99_us,"
+               "memory_lock,locked_mib,resident_mib\n";
         for (const RtCase &c : report.cases) {
             char line[512];
             std::snprintf(line, sizeof line,
                           "%s,%s,%.0f,%s,%d,%d,%.3f,%llu,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,"
-                          "%llu,%.2f,%.2f,%.2f\n",
+                          "%llu,%.2f,%.2f,%.2f,%s,%.1f,%.1f\n",
                           c.label().c_str(), c.loop.c_str(), c.rateHz,
                           platform::schedPolicyName(c.policy), c.loaded ? 1 : 0,
                           c.fifoRefused ? 1 : 0, c.seconds,
@@ -332,7 +386,8 @@ bool writeRtBenchOutputs(const RtBenchReport &report, const std::string &dir, st
                           c.wake.p999Us, c.wake.maxUs, c.periodError.p50Us, c.periodError.p99Us,
                           c.periodError.p999Us, c.periodError.maxUs,
                           static_cast<unsigned long long>(c.overruns), c.overrunsPerMinute(),
-                          c.update.p50Us, c.update.p99Us);
+                          c.update.p50Us, c.update.p99Us, platform::memoryLockModeName(c.lockMode),
+                          c.lockedMiB, c.residentMiB);
             out << line;
         }
     }

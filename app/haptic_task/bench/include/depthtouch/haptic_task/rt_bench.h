@@ -3,7 +3,8 @@
 /// \brief `depthtouch bench rt`: wake latency (wake time − deadline) and period error of the haptic
 /// servo loop at 1 kHz and 4 kHz, for a bare PeriodicTimer loop and for the full HapticTask (device
 /// read, renderer on a moving depth video, force command, telemetry), SCHED_FIFO against
-/// SCHED_OTHER in the same run, idle and optionally while other threads load the CPUs. Writes CSV
+/// SCHED_OTHER and the memory lock of issue #21 (Owned) against mlockall(MCL_CURRENT) (All),
+/// alternating in the same run, idle and optionally while other threads load the CPUs. Writes CSV
 /// and a PNG chart.
 ///
 /// Not real-time itself: runs the cases one after the other on the calling thread's behalf.
@@ -16,6 +17,7 @@
 
 #include "depthtouch/hal/haptic_device.h"
 #include "depthtouch/haptic_task/latency_histogram.h"
+#include "depthtouch/platform/memory_lock.h"
 #include "depthtouch/platform/result.h"
 #include "depthtouch/platform/thread_config.h"
 
@@ -29,6 +31,12 @@ struct RtBenchOptions {
     std::vector<double> ratesHz{1000.0, 4000.0}; ///< Servo rates.
     std::vector<platform::SchedPolicy> policies{platform::SchedPolicy::Fifo,
                                                 platform::SchedPolicy::Other};
+    /// Memory locks compared, in this order for every rate and policy (alternating in the same
+    /// run): MemoryLockMode::Owned (the default lock since issue #21) and All
+    /// (mlockall(MCL_CURRENT), the one before), undone with munlockall() after each case. Not
+    /// empty.
+    std::vector<platform::MemoryLockMode> lockModes{platform::MemoryLockMode::Owned,
+                                                    platform::MemoryLockMode::All};
     bool load = false;        ///< Also run every case while loadThreads threads decode-like work.
     int loadThreads = 2;      ///< Threads of the load (≥ 1).
     /// The load instead of the decode-like threads, e.g. the player decoding and rendering real
@@ -47,6 +55,10 @@ struct RtCase {
     platform::SchedPolicy policy = platform::SchedPolicy::Fifo;
     bool loaded = false;
     bool fifoRefused = false; ///< SCHED_FIFO was asked for and the kernel refused it.
+    platform::MemoryLockMode lockMode = platform::MemoryLockMode::Owned; ///< The lock asked for.
+    bool lockRefused = false; ///< The kernel refused the lock (the case ran unlocked).
+    double lockedMiB = 0.0;   ///< The process's locked memory (VmLck) at the end of the case, MiB.
+    double residentMiB = 0.0; ///< Its resident memory (VmRSS) then, MiB.
     double seconds = 0.0;     ///< Measured duration, s.
     std::uint64_t cycles = 0;
     std::uint64_t overruns = 0;
@@ -57,7 +69,7 @@ struct RtCase {
     {
         return seconds > 0.0 ? static_cast<double>(overruns) * 60.0 / seconds : 0.0;
     }
-    [[nodiscard]] std::string label() const; ///< e.g. "task 1k FIFO load".
+    [[nodiscard]] std::string label() const; ///< e.g. "task 1k FIFO owned load".
 };
 
 struct RtBenchReport {
@@ -76,8 +88,9 @@ struct RtGoalRatio {
     double goal = 0.0; ///< Met when ratio <= goal.
 };
 
-/// \return the goal ratios of \a report: task/bare wake p50 and p99 (goal 1.10) per case, and
-/// loaded/idle wake p99 (goal 1.20) per loaded case.
+/// \return the goal ratios of \a report: task/bare wake p50 and p99 (goal 1.10) per case,
+/// loaded/idle wake p99 (goal 1.20) per loaded case, and owned/all wake p99 (goal 1.00: the lock
+/// of issue #21 no worse than mlockall) per case measured with both.
 std::vector<RtGoalRatio> rtGoalRatios(const RtBenchReport &report);
 
 /// \brief Prints the table and the goal checks (task within 10 % of the bare loop; load moving p99
