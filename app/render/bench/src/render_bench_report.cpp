@@ -34,6 +34,8 @@ void printStages(const std::vector<BenchRow> &rows)
         std::printf(" %7s", stageName(k));
     std::printf(" %8s %8s\n", "sum", "sum p99");
     for (const BenchRow &r : rows) {
+        if (!(r.stagedMedianMs > 0.0))
+            continue; // a run without the stage pass (--depth-sizes after the first)
         std::printf("%-8s %4dx%-4d %-14s", r.source.c_str(), r.depthWidth, r.depthHeight,
                     r.name.c_str());
         for (const double v : r.stageMedianMs)
