@@ -21,6 +21,8 @@ HOST_PACKAGES=(
     help2man dpkg-dev
     # the documentation's examples: socat talks to the control socket (docs/devices.md)
     socat
+    # the HLS test serves a playlist over HTTP with busybox's httpd
+    busybox
     # tests and benchmarks
     googletest libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
     # libraries used by the app layer

@@ -63,6 +63,7 @@ struct EncodeCliOptions {
     std::string depthMapping = "inverse_z";
     bool enhance = false;
     bool loop = false;
+    std::string realtime = "auto";
     float enhanceTolerance = 1.0f;
     std::string colorFormat, colorVideoSize, colorPixFmt;
     std::string depthFormat, depthVideoSize, depthPixFmt;
@@ -192,7 +193,7 @@ int setOutputOptions(const EncodeCliOptions &o, media::EncodeOptions &eo)
     if (!o.format.empty()) {
         auto c = media::parseContainer(o.format);
         if (!c)
-            return fail(kExitBadInput, "--format must be mkv, mp4 or ts");
+            return fail(kExitBadInput, "--format must be mkv, mp4, ts or hls");
         eo.container = *c;
     }
     eo.crf = o.crf;
@@ -218,6 +219,9 @@ int setOutputOptions(const EncodeCliOptions &o, media::EncodeOptions &eo)
     eo.threads = o.threads;
     eo.maxFrames = o.frames;
     eo.maxDuration = o.duration;
+    // A live output (a URL, an endless loop) leaves at the media rate, a file as fast as it can.
+    eo.paced =
+        o.realtime == "on" || (o.realtime == "auto" && (media::isOutputUrl(o.output) || o.loop));
     return kExitOk;
 }
 
@@ -330,6 +334,10 @@ int encodeFailure(const EncodeCliOptions &o, const NamedSource &color, const Nam
     const Errc code = error.code;
     const std::string what = describe(error);
     // The inputs read fine: an I/O error is the output's, which is lost (exit 1).
+    if (code == Errc::Io && media::isOutputUrl(o.output))
+        return fail(kExitFailure,
+                    "the stream to '" + o.output +
+                        "' was lost (the receiver left or the network failed): " + what);
     if (code == Errc::Io)
         return fail(kExitFailure, "cannot write '" + o.output + "': " + what);
     return fail(code == Errc::OutOfResources ? kExitFailure : kExitBadInput, what);
@@ -459,12 +467,12 @@ const OptionRow<EncodeCliOptions> kEncodeRows[] = {
      kRequired},
     {"output",
      &EncodeCliOptions::output,
-     "Output file (.mkv, .mp4, .ts) or URL (udp://...)",
+     "Output file (.mkv, .mp4, .ts; .m3u8: HLS playlist and segments) or URL (udp://, srt://)",
      {},
      kRequired,
      'o'},
     {"format", &EncodeCliOptions::format,
-     "Container: mkv | mp4 | ts (default: by extension; mkv for files, ts for URLs)"},
+     "Container: mkv | mp4 | ts | hls (default: by extension; mkv for files, ts for URLs)"},
     {"fps", &EncodeCliOptions::fps,
      "Frame rate of image sequences and raw inputs (frames/s, 0.1..1000)"},
     {"crf", &EncodeCliOptions::crf, "Color x264 constant rate factor 0..51"},
@@ -479,6 +487,9 @@ const OptionRow<EncodeCliOptions> kEncodeRows[] = {
     {"loop", &EncodeCliOptions::loop,
      "Loop image-sequence inputs forever (a live source; stop with --frames, --duration or "
      "Ctrl-C)"},
+    {"realtime", &EncodeCliOptions::realtime,
+     "Write at the media rate, as a live sender: auto (for URL outputs and --loop) | on | off",
+     oneOf("auto on off")},
     {"frames",
      &EncodeCliOptions::frames,
      "Encode at most N frame pairs (0: all)",

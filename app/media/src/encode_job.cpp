@@ -3,11 +3,14 @@
 
 #include "depthtouch/media/encode_job.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <deque>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -384,13 +387,18 @@ Result<void> openOutputs(const EncodeOptions &options, const ColorShape &shape,
     mo.output = options.output;
     mo.container = options.container.value_or(containerForOutput(options.output));
     mo.tags = tags;
+    mo.live = options.paced;
     auto muxer = Muxer::open(mo);
     if (!muxer)
         return unexpected(muxer.error());
     out.muxer = std::move(*muxer);
 
-    const VideoEncoderConfig cc = colorStreamConfig(shape.width, shape.height, shape.fps,
-                                                    options.crf, options.preset, options.threads);
+    VideoEncoderConfig cc = colorStreamConfig(shape.width, shape.height, shape.fps, options.crf,
+                                              options.preset, options.threads);
+    // A live stream and HLS segments: a key frame every 2 s (where a receiver can join, where a
+    // segment can end).
+    if (options.paced || mo.container == Container::Hls)
+        cc.gop = std::max(1, static_cast<int>(std::lround(2.0 * shape.fps)));
     auto colorEnc = VideoEncoder::create(cc, *out.muxer);
     if (!colorEnc)
         return unexpected(colorEnc.error());
@@ -407,6 +415,22 @@ Result<void> openOutputs(const EncodeOptions &options, const ColorShape &shape,
         return unexpected(depthEnc.error());
     out.depth = std::move(*depthEnc);
     return out.muxer->start();
+}
+
+/// Waits until \a pts seconds after \a start (the media rate of a paced output), in steps of at
+/// most 50 ms so that \a stopped() ends the wait promptly. \return false when stopped.
+template <class Stopped>
+bool waitForMediaTime(const platform::SteadyClock &clock, platform::TimePoint start, double pts,
+                      const Stopped &stopped)
+{
+    for (;;) {
+        if (stopped())
+            return false;
+        const double ahead = pts - platform::toSeconds(clock.now() - start);
+        if (ahead <= 0.0)
+            return true;
+        std::this_thread::sleep_for(std::chrono::duration<double>(std::min(ahead, 0.05)));
+    }
 }
 
 /// \return the frames the encode is expected to write (for progress), 0 or less when unknown.
@@ -474,6 +498,9 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
     const long long expected = expectedFrames(color, depth, options, fps);
 
     double lastPts = -1.0;
+    // A paced output leaves pair n at its PTS after the first pair left.
+    platform::TimePoint paceOrigin = start;
+    double firstPts = 0.0;
     for (;;) {
         if (stopped()) {
             summary.interrupted = true;
@@ -503,6 +530,15 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
         }
         if (pts <= lastPts)
             pts = lastPts + 1.0 / fps;
+        if (summary.frames == 0) {
+            paceOrigin = clock.now();
+            firstPts = pts;
+        }
+        if (options.paced && !waitForMediaTime(clock, paceOrigin, pts - firstPts, stopped)) {
+            summary.interrupted = true;
+            summary.endedBy = "stop";
+            break;
+        }
         auto depthImage = pipeline.process(pair.depth.image, summary);
         if (!depthImage)
             return unexpected(depthImage.error());

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <string>
 
 extern "C" {
@@ -65,6 +66,8 @@ const char *containerName(Container c) noexcept
         return "mp4";
     case Container::MpegTs:
         return "mpegts";
+    case Container::Hls:
+        return "hls";
     }
     return "matroska";
 }
@@ -77,7 +80,9 @@ Result<Container> parseContainer(const std::string &text)
         return Container::Mp4;
     if (text == "ts" || text == "mpegts")
         return Container::MpegTs;
-    return unexpected(Errc::InvalidArgument, "Unknown container (use mkv, mp4 or ts)");
+    if (text == "hls")
+        return Container::Hls;
+    return unexpected(Errc::InvalidArgument, "Unknown container (use mkv, mp4, ts or hls)");
 }
 
 bool isOutputUrl(const std::string &output)
@@ -96,6 +101,8 @@ Container containerForOutput(const std::string &output)
         return Container::MpegTs;
     if (endsWith(path, ".mkv") || endsWith(path, ".mka") || endsWith(path, ".webm"))
         return Container::Matroska;
+    if (endsWith(path, ".m3u8"))
+        return Container::Hls;
     return isOutputUrl(output) ? Container::MpegTs : Container::Matroska;
 }
 
@@ -105,6 +112,7 @@ Container containerForOutput(const std::string &output)
 struct Muxer::Impl {
     AVFormatContext *fmt = nullptr;
     Container container = Container::Matroska;
+    bool live = false;
     std::string output;
     std::string finalPath; ///< Where tmpPath is renamed to (the output, or a link's target).
     std::string tmpPath;   ///< Empty for URLs and outputs written in place (devices, FIFOs).
@@ -147,10 +155,26 @@ Result<std::unique_ptr<Muxer>> Muxer::open(const MuxerOptions &options)
     std::unique_ptr<Muxer> muxer(new Muxer());
     Impl &m = *muxer->impl_;
     m.container = options.container;
+    m.live = options.live;
     m.output = options.output;
     const bool url = isOutputUrl(options.output);
+    if (url && (options.output.compare(0, 6, "rtp://") == 0 ||
+                options.output.compare(0, 7, "rtsp://") == 0))
+        return unexpected(Errc::NotSupported,
+                          "RTP output is not supported: send MPEG-TS over udp:// or srt://, or "
+                          "HLS (a .m3u8 output) through an HTTP server");
     std::string target = options.output;
-    if (!url) {
+    if (options.container == Container::Hls && !url) {
+        // The playlist and its segments are written in place, as they are made (a player may
+        // follow them while the encode runs); the folder must exist.
+        const std::filesystem::path dir =
+            std::filesystem::path(options.output).parent_path().empty()
+                ? std::filesystem::path(".")
+                : std::filesystem::path(options.output).parent_path();
+        std::error_code ec;
+        if (!std::filesystem::is_directory(dir, ec))
+            return unexpected(Errc::InvalidArgument, "the HLS output's folder does not exist");
+    } else if (!url) {
         // Only a regular file or a new path is replaced (written aside, then renamed); a device or
         // a FIFO with a reader is written in place; anything else is refused.
         auto plan = platform::planOutput(options.output);
@@ -174,7 +198,8 @@ Result<std::unique_ptr<Muxer>> Muxer::open(const MuxerOptions &options)
     }
     for (const auto &[key, value] : options.tags)
         av_dict_set(&m.fmt->metadata, key.c_str(), value.c_str(), 0);
-    if (options.container == Container::MpegTs && !options.tags.empty()) {
+    if ((options.container == Container::MpegTs || options.container == Container::Hls) &&
+        !options.tags.empty()) {
         // MPEG-TS carries neither stream titles nor free tags; its service (program) name does
         // travel, so the tags go there as "key=value;…" (color is stream 0, depth stream 1).
         std::string text;
@@ -211,6 +236,17 @@ Result<void> Muxer::start()
     // MP4 keeps only its known tags unless asked to write the others (the depth tags).
     if (m.container == Container::Mp4)
         av_dict_set(&opts, "movflags", "+use_metadata_tags", 0);
+    if (m.container == Container::Hls) {
+        // Two-second MPEG-TS segments (Apple's recommendation for low latency is 2 to 6 s). Live:
+        // a window of six, older segments deleted; otherwise an event playlist of every segment,
+        // playable while it grows and closed by EXT-X-ENDLIST at the end.
+        av_dict_set(&opts, "hls_time", "2", 0);
+        av_dict_set(&opts, "hls_list_size", m.live ? "6" : "0", 0);
+        if (m.live)
+            av_dict_set(&opts, "hls_flags", "delete_segments", 0);
+        else
+            av_dict_set(&opts, "hls_playlist_type", "event", 0);
+    }
     const int ret = avformat_write_header(m.fmt, &opts);
     av_dict_free(&opts);
     if (ret < 0) {
@@ -402,6 +438,8 @@ Result<std::unique_ptr<VideoEncoder>> VideoEncoder::create(const VideoEncoderCon
         c.gop_size = 1;
     } else {
         av_dict_set(&opts, "preset", config.preset.c_str(), 0);
+        if (config.gop > 0)
+            c.gop_size = config.gop;
         if (config.lossless)
             av_dict_set(&opts, "qp", "0", 0);
         else

@@ -71,12 +71,13 @@ StreamRoles identifyStreams(const hal::MediaInfo &info, SingleStream single)
         reason = why;
         taken[i] = true;
     };
-    // 1. Titles.
+    // 1. Titles (an MKV title, an MP4 handler name, DepthTouch's MPEG-TS service).
     for (std::size_t i = 0; i < n; ++i) {
+        const char *from = *streams[i].titleFrom != '\0' ? streams[i].titleFrom : "title";
         if (equalsNoCase(streams[i].title, "color") || equalsNoCase(streams[i].title, "colour"))
-            assign(r.color, r.colorReason, i, "title");
+            assign(r.color, r.colorReason, i, from);
         else if (equalsNoCase(streams[i].title, "depth"))
-            assign(r.depth, r.depthReason, i, "title");
+            assign(r.depth, r.depthReason, i, from);
     }
     // 2. Depth metadata of the stream's own (tags every stream shares are the container's).
     bool allShare = true;

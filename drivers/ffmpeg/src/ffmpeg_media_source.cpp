@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <iterator>
+#include <memory>
 #include <string_view>
 
 #include "depthtouch/drivers/common/backend_options.h"
@@ -30,13 +32,45 @@ constexpr const char *kOptionKeys[] = {"fps", "format", "timeout_ms"};
 constexpr AVRational kNanoseconds{1, 1'000'000'000};
 constexpr AVRational kMicroseconds{1, AV_TIME_BASE}; // AV_TIME_BASE_Q is a C compound literal
 
-const char *tagOf(const AVStream &st, const AVFormatContext &fmt, const char *key) noexcept
+/// \return the value of tag \a key (any case) of the stream, else of the container, else of the
+/// MPEG-TS service's \a service tags; nullptr when none has it.
+const char *tagOf(const AVStream &st, const AVFormatContext &fmt, const AVDictionary *service,
+                  const char *key) noexcept
 {
     if (const AVDictionaryEntry *e = av_dict_get(st.metadata, key, nullptr, 0))
         return e->value;
     if (const AVDictionaryEntry *e = av_dict_get(fmt.metadata, key, nullptr, 0))
         return e->value;
+    if (const AVDictionaryEntry *e = av_dict_get(service, key, nullptr, 0))
+        return e->value;
     return nullptr;
+}
+
+/// \return the tags DepthTouch's MPEG-TS muxer writes into the service name ("key=value;…",
+/// service provider "DepthTouch"; app/media/src/encoder.cpp), parsed with av_dict_parse_string;
+/// nullptr for any other input. The caller frees it (av_dict_free).
+AVDictionary *serviceTagsOf(const AVFormatContext &fmt) noexcept
+{
+    for (unsigned p = 0; p < fmt.nb_programs; ++p) {
+        const AVDictionaryEntry *provider =
+            av_dict_get(fmt.programs[p]->metadata, "service_provider", nullptr, 0);
+        const AVDictionaryEntry *name =
+            av_dict_get(fmt.programs[p]->metadata, "service_name", nullptr, 0);
+        if (provider == nullptr || name == nullptr ||
+            std::strcmp(provider->value, "DepthTouch") != 0)
+            continue;
+        AVDictionary *tags = nullptr;
+        if (av_dict_parse_string(&tags, name->value, "=", ";", 0) < 0)
+            av_dict_free(&tags);
+        return tags;
+    }
+    return nullptr;
+}
+
+/// \return whether \a text names a stream role DepthTouch writes ("color" or "depth").
+bool isRoleName(const char *text) noexcept
+{
+    return text != nullptr && (std::strcmp(text, "color") == 0 || std::strcmp(text, "depth") == 0);
 }
 
 double tagDouble(const char *text) noexcept
@@ -121,8 +155,9 @@ struct FfmpegMediaSource::Impl {
     /// and reads its stream list into fmt.
     Result<void> openInput(const char *url);
     /// Lists libav stream \a i when it is a video stream this build delivers (\a videoStreams:
-    /// the input's video streams, for telling depth from color).
-    void addStream(unsigned i, int videoStreams);
+    /// the input's video streams, for telling depth from color; \a videoOrdinal: the video
+    /// streams before it; \a serviceTags: the tags of DepthTouch's MPEG-TS service, or nullptr).
+    void addStream(unsigned i, int videoStreams, int videoOrdinal, const AVDictionary *serviceTags);
     /// Sets info.duration from the container, or from the longest listed stream.
     void readDuration() noexcept;
     /// \return what libavformat opens for \a url: itself, or for a FIFO `pipe:FD` once a writer
@@ -214,7 +249,8 @@ Result<void> FfmpegMediaSource::Impl::openInput(const char *url)
     return ok();
 }
 
-void FfmpegMediaSource::Impl::addStream(unsigned i, int videoStreams)
+void FfmpegMediaSource::Impl::addStream(unsigned i, int videoStreams, int videoOrdinal,
+                                        const AVDictionary *serviceTags)
 {
     AVFormatContext *ctx = fmt.get();
     const AVStream &st = *ctx->streams[i];
@@ -226,7 +262,17 @@ void FfmpegMediaSource::Impl::addStream(unsigned i, int videoStreams)
     hal::StreamInfo si;
     si.index = static_cast<int>(info.streams.size());
     const AVDictionaryEntry *title = av_dict_get(st.metadata, "title", nullptr, 0);
-    si.title = title != nullptr ? title->value : "";
+    const AVDictionaryEntry *handler = av_dict_get(st.metadata, "handler_name", nullptr, 0);
+    if (title != nullptr) {
+        si.title = title->value;
+        si.titleFrom = "title";
+    } else if (handler != nullptr && isRoleName(handler->value)) {
+        si.title = handler->value;
+        si.titleFrom = "MP4 handler name";
+    } else if (serviceTags != nullptr && videoOrdinal < 2) {
+        si.title = videoOrdinal == 0 ? "color" : "depth";
+        si.titleFrom = "MPEG-TS service";
+    }
     const AVPixelFormat pixfmt =
         si.title == "color" ? static_cast<AVPixelFormat>(par.format) : samplesFormatOf(par);
     if (si.title == "depth")
@@ -248,11 +294,11 @@ void FfmpegMediaSource::Impl::addStream(unsigned i, int videoStreams)
     if (par.extradata != nullptr && par.extradata_size > 0)
         si.extradata.assign(par.extradata,
                             par.extradata + static_cast<std::size_t>(par.extradata_size));
-    const char *mapping = tagOf(st, *ctx, "depth_mapping");
-    si.depth.nearMetres = tagDouble(tagOf(st, *ctx, "depth_near"));
-    si.depth.farMetres = tagDouble(tagOf(st, *ctx, "depth_far"));
+    const char *mapping = tagOf(st, *ctx, serviceTags, "depth_mapping");
+    si.depth.nearMetres = tagDouble(tagOf(st, *ctx, serviceTags, "depth_near"));
+    si.depth.farMetres = tagDouble(tagOf(st, *ctx, serviceTags, "depth_far"));
     si.depth.mapping = mapping != nullptr ? mapping : "";
-    si.depth.bits = tagBits(tagOf(st, *ctx, "depth_bits"));
+    si.depth.bits = tagBits(tagOf(st, *ctx, serviceTags, "depth_bits"));
 
     Stream s;
     s.avIndex = static_cast<int>(i);
@@ -307,8 +353,14 @@ Result<void> FfmpegMediaSource::Impl::open(const char *url)
     if (ctx->start_time != AV_NOPTS_VALUE)
         start = hal::Pts(av_rescale_q(ctx->start_time, kMicroseconds, kNanoseconds));
     avToHal.assign(ctx->nb_streams, -1);
-    for (unsigned i = 0; i < ctx->nb_streams; ++i)
-        addStream(i, videoStreams);
+    const std::unique_ptr<AVDictionary, void (*)(AVDictionary *)> service(
+        serviceTagsOf(*ctx), [](AVDictionary *d) { av_dict_free(&d); });
+    int videoOrdinal = 0;
+    for (unsigned i = 0; i < ctx->nb_streams; ++i) {
+        addStream(i, videoStreams, videoOrdinal, service.get());
+        if (ctx->streams[i]->codecpar->codec_type == AVMEDIA_TYPE_VIDEO)
+            ++videoOrdinal;
+    }
     if (info.streams.empty())
         return unexpected(Errc::NotSupported, "No video stream with a codec this build decodes");
 

@@ -59,6 +59,19 @@ probe -show_entries format=format_name -of csv=p=0 "$work/lossless.mp4" | grep -
 probe -select_streams v:1 -show_entries stream=profile -of csv=p=0 "$work/lossless.mp4" \
     | grep -q "High 4:4:4 Predictive" || fail "lossless profile"
 
+# 2b. The roles and depth metadata come back from every container: MKV titles and tags, MP4 handler
+# names and tags, DepthTouch's MPEG-TS service (which carries no titles or free tags).
+for ext in mkv mp4 ts; do
+    "$exe" encode --color "$work/c-%03d.png" --depth "$work/d-%03d.png" -o "$work/roles.$ext" \
+        --preset ultrafast >/dev/null 2>&1 || fail "roles.$ext encode"
+    "$exe" probe "$work/roles.$ext" >"$work/roles.$ext.txt" 2>&1 || { cat "$work/roles.$ext.txt"; fail "probe roles.$ext"; }
+    case $ext in mkv) from="title" ;; mp4) from="MP4 handler name" ;; ts) from="MPEG-TS service" ;; esac
+    grep -q "color ($from)" "$work/roles.$ext.txt" && grep -q "depth ($from)" "$work/roles.$ext.txt" \
+        && grep -q "^depth metadata: near " "$work/roles.$ext.txt" \
+        || { cat "$work/roles.$ext.txt"; fail "roles.$ext: roles from $from and the depth metadata"; }
+done
+echo "roles: $(grep -h 'color (' "$work"/roles.*.txt | awk '{print $3, $4, $5, $6}' | tr '\n' ';')"
+
 # 3. Bad input: one error line, exit 2, no output file, no temporary file.
 echo "not a video" >"$work/junk.mkv"
 ff -f lavfi -i sine=duration=0.2 "$work/audio.wav" || fail "ffmpeg wav"

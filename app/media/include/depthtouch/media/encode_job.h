@@ -53,6 +53,10 @@ struct EncodeOptions {
     int threads = 0;                              ///< Encoder threads per stream; 0 = automatic.
     int width = 0; ///< Output grid (pixels, even); 0 = the color size.
     int height = 0;
+    /// Write at the media rate (as `ffmpeg -re`): pair n leaves no earlier than its PTS after the
+    /// first. `encode` sets it for URL outputs and --loop unless --realtime says otherwise. A
+    /// paced HLS output is a live playlist (MuxerOptions::live).
+    bool paced = false;
     long long maxFrames = 0;  ///< Stop after this many pairs; 0 = no limit.
     double maxDuration = 0.0; ///< Stop at this PTS (seconds); 0 = no limit.
 

@@ -39,12 +39,13 @@ inline constexpr double kMaxEncodeFps = 1000.0;
 bool isEncodableSize(int width, int height) noexcept;
 
 /// \brief Containers the sender writes.
-enum class Container : std::uint8_t { Matroska, Mp4, MpegTs };
+/// Hls: an HLS playlist (`.m3u8`) with MPEG-TS segments beside it (libavformat's hls muxer).
+enum class Container : std::uint8_t { Matroska, Mp4, MpegTs, Hls };
 
-/// \return "matroska", "mp4" or "mpegts" (libavformat muxer names).
+/// \return "matroska", "mp4", "mpegts" or "hls" (libavformat muxer names).
 const char *containerName(Container c) noexcept;
 
-/// \brief Parses a `--format` value: "mkv"/"matroska", "mp4", "ts"/"mpegts".
+/// \brief Parses a `--format` value: "mkv"/"matroska", "mp4", "ts"/"mpegts", "hls".
 /// \return the container or Errc::InvalidArgument.
 Result<Container> parseContainer(const std::string &text);
 
@@ -62,6 +63,9 @@ struct MuxerOptions {
     Container container = Container::Matroska;
     /// Container-level metadata (e.g. the depth tags, so every tool finds them).
     std::vector<std::pair<std::string, std::string>> tags;
+    /// A live stream (paced, possibly endless): an HLS playlist keeps a sliding window of six
+    /// segments and deletes older ones; otherwise it lists every segment (an event playlist).
+    bool live = false;
 };
 
 class VideoEncoder;
@@ -124,6 +128,9 @@ struct VideoEncoderConfig {
     bool lossless = false; ///< x264 qp 0 (x264 then uses High 4:4:4 Predictive).
     std::string preset = "medium";                         ///< x264 preset (ultrafast … placebo).
     int threads = 0;                                       ///< Encoder threads; 0 = automatic.
+    /// H.264 frames between key frames (0: x264's default, 250). A live stream sets about 2 s,
+    /// the longest a joining receiver waits and the length of an HLS segment.
+    int gop = 0;
     std::string title;                                     ///< Stream title ("color", "depth").
     std::vector<std::pair<std::string, std::string>> tags; ///< Extra stream metadata.
 };

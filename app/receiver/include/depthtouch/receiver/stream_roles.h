@@ -28,8 +28,9 @@ enum class SingleStream : std::uint8_t {
 struct StreamRoles {
     int color = -1;
     int depth = -1;
-    const char *colorReason = ""; ///< "title", "pixel format", "stream order", "only stream"…
-    const char *depthReason = "";
+    /// Why: "title", "MP4 handler name", "MPEG-TS service", "gray pixel format", "stream order"…
+    const char *colorReason = "";
+    const char *depthReason = ""; ///< The same for depth.
     std::vector<std::string> notes; ///< Assumptions and ignored streams, one sentence each.
 };
 

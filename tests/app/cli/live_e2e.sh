@@ -1,0 +1,94 @@
+#!/bin/sh
+# End-to-end: live outputs of `depthtouch encode` on loopback.
+#  1. HLS: `encode -o DIR/stream.m3u8` writes a playlist and MPEG-TS segments with both streams and the
+#     depth metadata; busybox's httpd serves them; `probe` pairs every frame over HTTP and `play` presents
+#     every frame.
+#  2. SRT: a listener sender, a receiver that plays 2 s and leaves; the sender reports the lost stream
+#     (exit 1, one line).
+#  3. Pacing: --realtime on writes a 1 s file in no less than 1 s.
+#  4. RTP: refused with one error line, exit 2.
+# Exit 77 (skip) without the ffmpeg CLI or busybox. Usage: live_e2e.sh /path/to/depthtouch
+set -u
+exe="$1"
+command -v ffmpeg >/dev/null 2>&1 || { echo "ffmpeg CLI not on PATH: skipped"; exit 77; }
+command -v busybox >/dev/null 2>&1 || { echo "busybox not installed (toolchain/install-deps.sh): skipped"; exit 77; }
+work=$(mktemp -d "${TMPDIR:-/tmp}/dt-live-e2e.XXXXXX") || exit 1
+httpd=""
+sender=""
+cleanup() {
+    [ -n "$httpd" ] && kill "$httpd" 2>/dev/null
+    [ -n "$sender" ] && kill "$sender" 2>/dev/null
+    rm -rf "$work"
+}
+trap cleanup EXIT
+ff() { ffmpeg -nostdin -hide_banner -v error -y "$@" </dev/null; }
+fail() { echo "FAIL: $*"; exit 1; }
+# A port from the process id, so parallel runs do not collide.
+port=$((20000 + $$ % 20000))
+
+# 90 frames (3 s at 30 fps): two HLS segments of 2 s.
+ff -f lavfi -i testsrc=size=64x48:rate=30:duration=3 -start_number 0 "$work/c-%03d.png" || fail "ffmpeg color"
+ff -f lavfi -i color=c=black:size=64x48:rate=30:duration=3 \
+    -vf "format=gray16le,geq=lum='1000+20*X'" -pix_fmt gray16be -start_number 0 "$work/d-%03d.png" ||
+    fail "ffmpeg depth"
+C="$work/c-%03d.png"
+D="$work/d-%03d.png"
+
+# 1. HLS over HTTP.
+mkdir "$work/www"
+"$exe" encode --color "$C" --depth "$D" -o "$work/www/stream.m3u8" --preset ultrafast >"$work/hls.out" 2>&1 ||
+    { cat "$work/hls.out"; fail "hls encode"; }
+grep -q '^#EXT-X-ENDLIST' "$work/www/stream.m3u8" || fail "hls: the playlist is not closed"
+segments=$(grep -c '\.ts$' "$work/www/stream.m3u8")
+[ "$segments" -ge 2 ] || fail "hls: $segments segments, want 2 or more"
+"$exe" probe "$work/www/stream0.ts" >"$work/seg.txt" 2>&1
+grep -q "depth (MPEG-TS service)" "$work/seg.txt" && grep -q "^depth metadata: near " "$work/seg.txt" ||
+    { cat "$work/seg.txt"; fail "hls: a segment carries the roles and the depth metadata"; }
+busybox httpd -f -p "127.0.0.1:$port" -h "$work/www" &
+httpd=$!
+i=0
+until "$exe" probe "http://127.0.0.1:$port/stream.m3u8" >"$work/probe.txt" 2>&1; do
+    i=$((i + 1))
+    [ $i -lt 20 ] || { cat "$work/probe.txt"; fail "hls: httpd on port $port does not serve the playlist"; }
+    sleep 0.2
+done
+grep -q "every color frame is paired" "$work/probe.txt" && grep -q "90 frames" "$work/probe.txt" ||
+    { cat "$work/probe.txt"; fail "hls: probe over HTTP pairs every frame"; }
+"$exe" play "http://127.0.0.1:$port/stream.m3u8" --display mock --haptic none --stats "$work/hls.json" \
+    >"$work/play.out" 2>&1 || { cat "$work/play.out"; fail "hls: play exited $?"; }
+grep -q '"frames_presented": *90' "$work/hls.json" && grep -q '"mode": *"color+depth"' "$work/hls.json" ||
+    { cat "$work/hls.json"; fail "hls: play presents all 90 frames with depth"; }
+echo "hls: $segments segments, 90 frames played over http://127.0.0.1:$port"
+
+# 2. SRT: the receiver leaves after 2 s; the sender says so and exits 1.
+srt="srt://127.0.0.1:$((port + 1))"
+"$exe" encode --color "$C" --depth "$D" --loop --duration 30 -o "$srt?mode=listener" --preset ultrafast \
+    >/dev/null 2>"$work/srt.err" &
+sender=$!
+sleep 1
+"$exe" play "$srt" --display mock --haptic none --duration 2 --stats "$work/srt.json" >"$work/srt-play.out" 2>&1 ||
+    { cat "$work/srt-play.out"; fail "srt: play exited $?"; }
+presented=$(sed -n 's/.*"frames_presented": *\([0-9]*\).*/\1/p' "$work/srt.json")
+[ "${presented:-0}" -ge 30 ] || { cat "$work/srt.json"; fail "srt: $presented frames presented in 2 s"; }
+wait "$sender"
+rc=$?
+sender=""
+[ "$rc" -eq 1 ] || { cat "$work/srt.err"; fail "srt: sender exit $rc after the receiver left, want 1"; }
+[ "$(wc -l <"$work/srt.err")" -eq 1 ] && grep -q "was lost (the receiver left" "$work/srt.err" ||
+    { cat "$work/srt.err"; fail "srt: one line saying the receiver left"; }
+echo "srt: $presented frames played; sender: $(cat "$work/srt.err")"
+
+# 3. Pacing: 30 frames at 30 fps take at least 1 s with --realtime on.
+"$exe" encode --color "$C" --depth "$D" --frames 31 --realtime on -o "$work/paced.mkv" --preset ultrafast \
+    >"$work/paced.out" 2>&1 || { cat "$work/paced.out"; fail "paced encode"; }
+took=$(sed -n 's/.* in \([0-9.]*\) s: .*/\1/p' "$work/paced.out")
+awk -v t="$took" 'BEGIN { exit !(t >= 0.99) }' || { cat "$work/paced.out"; fail "paced: 31 pairs in $took s, want >= 1 s"; }
+echo "paced: 31 pairs in $took s"
+
+# 4. RTP: refused, one line, exit 2.
+"$exe" encode --color "$C" --depth "$D" -o "rtp://127.0.0.1:$((port + 2))" >/dev/null 2>"$work/rtp.err"
+rc=$?
+[ "$rc" -eq 2 ] && [ "$(wc -l <"$work/rtp.err")" -eq 1 ] && grep -q "RTP output is not supported" "$work/rtp.err" ||
+    { cat "$work/rtp.err"; fail "rtp: exit $rc, want 2 with one line"; }
+echo "rtp: $(cat "$work/rtp.err")"
+echo PASS
