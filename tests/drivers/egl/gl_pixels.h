@@ -2,7 +2,8 @@
 /// \file
 /// \brief Pixel helpers of the EGL display tests: an RGB triple, a read-back buffer as a
 /// hal::ImageView, one pixel of it, and a two-colour clear of the current framebuffer.
-/// Thread-safety: the GL helpers need a current context on the calling thread; the rest is reentrant.
+/// Thread-safety: the GL helpers need a current context on the calling thread; the rest is
+/// reentrant.
 
 #include <cstddef>
 #include <cstdint>
