@@ -30,7 +30,7 @@ struct StreamRoles {
     int depth = -1;
     /// Why: "title", "MP4 handler name", "MPEG-TS service", "gray pixel format", "stream order"…
     const char *colorReason = "";
-    const char *depthReason = ""; ///< The same for depth.
+    const char *depthReason = "";   ///< The same for depth.
     std::vector<std::string> notes; ///< Assumptions and ignored streams, one sentence each.
 };
 
