@@ -46,26 +46,6 @@ AVPixelFormat toAvFormat(PixelFormat f) noexcept
     return AV_PIX_FMT_NONE;
 }
 
-AVPixelFormat dejpeg(AVPixelFormat f, bool &fullRange) noexcept
-{
-    fullRange = true;
-    switch (f) {
-    case AV_PIX_FMT_YUVJ420P:
-        return AV_PIX_FMT_YUV420P;
-    case AV_PIX_FMT_YUVJ422P:
-        return AV_PIX_FMT_YUV422P;
-    case AV_PIX_FMT_YUVJ444P:
-        return AV_PIX_FMT_YUV444P;
-    case AV_PIX_FMT_YUVJ440P:
-        return AV_PIX_FMT_YUV440P;
-    case AV_PIX_FMT_YUVJ411P:
-        return AV_PIX_FMT_YUV411P;
-    default:
-        fullRange = false;
-        return f;
-    }
-}
-
 Result<void> Scaler::convert(const AVFrame &src, std::uint8_t *const dstData[4],
                              const int dstStride[4], AVPixelFormat dstFmt, int dstW, int dstH)
 {

@@ -15,37 +15,26 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
+#include "depthtouch/av/av_handles.h"
 #include "depthtouch/media/image.h"
 #include "depthtouch/platform/result.h"
 
 namespace depthtouch::media::detail {
 
-struct InputContextDeleter {
-    void operator()(AVFormatContext *c) const noexcept { avformat_close_input(&c); }
-};
-struct CodecContextDeleter {
-    void operator()(AVCodecContext *c) const noexcept { avcodec_free_context(&c); }
-};
-struct FrameDeleter {
-    void operator()(AVFrame *f) const noexcept { av_frame_free(&f); }
-};
-struct PacketDeleter {
-    void operator()(AVPacket *p) const noexcept { av_packet_free(&p); }
-};
-struct SwsDeleter {
-    void operator()(SwsContext *s) const noexcept { sws_freeContext(s); }
-};
+// The owners shared with the drivers that call FFmpeg (dt_av_handles).
+using av::CodecContextPtr;
+using av::dejpeg;
+using av::FramePtr;
+using av::InputContextPtr;
+using av::PacketPtr;
+using av::SwsPtr;
+
 struct AvioDeleter {
     void operator()(AVIOContext *io) const noexcept { avio_closep(&io); }
 };
 struct DictDeleter {
     void operator()(AVDictionary *d) const noexcept { av_dict_free(&d); }
 };
-using InputContextPtr = std::unique_ptr<AVFormatContext, InputContextDeleter>;
-using CodecContextPtr = std::unique_ptr<AVCodecContext, CodecContextDeleter>;
-using FramePtr = std::unique_ptr<AVFrame, FrameDeleter>;
-using PacketPtr = std::unique_ptr<AVPacket, PacketDeleter>;
-using SwsPtr = std::unique_ptr<SwsContext, SwsDeleter>;
 using AvioPtr = std::unique_ptr<AVIOContext, AvioDeleter>;
 
 /// FFmpeg's message for \a err (av_err2str is a C compound literal, unusable in C++).
@@ -69,10 +58,6 @@ PixelFormat nativeLayout(AVPixelFormat f) noexcept;
 
 /// \return the AVPixelFormat of an Image layout (GRAY16 in native byte order).
 AVPixelFormat toAvFormat(PixelFormat f) noexcept;
-
-/// Deprecated full-range "J" YUV formats → their plain equivalent; \a fullRange set when it was
-/// one.
-AVPixelFormat dejpeg(AVPixelFormat f, bool &fullRange) noexcept;
 
 /// \brief A cached libswscale context for one conversion (size and formats); rebuilt when they
 /// change. Same-size conversions are bit-exact and deterministic (SWS_BITEXACT | ACCURATE_RND).

@@ -191,7 +191,7 @@ void copyGray10As16(const AVFrame &src, const hal::ImageView &dst, bool swapped)
 
 } // namespace
 
-Result<void> copyFrame(const AVFrame &src, const hal::ImageView &dst, SwsContextPtr &sws) noexcept
+Result<void> copyFrame(const AVFrame &src, const hal::ImageView &dst, av::SwsPtr &sws) noexcept
 {
     if (src.width != dst.width || src.height != dst.height)
         return unexpected(Errc::InvalidArgument, "Decoded frame size differs from the stream's");

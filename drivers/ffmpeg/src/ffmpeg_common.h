@@ -1,8 +1,9 @@
 #pragma once
 /// \file
-/// \brief Pieces shared by the FFmpeg media source and decoder: RAII deleters for the libav*
-/// handles, error mapping, codec and pixel-format mapping, and the copy of a decoded AVFrame into a
-/// tightly packed hal::ImageView. Private to drivers/ffmpeg. Thread-safety: reentrant functions.
+/// \brief Pieces shared by the FFmpeg media source and decoder: error mapping, codec and
+/// pixel-format mapping, and the copy of a decoded AVFrame into a tightly packed hal::ImageView
+/// (the RAII owners of the libav* handles are dt_av_handles'). Private to drivers/ffmpeg.
+/// Thread-safety: reentrant functions.
 
 #include <memory>
 
@@ -14,32 +15,12 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
+#include "depthtouch/av/av_handles.h"
 #include "depthtouch/hal/media_source.h"
 #include "depthtouch/hal/types.h"
 #include "depthtouch/platform/result.h"
 
 namespace depthtouch::drivers::ffmpeg {
-
-struct AvFormatContextDeleter {
-    void operator()(AVFormatContext *c) const noexcept { avformat_close_input(&c); }
-};
-struct AvCodecContextDeleter {
-    void operator()(AVCodecContext *c) const noexcept { avcodec_free_context(&c); }
-};
-struct AvFrameDeleter {
-    void operator()(AVFrame *f) const noexcept { av_frame_free(&f); }
-};
-struct AvPacketDeleter {
-    void operator()(AVPacket *p) const noexcept { av_packet_free(&p); }
-};
-struct SwsContextDeleter {
-    void operator()(SwsContext *s) const noexcept { sws_freeContext(s); }
-};
-using AvFormatContextPtr = std::unique_ptr<AVFormatContext, AvFormatContextDeleter>;
-using AvCodecContextPtr = std::unique_ptr<AVCodecContext, AvCodecContextDeleter>;
-using AvFramePtr = std::unique_ptr<AVFrame, AvFrameDeleter>;
-using AvPacketPtr = std::unique_ptr<AVPacket, AvPacketDeleter>;
-using SwsContextPtr = std::unique_ptr<SwsContext, SwsContextDeleter>;
 
 /// Lowers libav*'s own console logging to fatal messages once per process (our errors say what
 /// failed; a corrupt stream would otherwise print a line per damaged slice).
@@ -65,6 +46,6 @@ AVPixelFormat avFormatOf(hal::PixelFormat format) noexcept;
 /// valid). Gray targets take the first plane as is (luma of YUV, no range conversion, which would
 /// corrupt depth); gray16be is byte-swapped; other mismatches go through libswscale (\a sws caches
 /// its context). \return InvalidArgument when the sizes differ or the conversion is impossible.
-Result<void> copyFrame(const AVFrame &src, const hal::ImageView &dst, SwsContextPtr &sws) noexcept;
+Result<void> copyFrame(const AVFrame &src, const hal::ImageView &dst, av::SwsPtr &sws) noexcept;
 
 } // namespace depthtouch::drivers::ffmpeg

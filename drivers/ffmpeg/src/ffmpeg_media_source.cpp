@@ -135,7 +135,7 @@ struct FfmpegMediaSource::Impl {
         AVRational timeBase{1, 1};
         hal::Pts frameDuration{0};
         hal::Pts lastPts = hal::kNoPts;
-        AvCodecContextPtr imageDecoder; ///< Set for still-image codecs delivered as RawVideo.
+        av::CodecContextPtr imageDecoder; ///< Set for still-image codecs delivered as RawVideo.
     };
 
     Impl(platform::Clock &c, FfmpegSourceSettings s) : clock(c), settings(std::move(s)) {}
@@ -197,10 +197,10 @@ struct FfmpegMediaSource::Impl {
     const FfmpegSourceSettings settings;
     platform::TimePoint ioDeadline{};
     platform::UniqueFd fifo; ///< A FIFO input, opened here (read by libavformat as pipe:FD).
-    AvFormatContextPtr fmt;
-    AvPacketPtr packet;
-    AvFramePtr frame;
-    SwsContextPtr sws;
+    av::InputContextPtr fmt;
+    av::PacketPtr packet;
+    av::FramePtr frame;
+    av::SwsPtr sws;
     std::vector<Stream> streams; ///< By HAL index.
     std::vector<int> avToHal;    ///< libav stream index → HAL index, -1 when not listed.
     std::vector<std::uint8_t> raw;
@@ -311,7 +311,7 @@ void FfmpegMediaSource::Impl::addStream(unsigned i, int videoStreams, int videoO
         if (codec == nullptr || si.format == hal::PixelFormat::Unknown || si.width <= 0 ||
             si.height <= 0)
             return;
-        AvCodecContextPtr dec(avcodec_alloc_context3(codec));
+        av::CodecContextPtr dec(avcodec_alloc_context3(codec));
         if (!dec || avcodec_parameters_to_context(dec.get(), &par) < 0 ||
             avcodec_open2(dec.get(), codec, nullptr) < 0)
             return;

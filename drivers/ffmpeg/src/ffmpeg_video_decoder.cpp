@@ -152,10 +152,10 @@ struct FfmpegVideoDecoder::Impl {
     hal::VideoDecoderCapabilities caps;
     State state = State::Closed;
     hal::StreamConfig config;
-    AvCodecContextPtr ctx;
-    AvPacketPtr packet;
-    AvFramePtr frame;
-    SwsContextPtr sws;
+    av::CodecContextPtr ctx;
+    av::PacketPtr packet;
+    av::FramePtr frame;
+    av::SwsPtr sws;
     FramePool pool;
 
     std::vector<QueuedPacket> queue;
@@ -180,7 +180,7 @@ struct FfmpegVideoDecoder::Impl {
     bool loggedCpu = false;   ///< The first CPU frame in prime mode was logged (per configure()).
     /// Prime mode: per pool slot, the AVFrame whose dma-bufs the lent frame describes; kept until
     /// the FrameRef is returned. Declared after ctx: freed before it.
-    std::vector<AvFramePtr> held;
+    std::vector<av::FramePtr> held;
 };
 
 Result<hal::FrameRef> FfmpegVideoDecoder::Impl::lendFrame() noexcept
@@ -341,9 +341,9 @@ Result<void> FfmpegVideoDecoder::configure(const hal::StreamConfig &cfg)
                                                : avcodec_find_decoder(avCodecOf(cfg.codec));
     if (codec == nullptr)
         return unexpected(Errc::NotSupported, "libavcodec has no decoder for the codec");
-    AvCodecContextPtr ctx(avcodec_alloc_context3(codec));
-    AvPacketPtr packet(av_packet_alloc());
-    AvFramePtr frame(av_frame_alloc());
+    av::CodecContextPtr ctx(avcodec_alloc_context3(codec));
+    av::PacketPtr packet(av_packet_alloc());
+    av::FramePtr frame(av_frame_alloc());
     if (!ctx || !packet || !frame)
         return unexpected(Errc::OutOfResources, "Failed to allocate the decoder");
     ctx->width = cfg.width;
@@ -398,7 +398,7 @@ Result<void> FfmpegVideoDecoder::configure(const hal::StreamConfig &cfg)
                                  prime ? FramePool::Pixels::OnDemand : FramePool::Pixels::Now);
         !a)
         return unexpected(a.error());
-    std::vector<AvFramePtr> held;
+    std::vector<av::FramePtr> held;
     if (prime) {
         for (int i = 0; i < d.settings.poolFrames; ++i) {
             held.emplace_back(av_frame_alloc());

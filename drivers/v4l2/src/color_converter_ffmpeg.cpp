@@ -14,44 +14,11 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
+#include "depthtouch/av/av_handles.h"
+
 namespace depthtouch::drivers::v4l2 {
 
 namespace {
-
-struct CodecContextDeleter {
-    void operator()(AVCodecContext *c) const noexcept { avcodec_free_context(&c); }
-};
-struct FrameDeleter {
-    void operator()(AVFrame *f) const noexcept { av_frame_free(&f); }
-};
-struct PacketDeleter {
-    void operator()(AVPacket *p) const noexcept { av_packet_free(&p); }
-};
-struct SwsDeleter {
-    void operator()(SwsContext *s) const noexcept { sws_freeContext(s); }
-};
-
-/// \return the format libswscale should read for \a f: the deprecated full-range yuvj formats are
-/// replaced by their plain twins (the range is set on the context instead).
-AVPixelFormat plainFormat(AVPixelFormat f, bool &fullRange) noexcept
-{
-    fullRange = true;
-    switch (f) {
-    case AV_PIX_FMT_YUVJ420P:
-        return AV_PIX_FMT_YUV420P;
-    case AV_PIX_FMT_YUVJ422P:
-        return AV_PIX_FMT_YUV422P;
-    case AV_PIX_FMT_YUVJ444P:
-        return AV_PIX_FMT_YUV444P;
-    case AV_PIX_FMT_YUVJ440P:
-        return AV_PIX_FMT_YUV440P;
-    case AV_PIX_FMT_YUVJ411P:
-        return AV_PIX_FMT_YUV411P;
-    default:
-        fullRange = false;
-        return f;
-    }
-}
 
 class FfmpegColorConverter final : public ColorConverter {
 public:
@@ -115,8 +82,7 @@ public:
             return unexpected(Errc::Io, "Failed to decode the MJPEG buffer");
         Result<void> r = ok();
         bool fullRange = false;
-        const AVPixelFormat src =
-            plainFormat(static_cast<AVPixelFormat>(frame_->format), fullRange);
+        const AVPixelFormat src = av::dejpeg(static_cast<AVPixelFormat>(frame_->format), fullRange);
         if (frame_->width != width_ || frame_->height != height_ ||
             (frame_->decode_error_flags != 0))
             r = unexpected(Errc::Io, "MJPEG buffer has the wrong size or is damaged");
@@ -157,10 +123,10 @@ private:
     const std::uint32_t fourcc_;
     const int width_;
     const int height_;
-    std::unique_ptr<AVCodecContext, CodecContextDeleter> ctx_;
-    std::unique_ptr<AVPacket, PacketDeleter> packet_;
-    std::unique_ptr<AVFrame, FrameDeleter> frame_;
-    std::unique_ptr<SwsContext, SwsDeleter> sws_;
+    av::CodecContextPtr ctx_;
+    av::PacketPtr packet_;
+    av::FramePtr frame_;
+    av::SwsPtr sws_;
     bool fullRange_ = false;
     std::vector<std::uint8_t> padded_;
 };

@@ -10,6 +10,8 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
+#include "depthtouch/av/av_handles.h"
+
 namespace depthtouch::drivers::fake {
 
 bool fakeJpegAvailable() noexcept
@@ -22,18 +24,9 @@ std::vector<std::uint8_t> encodeFakeJpeg(const std::uint8_t *yuyv, int width, in
     const AVCodec *codec = avcodec_find_encoder(AV_CODEC_ID_MJPEG);
     if (codec == nullptr)
         return {};
-    struct Ctx {
-        void operator()(AVCodecContext *c) const noexcept { avcodec_free_context(&c); }
-    };
-    struct Frm {
-        void operator()(AVFrame *f) const noexcept { av_frame_free(&f); }
-    };
-    struct Pkt {
-        void operator()(AVPacket *p) const noexcept { av_packet_free(&p); }
-    };
-    std::unique_ptr<AVCodecContext, Ctx> ctx(avcodec_alloc_context3(codec));
-    std::unique_ptr<AVFrame, Frm> frame(av_frame_alloc());
-    std::unique_ptr<AVPacket, Pkt> pkt(av_packet_alloc());
+    av::CodecContextPtr ctx(avcodec_alloc_context3(codec));
+    av::FramePtr frame(av_frame_alloc());
+    av::PacketPtr pkt(av_packet_alloc());
     if (!ctx || !frame || !pkt)
         return {};
     ctx->width = width;
