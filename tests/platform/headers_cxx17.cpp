@@ -10,6 +10,7 @@
 #include "depthtouch/platform/memory_lock.h"
 #include "depthtouch/platform/periodic_timer.h"
 #include "depthtouch/platform/realtime_thread.h"
+#include "depthtouch/platform/report_file.h"
 #include "depthtouch/platform/result.h"
 #include "depthtouch/platform/seqlock.h"
 #include "depthtouch/platform/spsc_ring.h"

@@ -16,6 +16,7 @@
 #include "depthtouch/platform/memory_lock.h"
 #include "depthtouch/platform/periodic_timer.h"
 #include "depthtouch/platform/realtime_thread.h"
+#include "depthtouch/platform/report_file.h"
 
 namespace depthtouch::haptic_task::bench {
 
@@ -356,40 +357,31 @@ bool writeRtBenchOutputs(const RtBenchReport &report, const std::string &dir, st
                          std::string &note)
 {
     namespace fs = std::filesystem;
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec) {
-        error = "cannot create '" + dir + "': " + ec.message();
+    if (const std::string why = platform::createReportFolder(dir); !why.empty()) {
+        error = "cannot create '" + dir + "': " + why;
         return false;
     }
     const fs::path base(dir);
     const fs::path csv = base / "rt_bench.csv";
-    {
-        std::ofstream out(csv);
-        if (!out) {
-            error = "cannot write '" + csv.string() + "'";
-            return false;
-        }
-        out << "label,loop,rate_hz,policy,load,fifo_refused,seconds,cycles,wake_p50_us,wake_p99_us,"
-               "wake_p999_us,wake_max_us,period_err_p50_us,period_err_p99_us,period_err_p999_us,"
-               "period_err_max_us,overruns,overruns_per_min,update_p50_us,update_p99_us,"
-               "memory_lock,locked_mib,resident_mib\n";
-        for (const RtCase &c : report.cases) {
-            char line[512];
-            std::snprintf(line, sizeof line,
-                          "%s,%s,%.0f,%s,%d,%d,%.3f,%llu,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,"
-                          "%llu,%.2f,%.2f,%.2f,%s,%.1f,%.1f\n",
-                          c.label().c_str(), c.loop.c_str(), c.rateHz,
-                          platform::schedPolicyName(c.policy), c.loaded ? 1 : 0,
-                          c.fifoRefused ? 1 : 0, c.seconds,
-                          static_cast<unsigned long long>(c.cycles), c.wake.p50Us, c.wake.p99Us,
-                          c.wake.p999Us, c.wake.maxUs, c.periodError.p50Us, c.periodError.p99Us,
-                          c.periodError.p999Us, c.periodError.maxUs,
-                          static_cast<unsigned long long>(c.overruns), c.overrunsPerMinute(),
-                          c.update.p50Us, c.update.p99Us, platform::memoryLockModeName(c.lockMode),
-                          c.lockedMiB, c.residentMiB);
-            out << line;
-        }
+    platform::ReportFile out(csv.string()); // close() reports a failed open as well
+    out.print("label,loop,rate_hz,policy,load,fifo_refused,seconds,cycles,wake_p50_us,wake_p99_us,"
+              "wake_p999_us,wake_max_us,period_err_p50_us,period_err_p99_us,period_err_p999_us,"
+              "period_err_max_us,overruns,overruns_per_min,update_p50_us,update_p99_us,"
+              "memory_lock,locked_mib,resident_mib\n");
+    for (const RtCase &c : report.cases)
+        out.print("%s,%s,%.0f,%s,%d,%d,%.3f,%llu,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,"
+                  "%llu,%.2f,%.2f,%.2f,%s,%.1f,%.1f\n",
+                  c.label().c_str(), c.loop.c_str(), c.rateHz, platform::schedPolicyName(c.policy),
+                  c.loaded ? 1 : 0, c.fifoRefused ? 1 : 0, c.seconds,
+                  static_cast<unsigned long long>(c.cycles), c.wake.p50Us, c.wake.p99Us,
+                  c.wake.p999Us, c.wake.maxUs, c.periodError.p50Us, c.periodError.p99Us,
+                  c.periodError.p999Us, c.periodError.maxUs,
+                  static_cast<unsigned long long>(c.overruns), c.overrunsPerMinute(),
+                  c.update.p50Us, c.update.p99Us, platform::memoryLockModeName(c.lockMode),
+                  c.lockedMiB, c.residentMiB);
+    if (!out.close()) {
+        error = "cannot write '" + csv.string() + "'";
+        return false;
     }
     if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
         note = "gnuplot not found: wrote CSV only (install gnuplot-nox for the PNG chart)";

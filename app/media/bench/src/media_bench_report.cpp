@@ -3,9 +3,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <system_error>
 
 #include "depthtouch/platform/gnuplot.h"
+#include "depthtouch/platform/report_file.h"
 #include "media_bench_steps.h"
 
 // The media benchmark's report: the console tables, the CSV files and the gnuplot charts.
@@ -98,58 +98,43 @@ bool writeReport(const MediaBenchReport &r, const std::string &dir, std::string 
                  std::string &note)
 {
     namespace fs = std::filesystem;
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec) {
-        error = "cannot create " + dir + ": " + ec.message();
+    if (const std::string why = platform::createReportFolder(dir); !why.empty()) {
+        error = "cannot create " + dir + ": " + why;
         return false;
     }
     const fs::path base(dir);
     const std::string throughputCsv = (base / "media_throughput.csv").string();
     const std::string rateCsv = (base / "rate_accuracy.csv").string();
     {
-        std::FILE *f = std::fopen(throughputCsv.c_str(), "w");
-        if (f == nullptr) {
-            error = "cannot write " + throughputCsv;
-            return false;
-        }
-        std::fprintf(f,
-                     "size,preset,frames,color_kbps,depth_kbps,encode_fps,encode_cpu_fps,"
-                     "decode_fps,decode_cpu_fps,decode_median_ms,decode_p99_ms,decode_realtime_x,"
-                     "decode_cpu_realtime_x,goal_x,goal_met\n");
+        platform::ReportFile f(throughputCsv); // close() reports a failed open as well
+        f.print("size,preset,frames,color_kbps,depth_kbps,encode_fps,encode_cpu_fps,"
+                "decode_fps,decode_cpu_fps,decode_median_ms,decode_p99_ms,decode_realtime_x,"
+                "decode_cpu_realtime_x,goal_x,goal_met\n");
         for (const ThroughputRow &t : r.throughput) {
             const double goal = realtimeGoal(t.width, t.height);
-            std::fprintf(f, "%s,%s,%zu,%.1f,%.1f,%.2f,%.2f,%.1f,%.1f,%.3f,%.3f,%.2f,%.2f,%g,%s\n",
-                         sizeText(t.width, t.height).c_str(), t.preset.c_str(), t.frames,
-                         t.colorKbps, t.depthKbps, t.encodeFps, t.encodeCpuFps, t.decodeFps,
-                         t.decodeCpuFps, t.decodeMedianMs, t.decodeP99Ms, t.decodeRealtime,
-                         t.decodeCpuRealtime, goal,
-                         goal <= 0.0 ? "" : (t.decodeCpuRealtime >= goal ? "yes" : "no"));
+            f.print("%s,%s,%zu,%.1f,%.1f,%.2f,%.2f,%.1f,%.1f,%.3f,%.3f,%.2f,%.2f,%g,%s\n",
+                    sizeText(t.width, t.height).c_str(), t.preset.c_str(), t.frames, t.colorKbps,
+                    t.depthKbps, t.encodeFps, t.encodeCpuFps, t.decodeFps, t.decodeCpuFps,
+                    t.decodeMedianMs, t.decodeP99Ms, t.decodeRealtime, t.decodeCpuRealtime, goal,
+                    goal <= 0.0 ? "" : (t.decodeCpuRealtime >= goal ? "yes" : "no"));
         }
-        const bool ok = std::ferror(f) == 0;
-        if (std::fclose(f) != 0 || !ok) {
+        if (!f.close()) {
             error = "cannot write " + throughputCsv;
             return false;
         }
     }
     {
-        std::FILE *f = std::fopen(rateCsv.c_str(), "w");
-        if (f == nullptr) {
-            error = "cannot write " + rateCsv;
-            return false;
-        }
-        std::fprintf(f,
-                     "depth,crf,depth_kbps,psnr_db,force_rms_n,force_max_n,releases,pop_throughs,"
-                     "force_rms_no_safety_n,force_max_no_safety_n,press_rms_n,press_max_n,"
-                     "force_ref_rms_n,updates\n");
+        platform::ReportFile f(rateCsv);
+        f.print("depth,crf,depth_kbps,psnr_db,force_rms_n,force_max_n,releases,pop_throughs,"
+                "force_rms_no_safety_n,force_max_no_safety_n,press_rms_n,press_max_n,"
+                "force_ref_rms_n,updates\n");
         for (const RateRow &q : r.rate)
-            std::fprintf(f, "%s,%s,%.2f,%s,%.6f,%.6f,%ld,%ld,%.6f,%.6f,%.6f,%.6f,%.6f,%zu\n",
-                         settingText(q).c_str(), q.lossless ? "" : std::to_string(q.crf).c_str(),
-                         q.depthKbps, psnrText(q.psnrDb).c_str(), q.forceRmsN, q.forceMaxN,
-                         q.releases, q.popThroughs, q.forceRmsNoSafetyN, q.forceMaxNoSafetyN,
-                         q.pressRmsN, q.pressMaxN, q.forceRefRmsN, q.updates);
-        const bool ok = std::ferror(f) == 0;
-        if (std::fclose(f) != 0 || !ok) {
+            f.print("%s,%s,%.2f,%s,%.6f,%.6f,%ld,%ld,%.6f,%.6f,%.6f,%.6f,%.6f,%zu\n",
+                    settingText(q).c_str(), q.lossless ? "" : std::to_string(q.crf).c_str(),
+                    q.depthKbps, psnrText(q.psnrDb).c_str(), q.forceRmsN, q.forceMaxN, q.releases,
+                    q.popThroughs, q.forceRmsNoSafetyN, q.forceMaxNoSafetyN, q.pressRmsN,
+                    q.pressMaxN, q.forceRefRmsN, q.updates);
+        if (!f.close()) {
             error = "cannot write " + rateCsv;
             return false;
         }
@@ -157,53 +142,45 @@ bool writeReport(const MediaBenchReport &r, const std::string &dir, std::string 
 
     const std::string script = (base / "media_bench.gp").string();
     {
-        std::FILE *g = std::fopen(script.c_str(), "w");
-        if (g == nullptr) {
-            error = "cannot write " + script;
-            return false;
-        }
-        std::fprintf(
-            g,
-            "set terminal pngcairo size 1000,680 noenhanced\n"
-            "set datafile separator ','\n"
-            "set output '%s'\n"
-            "set title 'Depth rate vs accuracy, %s, x264 gray: PSNR and haptic force error "
-            "vs lossless depth'\n"
-            "set logscale x\nset grid\n"
-            "set xlabel 'depth bitrate (kbit/s, log scale)'\n"
-            "set ylabel 'depth PSNR vs lossless (dB, 8-bit nearness)'\n"
-            "set y2label 'force RMS error vs lossless depth (N)'\n"
-            "set ytics nomirror\nset y2tics\nset y2range [0:*]\n"
-            "set key below\n"
-            "plot '%s' skip 1 using 3:(strcol(4) eq 'inf' ? NaN : $4) axes x1y1 with "
-            "linespoints pt 7 lw 2 title 'PSNR (dB, left)', \\\n"
-            "     '' skip 1 using 3:5 axes x1y2 with linespoints pt 5 lw 2 title 'force RMS "
-            "error, strokes as touch runs them (N, right)', \\\n"
-            "     '' skip 1 using 3:9 axes x1y2 with linespoints pt 9 lw 2 dt 2 title 'force "
-            "RMS error, strokes, safety off (N, right)', \\\n"
-            "     '' skip 1 using 3:11 axes x1y2 with linespoints pt 11 lw 2 title 'force "
-            "RMS error, presses (N, right)', \\\n"
-            "     '' skip 1 using 3:(strcol(4) eq 'inf' ? NaN : $4):1 axes x1y1 with labels "
-            "offset 0,1 font ',8' notitle\n",
-            (base / "rate_vs_accuracy.png").string().c_str(),
-            sizeText(r.rateWidth, r.rateHeight).c_str(), rateCsv.c_str());
-        std::fprintf(g,
-                     "reset\nset datafile separator ','\n"
-                     "set terminal pngcairo size 1000,560 noenhanced\n"
-                     "set output '%s'\n"
-                     "set title 'Color + depth throughput, one core: x real time at %.0f fps "
-                     "(goals: decode 10x at 720x486, 2x at 1920x1080)'\n"
-                     "set style data histograms\nset style histogram clustered gap 1\n"
-                     "set style fill solid 0.8 border -1\nset boxwidth 0.9\n"
-                     "set logscale y\nset grid ytics\nset ylabel 'x real time (log scale)'\n"
-                     "set xtics rotate by -20 font ',9'\nset key top right\n"
-                     "plot '%s' skip 1 using ($7/%g):xtic(stringcolumn(1).' '.stringcolumn(2)) "
-                     "title 'encode (cpu)', '' skip 1 using 13 title 'decode + pairing (cpu)', "
-                     "'' skip 1 using 12 title 'decode + pairing (wall)'\n",
-                     (base / "media_throughput.png").string().c_str(), r.fps, throughputCsv.c_str(),
-                     r.fps);
-        const bool ok = std::ferror(g) == 0;
-        if (std::fclose(g) != 0 || !ok) {
+        platform::ReportFile g(script);
+        g.print("set terminal pngcairo size 1000,680 noenhanced\n"
+                "set datafile separator ','\n"
+                "set output '%s'\n"
+                "set title 'Depth rate vs accuracy, %s, x264 gray: PSNR and haptic force error "
+                "vs lossless depth'\n"
+                "set logscale x\nset grid\n"
+                "set xlabel 'depth bitrate (kbit/s, log scale)'\n"
+                "set ylabel 'depth PSNR vs lossless (dB, 8-bit nearness)'\n"
+                "set y2label 'force RMS error vs lossless depth (N)'\n"
+                "set ytics nomirror\nset y2tics\nset y2range [0:*]\n"
+                "set key below\n"
+                "plot '%s' skip 1 using 3:(strcol(4) eq 'inf' ? NaN : $4) axes x1y1 with "
+                "linespoints pt 7 lw 2 title 'PSNR (dB, left)', \\\n"
+                "     '' skip 1 using 3:5 axes x1y2 with linespoints pt 5 lw 2 title 'force RMS "
+                "error, strokes as touch runs them (N, right)', \\\n"
+                "     '' skip 1 using 3:9 axes x1y2 with linespoints pt 9 lw 2 dt 2 title 'force "
+                "RMS error, strokes, safety off (N, right)', \\\n"
+                "     '' skip 1 using 3:11 axes x1y2 with linespoints pt 11 lw 2 title 'force "
+                "RMS error, presses (N, right)', \\\n"
+                "     '' skip 1 using 3:(strcol(4) eq 'inf' ? NaN : $4):1 axes x1y1 with labels "
+                "offset 0,1 font ',8' notitle\n",
+                (base / "rate_vs_accuracy.png").string().c_str(),
+                sizeText(r.rateWidth, r.rateHeight).c_str(), rateCsv.c_str());
+        g.print("reset\nset datafile separator ','\n"
+                "set terminal pngcairo size 1000,560 noenhanced\n"
+                "set output '%s'\n"
+                "set title 'Color + depth throughput, one core: x real time at %.0f fps "
+                "(goals: decode 10x at 720x486, 2x at 1920x1080)'\n"
+                "set style data histograms\nset style histogram clustered gap 1\n"
+                "set style fill solid 0.8 border -1\nset boxwidth 0.9\n"
+                "set logscale y\nset grid ytics\nset ylabel 'x real time (log scale)'\n"
+                "set xtics rotate by -20 font ',9'\nset key top right\n"
+                "plot '%s' skip 1 using ($7/%g):xtic(stringcolumn(1).' '.stringcolumn(2)) "
+                "title 'encode (cpu)', '' skip 1 using 13 title 'decode + pairing (cpu)', "
+                "'' skip 1 using 12 title 'decode + pairing (wall)'\n",
+                (base / "media_throughput.png").string().c_str(), r.fps, throughputCsv.c_str(),
+                r.fps);
+        if (!g.close()) {
             error = "cannot write " + script;
             return false;
         }

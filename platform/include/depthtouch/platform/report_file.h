@@ -1,0 +1,50 @@
+#pragma once
+/// \file
+/// \brief Writing a benchmark's output folder: createReportFolder() makes the folder and
+/// ReportFile writes one text file of it (CSV, gnuplot script) with printf-style calls, then says
+/// whether every byte reached the file. The bench programs use them next to runGnuplot()
+/// (gnuplot.h).
+///
+/// Thread-safety: createReportFolder() is reentrant; a ReportFile is thread-bound. Not real-time
+/// safe (file system calls, allocation).
+
+#include <cstdio>
+#include <string>
+
+#include "depthtouch/platform/macros.h"
+
+namespace depthtouch::platform {
+
+/// \brief Creates the folder \a dir and its missing parents; an existing folder is fine.
+/// \param[in] dir the folder's path.
+/// \return "" on success, else the system's reason (std::error_code message, e.g. "Permission
+/// denied"), for the caller to put into its own message.
+std::string createReportFolder(const std::string &dir);
+
+/// \brief One text file written from the start ("w": created or truncated). Writes after a
+/// failed open or a failed write are skipped; close() reports either.
+class ReportFile {
+public:
+    /// \brief Opens \a path for writing (a failure shows in isOpen() and close()).
+    explicit ReportFile(const std::string &path) noexcept;
+    /// \brief Closes the file if close() was not called (the outcome is then lost).
+    ~ReportFile();
+    DT_DISABLE_COPY_AND_MOVE(ReportFile)
+
+    /// \return true while the file is open for writing.
+    [[nodiscard]] bool isOpen() const noexcept { return file_ != nullptr; }
+
+    /// \brief Appends printf-formatted text; does nothing when the file is not open.
+    /// \param[in] format a printf format string (checked by the compiler), then its arguments.
+    void print(const char *format, ...) noexcept __attribute__((format(printf, 2, 3)));
+
+    /// \brief Closes the file.
+    /// \return true when it had opened, every write went through and the close succeeded; false
+    /// otherwise (also on a second call).
+    [[nodiscard]] bool close() noexcept;
+
+private:
+    std::FILE *file_;
+};
+
+} // namespace depthtouch::platform

@@ -1,0 +1,88 @@
+/// Unit tests of platform/report_file.h: the bench output folder and its checked text files.
+
+#include "depthtouch/platform/report_file.h"
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "support/temp_dir.h"
+
+namespace depthtouch::platform {
+namespace {
+
+std::string slurp(const std::string &path)
+{
+    std::ifstream f(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+TEST(ReportFileTest, createsTheFolderAndItsParentsAndAcceptsAnExistingOne)
+{
+    // GIVEN a temporary folder
+    testing::TempDir tmp("dt-report-file-");
+    const std::string dir = tmp.path("a/b/c");
+    // WHEN a nested report folder is created twice
+    // THEN both calls succeed and the folder exists
+    EXPECT_EQ(createReportFolder(dir), "");
+    EXPECT_EQ(createReportFolder(dir), "");
+    EXPECT_TRUE(std::filesystem::is_directory(dir));
+}
+
+TEST(ReportFileTest, aFolderUnderARegularFileGivesTheSystemsReason)
+{
+    // GIVEN a regular file
+    testing::TempDir tmp("dt-report-file-");
+    std::ofstream(tmp.path("file")) << "x";
+    // WHEN a folder is asked for below it
+    // THEN the reason is returned
+    EXPECT_NE(createReportFolder(tmp.path("file/sub")), "");
+}
+
+TEST(ReportFileTest, writesThePrintedTextAndClosesOnce)
+{
+    // GIVEN a file in a temporary folder
+    testing::TempDir tmp("dt-report-file-");
+    const std::string path = tmp.path("out.csv");
+    std::ofstream(path) << "old content that is replaced";
+    ReportFile f(path);
+    ASSERT_TRUE(f.isOpen());
+    // WHEN lines are printed and the file is closed
+    f.print("a,b\n");
+    f.print("%d,%.2f,%s\n", 7, 0.5, "x");
+    // THEN the file holds exactly them, and a second close reports nothing written
+    EXPECT_TRUE(f.close());
+    EXPECT_FALSE(f.isOpen());
+    EXPECT_FALSE(f.close());
+    EXPECT_EQ(slurp(path), "a,b\n7,0.50,x\n");
+}
+
+TEST(ReportFileTest, aFileThatDoesNotOpenIsReportedAtClose)
+{
+    // GIVEN a path in a folder that does not exist
+    testing::TempDir tmp("dt-report-file-");
+    ReportFile f(tmp.path("missing/out.csv"));
+    // WHEN it is written to and closed
+    EXPECT_FALSE(f.isOpen());
+    f.print("ignored\n");
+    // THEN close reports the failure
+    EXPECT_FALSE(f.close());
+}
+
+TEST(ReportFileTest, aFailedWriteIsReportedAtClose)
+{
+    // GIVEN /dev/full, which refuses every write with ENOSPC
+    ReportFile f("/dev/full");
+    ASSERT_TRUE(f.isOpen());
+    // WHEN more than a stdio buffer is printed
+    for (int i = 0; i < 4096; ++i)
+        f.print("%s\n", "0123456789abcdef");
+    // THEN close reports that not every byte reached the file
+    EXPECT_FALSE(f.close());
+}
+
+} // namespace
+} // namespace depthtouch::platform
