@@ -17,6 +17,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/temp_dir.h"
+
 namespace depthtouch::platform {
 namespace {
 
@@ -24,14 +26,6 @@ using namespace std::chrono_literals;
 
 class FileAccessTest : public ::testing::Test {
 protected:
-    void SetUp() override
-    {
-        char tmpl[] = "/tmp/dt-file-access.XXXXXX";
-        ASSERT_NE(::mkdtemp(tmpl), nullptr);
-        dir_ = tmpl;
-    }
-    void TearDown() override { (void)std::system(("rm -rf '" + dir_ + "'").c_str()); }
-
     [[nodiscard]] std::string path(const char *name) const { return dir_ + "/" + name; }
     static std::string slurp(const std::string &p)
     {
@@ -43,7 +37,8 @@ protected:
         return std::system(("ls '" + dir_ + "' | grep -q '\\.tmp\\.'").c_str()) != 0;
     }
 
-    std::string dir_;
+    testing::TempDir tmp_{"dt-file-access."};
+    const std::string dir_ = tmp_.dir().string();
 };
 
 TEST_F(FileAccessTest, replacesARegularFileOrCreatesANewOne)

@@ -17,6 +17,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/temp_dir.h"
+
 namespace depthtouch::platform {
 namespace {
 
@@ -48,19 +50,7 @@ public:
 
 class UnixSocketServerTest : public ::testing::Test {
 protected:
-    void SetUp() override
-    {
-        char tmpl[] = "/tmp/dt-sock-XXXXXX";
-        ASSERT_NE(::mkdtemp(tmpl), nullptr);
-        dir_ = tmpl;
-        path_ = dir_ + "/control.sock";
-    }
-    void TearDown() override
-    {
-        server_.reset();
-        ::unlink(path_.c_str());
-        ::rmdir(dir_.c_str());
-    }
+    void TearDown() override { server_.reset(); }
 
     void start(UnixSocketServerOptions options = {})
     {
@@ -113,8 +103,8 @@ protected:
         return out;
     }
 
-    std::string dir_;
-    std::string path_;
+    testing::TempDir dir_{"dt-sock-"};
+    std::string path_ = dir_.path("control.sock");
     Recorder handler_;
     std::unique_ptr<UnixSocketServer> server_;
 };

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/player/fake_player_actions.h"
+#include "support/temp_dir.h"
 
 namespace depthtouch::control {
 namespace {
@@ -149,22 +150,13 @@ class ControlServerTest : public ::testing::Test {
 protected:
     void SetUp() override
     {
-        char tmpl[] = "/tmp/dt-ctl-XXXXXX";
-        ASSERT_NE(::mkdtemp(tmpl), nullptr);
-        dir_ = tmpl;
-        path_ = dir_ + "/dt.sock";
         platform::UnixSocketServerOptions options;
         options.maxLineBytes = 4096;
         auto r = ControlServer::create(path_, machine_, options);
         ASSERT_TRUE(r) << r.error().what;
         server_ = std::move(*r);
     }
-    void TearDown() override
-    {
-        server_.reset();
-        ::unlink(path_.c_str());
-        ::rmdir(dir_.c_str());
-    }
+    void TearDown() override { server_.reset(); }
 
     platform::UniqueFd connectClient()
     {
@@ -228,8 +220,8 @@ protected:
         return {};
     }
 
-    std::string dir_;
-    std::string path_;
+    testing::TempDir dir_{"dt-ctl-"};
+    std::string path_ = dir_.path("dt.sock");
     FakePlayerActions fake_;
     StateMachine machine_{fake_, settings()};
     std::unique_ptr<ControlServer> server_;
