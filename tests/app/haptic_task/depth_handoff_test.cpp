@@ -12,6 +12,7 @@
 namespace depthtouch::haptic_task {
 namespace {
 
+using test::allSamples;
 using test::Frame16;
 
 std::unique_ptr<DepthHandoff> makeHandoff(int w = 8, int h = 6)
@@ -26,15 +27,6 @@ Frame16 constantFrame(std::uint16_t value, double pts)
     Frame16 f(8, 6, pts);
     std::fill(f.samples.begin(), f.samples.end(), value);
     return f;
-}
-
-bool allSamples(const haptics::DepthFrameView &v, std::uint16_t value)
-{
-    for (int r = 0; r < v.height; ++r)
-        for (int c = 0; c < v.width; ++c)
-            if (v.sample(c, r) != value)
-                return false;
-    return true;
 }
 
 TEST(DepthHandoffTest, rejectsBadSizes)

@@ -22,12 +22,7 @@ std::uint16_t valueOf(double pts)
 /// \return true when every sample of \a v has the value derived from its PTS.
 bool intact(const haptics::DepthFrameView &v)
 {
-    const std::uint16_t expected = valueOf(v.pts);
-    for (int r = 0; r < v.height; ++r)
-        for (int c = 0; c < v.width; ++c)
-            if (v.sample(c, r) != expected)
-                return false;
-    return true;
+    return test::allSamples(v, valueOf(v.pts));
 }
 
 TEST(DepthHandoffThreadsTest, manyPublishesWhileReadingGiveNoTornFrame)

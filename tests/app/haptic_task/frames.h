@@ -60,4 +60,14 @@ struct Frame16 {
     }
 };
 
+/// \return true when every sample of \a v equals \a value.
+inline bool allSamples(const haptics::DepthFrameView &v, std::uint16_t value)
+{
+    for (int r = 0; r < v.height; ++r)
+        for (int c = 0; c < v.width; ++c)
+            if (v.sample(c, r) != value)
+                return false;
+    return true;
+}
+
 } // namespace depthtouch::haptic_task::test
