@@ -319,17 +319,7 @@ TEST(ReceiverMockTest, consumerHoldingEveryFrameGetsBusyAndLosesNothing)
     auto r = rig.open("mock://clip?frames=40", cfg);
     ASSERT_TRUE(r);
     std::vector<PairedFrame> held;
-    Errc last = Errc::InvalidArgument;
-    for (int i = 0; i < 100; ++i) {
-        PairedFrame f;
-        auto n = (*r)->next(f);
-        if (!n) {
-            last = n.error().code;
-            break;
-        }
-        held.push_back(std::move(f));
-    }
-    EXPECT_EQ(last, Errc::Busy);
+    EXPECT_EQ(holdUntilRefused(**r, held, 100), Errc::Busy);
     EXPECT_GT((*r)->stats().consumerBusy, 0u);
     const std::size_t before = held.size();
     held.clear();

@@ -73,4 +73,21 @@ std::vector<Record> drain(receiver::Receiver &r, std::size_t limit)
     return out;
 }
 
+Errc holdUntilRefused(receiver::Receiver &r, std::vector<receiver::PairedFrame> &held,
+                      std::size_t limit)
+{
+    for (std::size_t i = 0; i < limit; ++i) {
+        receiver::PairedFrame f;
+        auto n = r.next(f);
+        if (!n)
+            return n.error().code;
+        if (!*n) {
+            ADD_FAILURE() << "the input ended while every frame was held";
+            break;
+        }
+        held.push_back(std::move(f));
+    }
+    return Errc::InvalidArgument;
+}
+
 } // namespace depthtouch::receivertest

@@ -63,4 +63,10 @@ Record recordOf(const receiver::PairedFrame &f);
 /// Every paired frame of \a r (bounded: fails the test instead of looping forever).
 std::vector<Record> drain(receiver::Receiver &r, std::size_t limit = 100'000);
 
+/// Plays a consumer that keeps every frame: takes frames from \a r into \a held until next()
+/// fails, at most \a limit calls. The end of the input before that is a test failure.
+/// \return the code of the failed next(); InvalidArgument when none failed.
+Errc holdUntilRefused(receiver::Receiver &r, std::vector<receiver::PairedFrame> &held,
+                      std::size_t limit);
+
 } // namespace depthtouch::receivertest
