@@ -39,6 +39,15 @@ protected:
     }
     hal::Deadline soon() const { return clock_.now() + std::chrono::seconds(1); }
 
+    /// Captures the next frame and checks its sequence number and the frames dropped so far.
+    void expectNextFrame(std::uint64_t sequence, std::uint64_t dropped)
+    {
+        auto c = camera_.capture(soon());
+        ASSERT_TRUE(c);
+        EXPECT_EQ(c->depth->sequence, sequence);
+        EXPECT_EQ(camera_.framesDropped(), dropped);
+    }
+
     platform::ManualClock clock_;
     MockDepthCamera camera_{clock_};
 };
@@ -125,10 +134,7 @@ TEST_F(MockDepthCameraTest, lateConsumerGetsTheNewestFrame)
     start(qqvga());
     ASSERT_TRUE(camera_.capture(soon()));
     clock_.advance(milliseconds(110)); // frames 1, 2, 3 exposed
-    auto c = camera_.capture(soon());
-    ASSERT_TRUE(c);
-    EXPECT_EQ(c->depth->sequence, 3u);
-    EXPECT_EQ(camera_.framesDropped(), 2u);
+    expectNextFrame(3, 2);
 }
 
 TEST_F(MockDepthCameraTest, droppedFramesLeaveASequenceGap)
@@ -136,10 +142,7 @@ TEST_F(MockDepthCameraTest, droppedFramesLeaveASequenceGap)
     start(qqvga());
     ASSERT_TRUE(camera_.capture(soon()));
     camera_.dropFrames(2);
-    auto c = camera_.capture(soon());
-    ASSERT_TRUE(c);
-    EXPECT_EQ(c->depth->sequence, 3u);
-    EXPECT_EQ(camera_.framesDropped(), 2u);
+    expectNextFrame(3, 2);
 }
 
 TEST_F(MockDepthCameraTest, unplugAndReplug)
