@@ -178,15 +178,19 @@ PlaybackInfo describe(const receiver::ReceiverInfo &ri, const std::string &url, 
     return info;
 }
 
-/// The display's size for the stream on the first open (opened by the render thread).
+/// The display's size for the stream on the first open (opened by the render thread): --size, or
+/// the natural size of the starting stereo layout for W×H depth: side by side 2W×H, top and bottom
+/// W×2H, one picture (mono, anaglyph, row-interleaved) W×H; at most 3840×2160.
 hal::DisplayConfig displayConfigFor(const receiver::ReceiverInfo &ri, const PlaybackConfig &config)
 {
     const hal::StreamInfo &main = ri.hasColor ? ri.color : ri.depth;
     const int w = ri.hasDepth ? ri.depth.width : main.width;
     const int h = ri.hasDepth ? ri.depth.height : main.height;
+    const int across = config.stereoMode == player::StereoMode::SideBySide ? 2 : 1;
+    const int down = config.stereoMode == player::StereoMode::TopAndBottom ? 2 : 1;
     hal::DisplayConfig dc;
-    dc.width = config.outputWidth > 0 ? config.outputWidth : std::min(2 * w, 3840);
-    dc.height = config.outputHeight > 0 ? config.outputHeight : std::min(h, 2160);
+    dc.width = config.outputWidth > 0 ? config.outputWidth : std::min(across * w, 3840);
+    dc.height = config.outputHeight > 0 ? config.outputHeight : std::min(down * h, 2160);
     dc.refreshHz = config.refreshHz;
     return dc;
 }

@@ -36,6 +36,7 @@
 #include "../../support/shared_data.h"
 #include "../../support/temp_dir.h"
 #include "control_client.h"
+#include "depthtouch/media/image_io.h"
 
 namespace {
 
@@ -339,6 +340,58 @@ TEST(PlayEndToEnd, TheSnapshotCommandSavesThePresentedFrame)
             pngs.push_back(e.path());
     ASSERT_EQ(pngs.size(), 1u) << "one snapshot command, one PNG";
     EXPECT_GT(fs::file_size(pngs[0]), 1000u);
+}
+
+/// The bounding box of \a image's pixels brighter than black (any channel above 24).
+struct Extent {
+    int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+};
+Extent litExtent(const depthtouch::media::Image &image)
+{
+    Extent e{image.width, image.height, -1, -1};
+    const int channels = static_cast<int>(image.stride) / std::max(1, image.width);
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x)
+            for (int c = 0; c < channels; ++c)
+                if (image.row(y)[x * channels + c] > 24) {
+                    e.x0 = std::min(e.x0, x);
+                    e.y0 = std::min(e.y0, y);
+                    e.x1 = std::max(e.x1, x);
+                    e.y1 = std::max(e.y1, y);
+                }
+    return e;
+}
+
+TEST(PlayEndToEnd, EachStereoLayoutGetsItsNaturalSizeAndFillsIt)
+{
+    // 64×48 depth: side by side 128×48, top and bottom 64×96, one picture 64×48; the picture
+    // reaches every edge (no pillar or letter box).
+    struct Layout {
+        const char *mode;
+        int width, height;
+    };
+    for (const Layout l : {Layout{"sbs", 128, 48}, Layout{"tab", 64, 96}, Layout{"mono", 64, 48},
+                           Layout{"anaglyph", 64, 48}, Layout{"interleaved", 64, 48}}) {
+        depthtouch::testing::TempDir tmp("dt-play-layout-");
+        const fs::path snaps = tmp.dir() / "snaps";
+        const RunResult r = run(std::string(DEPTHTOUCH) +
+                                " play 'mock://clip?frames=20&fps=30' --source mock --decoder mock "
+                                "--display headless --haptic none --stereo " + l.mode +
+                                " --snapshot-dir " + snaps.string() + " --snapshot-every 10");
+        ASSERT_EQ(r.exitCode, 0) << l.mode << ": " << r.output;
+        auto image = depthtouch::media::readImage((snaps / "frame-000000.png").string(),
+                                                  depthtouch::media::PixelFormat::Rgb24);
+        ASSERT_TRUE(image) << l.mode << ": " << image.error().what;
+        EXPECT_EQ(image->width, l.width) << l.mode;
+        EXPECT_EQ(image->height, l.height) << l.mode;
+        // Within a tenth of each edge (the eyes' parallax leaves a few columns); a picture
+        // pillarboxed in the old 2W×H output started a quarter of the width in.
+        const Extent e = litExtent(*image);
+        EXPECT_LE(e.x0, l.width / 10) << l.mode;
+        EXPECT_LE(e.y0, l.height / 10) << l.mode;
+        EXPECT_GE(e.x1, l.width - 1 - l.width / 10) << l.mode;
+        EXPECT_GE(e.y1, l.height - 1 - l.height / 10) << l.mode;
+    }
 }
 
 TEST(PlayEndToEnd, RecordsWhatTheViewerSees)
