@@ -374,10 +374,11 @@ TEST(PlayEndToEnd, EachStereoLayoutGetsItsNaturalSizeAndFillsIt)
                            Layout{"anaglyph", 64, 48}, Layout{"interleaved", 64, 48}}) {
         depthtouch::testing::TempDir tmp("dt-play-layout-");
         const fs::path snaps = tmp.dir() / "snaps";
-        const RunResult r = run(std::string(DEPTHTOUCH) +
-                                " play 'mock://clip?frames=20&fps=30' --source mock --decoder mock "
-                                "--display headless --haptic none --stereo " + l.mode +
-                                " --snapshot-dir " + snaps.string() + " --snapshot-every 10");
+        const RunResult r =
+            run(std::string(DEPTHTOUCH) +
+                " play 'mock://clip?frames=20&fps=30' --source mock --decoder mock "
+                "--display headless --haptic none --stereo " +
+                l.mode + " --snapshot-dir " + snaps.string() + " --snapshot-every 10");
         ASSERT_EQ(r.exitCode, 0) << l.mode << ": " << r.output;
         auto image = depthtouch::media::readImage((snaps / "frame-000000.png").string(),
                                                   depthtouch::media::PixelFormat::Rgb24);
