@@ -64,6 +64,8 @@ struct TouchOptions {
     double maxForceStep = 2.0;
     std::string reengage = "release";
     double fingerRadius = std::nan(""); ///< m; NaN: 0.015 x box width
+    double staticFriction = 0.0;        ///< μs of the friction cone
+    double dynamicFriction = 0.0;       ///< μd
     double rampTime = 0.25;
     std::optional<double> nearM;
     std::optional<double> farM;
@@ -122,6 +124,12 @@ const OptionRow<TouchOptions> kTouchRows[] = {
      {},
      kHideDefault},
     {"ramp-time", &TouchOptions::rampTime, "Ramp duration for --reengage ramp (s)"},
+    {"static-friction", &TouchOptions::staticFriction,
+     "Static friction coefficient on the proxy, 0..2 (finger, modified, proxy-graph): the proxy "
+     "holds while the tangential force is within MU times the normal force"},
+    {"dynamic-friction", &TouchOptions::dynamicFriction,
+     "Dynamic friction coefficient, 0..2: a sliding proxy keeps the tangential force at MU times "
+     "the normal force"},
 };
 
 int fail(int code, const std::string &message)
@@ -538,6 +546,10 @@ int runTouch(const TouchOptions &o)
     c.reengage = o.reengage == "ramp" ? Reengage::Ramp : Reengage::Release;
     c.rampTime = o.rampTime;
     c.fingerRadius = o.fingerRadius;
+    c.staticFriction = o.staticFriction;
+    c.dynamicFriction = o.dynamicFriction;
+    if (*method == Method::MeshBvh && (o.staticFriction > 0.0 || o.dynamicFriction > 0.0))
+        return fail(kExitBadInput, "--method mesh-bvh has no friction");
     if (auto v = validateReplayOptions(opt); !v)
         return fail(kExitBadInput, v.error().what);
     // The output first: a directory, a FIFO without a reader or a missing folder fails before

@@ -31,8 +31,10 @@ struct PlayOptions {
     std::string remote = "none";    ///< Remote-control backend(s): evdev, tty, none.
     std::string remoteOptions;
     std::string stereo = "sbs"; ///< sbs, tab, anaglyph, mono, interleaved.
-    double stiffness = playbackDefaults().haptics.renderer.stiffness; ///< N/m.
-    double rate = playbackDefaults().haptics.servoRateHz;             ///< Haptic servo rate, Hz.
+    double stiffness = playbackDefaults().haptics.renderer.stiffness;             ///< N/m.
+    double staticFriction = playbackDefaults().haptics.renderer.staticFriction;   ///< μs.
+    double dynamicFriction = playbackDefaults().haptics.renderer.dynamicFriction; ///< μd.
+    double rate = playbackDefaults().haptics.servoRateHz; ///< Haptic servo rate, Hz.
     std::string reengage = "ramp"; ///< After a force-jump release: ramp (re-seat) or release.
     bool loop = false;
     double duration = 0.0; ///< s of wall time, 0: until the end of the stream.

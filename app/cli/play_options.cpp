@@ -5,6 +5,7 @@
 
 #include <cstdio>
 
+#include "depthtouch/haptics/renderer.h"
 #include "depthtouch/player/state_machine.h"
 
 namespace depthtouch::cli {
@@ -61,6 +62,20 @@ const OptionRow<PlayOptions> kPlayRows[] = {
      .help = "Surface stiffness, N/m",
      .check = inRange(1.0, 20000.0, "N/m"),
      .land = [](const PlayOptions &o, Config &c) { c.haptics.renderer.stiffness = o.stiffness; }},
+    {.name = "static-friction",
+     .field = &PlayOptions::staticFriction,
+     .help = "Static friction coefficient on the proxy (friction cone: the proxy holds while the "
+             "tangential force is within MU times the normal force; 0: frictionless)",
+     .check = inRange(0.0, haptics::RendererConfig::kMaxFriction),
+     .land = [](const PlayOptions &o,
+                Config &c) { c.haptics.renderer.staticFriction = o.staticFriction; }},
+    {.name = "dynamic-friction",
+     .field = &PlayOptions::dynamicFriction,
+     .help = "Dynamic friction coefficient: a sliding proxy keeps the tangential force at MU "
+             "times the normal force (usually <= the static one)",
+     .check = inRange(0.0, haptics::RendererConfig::kMaxFriction),
+     .land = [](const PlayOptions &o,
+                Config &c) { c.haptics.renderer.dynamicFriction = o.dynamicFriction; }},
     {.name = "rate",
      .field = &PlayOptions::rate,
      .help = "Haptic servo rate, Hz",

@@ -98,7 +98,8 @@ glm::dvec3 projectOnPlane(const FingerPlane &plane, const glm::dvec3 &p, double 
 }
 
 FingerRenderer::FingerRenderer(const RendererConfig &config) noexcept
-    : config_(config), field_(config.box), force_(config)
+    : config_(config), field_(config.box), force_(config),
+      friction_(config.staticFriction, config.dynamicFriction)
 {
     field_.setCutThreshold(config.cutThreshold);
     radius_ = std::isnan(config.fingerRadius) ? 0.015 * config.box.width : config.fingerRadius;
@@ -121,6 +122,7 @@ void FingerRenderer::reset(const glm::dvec3 &hip) noexcept
     behind_ = false;
     enterAnyDepth_ = true;
     force_.reset();
+    friction_.release();
 }
 
 void FingerRenderer::restartClock() noexcept { force_.restartClock(); }
@@ -248,9 +250,18 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
         proxy = hip;
     enterAnyDepth_ = false;
     out.released = trip;
-    const glm::dvec3 rawForce = force_.spring(hip, proxy, contact, t);
+    // Friction acts on the force and the reported proxy; proxy_ keeps the frictionless goal (the
+    // glide and the next update's search start from it).
+    glm::dvec3 held = proxy;
+    if (friction_.enabled()) {
+        if (contact && !trip)
+            held = friction_.apply(proxy, hip, t);
+        else
+            friction_.release();
+    }
+    const glm::dvec3 rawForce = force_.spring(hip, held, contact, t);
     out.force = force_.shape(rawForce, t, contact, trip || stepped);
-    out.proxy = proxy;
+    out.proxy = held;
     out.contact = contact;
     out.constraints = contact ? 1 : 0;
     contact_ = contact;

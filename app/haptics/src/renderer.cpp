@@ -79,6 +79,9 @@ Result<void> RendererConfig::validate() const noexcept
         return unexpected(Errc::InvalidArgument, "coarse spacing must be zero or positive");
     if (!std::isnan(fingerRadius) && !(std::isfinite(fingerRadius) && fingerRadius > 0.0))
         return unexpected(Errc::InvalidArgument, "finger radius must be positive");
+    auto friction = [](double mu) { return mu >= 0.0 && mu <= kMaxFriction; }; // false for NaN
+    if (!friction(staticFriction) || !friction(dynamicFriction))
+        return unexpected(Errc::InvalidArgument, "friction coefficients must be within 0..2");
     return ok();
 }
 
@@ -171,7 +174,8 @@ glm::dvec3 ForceStage::apply(const glm::dvec3 &hip, glm::dvec3 &proxy, bool &con
 // ---------------------------------------------------------------------------------------------------
 
 ProxyGraphRenderer::ProxyGraphRenderer(const RendererConfig &config) noexcept
-    : config_(config), field_(config.box), force_(config)
+    : config_(config), field_(config.box), force_(config),
+      friction_(config.staticFriction, config.dynamicFriction)
 {
     field_.setCutThreshold(config.cutThreshold);
 }
@@ -194,6 +198,7 @@ void ProxyGraphRenderer::reset(const glm::dvec3 &hip) noexcept
     haveProxy_ = true;
     surfaceUnderProxy_ = std::nan("");
     force_.reset();
+    friction_.release();
 }
 
 HapticOutput ProxyGraphRenderer::update(const glm::dvec3 &hip, double t) noexcept
@@ -249,12 +254,26 @@ HapticOutput ProxyGraphRenderer::update(const glm::dvec3 &hip, double t) noexcep
             out.constraints = sol.constraints;
         }
     }
+    // Friction (friction.h): the force comes from the proxy the cone holds; the frictionless
+    // god-object stays the start of the next collision walk (the held proxy lies on the tangent
+    // plane, which may be under a curved surface).
+    glm::dvec3 goal = proxy;
+    if (friction_.enabled()) {
+        if (contact)
+            proxy = friction_.apply(goal, hip, t);
+        else
+            friction_.release();
+    }
     out.force = force_.apply(hip, proxy, contact, t, above, out.released);
-    if (out.released)
+    if (out.released) {
         out.constraints = contact ? 1 : 0;
+        goal = proxy; // released to the HIP or re-seated above it
+        friction_.release();
+    }
     out.proxy = proxy;
     out.contact = contact;
     lastHip_ = hip;
+    proxy = goal;
     proxy_ = proxy;
     haveProxy_ = true;
     // h(proxy.xy) without refetching: over the HIP (free, released or re-seated) it is `above`; a

@@ -154,8 +154,9 @@ TEST(PlayOptionTable, AValueOutOfRangeGivesTheSameErrorOnBothPaths)
         }
         ++checked;
     }
-    EXPECT_EQ(checked, 10) << "stereo, stiffness, rate, reengage, duration, record-crf, size, "
-                              "osd-seconds, lod-target, max-lateness";
+    EXPECT_EQ(checked, 12) << "stereo, stiffness, static-friction, dynamic-friction, rate, "
+                              "reengage, duration, record-crf, size, osd-seconds, lod-target, "
+                              "max-lateness";
 }
 
 TEST(PlayOptionTable, TheMessagesOfBadValuesStayAsTheyWere)
@@ -172,6 +173,8 @@ TEST(PlayOptionTable, TheMessagesOfBadValuesStayAsTheyWere)
         {{"--size", "8x8"}, "--size must be WxH, 16..8192 pixels each"},
         {{"--record-crf", "52"}, "--record-crf must be in [0, 51]"},
         {{"--rate", "nan"}, "--rate must be in [100, 10000] Hz"},
+        {{"--static-friction", "-0.1"}, "--static-friction must be in [0, 2]"},
+        {{"--dynamic-friction", "3"}, "--dynamic-friction must be in [0, 2]"},
     };
     for (const auto &[args, message] : cases)
         EXPECT_EQ(checkPlayOptionValues(fromCommandLine(args)), message) << args[0];
@@ -221,6 +224,11 @@ TEST(PlayOptionTable, OptionsLandInThePlayersConfig)
     EXPECT_EQ(c.lodTarget, 0.5);
     EXPECT_EQ(c.maxLateness, 0.1);
     EXPECT_TRUE(c.haptics.requireRt);
+    EXPECT_EQ(defaults.haptics.renderer.staticFriction, 0.0) << "frictionless by default";
+    const playback::PlaybackConfig f =
+        landPlayOptions(fromCommandLine({"--static-friction", "0.5", "--dynamic-friction", "0.3"}));
+    EXPECT_EQ(f.haptics.renderer.staticFriction, 0.5);
+    EXPECT_EQ(f.haptics.renderer.dynamicFriction, 0.3);
 }
 
 /// \return whether \a help names \a row (an argument by its placeholder, an option as --name).

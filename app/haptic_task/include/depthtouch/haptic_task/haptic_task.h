@@ -48,7 +48,8 @@ struct DeviceMapping {
 struct HapticTaskConfig {
     double servoRateHz = 1000.0; ///< Updates per second, 100 .. 10000 (4 kHz and more supported).
     /// Renderer: method and parameters (stiffness N/m, damping N·s/m, maxForce N, scene box, fixes
-    /// of paper IV). The renderer's maxForce is lowered to the device's maximum when that is less.
+    /// of paper IV, static and dynamic friction on the proxy), handed to the renderer as given.
+    /// The renderer's maxForce is lowered to the device's maximum when that is less.
     haptics::Method method = haptics::Method::Finger;
     haptics::RendererConfig renderer = haptics::RendererConfig::forMethod(haptics::Method::Finger);
     /// Force rate limit, N/s (> 0): the commanded force moves by at most maxForceRate·Δt per

@@ -45,7 +45,12 @@
 ///    force ramps in (ForceStage::shape()). A smaller step (over maxForceStep/(4k): a loop or seek
 ///    onto content that moved a little) is no cut: the proxy stays and the change of force is
 ///    ramped in.
-/// 5. **Force** k·(proxy − HIP) − b·v, shaped by ForceStage::shape() (non-finite → zero, clamp to
+/// 5. **Friction** (RendererConfig::staticFriction, dynamicFriction; friction.h): the proxy of
+///    steps 2–4 is the frictionless goal; in contact the friction cone holds the proxy where it
+///    was while the tangential force is within μs·Fn and lets it slide at μd·Fn otherwise. The
+///    goal, not the held proxy, is what the next update slides on from. A cut or a lost contact
+///    lets go.
+/// 6. **Force** k·(proxy − HIP) − b·v, shaped by ForceStage::shape() (non-finite → zero, clamp to
 /// the
 ///    device maximum, ramp, slew ≤ maxForceStep per update).
 ///
@@ -54,6 +59,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "depthtouch/haptics/friction.h"
 #include "depthtouch/haptics/height_field.h"
 #include "depthtouch/haptics/renderer.h"
 
@@ -130,6 +136,7 @@ private:
     double lastX_ = 0.0;      ///< Centre of the last plane fitted in the last update, m.
     double lastY_ = 0.0;
     double lastHeight_ = 0.0; ///< Its S, m.
+    FrictionCone friction_;   ///< Friction on the proxy; proxy_ stays the frictionless goal.
 };
 
 } // namespace depthtouch::haptics

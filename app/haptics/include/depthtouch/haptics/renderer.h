@@ -17,6 +17,7 @@
 
 #include "depthtouch/haptics/collision.h"
 #include "depthtouch/haptics/depth_frame.h"
+#include "depthtouch/haptics/friction.h"
 #include "depthtouch/haptics/height_field.h"
 #include "depthtouch/haptics/proxy_solver.h"
 #include "depthtouch/platform/result.h"
@@ -80,6 +81,18 @@ struct RendererConfig {
     /// in `bench feel` 1 mm let the finger through on the forearm scene and 2 mm spiked crossing
     /// it, while 1.5 mm met every goal).
     double fingerRadius = std::nan("");
+    /// Static friction coefficient μs (dimensionless, 0..kMaxFriction) of the friction cone on
+    /// the proxy (friction.h; Ruspini et al. 1997): the proxy stays while the tangential spring
+    /// force is within μs·Fn. Methods Finger and Modified (and ProxyGraph); MeshBvh ignores it.
+    /// 0 with dynamicFriction 0: no friction, the frictionless proxy bit for bit.
+    double staticFriction = 0.0;
+    /// Dynamic friction coefficient μd (dimensionless, 0..kMaxFriction): a sliding proxy keeps the
+    /// tangential force at μd·Fn. Usually ≤ μs; μs − μd sets the force drop when the proxy breaks
+    /// away (k·(μs − μd)·depth).
+    double dynamicFriction = 0.0;
+
+    /// Largest friction coefficient validate() accepts.
+    static constexpr double kMaxFriction = 2.0;
 
     /// \return the configuration of \a method: Modified all fixes on; ProxyGraph and MeshBvh all off.
     static RendererConfig forMethod(Method method) noexcept;
@@ -195,10 +208,11 @@ private:
 /// \brief The modified proxy graph renderer (paper IV) on an implicit height field; with fixes off
 /// it is the `proxy-graph` baseline (Walker & Salisbury on sample-and-hold frames).
 ///
-/// Per update: (a) lift the previous proxy by how far the surface under it rose since the last update;
-/// (b) vertex heights interpolated by the haptic time (HeightField); collision detection by 2-D DDA
-/// (collision.h); god-object proxy update (proxy_solver.h); force `k·(proxy − HIP)` − damping, clamped;
-/// (c) force-jump safety (ForceStage). Per new frame: two pointers are stored (no mesh, no tree).
+/// Per update: (a) lift the previous proxy by how far the surface under it rose since the last
+/// update; (b) vertex heights interpolated by the haptic time (HeightField); collision detection by
+/// 2-D DDA (collision.h); god-object proxy update (proxy_solver.h); with friction, the friction
+/// cone (friction.h); force `k·(proxy − HIP)` − damping, clamped; (c) force-jump safety
+/// (ForceStage). Per new frame: two pointers are stored (no mesh, no tree).
 class ProxyGraphRenderer final : public HapticRenderer {
 public:
     /// \param config validated by the caller (see RendererConfig::validate()).
@@ -228,6 +242,10 @@ private:
     bool haveProxy_ = false;
     double surfaceUnderProxy_ = 0.0; ///< h(proxy.xy) at the end of the last update, or NaN.
     CoarseGrid coarse_{}; ///< Coarse-to-fine grid for the frames set (RendererConfig::coarseSpacing).
+    /// Friction on the proxy (RendererConfig::staticFriction): proxy_ stays the frictionless
+    /// god-object, where the next update's collision walk starts; the force and the reported
+    /// proxy are the friction cone's.
+    FrictionCone friction_;
 };
 
 /// \brief Creates the renderer of \a method with \a config (its fix flags are used as given).
