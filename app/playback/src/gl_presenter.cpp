@@ -239,8 +239,16 @@ void GlPresenter::applyOptions(player::StereoMode mode, const haptics::DepthFram
     const double refresh = display_.refreshHz();
     const double budgetPeriod = refresh > 0.0 ? std::min(period, 1.0 / refresh) : period;
     lodTargetSeconds_ = config_.lodTarget * budgetPeriod;
+    // Without a fixed step the level of detail is a step per tile drawn from precomputed index
+    // ranges (MeshMode::Blocks): its choice costs the prep thread a pass over the probes and the
+    // tiles, not over the triangles.
+    if (config_.meshStep == 0 && ro.mesh.mode != render::MeshMode::Fixed) {
+        ro.mesh.mode = render::MeshMode::Blocks;
+        ro.mesh.tileSize = render::blockTileFor(dv.width, dv.height);
+        ro.mesh.maxStep = ro.mesh.tileSize;
+    }
     if (config_.lodTarget > 0.0 && config_.meshStep == 0 &&
-        ro.mesh.mode == render::MeshMode::Quadtree) {
+        ro.mesh.mode == render::MeshMode::Blocks) {
         if (!lod_) {
             render::LodOptions lo;
             lo.targetSeconds = lodTargetSeconds_;

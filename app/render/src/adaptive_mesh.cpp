@@ -173,6 +173,17 @@ Result<void> AdaptiveMesh::build(const scene::DepthFrameView &depth, const MeshO
     steps_.assign(static_cast<std::size_t>(tilesX_) * static_cast<std::size_t>(tilesY_), 1);
     stats_ = MeshStats{};
     stats_.tiles = tilesX_ * tilesY_;
+    blocksMode_ = options.mode == MeshMode::Blocks;
+    if (blocksMode_) {
+        if (tile_ < 8)
+            return unexpected(Errc::InvalidArgument, "blocks mesh needs a tile size of 8 or more");
+        indices_.clear();
+        if (depth.format == scene::SampleFormat::Gray8)
+            chooseBlockSteps<std::uint8_t>(depth, options);
+        else
+            chooseBlockSteps<std::uint16_t>(depth, options);
+        return ok();
+    }
     if (options.mode == MeshMode::Quadtree) {
         const bool budget = options.criterion == ErrorCriterion::Mean;
         if (depth.format == scene::SampleFormat::Gray8) {
@@ -233,12 +244,24 @@ Result<void> AdaptiveMesh::build(const scene::DepthFrameView &depth, const MeshO
     indices_.clear();
     for (int ty = 0; ty < tilesY_; ++ty)
         for (int tx = 0; tx < tilesX_; ++tx)
-            emitTile(tx, ty);
+            emitTile(tx, ty, indices_);
     stats_.triangles = indices_.size() / 3;
     return ok();
 }
 
-void AdaptiveMesh::emitTile(int tx, int ty)
+void AdaptiveMesh::drawnIndices(std::vector<std::uint32_t> &out) const
+{
+    if (!blocksMode_) {
+        out = indices_;
+        return;
+    }
+    out.clear();
+    for (int ty = 0; ty < tilesY_; ++ty)
+        for (int tx = 0; tx < tilesX_; ++tx)
+            emitTile(tx, ty, out);
+}
+
+void AdaptiveMesh::emitTile(int tx, int ty, std::vector<std::uint32_t> &out) const
 {
     const auto stepAt = [this](int x, int y) -> int {
         if (x < 0 || y < 0 || x >= tilesX_ || y >= tilesY_)
@@ -269,12 +292,12 @@ void AdaptiveMesh::emitTile(int tx, int ty)
             r = r0 + (r - r0) / right * right;
         return static_cast<std::uint32_t>(r) * w + static_cast<std::uint32_t>(c);
     };
-    const auto triangle = [this](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    const auto triangle = [&out](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
         if (a == b || b == c || a == c)
             return;
-        indices_.push_back(a);
-        indices_.push_back(b);
-        indices_.push_back(c);
+        out.push_back(a);
+        out.push_back(b);
+        out.push_back(c);
     };
 
     for (int ra = r0; ra < r1; ra += s) {

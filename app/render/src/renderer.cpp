@@ -25,6 +25,10 @@ namespace {
 
 // The surface: vertex k of the W×H grid is sample (k mod W, k div W); no vertex buffer, the height
 // comes from the depth texture (vertex texture fetch) and the placement from SurfaceMapping.
+// With per-tile steps (MeshMode::Blocks, uTileShift > 0) a vertex on the border between two tiles
+// (not a tile corner, not the grid's last row or column) snaps back along the border to the step of
+// the coarser of the two (uTileLevel: log2 step per tile), as AdaptiveMesh's stitching does: the
+// finer tile's triangles there collapse or fan to the coarse vertices, and no crack opens.
 constexpr const char *kSurfaceVs = R"(
 precision highp float;
 precision highp int;
@@ -39,6 +43,9 @@ uniform vec2 uStep;
 uniform vec2 uZMap;
 uniform vec2 uTexScale;
 uniform mat4 uViewProj;
+uniform int uTileShift;
+uniform ivec2 uLast;
+uniform highp usampler2D uTileLevel;
 out vec2 vTex;
 #ifdef POSITION
 out vec3 vPos;
@@ -46,6 +53,20 @@ out vec3 vPos;
 void main() {
     int c = gl_VertexID % uColumns;
     int r = gl_VertexID / uColumns;
+    if (uTileShift > 0) {
+        int mask = (1 << uTileShift) - 1;
+        bool vertical = (c & mask) == 0 && c > 0 && c < uLast.x && r < uLast.y;
+        bool horizontal = (r & mask) == 0 && r > 0 && r < uLast.y && c < uLast.x;
+        if (vertical != horizontal) {
+            ivec2 tile = ivec2(c, r) >> uTileShift;
+            ivec2 other = vertical ? tile - ivec2(1, 0) : tile - ivec2(0, 1);
+            int l = int(max(texelFetch(uTileLevel, tile, 0).r, texelFetch(uTileLevel, other, 0).r));
+            if (vertical)
+                r = (r >> l) << l;
+            else
+                c = (c >> l) << l;
+        }
+    }
 #ifdef DEPTH16
     float t = float(texelFetch(uDepth, ivec2(c, r), 0).r) / 65535.0;
 #else
@@ -217,6 +238,9 @@ Result<void> StereoRenderer::Gl::buildSurfacePrograms()
         glUniform1i(glGetUniformLocation(p.program, "uY"), 1);
         glUniform1i(glGetUniformLocation(p.program, "uU"), 2);
         glUniform1i(glGetUniformLocation(p.program, "uV"), 3);
+        glUniform1i(glGetUniformLocation(p.program, "uTileLevel"), 4);
+        p.tileShift = glGetUniformLocation(p.program, "uTileShift");
+        p.last = glGetUniformLocation(p.program, "uLast");
         p.columns = glGetUniformLocation(p.program, "uColumns");
         p.origin = glGetUniformLocation(p.program, "uOrigin");
         p.step = glGetUniformLocation(p.program, "uStep");

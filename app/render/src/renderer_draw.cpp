@@ -67,9 +67,9 @@ Result<void> StereoRenderer::drawSurface(const EyeView &eye, SurfaceOutput outpu
     }
     if (eye.rowParity >= 0)
         glUniform1i(p.rowParity, eye.rowParity);
+    glUniform2i(p.last, m.columns - 1, m.rows - 1);
     glBindVertexArray(g.surfaceVao);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.drawBuffer);
-    glDrawElements(GL_TRIANGLES, g.indexCount, GL_UNSIGNED_INT, nullptr);
+    g.drawTriangles(p);
     glBindVertexArray(0);
     if (glGetError() != GL_NO_ERROR)
         return unexpected(Errc::Io, "GL error while drawing the surface");

@@ -16,6 +16,7 @@
 #include "depthtouch/render/adaptive_mesh.h"
 #include "depthtouch/render/color.h"
 #include "depthtouch/render/renderer.h"
+#include "block_ranges.h"
 
 namespace depthtouch::render {
 
@@ -96,11 +97,27 @@ struct DynamicIndices {
     int next = 0;                     ///< The buffer the next upload writes.
 };
 
+/// \brief MeshMode::Blocks: the static buffer of every tile at every step (BlockRanges), made and
+/// uploaded at the first frame of a size; per frame the tile steps (an R8UI texture, one texel a
+/// tile, that the vertex shader stitches with) and the runs drawn, in vectors grown once.
+struct BlockBuffer {
+    GLuint buffer = 0;
+    BlockRanges ranges;
+    Texture levels;                     ///< tilesX × tilesY, R8UI: log2 step per tile.
+    std::vector<std::uint32_t> first;   ///< Scratch of BlockRanges::runs(), indices.
+    std::vector<std::int32_t> count;    ///< Indices a run (GLsizei).
+    std::vector<const void *> offsets;  ///< The runs' byte offsets (glMultiDrawElementsEXT).
+    std::size_t runs = 0;               ///< Runs of the current frame.
+    std::vector<std::uint32_t> scratch; ///< The buffer's indices while it is made (then freed).
+    std::uint64_t lastUse = 0;
+};
+
 /// \brief One surface program and its uniform locations.
 struct SurfaceProgram {
     GLuint program = 0;
     GLint columns = -1, origin = -1, step = -1, zMap = -1, texScale = -1, viewProj = -1;
     GLint yuvToRgb = -1, yuvOffset = -1, rowParity = -1;
+    GLint tileShift = -1, last = -1;
 };
 
 /// What the surface fragment shader outputs.
@@ -120,6 +137,16 @@ struct StereoRenderer::Gl {
     GLuint drawBuffer = 0;  ///< The index buffer the surface draws (a static grid's or dynamic).
     GLsizei indexCount = 0; ///< Indices in drawBuffer to draw.
     gl::DynamicIndices dynamic;
+    /// Two sizes or tile sizes kept at once (a benchmark alternating settings), the least recently
+    /// used one replaced.
+    std::array<gl::BlockBuffer, 2> blocks;
+    std::size_t blockSlot = 0; ///< The slot blockDraw draws.
+    bool blockDraw = false;    ///< The surface draws blocks' runs (else drawBuffer, indexCount).
+    int tileShift = 0;         ///< log2 tile size of blockDraw.
+    /// glMultiDrawElementsEXT (GL_EXT_multi_draw_arrays) when the context has it, else null (a
+    /// glDrawElements a run).
+    void(GL_APIENTRY *multiDraw)(GLenum, const GLsizei *, GLenum, const void *const *,
+                                 GLsizei) = nullptr;
     static constexpr std::size_t kStaticGrids = 4; ///< Fixed steps kept at once (1, 2, 4, 8).
     std::array<gl::StaticGrid, kStaticGrids> grids;
     std::uint64_t gridUses = 0;
@@ -155,6 +182,11 @@ struct StereoRenderer::Gl {
         for (const gl::StaticGrid &grid : grids)
             if (grid.buffer != 0)
                 glDeleteBuffers(1, &grid.buffer);
+        for (gl::BlockBuffer &b : blocks) {
+            if (b.buffer != 0)
+                glDeleteBuffers(1, &b.buffer);
+            b.levels.release();
+        }
         depth.release();
         y.release();
         u.release();
@@ -171,6 +203,9 @@ struct StereoRenderer::Gl {
     void buildSphere();
     /// Makes the OSD glyph atlas and its stream vertex array.
     void buildOsd();
+    /// Draws the surface's triangles with the bound program and vertex array: the blocks' runs
+    /// (tile steps on texture unit 4) or drawBuffer.
+    void drawTriangles(const gl::SurfaceProgram &p);
 };
 
 } // namespace depthtouch::render

@@ -145,11 +145,15 @@ Result<void> StereoRenderer::uploadDepth(const scene::DepthFrameView &depth,
     stageTimes_.depthUpload = stageEnd(t);
 
     t = clock_.now();
+    g.blockDraw = false;
     if (gridSlot >= 0) {
         const gl::StaticGrid &grid = g.grids[static_cast<std::size_t>(gridSlot)];
         g.drawBuffer = grid.buffer;
         g.indexCount = grid.count;
         drawnMesh_ = &grid.mesh;
+    } else if (mesh_.blockSteps()) {
+        uploadBlockSteps();
+        drawnMesh_ = &mesh_;
     } else {
         uploadIndices(mesh_.indices());
         drawnMesh_ = &mesh_;

@@ -4,7 +4,9 @@
 /// a fresh renderer draws (the golden pictures do not change), the quadtree's per-frame lists of
 /// changing length stay watertight and draw no stale triangles from the reused index buffers, and
 /// the per-frame path (the mesh made ahead, depth, colour, overlays, both eyes) allocates nothing
-/// once warm (a counting operator new: support/allocation_counter.h).
+/// once warm (a counting operator new: support/allocation_counter.h). Per-tile steps from
+/// precomputed ranges (MeshMode::Blocks): their stitched triangles tile the grid, at step 1 they
+/// draw the full-resolution picture, and they keep to the cell budget.
 
 #include <gtest/gtest.h>
 
@@ -208,6 +210,77 @@ TEST_F(RenderGeometryTest, quadtreeListsOfChangingLengthStayWatertightAndDrawNoS
     }
 }
 
+MeshOptions blocks(int tile, double tolerance)
+{
+    MeshOptions m;
+    m.mode = MeshMode::Blocks;
+    m.tileSize = tile;
+    m.maxStep = tile;
+    m.tolerance = tolerance;
+    return m;
+}
+
+TEST_F(RenderGeometryTest, blockStepsAreWatertightAndAtStepOneDrawTheFullResolutionPicture)
+{
+    // GIVEN a detailed frame and a gentle one, and per-tile steps from precomputed ranges
+    const Depth8 detailed(130, 90, bumpy);
+    const Depth8 plain(130, 90, gentle);
+    Yuv420 col(130, 90, [](int c, int r) {
+        return std::array<int, 3>{60 + c, 100 + r / 2, 150 - c / 3};
+    });
+    std::vector<std::uint32_t> drawn;
+    for (const int tile : {8, 16, 32}) {
+        auto r = make(blocks(tile, 0.5));
+        ASSERT_TRUE(r);
+        for (const Depth8 *d : {&detailed, &plain, &detailed}) {
+            // WHEN the steps are chosen (the mesh made ahead)
+            FramePrep prep;
+            ASSERT_TRUE(prep.build(d->view(), nullptr, ColorSpec{}, r->options().mesh));
+            ASSERT_TRUE(r->setDepth(d->view(), prep));
+            // THEN the tiles are at several steps, no triangle list was made, and the stitched
+            // triangles (what the vertex shader draws) tile the grid with no T-junction
+            const AdaptiveMesh &m = r->mesh();
+            EXPECT_TRUE(m.indices().empty());
+            std::set<std::uint16_t> steps(m.tileSteps().begin(), m.tileSteps().end());
+            EXPECT_GE(steps.size(), d == &plain ? 1u : 2u) << "tile " << tile;
+            m.drawnIndices(drawn);
+            const auto [open, area2] = openEdgesAndArea(drawn, 130, 90);
+            EXPECT_EQ(open, 0) << "T-junctions at tile borders, tile " << tile;
+            EXPECT_EQ(area2, 2LL * 129 * 89) << "tile " << tile;
+            EXPECT_EQ(measureMeshError(d->view(), drawn).uncovered, 0u);
+        }
+    }
+    // AND with every tile at step 1 (a largest step of 1), the picture of the full-resolution grid
+    MeshOptions fine = blocks(16, 0.5);
+    fine.maxStep = 1;
+    auto r = make(fine);
+    ASSERT_TRUE(r);
+    ASSERT_TRUE(r->setColor(col.view(), ColorSpec{}));
+    ASSERT_TRUE(r->setDepth(detailed.view()));
+    EXPECT_EQ(r->mesh().stats().tilesAtStep[0], r->mesh().stats().tiles);
+    EXPECT_EQ(picture(*r), freshPicture(detailed, col, fixedStep(1)));
+}
+
+TEST_F(RenderGeometryTest, blockStepsFollowTheCellBudget)
+{
+    // GIVEN a detailed frame
+    const Depth8 detailed(130, 90, bumpy);
+    auto r = make(blocks(8, 0.0));
+    ASSERT_TRUE(r);
+    ASSERT_TRUE(r->setDepth(detailed.view()));
+    const std::size_t unlimited = static_cast<std::size_t>(r->mesh().stats().blocks);
+    // WHEN the cells are capped at half of what the tolerance asks
+    RendererOptions o = r->options();
+    o.mesh.maxBlocks = unlimited / 2;
+    ASSERT_TRUE(r->setOptions(o));
+    ASSERT_TRUE(r->setDepth(detailed.view()));
+    // THEN the steps stay within the budget, and the refinement says it was limited
+    EXPECT_LE(static_cast<std::size_t>(r->mesh().stats().blocks), unlimited / 2);
+    EXPECT_GT(static_cast<std::size_t>(r->mesh().stats().blocks), unlimited / 4);
+    EXPECT_TRUE(r->mesh().stats().budgetLimited);
+    EXPECT_EQ(r->mesh().stats().triangles, 2u * static_cast<std::size_t>(r->mesh().stats().blocks));
+}
+
 TEST_F(RenderGeometryTest, perFramePathAllocatesNothingOnceWarm)
 {
     // GIVEN two frames that alternate, for the full-resolution grid and the quadtree (its mesh
@@ -217,7 +290,7 @@ TEST_F(RenderGeometryTest, perFramePathAllocatesNothingOnceWarm)
     Yuv420 col(130, 90, [](int c, int r) {
         return std::array<int, 3>{60 + c, 100 + r / 2, 150 - c / 3};
     });
-    for (const MeshOptions &mesh : {fixedStep(1), MeshOptions{}}) {
+    for (const MeshOptions &mesh : {fixedStep(1), MeshOptions{}, blocks(8, 0.5)}) {
         auto r = make(mesh);
         ASSERT_TRUE(r);
         auto target = RenderTarget::create(240, 90);
@@ -255,7 +328,8 @@ TEST_F(RenderGeometryTest, perFramePathAllocatesNothingOnceWarm)
         }
         r->finish();
         // THEN nothing was allocated with operator new on the way
-        EXPECT_EQ(allocations, 0u)
-            << (mesh.mode == MeshMode::Fixed ? "full resolution" : "quadtree");
+        EXPECT_EQ(allocations, 0u) << (mesh.mode == MeshMode::Fixed    ? "full resolution"
+                                       : mesh.mode == MeshMode::Blocks ? "blocks"
+                                                                       : "quadtree");
     }
 }

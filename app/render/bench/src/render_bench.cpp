@@ -66,6 +66,33 @@ std::vector<BenchConfig> defaultConfigs()
         std::snprintf(name, sizeof name, "budget-%dk", thousands);
         out.push_back({name, m});
     }
+    for (const int tile : {8, 16, 32})
+        for (const double tol : {0.4, 0.5, 0.6}) {
+            if (tile != 8 && tol != 0.5)
+                continue;
+            MeshOptions m; // a step per tile from probes, precomputed ranges (the player's LOD)
+            m.mode = MeshMode::Blocks;
+            m.tileSize = tile;
+            m.maxStep = tile;
+            m.tolerance = tol;
+            char name[32];
+            if (tile == 8) // blocks-*: the player's tile size for the depth size (8 at 720x486)
+                std::snprintf(name, sizeof name, "blocks-%.2f", tol);
+            else
+                std::snprintf(name, sizeof name, "blocks%d-%.2f", tile, tol);
+            out.push_back({name, m});
+        }
+    for (const int thousands : {3, 6, 9}) {
+        MeshOptions m; // blocks-0.50 under a cell budget
+        m.mode = MeshMode::Blocks;
+        m.tileSize = 8;
+        m.maxStep = 8;
+        m.tolerance = 0.5;
+        m.maxBlocks = static_cast<std::size_t>(thousands) * 1000;
+        char name[32];
+        std::snprintf(name, sizeof name, "blocks-budget-%dk", thousands);
+        out.push_back({name, m});
+    }
     return out;
 }
 
@@ -74,7 +101,7 @@ std::vector<BenchConfig> depthSizeConfigs()
     std::vector<BenchConfig> out;
     for (BenchConfig &c : defaultConfigs())
         if (c.name == "full" || c.name == "step4" || c.name == "quadtree-0.50" ||
-            c.name == "budget-6k")
+            c.name == "budget-6k" || c.name == "blocks-0.50")
             out.push_back(std::move(c));
     return out;
 }
@@ -211,6 +238,8 @@ const char *familyOf(const BenchConfig &c) noexcept
         return "fixed";
     if (c.mesh.mode == MeshMode::Adaptive)
         return "adaptive";
+    if (c.mesh.mode == MeshMode::Blocks)
+        return c.mesh.maxBlocks > 0 ? "block budgets" : "blocks";
     return c.mesh.maxBlocks > 0 ? "budgets" : "quadtree";
 }
 
@@ -280,6 +309,7 @@ Result<std::vector<BenchRow>> runRenderBenchmark(const std::vector<RgbdFrame> &f
     std::vector<Samples> samples(nc);
     std::vector<BenchRow> rows(nc);
     FramePrep prep;
+    std::vector<std::uint32_t> drawn; // the triangles drawn, for the error measure
     // The settings take turns frame by frame, so a change of load on a shared machine touches them
     // all alike and their ratios stay fair. Frame i is the same data for every setting.
     const int total = options.warmup + options.framesPerConfig;
@@ -287,6 +317,9 @@ Result<std::vector<BenchRow>> runRenderBenchmark(const std::vector<RgbdFrame> &f
         const RgbdFrame &f = frames[static_cast<std::size_t>(i) % frames.size()];
         for (std::size_t k = 0; k < nc; ++k) {
             ro.mesh = configs[k].mesh;
+            // blocks-*: the tile size the player takes for this depth size.
+            if (ro.mesh.mode == MeshMode::Blocks && configs[k].name.rfind("blocks-", 0) == 0)
+                ro.mesh.tileSize = ro.mesh.maxStep = blockTileFor(f.width, f.height);
             if (auto r = rr.setOptions(ro); !r)
                 return unexpected(r.error());
             Samples &sm = samples[k];
@@ -310,7 +343,8 @@ Result<std::vector<BenchRow>> runRenderBenchmark(const std::vector<RgbdFrame> &f
             sm.triangles += static_cast<double>(rr.mesh().stats().triangles);
             // Geometric error of what was drawn (outside the timed part), on a third of the frames.
             if (i % 3 == 0) {
-                const MeshError e = measureMeshError(depthView(f), rr.mesh().indices());
+                rr.mesh().drawnIndices(drawn);
+                const MeshError e = measureMeshError(depthView(f), drawn);
                 sm.errSum += e.mean * static_cast<double>(e.samples - e.uncovered);
                 sm.errSamples += e.samples - e.uncovered;
                 row.maxError = std::max(row.maxError, e.max);

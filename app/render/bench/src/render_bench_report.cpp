@@ -47,19 +47,24 @@ void printStages(const std::vector<BenchRow> &rows)
 /// fps_vs_error.dat/.gp: one line per family, the rows of the first source and size.
 void writeFpsChart(const std::vector<BenchRow> &rows, const std::filesystem::path &base)
 {
-    static constexpr const char *kFamilies[] = {"fixed", "adaptive", "quadtree", "budgets"};
+    static constexpr const char *kFamilies[] = {"fixed",   "adaptive", "quadtree",
+                                                "budgets", "blocks",   "block budgets"};
     static constexpr const char *kTitles[] = {
-        "fixed step (full, 2, 4, 8)", "adaptive per tile (tolerance)",
-        "quadtree (mean error budget)", "quadtree-0.50 under a block budget"};
-    static constexpr const char *kColours[] = {"#1f77b4", "#2ca02c", "#d62728", "#9467bd"};
+        "fixed step (full, 2, 4, 8)",      "adaptive per tile (tolerance)",
+        "quadtree (mean error budget)",    "quadtree-0.50 under a block budget",
+        "blocks: a step per tile, ranges", "blocks-0.50 under a cell budget"};
+    static constexpr const char *kColours[] = {"#1f77b4", "#2ca02c", "#d62728",
+                                               "#9467bd", "#ff7f0e", "#8c564b"};
     // Labels placed apart per family: right, left, above, below the point.
-    static constexpr const char *kOffsets[] = {"1.2,0.6", "-1.2,-0.9", "1.0,1.1", "-1.0,-1.3"};
-    static constexpr const char *kAlign[] = {"left", "right", "left", "right"};
+    static constexpr const char *kOffsets[] = {"1.2,0.6",   "-1.2,-0.9", "1.0,1.1",
+                                               "-1.0,-1.3", "1.2,-0.9",  "-1.2,0.9"};
+    static constexpr const char *kAlign[] = {"left", "right", "left", "right", "left", "right"};
+    constexpr int kFamilyCount = 6;
     // One data block per family that has rows (gnuplot's `index` counts the blocks written).
     std::vector<int> present;
     {
         std::ofstream d(base / "fps_vs_error.dat");
-        for (int k = 0; k < 4; ++k) {
+        for (int k = 0; k < kFamilyCount; ++k) {
             const bool any = std::any_of(rows.begin(), rows.end(), [&](const BenchRow &r) {
                 return firstSet(rows, r) && r.family == kFamilies[k];
             });

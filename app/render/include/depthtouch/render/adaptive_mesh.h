@@ -45,6 +45,17 @@
 /// In quadtree mode the same holds per leaf block: a block's corner on the side of a larger
 /// neighbouring block snaps back along that side to the neighbour's corner.
 ///
+/// Blocks (MeshMode::Blocks): one step per tile (block) as in Adaptive, but no triangle list per
+/// frame. Each tile's triangles at each step, unstitched, are made once per depth frame size into
+/// one static index buffer (BlockRanges, block_ranges.h); a frame only chooses a step per tile and
+/// the renderer draws the chosen ranges, its vertex shader snapping border vertices to the coarser
+/// neighbour's step (the rule of Adaptive above, so the drawn surface is the list that
+/// drawnIndices() gives, collapsed triangles aside). The step is chosen from the error of each step
+/// at a coarse set of probes (samples at odd offsets 8 apart: 1/64 of the samples, none of them a
+/// vertex of any step ≥ 2) against the frame's mean error budget and the leaf budget, greedily
+/// (error removed per added cell, tiles over the cap first), so the CPU work per frame is
+/// proportional to the probes and the tiles, not to the triangles.
+///
 /// Thread-safety: thread-bound (one object per render thread); build() reuses its buffers and does
 /// not allocate once they have grown to the largest mesh.
 
@@ -62,6 +73,8 @@ enum class MeshMode : std::uint8_t {
     Fixed,    ///< Every tile at `fixedStep` (1 = full resolution, the haptic triangulation).
     Adaptive, ///< Per-tile step from the error tolerance.
     Quadtree, ///< Per-block: each tile split as a quadtree; each leaf block is two triangles.
+    Blocks,   ///< Per-tile step from probes and a frame budget, drawn from precomputed ranges
+              ///< (tileSize ≥ 16; see the file comment). The mesh holds no triangle list.
 };
 
 /// \brief What the adaptive tolerance bounds in each tile.
@@ -88,14 +101,17 @@ struct MeshOptions {
                               ///< two ≤ tileSize.
     ErrorCriterion criterion = ErrorCriterion::Mean; ///< Adaptive/Quadtree: what tolerance bounds.
     double maxErrorCap = 16.0; ///< Mean criterion: largest error allowed in a tile or block, levels.
-    std::size_t maxBlocks = 0; ///< Quadtree, Mean criterion: most leaf blocks (0: no budget). Each
-                               ///< leaf is two triangles, more where the corners of finer
-                               ///< neighbours close T-junctions (about 2.3 a block on the 7-Scenes
-                               ///< kitchen). When the budget is reached the refinement stops before
-                               ///< the tolerance and the cap are met (MeshStats::budgetLimited);
-                               ///< blocks over the cap are then refined breadth first (the largest
-                               ///< first), so every depth edge gets the same detail. The player's
-                               ///< level-of-detail controller (LodController) sets it per frame.
+    std::size_t maxBlocks =
+        0; ///< Quadtree, Mean criterion: most leaf blocks (0: no budget); Blocks:
+           ///< most cells at the tiles' steps (a tile of T×T cells at step s
+           ///< counts (T/s)², two triangles each). Quadtree: each
+           ///< leaf is two triangles, more where the corners of finer
+           ///< neighbours close T-junctions (about 2.3 a block on the 7-Scenes
+           ///< kitchen). When the budget is reached the refinement stops before
+           ///< the tolerance and the cap are met (MeshStats::budgetLimited);
+           ///< blocks over the cap are then refined breadth first (the largest
+           ///< first), so every depth edge gets the same detail. The player's
+           ///< level-of-detail controller (LodController) sets it per frame.
 
     bool operator==(const MeshOptions &) const = default;
 };
@@ -108,7 +124,11 @@ struct MeshStats {
                                ///< step of the tile's finest leaf block.
     int blocks = 0;            ///< Quadtree: leaf blocks (0 in the other modes).
     int blocksAtSize[9] = {};  ///< Quadtree: leaf blocks per size, index log2(cells a side).
-    bool budgetLimited = false; ///< Quadtree: MeshOptions::maxBlocks stopped the refinement.
+    bool budgetLimited = false;  ///< Quadtree, Blocks: MeshOptions::maxBlocks stopped the
+                                 ///< refinement.
+    double estimatedError = 0.0; ///< Blocks: the frame's mean error estimated from the probes,
+                                 ///< nearness levels (an overestimate at step 2: the probes are
+                                 ///< cell centres).
 };
 
 /// \brief Geometric error of a mesh against the samples it approximates.
@@ -129,7 +149,19 @@ public:
                                      const MeshOptions &options);
 
     /// \return the triangle list: 3 indices per triangle into the W×H vertex grid (row-major).
+    /// Empty in MeshMode::Blocks (see drawnIndices()).
     [[nodiscard]] const std::vector<std::uint32_t> &indices() const noexcept { return indices_; }
+    /// \brief The triangles drawn into \a out: indices(), or in MeshMode::Blocks the tiles at their
+    /// steps with the border vertices snapped as the renderer's vertex shader does (collapsed
+    /// triangles left out). For tests and error measures: O(triangles), may allocate.
+    void drawnIndices(std::vector<std::uint32_t> &out) const;
+    /// \return true when the last build was MeshMode::Blocks (tileSteps() says what to draw).
+    [[nodiscard]] bool blockSteps() const noexcept { return blocksMode_; }
+    /// \return MeshMode::Blocks: log2 of each tile's step, row-major over tilesX()×tilesY().
+    [[nodiscard]] const std::vector<std::uint8_t> &tileLevels() const noexcept
+    {
+        return tileLevel_;
+    }
     /// \return the step chosen for each tile, row-major over tilesX()×tilesY() (Quadtree: the step
     /// of the tile's finest leaf block).
     [[nodiscard]] const std::vector<std::uint16_t> &tileSteps() const noexcept { return steps_; }
@@ -142,7 +174,9 @@ public:
 private:
     double tileError(const scene::DepthFrameView &depth, int tx, int ty, int step, double limit,
                      double &mean) const noexcept;
-    void emitTile(int tx, int ty);
+    void emitTile(int tx, int ty, std::vector<std::uint32_t> &out) const;
+    template <class T>
+    void chooseBlockSteps(const scene::DepthFrameView &depth, const MeshOptions &options);
     template <class T>
     void buildQuadtree(const scene::DepthFrameView &depth, const MeshOptions &options);
     template <class T>
@@ -191,13 +225,30 @@ private:
     std::vector<HeapEntry> heap_;
     std::vector<std::uint64_t> sortKeys_; ///< Scratch: the emission-order keys of the leaves.
     std::vector<int> finestScratch_;
+    std::vector<float> probeError_;       ///< Scratch of Blocks: per tile and step, mean and max.
+    std::vector<std::uint8_t> tileLevel_; ///< Blocks: log2 step per tile.
+    std::vector<float> jump_;             ///< Scratch of Blocks: largest neighbour jump per tile.
     MeshStats stats_{};
+    bool blocksMode_ = false;
     int width_ = 0;
     int height_ = 0;
     int tile_ = 16;
     int tilesX_ = 0;
     int tilesY_ = 0;
 };
+
+/// \brief The tile size of MeshMode::Blocks for a \a width × \a height depth frame: the smallest
+/// power of two ≥ 8 that makes at most 8192 tiles (720×486: 8, 1920×1080: 16, 3840×2160: 32), so
+/// that the per-frame work and the draw runs stay bounded by the tiles while small frames get fine
+/// tiles (fewer triangles for the same error). Pure.
+inline int blockTileFor(int width, int height) noexcept
+{
+    int t = 8;
+    while (t < 256 &&
+           static_cast<long long>((width - 1 + t - 1) / t) * ((height - 1 + t - 1) / t) > 8192)
+        t *= 2;
+    return t;
+}
 
 /// \brief Measures \a indices (a triangle list over the W×H grid of \a depth) against the samples:
 /// each sample's value on the covering triangle (linear interpolation, docs/architecture.md §3)

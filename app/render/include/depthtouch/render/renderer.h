@@ -6,10 +6,14 @@
 /// into one of the stereo output layouts, with the haptic avatar (proxy sphere, HIP marker) and a
 /// small on-screen display.
 ///
-/// Geometry: vertex (c, r) of the W×H grid is placed by SurfaceMapping, which is read off the
-/// haptic renderer's HeightField for the same frame and scene box (docs/architecture.md §3), and
-/// the cells are split along the same diagonal: at mesh step 1 the drawn surface is the touched
-/// surface. The mesh's level of detail is chosen per frame by AdaptiveMesh (adaptive_mesh.h).
+/// Geometry: vertex (c, r) of the W×H grid is placed by SurfaceMapping, computed by the scene layer
+/// from the scene box and the frame size (scene::SurfaceMapping::of, the mapping the haptic
+/// renderer's HeightField uses: docs/architecture.md §3), and the cells are split along the same
+/// diagonal: at mesh step 1 the drawn surface is the touched surface. A fixed step draws a static
+/// grid (its index buffer made once per frame size); MeshMode::Blocks draws ranges of a static
+/// buffer of every tile at every step, chosen per frame by AdaptiveMesh, the vertex shader
+/// stitching tile borders; Adaptive and Quadtree upload AdaptiveMesh's list each frame
+/// (adaptive_mesh.h).
 ///
 /// Textures are allocated once per frame size and format (immutable storage) and refreshed with
 /// glTexSubImage2D. On a software rasterizer the colour frame is converted to R'G'B' once on the
@@ -198,7 +202,8 @@ public:
     /// \return the stage times of the last setDepth(), setColor() and render() calls.
     [[nodiscard]] const StageTimes &stageTimes() const noexcept { return stageTimes_; }
 
-    /// \return the mapping of the current depth frame (read off a HeightField).
+    /// \return the mapping of the current depth frame (scene::SurfaceMapping::of its size and the
+    /// scene box).
     [[nodiscard]] const SurfaceMapping &mapping() const noexcept { return mapping_; }
     /// \return the mesh drawn for the current depth frame (with a fixed step, the static grid of
     /// its size: the same object from frame to frame).
@@ -230,6 +235,9 @@ private:
     /// Uploads a per-frame triangle list into the next dynamic index buffer (no reallocation
     /// unless it outgrows it).
     void uploadIndices(const std::vector<std::uint32_t> &indices);
+    /// MeshMode::Blocks: the static buffer of every tile at every step for mesh_'s size (made and
+    /// uploaded at the first frame of that size), then mesh_'s tile steps and the runs to draw.
+    void uploadBlockSteps();
     /// setColor()'s upload of converted R'G'B' words.
     void uploadRgba(const std::uint32_t *rgba, int width, int height);
 
