@@ -4,6 +4,8 @@
 /// SCHED_FIFO against SCHED_OTHER, the memory lock of issue #21 against mlockall(MCL_CURRENT)
 /// (alternating), idle and optionally loaded; CSV and a PNG chart into --out.
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -253,12 +255,16 @@ int runBenchRt(const BenchRtOptions &o)
     opt.loadThreads = o.loadThreads;
     if (!setLoadClip(o, opt) || !setDevice(o, opt))
         return kExitBadInput;
-    opt.progress = [](const std::string &line) {
-        std::printf("%s\n", line.c_str());
-        std::fflush(stdout);
-    };
     const std::size_t cases =
         o.rates.size() * opt.policies.size() * opt.lockModes.size() * 2 * (opt.load ? 2 : 1);
+    // Progress on a terminal only, one line rewritten per case (its name); the table is printed
+    // once, at the end.
+    if (::isatty(STDERR_FILENO) == 1)
+        opt.progress = [cases, done = std::size_t{0}](const std::string &line) mutable {
+            done = done % cases + 1;
+            std::fprintf(stderr, "\r\033[Kcase %zu/%zu done: %.22s%s", done, cases, line.c_str(),
+                         done == cases ? "\n" : "");
+        };
     std::printf("depthtouch bench rt: %zu cases of %.1f s (haptic device %s)\n", cases, o.duration,
                 o.haptic.c_str());
     if (o.runs < 1 || o.runs > 50) {
