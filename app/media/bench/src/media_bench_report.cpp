@@ -174,7 +174,7 @@ bool writeReport(const MediaBenchReport &r, const std::string &dir, std::string 
                 "set style data histograms\nset style histogram clustered gap 1\n"
                 "set style fill solid 0.8 border -1\nset boxwidth 0.9\n"
                 "set logscale y\nset grid ytics\nset ylabel 'x real time (log scale)'\n"
-                "set xtics rotate by -20 font ',9'\nset key top right\n"
+                "set xtics rotate by -20 font ',9'\nset key below horizontal\n"
                 "plot '%s' skip 1 using ($7/%g):xtic(stringcolumn(1).' '.stringcolumn(2)) "
                 "title 'encode (cpu)', '' skip 1 using 13 title 'decode + pairing (cpu)', "
                 "'' skip 1 using 12 title 'decode + pairing (wall)'\n",
