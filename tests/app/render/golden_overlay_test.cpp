@@ -1,0 +1,155 @@
+/// \file
+/// \brief Golden tests of what is drawn over the surface on a real GLES 3 context (EGL surfaceless,
+/// llvmpipe): the haptic avatar, the on-screen display and PNG snapshots, including snapshots
+/// queued faster than they are written. Skips without the platform.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <thread>
+#include <vector>
+
+#include <glm/vec4.hpp>
+#include <GLES3/gl3.h>
+
+#include "app/render/egl_test_context.h"
+#include "app/render/golden_fixture.h"
+#include "app/render/render_test_support.h"
+#include "depthtouch/haptics/height_field.h"
+#include "depthtouch/media/image_io.h"
+#include "depthtouch/render/render_target.h"
+#include "depthtouch/render/renderer.h"
+#include "depthtouch/render/snapshot.h"
+
+using namespace depthtouch;
+using namespace depthtouch::render;
+using golden::Blob;
+using golden::bright;
+using golden::bumpy;
+using golden::findBlob;
+using golden::Picture;
+using golden::project;
+using golden::RenderGoldenTest;
+using golden::Rgb;
+using test::Depth16;
+using test::Depth8;
+using test::Yuv420;
+
+TEST_F(RenderGoldenTest, avatarOsdAndSnapshot)
+{
+    const Depth8 d(64, 48, [](int, int) { return 128; });
+    Yuv420 col(64, 48, [](int, int) { return std::array<int, 3>{126, 128, 128}; });
+    setMode(StereoMode::Mono, 1.2);
+    ASSERT_TRUE(renderer_->setDepth(d.view()));
+    ASSERT_TRUE(renderer_->setColor(col.view(), ColorSpec{}));
+    const Picture plain = draw(200, 150);
+    // GIVEN the proxy resting on the surface near the box centre and the OSD on
+    AvatarState av;
+    av.visible = true;
+    av.proxy = {0.01, -0.005, renderer_->mapping().point(0, 0, 128).z + av.radius};
+    av.hip = av.proxy - glm::dvec3(0.0, 0.0, 0.004);
+    renderer_->setAvatar(av);
+    OsdState osd;
+    osd.visible = true;
+    osd.status = "PLAYING";
+    osd.hapticsOn = true;
+    osd.force = 4.0;
+    renderer_->setOsd(osd);
+    const Picture withAvatar = draw(200, 150);
+    // THEN the pixel at the proxy is the sphere's warm colour instead of the grey surface
+    int n = 0;
+    const auto eyes =
+        eyeViews(StereoMode::Mono, renderer_->options().stereo, 200, 150,
+                 renderer_->mapping().width(), renderer_->mapping().height(), 0.04, n);
+    const glm::dvec2 at = project(eyes[0], 150, av.proxy + glm::dvec3(0, 0, av.radius));
+    const Rgb before = plain.at(static_cast<int>(at.x), static_cast<int>(at.y));
+    const Rgb sphere = withAvatar.at(static_cast<int>(at.x), static_cast<int>(at.y));
+    EXPECT_NEAR(before.r, before.b, 3);
+    EXPECT_GT(sphere.r, sphere.b + 60);
+    // AND the OSD changed the top-left corner but not the bottom-right one
+    int changedTopLeft = 0;
+    int changedBottomRight = 0;
+    for (int y = 0; y < 40; ++y)
+        for (int x = 0; x < 60; ++x) {
+            changedTopLeft += plain.at(x, y).g != withAvatar.at(x, y).g ? 1 : 0;
+            changedBottomRight +=
+                plain.at(199 - x, 149 - y).g != withAvatar.at(199 - x, 149 - y).g ? 1 : 0;
+        }
+    EXPECT_GT(changedTopLeft, 200);
+    EXPECT_EQ(changedBottomRight, 0);
+
+    // WHEN snapshotted to PNG THEN reading the file back gives the same pixels
+    auto t = RenderTarget::create(200, 150);
+    ASSERT_TRUE(t);
+    ASSERT_TRUE(renderer_->render(*t));
+    const std::string dir = ::testing::TempDir() + "/dt_render_snapshots";
+    std::filesystem::remove_all(dir);
+    Snapshotter snap(dir, 2);
+    auto first = snap.onFrame(*t);
+    ASSERT_TRUE(first);
+    ASSERT_TRUE(first->has_value());
+    auto second = snap.onFrame(*t);
+    ASSERT_TRUE(second);
+    EXPECT_FALSE(second->has_value());
+    snap.request();
+    auto third = snap.onFrame(*t);
+    ASSERT_TRUE(third);
+    ASSERT_TRUE(third->has_value());
+    ASSERT_TRUE(snap.flush());
+    EXPECT_EQ(snap.written(), 2u);
+    auto img = media::readImage(**first, media::PixelFormat::Rgb24);
+    ASSERT_TRUE(img);
+    ASSERT_EQ(img->width, 200);
+    ASSERT_EQ(img->height, 150);
+    for (int y = 0; y < 150; ++y)
+        ASSERT_EQ(0, std::memcmp(img->row(y),
+                                 withAvatar.rgb.data() + static_cast<std::size_t>(y) * 600, 600))
+            << y;
+}
+
+TEST_F(RenderGoldenTest, snapshotsQueuedFasterThanWrittenAreAllWrittenAndErrorsReported)
+{
+    const Depth8 d(64, 48, bumpy);
+    ASSERT_TRUE(renderer_->setDepth(d.view()));
+    auto t = RenderTarget::create(320, 240);
+    ASSERT_TRUE(t);
+    ASSERT_TRUE(renderer_->render(*t));
+    const std::string dir = ::testing::TempDir() + "/dt_render_snapshot_burst";
+    std::filesystem::remove_all(dir);
+    {
+        // WHEN every one of 12 frames is snapshotted (more than the writer queue holds)
+        Snapshotter snap(dir, 1, "burst");
+        for (int i = 0; i < 12; ++i) {
+            auto r = snap.onFrame(*t);
+            ASSERT_TRUE(r);
+            ASSERT_TRUE(r->has_value());
+        }
+    } // the destructor waits for the writer
+    // THEN every file is there and complete
+    for (int i = 0; i < 12; ++i) {
+        char name[64];
+        std::snprintf(name, sizeof name, "/burst-%06d.png", i);
+        auto img = media::readImage(dir + name, media::PixelFormat::Rgb24);
+        ASSERT_TRUE(img) << name;
+        EXPECT_EQ(img->width, 320);
+    }
+    // WHEN a snapshot's file cannot be written (a directory stands in its way)
+    std::filesystem::remove(dir + "/burst-000000.png");
+    std::filesystem::create_directories(dir + "/burst-000000.png");
+    std::filesystem::remove(dir + "/burst-000001.png");
+    Snapshotter again(dir, 1, "burst");
+    auto r0 = again.onFrame(*t);
+    ASSERT_TRUE(r0);
+    auto r1 = again.onFrame(*t);
+    // THEN the error comes back once (from flush() or the next frame), and the next file is written
+    const auto flushed = again.flush();
+    EXPECT_TRUE(!r1 || !flushed) << "the failed write was not reported";
+    if (!flushed) {
+        EXPECT_EQ(flushed.error().code, Errc::Io);
+    }
+    EXPECT_TRUE(again.flush()) << "an error is reported once";
+    EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/burst-000001.png"));
+}
