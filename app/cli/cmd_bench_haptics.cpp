@@ -108,6 +108,10 @@ int runBenchHaptics(const BenchHapticsOptions &o)
     std::printf("  mesh-bvh per-frame rebuild / modified per-frame cost at 720x486: %.0fx (goal >= "
                 "1000x): %s\n",
                 report.rebuildRatio, metText(report.rebuildRatio >= 1000.0));
+    std::printf("  friction on the proxy, cost per update with / without at 720x486 (worst motion, "
+                "same run): finger %.2f (filtered %.2f), modified %.2f (filtered %.2f)\n",
+                report.fingerFrictionRatio, report.fingerFrictionMinOfRunsRatio,
+                report.modifiedFrictionRatio, report.modifiedFrictionMinOfRunsRatio);
     std::string error;
     std::string note;
     if (!writeBenchOutputs(report, o.out, error, note)) {

@@ -67,15 +67,16 @@ class FeelScenarioTest : public ::testing::TestWithParam<SyntheticScene> {};
 
 // Slides pressed 1 and 3 mm in at 5 and 10 cm/s, presses held still and strokes across the
 // silhouettes: the finger renderer (touch's and play's default) meets every goal, with either
-// re-engagement; `modified` trips safety with no cut, sticks and slips (force spikes) and, on
-// silhouettes, lets the finger through or pulls it back.
+// re-engagement and with friction on the proxy (μs 0.5, μd 0.4); `modified` trips safety with no
+// cut, sticks and slips (force spikes) and, on silhouettes, lets the finger through or pulls it
+// back.
 TEST_P(FeelScenarioTest, fingerMeetsTheFeelGoalsWhereModifiedFails)
 {
     auto scene = makeSyntheticScene(GetParam());
     ASSERT_TRUE(scene) << scene.error().what;
     const std::vector<Stroke> strokes = makeStrokes(*scene);
     ASSERT_GE(strokes.size(), 9u);
-    for (const char *name : {"finger", "finger-ramp"}) {
+    for (const char *name : {"finger", "finger-ramp", "finger-friction"}) {
         const StrokesRun finger = runStrokes(*scene, strokes, setting(name));
         expectGoalsMet(finger);
         // AND no worse than measured on these seeded scenes (worst stroke: table and head 0

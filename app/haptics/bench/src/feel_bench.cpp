@@ -172,6 +172,11 @@ std::vector<FeelSetting> feelSettings(const std::vector<Method> &methods)
             c.reengage = Reengage::Ramp;
             out.push_back({"finger-ramp", m, c});
             c.reengage = Reengage::Release;
+            c.staticFriction = kFeelStaticFriction;
+            c.dynamicFriction = kFeelDynamicFriction;
+            out.push_back({"finger-friction", m, c});
+            c.staticFriction = 0.0;
+            c.dynamicFriction = 0.0;
             c.fingerRadius = 1.0e-3;
             out.push_back({"finger-r1mm", m, c});
             c.fingerRadius = 2.0e-3;

@@ -50,8 +50,12 @@ OneRun runOnce(const std::string &method, const WaveScenario &scene, double spee
     if (method == "mesh-bvh") {
         cfg = RendererConfig::forMethod(Method::MeshBvh);
         r = std::make_unique<MeshBvhRenderer>(cfg, w, h);
-    } else if (method == "finger") {
+    } else if (method == "finger" || method == "finger-friction") {
         cfg = RendererConfig::forMethod(Method::Finger);
+        if (method == "finger-friction") {
+            cfg.staticFriction = kBenchStaticFriction;
+            cfg.dynamicFriction = kBenchDynamicFriction;
+        }
         auto f = std::make_unique<FingerRenderer>(cfg);
         finger = f.get();
         r = std::move(f);
@@ -59,6 +63,10 @@ OneRun runOnce(const std::string &method, const WaveScenario &scene, double spee
         cfg = RendererConfig::forMethod(method == "proxy-graph" ? Method::ProxyGraph : Method::Modified);
         if (method == "modified-hold")
             cfg.interpolation = false;
+        if (method == "modified-friction") {
+            cfg.staticFriction = kBenchStaticFriction;
+            cfg.dynamicFriction = kBenchDynamicFriction;
+        }
         auto g = std::make_unique<ProxyGraphRenderer>(cfg);
         grid = g.get();
         r = std::move(g);
@@ -260,9 +268,31 @@ double worstRatio(const BenchReport &report, const char *method, double BenchRow
     return worst;
 }
 
+/// The worst \a friction / \a plain ratio of \a field at 720×486 over the motions (same run).
+double frictionRatio(const BenchReport &report, const char *plain, const char *friction,
+                     double BenchRow::*field)
+{
+    double worst = 0.0;
+    for (const char *motion : {"still", "0.1 m/s", "1 m/s"}) {
+        const BenchRow *a = findRow(report, plain, 720, motion);
+        const BenchRow *b = findRow(report, friction, 720, motion);
+        if (a && b && a->*field > 0)
+            worst = std::max(worst, b->*field / a->*field);
+    }
+    return worst;
+}
+
 /// The goal figures, from the rows of this run.
 void setGoals(BenchReport &report)
 {
+    report.fingerFrictionRatio =
+        frictionRatio(report, "finger", "finger-friction", &BenchRow::medianNs);
+    report.fingerFrictionMinOfRunsRatio =
+        frictionRatio(report, "finger", "finger-friction", &BenchRow::minOfRunsMedianNs);
+    report.modifiedFrictionRatio =
+        frictionRatio(report, "modified", "modified-friction", &BenchRow::medianNs);
+    report.modifiedFrictionMinOfRunsRatio =
+        frictionRatio(report, "modified", "modified-friction", &BenchRow::minOfRunsMedianNs);
     if (const BenchRow *r = findRow(report, "finger", 720, "1 m/s")) {
         report.fingerP999At720Fast = r->p999Ns;
         report.fingerMinOfRunsP999At720Fast = r->minOfRunsP999Ns;
@@ -302,8 +332,12 @@ BenchReport runHapticsBenchmark(const BenchOptions &options)
 
         const WaveScenario scene(w, h, box);
         std::vector<std::string> methods = {"finger", "modified", "proxy-graph", "mesh-bvh"};
-        if (w == 720)
-            methods.insert(methods.begin() + 1, "modified-hold");
+        if (w == 720) {
+            // Friction on the proxy is timed beside its frictionless renderer at 720×486 only.
+            methods = {"finger",   "finger-friction",   "modified-hold",
+                       "modified", "modified-friction", "proxy-graph",
+                       "mesh-bvh"};
+        }
         for (const std::string &method : methods) {
             for (double speed : speeds) {
                 if (!measured(method, w, speed, options.quick))
@@ -389,7 +423,13 @@ bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::s
               {"finger_p999_ns_720x486_1mps", report.fingerP999At720Fast},
               {"finger_min_of_runs_p999_ns_720x486_1mps", report.fingerMinOfRunsP999At720Fast},
               {"finger_min_of_runs_median_ratio_3840x2160_over_720x486",
-               report.fingerMinOfRunsResolutionRatio}}}};
+               report.fingerMinOfRunsResolutionRatio},
+              {"finger_friction_median_ratio_720x486", report.fingerFrictionRatio},
+              {"finger_friction_min_of_runs_median_ratio_720x486",
+               report.fingerFrictionMinOfRunsRatio},
+              {"modified_friction_median_ratio_720x486", report.modifiedFrictionRatio},
+              {"modified_friction_min_of_runs_median_ratio_720x486",
+               report.modifiedFrictionMinOfRunsRatio}}}};
         std::ofstream js(base / "haptics_bench.json");
         js << doc.dump(2) << '\n';
         if (!js) {

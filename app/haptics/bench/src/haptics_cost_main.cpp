@@ -3,8 +3,11 @@
 /// wave, same HIP trajectory, same approach) without timing it, for instruction counts under
 /// valgrind's callgrind, which are free of the noise of a shared machine.
 ///
-/// Usage: `haptics_cost [--method finger|modified] WIDTH HEIGHT SPEED [UPDATES [REPEATS]]` (SPEED in
-/// m/s, 0 = still; UPDATES default 3000; the method defaults to modified). With REPEATS, the setting is replayed that many times, each update timed with
+/// Usage: `haptics_cost [--method finger|modified] [--friction] WIDTH HEIGHT SPEED [UPDATES
+/// [REPEATS]]` (`--friction`: friction on the proxy, μs kBenchStaticFriction and μd
+/// kBenchDynamicFriction of haptics_bench.h; SPEED in m/s, 0 = still; UPDATES default 3000; the
+/// method defaults to modified). With REPEATS, the setting is replayed that many times, each update
+/// timed with
 /// steady_clock, and the median and p99.9 of the per-update minimum over the repeats are printed
 /// (wall-clock figures with most interference stripped, for A/B comparisons on a busy machine).
 /// Under callgrind only the timed updates' update() calls are collected (the
@@ -12,9 +15,9 @@
 /// `valgrind --tool=callgrind --collect-atstart=no --instr-atstart=no haptics_cost ...` the total
 /// Ir divided by UPDATES is the instructions per update. Frame generation runs uninstrumented.
 /// Prints the work counters (cells, steps) and the accuracy (force RMS error against the analytic
-/// truth, pop-throughs), a force checksum and a hash of the bits of every proxy and force, so variants
-/// can be checked to compute the same thing (bits equal: identical; checksum close: rounding).
-/// Exit code 2 on bad arguments.
+/// truth, pop-throughs), a force checksum and a hash of the bits of every proxy and force, so
+/// variants can be checked to compute the same thing (bits equal: identical; checksum close:
+/// rounding). Exit code 2 on bad arguments.
 
 #include <algorithm>
 #include <chrono>
@@ -31,6 +34,7 @@
 #include <glm/geometric.hpp>
 
 #include "depthtouch/haptics/finger_renderer.h"
+#include "depthtouch/haptics/haptics_bench.h"
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/haptics/wave_scenario.h"
 #include "depthtouch/platform/percentile.h"
@@ -57,6 +61,7 @@ struct CostArgs {
     double speed = 0.0;
     long updates = 3000;
     long repeats = 0;
+    bool friction = false; ///< --friction: μs kBenchStaticFriction, μd kBenchDynamicFriction
 };
 
 /// Parses the command line; prints what is wrong and returns nothing on bad arguments.
@@ -73,9 +78,14 @@ std::optional<CostArgs> parseArgs(int argc, char **argv)
         argc -= 2;
         argv += 2;
     }
+    if (argc >= 2 && std::string_view(argv[1]) == "--friction") {
+        args.friction = true;
+        argc -= 1;
+        argv += 1;
+    }
     if (argc < 4 || argc > 6) {
-        std::fprintf(stderr, "usage: haptics_cost [--method finger|modified] WIDTH HEIGHT SPEED_M_PER_S "
-                             "[UPDATES [REPEATS]]\n");
+        std::fprintf(stderr, "usage: haptics_cost [--method finger|modified] [--friction] WIDTH "
+                             "HEIGHT SPEED_M_PER_S [UPDATES [REPEATS]]\n");
         return std::nullopt;
     }
     args.w = std::atoi(argv[1]);
@@ -233,7 +243,11 @@ int main(int argc, char **argv)
     const auto args = parseArgs(argc, argv);
     if (!args)
         return 2;
-    const RendererConfig cfg = RendererConfig::forMethod(args->method);
+    RendererConfig cfg = RendererConfig::forMethod(args->method);
+    if (args->friction) {
+        cfg.staticFriction = kBenchStaticFriction;
+        cfg.dynamicFriction = kBenchDynamicFriction;
+    }
     const WaveScenario scene(args->w, args->h, cfg.box);
     auto made = makeRenderer(args->method, cfg, args->w, args->h);
     if (!made) {

@@ -27,8 +27,15 @@ struct FeelSetting {
     RendererConfig config{};
 };
 
-/// \brief The settings for \a methods: finger (its defaults), modified with Reengage::Release and
-/// Reengage::Ramp, proxy-graph, mesh-bvh, in that order where asked.
+/// Friction of the `finger-friction` setting (friction.h): μs and μd of a dry fingertip on a
+/// smooth surface. Breaking away drops the tangential force by k·(μs − μd)·depth, 0.24 N pressed
+/// 3 mm in at 800 N/m: under the 0.5 N of a force spike (feel.h).
+inline constexpr double kFeelStaticFriction = 0.5;
+inline constexpr double kFeelDynamicFriction = 0.4;
+
+/// \brief The settings for \a methods: finger (its defaults; then `finger-ramp`, `finger-friction`
+/// with kFeelStaticFriction and kFeelDynamicFriction, `finger-r1mm`, `finger-r2mm`), modified with
+/// Reengage::Release and Reengage::Ramp, proxy-graph, mesh-bvh, in that order where asked.
 std::vector<FeelSetting> feelSettings(const std::vector<Method> &methods);
 
 /// \brief The figures of one stroke with one setting.

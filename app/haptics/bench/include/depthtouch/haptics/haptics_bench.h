@@ -16,6 +16,10 @@
 
 namespace depthtouch::haptics::bench {
 
+/// Friction of the `-friction` settings (friction.h): μs and μd.
+inline constexpr double kBenchStaticFriction = 0.5;
+inline constexpr double kBenchDynamicFriction = 0.4;
+
 /// \brief Options of one benchmark run.
 struct BenchOptions {
     bool quick = false;    ///< Fewer updates and repetitions.
@@ -26,7 +30,10 @@ struct BenchOptions {
 
 /// \brief One (method, resolution, motion) setting.
 struct BenchRow {
-    std::string method;       ///< modified | modified-hold | proxy-graph | mesh-bvh
+    /// finger | finger-friction | modified | modified-friction | modified-hold | proxy-graph |
+    /// mesh-bvh (the -friction ones at 720×486 only, μs = kBenchStaticFriction, μd =
+    /// kBenchDynamicFriction).
+    std::string method;
     int width = 0;
     int height = 0;
     std::string motion;       ///< still | 0.1 m/s | 1 m/s
@@ -72,6 +79,13 @@ struct BenchReport {
     double fingerP999At720Fast = 0.0;
     double fingerMinOfRunsP999At720Fast = 0.0;
     double fingerMinOfRunsResolutionRatio = 0.0;
+    /// Cost of friction on the proxy (issue 22): the worst median ratio over the motions at
+    /// 720×486 of `finger-friction` / `finger` and `modified-friction` / `modified`, measured in
+    /// the same run, raw and interference-filtered.
+    double fingerFrictionRatio = 0.0;
+    double fingerFrictionMinOfRunsRatio = 0.0;
+    double modifiedFrictionRatio = 0.0;
+    double modifiedFrictionMinOfRunsRatio = 0.0;
 };
 
 /// \brief Runs the benchmark. Allocates freely (not real-time).
