@@ -137,51 +137,64 @@ void writeStagesChart(const std::vector<BenchRow> &rows, const std::filesystem::
        << "' using k:xtic(1) lc rgb word(colours, k-1) title columnheader(k)\n";
 }
 
-/// cpu_vs_depth_size.dat/.gp: render-thread geometry CPU (solid) and prep CPU (dashed) per frame
-/// against the depth size, one line per setting and source.
+/// cpu_vs_depth_size.dat/.gp: two panels, the render thread's geometry CPU (geom_cpu_ms) and the
+/// prep thread's (prep_cpu_ms) per frame against the depth size, one line per setting of the first
+/// source (the kitchen), the key below, the goals as labelled dotted lines.
 void writeCpuChart(const std::vector<BenchRow> &rows, const std::filesystem::path &base)
 {
+    if (rows.empty())
+        return;
+    const std::string source = rows.front().source;
     std::vector<std::string> series;
-    for (const BenchRow &r : rows) {
-        const std::string key = r.name + " (" + r.source + ")";
-        if (std::find(series.begin(), series.end(), key) == series.end())
-            series.push_back(key);
-    }
+    for (const BenchRow &r : rows)
+        if (r.source == source && std::find(series.begin(), series.end(), r.name) == series.end())
+            series.push_back(r.name);
     {
         std::ofstream d(base / "cpu_vs_depth_size.dat");
-        for (const std::string &key : series) {
-            d << "# " << key << '\n';
+        for (const std::string &name : series) {
+            d << "# " << name << '\n';
             for (const BenchRow &r : rows)
-                if (r.name + " (" + r.source + ")" == key)
+                if (r.source == source && r.name == name)
                     d << static_cast<double>(r.depthWidth) * r.depthHeight / 1e6 << ' '
                       << std::max(r.geomCpuMs, 1e-3) << ' ' << std::max(r.prepCpuMs, 1e-3) << '\n';
             d << "\n\n";
         }
     }
+    static constexpr const char *kColours[] = {"#1f77b4", "#2ca02c", "#d62728", "#9467bd",
+                                               "#ff7f0e", "#8c564b", "#17becf", "#7f7f7f"};
+    const std::string dat = "'" + (base / "cpu_vs_depth_size.dat").string() + "'";
     std::ofstream gp(base / "cpu_vs_depth_size.gp");
-    gp << "set terminal pngcairo size 1100,700 noenhanced font ',10'\n"
+    gp << "set terminal pngcairo size 1200,620 noenhanced font ',10'\n"
        << "set output '" << (base / "cpu_vs_depth_size.png").string() << "'\n"
-       << "set title 'CPU time per frame for the depth geometry vs depth size (median)'\n"
-       << "set xlabel 'depth frame size (megasamples: 720x486 = 0.35, 1920x1080 = 2.07, "
-          "3840x2160 = 8.29)'\n"
-       << "set ylabel 'ms per frame (thread CPU time)'\n"
-       << "set logscale xy\nset grid\nset key outside right top\n"
-       << "set arrow from graph 0, first 3 to graph 1, first 3 nohead dt 3 lc rgb 'gray40'\n"
-       << "set label 'goal at 3840x2160: 3 ms' at graph 0.02, first 3.6 tc rgb 'gray40'\n"
-       << "set arrow from graph 0, first 0.3 to graph 1, first 0.3 nohead dt 3 lc rgb 'gray40'\n"
-       << "set label 'goal full mesh at 720x486: 0.3 ms' at graph 0.02, first 0.36 tc rgb "
-          "'gray40'\n"
-       << "plot ";
-    for (std::size_t k = 0; k < series.size(); ++k) {
-        const std::string file =
-            k == 0 ? "'" + (base / "cpu_vs_depth_size.dat").string() + "'" : "''";
-        gp << (k == 0 ? "" : ", \\\n     ") << file << " index " << k
-           << " using 1:2 with linespoints lw 2 pt 7 lc " << (k + 1)
-           << " title 'render thread: " << series[k] << "', \\\n     '' index " << k
-           << " using 1:3 with linespoints dt 2 pt 6 lc " << (k + 1)
-           << " title 'prep: " << series[k] << "'";
-    }
-    gp << '\n';
+       << "set multiplot layout 1,2 title 'CPU time per frame for the depth geometry vs depth "
+          "size (median, "
+       << source << "; 0.001 ms = none)'\n"
+       << "set logscale xy\nset grid\nset xrange [0.25:12]\nset yrange [0.001:300]\n"
+       << "set xlabel 'depth samples, millions (720x486: 0.35, 1920x1080: 2.07, 3840x2160: 8.29)' "
+          "offset 0,0.6\n"
+       << "set key below horizontal maxcols 3 box\n"
+       << "set style line 99 dt 3 lw 1.5 lc rgb 'gray30'\n";
+    const auto goal = [&gp](double ms, const char *text, bool above) {
+        gp << "set arrow from graph 0, first " << ms << " to graph 1, first " << ms
+           << " nohead ls 99\nset label '" << text << "' at graph 0.02, first "
+           << (above ? ms * 1.35 : ms / 1.45) << " tc rgb 'gray20'\n";
+    };
+    const auto panel = [&](const char *title, int column) {
+        gp << "set title '" << title << "'\nset ylabel 'ms per frame (thread CPU time)'\nplot ";
+        for (std::size_t k = 0; k < series.size(); ++k)
+            gp << (k == 0 ? "" : ", \\\n     ") << (k == 0 ? dat : "''") << " index " << k
+               << " using 1:" << column << " with linespoints lw 2 pt 7 lc rgb '" << kColours[k % 8]
+               << "' title '" << series[k] << "'";
+        gp << '\n';
+    };
+    goal(3.0, "goal at 3840x2160: 3 ms", true);
+    goal(0.3, "goal, full mesh at 720x486: 0.3 ms", false);
+    panel("render thread (geom_cpu_ms: index choice, depth upload, mapping)", 2);
+    gp << "unset arrow\nunset label\n";
+    goal(3.0, "goal at 3840x2160: 3 ms", true);
+    goal(0.5, "goal, level of detail at 720x486: 0.5 ms", false);
+    panel("prep thread (prep_cpu_ms: level of detail; none for a fixed step)", 3);
+    gp << "unset multiplot\n";
 }
 
 } // namespace
