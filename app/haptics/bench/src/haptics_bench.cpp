@@ -459,9 +459,10 @@ bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::s
     }
     {
         std::ofstream g(base / "charts.gp");
-        g << "set terminal pngcairo size 1100,700\n"
+        g << "set terminal pngcairo size 1100,700 noenhanced\n"
              "set output '" << (base / "speed_vs_accuracy.png").string() << "'\n"
-             "set title 'Haptic renderers: update time vs force error (moving sinusoid, 30 fps video, 1 kHz; one point per resolution and HIP motion, see haptics_bench.csv)'\n"
+             "set title \"Haptic renderers: update time vs force error\\n(moving sinusoid, 30 fps "
+             "video, 1 kHz; one point per resolution and HIP motion: haptics_bench.csv)\"\n"
              "set logscale xy\nset xlabel 'median update time (us)'\nset ylabel 'force RMS error vs analytic truth (N)'\n"
              "set key outside right\nset grid\n"
              "plot for [i=0:4] '" << (base / "speed_vs_accuracy.dat").string()

@@ -1,0 +1,50 @@
+#!/bin/sh
+# Every benchmark writes its charts: each `depthtouch bench` runs briefly into a scratch folder and
+# every PNG it names must be a PNG of some size (a failed gnuplot script leaves none, or an empty
+# one). Whether a chart reads well is checked by eye (docs/benchmarks.md). Exit 77 (skip) without
+# gnuplot. Usage: bench_charts_e2e.sh /path/to/depthtouch [shared-data-folder]
+set -u
+exe="$1"
+data="${2:-}"
+command -v gnuplot >/dev/null 2>&1 || { echo "gnuplot not installed: skipped"; exit 77; }
+work=$(mktemp -d "${TMPDIR:-/tmp}/dt-charts-e2e.XXXXXX") || exit 1
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+bench() { # name, args...
+    name="$1"; shift
+    "$exe" bench "$name" --out "$work/$name" "$@" >"$work/$name.log" 2>&1 ||
+        { tail -n 20 "$work/$name.log"; fail "bench $name exited $?"; }
+}
+png() { # name, file
+    f="$work/$1/$2"
+    [ -f "$f" ] || { ls "$work/$1"; fail "bench $1 wrote no $2"; }
+    magic=$(od -An -tx1 -N8 "$f" | tr -d ' \n')
+    [ "$magic" = "89504e470d0a1a0a" ] || fail "bench $1: $2 is not a PNG"
+    size=$(wc -c <"$f")
+    [ "$size" -gt 5000 ] || fail "bench $1: $2 is $size bytes (an empty plot?)"
+    echo "bench $1: $2 ($size bytes)"
+}
+
+bench rt --duration 0.2 --rates 1000 --policies fifo
+png rt rt_bench.png
+bench media --synthetic --frames 10 --runs 1 --sizes 160x120 --presets ultrafast --depth-crfs 30
+png media media_throughput.png
+png media rate_vs_accuracy.png
+bench haptics --quick
+png haptics speed_vs_accuracy.png
+png haptics psd.png
+bench feel --quick --method finger --data "$work/no-data"
+png feel feel_vs_speed.png
+if ! "$exe" bench render --help >/dev/null 2>&1; then
+    echo "bench render: not in this build (no EGL)"
+elif [ -n "$data" ] && [ -f "$data/rgbd-7scenes-redkitchen/frame-000000.depth.png" ]; then
+    bench render --frames 5 --data "$data"
+    png render fps_vs_error.png
+    png render stages.png
+    png render cpu_vs_depth_size.png
+else
+    [ "${DT_REQUIRE_SHARED_DATA:-0}" = 1 ] && fail "bench render: no shared RGB-D data at '$data'"
+    echo "bench render: skipped (no shared RGB-D data at '$data')"
+fi
+echo PASS
