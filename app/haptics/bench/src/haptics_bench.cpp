@@ -460,19 +460,28 @@ bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::s
     {
         std::ofstream g(base / "charts.gp");
         g << "set terminal pngcairo size 1100,700 noenhanced\n"
-             "set output '" << (base / "speed_vs_accuracy.png").string() << "'\n"
+             "set output '"
+          << (base / "speed_vs_accuracy.png").string()
+          << "'\n"
              "set title \"Haptic renderers: update time vs force error\\n(moving sinusoid, 30 fps "
              "video, 1 kHz; one point per resolution and HIP motion: haptics_bench.csv)\"\n"
-             "set logscale xy\nset xlabel 'median update time (us)'\nset ylabel 'force RMS error vs analytic truth (N)'\n"
+             "set logscale xy\nset xlabel 'median update time (us)'\nset ylabel 'force RMS error "
+             "vs analytic truth (N)'\n"
              "set key outside right\nset grid\n"
-             "plot for [i=0:4] '" << (base / "speed_vs_accuracy.dat").string()
-          << "' index i using 1:2 with points pt 7 ps 1.5 title word('finger modified modified-hold proxy-graph mesh-bvh', i+1)\n"
-             "set output '" << (base / "psd.png").string() << "'\n"
+             "plot for [i=0:4] '"
+          << (base / "speed_vs_accuracy.dat").string()
+          << "' index i using 1:2 with points pt 7 ps 1.5 title word('finger modified "
+             "modified-hold proxy-graph mesh-bvh', i+1)\n"
+             "set output '"
+          << (base / "psd.png").string()
+          << "'\n"
              "unset logscale\nset title 'PSD of |F|, HIP still, 720x486 (cf. paper Fig. 12)'\n"
              "set xlabel 'frequency (Hz)'\nset ylabel 'PSD (dB re 1 N^2/Hz)'\nset xrange [0:100]\n"
              "set datafile separator ','\n"
-             "plot '" << (base / "psd.csv").string()
-          << "' using 1:3 with lines title 'sample-and-hold', '' using 1:2 with lines title 'interpolated (Eq. 1)'\n";
+             "plot '"
+          << (base / "psd.csv").string()
+          << "' using 1:3 with lines title 'sample-and-hold', '' using 1:2 with lines title "
+             "'interpolated (Eq. 1)'\n";
     }
     // Charts with gnuplot, when it is installed.
     const platform::PlotStatus plot = platform::runGnuplot((base / "charts.gp").string());
