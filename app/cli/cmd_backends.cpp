@@ -12,7 +12,8 @@ namespace depthtouch::cli {
 
 void registerBackendsCommand(CLI::App &app, int &exitCode)
 {
-    CLI::App *cmd = app.add_subcommand("backends", "List the compiled-in HAL backends of each kind");
+    CLI::App *cmd =
+        app.add_subcommand("backends", "List the compiled-in HAL backends of each kind");
     cmd->callback([&exitCode] {
         using drivers::BackendKind;
         constexpr BackendKind kKinds[] = {BackendKind::MediaSource,  BackendKind::VideoDecoder,

@@ -9,7 +9,8 @@ namespace depthtouch::cli {
 
 void registerBenchCommand(CLI::App &app, int &exitCode)
 {
-    CLI::App *bench = app.add_subcommand("bench", "Benchmarks: print figures, write CSV, JSON and PNG charts");
+    CLI::App *bench =
+        app.add_subcommand("bench", "Benchmarks: print figures, write CSV, JSON and PNG charts");
     bench->require_subcommand(1);
     registerBenchHapticsCommand(*bench, exitCode);
     registerBenchRenderCommand(*bench, exitCode);

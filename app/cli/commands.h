@@ -1,8 +1,8 @@
 #pragma once
 /// \file
-/// \brief Subcommands of the `depthtouch` executable. Each one registers itself on the CLI11 app and, when
-/// it runs, stores the process exit code: 0 success, 1 runtime failure, 2 bad input or options.
-/// Thread-safety: main thread only.
+/// \brief Subcommands of the `depthtouch` executable. Each one registers itself on the CLI11 app
+/// and, when it runs, stores the process exit code: 0 success, 1 runtime failure, 2 bad input or
+/// options. Thread-safety: main thread only.
 
 namespace CLI {
 class App;

@@ -27,7 +27,8 @@ constexpr RegisterCommand kCommands[] = {
 
 int main(int argc, char **argv)
 {
-    CLI::App app{"DepthTouch: play color + depth 3D video and touch it with a haptic device", "depthtouch"};
+    CLI::App app{"DepthTouch: play color + depth 3D video and touch it with a haptic device",
+                 "depthtouch"};
     app.set_version_flag("--version", "depthtouch " DT_VERSION);
     app.require_subcommand(1);
     // Bad input gets one clear line (CLI11's default adds a second "Run with --help" line).

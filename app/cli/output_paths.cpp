@@ -36,7 +36,8 @@ OutputPathCheck checkOutputPath(std::string_view option, const std::string &path
     struct stat st{};
     if (::stat(folder.c_str(), &st) != 0)
         return refuse(kExitBadInput, option, path,
-                      "no folder " + quotedText(folder.string()) + " (" + std::strerror(errno) + ")");
+                      "no folder " + quotedText(folder.string()) + " (" + std::strerror(errno) +
+                          ")");
     if (!S_ISDIR(st.st_mode))
         return refuse(kExitBadInput, option, path,
                       quotedText(folder.string()) + " is not a folder");
@@ -50,13 +51,15 @@ OutputPathCheck checkOutputPath(std::string_view option, const std::string &path
     // A device: does it take a write at all? (/dev/null does, /dev/full does not.)
     const int fd = ::open(path.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
     if (fd < 0)
-        return refuse(kExitFailure, option, path, std::string("cannot write: ") + std::strerror(errno));
+        return refuse(kExitFailure, option, path,
+                      std::string("cannot write: ") + std::strerror(errno));
     const char none = 0;
     const bool writable = ::write(fd, &none, 0) >= 0;
     const int err = errno;
     ::close(fd);
     if (!writable)
-        return refuse(kExitFailure, option, path, std::string("cannot write: ") + std::strerror(err));
+        return refuse(kExitFailure, option, path,
+                      std::string("cannot write: ") + std::strerror(err));
     return {};
 }
 

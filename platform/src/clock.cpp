@@ -39,8 +39,8 @@ bool SteadyClock::sleepUntil(TimePoint deadline) noexcept
     if (now() >= deadline)
         return false;
     const timespec ts = toTimespec(deadline);
-    // clock_nanosleep returns the error number; EINTR means a signal arrived: sleep again to the same
-    // absolute deadline (no drift, unlike relative sleeps).
+    // clock_nanosleep returns the error number; EINTR means a signal arrived: sleep again to the
+    // same absolute deadline (no drift, unlike relative sleeps).
     while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
     }
     return true;
@@ -191,7 +191,8 @@ int ManualClock::sleepers() const noexcept
 bool ManualClock::waitForSleepers(int count, std::chrono::milliseconds timeout) noexcept
 {
     std::unique_lock<std::mutex> lock(mutex_);
-    return cv_.wait_for(lock, timeout, [&] { return sleepers_ >= count || released_; }) && sleepers_ >= count;
+    return cv_.wait_for(lock, timeout, [&] { return sleepers_ >= count || released_; }) &&
+           sleepers_ >= count;
 }
 
 void ManualClock::detachThread() noexcept

@@ -121,7 +121,8 @@ void setLogSink(LogSink sink, void *user) noexcept
     gSinkUser = user;
 }
 
-void logMessageV(const LogCategory &category, LogLevel level, const char *format, std::va_list args) noexcept
+void logMessageV(const LogCategory &category, LogLevel level, const char *format,
+                 std::va_list args) noexcept
 {
     if (!category.enabled(level) || level == LogLevel::Off)
         return;
@@ -134,8 +135,8 @@ void logMessageV(const LogCategory &category, LogLevel level, const char *format
     }
     timespec ts{};
     clock_gettime(CLOCK_MONOTONIC, &ts);
-    std::fprintf(stderr, "[%5lld.%06ld] %s %s: %s\n", static_cast<long long>(ts.tv_sec), ts.tv_nsec / 1000,
-                 levelTag(level), category.name, message);
+    std::fprintf(stderr, "[%5lld.%06ld] %s %s: %s\n", static_cast<long long>(ts.tv_sec),
+                 ts.tv_nsec / 1000, levelTag(level), category.name, message);
 }
 
 void logMessage(const LogCategory &category, LogLevel level, const char *format, ...) noexcept

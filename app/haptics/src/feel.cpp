@@ -70,7 +70,8 @@ void updatePercentiles(std::span<const FeelSample> rows, FeelFigures &out)
 void rates(FeelFigures &f) noexcept
 {
     f.falseTrips = f.trips - f.realCutTrips;
-    f.spikesPerSecond = f.slidingSeconds > 0.0 ? static_cast<double>(f.spikes) / f.slidingSeconds : 0.0;
+    f.spikesPerSecond =
+        f.slidingSeconds > 0.0 ? static_cast<double>(f.spikes) / f.slidingSeconds : 0.0;
     f.falseTripsPerSecond =
         f.slidingSeconds > 0.0 ? static_cast<double>(f.falseTrips) / f.slidingSeconds : 0.0;
 }

@@ -64,14 +64,21 @@ FingerPlane fitFingerPlane(const HeightField &field, double x, double y, double 
         sih += i * taps[k];
         sjh += j * taps[k];
     }
-    const double det = n * (sii * sjj - sij * sij) - si * (si * sjj - sij * sj) + sj * (si * sij - sii * sj);
+    const double det =
+        n * (sii * sjj - sij * sij) - si * (si * sjj - sij * sj) + sj * (si * sij - sii * sj);
     double a = median;
     double bx = 0.0;
     double by = 0.0;
     if (det > 0.5) { // 1 for the fewest taps that span a plane; 324 for all nine
-        a = (sh * (sii * sjj - sij * sij) - si * (sih * sjj - sij * sjh) + sj * (sih * sij - sii * sjh)) / det;
-        bx = (n * (sih * sjj - sij * sjh) - sh * (si * sjj - sij * sj) + sj * (si * sjh - sih * sj)) / det;
-        by = (n * (sii * sjh - sih * sij) - si * (si * sjh - sih * sj) + sh * (si * sij - sii * sj)) / det;
+        a = (sh * (sii * sjj - sij * sij) - si * (sih * sjj - sij * sjh) +
+             sj * (sih * sij - sii * sjh)) /
+            det;
+        bx = (n * (sih * sjj - sij * sjh) - sh * (si * sjj - sij * sj) +
+              sj * (si * sjh - sih * sj)) /
+             det;
+        by = (n * (sii * sjh - sih * sij) - si * (si * sjh - sih * sj) +
+              sh * (si * sij - sii * sj)) /
+             det;
     }
     FingerPlane p;
     p.x = cx;
@@ -179,7 +186,8 @@ glm::dvec3 FingerRenderer::glide(const glm::dvec3 &hip, const glm::dvec3 &proxy,
     if (!(d > allowed))
         return proxy;
     // Toward the new optimum by what is allowed, on the surface there.
-    plane = fitFingerPlane(field_, proxy_.x + dx * (allowed / d), proxy_.y + dy * (allowed / d), radius_);
+    plane = fitFingerPlane(field_, proxy_.x + dx * (allowed / d), proxy_.y + dy * (allowed / d),
+                           radius_);
     return {plane.x, plane.y, plane.height};
 }
 

@@ -4,7 +4,8 @@
 
 namespace depthtouch::haptics {
 
-Result<void> HeightField::setFrames(const DepthFrameView &current, const DepthFrameView *next) noexcept
+Result<void> HeightField::setFrames(const DepthFrameView &current,
+                                    const DepthFrameView *next) noexcept
 {
     if (!(box_.width > 0.0) || !(box_.depth > 0.0) || !std::isfinite(box_.width) ||
         !std::isfinite(box_.depth))

@@ -43,11 +43,13 @@ TriangleId MeshBvhRenderer::triangleOf(std::uint32_t index) const noexcept
                       static_cast<int>(index % 2)};
 }
 
-Result<void> MeshBvhRenderer::setFrames(const DepthFrameView &current, const DepthFrameView *) noexcept
+Result<void> MeshBvhRenderer::setFrames(const DepthFrameView &current,
+                                        const DepthFrameView *) noexcept
 {
     DT_TRY(current.validate());
     if (current.width > maxW_ || current.height > maxH_)
-        return unexpected(Errc::InvalidArgument, "depth frame larger than the renderer was built for");
+        return unexpected(Errc::InvalidArgument,
+                          "depth frame larger than the renderer was built for");
     DT_TRY(field_.setFrames(current, nullptr));
     w_ = current.width;
     h_ = current.height;
@@ -158,7 +160,8 @@ void MeshBvhRenderer::build() noexcept
     }
 }
 
-Crossing MeshBvhRenderer::firstCrossingBvh(const glm::dvec3 &p0, const glm::dvec3 &p1) const noexcept
+Crossing MeshBvhRenderer::firstCrossingBvh(const glm::dvec3 &p0,
+                                           const glm::dvec3 &p1) const noexcept
 {
     Crossing out;
     if (w_ < 2)

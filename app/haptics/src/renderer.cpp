@@ -85,7 +85,7 @@ Result<void> RendererConfig::validate() const noexcept
     return ok();
 }
 
-// ---------------------------------------------------------------------------------------------------
+// ---------------------------------------------------------------------------------------------
 
 void ForceStage::reset() noexcept
 {
@@ -171,7 +171,7 @@ glm::dvec3 ForceStage::apply(const glm::dvec3 &hip, glm::dvec3 &proxy, bool &con
     return shape(raw, t, contact, released);
 }
 
-// ---------------------------------------------------------------------------------------------------
+// ---------------------------------------------------------------------------------------------
 
 ProxyGraphRenderer::ProxyGraphRenderer(const RendererConfig &config) noexcept
     : config_(config), field_(config.box), force_(config),

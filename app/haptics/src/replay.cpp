@@ -25,7 +25,8 @@ void splitFields(std::string_view line, std::vector<std::string_view> &out)
     std::size_t start = 0;
     for (;;) {
         const std::size_t comma = line.find(',', start);
-        out.push_back(trim(line.substr(start, comma == std::string_view::npos ? line.npos : comma - start)));
+        out.push_back(
+            trim(line.substr(start, comma == std::string_view::npos ? line.npos : comma - start)));
         if (comma == std::string_view::npos)
             break;
         start = comma + 1;
@@ -44,7 +45,8 @@ bool parseNumber(std::string_view s, double &v) noexcept
 
 } // namespace
 
-Result<std::vector<TrajectorySample>> parseTrajectoryCsv(std::string_view text, std::size_t *errorLine)
+Result<std::vector<TrajectorySample>> parseTrajectoryCsv(std::string_view text,
+                                                         std::size_t *errorLine)
 {
     std::size_t line = 0;
     auto fail = [&](const char *what) -> Result<std::vector<TrajectorySample>> {
@@ -104,7 +106,8 @@ Result<std::vector<TrajectorySample>> parseTrajectoryCsv(std::string_view text, 
     return rows;
 }
 
-TrajectorySample sampleTrajectory(const std::vector<TrajectorySample> &trajectory, double t) noexcept
+TrajectorySample sampleTrajectory(const std::vector<TrajectorySample> &trajectory,
+                                  double t) noexcept
 {
     if (t <= trajectory.front().t)
         return trajectory.front();
@@ -130,8 +133,8 @@ Result<void> RawVideoFrameProvider::validate() const noexcept
         return unexpected(Errc::InvalidArgument, "depth size must be at least 2x2");
     if (!std::isfinite(fps_) || fps_ <= 0.0)
         return unexpected(Errc::InvalidArgument, "depth frame rate must be positive");
-    const std::size_t frameBytes =
-        static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_) * bytesPerSample(format_);
+    const std::size_t frameBytes = static_cast<std::size_t>(width_) *
+                                   static_cast<std::size_t>(height_) * bytesPerSample(format_);
     if (bytes_.empty() || bytes_.size() % frameBytes != 0)
         return unexpected(Errc::InvalidArgument, "depth file size is not a whole number of frames");
     return ok();
@@ -139,8 +142,8 @@ Result<void> RawVideoFrameProvider::validate() const noexcept
 
 std::size_t RawVideoFrameProvider::frameCount() const noexcept
 {
-    const std::size_t frameBytes =
-        static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_) * bytesPerSample(format_);
+    const std::size_t frameBytes = static_cast<std::size_t>(width_) *
+                                   static_cast<std::size_t>(height_) * bytesPerSample(format_);
     return frameBytes == 0 ? 0 : bytes_.size() / frameBytes;
 }
 
@@ -163,7 +166,9 @@ Result<DepthFrameView> RawVideoFrameProvider::frame(std::size_t i) noexcept
 Result<void> validateReplayOptions(const ReplayOptions &options) noexcept
 {
     using L = ReplayLimits;
-    const auto within = [](double v, double max) { return std::isfinite(v) && v > 0.0 && v <= max; };
+    const auto within = [](double v, double max) {
+        return std::isfinite(v) && v > 0.0 && v <= max;
+    };
     if (!(options.rate >= L::kMinRate && options.rate <= L::kMaxRate))
         return unexpected(Errc::InvalidArgument, "haptic rate must be in 100..10000 Hz");
     DT_TRY(options.config.validate());
@@ -194,10 +199,12 @@ Result<std::vector<ForceLogRow>> replay(FrameProvider &frames,
         return unexpected(Errc::InvalidArgument, "trajectory has no rows");
     const double tEnd = trajectory.back().t;
     if (!(tEnd >= 0.0))
-        return unexpected(Errc::InvalidArgument, "trajectory ends before t = 0 (nothing to replay)");
-    if (!(tEnd * options.rate < static_cast<double>(ReplayLimits::kMaxUpdates)))
         return unexpected(Errc::InvalidArgument,
-                          "trajectory too long: more than 1000000 haptic updates (1000 s at 1 kHz)");
+                          "trajectory ends before t = 0 (nothing to replay)");
+    if (!(tEnd * options.rate < static_cast<double>(ReplayLimits::kMaxUpdates)))
+        return unexpected(
+            Errc::InvalidArgument,
+            "trajectory too long: more than 1000000 haptic updates (1000 s at 1 kHz)");
     const std::size_t count = frames.frameCount();
     if (count == 0)
         return unexpected(Errc::InvalidArgument, "depth video has no frames");
@@ -267,10 +274,10 @@ std::string formatForceLog(const std::vector<ForceLogRow> &rows)
     for (const ForceLogRow &r : rows) {
         const HapticOutput &o = r.out;
         const auto print = [&r, &o](char *to, std::size_t size) {
-            return std::snprintf(to, size, "%.6f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%d,%d\n",
-                                 r.t, o.hip.x, o.hip.y, o.hip.z, o.proxy.x, o.proxy.y, o.proxy.z,
-                                 o.force.x, o.force.y, o.force.z, o.contact ? 1 : 0,
-                                 o.released ? 1 : 0);
+            return std::snprintf(
+                to, size, "%.6f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%d,%d\n", r.t, o.hip.x,
+                o.hip.y, o.hip.z, o.proxy.x, o.proxy.y, o.proxy.z, o.force.x, o.force.y, o.force.z,
+                o.contact ? 1 : 0, o.released ? 1 : 0);
         };
         const int n = print(buf, sizeof buf);
         if (n < 0)

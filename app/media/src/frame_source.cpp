@@ -220,7 +220,8 @@ Result<void> FfmpegFrameSource::openDemuxer(const AVInputFormat *forced,
     if (!pattern && platform::pathKind(url_.c_str()) == platform::PathKind::Fifo) {
         // open(2) of a FIFO blocks until a writer comes: wait for one within the timeout, and
         // keep the descriptor non-blocking so libavformat's reads honour the deadline.
-        auto fd = platform::openFifoForReading(url_.c_str(), std::chrono::milliseconds(ioTimeoutMs_));
+        auto fd =
+            platform::openFifoForReading(url_.c_str(), std::chrono::milliseconds(ioTimeoutMs_));
         if (!fd)
             return unexpected(fd.error().code, fd.error().code == Errc::Timeout
                                                    ? "A FIFO with no writer (gave up waiting)"

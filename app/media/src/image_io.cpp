@@ -233,8 +233,8 @@ Result<void> writePng(const std::string &path, const Image &image)
         return unexpected(Errc::OutOfResources, "Failed to allocate PNG frame");
     const std::uint8_t *srcData[4] = {image.data.data(), nullptr, nullptr, nullptr};
     const int srcStride[4] = {static_cast<int>(image.stride), 0, 0, 0};
-    DT_TRY(convert(srcData, srcStride, detail::toAvFormat(image.format), false, frame->data, frame->linesize,
-                   pngFmt, image.width, image.height));
+    DT_TRY(convert(srcData, srcStride, detail::toAvFormat(image.format), false, frame->data,
+                   frame->linesize, pngFmt, image.width, image.height));
 
     if ((ret = avcodec_send_frame(codec.get(), frame.get())) < 0 ||
         (ret = avcodec_receive_packet(codec.get(), packet.get())) < 0) {

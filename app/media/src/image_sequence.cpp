@@ -33,7 +33,8 @@ std::vector<long long> imageSequenceNumbers(const std::string &pattern)
         if (name.size() <= stem.size() + suffix.size() || name.compare(0, stem.size(), stem) != 0 ||
             name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
             continue;
-        const std::string field = name.substr(stem.size(), name.size() - stem.size() - suffix.size());
+        const std::string field =
+            name.substr(stem.size(), name.size() - stem.size() - suffix.size());
         const std::size_t first = field.find_first_not_of(zeroPad ? "" : " ");
         const std::string digits = first == std::string::npos ? "" : field.substr(first);
         if (digits.empty() || digits.size() > 15 ||

@@ -47,7 +47,10 @@ struct CommandHandlers {
         });
     }
 
-    static CommandOutcome play(StateMachine &m, const Command &c) { return startOrResume(m, c.url); }
+    static CommandOutcome play(StateMachine &m, const Command &c)
+    {
+        return startOrResume(m, c.url);
+    }
 
     static CommandOutcome pause(StateMachine &m, const Command &)
     {

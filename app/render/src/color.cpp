@@ -21,7 +21,8 @@ YuvToRgb yuvToRgb(const ColorSpec &spec) noexcept
                               static_cast<float>(2.0 * (1.0 - kb) * cs));
     out.matrix[2] = glm::vec3(static_cast<float>(2.0 * (1.0 - kr) * cs),
                               static_cast<float>(-2.0 * (1.0 - kr) * kr / kg * cs), 0.0f);
-    out.offset = glm::vec3(spec.fullRange ? 0.0f : 16.0f / 255.0f, 128.0f / 255.0f, 128.0f / 255.0f);
+    out.offset =
+        glm::vec3(spec.fullRange ? 0.0f : 16.0f / 255.0f, 128.0f / 255.0f, 128.0f / 255.0f);
     return out;
 }
 
@@ -51,8 +52,9 @@ struct Coefficients {
 
 /// One row: luma bytes and chroma at every luma sample (offset removed, 1/256 units) → RGBA words.
 /// Separate, with restrict parameters, so the loop vectorises without alias checks.
-void convertRow(const std::uint8_t *__restrict luma, const int *__restrict u, const int *__restrict v,
-                std::uint32_t *__restrict out, std::size_t n, const Coefficients k) noexcept
+void convertRow(const std::uint8_t *__restrict luma, const int *__restrict u,
+                const int *__restrict v, std::uint32_t *__restrict out, std::size_t n,
+                const Coefficients k) noexcept
 {
     constexpr int kShift = kCoefShift + 8;
     constexpr int kHalf = 1 << (kShift - 1);
@@ -63,7 +65,8 @@ void convertRow(const std::uint8_t *__restrict luma, const int *__restrict u, co
     for (std::size_t x = 0; x < n; ++x) {
         const int l = luma[x] * kWeightOne - k.offY;
         // R, G, B, A bytes in memory order (little-endian word).
-        out[x] = toByte(k.ry * l + k.rv * v[x]) | toByte(k.gy * l + k.gu * u[x] + k.gv * v[x]) << 8 |
+        out[x] = toByte(k.ry * l + k.rv * v[x]) |
+                 toByte(k.gy * l + k.gu * u[x] + k.gv * v[x]) << 8 |
                  toByte(k.by * l + k.bu * u[x]) << 16 | 0xff000000u;
     }
 }
@@ -75,9 +78,11 @@ int fixedCoef(float c) noexcept
 
 } // namespace
 
-static_assert(std::endian::native == std::endian::little, "RGBA8 pixels are packed as little-endian words");
+static_assert(std::endian::native == std::endian::little,
+              "RGBA8 pixels are packed as little-endian words");
 
-const std::vector<std::uint32_t> &YuvConverter::convert(const hal::ImageView &image, const ColorSpec &spec)
+const std::vector<std::uint32_t> &YuvConverter::convert(const hal::ImageView &image,
+                                                        const ColorSpec &spec)
 {
     const int w = image.width;
     const int h = image.height;
@@ -103,11 +108,19 @@ const std::vector<std::uint32_t> &YuvConverter::convert(const hal::ImageView &im
     // rgb = M · (yuv − 255·offset), all terms in 1/256 code units times 1/4096 coefficients.
     const YuvToRgb conv = yuvToRgb(spec);
     const glm::mat3 &m = conv.matrix;
-    const Coefficients coef{fixedCoef(m[0][0]), fixedCoef(m[2][0]), fixedCoef(m[0][1]), fixedCoef(m[1][1]),
-                            fixedCoef(m[2][1]), fixedCoef(m[0][2]), fixedCoef(m[1][2]),
-                            static_cast<int>(std::lround(static_cast<double>(conv.offset.x) * 255.0 * kWeightOne))};
-    const int offU = static_cast<int>(std::lround(static_cast<double>(conv.offset.y) * 255.0 * kWeightOne));
-    const int offV = static_cast<int>(std::lround(static_cast<double>(conv.offset.z) * 255.0 * kWeightOne));
+    const Coefficients coef{
+        fixedCoef(m[0][0]),
+        fixedCoef(m[2][0]),
+        fixedCoef(m[0][1]),
+        fixedCoef(m[1][1]),
+        fixedCoef(m[2][1]),
+        fixedCoef(m[0][2]),
+        fixedCoef(m[1][2]),
+        static_cast<int>(std::lround(static_cast<double>(conv.offset.x) * 255.0 * kWeightOne))};
+    const int offU =
+        static_cast<int>(std::lround(static_cast<double>(conv.offset.y) * 255.0 * kWeightOne));
+    const int offV =
+        static_cast<int>(std::lround(static_cast<double>(conv.offset.z) * 255.0 * kWeightOne));
     for (int y = 0; y < h; ++y) {
         if (yuv) {
             int r0 = 0;
@@ -129,11 +142,13 @@ const std::vector<std::uint32_t> &YuvConverter::convert(const hal::ImageView &im
             const auto i0 = static_cast<std::size_t>(col0_[x]);
             const auto i1 = static_cast<std::size_t>(col1_[x]);
             const int fx = colW_[x];
-            uFull_[x] = ((uRow_[i0] * (kWeightOne - fx) + uRow_[i1] * fx + kWeightOne / 2) >> 8) - offU;
-            vFull_[x] = ((vRow_[i0] * (kWeightOne - fx) + vRow_[i1] * fx + kWeightOne / 2) >> 8) - offV;
+            uFull_[x] =
+                ((uRow_[i0] * (kWeightOne - fx) + uRow_[i1] * fx + kWeightOne / 2) >> 8) - offU;
+            vFull_[x] =
+                ((vRow_[i0] * (kWeightOne - fx) + vRow_[i1] * fx + kWeightOne / 2) >> 8) - offV;
         }
-        convertRow(image.row(0, y), uFull_.data(), vFull_.data(), packed_.data() + static_cast<std::size_t>(y) * wu,
-                   wu, coef);
+        convertRow(image.row(0, y), uFull_.data(), vFull_.data(),
+                   packed_.data() + static_cast<std::size_t>(y) * wu, wu, coef);
     }
     return packed_;
 }

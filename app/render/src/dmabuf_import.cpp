@@ -66,7 +66,8 @@ bool glHasExtension(const char *name)
     GLint n = 0;
     glGetIntegerv(GL_NUM_EXTENSIONS, &n);
     for (GLint i = 0; i < n; ++i) {
-        const auto *e = reinterpret_cast<const char *>(glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i)));
+        const auto *e =
+            reinterpret_cast<const char *>(glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i)));
         if (e != nullptr && std::strcmp(e, name) == 0)
             return true;
     }
@@ -74,7 +75,8 @@ bool glHasExtension(const char *name)
 }
 
 /// Bytes per row and rows of plane \a p of a \a fourcc image.
-void planeExtent(std::uint32_t fourcc, int p, int w, int h, std::size_t &rowBytes, std::size_t &rows)
+void planeExtent(std::uint32_t fourcc, int p, int w, int h, std::size_t &rowBytes,
+                 std::size_t &rows)
 {
     const auto cw = static_cast<std::size_t>((w + 1) / 2);
     const auto ch = static_cast<std::size_t>((h + 1) / 2);
@@ -107,7 +109,8 @@ Result<std::vector<std::int32_t>> dmaBufEglAttribs(const hal::DmaBufImage &image
                                                    const ColorSpec &spec)
 {
     if (image.empty() || image.planeCount > hal::DmaBufImage::kMaxPlanes || image.planeCount < 0)
-        return unexpected(Errc::InvalidArgument, "dma-buf image without planes or with more than 4");
+        return unexpected(Errc::InvalidArgument,
+                          "dma-buf image without planes or with more than 4");
     if (hal::drmPlaneCount(image.fourcc) != image.planeCount)
         return unexpected(Errc::InvalidArgument, "dma-buf plane count does not match its fourcc");
     if (image.width <= 0 || image.height <= 0)
@@ -120,7 +123,8 @@ Result<std::vector<std::int32_t>> dmaBufEglAttribs(const hal::DmaBufImage &image
     for (int i = 0; i < image.planeCount; ++i) {
         const hal::DmaBufPlane &p = image.planes[static_cast<std::size_t>(i)];
         if (p.fd < 0 || p.pitch == 0 || p.pitch > kMax || p.offset > kMax)
-            return unexpected(Errc::InvalidArgument, "dma-buf plane with a bad fd, offset or pitch");
+            return unexpected(Errc::InvalidArgument,
+                              "dma-buf plane with a bad fd, offset or pitch");
         const EGLint *names = kPlaneAttribs[i];
         a.insert(a.end(), {names[0], p.fd, names[1], static_cast<std::int32_t>(p.offset), names[2],
                            static_cast<std::int32_t>(p.pitch)});
@@ -129,10 +133,11 @@ Result<std::vector<std::int32_t>> dmaBufEglAttribs(const hal::DmaBufImage &image
                      {names[3], static_cast<std::int32_t>(image.modifier & 0xffffffffu), names[4],
                       static_cast<std::int32_t>(image.modifier >> 32)});
     }
-    a.insert(a.end(), {EGL_YUV_COLOR_SPACE_HINT_EXT,
-                       spec.matrix == YuvMatrix::Bt709 ? EGL_ITU_REC709_EXT : EGL_ITU_REC601_EXT,
-                       EGL_SAMPLE_RANGE_HINT_EXT,
-                       spec.fullRange ? EGL_YUV_FULL_RANGE_EXT : EGL_YUV_NARROW_RANGE_EXT, EGL_NONE});
+    a.insert(a.end(),
+             {EGL_YUV_COLOR_SPACE_HINT_EXT,
+              spec.matrix == YuvMatrix::Bt709 ? EGL_ITU_REC709_EXT : EGL_ITU_REC601_EXT,
+              EGL_SAMPLE_RANGE_HINT_EXT,
+              spec.fullRange ? EGL_YUV_FULL_RANGE_EXT : EGL_YUV_NARROW_RANGE_EXT, EGL_NONE});
     return a;
 }
 
@@ -190,8 +195,10 @@ std::string DmaBufImporter::Impl::setUp()
     modifiers = hasExtension(egl, "EGL_EXT_image_dma_buf_import_modifiers");
     if (!glHasExtension("GL_OES_EGL_image_external"))
         return "GL_OES_EGL_image_external missing";
-    createImage = reinterpret_cast<PFNEGLCREATEIMAGEKHRPROC>(eglGetProcAddress("eglCreateImageKHR"));
-    destroyImage = reinterpret_cast<PFNEGLDESTROYIMAGEKHRPROC>(eglGetProcAddress("eglDestroyImageKHR"));
+    createImage =
+        reinterpret_cast<PFNEGLCREATEIMAGEKHRPROC>(eglGetProcAddress("eglCreateImageKHR"));
+    destroyImage =
+        reinterpret_cast<PFNEGLDESTROYIMAGEKHRPROC>(eglGetProcAddress("eglDestroyImageKHR"));
     targetTexture = reinterpret_cast<PFNGLEGLIMAGETARGETTEXTURE2DOESPROC>(
         eglGetProcAddress("glEGLImageTargetTexture2DOES"));
     if (createImage == nullptr || destroyImage == nullptr || targetTexture == nullptr)
@@ -220,8 +227,8 @@ Result<GLuint> DmaBufImporter::Impl::textureOf(const hal::DmaBufImage &image, co
     if (fstat(image.planes[0].fd, &st) != 0)
         return unexpected(Errc::InvalidArgument, "dma-buf fd is not open", errno);
     // Another size or format: the decoder's buffers changed; their old images are of no use.
-    if (image.fourcc != cachedFourcc || image.width != cachedWidth || image.height != cachedHeight ||
-        cache.size() >= kMaxCachedImages) {
+    if (image.fourcc != cachedFourcc || image.width != cachedWidth ||
+        image.height != cachedHeight || cache.size() >= kMaxCachedImages) {
         for (Cached &c : cache) {
             glDeleteTextures(1, &c.texture);
             destroyImage(display, c.image);
@@ -318,8 +325,10 @@ Result<void> DmaBufImporter::draw(const hal::DmaBufImage &image, const ColorSpec
         const std::string why = d.setUp();
         d.available = why.empty();
         if (!d.available)
-            DT_LOG(DmaBuf, Warning, "Zero-copy import of dma-buf frames unavailable (%s): uploading "
-                                    "them instead", why.c_str());
+            DT_LOG(DmaBuf, Warning,
+                   "Zero-copy import of dma-buf frames unavailable (%s): uploading "
+                   "them instead",
+                   why.c_str());
     }
     if (!d.available)
         return unexpected(Errc::NotSupported, "dma-buf import unavailable on this EGL display");
@@ -394,7 +403,8 @@ Result<hal::ImageView> DmaBufImporter::map(const hal::DmaBufImage &image)
                 unmap();
                 return unexpected(Errc::Io, "Failed to size a dma-buf", errno);
             }
-            void *base = mmap(nullptr, static_cast<std::size_t>(end), PROT_READ, MAP_SHARED, p.fd, 0);
+            void *base =
+                mmap(nullptr, static_cast<std::size_t>(end), PROT_READ, MAP_SHARED, p.fd, 0);
             if (base == MAP_FAILED) {
                 unmap();
                 return unexpected(Errc::Io, "Failed to map a dma-buf", errno);
@@ -433,7 +443,8 @@ Result<hal::ImageView> DmaBufImporter::map(const hal::DmaBufImage &image)
     v.height = image.height;
     v.format = hal::PixelFormat::Yuv420p;
     // Read-only memory behind a view type with mutable pointers: the renderer only reads it.
-    v.planes[0] = {const_cast<std::uint8_t *>(planeData[0]), static_cast<int>(image.planes[0].pitch)};
+    v.planes[0] = {const_cast<std::uint8_t *>(planeData[0]),
+                   static_cast<int>(image.planes[0].pitch)};
     const int cw = (image.width + 1) / 2;
     const int ch = (image.height + 1) / 2;
     if (image.fourcc == hal::kDrmFormatYuv420) {
@@ -446,7 +457,8 @@ Result<hal::ImageView> DmaBufImporter::map(const hal::DmaBufImage &image)
         std::uint8_t *u = d.chroma.data();
         std::uint8_t *vv = u + n;
         for (int y = 0; y < ch; ++y) {
-            const std::uint8_t *src = planeData[1] + static_cast<std::size_t>(y) * image.planes[1].pitch;
+            const std::uint8_t *src =
+                planeData[1] + static_cast<std::size_t>(y) * image.planes[1].pitch;
             for (int x = 0; x < cw; ++x) {
                 u[static_cast<std::size_t>(y * cw + x)] = src[2 * x];
                 vv[static_cast<std::size_t>(y * cw + x)] = src[2 * x + 1];
@@ -466,7 +478,8 @@ void DmaBufImporter::unmap() noexcept
         if (m.synced) {
             dma_buf_sync sync{};
             sync.flags = DMA_BUF_SYNC_END | DMA_BUF_SYNC_READ;
-            while (ioctl(m.fd, DMA_BUF_IOCTL_SYNC, &sync) != 0 && (errno == EINTR || errno == EAGAIN)) {
+            while (ioctl(m.fd, DMA_BUF_IOCTL_SYNC, &sync) != 0 &&
+                   (errno == EINTR || errno == EAGAIN)) {
             }
         }
         munmap(m.base, m.size);

@@ -60,9 +60,11 @@ std::size_t LodController::update(double drawSeconds, const MeshStats &mesh) noe
         // Time taken as proportional to the blocks (no fixed cost): this overestimates what a
         // block costs, so a step shrinks too little, never too much.
         const double factor = std::clamp(target / median, options_.maxShrink, 0.9);
-        next = std::min(budget_, std::max(options_.minBlocks, static_cast<std::size_t>(drawn * factor)));
+        next = std::min(budget_,
+                        std::max(options_.minBlocks, static_cast<std::size_t>(drawn * factor)));
     } else if (median < options_.growBelow * target && mesh.budgetLimited) {
-        next = static_cast<std::size_t>(std::ceil(static_cast<double>(budget_) * options_.growFactor));
+        next =
+            static_cast<std::size_t>(std::ceil(static_cast<double>(budget_) * options_.growFactor));
     }
     if (next != budget_) {
         budget_ = next;

@@ -116,7 +116,8 @@ Result<void> RenderTarget::readRgbaFloat(std::vector<float> &rgba) const
         return unexpected(Errc::Io, "glReadPixels (float) failed");
     rgba.resize(w * h * 4);
     for (std::size_t y = 0; y < h; ++y)
-        std::memcpy(rgba.data() + y * w * 4, raw.data() + (h - 1 - y) * w * 4, w * 4 * sizeof(float));
+        std::memcpy(rgba.data() + y * w * 4, raw.data() + (h - 1 - y) * w * 4,
+                    w * 4 * sizeof(float));
     return ok();
 }
 

@@ -18,11 +18,14 @@ DT_LOG_CATEGORY(Snapshot)
 
 namespace {
 
-Result<void> writeRgb(const std::string &path, int width, int height, const std::vector<std::uint8_t> &rgb)
+Result<void> writeRgb(const std::string &path, int width, int height,
+                      const std::vector<std::uint8_t> &rgb)
 {
     media::Image img = media::Image::make(width, height, media::PixelFormat::Rgb24);
     for (int y = 0; y < img.height; ++y)
-        std::memcpy(img.row(y), rgb.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(img.width) * 3,
+        std::memcpy(img.row(y),
+                    rgb.data() +
+                        static_cast<std::size_t>(y) * static_cast<std::size_t>(img.width) * 3,
                     static_cast<std::size_t>(img.width) * 3);
     return media::writePng(path, img);
 }

@@ -54,9 +54,10 @@ EyeView eyeView(const StereoParams &params, double eyeX, double aspect, Viewport
     EyeView e;
     e.eyeOffset = eyeX;
     e.viewport = viewport;
-    e.projection = glm::frustum(static_cast<float>((-hw - eyeX) * k), static_cast<float>((hw - eyeX) * k),
-                                static_cast<float>(-hh * k), static_cast<float>(hh * k),
-                                static_cast<float>(zNear), static_cast<float>(zFar));
+    e.projection =
+        glm::frustum(static_cast<float>((-hw - eyeX) * k), static_cast<float>((hw - eyeX) * k),
+                     static_cast<float>(-hh * k), static_cast<float>(hh * k),
+                     static_cast<float>(zNear), static_cast<float>(zFar));
     e.view = glm::translate(glm::mat4(1.0f), glm::vec3(static_cast<float>(-eyeX), 0.0f,
                                                        static_cast<float>(-d)));
     return e;
@@ -81,17 +82,19 @@ std::array<EyeView, 2> eyeViews(StereoMode mode, const StereoParams &params, int
     case StereoMode::SideBySide: {
         const int leftW = width / 2;
         const double a = params.frameCompatible ? aspect : 0.5 * aspect;
-        out[0] = eyeView(params, -half, a, Viewport{0, 0, leftW, height}, boxWidth, boxHeight, boxDepth);
-        out[1] = eyeView(params, half, a, Viewport{leftW, 0, width - leftW, height}, boxWidth, boxHeight,
-                         boxDepth);
+        out[0] =
+            eyeView(params, -half, a, Viewport{0, 0, leftW, height}, boxWidth, boxHeight, boxDepth);
+        out[1] = eyeView(params, half, a, Viewport{leftW, 0, width - leftW, height}, boxWidth,
+                         boxHeight, boxDepth);
         break;
     }
     case StereoMode::TopAndBottom: {
         const int topH = height / 2;
         const double a = params.frameCompatible ? aspect : 2.0 * aspect;
-        out[0] = eyeView(params, -half, a, Viewport{0, height - topH, width, topH}, boxWidth, boxHeight,
+        out[0] = eyeView(params, -half, a, Viewport{0, height - topH, width, topH}, boxWidth,
+                         boxHeight, boxDepth);
+        out[1] = eyeView(params, half, a, Viewport{0, 0, width, height - topH}, boxWidth, boxHeight,
                          boxDepth);
-        out[1] = eyeView(params, half, a, Viewport{0, 0, width, height - topH}, boxWidth, boxHeight, boxDepth);
         break;
     }
     case StereoMode::Anaglyph:
@@ -123,8 +126,9 @@ EyeView topView(int width, int height, double boxWidth, double boxHeight, double
     EyeView e;
     e.viewport = Viewport{0, 0, width, height};
     e.view = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, static_cast<float>(-boxDepth)));
-    e.projection = glm::ortho(static_cast<float>(-hx), static_cast<float>(hx), static_cast<float>(-hy),
-                              static_cast<float>(hy), 0.0f, static_cast<float>(2.0 * boxDepth));
+    e.projection =
+        glm::ortho(static_cast<float>(-hx), static_cast<float>(hx), static_cast<float>(-hy),
+                   static_cast<float>(hy), 0.0f, static_cast<float>(2.0 * boxDepth));
     return e;
 }
 

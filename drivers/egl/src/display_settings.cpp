@@ -100,7 +100,8 @@ Result<EglDisplaySettings> EglDisplaySettings::parse(hal::OptionList options, bo
     auto fullscreen = options.getBool("fullscreen", s.fullscreen);
     auto readback = options.getBool("readback", s.readback);
     if (!fullscreen || !readback)
-        return unexpected(Errc::InvalidArgument, "EGL display option fullscreen/readback is 0 or 1");
+        return unexpected(Errc::InvalidArgument,
+                          "EGL display option fullscreen/readback is 0 or 1");
     s.fullscreen = *fullscreen;
     s.readback = *readback;
     return s;
@@ -136,7 +137,8 @@ Result<ModeSpec> parseModeSpec(std::string_view text)
     const std::string_view ws = size.substr(0, x);
     const std::string_view hs =
         size.substr(x + 1, at == std::string_view::npos ? std::string_view::npos : at - x - 1);
-    if (!parseInt(ws, spec.width) || !parseInt(hs, spec.height) || !validSize(spec.width, spec.height))
+    if (!parseInt(ws, spec.width) || !parseInt(hs, spec.height) ||
+        !validSize(spec.width, spec.height))
         return unexpected(Errc::NotSupported, "Mode is [CONNECTOR:]WIDTHxHEIGHT[@HZ]");
     if (at != std::string_view::npos &&
         (!parseRate(size.substr(at + 1), spec.refreshHz) || !validRefresh(spec.refreshHz)))

@@ -197,7 +197,8 @@ Result<void> checkReadTarget(const hal::ImageView &out, hal::Size size) noexcept
     if (out.format != hal::PixelFormat::Rgba8 && out.format != hal::PixelFormat::Rgb24)
         return unexpected(Errc::InvalidArgument, "readPixels() writes Rgba8 or Rgb24");
     if (out.width != size.width || out.height != size.height)
-        return unexpected(Errc::InvalidArgument, "readPixels() image size differs from the display");
+        return unexpected(Errc::InvalidArgument,
+                          "readPixels() image size differs from the display");
     const int bpp = out.format == hal::PixelFormat::Rgba8 ? 4 : 3;
     if (out.planes[0].data == nullptr || out.planes[0].strideBytes < out.width * bpp)
         return unexpected(Errc::InvalidArgument, "readPixels() image has no room for a row");
@@ -249,8 +250,8 @@ Result<void> FrameCopy::create(hal::Size size)
     const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     if (status != GL_FRAMEBUFFER_COMPLETE || glGetError() != GL_NO_ERROR) {
-        DT_LOG(Egl, Error, "Failed to create a %dx%d readback framebuffer (status 0x%x)", size.width,
-               size.height, status);
+        DT_LOG(Egl, Error, "Failed to create a %dx%d readback framebuffer (status 0x%x)",
+               size.width, size.height, status);
         destroy();
         return unexpected(Errc::OutOfResources, "Readback framebuffer incomplete");
     }

@@ -86,8 +86,9 @@ Result<KmsSelection> selectKmsOutput(DrmApi &api, const hal::DisplayConfig &cfg)
             sel.connector = i;
             sel.mode = static_cast<std::size_t>(mode);
             sel.card = std::move(*card);
-            DT_LOG(Kms, Info, "Using %s on %s, mode %s at %.2f Hz", sel.connectorInfo().name.c_str(),
-                   path.c_str(), sel.modeInfo().name.c_str(), sel.modeInfo().refreshHz);
+            DT_LOG(Kms, Info, "Using %s on %s, mode %s at %.2f Hz",
+                   sel.connectorInfo().name.c_str(), path.c_str(), sel.modeInfo().name.c_str(),
+                   sel.modeInfo().refreshHz);
             return sel;
         }
     }

@@ -168,7 +168,8 @@ Result<std::string> findRemoteDevice(const std::string &dir)
             if (name.rfind("event", 0) != 0 || name.size() == 5)
                 continue;
             const std::string digits = name.substr(5);
-            if (!std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }) ||
+            if (!std::all_of(digits.begin(), digits.end(),
+                             [](char c) { return c >= '0' && c <= '9'; }) ||
                 digits.size() > 6)
                 continue;
             candidates.emplace_back(std::stoi(digits), dir + "/" + name);

@@ -97,11 +97,13 @@ Result<hal::DmaBufImage> dmaBufFromDrmDescriptor(const AVDRMFrameDescriptor &des
         if (pl.pitch <= 0 || pl.offset < 0 ||
             static_cast<std::uint64_t>(pl.pitch) > std::uint64_t{0xffffffff} ||
             static_cast<std::uint64_t>(pl.offset) > std::uint64_t{0xffffffff})
-            return unexpected(Errc::InvalidArgument, "DRM PRIME plane pitch or offset out of range");
+            return unexpected(Errc::InvalidArgument,
+                              "DRM PRIME plane pitch or offset out of range");
         if (linear) {
             const Extent e = planeExtent(fourcc, p, width, height);
             const auto pitch = static_cast<std::int64_t>(pl.pitch);
-            const auto end = static_cast<std::int64_t>(pl.offset) + pitch * (e.rows - 1) + e.rowBytes;
+            const auto end =
+                static_cast<std::int64_t>(pl.offset) + pitch * (e.rows - 1) + e.rowBytes;
             if (pitch < e.rowBytes)
                 return unexpected(Errc::InvalidArgument, "DRM PRIME plane pitch below its row");
             if (obj.size > 0 && static_cast<std::uint64_t>(end) > obj.size)

@@ -92,7 +92,8 @@ Result<FfmpegDecoderSettings> FfmpegDecoderSettings::parse(hal::OptionList optio
                                 "Unknown ffmpeg video decoder option"));
     auto drmPrime = options.getBool("drm-prime", s.drmPrime);
     if (!drmPrime)
-        return unexpected(Errc::InvalidArgument, "ffmpeg decoder option drm-prime must be a boolean");
+        return unexpected(Errc::InvalidArgument,
+                          "ffmpeg decoder option drm-prime must be a boolean");
     auto pool = options.getInt("pool", *drmPrime ? kDrmPrimePoolFrames : s.poolFrames);
     auto queue = options.getInt("queue", s.queuePackets);
     auto threads = options.getInt("threads", s.threads);
@@ -201,9 +202,10 @@ Result<hal::FrameRef> FfmpegVideoDecoder::Impl::lendFrame() noexcept
         // Zero-copy: describe the dma-bufs and keep the AVFrame (and so its fds) until returned.
         av_frame_unref(held[slot].get());
         const auto *desc = reinterpret_cast<const AVDRMFrameDescriptor *>(frame->data[0]);
-        auto img = desc != nullptr ? dmaBufFromDrmDescriptor(*desc, frame->width, frame->height)
-                                   : Result<hal::DmaBufImage>(unexpected(
-                                         Errc::InvalidArgument, "DRM PRIME frame without a descriptor"));
+        auto img = desc != nullptr
+                       ? dmaBufFromDrmDescriptor(*desc, frame->width, frame->height)
+                       : Result<hal::DmaBufImage>(unexpected(
+                             Errc::InvalidArgument, "DRM PRIME frame without a descriptor"));
         if (img) {
             out->dmabuf = *img;
             out->image = hal::ImageView{};

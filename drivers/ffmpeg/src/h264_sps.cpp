@@ -76,7 +76,8 @@ int chromaOfSps(const std::uint8_t *nal, std::size_t size) noexcept
     if (profile < 0 || r.bits(16) < 0 || r.ue() < 0) // constraint flags + level, sps id
         return -1;
     // Profiles whose SPS carries chroma_format_idc (7.3.2.1.1); the others are 4:2:0.
-    static constexpr int kWithChroma[] = {100, 110, 122, 244, 44, 83, 86, 118, 128, 138, 139, 134, 135};
+    static constexpr int kWithChroma[] = {100, 110, 122, 244, 44,  83, 86,
+                                          118, 128, 138, 139, 134, 135};
     for (const int p : kWithChroma)
         if (profile == p) {
             const int chroma = r.ue();

@@ -11,9 +11,9 @@
 
 namespace depthtouch::drivers::ffmpeg {
 
-/// \brief Reads chroma_format_idc from the first SPS in \a extradata (an avcC record, or Annex B NAL
-/// units with start codes).
-/// \return 0 (4:0:0 monochrome), 1 (4:2:0), 2 (4:2:2), 3 (4:4:4); -1 when there is no SPS or it is
+/// \brief Reads chroma_format_idc from the first SPS in \a extradata (an avcC record, or Annex B
+/// NAL units with start codes). \return 0 (4:0:0 monochrome), 1 (4:2:0), 2 (4:2:2), 3 (4:4:4); -1
+/// when there is no SPS or it is
 ///         truncated or malformed.
 int h264ChromaFormatIdc(const std::uint8_t *extradata, std::size_t size) noexcept;
 

@@ -153,7 +153,8 @@ void FakeFalcon::answerCommand(const Packet &packet) noexcept
         return;
     last_ = cmd;
     ++commands_;
-    if ((cmd.flags & falcon::kFlagHoming) != 0 && !homed_ && ++homingSeen_ >= settings_.homingPackets)
+    if ((cmd.flags & falcon::kFlagHoming) != 0 && !homed_ &&
+        ++homingSeen_ >= settings_.homingPackets)
         homed_ = true;
     falcon::StatusPacket st;
     for (std::size_t i = 0; i < 3; ++i) {

@@ -74,7 +74,8 @@ bool decodeFrame(const Packet &in, std::array<std::uint16_t, 3> &values,
 
 void encodeCommand(const CommandPacket &cmd, Packet &out) noexcept
 {
-    encodeFrame({static_cast<std::uint16_t>(cmd.motors[0]), static_cast<std::uint16_t>(cmd.motors[1]),
+    encodeFrame({static_cast<std::uint16_t>(cmd.motors[0]),
+                 static_cast<std::uint16_t>(cmd.motors[1]),
                  static_cast<std::uint16_t>(cmd.motors[2])},
                 static_cast<std::uint8_t>(cmd.flags & 0x0f), out);
 }
@@ -229,8 +230,9 @@ Result<void> uploadFirmware(UsbTransport &usb, std::span<const std::uint8_t> ima
         auto r = usb.read(echo.data(), n, kLoaderTimeout);
         if (!r)
             return unexpected(r.error());
-        if (*w != n || *r != n || !std::equal(echo.begin(), echo.begin() + static_cast<std::ptrdiff_t>(n),
-                                              image.begin() + static_cast<std::ptrdiff_t>(at))) {
+        if (*w != n || *r != n ||
+            !std::equal(echo.begin(), echo.begin() + static_cast<std::ptrdiff_t>(n),
+                        image.begin() + static_cast<std::ptrdiff_t>(at))) {
             DT_LOG(Falcon, Error,
                    "Failed to upload the Falcon firmware: the loader echoed %zu of %zu bytes at "
                    "offset %zu differently",
@@ -245,7 +247,8 @@ Result<void> uploadFirmware(UsbTransport &usb, std::span<const std::uint8_t> ima
 
 namespace depthtouch::drivers {
 
-std::size_t stripFtdiStatus(std::uint8_t *data, std::size_t size, std::size_t maxPacketSize) noexcept
+std::size_t stripFtdiStatus(std::uint8_t *data, std::size_t size,
+                            std::size_t maxPacketSize) noexcept
 {
     if (maxPacketSize <= 2)
         return 0;

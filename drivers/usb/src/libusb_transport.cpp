@@ -208,7 +208,8 @@ void LibusbTransport::cancelAsync() noexcept
         (void)api_->cancelTransfer(in_);
     if (outBusy_ != 0)
         (void)api_->cancelTransfer(out_);
-    // Cancelled transfers complete on the next event handling; bounded wait (the device may be gone).
+    // Cancelled transfers complete on the next event handling; bounded wait (the device may be
+    // gone).
     for (int i = 0; i < 100 && (inBusy_ != 0 || outBusy_ != 0); ++i)
         (void)handleEvents(10'000, inBusy_ != 0 ? &inCompleted_ : &outCompleted_);
     inBusy_ = outBusy_ = 0;

@@ -95,7 +95,8 @@ public:
             std::this_thread::sleep_for(std::chrono::milliseconds(5));
         }
         done_ = true;
-        r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+        r.seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
         if (WIFEXITED(status))
             r.exitCode = WEXITSTATUS(status);
         else if (WIFSIGNALED(status))

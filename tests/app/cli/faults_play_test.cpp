@@ -260,7 +260,8 @@ TEST(PlayFaults, QuitAfterARecoveredFailedPlayIsSuccess)
         state = c.request(R"({"command":["get","state"]})");
     }
     EXPECT_EQ(state, R"({"data":"error","error":"success"})");
-    EXPECT_EQ(c.request(R"({"command":["play",")" + kMockClip + R"("]})"), R"({"error":"success"})");
+    EXPECT_EQ(c.request(R"({"command":["play",")" + kMockClip + R"("]})"),
+              R"({"error":"success"})");
     for (int i = 0; i < 100 && state.find("playing") == std::string::npos; ++i) {
         std::this_thread::sleep_for(20ms);
         state = c.request(R"({"command":["get","state"]})");
@@ -291,8 +292,8 @@ TEST(PlayFaults, LostOutputIsFailureAndAMissingFolderBadInput)
         expectOneLine(r, c.code, c.options[0] + " " + c.options[1]);
     }
     // /dev/null takes everything: not lost.
-    const ProcessResult ok =
-        runProcess(mockPlay(kMockClip, {"--stats", "/dev/null", "--force-log", "/dev/null"}), kLimit);
+    const ProcessResult ok = runProcess(
+        mockPlay(kMockClip, {"--stats", "/dev/null", "--force-log", "/dev/null"}), kLimit);
     EXPECT_EQ(ok.exitCode, 0) << describe(ok);
     EXPECT_EQ(ok.err, "");
 }

@@ -282,13 +282,16 @@ TEST(PlayEndToEnd, ControlSocketDrivesTheLoopingPlayer)
     EXPECT_EQ(fs::status(sock).permissions() & fs::perms::all,
               fs::perms::owner_read | fs::perms::owner_write);
     std::this_thread::sleep_for(300ms);
-    EXPECT_EQ(c.request(R"({"command":["get","state"]})"), R"({"data":"playing","error":"success"})");
+    EXPECT_EQ(c.request(R"({"command":["get","state"]})"),
+              R"({"data":"playing","error":"success"})");
     EXPECT_EQ(c.request(R"({"command":["pause"],"request_id":7})"),
               R"({"error":"success","request_id":7})");
-    EXPECT_EQ(c.request(R"({"command":["get","state"]})"), R"({"data":"paused","error":"success"})");
+    EXPECT_EQ(c.request(R"({"command":["get","state"]})"),
+              R"({"data":"paused","error":"success"})");
     EXPECT_EQ(c.request(R"({"command":["seek",1.5,"absolute"]})"), R"({"error":"success"})");
     EXPECT_EQ(c.request("next-stereo-mode"), R"({"error":"success"})");
-    EXPECT_EQ(c.request(R"({"command":["get","stereo-mode"]})"), R"({"data":"tab","error":"success"})");
+    EXPECT_EQ(c.request(R"({"command":["get","stereo-mode"]})"),
+              R"({"data":"tab","error":"success"})");
     EXPECT_EQ(c.request(R"({"command":["stiffness",1500]})"), R"({"error":"success"})");
     // Refused, with a reason, and nothing changes.
     const std::string refused = c.request(R"({"command":["stiffness",-3]})");

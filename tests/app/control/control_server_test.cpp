@@ -110,13 +110,14 @@ TEST(ControlProtocolTest, numbersBeyondADoubleAreAnErrorNotAnAbort)
     // Issue 16 #1: nlohmann's out_of_range.406 went through to std::terminate (SIGABRT).
     FakePlayerActions fake;
     StateMachine m(fake, settings());
-    for (const char *line : {R"({"command":["seek",1e400]})",
-                             R"({"command":["get","state"],"request_id":1e999})",
-                             R"({"command":["stiffness",1e309]})", R"({"command":["seek",-1e400]})"}) {
+    for (const char *line :
+         {R"({"command":["seek",1e400]})", R"({"command":["get","state"],"request_id":1e999})",
+          R"({"command":["stiffness",1e309]})", R"({"command":["seek",-1e400]})"}) {
         const json r = reply(line, m);
         EXPECT_EQ(r.value("error", ""), "malformed JSON: a number is out of range") << line;
     }
-    EXPECT_EQ(reply("seek 1e400", m).value("error", ""), "seek: '1e400' is not a number of seconds");
+    EXPECT_EQ(reply("seek 1e400", m).value("error", ""),
+              "seek: '1e400' is not a number of seconds");
     EXPECT_TRUE(fake.calls.empty());
     EXPECT_EQ(m.state(), PlayerState::Idle);
 }

@@ -76,7 +76,8 @@ TEST(CollisionTest, toleranceScalesWithThePixelSpacing)
     ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
     const glm::dvec3 v = hf.vertex(333, 4);
     // WHEN a vertical segment from 10 nm above a vertex ends 10 nm below it
-    const Crossing c = firstCrossing(hf, v + glm::dvec3(0.0, 0.0, 1e-8), v + glm::dvec3(0, 0, -1e-8));
+    const Crossing c =
+        firstCrossing(hf, v + glm::dvec3(0.0, 0.0, 1e-8), v + glm::dvec3(0, 0, -1e-8));
     // THEN the crossing is found, on the surface
     ASSERT_TRUE(c.hit);
     EXPECT_NEAR(c.point.z, v.z, 1e-15);

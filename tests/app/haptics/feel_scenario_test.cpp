@@ -1,6 +1,7 @@
 /// \file
 /// \brief Issue 15's failures on the feel bench's synthetic scenes (a Kinect-v1 sensor model, 8-bit
-/// depth as encode makes it): the finger renderer meets every feel goal, and the renderer it replaces
+/// depth as encode makes it): the finger renderer meets every feel goal, and the renderer it
+/// replaces
 /// (`modified`, paper IV) fails on the same strokes. The kitchen is checked end to end by
 /// bench_feel_realdata (tests/app/cli).
 
@@ -23,7 +24,8 @@ struct StrokesRun {
     double worstSpikes = 0.0;
 };
 
-StrokesRun runStrokes(const FeelScene &scene, const std::vector<Stroke> &strokes, const FeelSetting &setting)
+StrokesRun runStrokes(const FeelScene &scene, const std::vector<Stroke> &strokes,
+                      const FeelSetting &setting)
 {
     auto results = runFeelStrokes(scene, strokes, setting);
     EXPECT_TRUE(results) << (results ? "" : results.error().what);

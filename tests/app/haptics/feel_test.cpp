@@ -1,6 +1,6 @@
 /// \file
-/// \brief The feel figures (feel.h) on hand-made rows, the Kinect-style sensor model (depth_noise.h)
-/// and the feel bench's scenes and strokes (feel_scenes.h).
+/// \brief The feel figures (feel.h) on hand-made rows, the Kinect-style sensor model
+/// (depth_noise.h) and the feel bench's scenes and strokes (feel_scenes.h).
 
 #include "depthtouch/haptics/feel.h"
 
@@ -203,7 +203,8 @@ TEST(DepthNoiseTest, HolesSitAtSilhouettes)
     EXPECT_EQ(elsewhere, 0u);
 }
 
-// --- Scenes and strokes ----------------------------------------------------------------------------
+// --- Scenes and strokes
+// ----------------------------------------------------------------------------
 
 /// The largest rise of the reference along the line over 0.5 mm (a silhouette step), m.
 double largestStep(bench::ReferenceSurface &ref, double t, glm::dvec2 a, glm::dvec2 b)
@@ -284,15 +285,17 @@ TEST(FeelScenesTest, StrokesFollowTheSurfaceAndMarkPhases)
             sliding += p.sliding;
             held += p.held;
             if (p.sliding || p.held) {
-                EXPECT_NEAR(p.hip.z, ref.height(p.t, p.hip.x, p.hip.y) + (-st.depth), 1e-9) << st.name;
+                EXPECT_NEAR(p.hip.z, ref.height(p.t, p.hip.x, p.hip.y) + (-st.depth), 1e-9)
+                    << st.name;
             }
         }
         EXPECT_GE(held, 400u) << st.name;
         if (st.kind != bench::StrokeKind::Press) {
             EXPECT_GE(sliding, 300u) << st.name;
         }
-        EXPECT_GT(st.samples.front().hip.z, ref.height(st.samples.front().t, st.samples.front().hip.x,
-                                                       st.samples.front().hip.y));
+        EXPECT_GT(
+            st.samples.front().hip.z,
+            ref.height(st.samples.front().t, st.samples.front().hip.x, st.samples.front().hip.y));
     }
 }
 

@@ -38,7 +38,8 @@ OwnedFrame noisyTable(const SceneBox &box, int i, double sigmaLevels)
     std::normal_distribution<double> flicker(0.0, sigmaLevels);
     for (int r = 0; r < kH; ++r) {
         for (int c = 0; c < kW; ++c) {
-            const double z = tablePlane(test::sampleX(box, kW, c), test::sampleY(box, kW, kH, r), i / kFps);
+            const double z =
+                tablePlane(test::sampleX(box, kW, c), test::sampleY(box, kW, kH, r), i / kFps);
             const double v = std::round((z / box.depth + 0.5) * 255.0 + flicker(rng));
             f.set(c, r, static_cast<std::uint32_t>(std::clamp(v, 0.0, 255.0)));
         }
@@ -74,8 +75,8 @@ struct Stroke {
 /// the true surface \a truth) and \return the feel figures summed, with the worst stroke's spikes
 /// per second of sliding in \a worstSpikes.
 template <class Truth>
-FeelFigures runStrokes(SyntheticVideo &video, HapticRenderer &renderer, const std::vector<Stroke> &strokes,
-                       Truth truth, double &worstSpikes)
+FeelFigures runStrokes(SyntheticVideo &video, HapticRenderer &renderer,
+                       const std::vector<Stroke> &strokes, Truth truth, double &worstSpikes)
 {
     FeelFigures total;
     worstSpikes = 0.0;
@@ -133,7 +134,8 @@ RendererConfig configFor(Method m, Reengage reengage)
 TEST(FingerPlaneTest, fitIsExactOnATiltedPlaneAndProjectsAlongItsNormal)
 {
     const SceneBox box{};
-    const OwnedFrame f = test::makeFrame(box, kW, kH, 0.0, [](double x, double y) { return 0.1 * x - 0.05 * y; });
+    const OwnedFrame f =
+        test::makeFrame(box, kW, kH, 0.0, [](double x, double y) { return 0.1 * x - 0.05 * y; });
     HeightField field(box);
     ASSERT_TRUE(field.setFrames(f.view(), nullptr));
     const FingerPlane p = fitFingerPlane(field, 0.01, 0.005, 1e-3);
@@ -191,10 +193,12 @@ TEST(FingerScenarioTest, noisyEightBitTableStrokesHoldWithoutTripsOrSpikes)
         ProxyGraphRenderer r(configFor(Method::Modified, Reengage::Release));
         modified = runStrokes(video, r, tableStrokes(), truth, worstModified);
     }
-    std::printf("finger:   trips %zu, spikes/s %.2f (worst %.2f), pop %.0f ms, phantom %.0f ms, max %.2f N\n",
-                finger.trips, finger.spikesPerSecond, worstFinger, finger.popThroughMs, finger.phantomMs,
-                finger.maxForce);
-    std::printf("modified: trips %zu, spikes/s %.2f (worst %.2f), pop %.0f ms, phantom %.0f ms, max %.2f N\n",
+    std::printf("finger:   trips %zu, spikes/s %.2f (worst %.2f), pop %.0f ms, phantom %.0f ms, "
+                "max %.2f N\n",
+                finger.trips, finger.spikesPerSecond, worstFinger, finger.popThroughMs,
+                finger.phantomMs, finger.maxForce);
+    std::printf("modified: trips %zu, spikes/s %.2f (worst %.2f), pop %.0f ms, phantom %.0f ms, "
+                "max %.2f N\n",
                 modified.trips, modified.spikesPerSecond, worstModified, modified.popThroughMs,
                 modified.phantomMs, modified.maxForce);
     EXPECT_EQ(finger.trips, 0u);
@@ -217,7 +221,8 @@ struct PathRow {
 /// Runs \a renderer at 1 kHz for \a seconds with the HIP at \a hipAt(t), seated 5 mm above the
 /// start first.
 template <class HipAt>
-std::vector<PathRow> runPath(SyntheticVideo &video, HapticRenderer &renderer, HipAt hipAt, double seconds)
+std::vector<PathRow> runPath(SyntheticVideo &video, HapticRenderer &renderer, HipAt hipAt,
+                             double seconds)
 {
     std::vector<PathRow> rows;
     const glm::dvec3 start = hipAt(0.0);
@@ -267,7 +272,8 @@ TEST(FingerScenarioTest, fingerBelowTheTopOfASilhouetteClimbsOntoIt)
         const auto m = runPath(v2, modified, hipAt, 0.4);
         // At the end the HIP is 10 mm past the edge: the finger's proxy is on the top, pushing up.
         const HapticOutput &fe = f.back().out;
-        std::printf("%.0f mm under: finger proxy z %.2f mm, Fz %.2f N; modified proxy x %.2f mm z %.2f mm, Fz %.2f N\n",
+        std::printf("%.0f mm under: finger proxy z %.2f mm, Fz %.2f N; modified proxy x %.2f mm z "
+                    "%.2f mm, Fz %.2f N\n",
                     under * 1e3, fe.proxy.z * 1e3, fe.force.z, m.back().out.proxy.x * 1e3,
                     m.back().out.proxy.z * 1e3, m.back().out.force.z);
         EXPECT_TRUE(fe.contact);
@@ -306,21 +312,23 @@ TEST(FingerScenarioTest, fingerPassingUnderAThinObjectIsNotPulledBack)
             modifiedAfter = std::max(modifiedAfter, glm::length(m[k].out.force));
         }
     }
-    std::printf("force past the forearm: finger %.2f N, modified %.2f N\n", fingerAfter, modifiedAfter);
+    std::printf("force past the forearm: finger %.2f N, modified %.2f N\n", fingerAfter,
+                modifiedAfter);
     EXPECT_LE(fingerAfter, 0.2);
     EXPECT_GT(modifiedAfter, 5.0);
 }
 
-// Fix (c) from the depth: a scene cut of half the box depth (20 mm) under a finger pressed 3 mm into
-// the first scene trips once; with Ramp the finger is held on the new surface and the force ramps
-// to its new value without a step above the threshold, with Release it is let go and stays free
-// inside (paper IV.C). Smooth content never trips (the noisy-table test).
+// Fix (c) from the depth: a scene cut of half the box depth (20 mm) under a finger pressed 3 mm
+// into the first scene trips once; with Ramp the finger is held on the new surface and the force
+// ramps to its new value without a step above the threshold, with Release it is let go and stays
+// free inside (paper IV.C). Smooth content never trips (the noisy-table test).
 TEST(FingerScenarioTest, aSceneCutTripsOnceAndTheForceNeverStepsAboveTheThreshold)
 {
     const SceneBox box{};
     auto hipAt = [](double) { return glm::dvec3(0.004, 0.003, -0.015); };
     for (Reengage mode : {Reengage::Ramp, Reengage::Release}) {
-        SyntheticVideo video(box, 64, 48, kFps, [](double, double, int i) { return i < 10 ? -0.012 : 0.008; });
+        SyntheticVideo video(box, 64, 48, kFps,
+                             [](double, double, int i) { return i < 10 ? -0.012 : 0.008; });
         FingerRenderer finger(configFor(Method::Finger, mode));
         const auto rows = runPath(video, finger, [&](double t) {
             // From 5 mm above the first scene down to 3 mm in, then held.
@@ -336,7 +344,8 @@ TEST(FingerScenarioTest, aSceneCutTripsOnceAndTheForceNeverStepsAboveTheThreshol
         }
         const HapticOutput &last = rows.back().out;
         std::printf("%s: %d trip(s), largest force step %.3f N, final force %.2f N\n",
-                    mode == Reengage::Ramp ? "ramp" : "release", trips, worstStep, glm::length(last.force));
+                    mode == Reengage::Ramp ? "ramp" : "release", trips, worstStep,
+                    glm::length(last.force));
         EXPECT_EQ(trips, 1);
         EXPECT_LE(worstStep, RendererConfig{}.maxForceStep + 1e-9);
         if (mode == Reengage::Ramp) {

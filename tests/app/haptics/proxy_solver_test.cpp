@@ -79,7 +79,8 @@ TEST(ProxySolverTest, slidesToTheOrthogonalProjectionOnATiltedPlane)
 TEST(ProxySolverTest, restsInAConcaveCreaseWithTwoConstraints)
 {
     // GIVEN a V-shaped valley along column 10
-    const OwnedFrame f = gridFrame(21, 15, [](int c, int) { return 20000 + 1500 * std::abs(c - 10); });
+    const OwnedFrame f =
+        gridFrame(21, 15, [](int c, int) { return 20000 + 1500 * std::abs(c - 10); });
     HeightField hf(kBox);
     ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
     const glm::dvec3 bottom = hf.vertex(10, 7);
@@ -96,8 +97,9 @@ TEST(ProxySolverTest, restsInAConcaveCreaseWithTwoConstraints)
 TEST(ProxySolverTest, restsInAConcaveCornerWithThreeConstraints)
 {
     // GIVEN a pit whose lowest point is vertex (10, 7)
-    const OwnedFrame f = gridFrame(
-        21, 15, [](int c, int r) { return 20000 + 1500 * std::abs(c - 10) + 1300 * std::abs(r - 7); });
+    const OwnedFrame f = gridFrame(21, 15, [](int c, int r) {
+        return 20000 + 1500 * std::abs(c - 10) + 1300 * std::abs(r - 7);
+    });
     HeightField hf(kBox);
     ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
     const glm::dvec3 pit = hf.vertex(10, 7);
@@ -110,16 +112,18 @@ TEST(ProxySolverTest, restsInAConcaveCornerWithThreeConstraints)
 TEST(ProxySolverTest, staysOnAConvexRidgeWhenPressedUnderIt)
 {
     // GIVEN a roof whose ridge runs along column 10
-    const OwnedFrame f = gridFrame(21, 15, [](int c, int) { return 40000 - 1500 * std::abs(c - 10); });
+    const OwnedFrame f =
+        gridFrame(21, 15, [](int c, int) { return 40000 - 1500 * std::abs(c - 10); });
     HeightField hf(kBox);
     ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
     const glm::dvec3 top = hf.vertex(10, 7);
-    // WHEN pressed straight under the ridge THEN the proxy slides off the ridge onto a face: inside a
-    // convex wedge the nearest surface point is on a face, at 1 mm·cos(slope), never on the edge
+    // WHEN pressed straight under the ridge THEN the proxy slides off the ridge onto a face: inside
+    // a convex wedge the nearest surface point is on a face, at 1 mm·cos(slope), never on the edge
     const glm::dvec3 hipUnder = top + glm::dvec3(0.0, 0.0013, -0.001);
     const ProxySolution onRidge = solveFrom(hf, top + glm::dvec3(0.0, 0.0, 0.01), hipUnder);
     const double slope = (hf.vertex(10, 7).z - hf.vertex(11, 7).z) / hf.spacing();
-    EXPECT_NEAR(glm::length(onRidge.point - hipUnder), 0.001 / std::sqrt(1.0 + slope * slope), 1e-12);
+    EXPECT_NEAR(glm::length(onRidge.point - hipUnder), 0.001 / std::sqrt(1.0 + slope * slope),
+                1e-12);
     EXPECT_EQ(onRidge.constraints, 1);
     EXPECT_NEAR(onRidge.point.z, hf.heightAt(onRidge.point.x, onRidge.point.y), 1e-12);
     // WHEN pressed under one side THEN it slides down onto that side's face
@@ -188,7 +192,8 @@ TEST(ProxySolverTest, coarseToFineGivesTheFullGridDescentsForceOnASmoothSurface)
     }
     // AND the two-pass descent crossed far fewer triangles
     EXPECT_EQ(compared, 200);
-    EXPECT_LT(coarseSteps * 2, fullSteps) << "full " << fullSteps << " coarse-to-fine " << coarseSteps;
+    EXPECT_LT(coarseSteps * 2, fullSteps)
+        << "full " << fullSteps << " coarse-to-fine " << coarseSteps;
 }
 
 TEST(ProxySolverTest, tangentPlaneGuessStepsOverTheLocalOptimaOfAQuantisedFineGrid)
@@ -236,7 +241,8 @@ TEST(ProxySolverTest, tangentPlaneGuessStepsOverTheLocalOptimaOfAQuantisedFineGr
         const ProxySolution guessed = solveProxyCoarseToFine(hf, start, hip, stride, stride);
         plainErr += glm::length(glm::dvec2(plain.point) - best);
         guessErr += glm::length(glm::dvec2(guessed.point) - best);
-        EXPECT_GE(guessed.point.z, hf.heightAt(guessed.point.x, guessed.point.y) - 1e-9 * hf.spacing());
+        EXPECT_GE(guessed.point.z,
+                  hf.heightAt(guessed.point.x, guessed.point.y) - 1e-9 * hf.spacing());
         ++n;
     }
     plainErr /= n;

@@ -23,7 +23,8 @@ double bumpy(double x, double y)
 }
 
 /// Moves the HIP from 5 mm above (x, y, zSurface) down to \a depth below it in 1 kHz steps.
-HapticOutput pressDown(HapticRenderer &r, double x, double y, double zSurface, double depth, double &t)
+HapticOutput pressDown(HapticRenderer &r, double x, double y, double zSurface, double depth,
+                       double &t)
 {
     HapticOutput out;
     for (double z = zSurface + 0.005; z > zSurface - depth; z -= 0.0001) {
@@ -214,7 +215,8 @@ TEST(MeshBvhTest, rendersTheSameForcesAsTheProxyGraphOnAStillFrame)
 {
     const OwnedFrame f = makeFrame(kBox, 48, 36, 0.0, bumpy);
     auto mesh = makeRenderer(Method::MeshBvh, RendererConfig::forMethod(Method::MeshBvh), 48, 36);
-    auto grid = makeRenderer(Method::ProxyGraph, RendererConfig::forMethod(Method::ProxyGraph), 48, 36);
+    auto grid =
+        makeRenderer(Method::ProxyGraph, RendererConfig::forMethod(Method::ProxyGraph), 48, 36);
     ASSERT_TRUE(mesh && grid);
     ASSERT_TRUE((*mesh)->setFrames(f.view(), nullptr));
     ASSERT_TRUE((*grid)->setFrames(f.view(), nullptr));

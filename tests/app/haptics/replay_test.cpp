@@ -15,8 +15,8 @@ namespace {
 TEST(TrajectoryCsvTest, parsesColumnsInAnyOrderWithExtras)
 {
     std::size_t line = 99;
-    const auto r = parseTrajectoryCsv("z, t,x,y,note\n0.01,0,0.001,0.002,a\r\n0.0,0.5,0.002,0.002,b\n\n",
-                                      &line);
+    const auto r = parseTrajectoryCsv(
+        "z, t,x,y,note\n0.01,0,0.001,0.002,a\r\n0.0,0.5,0.002,0.002,b\n\n", &line);
     ASSERT_TRUE(r) << r.error().what;
     EXPECT_EQ(line, 0u);
     ASSERT_EQ(r->size(), 2u);
@@ -59,7 +59,8 @@ std::vector<std::uint8_t> rawVideo(int w, int h, int frames)
     std::vector<std::uint8_t> bytes;
     const SceneBox box{};
     for (int i = 0; i < frames; ++i) {
-        const auto f = test::makeFrame(box, w, h, 0.0, [i](double, double) { return -0.01 + 0.001 * i; });
+        const auto f =
+            test::makeFrame(box, w, h, 0.0, [i](double, double) { return -0.01 + 0.001 * i; });
         const DepthFrameView v = f.view();
         bytes.insert(bytes.end(), v.data, v.data + v.strideBytes * static_cast<std::size_t>(h));
     }
@@ -69,7 +70,8 @@ std::vector<std::uint8_t> rawVideo(int w, int h, int frames)
 TEST(ReplayTest, replaysDeterministicallyAtTheHapticRate)
 {
     // GIVEN 10 frames at 30 fps and a trajectory pressing 3 mm into the first frame's surface
-    auto traj = parseTrajectoryCsv("t,x,y,z\n0,0.001,0.002,0.0\n0.05,0.001,0.002,-0.013\n0.2,0.004,0.002,-0.013\n");
+    auto traj = parseTrajectoryCsv(
+        "t,x,y,z\n0,0.001,0.002,0.0\n0.05,0.001,0.002,-0.013\n0.2,0.004,0.002,-0.013\n");
     ASSERT_TRUE(traj);
     ReplayOptions opt;
     RawVideoFrameProvider a(rawVideo(32, 24, 10), 32, 24, SampleFormat::Gray16, 30.0);
@@ -84,8 +86,8 @@ TEST(ReplayTest, replaysDeterministicallyAtTheHapticRate)
     EXPECT_EQ(log, formatForceLog(*r2));
     EXPECT_EQ(log.substr(0, log.find('\n')),
               "t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released");
-    // AND the force follows the rising surface: k·(surface − HIP) at t = 0.1 s (frame 3 + 0.0 → 3 mm
-    // rise interpolated), HIP at −13 mm
+    // AND the force follows the rising surface: k·(surface − HIP) at t = 0.1 s (frame 3 + 0.0 → 3
+    // mm rise interpolated), HIP at −13 mm
     const ForceLogRow &row = (*r1)[100];
     EXPECT_DOUBLE_EQ(row.t, 0.1);
     EXPECT_TRUE(row.out.contact);
@@ -104,15 +106,16 @@ TEST(ReplayTest, rejectsBadOptionsAndVideos)
     opt.rate = 1000.0;
     opt.config.stiffness = 0.0;
     EXPECT_FALSE(replay(ok, *traj, opt));
-    RawVideoFrameProvider truncated(std::vector<std::uint8_t>(8 * 8 * 2 + 3), 8, 8, SampleFormat::Gray16, 30.0);
+    RawVideoFrameProvider truncated(std::vector<std::uint8_t>(8 * 8 * 2 + 3), 8, 8,
+                                    SampleFormat::Gray16, 30.0);
     EXPECT_FALSE(truncated.validate());
     EXPECT_FALSE(replay(truncated, *traj, ReplayOptions{}));
 }
 
 TEST(TrajectoryCsvTest, rejectsPositionsAndTimesBeyondTheLimits)
 {
-    // GIVEN rows with a coordinate of 1.7e308 m, a time of 1e300 s or 1e9 s (issue 16: NaN forces, a
-    // one-row log, std::bad_alloc)
+    // GIVEN rows with a coordinate of 1.7e308 m, a time of 1e300 s or 1e9 s (issue 16: NaN forces,
+    // a one-row log, std::bad_alloc)
     const char *cases[] = {
         "t,x,y,z\n0,0,0,0\n0.1,1.7e308,0,0\n",
         "t,x,y,z\n0,0,0,0\n0.1,0,0,-1.7e308\n",

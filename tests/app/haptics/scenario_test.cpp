@@ -1,7 +1,7 @@
 /// \file
-/// \brief Stability scenarios of the haptic renderer (issue 3): every method runs on synthetic depth
-/// videos; the modified proxy graph must pass and the baselines must show the failures the paper
-/// describes (sections IV.A–C, VI). The measured figures are printed.
+/// \brief Stability scenarios of the haptic renderer (issue 3): every method runs on synthetic
+/// depth videos; the modified proxy graph must pass and the baselines must show the failures the
+/// paper describes (sections IV.A–C, VI). The measured figures are printed.
 
 #include <algorithm>
 #include <cmath>
@@ -93,17 +93,19 @@ TEST_P(FormatScenarioTest, risingSurfaceKeepsContactOnlyWithCorrection)
         if (stop != 0) {
             const double expected = kK * (surfaceAt(t) - hipZ); // k·(penetration + rise since stop)
             if (expected < 8.0) {
-                worstRel = std::max(worstRel, std::fabs(glm::length(m.force) - expected) / expected);
+                worstRel =
+                    std::max(worstRel, std::fabs(glm::length(m.force) - expected) / expected);
                 ++checked;
             }
             if (glm::length(p.force) == 0.0 && video.reference(t).heightAt(hip.x, hip.y) > hip.z)
                 ++pgLost;
         }
     }
-    std::printf("[rising] modified: %d updates checked, worst relative force error %.3g %%\n", checked,
-                100.0 * worstRel);
-    std::printf("[rising] proxy-graph: %d updates with zero force while the HIP is under the surface\n",
-                pgLost);
+    std::printf("[rising] modified: %d updates checked, worst relative force error %.3g %%\n",
+                checked, 100.0 * worstRel);
+    std::printf(
+        "[rising] proxy-graph: %d updates with zero force while the HIP is under the surface\n",
+        pgLost);
     // THEN the modified renderer tracks k·(penetration + rise) exactly (the expectation is computed
     // from the same quantised frames: only rounding is allowed) on every update after the stop
     EXPECT_EQ(checked, 250);
@@ -144,7 +146,8 @@ TEST_P(FormatScenarioTest, sinusoidMovingUpAndDownNeverSwallowsTheProxy)
             }
             // WHEN the HIP circles slowly (0.03 m/s) at mid height, in and out of the surface
             const double a = 2.0 * std::numbers::pi * 0.3 * t;
-            const glm::dvec3 hip(0.015 * std::cos(a), 0.015 * std::sin(a), std::max(0.0, 0.02 - 0.05 * t));
+            const glm::dvec3 hip(0.015 * std::cos(a), 0.015 * std::sin(a),
+                                 std::max(0.0, 0.02 - 0.05 * t));
             const HapticOutput &m = mod.step(hip, t);
             const HapticOutput &p = pg.step(hip, t);
             const HeightField &ref = video.reference(t);
@@ -264,7 +267,9 @@ void runJump(SyntheticVideo &video, const glm::dvec3 &xy, double zBefore, const 
         if (video.advance(t))
             for (Variant *r : runs)
                 video.feed(r->renderer);
-        const glm::dvec3 hip = xy + glm::dvec3(0, 0, std::max(hipZ, zBefore + 0.002 - 0.0002 * static_cast<double>(n)));
+        const glm::dvec3 hip =
+            xy +
+            glm::dvec3(0, 0, std::max(hipZ, zBefore + 0.002 - 0.0002 * static_cast<double>(n)));
         for (Variant *r : runs)
             r->step(hip, t);
         if (rmp.last.released && tripAt < 0)
@@ -275,9 +280,10 @@ void runJump(SyntheticVideo &video, const glm::dvec3 &xy, double zBefore, const 
     }
     const double thr = modified().maxForceStep;
     for (Variant *r : runs)
-        std::printf("[%s] %-22s max force step %.3f N, max force %.3f N, releases %d, final force %.3f N\n",
-                    label, r->name.c_str(), r->maxStep, r->maxForce, r->releases,
-                    glm::length(r->last.force));
+        std::printf(
+            "[%s] %-22s max force step %.3f N, max force %.3f N, releases %d, final force %.3f N\n",
+            label, r->name.c_str(), r->maxStep, r->maxForce, r->releases,
+            glm::length(r->last.force));
     // THEN the modified renderer never steps above the threshold nor exceeds the device maximum
     EXPECT_LE(rel.maxStep, thr + 1e-12);
     EXPECT_LE(rel.maxForce, 8.5 + 1e-12);
@@ -293,8 +299,8 @@ void runJump(SyntheticVideo &video, const glm::dvec3 &xy, double zBefore, const 
         rampWorst = std::max(rampWorst, rampForce[i] - rampForce[i - 1]);
     }
     const double target = std::min(8.5, kK * (zAfter - hipZ));
-    std::printf("[%s] ramp: largest step %.4f N, final %.3f N (expected %.3f N)\n", label, rampWorst,
-                rampForce.back(), target);
+    std::printf("[%s] ramp: largest step %.4f N, final %.3f N (expected %.3f N)\n", label,
+                rampWorst, rampForce.back(), target);
     EXPECT_LT(rampWorst, 1.5 * 8.5 / (modified().rampTime * kRate));
     EXPECT_NEAR(rampForce.back(), target, 1e-6);
     EXPECT_TRUE(rmp.last.contact);
@@ -337,7 +343,8 @@ TEST_P(FormatScenarioTest, sceneCutUnderADeepPressUnloadsThroughTheForceStepLimi
 
 TEST_P(FormatScenarioTest, fastObjectEdgeIsCaughtBySafety)
 {
-    // GIVEN a 15 mm block whose edge slides left at 1.5 mm per frame toward a proxy resting on the floor
+    // GIVEN a 15 mm block whose edge slides left at 1.5 mm per frame toward a proxy resting on the
+    // floor
     SyntheticVideo video(
         kBox, 200, 150, 30.0,
         [](double x, double, int i) { return x >= 0.004 - 0.0015 * i ? 0.005 : -0.010; },
@@ -390,9 +397,9 @@ TEST(ScenarioTest, forceMatchesTheAnalyticPenetrationOnPlaneSphereAndSinusoid)
         const OwnedFrame f = makeFrame(kBox, w, h, 0.0, a.z);
         ProxyGraphRenderer r(modified());
         ASSERT_TRUE(r.setFrames(f.view(), nullptr));
-        // Discretisation bound: linear interpolation error s²·κ plus quantisation q in height, and a
-        // triangle normal tilted by up to 2·s·κ (curvature) + 2·q/s (quantisation) acting over the
-        // penetration: B = k·(s²κ + q + pen·(2sκ + 2q/s)).
+        // Discretisation bound: linear interpolation error s²·κ plus quantisation q in height, and
+        // a triangle normal tilted by up to 2·s·κ (curvature) + 2·q/s (quantisation) acting over
+        // the penetration: B = k·(s²κ + q + pen·(2sκ + 2q/s)).
         const double bound =
             kK * (s * s * a.curvature + q + pen * (2.0 * s * a.curvature + 2.0 * q / s));
         auto hipAt = [&](double u, double depth) {
@@ -407,7 +414,8 @@ TEST(ScenarioTest, forceMatchesTheAnalyticPenetrationOnPlaneSphereAndSinusoid)
         long n = 0;
         // press in along the normal at 0.1 m/s, then stroke 45 mm at 0.05 m/s
         for (; n < 50; ++n)
-            (void)r.update(hipAt(0.0, -0.003 + 0.005 * static_cast<double>(n + 1) / 50.0), timeOf(n));
+            (void)r.update(hipAt(0.0, -0.003 + 0.005 * static_cast<double>(n + 1) / 50.0),
+                           timeOf(n));
         for (long i = 0; i <= 900; ++i, ++n) {
             const double u = static_cast<double>(i) / 900.0;
             const double x = -0.02 + 0.04 * u;
@@ -456,7 +464,8 @@ TEST(ScenarioTest, fastCollisionDetectorAgreesWithBruteForceOn1e5Segments)
         const Crossing fast = firstCrossing(hf, a, b);
         const Crossing ref = firstCrossingBruteForce(hf, a, b);
         hits += fast.hit ? 1 : 0;
-        if (fast.hit != ref.hit || (fast.hit && std::fabs(fast.t - ref.t) * glm::length(b - a) > 1e-9))
+        if (fast.hit != ref.hit ||
+            (fast.hit && std::fabs(fast.t - ref.t) * glm::length(b - a) > 1e-9))
             ++mismatches;
     }
     std::printf("[agreement] 100000 segments: %d hits, %d disagreements with brute force\n", hits,

@@ -32,7 +32,10 @@ public:
     }
 
     /// Index of the frame shown at haptic time \a t.
-    [[nodiscard]] int frameAt(double t) const { return static_cast<int>(std::floor(t * fps_ + 1e-9)); }
+    [[nodiscard]] int frameAt(double t) const
+    {
+        return static_cast<int>(std::floor(t * fps_ + 1e-9));
+    }
 
     /// Makes sure frames i = frameAt(t) and i+1 exist; \return true when they changed.
     bool advance(double t)
@@ -67,7 +70,10 @@ public:
     }
 
     [[nodiscard]] const SceneBox &box() const { return box_; }
-    [[nodiscard]] double quantised(double z) const { return fromNearness(box_, format_, toNearness(box_, format_, z)); }
+    [[nodiscard]] double quantised(double z) const
+    {
+        return fromNearness(box_, format_, toNearness(box_, format_, z));
+    }
 
 private:
     OwnedFrame make(int i) const

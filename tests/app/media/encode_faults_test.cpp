@@ -1,8 +1,8 @@
 /// \file
-/// \brief The sender (app/media) against hostile outputs and sources (issue 16): an output path that
-/// is not a regular file is never replaced, sizes and rates outside what H.264 encodes are refused
-/// before any frame is read, an image sequence with a gap is followed across it, a silent FIFO
-/// source gives up in its time.
+/// \brief The sender (app/media) against hostile outputs and sources (issue 16): an output path
+/// that is not a regular file is never replaced, sizes and rates outside what H.264 encodes are
+/// refused before any frame is read, an image sequence with a gap is followed across it, a silent
+/// FIFO source gives up in its time.
 
 #include <chrono>
 #include <cstdio>

@@ -1,6 +1,6 @@
 // The media benchmark's measurements that can be checked without timing: PSNR, force comparison,
-// the stroke, and a tiny run on a 64×48 synthetic clip through the real encoders and the receiver on
-// the ffmpeg backends (bitrates, lossless round trip, CSV rows). No speed is asserted.
+// the stroke, and a tiny run on a 64×48 synthetic clip through the real encoders and the receiver
+// on the ffmpeg backends (bitrates, lossless round trip, CSV rows). No speed is asserted.
 
 #include <cmath>
 #include <filesystem>

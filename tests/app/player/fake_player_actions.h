@@ -38,7 +38,8 @@ public:
     }
     Result<void> setHapticsEnabled(bool enabled) override
     {
-        return record("setHapticsEnabled", enabled ? "setHapticsEnabled on" : "setHapticsEnabled off");
+        return record("setHapticsEnabled",
+                      enabled ? "setHapticsEnabled on" : "setHapticsEnabled off");
     }
     Result<void> setStiffness(double newtonsPerMetre) override
     {

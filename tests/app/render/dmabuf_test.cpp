@@ -70,7 +70,8 @@ TEST(DmaBufAttribsTest, planesFourccAndSizeAreListed)
     EXPECT_EQ(a->back(), EGL_NONE);
     EXPECT_EQ(valueOf(*a, EGL_WIDTH), 640);
     EXPECT_EQ(valueOf(*a, EGL_HEIGHT), 480);
-    EXPECT_EQ(static_cast<std::uint32_t>(valueOf(*a, EGL_LINUX_DRM_FOURCC_EXT)), hal::kDrmFormatNv12);
+    EXPECT_EQ(static_cast<std::uint32_t>(valueOf(*a, EGL_LINUX_DRM_FOURCC_EXT)),
+              hal::kDrmFormatNv12);
     EXPECT_EQ(valueOf(*a, EGL_DMA_BUF_PLANE0_FD_EXT), 9);
     EXPECT_EQ(valueOf(*a, EGL_DMA_BUF_PLANE0_OFFSET_EXT), 0);
     EXPECT_EQ(valueOf(*a, EGL_DMA_BUF_PLANE0_PITCH_EXT), 768);
@@ -148,8 +149,9 @@ public:
     explicit MemFd(const std::vector<std::uint8_t> &bytes)
     {
         fd_ = memfd_create("dt-dmabuf-test", MFD_CLOEXEC);
-        if (fd_ >= 0 && (ftruncate(fd_, static_cast<off_t>(bytes.size())) != 0 ||
-                         write(fd_, bytes.data(), bytes.size()) != static_cast<ssize_t>(bytes.size()))) {
+        if (fd_ >= 0 &&
+            (ftruncate(fd_, static_cast<off_t>(bytes.size())) != 0 ||
+             write(fd_, bytes.data(), bytes.size()) != static_cast<ssize_t>(bytes.size()))) {
             close(fd_);
             fd_ = -1;
         }
@@ -295,7 +297,8 @@ TEST_F(DmaBufRenderTest, nv12DmaBufOnlyFrameDrawsLikeItsCpuPlanes)
     EXPECT_EQ(maxDiff(second, first), 0);
     EXPECT_EQ(renderer_->dmaBufStats().imported + renderer_->dmaBufStats().uploaded, 2u);
     // AND a CPU frame afterwards is drawn from its planes again
-    ASSERT_TRUE(renderer_->setColorFrame(colour_.view(), hal::DmaBufImage{}, ColorSpec{YuvMatrix::Bt709, false}));
+    ASSERT_TRUE(renderer_->setColorFrame(colour_.view(), hal::DmaBufImage{},
+                                         ColorSpec{YuvMatrix::Bt709, false}));
     EXPECT_EQ(maxDiff(draw(), reference), 0);
 }
 
@@ -312,7 +315,8 @@ TEST_F(DmaBufRenderTest, frameWithBothUsesItsCpuPlanesWhenItCannotImport)
     ASSERT_TRUE(renderer_->setColor(colour_.view(), ColorSpec{}));
     const auto reference = draw();
     auto r = renderer_->setColorFrame(colour_.view(), img, ColorSpec{});
-    // THEN on a platform without import the CPU planes are drawn; with import the bad fd is an error
+    // THEN on a platform without import the CPU planes are drawn; with import the bad fd is an
+    // error
     if (r) {
         EXPECT_EQ(maxDiff(draw(), reference), 0);
         EXPECT_FALSE(renderer_->dmaBufStats().zeroCopy);

@@ -36,7 +36,8 @@ std::unique_ptr<EglTestContext> EglTestContext::create(std::string &why)
         why = "eglGetPlatformDisplayEXT missing";
         return nullptr;
     }
-    EGLDisplay dpy = getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+    EGLDisplay dpy =
+        getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
     EGLint major = 0;
     EGLint minor = 0;
     if (dpy == EGL_NO_DISPLAY || eglInitialize(dpy, &major, &minor) != EGL_TRUE) {
@@ -53,8 +54,10 @@ std::unique_ptr<EglTestContext> EglTestContext::create(std::string &why)
                                     EGL_NONE};
     EGLConfig config = nullptr;
     EGLint count = 0;
-    const bool haveConfig = eglChooseConfig(dpy, configAttribs, &config, 1, &count) == EGL_TRUE && count > 0;
-    const bool noConfig = hasExtension(eglQueryString(dpy, EGL_EXTENSIONS), "EGL_KHR_no_config_context");
+    const bool haveConfig =
+        eglChooseConfig(dpy, configAttribs, &config, 1, &count) == EGL_TRUE && count > 0;
+    const bool noConfig =
+        hasExtension(eglQueryString(dpy, EGL_EXTENSIONS), "EGL_KHR_no_config_context");
     if (!haveConfig && !noConfig) {
         why = "no EGL config for GLES 3";
         return nullptr;

@@ -84,7 +84,8 @@ TEST(LodControllerTest, startsCoarseAndGrowsToTheFullMeshWhenDrawingIsFast)
     // THEN the budget no longer limits the mesh: the full tolerance is drawn
     EXPECT_FALSE(r.mesh(lod.budget()).budgetLimited);
     // and it stops growing once it does not limit (no wind-up): it is at most one step past
-    EXPECT_LE(lod.budget(), static_cast<std::size_t>(std::ceil(static_cast<double>(r.needed) * 1.15)) + 1);
+    EXPECT_LE(lod.budget(),
+              static_cast<std::size_t>(std::ceil(static_cast<double>(r.needed) * 1.15)) + 1);
 }
 
 TEST(LodControllerTest, aSingleStallDoesNotMoveTheBudget)

@@ -170,7 +170,8 @@ TEST(AdaptiveMeshTest, rejectsBadOptionsAndKeepsThePreviousMesh)
 TEST(AdaptiveMeshTest, meanCriterionIgnoresNoiseButKeepsEdges)
 {
     // GIVEN a plane with ±1-level noise and a 40-level step edge
-    const Depth8 d(129, 65, [](int c, int r) { return 100 + (c * 7 + r * 3) % 3 - 1 + (c >= 64 ? 40 : 0); });
+    const Depth8 d(129, 65,
+                   [](int c, int r) { return 100 + (c * 7 + r * 3) % 3 - 1 + (c >= 64 ? 40 : 0); });
     MeshOptions mean = adaptive(0.8);
     mean.criterion = ErrorCriterion::Mean;
     mean.maxErrorCap = 4.0;
@@ -220,7 +221,8 @@ void expectConformingTiling(const std::vector<std::uint32_t> &idx, int w, int h)
         const auto yi = static_cast<int>(i / static_cast<std::uint32_t>(w));
         const auto xj = static_cast<int>(j % static_cast<std::uint32_t>(w));
         const auto yj = static_cast<int>(j / static_cast<std::uint32_t>(w));
-        const bool border = (xi == xj && (xi == 0 || xi == w - 1)) || (yi == yj && (yi == 0 || yi == h - 1));
+        const bool border =
+            (xi == xj && (xi == 0 || xi == w - 1)) || (yi == yj && (yi == 0 || yi == h - 1));
         open += border ? 0 : 1;
     }
     EXPECT_EQ(open, 0) << "edges inside the grid without a twin (T-junctions)";
@@ -261,7 +263,9 @@ TEST(QuadtreeMeshTest, mixedLevelsTileTheGridWithoutTJunctions)
     // GIVEN a terrain with a step edge and odd sizes (clipped tiles), both criteria, several
     // tolerances, and sizes whose last block row/column is one cell thin
     const Depth8 terrainFrame(130, 90, terrain);
-    const Depth8 edge(97, 66, [](int c, int r) { return (c - 40) * (c - 40) + (r - 30) * (r - 30) < 300 ? 200 : 40 + c / 9; });
+    const Depth8 edge(97, 66, [](int c, int r) {
+        return (c - 40) * (c - 40) + (r - 30) * (r - 30) < 300 ? 200 : 40 + c / 9;
+    });
     for (const Depth8 *d : {&terrainFrame, &edge})
         for (const ErrorCriterion crit : {ErrorCriterion::Max, ErrorCriterion::Mean})
             for (const double tol : {0.3, 1.0, 4.0}) {
@@ -335,7 +339,8 @@ TEST(QuadtreeMeshTest, blockBudgetBoundsTheLeavesAndRefinesEdgesBreadthFirst)
 
     double lastMean = 0.0;
     std::size_t lastBlocks = SIZE_MAX;
-    for (const std::size_t budget : {leaves / 2, leaves / 4, leaves / 8, std::size_t{240}, std::size_t{120}, std::size_t{60}, std::size_t{30}}) {
+    for (const std::size_t budget : {leaves / 2, leaves / 4, leaves / 8, std::size_t{240},
+                                     std::size_t{120}, std::size_t{60}, std::size_t{30}}) {
         o.maxBlocks = budget;
         AdaptiveMesh mesh;
         ASSERT_TRUE(mesh.build(d.view(), o));

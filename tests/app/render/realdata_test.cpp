@@ -45,8 +45,8 @@ TEST(RenderRealDataTest, adaptiveMeshMeetsTheErrorGoalWithFewTrianglesAndNoCrack
         AdaptiveMesh mesh;
         ASSERT_TRUE(mesh.build(v, o));
         const MeshError e = measureMeshError(v, mesh.indices());
-        // THEN the mean error meets the ≤ 0.5-level goal, no sample falls through, the largest error
-        // stays near the tolerance, and far fewer triangles than the full mesh are drawn
+        // THEN the mean error meets the ≤ 0.5-level goal, no sample falls through, the largest
+        // error stays near the tolerance, and far fewer triangles than the full mesh are drawn
         EXPECT_EQ(e.uncovered, 0u);
         EXPECT_LE(e.mean, 0.5);
         EXPECT_LE(e.max, 2.0 * o.maxErrorCap);

@@ -1,7 +1,7 @@
 /// \file
-/// \brief `render_bench [OUT_DIR] [FRAMES] [SETTINGS]`: the `depthtouch bench render` figures on the
-/// tests' surfaceless GLES context (no Display backend needed); SETTINGS is a comma-separated list of
-/// mesh settings (default all). Reads DT_SHARED_DATA; exits 77 without it.
+/// \brief `render_bench [OUT_DIR] [FRAMES] [SETTINGS]`: the `depthtouch bench render` figures on
+/// the tests' surfaceless GLES context (no Display backend needed); SETTINGS is a comma-separated
+/// list of mesh settings (default all). Reads DT_SHARED_DATA; exits 77 without it.
 
 #include <algorithm>
 #include <cstdio>
@@ -29,7 +29,8 @@ int main(int argc, char **argv)
         return 77;
     }
     std::fprintf(stderr, "GL: %s\n", ctx->renderer().c_str());
-    auto loaded = bench::loadKitchenFrames(std::string(data) + "/rgbd-7scenes-redkitchen", 60, 720, 486);
+    auto loaded =
+        bench::loadKitchenFrames(std::string(data) + "/rgbd-7scenes-redkitchen", 60, 720, 486);
     if (!loaded) {
         std::fprintf(stderr, "render_bench: %s\n", loaded.error().what);
         return 1;
@@ -55,10 +56,13 @@ int main(int argc, char **argv)
         return 1;
     }
     const MeshOptions snap;
-    if (auto r = bench::writeSideBySideSnapshot(*loaded, 0, snap, 1440, 486, out + "/kitchen_sbs.png"); !r)
+    if (auto r =
+            bench::writeSideBySideSnapshot(*loaded, 0, snap, 1440, 486, out + "/kitchen_sbs.png");
+        !r)
         std::fprintf(stderr, "render_bench: snapshot: %s\n", r.error().what);
     if (!note.empty())
         std::printf("note: %s\n", note.c_str());
-    std::printf("wrote %s/{render_bench.csv,fps_vs_error.png,stages.png,kitchen_sbs.png}\n", out.c_str());
+    std::printf("wrote %s/{render_bench.csv,fps_vs_error.png,stages.png,kitchen_sbs.png}\n",
+                out.c_str());
     return 0;
 }

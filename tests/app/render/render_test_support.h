@@ -84,8 +84,10 @@ struct Yuv420 {
                 const auto p = f(c, r);
                 y[static_cast<std::size_t>(r * w + c)] = static_cast<std::uint8_t>(p[0]);
                 if (r % 2 == 0 && c % 2 == 0) {
-                    u[static_cast<std::size_t>((r / 2) * cw + c / 2)] = static_cast<std::uint8_t>(p[1]);
-                    v[static_cast<std::size_t>((r / 2) * cw + c / 2)] = static_cast<std::uint8_t>(p[2]);
+                    u[static_cast<std::size_t>((r / 2) * cw + c / 2)] =
+                        static_cast<std::uint8_t>(p[1]);
+                    v[static_cast<std::size_t>((r / 2) * cw + c / 2)] =
+                        static_cast<std::uint8_t>(p[2]);
                 }
             }
     }

@@ -124,8 +124,9 @@ TEST(YuvToRgbTest, bt601LimitedMatchesThePublishedCoefficients)
     // R = 1.164(Y−16) + 1.596(V−128); G = 1.164(Y−16) − 0.392(U−128) − 0.813(V−128);
     // B = 1.164(Y−16) + 2.017(U−128)  (ITU-R BT.601, 8-bit limited range, rounded coefficients)
     const YuvToRgb m = yuvToRgb(ColorSpec{YuvMatrix::Bt601, false});
-    for (const auto &yuv : {glm::ivec3(16, 128, 128), glm::ivec3(235, 128, 128), glm::ivec3(81, 90, 240),
-                            glm::ivec3(145, 54, 34), glm::ivec3(41, 240, 110)}) {
+    for (const auto &yuv :
+         {glm::ivec3(16, 128, 128), glm::ivec3(235, 128, 128), glm::ivec3(81, 90, 240),
+          glm::ivec3(145, 54, 34), glm::ivec3(41, 240, 110)}) {
         const glm::vec3 in = glm::vec3(yuv) / 255.0f;
         const glm::vec3 rgb = m.matrix * (in - m.offset) * 255.0f;
         const double y = yuv.x - 16.0;
@@ -166,7 +167,8 @@ TEST(YuvConverterTest, cpuConversionIsTheMatrixWithBilinearChroma)
     img.planes[1] = {u.data(), 3};
     img.planes[2] = {v.data(), 3};
     YuvConverter conv;
-    for (const ColorSpec spec : {ColorSpec{YuvMatrix::Bt601, false}, ColorSpec{YuvMatrix::Bt709, true}}) {
+    for (const ColorSpec spec :
+         {ColorSpec{YuvMatrix::Bt601, false}, ColorSpec{YuvMatrix::Bt709, true}}) {
         const std::vector<std::uint32_t> &px = conv.convert(img, spec);
         ASSERT_EQ(px.size(), 24u);
         const YuvToRgb m = yuvToRgb(spec);
@@ -185,10 +187,14 @@ TEST(YuvConverterTest, cpuConversionIsTheMatrixWithBilinearChroma)
                 tap(c, 6, 3, c0, c1, wc);
                 tap(r, 4, 2, r0, r1, wr);
                 const auto bil = [&](const std::vector<std::uint8_t> &p) {
-                    const auto at = [&](int cc, int rr) { return static_cast<double>(p[static_cast<std::size_t>(rr * 3 + cc)]); };
-                    return (1 - wr) * ((1 - wc) * at(c0, r0) + wc * at(c1, r0)) + wr * ((1 - wc) * at(c0, r1) + wc * at(c1, r1));
+                    const auto at = [&](int cc, int rr) {
+                        return static_cast<double>(p[static_cast<std::size_t>(rr * 3 + cc)]);
+                    };
+                    return (1 - wr) * ((1 - wc) * at(c0, r0) + wc * at(c1, r0)) +
+                           wr * ((1 - wc) * at(c0, r1) + wc * at(c1, r1));
                 };
-                const glm::dvec3 yuv(y[static_cast<std::size_t>(r * 6 + c)] / 255.0, bil(u) / 255.0, bil(v) / 255.0);
+                const glm::dvec3 yuv(y[static_cast<std::size_t>(r * 6 + c)] / 255.0, bil(u) / 255.0,
+                                     bil(v) / 255.0);
                 const glm::dvec3 rgb = glm::dmat3(m.matrix) * (yuv - glm::dvec3(m.offset));
                 const std::uint32_t p = px[static_cast<std::size_t>(r * 6 + c)];
                 // THEN each pixel is the matrix applied to the bilinear chroma, within one code

@@ -57,7 +57,8 @@ void renderScene(benchmark::State &state, const char *name)
     const double cpuSeconds = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
     state.SetItemsProcessed(static_cast<std::int64_t>(frame));
     if (frame > 0)
-        state.counters["process_cpu_ms_per_frame"] = 1000.0 * cpuSeconds / static_cast<double>(frame);
+        state.counters["process_cpu_ms_per_frame"] =
+            1000.0 * cpuSeconds / static_cast<double>(frame);
 }
 
 BENCHMARK_CAPTURE(renderScene, head, "head")->Unit(benchmark::kMillisecond)->UseRealTime();

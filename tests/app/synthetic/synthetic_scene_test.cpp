@@ -48,7 +48,10 @@ struct Frame {
         v.planes[0] = {reinterpret_cast<std::uint8_t *>(near.data()), kW * 2};
         return v;
     }
-    [[nodiscard]] int nearAt(int x, int y) const { return near[static_cast<std::size_t>(y * kW + x)]; }
+    [[nodiscard]] int nearAt(int x, int y) const
+    {
+        return near[static_cast<std::size_t>(y * kW + x)];
+    }
     [[nodiscard]] double meanNear() const
     {
         double s = 0;
@@ -181,7 +184,8 @@ TEST_F(SyntheticSceneTest, colorIsShadedAndTexturedNotFlat)
     double sum = 0;
     double sum2 = 0;
     for (std::size_t i = 0; i < f.rgb.size(); i += 3) {
-        colors.insert(static_cast<std::uint32_t>(f.rgb[i] << 16 | f.rgb[i + 1] << 8 | f.rgb[i + 2]));
+        colors.insert(
+            static_cast<std::uint32_t>(f.rgb[i] << 16 | f.rgb[i + 1] << 8 | f.rgb[i + 2]));
         const double y = 0.299 * f.rgb[i] + 0.587 * f.rgb[i + 1] + 0.114 * f.rgb[i + 2];
         sum += y;
         sum2 += y * y;
@@ -238,7 +242,8 @@ TEST_F(SyntheticSceneTest, cutSceneDepthJumpsAtTheCutOnly)
     const Frame after = render(*cut, cutFrame);
     const double within = meanAbsDiff(before2, before);
     const double across = meanAbsDiff(before, after);
-    EXPECT_GT(across, 5.0 * within + 1000.0) << "within a shot " << within << ", at the cut " << across;
+    EXPECT_GT(across, 5.0 * within + 1000.0)
+        << "within a shot " << within << ", at the cut " << across;
 }
 
 TEST_F(SyntheticSceneTest, eightBitNearnessIsTheRoundedSixteenBit)

@@ -116,7 +116,8 @@ const std::string &ffmpegContractClip()
         Clip()
         {
             if (std::system("ffmpeg -version >/dev/null 2>&1") != 0) {
-                std::fprintf(stderr, "ffmpeg CLI not on PATH: no contract clip for the ffmpeg backends\n");
+                std::fprintf(stderr,
+                             "ffmpeg CLI not on PATH: no contract clip for the ffmpeg backends\n");
                 return;
             }
             char tmpl[] = "/tmp/dt-contract-XXXXXX";
@@ -127,7 +128,8 @@ const std::string &ffmpegContractClip()
             const std::string cmd =
                 "ffmpeg -nostdin -v error -y -f lavfi -i testsrc=size=64x48:rate=30:duration=1 "
                 "-f lavfi -i testsrc=size=64x48:rate=30:duration=1 -map 0 -map 1 "
-                "-c:v:0 libx264 -pix_fmt:v:0 yuv420p -g 10 -bf 0 -c:v:1 ffv1 -pix_fmt:v:1 gray -g 1 "
+                "-c:v:0 libx264 -pix_fmt:v:0 yuv420p -g 10 -bf 0 -c:v:1 ffv1 -pix_fmt:v:1 gray -g "
+                "1 "
                 "-metadata:s:v:0 title=color -metadata:s:v:1 title=depth "
                 "-metadata:s:v:1 depth_near=0.5 -metadata:s:v:1 depth_far=4 "
                 "-metadata:s:v:1 depth_mapping=inverse_z -metadata:s:v:1 depth_bits=8 " +

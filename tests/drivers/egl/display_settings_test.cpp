@@ -35,8 +35,9 @@ TEST(ModeSpecTest, parsesConnectorsSizesAndRates)
 
 TEST(ModeSpecTest, rejectsMalformedModes)
 {
-    for (const char *bad : {"1920x", "x1080", "640x480@", "0x0", "640x480@abc", "HDMI-A-1:",
-                            ":640x480", "640x480@5000", "big", "HDMI A:640x480", "99999999x2", "640x48O"})
+    for (const char *bad :
+         {"1920x", "x1080", "640x480@", "0x0", "640x480@abc", "HDMI-A-1:", ":640x480",
+          "640x480@5000", "big", "HDMI A:640x480", "99999999x2", "640x48O"})
         EXPECT_EQ(parseModeSpec(bad).error().code, Errc::NotSupported) << bad;
 }
 

@@ -219,8 +219,9 @@ TEST_F(FfmpegMediaTest, grayH264IsDepthInEveryContainerAndColorH264StaysColor)
     };
     for (const Case &c : cases) {
         const std::string path = tmp_.path(c.name);
-        ASSERT_TRUE(ffmpeg("-f lavfi -i testsrc=size=64x48:rate=30:duration=0.2 -c:v libx264 -pix_fmt " +
-                           std::string(c.pixFmt) + " " + path));
+        ASSERT_TRUE(
+            ffmpeg("-f lavfi -i testsrc=size=64x48:rate=30:duration=0.2 -c:v libx264 -pix_fmt " +
+                   std::string(c.pixFmt) + " " + path));
         // WHEN opened
         auto src = source();
         ASSERT_TRUE(src->open(path.c_str())) << c.name;
@@ -235,9 +236,11 @@ TEST_F(FfmpegMediaTest, nonsenseDepthBitsTagIsIgnored)
 {
     // GIVEN a depth stream tagged depth_bits=inf (issue 16: printed as -2147483648 bits)
     const std::string path = tmp_.path("inf.mkv");
-    ASSERT_TRUE(ffmpeg("-f lavfi -i testsrc=size=64x48:rate=30:duration=0.2 -c:v libx264 -pix_fmt gray "
-                       "-metadata:s:v:0 title=depth -metadata:s:v:0 depth_bits=inf "
-                       "-metadata:s:v:0 depth_near=nan -metadata:s:v:0 depth_far=1e999 " + path));
+    ASSERT_TRUE(
+        ffmpeg("-f lavfi -i testsrc=size=64x48:rate=30:duration=0.2 -c:v libx264 -pix_fmt gray "
+               "-metadata:s:v:0 title=depth -metadata:s:v:0 depth_bits=inf "
+               "-metadata:s:v:0 depth_near=nan -metadata:s:v:0 depth_far=1e999 " +
+               path));
     auto src = source();
     ASSERT_TRUE(src->open(path.c_str()));
     const hal::DepthMetadata &m = src->info().streams[0].depth;
@@ -298,7 +301,8 @@ TEST_F(FfmpegMediaTest, drmPrimeFallsBackToTheSameCpuFrames)
             auto p = src->readPacket();
             if (!p || !(*dec)->queuePacket(*p))
                 (void)(*dec)->queuePacket(hal::Packet::endOfStream());
-            auto f = (*dec)->dequeueFrame(platform::SteadyClock::instance().now() + milliseconds(200));
+            auto f =
+                (*dec)->dequeueFrame(platform::SteadyClock::instance().now() + milliseconds(200));
             if (!f)
                 continue;
             // THEN the frame has CPU planes and no dma-buf
@@ -306,7 +310,8 @@ TEST_F(FfmpegMediaTest, drmPrimeFallsBackToTheSameCpuFrames)
             EXPECT_FALSE((*f)->image.empty());
             const hal::ImageView &img = (*f)->image;
             for (int plane = 0; plane < 3; ++plane) {
-                const hal::PlaneLayout l = hal::planeLayout(img.format, img.width, img.height, plane);
+                const hal::PlaneLayout l =
+                    hal::planeLayout(img.format, img.width, img.height, plane);
                 for (int y = 0; y < l.rows; ++y)
                     bytes.insert(bytes.end(), img.row(plane, y), img.row(plane, y) + l.rowBytes);
             }

@@ -145,7 +145,8 @@ TEST(SimHandTest, losingTheSupportSinksTheFingerAtMostTheIntendedDepth)
     // WHEN the surface disappears (a hole, a pop-through): no force for the reaction time
     const double lowest = hand.run(150, freeSpace);
     // THEN the finger sinks toward its intended position only: at most the depth, not the
-    // 10 mm and more a constant 2 N push would have driven it in 150 ms (0.5·(2/0.1)·0.15² = 0.22 m)
+    // 10 mm and more a constant 2 N push would have driven it in 150 ms (0.5·(2/0.1)·0.15² = 0.22
+    // m)
     EXPECT_GT(lowest, before - depth - 0.0002);
     EXPECT_LT(lowest, before - 0.5 * depth); // it did sink: the hand was pressing
 }

@@ -112,7 +112,8 @@ TEST_F(FalconDeviceTest, openUploadsTheFirmwareAndHomes)
     const auto at = [&](FtdiRequest r, std::uint16_t v) {
         return std::find(c.begin(), c.end(), std::make_pair(r, v)) - c.begin();
     };
-    EXPECT_LT(at(FtdiRequest::BaudRate, kFtdiBaud9600), at(FtdiRequest::ModemControl, kFtdiDtrHigh));
+    EXPECT_LT(at(FtdiRequest::BaudRate, kFtdiBaud9600),
+              at(FtdiRequest::ModemControl, kFtdiDtrHigh));
     EXPECT_LT(at(FtdiRequest::ModemControl, kFtdiDtrHigh),
               at(FtdiRequest::BaudRate, kFtdiBaud140000));
     EXPECT_LT(at(FtdiRequest::LatencyTimer, 16), at(FtdiRequest::BaudRate, kFtdiBaud140000));

@@ -200,7 +200,8 @@ TEST(FalconKinematicsTest, forceAlongZAtHomeMatchesVirtualWorkByHand)
     // AND the motor commands are −τ·counts-per-N·m, rounded
     MotorCommands cmd{};
     EXPECT_EQ(torquesToCommands(tau, cmd), 1.0);
-    const auto expected = static_cast<std::int16_t>(std::lround(-tauByHand * kCountsPerNewtonMetre));
+    const auto expected =
+        static_cast<std::int16_t>(std::lround(-tauByHand * kCountsPerNewtonMetre));
     EXPECT_EQ(cmd[0], expected);
     EXPECT_EQ(cmd[1], expected);
     EXPECT_EQ(cmd[2], expected);

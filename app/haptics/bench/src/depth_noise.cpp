@@ -23,7 +23,10 @@ std::uint64_t mix(std::uint64_t z) noexcept
 
 class Draws {
 public:
-    Draws(std::uint64_t seed, std::uint64_t frame) noexcept : base_(mix(seed) ^ mix(frame * 0x632BE59BD9B4E019ull)) {}
+    Draws(std::uint64_t seed, std::uint64_t frame) noexcept
+        : base_(mix(seed) ^ mix(frame * 0x632BE59BD9B4E019ull))
+    {
+    }
 
     /// Uniform in [0, 1).
     [[nodiscard]] double uniform(std::size_t pixel, std::uint64_t stream) const noexcept
@@ -47,8 +50,8 @@ bool surface(float z) noexcept { return std::isfinite(z) && z > 0.0f; }
 
 /// Marks silhouette pixels (\a other: the depth across the edge, 0 when none) and the projector
 /// shadow (\a hole) left of every silhouette whose near side is on the right.
-void findSilhouettes(const depth::Plane<float> &z, const KinectNoiseOptions &o, depth::Plane<float> &other,
-                     depth::Plane<std::uint8_t> &hole)
+void findSilhouettes(const depth::Plane<float> &z, const KinectNoiseOptions &o,
+                     depth::Plane<float> &other, depth::Plane<std::uint8_t> &hole)
 {
     const auto edge = [&](int xa, int ya, int xb, int yb) {
         const float a = z.at(xa, ya);
@@ -89,7 +92,8 @@ void speckle(const Draws &draws, const KinectNoiseOptions &o, depth::Plane<std::
             if (draws.uniform(hole.index(x, y), 1) < o.speckleProbability)
                 for (int dy = -1; dy <= 1; ++dy)
                     for (int dx = -1; dx <= 1; ++dx)
-                        if (x + dx >= 0 && x + dx < hole.width && y + dy >= 0 && y + dy < hole.height)
+                        if (x + dx >= 0 && x + dx < hole.width && y + dy >= 0 &&
+                            y + dy < hole.height)
                             hole.at(x + dx, y + dy) = 1;
 }
 
@@ -101,8 +105,8 @@ double quantiseDisparity(double zM, double disparityStep) noexcept
     return inv > 0.0 ? 1.0 / inv : 0.0;
 }
 
-depth::Plane<std::uint16_t> applyKinectNoise(const depth::Plane<float> &clean, const KinectNoiseOptions &o,
-                                             std::uint64_t frameIndex)
+depth::Plane<std::uint16_t> applyKinectNoise(const depth::Plane<float> &clean,
+                                             const KinectNoiseOptions &o, std::uint64_t frameIndex)
 {
     depth::Plane<std::uint16_t> out(clean.width, clean.height, 0);
     depth::Plane<float> other(clean.width, clean.height, 0.0f);
@@ -132,7 +136,8 @@ depth::Plane<std::uint16_t> applyKinectNoise(const depth::Plane<float> &clean, c
         z = 1.0 / inv;
         if (z < o.minRange || z > o.maxRange)
             continue;
-        out.samples[i] = static_cast<std::uint16_t>(std::clamp(std::lround(z * 1000.0), 1L, 65534L));
+        out.samples[i] =
+            static_cast<std::uint16_t>(std::clamp(std::lround(z * 1000.0), 1L, 65534L));
     }
     return out;
 }

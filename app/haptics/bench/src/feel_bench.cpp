@@ -1,6 +1,6 @@
 /// \file
-/// \brief `depthtouch bench feel`: the replays and the figures (see feel_bench.h); the outputs are in
-/// feel_report.cpp.
+/// \brief `depthtouch bench feel`: the replays and the figures (see feel_bench.h); the outputs are
+/// in feel_report.cpp.
 
 #include "depthtouch/haptics/feel_bench.h"
 
@@ -50,7 +50,8 @@ std::size_t frameAt(const FeelScene &scene, double t) noexcept
 
 /// True when the surface over (x, y) steps by more than \a cut between frame i−1 and i or i and i+1
 /// at any corner of the grid cell under it.
-bool cutAt(const FeelScene &scene, const HeightField &field, std::size_t i, const glm::dvec3 &p, double cut)
+bool cutAt(const FeelScene &scene, const HeightField &field, std::size_t i, const glm::dvec3 &p,
+           double cut)
 {
     if (!field.contains(p.x, p.y))
         return false;
@@ -63,7 +64,8 @@ bool cutAt(const FeelScene &scene, const HeightField &field, std::size_t i, cons
         const DepthFrameView other = scene.frame(k < 0 ? i - 1 : i + 1);
         for (int dr = 0; dr <= 1; ++dr)
             for (int dc = 0; dc <= 1; ++dc)
-                if (std::fabs(field.frameZ(cur, c0 + dc, r0 + dr) - field.frameZ(other, c0 + dc, r0 + dr)) > cut)
+                if (std::fabs(field.frameZ(cur, c0 + dc, r0 + dr) -
+                              field.frameZ(other, c0 + dc, r0 + dr)) > cut)
                     return true;
     }
     return false;
@@ -88,7 +90,8 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
         const std::size_t i = frameAt(scene, s.t);
         if (i != current) {
             const DepthFrameView a = scene.frame(i);
-            const DepthFrameView b = i + 1 < scene.frameCount() ? scene.frame(i + 1) : DepthFrameView{};
+            const DepthFrameView b =
+                i + 1 < scene.frameCount() ? scene.frame(i + 1) : DepthFrameView{};
             const DepthFrameView *next = i + 1 < scene.frameCount() ? &b : nullptr;
             DT_TRY(r.setFrames(a, next));
             DT_TRY(truth.setFrames(a, next));
@@ -104,11 +107,13 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
         row.t = s.t;
         row.hip = s.hip;
         row.force = out.force;
-        row.surfaceZ = truth.contains(s.hip.x, s.hip.y) ? truth.heightAt(s.hip.x, s.hip.y) : std::nan("");
+        row.surfaceZ =
+            truth.contains(s.hip.x, s.hip.y) ? truth.heightAt(s.hip.x, s.hip.y) : std::nan("");
         if (row.surfaceZ > s.hip.z)
             row.depthInside = depthInside(truth, s.hip, row.surfaceZ - s.hip.z);
         row.released = out.released;
-        row.surfaceCut = cutAt(scene, truth, i, prevProxy, cut) || cutAt(scene, truth, i, out.proxy, cut) ||
+        row.surfaceCut = cutAt(scene, truth, i, prevProxy, cut) ||
+                         cutAt(scene, truth, i, out.proxy, cut) ||
                          cutAt(scene, truth, i, s.hip, cut);
         row.sliding = s.sliding;
         row.held = s.held;
@@ -132,7 +137,8 @@ FeelRow summarise(const std::string &scene, const std::string &setting,
         ++row.strokes;
         times.insert(times.end(), s.updateSeconds.begin(), s.updateSeconds.end());
         accumulate(row.total, s.figures);
-        if (s.figures.slidingSeconds > 0.0 && s.figures.spikesPerSecond >= row.worstSpikesPerSecond) {
+        if (s.figures.slidingSeconds > 0.0 &&
+            s.figures.spikesPerSecond >= row.worstSpikesPerSecond) {
             row.worstSpikesPerSecond = s.figures.spikesPerSecond;
             row.worstStroke = s.scene == scene ? s.stroke : s.scene + ": " + s.stroke;
         }
@@ -140,7 +146,8 @@ FeelRow summarise(const std::string &scene, const std::string &setting,
     row.total.updateP50 = platform::percentile(times, 0.5);
     row.total.updateP999 = platform::percentile(std::move(times), 0.999);
     const FeelFigures &t = row.total;
-    row.realTripsPerSecond = t.slidingSeconds > 0.0 ? static_cast<double>(t.realCutTrips) / t.slidingSeconds : 0.0;
+    row.realTripsPerSecond =
+        t.slidingSeconds > 0.0 ? static_cast<double>(t.realCutTrips) / t.slidingSeconds : 0.0;
     return row;
 }
 
@@ -186,7 +193,8 @@ std::vector<FeelSetting> feelSettings(const std::vector<Method> &methods)
     return out;
 }
 
-Result<std::vector<FeelStrokeResult>> runFeelStrokes(const FeelScene &scene, const std::vector<Stroke> &strokes,
+Result<std::vector<FeelStrokeResult>> runFeelStrokes(const FeelScene &scene,
+                                                     const std::vector<Stroke> &strokes,
                                                      const FeelSetting &setting)
 {
     RendererConfig cfg = setting.config;
@@ -198,7 +206,8 @@ Result<std::vector<FeelStrokeResult>> runFeelStrokes(const FeelScene &scene, con
         if (stroke.samples.empty())
             continue;
         DT_TRY(replayStroke(scene, stroke, setting, cfg, rows));
-        FeelStrokeResult r{scene.name, setting.name, stroke.name, stroke.kind, computeFeel(rows), {}};
+        FeelStrokeResult r{scene.name,  setting.name,      stroke.name,
+                           stroke.kind, computeFeel(rows), {}};
         r.updateSeconds.reserve(rows.size());
         for (const FeelSample &row : rows)
             r.updateSeconds.push_back(row.updateSeconds);
@@ -207,7 +216,8 @@ Result<std::vector<FeelStrokeResult>> runFeelStrokes(const FeelScene &scene, con
     return out;
 }
 
-FeelReport runFeelBenchmark(const std::vector<FeelScene> &scenes, const std::vector<std::vector<Stroke>> &strokes,
+FeelReport runFeelBenchmark(const std::vector<FeelScene> &scenes,
+                            const std::vector<std::vector<Stroke>> &strokes,
                             const std::vector<FeelSetting> &settings,
                             const std::function<void(const std::string &)> &progress)
 {
@@ -231,8 +241,8 @@ FeelReport runFeelBenchmark(const std::vector<FeelScene> &scenes, const std::vec
             report.strokes.insert(report.strokes.end(), r->begin(), r->end());
             report.rows.push_back(summarise(scenes[s].name, settings[k].name, report.strokes));
             if (progress)
-                progress(scenes[s].name + " / " + settings[k].name + ": " + std::to_string(r->size()) +
-                         " strokes");
+                progress(scenes[s].name + " / " + settings[k].name + ": " +
+                         std::to_string(r->size()) + " strokes");
         }
     }
     for (std::size_t k = 0; k < settings.size(); ++k)

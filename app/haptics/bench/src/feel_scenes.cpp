@@ -54,7 +54,8 @@ double sphereZ(const glm::dvec3 &c, double r, const glm::dvec3 &d) noexcept
 }
 
 /// Infinite cylinder of radius \a r along unit \a axis through \a p.
-double cylinderZ(const glm::dvec3 &p, const glm::dvec3 &axis, double r, const glm::dvec3 &d) noexcept
+double cylinderZ(const glm::dvec3 &p, const glm::dvec3 &axis, double r,
+                 const glm::dvec3 &d) noexcept
 {
     const glm::dvec3 w = d - glm::dot(d, axis) * axis;
     const glm::dvec3 pp = p - glm::dot(p, axis) * axis;
@@ -90,7 +91,8 @@ double sceneDepth(SyntheticScene s, const Pose &p, const glm::dvec3 &d) noexcept
         // Z = 1.0 − 0.6·Y + 0.05·X in the world, shifted by the pan: nearer toward the bottom.
         return planeZ(1.0 + 0.6 * p.panY - 0.05 * p.panX, 0.05, -0.6, d);
     case SyntheticScene::Head:
-        return std::min(planeZ(1.10 - 0.03 * p.panX, 0.03, 0.0, d), sphereZ(p.head, kHeadRadius, d));
+        return std::min(planeZ(1.10 - 0.03 * p.panX, 0.03, 0.0, d),
+                        sphereZ(p.head, kHeadRadius, d));
     case SyntheticScene::Forearm: {
         double z = planeZ(0.93 - 0.05 * p.panY, 0.0, 0.05, d); // table, its back edge at Y = −0.12
         if (d.y * z < -0.12 - p.panY)
@@ -123,7 +125,8 @@ glm::dvec2 pixelToBox(double u, double v, int w, int h, const SceneBox &box) noe
 }
 
 /// Lines across the silhouettes of \a s as they are at mid-clip (they sway by a few mm).
-std::vector<SilhouetteCrossing> crossingsOf(SyntheticScene s, int w, int h, double tMid, const SceneBox &box)
+std::vector<SilhouetteCrossing> crossingsOf(SyntheticScene s, int w, int h, double tMid,
+                                            const SceneBox &box)
 {
     const Camera cam(w, h);
     const Pose p = poseAt(tMid);
@@ -135,8 +138,10 @@ std::vector<SilhouetteCrossing> crossingsOf(SyntheticScene s, int w, int h, doub
         out.push_back({what, pixelToBox(a.x, a.y, w, h, box), pixelToBox(b.x, b.y, w, h, box)});
     };
     if (s == SyntheticScene::Head) {
-        const glm::dvec2 c{cam.cx + cam.f * p.head.x / p.head.z, cam.cy + cam.f * p.head.y / p.head.z};
-        const double rr = cam.f * kHeadRadius / std::sqrt(p.head.z * p.head.z - kHeadRadius * kHeadRadius);
+        const glm::dvec2 c{cam.cx + cam.f * p.head.x / p.head.z,
+                           cam.cy + cam.f * p.head.y / p.head.z};
+        const double rr =
+            cam.f * kHeadRadius / std::sqrt(p.head.z * p.head.z - kHeadRadius * kHeadRadius);
         add("head side", c + glm::dvec2{rr, 0.0}, {1.0, 0.0}, 12.0);
         add("head top", c + glm::dvec2{0.0, -rr}, {0.0, -1.0}, 12.0);
     } else if (s == SyntheticScene::Forearm) {
@@ -165,13 +170,14 @@ std::vector<std::uint16_t> medianReference(const depth::Plane<float> &nearness, 
     const depth::Plane<float> m = depth::medianFilter(nearness, 2);
     std::vector<std::uint16_t> out(m.size());
     for (std::size_t i = 0; i < m.size(); ++i)
-        out[i] = static_cast<std::uint16_t>(std::clamp(std::lround(static_cast<double>(m.samples[i]) * 65535.0 / vmax), 0L, 65535L));
+        out[i] = static_cast<std::uint16_t>(std::clamp(
+            std::lround(static_cast<double>(m.samples[i]) * 65535.0 / vmax), 0L, 65535L));
     return out;
 }
 
 /// A scene with no frames yet, the size of \a like.
-FeelScene emptyScene(std::string name, const SceneBox &box, double fps, const depth::Plane<std::uint16_t> &like,
-                     SampleFormat format)
+FeelScene emptyScene(std::string name, const SceneBox &box, double fps,
+                     const depth::Plane<std::uint16_t> &like, SampleFormat format)
 {
     FeelScene scene;
     scene.name = std::move(name);
@@ -198,14 +204,18 @@ const char *syntheticSceneName(SyntheticScene scene) noexcept
 DepthFrameView FeelScene::frame(std::size_t i) const noexcept
 {
     const std::size_t bps = bytesPerSample(format);
-    return DepthFrameView{frames[i].data(), width, height, static_cast<std::size_t>(width) * bps, format,
-                          static_cast<double>(i) / fps};
+    return DepthFrameView{frames[i].data(), width,
+                          height,           static_cast<std::size_t>(width) * bps,
+                          format,           static_cast<double>(i) / fps};
 }
 
 DepthFrameView FeelScene::referenceFrame(std::size_t i) const noexcept
 {
-    return DepthFrameView{reinterpret_cast<const std::uint8_t *>(reference[i].data()), width, height,
-                          static_cast<std::size_t>(width) * 2, SampleFormat::Gray16,
+    return DepthFrameView{reinterpret_cast<const std::uint8_t *>(reference[i].data()),
+                          width,
+                          height,
+                          static_cast<std::size_t>(width) * 2,
+                          SampleFormat::Gray16,
                           static_cast<double>(i) / fps};
 }
 
@@ -236,18 +246,21 @@ double ReferenceSurface::height(double t, double x, double y)
     return field_.contains(x, y) ? field_.heightAt(x, y) : std::nan("");
 }
 
-Result<FeelScene> sceneFromSensorDepth(std::string name, const std::vector<depth::Plane<std::uint16_t>> &mm,
+Result<FeelScene> sceneFromSensorDepth(std::string name,
+                                       const std::vector<depth::Plane<std::uint16_t>> &mm,
                                        double fps, const SceneBox &box, int bits,
                                        const std::vector<depth::Plane<float>> *cleanMetres)
 {
     if (mm.empty() || (bits != 8 && bits != 16) || !(fps > 0.0))
-        return unexpected(Errc::InvalidArgument, "no frame, or bits not 8 or 16, or fps not positive");
+        return unexpected(Errc::InvalidArgument,
+                          "no frame, or bits not 8 or 16, or fps not positive");
     for (const auto &p : mm)
         if (!p.sameSize(mm.front()) || p.width < 2 || p.height < 2)
             return unexpected(Errc::InvalidArgument, "sensor frames differ in size");
     if (cleanMetres != nullptr && cleanMetres->size() != mm.size())
         return unexpected(Errc::InvalidArgument, "one clean frame per sensor frame needed");
-    // `depthtouch encode`'s defaults: robust range of the first frames, 1/Z, push-pull fill, quantise.
+    // `depthtouch encode`'s defaults: robust range of the first frames, 1/Z, push-pull fill,
+    // quantise.
     depth::Plane<std::uint16_t> first;
     for (std::size_t i = 0; i < mm.size() && i < static_cast<std::size_t>(kRangeFrames); ++i)
         first.samples.insert(first.samples.end(), mm[i].samples.begin(), mm[i].samples.end());
@@ -272,7 +285,8 @@ Result<FeelScene> sceneFromSensorDepth(std::string name, const std::vector<depth
             validCount[i] += n->valid.samples[i];
         if (n->invalidCount == n->valid.size()) {
             if (last.empty())
-                return unexpected(Errc::InvalidArgument, "the first sensor frame has no valid sample");
+                return unexpected(Errc::InvalidArgument,
+                                  "the first sensor frame has no valid sample");
         } else {
             if (n->invalidCount > 0)
                 DT_TRY(depth::fillInvalid(n->nearness, n->valid));
@@ -297,7 +311,8 @@ Result<FeelScene> sceneFromSensorDepth(std::string name, const std::vector<depth
     return scene;
 }
 
-Result<FeelScene> sceneFromNearness(std::string name, const std::vector<depth::Plane<std::uint16_t>> &frames,
+Result<FeelScene> sceneFromNearness(std::string name,
+                                    const std::vector<depth::Plane<std::uint16_t>> &frames,
                                     SampleFormat format, double fps, const SceneBox &box)
 {
     if (frames.empty() || !(fps > 0.0))
@@ -320,23 +335,28 @@ Result<FeelScene> sceneFromNearness(std::string name, const std::vector<depth::P
 Result<FeelScene> makeSyntheticScene(SyntheticScene which, const SyntheticSceneOptions &o)
 {
     const long frames = std::lround(o.seconds * o.fps);
-    if (o.width < 16 || o.height < 16 || !(o.fps > 0.0) || frames < 1 || (o.bits != 8 && o.bits != 16))
-        return unexpected(Errc::InvalidArgument,
-                          "synthetic scene: size >= 16x16, fps > 0, at least one frame, bits 8 or 16");
+    if (o.width < 16 || o.height < 16 || !(o.fps > 0.0) || frames < 1 ||
+        (o.bits != 8 && o.bits != 16))
+        return unexpected(
+            Errc::InvalidArgument,
+            "synthetic scene: size >= 16x16, fps > 0, at least one frame, bits 8 or 16");
     std::vector<depth::Plane<float>> clean;
     std::vector<depth::Plane<std::uint16_t>> sensor;
     for (long i = 0; i < frames; ++i) {
         clean.push_back(renderClean(which, o.width, o.height, static_cast<double>(i) / o.fps));
         if (o.noisy) {
-            sensor.push_back(applyKinectNoise(clean.back(), o.noise, static_cast<std::uint64_t>(i)));
+            sensor.push_back(
+                applyKinectNoise(clean.back(), o.noise, static_cast<std::uint64_t>(i)));
         } else {
             depth::Plane<std::uint16_t> p(o.width, o.height, 0);
             for (std::size_t k = 0; k < p.size(); ++k)
-                p.samples[k] = static_cast<std::uint16_t>(std::lround(static_cast<double>(clean.back().samples[k]) * 1000.0));
+                p.samples[k] = static_cast<std::uint16_t>(
+                    std::lround(static_cast<double>(clean.back().samples[k]) * 1000.0));
             sensor.push_back(std::move(p));
         }
     }
-    auto scene = sceneFromSensorDepth(syntheticSceneName(which), sensor, o.fps, o.box, o.bits, &clean);
+    auto scene =
+        sceneFromSensorDepth(syntheticSceneName(which), sensor, o.fps, o.box, o.bits, &clean);
     if (scene)
         scene->crossings = crossingsOf(which, o.width, o.height, 0.5 * scene->duration(), o.box);
     return scene;

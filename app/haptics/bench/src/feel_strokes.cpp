@@ -1,6 +1,6 @@
 /// \file
-/// \brief The feel bench's strokes: sampling a stroke over the reference surface and placing strokes on
-/// a scene (see feel_scenes.h).
+/// \brief The feel bench's strokes: sampling a stroke over the reference surface and placing
+/// strokes on a scene (see feel_scenes.h).
 
 #include <algorithm>
 #include <cmath>
@@ -143,7 +143,8 @@ public:
                 z_ = target;
             // Along the line, slower where the path is steep (constant speed in 3-D).
             const double ahead = rolledHeight(ref_, t, from_, to_, along_ + dir_ * 1e-4);
-            const double slope = std::isfinite(ahead) && std::isfinite(target) ? (ahead - target) / 1e-4 : 0.0;
+            const double slope =
+                std::isfinite(ahead) && std::isfinite(target) ? (ahead - target) / 1e-4 : 0.0;
             along_ += dir_ * reach / std::sqrt(1.0 + slope * slope);
             if (along_ >= len_ || along_ <= 0.0) {
                 along_ = std::clamp(along_, 0.0, len_);
@@ -169,7 +170,8 @@ std::string label(const char *what, double depth, double speed, int k)
 {
     char buf[96];
     if (speed > 0.0)
-        std::snprintf(buf, sizeof buf, "%s d%.0fmm v%.0fcm/s #%d", what, depth * 1e3, speed * 1e2, k);
+        std::snprintf(buf, sizeof buf, "%s d%.0fmm v%.0fcm/s #%d", what, depth * 1e3, speed * 1e2,
+                      k);
     else
         std::snprintf(buf, sizeof buf, "%s d%.0fmm #%d", what, depth * 1e3, k);
     return buf;
@@ -187,7 +189,8 @@ const char *strokeKindName(StrokeKind kind) noexcept
     return "?";
 }
 
-Stroke makeStroke(const FeelScene &scene, const StrokeSpec &spec, const StrokeTiming &tm, double rate)
+Stroke makeStroke(const FeelScene &scene, const StrokeSpec &spec, const StrokeTiming &tm,
+                  double rate)
 {
     Stroke out;
     out.name = spec.name;
@@ -263,7 +266,8 @@ std::vector<Stroke> makeStrokes(const FeelScene &scene, const StrokePlan &plan)
             const double a = 2.0 * 3.14159265358979 * draws.next();
             spec.to = spec.from + glm::dvec2{std::cos(a), std::sin(a)} * reach;
             const double t0 = spec.startT + p1;
-            if (lineOk(scene, ref, spec.from, spec.to, {t0, t0 + 0.5 * tm.slide, t0 + tm.slide + tm.hold})) {
+            if (lineOk(scene, ref, spec.from, spec.to,
+                       {t0, t0 + 0.5 * tm.slide, t0 + tm.slide + tm.hold})) {
                 out.push_back(makeStroke(scene, spec, tm, plan.rate));
                 return;
             }
@@ -272,7 +276,8 @@ std::vector<Stroke> makeStrokes(const FeelScene &scene, const StrokePlan &plan)
     for (double d : plan.depths) {
         for (double v : plan.speeds) {
             for (int k = 0; k < plan.slidesPerSetting; ++k) {
-                StrokeSpec spec{StrokeKind::Slide, {}, {}, startAt(), d, v, label("slide", d, v, k + 1)};
+                StrokeSpec spec{StrokeKind::Slide,          {}, {}, startAt(), d, v,
+                                label("slide", d, v, k + 1)};
                 place(spec, 0.5 * v * tm.slide);
             }
             if (!plan.crossings)
@@ -284,7 +289,8 @@ std::vector<Stroke> makeStrokes(const FeelScene &scene, const StrokePlan &plan)
             }
         }
         for (int k = 0; k < plan.presses; ++k) {
-            StrokeSpec spec{StrokeKind::Press, {}, {}, startAt(), d, 0.0, label("press", d, 0.0, k + 1)};
+            StrokeSpec spec{
+                StrokeKind::Press, {}, {}, startAt(), d, 0.0, label("press", d, 0.0, k + 1)};
             place(spec, 1e-3); // a 1 mm patch around the press point must be smooth and valid
         }
     }

@@ -39,7 +39,8 @@ struct OneRun {
     std::vector<double> times; ///< ns per timed update, in update order
 };
 
-OneRun runOnce(const std::string &method, const WaveScenario &scene, double speed, std::size_t updates)
+OneRun runOnce(const std::string &method, const WaveScenario &scene, double speed,
+               std::size_t updates)
 {
     const int w = scene.width();
     const int h = scene.height();
@@ -60,7 +61,8 @@ OneRun runOnce(const std::string &method, const WaveScenario &scene, double spee
         finger = f.get();
         r = std::move(f);
     } else {
-        cfg = RendererConfig::forMethod(method == "proxy-graph" ? Method::ProxyGraph : Method::Modified);
+        cfg = RendererConfig::forMethod(method == "proxy-graph" ? Method::ProxyGraph
+                                                                : Method::Modified);
         if (method == "modified-hold")
             cfg.interpolation = false;
         if (method == "modified-friction") {
@@ -109,10 +111,11 @@ OneRun runOnce(const std::string &method, const WaveScenario &scene, double spee
         out.forces.push_back(glm::length(o.force));
         const HeightField &surf =
             grid != nullptr ? grid->surface() : (finger != nullptr ? finger->surface() : held);
-        // The finger's surface is a plane fit held within r/4 of the samples: it counts a pop-through
-        // only deeper than that.
+        // The finger's surface is a plane fit held within r/4 of the samples: it counts a
+        // pop-through only deeper than that.
         const double slack = finger != nullptr ? 0.25 * finger->radius() : 1e-6 * surf.spacing();
-        if (surf.contains(o.proxy.x, o.proxy.y) && o.proxy.z < surf.heightAt(o.proxy.x, o.proxy.y) - slack)
+        if (surf.contains(o.proxy.x, o.proxy.y) &&
+            o.proxy.z < surf.heightAt(o.proxy.x, o.proxy.y) - slack)
             ++out.pops;
     }
     out.medianNs = percentile(out.times, 0.5);
@@ -322,7 +325,8 @@ BenchReport runHapticsBenchmark(const BenchOptions &options)
     const int resolutions[3][2] = {{720, 486}, {1920, 1080}, {3840, 2160}};
     const double speeds[3] = {0.0, 0.1, 1.0};
     const int runs = std::max(1, options.quick ? 1 : options.runs);
-    const std::size_t updates = static_cast<std::size_t>(options.quick ? 3000 : std::max(1000, options.updates));
+    const std::size_t updates =
+        static_cast<std::size_t>(options.quick ? 3000 : std::max(1000, options.updates));
     const SceneBox box{};
     for (const auto &res : resolutions) {
         const int w = res[0];
@@ -371,12 +375,13 @@ bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::s
                "min_of_runs_p99_ns,min_of_runs_p999_ns\n";
         for (const BenchRow &r : report.rows) {
             char line[512];
-            std::snprintf(line, sizeof line,
-                          "%s,%d,%d,%s,%zu,%.1f,%.1f,%.1f,%.1f,%.1f,%.6f,%ld,%s,%d,%.1f,%.1f,%.1f\n",
-                          r.method.c_str(), r.width, r.height, r.motion.c_str(), r.updates, r.medianNs,
-                          r.p99Ns, r.p999Ns, r.maxNs, r.frameCostNs, r.forceRmsError, r.popThroughs,
-                          psdText(r.psdFrameRateDb, "").c_str(), r.runsTimed, r.minOfRunsMedianNs,
-                          r.minOfRunsP99Ns, r.minOfRunsP999Ns);
+            std::snprintf(
+                line, sizeof line,
+                "%s,%d,%d,%s,%zu,%.1f,%.1f,%.1f,%.1f,%.1f,%.6f,%ld,%s,%d,%.1f,%.1f,%.1f\n",
+                r.method.c_str(), r.width, r.height, r.motion.c_str(), r.updates, r.medianNs,
+                r.p99Ns, r.p999Ns, r.maxNs, r.frameCostNs, r.forceRmsError, r.popThroughs,
+                psdText(r.psdFrameRateDb, "").c_str(), r.runsTimed, r.minOfRunsMedianNs,
+                r.minOfRunsP99Ns, r.minOfRunsP999Ns);
             csv << line;
         }
         if (!csv) {
@@ -386,7 +391,9 @@ bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::s
     }
     {
         // NaN (not measured) and −infinity (no power at all) have no JSON number: null.
-        auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+        auto number = [](double v) {
+            return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+        };
         nlohmann::json rows = nlohmann::json::array();
         for (const BenchRow &r : report.rows)
             rows.push_back({{"method", r.method},
@@ -442,8 +449,8 @@ bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::s
         p << "hz,interpolated_db,sample_and_hold_db\n";
         const std::size_t n = std::min(report.psd.interpolatedDb.size(), report.psd.holdDb.size());
         for (std::size_t k = 1; k < n; ++k)
-            p << static_cast<double>(k) * report.psd.binHz << ',' << report.psd.interpolatedDb[k] << ','
-              << report.psd.holdDb[k] << '\n';
+            p << static_cast<double>(k) * report.psd.binHz << ',' << report.psd.interpolatedDb[k]
+              << ',' << report.psd.holdDb[k] << '\n';
     }
     {
         // one data block per method for the speed-vs-accuracy scatter

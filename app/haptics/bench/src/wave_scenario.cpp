@@ -101,7 +101,8 @@ DepthFrameView WaveScenario::frame(int index) const noexcept
                           index / kVideoFps};
 }
 
-glm::dvec3 WaveScenario::trueForce(const glm::dvec3 &hip, double t, const RendererConfig &cfg) noexcept
+glm::dvec3 WaveScenario::trueForce(const glm::dvec3 &hip, double t,
+                                   const RendererConfig &cfg) noexcept
 {
     if (hip.z >= surfaceZ(hip.x, hip.y, t))
         return glm::dvec3(0.0);

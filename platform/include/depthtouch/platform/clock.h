@@ -43,13 +43,15 @@ class Clock {
 public:
     virtual ~Clock() = default;
 
-    /// \return the current time. Never goes backwards. Real-time safe (no allocation, no lock on SteadyClock).
+    /// \return the current time. Never goes backwards. Real-time safe (no allocation, no lock on
+    /// SteadyClock).
     [[nodiscard]] virtual TimePoint now() const noexcept = 0;
 
     /// \brief Sleeps until \a deadline (absolute).
-    /// \return true when the caller slept until the deadline, false when the deadline had already passed
-    /// at the call (no sleep: the caller is late) or the sleep was cancelled (ManualClock::release()).
-    /// Real-time safe on SteadyClock (clock_nanosleep with TIMER_ABSTIME).
+    /// \return true when the caller slept until the deadline, false when the deadline had already
+    /// passed at the call (no sleep: the caller is late) or the sleep was cancelled
+    /// (ManualClock::release()). Real-time safe on SteadyClock (clock_nanosleep with
+    /// TIMER_ABSTIME).
     virtual bool sleepUntil(TimePoint deadline) noexcept = 0;
 
     /// Sleeps for \a d from now. \return as sleepUntil().
@@ -98,7 +100,8 @@ public:
     [[nodiscard]] TimePoint now() const noexcept override;
     bool sleepUntil(TimePoint deadline) noexcept override;
 
-    /// Moves the time forward by \a d (negative durations are ignored). Wakes due sleepers in order.
+    /// Moves the time forward by \a d (negative durations are ignored). Wakes due sleepers in
+    /// order.
     void advance(Duration d) noexcept;
     /// Moves the time forward to \a t (never backwards). Wakes due sleepers in order.
     void advanceTo(TimePoint t) noexcept;
@@ -107,9 +110,10 @@ public:
     [[nodiscard]] int sleepers() const noexcept;
     /// Blocking mode: waits (real time, at most \a timeout) until at least \a count threads sleep.
     /// \return true when they do.
-    bool waitForSleepers(int count, std::chrono::milliseconds timeout = std::chrono::seconds(2)) noexcept;
-    /// Tells advance() not to wait for the calling thread to sleep again (call before a clock-driven
-    /// thread exits).
+    bool waitForSleepers(int count,
+                         std::chrono::milliseconds timeout = std::chrono::seconds(2)) noexcept;
+    /// Tells advance() not to wait for the calling thread to sleep again (call before a
+    /// clock-driven thread exits).
     void detachThread() noexcept;
     /// Cancels every current and future sleep: sleepUntil() returns false at once. For shutdown.
     void release() noexcept;

@@ -58,8 +58,9 @@ Result<UniqueFd> openFifoForReading(const char *path, std::chrono::milliseconds 
 /// \return the bytes; Errc::InvalidArgument for a directory, socket or block device ("is a
 ///         directory"), or more than \a maxBytes ("is larger than the limit"); Errc::Timeout
 ///         (FIFO without a writer); Errc::Io (missing, unreadable; errno set).
-Result<std::vector<std::uint8_t>> readFileBounded(const std::string &path, std::size_t maxBytes,
-                                                  std::chrono::milliseconds wait = kDefaultFifoWait);
+Result<std::vector<std::uint8_t>>
+readFileBounded(const std::string &path, std::size_t maxBytes,
+                std::chrono::milliseconds wait = kDefaultFifoWait);
 
 /// \brief How an output path is written.
 enum class OutputMode : std::uint8_t {

@@ -22,7 +22,10 @@ struct LogCategory {
     mutable std::atomic<int> level{-1}; ///< -1: not yet resolved from DT_LOG.
 
     [[nodiscard]] LogLevel threshold() const noexcept;
-    [[nodiscard]] bool enabled(LogLevel l) const noexcept { return static_cast<int>(l) >= static_cast<int>(threshold()); }
+    [[nodiscard]] bool enabled(LogLevel l) const noexcept
+    {
+        return static_cast<int>(l) >= static_cast<int>(threshold());
+    }
 };
 
 /// Receives each formatted line (without newline). Used by tests to capture output.
@@ -50,7 +53,8 @@ void setLogSink(LogSink sink, void *user) noexcept;
 
 } // namespace depthtouch::platform
 
-/// Declares a log category in a .cpp file: `DT_LOG_CATEGORY(Haptic)` then `DT_LOG(Haptic, Info, "...")`.
+/// Declares a log category in a .cpp file: `DT_LOG_CATEGORY(Haptic)` then `DT_LOG(Haptic, Info,
+/// "...")`.
 #define DT_LOG_CATEGORY(Name)                                                                      \
     namespace {                                                                                    \
     const ::depthtouch::platform::LogCategory kLogCategory##Name{#Name};                           \
@@ -59,8 +63,8 @@ void setLogSink(LogSink sink, void *user) noexcept;
 #define DT_LOG(Name, Level, ...)                                                                   \
     do {                                                                                           \
         if (kLogCategory##Name.enabled(::depthtouch::platform::LogLevel::Level))                   \
-            ::depthtouch::platform::logMessage(kLogCategory##Name,                                 \
-                                               ::depthtouch::platform::LogLevel::Level, __VA_ARGS__); \
+            ::depthtouch::platform::logMessage(                                                    \
+                kLogCategory##Name, ::depthtouch::platform::LogLevel::Level, __VA_ARGS__);         \
     } while (0)
 
 /// Logs only the first time this line runs with its level enabled (process-wide): a run that the
@@ -70,6 +74,6 @@ void setLogSink(LogSink sink, void *user) noexcept;
         static ::std::atomic<bool> dtLoggedOnce_{false};                                           \
         if (kLogCategory##Name.enabled(::depthtouch::platform::LogLevel::Level) &&                 \
             !dtLoggedOnce_.exchange(true))                                                         \
-            ::depthtouch::platform::logMessage(kLogCategory##Name,                                 \
-                                               ::depthtouch::platform::LogLevel::Level, __VA_ARGS__); \
+            ::depthtouch::platform::logMessage(                                                    \
+                kLogCategory##Name, ::depthtouch::platform::LogLevel::Level, __VA_ARGS__);         \
     } while (0)

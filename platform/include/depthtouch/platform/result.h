@@ -2,9 +2,9 @@
 /// \file
 /// \brief Error codes and Result<T>: the error channel of every platform, HAL and driver function.
 ///
-/// Nothing here allocates: an Error holds a code, an errno value and a pointer to a static string, so an
-/// error can be made and returned on the real-time thread. Member names follow std::expected, so
-/// `Result<T>` can later become `std::expected<T, Error>` (C++23).
+/// Nothing here allocates: an Error holds a code, an errno value and a pointer to a static string,
+/// so an error can be made and returned on the real-time thread. Member names follow std::expected,
+/// so `Result<T>` can later become `std::expected<T, Error>` (C++23).
 ///
 /// Thread-safety: value types; distinct objects may be used from distinct threads.
 /// The header is C++17-clean.

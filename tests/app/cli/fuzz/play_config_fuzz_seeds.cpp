@@ -7,8 +7,10 @@ namespace {
 
 const depthtouch::testing::TextSeed kSeeds[] = {
     {"every-key", 0,
-     "display = \"kms\"\ndisplay-options = \"\"\nhaptic = \"falcon\"\nhaptic-options = \"intent=press\"\n"
-     "decoder = \"ffmpeg\"\ndecoder-options = \"pool=24\"\nsource = \"ffmpeg\"\nremote = \"evdev\"\n"
+     "display = \"kms\"\ndisplay-options = \"\"\nhaptic = \"falcon\"\nhaptic-options = "
+     "\"intent=press\"\n"
+     "decoder = \"ffmpeg\"\ndecoder-options = \"pool=24\"\nsource = \"ffmpeg\"\nremote = "
+     "\"evdev\"\n"
      "remote-options = \"device=/dev/input/event3\"\nstereo = \"sbs\"\nstiffness = 1000.0\n"
      "rate = 1000\nreengage = \"ramp\"\nloop = true\nduration = 3.5\nsnapshot-dir = \"snaps\"\n"
      "snapshot-every = 30\nforce-log = \"f.csv\"\nstats = \"s.json\"\nrecord = \"r.mkv\"\n"

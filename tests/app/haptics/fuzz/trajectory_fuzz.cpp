@@ -1,4 +1,5 @@
-// libFuzzer target over the trajectory CSV reader of `depthtouch touch` (haptics::parseTrajectoryCsv).
+// libFuzzer target over the trajectory CSV reader of `depthtouch touch`
+// (haptics::parseTrajectoryCsv).
 //
 // Input: the bytes are the CSV text. A parsed trajectory must keep the reader's promises (rows,
 // times strictly increasing, every value finite and within ReplayLimits); sampleTrajectory() must

@@ -8,7 +8,8 @@
 ///   value, echoed in the reply). A line that does not start with '{' is a text command, e.g.
 ///   `seek -10` or `toggle-pause`. Empty lines are ignored (no reply).
 /// - Reply: `{"error": "success"}`, with `"data"` for queries (`["get", "state"]` →
-///   `{"data": "paused", "error": "success"}`); a refusal or a bad request: `{"error": "<reason>"}`.
+///   `{"data": "paused", "error": "success"}`); a refusal or a bad request: `{"error":
+///   "<reason>"}`.
 /// - Events, to every client: `{"event": "state", "data": "paused"}`; names and data:
 ///   state (state name), stereo-mode (mode name), haptics (bool), stiffness (N/m), loop (bool),
 ///   seek, end-file ("eof" or "loop"), error (reason), shutdown. Events caused by a command are

@@ -1,9 +1,9 @@
 #pragma once
 /// \file
-/// \brief Collision detection of the proxy graph (paper III, Fig. 4c; Walker & Salisbury): the segment
-/// from the previous proxy to the HIP is projected onto the grid, the cells it crosses are walked in
-/// order (2-D DDA), a cell is skipped when all its vertex heights are below the segment's lowest z inside
-/// it, and only the remaining cells' two triangles are tested exactly.
+/// \brief Collision detection of the proxy graph (paper III, Fig. 4c; Walker & Salisbury): the
+/// segment from the previous proxy to the HIP is projected onto the grid, the cells it crosses are
+/// walked in order (2-D DDA), a cell is skipped when all its vertex heights are below the segment's
+/// lowest z inside it, and only the remaining cells' two triangles are tested exactly.
 ///
 /// Works on any *grid surface* type S with: `int columns()`, `int rows()`, `double spacing()`,
 /// `double xToColumn(double)`, `double yToRow(double)`, `double columnToX(double)`,

@@ -39,7 +39,8 @@ struct FeelSample {
     /// the vertical depth surfaceZ − hip.z is used.
     double depthInside = std::nan("");
     bool released = false;   ///< Safety tripped on this update.
-    bool surfaceCut = false; ///< The surface under the proxy moved more than the cut threshold here.
+    bool surfaceCut =
+        false; ///< The surface under the proxy moved more than the cut threshold here.
     bool sliding = false;    ///< Part of a slide (the HIP moving along the surface, pressed in).
     bool held = false;       ///< Part of a still press (for the ripple).
     double updateSeconds = 0.0; ///< Wall time of the update, s (0 when not measured).
@@ -78,8 +79,8 @@ struct FeelFigures {
 [[nodiscard]] FeelFigures computeFeel(std::span<const FeelSample> rows,
                                       const FeelThresholds &thresholds = {});
 
-/// \brief Adds \a run's counts and times to \a total (rates and percentiles recomputed from the sums
-/// where they can be; ripple and update percentiles: the worst of the two).
+/// \brief Adds \a run's counts and times to \a total (rates and percentiles recomputed from the
+/// sums where they can be; ripple and update percentiles: the worst of the two).
 void accumulate(FeelFigures &total, const FeelFigures &run) noexcept;
 
 } // namespace depthtouch::haptics

@@ -120,7 +120,8 @@ private:
     /// jumps (from an object's side onto its top, from a wall to the surface behind it) the proxy
     /// glides there over a few updates instead of stepping the force. \return the proxy, on the
     /// surface; \a plane is refitted where it stops short.
-    glm::dvec3 glide(const glm::dvec3 &hip, const glm::dvec3 &proxy, FingerPlane &plane) const noexcept;
+    glm::dvec3 glide(const glm::dvec3 &hip, const glm::dvec3 &proxy,
+                     FingerPlane &plane) const noexcept;
 
     RendererConfig config_;
     HeightField field_;
@@ -128,7 +129,8 @@ private:
     glm::dvec3 lastHip_{};     ///< HIP of the last update, m.
     double radius_ = 0.0;      ///< r, m.
     double captureDepth_ = 0.0; ///< Deepest new contact: max(maxForceStep / k, box depth / 10), m.
-    double stepDepth_ = 0.0;   ///< Surface step under the proxy that is ramped in: maxForceStep / (4k), m.
+    double stepDepth_ =
+        0.0; ///< Surface step under the proxy that is ramped in: maxForceStep / (4k), m.
     glm::dvec3 proxy_{};
     bool contact_ = false;
     bool behind_ = false;      ///< HIP under the surface without contact (see the file comment).

@@ -13,12 +13,19 @@ namespace depthtouch::haptics {
 
 /// \brief Which feature of a triangle ABC a closest point lies on (number of active constraints:
 /// face 1, edge 2, vertex 3 in the god-object sense).
-enum class TriangleRegion : std::uint8_t { Face, EdgeAB, EdgeBC, EdgeCA, VertexA, VertexB, VertexC };
+enum class TriangleRegion : std::uint8_t {
+    Face,
+    EdgeAB,
+    EdgeBC,
+    EdgeCA,
+    VertexA,
+    VertexB,
+    VertexC
+};
 
-/// \brief Closest point of triangle ABC to point \a p (Ericson, Real-Time Collision Detection §5.1.5).
-/// \param[out] region the feature the point lies on.
-/// \return the point, same frame and units as the inputs (m).
-/// Inline: the proxy descent calls it for every triangle it tries.
+/// \brief Closest point of triangle ABC to point \a p (Ericson, Real-Time Collision Detection
+/// §5.1.5). \param[out] region the feature the point lies on. \return the point, same frame and
+/// units as the inputs (m). Inline: the proxy descent calls it for every triangle it tries.
 inline glm::dvec3 closestPointOnTriangle(const glm::dvec3 &p, const glm::dvec3 &a,
                                          const glm::dvec3 &b, const glm::dvec3 &c,
                                          TriangleRegion &region) noexcept

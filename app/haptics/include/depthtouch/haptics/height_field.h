@@ -52,7 +52,8 @@ inline void triangleVertex(const TriangleId &tri, int k, int &c, int &r) noexcep
 /// \param[in] surf any surface with `glm::dvec3 vertex(int c, int r)` (scene-box frame, m)
 /// \param[out] v the vertices, m
 template <class Surface>
-inline void triangleVertices(const Surface &surf, const TriangleId &tri, glm::dvec3 (&v)[3]) noexcept
+inline void triangleVertices(const Surface &surf, const TriangleId &tri,
+                             glm::dvec3 (&v)[3]) noexcept
 {
     for (int k = 0; k < 3; ++k) {
         int c = 0;
@@ -81,15 +82,16 @@ public:
     /// \param box scene box (both sizes > 0, checked by setFrames()).
     explicit HeightField(SceneBox box) noexcept : box_(box), cut_(0.25 * box.depth) {}
 
-    /// \brief Views \a current (frame i) and optionally \a next (frame i+1). No copy, no allocation.
-    /// \param next may be null (then the surface is held at frame i); same W×H as \a current,
-    /// PTS greater than current's.
-    /// \return Errc::InvalidArgument (and the previous frames stay set) when a frame is malformed,
-    /// the sizes differ, the PTS do not increase or the box is not positive.
+    /// \brief Views \a current (frame i) and optionally \a next (frame i+1). No copy, no
+    /// allocation. \param next may be null (then the surface is held at frame i); same W×H as \a
+    /// current, PTS greater than current's. \return Errc::InvalidArgument (and the previous frames
+    /// stay set) when a frame is malformed, the sizes differ, the PTS do not increase or the box is
+    /// not positive.
     [[nodiscard]] Result<void> setFrames(const DepthFrameView &current,
                                          const DepthFrameView *next) noexcept;
 
-    /// \brief Sets the haptic time \a t (s, same clock as the frames' PTS) and whether to interpolate.
+    /// \brief Sets the haptic time \a t (s, same clock as the frames' PTS) and whether to
+    /// interpolate.
     void setTime(double t, bool interpolate) noexcept;
 
     /// \brief Vertices whose height changes by more than \a metres between frame i and i+1 are held
@@ -106,7 +108,7 @@ public:
     [[nodiscard]] int columns() const noexcept { return current_.width; }  ///< W
     [[nodiscard]] int rows() const noexcept { return current_.height; }    ///< H
     [[nodiscard]] double spacing() const noexcept { return spacing_; }     ///< s, m
-    [[nodiscard]] double alpha() const noexcept { return alpha_; }         ///< Eq. 1 weight in [0, 1]
+    [[nodiscard]] double alpha() const noexcept { return alpha_; } ///< Eq. 1 weight in [0, 1]
     [[nodiscard]] const SceneBox &box() const noexcept { return box_; }
     [[nodiscard]] const DepthFrameView &current() const noexcept { return current_; }
     [[nodiscard]] bool hasNext() const noexcept { return hasNext_; }
@@ -120,7 +122,8 @@ public:
     /// \return z of \a frame's sample (c, r), m, without interpolation.
     [[nodiscard]] double frameZ(const DepthFrameView &frame, int c, int r) const noexcept
     {
-        return static_cast<double>(frame.sample(c, r)) * (box_.depth / maxSampleValue(frame.format)) -
+        return static_cast<double>(frame.sample(c, r)) *
+                   (box_.depth / maxSampleValue(frame.format)) -
                0.5 * box_.depth;
     }
 
@@ -128,7 +131,8 @@ public:
     [[nodiscard]] double vertexZ(int c, int r) const noexcept
     {
         if (alpha_ <= 0.0)
-            return static_cast<double>(load(current_, curWide_, c, r)) * zScaleCurrent_ - halfDepth_;
+            return static_cast<double>(load(current_, curWide_, c, r)) * zScaleCurrent_ -
+                   halfDepth_;
         std::uint32_t s0;
         std::uint32_t s1;
         if (sameLayout_) {
@@ -159,7 +163,8 @@ public:
         return {columnToX(c), rowToY(r), vertexZ(c, r)};
     }
 
-    /// \return true when (x, y) (m) lies over the grid (inside the box's x–y extent, borders included).
+    /// \return true when (x, y) (m) lies over the grid (inside the box's x–y extent, borders
+    /// included).
     [[nodiscard]] bool contains(double x, double y) const noexcept
     {
         if (!valid())

@@ -1,13 +1,14 @@
 #pragma once
 /// \file
-/// \brief The `mesh-bvh` baseline: a conventional renderer that, for every new depth frame, builds the
-/// full triangle mesh (2·(W−1)·(H−1) triangles) and an axis-aligned bounding-box tree over it, then
-/// answers collision queries through the tree (paper III: "not applicable ... requires the construction
-/// of new bounding boxes for each frame"). Kept for comparison only; not on the player path.
+/// \brief The `mesh-bvh` baseline: a conventional renderer that, for every new depth frame, builds
+/// the full triangle mesh (2·(W−1)·(H−1) triangles) and an axis-aligned bounding-box tree over it,
+/// then answers collision queries through the tree (paper III: "not applicable ... requires the
+/// construction of new bounding boxes for each frame"). Kept for comparison only; not on the player
+/// path.
 ///
-/// Sample-and-hold (the mesh is the current frame); no correction, no interpolation; force-jump safety
-/// as configured. Thread-safety: thread-bound. Memory for the largest frame is taken at construction;
-/// setFrames() rebuilds in place without allocating.
+/// Sample-and-hold (the mesh is the current frame); no correction, no interpolation; force-jump
+/// safety as configured. Thread-safety: thread-bound. Memory for the largest frame is taken at
+/// construction; setFrames() rebuilds in place without allocating.
 
 #include <cstdint>
 #include <vector>
@@ -34,8 +35,10 @@ public:
     /// \return the number of tree nodes of the last build.
     [[nodiscard]] std::size_t nodeCount() const noexcept { return nodesUsed_; }
 
-    /// \brief First downward crossing of \a p0 → \a p1 through the tree (exact segment–triangle tests).
-    [[nodiscard]] Crossing firstCrossingBvh(const glm::dvec3 &p0, const glm::dvec3 &p1) const noexcept;
+    /// \brief First downward crossing of \a p0 → \a p1 through the tree (exact segment–triangle
+    /// tests).
+    [[nodiscard]] Crossing firstCrossingBvh(const glm::dvec3 &p0,
+                                            const glm::dvec3 &p1) const noexcept;
 
     /// Grid-surface view of the built mesh (vertex positions as stored), for the proxy solver.
     class MeshSurface {
@@ -50,8 +53,9 @@ public:
         [[nodiscard]] double rowToY(double v) const noexcept { return m_.field_.rowToY(v); }
         [[nodiscard]] glm::dvec3 vertex(int c, int r) const noexcept
         {
-            const std::size_t i = 3 * (static_cast<std::size_t>(r) * static_cast<std::size_t>(m_.w_) +
-                                       static_cast<std::size_t>(c));
+            const std::size_t i =
+                3 * (static_cast<std::size_t>(r) * static_cast<std::size_t>(m_.w_) +
+                     static_cast<std::size_t>(c));
             return {m_.vertices_[i], m_.vertices_[i + 1], m_.vertices_[i + 2]};
         }
         [[nodiscard]] double vertexZ(int c, int r) const noexcept { return vertex(c, r).z; }

@@ -1,16 +1,16 @@
 #pragma once
 /// \file
 /// \brief The god-object proxy update on an implicit grid surface (paper III; Zilles & Salisbury,
-/// Ruspini): from the triangle where the proxy met the surface, the proxy slides to the surface point
-/// closest to the HIP, across faces, edges and vertices, within one update.
+/// Ruspini): from the triangle where the proxy met the surface, the proxy slides to the surface
+/// point closest to the HIP, across faces, edges and vertices, within one update.
 ///
 /// Method: local descent over triangles. The closest point of the current triangle to the HIP is
-/// computed exactly; if it lies on an edge or a vertex, the triangles sharing that edge or vertex are
-/// tried, and the proxy moves to the one whose closest point is nearer. It stops when no neighbour is
-/// nearer: on a face (1 active constraint plane), on a convex or concave edge (2) or at a vertex or a
-/// concave corner (3 or more). The result satisfies the god-object's optimality conditions; every
-/// intermediate point is on the surface, so the proxy never ends below it.
-/// Works on the same grid-surface types as collision.h. Thread-safety: reentrant; no allocation.
+/// computed exactly; if it lies on an edge or a vertex, the triangles sharing that edge or vertex
+/// are tried, and the proxy moves to the one whose closest point is nearer. It stops when no
+/// neighbour is nearer: on a face (1 active constraint plane), on a convex or concave edge (2) or
+/// at a vertex or a concave corner (3 or more). The result satisfies the god-object's optimality
+/// conditions; every intermediate point is on the surface, so the proxy never ends below it. Works
+/// on the same grid-surface types as collision.h. Thread-safety: reentrant; no allocation.
 
 #include <algorithm>
 #include <cmath>
@@ -287,7 +287,8 @@ inline int activeConstraints(TriangleRegion region) noexcept
 /// the current triangle are reused, never refetched. The triangles moved across and the result are
 /// those of trying every triangle around the feature, bit for bit.
 template <class Surface>
-ProxySolution solveProxy(const Surface &surf, const TriangleId &start, const glm::dvec3 &hip) noexcept
+ProxySolution solveProxy(const Surface &surf, const TriangleId &start,
+                         const glm::dvec3 &hip) noexcept
 {
     const int w = surf.columns();
     const int h = surf.rows();
@@ -348,7 +349,8 @@ struct CoarseGrid {
     int stride = 0;  ///< Fine cells per coarse cell (< 2: no coarse pass).
     int columns = 0; ///< (W − 1) / stride + 1
     int rows = 0;    ///< (H − 1) / stride + 1
-    /// \return the coarse grid of a \a w × \a h grid at \a stride (columns = rows = 0 for stride < 1).
+    /// \return the coarse grid of a \a w × \a h grid at \a stride (columns = rows = 0 for stride <
+    /// 1).
     static CoarseGrid of(int w, int h, int stride) noexcept
     {
         if (stride < 1)

@@ -54,16 +54,17 @@ struct RendererConfig {
     bool correction = true;     ///< Fix (a), paper IV.A: lift the previous proxy with the surface.
     bool interpolation = true;  ///< Fix (b), paper IV.B Eq. 1: interpolate frames i → i+1.
     bool safety = true;         ///< Fix (c), paper IV.C: force-jump safety.
-    /// Force-jump threshold, N per update. Default 2 N: at k = 800 N/m a stroke at 1 m/s into a steep
-    /// smooth wall changes the force by at most k·1 mm = 0.8 N per 1 ms update and surface motion that
-    /// is interpolated (< cut threshold per frame) adds < 0.3 N, so smooth use never trips; a cut of half
-    /// the box depth (20 mm) changes the unclamped force by 16 N, so it always trips. The check uses the
-    /// unclamped force, so it trips even when the clamped force was already at the maximum.
+    /// Force-jump threshold, N per update. Default 2 N: at k = 800 N/m a stroke at 1 m/s into a
+    /// steep smooth wall changes the force by at most k·1 mm = 0.8 N per 1 ms update and surface
+    /// motion that is interpolated (< cut threshold per frame) adds < 0.3 N, so smooth use never
+    /// trips; a cut of half the box depth (20 mm) changes the unclamped force by 16 N, so it always
+    /// trips. The check uses the unclamped force, so it trips even when the clamped force was
+    /// already at the maximum.
     double maxForceStep = 2.0;
     Reengage reengage = Reengage::Release; ///< Action after a trip.
     double rampTime = 0.25;     ///< Ramp duration for Reengage::Ramp, s (> 0).
-    /// Vertices moving more than this between two frames are not interpolated (held, then stepped at
-    /// the frame boundary) so a cut stays visible to safety, m. NaN = 0.25·box depth.
+    /// Vertices moving more than this between two frames are not interpolated (held, then stepped
+    /// at the frame boundary) so a cut stays visible to safety, m. NaN = 0.25·box depth.
     double cutThreshold = std::nan("");
     /// Coarse-to-fine proxy descent (beyond the paper; solveProxyCoarseToFine()): on frames whose
     /// pixel spacing is finer than this, the descent starts where the HIP projects onto the tangent
@@ -94,7 +95,8 @@ struct RendererConfig {
     /// Largest friction coefficient validate() accepts.
     static constexpr double kMaxFriction = 2.0;
 
-    /// \return the configuration of \a method: Modified all fixes on; ProxyGraph and MeshBvh all off.
+    /// \return the configuration of \a method: Modified all fixes on; ProxyGraph and MeshBvh all
+    /// off.
     static RendererConfig forMethod(Method method) noexcept;
     /// \brief Checks ranges. \return Errc::InvalidArgument with a static message.
     [[nodiscard]] Result<void> validate() const noexcept;
@@ -133,9 +135,9 @@ public:
     /// \brief Forgets the proxy and force history; the proxy collocates with \a hip.
     virtual void reset(const glm::dvec3 &hip) noexcept = 0;
 
-    /// \brief The frames' clock restarted (a seek or a loop): the next update's t may be smaller than
-    /// the last. The proxy and the force are kept, so content that continues under the finger keeps
-    /// its support; a surface that changed is what the renderer's safety handles.
+    /// \brief The frames' clock restarted (a seek or a loop): the next update's t may be smaller
+    /// than the last. The proxy and the force are kept, so content that continues under the finger
+    /// keeps its support; a surface that changed is what the renderer's safety handles.
     virtual void restartClock() noexcept {}
 
     [[nodiscard]] virtual Method method() const noexcept = 0;
@@ -151,20 +153,20 @@ protected:
 /// gives zero. Reentrant.
 glm::dvec3 limitForce(const glm::dvec3 &force, double limit) noexcept;
 
-/// \brief The slew limit of every force stage: \return \a previous moved toward \a target by at most
-/// \a maxStep (N), then limitForce(·, \a maxForce). A non-finite target is taken as zero.
+/// \brief The slew limit of every force stage: \return \a previous moved toward \a target by at
+/// most \a maxStep (N), then limitForce(·, \a maxForce). A non-finite target is taken as zero.
 glm::dvec3 slewForce(const glm::dvec3 &previous, const glm::dvec3 &target, double maxStep,
                      double maxForce) noexcept;
 
-/// \brief The force stage shared by all renderers: spring, damping, clamp, force-jump safety (IV.C),
-/// ramp re-engagement and slew limit. Thread-bound; no allocation.
+/// \brief The force stage shared by all renderers: spring, damping, clamp, force-jump safety
+/// (IV.C), ramp re-engagement and slew limit. Thread-bound; no allocation.
 ///
-/// Two halves: apply() is paper IV.C as the `modified` renderer runs it (the trip is decided from the
-/// force); spring() and shape() are for a renderer that decides the trip itself (FingerRenderer, from
-/// the depth) and share the shaping: a non-finite force becomes zero, |F| is clamped to maxForce,
-/// after a trip with a contact to re-engage the force ramps from the last command over rampTime
-/// (only while the contact lasts: a finger that leaves is not pushed by a ramp), and
-/// with safety on the command moves by at most maxForceStep per update.
+/// Two halves: apply() is paper IV.C as the `modified` renderer runs it (the trip is decided from
+/// the force); spring() and shape() are for a renderer that decides the trip itself
+/// (FingerRenderer, from the depth) and share the shaping: a non-finite force becomes zero, |F| is
+/// clamped to maxForce, after a trip with a contact to re-engage the force ramps from the last
+/// command over rampTime (only while the contact lasts: a finger that leaves is not pushed by a
+/// ramp), and with safety on the command moves by at most maxForceStep per update.
 class ForceStage {
 public:
     explicit ForceStage(const RendererConfig &config) noexcept : config_(config) {}
@@ -180,7 +182,8 @@ public:
     glm::dvec3 apply(const glm::dvec3 &hip, glm::dvec3 &proxy, bool &contact, double t,
                      double surfaceAboveHip, bool &released) noexcept;
     /// \return the unshaped force k·(proxy − hip), minus b·v_HIP in contact, N; records the HIP.
-    glm::dvec3 spring(const glm::dvec3 &hip, const glm::dvec3 &proxy, bool contact, double t) noexcept;
+    glm::dvec3 spring(const glm::dvec3 &hip, const glm::dvec3 &proxy, bool contact,
+                      double t) noexcept;
     /// \brief Shapes \a raw (N) into the command of time \a t (s).
     /// \param contact the proxy is held on the surface (a ramp runs only while it is).
     /// \param trip safety tripped, or the surface stepped, on this update: the new force is ramped
@@ -188,8 +191,8 @@ public:
     /// \return the command, N: finite, |F| ≤ maxForce.
     glm::dvec3 shape(glm::dvec3 raw, double t, bool contact, bool trip) noexcept;
     void reset() noexcept;
-    /// \brief The frames' clock restarted (seek, loop): the next t may be smaller. The force history
-    /// is kept (no kick); a ramp in progress continues where it was.
+    /// \brief The frames' clock restarted (seek, loop): the next t may be smaller. The force
+    /// history is kept (no kick); a ramp in progress continues where it was.
     void restartClock() noexcept { rebase_ = havePrev_; }
 
 private:
@@ -241,7 +244,8 @@ private:
     glm::dvec3 lastHip_{};        ///< HIP of the last update (how far it moved), m.
     bool haveProxy_ = false;
     double surfaceUnderProxy_ = 0.0; ///< h(proxy.xy) at the end of the last update, or NaN.
-    CoarseGrid coarse_{}; ///< Coarse-to-fine grid for the frames set (RendererConfig::coarseSpacing).
+    CoarseGrid
+        coarse_{}; ///< Coarse-to-fine grid for the frames set (RendererConfig::coarseSpacing).
     /// Friction on the proxy (RendererConfig::staticFriction): proxy_ stays the frictionless
     /// god-object, where the next update's collision walk starts; the force and the reported
     /// proxy are the friction cone's.

@@ -26,8 +26,8 @@ struct TrajectorySample {
     double z = 0.0;
 };
 
-/// \brief Bounds on what a trajectory or a replay may ask for, so hostile input cannot make the replay
-/// allocate without limit or compute with overflowing numbers.
+/// \brief Bounds on what a trajectory or a replay may ask for, so hostile input cannot make the
+/// replay allocate without limit or compute with overflowing numbers.
 struct ReplayLimits {
     /// |x|, |y|, |z| of a trajectory row, m (the scene box is centimetres wide).
     static constexpr double kMaxPositionMetres = 100.0;
@@ -51,19 +51,21 @@ struct ReplayLimits {
     static constexpr double kMaxBoxMetres = 100.0;
 };
 
-/// \brief Parses a trajectory CSV (header naming columns `t,x,y,z` in any order, extra columns ignored).
-/// \param[out] errorLine when not null, receives the 1-based line of the first problem (0 if none).
-/// \return the rows, or Errc::InvalidArgument: missing column, wrong field count, a value that is not a
-/// finite number, a position beyond ReplayLimits::kMaxPositionMetres or a time beyond
+/// \brief Parses a trajectory CSV (header naming columns `t,x,y,z` in any order, extra columns
+/// ignored). \param[out] errorLine when not null, receives the 1-based line of the first problem (0
+/// if none). \return the rows, or Errc::InvalidArgument: missing column, wrong field count, a value
+/// that is not a finite number, a position beyond ReplayLimits::kMaxPositionMetres or a time beyond
 /// kMaxTimeSeconds, time not strictly increasing, more than kMaxRows rows, no rows.
 Result<std::vector<TrajectorySample>> parseTrajectoryCsv(std::string_view text,
                                                          std::size_t *errorLine = nullptr);
 
 /// \return the HIP at time \a t, linearly interpolated between rows; held at the first/last row
 /// outside them. \pre \a trajectory is not empty and sorted by time.
-TrajectorySample sampleTrajectory(const std::vector<TrajectorySample> &trajectory, double t) noexcept;
+TrajectorySample sampleTrajectory(const std::vector<TrajectorySample> &trajectory,
+                                  double t) noexcept;
 
-/// \brief Source of depth frames with PTS, so the replay can run on frames decoded by the media layer.
+/// \brief Source of depth frames with PTS, so the replay can run on frames decoded by the media
+/// layer.
 ///
 /// frame(i) may be called for increasing i; a returned view must stay valid until frame(i + 2) is
 /// requested (the replay holds frames i and i+1).
@@ -81,13 +83,14 @@ protected:
     FrameProvider &operator=(const FrameProvider &) = default;
 };
 
-/// \brief Frames stored back to back in memory (a raw 8/16-bit gray video: W×H samples per frame, rows
-/// packed, host byte order), PTS = i/fps.
+/// \brief Frames stored back to back in memory (a raw 8/16-bit gray video: W×H samples per frame,
+/// rows packed, host byte order), PTS = i/fps.
 class RawVideoFrameProvider final : public FrameProvider {
 public:
-    /// \param bytes the whole video; its size must be a whole number of frames (checked by validate()).
-    RawVideoFrameProvider(std::vector<std::uint8_t> bytes, int width, int height, SampleFormat format,
-                          double fps);
+    /// \param bytes the whole video; its size must be a whole number of frames (checked by
+    /// validate()).
+    RawVideoFrameProvider(std::vector<std::uint8_t> bytes, int width, int height,
+                          SampleFormat format, double fps);
     /// \return Errc::InvalidArgument when the size, the frame rate or the byte count is unusable.
     [[nodiscard]] Result<void> validate() const noexcept;
     [[nodiscard]] std::size_t frameCount() const noexcept override;
@@ -127,9 +130,9 @@ Result<std::vector<ForceLogRow>> replay(FrameProvider &frames,
                                         const std::vector<TrajectorySample> &trajectory,
                                         const ReplayOptions &options);
 
-/// \return the force log CSV: header `t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released`
-/// then one line per row (times µs-exact, positions to 1 nm, forces to 1 µN), whole whatever the
-/// magnitudes.
+/// \return the force log CSV: header
+/// `t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released` then one line per row
+/// (times µs-exact, positions to 1 nm, forces to 1 µN), whole whatever the magnitudes.
 std::string formatForceLog(const std::vector<ForceLogRow> &rows);
 
 } // namespace depthtouch::haptics

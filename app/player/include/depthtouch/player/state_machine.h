@@ -39,8 +39,8 @@
 
 namespace depthtouch::player {
 
-/// \brief What the state machine asks the player pipeline to do (implemented by `play`; by a fake in
-/// tests).
+/// \brief What the state machine asks the player pipeline to do (implemented by `play`; by a fake
+/// in tests).
 ///
 /// Each call returns when the pipeline has carried it out (or started it, for open()). Errors with
 /// code InvalidArgument, NotSupported, InvalidState or Busy mean "refused, nothing changed"; other

@@ -31,7 +31,8 @@ namespace depthtouch::receiver {
 /// the decoder's own frame when it came as dma-bufs (zero-copy; see \a dmabuf).
 struct StoredFrame {
     /// Pixels in the store's memory; read-only for every handle holder. For a zero-copy frame the
-    /// decoder's image instead: size and format, and planes only if the decoder gave CPU planes too.
+    /// decoder's image instead: size and format, and planes only if the decoder gave CPU planes
+    /// too.
     hal::ImageView image;
     hal::StreamKind kind = hal::StreamKind::Color;
     hal::Pts pts = hal::kNoPts; ///< Presentation time on the stream timeline (ns).

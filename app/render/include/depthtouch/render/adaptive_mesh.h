@@ -92,7 +92,7 @@ enum class ErrorCriterion : std::uint8_t {
 /// triangles outweigh its dearer choice (`depthtouch bench render`).
 struct MeshOptions {
     MeshMode mode = MeshMode::Quadtree;
-    int tileSize = 32;        ///< Cells per tile side T: a power of two, 2..256 (Quadtree: root block).
+    int tileSize = 32; ///< Cells per tile side T: a power of two, 2..256 (Quadtree: root block).
     int fixedStep = 1;        ///< Fixed mode: step in samples, a power of two ≤ tileSize.
     double tolerance = 0.5;   ///< Error bound (see criterion), nearness levels (≥ 0): per tile
                               ///< (Adaptive), per block (Quadtree, Max) or the frame's mean error
@@ -100,7 +100,8 @@ struct MeshOptions {
     int maxStep = 32;         ///< Adaptive/Quadtree: coarsest step (block size) allowed, a power of
                               ///< two ≤ tileSize.
     ErrorCriterion criterion = ErrorCriterion::Mean; ///< Adaptive/Quadtree: what tolerance bounds.
-    double maxErrorCap = 16.0; ///< Mean criterion: largest error allowed in a tile or block, levels.
+    double maxErrorCap =
+        16.0; ///< Mean criterion: largest error allowed in a tile or block, levels.
     std::size_t maxBlocks =
         0; ///< Quadtree, Mean criterion: most leaf blocks (0: no budget); Blocks:
            ///< most cells at the tiles' steps (a tile of T×T cells at step s
@@ -135,7 +136,7 @@ struct MeshStats {
 struct MeshError {
     double mean = 0.0;             ///< Mean |surface − sample| over the samples, nearness levels.
     double max = 0.0;              ///< Largest |surface − sample|, nearness levels.
-    std::size_t uncovered = 0;     ///< Samples no triangle covers (a crack or hole): 0 when watertight.
+    std::size_t uncovered = 0; ///< Samples no triangle covers (a crack or hole): 0 when watertight.
     std::size_t samples = 0;       ///< Samples measured (W·H).
 };
 
@@ -143,8 +144,8 @@ struct MeshError {
 class AdaptiveMesh {
 public:
     /// \brief Chooses the tile steps for \a depth and fills indices().
-    /// \return Errc::InvalidArgument for a malformed frame or options (tile size or step not a power
-    /// of two in range, negative tolerance); the previous mesh stays.
+    /// \return Errc::InvalidArgument for a malformed frame or options (tile size or step not a
+    /// power of two in range, negative tolerance); the previous mesh stays.
     [[nodiscard]] Result<void> build(const scene::DepthFrameView &depth,
                                      const MeshOptions &options);
 

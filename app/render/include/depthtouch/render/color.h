@@ -47,8 +47,8 @@ enum class ColorConversion : std::uint8_t {
 ///
 /// The colour frame and each eye's viewport are usually about the same size (a 720×486 frame in a
 /// 720×486 side-by-side half), so bilinear filtering changes little on screen; on llvmpipe it costs
-/// about a tenth of a stereo frame's CPU time (four texel fetches and the blend per fragment), which
-/// Auto saves there.
+/// about a tenth of a stereo frame's CPU time (four texel fetches and the blend per fragment),
+/// which Auto saves there.
 enum class ColorFilter : std::uint8_t {
     Auto,    ///< Nearest on a software rasterizer (as ColorConversion::Auto), else Linear.
     Linear,  ///< GL_LINEAR: bilinear.
@@ -65,8 +65,8 @@ enum class ColorFilter : std::uint8_t {
 class YuvConverter {
 public:
     /// \brief Converts \a image (Yuv420p or Gray8, \pre not empty).
-    /// \return W·H pixels, rows top first, tightly packed, each the bytes R, G, B, A in memory order
-    /// (GL_RGBA/GL_UNSIGNED_BYTE); valid until the next call. Empty for other pixel formats.
+    /// \return W·H pixels, rows top first, tightly packed, each the bytes R, G, B, A in memory
+    /// order (GL_RGBA/GL_UNSIGNED_BYTE); valid until the next call. Empty for other pixel formats.
     const std::vector<std::uint32_t> &convert(const hal::ImageView &image, const ColorSpec &spec);
 
 private:
@@ -74,9 +74,10 @@ private:
     std::vector<int> col0_;  ///< Per luma column: left chroma sample.
     std::vector<int> col1_;  ///< Per luma column: right chroma sample.
     std::vector<int> colW_;  ///< Per luma column: weight of the right sample, 1/256.
-    std::vector<int> uRow_;  ///< Chroma row interpolated vertically for the current luma row, 1/256.
+    std::vector<int> uRow_; ///< Chroma row interpolated vertically for the current luma row, 1/256.
     std::vector<int> vRow_;
-    std::vector<int> uFull_; ///< Chroma at every luma sample of the current row minus the offset, 1/256.
+    std::vector<int>
+        uFull_; ///< Chroma at every luma sample of the current row minus the offset, 1/256.
     std::vector<int> vFull_;
 };
 

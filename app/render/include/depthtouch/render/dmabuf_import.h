@@ -8,8 +8,8 @@
 /// eglGetCurrentDisplay(), glEGLImageTargetTexture2DOES on a GL_TEXTURE_EXTERNAL_OES texture, drawn
 /// once per frame through a samplerExternalOES shader into the RGBA8 texture the surface samples.
 /// For YUV fourccs the driver does the Y'CbCr → R'G'B' conversion (colour space and range from the
-/// EGL hints of the ColorSpec). The pixels never go through the CPU; the draw is one GPU pass of the
-/// frame size (the surface shaders stay the same for every colour source).
+/// EGL hints of the ColorSpec). The pixels never go through the CPU; the draw is one GPU pass of
+/// the frame size (the surface shaders stay the same for every colour source).
 ///
 /// Needs: EGL_EXT_image_dma_buf_import on the current EGL display (plus
 /// EGL_EXT_image_dma_buf_import_modifiers for a frame with an explicit, non-linear modifier) and
@@ -46,9 +46,9 @@ bool hasExtension(const char *list, const char *name) noexcept;
 /// _PITCH_EXT and, when \a withModifier, _MODIFIER_LO_EXT / _MODIFIER_HI_EXT (the low and high 32
 /// bits of the modifier), then EGL_YUV_COLOR_SPACE_HINT_EXT (BT.601 or BT.709) and
 /// EGL_SAMPLE_RANGE_HINT_EXT (narrow or full) from \a spec, closed by EGL_NONE.
-/// \return the list (EGLint values). Errors: InvalidArgument for an empty image, more than 4 planes,
-/// a plane count that does not match a known fourcc, a non-positive size, a negative fd, a zero
-/// pitch, an offset or pitch beyond EGLint.
+/// \return the list (EGLint values). Errors: InvalidArgument for an empty image, more than 4
+/// planes, a plane count that does not match a known fourcc, a non-positive size, a negative fd, a
+/// zero pitch, an offset or pitch beyond EGLint.
 Result<std::vector<std::int32_t>> dmaBufEglAttribs(const hal::DmaBufImage &image, bool withModifier,
                                                    const ColorSpec &spec);
 

@@ -26,7 +26,8 @@ public:
     /// \brief Creates a \a width × \a height target. \pre a current GLES 3 context.
     /// \return Errc::InvalidArgument for a size ≤ 0 or above GL_MAX_RENDERBUFFER_SIZE,
     /// Errc::NotSupported when the framebuffer is incomplete (e.g. no float colour buffers).
-    static Result<RenderTarget> create(int width, int height, TargetFormat format = TargetFormat::Rgba8);
+    static Result<RenderTarget> create(int width, int height,
+                                       TargetFormat format = TargetFormat::Rgba8);
 
     RenderTarget() = default;
     RenderTarget(RenderTarget &&other) noexcept;
@@ -51,8 +52,8 @@ public:
     [[nodiscard]] Result<void> readRgbaFloat(std::vector<float> &rgba) const;
 
     /// \brief Copies the colour buffer to framebuffer \a dst (e.g. a display's default
-    /// framebuffer), scaled to \a dstWidth × \a dstHeight. \return Errc::NotSupported when \a dst is
-    /// not complete.
+    /// framebuffer), scaled to \a dstWidth × \a dstHeight. \return Errc::NotSupported when \a dst
+    /// is not complete.
     [[nodiscard]] Result<void> blitTo(std::uint32_t dst, int dstWidth, int dstHeight) const;
 
 private:

@@ -48,7 +48,8 @@ struct RendererOptions {
     StereoMode mode = StereoMode::SideBySide; ///< Output layout.
     StereoParams stereo{};                    ///< Eye cameras.
     MeshOptions mesh{};                       ///< Level of detail.
-    ColorConversion colorConversion = ColorConversion::Auto; ///< Where Y'CbCr becomes R'G'B' (setColor()).
+    ColorConversion colorConversion =
+        ColorConversion::Auto;                   ///< Where Y'CbCr becomes R'G'B' (setColor()).
     ColorFilter colorFilter = ColorFilter::Auto; ///< How the colour texture is sampled.
     glm::vec3 background{0.0f, 0.0f, 0.0f};   ///< Clear colour, linear RGB in [0, 1].
 };
@@ -57,7 +58,7 @@ struct RendererOptions {
 struct AvatarState {
     bool visible = false;
     glm::dvec3 proxy{0.0};       ///< Proxy (god-object) position: where the lit sphere is drawn.
-    glm::dvec3 hip{0.0};         ///< Haptic interface point: a faint marker when apart from the proxy.
+    glm::dvec3 hip{0.0}; ///< Haptic interface point: a faint marker when apart from the proxy.
     double radius = 0.0025;      ///< Sphere radius, m.
     double separation = 0.0005;  ///< HIP marker shown when |proxy − HIP| exceeds this, m.
 };
@@ -65,7 +66,7 @@ struct AvatarState {
 /// \brief The on-screen display (drawn at zero parallax in each eye).
 struct OsdState {
     bool visible = false;
-    std::string status;       ///< Player state, e.g. "PLAYING" (upper case letters, digits, . : - / %).
+    std::string status; ///< Player state, e.g. "PLAYING" (upper case letters, digits, . : - / %).
     bool hapticsOn = false;   ///< Shows "HAPTICS ON" or "HAPTICS OFF".
     double force = 0.0;       ///< Current force magnitude, N (bar length).
     double maxForce = 8.5;    ///< Full-scale force of the bar, N (> 0).
@@ -74,7 +75,8 @@ struct OsdState {
 /// \brief What drawSurface() writes.
 enum class SurfaceOutput : std::uint8_t {
     Color,    ///< The textured surface.
-    Position, ///< Scene-box position (x, y, z, 1) of the surface point under each pixel, m (float target).
+    Position, ///< Scene-box position (x, y, z, 1) of the surface point under each pixel, m (float
+              ///< target).
 };
 
 /// \brief Wall time of the stages of the last setDepth(), setColor() and render() calls, ms.
@@ -86,7 +88,7 @@ enum class SurfaceOutput : std::uint8_t {
 /// caused (the frame as a whole is then slower: for a breakdown, not for playback).
 struct StageTimes {
     double depthUpload = 0.0; ///< setDepth(): depth texture upload.
-    double mesh = 0.0;        ///< setDepth(): frame check, level-of-detail choice, index list (CPU).
+    double mesh = 0.0; ///< setDepth(): frame check, level-of-detail choice, index list (CPU).
     double indexUpload = 0.0; ///< setDepth(): index buffer upload (0 when the list was unchanged).
     double colorUpload = 0.0; ///< setColor(): plane upload and conversion.
     double clear = 0.0;       ///< render(): clearing the target.
@@ -159,8 +161,9 @@ public:
     [[nodiscard]] Result<void> setColor(const hal::ImageView &image, const ColorSpec &spec);
 
     /// \brief setDepth() with the mesh made ahead in \a prep (built from this \a depth frame with
-    /// options().mesh, whatever its block budget; else the mesh is built here as setDepth() does). The mesh is moved out of
-    /// \a prep (it gets the previous one's buffers back). \return as setDepth().
+    /// options().mesh, whatever its block budget; else the mesh is built here as setDepth() does).
+    /// The mesh is moved out of \a prep (it gets the previous one's buffers back). \return as
+    /// setDepth().
     [[nodiscard]] Result<void> setDepth(const scene::DepthFrameView &depth, FramePrep &prep);
     /// \brief setColor() with the colour converted ahead in \a prep (its R'G'B' words are
     /// uploaded). \return InvalidArgument when \a prep holds no converted colour.

@@ -58,7 +58,10 @@ public:
 
     [[nodiscard]] std::uint64_t frames() const noexcept { return frames_; } ///< Frames seen.
     /// PNGs written so far (the writer thread's count; after flush(), every snapshot taken).
-    [[nodiscard]] std::uint64_t written() const noexcept { return written_.load(std::memory_order_acquire); }
+    [[nodiscard]] std::uint64_t written() const noexcept
+    {
+        return written_.load(std::memory_order_acquire);
+    }
 
     static constexpr std::size_t kMaxQueued = 3; ///< Snapshots waiting for the writer, at most.
 

@@ -46,7 +46,7 @@ std::optional<StereoMode> parseStereoMode(std::string_view name) noexcept;
 struct StereoParams {
     double eyeSeparation = 0.010; ///< Distance between the eyes, m (> 0 for stereo).
     double viewDistance = 0.20;   ///< Eyes to the box centre along z, m (> box depth).
-    double convergence = 0.20;    ///< Eyes to the zero-parallax plane, m (> 0); default: box centre.
+    double convergence = 0.20; ///< Eyes to the zero-parallax plane, m (> 0); default: box centre.
     double margin = 1.04;         ///< Window size / box size (≥ 1 keeps a border around the box).
     /// sbs/tab: true = frame-compatible (each eye squeezed into its half, the display stretches it
     /// back: HDMI half side-by-side/top-and-bottom); false = each half is a full-aspect eye image
@@ -79,8 +79,8 @@ struct EyeView {
 std::array<EyeView, 2> eyeViews(StereoMode mode, const StereoParams &params, int width, int height,
                                 double boxWidth, double boxHeight, double boxDepth, int &count);
 
-/// \brief A single off-axis camera at eye offset \a eyeX, drawing into \a viewport, whose window has
-/// the aspect ratio \a aspect (width/height of the eye image as the viewer sees it).
+/// \brief A single off-axis camera at eye offset \a eyeX, drawing into \a viewport, whose window
+/// has the aspect ratio \a aspect (width/height of the eye image as the viewer sees it).
 EyeView eyeView(const StereoParams &params, double eyeX, double aspect, Viewport viewport,
                 double boxWidth, double boxHeight, double boxDepth);
 

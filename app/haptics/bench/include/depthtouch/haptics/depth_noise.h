@@ -20,10 +20,10 @@
 /// `depthtouch encode` reads with its default `--depth-scale 0.001`.
 ///
 /// Sources: Khoshelham & Elberink, "Accuracy and resolution of Kinect depth data for indoor mapping
-/// applications", Sensors 12 (2012) (σ_Z and the disparity step grow with Z²); Nguyen, Izadi & Lovell,
-/// "Modeling Kinect sensor noise for improved 3D reconstruction and tracking", 3DIMPVT 2012 (lateral
-/// noise and flying pixels at edges). Deterministic: the same image, options, seed and frame index give
-/// the same output. Thread-safety: reentrant (no shared state).
+/// applications", Sensors 12 (2012) (σ_Z and the disparity step grow with Z²); Nguyen, Izadi &
+/// Lovell, "Modeling Kinect sensor noise for improved 3D reconstruction and tracking", 3DIMPVT 2012
+/// (lateral noise and flying pixels at edges). Deterministic: the same image, options, seed and
+/// frame index give the same output. Thread-safety: reentrant (no shared state).
 
 #include <cstdint>
 
@@ -36,8 +36,8 @@ struct KinectNoiseOptions {
     double disparityStep = 2.85e-3;  ///< Quantisation of 1/Z, m⁻¹ (depth step = this·Z², m).
     double flickerSigma = 1.5e-3;    ///< σ of 1/Z per frame, m⁻¹ (σ_Z = this·Z², m); 0 = off.
     double focalPx = 585.0;          ///< Focal length, px (shadow width).
-    double baseline = 0.075;         ///< Projector–camera baseline, m (shadow width); 0 = no shadow.
-    double edgeJump = 0.03;          ///< Relative depth jump between neighbours that is a silhouette.
+    double baseline = 0.075; ///< Projector–camera baseline, m (shadow width); 0 = no shadow.
+    double edgeJump = 0.03;  ///< Relative depth jump between neighbours that is a silhouette.
     double edgeHoleProbability = 0.4;   ///< Per silhouette pixel and frame.
     double flyingProbability = 0.3;     ///< Per silhouette pixel and frame (when not a hole).
     double speckleProbability = 2e-5;   ///< Per pixel and frame: seeds a 3×3 random hole.
@@ -51,7 +51,8 @@ struct KinectNoiseOptions {
 /// \param frameIndex picks this frame's random draws (flicker, holes) from the seed.
 /// \return W×H sensor depth, mm (0 = invalid).
 depth::Plane<std::uint16_t> applyKinectNoise(const depth::Plane<float> &clean,
-                                             const KinectNoiseOptions &options, std::uint64_t frameIndex);
+                                             const KinectNoiseOptions &options,
+                                             std::uint64_t frameIndex);
 
 /// \return \a zM rounded to the model's disparity quantisation, m (the depth step at Z is
 /// `disparityStep`·Z²). \pre zM > 0.

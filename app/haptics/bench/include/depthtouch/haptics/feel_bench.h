@@ -1,14 +1,14 @@
 #pragma once
 /// \file
-/// \brief `depthtouch bench feel`'s core: replays the strokes of feel_scenes.h on each scene with each
-/// renderer setting at 1 kHz, times every update (steady_clock around update()), computes the feel
-/// figures (feel.h) and writes the table, CSV, JSON and gnuplot PNG charts.
+/// \brief `depthtouch bench feel`'s core: replays the strokes of feel_scenes.h on each scene with
+/// each renderer setting at 1 kHz, times every update (steady_clock around update()), computes the
+/// feel figures (feel.h) and writes the table, CSV, JSON and gnuplot PNG charts.
 ///
-/// Per update the surface under the HIP is read from a HeightField over the same frames, interpolated
-/// at the update's time (the renderer's own surface model), and the update is a real cut when the
-/// surface under the proxy (before or after the update) or the HIP moves by more than the cut
-/// threshold between the frames around it. Units: s, m, N; times in the outputs in µs and ms.
-/// Thread-safety: run on one thread; not for the haptic thread (allocates).
+/// Per update the surface under the HIP is read from a HeightField over the same frames,
+/// interpolated at the update's time (the renderer's own surface model), and the update is a real
+/// cut when the surface under the proxy (before or after the update) or the HIP moves by more than
+/// the cut threshold between the frames around it. Units: s, m, N; times in the outputs in µs and
+/// ms. Thread-safety: run on one thread; not for the haptic thread (allocates).
 
 #include <functional>
 #include <string>
@@ -45,7 +45,8 @@ struct FeelStrokeResult {
     std::string stroke;
     StrokeKind kind = StrokeKind::Slide;
     FeelFigures figures{};
-    std::vector<double> updateSeconds; ///< Every timed update, s (pooled for the rows' percentiles).
+    std::vector<double>
+        updateSeconds; ///< Every timed update, s (pooled for the rows' percentiles).
 };
 
 /// \brief The figures of one scene (or of all, scene "all") with one setting.
@@ -81,21 +82,24 @@ struct FeelReport {
 
 /// \brief Replays \a strokes of \a scene with \a setting. \return one result per stroke, or the
 /// renderer's error (e.g. a method not built yet).
-Result<std::vector<FeelStrokeResult>> runFeelStrokes(const FeelScene &scene, const std::vector<Stroke> &strokes,
+Result<std::vector<FeelStrokeResult>> runFeelStrokes(const FeelScene &scene,
+                                                     const std::vector<Stroke> &strokes,
                                                      const FeelSetting &setting);
 
 /// \brief Runs every setting on every scene with its strokes (\a strokes[i] for \a scenes[i]).
 /// \param progress may be empty; called with a line per scene × setting done.
-FeelReport runFeelBenchmark(const std::vector<FeelScene> &scenes, const std::vector<std::vector<Stroke>> &strokes,
+FeelReport runFeelBenchmark(const std::vector<FeelScene> &scenes,
+                            const std::vector<std::vector<Stroke>> &strokes,
                             const std::vector<FeelSetting> &settings,
                             const std::function<void(const std::string &)> &progress = {});
 
 /// \brief Prints the table and the goals (met / not met per setting) to stdout.
 void printFeelReport(const FeelReport &report);
 
-/// \brief Writes feel.csv (per scene × setting and the totals), feel_strokes.csv, feel.json and, with
-/// gnuplot, feel_vs_speed.png into \a dir (created). \return false with \a error set when a file
-/// cannot be written; \a note says when the chart is missing (no gnuplot).
-bool writeFeelOutputs(const FeelReport &report, const std::string &dir, std::string &error, std::string &note);
+/// \brief Writes feel.csv (per scene × setting and the totals), feel_strokes.csv, feel.json and,
+/// with gnuplot, feel_vs_speed.png into \a dir (created). \return false with \a error set when a
+/// file cannot be written; \a note says when the chart is missing (no gnuplot).
+bool writeFeelOutputs(const FeelReport &report, const std::string &dir, std::string &error,
+                      std::string &note);
 
 } // namespace depthtouch::haptics::bench

@@ -33,7 +33,8 @@
 
 namespace depthtouch::haptics::bench {
 
-/// \brief A line across a silhouette (a depth step the finger should climb or step down), box frame, m.
+/// \brief A line across a silhouette (a depth step the finger should climb or step down), box
+/// frame, m.
 struct SilhouetteCrossing {
     std::string what;  ///< E.g. "head edge", "forearm".
     glm::dvec2 from{}; ///< Start (x, y), m, on the lower side.
@@ -92,24 +93,26 @@ struct SyntheticSceneOptions {
 };
 
 /// \brief Renders \a scene (clean metric depth), applies the sensor model, maps it like `depthtouch
-/// encode`. \return the scene, or Errc::InvalidArgument for bad options (size < 16, fps ≤ 0, bits not
-/// 8 or 16, no frame).
-Result<FeelScene> makeSyntheticScene(SyntheticScene scene, const SyntheticSceneOptions &options = {});
+/// encode`. \return the scene, or Errc::InvalidArgument for bad options (size < 16, fps ≤ 0, bits
+/// not 8 or 16, no frame).
+Result<FeelScene> makeSyntheticScene(SyntheticScene scene,
+                                     const SyntheticSceneOptions &options = {});
 
-/// \brief Maps sensor depth (mm, 0 = invalid, the layout of a Kinect depth PNG) to a FeelScene the way
-/// `depthtouch encode` does by default (see the file comment).
-/// \param cleanMetres optional noiseless depth, m, one per frame: then the reference surface is it
-/// through the same mapping; else the 5×5 median of the frames.
-/// \return Errc::InvalidArgument when there is no frame, sizes differ, bits is not 8 or 16, or the first
-/// frames have no valid sample.
-Result<FeelScene> sceneFromSensorDepth(std::string name, const std::vector<depth::Plane<std::uint16_t>> &mm,
-                                       double fps, const SceneBox &box, int bits = 8,
-                                       const std::vector<depth::Plane<float>> *cleanMetres = nullptr);
+/// \brief Maps sensor depth (mm, 0 = invalid, the layout of a Kinect depth PNG) to a FeelScene the
+/// way `depthtouch encode` does by default (see the file comment). \param cleanMetres optional
+/// noiseless depth, m, one per frame: then the reference surface is it through the same mapping;
+/// else the 5×5 median of the frames. \return Errc::InvalidArgument when there is no frame, sizes
+/// differ, bits is not 8 or 16, or the first frames have no valid sample.
+Result<FeelScene>
+sceneFromSensorDepth(std::string name, const std::vector<depth::Plane<std::uint16_t>> &mm,
+                     double fps, const SceneBox &box, int bits = 8,
+                     const std::vector<depth::Plane<float>> *cleanMetres = nullptr);
 
 /// \brief A FeelScene from decoded nearness frames (a depth video: 8-bit samples in
 /// Plane<uint16_t> with \a format Gray8, or 16-bit with Gray16). Reference: 5×5 median; valid: all.
 /// \return Errc::InvalidArgument when there is no frame or sizes differ.
-Result<FeelScene> sceneFromNearness(std::string name, const std::vector<depth::Plane<std::uint16_t>> &frames,
+Result<FeelScene> sceneFromNearness(std::string name,
+                                    const std::vector<depth::Plane<std::uint16_t>> &frames,
                                     SampleFormat format, double fps, const SceneBox &box);
 
 /// \brief The touched frames of a scene for replay() (PTS i / fps). Keeps a reference to the scene.
@@ -123,8 +126,8 @@ private:
     const FeelScene &scene_;
 };
 
-/// \brief The reference surface h(t, x, y): a HeightField over the reference frames, interpolated in
-/// time (paper Eq. 1). Keeps a reference to the scene.
+/// \brief The reference surface h(t, x, y): a HeightField over the reference frames, interpolated
+/// in time (paper Eq. 1). Keeps a reference to the scene.
 class ReferenceSurface {
 public:
     explicit ReferenceSurface(const FeelScene &scene);
@@ -187,10 +190,10 @@ struct Stroke {
     std::vector<StrokeSample> samples;
 };
 
-/// \brief Samples one stroke at \a rate Hz: hover `above` the reference surface, press in to `depth`
-/// under it, slide back and forth between from and to (from→to→from→…) at `speed` for `timing.slide`
-/// s (Press: stay still), hold, lift, hover. The HIP's z follows the
-/// reference surface under it at every sample (NaN heights, off the grid, keep the last height).
+/// \brief Samples one stroke at \a rate Hz: hover `above` the reference surface, press in to
+/// `depth` under it, slide back and forth between from and to (from→to→from→…) at `speed` for
+/// `timing.slide` s (Press: stay still), hold, lift, hover. The HIP's z follows the reference
+/// surface under it at every sample (NaN heights, off the grid, keep the last height).
 Stroke makeStroke(const FeelScene &scene, const StrokeSpec &spec, const StrokeTiming &timing = {},
                   double rate = 1000.0);
 
@@ -198,7 +201,8 @@ Stroke makeStroke(const FeelScene &scene, const StrokeSpec &spec, const StrokeTi
 struct StrokePlan {
     std::vector<double> depths{1e-3, 3e-3};   ///< m.
     std::vector<double> speeds{0.05, 0.10};   ///< m/s.
-    int slidesPerSetting = 2;  ///< Slides per depth × speed, at seeded places on smooth valid surface.
+    int slidesPerSetting =
+        2; ///< Slides per depth × speed, at seeded places on smooth valid surface.
     bool crossings = true;     ///< One Cross stroke per scene crossing × depth × speed.
     int presses = 1;           ///< Press strokes per depth.
     StrokeTiming timing{};     ///< slide is shortened to fit the clip (at least 0.3 s).
@@ -206,14 +210,14 @@ struct StrokePlan {
     std::uint64_t seed = 7;    ///< Placement draws.
 };
 
-/// \brief The strokes of \a plan on \a scene. A slide's line is kept 4 mm inside the box, over pixels
-/// valid in the scene's mask, and off silhouettes (the reference rises by less than 1 mm per 0.5 mm
-/// along it at its start, middle and end times); a setting with no such line after 400 draws is
-/// skipped.
+/// \brief The strokes of \a plan on \a scene. A slide's line is kept 4 mm inside the box, over
+/// pixels valid in the scene's mask, and off silhouettes (the reference rises by less than 1 mm per
+/// 0.5 mm along it at its start, middle and end times); a setting with no such line after 400 draws
+/// is skipped.
 std::vector<Stroke> makeStrokes(const FeelScene &scene, const StrokePlan &plan = {});
 
-/// \return the stroke as a trajectory for replay() (times kept: replay() starts at t = 0 and holds the
-/// first row until the stroke starts).
+/// \return the stroke as a trajectory for replay() (times kept: replay() starts at t = 0 and holds
+/// the first row until the stroke starts).
 std::vector<TrajectorySample> toTrajectory(const Stroke &stroke);
 
 } // namespace depthtouch::haptics::bench

@@ -5,9 +5,10 @@
 /// For each method (modified, proxy-graph, mesh-bvh), depth resolution (720×486, 1920×1080,
 /// 3840×2160) and HIP motion (still, stroking at 0.1 m/s and at 1 m/s) it replays a moving analytic
 /// surface (a travelling sinusoid, 30 fps video, 1 kHz haptics) and measures the per-update time
-/// distribution, the cost per new depth frame, the force RMS error against the analytic ground truth
-/// (k × the true penetration along the true normal), pop-throughs, and the PSD of |F| at the frame rate.
-/// Uses std::chrono::steady_clock (bench program only). Thread-safety: call from one thread.
+/// distribution, the cost per new depth frame, the force RMS error against the analytic ground
+/// truth (k × the true penetration along the true normal), pop-throughs, and the PSD of |F| at the
+/// frame rate. Uses std::chrono::steady_clock (bench program only). Thread-safety: call from one
+/// thread.
 
 #include <cstddef>
 #include <limits>
@@ -43,8 +44,9 @@ struct BenchRow {
     double p999Ns = 0.0;
     double maxNs = 0.0;
     /// Interference-filtered tail: every run replays identical updates, so the per-update minimum
-    /// over the runs strips interrupts, preemption and steal time but keeps an update that is slow by
-    /// itself. Median, p99 and p99.9 of that minimum, ns (the raw figures of the run when runs == 1).
+    /// over the runs strips interrupts, preemption and steal time but keeps an update that is slow
+    /// by itself. Median, p99 and p99.9 of that minimum, ns (the raw figures of the run when runs
+    /// == 1).
     double minOfRunsMedianNs = 0.0;
     double minOfRunsP99Ns = 0.0;
     double minOfRunsP999Ns = 0.0;
@@ -69,13 +71,16 @@ struct BenchReport {
     std::vector<BenchRow> rows;
     PsdCurves psd;
     double modifiedP999At720Fast = 0.0;  ///< ns, raw (median over runs); goal ≤ 2000
-    double modifiedMinOfRunsP999At720Fast = 0.0; ///< ns, p99.9 of the per-update minimum; goal ≤ 2000
+    double modifiedMinOfRunsP999At720Fast =
+        0.0;                             ///< ns, p99.9 of the per-update minimum; goal ≤ 2000
     int runsAt720Fast = 0;               ///< runs behind the minimum above
-    double resolutionRatio = 0.0;        ///< modified median 3840×2160 / 720×486, worst motion; goal ≤ 1.5
+    double resolutionRatio = 0.0; ///< modified median 3840×2160 / 720×486, worst motion; goal ≤ 1.5
     double minOfRunsResolutionRatio = 0.0; ///< the same with minOfRunsMedianNs; goal ≤ 1.5
-    double rebuildRatio = 0.0;           ///< mesh-bvh frame cost / modified frame cost at 720×486; goal ≥ 1000
+    double rebuildRatio =
+        0.0; ///< mesh-bvh frame cost / modified frame cost at 720×486; goal ≥ 1000
     /// The same goals for the finger renderer (the player's default): p99.9 at 720×486, 1 m/s, raw
-    /// and interference-filtered (goal ≤ 2000 ns), and the filtered 3840×2160 / 720×486 median ratio.
+    /// and interference-filtered (goal ≤ 2000 ns), and the filtered 3840×2160 / 720×486 median
+    /// ratio.
     double fingerP999At720Fast = 0.0;
     double fingerMinOfRunsP999At720Fast = 0.0;
     double fingerMinOfRunsResolutionRatio = 0.0;
@@ -91,9 +96,9 @@ struct BenchReport {
 /// \brief Runs the benchmark. Allocates freely (not real-time).
 BenchReport runHapticsBenchmark(const BenchOptions &options);
 
-/// \brief Writes haptics_bench.csv, haptics_bench.json, psd.csv and (with gnuplot) speed_vs_accuracy.png
-/// and psd.png into \a dir (created). \return false and a message in \a error on I/O failure;
-/// a missing gnuplot is reported in \a note, not an error.
+/// \brief Writes haptics_bench.csv, haptics_bench.json, psd.csv and (with gnuplot)
+/// speed_vs_accuracy.png and psd.png into \a dir (created). \return false and a message in \a error
+/// on I/O failure; a missing gnuplot is reported in \a note, not an error.
 bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::string &error,
                        std::string &note);
 

@@ -42,9 +42,10 @@ public:
     /// under the wave's lowest point).
     [[nodiscard]] static glm::dvec3 hipAt(double speed, double t) noexcept;
 
-    /// \return the HIP of update \a n: during the first \a settle updates it approaches linearly from
-    /// 12 mm above the trajectory's start, then it follows hipAt().
-    [[nodiscard]] static glm::dvec3 hipAtUpdate(double speed, std::size_t n, std::size_t settle) noexcept;
+    /// \return the HIP of update \a n: during the first \a settle updates it approaches linearly
+    /// from 12 mm above the trajectory's start, then it follows hipAt().
+    [[nodiscard]] static glm::dvec3 hipAtUpdate(double speed, std::size_t n,
+                                                std::size_t settle) noexcept;
 
     /// \return the haptic time of update \a n, s.
     [[nodiscard]] static double timeAt(std::size_t n) noexcept

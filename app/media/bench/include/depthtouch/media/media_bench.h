@@ -107,7 +107,7 @@ struct ThroughputRow {
     std::size_t frames = 0;
     double colorKbps = 0.0;    ///< Color bitrate at the clip's frame rate, kbit/s.
     double depthKbps = 0.0;    ///< Depth bitrate, kbit/s.
-    double encodeFps = 0.0;    ///< Pairs per wall-clock second, both encoders + muxer, flush included.
+    double encodeFps = 0.0; ///< Pairs per wall-clock second, both encoders + muxer, flush included.
     double encodeCpuFps = 0.0; ///< Pairs per second of process CPU time (one core's worth).
     double encodeSeconds = 0.0; ///< Wall-clock seconds.
     double decodeFps = 0.0;    ///< Paired frames per wall-clock second, median run.
@@ -200,9 +200,9 @@ ForceError compareForces(const std::vector<haptics::ForceLogRow> &a,
 /// until the last frame's PTS.
 /// \param frames the reference depth frames (PTS in s, increasing). \pre at least 2 frames.
 /// \param laneY the lane's y in the scene-box frame, m. \param rowPeriod s, > 0.
-std::vector<haptics::TrajectorySample> makeStroke(const std::vector<haptics::DepthFrameView> &frames,
-                                                  const haptics::SceneBox &box, double laneY,
-                                                  double rowPeriod = 0.001);
+std::vector<haptics::TrajectorySample>
+makeStroke(const std::vector<haptics::DepthFrameView> &frames, const haptics::SceneBox &box,
+           double laneY, double rowPeriod = 0.001);
 
 /// \brief A press: the HIP at (\a x, \a y) (m) approaches as in makeStroke() and then stays 2 mm
 /// below the surface of \a frames while they play, one row every \a rowPeriod seconds.

@@ -37,8 +37,8 @@ struct RgbdFrame {
 /// \brief Loads up to \a maxFrames consecutive 7-Scenes frames from \a sceneDir, depth resampled
 /// to \a width × \a height. \return Errc::Io when the folder has no frame-000000.depth.png,
 /// Errc::InvalidArgument for corrupt images or sizes ≤ 1.
-Result<std::vector<RgbdFrame>> loadKitchenFrames(const std::string &sceneDir, int maxFrames, int width,
-                                                 int height);
+Result<std::vector<RgbdFrame>> loadKitchenFrames(const std::string &sceneDir, int maxFrames,
+                                                 int width, int height);
 
 /// \brief Renders \a maxFrames frames of the synthetic `head` scene (app/synthetic: every third
 /// frame of its 30 fps animation) at \a width × \a height, depth as 8-bit nearness and colour as
@@ -87,11 +87,11 @@ struct BenchRow {
                                 ///< blit, glFinish): what the player spends per frame.
     double p99Ms = 0.0;         ///< Frame time, 99th percentile, ms.
     double fps = 0.0;           ///< 1000 / medianMs.
-    double cpuMs = 0.0;         ///< Process CPU time per frame (all threads, incl. the rasterizer's), ms:
-                                ///< less sensitive than wall time to other load on a shared machine.
+    double cpuMs = 0.0; ///< Process CPU time per frame (all threads, incl. the rasterizer's), ms:
+                        ///< less sensitive than wall time to other load on a shared machine.
     double meshMs = 0.0;        ///< Median time of the level choice and index list (CPU), ms.
-    double drawMs = 0.0;        ///< Median time in the two eyes' draw calls on the calling thread (vertex
-                                ///< processing and binning on llvmpipe; shading runs later), ms.
+    double drawMs = 0.0; ///< Median time in the two eyes' draw calls on the calling thread (vertex
+                         ///< processing and binning on llvmpipe; shading runs later), ms.
     /// Stage breakdown: each frame drawn a second time with a glFinish after each stage
     /// (StageTiming::Finished), so each stage carries its own rasterization: median and 99th
     /// percentile per stage (order of stageName()), and of the per-frame sum, ms.
@@ -99,7 +99,7 @@ struct BenchRow {
     std::array<double, kStageCount> stageP99Ms{};
     double stagedMedianMs = 0.0;
     double stagedP99Ms = 0.0;
-    double meanError = 0.0;     ///< Mean |surface − sample| over all frames' samples, nearness levels.
+    double meanError = 0.0; ///< Mean |surface − sample| over all frames' samples, nearness levels.
     double maxError = 0.0;      ///< Largest |surface − sample| over all frames, nearness levels.
     std::size_t uncovered = 0;  ///< Samples not covered by any triangle (cracks): 0 expected.
 };
@@ -139,7 +139,8 @@ Result<std::vector<BenchRow>> runRenderBenchmark(const std::vector<RgbdFrame> &f
 
 /// \brief Renders frame \a index of \a frames side-by-side with \a mesh and writes it as PNG.
 Result<void> writeSideBySideSnapshot(const std::vector<RgbdFrame> &frames, std::size_t index,
-                                     const MeshOptions &mesh, int width, int height, const std::string &path);
+                                     const MeshOptions &mesh, int width, int height,
+                                     const std::string &path);
 
 /// \return the settings of defaultConfigs() whose names are in \a names (comma-separated; empty:
 /// all). \return Errc::InvalidArgument naming no known setting.
@@ -154,7 +155,7 @@ void printTable(const std::vector<BenchRow> &rows, const BenchOptions &options);
 /// and `cpu_vs_depth_size.png` (geometry CPU per frame against the depth size) into \a dir.
 /// \param[out] note a remark for the user (e.g. gnuplot missing) \return false with \a error set
 /// when the directory or CSV cannot be written.
-bool writeBenchOutputs(const std::vector<BenchRow> &rows, const std::string &dir, std::string &error,
-                       std::string &note);
+bool writeBenchOutputs(const std::vector<BenchRow> &rows, const std::string &dir,
+                       std::string &error, std::string &note);
 
 } // namespace depthtouch::render::bench

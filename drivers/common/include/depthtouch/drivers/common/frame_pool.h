@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// \brief A fixed pool of frames lent through hal::FrameRef, shared by the backends that lend frames
-/// (mock decoder and camera, FFmpeg decoder).
+/// \brief A fixed pool of frames lent through hal::FrameRef, shared by the backends that lend
+/// frames (mock decoder and camera, FFmpeg decoder).
 ///
 /// allocate() (not real-time safe) sizes the pool; acquire()/lend() and the release by FrameRef do
 /// not allocate or lock. Thread-safety: acquire(), lend(), allocate() and abandon() are

@@ -84,7 +84,10 @@ struct KmsSelection {
     std::size_t connector = 0; ///< Index in card.connectors.
     std::size_t mode = 0;      ///< Index in card.connectors[connector].modes.
 
-    [[nodiscard]] const DrmConnectorInfo &connectorInfo() const { return card.connectors[connector]; }
+    [[nodiscard]] const DrmConnectorInfo &connectorInfo() const
+    {
+        return card.connectors[connector];
+    }
     [[nodiscard]] const DrmModeInfo &modeInfo() const { return connectorInfo().modes[mode]; }
 };
 

@@ -23,13 +23,13 @@
 /// the deadline.
 ///
 /// `drm-prime` (zero-copy, DRM PRIME / dma-buf): when the libavcodec decoder can export
-/// AV_PIX_FMT_DRM_PRIME frames (h264_v4l2m2m of vendor FFmpeg builds; upstream h264_v4l2m2m cannot),
-/// get_format asks for them and each frame is lent with Frame::dmabuf filled
-/// (dmaBufFromDrmDescriptor()) and an image without planes (size and format only); the AVFrame stays
-/// referenced while the FrameRef is held, so its fds stay valid, and is unreferenced on the decode
-/// thread by the next dequeueFrame(), configure() or close() after the FrameRef came back (the
-/// release itself stays lock-free). The pool then has no CPU pixels until a frame needs them, and
-/// the V4L2 capture queue gets pool + 8 buffers. Fallback, logged once as a warning, never an
+/// AV_PIX_FMT_DRM_PRIME frames (h264_v4l2m2m of vendor FFmpeg builds; upstream h264_v4l2m2m
+/// cannot), get_format asks for them and each frame is lent with Frame::dmabuf filled
+/// (dmaBufFromDrmDescriptor()) and an image without planes (size and format only); the AVFrame
+/// stays referenced while the FrameRef is held, so its fds stay valid, and is unreferenced on the
+/// decode thread by the next dequeueFrame(), configure() or close() after the FrameRef came back
+/// (the release itself stays lock-free). The pool then has no CPU pixels until a frame needs them,
+/// and the V4L2 capture queue gets pool + 8 buffers. Fallback, logged once as a warning, never an
 /// error: when the decoder cannot export DRM PRIME (or a frame comes out in a software format), the
 /// frames are CPU copies exactly as without the option. DecoderStats::framesDmaBuf counts the
 /// frames lent as dma-bufs. Thread-safety: as hal::VideoDecoder.

@@ -103,7 +103,8 @@ public:
     /// Times the firmware was started by an upload.
     [[nodiscard]] int uploads() const noexcept { return uploads_; }
     /// Every FTDI control request received since construction, in order.
-    [[nodiscard]] const std::vector<std::pair<FtdiRequest, std::uint16_t>> &controls() const noexcept
+    [[nodiscard]] const std::vector<std::pair<FtdiRequest, std::uint16_t>> &
+    controls() const noexcept
     {
         return controls_;
     }

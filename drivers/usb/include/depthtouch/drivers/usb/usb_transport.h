@@ -4,8 +4,8 @@
 /// behind an interface so the whole driver runs against a device-side emulator (FakeFalcon) as well
 /// as against libusb (LibusbTransport).
 ///
-/// States: Closed --open()--> Open --(device gone)--> Gone; close() returns to Closed from any state.
-/// Every call but open() and close() returns Errc::NoDevice once the device is gone.
+/// States: Closed --open()--> Open --(device gone)--> Gone; close() returns to Closed from any
+/// state. Every call but open() and close() returns Errc::NoDevice once the device is gone.
 ///
 /// Real-time: exchange() and present() are called from the haptic thread: they do not allocate,
 /// lock (beyond what libusb's audited event handling does) or log, and wait at most the timeout
