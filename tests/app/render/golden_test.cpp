@@ -29,14 +29,7 @@
 
 using namespace depthtouch;
 using namespace depthtouch::render;
-using golden::Blob;
-using golden::bright;
-using golden::bumpy;
-using golden::findBlob;
-using golden::Picture;
-using golden::project;
-using golden::RenderGoldenTest;
-using golden::Rgb;
+using namespace depthtouch::render::golden; // the fixture and its picture helpers
 using test::Depth16;
 using test::Depth8;
 using test::Yuv420;
