@@ -131,7 +131,8 @@ TEST(MemoryLockTest, threadPageFaultsCountTheCallingThreadsFirstTouches)
     // THEN the toucher counted one minor fault a page (or fewer with fault-around, never none), and
     // this thread none of them
     EXPECT_GE(other.minor, 1u);
-    EXPECT_LE(other.minor, kPages + 4);
+    // (AddressSanitizer's shadow memory adds about one fault per 8 pages: 72 of 64 measured.)
+    EXPECT_LE(other.minor, kPages + kPages / 4);
     EXPECT_EQ(other.major, 0u);
     EXPECT_LT(mineAfter.minor - mineBefore.minor, kPages / 2);
     munmap(const_cast<unsigned char *>(base), kPages * p);
