@@ -61,19 +61,6 @@ void main() {
 }
 )";
 
-bool glHasExtension(const char *name)
-{
-    GLint n = 0;
-    glGetIntegerv(GL_NUM_EXTENSIONS, &n);
-    for (GLint i = 0; i < n; ++i) {
-        const auto *e =
-            reinterpret_cast<const char *>(glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i)));
-        if (e != nullptr && std::strcmp(e, name) == 0)
-            return true;
-    }
-    return false;
-}
-
 /// Bytes per row and rows of plane \a p of a \a fourcc image.
 void planeExtent(std::uint32_t fourcc, int p, int w, int h, std::size_t &rowBytes,
                  std::size_t &rows)
@@ -193,7 +180,7 @@ std::string DmaBufImporter::Impl::setUp()
     if (!hasExtension(egl, "EGL_EXT_image_dma_buf_import"))
         return "EGL_EXT_image_dma_buf_import missing";
     modifiers = hasExtension(egl, "EGL_EXT_image_dma_buf_import_modifiers");
-    if (!glHasExtension("GL_OES_EGL_image_external"))
+    if (!gl::hasExtension("GL_OES_EGL_image_external"))
         return "GL_OES_EGL_image_external missing";
     createImage =
         reinterpret_cast<PFNEGLCREATEIMAGEKHRPROC>(eglGetProcAddress("eglCreateImageKHR"));

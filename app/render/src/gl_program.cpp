@@ -1,5 +1,7 @@
 #include "gl_program.h"
 
+#include <cstring>
+
 #include "depthtouch/platform/log.h"
 
 DT_LOG_CATEGORY(Render)
@@ -66,6 +68,19 @@ GLuint linkProgram(const std::string &vs, const std::string &fs, const char *att
         return 0;
     }
     return p;
+}
+
+bool hasExtension(const char *name)
+{
+    GLint n = 0;
+    glGetIntegerv(GL_NUM_EXTENSIONS, &n);
+    for (GLint i = 0; i < n; ++i) {
+        const auto *e =
+            reinterpret_cast<const char *>(glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i)));
+        if (e != nullptr && std::strcmp(e, name) == 0)
+            return true;
+    }
+    return false;
 }
 
 } // namespace depthtouch::render::gl

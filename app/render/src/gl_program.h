@@ -21,4 +21,7 @@ GLuint compileShader(GLenum type, const std::string &source, bool optional = fal
 GLuint linkProgram(const std::string &vs, const std::string &fs, const char *attribute0 = nullptr,
                    bool optional = false);
 
+/// \return true when the current context lists \a name among its extensions (glGetStringi).
+bool hasExtension(const char *name);
+
 } // namespace depthtouch::render::gl

@@ -6,30 +6,13 @@
 #include <vector>
 
 #include "depthtouch/render/renderer.h"
+#include "gl_program.h"
 #include "renderer_gl.h"
 
 // MeshMode::Blocks in StereoRenderer: the static buffer of every tile at every step (made once per
 // depth frame size), the frame's tile steps and runs, and the draw of the surface's triangles.
 
 namespace depthtouch::render {
-
-namespace {
-
-/// \return true when the current context lists \a name among its extensions.
-bool hasExtension(const char *name)
-{
-    GLint n = 0;
-    glGetIntegerv(GL_NUM_EXTENSIONS, &n);
-    for (GLint i = 0; i < n; ++i) {
-        const auto *e =
-            reinterpret_cast<const char *>(glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i)));
-        if (e != nullptr && std::strcmp(e, name) == 0)
-            return true;
-    }
-    return false;
-}
-
-} // namespace
 
 void StereoRenderer::uploadBlockSteps()
 {
@@ -68,7 +51,7 @@ void StereoRenderer::uploadBlockSteps()
         b.count.assign(tiles, 0);
         b.offsets.assign(tiles, nullptr);
         b.levels.ensure(b.ranges.tilesX, b.ranges.tilesY, GL_R8UI, GL_NEAREST);
-        if (g.multiDraw == nullptr && hasExtension("GL_EXT_multi_draw_arrays"))
+        if (g.multiDraw == nullptr && gl::hasExtension("GL_EXT_multi_draw_arrays"))
             g.multiDraw = reinterpret_cast<decltype(g.multiDraw)>(
                 eglGetProcAddress("glMultiDrawElementsEXT"));
     }
