@@ -13,8 +13,9 @@ fail() { echo "FAIL: $*"; exit 1; }
 
 bench() { # name, args...
     name="$1"; shift
-    "$exe" bench "$name" --out "$work/$name" "$@" >"$work/$name.log" 2>&1 ||
-        { tail -n 20 "$work/$name.log"; fail "bench $name exited $?"; }
+    status=0
+    "$exe" bench "$name" --out "$work/$name" "$@" >"$work/$name.log" 2>&1 || status=$?
+    [ "$status" -eq 0 ] || { tail -n 20 "$work/$name.log"; fail "bench $name exited $status"; }
 }
 png() { # name, file
     f="$work/$1/$2"
