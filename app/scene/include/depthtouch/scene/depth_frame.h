@@ -12,6 +12,7 @@
 #include <cstring>
 
 #include "depthtouch/platform/result.h"
+#include "depthtouch/scene/material.h"
 
 namespace depthtouch::scene {
 
@@ -53,8 +54,12 @@ struct DepthFrameView {
     std::size_t strideBytes = 0;        ///< Bytes from one row to the next (≥ W·bytesPerSample).
     SampleFormat format = SampleFormat::Gray8; ///< Sample storage.
     double pts = 0.0;                          ///< Presentation time, s.
+    /// Per-pixel haptic material on the same W×H grid (material.h); absent (data null) for video
+    /// without a material track.
+    MaterialView material{};
 
-    /// \brief Checks the shape: data present, W, H ≥ 2, stride large enough, finite PTS.
+    /// \brief Checks the shape: data present, W, H ≥ 2, stride large enough, finite PTS, and a
+    /// material's stride (when present) at least 3·W.
     /// \return Errc::InvalidArgument with a static message when malformed.
     [[nodiscard]] Result<void> validate() const noexcept;
 
