@@ -5,6 +5,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "depthtouch/haptics/material_field.h"
+
 namespace depthtouch::haptics {
 
 namespace {
@@ -258,16 +260,25 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
         proxy = hip;
     enterAnyDepth_ = false;
     out.released = trip;
+    // The material under the goal (the track's per-pixel stiffness and friction), else the
+    // renderer's own friction at stiffness scale 1.
+    const bool material = field_.current().material.present();
+    double stiffnessScale = 1.0;
+    if (material && contact) {
+        const Material m = materialAt(field_, proxy.x, proxy.y, Material{});
+        stiffnessScale = m.stiffnessScale;
+        friction_.setCoefficients(m.staticFriction, m.dynamicFriction);
+    }
     // Friction acts on the force and the reported proxy; proxy_ keeps the frictionless goal (the
     // glide and the next update's search start from it).
     glm::dvec3 held = proxy;
-    if (friction_.enabled()) {
+    if (friction_.enabled() || material) {
         if (contact && !trip)
             held = friction_.apply(proxy, hip, t);
         else
             friction_.release();
     }
-    const glm::dvec3 rawForce = force_.spring(hip, held, contact, t);
+    const glm::dvec3 rawForce = force_.spring(hip, held, contact, t, stiffnessScale);
     out.force = force_.shape(rawForce, t, contact, trip || stepped);
     out.proxy = held;
     out.contact = contact;

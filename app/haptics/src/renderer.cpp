@@ -8,6 +8,7 @@
 #include <glm/vec2.hpp>
 
 #include "depthtouch/haptics/finger_renderer.h"
+#include "depthtouch/haptics/material_field.h"
 #include "depthtouch/haptics/mesh_bvh.h"
 #include "depthtouch/haptics/proxy_solver.h"
 
@@ -97,9 +98,9 @@ void ForceStage::reset() noexcept
 }
 
 glm::dvec3 ForceStage::spring(const glm::dvec3 &hip, const glm::dvec3 &proxy, bool contact,
-                              double t) noexcept
+                              double t, double stiffnessScale) noexcept
 {
-    glm::dvec3 raw = config_.stiffness * (proxy - hip);
+    glm::dvec3 raw = (config_.stiffness * stiffnessScale) * (proxy - hip);
     if (contact && config_.damping > 0.0 && havePrev_ && !rebase_ && t > prevT_)
         raw -= config_.damping * (hip - prevHip_) / (t - prevT_);
     prevHip_ = hip;
@@ -148,10 +149,11 @@ glm::dvec3 ForceStage::shape(glm::dvec3 raw, double t, bool contact, bool trip) 
 }
 
 glm::dvec3 ForceStage::apply(const glm::dvec3 &hip, glm::dvec3 &proxy, bool &contact, double t,
-                             double surfaceAboveHip, bool &released) noexcept
+                             double surfaceAboveHip, bool &released,
+                             double stiffnessScale) noexcept
 {
-    const double k = config_.stiffness;
-    glm::dvec3 raw = spring(hip, proxy, contact, t);
+    const double k = config_.stiffness * stiffnessScale;
+    glm::dvec3 raw = spring(hip, proxy, contact, t, stiffnessScale);
     released = false;
     // Paper IV.C: watch the force; a change above the threshold in one update is a scene cut or
     // the edge of a fast object, not something the viewer did.
@@ -257,14 +259,22 @@ HapticOutput ProxyGraphRenderer::update(const glm::dvec3 &hip, double t) noexcep
     // Friction (friction.h): the force comes from the proxy the cone holds; the frictionless
     // god-object stays the start of the next collision walk (the held proxy lies on the tangent
     // plane, which may be under a curved surface).
+    // A material track gives the stiffness scale and μs, μd under the goal (material_field.h).
     glm::dvec3 goal = proxy;
-    if (friction_.enabled()) {
+    const bool material = field_.current().material.present();
+    double stiffnessScale = 1.0;
+    if (material && contact) {
+        const Material m = materialAt(field_, goal.x, goal.y, Material{});
+        stiffnessScale = m.stiffnessScale;
+        friction_.setCoefficients(m.staticFriction, m.dynamicFriction);
+    }
+    if (friction_.enabled() || material) {
         if (contact)
             proxy = friction_.apply(goal, hip, t);
         else
             friction_.release();
     }
-    out.force = force_.apply(hip, proxy, contact, t, above, out.released);
+    out.force = force_.apply(hip, proxy, contact, t, above, out.released, stiffnessScale);
     if (out.released) {
         out.constraints = contact ? 1 : 0;
         goal = proxy; // released to the HIP or re-seated above it

@@ -49,7 +49,9 @@
 ///    steps 2–4 is the frictionless goal; in contact the friction cone holds the proxy where it
 ///    was while the tangential force is within μs·Fn and lets it slide at μd·Fn otherwise. The
 ///    goal, not the held proxy, is what the next update slides on from. A cut or a lost contact
-///    lets go.
+///    lets go. Frames with a material track (DepthFrameView::material) give μs, μd and a
+///    stiffness scale per pixel instead, read under the goal each update (material_field.h:
+///    bilinear, and Eq. 1 in time).
 /// 6. **Force** k·(proxy − HIP) − b·v, shaped by ForceStage::shape() (non-finite → zero, clamp to
 /// the
 ///    device maximum, ramp, slew ≤ maxForceStep per update).

@@ -47,6 +47,13 @@ public:
     }
 
     [[nodiscard]] bool enabled() const noexcept { return enabled_; }
+    /// \brief Sets μs and μd (≥ 0, finite) for the next apply(): a per-pixel material under the
+    /// proxy (material_field.h). The state (held, sliding) is kept.
+    void setCoefficients(double staticMu, double dynamicMu) noexcept
+    {
+        staticMu_ = staticMu;
+        dynamicMu_ = dynamicMu;
+    }
     /// \return true while the dynamic cone applies: the proxy slid, or has been held for less than
     /// kRestickTime since it slid.
     [[nodiscard]] bool sliding() const noexcept { return sliding_; }

@@ -112,6 +112,8 @@ public:
     [[nodiscard]] const SceneBox &box() const noexcept { return box_; }
     [[nodiscard]] const DepthFrameView &current() const noexcept { return current_; }
     [[nodiscard]] bool hasNext() const noexcept { return hasNext_; }
+    /// \return frame i+1 (empty when !hasNext()).
+    [[nodiscard]] const DepthFrameView &next() const noexcept { return next_; }
 
     /// Grid ↔ scene-box coordinates (pixels ↔ m).
     [[nodiscard]] double xToColumn(double x) const noexcept { return x * invSpacing_ + halfW_; }

@@ -178,12 +178,14 @@ public:
     /// \param[in,out] contact the proxy is held on the surface; false after a Release trip.
     /// \param surfaceAboveHip height of the surface above the HIP, m, or NaN when there is none.
     /// \param[out] released safety tripped on this update.
+    /// \param stiffnessScale scales the stiffness (a material under the proxy, material_field.h).
     /// \return the commanded force, N: finite, |F| ≤ maxForce.
     glm::dvec3 apply(const glm::dvec3 &hip, glm::dvec3 &proxy, bool &contact, double t,
-                     double surfaceAboveHip, bool &released) noexcept;
-    /// \return the unshaped force k·(proxy − hip), minus b·v_HIP in contact, N; records the HIP.
-    glm::dvec3 spring(const glm::dvec3 &hip, const glm::dvec3 &proxy, bool contact,
-                      double t) noexcept;
+                     double surfaceAboveHip, bool &released, double stiffnessScale = 1.0) noexcept;
+    /// \return the unshaped force s·k·(proxy − hip), minus b·v_HIP in contact, N; records the
+    /// HIP. \a stiffnessScale s scales the stiffness k (a surface's material, material_field.h).
+    glm::dvec3 spring(const glm::dvec3 &hip, const glm::dvec3 &proxy, bool contact, double t,
+                      double stiffnessScale = 1.0) noexcept;
     /// \brief Shapes \a raw (N) into the command of time \a t (s).
     /// \param contact the proxy is held on the surface (a ramp runs only while it is).
     /// \param trip safety tripped, or the surface stepped, on this update: the new force is ramped
