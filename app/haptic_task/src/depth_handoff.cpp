@@ -39,45 +39,55 @@ static_assert(DepthHandoff::kSlots < static_cast<int>(kNone), "slot indices must
 } // namespace
 
 Result<std::unique_ptr<DepthHandoff>> DepthHandoff::create(int width, int height,
-                                                           haptics::SampleFormat format)
+                                                           haptics::SampleFormat format,
+                                                           bool material)
 {
     if (width < 2 || height < 2 || width > 16384 || height > 16384)
         return unexpected(Errc::InvalidArgument,
                           "Depth handoff frames must be 2x2 to 16384x16384 samples");
     try {
-        return std::unique_ptr<DepthHandoff>(new DepthHandoff(width, height, format));
+        return std::unique_ptr<DepthHandoff>(new DepthHandoff(width, height, format, material));
     } catch (const std::bad_alloc &) {
         return unexpected(Errc::OutOfResources, "Not enough memory for the depth handoff frames");
     }
 }
 
-DepthHandoff::DepthHandoff(int width, int height, haptics::SampleFormat format)
+DepthHandoff::DepthHandoff(int width, int height, haptics::SampleFormat format, bool material)
     : width_(width), height_(height), format_(format),
       frameBytes_(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) *
                   haptics::bytesPerSample(format)),
-      storage_(frameBytes_ * kSlots, 0), state_(kInitialState)
+      materialBytes_(material ? static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3
+                              : 0),
+      slotBytes_(frameBytes_ + materialBytes_), storage_(slotBytes_ * kSlots, 0),
+      state_(kInitialState)
 {
 }
 
 DepthSlot DepthHandoff::slot(int index) noexcept
 {
     DepthSlot s;
-    s.data = storage_.data() + static_cast<std::size_t>(index) * frameBytes_;
+    s.data = storage_.data() + static_cast<std::size_t>(index) * slotBytes_;
     s.bytes = frameBytes_;
     s.pts = pts_[index];
     s.index = index;
+    if (materialBytes_ > 0) {
+        s.material = s.data + frameBytes_;
+        s.hasMaterial = materialValid_[index];
+    }
     return s;
 }
 
 haptics::DepthFrameView DepthHandoff::view(int index) const noexcept
 {
     haptics::DepthFrameView v;
-    v.data = storage_.data() + static_cast<std::size_t>(index) * frameBytes_;
+    v.data = storage_.data() + static_cast<std::size_t>(index) * slotBytes_;
     v.width = width_;
     v.height = height_;
     v.strideBytes = static_cast<std::size_t>(width_) * haptics::bytesPerSample(format_);
     v.format = format_;
     v.pts = pts_[index];
+    if (materialBytes_ > 0 && materialValid_[index])
+        v.material = {v.data + frameBytes_, static_cast<std::size_t>(width_) * 3};
     return v;
 }
 
@@ -91,7 +101,9 @@ DepthSlot DepthHandoff::beginFrame() noexcept
     for (int i = 0; i < kSlots; ++i) {
         if ((used & (1u << i)) == 0) {
             pendingMask_ |= 1u << i;
-            return slot(i);
+            DepthSlot s = slot(i);
+            s.hasMaterial = false; // until the writer fills it
+            return s;
         }
     }
     DT_ASSERT(false && "DepthHandoff::beginFrame() called more than twice without publish()");
@@ -103,10 +115,14 @@ void DepthHandoff::publish(const DepthSlot &current, const DepthSlot *next) noex
     DT_ASSERT(current.index >= 0 && current.index < kSlots);
     DT_ASSERT(next == nullptr || (next->index >= 0 && next->index < kSlots));
     // Only slots still being filled get their PTS: a slot already published may be read right now.
-    if ((pendingMask_ & (1u << current.index)) != 0)
+    if ((pendingMask_ & (1u << current.index)) != 0) {
         pts_[current.index] = current.pts;
-    if (next != nullptr && (pendingMask_ & (1u << next->index)) != 0)
+        materialValid_[current.index] = current.hasMaterial && materialBytes_ > 0;
+    }
+    if (next != nullptr && (pendingMask_ & (1u << next->index)) != 0) {
         pts_[next->index] = next->pts;
+        materialValid_[next->index] = next->hasMaterial && materialBytes_ > 0;
+    }
     const std::uint32_t pub =
         (static_cast<std::uint32_t>(current.index) << kPubCurShift) |
         ((next != nullptr ? static_cast<std::uint32_t>(next->index) : kNone) << kPubNextShift);
@@ -133,6 +149,16 @@ DepthSlot DepthHandoff::copyIn(const haptics::DepthFrameView &frame) noexcept
         std::memcpy(s.data + static_cast<std::size_t>(y) * rowBytes,
                     frame.data + static_cast<std::size_t>(y) * frame.strideBytes, copyBytes);
     s.pts = frame.pts;
+    s.hasMaterial = s.material != nullptr && frame.material.present();
+    if (s.hasMaterial) {
+        const std::size_t materialRow = static_cast<std::size_t>(width_) * 3;
+        const std::size_t materialCopy =
+            std::min(materialRow, static_cast<std::size_t>(frame.width) * 3);
+        for (int y = 0; y < rows; ++y)
+            std::memcpy(s.material + static_cast<std::size_t>(y) * materialRow,
+                        frame.material.data + static_cast<std::size_t>(y) * frame.material.strideBytes,
+                        materialCopy);
+    }
     return s;
 }
 
@@ -160,13 +186,7 @@ Result<void> DepthHandoff::push(const haptics::DepthFrameView &frame) noexcept
     if (frame.width != width_ || frame.height != height_ || frame.format != format_)
         return unexpected(Errc::InvalidArgument,
                           "Depth frame size or sample format differs from the handoff's");
-    DepthSlot s = beginFrame();
-    const std::size_t rowBytes =
-        static_cast<std::size_t>(width_) * haptics::bytesPerSample(format_);
-    for (int r = 0; r < height_; ++r)
-        std::memcpy(s.data + static_cast<std::size_t>(r) * rowBytes,
-                    frame.data + static_cast<std::size_t>(r) * frame.strideBytes, rowBytes);
-    s.pts = frame.pts;
+    const DepthSlot s = copyIn(frame);
     if (lastPushed_ >= 0) {
         const DepthSlot previous = slot(lastPushed_);
         publish(previous, &s);

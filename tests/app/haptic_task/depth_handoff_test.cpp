@@ -216,6 +216,45 @@ TEST(DepthHandoffTest, publishPairCopiesBothAfterASkipOrARestart)
     EXPECT_FALSE(last.hasNext);
 }
 
+TEST(DepthHandoffTest, materialTravelsWithItsDepthFrame)
+{
+    // GIVEN a handoff that carries materials, frames 0 and 1 with material codes 10 and 20 and
+    // frame 2 without any (a material frame missing in the stream)
+    auto made = DepthHandoff::create(8, 6, haptics::SampleFormat::Gray16, true);
+    ASSERT_TRUE(made);
+    DepthHandoff &handoff = **made;
+    EXPECT_TRUE(handoff.carriesMaterial());
+    const Frame16 f0 = constantFrame(100, 0.0), f1 = constantFrame(200, 0.1),
+                  f2 = constantFrame(300, 0.2);
+    const std::vector<std::uint8_t> m0(8 * 6 * 3, 10), m1(8 * 6 * 3, 20);
+    auto v0 = f0.view(), v1 = f1.view(), v2 = f2.view();
+    v0.material = {m0.data(), 8 * 3};
+    v1.material = {m1.data(), 8 * 3};
+    DepthPair first, second;
+    handoff.publishPair(v0, &v1);
+    ASSERT_TRUE(handoff.acquire(first));
+    // THEN each slot holds a copy of its frame's material
+    ASSERT_TRUE(first.current.material.present());
+    ASSERT_TRUE(first.next.material.present());
+    EXPECT_NE(first.current.material.data, m0.data());
+    EXPECT_EQ(first.current.material.at(7, 5)[2], 10);
+    EXPECT_EQ(first.next.material.at(0, 0)[0], 20);
+    EXPECT_TRUE(first.current.validate());
+    // AND the held slot keeps its material; a frame without one is handed over without one
+    handoff.publishPair(v1, &v2);
+    ASSERT_TRUE(handoff.acquire(second));
+    ASSERT_TRUE(second.current.material.present());
+    EXPECT_EQ(second.current.material.at(3, 3)[1], 20);
+    EXPECT_FALSE(second.next.material.present());
+    // AND a handoff made without materials ignores them
+    auto plain = makeHandoff();
+    plain->publishPair(v0, &v1);
+    DepthPair p;
+    ASSERT_TRUE(plain->acquire(p));
+    EXPECT_FALSE(plain->carriesMaterial());
+    EXPECT_FALSE(p.current.material.present());
+}
+
 TEST(DepthHandoffTest, mediaOriginRoundTrips)
 {
     auto handoff = makeHandoff();

@@ -35,6 +35,10 @@ struct DepthSlot {
     std::size_t bytes = 0;        ///< Size of data.
     double pts = 0.0;             ///< Presentation time, s (the media timeline).
     int index = -1;               ///< Slot number, 0 .. DepthHandoff::kSlots − 1.
+    /// The slot's material codes (W·H RGB24, scene/material.h), null when the handoff carries no
+    /// materials. The writer sets hasMaterial when it filled them.
+    std::uint8_t *material = nullptr;
+    bool hasMaterial = false;
 };
 
 /// \brief The pair the haptic thread renders: frame i and the buffered frame i+1 (paper IV.B).
@@ -67,17 +71,22 @@ public:
     /// Number of preallocated frames.
     static constexpr int kSlots = 6;
 
-    /// \brief Allocates kSlots frames of \a width × \a height samples of \a format.
+    /// \brief Allocates kSlots frames of \a width × \a height samples of \a format and, with
+    /// \a material, a W×H RGB24 material image per slot (the material track, scene/material.h):
+    /// a frame view's material is copied with its depth and handed to the reader with it.
     /// \return the handoff, or Errc::InvalidArgument (width or height < 2, or above 16384),
     /// Errc::OutOfResources (allocation failed).
     static Result<std::unique_ptr<DepthHandoff>> create(int width, int height,
-                                                        haptics::SampleFormat format);
+                                                        haptics::SampleFormat format,
+                                                        bool material = false);
 
     [[nodiscard]] int width() const noexcept { return width_; }   ///< W, samples.
     [[nodiscard]] int height() const noexcept { return height_; } ///< H, rows.
     [[nodiscard]] haptics::SampleFormat format() const noexcept { return format_; }
     /// \return bytes of one frame (W·H·bytesPerSample).
     [[nodiscard]] std::size_t frameBytes() const noexcept { return frameBytes_; }
+    /// \return true when the slots carry material images (create()'s \a material).
+    [[nodiscard]] bool carriesMaterial() const noexcept { return materialBytes_ > 0; }
 
     /// \name Writer (one thread: the player's render thread)
     ///@{
@@ -150,7 +159,7 @@ public:
     }
 
 private:
-    DepthHandoff(int width, int height, haptics::SampleFormat format);
+    DepthHandoff(int width, int height, haptics::SampleFormat format, bool material);
     DT_DISABLE_COPY_AND_MOVE(DepthHandoff)
 
     [[nodiscard]] DepthSlot slot(int index) noexcept;
@@ -162,8 +171,11 @@ private:
     const int height_;
     const haptics::SampleFormat format_;
     const std::size_t frameBytes_;
-    std::vector<std::uint8_t> storage_; ///< kSlots frames back to back.
+    const std::size_t materialBytes_;   ///< W·H·3 with materials, else 0.
+    const std::size_t slotBytes_;       ///< frameBytes_ + materialBytes_.
+    std::vector<std::uint8_t> storage_; ///< kSlots slots (depth, then material) back to back.
     double pts_[kSlots] = {};           ///< Written by the writer before publishing the slot.
+    bool materialValid_[kSlots] = {};   ///< The slot's material was filled (as pts_).
 
     /// Published pair, held pair and the fresh bit (layout in depth_handoff.cpp).
     alignas(platform::kCacheLineBytes) std::atomic<std::uint32_t> state_;
