@@ -116,6 +116,7 @@ Result<void> SyntheticScene::Impl::init()
     u.model = glGetUniformLocation(lit, "uModel");
     u.viewProj = glGetUniformLocation(lit, "uViewProj");
     u.normalMatrix = glGetUniformLocation(lit, "uNormalMatrix");
+    u.haptic = glGetUniformLocation(lit, "uHaptic");
     u.material = glGetUniformLocation(lit, "uMaterial");
     u.tint = glGetUniformLocation(lit, "uTint");
     u.eye = glGetUniformLocation(lit, "uEye");
@@ -236,6 +237,7 @@ void SyntheticScene::Impl::beginFrame() const
     glDisable(GL_BLEND);
     glDisable(GL_SCISSOR_TEST);
     glUseProgram(lit);
+    glUniform1i(u.haptic, 0);
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_3D, noiseTex);
     glUniform1i(u.noise, 1);

@@ -64,7 +64,7 @@ struct SyntheticScene::Impl {
     GLuint lit = 0;
     GLuint nearness = 0;
     struct {
-        GLint model, viewProj, normalMatrix, material, tint, eye, keyPosition, keyColor,
+        GLint model, viewProj, normalMatrix, material, haptic, tint, eye, keyPosition, keyColor,
             fillDirection, fillColor, ambient, noise;
     } u{};
     GLint uDepth = -1;

@@ -25,13 +25,17 @@ void main()
 )";
 
 // Materials: 0 skin (head frame, metres), 1 cloth, 2 marble, 3 paint, 4 wood, 5 plaster,
-// 6 rubber, 7 bust (skin neck, knitted sweater below).
+// 6 rubber, 7 bust (skin neck, knitted sweater below). With uHaptic = 1 the program writes each
+// surface point's haptic material codes instead of its colour (depthtouch/scene/material.h: R
+// stiffness scale · 64, G static friction · 100, B dynamic friction · 100, as code / 255): the
+// material track of the built-in content (docs/materials.md).
 inline constexpr const char *kLitFragment = R"(#version 300 es
 precision highp float;
 in vec3 vWorld;
 in vec3 vNormal;
 in vec3 vObject;
 uniform int uMaterial;
+uniform int uHaptic;
 uniform vec3 uTint;
 uniform vec3 uEye;
 uniform vec3 uKeyPosition;
@@ -128,8 +132,53 @@ vec3 cloth(vec3 p, vec3 tint, inout vec3 n)
     return tint * weave * (0.8 + 0.4 * fbm(p * 9.0));
 }
 
+// Haptic material codes (stiffness scale · 64, μs · 100, μd · 100) of a surface point.
+vec3 hapticCodes(vec3 p)
+{
+    if (uMaterial == 0 || uMaterial == 7) {
+        // Skin: soft cheeks and lips, a firm forehead (bone under it), slippery eyes, soft hair;
+        // on the bust the sweater below the neckline is cloth.
+        vec3 codes = vec3(48.0, 60.0, 45.0);
+        if (uMaterial == 7) {
+            float neckline = 1.0 - step(-0.095, p.y - 1.5 * p.x * p.x);
+            return mix(codes, vec3(40.0, 80.0, 60.0), neckline);
+        }
+        float front = step(0.04, p.z);
+        vec2 cheek = vec2(abs(p.x) - 0.045, p.y + 0.012);
+        if (front > 0.5 && ellipse(cheek, vec2(0.024, 0.022)) < 1.0)
+            codes = vec3(26.0, 70.0, 55.0);
+        if (front > 0.5 && ellipse(vec2(p.x, p.y + 0.0465), vec2(0.019, 0.0095)) < 1.0)
+            codes = vec3(22.0, 90.0, 70.0);
+        if (front > 0.5 && abs(p.x) < 0.05 && p.y > 0.04)
+            codes = vec3(112.0, 50.0, 38.0);
+        vec2 e = vec2(abs(p.x) - 0.030, p.y - 0.016);
+        if (front > 0.5 && ellipse(e, vec2(0.0115, 0.0055)) < 1.0)
+            codes = vec3(64.0, 5.0, 3.0);
+        vec3 d = normalize(p / vec3(0.075, 0.10, 0.09));
+        float line = mix(0.52, -0.35, smoothstep(0.15, -0.55, d.z));
+        if (d.y > line + 0.005)
+            codes = vec3(20.0, 35.0, 25.0);
+        return codes;
+    }
+    if (uMaterial == 1)
+        return vec3(38.0, 85.0, 65.0); // the curtain's cloth: soft, grips the finger
+    if (uMaterial == 2)
+        return vec3(160.0, 12.0, 8.0); // marble: hard, slippery
+    if (uMaterial == 3)
+        return vec3(128.0, 30.0, 22.0); // painted
+    if (uMaterial == 4)
+        return vec3(144.0, 45.0, 35.0); // wood
+    if (uMaterial == 5)
+        return vec3(176.0, 60.0, 45.0); // plaster
+    return vec3(45.0, 110.0, 90.0);     // rubber
+}
+
 void main()
 {
+    if (uHaptic == 1) {
+        fragColor = vec4(hapticCodes(vObject) / 255.0, 1.0);
+        return;
+    }
     vec3 n = normalize(vNormal);
     if (!gl_FrontFacing)
         n = -n;

@@ -104,7 +104,7 @@ bool SyntheticScene::isCut(std::uint64_t frameIndex) const noexcept
 }
 
 Result<void> SyntheticScene::render(std::uint64_t frameIndex, const hal::ImageView &color,
-                                    const hal::ImageView &nearness)
+                                    const hal::ImageView &nearness, const hal::ImageView &material)
 {
     const auto fits = [&](const hal::ImageView &v, hal::PixelFormat a, hal::PixelFormat b, int bppA,
                           int bppB) {
@@ -119,6 +119,8 @@ Result<void> SyntheticScene::render(std::uint64_t frameIndex, const hal::ImageVi
     if (!fits(nearness, hal::PixelFormat::Gray8, hal::PixelFormat::Gray16, 1, 2))
         return unexpected(Errc::InvalidArgument,
                           "Nearness output must be Gray8/Gray16 of scene size");
+    if (!fits(material, hal::PixelFormat::Rgb24, hal::PixelFormat::Rgb24, 3, 3))
+        return unexpected(Errc::InvalidArgument, "Material output must be Rgb24 of scene size");
 
     Impl &s = *impl_;
     GLint previousFbo = 0;
@@ -165,6 +167,25 @@ Result<void> SyntheticScene::render(std::uint64_t frameIndex, const hal::ImageVi
     }
     if (r && !color.empty())
         r = s.readBack(s.fbo, color, false);
+    if (r && !material.empty()) {
+        // The shot again, static part included, with each surface's material codes as colour;
+        // where nothing is drawn, stiffness scale 1 without friction.
+        glBindFramebuffer(GL_FRAMEBUFFER, s.fbo);
+        s.beginFrame();
+        glUniform1i(s.u.haptic, 1);
+        glClearColor(64.0f / 255.0f, 0.0f, 0.0f, 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        if (headShot) {
+            s.drawHead(t, true);
+            s.drawHead(t, false);
+        } else {
+            s.drawSpheres(t, true);
+            s.drawSpheres(t, false);
+        }
+        glUniform1i(s.u.haptic, 0);
+        glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+        r = s.readBack(s.fbo, material, false);
+    }
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_3D, 0);
     glActiveTexture(GL_TEXTURE0);

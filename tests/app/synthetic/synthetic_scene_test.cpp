@@ -267,3 +267,60 @@ TEST_F(SyntheticSceneTest, eightBitNearnessIsTheRoundedSixteenBit)
 
 } // namespace
 } // namespace depthtouch::synthetic
+
+namespace depthtouch::synthetic {
+namespace {
+
+/// Counts of each RGB code triple in a material image.
+std::map<std::uint32_t, int> materialCensus(const std::vector<std::uint8_t> &rgb)
+{
+    std::map<std::uint32_t, int> n;
+    for (std::size_t i = 0; i + 2 < rgb.size(); i += 3)
+        ++n[static_cast<std::uint32_t>(rgb[i]) << 16 | static_cast<std::uint32_t>(rgb[i + 1]) << 8 |
+            rgb[i + 2]];
+    return n;
+}
+
+constexpr std::uint32_t code(int r, int g, int b)
+{
+    return static_cast<std::uint32_t>(r) << 16 | static_cast<std::uint32_t>(g) << 8 |
+           static_cast<std::uint32_t>(b);
+}
+
+TEST_F(SyntheticSceneTest, headMaterialsAreExactCodesWhereTheFaceIs)
+{
+    auto head = scene("head");
+    ASSERT_TRUE(head);
+    // GIVEN frame 0 with its material image
+    Frame f;
+    std::vector<std::uint8_t> material(static_cast<std::size_t>(kW * kH * 3));
+    hal::ImageView mv;
+    mv.width = kW;
+    mv.height = kH;
+    mv.format = hal::PixelFormat::Rgb24;
+    mv.planes[0] = {material.data(), kW * 3};
+    ASSERT_TRUE(head->render(0, f.colorView(), f.nearView(), mv));
+    const auto census = materialCensus(material);
+    // THEN every pixel carries one of the scene's materials exactly (codes never blend)
+    const std::set<std::uint32_t> known = {
+        code(48, 60, 45),  code(26, 70, 55), code(22, 90, 70), code(112, 50, 38),
+        code(64, 5, 3),    code(20, 35, 25), code(40, 80, 60), code(38, 85, 65), code(64, 0, 0)};
+    for (const auto &[c, count] : census)
+        EXPECT_TRUE(known.count(c) == 1) << std::hex << c << std::dec << " on " << count << " px";
+    // AND the face has skin, softer cheeks, a firmer forehead; the curtain is cloth
+    EXPECT_GT(census.count(code(48, 60, 45)) ? census.at(code(48, 60, 45)) : 0, 2000);
+    EXPECT_GT(census.count(code(26, 70, 55)) ? census.at(code(26, 70, 55)) : 0, 500);
+    EXPECT_GT(census.count(code(112, 50, 38)) ? census.at(code(112, 50, 38)) : 0, 300);
+    const std::size_t corner = 3 * (8 * kW + 8);
+    EXPECT_EQ(code(material[corner], material[corner + 1], material[corner + 2]), code(38, 85, 65));
+    // AND the colour and depth are those of the frame rendered without materials
+    const Frame plain = render(*head, 0);
+    EXPECT_EQ(plain.rgb, f.rgb);
+    EXPECT_EQ(plain.near, f.near);
+    // AND a material view of the wrong format is refused
+    mv.format = hal::PixelFormat::Gray8;
+    EXPECT_FALSE(head->render(0, {}, {}, mv));
+}
+
+} // namespace
+} // namespace depthtouch::synthetic

@@ -66,10 +66,16 @@ public:
     /// color wanted).
     /// \param[out] nearness Gray8 or Gray16 image of width()×height() samples (nearness, see the
     /// file comment), or an empty view.
+    /// \param[out] material Rgb24 image of width()×height() pixels: each point's haptic material
+    /// codes (depthtouch/scene/material.h; the material track), or an empty view (the default).
+    /// Head: skin (stiffness ×0.75, μs 0.6, μd 0.45), softer cheeks (×0.4) and lips, a firmer
+    /// forehead (×1.75), slippery eyes, soft hair, the sweater and the curtain's cloth (×0.6,
+    /// μs 0.85, μd 0.65). Spheres: marble, paint, wood, plaster, rubber. An extra pass of the
+    /// scene (drawn again with the material codes as colour).
     /// \return nothing. Errors: InvalidArgument (a view has the wrong size or format), Io (a GL
     /// error while drawing or reading).
     Result<void> render(std::uint64_t frameIndex, const hal::ImageView &color,
-                        const hal::ImageView &nearness);
+                        const hal::ImageView &nearness, const hal::ImageView &material = {});
 
     /// \return true when \a frameIndex is the first frame of a new shot (a scene cut).
     [[nodiscard]] bool isCut(std::uint64_t frameIndex) const noexcept;
