@@ -20,6 +20,7 @@
 #include "depthtouch/haptics/spectrum.h"
 #include "depthtouch/haptics/wave_scenario.h"
 #include "depthtouch/platform/gnuplot.h"
+#include "depthtouch/scene/material.h"
 #include "depthtouch/platform/percentile.h"
 
 namespace depthtouch::haptics::bench {
@@ -39,11 +40,40 @@ struct OneRun {
     std::vector<double> times; ///< ns per timed update, in update order
 };
 
+/// The material track of the `-materials` settings: 16-pixel vertical bands alternating μs/μd
+/// 0.5/0.4 and 0.3/0.2 at stiffness scale 1 (so the force error stays comparable with the
+/// `-friction` rows), one RGB24 image for every frame. Every update reads it (Eq. 1 included).
+std::vector<std::uint8_t> benchMaterial(int w, int h)
+{
+    std::vector<std::uint8_t> rgb(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3);
+    for (int r = 0; r < h; ++r)
+        for (int c = 0; c < w; ++c) {
+            const bool grip = (c / 16) % 2 == 0;
+            scene::encodeMaterial({1.0, grip ? kBenchStaticFriction : 0.3,
+                                   grip ? kBenchDynamicFriction : 0.2},
+                                  &rgb[(static_cast<std::size_t>(r) * static_cast<std::size_t>(w) +
+                                        static_cast<std::size_t>(c)) *
+                                       3]);
+        }
+    return rgb;
+}
+
+bool endsWith(const std::string &s, const char *suffix)
+{
+    const std::string tail(suffix);
+    return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
 OneRun runOnce(const std::string &method, const WaveScenario &scene, double speed,
                std::size_t updates)
 {
     const int w = scene.width();
     const int h = scene.height();
+    const bool materials = endsWith(method, "-materials");
+    const std::vector<std::uint8_t> material = materials ? benchMaterial(w, h)
+                                                         : std::vector<std::uint8_t>{};
+    const scene::MaterialView materialView{materials ? material.data() : nullptr,
+                                           static_cast<std::size_t>(w) * 3};
     RendererConfig cfg;
     std::unique_ptr<HapticRenderer> r;
     ProxyGraphRenderer *grid = nullptr;
@@ -51,7 +81,8 @@ OneRun runOnce(const std::string &method, const WaveScenario &scene, double spee
     if (method == "mesh-bvh") {
         cfg = RendererConfig::forMethod(Method::MeshBvh);
         r = std::make_unique<MeshBvhRenderer>(cfg, w, h);
-    } else if (method == "finger" || method == "finger-friction") {
+    } else if (method == "finger" || method == "finger-friction" ||
+               method == "finger-materials") {
         cfg = RendererConfig::forMethod(Method::Finger);
         if (method == "finger-friction") {
             cfg.staticFriction = kBenchStaticFriction;
@@ -89,8 +120,10 @@ OneRun runOnce(const std::string &method, const WaveScenario &scene, double spee
         const int fi = WaveScenario::frameIndexAt(t);
         if (fi != current) {
             current = fi;
-            const DepthFrameView av = scene.frame(fi);
-            const DepthFrameView bv = scene.frame(fi + 1);
+            DepthFrameView av = scene.frame(fi);
+            DepthFrameView bv = scene.frame(fi + 1);
+            av.material = materialView;
+            bv.material = materialView;
             const auto t0 = Clock::now();
             (void)r->setFrames(av, &bv);
             const auto t1 = Clock::now();
@@ -296,6 +329,18 @@ void setGoals(BenchReport &report)
         frictionRatio(report, "modified", "modified-friction", &BenchRow::medianNs);
     report.modifiedFrictionMinOfRunsRatio =
         frictionRatio(report, "modified", "modified-friction", &BenchRow::minOfRunsMedianNs);
+    report.fingerMaterialsRatio =
+        frictionRatio(report, "finger", "finger-materials", &BenchRow::medianNs);
+    report.fingerMaterialsMinOfRunsRatio =
+        frictionRatio(report, "finger", "finger-materials", &BenchRow::minOfRunsMedianNs);
+    report.modifiedMaterialsRatio =
+        frictionRatio(report, "modified", "modified-materials", &BenchRow::medianNs);
+    report.modifiedMaterialsMinOfRunsRatio =
+        frictionRatio(report, "modified", "modified-materials", &BenchRow::minOfRunsMedianNs);
+    if (const BenchRow *r = findRow(report, "finger-materials", 720, "1 m/s")) {
+        report.fingerMaterialsP999At720Fast = r->p999Ns;
+        report.fingerMaterialsMinOfRunsP999At720Fast = r->minOfRunsP999Ns;
+    }
     if (const BenchRow *r = findRow(report, "finger", 720, "1 m/s")) {
         report.fingerP999At720Fast = r->p999Ns;
         report.fingerMinOfRunsP999At720Fast = r->minOfRunsP999Ns;
@@ -338,8 +383,9 @@ BenchReport runHapticsBenchmark(const BenchOptions &options)
         std::vector<std::string> methods = {"finger", "modified", "proxy-graph", "mesh-bvh"};
         if (w == 720) {
             // Friction on the proxy is timed beside its frictionless renderer at 720×486 only.
-            methods = {"finger",   "finger-friction",   "modified-hold",
-                       "modified", "modified-friction", "proxy-graph",
+            // So are per-pixel materials (a material track under the proxy).
+            methods = {"finger",   "finger-friction",   "finger-materials", "modified-hold",
+                       "modified", "modified-friction", "modified-materials", "proxy-graph",
                        "mesh-bvh"};
         }
         for (const std::string &method : methods) {
@@ -436,7 +482,16 @@ bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::s
                report.fingerFrictionMinOfRunsRatio},
               {"modified_friction_median_ratio_720x486", report.modifiedFrictionRatio},
               {"modified_friction_min_of_runs_median_ratio_720x486",
-               report.modifiedFrictionMinOfRunsRatio}}}};
+               report.modifiedFrictionMinOfRunsRatio},
+              {"finger_materials_median_ratio_720x486", report.fingerMaterialsRatio},
+              {"finger_materials_min_of_runs_median_ratio_720x486",
+               report.fingerMaterialsMinOfRunsRatio},
+              {"modified_materials_median_ratio_720x486", report.modifiedMaterialsRatio},
+              {"modified_materials_min_of_runs_median_ratio_720x486",
+               report.modifiedMaterialsMinOfRunsRatio},
+              {"finger_materials_p999_ns_720x486_1mps", report.fingerMaterialsP999At720Fast},
+              {"finger_materials_min_of_runs_p999_ns_720x486_1mps",
+               report.fingerMaterialsMinOfRunsP999At720Fast}}}};
         std::ofstream js(base / "haptics_bench.json");
         js << doc.dump(2) << '\n';
         if (!js) {

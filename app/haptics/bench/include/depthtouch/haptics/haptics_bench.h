@@ -32,8 +32,9 @@ struct BenchOptions {
 /// \brief One (method, resolution, motion) setting.
 struct BenchRow {
     /// finger | finger-friction | modified | modified-friction | modified-hold | proxy-graph |
-    /// mesh-bvh (the -friction ones at 720×486 only, μs = kBenchStaticFriction, μd =
-    /// kBenchDynamicFriction).
+    /// mesh-bvh | finger-materials | modified-materials (the -friction ones at 720×486 only,
+    /// μs = kBenchStaticFriction, μd = kBenchDynamicFriction; the -materials ones at 720×486 only,
+    /// with a material track of friction bands, see haptics_bench.cpp).
     std::string method;
     int width = 0;
     int height = 0;
@@ -91,6 +92,15 @@ struct BenchReport {
     double fingerFrictionMinOfRunsRatio = 0.0;
     double modifiedFrictionRatio = 0.0;
     double modifiedFrictionMinOfRunsRatio = 0.0;
+    /// Cost of per-pixel materials (a material track read under the proxy every update, Eq. 1
+    /// included): `finger-materials` / `finger` and `modified-materials` / `modified`, as above;
+    /// and the finger's p99.9 at 720×486, 1 m/s with materials (goal ≤ 2000 ns filtered).
+    double fingerMaterialsRatio = 0.0;
+    double fingerMaterialsMinOfRunsRatio = 0.0;
+    double modifiedMaterialsRatio = 0.0;
+    double modifiedMaterialsMinOfRunsRatio = 0.0;
+    double fingerMaterialsP999At720Fast = 0.0;
+    double fingerMaterialsMinOfRunsP999At720Fast = 0.0;
 };
 
 /// \brief Runs the benchmark. Allocates freely (not real-time).
