@@ -42,6 +42,8 @@ DepthPair PairedFrame::depthPair() const noexcept
         p.currentPts = p.current->pts;
     if (p.next != nullptr)
         p.nextPts = p.next->pts;
+    p.material = material.get();
+    p.materialNext = materialNext.get();
     return p;
 }
 
@@ -50,7 +52,9 @@ Receiver::Receiver(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Receiver::~Receiver()
 {
     if (impl_) {
-        impl_->pairer.reset(); // drops its handles before the stores go
+        impl_->pending = Pairer::Output{}; // drops their handles before the stores go
+        impl_->pairer.reset();
+        impl_->materials.reset();
         for (auto &s : impl_->streams) {
             s.pending.reset();
             if (s.decoder)
@@ -95,10 +99,16 @@ ReceiverStats Receiver::stats() const noexcept
     s.depthMissing = p.depthMissing;
     s.depthDuplicated = p.depthDuplicated;
     s.depthUnpaired = p.depthUnpaired;
-    s.pairingForced = p.pairingForced;
+    s.pairingForced = p.pairingForced + impl_->materialForced;
     s.ptsMissing = p.ptsMissing;
     s.ptsDuplicates = p.ptsDuplicates;
     s.ptsNonMonotonic = p.ptsNonMonotonic;
+    if (impl_->materials) {
+        const MaterialPairerStats &m = impl_->materials->stats();
+        s.ptsMissing += m.ptsMissing;
+        s.ptsDuplicates += m.ptsDuplicates;
+        s.ptsNonMonotonic += m.ptsNonMonotonic;
+    }
     s.ptsGaps = p.ptsGaps;
     return s;
 }
@@ -121,12 +131,13 @@ Result<bool> Receiver::next(PairedFrame &out)
     int stalled = 0;
     for (;;) {
         bool decoderBusy = false;
-        Pairer::Output o;
-        if (d.pairer->pull(o)) {
-            d.toPaired(o, out);
+        if (!d.havePending)
+            d.havePending = d.pairer->pull(d.pending);
+        if (d.havePending && d.materialReady()) {
+            d.emitPending(out);
             return true;
         }
-        if (d.pairer->finished()) {
+        if (!d.havePending && d.pairer->finished()) {
             d.ended = true;
             return false;
         }
@@ -159,9 +170,14 @@ Result<bool> Receiver::next(PairedFrame &out)
             if (allDrained) { // decoders done; let the pairer decide the rest
                 for (auto &s : d.streams)
                     if (s.used)
-                        d.pairer->endOfStream(s.which);
+                        d.endStream(s);
                 progress = true;
             }
+        }
+        if (!progress && d.havePending) { // the material lags and nothing else can move: bounded
+            ++d.materialForced;
+            d.emitPending(out);
+            return true;
         }
         stalled = progress ? 0 : stalled + 1;
         if (stalled > kStallPasses) {
@@ -170,7 +186,7 @@ Result<bool> Receiver::next(PairedFrame &out)
             for (auto &s : d.streams) {
                 if (s.used && !s.drained) {
                     s.drained = true;
-                    d.pairer->endOfStream(s.which);
+                    d.endStream(s);
                     ++d.stats.decodeErrors;
                 }
             }
@@ -192,7 +208,11 @@ Result<void> Receiver::seek(hal::Pts position)
         s.drained = false;
         s.paused = false;
     }
+    d.pending = Pairer::Output{};
+    d.havePending = false;
     d.pairer->reset();
+    if (d.materials)
+        d.materials->reset(position);
     d.havePacket = false;
     d.inputEnded = false;
     d.ended = false;

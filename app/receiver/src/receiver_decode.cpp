@@ -15,6 +15,10 @@ namespace depthtouch::receiver {
 
 Take Receiver::Impl::takeFrame(Stream &s)
 {
+    // A paired frame waiting for its material keeps the pairer's queues from draining: leave the
+    // frames of a full one in its decoder (the material track's queue is never full).
+    if (!s.material && !pairer->canPush(s.which))
+        return Take::Nothing;
     if (!s.pending) {
         if (s.drained || (!s.eosQueued && s.decoder->state() != hal::VideoDecoder::State::Running))
             return Take::Nothing;
@@ -23,13 +27,13 @@ Take Receiver::Impl::takeFrame(Stream &s)
             switch (f.error().code) {
             case Errc::EndOfStream:
                 s.drained = true;
-                pairer->endOfStream(s.which);
+                endStream(s);
                 return Take::Progress;
             case Errc::Io:
             case Errc::InvalidArgument:
                 ++stats.decodeErrors;
-                DT_LOG(Receiver, Debug, "%s decoder dropped a packet: %s",
-                       s.which == PairStream::Depth ? "Depth" : "Color", f.error().what);
+                DT_LOG(Receiver, Debug, "The %s decoder dropped a packet: %s", s.name,
+                       f.error().what);
                 return Take::Progress;
             case Errc::Busy: // its frames are held: here only when kept zero-copy
                 s.decoderBusy = s.zeroCopy;
@@ -40,10 +44,13 @@ Take Receiver::Impl::takeFrame(Stream &s)
         }
         s.decoderBusy = false;
         s.pending = std::move(*f);
-        ++(s.which == PairStream::Depth ? stats.depthFrames : stats.colorFrames);
+        ++(s.material                     ? stats.materialFrames
+           : s.which == PairStream::Depth ? stats.depthFrames
+                                          : stats.colorFrames);
     }
     const hal::Frame &fr = *s.pending;
-    if (skipBefore != hal::kNoPts && fr.pts != hal::kNoPts && fr.pts < skipBefore) {
+    // Material frames before the seek target are kept: the newest of them holds at the target.
+    if (!s.material && skipBefore != hal::kNoPts && fr.pts != hal::kNoPts && fr.pts < skipBefore) {
         s.pending.reset(); // before the seek target
         return Take::Progress;
     }
@@ -54,21 +61,19 @@ Take Receiver::Impl::takeFrame(Stream &s)
     const hal::ImageView &src = fr.image;
     hal::ImageView &dst = w->image;
     // A colour frame lent as dma-bufs is kept, not copied: the renderer imports it.
-    const bool zeroCopy = !fr.dmabuf.empty() && s.which == PairStream::Color;
+    const bool zeroCopy = !fr.dmabuf.empty() && s.which == PairStream::Color && !s.material;
     if (src.width != dst.width || src.height != dst.height ||
         (src.format != dst.format && !zeroCopy)) {
         ++stats.frameSizeChanges;
-        DT_LOG(Receiver, Warning, "Dropped a %s frame of %dx%d %s: the stream is %dx%d %s",
-               s.which == PairStream::Depth ? "depth" : "color", src.width, src.height,
-               hal::pixelFormatName(src.format), dst.width, dst.height,
+        DT_LOG(Receiver, Warning, "Dropped a %s frame of %dx%d %s: the stream is %dx%d %s", s.name,
+               src.width, src.height, hal::pixelFormatName(src.format), dst.width, dst.height,
                hal::pixelFormatName(dst.format));
         s.pending.reset();
         return Take::Progress;
     }
     if (!zeroCopy && src.empty()) { // dma-buf only, but not a colour frame: no CPU pixels
         ++stats.decodeErrors;
-        DT_LOG_ONCE(Receiver, Warning, "Dropped %s frames without CPU planes",
-                    s.which == PairStream::Depth ? "depth" : "color");
+        DT_LOG_ONCE(Receiver, Warning, "Dropped %s frames without CPU planes", s.name);
         s.pending.reset();
         return Take::Progress;
     }
@@ -95,22 +100,71 @@ Take Receiver::Impl::takeFrame(Stream &s)
                 std::memcpy(dst.row(p, y), src.row(p, y), rowBytes);
         }
     }
-    w->kind = s.which == PairStream::Depth ? hal::StreamKind::Depth : hal::StreamKind::Color;
+    // Material frames are RGB24 codes, decoded as a colour stream (hal has no material kind).
+    w->kind = s.which == PairStream::Depth && !s.material ? hal::StreamKind::Depth
+                                                          : hal::StreamKind::Color;
     w->pts = fr.pts;
     w->corrupt = fr.corrupt;
     w->sequence = s.sequence++;
     s.pending.reset();
+    pushFrame(s, std::move(h), *w);
+    return Take::Progress;
+}
+
+void Receiver::Impl::pushFrame(Stream &s, FrameHandle &&h, const StoredFrame &f)
+{
+    if (s.material) {
+        if (!materials->push(f.pts, std::move(h)))
+            DT_LOG(Receiver, Debug, "Dropped a material frame: PTS not after the previous one");
+        return;
+    }
     DT_ASSERT(pairer->canPush(s.which));
     Pairer::Item item;
-    item.pts = w->pts;
-    item.corrupt = w->corrupt;
+    item.pts = f.pts;
+    item.corrupt = f.corrupt;
     item.payload = std::move(h);
     const PushOutcome o = pairer->push(s.which, std::move(item));
     if (o != PushOutcome::Accepted)
-        DT_LOG(Receiver, Debug, "Dropped a %s frame: %s PTS",
-               s.which == PairStream::Depth ? "depth" : "color",
+        DT_LOG(Receiver, Debug, "Dropped a %s frame: %s PTS", s.name,
                o == PushOutcome::Duplicate ? "duplicate" : "non-monotonic");
-    return Take::Progress;
+}
+
+void Receiver::Impl::endStream(Stream &s)
+{
+    if (s.material)
+        materials->endOfStream();
+    else
+        pairer->endOfStream(s.which);
+}
+
+bool Receiver::Impl::materialReady() const noexcept
+{
+    if (!materials || !havePending || !pending.hasDepth)
+        return true;
+    return materials->ready(pending.depth.pts) &&
+           (!pending.hasNext || materials->ready(pending.depthNext.pts));
+}
+
+void Receiver::Impl::drainLaggingMaterial()
+{
+    // The paired frame waits for a material frame that has not come while the pairing window
+    // filled: a still material (no more packets) or a lagging track. Drain its decoder so what it
+    // holds comes out and the track counts as ended; packets that come later resume it.
+    Stream &m = streams[2];
+    if (!m.used || inputEnded || m.eosQueued || m.decoderBusy || materialReady())
+        return;
+    const auto window = static_cast<std::size_t>(cfg.pairingWindow);
+    if (pairer->waiting(PairStream::Color) < window && pairer->waiting(PairStream::Depth) < window)
+        return;
+    if (m.decoder->queuePacket(hal::Packet::endOfStream(m.info.index))) {
+        m.eosQueued = true;
+        m.paused = true;
+        DT_LOG(Receiver, Debug,
+               "The material stream paused or holds a still: draining its decoder");
+    } else { // cannot drain: decide without what it holds
+        m.eosQueued = m.paused = m.drained = true;
+        endStream(m);
+    }
 }
 
 void Receiver::Impl::drainLaggingStream()
@@ -118,6 +172,10 @@ void Receiver::Impl::drainLaggingStream()
     // One stream's frames wait while the other's stopped coming (a shorter stream, or a long gap):
     // drain the quiet stream's decoder so the frames it still holds (reordering delay) pair before
     // the pairing window forces decisions without them. Packets that come later resume it.
+    if (havePending) { // waiting for material, not for color or depth
+        drainLaggingMaterial();
+        return;
+    }
     if (!streams[0].used || !streams[1].used || inputEnded)
         return;
     const auto window = static_cast<std::size_t>(cfg.pairingWindow);
@@ -151,7 +209,7 @@ void Receiver::Impl::endInput()
         } else { // cannot drain: what it holds is lost
             s.eosQueued = true;
             s.drained = true;
-            pairer->endOfStream(s.which);
+            endStream(s);
         }
     }
 }
@@ -182,10 +240,12 @@ bool Receiver::Impl::readAndQueue()
     if (s.paused) { // it had only paused: decode again (from its next keyframe)
         (void)s.decoder->flush();
         s.paused = s.eosQueued = s.drained = false;
-        pairer->resume(s.which);
+        if (s.material)
+            materials->resume();
+        else
+            pairer->resume(s.which);
         ++stats.streamsResumed;
-        DT_LOG(Receiver, Warning, "The %s stream resumes after a pause",
-               s.which == PairStream::Depth ? "depth" : "color");
+        DT_LOG(Receiver, Warning, "The %s stream resumes after a pause", s.name);
     }
     auto q = s.decoder->queuePacket(packet);
     if (q) {
@@ -205,6 +265,24 @@ void Receiver::Impl::toPaired(Pairer::Output &o, PairedFrame &out)
     out.color = o.hasColor ? std::move(o.color.payload) : FrameHandle{};
     out.depth = o.hasDepth ? std::move(o.depth.payload) : FrameHandle{};
     out.depthNext = o.hasNext ? std::move(o.depthNext.payload) : FrameHandle{};
+    out.material = FrameHandle{};
+    out.materialNext = FrameHandle{};
+    if (materials && o.hasDepth) {
+        hal::Pts found = hal::kNoPts;
+        switch (materials->find(o.depth.pts, out.material, found)) {
+        case MaterialTrack::Match::Same:
+            break;
+        case MaterialTrack::Match::Held:
+            ++stats.materialHeld;
+            break;
+        case MaterialTrack::Match::Missing:
+            ++stats.materialMissing;
+            break;
+        }
+        if (o.hasNext)
+            (void)materials->find(o.depthNext.pts, out.materialNext, found);
+        materials->release(o.depth.pts);
+    }
     out.pts = o.pts;
     out.index = o.index;
     out.depthMissing = o.depthMissing;

@@ -11,12 +11,14 @@
 #include <string>
 
 #include "depthtouch/receiver/frame_store.h"
+#include "depthtouch/receiver/material_pairer.h"
 #include "depthtouch/receiver/pts_pairer.h"
 #include "depthtouch/receiver/receiver.h"
 
 namespace depthtouch::receiver {
 
 using Pairer = PtsPairer<FrameHandle>;
+using MaterialTrack = MaterialPairer<FrameHandle>;
 
 /// DecoderBusy: the decoder has lent every frame, held here as zero-copy frames.
 enum class Take : std::uint8_t { Progress, Nothing, Busy, DecoderBusy };
@@ -25,7 +27,10 @@ enum class Take : std::uint8_t { Progress, Nothing, Busy, DecoderBusy };
 struct Receiver::Impl {
     struct Stream {
         bool used = false;
-        PairStream which = PairStream::Color;
+        bool material = false; ///< The material track (fed to `materials`, not to the pairer).
+        PairStream which = PairStream::Color; ///< Color and depth only.
+        const char *name = "color";           ///< "color", "depth" or "material" (logs).
+
         hal::StreamInfo info;
         std::unique_ptr<hal::VideoDecoder> decoder;
         FrameStore store;
@@ -41,11 +46,27 @@ struct Receiver::Impl {
     Result<void> setUp(const DecoderFactory &makeDecoder);
     Result<void> setUpStream(Stream &s, int index, PairStream which,
                              const DecoderFactory &makeDecoder);
+    void setUpMaterial(const DecoderFactory &makeDecoder);
     Take takeFrame(Stream &s);
+    /// Hands a filled store frame to the pairer or the material track.
+    void pushFrame(Stream &s, FrameHandle &&h, const StoredFrame &f);
+    /// Marks \a s ended for the pairing (pairer or material track).
+    void endStream(Stream &s);
+    /// \return whether `pending` may go out: its depth frames' materials are final.
+    [[nodiscard]] bool materialReady() const noexcept;
+    /// Drains the material decoder when `pending` waits for it and the pairing window is full.
+    void drainLaggingMaterial();
     bool readAndQueue();
     void endInput();
     void drainLaggingStream();
     void toPaired(Pairer::Output &o, PairedFrame &out);
+    /// Hands `pending` out as \a out (toPaired()) and clears it.
+    void emitPending(PairedFrame &out)
+    {
+        toPaired(pending, out);
+        pending = Pairer::Output{};
+        havePending = false;
+    }
     /// Logs \a text as a warning and keeps it in the receiver's notes.
     void note(std::string text);
     /// \return the used stream of container index \a index, or null.
@@ -61,8 +82,12 @@ struct Receiver::Impl {
     ReceiverConfig cfg;
     ReceiverInfo info;
     ReceiverStats stats;
-    Stream streams[2]; ///< [0] color, [1] depth.
+    Stream streams[3]; ///< [0] color, [1] depth, [2] material.
     std::unique_ptr<Pairer> pairer;
+    std::unique_ptr<MaterialTrack> materials; ///< With a material track only.
+    Pairer::Output pending; ///< Pulled from the pairer, waiting for its material frames.
+    bool havePending = false;
+    std::uint64_t materialForced = 0; ///< Outputs decided without their material being final.
     hal::Packet packet; ///< Read, not yet accepted by its decoder.
     bool havePacket = false;
     bool inputEnded = false;

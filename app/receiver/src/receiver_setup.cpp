@@ -7,7 +7,7 @@
 
 DT_LOG_CATEGORY(Receiver)
 
-// The receiver's setup: which streams are color and depth, and their decoders and stores.
+// The receiver's setup: which streams are color, depth and material, and their decoders and stores.
 
 namespace depthtouch::receiver {
 
@@ -41,10 +41,12 @@ Result<void> Receiver::Impl::setUpStream(Stream &s, int index, PairStream which,
                                          const DecoderFactory &makeDecoder)
 {
     const hal::StreamInfo &si = source->info().streams[static_cast<std::size_t>(index)];
-    const bool depth = which == PairStream::Depth;
-    const std::string name = std::string(depth ? "depth" : "color") + " stream " +
-                             std::to_string(index) + " (" + hal::codecName(si.codec) + ", " +
-                             std::to_string(si.width) + "x" + std::to_string(si.height) + ")";
+    const bool material = s.material; // set by setUpMaterial()
+    const bool depth = !material && which == PairStream::Depth;
+    s.name = material ? "material" : depth ? "depth" : "color";
+    const std::string name = std::string(s.name) + " stream " + std::to_string(index) + " (" +
+                             hal::codecName(si.codec) + ", " + std::to_string(si.width) + "x" +
+                             std::to_string(si.height) + ")";
     if (si.width < 1 || si.height < 1 || si.width > cfg.maxWidth || si.height > cfg.maxHeight) {
         note(name + " left out: frame size outside 1x1.." + std::to_string(cfg.maxWidth) + "x" +
              std::to_string(cfg.maxHeight));
@@ -61,9 +63,14 @@ Result<void> Receiver::Impl::setUpStream(Stream &s, int index, PairStream which,
                         : hal::PixelFormat::Gray8;
     if (!depth && sc.format == hal::PixelFormat::Unknown)
         sc.format = hal::PixelFormat::Yuv420p;
+    if (material) // RGB24 codes (scene/material.h); H.264 gbrp converts bit-exact
+        sc.format = hal::PixelFormat::Rgb24;
 
-    const int frames = depth ? cfg.pairingWindow + 5 + 2 * cfg.consumerFrames
-                             : cfg.pairingWindow + 4 + cfg.consumerFrames;
+    // Material: the track's queue (window + 3), the frame being filled, and two per paired frame
+    // held by the receiver (pending) or downstream.
+    const int frames = material ? cfg.pairingWindow + 6 + 2 * cfg.consumerFrames
+                       : depth  ? cfg.pairingWindow + 5 + 2 * cfg.consumerFrames
+                                : cfg.pairingWindow + 4 + cfg.consumerFrames;
     const std::size_t bytes =
         hal::imageBytes(sc.format, sc.width, sc.height) * static_cast<std::size_t>(frames);
     if (bytes == 0 || bytes > cfg.maxPoolBytes) {
@@ -88,8 +95,35 @@ Result<void> Receiver::Impl::setUpStream(Stream &s, int index, PairStream which,
     s.which = which;
     s.info = si;
     s.decoder = std::move(*dec);
-    (depth ? info.depthFormat : info.colorFormat) = sc.format;
+    if (!material)
+        (depth ? info.depthFormat : info.colorFormat) = sc.format;
     return ok();
+}
+
+void Receiver::Impl::setUpMaterial(const DecoderFactory &makeDecoder)
+{
+    const int index = info.roles.material;
+    if (index < 0)
+        return;
+    const hal::StreamInfo &si = source->info().streams[static_cast<std::size_t>(index)];
+    const std::string name = "material stream " + std::to_string(index);
+    if (!info.hasDepth) {
+        note(name + " left out: no depth stream to lay it on");
+        return;
+    }
+    if (si.width != info.depth.width || si.height != info.depth.height) {
+        note(name + " left out: its size " + std::to_string(si.width) + "x" +
+             std::to_string(si.height) + " differs from the depth's " +
+             std::to_string(info.depth.width) + "x" + std::to_string(info.depth.height) +
+             " (playing without materials)");
+        return;
+    }
+    Stream &s = streams[2];
+    s.material = true;
+    if (!setUpStream(s, index, PairStream::Depth, makeDecoder))
+        return; // noted by setUpStream(): the file plays without materials
+    info.hasMaterial = true;
+    info.material = s.info;
 }
 
 Result<void> Receiver::Impl::setUp(const DecoderFactory &makeDecoder)
@@ -117,6 +151,7 @@ Result<void> Receiver::Impl::setUp(const DecoderFactory &makeDecoder)
         info.color = streams[0].info;
     if (info.hasDepth)
         info.depth = streams[1].info;
+    setUpMaterial(makeDecoder);
     info.mode = info.hasColor && info.hasDepth ? ReceiverMode::ColorAndDepth
                 : info.hasColor                ? ReceiverMode::ColorOnly
                                                : ReceiverMode::DepthOnly;
@@ -147,6 +182,8 @@ Result<void> Receiver::Impl::setUp(const DecoderFactory &makeDecoder)
     pc.window = cfg.pairingWindow;
     pairer = std::make_unique<Pairer>(pc);
     info.tolerance = pairer->tolerance();
+    if (info.hasMaterial)
+        materials = std::make_unique<MaterialTrack>(cfg.pairingWindow, info.tolerance, dp);
     return ok();
 }
 

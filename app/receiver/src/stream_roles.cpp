@@ -24,6 +24,15 @@ bool isGray(hal::PixelFormat f) noexcept
            f == hal::PixelFormat::Gray16 || f == hal::PixelFormat::Z16;
 }
 
+/// The material track's title and MP4 handler name (scene::kMaterialTitle; the receiver does not
+/// depend on the scene library).
+constexpr std::string_view kMaterialTitle = "material";
+
+bool isMaterialTitle(const hal::StreamInfo &s) noexcept
+{
+    return equalsNoCase(s.title, kMaterialTitle);
+}
+
 bool sameMetadata(const hal::DepthMetadata &a, const hal::DepthMetadata &b) noexcept
 {
     return a.nearMetres == b.nearMetres && a.farMetres == b.farMetres && a.mapping == b.mapping &&
@@ -46,6 +55,12 @@ StreamRoles identifyStreams(const hal::MediaInfo &info, SingleStream single)
         return r;
     if (n == 1) {
         const hal::StreamInfo &s = streams[0];
+        if (isMaterialTitle(s)) { // materials without depth: nothing to play
+            r.material = s.index;
+            r.materialReason = *s.titleFrom != '\0' ? s.titleFrom : "title";
+            r.notes.push_back("stream 0 is a material track: no color or depth stream");
+            return r;
+        }
         bool depth = false;
         if (single == SingleStream::Depth)
             depth = true;
@@ -71,13 +86,20 @@ StreamRoles identifyStreams(const hal::MediaInfo &info, SingleStream single)
         reason = why;
         taken[i] = true;
     };
-    // 1. Titles (an MKV title, an MP4 handler name, DepthTouch's MPEG-TS service).
+    // 1. Titles (an MKV title, an MP4 handler name, DepthTouch's MPEG-TS service). Every stream
+    // titled `material` is taken here, so none can become color or depth below.
     for (std::size_t i = 0; i < n; ++i) {
         const char *from = *streams[i].titleFrom != '\0' ? streams[i].titleFrom : "title";
         if (equalsNoCase(streams[i].title, "color") || equalsNoCase(streams[i].title, "colour"))
             assign(r.color, r.colorReason, i, from);
         else if (equalsNoCase(streams[i].title, "depth"))
             assign(r.depth, r.depthReason, i, from);
+        else if (isMaterialTitle(streams[i])) {
+            if (r.material < 0)
+                assign(r.material, r.materialReason, i, from);
+            else
+                taken[i] = true; // a second material track: ignored below
+        }
     }
     // 2. Depth metadata of the stream's own (tags every stream shares are the container's).
     bool allShare = true;
@@ -103,8 +125,18 @@ StreamRoles identifyStreams(const hal::MediaInfo &info, SingleStream single)
                                   " taken as depth by stream order (no title, metadata or gray "
                                   "format says so)");
             }
+    // 5. Material by stream order: an untitled RGB 4:4:4 stream after a known color and depth.
+    if (r.color >= 0 && r.depth >= 0 && r.material < 0)
+        for (std::size_t i = 0; i < n; ++i)
+            if (!taken[i] && streams[i].title.empty() &&
+                streams[i].format == hal::PixelFormat::Rgb24) {
+                assign(r.material, r.materialReason, i, "stream order");
+                r.notes.push_back("stream " + std::to_string(streams[i].index) +
+                                  " taken as the material track by stream order (RGB 4:4:4 after "
+                                  "color and depth, untitled)");
+            }
     for (std::size_t i = 0; i < n; ++i)
-        if (!taken[i])
+        if (!taken[i] || (isMaterialTitle(streams[i]) && streams[i].index != r.material))
             r.notes.push_back(
                 "stream " + std::to_string(streams[i].index) + " (" +
                 (streams[i].title.empty() ? std::string("untitled") : streams[i].title) +

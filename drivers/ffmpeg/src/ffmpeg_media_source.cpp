@@ -67,10 +67,12 @@ AVDictionary *serviceTagsOf(const AVFormatContext &fmt) noexcept
     return nullptr;
 }
 
-/// \return whether \a text names a stream role DepthTouch writes ("color" or "depth").
+/// \return whether \a text names a stream role DepthTouch writes ("color", "depth" or "material":
+/// an MP4 handler name that counts as the stream title).
 bool isRoleName(const char *text) noexcept
 {
-    return text != nullptr && (std::strcmp(text, "color") == 0 || std::strcmp(text, "depth") == 0);
+    return text != nullptr && (std::strcmp(text, "color") == 0 || std::strcmp(text, "depth") == 0 ||
+                               std::strcmp(text, "material") == 0);
 }
 
 double tagDouble(const char *text) noexcept

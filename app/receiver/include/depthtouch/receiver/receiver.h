@@ -9,8 +9,19 @@
 /// frame paired with it by PTS (frame i) and the depth frame after it (frame i+1), which the haptic
 /// task needs to interpolate the surface in time (paper IV.B, Eq. 1). Pairing rules: pts_pairer.h.
 ///
+/// Material track (optional third stream, scene/material.h; roles: stream_roles.h): decoded as
+/// RGB24 codes on the depth grid into a store of its own, and paired with depth by PTS
+/// (material_pairer.h): PairedFrame::material / materialNext are the material frames of depth
+/// frames i and i+1, the one at the same PTS within the tolerance, else the newest one before it (a
+/// still holds). A paired frame waits for its material frames at most until the color or depth
+/// frames waiting reach the pairing window: then the material decoder is drained and, if that does
+/// not settle it either, the frame goes out with what has arrived (pairingForced). A material
+/// stream without a usable depth stream, of another size than the depth, or that no decoder takes
+/// is left out with a note (the file plays without materials).
+///
 /// Memory: every frame is copied out of the decoder into a FrameStore allocated by open(), sized
-/// for the pairing window plus ReceiverConfig::consumerFrames held downstream; after open() nothing
+/// for the pairing window plus ReceiverConfig::consumerFrames held downstream (each held paired
+/// frame may hold two depth and two material frames); after open() nothing
 /// is allocated per frame. Zero-copy: a colour frame the decoder lends as dma-bufs
 /// (hal::Frame::dmabuf) is not copied; its FrameRef is kept in the store slot
 /// (StoredFrame::decoded, StoredFrame::dmabuf) until the last handle is dropped, i.e. until the
@@ -43,12 +54,17 @@
 
 namespace depthtouch::receiver {
 
-/// \brief Depth frames i and i+1 of a paired frame, as the haptic task takes them.
+/// \brief Depth frames i and i+1 of a paired frame and their material frames, as the haptic task
+/// takes them. Borrowed from the PairedFrame: valid while it is held.
 struct DepthPair {
     const StoredFrame *current = nullptr; ///< Frame i; nullptr when the output has no depth.
     const StoredFrame *next = nullptr;    ///< Frame i+1; nullptr at the end of the depth video.
     hal::Pts currentPts = hal::kNoPts;    ///< Stream timeline (ns).
     hal::Pts nextPts = hal::kNoPts;
+    /// Material of frame i: Rgb24 codes (scene/material.h), current's width × height; nullptr
+    /// without a material track or when no material frame is at or before frame i.
+    const StoredFrame *material = nullptr;
+    const StoredFrame *materialNext = nullptr; ///< Material of frame i+1; as material.
 };
 
 /// \brief One output of the receiver: a color frame and its depth frames, with what went wrong.
@@ -57,6 +73,11 @@ struct PairedFrame {
     FrameHandle color;            ///< Empty without a color stream.
     FrameHandle depth;            ///< Depth frame i; empty when depthMissing.
     FrameHandle depthNext;        ///< Depth frame i+1; empty at the end of the depth video.
+    /// Material frame of depth frame i (Rgb24 codes on the depth grid, scene/material.h; its pts
+    /// is the material frame's own, at or before depth i's): empty without a material track, or
+    /// when no material frame is at or before depth frame i.
+    FrameHandle material;
+    FrameHandle materialNext;     ///< Material frame of depth frame i+1; as material.
     hal::Pts pts = hal::kNoPts;   ///< Presentation time: the color PTS (depth PTS when depth-only).
     std::uint64_t index = 0;      ///< Outputs before this one since open() or the last seek().
     bool depthMissing = false;    ///< No depth frame for it (depth absent, or not yet started).
@@ -92,6 +113,8 @@ struct ReceiverInfo {
     bool hasDepth = false;
     hal::StreamInfo color; ///< Valid when hasColor.
     hal::StreamInfo depth; ///< Valid when hasDepth (depth.depth: the metadata).
+    bool hasMaterial = false; ///< A material track is decoded (never without depth).
+    hal::StreamInfo material; ///< Valid when hasMaterial (its frames: Rgb24, depth's size).
     hal::PixelFormat colorFormat = hal::PixelFormat::Unknown; ///< Of the color frames.
     hal::PixelFormat depthFormat = hal::PixelFormat::Unknown; ///< Of the depth frames (Gray*).
     hal::Pts colorPeriod{0}; ///< Frame periods used for pairing (ns).
@@ -108,6 +131,7 @@ struct ReceiverStats {
     std::uint64_t packetsIgnored = 0;   ///< Packets of streams not used.
     std::uint64_t colorFrames = 0;      ///< Color frames decoded.
     std::uint64_t depthFrames = 0;      ///< Depth frames decoded.
+    std::uint64_t materialFrames = 0;   ///< Material frames decoded.
     std::uint64_t framesOutput = 0;     ///< Paired frames produced.
     std::uint64_t framesConcealed = 0;  ///< Outputs with a concealed color or depth frame.
     std::uint64_t decodeErrors = 0;     ///< Packets or frames the decoders dropped or refused.
@@ -115,7 +139,10 @@ struct ReceiverStats {
     std::uint64_t depthMissing = 0;     ///< Outputs without a depth frame (two-stream input).
     std::uint64_t depthDuplicated = 0;  ///< Outputs whose depth frame was reused.
     std::uint64_t depthUnpaired = 0;    ///< Depth frames no color frame was paired with.
-    std::uint64_t pairingForced = 0;    ///< Outputs decided early (a stream lagged > window).
+    std::uint64_t materialHeld = 0;     ///< Outputs whose depth frame i reused an older material.
+    std::uint64_t materialMissing = 0;  ///< Outputs with a material track but no material at or
+                                        ///< before depth frame i.
+    std::uint64_t pairingForced = 0;    ///< Outputs decided early (a stream, material too, lagged).
     std::uint64_t ptsMissing = 0;       ///< Frames without PTS (given previous + period).
     std::uint64_t ptsDuplicates = 0;    ///< Frames dropped: same PTS as the previous one.
     std::uint64_t ptsNonMonotonic = 0;  ///< Frames dropped: PTS before the previous one.

@@ -1,14 +1,19 @@
 #pragma once
 /// \file
-/// \brief Which video stream of a 3D video is the color video and which the depth video.
+/// \brief Which video stream of a 3D video is the color video, which the depth video and which the
+/// optional material track (per-pixel haptic material on the depth grid, scene/material.h).
 ///
-/// Rules, in order (docs/architecture.md §4): the stream title `color` / `depth`
-/// (case-insensitive); then the depth metadata tags (a stream with depth_near / depth_far /
-/// depth_mapping / depth_bits of its own when not every stream carries them); then a gray pixel
-/// format (gray, gray10, gray16: depth); the first remaining stream is color and, when color is
-/// known, the next remaining one is depth (stream order, reported). A single stream is depth-only
-/// or color-only: by the caller's preference, else depth when gray and color otherwise. Further
-/// video streams are ignored (reported). Thread-safety: reentrant.
+/// Rules, in order (docs/architecture.md §4): the stream title `color` / `depth` / `material`
+/// (case-insensitive; an MP4 handler name counts as a title); then the depth metadata tags (a
+/// stream with depth_near / depth_far / depth_mapping / depth_bits of its own when not every stream
+/// carries them); then a gray pixel format (gray, gray10, gray16: depth); the first remaining
+/// stream is color and, when color is known, the next remaining one is depth (stream order,
+/// reported). With color and depth both known and no stream titled `material`, the next remaining
+/// untitled stream that decodes as RGB 4:4:4 (hal::PixelFormat::Rgb24, e.g. H.264 gbrp) is the
+/// material track (stream order, reported). A stream titled `material` is never taken as color or
+/// depth. A single stream is depth-only or color-only: by the caller's preference, else depth when
+/// gray and color otherwise (a single stream titled `material` is neither). Further video streams
+/// are ignored (reported). Thread-safety: reentrant.
 
 #include <string>
 #include <vector>
@@ -28,9 +33,11 @@ enum class SingleStream : std::uint8_t {
 struct StreamRoles {
     int color = -1;
     int depth = -1;
+    int material = -1; ///< The material track (scene/material.h); -1 when the input has none.
     /// Why: "title", "MP4 handler name", "MPEG-TS service", "gray pixel format", "stream order"…
     const char *colorReason = "";
-    const char *depthReason = "";   ///< The same for depth.
+    const char *depthReason = "";    ///< The same for depth.
+    const char *materialReason = ""; ///< "title", "MP4 handler name" or "stream order".
     std::vector<std::string> notes; ///< Assumptions and ignored streams, one sentence each.
 };
 
