@@ -3,8 +3,9 @@
 /// frames (image sequences, video files, anything FFmpeg reads; built-in CG scenes `synthetic:NAME`
 /// and depth cameras `v4l2:DEVICE` through makeSourceProviders()), converts depth to nearness
 /// (docs/architecture.md §3), optionally enhances it (paper §V.B) and writes color H.264 + depth
-/// 4:0:0 into one MKV/MP4/MPEG-TS file or stream URL (docs/architecture.md §4). The pipeline is
-/// media::encodeStreams().
+/// 4:0:0 into one MKV/MP4/MPEG-TS file or stream URL (docs/architecture.md §4), with an optional
+/// material track (`--material SRC` or `--material-map labels.png --materials materials.toml`;
+/// docs/materials.md). The pipeline is media::encodeStreams().
 ///
 /// Bad input (missing, unreadable or silent source, no video stream, nonsense options, an output
 /// path that is a directory or in a missing folder) prints one error line and exits 2 without
@@ -27,6 +28,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "material_map.h"
 #include "option_cli.h"
 #include "source_providers.h"
 #include "depthtouch/media/encode_job.h"
@@ -67,6 +69,9 @@ struct EncodeCliOptions {
     float enhanceTolerance = 1.0f;
     std::string colorFormat, colorVideoSize, colorPixFmt;
     std::string depthFormat, depthVideoSize, depthPixFmt;
+    std::string material;    ///< --material SRC: material codes (image, sequence, video).
+    std::string materialMap; ///< --material-map: label image.
+    std::string materials;   ///< --materials: the table of --material-map.
 };
 
 std::atomic<bool> gStop{false};
@@ -302,6 +307,19 @@ std::unique_ptr<NamedSource> openInput(const EncodeCliOptions &o,
     return std::make_unique<NamedSource>(role, in.spec, std::move(*s));
 }
 
+/// Opens the material input of --material or --material-map (none without them); on failure
+/// sets `error` and returns nullptr.
+std::unique_ptr<NamedSource>
+openMaterial(const EncodeCliOptions &o, const media::SourceProviders &providers, std::string &error)
+{
+    if (!o.material.empty()) {
+        static const std::string kNone;
+        return openInput(o, providers, {"material", o.material, kNone, kNone, kNone}, error);
+    }
+    auto map = openMaterialMap(o.materialMap, o.materials, o.fps, error);
+    return map ? std::make_unique<NamedSource>("material", o.materialMap, std::move(map)) : nullptr;
+}
+
 /// Opens the color input, then (if that opened) the depth input; on failure sets `error`.
 void openInputs(const EncodeCliOptions &o, const media::SourceProviders &providers,
                 std::unique_ptr<NamedSource> &color, std::unique_ptr<NamedSource> &depthSrc,
@@ -325,12 +343,14 @@ void openInputs(const EncodeCliOptions &o, const media::SourceProviders &provide
 /// The exit code of a failed encode, after its one error line: the input that failed, else the
 /// output (an I/O error: lost output) or the encoder.
 int encodeFailure(const EncodeCliOptions &o, const NamedSource &color, const NamedSource &depthSrc,
-                  const Error &error)
+                  const NamedSource *material, const Error &error)
 {
     if (color.failed())
         return fail(kExitBadInput, color.message());
     if (depthSrc.failed())
         return fail(kExitBadInput, depthSrc.message());
+    if (material != nullptr && material->failed())
+        return fail(kExitBadInput, material->message());
     const Errc code = error.code;
     const std::string what = describe(error);
     // The inputs read fine: an I/O error is the output's, which is lost (exit 1).
@@ -387,6 +407,10 @@ int reportEncode(const EncodeCliOptions &o, const media::EncodeOptions &eo,
             s.range.farM, eo.raw.metresPerUnit);
     if (s.enhance)
         printEnhanceTotals(*s.enhance);
+    if (!o.material.empty() || !o.materialMap.empty())
+        std::printf("material: %.1f kB lossless (%lld frames read from '%s', the last held)\n",
+                    static_cast<double>(s.materialBytes) / 1000.0, s.materialFrames,
+                    (o.material.empty() ? o.materialMap : o.material).c_str());
     if (s.interrupted) {
         std::fprintf(stderr,
                      "depthtouch encode: interrupted; '%s' holds the %lld frame pairs "
@@ -410,6 +434,10 @@ int runEncode(const EncodeCliOptions &o)
         return rc;
     if (const int rc = checkEncodeOptions(o, eo); rc != kExitOk)
         return rc;
+    if (!o.material.empty() && !o.materialMap.empty())
+        return fail(kExitBadInput, "--material and --material-map exclude each other");
+    if (o.materialMap.empty() != o.materials.empty())
+        return fail(kExitBadInput, "--material-map and --materials go together");
 
     // One set of providers for both inputs: `synthetic:NAME` color and depth share one renderer,
     // `v4l2:DEVICE` color and depth one camera.
@@ -420,6 +448,11 @@ int runEncode(const EncodeCliOptions &o)
     openInputs(o, providers, color, depthSrc, error);
     if (!color || !depthSrc)
         return fail(kExitBadInput, error);
+    std::unique_ptr<NamedSource> material;
+    if (!o.material.empty() || !o.materialMap.empty()) {
+        if (material = openMaterial(o, providers, error); !material)
+            return fail(kExitBadInput, error);
+    }
 
     Progress progress(::isatty(STDERR_FILENO) == 1);
     media::EncodeCallbacks callbacks;
@@ -432,11 +465,11 @@ int runEncode(const EncodeCliOptions &o)
     gStop.store(false);
     Result<media::EncodeSummary> summary = [&] {
         StopSignals signals;
-        return media::encodeStreams(*color, *depthSrc, eo, &gStop, callbacks);
+        return media::encodeStreams(*color, *depthSrc, material.get(), eo, &gStop, callbacks);
     }();
     progress.finish();
     if (!summary)
-        return encodeFailure(o, *color, *depthSrc, summary.error());
+        return encodeFailure(o, *color, *depthSrc, material.get(), summary.error());
     return reportEncode(o, eo, *color, *summary);
 }
 
@@ -521,6 +554,15 @@ const OptionRow<EncodeCliOptions> kEncodeRows[] = {
     {"depth-format", &EncodeCliOptions::depthFormat, "Force the depth demuxer (e.g. rawvideo)"},
     {"depth-video-size", &EncodeCliOptions::depthVideoSize, "Raw depth frame size WxH"},
     {"depth-pix-fmt", &EncodeCliOptions::depthPixFmt, "Raw depth pixel format (e.g. gray16le)"},
+    {"material", &EncodeCliOptions::material,
+     "Material codes (RGB: stiffness scale x64, static and dynamic friction x100; "
+     "docs/materials.md): a still, an image sequence or a video; frame k goes with depth frame k, "
+     "the last one holds"},
+    {"material-map", &EncodeCliOptions::materialMap,
+     "Label image (PNG; each colour one material of --materials), used for every frame"},
+    {"materials", &EncodeCliOptions::materials,
+     "TOML table of the --material-map labels: [name] label = \"#rrggbb\", preset, "
+     "stiffness_scale, static_friction, dynamic_friction"},
 };
 
 } // namespace

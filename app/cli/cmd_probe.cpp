@@ -3,11 +3,14 @@
 /// pair (docs/architecture.md §4): the streams, the depth metadata, which stream plays which role
 /// and why, and how many color frames lack a depth partner. Demux only by default (packet PTS,
 /// fast); with
-/// --decode it runs the receiver (decode + pairing) and reports its counters too.
+/// --decode it runs the receiver (decode + pairing) and reports its counters too. A material track
+/// (docs/materials.md) is shown with its role, lossless or not and the value ranges of its first
+/// frame (decoded with libavcodec; regular files only: a FIFO or URL cannot be read twice).
 
 #include <algorithm>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,6 +20,7 @@
 #include "commands.h"
 #include "option_cli.h"
 #include "depthtouch/drivers/backends.h"
+#include "depthtouch/media/material_track.h"
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
 #include "depthtouch/receiver/pts_pairer.h"
@@ -150,6 +154,7 @@ struct ProbeReport {
     bool everyPaired = false;
     nlohmann::json decodeJson;
     std::string decodeText;
+    std::optional<media::MaterialStreamInfo> material; ///< The material stream, when there is one.
 };
 
 /// --decode reads the input twice (demux census, then the receiver): a FIFO cannot be. Prints why
@@ -275,8 +280,12 @@ int runDecodePass(const ProbeOptions &opt, const std::string &sourceName, bool m
 }
 
 /// The role a stream plays, with the reason it was chosen ("ignored" for any other stream).
-std::string roleOf(const receiver::StreamRoles &roles, int index)
+std::string roleOf(const ProbeReport &rep, int index)
 {
+    const receiver::StreamRoles &roles = rep.roles;
+    if (rep.material && index == rep.material->index && index != roles.color &&
+        index != roles.depth)
+        return "material (" + rep.material->titleFrom + ")";
     if (index == roles.color)
         return std::string("color (") + roles.colorReason + ")";
     if (index == roles.depth)
@@ -300,7 +309,7 @@ nlohmann::json streamsJson(const ProbeReport &rep)
         streams.push_back(
             {{"index", s.index},
              {"title", s.title},
-             {"role", roleOf(rep.roles, s.index)},
+             {"role", roleOf(rep, s.index)},
              {"codec", hal::codecName(s.codec)},
              {"width", s.width},
              {"height", s.height},
@@ -341,10 +350,38 @@ void printJsonReport(const ProbeOptions &opt, const ProbeReport &rep)
                     {"pts_gaps", census.stats.ptsGaps},
                     {"pts_duplicates", census.stats.ptsDuplicates},
                     {"every_color_frame_paired", rep.everyPaired}};
+    if (const auto &m = rep.material) {
+        nlohmann::json mj = {{"stream", m->index},        {"width", m->width},
+                             {"height", m->height},       {"codec", m->codec},
+                             {"pix_fmt", m->pixelFormat}, {"tags", m->tagsPresent}};
+        mj["lossless"] = m->lossless ? nlohmann::json(*m->lossless) : nlohmann::json(nullptr);
+        if (m->decoded)
+            mj["first_frame"] = {{"stiffness_scale", {m->minValue[0], m->maxValue[0]}},
+                                 {"static_friction", {m->minValue[1], m->maxValue[1]}},
+                                 {"dynamic_friction", {m->minValue[2], m->maxValue[2]}}};
+        j["material"] = mj;
+    }
     j["notes"] = rep.roles.notes;
     if (opt.decode)
         j["decode"] = rep.decodeJson;
     std::printf("%s\n", j.dump(2).c_str());
+}
+
+/// Prints the material line ("has materials") when the file has a material track.
+void printMaterialText(const ProbeReport &rep)
+{
+    if (!rep.material)
+        return;
+    const media::MaterialStreamInfo &m = *rep.material;
+    const char *lossless = !m.lossless ? "unknown" : *m.lossless ? "yes" : "NO";
+    std::printf("material: stream #%d %dx%d %s %s, lossless %s%s; has materials\n", m.index,
+                m.width, m.height, m.codec.c_str(), m.pixelFormat.c_str(), lossless,
+                m.tagsPresent ? ", planes and scales tagged" : "");
+    if (m.decoded)
+        std::printf("material first frame: stiffness scale %.4g..%.4g, static friction %.3g..%.3g, "
+                    "dynamic friction %.3g..%.3g\n",
+                    m.minValue[0], m.maxValue[0], m.minValue[1], m.maxValue[1], m.minValue[2],
+                    m.maxValue[2]);
 }
 
 /// Prints the text report's header line, one line per stream and the depth metadata line.
@@ -356,7 +393,7 @@ void printStreamsText(const ProbeOptions &opt, const ProbeReport &rep)
     for (const hal::StreamInfo &s : info.streams) {
         const StreamCount &c = rep.demux.counts[static_cast<std::size_t>(s.index)];
         std::printf("  #%d %-8s %-26s %-6s %dx%d %-8s %s fps, %llu frames (%.3f s)\n", s.index,
-                    s.title.empty() ? "-" : s.title.c_str(), roleOf(rep.roles, s.index).c_str(),
+                    s.title.empty() ? "-" : s.title.c_str(), roleOf(rep, s.index).c_str(),
                     hal::codecName(s.codec), s.width, s.height, hal::pixelFormatName(s.format),
                     rateText(s.frameRate).c_str(), static_cast<unsigned long long>(c.packets),
                     platform::toSeconds(rep.spans[static_cast<std::size_t>(s.index)]));
@@ -369,6 +406,7 @@ void printStreamsText(const ProbeOptions &opt, const ProbeReport &rep)
         else
             std::printf("depth metadata: none\n");
     }
+    printMaterialText(rep);
 }
 
 /// Prints the text report's pairing line and timestamp line.
@@ -443,6 +481,11 @@ int runProbe(const ProbeOptions &opt)
     rep.census = pairPackets(rep.info, rep.roles, rep.demux.counts);
     rep.unpairedColor = rep.census.colorFrames - rep.census.colorWithPartner;
     rep.everyPaired = rep.roles.color >= 0 && rep.roles.depth >= 0 && rep.unpairedColor == 0;
+    // The material track: read once more through libavformat (a regular file only).
+    if (!mockUrl && platform::pathKind(opt.file.c_str()) == platform::PathKind::Regular) {
+        if (auto m = media::probeMaterialStream(opt.file))
+            rep.material = *m;
+    }
 
     // Optional: the real receiver (decode + pairing).
     if (opt.decode) {

@@ -16,6 +16,7 @@
 
 #include "depthtouch/depth/fill.h"
 #include "depthtouch/depth/resample.h"
+#include "depthtouch/media/material_track.h"
 #include "depthtouch/platform/clock.h"
 
 namespace depthtouch::media {
@@ -201,7 +202,7 @@ Result<void> EncodeOptions::validate() const
         return unexpected(Errc::InvalidArgument, "--near and --far must satisfy 0 < near < far");
     if (rangeFrames < 1)
         return unexpected(Errc::InvalidArgument, "The robust range needs at least one frame");
-    if (depthCodec == VideoCodec::H264Yuv420p)
+    if (depthCodec == VideoCodec::H264Yuv420p || depthCodec == VideoCodec::H264Rgb)
         return unexpected(Errc::InvalidArgument, "Depth codec must be gray, gray10 or ffv1");
     if (enhance && !(enhanceOptions.sampling.tolerance > 0.0f))
         return unexpected(Errc::InvalidArgument, "--enhance-tolerance must be positive");
@@ -237,12 +238,13 @@ struct ColorShape {
     double fps = 0.0;
 };
 
-/// The muxer and the two encoders; the encoders refer to the muxer's streams, so they are
-/// declared after it and go first.
+/// The muxer and the encoders (material: optional); the encoders refer to the muxer's streams,
+/// so they are declared after it and go first.
 struct Outputs {
     std::unique_ptr<Muxer> muxer;
     std::unique_ptr<VideoEncoder> color;
     std::unique_ptr<VideoEncoder> depth;
+    std::unique_ptr<VideoEncoder> material;
 };
 
 /// \return the encoded size (--size or the color's) and rate of \a color, checked for 4:2:0
@@ -379,9 +381,11 @@ void reportProgress(const EncodeCallbacks &callbacks, long long frames, long lon
     callbacks.progress(p);
 }
 
-/// Opens the muxer with \a tags and the color and depth encoders; the header is written.
+/// Opens the muxer with \a tags and the color, depth and (\a material) material encoders; the
+/// header is written.
 Result<void> openOutputs(const EncodeOptions &options, const ColorShape &shape,
-                         const std::vector<std::pair<std::string, std::string>> &tags, Outputs &out)
+                         const std::vector<std::pair<std::string, std::string>> &tags,
+                         bool material, Outputs &out)
 {
     MuxerOptions mo;
     mo.output = options.output;
@@ -414,6 +418,12 @@ Result<void> openOutputs(const EncodeOptions &options, const ColorShape &shape,
     if (!depthEnc)
         return unexpected(depthEnc.error());
     out.depth = std::move(*depthEnc);
+    if (material) {
+        auto materialEnc = VideoEncoder::create(materialStreamConfig(cc), *out.muxer);
+        if (!materialEnc)
+            return unexpected(materialEnc.error());
+        out.material = std::move(*materialEnc);
+    }
     return out.muxer->start();
 }
 
@@ -456,6 +466,13 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
                                     const EncodeOptions &options, const std::atomic<bool> *stop,
                                     const EncodeCallbacks &callbacks)
 {
+    return encodeStreams(color, depth, nullptr, options, stop, callbacks);
+}
+
+Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth, FrameSource *material,
+                                    const EncodeOptions &options, const std::atomic<bool> *stop,
+                                    const EncodeCallbacks &callbacks)
+{
     DT_TRY(options.validate());
     const platform::SteadyClock &clock = platform::SteadyClock::instance();
     const platform::TimePoint start = clock.now();
@@ -494,7 +511,10 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
     const auto tags = depthTags(range, mapping, pipeline.bits());
     summary.mapping = mapping;
     Outputs out;
-    DT_TRY(openOutputs(options, shape, tags, out));
+    DT_TRY(openOutputs(options, shape, tags, material != nullptr, out));
+    std::optional<MaterialTrack> materials;
+    if (material != nullptr)
+        materials.emplace(*material);
     const long long expected = expectedFrames(color, depth, options, fps);
 
     double lastPts = -1.0;
@@ -544,6 +564,8 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
             return unexpected(depthImage.error());
         DT_TRY(out.color->encode(pair.color.image, pts));
         DT_TRY(out.depth->encode(*depthImage, pts));
+        if (materials)
+            DT_TRY(materials->encodeNext(*out.material, shape.width, shape.height, pts));
         lastPts = pts;
         summary.duration = pts + 1.0 / fps;
         ++summary.frames;
@@ -557,9 +579,15 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
     DT_TRY(out.depth->flush());
     summary.colorBytes = out.color->bytes();
     summary.depthBytes = out.depth->bytes();
+    if (out.material) {
+        DT_TRY(out.material->flush());
+        summary.materialBytes = out.material->bytes();
+        summary.materialFrames = materials->framesRead();
+    }
     // The encoders refer to the muxer's streams: they go first.
     out.color.reset();
     out.depth.reset();
+    out.material.reset();
     DT_TRY(out.muxer->finish());
     summary.elapsed = platform::toSeconds(clock.now() - start);
     return summary;

@@ -403,10 +403,16 @@ Result<std::unique_ptr<VideoEncoder>> VideoEncoder::create(const VideoEncoderCon
         if (m.container != Container::Matroska)
             return unexpected(Errc::NotSupported, "FFV1 depth needs an MKV output");
         break;
+    case VideoCodec::H264Rgb:
+        pixFmt = AV_PIX_FMT_RGB24;
+        codecName = "libx264rgb";
+        e.input = PixelFormat::Rgb24;
+        break;
     }
     const AVCodec *codec = avcodec_find_encoder_by_name(codecName);
     if (codec == nullptr)
-        return unexpected(Errc::NotSupported, "FFmpeg lacks the encoder (libx264 or ffv1)");
+        return unexpected(Errc::NotSupported,
+                          "FFmpeg lacks the encoder (libx264, libx264rgb or ffv1)");
     e.codec.reset(avcodec_alloc_context3(codec));
     e.frame.reset(av_frame_alloc());
     e.packet.reset(av_packet_alloc());
@@ -424,6 +430,10 @@ Result<std::unique_ptr<VideoEncoder>> VideoEncoder::create(const VideoEncoderCon
         // libswscale's RGB → YUV matrix is BT.601, limited range.
         c.color_range = AVCOL_RANGE_MPEG;
         c.colorspace = AVCOL_SPC_SMPTE170M;
+    } else if (config.codec == VideoCodec::H264Rgb) {
+        // Codes, not light: RGB as it is (no matrix), every level used.
+        c.color_range = AVCOL_RANGE_JPEG;
+        c.colorspace = AVCOL_SPC_RGB;
     } else {
         // Nearness levels use the whole sample range: 0 = far plane, 2^bits − 1 = near plane.
         c.color_range = AVCOL_RANGE_JPEG;
@@ -440,7 +450,7 @@ Result<std::unique_ptr<VideoEncoder>> VideoEncoder::create(const VideoEncoderCon
         av_dict_set(&opts, "preset", config.preset.c_str(), 0);
         if (config.gop > 0)
             c.gop_size = config.gop;
-        if (config.lossless)
+        if (config.lossless || config.codec == VideoCodec::H264Rgb)
             av_dict_set(&opts, "qp", "0", 0);
         else
             av_dict_set(&opts, "crf", std::to_string(config.crf).c_str(), 0);
@@ -506,7 +516,8 @@ Result<void> VideoEncoder::encode(const Image &image, double ptsSeconds)
         DT_TRY(e.scaler.convert(src, e.frame->data, e.frame->linesize, AV_PIX_FMT_YUV420P,
                                 image.width, image.height));
     } else {
-        // Gray layouts match the codec's sample layout bit for bit (gray10/gray16 native order).
+        // Gray and RGB24 layouts match the codec's sample layout bit for bit (gray10/gray16
+        // native order; libx264rgb takes packed RGB24).
         av_image_copy_plane(e.frame->data[0], e.frame->linesize[0], image.data.data(),
                             static_cast<int>(image.stride),
                             image.width * bytesPerPixel(image.format), image.height);

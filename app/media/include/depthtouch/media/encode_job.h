@@ -25,6 +25,11 @@
 /// pairs or maxDuration seconds, or when *stop becomes true (then the encoders are flushed and
 /// the trailer written: the output stays playable).
 ///
+/// Material track (docs/materials.md): with a material source, a third stream titled `material`
+/// (VideoCodec::H264Rgb, lossless) carries the material codes of each depth frame on the output
+/// grid, with the depth frame's PTS (MaterialTrack: resized nearest-neighbour, the last frame
+/// holds when the source ends).
+///
 /// Thread-safety: runs on the calling thread; \a stop may be set from any thread or a signal
 /// handler (it is only read, lock-free).
 
@@ -101,6 +106,8 @@ struct EncodeSummary {
     long long frames = 0;      ///< Pairs written.
     long long colorBytes = 0;  ///< Compressed color bytes.
     long long depthBytes = 0;  ///< Compressed depth bytes.
+    long long materialBytes = 0;  ///< Compressed material bytes (0 without a material track).
+    long long materialFrames = 0; ///< Material frames read (the rest held the last one).
     double elapsed = 0.0;      ///< Wall-clock seconds.
     double duration = 0.0;     ///< PTS span written (seconds).
     bool interrupted = false;  ///< *stop ended it.
@@ -128,6 +135,14 @@ struct EncodeCallbacks {
 ///         Errc::Io when writing fails or the output cannot be created, Errc::NotSupported for an
 ///         encoder or container FFmpeg lacks. No output file is left behind on error.
 Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth,
+                                    const EncodeOptions &options,
+                                    const std::atomic<bool> *stop = nullptr,
+                                    const EncodeCallbacks &callbacks = {});
+
+/// \brief As above, with the material track from \a material (nullptr: none; read as RGB24
+/// codes, see depthtouch/scene/material.h). A material input without any frame is
+/// Errc::InvalidArgument; its read errors are returned as they are.
+Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth, FrameSource *material,
                                     const EncodeOptions &options,
                                     const std::atomic<bool> *stop = nullptr,
                                     const EncodeCallbacks &callbacks = {});

@@ -116,6 +116,10 @@ enum class VideoCodec : std::uint8_t {
     H264Gray,    ///< libx264, 8-bit 4:0:0, from Gray8 (full range: levels 0..255 as they are).
     H264Gray10,  ///< libx264, 10-bit 4:0:0, from Gray16 holding 0..1023.
     Ffv1Gray16,  ///< FFV1 level 3 with slice CRCs, 16-bit gray, from Gray16 (always lossless).
+    /// libx264rgb, 8-bit 4:4:4 RGB (High 4:4:4 Predictive), from Rgb24, always lossless (qp 0,
+    /// VideoEncoderConfig::crf and lossless ignored): decodes to gbrp bit-exactly. The material
+    /// track (depthtouch/scene/material.h, materialStreamConfig()).
+    H264Rgb,
 };
 
 /// \brief Options of VideoEncoder::create().
