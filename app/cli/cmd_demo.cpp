@@ -32,10 +32,12 @@
 #include "option_cli.h"
 #include "depthtouch/haptics/feel.h"
 #include "depthtouch/haptics/height_field.h"
+#include "depthtouch/haptics/renderer.h"
 #include "depthtouch/haptics/spectrum.h"
 #include "depthtouch/media/encode_job.h"
 #include "depthtouch/media/frame_source.h"
 #include "depthtouch/platform/gnuplot.h"
+#include "depthtouch/platform/percentile.h"
 #include "play.h"
 #include "source_providers.h"
 
@@ -102,6 +104,11 @@ std::string encodeScene(const DemoOptions &o, const std::string &clip)
     auto depth = media::openFrameSource(spec, so, providers);
     if (!depth)
         return std::string("cannot render the scene's depth: ") + depth.error().what;
+    // The scene's haptic materials (skin, cloth...) as the clip's material track.
+    so.streamTitle = "material";
+    auto material = media::openFrameSource(spec, so, providers);
+    if (!material)
+        return std::string("cannot render the scene's materials: ") + material.error().what;
     media::EncodeOptions eo;
     eo.output = clip;
     eo.preset = "veryfast";
@@ -115,7 +122,7 @@ std::string encodeScene(const DemoOptions &o, const std::string &clip)
             std::fflush(stderr);
         }
     };
-    auto r = media::encodeStreams(**color, **depth, eo, nullptr, cb);
+    auto r = media::encodeStreams(**color, **depth, material->get(), eo, nullptr, cb);
     std::fprintf(stderr, "\n");
     if (!r)
         return std::string("cannot encode the scene: ") + r.error().what;
@@ -273,7 +280,17 @@ struct DemoFeel {
     haptics::FeelFigures feel;
     double contactSeconds = 0.0;
     double figureSeconds = 0.0; ///< Of the contact time, on the figure (nearer than the backdrop).
+    /// The stiffness felt, |F| / |proxy − HIP| (N/m), of the contact updates pressed over 0.5 mm
+    /// and under the force clamp, on the figure and on the backdrop: the material track's
+    /// stiffness scales times --stiffness (skin and cloth differ).
+    std::vector<double> figureStiffness;
+    std::vector<double> backdropStiffness;
 };
+
+/// Contact updates pressed less than this deep are left out of the stiffness felt, m.
+constexpr double kStiffnessMinDepth = 0.0005;
+/// The renderer's force clamp, N: updates near it are left out of the stiffness felt.
+const double kDemoMaxForce = haptics::RendererConfig{}.maxForce;
 
 /// Fills each row's surface heights and flags, \a plot with the chart's columns, and the figures.
 DemoFeel measureFeel(const std::vector<LogRow> &rows, const std::vector<double> &play,
@@ -306,6 +323,10 @@ DemoFeel measureFeel(const std::vector<LogRow> &rows, const std::vector<double> 
             d.contactSeconds += dt;
             if (onFigure)
                 d.figureSeconds += dt;
+            const double depth = glm::length(r.proxy - r.hip);
+            const double force = glm::length(r.force);
+            if (!r.released && depth > kStiffnessMinDepth && force < 0.95 * kDemoMaxForce)
+                (onFigure ? d.figureStiffness : d.backdropStiffness).push_back(force / depth);
         }
         plot.push_back({play[i], glm::length(r.force), r.contact ? 1.0 : 0.0, 1e3 * r.hip.z,
                         1e3 * s.surfaceZ, onFigure ? 1.0 : 0.0});
@@ -395,6 +416,14 @@ void reportFeel(const DemoOptions &o, const std::string &clip, const std::string
                 o.scene == "head" ? "head" : "fig.",
                 d.contactSeconds > 0 ? 100.0 * d.figureSeconds / d.contactSeconds : 0.0,
                 d.contactSeconds, 1e3 * kFigureMargin, o.scene == "head" ? "curtain" : "backdrop");
+    auto median = [](std::vector<double> v) {
+        return v.empty() ? std::nan("") : platform::percentile(v, 0.5);
+    };
+    std::printf("  stiffness felt    %s %.0f N/m, %s %.0f N/m (median |F| / depth; the clip's "
+                "material track scales --stiffness %.0f N/m)\n",
+                o.scene == "head" ? "head" : "figure", median(d.figureStiffness),
+                o.scene == "head" ? "curtain" : "backdrop", median(d.backdropStiffness),
+                o.stiffness);
     const std::string chart = chartForce(o.outDir, plot, o.rate);
     std::printf("  chart             %s\n", chart.c_str());
 }
@@ -424,8 +453,8 @@ int runDemo(const DemoOptions &o)
         return kExitFailure;
     }
     // The clip: made once per scene, size and length, then reused.
-    const std::string clip =
-        o.outDir + "/" + o.scene + "-" + o.size + "-" + std::to_string(o.frames) + ".mkv";
+    const std::string clip = o.outDir + "/" + o.scene + "-" + o.size + "-" +
+                             std::to_string(o.frames) + "-materials.mkv";
     if (o.rebuild || !std::filesystem::exists(clip)) {
         std::printf("Rendering the built-in '%s' scene (%d frames at %s) into %s (once)...\n",
                     o.scene.c_str(), o.frames, o.size.c_str(), clip.c_str());

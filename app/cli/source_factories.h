@@ -41,6 +41,9 @@ struct SyntheticSpec {
     double fps = 30.0;      ///< Frames per second.
     long long frames = 120; ///< Frames delivered; 0 = endless.
     bool depth = false;     ///< The depth (nearness) stream, else color.
+    /// The material stream (stream=material, or the source titled "material"): the scene's
+    /// per-pixel haptic material codes, Rgb24 (depthtouch/scene/material.h).
+    bool material = false;
 };
 
 /// Default length of a synthetic source: this many seconds of frames.

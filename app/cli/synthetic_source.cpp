@@ -1,7 +1,7 @@
 /// \file
 /// \brief `synthetic:NAME` sources (see source_providers.h): a SyntheticRenderer owns a thread with
-/// a headless EGL display, its GL ES context and one synthetic::SyntheticScene; the color and
-/// depth sources of one scene ask it for frames by index. Each frame is drawn once for every
+/// a headless EGL display, its GL ES context and one synthetic::SyntheticScene; the color, depth
+/// and material sources of one scene ask it for frames by index. Each frame is drawn once for every
 /// stream attached, kept in a small cache until the other stream takes it, and the next frame is
 /// drawn ahead while the caller encodes the current one.
 
@@ -35,6 +35,17 @@ namespace {
 
 /// Frames the renderer keeps for a stream that has not taken them yet.
 constexpr std::size_t kCachedFrames = 4;
+
+/// The streams of a scene, as SyntheticRenderer indexes them.
+constexpr int kColor = 0;
+constexpr int kDepth = 1;
+constexpr int kMaterial = 2;
+constexpr int kStreams = 3;
+
+int streamOf(const SyntheticSpec &spec) noexcept
+{
+    return spec.material ? kMaterial : (spec.depth ? kDepth : kColor);
+}
 
 std::string numberText(double v)
 {
@@ -100,34 +111,36 @@ public:
     SyntheticRenderer(const SyntheticRenderer &) = delete;
     SyntheticRenderer &operator=(const SyntheticRenderer &) = delete;
 
-    /// A source of the color (\a depth false) or depth stream starts or stops taking frames: the
+    /// A source of stream \a stream (kColor, kDepth, kMaterial) starts or stops taking frames: the
     /// frames drawn from then on include that stream or not.
-    void attach(bool depth)
+    void attach(int stream)
     {
         const std::lock_guard lock(mutex_);
-        ++(depth ? depthUsers_ : colorUsers_);
+        ++users_[stream];
     }
-    void detach(bool depth)
+    void detach(int stream)
     {
         const std::lock_guard lock(mutex_);
-        --(depth ? depthUsers_ : colorUsers_);
+        --users_[stream];
     }
 
-    /// \brief Frame \a index of one stream: Rgb24 color, or nearness in \a nearFormat (Gray8 or
-    /// Gray16). \a ahead: the frame the caller will ask next (drawn meanwhile), if any.
+    /// \brief Frame \a index of one stream: Rgb24 color, nearness in \a nearFormat (Gray8 or
+    /// Gray16), or Rgb24 material codes. \a ahead: the frame the caller will ask next (drawn
+    /// meanwhile), if any.
     /// \return the image (scene size). Errors: those of SyntheticScene::render(); Io when the
     /// render thread has ended.
-    Result<media::Image> take(std::uint64_t index, bool depth, media::PixelFormat nearFormat,
+    Result<media::Image> take(std::uint64_t index, int stream, media::PixelFormat nearFormat,
                               std::optional<std::uint64_t> ahead)
     {
         std::unique_lock lock(mutex_);
+        const bool depth = stream == kDepth;
         if (depth)
             nearFormat_ = nearFormat;
         for (;;) {
             if (const Entry *e = find(index)) {
                 if (e->failed)
                     return unexpected(e->error);
-                const media::Image &part = depth ? e->nearness : e->color;
+                const media::Image &part = e->images[stream];
                 if (!part.empty() && (!depth || part.format == nearFormat)) {
                     media::Image copy = part;
                     if (ahead && find(*ahead) == nullptr) {
@@ -142,9 +155,12 @@ public:
                 return unexpected(Errc::Io, "The synthetic scene's render thread has ended");
             bool pending = false;
             for (const Want &w : wants_)
-                pending = pending || (w.index == index && (depth ? w.nearness : w.color));
-            if (!pending)
-                wants_.push_back(Want{index, !depth, depth});
+                pending = pending || (w.index == index && w.streams[stream]);
+            if (!pending) {
+                Want w{index, {}};
+                w.streams[stream] = true;
+                wants_.push_back(w);
+            }
             wake_.notify_all();
             const std::uint64_t seen = drawn_;
             done_.wait(lock, [&] { return drawn_ != seen || threadEnded_; });
@@ -157,15 +173,13 @@ public:
 private:
     struct Entry {
         std::uint64_t index = 0;
-        media::Image color;    ///< Empty when not drawn.
-        media::Image nearness; ///< Empty when not drawn.
+        media::Image images[kStreams]; ///< Color, nearness, material; empty when not drawn.
         bool failed = false;
         Error error{};
     };
     struct Want {
         std::uint64_t index = 0;
-        bool color = false;
-        bool nearness = false;
+        bool streams[kStreams] = {};
     };
 
     SyntheticRenderer(const SyntheticSpec &spec,
@@ -180,8 +194,10 @@ private:
     {
         if (e.failed)
             return true;
-        return (!w.color || !e.color.empty()) &&
-               (!w.nearness || (!e.nearness.empty() && e.nearness.format == nearFormat_));
+        return (!w.streams[kColor] || !e.images[kColor].empty()) &&
+               (!w.streams[kDepth] ||
+                (!e.images[kDepth].empty() && e.images[kDepth].format == nearFormat_)) &&
+               (!w.streams[kMaterial] || !e.images[kMaterial].empty());
     }
 
     const Entry *find(std::uint64_t index) const noexcept
@@ -272,20 +288,22 @@ private:
             if (const Entry *e = find(w.index); e != nullptr && has(*e, w))
                 continue;
             // Draw every attached stream, so the other one finds the frame in the cache.
-            w.color = w.color || colorUsers_ > 0;
-            w.nearness = w.nearness || depthUsers_ > 0;
+            for (int k = 0; k < kStreams; ++k)
+                w.streams[k] = w.streams[k] || users_[k] > 0;
             const media::PixelFormat nearFormat = nearFormat_;
             lock.unlock();
 
             Entry e;
             e.index = w.index;
-            if (w.color)
-                e.color = media::Image::make(spec_.width, spec_.height, media::PixelFormat::Rgb24);
-            if (w.nearness)
-                e.nearness = media::Image::make(spec_.width, spec_.height, nearFormat);
-            const hal::ImageView noView;
-            auto r = scene.render(w.index, w.color ? viewOf(e.color) : noView,
-                                  w.nearness ? viewOf(e.nearness) : noView);
+            hal::ImageView views[kStreams];
+            for (int k = 0; k < kStreams; ++k) {
+                if (!w.streams[k])
+                    continue;
+                e.images[k] = media::Image::make(spec_.width, spec_.height,
+                                                 k == kDepth ? nearFormat : media::PixelFormat::Rgb24);
+                views[k] = viewOf(e.images[k]);
+            }
+            auto r = scene.render(w.index, views[kColor], views[kDepth], views[kMaterial]);
             if (!r) {
                 e.failed = true;
                 e.error = r.error();
@@ -327,8 +345,7 @@ private:
     Error startError_{};
     double nearM_ = 0.0;
     double farM_ = 0.0;
-    int colorUsers_ = 0;
-    int depthUsers_ = 0;
+    int users_[kStreams] = {};
     media::PixelFormat nearFormat_ = media::PixelFormat::Gray8;
     std::deque<Want> wants_;
     std::optional<std::uint64_t> ahead_;
@@ -360,7 +377,7 @@ public:
     SyntheticFrameSource(std::shared_ptr<SyntheticRenderer> renderer, const SyntheticSpec &spec)
         : renderer_(std::move(renderer)), spec_(spec)
     {
-        renderer_->attach(spec_.depth);
+        renderer_->attach(streamOf(spec_));
         info_.width = spec.width;
         info_.height = spec.height;
         info_.fps = spec.fps;
@@ -368,13 +385,13 @@ public:
         info_.frameCount = spec.frames;
         info_.description = "synthetic " + spec.scene + " " + std::to_string(spec.width) + "x" +
                             std::to_string(spec.height) + " " + numberText(spec.fps) + " fps " +
-                            (spec.depth ? "nearness" : "color");
+                            (spec.material ? "material" : (spec.depth ? "nearness" : "color"));
         if (spec.depth)
             info_.tags = {{"depth_near", numberText(renderer_->nearMetres())},
                           {"depth_far", numberText(renderer_->farMetres())},
                           {"depth_mapping", "inverse_z"}};
     }
-    ~SyntheticFrameSource() override { renderer_->detach(spec_.depth); }
+    ~SyntheticFrameSource() override { renderer_->detach(streamOf(spec_)); }
     SyntheticFrameSource(const SyntheticFrameSource &) = delete;
     SyntheticFrameSource &operator=(const SyntheticFrameSource &) = delete;
 
@@ -395,7 +412,7 @@ public:
         std::optional<std::uint64_t> ahead;
         if (spec_.frames == 0 || index_ + 1 < frames)
             ahead = index_ + 1;
-        auto image = renderer_->take(index_, spec_.depth, drawn, ahead);
+        auto image = renderer_->take(index_, streamOf(spec_), drawn, ahead);
         if (!image)
             return unexpected(image.error());
         media::SourceFrame frame;
@@ -470,7 +487,12 @@ Result<SyntheticSpec> parseSyntheticSpec(std::string_view target,
                           "Synthetic frames must be a count >= 0 (0: endless)");
     spec.frames = *frames;
 
-    auto depth = wantsDepthStream(list.find("stream").value_or(std::string_view{}), options);
+    const std::string_view stream = list.find("stream").value_or(std::string_view{});
+    if (stream == "material" || (stream.empty() && options.streamTitle == "material")) {
+        spec.material = true;
+        return spec;
+    }
+    auto depth = wantsDepthStream(stream, options);
     if (!depth)
         return unexpected(depth.error());
     spec.depth = *depth;

@@ -23,4 +23,12 @@ haptics::DepthFrameView depthView(const receiver::StoredFrame &f, double pts) no
     return v;
 }
 
+scene::MaterialView materialView(const receiver::StoredFrame *f, int width, int height) noexcept
+{
+    if (f == nullptr || f->image.format != hal::PixelFormat::Rgb24 || f->image.width != width ||
+        f->image.height != height || f->image.planes[0].data == nullptr)
+        return {};
+    return {f->image.planes[0].data, static_cast<std::size_t>(f->image.planes[0].strideBytes)};
+}
+
 } // namespace depthtouch::playback

@@ -20,4 +20,9 @@ haptics::SampleFormat sampleFormatOf(hal::PixelFormat format) noexcept;
 /// view borrows \a f's pixels: keep \a f alive while the view is used.
 haptics::DepthFrameView depthView(const receiver::StoredFrame &f, double pts) noexcept;
 
+/// \return a view of the material frame \a f (Rgb24 codes, scene/material.h) of a depth frame of
+/// \a width × \a height, or an empty view when \a f is null, not Rgb24 or of another size.
+/// Borrows \a f's pixels.
+scene::MaterialView materialView(const receiver::StoredFrame *f, int width, int height) noexcept;
+
 } // namespace depthtouch::playback

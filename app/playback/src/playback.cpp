@@ -209,7 +209,7 @@ std::string attachHaptics(Playback::Impl &m, Session &s, PlaybackInfo &info)
         return {};
     }
     auto handoff = haptic_task::DepthHandoff::create(ri.depth.width, ri.depth.height,
-                                                     sampleFormatOf(ri.depthFormat));
+                                                     sampleFormatOf(ri.depthFormat), ri.hasMaterial);
     if (!handoff)
         return std::string("cannot allocate the depth frames: ") + handoff.error().what;
     s.handoff = std::move(*handoff);
@@ -221,6 +221,8 @@ std::string attachHaptics(Playback::Impl &m, Session &s, PlaybackInfo &info)
     s.task = std::move(*task);
     s.task->setStiffness(m.stiffness);
     info.haptics = true;
+    if (ri.hasMaterial)
+        info.notes.emplace_back("material track: per-pixel stiffness and friction under the finger");
     return {};
 }
 

@@ -254,9 +254,11 @@ void RenderLoop::publishDepth(Session &s)
     const receiver::DepthPair dp = frames_.shown.depthPair();
     if (frames_.reseat)
         s.handoff->restart();
-    const haptics::DepthFrameView current = depthView(*dp.current, ptsSeconds(dp.currentPts));
+    haptics::DepthFrameView current = depthView(*dp.current, ptsSeconds(dp.currentPts));
+    current.material = materialView(dp.material, current.width, current.height);
     if (dp.next != nullptr) {
-        const haptics::DepthFrameView next = depthView(*dp.next, ptsSeconds(dp.nextPts));
+        haptics::DepthFrameView next = depthView(*dp.next, ptsSeconds(dp.nextPts));
+        next.material = materialView(dp.materialNext, next.width, next.height);
         s.handoff->publishPair(current, &next);
     } else {
         s.handoff->publishPair(current, nullptr);
