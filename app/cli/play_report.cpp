@@ -27,6 +27,11 @@ void addPlaybackStats(nlohmann::json &j, const playback::PlaybackStats &ps)
     j["color_frames_imported"] = ps.colorFramesImported;
     j["color_frames_dmabuf_uploaded"] = ps.colorFramesDmaBufUploaded;
     j["depth_pairs_published"] = ps.depthPairsPublished;
+    // The material track (docs/materials.md): frames decoded, depth frames that held an older
+    // material frame, depth frames with none at or before them.
+    j["material_frames"] = ps.receiver.materialFrames;
+    j["material_held"] = ps.receiver.materialHeld;
+    j["material_missing"] = ps.receiver.materialMissing;
     j["render_ms_p50"] = ps.renderMsP50;
     j["render_ms_p99"] = ps.renderMsP99;
     j["mesh_triangles_p50"] = ps.meshTrianglesP50;

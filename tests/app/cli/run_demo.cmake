@@ -45,6 +45,12 @@ if(NOT header STREQUAL "t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,con
     message(FATAL_ERROR "force log header is '${header}'")
 endif()
 file(READ ${OUT}/stats.json stats)
+# Every depth frame of the clip came with its material frame.
+string(JSON materialFrames GET "${stats}" material_frames)
+string(JSON materialMissing GET "${stats}" material_missing)
+if(materialFrames LESS 20 OR NOT materialMissing EQUAL 0)
+    message(FATAL_ERROR "material track: ${materialFrames} frames decoded, ${materialMissing} missing")
+endif()
 string(JSON maxForce GET "${stats}" max_force_n)
 string(JSON deviceMax GET "${stats}" device_max_force_n)
 if(maxForce GREATER deviceMax)
