@@ -153,8 +153,12 @@ void Receiver::Impl::drainLaggingMaterial()
     Stream &m = streams[2];
     if (!m.used || inputEnded || m.eosQueued || m.decoderBusy || materialReady())
         return;
-    const auto window = static_cast<std::size_t>(cfg.pairingWindow);
-    if (pairer->waiting(PairStream::Color) < window && pairer->waiting(PairStream::Depth) < window)
+    // The pending frame's depth frames i and i+1 wait in the pairer too: the material lags by
+    // about window frames when either queue is one short of full (window + 2), which leaves a
+    // frame of room for the decoders while the material decoder drains.
+    const auto lagging = static_cast<std::size_t>(cfg.pairingWindow) + 1;
+    if (pairer->waiting(PairStream::Color) < lagging &&
+        pairer->waiting(PairStream::Depth) < lagging)
         return;
     if (m.decoder->queuePacket(hal::Packet::endOfStream(m.info.index))) {
         m.eosQueued = true;

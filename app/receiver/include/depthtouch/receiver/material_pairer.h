@@ -32,6 +32,7 @@
 
 #include "depthtouch/hal/types.h"
 #include "depthtouch/platform/assert.h"
+#include "depthtouch/receiver/pts_pairer.h" // sharePayload(const int &)
 
 namespace depthtouch::receiver {
 
