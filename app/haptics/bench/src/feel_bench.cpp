@@ -71,10 +71,30 @@ bool cutAt(const FeelScene &scene, const HeightField &field, std::size_t i, cons
     return false;
 }
 
+/// The material track of the `finger-materials` setting: kFeelMaterialBlock-pixel squares
+/// alternating skin and cloth (kFeelSkin, kFeelCloth), as RGB24 codes on the scene's grid.
+std::vector<std::uint8_t> feelMaterial(int w, int h)
+{
+    std::vector<std::uint8_t> rgb(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3);
+    for (int r = 0; r < h; ++r)
+        for (int c = 0; c < w; ++c) {
+            const bool skin = (c / kFeelMaterialBlock + r / kFeelMaterialBlock) % 2 == 0;
+            scene::encodeMaterial(skin ? kFeelSkin : kFeelCloth,
+                                  &rgb[(static_cast<std::size_t>(r) * static_cast<std::size_t>(w) +
+                                        static_cast<std::size_t>(c)) *
+                                       3]);
+        }
+    return rgb;
+}
+
 /// Replays one stroke on a fresh renderer; fills \a rows.
 Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const FeelSetting &setting,
                           const RendererConfig &cfg, std::vector<FeelSample> &rows)
 {
+    const std::vector<std::uint8_t> material =
+        setting.materials ? feelMaterial(scene.width, scene.height) : std::vector<std::uint8_t>{};
+    const scene::MaterialView materialView{setting.materials ? material.data() : nullptr,
+                                           static_cast<std::size_t>(scene.width) * 3};
     auto made = makeRenderer(setting.method, cfg, scene.width, scene.height);
     if (!made)
         return unexpected(made.error());
@@ -89,9 +109,11 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
     for (const StrokeSample &s : stroke.samples) {
         const std::size_t i = frameAt(scene, s.t);
         if (i != current) {
-            const DepthFrameView a = scene.frame(i);
-            const DepthFrameView b =
-                i + 1 < scene.frameCount() ? scene.frame(i + 1) : DepthFrameView{};
+            DepthFrameView a = scene.frame(i);
+            DepthFrameView b = i + 1 < scene.frameCount() ? scene.frame(i + 1) : DepthFrameView{};
+            a.material = materialView;
+            if (b.data != nullptr)
+                b.material = materialView;
             const DepthFrameView *next = i + 1 < scene.frameCount() ? &b : nullptr;
             DT_TRY(r.setFrames(a, next));
             DT_TRY(truth.setFrames(a, next));
@@ -184,6 +206,7 @@ std::vector<FeelSetting> feelSettings(const std::vector<Method> &methods)
             out.push_back({"finger-friction", m, c});
             c.staticFriction = 0.0;
             c.dynamicFriction = 0.0;
+            out.push_back({"finger-materials", m, c, true});
             c.fingerRadius = 1.0e-3;
             out.push_back({"finger-r1mm", m, c});
             c.fingerRadius = 2.0e-3;

@@ -17,6 +17,7 @@
 #include "depthtouch/haptics/feel.h"
 #include "depthtouch/haptics/feel_scenes.h"
 #include "depthtouch/haptics/renderer.h"
+#include "depthtouch/scene/material.h"
 
 namespace depthtouch::haptics::bench {
 
@@ -25,7 +26,16 @@ struct FeelSetting {
     std::string name;
     Method method = Method::Modified;
     RendererConfig config{};
+    /// The frames carry a material track (`finger-materials`: see feelMaterial() in
+    /// feel_bench.cpp): skin and cloth squares under every stroke.
+    bool materials = false;
 };
+
+/// The material track of `finger-materials`: squares of this many pixels alternating skin and
+/// cloth (docs/materials.md presets), so that every stroke crosses material boundaries.
+inline constexpr int kFeelMaterialBlock = 24;
+inline constexpr scene::Material kFeelSkin{0.75, 0.6, 0.45};
+inline constexpr scene::Material kFeelCloth{0.6, 0.85, 0.65};
 
 /// Friction of the `finger-friction` setting (friction.h): μs and μd of a dry fingertip on a
 /// smooth surface. Breaking away drops the tangential force by k·(μs − μd)·depth, 0.24 N pressed
@@ -34,8 +44,9 @@ inline constexpr double kFeelStaticFriction = 0.5;
 inline constexpr double kFeelDynamicFriction = 0.4;
 
 /// \brief The settings for \a methods: finger (its defaults; then `finger-ramp`, `finger-friction`
-/// with kFeelStaticFriction and kFeelDynamicFriction, `finger-r1mm`, `finger-r2mm`), modified with
-/// Reengage::Release and Reengage::Ramp, proxy-graph, mesh-bvh, in that order where asked.
+/// with kFeelStaticFriction and kFeelDynamicFriction, `finger-materials`, `finger-r1mm`,
+/// `finger-r2mm`), modified with Reengage::Release and Reengage::Ramp, proxy-graph, mesh-bvh, in
+/// that order where asked.
 std::vector<FeelSetting> feelSettings(const std::vector<Method> &methods);
 
 /// \brief The figures of one stroke with one setting.
