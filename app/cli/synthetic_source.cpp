@@ -299,8 +299,9 @@ private:
             for (int k = 0; k < kStreams; ++k) {
                 if (!w.streams[k])
                     continue;
-                e.images[k] = media::Image::make(spec_.width, spec_.height,
-                                                 k == kDepth ? nearFormat : media::PixelFormat::Rgb24);
+                e.images[k] =
+                    media::Image::make(spec_.width, spec_.height,
+                                       k == kDepth ? nearFormat : media::PixelFormat::Rgb24);
                 views[k] = viewOf(e.images[k]);
             }
             auto r = scene.render(w.index, views[kColor], views[kDepth], views[kMaterial]);

@@ -38,9 +38,8 @@ static_assert(DepthHandoff::kSlots < static_cast<int>(kNone), "slot indices must
 
 } // namespace
 
-Result<std::unique_ptr<DepthHandoff>> DepthHandoff::create(int width, int height,
-                                                           haptics::SampleFormat format,
-                                                           bool material)
+Result<std::unique_ptr<DepthHandoff>>
+DepthHandoff::create(int width, int height, haptics::SampleFormat format, bool material)
 {
     if (width < 2 || height < 2 || width > 16384 || height > 16384)
         return unexpected(Errc::InvalidArgument,
@@ -56,8 +55,8 @@ DepthHandoff::DepthHandoff(int width, int height, haptics::SampleFormat format, 
     : width_(width), height_(height), format_(format),
       frameBytes_(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) *
                   haptics::bytesPerSample(format)),
-      materialBytes_(material ? static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3
-                              : 0),
+      materialBytes_(
+          material ? static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3 : 0),
       slotBytes_(frameBytes_ + materialBytes_), storage_(slotBytes_ * kSlots, 0),
       state_(kInitialState)
 {
@@ -156,7 +155,8 @@ DepthSlot DepthHandoff::copyIn(const haptics::DepthFrameView &frame) noexcept
             std::min(materialRow, static_cast<std::size_t>(frame.width) * 3);
         for (int y = 0; y < rows; ++y)
             std::memcpy(s.material + static_cast<std::size_t>(y) * materialRow,
-                        frame.material.data + static_cast<std::size_t>(y) * frame.material.strideBytes,
+                        frame.material.data +
+                            static_cast<std::size_t>(y) * frame.material.strideBytes,
                         materialCopy);
     }
     return s;

@@ -149,8 +149,7 @@ glm::dvec3 ForceStage::shape(glm::dvec3 raw, double t, bool contact, bool trip) 
 }
 
 glm::dvec3 ForceStage::apply(const glm::dvec3 &hip, glm::dvec3 &proxy, bool &contact, double t,
-                             double surfaceAboveHip, bool &released,
-                             double stiffnessScale) noexcept
+                             double surfaceAboveHip, bool &released, double stiffnessScale) noexcept
 {
     const double k = config_.stiffness * stiffnessScale;
     glm::dvec3 raw = spring(hip, proxy, contact, t, stiffnessScale);

@@ -208,8 +208,8 @@ std::string attachHaptics(Playback::Impl &m, Session &s, PlaybackInfo &info)
         info.notes.emplace_back("no haptic device: playing without haptics");
         return {};
     }
-    auto handoff = haptic_task::DepthHandoff::create(ri.depth.width, ri.depth.height,
-                                                     sampleFormatOf(ri.depthFormat), ri.hasMaterial);
+    auto handoff = haptic_task::DepthHandoff::create(
+        ri.depth.width, ri.depth.height, sampleFormatOf(ri.depthFormat), ri.hasMaterial);
     if (!handoff)
         return std::string("cannot allocate the depth frames: ") + handoff.error().what;
     s.handoff = std::move(*handoff);
@@ -222,7 +222,8 @@ std::string attachHaptics(Playback::Impl &m, Session &s, PlaybackInfo &info)
     s.task->setStiffness(m.stiffness);
     info.haptics = true;
     if (ri.hasMaterial)
-        info.notes.emplace_back("material track: per-pixel stiffness and friction under the finger");
+        info.notes.emplace_back(
+            "material track: per-pixel stiffness and friction under the finger");
     return {};
 }
 

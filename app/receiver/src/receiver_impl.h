@@ -88,7 +88,7 @@ struct Receiver::Impl {
     Pairer::Output pending; ///< Pulled from the pairer, waiting for its material frames.
     bool havePending = false;
     std::uint64_t materialForced = 0; ///< Outputs decided without their material being final.
-    hal::Packet packet; ///< Read, not yet accepted by its decoder.
+    hal::Packet packet;               ///< Read, not yet accepted by its decoder.
     bool havePacket = false;
     bool inputEnded = false;
     bool ended = false;

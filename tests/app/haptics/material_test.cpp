@@ -30,7 +30,8 @@ public:
     {
         for (int r = 0; r < h; ++r)
             for (int c = 0; c < w; ++c)
-                scene::encodeMaterial(byColumn(c), &bytes_[static_cast<std::size_t>(r * w + c) * 3]);
+                scene::encodeMaterial(byColumn(c),
+                                      &bytes_[static_cast<std::size_t>(r * w + c) * 3]);
     }
     [[nodiscard]] scene::MaterialView view() const
     {
@@ -115,7 +116,8 @@ TEST_P(MaterialScenarioTest, stiffnessBoundaryCrossedAtTenCmPerSecondStaysUnderT
     const SceneBox box{};
     const int w = 320;
     const int h = 240;
-    const test::OwnedFrame frame = test::makeFrame(box, w, h, 0.0, [](double, double) { return 0.0; });
+    const test::OwnedFrame frame =
+        test::makeFrame(box, w, h, 0.0, [](double, double) { return 0.0; });
     const OwnedMaterial mat(w, h, [w](int c) { return Material{c < w / 2 ? 1.0 : 3.0, 0.0, 0.0}; });
     RendererConfig cfg = RendererConfig::forMethod(GetParam());
     cfg.stiffness = 400.0;
@@ -137,7 +139,8 @@ TEST_P(MaterialScenarioTest, stiffnessBoundaryCrossedAtTenCmPerSecondStaysUnderT
     bool released = false;
     int t = 0;
     for (; t < 100; ++t) { // press in 0.1 s
-        const HapticOutput out = r.update({x0, 0.0, 3e-3 - (3e-3 + depth) * (t + 1) / 100.0}, t / 1000.0);
+        const HapticOutput out =
+            r.update({x0, 0.0, 3e-3 - (3e-3 + depth) * (t + 1) / 100.0}, t / 1000.0);
         prev = out.force;
     }
     for (int i = 0; i < 400; ++i, ++t) { // 4 cm across the boundary at x = 0
@@ -175,7 +178,8 @@ Push pushAcross(Method method, const RendererConfig &cfg, const std::function<Ma
     const SceneBox box{};
     const int w = 320;
     const int h = 240;
-    const test::OwnedFrame frame = test::makeFrame(box, w, h, 0.0, [](double, double) { return -2e-3; });
+    const test::OwnedFrame frame =
+        test::makeFrame(box, w, h, 0.0, [](double, double) { return -2e-3; });
     const OwnedMaterial m(w, h, mat);
     auto made = makeRenderer(method, cfg, w, h);
     EXPECT_TRUE(made);

@@ -49,11 +49,11 @@ std::vector<std::uint8_t> benchMaterial(int w, int h)
     for (int r = 0; r < h; ++r)
         for (int c = 0; c < w; ++c) {
             const bool grip = (c / 16) % 2 == 0;
-            scene::encodeMaterial({1.0, grip ? kBenchStaticFriction : 0.3,
-                                   grip ? kBenchDynamicFriction : 0.2},
-                                  &rgb[(static_cast<std::size_t>(r) * static_cast<std::size_t>(w) +
-                                        static_cast<std::size_t>(c)) *
-                                       3]);
+            scene::encodeMaterial(
+                {1.0, grip ? kBenchStaticFriction : 0.3, grip ? kBenchDynamicFriction : 0.2},
+                &rgb[(static_cast<std::size_t>(r) * static_cast<std::size_t>(w) +
+                      static_cast<std::size_t>(c)) *
+                     3]);
         }
     return rgb;
 }
@@ -70,8 +70,8 @@ OneRun runOnce(const std::string &method, const WaveScenario &scene, double spee
     const int w = scene.width();
     const int h = scene.height();
     const bool materials = endsWith(method, "-materials");
-    const std::vector<std::uint8_t> material = materials ? benchMaterial(w, h)
-                                                         : std::vector<std::uint8_t>{};
+    const std::vector<std::uint8_t> material =
+        materials ? benchMaterial(w, h) : std::vector<std::uint8_t>{};
     const scene::MaterialView materialView{materials ? material.data() : nullptr,
                                            static_cast<std::size_t>(w) * 3};
     RendererConfig cfg;
@@ -81,8 +81,7 @@ OneRun runOnce(const std::string &method, const WaveScenario &scene, double spee
     if (method == "mesh-bvh") {
         cfg = RendererConfig::forMethod(Method::MeshBvh);
         r = std::make_unique<MeshBvhRenderer>(cfg, w, h);
-    } else if (method == "finger" || method == "finger-friction" ||
-               method == "finger-materials") {
+    } else if (method == "finger" || method == "finger-friction" || method == "finger-materials") {
         cfg = RendererConfig::forMethod(Method::Finger);
         if (method == "finger-friction") {
             cfg.staticFriction = kBenchStaticFriction;
@@ -384,7 +383,7 @@ BenchReport runHapticsBenchmark(const BenchOptions &options)
         if (w == 720) {
             // Friction on the proxy is timed beside its frictionless renderer at 720×486 only.
             // So are per-pixel materials (a material track under the proxy).
-            methods = {"finger",   "finger-friction",   "finger-materials", "modified-hold",
+            methods = {"finger",   "finger-friction",   "finger-materials",   "modified-hold",
                        "modified", "modified-friction", "modified-materials", "proxy-graph",
                        "mesh-bvh"};
         }

@@ -76,9 +76,8 @@ public:
     /// a frame view's material is copied with its depth and handed to the reader with it.
     /// \return the handoff, or Errc::InvalidArgument (width or height < 2, or above 16384),
     /// Errc::OutOfResources (allocation failed).
-    static Result<std::unique_ptr<DepthHandoff>> create(int width, int height,
-                                                        haptics::SampleFormat format,
-                                                        bool material = false);
+    static Result<std::unique_ptr<DepthHandoff>>
+    create(int width, int height, haptics::SampleFormat format, bool material = false);
 
     [[nodiscard]] int width() const noexcept { return width_; }   ///< W, samples.
     [[nodiscard]] int height() const noexcept { return height_; } ///< H, rows.

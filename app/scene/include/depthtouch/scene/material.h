@@ -29,7 +29,8 @@ namespace depthtouch::scene {
 inline constexpr const char *kMaterialTitle = "material";
 /// Stream tag naming the planes, in R, G, B order.
 inline constexpr const char *kMaterialPlanesTag = "MATERIAL_PLANES";
-inline constexpr const char *kMaterialPlanesValue = "stiffness_scale,static_friction,dynamic_friction";
+inline constexpr const char *kMaterialPlanesValue =
+    "stiffness_scale,static_friction,dynamic_friction";
 /// Stream tag giving each plane's value per code, in R, G, B order.
 inline constexpr const char *kMaterialScalesTag = "MATERIAL_SCALES";
 inline constexpr const char *kMaterialScalesValue = "0.015625,0.01,0.01";
@@ -60,7 +61,7 @@ inline void encodeMaterial(const Material &m, std::uint8_t *rgb) noexcept
 {
     auto code = [](double v) {
         return static_cast<std::uint8_t>(std::isfinite(v) ? std::clamp(std::lround(v), 0L, 255L)
-                                                           : 0L);
+                                                          : 0L);
     };
     rgb[0] = code(m.stiffnessScale / kStiffnessScalePerCode);
     rgb[1] = code(m.staticFriction / kFrictionPerCode);
