@@ -263,12 +263,7 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     // The material under the goal (the track's per-pixel stiffness and friction), else the
     // renderer's own friction at stiffness scale 1.
     const bool material = field_.current().material.present();
-    double stiffnessScale = 1.0;
-    if (material && contact) {
-        const Material m = materialAt(field_, proxy.x, proxy.y, Material{});
-        stiffnessScale = m.stiffnessScale;
-        friction_.setCoefficients(m.staticFriction, m.dynamicFriction);
-    }
+    const double stiffnessScale = applyMaterial(field_, proxy, contact, friction_);
     // Friction acts on the force and the reported proxy; proxy_ keeps the frictionless goal (the
     // glide and the next update's search start from it).
     glm::dvec3 held = proxy;

@@ -261,12 +261,7 @@ HapticOutput ProxyGraphRenderer::update(const glm::dvec3 &hip, double t) noexcep
     // A material track gives the stiffness scale and μs, μd under the goal (material_field.h).
     glm::dvec3 goal = proxy;
     const bool material = field_.current().material.present();
-    double stiffnessScale = 1.0;
-    if (material && contact) {
-        const Material m = materialAt(field_, goal.x, goal.y, Material{});
-        stiffnessScale = m.stiffnessScale;
-        friction_.setCoefficients(m.staticFriction, m.dynamicFriction);
-    }
+    const double stiffnessScale = applyMaterial(field_, goal, contact, friction_);
     if (friction_.enabled() || material) {
         if (contact)
             proxy = friction_.apply(goal, hip, t);

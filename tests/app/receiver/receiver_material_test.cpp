@@ -161,16 +161,7 @@ std::uint32_t indexOf(const receiver::FrameHandle &h)
 
 std::vector<MaterialRecord> drainMaterial(Receiver &r, std::size_t limit = 10'000)
 {
-    std::vector<MaterialRecord> out;
-    for (std::size_t i = 0; i < limit; ++i) {
-        PairedFrame f;
-        auto n = r.next(f);
-        if (!n) {
-            ADD_FAILURE() << "next() failed: " << n.error().what;
-            return out;
-        }
-        if (!*n)
-            return out;
+    return drainAs<MaterialRecord>(r, limit, [](const PairedFrame &f) {
         MaterialRecord m;
         m.color = indexOf(f.color);
         m.material = indexOf(f.material);
@@ -179,10 +170,8 @@ std::vector<MaterialRecord> drainMaterial(Receiver &r, std::size_t limit = 10'00
         const receiver::DepthPair p = f.depthPair();
         EXPECT_EQ(p.material, f.material.get());
         EXPECT_EQ(p.materialNext, f.materialNext.get());
-        out.push_back(m);
-    }
-    ADD_FAILURE() << "receiver did not end after " << limit << " frames";
-    return out;
+        return m;
+    });
 }
 
 bool hasNoteWith(const receiver::ReceiverInfo &info, const std::string &text)

@@ -57,20 +57,7 @@ Record recordOf(const receiver::PairedFrame &f)
 
 std::vector<Record> drain(receiver::Receiver &r, std::size_t limit)
 {
-    std::vector<Record> out;
-    for (std::size_t i = 0; i < limit; ++i) {
-        receiver::PairedFrame f;
-        auto n = r.next(f);
-        if (!n) {
-            ADD_FAILURE() << "next() failed: " << n.error().what;
-            return out;
-        }
-        if (!*n)
-            return out;
-        out.push_back(recordOf(f));
-    }
-    ADD_FAILURE() << "receiver did not end after " << limit << " frames";
-    return out;
+    return drainAs<Record>(r, limit, recordOf);
 }
 
 Errc holdUntilRefused(receiver::Receiver &r, std::vector<receiver::PairedFrame> &held,

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "depthtouch/hal/media_source.h"
 #include "depthtouch/receiver/receiver.h"
 #include "support/temp_dir.h"
@@ -62,6 +64,26 @@ Record recordOf(const receiver::PairedFrame &f);
 
 /// Every paired frame of \a r (bounded: fails the test instead of looping forever).
 std::vector<Record> drain(receiver::Receiver &r, std::size_t limit = 100'000);
+
+/// Every paired frame of \a r as \a record makes it, \a record(frame) → R (bounded as drain()).
+template <class R, class F>
+std::vector<R> drainAs(receiver::Receiver &r, std::size_t limit, F record)
+{
+    std::vector<R> out;
+    for (std::size_t i = 0; i < limit; ++i) {
+        receiver::PairedFrame f;
+        auto n = r.next(f);
+        if (!n) {
+            ADD_FAILURE() << "next() failed: " << n.error().what;
+            return out;
+        }
+        if (!*n)
+            return out;
+        out.push_back(record(f));
+    }
+    ADD_FAILURE() << "receiver did not end after " << limit << " frames";
+    return out;
+}
 
 /// Plays a consumer that keeps every frame: takes frames from \a r into \a held until next()
 /// fails, at most \a limit calls. The end of the input before that is a test failure.

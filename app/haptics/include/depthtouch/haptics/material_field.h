@@ -14,6 +14,7 @@
 
 #include <algorithm>
 
+#include "depthtouch/haptics/friction.h"
 #include "depthtouch/haptics/height_field.h"
 #include "depthtouch/scene/material.h"
 
@@ -67,6 +68,20 @@ inline Material materialAt(const HeightField &field, double x, double y,
             codes[k] += alpha * (later[k] - codes[k]);
     }
     return scene::decodeMaterial(codes[0], codes[1], codes[2]);
+}
+
+/// \brief The material step of the renderers: in contact, on frames with a material track, sets
+/// \a friction's μs and μd to the material's under the frictionless proxy \a goal (m).
+/// \return the stiffness scale there; 1 without a material track or contact (\a friction keeps
+/// its coefficients).
+inline double applyMaterial(const HeightField &field, const glm::dvec3 &goal, bool contact,
+                            FrictionCone &friction) noexcept
+{
+    if (!contact || !field.current().material.present())
+        return 1.0;
+    const Material m = materialAt(field, goal.x, goal.y, Material{});
+    friction.setCoefficients(m.staticFriction, m.dynamicFriction);
+    return m.stiffnessScale;
 }
 
 } // namespace depthtouch::haptics
