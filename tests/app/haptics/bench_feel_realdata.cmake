@@ -1,8 +1,8 @@
 # Issue 15 on real sensor depth: `depthtouch bench feel` on the 7-Scenes kitchen (encoded as
 # `depthtouch encode` does by default, 8-bit H.264 4:0:0 depth) with the finger renderer (touch's and
 # play's default) and the modified proxy graph it replaced. The finger must meet every feel goal on
-# the kitchen, also with friction on the proxy (finger-friction, issue 22); `modified` must fail one
-# of them there.
+# the kitchen, also with friction on the proxy (finger-friction, issue 22) and on a material track of
+# skin and cloth squares (finger-materials); `modified` must fail one of them there.
 # -DDEPTHTOUCH=<depthtouch> -DDATA=<shared data folder> -DOUT=<output folder>
 if(NOT EXISTS "${DATA}/rgbd-7scenes-redkitchen/frame-000000.depth.png")
     # CI sets DT_REQUIRE_SHARED_DATA=1: there a missing capture is a failure (tests/support/shared_data.h)
@@ -26,6 +26,7 @@ math(EXPR last "${rows} - 1")
 set(seenFinger FALSE)
 set(seenModified FALSE)
 set(seenFriction FALSE)
+set(seenMaterials FALSE)
 foreach(i RANGE ${last})
     string(JSON scene GET "${doc}" rows ${i} scene)
     string(JSON setting GET "${doc}" rows ${i} setting)
@@ -37,9 +38,11 @@ foreach(i RANGE ${last})
     endforeach()
     set(figures "false trips ${false_trips}, pop-through ${pop_through_ms} ms, phantom ${phantom_ms} ms, spikes ${spikes_per_s}/s (worst stroke ${worst_stroke_spikes_per_s}), max ${max_force_n} N")
     message("kitchen ${setting}: ${figures}")
-    if(setting STREQUAL "finger" OR setting STREQUAL "finger-friction")
+    if(setting STREQUAL "finger" OR setting STREQUAL "finger-friction" OR setting STREQUAL "finger-materials")
         if(setting STREQUAL "finger-friction")
             set(seenFriction TRUE)
+        elseif(setting STREQUAL "finger-materials")
+            set(seenMaterials TRUE)
         else()
             set(seenFinger TRUE)
         endif()
@@ -54,6 +57,6 @@ foreach(i RANGE ${last})
         endif()
     endif()
 endforeach()
-if(NOT seenFinger OR NOT seenFriction OR NOT seenModified)
+if(NOT seenFinger OR NOT seenFriction OR NOT seenMaterials OR NOT seenModified)
     message(FATAL_ERROR "the kitchen rows are missing from ${OUT}/feel.json")
 endif()
