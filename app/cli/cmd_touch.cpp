@@ -30,7 +30,9 @@
 
 #include "commands.h"
 #include "decoded_depth.h"
+#include "material_frames.h"
 #include "option_cli.h"
+#include "source_providers.h"
 #include "depthtouch/depth/conversion.h"
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptics/renderer.h"
@@ -64,6 +66,7 @@ struct TouchOptions {
     double fingerRadius = std::nan(""); ///< m; NaN: 0.015 x box width
     double staticFriction = 0.0;        ///< μs of the friction cone
     double dynamicFriction = 0.0;       ///< μd
+    std::string material;               ///< --material SRC: the material track's codes
     double rampTime = 0.25;
     std::optional<double> nearM;
     std::optional<double> farM;
@@ -128,6 +131,10 @@ const OptionRow<TouchOptions> kTouchRows[] = {
     {"dynamic-friction", &TouchOptions::dynamicFriction,
      "Dynamic friction coefficient, 0..2: a sliding proxy keeps the tangential force at MU times "
      "the normal force"},
+    {"material", &TouchOptions::material,
+     "Per-pixel haptic materials (docs/materials.md): an RGB code image (a still map), sequence or "
+     "video, or a DepthTouch file (its material stream); frame k goes with depth frame k, the last "
+     "holds. Overrides the friction options where it lies (finger, modified, proxy-graph)"},
 };
 
 int fail(int code, const std::string &message)
@@ -278,6 +285,8 @@ int runTouch(const TouchOptions &o)
     c.dynamicFriction = o.dynamicFriction;
     if (*method == Method::MeshBvh && (o.staticFriction > 0.0 || o.dynamicFriction > 0.0))
         return fail(kExitBadInput, "--method mesh-bvh has no friction");
+    if (*method == Method::MeshBvh && !o.material.empty())
+        return fail(kExitBadInput, "--method mesh-bvh has no materials");
     if (auto v = validateReplayOptions(opt); !v)
         return fail(kExitBadInput, v.error().what);
     // The output first: a directory, a FIFO without a reader or a missing folder fails before
@@ -288,10 +297,30 @@ int runTouch(const TouchOptions &o)
     // Depth input: a raw gray file with --size, else anything FFmpeg reads.
     std::unique_ptr<FrameProvider> frames;
     DecodedFrameProvider *decoded = nullptr;
+    MaterialFrameProvider *materialFrames = nullptr;
     if (const int rc =
             !o.size.empty() ? openRawDepth(o, frames) : openDecodedDepth(o, frames, decoded);
         rc != kExitOk)
         return rc;
+    if (!o.material.empty()) {
+        media::SourceOptions so;
+        so.fps = o.fps;
+        so.streamTitle = "material"; // a DepthTouch file gives its material stream
+        // One error line on bad input: FFmpeg's own reason is in it, not logged beside it.
+        const bool quietOpen = std::getenv("DT_LOG") == nullptr;
+        if (quietOpen)
+            platform::setLogLevel(platform::LogLevel::Off);
+        auto source = media::openFrameSource(o.material, so, makeSourceProviders());
+        if (quietOpen)
+            platform::setLogLevel(platform::LogLevel::Warning);
+        if (!source)
+            return fail(kExitBadInput, "cannot open material input '" + o.material +
+                                           "': " + source.error().what);
+        auto withMaterial =
+            std::make_unique<MaterialFrameProvider>(std::move(frames), std::move(*source));
+        materialFrames = withMaterial.get();
+        frames = std::move(withMaterial);
+    }
 
     std::string readError;
     auto trajBytes = readInput(o.trajectory, kMaxTrajectoryBytes, "trajectory", readError);
@@ -317,8 +346,13 @@ int runTouch(const TouchOptions &o)
         return fail(w.error().code == Errc::Io ? kExitFailure : kExitBadInput,
                     "cannot write '" + o.out + "': " + w.error().format(buf, sizeof buf));
     }
-    if (!o.quiet)
+    if (!o.quiet) {
         printTouchSummary(o, *rows, decoded != nullptr ? decoded->readingNote() : std::string());
+        if (materialFrames != nullptr)
+            std::fprintf(o.out == "/dev/stdout" || o.out == "-" ? stderr : stdout,
+                         "touch: material: %lld frames read from '%s' (the last holds)\n",
+                         materialFrames->framesRead(), o.material.c_str());
+    }
     return kExitOk;
 }
 

@@ -53,6 +53,23 @@ grep -q "^touch: depth: 16-bit samples read as metric depth (0.001 m per unit), 
     fail "--out /dev/stdout run"
 cmp -s "$work/s.csv" "$work/ffv1.csv" || fail "--out /dev/stdout: the force log differs from the file's"
 grep -q "^touch: 1001 updates" "$work/s.err" || fail "--out /dev/stdout: no summary on stderr"
+# --material: a still map of stiffness scale 2 (R = 128, docs/materials.md) doubles the force felt.
+ff -f lavfi -i color=c=0x800000:size=16x12 -frames:v 1 "$work/stiff2.png" || fail "ffmpeg material png"
+"$exe" touch "$work/ffv1.mkv" --trajectory "$work/traj.csv" --stiffness 200 --out "$work/k1.csv" --quiet ||
+    fail "--stiffness 200 run"
+"$exe" touch "$work/ffv1.mkv" --trajectory "$work/traj.csv" --stiffness 200 --material "$work/stiff2.png" \
+    --out "$work/k2.csv" >"$work/k2.out" || fail "--material run"
+grep -q "^touch: material: 1 frames read from '$work/stiff2.png' (the last holds)" "$work/k2.out" ||
+    { cat "$work/k2.out"; fail "--material: no material line in the summary"; }
+f1=$(tail -n 1 "$work/k1.csv" | cut -d, -f10)
+f2=$(tail -n 1 "$work/k2.csv" | cut -d, -f10)
+awk -v a="$f1" -v b="$f2" 'BEGIN { exit !(a > 1.0 && b > 1.95 * a && b < 2.05 * a) }' ||
+    fail "--material: final force $f2 N, want twice the $f1 N without it"
+echo "material: final force $f1 N without, $f2 N with stiffness scale 2"
+"$exe" touch "$work/ffv1.mkv" --trajectory "$work/traj.csv" --material "$work/missing.png" \
+    --out "$work/bad.csv" 2>"$work/bad.err"
+[ $? -eq 2 ] && [ "$(wc -l <"$work/bad.err")" -eq 1 ] && [ ! -e "$work/bad.csv" ] ||
+    { cat "$work/bad.err"; fail "missing --material input"; }
 first=$(awk -F, 'NR > 1 && $11 == 1 { print $1; exit }' "$work/metric.csv")
 awk -v t="$first" 'BEGIN { exit !(t > 0.85 && t < 0.93) }' || fail "metric: first contact at $first s, want about 0.89 s"
 
