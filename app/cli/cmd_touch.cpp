@@ -314,8 +314,8 @@ int runTouch(const TouchOptions &o)
         if (quietOpen)
             platform::setLogLevel(platform::LogLevel::Warning);
         if (!source)
-            return fail(kExitBadInput, "cannot open material input '" + o.material +
-                                           "': " + source.error().what);
+            return fail(kExitBadInput,
+                        "cannot open material input '" + o.material + "': " + source.error().what);
         auto withMaterial =
             std::make_unique<MaterialFrameProvider>(std::move(frames), std::move(*source));
         materialFrames = withMaterial.get();
