@@ -28,6 +28,15 @@ PlayerSettings defaultSettings()
     return s;
 }
 
+/// The default settings with the stiffness \a range and the initial \a stiffness.
+PlayerSettings stiffnessSettings(const StiffnessRange &range, double stiffness)
+{
+    PlayerSettings s = defaultSettings();
+    s.range = range;
+    s.stiffness = stiffness;
+    return s;
+}
+
 /// Drives \a m (on \a fake) into \a target through the public API, then clears the record.
 void reach(StateMachine &m, FakePlayerActions &fake, PlayerState target)
 {
@@ -57,6 +66,42 @@ void reach(StateMachine &m, FakePlayerActions &fake, PlayerState target)
     ASSERT_EQ(m.state(), target);
     fake.calls.clear();
 }
+
+/// A machine on a fake, driven into a state, with a listener attached from then on.
+struct Rig {
+    explicit Rig(PlayerState from, const PlayerSettings &settings = defaultSettings())
+        : m(fake, settings)
+    {
+        reach(m, fake, from);
+        m.addListener(&listener);
+    }
+    FakePlayerActions fake;
+    StateMachine m;
+    RecordingListener listener;
+};
+
+/// The settings a refused or failed command must leave as they were.
+struct SettingsSnapshot {
+    explicit SettingsSnapshot(const StateMachine &m)
+        : stereoMode(m.stereoMode()), hapticsEnabled(m.hapticsEnabled()), stiffness(m.stiffness()),
+          loop(m.loop())
+    {
+    }
+    /// Checks that \a m still has the settings of the snapshot (the loop flag only if \a withLoop).
+    void expectUnchanged(const StateMachine &m, bool withLoop) const
+    {
+        EXPECT_EQ(m.stereoMode(), stereoMode);
+        EXPECT_EQ(m.hapticsEnabled(), hapticsEnabled);
+        EXPECT_EQ(m.stiffness(), stiffness);
+        if (withLoop) {
+            EXPECT_EQ(m.loop(), loop);
+        }
+    }
+    StereoMode stereoMode;
+    bool hapticsEnabled;
+    double stiffness;
+    bool loop;
+};
 
 struct Row {
     PlayerState from;
@@ -182,15 +227,9 @@ TEST(StateMachineTest, everyCommandInEveryStateFollowsTheSpecification)
     for (const Row &r : kRows) {
         SCOPED_TRACE(rowName(r));
         // GIVEN a machine in the row's state
-        FakePlayerActions fake;
-        StateMachine m(fake, defaultSettings());
-        reach(m, fake, r.from);
-        RecordingListener listener;
-        m.addListener(&listener);
-        const StereoMode stereoBefore = m.stereoMode();
-        const bool hapticsBefore = m.hapticsEnabled();
-        const double stiffnessBefore = m.stiffness();
-        const bool loopBefore = m.loop();
+        Rig rig(r.from);
+        auto &[fake, m, listener] = rig;
+        const SettingsSnapshot before(m);
         EXPECT_EQ(m.isValid(parseCommandText(r.command).command->id), r.accepted);
 
         // WHEN the command is executed
@@ -207,10 +246,7 @@ TEST(StateMachineTest, everyCommandInEveryStateFollowsTheSpecification)
         if (!r.accepted) {
             EXPECT_FALSE(out.reason.empty());
             EXPECT_TRUE(listener.events.empty()) << "a refused command emitted an event";
-            EXPECT_EQ(m.stereoMode(), stereoBefore);
-            EXPECT_EQ(m.hapticsEnabled(), hapticsBefore);
-            EXPECT_EQ(m.stiffness(), stiffnessBefore);
-            EXPECT_EQ(m.loop(), loopBefore);
+            before.expectUnchanged(m, true);
             EXPECT_FALSE(m.quitRequested());
         } else {
             EXPECT_TRUE(out.reason.empty());
@@ -242,11 +278,8 @@ TEST(StateMachineTest, refusalsGiveAReason)
 
 TEST(StateMachineTest, seekWhilePausedStaysPaused)
 {
-    FakePlayerActions fake;
-    StateMachine m(fake, defaultSettings());
-    reach(m, fake, S::Paused);
-    RecordingListener listener;
-    m.addListener(&listener);
+    Rig rig(S::Paused);
+    auto &[fake, m, listener] = rig;
 
     EXPECT_TRUE(m.execute("seek -5").accepted);
     EXPECT_TRUE(m.execute("seek 42 absolute").accepted);
@@ -278,14 +311,9 @@ TEST(StateMachineTest, failingActionMovesToErrorWithTheReason)
     };
     for (const Case &c : cases) {
         SCOPED_TRACE(c.command);
-        FakePlayerActions fake;
-        StateMachine m(fake, defaultSettings());
-        reach(m, fake, c.from);
-        RecordingListener listener;
-        m.addListener(&listener);
-        const StereoMode stereoBefore = m.stereoMode();
-        const bool hapticsBefore = m.hapticsEnabled();
-        const double stiffnessBefore = m.stiffness();
+        Rig rig(c.from);
+        auto &[fake, m, listener] = rig;
+        const SettingsSnapshot before(m);
         fake.failures[c.action] = Error(Errc::Io, "USB stalled");
 
         const CommandOutcome out = m.execute(c.command);
@@ -297,20 +325,15 @@ TEST(StateMachineTest, failingActionMovesToErrorWithTheReason)
         EXPECT_EQ(listener.names(), (std::vector<std::string>{"error", "state"}));
         EXPECT_EQ(listener.events.front().message, c.reason);
         // The setting the failed action was meant to change is not taken.
-        EXPECT_EQ(m.stereoMode(), stereoBefore);
-        EXPECT_EQ(m.hapticsEnabled(), hapticsBefore);
-        EXPECT_EQ(m.stiffness(), stiffnessBefore);
+        before.expectUnchanged(m, false);
         EXPECT_EQ(m.execute("get error").data, Value(std::string(c.reason)));
     }
 }
 
 TEST(StateMachineTest, actionRefusalRefusesTheCommandAndChangesNothing)
 {
-    FakePlayerActions fake;
-    StateMachine m(fake, defaultSettings());
-    reach(m, fake, S::Playing);
-    RecordingListener listener;
-    m.addListener(&listener);
+    Rig rig(S::Playing);
+    auto &[fake, m, listener] = rig;
     fake.failures["setStereoMode"] = Error(Errc::NotSupported, "display cannot interleave");
 
     const CommandOutcome out = m.execute("stereo-mode interleaved");
@@ -368,11 +391,8 @@ TEST(StateMachineTest, playWithoutUrlIsRefused)
 
 TEST(StateMachineTest, endOfStreamWithoutLoopStops)
 {
-    FakePlayerActions fake;
-    StateMachine m(fake, defaultSettings());
-    reach(m, fake, S::Playing);
-    RecordingListener listener;
-    m.addListener(&listener);
+    Rig rig(S::Playing);
+    auto &[fake, m, listener] = rig;
 
     EXPECT_TRUE(m.onEndOfStream());
 
@@ -389,11 +409,8 @@ TEST(StateMachineTest, endOfStreamWithLoopSeeksToTheStart)
 {
     PlayerSettings settings = defaultSettings();
     settings.loop = true;
-    FakePlayerActions fake;
-    StateMachine m(fake, settings);
-    reach(m, fake, S::Playing);
-    RecordingListener listener;
-    m.addListener(&listener);
+    Rig rig(S::Playing, settings);
+    auto &[fake, m, listener] = rig;
 
     EXPECT_TRUE(m.onEndOfStream());
     EXPECT_TRUE(m.onEndOfStream());
@@ -468,11 +485,8 @@ TEST(StateMachineTest, stereoModeCyclesThroughEveryMode)
 
 TEST(StateMachineTest, stiffnessStepsAreClampedToTheRange)
 {
-    PlayerSettings settings = defaultSettings();
-    settings.range = {200.0, 1000.0, 300.0};
-    settings.stiffness = 800.0;
     FakePlayerActions fake;
-    StateMachine m(fake, settings);
+    StateMachine m(fake, stiffnessSettings({200.0, 1000.0, 300.0}, 800.0));
 
     EXPECT_TRUE(m.execute("stiffness +").accepted);
     EXPECT_EQ(m.stiffness(), 1000.0) << "800 + 300 clamps to the maximum";
@@ -495,11 +509,8 @@ TEST(StateMachineTest, stiffnessStepsAreClampedToTheRange)
 
 TEST(StateMachineTest, initialStiffnessIsClamped)
 {
-    PlayerSettings settings = defaultSettings();
-    settings.range = {100.0, 500.0, 50.0};
-    settings.stiffness = 9000.0;
     FakePlayerActions fake;
-    StateMachine m(fake, settings);
+    StateMachine m(fake, stiffnessSettings({100.0, 500.0, 50.0}, 9000.0));
     EXPECT_EQ(m.stiffness(), 500.0);
 }
 
@@ -519,11 +530,8 @@ TEST(StateMachineTest, hapticsSwitch)
 
 TEST(StateMachineTest, afterQuitEveryCommandIsRefused)
 {
-    FakePlayerActions fake;
-    StateMachine m(fake, defaultSettings());
-    reach(m, fake, S::Playing);
-    RecordingListener listener;
-    m.addListener(&listener);
+    Rig rig(S::Playing);
+    auto &[fake, m, listener] = rig;
     ASSERT_TRUE(m.execute("quit").accepted);
     EXPECT_TRUE(m.quitRequested());
     EXPECT_EQ(listener.names(), (std::vector<std::string>{"state", "shutdown"}));
