@@ -2,6 +2,8 @@
 // backends).
 #include <chrono>
 #include <memory>
+#include <optional>
+#include <string>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -41,21 +43,43 @@ template <class F> bool pollUntil(F done)
     return true;
 }
 
-TEST(DecoderThreadTest, consumerPollsEveryFrameInOrder)
+/// Polls \a t, handing every frame to \a onFrame, until the thread has finished the stream (false
+/// if the real-time guard of pollUntil() expires first).
+template <class F> bool drainUntilFinished(DecoderThread &t, F onFrame)
 {
-    platform::ManualClock clock;
-    auto r = openMock(clock, "mock://clip?frames=60&fps=30");
-    ASSERT_NE(r, nullptr);
-    DecoderThread t(*r);
-    ASSERT_TRUE(t.start());
-    std::vector<hal::Pts> pts;
-    ASSERT_TRUE(pollUntil([&] {
+    return pollUntil([&] {
         PairedFrame f;
-        while (t.poll(f)) {
-            pts.push_back(f.pts);
-            EXPECT_TRUE(f.depth);
-        }
+        while (t.poll(f))
+            onFrame(f);
         return t.finished();
+    });
+}
+
+class DecoderThreadTest : public ::testing::Test {
+protected:
+    /// Opens \a url on the mock backends and starts a decoder thread on it (use with
+    /// ASSERT_NO_FATAL_FAILURE).
+    void start(const std::string &url)
+    {
+        receiver_ = openMock(clock_, url);
+        ASSERT_NE(receiver_, nullptr);
+        thread_.emplace(*receiver_);
+        ASSERT_TRUE(thread_->start());
+    }
+
+    platform::ManualClock clock_;
+    std::unique_ptr<Receiver> receiver_;
+    std::optional<DecoderThread> thread_; ///< After receiver_: stopped and destroyed first.
+};
+
+TEST_F(DecoderThreadTest, consumerPollsEveryFrameInOrder)
+{
+    ASSERT_NO_FATAL_FAILURE(start("mock://clip?frames=60&fps=30"));
+    DecoderThread &t = *thread_;
+    std::vector<hal::Pts> pts;
+    ASSERT_TRUE(drainUntilFinished(t, [&](const PairedFrame &f) {
+        pts.push_back(f.pts);
+        EXPECT_TRUE(f.depth);
     }));
     ASSERT_EQ(pts.size(), 60u);
     for (std::size_t i = 1; i < pts.size(); ++i)
@@ -65,13 +89,10 @@ TEST(DecoderThreadTest, consumerPollsEveryFrameInOrder)
     t.stop();
 }
 
-TEST(DecoderThreadTest, slowConsumerBlocksOnlyTheDecoderThread)
+TEST_F(DecoderThreadTest, slowConsumerBlocksOnlyTheDecoderThread)
 {
-    platform::ManualClock clock;
-    auto r = openMock(clock, "mock://clip?frames=40");
-    ASSERT_NE(r, nullptr);
-    DecoderThread t(*r);
-    ASSERT_TRUE(t.start());
+    ASSERT_NO_FATAL_FAILURE(start("mock://clip?frames=40"));
+    DecoderThread &t = *thread_;
     // GIVEN a consumer that does not poll: the queue fills and the decoder thread waits
     ASSERT_TRUE(pollUntil([&] { return t.stats().framesOutput >= DecoderThread::kQueueFrames; }));
     std::this_thread::sleep_for(milliseconds(20));
@@ -79,44 +100,31 @@ TEST(DecoderThreadTest, slowConsumerBlocksOnlyTheDecoderThread)
     // WHEN it polls, every frame still arrives, none twice
     std::size_t n = 0;
     hal::Pts last = hal::kNoPts;
-    ASSERT_TRUE(pollUntil([&] {
-        PairedFrame f;
-        while (t.poll(f)) {
-            EXPECT_TRUE(last == hal::kNoPts || f.pts > last);
-            last = f.pts;
-            ++n;
-        }
-        return t.finished();
+    ASSERT_TRUE(drainUntilFinished(t, [&](const PairedFrame &f) {
+        EXPECT_TRUE(last == hal::kNoPts || f.pts > last);
+        last = f.pts;
+        ++n;
     }));
     EXPECT_EQ(n, 40u);
 }
 
-TEST(DecoderThreadTest, seekDiscardsQueuedFramesAndRestartsAtTheTarget)
+TEST_F(DecoderThreadTest, seekDiscardsQueuedFramesAndRestartsAtTheTarget)
 {
-    platform::ManualClock clock;
-    auto r = openMock(clock, "mock://clip?frames=100&fps=25&gop=5");
-    ASSERT_NE(r, nullptr);
-    DecoderThread t(*r);
-    ASSERT_TRUE(t.start());
+    ASSERT_NO_FATAL_FAILURE(start("mock://clip?frames=100&fps=25&gop=5"));
+    DecoderThread &t = *thread_;
     ASSERT_TRUE(pollUntil([&] { return t.stats().framesOutput >= 3; }));
     t.seek(milliseconds(2000));
     PairedFrame first;
     ASSERT_TRUE(pollUntil([&] { return t.poll(first); }));
     EXPECT_EQ(first.pts, milliseconds(2000));
     std::size_t n = 1;
-    ASSERT_TRUE(pollUntil([&] {
-        PairedFrame f;
-        while (t.poll(f))
-            ++n;
-        return t.finished();
-    }));
+    ASSERT_TRUE(drainUntilFinished(t, [&](const PairedFrame &) { ++n; }));
     EXPECT_EQ(n, 50u);
 }
 
-TEST(DecoderThreadTest, stopMidStreamJoinsAndReturnsEveryFrame)
+TEST_F(DecoderThreadTest, stopMidStreamJoinsAndReturnsEveryFrame)
 {
-    platform::ManualClock clock;
-    auto r = openMock(clock, "mock://clip?frames=100000");
+    auto r = openMock(clock_, "mock://clip?frames=100000");
     ASSERT_NE(r, nullptr);
     {
         DecoderThread t(*r);

@@ -14,7 +14,6 @@
 #include "depthtouch/drivers/mock/mock_video_decoder.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/receiver/receiver.h"
-#include "support/allocation_counter.h"
 #include "test_support.h"
 
 namespace depthtouch::receivertest {
@@ -319,10 +318,7 @@ TEST(ReceiverMaterialTest, seekFlushesTheMaterialAndAStillHoldsAfterIt)
     MaterialRig rig;
     auto r = rig.open("mock://clip?frames=50&fps=25&gop=10");
     ASSERT_TRUE(r);
-    PairedFrame f;
-    for (int i = 0; i < 5; ++i)
-        ASSERT_TRUE((*r)->next(f));
-    f = PairedFrame{};
+    ASSERT_TRUE(readAndDrop(**r, 5));
     // WHEN seeking to 1 s (frame 25)
     ASSERT_TRUE((*r)->seek(milliseconds(1000)));
     const auto frames = drainMaterial(**r);
@@ -344,9 +340,7 @@ TEST(ReceiverMaterialTest, seekFlushesTheMaterialAndAStillHoldsAfterIt)
     still.onSource = [](MaterialSource &s) { s.has = [](std::uint32_t k) { return k == 0; }; };
     auto s = still.open("mock://clip?frames=50&fps=25&gop=10");
     ASSERT_TRUE(s);
-    for (int i = 0; i < 3; ++i)
-        ASSERT_TRUE((*s)->next(f));
-    f = PairedFrame{};
+    ASSERT_TRUE(readAndDrop(**s, 3));
     ASSERT_TRUE((*s)->seek(milliseconds(1200)));
     const auto after = drainMaterial(**s);
     ASSERT_EQ(after.size(), 20u);
@@ -428,22 +422,11 @@ TEST(ReceiverMaterialTest, noAllocationPerFrameAfterOpen)
     MaterialRig rig;
     auto r = rig.open("mock://clip?frames=200&fps=25&width=32&height=24");
     ASSERT_TRUE(r);
-    PairedFrame f;
-    ASSERT_TRUE((*r)->next(f)); // warm-up
-    std::size_t frames = 0;
     std::size_t withMaterial = 0;
-    {
-        testing::AllocationCounter count;
-        for (;;) {
-            auto n = (*r)->next(f);
-            if (!n || !*n)
-                break;
-            ++frames;
-            withMaterial += f.material ? 1u : 0u;
-        }
-        EXPECT_EQ(count.count(), 0u);
-    }
-    EXPECT_EQ(frames, 199u);
+    const CountedDrain d = drainCountingAllocations(
+        **r, [&](const PairedFrame &f) { withMaterial += f.material ? 1u : 0u; });
+    EXPECT_EQ(d.allocations, 0u);
+    EXPECT_EQ(d.frames, 199u);
     EXPECT_EQ(withMaterial, 199u);
 }
 

@@ -6,7 +6,6 @@
 
 #include <gtest/gtest.h>
 
-#include "support/allocation_counter.h"
 #include "depthtouch/drivers/mock/mock_media_source.h"
 #include "depthtouch/drivers/mock/mock_pattern.h"
 #include "depthtouch/drivers/mock/mock_video_decoder.h"
@@ -133,20 +132,9 @@ TEST(ReceiverMockTest, noAllocationPerFrameAfterOpen)
     MockRig rig;
     auto r = rig.open("mock://clip?frames=200&fps=25&width=32&height=24");
     ASSERT_TRUE(r);
-    PairedFrame f;
-    ASSERT_TRUE((*r)->next(f)); // warm-up
-    std::size_t frames = 0;
-    {
-        testing::AllocationCounter count;
-        for (;;) {
-            auto n = (*r)->next(f);
-            if (!n || !*n)
-                break;
-            ++frames;
-        }
-        EXPECT_EQ(count.count(), 0u);
-    }
-    EXPECT_EQ(frames, 199u);
+    const CountedDrain d = drainCountingAllocations(**r, [](const PairedFrame &) {});
+    EXPECT_EQ(d.allocations, 0u);
+    EXPECT_EQ(d.frames, 199u);
 }
 
 TEST(ReceiverMockTest, corruptPacketIsConcealedAndDecodingGoesOn)
@@ -332,10 +320,7 @@ TEST(ReceiverMockTest, seekRestartsAtTheTargetWithFreshPairing)
     MockRig rig;
     auto r = rig.open("mock://clip?frames=50&fps=25&gop=10");
     ASSERT_TRUE(r);
-    PairedFrame f;
-    for (int i = 0; i < 5; ++i)
-        ASSERT_TRUE((*r)->next(f));
-    f = PairedFrame{};
+    ASSERT_TRUE(readAndDrop(**r, 5));
     ASSERT_TRUE((*r)->seek(milliseconds(1000)));
     const auto frames = drain(**r);
     // frames 25..49: decoding restarts at the keyframe (20) and skips up to the target

@@ -13,6 +13,7 @@
 
 #include "depthtouch/hal/media_source.h"
 #include "depthtouch/receiver/receiver.h"
+#include "support/allocation_counter.h"
 #include "support/temp_dir.h"
 
 namespace depthtouch::receivertest {
@@ -82,6 +83,46 @@ std::vector<R> drainAs(receiver::Receiver &r, std::size_t limit, F record)
         out.push_back(record(f));
     }
     ADD_FAILURE() << "receiver did not end after " << limit << " frames";
+    return out;
+}
+
+/// Reads \a count frames of \a r and drops them; fails at the first next() that fails.
+inline ::testing::AssertionResult readAndDrop(receiver::Receiver &r, int count)
+{
+    receiver::PairedFrame f;
+    for (int i = 0; i < count; ++i) {
+        if (!r.next(f))
+            return ::testing::AssertionFailure() << "next() failed at frame " << i;
+    }
+    return ::testing::AssertionSuccess();
+}
+
+/// What drainCountingAllocations() saw.
+struct CountedDrain {
+    std::size_t frames = 0;      ///< Frames read after the warm-up frame.
+    std::size_t allocations = 0; ///< operator new calls on this thread while they were read.
+};
+
+/// Reads one warm-up frame of \a r (a test failure if there is none), then every further frame to
+/// the end with heap allocations counted, handing each to \a onFrame(frame). A test program that
+/// calls it links dt_test_allocation_counter.
+template <class F> CountedDrain drainCountingAllocations(receiver::Receiver &r, F onFrame)
+{
+    CountedDrain out;
+    receiver::PairedFrame f;
+    const auto warm = r.next(f);
+    EXPECT_TRUE(warm) << "warm-up frame";
+    if (!warm)
+        return out;
+    testing::AllocationCounter count;
+    for (;;) {
+        auto n = r.next(f);
+        if (!n || !*n)
+            break;
+        ++out.frames;
+        onFrame(f);
+    }
+    out.allocations = count.count();
     return out;
 }
 
