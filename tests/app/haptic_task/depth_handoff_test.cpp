@@ -29,6 +29,18 @@ Frame16 constantFrame(std::uint16_t value, double pts)
     return f;
 }
 
+/// Publishes (\a current, \a next) on \a handoff with publishPair() and acquires the pair into \a
+/// out.
+::testing::AssertionResult publishAndAcquire(DepthHandoff &handoff,
+                                             const haptics::DepthFrameView &current,
+                                             const haptics::DepthFrameView *next, DepthPair &out)
+{
+    handoff.publishPair(current, next);
+    if (!handoff.acquire(out))
+        return ::testing::AssertionFailure() << "acquire() found nothing after publishPair()";
+    return ::testing::AssertionSuccess();
+}
+
 TEST(DepthHandoffTest, rejectsBadSizes)
 {
     EXPECT_EQ(DepthHandoff::create(1, 10, haptics::SampleFormat::Gray8).error().code,
@@ -173,10 +185,8 @@ TEST(DepthHandoffTest, publishPairCopiesEachNewFrameOnce)
                   f2 = constantFrame(300, 0.2);
     const auto v0 = f0.view(), v1 = f1.view(), v2 = f2.view();
     DepthPair first, second;
-    handoff->publishPair(v0, &v1);
-    ASSERT_TRUE(handoff->acquire(first));
-    handoff->publishPair(v1, &v2);
-    ASSERT_TRUE(handoff->acquire(second));
+    ASSERT_TRUE(publishAndAcquire(*handoff, v0, &v1, first));
+    ASSERT_TRUE(publishAndAcquire(*handoff, v1, &v2, second));
     // THEN the second pair's current frame is the slot that held the first pair's next frame
     // (frame 1 was copied once), with its pixels and PTS unchanged
     EXPECT_EQ(second.current.data, first.next.data);
@@ -196,20 +206,17 @@ TEST(DepthHandoffTest, publishPairCopiesBothAfterASkipOrARestart)
                   f2 = constantFrame(300, 0.2), f3 = constantFrame(400, 0.3);
     const auto v0 = f0.view(), v1 = f1.view(), v2 = f2.view(), v3 = f3.view();
     DepthPair pair, after;
-    handoff->publishPair(v0, &v1);
-    ASSERT_TRUE(handoff->acquire(pair));
+    ASSERT_TRUE(publishAndAcquire(*handoff, v0, &v1, pair));
     // WHEN frame 1 is dropped: (frame 2, frame 3) is published
-    handoff->publishPair(v2, &v3);
-    ASSERT_TRUE(handoff->acquire(after));
+    ASSERT_TRUE(publishAndAcquire(*handoff, v2, &v3, after));
     // THEN both are copied in
     EXPECT_NE(after.current.data, pair.next.data);
     EXPECT_TRUE(allSamples(after.current, 300));
     EXPECT_TRUE(allSamples(after.next, 400));
     // WHEN after a restart() (a seek) frame 3 comes again as current, without a next frame
     handoff->restart();
-    handoff->publishPair(v3, nullptr);
     DepthPair last;
-    ASSERT_TRUE(handoff->acquire(last));
+    ASSERT_TRUE(publishAndAcquire(*handoff, v3, nullptr, last));
     // THEN it is copied again (the old slot is not trusted) and the pair ends there
     EXPECT_NE(last.current.data, after.next.data);
     EXPECT_TRUE(allSamples(last.current, 400));
@@ -231,8 +238,7 @@ TEST(DepthHandoffTest, materialTravelsWithItsDepthFrame)
     v0.material = {m0.data(), 8 * 3};
     v1.material = {m1.data(), 8 * 3};
     DepthPair first, second;
-    handoff.publishPair(v0, &v1);
-    ASSERT_TRUE(handoff.acquire(first));
+    ASSERT_TRUE(publishAndAcquire(handoff, v0, &v1, first));
     // THEN each slot holds a copy of its frame's material
     ASSERT_TRUE(first.current.material.present());
     ASSERT_TRUE(first.next.material.present());
@@ -241,16 +247,14 @@ TEST(DepthHandoffTest, materialTravelsWithItsDepthFrame)
     EXPECT_EQ(first.next.material.at(0, 0)[0], 20);
     EXPECT_TRUE(first.current.validate());
     // AND the held slot keeps its material; a frame without one is handed over without one
-    handoff.publishPair(v1, &v2);
-    ASSERT_TRUE(handoff.acquire(second));
+    ASSERT_TRUE(publishAndAcquire(handoff, v1, &v2, second));
     ASSERT_TRUE(second.current.material.present());
     EXPECT_EQ(second.current.material.at(3, 3)[1], 20);
     EXPECT_FALSE(second.next.material.present());
     // AND a handoff made without materials ignores them
     auto plain = makeHandoff();
-    plain->publishPair(v0, &v1);
     DepthPair p;
-    ASSERT_TRUE(plain->acquire(p));
+    ASSERT_TRUE(publishAndAcquire(*plain, v0, &v1, p));
     EXPECT_FALSE(plain->carriesMaterial());
     EXPECT_FALSE(p.current.material.present());
 }

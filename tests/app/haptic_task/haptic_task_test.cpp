@@ -26,6 +26,7 @@ using test::kW;
 using test::makeSim;
 using test::pressScript;
 using test::Rig;
+using test::startPressingFlat;
 
 /// A device that makes its reads take simulated time (a slow USB transaction), for the deadline
 /// watchdog. Delegates everything else.
@@ -203,12 +204,9 @@ TEST(HapticTaskTest, missedDeadlinesZeroTheForceAndItRampsBack)
     Rig rig;
     drivers::MockHapticDevice mock(rig.clock());
     SlowDevice slow(mock, rig.clock());
-    pressScript(mock, rig.clock().now());
-    rig.publishFlat(0.0);
     HapticTaskConfig c = Rig::baseConfig();
     c.watchdogMissedDeadlines = 5;
-    rig.start(slow, c);
-    rig.runMs(300);
+    startPressingFlat(rig, mock, slow, c);
     ASSERT_NEAR(rig.task().lastForce().z, 4.0, 0.01);
     // WHEN ten updates in a row take three periods each
     slow.makeSlow(10);
@@ -237,11 +235,7 @@ double forceAfterLoop(bool clockRestart)
 {
     Rig rig;
     drivers::MockHapticDevice mock(rig.clock());
-    pressScript(mock, rig.clock().now());
-    rig.publishFlat(0.0);
-    HapticTaskConfig c = Rig::baseConfig();
-    rig.start(mock, c);
-    rig.runMs(300);
+    startPressingFlat(rig, mock, mock);
     EXPECT_NEAR(rig.task().lastForce().z, 4.0, 0.01);
     // WHEN the clip loops: the same first frame again, the media time back to zero
     rig.handoff().setMediaOrigin(rig.clock().now());
@@ -274,10 +268,7 @@ TEST(HapticTaskTest, unplugZeroesTheForceAtOnceAndReconnectResumesWithTheRamp)
 {
     Rig rig;
     drivers::MockHapticDevice mock(rig.clock());
-    pressScript(mock, rig.clock().now());
-    rig.publishFlat(0.0);
-    rig.start(mock, Rig::baseConfig());
-    rig.runMs(300);
+    startPressingFlat(rig, mock, mock);
     ASSERT_NEAR(mock.lastForce().z, 4.0, 0.01);
     ASSERT_TRUE(rig.task().deviceConnected());
     // WHEN the device is unplugged mid-play
@@ -310,12 +301,9 @@ TEST(HapticTaskTest, deviceThatStopsAnsweringTripsTheWatchdog)
 {
     Rig rig;
     drivers::MockHapticDevice mock(rig.clock());
-    pressScript(mock, rig.clock().now());
-    rig.publishFlat(0.0);
     HapticTaskConfig c = Rig::baseConfig();
     c.watchdogDeviceTimeouts = 5;
-    rig.start(mock, c);
-    rig.runMs(300);
+    startPressingFlat(rig, mock, mock, c);
     mock.setStalled(true);
     rig.runMs(5);
     EXPECT_NEAR(rig.task().lastForce().z, 4.0, 0.01) << "a few time-outs are tolerated";
@@ -332,10 +320,7 @@ TEST(HapticTaskTest, disableAndEnableRampTheForceSmoothly)
 {
     Rig rig;
     drivers::MockHapticDevice mock(rig.clock());
-    pressScript(mock, rig.clock().now());
-    rig.publishFlat(0.0);
-    rig.start(mock, Rig::baseConfig()); // ramp 100 ms = 100 updates
-    rig.runMs(300);
+    startPressingFlat(rig, mock, mock); // ramp 100 ms = 100 updates
     const double full = rig.task().lastForce().z;
     ASSERT_NEAR(full, 4.0, 0.01);
     for (const bool enable : {false, true}) {
@@ -400,10 +385,7 @@ TEST(HapticTaskTest, signalHandlerStopsTheTaskWithZeroForce)
 {
     Rig rig;
     drivers::MockHapticDevice mock(rig.clock());
-    pressScript(mock, rig.clock().now());
-    rig.publishFlat(0.0);
-    rig.start(mock, Rig::baseConfig());
-    rig.runMs(300);
+    startPressingFlat(rig, mock, mock);
     ASSERT_NEAR(mock.lastForce().z, 4.0, 0.01);
     gSignalTask = &rig.task();
     struct sigaction sa = {};

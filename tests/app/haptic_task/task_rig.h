@@ -122,4 +122,16 @@ inline void pressScript(drivers::MockHapticDevice &mock, platform::TimePoint t0,
                        {t0 + 50ms, {0.0, 0.0, -depth}, 0}});
 }
 
+/// Scripts \a mock with pressScript() (5 mm), publishes a flat surface at z = 0, starts the task of
+/// \a rig on \a device (the mock itself or a device wrapping it) with \a config and lets 300
+/// periods pass: the press has settled at 4 N.
+inline void startPressingFlat(Rig &rig, drivers::MockHapticDevice &mock, hal::HapticDevice &device,
+                              const HapticTaskConfig &config = Rig::baseConfig())
+{
+    pressScript(mock, rig.clock().now());
+    rig.publishFlat(0.0);
+    rig.start(device, config);
+    rig.runMs(300);
+}
+
 } // namespace depthtouch::haptic_task::test
