@@ -4,10 +4,12 @@
 /// paper describes (sections IV.A–C, VI). The measured figures are printed.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -37,6 +39,22 @@ using test::proxyGraph;
 using test::timeOf;
 using test::Variant;
 
+/// Resets the renderer of each of \a runs, in order, with its proxy at \a proxy.
+void resetAll(std::span<Variant *const> runs, const glm::dvec3 &proxy)
+{
+    for (Variant *r : runs)
+        r->renderer.reset(proxy);
+}
+
+/// When \a video moves to a new frame at \a t, hands the frames to the renderer of each of \a runs,
+/// in order.
+void feedOnNewFrame(SyntheticVideo &video, double t, std::span<Variant *const> runs)
+{
+    if (video.advance(t))
+        for (Variant *r : runs)
+            video.feed(r->renderer);
+}
+
 // -----------------------------------------------------------------------------------------------
 /// The scenarios that run on both storage formats of a depth frame: 16-bit nearness (PNG, FFV1) and
 /// 8-bit (what H.264 4:0:0 decodes to, the usual case on a set-top box).
@@ -60,11 +78,11 @@ TEST_P(FormatScenarioTest, risingSurfaceKeepsContactOnlyWithCorrection)
         kBox, 64, 48, fps, [](double, double, int i) { return -0.012 + 0.001 * i; }, GetParam());
     Variant mod("modified", modified());
     Variant pg("proxy-graph", proxyGraph());
+    const std::array<Variant *, 2> both{&mod, &pg};
     const glm::dvec3 xy(0.003, -0.002, 0.0);
     const double z0 = video.quantised(-0.012);
     const double hipZ = z0 - 0.002;
-    mod.renderer.reset(xy + glm::dvec3(0, 0, z0 + 0.003));
-    pg.renderer.reset(xy + glm::dvec3(0, 0, z0 + 0.003));
+    resetAll(both, xy + glm::dvec3(0, 0, z0 + 0.003));
     // The interpolated surface height at t (Eq. 1 on the quantised frames).
     auto surfaceAt = [&](double t) {
         const int i = video.frameAt(t);
@@ -79,10 +97,7 @@ TEST_P(FormatScenarioTest, risingSurfaceKeepsContactOnlyWithCorrection)
     long stop = 0;
     for (long n = 0; n < 260; ++n) {
         const double t = timeOf(n);
-        if (video.advance(t)) {
-            video.feed(mod.renderer);
-            video.feed(pg.renderer);
-        }
+        feedOnNewFrame(video, t, both);
         // 5 mm down at 0.5 m/s, then held
         const double z = std::max(hipZ, z0 + 0.003 - 0.0005 * static_cast<double>(n));
         if (z == hipZ && stop == 0)
@@ -133,17 +148,14 @@ TEST_P(FormatScenarioTest, sinusoidMovingUpAndDownNeverSwallowsTheProxy)
             GetParam());
         Variant mod("modified", modified());
         Variant pg("proxy-graph", proxyGraph());
-        mod.renderer.reset({0.015, 0.0, 0.02});
-        pg.renderer.reset({0.015, 0.0, 0.02});
+        const std::array<Variant *, 2> both{&mod, &pg};
+        resetAll(both, {0.015, 0.0, 0.02});
         int modBelow = 0;
         int pgBelow = 0;
         int contacts = 0;
         for (long n = 0; n < 2000; ++n) {
             const double t = timeOf(n);
-            if (video.advance(t)) {
-                video.feed(mod.renderer);
-                video.feed(pg.renderer);
-            }
+            feedOnNewFrame(video, t, both);
             // WHEN the HIP circles slowly (0.03 m/s) at mid height, in and out of the surface
             const double a = 2.0 * std::numbers::pi * 0.3 * t;
             const glm::dvec3 hip(0.015 * std::cos(a), 0.015 * std::sin(a),
@@ -191,8 +203,8 @@ TEST_P(FormatScenarioTest, interpolationRemovesTheFrameRateTremor)
     Variant pg("proxy-graph", proxyGraph());
     const glm::dvec3 xy(0.002, 0.001, 0.0);
     const double start = bump(xy.x, xy.y, 0) + 0.003;
-    for (Variant *r : {&interp, &sah, &pg})
-        r->renderer.reset(xy + glm::dvec3(0, 0, start));
+    const std::array<Variant *, 3> runs{&interp, &sah, &pg};
+    resetAll(runs, xy + glm::dvec3(0, 0, start));
     const long settle = 500;
     const long samples = 100000; // 100 s at 1 kHz
     std::vector<double> fi;
@@ -204,9 +216,7 @@ TEST_P(FormatScenarioTest, interpolationRemovesTheFrameRateTremor)
     int interpContacts = 0;
     for (long n = 0; n < settle + samples; ++n) {
         const double t = timeOf(n);
-        if (video.advance(t))
-            for (Variant *r : {&interp, &sah, &pg})
-                video.feed(r->renderer);
+        feedOnNewFrame(video, t, runs);
         // 6 mm down over 0.2 s (3 mm into the bump), then held still
         const glm::dvec3 hip = xy + glm::dvec3(0, 0, start - 0.006 * std::min(1.0, t / 0.2));
         interp.step(hip, t);
@@ -257,16 +267,13 @@ void runJump(SyntheticVideo &video, const glm::dvec3 &xy, double zBefore, const 
     Variant pg("proxy-graph", proxyGraph());
     Variant *runs[] = {&rel, &rmp, &nos, &pg};
     const double hipZ = zBefore - press;
-    for (Variant *r : runs)
-        r->renderer.reset(xy + glm::dvec3(0, 0, zBefore + 0.002));
+    resetAll(runs, xy + glm::dvec3(0, 0, zBefore + 0.002));
     std::vector<double> rampForce;
     long tripAt = -1;
     double pgInsideAtEnd = 0.0;
     for (long n = 0; n < updates; ++n) {
         const double t = timeOf(n);
-        if (video.advance(t))
-            for (Variant *r : runs)
-                video.feed(r->renderer);
+        feedOnNewFrame(video, t, runs);
         const glm::dvec3 hip =
             xy +
             glm::dvec3(0, 0, std::max(hipZ, zBefore + 0.002 - 0.0002 * static_cast<double>(n)));
