@@ -169,6 +169,16 @@ protected:
         return fd;
     }
 
+    /// Connects \a count clients and lets the server accept them.
+    std::vector<platform::UniqueFd> connectClients(int count)
+    {
+        std::vector<platform::UniqueFd> clients;
+        for (int i = 0; i < count; ++i)
+            clients.push_back(connectClient());
+        pump();
+        return clients;
+    }
+
     void pump(int rounds = 3)
     {
         for (int i = 0; i < rounds; ++i)
@@ -260,10 +270,7 @@ TEST_F(ControlServerTest, everyCommandRoundTrips)
 
 TEST_F(ControlServerTest, eventsReachEveryClient)
 {
-    std::vector<platform::UniqueFd> clients;
-    for (int i = 0; i < 3; ++i)
-        clients.push_back(connectClient());
-    pump();
+    std::vector<platform::UniqueFd> clients = connectClients(3);
     ASSERT_EQ(server_->clientCount(), 3u);
     ASSERT_TRUE(machine_.execute("play").accepted);
     ASSERT_TRUE(machine_.onOpened());
@@ -324,10 +331,7 @@ TEST_F(ControlServerTest, clientLeavingMidLineDoesNotDisturbOthers)
 
 TEST_F(ControlServerTest, manyClientsEachGetTheirOwnReplies)
 {
-    std::vector<platform::UniqueFd> clients;
-    for (int i = 0; i < 12; ++i)
-        clients.push_back(connectClient());
-    pump();
+    std::vector<platform::UniqueFd> clients = connectClients(12);
     EXPECT_EQ(server_->clientCount(), 12u);
     for (std::size_t i = 0; i < clients.size(); ++i)
         writeAll(clients[i], R"({"command":["get","url"],"request_id":)" + std::to_string(i) +
