@@ -9,7 +9,9 @@ namespace {
 
 using std::chrono::milliseconds;
 using std::chrono::nanoseconds;
+using testing::configWith;
 using testing::errcOf;
+using testing::errcWithOptions;
 
 class MockDisplayTest : public ::testing::Test {
 protected:
@@ -100,16 +102,13 @@ TEST_F(MockDisplayTest, loseAndRestore)
 
 TEST_F(MockDisplayTest, optionsSetTheDefaults)
 {
-    hal::BackendConfig cfg;
-    cfg.clock = &clock_;
-    cfg.options = hal::OptionList("width=800,height=600,refresh=75");
+    const hal::BackendConfig cfg = configWith(&clock_, "width=800,height=600,refresh=75");
     auto d = MockDisplay::create(cfg);
     ASSERT_TRUE(d);
     ASSERT_TRUE((*d)->open({}));
     EXPECT_EQ((*d)->size().width, 800);
     EXPECT_DOUBLE_EQ((*d)->refreshHz(), 75.0);
-    cfg.options = hal::OptionList("refresh=0");
-    EXPECT_EQ(errcOf(MockDisplay::create(cfg)), Errc::InvalidArgument);
+    EXPECT_EQ(errcWithOptions(&MockDisplay::create, cfg, "refresh=0"), Errc::InvalidArgument);
 }
 
 } // namespace

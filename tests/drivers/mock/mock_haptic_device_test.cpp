@@ -10,7 +10,9 @@ namespace {
 
 using hal::Vec3;
 using std::chrono::milliseconds;
+using testing::configWith;
 using testing::errcOf;
+using testing::errcWithOptions;
 
 platform::TimePoint at(int ms)
 {
@@ -131,19 +133,17 @@ TEST_F(MockHapticDeviceTest, stallTimesOutAndKeepsTheForce)
 TEST(MockHapticOptionsTest, optionsSetTheCapabilities)
 {
     platform::ManualClock clock;
-    hal::BackendConfig cfg;
-    cfg.clock = &clock;
-    cfg.options = hal::OptionList("max_force=3,workspace=0.1,servo_rate=4000,buttons=1");
+    const hal::BackendConfig cfg =
+        configWith(&clock, "max_force=3,workspace=0.1,servo_rate=4000,buttons=1");
     auto d = MockHapticDevice::create(cfg);
     ASSERT_TRUE(d);
     EXPECT_DOUBLE_EQ((*d)->capabilities().maxForce, 3.0);
     EXPECT_DOUBLE_EQ((*d)->capabilities().workspaceMax.y, 0.1);
     EXPECT_DOUBLE_EQ((*d)->capabilities().servoRateHz, 4000.0);
     EXPECT_EQ((*d)->capabilities().buttonCount, 1);
-    cfg.options = hal::OptionList("max_force=-1");
-    EXPECT_EQ(errcOf(MockHapticDevice::create(cfg)), Errc::InvalidArgument);
-    cfg.options = hal::OptionList("maxforce=1");
-    EXPECT_EQ(errcOf(MockHapticDevice::create(cfg)), Errc::InvalidArgument);
+    EXPECT_EQ(errcWithOptions(&MockHapticDevice::create, cfg, "max_force=-1"),
+              Errc::InvalidArgument);
+    EXPECT_EQ(errcWithOptions(&MockHapticDevice::create, cfg, "maxforce=1"), Errc::InvalidArgument);
 }
 
 TEST(NullHapticDeviceTest, opensWithoutADevice)

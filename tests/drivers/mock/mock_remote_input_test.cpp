@@ -8,7 +8,9 @@ namespace depthtouch::drivers {
 namespace {
 
 using std::chrono::milliseconds;
+using testing::configWith;
 using testing::errcOf;
+using testing::errcWithOptions;
 
 platform::TimePoint at(int ms)
 {
@@ -71,19 +73,17 @@ TEST(MockRemoteInputTest, parsesKeyScripts)
 TEST(MockRemoteInputTest, keysOptionIsRelativeToCreation)
 {
     platform::ManualClock clock(platform::ManualClock::Mode::AutoAdvance, at(5000));
-    hal::BackendConfig cfg;
-    cfg.clock = &clock;
-    cfg.options = hal::OptionList("keys=KEY_OK@0.25");
+    const hal::BackendConfig cfg = configWith(&clock, "keys=KEY_OK@0.25");
     auto remote = MockRemoteInput::create(cfg);
     ASSERT_TRUE(remote);
     auto e = (*remote)->poll(at(10000));
     ASSERT_TRUE(e);
     EXPECT_EQ(e->key, hal::Key::Ok);
     EXPECT_EQ(e->time, at(5250));
-    cfg.options = hal::OptionList("keys=KEY_OK@x");
-    EXPECT_EQ(errcOf(MockRemoteInput::create(cfg)), Errc::InvalidArgument);
-    cfg.options = hal::OptionList("key=KEY_OK@1");
-    EXPECT_EQ(errcOf(MockRemoteInput::create(cfg)), Errc::InvalidArgument);
+    EXPECT_EQ(errcWithOptions(&MockRemoteInput::create, cfg, "keys=KEY_OK@x"),
+              Errc::InvalidArgument);
+    EXPECT_EQ(errcWithOptions(&MockRemoteInput::create, cfg, "key=KEY_OK@1"),
+              Errc::InvalidArgument);
 }
 
 TEST(MockRemoteInputTest, unplugReportsNoDeviceAndKeepsTheScript)

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "depthtouch/drivers/mock/mock_pattern.h"
+#include "depthtouch/hal/backends.h"
 #include "depthtouch/hal/media_source.h"
 #include "depthtouch/platform/result.h"
 
@@ -16,6 +17,24 @@ template <class R> std::optional<Errc> errcOf(const R &r)
     if (r)
         return std::nullopt;
     return r.error().code;
+}
+
+/// A backend configuration on \a clock with the backend options \a options (e.g. "pool=2").
+inline hal::BackendConfig configWith(platform::Clock *clock, const char *options)
+{
+    hal::BackendConfig cfg;
+    cfg.clock = clock;
+    cfg.options = hal::OptionList(options);
+    return cfg;
+}
+
+/// \return the error code of \a create(cfg) once the options of \a cfg are \a options, or
+/// std::nullopt on success.
+template <class Create>
+std::optional<Errc> errcWithOptions(Create create, hal::BackendConfig cfg, const char *options)
+{
+    cfg.options = hal::OptionList(options);
+    return errcOf(create(cfg));
 }
 
 /// A Mock codec packet with its own storage.

@@ -13,7 +13,9 @@ namespace depthtouch::drivers {
 namespace {
 
 using std::chrono::milliseconds;
+using testing::configWith;
 using testing::errcOf;
+using testing::errcWithOptions;
 using testing::TestPacket;
 
 constexpr int kW = 32;
@@ -217,17 +219,13 @@ TEST_F(MockVideoDecoderTest, waitingForAFrameSleepsOnTheClockUntilTheDeadline)
 
 TEST_F(MockVideoDecoderTest, optionsSizeThePoolAndQueue)
 {
-    hal::BackendConfig cfg;
-    cfg.clock = &clock_;
-    cfg.options = hal::OptionList("pool=2,queue=3");
+    const hal::BackendConfig cfg = configWith(&clock_, "pool=2,queue=3");
     auto d = MockVideoDecoder::create(cfg);
     ASSERT_TRUE(d);
     EXPECT_EQ((*d)->capabilities().poolFrames, 2);
     EXPECT_EQ((*d)->capabilities().queuePackets, 3);
-    cfg.options = hal::OptionList("pool=0");
-    EXPECT_EQ(errcOf(MockVideoDecoder::create(cfg)), Errc::InvalidArgument);
-    cfg.options = hal::OptionList("pools=2");
-    EXPECT_EQ(errcOf(MockVideoDecoder::create(cfg)), Errc::InvalidArgument);
+    EXPECT_EQ(errcWithOptions(&MockVideoDecoder::create, cfg, "pool=0"), Errc::InvalidArgument);
+    EXPECT_EQ(errcWithOptions(&MockVideoDecoder::create, cfg, "pools=2"), Errc::InvalidArgument);
 }
 
 TEST(MockPipelineTest, sourceCorruptionIsConcealedByTheDecoder)
