@@ -1,12 +1,17 @@
 #pragma once
 // Small helpers shared by the mock backend tests.
+#include <chrono>
 #include <cstdint>
+#include <initializer_list>
 #include <optional>
 #include <vector>
+
+#include <gtest/gtest.h>
 
 #include "depthtouch/drivers/mock/mock_pattern.h"
 #include "depthtouch/hal/backends.h"
 #include "depthtouch/hal/media_source.h"
+#include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/result.h"
 
 namespace depthtouch::drivers::testing {
@@ -19,6 +24,12 @@ template <class R> std::optional<Errc> errcOf(const R &r)
     return r.error().code;
 }
 
+/// The time point \a ms milliseconds after the clock epoch.
+inline platform::TimePoint at(int ms)
+{
+    return platform::TimePoint(std::chrono::milliseconds(ms));
+}
+
 /// A backend configuration on \a clock with the backend options \a options (e.g. "pool=2").
 inline hal::BackendConfig configWith(platform::Clock *clock, const char *options)
 {
@@ -28,13 +39,16 @@ inline hal::BackendConfig configWith(platform::Clock *clock, const char *options
     return cfg;
 }
 
-/// \return the error code of \a create(cfg) once the options of \a cfg are \a options, or
-/// std::nullopt on success.
+/// Expects \a create(cfg) to fail with InvalidArgument once the options of \a cfg are each of
+/// \a refused in turn.
 template <class Create>
-std::optional<Errc> errcWithOptions(Create create, hal::BackendConfig cfg, const char *options)
+void expectOptionsRefused(Create create, hal::BackendConfig cfg,
+                          std::initializer_list<const char *> refused)
 {
-    cfg.options = hal::OptionList(options);
-    return errcOf(create(cfg));
+    for (const char *options : refused) {
+        cfg.options = hal::OptionList(options);
+        EXPECT_EQ(errcOf(create(cfg)), Errc::InvalidArgument) << options;
+    }
 }
 
 /// A Mock codec packet with its own storage.
