@@ -138,30 +138,30 @@ vec3 hapticCodes(vec3 p)
     if (uMaterial == 0 || uMaterial == 7) {
         // Skin: soft cheeks and lips, a firm forehead (bone under it), slippery eyes, soft hair;
         // on the bust the sweater below the neckline is cloth.
-        vec3 codes = vec3(48.0, 60.0, 45.0);
+        vec3 codes = vec3(54.0, 60.0, 45.0);
         if (uMaterial == 7) {
             float neckline = 1.0 - step(-0.095, p.y - 1.5 * p.x * p.x);
-            return mix(codes, vec3(40.0, 80.0, 60.0), neckline);
+            return mix(codes, vec3(45.0, 80.0, 60.0), neckline);
         }
         float front = step(0.04, p.z);
         vec2 cheek = vec2(abs(p.x) - 0.045, p.y + 0.012);
         if (front > 0.5 && ellipse(cheek, vec2(0.024, 0.022)) < 1.0)
-            codes = vec3(26.0, 70.0, 55.0);
+            codes = vec3(40.0, 70.0, 55.0);
         if (front > 0.5 && ellipse(vec2(p.x, p.y + 0.0465), vec2(0.019, 0.0095)) < 1.0)
-            codes = vec3(22.0, 90.0, 70.0);
+            codes = vec3(36.0, 90.0, 70.0);
         if (front > 0.5 && abs(p.x) < 0.05 && p.y > 0.04)
-            codes = vec3(112.0, 50.0, 38.0);
+            codes = vec3(96.0, 50.0, 38.0);
         vec2 e = vec2(abs(p.x) - 0.030, p.y - 0.016);
         if (front > 0.5 && ellipse(e, vec2(0.0115, 0.0055)) < 1.0)
             codes = vec3(64.0, 5.0, 3.0);
         vec3 d = normalize(p / vec3(0.075, 0.10, 0.09));
         float line = mix(0.52, -0.35, smoothstep(0.15, -0.55, d.z));
         if (d.y > line + 0.005)
-            codes = vec3(20.0, 35.0, 25.0);
+            codes = vec3(32.0, 35.0, 25.0);
         return codes;
     }
     if (uMaterial == 1)
-        return vec3(38.0, 85.0, 65.0); // the curtain's cloth: soft, grips the finger
+        return vec3(42.0, 85.0, 65.0); // the curtain's cloth: soft, grips the finger
     if (uMaterial == 2)
         return vec3(160.0, 12.0, 8.0); // marble: hard, slippery
     if (uMaterial == 3)

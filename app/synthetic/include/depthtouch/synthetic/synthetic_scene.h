@@ -68,8 +68,8 @@ public:
     /// file comment), or an empty view.
     /// \param[out] material Rgb24 image of width()×height() pixels: each point's haptic material
     /// codes (depthtouch/scene/material.h; the material track), or an empty view (the default).
-    /// Head: skin (stiffness ×0.75, μs 0.6, μd 0.45), softer cheeks (×0.4) and lips, a firmer
-    /// forehead (×1.75), slippery eyes, soft hair, the sweater and the curtain's cloth (×0.6,
+    /// Head: skin (stiffness ×0.84, μs 0.6, μd 0.45), softer cheeks (×0.63) and lips, a firmer
+    /// forehead (×1.5), slippery eyes, soft hair, the sweater and the curtain's cloth (×0.66,
     /// μs 0.85, μd 0.65). Spheres: marble, paint, wood, plaster, rubber. An extra pass of the
     /// scene (drawn again with the material codes as colour).
     /// \return nothing. Errors: InvalidArgument (a view has the wrong size or format), Io (a GL
