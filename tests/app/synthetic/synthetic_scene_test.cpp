@@ -302,9 +302,9 @@ TEST_F(SyntheticSceneTest, headMaterialsAreExactCodesWhereTheFaceIs)
     ASSERT_TRUE(head->render(0, f.colorView(), f.nearView(), mv));
     const auto census = materialCensus(material);
     // THEN every pixel carries one of the scene's materials exactly (codes never blend)
-    const std::set<std::uint32_t> known = {code(54, 60, 45),  code(40, 70, 55), code(36, 90, 70),
+    const std::set<std::uint32_t> known = {code(54, 60, 45), code(40, 70, 55), code(36, 90, 70),
                                            code(96, 50, 38), code(64, 5, 3),   code(32, 35, 25),
-                                           code(45, 80, 60),  code(42, 85, 65), code(64, 0, 0)};
+                                           code(45, 80, 60), code(42, 85, 65), code(64, 0, 0)};
     for (const auto &[c, count] : census)
         EXPECT_TRUE(known.count(c) == 1) << std::hex << c << std::dec << " on " << count << " px";
     // AND the face has skin, softer cheeks, a firmer forehead; the curtain is cloth
