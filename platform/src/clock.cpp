@@ -48,8 +48,10 @@ bool SteadyClock::sleepUntil(TimePoint deadline) noexcept
 
 SteadyClock &SteadyClock::instance() noexcept
 {
-    static SteadyClock clock;
-    return clock;
+    // Never destroyed: a thread still running at exit (an open abandoned while libavformat blocks
+    // in it, whose interrupt callback reads the clock) must not meet a destroyed clock.
+    static SteadyClock *const clock = new SteadyClock;
+    return *clock;
 }
 
 namespace {

@@ -70,7 +70,8 @@ public:
     [[nodiscard]] TimePoint now() const noexcept override;
     bool sleepUntil(TimePoint deadline) noexcept override;
 
-    /// A process-wide instance for production code that has no clock injected.
+    /// A process-wide instance for production code that has no clock injected; never destroyed
+    /// (threads still running at exit may read it).
     static SteadyClock &instance() noexcept;
 };
 
