@@ -303,14 +303,14 @@ double worstRatio(const BenchReport &report, const char *method, double BenchRow
     return worst;
 }
 
-/// The worst \a friction / \a plain ratio of \a field at 720×486 over the motions (same run).
-double frictionRatio(const BenchReport &report, const char *plain, const char *friction,
-                     double BenchRow::*field)
+/// The worst \a variant / \a plain ratio of \a field at 720×486 over the motions (same run).
+double costRatio(const BenchReport &report, const char *plain, const char *variant,
+                 double BenchRow::*field)
 {
     double worst = 0.0;
     for (const char *motion : {"still", "0.1 m/s", "1 m/s"}) {
         const BenchRow *a = findRow(report, plain, 720, motion);
-        const BenchRow *b = findRow(report, friction, 720, motion);
+        const BenchRow *b = findRow(report, variant, 720, motion);
         if (a && b && a->*field > 0)
             worst = std::max(worst, b->*field / a->*field);
     }
@@ -320,22 +320,27 @@ double frictionRatio(const BenchReport &report, const char *plain, const char *f
 /// The goal figures, from the rows of this run.
 void setGoals(BenchReport &report)
 {
-    report.fingerFrictionRatio =
-        frictionRatio(report, "finger", "finger-friction", &BenchRow::medianNs);
-    report.fingerFrictionMinOfRunsRatio =
-        frictionRatio(report, "finger", "finger-friction", &BenchRow::minOfRunsMedianNs);
-    report.modifiedFrictionRatio =
-        frictionRatio(report, "modified", "modified-friction", &BenchRow::medianNs);
-    report.modifiedFrictionMinOfRunsRatio =
-        frictionRatio(report, "modified", "modified-friction", &BenchRow::minOfRunsMedianNs);
-    report.fingerMaterialsRatio =
-        frictionRatio(report, "finger", "finger-materials", &BenchRow::medianNs);
-    report.fingerMaterialsMinOfRunsRatio =
-        frictionRatio(report, "finger", "finger-materials", &BenchRow::minOfRunsMedianNs);
-    report.modifiedMaterialsRatio =
-        frictionRatio(report, "modified", "modified-materials", &BenchRow::medianNs);
-    report.modifiedMaterialsMinOfRunsRatio =
-        frictionRatio(report, "modified", "modified-materials", &BenchRow::minOfRunsMedianNs);
+    // The cost of friction and of materials beside the plain renderer: raw and filtered medians.
+    struct Ratio {
+        const char *plain;
+        const char *variant;
+        double BenchReport::*raw;
+        double BenchReport::*filtered;
+    };
+    static constexpr Ratio kRatios[] = {
+        {"finger", "finger-friction", &BenchReport::fingerFrictionRatio,
+         &BenchReport::fingerFrictionMinOfRunsRatio},
+        {"modified", "modified-friction", &BenchReport::modifiedFrictionRatio,
+         &BenchReport::modifiedFrictionMinOfRunsRatio},
+        {"finger", "finger-materials", &BenchReport::fingerMaterialsRatio,
+         &BenchReport::fingerMaterialsMinOfRunsRatio},
+        {"modified", "modified-materials", &BenchReport::modifiedMaterialsRatio,
+         &BenchReport::modifiedMaterialsMinOfRunsRatio},
+    };
+    for (const Ratio &k : kRatios) {
+        report.*k.raw = costRatio(report, k.plain, k.variant, &BenchRow::medianNs);
+        report.*k.filtered = costRatio(report, k.plain, k.variant, &BenchRow::minOfRunsMedianNs);
+    }
     if (const BenchRow *r = findRow(report, "finger-materials", 720, "1 m/s")) {
         report.fingerMaterialsP999At720Fast = r->p999Ns;
         report.fingerMaterialsMinOfRunsP999At720Fast = r->minOfRunsP999Ns;
