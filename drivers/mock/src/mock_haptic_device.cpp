@@ -56,32 +56,10 @@ MockHapticDevice::MockHapticDevice(platform::Clock &clock, const MockHapticSetti
 
 Result<MockHapticDevice::State> MockHapticDevice::openDevice()
 {
-    if (!present_.load(std::memory_order_acquire))
+    if (!devicePresent())
         return unexpected(Errc::NoDevice, "Mock haptic device unplugged");
     setOutput({});
     return State::Open;
-}
-
-void MockHapticDevice::closeDevice() noexcept
-{
-    setOutput({});
-}
-
-bool MockHapticDevice::devicePresent() const noexcept
-{
-    return present_.load(std::memory_order_acquire);
-}
-
-void MockHapticDevice::zeroForceDevice() noexcept
-{
-    setOutput({});
-}
-
-Result<void> MockHapticDevice::checkStall() const noexcept
-{
-    if (stalled_.load(std::memory_order_acquire))
-        return unexpected(Errc::Timeout, "Haptic device did not answer");
-    return ok();
 }
 
 Result<void> MockHapticDevice::readDevice(hal::HapticState &out) noexcept
@@ -102,16 +80,6 @@ Result<void> MockHapticDevice::commandForceDevice(const hal::ForceCommand &comma
     if (command.magnitude > maxMagnitude_.load(std::memory_order_relaxed))
         maxMagnitude_.store(command.magnitude, std::memory_order_relaxed);
     return ok();
-}
-
-void MockHapticDevice::setOutput(const hal::Vec3 &f) noexcept
-{
-    output_.store(f);
-}
-
-hal::Vec3 MockHapticDevice::lastForce() const noexcept
-{
-    return isConnected() ? output_.load() : hal::Vec3{};
 }
 
 void MockHapticDevice::setWaypoints(std::vector<HapticWaypoint> points)

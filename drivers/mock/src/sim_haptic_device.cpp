@@ -221,7 +221,7 @@ void SimHapticDevice::resetHand() noexcept
 
 Result<SimHapticDevice::State> SimHapticDevice::openDevice()
 {
-    if (!present_.load(std::memory_order_acquire))
+    if (!devicePresent())
         return unexpected(Errc::NoDevice, "Simulated hand unplugged");
     resetHand();
     openedAt_ = clock_.now();
@@ -230,27 +230,10 @@ Result<SimHapticDevice::State> SimHapticDevice::openDevice()
     return State::Open;
 }
 
-void SimHapticDevice::closeDevice() noexcept
-{
-    zeroForceDevice();
-}
-
-bool SimHapticDevice::devicePresent() const noexcept
-{
-    return present_.load(std::memory_order_acquire);
-}
-
 void SimHapticDevice::zeroForceDevice() noexcept
 {
     force_ = {};
-    setOutput({});
-}
-
-Result<void> SimHapticDevice::checkStall() const noexcept
-{
-    if (stalled_.load(std::memory_order_acquire))
-        return unexpected(Errc::Timeout, "Haptic device did not answer");
-    return ok();
+    SimulatedHapticDeviceBase::zeroForceDevice();
 }
 
 void SimHapticDevice::intentAt(double t, double &gx, double &gy, double &depth) noexcept
@@ -442,19 +425,9 @@ Result<void> SimHapticDevice::commandForceDevice(const hal::ForceCommand &comman
     return ok();
 }
 
-void SimHapticDevice::setOutput(const hal::Vec3 &f) noexcept
-{
-    output_.store(f);
-}
-
 void SimHapticDevice::publishPosition() noexcept
 {
     position_.store(pos_);
-}
-
-hal::Vec3 SimHapticDevice::lastForce() const noexcept
-{
-    return isConnected() ? output_.load() : hal::Vec3{};
 }
 
 hal::Vec3 SimHapticDevice::position() const noexcept

@@ -10,12 +10,13 @@
 /// the workspace. With no script the handle rests at the workspace centre. Buttons are those of the
 /// waypoint at or before the time.
 ///
-/// The state, the clamp and non-finite handling are hal::HapticDeviceBase's; this class is the
-/// device. Real-time: read(), commandForce(), state() and isConnected() do not allocate, lock or
-/// log; they read the injected clock (a platform::ManualClock takes a mutex: use it for simulation
-/// only). Thread-safety: as hal::HapticDevice. setWaypoints() must not run concurrently with
-/// read(). The fault injection and observer calls are thread-safe (a test thread may unplug the
-/// device while the haptic thread runs).
+/// The state, the clamp and non-finite handling are hal::HapticDeviceBase's, the fault injection
+/// and the output force SimulatedHapticDeviceBase's; this class is the device. Real-time: read(),
+/// commandForce(), state() and isConnected() do not allocate, lock or log; they read the injected
+/// clock (a platform::ManualClock takes a mutex: use it for simulation only). Thread-safety: as
+/// hal::HapticDevice. setWaypoints() must not run concurrently with read(). The fault injection and
+/// observer calls are thread-safe (a test thread may unplug the device while the haptic thread
+/// runs).
 
 #include <atomic>
 #include <cstdint>
@@ -24,9 +25,8 @@
 #include <vector>
 
 #include "depthtouch/hal/backends.h"
-#include "depthtouch/hal/haptic_device_base.h"
 #include "depthtouch/platform/clock.h"
-#include "depthtouch/drivers/mock/vec3_cell.h"
+#include "depthtouch/drivers/mock/simulated_haptic_device.h"
 
 namespace depthtouch::drivers {
 
@@ -50,7 +50,7 @@ struct HapticWaypoint {
     std::uint32_t buttons = 0;  ///< Buttons held from this waypoint to the next.
 };
 
-class MockHapticDevice final : public hal::HapticDeviceBase {
+class MockHapticDevice final : public SimulatedHapticDeviceBase {
 public:
     /// Backend factory: settings from cfg.options, time from cfg.clock.
     static Result<std::unique_ptr<hal::HapticDevice>> create(const hal::BackendConfig &cfg);
@@ -64,23 +64,10 @@ public:
     void setWaypoints(std::vector<HapticWaypoint> points);
     ///@}
 
-    /// \name Fault injection (thread-safe)
-    ///@{
-    /// Unplugs the device: the output force becomes zero; read() and commandForce() return NoDevice
-    /// and the state becomes Disconnected; open() fails with NoDevice until reconnect().
-    void disconnect() noexcept { present_.store(false, std::memory_order_release); }
-    /// Plugs the device back in: a Disconnected device stays so until close() and open().
-    void reconnect() noexcept { present_.store(true, std::memory_order_release); }
-    /// While \a stalled, read() and commandForce() return Timeout (a stalled USB endpoint); the
-    /// output force stays what it was.
-    void setStalled(bool stalled) noexcept { stalled_.store(stalled, std::memory_order_release); }
-    ///@}
-
     /// \name Observers (thread-safe)
     ///@{
-    /// \return the force the device outputs now, newtons: the last accepted command after clamping,
-    /// or zero when not connected, after open(), close() or a non-finite command.
-    [[nodiscard]] hal::Vec3 lastForce() const noexcept;
+    /// lastForce() and the fault injection (disconnect(), reconnect(), setStalled()): see
+    /// SimulatedHapticDeviceBase.
     /// \return commands accepted since creation (non-finite ones included).
     [[nodiscard]] std::uint64_t forceCount() const noexcept
     {
@@ -108,29 +95,13 @@ public:
 
 protected:
     [[nodiscard]] Result<State> openDevice() override;
-    void closeDevice() noexcept override;
-    [[nodiscard]] bool devicePresent() const noexcept override;
     [[nodiscard]] Result<void> readDevice(hal::HapticState &out) noexcept override;
     [[nodiscard]] Result<void>
     commandForceDevice(const hal::ForceCommand &command) noexcept override;
-    void zeroForceDevice() noexcept override;
 
 private:
-    /// Timeout while stalled.
-    [[nodiscard]] Result<void> checkStall() const noexcept;
-    /// Sets the output force (single writer: the haptic thread, or open()/close() when it is not
-    /// running).
-    void setOutput(const hal::Vec3 &f) noexcept;
-
     platform::Clock &clock_;
     std::vector<HapticWaypoint> waypoints_;
-
-    std::atomic<bool> present_{true};
-    std::atomic<bool> stalled_{false};
-
-    // Output force: a sequence lock over three atomics so observers on other threads read a
-    // consistent vector without blocking the haptic thread.
-    Vec3Cell output_; ///< Output force, N (read by lastForce()).
 
     std::atomic<std::uint64_t> forceCount_{0};
     std::atomic<std::uint64_t> clampCount_{0};

@@ -51,18 +51,19 @@
 /// Errors: SimHandSettings::parse() and create() give InvalidArgument for an unknown key, a
 /// malformed value or one out of range.
 ///
-/// The state, the clamp and non-finite handling are hal::HapticDeviceBase's; this class is the
-/// hand. Real-time: read(), commandForce(), state() and isConnected() do not allocate, lock or log
-/// (they read the injected clock; a ManualClock takes a mutex: simulation only). Thread-safety: as
-/// hal::HapticDevice; the fault injection and observers are thread-safe.
+/// The state, the clamp and non-finite handling are hal::HapticDeviceBase's, the fault injection
+/// and the output force SimulatedHapticDeviceBase's; this class is the hand. Real-time: read(),
+/// commandForce(), state() and isConnected() do not allocate, lock or log (they read the injected
+/// clock; a ManualClock takes a mutex: simulation only). Thread-safety: as hal::HapticDevice; the
+/// fault injection and observers are thread-safe.
 
 #include <atomic>
 #include <cstdint>
 #include <memory>
 
 #include "depthtouch/hal/backends.h"
-#include "depthtouch/hal/haptic_device_base.h"
 #include "depthtouch/platform/clock.h"
+#include "depthtouch/drivers/mock/simulated_haptic_device.h"
 #include "depthtouch/drivers/mock/vec3_cell.h"
 
 namespace depthtouch::drivers {
@@ -106,7 +107,7 @@ struct SimHandSettings {
     static Result<SimHandSettings> parse(hal::OptionList options);
 };
 
-class SimHapticDevice final : public hal::HapticDeviceBase {
+class SimHapticDevice final : public SimulatedHapticDeviceBase {
 public:
     /// Backend factory: settings from cfg.options, time from cfg.clock.
     static Result<std::unique_ptr<hal::HapticDevice>> create(const hal::BackendConfig &cfg);
@@ -114,17 +115,9 @@ public:
     SimHapticDevice(platform::Clock &clock, const SimHandSettings &settings);
     ~SimHapticDevice() override = default;
 
-    /// \name Fault injection (thread-safe), as MockHapticDevice
+    /// \name Observers (thread-safe; lastForce() and the fault injection:
+    /// SimulatedHapticDeviceBase)
     ///@{
-    void disconnect() noexcept { present_.store(false, std::memory_order_release); }
-    void reconnect() noexcept { present_.store(true, std::memory_order_release); }
-    void setStalled(bool stalled) noexcept { stalled_.store(stalled, std::memory_order_release); }
-    ///@}
-
-    /// \name Observers (thread-safe)
-    ///@{
-    /// \return the force output now, N (zero when not connected).
-    [[nodiscard]] hal::Vec3 lastForce() const noexcept;
     /// \return the fingertip position as of the last read() or commandForce(), m.
     [[nodiscard]] hal::Vec3 position() const noexcept;
     ///@}
@@ -133,16 +126,13 @@ public:
 
 protected:
     [[nodiscard]] Result<State> openDevice() override;
-    void closeDevice() noexcept override;
-    [[nodiscard]] bool devicePresent() const noexcept override;
     [[nodiscard]] Result<void> readDevice(hal::HapticState &out) noexcept override;
     [[nodiscard]] Result<void>
     commandForceDevice(const hal::ForceCommand &command) noexcept override;
+    /// Zeroes the output force and the force acting on the fingertip.
     void zeroForceDevice() noexcept override;
 
 private:
-    /// Timeout while stalled.
-    [[nodiscard]] Result<void> checkStall() const noexcept;
     /// Integrates the hand up to the clock's now.
     void integrateToNow() noexcept;
     void step(double h) noexcept;
@@ -151,15 +141,11 @@ private:
     /// Moves the surface estimate by one step of \a h seconds (press regulation, search or
     /// retreat) for an intended \a depth (m) and stroke direction (\a ux, \a uy) (unit, or 0).
     void updateSurfaceEstimate(double t, double h, double depth, double ux, double uy) noexcept;
-    void setOutput(const hal::Vec3 &f) noexcept;
     void publishPosition() noexcept;
     void resetHand() noexcept;
 
     platform::Clock &clock_;
     const SimHandSettings settings_;
-
-    std::atomic<bool> present_{true};
-    std::atomic<bool> stalled_{false};
 
     // Physics state: touched by the device's user thread (the haptic thread) only.
     platform::TimePoint openedAt_{};
@@ -187,8 +173,7 @@ private:
     double kxy_ = 0.0;
     double cxy_ = 0.0;
 
-    // Observers: sequence locks over atomics.
-    Vec3Cell output_;   ///< Output force, N (read by lastForce()).
+    // Observer: a sequence lock over atomics.
     Vec3Cell position_; ///< Fingertip position, m (read by position()).
 };
 
