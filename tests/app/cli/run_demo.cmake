@@ -1,5 +1,19 @@
 # Runs `depthtouch demo` (a small clip of the built-in head scene, played with the simulated hand on
 # the headless display) and checks its summary and files. Inputs: DEPTHTOUCH (executable), OUT (folder).
+
+# match_line(REGEX WHAT VAR...): fails the test with "no WHAT line" unless the demo's output matches
+# REGEX; else sets each VAR, in order, to the next group of the match.
+function(match_line regex what)
+    if(NOT out MATCHES "${regex}")
+        message(FATAL_ERROR "no ${what} line")
+    endif()
+    set(group 1)
+    foreach(var IN LISTS ARGN)
+        set(${var} ${CMAKE_MATCH_${group}} PARENT_SCOPE)
+        math(EXPR group "${group} + 1")
+    endforeach()
+endfunction()
+
 file(REMOVE_RECURSE ${OUT})
 execute_process(COMMAND ${DEPTHTOUCH} demo --duration 3 --size 160x120 --frames 20 --out ${OUT}
     RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 240)
@@ -7,28 +21,16 @@ message("${out}")
 if(NOT rc EQUAL 0)
     message(FATAL_ERROR "depthtouch demo exited with ${rc}: ${err}")
 endif()
-if(NOT out MATCHES "haptic updates +([0-9]+) \\(([0-9]+) in contact\\)")
-    message(FATAL_ERROR "no haptic summary line")
-endif()
-set(updates ${CMAKE_MATCH_1})
-set(contacts ${CMAKE_MATCH_2})
+match_line("haptic updates +([0-9]+) \\(([0-9]+) in contact\\)" "haptic summary" updates contacts)
 # The stroking hand must touch the face.
 if(contacts LESS 100)
     message(FATAL_ERROR "expected the hand in contact, got ${contacts} of ${updates} updates in contact")
 endif()
-if(NOT out MATCHES "frames +([0-9]+) received, ([0-9]+) presented, ([0-9]+) dropped")
-    message(FATAL_ERROR "no frames summary line")
-endif()
-set(received ${CMAKE_MATCH_1})
-set(presented ${CMAKE_MATCH_2})
-set(dropped ${CMAKE_MATCH_3})
+match_line("frames +([0-9]+) received, ([0-9]+) presented, ([0-9]+) dropped" "frames summary"
+    received presented dropped)
 # The clip's material track: the head's skin and the curtain's cloth are felt with different
 # stiffness (the material's scale of --stiffness 800 N/m; skin 0.56..1.5, cloth 0.66).
-if(NOT out MATCHES "stiffness felt +head ([0-9]+) N/m, curtain ([0-9]+|nan) N/m")
-    message(FATAL_ERROR "no stiffness felt line")
-endif()
-set(headK ${CMAKE_MATCH_1})
-set(curtainK ${CMAKE_MATCH_2})
+match_line("stiffness felt +head ([0-9]+) N/m, curtain ([0-9]+|nan) N/m" "stiffness felt" headK curtainK)
 if(headK LESS 250 OR headK GREATER 1500 OR headK EQUAL 800)
     message(FATAL_ERROR "stiffness felt on the head ${headK} N/m: not the skin's material")
 endif()
