@@ -4,70 +4,47 @@
 #include "depthtouch/hal/haptic_device.h"
 #include "depthtouch/hal/media_source.h"
 #include "depthtouch/hal/video_decoder.h"
+#include "depthtouch/platform/enum_names.h"
+
+#include <array>
 
 namespace depthtouch::hal {
 
+namespace {
+
+// Every interface's state names, in the order of its State enumeration.
+constexpr std::array<const char *, 3> kHapticDeviceStates = {"Closed", "Open", "Disconnected"};
+constexpr std::array<const char *, 3> kDisplayStates = {"Closed", "Open", "Lost"};
+constexpr std::array<const char *, 3> kDepthCameraStates = {"Unconfigured", "Configured",
+                                                            "Streaming"};
+constexpr std::array<const char *, 3> kVideoDecoderStates = {"Closed", "Configured", "Running"};
+constexpr std::array<const char *, 2> kMediaSourceStates = {"Closed", "Open"};
+
+} // namespace
+
 const char *toString(HapticDevice::State s) noexcept
 {
-    switch (s) {
-    case HapticDevice::State::Closed:
-        return "Closed";
-    case HapticDevice::State::Open:
-        return "Open";
-    case HapticDevice::State::Disconnected:
-        return "Disconnected";
-    }
-    return "?";
+    return platform::enumName(s, kHapticDeviceStates, "?");
 }
 
 const char *toString(Display::State s) noexcept
 {
-    switch (s) {
-    case Display::State::Closed:
-        return "Closed";
-    case Display::State::Open:
-        return "Open";
-    case Display::State::Lost:
-        return "Lost";
-    }
-    return "?";
+    return platform::enumName(s, kDisplayStates, "?");
 }
 
 const char *toString(DepthCamera::State s) noexcept
 {
-    switch (s) {
-    case DepthCamera::State::Unconfigured:
-        return "Unconfigured";
-    case DepthCamera::State::Configured:
-        return "Configured";
-    case DepthCamera::State::Streaming:
-        return "Streaming";
-    }
-    return "?";
+    return platform::enumName(s, kDepthCameraStates, "?");
 }
 
 const char *toString(VideoDecoder::State s) noexcept
 {
-    switch (s) {
-    case VideoDecoder::State::Closed:
-        return "Closed";
-    case VideoDecoder::State::Configured:
-        return "Configured";
-    case VideoDecoder::State::Running:
-        return "Running";
-    }
-    return "?";
+    return platform::enumName(s, kVideoDecoderStates, "?");
 }
 
 const char *toString(MediaSource::State s) noexcept
 {
-    switch (s) {
-    case MediaSource::State::Closed:
-        return "Closed";
-    case MediaSource::State::Open:
-        return "Open";
-    }
-    return "?";
+    return platform::enumName(s, kMediaSourceStates, "?");
 }
 
 } // namespace depthtouch::hal

@@ -2,80 +2,65 @@
 
 #include "depthtouch/hal/media_source.h"
 #include "depthtouch/hal/video_decoder.h"
+#include "depthtouch/platform/enum_names.h"
+
+#include <array>
+#include <cstddef>
 
 namespace depthtouch::hal {
 
+namespace {
+
+/// What pixelFormatName(), planeCount() and bitsPerSample() say of one PixelFormat.
+struct FormatTraits {
+    const char *name;
+    int planes;
+    int bits; ///< Bits per sample; 0 where there are no samples (Unknown, Mjpeg).
+};
+
+/// Every PixelFormat's traits, in the enumeration's order.
+constexpr std::array<FormatTraits, 11> kFormatTraits = {{
+    {"unknown", 0, 0},
+    {"gray8", 1, 8},
+    {"gray10", 1, 10},
+    {"gray16", 1, 16},
+    {"yuv420p", 3, 8},
+    {"nv12", 2, 8},
+    {"rgb24", 1, 8},
+    {"rgba8", 1, 8},
+    {"yuyv", 1, 8},
+    {"z16", 1, 16},
+    {"mjpeg", 1, 0},
+}};
+static_assert(kFormatTraits.size() == static_cast<std::size_t>(PixelFormat::Mjpeg) + 1);
+
+/// The traits of \a format; those of Unknown for a value outside the enumeration.
+constexpr const FormatTraits &formatTraits(PixelFormat format) noexcept
+{
+    const auto index = static_cast<std::size_t>(format);
+    return kFormatTraits[index < kFormatTraits.size() ? index : 0];
+}
+
+/// Every CodecId's name, in the enumeration's order.
+constexpr std::array<const char *, 7> kCodecNames = {"unknown",  "h264",  "hevc", "ffv1",
+                                                     "rawvideo", "mjpeg", "mock"};
+static_assert(kCodecNames.size() == static_cast<std::size_t>(CodecId::Mock) + 1);
+
+} // namespace
+
 const char *pixelFormatName(PixelFormat format) noexcept
 {
-    switch (format) {
-    case PixelFormat::Unknown:
-        return "unknown";
-    case PixelFormat::Gray8:
-        return "gray8";
-    case PixelFormat::Gray10:
-        return "gray10";
-    case PixelFormat::Gray16:
-        return "gray16";
-    case PixelFormat::Yuv420p:
-        return "yuv420p";
-    case PixelFormat::Nv12:
-        return "nv12";
-    case PixelFormat::Rgb24:
-        return "rgb24";
-    case PixelFormat::Rgba8:
-        return "rgba8";
-    case PixelFormat::Yuyv:
-        return "yuyv";
-    case PixelFormat::Z16:
-        return "z16";
-    case PixelFormat::Mjpeg:
-        return "mjpeg";
-    }
-    return "unknown";
+    return formatTraits(format).name;
 }
 
 int planeCount(PixelFormat format) noexcept
 {
-    switch (format) {
-    case PixelFormat::Unknown:
-        return 0;
-    case PixelFormat::Yuv420p:
-        return 3;
-    case PixelFormat::Nv12:
-        return 2;
-    case PixelFormat::Gray8:
-    case PixelFormat::Gray10:
-    case PixelFormat::Gray16:
-    case PixelFormat::Rgb24:
-    case PixelFormat::Rgba8:
-    case PixelFormat::Yuyv:
-    case PixelFormat::Z16:
-    case PixelFormat::Mjpeg:
-        return 1;
-    }
-    return 0;
+    return formatTraits(format).planes;
 }
 
 int bitsPerSample(PixelFormat format) noexcept
 {
-    switch (format) {
-    case PixelFormat::Unknown:
-    case PixelFormat::Mjpeg:
-        return 0;
-    case PixelFormat::Gray10:
-        return 10;
-    case PixelFormat::Gray16:
-    case PixelFormat::Z16:
-        return 16;
-    case PixelFormat::Gray8:
-    case PixelFormat::Yuv420p:
-    case PixelFormat::Nv12:
-    case PixelFormat::Rgb24:
-    case PixelFormat::Rgba8:
-    case PixelFormat::Yuyv:
-        return 8;
-    }
-    return 0;
+    return formatTraits(format).bits;
 }
 
 PlaneLayout planeLayout(PixelFormat format, int width, int height, int plane) noexcept
@@ -125,23 +110,7 @@ const char *streamKindName(StreamKind kind) noexcept
 
 const char *codecName(CodecId codec) noexcept
 {
-    switch (codec) {
-    case CodecId::Unknown:
-        return "unknown";
-    case CodecId::H264:
-        return "h264";
-    case CodecId::Hevc:
-        return "hevc";
-    case CodecId::Ffv1:
-        return "ffv1";
-    case CodecId::RawVideo:
-        return "rawvideo";
-    case CodecId::Mjpeg:
-        return "mjpeg";
-    case CodecId::Mock:
-        return "mock";
-    }
-    return "unknown";
+    return platform::enumName(codec, kCodecNames, "unknown");
 }
 
 StreamConfig StreamConfig::fromStream(const StreamInfo &stream)

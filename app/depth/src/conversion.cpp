@@ -3,7 +3,10 @@
 
 #include "depthtouch/depth/conversion.h"
 
+#include "depthtouch/platform/enum_names.h"
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -11,13 +14,8 @@ namespace depthtouch::depth {
 
 const char *mappingName(DepthMapping mapping) noexcept
 {
-    switch (mapping) {
-    case DepthMapping::InverseZ:
-        return "inverse_z";
-    case DepthMapping::Linear:
-        return "linear";
-    }
-    return "inverse_z";
+    static constexpr std::array<const char *, 2> kNames = {"inverse_z", "linear"};
+    return platform::enumName(mapping, kNames, "inverse_z");
 }
 
 Result<DepthMapping> parseMapping(std::string_view text) noexcept

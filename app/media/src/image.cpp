@@ -3,21 +3,17 @@
 
 #include "depthtouch/media/image.h"
 
+#include "depthtouch/platform/enum_names.h"
+
+#include <array>
 #include <cstring>
 
 namespace depthtouch::media {
 
 const char *pixelFormatName(PixelFormat format) noexcept
 {
-    switch (format) {
-    case PixelFormat::Gray8:
-        return "gray8";
-    case PixelFormat::Gray16:
-        return "gray16";
-    case PixelFormat::Rgb24:
-        return "rgb24";
-    }
-    return "gray8";
+    static constexpr std::array<const char *, 3> kNames = {"gray8", "gray16", "rgb24"};
+    return platform::enumName(format, kNames, "gray8");
 }
 
 Image Image::make(int width, int height, PixelFormat format)
