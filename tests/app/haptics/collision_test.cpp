@@ -2,15 +2,19 @@
 
 #include <cmath>
 #include <random>
+#include <utility>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "app/haptics/crossing_agreement.h"
 #include "app/haptics/synthetic.h"
 
 namespace depthtouch::haptics {
 namespace {
 
+using test::countAgreement;
+using test::CrossingAgreement;
 using test::makeFrame;
 
 constexpr SceneBox kBox{0.10, 0.04};
@@ -93,28 +97,27 @@ TEST(CollisionTest, agreesWithBruteForceOnRandomSegments)
     const auto f = makeFrame(kBox, 33, 25, 0.0, bumpy);
     HeightField hf(kBox);
     ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
-    std::mt19937_64 rng(7);
     std::uniform_real_distribution<double> ux(-0.05, 0.05);
     std::uniform_real_distribution<double> uy(-0.037, 0.037);
     std::uniform_real_distribution<double> uz(-0.012, 0.012);
     std::uniform_real_distribution<double> step(-0.006, 0.006);
-    int hits = 0;
-    int mismatches = 0;
-    for (int i = 0; i < 4000; ++i) {
+    const auto segment = [&](int i, std::mt19937_64 &rng) {
         const glm::dvec3 a(ux(rng), uy(rng), uz(rng));
         const glm::dvec3 b = (i % 2) ? glm::dvec3(ux(rng), uy(rng), uz(rng))
                                      : a + glm::dvec3(step(rng), step(rng), step(rng));
-        const Crossing fast = firstCrossing(hf, a, b);
-        const Crossing ref = firstCrossingBruteForce(hf, a, b);
-        hits += fast.hit ? 1 : 0;
-        const bool same = fast.hit == ref.hit &&
-                          (!fast.hit || std::fabs(fast.t - ref.t) * glm::length(b - a) < 1e-9);
-        if (!same)
-            ++mismatches;
-    }
+        return std::pair{a, b};
+    };
+    const CrossingAgreement n = countAgreement(
+        7, 4000, segment, [&](auto a, auto b) { return firstCrossing(hf, a, b); },
+        [&](auto a, auto b) { return firstCrossingBruteForce(hf, a, b); },
+        [](const Crossing &fast, const Crossing &ref, glm::dvec3 a, glm::dvec3 b) {
+            const bool same = fast.hit == ref.hit &&
+                              (!fast.hit || std::fabs(fast.t - ref.t) * glm::length(b - a) < 1e-9);
+            return !same;
+        });
     // THEN both find the same first crossing (and the test does exercise hits)
-    EXPECT_EQ(mismatches, 0);
-    EXPECT_GT(hits, 1000);
+    EXPECT_EQ(n.mismatches, 0);
+    EXPECT_GT(n.hits, 1000);
 }
 
 } // namespace

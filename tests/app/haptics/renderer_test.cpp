@@ -2,10 +2,12 @@
 
 #include <cmath>
 #include <random>
+#include <utility>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "app/haptics/crossing_agreement.h"
 #include "app/haptics/synthetic.h"
 #include "depthtouch/haptics/mesh_bvh.h"
 
@@ -192,23 +194,21 @@ TEST(MeshBvhTest, treeQueriesAgreeWithTheGridWalk)
     EXPECT_GT(mesh.nodeCount(), 2u * 39u * 29u / 4u);
     HeightField hf(kBox);
     ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
-    std::mt19937_64 rng(3);
     std::uniform_real_distribution<double> ux(-0.05, 0.05);
     std::uniform_real_distribution<double> uz(-0.01, 0.01);
     std::uniform_real_distribution<double> step(-0.004, 0.004);
-    int hits = 0;
-    int mismatches = 0;
-    for (int i = 0; i < 2000; ++i) {
+    const auto segment = [&](int, std::mt19937_64 &rng) {
         const glm::dvec3 a(ux(rng), 0.7 * ux(rng), uz(rng));
-        const glm::dvec3 b = a + glm::dvec3(step(rng), step(rng), step(rng));
-        const Crossing grid = firstCrossing(hf, a, b);
-        const Crossing tree = mesh.firstCrossingBvh(a, b);
-        hits += grid.hit ? 1 : 0;
-        if (grid.hit != tree.hit || (grid.hit && std::fabs(grid.t - tree.t) > 1e-9))
-            ++mismatches;
-    }
-    EXPECT_EQ(mismatches, 0);
-    EXPECT_GT(hits, 50);
+        return std::pair{a, a + glm::dvec3(step(rng), step(rng), step(rng))};
+    };
+    const test::CrossingAgreement n = test::countAgreement(
+        3, 2000, segment, [&](auto a, auto b) { return firstCrossing(hf, a, b); },
+        [&](auto a, auto b) { return mesh.firstCrossingBvh(a, b); },
+        [](const Crossing &grid, const Crossing &tree, glm::dvec3, glm::dvec3) {
+            return grid.hit != tree.hit || (grid.hit && std::fabs(grid.t - tree.t) > 1e-9);
+        });
+    EXPECT_EQ(n.mismatches, 0);
+    EXPECT_GT(n.hits, 50);
 }
 
 TEST(MeshBvhTest, rendersTheSameForcesAsTheProxyGraphOnAStillFrame)

@@ -11,11 +11,13 @@
 #include <random>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "app/haptics/crossing_agreement.h"
 #include "app/haptics/scenario.h"
 #include "app/haptics/synthetic.h"
 #include "app/haptics/video.h"
@@ -454,31 +456,29 @@ TEST(ScenarioTest, fastCollisionDetectorAgreesWithBruteForceOn1e5Segments)
     });
     HeightField hf(kBox);
     ASSERT_TRUE(hf.setFrames(f.view(), nullptr));
-    std::mt19937_64 rng(2024);
     std::uniform_real_distribution<double> ux(-0.05, 0.05);
     std::uniform_real_distribution<double> uy(-0.0375, 0.0375);
     std::uniform_real_distribution<double> uz(-0.008, 0.008);
     std::uniform_real_distribution<double> shortStep(-0.002, 0.002);
     std::uniform_real_distribution<double> longStep(-0.012, 0.012);
-    int hits = 0;
-    int mismatches = 0;
-    for (int i = 0; i < 100000; ++i) {
+    const auto segment = [&](int i, std::mt19937_64 &rng) {
         // start near the surface (1 mm under to 3 mm over it) so that many segments cross it
         glm::dvec3 a(ux(rng), uy(rng), 0.0);
         a.z = hf.heightAt(a.x, a.y) + 0.001 + 0.25 * uz(rng);
         auto &d = (i % 10 == 0) ? longStep : shortStep;
-        const glm::dvec3 b = a + glm::dvec3(d(rng), d(rng), d(rng));
-        const Crossing fast = firstCrossing(hf, a, b);
-        const Crossing ref = firstCrossingBruteForce(hf, a, b);
-        hits += fast.hit ? 1 : 0;
-        if (fast.hit != ref.hit ||
-            (fast.hit && std::fabs(fast.t - ref.t) * glm::length(b - a) > 1e-9))
-            ++mismatches;
-    }
-    std::printf("[agreement] 100000 segments: %d hits, %d disagreements with brute force\n", hits,
-                mismatches);
-    EXPECT_EQ(mismatches, 0);
-    EXPECT_GT(hits, 10000);
+        return std::pair{a, a + glm::dvec3(d(rng), d(rng), d(rng))};
+    };
+    const test::CrossingAgreement n = test::countAgreement(
+        2024, 100000, segment, [&](auto a, auto b) { return firstCrossing(hf, a, b); },
+        [&](auto a, auto b) { return firstCrossingBruteForce(hf, a, b); },
+        [](const Crossing &fast, const Crossing &ref, glm::dvec3 a, glm::dvec3 b) {
+            return fast.hit != ref.hit ||
+                   (fast.hit && std::fabs(fast.t - ref.t) * glm::length(b - a) > 1e-9);
+        });
+    std::printf("[agreement] 100000 segments: %d hits, %d disagreements with brute force\n", n.hits,
+                n.mismatches);
+    EXPECT_EQ(n.mismatches, 0);
+    EXPECT_GT(n.hits, 10000);
 }
 
 } // namespace
