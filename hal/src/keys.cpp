@@ -6,6 +6,8 @@
 #include <cctype>
 #include <cstddef>
 
+#include "depthtouch/platform/enum_names.h"
+
 namespace depthtouch::hal {
 
 namespace {
@@ -125,15 +127,8 @@ Key keyFromCode(int code) noexcept
 
 const char *keyActionName(KeyAction action) noexcept
 {
-    switch (action) {
-    case KeyAction::Press:
-        return "press";
-    case KeyAction::Release:
-        return "release";
-    case KeyAction::Repeat:
-        return "repeat";
-    }
-    return "press";
+    static constexpr std::array<const char *, 3> kNames = {"press", "release", "repeat"};
+    return platform::enumName(action, kNames, "press");
 }
 
 const Key *allKeys(std::size_t &count) noexcept

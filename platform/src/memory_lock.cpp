@@ -1,5 +1,8 @@
 #include "depthtouch/platform/memory_lock.h"
 
+#include "depthtouch/platform/enum_names.h"
+
+#include <array>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -116,17 +119,8 @@ double statusKiB(const char *key) noexcept
 
 const char *memoryLockModeName(MemoryLockMode mode) noexcept
 {
-    switch (mode) {
-    case MemoryLockMode::None:
-        return "none";
-    case MemoryLockMode::Owned:
-        return "owned";
-    case MemoryLockMode::OnFault:
-        return "onfault";
-    case MemoryLockMode::All:
-        return "all";
-    }
-    return "?";
+    static constexpr std::array<const char *, 4> kNames = {"none", "owned", "onfault", "all"};
+    return enumName(mode, kNames, "?");
 }
 
 LockResult lockRegion(const MemoryRegion &region) noexcept

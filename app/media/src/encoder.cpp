@@ -3,6 +3,7 @@
 
 #include "depthtouch/media/encoder.h"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -15,6 +16,7 @@ extern "C" {
 }
 
 #include "av_handles.h"
+#include "depthtouch/platform/enum_names.h"
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
 
@@ -59,17 +61,8 @@ bool isEncodableSize(int width, int height) noexcept
 
 const char *containerName(Container c) noexcept
 {
-    switch (c) {
-    case Container::Matroska:
-        return "matroska";
-    case Container::Mp4:
-        return "mp4";
-    case Container::MpegTs:
-        return "mpegts";
-    case Container::Hls:
-        return "hls";
-    }
-    return "matroska";
+    static constexpr std::array<const char *, 4> kNames = {"matroska", "mp4", "mpegts", "hls"};
+    return platform::enumName(c, kNames, "matroska");
 }
 
 Result<Container> parseContainer(const std::string &text)

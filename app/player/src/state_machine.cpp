@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cstdio>
 #include <utility>
 
 #include "command_parsers.h"
+#include "depthtouch/platform/enum_names.h"
 #include "depthtouch/platform/log.h"
 
 DT_LOG_CATEGORY(Player)
@@ -254,27 +256,11 @@ std::span<const CommandSpec> commandTable() noexcept
 
 const char *playerEventName(PlayerEventKind kind) noexcept
 {
-    switch (kind) {
-    case PlayerEventKind::StateChanged:
-        return "state";
-    case PlayerEventKind::StereoModeChanged:
-        return "stereo-mode";
-    case PlayerEventKind::HapticsChanged:
-        return "haptics";
-    case PlayerEventKind::StiffnessChanged:
-        return "stiffness";
-    case PlayerEventKind::LoopChanged:
-        return "loop";
-    case PlayerEventKind::Seeked:
-        return "seek";
-    case PlayerEventKind::EndOfFile:
-        return "end-file";
-    case PlayerEventKind::Error:
-        return "error";
-    case PlayerEventKind::Quit:
-        return "shutdown";
-    }
-    return "unknown";
+    static constexpr std::array<const char *, 9> kNames = {"state",     "stereo-mode", "haptics",
+                                                           "stiffness", "loop",        "seek",
+                                                           "end-file",  "error",       "shutdown"};
+    static_assert(kNames.size() == static_cast<std::size_t>(PlayerEventKind::Quit) + 1);
+    return platform::enumName(kind, kNames, "unknown");
 }
 
 bool isRefusal(Errc code) noexcept

@@ -1,10 +1,12 @@
 #include "depthtouch/receiver/receiver.h"
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <string>
 #include <utility>
 
+#include "depthtouch/platform/enum_names.h"
 #include "depthtouch/platform/log.h"
 #include "receiver_impl.h"
 
@@ -22,15 +24,9 @@ constexpr int kStallPasses = 10'000;
 
 const char *receiverModeName(ReceiverMode mode) noexcept
 {
-    switch (mode) {
-    case ReceiverMode::ColorAndDepth:
-        return "color+depth";
-    case ReceiverMode::ColorOnly:
-        return "color-only";
-    case ReceiverMode::DepthOnly:
-        return "depth-only";
-    }
-    return "?";
+    static constexpr std::array<const char *, 3> kNames = {"color+depth", "color-only",
+                                                           "depth-only"};
+    return platform::enumName(mode, kNames, "?");
 }
 
 DepthPair PairedFrame::depthPair() const noexcept
