@@ -1,6 +1,5 @@
 #include "depthtouch/drivers/mock/mock_display.h"
 
-#include <cmath>
 #include <cstdio>
 #include <iterator>
 #include <string_view>
@@ -88,9 +87,7 @@ Result<void> MockDisplay::openDevice(const hal::DisplayConfig &cfg)
         return unexpected(Errc::InvalidArgument, "Display size or refresh out of range");
     size_ = {width, height};
     refreshHz_ = hz;
-    epoch_ = clock_.now();
-    lastVsync_ = 0;
-    presents_ = 0;
+    pacer_.start(clock_.now(), hz);
     current_ = false;
     return ok();
 }
@@ -101,33 +98,11 @@ Result<void> MockDisplay::makeCurrentDevice()
     return ok();
 }
 
-platform::TimePoint MockDisplay::vsyncTime(std::uint64_t k) const noexcept
-{
-    return epoch_ + platform::fromSeconds(static_cast<double>(k) / refreshHz_);
-}
-
 Result<hal::PresentInfo> MockDisplay::presentDevice()
 {
     if (const double stall = stallSeconds_.exchange(0.0); stall > 0.0)
         clock_.sleepFor(platform::fromSeconds(stall));
-    const platform::TimePoint now = clock_.now();
-    std::uint64_t k = lastVsync_ + 1;
-    if (vsyncTime(k) < now) {
-        // Late: the frame shows at the first blank at or after now.
-        const double elapsed = platform::toSeconds(now - epoch_) * refreshHz_;
-        k = static_cast<std::uint64_t>(std::ceil(elapsed));
-        while (vsyncTime(k) < now)
-            ++k;
-    }
-    const platform::TimePoint vsync = vsyncTime(k);
-    if (vsync > now)
-        clock_.sleepUntil(vsync);
-    hal::PresentInfo info;
-    info.vsyncTime = vsync;
-    info.skippedVsyncs = static_cast<std::uint32_t>(k - lastVsync_ - 1);
-    info.frameCounter = ++presents_;
-    lastVsync_ = k;
-    return info;
+    return pacer_.next(clock_);
 }
 
 void MockDisplay::loseDisplay() noexcept

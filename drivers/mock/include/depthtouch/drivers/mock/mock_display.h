@@ -4,17 +4,18 @@
 /// rate on the injected clock and counted; the display can be lost and restored. Backend name
 /// `mock`.
 ///
-/// Vertical blanks fall at open time + k / refreshHz (k = 1, 2, ...). present() sleeps until the
-/// first blank after the previous presented one; when the caller is late it lands on the first
-/// blank at or after now and reports the blanks it skipped. Mode string: "WIDTHxHEIGHT" or
-/// "WIDTHxHEIGHT@HZ" (e.g. "1920x1080@50"); it overrides width, height and refresh of
-/// DisplayConfig. The state and its checks are hal::DisplayBase's. Thread-safety: thread-bound, as
-/// hal::Display; loseDisplay() and restoreDisplay() too.
+/// Vertical blanks fall at open time + k / refreshHz (k = 1, 2, ...) (a VsyncPacer). present()
+/// sleeps until the first blank after the previous presented one; when the caller is late it lands
+/// on the first blank at or after now and reports the blanks it skipped. Mode string:
+/// "WIDTHxHEIGHT" or "WIDTHxHEIGHT@HZ" (e.g. "1920x1080@50"); it overrides width, height and
+/// refresh of DisplayConfig. The state and its checks are hal::DisplayBase's. Thread-safety:
+/// thread-bound, as hal::Display; loseDisplay() and restoreDisplay() too.
 
 #include <atomic>
 #include <cstdint>
 #include <memory>
 
+#include "depthtouch/drivers/common/vsync_pacer.h"
 #include "depthtouch/hal/backends.h"
 #include "depthtouch/hal/display_base.h"
 #include "depthtouch/platform/clock.h"
@@ -53,7 +54,7 @@ public:
     ///@}
 
     /// \return presents since open().
-    [[nodiscard]] std::uint64_t presentCount() const noexcept { return presents_; }
+    [[nodiscard]] std::uint64_t presentCount() const noexcept { return pacer_.frames(); }
     /// \return whether makeCurrent() succeeded since open().
     [[nodiscard]] bool isCurrent() const noexcept { return current_; }
 
@@ -64,15 +65,11 @@ protected:
     [[nodiscard]] Result<hal::PresentInfo> presentDevice() override;
 
 private:
-    [[nodiscard]] platform::TimePoint vsyncTime(std::uint64_t k) const noexcept;
-
     platform::Clock &clock_;
     const MockDisplaySettings settings_;
     bool connected_ = true;
     bool current_ = false;
-    platform::TimePoint epoch_{};
-    std::uint64_t lastVsync_ = 0; ///< Index of the blank of the last present (0: none yet).
-    std::uint64_t presents_ = 0;
+    VsyncPacer pacer_; ///< The blanks since open().
     std::atomic<double> stallSeconds_{0.0};
 };
 
