@@ -221,12 +221,18 @@ double largestStep(bench::ReferenceSurface &ref, double t, glm::dvec2 a, glm::dv
     return best;
 }
 
-TEST(FeelScenesTest, HeadSceneIsGray8WithAStepOfThirteenToTwentyMillimetres)
+/// \a scene without depth noise, \a seconds (s) long, at its default size.
+Result<bench::FeelScene> noiselessScene(bench::SyntheticScene scene, double seconds)
 {
     bench::SyntheticSceneOptions o;
-    o.seconds = 0.2;
+    o.seconds = seconds;
     o.noisy = false;
-    auto s = bench::makeSyntheticScene(bench::SyntheticScene::Head, o);
+    return bench::makeSyntheticScene(scene, o);
+}
+
+TEST(FeelScenesTest, HeadSceneIsGray8WithAStepOfThirteenToTwentyMillimetres)
+{
+    auto s = noiselessScene(bench::SyntheticScene::Head, 0.2);
     ASSERT_TRUE(s) << s.error().what;
     EXPECT_EQ(s->format, SampleFormat::Gray8);
     EXPECT_EQ(s->frameCount(), 6u);
@@ -241,10 +247,7 @@ TEST(FeelScenesTest, HeadSceneIsGray8WithAStepOfThirteenToTwentyMillimetres)
 
 TEST(FeelScenesTest, ForearmIsAboutNineMillimetresWide)
 {
-    bench::SyntheticSceneOptions o;
-    o.seconds = 0.1;
-    o.noisy = false;
-    auto s = bench::makeSyntheticScene(bench::SyntheticScene::Forearm, o);
+    auto s = noiselessScene(bench::SyntheticScene::Forearm, 0.1);
     ASSERT_TRUE(s) << s.error().what;
     ASSERT_FALSE(s->crossings.empty());
     bench::ReferenceSurface ref(*s);
