@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <type_traits>
 
 #include "depthtouch/platform/log.h"
 
@@ -61,6 +62,27 @@ bool equalsIgnoreCase(std::string_view a, const char *b) noexcept
     return true;
 }
 
+/// \brief The whole of \a value read as a T by std::from_chars (a floating-point T must be
+/// finite).
+/// \return \a fallback when there is no value; Errc::InvalidArgument with \a message when it is
+/// empty or not wholly a T.
+template <class T>
+Result<T> numberValue(std::optional<std::string_view> value, T fallback,
+                      const char *message) noexcept
+{
+    if (!value)
+        return fallback;
+    T out{};
+    const char *last = value->data() + value->size();
+    const auto [ptr, ec] = std::from_chars(value->data(), last, out);
+    bool ok = ec == std::errc() && ptr == last && !value->empty();
+    if constexpr (std::is_floating_point_v<T>)
+        ok = ok && std::isfinite(out);
+    if (!ok)
+        return unexpected(Errc::InvalidArgument, message);
+    return out;
+}
+
 } // namespace
 
 std::optional<std::string_view> OptionList::find(std::string_view key) const noexcept
@@ -76,28 +98,12 @@ std::optional<std::string_view> OptionList::find(std::string_view key) const noe
 
 Result<int> OptionList::getInt(std::string_view key, int fallback) const noexcept
 {
-    const auto v = find(key);
-    if (!v)
-        return fallback;
-    int out = 0;
-    const char *last = v->data() + v->size();
-    const auto [ptr, ec] = std::from_chars(v->data(), last, out);
-    if (ec != std::errc() || ptr != last || v->empty())
-        return unexpected(Errc::InvalidArgument, "Option value is not an integer");
-    return out;
+    return numberValue(find(key), fallback, "Option value is not an integer");
 }
 
 Result<double> OptionList::getDouble(std::string_view key, double fallback) const noexcept
 {
-    const auto v = find(key);
-    if (!v)
-        return fallback;
-    double out = 0.0;
-    const char *last = v->data() + v->size();
-    const auto [ptr, ec] = std::from_chars(v->data(), last, out);
-    if (ec != std::errc() || ptr != last || v->empty() || !std::isfinite(out))
-        return unexpected(Errc::InvalidArgument, "Option value is not a number");
-    return out;
+    return numberValue(find(key), fallback, "Option value is not a number");
 }
 
 Result<bool> OptionList::getBool(std::string_view key, bool fallback) const noexcept

@@ -85,13 +85,29 @@ void endLock(RtCase &c)
         (void)munlockall();
 }
 
-RtCase runBare(double rateHz, SchedPolicy policy, platform::MemoryLockMode lock, double seconds)
+/// A case of the \a loop kind ("bare" or "task") at \a rateHz (Hz), before it runs.
+RtCase newCase(const char *loop, double rateHz, SchedPolicy policy, platform::MemoryLockMode lock)
 {
     RtCase c;
-    c.loop = "bare";
+    c.loop = loop;
     c.rateHz = rateHz;
     c.policy = policy;
     c.lockMode = lock;
+    return c;
+}
+
+/// Records on \a c how long it ran since \a begin (s) and what the kernel refused its thread
+/// (SCHED_FIFO, the memory lock) as \a report says.
+void recordRun(RtCase &c, platform::TimePoint begin, const platform::RealtimeThreadReport &report)
+{
+    c.seconds = platform::toSeconds(SteadyClock::instance().now() - begin);
+    c.fifoRefused = report.rtRefused;
+    c.lockRefused = !report.memoryLocked && platform::memoryLockingAvailable();
+}
+
+RtCase runBare(double rateHz, SchedPolicy policy, platform::MemoryLockMode lock, double seconds)
+{
+    RtCase c = newCase("bare", rateHz, policy, lock);
     SteadyClock &clock = SteadyClock::instance();
     const platform::Duration period = platform::fromSeconds(1.0 / rateHz);
     platform::PeriodicTimer timer(clock, period);
@@ -126,9 +142,7 @@ RtCase runBare(double rateHz, SchedPolicy policy, platform::MemoryLockMode lock,
     endLock(c);
     thread.requestStop();
     thread.join();
-    c.seconds = platform::toSeconds(clock.now() - begin);
-    c.fifoRefused = thread.report().rtRefused;
-    c.lockRefused = !thread.report().memoryLocked && platform::memoryLockingAvailable();
+    recordRun(c, begin, thread.report());
     c.cycles = timer.cycles();
     c.overruns = timer.overruns();
     c.wake = wake->summary();
@@ -139,11 +153,7 @@ RtCase runBare(double rateHz, SchedPolicy policy, platform::MemoryLockMode lock,
 Result<RtCase> runTask(double rateHz, SchedPolicy policy, platform::MemoryLockMode lock,
                        double seconds, const DeviceFactory &make)
 {
-    RtCase c;
-    c.loop = "task";
-    c.rateHz = rateHz;
-    c.policy = policy;
-    c.lockMode = lock;
+    RtCase c = newCase("task", rateHz, policy, lock);
     SteadyClock &clock = SteadyClock::instance();
     constexpr int kW = 320;
     constexpr int kH = 240;
@@ -201,9 +211,7 @@ Result<RtCase> runTask(double rateHz, SchedPolicy policy, platform::MemoryLockMo
     if (!started)
         return unexpected(started.error());
     const HapticStats s = (*task)->stats();
-    c.seconds = platform::toSeconds(clock.now() - begin);
-    c.fifoRefused = (*task)->threadReport().rtRefused;
-    c.lockRefused = !(*task)->threadReport().memoryLocked && platform::memoryLockingAvailable();
+    recordRun(c, begin, (*task)->threadReport());
     c.cycles = s.updates;
     c.overruns = s.overruns;
     c.wake = s.wakeLatency;
