@@ -20,4 +20,30 @@ Result<void> rejectUnknownOptions(hal::OptionList options, const char *const *kn
     return unexpected(Errc::InvalidArgument, what);
 }
 
+namespace {
+
+/// Stores \a v in \a value when it is a number in the range (see readOption()).
+template <class T>
+bool storeInRange(const Result<T> &v, T &value, double min, double max, bool minExclusive) noexcept
+{
+    if (!v || !(minExclusive ? *v > min : *v >= min) || !(*v <= max))
+        return false;
+    value = *v;
+    return true;
+}
+
+} // namespace
+
+bool readOption(hal::OptionList options, const char *key, int &value, double min, double max,
+                bool minExclusive) noexcept
+{
+    return storeInRange(options.getInt(key, value), value, min, max, minExclusive);
+}
+
+bool readOption(hal::OptionList options, const char *key, double &value, double min, double max,
+                bool minExclusive) noexcept
+{
+    return storeInRange(options.getDouble(key, value), value, min, max, minExclusive);
+}
+
 } // namespace depthtouch::drivers

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <iterator>
 #include <string_view>
 
 #include "depthtouch/drivers/common/backend_options.h"
@@ -16,7 +15,9 @@ namespace depthtouch::drivers {
 
 namespace {
 
-constexpr const char *kOptionKeys[] = {"pool"};
+constexpr NumericOption<MockCameraSettings> kOptions[] = {
+    {.key = "pool", .integer = &MockCameraSettings::poolFrames, .min = 1, .max = 32},
+};
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kHalfFovRadians = 30.0 * kPi / 180.0;
 constexpr double kMotionPeriodSeconds = 2.0;
@@ -65,14 +66,9 @@ hal::Vec3 mockSphereCentre(double seconds) noexcept
 
 Result<MockCameraSettings> MockCameraSettings::parse(hal::OptionList options)
 {
-    DT_TRY(rejectUnknownOptions(options, kOptionKeys, std::size(kOptionKeys), kLogCategoryMock,
-                                "Unknown mock depth camera option"));
-    MockCameraSettings s;
-    auto pool = options.getInt("pool", s.poolFrames);
-    if (!pool || *pool < 1 || *pool > 32)
-        return unexpected(Errc::InvalidArgument, "Mock depth camera option out of range");
-    s.poolFrames = *pool;
-    return s;
+    return parseNumericOptions(options, kOptions, kLogCategoryMock,
+                               "Unknown mock depth camera option",
+                               "Mock depth camera option out of range");
 }
 
 Result<std::unique_ptr<hal::DepthCamera>> MockDepthCamera::create(const hal::BackendConfig &cfg)

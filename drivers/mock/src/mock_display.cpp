@@ -1,7 +1,6 @@
 #include "depthtouch/drivers/mock/mock_display.h"
 
 #include <cstdio>
-#include <iterator>
 #include <string_view>
 
 #include "depthtouch/drivers/common/backend_options.h"
@@ -13,8 +12,13 @@ namespace depthtouch::drivers {
 
 namespace {
 
-constexpr const char *kOptionKeys[] = {"width", "height", "refresh"};
 constexpr int kMaxPixels = 16384;
+
+constexpr NumericOption<MockDisplaySettings> kOptions[] = {
+    {.key = "width", .integer = &MockDisplaySettings::width, .min = 1, .max = kMaxPixels},
+    {.key = "height", .integer = &MockDisplaySettings::height, .min = 1, .max = kMaxPixels},
+    {.key = "refresh", .real = &MockDisplaySettings::refreshHz, .min = 1.0, .max = 1000.0},
+};
 
 bool validSize(int w, int h) noexcept
 {
@@ -29,18 +33,8 @@ bool validRefresh(double hz) noexcept
 
 Result<MockDisplaySettings> MockDisplaySettings::parse(hal::OptionList options)
 {
-    DT_TRY(rejectUnknownOptions(options, kOptionKeys, std::size(kOptionKeys), kLogCategoryMock,
-                                "Unknown mock display option"));
-    MockDisplaySettings s;
-    auto w = options.getInt("width", s.width);
-    auto h = options.getInt("height", s.height);
-    auto hz = options.getDouble("refresh", s.refreshHz);
-    if (!w || !h || !hz || !validSize(*w, *h) || !validRefresh(*hz))
-        return unexpected(Errc::InvalidArgument, "Mock display option out of range");
-    s.width = *w;
-    s.height = *h;
-    s.refreshHz = *hz;
-    return s;
+    return parseNumericOptions(options, kOptions, kLogCategoryMock, "Unknown mock display option",
+                               "Mock display option out of range");
 }
 
 Result<std::unique_ptr<hal::Display>> MockDisplay::create(const hal::BackendConfig &cfg)

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <string_view>
 
 #include "depthtouch/drivers/common/backend_options.h"
@@ -15,7 +14,23 @@ namespace depthtouch::drivers {
 
 namespace {
 
-constexpr const char *kOptionKeys[] = {"max_force", "workspace", "servo_rate", "buttons"};
+constexpr double kUnbounded = HUGE_VAL;
+
+constexpr NumericOption<MockHapticSettings> kOptions[] = {
+    {.key = "max_force",
+     .real = &MockHapticSettings::maxForce,
+     .max = kUnbounded,
+     .minExclusive = true},
+    {.key = "workspace",
+     .real = &MockHapticSettings::workspaceHalfExtent,
+     .max = kUnbounded,
+     .minExclusive = true},
+    {.key = "servo_rate",
+     .real = &MockHapticSettings::servoRateHz,
+     .max = kUnbounded,
+     .minExclusive = true},
+    {.key = "buttons", .integer = &MockHapticSettings::buttonCount, .min = 0, .max = 32},
+};
 
 double clampTo(double v, double lo, double hi) noexcept
 {
@@ -26,21 +41,9 @@ double clampTo(double v, double lo, double hi) noexcept
 
 Result<MockHapticSettings> MockHapticSettings::parse(hal::OptionList options)
 {
-    DT_TRY(rejectUnknownOptions(options, kOptionKeys, std::size(kOptionKeys), kLogCategoryMock,
-                                "Unknown mock haptic device option"));
-    MockHapticSettings s;
-    auto maxForce = options.getDouble("max_force", s.maxForce);
-    auto workspace = options.getDouble("workspace", s.workspaceHalfExtent);
-    auto rate = options.getDouble("servo_rate", s.servoRateHz);
-    auto buttons = options.getInt("buttons", s.buttonCount);
-    if (!maxForce || !workspace || !rate || !buttons || !(*maxForce > 0.0) || !(*workspace > 0.0) ||
-        !(*rate > 0.0) || *buttons < 0 || *buttons > 32)
-        return unexpected(Errc::InvalidArgument, "Mock haptic device option out of range");
-    s.maxForce = *maxForce;
-    s.workspaceHalfExtent = *workspace;
-    s.servoRateHz = *rate;
-    s.buttonCount = *buttons;
-    return s;
+    return parseNumericOptions(options, kOptions, kLogCategoryMock,
+                               "Unknown mock haptic device option",
+                               "Mock haptic device option out of range");
 }
 
 Result<std::unique_ptr<hal::HapticDevice>> MockHapticDevice::create(const hal::BackendConfig &cfg)

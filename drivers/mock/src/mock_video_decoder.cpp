@@ -1,7 +1,6 @@
 #include "depthtouch/drivers/mock/mock_video_decoder.h"
 
 #include <cstring>
-#include <iterator>
 #include <string_view>
 
 #include "depthtouch/drivers/common/backend_options.h"
@@ -15,7 +14,10 @@ namespace depthtouch::drivers {
 
 namespace {
 
-constexpr const char *kOptionKeys[] = {"pool", "queue"};
+constexpr NumericOption<MockDecoderSettings> kOptions[] = {
+    {.key = "pool", .integer = &MockDecoderSettings::poolFrames, .min = 1, .max = 64},
+    {.key = "queue", .integer = &MockDecoderSettings::queuePackets, .min = 1, .max = 256},
+};
 constexpr int kMaxSize = 4096;
 
 bool outputFormatSupported(hal::StreamKind kind, hal::PixelFormat f) noexcept
@@ -31,16 +33,9 @@ bool outputFormatSupported(hal::StreamKind kind, hal::PixelFormat f) noexcept
 
 Result<MockDecoderSettings> MockDecoderSettings::parse(hal::OptionList options)
 {
-    DT_TRY(rejectUnknownOptions(options, kOptionKeys, std::size(kOptionKeys), kLogCategoryMock,
-                                "Unknown mock video decoder option"));
-    MockDecoderSettings s;
-    auto pool = options.getInt("pool", s.poolFrames);
-    auto queue = options.getInt("queue", s.queuePackets);
-    if (!pool || !queue || *pool < 1 || *pool > 64 || *queue < 1 || *queue > 256)
-        return unexpected(Errc::InvalidArgument, "Mock video decoder option out of range");
-    s.poolFrames = *pool;
-    s.queuePackets = *queue;
-    return s;
+    return parseNumericOptions(options, kOptions, kLogCategoryMock,
+                               "Unknown mock video decoder option",
+                               "Mock video decoder option out of range");
 }
 
 Result<std::unique_ptr<hal::VideoDecoder>> MockVideoDecoder::create(const hal::BackendConfig &cfg)

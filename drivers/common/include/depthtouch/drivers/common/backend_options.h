@@ -22,6 +22,54 @@ namespace depthtouch::drivers {
                                                 const platform::LogCategory &category,
                                                 const char *what) noexcept;
 
+/// \brief One numeric option of a backend's settings struct \a Settings: its key, the field it
+/// sets (exactly one of \a integer and \a real) and the range its value must lie in: [min, max], or
+/// (min, max] with \a minExclusive.
+template <class Settings> struct NumericOption {
+    const char *key = nullptr;
+    int Settings::*integer = nullptr;
+    double Settings::*real = nullptr;
+    double min = 0.0;
+    double max = 0.0;
+    bool minExclusive = false;
+};
+
+/// \brief Reads the option \a key of \a options into \a value, \a value being the default when
+/// the key is absent.
+/// \return false when the value (given or default) is malformed or outside [min, max] ((min, max]
+/// with \a minExclusive; a NaN is outside every range); \a value is then unchanged. Reentrant.
+[[nodiscard]] bool readOption(hal::OptionList options, const char *key, int &value, double min,
+                              double max, bool minExclusive = false) noexcept;
+/// \brief As readOption() for an integer, for a real number.
+[[nodiscard]] bool readOption(hal::OptionList options, const char *key, double &value, double min,
+                              double max, bool minExclusive = false) noexcept;
+
+/// \brief The settings whose options are all in \a table (numeric, each with its range), from
+/// \a options over the defaults of \a Settings.
+/// \return the settings. Errors: InvalidArgument with \a unknownWhat for a key not in the table
+/// (logged under \a category, as rejectUnknownOptions()); InvalidArgument with \a rangeWhat for a
+/// malformed value or one out of range (not logged). Both texts must be static strings. Reentrant.
+template <class Settings, std::size_t N>
+Result<Settings> parseNumericOptions(hal::OptionList options,
+                                     const NumericOption<Settings> (&table)[N],
+                                     const platform::LogCategory &category, const char *unknownWhat,
+                                     const char *rangeWhat) noexcept
+{
+    const char *keys[N];
+    for (std::size_t i = 0; i < N; ++i)
+        keys[i] = table[i].key;
+    DT_TRY(rejectUnknownOptions(options, keys, N, category, unknownWhat));
+    Settings s;
+    for (const NumericOption<Settings> &o : table) {
+        const bool valid =
+            o.integer ? readOption(options, o.key, s.*o.integer, o.min, o.max, o.minExclusive)
+                      : readOption(options, o.key, s.*o.real, o.min, o.max, o.minExclusive);
+        if (!valid)
+            return unexpected(Errc::InvalidArgument, rangeWhat);
+    }
+    return s;
+}
+
 /// \brief The factory of a backend that is built as `Backend(clock, settings)`: parses
 /// `Settings::parse(cfg.options)` and constructs the backend on `cfg.clockRef()`.
 /// \return the backend as its HAL interface \a Interface. Errors: those of Settings::parse.
