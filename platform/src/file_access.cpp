@@ -1,7 +1,11 @@
 #include "depthtouch/platform/file_access.h"
 
+#include "depthtouch/platform/enum_names.h"
+
+#include <array>
 #include <cerrno>
 #include <climits>
+#include <cstddef>
 #include <cstdio>
 #include <cstdlib>
 
@@ -93,17 +97,11 @@ PathKind pathKind(const char *path) noexcept
 
 const char *pathKindName(PathKind kind) noexcept
 {
-    switch (kind) {
-    case PathKind::Missing: return "missing";
-    case PathKind::Regular: return "a regular file";
-    case PathKind::Directory: return "a directory";
-    case PathKind::CharDevice: return "a character device";
-    case PathKind::BlockDevice: return "a block device";
-    case PathKind::Fifo: return "a FIFO";
-    case PathKind::Socket: return "a socket";
-    case PathKind::Other: return "not accessible";
-    }
-    return "unknown";
+    static constexpr std::array<const char *, 8> kNames = {
+        "missing",        "a regular file", "a directory", "a character device",
+        "a block device", "a FIFO",         "a socket",    "not accessible"};
+    static_assert(kNames.size() == static_cast<std::size_t>(PathKind::Other) + 1);
+    return enumName(kind, kNames, "unknown");
 }
 
 Result<UniqueFd> openFifoForReading(const char *path, std::chrono::milliseconds wait)

@@ -1,5 +1,8 @@
 #include "depthtouch/platform/gnuplot.h"
 
+#include "depthtouch/platform/enum_names.h"
+
+#include <array>
 #include <cerrno>
 #include <spawn.h>
 #include <sys/types.h>
@@ -30,12 +33,10 @@ PlotStatus runGnuplot(const std::string &script) noexcept
 
 const char *plotStatusNote(PlotStatus status) noexcept
 {
-    switch (status) {
-    case PlotStatus::Drawn: return "";
-    case PlotStatus::NoGnuplot: return "gnuplot not found: no PNG chart (install gnuplot-nox)";
-    case PlotStatus::Failed: return "gnuplot failed: the PNG chart may be missing";
-    }
-    return "";
+    static constexpr std::array<const char *, 3> kNotes = {
+        "", "gnuplot not found: no PNG chart (install gnuplot-nox)",
+        "gnuplot failed: the PNG chart may be missing"};
+    return enumName(status, kNotes, "");
 }
 
 } // namespace depthtouch::platform

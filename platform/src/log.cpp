@@ -1,5 +1,8 @@
 #include "depthtouch/platform/log.h"
 
+#include "depthtouch/platform/enum_names.h"
+
+#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -18,14 +21,9 @@ std::atomic<int> gGlobalOverride{-1};    // setLogLevel(); -1 when unset.
 
 const char *levelTag(LogLevel level) noexcept
 {
-    switch (level) {
-    case LogLevel::Debug: return "DEBUG";
-    case LogLevel::Info: return "INFO ";
-    case LogLevel::Warning: return "WARN ";
-    case LogLevel::Error: return "ERROR";
-    case LogLevel::Off: break;
-    }
-    return "     ";
+    // Off (and a value past it) prints no level.
+    static constexpr std::array<const char *, 4> kTags = {"DEBUG", "INFO ", "WARN ", "ERROR"};
+    return enumName(level, kTags, "     ");
 }
 
 } // namespace

@@ -1,5 +1,9 @@
 #include "depthtouch/platform/result.h"
 
+#include "depthtouch/platform/enum_names.h"
+
+#include <array>
+#include <cstddef>
 #include <cstdio>
 #include <cstring>
 
@@ -7,19 +11,11 @@ namespace depthtouch {
 
 const char *errcName(Errc code) noexcept
 {
-    switch (code) {
-    case Errc::InvalidArgument: return "InvalidArgument";
-    case Errc::InvalidState: return "InvalidState";
-    case Errc::NotSupported: return "NotSupported";
-    case Errc::NoDevice: return "NoDevice";
-    case Errc::Busy: return "Busy";
-    case Errc::Timeout: return "Timeout";
-    case Errc::Io: return "Io";
-    case Errc::OutOfResources: return "OutOfResources";
-    case Errc::EndOfStream: return "EndOfStream";
-    case Errc::PermissionDenied: return "PermissionDenied";
-    }
-    return "Unknown";
+    static constexpr std::array<const char *, 10> kNames = {
+        "InvalidArgument", "InvalidState", "NotSupported",   "NoDevice",    "Busy",
+        "Timeout",         "Io",           "OutOfResources", "EndOfStream", "PermissionDenied"};
+    static_assert(kNames.size() == static_cast<std::size_t>(Errc::PermissionDenied) + 1);
+    return platform::enumName(code, kNames, "Unknown");
 }
 
 const char *Error::format(char *buf, std::size_t size) const noexcept

@@ -1,16 +1,16 @@
 #include "depthtouch/platform/thread_config.h"
 
+#include "depthtouch/platform/enum_names.h"
+
+#include <array>
 #include <sched.h>
 
 namespace depthtouch::platform {
 
 const char *schedPolicyName(SchedPolicy policy) noexcept
 {
-    switch (policy) {
-    case SchedPolicy::Other: return "SCHED_OTHER";
-    case SchedPolicy::Fifo: return "SCHED_FIFO";
-    }
-    return "SCHED_?";
+    static constexpr std::array<const char *, 2> kNames = {"SCHED_OTHER", "SCHED_FIFO"};
+    return enumName(policy, kNames, "SCHED_?");
 }
 
 int toSchedPolicy(SchedPolicy policy) noexcept

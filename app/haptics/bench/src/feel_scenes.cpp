@@ -5,6 +5,7 @@
 #include "depthtouch/haptics/feel_scenes.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -16,6 +17,7 @@
 #include "depthtouch/depth/conversion.h"
 #include "depthtouch/depth/fill.h"
 #include "depthtouch/depth/filters.h"
+#include "depthtouch/platform/enum_names.h"
 
 namespace depthtouch::haptics::bench {
 
@@ -193,12 +195,9 @@ FeelScene emptyScene(std::string name, const SceneBox &box, double fps,
 
 const char *syntheticSceneName(SyntheticScene scene) noexcept
 {
-    switch (scene) {
-    case SyntheticScene::Table: return "synthetic-table";
-    case SyntheticScene::Head: return "synthetic-head";
-    case SyntheticScene::Forearm: return "synthetic-forearm";
-    }
-    return "?";
+    static constexpr std::array<const char *, 3> kNames = {"synthetic-table", "synthetic-head",
+                                                           "synthetic-forearm"};
+    return platform::enumName(scene, kNames, "?");
 }
 
 DepthFrameView FeelScene::frame(std::size_t i) const noexcept

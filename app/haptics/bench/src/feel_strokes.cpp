@@ -3,12 +3,14 @@
 /// strokes on a scene (see feel_scenes.h).
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 
 #include <glm/geometric.hpp>
 
 #include "depthtouch/haptics/feel_scenes.h"
+#include "depthtouch/platform/enum_names.h"
 
 namespace depthtouch::haptics::bench {
 
@@ -181,12 +183,8 @@ std::string label(const char *what, double depth, double speed, int k)
 
 const char *strokeKindName(StrokeKind kind) noexcept
 {
-    switch (kind) {
-    case StrokeKind::Slide: return "slide";
-    case StrokeKind::Cross: return "cross";
-    case StrokeKind::Press: return "press";
-    }
-    return "?";
+    static constexpr std::array<const char *, 3> kNames = {"slide", "cross", "press"};
+    return platform::enumName(kind, kNames, "?");
 }
 
 Stroke makeStroke(const FeelScene &scene, const StrokeSpec &spec, const StrokeTiming &tm,
