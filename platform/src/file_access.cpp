@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdio>
 #include <cstdlib>
+#include <utility>
 
 #include <fcntl.h>
 #include <poll.h>
@@ -22,18 +23,18 @@ using Clock = std::chrono::steady_clock;
 
 PathKind kindOf(mode_t mode) noexcept
 {
-    if (S_ISREG(mode))
-        return PathKind::Regular;
-    if (S_ISDIR(mode))
-        return PathKind::Directory;
-    if (S_ISCHR(mode))
-        return PathKind::CharDevice;
-    if (S_ISBLK(mode))
-        return PathKind::BlockDevice;
-    if (S_ISFIFO(mode))
-        return PathKind::Fifo;
-    if (S_ISSOCK(mode))
-        return PathKind::Socket;
+    // The file types of st_mode (S_IFMT bits) that have a PathKind of their own.
+    static constexpr std::array<std::pair<mode_t, PathKind>, 6> kTypes = {{
+        {S_IFREG, PathKind::Regular},
+        {S_IFDIR, PathKind::Directory},
+        {S_IFCHR, PathKind::CharDevice},
+        {S_IFBLK, PathKind::BlockDevice},
+        {S_IFIFO, PathKind::Fifo},
+        {S_IFSOCK, PathKind::Socket},
+    }};
+    for (const auto &[type, kind] : kTypes)
+        if ((mode & S_IFMT) == type)
+            return kind;
     return PathKind::Other;
 }
 
