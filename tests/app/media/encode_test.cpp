@@ -151,14 +151,13 @@ TEST_F(EncodeTest, lossless8BitDepthRoundTripsBitExact)
     EXPECT_EQ(rb.decodeErrors, 0);
     const auto &c = rb.streams[0];
     const auto &d = rb.streams[1];
-    EXPECT_EQ(c.tags.at("title"), "color");
-    EXPECT_EQ(d.tags.at("title"), "depth");
-    EXPECT_EQ(c.codec, "h264");
-    EXPECT_EQ(d.codec, "h264");
-    EXPECT_EQ(d.profile, "High 4:4:4 Predictive");
-    EXPECT_EQ(d.tags.at("depth_bits"), "8");
-    EXPECT_EQ(d.tags.at("depth_mapping"), "inverse_z");
-    EXPECT_EQ(d.tags.at("depth_near"), "unknown");
+    test::expectStream(c, {.codec = "h264", .tags = {{"title", "color"}}});
+    test::expectStream(d, {.codec = "h264",
+                           .profile = "High 4:4:4 Predictive",
+                           .tags = {{"title", "depth"},
+                                    {"depth_bits", "8"},
+                                    {"depth_mapping", "inverse_z"},
+                                    {"depth_near", "unknown"}}});
     EXPECT_EQ(rb.tags.at("depth_bits"), "8");
     ASSERT_EQ(c.frames.size(), static_cast<std::size_t>(kFrames));
     ASSERT_EQ(d.frames.size(), static_cast<std::size_t>(kFrames));
@@ -227,9 +226,9 @@ TEST_F(EncodeTest, transcodeKeepsDepthTags)
     EXPECT_EQ(s->frames, 3);
     const auto rb = test::readBack(path("second.mkv"), {0}, false);
     ASSERT_EQ(rb.streams.size(), 2u);
-    EXPECT_EQ(rb.streams[1].tags.at("depth_near"), "0.75");
-    EXPECT_EQ(rb.streams[1].tags.at("depth_far"), "3.5");
-    EXPECT_EQ(rb.streams[1].tags.at("depth_mapping"), "linear");
+    test::expectStream(
+        rb.streams[1],
+        {.tags = {{"depth_near", "0.75"}, {"depth_far", "3.5"}, {"depth_mapping", "linear"}}});
 }
 
 /// GIVEN 16-bit metric depth and given planes WHEN encoded as FFV1 gray16 THEN the decoded samples
@@ -252,12 +251,12 @@ TEST_F(EncodeTest, ffv1Gray16RoundTripsBitExact)
     ASSERT_TRUE(rb.ok) << rb.error;
     ASSERT_EQ(rb.streams.size(), 2u);
     const auto &d = rb.streams[1];
-    EXPECT_EQ(d.codec, "ffv1");
-    EXPECT_EQ(d.pixFmt, "gray16le");
-    EXPECT_EQ(d.tags.at("depth_near"), "0.5");
-    EXPECT_EQ(d.tags.at("depth_far"), "4");
-    EXPECT_EQ(d.tags.at("depth_mapping"), "linear");
-    EXPECT_EQ(d.tags.at("depth_bits"), "16");
+    test::expectStream(d, {.codec = "ffv1",
+                           .pixFmt = "gray16le",
+                           .tags = {{"depth_near", "0.5"},
+                                    {"depth_far", "4"},
+                                    {"depth_mapping", "linear"},
+                                    {"depth_bits", "16"}}});
     ASSERT_EQ(d.frames.size(), static_cast<std::size_t>(kFrames));
     depth::ConvertOptions co;
     co.mapping = depth::DepthMapping::Linear;

@@ -105,12 +105,13 @@ TEST(MaterialTrackTest, encodeWritesALosslessThirdStreamWithTheDepthPts)
     ASSERT_TRUE(rb.ok) << rb.error;
     ASSERT_EQ(rb.streams.size(), 3u);
     const test::StreamReadback &m = rb.streams[2];
-    EXPECT_EQ(m.codec, "h264");
-    EXPECT_EQ(m.pixFmt, "gbrp");
-    EXPECT_EQ(m.profile, "High 4:4:4 Predictive");
-    EXPECT_EQ(m.tags.at("title"), "material");
-    EXPECT_EQ(m.tags.at("material_planes"), "stiffness_scale,static_friction,dynamic_friction");
-    EXPECT_EQ(m.tags.at("material_scales"), "0.015625,0.01,0.01");
+    test::expectStream(
+        m, {.codec = "h264",
+            .pixFmt = "gbrp",
+            .profile = "High 4:4:4 Predictive",
+            .tags = {{"title", "material"},
+                     {"material_planes", "stiffness_scale,static_friction,dynamic_friction"},
+                     {"material_scales", "0.015625,0.01,0.01"}}});
     EXPECT_EQ(m.pts, rb.streams[1].pts);
     MaterialScaler scaler;
     auto expected = scaler.resize(codes, 64, 48);

@@ -9,6 +9,8 @@
 #include <cstring>
 #include <memory>
 
+#include <gtest/gtest.h>
+
 extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
@@ -144,6 +146,21 @@ FileReadback readBack(const std::string &path, std::vector<int> colorStreams, bo
     av_packet_free(&pkt);
     out.ok = true;
     return out;
+}
+
+void expectStream(const StreamReadback &stream, const StreamFacts &want)
+{
+    if (!want.codec.empty()) {
+        EXPECT_EQ(stream.codec, want.codec);
+    }
+    if (!want.pixFmt.empty()) {
+        EXPECT_EQ(stream.pixFmt, want.pixFmt);
+    }
+    if (!want.profile.empty()) {
+        EXPECT_EQ(stream.profile, want.profile);
+    }
+    for (const auto &[key, value] : want.tags)
+        EXPECT_EQ(stream.tags.at(key), value) << key;
 }
 
 double psnr(const Image &a, const Image &b)

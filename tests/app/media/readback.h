@@ -5,6 +5,7 @@
 
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "depthtouch/media/image.h"
@@ -39,6 +40,18 @@ struct FileReadback {
 /// \param[in] keepFrames false: only PTS and metadata (faster).
 FileReadback readBack(const std::string &path, std::vector<int> colorStreams = {0},
                       bool keepFrames = true);
+
+/// What expectStream() checks of one stream; an empty codec, pixFmt or profile is not checked.
+struct StreamFacts {
+    std::string codec = {};
+    std::string pixFmt = {};
+    std::string profile = {};
+    std::vector<std::pair<std::string, std::string>> tags = {}; ///< Key (lower-case) and value.
+};
+
+/// Expects (GoogleTest EXPECT_EQ) \a stream's codec facts and tags to be \a want's; a tag of \a
+/// want that \a stream lacks throws std::out_of_range (std::map::at).
+void expectStream(const StreamReadback &stream, const StreamFacts &want);
 
 /// PSNR (dB) between two same-size Rgb24 or Gray8 images; 99 for identical ones.
 double psnr(const Image &a, const Image &b);
