@@ -20,6 +20,14 @@ Result<void> rejectUnknownOptions(hal::OptionList options, const char *const *kn
     return unexpected(Errc::InvalidArgument, what);
 }
 
+Result<void> rejectUnknownOptions(hal::OptionList options, const char *const *known,
+                                  std::size_t count, const char *what) noexcept
+{
+    if (options.firstUnknownKey(known, count).empty())
+        return {};
+    return unexpected(Errc::InvalidArgument, what);
+}
+
 namespace {
 
 /// Stores \a v in \a value when it is a number in the range (see readOption()).

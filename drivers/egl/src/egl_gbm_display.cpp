@@ -12,6 +12,7 @@
 #include <xf86drm.h>
 #include <xf86drmMode.h>
 
+#include "depthtouch/drivers/common/backend_options.h"
 #include "depthtouch/drivers/egl/display_settings.h"
 #include "depthtouch/drivers/egl/kms_output.h"
 #include "depthtouch/drivers/egl/kms_scanout.h"
@@ -165,9 +166,8 @@ struct EglGbmDisplay::Kms {
 Result<EglGbmDisplay::Settings> EglGbmDisplay::Settings::parse(const hal::BackendConfig &cfg)
 {
     static constexpr const char *kKeys[] = {"mode", "card", "readback"};
-    if (!cfg.options.firstUnknownKey(kKeys, std::size(kKeys)).empty())
-        return unexpected(Errc::InvalidArgument,
-                          "Unknown kms display option (known: mode, card, readback)");
+    DT_TRY(rejectUnknownOptions(cfg.options, kKeys, std::size(kKeys),
+                                "Unknown kms display option (known: mode, card, readback)"));
     Settings s;
     s.mode = std::string(cfg.options.find("mode").value_or(std::string_view()));
     if (!parseModeSpec(s.mode))

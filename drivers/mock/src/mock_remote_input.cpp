@@ -6,6 +6,7 @@
 #include <iterator>
 #include <string>
 
+#include "depthtouch/drivers/common/backend_options.h"
 #include "depthtouch/platform/log.h"
 
 DT_LOG_CATEGORY(Mock)
@@ -68,10 +69,8 @@ Result<std::vector<hal::KeyEvent>> parseKeyScript(std::string_view script)
 
 Result<std::unique_ptr<hal::RemoteInput>> MockRemoteInput::create(const hal::BackendConfig &cfg)
 {
-    const std::string_view unknown =
-        cfg.options.firstUnknownKey(kOptionKeys, std::size(kOptionKeys));
-    if (!unknown.empty())
-        return unexpected(Errc::InvalidArgument, "Unknown mock remote input option");
+    DT_TRY(rejectUnknownOptions(cfg.options, kOptionKeys, std::size(kOptionKeys),
+                                "Unknown mock remote input option"));
     platform::Clock &clock = cfg.clockRef();
     auto remote = std::make_unique<MockRemoteInput>(clock);
     if (const auto keys = cfg.options.find("keys")) {

@@ -11,6 +11,7 @@
 #include <poll.h>
 #include <unistd.h>
 
+#include "depthtouch/drivers/common/backend_options.h"
 #include "depthtouch/platform/log.h"
 
 DT_LOG_CATEGORY(Tty)
@@ -149,10 +150,8 @@ std::size_t decodeTerminalKeys(std::string_view bytes, std::vector<hal::Key> &ke
 
 Result<std::unique_ptr<hal::RemoteInput>> TtyRemoteInput::create(const hal::BackendConfig &cfg)
 {
-    const std::string_view unknown =
-        cfg.options.firstUnknownKey(kOptionKeys, std::size(kOptionKeys));
-    if (!unknown.empty())
-        return unexpected(Errc::InvalidArgument, "Unknown tty remote input option");
+    DT_TRY(rejectUnknownOptions(cfg.options, kOptionKeys, std::size(kOptionKeys),
+                                "Unknown tty remote input option"));
     std::string path;
     if (const auto device = cfg.options.find("device"))
         path = std::string(*device);

@@ -21,6 +21,11 @@ namespace depthtouch::drivers {
                                                 std::size_t count,
                                                 const platform::LogCategory &category,
                                                 const char *what) noexcept;
+/// \brief As above, for a backend that does not log: InvalidArgument with \a what (a static
+/// string) for the first key of \a options that is not one of the \a count names in \a known.
+/// Reentrant.
+[[nodiscard]] Result<void> rejectUnknownOptions(hal::OptionList options, const char *const *known,
+                                                std::size_t count, const char *what) noexcept;
 
 /// \brief One numeric option of a backend's settings struct \a Settings: its key, the field it
 /// sets (exactly one of \a integer and \a real) and the range its value must lie in: [min, max], or
