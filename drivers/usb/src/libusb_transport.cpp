@@ -281,20 +281,27 @@ Result<std::size_t> LibusbTransport::read(std::uint8_t *data, std::size_t capaci
     return got;
 }
 
-Result<void> LibusbTransport::submitIn() noexcept
+Result<void> LibusbTransport::submit(libusb_transfer *transfer, unsigned char endpoint,
+                                     std::uint8_t *buffer, std::size_t length, int &completed,
+                                     int &busy, const char *what) noexcept
 {
-    libusb_fill_bulk_transfer(in_, handle_, kEndpointIn, inBuf_.data(),
-                              static_cast<int>(inBuf_.size()), &LibusbTransport::onTransferDone,
-                              this, 0);
-    inCompleted_ = 0;
-    const int rc = api_->submitTransfer(in_);
+    libusb_fill_bulk_transfer(transfer, handle_, endpoint, buffer, static_cast<int>(length),
+                              &LibusbTransport::onTransferDone, this, 0);
+    completed = 0;
+    const int rc = api_->submitTransfer(transfer);
     if (rc != 0) {
         if (rc == LIBUSB_ERROR_NO_DEVICE)
             gone_.store(true, std::memory_order_release);
-        return unexpected(libusbError(rc, "Failed to submit the USB IN transfer"));
+        return unexpected(libusbError(rc, what));
     }
-    inBusy_ = 1;
+    busy = 1;
     return ok();
+}
+
+Result<void> LibusbTransport::submitIn() noexcept
+{
+    return submit(in_, kEndpointIn, inBuf_.data(), inBuf_.size(), inCompleted_, inBusy_,
+                  "Failed to submit the USB IN transfer");
 }
 
 Result<std::size_t> LibusbTransport::exchange(const std::uint8_t *out, std::size_t outSize,
@@ -306,16 +313,8 @@ Result<std::size_t> LibusbTransport::exchange(const std::uint8_t *out, std::size
     if (outBusy_ == 0 && outSize > 0) {
         const std::size_t n = std::min(outSize, outBuf_.size());
         std::memcpy(outBuf_.data(), out, n);
-        libusb_fill_bulk_transfer(out_, handle_, kEndpointOut, outBuf_.data(), static_cast<int>(n),
-                                  &LibusbTransport::onTransferDone, this, 0);
-        outCompleted_ = 0;
-        const int rc = api_->submitTransfer(out_);
-        if (rc != 0) {
-            if (rc == LIBUSB_ERROR_NO_DEVICE)
-                gone_.store(true, std::memory_order_release);
-            return unexpected(libusbError(rc, "Failed to submit the USB OUT transfer"));
-        }
-        outBusy_ = 1;
+        DT_TRY(submit(out_, kEndpointOut, outBuf_.data(), n, outCompleted_, outBusy_,
+                      "Failed to submit the USB OUT transfer"));
     }
     if (inBusy_ == 0)
         DT_TRY(submitIn());

@@ -97,6 +97,13 @@ private:
     /// Handles libusb events for up to \a micros microseconds or until *completed is set.
     /// \return a libusb error code (0 on success).
     int handleEvents(long micros, int *completed) noexcept;
+    /// \brief Posts the asynchronous bulk \a transfer of the first \a length bytes of \a buffer on
+    /// \a endpoint (completion: onTransferDone() sets \a completed, cleared here); sets \a busy
+    /// once posted. Real-time safe. \return Errors: the libusb code mapped with \a what as the text
+    /// (a static string); NoDevice also marks the device gone.
+    Result<void> submit(libusb_transfer *transfer, unsigned char endpoint, std::uint8_t *buffer,
+                        std::size_t length, int &completed, int &busy, const char *what) noexcept;
+    /// Posts the IN transfer into inBuf_ (submit()).
     Result<void> submitIn() noexcept;
 
     static constexpr std::size_t kMaxPacket = 64;
