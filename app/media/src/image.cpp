@@ -63,25 +63,30 @@ depth::Plane<std::uint8_t> toPlane8(const Image &image)
     return plane;
 }
 
-Image fromPlane(const depth::Plane<std::uint16_t> &plane)
+namespace {
+
+/// An image of \a format (Gray8 or Gray16, matching T) holding \a plane's samples row by row, in
+/// host byte order.
+template <class T> Image imageOfPlane(const depth::Plane<T> &plane, PixelFormat format)
 {
-    Image img = Image::make(plane.width, plane.height, PixelFormat::Gray16);
+    Image img = Image::make(plane.width, plane.height, format);
     if (plane.empty())
         return img;
     for (int y = 0; y < plane.height; ++y)
-        for (int x = 0; x < plane.width; ++x)
-            img.setSample16(x, y, plane.at(x, y));
+        std::memcpy(img.row(y), &plane.at(0, y), static_cast<std::size_t>(plane.width) * sizeof(T));
     return img;
+}
+
+} // namespace
+
+Image fromPlane(const depth::Plane<std::uint16_t> &plane)
+{
+    return imageOfPlane(plane, PixelFormat::Gray16);
 }
 
 Image fromPlane(const depth::Plane<std::uint8_t> &plane)
 {
-    Image img = Image::make(plane.width, plane.height, PixelFormat::Gray8);
-    if (plane.empty())
-        return img;
-    for (int y = 0; y < plane.height; ++y)
-        std::memcpy(img.row(y), &plane.at(0, y), static_cast<std::size_t>(plane.width));
-    return img;
+    return imageOfPlane(plane, PixelFormat::Gray8);
 }
 
 } // namespace depthtouch::media

@@ -164,11 +164,7 @@ struct CommandHandlers {
         const PlayerState s = m.state_;
         if (s == PlayerState::Opening || s == PlayerState::Playing || s == PlayerState::Paused) {
             // Quitting cannot be refused: a failing stop is reported, and the player quits anyway.
-            const Result<void> r = m.actions_.stop();
-            if (r)
-                m.setState(PlayerState::Stopped);
-            else
-                m.fail(std::string("stop failed: ") + r.error().what);
+            m.enterOrFail(PlayerState::Stopped, "stop", m.actions_.stop());
         }
         m.quit_ = true;
         m.emit(PlayerEventKind::Quit);
@@ -333,11 +329,7 @@ bool StateMachine::onOpened()
 {
     if (state_ != PlayerState::Opening)
         return false;
-    const Result<void> r = actions_.startPlayback();
-    if (r)
-        setState(PlayerState::Playing);
-    else
-        fail(std::string("start failed: ") + r.error().what);
+    enterOrFail(PlayerState::Playing, "start", actions_.startPlayback());
     return true;
 }
 
@@ -363,10 +355,7 @@ bool StateMachine::onEndOfStream()
     }
     const Result<void> r = actions_.stop();
     emit(PlayerEventKind::EndOfFile, "eof");
-    if (r)
-        setState(PlayerState::Stopped);
-    else
-        fail(std::string("stop failed: ") + r.error().what);
+    enterOrFail(PlayerState::Stopped, "stop", r);
     return true;
 }
 
@@ -410,6 +399,14 @@ void StateMachine::fail(std::string reason)
     emit(PlayerEventKind::Error, errorReason_);
     if (changed)
         emit(PlayerEventKind::StateChanged);
+}
+
+void StateMachine::enterOrFail(PlayerState next, const char *action, const Result<void> &r)
+{
+    if (r)
+        setState(next);
+    else
+        fail(std::string(action) + " failed: " + r.error().what);
 }
 
 void StateMachine::emit(PlayerEventKind kind, std::string message)

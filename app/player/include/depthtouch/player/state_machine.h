@@ -213,6 +213,9 @@ private:
     template <class F> CommandOutcome apply(const char *what, Result<void> r, F &&onSuccess);
     void setState(PlayerState state);
     void fail(std::string reason);
+    /// The outcome of the player action \a action ("start", "stop"): \a next when \a r
+    /// succeeded, else Error with the reason "ACTION failed: WHY".
+    void enterOrFail(PlayerState next, const char *action, const Result<void> &r);
     void emit(PlayerEventKind kind, std::string message = {});
 
     PlayerActions &actions_;

@@ -259,14 +259,22 @@ private:
         ++stats_.outputs;
     }
 
+    /// Pops the head of \a from and begins \a out at its PTS, concealed when the item is corrupt.
+    /// \return the popped slot, whose item the caller places in \a out.
+    Slot beginWithHead(Queue &from, Output &out)
+    {
+        Slot s = from.pop();
+        begin(out, s.item.pts);
+        out.concealed = s.item.corrupt;
+        return s;
+    }
+
     bool pullColorOnly(Output &out)
     {
         Queue &c = q(PairStream::Color);
         if (c.empty())
             return false;
-        Slot s = c.pop();
-        begin(out, s.item.pts);
-        out.concealed = s.item.corrupt;
+        Slot s = beginWithHead(c, out);
         out.color = std::move(s.item);
         out.hasColor = true;
         out.depthMissing = true;
@@ -278,9 +286,7 @@ private:
         Queue &d = q(PairStream::Depth);
         if (d.empty() || (d.size() < 2 && !ended_[1]))
             return false;
-        Slot s = d.pop();
-        begin(out, s.item.pts);
-        out.concealed = s.item.corrupt;
+        Slot s = beginWithHead(d, out);
         out.depth = std::move(s.item);
         out.hasDepth = true;
         if (!d.empty()) {
