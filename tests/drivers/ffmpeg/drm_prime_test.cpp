@@ -4,6 +4,11 @@
 
 #include "depthtouch/drivers/ffmpeg/drm_prime.h"
 
+#include <algorithm>
+#include <cstdint>
+#include <initializer_list>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 extern "C" {
@@ -17,20 +22,36 @@ constexpr std::uint32_t kR8 = hal::drmFourcc('R', '8', ' ', ' ');
 constexpr std::uint32_t kGr88 = hal::drmFourcc('G', 'R', '8', '8');
 constexpr std::uint64_t kTiled = 0x0100000000000001ULL; // I915_FORMAT_MOD_X_TILED
 
+/// One layer of a descriptor: its DRM fourcc and its planes, each {object index, offset, pitch}.
+struct Layer {
+    std::uint32_t format = 0;
+    std::vector<AVDRMPlaneDescriptor> planes;
+};
+
+/// A descriptor, zeroed, then filled with \a objects (each {fd, size, format modifier}) and \a
+/// layers, in order.
+AVDRMFrameDescriptor descriptor(std::initializer_list<AVDRMObjectDescriptor> objects,
+                                std::initializer_list<Layer> layers)
+{
+    AVDRMFrameDescriptor d{};
+    d.nb_objects = static_cast<int>(objects.size());
+    std::copy(objects.begin(), objects.end(), d.objects);
+    d.nb_layers = static_cast<int>(layers.size());
+    AVDRMLayerDescriptor *out = d.layers;
+    for (const Layer &l : layers) {
+        out->format = l.format;
+        out->nb_planes = static_cast<int>(l.planes.size());
+        std::copy(l.planes.begin(), l.planes.end(), out->planes);
+        ++out;
+    }
+    return d;
+}
+
 /// NV12 640×480 with a 704-byte pitch, Y at 0 and UV right after it, all in one object of fd 7.
 AVDRMFrameDescriptor nv12OneObject()
 {
-    AVDRMFrameDescriptor d{};
-    d.nb_objects = 1;
-    d.objects[0].fd = 7;
-    d.objects[0].size = 704 * 480 * 3 / 2;
-    d.objects[0].format_modifier = hal::kDrmFormatModLinear;
-    d.nb_layers = 1;
-    d.layers[0].format = hal::kDrmFormatNv12;
-    d.layers[0].nb_planes = 2;
-    d.layers[0].planes[0] = {0, 0, 704};
-    d.layers[0].planes[1] = {0, 704 * 480, 704};
-    return d;
+    return descriptor({{7, 704 * 480 * 3 / 2, hal::kDrmFormatModLinear}},
+                      {{hal::kDrmFormatNv12, {{0, 0, 704}, {0, 704 * 480, 704}}}});
 }
 
 TEST(DrmPrimeTest, nv12TwoPlanesInOneObject)
@@ -59,15 +80,9 @@ TEST(DrmPrimeTest, yuv420ThreePlanes)
 {
     // GIVEN a YUV420 descriptor, 5×3 (odd: chroma 3×2), one object, pitches 8 and 4; the object
     // ends where the last Cr row's 3 bytes end (32 + 4 + 3)
-    AVDRMFrameDescriptor d{};
-    d.nb_objects = 1;
-    d.objects[0] = {3, 39, hal::kDrmFormatModInvalid};
-    d.nb_layers = 1;
-    d.layers[0].format = hal::kDrmFormatYuv420;
-    d.layers[0].nb_planes = 3;
-    d.layers[0].planes[0] = {0, 0, 8};
-    d.layers[0].planes[1] = {0, 24, 4};
-    d.layers[0].planes[2] = {0, 32, 4};
+    AVDRMFrameDescriptor d =
+        descriptor({{3, 39, hal::kDrmFormatModInvalid}},
+                   {{hal::kDrmFormatYuv420, {{0, 0, 8}, {0, 24, 4}, {0, 32, 4}}}});
     // WHEN mapped  THEN three planes in order, the implied modifier kept
     auto img = dmaBufFromDrmDescriptor(d, 5, 3);
     ASSERT_TRUE(img) << img.error().what;
@@ -88,15 +103,8 @@ TEST(DrmPrimeTest, yuv420ThreePlanes)
 TEST(DrmPrimeTest, planesInSeveralObjects)
 {
     // GIVEN NV12 with Y and UV in two objects (separate buffers), a tiling modifier on both
-    AVDRMFrameDescriptor d{};
-    d.nb_objects = 2;
-    d.objects[0] = {10, 0, kTiled};
-    d.objects[1] = {11, 0, kTiled};
-    d.nb_layers = 1;
-    d.layers[0].format = hal::kDrmFormatNv12;
-    d.layers[0].nb_planes = 2;
-    d.layers[0].planes[0] = {0, 0, 1024};
-    d.layers[0].planes[1] = {1, 64, 1024};
+    AVDRMFrameDescriptor d = descriptor({{10, 0, kTiled}, {11, 0, kTiled}},
+                                        {{hal::kDrmFormatNv12, {{0, 0, 1024}, {1, 64, 1024}}}});
     // WHEN mapped  THEN each plane has its object's fd, and the tiling modifier is kept
     auto img = dmaBufFromDrmDescriptor(d, 1000, 500);
     ASSERT_TRUE(img) << img.error().what;
@@ -115,16 +123,8 @@ TEST(DrmPrimeTest, planesInSeveralObjects)
 TEST(DrmPrimeTest, separateLayersBecomeNv12AndYuv420)
 {
     // GIVEN NV12 described as an R8 layer and a GR88 layer
-    AVDRMFrameDescriptor d{};
-    d.nb_objects = 1;
-    d.objects[0] = {4, 0, hal::kDrmFormatModLinear};
-    d.nb_layers = 2;
-    d.layers[0].format = kR8;
-    d.layers[0].nb_planes = 1;
-    d.layers[0].planes[0] = {0, 0, 64};
-    d.layers[1].format = kGr88;
-    d.layers[1].nb_planes = 1;
-    d.layers[1].planes[0] = {0, 64 * 32, 64};
+    AVDRMFrameDescriptor d = descriptor({{4, 0, hal::kDrmFormatModLinear}},
+                                        {{kR8, {{0, 0, 64}}}, {kGr88, {{0, 64 * 32, 64}}}});
     auto nv12 = dmaBufFromDrmDescriptor(d, 64, 32);
     ASSERT_TRUE(nv12) << nv12.error().what;
     EXPECT_EQ(nv12->fourcc, hal::kDrmFormatNv12);
