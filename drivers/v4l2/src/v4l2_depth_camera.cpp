@@ -17,6 +17,20 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+/// Queries the \a role ("depth" or "color") node at node.path on \a dev into node.info.
+/// \return Errors: those of queryV4l2Node() (logged with the node's role and path).
+Result<void> queryNode(V4l2Device &dev, Node &node, const char *role)
+{
+    auto info = queryV4l2Node(dev, node.path);
+    if (!info) {
+        DT_LOG(V4l2, Error, "Failed to open V4L2 %s node %s: %s", role, node.path.c_str(),
+               info.error().what);
+        return unexpected(info.error());
+    }
+    node.info = std::move(*info);
+    return ok();
+}
+
 } // namespace
 
 using v4l2::sameFps;
@@ -54,13 +68,7 @@ Result<std::unique_ptr<V4l2DepthCamera>> V4l2DepthCamera::open(std::unique_ptr<V
     } else {
         d.depth.path = d.settings.depthNode;
     }
-    auto info = queryV4l2Node(*d.dev, d.depth.path);
-    if (!info) {
-        DT_LOG(V4l2, Error, "Failed to open V4L2 depth node %s: %s", d.depth.path.c_str(),
-               info.error().what);
-        return unexpected(info.error());
-    }
-    d.depth.info = std::move(*info);
+    DT_TRY(queryNode(*d.dev, d.depth, "depth"));
     if (bestDepthFourcc(d.depth.info) == 0) {
         DT_LOG(V4l2, Error, "%s (%s) offers no depth format (Z16, Y16, GREY) for video capture",
                d.depth.path.c_str(), d.depth.info.card.c_str());
@@ -68,13 +76,7 @@ Result<std::unique_ptr<V4l2DepthCamera>> V4l2DepthCamera::open(std::unique_ptr<V
     }
     if (!d.settings.colorNode.empty()) {
         d.color.path = d.settings.colorNode;
-        auto cinfo = queryV4l2Node(*d.dev, d.color.path);
-        if (!cinfo) {
-            DT_LOG(V4l2, Error, "Failed to open V4L2 color node %s: %s", d.color.path.c_str(),
-                   cinfo.error().what);
-            return unexpected(cinfo.error());
-        }
-        d.color.info = std::move(*cinfo);
+        DT_TRY(queryNode(*d.dev, d.color, "color"));
         if ((d.color.info.deviceCaps & V4L2_CAP_VIDEO_CAPTURE) == 0)
             return unexpected(Errc::NotSupported, "V4L2 color node cannot capture video");
     }
