@@ -87,6 +87,18 @@ struct Playback::Impl : RenderShared {
         owned.reset();
     }
 
+    /// Notes a command for the OSD, then runs \a change under the lock when a session is open.
+    /// \return nothing, or InvalidState with \a nothingOpen (a static string) when none is.
+    template <class F> Result<void> changeSession(const char *nothingOpen, F &&change)
+    {
+        osdEvents.fetch_add(1, std::memory_order_relaxed);
+        std::lock_guard<std::mutex> lock(mutex);
+        if (session == nullptr)
+            return Error(Errc::InvalidState, nothingOpen);
+        change();
+        return {};
+    }
+
     /// Starts the render thread once. \return an error text, or empty.
     std::string startRenderThread()
     {
@@ -283,36 +295,23 @@ void Playback::finishOpen(std::unique_ptr<receiver::Receiver> rec)
 Result<void> Playback::startPlayback()
 {
     Impl &m = *impl_;
-    m.osdEvents.fetch_add(1, std::memory_order_relaxed);
-    std::lock_guard<std::mutex> lock(m.mutex);
-    if (m.session == nullptr)
-        return Error(Errc::InvalidState, "nothing is open");
-    m.playing = true;
-    m.paused = false;
-    m.cv.notify_all();
-    return {};
+    return m.changeSession("nothing is open", [&] {
+        m.playing = true;
+        m.paused = false;
+        m.cv.notify_all();
+    });
 }
 
 Result<void> Playback::pause()
 {
     Impl &m = *impl_;
-    m.osdEvents.fetch_add(1, std::memory_order_relaxed);
-    std::lock_guard<std::mutex> lock(m.mutex);
-    if (m.session == nullptr)
-        return Error(Errc::InvalidState, "nothing is playing");
-    m.paused = true;
-    return {};
+    return m.changeSession("nothing is playing", [&] { m.paused = true; });
 }
 
 Result<void> Playback::resume()
 {
     Impl &m = *impl_;
-    m.osdEvents.fetch_add(1, std::memory_order_relaxed);
-    std::lock_guard<std::mutex> lock(m.mutex);
-    if (m.session == nullptr)
-        return Error(Errc::InvalidState, "nothing is open");
-    m.paused = false;
-    return {};
+    return m.changeSession("nothing is open", [&] { m.paused = false; });
 }
 
 Result<void> Playback::stop()

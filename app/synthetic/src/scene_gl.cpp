@@ -61,21 +61,31 @@ void destroy(GpuMesh &g) noexcept
 
 namespace {
 
+/// \return \a object (a shader or a program) when its \a status (GL_COMPILE_STATUS or
+/// GL_LINK_STATUS, read with \a getIv) says it built; otherwise logs its info log (\a getLog) as
+/// "Failed to WHAT", deletes it with \a deleteObject and returns 0. GL thread only.
+template <class GetIv, class GetLog, class Delete>
+GLuint builtOrZero(GLuint object, GLenum status, GetIv getIv, GetLog getLog, Delete deleteObject,
+                   const char *what)
+{
+    GLint okFlag = 0;
+    getIv(object, status, &okFlag);
+    if (okFlag != 0)
+        return object;
+    std::array<char, 2048> log{};
+    getLog(object, static_cast<GLsizei>(log.size()), nullptr, log.data());
+    DT_LOG(Synthetic, Error, "Failed to %s: %s", what, log.data());
+    deleteObject(object);
+    return 0;
+}
+
 GLuint compile(GLenum type, const char *source)
 {
     const GLuint s = glCreateShader(type);
     glShaderSource(s, 1, &source, nullptr);
     glCompileShader(s);
-    GLint okFlag = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &okFlag);
-    if (okFlag == 0) {
-        std::array<char, 2048> log{};
-        glGetShaderInfoLog(s, static_cast<GLsizei>(log.size()), nullptr, log.data());
-        DT_LOG(Synthetic, Error, "Failed to compile a shader: %s", log.data());
-        glDeleteShader(s);
-        return 0;
-    }
-    return s;
+    return builtOrZero(s, GL_COMPILE_STATUS, glGetShaderiv, glGetShaderInfoLog, glDeleteShader,
+                       "compile a shader");
 }
 
 } // namespace
@@ -95,16 +105,8 @@ GLuint link(const char *vertex, const char *fragment)
     glLinkProgram(p);
     glDeleteShader(vs);
     glDeleteShader(fs);
-    GLint okFlag = 0;
-    glGetProgramiv(p, GL_LINK_STATUS, &okFlag);
-    if (okFlag == 0) {
-        std::array<char, 2048> log{};
-        glGetProgramInfoLog(p, static_cast<GLsizei>(log.size()), nullptr, log.data());
-        DT_LOG(Synthetic, Error, "Failed to link a shader program: %s", log.data());
-        glDeleteProgram(p);
-        return 0;
-    }
-    return p;
+    return builtOrZero(p, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram,
+                       "link a shader program");
 }
 
 Result<void> SyntheticScene::Impl::init()
