@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cstring>
 #include <mutex>
+#include <utility>
 
 extern "C" {
 #include <libavutil/imgutils.h>
@@ -40,42 +41,40 @@ Errc errcOf(int err, Errc fallback) noexcept
     return fallback;
 }
 
+namespace {
+
+/// \return the field \a to of the first entry of \a table whose field \a from equals \a key, or
+/// \a fallback when none does. Reentrant.
+template <class Entry, std::size_t N, class Key, class Value>
+constexpr Value lookup(const Entry (&table)[N], Key Entry::*from, Key key, Value Entry::*to,
+                       Value fallback) noexcept
+{
+    for (const Entry &e : table)
+        if (e.*from == key)
+            return e.*to;
+    return fallback;
+}
+
+/// A codec's FFmpeg id and HAL id.
+using CodecIds = std::pair<AVCodecID, hal::CodecId>;
+
+/// The codecs with an FFmpeg id, both ways (codecOf(), avCodecOf()).
+constexpr CodecIds kCodecs[] = {
+    {AV_CODEC_ID_H264, hal::CodecId::H264},   {AV_CODEC_ID_HEVC, hal::CodecId::Hevc},
+    {AV_CODEC_ID_FFV1, hal::CodecId::Ffv1},   {AV_CODEC_ID_RAWVIDEO, hal::CodecId::RawVideo},
+    {AV_CODEC_ID_MJPEG, hal::CodecId::Mjpeg},
+};
+
+} // namespace
+
 hal::CodecId codecOf(AVCodecID id) noexcept
 {
-    switch (id) {
-    case AV_CODEC_ID_H264:
-        return hal::CodecId::H264;
-    case AV_CODEC_ID_HEVC:
-        return hal::CodecId::Hevc;
-    case AV_CODEC_ID_FFV1:
-        return hal::CodecId::Ffv1;
-    case AV_CODEC_ID_RAWVIDEO:
-        return hal::CodecId::RawVideo;
-    case AV_CODEC_ID_MJPEG:
-        return hal::CodecId::Mjpeg;
-    default:
-        return hal::CodecId::Unknown;
-    }
+    return lookup(kCodecs, &CodecIds::first, id, &CodecIds::second, hal::CodecId::Unknown);
 }
 
 AVCodecID avCodecOf(hal::CodecId codec) noexcept
 {
-    switch (codec) {
-    case hal::CodecId::H264:
-        return AV_CODEC_ID_H264;
-    case hal::CodecId::Hevc:
-        return AV_CODEC_ID_HEVC;
-    case hal::CodecId::Ffv1:
-        return AV_CODEC_ID_FFV1;
-    case hal::CodecId::RawVideo:
-        return AV_CODEC_ID_RAWVIDEO;
-    case hal::CodecId::Mjpeg:
-        return AV_CODEC_ID_MJPEG;
-    case hal::CodecId::Unknown:
-    case hal::CodecId::Mock:
-        break;
-    }
-    return AV_CODEC_ID_NONE;
+    return lookup(kCodecs, &CodecIds::second, codec, &CodecIds::first, AV_CODEC_ID_NONE);
 }
 
 namespace {
@@ -118,28 +117,24 @@ hal::PixelFormat halFormatOf(AVPixelFormat fmt, hal::StreamKind kind) noexcept
     return hal::PixelFormat::Rgb24;
 }
 
+namespace {
+
+/// A HAL pixel format and its FFmpeg format.
+using PixelFormats = std::pair<hal::PixelFormat, AVPixelFormat>;
+
+/// The FFmpeg formats of the HAL formats that have one (avFormatOf()).
+constexpr PixelFormats kAvFormats[] = {
+    {hal::PixelFormat::Gray8, AV_PIX_FMT_GRAY8},   {hal::PixelFormat::Gray10, AV_PIX_FMT_GRAY10},
+    {hal::PixelFormat::Gray16, AV_PIX_FMT_GRAY16}, {hal::PixelFormat::Yuv420p, AV_PIX_FMT_YUV420P},
+    {hal::PixelFormat::Nv12, AV_PIX_FMT_NV12},     {hal::PixelFormat::Rgb24, AV_PIX_FMT_RGB24},
+    {hal::PixelFormat::Rgba8, AV_PIX_FMT_RGBA},    {hal::PixelFormat::Yuyv, AV_PIX_FMT_YUYV422},
+};
+
+} // namespace
+
 AVPixelFormat avFormatOf(hal::PixelFormat format) noexcept
 {
-    switch (format) {
-    case hal::PixelFormat::Gray8:
-        return AV_PIX_FMT_GRAY8;
-    case hal::PixelFormat::Gray10:
-        return AV_PIX_FMT_GRAY10;
-    case hal::PixelFormat::Gray16:
-        return AV_PIX_FMT_GRAY16;
-    case hal::PixelFormat::Yuv420p:
-        return AV_PIX_FMT_YUV420P;
-    case hal::PixelFormat::Nv12:
-        return AV_PIX_FMT_NV12;
-    case hal::PixelFormat::Rgb24:
-        return AV_PIX_FMT_RGB24;
-    case hal::PixelFormat::Rgba8:
-        return AV_PIX_FMT_RGBA;
-    case hal::PixelFormat::Yuyv:
-        return AV_PIX_FMT_YUYV422;
-    default:
-        return AV_PIX_FMT_NONE;
-    }
+    return lookup(kAvFormats, &PixelFormats::first, format, &PixelFormats::second, AV_PIX_FMT_NONE);
 }
 
 namespace {
