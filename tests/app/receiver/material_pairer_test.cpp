@@ -7,6 +7,7 @@
 
 #include "depthtouch/receiver/material_pairer.h"
 #include "depthtouch/receiver/stream_roles.h"
+#include "test_support.h"
 
 namespace depthtouch::receivertest {
 namespace {
@@ -34,14 +35,6 @@ hal::MediaInfo mediaOf(std::vector<hal::StreamInfo> streams)
     hal::MediaInfo mi;
     mi.streams = std::move(streams);
     return mi;
-}
-
-bool hasNoteWith(const receiver::StreamRoles &r, const std::string &text)
-{
-    for (const auto &n : r.notes)
-        if (n.find(text) != std::string::npos)
-            return true;
-    return false;
 }
 
 TEST(MaterialRolesTest, titledMaterialIsFoundInAnyCase)

@@ -173,14 +173,6 @@ std::vector<MaterialRecord> drainMaterial(Receiver &r, std::size_t limit = 10'00
     });
 }
 
-bool hasNoteWith(const receiver::ReceiverInfo &info, const std::string &text)
-{
-    for (const auto &n : info.notes)
-        if (n.find(text) != std::string::npos)
-            return true;
-    return false;
-}
-
 TEST(ReceiverMaterialTest, eachDepthFrameGetsTheMaterialFrameOfItsPts)
 {
     // GIVEN a clip of 20 frames with one material frame per depth frame
@@ -316,51 +308,46 @@ TEST(ReceiverMaterialTest, seekFlushesTheMaterialAndAStillHoldsAfterIt)
 {
     // GIVEN one material frame per depth frame
     MaterialRig rig;
-    auto r = rig.open("mock://clip?frames=50&fps=25&gop=10");
-    ASSERT_TRUE(r);
-    ASSERT_TRUE(readAndDrop(**r, 5));
+    std::unique_ptr<Receiver> r;
     // WHEN seeking to 1 s (frame 25)
-    ASSERT_TRUE((*r)->seek(milliseconds(1000)));
-    const auto frames = drainMaterial(**r);
+    ASSERT_TRUE(
+        openReadAndSeek(rig, "mock://clip?frames=50&fps=25&gop=10", 5, milliseconds(1000), r));
+    const auto frames = drainMaterial(*r);
     // THEN frames 25..49 come with their own material
     ASSERT_EQ(frames.size(), 25u);
     for (std::size_t k = 0; k < frames.size(); ++k)
         EXPECT_EQ(frames[k].material, frames[k].color) << k;
-    EXPECT_EQ((*r)->stats().materialMissing, 0u);
+    EXPECT_EQ(r->stats().materialMissing, 0u);
     // AND backwards: the material frames before the old position pair again
-    ASSERT_TRUE((*r)->seek(milliseconds(0)));
-    const auto again = drainMaterial(**r);
+    ASSERT_TRUE(r->seek(milliseconds(0)));
+    const auto again = drainMaterial(*r);
     ASSERT_EQ(again.size(), 50u);
     for (std::size_t k = 0; k < again.size(); ++k)
         EXPECT_EQ(again[k].material, again[k].color) << k;
-    EXPECT_EQ((*r)->stats().materialMissing, 0u);
+    EXPECT_EQ(r->stats().materialMissing, 0u);
 
     // GIVEN a still material: WHEN seeking forward past it, THEN it still holds
     MaterialRig still;
     still.onSource = [](MaterialSource &s) { s.has = [](std::uint32_t k) { return k == 0; }; };
-    auto s = still.open("mock://clip?frames=50&fps=25&gop=10");
-    ASSERT_TRUE(s);
-    ASSERT_TRUE(readAndDrop(**s, 3));
-    ASSERT_TRUE((*s)->seek(milliseconds(1200)));
-    const auto after = drainMaterial(**s);
+    std::unique_ptr<Receiver> s;
+    ASSERT_TRUE(
+        openReadAndSeek(still, "mock://clip?frames=50&fps=25&gop=10", 3, milliseconds(1200), s));
+    const auto after = drainMaterial(*s);
     ASSERT_EQ(after.size(), 20u);
     for (const auto &m : after)
         EXPECT_EQ(m.material, 0u);
-    EXPECT_EQ((*s)->stats().materialMissing, 0u);
+    EXPECT_EQ(s->stats().materialMissing, 0u);
 }
 
 TEST(ReceiverMaterialTest, consumerHoldingFramesHoldsTheirMaterialFrames)
 {
     // GIVEN a consumer that keeps every paired frame
     MaterialRig rig;
-    ReceiverConfig cfg;
-    cfg.consumerFrames = 2;
-    cfg.pairingWindow = 2;
-    auto r = rig.open("mock://clip?frames=40", cfg);
-    ASSERT_TRUE(r);
-    std::vector<PairedFrame> held;
-    EXPECT_EQ(holdUntilRefused(**r, held, 100), Errc::Busy);
-    ASSERT_GE(held.size(), static_cast<std::size_t>(cfg.consumerFrames));
+    HoldingConsumer consumer = holdEveryFrame(rig, "mock://clip?frames=40", 100);
+    ASSERT_TRUE(consumer.receiver);
+    EXPECT_EQ(consumer.refusal, Errc::Busy);
+    const std::vector<PairedFrame> &held = consumer.held;
+    ASSERT_GE(held.size(), static_cast<std::size_t>(kHeldConsumerFrames));
     // THEN each held frame still holds the material frames of its own depth frames (40 ms per
     // frame), none reused for later frames
     const auto frameOf = [](const receiver::FrameHandle &h) {
@@ -376,9 +363,8 @@ TEST(ReceiverMaterialTest, consumerHoldingFramesHoldsTheirMaterialFrames)
         }
     }
     // AND once it lets go, nothing was lost
-    const std::size_t before = held.size();
-    held.clear();
-    EXPECT_EQ(before + drainMaterial(**r).size(), 40u);
+    const std::size_t before = consumer.letGo();
+    EXPECT_EQ(before + drainMaterial(*consumer.receiver).size(), 40u);
 }
 
 TEST(ReceiverMaterialTest, lateMaterialPacketsAreStillPaired)

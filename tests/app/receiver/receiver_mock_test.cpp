@@ -301,37 +301,31 @@ TEST(ReceiverMockTest, duplicateBackwardAndGappedPtsAreCountedNeverFatal)
 TEST(ReceiverMockTest, consumerHoldingEveryFrameGetsBusyAndLosesNothing)
 {
     MockRig rig;
-    ReceiverConfig cfg;
-    cfg.consumerFrames = 2;
-    cfg.pairingWindow = 2;
-    auto r = rig.open("mock://clip?frames=40", cfg);
-    ASSERT_TRUE(r);
-    std::vector<PairedFrame> held;
-    EXPECT_EQ(holdUntilRefused(**r, held, 100), Errc::Busy);
-    EXPECT_GT((*r)->stats().consumerBusy, 0u);
-    const std::size_t before = held.size();
-    held.clear();
-    const auto rest = drain(**r);
+    HoldingConsumer consumer = holdEveryFrame(rig, "mock://clip?frames=40", 100);
+    ASSERT_TRUE(consumer.receiver);
+    EXPECT_EQ(consumer.refusal, Errc::Busy);
+    EXPECT_GT(consumer.receiver->stats().consumerBusy, 0u);
+    const std::size_t before = consumer.letGo();
+    const auto rest = drain(*consumer.receiver);
     EXPECT_EQ(before + rest.size(), 40u);
 }
 
 TEST(ReceiverMockTest, seekRestartsAtTheTargetWithFreshPairing)
 {
     MockRig rig;
-    auto r = rig.open("mock://clip?frames=50&fps=25&gop=10");
-    ASSERT_TRUE(r);
-    ASSERT_TRUE(readAndDrop(**r, 5));
-    ASSERT_TRUE((*r)->seek(milliseconds(1000)));
-    const auto frames = drain(**r);
+    std::unique_ptr<Receiver> r;
+    ASSERT_TRUE(
+        openReadAndSeek(rig, "mock://clip?frames=50&fps=25&gop=10", 5, milliseconds(1000), r));
+    const auto frames = drain(*r);
     // frames 25..49: decoding restarts at the keyframe (20) and skips up to the target
     ASSERT_EQ(frames.size(), 25u);
     EXPECT_EQ(frames.front().pts, milliseconds(1000));
     EXPECT_EQ(frames.front().index, 0u);
     EXPECT_EQ(frames.front().depthPts, milliseconds(1000));
     // and backwards
-    ASSERT_TRUE((*r)->seek(milliseconds(0)));
-    EXPECT_EQ(drain(**r).size(), 50u);
-    EXPECT_EQ((*r)->stats().seeks, 2u);
+    ASSERT_TRUE(r->seek(milliseconds(0)));
+    EXPECT_EQ(drain(*r).size(), 50u);
+    EXPECT_EQ(r->stats().seeks, 2u);
 }
 
 TEST(ReceiverMockTest, unreadableInputIsTheSourceError)

@@ -165,20 +165,15 @@ TEST(ReceiverZeroCopyTest, smallDecoderPoolMakesNextBusyAndLosesNothing)
 {
     // GIVEN a colour decoder that can lend only 3 frames and a consumer that holds every frame
     Rig rig(3);
-    ReceiverConfig cfg;
-    cfg.pairingWindow = 2;
-    cfg.consumerFrames = 2;
-    auto r = rig.open("mock://clip?frames=20", cfg);
-    ASSERT_TRUE(r);
-    std::vector<PairedFrame> held;
+    HoldingConsumer consumer = holdEveryFrame(rig, "mock://clip?frames=20", 50);
+    ASSERT_TRUE(consumer.receiver);
     // THEN next() says Busy (the consumer must drop frames), it does not end the input
-    EXPECT_EQ(holdUntilRefused(**r, held, 50), Errc::Busy);
-    EXPECT_FALSE((*r)->ended());
-    EXPECT_LE(held.size(), 3u);
+    EXPECT_EQ(consumer.refusal, Errc::Busy);
+    EXPECT_FALSE(consumer.receiver->ended());
+    EXPECT_LE(consumer.held.size(), 3u);
     // AND once the consumer drops them, every frame arrives
-    const std::size_t before = held.size();
-    held.clear();
-    EXPECT_EQ(before + drain(**r, 1000).size(), 20u);
+    const std::size_t before = consumer.letGo();
+    EXPECT_EQ(before + drain(*consumer.receiver, 1000).size(), 20u);
 }
 
 } // namespace

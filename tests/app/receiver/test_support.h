@@ -86,15 +86,36 @@ std::vector<R> drainAs(receiver::Receiver &r, std::size_t limit, F record)
     return out;
 }
 
-/// Reads \a count frames of \a r and drops them; fails at the first next() that fails.
-inline ::testing::AssertionResult readAndDrop(receiver::Receiver &r, int count)
+/// Opens \a url on \a rig (a test rig: open(url) → Result<std::unique_ptr<Receiver>>) into \a out,
+/// reads \a count frames and drops them, then seeks to \a position; fails at the first step that
+/// fails.
+template <class Rig>
+::testing::AssertionResult openReadAndSeek(Rig &rig, const std::string &url, int count,
+                                           hal::Pts position,
+                                           std::unique_ptr<receiver::Receiver> &out)
 {
+    auto r = rig.open(url);
+    if (!r)
+        return ::testing::AssertionFailure() << "open(" << url << ") failed: " << r.error().what;
+    out = std::move(*r);
     receiver::PairedFrame f;
     for (int i = 0; i < count; ++i) {
-        if (!r.next(f))
+        if (!out->next(f))
             return ::testing::AssertionFailure() << "next() failed at frame " << i;
     }
+    if (!out->seek(position))
+        return ::testing::AssertionFailure() << "seek() failed";
     return ::testing::AssertionSuccess();
+}
+
+/// \return whether one of the notes of \a owner (a ReceiverInfo, a StreamRoles: anything with a
+/// `notes` vector of strings) contains \a text.
+template <class T> bool hasNoteWith(const T &owner, const std::string &text)
+{
+    for (const auto &n : owner.notes)
+        if (n.find(text) != std::string::npos)
+            return true;
+    return false;
 }
 
 /// What drainCountingAllocations() saw.
@@ -131,5 +152,42 @@ template <class F> CountedDrain drainCountingAllocations(receiver::Receiver &r, 
 /// \return the code of the failed next(); InvalidArgument when none failed.
 Errc holdUntilRefused(receiver::Receiver &r, std::vector<receiver::PairedFrame> &held,
                       std::size_t limit);
+
+/// Frames a holding consumer may keep (ReceiverConfig::consumerFrames, holdEveryFrame()).
+constexpr int kHeldConsumerFrames = 2;
+
+/// A consumer that kept every frame of its receiver (holdEveryFrame()).
+struct HoldingConsumer {
+    std::unique_ptr<receiver::Receiver> receiver; ///< Null when open() failed.
+    std::vector<receiver::PairedFrame> held;
+    Errc refusal = Errc::InvalidArgument; ///< What holdUntilRefused() returned.
+
+    /// Drops every held frame. \return how many there were.
+    std::size_t letGo()
+    {
+        const std::size_t n = held.size();
+        held.clear();
+        return n;
+    }
+};
+
+/// Opens \a url on \a rig (a test rig: open(url, cfg) → Result<std::unique_ptr<Receiver>>) for a
+/// consumer that may hold kHeldConsumerFrames frames, with a pairing window of 2, then holds frames
+/// until next() refuses, at most \a limit calls (holdUntilRefused()). A failed open leaves
+/// `receiver` null.
+template <class Rig>
+HoldingConsumer holdEveryFrame(Rig &rig, const std::string &url, std::size_t limit)
+{
+    receiver::ReceiverConfig cfg;
+    cfg.consumerFrames = kHeldConsumerFrames;
+    cfg.pairingWindow = 2;
+    HoldingConsumer out;
+    auto r = rig.open(url, cfg);
+    if (!r)
+        return out;
+    out.receiver = std::move(*r);
+    out.refusal = holdUntilRefused(*out.receiver, out.held, limit);
+    return out;
+}
 
 } // namespace depthtouch::receivertest
