@@ -301,16 +301,7 @@ CameraSourceFactory::open(std::string_view target, const media::SourceOptions &o
                             std::to_string(spec->width) + "x" + std::to_string(spec->height) + "@" +
                             std::to_string(spec->fps);
     const std::lock_guard lock(mutex_);
-    std::shared_ptr<CameraShare> share;
-    for (auto it = cameras_.begin(); it != cameras_.end();) {
-        if (it->second.expired()) {
-            it = cameras_.erase(it);
-            continue;
-        }
-        if (it->first == key)
-            share = it->second.lock();
-        ++it;
-    }
+    std::shared_ptr<CameraShare> share = findShared(cameras_, key);
     if (!share) {
         hal::BackendConfig cfg;
         cfg.device = spec->device;

@@ -30,6 +30,27 @@ bool parseSizeText(std::string_view text, int &width, int &height);
 /// ("depth" → depth). \return Errc::InvalidArgument for a `stream=` other than color or depth.
 Result<bool> wantsDepthStream(std::string_view streamOption, const media::SourceOptions &options);
 
+/// \brief What a factory's sources share, one object per key, held weakly: the object lives as
+/// long as a source holds it.
+template <class T> using SharedCache = std::vector<std::pair<std::string, std::weak_ptr<T>>>;
+
+/// \brief The object shared under \a key in \a cache, or null when no source holds one; drops
+/// the entries whose object is gone. Not thread-safe: the caller holds the factory's lock.
+template <class T> std::shared_ptr<T> findShared(SharedCache<T> &cache, const std::string &key)
+{
+    std::shared_ptr<T> found;
+    for (auto it = cache.begin(); it != cache.end();) {
+        if (it->second.expired()) {
+            it = cache.erase(it);
+            continue;
+        }
+        if (it->first == key)
+            found = it->second.lock();
+        ++it;
+    }
+    return found;
+}
+
 // ---------------------------------------------------------------------------------------------
 // synthetic:
 
@@ -81,7 +102,7 @@ public:
 
 private:
     std::mutex mutex_;
-    std::vector<std::pair<std::string, std::weak_ptr<SyntheticRenderer>>> renderers_;
+    SharedCache<SyntheticRenderer> renderers_;
     std::shared_ptr<std::atomic<std::uint64_t>> drawn_ =
         std::make_shared<std::atomic<std::uint64_t>>(0);
 };
@@ -130,7 +151,7 @@ public:
 
 private:
     std::mutex mutex_;
-    std::vector<std::pair<std::string, std::weak_ptr<CameraShare>>> cameras_;
+    SharedCache<CameraShare> cameras_;
 };
 
 } // namespace depthtouch::cli

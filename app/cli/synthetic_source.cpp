@@ -521,16 +521,7 @@ SyntheticSourceFactory::open(std::string_view target, const media::SourceOptions
     const std::string key = spec->scene + "/" + std::to_string(spec->width) + "x" +
                             std::to_string(spec->height) + "@" + numberText(spec->fps);
     const std::lock_guard lock(mutex_);
-    std::shared_ptr<SyntheticRenderer> renderer;
-    for (auto it = renderers_.begin(); it != renderers_.end();) {
-        if (it->second.expired()) {
-            it = renderers_.erase(it);
-            continue;
-        }
-        if (it->first == key)
-            renderer = it->second.lock();
-        ++it;
-    }
+    std::shared_ptr<SyntheticRenderer> renderer = findShared(renderers_, key);
     if (!renderer) {
         auto started = SyntheticRenderer::start(*spec, drawn_);
         if (!started)
