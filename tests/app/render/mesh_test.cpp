@@ -362,3 +362,32 @@ TEST(QuadtreeMeshTest, blockBudgetBoundsTheLeavesAndRefinesEdgesBreadthFirst)
         }
     }
 }
+
+/// Blocks: a depth edge that no probe sees still sends its tile to full resolution (the pass over
+/// neighbouring samples), in 8- and 16-bit depth; the flat tiles stay at the coarsest step.
+TEST(BlockStepsTest, anEdgeBetweenTheProbesSendsItsTileToStepOne)
+{
+    // GIVEN a flat 64×48-cell frame with a ridge 40 samples high on rows 24-25 of tile (1, 1)
+    // (probe rows 21 and 29: at step 16, where the choice starts, no probe sees it, so the probes
+    // alone leave the tile at step 16)
+    const auto ridge = [](int c, int r) {
+        return (r == 24 || r == 25) && c >= 18 && c <= 28 ? 140 : 100;
+    };
+    MeshOptions o;
+    o.mode = MeshMode::Blocks;
+    o.tileSize = 16;
+    o.maxStep = 16;
+    o.tolerance = 100.0; // no refinement for the mean error budget
+    const test::Depth8 d8(65, 49, ridge);
+    const test::Depth16 d16(65, 49, ridge);
+    for (const scene::DepthFrameView &v : {d8.view(), d16.view()}) {
+        AdaptiveMesh mesh;
+        ASSERT_TRUE(mesh.build(v, o));
+        // THEN that tile is drawn at step 1 and the other eleven at step 16
+        ASSERT_EQ(mesh.tilesX(), 4);
+        ASSERT_EQ(mesh.tilesY(), 3);
+        for (int t = 0; t < 12; ++t)
+            EXPECT_EQ(mesh.tileSteps()[static_cast<std::size_t>(t)], t == 5 ? 1 : 16)
+                << "tile " << t << (v.format == scene::SampleFormat::Gray8 ? " 8-bit" : " 16-bit");
+    }
+}

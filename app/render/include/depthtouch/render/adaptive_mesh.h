@@ -178,6 +178,12 @@ private:
     void emitTile(int tx, int ty, std::vector<std::uint32_t> &out) const;
     template <class T>
     void chooseBlockSteps(const scene::DepthFrameView &depth, const MeshOptions &options);
+    /// Blocks: each tile's mean and largest probe error at steps 2^1 .. 2^(levels-1).
+    template <class T>
+    void measureBlockProbes(const scene::DepthFrameView &depth, int levels) noexcept;
+    /// Blocks: the greedy refinement from every tile at 2^top against the budgets.
+    void refineBlockSteps(const MeshOptions &options, int top, double samples, double errSum,
+                          std::size_t leaves);
     template <class T>
     void buildQuadtree(const scene::DepthFrameView &depth, const MeshOptions &options);
     template <class T>
@@ -229,6 +235,7 @@ private:
     std::vector<float> probeError_;       ///< Scratch of Blocks: per tile and step, mean and max.
     std::vector<std::uint8_t> tileLevel_; ///< Blocks: log2 step per tile.
     std::vector<float> jump_;             ///< Scratch of Blocks: largest neighbour jump per tile.
+    std::vector<std::uint16_t> jumpRow_;  ///< Scratch of Blocks: one row's jumps (8- or 16-bit).
     MeshStats stats_{};
     bool blocksMode_ = false;
     int width_ = 0;
