@@ -56,49 +56,35 @@ void restoreOnSignal(int sig) noexcept
     errno = savedErrno;
 }
 
-hal::Key keyOfByte(char c) noexcept
-{
-    switch (c) {
-    case ' ':
-    case 'p':
-    case 'P':
-        return hal::Key::PlayPause;
-    case 's':
-    case 'S':
-        return hal::Key::Stop;
-    case '3':
-        return hal::Key::Mode3d;
-    case 'h':
-    case 'H':
-        return hal::Key::Red;
-    case 'r':
-    case 'R':
-        return hal::Key::Green;
-    case 'c':
-    case 'C':
-        return hal::Key::Yellow;
-    case 'q':
-    case 'Q':
-        return hal::Key::Exit;
-    default:
-        return hal::Key::Unknown;
-    }
-}
+/// A key and the bytes that stand for it.
+struct KeyBytes {
+    std::string_view bytes;
+    hal::Key key;
+};
 
-hal::Key keyOfArrow(char final) noexcept
+/// The keys of single bytes (both cases of a letter).
+constexpr KeyBytes kByteKeys[] = {
+    {" pP", hal::Key::PlayPause}, {"sS", hal::Key::Stop},  {"3", hal::Key::Mode3d},
+    {"hH", hal::Key::Red},        {"rR", hal::Key::Green}, {"cC", hal::Key::Yellow},
+    {"qQ", hal::Key::Exit},
+};
+
+/// The keys of the final byte of an arrow key's escape sequence (ESC [ A .. D).
+constexpr KeyBytes kArrowKeys[] = {
+    {"A", hal::Key::Up},
+    {"B", hal::Key::Down},
+    {"C", hal::Key::Right},
+    {"D", hal::Key::Left},
+};
+
+/// \return the key of the entry of \a table whose bytes hold \a c, hal::Key::Unknown when none
+/// does.
+template <std::size_t N> hal::Key keyOf(const KeyBytes (&table)[N], char c) noexcept
 {
-    switch (final) {
-    case 'A':
-        return hal::Key::Up;
-    case 'B':
-        return hal::Key::Down;
-    case 'C':
-        return hal::Key::Right;
-    case 'D':
-        return hal::Key::Left;
-    default:
-        return hal::Key::Unknown;
-    }
+    for (const KeyBytes &k : table)
+        if (k.bytes.find(c) != std::string_view::npos)
+            return k.key;
+    return hal::Key::Unknown;
 }
 
 } // namespace
@@ -109,7 +95,7 @@ std::size_t decodeTerminalKeys(std::string_view bytes, std::vector<hal::Key> &ke
     while (i < bytes.size()) {
         const char c = bytes[i];
         if (c != '\x1b') {
-            const hal::Key k = keyOfByte(c);
+            const hal::Key k = keyOf(kByteKeys, c);
             if (k != hal::Key::Unknown)
                 keys.push_back(k);
             ++i;
@@ -122,7 +108,7 @@ std::size_t decodeTerminalKeys(std::string_view bytes, std::vector<hal::Key> &ke
             // SS3 (application cursor keys): ESC O A
             if (i + 2 >= bytes.size())
                 return i;
-            const hal::Key k = keyOfArrow(bytes[i + 2]);
+            const hal::Key k = keyOf(kArrowKeys, bytes[i + 2]);
             if (k != hal::Key::Unknown)
                 keys.push_back(k);
             i += 3;
@@ -139,7 +125,7 @@ std::size_t decodeTerminalKeys(std::string_view bytes, std::vector<hal::Key> &ke
         if (j >= bytes.size())
             return i;
         if (bytes[j] >= 0x40 && bytes[j] <= 0x7e && j == i + 2) {
-            const hal::Key k = keyOfArrow(bytes[j]);
+            const hal::Key k = keyOf(kArrowKeys, bytes[j]);
             if (k != hal::Key::Unknown)
                 keys.push_back(k);
         }
