@@ -51,6 +51,18 @@ const char *metText(bool met)
     return met ? "met" : "NOT met";
 }
 
+/// Prints the goal line of an update time \a ns (p99.9, ns): at most 2000 ns.
+void printTimeGoal(const std::string &what, double ns)
+{
+    std::printf("  %s: %.0f ns (goal <= 2000 ns): %s\n", what.c_str(), ns, metText(ns <= 2000.0));
+}
+
+/// Prints the goal line of the median update time at 3840x2160 over that at 720x486: at most 1.5.
+void printRatioGoal(const char *what, double ratio)
+{
+    std::printf("  %s: %.2f (goal <= 1.5): %s\n", what, ratio, metText(ratio <= 1.5));
+}
+
 int runBenchHaptics(const BenchHapticsOptions &o)
 {
     using namespace depthtouch::haptics::bench;
@@ -83,28 +95,23 @@ int runBenchHaptics(const BenchHapticsOptions &o)
     std::printf("timing thread: %s\n", worker.report().format(how, sizeof how));
     worker.join();
     std::printf("\ngoals (this run):\n");
-    std::printf("  modified p99.9 at 720x486, 1 m/s: %.0f ns (goal <= 2000 ns): %s\n",
-                report.modifiedP999At720Fast, metText(report.modifiedP999At720Fast <= 2000.0));
-    std::printf("  modified p99.9 at 720x486, 1 m/s, interference-filtered (per-update minimum "
-                "over %d runs): "
-                "%.0f ns (goal <= 2000 ns): %s\n",
-                report.runsAt720Fast, report.modifiedMinOfRunsP999At720Fast,
-                metText(report.modifiedMinOfRunsP999At720Fast <= 2000.0));
-    std::printf("  modified median 3840x2160 / 720x486 (worst motion): %.2f (goal <= 1.5): %s\n",
-                report.resolutionRatio, metText(report.resolutionRatio <= 1.5));
-    std::printf(
-        "  modified median 3840x2160 / 720x486 (worst motion), interference-filtered (median of "
-        "the per-update minimum over the runs): %.2f (goal <= 1.5): %s\n",
-        report.minOfRunsResolutionRatio, metText(report.minOfRunsResolutionRatio <= 1.5));
+    printTimeGoal("modified p99.9 at 720x486, 1 m/s", report.modifiedP999At720Fast);
+    const std::string runs = std::to_string(report.runsAt720Fast);
+    printTimeGoal(
+        "modified p99.9 at 720x486, 1 m/s, interference-filtered (per-update minimum over " + runs +
+            " runs)",
+        report.modifiedMinOfRunsP999At720Fast);
+    printRatioGoal("modified median 3840x2160 / 720x486 (worst motion)", report.resolutionRatio);
+    printRatioGoal("modified median 3840x2160 / 720x486 (worst motion), interference-filtered "
+                   "(median of the per-update minimum over the runs)",
+                   report.minOfRunsResolutionRatio);
     std::printf("  finger p99.9 at 720x486, 1 m/s: %.0f ns raw, %.0f ns interference-filtered "
                 "(goal <= 2000 ns): "
                 "%s\n",
                 report.fingerP999At720Fast, report.fingerMinOfRunsP999At720Fast,
                 metText(report.fingerMinOfRunsP999At720Fast <= 2000.0));
-    std::printf("  finger median 3840x2160 / 720x486 (worst motion), interference-filtered: %.2f "
-                "(goal <= 1.5): %s\n",
-                report.fingerMinOfRunsResolutionRatio,
-                metText(report.fingerMinOfRunsResolutionRatio <= 1.5));
+    printRatioGoal("finger median 3840x2160 / 720x486 (worst motion), interference-filtered",
+                   report.fingerMinOfRunsResolutionRatio);
     std::printf("  mesh-bvh per-frame rebuild / modified per-frame cost at 720x486: %.0fx (goal >= "
                 "1000x): %s\n",
                 report.rebuildRatio, metText(report.rebuildRatio >= 1000.0));

@@ -12,6 +12,7 @@
 
 #include "depthtouch/haptics/feel_bench.h"
 #include "depthtouch/platform/gnuplot.h"
+#include "depthtouch/platform/report_file.h"
 
 namespace depthtouch::haptics::bench {
 
@@ -194,10 +195,8 @@ bool writeFeelOutputs(const FeelReport &report, const std::string &dir, std::str
 {
     namespace fs = std::filesystem;
     const fs::path base(dir);
-    std::error_code ec;
-    fs::create_directories(base, ec);
-    if (ec) {
-        error = "cannot create " + dir + ": " + ec.message();
+    if (const std::string why = platform::createReportFolder(dir); !why.empty()) {
+        error = "cannot create " + dir + ": " + why;
         return false;
     }
     {

@@ -22,6 +22,7 @@
 #include "depthtouch/platform/gnuplot.h"
 #include "depthtouch/scene/material.h"
 #include "depthtouch/platform/percentile.h"
+#include "depthtouch/platform/report_file.h"
 
 namespace depthtouch::haptics::bench {
 
@@ -411,10 +412,8 @@ bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::s
                        std::string &note)
 {
     namespace fs = std::filesystem;
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec) {
-        error = "Failed to create '" + dir + "': " + ec.message();
+    if (const std::string why = platform::createReportFolder(dir); !why.empty()) {
+        error = "Failed to create '" + dir + "': " + why;
         return false;
     }
     const fs::path base(dir);
