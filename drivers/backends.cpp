@@ -3,6 +3,8 @@
 // autoprobe should try.
 #include "depthtouch/drivers/backends.h"
 
+#include <iterator>
+
 #include "depthtouch/config.h"
 #if DT_HAVE_FFMPEG
 #include "depthtouch/drivers/ffmpeg/ffmpeg_media_source.h"
@@ -144,21 +146,12 @@ template <class I> std::vector<hal::BackendInfo> infos(hal::BackendTable<I> tabl
 
 const char *backendKindName(BackendKind kind) noexcept
 {
-    switch (kind) {
-    case BackendKind::MediaSource:
-        return "media source";
-    case BackendKind::VideoDecoder:
-        return "video decoder";
-    case BackendKind::Display:
-        return "display";
-    case BackendKind::HapticDevice:
-        return "haptic device";
-    case BackendKind::RemoteInput:
-        return "remote input";
-    case BackendKind::DepthCamera:
-        return "depth camera";
-    }
-    return "unknown";
+    // Indexed by BackendKind.
+    static constexpr const char *kNames[] = {"media source",  "video decoder", "display",
+                                             "haptic device", "remote input",  "depth camera"};
+    static_assert(std::size(kNames) == static_cast<std::size_t>(BackendKind::DepthCamera) + 1);
+    const auto i = static_cast<std::size_t>(kind);
+    return i < std::size(kNames) ? kNames[i] : "unknown";
 }
 
 hal::BackendTable<hal::MediaSource> mediaSourceBackends() noexcept
@@ -186,42 +179,38 @@ hal::BackendTable<hal::DepthCamera> depthCameraBackends() noexcept
     return kDepthCameraBackends;
 }
 
-std::vector<hal::BackendInfo> listBackends(BackendKind kind)
+namespace {
+
+/// \return \a f called with the table of \a kind, or R{} for a value outside BackendKind.
+template <class R, class F> R withTable(BackendKind kind, F f)
 {
     switch (kind) {
     case BackendKind::MediaSource:
-        return infos(mediaSourceBackends());
+        return f(mediaSourceBackends());
     case BackendKind::VideoDecoder:
-        return infos(videoDecoderBackends());
+        return f(videoDecoderBackends());
     case BackendKind::Display:
-        return infos(displayBackends());
+        return f(displayBackends());
     case BackendKind::HapticDevice:
-        return infos(hapticDeviceBackends());
+        return f(hapticDeviceBackends());
     case BackendKind::RemoteInput:
-        return infos(remoteInputBackends());
+        return f(remoteInputBackends());
     case BackendKind::DepthCamera:
-        return infos(depthCameraBackends());
+        return f(depthCameraBackends());
     }
-    return {};
+    return R{};
+}
+
+} // namespace
+
+std::vector<hal::BackendInfo> listBackends(BackendKind kind)
+{
+    return withTable<std::vector<hal::BackendInfo>>(kind, [](auto table) { return infos(table); });
 }
 
 std::string backendNames(BackendKind kind)
 {
-    switch (kind) {
-    case BackendKind::MediaSource:
-        return hal::backendNames(mediaSourceBackends());
-    case BackendKind::VideoDecoder:
-        return hal::backendNames(videoDecoderBackends());
-    case BackendKind::Display:
-        return hal::backendNames(displayBackends());
-    case BackendKind::HapticDevice:
-        return hal::backendNames(hapticDeviceBackends());
-    case BackendKind::RemoteInput:
-        return hal::backendNames(remoteInputBackends());
-    case BackendKind::DepthCamera:
-        return hal::backendNames(depthCameraBackends());
-    }
-    return {};
+    return withTable<std::string>(kind, [](auto table) { return hal::backendNames(table); });
 }
 
 Result<std::unique_ptr<hal::MediaSource>> createMediaSource(std::string_view names,
