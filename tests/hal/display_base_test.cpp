@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/expectations.h"
+
 namespace depthtouch::hal {
 namespace {
 
@@ -56,12 +58,7 @@ protected:
     }
 };
 
-template <class R> std::optional<Errc> errcOf(const R &r)
-{
-    if (r)
-        return std::nullopt;
-    return r.error().code;
-}
+using depthtouch::testing::errcOf;
 
 DisplayConfig config640()
 {
@@ -152,9 +149,8 @@ TEST(DisplayBaseTest, readPixelsWithoutReadbackIsNotSupportedInEveryState)
 
 TEST(DisplayBaseTest, stateNamesAreTheEnumerators)
 {
-    EXPECT_STREQ(toString(State::Closed), "Closed");
-    EXPECT_STREQ(toString(State::Open), "Open");
-    EXPECT_STREQ(toString(State::Lost), "Lost");
+    depthtouch::testing::expectNames<State>(
+        {{State::Closed, "Closed"}, {State::Open, "Open"}, {State::Lost, "Lost"}});
 }
 
 } // namespace

@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/expectations.h"
+
 namespace depthtouch::hal {
 namespace {
 
@@ -62,12 +64,7 @@ protected:
     void zeroForceDevice() noexcept override { ++zeroes; }
 };
 
-std::optional<Errc> errcOf(const Result<void> &r)
-{
-    if (r)
-        return std::nullopt;
-    return r.error().code;
-}
+using depthtouch::testing::errcOf;
 
 bool sameBits(double a, double b)
 {
@@ -217,9 +214,8 @@ TEST(HapticDeviceBaseTest, backendWithoutDeviceOpensDisconnected)
 
 TEST(HapticDeviceBaseTest, stateNamesAreTheEnumerators)
 {
-    EXPECT_STREQ(toString(State::Closed), "Closed");
-    EXPECT_STREQ(toString(State::Open), "Open");
-    EXPECT_STREQ(toString(State::Disconnected), "Disconnected");
+    depthtouch::testing::expectNames<State>(
+        {{State::Closed, "Closed"}, {State::Open, "Open"}, {State::Disconnected, "Disconnected"}});
 }
 
 } // namespace

@@ -20,6 +20,7 @@
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/platform/clock.h"
 #include "support/allocation_counter.h"
+#include "support/expectations.h"
 
 namespace depthtouch::contract {
 
@@ -117,13 +118,7 @@ std::vector<std::string> namesWhere(hal::BackendTable<I> table,
 /// '_'.
 std::string backendParamName(const ::testing::TestParamInfo<std::string> &info);
 
-/// \return the error code of \a r, or std::nullopt when it succeeded.
-template <class R> std::optional<Errc> errcOf(const R &r)
-{
-    if (r)
-        return std::nullopt;
-    return r.error().code;
-}
+using testing::errcOf;
 
 /// \brief The clock a contract test runs on: a ManualClock (AutoAdvance, starting at 10 s) for
 /// simulated backends, the steady clock for real ones.

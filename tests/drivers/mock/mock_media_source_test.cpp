@@ -5,18 +5,12 @@
 #include <gtest/gtest.h>
 
 #include "depthtouch/drivers/mock/mock_pattern.h"
+#include "support/expectations.h"
 
 namespace depthtouch::drivers {
 namespace {
 
-std::optional<Errc> errcOf(const Result<hal::Packet> &r)
-{
-    return r ? std::nullopt : std::optional<Errc>(r.error().code);
-}
-std::optional<Errc> errcOf(const Result<void> &r)
-{
-    return r ? std::nullopt : std::optional<Errc>(r.error().code);
-}
+using depthtouch::testing::errcOf;
 
 MockMediaSettings small()
 {

@@ -13,16 +13,11 @@
 #include "depthtouch/hal/media_source.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/result.h"
+#include "support/expectations.h"
 
 namespace depthtouch::drivers::testing {
 
-/// \return the error code of \a r, or std::nullopt on success.
-template <class R> std::optional<Errc> errcOf(const R &r)
-{
-    if (r)
-        return std::nullopt;
-    return r.error().code;
-}
+using depthtouch::testing::errcOf;
 
 /// The time point \a ms milliseconds after the clock epoch.
 inline platform::TimePoint at(int ms)

@@ -17,6 +17,7 @@
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/drivers/v4l2/v4l2_depth_camera.h"
 #include "fake_v4l2_kernel.h"
+#include "support/expectations.h"
 
 namespace depthtouch::drivers {
 namespace {
@@ -42,13 +43,7 @@ int expectedGrey(std::uint8_t luma)
     return static_cast<int>(std::lround((luma - 16) * 255.0 / 219.0));
 }
 
-/// \return the error code of \a r, or std::nullopt when it succeeded.
-template <class R> std::optional<Errc> errcOf(const R &r)
-{
-    if (r)
-        return std::nullopt;
-    return r.error().code;
-}
+using depthtouch::testing::errcOf;
 
 hal::CameraConfig mode(PixelFormat depth, PixelFormat color = PixelFormat::Unknown, int w = 64,
                        int h = 48, double fps = 30.0)
