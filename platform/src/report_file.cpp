@@ -13,6 +13,14 @@ std::string createReportFolder(const std::string &dir)
     return ec ? ec.message() : std::string();
 }
 
+bool createReportFolder(const std::string &dir, const std::string &what, std::string &error)
+{
+    const std::string why = createReportFolder(dir);
+    if (!why.empty())
+        error = what + ": " + why;
+    return why.empty();
+}
+
 ReportFile::ReportFile(const std::string &path) noexcept : file_(std::fopen(path.c_str(), "w")) {}
 
 ReportFile::~ReportFile()

@@ -365,10 +365,8 @@ bool writeRtBenchOutputs(const RtBenchReport &report, const std::string &dir, st
                          std::string &note)
 {
     namespace fs = std::filesystem;
-    if (const std::string why = platform::createReportFolder(dir); !why.empty()) {
-        error = "cannot create '" + dir + "': " + why;
+    if (!platform::createReportFolder(dir, "cannot create '" + dir + "'", error))
         return false;
-    }
     const fs::path base(dir);
     const fs::path csv = base / "rt_bench.csv";
     platform::ReportFile out(csv.string()); // close() reports a failed open as well

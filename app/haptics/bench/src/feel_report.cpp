@@ -195,10 +195,8 @@ bool writeFeelOutputs(const FeelReport &report, const std::string &dir, std::str
 {
     namespace fs = std::filesystem;
     const fs::path base(dir);
-    if (const std::string why = platform::createReportFolder(dir); !why.empty()) {
-        error = "cannot create " + dir + ": " + why;
+    if (!platform::createReportFolder(dir, "cannot create " + dir, error))
         return false;
-    }
     {
         std::ofstream c(base / "feel.csv");
         c << "scene,setting,strokes,seconds,sliding_s,trips,real_cut_trips,false_trips,false_trips_"

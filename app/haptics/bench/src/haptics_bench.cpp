@@ -412,10 +412,8 @@ bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::s
                        std::string &note)
 {
     namespace fs = std::filesystem;
-    if (const std::string why = platform::createReportFolder(dir); !why.empty()) {
-        error = "Failed to create '" + dir + "': " + why;
+    if (!platform::createReportFolder(dir, "Failed to create '" + dir + "'", error))
         return false;
-    }
     const fs::path base(dir);
     {
         std::ofstream csv(base / "haptics_bench.csv");

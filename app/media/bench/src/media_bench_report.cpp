@@ -98,10 +98,8 @@ bool writeReport(const MediaBenchReport &r, const std::string &dir, std::string 
                  std::string &note)
 {
     namespace fs = std::filesystem;
-    if (const std::string why = platform::createReportFolder(dir); !why.empty()) {
-        error = "cannot create " + dir + ": " + why;
+    if (!platform::createReportFolder(dir, "cannot create " + dir, error))
         return false;
-    }
     const fs::path base(dir);
     const std::string throughputCsv = (base / "media_throughput.csv").string();
     const std::string rateCsv = (base / "rate_accuracy.csv").string();

@@ -21,6 +21,13 @@ namespace depthtouch::platform {
 /// denied"), for the caller to put into its own message.
 std::string createReportFolder(const std::string &dir);
 
+/// \brief createReportFolder() for a writer that reports failures through an error text.
+/// \param[in] dir the folder's path.
+/// \param[in] what how the message names the failure, e.g. "cannot create 'out'".
+/// \param[out] error on failure: "WHAT: REASON" (REASON as createReportFolder() gives it).
+/// \return true when the folder exists.
+bool createReportFolder(const std::string &dir, const std::string &what, std::string &error);
+
 /// \brief One text file written from the start ("w": created or truncated). Writes after a
 /// failed open or a failed write are skipped; close() reports either.
 class ReportFile {
