@@ -12,6 +12,7 @@
 namespace depthtouch::hal {
 namespace {
 
+using depthtouch::testing::errcOf;
 using State = Display::State;
 
 class HookOnlyDisplay final : public DisplayBase {
@@ -57,8 +58,6 @@ protected:
         return ok();
     }
 };
-
-using depthtouch::testing::errcOf;
 
 DisplayConfig config640()
 {

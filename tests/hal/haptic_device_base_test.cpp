@@ -15,6 +15,7 @@
 namespace depthtouch::hal {
 namespace {
 
+using depthtouch::testing::errcOf;
 using State = HapticDevice::State;
 
 /// The least a backend writes: the hooks, recording what reaches them.
@@ -63,8 +64,6 @@ protected:
     }
     void zeroForceDevice() noexcept override { ++zeroes; }
 };
-
-using depthtouch::testing::errcOf;
 
 bool sameBits(double a, double b)
 {
