@@ -14,6 +14,7 @@
 #include <xf86drm.h>
 #include <xf86drmMode.h>
 
+#include "depthtouch/drivers/common/poll_input.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/log.h"
 #include "libdrm_mode.h"
@@ -128,9 +129,8 @@ public:
             const platform::Duration left = deadline - clock.now();
             if (left <= platform::Duration::zero())
                 return unexpected(Errc::Timeout, "No page flip event in time");
-            const auto ms = std::chrono::ceil<std::chrono::milliseconds>(left).count();
-            pollfd p{fd_, POLLIN, 0};
-            const int n = ::poll(&p, 1, static_cast<int>(std::min<long long>(ms, 60'000)));
+            short revents = 0;
+            const int n = pollInput(fd_, left, revents);
             if (n < 0) {
                 if (errno == EINTR)
                     continue;
@@ -138,7 +138,7 @@ public:
             }
             if (n == 0)
                 continue; // the deadline check above ends the wait
-            if ((p.revents & (POLLERR | POLLHUP | POLLNVAL)) != 0)
+            if ((revents & (POLLERR | POLLHUP | POLLNVAL)) != 0)
                 return unexpected(Errc::NoDevice, "DRM device hung up", ENODEV);
             errno = 0;
             if (drmHandleEvent(fd_, &ctx) != 0)

@@ -13,6 +13,7 @@
 
 #include <libevdev/libevdev.h>
 
+#include "depthtouch/drivers/common/poll_input.h"
 #include "depthtouch/drivers/evdev/evdev_remote_input.h"
 #include "depthtouch/platform/log.h"
 #include "depthtouch/platform/unique_fd.h"
@@ -83,9 +84,8 @@ private:
         const platform::TimePoint now = clock.now();
         if (now >= until)
             return unexpected(Errc::Timeout, "No key before the deadline");
-        const auto ms = std::chrono::ceil<std::chrono::milliseconds>(until - now).count();
-        pollfd p{fd_.get(), POLLIN, 0};
-        const int n = ::poll(&p, 1, static_cast<int>(std::min<long long>(ms, 60'000)));
+        short revents = 0;
+        const int n = pollInput(fd_.get(), until - now, revents);
         if (n < 0) {
             if (errno == EINTR)
                 return ok();
@@ -98,7 +98,7 @@ private:
                 clock.sleepUntil(until);
             return unexpected(Errc::Timeout, "No key before the deadline");
         }
-        if ((p.revents & (POLLERR | POLLHUP | POLLNVAL)) != 0 && (p.revents & POLLIN) == 0)
+        if ((revents & (POLLERR | POLLHUP | POLLNVAL)) != 0 && (revents & POLLIN) == 0)
             return unexpected(Errc::NoDevice, "Input device unplugged");
         return ok();
     }

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "depthtouch/drivers/common/backend_options.h"
+#include "depthtouch/drivers/common/poll_input.h"
 #include "depthtouch/platform/log.h"
 
 DT_LOG_CATEGORY(Tty)
@@ -253,9 +254,8 @@ Result<hal::KeyEvent> TtyRemoteInput::poll(hal::Deadline until)
             return unexpected(Errc::NoDevice, "The terminal hung up");
         const platform::TimePoint now = clock_.now();
         const auto wait = until > now ? until - now : platform::Duration::zero();
-        const auto ms = std::chrono::ceil<std::chrono::milliseconds>(wait).count();
-        pollfd p{fd_, POLLIN, 0};
-        const int n = ::poll(&p, 1, static_cast<int>(std::min<long long>(ms, 60'000)));
+        short revents = 0;
+        const int n = pollInput(fd_, wait, revents);
         if (n < 0) {
             if (errno == EINTR)
                 continue;
@@ -264,14 +264,14 @@ Result<hal::KeyEvent> TtyRemoteInput::poll(hal::Deadline until)
         if (n == 0) {
             partial_.clear(); // a lone ESC that nothing completed
             if (clock_.now() < until) {
-                if (ms < 60'000)
+                if (std::chrono::ceil<std::chrono::milliseconds>(wait) < kMaxPollWait)
                     clock_.sleepUntil(until); // a clock that is not the real one
                 else
                     continue;
             }
             return unexpected(Errc::Timeout, "No key before the deadline");
         }
-        if ((p.revents & POLLIN) == 0 && (p.revents & (POLLHUP | POLLERR | POLLNVAL)) != 0) {
+        if ((revents & POLLIN) == 0 && (revents & (POLLHUP | POLLERR | POLLNVAL)) != 0) {
             gone_ = true;
             return unexpected(Errc::NoDevice, "The terminal hung up");
         }

@@ -1,0 +1,21 @@
+/// \file
+/// \brief pollInput() (see poll_input.h).
+
+#include "depthtouch/drivers/common/poll_input.h"
+
+#include <poll.h>
+
+#include <algorithm>
+
+namespace depthtouch::drivers {
+
+int pollInput(int fd, platform::Duration wait, short &revents) noexcept
+{
+    const auto ms = std::min(std::chrono::ceil<std::chrono::milliseconds>(wait), kMaxPollWait);
+    pollfd p{fd, POLLIN, 0};
+    const int n = ::poll(&p, 1, static_cast<int>(ms.count()));
+    revents = p.revents;
+    return n;
+}
+
+} // namespace depthtouch::drivers
