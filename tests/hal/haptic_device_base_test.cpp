@@ -15,7 +15,6 @@
 namespace depthtouch::hal {
 namespace {
 
-using depthtouch::testing::errcOf;
 using State = HapticDevice::State;
 
 /// The least a backend writes: the hooks, recording what reaches them.
@@ -64,6 +63,8 @@ protected:
     }
     void zeroForceDevice() noexcept override { ++zeroes; }
 };
+
+using depthtouch::testing::errcOf;
 
 bool sameBits(double a, double b)
 {
