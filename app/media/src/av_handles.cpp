@@ -66,15 +66,8 @@ Result<void> Scaler::convert(const AVFrame &src, std::uint8_t *const dstData[4],
                    dstW, dstH);
             return unexpected(Errc::NotSupported, "No pixel format conversion for this frame");
         }
-        if (full) {
-            int *invTable = nullptr;
-            int *table = nullptr;
-            int srcRange = 0, dstRange = 0, brightness = 0, contrast = 0, saturation = 0;
-            if (sws_getColorspaceDetails(sws_.get(), &invTable, &srcRange, &table, &dstRange,
-                                         &brightness, &contrast, &saturation) >= 0)
-                sws_setColorspaceDetails(sws_.get(), invTable, 1, table, dstRange, brightness,
-                                         contrast, saturation);
-        }
+        if (full)
+            setSwsRanges(sws_.get(), 1);
         srcW_ = src.width;
         srcH_ = src.height;
         srcFmt_ = srcFmt;

@@ -27,6 +27,7 @@ using av::dejpeg;
 using av::FramePtr;
 using av::InputContextPtr;
 using av::PacketPtr;
+using av::setSwsRanges;
 using av::SwsPtr;
 
 struct AvioDeleter {

@@ -55,19 +55,8 @@ Result<void> convert(const std::uint8_t *const srcData[4], const int srcStride[4
                av_get_pix_fmt_name(dstFmt));
         return unexpected(Errc::NotSupported, "No pixel format conversion for this image");
     }
-    if (srcFullRange) {
-        int *invTable = nullptr;
-        int *table = nullptr;
-        int srcRange = 0;
-        int dstRange = 0;
-        int brightness = 0;
-        int contrast = 0;
-        int saturation = 0;
-        if (sws_getColorspaceDetails(sws.get(), &invTable, &srcRange, &table, &dstRange,
-                                     &brightness, &contrast, &saturation) >= 0)
-            sws_setColorspaceDetails(sws.get(), invTable, 1, table, dstRange, brightness, contrast,
-                                     saturation);
-    }
+    if (srcFullRange)
+        detail::setSwsRanges(sws.get(), 1);
     const int lines = sws_scale(sws.get(), srcData, srcStride, 0, height, dstData, dstStride);
     if (lines != height)
         return unexpected(Errc::InvalidArgument, "Failed to convert the image's pixel format");

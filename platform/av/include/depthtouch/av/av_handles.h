@@ -72,4 +72,23 @@ inline AVPixelFormat dejpeg(AVPixelFormat f, bool &fullRange) noexcept
     }
 }
 
+/// \brief Sets the input range of the scaler \a s (1: full "JPEG" range, 0: limited "MPEG"
+/// range) and, when \a dstRange is 0 or 1, its output range (else the output range stays); the
+/// context's other colorspace details stay. Does nothing when libswscale cannot report them.
+inline void setSwsRanges(SwsContext *s, int srcRange, int dstRange = -1) noexcept
+{
+    int *invTable = nullptr;
+    int *table = nullptr;
+    int oldSrcRange = 0;
+    int oldDstRange = 0;
+    int brightness = 0;
+    int contrast = 0;
+    int saturation = 0;
+    if (sws_getColorspaceDetails(s, &invTable, &oldSrcRange, &table, &oldDstRange, &brightness,
+                                 &contrast, &saturation) >= 0)
+        sws_setColorspaceDetails(s, invTable, srcRange, table,
+                                 dstRange < 0 ? oldDstRange : dstRange, brightness, contrast,
+                                 saturation);
+}
+
 } // namespace depthtouch::av
