@@ -134,15 +134,18 @@ std::unique_ptr<V4l2Device> makeProbeKernel(platform::Clock &clock)
 
 class V4l2m2mBackendProbeTest : public ::testing::Test {
 protected:
-    void SetUp() override { previous_ = setV4l2DeviceFactory(&makeProbeKernel); }
+    void SetUp() override
+    {
+        previous_ = setV4l2DeviceFactory(&makeProbeKernel);
+        if (backendNames(BackendKind::VideoDecoder).find("v4l2m2m") == std::string::npos)
+            GTEST_SKIP() << "No v4l2m2m backend in this build (FFmpeg feature off)";
+    }
     void TearDown() override { setV4l2DeviceFactory(previous_); }
     V4l2DeviceFactory previous_ = nullptr;
 };
 
 TEST_F(V4l2m2mBackendProbeTest, aCameraNodeDoesNotMakeV4l2m2mAvailable)
 {
-    if (backendNames(BackendKind::VideoDecoder).find("v4l2m2m") == std::string::npos)
-        GTEST_SKIP() << "No v4l2m2m backend in this build (FFmpeg feature off)";
     // GIVEN only a depth camera node WHEN the v4l2m2m decoder is created THEN it reports that no
     // M2M H.264 decoder exists (it used to be chosen whenever any /dev/video* existed)
     gWithDecoder = false;
@@ -156,8 +159,6 @@ TEST_F(V4l2m2mBackendProbeTest, aCameraNodeDoesNotMakeV4l2m2mAvailable)
 
 TEST_F(V4l2m2mBackendProbeTest, anM2mH264DecoderPassesTheProbe)
 {
-    if (backendNames(BackendKind::VideoDecoder).find("v4l2m2m") == std::string::npos)
-        GTEST_SKIP() << "No v4l2m2m backend in this build (FFmpeg feature off)";
     // GIVEN a fake M2M H.264 decoder WHEN v4l2m2m is created THEN the node probe passes: creation
     // either succeeds or fails further on (libavcodec's h264_v4l2m2m opens real /dev nodes).
     gWithDecoder = true;
