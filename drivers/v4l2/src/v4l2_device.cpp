@@ -113,29 +113,26 @@ int v4l2Ioctl(V4l2Device &dev, int fd, unsigned long request, void *arg) noexcep
     }
 }
 
+namespace {
+
+/// The errno values that mean more than Io to a caller (errcOfErrno()).
+constexpr std::pair<int, Errc> kErrnoCodes[] = {
+    {ENODEV, Errc::NoDevice},         {ENXIO, Errc::NoDevice},
+    {ENOENT, Errc::NoDevice},         {EBUSY, Errc::Busy},
+    {EAGAIN, Errc::Timeout},          {ETIMEDOUT, Errc::Timeout},
+    {EINVAL, Errc::NotSupported},     {ENOTTY, Errc::NotSupported},
+    {EACCES, Errc::PermissionDenied}, {EPERM, Errc::PermissionDenied},
+    {ENOMEM, Errc::OutOfResources},
+};
+
+} // namespace
+
 Errc errcOfErrno(int err) noexcept
 {
-    switch (err) {
-    case ENODEV:
-    case ENXIO:
-    case ENOENT:
-        return Errc::NoDevice;
-    case EBUSY:
-        return Errc::Busy;
-    case EAGAIN:
-    case ETIMEDOUT:
-        return Errc::Timeout;
-    case EINVAL:
-    case ENOTTY:
-        return Errc::NotSupported;
-    case EACCES:
-    case EPERM:
-        return Errc::PermissionDenied;
-    case ENOMEM:
-        return Errc::OutOfResources;
-    default:
-        return Errc::Io;
-    }
+    for (const auto &[code, errc] : kErrnoCodes)
+        if (code == err)
+            return errc;
+    return Errc::Io;
 }
 
 const char *fourccName(std::uint32_t fourcc, char (&out)[5]) noexcept
