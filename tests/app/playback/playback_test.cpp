@@ -20,6 +20,7 @@
 #include "depthtouch/drivers/mock/sim_haptic_device.h"
 #include "depthtouch/playback/playback.h"
 #include "depthtouch/player/state_machine.h"
+#include "sim_player.h"
 
 namespace depthtouch {
 namespace {
@@ -51,23 +52,7 @@ struct Rig {
         pc.haptics.lockMemory = false;
         pc.haptics.renderer.reengage = haptics::Reengage::Ramp;
         pc.maxLateness = maxLateness;
-        playback::PlaybackHal ph;
-        ph.makeSource = [this]() {
-            hal::BackendConfig c;
-            c.clock = &clock;
-            return drivers::MockMediaSource::create(c);
-        };
-        ph.makeDecoder = [this](const hal::StreamInfo &) {
-            hal::BackendConfig c;
-            c.clock = &clock;
-            return drivers::MockVideoDecoder::create(c);
-        };
-        ph.display = display.get();
-        ph.device = device.get();
-        ph.clock = &clock;
-        auto p = playback::Playback::create(pc, ph);
-        EXPECT_TRUE(p) << (p ? "" : p.error().what);
-        playback = std::move(*p);
+        playback = playback_test::mockPlayback(pc, clock, display.get(), device.get());
         player::PlayerSettings settings;
         settings.loop = loop;
         machine = std::make_unique<player::StateMachine>(*playback, settings);

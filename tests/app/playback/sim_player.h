@@ -94,6 +94,39 @@ private:
     double boxDepth_;
 };
 
+/// Takes the mock decoder made for \a stream (mockPlayback()) and returns the decoder to use.
+using DecoderDecoration = std::function<Result<std::unique_ptr<hal::VideoDecoder>>(
+    const hal::StreamInfo &stream, Result<std::unique_ptr<hal::VideoDecoder>> mock)>;
+
+/// Creates a Playback of \a config on \a clock (which must outlive it) with the mock media source
+/// and mock decoders (each passed through \a decorate when set), \a display and \a device (null:
+/// none). A failed creation is a test failure.
+inline std::unique_ptr<playback::Playback>
+mockPlayback(const playback::PlaybackConfig &config, platform::Clock &clock, hal::Display *display,
+             hal::HapticDevice *device, DecoderDecoration decorate = {})
+{
+    playback::PlaybackHal ph;
+    ph.makeSource = [&clock]() {
+        hal::BackendConfig c;
+        c.clock = &clock;
+        return drivers::MockMediaSource::create(c);
+    };
+    ph.makeDecoder = [&clock, decorate = std::move(decorate)](const hal::StreamInfo &stream) {
+        hal::BackendConfig c;
+        c.clock = &clock;
+        auto mock = drivers::MockVideoDecoder::create(c);
+        if (!decorate)
+            return mock;
+        return decorate(stream, std::move(mock));
+    };
+    ph.display = display;
+    ph.device = device;
+    ph.clock = &clock;
+    auto p = playback::Playback::create(config, ph);
+    EXPECT_TRUE(p) << (p ? "" : p.error().what);
+    return std::move(*p);
+}
+
 /// \brief Display, haptic device, Playback and StateMachine on one Blocking ManualClock.
 class SimPlayer {
 public:
@@ -114,29 +147,16 @@ public:
         config.haptics.lockMemory = false;
         config.haptics.policy = platform::SchedPolicy::Other; // simulated time: nothing measured
         const double boxDepth = config.haptics.renderer.box.depth;
-        playback::PlaybackHal ph;
-        ph.makeSource = [this]() {
-            hal::BackendConfig c;
-            c.clock = &clock_;
-            return drivers::MockMediaSource::create(c);
-        };
-        ph.makeDecoder =
-            [this, depth, fps, boxDepth](
-                const hal::StreamInfo &stream) -> Result<std::unique_ptr<hal::VideoDecoder>> {
-            hal::BackendConfig c;
-            c.clock = &clock_;
-            auto inner = drivers::MockVideoDecoder::create(c);
-            if (!inner || !depth || stream.kind != hal::StreamKind::Depth)
-                return inner;
-            return std::unique_ptr<hal::VideoDecoder>(
-                std::make_unique<ScriptedDepthDecoder>(std::move(*inner), depth, fps, boxDepth));
-        };
-        ph.display = display_.get();
-        ph.device = device_.get();
-        ph.clock = &clock_;
-        auto p = playback::Playback::create(config, ph);
-        EXPECT_TRUE(p) << (p ? "" : p.error().what);
-        playback_ = std::move(*p);
+        playback_ = mockPlayback(
+            config, clock_, display_.get(), device_.get(),
+            [depth, fps, boxDepth](const hal::StreamInfo &stream,
+                                   Result<std::unique_ptr<hal::VideoDecoder>> inner)
+                -> Result<std::unique_ptr<hal::VideoDecoder>> {
+                if (!inner || !depth || stream.kind != hal::StreamKind::Depth)
+                    return inner;
+                return std::unique_ptr<hal::VideoDecoder>(std::make_unique<ScriptedDepthDecoder>(
+                    std::move(*inner), depth, fps, boxDepth));
+            });
         machine_ = std::make_unique<player::StateMachine>(*playback_, player::PlayerSettings{});
     }
 
