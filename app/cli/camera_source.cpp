@@ -194,14 +194,8 @@ public:
         auto frame = share_->next(depth_);
         if (!frame)
             return unexpected(frame.error());
-        const media::Image &img = frame->image;
-        if (img.format != format || (width > 0 && width != img.width) ||
-            (height > 0 && height != img.height)) {
-            auto converted = converter_.convert(img, format, width, height);
-            if (!converted)
-                return unexpected(converted.error());
-            frame->image = std::move(*converted);
-        }
+        if (auto conformed = converter_.conform(frame->image, format, width, height); !conformed)
+            return unexpected(conformed.error());
         return frame;
     }
 

@@ -418,16 +418,9 @@ public:
             return unexpected(image.error());
         media::SourceFrame frame;
         frame.pts = static_cast<double>(index_) / spec_.fps;
-        const bool asIs = format == drawn && (width == 0 || width == spec_.width) &&
-                          (height == 0 || height == spec_.height);
-        if (asIs) {
-            frame.image = std::move(*image);
-        } else {
-            auto converted = converter_.convert(*image, format, width, height);
-            if (!converted)
-                return unexpected(converted.error());
-            frame.image = std::move(*converted);
-        }
+        frame.image = std::move(*image);
+        if (auto conformed = converter_.conform(frame.image, format, width, height); !conformed)
+            return unexpected(conformed.error());
         ++index_;
         return frame;
     }

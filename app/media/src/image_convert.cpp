@@ -5,6 +5,7 @@
 #include "depthtouch/media/image_convert.h"
 
 #include <cstring>
+#include <utility>
 
 #include "av_handles.h"
 
@@ -49,6 +50,18 @@ Result<Image> ImageConverter::convert(const Image &src, PixelFormat format, int 
     const int dstStride[4] = {static_cast<int>(out.stride), 0, 0, 0};
     DT_TRY(impl_->scaler.convert(frame, dstData, dstStride, toAvFormat(format), w, h));
     return out;
+}
+
+Result<void> ImageConverter::conform(Image &image, PixelFormat format, int width, int height)
+{
+    if (image.format == format && (width <= 0 || width == image.width) &&
+        (height <= 0 || height == image.height))
+        return {};
+    auto converted = convert(image, format, width, height);
+    if (!converted)
+        return unexpected(converted.error());
+    image = std::move(*converted);
+    return {};
 }
 
 } // namespace depthtouch::media

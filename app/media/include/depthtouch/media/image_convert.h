@@ -29,6 +29,11 @@ public:
     /// NotSupported (libswscale has no such conversion).
     Result<Image> convert(const Image &src, PixelFormat format, int width = 0, int height = 0);
 
+    /// \brief Makes \a image \a format and \a width × \a height pixels (0 or less = its own size)
+    /// in place, converting it (convert()) only when it is not so already.
+    /// \return nothing, or convert()'s error (\a image unchanged).
+    Result<void> conform(Image &image, PixelFormat format, int width = 0, int height = 0);
+
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
