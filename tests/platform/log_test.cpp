@@ -23,6 +23,8 @@ struct Line {
 class CapturedLog {
 public:
     CapturedLog() { setLogSink(&CapturedLog::sink, this); }
+    /// Captures with the threshold at \a level.
+    explicit CapturedLog(LogLevel level) : CapturedLog() { setLogLevel(level); }
     ~CapturedLog()
     {
         setLogSink(nullptr, nullptr);
@@ -54,8 +56,7 @@ void logOnceAtInfo(int value)
 TEST(LogTest, sinkReceivesFormattedLine)
 {
     // GIVEN a capturing sink and every level enabled
-    CapturedLog log;
-    setLogLevel(LogLevel::Debug);
+    CapturedLog log(LogLevel::Debug);
     // WHEN a message is logged
     DT_LOG(Capture, Info, "Failed to open %s: %d", "device", 42);
     // THEN the sink gets one line with level, category and the formatted text
@@ -68,8 +69,7 @@ TEST(LogTest, sinkReceivesFormattedLine)
 TEST(LogTest, levelFiltersMessagesBelowThreshold)
 {
     // GIVEN a capturing sink and the threshold at Warning
-    CapturedLog log;
-    setLogLevel(LogLevel::Warning);
+    CapturedLog log(LogLevel::Warning);
     // WHEN one message per level is logged
     DT_LOG(Capture, Debug, "debug");
     DT_LOG(Capture, Info, "info");
@@ -88,8 +88,7 @@ TEST(LogTest, levelFiltersMessagesBelowThreshold)
 TEST(LogTest, logOnceLogsTheFirstTimeOnly)
 {
     // GIVEN a capturing sink
-    CapturedLog log;
-    setLogLevel(LogLevel::Debug);
+    CapturedLog log(LogLevel::Debug);
     // WHEN a DT_LOG_ONCE line runs five times, twice over
     logOnceInALoop(5);
     logOnceInALoop(5);
@@ -101,8 +100,7 @@ TEST(LogTest, logOnceLogsTheFirstTimeOnly)
 TEST(LogTest, logOnceFilteredOutDoesNotUseUpItsMessage)
 {
     // GIVEN a capturing sink and the threshold above Info
-    CapturedLog log;
-    setLogLevel(LogLevel::Warning);
+    CapturedLog log(LogLevel::Warning);
     // WHEN a DT_LOG_ONCE Info line runs while filtered, then again with Info enabled, twice
     logOnceAtInfo(1);
     setLogLevel(LogLevel::Debug);

@@ -212,6 +212,26 @@ bool dropCapability(int cap)
     return syscall(SYS_capset, &header, data) == 0;
 }
 
+/// Marks a child's outcome skipped, for \a reason.
+void skipChild(ChildOutcome &o, const char *reason)
+{
+    o.skipped = true;
+    copyText(o.skipReason, sizeof(o.skipReason), reason);
+}
+
+/// In a forked child: lowers the limit \a resource (RLIMIT_...) to 0 and drops capability \a cap.
+/// \return false, with the outcome skipped for \a reason, when either fails.
+bool lowerLimitAndDropCapability(ChildOutcome &o, decltype(RLIMIT_RTPRIO) resource, int cap,
+                                 const char *reason)
+{
+    const rlimit none{0, 0};
+    if (setrlimit(resource, &none) != 0 || !dropCapability(cap)) {
+        skipChild(o, reason);
+        return false;
+    }
+    return true;
+}
+
 bool contains(const char *text, const char *needle)
 {
     return std::strstr(text, needle) != nullptr;
@@ -275,18 +295,13 @@ TEST(RealtimeThreadTest, refusedFifoFallsBackOrFailsWhenRequired)
     ChildOutcome out;
     ASSERT_TRUE(runInChild(
         [](ChildOutcome &o) {
-            const rlimit none{0, 0};
-            if (setrlimit(RLIMIT_RTPRIO, &none) != 0 || !dropCapability(CAP_SYS_NICE)) {
-                o.skipped = true;
-                copyText(o.skipReason, sizeof(o.skipReason),
-                         "cannot lower RLIMIT_RTPRIO or drop CAP_SYS_NICE");
+            if (!lowerLimitAndDropCapability(o, RLIMIT_RTPRIO, CAP_SYS_NICE,
+                                             "cannot lower RLIMIT_RTPRIO or drop CAP_SYS_NICE"))
                 return;
-            }
             sched_param param{};
             param.sched_priority = 1;
             if (sched_setscheduler(0, SCHED_FIFO, &param) == 0) {
-                o.skipped = true;
-                copyText(o.skipReason, sizeof(o.skipReason), "the kernel still grants SCHED_FIFO");
+                skipChild(o, "the kernel still grants SCHED_FIFO");
                 return;
             }
             // WHEN the haptic thread starts twice in graceful mode, then once with requireRt
@@ -331,18 +346,13 @@ TEST(RealtimeThreadTest, refusedMemoryLockFallsBackOrFailsWhenRequired)
     ChildOutcome out;
     ASSERT_TRUE(runInChild(
         [](ChildOutcome &o) {
-            const rlimit none{0, 0};
-            if (setrlimit(RLIMIT_MEMLOCK, &none) != 0 || !dropCapability(CAP_IPC_LOCK)) {
-                o.skipped = true;
-                copyText(o.skipReason, sizeof(o.skipReason),
-                         "cannot lower RLIMIT_MEMLOCK or drop CAP_IPC_LOCK");
+            if (!lowerLimitAndDropCapability(o, RLIMIT_MEMLOCK, CAP_IPC_LOCK,
+                                             "cannot lower RLIMIT_MEMLOCK or drop CAP_IPC_LOCK"))
                 return;
-            }
             static char probe[1];
             if (mlock(probe, 1) == 0 || mlockall(MCL_CURRENT) == 0) {
                 munlockall();
-                o.skipped = true;
-                copyText(o.skipReason, sizeof(o.skipReason), "the kernel still grants mlock");
+                skipChild(o, "the kernel still grants mlock");
                 return;
             }
             // WHEN a thread with memory locking starts in graceful mode (the default lock: the
