@@ -6,16 +6,19 @@
 #include <poll.h>
 
 #include <algorithm>
+#include <cerrno>
 
 namespace depthtouch::drivers {
 
-int pollInput(int fd, platform::Duration wait, short &revents) noexcept
+PollResult pollInput(int fd, platform::Duration wait, short &revents) noexcept
 {
     const auto ms = std::min(std::chrono::ceil<std::chrono::milliseconds>(wait), kMaxPollWait);
     pollfd p{fd, POLLIN, 0};
     const int n = ::poll(&p, 1, static_cast<int>(ms.count()));
     revents = p.revents;
-    return n;
+    if (n < 0)
+        return errno == EINTR ? PollResult::Interrupted : PollResult::Failed;
+    return n == 0 ? PollResult::Timeout : PollResult::Ready;
 }
 
 } // namespace depthtouch::drivers

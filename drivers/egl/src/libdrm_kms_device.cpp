@@ -130,14 +130,11 @@ public:
             if (left <= platform::Duration::zero())
                 return unexpected(Errc::Timeout, "No page flip event in time");
             short revents = 0;
-            const int n = pollInput(fd_, left, revents);
-            if (n < 0) {
-                if (errno == EINTR)
-                    continue;
+            const PollResult polled = pollInput(fd_, left, revents);
+            if (polled == PollResult::Failed)
                 return unexpected(Errc::Io, "poll on the DRM device failed", errno);
-            }
-            if (n == 0)
-                continue; // the deadline check above ends the wait
+            if (polled != PollResult::Ready)
+                continue; // interrupted, or timed out: the deadline check above ends the wait
             if ((revents & (POLLERR | POLLHUP | POLLNVAL)) != 0)
                 return unexpected(Errc::NoDevice, "DRM device hung up", ENODEV);
             errno = 0;

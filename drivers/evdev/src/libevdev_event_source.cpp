@@ -85,13 +85,12 @@ private:
         if (now >= until)
             return unexpected(Errc::Timeout, "No key before the deadline");
         short revents = 0;
-        const int n = pollInput(fd_.get(), until - now, revents);
-        if (n < 0) {
-            if (errno == EINTR)
-                return ok();
+        const PollResult polled = pollInput(fd_.get(), until - now, revents);
+        if (polled == PollResult::Interrupted)
+            return ok();
+        if (polled == PollResult::Failed)
             return unexpected(Errc::Io, "poll() on the input device failed", errno);
-        }
-        if (n == 0) {
+        if (polled == PollResult::Timeout) {
             // Timed out in real time; a clock that is not the real one is brought to the
             // deadline so the caller's loop ends.
             if (clock.now() < until)

@@ -255,13 +255,12 @@ Result<hal::KeyEvent> TtyRemoteInput::poll(hal::Deadline until)
         const platform::TimePoint now = clock_.now();
         const auto wait = until > now ? until - now : platform::Duration::zero();
         short revents = 0;
-        const int n = pollInput(fd_, wait, revents);
-        if (n < 0) {
-            if (errno == EINTR)
-                continue;
+        const PollResult polled = pollInput(fd_, wait, revents);
+        if (polled == PollResult::Interrupted)
+            continue;
+        if (polled == PollResult::Failed)
             return unexpected(Errc::Io, "poll() on the terminal failed", errno);
-        }
-        if (n == 0) {
+        if (polled == PollResult::Timeout) {
             partial_.clear(); // a lone ESC that nothing completed
             if (clock_.now() < until) {
                 if (std::chrono::ceil<std::chrono::milliseconds>(wait) < kMaxPollWait)
