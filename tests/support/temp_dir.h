@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// \brief TempDir: a fresh folder under the system's temporary directory, removed with its contents
-/// when the object goes (test support). Header-only.
+/// when the object goes, and TempDirTest, a fixture with one per test (test support). Header-only.
 
 #include <filesystem>
 #include <random>
@@ -47,6 +47,17 @@ public:
 
 private:
     std::filesystem::path dir_;
+};
+
+/// \brief A GoogleTest fixture with a scratch folder per test (tmp_), removed at its end.
+class TempDirTest : public ::testing::Test {
+protected:
+    /// \param prefix start of the folder's name (TempDir).
+    explicit TempDirTest(const std::string &prefix = "dt-test-") : tmp_(prefix) {}
+    /// \return the path of \a name inside the scratch folder.
+    [[nodiscard]] std::string path(const std::string &name) const { return tmp_.path(name); }
+
+    TempDir tmp_;
 };
 
 } // namespace depthtouch::testing

@@ -56,9 +56,8 @@ private:
     SourceInfo info_;
 };
 
-class EncodeFaultsTest : public ::testing::Test {
+class EncodeFaultsTest : public testing::TempDirTest {
 protected:
-    [[nodiscard]] std::string path(const std::string &name) const { return tmp_.path(name); }
     static EncodeOptions options(const std::string &output)
     {
         EncodeOptions o;
@@ -72,7 +71,6 @@ protected:
         struct stat st {};
         return ::stat(p.c_str(), &st) == 0 && (st.st_mode & S_IFMT) == kind;
     }
-    testing::TempDir tmp_;
 };
 
 TEST_F(EncodeFaultsTest, onlyARegularFileOrANewPathIsReplaced)

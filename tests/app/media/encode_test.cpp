@@ -107,9 +107,9 @@ private:
     SourceInfo info_;
 };
 
-class EncodeTest : public ::testing::Test {
+class EncodeTest : public depthtouch::testing::TempDirTest {
 protected:
-    [[nodiscard]] std::string path(const std::string &name) const { return tmp_.path(name); }
+    EncodeTest() : TempDirTest("dt-encode-test-") {}
     [[nodiscard]] std::vector<std::string> files() const
     {
         std::vector<std::string> out;
@@ -125,8 +125,6 @@ protected:
         o.threads = 1;
         return o;
     }
-
-    depthtouch::testing::TempDir tmp_{"dt-encode-test-"};
 };
 
 /// GIVEN color + 8-bit nearness WHEN encoded with lossless depth (H.264 gray, qp 0) into MKV

@@ -21,11 +21,9 @@ using namespace depthtouch::media;
 namespace {
 
 /// A scratch folder per test, removed at its end.
-class ImageIoTest : public ::testing::Test {
+class ImageIoTest : public depthtouch::testing::TempDirTest {
 protected:
-    [[nodiscard]] std::string path(const char *name) const { return tmp_.path(name); }
-
-    depthtouch::testing::TempDir tmp_{"dt-media-test-"};
+    ImageIoTest() : TempDirTest("dt-media-test-") {}
 };
 
 std::vector<char> readBytes(const std::string &p)
