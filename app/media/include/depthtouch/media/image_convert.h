@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "depthtouch/media/image.h"
+#include "depthtouch/platform/macros.h"
 #include "depthtouch/platform/result.h"
 
 namespace depthtouch::media {
@@ -20,8 +21,7 @@ class ImageConverter {
 public:
     ImageConverter();
     ~ImageConverter();
-    ImageConverter(const ImageConverter &) = delete;
-    ImageConverter &operator=(const ImageConverter &) = delete;
+    DT_DISABLE_COPY(ImageConverter)
 
     /// \brief Converts \a src into a tightly packed image of \a format and \a width × \a height
     /// pixels (0 = the source's own size). Same layout and size: a plain copy.

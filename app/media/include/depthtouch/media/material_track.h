@@ -17,6 +17,7 @@
 #include "depthtouch/media/encoder.h"
 #include "depthtouch/media/frame_source.h"
 #include "depthtouch/media/image.h"
+#include "depthtouch/platform/macros.h"
 #include "depthtouch/platform/result.h"
 
 namespace depthtouch::media {
@@ -33,8 +34,7 @@ class MaterialScaler {
 public:
     MaterialScaler();
     ~MaterialScaler();
-    MaterialScaler(const MaterialScaler &) = delete;
-    MaterialScaler &operator=(const MaterialScaler &) = delete;
+    DT_DISABLE_COPY(MaterialScaler)
 
     /// \brief \a src (Rgb24) resized to \a width × \a height pixels; the same size is a copy.
     /// \return the image, tightly packed; Errc::InvalidArgument for an empty or non-Rgb24 \a src
