@@ -96,13 +96,20 @@ RtCase newCase(const char *loop, double rateHz, SchedPolicy policy, platform::Me
     return c;
 }
 
-/// Records on \a c how long it ran since \a begin (s) and what the kernel refused its thread
-/// (SCHED_FIFO, the memory lock) as \a report says.
-void recordRun(RtCase &c, platform::TimePoint begin, const platform::RealtimeThreadReport &report)
+/// Records on \a c how long it ran since \a begin (s), what the kernel refused its thread
+/// (SCHED_FIFO, the memory lock) as \a report says, and its loop's \a cycles, \a overruns, \a wake
+/// latency and \a periodError.
+void recordRun(RtCase &c, platform::TimePoint begin, const platform::RealtimeThreadReport &report,
+               std::uint64_t cycles, std::uint64_t overruns, const LatencySummary &wake,
+               const LatencySummary &periodError)
 {
     c.seconds = platform::toSeconds(SteadyClock::instance().now() - begin);
     c.fifoRefused = report.rtRefused;
     c.lockRefused = !report.memoryLocked && platform::memoryLockingAvailable();
+    c.cycles = cycles;
+    c.overruns = overruns;
+    c.wake = wake;
+    c.periodError = periodError;
 }
 
 RtCase runBare(double rateHz, SchedPolicy policy, platform::MemoryLockMode lock, double seconds)
@@ -142,11 +149,8 @@ RtCase runBare(double rateHz, SchedPolicy policy, platform::MemoryLockMode lock,
     endLock(c);
     thread.requestStop();
     thread.join();
-    recordRun(c, begin, thread.report());
-    c.cycles = timer.cycles();
-    c.overruns = timer.overruns();
-    c.wake = wake->summary();
-    c.periodError = periodError->summary();
+    recordRun(c, begin, thread.report(), timer.cycles(), timer.overruns(), wake->summary(),
+              periodError->summary());
     return c;
 }
 
@@ -211,11 +215,8 @@ Result<RtCase> runTask(double rateHz, SchedPolicy policy, platform::MemoryLockMo
     if (!started)
         return unexpected(started.error());
     const HapticStats s = (*task)->stats();
-    recordRun(c, begin, (*task)->threadReport());
-    c.cycles = s.updates;
-    c.overruns = s.overruns;
-    c.wake = s.wakeLatency;
-    c.periodError = s.periodError;
+    recordRun(c, begin, (*task)->threadReport(), s.updates, s.overruns, s.wakeLatency,
+              s.periodError);
     c.update = s.updateTime;
     return c;
 }
