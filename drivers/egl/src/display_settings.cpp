@@ -16,16 +16,6 @@ namespace {
 constexpr const char *kOptionKeys[] = {"width",         "height",     "refresh",
                                        "swap_interval", "fullscreen", "readback"};
 constexpr std::size_t kOffscreenKeys = 4; ///< The first keys; the rest are window-only.
-constexpr int kMaxPixels = 16384;
-
-bool validSize(int w, int h) noexcept
-{
-    return w >= 1 && h >= 1 && w <= kMaxPixels && h <= kMaxPixels;
-}
-bool validRefresh(double hz) noexcept
-{
-    return hz >= 1.0 && hz <= 1000.0;
-}
 
 /// Parses a positive decimal integer that fills \a text.
 bool parseInt(std::string_view text, int &out) noexcept
@@ -90,8 +80,8 @@ Result<EglDisplaySettings> EglDisplaySettings::parse(hal::OptionList options, bo
     auto h = options.getInt("height", s.height);
     auto hz = options.getDouble("refresh", s.refreshHz);
     auto swap = options.getInt("swap_interval", s.swapInterval);
-    if (!w || !h || !hz || !swap || !validSize(*w, *h) || !validRefresh(*hz) || *swap < 0 ||
-        *swap > 4)
+    if (!w || !h || !hz || !swap || !validDisplaySize(*w, *h) || !validRefreshRate(*hz) ||
+        *swap < 0 || *swap > 4)
         return unexpected(Errc::InvalidArgument, "EGL display option out of range");
     s.width = *w;
     s.height = *h;
@@ -138,10 +128,10 @@ Result<ModeSpec> parseModeSpec(std::string_view text)
     const std::string_view hs =
         size.substr(x + 1, at == std::string_view::npos ? std::string_view::npos : at - x - 1);
     if (!parseInt(ws, spec.width) || !parseInt(hs, spec.height) ||
-        !validSize(spec.width, spec.height))
+        !validDisplaySize(spec.width, spec.height))
         return unexpected(Errc::NotSupported, "Mode is [CONNECTOR:]WIDTHxHEIGHT[@HZ]");
     if (at != std::string_view::npos &&
-        (!parseRate(size.substr(at + 1), spec.refreshHz) || !validRefresh(spec.refreshHz)))
+        (!parseRate(size.substr(at + 1), spec.refreshHz) || !validRefreshRate(spec.refreshHz)))
         return unexpected(Errc::NotSupported, "Mode refresh rate must be 1..1000 Hz");
     return spec;
 }
@@ -160,7 +150,7 @@ Result<EglDisplaySettings> resolveWindowConfig(const hal::DisplayConfig &cfg,
     out.refreshHz = cfg.refreshHz > 0.0
                         ? cfg.refreshHz
                         : (spec->refreshHz > 0.0 ? spec->refreshHz : settings.refreshHz);
-    if (!validSize(out.width, out.height) || !validRefresh(out.refreshHz))
+    if (!validDisplaySize(out.width, out.height) || !validRefreshRate(out.refreshHz))
         return unexpected(Errc::InvalidArgument, "Display size or refresh out of range");
     return out;
 }

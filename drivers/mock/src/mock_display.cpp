@@ -12,22 +12,14 @@ namespace depthtouch::drivers {
 
 namespace {
 
-constexpr int kMaxPixels = 16384;
-
 constexpr NumericOption<MockDisplaySettings> kOptions[] = {
-    {.key = "width", .integer = &MockDisplaySettings::width, .min = 1, .max = kMaxPixels},
-    {.key = "height", .integer = &MockDisplaySettings::height, .min = 1, .max = kMaxPixels},
-    {.key = "refresh", .real = &MockDisplaySettings::refreshHz, .min = 1.0, .max = 1000.0},
+    {.key = "width", .integer = &MockDisplaySettings::width, .min = 1, .max = kMaxDisplayPixels},
+    {.key = "height", .integer = &MockDisplaySettings::height, .min = 1, .max = kMaxDisplayPixels},
+    {.key = "refresh",
+     .real = &MockDisplaySettings::refreshHz,
+     .min = kMinRefreshHz,
+     .max = kMaxRefreshHz},
 };
-
-bool validSize(int w, int h) noexcept
-{
-    return w >= 1 && h >= 1 && w <= kMaxPixels && h <= kMaxPixels;
-}
-bool validRefresh(double hz) noexcept
-{
-    return hz >= 1.0 && hz <= 1000.0;
-}
 
 } // namespace
 
@@ -76,8 +68,8 @@ Result<void> MockDisplay::openDevice(const hal::DisplayConfig &cfg)
         width = w;
         height = h;
     }
-    if (!validSize(width, height) || !validRefresh(hz) || cfg.width < 0 || cfg.height < 0 ||
-        cfg.refreshHz < 0.0)
+    if (!validDisplaySize(width, height) || !validRefreshRate(hz) || cfg.width < 0 ||
+        cfg.height < 0 || cfg.refreshHz < 0.0)
         return unexpected(Errc::InvalidArgument, "Display size or refresh out of range");
     size_ = {width, height};
     refreshHz_ = hz;

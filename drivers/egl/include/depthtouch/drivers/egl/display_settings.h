@@ -11,6 +11,7 @@
 #include <string>
 #include <string_view>
 
+#include "depthtouch/drivers/common/display_mode.h"
 #include "depthtouch/drivers/common/vsync_pacer.h"
 #include "depthtouch/hal/backends.h"
 #include "depthtouch/hal/display.h"
@@ -21,10 +22,7 @@ namespace depthtouch::drivers {
 
 /// \brief Backend options of the headless and X11 displays, used for the zero fields of
 /// DisplayConfig.
-struct EglDisplaySettings {
-    int width = 1280;        ///< Pixels (option `width`).
-    int height = 720;        ///< Pixels (option `height`).
-    double refreshHz = 60.0; ///< Hertz (option `refresh`).
+struct EglDisplaySettings : DisplayModeSettings {
     int swapInterval = 1;    ///< X11 only: eglSwapInterval (option `swap_interval`, 0..4).
     bool fullscreen = false; ///< X11 only: a window covering the screen (option `fullscreen`).
     bool readback = false;   ///< X11 only: keep a copy of each presented frame for readPixels()

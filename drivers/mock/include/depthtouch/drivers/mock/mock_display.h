@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "depthtouch/drivers/common/display_mode.h"
 #include "depthtouch/drivers/common/vsync_pacer.h"
 #include "depthtouch/hal/backends.h"
 #include "depthtouch/hal/display_base.h"
@@ -23,11 +24,7 @@
 namespace depthtouch::drivers {
 
 /// \brief Defaults used for the zero fields of DisplayConfig.
-struct MockDisplaySettings {
-    int width = 1280;        ///< Pixels (option `width`).
-    int height = 720;        ///< Pixels (option `height`).
-    double refreshHz = 60.0; ///< Hertz (option `refresh`).
-
+struct MockDisplaySettings : DisplayModeSettings {
     /// \return the settings from \a options over the defaults; InvalidArgument for an unknown key
     /// or a value out of range (1..16384 pixels, 1..1000 Hz).
     static Result<MockDisplaySettings> parse(hal::OptionList options);
