@@ -107,6 +107,24 @@ private:
     SourceInfo info_;
 };
 
+/// makeColor() frames: \a count of them (-1: endless) at \a fps.
+TestSource colorSource(int count, double fps = 30.0)
+{
+    return TestSource([](int i) { return makeColor(i); }, count, fps, PixelFormat::Rgb24);
+}
+
+/// makeNearness8() frames: \a count of them (-1: endless) at \a fps.
+TestSource nearness8Source(int count, double fps = 30.0)
+{
+    return TestSource([](int i) { return makeNearness8(i); }, count, fps, PixelFormat::Gray8);
+}
+
+/// makeMetric() frames: \a count of them (-1: endless) at \a fps.
+TestSource metricSource(int count, double fps = 30.0)
+{
+    return TestSource([](int i) { return makeMetric(i); }, count, fps, PixelFormat::Gray16);
+}
+
 class EncodeTest : public depthtouch::testing::TempDirTest {
 protected:
     EncodeTest() : TempDirTest("dt-encode-test-") {}
@@ -132,8 +150,8 @@ protected:
 TEST_F(EncodeTest, lossless8BitDepthRoundTripsBitExact)
 {
     constexpr int kFrames = 8;
-    TestSource color([](int i) { return makeColor(i); }, kFrames, 30.0, PixelFormat::Rgb24);
-    TestSource depthSrc([](int i) { return makeNearness8(i); }, kFrames, 30.0, PixelFormat::Gray8);
+    TestSource color = colorSource(kFrames);
+    TestSource depthSrc = nearness8Source(kFrames);
     EncodeOptions o = fastOptions(path("out.mkv"));
     o.depthLossless = true;
     auto s = encodeStreams(color, depthSrc, o);
@@ -175,8 +193,8 @@ TEST_F(EncodeTest, lossless8BitDepthRoundTripsBitExact)
 /// the lossless levels as they are (luma plane, no range conversion) and the color source color.
 TEST_F(EncodeTest, encodedFileReadsBackAsSourcesByTitle)
 {
-    TestSource color([](int i) { return makeColor(i); }, 3, 30.0, PixelFormat::Rgb24);
-    TestSource depthSrc([](int i) { return makeNearness8(i); }, 3, 30.0, PixelFormat::Gray8);
+    TestSource color = colorSource(3);
+    TestSource depthSrc = nearness8Source(3);
     EncodeOptions o = fastOptions(path("out.mkv"));
     o.depthLossless = true;
     ASSERT_TRUE(encodeStreams(color, depthSrc, o));
@@ -206,8 +224,8 @@ TEST_F(EncodeTest, encodedFileReadsBackAsSourcesByTitle)
 /// THEN its planes and mapping travel into the new file's tags.
 TEST_F(EncodeTest, transcodeKeepsDepthTags)
 {
-    TestSource color([](int i) { return makeColor(i); }, 3, 30.0, PixelFormat::Rgb24);
-    TestSource depthSrc([](int i) { return makeMetric(i); }, 3, 30.0, PixelFormat::Gray16);
+    TestSource color = colorSource(3);
+    TestSource depthSrc = metricSource(3);
     EncodeOptions o = fastOptions(path("first.mkv"));
     o.range = depth::DepthRange{0.75, 3.5};
     o.mapping = depth::DepthMapping::Linear;
@@ -234,8 +252,8 @@ TEST_F(EncodeTest, transcodeKeepsDepthTags)
 TEST_F(EncodeTest, ffv1Gray16RoundTripsBitExact)
 {
     constexpr int kFrames = 4;
-    TestSource color([](int i) { return makeColor(i); }, kFrames, 25.0, PixelFormat::Rgb24);
-    TestSource depthSrc([](int i) { return makeMetric(i); }, kFrames, 25.0, PixelFormat::Gray16);
+    TestSource color = colorSource(kFrames, 25.0);
+    TestSource depthSrc = metricSource(kFrames, 25.0);
     EncodeOptions o = fastOptions(path("out.mkv"));
     o.depthCodec = VideoCodec::Ffv1Gray16;
     o.range = depth::DepthRange{0.5, 4.0};
@@ -275,8 +293,8 @@ TEST_F(EncodeTest, ffv1Gray16RoundTripsBitExact)
 TEST_F(EncodeTest, gray10LosslessInMp4)
 {
     constexpr int kFrames = 3;
-    TestSource color([](int i) { return makeColor(i); }, kFrames, 30.0, PixelFormat::Rgb24);
-    TestSource depthSrc([](int i) { return makeNearness8(i); }, kFrames, 30.0, PixelFormat::Gray8);
+    TestSource color = colorSource(kFrames);
+    TestSource depthSrc = nearness8Source(kFrames);
     EncodeOptions o = fastOptions(path("out.mp4"));
     o.depthCodec = VideoCodec::H264Gray10;
     o.depthLossless = true;
@@ -326,7 +344,7 @@ TEST_F(EncodeTest, metricHolesAreFilledNeverFar)
             }
         return img;
     };
-    TestSource color([](int i) { return makeColor(i); }, 2, 30.0, PixelFormat::Rgb24);
+    TestSource color = colorSource(2);
     TestSource depthSrc(holes, 2, 30.0, PixelFormat::Gray16);
     EncodeOptions o = fastOptions(path("out.mkv"));
     o.depthLossless = true;
@@ -350,7 +368,7 @@ TEST_F(EncodeTest, metricHolesAreFilledNeverFar)
 /// range, once: the tags hold exactly the planes reported, the same for the whole file.
 TEST_F(EncodeTest, robustRangeDecidedOnceFromFirstFrames)
 {
-    TestSource color([](int i) { return makeColor(i); }, 8, 30.0, PixelFormat::Rgb24);
+    TestSource color = colorSource(8);
     // Later frames move far away; the planes must not follow them.
     TestSource depthSrc(
         [](int i) {
@@ -383,7 +401,7 @@ TEST_F(EncodeTest, robustRangeDecidedOnceFromFirstFrames)
 /// warning.
 TEST_F(EncodeTest, depthOfAnotherSizeIsResampledWithWarning)
 {
-    TestSource color([](int i) { return makeColor(i); }, 3, 30.0, PixelFormat::Rgb24);
+    TestSource color = colorSource(3);
     TestSource depthSrc([](int i) { return makeNearness8(i, kW / 2, kH / 2); }, 3, 30.0,
                         PixelFormat::Gray8);
     std::vector<std::string> warnings;
@@ -405,7 +423,7 @@ TEST_F(EncodeTest, depthOfAnotherSizeIsResampledWithWarning)
 TEST_F(EncodeTest, stopFlagLeavesCompletePlayableFile)
 {
     TestSource color([](int i) { return makeColor(i % 20); }, -1, 30.0, PixelFormat::Rgb24);
-    TestSource depthSrc([](int i) { return makeNearness8(i); }, -1, 30.0, PixelFormat::Gray8);
+    TestSource depthSrc = nearness8Source(-1);
     std::atomic<bool> stop{false};
     EncodeCallbacks cb;
     cb.progress = [&stop](const EncodeProgress &p) {
@@ -429,7 +447,7 @@ TEST_F(EncodeTest, frameAndDurationLimits)
 {
     for (const bool byFrames : {true, false}) {
         TestSource color([](int i) { return makeColor(i % 20); }, -1, 30.0, PixelFormat::Rgb24);
-        TestSource depthSrc([](int i) { return makeNearness8(i); }, -1, 30.0, PixelFormat::Gray8);
+        TestSource depthSrc = nearness8Source(-1);
         EncodeOptions o = fastOptions(path(byFrames ? "f.mkv" : "d.mkv"));
         if (byFrames)
             o.maxFrames = 4;
@@ -446,8 +464,8 @@ TEST_F(EncodeTest, frameAndDurationLimits)
 /// service name.
 TEST_F(EncodeTest, mpegTsKeepsPairedPtsAndTags)
 {
-    TestSource color([](int i) { return makeColor(i); }, 5, 30.0, PixelFormat::Rgb24);
-    TestSource depthSrc([](int i) { return makeNearness8(i); }, 5, 30.0, PixelFormat::Gray8);
+    TestSource color = colorSource(5);
+    TestSource depthSrc = nearness8Source(5);
     auto s = encodeStreams(color, depthSrc, fastOptions(path("out.ts")));
     ASSERT_TRUE(s) << s.error().what;
     const auto rb = test::readBack(path("out.ts"), {0}, false);
@@ -491,14 +509,14 @@ TEST_F(EncodeTest, badOptionsAreRefused)
 /// file (not even a temporary one).
 TEST_F(EncodeTest, unwritableOutputAndEncoderErrorsLeaveNoFile)
 {
-    TestSource color([](int i) { return makeColor(i); }, 3, 30.0, PixelFormat::Rgb24);
-    TestSource depthSrc([](int i) { return makeNearness8(i); }, 3, 30.0, PixelFormat::Gray8);
+    TestSource color = colorSource(3);
+    TestSource depthSrc = nearness8Source(3);
     auto s = encodeStreams(color, depthSrc, fastOptions(path("missing/dir/out.mkv")));
     ASSERT_FALSE(s);
     EXPECT_EQ(s.error().code, Errc::InvalidArgument); // a bad output path, not a lost output
 
-    TestSource color2([](int i) { return makeColor(i); }, 3, 30.0, PixelFormat::Rgb24);
-    TestSource depth2([](int i) { return makeNearness8(i); }, 3, 30.0, PixelFormat::Gray8);
+    TestSource color2 = colorSource(3);
+    TestSource depth2 = nearness8Source(3);
     EncodeOptions o = fastOptions(path("out.mkv"));
     o.preset = "turbo";
     auto s2 = encodeStreams(color2, depth2, o);
@@ -508,13 +526,13 @@ TEST_F(EncodeTest, unwritableOutputAndEncoderErrorsLeaveNoFile)
 
     // An odd color size cannot be 4:2:0.
     TestSource color3([](int i) { return makeColor(i, 63, 48); }, 3, 30.0, PixelFormat::Rgb24);
-    TestSource depth3([](int i) { return makeNearness8(i); }, 3, 30.0, PixelFormat::Gray8);
+    TestSource depth3 = nearness8Source(3);
     auto s3 = encodeStreams(color3, depth3, fastOptions(path("out.mkv")));
     ASSERT_FALSE(s3);
     EXPECT_TRUE(files().empty());
 
     // Metric depth with no valid sample at all.
-    TestSource color4([](int i) { return makeColor(i); }, 3, 30.0, PixelFormat::Rgb24);
+    TestSource color4 = colorSource(3);
     TestSource depth4([](int) { return Image::make(kW, kH, PixelFormat::Gray16); }, 3, 30.0,
                       PixelFormat::Gray16);
     auto s4 = encodeStreams(color4, depth4, fastOptions(path("out.mkv")));
@@ -538,8 +556,8 @@ TEST_F(EncodeTest, streamsToUdpUrl)
     const int rcvbuf = 4 << 20;
     ::setsockopt(sock, SOL_SOCKET, SO_RCVBUF, &rcvbuf, sizeof rcvbuf);
 
-    TestSource color([](int i) { return makeColor(i); }, 3, 30.0, PixelFormat::Rgb24);
-    TestSource depthSrc([](int i) { return makeNearness8(i); }, 3, 30.0, PixelFormat::Gray8);
+    TestSource color = colorSource(3);
+    TestSource depthSrc = nearness8Source(3);
     const std::string url = "udp://127.0.0.1:" + std::to_string(ntohs(addr.sin_port));
     EXPECT_EQ(containerForOutput(url), Container::MpegTs);
     auto s = encodeStreams(color, depthSrc, fastOptions(url));
