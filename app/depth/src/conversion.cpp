@@ -3,6 +3,8 @@
 
 #include "depthtouch/depth/conversion.h"
 
+#include "depthtouch/depth/fill.h"
+#include "depthtouch/depth/resample.h"
 #include "depthtouch/platform/enum_names.h"
 
 #include <algorithm>
@@ -135,6 +137,26 @@ Plane<std::uint16_t> quantize(const Plane<float> &nearness, double vmax)
         out.samples[i] = static_cast<std::uint16_t>(v);
     }
     return out;
+}
+
+Result<Plane<std::uint16_t>> metricToLevels8(const Plane<std::uint16_t> &raw,
+                                             std::optional<DepthRange> &range, int width,
+                                             int height)
+{
+    ConvertOptions co;
+    co.range = range;
+    auto nf = metricToNearness(raw, co);
+    if (!nf)
+        return unexpected(nf.error());
+    range = nf->range;
+    if (nf->invalidCount > 0) {
+        if (auto filled = fillInvalid(nf->nearness, nf->valid); !filled)
+            return unexpected(filled.error());
+    }
+    auto resampled = resample(nf->nearness, width, height);
+    if (!resampled)
+        return unexpected(resampled.error());
+    return quantize(*resampled, 255.0);
 }
 
 } // namespace depthtouch::depth

@@ -6,8 +6,6 @@
 #include <optional>
 
 #include "depthtouch/depth/conversion.h"
-#include "depthtouch/depth/fill.h"
-#include "depthtouch/depth/resample.h"
 #include "depthtouch/haptics/height_field.h"
 #include "depthtouch/media/frame_source.h"
 #include "depthtouch/media/image_io.h"
@@ -66,24 +64,14 @@ Result<Clip> loadKitchenClip(const std::string &sceneDir, int frames, int width,
         auto raw = readImage(framePath(sceneDir, n, "depth.png"), PixelFormat::Gray16);
         if (!raw)
             return unexpected(raw.error());
-        depth::ConvertOptions co;
-        co.range = range; // the first frame's robust range for the whole clip, as the sender does
-        auto nf = depth::metricToNearness(toPlane16(*raw), co);
-        if (!nf)
-            return unexpected(nf.error());
-        range = nf->range;
-        if (nf->invalidCount > 0) {
-            if (auto filled = depth::fillInvalid(nf->nearness, nf->valid); !filled)
-                return unexpected(filled.error());
-        }
-        auto resampled = depth::resample(nf->nearness, width, height);
-        if (!resampled)
-            return unexpected(resampled.error());
-        const depth::Plane<std::uint16_t> q = depth::quantize(*resampled, 255.0);
+        // The first frame's robust range for the whole clip, as the sender does.
+        auto q = depth::metricToLevels8(toPlane16(*raw), range, width, height);
+        if (!q)
+            return unexpected(q.error());
         Image near = Image::make(width, height, PixelFormat::Gray8);
         for (int y = 0; y < height; ++y)
             for (int x = 0; x < width; ++x)
-                near.row(y)[x] = static_cast<std::uint8_t>(q.at(x, y));
+                near.row(y)[x] = static_cast<std::uint8_t>(q->at(x, y));
         clip.colors.push_back(std::move(color->image));
         clip.nearnesses.push_back(std::move(near));
     }

@@ -116,4 +116,14 @@ NearnessFrame nearnessFrom8Bit(const Plane<std::uint8_t> &nearness8);
 /// \param[in] vmax 255 or 65535 (values above 65535 are clamped to 65535)
 Plane<std::uint16_t> quantize(const Plane<float> &nearness, double vmax);
 
+/// \brief One frame of a metric depth clip as 8-bit nearness levels of another size:
+/// metricToNearness() (default options but \a range), holes filled (fillInvalid()), resampled to
+/// \a width × \a height (resample(), edge-aware) and rounded (quantize(), vmax 255).
+/// \param[in,out] range the planes to convert with, or nullopt for the frame's robust range; set to
+/// the planes used, so that the next frame of the clip keeps them.
+/// \return the W×H levels (0..255), or the error of the first step that failed.
+Result<Plane<std::uint16_t>> metricToLevels8(const Plane<std::uint16_t> &raw,
+                                             std::optional<DepthRange> &range, int width,
+                                             int height);
+
 } // namespace depthtouch::depth
