@@ -2,9 +2,9 @@
 /// \brief The GL Presenter (builds with EGL/GLES): the stereo renderer draws each frame into a
 /// render target, blitted to the display's frame buffer; on a GPU every depth sample is drawn from
 /// a static grid unless its draw time is over the target, otherwise (and on a software rasterizer)
-/// the quadtree's level of detail follows the draw times; the prep worker makes upcoming frames'
-/// meshes ahead; the recorder and the snapshotter
-/// read the target back. See presenter.h.
+/// the level of detail (a step per tile from precomputed index ranges, MeshMode::Blocks) follows
+/// the draw times; the prep worker makes upcoming frames' meshes ahead; the recorder and the
+/// snapshotter read the target back. See presenter.h.
 
 #include <algorithm>
 #include <array>
@@ -119,11 +119,13 @@ private:
     void setOverlays(const DrawInput &in);
     void output(hal::Size size, DrawOutcome &out);
     /// The full-resolution mesh's draw times: after kTrialFrames, a median over the level of
-    /// detail's target hands the mesh to the quadtree and its controller.
+    /// detail's target hands the mesh to the level of detail (Blocks) and its controller.
     void checkFullResolution(double drawSeconds);
 
     /// Draw times of the full-resolution mesh looked at (each waited for with glFinish).
     static constexpr int kTrialFrames = 9;
+    /// The level of detail's mean error budget, nearness levels (MeshOptions::tolerance).
+    static constexpr double kBlocksTolerance = 0.4;
 
     const PlaybackConfig &config_;
     hal::Display &display_;
@@ -208,7 +210,8 @@ void GlPresenter::ensureRendererAndTarget(hal::Size size)
             DT_LOG_ONCE(Playback, Error, "Cannot create the stereo renderer: %s", r.error().what);
         // On a GPU the surface the eyes see is the surface the hand touches: every depth sample,
         // from a static grid (no CPU work per frame), unless its draw time says otherwise
-        // (checkFullResolution()). A software rasterizer keeps the quadtree and its controller.
+        // (checkFullResolution()). A software rasterizer keeps the level of detail (Blocks) and
+        // its controller.
         if (renderer_ && config_.meshStep == 0 && config_.lodTarget > 0.0 &&
             !renderer_->rendersInSoftware()) {
             ro.mesh.mode = render::MeshMode::Fixed;
@@ -242,10 +245,14 @@ void GlPresenter::applyOptions(player::StereoMode mode, const haptics::DepthFram
     // Without a fixed step the level of detail is a step per tile drawn from precomputed index
     // ranges (MeshMode::Blocks): its choice costs the prep thread a pass over the probes and the
     // tiles, not over the triangles.
+    // Its probes read the mean error about a tenth under the drawn surface's (the kitchen at
+    // 720x486: 0.40 gives 0.485 levels measured, 0.50 gives 0.53), so it aims at 0.40 for a
+    // surface within half a nearness level (docs/benchmarks.md, bench render blocks-*).
     if (config_.meshStep == 0 && ro.mesh.mode != render::MeshMode::Fixed) {
         ro.mesh.mode = render::MeshMode::Blocks;
         ro.mesh.tileSize = render::blockTileFor(dv.width, dv.height);
         ro.mesh.maxStep = ro.mesh.tileSize;
+        ro.mesh.tolerance = kBlocksTolerance;
     }
     if (config_.lodTarget > 0.0 && config_.meshStep == 0 &&
         ro.mesh.mode == render::MeshMode::Blocks) {

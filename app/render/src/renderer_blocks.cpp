@@ -5,9 +5,12 @@
 #include <cstring>
 #include <vector>
 
+#include "depthtouch/platform/log.h"
 #include "depthtouch/render/renderer.h"
 #include "gl_program.h"
 #include "renderer_gl.h"
+
+DT_LOG_CATEGORY(Render)
 
 // MeshMode::Blocks in StereoRenderer: the static buffer of every tile at every step (made once per
 // depth frame size), the frame's tile steps and runs, and the draw of the surface's triangles.
@@ -35,6 +38,7 @@ void StereoRenderer::uploadBlockSteps()
     g.blockSlot = slot;
     if (!holds(b)) {
         // Made once per depth frame size: every tile at every step, then the CPU copy freed.
+        const platform::TimePoint t0 = clock_.now();
         b.ranges.build(mesh_.columns(), mesh_.rows(), options_.mesh.tileSize, levelCount,
                        b.scratch);
         if (b.buffer == 0)
@@ -44,6 +48,12 @@ void StereoRenderer::uploadBlockSteps()
                      static_cast<GLsizeiptr>(b.scratch.size() * sizeof(std::uint32_t)),
                      b.scratch.data(), GL_STATIC_DRAW);
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
+        DT_LOG(Render, Info,
+               "Blocks index buffer for %dx%d depth (tile %d, %d steps): %.1f MB made and "
+               "uploaded in %.1f ms",
+               mesh_.columns(), mesh_.rows(), options_.mesh.tileSize, levelCount,
+               static_cast<double>(b.scratch.size() * sizeof(std::uint32_t)) / 1e6,
+               platform::toSeconds(clock_.now() - t0) * 1e3);
         b.scratch.clear();
         b.scratch.shrink_to_fit();
         const auto tiles = static_cast<std::size_t>(b.ranges.tilesX * b.ranges.tilesY);

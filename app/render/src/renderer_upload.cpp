@@ -4,8 +4,11 @@
 #include <utility>
 #include <vector>
 
+#include "depthtouch/platform/log.h"
 #include "depthtouch/render/renderer.h"
 #include "renderer_gl.h"
+
+DT_LOG_CATEGORY(Render)
 
 // StereoRenderer's uploads: the depth frame (mesh, texture, index buffer) and the colour frame
 // (Y'CbCr planes, or RGBA converted on the CPU), with their stage times.
@@ -102,6 +105,7 @@ Result<void> StereoRenderer::setStaticDepth(const scene::DepthFrameView &depth,
     }
     gl::StaticGrid &grid = g.grids[slot];
     if (!grid.holds(depth.width, depth.height, m)) {
+        const platform::TimePoint t0 = clock_.now();
         if (auto r = grid.mesh.build(depth, m); !r)
             return r;
         if (grid.buffer == 0)
@@ -117,6 +121,11 @@ Result<void> StereoRenderer::setStaticDepth(const scene::DepthFrameView &depth,
         grid.height = depth.height;
         grid.step = m.fixedStep;
         grid.tileSize = m.tileSize;
+        DT_LOG(Render, Info,
+               "Static grid for %dx%d depth at step %d: %.1f MB made and uploaded in %.1f ms",
+               depth.width, depth.height, m.fixedStep,
+               static_cast<double>(idx.size() * sizeof(std::uint32_t)) / 1e6,
+               platform::toSeconds(clock_.now() - t0) * 1e3);
     }
     grid.lastUse = ++g.gridUses;
     return uploadDepth(depth, start, static_cast<int>(slot));

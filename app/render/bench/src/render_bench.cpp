@@ -83,11 +83,11 @@ std::vector<BenchConfig> defaultConfigs()
             out.push_back({name, m});
         }
     for (const int thousands : {3, 6, 9}) {
-        MeshOptions m; // blocks-0.50 under a cell budget
+        MeshOptions m; // blocks-0.40 (the player's tolerance) under a cell budget
         m.mode = MeshMode::Blocks;
         m.tileSize = 8;
         m.maxStep = 8;
-        m.tolerance = 0.5;
+        m.tolerance = 0.4;
         m.maxBlocks = static_cast<std::size_t>(thousands) * 1000;
         char name[32];
         std::snprintf(name, sizeof name, "blocks-budget-%dk", thousands);
@@ -101,7 +101,7 @@ std::vector<BenchConfig> depthSizeConfigs()
     std::vector<BenchConfig> out;
     for (BenchConfig &c : defaultConfigs())
         if (c.name == "full" || c.name == "step4" || c.name == "quadtree-0.50" ||
-            c.name == "budget-6k" || c.name == "blocks-0.50")
+            c.name == "budget-6k" || c.name == "blocks-0.40")
             out.push_back(std::move(c));
     return out;
 }

@@ -52,7 +52,7 @@ void writeFpsChart(const std::vector<BenchRow> &rows, const std::filesystem::pat
     static constexpr const char *kTitles[] = {
         "fixed step (full, 2, 4, 8)",      "adaptive per tile (tolerance)",
         "quadtree (mean error budget)",    "quadtree-0.50 under a block budget",
-        "blocks: a step per tile, ranges", "blocks-0.50 under a cell budget"};
+        "blocks: a step per tile, ranges", "blocks-0.40 under a cell budget"};
     static constexpr const char *kColours[] = {"#1f77b4", "#2ca02c", "#d62728",
                                                "#9467bd", "#ff7f0e", "#8c564b"};
     // Labels placed apart per family: right, left, above, below the point.
