@@ -37,14 +37,21 @@ using test::timeOf;
 // 6. Pop-through hunt
 // -----------------------------------------------------------------------------------------------
 
+/// The frames a hunt strokes (RandomWaves makes them): size and storage format.
+struct HuntFrames {
+    int w = 96;
+    int h = 72;
+    SampleFormat format = SampleFormat::Gray16;
+};
+
 /// Random travelling waves (separable, so a frame costs O(terms·(W+H)) trig calls); the height of
 /// any vertex changes by at most 3 mm per frame. Rough: wavelengths from 15 mm, curvature radii
 /// down to 1 mm. Smooth: total curvature bounded so radii stay above 8 mm (more than the 5 mm the
 /// strokes press in), the surfaces a viewer strokes in practice.
 class RandomWaves {
 public:
-    RandomWaves(std::uint64_t seed, int w, int h, double fps, bool smooth, SampleFormat format)
-        : w_(w), h_(h), fps_(fps), format_(format)
+    RandomWaves(std::uint64_t seed, const HuntFrames &frames, double fps, bool smooth)
+        : w_(frames.w), h_(frames.h), fps_(fps), format_(frames.format)
     {
         std::mt19937_64 rng(seed);
         std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -111,21 +118,13 @@ struct HuntResult {
     int releases = 0;
 };
 
-/// The frames a hunt strokes: size and storage format.
-struct HuntFrames {
-    int w = 96;
-    int h = 72;
-    SampleFormat format = SampleFormat::Gray16;
-};
-
 HuntResult hunt(const RendererConfig &cfg, int surfaces, int strokesPerSurface, std::uint64_t seed,
                 bool smooth, HuntFrames frames = {})
 {
     HuntResult res;
     const double fps = 30.0;
     for (int sIdx = 0; sIdx < surfaces; ++sIdx) {
-        const RandomWaves waves(seed + static_cast<std::uint64_t>(sIdx), frames.w, frames.h, fps,
-                                smooth, frames.format);
+        const RandomWaves waves(seed + static_cast<std::uint64_t>(sIdx), frames, fps, smooth);
         SyntheticVideo video(kBox, fps, [&waves](int i) { return waves.frame(i); });
         ProxyGraphRenderer r(cfg);
         std::mt19937_64 rng(seed * 31 + static_cast<std::uint64_t>(sIdx));
