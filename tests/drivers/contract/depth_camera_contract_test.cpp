@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "contract_support.h"
+#include "support/camera_config.h"
 
 namespace depthtouch::contract {
 namespace {
@@ -36,16 +37,7 @@ protected:
             if (m.depthFormat != hal::PixelFormat::Unknown &&
                 (best == nullptr || m.width * m.height < best->width * best->height))
                 best = &m;
-        hal::CameraConfig cfg;
-        if (best == nullptr)
-            return cfg;
-        cfg.width = best->width;
-        cfg.height = best->height;
-        cfg.fps = best->fps;
-        cfg.depthFormat = best->depthFormat;
-        cfg.color = best->colorFormat != hal::PixelFormat::Unknown;
-        cfg.colorFormat = best->colorFormat;
-        return cfg;
+        return best == nullptr ? hal::CameraConfig{} : testing::configOf(*best);
     }
     void startOrFail()
     {

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "depthtouch/drivers/backends.h"
+#include "support/camera_config.h"
 
 namespace depthtouch::drivers {
 namespace {
@@ -26,14 +27,7 @@ TEST(V4l2HardwareTest, capturesFromTheConnectedCamera)
         if (best == nullptr || m.width * m.height < best->width * best->height)
             best = &m;
     ASSERT_NE(best, nullptr);
-    hal::CameraConfig c;
-    c.width = best->width;
-    c.height = best->height;
-    c.fps = best->fps;
-    c.depthFormat = best->depthFormat;
-    c.color = best->colorFormat != hal::PixelFormat::Unknown;
-    c.colorFormat = best->colorFormat;
-    ASSERT_TRUE((*cam)->configure(c));
+    ASSERT_TRUE((*cam)->configure(depthtouch::testing::configOf(*best)));
     ASSERT_TRUE((*cam)->start());
     std::uint64_t last = 0;
     for (int i = 0; i < 10; ++i) {
