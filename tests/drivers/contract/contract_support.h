@@ -202,6 +202,16 @@ protected:
     std::unique_ptr<I> backend_;
 };
 
+/// \brief A BackendContractTest whose TearDown() closes the backend, when one was created.
+template <class I, class H> class ClosingContractTest : public BackendContractTest<I, H> {
+protected:
+    void TearDown() override
+    {
+        if (this->backend_)
+            this->backend_->close();
+    }
+};
+
 /// Instantiates the contract suite \a suite over every backend of \a table (a BackendTable).
 #define DT_CONTRACT_ON_ALL_BACKENDS(suite, table)                                                  \
     INSTANTIATE_TEST_SUITE_P(Backends, suite, ::testing::ValuesIn(namesOf(table)),                 \

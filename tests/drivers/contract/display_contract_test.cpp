@@ -9,16 +9,11 @@ namespace {
 using hal::Display;
 using State = Display::State;
 
-class DisplayContractTest : public BackendContractTest<Display, DisplayHarness> {
+class DisplayContractTest : public ClosingContractTest<Display, DisplayHarness> {
 protected:
     void SetUp() override
     {
         createBackend(displayHarness, "display", "Display", drivers::createDisplay);
-    }
-    void TearDown() override
-    {
-        if (display_)
-            display_->close();
     }
     void openOrFail(const hal::DisplayConfig &cfg = {}) { ASSERT_TRUE(display_->open(cfg)); }
 

@@ -40,16 +40,11 @@ double expectedMaxForce(const std::string &backend)
     return std::nan("");
 }
 
-class HapticDeviceContractTest : public BackendContractTest<HapticDevice, HapticHarness> {
+class HapticDeviceContractTest : public ClosingContractTest<HapticDevice, HapticHarness> {
 protected:
     void SetUp() override
     {
         createBackend(hapticHarness, "haptic device", "Haptic device", drivers::createHapticDevice);
-    }
-    void TearDown() override
-    {
-        if (dev_)
-            dev_->close();
     }
     void openOrFail() { ASSERT_TRUE(dev_->open()); }
 
