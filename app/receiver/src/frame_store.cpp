@@ -6,22 +6,20 @@ namespace depthtouch::receiver {
 
 FrameHandle FrameHandle::share() const noexcept
 {
-    if (store_ == nullptr)
+    if (!ref_)
         return {};
-    store_->addRef(slot_);
-    return FrameHandle(store_, slot_);
+    ref_.owner()->addRef(ref_.slot());
+    return FrameHandle(ref_.owner(), ref_.slot());
 }
 
 void FrameHandle::reset() noexcept
 {
-    if (store_ != nullptr)
-        store_->release(slot_);
-    store_ = nullptr;
+    ref_.reset();
 }
 
 const StoredFrame *FrameHandle::get() const noexcept
 {
-    return store_ != nullptr ? &store_->slots_[slot_].frame : nullptr;
+    return ref_ ? &ref_.owner()->slots_[ref_.slot()].frame : nullptr;
 }
 
 FrameStore::~FrameStore()

@@ -15,6 +15,7 @@
 #include "depthtouch/platform/assert.h"
 #include "depthtouch/platform/cache_line.h"
 #include "depthtouch/platform/macros.h"
+#include "depthtouch/platform/slot_ref.h"
 
 namespace depthtouch::platform {
 
@@ -41,62 +42,38 @@ public:
     public:
         /// An empty handle.
         Handle() noexcept = default;
-        Handle(Handle &&other) noexcept : pool_(other.pool_), index_(other.index_)
-        {
-            other.pool_ = nullptr;
-        }
-        Handle &operator=(Handle &&other) noexcept
-        {
-            if (this != &other) {
-                reset();
-                pool_ = other.pool_;
-                index_ = other.index_;
-                other.pool_ = nullptr;
-            }
-            return *this;
-        }
-        Handle(const Handle &) = delete;
-        Handle &operator=(const Handle &) = delete;
-        ~Handle() { reset(); }
 
         /// Returns the object to the pool now; the handle becomes empty. No-op on an empty handle.
-        void reset() noexcept
-        {
-            if (pool_ != nullptr) {
-                pool_->release(index_);
-                pool_ = nullptr;
-            }
-        }
+        void reset() noexcept { ref_.reset(); }
 
         /// \return true when the handle holds an object.
-        explicit operator bool() const noexcept { return pool_ != nullptr; }
+        explicit operator bool() const noexcept { return static_cast<bool>(ref_); }
         /// \return the object, or nullptr for an empty handle.
         [[nodiscard]] T *get() const noexcept
         {
-            return pool_ != nullptr ? &pool_->objects_[index_] : nullptr;
+            return ref_ ? &ref_.owner()->objects_[ref_.slot()] : nullptr;
         }
         /// \pre the handle is not empty.
         T &operator*() const noexcept
         {
-            DT_DEBUG_ASSERT(pool_ != nullptr);
-            return pool_->objects_[index_];
+            DT_DEBUG_ASSERT(ref_.owner() != nullptr);
+            return ref_.owner()->objects_[ref_.slot()];
         }
         /// \pre the handle is not empty.
         T *operator->() const noexcept
         {
-            DT_DEBUG_ASSERT(pool_ != nullptr);
-            return &pool_->objects_[index_];
+            DT_DEBUG_ASSERT(ref_.owner() != nullptr);
+            return &ref_.owner()->objects_[ref_.slot()];
         }
         /// \return the object's slot in the pool, 0 .. capacity() - 1. \pre the handle is not
         /// empty.
-        [[nodiscard]] std::uint32_t index() const noexcept { return index_; }
+        [[nodiscard]] std::uint32_t index() const noexcept { return ref_.slot(); }
 
     private:
         friend class FixedPool;
-        Handle(FixedPool *pool, std::uint32_t index) noexcept : pool_(pool), index_(index) {}
+        Handle(FixedPool *pool, std::uint32_t index) noexcept : ref_(pool, index) {}
 
-        FixedPool *pool_ = nullptr;
-        std::uint32_t index_ = 0;
+        SlotRef<FixedPool> ref_; ///< Move-only: so is the handle.
     };
 
     /// \brief Allocates and default-constructs \a capacity objects (the only allocation of the
@@ -156,6 +133,7 @@ public:
 
 private:
     DT_DISABLE_COPY_AND_MOVE(FixedPool)
+    friend class SlotRef<FixedPool>; // calls release()
 
     static constexpr std::uint32_t kNil = 0xFFFFFFFFu;
 

@@ -24,6 +24,7 @@
 #include "depthtouch/hal/types.h"
 #include "depthtouch/platform/macros.h"
 #include "depthtouch/platform/result.h"
+#include "depthtouch/platform/slot_ref.h"
 
 namespace depthtouch::receiver {
 
@@ -53,30 +54,13 @@ class FrameStore;
 class FrameHandle {
 public:
     FrameHandle() noexcept = default;
-    FrameHandle(FrameHandle &&other) noexcept : store_(other.store_), slot_(other.slot_)
-    {
-        other.store_ = nullptr;
-    }
-    FrameHandle &operator=(FrameHandle &&other) noexcept
-    {
-        if (this != &other) {
-            reset();
-            store_ = other.store_;
-            slot_ = other.slot_;
-            other.store_ = nullptr;
-        }
-        return *this;
-    }
-    FrameHandle(const FrameHandle &) = delete;
-    FrameHandle &operator=(const FrameHandle &) = delete;
-    ~FrameHandle() { reset(); }
 
     /// \return another reference to the same frame (empty when this one is empty). Lock-free.
     [[nodiscard]] FrameHandle share() const noexcept;
     /// Drops this reference; the handle becomes empty. Lock-free.
     void reset() noexcept;
 
-    explicit operator bool() const noexcept { return store_ != nullptr; }
+    explicit operator bool() const noexcept { return static_cast<bool>(ref_); }
     /// \return the frame, or nullptr when empty.
     [[nodiscard]] const StoredFrame *get() const noexcept;
     /// \pre not empty.
@@ -86,17 +70,10 @@ public:
 
 private:
     friend class FrameStore;
-    FrameHandle(FrameStore *store, std::uint32_t slot) noexcept : store_(store), slot_(slot) {}
+    FrameHandle(FrameStore *store, std::uint32_t slot) noexcept : ref_(store, slot) {}
 
-    FrameStore *store_ = nullptr;
-    std::uint32_t slot_ = 0;
+    platform::SlotRef<FrameStore> ref_; ///< Move-only: so is the handle.
 };
-
-/// \return another reference to \a h (PtsPairer payload sharing).
-inline FrameHandle sharePayload(const FrameHandle &h) noexcept
-{
-    return h.share();
-}
 
 /// \brief A fixed number of frames of one format and size (see the file comment).
 class FrameStore {
@@ -124,6 +101,7 @@ public:
 private:
     DT_DISABLE_COPY_AND_MOVE(FrameStore)
     friend class FrameHandle;
+    friend class platform::SlotRef<FrameStore>; // calls release()
 
     struct Slot {
         std::unique_ptr<std::uint8_t[]> pixels;
@@ -140,5 +118,11 @@ private:
     std::size_t frameBytes_ = 0;
     std::atomic<int> inUse_{0};
 };
+
+/// \return another reference to \a h (PtsPairer payload sharing).
+inline FrameHandle sharePayload(const FrameHandle &h) noexcept
+{
+    return h.share();
+}
 
 } // namespace depthtouch::receiver
