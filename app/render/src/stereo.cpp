@@ -1,26 +1,25 @@
 #include "depthtouch/render/stereo.h"
 
 #include <algorithm>
+#include <array>
+#include <cstddef>
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "depthtouch/platform/enum_names.h"
+
 namespace depthtouch::render {
+
+namespace {
+/// The names of StereoMode's enumerators, in declaration order.
+constexpr std::array<const char *, 5> kStereoModeNames = {"mono", "sbs", "tab", "anaglyph",
+                                                          "interleaved"};
+static_assert(static_cast<std::size_t>(StereoMode::RowInterleaved) + 1 == kStereoModeNames.size());
+} // namespace
 
 const char *stereoModeName(StereoMode mode) noexcept
 {
-    switch (mode) {
-    case StereoMode::Mono:
-        return "mono";
-    case StereoMode::SideBySide:
-        return "sbs";
-    case StereoMode::TopAndBottom:
-        return "tab";
-    case StereoMode::Anaglyph:
-        return "anaglyph";
-    case StereoMode::RowInterleaved:
-        return "interleaved";
-    }
-    return "unknown";
+    return platform::enumName(mode, kStereoModeNames, "unknown");
 }
 
 std::optional<StereoMode> parseStereoMode(std::string_view name) noexcept

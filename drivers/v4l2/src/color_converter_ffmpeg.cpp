@@ -104,17 +104,7 @@ private:
         if (s == nullptr)
             return false;
         if (fullRange != fullRange_) {
-            int *inv = nullptr;
-            int *tab = nullptr;
-            int srcRange = 0;
-            int dstRange = 0;
-            int brightness = 0;
-            int contrast = 0;
-            int saturation = 0;
-            if (sws_getColorspaceDetails(s, &inv, &srcRange, &tab, &dstRange, &brightness,
-                                         &contrast, &saturation) >= 0)
-                sws_setColorspaceDetails(s, inv, fullRange ? 1 : 0, tab, 1, brightness, contrast,
-                                         saturation);
+            av::setSwsRanges(s, fullRange ? 1 : 0, 1);
             fullRange_ = fullRange;
         }
         return true;

@@ -76,18 +76,11 @@ Result<std::vector<RgbdFrame>> loadKitchenFrames(const std::string &sceneDir, in
         auto dimg = media::readImage(dpath, media::PixelFormat::Gray16);
         if (!dimg)
             return unexpected(dimg.error());
-        depth::ConvertOptions co;
-        co.range = range; // planes of the first frame for the whole sequence
-        auto nf = depth::metricToNearness(media::toPlane16(*dimg), co);
-        if (!nf)
-            return unexpected(nf.error());
-        range = nf->range;
-        if (auto filled = depth::fillInvalid(nf->nearness, nf->valid); !filled)
-            return unexpected(filled.error());
-        auto resampled = depth::resample(nf->nearness, width, height);
-        if (!resampled)
-            return unexpected(resampled.error());
-        const depth::Plane<std::uint16_t> q = depth::quantize(*resampled, 255.0);
+        // The planes of the first frame for the whole sequence.
+        auto levels = depth::metricToLevels8(media::toPlane16(*dimg), range, width, height);
+        if (!levels)
+            return unexpected(levels.error());
+        const depth::Plane<std::uint16_t> &q = *levels;
         RgbdFrame f;
         f.width = width;
         f.height = height;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "depthtouch/platform/gnuplot.h"
+#include "depthtouch/platform/report_file.h"
 #include "depthtouch/render/render_bench.h"
 
 namespace depthtouch::render::bench {
@@ -229,12 +230,8 @@ bool writeBenchOutputs(const std::vector<BenchRow> &rows, const std::string &dir
                        std::string &error, std::string &note)
 {
     namespace fs = std::filesystem;
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec) {
-        error = "cannot create " + dir + ": " + ec.message();
+    if (!platform::createReportFolder(dir, "cannot create " + dir, error))
         return false;
-    }
     const fs::path base(dir);
     {
         std::ofstream csv(base / "render_bench.csv");
