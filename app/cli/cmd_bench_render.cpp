@@ -75,27 +75,11 @@ const OptionRow<BenchRenderOptions> kBenchRenderRows[] = {
     {"no-stages", &BenchRenderOptions::stages, "Skip the per-stage breakdown pass", {}, kNegated},
 };
 
-int runBenchRender(const BenchRenderOptions &o)
-{
 #if DT_CLI_HAVE_RENDER
-    using namespace depthtouch::render;
-    if (o.frames < 5 || o.width < 16 || o.height < 16 || o.depthWidth < 2 || o.depthHeight < 2) {
-        std::fprintf(stderr, "depthtouch bench render: --frames must be >= 5 and sizes positive\n");
-        return kExitBadInput;
-    }
-    std::string data = o.data;
-    if (data.empty()) {
-        const char *env = std::getenv("DT_SHARED_DATA");
-        data = env != nullptr ? env : "../shared/data";
-    }
-    const std::string scene = data + "/rgbd-7scenes-redkitchen";
-    if (!std::filesystem::exists(scene + "/frame-000000.depth.png")) {
-        std::fprintf(
-            stderr,
-            "depthtouch bench render: no 7-Scenes frames in %s (use --data or DT_SHARED_DATA)\n",
-            scene.c_str());
-        return kExitBadInput;
-    }
+/// Opens the display backend \a o.display at the output size with its GLES context current.
+/// \return kExitOk, or the exit code of the failure (its line printed).
+int openGlDisplay(const BenchRenderOptions &o, std::unique_ptr<hal::Display> &out)
+{
     hal::SelectionReport report;
     auto display = drivers::createDisplay(o.display, hal::BackendConfig{}, &report);
     if (!display) {
@@ -122,31 +106,39 @@ int runBenchRender(const BenchRenderOptions &o)
                      r.error().what);
         return kExitFailure;
     }
-    auto configs = bench::selectConfigs(o.only);
-    if (!configs) {
-        std::fprintf(stderr, "depthtouch bench render: --only: %s\n", configs.error().what);
-        return kExitBadInput;
-    }
-    std::vector<std::pair<int, int>> sizes;
+    out = std::move(*display);
+    return kExitOk;
+}
+
+/// The depth sizes to run: --depth-sizes, else --depth-width × --depth-height.
+/// \return false (its line printed) for a size that is not WxH.
+bool depthSizesOf(const BenchRenderOptions &o, std::vector<std::pair<int, int>> &sizes)
+{
     for (const std::string &text : o.depthSizes) {
         int w = 0;
         int h = 0;
-        if (!bench::parseDepthSize(text, w, h)) {
+        if (!render::bench::parseDepthSize(text, w, h)) {
             std::fprintf(stderr, "depthtouch bench render: --depth-sizes: '%s' is not WxH\n",
                          text.c_str());
-            return kExitBadInput;
+            return false;
         }
         sizes.emplace_back(w, h);
     }
-    const bool withHead = !sizes.empty();
     if (sizes.empty())
         sizes.emplace_back(o.depthWidth, o.depthHeight);
-    bench::BenchOptions bo;
-    bo.outputWidth = o.width;
-    bo.outputHeight = o.height;
-    bo.presentFramebuffer = (*display)->framebuffer();
-    std::vector<bench::BenchRow> rows;
-    std::vector<bench::RgbdFrame> firstFrames;
+    return true;
+}
+
+/// Runs every depth size in \a sizes (the kitchen from \a scene, and the synthetic head when
+/// \a withHead) into \a rows; the first size's kitchen frames into \a firstFrames.
+/// \return kExitOk, or the exit code of the failure (its line printed).
+int measureSizes(const BenchRenderOptions &o, const std::string &scene,
+                 const std::vector<std::pair<int, int>> &sizes, bool withHead,
+                 const std::vector<render::bench::BenchConfig> &configs,
+                 render::bench::BenchOptions &bo, std::vector<render::bench::BenchRow> &rows,
+                 std::vector<render::bench::RgbdFrame> &firstFrames)
+{
+    namespace bench = render::bench;
     for (std::size_t si = 0; si < sizes.size(); ++si) {
         const auto [w, h] = sizes[si];
         // Fewer frames of a larger size: about the memory of 60 frames of 720×486.
@@ -165,7 +157,7 @@ int runBenchRender(const BenchRenderOptions &o)
             }
             const bool first = si == 0 && kitchen;
             bo.source = source;
-            bo.configs = first || !o.only.empty() ? *configs : bench::depthSizeConfigs();
+            bo.configs = first || !o.only.empty() ? configs : bench::depthSizeConfigs();
             bo.framesPerConfig = first ? o.frames : std::max(5, o.frames / 4);
             bo.warmup = first ? 5 : 2;
             bo.stageBreakdown = first && o.stages;
@@ -179,6 +171,52 @@ int runBenchRender(const BenchRenderOptions &o)
                 firstFrames = std::move(*frames);
         }
     }
+    return kExitOk;
+}
+#endif
+
+int runBenchRender(const BenchRenderOptions &o)
+{
+#if DT_CLI_HAVE_RENDER
+    using namespace depthtouch::render;
+    if (o.frames < 5 || o.width < 16 || o.height < 16 || o.depthWidth < 2 || o.depthHeight < 2) {
+        std::fprintf(stderr, "depthtouch bench render: --frames must be >= 5 and sizes positive\n");
+        return kExitBadInput;
+    }
+    std::string data = o.data;
+    if (data.empty()) {
+        const char *env = std::getenv("DT_SHARED_DATA");
+        data = env != nullptr ? env : "../shared/data";
+    }
+    const std::string scene = data + "/rgbd-7scenes-redkitchen";
+    if (!std::filesystem::exists(scene + "/frame-000000.depth.png")) {
+        std::fprintf(
+            stderr,
+            "depthtouch bench render: no 7-Scenes frames in %s (use --data or DT_SHARED_DATA)\n",
+            scene.c_str());
+        return kExitBadInput;
+    }
+    std::unique_ptr<hal::Display> display;
+    if (const int code = openGlDisplay(o, display); code != kExitOk)
+        return code;
+    auto configs = bench::selectConfigs(o.only);
+    if (!configs) {
+        std::fprintf(stderr, "depthtouch bench render: --only: %s\n", configs.error().what);
+        return kExitBadInput;
+    }
+    std::vector<std::pair<int, int>> sizes;
+    if (!depthSizesOf(o, sizes))
+        return kExitBadInput;
+    bench::BenchOptions bo;
+    bo.outputWidth = o.width;
+    bo.outputHeight = o.height;
+    bo.presentFramebuffer = display->framebuffer();
+    std::vector<bench::BenchRow> rows;
+    std::vector<bench::RgbdFrame> firstFrames;
+    if (const int code =
+            measureSizes(o, scene, sizes, !o.depthSizes.empty(), *configs, bo, rows, firstFrames);
+        code != kExitOk)
+        return code;
     bo.stageBreakdown = o.stages;
     bo.framesPerConfig = o.frames;
     bench::printTable(rows, bo);
@@ -198,7 +236,7 @@ int runBenchRender(const BenchRenderOptions &o)
     std::printf("wrote %s/{render_bench.csv,fps_vs_error.png,stages.png,cpu_vs_depth_size.png,"
                 "kitchen_sbs.png}\n",
                 o.out.c_str());
-    (*display)->close();
+    display->close();
     return kExitOk;
 #else
     (void)o;

@@ -46,6 +46,69 @@ bool endsWith(const std::string &s, const char *suffix)
     return true;
 }
 
+/// The libavcodec encoder of a VideoCodec: its name, its pixel format and the frames it takes.
+struct CodecChoice {
+    AVPixelFormat pixFmt = AV_PIX_FMT_YUV420P;
+    const char *name = "libx264";
+    PixelFormat input = PixelFormat::Rgb24;
+};
+
+/// \return the encoder for \a config.codec in \a container, or InvalidArgument (odd 4:2:0 size),
+/// NotSupported (FFV1 outside MKV).
+Result<CodecChoice> codecFor(const VideoEncoderConfig &config, Container container)
+{
+    CodecChoice out;
+    switch (config.codec) {
+    case VideoCodec::H264Yuv420p:
+        if (config.width % 2 != 0 || config.height % 2 != 0)
+            return unexpected(Errc::InvalidArgument, "4:2:0 color needs an even width and height");
+        out.input = PixelFormat::Rgb24;
+        break;
+    case VideoCodec::H264Gray:
+        out.pixFmt = AV_PIX_FMT_GRAY8;
+        out.input = PixelFormat::Gray8;
+        break;
+    case VideoCodec::H264Gray10:
+        out.pixFmt = AV_PIX_FMT_GRAY10;
+        out.input = PixelFormat::Gray16;
+        break;
+    case VideoCodec::Ffv1Gray16:
+        out.pixFmt = AV_PIX_FMT_GRAY16;
+        out.name = "ffv1";
+        out.input = PixelFormat::Gray16;
+        if (container != Container::Matroska)
+            return unexpected(Errc::NotSupported, "FFV1 depth needs an MKV output");
+        break;
+    case VideoCodec::H264Rgb:
+        out.pixFmt = AV_PIX_FMT_RGB24;
+        out.name = "libx264rgb";
+        out.input = PixelFormat::Rgb24;
+        break;
+    }
+    return out;
+}
+
+/// The encoder's private options (x264: preset, CRF or lossless qp 0; FFV1: level 3, slice CRCs,
+/// intra only), and the GOP into \a c. The caller frees the dictionary.
+AVDictionary *encoderOptions(const VideoEncoderConfig &config, AVCodecContext &c)
+{
+    AVDictionary *opts = nullptr;
+    if (config.codec == VideoCodec::Ffv1Gray16) {
+        av_dict_set(&opts, "level", "3", 0);
+        av_dict_set(&opts, "slicecrc", "1", 0);
+        c.gop_size = 1;
+    } else {
+        av_dict_set(&opts, "preset", config.preset.c_str(), 0);
+        if (config.gop > 0)
+            c.gop_size = config.gop;
+        if (config.lossless || config.codec == VideoCodec::H264Rgb)
+            av_dict_set(&opts, "qp", "0", 0);
+        else
+            av_dict_set(&opts, "crf", std::to_string(config.crf).c_str(), 0);
+    }
+    return opts;
+}
+
 } // namespace
 
 bool isEncodableSize(int width, int height) noexcept
@@ -373,35 +436,12 @@ Result<std::unique_ptr<VideoEncoder>> VideoEncoder::create(const VideoEncoderCon
     e.config = config;
     e.muxer = &m;
 
-    AVPixelFormat pixFmt = AV_PIX_FMT_YUV420P;
-    const char *codecName = "libx264";
-    switch (config.codec) {
-    case VideoCodec::H264Yuv420p:
-        if (config.width % 2 != 0 || config.height % 2 != 0)
-            return unexpected(Errc::InvalidArgument, "4:2:0 color needs an even width and height");
-        e.input = PixelFormat::Rgb24;
-        break;
-    case VideoCodec::H264Gray:
-        pixFmt = AV_PIX_FMT_GRAY8;
-        e.input = PixelFormat::Gray8;
-        break;
-    case VideoCodec::H264Gray10:
-        pixFmt = AV_PIX_FMT_GRAY10;
-        e.input = PixelFormat::Gray16;
-        break;
-    case VideoCodec::Ffv1Gray16:
-        pixFmt = AV_PIX_FMT_GRAY16;
-        codecName = "ffv1";
-        e.input = PixelFormat::Gray16;
-        if (m.container != Container::Matroska)
-            return unexpected(Errc::NotSupported, "FFV1 depth needs an MKV output");
-        break;
-    case VideoCodec::H264Rgb:
-        pixFmt = AV_PIX_FMT_RGB24;
-        codecName = "libx264rgb";
-        e.input = PixelFormat::Rgb24;
-        break;
-    }
+    auto choice = codecFor(config, m.container);
+    if (!choice)
+        return unexpected(choice.error());
+    const AVPixelFormat pixFmt = choice->pixFmt;
+    const char *codecName = choice->name;
+    e.input = choice->input;
     const AVCodec *codec = avcodec_find_encoder_by_name(codecName);
     if (codec == nullptr)
         return unexpected(Errc::NotSupported,
@@ -434,20 +474,7 @@ Result<std::unique_ptr<VideoEncoder>> VideoEncoder::create(const VideoEncoderCon
     if ((m.fmt->oformat->flags & AVFMT_GLOBALHEADER) != 0)
         c.flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
 
-    AVDictionary *opts = nullptr;
-    if (config.codec == VideoCodec::Ffv1Gray16) {
-        av_dict_set(&opts, "level", "3", 0);
-        av_dict_set(&opts, "slicecrc", "1", 0);
-        c.gop_size = 1;
-    } else {
-        av_dict_set(&opts, "preset", config.preset.c_str(), 0);
-        if (config.gop > 0)
-            c.gop_size = config.gop;
-        if (config.lossless || config.codec == VideoCodec::H264Rgb)
-            av_dict_set(&opts, "qp", "0", 0);
-        else
-            av_dict_set(&opts, "crf", std::to_string(config.crf).c_str(), 0);
-    }
+    AVDictionary *opts = encoderOptions(config, c);
     const int ret = avcodec_open2(e.codec.get(), codec, &opts);
     av_dict_free(&opts);
     if (ret < 0) {

@@ -408,13 +408,12 @@ BenchReport runHapticsBenchmark(const BenchOptions &options)
     return report;
 }
 
-bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::string &error,
-                       std::string &note)
+namespace {
+
+/// haptics_bench.csv: a row per renderer, size and motion. \return false (\a error set) when the
+/// file could not be written.
+bool writeRowsCsv(const BenchReport &report, const std::filesystem::path &base, std::string &error)
 {
-    namespace fs = std::filesystem;
-    if (!platform::createReportFolder(dir, "Failed to create '" + dir + "'", error))
-        return false;
-    const fs::path base(dir);
     {
         std::ofstream csv(base / "haptics_bench.csv");
         csv << "method,width,height,motion,updates,median_ns,p99_ns,p999_ns,max_ns,frame_cost_ns,"
@@ -436,6 +435,14 @@ bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::s
             return false;
         }
     }
+    return true;
+}
+
+/// haptics_bench.json: the rows and the goal figures. \return false (\a error set) when the file
+/// could not be written.
+bool writeReportJson(const BenchReport &report, const std::filesystem::path &base,
+                     std::string &error)
+{
     {
         // NaN (not measured) and −infinity (no power at all) have no JSON number: null.
         auto number = [](double v) {
@@ -500,6 +507,12 @@ bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::s
             return false;
         }
     }
+    return true;
+}
+
+/// psd.csv, speed_vs_accuracy.dat and the gnuplot script charts.gp of the two charts.
+void writeChartData(const BenchReport &report, const std::filesystem::path &base)
+{
     {
         std::ofstream p(base / "psd.csv");
         p << "hz,interpolated_db,sample_and_hold_db\n";
@@ -546,6 +559,19 @@ bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::s
           << "' using 1:3 with lines title 'sample-and-hold', '' using 1:2 with lines title "
              "'interpolated (Eq. 1)'\n";
     }
+}
+
+} // namespace
+
+bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::string &error,
+                       std::string &note)
+{
+    if (!platform::createReportFolder(dir, "Failed to create '" + dir + "'", error))
+        return false;
+    const std::filesystem::path base(dir);
+    if (!writeRowsCsv(report, base, error) || !writeReportJson(report, base, error))
+        return false;
+    writeChartData(report, base);
     // Charts with gnuplot, when it is installed.
     const platform::PlotStatus plot = platform::runGnuplot((base / "charts.gp").string());
     if (plot != platform::PlotStatus::Drawn)
