@@ -113,6 +113,8 @@ private:
     haptics::DepthFrameView depthOf(const DrawInput &in);
     void ensureRendererAndTarget(hal::Size size);
     void applyOptions(player::StereoMode mode, const haptics::DepthFrameView &dv, double period);
+    /// The level of detail's mesh for W×H depth into \a m (mode, tile, tolerance).
+    static void toBlocks(render::MeshOptions &m, int width, int height);
     bool setPicture(const receiver::StoredFrame *depthFrame,
                     const receiver::StoredFrame *colorFrame, const haptics::DepthFrameView &dv,
                     DrawOutcome &out);
@@ -143,6 +145,8 @@ private:
     double lodTargetSeconds_ = 0.0;            // the draw-time goal (a share of the refresh)
     bool fullResolution_ = false;              // a GPU draws every depth sample (no --mesh-step)
     std::array<double, kTrialFrames> trial_{}; // the full mesh's draw times, s
+    int depthWidth_ = 0;                       // the last depth frame drawn, samples
+    int depthHeight_ = 0;
     int trialCount_ = 0;
     std::uint64_t osdSeen_ = ~std::uint64_t{0};
     platform::TimePoint osdSince_{};
@@ -229,6 +233,17 @@ void GlPresenter::ensureRendererAndTarget(hal::Size size)
     }
 }
 
+/// Blocks' probes read the mean error about a tenth under the drawn surface's (the kitchen at
+/// 720x486: 0.40 gives 0.485 levels measured, 0.50 gives 0.53), so it aims at 0.40 for a surface
+/// within half a nearness level (docs/benchmarks.md, bench render blocks-*).
+void GlPresenter::toBlocks(render::MeshOptions &m, int width, int height)
+{
+    m.mode = render::MeshMode::Blocks;
+    m.tileSize = render::blockTileFor(width, height);
+    m.maxStep = m.tileSize;
+    m.tolerance = kBlocksTolerance;
+}
+
 /// The stereo mode, and the mesh budget of the level of detail (created with the first frame).
 void GlPresenter::applyOptions(player::StereoMode mode, const haptics::DepthFrameView &dv,
                                double period)
@@ -245,15 +260,10 @@ void GlPresenter::applyOptions(player::StereoMode mode, const haptics::DepthFram
     // Without a fixed step the level of detail is a step per tile drawn from precomputed index
     // ranges (MeshMode::Blocks): its choice costs the prep thread a pass over the probes and the
     // tiles, not over the triangles.
-    // Its probes read the mean error about a tenth under the drawn surface's (the kitchen at
-    // 720x486: 0.40 gives 0.485 levels measured, 0.50 gives 0.53), so it aims at 0.40 for a
-    // surface within half a nearness level (docs/benchmarks.md, bench render blocks-*).
-    if (config_.meshStep == 0 && ro.mesh.mode != render::MeshMode::Fixed) {
-        ro.mesh.mode = render::MeshMode::Blocks;
-        ro.mesh.tileSize = render::blockTileFor(dv.width, dv.height);
-        ro.mesh.maxStep = ro.mesh.tileSize;
-        ro.mesh.tolerance = kBlocksTolerance;
-    }
+    depthWidth_ = dv.width;
+    depthHeight_ = dv.height;
+    if (config_.meshStep == 0 && ro.mesh.mode != render::MeshMode::Fixed)
+        toBlocks(ro.mesh, dv.width, dv.height);
     if (config_.lodTarget > 0.0 && config_.meshStep == 0 &&
         ro.mesh.mode == render::MeshMode::Blocks) {
         if (!lod_) {
@@ -367,8 +377,13 @@ void GlPresenter::checkFullResolution(double drawSeconds)
     const double median = sorted[kTrialFrames / 2];
     if (!(median > lodTargetSeconds_))
         return;
+    // Straight to the level of detail's own mesh, so that the frames prepared ahead from now on
+    // are made for it (a quadtree of the default options at 4K costs the prep thread a second).
     render::RendererOptions ro = renderer_->options();
     ro.mesh = render::MeshOptions{};
+    toBlocks(ro.mesh, depthWidth_, depthHeight_);
+    if (lod_)
+        ro.mesh.maxBlocks = lod_->budget();
     if (renderer_->setOptions(ro)) {
         fullResolution_ = false;
         DT_LOG(
