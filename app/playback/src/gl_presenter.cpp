@@ -111,7 +111,7 @@ public:
 
 private:
     haptics::DepthFrameView depthOf(const DrawInput &in);
-    void ensureRendererAndTarget(hal::Size size);
+    void ensureRendererAndTarget(hal::Size size, const haptics::DepthFrameView &dv);
     void applyOptions(player::StereoMode mode, const haptics::DepthFrameView &dv, double period);
     /// The level of detail's mesh for W×H depth into \a m (mode, tile, tolerance).
     static void toBlocks(render::MeshOptions &m, int width, int height);
@@ -162,7 +162,7 @@ DrawOutcome GlPresenter::draw(const DrawInput &in)
     const receiver::StoredFrame *colorFrame = in.frame.color ? in.frame.color.get() : nullptr;
     const haptics::DepthFrameView dv = depthOf(in);
     const hal::Size size = display_.size();
-    ensureRendererAndTarget(size);
+    ensureRendererAndTarget(size, dv);
     if (renderer_ && target_ && dv.data != nullptr) {
         applyOptions(in.mode, dv, in.session.period);
         const bool ok = setPicture(depthFrame, colorFrame, dv, out);
@@ -196,7 +196,7 @@ haptics::DepthFrameView GlPresenter::depthOf(const DrawInput &in)
     return dv;
 }
 
-void GlPresenter::ensureRendererAndTarget(hal::Size size)
+void GlPresenter::ensureRendererAndTarget(hal::Size size, const haptics::DepthFrameView &dv)
 {
     if (!renderer_) {
         render::RendererOptions ro;
@@ -220,6 +220,10 @@ void GlPresenter::ensureRendererAndTarget(hal::Size size)
             !renderer_->rendersInSoftware()) {
             ro.mesh.mode = render::MeshMode::Fixed;
             ro.mesh.fixedStep = 1;
+            // In the level of detail's tiles: should it take over, it draws its step-1 tiles
+            // from this grid instead of making a second copy (renderer_blocks.cpp).
+            if (dv.width > 1 && dv.height > 1)
+                ro.mesh.tileSize = render::blockTileFor(dv.width, dv.height);
             fullResolution_ = static_cast<bool>(renderer_->setOptions(ro));
             trialCount_ = 0;
         }

@@ -79,6 +79,7 @@ struct StaticGrid {
     int step = 0;     ///< MeshOptions::fixedStep (0: the slot is free).
     int tileSize = 0; ///< MeshOptions::tileSize (the emission order).
     std::uint64_t lastUse = 0;
+    std::uint64_t made = 0; ///< Which making of the grids this is (Gl::gridsMade when made).
     AdaptiveMesh mesh;
 
     [[nodiscard]] bool holds(int w, int h, const MeshOptions &m) const noexcept
@@ -103,6 +104,14 @@ struct DynamicIndices {
 struct BlockBuffer {
     GLuint buffer = 0;
     BlockRanges ranges;
+    /// With ranges.step1External: the static grid slot whose buffer holds step 1, and its making
+    /// (StaticGrid::made) when this buffer was made; -1 when step 1 is in buffer.
+    int step1Grid = -1;
+    std::uint64_t step1Made = 0;
+    std::vector<std::uint32_t> first1;  ///< The step-1 tiles' runs in the grid's buffer, indices.
+    std::vector<std::int32_t> count1;   ///< Indices a step-1 run.
+    std::vector<const void *> offsets1; ///< Their byte offsets.
+    std::size_t runs1 = 0;              ///< Step-1 runs of the current frame (step1External).
     Texture levels;                     ///< tilesX × tilesY, R8UI: log2 step per tile.
     std::vector<std::uint32_t> first;   ///< Scratch of BlockRanges::runs(), indices.
     std::vector<std::int32_t> count;    ///< Indices a run (GLsizei).
@@ -150,6 +159,7 @@ struct StereoRenderer::Gl {
     static constexpr std::size_t kStaticGrids = 4; ///< Fixed steps kept at once (1, 2, 4, 8).
     std::array<gl::StaticGrid, kStaticGrids> grids;
     std::uint64_t gridUses = 0;
+    std::uint64_t gridsMade = 0; ///< Static grids made so far (StaticGrid::made).
     GLuint sphereVao = 0;
     GLuint sphereVbo = 0;
     GLuint sphereIbo = 0;

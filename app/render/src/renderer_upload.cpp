@@ -121,6 +121,7 @@ Result<void> StereoRenderer::setStaticDepth(const scene::DepthFrameView &depth,
         grid.height = depth.height;
         grid.step = m.fixedStep;
         grid.tileSize = m.tileSize;
+        grid.made = ++g.gridsMade;
         DT_LOG(Render, Info,
                "Static grid for %dx%d depth at step %d: %.1f MB made and uploaded in %.1f ms",
                depth.width, depth.height, m.fixedStep,

@@ -261,6 +261,55 @@ TEST_F(RenderGeometryTest, blockStepsAreWatertightAndAtStepOneDrawTheFullResolut
     EXPECT_EQ(picture(*r), freshPicture(detailed, col, fixedStep(1)));
 }
 
+TEST_F(RenderGeometryTest, blockStepsDrawStepOneFromTheFullResolutionGridAsFromTheirOwnBuffer)
+{
+    // GIVEN a detailed frame drawn first at full resolution in tiles of 16 (a GPU's start: the
+    // step-1 grid is then held), and a renderer that never drew it
+    const Depth8 detailed(130, 90, bumpy);
+    const Depth8 plain(130, 90, gentle);
+    Yuv420 col(130, 90, [](int c, int r) {
+        return std::array<int, 3>{60 + c, 100 + r / 2, 150 - c / 3};
+    });
+    MeshOptions full = fixedStep(1);
+    full.tileSize = 16;
+    auto r = make(full);
+    ASSERT_TRUE(r);
+    ASSERT_TRUE(r->setColor(col.view(), ColorSpec{}));
+    ASSERT_TRUE(r->setDepth(detailed.view()));
+    const std::vector<std::uint8_t> fullPicture = picture(*r);
+    // WHEN the level of detail takes over (tiles of 16, some at step 1, the others coarser)
+    RendererOptions o = r->options();
+    o.mesh = blocks(16, 0.5);
+    ASSERT_TRUE(r->setOptions(o));
+    for (const Depth8 *d : {&detailed, &plain, &detailed}) {
+        ASSERT_TRUE(r->setDepth(d->view()));
+        const MeshStats &st = r->mesh().stats();
+        if (d == &detailed) {
+            ASSERT_GT(st.tilesAtStep[0], 0);
+            ASSERT_LT(st.tilesAtStep[0], st.tiles);
+        }
+        // THEN it draws what a renderer with the steps in its own buffer draws, to the pixel
+        EXPECT_EQ(picture(*r), freshPicture(*d, col, blocks(16, 0.5)))
+            << (d == &detailed ? "detailed" : "plain");
+    }
+    // AND back at full resolution the grid is unchanged
+    o.mesh = full;
+    ASSERT_TRUE(r->setOptions(o));
+    ASSERT_TRUE(r->setDepth(detailed.view()));
+    EXPECT_EQ(picture(*r), fullPicture);
+    // AND once four other grids have taken every slot (that grid dropped), the level of detail
+    // makes step 1 its own again and still draws the same picture
+    for (const int step : {1, 2, 4, 8}) {
+        o.mesh = fixedStep(step); // tiles of 32
+        ASSERT_TRUE(r->setOptions(o));
+        ASSERT_TRUE(r->setDepth(plain.view()));
+    }
+    o.mesh = blocks(16, 0.5);
+    ASSERT_TRUE(r->setOptions(o));
+    ASSERT_TRUE(r->setDepth(detailed.view()));
+    EXPECT_EQ(picture(*r), freshPicture(detailed, col, blocks(16, 0.5))) << "after the grids";
+}
+
 TEST_F(RenderGeometryTest, blockStepsFollowTheCellBudget)
 {
     // GIVEN a detailed frame

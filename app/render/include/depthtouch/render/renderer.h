@@ -132,6 +132,10 @@ private:
     bool built_ = false;
 };
 
+namespace gl {
+struct BlockBuffer; ///< MeshMode::Blocks' index buffer and runs (renderer_gl.h, private).
+} // namespace gl
+
 class StereoRenderer {
 public:
     /// \brief Compiles the shaders and creates the GL objects. \pre a current GLES 3 context.
@@ -241,6 +245,8 @@ private:
     /// MeshMode::Blocks: the static buffer of every tile at every step for mesh_'s size (made and
     /// uploaded at the first frame of that size), then mesh_'s tile steps and the runs to draw.
     void uploadBlockSteps();
+    /// Makes and uploads the Blocks index buffer of the current mesh's size (renderer_blocks.cpp).
+    void makeBlockBuffer(gl::BlockBuffer &b, int levelCount);
     /// setColor()'s upload of converted R'G'B' words.
     void uploadRgba(const std::uint32_t *rgba, int width, int height);
 
