@@ -30,6 +30,7 @@
 
 #include "commands.h"
 #include "option_cli.h"
+#include "depthtouch/haptic_task/haptic_task.h"
 #include "depthtouch/haptics/feel.h"
 #include "depthtouch/haptics/height_field.h"
 #include "depthtouch/haptics/renderer.h"
@@ -291,6 +292,9 @@ struct DemoFeel {
 constexpr double kStiffnessMinDepth = 0.0005;
 /// The renderer's force clamp, N: updates near it are left out of the stiffness felt.
 const double kDemoMaxForce = haptics::RendererConfig{}.maxForce;
+/// The haptic task's force slew limit, N/s: updates whose force moved at it (catching up with a
+/// proxy that jumped, as at a silhouette) are left out of the stiffness felt.
+const double kDemoForceRate = haptic_task::HapticTaskConfig{}.maxForceRate;
 
 /// Fills each row's surface heights and flags, \a plot with the chart's columns, and the figures.
 DemoFeel measureFeel(const std::vector<LogRow> &rows, const std::vector<double> &play,
@@ -325,7 +329,11 @@ DemoFeel measureFeel(const std::vector<LogRow> &rows, const std::vector<double> 
                 d.figureSeconds += dt;
             const double depth = glm::length(r.proxy - r.hip);
             const double force = glm::length(r.force);
-            if (!r.released && depth > kStiffnessMinDepth && force < 0.95 * kDemoMaxForce)
+            const double step = i > 0 ? play[i] - play[i - 1] : 0.0;
+            const bool slewing =
+                i > 0 && glm::length(r.force - rows[i - 1].force) >= 0.9 * kDemoForceRate * step;
+            if (!r.released && !slewing && depth > kStiffnessMinDepth &&
+                force < 0.95 * kDemoMaxForce)
                 (onFigure ? d.figureStiffness : d.backdropStiffness).push_back(force / depth);
         }
         plot.push_back({play[i], glm::length(r.force), r.contact ? 1.0 : 0.0, 1e3 * r.hip.z,

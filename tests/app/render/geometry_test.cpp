@@ -124,6 +124,13 @@ protected:
     }
 
     std::unique_ptr<test::EglTestContext> ctx_;
+    /// A detailed frame (a long triangle list, tiles at several steps), a gentle one (a short
+    /// list) and a colour frame of their size, 130×90.
+    const Depth8 detailed{130, 90, bumpy};
+    const Depth8 plain{130, 90, gentle};
+    Yuv420 col{130, 90, [](int c, int r) {
+                   return std::array<int, 3>{60 + c, 100 + r / 2, 150 - c / 3};
+               }};
 };
 
 } // namespace
@@ -134,12 +141,12 @@ TEST_F(RenderGeometryTest, staticGridIsMadeOncePerSizeAndDrawsWhatAFreshRenderer
     const Depth8 a(97, 65, bumpy);
     const Depth8 b(97, 65, gentle);
     const Depth8 small(64, 48, bumpy);
-    Yuv420 col(97, 65, [](int c, int r) {
+    Yuv420 col97(97, 65, [](int c, int r) {
         return std::array<int, 3>{40 + c + r, 90 + c / 2, 160 - r};
     });
     auto r = make(fixedStep(1));
     ASSERT_TRUE(r);
-    ASSERT_TRUE(r->setColor(col.view(), ColorSpec{}));
+    ASSERT_TRUE(r->setColor(col97.view(), ColorSpec{}));
     ASSERT_TRUE(r->setDepth(a.view()));
     const AdaptiveMesh *grid = &r->mesh();
     const std::uint32_t *first = grid->indices().data();
@@ -153,7 +160,7 @@ TEST_F(RenderGeometryTest, staticGridIsMadeOncePerSizeAndDrawsWhatAFreshRenderer
     EXPECT_EQ(open, 0);
     EXPECT_EQ(area2, 2LL * 96 * 64);
     // AND its picture is the picture of a renderer made for that frame alone, bit for bit
-    EXPECT_EQ(picture(*r), freshPicture(b, col, fixedStep(1)));
+    EXPECT_EQ(picture(*r), freshPicture(b, col97, fixedStep(1)));
     // AND after five other steps and another size (more than the grids kept), each still draws
     // its own grid and the full mesh's picture is unchanged
     for (const int step : {2, 4, 8, 16, 32}) {
@@ -164,7 +171,7 @@ TEST_F(RenderGeometryTest, staticGridIsMadeOncePerSizeAndDrawsWhatAFreshRenderer
         const int cells = ((96 + step - 1) / step) * ((64 + step - 1) / step);
         EXPECT_EQ(r->mesh().stats().triangles, 2u * static_cast<std::size_t>(cells))
             << "step " << step;
-        EXPECT_EQ(picture(*r), freshPicture(b, col, fixedStep(step))) << "step " << step;
+        EXPECT_EQ(picture(*r), freshPicture(b, col97, fixedStep(step))) << "step " << step;
     }
     RendererOptions o = r->options();
     o.mesh = fixedStep(1);
@@ -173,17 +180,12 @@ TEST_F(RenderGeometryTest, staticGridIsMadeOncePerSizeAndDrawsWhatAFreshRenderer
     EXPECT_EQ(r->mesh().stats().triangles, 2u * 63u * 47u);
     ASSERT_TRUE(r->setDepth(b.view()));
     EXPECT_EQ(r->mesh().stats().triangles, 2u * 96u * 64u);
-    EXPECT_EQ(picture(*r), freshPicture(b, col, fixedStep(1)));
+    EXPECT_EQ(picture(*r), freshPicture(b, col97, fixedStep(1)));
 }
 
 TEST_F(RenderGeometryTest, quadtreeListsOfChangingLengthStayWatertightAndDrawNoStaleTriangles)
 {
     // GIVEN a detailed frame (a long triangle list) and a gentle one (a short list), the quadtree
-    const Depth8 detailed(130, 90, bumpy);
-    const Depth8 plain(130, 90, gentle);
-    Yuv420 col(130, 90, [](int c, int r) {
-        return std::array<int, 3>{60 + c, 100 + r / 2, 150 - c / 3};
-    });
     const MeshOptions mesh{};
     auto r = make(mesh);
     ASSERT_TRUE(r);
@@ -223,11 +225,6 @@ MeshOptions blocks(int tile, double tolerance)
 TEST_F(RenderGeometryTest, blockStepsAreWatertightAndAtStepOneDrawTheFullResolutionPicture)
 {
     // GIVEN a detailed frame and a gentle one, and per-tile steps from precomputed ranges
-    const Depth8 detailed(130, 90, bumpy);
-    const Depth8 plain(130, 90, gentle);
-    Yuv420 col(130, 90, [](int c, int r) {
-        return std::array<int, 3>{60 + c, 100 + r / 2, 150 - c / 3};
-    });
     std::vector<std::uint32_t> drawn;
     for (const int tile : {8, 16, 32}) {
         auto r = make(blocks(tile, 0.5));
@@ -265,11 +262,6 @@ TEST_F(RenderGeometryTest, blockStepsDrawStepOneFromTheFullResolutionGridAsFromT
 {
     // GIVEN a detailed frame drawn first at full resolution in tiles of 16 (a GPU's start: the
     // step-1 grid is then held), and a renderer that never drew it
-    const Depth8 detailed(130, 90, bumpy);
-    const Depth8 plain(130, 90, gentle);
-    Yuv420 col(130, 90, [](int c, int r) {
-        return std::array<int, 3>{60 + c, 100 + r / 2, 150 - c / 3};
-    });
     MeshOptions full = fixedStep(1);
     full.tileSize = 16;
     auto r = make(full);
@@ -313,7 +305,6 @@ TEST_F(RenderGeometryTest, blockStepsDrawStepOneFromTheFullResolutionGridAsFromT
 TEST_F(RenderGeometryTest, blockStepsFollowTheCellBudget)
 {
     // GIVEN a detailed frame
-    const Depth8 detailed(130, 90, bumpy);
     auto r = make(blocks(8, 0.0));
     ASSERT_TRUE(r);
     ASSERT_TRUE(r->setDepth(detailed.view()));
@@ -336,9 +327,6 @@ TEST_F(RenderGeometryTest, perFramePathAllocatesNothingOnceWarm)
     // made ahead, as the player does), with the avatar and the on-screen display
     const Depth8 a(130, 90, bumpy);
     const Depth8 b(130, 90, gentle);
-    Yuv420 col(130, 90, [](int c, int r) {
-        return std::array<int, 3>{60 + c, 100 + r / 2, 150 - c / 3};
-    });
     for (const MeshOptions &mesh : {fixedStep(1), MeshOptions{}, blocks(8, 0.5)}) {
         auto r = make(mesh);
         ASSERT_TRUE(r);
