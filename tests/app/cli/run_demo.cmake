@@ -73,9 +73,10 @@ endfunction()
 #   and the last wake-up's lateness);
 # - the haptic loop ran the whole time the clip played, within 100 ms (open and stop);
 # - every frame period of the playing time (30 fps) was presented or dropped, within 3 frames (the
-#   first frame's preroll and the frames pending at the stop) and one frame per loop of the 20-frame
-#   clip (a loop's restart takes up to a frame period: a fresh clone measured 83 frames in 2883 ms,
-#   4.2 loops, 3.5 frames short).
+#   first frame's preroll and the frames pending at the stop) and two frames per loop of the
+#   20-frame clip (a loop's restart takes up to a frame period on an idle machine, up to two under
+#   the sanitizers with another build running: a fresh clone measured 83 frames in 2883 ms, 4.2
+#   loops, 3.5 frames short; host-asan beside a build 80 frames in 2914 ms, 4 loops, 7.4 short).
 string(JSON runS GET "${stats}" haptic_run_s)
 string(JSON playingS GET "${stats}" playing_s)
 string(JSON missed GET "${stats}" missed_periods)
@@ -94,7 +95,7 @@ if(runGap LESS -100 OR runGap GREATER 100)
     message(FATAL_ERROR "haptic run ${runMs} ms, playing ${playingMs} ms")
 endif()
 math(EXPR frameGap "(${presented} + ${dropped}) * 1000 - ${playingMs} * 30")
-math(EXPR loopAllowance "3000 + 1000 * ((${received} + 19) / 20)")
+math(EXPR loopAllowance "3000 + 2000 * ((${received} + 19) / 20)")
 if(frameGap LESS -${loopAllowance} OR frameGap GREATER 3000)
     message(FATAL_ERROR "${presented} presented + ${dropped} dropped in ${playingMs} ms at 30 fps")
 endif()
