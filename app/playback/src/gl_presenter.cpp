@@ -145,8 +145,6 @@ private:
     double lodTargetSeconds_ = 0.0;            // the draw-time goal (a share of the refresh)
     bool fullResolution_ = false;              // a GPU draws every depth sample (no --mesh-step)
     std::array<double, kTrialFrames> trial_{}; // the full mesh's draw times, s
-    int depthWidth_ = 0;                       // the last depth frame drawn, samples
-    int depthHeight_ = 0;
     int trialCount_ = 0;
     std::uint64_t osdSeen_ = ~std::uint64_t{0};
     platform::TimePoint osdSince_{};
@@ -264,8 +262,6 @@ void GlPresenter::applyOptions(player::StereoMode mode, const haptics::DepthFram
     // Without a fixed step the level of detail is a step per tile drawn from precomputed index
     // ranges (MeshMode::Blocks): its choice costs the prep thread a pass over the probes and the
     // tiles, not over the triangles.
-    depthWidth_ = dv.width;
-    depthHeight_ = dv.height;
     if (config_.meshStep == 0 && ro.mesh.mode != render::MeshMode::Fixed)
         toBlocks(ro.mesh, dv.width, dv.height);
     if (config_.lodTarget > 0.0 && config_.meshStep == 0 &&
@@ -385,7 +381,8 @@ void GlPresenter::checkFullResolution(double drawSeconds)
     // are made for it (a quadtree of the default options at 4K costs the prep thread a second).
     render::RendererOptions ro = renderer_->options();
     ro.mesh = render::MeshOptions{};
-    toBlocks(ro.mesh, depthWidth_, depthHeight_);
+    // The size of the full-resolution grid just drawn.
+    toBlocks(ro.mesh, renderer_->mesh().columns(), renderer_->mesh().rows());
     if (lod_)
         ro.mesh.maxBlocks = lod_->budget();
     if (renderer_->setOptions(ro)) {
