@@ -295,6 +295,9 @@ const double kDemoMaxForce = haptics::RendererConfig{}.maxForce;
 /// The haptic task's force slew limit, N/s: updates whose force moved at it (catching up with a
 /// proxy that jumped, as at a silhouette) are left out of the stiffness felt.
 const double kDemoForceRate = haptic_task::HapticTaskConfig{}.maxForceRate;
+/// After a safety release the renderer ramps the force back in over this time, s: those updates
+/// are left out of the stiffness felt too.
+const double kDemoRampTime = haptics::RendererConfig{}.rampTime;
 
 /// Fills each row's surface heights and flags, \a plot with the chart's columns, and the figures.
 DemoFeel measureFeel(const std::vector<LogRow> &rows, const std::vector<double> &play,
@@ -303,8 +306,11 @@ DemoFeel measureFeel(const std::vector<LogRow> &rows, const std::vector<double> 
     std::vector<haptics::FeelSample> samples(rows.size());
     DemoFeel d;
     constexpr std::size_t kSpeedRows = 10; // lateral speed over 10 updates
+    double releasedAt = -1e9;              // play time of the last released update, s
     for (std::size_t i = 0; i < rows.size(); ++i) {
         const LogRow &r = rows[i];
+        if (r.released)
+            releasedAt = play[i];
         surface.setTime(r.t);
         haptics::FeelSample &s = samples[i];
         s.t = play[i];
@@ -332,7 +338,8 @@ DemoFeel measureFeel(const std::vector<LogRow> &rows, const std::vector<double> 
             const double step = i > 0 ? play[i] - play[i - 1] : 0.0;
             const bool slewing =
                 i > 0 && glm::length(r.force - rows[i - 1].force) >= 0.9 * kDemoForceRate * step;
-            if (!r.released && !slewing && depth > kStiffnessMinDepth &&
+            const bool ramping = play[i] - releasedAt < kDemoRampTime;
+            if (!r.released && !slewing && !ramping && depth > kStiffnessMinDepth &&
                 force < 0.95 * kDemoMaxForce)
                 (onFigure ? d.figureStiffness : d.backdropStiffness).push_back(force / depth);
         }
