@@ -64,6 +64,7 @@ struct EncodeCliOptions {
     std::optional<double> farM;
     std::string depthMapping = "inverse_z";
     bool enhance = false;
+    bool fillHoles = false;
     bool loop = false;
     std::string realtime = "auto";
     float enhanceTolerance = 1.0f;
@@ -247,6 +248,7 @@ int setDepthOptions(const EncodeCliOptions &o, media::EncodeOptions &eo)
     if (o.nearM)
         eo.range = depth::DepthRange{*o.nearM, *o.farM};
     eo.enhance = o.enhance;
+    eo.fillHoles = o.fillHoles;
     eo.enhanceOptions.sampling.tolerance = o.enhanceTolerance;
     return kExitOk;
 }
@@ -394,11 +396,20 @@ int reportEncode(const EncodeCliOptions &o, const media::EncodeOptions &eo,
                 s.elapsed > 0.0 ? static_cast<double>(s.frames) / s.elapsed : 0.0,
                 static_cast<double>(s.colorBytes) / 1000.0,
                 static_cast<double>(s.depthBytes) / 1000.0, s.depthBits, s.endedBy.c_str());
-    if (s.metric)
+    if (s.metric && eo.fillHoles)
         std::printf("depth: metric, near %.4g m, far %.4g m (%s), %s mapping; %lld invalid samples "
                     "filled; %lld frames without valid depth repeated\n",
                     s.range.nearM, s.range.farM, eo.range ? "given" : "robust range of the data",
                     depth::mappingName(s.mapping), s.filledSamples, s.repeatedFrames);
+    else if (s.metric)
+        std::printf("depth: metric, near %.4g m, far %.4g m (%s), %s mapping; holes %.1f %% of the "
+                    "samples (%lld), coded below depth_occupancy=%u\n",
+                    s.range.nearM, s.range.farM, eo.range ? "given" : "robust range of the data",
+                    depth::mappingName(s.mapping),
+                    s.depthSamples > 0 ? 100.0 * static_cast<double>(s.holeSamples) /
+                                             static_cast<double>(s.depthSamples)
+                                       : 0.0,
+                    s.holeSamples, s.depthOccupancy);
     if (s.metric && !eo.range && s.range.farM > kFarthestSensorRange)
         std::fprintf(
             stderr,
@@ -533,6 +544,9 @@ const OptionRow<EncodeCliOptions> kEncodeRows[] = {
      "Metres per unit of 16-bit metric depth (0.001: mm; TUM: 0.0002)"},
     {"depth-saturation", &EncodeCliOptions::depthSaturation,
      "16-bit depth values >= this are invalid (as 0 is)"},
+    {"fill-holes", &EncodeCliOptions::fillHoles,
+     "Fill invalid metric depth by push-pull interpolation instead of keeping it as holes "
+     "(untouchable, not drawn; tag depth_occupancy)"},
     {"near",
      &EncodeCliOptions::nearM,
      "Near plane (m); default: robust range of the data",

@@ -26,6 +26,7 @@
 #include "depthtouch/receiver/pts_pairer.h"
 #include "depthtouch/receiver/receiver.h"
 #include "depthtouch/receiver/stream_roles.h"
+#include "depthtouch/scene/depth_frame.h"
 
 namespace depthtouch::cli {
 
@@ -246,6 +247,46 @@ std::string decodeStatsText(const char *mode, const receiver::ReceiverStats &s)
     return line;
 }
 
+/// The hole samples (docs/architecture.md §3 "Holes") of the distinct depth frames decoded.
+struct HoleCount {
+    std::uint64_t samples = 0;
+    std::uint64_t holes = 0;
+    std::uint64_t lastSequence = ~std::uint64_t{0};
+
+    void add(const receiver::StoredFrame &d)
+    {
+        if (d.sequence == lastSequence || d.image.planes[0].data == nullptr)
+            return;
+        lastSequence = d.sequence;
+        scene::DepthFrameView v;
+        v.data = d.image.planes[0].data;
+        v.width = d.image.width;
+        v.height = d.image.height;
+        v.strideBytes = static_cast<std::size_t>(d.image.planes[0].strideBytes);
+        v.format = d.image.format == hal::PixelFormat::Gray16 ? scene::SampleFormat::Gray16
+                                                              : scene::SampleFormat::Gray8;
+        v.holeBelow = d.holeBelow;
+        samples += static_cast<std::uint64_t>(v.width) * static_cast<std::uint64_t>(v.height);
+        if (v.holeBelow == 0)
+            return;
+        for (int y = 0; y < v.height; ++y)
+            for (int x = 0; x < v.width; ++x)
+                holes += v.measured(x, y) ? 0u : 1u;
+    }
+
+    /// The text report's "holes" line.
+    [[nodiscard]] std::string text(std::uint32_t holeBelow) const
+    {
+        char line[200];
+        std::snprintf(
+            line, sizeof line,
+            "holes: %.2f %% of %llu decoded depth samples (below %u, decoded units)\n",
+            samples > 0 ? 100.0 * static_cast<double>(holes) / static_cast<double>(samples) : 0.0,
+            static_cast<unsigned long long>(samples), holeBelow);
+        return line;
+    }
+};
+
 /// The --decode pass: runs the real receiver (decode + pairing) over the whole input and keeps its
 /// counters in the report. Returns kExitOk, or kExitBadInput after printing why it could not run.
 int runDecodePass(const ProbeOptions &opt, const std::string &sourceName, bool mockUrl,
@@ -267,15 +308,24 @@ int runDecodePass(const ProbeOptions &opt, const std::string &sourceName, bool m
         return kExitBadInput;
     }
     receiver::PairedFrame f;
+    HoleCount holes;
     for (;;) {
         auto n = (*r)->next(f);
         if (!n || !*n)
             break;
+        if (f.depth)
+            holes.add(*f.depth);
     }
     f = receiver::PairedFrame{};
     const receiver::ReceiverStats s = (*r)->stats();
     rep.decodeJson = decodeStatsJson(receiver::receiverModeName((*r)->info().mode), s);
     rep.decodeText = decodeStatsText(receiver::receiverModeName((*r)->info().mode), s);
+    if ((*r)->info().hasDepth) {
+        rep.decodeJson["hole_below"] = (*r)->info().depthHoleBelow;
+        rep.decodeJson["depth_samples"] = holes.samples;
+        rep.decodeJson["hole_samples"] = holes.holes;
+        rep.decodeText += holes.text((*r)->info().depthHoleBelow);
+    }
     return kExitOk;
 }
 
@@ -291,6 +341,13 @@ std::string roleOf(const ProbeReport &rep, int index)
     if (index == roles.depth)
         return std::string("depth (") + roles.depthReason + ")";
     return "ignored";
+}
+
+/// The text report's words for the depth_occupancy tag \a threshold.
+std::string occupancyText(std::uint32_t threshold)
+{
+    return threshold == 0 ? std::string("no holes (no depth_occupancy)")
+                          : "holes below " + std::to_string(threshold) + " (depth_occupancy)";
 }
 
 /// The depth stream's description, or nullptr when the file has none.
@@ -338,7 +395,8 @@ void printJsonReport(const ProbeOptions &opt, const ProbeReport &rep)
         j["depth_metadata"] = {{"near_m", depth->depth.nearMetres},
                                {"far_m", depth->depth.farMetres},
                                {"mapping", depth->depth.mapping},
-                               {"bits", depth->depth.bits}};
+                               {"bits", depth->depth.bits},
+                               {"occupancy", depth->depth.occupancy}};
     else
         j["depth_metadata"] = nullptr;
     j["pairing"] = {{"color_frames", census.colorFrames},
@@ -401,8 +459,9 @@ void printStreamsText(const ProbeOptions &opt, const ProbeReport &rep)
     if (const hal::StreamInfo *depth = depthStreamOf(rep); depth != nullptr) {
         const hal::DepthMetadata &m = depth->depth;
         if (receiver::hasDepthMetadata(m))
-            std::printf("depth metadata: near %g m, far %g m, mapping %s, %d bits\n", m.nearMetres,
-                        m.farMetres, m.mapping.empty() ? "-" : m.mapping.c_str(), m.bits);
+            std::printf("depth metadata: near %g m, far %g m, mapping %s, %d bits, %s\n",
+                        m.nearMetres, m.farMetres, m.mapping.empty() ? "-" : m.mapping.c_str(),
+                        m.bits, occupancyText(m.occupancy).c_str());
         else
             std::printf("depth metadata: none\n");
     }

@@ -8,10 +8,12 @@
 /// stream, its luma when it is YUV) is decoded through the `ffmpeg` media source and decoder
 /// backends; frame times come from the PTS. 16-bit samples of a depth stream (titled depth, or
 /// carrying depth metadata) are nearness unless --near/--far are given: then they are metric depth
-/// (--depth-scale metres per unit, 0 = invalid), converted to 16-bit nearness
-/// (docs/architecture.md §3) with the holes filled. The 16-bit samples of an input that says
-/// nothing of depth (an image sequence from a depth camera) are metric depth: without --near/--far
-/// its planes are the robust range of the first frame (as `encode` takes it), named in the summary.
+/// (--depth-scale metres per unit), converted to 16-bit nearness (docs/architecture.md §3) with 0
+/// and saturated samples kept as holes (§3 "Holes": free space to the finger). Frames of a file
+/// with the depth_occupancy tag carry its hole threshold; 10-bit depth is widened to 16 bits by bit
+/// replication, as the player does. The 16-bit samples of an input that says nothing of depth (an
+/// image sequence from a depth camera) are metric depth: without --near/--far its planes are the
+/// robust range of the first frame (as `encode` takes it), named in the summary.
 
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,10 @@
 /// \file
 /// \brief The depth input of `depthtouch touch` through the `ffmpeg` media source and decoder
 /// backends: frames decoded lazily and in order, 16-bit metric depth converted to nearness
-/// (docs/architecture.md §3). Used by cmd_touch.cpp only. Not thread-safe.
+/// (docs/architecture.md §3) with its invalid samples (0 and saturated) kept as holes, 10-bit
+/// depth widened to 16 bits by bit replication as the player widens it, and every frame carrying
+/// its hole threshold (DepthFrameView::holeBelow, §3 "Holes"). Used by cmd_touch.cpp only. Not
+/// thread-safe.
 
 #include <chrono>
 #include <cstdint>
@@ -15,11 +18,12 @@
 #include <vector>
 
 #include "depthtouch/depth/conversion.h"
-#include "depthtouch/depth/fill.h"
+#include "depthtouch/depth/occupancy.h"
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptics/replay.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/file_access.h"
+#include "depthtouch/receiver/stream_roles.h"
 
 namespace depthtouch::cli {
 
@@ -95,6 +99,11 @@ public:
             error = "--near/--far convert 16-bit metric depth; '" + url + "' has 8-bit samples";
             return false;
         }
+        // 10-bit nearness comes out as 16 bits by bit replication, as in the player.
+        if (!metric_ && config_.format == hal::PixelFormat::Gray10)
+            config_.format = hal::PixelFormat::Gray16;
+        holeBelow_ =
+            metric_ ? kMetricOccupancy.threshold : receiver::depthHoleBelow(si, config_.format);
         // Count the frames (demux only) so the replay knows the last one.
         for (;;) {
             auto p = source_->readPacket();
@@ -171,6 +180,7 @@ public:
             v.strideBytes =
                 static_cast<std::size_t>(config_.width) * haptics::bytesPerSample(f.format);
             v.pts = f.pts;
+            v.holeBelow = holeBelow_;
             return v;
         } catch (const std::bad_alloc &) {
             return unexpected(Errc::OutOfResources, "out of memory decoding the depth video");
@@ -235,18 +245,8 @@ private:
                             img.row(0, y), static_cast<std::size_t>(w));
         } else {
             depth::Plane<std::uint16_t> raw(w, h);
-            const double scale =
-                img.format == hal::PixelFormat::Gray10 && !metric_ ? 65535.0 / 1023.0 : 1.0;
-            for (int y = 0; y < h; ++y) {
-                const std::uint8_t *row = img.row(0, y);
-                for (int x = 0; x < w; ++x) {
-                    std::uint16_t v;
-                    std::memcpy(&v, row + 2 * x, sizeof v);
-                    raw.at(x, y) = scale == 1.0 ? v
-                                                : static_cast<std::uint16_t>(
-                                                      std::lround(static_cast<double>(v) * scale));
-                }
-            }
+            for (int y = 0; y < h; ++y)
+                std::memcpy(&raw.at(0, y), img.row(0, y), static_cast<std::size_t>(w) * 2u);
             if (metric_) {
                 if (!metric_->convert.range) {
                     auto r =
@@ -261,11 +261,10 @@ private:
                 auto n = depth::metricToNearness(raw, metric_->convert);
                 if (!n)
                     return unexpected(n.error());
-                if (n->invalidCount > 0 && n->invalidCount < n->valid.size()) {
-                    if (auto filled = depth::fillInvalid(n->nearness, n->valid); !filled)
-                        return unexpected(filled.error());
-                }
-                raw = depth::quantize(n->nearness, metric_->convert.vmax);
+                // Invalid samples (0, saturated) are holes: free space, not a filled surface.
+                std::size_t holes = 0;
+                raw = depth::quantizeOccupied(n->nearness, n->valid, metric_->convert.vmax,
+                                              kMetricOccupancy, holes);
             }
             s.format = haptics::SampleFormat::Gray16;
             s.bytes.resize(raw.size() * 2u);
@@ -278,6 +277,9 @@ private:
         return ok();
     }
 
+    /// Metric depth converted here is coded as a lossless 16-bit stream would be.
+    static constexpr depth::Occupancy kMetricOccupancy = depth::occupancyFor(16, true);
+
     std::unique_ptr<hal::MediaSource> source_;
     std::unique_ptr<hal::VideoDecoder> decoder_;
     hal::StreamConfig config_;
@@ -289,7 +291,8 @@ private:
     std::size_t count_ = 0;
     std::size_t decoded_ = 0;
     bool eos_ = false;
-    bool rangeTaken_ = false; ///< The planes are the first frame's robust range.
+    bool rangeTaken_ = false;     ///< The planes are the first frame's robust range.
+    std::uint32_t holeBelow_ = 0; ///< Every frame's DepthFrameView::holeBelow.
     std::deque<Stored> frames_;
 };
 

@@ -139,6 +139,25 @@ Plane<std::uint16_t> quantize(const Plane<float> &nearness, double vmax)
     return out;
 }
 
+Plane<std::uint16_t> quantizeOccupied(const Plane<float> &nearness,
+                                      const Plane<std::uint8_t> &valid, double vmax,
+                                      const Occupancy &occ, std::size_t &holes)
+{
+    const double top = std::clamp(vmax, 1.0, 65535.0);
+    const bool masked = !valid.empty();
+    Plane<std::uint16_t> out(nearness.width, nearness.height);
+    holes = 0;
+    for (std::size_t i = 0; i < nearness.size(); ++i) {
+        if (masked && valid.samples[i] == 0) {
+            ++holes;
+            continue;
+        }
+        const double n = std::clamp(static_cast<double>(nearness.samples[i]), 0.0, top);
+        out.samples[i] = static_cast<std::uint16_t>(std::round(occupiedLevel(n, top, occ)));
+    }
+    return out;
+}
+
 Result<Plane<std::uint16_t>> metricToLevels8(const Plane<std::uint16_t> &raw,
                                              std::optional<DepthRange> &range, int width,
                                              int height)

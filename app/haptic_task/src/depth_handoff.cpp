@@ -68,6 +68,7 @@ DepthSlot DepthHandoff::slot(int index) noexcept
     s.data = storage_.data() + static_cast<std::size_t>(index) * slotBytes_;
     s.bytes = frameBytes_;
     s.pts = pts_[index];
+    s.holeBelow = holeBelow_[index];
     s.index = index;
     if (materialBytes_ > 0) {
         s.material = s.data + frameBytes_;
@@ -85,6 +86,7 @@ haptics::DepthFrameView DepthHandoff::view(int index) const noexcept
     v.strideBytes = static_cast<std::size_t>(width_) * haptics::bytesPerSample(format_);
     v.format = format_;
     v.pts = pts_[index];
+    v.holeBelow = holeBelow_[index];
     if (materialBytes_ > 0 && materialValid_[index])
         v.material = {v.data + frameBytes_, static_cast<std::size_t>(width_) * 3};
     return v;
@@ -102,6 +104,7 @@ DepthSlot DepthHandoff::beginFrame() noexcept
             pendingMask_ |= 1u << i;
             DepthSlot s = slot(i);
             s.hasMaterial = false; // until the writer fills it
+            s.holeBelow = 0;
             return s;
         }
     }
@@ -116,10 +119,12 @@ void DepthHandoff::publish(const DepthSlot &current, const DepthSlot *next) noex
     // Only slots still being filled get their PTS: a slot already published may be read right now.
     if ((pendingMask_ & (1u << current.index)) != 0) {
         pts_[current.index] = current.pts;
+        holeBelow_[current.index] = current.holeBelow;
         materialValid_[current.index] = current.hasMaterial && materialBytes_ > 0;
     }
     if (next != nullptr && (pendingMask_ & (1u << next->index)) != 0) {
         pts_[next->index] = next->pts;
+        holeBelow_[next->index] = next->holeBelow;
         materialValid_[next->index] = next->hasMaterial && materialBytes_ > 0;
     }
     const std::uint32_t pub =
@@ -148,6 +153,7 @@ DepthSlot DepthHandoff::copyIn(const haptics::DepthFrameView &frame) noexcept
         std::memcpy(s.data + static_cast<std::size_t>(y) * rowBytes,
                     frame.data + static_cast<std::size_t>(y) * frame.strideBytes, copyBytes);
     s.pts = frame.pts;
+    s.holeBelow = frame.holeBelow;
     s.hasMaterial = s.material != nullptr && frame.material.present();
     if (s.hasMaterial) {
         const std::size_t materialRow = static_cast<std::size_t>(width_) * 3;

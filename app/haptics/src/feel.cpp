@@ -67,9 +67,89 @@ void updatePercentiles(std::span<const FeelSample> rows, FeelFigures &out)
     out.updateP999 = platform::percentile(std::move(times), 0.999);
 }
 
+/// Occluders leaving a held finger (see feel.h): the longest time to regain contact.
+class RegainTracker {
+public:
+    void row(const FeelSample &r, double force, const FeelThresholds &th, FeelFigures &f)
+    {
+        if (!std::isfinite(r.heldSurfaceZ)) {
+            finish(r.t, f);
+            covered_ = false;
+            return;
+        }
+        const bool onHeld =
+            std::isfinite(r.surfaceZ) && std::fabs(r.surfaceZ - r.heldSurfaceZ) <= th.depthMargin;
+        const bool back = onHeld && r.hip.z < r.surfaceZ;
+        if (!onHeld && (!std::isfinite(r.surfaceZ) || r.surfaceZ > r.heldSurfaceZ)) {
+            if (waiting_) // the occluder came back before contact did
+                finish(r.t, f);
+            covered_ = true;
+            return;
+        }
+        if (covered_ && back) {
+            covered_ = false;
+            waiting_ = true;
+            since_ = r.t;
+            ++f.regainEvents;
+        }
+        if (waiting_ && force >= th.popForce) {
+            f.regainMs = std::max(f.regainMs, 1e3 * (r.t - since_));
+            waiting_ = false;
+        }
+    }
+    /// The hold (or the run) ended at \a t while waiting: missed.
+    void finish(double t, FeelFigures &f)
+    {
+        if (!waiting_)
+            return;
+        f.regainMs = std::max(f.regainMs, 1e3 * (t - since_));
+        ++f.regainMissed;
+        waiting_ = false;
+    }
+    /// True while an occluder is over the held finger.
+    [[nodiscard]] bool covered() const noexcept { return covered_; }
+
+private:
+    bool covered_ = false;
+    bool waiting_ = false;
+    double since_ = 0.0;
+};
+
+/// A surface arriving over the finger (see feel.h): the swept depth and whether it covers the HIP.
+class ArrivalTracker {
+public:
+    void row(const FeelSample &r, double dt, const FeelThresholds &th) noexcept
+    {
+        const double inside = r.surfaceZ - r.hip.z; // NaN off the surface
+        if (!(inside > 0.0)) {
+            swept_ = 0.0;
+            return;
+        }
+        // Arriving faster than a bounded push-out could follow adds to the swept depth; a surface
+        // that falls back takes its arrival away first.
+        const double rise = std::isfinite(r.surfaceRise) ? r.surfaceRise : 0.0;
+        const double push = th.pushRate * dt;
+        const double gained = rise > push ? rise - push : std::min(rise, 0.0);
+        swept_ = std::clamp(swept_ + gained, 0.0, inside);
+    }
+    [[nodiscard]] bool covered(const FeelThresholds &th) const noexcept
+    {
+        return swept_ > th.depthMargin;
+    }
+
+private:
+    double swept_ = 0.0; // m
+};
+
 void rates(FeelFigures &f) noexcept
 {
-    f.falseTrips = f.trips - f.realCutTrips;
+    const auto per = [](std::size_t n, double s) {
+        return s > 0.0 ? static_cast<double>(n) / s : 0.0;
+    };
+    f.pressedSpikesPerSecond = per(f.pressedSpikes, f.pressedSeconds);
+    f.idealSpikesPerSecond = per(f.idealSpikes, f.pressedSeconds);
+    f.reversalSpikesPerSecond = per(f.reversalSpikes, f.seconds);
+    f.falseTrips = f.trips - f.realCutTrips - f.arrivalTrips;
     f.spikesPerSecond =
         f.slidingSeconds > 0.0 ? static_cast<double>(f.spikes) / f.slidingSeconds : 0.0;
     f.falseTripsPerSecond =
@@ -85,6 +165,12 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
     const std::vector<double> dt = rowDurations(rows);
     bool contacted = false;
     glm::dvec3 prevForce{0.0};
+    glm::dvec3 prevStep{0.0};
+    double prevIdeal = 0.0;
+    std::size_t run = 0; // the alternating run ending at this update
+    double atMax = 0.0;  // time at the maximum without a trip, ending at this update, ms
+    RegainTracker regain;
+    ArrivalTracker arrival;
     for (std::size_t i = 0; i < rows.size(); ++i) {
         const FeelSample &r = rows[i];
         const double force = glm::length(r.force);
@@ -92,23 +178,61 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
         f.seconds += dt[i];
         if (r.sliding)
             f.slidingSeconds += dt[i];
+        regain.row(r, force, th, f);
+        const glm::dvec3 step = r.force - prevForce;
+        const double stepLength = glm::length(step);
+        const bool reverses =
+            glm::dot(step, prevStep) < 0.0 && glm::length(prevStep) > th.alternationStep;
+        if (stepLength > th.spikeStep && reverses)
+            ++f.reversalSpikes;
+        run = stepLength <= th.alternationStep ? 0 : (reverses && run > 0 ? run + 1 : 1);
+        f.longestAlternation = std::max(f.longestAlternation, run);
+        atMax =
+            force >= th.deviceMaxForce * (1.0 - 1e-3) && !r.released ? atMax + 1e3 * dt[i] : 0.0;
+        f.atMaxMs = std::max(f.atMaxMs, atMax);
+        if (r.force.z < -th.phantomForce)
+            f.pullDownMs += 1e3 * dt[i];
+        const double ideal = std::isnan(r.idealForce) ? 0.0 : r.idealForce;
+        if (r.pressed || r.sliding || r.held) {
+            f.pressedSeconds += dt[i];
+            if (stepLength > th.spikeStep)
+                ++f.pressedSpikes;
+            if (std::fabs(ideal - prevIdeal) > th.spikeStep)
+                ++f.idealSpikes;
+        }
+        prevIdeal = ideal;
+        prevStep = step;
+        arrival.row(r, dt[i], th);
+        const bool covered = regain.covered() || arrival.covered(th);
         if (r.released) {
             ++f.trips;
             if (r.surfaceCut)
                 ++f.realCutTrips;
+            else if (covered)
+                ++f.arrivalTrips;
+        }
+        if (covered) { // under an occluder or an arriving surface: neither pop-through nor phantom
+            f.coveredMs += 1e3 * dt[i];
+            prevForce = r.force;
+            f.maxForce = std::max(f.maxForce, force);
+            if (r.sliding && stepLength > th.spikeStep)
+                ++f.spikes;
+            continue;
         }
         if (!offSurface && r.hip.z < r.surfaceZ && force >= th.popForce)
             contacted = true;
         const double inside = std::isnan(r.depthInside) ? r.surfaceZ - r.hip.z : r.depthInside;
         if (contacted && !offSurface && inside > th.depthMargin && force < th.popForce)
             f.popThroughMs += 1e3 * dt[i];
-        if ((offSurface || r.hip.z > r.surfaceZ + th.depthMargin) && force > th.phantomForce)
+        if (!offSurface && r.hip.z > r.surfaceZ + th.depthMargin && force > th.phantomForce)
             f.phantomMs += 1e3 * dt[i];
         if (r.sliding && glm::length(r.force - prevForce) > th.spikeStep)
             ++f.spikes;
         f.maxForce = std::max(f.maxForce, force);
         prevForce = r.force;
     }
+    if (!rows.empty())
+        regain.finish(rows.back().t + dt.back(), f);
     ripple(rows, f);
     updatePercentiles(rows, f);
     rates(f);
@@ -122,6 +246,8 @@ void accumulate(FeelFigures &total, const FeelFigures &run) noexcept
     total.updates += run.updates;
     total.trips += run.trips;
     total.realCutTrips += run.realCutTrips;
+    total.arrivalTrips += run.arrivalTrips;
+    total.coveredMs += run.coveredMs;
     total.popThroughMs += run.popThroughMs;
     total.phantomMs += run.phantomMs;
     total.spikes += run.spikes;
@@ -130,6 +256,16 @@ void accumulate(FeelFigures &total, const FeelFigures &run) noexcept
     total.maxForce = std::max(total.maxForce, run.maxForce);
     total.updateP50 = std::max(total.updateP50, run.updateP50);
     total.updateP999 = std::max(total.updateP999, run.updateP999);
+    total.pressedSeconds += run.pressedSeconds;
+    total.pressedSpikes += run.pressedSpikes;
+    total.idealSpikes += run.idealSpikes;
+    total.reversalSpikes += run.reversalSpikes;
+    total.longestAlternation = std::max(total.longestAlternation, run.longestAlternation);
+    total.regainEvents += run.regainEvents;
+    total.regainMissed += run.regainMissed;
+    total.regainMs = std::max(total.regainMs, run.regainMs);
+    total.atMaxMs = std::max(total.atMaxMs, run.atMaxMs);
+    total.pullDownMs += run.pullDownMs;
     rates(total);
 }
 

@@ -29,6 +29,49 @@ double median9(const double (&in)[9]) noexcept
     return p[4];
 }
 
+/// \return how far the mean of the nine taps lies above the least-squares quadric through them at
+/// the centre, m, blended out where the quadric does not fit (an edge, a flying pixel). On a curved
+/// surface the plane's mean is off by (2/3)(d + e), d and e the quadric's curvature terms in tap
+/// units (the 3×3 Savitzky-Golay intercept of order 2 is the mean minus that: weights −1 at the
+/// corners, 2 at the sides, 5 at the centre, over 9). Where the quadric's RMS residual exceeds
+/// r/50 (30 µm at r = 1.5 mm), the correction fades out linearly to none at r/25: on an edge, a
+/// step or 8-bit noise the quadric's intercept weighs single taps up to 5/9 and would step the
+/// force as a tap crosses the edge (on the bench's synthetic forearm, r/10 tripled the worst
+/// stroke's spikes).
+double curvatureCorrection(const double (&t)[9], double r) noexcept
+{
+    double s = 0.0, si = 0.0, sj = 0.0, sx = 0.0, sy = 0.0, sxy = 0.0;
+    for (int k = 0; k < 9; ++k) {
+        const int i = k % 3 - 1;
+        const int j = k / 3 - 1;
+        s += t[k];
+        si += i != 0 ? t[k] : 0.0;
+        sj += j != 0 ? t[k] : 0.0;
+        sx += i * t[k];
+        sy += j * t[k];
+        sxy += i * j * t[k];
+    }
+    // Normal equations of z = a + b·i + c·j + d·i² + e·j² + f·i·j on the grid (i, j ∈ {−1, 0, 1}).
+    const double u = 0.5 * (si + sj - 4.0 / 3.0 * s); // d + e
+    const double v = 0.5 * (si - sj);                 // d − e
+    const double d = 0.5 * (u + v);
+    const double e = 0.5 * (u - v);
+    const double a = (s - 6.0 * u) / 9.0;
+    const double b = sx / 6.0;
+    const double c = sy / 6.0;
+    const double f = sxy / 4.0;
+    double rss = 0.0;
+    for (int k = 0; k < 9; ++k) {
+        const double i = k % 3 - 1;
+        const double j = k / 3 - 1;
+        const double res = t[k] - (a + b * i + c * j + d * i * i + e * j * j + f * i * j);
+        rss += res * res;
+    }
+    const double rms = std::sqrt(rss / 9.0);
+    const double weight = std::clamp(2.0 - rms / (0.02 * r), 0.0, 1.0);
+    return weight * (2.0 / 3.0) * u;
+}
+
 } // namespace
 
 FingerPlane fitFingerPlane(const HeightField &field, double x, double y, double r) noexcept
@@ -40,7 +83,8 @@ FingerPlane fitFingerPlane(const HeightField &field, double x, double y, double 
     const double reachY = std::min(r, halfY);
     const double cx = std::clamp(x, -halfX + reachX, halfX - reachX);
     const double cy = std::clamp(y, -halfY + reachY, halfY - reachY);
-    double taps[9];
+    FingerPlane p;
+    double(&taps)[9] = p.taps;
     for (int k = 0; k < 9; ++k)
         taps[k] = field.heightAt(cx + (k % 3 - 1) * reachX, cy + (k / 3 - 1) * reachY);
     // The median of the nine: on the side of a silhouette where most of the stencil is, and
@@ -82,7 +126,8 @@ FingerPlane fitFingerPlane(const HeightField &field, double x, double y, double 
               sh * (si * sij - sii * sj)) /
              det;
     }
-    FingerPlane p;
+    if (n == 9.0)
+        a -= curvatureCorrection(taps, r);
     p.x = cx;
     p.y = cy;
     p.gx = reachX > 0.0 ? bx / reachX : 0.0; // tap (i, j) is at (x + i·reach, y + j·reach)
@@ -115,6 +160,7 @@ FingerRenderer::FingerRenderer(const RendererConfig &config) noexcept
     const double tripDepth = config.maxForceStep / config.stiffness; // the force step as a depth
     captureDepth_ = std::max(tripDepth, 0.1 * config.box.depth);
     stepDepth_ = 0.25 * tripDepth;
+    pushDepth_ = 0.0625 * tripDepth;
 }
 
 Result<void> FingerRenderer::setFrames(const DepthFrameView &current,
@@ -130,6 +176,10 @@ void FingerRenderer::reset(const glm::dvec3 &hip) noexcept
     contact_ = false;
     behind_ = false;
     enterAnyDepth_ = true;
+    heldDepth_ = 0.0;
+    lastDepth_ = 0.0;
+    saturatedSince_ = std::nan("");
+    letGoNext_ = false;
     force_.reset();
     friction_.release();
 }
@@ -137,11 +187,11 @@ void FingerRenderer::reset(const glm::dvec3 &hip) noexcept
 void FingerRenderer::restartClock() noexcept { force_.restartClock(); }
 
 glm::dvec3 FingerRenderer::solve(const glm::dvec3 &hip, double startX, double startY,
-                                 FingerPlane &plane, double &startHeight,
+                                 FingerPlane &plane, FingerPlane &start,
                                  double &below) const noexcept
 {
     plane = fitFingerPlane(field_, startX, startY, radius_);
-    startHeight = plane.height;
+    start = plane;
     glm::dvec3 p = projectOnPlane(plane, hip, below);
     // The god-object's objective: the distance from the HIP to the surface point at q.
     auto distance = [&hip](const FingerPlane &f) {
@@ -176,9 +226,10 @@ glm::dvec3 FingerRenderer::solve(const glm::dvec3 &hip, double startX, double st
     return p;
 }
 
-glm::dvec3 FingerRenderer::glide(const glm::dvec3 &hip, const glm::dvec3 &proxy,
-                                 FingerPlane &plane) const noexcept
+glm::dvec3 FingerRenderer::glide(const glm::dvec3 &hip, const glm::dvec3 &proxy, FingerPlane &plane,
+                                 double &moved) const noexcept
 {
+    moved = 0.0;
     const double hx = hip.x - lastHip_.x;
     const double hy = hip.y - lastHip_.y;
     const double allowed = std::sqrt(hx * hx + hy * hy) + 0.25 * radius_;
@@ -187,10 +238,148 @@ glm::dvec3 FingerRenderer::glide(const glm::dvec3 &hip, const glm::dvec3 &proxy,
     const double d = std::sqrt(dx * dx + dy * dy);
     if (!(d > allowed))
         return proxy;
+    moved = allowed;
     // Toward the new optimum by what is allowed, on the surface there.
     plane = fitFingerPlane(field_, proxy_.x + dx * (allowed / d), proxy_.y + dy * (allowed / d),
                            radius_);
     return {plane.x, plane.y, plane.height};
+}
+
+void FingerRenderer::slide(const glm::dvec3 &hip, double raw, Candidate &c) const noexcept
+{
+    // Slide on from the last proxy, on the current surface (fix (a): it lifts with it). The first
+    // fit is where the last update's ended: fix (c) from the depth compares the surface there with
+    // what it was then (a step since the last update is a cut).
+    FingerPlane start{};
+    c.proxy = solve(hip, lastX_, lastY_, c.plane, start, c.below);
+    const double startHeight = start.height;
+    // A hole that opened under the proxy (the stencil's median turned to a hole) is no cut: the
+    // surface is gone, not moved, and the finger is free there (no trip, no force).
+    const double moved = field_.overHole(startHeight) ? 0.0 : std::fabs(startHeight - lastHeight_);
+    // A cut moves most of the patch (stencilStep()); the plane's own step, an object's silhouette
+    // passing over part of it too, is ramped.
+    const double step = stencilStep(start);
+    if (config_.safety && step > field_.cutThreshold())
+        c.trip = true;
+    else if (moved > stepDepth_)
+        c.stepped = true;
+    c.contact = c.below > 0.0;
+    // Two cases go to the surface at the HIP's own x–y. Held against a wall (the proxy more than r
+    // to the side), the wall is an object's silhouette and behind it is what the camera did not
+    // see: where that surface is nearer than the wall's proxy, the finger went round or under the
+    // object and touches it instead of being pulled back through. And a HIP that slipped off a
+    // steep side's plane while still inside the sensor surface (an object's edge swept over the
+    // finger) is held by that surface. So is a HIP above its wall's proxy while under the sensor
+    // surface at its own x–y: the wall's object moved over it (a turning head over a finger on the
+    // curtain), and the wall would pull the finger down into the backdrop.
+    const double sideX = c.proxy.x - hip.x;
+    const double sideY = c.proxy.y - hip.y;
+    const bool overtaken = c.contact && c.proxy.z < hip.z;
+    bool atHip = false;
+    if (!c.contact || overtaken || sideX * sideX + sideY * sideY > radius_ * radius_) {
+        FingerPlane localPlane{};
+        FingerPlane localStart{};
+        double localBelow = 0.0;
+        const glm::dvec3 local = solve(hip, hip.x, hip.y, localPlane, localStart, localBelow);
+        // Nearer by a share (hysteresis): beside an edge the two solutions must not take turns.
+        const double nearer = (1.0 - kFingerSwitchGain) * glm::length(c.proxy - hip);
+        if (localBelow > 0.0 && (!c.contact || overtaken || localBelow < nearer)) {
+            c.proxy = local;
+            c.plane = localPlane;
+            c.below = localBelow;
+            c.contact = true;
+            atHip = true;
+        }
+    }
+    if (!c.contact) {
+        // Still under the sensor surface at its own x–y (the stencil's median is the backdrop
+        // beside an object's silhouette): the contact goes on, pushing straight up from there.
+        c.plane = fitFingerPlane(field_, hip.x, hip.y, radius_);
+        c.proxy = {hip.x, hip.y, raw};
+        c.below = raw - hip.z;
+        c.contact = true;
+        return;
+    }
+    double glided = 0.0;
+    c.proxy = glide(hip, c.proxy, c.plane, glided);
+    // A descent never ends farther from the HIP than where it started (the surface point of the
+    // last update's plane, refitted now), and a glide (a jump of the optimum, followed over a few
+    // updates) only for a gain of kFingerGlideGain of its length: otherwise the proxy stays, so
+    // that it cannot alternate between two points beside an object's edge update after update (the
+    // surface there moves a little each update, and two far solutions take turns being nearer).
+    auto distance = [&hip](const FingerPlane &f) {
+        return glm::length(glm::dvec3(f.x - hip.x, f.y - hip.y, f.height - hip.z));
+    };
+    if (atHip || distance(c.plane) < distance(start) - kFingerGlideGain * glided)
+        return;
+    double below = 0.0;
+    const glm::dvec3 stay = projectOnPlane(start, hip, below);
+    if (below > 0.0) { // the HIP is still under the plane it stays on
+        c.plane = start;
+        c.proxy = stay;
+        c.below = below;
+    }
+}
+
+void FingerRenderer::capture(const glm::dvec3 &hip, Candidate &c) noexcept
+{
+    // From the HIP (a new contact, a finger behind an object, or the proxy-graph baseline without
+    // fix (a)). A finger let go behind an occluder is caught again by the surface it was held on:
+    // within its held depth (plus a ramped step) instead of the capture depth of a new contact.
+    FingerPlane start{};
+    c.proxy = solve(hip, hip.x, hip.y, c.plane, start, c.below);
+    const double reach = behind_ ? std::max(captureDepth_, heldDepth_ + stepDepth_) : captureDepth_;
+    c.contact =
+        c.below > 0.0 && (contact_ || enterAnyDepth_ || c.below <= reach || !config_.safety);
+    if (c.below > 0.0 && !c.contact) {
+        behind_ = true; // came under the surface from the side, or the surface jumped onto it
+    } else if (c.contact && behind_) {
+        behind_ = false;
+        // caught again (the force steps at most maxForceStep an update)
+    }
+}
+
+void FingerRenderer::pushUp(const glm::dvec3 &hip, double raw, Candidate &c) const noexcept
+{
+    // A glide ends on the surface part-way to the new optimum, which beyond an edge may lie under
+    // the HIP: the spring would pull the finger down the side. A height field's surface pushes
+    // up: the proxy is then the HIP's projection on the plane there or, with the HIP above that
+    // plane (it is under the sensor surface at its own x–y: slide() runs inside), that surface
+    // straight above it, as slide()'s own fallback.
+    if (!(c.proxy.z < hip.z))
+        return;
+    double below = 0.0;
+    const glm::dvec3 q = projectOnPlane(c.plane, hip, below);
+    if (below > 0.0) {
+        c.proxy = q;
+        c.below = below;
+        return;
+    }
+    c.plane = fitFingerPlane(field_, hip.x, hip.y, radius_);
+    c.proxy = {hip.x, hip.y, raw};
+    c.below = raw - hip.z;
+}
+
+double FingerRenderer::stencilStep(const FingerPlane &now) const noexcept
+{
+    double moved[9];
+    for (int k = 0; k < 9; ++k)
+        moved[k] = field_.overHole(now.taps[k]) || field_.overHole(lastTaps_[k])
+                       ? 0.0
+                       : std::fabs(now.taps[k] - lastTaps_[k]);
+    return median9(moved);
+}
+
+void FingerRenderer::limitPush(const glm::dvec3 &hip, Candidate &c) const noexcept
+{
+    // How deep the HIP is under the proxy may grow by the HIP's own motion and pushDepth_ an
+    // update: a surface that sweeps under a resting finger (an object's side, a turning head)
+    // pushes it out at a bounded rate, and a hand that yields rises onto it; one that does not is
+    // let go once the force has reached the device maximum (watchSaturation()).
+    const double depth = glm::length(c.proxy - hip);
+    const double allowed = lastDepth_ + glm::length(hip - lastHip_) + pushDepth_;
+    if (depth > allowed)
+        c.proxy = hip + (c.proxy - hip) * (allowed / depth);
 }
 
 HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
@@ -202,89 +391,81 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     // The sensor surface at the HIP's own x–y: above it is free space (what the camera saw).
     const double raw = over ? field_.heightAt(hip.x, hip.y) : std::nan("");
     const bool inside = raw > hip.z; // false for NaN
-    glm::dvec3 proxy = hip;
-    bool contact = false;
-    bool trip = false;
-    bool stepped = false; // the surface under the proxy stepped by less than a cut
-    FingerPlane plane{};
-    double below = 0.0;
-    double startHeight = 0.0;
+    Candidate c;
+    c.proxy = hip;
     if (!inside) {
         behind_ = false;
+        heldDepth_ = 0.0;
     } else if (contact_ && config_.correction) {
-        // Slide on from the last proxy, on the current surface (fix (a): it lifts with it).
-        // The first fit is where the last update's ended: fix (c) from the depth compares the
-        // surface there with what it was then (a step since the last update is a cut).
-        proxy = solve(hip, lastX_, lastY_, plane, startHeight, below);
-        const double step = std::fabs(startHeight - lastHeight_);
-        if (config_.safety && step > field_.cutThreshold())
-            trip = true;
-        else if (step > stepDepth_)
-            stepped = true;
-        contact = below > 0.0;
-        // Two cases go to the surface at the HIP's own x–y. Held against a wall (the proxy more
-        // than r to the side), the wall is an object's silhouette and behind it is what the
-        // camera did not see: where that surface is nearer than the wall's proxy, the finger went
-        // round or under the object and touches it instead of being pulled back through. And a
-        // HIP that slipped off a steep side's plane while still inside the sensor surface (an
-        // object's edge swept over the finger) is held by that surface.
-        const double sideX = proxy.x - hip.x;
-        const double sideY = proxy.y - hip.y;
-        if (!contact || sideX * sideX + sideY * sideY > radius_ * radius_) {
-            FingerPlane localPlane{};
-            double localStart = 0.0;
-            double localBelow = 0.0;
-            const glm::dvec3 local = solve(hip, hip.x, hip.y, localPlane, localStart, localBelow);
-            if (localBelow > 0.0 && (!contact || localBelow < glm::length(proxy - hip))) {
-                proxy = local;
-                plane = localPlane;
-                below = localBelow;
-                contact = true;
-            }
-        }
-        if (contact)
-            proxy = glide(hip, proxy, plane);
-    } else if (contact_ || !behind_) {
-        // From the HIP (a new contact, or the proxy-graph baseline without fix (a)).
-        proxy = solve(hip, hip.x, hip.y, plane, startHeight, below);
-        contact = below > 0.0 && (contact_ || enterAnyDepth_ || below <= captureDepth_ ||
-                                  !config_.safety);
-        if (below > 0.0 && !contact)
-            behind_ = true; // came under the surface from the side, or the surface jumped onto it
+        slide(hip, raw, c);
+        if (c.contact && !c.trip)
+            pushUp(hip, raw, c);
+        if (c.contact && !c.trip)
+            limitPush(hip, c);
+    } else {
+        capture(hip, c);
     }
-    if (trip && config_.reengage == Reengage::Release) {
-        contact = false;
-        behind_ = true;
-    }
-    if (!contact)
-        proxy = hip;
-    enterAnyDepth_ = false;
-    out.released = trip;
     // The material under the goal (the track's per-pixel stiffness and friction), else the
     // renderer's own friction at stiffness scale 1.
     const bool material = field_.current().material.present();
-    const double stiffnessScale = applyMaterial(field_, proxy, contact, friction_);
+    const double stiffnessScale = applyMaterial(field_, c.proxy, c.contact, friction_);
+    if (letGoNext_ && c.contact) {
+        c.trip = true;
+        c.letGo = true;
+        c.saturated = true;
+    }
+    letGoNext_ = false;
+    if (c.trip && (c.letGo || config_.reengage == Reengage::Release)) {
+        // Behind the surface: free until out, or caught again by the surface it was held on.
+        heldDepth_ = c.saturated ? 0.0 : lastDepth_;
+        c.contact = false;
+        behind_ = true;
+    }
+    if (!c.contact)
+        c.proxy = hip;
+    enterAnyDepth_ = false;
+    out.released = c.trip;
     // Friction acts on the force and the reported proxy; proxy_ keeps the frictionless goal (the
     // glide and the next update's search start from it).
-    glm::dvec3 held = proxy;
+    glm::dvec3 held = c.proxy;
     if (friction_.enabled() || material) {
-        if (contact && !trip)
-            held = friction_.apply(proxy, hip, t);
+        if (c.contact && !c.trip)
+            held = friction_.apply(c.proxy, hip, t);
         else
             friction_.release();
     }
-    const glm::dvec3 rawForce = force_.spring(hip, held, contact, t, stiffnessScale);
-    out.force = force_.shape(rawForce, t, contact, trip || stepped);
+    const glm::dvec3 rawForce = force_.spring(hip, held, c.contact, t, stiffnessScale);
+    out.force = force_.shape(rawForce, t, c.contact, c.trip || c.stepped);
+    watchSaturation(out.force, t, c.contact);
     out.proxy = held;
-    out.contact = contact;
-    out.constraints = contact ? 1 : 0;
-    contact_ = contact;
-    proxy_ = proxy;
+    out.contact = c.contact;
+    out.constraints = c.contact ? 1 : 0;
+    contact_ = c.contact;
+    proxy_ = c.proxy;
     lastHip_ = hip;
-    lastX_ = plane.x;
-    lastY_ = plane.y;
-    lastHeight_ = plane.height;
+    lastDepth_ = c.contact ? glm::length(c.proxy - hip) : 0.0;
+    lastX_ = c.plane.x;
+    lastY_ = c.plane.y;
+    lastHeight_ = c.plane.height;
+    std::copy(std::begin(c.plane.taps), std::end(c.plane.taps), std::begin(lastTaps_));
     return out;
+}
+
+void FingerRenderer::watchSaturation(const glm::dvec3 &force, double t, bool contact) noexcept
+{
+    // The command at the device maximum: the finger is deeper than the device can push it out of
+    // (an object pressed onto it that the hand does not yield to, or a press past what the device
+    // renders). Held there for kFingerSaturationTime, the next update lets it go.
+    if (!contact || !config_.safety || !(glm::length(force) >= config_.maxForce * (1.0 - 1e-9))) {
+        saturatedSince_ = std::nan("");
+        return;
+    }
+    if (std::isnan(saturatedSince_))
+        saturatedSince_ = t;
+    if (t - saturatedSince_ >= kFingerSaturationTime) {
+        letGoNext_ = true;
+        saturatedSince_ = std::nan("");
+    }
 }
 
 } // namespace depthtouch::haptics

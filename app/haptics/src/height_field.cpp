@@ -26,8 +26,12 @@ Result<void> HeightField::setFrames(const DepthFrameView &current,
     halfW_ = 0.5 * (current.width - 1);
     halfH_ = 0.5 * (current.height - 1);
     halfDepth_ = 0.5 * box_.depth;
-    zScaleCurrent_ = box_.depth / maxSampleValue(current.format);
-    zScaleNext_ = hasNext_ ? box_.depth / maxSampleValue(next_.format) : 0.0;
+    holeZ_ = -halfDepth_ - holeDrop();
+    // Codes farCode()..v_max span the box depth (docs/architecture.md §3 "Holes").
+    farCurrent_ = static_cast<double>(current.farCode());
+    farNext_ = hasNext_ ? static_cast<double>(next_.farCode()) : 0.0;
+    zScaleCurrent_ = box_.depth / (maxSampleValue(current.format) - farCurrent_);
+    zScaleNext_ = hasNext_ ? box_.depth / (maxSampleValue(next_.format) - farNext_) : 0.0;
     curWide_ = current_.format == SampleFormat::Gray16;
     nextWide_ = hasNext_ && next_.format == SampleFormat::Gray16;
     sameLayout_ = curWide_ && nextWide_ && next_.strideBytes == current_.strideBytes;

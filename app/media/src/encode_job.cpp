@@ -14,26 +14,13 @@
 #include <utility>
 #include <vector>
 
-#include "depthtouch/depth/fill.h"
-#include "depthtouch/depth/resample.h"
 #include "depthtouch/media/material_track.h"
 #include "depthtouch/platform/clock.h"
+#include "depth_pipeline.h"
 
 namespace depthtouch::media {
 
 namespace {
-
-int bitsOf(VideoCodec codec) noexcept
-{
-    switch (codec) {
-    case VideoCodec::H264Gray10:
-        return 10;
-    case VideoCodec::Ffv1Gray16:
-        return 16;
-    default:
-        return 8;
-    }
-}
 
 std::string number(double v)
 {
@@ -41,137 +28,6 @@ std::string number(double v)
     std::snprintf(buf, sizeof buf, "%.6g", v);
     return buf;
 }
-
-/// Depth frame → nearness levels of the output grid, ready for the depth encoder.
-class DepthPipeline {
-public:
-    DepthPipeline(const EncodeOptions &o, int width, int height, bool metric,
-                  std::optional<depth::DepthRange> range, const EncodeCallbacks &cb)
-        : options_(o), callbacks_(cb), width_(width), height_(height), metric_(metric),
-          bits_(bitsOf(o.depthCodec)), vmax_(std::ldexp(1.0, bits_) - 1.0), range_(range)
-    {
-        const auto k = static_cast<float>(vmax_ / 255.0);
-        enhance_ = o.enhanceOptions;
-        enhance_.sampling.tolerance *= k;
-        enhance_.smoothing.edgeThreshold *= k;
-        enhance_.measure.flatGradient *= k;
-        enhance_.measure.edgeGradient *= k;
-    }
-
-    [[nodiscard]] PixelFormat inputLayout() const noexcept
-    {
-        return metric_ ? PixelFormat::Gray16 : PixelFormat::Gray8;
-    }
-    [[nodiscard]] int bits() const noexcept { return bits_; }
-
-    Result<Image> process(const Image &frame, EncodeSummary &summary)
-    {
-        depth::Plane<float> nearness;
-        if (metric_) {
-            depth::ConvertOptions co;
-            co.raw = options_.raw;
-            co.mapping = options_.mapping;
-            co.vmax = vmax_;
-            co.range = range_;
-            auto n = depth::metricToNearness(toPlane16(frame), co);
-            if (!n)
-                return unexpected(n.error());
-            if (n->invalidCount == n->valid.size()) {
-                // Nothing to fill from: hold the last good depth rather than invent a far plane.
-                if (last_.empty())
-                    return unexpected(Errc::InvalidArgument,
-                                      "The first depth frame has no valid sample");
-                ++summary.repeatedFrames;
-                return last_;
-            }
-            if (n->invalidCount > 0) {
-                auto filled = depth::fillInvalid(n->nearness, n->valid);
-                if (!filled)
-                    return unexpected(filled.error());
-                summary.filledSamples += static_cast<long long>(*filled);
-            }
-            nearness = std::move(n->nearness);
-        } else {
-            const depth::Plane<std::uint8_t> p8 = toPlane8(frame);
-            if (p8.empty())
-                return unexpected(Errc::InvalidArgument, "Empty depth frame");
-            nearness = depth::Plane<float>(p8.width, p8.height);
-            const auto k = static_cast<float>(vmax_ / 255.0);
-            for (std::size_t i = 0; i < p8.size(); ++i)
-                nearness.samples[i] = static_cast<float>(p8.samples[i]) * k;
-        }
-        if (nearness.width != width_ || nearness.height != height_) {
-            if (!summary.depthResampled && callbacks_.warning)
-                callbacks_.warning("depth is " + std::to_string(nearness.width) + "x" +
-                                   std::to_string(nearness.height) + ", resampled to the " +
-                                   std::to_string(width_) + "x" + std::to_string(height_) +
-                                   " output grid (edge-aware)");
-            summary.depthResampled = true;
-            auto r = depth::resample(nearness, width_, height_, depth::ResampleMethod::EdgeAware,
-                                     static_cast<float>(4.0 * vmax_ / 255.0));
-            if (!r)
-                return unexpected(r.error());
-            nearness = std::move(*r);
-        }
-        if (options_.enhance) {
-            auto e = depth::enhance(nearness, enhance_);
-            if (!e)
-                return unexpected(e.error());
-            accumulate(e->report, summary);
-            nearness = std::move(e->depth);
-        }
-        const depth::Plane<std::uint16_t> q = depth::quantize(nearness, vmax_);
-        Image out;
-        if (bits_ == 8) {
-            out = Image::make(q.width, q.height, PixelFormat::Gray8);
-            for (int y = 0; y < q.height; ++y) {
-                std::uint8_t *row = out.row(y);
-                for (int x = 0; x < q.width; ++x)
-                    row[x] = static_cast<std::uint8_t>(q.at(x, y));
-            }
-        } else {
-            out = fromPlane(q);
-        }
-        last_ = out;
-        return out;
-    }
-
-private:
-    void accumulate(const depth::EnhanceReport &r, EncodeSummary &summary)
-    {
-        if (!summary.enhance) {
-            summary.enhance = EnhanceTotals{};
-            summary.enhance->levelsMax = vmax_;
-        }
-        EnhanceTotals &t = *summary.enhance;
-        const auto n = static_cast<double>(t.frames);
-        const auto px = static_cast<double>(r.pixels);
-        const double prevPx = static_cast<double>(t.pixels);
-        // Pixel-weighted means of the error; frame means of the surface measures.
-        t.meanAbsError = (t.meanAbsError * prevPx + r.meanAbsError * px) / (prevPx + px);
-        const double sq = t.rmsError * t.rmsError * prevPx + r.rmsError * r.rmsError * px;
-        t.rmsError = std::sqrt(sq / (prevPx + px));
-        t.maxAbsError = std::max(t.maxAbsError, r.maxAbsError);
-        t.roughnessInput = (t.roughnessInput * n + r.input.roughness) / (n + 1.0);
-        t.roughnessOutput = (t.roughnessOutput * n + r.enhanced.roughness) / (n + 1.0);
-        t.edgeContrastInput = (t.edgeContrastInput * n + r.input.edgeContrast) / (n + 1.0);
-        t.edgeContrastOutput = (t.edgeContrastOutput * n + r.enhanced.edgeContrast) / (n + 1.0);
-        t.pixels += static_cast<long long>(r.pixels);
-        t.points += static_cast<long long>(r.points);
-        ++t.frames;
-    }
-
-    const EncodeOptions &options_;
-    const EncodeCallbacks &callbacks_;
-    int width_;
-    int height_;
-    bool metric_;
-    int bits_;
-    double vmax_;
-    std::optional<depth::DepthRange> range_;
-    depth::EnhanceOptions enhance_;
-    Image last_;
-};
 
 } // namespace
 
@@ -213,14 +69,18 @@ Result<void> EncodeOptions::validate() const
 }
 
 std::vector<std::pair<std::string, std::string>>
-depthTags(const std::optional<depth::DepthRange> &range, depth::DepthMapping mapping, int bits)
+depthTags(const std::optional<depth::DepthRange> &range, depth::DepthMapping mapping, int bits,
+          std::uint32_t occupancy)
 {
-    return {
+    std::vector<std::pair<std::string, std::string>> tags = {
         {"depth_near", range ? number(range->nearM) : std::string("unknown")},
         {"depth_far", range ? number(range->farM) : std::string("unknown")},
         {"depth_mapping", depth::mappingName(mapping)},
         {"depth_bits", std::to_string(bits)},
     };
+    if (occupancy > 0)
+        tags.emplace_back("depth_occupancy", std::to_string(occupancy));
+    return tags;
 }
 
 namespace {
@@ -504,11 +364,12 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth, Fram
     if (range)
         summary.range = *range;
 
-    DepthPipeline pipeline(options, shape.width, shape.height, metric, range, callbacks);
+    detail::DepthPipeline pipeline(options, shape.width, shape.height, metric, range, callbacks);
     summary.depthBits = pipeline.bits();
+    summary.depthOccupancy = pipeline.occupancy().threshold;
 
     // Output: container tags and streams, then the header.
-    const auto tags = depthTags(range, mapping, pipeline.bits());
+    const auto tags = depthTags(range, mapping, pipeline.bits(), pipeline.occupancy().threshold);
     summary.mapping = mapping;
     Outputs out;
     DT_TRY(openOutputs(options, shape, tags, material != nullptr, out));

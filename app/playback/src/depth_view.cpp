@@ -20,6 +20,7 @@ haptics::DepthFrameView depthView(const receiver::StoredFrame &f, double pts) no
     v.strideBytes = static_cast<std::size_t>(f.image.planes[0].strideBytes);
     v.format = sampleFormatOf(f.image.format);
     v.pts = pts;
+    v.holeBelow = f.holeBelow;
     return v;
 }
 

@@ -16,8 +16,9 @@ namespace depthtouch::playback {
 /// give depth as Gray8 or Gray16 only).
 haptics::SampleFormat sampleFormatOf(hal::PixelFormat format) noexcept;
 
-/// \return a view of the decoded depth frame \a f (plane 0, its stride) with PTS \a pts (s). The
-/// view borrows \a f's pixels: keep \a f alive while the view is used.
+/// \return a view of the decoded depth frame \a f (plane 0, its stride, its hole threshold
+/// StoredFrame::holeBelow) with PTS \a pts (s). The view borrows \a f's pixels: keep \a f alive
+/// while the view is used.
 haptics::DepthFrameView depthView(const receiver::StoredFrame &f, double pts) noexcept;
 
 /// \return a view of the material frame \a f (Rgb24 codes, scene/material.h) of a depth frame of

@@ -103,6 +103,7 @@ Take Receiver::Impl::takeFrame(Stream &s)
     // Material frames are RGB24 codes, decoded as a colour stream (hal has no material kind).
     w->kind = s.which == PairStream::Depth && !s.material ? hal::StreamKind::Depth
                                                           : hal::StreamKind::Color;
+    w->holeBelow = w->kind == hal::StreamKind::Depth ? info.depthHoleBelow : 0u;
     w->pts = fr.pts;
     w->corrupt = fr.corrupt;
     w->sequence = s.sequence++;

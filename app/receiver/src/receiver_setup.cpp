@@ -97,6 +97,8 @@ Result<void> Receiver::Impl::setUpStream(Stream &s, int index, PairStream which,
     s.decoder = std::move(*dec);
     if (!material)
         (depth ? info.depthFormat : info.colorFormat) = sc.format;
+    if (depth)
+        info.depthHoleBelow = depthHoleBelow(si, sc.format);
     return ok();
 }
 

@@ -1,7 +1,10 @@
 #include "depthtouch/receiver/stream_roles.h"
 
+#include <algorithm>
 #include <cctype>
 #include <string_view>
+
+#include "depthtouch/depth/occupancy.h"
 
 namespace depthtouch::receiver {
 
@@ -41,9 +44,26 @@ bool sameMetadata(const hal::DepthMetadata &a, const hal::DepthMetadata &b) noex
 
 } // namespace
 
+std::uint32_t depthHoleBelow(const hal::StreamInfo &si, hal::PixelFormat decoded) noexcept
+{
+    const std::uint32_t t = si.depth.occupancy;
+    if (t == 0)
+        return 0;
+    const int bits = si.depth.bits > 0                       ? si.depth.bits
+                     : si.format == hal::PixelFormat::Gray10 ? 10
+                     : si.format == hal::PixelFormat::Gray16 ? 16
+                                                             : 8;
+    if (decoded == hal::PixelFormat::Gray16)
+        return depth::widenedThreshold(t, bits);
+    // Narrowed to 8 bits (the top byte): the smallest 8-bit value whose source reaches t.
+    const int drop = std::max(0, bits - 8);
+    return std::min<std::uint32_t>(255u, (t + (1u << drop) - 1u) >> drop);
+}
+
 bool hasDepthMetadata(const hal::DepthMetadata &d) noexcept
 {
-    return d.nearMetres > 0.0 || d.farMetres > 0.0 || !d.mapping.empty() || d.bits > 0;
+    return d.nearMetres > 0.0 || d.farMetres > 0.0 || !d.mapping.empty() || d.bits > 0 ||
+           d.occupancy > 0;
 }
 
 StreamRoles identifyStreams(const hal::MediaInfo &info, SingleStream single)

@@ -118,6 +118,10 @@ double AdaptiveMesh::tileError(const scene::DepthFrameView &depth, int tx, int t
         for (int ca = c0; ca < c1; ca += step) {
             const int cb = std::min(ca + step, c1);
             const double invW = 1.0 / (cb - ca);
+            // Holes: mesh::sampleError(); a cell with a hole corner is not drawn.
+            const bool drawn = depth.measured(ca, ra) && depth.measured(cb, ra) &&
+                               depth.measured(cb, rb) && depth.measured(ca, rb);
+            const double mismatch = step == 1 ? 0.0 : static_cast<double>(mesh::kCoverageError);
             const double z00 = depth.sample(ca, ra);
             const double z10 = depth.sample(cb, ra);
             const double z11 = depth.sample(cb, rb);
@@ -126,9 +130,11 @@ double AdaptiveMesh::tileError(const scene::DepthFrameView &depth, int tx, int t
                 const double v = (r - ra) * invH;
                 for (int c = ca; c <= cb; ++c) {
                     const double u = (c - ca) * invW;
-                    const double e = std::fabs(cellValue(z00, z10, z11, z01, u, v) -
+                    const double g = std::fabs(cellValue(z00, z10, z11, z01, u, v) -
                                                static_cast<double>(depth.sample(c, r)));
-                    sum += e;
+                    const bool hole = !depth.measured(c, r);
+                    const double e = drawn ? (hole ? mismatch : g) : (hole ? 0.0 : mismatch);
+                    sum += drawn && !hole ? g : 0.0;
                     ++count;
                     if (e > worst) {
                         worst = e;
@@ -327,6 +333,7 @@ MeshError measureMeshError(const scene::DepthFrameView &depth,
         long long cy[3];
         double val[3];
         bool inside = true;
+        bool holeCorner = false; // the triangle is not drawn (docs/architecture.md §3 "Holes")
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t i = indices[t + static_cast<std::size_t>(k)];
             if (i >= n) {
@@ -336,6 +343,7 @@ MeshError measureMeshError(const scene::DepthFrameView &depth,
             cx[k] = i % static_cast<std::uint32_t>(w);
             cy[k] = i / static_cast<std::uint32_t>(w);
             val[k] = depth.sample(static_cast<int>(cx[k]), static_cast<int>(cy[k]));
+            holeCorner = holeCorner || val[k] < static_cast<double>(depth.holeBelow);
         }
         if (!inside)
             continue;
@@ -368,8 +376,10 @@ MeshError measureMeshError(const scene::DepthFrameView &depth,
                     a;
                 const std::size_t idx = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
                                         static_cast<std::size_t>(x);
-                error[idx] = static_cast<float>(
-                    std::fabs(v - depth.sample(static_cast<int>(x), static_cast<int>(y))));
+                const auto sample =
+                    static_cast<double>(depth.sample(static_cast<int>(x), static_cast<int>(y)));
+                const bool hole = holeCorner || sample < static_cast<double>(depth.holeBelow);
+                error[idx] = hole ? 0.0f : static_cast<float>(std::fabs(v - sample));
             }
         }
     }

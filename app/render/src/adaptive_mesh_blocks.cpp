@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <utility>
 
 #include "depthtouch/render/adaptive_mesh.h"
@@ -56,15 +57,22 @@ int probesAlong(int a0, int a1, int first, int *out, int cap) noexcept
 
 /// The jump from each sample of row \a a to its right neighbour and to the sample below it in row
 /// \a b, the larger of the two, for samples [0, n) into \a out (exact in T: |x - y| of two T
-/// values fits a T). Branch-free on unsigned samples, so it vectorises.
+/// values fits a T). Holes (samples below \a hole, docs/architecture.md §3): between two holes the
+/// jump is 0, between a hole and a measured sample it is the largest T (a coverage edge, which
+/// tileJumps() turns into an error over any cap: no jump between measured samples reaches it when
+/// \a hole > 0). Branch-free on unsigned samples, so it vectorises.
 template <class T>
-inline void rowJumps(const T *__restrict a, const T *__restrict b, int n,
+inline void rowJumps(const T *__restrict a, const T *__restrict b, int n, T hole,
                      T *__restrict out) noexcept
 {
+    constexpr T kEdge = std::numeric_limits<T>::max();
     for (int c = 0; c < n; ++c) {
         const T h = static_cast<T>(std::max(a[c + 1], a[c]) - std::min(a[c + 1], a[c]));
         const T v = static_cast<T>(std::max(b[c], a[c]) - std::min(b[c], a[c]));
-        out[c] = std::max(h, v);
+        const bool ha = a[c] < hole;
+        const T hj = ha != (a[c + 1] < hole) ? kEdge : (ha ? T{0} : h);
+        const T vj = ha != (b[c] < hole) ? kEdge : (ha ? T{0} : v);
+        out[c] = std::max(hj, vj);
     }
 }
 
@@ -93,12 +101,16 @@ void tileJumps(const scene::DepthFrameView &d, int tile, int tilesX, T *scratch,
         const int rd = std::min(r + 2, cellsY);
         const T *b =
             reinterpret_cast<const T *>(d.data + static_cast<std::size_t>(rd) * d.strideBytes);
-        rowJumps(a, b, cellsX, scratch);
+        rowJumps(a, b, cellsX, static_cast<T>(d.holeBelow), scratch);
         float *row = out + static_cast<std::size_t>(r / tile) * static_cast<std::size_t>(tilesX);
         for (int tx = 0; tx < tilesX; ++tx) {
             const int c0 = tx * tile;
             const int c1 = std::min(c0 + tile, cellsX);
-            row[tx] = std::max(row[tx], static_cast<float>(largest(scratch + c0, c1 - c0)));
+            const T j = largest(scratch + c0, c1 - c0);
+            // A tile across a hole's border (mesh::kCoverageError): refined to step 1.
+            const bool coverage = d.holeBelow > 0 && j == std::numeric_limits<T>::max();
+            row[tx] =
+                std::max(row[tx], coverage ? 2.0f * mesh::kCoverageError : static_cast<float>(j));
         }
     }
 }
@@ -144,7 +156,9 @@ inline void probeRowError(const scene::DepthFrameView &depth, int c0, int r0, co
 {
     for (int i = 0; i < nx; ++i) {
         const ProbeAxis &x = xs[i];
+        // Holes: mesh::sampleError(); a cell with a hole corner is not drawn.
         const float z = sampleAt<T>(depth, c0 + x.at, r0 + y.at);
+        const auto hole = static_cast<float>(depth.holeBelow);
         for (int l = 1; l < levels; ++l) {
             const int ca = c0 + x.lo[l];
             const int cb = c0 + x.hi[l];
@@ -158,9 +172,12 @@ inline void probeRowError(const scene::DepthFrameView &depth, int c0, int r0, co
                                          v * (z11 - sampleAt<T>(depth, cb, ra))
                                    : z00 + v * (sampleAt<T>(depth, ca, rb) - z00) +
                                          u * (z11 - sampleAt<T>(depth, ca, rb));
-            const float err = std::fabs(s - z);
-            e[2 * l] += err;
-            e[2 * l + 1] = std::max(e[2 * l + 1], err);
+            const bool drawn = std::min({z00, z11, sampleAt<T>(depth, cb, ra),
+                                         sampleAt<T>(depth, ca, rb)}) >= hole;
+            const float g = std::fabs(s - z);
+            e[2 * l] += drawn && z >= hole ? g : 0.0f;
+            e[2 * l + 1] =
+                std::max(e[2 * l + 1], mesh::sampleError(g, z < hole, drawn, mesh::kCoverageError));
         }
     }
 }

@@ -53,6 +53,11 @@ BlockError scanBlock(const scene::DepthFrameView &depth, int c0, int r0, int c1,
     const float invW = 1.0f / static_cast<float>(w);
     BlockError out;
     out.count = (w + 1) * (h + 1);
+    // Holes (mesh::sampleError()): a block with a hole corner is not drawn; its geometric error
+    // counts only under a drawn block. Without holes (hole 0) no sample is below hole.
+    const auto hole = static_cast<float>(depth.holeBelow);
+    const bool drawn = !(z00 < hole || z10 < hole || z11 < hole || z01 < hole);
+    const float mismatch = w == 1 && h == 1 ? 0.0f : mesh::kCoverageError;
     double sum = 0.0;
     for (int r = r0; r <= r1; ++r) {
         const int dr = r - r0;
@@ -66,17 +71,19 @@ BlockError scanBlock(const scene::DepthFrameView &depth, int c0, int r0, int c1,
         float a = z00 + v * (z01 - z00);
         float b = (z11 - z01) * invW;
         for (int c = c0; c < split; ++c) {
-            const float e = std::fabs(a + b * static_cast<float>(c - c0) - loadSample<T>(p, c));
-            rowSum += e;
-            rowMax = std::max(rowMax, e);
+            const float z = loadSample<T>(p, c);
+            const float g = std::fabs(a + b * static_cast<float>(c - c0) - z);
+            rowSum += drawn && z >= hole ? g : 0.0f;
+            rowMax = std::max(rowMax, mesh::sampleError(g, z < hole, drawn, mismatch));
         }
         // Upper triangle (u ≥ v): z00 + u·(z10 − z00) + v·(z11 − z10).
         a = z00 + v * (z11 - z10);
         b = (z10 - z00) * invW;
         for (int c = split; c <= c1; ++c) {
-            const float e = std::fabs(a + b * static_cast<float>(c - c0) - loadSample<T>(p, c));
-            rowSum += e;
-            rowMax = std::max(rowMax, e);
+            const float z = loadSample<T>(p, c);
+            const float g = std::fabs(a + b * static_cast<float>(c - c0) - z);
+            rowSum += drawn && z >= hole ? g : 0.0f;
+            rowMax = std::max(rowMax, mesh::sampleError(g, z < hole, drawn, mismatch));
         }
         sum += static_cast<double>(rowSum);
         out.max = std::max(out.max, rowMax);

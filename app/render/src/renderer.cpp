@@ -50,6 +50,10 @@ out vec2 vTex;
 #ifdef POSITION
 out vec3 vPos;
 #endif
+#ifdef HOLES
+uniform float uHoleBelow;
+out float vHole;
+#endif
 void main() {
     int c = gl_VertexID % uColumns;
     int r = gl_VertexID / uColumns;
@@ -71,6 +75,16 @@ void main() {
     float t = float(texelFetch(uDepth, ivec2(c, r), 0).r) / 65535.0;
 #else
     float t = texelFetch(uDepth, ivec2(c, r), 0).r;
+#endif
+#ifdef HOLES
+    // 1 at a hole vertex (a sample below DepthFrameView::holeBelow), 0 elsewhere: any fragment of
+    // a triangle with a hole vertex interpolates above 0 and is discarded.
+#ifdef DEPTH16
+    float raw = float(texelFetch(uDepth, ivec2(c, r), 0).r);
+#else
+    float raw = t * 255.0;
+#endif
+    vHole = raw < uHoleBelow - 0.5 ? 1.0 : 0.0;
 #endif
     vec3 p = vec3(uOrigin + vec2(float(c), float(r)) * uStep, uZMap.y + t * uZMap.x);
 #ifdef POSITION
@@ -102,11 +116,18 @@ in vec2 vTex;
 #ifdef POSITION
 in vec3 vPos;
 #endif
+#ifdef HOLES
+in float vHole;
+#endif
 out vec4 fragColor;
 void main() {
+#ifdef HOLES
+    if (vHole > 0.0)
+        discard;
+#endif
 #ifdef ROW_PARITY
-    // Only the row-interleaved layout discards: elsewhere the shader has no discard, which lets the
-    // rasterizer test depth before shading (early depth test).
+    // Only the row-interleaved layout (and a frame with holes) discards: elsewhere the shader has
+    // no discard, which lets the rasterizer test depth before shading (early depth test).
     if ((int(gl_FragCoord.y) & 1) != uRowParity)
         discard;
 #endif
@@ -213,13 +234,13 @@ void gl::uploadRows(const Texture &tex, const std::uint8_t *data, std::size_t st
     }
 }
 
-Result<void> StereoRenderer::Gl::buildSurfacePrograms()
+Result<void> StereoRenderer::Gl::buildSurfacePrograms(bool holes)
 {
     for (int variant = 0; variant < 12; ++variant) {
         const int d16 = variant & 1;
         const int out = (variant >> 1) % 3;
         const int parity = variant / 6;
-        std::string defines;
+        std::string defines = holes ? "#define HOLES 1\n" : "";
         if (d16 != 0)
             defines += "#define DEPTH16 1\n";
         if (out == kPositionOut)
@@ -228,7 +249,7 @@ Result<void> StereoRenderer::Gl::buildSurfacePrograms()
             defines += "#define YUV 1\n";
         if (parity != 0)
             defines += "#define ROW_PARITY 1\n";
-        gl::SurfaceProgram &p = surface[d16][out][parity];
+        gl::SurfaceProgram &p = surface[holes ? 1 : 0][d16][out][parity];
         p.program = linkProgram(kSurfaceVs, kSurfaceFs, defines.c_str());
         if (p.program == 0)
             return unexpected(Errc::NotSupported, "surface shader failed to build");
@@ -250,6 +271,7 @@ Result<void> StereoRenderer::Gl::buildSurfacePrograms()
         p.yuvToRgb = glGetUniformLocation(p.program, "uYuvToRgb");
         p.yuvOffset = glGetUniformLocation(p.program, "uYuvOffset");
         p.rowParity = glGetUniformLocation(p.program, "uRowParity");
+        p.holeBelow = glGetUniformLocation(p.program, "uHoleBelow");
     }
     return ok();
 }
@@ -346,7 +368,7 @@ Result<std::unique_ptr<StereoRenderer>> StereoRenderer::create(const RendererOpt
     r->gl_ = std::make_unique<Gl>();
     Gl &g = *r->gl_;
 
-    DT_TRY(g.buildSurfacePrograms());
+    DT_TRY(g.buildSurfacePrograms(false)); // with holes: at the first frame that has some
     DT_TRY(g.buildOverlayPrograms());
 
     // Surface: no attributes (gl_VertexID); its index buffer is a static grid's (uploaded once

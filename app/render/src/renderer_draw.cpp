@@ -31,7 +31,9 @@ Result<void> StereoRenderer::drawSurface(const EyeView &eye, SurfaceOutput outpu
     const int variant = output == SurfaceOutput::Position ? kPositionOut
                         : colorOnCpu_ || colorFromDmaBuf_ ? kRgbOut
                                                           : kYuvOut;
-    const gl::SurfaceProgram &p = g.surface[d16 ? 1 : 0][variant][eye.rowParity >= 0 ? 1 : 0];
+    const bool holes = holeBelow_ > 0;
+    const gl::SurfaceProgram &p =
+        g.surface[holes ? 1 : 0][d16 ? 1 : 0][variant][eye.rowParity >= 0 ? 1 : 0];
     glViewport(eye.viewport.x, eye.viewport.y, eye.viewport.width, eye.viewport.height);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
@@ -68,6 +70,8 @@ Result<void> StereoRenderer::drawSurface(const EyeView &eye, SurfaceOutput outpu
     if (eye.rowParity >= 0)
         glUniform1i(p.rowParity, eye.rowParity);
     glUniform2i(p.last, m.columns - 1, m.rows - 1);
+    if (holes)
+        glUniform1f(p.holeBelow, static_cast<float>(holeBelow_));
     glBindVertexArray(g.surfaceVao);
     g.drawTriangles(p);
     glBindVertexArray(0);

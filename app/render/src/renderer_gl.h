@@ -127,6 +127,7 @@ struct SurfaceProgram {
     GLint columns = -1, origin = -1, step = -1, zMap = -1, texScale = -1, viewProj = -1;
     GLint yuvToRgb = -1, yuvOffset = -1, rowParity = -1;
     GLint tileShift = -1, last = -1;
+    GLint holeBelow = -1; ///< The hole variant's threshold (sample units), else -1.
 };
 
 /// What the surface fragment shader outputs.
@@ -136,8 +137,9 @@ enum SurfaceVariant : int { kPositionOut = 0, kRgbOut = 1, kYuvOut = 2 };
 
 /// \brief Every GL object the renderer owns; released with it.
 struct StereoRenderer::Gl {
-    // [depth16][SurfaceVariant][row parity]
-    gl::SurfaceProgram surface[2][3][2];
+    // [holes][depth16][SurfaceVariant][row parity]; the hole variants (a triangle with a hole
+    // vertex discarded, docs/architecture.md §3 "Holes") are built at the first frame with holes.
+    gl::SurfaceProgram surface[2][2][3][2];
     GLuint avatarProgram = 0;
     GLint avCenter = -1, avRadius = -1, avViewProj = -1, avColor = -1, avRowParity = -1;
     GLuint osdProgram = 0;
@@ -175,11 +177,12 @@ struct StereoRenderer::Gl {
 
     ~Gl()
     {
-        for (auto &plane : surface)
-            for (auto &row : plane)
-                for (auto &p : row)
-                    if (p.program != 0)
-                        glDeleteProgram(p.program);
+        for (auto &kind : surface)
+            for (auto &plane : kind)
+                for (auto &row : plane)
+                    for (auto &p : row)
+                        if (p.program != 0)
+                            glDeleteProgram(p.program);
         if (avatarProgram != 0)
             glDeleteProgram(avatarProgram);
         if (osdProgram != 0)
@@ -205,8 +208,9 @@ struct StereoRenderer::Gl {
         font.release();
     }
 
-    /// Builds the twelve surface programs (depth format × output × row parity).
-    Result<void> buildSurfacePrograms();
+    /// Builds the twelve surface programs (depth format × output × row parity), with or without
+    /// \a holes (the hole test and its discard).
+    Result<void> buildSurfacePrograms(bool holes);
     /// Builds the avatar and OSD programs and looks up their uniforms.
     Result<void> buildOverlayPrograms();
     /// Makes the avatar's unit UV sphere (positions are the normals) and its vertex array.

@@ -143,6 +143,9 @@ Result<void> StereoRenderer::uploadDepth(const scene::DepthFrameView &depth,
         return unexpected(mapping.error());
     mapping_ = *mapping;
     depthFormat_ = depth.format;
+    holeBelow_ = depth.holeBelow;
+    if (holeBelow_ > 0 && gl_->surface[1][0][0][0].program == 0)
+        DT_TRY(gl_->buildSurfacePrograms(true));
     stageTimes_.mesh = stageEnd(t);
 
     t = clock_.now();

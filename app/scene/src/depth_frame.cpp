@@ -14,6 +14,10 @@ Result<void> DepthFrameView::validate() const noexcept
         return unexpected(Errc::InvalidArgument, "depth frame row stride is shorter than a row");
     if (!std::isfinite(pts))
         return unexpected(Errc::InvalidArgument, "depth frame PTS is not finite");
+    if (2.0 * holeBelow >= maxSampleValue(format))
+        return unexpected(Errc::InvalidArgument,
+                          "depth frame hole threshold leaves no measured codes (2 x threshold is "
+                          "v_max or more)");
     if (material.present() && material.strideBytes < 3 * static_cast<std::size_t>(width))
         return unexpected(Errc::InvalidArgument, "material row stride is shorter than a row");
     return ok();

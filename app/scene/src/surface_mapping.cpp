@@ -23,8 +23,10 @@ Result<SurfaceMapping> SurfaceMapping::of(const SceneBox &box, const DepthFrameV
     m.y0 = (halfH - 0.0) * s;
     m.dy = (halfH - 1.0) * s - m.y0;
     m.vmax = vmax;
-    m.z0 = 0.0 * (box.depth / vmax) - 0.5 * box.depth;
-    m.dz = vmax * (box.depth / vmax) - 0.5 * box.depth - m.z0;
+    // Codes farCode()..v_max span the box depth (docs/architecture.md §3 "Holes").
+    const auto far = static_cast<double>(frame.farCode());
+    m.z0 = (0.0 - far) * (box.depth / (vmax - far)) - 0.5 * box.depth;
+    m.dz = (vmax - far) * (box.depth / (vmax - far)) - 0.5 * box.depth - m.z0;
     return m;
 }
 

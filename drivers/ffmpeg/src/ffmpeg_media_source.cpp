@@ -91,6 +91,14 @@ int tagBits(const char *text) noexcept
     return v >= 1.0 && v <= 16.0 ? static_cast<int>(v) : 0;
 }
 
+/// \return the depth_occupancy tag: a whole number 1..65535, else 0 (absent, or not a whole number
+/// in range: no holes).
+std::uint32_t tagOccupancy(const char *text) noexcept
+{
+    const double v = tagDouble(text);
+    return v >= 1.0 && v <= 65535.0 && v == std::floor(v) ? static_cast<std::uint32_t>(v) : 0u;
+}
+
 /// \return the pixel format a stream's samples really have: an H.264 stream whose SPS says 4:0:0
 /// (monochrome) is gray, though libavcodec reports it as yuv(j)420p with neutral chroma.
 AVPixelFormat samplesFormatOf(const AVCodecParameters &par) noexcept
@@ -301,6 +309,7 @@ void FfmpegMediaSource::Impl::addStream(unsigned i, int videoStreams, int videoO
     si.depth.farMetres = tagDouble(tagOf(st, *ctx, serviceTags, "depth_far"));
     si.depth.mapping = mapping != nullptr ? mapping : "";
     si.depth.bits = tagBits(tagOf(st, *ctx, serviceTags, "depth_bits"));
+    si.depth.occupancy = tagOccupancy(tagOf(st, *ctx, serviceTags, "depth_occupancy"));
 
     Stream s;
     s.avIndex = static_cast<int>(i);

@@ -36,7 +36,7 @@ bench haptics --quick
 png haptics speed_vs_accuracy.png
 png haptics psd.png
 bench feel --quick --method finger --data "$work/no-data"
-png feel feel_vs_speed.png
+png feel feel.png
 skipped=""
 if ! "$exe" bench render --help >/dev/null 2>&1; then
     skipped="bench render not in this build (no EGL)"

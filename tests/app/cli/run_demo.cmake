@@ -73,8 +73,10 @@ function(to_ms seconds var)
 endfunction()
 # The run is in real time, so the counts are checked against the times the run measured, not
 # against the 3 s asked for (start-up and a loaded machine take some of them):
-# - every 1 ms period of the haptic run is an update or a missed deadline, within 3 (the first
-#   and the last wake-up's lateness);
+# - every 1 ms period of the haptic run is an update or a missed deadline, within 10 (the first
+#   and the last wake-up's lateness: 3 on an idle machine; a fresh clone's test run beside a
+#   benchmark measured 2979 updates + 6 missed in 2990 ms, 5 short; a lost update path loses far
+#   more than 10 of the 3000);
 # - the haptic loop ran the whole time the clip played, within 100 ms (open and stop);
 # - every frame period of the playing time (30 fps) was presented or dropped, within 3 frames (the
 #   first frame's preroll and the frames pending at the stop) and two frames per loop of the
@@ -91,7 +93,7 @@ if(NOT statsUpdates EQUAL updates)
     message(FATAL_ERROR "summary says ${updates} haptic updates, stats.json ${statsUpdates}")
 endif()
 math(EXPR periodGap "${updates} + ${missed} - ${runMs}")
-if(periodGap LESS -3 OR periodGap GREATER 3)
+if(periodGap LESS -10 OR periodGap GREATER 10)
     message(FATAL_ERROR "${updates} updates + ${missed} missed periods in ${runMs} ms of haptic run")
 endif()
 math(EXPR runGap "${runMs} - ${playingMs}")

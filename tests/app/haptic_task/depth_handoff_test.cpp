@@ -198,6 +198,30 @@ TEST(DepthHandoffTest, publishPairCopiesEachNewFrameOnce)
     EXPECT_NE(second.next.data, first.current.data) << "the reader held frame 0 until now";
 }
 
+TEST(DepthHandoffTest, holeThresholdTravelsWithItsDepthFrame)
+{
+    // GIVEN frames with holes below 1536 (docs/architecture.md §3 "Holes") and one without
+    auto handoff = makeHandoff();
+    const Frame16 f0 = constantFrame(100, 0.0), f1 = constantFrame(200, 0.1),
+                  f2 = constantFrame(300, 0.2);
+    auto v0 = f0.view(), v1 = f1.view(), v2 = f2.view();
+    v0.holeBelow = 1536;
+    v1.holeBelow = 1536;
+    DepthPair first, second;
+    ASSERT_TRUE(publishAndAcquire(*handoff, v0, &v1, first));
+    // THEN each frame's threshold reaches the haptic thread with it, also when its slot is held
+    EXPECT_EQ(first.current.holeBelow, 1536u);
+    EXPECT_EQ(first.next.holeBelow, 1536u);
+    ASSERT_TRUE(publishAndAcquire(*handoff, v1, &v2, second));
+    EXPECT_EQ(second.current.holeBelow, 1536u);
+    EXPECT_EQ(second.next.holeBelow, 0u);
+    // AND push() carries it too
+    ASSERT_TRUE(handoff->push(v0));
+    DepthPair pushed;
+    ASSERT_TRUE(handoff->acquire(pushed));
+    EXPECT_EQ(pushed.current.holeBelow, 1536u);
+}
+
 TEST(DepthHandoffTest, publishPairCopiesBothAfterASkipOrARestart)
 {
     // GIVEN (frame 0, frame 1) published

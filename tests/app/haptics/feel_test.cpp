@@ -4,12 +4,17 @@
 
 #include "depthtouch/haptics/feel.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "depthtouch/depth/occupancy.h"
 #include "depthtouch/haptics/depth_noise.h"
 #include "depthtouch/haptics/feel_scenes.h"
 
@@ -75,12 +80,178 @@ TEST(FeelTest, PhantomForceAboveOrOffTheSurface)
     auto rows = pressRows(100);
     for (std::size_t i = 0; i < 5; ++i)
         rows[i].hip.z = 2e-3; // 2 mm above with 1 N: phantom
-    rows[5].surfaceZ = std::nan("");
-    rows[6].hip.z = 0.5e-3; // within the margin
+    rows[5].surfaceZ = std::nan(""); // no surface measured here: not judged
+    rows[6].hip.z = 0.5e-3;          // within the margin
     rows[7].hip.z = 2e-3;
     rows[7].force = {0.0, 0.0, 0.15}; // under the phantom force threshold
     const FeelFigures f = computeFeel(rows);
-    EXPECT_NEAR(f.phantomMs, 6.0, 1e-9);
+    EXPECT_NEAR(f.phantomMs, 5.0, 1e-9);
+}
+
+// A proxy alternating between two points every update: forces 1 N and 2.2 N in turn over 40
+// updates (39 changes of 1.2 N, each against the one before), then steady.
+TEST(FeelTest, AlternatingLogGivesItsRunLengthAndSignReversals)
+{
+    auto rows = pressRows(200);
+    for (std::size_t i = 100; i < 140; ++i) {
+        rows[i].force = {0.0, 0.0, i % 2 == 0 ? 1.0 : 2.2};
+        rows[i].pressed = true;
+    }
+    FeelFigures f = computeFeel(rows);
+    // Changes at rows 101..139 (39, alternating) and 140 (2.2 → 1, against 139's): 40 in a chain.
+    EXPECT_EQ(f.longestAlternation, 40u);
+    // Every change but the first reverses the one before and exceeds the 0.5 N spike step.
+    EXPECT_EQ(f.reversalSpikes, 39u);
+    EXPECT_NEAR(f.reversalSpikesPerSecond, 39.0 / 0.2, 1e-9);
+    // Pressed spikes: the 1 N first row is not pressed; rows 101..139 are (39 spikes).
+    EXPECT_EQ(f.pressedSpikes, 39u);
+    EXPECT_NEAR(f.pressedSeconds, 0.040, 1e-9);
+
+    // A single jump and return: a run of 2, one reversal.
+    rows = pressRows(100);
+    rows[50].force = {0.0, 0.0, 3.0};
+    f = computeFeel(rows);
+    EXPECT_EQ(f.longestAlternation, 2u);
+    EXPECT_EQ(f.reversalSpikes, 1u);
+    // A monotonic ramp is no alternation; small dither under the threshold is none either.
+    rows = pressRows(100);
+    for (std::size_t i = 0; i < 100; ++i)
+        rows[i].force = {0.0, 0.0, 0.1 * static_cast<double>(i) + (i % 2 ? 0.02 : 0.0)};
+    f = computeFeel(rows);
+    EXPECT_EQ(f.reversalSpikes, 0u);
+    EXPECT_LE(f.longestAlternation, 1u);
+}
+
+TEST(FeelTest, TimeAtTheDeviceMaximumWithoutATrip)
+{
+    auto rows = pressRows(100);
+    for (std::size_t i = 20; i < 32; ++i) // 12 updates stuck at 8.5 N
+        rows[i].force = {0.0, 0.0, 8.5};
+    for (std::size_t i = 60; i < 70; ++i) // 10 at the maximum, but a trip at 65
+        rows[i].force = {0.0, 8.5, 0.0};
+    rows[65].released = true;
+    FeelFigures f = computeFeel(rows);
+    EXPECT_NEAR(f.atMaxMs, 12.0, 1e-9);
+    FeelThresholds th;
+    th.deviceMaxForce = 10.0; // the same log on a stronger device never reaches its maximum
+    f = computeFeel(rows, th);
+    EXPECT_EQ(f.atMaxMs, 0.0);
+    FeelFigures total;
+    accumulate(total, computeFeel(rows));
+    accumulate(total, computeFeel(pressRows(10)));
+    EXPECT_NEAR(total.atMaxMs, 12.0, 1e-9);
+}
+
+// A finger held 2 mm into a still backdrop at z = 0; an occluder 10 mm tall covers it from 100 to
+// 200 ms (the surface over the HIP at z = 10 mm, the finger free: 0 N), then leaves; the force
+// comes back at 235 ms: 35 ms to regain contact. No pop-through is counted under the occluder.
+TEST(FeelTest, RegainTimeAfterAnOccluderLeaves)
+{
+    auto rows = pressRows(400);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        rows[i].heldSurfaceZ = 0.0;
+        rows[i].held = true;
+        if (i >= 100 && i < 200)
+            rows[i].surfaceZ = 10e-3;
+        if (i >= 100 && i < 235)
+            rows[i].force = {};
+    }
+    FeelFigures f = computeFeel(rows);
+    EXPECT_EQ(f.regainEvents, 1u);
+    EXPECT_EQ(f.regainMissed, 0u);
+    EXPECT_NEAR(f.regainMs, 35.0, 1e-9);
+    EXPECT_NEAR(f.popThroughMs, 35.0, 1e-9); // 200..234: back on the held surface, no force
+    // Never regained: the time to the end of the hold, counted as missed.
+    for (std::size_t i = 235; i < 300; ++i)
+        rows[i].force = {};
+    for (std::size_t i = 300; i < rows.size(); ++i)
+        rows[i].heldSurfaceZ = std::nan(""); // the hold ends at 300 ms
+    f = computeFeel(rows);
+    EXPECT_EQ(f.regainEvents, 1u);
+    EXPECT_EQ(f.regainMissed, 1u);
+    EXPECT_NEAR(f.regainMs, 100.0, 1e-9);
+    // A hole under the finger (no surface) is an occluder too; no event without one.
+    rows = pressRows(100);
+    for (auto &r : rows)
+        r.heldSurfaceZ = 0.0;
+    f = computeFeel(rows);
+    EXPECT_EQ(f.regainEvents, 0u);
+    EXPECT_EQ(f.regainMs, 0.0);
+}
+
+// A person walks in front of a finger pressed 2 mm into a backdrop at z = 0: the surface over the
+// HIP's x–y rises 25 mm in 10 ms (2.5 m/s, far faster than the 0.15 m/s a bounded push-out
+// follows), the finger is let go (a trip, 0 N) and stays 27 mm inside the person; the person
+// leaves at 150 ms. Covered: no pop-through, the trip is an arrival trip, not a false one. Back
+// on the backdrop at 150 ms with no force, pop-through counts again (from 150 to 199 ms).
+TEST(FeelTest, ASurfaceArrivingOverTheFingerCoversIt)
+{
+    auto rows = pressRows(200);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const double k = static_cast<double>(i);
+        rows[i].surfaceZ = i < 40 || i >= 150 ? 0.0 : std::min(25e-3, 2.5e-3 * (k - 39.0));
+        rows[i].surfaceRise = i == 0 ? std::nan("") : rows[i].surfaceZ - rows[i - 1].surfaceZ;
+        if (i >= 42)
+            rows[i].force = {};
+    }
+    rows[42].released = true;
+    FeelFigures f = computeFeel(rows);
+    EXPECT_EQ(f.trips, 1u);
+    EXPECT_EQ(f.arrivalTrips, 1u);
+    EXPECT_EQ(f.falseTrips, 0u);
+    EXPECT_NEAR(f.popThroughMs, 50.0, 1e-9); // 150..199: the backdrop is back, no force
+    EXPECT_NEAR(f.coveredMs, 110.0, 1e-9);   // 40..149
+
+    // The same rise at 0.1 m/s (0.1 mm an update) is a surface a renderer must push out of: not
+    // covered, so the same let-go is a false trip and its pop-through counts.
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const double k = static_cast<double>(i);
+        rows[i].surfaceZ = i < 40 || i >= 150 ? 0.0 : std::min(25e-3, 0.1e-3 * (k - 39.0));
+        rows[i].surfaceRise = i == 0 ? std::nan("") : rows[i].surfaceZ - rows[i - 1].surfaceZ;
+    }
+    f = computeFeel(rows);
+    EXPECT_EQ(f.arrivalTrips, 0u);
+    EXPECT_EQ(f.falseTrips, 1u);
+    EXPECT_EQ(f.coveredMs, 0.0);
+    EXPECT_NEAR(f.popThroughMs, 158.0, 1e-9); // 42..199: 2 mm and more inside, no force
+}
+
+// A height field only pushes: 12 updates of a force pointing down by more than the phantom
+// threshold (0.2 N), wherever the HIP is, are 12 ms of pull-down force; 0.1 N down is not counted.
+TEST(FeelTest, ADownwardForceIsPullDown)
+{
+    auto rows = pressRows(100);
+    for (std::size_t i = 20; i < 32; ++i)
+        rows[i].force = {0.3, 0.0, -0.5};
+    for (std::size_t i = 50; i < 60; ++i)
+        rows[i].force = {0.0, 0.0, -0.1};
+    const FeelFigures f = computeFeel(rows);
+    EXPECT_NEAR(f.pullDownMs, 12.0, 1e-9);
+    FeelFigures total;
+    accumulate(total, f);
+    accumulate(total, f);
+    EXPECT_NEAR(total.pullDownMs, 24.0, 1e-9);
+}
+
+// The ideal penalty's spikes on the same updates: a 1 mm step under the finger at 800 N/m is a
+// 0.8 N step of the ideal force, so a renderer that steps with it is no worse than the ideal.
+TEST(FeelTest, IdealPenaltySpikesOnTheSamePath)
+{
+    auto rows = pressRows(100);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        rows[i].pressed = i > 0;
+        rows[i].idealForce = i < 50 ? 1.6 : 2.4;
+        rows[i].force = {0.0, 0.0, i < 50 ? 1.6 : 2.4};
+    }
+    FeelFigures f = computeFeel(rows);
+    EXPECT_EQ(f.idealSpikes, 1u);
+    EXPECT_EQ(f.pressedSpikes, 1u);
+    EXPECT_DOUBLE_EQ(f.spikeRatio(), 1.0);
+    for (std::size_t i = 0; i < rows.size(); ++i)
+        rows[i].idealForce = 2.0;
+    f = computeFeel(rows);
+    EXPECT_EQ(f.idealSpikes, 0u);
+    EXPECT_TRUE(std::isnan(f.spikeRatio()));
 }
 
 TEST(FeelTest, SpikesOnlyWhileSliding)
@@ -300,6 +471,160 @@ TEST(FeelScenesTest, StrokesFollowTheSurfaceAndMarkPhases)
             st.samples.front().hip.z,
             ref.height(st.samples.front().t, st.samples.front().hip.x, st.samples.front().hip.y));
     }
+}
+
+// --- Stroke families
+// ------------------------------------------------------------------------------
+
+/// A scene of known geometry, 320×240 at 30 fps for 1.5 s, seen without noise: a wall at 1 m, a
+/// still block at 0.8 m (columns 40..119, rows 60..179) and a square at 0.8 m (40 px, rows
+/// 100..139) moving right from column 160 to 250 over the clip.
+struct KnownScene {
+    static constexpr int kW = 320;
+    static constexpr int kH = 240;
+    static constexpr int kFrames = 45;
+    static int squareLeft(std::size_t frame)
+    {
+        return 160 +
+               static_cast<int>(std::lround(90.0 * static_cast<double>(frame) / (kFrames - 1)));
+    }
+    static bool block(int c, int r) { return c >= 40 && c < 120 && r >= 60 && r < 180; }
+    static bool square(std::size_t frame, int c, int r)
+    {
+        const int l = squareLeft(frame);
+        return c >= l && c < l + 40 && r >= 100 && r < 140;
+    }
+    static bool near(std::size_t frame, int c, int r) { return block(c, r) || square(frame, c, r); }
+    /// Pixel (column, row) under box (x, y), m.
+    static std::pair<int, int> pixel(const glm::dvec3 &p)
+    {
+        const double s = 0.1 / (kW - 1);
+        return {static_cast<int>(std::lround(p.x / s + 0.5 * (kW - 1))),
+                static_cast<int>(std::lround(0.5 * (kH - 1) - p.y / s))};
+    }
+    static std::size_t frameAt(double t)
+    {
+        return std::min<std::size_t>(kFrames - 1,
+                                     static_cast<std::size_t>(std::floor(t * 30.0 + 1e-9)));
+    }
+};
+
+Result<bench::FeelScene> knownScene()
+{
+    std::vector<depth::Plane<std::uint16_t>> mm;
+    for (std::size_t f = 0; f < KnownScene::kFrames; ++f) {
+        depth::Plane<std::uint16_t> p(KnownScene::kW, KnownScene::kH, 1000);
+        for (int r = 0; r < KnownScene::kH; ++r)
+            for (int c = 0; c < KnownScene::kW; ++c)
+                if (KnownScene::near(f, c, r))
+                    p.at(c, r) = 800;
+        mm.push_back(std::move(p));
+    }
+    return bench::sceneFromSensorDepth("known", mm, 30.0, SceneBox{}, 8);
+}
+
+// The placer finds the silhouettes and the moving square from the depth alone: every swipe crosses
+// between a near object and the wall, every trace runs along an edge, every hold "beside moving" is
+// never under the square but within 20 px of where it passes, and every hold "under occluder" is
+// on the wall when pressed and under the square during its hold — checked against the scene's own
+// geometry above.
+TEST(FeelFamiliesTest, StrokesCrossSilhouettesAndHoldBesideTheMovingSquare)
+{
+    auto s = knownScene();
+    ASSERT_TRUE(s) << s.error().what;
+    bench::FamilyPlan plan;
+    plan.moveSeconds = 0.5;
+    plan.holdSeconds = 0.8;
+    std::vector<std::string> notes;
+    const auto strokes = bench::makeFamilyStrokes(*s, plan, &notes);
+    for (const auto &n : notes)
+        std::printf("note: %s\n", n.c_str());
+    std::size_t swipes = 0;
+    std::size_t traces = 0;
+    std::size_t beside = 0;
+    std::size_t under = 0;
+    for (const auto &st : strokes) {
+        ASSERT_FALSE(st.samples.empty()) << st.name;
+        if (st.family == bench::StrokeFamily::Swipe) {
+            ++swipes;
+            bool onNear = false;
+            bool onWall = false;
+            for (const auto &p : st.samples) {
+                if (!p.sliding)
+                    continue;
+                const auto [c, r] = KnownScene::pixel(p.hip);
+                (KnownScene::near(KnownScene::frameAt(p.t), c, r) ? onNear : onWall) = true;
+            }
+            EXPECT_TRUE(onNear && onWall) << st.name << " does not cross a silhouette";
+        }
+        if (st.family == bench::StrokeFamily::Trace) {
+            ++traces;
+            for (const auto &p : st.samples) {
+                if (!p.sliding)
+                    continue;
+                // Within 8 px (2.5 mm) of a near/wall boundary at that time.
+                const auto [c, r] = KnownScene::pixel(p.hip);
+                const std::size_t f = KnownScene::frameAt(p.t);
+                bool edge = false;
+                for (int d = -8; d <= 8 && !edge; ++d)
+                    edge = KnownScene::near(f, c + d, r) != KnownScene::near(f, c, r) ||
+                           KnownScene::near(f, c, r + d) != KnownScene::near(f, c, r);
+                EXPECT_TRUE(edge) << st.name << " leaves the edge at t = " << p.t;
+            }
+        }
+        if (st.family != bench::StrokeFamily::Hold)
+            continue;
+        const auto [c, r] = KnownScene::pixel(st.samples.front().hip);
+        if (st.where == "moving") {
+            ++beside;
+            bool close = false;
+            for (std::size_t f = 0; f < KnownScene::kFrames; ++f) {
+                EXPECT_FALSE(KnownScene::square(f, c, r)) << st.name << " is under the square";
+                for (int dr = -20; dr <= 20 && !close; ++dr)
+                    for (int dc = -20; dc <= 20 && !close; ++dc)
+                        close = KnownScene::square(f, c + dc, r + dr);
+            }
+            EXPECT_TRUE(close) << st.name << " is not beside the moving square";
+        }
+        if (st.where == "occluder") {
+            ++under;
+            const auto &first = st.samples.front();
+            EXPECT_FALSE(KnownScene::near(KnownScene::frameAt(first.t), c, r)) << st.name;
+            bool covered = false;
+            for (const auto &p : st.samples)
+                covered = covered || (p.held && KnownScene::square(KnownScene::frameAt(p.t), c, r));
+            EXPECT_TRUE(covered) << st.name << " is never under the square while held";
+            EXPECT_TRUE(std::isfinite(st.samples[st.samples.size() / 2].heldZ)) << st.name;
+        }
+    }
+    EXPECT_EQ(swipes, plan.swipeSpeeds.size() * static_cast<std::size_t>(plan.places));
+    EXPECT_EQ(traces, plan.traceSpeeds.size());
+    EXPECT_EQ(beside, plan.holdDepths.size());
+    EXPECT_EQ(under, plan.holdDepths.size());
+}
+
+// Holes are kept: a sample the sensor did not measure is code 0 under holeBelow in the touched
+// frame, and the reference has no surface there.
+TEST(FeelFamiliesTest, HolesAreKeptInFramesAndReference)
+{
+    std::vector<depth::Plane<std::uint16_t>> mm(3, depth::Plane<std::uint16_t>(64, 48, 1000));
+    for (auto &p : mm)
+        for (int r = 20; r < 30; ++r)
+            for (int c = 20; c < 30; ++c)
+                p.at(c, r) = 0;
+    mm[0].at(5, 5) = 900;
+    auto s = bench::sceneFromSensorDepth("holes", mm, 30.0, SceneBox{}, 8);
+    ASSERT_TRUE(s) << s.error().what;
+    EXPECT_EQ(s->holeBelow, depth::occupancyFor(8, false).threshold);
+    const DepthFrameView f = s->frame(0);
+    EXPECT_FALSE(f.measured(25, 25));
+    EXPECT_TRUE(f.measured(5, 5));
+    EXPECT_GE(f.sample(5, 5), depth::occupancyFor(8, false).first);
+    bench::ReferenceSurface ref(*s);
+    const double sp = 0.1 / 63;
+    const auto at = [&](int c, int r) { return ref.height(0.0, (c - 31.5) * sp, (23.5 - r) * sp); };
+    EXPECT_TRUE(std::isnan(at(25, 25)));
+    EXPECT_TRUE(std::isfinite(at(10, 10)));
 }
 
 } // namespace

@@ -35,9 +35,13 @@ public:
             std::memcpy(p, &s, 2);
         }
     }
+    /// Samples below \a v are holes (DepthFrameView::holeBelow).
+    void setHoleBelow(std::uint32_t v) { holeBelow_ = v; }
     [[nodiscard]] DepthFrameView view() const
     {
-        return DepthFrameView{bytes_.data(), w_, h_, stride_, format_, pts_};
+        DepthFrameView v{bytes_.data(), w_, h_, stride_, format_, pts_};
+        v.holeBelow = holeBelow_;
+        return v;
     }
     [[nodiscard]] int width() const { return w_; }
     [[nodiscard]] int height() const { return h_; }
@@ -48,6 +52,7 @@ private:
     SampleFormat format_ = SampleFormat::Gray16;
     double pts_ = 0.0;
     std::size_t stride_ = 0;
+    std::uint32_t holeBelow_ = 0;
     std::vector<std::uint8_t> bytes_;
 };
 

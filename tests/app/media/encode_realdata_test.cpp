@@ -1,8 +1,9 @@
 /// \file
 /// \brief The sender on real RGB-D data: the first 30 frames (10 enhanced) of 7-Scenes "redkitchen"
 /// (JPEG color, 16-bit mm depth PNG with holes) encoded to MKV with and without the §V.B
-/// enhancement, then read back with libavformat as ffprobe would. Skips (exit code 77) when the
-/// shared data lacks the frames, or fails when DT_REQUIRE_SHARED_DATA=1.
+/// enhancement, then read back with libavformat as ffprobe would; its holes stay holes through
+/// 8-bit lossy coding (docs/architecture.md §3 "Holes"). Skips (exit code 77) when the shared data
+/// lacks the frames, or fails when DT_REQUIRE_SHARED_DATA=1.
 
 #include <gtest/gtest.h>
 
@@ -10,8 +11,10 @@
 #include <filesystem>
 #include <string>
 
+#include "depthtouch/depth/occupancy.h"
 #include "depthtouch/media/encode_job.h"
 #include "depthtouch/media/frame_source.h"
+#include "depthtouch/media/image_io.h"
 #include "readback.h"
 #include "support/shared_data.h"
 #include "support/temp_dir.h"
@@ -31,7 +34,8 @@ struct EncodeRun {
     test::FileReadback readback;
 };
 
-EncodeRun encode(const std::string &dir, const std::string &out, bool enhance, int frames)
+EncodeRun encode(const std::string &dir, const std::string &out, bool enhance, int frames,
+                 bool keepFrames = false)
 {
     EncodeRun run;
     auto color = openFrameSource(dir + "/frame-%06d.color.jpg", SourceOptions{});
@@ -50,7 +54,7 @@ EncodeRun encode(const std::string &dir, const std::string &out, bool enhance, i
     if (!s)
         return run;
     run.summary = *s;
-    run.readback = test::readBack(out, {0}, false);
+    run.readback = test::readBack(out, {0}, keepFrames);
     return run;
 }
 
@@ -81,7 +85,36 @@ void expectProbeFacts(const EncodeRun &run, int frames)
     EXPECT_EQ(tags.at("depth_bits"), "8");
     EXPECT_EQ(rb.tags.at("depth_near"), tags.at("depth_near"));
     EXPECT_TRUE(run.summary.metric);
-    EXPECT_GT(run.summary.filledSamples, 0) << "7-Scenes depth has holes";
+    EXPECT_GT(run.summary.holeSamples, 0) << "7-Scenes depth has holes";
+    EXPECT_EQ(run.summary.filledSamples, 0);
+    EXPECT_EQ(tags.at("depth_occupancy"), std::to_string(depth::occupancyFor(8, false).threshold));
+}
+
+/// The decoded samples of \a run on the wrong side of the hole threshold: holes (0 or 65535 in
+/// the clip's PNGs) read as measured, and measured samples read as holes.
+std::pair<long, long> misread(const EncodeRun &run, const std::string &dir, int frames)
+{
+    const auto threshold = static_cast<int>(depth::occupancyFor(8, false).threshold);
+    long holesAsMeasured = 0;
+    long measuredAsHoles = 0;
+    for (int i = 0; i < frames; ++i) {
+        char name[64];
+        std::snprintf(name, sizeof name, "/frame-%06d.depth.png", i);
+        auto raw = readImage(dir + name, PixelFormat::Gray16);
+        EXPECT_TRUE(raw);
+        if (!raw)
+            break;
+        const Image &d = run.readback.streams[1].frames[static_cast<std::size_t>(i)];
+        for (int y = 0; y < d.height; ++y)
+            for (int x = 0; x < d.width; ++x) {
+                const std::uint16_t v = raw->sample16(x, y);
+                const bool hole = v == 0 || v == 65535;
+                const bool readHole = d.row(y)[x] < threshold;
+                holesAsMeasured += hole && !readHole ? 1 : 0;
+                measuredAsHoles += !hole && readHole ? 1 : 0;
+            }
+    }
+    return {holesAsMeasured, measuredAsHoles};
 }
 
 TEST(EncodeRealDataTest, sevenScenesWithAndWithoutEnhancement)
@@ -91,9 +124,20 @@ TEST(EncodeRealDataTest, sevenScenesWithAndWithoutEnhancement)
     const depthtouch::testing::TempDir scratch("dt-encode-realdata-");
     const fs::path &tmp = scratch.dir();
 
-    const EncodeRun plain = encode(dir, (tmp / "plain.mkv").string(), false, kFrames);
+    const EncodeRun plain = encode(dir, (tmp / "plain.mkv").string(), false, kFrames, true);
     expectProbeFacts(plain, kFrames);
     EXPECT_FALSE(plain.summary.enhance.has_value());
+    ASSERT_EQ(plain.readback.streams.size(), 2u);
+    ASSERT_EQ(plain.readback.streams[1].frames.size(), static_cast<std::size_t>(kFrames));
+    const auto [holesAsMeasured, measuredAsHoles] = misread(plain, dir, kFrames);
+    const double samples = 640.0 * 480.0 * kFrames;
+    std::printf("7-Scenes 8-bit lossy: holes %.2f %% of the samples; %ld holes read as measured, "
+                "%ld measured read as holes (%.3f %% of the samples)\n",
+                100.0 * static_cast<double>(plain.summary.holeSamples) / samples, holesAsMeasured,
+                measuredAsHoles,
+                100.0 * static_cast<double>(holesAsMeasured + measuredAsHoles) / samples);
+    EXPECT_LT(static_cast<double>(holesAsMeasured + measuredAsHoles), 0.001 * samples)
+        << "the guard band keeps all but a few samples on their side of the threshold";
 
     const EncodeRun enhanced = encode(dir, (tmp / "enhanced.mkv").string(), true, kEnhancedFrames);
     expectProbeFacts(enhanced, kEnhancedFrames);

@@ -1,5 +1,6 @@
 // The material track's pure rules: which stream is the material (identifyStreams) and which
-// material frame goes with a depth frame (MaterialPairer).
+// material frame goes with a depth frame (MaterialPairer); and the hole threshold of decoded depth
+// frames (depthHoleBelow).
 #include <string>
 #include <vector>
 
@@ -237,6 +238,31 @@ TEST(MaterialPairerTest, resetCarriesTheFrameAtOrBeforeTheTargetUntilNewerOnesCo
     // AND a seek before every frame keeps none
     u.reset(milliseconds(100));
     EXPECT_EQ(u.size(), 0u);
+}
+
+/// GIVEN a 10-bit depth stream with depth_occupancy t WHEN decoded as Gray16 (the decoders widen by
+/// bit replication, (v << 6) | (v >> 4)) THEN the frames' threshold splits the widened samples
+/// exactly as t splits their 10-bit sources, and is the smallest 16-bit value whose source is ≥ t.
+TEST(DepthHolesTest, tenBitThresholdIsWidenedAsTheSamplesAre)
+{
+    hal::StreamInfo s = stream(1, "depth", hal::PixelFormat::Gray10);
+    s.depth.bits = 10;
+    for (const std::uint32_t t : {1u, 24u, 96u, 500u, 1023u}) {
+        s.depth.occupancy = t;
+        const std::uint32_t h = receiver::depthHoleBelow(s, hal::PixelFormat::Gray16);
+        std::uint32_t smallest = 0;
+        while ((smallest >> 6) < t)
+            ++smallest;
+        EXPECT_EQ(h, smallest) << t;
+        for (std::uint32_t v = 0; v < 1024; ++v)
+            ASSERT_EQ(((v << 6) | (v >> 4)) < h, v < t) << "threshold " << t << ", sample " << v;
+    }
+    // 8-bit depth keeps its threshold; a stream without depth_occupancy has no holes
+    hal::StreamInfo s8 = stream(1, "depth", hal::PixelFormat::Gray8);
+    s8.depth.occupancy = 24;
+    EXPECT_EQ(receiver::depthHoleBelow(s8, hal::PixelFormat::Gray8), 24u);
+    s8.depth.occupancy = 0;
+    EXPECT_EQ(receiver::depthHoleBelow(s8, hal::PixelFormat::Gray8), 0u);
 }
 
 } // namespace

@@ -6,11 +6,15 @@
 /// the per-frame path (the mesh made ahead, depth, colour, overlays, both eyes) allocates nothing
 /// once warm (a counting operator new: support/allocation_counter.h). Per-tile steps from
 /// precomputed ranges (MeshMode::Blocks): their stitched triangles tile the grid, at step 1 they
-/// draw the full-resolution picture, and they keep to the cell budget.
+/// draw the full-resolution picture, and they keep to the cell budget. Holes (samples below
+/// DepthFrameView::holeBelow) are not drawn in any mesh mode.
 
 #include <gtest/gtest.h>
 
+#include <GLES3/gl3.h>
+
 #include <cmath>
+#include <functional>
 #include <set>
 #include <utility>
 #include <vector>
@@ -19,6 +23,7 @@
 #include "app/render/render_test_support.h"
 #include "depthtouch/render/render_target.h"
 #include "depthtouch/render/renderer.h"
+#include "depthtouch/render/stereo.h"
 #include "support/allocation_counter.h"
 
 using namespace depthtouch;
@@ -368,5 +373,89 @@ TEST_F(RenderGeometryTest, perFramePathAllocatesNothingOnceWarm)
         EXPECT_EQ(allocations, 0u) << (mesh.mode == MeshMode::Fixed    ? "full resolution"
                                        : mesh.mode == MeshMode::Blocks ? "blocks"
                                                                        : "quadtree");
+    }
+}
+
+namespace {
+
+/// Chebyshev distance from sample (c, r) to the nearest sample for which \a inSet is true (the
+/// frame's size when none is).
+int distanceTo(int c, int r, int w, int h, const std::function<bool(int, int)> &inSet)
+{
+    for (int d = 0; d < std::max(w, h); ++d)
+        for (int y = std::max(0, r - d); y <= std::min(h - 1, r + d); ++y)
+            for (int x = std::max(0, c - d); x <= std::min(w - 1, c + d); ++x)
+                if (inSet(x, y))
+                    return d;
+    return std::max(w, h);
+}
+
+} // namespace
+
+TEST_F(RenderGeometryTest, holesShowTheClearColourInEveryMeshMode)
+{
+    // GIVEN a bumpy frame with a 30x25 hole coded 0 under a threshold of 24 (docs/architecture.md
+    // §3 "Holes"), every other sample measured at 60 or more
+    constexpr int kW = 97;
+    constexpr int kH = 65;
+    const auto isHole = [](int c, int r) { return c >= 30 && c < 60 && r >= 20 && r < 45; };
+    const Depth8 holed(kW, kH, [&](int c, int r) { return isHole(c, r) ? 0 : bumpy(c, r); });
+    Yuv420 col97(kW, kH, [](int c, int r) {
+        return std::array<int, 3>{120 + c / 2, 100 + r / 2, 150 - c / 3};
+    });
+    MeshOptions quadtree;
+    MeshOptions adaptive{MeshMode::Adaptive, 16, 1, 2.0, 16};
+    MeshOptions blocks;
+    blocks.mode = MeshMode::Blocks;
+    blocks.tileSize = blockTileFor(kW, kH);
+    blocks.maxStep = blocks.tileSize;
+    // (mesh, margin: how far from the hole's border the picture must be exact, samples)
+    const std::pair<MeshOptions, int> meshes[] = {
+        {fixedStep(1), 1}, {fixedStep(4), 4}, {quadtree, 1}, {adaptive, 1}, {blocks, 1}};
+    for (const auto &[mesh, margin] : meshes) {
+        for (const std::uint32_t holeBelow : {24u, 0u}) {
+            auto r = make(mesh);
+            ASSERT_TRUE(r);
+            ASSERT_TRUE(r->setColor(col97.view(), ColorSpec{}));
+            scene::DepthFrameView v = holed.view();
+            v.holeBelow = holeBelow;
+            ASSERT_TRUE(r->setDepth(v));
+            // WHEN drawn from straight above, one pixel a sample, over a black clear colour
+            auto t = RenderTarget::create(kW, kH);
+            ASSERT_TRUE(t);
+            t->bind();
+            glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+            glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+            ASSERT_TRUE(r->drawSurface(topView(kW, kH, r->mapping().width(), r->mapping().height(),
+                                               r->options().box.depth),
+                                       SurfaceOutput::Color));
+            std::vector<std::uint8_t> rgb;
+            ASSERT_TRUE(t->readRgb(rgb));
+            // THEN with the threshold, the hole shows the clear colour and the surface is drawn
+            // elsewhere; without it (an old file) the hole's samples are a surface like any other
+            int clearInHole = 0;
+            int holeSamples = 0;
+            int wrong = 0;
+            for (int y = 0; y < kH; ++y)
+                for (int x = 0; x < kW; ++x) {
+                    const std::uint8_t *p = &rgb[3 * static_cast<std::size_t>(y * kW + x)];
+                    const bool clear = p[0] < 8 && p[1] < 8 && p[2] < 8;
+                    const bool hole = isHole(x, y);
+                    const int border =
+                        hole ? distanceTo(x, y, kW, kH,
+                                          [&](int c, int rr) { return !isHole(c, rr); })
+                             : distanceTo(x, y, kW, kH, isHole);
+                    holeSamples += hole ? 1 : 0;
+                    clearInHole += hole && clear ? 1 : 0;
+                    if (border > margin && clear != (hole && holeBelow > 0))
+                        ++wrong;
+                }
+            EXPECT_EQ(wrong, 0) << "mesh mode " << static_cast<int>(mesh.mode) << " step "
+                                << mesh.fixedStep << ", holeBelow " << holeBelow;
+            if (holeBelow > 0)
+                EXPECT_EQ(clearInHole, holeSamples) << "mesh mode " << static_cast<int>(mesh.mode);
+            else
+                EXPECT_EQ(clearInHole, 0);
+        }
     }
 }

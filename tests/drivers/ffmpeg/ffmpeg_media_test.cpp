@@ -45,7 +45,8 @@ protected:
             "-c:v:0 libx264 -pix_fmt:v:0 yuv420p -g 10 -bf 0 -c:v:1 ffv1 -pix_fmt:v:1 gray -g 1 "
             "-metadata:s:v:0 title=color -metadata:s:v:1 title=depth "
             "-metadata:s:v:1 depth_near=0.5 -metadata:s:v:1 depth_far=4 "
-            "-metadata:s:v:1 depth_mapping=inverse_z -metadata:s:v:1 depth_bits=8 " +
+            "-metadata:s:v:1 depth_mapping=inverse_z -metadata:s:v:1 depth_bits=8 "
+            "-metadata:s:v:1 depth_occupancy=24 " +
             out));
         return out;
     }
@@ -74,6 +75,8 @@ TEST_F(FfmpegMediaTest, twoStreamFileListsKindsMetadataAndMatchingPts)
     EXPECT_DOUBLE_EQ(d.depth.farMetres, 4.0);
     EXPECT_EQ(d.depth.mapping, "inverse_z");
     EXPECT_EQ(d.depth.bits, 8);
+    EXPECT_EQ(d.depth.occupancy, 24u);
+    EXPECT_EQ(c.depth.occupancy, 0u) << "an untagged stream has no holes";
     for (const auto &s : info.streams) {
         EXPECT_EQ(s.width, 64);
         EXPECT_EQ(s.height, 48);
@@ -239,7 +242,8 @@ TEST_F(FfmpegMediaTest, nonsenseDepthBitsTagIsIgnored)
     ASSERT_TRUE(
         ffmpeg("-f lavfi -i testsrc=size=64x48:rate=30:duration=0.2 -c:v libx264 -pix_fmt gray "
                "-metadata:s:v:0 title=depth -metadata:s:v:0 depth_bits=inf "
-               "-metadata:s:v:0 depth_near=nan -metadata:s:v:0 depth_far=1e999 " +
+               "-metadata:s:v:0 depth_near=nan -metadata:s:v:0 depth_far=1e999 "
+               "-metadata:s:v:0 depth_occupancy=2.5 " +
                path));
     auto src = source();
     ASSERT_TRUE(src->open(path.c_str()));
@@ -247,6 +251,7 @@ TEST_F(FfmpegMediaTest, nonsenseDepthBitsTagIsIgnored)
     EXPECT_EQ(m.bits, 0);
     EXPECT_EQ(m.nearMetres, 0.0);
     EXPECT_EQ(m.farMetres, 0.0);
+    EXPECT_EQ(m.occupancy, 0u) << "a threshold that is not a whole number is ignored";
 }
 
 TEST_F(FfmpegMediaTest, aFifoWithoutAWriterTimesOutAndOneWithAWriterIsRead)

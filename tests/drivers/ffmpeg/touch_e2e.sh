@@ -1,7 +1,9 @@
 #!/bin/sh
 # End-to-end: `depthtouch touch` on depth videos made with the ffmpeg CLI (gray H.264, FFV1 gray16
-# nearness, 16-bit metric PNG sequence with --near/--far), then a bad input. Exit 77 (skip) without
-# the ffmpeg CLI. Usage: touch_e2e.sh /path/to/depthtouch
+# nearness, 16-bit metric PNG sequence with --near/--far), then holes (docs/architecture.md §3
+# "Holes": pressing over a hole of a camera's PNG sequence or of an encoded file gives no force,
+# over the --fill-holes file it does; probe shows the threshold, widened for 10-bit depth), then a
+# bad input. Exit 77 (skip) without the ffmpeg CLI. Usage: touch_e2e.sh /path/to/depthtouch
 set -u
 exe="$1"
 command -v ffmpeg >/dev/null 2>&1 || { echo "ffmpeg CLI not on PATH: skipped"; exit 77; }
@@ -72,6 +74,50 @@ echo "material: final force $f1 N without, $f2 N with stiffness scale 2"
     { cat "$work/bad.err"; fail "missing --material input"; }
 first=$(awk -F, 'NR > 1 && $11 == 1 { print $1; exit }' "$work/metric.csv")
 awk -v t="$first" 'BEGIN { exit !(t > 0.85 && t < 0.93) }' || fail "metric: first contact at $first s, want about 0.89 s"
+
+# Holes: 1000 mm with a 23x19 hole (0) where the finger presses (the box centre); colour for encode.
+ff -f lavfi -i color=c=black:size=64x48:rate=30:duration=2 \
+    -vf "format=gray16le,geq=lum='if(lt(abs(X-32),12)*lt(abs(Y-24),10),0,1000)'" \
+    -pix_fmt gray16be -start_number 0 "$work/hole-%06d.depth.png" || fail "ffmpeg hole sequence"
+ff -f lavfi -i testsrc=size=64x48:rate=30:duration=2 -start_number 0 "$work/hole-%06d.color.png" ||
+    fail "ffmpeg colour"
+encode() { # output, extra args...
+    out="$1"; shift
+    "$exe" encode --color "$work/hole-%06d.color.png" --depth "$work/hole-%06d.depth.png" -o "$out" \
+        --near 0.5 --far 2 --preset ultrafast "$@" >"$out.txt" 2>&1 || { cat "$out.txt"; fail "encode $out"; }
+}
+encode "$work/holes.mkv"
+encode "$work/filled.mkv" --fill-holes
+encode "$work/holes10.mkv" --depth-bits 10
+encode "$work/holes.ts"
+grep -q "holes 14.2 % of the samples (26220)" "$work/holes.mkv.txt" || { cat "$work/holes.mkv.txt"; fail "encode summary: hole share"; }
+# The finger goes 1 cm behind the box's back (z = -0.02 m, the far plane, the code of a hole read
+# as depth): only a hole that is free space gives no force there.
+printf 't,x,y,z\n0,0,0,0.02\n1,0,0,-0.03\n' > "$work/deep.csv"
+press() { # name, depth -> prints the largest |fz| and the contact rows
+    "$exe" touch "$2" --trajectory "$work/deep.csv" --out "$work/$1.csv" --quiet --fps 30 ||
+        fail "$1: depthtouch touch exited $?"
+    awk -F, 'NR > 1 { f = $10 < 0 ? -$10 : $10; if (f > m) m = f; n += $11 } END { printf "%g %d", m, n }' "$work/$1.csv"
+}
+for case in "camera:$work/hole-%06d.depth.png" "tagged:$work/holes.mkv" "tagged10:$work/holes10.mkv"; do
+    set -- $(press "${case%%:*}" "${case#*:}")
+    [ "$1" = 0 ] && [ "$2" = 0 ] || fail "${case%%:*}: pressing over the hole gave force $1 N, $2 contact rows"
+    echo "${case%%:*}: no force over the hole"
+done
+set -- $(press filled "$work/filled.mkv")
+awk -v f="$1" 'BEGIN { exit !(f > 0.1) }' && [ "$2" -gt 100 ] ||
+    fail "--fill-holes: pressing where the hole was gave force $1 N, $2 contact rows"
+echo "--fill-holes: force $1 N where the hole was filled"
+json() { "$exe" probe "$@" --json | tr -d ' \n'; }
+json "$work/holes.mkv" | grep -q '"occupancy":24[,}]' || fail "probe: depth_occupancy of the 8-bit file"
+json "$work/holes.ts" | grep -q '"occupancy":24[,}]' || fail "probe: depth_occupancy of the MPEG-TS file"
+json "$work/filled.mkv" | grep -q '"occupancy":0[,}]' || fail "probe: --fill-holes file has a threshold"
+json "$work/gray264.mkv" --decode | grep -q '"hole_below":0,' || fail "probe: an old file has holes"
+json "$work/holes10.mkv" --decode | grep -q '"hole_below":6144,' ||
+    fail "probe: 10-bit threshold 96 not widened to 6144 ($(json "$work/holes10.mkv" --decode))"
+holes=$(json "$work/holes.mkv" --decode | sed -n 's/.*"hole_samples":\([0-9]*\).*/\1/p')
+[ "$holes" -eq $((60 * 23 * 19)) ] || fail "probe --decode: $holes hole samples, want $((60 * 23 * 19))"
+"$exe" probe "$work/holes.mkv" | grep -q "holes below 24 (depth_occupancy)" || fail "probe text: threshold"
 
 # Bad input: one error line, exit 2, no output file.
 echo "not a video" > "$work/bad.mkv"

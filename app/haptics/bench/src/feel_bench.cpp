@@ -10,6 +10,8 @@
 #include <limits>
 #include <utility>
 
+#include <glm/geometric.hpp>
+
 #include "depthtouch/platform/percentile.h"
 
 namespace depthtouch::haptics::bench {
@@ -87,9 +89,28 @@ std::vector<std::uint8_t> feelMaterial(int w, int h)
     return rgb;
 }
 
-/// Replays one stroke on a fresh renderer; fills \a rows.
+/// The ideal god-object force on a smooth surface: k·d·n, n the reference's unit normal under the
+/// HIP (central differences over ±0.3 mm), d the depth under the reference along it. Zero outside.
+glm::dvec3 idealForce(ReferenceSurface &ref, double t, const glm::dvec3 &hip, double h, double k)
+{
+    if (!std::isfinite(h) || h <= hip.z)
+        return glm::dvec3{0.0};
+    constexpr double e = 0.3e-3;
+    const double hx0 = ref.height(t, hip.x - e, hip.y);
+    const double hx1 = ref.height(t, hip.x + e, hip.y);
+    const double hy0 = ref.height(t, hip.x, hip.y - e);
+    const double hy1 = ref.height(t, hip.x, hip.y + e);
+    glm::dvec3 n{0.0, 0.0, 1.0};
+    if (std::isfinite(hx0) && std::isfinite(hx1) && std::isfinite(hy0) && std::isfinite(hy1))
+        n = glm::normalize(glm::dvec3{-(hx1 - hx0) / (2 * e), -(hy1 - hy0) / (2 * e), 1.0});
+    return k * (h - hip.z) * n.z * n;
+}
+
+/// Replays one stroke on a fresh renderer; fills \a rows; with \a errors, the squared force
+/// errors against idealForce() of the pressed updates.
 Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const FeelSetting &setting,
-                          const RendererConfig &cfg, std::vector<FeelSample> &rows)
+                          const RendererConfig &cfg, std::vector<FeelSample> &rows,
+                          std::vector<double> *errors = nullptr)
 {
     const std::vector<std::uint8_t> material =
         setting.materials ? feelMaterial(scene.width, scene.height) : std::vector<std::uint8_t>{};
@@ -102,10 +123,12 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
     HeightField truth(scene.box);
     truth.setCutThreshold(cfg.cutThreshold);
     const double cut = truth.cutThreshold();
+    ReferenceSurface ref(scene);
     rows.clear();
     rows.reserve(stroke.samples.size());
     std::size_t current = std::numeric_limits<std::size_t>::max();
     glm::dvec3 prevProxy = stroke.samples.front().hip;
+    double prevT = stroke.samples.front().t;
     for (const StrokeSample &s : stroke.samples) {
         const std::size_t i = frameAt(scene, s.t);
         if (i != current) {
@@ -129,10 +152,23 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
         row.t = s.t;
         row.hip = s.hip;
         row.force = out.force;
-        row.surfaceZ =
-            truth.contains(s.hip.x, s.hip.y) ? truth.heightAt(s.hip.x, s.hip.y) : std::nan("");
-        if (row.surfaceZ > s.hip.z)
-            row.depthInside = depthInside(truth, s.hip, row.surfaceZ - s.hip.z);
+        row.proxy = out.proxy;
+        row.surfaceZ = ref.height(s.t, s.hip.x, s.hip.y);
+        if (row.surfaceZ > s.hip.z) {
+            if (const HeightField *rf = ref.at(s.t); rf != nullptr)
+                row.depthInside = depthInside(*rf, s.hip, row.surfaceZ - s.hip.z);
+            row.idealForce = cfg.stiffness * (row.surfaceZ - s.hip.z);
+        } else {
+            row.idealForce = 0.0;
+        }
+        if (prevT < s.t) // the surface under the HIP's x–y one update earlier
+            row.surfaceRise = row.surfaceZ - ref.height(prevT, s.hip.x, s.hip.y);
+        prevT = s.t;
+        row.pressed = s.pressed;
+        row.heldSurfaceZ = s.heldZ;
+        if (errors != nullptr && (s.pressed || s.sliding || s.held))
+            errors->push_back(
+                glm::length(out.force - idealForce(ref, s.t, s.hip, row.surfaceZ, cfg.stiffness)));
         row.released = out.released;
         row.surfaceCut = cutAt(scene, truth, i, prevProxy, cut) ||
                          cutAt(scene, truth, i, out.proxy, cut) ||
@@ -147,14 +183,16 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
 }
 
 FeelRow summarise(const std::string &scene, const std::string &setting,
-                  const std::vector<FeelStrokeResult> &results)
+                  const std::vector<FeelStrokeResult> &results, const std::string &family = "all")
 {
     FeelRow row;
     row.scene = scene;
     row.setting = setting;
+    row.family = family;
     std::vector<double> times;
     for (const FeelStrokeResult &s : results) {
-        if (s.setting != setting || (scene != "all" && s.scene != scene))
+        if (s.setting != setting || (scene != "all" && s.scene != scene) ||
+            (family != "all" && family != strokeFamilyName(s.family)))
             continue;
         ++row.strokes;
         times.insert(times.end(), s.updateSeconds.begin(), s.updateSeconds.end());
@@ -218,7 +256,8 @@ std::vector<FeelSetting> feelSettings(const std::vector<Method> &methods)
 
 Result<std::vector<FeelStrokeResult>> runFeelStrokes(const FeelScene &scene,
                                                      const std::vector<Stroke> &strokes,
-                                                     const FeelSetting &setting)
+                                                     const FeelSetting &setting,
+                                                     const std::string &dump)
 {
     RendererConfig cfg = setting.config;
     cfg.box = scene.box;
@@ -229,20 +268,101 @@ Result<std::vector<FeelStrokeResult>> runFeelStrokes(const FeelScene &scene,
         if (stroke.samples.empty())
             continue;
         DT_TRY(replayStroke(scene, stroke, setting, cfg, rows));
-        FeelStrokeResult r{scene.name,  setting.name,      stroke.name,
-                           stroke.kind, computeFeel(rows), {}};
+        FeelStrokeResult r{scene.name,   setting.name,      stroke.name, stroke.kind, stroke.family,
+                           stroke.where, computeFeel(rows), {},          {}};
         r.updateSeconds.reserve(rows.size());
         for (const FeelSample &row : rows)
             r.updateSeconds.push_back(row.updateSeconds);
+        if (!dump.empty() && r.key().find(dump) != std::string::npos)
+            r.log = rows;
         out.push_back(std::move(r));
     }
+    return out;
+}
+
+Result<double> cleanForceRms(const FeelScene &scene, const std::vector<Stroke> &strokes,
+                             const FeelSetting &setting)
+{
+    RendererConfig cfg = setting.config;
+    cfg.box = scene.box;
+    DT_TRY(cfg.validate());
+    std::vector<FeelSample> rows;
+    std::vector<double> errors;
+    for (const Stroke &stroke : strokes)
+        if (!stroke.samples.empty())
+            DT_TRY(replayStroke(scene, stroke, setting, cfg, rows, &errors));
+    if (errors.empty())
+        return std::nan("");
+    double sq = 0.0;
+    for (double e : errors)
+        sq += e * e;
+    return std::sqrt(sq / static_cast<double>(errors.size()));
+}
+
+std::vector<GoalVerdict> judgeGoals(const std::vector<FeelRow> &rows, const std::string &setting,
+                                    const FeelGoals &g)
+{
+    std::vector<GoalVerdict> out;
+    const auto judge = [&](const std::string &goal, double limit, auto figure) {
+        GoalVerdict v{goal, 0.0, "-", true};
+        bool any = false;
+        for (const FeelRow &r : rows) {
+            if (r.setting != setting)
+                continue;
+            const double x = figure(r);
+            if (std::isnan(x))
+                continue;
+            if (!any || x > v.worst) {
+                v.worst = x;
+                v.where = r.scene + " / " + r.family;
+                any = true;
+            }
+        }
+        v.met = !any || v.worst <= limit + 1e-9;
+        out.push_back(v);
+    };
+    const auto dbl = [](std::size_t n) { return static_cast<double>(n); };
+    char buf[96];
+    judge("false trips = 0", 0.0, [&](const FeelRow &r) { return dbl(r.total.falseTrips); });
+    std::snprintf(buf, sizeof buf, "pop-through <= %.0f ms", g.maxPopThroughMs);
+    judge(buf, g.maxPopThroughMs, [](const FeelRow &r) { return r.total.popThroughMs; });
+    std::snprintf(buf, sizeof buf, "phantom force <= %.0f ms", g.maxPhantomMs);
+    judge(buf, g.maxPhantomMs, [](const FeelRow &r) { return r.total.phantomMs; });
+    std::snprintf(buf, sizeof buf, "alternating run <= %zu updates", g.maxAlternation);
+    judge(buf, dbl(g.maxAlternation),
+          [&](const FeelRow &r) { return dbl(r.total.longestAlternation); });
+    std::snprintf(buf, sizeof buf, "sign-reversal spikes <= %.0f/s", g.maxReversalsPerSecond);
+    judge(buf, g.maxReversalsPerSecond,
+          [](const FeelRow &r) { return r.total.reversalSpikesPerSecond; });
+    judge("spikes/s - ideal penalty's <= 0", 0.0, [](const FeelRow &r) {
+        return r.total.pressedSpikesPerSecond - r.total.idealSpikesPerSecond;
+    });
+    std::snprintf(buf, sizeof buf, "spikes <= %.0f/s in holds, taps, presses",
+                  g.maxStillSpikesPerSecond);
+    judge(buf, g.maxStillSpikesPerSecond, [](const FeelRow &r) {
+        return r.family == "hold" || r.family == "tap" || r.family == "press"
+                   ? r.total.pressedSpikesPerSecond
+                   : std::nan("");
+    });
+    std::snprintf(buf, sizeof buf, "regain contact <= %.0f ms", g.maxRegainMs);
+    judge(buf, g.maxRegainMs, [](const FeelRow &r) {
+        return r.total.regainEvents > 0 ? r.total.regainMs : std::nan("");
+    });
+    std::snprintf(buf, sizeof buf, "at %.1f N without a trip <= %.0f ms", g.deviceMaxForce,
+                  g.maxAtMaxMs);
+    judge(buf, g.maxAtMaxMs, [](const FeelRow &r) { return r.total.atMaxMs; });
+    std::snprintf(buf, sizeof buf, "pull-down force <= %.0f ms", g.maxPullDownMs);
+    judge(buf, g.maxPullDownMs, [](const FeelRow &r) { return r.total.pullDownMs; });
     return out;
 }
 
 FeelReport runFeelBenchmark(const std::vector<FeelScene> &scenes,
                             const std::vector<std::vector<Stroke>> &strokes,
                             const std::vector<FeelSetting> &settings,
-                            const std::function<void(const std::string &)> &progress)
+                            const std::function<void(const std::string &)> &progress,
+                            const std::vector<FeelScene> &clean,
+                            const std::vector<std::vector<Stroke>> &cleanStrokes,
+                            const std::string &dump)
 {
     FeelReport report;
     const auto start = Clock::now();
@@ -255,7 +375,7 @@ FeelReport runFeelBenchmark(const std::vector<FeelScene> &scenes,
         for (std::size_t k = 0; k < settings.size(); ++k) {
             if (failed[k])
                 continue;
-            auto r = runFeelStrokes(scenes[s], strokes[s], settings[k]);
+            auto r = runFeelStrokes(scenes[s], strokes[s], settings[k], dump);
             if (!r) {
                 failed[k] = true;
                 report.notes.push_back(settings[k].name + ": skipped (" + r.error().what + ")");
@@ -263,6 +383,13 @@ FeelReport runFeelBenchmark(const std::vector<FeelScene> &scenes,
             }
             report.strokes.insert(report.strokes.end(), r->begin(), r->end());
             report.rows.push_back(summarise(scenes[s].name, settings[k].name, report.strokes));
+            for (StrokeFamily fam : {StrokeFamily::Swipe, StrokeFamily::Press, StrokeFamily::Circle,
+                                     StrokeFamily::Tap, StrokeFamily::Trace, StrokeFamily::Hold}) {
+                FeelRow row = summarise(scenes[s].name, settings[k].name, report.strokes,
+                                        strokeFamilyName(fam));
+                if (row.strokes > 0)
+                    report.familyRows.push_back(std::move(row));
+            }
             if (progress)
                 progress(scenes[s].name + " / " + settings[k].name + ": " +
                          std::to_string(r->size()) + " strokes");
@@ -271,6 +398,23 @@ FeelReport runFeelBenchmark(const std::vector<FeelScene> &scenes,
     for (std::size_t k = 0; k < settings.size(); ++k)
         if (!failed[k])
             report.totals.push_back(summarise("all", settings[k].name, report.strokes));
+    for (std::size_t k = 0; k < settings.size(); ++k) {
+        if (failed[k])
+            continue;
+        double sq = 0.0;
+        std::size_t n = 0;
+        for (std::size_t c = 0; c < clean.size() && c < cleanStrokes.size(); ++c) {
+            auto rms = cleanForceRms(clean[c], cleanStrokes[c], settings[k]);
+            if (rms && std::isfinite(*rms)) {
+                sq += *rms * *rms;
+                ++n;
+            }
+        }
+        report.cleanRms.emplace_back(settings[k].name,
+                                     n > 0 ? std::sqrt(sq / static_cast<double>(n)) : std::nan(""));
+        if (progress && n > 0)
+            progress("clean geometry / " + settings[k].name);
+    }
     report.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     return report;
 }

@@ -15,6 +15,7 @@
 #include <glm/geometric.hpp>
 
 #include "depthtouch/depth/conversion.h"
+#include "depthtouch/depth/occupancy.h"
 #include "depthtouch/depth/fill.h"
 #include "depthtouch/depth/filters.h"
 #include "depthtouch/platform/enum_names.h"
@@ -69,13 +70,16 @@ struct Pose {
     double panX, panY;
     glm::dvec3 head;   ///< Sphere centre, m.
     glm::dvec3 bar;    ///< A point on the bar's axis, m.
+    glm::dvec3 occluder; ///< Centre of the occluder's rounded end, m.
 };
 
 constexpr double kHeadRadius = 0.2;
 constexpr double kBarRadius = 0.04;
 const glm::dvec3 kBarAxis{std::cos(0.44), std::sin(0.44), 0.0};
 
-Pose poseAt(double t) noexcept
+constexpr double kOccluderRadius = 0.045;
+
+Pose poseAt(double t, double clipSeconds) noexcept
 {
     Pose p{};
     p.panX = 0.01 * t - 0.015;                 // camera pans right at 1 cm/s
@@ -83,6 +87,10 @@ Pose poseAt(double t) noexcept
     p.head = {-0.02 - p.panX + 0.01 * std::sin(kTwoPi * 0.3 * t),
               0.006 * std::sin(kTwoPi * 0.5 * t) - p.panY, 1.0};
     p.bar = {-p.panX + 0.008 * std::sin(kTwoPi * 0.25 * t), 0.06 - p.panY, 0.80};
+    // Sweeps from x = -0.3 m to +0.3 m over the clip (0.2 m/s in a 3 s clip), its end 2 cm above
+    // the centre of the view.
+    const double u = clipSeconds > 0.0 ? t / clipSeconds : 0.5;
+    p.occluder = {-0.30 + 0.60 * u - p.panX, -0.02 - p.panY, 0.85};
     return p;
 }
 
@@ -101,20 +109,45 @@ double sceneDepth(SyntheticScene s, const Pose &p, const glm::dvec3 &d) noexcept
             z = 1.2; // back wall
         return std::min(z, cylinderZ(p.bar, kBarAxis, kBarRadius, d));
     }
+    case SyntheticScene::Occluder: {
+        const double back = planeZ(1.15 - 0.04 * p.panX, 0.04, 0.0, d);
+        // A vertical capsule: the cylinder below its end (camera y down), a sphere at the end.
+        double z = cylinderZ(p.occluder, {0.0, 1.0, 0.0}, kOccluderRadius, d);
+        if (std::isfinite(z) && d.y * z < p.occluder.y)
+            z = kInf;
+        return std::min({back, z, sphereZ(p.occluder, kOccluderRadius, d)});
+    }
     }
     return kInf;
 }
 
-depth::Plane<float> renderClean(SyntheticScene s, int w, int h, double t)
+/// True where the occluder scene's backdrop carries dark print (blocks of 15 × 20 mm in rows).
+bool darkPrint(const Pose &p, const glm::dvec3 &d, double z) noexcept
+{
+    const double x = d.x * z + p.panX;
+    const double y = d.y * z + p.panY;
+    const double fx = x / 0.03 - std::floor(x / 0.03);
+    const double fy = y / 0.05 - std::floor(y / 0.05);
+    return std::fabs(y) < 0.25 && fx < 0.5 && fy < 0.4;
+}
+
+/// \param dark when not null, set to the W×H dark-surface mask (the occluder scene's print).
+depth::Plane<float> renderClean(SyntheticScene s, int w, int h, double t, double clipSeconds,
+                                depth::Plane<std::uint8_t> *dark = nullptr)
 {
     const Camera cam(w, h);
-    const Pose pose = poseAt(t);
+    const Pose pose = poseAt(t, clipSeconds);
     depth::Plane<float> z(w, h, 0.0f);
+    if (dark != nullptr)
+        *dark = depth::Plane<std::uint8_t>(w, h, 0);
     for (int v = 0; v < h; ++v)
         for (int u = 0; u < w; ++u) {
             const glm::dvec3 d{(u + 0.5 - cam.cx) / cam.f, (v + 0.5 - cam.cy) / cam.f, 1.0};
             const double zz = sceneDepth(s, pose, d);
             z.at(u, v) = std::isfinite(zz) ? static_cast<float>(zz) : 0.0f;
+            if (dark != nullptr && s == SyntheticScene::Occluder && std::isfinite(zz) && zz > 1.0 &&
+                darkPrint(pose, d, zz))
+                dark->at(u, v) = 1;
         }
     return z;
 }
@@ -131,7 +164,7 @@ std::vector<SilhouetteCrossing> crossingsOf(SyntheticScene s, int w, int h, doub
                                             const SceneBox &box)
 {
     const Camera cam(w, h);
-    const Pose p = poseAt(tMid);
+    const Pose p = poseAt(tMid, 2.0 * tMid);
     const double mm = (w - 1) / box.width * 1e-3; // px per box mm
     std::vector<SilhouetteCrossing> out;
     const auto add = [&](const char *what, glm::dvec2 edge, glm::dvec2 outward, double reach) {
@@ -167,6 +200,34 @@ std::vector<std::uint8_t> packFrame(const depth::Plane<std::uint16_t> &q, int bi
     return out;
 }
 
+/// Median of the measured samples in the 5×5 window of each measured sample; NaN at holes.
+depth::Plane<float> maskedMedian(const depth::Plane<float> &n,
+                                 const depth::Plane<std::uint8_t> &valid)
+{
+    depth::Plane<float> out(n.width, n.height, std::numeric_limits<float>::quiet_NaN());
+    std::array<float, 25> window{};
+    for (int y = 0; y < n.height; ++y)
+        for (int x = 0; x < n.width; ++x) {
+            if (valid.at(x, y) == 0)
+                continue;
+            std::size_t k = 0;
+            for (int dy = -2; dy <= 2; ++dy) {
+                const int yy = y + dy;
+                if (yy < 0 || yy >= n.height)
+                    continue;
+                for (int dx = -2; dx <= 2; ++dx) {
+                    const int xx = x + dx;
+                    if (xx >= 0 && xx < n.width && valid.at(xx, yy) != 0)
+                        window[k++] = n.at(xx, yy);
+                }
+            }
+            auto *mid = window.begin() + static_cast<std::ptrdiff_t>(k / 2);
+            std::nth_element(window.begin(), mid, window.begin() + static_cast<std::ptrdiff_t>(k));
+            out.at(x, y) = *mid;
+        }
+    return out;
+}
+
 std::vector<std::uint16_t> medianReference(const depth::Plane<float> &nearness, double vmax)
 {
     const depth::Plane<float> m = depth::medianFilter(nearness, 2);
@@ -191,31 +252,68 @@ FeelScene emptyScene(std::string name, const SceneBox &box, double fps,
     return scene;
 }
 
+/// \return an error when \a mm, \a fps, \a bits and \a cleanMetres make no scene
+/// (sceneFromSensorDepth()).
+Result<void> checkSensorFrames(const std::vector<depth::Plane<std::uint16_t>> &mm, double fps,
+                               int bits, const std::vector<depth::Plane<float>> *cleanMetres)
+{
+    if (mm.empty() || (bits != 8 && bits != 16) || !(fps > 0.0))
+        return unexpected(Errc::InvalidArgument,
+                          "no frame, or bits not 8 or 16, or fps not positive");
+    for (const auto &p : mm)
+        if (!p.sameSize(mm.front()) || p.width < 2 || p.height < 2)
+            return unexpected(Errc::InvalidArgument, "sensor frames differ in size");
+    if (cleanMetres != nullptr && cleanMetres->size() != mm.size())
+        return unexpected(Errc::InvalidArgument, "one clean frame per sensor frame needed");
+    return {};
+}
+
+/// \return the first kRangeFrames frames of \a mm in one row (the samples robustRange() reads).
+depth::Plane<std::uint16_t> firstFrames(const std::vector<depth::Plane<std::uint16_t>> &mm)
+{
+    depth::Plane<std::uint16_t> first;
+    for (std::size_t i = 0; i < mm.size() && i < static_cast<std::size_t>(kRangeFrames); ++i)
+        first.samples.insert(first.samples.end(), mm[i].samples.begin(), mm[i].samples.end());
+    first.width = static_cast<int>(first.samples.size());
+    first.height = 1;
+    return first;
+}
+
 } // namespace
 
 const char *syntheticSceneName(SyntheticScene scene) noexcept
 {
-    static constexpr std::array<const char *, 3> kNames = {"synthetic-table", "synthetic-head",
-                                                           "synthetic-forearm"};
+    static constexpr std::array<const char *, 4> kNames = {
+        "synthetic-table", "synthetic-head", "synthetic-forearm", "synthetic-occluder"};
     return platform::enumName(scene, kNames, "?");
+}
+
+const char *sensorModelName(SensorModel model) noexcept
+{
+    static constexpr std::array<const char *, 3> kNames = {"sl", "tof", "stereo"};
+    return platform::enumName(model, kNames, "?");
 }
 
 DepthFrameView FeelScene::frame(std::size_t i) const noexcept
 {
     const std::size_t bps = bytesPerSample(format);
-    return DepthFrameView{frames[i].data(), width,
-                          height,           static_cast<std::size_t>(width) * bps,
-                          format,           static_cast<double>(i) / fps};
+    DepthFrameView v{frames[i].data(), width,
+                     height,           static_cast<std::size_t>(width) * bps,
+                     format,           static_cast<double>(i) / fps};
+    v.holeBelow = holeBelow;
+    return v;
 }
 
 DepthFrameView FeelScene::referenceFrame(std::size_t i) const noexcept
 {
-    return DepthFrameView{reinterpret_cast<const std::uint8_t *>(reference[i].data()),
-                          width,
-                          height,
-                          static_cast<std::size_t>(width) * 2,
-                          SampleFormat::Gray16,
-                          static_cast<double>(i) / fps};
+    DepthFrameView v{reinterpret_cast<const std::uint8_t *>(reference[i].data()),
+                     width,
+                     height,
+                     static_cast<std::size_t>(width) * 2,
+                     SampleFormat::Gray16,
+                     static_cast<double>(i) / fps};
+    v.holeBelow = referenceHoleBelow;
+    return v;
 }
 
 Result<DepthFrameView> SceneFrameProvider::frame(std::size_t i) noexcept
@@ -227,44 +325,50 @@ Result<DepthFrameView> SceneFrameProvider::frame(std::size_t i) noexcept
 
 ReferenceSurface::ReferenceSurface(const FeelScene &scene) : scene_(scene), field_(scene.box) {}
 
-double ReferenceSurface::height(double t, double x, double y)
+const HeightField *ReferenceSurface::at(double t)
 {
     const std::size_t n = scene_.frameCount();
     if (n == 0)
-        return std::nan("");
+        return nullptr;
     const double fi = std::floor(t * scene_.fps + 1e-9);
     const std::size_t i = fi <= 0.0 ? 0 : std::min(n - 1, static_cast<std::size_t>(fi));
     if (i != current_) {
         const DepthFrameView a = scene_.referenceFrame(i);
         const DepthFrameView b = i + 1 < n ? scene_.referenceFrame(i + 1) : DepthFrameView{};
         if (!field_.setFrames(a, i + 1 < n ? &b : nullptr))
-            return std::nan("");
+            return nullptr;
         current_ = i;
     }
     field_.setTime(t, true);
-    return field_.contains(x, y) ? field_.heightAt(x, y) : std::nan("");
+    return &field_;
+}
+
+double ReferenceSurface::height(double t, double x, double y)
+{
+    const HeightField *f = at(t);
+    if (f == nullptr || !f->contains(x, y))
+        return std::nan("");
+    if (scene_.referenceHoleBelow > 0) {
+        const DepthFrameView &cur = f->current();
+        const int c = std::clamp(static_cast<int>(f->xToColumn(x)), 0, cur.width - 2);
+        const int r = std::clamp(static_cast<int>(f->yToRow(y)), 0, cur.height - 2);
+        if (!cur.measured(c, r) || !cur.measured(c + 1, r) || !cur.measured(c, r + 1) ||
+            !cur.measured(c + 1, r + 1))
+            return std::nan("");
+    }
+    return f->heightAt(x, y);
 }
 
 Result<FeelScene> sceneFromSensorDepth(std::string name,
                                        const std::vector<depth::Plane<std::uint16_t>> &mm,
                                        double fps, const SceneBox &box, int bits,
-                                       const std::vector<depth::Plane<float>> *cleanMetres)
+                                       const std::vector<depth::Plane<float>> *cleanMetres,
+                                       bool keepHoles)
 {
-    if (mm.empty() || (bits != 8 && bits != 16) || !(fps > 0.0))
-        return unexpected(Errc::InvalidArgument,
-                          "no frame, or bits not 8 or 16, or fps not positive");
-    for (const auto &p : mm)
-        if (!p.sameSize(mm.front()) || p.width < 2 || p.height < 2)
-            return unexpected(Errc::InvalidArgument, "sensor frames differ in size");
-    if (cleanMetres != nullptr && cleanMetres->size() != mm.size())
-        return unexpected(Errc::InvalidArgument, "one clean frame per sensor frame needed");
+    DT_TRY(checkSensorFrames(mm, fps, bits, cleanMetres));
     // `depthtouch encode`'s defaults: robust range of the first frames, 1/Z, push-pull fill,
     // quantise.
-    depth::Plane<std::uint16_t> first;
-    for (std::size_t i = 0; i < mm.size() && i < static_cast<std::size_t>(kRangeFrames); ++i)
-        first.samples.insert(first.samples.end(), mm[i].samples.begin(), mm[i].samples.end());
-    first.width = static_cast<int>(first.samples.size());
-    first.height = 1;
+    const depth::Plane<std::uint16_t> first = firstFrames(mm);
     depth::ConvertOptions co;
     co.vmax = bits == 8 ? 255.0 : 65535.0;
     auto range = depth::robustRange(first, co.raw);
@@ -276,12 +380,58 @@ Result<FeelScene> sceneFromSensorDepth(std::string name,
                                  bits == 8 ? SampleFormat::Gray8 : SampleFormat::Gray16);
     std::vector<int> validCount(mm.front().size(), 0);
     depth::Plane<float> last;
+    const depth::Occupancy occ = depth::occupancyFor(bits, false);
+    // Measured nearness (levels of 0..vmax) → the reference's Gray16 code, lifted as the frames.
+    const auto lift16 = [&](double n) {
+        return static_cast<std::uint16_t>(std::clamp(
+            std::lround(depth::occupiedLevel(n, co.vmax, occ) * 65535.0 / co.vmax), 1L, 65535L));
+    };
+    if (keepHoles) {
+        scene.holeBelow = occ.threshold;
+        // The reference's Gray16 codes are the frames' scaled to 16 bits, its far plane's code
+        // (DepthFrameView::farCode()) too.
+        scene.referenceHoleBelow =
+            static_cast<std::uint32_t>(std::lround(occ.threshold * 65535.0 / co.vmax));
+    }
+    // A frame repeated (a still capture played for a while, a short clip looped) has the
+    // reference of its first showing: the 5×5 median is most of the cost of a real clip.
+    const auto sameAs = [&](std::size_t f) -> std::size_t {
+        for (std::size_t g = 0; g < f; ++g)
+            if (mm[g].samples == mm[f].samples)
+                return g;
+        return f;
+    };
     for (std::size_t f = 0; f < mm.size(); ++f) {
         auto n = depth::metricToNearness(mm[f], co);
         if (!n)
             return unexpected(n.error());
         for (std::size_t i = 0; i < n->valid.size(); ++i)
             validCount[i] += n->valid.samples[i];
+        if (keepHoles) {
+            depth::Plane<std::uint16_t> q(scene.width, scene.height, 0);
+            for (std::size_t i = 0; i < q.size(); ++i)
+                if (n->valid.samples[i] != 0)
+                    q.samples[i] = static_cast<std::uint16_t>(std::lround(depth::occupiedLevel(
+                        static_cast<double>(n->nearness.samples[i]), co.vmax, occ)));
+            scene.frames.push_back(packFrame(q, bits));
+            std::vector<std::uint16_t> ref(q.size(), 0);
+            if (const std::size_t g = sameAs(f); cleanMetres == nullptr && g < f) {
+                ref = scene.reference[g];
+            } else if (cleanMetres == nullptr) {
+                const depth::Plane<float> m = maskedMedian(n->nearness, n->valid);
+                for (std::size_t i = 0; i < ref.size(); ++i)
+                    if (std::isfinite(m.samples[i]))
+                        ref[i] = lift16(static_cast<double>(m.samples[i]));
+            } else {
+                const depth::Plane<float> &z = (*cleanMetres)[f];
+                for (std::size_t i = 0; i < ref.size(); ++i)
+                    if (z.samples[i] > 0.0f && n->valid.samples[i] != 0)
+                        ref[i] = lift16(depth::metresToNearness(static_cast<double>(z.samples[i]),
+                                                                *range, co.mapping, co.vmax));
+            }
+            scene.reference.push_back(std::move(ref));
+            continue;
+        }
         if (n->invalidCount == n->valid.size()) {
             if (last.empty())
                 return unexpected(Errc::InvalidArgument,
@@ -341,11 +491,20 @@ Result<FeelScene> makeSyntheticScene(SyntheticScene which, const SyntheticSceneO
             "synthetic scene: size >= 16x16, fps > 0, at least one frame, bits 8 or 16");
     std::vector<depth::Plane<float>> clean;
     std::vector<depth::Plane<std::uint16_t>> sensor;
+    const double clipSeconds = static_cast<double>(frames - 1) / o.fps;
     for (long i = 0; i < frames; ++i) {
-        clean.push_back(renderClean(which, o.width, o.height, static_cast<double>(i) / o.fps));
-        if (o.noisy) {
-            sensor.push_back(
-                applyKinectNoise(clean.back(), o.noise, static_cast<std::uint64_t>(i)));
+        depth::Plane<std::uint8_t> dark;
+        clean.push_back(renderClean(which, o.width, o.height, static_cast<double>(i) / o.fps,
+                                    clipSeconds, &dark));
+        const auto fi = static_cast<std::uint64_t>(i);
+        if (o.noisy && o.sensor == SensorModel::TimeOfFlight) {
+            sensor.push_back(applyTofNoise(clean.back(), o.tof, fi, &dark));
+        } else if (o.noisy && o.sensor == SensorModel::ActiveStereo) {
+            StereoNoiseOptions so = o.stereo;
+            so.focalPx *= o.width / 640.0;
+            sensor.push_back(applyStereoNoise(clean.back(), so, fi));
+        } else if (o.noisy) {
+            sensor.push_back(applyKinectNoise(clean.back(), o.noise, fi));
         } else {
             depth::Plane<std::uint16_t> p(o.width, o.height, 0);
             for (std::size_t k = 0; k < p.size(); ++k)
@@ -354,8 +513,11 @@ Result<FeelScene> makeSyntheticScene(SyntheticScene which, const SyntheticSceneO
             sensor.push_back(std::move(p));
         }
     }
+    std::string name = syntheticSceneName(which);
+    if (o.sensor != SensorModel::StructuredLight)
+        name = name + "-" + sensorModelName(o.sensor);
     auto scene =
-        sceneFromSensorDepth(syntheticSceneName(which), sensor, o.fps, o.box, o.bits, &clean);
+        sceneFromSensorDepth(std::move(name), sensor, o.fps, o.box, o.bits, &clean, o.keepHoles);
     if (scene)
         scene->crossings = crossingsOf(which, o.width, o.height, 0.5 * scene->duration(), o.box);
     return scene;

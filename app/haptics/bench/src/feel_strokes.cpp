@@ -11,41 +11,19 @@
 
 #include "depthtouch/haptics/feel_scenes.h"
 #include "depthtouch/platform/enum_names.h"
+#include "feel_families_internal.h"
 
 namespace depthtouch::haptics::bench {
 
 namespace {
 
+using detail::Draws;
+
 constexpr double kMargin = 4e-3;   ///< Slides keep this far inside the box, m.
 constexpr double kStep = 0.5e-3;   ///< Path check spacing, m.
 constexpr double kMaxRise = 1e-3;  ///< Largest reference change per kStep on a smooth slide, m.
 
-/// Counter-based uniform draws in [0, 1) (splitmix64).
-class Draws {
-public:
-    explicit Draws(std::uint64_t seed) noexcept : state_(seed) {}
-    double next() noexcept
-    {
-        std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-    }
-
-private:
-    std::uint64_t state_;
-};
-
-/// Position along a ping-pong from \a from to \a to after travelling \a s (m).
-glm::dvec2 pingPong(const glm::dvec2 &from, const glm::dvec2 &to, double s) noexcept
-{
-    const double len = glm::length(to - from);
-    if (len <= 0.0)
-        return from;
-    const double m = std::fmod(s, 2.0 * len);
-    const double along = m <= len ? m : 2.0 * len - m;
-    return from + (to - from) * (along / len);
-}
+using detail::pingPong;
 
 double boxHeight(const FeelScene &s) noexcept
 {
@@ -96,30 +74,16 @@ bool lineOk(const FeelScene &s, ReferenceSurface &ref, const glm::dvec2 &a, cons
 }
 
 /// Radius of the fingertip that traces a contour (a cross stroke), m.
-constexpr double kTipRadius = 4e-3;
-
-/// \return the height of the bottom of a fingertip of radius kTipRadius resting on the reference
-/// at time \a t over the point \a along (m) of the line \a from → \a to (a ball rolled over the
-/// surface along the line: it rises before a silhouette instead of jumping up it), m; NaN when
-/// the surface is nowhere under it.
+/// \return the height of the bottom of a fingertip resting on the reference at time \a t over the
+/// point \a along (m) of the line \a from → \a to (detail::rolledHeight(), 16 taps either side,
+/// clamped to the line), m; NaN when the surface is nowhere under it.
 double rolledHeight(ReferenceSurface &ref, double t, const glm::dvec2 &from, const glm::dvec2 &to,
                     double along)
 {
     const double len = glm::length(to - from);
     const glm::dvec2 dir = len > 0.0 ? (to - from) / len : glm::dvec2(1.0, 0.0);
-    double best = std::nan("");
-    constexpr int kTaps = 16;
-    for (int i = -kTaps; i <= kTaps; ++i) {
-        const double d = kTipRadius * i / kTaps;
-        const glm::dvec2 p = from + dir * std::clamp(along + d, 0.0, len);
-        const double h = ref.height(t, p.x, p.y);
-        if (!std::isfinite(h))
-            continue;
-        const double lifted = h + std::sqrt(kTipRadius * kTipRadius - d * d) - kTipRadius;
-        if (!(lifted <= best))
-            best = lifted;
-    }
-    return best;
+    return detail::rolledHeight(
+        ref, t, [&](double d) { return from + dir * std::clamp(along + d, 0.0, len); }, 16);
 }
 
 /// A finger tracing a contour: it moves at \a speed along the 3-D path of the rolled height (up

@@ -42,13 +42,17 @@ enum class CodecId : std::uint8_t {
 const char *codecName(CodecId codec) noexcept;
 
 /// \brief How the samples of a depth stream map to distance (docs/architecture.md §3, metadata tags
-/// depth_near, depth_far, depth_mapping, depth_bits).
+/// depth_near, depth_far, depth_mapping, depth_bits, depth_occupancy).
 struct DepthMetadata {
     double nearMetres = 0.0; ///< Distance of the maximum nearness value; 0 when not given.
     double farMetres = 0.0;  ///< Distance of nearness 0; 0 when not given.
     std::string
         mapping; ///< Mapping name, e.g. "inverse" (MPEG 3DV 1/Z) or "linear"; empty when not given.
     int bits = 0; ///< Significant bits per depth sample (8, 10 or 16); 0 when not given.
+    /// depth_occupancy (docs/architecture.md §3 "Holes"): a sample below it is a hole (not
+    /// measured), in the stream's own sample units (0..2^bits − 1, before any widening by a
+    /// decoder); 0 when not given (every sample measured).
+    std::uint32_t occupancy = 0;
 };
 
 /// \brief One stream of an opened source.

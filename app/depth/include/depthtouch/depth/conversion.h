@@ -23,6 +23,7 @@
 #include <optional>
 #include <string_view>
 
+#include "depthtouch/depth/occupancy.h"
 #include "depthtouch/depth/plane.h"
 #include "depthtouch/platform/result.h"
 
@@ -115,6 +116,15 @@ NearnessFrame nearnessFrom8Bit(const Plane<std::uint8_t> &nearness8);
 /// \brief Rounds nearness levels to integers in [0, vmax] (the encoder's input).
 /// \param[in] vmax 255 or 65535 (values above 65535 are clamped to 65535)
 Plane<std::uint16_t> quantize(const Plane<float> &nearness, double vmax);
+
+/// \brief Rounds nearness to the codes of a stream with holes (occupancy.h): a sample whose \a
+/// valid flag is 0 becomes 0, a measured level n (clamped to [0, vmax]) becomes
+/// round(occupiedLevel(n, vmax, occ)). An empty \a valid means every sample was measured.
+/// \param[out] holes the number of hole samples written
+/// \pre \a valid is empty or the size of \a nearness; 0 < vmax ≤ 65535.
+Plane<std::uint16_t> quantizeOccupied(const Plane<float> &nearness,
+                                      const Plane<std::uint8_t> &valid, double vmax,
+                                      const Occupancy &occ, std::size_t &holes);
 
 /// \brief One frame of a metric depth clip as 8-bit nearness levels of another size:
 /// metricToNearness() (default options but \a range), holes filled (fillInvalid()), resampled to

@@ -35,6 +35,9 @@ struct DepthSlot {
     std::size_t bytes = 0;        ///< Size of data.
     double pts = 0.0;             ///< Presentation time, s (the media timeline).
     int index = -1;               ///< Slot number, 0 .. DepthHandoff::kSlots − 1.
+    /// Samples below this are holes (scene::DepthFrameView::holeBelow, the slot's sample units);
+    /// 0: none. Set by the writer, like pts.
+    std::uint32_t holeBelow = 0;
     /// The slot's material codes (W·H RGB24, scene/material.h), null when the handoff carries no
     /// materials. The writer sets hasMaterial when it filled them.
     std::uint8_t *material = nullptr;
@@ -175,6 +178,7 @@ private:
     std::vector<std::uint8_t> storage_; ///< kSlots slots (depth, then material) back to back.
     double pts_[kSlots] = {};           ///< Written by the writer before publishing the slot.
     bool materialValid_[kSlots] = {};   ///< The slot's material was filled (as pts_).
+    std::uint32_t holeBelow_[kSlots] = {}; ///< The slot's hole threshold (as pts_).
 
     /// Published pair, held pair and the fresh bit (layout in depth_handoff.cpp).
     alignas(platform::kCacheLineBytes) std::atomic<std::uint32_t> state_;

@@ -7,16 +7,49 @@
 ///
 /// Definitions (all per update; thresholds in FeelThresholds):
 /// - **trip**: the renderer's safety released or re-seated the proxy (`released`); it is a *real
-/// cut*
-///   when the surface under the proxy moved by more than the cut threshold between the two depth
-///   frames around that update (`surfaceCut`), else a *false trip*.
+///   cut* when the surface under the proxy moved by more than the cut threshold between the two
+///   depth frames around that update (`surfaceCut`), an *arrival trip* while the finger is covered
+///   by an arriving surface or an occluder over a held finger (below), else a *false trip*.
 /// - **pop-through**: after the first contact, the HIP is more than `depthMargin` inside the
 ///   surface (FeelSample::depthInside, else under it at its own x–y) and |F| < `popForce`.
-/// - **phantom force**: the HIP is more than `depthMargin` above the surface at its own x–y (or off
-///   the surface) and |F| > `phantomForce`.
+/// - **phantom force**: the HIP is more than `depthMargin` above the surface at its own x–y and |F|
+/// >
+///   `phantomForce`. Where there is no surface (off the grid, or a hole: nothing was measured)
+///   neither phantom force nor pop-through is judged.
 /// - **spike**: |F(n) − F(n−1)| > `spikeStep` in one update, counted while `sliding`.
 /// - **ripple**: RMS of |F| about its mean over the updates marked `held` (HIP still, pressed in),
 ///   also given relative to that mean (the force just-noticeable difference is 5–10 %).
+/// - **pressed spikes**: spikes counted over every update marked `pressed`, `sliding` or `held`
+///   (the finger pressed in, whatever it does), per second of those updates; the same count of the
+///   ideal penalty (`idealForce`) on the same updates is the yardstick (a real step in the surface
+///   is a spike of the ideal penalty too).
+/// - **sign-reversal spike**: a spike (|ΔF(n)| > `spikeStep`) whose change points against the
+///   change of the update before (ΔF(n)·ΔF(n−1) < 0, |ΔF(n−1)| > `alternationStep`): a force that
+///   jumps and comes back, or a limit cycle. Counted over every update, per second of the run.
+/// - **alternating run**: the longest chain of consecutive updates whose force changes all exceed
+///   `alternationStep` and each point against the one before (a proxy that alternates between two
+///   points every update gives one change per update: a run as long as the cycle lasts). A single
+///   jump and return is a run of 2.
+/// - **time to regain contact** (holds beside an occluder, `heldSurfaceZ` given): an occluder is
+///   over the finger while the surface under the HIP is not the held surface (more than
+///   `depthMargin` above it, or no surface); from the first update after it where the surface under
+///   the HIP is again the held surface and the HIP is under it, the time until |F| ≥ `popForce`.
+///   Never regained before the hold ends: the time to its end (and counted as missed). Pop-through
+///   and phantom force are not counted while an occluder is over the finger.
+/// - **covered by an arriving surface** (any stroke, `surfaceRise` given): the surface under the
+///   HIP's own x–y rose faster than `pushRate` (a person walking in front of the finger, an
+///   object's side sweeping over it). What each update's rise exceeds a push-out at `pushRate` by
+///   adds to the *swept depth*, a fall of the surface takes from it (never more than the HIP's
+///   depth under the surface; 0 once the HIP is out). While it exceeds `depthMargin` the finger is
+///   covered: the
+///   finger may be pushed out at a bounded rate or let go (issue 27), so neither pop-through nor
+///   phantom force is counted, and a trip there is an *arrival trip*, not a false one. Spikes, the
+///   alternating run and the time at the device maximum are counted as everywhere.
+/// - **pull-down force**: time with the force pointing down more than `phantomForce` (Fz <
+///   −`phantomForce`): a height field's surface only pushes up and out, so a spring that pulls the
+///   finger down (toward or into the surface) is a fault wherever the finger is.
+/// - **time at the device maximum**: the longest run of consecutive updates with |F| ≥
+///   `deviceMaxForce`·(1 − 1e-3) and no safety trip among them.
 /// Units: s, m, N (scene-box frame, docs/architecture.md §3). Thread-safety: reentrant; allocates
 /// (not for the haptic thread).
 
@@ -33,6 +66,7 @@ struct FeelSample {
     double t = 0.0;          ///< Time, s (monotonic over the run: play time, not media time).
     glm::dvec3 hip{};        ///< HIP, m.
     glm::dvec3 force{};      ///< Commanded force, N.
+    glm::dvec3 proxy{};      ///< The renderer's proxy, m (for --dump).
     double surfaceZ = 0.0;   ///< Height of the surface under the HIP, m; NaN when off the surface.
     /// How deep the HIP is inside: its distance to the nearest surface point, m, when it is under
     /// the surface (on a steep side this is far less than surfaceZ − hip.z). NaN: not measured,
@@ -43,6 +77,14 @@ struct FeelSample {
         false; ///< The surface under the proxy moved more than the cut threshold here.
     bool sliding = false;    ///< Part of a slide (the HIP moving along the surface, pressed in).
     bool held = false;       ///< Part of a still press (for the ripple).
+    bool pressed = false;    ///< Pressed in (any stroke phase under the surface; see the file).
+    /// |F| of the ideal penalty on this update, k·max(0, surfaceZ − hip.z), N; NaN: not given.
+    double idealForce = std::nan("");
+    /// Height of the surface a held finger rests on (without any occluder), m; NaN: not a hold.
+    double heldSurfaceZ = std::nan("");
+    /// How far the surface under the HIP's x–y rose since the update before (the same x–y, the
+    /// surface one update earlier), m; NaN: not known (no arrival is judged).
+    double surfaceRise = std::nan("");
     double updateSeconds = 0.0; ///< Wall time of the update, s (0 when not measured).
 };
 
@@ -52,6 +94,11 @@ struct FeelThresholds {
     double popForce = 0.1;       ///< N: under this while inside is pop-through.
     double phantomForce = 0.2;   ///< N: above this while outside is phantom force.
     double spikeStep = 0.5;      ///< N per update.
+    double alternationStep = 0.05; ///< N per update: smallest change of an alternating run.
+    double deviceMaxForce = 8.5;   ///< N (the Falcon): time at the maximum.
+    /// m/s: a surface arriving faster than this covers the finger (a renderer that pushes the
+    /// finger out at a bounded rate, 0.16 m/s for the finger renderer's defaults, cannot follow).
+    double pushRate = 0.15;
 };
 
 /// \brief The figures of one run (or of several runs summed, see accumulate()).
@@ -61,7 +108,9 @@ struct FeelFigures {
     std::size_t updates = 0;
     std::size_t trips = 0;        ///< Safety trips (released).
     std::size_t realCutTrips = 0; ///< Of them, at a real cut (surfaceCut).
-    std::size_t falseTrips = 0;   ///< trips − realCutTrips.
+    std::size_t arrivalTrips = 0; ///< Of them, not at a cut, while covered by an arriving surface.
+    std::size_t falseTrips = 0;   ///< trips − realCutTrips − arrivalTrips.
+    double coveredMs = 0.0;       ///< Time covered by an arriving surface, ms.
     double popThroughMs = 0.0;    ///< Time in pop-through, ms.
     double phantomMs = 0.0;       ///< Time with phantom force, ms.
     std::size_t spikes = 0;       ///< Spikes while sliding.
@@ -72,6 +121,26 @@ struct FeelFigures {
     double maxForce = 0.0;        ///< N.
     double updateP50 = 0.0;       ///< s, of the measured updates (0 when none).
     double updateP999 = 0.0;      ///< s.
+    double pressedSeconds = 0.0;  ///< Time marked pressed, sliding or held, s.
+    std::size_t pressedSpikes = 0; ///< Spikes over those updates.
+    double pressedSpikesPerSecond = 0.0;
+    std::size_t idealSpikes = 0; ///< Spikes of the ideal penalty over the same updates.
+    double idealSpikesPerSecond = 0.0;
+    std::size_t reversalSpikes = 0;       ///< Sign-reversal spikes (every update).
+    double reversalSpikesPerSecond = 0.0; ///< reversalSpikes / seconds.
+    std::size_t longestAlternation = 0;   ///< Updates, the longest alternating run.
+    std::size_t regainEvents = 0;         ///< Occluders that left a held finger.
+    std::size_t regainMissed = 0;         ///< Of them, contact not regained before the hold ended.
+    double regainMs = 0.0;                ///< The longest time to regain contact, ms (0: no event).
+    double atMaxMs = 0.0;    ///< The longest time at the device maximum without a trip, ms.
+    double pullDownMs = 0.0; ///< Time with a downward force (Fz < −phantomForce), ms.
+    /// pressedSpikes / idealSpikes; NaN when the ideal penalty has no spike.
+    [[nodiscard]] double spikeRatio() const noexcept
+    {
+        return idealSpikes > 0
+                   ? static_cast<double>(pressedSpikes) / static_cast<double>(idealSpikes)
+                   : std::nan("");
+    }
 };
 
 /// \brief Computes the figures of one run of consecutive updates.
@@ -80,7 +149,8 @@ struct FeelFigures {
                                       const FeelThresholds &thresholds = {});
 
 /// \brief Adds \a run's counts and times to \a total (rates and percentiles recomputed from the
-/// sums where they can be; ripple and update percentiles: the worst of the two).
+/// sums where they can be; ripple, update percentiles, the longest alternating run, the time to
+/// regain contact and the time at the maximum: the worst of the two).
 void accumulate(FeelFigures &total, const FeelFigures &run) noexcept;
 
 } // namespace depthtouch::haptics

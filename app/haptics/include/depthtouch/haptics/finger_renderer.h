@@ -14,7 +14,9 @@
 ///    heights (fix (b): interpolated between frames i and i+1, paper Eq. 1) at the 3×3 points
 ///    q + (i·r, j·r), i, j ∈ {−1, 0, 1}, r = RendererConfig::fingerRadius (a Prewitt stencil): mean
 ///    height S(q), kept within r/4 of the nine heights' median, and slope ∇S(q). Noise at pixel
-///    scale is averaged; slopes, and so the force's direction, are taken over 2r.
+///    scale is averaged; slopes, and so the force's direction, are taken over 2r. Where the nine
+///    fit a quadric (RMS residual under r/50, fading out by r/25), S(q) is the quadric's height at
+///    q (the 3×3 Savitzky-Golay intercept of order 2): a plane's mean lies under a crest.
 /// 2. **God-object on that surface** (Zilles & Salisbury 1995): the proxy is the HIP projected on
 /// the
 ///    plane at q; q moves to the projection's x–y and the plane is refitted, up to
@@ -36,28 +38,51 @@
 ///    silhouette, or the surface jumped onto it: it is *behind* the surface (the camera did not
 ///    see there) and stays free until it is out (paper IV.C's release "may stay inside"). An
 ///    edge met less deep than that is climbed.
-/// 4. **Cuts from the depth itself** (fix (c)): the surface under the proxy, fitted at the same
-/// x–y,
-///    moved by more than the cut threshold (HeightField::cutThreshold(), a quarter of the box
-///    depth) since the last update. HeightField holds the vertices that move more than that in one
-///    frame, so only a cut steps; smooth motion is interpolated and moves a thirtieth of it per
-///    update. Release: the proxy goes to the HIP; Ramp: the proxy stays on the new surface and the
-///    force ramps in (ForceStage::shape()). A smaller step (over maxForceStep/(4k): a loop or seek
-///    onto content that moved a little) is no cut: the proxy stays and the change of force is
+/// 4. **Cuts from the depth itself** (fix (c)): most of the patch under the proxy, refitted at the
+///    same x–y, moved by more than the cut threshold (HeightField::cutThreshold(), a quarter of the
+///    box depth) since the last update: the median of the nine taps' own steps (stencilStep()). An
+///    object's silhouette crossing part of the patch steps its plane but is no cut. HeightField
+///    holds the vertices that move more than that in one frame, so only a cut steps; smooth motion
+///    is interpolated and moves a thirtieth of it per update. The force never points down
+///    (pushUp()). Release: the proxy goes to the HIP; Ramp: the proxy stays on the new surface and
+///    the force ramps in (ForceStage::shape()). A smaller step (over maxForceStep/(4k): a loop or
+///    seek onto content that moved a little) is no cut: the proxy stays and the change of force is
 ///    ramped in.
-/// 5. **Friction** (RendererConfig::staticFriction, dynamicFriction; friction.h): the proxy of
+/// 5. **Continuity where the finger rests beside, under or in the path of moving objects.**
+///    - *No limit cycles*: a descent step (and a glide) is taken only when it brings the surface
+///      point nearer the HIP than the last update's (refitted now) by kFingerGlideGain of the
+///      glide's length, and the surface at the HIP's own x–y replaces a proxy held to the side
+///      only when nearer by kFingerSwitchGain: beside an object's edge, two solutions cannot take
+///      turns from one update to the next (before: a 500 Hz buzz pressing beside a typing hand).
+///    - *Bounded push*: the HIP's depth under the proxy grows by at most the HIP's own motion plus
+///      maxForceStep/(16k) per update, so a surface that sweeps under a resting finger (an
+///      object's side, a turning head) pushes it out at a bounded rate, and a hand that yields
+///      rises onto it instead of being thrown out at full force or left behind it.
+///    - *Caught again*: a finger let go behind an occluder (or by a cut) is caught by the surface
+///      it was held on as soon as that surface is within its held depth (plus the ramped step)
+///      again, e.g. when the occluder leaves; before, it stayed free until lifted out.
+///    - *Saturation*: a command at the device maximum for kFingerSaturationTime lets the finger go
+///      (whatever Reengage says): the device cannot push it out, and a force held at the maximum
+///      is what a user must never feel for long.
+///    - *Holes* (DepthFrameView::holeBelow; docs/architecture.md §3 "Holes"): HeightField puts a
+///      hole's vertex 1 m under the box, so a hole is free space and its border a cliff; the
+///      stencil's median ignores a minority of hole taps.
+/// 6. **Friction** (RendererConfig::staticFriction, dynamicFriction; friction.h): the proxy of
 ///    steps 2–4 is the frictionless goal; in contact the friction cone holds the proxy where it
 ///    was while the tangential force is within μs·Fn and lets it slide at μd·Fn otherwise. The
 ///    goal, not the held proxy, is what the next update slides on from. A cut or a lost contact
 ///    lets go. Frames with a material track (DepthFrameView::material) give μs, μd and a
 ///    stiffness scale per pixel instead, read under the goal each update (material_field.h:
 ///    bilinear, and Eq. 1 in time).
-/// 6. **Force** k·(proxy − HIP) − b·v, shaped by ForceStage::shape() (non-finite → zero, clamp to
+/// 7. **Force** k·(proxy − HIP) − b·v, shaped by ForceStage::shape() (non-finite → zero, clamp to
 /// the
 ///    device maximum, ramp, slew ≤ maxForceStep per update).
 ///
-/// Cost: 9 height lookups per plane fit, at most 1 + kFingerIterations fits and one raw lookup an
-/// update; nothing per frame. Thread-safety: thread-bound (the haptic thread); no allocation.
+/// Cost: 9 height lookups per plane fit, at most 2 + kFingerIterations fits (3 +
+/// 2·kFingerIterations beside a wall) and one raw lookup an update; nothing per frame.
+/// Thread-safety: thread-bound (the haptic thread); no allocation.
+
+#include <cmath>
 
 #include <glm/vec3.hpp>
 
@@ -67,6 +92,16 @@
 
 namespace depthtouch::haptics {
 
+/// Longest time the command may stay at the device maximum before the finger is let go (on the
+/// next update), s: at most 5 updates at the maximum at 1 kHz, whatever the clock's jitter.
+inline constexpr double kFingerSaturationTime = 0.003;
+/// A glide (a move of the proxy cut short at r/4 plus the HIP's own move) is taken only when it
+/// brings the surface point nearer the HIP by this share of its length: two far solutions beside
+/// an edge that moves a little each update cannot take turns.
+inline constexpr double kFingerGlideGain = 0.05;
+/// The surface at the HIP's own x–y replaces a proxy held more than r to the side only when it is
+/// nearer the HIP by this share (hysteresis between the two solutions).
+inline constexpr double kFingerSwitchGain = 0.02;
 /// Plane refits per update after the first (a converged proxy stops earlier).
 inline constexpr int kFingerIterations = 2;
 /// Taps farther than this many stencil half-widths from the stencil's median are left out of the
@@ -84,6 +119,9 @@ struct FingerPlane {
     double height = 0.0;
     double gx = 0.0;     ///< ∂S/∂x (dimensionless).
     double gy = 0.0;     ///< ∂S/∂y.
+    /// The nine interpolated heights, row-major from (x − r, y − r) (hole taps as HeightField
+    /// gives them, 1 m under the box), m.
+    double taps[9] = {};
 };
 
 /// \brief Fits the plane of the 3×3 stencil of half-width \a r (m) at (x, y) on \a field.
@@ -113,17 +151,51 @@ public:
     [[nodiscard]] double radius() const noexcept { return radius_; }
 
 private:
-    /// The god-object on the finger-scale surface from q = \a start (x–y): the proxy, the last
-    /// plane fitted, S at the start and how far the HIP is under the plane (m).
+    /// One update's proxy before friction and force.
+    struct Candidate {
+        glm::dvec3 proxy{};  ///< The frictionless goal, m.
+        FingerPlane plane{}; ///< The last plane fitted.
+        double below = 0.0;  ///< How far the HIP is under the plane, m.
+        bool contact = false;
+        bool trip = false;      ///< Safety tripped (a cut, an occluder, saturation).
+        bool stepped = false;   ///< A step or a re-caught contact: the force ramps in.
+        bool letGo = false;     ///< Let go whatever Reengage says (occluder, saturation).
+        bool saturated = false; ///< Let go at the device maximum.
+    };
+
+    /// In contact: slide on from the last proxy (steps 2 and 4 of the file comment).
+    /// \a raw: the sensor surface at the HIP's own x–y, m (over the HIP: slide() runs inside).
+    void slide(const glm::dvec3 &hip, double raw, Candidate &c) const noexcept;
+    /// Not in contact: a new contact from the HIP, or a finger behind the surface caught again.
+    void capture(const glm::dvec3 &hip, Candidate &c) noexcept;
+    /// Never a force with a downward part: a proxy under the HIP becomes the HIP's projection on
+    /// its plane (along the plane's normal, z up), or with the HIP above that plane the sensor
+    /// surface \a raw (m) straight above the HIP.
+    void pushUp(const glm::dvec3 &hip, double raw, Candidate &c) const noexcept;
+    /// \return how far the stencil \a now (refitted where the last update's plane was) moved
+    /// since that update: the median over its taps of |now − then|, m; a tap that is or was a hole
+    /// moved 0 (a hole opening is no cut). A cut moves the whole patch; an object's silhouette
+    /// passing over the finger moves some of the taps only, and is no cut.
+    [[nodiscard]] double stencilStep(const FingerPlane &now) const noexcept;
+    /// Bounds the growth of the HIP's depth under the proxy (a surface sweeping in).
+    void limitPush(const glm::dvec3 &hip, Candidate &c) const noexcept;
+    /// After kFingerSaturationTime with the command \a force (N) at the device maximum in
+    /// contact, the next update lets the finger go.
+    void watchSaturation(const glm::dvec3 &force, double t, bool contact) noexcept;
+
+    /// The god-object on the finger-scale surface from q = (\a startX, \a startY) (m): the proxy
+    /// (m), the last plane fitted (\a plane), the first one, at q (\a start), and how far the HIP
+    /// is under \a plane (\a below, m).
     glm::dvec3 solve(const glm::dvec3 &hip, double startX, double startY, FingerPlane &plane,
-                     double &startHeight, double &below) const noexcept;
+                     FingerPlane &start, double &below) const noexcept;
 
     /// The proxy moves (x–y) at most as far as the HIP did plus r/4 per update: where the optimum
     /// jumps (from an object's side onto its top, from a wall to the surface behind it) the proxy
     /// glides there over a few updates instead of stepping the force. \return the proxy, on the
-    /// surface; \a plane is refitted where it stops short.
-    glm::dvec3 glide(const glm::dvec3 &hip, const glm::dvec3 &proxy,
-                     FingerPlane &plane) const noexcept;
+    /// surface; \a plane is refitted where it stops short, and \a moved is how far it went then
+    /// (m; 0 when the optimum was within reach).
+    glm::dvec3 glide(const glm::dvec3 &hip, const glm::dvec3 &proxy, FingerPlane &plane,
+                     double &moved) const noexcept;
 
     RendererConfig config_;
     HeightField field_;
@@ -133,6 +205,9 @@ private:
     double captureDepth_ = 0.0; ///< Deepest new contact: max(maxForceStep / k, box depth / 10), m.
     double stepDepth_ =
         0.0; ///< Surface step under the proxy that is ramped in: maxForceStep / (4k), m.
+    /// Growth of the HIP's depth under the proxy an update beyond the HIP's own motion:
+    /// maxForceStep / (16k), m (0.16 mm: 16 cm/s at 1 kHz, 0.125 N an update at the defaults).
+    double pushDepth_ = 0.0;
     glm::dvec3 proxy_{};
     bool contact_ = false;
     bool behind_ = false;      ///< HIP under the surface without contact (see the file comment).
@@ -140,7 +215,12 @@ private:
     double lastX_ = 0.0;      ///< Centre of the last plane fitted in the last update, m.
     double lastY_ = 0.0;
     double lastHeight_ = 0.0; ///< Its S, m.
-    FrictionCone friction_;   ///< Friction on the proxy; proxy_ stays the frictionless goal.
+    double lastTaps_[9] = {}; ///< Its taps, m (a cut moves most of them, see stencilStep()).
+    double lastDepth_ = 0.0;  ///< |proxy − HIP| of the last update in contact, else 0, m.
+    double heldDepth_ = 0.0;  ///< The held depth when an occluder or a cut let the finger go, m.
+    double saturatedSince_ = std::nan(""); ///< Haptic time the command reached the maximum, s.
+    bool letGoNext_ = false; ///< The command stayed at the maximum: let go on the next update.
+    FrictionCone friction_;  ///< Friction on the proxy; proxy_ stays the frictionless goal.
 };
 
 } // namespace depthtouch::haptics

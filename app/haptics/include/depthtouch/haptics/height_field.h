@@ -76,6 +76,13 @@ inline void triangleVertices(const Surface &surf, const TriangleId &tri,
 /// two frames is held at z_i until the frame boundary instead of being interpolated: a scene cut or
 /// the edge of a fast object stays a step that force-jump safety (paper IV.C) can see, rather than
 /// a fast ramp that it cannot tell from a firm stroke.
+///
+/// Holes (docs/architecture.md §3 "Holes"): a sample below its frame's DepthFrameView::holeBelow
+/// was not measured. Its vertex lies holeDrop() (1 m) below the back of the box: free space to a
+/// HIP anywhere in the box, and a cliff at the hole's border, so that a finger slides off the
+/// measured surface into the hole rather than onto an invented one. A vertex that turns from
+/// measured to hole (or back) between frames i and i+1 changes by more than any cut threshold and
+/// is held at frame i until the boundary, like any cut.
 class HeightField {
 public:
     HeightField() noexcept = default;
@@ -124,17 +131,21 @@ public:
     /// \return z of \a frame's sample (c, r), m, without interpolation.
     [[nodiscard]] double frameZ(const DepthFrameView &frame, int c, int r) const noexcept
     {
-        return static_cast<double>(frame.sample(c, r)) *
-                   (box_.depth / maxSampleValue(frame.format)) -
+        const auto far = static_cast<double>(frame.farCode());
+        return (static_cast<double>(frame.sample(c, r)) - far) *
+                   (box_.depth / (maxSampleValue(frame.format) - far)) -
                0.5 * box_.depth;
     }
 
     /// \return the interpolated height of vertex (c, r), m. \pre 0 ≤ c < W, 0 ≤ r < H.
     [[nodiscard]] double vertexZ(int c, int r) const noexcept
     {
-        if (alpha_ <= 0.0)
-            return static_cast<double>(load(current_, curWide_, c, r)) * zScaleCurrent_ -
-                   halfDepth_;
+        if (alpha_ <= 0.0) {
+            const std::uint32_t s = load(current_, curWide_, c, r);
+            return s < current_.holeBelow
+                       ? holeZ_
+                       : (static_cast<double>(s) - farCurrent_) * zScaleCurrent_ - halfDepth_;
+        }
         std::uint32_t s0;
         std::uint32_t s1;
         if (sameLayout_) {
@@ -151,12 +162,28 @@ public:
             s0 = load(current_, curWide_, c, r);
             s1 = load(next_, nextWide_, c, r);
         }
-        const double z0 = static_cast<double>(s0) * zScaleCurrent_ - halfDepth_;
-        const double z1 = static_cast<double>(s1) * zScaleNext_ - halfDepth_;
+        const double z0 =
+            s0 < current_.holeBelow
+                ? holeZ_
+                : (static_cast<double>(s0) - farCurrent_) * zScaleCurrent_ - halfDepth_;
+        const double z1 = s1 < next_.holeBelow
+                              ? holeZ_
+                              : (static_cast<double>(s1) - farNext_) * zScaleNext_ - halfDepth_;
         const double dz = z1 - z0;
         if (std::fabs(dz) > cut_)
             return z0;
         return z0 + dz * alpha_;
+    }
+
+    /// Depth of a hole's vertex under the back of the box, m (see the class comment).
+    static constexpr double holeDrop() noexcept { return 1.0; }
+    /// \return the z of a hole's vertex, m: −box depth/2 − holeDrop().
+    [[nodiscard]] double holeZ() const noexcept { return holeZ_; }
+    /// \return true when a height from this field (vertexZ(), heightAt()) lies at least half of
+    /// holeDrop() under the box: on or beside a hole, no measured surface.
+    [[nodiscard]] bool overHole(double z) const noexcept
+    {
+        return z < -halfDepth_ - 0.5 * holeDrop();
     }
 
     /// \return vertex (c, r) in the scene-box frame, m.
@@ -233,8 +260,11 @@ private:
     double halfW_ = 0.0;
     double halfH_ = 0.0;
     double halfDepth_ = 0.0;
-    double zScaleCurrent_ = 0.0;
+    double holeZ_ = -holeDrop();
+    double zScaleCurrent_ = 0.0; ///< Metres per code above farCurrent_.
     double zScaleNext_ = 0.0;
+    double farCurrent_ = 0.0; ///< The far plane's code (DepthFrameView::farCode()).
+    double farNext_ = 0.0;
     double alpha_ = 0.0;
     double cutSetting_ = std::nan(""); ///< NaN: 0.25·box depth
     double cut_ = 0.25 * SceneBox{}.depth;

@@ -13,12 +13,18 @@
 ///    near/far planes that are either given or the robust range (1 %..99 % quantiles) of the valid
 ///    samples of the first EncodeOptions::rangeFrames frames, decided once so the mapping is
 ///    constant over the file, in the 1/Z (MPEG 3DV) or linear mapping. Invalid samples (0 and the
-///    saturation value) are filled by push-pull interpolation from valid neighbours (depth/fill.h),
-///    never set to the far plane; a frame without any valid sample repeats the previous frame.
+///    saturation value) stay holes (docs/architecture.md §3 "Holes"): coded 0, measured nearness
+///    lifted above the guard band of depth::occupancyFor() (depth/occupancy.h), the threshold
+///    written as the `depth_occupancy` tag; a frame without any valid sample is all holes. With
+///    EncodeOptions::fillHoles they are instead filled by push-pull interpolation from valid
+///    neighbours (depth/fill.h), never set to the far plane, no threshold is written, and a frame
+///    without any valid sample repeats the previous frame.
 ///  - Depth of another size than the output grid (the color size or EncodeOptions::width/height)
-///    is resampled edge-aware (depth/resample.h), with a warning.
+///    is resampled edge-aware (depth/resample.h; holes by nearest sample, never blended into
+///    measured depth), with a warning.
 ///  - `enhance`: depth::enhance() per frame (median → adaptive points → Delaunay → Gaussian mesh
-///    smoothing → re-render), its report accumulated in EncodeSummary.
+///    smoothing → re-render), its report accumulated in EncodeSummary; holes are filled for the
+///    filter only and stay holes in the output.
 ///
 /// Pairing: frame i of each source forms pair i; its PTS is the color frame's PTS (seconds from
 /// the first), forced strictly increasing. Encoding ends at the shorter source, after maxFrames
@@ -34,6 +40,7 @@
 /// handler (it is only read, lock-free).
 
 #include <atomic>
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -69,6 +76,9 @@ struct EncodeOptions {
     depth::DepthMapping mapping = depth::DepthMapping::InverseZ;
     std::optional<depth::DepthRange> range; ///< Given near/far (metres); nullopt = robust range.
     int rangeFrames = 5;                    ///< Frames the robust range is taken from (≥ 1).
+    /// Metric input: fill invalid samples by push-pull (`--fill-holes`) instead of keeping them as
+    /// holes with a `depth_occupancy` threshold.
+    bool fillHoles = false;
 
     bool enhance = false; ///< Run the §V.B enhancement on every depth frame.
     /// Enhancement options at the 8-bit scale; scaled to the output's bits (forScale()).
@@ -116,6 +126,10 @@ struct EncodeSummary {
     depth::DepthMapping mapping = depth::DepthMapping::InverseZ; ///< Mapping written.
     int depthBits = 8;                                           ///< 8, 10 or 16.
     long long filledSamples = 0;                                 ///< Invalid depth samples filled.
+    long long holeSamples = 0;  ///< Depth samples written as holes (output grid).
+    long long depthSamples = 0; ///< Depth samples written (output grid, every frame).
+    /// The `depth_occupancy` threshold written (stream sample units); 0: no holes, no tag.
+    std::uint32_t depthOccupancy = 0;
     long long repeatedFrames = 0; ///< Depth frames without valid samples (previous repeated).
     bool depthResampled = false;  ///< Depth was resampled to the output grid.
     std::string endedBy;          ///< "color", "depth", "frames", "duration" or "stop".
@@ -150,8 +164,10 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth, Fram
 /// \brief The metadata tags of docs/architecture.md §4 written on the depth stream and the
 /// container: depth_near and depth_far (metres, "%.6g"; "unknown" when \a range is nullopt, as for
 /// 8-bit nearness inputs given without planes), depth_mapping ("inverse_z" or "linear"),
-/// depth_bits.
+/// depth_bits, and depth_occupancy (decimal, stream sample units: a sample below it is a hole,
+/// depth/occupancy.h) when \a occupancy is not 0.
 std::vector<std::pair<std::string, std::string>>
-depthTags(const std::optional<depth::DepthRange> &range, depth::DepthMapping mapping, int bits);
+depthTags(const std::optional<depth::DepthRange> &range, depth::DepthMapping mapping, int bits,
+          std::uint32_t occupancy = 0);
 
 } // namespace depthtouch::media

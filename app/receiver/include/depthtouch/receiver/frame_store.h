@@ -39,6 +39,9 @@ struct StoredFrame {
     hal::Pts pts = hal::kNoPts; ///< Presentation time on the stream timeline (ns).
     std::uint64_t sequence = 0; ///< Frames of this stream decoded before it since open().
     bool corrupt = false;       ///< The decoder concealed damage in this frame.
+    /// Depth frames: samples below this are holes (ReceiverInfo::depthHoleBelow, in the units of
+    /// \a image); 0 for colour and for depth without holes.
+    std::uint32_t holeBelow = 0;
     /// Zero-copy colour frames: the decoder's dma-bufs (hal::DmaBufImage ownership: valid while a
     /// handle is held, never closed by a holder). Empty for a copied frame.
     hal::DmaBufImage dmabuf{};

@@ -117,6 +117,10 @@ struct ReceiverInfo {
     hal::StreamInfo material; ///< Valid when hasMaterial (its frames: Rgb24, depth's size).
     hal::PixelFormat colorFormat = hal::PixelFormat::Unknown; ///< Of the color frames.
     hal::PixelFormat depthFormat = hal::PixelFormat::Unknown; ///< Of the depth frames (Gray*).
+    /// The depth frames' hole threshold (scene::DepthFrameView::holeBelow, docs/architecture.md §3
+    /// "Holes") in the units of depthFormat: the stream's depth_occupancy, widened as its samples
+    /// were (10-bit depth decoded as Gray16: depth::widenedThreshold()); 0: no holes.
+    std::uint32_t depthHoleBelow = 0;
     hal::Pts colorPeriod{0}; ///< Frame periods used for pairing (ns).
     hal::Pts depthPeriod{0};
     hal::Pts tolerance{0}; ///< Pairing tolerance: half the color frame period.

@@ -15,6 +15,7 @@
 /// gray and color otherwise (a single stream titled `material` is neither). Further video streams
 /// are ignored (reported). Thread-safety: reentrant.
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,14 @@ struct StreamRoles {
 
 /// \return whether \a d carries any depth metadata tag.
 bool hasDepthMetadata(const hal::DepthMetadata &d) noexcept;
+
+/// \return the hole threshold (scene::DepthFrameView::holeBelow, docs/architecture.md §3 "Holes")
+/// of the depth frames of stream \a si decoded as \a decoded (Gray8, or Gray16 widened by bit
+/// replication), in their units: the stream's depth_occupancy in its own bits (the depth_bits tag,
+/// else its pixel format), widened as the samples are (depth::widenedThreshold(): the smallest
+/// 16-bit value whose source is at or above the threshold), or narrowed to the top byte (the
+/// smallest 8-bit value whose source reaches it). 0 when the stream has no depth_occupancy.
+std::uint32_t depthHoleBelow(const hal::StreamInfo &si, hal::PixelFormat decoded) noexcept;
 
 /// \return the roles of the streams of \a info (see the file comment); both -1 when it has none.
 StreamRoles identifyStreams(const hal::MediaInfo &info, SingleStream single = SingleStream::Auto);

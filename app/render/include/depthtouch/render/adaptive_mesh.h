@@ -56,6 +56,15 @@
 /// (error removed per added cell, tiles over the cap first), so the CPU work per frame is
 /// proportional to the probes and the tiles, not to the triangles.
 ///
+/// Holes (docs/architecture.md §3 "Holes", DepthFrameView::holeBelow): a triangle with a hole
+/// vertex is not drawn. The error measures leave holes out: a hole's code is no depth, so the jump
+/// from it to a measured neighbour is no geometric error, and a hole under a block whose corners
+/// are holes counts nothing. Coverage does count: a block that would draw a surface over a hole
+/// sample, or leave out a measured sample under a triangle with a hole corner, is refined like a
+/// block across a depth edge (over any cap), down to single cells, so the outline of a hole is
+/// drawn at full resolution in every mode (Blocks sees it on every other row and at its probes).
+/// measureMeshError() counts holes and undrawn triangles as no error.
+///
 /// Thread-safety: thread-bound (one object per render thread); build() reuses its buffers and does
 /// not allocate once they have grown to the largest mesh.
 

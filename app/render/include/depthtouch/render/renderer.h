@@ -15,6 +15,12 @@
 /// stitching tile borders; Adaptive and Quadtree upload AdaptiveMesh's list each frame
 /// (adaptive_mesh.h).
 ///
+/// Holes (docs/architecture.md §3 "Holes"): in a frame with DepthFrameView::holeBelow > 0, a
+/// triangle with a vertex below it is not drawn in any mesh mode (the vertex shader flags hole
+/// vertices, the fragment shader discards what a flagged vertex touches; these program variants
+/// are built at the first such frame), so the clear colour (RendererOptions::background) shows
+/// there. Frames without holes draw with the programs they always did, without a discard.
+///
 /// Textures are allocated once per frame size and format (immutable storage) and refreshed with
 /// glTexSubImage2D. On a software rasterizer the colour frame is converted to R'G'B' once on the
 /// CPU (ColorConversion::Auto): the surface then fetches one texture per fragment in each eye
@@ -257,6 +263,7 @@ private:
     AdaptiveMesh mesh_;                      ///< The mesh made per frame (not Fixed).
     const AdaptiveMesh *drawnMesh_ = &mesh_; ///< mesh_ or the static grid drawn.
     scene::SampleFormat depthFormat_ = scene::SampleFormat::Gray8;
+    std::uint32_t holeBelow_ = 0; ///< The drawn frame's DepthFrameView::holeBelow.
     bool haveDepth_ = false;
     ColorSpec colorSpec_{};
     bool softwareRasterizer_ = false;

@@ -57,6 +57,21 @@ struct DepthFrameView {
     /// Per-pixel haptic material on the same W×H grid (material.h); absent (data null) for video
     /// without a material track.
     MaterialView material{};
+    /// Occupancy embedded in the depth (docs/architecture.md §3 "Holes"): a sample whose value is
+    /// below this is a hole, where the sensor measured nothing. It is free space to the haptic
+    /// renderer and is not drawn as a surface. 0 (the default, and every file without the
+    /// `depth_occupancy` tag): every sample was measured. In the frame's own sample units.
+    std::uint32_t holeBelow = 0;
+
+    /// \return the code of the far plane (nearness 0) of a frame with holes, in its sample units:
+    /// 2·holeBelow, since measured nearness is coded above a guard band as wide as the threshold
+    /// (depth/occupancy.h: `first = 2·threshold`); 0 without holes. The surface spans the codes
+    /// farCode()..v_max (SurfaceMapping, HeightField), so a scene has the same depth with or
+    /// without its holes kept.
+    [[nodiscard]] std::uint32_t farCode() const noexcept { return 2u * holeBelow; }
+
+    /// \return true when sample (c, r) was measured (not a hole). \pre 0 ≤ c < W, 0 ≤ r < H.
+    [[nodiscard]] bool measured(int c, int r) const noexcept { return sample(c, r) >= holeBelow; }
 
     /// \brief Checks the shape: data present, W, H ≥ 2, stride large enough, finite PTS, and a
     /// material's stride (when present) at least 3·W.

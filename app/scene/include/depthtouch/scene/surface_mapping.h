@@ -16,7 +16,9 @@ namespace depthtouch::scene {
 /// \brief `x = x0 + c·dx`, `y = y0 + r·dy`, `z = z0 + (v/v_max)·dz`. Metres.
 ///
 /// For a W×H frame in a box of width b and depth d: dx = s = b/(W−1), dy = −s, x0 = −(W−1)/2·s,
-/// y0 = (H−1)/2·s, z0 = −d/2, dz = d (docs/architecture.md §3 "Vertices").
+/// y0 = (H−1)/2·s, z0 = −d/2, dz = d (docs/architecture.md §3 "Vertices"). A frame with holes
+/// (DepthFrameView::holeBelow > 0) spans the box depth with its measured codes farCode()..v_max
+/// instead: z0 = −d/2 − d·f/(v_max − f), dz = d·v_max/(v_max − f), f = farCode().
 struct SurfaceMapping {
     int columns = 0;     ///< W, samples per row.
     int rows = 0;        ///< H, rows.

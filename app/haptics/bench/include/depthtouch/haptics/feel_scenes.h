@@ -8,13 +8,16 @@
 /// Frames and units (docs/architecture.md §3): nearness samples (0 = far plane, v_max = near plane)
 /// filling the scene box; positions in the scene-box frame, m (x right, y up, z toward the viewer,
 /// origin at the box centre); times in s, frame i at i / fps. Sensor depth is mapped to nearness
-/// the way `depthtouch encode` does by default (depth/conversion.h, depth/fill.h): near/far from
-/// the robust range (1 %..99 %) of the first 5 frames, 1/Z mapping, holes filled by push-pull,
-/// rounded to 8 bits (what the H.264 4:0:0 depth stream decodes to) unless 16 bits are asked for.
-/// The H.264 coding loss itself is not modelled here (the bench encodes real captures through the
-/// encoder). Thread-safety: reentrant functions; a FeelScene is a value (share it read-only);
-/// ReferenceSurface and SceneFrameProvider are thread-bound. Not for the haptic thread (they
-/// allocate).
+/// the way `depthtouch encode` does (depth/conversion.h): near/far from the robust range
+/// (1 %..99 %) of the first 5 frames, 1/Z mapping, rounded to 8 bits (what the H.264 4:0:0 depth
+/// stream decodes to) unless 16 bits are asked for. Holes are kept as the receiver sees them
+/// (depth/occupancy.h): code 0 under DepthFrameView::holeBelow = occupancyFor(bits,
+/// false).threshold, measured nearness lifted by occupiedLevel() above the guard band; the
+/// reference surface has no surface there (ReferenceSurface::height() is NaN). `keepHoles = false`
+/// gives the older mapping (holes filled by push-pull, no occupancy). The H.264 coding loss itself
+/// is not modelled. Thread-safety: reentrant functions; a FeelScene is a value (share it
+/// read-only); ReferenceSurface and SceneFrameProvider are thread-bound. Not for the haptic thread
+/// (they allocate).
 
 #include <cstddef>
 #include <cstdint>
@@ -57,6 +60,8 @@ struct FeelScene {
     /// W×H: 1 where the sensor measured in at least 90 % of the frames (all 1 when unknown).
     depth::Plane<std::uint8_t> valid;
     std::vector<SilhouetteCrossing> crossings; ///< Silhouettes to cross (synthetic scenes).
+    std::uint32_t holeBelow = 0;          ///< Of the touched frames (DepthFrameView::holeBelow).
+    std::uint32_t referenceHoleBelow = 0; ///< Of the reference frames (the frames' in 16 bits).
 
     [[nodiscard]] std::size_t frameCount() const noexcept { return frames.size(); }
     [[nodiscard]] double duration() const noexcept
@@ -74,9 +79,23 @@ enum class SyntheticScene : std::uint8_t {
     Table,   ///< A tilted table top filling the view: smooth, only sensor noise.
     Head,    ///< A head-sized sphere before a backdrop: a 13–20 mm silhouette step in the box.
     Forearm, ///< A 9 mm-wide bar (a forearm, in box units) lying before a table and a back wall.
+    /// A backdrop with dark print and a forearm-like capsule coming up from the bottom of the view
+    /// that sweeps across it from left to right once in the clip: an occluder passing in front of
+    /// a finger held on the backdrop, and beside one held above its rounded end.
+    Occluder,
 };
 
-/// \return "synthetic-table", "synthetic-head" or "synthetic-forearm".
+/// \brief The depth camera model a synthetic scene is seen through.
+enum class SensorModel : std::uint8_t {
+    StructuredLight, ///< Kinect v1 (applyKinectNoise()).
+    TimeOfFlight,    ///< Azure Kinect-like (applyTofNoise()).
+    ActiveStereo,    ///< RealSense-like (applyStereoNoise()).
+};
+
+/// \return "sl", "tof" or "stereo".
+const char *sensorModelName(SensorModel model) noexcept;
+
+/// \return "synthetic-table", "synthetic-head", "synthetic-forearm" or "synthetic-occluder".
 const char *syntheticSceneName(SyntheticScene scene) noexcept;
 
 /// \brief Options of makeSyntheticScene(). The camera is a Kinect v1 (fx = fy = 585 px at 640×480,
@@ -89,24 +108,32 @@ struct SyntheticSceneOptions {
     int bits = 8;                  ///< 8 (Gray8, the default video) or 16 (Gray16).
     SceneBox box{};
     KinectNoiseOptions noise{};    ///< The sensor model (noise.seed picks the draws).
+    SensorModel sensor = SensorModel::StructuredLight;
+    TofNoiseOptions tof{};         ///< With SensorModel::TimeOfFlight.
+    StereoNoiseOptions stereo{};   ///< With SensorModel::ActiveStereo.
     bool noisy = true;             ///< false: the clean scene through the same mapping.
+    bool keepHoles = true;         ///< See the file comment.
 };
 
 /// \brief Renders \a scene (clean metric depth), applies the sensor model, maps it like `depthtouch
-/// encode`. \return the scene, or Errc::InvalidArgument for bad options (size < 16, fps ≤ 0, bits
+/// encode`. The name is syntheticSceneName(), with "-tof" or "-stereo" appended for those sensors.
+/// \return the scene, or Errc::InvalidArgument for bad options (size < 16, fps ≤ 0, bits
 /// not 8 or 16, no frame).
 Result<FeelScene> makeSyntheticScene(SyntheticScene scene,
                                      const SyntheticSceneOptions &options = {});
 
 /// \brief Maps sensor depth (mm, 0 = invalid, the layout of a Kinect depth PNG) to a FeelScene the
-/// way `depthtouch encode` does by default (see the file comment). \param cleanMetres optional
-/// noiseless depth, m, one per frame: then the reference surface is it through the same mapping;
-/// else the 5×5 median of the frames. \return Errc::InvalidArgument when there is no frame, sizes
-/// differ, bits is not 8 or 16, or the first frames have no valid sample.
+/// way `depthtouch encode` does (see the file comment). \param cleanMetres optional noiseless
+/// depth, m, one per frame: then the reference surface is it through the same mapping (a hole
+/// where the sensor measured nothing, when holes are kept); else the 5×5 median of the frames (of
+/// the measured samples in the window, a hole where the sample is one). \return
+/// Errc::InvalidArgument when there is no frame, sizes differ, bits is not 8 or 16, or the first
+/// frames have no valid sample.
 Result<FeelScene>
 sceneFromSensorDepth(std::string name, const std::vector<depth::Plane<std::uint16_t>> &mm,
                      double fps, const SceneBox &box, int bits = 8,
-                     const std::vector<depth::Plane<float>> *cleanMetres = nullptr);
+                     const std::vector<depth::Plane<float>> *cleanMetres = nullptr,
+                     bool keepHoles = true);
 
 /// \brief A FeelScene from decoded nearness frames (a depth video: 8-bit samples in
 /// Plane<uint16_t> with \a format Gray8, or 16-bit with Gray16). Reference: 5×5 median; valid: all.
@@ -131,8 +158,12 @@ private:
 class ReferenceSurface {
 public:
     explicit ReferenceSurface(const FeelScene &scene);
-    /// \return the height at time \a t (s) over (x, y) (m), m; NaN off the grid.
+    /// \return the height at time \a t (s) over (x, y) (m), m; NaN off the grid and where a
+    /// corner of the grid cell under (x, y) is a hole in the frame in effect.
     [[nodiscard]] double height(double t, double x, double y);
+    /// \return the field set to time \a t (for searches around a point: holes lie 1 m under the
+    /// box there, see HeightField), or null when the scene has no frame.
+    [[nodiscard]] const HeightField *at(double t);
 
 private:
     const FeelScene &scene_;
@@ -162,12 +193,31 @@ enum class StrokeKind : std::uint8_t {
 /// \return "slide", "cross" or "press".
 const char *strokeKindName(StrokeKind kind) noexcept;
 
+/// \brief The stroke families of makeFamilyStrokes() (None: a makeStrokes() stroke).
+enum class StrokeFamily : std::uint8_t {
+    None,
+    Swipe,  ///< Back and forth across a silhouette at 20–50 cm/s.
+    Press,  ///< Pressed 0.5 or 6 mm in at 5–10 cm/s, held 0.3 s, released at the same speed.
+    Circle, ///< Circles of radius 8 mm around a silhouette point (crossing it twice a turn).
+    Tap,    ///< Taps at 5 Hz: from 3 mm above to 2 mm in and back.
+    Trace,  ///< Along a silhouette, on its near side, at 5–10 cm/s.
+    Hold,   ///< Still, pressed 1 or 3 mm in: beside a moving object, under a passing occluder, on
+            ///< an edge, on flickering pixels, at a hole's border, on a still surface.
+};
+
+/// \return "-", "swipe", "press", "circle", "tap", "trace" or "hold".
+const char *strokeFamilyName(StrokeFamily family) noexcept;
+
 /// \brief One haptic update of a stroke: time, HIP and what the finger is doing.
 struct StrokeSample {
     double t = 0.0;        ///< s (the frames' clock).
     glm::dvec3 hip{};      ///< m, scene-box frame.
     bool sliding = false;  ///< Moving along the surface, pressed in.
     bool held = false;     ///< Still (in x–y), pressed in.
+    bool pressed = false;  ///< Under the surface it follows (any phase).
+    /// Holds: the height of the held surface under the HIP (followed while it drifts, kept while
+    /// something rises over it), m; NaN otherwise.
+    double heldZ = std::nan("");
 };
 
 /// \brief Where and how one stroke goes.
@@ -185,6 +235,8 @@ struct StrokeSpec {
 struct Stroke {
     std::string name;
     StrokeKind kind = StrokeKind::Slide;
+    StrokeFamily family = StrokeFamily::None;
+    std::string where;  ///< Where a family stroke was placed ("silhouette", "moving", ...).
     double depth = 0.0; ///< m.
     double speed = 0.0; ///< m/s (0 for Press).
     std::vector<StrokeSample> samples;
@@ -215,6 +267,69 @@ struct StrokePlan {
 /// 0.5 mm along it at its start, middle and end times); a setting with no such line after 400 draws
 /// is skipped.
 std::vector<Stroke> makeStrokes(const FeelScene &scene, const StrokePlan &plan = {});
+
+/// \brief Where the content of a scene is hardest, per pixel (box metres; see analyseScene()).
+struct SceneFeatures {
+    /// The largest change of the reference between consecutive frames, m (NaN: never measured).
+    depth::Plane<float> motion;
+    /// RMS of the touched frames about the reference, m (the sensor's flicker; NaN: none).
+    depth::Plane<float> flicker;
+    /// Fraction of the frames in which the touched sample is a hole.
+    depth::Plane<float> holeFraction;
+    /// How far something rose over the pixel and left again: the largest reference height above
+    /// its height in the first and last frames (which agree within 2 mm), m; 0 when they differ.
+    depth::Plane<float> rise;
+    depth::Plane<std::uint16_t> firstCovered; ///< First frame risen more than 3 mm over it.
+    depth::Plane<std::uint16_t> lastCovered;  ///< Last such frame.
+};
+
+/// \return the feature maps of \a scene.
+SceneFeatures analyseScene(const FeelScene &scene);
+
+/// \brief A silhouette point: a depth step of the reference of more than `minStep` over 4 px.
+struct SilhouettePoint {
+    int column = 0;
+    int row = 0;
+    glm::dvec2 at{};   ///< Box (x, y), m.
+    glm::dvec2 up{};   ///< Unit x–y direction toward the near (higher) side.
+    double step = 0.0; ///< Height difference over the 4 px, m.
+};
+
+/// \return the silhouette points of reference frame \a frame (at least \a margin, m, inside the
+/// box), at most every other pixel.
+std::vector<SilhouettePoint> findSilhouettes(const FeelScene &scene, std::size_t frame,
+                                             double minStep = 3e-3, double margin = 12e-3);
+
+/// \brief Which strokes makeFamilyStrokes() places (counts per scene).
+struct FamilyPlan {
+    int places = 2;                                ///< Swipes per speed, circles, taps.
+    std::vector<double> swipeSpeeds{0.20, 0.50};   ///< m/s.
+    double swipeDepth = 2e-3;                      ///< m.
+    double swipeReach = 10e-3;                     ///< Either side of the silhouette, m.
+    std::vector<double> pressDepths{0.5e-3, 6e-3}; ///< m.
+    std::vector<double> pressSpeeds{0.05, 0.10};   ///< m/s, in and out.
+    double pressHold = 0.3;                        ///< s.
+    double circleRadius = 8e-3;                    ///< m.
+    double circleSpeed = 0.10;                     ///< m/s.
+    double circleDepth = 2e-3;                     ///< m.
+    double tapHz = 5.0;
+    double tapDepth = 2e-3;                      ///< m under the surface at the bottom.
+    double tapAbove = 3e-3;                      ///< m over it at the top.
+    std::vector<double> traceSpeeds{0.05, 0.10}; ///< m/s.
+    double traceDepth = 2e-3;                    ///< m.
+    std::vector<double> holdDepths{1e-3, 3e-3};  ///< m.
+    double moveSeconds = 1.0; ///< Swipes, circles, traces, taps: the main phase, s.
+    double holdSeconds = 1.5; ///< Holds (an occluder's hold spans its passage), s.
+    double rate = 1000.0;     ///< Samples per second.
+    std::uint64_t seed = 11;  ///< Placement draws.
+};
+
+/// \brief The six families of strokes of \a plan on \a scene, placed where the content is hardest
+/// (see StrokeFamily): silhouettes from findSilhouettes() at each stroke's time, moving regions,
+/// passing occluders, flicker and hole borders from analyseScene(); seeded. A stroke with no place
+/// to go is left out and named in \a notes (when given).
+std::vector<Stroke> makeFamilyStrokes(const FeelScene &scene, const FamilyPlan &plan = {},
+                                      std::vector<std::string> *notes = nullptr);
 
 /// \return the stroke as a trajectory for replay() (times kept: replay() starts at t = 0 and holds
 /// the first row until the stroke starts).

@@ -13,9 +13,9 @@
 /// stream title `color`/`depth`; an untitled stream of a one-stream input is depth when its pixel
 /// format is gray/gray10/gray16, else color. An H.264 stream whose SPS says 4:0:0 (monochrome) is
 /// gray (StreamInfo::format Gray8/Gray10/Gray16) though libavcodec reports it as yuv(j)420p.
-/// Depth metadata from the tags depth_near, depth_far, depth_mapping, depth_bits on the stream,
-/// else on the container; a value that is not a positive finite number (depth_bits: 1..16) is
-/// ignored.
+/// Depth metadata from the tags depth_near, depth_far, depth_mapping, depth_bits, depth_occupancy
+/// on the stream, else on the container; a value that is not a positive finite number
+/// (depth_bits: 1..16; depth_occupancy: a whole number 1..65535) is ignored.
 ///
 /// Still-image codecs the HAL has no CodecId for (PNG, TIFF, BMP, PGM…, i.e. image sequences) are
 /// decoded here and delivered as CodecId::RawVideo packets: one tightly packed image per packet in

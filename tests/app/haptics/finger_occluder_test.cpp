@@ -1,0 +1,468 @@
+/// \file
+/// \brief The fingertip renderer (finger_renderer.h) where the finger rests beside, under and in
+/// the path of moving objects, and over holes: the four ways it failed on content it was not tuned
+/// on, one test each. A press beside a moving hand must not make the proxy alternate between two
+/// solutions (a 500 Hz limit cycle); a held press beside an occluder is felt again once the
+/// occluder leaves; a surface that sweeps under a resting finger pushes it out at a bounded rate or
+/// lets go, never jumps the proxy onto itself at full force; a hole (no depth measured) is free
+/// space. Depth is 8-bit at 30 fps with Eq. 1 interpolation, as the player sees an encoded clip.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "app/haptics/synthetic.h"
+#include "app/haptics/video.h"
+#include "depthtouch/haptics/finger_renderer.h"
+#include "depthtouch/haptics/renderer.h"
+
+namespace depthtouch::haptics {
+namespace {
+
+using test::OwnedFrame;
+using test::SyntheticVideo;
+
+constexpr SceneBox kBox{};
+constexpr int kW = 320;
+constexpr int kH = 240;
+constexpr double kFps = 30.0;
+constexpr double kRate = 1000.0;
+constexpr double kMaxForce = 8.5; // N, the device maximum of the default config
+
+/// What a run of updates gave, judged from its force log.
+struct Log {
+    std::vector<HapticOutput> out;
+    std::vector<double> t;
+
+    /// The longest run of consecutive changes of |F| that alternate in sign, each over \a
+    /// threshold N (a limit cycle), from update \a from on, in updates.
+    [[nodiscard]] int longestAlternation(std::size_t from, double threshold = 0.05) const
+    {
+        int best = 0;
+        int run = 0;
+        double lastSign = 0.0;
+        for (std::size_t i = from + 1; i < out.size(); ++i) {
+            const double d = glm::length(out[i].force) - glm::length(out[i - 1].force);
+            if (std::fabs(d) <= threshold) {
+                run = 0;
+                lastSign = 0.0;
+                continue;
+            }
+            const double s = d > 0.0 ? 1.0 : -1.0;
+            run = (lastSign != 0.0 && s != lastSign) ? run + 1 : 1;
+            lastSign = s;
+            best = std::max(best, run);
+        }
+        return best;
+    }
+    /// Updates from \a from on whose force magnitude is at the device maximum with no release.
+    [[nodiscard]] int updatesAtMax(std::size_t from) const
+    {
+        int n = 0;
+        for (std::size_t i = from; i < out.size(); ++i)
+            n += glm::length(out[i].force) >= kMaxForce - 1e-6 && !out[i].released ? 1 : 0;
+        return n;
+    }
+    [[nodiscard]] double largestStep(std::size_t from) const
+    {
+        double worst = 0.0;
+        for (std::size_t i = std::max<std::size_t>(from, 1); i < out.size(); ++i)
+            worst = std::max(worst, glm::length(out[i].force - out[i - 1].force));
+        return worst;
+    }
+};
+
+/// Replays the HIP path \a hip(t) on \a video from t0 to t1 at 1 kHz with \a r.
+void replay(SyntheticVideo &video, HapticRenderer &r, double t0, double t1,
+            const std::function<glm::dvec3(double)> &hip, Log &log)
+{
+    const long n = std::lround((t1 - t0) * kRate);
+    for (long k = 0; k < n; ++k) {
+        const double t = t0 + static_cast<double>(k) / kRate;
+        if (video.advance(t))
+            video.feed(r);
+        log.out.push_back(r.update(hip(t), t));
+        log.t.push_back(t);
+    }
+}
+
+FingerRenderer makeFinger()
+{
+    return FingerRenderer(RendererConfig::forMethod(Method::Finger));
+}
+
+/// A keyboard at −5 mm and a hand \a tall high on it for x ≥ edge(t) − 0.3·y (its edge a tanh
+/// 0.2 mm wide, slanted across the rows), 8-bit.
+SyntheticVideo keyboardAndHand(std::function<double(double)> edge, double tall)
+{
+    return SyntheticVideo(
+        kBox, kW, kH, kFps,
+        [edge = std::move(edge), tall](double x, double y, int i) {
+            const double d = x - edge(i / kFps) + 0.3 * y;
+            return -0.005 + tall * 0.5 * (1.0 + std::tanh(d / 0.0002));
+        },
+        SampleFormat::Gray8);
+}
+
+/// From 3 mm above the hand's top straight down to \a depth under the keyboard at x = \a x in
+/// 0.2 s, then held until \a until.
+std::function<glm::dvec3(double)> pressAndHold(double x, double tall, double depth)
+{
+    const double z0 = tall - 0.002;
+    const double z1 = -0.005 - depth;
+    return [=](double t) { return glm::dvec3(x, 0.0, z0 + (z1 - z0) * std::min(1.0, t / 0.2)); };
+}
+
+// Mechanism 1, the limit cycle: a finger pressed into the keyboard beside a hand, the hand's edge
+// within the fingertip's patch (still, or moving ±0.5 mm at 2 Hz as fingers type). Before, the
+// proxy alternated between two solutions every update (a 500 Hz buzz: 40 to 999 updates in a row
+// on these cases), because each update's descent started where the last one's ended and
+// overshot the optimum; now a step is taken only when it brings the surface nearer the HIP.
+TEST(FingerOccluderTest, aPressBesideAHandsEdgeDoesNotAlternate)
+{
+    const double radius = 0.015 * kBox.width;
+    struct Case {
+        double tall, amplitude, depth, offset; // m, m, m, radii from the edge
+    };
+    for (const Case &k : {Case{0.004, 0.0, 0.003, -0.6}, Case{0.004, 0.0005, 0.006, -0.3},
+                          Case{0.004, 0.0005, 0.006, 0.0}, Case{0.009, 0.0005, 0.003, -0.3},
+                          Case{0.009, 0.0005, 0.006, -0.6}, Case{0.015, 0.0005, 0.003, -0.3}}) {
+        SyntheticVideo video = keyboardAndHand(
+            [a = k.amplitude](double t) { return a * std::sin(2.0 * 3.14159265 * 2.0 * t); },
+            k.tall);
+        FingerRenderer finger = makeFinger();
+        const auto hip = pressAndHold(k.offset * radius, k.tall, k.depth);
+        finger.reset(hip(0.0));
+        Log log;
+        replay(video, finger, 0.0, 1.3, hip, log);
+        const int run = log.longestAlternation(300, 0.1);
+        std::printf("hand %.0f mm moving ±%.1f mm, press %.0f mm at %.1f r: longest alternating "
+                    "run %d updates, final force %.2f N\n",
+                    k.tall * 1e3, k.amplitude * 1e3, k.depth * 1e3, k.offset, run,
+                    glm::length(log.out.back().force));
+        EXPECT_LE(run, 3) << k.tall << " " << k.amplitude << " " << k.depth << " " << k.offset;
+        EXPECT_TRUE(log.out.back().contact);
+        EXPECT_GT(glm::length(log.out.back().force), 0.5 * 800.0 * k.depth);
+    }
+}
+
+// Mechanism 2, the latch: a finger pressed 3 mm into the keyboard; a hand (9 mm tall) slides over
+// it at 5 cm/s, rests on it for 0.2 s and slides away. While covered, the finger is behind the
+// hand (12 mm under its top: no force, never the maximum). Once the hand's edge has left the
+// fingertip's patch, the keyboard it was held on is felt again within 50 ms. Before, the finger
+// stayed behind until it was lifted out of the keyboard: no force for as long as it pressed.
+TEST(FingerOccluderTest, aHeldPressIsFeltAgainWhenTheOccluderLeaves)
+{
+    const double radius = 0.015 * kBox.width;
+    // The edge: at +10 mm, over the finger to −10 mm (0.4 s), held, back to +10 mm, then away.
+    auto edge = [](double t) {
+        if (t < 0.5)
+            return 0.010;
+        if (t < 0.9)
+            return 0.010 - 0.05 * (t - 0.5);
+        if (t < 1.1)
+            return -0.010;
+        if (t < 1.5)
+            return -0.010 + 0.05 * (t - 1.1);
+        return 0.010;
+    };
+    SyntheticVideo video = keyboardAndHand(edge, 0.009);
+    FingerRenderer finger = makeFinger();
+    const auto hip = pressAndHold(0.0, 0.009, 0.003);
+    finger.reset(hip(0.0));
+    Log log;
+    replay(video, finger, 0.0, 2.0, hip, log);
+    ASSERT_TRUE(log.out[450].contact); // pressed before the hand came
+    // The patch is clear once the edge (slanted 0.3 across y, 0.2 mm soft) is r + 1 mm past x = 0:
+    // at t = 1.1 + (radius + 0.001 + 0.010) / 0.05 on the way back.
+    const double clear = 1.1 + (radius + 0.001 + 0.010) / 0.05;
+    double regained = std::nan("");
+    double coveredForce = 0.0;
+    for (std::size_t k = 0; k < log.out.size(); ++k) {
+        if (log.t[k] > 0.9 && log.t[k] < 1.1)
+            coveredForce = std::max(coveredForce, glm::length(log.out[k].force));
+        if (log.t[k] >= clear && std::isnan(regained) && log.out[k].contact)
+            regained = log.t[k] - clear;
+    }
+    const HapticOutput &last = log.out.back();
+    std::printf("occluder over a held press: largest force while covered %.2f N, contact regained "
+                "%.1f ms after the patch cleared, final force %.2f N, %d updates at the maximum\n",
+                coveredForce, regained * 1e3, glm::length(last.force), log.updatesAtMax(0));
+    EXPECT_LT(coveredForce, kMaxForce);
+    EXPECT_LE(log.updatesAtMax(0), 5);
+    ASSERT_FALSE(std::isnan(regained));
+    EXPECT_LE(regained, 0.050);
+    EXPECT_TRUE(last.contact);
+    EXPECT_NEAR(last.force.z, 800.0 * 0.003, 0.2); // the keyboard again, k·3 mm up
+}
+
+// Mechanism 2 again, with a fast hand: it appears over the held press in one frame (a cut of 15
+// mm: safety lets the finger go, behind the hand) and is gone 0.2 s later. Before, the finger
+// stayed "behind" after the hand had gone, with no force while pressing 3 mm into the keyboard,
+// until it was lifted out.
+TEST(FingerOccluderTest, aHeldPressIsFeltAgainAfterAHandFlashesOverIt)
+{
+    auto edge = [](double t) { return t >= 0.5 && t < 0.7 ? -0.030 : 0.030; };
+    SyntheticVideo video = keyboardAndHand(edge, 0.015);
+    FingerRenderer finger = makeFinger();
+    const auto hip = pressAndHold(0.0, 0.0, 0.003);
+    finger.reset(hip(0.0));
+    Log log;
+    replay(video, finger, 0.0, 1.2, hip, log);
+    ASSERT_TRUE(log.out[450].contact);
+    // The hand's last frame ends at 0.7 s (frame 21 at 0.7 s shows the keyboard again).
+    double regained = std::nan("");
+    int trips = 0;
+    for (std::size_t k = 0; k < log.out.size(); ++k) {
+        trips += log.out[k].released ? 1 : 0;
+        if (log.t[k] >= 0.7 && std::isnan(regained) && log.out[k].contact)
+            regained = log.t[k] - 0.7;
+    }
+    const HapticOutput &last = log.out.back();
+    std::printf("hand flashing over a held press: %d trip(s), contact regained %.1f ms after it "
+                "left, final force %.2f N\n",
+                trips, regained * 1e3, glm::length(last.force));
+    EXPECT_GE(trips, 1);
+    ASSERT_FALSE(std::isnan(regained));
+    EXPECT_LE(regained, 0.050);
+    EXPECT_TRUE(last.contact);
+    EXPECT_NEAR(last.force.z, 800.0 * 0.003, 0.2);
+}
+
+// Mechanism 3, the sweep: a head (a dome 14 mm high over the curtain, its silhouette a 4 mm step)
+// turns at 10 cm/s under a finger resting 1 mm into the curtain. The head may push the finger out
+// at a bounded rate or let it go (it is then behind the head); before, the proxy jumped 20 mm
+// onto the head in one update and the force went to the device maximum and stayed there.
+TEST(FingerOccluderTest, aSurfaceSweepingUnderARestingFingerNeverJumpsTheProxyOntoIt)
+{
+    const double radius = 0.015 * kBox.width;
+    auto head = [](double x, double y, int i) {
+        const double cx = -0.030 + 0.10 * (i / kFps); // the head's centre, 10 cm/s
+        const double d2 = (x - cx) * (x - cx) + y * y;
+        const double r = 0.014;
+        const double dome = d2 < r * r ? -0.006 + std::sqrt(r * r - d2) * (14.0 / 14.0) : -1.0;
+        return std::max(-0.010, dome);
+    };
+    SyntheticVideo video(kBox, kW, kH, kFps, head, SampleFormat::Gray8);
+    FingerRenderer finger = makeFinger();
+    const glm::dvec3 rest(0.0, 0.0, -0.011);
+    auto hip = [&rest](double t) {
+        return t < 0.1 ? rest + glm::dvec3(0.0, 0.0, 0.003 * (1.0 - t / 0.1)) : rest;
+    };
+    finger.reset(hip(0.0));
+    Log log;
+    replay(video, finger, 0.0, 0.6, hip, log);
+    double worstJump = 0.0;
+    for (std::size_t k = 1; k < log.out.size(); ++k)
+        if (log.out[k].contact && log.out[k - 1].contact)
+            worstJump = std::max(worstJump, glm::length(log.out[k].proxy - log.out[k - 1].proxy));
+    int released = 0;
+    for (const HapticOutput &o : log.out)
+        released += o.released ? 1 : 0;
+    std::printf("head sweeping under a resting finger: largest proxy jump in contact %.2f mm, %d "
+                "updates at the maximum, %d release(s), largest force step %.2f N\n",
+                worstJump * 1e3, log.updatesAtMax(0), released, log.largestStep(0));
+    ASSERT_TRUE(log.out[150].contact); // resting on the curtain before the head came
+    EXPECT_LE(worstJump, radius);
+    EXPECT_LE(log.updatesAtMax(0), 5);
+    EXPECT_LE(log.largestStep(0), RendererConfig{}.maxForceStep + 1e-9);
+}
+
+// The bounded push: a table rising at 27 cm/s toward a resting finger (9 mm a frame at 30 fps,
+// under the cut threshold, interpolated: 0.27 mm an update, under the ramped step) pushes it out at
+// most maxForceStep/(16k) = 0.156 mm an update faster than the finger moves: the force grows by at
+// most 0.125 N an update instead of 0.22 N, and a hand has time to yield.
+TEST(FingerOccluderTest, aSurfaceRisingFastUnderARestingFingerPushesAtABoundedRate)
+{
+    SyntheticVideo video(
+        kBox, kW, kH, kFps,
+        [](double, double, int i) { return -0.015 + 0.009 * std::clamp(i - 3, 0, 2); },
+        SampleFormat::Gray16);
+    FingerRenderer finger = makeFinger();
+    const glm::dvec3 rest(0.0, 0.0, -0.016);
+    auto hip = [&rest](double t) {
+        return t < 0.05 ? rest + glm::dvec3(0.0, 0.0, 0.004 * (1.0 - t / 0.05)) : rest;
+    };
+    finger.reset(hip(0.0));
+    Log log;
+    replay(video, finger, 0.0, 0.2, hip, log);
+    double worstRise = 0.0;
+    for (std::size_t k = 60; k < log.out.size(); ++k)
+        worstRise =
+            std::max(worstRise, glm::length(log.out[k].force) - glm::length(log.out[k - 1].force));
+    const double bound = RendererConfig{}.maxForceStep / 16.0;
+    std::printf("table rising at 27 cm/s under a resting finger: largest force rise %.3f N an "
+                "update (bound %.3f N), final force %.2f N\n",
+                worstRise, bound, glm::length(log.out.back().force));
+    ASSERT_TRUE(log.out[80].contact);
+    EXPECT_LE(worstRise, bound + 1e-6);
+    EXPECT_GT(worstRise, 0.8 * bound); // it did push, at the bound
+}
+
+/// An 8-bit frame of a table at −5 mm with holes where \a hole(x, y), coded as `encode` codes
+/// them (docs/architecture.md §3 "Holes"): holes 0 under the threshold 24, measured nearness n at
+/// 48 + n·(255 − 48)/255. With \a threshold 0, as a file without holes: n itself, and code 0
+/// (the far plane) where the hole is.
+OwnedFrame tableWithHoles(const std::function<bool(double, double)> &hole, std::uint32_t threshold)
+{
+    const double far = 2.0 * threshold; // DepthFrameView::farCode()
+    OwnedFrame f(kW, kH, SampleFormat::Gray8, 0.0);
+    const double n = (-0.005 / kBox.depth + 0.5) * 255.0;
+    const auto code = static_cast<std::uint32_t>(std::lround(far + n * (255.0 - far) / 255.0));
+    for (int r = 0; r < kH; ++r)
+        for (int c = 0; c < kW; ++c)
+            f.set(c, r,
+                  hole(test::sampleX(kBox, kW, c), test::sampleY(kBox, kW, kH, r)) ? 0u : code);
+    f.setHoleBelow(threshold);
+    return f;
+}
+
+OwnedFrame tableWithHole(bool holes)
+{
+    return tableWithHoles([](double x, double) { return x > 0.0; }, holes ? 24u : 0u);
+}
+
+// A cut moves the whole fingertip patch; an object's silhouette passing over part of it does not.
+// A finger pressed 2 mm into the keyboard at x = 0; a hand 30 mm tall (more than the 25 mm cut
+// threshold of the 0.1 m box) has its edge beside the patch (its right column of taps on the
+// hand). At 0.5 s the edge moves by 1.2 r, over the centre column: six of the nine taps are on the
+// hand and the patch's median steps by 30 mm. Before, that step of the plane was a cut and safety
+// tripped at once (false trips on turning heads' and walking people's silhouettes); now three taps
+// moved: no cut, the hand pushes the finger out at a bounded rate and lets it go at the device
+// maximum (at most 5 updates there). The whole patch covered at once (the edge moved by 3.6 r) is
+// a cut and trips on the frame's first update.
+TEST(FingerOccluderTest, aSilhouettePassingOverPartOfThePatchIsNoCut)
+{
+    const double radius = 0.015 * kBox.width;
+    for (const double to : {-0.6, -3.0}) {
+        SyntheticVideo video =
+            keyboardAndHand([&](double t) { return (t < 0.5 ? 0.6 : to) * radius; }, 0.030);
+        FingerRenderer finger = makeFinger();
+        const auto hip = [](double t) {
+            return glm::dvec3(0.0, 0.0, -0.003 - 0.004 * std::min(1.0, t / 0.2));
+        };
+        finger.reset(hip(0.0));
+        Log log;
+        replay(video, finger, 0.0, 0.8, hip, log);
+        std::size_t firstTrip = log.out.size();
+        for (std::size_t i = 0; i < log.out.size() && firstTrip == log.out.size(); ++i)
+            if (log.out[i].released)
+                firstTrip = i;
+        std::printf("silhouette moved %.1f r over a pressed finger: first trip at %.3f s, force "
+                    "%.2f N before, largest step %.2f N, %d updates at the maximum\n",
+                    0.6 - to, firstTrip < log.t.size() ? log.t[firstTrip] : -1.0,
+                    glm::length(log.out[490].force), log.largestStep(0), log.updatesAtMax(0));
+        EXPECT_NEAR(glm::length(log.out[490].force), 800.0 * 0.002, 0.3);
+        ASSERT_LT(firstTrip, log.out.size());
+        if (to > -1.0)
+            EXPECT_GT(log.t[firstTrip], 0.5 + 2e-3); // not at the frame change: pushed, then let go
+        else
+            EXPECT_NEAR(log.t[firstTrip], 0.5, 1.5e-3); // the frame's first update
+        EXPECT_LE(log.largestStep(0), RendererConfig{}.maxForceStep + 1e-9);
+        EXPECT_LE(log.updatesAtMax(0), 5);
+    }
+}
+
+// Mechanism 4, holes: where the sensor measured nothing (coded 0 under the stream's occupancy
+// threshold) there is free space, not a surface at the far plane. A finger slid at 5 cm/s from
+// the table, pressed 2 mm in, out over the hole and down to 22 mm feels no force there and is not
+// tripped; the same frame read without the threshold (code 0: the far plane at −20 mm) pushes it
+// back up with k·2 mm.
+TEST(FingerOccluderTest, aHoleIsFreeSpace)
+{
+    for (bool holes : {true, false}) {
+        const OwnedFrame frame = tableWithHole(holes);
+        FingerRenderer finger = makeFinger();
+        ASSERT_TRUE(finger.setFrames(frame.view(), nullptr));
+        Log log;
+        auto hip = [](double t) {
+            if (t < 0.1)
+                return glm::dvec3(-0.010, 0.0, -0.002 - 0.005 * t / 0.1);
+            if (t < 0.5)
+                return glm::dvec3(-0.010 + 0.05 * (t - 0.1), 0.0, -0.007);
+            return glm::dvec3(0.010, 0.0, -0.007 - 0.015 * std::min(1.0, (t - 0.5) / 0.2));
+        };
+        finger.reset(hip(0.0));
+        for (int k = 0; k < 900; ++k) {
+            const double t = k / kRate;
+            log.out.push_back(finger.update(hip(t), t));
+            log.t.push_back(t);
+        }
+        int trips = 0;
+        for (const HapticOutput &o : log.out)
+            trips += o.released ? 1 : 0;
+        const double onTable = glm::length(log.out[250].force);
+        const HapticOutput &last = log.out.back();
+        std::printf("%s: on the table %.2f N, 22 mm down over the hole %.2f N, %d trip(s)\n",
+                    holes ? "hole" : "no threshold", onTable, glm::length(last.force), trips);
+        EXPECT_NEAR(onTable, 800.0 * 0.002, 0.2);
+        EXPECT_EQ(trips, 0);
+        if (holes) {
+            EXPECT_FALSE(last.contact);
+            EXPECT_EQ(glm::length(last.force), 0.0);
+        } else {
+            EXPECT_TRUE(last.contact);
+            EXPECT_NEAR(last.force.z, 800.0 * 0.002, 0.2);
+        }
+    }
+}
+
+// A hole opening under a pressed finger (the sensor stops measuring there: a shadow band moving
+// over it) is the surface gone, not a cut. First most of the fingertip's patch turns to holes but
+// the depth at the finger itself is still measured: no safety trip, the press goes on. Then the
+// finger's own spot goes too: free, the force unloads at the slew limit, no trip. The table
+// coming back is felt again.
+TEST(FingerOccluderTest, aHoleOpeningUnderAPressedFingerIsNoCut)
+{
+    auto tableWithHoleWhere = [](const std::function<bool(double, double)> &hole) {
+        return tableWithHoles(hole, 24u);
+    };
+    const OwnedFrame table = tableWithHoleWhere([](double, double) { return false; });
+    const OwnedFrame around =
+        tableWithHoleWhere([](double x, double y) { return x > 0.0006 || y > 0.0006; });
+    const OwnedFrame all = tableWithHoleWhere([](double x, double) { return x > -0.004; });
+    FingerRenderer finger = makeFinger();
+    const glm::dvec3 hip(0.0, 0.0, -0.007);
+    finger.reset(hip + glm::dvec3(0.0, 0.0, 0.004));
+    Log log;
+    int k = 0;
+    auto run = [&](const OwnedFrame &f, int n) {
+        ASSERT_TRUE(finger.setFrames(f.view(), nullptr));
+        for (int i = 0; i < n; ++i, ++k) {
+            const double t = k / kRate;
+            const double lift = k < 50 ? 0.004 * (1.0 - k / 50.0) : 0.0;
+            log.out.push_back(finger.update(hip + glm::dvec3(0, 0, lift), t));
+            log.t.push_back(t);
+        }
+    };
+    run(table, 200);
+    const double pressed = glm::length(log.out.back().force);
+    run(around, 200);
+    const double patchGone = glm::length(log.out.back().force);
+    run(all, 200);
+    const double spotGone = glm::length(log.out.back().force);
+    const bool contactSpotGone = log.out.back().contact;
+    run(table, 200);
+    int trips = 0;
+    for (const HapticOutput &o : log.out)
+        trips += o.released ? 1 : 0;
+    std::printf("hole under a pressed finger: %.2f N pressed, %.2f N with the patch a hole, %.2f N "
+                "with its spot a hole, %.2f N after, %d trip(s), largest step %.2f N\n",
+                pressed, patchGone, spotGone, glm::length(log.out.back().force), trips,
+                log.largestStep(0));
+    EXPECT_NEAR(pressed, 800.0 * 0.002, 0.2);
+    EXPECT_EQ(trips, 0);
+    EXPECT_NEAR(patchGone, 800.0 * 0.002, 0.2);
+    EXPECT_FALSE(contactSpotGone);
+    EXPECT_EQ(spotGone, 0.0);
+    EXPECT_LE(log.largestStep(0), RendererConfig{}.maxForceStep + 1e-9);
+    EXPECT_NEAR(glm::length(log.out.back().force), 800.0 * 0.002, 0.2);
+}
+
+} // namespace
+} // namespace depthtouch::haptics
