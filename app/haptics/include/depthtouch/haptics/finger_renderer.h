@@ -16,7 +16,9 @@
 ///    height S(q), kept within r/4 of the nine heights' median, and slope ∇S(q). Noise at pixel
 ///    scale is averaged; slopes, and so the force's direction, are taken over 2r. Where the nine
 ///    fit a quadric (RMS residual under r/50, fading out by r/25), S(q) is the quadric's height at
-///    q (the 3×3 Savitzky-Golay intercept of order 2): a plane's mean lies under a crest.
+///    q (the 3×3 Savitzky-Golay intercept of order 2): a plane's mean lies under a crest; and its
+///    slope is the centre row's and column's difference (the outer rows' differ by the cross
+///    curvature), blended in by the same fit quality.
 /// 2. **God-object on that surface** (Zilles & Salisbury 1995): the proxy is the HIP projected on
 /// the
 ///    plane at q; q moves to the projection's x–y and the plane is refitted, up to
