@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <string>
 
+#include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/macros.h"
 
 namespace depthtouch::platform {
@@ -28,30 +29,31 @@ std::string createReportFolder(const std::string &dir);
 /// \return true when the folder exists.
 bool createReportFolder(const std::string &dir, const std::string &what, std::string &error);
 
-/// \brief One text file written from the start ("w": created or truncated). Writes after a
-/// failed open or a failed write are skipped; close() reports either.
+/// \brief One text file, written under a temporary name beside it and renamed into place by a
+/// successful close() (OutputFile): never a cut file under its name. Writes after a failed open or
+/// a failed write are skipped; close() reports either.
 class ReportFile {
 public:
     /// \brief Opens \a path for writing (a failure shows in isOpen() and close()).
-    explicit ReportFile(const std::string &path) noexcept;
-    /// \brief Closes the file if close() was not called (the outcome is then lost).
-    ~ReportFile();
+    explicit ReportFile(const std::string &path);
+    /// \brief Drops the file if close() was not called (its temporary file is removed).
+    ~ReportFile() = default;
     DT_DISABLE_COPY_AND_MOVE(ReportFile)
 
     /// \return true while the file is open for writing.
-    [[nodiscard]] bool isOpen() const noexcept { return file_ != nullptr; }
+    [[nodiscard]] bool isOpen() const noexcept { return file_.isOpen(); }
 
     /// \brief Appends printf-formatted text; does nothing when the file is not open.
     /// \param[in] format a printf format string (checked by the compiler), then its arguments.
     void print(const char *format, ...) noexcept __attribute__((format(printf, 2, 3)));
 
-    /// \brief Closes the file.
-    /// \return true when it had opened, every write went through and the close succeeded; false
-    /// otherwise (also on a second call).
+    /// \brief Closes the file and renames it into place.
+    /// \return true when it had opened, every write went through and the close and rename
+    /// succeeded; false otherwise (also on a second call).
     [[nodiscard]] bool close() noexcept;
 
 private:
-    std::FILE *file_;
+    OutputFile file_;
 };
 
 } // namespace depthtouch::platform
