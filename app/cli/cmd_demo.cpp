@@ -29,7 +29,9 @@
 #include <glm/geometric.hpp>
 
 #include "commands.h"
+#include "message_text.h"
 #include "option_cli.h"
+#include "output_paths.h"
 #include "depthtouch/haptic_task/haptic_task.h"
 #include "depthtouch/haptics/feel.h"
 #include "depthtouch/haptics/height_field.h"
@@ -460,6 +462,11 @@ int runDemo(const DemoOptions &o)
     std::string hapticOptions = o.hapticOptions;
     if (hapticOptions.empty() && o.haptic == "sim")
         hapticOptions = o.scene == "head" ? kHeadStroke : "intent=stroke";
+    // A folder where nothing can be written is found now, not after the clip and the play.
+    if (const OutputPathCheck c = checkOutputFolder("--out", o.outDir); c.exitCode != kExitOk) {
+        std::fprintf(stderr, "depthtouch demo: %s\n", c.message.c_str());
+        return c.exitCode;
+    }
     std::error_code ec;
     std::filesystem::create_directories(o.outDir + "/snapshots", ec);
     if (ec) {

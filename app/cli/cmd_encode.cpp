@@ -30,6 +30,7 @@
 #include "commands.h"
 #include "material_map.h"
 #include "option_cli.h"
+#include "output_paths.h"
 #include "source_providers.h"
 #include "depthtouch/media/encode_job.h"
 #include "depthtouch/media/frame_source.h"
@@ -267,6 +268,14 @@ int checkEncodeOptions(const EncodeCliOptions &o, const media::EncodeOptions &eo
         // FIFO with a reader is written in place; anything else is refused.
         if (auto p = platform::planOutput(o.output); !p)
             return fail(kExitBadInput, "cannot write '" + o.output + "': it " + p.error().what);
+        if (const OutputPathCheck c = checkDistinctPaths({{"--color", o.color},
+                                                          {"--depth", o.depth},
+                                                          {"--material", o.material},
+                                                          {"--material-map", o.materialMap},
+                                                          {"--materials", o.materials}},
+                                                         {{"-o", o.output}});
+            c.exitCode != kExitOk)
+            return fail(c.exitCode, c.message);
     }
     static constexpr const char *kPresets[] = {"ultrafast", "superfast", "veryfast", "faster",
                                                "fast",      "medium",    "slow",     "slower",

@@ -136,9 +136,14 @@ std::optional<PlayResult> checkPlayOptions(const PlayOptions &opt)
     if (opt.url.empty())
         return badInput("nothing to play: give a file or URL");
     // Outputs: a missing folder is bad input, an output that takes no byte is lost at once.
+    // An output never replaces an input or another output (compared by file identity).
     for (const OutputPathCheck &c :
          {checkOutputPath("--record", opt.record), checkOutputPath("--force-log", opt.forceLog),
-          checkOutputPath("--stats", opt.stats, true)}) {
+          checkOutputPath("--stats", opt.stats, true),
+          checkOutputFolder("--snapshot-dir", opt.snapshotDir),
+          checkDistinctPaths(
+              {{"the input", opt.url}, {"--config", opt.config}},
+              {{"--record", opt.record}, {"--force-log", opt.forceLog}, {"--stats", opt.stats}})}) {
         if (c.exitCode != kExitOk) {
             failLine(c.message);
             return PlayResult{c.exitCode, {}};
