@@ -141,13 +141,18 @@ Result<std::unique_ptr<Playback>> Playback::create(const PlaybackConfig &config,
 
 Playback::~Playback()
 {
+    close();
+}
+
+void Playback::close()
+{
     impl_->tearDown();
     {
         std::lock_guard<std::mutex> lock(impl_->mutex);
         impl_->quit = true;
         impl_->cv.notify_all();
     }
-    if (impl_->renderThread)
+    if (impl_->renderThread && impl_->renderThread->joinable())
         impl_->renderThread->join();
 }
 
