@@ -86,6 +86,42 @@ no_temporary "$w"
 # Outputs on two devices are fine (written in place, never replaced).
 run "touch --out /dev/null" 0 30 "$exe" touch head.mkv --trajectory t.csv --out /dev/null
 
+# --- group 4: an output that cannot be completed is exit 1 with nothing under its name ---
+"$L" 40 true || { echo "ulimit -f unavailable: skipped"; exit 77; }
+run "play --record on a full disk" 1 30 "$L" 40 $P head.mkv --record r.mkv
+[ ! -e r.mkv ] || fail "a lost recording was left as r.mkv"
+grep -q "r.mkv" "$w/out" && fail "the summary names the lost recording"
+run "play --force-log on a full disk" 1 30 "$L" 40 $P head.mkv --force-log f.csv \
+    --stats s.json
+[ ! -e f.csv ] || fail "a cut force log was left as f.csv"
+[ -s s.json ] || fail "the stats that fit were not written"
+run "play --snapshot-dir on a full disk" 1 30 "$L" 20 $P head.mkv --snapshot-dir snap \
+    --snapshot-every 10
+[ -z "$(ls snap 2>/dev/null)" ] || { ls -la snap; fail "cut snapshots were left"; }
+mkdir hls
+run "encode -o HLS on a full disk" 1 60 "$L" 40 "$exe" encode \
+    --color synthetic:head,size=160x120,frames=150 --depth synthetic:head,size=160x120,frames=150 \
+    --preset ultrafast -o hls/stream.m3u8
+[ -z "$(ls hls)" ] || { ls -la hls; fail "a cut HLS output was left"; }
+run "encode -o HLS" 0 60 "$exe" encode --color synthetic:head,size=160x120,frames=90 \
+    --depth synthetic:head,size=160x120,frames=90 --preset ultrafast -o hls/stream.m3u8
+tail -n 1 hls/stream.m3u8 | grep -q ENDLIST || fail "the HLS playlist is not complete"
+no_temporary hls
+run "probe --json > /dev/full" 1 30 sh -c '"$0" probe head.mkv --json >/dev/full' "$exe"
+# touch's force log into a pipe whose reader leaves: EPIPE, not a silent death by SIGPIPE.
+{ "$exe" touch head.mkv --trajectory long.csv --out /dev/stdout 2>"$w/err"; echo $? >"$w/rc"; } \
+    | head -c 100 >/dev/null
+[ "$(cat "$w/rc")" -eq 1 ] || { cat "$w/err"; fail "touch | head: exit $(cat "$w/rc"), want 1"; }
+[ "$(wc -l <"$w/err")" -eq 1 ] || { cat "$w/err"; fail "touch | head: want one stderr line"; }
+echo "touch --out /dev/stdout | head -c 100: exit 1: $(cat "$w/err")"
+lines=any # the demo logs what it does
+run "demo --out on a full disk" 1 120 "$L" 150 "$exe" demo --out dm --duration 3 \
+    --frames 30 --size 160x120
+lines=one
+[ ! -e dm/force-log.csv ] || fail "demo left a cut force log"
+grep -q "force-log.csv" "$w/out" && fail "the demo's summary names the lost force log"
+no_temporary dm
+
 # --- a folder that takes no file is found before the work ---
 ro="$w/ro"
 mkdir "$ro"
