@@ -264,18 +264,17 @@ int checkEncodeOptions(const EncodeCliOptions &o, const media::EncodeOptions &eo
     if (auto v = eo.validate(); !v)
         return fail(kExitBadInput, v.error().what);
     if (!media::isOutputUrl(o.output)) {
-        // Before any input is read: only a regular file or a new path is replaced; a device or a
-        // FIFO with a reader is written in place; anything else is refused.
+        // Before any input is read: what planOutput() refuses, and an output that is an input.
         if (auto p = platform::planOutput(o.output); !p)
             return fail(kExitBadInput, "cannot write '" + o.output + "': it " + p.error().what);
-        if (const OutputPathCheck c = checkDistinctPaths({{"--color", o.color},
-                                                          {"--depth", o.depth},
-                                                          {"--material", o.material},
-                                                          {"--material-map", o.materialMap},
-                                                          {"--materials", o.materials}},
-                                                         {{"-o", o.output}});
-            c.exitCode != kExitOk)
-            return fail(c.exitCode, c.message);
+        const OutputPathCheck same = checkDistinctPaths({{"--color", o.color},
+                                                         {"--depth", o.depth},
+                                                         {"--material", o.material},
+                                                         {"--material-map", o.materialMap},
+                                                         {"--materials", o.materials}},
+                                                        {{"-o", o.output}});
+        if (same.exitCode != kExitOk)
+            return fail(same.exitCode, same.message);
     }
     static constexpr const char *kPresets[] = {"ultrafast", "superfast", "veryfast", "faster",
                                                "fast",      "medium",    "slow",     "slower",
