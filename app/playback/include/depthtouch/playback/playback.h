@@ -195,8 +195,9 @@ public:
     [[nodiscard]] Result<void> setHapticsEnabled(bool enabled) override;
     [[nodiscard]] Result<void> setStiffness(double newtonsPerMetre) override;
     [[nodiscard]] Result<void> recenter() override;
-    /// Errc::InvalidState without PlaybackConfig::snapshotDir, Errc::NotSupported on a display
-    /// that draws nothing (mock); else requestSnapshot().
+    /// Errc::InvalidState without PlaybackConfig::snapshotDir, when the folder takes no file or
+    /// when an earlier snapshot could not be written (refused: playback goes on),
+    /// Errc::NotSupported on a display that draws nothing (mock); else requestSnapshot().
     [[nodiscard]] Result<void> snapshot() override;
     ///@}
 
