@@ -38,6 +38,30 @@ void ReportFile::print(const char *format, ...) noexcept
     va_end(args);
 }
 
+TextReportFile::TextReportFile(std::string path, std::string &error)
+    : path_(std::move(path)), error_(error)
+{
+}
+
+TextReportFile::~TextReportFile()
+{
+    (void)close();
+}
+
+bool TextReportFile::close()
+{
+    if (closed_)
+        return written_;
+    closed_ = true;
+    auto w = writeOutputFile(path_, str());
+    written_ = w.has_value();
+    if (!written_ && error_.empty()) {
+        char why[160];
+        error_ = "cannot write '" + path_ + "': " + w.error().format(why, sizeof why);
+    }
+    return written_;
+}
+
 bool ReportFile::close() noexcept
 {
     if (!file_.isOpen())

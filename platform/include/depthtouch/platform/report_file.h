@@ -9,6 +9,7 @@
 /// safe (file system calls, allocation).
 
 #include <cstdio>
+#include <sstream>
 #include <string>
 
 #include "depthtouch/platform/file_access.h"
@@ -54,6 +55,30 @@ public:
 
 private:
     OutputFile file_;
+};
+
+/// \brief One text file of a report, made in memory (it is an std::ostream) and written whole by
+/// close() or the destructor (writeOutputFile(): under a temporary name, renamed when complete):
+/// a full disk never leaves a cut file under its name. A failure goes into the error text given
+/// to the constructor (when it is still empty), for the writer to report.
+class TextReportFile : public std::ostringstream {
+public:
+    /// \param[in] path the file's path. \param[out] error where a failure is said.
+    TextReportFile(std::string path, std::string &error);
+    /// \brief close(), if it was not called.
+    ~TextReportFile() override;
+    DT_DISABLE_COPY_AND_MOVE(TextReportFile)
+
+    /// \brief Writes the file (once; later calls return the first outcome).
+    /// \return true when it was written whole; false with the error text "cannot write 'PATH':
+    /// REASON" set (unless it held an earlier failure).
+    bool close();
+
+private:
+    std::string path_;
+    std::string &error_;
+    bool closed_ = false;
+    bool written_ = false;
 };
 
 } // namespace depthtouch::platform
