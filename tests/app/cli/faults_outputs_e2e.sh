@@ -88,7 +88,7 @@ run "touch --out /dev/null" 0 30 "$exe" touch head.mkv --trajectory t.csv --out 
 
 # --- group 4: an output that cannot be completed is exit 1 with nothing under its name ---
 "$L" 40 true || { echo "ulimit -f unavailable: skipped"; exit 77; }
-run "play --record on a full disk" 1 30 "$L" 40 $P head.mkv --record r.mkv
+run "play --record on a full disk" 1 30 "$L" 8 $P head.mkv --record r.mkv
 [ ! -e r.mkv ] || fail "a lost recording was left as r.mkv"
 grep -q "r.mkv" "$w/out" && fail "the summary names the lost recording"
 run "play --force-log on a full disk" 1 30 "$L" 40 $P head.mkv --force-log f.csv \
@@ -99,7 +99,7 @@ run "play --snapshot-dir on a full disk" 1 30 "$L" 20 $P head.mkv --snapshot-dir
     --snapshot-every 10
 [ -z "$(ls snap 2>/dev/null)" ] || { ls -la snap; fail "cut snapshots were left"; }
 mkdir hls
-run "encode -o HLS on a full disk" 1 60 "$L" 40 "$exe" encode \
+run "encode -o HLS on a full disk" 1 60 "$L" 8 "$exe" encode \
     --color synthetic:head,size=160x120,frames=150 --depth synthetic:head,size=160x120,frames=150 \
     --preset ultrafast -o hls/stream.m3u8
 [ -z "$(ls hls)" ] || { ls -la hls; fail "a cut HLS output was left"; }
