@@ -19,6 +19,7 @@
 
 #include "commands.h"
 #include "option_cli.h"
+#include "output_paths.h"
 #include "depthtouch/haptics/feel_bench.h"
 #include "depthtouch/haptics/feel_scenes.h"
 #include "depthtouch/media/frame_source.h"
@@ -263,6 +264,9 @@ int loadScenes(const BenchFeelOptions &o, std::vector<hb::FeelScene> &scenes,
 
 int runBenchFeel(const BenchFeelOptions &o)
 {
+    // An --out where nothing can be written fails now, not after the whole run.
+    if (const int rc = checkOutFolder("bench feel", o.out); rc != kExitOk)
+        return rc;
     const auto start = std::chrono::steady_clock::now();
     std::vector<haptics::Method> methods;
     for (const std::string &m : o.methods) {

@@ -12,6 +12,7 @@
 
 #include "commands.h"
 #include "option_cli.h"
+#include "output_paths.h"
 #include "depthtouch/haptics/haptics_bench.h"
 #include "depthtouch/platform/realtime_thread.h"
 #include "depthtouch/platform/thread_config.h"
@@ -65,6 +66,9 @@ void printRatioGoal(const char *what, double ratio)
 
 int runBenchHaptics(const BenchHapticsOptions &o)
 {
+    // An --out where nothing can be written fails now, not after the whole run.
+    if (const int rc = checkOutFolder("bench haptics", o.out); rc != kExitOk)
+        return rc;
     using namespace depthtouch::haptics::bench;
     if (o.runs < 1 || o.updates < 1000) {
         std::fprintf(stderr,

@@ -22,6 +22,7 @@
 
 #include "commands.h"
 #include "option_cli.h"
+#include "output_paths.h"
 
 #if __has_include("depthtouch/media/media_bench.h")
 #include "depthtouch/drivers/backends.h"
@@ -277,6 +278,9 @@ int finishReport(const BenchMediaOptions &o, const MediaBenchReport &report,
 int runBenchMedia(const BenchMediaOptions &o)
 {
 #if DT_CLI_HAVE_MEDIA_BENCH
+    // An --out where nothing can be written fails now, not after the whole run.
+    if (const int rc = checkOutFolder("bench media", o.out); rc != kExitOk)
+        return rc;
     std::vector<std::pair<int, int>> sizes;
     if (const int rc = checkBenchOptions(o, sizes); rc != kExitOk)
         return rc;

@@ -21,6 +21,7 @@
 
 #include "commands.h"
 #include "option_cli.h"
+#include "output_paths.h"
 
 #if __has_include("depthtouch/render/render_bench.h")
 #include "depthtouch/drivers/backends.h"
@@ -178,6 +179,9 @@ int measureSizes(const BenchRenderOptions &o, const std::string &scene,
 int runBenchRender(const BenchRenderOptions &o)
 {
 #if DT_CLI_HAVE_RENDER
+    // An --out where nothing can be written fails now, not after the whole run.
+    if (const int rc = checkOutFolder("bench render", o.out); rc != kExitOk)
+        return rc;
     using namespace depthtouch::render;
     if (o.frames < 5 || o.width < 16 || o.height < 16 || o.depthWidth < 2 || o.depthHeight < 2) {
         std::fprintf(stderr, "depthtouch bench render: --frames must be >= 5 and sizes positive\n");

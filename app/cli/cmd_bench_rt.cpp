@@ -19,6 +19,7 @@
 
 #include "commands.h"
 #include "option_cli.h"
+#include "output_paths.h"
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptic_task/rt_bench.h"
 #include "depthtouch/platform/clock.h"
@@ -246,6 +247,9 @@ RtBenchReport measureRuns(const BenchRtOptions &o, const RtBenchOptions &opt)
 
 int runBenchRt(const BenchRtOptions &o)
 {
+    // An --out where nothing can be written fails now, not after the whole run.
+    if (const int rc = checkOutFolder("bench rt", o.out); rc != kExitOk)
+        return rc;
     RtBenchOptions opt;
     if (!checkRates(o) || !setPolicies(o, opt) || !setLocks(o, opt))
         return kExitBadInput;

@@ -29,7 +29,9 @@
 #include <glm/geometric.hpp>
 
 #include "commands.h"
+#include "message_text.h"
 #include "option_cli.h"
+#include "output_paths.h"
 #include "depthtouch/haptic_task/haptic_task.h"
 #include "depthtouch/haptics/feel.h"
 #include "depthtouch/haptics/height_field.h"
@@ -37,6 +39,7 @@
 #include "depthtouch/haptics/spectrum.h"
 #include "depthtouch/media/encode_job.h"
 #include "depthtouch/media/frame_source.h"
+#include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/gnuplot.h"
 #include "depthtouch/platform/percentile.h"
 #include "play.h"
@@ -350,10 +353,22 @@ DemoFeel measureFeel(const std::vector<LogRow> &rows, const std::vector<double> 
     return d;
 }
 
+/// Writes \a text to \a path whole (a temporary name, renamed when complete). \return true, or
+/// false with \a lost set to the one error line (when it is still empty).
+bool writeDemoFile(const std::string &path, const std::string &text, std::string &lost)
+{
+    auto w = platform::writeOutputFile(path, text);
+    if (!w && lost.empty()) {
+        char why[160];
+        lost = "cannot write " + quotedText(path, 120) + ": " + w.error().format(why, sizeof why);
+    }
+    return w.has_value();
+}
+
 /// Writes force-plot.csv, force-psd.csv and the chart script; runs gnuplot.
-/// \return a note for the summary.
+/// \return a note for the summary; \a lost says why a file could not be written.
 std::string chartForce(const std::string &dir, const std::vector<std::array<double, 6>> &plot,
-                       double rate)
+                       double rate, std::string &lost)
 {
     if (plot.size() < 256)
         return "force log too short for a chart";
@@ -363,15 +378,17 @@ std::string chartForce(const std::string &dir, const std::vector<std::array<doub
     const haptics::Psd psd =
         haptics::averagedPsd(magnitude.data(), magnitude.size(), 8, rate, rate / 2.0);
     const std::string psdCsv = dir + "/force-psd.csv";
+    std::ostringstream psdText;
     {
-        std::ofstream f(psdCsv);
+        std::ostream &f = psdText;
         f << "hz,psd_n2_per_hz\n";
         for (std::size_t k = 1; k < psd.density.size(); ++k)
             f << static_cast<double>(k) * psd.binHz << ',' << psd.density[k] << '\n';
     }
     const std::string plotCsv = dir + "/force-plot.csv";
+    std::ostringstream plotText;
     {
-        std::ofstream f(plotCsv);
+        std::ostream &f = plotText;
         f << "play_s,force_n,contact,hip_z_mm,surface_z_mm,on_figure\n";
         for (const auto &p : plot)
             f << p[0] << ',' << p[1] << ',' << p[2] << ',' << p[3] << ','
@@ -379,8 +396,9 @@ std::string chartForce(const std::string &dir, const std::vector<std::array<doub
               << '\n';
     }
     const std::string script = dir + "/force.gp";
+    std::ostringstream scriptText;
     {
-        std::ofstream g(script);
+        std::ostream &g = scriptText;
         g << "set terminal pngcairo size 1000,900 font ',10'\n"
           << "set output '" << dir << "/force.png'\n"
           << "set datafile separator ','\nset datafile missing 'NaN'\n"
@@ -402,20 +420,25 @@ std::string chartForce(const std::string &dir, const std::vector<std::array<doub
           << "title 'force PSD'\n"
           << "unset multiplot\n";
     }
+    if (!writeDemoFile(psdCsv, psdText.str(), lost) ||
+        !writeDemoFile(plotCsv, plotText.str(), lost) ||
+        !writeDemoFile(script, scriptText.str(), lost))
+        return "not drawn: " + lost;
     const platform::PlotStatus st = platform::runGnuplot(script);
     return st == platform::PlotStatus::Drawn ? dir + "/force.png" : platform::plotStatusNote(st);
 }
 
 /// Measures the run in \a forceLog against the clip's depth, prints the feel lines and draws the
 /// chart (when the clip or the log cannot be read, prints a note instead).
-void reportFeel(const DemoOptions &o, const std::string &clip, const std::string &forceLog)
+/// \return why a file of the chart could not be written, or empty.
+std::string reportFeel(const DemoOptions &o, const std::string &clip, const std::string &forceLog)
 {
     const std::vector<LogRow> rows = readForceLog(forceLog);
     ClipSurface surface;
     if (const std::string err = surface.load(clip); !err.empty() || rows.empty()) {
         std::printf("  feel              not measured: %s\n",
                     err.empty() ? "empty force log" : err.c_str());
-        return;
+        return {};
     }
     const std::vector<double> play = playTimes(rows);
     std::vector<std::array<double, 6>> plot;
@@ -439,8 +462,10 @@ void reportFeel(const DemoOptions &o, const std::string &clip, const std::string
                 o.scene == "head" ? "head" : "figure", median(d.figureStiffness),
                 o.scene == "head" ? "curtain" : "backdrop", median(d.backdropStiffness),
                 o.stiffness);
-    const std::string chart = chartForce(o.outDir, plot, o.rate);
+    std::string lost;
+    const std::string chart = chartForce(o.outDir, plot, o.rate, lost);
     std::printf("  chart             %s\n", chart.c_str());
+    return lost;
 }
 
 int runDemo(const DemoOptions &o)
@@ -460,6 +485,11 @@ int runDemo(const DemoOptions &o)
     std::string hapticOptions = o.hapticOptions;
     if (hapticOptions.empty() && o.haptic == "sim")
         hapticOptions = o.scene == "head" ? kHeadStroke : "intent=stroke";
+    // A folder where nothing can be written is found now, not after the clip and the play.
+    if (const OutputPathCheck c = checkOutputFolder("--out", o.outDir); c.exitCode != kExitOk) {
+        std::fprintf(stderr, "depthtouch demo: %s\n", c.message.c_str());
+        return c.exitCode;
+    }
     std::error_code ec;
     std::filesystem::create_directories(o.outDir + "/snapshots", ec);
     if (ec) {
@@ -504,7 +534,10 @@ int runDemo(const DemoOptions &o)
     const PlayResult r = runPlay(p);
     if (r.exitCode != kExitOk)
         return r.exitCode;
-    reportFeel(o, clip, p.forceLog);
+    if (const std::string lost = reportFeel(o, clip, p.forceLog); !lost.empty()) {
+        std::fprintf(stderr, "depthtouch demo: %s\n", lost.c_str());
+        return kExitFailure;
+    }
     std::printf("  snapshots         %s/snapshots/ (side-by-side, every 30 frames)\n",
                 o.outDir.c_str());
     return kExitOk;

@@ -30,6 +30,7 @@
 #include "commands.h"
 #include "material_map.h"
 #include "option_cli.h"
+#include "output_paths.h"
 #include "source_providers.h"
 #include "depthtouch/media/encode_job.h"
 #include "depthtouch/media/frame_source.h"
@@ -263,10 +264,17 @@ int checkEncodeOptions(const EncodeCliOptions &o, const media::EncodeOptions &eo
     if (auto v = eo.validate(); !v)
         return fail(kExitBadInput, v.error().what);
     if (!media::isOutputUrl(o.output)) {
-        // Before any input is read: only a regular file or a new path is replaced; a device or a
-        // FIFO with a reader is written in place; anything else is refused.
+        // Before any input is read: what planOutput() refuses, and an output that is an input.
         if (auto p = platform::planOutput(o.output); !p)
             return fail(kExitBadInput, "cannot write '" + o.output + "': it " + p.error().what);
+        const OutputPathCheck same = checkDistinctPaths({{"--color", o.color},
+                                                         {"--depth", o.depth},
+                                                         {"--material", o.material},
+                                                         {"--material-map", o.materialMap},
+                                                         {"--materials", o.materials}},
+                                                        {{"-o", o.output}});
+        if (same.exitCode != kExitOk)
+            return fail(same.exitCode, same.message);
     }
     static constexpr const char *kPresets[] = {"ultrafast", "superfast", "veryfast", "faster",
                                                "fast",      "medium",    "slow",     "slower",

@@ -136,9 +136,14 @@ std::optional<PlayResult> checkPlayOptions(const PlayOptions &opt)
     if (opt.url.empty())
         return badInput("nothing to play: give a file or URL");
     // Outputs: a missing folder is bad input, an output that takes no byte is lost at once.
+    // An output never replaces an input or another output (compared by file identity).
     for (const OutputPathCheck &c :
          {checkOutputPath("--record", opt.record), checkOutputPath("--force-log", opt.forceLog),
-          checkOutputPath("--stats", opt.stats, true)}) {
+          checkOutputPath("--stats", opt.stats, true),
+          checkOutputFolder("--snapshot-dir", opt.snapshotDir),
+          checkDistinctPaths(
+              {{"the input", opt.url}, {"--config", opt.config}},
+              {{"--record", opt.record}, {"--force-log", opt.forceLog}, {"--stats", opt.stats}})}) {
         if (c.exitCode != kExitOk) {
             failLine(c.message);
             return PlayResult{c.exitCode, {}};
@@ -323,8 +328,14 @@ PlayResult finishPlay(const PlayOptions &opt, const PlayRunFigures &run, LoopOut
                    w.error().format(why, sizeof why);
         }
     }
-    if (lost.empty() && run.haptic && run.haptic->forceLogLost)
+    const bool statsLost = !lost.empty();
+    const bool forceLogLost = run.haptic && run.haptic->forceLogLost;
+    if (lost.empty() && forceLogLost)
         lost = "cannot write the force log " + quotedText(opt.forceLog, 120) + " (disk full?)";
+    if (lost.empty() && !run.stats.recordingLost.empty())
+        lost = "lost the recording " + quotedText(opt.record, 120) + ": " + run.stats.recordingLost;
+    if (lost.empty() && !run.stats.snapshotLost.empty())
+        lost = "in " + quotedText(opt.snapshotDir, 120) + ": " + run.stats.snapshotLost;
 
     // An input that opened but failed before giving a single frame (cut after its header) is
     // bad input like one that does not open.
@@ -349,7 +360,10 @@ PlayResult finishPlay(const PlayOptions &opt, const PlayRunFigures &run, LoopOut
     }
     if (!lost.empty() && out.failure.empty())
         failLine(lost);
-    printPlaySummary(opt.url, run, opt.record, opt.forceLog, opt.stats);
+    // The summary names only the files that were written.
+    printPlaySummary(opt.url, run, run.stats.recordingLost.empty() ? opt.record : std::string(),
+                     forceLogLost ? std::string() : opt.forceLog,
+                     statsLost ? std::string() : opt.stats);
     result.exitCode = out.failure.empty() && lost.empty() ? kExitOk : kExitFailure;
     if (run.haptic && run.haptic->maxForce > run.deviceMaxForce + 1e-9)
         result.exitCode = kExitFailure;
@@ -392,6 +406,7 @@ PlayResult runPlay(const PlayOptions &opt)
     std::signal(SIGTERM, &onPlayStopSignal);
     const LoopOutcome out = playUntilDone(opt, machine, loop, server, playback, clock);
     (void)playback.stop();
+    playback.close(); // the recording ends and the snapshots are written: their losses count
     std::signal(SIGINT, SIG_DFL);
     std::signal(SIGTERM, SIG_DFL);
 

@@ -34,6 +34,7 @@
 #include "decoded_depth.h"
 #include "material_frames.h"
 #include "option_cli.h"
+#include "output_paths.h"
 #include "source_providers.h"
 #include "depthtouch/depth/conversion.h"
 #include "depthtouch/drivers/backends.h"
@@ -295,6 +296,11 @@ int runTouch(const TouchOptions &o)
     // the work, and only a regular file or a new path is ever replaced.
     if (auto p = platform::planOutput(o.out); !p)
         return fail(kExitBadInput, "cannot write '" + o.out + "': it " + p.error().what);
+    if (const OutputPathCheck same = checkDistinctPaths(
+            {{"the input", o.depth}, {"--trajectory", o.trajectory}, {"--material", o.material}},
+            {{"--out", o.out}});
+        same.exitCode != kExitOk)
+        return fail(same.exitCode, same.message);
 
     // Depth input: a raw gray file with --size, else anything FFmpeg reads.
     std::unique_ptr<FrameProvider> frames;

@@ -1,7 +1,10 @@
 /// \file
 /// \brief `depthtouch`: the one executable of DepthTouch. Subcommands are listed in kCommands.
 
+#include <cerrno>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -23,6 +26,21 @@ constexpr RegisterCommand kCommands[] = {
     &depthtouch::cli::registerBenchCommand,
 };
 
+/// \return \a exitCode, or for a command that succeeded kExitFailure after one line when the
+/// standard output lost a byte (a full disk, /dev/full, a reader that left): what a command
+/// printed is its output too.
+int checkStandardOutput(int exitCode)
+{
+    errno = 0;
+    const bool flushed = std::fflush(stdout) == 0;
+    const int err = errno;
+    if ((flushed && std::ferror(stdout) == 0) || exitCode != depthtouch::cli::kExitOk)
+        return exitCode; // a failed command has said why in its own line
+    std::fprintf(stderr, "depthtouch: cannot write the standard output: %s\n",
+                 std::strerror(err != 0 ? err : EIO));
+    return depthtouch::cli::kExitFailure;
+}
+
 } // namespace
 
 int main(int argc, char **argv)
@@ -35,6 +53,9 @@ int main(int argc, char **argv)
     app.failure_message([](const CLI::App *, const CLI::Error &e) {
         return std::string("depthtouch: ") + e.what() + " (see --help)\n";
     });
+    // A reader that leaves (`| head`) is a write error (EPIPE) reported in one line, not a silent
+    // death by SIGPIPE; sockets and pipes of the player see the same error.
+    std::signal(SIGPIPE, SIG_IGN);
     int exitCode = depthtouch::cli::kExitOk;
     for (RegisterCommand reg : kCommands)
         reg(app, exitCode);
@@ -43,7 +64,7 @@ int main(int argc, char **argv)
     } catch (const CLI::ParseError &e) {
         const int code = app.exit(e);
         // CLI11 returns 0 for --help/--version; any real parse error is bad input.
-        return code == 0 ? 0 : depthtouch::cli::kExitBadInput;
+        return code == 0 ? checkStandardOutput(0) : depthtouch::cli::kExitBadInput;
     }
-    return exitCode;
+    return checkStandardOutput(exitCode);
 }

@@ -59,24 +59,6 @@ bool waitReadable(int fd, Clock::time_point deadline, bool &pollFailed) noexcept
     }
 }
 
-/// Writes all of \a bytes to \a fd (blocking descriptor). \return false with errno on failure.
-bool writeAll(int fd, std::string_view bytes) noexcept
-{
-    std::size_t done = 0;
-    while (done < bytes.size()) {
-        const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n <= 0) {
-            if (n == 0)
-                errno = EIO;
-            return false;
-        }
-        done += static_cast<std::size_t>(n);
-    }
-    return true;
-}
-
 Result<void> clearNonBlocking(int fd) noexcept
 {
     const int flags = ::fcntl(fd, F_GETFL);
@@ -232,37 +214,165 @@ Result<OutputPlan> planOutput(const std::string &path)
     return unexpected(Errc::InvalidArgument, "cannot be written");
 }
 
-Result<void> writeOutputFile(const std::string &path, std::string_view bytes)
+OutputFile::OutputFile(OutputFile &&other) noexcept
+    : file_(std::exchange(other.file_, nullptr)), finalPath_(std::move(other.finalPath_)),
+      tempPath_(std::move(other.tempPath_))
+{
+    other.tempPath_.clear();
+}
+
+OutputFile &OutputFile::operator=(OutputFile &&other) noexcept
+{
+    if (this != &other) {
+        abort();
+        file_ = std::exchange(other.file_, nullptr);
+        finalPath_ = std::move(other.finalPath_);
+        tempPath_ = std::move(other.tempPath_);
+        other.tempPath_.clear();
+    }
+    return *this;
+}
+
+Result<OutputFile> OutputFile::open(const std::string &path)
 {
     auto plan = planOutput(path);
     if (!plan)
         return unexpected(plan.error());
+    OutputFile out;
+    UniqueFd fd;
     if (plan->mode == OutputMode::InPlace) {
-        UniqueFd fd(::open(plan->path.c_str(), O_WRONLY | O_NONBLOCK | O_CREAT | O_CLOEXEC, 0666));
+        fd.reset(::open(plan->path.c_str(), O_WRONLY | O_NONBLOCK | O_CREAT | O_CLOEXEC, 0666));
         if (!fd)
             return unexpected(Errc::InvalidArgument, "cannot open the output", errno);
         DT_TRY(clearNonBlocking(fd.get()));
-        if (!writeAll(fd.get(), bytes))
-            return unexpected(Errc::Io, "cannot write the output", errno);
-        if (::close(fd.release()) != 0)
-            return unexpected(Errc::Io, "cannot write the output", errno);
-        return ok();
+    } else {
+        fd.reset(::open(plan->tempPath.c_str(),
+                        O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0666));
+        if (!fd)
+            return unexpected(Errc::InvalidArgument, "cannot create the output", errno);
+        out.tempPath_ = plan->tempPath;
     }
-    const std::string &tmp = plan->tempPath;
-    UniqueFd fd(::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666));
-    if (!fd)
-        return unexpected(Errc::InvalidArgument, "cannot create the output", errno);
-    if (!writeAll(fd.get(), bytes) || ::fsync(fd.get()) != 0 || ::close(fd.release()) != 0) {
+    out.finalPath_ = plan->path;
+    out.file_ = ::fdopen(fd.get(), "w");
+    if (out.file_ == nullptr)
+        return unexpected(Errc::Io, "cannot open the output", errno); // ~OutputFile removes it
+    (void)fd.release();
+    return out;
+}
+
+Result<void> OutputFile::commit()
+{
+    if (file_ == nullptr)
+        return unexpected(Errc::InvalidState, "the output is not open");
+    std::FILE *f = std::exchange(file_, nullptr);
+    int err = 0;
+    // A write that failed earlier (a full disk) left the stream's error flag set; its errno is
+    // gone by now, so it reads as EIO.
+    if (std::fflush(f) != 0)
+        err = errno;
+    else if (std::ferror(f) != 0)
+        err = EIO;
+    if (err == 0 && !tempPath_.empty() && ::fsync(::fileno(f)) != 0)
+        err = errno;
+    if (std::fclose(f) != 0 && err == 0)
+        err = errno;
+    const char *what = "cannot write the output";
+    if (err == 0 && !tempPath_.empty() && ::rename(tempPath_.c_str(), finalPath_.c_str()) != 0) {
+        err = errno;
+        what = "cannot rename the output into place";
+    }
+    if (err != 0 && !tempPath_.empty())
+        (void)::unlink(tempPath_.c_str());
+    tempPath_.clear();
+    if (err != 0)
+        return unexpected(Errc::Io, what, err);
+    return ok();
+}
+
+void OutputFile::abort() noexcept
+{
+    if (file_ != nullptr)
+        (void)std::fclose(std::exchange(file_, nullptr));
+    if (!tempPath_.empty())
+        (void)::unlink(tempPath_.c_str());
+    tempPath_.clear();
+}
+
+Result<void> writeOutputFile(const std::string &path, std::string_view bytes)
+{
+    auto out = OutputFile::open(path);
+    if (!out)
+        return unexpected(out.error());
+    if (!bytes.empty() &&
+        std::fwrite(bytes.data(), 1, bytes.size(), out->stream()) != bytes.size()) {
         const int err = errno;
-        (void)::unlink(tmp.c_str());
+        out->abort();
         return unexpected(Errc::Io, "cannot write the output", err);
     }
-    if (::rename(tmp.c_str(), plan->path.c_str()) != 0) {
+    return out->commit();
+}
+
+Result<void> checkFolderWritable(const std::string &dir)
+{
+    const std::string folder = dir.empty() ? std::string(".") : dir;
+    if (pathKind(folder.c_str()) != PathKind::Directory)
+        return unexpected(Errc::InvalidArgument, "is not a folder");
+    // A real file, made and removed: access(2) says yes to root on a folder where nothing can be
+    // made (a read-only mount, an immutable folder, /proc).
+    const std::string probe = folder + "/.dt-write-check." + std::to_string(::getpid());
+    UniqueFd fd(::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600));
+    if (!fd) {
         const int err = errno;
-        (void)::unlink(tmp.c_str());
-        return unexpected(Errc::Io, "cannot rename the output into place", err);
+        if (err == EEXIST)
+            return ok(); // a file could be made there (by this process, a moment ago)
+        const bool refused = err == EACCES || err == EPERM || err == EROFS || err == ENOENT;
+        return unexpected(refused ? Errc::InvalidArgument : Errc::Io,
+                          "is a folder where no file can be made", err);
     }
+    fd.reset();
+    (void)::unlink(probe.c_str());
     return ok();
+}
+
+std::optional<FileIdentity> fileIdentity(const std::string &path)
+{
+    std::string p = path;
+    // A dangling link is followed by hand (at most as many hops as the kernel allows).
+    for (int hops = 0; hops < 40 && !p.empty(); ++hops) {
+        struct stat st {};
+        if (::stat(p.c_str(), &st) == 0) {
+            FileIdentity id;
+            id.device = static_cast<std::uint64_t>(st.st_dev);
+            id.inode = static_cast<std::uint64_t>(st.st_ino);
+            id.regular = S_ISREG(st.st_mode);
+            return id;
+        }
+        const std::size_t slash = p.rfind('/');
+        const std::string dir = slash == std::string::npos ? "."
+                                : slash == 0               ? "/"
+                                                           : p.substr(0, slash);
+        struct stat lst {};
+        if (::lstat(p.c_str(), &lst) == 0 && S_ISLNK(lst.st_mode)) {
+            std::array<char, 4096> target{};
+            const ssize_t n = ::readlink(p.c_str(), target.data(), target.size() - 1);
+            if (n <= 0)
+                return std::nullopt;
+            const std::string to(target.data(), static_cast<std::size_t>(n));
+            p = to.front() == '/' ? to : dir + "/" + to;
+            continue;
+        }
+        // A new path: its folder (resolved by the kernel) and its last name.
+        const std::string name = slash == std::string::npos ? p : p.substr(slash + 1);
+        if (name.empty() || name == "." || name == ".." || ::stat(dir.c_str(), &st) != 0 ||
+            !S_ISDIR(st.st_mode))
+            return std::nullopt;
+        FileIdentity id;
+        id.device = static_cast<std::uint64_t>(st.st_dev);
+        id.inode = static_cast<std::uint64_t>(st.st_ino);
+        id.name = name;
+        return id;
+    }
+    return std::nullopt;
 }
 
 } // namespace depthtouch::platform

@@ -3,6 +3,7 @@
 #include <cstdarg>
 #include <filesystem>
 #include <system_error>
+#include <utility>
 
 namespace depthtouch::platform {
 
@@ -21,32 +22,51 @@ bool createReportFolder(const std::string &dir, const std::string &what, std::st
     return why.empty();
 }
 
-ReportFile::ReportFile(const std::string &path) noexcept : file_(std::fopen(path.c_str(), "w")) {}
-
-ReportFile::~ReportFile()
+ReportFile::ReportFile(const std::string &path)
 {
-    if (file_ != nullptr)
-        std::fclose(file_);
+    if (auto f = OutputFile::open(path))
+        file_ = std::move(*f);
 }
 
 void ReportFile::print(const char *format, ...) noexcept
 {
-    if (file_ == nullptr)
+    if (!file_.isOpen())
         return;
     std::va_list args;
     va_start(args, format);
-    std::vfprintf(file_, format, args);
+    std::vfprintf(file_.stream(), format, args);
     va_end(args);
+}
+
+TextReportFile::TextReportFile(std::string path, std::string &error)
+    : path_(std::move(path)), error_(error)
+{
+}
+
+TextReportFile::~TextReportFile()
+{
+    (void)close();
+}
+
+bool TextReportFile::close()
+{
+    if (closed_)
+        return written_;
+    closed_ = true;
+    auto w = writeOutputFile(path_, str());
+    written_ = w.has_value();
+    if (!written_ && error_.empty()) {
+        char why[160];
+        error_ = "cannot write '" + path_ + "': " + w.error().format(why, sizeof why);
+    }
+    return written_;
 }
 
 bool ReportFile::close() noexcept
 {
-    if (file_ == nullptr)
+    if (!file_.isOpen())
         return false;
-    const bool written = std::ferror(file_) == 0;
-    const bool closed = std::fclose(file_) == 0;
-    file_ = nullptr;
-    return written && closed;
+    return file_.commit().has_value();
 }
 
 } // namespace depthtouch::platform

@@ -182,5 +182,101 @@ TEST_F(FileAccessTest, aFifoWithAWriterIsReadToItsEnd)
     EXPECT_EQ(std::string(r->begin(), r->end()), "t,x,y,z\n0,0,0,0\n");
 }
 
+TEST_F(FileAccessTest, anOutputFileAppearsUnderItsNameOnlyWhenCommitted)
+{
+    // GIVEN an existing file and an output streamed over it
+    const std::string out = path("log.csv");
+    std::ofstream(out) << "previous";
+    auto f = OutputFile::open(out);
+    ASSERT_TRUE(f);
+    std::fputs("t,x\n0,1\n", f->stream());
+    std::fflush(f->stream());
+    // WHEN it is still being written THEN the final name keeps its old bytes
+    EXPECT_EQ(slurp(out), "previous");
+    EXPECT_FALSE(f->tempPath().empty());
+    // WHEN it is committed THEN the new bytes are under the name and no temporary is left
+    ASSERT_TRUE(f->commit());
+    EXPECT_EQ(slurp(out), "t,x\n0,1\n");
+    EXPECT_TRUE(noTemporaryLeft());
+}
+
+TEST_F(FileAccessTest, anAbortedOutputFileLeavesNothingUnderItsName)
+{
+    // GIVEN a new output with rows written
+    const std::string out = path("cut.csv");
+    {
+        auto f = OutputFile::open(out);
+        ASSERT_TRUE(f);
+        std::fputs("t,x\n0,1\n", f->stream());
+        // WHEN it is dropped without commit()
+    }
+    // THEN neither the final name nor a temporary file exists
+    EXPECT_EQ(pathKind(out.c_str()), PathKind::Missing);
+    EXPECT_TRUE(noTemporaryLeft());
+}
+
+TEST_F(FileAccessTest, anOutputFileOnAFullDeviceFailsAtCommit)
+{
+    if (pathKind("/dev/full") != PathKind::CharDevice)
+        GTEST_SKIP() << "no /dev/full";
+    // GIVEN /dev/full written as a stream (more than a stdio buffer)
+    auto f = OutputFile::open("/dev/full");
+    ASSERT_TRUE(f);
+    for (int i = 0; i < 4096; ++i)
+        std::fputs("0123456789abcdef\n", f->stream());
+    // WHEN it is committed THEN the output is lost (Io)
+    auto r = f->commit();
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().code, Errc::Io);
+}
+
+TEST_F(FileAccessTest, identityIsTheFileNotItsSpelling)
+{
+    // GIVEN a file, a link to it, a hard link and a path through `..`
+    const std::string file = path("clip.mkv");
+    std::ofstream(file) << "clip";
+    ASSERT_EQ(::mkdir(path("sub").c_str(), 0755), 0);
+    ASSERT_EQ(::symlink(file.c_str(), path("link.mkv").c_str()), 0);
+    ASSERT_EQ(::link(file.c_str(), path("hard.mkv").c_str()), 0);
+    const auto id = fileIdentity(file);
+    ASSERT_TRUE(id);
+    EXPECT_TRUE(id->regular);
+    // THEN every spelling has the same identity, another file does not
+    EXPECT_EQ(fileIdentity(path("link.mkv")), id);
+    EXPECT_EQ(fileIdentity(path("hard.mkv")), id);
+    EXPECT_EQ(fileIdentity(path("sub/../clip.mkv")), id);
+    EXPECT_EQ(fileIdentity(dir_ + "/./clip.mkv"), id);
+    EXPECT_NE(fileIdentity(path("sub")), id);
+    // AND a new path is its folder and name, however the folder is spelled
+    const auto fresh = fileIdentity(path("new.csv"));
+    ASSERT_TRUE(fresh);
+    EXPECT_EQ(fresh->name, "new.csv");
+    EXPECT_EQ(fileIdentity(path("sub/../new.csv")), fresh);
+    EXPECT_NE(fileIdentity(path("sub/new.csv")), fresh);
+    // AND a dangling link is the path it points to
+    ASSERT_EQ(::symlink(path("new.csv").c_str(), path("dangling.csv").c_str()), 0);
+    EXPECT_EQ(fileIdentity(path("dangling.csv")), fresh);
+    // AND a path in no folder has none
+    EXPECT_FALSE(fileIdentity(path("missing/x.csv")));
+    EXPECT_FALSE(fileIdentity(""));
+}
+
+TEST_F(FileAccessTest, aFolderIsWritableOnlyWhenAFileCanBeMadeThere)
+{
+    // GIVEN this folder, a regular file and /proc/self (where nothing can be made, even by root)
+    EXPECT_TRUE(checkFolderWritable(dir_));
+    EXPECT_TRUE(noTemporaryLeft());
+    std::ofstream(path("file")) << "x";
+    auto notFolder = checkFolderWritable(path("file"));
+    ASSERT_FALSE(notFolder);
+    EXPECT_EQ(notFolder.error().code, Errc::InvalidArgument);
+    EXPECT_FALSE(checkFolderWritable(path("missing")));
+    if (pathKind("/proc/self") == PathKind::Directory) {
+        EXPECT_FALSE(checkFolderWritable("/proc/self"));
+    }
+    // AND nothing is left behind
+    EXPECT_EQ(std::system(("ls -a '" + dir_ + "' | grep -q dt-write-check").c_str()) != 0, true);
+}
+
 } // namespace
 } // namespace depthtouch::platform

@@ -84,5 +84,45 @@ TEST(ReportFileTest, aFailedWriteIsReportedAtClose)
     EXPECT_FALSE(f.close());
 }
 
+TEST(ReportFileTest, aReportFileIsUnderItsNameOnlyOnceWrittenWhole)
+{
+    // GIVEN a file being printed to
+    testing::TempDir tmp("dt-report-file-");
+    const std::string path = tmp.path("out.csv");
+    std::ofstream(path) << "previous";
+    ReportFile f(path);
+    ASSERT_TRUE(f.isOpen());
+    f.print("a,b\n");
+    // WHEN it is not closed yet THEN the name keeps its old bytes
+    EXPECT_EQ(slurp(path), "previous");
+    // AND closed, the new text is there and nothing else is in the folder
+    EXPECT_TRUE(f.close());
+    EXPECT_EQ(slurp(path), "a,b\n");
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(tmp.dir()),
+                            std::filesystem::directory_iterator()),
+              1);
+}
+
+TEST(ReportFileTest, aTextReportFileIsWrittenWholeOrSaysWhy)
+{
+    // GIVEN a text report streamed into a folder, and one into /dev/full
+    testing::TempDir tmp("dt-report-file-");
+    std::string error;
+    {
+        TextReportFile f(tmp.path("chart.gp"), error);
+        f << "plot " << 1.5 << "\n";
+        // WHEN it goes out of scope THEN it is written whole
+    }
+    EXPECT_EQ(slurp(tmp.path("chart.gp")), "plot 1.5\n");
+    EXPECT_TRUE(error.empty()) << error;
+    TextReportFile full("/dev/full", error);
+    for (int i = 0; i < 4096; ++i)
+        full << "0123456789abcdef\n";
+    // WHEN it is closed THEN the failure is said once, with the path
+    EXPECT_FALSE(full.close());
+    EXPECT_NE(error.find("/dev/full"), std::string::npos) << error;
+    EXPECT_FALSE(full.close());
+}
+
 } // namespace
 } // namespace depthtouch::platform

@@ -167,11 +167,13 @@ Result<void> HapticTask::start()
     owner_.store(device_.isConnected() ? kRtOwns : kLost, std::memory_order_release);
 
     if (!config_.forceLogPath.empty()) {
-        forceLog_ = std::fopen(config_.forceLogPath.c_str(), "w");
-        if (forceLog_ == nullptr)
-            return unexpected(Errc::Io, "Failed to create the force log", errno);
+        // Written under a temporary name beside it, renamed into place by stop() when complete.
+        auto log = platform::OutputFile::open(config_.forceLogPath);
+        if (!log)
+            return unexpected(Errc::Io, "Failed to create the force log", log.error().sysErrno);
+        forceLog_ = std::move(*log);
         std::fputs("t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released,play_t\n",
-                   forceLog_);
+                   forceLog_.stream());
     }
     serviceStop_ = false;
     service_ = std::make_unique<platform::RealtimeThread>(
@@ -187,10 +189,7 @@ Result<void> HapticTask::start()
         }
         wake_.notify_all();
         service_->join();
-        if (forceLog_ != nullptr) {
-            std::fclose(forceLog_);
-            forceLog_ = nullptr;
-        }
+        forceLog_.abort();
         return started;
     }
     return ok();
@@ -221,13 +220,11 @@ void HapticTask::stop() noexcept
         service_->join();
     std::lock_guard<std::mutex> lock(mutex_);
     drainLocked();
-    if (forceLog_ != nullptr) {
-        // A write that failed (a full disk) shows in the stream's error flag or at the close.
-        if (std::fflush(forceLog_) != 0 || std::ferror(forceLog_) != 0)
+    if (forceLog_.isOpen()) {
+        // A write that failed (a full disk) shows in the stream's error flag, at the close or at
+        // the rename; then nothing is left under the log's name.
+        if (!forceLog_.commit())
             forceLogLost_ = true;
-        if (std::fclose(forceLog_) != 0)
-            forceLogLost_ = true;
-        forceLog_ = nullptr;
     }
 }
 

@@ -71,10 +71,10 @@ void HapticTask::drainLocked()
         prevCycle_ = s.cycle;
         if (firstWakeNs_ < 0)
             firstWakeNs_ = s.wakeNs;
-        if (forceLog_ != nullptr && (s.flags & TelemetrySample::Rendered) != 0) {
+        if (forceLog_.isOpen() && (s.flags & TelemetrySample::Rendered) != 0) {
             // play_t: seconds since the first update, monotonic through loops and seeks (t is
             // the media time, which restarts).
-            std::fprintf(forceLog_,
+            std::fprintf(forceLog_.stream(),
                          "%.6f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%d,%d,%.6f\n", s.t,
                          s.hip.x, s.hip.y, s.hip.z, s.proxy.x, s.proxy.y, s.proxy.z, s.force.x,
                          s.force.y, s.force.z, (s.flags & TelemetrySample::Contact) != 0 ? 1 : 0,
@@ -90,7 +90,7 @@ HapticStats HapticTask::stats()
     drainLocked();
     HapticStats s;
     s.servoRateHz = config_.servoRateHz;
-    s.forceLogLost = forceLogLost_ || (forceLog_ != nullptr && std::ferror(forceLog_) != 0);
+    s.forceLogLost = forceLogLost_ || (forceLog_.isOpen() && std::ferror(forceLog_.stream()) != 0);
     s.updates = updates_.load(std::memory_order_acquire);
     s.renderedUpdates = rendered_.load(std::memory_order_relaxed);
     s.contactUpdates = contacts_.load(std::memory_order_relaxed);

@@ -16,6 +16,7 @@ extern "C" {
 }
 
 #include "av_handles.h"
+#include "hls_files.h"
 #include "depthtouch/platform/enum_names.h"
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
@@ -174,6 +175,8 @@ struct Muxer::Impl {
     std::string tmpPath;   ///< Empty for URLs and outputs written in place (devices, FIFOs).
     bool started = false;
     bool finished = false;
+    bool hlsFile = false; ///< An HLS file output: its files are tracked by hls.
+    HlsFiles hls;
 
     ~Impl() { close(true); }
 
@@ -187,11 +190,15 @@ struct Muxer::Impl {
         }
         if (removeTmp && !tmpPath.empty() && !finished)
             (void)std::remove(tmpPath.c_str());
+        if (removeTmp && hlsFile && !finished)
+            hls.removeAll(); // nothing of an unfinished HLS output stays under its names
     }
 
     Result<void> write(AVPacket *pkt)
     {
-        const int ret = av_interleaved_write_frame(fmt, pkt);
+        int ret = av_interleaved_write_frame(fmt, pkt);
+        if (ret >= 0 && hls.error() < 0) // a segment or playlist the HLS muxer could not write
+            ret = hls.error();
         if (ret < 0) {
             DT_LOG(Media, Warning, "Failed to write %s: %s", output.c_str(), AvErrorText(ret).text);
             return unexpected(Errc::Io, "Failed to write the output", errnoOf(ret));
@@ -221,8 +228,10 @@ Result<std::unique_ptr<Muxer>> Muxer::open(const MuxerOptions &options)
                           "HLS (a .m3u8 output) through an HTTP server");
     std::string target = options.output;
     if (options.container == Container::Hls && !url) {
-        // The playlist and its segments are written in place, as they are made (a player may
-        // follow them while the encode runs); the folder must exist.
+        // The playlist and each segment are written under a temporary name and renamed when
+        // complete (`hls_flags temp_file`), as they are made: a player may follow them while the
+        // encode runs. Every file the muxer writes is tracked (HlsFiles): a failed write is
+        // seen and, when the output fails, nothing of it is left. The folder must exist.
         const std::filesystem::path dir =
             std::filesystem::path(options.output).parent_path().empty()
                 ? std::filesystem::path(".")
@@ -254,6 +263,10 @@ Result<std::unique_ptr<Muxer>> Muxer::open(const MuxerOptions &options)
     }
     for (const auto &[key, value] : options.tags)
         av_dict_set(&m.fmt->metadata, key.c_str(), value.c_str(), 0);
+    if (options.container == Container::Hls && !url) {
+        m.hls.install(m.fmt);
+        m.hlsFile = true;
+    }
     if ((options.container == Container::MpegTs || options.container == Container::Hls) &&
         !options.tags.empty()) {
         // MPEG-TS carries neither stream titles nor free tags; its service (program) name does
@@ -298,8 +311,11 @@ Result<void> Muxer::start()
         // playable while it grows and closed by EXT-X-ENDLIST at the end.
         av_dict_set(&opts, "hls_time", "2", 0);
         av_dict_set(&opts, "hls_list_size", m.live ? "6" : "0", 0);
-        if (m.live)
-            av_dict_set(&opts, "hls_flags", "delete_segments", 0);
+        const char *flags = m.live ? "delete_segments" : "";
+        if (m.hlsFile)
+            flags = m.live ? "delete_segments+temp_file" : "temp_file";
+        if (*flags != '\0')
+            av_dict_set(&opts, "hls_flags", flags, 0);
         else
             av_dict_set(&opts, "hls_playlist_type", "event", 0);
     }
@@ -321,6 +337,8 @@ Result<void> Muxer::finish()
     if (!m.started || m.finished)
         return unexpected(Errc::InvalidState, "Muxer finished twice or never started");
     int ret = av_write_trailer(m.fmt);
+    if (ret >= 0 && m.hls.error() < 0)
+        ret = m.hls.error();
     if (ret < 0)
         DT_LOG(Media, Warning, "Failed to write the trailer of %s: %s", m.output.c_str(),
                AvErrorText(ret).text);

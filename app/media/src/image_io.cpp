@@ -3,8 +3,10 @@
 
 #include "depthtouch/media/image_io.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string_view>
 
 extern "C" {
 #include <libavcodec/avcodec.h>
@@ -15,6 +17,7 @@ extern "C" {
 }
 
 #include "av_handles.h"
+#include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
 
 DT_LOG_CATEGORY(Media)
@@ -24,7 +27,6 @@ namespace depthtouch::media {
 namespace {
 
 using detail::AvErrorText;
-using detail::AvioPtr;
 using detail::CodecContextPtr;
 using detail::FramePtr;
 using detail::nativeLayout;
@@ -231,21 +233,15 @@ Result<void> writePng(const std::string &path, const Image &image)
         return unexpected(Errc::InvalidArgument, "Failed to encode PNG");
     }
 
-    AVIOContext *rawIo = nullptr;
-    if ((ret = avio_open(&rawIo, path.c_str(), AVIO_FLAG_WRITE)) < 0) {
-        DT_LOG(Media, Warning, "Failed to create %s: %s", path.c_str(), AvErrorText(ret).text);
-        return unexpected(Errc::Io, "Failed to create image file");
-    }
-    AvioPtr io(rawIo);
-    avio_write(io.get(), packet->data, packet->size);
-    avio_flush(io.get());
-    ret = io->error;
-    AVIOContext *closing = io.release();
-    const int closeRet = avio_closep(&closing);
-    if (ret < 0 || closeRet < 0) {
+    // Written under a temporary name beside it and renamed when complete: a full disk never
+    // leaves a cut or empty PNG under its name.
+    const std::string_view bytes(reinterpret_cast<const char *>(packet->data),
+                                 static_cast<std::size_t>(packet->size));
+    if (auto w = platform::writeOutputFile(path, bytes); !w) {
+        char why[160];
         DT_LOG(Media, Warning, "Failed to write %s: %s", path.c_str(),
-               AvErrorText(ret < 0 ? ret : closeRet).text);
-        return unexpected(Errc::Io, "Failed to write image file");
+               w.error().format(why, sizeof why));
+        return unexpected(Errc::Io, "Failed to write image file", w.error().sysErrno);
     }
     return ok();
 }

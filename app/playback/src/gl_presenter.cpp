@@ -101,12 +101,21 @@ public:
         stats.colorFramesImported = ds.imported;
         stats.colorFramesDmaBufUploaded = ds.uploaded;
     }
-    void shutdown() override
+    OutputsLost shutdown() override
     {
-        recorder_.finish();
+        OutputsLost lost;
+        lost.recording = recorder_.finish();
+        if (snapshotter_) {
+            if (auto f = snapshotter_->flush(); !f) {
+                char why[160];
+                lost.snapshot =
+                    std::string("a snapshot was not written: ") + f.error().format(why, sizeof why);
+            }
+        }
         snapshotter_.reset();
         target_.reset();
         renderer_.reset();
+        return lost;
     }
 
 private:
@@ -360,10 +369,14 @@ void GlPresenter::output(hal::Size size, DrawOutcome &out)
         if (snapshotRequest_.exchange(false))
             snapshotter_->request();
         auto w = snapshotter_->onFrame(*target_);
-        if (!w)
+        if (!w) {
             DT_LOG_ONCE(Playback, Warning, "Snapshot not written: %s", w.error().what);
-        else if (*w)
+            char why[160];
+            out.snapshotError =
+                std::string("a snapshot was not written: ") + w.error().format(why, sizeof why);
+        } else if (*w) {
             out.snapshotWritten = true;
+        }
     }
 }
 

@@ -21,7 +21,7 @@ public:
         return std::nullopt;
     }
     void addStats(PlaybackStats &) const override {}
-    void shutdown() override {}
+    OutputsLost shutdown() override { return {}; }
 };
 
 } // namespace

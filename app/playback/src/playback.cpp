@@ -8,9 +8,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <mutex>
 #include <optional>
+#include <system_error>
 
+#include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/percentile.h"
 #include "depthtouch/platform/realtime_thread.h"
 #include "depthtouch/platform/thread_config.h"
@@ -141,13 +144,18 @@ Result<std::unique_ptr<Playback>> Playback::create(const PlaybackConfig &config,
 
 Playback::~Playback()
 {
+    close();
+}
+
+void Playback::close()
+{
     impl_->tearDown();
     {
         std::lock_guard<std::mutex> lock(impl_->mutex);
         impl_->quit = true;
         impl_->cv.notify_all();
     }
-    if (impl_->renderThread)
+    if (impl_->renderThread && impl_->renderThread->joinable())
         impl_->renderThread->join();
 }
 
@@ -386,6 +394,25 @@ Result<void> Playback::snapshot()
         return Error(Errc::InvalidState, "no snapshot folder: play with --snapshot-dir");
     if (!presenterDraws(*impl_->hal.display))
         return Error(Errc::NotSupported, "this display draws no picture to save");
+    // Refused now (playback goes on) rather than answered as a success for a PNG that cannot be
+    // written: a folder that takes no file (made read-only while playing) or a snapshot already
+    // lost (a full disk; that loss makes the exit code 1).
+    std::error_code ec;
+    std::filesystem::path folder(impl_->config.snapshotDir);
+    while (!std::filesystem::exists(folder, ec) && folder.has_parent_path() &&
+           folder.parent_path() != folder)
+        folder = folder.parent_path(); // made with its parents at the first snapshot
+    if (!std::filesystem::exists(folder, ec))
+        folder = ".";
+    if (auto w = platform::checkFolderWritable(folder.string()); !w)
+        return Error(Errc::InvalidState, "the snapshot folder takes no file (read-only?)",
+                     w.error().sysErrno);
+    {
+        std::lock_guard<std::mutex> lock(impl_->mutex);
+        if (!impl_->stats.snapshotLost.empty())
+            return Error(Errc::InvalidState,
+                         "an earlier snapshot could not be written (disk full?)");
+    }
     requestSnapshot();
     return {};
 }

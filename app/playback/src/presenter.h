@@ -38,6 +38,13 @@ struct DrawOutcome {
     bool recorded = false;        ///< Added to the recording.
     bool snapshotWritten = false; ///< A snapshot was written.
     std::string recordError;      ///< The recording stopped with this error.
+    std::string snapshotError;    ///< A snapshot was not written (this one or an earlier one).
+};
+
+/// \brief The outputs of a run lost when it ended (empty: written, or none).
+struct OutputsLost {
+    std::string recording; ///< Why the recording could not be finished.
+    std::string snapshot;  ///< Why a snapshot still being written was lost.
 };
 
 /// \brief The level of detail after a presented frame.
@@ -75,8 +82,10 @@ public:
                                                   bool prerolling) = 0;
     /// \brief Copies the renderer's own counters (zero-copy colour frames) into \a stats.
     virtual void addStats(PlaybackStats &stats) const = 0;
-    /// \brief Ends the recording and drops the GL objects (while the context is current).
-    virtual void shutdown() = 0;
+    /// \brief Ends the recording, writes the snapshots still queued and drops the GL objects
+    /// (while the context is current).
+    /// \return what could not be written.
+    virtual OutputsLost shutdown() = 0;
 
 protected:
     Presenter() = default;

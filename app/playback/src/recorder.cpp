@@ -79,22 +79,35 @@ std::string Recorder::add(const render::RenderTarget &target, platform::TimePoin
     return {};
 }
 
-void Recorder::finish() noexcept
+std::string Recorder::finish() noexcept
 {
     if (!thread_ || !thread_->joinable())
-        return;
+        return {};
     {
         std::lock_guard<std::mutex> lock(mutex_);
         stop_ = true;
     }
     workCv_.notify_one();
     thread_->join();
-    const bool ok = error_.empty() && encoder_->flush() && muxer_->finish();
-    if (!ok)
-        DT_LOG(Playback, Error, "The recording could not be finished%s%s",
-               error_.empty() ? "" : ": ", error_.c_str());
+    std::string why = error_;
+    if (why.empty()) {
+        if (auto f = encoder_->flush(); !f)
+            why = std::string("cannot encode the recording: ") + f.error().what;
+    }
+    if (why.empty()) {
+        if (auto m = muxer_->finish(); !m) {
+            char text[160];
+            why =
+                std::string("cannot finish the recording: ") + m.error().format(text, sizeof text);
+        }
+    }
+    if (!why.empty()) {
+        DT_LOG(Playback, Error, "The recording could not be finished: %s", why.c_str());
+        muxer_->abort(); // the temporary file goes; nothing is left under the final name
+    }
     encoder_.reset();
     muxer_.reset();
+    return why;
 }
 
 void Recorder::encodeLoop()

@@ -35,7 +35,7 @@ public:
     Recorder() = default;
     Recorder(const Recorder &) = delete;
     Recorder &operator=(const Recorder &) = delete;
-    ~Recorder() { finish(); }
+    ~Recorder() { (void)finish(); }
 
     /// \return whether open() succeeded.
     [[nodiscard]] bool isOpen() const noexcept { return encoder_ != nullptr; }
@@ -49,9 +49,11 @@ public:
     /// \return an error text (of this frame, or of the encoding of an earlier one), or empty.
     std::string add(const render::RenderTarget &target, platform::TimePoint now);
 
-    /// \brief Encodes what is queued, ends the file and stops the thread (once). Logs an error
-    /// when the file could not be finished.
-    void finish() noexcept;
+    /// \brief Encodes what is queued, ends the file (renamed into place only when complete) and
+    /// stops the thread (once).
+    /// \return why the file could not be finished (nothing is then left under its name), or empty
+    /// (also when nothing was recording).
+    std::string finish() noexcept;
 
 private:
     struct Job {

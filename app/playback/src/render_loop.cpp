@@ -296,8 +296,12 @@ void RenderLoop::count(Session &s, const DrawOutcome &d, const Result<hal::Prese
         ++stats.framesRecorded;
     if (d.snapshotWritten)
         ++stats.snapshotsWritten;
-    if (!d.recordError.empty())
+    if (!d.recordError.empty()) {
         shared_.failure = d.recordError;
+        stats.recordingLost = d.recordError;
+    }
+    if (!d.snapshotError.empty() && stats.snapshotLost.empty())
+        stats.snapshotLost = d.snapshotError;
     if (lod) {
         stats.lodBudget = lod->budget;
         if (lod->limited)
@@ -333,7 +337,15 @@ void RenderLoop::leave()
         shared_.sessionAck = shared_.sessionGen;
         shared_.cv.notify_all();
     }
-    presenter_->shutdown();
+    OutputsLost lost = presenter_->shutdown();
+    {
+        std::lock_guard<std::mutex> lock(shared_.mutex);
+        PlaybackStats &stats = shared_.stats;
+        if (!lost.recording.empty() && stats.recordingLost.empty())
+            stats.recordingLost = std::move(lost.recording);
+        if (!lost.snapshot.empty() && stats.snapshotLost.empty())
+            stats.snapshotLost = std::move(lost.snapshot);
+    }
     display_.close();
 }
 

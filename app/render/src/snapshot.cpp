@@ -81,6 +81,7 @@ void Snapshotter::writerLoop()
         if (!r) {
             DT_LOG(Snapshot, Error, "Failed to write %s: %s", job.path.c_str(), r.error().what);
             failed_ = true;
+            failedErrno_ = r.error().sysErrno;
         }
         cv_.notify_all();
     }
@@ -103,7 +104,7 @@ Result<void> Snapshotter::takeError()
     if (!failed_)
         return ok();
     failed_ = false;
-    return unexpected(Errc::Io, "Failed to write a snapshot (the log names the file)");
+    return unexpected(Errc::Io, "Failed to write a snapshot", failedErrno_);
 }
 
 Result<void> Snapshotter::flush()

@@ -345,6 +345,39 @@ TEST(PlayEndToEnd, TheSnapshotCommandSavesThePresentedFrame)
     EXPECT_GT(fs::file_size(pngs[0]), 1000u);
 }
 
+TEST(PlayEndToEnd, TheSnapshotCommandIsRefusedWhenTheFolderTakesNoFile)
+{
+    // GIVEN a player whose --snapshot-dir became read-only while it plays
+    depthtouch::testing::TempDir tmp("dt-play-snap-ro-");
+    const std::string sock = (tmp.dir() / "ctl.sock").string();
+    const fs::path snaps = tmp.dir() / "snaps";
+    fs::create_directories(snaps);
+    const std::string cmd = std::string(DEPTHTOUCH) +
+                            " play 'mock://clip?frames=60&fps=30' --source mock --decoder mock "
+                            "--display headless --haptic none --loop --duration 30 --control " +
+                            sock + " --snapshot-dir " + snaps.string();
+    RunResult result;
+    std::thread player([&] { result = run(cmd); });
+    ControlClient c;
+    ASSERT_TRUE(c.connect(sock, 10s)) << "no control socket at " << sock;
+    std::this_thread::sleep_for(300ms); // playing
+    // (root writes through permissions: an immutable folder stops it)
+    const bool root = ::geteuid() == 0;
+    const std::string lock = (root ? "chattr +i '" : "chmod 0555 '") + snaps.string() + "'";
+    const bool locked = std::system((lock + " 2>/dev/null").c_str()) == 0;
+    // WHEN a snapshot is asked for
+    const std::string answer = locked ? c.request(R"({"command":["snapshot"]})") : "";
+    EXPECT_EQ(c.request(R"({"command":["quit"]})"), R"({"error":"success"})");
+    player.join();
+    (void)std::system(((root ? "chattr -i '" : "chmod 0755 '") + snaps.string() + "'").c_str());
+    if (!locked)
+        GTEST_SKIP() << "cannot make " << snaps << " read-only here";
+    // THEN the answer is an error that says why, not a success for a PNG never written
+    EXPECT_NE(answer.find("takes no file"), std::string::npos) << answer;
+    EXPECT_EQ(result.exitCode, 0) << result.output;
+    EXPECT_TRUE(fs::is_empty(snaps));
+}
+
 /// The bounding box of \a image's pixels brighter than black (any channel above 24).
 struct Extent {
     int x0 = 0, y0 = 0, x1 = -1, y1 = -1;

@@ -248,13 +248,15 @@ TEST(PlaybackSim, PauseFreezesTheHapticTimeAndTheSurfaceUnderTheFinger)
     EXPECT_NEAR(mock.lastForce().z - force, 0.48, 0.08);
     // AND the haptic time of every update while paused was the same
     task->drainTelemetry();
-    const std::vector<double> t = loggedTimes(config.haptics.forceLogPath);
+    // (the log is under its temporary name, PATH.tmp.PID, until the task stops and renames it)
+    const std::string writing = config.haptics.forceLogPath + ".tmp." + std::to_string(::getpid());
+    const std::vector<double> t = loggedTimes(writing);
     ASSERT_GE(t.size(), rendered1);
     ASSERT_LT(rendered0, rendered1);
     for (std::uint64_t i = rendered0; i < rendered1; ++i)
         ASSERT_EQ(t[i], t[rendered0]) << "the haptic time moved while paused, row " << i;
     EXPECT_GT(t.back(), t[rendered0] + 0.15) << "and it moves again once resumed";
-    std::remove(config.haptics.forceLogPath.c_str());
+    std::remove(writing.c_str());
     rmdir(dir);
 }
 

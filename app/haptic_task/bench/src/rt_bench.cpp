@@ -6,7 +6,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <sys/mman.h>
 #include <thread>
 
@@ -396,7 +395,7 @@ bool writeRtBenchOutputs(const RtBenchReport &report, const std::string &dir, st
     }
     const fs::path gp = base / "rt_bench.gp";
     {
-        std::ofstream g(gp);
+        platform::TextReportFile g(gp.string(), error);
         g << "set terminal pngcairo size 1400,900\n"
              "set output '"
           << (base / "rt_bench.png").string()
@@ -420,6 +419,8 @@ bool writeRtBenchOutputs(const RtBenchReport &report, const std::string &dir, st
           << "' using 13:xtic(1) title 'p50', '' using 14 title 'p99', '' using 15 title 'p99.9', "
              "'' using 16 title 'max'\n"
              "unset multiplot\n";
+        if (!g.close())
+            return false;
     }
     const std::string cmd = "gnuplot '" + gp.string() + "' 2>&1";
     if (std::system(cmd.c_str()) != 0)

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -132,7 +131,7 @@ nlohmann::json rowJson(const FeelRow &r)
             {"update_p999_us", f.updateP999 * 1e6}};
 }
 
-void writeRowsCsv(std::ofstream &c, const std::vector<FeelRow> &rows)
+void writeRowsCsv(std::ostream &c, const std::vector<FeelRow> &rows)
 {
     for (const FeelRow &r : rows) {
         const FeelFigures &f = r.total;
@@ -271,7 +270,7 @@ struct Panel {
 };
 
 /// Writes panel \a p of the chart of \a pts (\a maxP: the largest update p99.9) to \a s.
-void writePanel(std::ofstream &s, const Panel &p, const std::vector<ChartPoint> &pts, double maxP)
+void writePanel(std::ostream &s, const Panel &p, const std::vector<ChartPoint> &pts, double maxP)
 {
     s << "set title '" << p.title << "'\nset xlabel '" << p.xlabel << "'\nset ylabel '" << p.ylabel
       << "'\nunset label\nunset arrow\n";
@@ -317,12 +316,14 @@ void writePanel(std::ofstream &s, const Panel &p, const std::vector<ChartPoint> 
 /// one labelled point per setting, point size growing with the update's p99.9: force RMS error on
 /// clean geometry against (1) the worst family × clip spikes per second on the real clips and (2)
 /// the worst pop-through there; (3) goals met against the update time.
-void writeChartScript(const FeelReport &report, const std::filesystem::path &base)
+/// \return false (\a error set) when it could not be written.
+bool writeChartScript(const FeelReport &report, const std::filesystem::path &base,
+                      std::string &error)
 {
     bool real = false;
     const std::vector<ChartPoint> pts = chartPoints(report, real);
     const FeelGoals &g = report.goals;
-    std::ofstream s(base / "feel.gp");
+    platform::TextReportFile s((base / "feel.gp").string(), error);
     s << "set terminal pngcairo size 1800,720 font ',10'\n"
       << "set output '" << (base / "feel.png").string() << "'\n"
       << "set multiplot layout 1,3 title \"bench feel: accuracy on clean geometry, robustness on "
@@ -369,13 +370,13 @@ void writeChartScript(const FeelReport &report, const std::filesystem::path &bas
     for (const Panel &p : panels)
         writePanel(s, p, pts, maxP);
     s << "set origin 0,0\nset size 1,1\nunset multiplot\n";
+    return s.close();
 }
 
-/// feel.csv, feel_strokes.csv and feel_families.csv in \a base (the folder \a dir).
-bool writeFeelCsvs(const FeelReport &report, const std::filesystem::path &base,
-                   const std::string &dir, std::string &error)
+/// feel.csv, feel_strokes.csv and feel_families.csv in \a base.
+bool writeFeelCsvs(const FeelReport &report, const std::filesystem::path &base, std::string &error)
 {
-    std::ofstream c(base / "feel.csv");
+    platform::TextReportFile c((base / "feel.csv").string(), error);
     c << "scene,setting,strokes,seconds,sliding_s,trips,real_cut_trips,false_trips,false_trips_"
          "per_s,"
          "real_trips_per_s,pop_through_ms,phantom_ms,spikes,spikes_per_s,worst_stroke_spikes_"
@@ -383,7 +384,7 @@ bool writeFeelCsvs(const FeelReport &report, const std::filesystem::path &base,
          "ripple_rms_n,ripple_relative,max_force_n,update_p50_us,update_p999_us\n";
     writeRowsCsv(c, report.rows);
     writeRowsCsv(c, report.totals);
-    std::ofstream k(base / "feel_strokes.csv");
+    platform::TextReportFile k((base / "feel_strokes.csv").string(), error);
     k << "scene,setting,stroke,kind,family,where,trips,real_cut_trips,pop_through_ms,"
          "phantom_ms,spikes,spikes_per_s,ripple_rms_n,max_force_n,update_p999_us,"
       << kFamilyColumns << '\n';
@@ -397,7 +398,7 @@ bool writeFeelCsvs(const FeelReport &report, const std::filesystem::path &base,
         writeFamilyCsv(k, f);
         k << '\n';
     }
-    std::ofstream fam(base / "feel_families.csv");
+    platform::TextReportFile fam((base / "feel_families.csv").string(), error);
     fam << "scene,setting,family,strokes,false_trips,pop_through_ms,phantom_ms,max_force_n,"
            "update_p50_us,update_p999_us,"
         << kFamilyColumns << '\n';
@@ -409,16 +410,12 @@ bool writeFeelCsvs(const FeelReport &report, const std::filesystem::path &base,
         writeFamilyCsv(fam, f);
         fam << '\n';
     }
-    if (!c || !k || !fam) {
-        error = "failed to write feel.csv, feel_families.csv or feel_strokes.csv in " + dir;
-        return false;
-    }
-    return true;
+    const bool written = c.close();
+    return k.close() && fam.close() && written;
 }
 
 /// feel.json in \a base (the folder \a dir).
-bool writeFeelJson(const FeelReport &report, const std::filesystem::path &base,
-                   const std::string &dir, std::string &error)
+bool writeFeelJson(const FeelReport &report, const std::filesystem::path &base, std::string &error)
 {
     nlohmann::json rows = nlohmann::json::array();
     nlohmann::json familyRows = nlohmann::json::array();
@@ -466,13 +463,9 @@ bool writeFeelJson(const FeelReport &report, const std::filesystem::path &base,
                                   {"at_max_ms", g.maxAtMaxMs},
                                   {"pull_down_ms", g.maxPullDownMs},
                                   {"device_max_force_n", g.deviceMaxForce}}}};
-    std::ofstream js(base / "feel.json");
+    platform::TextReportFile js((base / "feel.json").string(), error);
     js << doc.dump(2) << '\n';
-    if (!js) {
-        error = "failed to write feel.json in " + dir;
-        return false;
-    }
-    return true;
+    return js.close();
 }
 
 } // namespace
@@ -543,7 +536,7 @@ bool writeStrokeLogs(const FeelReport &report, const std::filesystem::path &base
                 ch = '_';
         std::error_code ec;
         std::filesystem::create_directories(base / "feel_dump", ec);
-        std::ofstream f(base / "feel_dump" / (name + ".csv"));
+        platform::TextReportFile f((base / "feel_dump" / (name + ".csv")).string(), error);
         f << "t_s,hip_x_mm,hip_y_mm,hip_z_mm,proxy_x_mm,proxy_y_mm,proxy_z_mm,fx_n,fy_n,fz_n,"
              "surface_z_mm,held_z_mm,surface_rise_mm,ideal_n,tripped,cut,pressed\n";
         for (const FeelSample &w : r.log)
@@ -552,10 +545,8 @@ bool writeStrokeLogs(const FeelReport &report, const std::filesystem::path &base
               << w.force.x << ',' << w.force.y << ',' << w.force.z << ',' << w.surfaceZ * 1e3 << ','
               << w.heldSurfaceZ * 1e3 << ',' << w.surfaceRise * 1e3 << ',' << w.idealForce << ','
               << w.released << ',' << w.surfaceCut << ',' << w.pressed << '\n';
-        if (!f) {
-            error = "failed to write " + (base / "feel_dump" / (name + ".csv")).string();
+        if (!f.close())
             return false;
-        }
     }
     return true;
 }
@@ -567,10 +558,11 @@ bool writeFeelOutputs(const FeelReport &report, const std::string &dir, std::str
     const fs::path base(dir);
     if (!platform::createReportFolder(dir, "cannot create " + dir, error))
         return false;
-    if (!writeFeelCsvs(report, base, dir, error) || !writeFeelJson(report, base, dir, error) ||
+    if (!writeFeelCsvs(report, base, error) || !writeFeelJson(report, base, error) ||
         !writeStrokeLogs(report, base, error))
         return false;
-    writeChartScript(report, base);
+    if (!writeChartScript(report, base, error))
+        return false;
     const platform::PlotStatus plot = platform::runGnuplot((base / "feel.gp").string());
     std::filesystem::remove(base / "feel_vs_speed.png");
     if (plot != platform::PlotStatus::Drawn)

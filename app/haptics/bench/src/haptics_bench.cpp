@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <memory>
 #include <string>
@@ -415,7 +414,7 @@ namespace {
 bool writeRowsCsv(const BenchReport &report, const std::filesystem::path &base, std::string &error)
 {
     {
-        std::ofstream csv(base / "haptics_bench.csv");
+        platform::TextReportFile csv((base / "haptics_bench.csv").string(), error);
         csv << "method,width,height,motion,updates,median_ns,p99_ns,p999_ns,max_ns,frame_cost_ns,"
                "force_rms_error_n,pop_throughs,psd_frame_rate_db,runs,min_of_runs_median_ns,"
                "min_of_runs_p99_ns,min_of_runs_p999_ns\n";
@@ -430,10 +429,8 @@ bool writeRowsCsv(const BenchReport &report, const std::filesystem::path &base, 
                 r.minOfRunsP99Ns, r.minOfRunsP999Ns);
             csv << line;
         }
-        if (!csv) {
-            error = "Failed to write haptics_bench.csv";
+        if (!csv.close())
             return false;
-        }
     }
     return true;
 }
@@ -500,21 +497,21 @@ bool writeReportJson(const BenchReport &report, const std::filesystem::path &bas
               {"finger_materials_p999_ns_720x486_1mps", report.fingerMaterialsP999At720Fast},
               {"finger_materials_min_of_runs_p999_ns_720x486_1mps",
                report.fingerMaterialsMinOfRunsP999At720Fast}}}};
-        std::ofstream js(base / "haptics_bench.json");
+        platform::TextReportFile js((base / "haptics_bench.json").string(), error);
         js << doc.dump(2) << '\n';
-        if (!js) {
-            error = "Failed to write haptics_bench.json";
+        if (!js.close())
             return false;
-        }
     }
     return true;
 }
 
 /// psd.csv, speed_vs_accuracy.dat and the gnuplot script charts.gp of the two charts.
-void writeChartData(const BenchReport &report, const std::filesystem::path &base)
+/// \return false (\a error set) when a file could not be written.
+bool writeChartData(const BenchReport &report, const std::filesystem::path &base,
+                    std::string &error)
 {
     {
-        std::ofstream p(base / "psd.csv");
+        platform::TextReportFile p((base / "psd.csv").string(), error);
         p << "hz,interpolated_db,sample_and_hold_db\n";
         const std::size_t n = std::min(report.psd.interpolatedDb.size(), report.psd.holdDb.size());
         for (std::size_t k = 1; k < n; ++k)
@@ -523,7 +520,7 @@ void writeChartData(const BenchReport &report, const std::filesystem::path &base
     }
     {
         // one data block per method for the speed-vs-accuracy scatter
-        std::ofstream d(base / "speed_vs_accuracy.dat");
+        platform::TextReportFile d((base / "speed_vs_accuracy.dat").string(), error);
         for (const char *m : {"finger", "modified", "modified-hold", "proxy-graph", "mesh-bvh"}) {
             d << "# " << m << "\n";
             for (const BenchRow &r : report.rows)
@@ -534,7 +531,7 @@ void writeChartData(const BenchReport &report, const std::filesystem::path &base
         }
     }
     {
-        std::ofstream g(base / "charts.gp");
+        platform::TextReportFile g((base / "charts.gp").string(), error);
         g << "set terminal pngcairo size 1100,700 noenhanced\n"
              "set output '"
           << (base / "speed_vs_accuracy.png").string()
@@ -559,6 +556,7 @@ void writeChartData(const BenchReport &report, const std::filesystem::path &base
           << "' using 1:3 with lines title 'sample-and-hold', '' using 1:2 with lines title "
              "'interpolated (Eq. 1)'\n";
     }
+    return error.empty();
 }
 
 } // namespace
@@ -571,7 +569,8 @@ bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::s
     const std::filesystem::path base(dir);
     if (!writeRowsCsv(report, base, error) || !writeReportJson(report, base, error))
         return false;
-    writeChartData(report, base);
+    if (!writeChartData(report, base, error))
+        return false;
     // Charts with gnuplot, when it is installed.
     const platform::PlotStatus plot = platform::runGnuplot((base / "charts.gp").string());
     if (plot != platform::PlotStatus::Drawn)

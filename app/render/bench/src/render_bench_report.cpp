@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -46,7 +45,8 @@ void printStages(const std::vector<BenchRow> &rows)
 }
 
 /// fps_vs_error.dat/.gp: one line per family, the rows of the first source and size.
-void writeFpsChart(const std::vector<BenchRow> &rows, const std::filesystem::path &base)
+void writeFpsChart(const std::vector<BenchRow> &rows, const std::filesystem::path &base,
+                   std::string &error)
 {
     static constexpr const char *kFamilies[] = {"fixed",   "adaptive", "quadtree",
                                                 "budgets", "blocks",   "block budgets"};
@@ -64,7 +64,7 @@ void writeFpsChart(const std::vector<BenchRow> &rows, const std::filesystem::pat
     // One data block per family that has rows (gnuplot's `index` counts the blocks written).
     std::vector<int> present;
     {
-        std::ofstream d(base / "fps_vs_error.dat");
+        platform::TextReportFile d((base / "fps_vs_error.dat").string(), error);
         for (int k = 0; k < kFamilyCount; ++k) {
             const bool any = std::any_of(rows.begin(), rows.end(), [&](const BenchRow &r) {
                 return firstSet(rows, r) && r.family == kFamilies[k];
@@ -83,7 +83,7 @@ void writeFpsChart(const std::vector<BenchRow> &rows, const std::filesystem::pat
                                          : rows.front().source + ' ' +
                                                std::to_string(rows.front().depthWidth) + 'x' +
                                                std::to_string(rows.front().depthHeight);
-    std::ofstream gp(base / "fps_vs_error.gp");
+    platform::TextReportFile gp((base / "fps_vs_error.gp").string(), error);
     gp << "set terminal pngcairo size 1100,700 noenhanced font ',10'\n"
        << "set output '" << (base / "fps_vs_error.png").string() << "'\n"
        << "set title 'Stereo side-by-side, " << src << ": frame rate vs mean geometric error'\n"
@@ -110,9 +110,10 @@ void writeFpsChart(const std::vector<BenchRow> &rows, const std::filesystem::pat
 }
 
 /// stages.dat/.gp: stacked stage medians, one bar per setting of the first source and size.
-void writeStagesChart(const std::vector<BenchRow> &rows, const std::filesystem::path &base)
+void writeStagesChart(const std::vector<BenchRow> &rows, const std::filesystem::path &base,
+                      std::string &error)
 {
-    std::ofstream d(base / "stages.dat");
+    platform::TextReportFile d((base / "stages.dat").string(), error);
     d << "mesh";
     for (int k = 0; k < kStageCount; ++k)
         d << ' ' << stageName(k);
@@ -125,7 +126,7 @@ void writeStagesChart(const std::vector<BenchRow> &rows, const std::filesystem::
             d << ' ' << v;
         d << '\n';
     }
-    std::ofstream gp(base / "stages.gp");
+    platform::TextReportFile gp((base / "stages.gp").string(), error);
     gp << "set terminal pngcairo size 1100,650 noenhanced font ',10'\n"
        << "set output '" << (base / "stages.png").string() << "'\n"
        << "set title 'Stereo side-by-side: median time per stage (glFinish after each stage)'\n"
@@ -141,7 +142,8 @@ void writeStagesChart(const std::vector<BenchRow> &rows, const std::filesystem::
 /// cpu_vs_depth_size.dat/.gp: two panels, the render thread's geometry CPU (geom_cpu_ms) and the
 /// prep thread's (prep_cpu_ms) per frame against the depth size, one line per setting of the first
 /// source (the kitchen), the key below, the goals as labelled dotted lines.
-void writeCpuChart(const std::vector<BenchRow> &rows, const std::filesystem::path &base)
+void writeCpuChart(const std::vector<BenchRow> &rows, const std::filesystem::path &base,
+                   std::string &error)
 {
     if (rows.empty())
         return;
@@ -151,7 +153,7 @@ void writeCpuChart(const std::vector<BenchRow> &rows, const std::filesystem::pat
         if (r.source == source && std::find(series.begin(), series.end(), r.name) == series.end())
             series.push_back(r.name);
     {
-        std::ofstream d(base / "cpu_vs_depth_size.dat");
+        platform::TextReportFile d((base / "cpu_vs_depth_size.dat").string(), error);
         for (const std::string &name : series) {
             d << "# " << name << '\n';
             for (const BenchRow &r : rows)
@@ -164,7 +166,7 @@ void writeCpuChart(const std::vector<BenchRow> &rows, const std::filesystem::pat
     static constexpr const char *kColours[] = {"#1f77b4", "#2ca02c", "#d62728", "#9467bd",
                                                "#ff7f0e", "#8c564b", "#17becf", "#7f7f7f"};
     const std::string dat = "'" + (base / "cpu_vs_depth_size.dat").string() + "'";
-    std::ofstream gp(base / "cpu_vs_depth_size.gp");
+    platform::TextReportFile gp((base / "cpu_vs_depth_size.gp").string(), error);
     gp << "set terminal pngcairo size 1200,620 noenhanced font ',10'\n"
        << "set output '" << (base / "cpu_vs_depth_size.png").string() << "'\n"
        << "set multiplot layout 1,2 title 'CPU time per frame for the depth geometry vs depth "
@@ -234,11 +236,7 @@ bool writeBenchOutputs(const std::vector<BenchRow> &rows, const std::string &dir
         return false;
     const fs::path base(dir);
     {
-        std::ofstream csv(base / "render_bench.csv");
-        if (!csv) {
-            error = "cannot write " + (base / "render_bench.csv").string();
-            return false;
-        }
+        platform::TextReportFile csv((base / "render_bench.csv").string(), error);
         csv << "source,depth_size,mesh,family,tolerance_levels,step,triangles,median_ms,p99_ms,fps,"
                "cpu_ms,geom_cpu_ms,geom_cpu_p99_ms,prep_cpu_ms,mesh_ms,draw_ms,mean_error_levels,"
                "max_error_levels,uncovered";
@@ -255,10 +253,15 @@ bool writeBenchOutputs(const std::vector<BenchRow> &rows, const std::string &dir
                 csv << ',' << r.stageMedianMs[k] << ',' << r.stageP99Ms[k];
             csv << ',' << r.stagedMedianMs << ',' << r.stagedP99Ms << '\n';
         }
+        if (!csv.close())
+            return false;
     }
-    writeFpsChart(rows, base);
-    writeStagesChart(rows, base);
-    writeCpuChart(rows, base);
+    // Each file is written whole when its writer's scope ends; the first failure is in error.
+    writeFpsChart(rows, base, error);
+    writeStagesChart(rows, base, error);
+    writeCpuChart(rows, base, error);
+    if (!error.empty())
+        return false;
     platform::PlotStatus plot = platform::runGnuplot((base / "fps_vs_error.gp").string());
     if (plot == platform::PlotStatus::Drawn)
         plot = platform::runGnuplot((base / "stages.gp").string());

@@ -14,6 +14,8 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -88,6 +90,47 @@ struct OutputPlan {
 ///         writable, or an empty path.
 Result<OutputPlan> planOutput(const std::string &path);
 
+/// \brief A file output written as a stream (rsync's way): a regular file or a new path is written
+/// under its temporary name beside it (planOutput()) and renamed over the final name by commit()
+/// only, after every byte reached the disk; a device or a FIFO with a reader is written in place.
+/// Destroyed or abort()ed without a successful commit(), the temporary file is removed and the
+/// final name keeps what it held. Move-only; thread-bound (one writer).
+class OutputFile {
+public:
+    OutputFile() = default;
+    ~OutputFile() { abort(); }
+    OutputFile(OutputFile &&other) noexcept;
+    OutputFile &operator=(OutputFile &&other) noexcept;
+    OutputFile(const OutputFile &) = delete;
+    OutputFile &operator=(const OutputFile &) = delete;
+
+    /// \brief Opens \a path by its plan (planOutput()).
+    /// \return the open output; Errc::InvalidArgument as planOutput(), or when the file cannot be
+    ///         created or opened (errno set).
+    static Result<OutputFile> open(const std::string &path);
+
+    /// \return true between a successful open() and commit() or abort().
+    [[nodiscard]] bool isOpen() const noexcept { return file_ != nullptr; }
+    /// \return the stream to write (null when not open).
+    [[nodiscard]] std::FILE *stream() const noexcept { return file_; }
+    /// \return the temporary name being written, empty when written in place or not open.
+    [[nodiscard]] const std::string &tempPath() const noexcept { return tempPath_; }
+
+    /// \brief Flushes, checks the stream's error flag, syncs, closes and renames the temporary file
+    /// over the final name.
+    /// \return Errc::Io when a write, the sync, the close or the rename failed (errno of the
+    ///         first failure; the temporary file is removed); Errc::InvalidState when not open.
+    Result<void> commit();
+
+    /// \brief Closes without finishing: the temporary file is removed (in place: just closed).
+    void abort() noexcept;
+
+private:
+    std::FILE *file_ = nullptr;
+    std::string finalPath_;
+    std::string tempPath_; ///< Empty when written in place.
+};
+
 /// \brief Writes \a bytes to \a path by its plan (planOutput()): Replace writes the temporary file,
 /// flushes and renames it; InPlace writes the device or FIFO directly. On failure no temporary
 /// file is left and a replaced path keeps its old content.
@@ -96,5 +139,31 @@ Result<OutputPlan> planOutput(const std::string &path);
 ///         Errc::Io when writing (e.g. ENOSPC on /dev/full), closing or renaming fails: the output
 ///         is lost.
 Result<void> writeOutputFile(const std::string &path, std::string_view bytes);
+
+/// \brief Checks that a new file can be made in the folder \a dir now (a file is created there
+/// and removed at once: permissions, a read-only or full file system, root's rights all count).
+/// \return Errc::InvalidArgument when \a dir is not a folder or refuses new files (EACCES, EPERM,
+///         EROFS; errno set); Errc::Io for another failure (ENOSPC, EDQUOT, EIO: lost output).
+Result<void> checkFolderWritable(const std::string &dir);
+
+/// \brief The identity of what a path names, to tell whether two paths name the same file however
+/// they are spelled (symbolic links and `..` resolved by the kernel): an existing file's device and
+/// inode; for a new path, its folder's device and inode and its last name.
+struct FileIdentity {
+    std::uint64_t device = 0;
+    std::uint64_t inode = 0;
+    std::string name;     ///< The last name for a new path; empty for an existing file.
+    bool regular = false; ///< An existing regular file (not a device, FIFO or folder).
+    friend bool operator==(const FileIdentity &a, const FileIdentity &b)
+    {
+        return a.device == b.device && a.inode == b.inode && a.name == b.name;
+    }
+    friend bool operator!=(const FileIdentity &a, const FileIdentity &b) { return !(a == b); }
+};
+
+/// \brief The identity of \a path (see FileIdentity): a dangling symbolic link is the path it
+/// points to (writing through it creates that file).
+/// \return nullopt when \a path names nothing and no folder of it exists (nor can), or is empty.
+std::optional<FileIdentity> fileIdentity(const std::string &path);
 
 } // namespace depthtouch::platform

@@ -26,6 +26,7 @@
 #include "depthtouch/haptic_task/latency_histogram.h"
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/platform/clock.h"
+#include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/periodic_timer.h"
 #include "depthtouch/platform/realtime_thread.h"
 #include "depthtouch/platform/result.h"
@@ -414,7 +415,8 @@ private:
     bool serviceStop_ = false;
     bool started_ = false;
     bool stopped_ = false;
-    std::FILE *forceLog_ = nullptr;
+    /// The force log, under its temporary name until stop() renames it into place.
+    platform::OutputFile forceLog_;
     std::unique_ptr<LatencyHistogram> wakeHist_;
     std::unique_ptr<LatencyHistogram> updateHist_;
     std::unique_ptr<LatencyHistogram> periodHist_;

@@ -31,10 +31,11 @@ namespace depthtouch::media {
 Result<Image> readImage(const std::string &path, std::optional<PixelFormat> format = std::nullopt);
 
 /// \brief Writes \a image as a PNG file with libavcodec's PNG encoder (Gray8 → 8-bit gray, Gray16 →
-/// 16-bit gray, Rgb24 → 8-bit RGB; lossless: reading it back gives the same samples). Overwrites \a
-/// path. \return Errc::InvalidArgument for an empty or inconsistent image, Errc::NotSupported when
-/// FFmpeg has no PNG
-///         encoder, Errc::Io when the file cannot be written.
+/// 16-bit gray, Rgb24 → 8-bit RGB; lossless: reading it back gives the same samples). Replaces \a
+/// path whole (platform::writeOutputFile: written under a temporary name beside it and renamed
+/// when complete, never a cut file). \return Errc::InvalidArgument for an empty or inconsistent
+/// image, Errc::NotSupported when FFmpeg has no PNG encoder, Errc::Io when the file cannot be
+/// written (no folder, a directory, a full disk).
 Result<void> writePng(const std::string &path, const Image &image);
 
 } // namespace depthtouch::media

@@ -152,6 +152,10 @@ struct PlaybackStats {
     std::uint64_t colorFramesImported = 0;       ///< Dma-buf colour frames imported (zero-copy).
     std::uint64_t colorFramesDmaBufUploaded = 0; ///< Dma-buf colour frames uploaded instead.
     receiver::ReceiverStats receiver{};          ///< Of the current (or last) open.
+    /// Why the recording was lost (not finished at the end, or stopped by an error); empty when
+    /// it was written or none was asked for.
+    std::string recordingLost;
+    std::string snapshotLost; ///< Why a snapshot was not written (the first); empty when none.
 };
 
 /// What open() found about the stream, for the summary.
@@ -191,10 +195,17 @@ public:
     [[nodiscard]] Result<void> setHapticsEnabled(bool enabled) override;
     [[nodiscard]] Result<void> setStiffness(double newtonsPerMetre) override;
     [[nodiscard]] Result<void> recenter() override;
-    /// Errc::InvalidState without PlaybackConfig::snapshotDir, Errc::NotSupported on a display
-    /// that draws nothing (mock); else requestSnapshot().
+    /// Errc::InvalidState without PlaybackConfig::snapshotDir, when the folder takes no file or
+    /// when an earlier snapshot could not be written (refused: playback goes on),
+    /// Errc::NotSupported on a display that draws nothing (mock); else requestSnapshot().
     [[nodiscard]] Result<void> snapshot() override;
     ///@}
+
+    /// \brief Ends playback for good (the destructor does it too): stops what plays, ends the
+    /// recording and writes the snapshots still queued, and stops the render thread; stats()
+    /// then tells what was lost (PlaybackStats::recordingLost, snapshotLost). Nothing plays after
+    /// it. Idempotent.
+    void close();
 
     /// \brief Tells \a machine what happened since the last call: open finished or failed, end of
     /// stream, a failure of the pipeline. Call it from the main loop every few milliseconds.

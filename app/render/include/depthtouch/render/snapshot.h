@@ -91,6 +91,7 @@ private:
     bool busy_ = false;      ///< The writer is writing a job (guarded by mutex_).
     bool stop_ = false;      ///< Guarded by mutex_.
     bool failed_ = false;    ///< A write failed since the last report (guarded by mutex_).
+    int failedErrno_ = 0;    ///< errno of that failure, 0 when unknown (guarded by mutex_).
     /// The writer thread (kSnapshotThread), started with the first snapshot (guarded by mutex_).
     std::optional<platform::RealtimeThread> writer_;
 };

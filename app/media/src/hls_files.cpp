@@ -1,0 +1,78 @@
+/// \file
+/// \brief HlsFiles: see hls_files.h.
+
+#include "hls_files.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <new>
+
+extern "C" {
+#include <libavformat/avformat.h>
+}
+
+namespace depthtouch::media {
+
+namespace {
+
+constexpr const char kTmpSuffix[] = ".tmp"; // what `hls_flags temp_file` appends
+
+bool endsWithTmp(const std::string &name)
+{
+    const std::size_t n = sizeof kTmpSuffix - 1;
+    return name.size() > n && name.compare(name.size() - n, n, kTmpSuffix) == 0;
+}
+
+} // namespace
+
+void HlsFiles::install(AVFormatContext *fmt) noexcept
+{
+    defaultOpen_ = fmt->io_open;
+    fmt->opaque = this;
+    fmt->io_open = &HlsFiles::open;
+    fmt->io_close2 = &HlsFiles::close;
+}
+
+int HlsFiles::open(AVFormatContext *s, AVIOContext **pb, const char *url, int flags,
+                   AVDictionary **options)
+{
+    auto *self = static_cast<HlsFiles *>(s->opaque);
+    if (self == nullptr || self->defaultOpen_ == nullptr)
+        return AVERROR(EINVAL);
+    if ((flags & AVIO_FLAG_WRITE) != 0 && url != nullptr) {
+        try {
+            std::string name(url);
+            if (endsWithTmp(name))
+                name.resize(name.size() - (sizeof kTmpSuffix - 1));
+            self->written_.insert(std::move(name));
+        } catch (const std::bad_alloc &) {
+            return AVERROR(ENOMEM);
+        }
+    }
+    return self->defaultOpen_(s, pb, url, flags, options);
+}
+
+int HlsFiles::close(AVFormatContext *s, AVIOContext *pb)
+{
+    // FFmpeg's own close (avio_close) does not report a write that failed earlier: the context's
+    // error flag does.
+    avio_flush(pb);
+    const int failed = pb->error;
+    const int closed = avio_close(pb);
+    const int ret = failed < 0 ? failed : closed;
+    auto *self = static_cast<HlsFiles *>(s->opaque);
+    if (self != nullptr && ret < 0 && self->error_ == 0)
+        self->error_ = ret;
+    return ret;
+}
+
+void HlsFiles::removeAll() noexcept
+{
+    for (const std::string &name : written_) {
+        (void)std::remove(name.c_str());
+        (void)std::remove((name + kTmpSuffix).c_str());
+    }
+    written_.clear();
+}
+
+} // namespace depthtouch::media

@@ -1,0 +1,42 @@
+#pragma once
+/// \file
+/// \brief HlsFiles: the files FFmpeg's HLS muxer writes for one file output (the playlist and its
+/// segments, through AVFormatContext::io_open and io_close2, also from its segment muxer), so that
+/// a write that failed in any of them (a full disk) is seen, although the muxer itself goes on and
+/// reports success, and so that an output that failed leaves none of them behind.
+/// Thread-safety: used by the thread that drives the muxer (the callbacks run inside its calls).
+
+#include <set>
+#include <string>
+
+struct AVFormatContext;
+struct AVIOContext;
+struct AVDictionary;
+
+namespace depthtouch::media {
+
+/// See the file comment.
+class HlsFiles {
+public:
+    /// \brief Routes \a fmt's opens and closes through this object (kept in fmt->opaque, which the
+    /// HLS muxer hands to its segment muxer). \pre this outlives \a fmt.
+    void install(AVFormatContext *fmt) noexcept;
+
+    /// \return the first failed write or close (a negative AVERROR), or 0.
+    [[nodiscard]] int error() const noexcept { return error_; }
+
+    /// \brief Removes every file written (under its final and its temporary name).
+    void removeAll() noexcept;
+
+private:
+    static int open(AVFormatContext *s, AVIOContext **pb, const char *url, int flags,
+                    AVDictionary **options);
+    static int close(AVFormatContext *s, AVIOContext *pb);
+
+    int (*defaultOpen_)(AVFormatContext *, AVIOContext **, const char *, int,
+                        AVDictionary **) = nullptr;
+    std::set<std::string> written_; ///< Final names (without the muxer's ".tmp").
+    int error_ = 0;
+};
+
+} // namespace depthtouch::media
