@@ -16,6 +16,8 @@ extern "C" {
 
 #include "av_handles.h"
 #include "image_sequence.h"
+#include "material_stream.h"
+#include "depthtouch/scene/material.h"
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
 
@@ -167,7 +169,17 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
 
     DT_TRY(openDemuxer(forced, dict, sequence || glob));
     int wanted = -1;
-    if (!options.streamTitle.empty())
+    std::string from;
+    if (options.streamTitle == scene::kMaterialTitle) {
+        // An input of several video streams without a material track is not one (a DepthTouch
+        // file without materials would otherwise give its colour picture as stiffness and
+        // friction); a single video stream is a material video of its own.
+        wanted = findMaterialStream(*fmt_, from);
+        if (wanted < 0 && videoStreamCount(*fmt_) > 1)
+            return unexpected(Errc::InvalidArgument,
+                              "The input has several video streams and no material track "
+                              "(a stream titled 'material')");
+    } else if (!options.streamTitle.empty())
         for (unsigned i = 0; i < fmt_->nb_streams && wanted < 0; ++i) {
             const AVDictionaryEntry *t =
                 av_dict_get(fmt_->streams[i]->metadata, "title", nullptr, 0);

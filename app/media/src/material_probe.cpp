@@ -11,6 +11,7 @@ extern "C" {
 }
 
 #include "av_handles.h"
+#include "material_stream.h"
 #include "depthtouch/media/material_track.h"
 #include "depthtouch/scene/material.h"
 
@@ -18,9 +19,8 @@ namespace depthtouch::media {
 
 using namespace detail;
 
-namespace {
+namespace detail {
 
-/// \return the index of the material stream of \a fmt and where its role came from, or -1.
 int findMaterialStream(const AVFormatContext &fmt, std::string &from)
 {
     int videoOrdinal = 0;
@@ -50,6 +50,18 @@ int findMaterialStream(const AVFormatContext &fmt, std::string &from)
     }
     return -1;
 }
+
+int videoStreamCount(const AVFormatContext &fmt) noexcept
+{
+    int n = 0;
+    for (unsigned i = 0; i < fmt.nb_streams; ++i)
+        n += fmt.streams[i]->codecpar->codec_type == AVMEDIA_TYPE_VIDEO ? 1 : 0;
+    return n;
+}
+
+} // namespace detail
+
+namespace {
 
 /// \return whether x264's settings in \a frame's unregistered SEI say lossless (constant QP 0);
 /// nullopt when the frame carries none.

@@ -38,9 +38,8 @@ TEST_F(OutputPathsTest, anOutputThatIsAnInputIsBadInputHoweverSpelled)
     for (const std::string &out :
          {path("clip.mkv"), path("link.mkv"), path("sub/../clip.mkv"), path("./clip.mkv")}) {
         // WHEN compared with the inputs
-        const OutputPathCheck c =
-            checkDistinctPaths({{"the input", path("clip.mkv")}, {"--trajectory", path("t.csv")}},
-                               {{"--out", out}});
+        const OutputPathCheck c = checkDistinctPaths(
+            {{"the input", path("clip.mkv")}, {"--trajectory", path("t.csv")}}, {{"--out", out}});
         // THEN it is refused as bad input, naming both
         EXPECT_EQ(c.exitCode, kExitBadInput) << out;
         EXPECT_NE(c.message.find("--out"), std::string::npos) << c.message;
@@ -51,8 +50,8 @@ TEST_F(OutputPathsTest, anOutputThatIsAnInputIsBadInputHoweverSpelled)
 TEST_F(OutputPathsTest, twoOutputsThatNameOneNewFileAreBadInput)
 {
     // GIVEN two outputs that name the same new file, spelled differently
-    const OutputPathCheck c = checkDistinctPaths(
-        {}, {{"--force-log", path("x.csv")}, {"--stats", path("sub/../x.csv")}});
+    const OutputPathCheck c =
+        checkDistinctPaths({}, {{"--force-log", path("x.csv")}, {"--stats", path("sub/../x.csv")}});
     // THEN the second is refused, naming the first
     EXPECT_EQ(c.exitCode, kExitBadInput);
     EXPECT_NE(c.message.find("--stats"), std::string::npos) << c.message;
@@ -62,14 +61,15 @@ TEST_F(OutputPathsTest, twoOutputsThatNameOneNewFileAreBadInput)
 TEST_F(OutputPathsTest, distinctFilesDevicesUrlsAndEmptyNamesPass)
 {
     // GIVEN distinct outputs, a device named twice, URLs and names that are not files
-    const OutputPathCheck c = checkDistinctPaths(
-        {{"the input", "udp://127.0.0.1:5000"}, {"--color", "synthetic:head"}, {"--depth", ""},
-         {"--trajectory", path("t.csv")}},
-        {{"--record", path("r.mkv")},
-         {"--force-log", "/dev/null"},
-         {"--stats", "/dev/null"},
-         {"-o", "udp://127.0.0.1:5000"},
-         {"--out", path("sub/t.csv")}});
+    const OutputPathCheck c = checkDistinctPaths({{"the input", "udp://127.0.0.1:5000"},
+                                                  {"--color", "synthetic:head"},
+                                                  {"--depth", ""},
+                                                  {"--trajectory", path("t.csv")}},
+                                                 {{"--record", path("r.mkv")},
+                                                  {"--force-log", "/dev/null"},
+                                                  {"--stats", "/dev/null"},
+                                                  {"-o", "udp://127.0.0.1:5000"},
+                                                  {"--out", path("sub/t.csv")}});
     // THEN nothing is refused
     EXPECT_EQ(c.exitCode, kExitOk) << c.message;
 }

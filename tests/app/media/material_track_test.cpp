@@ -11,6 +11,8 @@
 #include <gtest/gtest.h>
 
 #include "depthtouch/media/encode_job.h"
+#include "depthtouch/media/frame_source.h"
+#include "depthtouch/media/image_io.h"
 #include "depthtouch/media/material_track.h"
 #include "readback.h"
 
@@ -159,6 +161,57 @@ TEST(MaterialTrackTest, probeReportsTheStreamLosslessAndItsRanges)
     EXPECT_DOUBLE_EQ(m.maxValue[1], 0.5);
     EXPECT_DOUBLE_EQ(m.minValue[2], 0.1);
     EXPECT_DOUBLE_EQ(m.maxValue[2], 0.4);
+}
+
+// `--material FILE` reads the file's material track, found as probe finds it; a file of several
+// video streams without one is refused instead of giving its colour picture as materials (a
+// DepthTouch file without materials read as stiffness 0.25-3.98 and static friction up to 2.5).
+TEST(MaterialTrackTest, aMaterialInputIsTheMaterialTrackOrRefused)
+{
+    const std::string dir = ::testing::TempDir() + "mat-src-" + std::to_string(::getpid());
+    std::filesystem::create_directories(dir);
+    Image color = Image::make(16, 12, PixelFormat::Rgb24);
+    for (auto &b : color.data)
+        b = 200; // a colour picture that would read as stiffness scale 3.1
+    Image codes = Image::make(16, 12, PixelFormat::Rgb24);
+    for (std::size_t i = 0; i < codes.data.size(); i += 3) {
+        codes.data[i] = 32;     // stiffness scale 0.5
+        codes.data[i + 1] = 50; // μs 0.5
+        codes.data[i + 2] = 10; // μd 0.1
+    }
+    const auto encodeTo = [&](const std::string &name, bool withMaterial) {
+        auto c = makeStillFrameSource(color, 25.0, "c");
+        auto d = makeStillFrameSource(Image::make(16, 12, PixelFormat::Gray8), 25.0, "d");
+        auto m = makeStillFrameSource(codes, 25.0, "m");
+        EncodeOptions o;
+        o.output = dir + "/" + name;
+        o.preset = "ultrafast";
+        o.maxFrames = 2;
+        EXPECT_TRUE(encodeStreams(*c, *d, withMaterial ? m.get() : nullptr, o)) << name;
+        return o.output;
+    };
+    SourceOptions so;
+    so.streamTitle = "material";
+    // GIVEN a DepthTouch file without a material track: refused, with the reason
+    auto none = openFrameSource(encodeTo("plain.mkv", false), so);
+    ASSERT_FALSE(none);
+    EXPECT_EQ(none.error().code, Errc::InvalidArgument);
+    EXPECT_NE(std::string(none.error().what).find("no material track"), std::string::npos);
+    // AND files with one (title in Matroska, handler name in MP4, stream order in MPEG-TS): the
+    // frames are the codes, not the colour
+    for (const char *name : {"with.mkv", "with.mp4", "with.ts"}) {
+        auto src = openFrameSource(encodeTo(name, true), so);
+        ASSERT_TRUE(src) << name << ": " << src.error().what;
+        auto f = (*src)->next(PixelFormat::Rgb24);
+        ASSERT_TRUE(f) << name;
+        EXPECT_EQ(f->image.data[0], 32) << name;
+        EXPECT_EQ(f->image.data[1], 50) << name;
+        EXPECT_EQ(f->image.data[2], 10) << name;
+    }
+    // AND a single video stream is a material video of its own
+    ASSERT_TRUE(writePng(dir + "/codes.png", codes));
+    EXPECT_TRUE(openFrameSource(dir + "/codes.png", so));
+    std::filesystem::remove_all(dir);
 }
 
 } // namespace

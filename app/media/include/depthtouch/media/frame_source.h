@@ -95,7 +95,10 @@ struct SourceOptions {
     std::string videoSize;
     std::string pixelFormat;
     /// Files with several video streams: take the one with this title (e.g. "depth" to read a
-    /// DepthTouch file's depth); absent or empty: FFmpeg's best video stream.
+    /// DepthTouch file's depth); absent or empty: FFmpeg's best video stream. `material`
+    /// (scene::kMaterialTitle) finds the material track as probe does (title, MP4 handler name,
+    /// MPEG-TS order), and an input of several video streams without one is
+    /// Errc::InvalidArgument.
     std::string streamTitle;
     /// Image sequences only: start over after the last image, forever (a still or a short
     /// sequence as an endless live source; stop it with a frame limit or a signal).
