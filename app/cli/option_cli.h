@@ -5,6 +5,8 @@
 /// of a table and the function that runs it.
 /// Thread-safety: main thread only (CLI11).
 
+#include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <span>
 #include <string>
@@ -16,6 +18,23 @@
 #include "option_table.h"
 
 namespace depthtouch::cli {
+
+/// A value that is not text must be there and, when it reads as a number, be finite: CLI11
+/// assigns a number given as "" its zero, which for most options means "the default"
+/// (`--duration ''` played for ever, `--near ''` was the robust range), and `nan` or `inf` passed
+/// every range check (`--finger-radius nan` was the default radius). The description is empty so
+/// that `--help` is unchanged.
+inline const CLI::Validator kNumberGiven(
+    [](const std::string &value) {
+        if (value.empty())
+            return std::string("a value is needed, not an empty text");
+        char *end = nullptr;
+        const double v = std::strtod(value.c_str(), &end);
+        if (end != value.c_str() && *end == '\0' && !std::isfinite(v))
+            return std::string("a finite number is needed, not '") + value + "'";
+        return std::string();
+    },
+    std::string());
 
 /// \brief Adds one CLI11 option (or flag, or argument) per row of \a table to \a cmd, each
 /// storing into its field of \a options (which must outlive the parse).
@@ -34,6 +53,9 @@ void addOptions(CLI::App &cmd, OptionTable<std::type_identity_t<Options>> table,
                     cmd.add_flag(((row.flags & kNegated) != 0 ? "!" : "") + names, value, help);
                 } else {
                     CLI::Option *opt = cmd.add_option(names, value, help);
+                    if constexpr (!std::is_same_v<std::remove_reference_t<decltype(value)>,
+                                                  std::string>)
+                        opt->check(kNumberGiven);
                     if ((row.flags & kHideDefault) == 0)
                         opt->capture_default_str();
                     if ((row.flags & kRequired) != 0)
