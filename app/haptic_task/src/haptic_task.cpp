@@ -384,10 +384,20 @@ HapticTask::watchDeadlines(const platform::PeriodicWait &wait) noexcept
     return true;
 }
 
+[[gnu::always_inline]] inline void HapticTask::noteDeviceCall(platform::Duration took) noexcept
+{
+    const std::int64_t ns = took.count();
+    if (ns > deviceCallMaxNs_.load(std::memory_order_relaxed))
+        deviceCallMaxNs_.store(ns, std::memory_order_relaxed);
+}
+
 [[gnu::always_inline]] inline bool HapticTask::readDevice(hal::HapticState &state,
                                                           TelemetrySample &sample) noexcept
 {
-    if (auto r = device_.read(state); !r) {
+    const platform::TimePoint callBegin = clock_.now();
+    auto r = device_.read(state);
+    noteDeviceCall(clock_.now() - callBegin);
+    if (!r) {
         if (r.error().code == Errc::Timeout) {
             sample.flags |= TelemetrySample::DeviceTimeout;
             if (++timeoutsInARow_ > config_.watchdogDeviceTimeouts && !deviceFailed_.load()) {
@@ -534,7 +544,10 @@ HapticTask::shapeForce(glm::dvec3 target, double gain, const CycleContext &c) co
 [[gnu::always_inline]] inline bool HapticTask::command(const glm::dvec3 &force,
                                                        CycleContext &c) noexcept
 {
-    if (auto r = device_.commandForce({force.x, force.y, force.z}); !r) {
+    const platform::TimePoint callBegin = clock_.now();
+    auto r = device_.commandForce({force.x, force.y, force.z});
+    noteDeviceCall(clock_.now() - callBegin);
+    if (!r) {
         if (r.error().code == Errc::NoDevice || r.error().code == Errc::InvalidState) {
             loseDevice(c.sample);
             return false;

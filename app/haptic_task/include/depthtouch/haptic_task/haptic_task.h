@@ -152,10 +152,13 @@ struct HapticStats {
     /// run's output is lost.
     bool forceLogLost = false;
     double deviceMaxForce = 0.0; ///< The device's maximum, N.
-    LatencySummary wakeLatency;  ///< Wake time − deadline.
-    LatencySummary updateTime;   ///< Wake-up to force command.
-    LatencySummary periodError;  ///< |wake_k − wake_{k−1} − period| over on-time pairs.
-    std::string thread;          ///< What the haptic thread got (RealtimeThreadReport).
+    /// Longest single device call (read() or commandForce()) on the haptic thread, µs: bounded by
+    /// every backend whatever its options (docs/devices.md "Time of a device call").
+    double deviceCallMaxUs = 0.0;
+    LatencySummary wakeLatency; ///< Wake time − deadline.
+    LatencySummary updateTime;  ///< Wake-up to force command.
+    LatencySummary periodError; ///< |wake_k − wake_{k−1} − period| over on-time pairs.
+    std::string thread;         ///< What the haptic thread got (RealtimeThreadReport).
     /// Page faults the haptic thread took after its warm-up (the first kWarmupUpdates updates;
     /// getrusage(RUSAGE_THREAD) read by the thread itself every 256 updates and at its end). With
     /// the memory locked: 0, also under memory pressure.
@@ -168,6 +171,7 @@ struct HapticStats {
     /// contact_updates, overruns, missed_periods, wake_latency_us / update_time_us /
     /// period_error_us {p50, p90, p99, p999, max, mean}, safety_releases, watchdog_trips,
     /// device_losses, reconnects, telemetry_dropped, max_force_n, device_max_force_n,
+    /// device_call_max_us,
     /// force_log_lost, haptic_thread, haptic_page_faults {minor, major, warmup},
     /// haptic_locked_mib.
     [[nodiscard]] std::string toJson(int indent = 2) const;
@@ -315,6 +319,8 @@ private:
     void takeFrames() noexcept;
     /// Takes a reopened device back. \return false while the device is lost.
     bool ownDevice(TelemetrySample &sample) noexcept;
+    /// Keeps the longest device call (HapticStats::deviceCallMaxUs).
+    void noteDeviceCall(platform::Duration took) noexcept;
     /// Reads the device; a time-out counts for the device watchdog, any other error loses the
     /// device. \return false when \a state was not read.
     bool readDevice(hal::HapticState &state, TelemetrySample &sample) noexcept;
@@ -375,6 +381,7 @@ private:
     std::atomic<std::uint64_t> deviceLosses_{0};
     std::atomic<std::uint64_t> reconnects_{0}; ///< Written by the telemetry thread.
     std::atomic<double> maxForceSeen_{0.0};
+    std::atomic<std::int64_t> deviceCallMaxNs_{0}; ///< Longest device call, ns.
     std::atomic<double> gain_{0.0};
     platform::SeqLockArray<3> force_; ///< Last commanded force, N (read by lastForce()).
     platform::SeqLockArray<7> pose_;  ///< HIP, proxy (m) and a valid flag (lastPose()).
