@@ -228,6 +228,24 @@ TEST(HapticTaskTest, missedDeadlinesZeroTheForceAndItRampsBack)
     rig.finish(); // the haptic thread stops before the devices declared after the rig go
 }
 
+TEST(HapticTaskTest, statsGiveTheLongestDeviceCall)
+{
+    // GIVEN a task pressing a flat surface through a device whose calls take no simulated time
+    Rig rig;
+    drivers::MockHapticDevice mock(rig.clock());
+    SlowDevice slow(mock, rig.clock());
+    startPressingFlat(rig, mock, slow);
+    EXPECT_EQ(rig.task().stats().deviceCallMaxUs, 0.0);
+    // WHEN one read takes 3 ms
+    slow.makeSlow(1);
+    rig.runMs(10);
+    // THEN the stats give that call as the longest, in the JSON too (bench rt prints it)
+    const HapticStats s = rig.task().stats();
+    EXPECT_DOUBLE_EQ(s.deviceCallMaxUs, 3000.0);
+    EXPECT_NE(s.toJson().find("\"device_call_max_us\": 3000"), std::string::npos) << s.toJson();
+    rig.finish(); // the haptic thread stops before the devices declared after the rig go
+}
+
 /// Presses 5 mm into a flat surface, then restarts the media clock onto the same content (a loop
 /// or a seek) with \a clockRestart, or re-seats (\a clockRestart false, the old seek handling);
 /// \return the smallest force over the 200 ms after it, N.
