@@ -31,6 +31,9 @@ void DecoderThread::stop() noexcept
 {
     if (thread_ && thread_->joinable()) {
         stop_.store(true, std::memory_order_release);
+        // A read blocked on a silent or stalled live stream returns within 100 ms, not at the
+        // source's I/O timeout (seconds): stop means stop, whatever the network does.
+        receiver_.source().interrupt();
         wake();
         thread_->join();
     }

@@ -39,7 +39,9 @@ public:
     /// \brief Starts the thread from the thread table's kDecodeThread row. \return InvalidState
     /// when already started; OutOfResources when the thread cannot be created.
     Result<void> start();
-    /// \brief Stops and joins the thread and drops the queued frames. Idempotent.
+    /// \brief Stops and joins the thread and drops the queued frames. Idempotent. A read blocked
+    /// in the source is interrupted (hal::MediaSource::interrupt(): within 100 ms); the source
+    /// then fails every read until it is closed, so the Receiver is not run again.
     void stop() noexcept;
 
     /// \brief Takes the next paired frame. Never blocks.
