@@ -122,7 +122,10 @@ void DecoderThread::run() noexcept
         }
         if (!haveFrame && !ended_.load(std::memory_order_relaxed) &&
             !failed_.load(std::memory_order_relaxed)) {
+            // Odd while inside next() (which blocks only on the source): see readProgress().
+            progress_.fetch_add(1, std::memory_order_release);
             auto r = receiver_.next(frame);
+            progress_.fetch_add(1, std::memory_order_release);
             if (r && *r) {
                 frame.generation = generation;
                 haveFrame = true;

@@ -178,12 +178,13 @@ TEST(StopFaults, QuitEndsAPlayerWhoseLiveStreamWentSilentWithin2s)
     ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
     const std::string sock = (tmp.dir() / "ctl.sock").string();
     SilentSender sender(fifo, clip);
-    Process player(livePlay(fifo, {"--control", sock}));
+    // (--idle: the player stays after it reported the silence, whichever comes first)
+    Process player(livePlay(fifo, {"--idle", "--control", sock}));
     ControlClient c;
     ASSERT_TRUE(c.connect(sock, 10s));
-    // GIVEN a player that played the stream's second and has waited 1.5 s on its silence
+    // GIVEN a player that played the stream's second and waits on its silence
     ASSERT_TRUE(waitForState(c, "playing", 10s));
-    std::this_thread::sleep_for(2500ms);
+    std::this_thread::sleep_for(1500ms);
     // WHEN a client sends quit
     const auto quitAt = SteadyClock::now();
     EXPECT_EQ(c.request(R"({"command":["quit"]})", 15000ms), R"({"error":"success"})");
@@ -205,11 +206,11 @@ TEST(StopFaults, SigtermAndDurationEndAPlayerWhoseLiveStreamWentSilentWithin2s)
         ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
         const std::string sock = (tmp.dir() / "term.sock").string();
         SilentSender sender(fifo, clip);
-        Process player(livePlay(fifo, {"--control", sock}));
+        Process player(livePlay(fifo, {"--idle", "--control", sock}));
         ControlClient c;
         ASSERT_TRUE(c.connect(sock, 10s));
         ASSERT_TRUE(waitForState(c, "playing", 10s));
-        std::this_thread::sleep_for(2500ms);
+        std::this_thread::sleep_for(1500ms);
         // WHEN SIGTERM comes while the stream is silent
         const auto termAt = SteadyClock::now();
         player.signal(SIGTERM);
@@ -222,13 +223,48 @@ TEST(StopFaults, SigtermAndDurationEndAPlayerWhoseLiveStreamWentSilentWithin2s)
         const fs::path fifo = tmp.dir() / "duration.fifo";
         ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
         SilentSender sender(fifo, clip);
-        // WHEN --duration 3 runs out with the stream silent since 1 s
+        // WHEN --duration 3 runs out with the stream silent since 1 s (or the silence is reported
+        // first: the player ends then)
         Process player(livePlay(fifo, {"--duration", "3"}));
         const ProcessResult r = player.wait(kLimit);
-        // THEN the player ends at about 3 s (9-10 s later before)
+        // THEN the player ends by 3 s (9-10 s later before)
         EXPECT_LT(r.seconds, 5.5) << describe(r);
         EXPECT_EQ(r.exitCode, 0) << describe(r);
     }
+}
+
+TEST(StopFaults, ASilentLiveStreamIsReportedAndTheNextSenderPlays)
+{
+    if (!haveFfmpeg())
+        GTEST_SKIP() << "no ffmpeg CLI on PATH";
+    TempDir tmp("dt-stop-");
+    const fs::path clip = makeLiveClip(tmp.dir());
+    const fs::path fifo = tmp.dir() / "live.fifo";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    const std::string sock = (tmp.dir() / "ctl.sock").string();
+    SilentSender first(fifo, clip);
+    Process player(livePlay(fifo, {"--idle", "--control", sock}));
+    ControlClient c;
+    ASSERT_TRUE(c.connect(sock, 10s));
+    ASSERT_TRUE(waitForState(c, "playing", 10s));
+    const auto playingAt = SteadyClock::now();
+    // WHEN the sender goes silent after its one-second clip
+    // THEN the state leaves "playing" 2 s into the silence (generous: 5 s after playing began;
+    // "playing" for 10 s before, until the source's time-out), with an event that says why
+    ASSERT_TRUE(waitForState(c, "stopped", 10s));
+    EXPECT_LT(secondsSince(playingAt), 5.0);
+    bool told = false;
+    for (const std::string &e : c.events)
+        told = told || (e.find("\"end-file\"") != std::string::npos &&
+                        e.find("\"silent\"") != std::string::npos);
+    EXPECT_TRUE(told) << "no end-file event saying silent";
+    // AND `play` shows the next sender on the same address, without a restart
+    SilentSender next(fifo, clip);
+    EXPECT_EQ(c.request(R"({"command":["play"]})"), R"({"error":"success"})");
+    EXPECT_TRUE(waitForState(c, "playing", 10s));
+    EXPECT_EQ(c.request(R"({"command":["quit"]})", 5000ms), R"({"error":"success"})");
+    const ProcessResult r = player.wait(kLimit);
+    EXPECT_EQ(r.exitCode, 0) << describe(r);
 }
 
 // --- Group 5: SIGHUP, SIGQUIT and SIGUSR1 end play and encode as SIGTERM does -----------------

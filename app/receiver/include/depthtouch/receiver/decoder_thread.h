@@ -60,6 +60,14 @@ public:
     [[nodiscard]] Error error() const noexcept;
     /// \return a snapshot of the Receiver's counters, taken by the decoder thread after each frame.
     [[nodiscard]] ReceiverStats stats() const;
+    /// \brief What the decoder thread is doing, for telling a silent live stream: bumped when it
+    /// enters and when it leaves Receiver::next() (which waits only on the source), so the value is
+    /// odd while it waits there; a consumer that sees the same odd value for seconds knows that
+    /// nothing came from the source for as long. Thread-safe.
+    [[nodiscard]] std::uint64_t readProgress() const noexcept
+    {
+        return progress_.load(std::memory_order_acquire);
+    }
     /// \return seek() requests that failed (the source was not seekable).
     [[nodiscard]] std::uint64_t seekFailures() const noexcept
     {
@@ -86,6 +94,7 @@ private:
         false}; ///< The Receiver said Busy: poll() wakes the thread.
     std::atomic<bool> failed_{false};
     std::atomic<std::uint64_t> seekFailures_{0};
+    std::atomic<std::uint64_t> progress_{0}; ///< readProgress().
     Error error_{};
 
     mutable std::mutex statsMutex_; ///< Guards stats_.
