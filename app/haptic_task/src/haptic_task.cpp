@@ -353,7 +353,13 @@ HapticTask::watchDeadlines(const platform::PeriodicWait &wait) noexcept
     } else {
         missedInARow_ = 0;
     }
-    return missedInARow_ > config_.watchdogMissedDeadlines;
+    // A wake-up as late as that many deadlines (the process was stopped, SIGSTOP then SIGCONT,
+    // while the thread slept; a suspended machine) missed them as surely as an overrun does, and
+    // the device moved meanwhile: this update commands no force either, not only the next one.
+    const double lateSeconds = platform::toSeconds(wait.latency);
+    const bool wokeLate =
+        !wait.overrun && lateSeconds > (config_.watchdogMissedDeadlines + 1) * period_;
+    return wokeLate || missedInARow_ > config_.watchdogMissedDeadlines;
 }
 
 [[gnu::always_inline]] inline void HapticTask::takeFrames() noexcept

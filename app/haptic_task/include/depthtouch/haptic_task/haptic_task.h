@@ -187,10 +187,11 @@ struct HapticStats {
 ///
 /// Safety: the force is always clamped to min(renderer maxForce, device maxForce) and
 /// rate-limited. Zero force, at once: after more than watchdogMissedDeadlines consecutive missed
-/// deadlines, after more than watchdogDeviceTimeouts consecutive device time-outs, when the device
-/// is unplugged (Errc::NoDevice: the task keeps running and its telemetry thread closes and opens
-/// the device every reconnectIntervalMs until it answers; haptics then ramp back in), at stop()
-/// and after requestStop() (signal-safe, for SIGINT/SIGTERM handlers).
+/// deadlines or a wake-up as late (a process stopped and continued), after more than
+/// watchdogDeviceTimeouts consecutive device time-outs, when the device is unplugged
+/// (Errc::NoDevice: the task keeps running and its telemetry thread closes and opens the device
+/// every reconnectIntervalMs until it answers; haptics then ramp back in), at stop() and after
+/// requestStop() (signal-safe, for the stop signals' handlers).
 ///
 /// Thread-safety: create(), start(), stop() and the destructor on one owner thread. requestStop(),
 /// setEnabled() and every observer are thread-safe; requestStop() and setEnabled() are also
@@ -313,7 +314,8 @@ private:
     ///@{
     /// \return the cycle's telemetry sample with its wake-up, latency, overrun and cycle number.
     TelemetrySample beginSample(const platform::PeriodicWait &wait) const noexcept;
-    /// \return true when the loop missed more than watchdogMissedDeadlines deadlines in a row.
+    /// \return true when the loop missed more than watchdogMissedDeadlines deadlines in a row, or
+    /// woke that late (a stopped process).
     bool watchDeadlines(const platform::PeriodicWait &wait) noexcept;
     /// Hands the newest depth pair of the handoff, if any, to the renderer.
     void takeFrames() noexcept;
