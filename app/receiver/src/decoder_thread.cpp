@@ -6,7 +6,10 @@ DT_LOG_CATEGORY(Receiver)
 
 namespace depthtouch::receiver {
 
-DecoderThread::DecoderThread(Receiver &receiver) noexcept : receiver_(receiver) {}
+DecoderThread::DecoderThread(Receiver &receiver) noexcept
+    : receiver_(receiver), seekable_(receiver.source().info().seekable)
+{
+}
 
 DecoderThread::~DecoderThread()
 {
@@ -66,6 +69,11 @@ bool DecoderThread::poll(PairedFrame &out) noexcept
 
 void DecoderThread::seek(hal::Pts position) noexcept
 {
+    // A read waiting on a stalled input returns now, not at the source's time-out: the input ends
+    // there and the seek that follows restarts it. Before the request, so that the decoder thread
+    // cannot take the seek first and then lose a read to it.
+    if (seekable_)
+        receiver_.source().cancelRead();
     seekTarget_.store(position.count(), std::memory_order_relaxed);
     seekRequested_.fetch_add(1, std::memory_order_acq_rel);
     wake();

@@ -156,9 +156,20 @@ struct FfmpegMediaSource::Impl {
     static int interrupt(void *opaque) noexcept
     {
         const auto *self = static_cast<const Impl *>(opaque);
-        if (self->interrupted.load(std::memory_order_relaxed))
+        if (self->interrupted.load(std::memory_order_relaxed) || self->readCancelled())
             return 1;
         return self->clock.now() > self->ioDeadline ? 1 : 0;
+    }
+    /// \return whether a cancelRead() came that no read or seek consumed yet.
+    [[nodiscard]] bool readCancelled() const noexcept
+    {
+        return cancelRequests.load(std::memory_order_acquire) !=
+               cancelsConsumed.load(std::memory_order_relaxed);
+    }
+    void consumeCancels() noexcept
+    {
+        cancelsConsumed.store(cancelRequests.load(std::memory_order_acquire),
+                              std::memory_order_relaxed);
     }
     /// \return the error of a libav call that failed with \a r: Timeout after interrupt(), else
     /// \a fallback.
@@ -215,12 +226,15 @@ struct FfmpegMediaSource::Impl {
         info = {};
         start = hal::Pts{0};
         interrupted.store(false, std::memory_order_relaxed);
+        consumeCancels();
     }
 
     platform::Clock &clock;
     const FfmpegSourceSettings settings;
     platform::TimePoint ioDeadline{};
-    std::atomic<bool> interrupted{false}; ///< interrupt() was called (until close()).
+    std::atomic<bool> interrupted{false};          ///< interrupt() was called (until close()).
+    std::atomic<std::uint32_t> cancelRequests{0};  ///< cancelRead() calls.
+    std::atomic<std::uint32_t> cancelsConsumed{0}; ///< Of them, those a read or a seek took.
     platform::UniqueFd fifo; ///< A FIFO input, opened here (read by libavformat as pipe:FD).
     av::InputContextPtr fmt;
     av::PacketPtr packet;
@@ -413,6 +427,15 @@ Result<hal::Packet> FfmpegMediaSource::Impl::read()
         const int r = av_read_frame(fmt.get(), packet.get());
         if (r < 0 && interrupted.load(std::memory_order_relaxed))
             return unexpected(Errc::Timeout, "Interrupted by a stop request");
+        if (r < 0 && readCancelled()) {
+            consumeCancels();
+            // The interrupted read marked the I/O context ended: the input itself is fine.
+            if (fmt->pb != nullptr) {
+                fmt->pb->eof_reached = 0;
+                fmt->pb->error = 0;
+            }
+            return unexpected(Errc::Timeout, "Read cancelled (a seek)");
+        }
         if (r == AVERROR_EOF)
             return unexpected(Errc::EndOfStream, "End of the media input");
         if (r < 0) {
@@ -521,6 +544,11 @@ void FfmpegMediaSource::interrupt() noexcept
     impl_->interrupted.store(true, std::memory_order_relaxed);
 }
 
+void FfmpegMediaSource::cancelRead() noexcept
+{
+    impl_->cancelRequests.fetch_add(1, std::memory_order_acq_rel);
+}
+
 const hal::MediaInfo &FfmpegMediaSource::info() const noexcept
 {
     return impl_->info;
@@ -539,6 +567,7 @@ Result<void> FfmpegMediaSource::seek(hal::Pts position)
         return unexpected(Errc::InvalidState, "seek() requires an open media source");
     if (!impl_->info.seekable)
         return unexpected(Errc::NotSupported, "The media input is not seekable");
+    impl_->consumeCancels(); // what a cancelled read was cancelled for
     position = std::clamp(position, hal::Pts{0}, std::max(impl_->info.duration, hal::Pts{0}));
     const std::int64_t us =
         std::chrono::duration_cast<std::chrono::microseconds>(position + impl_->start).count();

@@ -340,6 +340,63 @@ TEST_F(FfmpegMediaTest, interruptEndsAReadBlockedOnASilentStreamAtOnce)
     sender.join();
 }
 
+TEST_F(FfmpegMediaTest, cancelReadEndsOneBlockedReadAndTheSourceReadsOn)
+{
+    // GIVEN an MPEG-TS live stream (a FIFO) that sent a one-second clip and then went silent
+    const std::string fifo = tmp_.path("cancel.fifo");
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    const std::string clip = tmp_.path("live.ts");
+    ASSERT_TRUE(ffmpeg("-f lavfi -i testsrc=size=64x48:rate=30:duration=1 -c:v libx264 "
+                       "-preset ultrafast -pix_fmt yuv420p -f mpegts " +
+                       clip));
+    const std::vector<std::uint8_t> bytes = readBytes(clip);
+    std::atomic<int> sends{1}; // clips the sender is asked to send
+    std::atomic<bool> senderQuits{false};
+    std::thread sender([&] {
+        const int fd = ::open(fifo.c_str(), O_WRONLY);
+        if (fd < 0)
+            return;
+        int sent = 0;
+        while (!senderQuits.load()) {
+            if (sent < sends.load()) {
+                std::size_t done = 0;
+                while (done < bytes.size()) {
+                    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+                    if (n <= 0)
+                        break;
+                    done += static_cast<std::size_t>(n);
+                }
+                ++sent;
+            }
+            std::this_thread::sleep_for(milliseconds(10));
+        }
+        ::close(fd);
+    });
+    auto src = source();
+    ASSERT_TRUE(src->open(fifo.c_str()));
+    int packets = 0;
+    while (packets < 25 && src->readPacket())
+        ++packets;
+    EXPECT_EQ(packets, 25);
+    // WHEN a seek's cancelRead() comes while a read waits for data
+    std::thread canceller([&] {
+        std::this_thread::sleep_for(milliseconds(300));
+        src->cancelRead();
+    });
+    Result<hal::Packet> blocked = src->readPacket();
+    for (int i = 0; i < 10 && blocked; ++i) // the demuxer may still hold a packet or two
+        blocked = src->readPacket();
+    canceller.join();
+    // THEN that read returns with Timeout, once: with data again the source reads on
+    ASSERT_FALSE(blocked);
+    EXPECT_EQ(blocked.error().code, Errc::Timeout);
+    sends.store(2);
+    EXPECT_TRUE(src->readPacket());
+    src->close();
+    senderQuits.store(true);
+    sender.join();
+}
+
 TEST_F(FfmpegMediaTest, drmPrimeFallsBackToTheSameCpuFrames)
 {
     // GIVEN a colour H.264 clip and the software decoder, which cannot export DRM PRIME

@@ -154,6 +154,12 @@ public:
     /// does nothing: for a backend whose calls never block.
     virtual void interrupt() noexcept {}
 
+    /// \brief Makes a readPacket() blocked on another thread (a stalled input) return within
+    /// 100 ms with Errc::Timeout, once: for a seek requested meanwhile. The next seek() consumes
+    /// the request if no read did; later calls work as usual. Thread-safe and async-signal-safe;
+    /// allowed in every state. The default does nothing: for a backend whose reads never block.
+    virtual void cancelRead() noexcept {}
+
 protected:
     MediaSource() = default;
     DT_DISABLE_COPY_AND_MOVE(MediaSource)

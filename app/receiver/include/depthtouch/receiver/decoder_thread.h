@@ -49,7 +49,8 @@ public:
     bool poll(PairedFrame &out) noexcept;
 
     /// \brief Asks the decoder thread to restart at \a position. Never blocks; later poll()s return
-    /// only frames decoded after the seek.
+    /// only frames decoded after the seek. A read blocked on a stalled seekable input is cancelled
+    /// (hal::MediaSource::cancelRead()), so the seek does not wait for the source's time-out.
     void seek(hal::Pts position) noexcept;
 
     /// \return true when the input ended (and no seek is pending) and every frame was polled.
@@ -81,6 +82,7 @@ private:
     void publishStats();
 
     Receiver &receiver_;
+    const bool seekable_; ///< The source can seek: seek() cancels a blocked read.
     std::optional<platform::RealtimeThread> thread_; ///< kDecodeThread, from start().
     platform::SpscRing<PairedFrame, kQueueFrames> queue_;
 

@@ -25,7 +25,8 @@
 /// gets its DTS, else the previous PTS plus one frame duration.
 /// Stop: interrupt() (any thread) sets a flag that libavformat's interrupt callback reads, next to
 /// the timeout_ms deadline, so a blocking read, seek or open returns within about 100 ms
-/// (Errc::Timeout "Interrupted by a stop request"); the flag holds until close().
+/// (Errc::Timeout "Interrupted by a stop request"); the flag holds until close(). cancelRead()
+/// does the same for one blocked read (a seek's request), consumed by that read or by seek().
 /// Thread-safety: as hal::MediaSource (thread-bound; interrupt() from any thread).
 
 #include <cstdint>
@@ -61,6 +62,7 @@ public:
     [[nodiscard]] Result<void> open(const char *url) override;
     void close() noexcept override;
     void interrupt() noexcept override;
+    void cancelRead() noexcept override;
     [[nodiscard]] const hal::MediaInfo &info() const noexcept override;
     [[nodiscard]] Result<hal::Packet> readPacket() override;
     [[nodiscard]] Result<void> seek(hal::Pts position) override;
