@@ -1,11 +1,12 @@
 /// \file
-/// \brief Stop means stop (issue 28, groups 2 and 5), each run with a time limit: a player whose
-/// live stream went silent answers `quit` and ends on SIGTERM or --duration within 2 s (the
-/// source's 10 s I/O timeout before); SIGHUP, SIGQUIT and SIGUSR1 end `play`, `encode` and `touch`
-/// as SIGTERM does, and SIGXFSZ fails an encode with one line, with every output finished under
-/// its final name or removed and no temporary file left.
+/// \brief Stop means stop (issue 28, groups 1, 2 and 5), each run with a time limit: a simulated
+/// hand whose options would spin the haptic thread is bad input; a player whose live stream went
+/// silent answers `quit` and ends on SIGTERM or --duration within 2 s (the source's 10 s I/O
+/// timeout before), reports the silence and plays the next sender; SIGHUP, SIGQUIT and SIGUSR1
+/// end `play`, `encode` and `touch` as SIGTERM does, and SIGXFSZ fails an encode with one line,
+/// with every output finished under its final name or removed and no temporary file left.
 /// Runs on the mock display (no GL); the live stream is a FIFO fed by the test that stops writing
-/// but stays open, the inputs are made with the ffmpeg CLI (skips without it).
+/// but stays open, the inputs are made with the ffmpeg CLI (those cases skip without it).
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -164,6 +165,25 @@ bool waitForState(ControlClient &c, const std::string &state, std::chrono::milli
         std::this_thread::sleep_for(50ms);
     }
     return false;
+}
+
+// --- Group 1: a simulated device whose options would spin the haptic thread ------------------
+
+TEST(StopFaults, AnExplorePeriodThatWouldSpinTheHapticThreadIsBadInput)
+{
+    // GIVEN the simulated hand asked for a new point every nanosecond (one device call spun for
+    // tens of seconds at FIFO 90 before, ignoring --duration and SIGTERM)
+    const ProcessResult r = depthtouch::testing::runProcess(
+        {DEPTHTOUCH, "play", "mock://clip?frames=30&fps=30", "--source", "mock", "--decoder",
+         "mock", "--display", "mock", "--haptic", "sim", "--haptic-options",
+         "intent=explore,period=1e-9", "--duration", "3"},
+        kLimit);
+    // THEN it is refused at once: exit 2 and one line naming the option
+    EXPECT_FALSE(r.timedOut) << describe(r);
+    EXPECT_EQ(r.exitCode, 2) << describe(r);
+    EXPECT_EQ(r.errLines(), 1u) << describe(r);
+    EXPECT_NE(r.err.find("period"), std::string::npos) << r.err;
+    EXPECT_LT(r.seconds, 5.0) << describe(r);
 }
 
 // --- Group 2: stop, quit, SIGTERM and --duration with a silent live stream --------------------
