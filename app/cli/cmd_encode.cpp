@@ -9,9 +9,10 @@
 ///
 /// Bad input (missing, unreadable or silent source, no video stream, nonsense options, an output
 /// path that is a directory or in a missing folder) prints one error line and exits 2 without
-/// leaving an output file; a write of the output that fails (lost output) exits 1. SIGINT/SIGTERM
-/// stop reading; the encoders are flushed and the trailer written, so the file is playable; exit
-/// code 130. Progress (frames, fps, ETA) is drawn on stderr only when stderr is a terminal.
+/// leaving an output file; a write of the output that fails (lost output) exits 1. SIGINT, SIGTERM,
+/// SIGHUP, SIGQUIT, SIGUSR1 and SIGXFSZ (stop_signals.h) stop reading; the encoders are flushed and
+/// the trailer written, so the file is playable; exit code 130. Progress (frames, fps, ETA) is
+/// drawn on stderr only when stderr is a terminal.
 
 #include <atomic>
 #include <cerrno>
@@ -32,6 +33,7 @@
 #include "option_cli.h"
 #include "output_paths.h"
 #include "source_providers.h"
+#include "stop_signals.h"
 #include "depthtouch/media/encode_job.h"
 #include "depthtouch/media/frame_source.h"
 #include "depthtouch/platform/file_access.h"
@@ -41,7 +43,7 @@ namespace depthtouch::cli {
 
 namespace {
 
-/// Exit code of an encode ended by SIGINT/SIGTERM (128 + SIGINT, as shells report it).
+/// Exit code of an encode ended by a stop signal (128 + SIGINT, as shells report Ctrl-C).
 constexpr int kExitInterrupted = 130;
 
 struct EncodeCliOptions {
@@ -77,36 +79,6 @@ struct EncodeCliOptions {
 };
 
 std::atomic<bool> gStop{false};
-static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler needs a lock-free flag");
-
-extern "C" void onEncodeStopSignal(int)
-{
-    gStop.store(true, std::memory_order_relaxed);
-}
-
-/// Installs the SIGINT/SIGTERM handlers for its lifetime.
-class StopSignals {
-public:
-    StopSignals()
-    {
-        struct sigaction sa {};
-        sa.sa_handler = &onEncodeStopSignal;
-        sigemptyset(&sa.sa_mask);
-        sigaction(SIGINT, &sa, &oldInt_);
-        sigaction(SIGTERM, &sa, &oldTerm_);
-    }
-    ~StopSignals()
-    {
-        sigaction(SIGINT, &oldInt_, nullptr);
-        sigaction(SIGTERM, &oldTerm_, nullptr);
-    }
-    StopSignals(const StopSignals &) = delete;
-    StopSignals &operator=(const StopSignals &) = delete;
-
-private:
-    struct sigaction oldInt_ {};
-    struct sigaction oldTerm_ {};
-};
 
 int fail(int code, const std::string &message)
 {
@@ -392,7 +364,7 @@ void printEnhanceTotals(const media::EnhanceTotals &t)
 constexpr double kFarthestSensorRange = 12.0;
 
 /// Prints the summary of a finished encode; returns its exit code (kExitInterrupted after a
-/// SIGINT/SIGTERM, with a line on stderr).
+/// stop signal, with a line on stderr).
 int reportEncode(const EncodeCliOptions &o, const media::EncodeOptions &eo,
                  const NamedSource &color, const media::EncodeSummary &s)
 {
@@ -432,9 +404,9 @@ int reportEncode(const EncodeCliOptions &o, const media::EncodeOptions &eo,
                     (o.material.empty() ? o.materialMap : o.material).c_str());
     if (s.interrupted) {
         std::fprintf(stderr,
-                     "depthtouch encode: interrupted; '%s' holds the %lld frame pairs "
+                     "depthtouch encode: interrupted by %s; '%s' holds the %lld frame pairs "
                      "encoded and is complete\n",
-                     o.output.c_str(), s.frames);
+                     stopSignalName(StopSignals::caughtSignal()), o.output.c_str(), s.frames);
         return kExitInterrupted;
     }
     return kExitOk;
@@ -483,7 +455,8 @@ int runEncode(const EncodeCliOptions &o)
 
     gStop.store(false);
     Result<media::EncodeSummary> summary = [&] {
-        StopSignals signals;
+        // Without SA_RESTART: a read blocked on an input returns, and the flag is seen.
+        StopSignals signals(gStop, false);
         return media::encodeStreams(*color, *depthSrc, material.get(), eo, &gStop, callbacks);
     }();
     progress.finish();

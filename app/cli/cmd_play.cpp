@@ -45,17 +45,13 @@
 #include "play_config.h"
 #include "play_options.h"
 #include "play_report.h"
+#include "stop_signals.h"
 
 namespace depthtouch::cli {
 
 namespace {
 
 std::atomic<bool> gPlayStop{false};
-
-extern "C" void onPlayStopSignal(int)
-{
-    gPlayStop.store(true);
-}
 
 /// Prints the player's errors on stderr, each once, as it happens (one line), and its state
 /// changes when asked (--verbose; on a terminal unless --quiet).
@@ -402,13 +398,12 @@ PlayResult runPlay(const PlayOptions &opt)
                               std::chrono::milliseconds(10));
 
     gPlayStop.store(false);
-    std::signal(SIGINT, &onPlayStopSignal);
-    std::signal(SIGTERM, &onPlayStopSignal);
+    // Every stop signal quits the same way, until the outputs are written (the recording and the
+    // force log finished, the stats written); the control loop's waits are restarted.
+    const StopSignals signals(gPlayStop, true);
     const LoopOutcome out = playUntilDone(opt, machine, loop, server, playback, clock);
     (void)playback.stop();
     playback.close(); // the recording ends and the snapshots are written: their losses count
-    std::signal(SIGINT, SIG_DFL);
-    std::signal(SIGTERM, SIG_DFL);
 
     PlayRunFigures run;
     run.info = &playback.info();

@@ -2,6 +2,9 @@
 /// \brief `depthtouch touch DEPTH --trajectory traj.csv --out forces.csv`: replays a HIP trajectory
 /// against a depth video at the haptic rate and writes the force log CSV (docs/architecture.md §4),
 /// deterministically. Bad input prints one error line and exits 2 without leaving an output file.
+/// A stop signal (SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGXFSZ: stop_signals.h) ends the
+/// replay with one line and exit 130, nothing written; one that comes while the force log is
+/// written lets it be finished and renamed first (never a temporary file left behind).
 ///
 /// DEPTH is a raw gray file (with --size) or anything FFmpeg reads: a video file, a URL or an image
 /// sequence pattern (`frame-%06d.depth.png`, frame rate --fps). The depth stream (or the only
@@ -16,6 +19,7 @@
 /// robust range of the first frame (as `encode` takes it), named in the summary.
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -36,6 +40,7 @@
 #include "option_cli.h"
 #include "output_paths.h"
 #include "source_providers.h"
+#include "stop_signals.h"
 #include "depthtouch/depth/conversion.h"
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptics/renderer.h"
@@ -138,6 +143,28 @@ const OptionRow<TouchOptions> kTouchRows[] = {
      "Per-pixel haptic materials (docs/materials.md): an RGB code image (a still map), sequence or "
      "video, or a DepthTouch file (its material stream); frame k goes with depth frame k, the last "
      "holds. Overrides the friction options where it lies (finger, modified, proxy-graph)"},
+};
+
+/// Exit code of a touch ended by a stop signal (128 + SIGINT, as `encode`'s).
+constexpr int kExitInterrupted = 130;
+
+std::atomic<bool> gTouchStop{false};
+
+/// The depth frames of a replay that a stop signal ends: once one came, every frame fails (the
+/// replay asks for the next frame on every update of a video of two frames or more).
+class StoppableFrames final : public haptics::FrameProvider {
+public:
+    explicit StoppableFrames(haptics::FrameProvider &inner) noexcept : inner_(inner) {}
+    [[nodiscard]] std::size_t frameCount() const noexcept override { return inner_.frameCount(); }
+    Result<haptics::DepthFrameView> frame(std::size_t i) noexcept override
+    {
+        if (gTouchStop.load(std::memory_order_relaxed))
+            return unexpected(Errc::Timeout, "stopped by a signal");
+        return inner_.frame(i);
+    }
+
+private:
+    haptics::FrameProvider &inner_;
 };
 
 int fail(int code, const std::string &message)
@@ -342,7 +369,16 @@ int runTouch(const TouchOptions &o)
         return fail(kExitBadInput,
                     o.trajectory + ":" + std::to_string(line) + ": " + traj.error().what);
 
-    auto rows = replay(*frames, *traj, opt);
+    // A stop signal ends the replay (nothing is written) or, once the rows are made, lets the
+    // output be written whole and renamed before the exit: never a temporary file left.
+    gTouchStop.store(false);
+    const StopSignals signals(gTouchStop, true);
+    StoppableFrames stoppable(*frames);
+    auto rows = replay(stoppable, *traj, opt);
+    if (gTouchStop.load() && !rows)
+        return fail(kExitInterrupted, std::string("interrupted by ") +
+                                          stopSignalName(StopSignals::caughtSignal()) +
+                                          "; nothing written");
     if (!rows)
         return fail(rows.error().code == Errc::Io ? kExitFailure : kExitBadInput,
                     rows.error().what);
@@ -361,6 +397,10 @@ int runTouch(const TouchOptions &o)
                          "touch: material: %lld frames read from '%s' (the last holds)\n",
                          materialFrames->framesRead(), o.material.c_str());
     }
+    if (gTouchStop.load())
+        return fail(kExitInterrupted, std::string("interrupted by ") +
+                                          stopSignalName(StopSignals::caughtSignal()) + "; '" +
+                                          o.out + "' is complete");
     return kExitOk;
 }
 

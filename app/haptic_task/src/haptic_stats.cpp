@@ -35,6 +35,7 @@ std::string HapticStats::toJson(int indent) const
         {"telemetry_dropped", telemetryDropped},
         {"max_force_n", maxForce},
         {"device_max_force_n", deviceMaxForce},
+        {"device_call_max_us", deviceCallMaxUs},
         {"force_log_lost", forceLogLost},
         {"haptic_thread", thread},
         {"haptic_page_faults",

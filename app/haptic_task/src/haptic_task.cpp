@@ -350,7 +350,13 @@ HapticTask::watchDeadlines(const platform::PeriodicWait &wait) noexcept
     } else {
         missedInARow_ = 0;
     }
-    return missedInARow_ > config_.watchdogMissedDeadlines;
+    // A wake-up as late as that many deadlines (the process was stopped, SIGSTOP then SIGCONT,
+    // while the thread slept; a suspended machine) missed them as surely as an overrun does, and
+    // the device moved meanwhile: this update commands no force either, not only the next one.
+    const double lateSeconds = platform::toSeconds(wait.latency);
+    const bool wokeLate =
+        !wait.overrun && lateSeconds > (config_.watchdogMissedDeadlines + 1) * period_;
+    return wokeLate || missedInARow_ > config_.watchdogMissedDeadlines;
 }
 
 [[gnu::always_inline]] inline void HapticTask::takeFrames() noexcept
@@ -381,10 +387,20 @@ HapticTask::watchDeadlines(const platform::PeriodicWait &wait) noexcept
     return true;
 }
 
+[[gnu::always_inline]] inline void HapticTask::noteDeviceCall(platform::Duration took) noexcept
+{
+    const std::int64_t ns = took.count();
+    if (ns > deviceCallMaxNs_.load(std::memory_order_relaxed))
+        deviceCallMaxNs_.store(ns, std::memory_order_relaxed);
+}
+
 [[gnu::always_inline]] inline bool HapticTask::readDevice(hal::HapticState &state,
                                                           TelemetrySample &sample) noexcept
 {
-    if (auto r = device_.read(state); !r) {
+    const platform::TimePoint callBegin = clock_.now();
+    auto r = device_.read(state);
+    noteDeviceCall(clock_.now() - callBegin);
+    if (!r) {
         if (r.error().code == Errc::Timeout) {
             sample.flags |= TelemetrySample::DeviceTimeout;
             if (++timeoutsInARow_ > config_.watchdogDeviceTimeouts && !deviceFailed_.load()) {
@@ -531,7 +547,10 @@ HapticTask::shapeForce(glm::dvec3 target, double gain, const CycleContext &c) co
 [[gnu::always_inline]] inline bool HapticTask::command(const glm::dvec3 &force,
                                                        CycleContext &c) noexcept
 {
-    if (auto r = device_.commandForce({force.x, force.y, force.z}); !r) {
+    const platform::TimePoint callBegin = clock_.now();
+    auto r = device_.commandForce({force.x, force.y, force.z});
+    noteDeviceCall(clock_.now() - callBegin);
+    if (!r) {
         if (r.error().code == Errc::NoDevice || r.error().code == Errc::InvalidState) {
             loseDevice(c.sample);
             return false;

@@ -103,6 +103,8 @@ HapticStats HapticTask::stats()
     s.telemetryDropped = ring_->dropped();
     s.maxForce = maxForceSeen_.load(std::memory_order_relaxed);
     s.deviceMaxForce = device_.capabilities().maxForce;
+    s.deviceCallMaxUs =
+        static_cast<double>(deviceCallMaxNs_.load(std::memory_order_relaxed)) * 1e-3;
     s.wakeLatency = wakeHist_->summary();
     s.updateTime = updateHist_->summary();
     s.periodError = periodHist_->summary();

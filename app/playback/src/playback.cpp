@@ -43,6 +43,10 @@ struct Playback::Impl : RenderShared {
     bool hapticsEnabled;
     double stiffness;
     std::optional<haptic_task::HapticStats> lastHapticStats;
+    /// The decode thread's DecoderThread::readProgress() when it was last seen to change, and
+    /// when: the same odd value for PlaybackConfig::liveSilenceSeconds is a silent live stream.
+    std::uint64_t silentProgress = 0;
+    platform::TimePoint silentSince{};
 
     RenderLoop loop;                                        ///< The render thread's body.
     std::unique_ptr<platform::RealtimeThread> renderThread; ///< kRenderThread, from the first open.
@@ -264,6 +268,8 @@ void Playback::finishOpen(std::unique_ptr<receiver::Receiver> rec)
     if (std::string why = m.startRenderThread(); !why.empty())
         return fail(std::move(why));
 
+    s->live = !s->receiver->source().info().seekable;
+    m.silentProgress = 0; // the new decode thread counts from 0
     s->decoder = std::make_unique<receiver::DecoderThread>(*s->receiver);
     if (auto r = s->decoder->start(); !r)
         return fail(std::string("cannot start the decode thread: ") + r.error().what);
@@ -447,6 +453,32 @@ void Playback::report(player::StateMachine &machine)
         machine.onFailure(failure);
     if (eos)
         machine.onEndOfStream();
+    else
+        watchSilence(machine);
+}
+
+void Playback::watchSilence(player::StateMachine &machine)
+{
+    Impl &m = *impl_;
+    if (!m.owned || !m.owned->live || !m.owned->decoder || !(m.config.liveSilenceSeconds > 0.0))
+        return;
+    const std::uint64_t progress = m.owned->decoder->readProgress();
+    const platform::TimePoint now = m.clock.now();
+    // Even: the decode thread is not waiting on the source; a new odd value: a new wait.
+    if (progress % 2 == 0 || progress != m.silentProgress) {
+        m.silentProgress = progress;
+        m.silentSince = now;
+        return;
+    }
+    // A slow stream (a frame every few seconds) is not silent between its frames.
+    const double limit = std::max(m.config.liveSilenceSeconds, 4.0 * m.owned->period);
+    if (platform::toSeconds(now - m.silentSince) < limit)
+        return;
+    const player::PlayerState st = machine.state();
+    if (st != player::PlayerState::Playing && st != player::PlayerState::Paused)
+        return;
+    m.silentProgress = 0;
+    machine.onStreamSilent();
 }
 
 PlaybackStats Playback::stats() const

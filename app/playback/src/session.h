@@ -41,6 +41,7 @@ struct Session {
     double startPts = 0.0;            ///< PTS of the first frame (s); positions count from it.
     hal::DisplayConfig displayConfig; ///< For the display's first open.
     bool haveStart = false;
+    bool live = false; ///< The source cannot seek (a network stream, a FIFO): it may go silent.
 };
 
 } // namespace depthtouch::playback

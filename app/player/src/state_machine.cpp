@@ -359,6 +359,16 @@ bool StateMachine::onEndOfStream()
     return true;
 }
 
+bool StateMachine::onStreamSilent()
+{
+    if (state_ != PlayerState::Playing && state_ != PlayerState::Paused)
+        return false;
+    const Result<void> r = actions_.stop();
+    emit(PlayerEventKind::EndOfFile, "silent");
+    enterOrFail(PlayerState::Stopped, "stop", r);
+    return true;
+}
+
 bool StateMachine::onFailure(std::string_view reason)
 {
     if (state_ != PlayerState::Opening && state_ != PlayerState::Playing &&

@@ -6,7 +6,10 @@ DT_LOG_CATEGORY(Receiver)
 
 namespace depthtouch::receiver {
 
-DecoderThread::DecoderThread(Receiver &receiver) noexcept : receiver_(receiver) {}
+DecoderThread::DecoderThread(Receiver &receiver) noexcept
+    : receiver_(receiver), seekable_(receiver.source().info().seekable)
+{
+}
 
 DecoderThread::~DecoderThread()
 {
@@ -31,6 +34,9 @@ void DecoderThread::stop() noexcept
 {
     if (thread_ && thread_->joinable()) {
         stop_.store(true, std::memory_order_release);
+        // A read blocked on a silent or stalled live stream returns within 100 ms, not at the
+        // source's I/O timeout (seconds): stop means stop, whatever the network does.
+        receiver_.source().interrupt();
         wake();
         thread_->join();
     }
@@ -63,6 +69,11 @@ bool DecoderThread::poll(PairedFrame &out) noexcept
 
 void DecoderThread::seek(hal::Pts position) noexcept
 {
+    // A read waiting on a stalled input returns now, not at the source's time-out: the input ends
+    // there and the seek that follows restarts it. Before the request, so that the decoder thread
+    // cannot take the seek first and then lose a read to it.
+    if (seekable_)
+        receiver_.source().cancelRead();
     seekTarget_.store(position.count(), std::memory_order_relaxed);
     seekRequested_.fetch_add(1, std::memory_order_acq_rel);
     wake();
@@ -119,7 +130,10 @@ void DecoderThread::run() noexcept
         }
         if (!haveFrame && !ended_.load(std::memory_order_relaxed) &&
             !failed_.load(std::memory_order_relaxed)) {
+            // Odd while inside next() (which blocks only on the source): see readProgress().
+            progress_.fetch_add(1, std::memory_order_release);
             auto r = receiver_.next(frame);
+            progress_.fetch_add(1, std::memory_order_release);
             if (r && *r) {
                 frame.generation = generation;
                 haveFrame = true;

@@ -224,7 +224,9 @@ bool Receiver::Impl::readAndQueue()
     if (!havePacket) {
         auto p = source->readPacket();
         if (!p) {
-            if (p.error().code != Errc::EndOfStream) {
+            // Timeout: a stop or a seek cancelled the read (the input then ends here, and a seek
+            // restarts it); not a fault of the input.
+            if (p.error().code != Errc::EndOfStream && p.error().code != Errc::Timeout) {
                 ++stats.readErrors;
                 char buf[160];
                 DT_LOG(Receiver, Warning, "Failed to read the input (%s): ending it here",

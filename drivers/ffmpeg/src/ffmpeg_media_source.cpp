@@ -1,6 +1,7 @@
 #include "depthtouch/drivers/ffmpeg/ffmpeg_media_source.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -150,10 +151,33 @@ struct FfmpegMediaSource::Impl {
 
     Impl(platform::Clock &c, FfmpegSourceSettings s) : clock(c), settings(std::move(s)) {}
 
+    /// libavformat's interrupt callback: called often while a call blocks (a network read polls
+    /// every 100 ms at most), it ends the call on a stop request or at the I/O deadline.
     static int interrupt(void *opaque) noexcept
     {
         const auto *self = static_cast<const Impl *>(opaque);
+        if (self->interrupted.load(std::memory_order_relaxed) || self->readCancelled())
+            return 1;
         return self->clock.now() > self->ioDeadline ? 1 : 0;
+    }
+    /// \return whether a cancelRead() came that no read or seek consumed yet.
+    [[nodiscard]] bool readCancelled() const noexcept
+    {
+        return cancelRequests.load(std::memory_order_acquire) !=
+               cancelsConsumed.load(std::memory_order_relaxed);
+    }
+    void consumeCancels() noexcept
+    {
+        cancelsConsumed.store(cancelRequests.load(std::memory_order_acquire),
+                              std::memory_order_relaxed);
+    }
+    /// \return the error of a libav call that failed with \a r: Timeout after interrupt(), else
+    /// \a fallback.
+    [[nodiscard]] Error failure(int r, Errc fallback, const char *what) const noexcept
+    {
+        if (interrupted.load(std::memory_order_relaxed))
+            return Error(Errc::Timeout, "Interrupted by a stop request");
+        return Error(fallback, what, AVUNERROR(r));
     }
     void armDeadline() noexcept
     {
@@ -201,11 +225,16 @@ struct FfmpegMediaSource::Impl {
         avToHal.clear();
         info = {};
         start = hal::Pts{0};
+        interrupted.store(false, std::memory_order_relaxed);
+        consumeCancels();
     }
 
     platform::Clock &clock;
     const FfmpegSourceSettings settings;
     platform::TimePoint ioDeadline{};
+    std::atomic<bool> interrupted{false};          ///< interrupt() was called (until close()).
+    std::atomic<std::uint32_t> cancelRequests{0};  ///< cancelRead() calls.
+    std::atomic<std::uint32_t> cancelsConsumed{0}; ///< Of them, those a read or a seek took.
     platform::UniqueFd fifo; ///< A FIFO input, opened here (read by libavformat as pipe:FD).
     av::InputContextPtr fmt;
     av::PacketPtr packet;
@@ -247,14 +276,15 @@ Result<void> FfmpegMediaSource::Impl::openInput(const char *url)
         char msg[AV_ERROR_MAX_STRING_SIZE] = {};
         av_strerror(r, msg, sizeof msg);
         DT_LOG(Ffmpeg, Debug, "Failed to open '%s': %s", url, msg);
-        return unexpected(errcOf(r, Errc::Io), "Failed to open the media input", AVUNERROR(r));
+        return unexpected(failure(r, errcOf(r, Errc::Io), "Failed to open the media input"));
     }
     fmt.reset(ctx);
     armDeadline();
     r = avformat_find_stream_info(ctx, nullptr);
     if (r < 0) {
         DT_LOG(Ffmpeg, Debug, "Failed to read the stream list of '%s'", url);
-        return unexpected(errcOf(r, Errc::InvalidArgument), "Failed to read the stream list");
+        return unexpected(
+            failure(r, errcOf(r, Errc::InvalidArgument), "Failed to read the stream list"));
     }
     return ok();
 }
@@ -391,8 +421,21 @@ Result<hal::Packet> FfmpegMediaSource::Impl::read()
 {
     for (;;) {
         av_packet_unref(packet.get());
+        if (interrupted.load(std::memory_order_relaxed))
+            return unexpected(Errc::Timeout, "Interrupted by a stop request");
         armDeadline();
         const int r = av_read_frame(fmt.get(), packet.get());
+        if (r < 0 && interrupted.load(std::memory_order_relaxed))
+            return unexpected(Errc::Timeout, "Interrupted by a stop request");
+        if (r < 0 && readCancelled()) {
+            consumeCancels();
+            // The interrupted read marked the I/O context ended: the input itself is fine.
+            if (fmt->pb != nullptr) {
+                fmt->pb->eof_reached = 0;
+                fmt->pb->error = 0;
+            }
+            return unexpected(Errc::Timeout, "Read cancelled (a seek)");
+        }
         if (r == AVERROR_EOF)
             return unexpected(Errc::EndOfStream, "End of the media input");
         if (r < 0) {
@@ -496,6 +539,16 @@ void FfmpegMediaSource::close() noexcept
     impl_->reset();
 }
 
+void FfmpegMediaSource::interrupt() noexcept
+{
+    impl_->interrupted.store(true, std::memory_order_relaxed);
+}
+
+void FfmpegMediaSource::cancelRead() noexcept
+{
+    impl_->cancelRequests.fetch_add(1, std::memory_order_acq_rel);
+}
+
 const hal::MediaInfo &FfmpegMediaSource::info() const noexcept
 {
     return impl_->info;
@@ -514,13 +567,14 @@ Result<void> FfmpegMediaSource::seek(hal::Pts position)
         return unexpected(Errc::InvalidState, "seek() requires an open media source");
     if (!impl_->info.seekable)
         return unexpected(Errc::NotSupported, "The media input is not seekable");
+    impl_->consumeCancels(); // what a cancelled read was cancelled for
     position = std::clamp(position, hal::Pts{0}, std::max(impl_->info.duration, hal::Pts{0}));
     const std::int64_t us =
         std::chrono::duration_cast<std::chrono::microseconds>(position + impl_->start).count();
     impl_->armDeadline();
     const int r = av_seek_frame(impl_->fmt.get(), -1, us, AVSEEK_FLAG_BACKWARD);
     if (r < 0)
-        return unexpected(Errc::Io, "Failed to seek", AVUNERROR(r));
+        return unexpected(impl_->failure(r, Errc::Io, "Failed to seek"));
     for (auto &s : impl_->streams) {
         s.lastPts = hal::kNoPts;
         if (s.imageDecoder)

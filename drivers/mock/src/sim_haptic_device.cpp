@@ -31,8 +31,16 @@ constexpr double kMaxEstimateSpeed = 0.2;
 
 /// Integration step of the hand, ns.
 constexpr std::int64_t kStepNs = 100'000;
-/// Longest stretch integrated by one call; the rest of a longer gap is skipped.
-constexpr std::int64_t kMaxStepsPerCall = 10'000;
+/// Longest stretch integrated by one call (0.1 s of hand motion); the rest of a longer gap (an
+/// overrun, a stopped process, a jump of a manual clock) is skipped. It bounds the time of one
+/// device call on the haptic thread whatever the options (docs/devices.md "The simulated hand").
+constexpr std::int64_t kMaxStepsPerCall = 1'000;
+/// Shortest explore period, s: at most one new random point per integration step, and no hand
+/// picks more than 100 points a second.
+constexpr double kMinExplorePeriod = 0.01;
+/// Explore points drawn by one intentAt() at most; further behind (after a skipped gap) the hand
+/// drops the points it missed and draws only the last ones.
+constexpr std::int64_t kMaxExploreCatchUp = 4;
 
 Error badOption(const char *key, const char *why)
 {
@@ -147,6 +155,11 @@ Result<SimHandSettings> SimHandSettings::parse(hal::OptionList options)
         if (n.minExclusive ? !(*v > n.min) : !(*v >= n.min))
             return unexpected(badOption(n.key, n.minExclusive ? "must be > 0" : "must be >= 0"));
         *n.value = *v;
+    }
+    if (s.period < kMinExplorePeriod) {
+        (void)badOption("period", "must be at least 0.01 s");
+        return unexpected(Errc::InvalidArgument,
+                          "Simulated hand option period must be at least 0.01 s");
     }
     auto seed = options.getInt("seed", 1);
     if (!seed)
@@ -275,8 +288,9 @@ void SimHapticDevice::intentAt(double t, double &gx, double &gy, double &depth) 
         const auto segment = static_cast<std::int64_t>(std::floor(t / settings_.period));
         // Generate the targets up to this segment in order (deterministic for a seed).
         const double reach = 0.8 * settings_.workspaceHalfExtent;
-        int guard = 0;
-        while (exploreSegment_ < segment && guard++ < 1'000'000) {
+        if (segment - exploreSegment_ > kMaxExploreCatchUp)
+            exploreSegment_ = segment - kMaxExploreCatchUp;
+        while (exploreSegment_ < segment) {
             exploreFrom_[0] = exploreTo_[0];
             exploreFrom_[1] = exploreTo_[1];
             exploreTo_[0] = (2.0 * nextUniform(rng_) - 1.0) * reach;

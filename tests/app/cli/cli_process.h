@@ -73,6 +73,8 @@ public:
 
     /// Sends \a sig to the child.
     void signal(int sig) const { ::kill(pid_, sig); }
+    /// \return the child's process id.
+    [[nodiscard]] pid_t pid() const noexcept { return pid_; }
 
     /// \brief Waits up to \a limit for the end (then kills it with SIGKILL and reports timedOut).
     ProcessResult wait(std::chrono::milliseconds limit)

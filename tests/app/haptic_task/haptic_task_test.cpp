@@ -4,6 +4,8 @@
 // paths.
 #include "depthtouch/haptic_task/haptic_task.h"
 
+#include <atomic>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <fstream>
@@ -50,17 +52,26 @@ public:
     }
     Result<void> commandForce(const hal::Vec3 &force) noexcept override
     {
+        const double magnitude =
+            std::sqrt(force.x * force.x + force.y * force.y + force.z * force.z);
+        if (magnitude > largestCommand_.load())
+            largestCommand_.store(magnitude);
         return inner_.commandForce(force);
     }
     bool isConnected() const noexcept override { return inner_.isConnected(); }
 
     /// The next \a n reads each take 3 ms (three periods at 1 kHz).
     void makeSlow(int n) { slowCycles_.store(n); }
+    /// Forgets the forces commanded so far (largestCommand()).
+    void markCommands() { largestCommand_.store(0.0); }
+    /// \return the largest force commanded since markCommands(), N.
+    double largestCommand() const { return largestCommand_.load(); }
 
 private:
     hal::HapticDevice &inner_;
     ManualClock &clock_;
     std::atomic<int> slowCycles_{0};
+    std::atomic<double> largestCommand_{0.0};
 };
 
 struct PressRun {
@@ -225,6 +236,85 @@ TEST(HapticTaskTest, missedDeadlinesZeroTheForceAndItRampsBack)
     EXPECT_LT(early, 1.0);
     rig.runMs(150);
     EXPECT_NEAR(rig.task().lastForce().z, 4.0, 0.01);
+    rig.finish(); // the haptic thread stops before the devices declared after the rig go
+}
+
+/// The time of a process that can be stopped: a ManualClock (Blocking) seen through an offset that
+/// stopFor() moves, so a thread asleep wakes as late as the stop lasted, as after SIGSTOP and
+/// SIGCONT (ManualClock::advance() alone wakes every sleeper at its own deadline).
+class StoppableClock final : public platform::Clock {
+public:
+    explicit StoppableClock(ManualClock &inner) : inner_(inner) {}
+    [[nodiscard]] platform::TimePoint now() const noexcept override
+    {
+        return inner_.now() + platform::Duration(offsetNs_.load());
+    }
+    bool sleepUntil(platform::TimePoint deadline) noexcept override
+    {
+        return inner_.sleepUntil(deadline - platform::Duration(offsetNs_.load()));
+    }
+    /// The process is stopped for \a d: the time jumps by \a d for every sleeper at once.
+    void stopFor(platform::Duration d) { offsetNs_.fetch_add(d.count()); }
+
+private:
+    ManualClock &inner_;
+    std::atomic<std::int64_t> offsetNs_{0};
+};
+
+TEST(HapticTaskTest, aWakeUpSecondsLateCommandsNoForce)
+{
+    // GIVEN a task pressing a flat surface with 4 N at 1 kHz
+    ManualClock manual(ManualClock::Mode::Blocking, platform::TimePoint(10s));
+    StoppableClock clock(manual);
+    auto handoff = DepthHandoff::create(kW, kH, haptics::SampleFormat::Gray16);
+    ASSERT_TRUE(handoff);
+    drivers::MockHapticDevice mock(clock);
+    SlowDevice device(mock, manual);
+    pressScript(mock, clock.now());
+    Frame16 flat(kW, kH, 0.0);
+    flat.fillFlat(0.0);
+    ASSERT_TRUE((*handoff)->push(flat.view()));
+    (*handoff)->setMediaOrigin(clock.now());
+    auto task = HapticTask::create(Rig::baseConfig(), device, **handoff, clock);
+    ASSERT_TRUE(task);
+    ASSERT_TRUE((*task)->start());
+    ASSERT_TRUE(manual.waitForSleepers(1));
+    for (int i = 0; i < 300; ++i)
+        manual.advance(1ms);
+    ASSERT_NEAR((*task)->lastForce().z, 4.0, 0.01);
+    // WHEN the process is stopped for 3 s while the haptic thread sleeps (SIGSTOP, then SIGCONT):
+    // it wakes 3 s after its deadline, without an overrun
+    device.markCommands();
+    clock.stopFor(3s);
+    manual.advance(1ms);
+    // THEN no update after the wake-up commands a force (the first one commanded 3-4 N before; the
+    // watchdog zeroed the force only at the next), and the watchdog counts one trip
+    EXPECT_EQ(device.largestCommand(), 0.0);
+    EXPECT_EQ((*task)->stats().watchdogTrips, 1u);
+    // AND the force ramps back once the deadlines are kept
+    for (int i = 0; i < 200; ++i)
+        manual.advance(1ms);
+    EXPECT_NEAR((*task)->lastForce().z, 4.0, 0.01);
+    (*task)->requestStop();
+    manual.release();
+    (*task)->stop();
+}
+
+TEST(HapticTaskTest, statsGiveTheLongestDeviceCall)
+{
+    // GIVEN a task pressing a flat surface through a device whose calls take no simulated time
+    Rig rig;
+    drivers::MockHapticDevice mock(rig.clock());
+    SlowDevice slow(mock, rig.clock());
+    startPressingFlat(rig, mock, slow);
+    EXPECT_EQ(rig.task().stats().deviceCallMaxUs, 0.0);
+    // WHEN one read takes 3 ms
+    slow.makeSlow(1);
+    rig.runMs(10);
+    // THEN the stats give that call as the longest, in the JSON too (bench rt prints it)
+    const HapticStats s = rig.task().stats();
+    EXPECT_DOUBLE_EQ(s.deviceCallMaxUs, 3000.0);
+    EXPECT_NE(s.toJson().find("\"device_call_max_us\": 3000"), std::string::npos) << s.toJson();
     rig.finish(); // the haptic thread stops before the devices declared after the rig go
 }
 

@@ -437,6 +437,31 @@ TEST(StateMachineTest, endOfStreamIsIgnoredWhenNotPlaying)
         EXPECT_TRUE(fake.calls.empty());
     }
 }
+TEST(StateMachineTest, silentLiveStreamStopsEvenWithLoop)
+{
+    // GIVEN a player looping a live stream
+    PlayerSettings settings = defaultSettings();
+    settings.loop = true;
+    Rig rig(S::Playing, settings);
+    auto &[fake, m, listener] = rig;
+    // WHEN the pipeline reports that the stream went silent
+    EXPECT_TRUE(m.onStreamSilent());
+    // THEN it stops (no seek: a live stream cannot loop) and says why on the socket
+    EXPECT_EQ(m.state(), S::Stopped);
+    EXPECT_EQ(fake.calls, std::vector<std::string>{"stop"});
+    EXPECT_EQ(listener.names(), (std::vector<std::string>{"end-file", "state"}));
+    EXPECT_EQ(listener.events.front().message, "silent");
+    // AND a late second report changes nothing, nor one while not playing
+    EXPECT_FALSE(m.onStreamSilent());
+    EXPECT_EQ(fake.calls.size(), 1u);
+    for (PlayerState s : {S::Idle, S::Opening, S::Stopped, S::Error}) {
+        FakePlayerActions other;
+        StateMachine idle(other, defaultSettings());
+        reach(idle, other, s);
+        EXPECT_FALSE(idle.onStreamSilent()) << playerStateName(s);
+        EXPECT_TRUE(other.calls.empty());
+    }
+}
 
 TEST(StateMachineTest, loopSeekFailureIsAnError)
 {

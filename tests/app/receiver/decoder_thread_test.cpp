@@ -1,7 +1,9 @@
 // DecoderThread: the decode thread feeding a polling consumer through the SPSC queue (mock
 // backends).
 #include <chrono>
+#include <condition_variable>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
@@ -27,6 +29,70 @@ std::unique_ptr<Receiver> openMock(platform::Clock &clock, const std::string &ur
     cfg.consumerFrames = static_cast<int>(DecoderThread::kQueueFrames) + 2;
     auto r =
         Receiver::open(std::make_unique<drivers::MockMediaSource>(), url.c_str(), factory, cfg);
+    EXPECT_TRUE(r);
+    return r ? std::move(*r) : nullptr;
+}
+
+/// A seekable source that stalls (a server that stops sending mid-file): after \a stallAfter
+/// packets its read waits, as a network read does until its 10 s time-out, unless interrupt() or
+/// cancelRead() comes (then Errc::Timeout). After a cancelled read and a seek it reads again.
+class StallingSource final : public hal::MediaSource {
+public:
+    explicit StallingSource(int stallAfter) : left_(stallAfter) {}
+    [[nodiscard]] State state() const noexcept override { return inner_.state(); }
+    [[nodiscard]] Result<void> open(const char *url) override { return inner_.open(url); }
+    void close() noexcept override { inner_.close(); }
+    [[nodiscard]] const hal::MediaInfo &info() const noexcept override { return inner_.info(); }
+    [[nodiscard]] Result<hal::Packet> readPacket() override
+    {
+        if (left_ > 0) {
+            --left_;
+            return inner_.readPacket();
+        }
+        std::unique_lock<std::mutex> lock(mutex_);
+        if (!wake_.wait_for(lock, std::chrono::seconds(10), [&] { return stopped_ || cancels_; }))
+            return unexpected(Errc::Io, "stalled input: time-out");
+        if (stopped_)
+            return unexpected(Errc::Timeout, "Interrupted by a stop request");
+        cancels_ = false;
+        left_ = 1000000; // the server answers the seek's new request
+        return unexpected(Errc::Timeout, "Read cancelled (a seek)");
+    }
+    [[nodiscard]] Result<void> seek(hal::Pts position) override { return inner_.seek(position); }
+    void interrupt() noexcept override
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        stopped_ = true;
+        wake_.notify_all();
+    }
+    void cancelRead() noexcept override
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        cancels_ = true;
+        wake_.notify_all();
+    }
+
+private:
+    drivers::MockMediaSource inner_;
+    int left_; ///< Packets before the stall (decode thread only).
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    bool stopped_ = false; ///< Guarded by mutex_.
+    bool cancels_ = false; ///< Guarded by mutex_.
+};
+
+/// Opens \a url on a StallingSource (stalling after \a stallAfter packets) and mock decoders.
+std::unique_ptr<Receiver> openStalling(platform::Clock &clock, const std::string &url,
+                                       int stallAfter)
+{
+    DecoderFactory factory = [&clock](const hal::StreamInfo &) {
+        return Result<std::unique_ptr<hal::VideoDecoder>>(
+            std::unique_ptr<hal::VideoDecoder>(std::make_unique<drivers::MockVideoDecoder>(clock)));
+    };
+    ReceiverConfig cfg;
+    cfg.consumerFrames = static_cast<int>(DecoderThread::kQueueFrames) + 2;
+    auto r =
+        Receiver::open(std::make_unique<StallingSource>(stallAfter), url.c_str(), factory, cfg);
     EXPECT_TRUE(r);
     return r ? std::move(*r) : nullptr;
 }
@@ -120,6 +186,57 @@ TEST_F(DecoderThreadTest, seekDiscardsQueuedFramesAndRestartsAtTheTarget)
     std::size_t n = 1;
     ASSERT_TRUE(drainUntilFinished(t, [&](const PairedFrame &) { ++n; }));
     EXPECT_EQ(n, 50u);
+}
+
+TEST_F(DecoderThreadTest, stopDoesNotWaitForAStalledInput)
+{
+    // GIVEN a decode thread whose input stalls after 20 packets (10 frames), all of them polled
+    auto r = openStalling(clock_, "mock://clip?frames=100&fps=25", 20);
+    ASSERT_NE(r, nullptr);
+    DecoderThread t(*r);
+    ASSERT_TRUE(t.start());
+    ASSERT_TRUE(pollUntil([&] {
+        PairedFrame f;
+        while (t.poll(f)) {
+        }
+        return t.stats().packetsRead >= 20;
+    }));
+    std::this_thread::sleep_for(milliseconds(100)); // the read now waits on the stalled input
+    // WHEN the player stops
+    const auto begin = std::chrono::steady_clock::now();
+    t.stop();
+    // THEN the stop returns at once (generous: 2 s), not at the input's 10 s time-out
+    EXPECT_LT(std::chrono::steady_clock::now() - begin, std::chrono::seconds(2));
+}
+
+TEST_F(DecoderThreadTest, seekDoesNotWaitForAStalledInput)
+{
+    // GIVEN a decode thread whose seekable input stalls after 20 packets (10 frames)
+    auto r = openStalling(clock_, "mock://clip?frames=100&fps=25&gop=5", 20);
+    ASSERT_NE(r, nullptr);
+    DecoderThread t(*r);
+    ASSERT_TRUE(t.start());
+    ASSERT_TRUE(pollUntil([&] {
+        PairedFrame f;
+        while (t.poll(f)) {
+        }
+        return t.stats().packetsRead >= 20;
+    }));
+    std::this_thread::sleep_for(milliseconds(100));
+    // WHEN the viewer seeks to 2 s
+    const auto begin = std::chrono::steady_clock::now();
+    t.seek(milliseconds(2000));
+    // THEN the first frame of the new position comes at once (generous: 2 s), not after the
+    // input's 10 s time-out, and the stream goes on from there
+    PairedFrame first;
+    ASSERT_TRUE(pollUntil([&] { return t.poll(first); }));
+    EXPECT_LT(std::chrono::steady_clock::now() - begin, std::chrono::seconds(2));
+    EXPECT_EQ(first.pts, milliseconds(2000));
+    std::size_t n = 1;
+    ASSERT_TRUE(drainUntilFinished(t, [&](const PairedFrame &) { ++n; }));
+    EXPECT_EQ(n, 50u);
+    EXPECT_FALSE(t.failed());
+    t.stop();
 }
 
 TEST_F(DecoderThreadTest, stopMidStreamJoinsAndReturnsEveryFrame)

@@ -1,5 +1,6 @@
 // FFmpeg backends on media made at run time with the ffmpeg CLI (label media; skipped without it).
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstring>
 #include <filesystem>
@@ -10,7 +11,9 @@
 #include <cstdlib>
 #include <thread>
 
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -283,6 +286,115 @@ TEST_F(FfmpegMediaTest, aFifoWithoutAWriterTimesOutAndOneWithAWriterIsRead)
     EXPECT_EQ(src2->info().streams.size(), 2u);
     EXPECT_EQ(packets, 60);
     EXPECT_FALSE(src2->info().seekable);
+}
+
+TEST_F(FfmpegMediaTest, interruptEndsAReadBlockedOnASilentStreamAtOnce)
+{
+    // GIVEN a live stream (a FIFO) that sent a one-second clip and then went silent, open, on a
+    // source with the default 10 s I/O timeout
+    const std::string fifo = tmp_.path("live.fifo");
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    const std::string clip = twoStreamClip();
+    std::atomic<bool> senderQuits{false};
+    std::thread sender([&] {
+        const int fd = ::open(fifo.c_str(), O_WRONLY);
+        if (fd < 0)
+            return;
+        const std::vector<std::uint8_t> bytes = readBytes(clip);
+        std::size_t done = 0;
+        while (done < bytes.size()) {
+            const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+            if (n <= 0)
+                break;
+            done += static_cast<std::size_t>(n);
+        }
+        while (!senderQuits.load())
+            std::this_thread::sleep_for(milliseconds(10));
+        ::close(fd);
+    });
+    auto src = source();
+    ASSERT_TRUE(src->open(fifo.c_str()));
+    int packets = 0;
+    while (packets < 60 && src->readPacket())
+        ++packets;
+    EXPECT_EQ(packets, 60);
+    // WHEN another thread asks the source to stop while the next read waits for data
+    std::thread stopper([&] {
+        std::this_thread::sleep_for(milliseconds(300));
+        src->interrupt();
+    });
+    const auto t0 = std::chrono::steady_clock::now();
+    auto blocked = src->readPacket();
+    const auto waited = std::chrono::steady_clock::now() - t0;
+    stopper.join();
+    // THEN that read returns soon after the request (generous bound: 2 s against the 10 s the
+    // time-out took before) with Timeout, and the next one fails at once
+    ASSERT_FALSE(blocked);
+    EXPECT_EQ(blocked.error().code, Errc::Timeout);
+    EXPECT_LT(waited, std::chrono::seconds(2));
+    const auto t1 = std::chrono::steady_clock::now();
+    EXPECT_FALSE(src->readPacket());
+    EXPECT_LT(std::chrono::steady_clock::now() - t1, std::chrono::seconds(1));
+    src->close();
+    senderQuits.store(true);
+    sender.join();
+}
+
+TEST_F(FfmpegMediaTest, cancelReadEndsOneBlockedReadAndTheSourceReadsOn)
+{
+    // GIVEN an MPEG-TS live stream (a FIFO) that sent a one-second clip and then went silent
+    const std::string fifo = tmp_.path("cancel.fifo");
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    const std::string clip = tmp_.path("live.ts");
+    ASSERT_TRUE(ffmpeg("-f lavfi -i testsrc=size=64x48:rate=30:duration=1 -c:v libx264 "
+                       "-preset ultrafast -pix_fmt yuv420p -f mpegts " +
+                       clip));
+    const std::vector<std::uint8_t> bytes = readBytes(clip);
+    std::atomic<int> sends{1}; // clips the sender is asked to send
+    std::atomic<bool> senderQuits{false};
+    std::thread sender([&] {
+        const int fd = ::open(fifo.c_str(), O_WRONLY);
+        if (fd < 0)
+            return;
+        int sent = 0;
+        while (!senderQuits.load()) {
+            if (sent < sends.load()) {
+                std::size_t done = 0;
+                while (done < bytes.size()) {
+                    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+                    if (n <= 0)
+                        break;
+                    done += static_cast<std::size_t>(n);
+                }
+                ++sent;
+            }
+            std::this_thread::sleep_for(milliseconds(10));
+        }
+        ::close(fd);
+    });
+    auto src = source();
+    ASSERT_TRUE(src->open(fifo.c_str()));
+    int packets = 0;
+    while (packets < 25 && src->readPacket())
+        ++packets;
+    EXPECT_EQ(packets, 25);
+    // WHEN a seek's cancelRead() comes while a read waits for data
+    std::thread canceller([&] {
+        std::this_thread::sleep_for(milliseconds(300));
+        src->cancelRead();
+    });
+    Result<hal::Packet> blocked = src->readPacket();
+    for (int i = 0; i < 10 && blocked; ++i) // the demuxer may still hold a packet or two
+        blocked = src->readPacket();
+    canceller.join();
+    // THEN that read returns with Timeout, once: with data again the source reads on
+    ASSERT_FALSE(blocked);
+    EXPECT_EQ(blocked.error().code, Errc::Timeout);
+    sends.store(2);
+    EXPECT_TRUE(src->readPacket());
+    src->close();
+    senderQuits.store(true);
+    sender.join();
 }
 
 TEST_F(FfmpegMediaTest, drmPrimeFallsBackToTheSameCpuFrames)

@@ -228,6 +228,58 @@ TEST(SimHandTest, handThatWentThroughTheSurfaceBacksUpAndTouchesAgain)
     EXPECT_NEAR(hand.position().z, -1.2 / 3000.0, 1e-5);
 }
 
+TEST(SimHandTest, exploreRefusesAPeriodShorterThanTenMilliseconds)
+{
+    // GIVEN explore periods of a nanosecond (a FIFO thread spinning for tens of seconds on one
+    // call before) and of 10 ms
+    // WHEN they are parsed
+    // THEN the nonsense is refused with the key's error and the shortest sensible one accepted
+    for (const char *bad :
+         {"intent=explore,period=1e-9", "intent=explore,period=0.009", "period=0"})
+        EXPECT_EQ(errcOf(SimHandSettings::parse(hal::OptionList(bad))), Errc::InvalidArgument)
+            << bad;
+    EXPECT_TRUE(SimHandSettings::parse(hal::OptionList("intent=explore,period=0.01")));
+}
+
+TEST(SimHandTest, oneCallIntegratesAtMostATenthOfASecond)
+{
+    // GIVEN a free fingertip (no hand) pushed by 0.01 N along x
+    platform::ManualClock clock;
+    auto settings = SimHandSettings::parse(hal::OptionList("intent=idle"));
+    ASSERT_TRUE(settings);
+    SimHapticDevice dev(clock, *settings);
+    ASSERT_TRUE(dev.open());
+    ASSERT_TRUE(dev.commandForce(hal::Vec3{0.01, 0.0, 0.0}));
+    // WHEN the next read comes 10 s later (a stopped process, a jump of the clock)
+    clock.advance(std::chrono::seconds(10));
+    hal::HapticState s;
+    ASSERT_TRUE(dev.read(s));
+    // THEN that call integrated 0.1 s of motion at most (v = F·t/m = 0.01 m/s), not 1 s or 10 s
+    EXPECT_GT(s.velocity.x, 0.009);
+    EXPECT_LT(s.velocity.x, 0.0101);
+    // AND the rest of the gap was skipped: the hand's time is the clock's
+    EXPECT_EQ(s.time, clock.now());
+}
+
+TEST(SimHandTest, exploreHandCatchesUpALongGapInBoundedWork)
+{
+    // GIVEN an exploring hand with the shortest period, on a manual clock
+    platform::ManualClock clock;
+    auto settings = SimHandSettings::parse(hal::OptionList("intent=explore,period=0.01,seed=5"));
+    ASSERT_TRUE(settings);
+    SimHapticDevice dev(clock, *settings);
+    ASSERT_TRUE(dev.open());
+    // WHEN a read comes after 10^7 s (10^9 explore points missed)
+    clock.advance(std::chrono::seconds(10'000'000));
+    hal::HapticState s;
+    const auto begin = std::chrono::steady_clock::now();
+    ASSERT_TRUE(dev.read(s));
+    const auto took = std::chrono::steady_clock::now() - begin;
+    // THEN the call returns at once (generous: 0.5 s; drawing every missed point took minutes)
+    EXPECT_LT(took, std::chrono::milliseconds(500));
+    EXPECT_TRUE(std::isfinite(s.position.x) && std::isfinite(s.position.y));
+}
+
 TEST(SimHandTest, runsAreDeterministic)
 {
     Hand a("intent=explore,depth=0.005,period=0.2,seed=3");

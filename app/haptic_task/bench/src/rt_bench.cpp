@@ -217,7 +217,18 @@ Result<RtCase> runTask(double rateHz, SchedPolicy policy, platform::MemoryLockMo
     recordRun(c, begin, (*task)->threadReport(), s.updates, s.overruns, s.wakeLatency,
               s.periodError);
     c.update = s.updateTime;
+    c.deviceCallMaxUs = s.deviceCallMaxUs;
     return c;
+}
+
+/// \return " | device call max X us" for a task case, else empty.
+std::string deviceCallText(const RtCase &c)
+{
+    if (c.loop != "task")
+        return {};
+    char text[64];
+    std::snprintf(text, sizeof text, " | device call max %.1f us", c.deviceCallMaxUs);
+    return text;
 }
 
 std::string caseLine(const RtCase &c)
@@ -226,12 +237,12 @@ std::string caseLine(const RtCase &c)
     std::snprintf(line, sizeof line,
                   "%-22s wake p50 %7.1f p99 %8.1f p99.9 %8.1f max %8.1f us | period err p50 %6.1f "
                   "p99 %7.1f p99.9 %7.1f max %8.1f us | %6.1f overruns/min | %5.1f MiB locked, "
-                  "%5.1f MiB resident%s%s",
+                  "%5.1f MiB resident%s%s%s",
                   c.label().c_str(), c.wake.p50Us, c.wake.p99Us, c.wake.p999Us, c.wake.maxUs,
                   c.periodError.p50Us, c.periodError.p99Us, c.periodError.p999Us,
                   c.periodError.maxUs, c.overrunsPerMinute(), c.lockedMiB, c.residentMiB,
                   c.fifoRefused ? "  (SCHED_FIFO REFUSED: ran at SCHED_OTHER)" : "",
-                  c.lockRefused ? "  (MEMORY LOCK REFUSED)" : "");
+                  c.lockRefused ? "  (MEMORY LOCK REFUSED)" : "", deviceCallText(c).c_str());
     return line;
 }
 
@@ -373,10 +384,10 @@ bool writeRtBenchOutputs(const RtBenchReport &report, const std::string &dir, st
     out.print("label,loop,rate_hz,policy,load,fifo_refused,seconds,cycles,wake_p50_us,wake_p99_us,"
               "wake_p999_us,wake_max_us,period_err_p50_us,period_err_p99_us,period_err_p999_us,"
               "period_err_max_us,overruns,overruns_per_min,update_p50_us,update_p99_us,"
-              "memory_lock,locked_mib,resident_mib\n");
+              "memory_lock,locked_mib,resident_mib,device_call_max_us\n");
     for (const RtCase &c : report.cases)
         out.print("%s,%s,%.0f,%s,%d,%d,%.3f,%llu,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,"
-                  "%llu,%.2f,%.2f,%.2f,%s,%.1f,%.1f\n",
+                  "%llu,%.2f,%.2f,%.2f,%s,%.1f,%.1f,%.2f\n",
                   c.label().c_str(), c.loop.c_str(), c.rateHz, platform::schedPolicyName(c.policy),
                   c.loaded ? 1 : 0, c.fifoRefused ? 1 : 0, c.seconds,
                   static_cast<unsigned long long>(c.cycles), c.wake.p50Us, c.wake.p99Us,
@@ -384,7 +395,7 @@ bool writeRtBenchOutputs(const RtBenchReport &report, const std::string &dir, st
                   c.periodError.p999Us, c.periodError.maxUs,
                   static_cast<unsigned long long>(c.overruns), c.overrunsPerMinute(),
                   c.update.p50Us, c.update.p99Us, platform::memoryLockModeName(c.lockMode),
-                  c.lockedMiB, c.residentMiB);
+                  c.lockedMiB, c.residentMiB, c.deviceCallMaxUs);
     if (!out.close()) {
         error = "cannot write '" + csv.string() + "'";
         return false;

@@ -13,7 +13,8 @@
 ///
 /// Ownership: the source owns the packet data; Packet::data stays valid until the next
 /// readPacket(), seek(), close() or the destruction of the source. info() is valid while Open.
-/// Thread-safety: thread-bound (the decode thread). Not real-time safe (file and network I/O).
+/// Thread-safety: thread-bound (the decode thread), except interrupt(), which any thread may call.
+/// Not real-time safe (file and network I/O).
 
 #include <cstddef>
 #include <cstdint>
@@ -144,6 +145,20 @@ public:
     /// duration]. \return nothing on success. Errors: InvalidState (not Open), NotSupported (not
     /// seekable), Io (the seek failed; the read position is unspecified but the source stays Open).
     [[nodiscard]] virtual Result<void> seek(Pts position) = 0;
+
+    /// \brief Makes a blocking open(), readPacket() or seek() running on another thread return
+    /// within 100 ms, whatever the network does (a silent or stalled live stream), and every later
+    /// one fail at once, until close(): the stop request of the player (mpv's quit during a stalled
+    /// read). The call that was interrupted returns Errc::Timeout.
+    /// Thread-safe and async-signal-safe (one atomic store); allowed in every state. The default
+    /// does nothing: for a backend whose calls never block.
+    virtual void interrupt() noexcept {}
+
+    /// \brief Makes a readPacket() blocked on another thread (a stalled input) return within
+    /// 100 ms with Errc::Timeout, once: for a seek requested meanwhile. The next seek() consumes
+    /// the request if no read did; later calls work as usual. Thread-safe and async-signal-safe;
+    /// allowed in every state. The default does nothing: for a backend whose reads never block.
+    virtual void cancelRead() noexcept {}
 
 protected:
     MediaSource() = default;

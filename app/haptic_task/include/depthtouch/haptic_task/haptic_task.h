@@ -153,10 +153,13 @@ struct HapticStats {
     /// run's output is lost.
     bool forceLogLost = false;
     double deviceMaxForce = 0.0; ///< The device's maximum, N.
-    LatencySummary wakeLatency;  ///< Wake time − deadline.
-    LatencySummary updateTime;   ///< Wake-up to force command.
-    LatencySummary periodError;  ///< |wake_k − wake_{k−1} − period| over on-time pairs.
-    std::string thread;          ///< What the haptic thread got (RealtimeThreadReport).
+    /// Longest single device call (read() or commandForce()) on the haptic thread, µs: bounded by
+    /// every backend whatever its options (docs/devices.md "Time of a device call").
+    double deviceCallMaxUs = 0.0;
+    LatencySummary wakeLatency; ///< Wake time − deadline.
+    LatencySummary updateTime;  ///< Wake-up to force command.
+    LatencySummary periodError; ///< |wake_k − wake_{k−1} − period| over on-time pairs.
+    std::string thread;         ///< What the haptic thread got (RealtimeThreadReport).
     /// Page faults the haptic thread took after its warm-up (the first kWarmupUpdates updates;
     /// getrusage(RUSAGE_THREAD) read by the thread itself every 256 updates and at its end). With
     /// the memory locked: 0, also under memory pressure.
@@ -169,6 +172,7 @@ struct HapticStats {
     /// contact_updates, overruns, missed_periods, wake_latency_us / update_time_us /
     /// period_error_us {p50, p90, p99, p999, max, mean}, safety_releases, watchdog_trips,
     /// device_losses, reconnects, telemetry_dropped, max_force_n, device_max_force_n,
+    /// device_call_max_us,
     /// force_log_lost, haptic_thread, haptic_page_faults {minor, major, warmup},
     /// haptic_locked_mib.
     [[nodiscard]] std::string toJson(int indent = 2) const;
@@ -184,10 +188,11 @@ struct HapticStats {
 ///
 /// Safety: the force is always clamped to min(renderer maxForce, device maxForce) and
 /// rate-limited. Zero force, at once: after more than watchdogMissedDeadlines consecutive missed
-/// deadlines, after more than watchdogDeviceTimeouts consecutive device time-outs, when the device
-/// is unplugged (Errc::NoDevice: the task keeps running and its telemetry thread closes and opens
-/// the device every reconnectIntervalMs until it answers; haptics then ramp back in), at stop()
-/// and after requestStop() (signal-safe, for SIGINT/SIGTERM handlers).
+/// deadlines or a wake-up as late (a process stopped and continued), after more than
+/// watchdogDeviceTimeouts consecutive device time-outs, when the device is unplugged
+/// (Errc::NoDevice: the task keeps running and its telemetry thread closes and opens the device
+/// every reconnectIntervalMs until it answers; haptics then ramp back in), at stop() and after
+/// requestStop() (signal-safe, for the stop signals' handlers).
 ///
 /// Thread-safety: create(), start(), stop() and the destructor on one owner thread. requestStop(),
 /// setEnabled() and every observer are thread-safe; requestStop() and setEnabled() are also
@@ -310,12 +315,15 @@ private:
     ///@{
     /// \return the cycle's telemetry sample with its wake-up, latency, overrun and cycle number.
     TelemetrySample beginSample(const platform::PeriodicWait &wait) const noexcept;
-    /// \return true when the loop missed more than watchdogMissedDeadlines deadlines in a row.
+    /// \return true when the loop missed more than watchdogMissedDeadlines deadlines in a row, or
+    /// woke that late (a stopped process).
     bool watchDeadlines(const platform::PeriodicWait &wait) noexcept;
     /// Hands the newest depth pair of the handoff, if any, to the renderer.
     void takeFrames() noexcept;
     /// Takes a reopened device back. \return false while the device is lost.
     bool ownDevice(TelemetrySample &sample) noexcept;
+    /// Keeps the longest device call (HapticStats::deviceCallMaxUs).
+    void noteDeviceCall(platform::Duration took) noexcept;
     /// Reads the device; a time-out counts for the device watchdog, any other error loses the
     /// device. \return false when \a state was not read.
     bool readDevice(hal::HapticState &state, TelemetrySample &sample) noexcept;
@@ -376,6 +384,7 @@ private:
     std::atomic<std::uint64_t> deviceLosses_{0};
     std::atomic<std::uint64_t> reconnects_{0}; ///< Written by the telemetry thread.
     std::atomic<double> maxForceSeen_{0.0};
+    std::atomic<std::int64_t> deviceCallMaxNs_{0}; ///< Longest device call, ns.
     std::atomic<double> gain_{0.0};
     platform::SeqLockArray<3> force_; ///< Last commanded force, N (read by lastForce()).
     platform::SeqLockArray<7> pose_;  ///< HIP, proxy (m) and a valid flag (lastPose()).

@@ -109,6 +109,12 @@ struct PlaybackConfig {
     /// level of detail at 0.9 of it on llvmpipe, 0.1 s gave more late frames and, under heavy
     /// host steal, more drops than 0 (README, "Real input").
     double maxLateness = 0.0;
+    /// A live stream (a source that cannot seek: a network stream, a FIFO) from which nothing came
+    /// for this long, seconds (at least 4 frame periods), while it plays is reported silent
+    /// (player::StateMachine::onStreamSilent(): "end-file" "silent", then Stopped) instead of
+    /// waiting for the source's I/O time-out. The receiver's buffers hold a few tenths of a second
+    /// of frames on top: the report comes about 1.6 s after a 30 fps sender stopped. 0: never.
+    double liveSilenceSeconds = 1.0;
 };
 
 /// \brief The HAL objects a Playback uses (the executable chooses the backends).
@@ -208,7 +214,9 @@ public:
     void close();
 
     /// \brief Tells \a machine what happened since the last call: open finished or failed, end of
-    /// stream, a failure of the pipeline. Call it from the main loop every few milliseconds.
+    /// stream, a failure of the pipeline, a live stream silent for
+    /// PlaybackConfig::liveSilenceSeconds (onStreamSilent()). Call it from the main loop every few
+    /// milliseconds.
     /// open() returns at once: the media source's open and probe run on a thread of their own
     /// (a FIFO without a writer or a silent stream blocks there, not the main thread), and the
     /// call of report() after they finished builds the session and reports onOpened() or
@@ -234,6 +242,8 @@ private:
     explicit Playback(std::unique_ptr<Impl> impl);
     /// Builds the session on \a rec once the opener has opened it (main thread, from report()).
     void finishOpen(std::unique_ptr<receiver::Receiver> rec);
+    /// Reports a live stream from which nothing came for PlaybackConfig::liveSilenceSeconds.
+    void watchSilence(player::StateMachine &machine);
     std::unique_ptr<Impl> impl_;
     PlaybackInfo info_;
 };

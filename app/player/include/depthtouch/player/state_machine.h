@@ -11,7 +11,8 @@
 ///                                    │     seek, recenter, end of stream with loop:    │
 ///                                    │     state kept (Playing stays Playing, Paused   │
 ///                                    │     stays Paused)                               │
-///   stop (Opening, Playing, Paused, Error), end of stream without loop ──► Stopped
+///   stop (Opening, Playing, Paused, Error), end of stream without loop, a silent live stream
+///   ──► Stopped
 ///   open failed, any action failing (Io, NoDevice, ...), onFailure() ──► Error
 ///   quit (any state): stops when active, then every command is refused
 /// \endverbatim
@@ -181,6 +182,10 @@ public:
     /// The last frame was presented (Playing or Paused): with loop, seeks to 0 and stays; without,
     /// stops (Stopped). Listeners get EndOfFile.
     bool onEndOfStream();
+    /// A live stream sent nothing for a while (its sender stopped; Playing or Paused): stops
+    /// (Stopped) whatever loop says, since a live stream cannot be looped. Listeners get EndOfFile
+    /// with "silent". A later `play` opens the same address again (its next sender).
+    bool onStreamSilent();
     /// The pipeline failed while Opening, Playing or Paused (device unplugged, decode error):
     /// Error with \a reason.
     bool onFailure(std::string_view reason);

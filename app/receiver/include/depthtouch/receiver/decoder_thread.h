@@ -39,7 +39,9 @@ public:
     /// \brief Starts the thread from the thread table's kDecodeThread row. \return InvalidState
     /// when already started; OutOfResources when the thread cannot be created.
     Result<void> start();
-    /// \brief Stops and joins the thread and drops the queued frames. Idempotent.
+    /// \brief Stops and joins the thread and drops the queued frames. Idempotent. A read blocked
+    /// in the source is interrupted (hal::MediaSource::interrupt(): within 100 ms); the source
+    /// then fails every read until it is closed, so the Receiver is not run again.
     void stop() noexcept;
 
     /// \brief Takes the next paired frame. Never blocks.
@@ -47,7 +49,8 @@ public:
     bool poll(PairedFrame &out) noexcept;
 
     /// \brief Asks the decoder thread to restart at \a position. Never blocks; later poll()s return
-    /// only frames decoded after the seek.
+    /// only frames decoded after the seek. A read blocked on a stalled seekable input is cancelled
+    /// (hal::MediaSource::cancelRead()), so the seek does not wait for the source's time-out.
     void seek(hal::Pts position) noexcept;
 
     /// \return true when the input ended (and no seek is pending) and every frame was polled.
@@ -58,6 +61,14 @@ public:
     [[nodiscard]] Error error() const noexcept;
     /// \return a snapshot of the Receiver's counters, taken by the decoder thread after each frame.
     [[nodiscard]] ReceiverStats stats() const;
+    /// \brief What the decoder thread is doing, for telling a silent live stream: bumped when it
+    /// enters and when it leaves Receiver::next() (which waits only on the source), so the value is
+    /// odd while it waits there; a consumer that sees the same odd value for seconds knows that
+    /// nothing came from the source for as long. Thread-safe.
+    [[nodiscard]] std::uint64_t readProgress() const noexcept
+    {
+        return progress_.load(std::memory_order_acquire);
+    }
     /// \return seek() requests that failed (the source was not seekable).
     [[nodiscard]] std::uint64_t seekFailures() const noexcept
     {
@@ -71,6 +82,7 @@ private:
     void publishStats();
 
     Receiver &receiver_;
+    const bool seekable_; ///< The source can seek: seek() cancels a blocked read.
     std::optional<platform::RealtimeThread> thread_; ///< kDecodeThread, from start().
     platform::SpscRing<PairedFrame, kQueueFrames> queue_;
 
@@ -84,6 +96,7 @@ private:
         false}; ///< The Receiver said Busy: poll() wakes the thread.
     std::atomic<bool> failed_{false};
     std::atomic<std::uint64_t> seekFailures_{0};
+    std::atomic<std::uint64_t> progress_{0}; ///< readProgress().
     Error error_{};
 
     mutable std::mutex statsMutex_; ///< Guards stats_.

@@ -62,9 +62,10 @@ struct RtCase {
     double seconds = 0.0;     ///< Measured duration, s.
     std::uint64_t cycles = 0;
     std::uint64_t overruns = 0;
-    LatencySummary wake;        ///< Wake time − deadline.
-    LatencySummary periodError; ///< |wake_k − wake_{k−1} − period| over on-time cycles.
-    LatencySummary update;      ///< Task only: wake-up to force command.
+    LatencySummary wake;          ///< Wake time − deadline.
+    LatencySummary periodError;   ///< |wake_k − wake_{k−1} − period| over on-time cycles.
+    LatencySummary update;        ///< Task only: wake-up to force command.
+    double deviceCallMaxUs = 0.0; ///< Task only: longest device call (read or command), µs.
     [[nodiscard]] double overrunsPerMinute() const noexcept
     {
         return seconds > 0.0 ? static_cast<double>(overruns) * 60.0 / seconds : 0.0;

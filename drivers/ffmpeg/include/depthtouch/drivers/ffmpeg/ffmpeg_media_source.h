@@ -23,7 +23,11 @@
 ///
 /// Times: Packet::pts/dts are nanoseconds from the container's start time. A packet without a PTS
 /// gets its DTS, else the previous PTS plus one frame duration.
-/// Thread-safety: as hal::MediaSource (thread-bound).
+/// Stop: interrupt() (any thread) sets a flag that libavformat's interrupt callback reads, next to
+/// the timeout_ms deadline, so a blocking read, seek or open returns within about 100 ms
+/// (Errc::Timeout "Interrupted by a stop request"); the flag holds until close(). cancelRead()
+/// does the same for one blocked read (a seek's request), consumed by that read or by seek().
+/// Thread-safety: as hal::MediaSource (thread-bound; interrupt() from any thread).
 
 #include <cstdint>
 #include <memory>
@@ -57,6 +61,8 @@ public:
     [[nodiscard]] State state() const noexcept override;
     [[nodiscard]] Result<void> open(const char *url) override;
     void close() noexcept override;
+    void interrupt() noexcept override;
+    void cancelRead() noexcept override;
     [[nodiscard]] const hal::MediaInfo &info() const noexcept override;
     [[nodiscard]] Result<hal::Packet> readPacket() override;
     [[nodiscard]] Result<void> seek(hal::Pts position) override;

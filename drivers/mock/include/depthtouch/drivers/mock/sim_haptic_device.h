@@ -34,9 +34,10 @@
 /// dropped).
 ///
 /// Time: the state is integrated with semi-implicit Euler in fixed 100 µs steps up to the clock's
-/// now() on every read() and commandForce() (at most 1 s per call; a longer gap is skipped), so it
-/// is deterministic under platform::ManualClock and runs in real time under SteadyClock.
-/// The intent time starts at open().
+/// now() on every read() and commandForce() (at most 1000 steps, 0.1 s, per call; a longer gap is
+/// skipped, and an explore hand that fell behind draws at most 4 new points), so one call is
+/// bounded in time whatever the options, and it is deterministic under platform::ManualClock and
+/// runs in real time under SteadyClock. The intent time starts at open().
 ///
 /// Options (BackendConfig::options, "key=value" separated by ','): intent=press|stroke|explore|idle
 /// (press), depth (m, default force / hand_stiffness), force (N, 2: the steady press, used only for
@@ -45,11 +46,11 @@
 /// hand that neither feels nor searches: s stays at z, the intended height z − depth), climb
 /// (m/s per N, 0.1), reach (m, 0.03), x, y (intended point, m, 0), z (start height and first
 /// surface estimate, m, 0.03), delay (s, 0), path (stroke polyline "x:y/x:y/...", m; default
-/// "-0.03:0/0.03:0"), speed (m/s, 0.05), period (s, 1), seed (1), mass (kg, 0.1), damping (viscous
-/// loss to the ground, N·s/m, 0), grip (lateral hand stiffness, N/m, default hand_stiffness),
-/// max_force (N, 8.5), workspace (half edge, m, 0.06), servo_rate (Hz, 1000), buttons (0..32, 2).
-/// Errors: SimHandSettings::parse() and create() give InvalidArgument for an unknown key, a
-/// malformed value or one out of range.
+/// "-0.03:0/0.03:0"), speed (m/s, 0.05), period (s, 1, at least 0.01), seed (1), mass (kg, 0.1),
+/// damping (viscous loss to the ground, N·s/m, 0), grip (lateral hand stiffness, N/m, default
+/// hand_stiffness), max_force (N, 8.5), workspace (half edge, m, 0.06), servo_rate (Hz, 1000),
+/// buttons (0..32, 2). Errors: SimHandSettings::parse() and create() give InvalidArgument for an
+/// unknown key, a malformed value or one out of range.
 ///
 /// The state, the clamp and non-finite handling are hal::HapticDeviceBase's, the fault injection
 /// and the output force SimulatedHapticDeviceBase's; this class is the hand. Real-time: read(),
@@ -91,7 +92,7 @@ struct SimHandSettings {
     double path[kMaxPathPoints][2] = {{-0.03, 0.0}, {0.03, 0.0}}; ///< Stroke polyline, m.
     int pathPoints = 2;                                           ///< 2 .. kMaxPathPoints.
     double speed = 0.05;                                          ///< Stroke speed, m/s (> 0).
-    double period = 1.0;               ///< Explore: time per random target, s (> 0).
+    double period = 1.0;               ///< Explore: time per random target, s (≥ 0.01).
     std::uint64_t seed = 1;            ///< Explore: random seed.
     double mass = 0.1;                 ///< Fingertip + end effector mass, kg (> 0).
     double damping = 0.0;              ///< Viscous loss to the ground, N·s/m (≥ 0).

@@ -1,0 +1,468 @@
+/// \file
+/// \brief Stop means stop (issue 28, groups 1, 2 and 5), each run with a time limit: a simulated
+/// hand whose options would spin the haptic thread is bad input; a player whose live stream went
+/// silent answers `quit` and ends on SIGTERM or --duration within 2 s (the source's 10 s I/O
+/// timeout before), reports the silence and plays the next sender; SIGHUP, SIGQUIT and SIGUSR1
+/// end `play`, `encode` and `touch` as SIGTERM does, and SIGXFSZ fails an encode with one line,
+/// with every output finished under its final name or removed and no temporary file left.
+/// Runs on the mock display (no GL); the live stream is a FIFO fed by the test that stops writing
+/// but stays open, the inputs are made with the ffmpeg CLI (those cases skip without it).
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "../../support/temp_dir.h"
+#include "cli_process.h"
+#include "control_client.h"
+
+namespace {
+
+using namespace std::chrono_literals;
+namespace fs = std::filesystem;
+using depthtouch::testing::ControlClient;
+using depthtouch::testing::Process;
+using depthtouch::testing::ProcessResult;
+using depthtouch::testing::TempDir;
+using Args = std::vector<std::string>;
+using SteadyClock = std::chrono::steady_clock;
+
+constexpr auto kLimit = 30s; ///< No run may take longer.
+
+bool haveFfmpeg()
+{
+    return std::system("command -v ffmpeg >/dev/null 2>&1") == 0;
+}
+
+/// Runs the ffmpeg CLI with \a args (quiet). \return whether it succeeded.
+bool ffmpeg(const std::string &args)
+{
+    return std::system(("ffmpeg -nostdin -hide_banner -v error -y " + args).c_str()) == 0;
+}
+
+std::string describe(const ProcessResult &r)
+{
+    return "exit " + std::to_string(r.exitCode) + (r.timedOut ? " (timed out)" : "") + ", signal " +
+           std::to_string(r.signal) + ", " + std::to_string(r.seconds) + " s, stderr:\n" +
+           r.err.substr(0, 2000);
+}
+
+double secondsSince(SteadyClock::time_point t)
+{
+    return std::chrono::duration<double>(SteadyClock::now() - t).count();
+}
+
+/// \return the names in \a dir that hold ".tmp." (temporary outputs left behind).
+std::vector<std::string> temporaryFiles(const fs::path &dir)
+{
+    std::vector<std::string> out;
+    for (const auto &e : fs::directory_iterator(dir))
+        if (e.path().filename().string().find(".tmp.") != std::string::npos)
+            out.push_back(e.path().filename().string());
+    return out;
+}
+
+std::string readText(const fs::path &p)
+{
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// Waits until process \a pid catches signal \a sig (its handler is installed: /proc/PID/status,
+/// SigCgt), at most \a limit. \return whether it does.
+bool waitUntilCaught(pid_t pid, int sig, std::chrono::milliseconds limit)
+{
+    const auto end = SteadyClock::now() + limit;
+    const std::string path = "/proc/" + std::to_string(pid) + "/status";
+    while (SteadyClock::now() < end) {
+        std::ifstream in(path);
+        std::string line;
+        while (std::getline(in, line)) {
+            if (line.rfind("SigCgt:", 0) != 0)
+                continue;
+            const unsigned long long mask = std::stoull(line.substr(7), nullptr, 16);
+            if ((mask >> (sig - 1)) & 1u)
+                return true;
+        }
+        std::this_thread::sleep_for(10ms);
+    }
+    return false;
+}
+
+/// A live sender on a FIFO: writes \a clip once, then stays silent with the FIFO open (a network
+/// stream whose sender went quiet) until destroyed.
+class SilentSender {
+public:
+    SilentSender(const fs::path &fifo, const fs::path &clip) : fifo_(fifo)
+    {
+        std::signal(SIGPIPE, SIG_IGN); // a player that ended: the write fails with EPIPE
+        const std::string bytes = readText(clip);
+        thread_ = std::thread([this, bytes] {
+            const int fd = ::open(fifo_.c_str(), O_WRONLY); // until a reader opens it
+            if (fd >= 0) {
+                std::size_t done = 0;
+                while (done < bytes.size() && !quit_.load()) {
+                    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+                    if (n <= 0)
+                        break;
+                    done += static_cast<std::size_t>(n);
+                }
+                while (!quit_.load())
+                    std::this_thread::sleep_for(10ms);
+                ::close(fd);
+            }
+            finished_.store(true);
+        });
+    }
+    ~SilentSender()
+    {
+        quit_.store(true);
+        // A reader of our own unblocks an open() still waiting for one, and a write into a full
+        // FIFO that nobody reads any more.
+        const int fd = ::open(fifo_.c_str(), O_RDONLY | O_NONBLOCK);
+        char buf[4096];
+        while (!finished_.load()) {
+            if (fd >= 0)
+                while (::read(fd, buf, sizeof buf) > 0) {
+                }
+            std::this_thread::sleep_for(1ms);
+        }
+        thread_.join();
+        if (fd >= 0)
+            ::close(fd);
+    }
+    SilentSender(const SilentSender &) = delete;
+    SilentSender &operator=(const SilentSender &) = delete;
+
+private:
+    const fs::path fifo_;
+    std::atomic<bool> quit_{false};
+    std::atomic<bool> finished_{false};
+    std::thread thread_;
+};
+
+/// A one-second MPEG-TS clip (colour only, 160x120, 30 fps) for a FIFO.
+fs::path makeLiveClip(const fs::path &dir)
+{
+    const fs::path clip = dir / "live.ts";
+    EXPECT_TRUE(ffmpeg("-f lavfi -i testsrc=size=160x120:rate=30:duration=1 -c:v libx264 "
+                       "-preset ultrafast -pix_fmt yuv420p -f mpegts '" +
+                       clip.string() + "'"));
+    return clip;
+}
+
+/// `depthtouch play FIFO` on the ffmpeg source and decoder, mock display, then \a extra.
+Args livePlay(const fs::path &fifo, const Args &extra)
+{
+    Args a = {DEPTHTOUCH, "play", fifo.string(), "--display", "mock", "--haptic", "none"};
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+}
+
+/// Waits until the player on \a c says \a state (at most \a limit).
+bool waitForState(ControlClient &c, const std::string &state, std::chrono::milliseconds limit)
+{
+    const auto end = SteadyClock::now() + limit;
+    while (SteadyClock::now() < end) {
+        if (c.request(R"({"command":["get","state"]})", 2000ms) ==
+            R"({"data":")" + state + R"(","error":"success"})")
+            return true;
+        std::this_thread::sleep_for(50ms);
+    }
+    return false;
+}
+
+// --- Group 1: a simulated device whose options would spin the haptic thread ------------------
+
+TEST(StopFaults, AnExplorePeriodThatWouldSpinTheHapticThreadIsBadInput)
+{
+    // GIVEN the simulated hand asked for a new point every nanosecond (one device call spun for
+    // tens of seconds at FIFO 90 before, ignoring --duration and SIGTERM)
+    const ProcessResult r = depthtouch::testing::runProcess(
+        {DEPTHTOUCH, "play", "mock://clip?frames=30&fps=30", "--source", "mock", "--decoder",
+         "mock", "--display", "mock", "--haptic", "sim", "--haptic-options",
+         "intent=explore,period=1e-9", "--duration", "3"},
+        kLimit);
+    // THEN it is refused at once: exit 2 and one line naming the option
+    EXPECT_FALSE(r.timedOut) << describe(r);
+    EXPECT_EQ(r.exitCode, 2) << describe(r);
+    EXPECT_EQ(r.errLines(), 1u) << describe(r);
+    EXPECT_NE(r.err.find("period"), std::string::npos) << r.err;
+    EXPECT_LT(r.seconds, 5.0) << describe(r);
+}
+
+// --- Group 2: stop, quit, SIGTERM and --duration with a silent live stream --------------------
+
+TEST(StopFaults, QuitEndsAPlayerWhoseLiveStreamWentSilentWithin2s)
+{
+    if (!haveFfmpeg())
+        GTEST_SKIP() << "no ffmpeg CLI on PATH";
+    TempDir tmp("dt-stop-");
+    const fs::path clip = makeLiveClip(tmp.dir());
+    const fs::path fifo = tmp.dir() / "live.fifo";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    const std::string sock = (tmp.dir() / "ctl.sock").string();
+    SilentSender sender(fifo, clip);
+    // (--idle: the player stays after it reported the silence, whichever comes first)
+    Process player(livePlay(fifo, {"--idle", "--control", sock}));
+    ControlClient c;
+    ASSERT_TRUE(c.connect(sock, 10s));
+    // GIVEN a player that played the stream's second and waits on its silence
+    ASSERT_TRUE(waitForState(c, "playing", 10s));
+    std::this_thread::sleep_for(1500ms);
+    // WHEN a client sends quit
+    const auto quitAt = SteadyClock::now();
+    EXPECT_EQ(c.request(R"({"command":["quit"]})", 15000ms), R"({"error":"success"})");
+    // THEN the answer and the exit come within 2 s (8.7 s before: the read's 10 s time-out)
+    EXPECT_LT(c.lastReplySeconds(), 2.0);
+    const ProcessResult r = player.wait(kLimit);
+    EXPECT_LT(secondsSince(quitAt), 2.0) << describe(r);
+    EXPECT_EQ(r.exitCode, 0) << describe(r);
+}
+
+TEST(StopFaults, SigtermAndDurationEndAPlayerWhoseLiveStreamWentSilentWithin2s)
+{
+    if (!haveFfmpeg())
+        GTEST_SKIP() << "no ffmpeg CLI on PATH";
+    TempDir tmp("dt-stop-");
+    const fs::path clip = makeLiveClip(tmp.dir());
+    {
+        const fs::path fifo = tmp.dir() / "term.fifo";
+        ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+        const std::string sock = (tmp.dir() / "term.sock").string();
+        SilentSender sender(fifo, clip);
+        Process player(livePlay(fifo, {"--idle", "--control", sock}));
+        ControlClient c;
+        ASSERT_TRUE(c.connect(sock, 10s));
+        ASSERT_TRUE(waitForState(c, "playing", 10s));
+        std::this_thread::sleep_for(1500ms);
+        // WHEN SIGTERM comes while the stream is silent
+        const auto termAt = SteadyClock::now();
+        player.signal(SIGTERM);
+        const ProcessResult r = player.wait(kLimit);
+        // THEN the player ends within 2 s, as after a quit
+        EXPECT_LT(secondsSince(termAt), 2.0) << describe(r);
+        EXPECT_EQ(r.exitCode, 0) << describe(r);
+    }
+    {
+        const fs::path fifo = tmp.dir() / "duration.fifo";
+        ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+        SilentSender sender(fifo, clip);
+        // WHEN --duration 3 runs out with the stream silent since 1 s (or the silence is reported
+        // first: the player ends then)
+        Process player(livePlay(fifo, {"--duration", "3"}));
+        const ProcessResult r = player.wait(kLimit);
+        // THEN the player ends by 3 s (9-10 s later before)
+        EXPECT_LT(r.seconds, 5.5) << describe(r);
+        EXPECT_EQ(r.exitCode, 0) << describe(r);
+    }
+}
+
+TEST(StopFaults, ASilentLiveStreamIsReportedAndTheNextSenderPlays)
+{
+    if (!haveFfmpeg())
+        GTEST_SKIP() << "no ffmpeg CLI on PATH";
+    TempDir tmp("dt-stop-");
+    const fs::path clip = makeLiveClip(tmp.dir());
+    const fs::path fifo = tmp.dir() / "live.fifo";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    const std::string sock = (tmp.dir() / "ctl.sock").string();
+    SilentSender first(fifo, clip);
+    Process player(livePlay(fifo, {"--idle", "--control", sock}));
+    ControlClient c;
+    ASSERT_TRUE(c.connect(sock, 10s));
+    ASSERT_TRUE(waitForState(c, "playing", 10s));
+    const auto playingAt = SteadyClock::now();
+    // WHEN the sender goes silent after its one-second clip
+    // THEN the state leaves "playing" 1 s into the silence (generous: 6 s after playing began;
+    // "playing" for 10 s before, until the source's time-out), with an event that says why
+    ASSERT_TRUE(waitForState(c, "stopped", 12s));
+    EXPECT_LT(secondsSince(playingAt), 6.0);
+    bool told = false;
+    for (const std::string &e : c.events)
+        told = told || (e.find("\"end-file\"") != std::string::npos &&
+                        e.find("\"silent\"") != std::string::npos);
+    EXPECT_TRUE(told) << "no end-file event saying silent";
+    // AND `play` shows the next sender on the same address, without a restart
+    SilentSender next(fifo, clip);
+    EXPECT_EQ(c.request(R"({"command":["play"]})"), R"({"error":"success"})");
+    EXPECT_TRUE(waitForState(c, "playing", 10s));
+    EXPECT_EQ(c.request(R"({"command":["quit"]})", 5000ms), R"({"error":"success"})");
+    const ProcessResult r = player.wait(kLimit);
+    EXPECT_EQ(r.exitCode, 0) << describe(r);
+}
+
+// --- Group 5: SIGHUP, SIGQUIT and SIGUSR1 end play and encode as SIGTERM does -----------------
+
+/// `depthtouch play` of a looping mock clip with the simulated hand, a force log and stats.
+Args mockPlayWithOutputs(const fs::path &dir)
+{
+    return {DEPTHTOUCH,
+            "play",
+            "mock://clip?frames=30&fps=30",
+            "--source",
+            "mock",
+            "--decoder",
+            "mock",
+            "--display",
+            "mock",
+            "--haptic",
+            "sim",
+            "--loop",
+            "--force-log",
+            (dir / "forces.csv").string(),
+            "--stats",
+            (dir / "stats.json").string()};
+}
+
+/// \return whether every line of the CSV text \a csv has as many fields as its header.
+bool everyRowWhole(const std::string &csv)
+{
+    std::istringstream in(csv);
+    std::string line;
+    std::size_t fields = 0;
+    std::size_t rows = 0;
+    while (std::getline(in, line)) {
+        const std::size_t n = static_cast<std::size_t>(std::count(line.begin(), line.end(), ','));
+        if (rows++ == 0)
+            fields = n;
+        else if (n != fields)
+            return false;
+    }
+    return rows > 1 && !csv.empty() && csv.back() == '\n';
+}
+
+TEST(StopFaults, HupQuitAndUsr1EndPlayCleanlyWithItsOutputsWhole)
+{
+    for (const int sig : {SIGHUP, SIGQUIT, SIGUSR1}) {
+        TempDir tmp("dt-stop-");
+        Process player(mockPlayWithOutputs(tmp.dir()));
+        // GIVEN a player that plays and feels for a second
+        ASSERT_TRUE(waitUntilCaught(player.pid(), sig, 20s));
+        std::this_thread::sleep_for(1000ms);
+        // WHEN the signal comes (a closed terminal, Ctrl-\, a service manager's USR1)
+        player.signal(sig);
+        const ProcessResult r = player.wait(kLimit);
+        // THEN it quits as on SIGTERM: exit 0, the stats written, the force log whole, no
+        // temporary file left
+        const std::string what = std::string("signal ") + std::to_string(sig);
+        EXPECT_EQ(r.signal, 0) << what << ": " << describe(r);
+        EXPECT_EQ(r.exitCode, 0) << what << ": " << describe(r);
+        EXPECT_NE(readText(tmp.dir() / "stats.json").find("\"haptic_updates\""), std::string::npos)
+            << what;
+        EXPECT_TRUE(everyRowWhole(readText(tmp.dir() / "forces.csv"))) << what;
+        EXPECT_TRUE(temporaryFiles(tmp.dir()).empty()) << what;
+    }
+}
+
+TEST(StopFaults, HupEndsAnEncodeWithAWholeFile)
+{
+    if (!haveFfmpeg())
+        GTEST_SKIP() << "no ffmpeg CLI on PATH";
+    TempDir tmp("dt-stop-");
+    const fs::path color = tmp.dir() / "c-000.png";
+    const fs::path depth = tmp.dir() / "d-000.png";
+    ASSERT_TRUE(ffmpeg("-f lavfi -i testsrc=size=64x48 -frames:v 1 '" + color.string() + "'"));
+    ASSERT_TRUE(ffmpeg("-f lavfi -i color=gray:size=64x48 -pix_fmt gray -frames:v 1 '" +
+                       depth.string() + "'"));
+    const fs::path out = tmp.dir() / "live.mkv";
+    for (const int sig : {SIGHUP, SIGUSR1}) {
+        Process enc({DEPTHTOUCH, "encode", "--color", color.string(), "--depth", depth.string(),
+                     "--loop", "--preset", "ultrafast", "-o", out.string()});
+        // GIVEN an endless encode that has written for a while
+        const auto end = SteadyClock::now() + 20s;
+        while (temporaryFiles(tmp.dir()).empty() && SteadyClock::now() < end)
+            std::this_thread::sleep_for(50ms);
+        std::this_thread::sleep_for(1000ms);
+        // WHEN the signal comes
+        enc.signal(sig);
+        const ProcessResult r = enc.wait(kLimit);
+        // THEN it ends as on SIGINT: exit 130, one line, the file complete under its name
+        const std::string what = std::string("signal ") + std::to_string(sig);
+        EXPECT_EQ(r.signal, 0) << what << ": " << describe(r);
+        EXPECT_EQ(r.exitCode, 130) << what << ": " << describe(r);
+        EXPECT_NE(r.err.find("interrupted by SIG"), std::string::npos) << what << ": " << r.err;
+        EXPECT_GT(fs::exists(out) ? fs::file_size(out) : 0u, 1000u) << what;
+        EXPECT_TRUE(temporaryFiles(tmp.dir()).empty()) << what;
+        fs::remove(out);
+    }
+}
+
+TEST(StopFaults, FileSizeLimitEndsAnEncodeWithOneLineAndNoTemporaryFile)
+{
+    if (!haveFfmpeg())
+        GTEST_SKIP() << "no ffmpeg CLI on PATH";
+    TempDir tmp("dt-stop-");
+    const fs::path color = tmp.dir() / "c-000.png";
+    const fs::path depth = tmp.dir() / "d-000.png";
+    ASSERT_TRUE(ffmpeg("-f lavfi -i testsrc=size=160x120 -frames:v 1 '" + color.string() + "'"));
+    ASSERT_TRUE(ffmpeg("-f lavfi -i color=gray:size=160x120 -pix_fmt gray -frames:v 1 '" +
+                       depth.string() + "'"));
+    const fs::path out = tmp.dir() / "big.mkv";
+    // GIVEN an endless encode under `ulimit -f 100` (100 KiB)
+    Process enc({"/bin/sh", "-c", "ulimit -f 100 && exec \"$0\" \"$@\"", DEPTHTOUCH, "encode",
+                 "--color", color.string(), "--depth", depth.string(), "--loop", "--realtime",
+                 "off", "--preset", "ultrafast", "-o", out.string()});
+    // WHEN the output reaches the limit (SIGXFSZ, then EFBIG)
+    const ProcessResult r = enc.wait(kLimit);
+    // THEN the encode fails with one line (lost output, exit 1), not killed by SIGXFSZ, and leaves
+    // neither a cut file nor a temporary one
+    EXPECT_EQ(r.signal, 0) << describe(r);
+    EXPECT_EQ(r.exitCode, 1) << describe(r);
+    EXPECT_EQ(r.errLines(), 1u) << describe(r);
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_TRUE(temporaryFiles(tmp.dir()).empty());
+}
+
+TEST(StopFaults, HupEndsATouchReplayWithNothingCutLeft)
+{
+    TempDir tmp("dt-stop-");
+    // GIVEN a replay of 999 s at 1 kHz over 30000 raw 8x8 depth frames
+    const fs::path depth = tmp.dir() / "d.raw";
+    {
+        std::ofstream d(depth, std::ios::binary);
+        const std::string frame(8 * 8 * 2, '\0');
+        for (int i = 0; i < 30000; ++i)
+            d << frame;
+    }
+    const fs::path traj = tmp.dir() / "t.csv";
+    std::ofstream(traj) << "t,x,y,z\n0,0,0,0.01\n999,0.01,0,-0.01\n";
+    const fs::path out = tmp.dir() / "forces.csv";
+    Process touch({DEPTHTOUCH, "touch", depth.string(), "--size", "8x8", "--bits", "16",
+                   "--trajectory", traj.string(), "--out", out.string(), "--quiet"});
+    // WHEN SIGHUP comes while it replays or writes
+    ASSERT_TRUE(waitUntilCaught(touch.pid(), SIGHUP, 20s));
+    touch.signal(SIGHUP);
+    const ProcessResult r = touch.wait(kLimit);
+    // THEN it ends with exit 130 and one line (or it had finished, exit 0), never killed, and
+    // leaves no temporary file; a force log left is whole
+    EXPECT_EQ(r.signal, 0) << describe(r);
+    EXPECT_TRUE(r.exitCode == 130 || r.exitCode == 0) << describe(r);
+    if (r.exitCode == 130) {
+        EXPECT_EQ(r.errLines(), 1u) << describe(r);
+        EXPECT_NE(r.err.find("interrupted by SIGHUP"), std::string::npos) << r.err;
+    }
+    EXPECT_TRUE(temporaryFiles(tmp.dir()).empty());
+    if (fs::exists(out)) {
+        const std::string csv = readText(out);
+        EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 999'002); // header + 999001 rows
+    }
+}
+
+} // namespace
