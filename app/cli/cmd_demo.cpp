@@ -32,6 +32,7 @@
 #include "message_text.h"
 #include "option_cli.h"
 #include "output_paths.h"
+#include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptic_task/haptic_task.h"
 #include "depthtouch/haptics/feel.h"
 #include "depthtouch/haptics/height_field.h"
@@ -43,6 +44,7 @@
 #include "depthtouch/platform/gnuplot.h"
 #include "depthtouch/platform/percentile.h"
 #include "play.h"
+#include "play_options.h"
 #include "source_providers.h"
 
 namespace depthtouch::cli {
@@ -468,18 +470,48 @@ std::string reportFeel(const DemoOptions &o, const std::string &clip, const std:
     return lost;
 }
 
-int runDemo(const DemoOptions &o)
+/// \return whether \a name is a compiled-in backend of \a kind.
+bool isBackend(drivers::BackendKind kind, const std::string &name)
+{
+    const std::vector<hal::BackendInfo> all = drivers::listBackends(kind);
+    return std::any_of(all.begin(), all.end(),
+                       [&name](const hal::BackendInfo &b) { return name == b.name; });
+}
+
+/// The checks of every option, before anything is rendered: \return the one-line message of the
+/// first value refused (bad input), or empty.
+std::string checkDemoOptions(const DemoOptions &o)
 {
     int w = 0;
     int h = 0;
     char x = 0;
-    if (std::sscanf(o.size.c_str(), "%d%c%d", &w, &x, &h) != 3 || w < 16 || h < 16 || w > 4096 ||
-        h > 4096 || o.frames < 2 || o.frames > 100000) {
-        std::fprintf(stderr, "depthtouch demo: --size must be WxH (16..4096) and --frames >= 2\n");
-        return kExitBadInput;
-    }
-    if (!(o.duration > 0.0) || !std::isfinite(o.duration)) {
-        std::fprintf(stderr, "depthtouch demo: --duration must be a number of seconds > 0\n");
+    int used = 0;
+    // Even sizes: the colour is coded 4:2:0.
+    if (std::sscanf(o.size.c_str(), "%d%c%d%n", &w, &x, &h, &used) != 3 || x != 'x' ||
+        static_cast<std::size_t>(used) != o.size.size() || w < 16 || h < 16 || w > 4096 ||
+        h > 4096 || w % 2 != 0 || h % 2 != 0)
+        return "--size must be WxH, even, 16..4096 pixels each";
+    if (o.frames < 2 || o.frames > 100000)
+        return "--frames must be in [2, 100000]";
+    if (!(o.duration > 0.0) || !std::isfinite(o.duration))
+        return "--duration must be a number of seconds > 0";
+    if (o.scene != "head" && o.scene != "spheres" && o.scene != "cut")
+        return "--scene must be head, spheres or cut";
+    if (!isBackend(drivers::BackendKind::Display, o.display))
+        return "--display: no display backend '" + o.display + "' (see depthtouch backends)";
+    if (!isBackend(drivers::BackendKind::HapticDevice, o.haptic))
+        return "--haptic: no haptic device backend '" + o.haptic + "' (see depthtouch backends)";
+    PlayOptions p;
+    p.url = "demo.mkv";
+    p.stiffness = o.stiffness;
+    p.rate = o.rate;
+    return checkPlayOptionValues(p);
+}
+
+int runDemo(const DemoOptions &o)
+{
+    if (const std::string bad = checkDemoOptions(o); !bad.empty()) {
+        std::fprintf(stderr, "depthtouch demo: %s\n", bad.c_str());
         return kExitBadInput;
     }
     std::string hapticOptions = o.hapticOptions;

@@ -104,6 +104,7 @@ const OptionRow<PlayOptions> kPlayRows[] = {
     {.name = "snapshot-every",
      .field = &PlayOptions::snapshotEvery,
      .help = "Snapshot every N presented frames (0: only on the snapshot command)",
+     .check = inRange(0, 1e6),
      .land = [](const PlayOptions &o, Config &c) { c.snapshotEvery = o.snapshotEvery; }},
     {.name = "record",
      .field = &PlayOptions::record,

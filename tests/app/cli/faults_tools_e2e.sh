@@ -129,4 +129,17 @@ run "probe gray H.264" 0 30 "$exe" probe "$w/gray.mkv"
 grep -q "depth (" "$w/out" || { cat "$w/out"; fail "gray H.264 4:0:0 not taken as depth"; }
 run "probe depth_bits=inf" 0 30 "$exe" probe "$w/inf.mkv"
 grep -q -- "-2147483648" "$w/out" && { cat "$w/out"; fail "depth_bits=inf printed as INT_MIN"; }
+
+# --- demo and numbers: every option is checked before the clip is rendered; an empty or
+# non-finite number is refused when the command line is read (CLI11 read "" as 0) ---
+for args in "--rate 0" "--stiffness nan" "--haptic bogus" "--display bogus" "--size 161x121" \
+    "--size 160x120x" "--scene bogus" "--frames 1" "--duration ''"; do
+    eval "run \"demo $args\" 2 10 \"\$exe\" demo --out \"\$w/demo\" $args"
+    [ ! -e "$w/demo" ] || fail "demo $args: made $w/demo before refusing"
+done
+run "touch --finger-radius nan" 2 10 $T "$w/t.csv" --out "$w/f.csv" --finger-radius nan
+run "touch --near ''" 2 10 $T "$w/t.csv" --out "$w/f.csv" --near ''
+run "encode --enhance-tolerance inf" 2 10 "$exe" encode --color "$w/c-%03d.png" \
+    --depth "$w/d-%03d.png" -o "$w/x.mkv" --enhance-tolerance inf
+[ ! -e "$w/f.csv" ] && [ ! -e "$w/x.mkv" ] || fail "a refused run left an output"
 echo PASS

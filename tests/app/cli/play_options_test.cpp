@@ -154,9 +154,9 @@ TEST(PlayOptionTable, AValueOutOfRangeGivesTheSameErrorOnBothPaths)
         }
         ++checked;
     }
-    EXPECT_EQ(checked, 12) << "stereo, stiffness, static-friction, dynamic-friction, rate, "
+    EXPECT_EQ(checked, 13) << "stereo, stiffness, static-friction, dynamic-friction, rate, "
                               "reengage, duration, record-crf, size, osd-seconds, lod-target, "
-                              "max-lateness";
+                              "max-lateness, snapshot-every";
 }
 
 TEST(PlayOptionTable, TheMessagesOfBadValuesStayAsTheyWere)
@@ -174,6 +174,7 @@ TEST(PlayOptionTable, TheMessagesOfBadValuesStayAsTheyWere)
         {{"--record-crf", "52"}, "--record-crf must be in [0, 51]"},
         {{"--static-friction", "-0.1"}, "--static-friction must be in [0, 2]"},
         {{"--dynamic-friction", "3"}, "--dynamic-friction must be in [0, 2]"},
+        {{"--snapshot-every", "-1"}, "--snapshot-every must be in [0, 1000000]"},
     };
     for (const auto &[args, message] : cases)
         EXPECT_EQ(checkPlayOptionValues(fromCommandLine(args)), message) << args[0];
