@@ -122,7 +122,7 @@ Result<std::pair<platform::UniqueFd, LibevdevPtr>> openDevice(const std::string 
     libevdev *raw = nullptr;
     const int rc = libevdev_new_from_fd(fd.get(), &raw);
     if (rc < 0)
-        return unexpected(Errc::NoDevice, "Not an input device", -rc);
+        return unexpected(Errc::InvalidArgument, "Not an input device", -rc); // a bad option
     return std::pair<platform::UniqueFd, LibevdevPtr>(std::move(fd), LibevdevPtr(raw));
 }
 

@@ -142,4 +142,7 @@ run "touch --near ''" 2 10 $T "$w/t.csv" --out "$w/f.csv" --near ''
 run "encode --enhance-tolerance inf" 2 10 "$exe" encode --color "$w/c-%03d.png" \
     --depth "$w/d-%03d.png" -o "$w/x.mkv" --enhance-tolerance inf
 [ ! -e "$w/f.csv" ] && [ ! -e "$w/x.mkv" ] || fail "a refused run left an output"
+run "play --remote evdev on a file that is not an input device" 2 10 "$exe" play \
+    'mock://clip?frames=3' --source mock --decoder mock --display mock --haptic none \
+    --remote evdev --remote-options device=/dev/null
 echo PASS
