@@ -74,13 +74,12 @@ public:
             return false;
         }
         const auto &streams = source_->info().streams;
-        for (const hal::StreamInfo &s : streams)
-            if (s.kind == hal::StreamKind::Depth && stream_ < 0)
-                stream_ = s.index;
-        if (stream_ < 0 && streams.size() == 1)
-            stream_ = streams[0].index;
+        // The depth stream as play and probe find it: by title, MP4 handler name, MPEG-TS
+        // service, or gray pixel format (an untagged TS, an HLS playlist); a single stream is depth.
+        stream_ = receiver::identifyStreams(source_->info(), receiver::SingleStream::Depth).depth;
         if (stream_ < 0) {
-            error = "no depth stream in '" + url + "' (several streams, none titled depth)";
+            error = "no depth stream in '" + url +
+                    "' (several streams, none titled depth or gray)";
             return false;
         }
         const hal::StreamInfo &si = streams[static_cast<std::size_t>(stream_)];
@@ -121,12 +120,12 @@ public:
             error = "depth input '" + url + "' has no frames";
             return false;
         }
-        if (auto r = source_->seek(hal::Pts{0}); !r) {
-            source_->close();
-            if (auto o = source_->open(url.c_str()); !o) {
-                error = "cannot reopen depth input '" + url + "'";
-                return false;
-            }
+        // Opened again rather than sought to 0: an MPEG-TS seek lands on a packet after the first
+        // (a keyframe search by bytes), and the replay would find fewer frames than counted.
+        source_->close();
+        if (auto o = source_->open(url.c_str()); !o) {
+            error = "cannot reopen depth input '" + url + "'";
+            return false;
         }
         auto dec = drivers::createVideoDecoder("ffmpeg", hal::BackendConfig{});
         if (!dec) {

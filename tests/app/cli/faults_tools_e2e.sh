@@ -145,4 +145,16 @@ run "encode --enhance-tolerance inf" 2 10 "$exe" encode --color "$w/c-%03d.png" 
 run "play --remote evdev on a file that is not an input device" 2 10 "$exe" play \
     'mock://clip?frames=3' --source mock --decoder mock --display mock --haptic none \
     --remote evdev --remote-options device=/dev/null
+
+# --- touch finds depth as play and probe do: an untagged MPEG-TS of colour and gray H.264 (no
+# titles: the gray pixel format says depth), and a single gray stream in MPEG-TS, read to its end
+ff -f lavfi -i testsrc=size=64x48:rate=30:duration=0.5 -f lavfi -i testsrc=size=64x48:rate=30:duration=0.5 \
+    -map 0 -map 1 -c:v libx264 -pix_fmt:v:0 yuv420p -pix_fmt:v:1 gray "$w/untagged.ts" || fail "ffmpeg ts"
+ff -f lavfi -i testsrc=size=64x48:rate=30:duration=0.5 -pix_fmt gray -c:v libx264 "$w/gray.ts" \
+    || fail "ffmpeg gray ts"
+for clip in untagged.ts gray.ts; do
+    run "touch $clip" 0 30 "$exe" touch "$w/$clip" --trajectory "$w/t.csv" --out "$w/ts.csv"
+    # every update of the 0.2 s trajectory at 1 kHz: the depth was read to the end
+    [ "$(wc -l <"$w/ts.csv")" -eq 202 ] || fail "touch $clip: want 201 updates"
+done
 echo PASS
