@@ -75,11 +75,11 @@ public:
         }
         const auto &streams = source_->info().streams;
         // The depth stream as play and probe find it: by title, MP4 handler name, MPEG-TS
-        // service, or gray pixel format (an untagged TS, an HLS playlist); a single stream is depth.
+        // service, or gray pixel format (an untagged TS, an HLS playlist); a single stream is
+        // depth.
         stream_ = receiver::identifyStreams(source_->info(), receiver::SingleStream::Depth).depth;
         if (stream_ < 0) {
-            error = "no depth stream in '" + url +
-                    "' (several streams, none titled depth or gray)";
+            error = "no depth stream in '" + url + "' (several streams, none titled depth or gray)";
             return false;
         }
         const hal::StreamInfo &si = streams[static_cast<std::size_t>(stream_)];
