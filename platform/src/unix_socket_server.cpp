@@ -173,7 +173,7 @@ void UnixSocketServer::acceptAll()
                 DT_LOG(Socket, Warning, "Failed to accept a connection: %s", std::strerror(errno));
             return;
         }
-        if (clientCount() >= options_.maxClients) {
+        if (clientCount() >= options_.maxClients && !evictStalled()) {
             DT_LOG(Socket, Warning, "Refused a connection to %s: %zu clients already",
                    path_.c_str(), options_.maxClients);
             continue; // fd closes here
@@ -181,9 +181,32 @@ void UnixSocketServer::acceptAll()
         const ClientId id = nextId_++;
         Client &c = clients_[id];
         c.fd = std::move(fd);
+        c.lastLine = ++activity_;
         DT_LOG(Socket, Debug, "Client %llu connected", static_cast<unsigned long long>(id));
         handler_.onConnect(id);
     }
+}
+
+bool UnixSocketServer::evictStalled()
+{
+    // Clients that hold half a line and send no more would otherwise keep every place: the one
+    // whose last whole line (or connection) is oldest gives its place to the new connection.
+    // Clients that wait with nothing pending (subscribers to the events) keep theirs.
+    auto stalled = clients_.end();
+    for (auto it = clients_.begin(); it != clients_.end(); ++it) {
+        const Client &c = it->second;
+        if (!c.closing && (!c.in.empty() || c.discarding) &&
+            (stalled == clients_.end() || c.lastLine < stalled->second.lastLine))
+            stalled = it;
+    }
+    if (stalled == clients_.end())
+        return false;
+    DT_LOG(Socket, Warning,
+           "Dropping client %llu of %s: it holds part of a line, and %zu clients "
+           "are the most",
+           static_cast<unsigned long long>(stalled->first), path_.c_str(), options_.maxClients);
+    stalled->second.closing = true;
+    return true;
 }
 
 void UnixSocketServer::readFrom(ClientId id, Client &client)
@@ -235,6 +258,7 @@ void UnixSocketServer::consume(ClientId id, Client &client, const char *data, st
         ++pos;
         std::string line;
         line.swap(client.in);
+        client.lastLine = ++activity_;
         if (!line.empty() && line.back() == '\r')
             line.pop_back();
         if (line.size() > options_.maxLineBytes) {

@@ -252,6 +252,51 @@ TEST_F(UnixSocketServerTest, manyClientsRepliesAndBroadcast)
         EXPECT_EQ(readSome(clients[i], 1), "") << i;
 }
 
+// Clients that each hold half a line and send no more do not lock everyone out: a new
+// connection takes the place of the one stalled longest, and it is served; clients that wait
+// with nothing pending keep theirs.
+TEST_F(UnixSocketServerTest, clientsStalledMidLineGiveTheirPlaceToANewOne)
+{
+    UnixSocketServerOptions options;
+    options.maxClients = 4;
+    start(options);
+    handler_.onLineHook = [&](ClientId id, std::string_view line) {
+        server_->send(id, "echo " + std::string(line) + "\n");
+    };
+    // GIVEN one quiet subscriber and three clients stuck in the middle of a line
+    std::vector<UniqueFd> clients;
+    clients.push_back(connectClient());
+    ASSERT_TRUE(pumpUntil([&] { return handler_.connected.size() == 1; }));
+    for (int i = 0; i < 3; ++i) {
+        clients.push_back(connectClient());
+        ASSERT_TRUE(pumpUntil([&] { return handler_.connected.size() == clients.size(); }));
+        writeAll(clients.back(), "{\"command\": [\"get_pro");
+    }
+    ASSERT_TRUE(pumpUntil([&] { return server_->clientCount() == 4; }));
+    EXPECT_FALSE(pumpUntil([&] { return !handler_.lines.empty(); }, 5));
+    // WHEN two more connect and send a line each
+    for (int i = 0; i < 2; ++i) {
+        clients.push_back(connectClient());
+        ASSERT_TRUE(pumpUntil([&] { return handler_.disconnected.size() == std::size_t(i) + 1; }));
+        writeAll(clients.back(), "hello " + std::to_string(i) + "\n");
+        ASSERT_TRUE(pumpUntil([&] { return handler_.lines.size() == std::size_t(i) + 1; }));
+    }
+    // THEN they were served, in the places of the two stalled longest
+    EXPECT_EQ(readSome(clients[4], 13), "echo hello 0\n");
+    EXPECT_EQ(readSome(clients[5], 13), "echo hello 1\n");
+    EXPECT_EQ(handler_.disconnected, (std::vector<ClientId>{2, 3}));
+    EXPECT_EQ(readSome(clients[1], 1), "") << "the first stalled client was closed";
+    // AND the quiet subscriber and the last stalled client are still connected
+    EXPECT_EQ(server_->clientCount(), 4u);
+    EXPECT_TRUE(handler_.connected.count(1) == 1 && handler_.connected.count(4) == 1);
+    // AND with every place held by clients with nothing pending, a new one is refused
+    writeAll(clients[3], "ted\n");
+    ASSERT_TRUE(pumpUntil([&] { return handler_.lines.size() == 3; }));
+    clients.push_back(connectClient());
+    EXPECT_FALSE(pumpUntil([&] { return handler_.connected.size() > 4; }, 5));
+    EXPECT_EQ(readSome(clients.back(), 1), "");
+}
+
 TEST_F(UnixSocketServerTest, clientThatDoesNotReadIsDropped)
 {
     UnixSocketServerOptions options;

@@ -34,7 +34,9 @@ namespace depthtouch::platform {
 /// Limits and file mode of a UnixSocketServer.
 struct UnixSocketServerOptions {
     std::size_t maxLineBytes = 4096;         ///< Longest line accepted, without its '\n'.
-    std::size_t maxClients = 16;             ///< Further connections are closed at once.
+    /// Further connections are closed at once, unless a client that holds part of a line gives
+    /// its place (the one whose last whole line is oldest is dropped).
+    std::size_t maxClients = 16;
     std::size_t maxQueuedBytes = 256 * 1024; ///< Unsent output per client before it is dropped.
     unsigned mode = 0600;                    ///< Permission bits of the socket file.
 };
@@ -100,11 +102,15 @@ private:
         std::string out;         ///< Queued output not yet written.
         bool discarding = false; ///< Skipping the rest of an over-long line.
         bool closing = false;    ///< Remove at the end of this poll round.
+        std::uint64_t lastLine = 0; ///< activity_ at its connection or its last whole line.
     };
 
     UnixSocketServer(std::string path, Handler &handler, UnixSocketServerOptions options,
                      UniqueFd fd) noexcept;
     void acceptAll();
+    /// With every place taken: drops the client that holds part of a line and has sent no whole
+    /// line for longest. \return whether a place was freed.
+    bool evictStalled();
     void readFrom(ClientId id, Client &client);
     void consume(ClientId id, Client &client, const char *data, std::size_t size);
     void flush(Client &client);
@@ -117,6 +123,7 @@ private:
     std::uint64_t inode_ = 0; ///< Inode of the socket file created, so only that file is removed.
     std::map<ClientId, Client> clients_;
     ClientId nextId_ = 1;
+    std::uint64_t activity_ = 0; ///< Counts connections and whole lines (Client::lastLine).
 };
 
 } // namespace depthtouch::platform
