@@ -201,6 +201,10 @@ Result<OutputPlan> planOutput(const std::string &path)
         UniqueFd probe(::open(plan.path.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC));
         if (!probe)
             return unexpected(Errc::InvalidArgument, "is a FIFO with no reader");
+        // Held open until the process ends: closing the only write end would give the reader an
+        // end of file before the output is opened for real (`cat fifo` would end, and the tool
+        // would then find no reader). The reader sees the end when the process exits.
+        (void)probe.release();
         plan.mode = OutputMode::InPlace;
         return plan;
     }

@@ -157,4 +157,13 @@ for clip in untagged.ts gray.ts; do
     # every update of the 0.2 s trajectory at 1 kHz: the depth was read to the end
     [ "$(wc -l <"$w/ts.csv")" -eq 202 ] || fail "touch $clip: want 201 updates"
 done
+
+# --- a FIFO output with an ordinary reader: the reader gets the whole force log (the check for a
+# reader closed its write end and gave the reader an end of file before the output was written)
+mkfifo "$w/readfifo" || fail "mkfifo"
+cat "$w/readfifo" >"$w/fromfifo.csv" &
+reader=$!
+run "touch --out FIFO with a reader" 0 30 $T "$w/t.csv" --out "$w/readfifo"
+wait "$reader"
+[ "$(wc -l <"$w/fromfifo.csv")" -eq 202 ] || fail "the FIFO's reader got $(wc -l <"$w/fromfifo.csv") lines, want 202"
 echo PASS
