@@ -16,11 +16,10 @@
 ///
 /// Reading goes through an EventSource: the real one uses libevdev (which resynchronises after
 /// SYN_DROPPED), tests use a fake that yields input_event records.
-/// Errors: the factory returns NoDevice when no device is found or the path is not an input
-/// device, PermissionDenied when it cannot be opened; poll() returns NoDevice once the device is
-/// unplugged (ENODEV) and from then on.
-/// Time: KeyEvent::time is the backend clock's time when the event was read.
-/// Thread-safety: thread-bound, as hal::RemoteInput.
+/// Errors: the factory returns NoDevice when no device is found, InvalidArgument when the path is
+/// not an input device (a bad option), PermissionDenied when it cannot be opened; poll() returns
+/// NoDevice once the device is unplugged (ENODEV) and from then on. Time: KeyEvent::time is the
+/// backend clock's time when the event was read. Thread-safety: thread-bound, as hal::RemoteInput.
 
 #include <memory>
 #include <string>
@@ -89,7 +88,8 @@ private:
 };
 
 /// \brief Opens \a path with libevdev. \param[in] grab Take the device exclusively (EVIOCGRAB).
-/// \return the source. Errors: NoDevice (missing, or not an input device), PermissionDenied, Io.
+/// \return the source. Errors: NoDevice (missing), InvalidArgument (not an input device),
+/// PermissionDenied, Io.
 Result<std::unique_ptr<EventSource>> openLibevdevSource(const std::string &path, bool grab);
 
 /// \brief Finds the first event device in \a dir (event0, event1, ... in number order) that has
