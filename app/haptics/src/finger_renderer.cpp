@@ -78,7 +78,9 @@ double curvatureCorrection(const double (&t)[9], double r, double &weight) noexc
 /// by the cross curvature (f_xyy·r²/2 each). On the bench's moving wave at r = 1.5 mm that
 /// averaging left the slope 2–3 % short and the force 0.04 N off at 6 N (clean-wave force RMS
 /// error with the HIP still 0.057 → 0.042 N). On an edge or noisy depth (w = 0) the plane's
-/// slope over all nine taps is kept: two taps alone have √3 times its noise.
+/// slope over all nine taps is kept: two taps alone have √3 times its noise. \a t are the taps
+/// (m, row-major as FingerPlane::taps), \a rx and \a ry their spacing (m); \a p's slope is
+/// dimensionless.
 void refineSlope(const double (&t)[9], double rx, double ry, double w, FingerPlane &p) noexcept
 {
     const double gx = (t[5] - t[3]) / (2.0 * rx);
