@@ -229,6 +229,9 @@ player::PlayerSettings playerSettings(const PlayOptions &opt)
     player::PlayerSettings settings;
     settings.url = opt.url;
     settings.loop = opt.loop;
+    // A player that stays up (--idle: the box's service) waits for the next sender of a live
+    // address that fell silent; one that ends at the end of its input ends there too.
+    settings.reopenWhenSilent = opt.idle;
     settings.stereoMode = *player::stereoModeFromName(opt.stereo);
     settings.haptics = true;
     settings.stiffness = opt.stiffness;

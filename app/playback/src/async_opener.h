@@ -43,9 +43,13 @@ public:
 
     /// \brief Starts opening \a url: makeSource(), then receiver::Receiver::open() with
     /// \a makeDecoder and \a config, on a new thread. A job still running is abandoned first.
+    /// With \a untilOpened a failed open is tried again every 0.5 s until one succeeds or the
+    /// job is abandoned (a live address waiting for its next sender); its failures are not
+    /// reported.
     /// \return false when no thread could be started (\a error then says why).
     bool start(SourceFactory makeSource, std::string url, receiver::DecoderFactory makeDecoder,
-               const receiver::ReceiverConfig &config, std::string &error);
+               const receiver::ReceiverConfig &config, std::string &error,
+               bool untilOpened = false);
     /// \return the outcome once the job has finished (once; the opener is then idle), or nullopt
     /// while it runs or when no job was started. Never blocks.
     std::optional<Outcome> poll();

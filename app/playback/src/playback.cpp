@@ -165,6 +165,16 @@ void Playback::close()
 
 Result<void> Playback::open(std::string_view url)
 {
+    return startOpening(url, false);
+}
+
+Result<void> Playback::awaitNextSender(std::string_view url)
+{
+    return startOpening(url, true);
+}
+
+Result<void> Playback::startOpening(std::string_view url, bool untilOpened)
+{
     Impl &m = *impl_;
     m.tearDown();
     m.openDone = false;
@@ -173,7 +183,7 @@ Result<void> Playback::open(std::string_view url)
     // on the opener's thread, and report() finishes the open when they are done.
     std::string why;
     if (!m.opener.start(m.hal.makeSource, std::string(url), m.hal.makeDecoder, m.config.receiver,
-                        why))
+                        why, untilOpened))
         return Error(Errc::OutOfResources, "cannot start the thread that opens the input");
     m.openingUrl = std::string(url);
     return {};

@@ -267,7 +267,8 @@ bool isRefusal(Errc code) noexcept
 
 StateMachine::StateMachine(PlayerActions &actions, PlayerSettings settings)
     : actions_(actions), url_(std::move(settings.url)), loop_(settings.loop),
-      stereoMode_(settings.stereoMode), haptics_(settings.haptics), range_(settings.range)
+      reopenWhenSilent_(settings.reopenWhenSilent), stereoMode_(settings.stereoMode),
+      haptics_(settings.haptics), range_(settings.range)
 {
     if (range_.min > range_.max)
         std::swap(range_.min, range_.max);
@@ -366,6 +367,8 @@ bool StateMachine::onStreamSilent()
     const Result<void> r = actions_.stop();
     emit(PlayerEventKind::EndOfFile, "silent");
     enterOrFail(PlayerState::Stopped, "stop", r);
+    if (reopenWhenSilent_ && state_ == PlayerState::Stopped && !url_.empty())
+        enterOrFail(PlayerState::Opening, "open", actions_.awaitNextSender(url_));
     return true;
 }
 

@@ -292,17 +292,18 @@ TEST(StopFaults, ASilentLiveStreamIsReportedAndTheNextSenderPlays)
     const auto playingAt = SteadyClock::now();
     // WHEN the sender goes silent after its one-second clip
     // THEN the state leaves "playing" 1 s into the silence (generous: 8 s after playing began;
-    // "playing" for 10 s before, until the source's time-out), with an event that says why
-    ASSERT_TRUE(waitForState(c, "stopped", 12s));
+    // "playing" for 10 s before, until the source's time-out), with an event that says why, and
+    // the player (it stays up: --idle) waits on the same address for the next sender
+    ASSERT_TRUE(waitForState(c, "opening", 12s));
     EXPECT_LT(secondsSince(playingAt), 8.0);
     bool told = false;
     for (const std::string &e : c.events)
         told = told || (e.find("\"end-file\"") != std::string::npos &&
                         e.find("\"silent\"") != std::string::npos);
     EXPECT_TRUE(told) << "no end-file event saying silent";
-    // AND `play` shows the next sender on the same address, without a restart
+    // AND the next sender on the same address plays, without a restart and without a command
+    std::this_thread::sleep_for(1500ms); // a few tries of the waiting open
     SilentSender next(fifo, clip);
-    EXPECT_EQ(c.request(R"({"command":["play"]})"), R"({"error":"success"})");
     EXPECT_TRUE(waitForState(c, "playing", 10s));
     EXPECT_EQ(c.request(R"({"command":["quit"]})", 5000ms), R"({"error":"success"})");
     const ProcessResult r = player.wait(kLimit);
@@ -403,6 +404,33 @@ TEST(StopFaults, HupEndsAnEncodeWithAWholeFile)
         EXPECT_TRUE(temporaryFiles(tmp.dir()).empty()) << what;
         fs::remove(out);
     }
+}
+
+TEST(StopFaults, TermWhileTheDemoMakesItsClipKeepsNoClip)
+{
+    TempDir tmp("dt-stop-");
+    const fs::path out = tmp.dir() / "demo";
+    // GIVEN a demo rendering and encoding a long clip (600 frames)
+    Process demo({DEPTHTOUCH, "demo", "--out", out.string(), "--frames", "600", "--display",
+                  "headless", "--haptic", "sim"});
+    ASSERT_TRUE(waitUntilCaught(demo.pid(), SIGTERM, 20s));
+    std::this_thread::sleep_for(300ms);
+    // WHEN SIGTERM comes while it makes the clip
+    const auto termAt = SteadyClock::now();
+    demo.signal(SIGTERM);
+    const ProcessResult r = demo.wait(kLimit);
+    // THEN it ends at once with exit 130 and a line that says so (it went on encoding before),
+    // and keeps neither the cut clip (the next demo would play it) nor a temporary file
+    EXPECT_LT(secondsSince(termAt), 5.0) << describe(r);
+    EXPECT_EQ(r.signal, 0) << describe(r);
+    EXPECT_EQ(r.exitCode, 130) << describe(r);
+    EXPECT_NE(r.err.find("interrupted by SIGTERM while making the clip"), std::string::npos)
+        << r.err;
+    std::size_t clips = 0;
+    for (const auto &e : fs::directory_iterator(out))
+        clips += e.path().extension() == ".mkv" ? 1u : 0u;
+    EXPECT_EQ(clips, 0u);
+    EXPECT_TRUE(temporaryFiles(out).empty());
 }
 
 TEST(StopFaults, FileSizeLimitEndsAnEncodeWithOneLineAndNoTemporaryFile)

@@ -21,6 +21,10 @@ public:
     {
         return record("open", "open " + std::string(url));
     }
+    Result<void> awaitNextSender(std::string_view url) override
+    {
+        return record("awaitNextSender", "awaitNextSender " + std::string(url));
+    }
     Result<void> startPlayback() override { return record("startPlayback", "startPlayback"); }
     Result<void> pause() override { return record("pause", "pause"); }
     Result<void> resume() override { return record("resume", "resume"); }

@@ -463,6 +463,48 @@ TEST(StateMachineTest, silentLiveStreamStopsEvenWithLoop)
     }
 }
 
+TEST(StateMachineTest, aPlayerThatStaysWaitsForTheNextSenderOfASilentStream)
+{
+    // GIVEN a player that stays up (--idle) playing a live address
+    PlayerSettings settings = defaultSettings();
+    settings.reopenWhenSilent = true;
+    Rig rig(S::Playing, settings);
+    auto &[fake, m, listener] = rig;
+    // WHEN its stream goes silent
+    EXPECT_TRUE(m.onStreamSilent());
+    // THEN it says so, stops, and opens the same address again to wait for the next sender
+    EXPECT_EQ(fake.calls,
+              (std::vector<std::string>{"stop", "awaitNextSender " + std::string(kUrl)}));
+    EXPECT_EQ(listener.names(), (std::vector<std::string>{"end-file", "state", "state"}));
+    EXPECT_EQ(listener.events.front().message, "silent");
+    EXPECT_EQ(listener.events[1].state, S::Stopped);
+    EXPECT_EQ(m.state(), S::Opening);
+    // AND when the next sender comes, it plays without a command
+    EXPECT_TRUE(m.onOpened());
+    EXPECT_EQ(m.state(), S::Playing);
+    // AND a stop while it waits ends the waiting
+    EXPECT_TRUE(m.onStreamSilent());
+    EXPECT_EQ(m.state(), S::Opening);
+    EXPECT_TRUE(m.execute("stop").accepted);
+    EXPECT_EQ(m.state(), S::Stopped);
+    EXPECT_EQ(fake.calls.back(), "stop");
+}
+
+TEST(StateMachineTest, aFailedWaitForTheNextSenderIsAnError)
+{
+    // GIVEN a player that stays up, whose pipeline cannot start waiting (no thread)
+    PlayerSettings settings = defaultSettings();
+    settings.reopenWhenSilent = true;
+    Rig rig(S::Playing, settings);
+    auto &[fake, m, listener] = rig;
+    fake.failures["awaitNextSender"] = Error(Errc::OutOfResources, "no thread");
+    // WHEN its stream goes silent
+    EXPECT_TRUE(m.onStreamSilent());
+    // THEN the machine says why in Error, not "opening" for ever
+    EXPECT_EQ(m.state(), S::Error);
+    EXPECT_NE(m.errorReason().find("no thread"), std::string::npos) << m.errorReason();
+}
+
 TEST(StateMachineTest, loopSeekFailureIsAnError)
 {
     PlayerSettings settings = defaultSettings();

@@ -111,9 +111,10 @@ struct PlaybackConfig {
     double maxLateness = 0.0;
     /// A live stream (a source that cannot seek: a network stream, a FIFO) from which nothing came
     /// for this long, seconds (at least 4 frame periods), while it plays is reported silent
-    /// (player::StateMachine::onStreamSilent(): "end-file" "silent", then Stopped) instead of
-    /// waiting for the source's I/O time-out. The receiver's buffers hold a few tenths of a second
-    /// of frames on top: the report comes about 1.6 s after a 30 fps sender stopped. 0: never.
+    /// (player::StateMachine::onStreamSilent(): "end-file" "silent", then Stopped, or Opening
+    /// while it waits for the next sender) instead of waiting for the source's I/O time-out. The
+    /// receiver's buffers hold a few tenths of a second of frames on top: the report comes
+    /// about 1.6 s after a 30 fps sender stopped. 0: never.
     double liveSilenceSeconds = 1.0;
 };
 
@@ -192,6 +193,9 @@ public:
     /// \brief Starts opening \a url (see report()). \return Errc::OutOfResources when no thread
     /// could be started for it; every other failure comes later as onOpenFailed().
     [[nodiscard]] Result<void> open(std::string_view url) override;
+    /// \brief Opens \a url as open() does, trying again every 0.5 s until a sender comes (a live
+    /// address whose stream fell silent); stop(), open() and quitting abandon the waiting.
+    [[nodiscard]] Result<void> awaitNextSender(std::string_view url) override;
     [[nodiscard]] Result<void> startPlayback() override;
     [[nodiscard]] Result<void> pause() override;
     [[nodiscard]] Result<void> resume() override;
@@ -239,6 +243,8 @@ public:
     struct Impl;
 
 private:
+    /// open() and awaitNextSender(): tears the session down and starts the opener.
+    [[nodiscard]] Result<void> startOpening(std::string_view url, bool untilOpened);
     explicit Playback(std::unique_ptr<Impl> impl);
     /// Builds the session on \a rec once the opener has opened it (main thread, from report()).
     void finishOpen(std::unique_ptr<receiver::Receiver> rec);

@@ -80,6 +80,10 @@ public:
     {
         return unexpected(Errc::NotSupported, "this player takes no snapshots");
     }
+    /// Starts opening \a url again after its live stream fell silent, and keeps trying until a
+    /// sender comes (a failed try is retried, not reported) or stop() or open() abandons it.
+    /// Completion is reported as for open(). The default opens once, as open().
+    [[nodiscard]] virtual Result<void> awaitNextSender(std::string_view url) { return open(url); }
 
 protected:
     PlayerActions() = default;
@@ -149,6 +153,10 @@ struct StiffnessRange {
 struct PlayerSettings {
     std::string url;    ///< What "play" opens when it names nothing.
     bool loop = false;  ///< End of stream seeks to 0 and keeps playing.
+    /// A live stream that fell silent is opened again at once (PlayerActions::awaitNextSender(),
+    /// state Opening), so that the next sender on its address plays without a `play` command; off:
+    /// it stays Stopped.
+    bool reopenWhenSilent = false;
     StereoMode stereoMode = StereoMode::SideBySide;
     bool haptics = true;
     double stiffness = 800.0; ///< N/m, clamped into range.
@@ -184,7 +192,8 @@ public:
     bool onEndOfStream();
     /// A live stream sent nothing for a while (its sender stopped; Playing or Paused): stops
     /// (Stopped) whatever loop says, since a live stream cannot be looped. Listeners get EndOfFile
-    /// with "silent". A later `play` opens the same address again (its next sender).
+    /// with "silent". With PlayerSettings::reopenWhenSilent the machine then waits for the next
+    /// sender on the same address (awaitNextSender(), Opening); without it a later `play` does.
     bool onStreamSilent();
     /// The pipeline failed while Opening, Playing or Paused (device unplugged, decode error):
     /// Error with \a reason.
@@ -228,6 +237,7 @@ private:
     PlayerState state_ = PlayerState::Idle;
     std::string url_;
     bool loop_;
+    bool reopenWhenSilent_;
     StereoMode stereoMode_;
     bool haptics_;
     double stiffness_;
