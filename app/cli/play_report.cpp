@@ -28,10 +28,11 @@ void addPlaybackStats(nlohmann::json &j, const playback::PlaybackStats &ps)
     j["color_frames_dmabuf_uploaded"] = ps.colorFramesDmaBufUploaded;
     j["depth_pairs_published"] = ps.depthPairsPublished;
     // The material track (docs/materials.md): frames decoded, depth frames that held an older
-    // material frame, depth frames with none at or before them.
+    // material frame, depth frames with none at or before them, damaged frames skipped.
     j["material_frames"] = ps.receiver.materialFrames;
     j["material_held"] = ps.receiver.materialHeld;
     j["material_missing"] = ps.receiver.materialMissing;
+    j["material_damaged"] = ps.receiver.materialDamaged;
     j["render_ms_p50"] = ps.renderMsP50;
     j["render_ms_p99"] = ps.renderMsP99;
     j["mesh_triangles_p50"] = ps.meshTrianglesP50;
@@ -110,6 +111,11 @@ void printPlaySummary(const std::string &url, const PlayRunFigures &run, const s
                 run.display.c_str(), info.haptics ? run.hapticDevice.c_str() : "off");
     for (const std::string &n : info.notes)
         std::printf("  note              %s\n", n.c_str());
+    if (ps.receiver.materialDamaged > 0)
+        std::printf(
+            "  material          %llu damaged frames skipped: the material before each held "
+            "(docs/materials.md)\n",
+            static_cast<unsigned long long>(ps.receiver.materialDamaged));
     std::printf("  frames            %llu received, %llu presented, %llu dropped, %llu late "
                 "(at most %.0f ms; %.1f fps presented; render p50 %.1f ms, p99 %.1f ms)\n",
                 static_cast<unsigned long long>(ps.framesReceived),

@@ -115,6 +115,16 @@ Take Receiver::Impl::takeFrame(Stream &s)
 void Receiver::Impl::pushFrame(Stream &s, FrameHandle &&h, const StoredFrame &f)
 {
     if (s.material) {
+        if (f.corrupt) {
+            // Concealed codes are not a material: a damaged lossless track would be felt as
+            // stiffness 0 (nothing under the finger). The previous material frame holds.
+            if (stats.materialDamaged++ == 0)
+                DT_LOG(Receiver, Warning,
+                       "The material track is damaged (frame at %.3f s): its damaged frames are "
+                       "skipped and the previous material holds",
+                       f.pts == hal::kNoPts ? -1.0 : platform::toSeconds(f.pts));
+            return;
+        }
         if (!materials->push(f.pts, std::move(h)))
             DT_LOG(Receiver, Debug, "Dropped a material frame: PTS not after the previous one");
         return;

@@ -32,6 +32,8 @@ constexpr std::uint32_t kNone = ~std::uint32_t{0};
 class MaterialSource final : public hal::MediaSource {
 public:
     std::function<bool(std::uint32_t)> has = [](std::uint32_t) { return true; };
+    /// Frame k's packet is sent with its payload damaged (the decoder conceals it) when true.
+    std::function<bool(std::uint32_t)> damaged = [](std::uint32_t) { return false; };
     int width = 0;  ///< 0: the depth's.
     int height = 0; ///< 0: the depth's.
     std::string title = "material";
@@ -70,6 +72,8 @@ public:
             const hal::StreamInfo &m = info_.streams.back();
             const std::size_t size = drivers::writeMockPacket(buffer_, hal::StreamKind::Color,
                                                               q.frame, m.width, m.height, true);
+            if (damaged(q.frame))
+                buffer_[size - 1] ^= 0x5a; // the payload, not the header
             hal::Packet p;
             p.streamIndex = m.index;
             p.data = buffer_;
@@ -255,6 +259,32 @@ TEST(ReceiverMaterialTest, missingMaterialFrameIsHeldAndCounted)
     EXPECT_EQ(s.materialHeld, 1u);
     EXPECT_EQ(s.materialMissing, 2u);
     EXPECT_EQ(s.materialFrames, 9u);
+}
+
+TEST(ReceiverMaterialTest, damagedMaterialFramesAreSkippedAndThePreviousHolds)
+{
+    // GIVEN material frames 4 and 5 damaged (a damaged file: the decoder conceals them, and their
+    // concealed codes would read as stiffness 0, nothing under the finger)
+    MaterialRig rig;
+    rig.onSource = [](MaterialSource &s) {
+        s.damaged = [](std::uint32_t k) { return k == 4 || k == 5; };
+    };
+    auto r = rig.open("mock://clip?frames=10");
+    ASSERT_TRUE(r);
+    const auto frames = drainMaterial(**r);
+    ASSERT_EQ(frames.size(), 10u);
+    // THEN depth frames 4 and 5 keep frame 3's material, and frame 6 has its own again
+    EXPECT_EQ(frames[3].material, 3u);
+    EXPECT_EQ(frames[4].material, 3u);
+    EXPECT_EQ(frames[5].material, 3u);
+    EXPECT_EQ(frames[5].materialNext, 6u);
+    EXPECT_EQ(frames[6].material, 6u);
+    // AND the damage is counted, apart from frames that never came
+    const auto s = (*r)->stats();
+    EXPECT_EQ(s.materialDamaged, 2u);
+    EXPECT_EQ(s.materialFrames, 10u);
+    EXPECT_EQ(s.materialHeld, 2u);
+    EXPECT_EQ(s.materialMissing, 0u);
 }
 
 TEST(ReceiverMaterialTest, depthOnlyFileWithMaterialFindsDepth)

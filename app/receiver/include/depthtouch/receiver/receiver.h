@@ -136,6 +136,9 @@ struct ReceiverStats {
     std::uint64_t colorFrames = 0;      ///< Color frames decoded.
     std::uint64_t depthFrames = 0;      ///< Depth frames decoded.
     std::uint64_t materialFrames = 0;   ///< Material frames decoded.
+    std::uint64_t materialDamaged = 0;  ///< Material frames the decoder concealed damage in:
+                                        ///< dropped (the previous material holds), not read as
+                                        ///< stiffness and friction codes.
     std::uint64_t framesOutput = 0;     ///< Paired frames produced.
     std::uint64_t framesConcealed = 0;  ///< Outputs with a concealed color or depth frame.
     std::uint64_t decodeErrors = 0;     ///< Packets or frames the decoders dropped or refused.
