@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -46,6 +47,7 @@
 #include "play.h"
 #include "play_options.h"
 #include "source_providers.h"
+#include "stop_signals.h"
 
 namespace depthtouch::cli {
 
@@ -96,7 +98,10 @@ const OptionRow<DemoOptions> kDemoRows[] = {
 };
 
 /// Encodes the scene into \a clip. \return an error text, or empty.
-std::string encodeScene(const DemoOptions &o, const std::string &clip)
+/// Renders and encodes the scene into \a clip. A stop signal (stop_signals.h) during it sets
+/// \a interrupted: the clip is then removed (a short clip would be reused by the next demo).
+/// \return an error line, empty on success or interruption.
+std::string encodeScene(const DemoOptions &o, const std::string &clip, bool &interrupted)
 {
     media::SourceProviders providers = makeSourceProviders();
     const std::string spec =
@@ -128,8 +133,18 @@ std::string encodeScene(const DemoOptions &o, const std::string &clip)
             std::fflush(stderr);
         }
     };
-    auto r = media::encodeStreams(**color, **depth, material->get(), eo, nullptr, cb);
+    std::atomic<bool> stop{false};
+    auto r = [&] {
+        StopSignals signals(stop, false);
+        return media::encodeStreams(**color, **depth, material->get(), eo, &stop, cb);
+    }();
     std::fprintf(stderr, "\n");
+    if (stop.load()) {
+        interrupted = true;
+        std::error_code ec;
+        std::filesystem::remove(clip, ec);
+        return {};
+    }
     if (!r)
         return std::string("cannot encode the scene: ") + r.error().what;
     return {};
@@ -536,9 +551,17 @@ int runDemo(const DemoOptions &o)
         std::printf("Rendering the built-in '%s' scene (%d frames at %s) into %s (once)...\n",
                     o.scene.c_str(), o.frames, o.size.c_str(), clip.c_str());
         std::fflush(stdout);
-        if (const std::string err = encodeScene(o, clip); !err.empty()) {
+        bool interrupted = false;
+        if (const std::string err = encodeScene(o, clip, interrupted); !err.empty()) {
             std::fprintf(stderr, "depthtouch demo: %s\n", err.c_str());
             return kExitFailure;
+        }
+        if (interrupted) {
+            std::fprintf(stderr,
+                         "depthtouch demo: interrupted by %s while making the clip; "
+                         "nothing was kept\n",
+                         stopSignalName(StopSignals::caughtSignal()));
+            return kExitInterrupted;
         }
     }
     for (const auto &entry : std::filesystem::directory_iterator(o.outDir + "/snapshots", ec))

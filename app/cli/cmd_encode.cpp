@@ -43,9 +43,6 @@ namespace depthtouch::cli {
 
 namespace {
 
-/// Exit code of an encode ended by a stop signal (128 + SIGINT, as shells report Ctrl-C).
-constexpr int kExitInterrupted = 130;
-
 struct EncodeCliOptions {
     std::string color;
     std::string depth;

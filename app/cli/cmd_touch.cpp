@@ -145,9 +145,6 @@ const OptionRow<TouchOptions> kTouchRows[] = {
      "holds. Overrides the friction options where it lies (finger, modified, proxy-graph)"},
 };
 
-/// Exit code of a touch ended by a stop signal (128 + SIGINT, as `encode`'s).
-constexpr int kExitInterrupted = 130;
-
 std::atomic<bool> gTouchStop{false};
 
 /// The depth frames of a replay that a stop signal ends: once one came, every frame fails (the

@@ -14,6 +14,9 @@ namespace depthtouch::cli {
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;
 inline constexpr int kExitBadInput = 2;
+/// A command ended by a stop signal before its work was done (128 + SIGINT, as shells report
+/// Ctrl-C).
+inline constexpr int kExitInterrupted = 130;
 
 /// Adds one subcommand to \a app; its callback writes the exit code to \a exitCode.
 using RegisterCommand = void (*)(CLI::App &app, int &exitCode);

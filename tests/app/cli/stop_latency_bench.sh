@@ -1,0 +1,145 @@
+#!/usr/bin/env bash
+# How fast `depthtouch play` stops while its live stream is silent: quit and stop on the control
+# socket, SIGTERM, and --duration, each tried N times (default 20) on a FIFO whose sender wrote a
+# one-second clip and then went quiet with the FIFO still open (a network stream whose sender
+# stalled). Prints the median, p99 and worst of each and writes stop_latency.csv and
+# stop_latency.png (gnuplot) into OUT_DIR. A figure, not a test: nothing here asserts a time.
+#
+# Usage: tests/app/cli/stop_latency_bench.sh DEPTHTOUCH [OUT_DIR] [N]
+# Needs: ffmpeg (the clip), socat (the control socket), gnuplot (the chart; skipped without it).
+# Measured: quit and SIGTERM from the request to the process's exit; stop from the request to its
+# answer; --duration D from the player's start to its exit, less D and less the start-up (the
+# time to the first "playing" answer, measured in the same run).
+# Source: issue 28's goal (stop, quit, SIGTERM and --duration within 100 ms at p99 over 20 tries).
+set -euo pipefail
+
+exe=${1:?usage: stop_latency_bench.sh DEPTHTOUCH [OUT_DIR] [N]}
+out=${2:-stop-latency}
+tries=${3:-20}
+mkdir -p "$out"
+work=$(mktemp -d)
+sender=
+player=
+cleanup() {
+    [ -n "$player" ] && kill -KILL "$player" 2>/dev/null || true
+    [ -n "$sender" ] && kill -KILL "$sender" 2>/dev/null || true
+    rm -rf "$work"
+}
+trap cleanup EXIT
+
+ffmpeg -loglevel error -f lavfi -i testsrc=size=160x120:rate=30:duration=1 -c:v libx264 \
+    -preset ultrafast -pix_fmt yuv420p -f mpegts "$work/live.ts"
+
+now_ms() { date +%s%3N; }
+ask() { # ask SOCKET JSON: prints the answer line
+    printf '%s\n' "$2" | socat -t 5 - "UNIX-CONNECT:$1" 2>/dev/null | head -n 1
+}
+wait_state() { # wait_state SOCKET STATE: up to 10 s
+    local end=$(($(now_ms) + 10000))
+    while [ "$(now_ms)" -lt "$end" ]; do
+        [ "$(ask "$1" '{"command":["get","state"]}')" = "{\"data\":\"$2\",\"error\":\"success\"}" ] &&
+            return 0
+        sleep 0.05
+    done
+    return 1
+}
+start_silent_sender() { # a writer that sends the clip and keeps the FIFO open, silent
+    rm -f "$work/live.fifo"
+    mkfifo "$work/live.fifo"
+    (exec 3>"$work/live.fifo"; cat "$work/live.ts" >&3; exec sleep 600) &
+    sender=$!
+}
+stop_sender() { kill -KILL "$sender" 2>/dev/null || true; wait "$sender" 2>/dev/null || true; sender=; }
+
+echo "action,try,ms" >"$out/stop_latency.csv"
+record() { echo "$1,$2,$3" >>"$out/stop_latency.csv"; }
+
+for action in quit stop sigterm duration; do
+    for i in $(seq 1 "$tries"); do
+        start_silent_sender
+        sock="$work/ctl.sock"
+        rm -f "$sock"
+        t_start=$(now_ms)
+        if [ "$action" = duration ]; then
+            "$exe" play "$work/live.fifo" --display mock --haptic none --quiet --control "$sock" \
+                --duration 3 >/dev/null 2>&1 &
+        else
+            "$exe" play "$work/live.fifo" --display mock --haptic none --quiet --control "$sock" \
+                --idle >/dev/null 2>&1 &
+        fi
+        player=$!
+        for _ in $(seq 1 100); do [ -S "$sock" ] && break; sleep 0.05; done
+        if ! wait_state "$sock" playing; then
+            echo "stop_latency: try $i of $action never played" >&2
+            kill -KILL "$player" 2>/dev/null || true
+            player=
+            stop_sender
+            continue
+        fi
+        t_playing=$(now_ms)
+        case "$action" in
+        quit)
+            sleep 1.5
+            t0=$(now_ms)
+            ask "$sock" '{"command":["quit"]}' >/dev/null
+            wait "$player" || true
+            record quit "$i" $(($(now_ms) - t0))
+            ;;
+        stop)
+            sleep 1.5
+            t0=$(now_ms)
+            ask "$sock" '{"command":["stop"]}' >/dev/null
+            record stop "$i" $(($(now_ms) - t0))
+            ask "$sock" '{"command":["quit"]}' >/dev/null
+            wait "$player" || true
+            ;;
+        sigterm)
+            sleep 1.5
+            t0=$(now_ms)
+            kill -TERM "$player"
+            wait "$player" || true
+            record sigterm "$i" $(($(now_ms) - t0))
+            ;;
+        duration)
+            # --duration counts from the first frame on screen: about the first "playing" answer.
+            wait "$player" || true
+            late=$(($(now_ms) - t_playing - 3000))
+            record duration "$i" $((late < 0 ? 0 : late))
+            ;;
+        esac
+        player=
+        stop_sender
+        : "$t_start"
+    done
+done
+
+echo "stop latency with a silent live stream, $tries tries each (ms):"
+printf '%-9s %8s %8s %8s\n' action median p99 worst
+for action in quit stop sigterm duration; do
+    grep "^$action," "$out/stop_latency.csv" | cut -d, -f3 | sort -n | awk -v a="$action" '
+        { v[NR] = $1 }
+        END {
+            if (NR == 0) { printf "%-9s %8s\n", a, "none"; exit }
+            p99 = v[int(0.99 * (NR - 1)) + 1 + (0.99 * (NR - 1) > int(0.99 * (NR - 1)))]
+            printf "%-9s %8d %8d %8d\n", a, v[int((NR + 1) / 2)], p99, v[NR]
+        }'
+done | tee "$out/stop_latency.txt"
+
+if command -v gnuplot >/dev/null; then
+    gnuplot <<EOF
+set terminal pngcairo size 800,480
+set output '$out/stop_latency.png'
+set datafile separator ','
+set title 'play: time to stop with a silent live stream ($tries tries each)'
+set ylabel 'ms'
+set xlabel 'try'
+set key outside right top
+set logscale y
+set yrange [1:*]
+plot '$out/stop_latency.csv' using (\$1 eq 'quit' ? \$2 : 1/0):(\$3 > 0 ? \$3 : 1) with linespoints title 'quit (socket → exit)', \
+     '' using (\$1 eq 'stop' ? \$2 : 1/0):(\$3 > 0 ? \$3 : 1) with linespoints title 'stop (socket → answer)', \
+     '' using (\$1 eq 'sigterm' ? \$2 : 1/0):(\$3 > 0 ? \$3 : 1) with linespoints title 'SIGTERM → exit', \
+     '' using (\$1 eq 'duration' ? \$2 : 1/0):(\$3 > 0 ? \$3 : 1) with linespoints title '--duration 3: exit after 3 s', \
+     100 with lines dashtype 2 lw 2 title 'goal: 100 ms'
+EOF
+fi
