@@ -35,9 +35,13 @@ if(headK LESS 250 OR headK GREATER 1500 OR headK EQUAL 800)
     message(FATAL_ERROR "stiffness felt on the head ${headK} N/m: not the skin's material")
 endif()
 # The curtain is touched briefly, near the head's silhouette: most runs read the cloth's 525 N/m,
-# about one in ten 130-300 N/m (the cause is not found; the same before the demo left out slewing
-# and ramping updates). So it is checked softer than --stiffness (the cloth's scale is 0.66), which
-# a material track not applied (800 N/m) fails.
+# about one in ten less, down to 51 N/m on a loaded machine. The cause: a wake-up of the haptic
+# thread over 6 periods (6 ms) late, or more than 5 deadlines missed in a row, trips the task's
+# watchdog, which zeroes the force and ramps it back in over the task's rampTime (0.25 s); the force
+# log does not mark a watchdog trip (its released column is the renderer's safety only), so the demo
+# counts those updates, |F| / depth rising from 0 (0..70 N/m in a run that read 525), and when they
+# are most of the curtain's contact the median is theirs. So it is checked softer than --stiffness
+# (the cloth's scale is 0.66), which a material track not applied (800 N/m) fails.
 if(NOT curtainK STREQUAL "nan" AND (curtainK LESS 100 OR curtainK GREATER 650))
     message(FATAL_ERROR "stiffness felt on the curtain ${curtainK} N/m: not the cloth's 525 N/m")
 endif()

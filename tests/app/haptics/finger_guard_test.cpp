@@ -1,9 +1,10 @@
 /// \file
 /// \brief The guards of the fingertip renderer (finger_renderer.h) one at a time, on still 8-bit
 /// frames swapped without interpolation (the hardest case: a depth frame that changes at once): the
-/// glide limit, the ramp of a small surface step, the capture depth of a new contact and the local
-/// candidate beside a silhouette. Each test names the guard it pins and what the viewer would feel
-/// without it (the mutants of tests/mutation/mutants/haptics.txt).
+/// glide limit, the ramp of a small surface step, the capture depth of a new contact, the local
+/// candidate beside a silhouette and the stencil's median under a flying pixel (on a 16-bit frame).
+/// Each test names the guard it pins and what the viewer would feel without it (the mutants of
+/// tests/mutation/mutants/haptics.txt).
 
 #include <algorithm>
 #include <cmath>
@@ -228,6 +229,40 @@ TEST(FingerGuardTest, aFingerPushedDeepIntoASteepBankIsHeldByTheNearerPlateau)
     EXPECT_NEAR(last.proxy.x, 0.020, 1e-3);
     EXPECT_NEAR(last.force.z, kK * 0.008, 0.2); // 8 mm at 800 N/m
     EXPECT_LT(std::fabs(last.force.x), 0.5);
+}
+
+// Median of the nine taps: on a flat table at z = 0 one flying pixel 15 mm toward the camera lies
+// exactly under the HIP, so the stencil's centre tap reads it. The plane's reference height is the
+// median of the nine (the other eight are 1.5 mm away, on the table), not the centre tap. A finger
+// lowered at 20 mm/s starts contact where the true table is, not on the flying pixel, and pressed
+// 2 mm in feels k·2 mm (with the centre tap as the reference: contact 15 mm above the table and
+// the force at the device maximum, 8.5 N).
+TEST(FingerGuardTest, aFlyingPixelUnderTheHipIsNotTheSurface)
+{
+    Rig rig;
+    const int col = kW / 2;
+    const int row = kH / 2;
+    OwnedFrame f = makeFrame(kBox, kW, kH, 0.0, [](double, double) { return 0.0; });
+    f.set(col, row, test::toNearness(kBox, SampleFormat::Gray16, 0.015));
+    rig.show(std::move(f));
+    const double x = test::sampleX(kBox, kW, col);
+    const double y = test::sampleY(kBox, kW, kH, row);
+    rig.finger.reset({x, y, 0.020});
+    double contactAt = std::nan("");
+    for (int k = 1; k <= 1100; ++k) { // 20 mm above to 2 mm under at 0.02 mm per update
+        const HapticOutput &o = rig.step({x, y, 0.020 - 0.02e-3 * k});
+        if (o.contact && std::isnan(contactAt))
+            contactAt = o.hip.z;
+    }
+    for (int k = 0; k < 200; ++k)
+        rig.step({x, y, -0.002});
+    const HapticOutput &last = rig.out.back();
+    std::printf("flying pixel under the HIP: contact from %.3f mm, force %.3f N at 2 mm under\n",
+                contactAt * 1e3, glm::length(last.force));
+    EXPECT_NEAR(contactAt, 0.0, 1e-3);
+    EXPECT_TRUE(last.contact);
+    EXPECT_NEAR(glm::length(last.force), kK * 0.002, 0.05);
+    EXPECT_NEAR(last.force.z, kK * 0.002, 0.05);
 }
 
 } // namespace

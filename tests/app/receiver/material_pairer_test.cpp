@@ -194,6 +194,36 @@ TEST(MaterialPairerTest, releaseKeepsTheFrameThatStillHoldsAndBoundsTheQueue)
     EXPECT_EQ(t.stats().dropped, 12u);
 }
 
+// The receiver's order for each paired frame i: find(t_i), find(t_i+1), release(t_i). With material
+// frames 3 and 4 lost (a gap of two, the material running one frame ahead), depth frames 3 and 4
+// hold frame 2's material, as frame i and as frame i+1; never none.
+TEST(MaterialPairerTest, aGapOfTwoFramesHoldsTheLastMaterialThroughIt)
+{
+    Track t = makeTrack();
+    auto has = [](int k) { return k != 3 && k != 4; };
+    int pushed = 0;
+    for (int i = 0; i < 9; ++i) {
+        // what has arrived: the material frames up to the first one after t_i+1 − τ
+        for (; pushed < 10 && !t.ready(milliseconds(40 * (i + 1))); ++pushed) {
+            if (has(pushed)) {
+                EXPECT_TRUE(t.push(milliseconds(40 * pushed), int{pushed}));
+            }
+        }
+        const int expected = has(i) ? i : 2;
+        const int expectedNext = has(i + 1) ? i + 1 : 2;
+        int got = -1;
+        int next = -1;
+        hal::Pts at = hal::kNoPts;
+        EXPECT_EQ(t.find(milliseconds(40 * i), got, at), has(i) ? Match::Same : Match::Held)
+            << "depth frame " << i;
+        EXPECT_EQ(got, expected) << "depth frame " << i;
+        EXPECT_NE(t.find(milliseconds(40 * (i + 1)), next, at), Match::Missing)
+            << "depth frame " << i + 1;
+        EXPECT_EQ(next, expectedNext) << "depth frame " << i + 1;
+        t.release(milliseconds(40 * i));
+    }
+}
+
 TEST(MaterialPairerTest, duplicateBackwardAndMissingTimestamps)
 {
     Track t = makeTrack();

@@ -285,6 +285,33 @@ TEST(ReceiverMaterialTest, damagedMaterialFramesAreSkippedAndThePreviousHolds)
     EXPECT_EQ(s.materialFrames, 10u);
     EXPECT_EQ(s.materialHeld, 2u);
     EXPECT_EQ(s.materialMissing, 0u);
+
+TEST(ReceiverMaterialTest, twoMissingMaterialFramesInARowHoldTheLastOne)
+{
+    // GIVEN material frames 7 and 8 lost (a gap of two)
+    MaterialRig rig;
+    rig.onSource = [](MaterialSource &s) {
+        s.has = [](std::uint32_t k) { return k != 7 && k != 8; };
+    };
+    auto r = rig.open("mock://clip?frames=12");
+    ASSERT_TRUE(r);
+    const auto frames = drainMaterial(**r);
+    ASSERT_EQ(frames.size(), 12u);
+    // THEN depth frames 7 and 8 play with frame 6's material, as frame i and as frame i+1: never
+    // with none (the stiffness and friction of the material would vanish under the finger)
+    EXPECT_EQ(frames[6].material, 6u);
+    EXPECT_EQ(frames[6].materialNext, 6u);
+    EXPECT_EQ(frames[7].material, 6u);
+    EXPECT_EQ(frames[7].materialNext, 6u);
+    EXPECT_EQ(frames[8].material, 6u);
+    EXPECT_EQ(frames[8].materialNext, 9u);
+    EXPECT_EQ(frames[9].material, 9u);
+    for (std::size_t i = 0; i < frames.size(); ++i)
+        EXPECT_NE(frames[i].material, kNone) << "depth frame " << i << " has no material";
+    const auto s = (*r)->stats();
+    EXPECT_EQ(s.materialHeld, 2u);
+    EXPECT_EQ(s.materialMissing, 0u);
+    EXPECT_EQ(s.materialFrames, 10u);
 }
 
 TEST(ReceiverMaterialTest, depthOnlyFileWithMaterialFindsDepth)
