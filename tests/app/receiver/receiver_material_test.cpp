@@ -285,6 +285,7 @@ TEST(ReceiverMaterialTest, damagedMaterialFramesAreSkippedAndThePreviousHolds)
     EXPECT_EQ(s.materialFrames, 10u);
     EXPECT_EQ(s.materialHeld, 2u);
     EXPECT_EQ(s.materialMissing, 0u);
+}
 
 TEST(ReceiverMaterialTest, twoMissingMaterialFramesInARowHoldTheLastOne)
 {
