@@ -4,7 +4,9 @@
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <new>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -41,6 +43,18 @@ int checkStandardOutput(int exitCode)
     return depthtouch::cli::kExitFailure;
 }
 
+/// The new-handler: an allocation that fails (a memory or address space limit, `ulimit -v`) ends
+/// the process with one line and exit 1 on whichever thread it happens, instead of an uncaught
+/// std::bad_alloc (an abort and a core dump). Writes with fputs on the unbuffered stderr: nothing
+/// here allocates.
+[[noreturn]] void outOfMemory()
+{
+    std::fputs("depthtouch: out of memory: an allocation failed (is the address space limit, "
+               "ulimit -v, too small?)\n",
+               stderr);
+    std::_Exit(depthtouch::cli::kExitFailure);
+}
+
 } // namespace
 
 int main(int argc, char **argv)
@@ -56,6 +70,7 @@ int main(int argc, char **argv)
     // A reader that leaves (`| head`) is a write error (EPIPE) reported in one line, not a silent
     // death by SIGPIPE; sockets and pipes of the player see the same error.
     std::signal(SIGPIPE, SIG_IGN);
+    std::set_new_handler(&outOfMemory);
     int exitCode = depthtouch::cli::kExitOk;
     for (RegisterCommand reg : kCommands)
         reg(app, exitCode);

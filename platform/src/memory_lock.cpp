@@ -197,4 +197,12 @@ std::size_t heapBlockBytes(const void *p, std::size_t fallback) noexcept
 #endif
 }
 
+std::uint64_t addressSpaceLimitBytes() noexcept
+{
+    struct rlimit r {};
+    if (::getrlimit(RLIMIT_AS, &r) != 0 || r.rlim_cur == RLIM_INFINITY)
+        return 0;
+    return static_cast<std::uint64_t>(r.rlim_cur);
+}
+
 } // namespace depthtouch::platform

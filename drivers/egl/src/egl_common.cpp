@@ -1,9 +1,11 @@
 #include "egl_common.h"
 
+#include <cstdint>
 #include <cstring>
 #include <mutex>
 
 #include "depthtouch/platform/log.h"
+#include "depthtouch/platform/memory_lock.h"
 
 DT_LOG_CATEGORY(Egl)
 
@@ -72,6 +74,19 @@ const char *eglErrorName(EGLint error) noexcept
 
 Result<EGLDisplay> acquireEglDisplay(EGLenum platform, void *nativeDisplay)
 {
+    // Mesa maps about 1 GiB of address space (its threads' stacks and code: VmPeak of a headless
+    // play 1.0 GiB, 0.33 GiB with the mock display). Below that it fails inside the driver, with
+    // a crash or a hang that nothing recovers from: refuse before loading it.
+    constexpr std::uint64_t kNeededBytes = std::uint64_t{1} << 30;
+    if (const std::uint64_t limit = platform::addressSpaceLimitBytes();
+        limit != 0 && limit < kNeededBytes) {
+        DT_LOG(Egl, Error, "The address space limit is %llu MiB, the EGL driver needs about %llu",
+               static_cast<unsigned long long>(limit >> 20),
+               static_cast<unsigned long long>(kNeededBytes >> 20));
+        return unexpected(Errc::OutOfResources,
+                          "the address space limit (ulimit -v) is below the 1 GiB that the EGL "
+                          "driver maps (its threads and code): raise it");
+    }
     const char *client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     if (!hasExtension(client, "EGL_EXT_platform_base")) {
         DT_LOG(Egl, Error, "Failed to find EGL_EXT_platform_base (client extensions: %s)",

@@ -82,8 +82,8 @@ TEST(AsyncOpenerTest, aWaitForTheNextSenderTriesUntilOneComes)
     AsyncOpener opener;
     std::string why;
     // WHEN it is opened to wait for its next sender
-    ASSERT_TRUE(opener.start(sources->factory(), "mock://clip?frames=5", mockDecoders(), {}, why,
-                             true));
+    ASSERT_TRUE(
+        opener.start(sources->factory(), "mock://clip?frames=5", mockDecoders(), {}, why, true));
     const auto out = waitFor(opener);
     // THEN the failed tries are not reported: the receiver of the third one is
     ASSERT_TRUE(out);

@@ -102,4 +102,8 @@ PageFaults threadPageFaults() noexcept;
 /// operator new (the start of a heap block). Not real-time safe.
 std::size_t heapBlockBytes(const void *p, std::size_t fallback) noexcept;
 
+/// \return the process's address space limit (the soft RLIMIT_AS, `ulimit -v`), bytes; 0 when
+/// there is none (RLIM_INFINITY) or it cannot be read. Thread-safe.
+std::uint64_t addressSpaceLimitBytes() noexcept;
+
 } // namespace depthtouch::platform
