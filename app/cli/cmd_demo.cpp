@@ -160,6 +160,7 @@ struct LogRow {
     glm::dvec3 force{};
     bool contact = false;
     bool released = false;
+    double gain = 1.0; ///< The output ramp's factor on the force (the log's gain column).
 };
 
 /// \return the rows of force log \a path (empty when it cannot be read).
@@ -173,9 +174,10 @@ std::vector<LogRow> readForceLog(const std::string &path)
         LogRow r;
         int contact = 0;
         int released = 0;
-        if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%d,%d,%lf", &r.t,
+        if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%d,%d,%lf,%lf", &r.t,
                         &r.hip.x, &r.hip.y, &r.hip.z, &r.proxy.x, &r.proxy.y, &r.proxy.z,
-                        &r.force.x, &r.force.y, &r.force.z, &contact, &released, &r.playT) != 13)
+                        &r.force.x, &r.force.y, &r.force.z, &contact, &released, &r.playT,
+                        &r.gain) != 14)
             continue;
         r.contact = contact != 0;
         r.released = released != 0;
@@ -302,8 +304,9 @@ struct DemoFeel {
     double contactSeconds = 0.0;
     double figureSeconds = 0.0; ///< Of the contact time, on the figure (nearer than the backdrop).
     /// The stiffness felt, |F| / |proxy − HIP| (N/m), of the contact updates pressed over 0.5 mm
-    /// and under the force clamp, on the figure and on the backdrop: the material track's
-    /// stiffness scales times --stiffness (skin and cloth differ).
+    /// and under the force clamp, not ramping (after a release or a watchdog trip), on the figure
+    /// and on the backdrop: the material track's stiffness scales times --stiffness (skin and cloth
+    /// differ).
     std::vector<double> figureStiffness;
     std::vector<double> backdropStiffness;
 };
@@ -358,7 +361,9 @@ DemoFeel measureFeel(const std::vector<LogRow> &rows, const std::vector<double> 
             const double step = i > 0 ? play[i] - play[i - 1] : 0.0;
             const bool slewing =
                 i > 0 && glm::length(r.force - rows[i - 1].force) >= 0.9 * kDemoForceRate * step;
-            const bool ramping = play[i] - releasedAt < kDemoRampTime;
+            // The renderer's ramp after its release, and the task's output ramp after a watchdog
+            // trip (a late wake-up on a loaded machine): a ramped force is not the surface's.
+            const bool ramping = play[i] - releasedAt < kDemoRampTime || r.gain < 1.0;
             if (!r.released && !slewing && !ramping && depth > kStiffnessMinDepth &&
                 force < 0.95 * kDemoMaxForce)
                 (onFigure ? d.figureStiffness : d.backdropStiffness).push_back(force / depth);

@@ -172,8 +172,9 @@ Result<void> HapticTask::start()
         if (!log)
             return unexpected(Errc::Io, "Failed to create the force log", log.error().sysErrno);
         forceLog_ = std::move(*log);
-        std::fputs("t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released,play_t\n",
-                   forceLog_.stream());
+        std::fputs(
+            "t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released,play_t,gain\n",
+            forceLog_.stream());
     }
     serviceStop_ = false;
     service_ = std::make_unique<platform::RealtimeThread>(

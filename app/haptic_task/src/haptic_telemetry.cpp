@@ -73,13 +73,14 @@ void HapticTask::drainLocked()
             firstWakeNs_ = s.wakeNs;
         if (forceLog_.isOpen() && (s.flags & TelemetrySample::Rendered) != 0) {
             // play_t: seconds since the first update, monotonic through loops and seeks (t is
-            // the media time, which restarts).
+            // the media time, which restarts); gain: the output ramp's factor on the force.
             std::fprintf(forceLog_.stream(),
-                         "%.6f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%d,%d,%.6f\n", s.t,
+                         "%.6f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%d,%d,%.6f,%.4f\n", s.t,
                          s.hip.x, s.hip.y, s.hip.z, s.proxy.x, s.proxy.y, s.proxy.z, s.force.x,
                          s.force.y, s.force.z, (s.flags & TelemetrySample::Contact) != 0 ? 1 : 0,
                          (s.flags & TelemetrySample::Released) != 0 ? 1 : 0,
-                         static_cast<double>(s.wakeNs - firstWakeNs_) * 1e-9);
+                         static_cast<double>(s.wakeNs - firstWakeNs_) * 1e-9,
+                         static_cast<double>(s.gain));
         }
     }
 }

@@ -251,7 +251,7 @@ TEST(PlayEndToEnd, RealKitchenWithTheSimulatedHand)
         std::string cell;
         while (std::getline(ss, cell, ','))
             v.push_back(std::strtod(cell.c_str(), nullptr));
-        ASSERT_EQ(v.size(), 13u) << line; // ..., contact, released, play_t
+        ASSERT_EQ(v.size(), 14u) << line; // ..., contact, released, play_t, gain
         const double fMag = std::sqrt(v[7] * v[7] + v[8] * v[8] + v[9] * v[9]);
         EXPECT_LE(fMag, j["device_max_force_n"].get<double>() + 1e-6);
         if (v[10] == 1.0 && v[0] > 0.5) {

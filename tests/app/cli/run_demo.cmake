@@ -34,15 +34,12 @@ match_line("stiffness felt +head ([0-9]+) N/m, curtain ([0-9]+|nan) N/m" "stiffn
 if(headK LESS 250 OR headK GREATER 1500 OR headK EQUAL 800)
     message(FATAL_ERROR "stiffness felt on the head ${headK} N/m: not the skin's material")
 endif()
-# The curtain is touched briefly, near the head's silhouette: most runs read the cloth's 525 N/m,
-# about one in ten less, down to 51 N/m on a loaded machine. The cause: a wake-up of the haptic
-# thread over 6 periods (6 ms) late, or more than 5 deadlines missed in a row, trips the task's
-# watchdog, which zeroes the force and ramps it back in over the task's rampTime (0.25 s); the force
-# log does not mark a watchdog trip (its released column is the renderer's safety only), so the demo
-# counts those updates, |F| / depth rising from 0 (0..70 N/m in a run that read 525), and when they
-# are most of the curtain's contact the median is theirs. So it is checked softer than --stiffness
-# (the cloth's scale is 0.66), which a material track not applied (800 N/m) fails.
-if(NOT curtainK STREQUAL "nan" AND (curtainK LESS 100 OR curtainK GREATER 650))
+# The curtain is touched briefly, near the head's silhouette. On a loaded machine a wake-up of the
+# haptic thread over 6 ms late (or more than 5 deadlines missed) trips the task's watchdog, which
+# zeroes the force and ramps it back in over 0.25 s: those updates read 0..500 N/m, and one run in
+# ten read 51-282 N/m when they were most of the curtain's contact. The force log's gain column marks
+# the ramp and the demo leaves those updates out, so the cloth's own 0.66 x 800 = 528 N/m is read.
+if(NOT curtainK STREQUAL "nan" AND (curtainK LESS 480 OR curtainK GREATER 580))
     message(FATAL_ERROR "stiffness felt on the curtain ${curtainK} N/m: not the cloth's 525 N/m")
 endif()
 foreach(f force-log.csv stats.json force-psd.csv head-160x120-20-materials.mkv snapshots/frame-000000.png)
@@ -51,7 +48,7 @@ foreach(f force-log.csv stats.json force-psd.csv head-160x120-20-materials.mkv s
     endif()
 endforeach()
 file(STRINGS ${OUT}/force-log.csv header LIMIT_COUNT 1)
-if(NOT header STREQUAL "t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released,play_t")
+if(NOT header STREQUAL "t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released,play_t,gain")
     message(FATAL_ERROR "force log header is '${header}'")
 endif()
 file(READ ${OUT}/stats.json stats)

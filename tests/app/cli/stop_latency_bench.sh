@@ -131,19 +131,21 @@ done | tee "$out/stop_latency.txt"
 
 if command -v gnuplot >/dev/null; then
     gnuplot <<EOF
-set terminal pngcairo size 800,480
+set terminal pngcairo size 900,540
 set output '$out/stop_latency.png'
 set datafile separator ','
 set title 'play: time to stop with a silent live stream ($tries tries each)'
-set ylabel 'ms'
+set ylabel 'ms (log scale; 0 is drawn at 1)'
 set xlabel 'try'
-set key outside right top
+set key below horizontal
 set logscale y
-set yrange [1:*]
-plot '$out/stop_latency.csv' using (strcol(1) eq 'quit' ? \$2 : 1/0):(\$3 > 0 ? \$3 : 1) with linespoints title 'quit (socket → exit)', \
-     '' using (strcol(1) eq 'stop' ? \$2 : 1/0):(\$3 > 0 ? \$3 : 1) with linespoints title 'stop (socket → answer)', \
-     '' using (strcol(1) eq 'sigterm' ? \$2 : 1/0):(\$3 > 0 ? \$3 : 1) with linespoints title 'SIGTERM → exit', \
-     '' using (strcol(1) eq 'duration' ? \$2 : 1/0):(\$3 > 0 ? \$3 : 1) with linespoints title '--duration 3: exit after 3 s', \
-     100 with lines dashtype 2 lw 2 title 'goal: 100 ms'
+set yrange [1:400]
+set xrange [0:$tries + 1]
+set grid ytics
+plot '$out/stop_latency.csv' using (strcol(1) eq 'quit' ? \$2 : 1/0):(\$3 > 0 ? \$3 : 1) with linespoints pt 1 lc rgb '#9400d3' title 'quit (socket → exit)', \
+     '' using (strcol(1) eq 'stop' ? \$2 : 1/0):(\$3 > 0 ? \$3 : 1) with linespoints pt 2 lc rgb '#009e73' title 'stop (socket → answer)', \
+     '' using (strcol(1) eq 'sigterm' ? \$2 : 1/0):(\$3 > 0 ? \$3 : 1) with linespoints pt 3 lc rgb '#56b4e9' title 'SIGTERM → exit', \
+     '' using (strcol(1) eq 'duration' ? \$2 : 1/0):(\$3 > 0 ? \$3 : 1) with linespoints pt 4 lc rgb '#e69f00' title '--duration 3: exit after 3 s', \
+     100 with lines dashtype 2 lw 2 lc rgb 'black' title 'goal: 100 ms'
 EOF
 fi

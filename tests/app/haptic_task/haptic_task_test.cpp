@@ -123,17 +123,29 @@ TEST(HapticTaskTest, simulatedHandRestsOnAStaticSurfaceWithForceEqualToKTimesPen
     std::ifstream in(log);
     std::string line;
     ASSERT_TRUE(std::getline(in, line));
-    EXPECT_EQ(line, "t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released,play_t");
+    EXPECT_EQ(line,
+              "t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released,play_t,gain");
     std::size_t rows = 0;
     double lastPlayT = -1.0;
+    double lastGain = -1.0;
     while (std::getline(in, line)) {
         ++rows;
-        // play_t, the last column, counts the updates' wake-ups from the first: 1 ms apart here
-        const double playT = std::stod(line.substr(line.rfind(',') + 1));
+        // play_t, column 13, counts the updates' wake-ups from the first: 1 ms apart here
+        const std::size_t gainComma = line.rfind(',');
+        const std::size_t playComma = line.rfind(',', gainComma - 1);
+        const double playT = std::stod(line.substr(playComma + 1, gainComma - playComma - 1));
         EXPECT_GT(playT, lastPlayT);
         lastPlayT = playT;
+        // gain, the last column: the output ramp's factor, in [0, 1], never falling in a steady
+        // press (no trip, no pause)
+        const double gain = std::stod(line.substr(gainComma + 1));
+        EXPECT_GE(gain, 0.0);
+        EXPECT_LE(gain, 1.0);
+        EXPECT_GE(gain, lastGain);
+        lastGain = gain;
     }
     EXPECT_NEAR(lastPlayT, 1.499, 0.002);
+    EXPECT_DOUBLE_EQ(lastGain, 1.0); // the force the log shows is the whole force
     EXPECT_EQ(rows, run.stats.renderedUpdates);
     std::remove(log.c_str());
     rmdir(dir);
