@@ -117,7 +117,61 @@ for action in $actions; do
     done
 done
 
-echo "stop latency with a silent live stream, $tries tries each (ms):"
+# A stalled HTTP server: it announces a 10 s clip, sends its first 200 kB and then nothing (a
+# server or a link that hangs mid-file). quit, SIGTERM and a seek to 0 while the read is blocked.
+ffmpeg -loglevel error -f lavfi -i testsrc=size=160x120:rate=30:duration=10 -c:v libx264 \
+    -preset ultrafast -pix_fmt yuv420p -f mpegts "$work/long.ts"
+size=$(stat -c %s "$work/long.ts")
+printf 'HTTP/1.0 200 OK\r\nContent-Type: video/mp2t\r\nContent-Length: %s\r\n\r\n' "$size" \
+    >"$work/head.txt"
+head -c 200000 "$work/long.ts" >"$work/part.ts"
+port=$((20000 + $$ % 20000))
+socat "TCP-LISTEN:$port,reuseaddr,fork" \
+    SYSTEM:"cat '$work/head.txt' '$work/part.ts'; exec sleep 600" 2>/dev/null &
+server=$!
+sleep 0.3
+for action in ${DT_STOP_HTTP_ACTIONS:-http-quit http-sigterm http-seek}; do
+    for i in $(seq 1 "$tries"); do
+        sock="$work/ctl.sock"
+        rm -f "$sock"
+        "$exe" play "http://127.0.0.1:$port/clip.ts" --display mock --haptic none --quiet \
+            --control "$sock" --idle >/dev/null 2>&1 &
+        player=$!
+        for _ in $(seq 1 500); do [ -S "$sock" ] && break; sleep 0.01; done
+        if ! wait_state "$sock" playing; then
+            echo "stop_latency: try $i of $action never played" >&2
+            kill -KILL "$player" 2>/dev/null || true
+            player=
+            continue
+        fi
+        sleep 1.5
+        t0=$(now_ms)
+        case "$action" in
+        http-quit)
+            ask "$sock" '{"command":["quit"]}' >/dev/null
+            wait "$player" || true
+            record http-quit "$i" $(($(now_ms) - t0))
+            ;;
+        http-sigterm)
+            kill -TERM "$player"
+            wait "$player" || true
+            record http-sigterm "$i" $(($(now_ms) - t0))
+            ;;
+        http-seek)
+            ask "$sock" '{"command":["seek",0,"absolute"]}' >/dev/null
+            record http-seek "$i" $(($(now_ms) - t0))
+            ask "$sock" '{"command":["quit"]}' >/dev/null
+            wait "$player" || true
+            ;;
+        esac
+        player=
+    done
+done
+kill -KILL "$server" 2>/dev/null || true
+wait "$server" 2>/dev/null || true
+actions="$actions ${DT_STOP_HTTP_ACTIONS:-http-quit http-sigterm http-seek}"
+
+echo "stop latency with a silent live stream and a stalled HTTP server, $tries tries each (ms):"
 printf '%-9s %8s %8s %8s\n' action median p99 worst
 for action in $actions; do
     grep "^$action," "$out/stop_latency.csv" | cut -d, -f3 | sort -n | awk -v a="$action" '
@@ -134,7 +188,7 @@ if command -v gnuplot >/dev/null; then
 set terminal pngcairo size 900,540
 set output '$out/stop_latency.png'
 set datafile separator ','
-set title 'play: time to stop with a silent live stream ($tries tries each)'
+set title 'play: time to stop or seek with a silent live stream and a stalled HTTP server ($tries tries each)'
 set ylabel 'ms (log scale; 0 is drawn at 1)'
 set xlabel 'try'
 set key below horizontal
@@ -146,6 +200,9 @@ plot '$out/stop_latency.csv' using (strcol(1) eq 'quit' ? \$2 : 1/0):(\$3 > 0 ? 
      '' using (strcol(1) eq 'stop' ? \$2 : 1/0):(\$3 > 0 ? \$3 : 1) with linespoints pt 2 lc rgb '#009e73' title 'stop (socket → answer)', \
      '' using (strcol(1) eq 'sigterm' ? \$2 : 1/0):(\$3 > 0 ? \$3 : 1) with linespoints pt 3 lc rgb '#56b4e9' title 'SIGTERM → exit', \
      '' using (strcol(1) eq 'duration' ? \$2 : 1/0):(\$3 > 0 ? \$3 : 1) with linespoints pt 4 lc rgb '#e69f00' title '--duration 3: exit after 3 s', \
+     '' using (strcol(1) eq 'http-quit' ? \$2 : 1/0):(\$3 > 0 ? \$3 : 1) with linespoints pt 6 dt 3 lc rgb '#d55e00' title 'stalled HTTP: quit', \
+     '' using (strcol(1) eq 'http-sigterm' ? \$2 : 1/0):(\$3 > 0 ? \$3 : 1) with linespoints pt 8 dt 3 lc rgb '#0072b2' title 'stalled HTTP: SIGTERM', \
+     '' using (strcol(1) eq 'http-seek' ? \$2 : 1/0):(\$3 > 0 ? \$3 : 1) with linespoints pt 12 dt 3 lc rgb '#555555' title 'stalled HTTP: seek 0 → answer', \
      100 with lines dashtype 2 lw 2 lc rgb 'black' title 'goal: 100 ms'
 EOF
 fi
