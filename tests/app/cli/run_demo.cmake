@@ -73,12 +73,14 @@ function(to_ms seconds var)
     set(${var} ${ms} PARENT_SCOPE)
 endfunction()
 # The run is in real time, so the counts are checked against the times the run measured, not
-# against the 3 s asked for (start-up and a loaded machine take some of them):
-# - every 1 ms period of the haptic run is an update or a missed deadline, within 10 (the first
-#   and the last wake-up's lateness: 3 on an idle machine; a fresh clone's test run beside a
-#   benchmark measured 2979 updates + 6 missed in 2990 ms, 5 short; a lost update path loses far
-#   more than 10 of the 3000);
-# - the haptic loop ran the whole time the clip played, within 100 ms (open and stop);
+# against the 3 s asked for, and only where a count is impossible whatever the machine does (the
+# exact accounting is checked on simulated time: HapticTaskTest.missedDeadlinesZeroTheForceAndItRampsBack
+# counts every 1 ms period as an update or a missed deadline; the figures are printed here):
+# - never more updates + missed periods than 1 ms periods of the haptic run, within 10 (the first
+#   and the last wake-up); fewer is a loaded machine's lateness at the ends (13 short seen), not a
+#   lost update;
+# - the haptic loop ran at least the whole time the clip played, within 100 ms (it runs longer when
+#   opening and stopping are slow: 126 ms on a loaded machine);
 # - every frame period of the playing time (30 fps) was presented or dropped, within 3 frames (the
 #   first frame's preroll and the frames pending at the stop) and two frames per loop of the
 #   20-frame clip (a loop's restart takes up to a frame period on an idle machine, up to two under
@@ -94,11 +96,12 @@ if(NOT statsUpdates EQUAL updates)
     message(FATAL_ERROR "summary says ${updates} haptic updates, stats.json ${statsUpdates}")
 endif()
 math(EXPR periodGap "${updates} + ${missed} - ${runMs}")
-if(periodGap LESS -10 OR periodGap GREATER 10)
+message(STATUS "haptic run ${runMs} ms: ${updates} updates + ${missed} missed periods (gap ${periodGap}); playing ${playingMs} ms")
+if(periodGap GREATER 10)
     message(FATAL_ERROR "${updates} updates + ${missed} missed periods in ${runMs} ms of haptic run")
 endif()
 math(EXPR runGap "${runMs} - ${playingMs}")
-if(runGap LESS -100 OR runGap GREATER 100)
+if(runGap LESS -100)
     message(FATAL_ERROR "haptic run ${runMs} ms, playing ${playingMs} ms")
 endif()
 math(EXPR frameGap "(${presented} + ${dropped}) * 1000 - ${playingMs} * 30")

@@ -231,6 +231,8 @@ TEST(HapticTaskTest, missedDeadlinesZeroTheForceAndItRampsBack)
     c.watchdogMissedDeadlines = 5;
     startPressingFlat(rig, mock, slow, c);
     ASSERT_NEAR(rig.task().lastForce().z, 4.0, 0.01);
+    const HapticStats before = rig.task().stats();
+    const platform::TimePoint from = rig.clock().now();
     // WHEN ten updates in a row take three periods each
     slow.makeSlow(10);
     rig.runMs(1);
@@ -248,6 +250,12 @@ TEST(HapticTaskTest, missedDeadlinesZeroTheForceAndItRampsBack)
     EXPECT_LT(early, 1.0);
     rig.runMs(150);
     EXPECT_NEAR(rig.task().lastForce().z, 4.0, 0.01);
+    // AND every 1 ms period since was an update or a missed deadline: none lost, none counted
+    // twice (the accounting a real-time run can only check within its wake-ups' lateness)
+    s = rig.task().stats();
+    const auto periods = static_cast<std::uint64_t>(
+        std::llround(platform::toSeconds(rig.clock().now() - from) * 1000.0));
+    EXPECT_EQ((s.updates - before.updates) + (s.missedPeriods - before.missedPeriods), periods);
     rig.finish(); // the haptic thread stops before the devices declared after the rig go
 }
 
