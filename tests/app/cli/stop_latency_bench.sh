@@ -5,7 +5,9 @@
 # stalled). Prints the median, p99 and worst of each and writes stop_latency.csv and
 # stop_latency.png (gnuplot) into OUT_DIR. A figure, not a test: nothing here asserts a time.
 #
-# Usage: tests/app/cli/stop_latency_bench.sh DEPTHTOUCH [OUT_DIR] [N]
+# Usage: [DT_STOP_SENDER=trickle] [DT_STOP_ACTIONS='quit stop sigterm duration']
+#        [DT_STOP_HTTP_ACTIONS='http-quit http-sigterm http-seek']
+#        tests/app/cli/stop_latency_bench.sh DEPTHTOUCH [OUT_DIR] [N]
 # Needs: ffmpeg (the clip), socat (the control socket), gnuplot (the chart; skipped without it).
 # Measured: quit and SIGTERM from the request to the process's exit; stop from the request to its
 # answer; --duration 3 from the control socket's appearance (the control loop starts just after)
@@ -43,10 +45,18 @@ wait_state() { # wait_state SOCKET STATE: up to 10 s
     done
     return 1
 }
+# DT_STOP_SENDER=trickle: the FIFO's sender writes the clip 2 kB at a time, a piece every 0.2 s
+# (a link that trickles), instead of all at once and then nothing.
+split -b 2048 -d -a 4 "$work/live.ts" "$work/piece."
 start_silent_sender() { # a writer that sends the clip and keeps the FIFO open, silent
     rm -f "$work/live.fifo"
     mkfifo "$work/live.fifo"
-    (exec 3>"$work/live.fifo"; cat "$work/live.ts" >&3; exec sleep 600) &
+    if [ "${DT_STOP_SENDER:-silent}" = trickle ]; then
+        (exec 3>"$work/live.fifo"; for p in "$work"/piece.*; do cat "$p" >&3; sleep 0.2; done
+         exec sleep 600) &
+    else
+        (exec 3>"$work/live.fifo"; cat "$work/live.ts" >&3; exec sleep 600) &
+    fi
     sender=$!
 }
 stop_sender() { kill -KILL "$sender" 2>/dev/null || true; wait "$sender" 2>/dev/null || true; sender=; }
@@ -130,7 +140,7 @@ socat "TCP-LISTEN:$port,reuseaddr,fork" \
     SYSTEM:"cat '$work/head.txt' '$work/part.ts'; exec sleep 600" 2>/dev/null &
 server=$!
 sleep 0.3
-for action in ${DT_STOP_HTTP_ACTIONS:-http-quit http-sigterm http-seek}; do
+for action in ${DT_STOP_HTTP_ACTIONS-http-quit http-sigterm http-seek}; do
     for i in $(seq 1 "$tries"); do
         sock="$work/ctl.sock"
         rm -f "$sock"
@@ -169,7 +179,7 @@ for action in ${DT_STOP_HTTP_ACTIONS:-http-quit http-sigterm http-seek}; do
 done
 kill -KILL "$server" 2>/dev/null || true
 wait "$server" 2>/dev/null || true
-actions="$actions ${DT_STOP_HTTP_ACTIONS:-http-quit http-sigterm http-seek}"
+actions="$actions ${DT_STOP_HTTP_ACTIONS-http-quit http-sigterm http-seek}"
 
 echo "stop latency with a silent live stream and a stalled HTTP server, $tries tries each (ms):"
 printf '%-9s %8s %8s %8s\n' action median p99 worst
