@@ -18,6 +18,7 @@ set -euo pipefail
 exe=${1:?usage: stop_latency_bench.sh DEPTHTOUCH [OUT_DIR] [N]}
 out=${2:-stop-latency}
 tries=${3:-20}
+[ -x "$exe" ] || { echo "stop_latency_bench.sh: $exe is not an executable (build/host/app/cli/depthtouch?)" >&2; exit 2; }
 mkdir -p "$out"
 work=$(mktemp -d)
 sender=
