@@ -15,6 +15,8 @@ HOST_PACKAGES=(
     build-essential cmake ninja-build pkgconf git
     # compile cache: shared between build trees (the mutation check's scratch copy)
     ccache
+    # the generated mutants of the mutation check (tests/mutation/generate.py: Python 3.11's tomllib)
+    python3
     # .ci/format-check: clang-format-diff on the lines changed since .ci/format-base
     clang-format-14
     # packaging: the man page from --help; dpkg-shlibdeps (dpkg-dev) for the package's Depends
