@@ -149,21 +149,21 @@ def candidates_of_line(text, masked):
         yield "sdl", indent + ";"
 
 
-def sources_of(component):
+def sources_of(component, headers=True):
     files = []
     for pattern in component["sources"]:
         for path in sorted((ROOT).glob(pattern)):
             rel = path.relative_to(ROOT).as_posix()
-            if path.suffix in (".cpp", ".h") and not any(
+            if path.suffix in ((".cpp", ".h") if headers else (".cpp",)) and not any(
                     re.search(x, rel) for x in component.get("exclude", [])):
                 files.append(rel)
     return files
 
 
-def candidates_of(component, equivalent):
+def candidates_of(component, equivalent, headers):
     """All candidates of one component in a fixed order, less the equivalent ones."""
     out, dropped = [], 0
-    for rel in sources_of(component):
+    for rel in sources_of(component, headers):
         lines = (ROOT / rel).read_text(encoding="utf-8").split("\n")
         counts = {}
         for line in lines:
@@ -203,6 +203,8 @@ def main():
     parser.add_argument("--seed", default="1")
     parser.add_argument("--component", action="append", default=[], metavar="NAME")
     parser.add_argument("--all", action="store_true", help="every candidate, no sample (a night's run)")
+    parser.add_argument("--headers", action="store_true",
+                        help="draw from headers too (each header mutant recompiles its includers twice)")
     parser.add_argument("--list-components", action="store_true")
     args = parser.parse_args()
 
@@ -218,18 +220,26 @@ def main():
     if args.per_component < 1:
         print("generate.py: --per-component must be at least 1", file=sys.stderr)
         return 2
+    samples = []
     for name, component in config.items():
         if args.component and name not in args.component:
             continue
-        cands, dropped = candidates_of(component, equivalent)
+        cands, dropped = candidates_of(component, equivalent, args.headers)
         if args.list_components:
-            print(f"{name:12} {len(sources_of(component)):4} files {len(cands):6} candidates "
-                  f"{dropped:3} equivalent")
+            print(f"{name:12} {len(sources_of(component, args.headers)):4} files {len(cands):6} "
+                  f"candidates {dropped:3} equivalent")
             continue
         chosen = cands if args.all else sample(cands, args.per_component, args.seed, name)
         print(f"# component {name}: {len(chosen)} of {len(cands)} candidates "
               f"({dropped} marked equivalent), seed {args.seed}")
-        for rel, lineno, op, text, mutated in chosen:
+        samples.append((name, component, chosen))
+    # Interleaved (the first of each component, then the second, ...): a run stopped early has
+    # tried every component as far as it went.
+    for k in range(max((len(c) for _, _, c in samples), default=0)):
+        for name, component, chosen in samples:
+            if k >= len(chosen):
+                continue
+            rel, lineno, op, text, mutated = chosen[k]
             tag = hashlib.sha1(f"{rel}\n{text}\n{mutated}".encode()).hexdigest()[:8]
             print(f"\n[gen-{name}-{Path(rel).stem}-{lineno}-{op}-{tag}]")
             print(f"file = {rel}")
@@ -239,7 +249,6 @@ def main():
             print(f"build = {' '.join(component['build'])}")
             print(f"component = {name}")
             print(f"breaks = {op} at {rel}:{lineno}")
-        print()
     return 0
 
 
