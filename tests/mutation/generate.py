@@ -94,7 +94,7 @@ STMT_INCR = re.compile(r"^\s*(\+\+|--)?[A-Za-z_][\w.\[\]]*(\+\+|--)?;\s*$")
 
 # Calls whose two arguments commute (a swap is an equivalent mutant) or that are not calls.
 NOT_SWAPPED = {"if", "while", "for", "switch", "return", "max", "min", "fmax", "fmin", "hypot", "swap",
-               "equal", "add", "plus", "multiplies"}
+               "equal", "add", "plus", "multiplies", "dot"}
 
 
 def balanced(s):
