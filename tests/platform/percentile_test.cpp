@@ -1,6 +1,6 @@
 /// \file
-/// \brief percentile(): the nearest-rank definition (the smallest sample with at least a fraction p of
-/// the samples at or below it), checked on samples whose ranks the test counts itself.
+/// \brief percentile(): the nearest-rank definition (the smallest sample with at least a fraction p
+/// of the samples at or below it), checked on samples whose ranks the test counts itself.
 
 #include "depthtouch/platform/percentile.h"
 
@@ -48,6 +48,9 @@ TEST(PercentileTest, matchesAFullSortOnRandomSamples)
     }
 }
 
-TEST(PercentileTest, noSamplesIsZero) { EXPECT_EQ(percentile({}, 0.5), 0.0); }
+TEST(PercentileTest, noSamplesIsZero)
+{
+    EXPECT_EQ(percentile({}, 0.5), 0.0);
+}
 
 } // namespace
