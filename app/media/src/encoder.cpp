@@ -316,7 +316,7 @@ Result<void> Muxer::start()
             flags = m.live ? "delete_segments+temp_file" : "temp_file";
         if (*flags != '\0')
             av_dict_set(&opts, "hls_flags", flags, 0);
-        else
+        if (!m.live)
             av_dict_set(&opts, "hls_playlist_type", "event", 0);
     }
     const int ret = avformat_write_header(m.fmt, &opts);
