@@ -84,6 +84,34 @@ TEST(ControlLoopTest, quietInputReturnsAtTheDeadline)
     EXPECT_TRUE(fake.calls.empty());
 }
 
+TEST(ControlLoopTest, lostRemoteIsLeftAloneUntilTheDeadline)
+{
+    // GIVEN a remote unplugged before the loop starts, and no control socket
+    ManualClock clock(ManualClock::Mode::AutoAdvance, TimePoint(seconds(5)));
+    drivers::MockRemoteInput remote(clock);
+    remote.unplug();
+    FakePlayerActions fake;
+    player::StateMachine m(fake, settings());
+    ControlLoop loop(m, &remote, nullptr, clock);
+
+    // WHEN the loop runs for 2 s, and the remote comes back with a key while it runs again
+    ASSERT_TRUE(loop.runUntil(clock.now() + seconds(2)));
+    const bool lostAfterFirst = loop.stats().remoteLost;
+    const TimePoint firstEnd = clock.now();
+    remote.replug();
+    remote.pushKey(Key::Exit, TimePoint(seconds(8)));
+    ASSERT_TRUE(loop.runUntil(clock.now() + seconds(2)));
+
+    // THEN the loss is counted once, the loop sleeps out its slices (a lost remote that is polled
+    // again returns at once: the loop would spin), and the lost remote is never read again
+    EXPECT_TRUE(lostAfterFirst);
+    EXPECT_EQ(firstEnd, TimePoint(seconds(7)));
+    EXPECT_EQ(clock.now(), TimePoint(seconds(9)));
+    EXPECT_FALSE(m.quitRequested()) << "a remote reported lost is not read again";
+    EXPECT_EQ(remote.pending(), 2u) << "the Exit key's press and release stay unread";
+    EXPECT_EQ(loop.stats().keys, 0u);
+}
+
 TEST(ControlLoopTest, lostRemoteLeavesTheSocketWorking)
 {
     char tmpl[] = "/tmp/dt-loop-XXXXXX";

@@ -284,12 +284,25 @@ TEST_F(ReceiverMediaTest, unsupportedCodecIsAClearError)
 
 TEST_F(ReceiverMediaTest, streamsAboveTheSizeLimitAreRefused)
 {
+    // GIVEN a 64x48 clip, and limits at its size, one pixel below in width or in height alone
     const std::string path = write("big.mkv", Clip::standard(64, 48, 3));
-    ReceiverConfig cfg;
-    cfg.maxWidth = 32;
-    auto r = openFfmpeg(path, cfg);
-    ASSERT_FALSE(r);
-    EXPECT_EQ(r.error().code, Errc::InvalidArgument);
+    struct Case {
+        int maxWidth, maxHeight;
+        bool opens;
+    };
+    for (const Case c : {Case{64, 48, true}, Case{63, 48, false}, Case{64, 47, false},
+                         Case{32, 4096, false}, Case{4096, 24, false}}) {
+        ReceiverConfig cfg;
+        cfg.maxWidth = c.maxWidth;
+        cfg.maxHeight = c.maxHeight;
+        auto r = openFfmpeg(path, cfg);
+        // THEN a stream at the limit plays and one larger in either dimension is refused
+        ASSERT_EQ(static_cast<bool>(r), c.opens) << c.maxWidth << "x" << c.maxHeight;
+        if (!c.opens)
+            EXPECT_EQ(r.error().code, Errc::InvalidArgument) << c.maxWidth << "x" << c.maxHeight;
+        else
+            EXPECT_EQ(drain(**r).size(), 3u);
+    }
 }
 
 TEST_F(ReceiverMediaTest, mp4AndMpegTsPairToo)
