@@ -3,6 +3,7 @@
 #  1. HLS: `encode -o DIR/stream.m3u8` writes an event playlist and MPEG-TS segments with both streams and the
 #     depth metadata; busybox's httpd serves them; `probe` pairs every frame over HTTP and `play` presents
 #     every frame.
+#     A live (--loop) HLS output keeps a window of six segments and deletes older ones.
 #  2. SRT: a listener sender, a receiver that plays 2 s and leaves; the sender reports the lost stream
 #     (exit 1, one line).
 #  3. Pacing: --realtime on writes a 1 s file in no less than 1 s.
@@ -69,6 +70,20 @@ dropped=$(sed -n 's/.*"frames_dropped": *\([0-9]*\).*/\1/p' "$work/hls.json")
     [ "${presented:-0}" -gt 0 ] && grep -q '"mode": *"color+depth"' "$work/hls.json" ||
     { cat "$work/hls.json"; fail "hls: play receives all 90 frames with depth, each presented or dropped"; }
 echo "hls: $segments segments, 90 frames received over http://127.0.0.1:$port, $presented presented, $dropped dropped"
+
+# 1b. A live HLS file output (--loop, paced): a sliding window of six segments, older segments
+# deleted from the folder (FFmpeg's hls_list_size 6 and delete_segments, which keeps one more on disk
+# for players still reading it), no playlist type, nothing left under a temporary name.
+mkdir "$work/live"
+"$exe" encode --color "$C" --depth "$D" --loop --duration 16 -o "$work/live/stream.m3u8" --preset ultrafast \
+    >"$work/live.out" 2>&1 || { cat "$work/live.out"; fail "live hls encode"; }
+listed=$(grep -c '\.ts$' "$work/live/stream.m3u8")
+ondisk=$(find "$work/live" -name '*.ts' | wc -l)
+[ "$listed" -eq 6 ] && [ "$ondisk" -le 7 ] && ! grep -q '^#EXT-X-PLAYLIST-TYPE' "$work/live/stream.m3u8" &&
+    grep -q '^#EXT-X-MEDIA-SEQUENCE:[1-9]' "$work/live/stream.m3u8" &&
+    [ -z "$(find "$work/live" -name '*.tmp*')" ] ||
+    { ls -l "$work/live"; cat "$work/live/stream.m3u8"; fail "live hls: $listed segments listed, $ondisk on disk, want 6 and at most 7"; }
+echo "live hls: 16 s in a window of $listed segments, $ondisk on disk"
 
 # 2. SRT: the receiver leaves after 2 s; the sender says so and exits 1.
 srt="srt://127.0.0.1:$((port + 1))"
