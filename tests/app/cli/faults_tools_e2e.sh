@@ -166,6 +166,13 @@ reader=$!
 run "touch --out FIFO with a reader" 0 30 $T "$w/t.csv" --out "$w/readfifo"
 wait "$reader"
 [ "$(wc -l <"$w/fromfifo.csv")" -eq 202 ] || fail "the FIFO's reader got $(wc -l <"$w/fromfifo.csv") lines, want 202"
+# --- bench options out of range are refused at once, before any measurement (each bound, and a
+# value inside it that is then measured: bench media's depth CRF is x264's 0..51)
+for crf in -1 52; do
+    run "bench media --depth-crfs $crf" 2 10 "$exe" bench media --synthetic --depth-crfs "$crf" --out "$w/bm"
+    grep -q -- "--depth-crfs values must be in 0..51" "$w/err" || fail "bench media --depth-crfs $crf: not the range"
+done
+[ ! -e "$w/bm" ] || fail "a refused bench wrote its folder"
 # --- an address space limit too small for the EGL driver (`ulimit -v 600000`: a crash or a hang in
 # Mesa before) is said up front, exit 1; the mock display still plays under it. (A sanitizer build
 # cannot start under such a limit at all: its shadow memory is terabytes of address space.)

@@ -321,10 +321,27 @@ TEST_F(EncodeTest, frameAndDurationLimits)
             o.maxFrames = 4;
         else
             o.maxDuration = 0.2; // 6 frames at 30 fps
-        auto s = encodeStreams(color, depthSrc, o);
+        std::vector<EncodeProgress> progress;
+        EncodeCallbacks callbacks;
+        callbacks.progress = [&progress](const EncodeProgress &p) { progress.push_back(p); };
+        auto s = encodeStreams(color, depthSrc, o, nullptr, callbacks);
         ASSERT_TRUE(s) << s.error().what;
-        EXPECT_EQ(s->frames, byFrames ? 4 : 6);
+        const int want = byFrames ? 4 : 6;
+        EXPECT_EQ(s->frames, want);
         EXPECT_EQ(s->endedBy, byFrames ? "frames" : "duration");
+        // The progress a terminal shows: one report a pair, each knowing the total the limit
+        // sets (the endless source has none), the pair's PTS, and a time since the start that
+        // grows and stays within the whole encode's
+        ASSERT_EQ(progress.size(), static_cast<std::size_t>(want));
+        double lastElapsed = 0.0;
+        for (std::size_t i = 0; i < progress.size(); ++i) {
+            EXPECT_EQ(progress[i].frames, static_cast<long long>(i + 1));
+            EXPECT_EQ(progress[i].totalFrames, want) << "report " << i;
+            EXPECT_NEAR(progress[i].pts, static_cast<double>(i) / 30.0, 1e-9);
+            EXPECT_GE(progress[i].elapsed, lastElapsed);
+            EXPECT_LE(progress[i].elapsed, s->elapsed);
+            lastElapsed = progress[i].elapsed;
+        }
     }
 }
 
