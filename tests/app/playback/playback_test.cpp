@@ -202,6 +202,21 @@ TEST(Playback, AnUnopenableUrlIsAnErrorAndPlayCanStartAgain)
     EXPECT_EQ(rig.playback->stats().opens, 1u);
 }
 
+TEST(Playback, AnUnopenableUrlAfterAPlayedClipIsAnErrorNotAPlay)
+{
+    // GIVEN a clip played to its end
+    Rig rig;
+    ASSERT_TRUE(rig.machine->execute("play mock://clip?frames=5").accepted);
+    ASSERT_TRUE(rig.runUntil([&] { return rig.machine->state() == PlayerState::Stopped; }));
+    // WHEN an input that cannot be opened is played next
+    ASSERT_TRUE(rig.machine->execute("play mock://clip?frames=0").accepted);
+    // THEN it fails as an open failure: the first clip's open is not taken for this one's
+    ASSERT_TRUE(rig.runUntil([&] { return rig.machine->state() == PlayerState::Error; }));
+    EXPECT_NE(rig.machine->errorReason().find("cannot open"), std::string::npos)
+        << rig.machine->errorReason();
+    EXPECT_EQ(rig.playback->stats().opens, 1u);
+}
+
 TEST(Playback, WithoutADeviceItPlaysWithoutHaptics)
 {
     Rig rig(/*haptics=*/false);

@@ -1,4 +1,5 @@
 // Receiver on the mock backends (deterministic, ManualClock): pairing, bad input, seek, memory.
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -73,6 +74,30 @@ bool sameDepth(const receiver::StoredFrame &f, const std::vector<std::uint8_t> &
 {
     const auto n = static_cast<std::size_t>(f.image.width * f.image.height);
     return n == expected.size() && std::memcmp(f.image.planes[0].data, expected.data(), n) == 0;
+}
+
+TEST(ReceiverMockTest, framePeriodsComeFromTheStreamsRates)
+{
+    // GIVEN clips at 1 fps (a still shown once a second), 25 fps and 240 fps
+    for (const int fps : {1, 25, 240}) {
+        MockRig rig;
+        auto r = rig.open("mock://clip?frames=3&fps=" + std::to_string(fps));
+        ASSERT_TRUE(r) << r.error().what;
+        // THEN the pairer's frame periods are 1/fps (ns, rounded)
+        const hal::Pts want(std::llround(1e9 / fps));
+        EXPECT_EQ((*r)->info().colorPeriod, want) << fps << " fps";
+        EXPECT_EQ((*r)->info().depthPeriod, want) << fps << " fps";
+    }
+    // AND a clip whose streams give no rate (0/0) is paired at 30 fps, the documented default
+    MockRig rig;
+    rig.editInfo = [](hal::MediaInfo &mi) {
+        for (hal::StreamInfo &s : mi.streams)
+            s.frameRate = hal::Rational{0, 0};
+    };
+    auto r = rig.open("mock://clip?frames=3");
+    ASSERT_TRUE(r) << r.error().what;
+    EXPECT_EQ((*r)->info().colorPeriod, hal::Pts(33'333'333));
+    EXPECT_EQ((*r)->info().depthPeriod, hal::Pts(33'333'333));
 }
 
 TEST(ReceiverMockTest, pairsEveryColorFrameWithItsDepthFrameAndTheNext)

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <limits>
 #include <set>
 #include <string>
 #include <vector>
@@ -132,6 +133,14 @@ TEST_F(SyntheticSceneTest, listsTheBuiltInScenes)
     EXPECT_EQ(SyntheticScene::create("teapot", kW, kH, 30.0).error().code, Errc::InvalidArgument);
     EXPECT_EQ(SyntheticScene::create("head", 8, kH, 30.0).error().code, Errc::InvalidArgument);
     EXPECT_EQ(SyntheticScene::create("head", kW, kH, 0.0).error().code, Errc::InvalidArgument);
+    // the documented ranges, 16..4096 pixels and 1..1000 fps, bounds included
+    EXPECT_TRUE(SyntheticScene::create("head", 16, 16, 1.0));
+    EXPECT_TRUE(SyntheticScene::create("head", 16, 16, 1000.0));
+    for (const double fps : {0.999, 1000.001, std::numeric_limits<double>::quiet_NaN()})
+        EXPECT_EQ(SyntheticScene::create("head", 16, 16, fps).error().code, Errc::InvalidArgument)
+            << fps;
+    EXPECT_EQ(SyntheticScene::create("head", 15, 16, 30.0).error().code, Errc::InvalidArgument);
+    EXPECT_EQ(SyntheticScene::create("head", 16, 4097, 30.0).error().code, Errc::InvalidArgument);
 }
 
 TEST_F(SyntheticSceneTest, headNoseIsNearerThanCheeksNearerThanBackground)

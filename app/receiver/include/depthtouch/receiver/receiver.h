@@ -121,7 +121,9 @@ struct ReceiverInfo {
     /// "Holes") in the units of depthFormat: the stream's depth_occupancy, widened as its samples
     /// were (10-bit depth decoded as Gray16: depth::widenedThreshold()); 0: no holes.
     std::uint32_t depthHoleBelow = 0;
-    hal::Pts colorPeriod{0}; ///< Frame periods used for pairing (ns).
+    /// Frame periods used for pairing (ns): 1/rate of each stream (0.1 ms..10 s); a stream
+    /// without one takes the other's, and 30 fps when neither gives a rate.
+    hal::Pts colorPeriod{0};
     hal::Pts depthPeriod{0};
     hal::Pts tolerance{0}; ///< Pairing tolerance: half the color frame period.
     StreamRoles roles;
