@@ -1,7 +1,7 @@
 /// \file
 /// \brief The player on simulated time (sim_player.h): exact frame and haptic-update counts,
-/// pause freezing the haptic time, and a scene cut in a played clip felt through the player's
-/// haptic task and the device's force.
+/// a stalled render thread's late and skipped frames, pause freezing the haptic time, and a scene
+/// cut in a played clip felt through the player's haptic task and the device's force.
 
 #include <algorithm>
 #include <cmath>
@@ -331,6 +331,62 @@ TEST(PlaybackSim, TheStiffnessCommandScalesTheForceTheFingerFeels)
     p.step(20);
     EXPECT_NEAR(mock.lastForce().z, p.playback().hapticTask()->stiffness() * 0.002, 0.01);
     EXPECT_LT(p.playback().hapticTask()->stiffness(), 1200.0);
+}
+
+/// Plays \a frames frames at 30 fps on the mock display (\a displayOptions) with \a maxLateness s
+/// allowed, and stalls the render thread for \a stall s of simulated time in one present, 0.5 s
+/// in. \return the stats at the end.
+playback::PlaybackStats playWithAStall(double maxLateness, double stall, std::uint64_t frames,
+                                       const char *displayOptions)
+{
+    playback::PlaybackConfig config;
+    config.maxLateness = maxLateness;
+    SimPlayer p(config, nullptr, {}, 30.0, displayOptions);
+    p.play("mock://clip?frames=" + std::to_string(frames) + "&fps=30&width=64&height=48", frames);
+    p.stepUntil([&] { return p.playback().position() > 0.5; });
+    p.display().stallNextPresent(stall);
+    p.stepUntil([&] { return p.machine().state() == PlayerState::Stopped; });
+    const playback::PlaybackStats s = p.playback().stats();
+    std::printf("max lateness %.2f s, stall %.0f ms: presented %llu, dropped %llu, late %llu, "
+                "late max %.1f ms\n",
+                maxLateness, stall * 1e3, static_cast<unsigned long long>(s.framesPresented),
+                static_cast<unsigned long long>(s.framesDropped),
+                static_cast<unsigned long long>(s.framesLate), s.lateMsMax);
+    return s;
+}
+
+TEST(PlaybackSim, AStallDelaysFramesWithinTheMaxLatenessAndDropsThemBeyondIt)
+{
+    // GIVEN 2 s at 30 fps on a 60 Hz display, the render thread stalled 120 ms (3.6 frame
+    // periods) in one present
+    // WHEN 0.25 s of lateness is allowed  THEN every frame is shown, late (the frame after the
+    // stalled one at least 120 - 33 ms after its time), none later than allowed
+    const playback::PlaybackStats late = playWithAStall(0.25, 0.12, 60, "");
+    EXPECT_EQ(late.framesReceived, 60u);
+    EXPECT_EQ(late.framesPresented, 60u);
+    EXPECT_EQ(late.framesDropped, 0u);
+    EXPECT_GE(late.framesLate, 1u);
+    EXPECT_GE(late.lateMsMax, 80.0);
+    EXPECT_LE(late.lateMsMax, 250.0);
+    // WHEN none is allowed  THEN the frames whose successors are due are skipped
+    const playback::PlaybackStats strict = playWithAStall(0.0, 0.12, 60, "");
+    EXPECT_EQ(strict.framesReceived, 60u);
+    EXPECT_EQ(strict.framesPresented + strict.framesDropped, 60u);
+    EXPECT_GE(strict.framesDropped, 1u);
+}
+
+TEST(PlaybackSim, FramesThatCannotCatchUpAreSkippedAfterThreeTimesTheMaxLateness)
+{
+    // GIVEN 30 fps on a 30 Hz display: every refresh needs a new frame, so a late player cannot
+    // catch up by showing frames for one refresh instead of two
+    // WHEN the render thread stalls for 80 ms (more than two frame periods behind, under the
+    // 0.1 s of lateness allowed)
+    const playback::PlaybackStats s = playWithAStall(0.1, 0.08, 120, "refresh=30");
+    // THEN frames are skipped once the player has been late for 0.3 s (about 9 frames), and it is
+    // back in time: it does not stay a frame period late to the end (3.5 s, over 100 frames)
+    EXPECT_EQ(s.framesPresented + s.framesDropped, 120u);
+    EXPECT_GE(s.framesDropped, 1u);
+    EXPECT_LT(s.framesLate, 50u) << "late frames: the player stayed behind";
 }
 
 } // namespace
