@@ -84,6 +84,20 @@ TEST(ControlLoopTest, quietInputReturnsAtTheDeadline)
     EXPECT_TRUE(fake.calls.empty());
 }
 
+TEST(ControlLoopTest, runControlLoopReadsTheRemoteUntilQuit)
+{
+    // GIVEN a remote alone (no control socket) whose Exit key comes 2.5 s after the start
+    ManualClock clock(ManualClock::Mode::AutoAdvance, TimePoint(seconds(5)));
+    drivers::MockRemoteInput remote(clock);
+    remote.pushKey(Key::Exit, TimePoint(milliseconds(7500)));
+    FakePlayerActions fake;
+    player::StateMachine m(fake, settings());
+    // WHEN the main loop runs  THEN it reads the key and returns once quit is asked, at that time
+    ASSERT_TRUE(runControlLoop(m, &remote, nullptr, clock));
+    EXPECT_TRUE(m.quitRequested());
+    EXPECT_EQ(clock.now(), TimePoint(milliseconds(7500)));
+}
+
 TEST(ControlLoopTest, lostRemoteIsLeftAloneUntilTheDeadline)
 {
     // GIVEN a remote unplugged before the loop starts, and no control socket

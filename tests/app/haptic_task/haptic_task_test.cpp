@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "app/haptic_task/task_rig.h"
+#include "depthtouch/platform/log.h"
 
 namespace depthtouch::haptic_task {
 namespace {
@@ -405,6 +406,38 @@ TEST(HapticTaskTest, unplugZeroesTheForceAtOnceAndReconnectResumesWithTheRamp)
     EXPECT_EQ(s.deviceLosses, 1u);
     EXPECT_EQ(s.reconnects, 1u);
     rig.finish(); // the haptic thread stops before the devices declared after the rig go
+}
+
+TEST(HapticTaskTest, everyLossOfTheDeviceIsLoggedOnce)
+{
+    // GIVEN a log sink counting the warnings an operator reads
+    static std::atomic<int> lostLines{0};
+    lostLines = 0;
+    platform::setLogSink(
+        [](void *, platform::LogLevel level, const char *, const char *message) {
+            if (level == platform::LogLevel::Warning &&
+                std::string(message).find("Haptic device lost") != std::string::npos)
+                ++lostLines;
+        },
+        nullptr);
+    Rig rig;
+    drivers::MockHapticDevice mock(rig.clock());
+    startPressingFlat(rig, mock, mock);
+    // WHEN the device is unplugged and comes back, twice
+    for (int i = 0; i < 2; ++i) {
+        mock.disconnect();
+        rig.runMs(50);
+        mock.reconnect();
+        rig.runUntil([&] { return rig.task().deviceConnected(); });
+        rig.runMs(20);
+    }
+    const HapticStats s = rig.task().stats();
+    rig.finish();
+    platform::setLogSink(nullptr, nullptr);
+    // THEN each loss was said once (not once a telemetry interval, nor only the first)
+    EXPECT_EQ(s.deviceLosses, 2u);
+    EXPECT_EQ(s.reconnects, 2u);
+    EXPECT_EQ(lostLines.load(), 2);
 }
 
 TEST(HapticTaskTest, deviceThatStopsAnsweringTripsTheWatchdog)
