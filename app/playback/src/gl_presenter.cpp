@@ -170,6 +170,11 @@ DrawOutcome GlPresenter::draw(const DrawInput &in)
     const haptics::DepthFrameView dv = depthOf(in);
     const hal::Size size = display_.size();
     ensureRendererAndTarget(size, dv);
+    // Made before the first frame is drawn, so that frame is snapshot 0 (docs/playing.md: a PNG
+    // every N frames from the first).
+    if (!snapshotter_ && !config_.snapshotDir.empty())
+        snapshotter_ = std::make_unique<render::Snapshotter>(config_.snapshotDir,
+                                                             config_.snapshotEvery, "frame");
     if (renderer_ && target_ && dv.data != nullptr) {
         applyOptions(in.mode, dv, in.session.period);
         const bool ok = setPicture(depthFrame, colorFrame, dv, out);
@@ -177,9 +182,6 @@ DrawOutcome GlPresenter::draw(const DrawInput &in)
         if (ok && renderer_->render(*target_))
             output(size, out);
     }
-    if (!snapshotter_ && !config_.snapshotDir.empty())
-        snapshotter_ = std::make_unique<render::Snapshotter>(config_.snapshotDir,
-                                                             config_.snapshotEvery, "frame");
     return out;
 }
 
