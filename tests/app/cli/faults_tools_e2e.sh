@@ -173,6 +173,15 @@ for crf in -1 52; do
     grep -q -- "--depth-crfs values must be in 0..51" "$w/err" || fail "bench media --depth-crfs $crf: not the range"
 done
 [ ! -e "$w/bm" ] || fail "a refused bench wrote its folder"
+# --- bench rt measures the cases asked for, no more: one rate, one policy, one lock give a bare
+# loop row and a haptic task row, each with that rate, policy and lock (not the defaults besides)
+run "bench rt, one case" 0 60 "$exe" bench rt --duration 0.2 --rates 1000 --policies other --locks none \
+    --out "$w/brt"
+awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
+    { n++; loops = loops " " $col["loop"]
+      if ($col["rate_hz"] != 1000 || $col["policy"] != "SCHED_OTHER" || $col["memory_lock"] != "none") bad = bad " " $0 }
+    END { if (n != 2 || loops != " bare task" || bad != "") { printf "rows %d (%s):%s\n", n, loops, bad; exit 1 } }' \
+    "$w/brt/rt_bench.csv" || fail "bench rt: not the one case asked for"
 # --- an address space limit too small for the EGL driver (`ulimit -v 600000`: a crash or a hang in
 # Mesa before) is said up front, exit 1; the mock display still plays under it. (A sanitizer build
 # cannot start under such a limit at all: its shadow memory is terabytes of address space.)

@@ -418,6 +418,10 @@ TEST(PlayEndToEnd, RecordsWhatTheViewerSees)
     EXPECT_EQ(p["streams"][0]["codec"].get<std::string>(), "h264");
     EXPECT_EQ(p["streams"][0]["width"].get<int>(), 128);
     EXPECT_EQ(p["streams"][0]["frames"].get<int>(), presented);
+    // Its timestamps are the times the frames were shown: 30 fps frames are shown no sooner than
+    // a period apart, so the recording spans at least (presented - 1) / 30 s (a jitter of a fifth
+    // allowed); a slower machine only makes it longer.
+    EXPECT_GE(p["streams"][0]["duration_s"].get<double>(), 0.8 * (presented - 1) / 30.0);
 }
 
 TEST(PlayEndToEnd, BadInputIsOneLineAndExitCodeTwo)
