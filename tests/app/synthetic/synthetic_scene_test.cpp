@@ -6,13 +6,14 @@
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <memory>
-#include <limits>
 #include <set>
 #include <string>
 #include <vector>
 
+#include <GLES3/gl3.h>
 #include <gtest/gtest.h>
 
 #include "depthtouch/drivers/backends.h"
@@ -141,6 +142,27 @@ TEST_F(SyntheticSceneTest, listsTheBuiltInScenes)
             << fps;
     EXPECT_EQ(SyntheticScene::create("head", 15, 16, 30.0).error().code, Errc::InvalidArgument);
     EXPECT_EQ(SyntheticScene::create("head", 16, 4097, 30.0).error().code, Errc::InvalidArgument);
+}
+
+TEST_F(SyntheticSceneTest, createAndRenderLeaveTheCallersFramebufferBound)
+{
+    // GIVEN a framebuffer of the caller's bound (the player draws into its own)
+    GLuint fbo = 0;
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    const auto bound = [] {
+        GLint b = -1;
+        glGetIntegerv(GL_FRAMEBUFFER_BINDING, &b);
+        return b;
+    };
+    // WHEN a scene is made and renders a frame  THEN that framebuffer is still the one bound
+    auto s = SyntheticScene::create("spheres", kW, kH, 30.0);
+    ASSERT_TRUE(s) << s.error().what;
+    EXPECT_EQ(bound(), static_cast<GLint>(fbo)) << "after create";
+    render(**s, 3);
+    EXPECT_EQ(bound(), static_cast<GLint>(fbo)) << "after render";
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDeleteFramebuffers(1, &fbo);
 }
 
 TEST_F(SyntheticSceneTest, headNoseIsNearerThanCheeksNearerThanBackground)
