@@ -164,13 +164,13 @@ def candidates_of(component, equivalent, headers):
     """All candidates of one component in a fixed order, less the equivalent ones."""
     out, dropped = [], 0
     for rel in sources_of(component, headers):
-        lines = (ROOT / rel).read_text(encoding="utf-8").split("\n")
-        counts = {}
-        for line in lines:
-            counts[line] = counts.get(line, 0) + 1
+        whole = (ROOT / rel).read_text(encoding="utf-8")
+        lines = whole.split("\n")
         for lineno, text, masked in mask_code(lines):
-            if counts[text] != 1 or not masked:
-                continue  # run.sh finds a mutant by its line, which must be unique in the file
+            # run.sh finds a mutant by its text, leading spaces stripped, which must occur exactly
+            # once in the file (a line unique as a whole can still be inside a longer one)
+            if not masked or whole.count(text.strip()) != 1:
+                continue
             for op, mutated in candidates_of_line(text, masked):
                 if mutated == text:
                     continue
