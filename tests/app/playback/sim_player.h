@@ -242,7 +242,8 @@ private:
     /// Waits (real time, on the events) until the clock-driven threads sleep and the decode thread
     /// has two frames queued beyond those the render thread took (it counts a frame as output
     /// before it is queued, hence three), or has decoded the whole clip, or is blocked with its
-    /// queue full (its output stopped for 200 ms of real time).
+    /// queue full (its output stopped for 1 s of real time: 200 ms was seen to pass while a loaded
+    /// machine held the decode thread).
     void settle()
     {
         const player::PlayerState s = machine_->state();
@@ -255,13 +256,17 @@ private:
         auto since = std::chrono::steady_clock::now();
         for (;;) {
             const playback::PlaybackStats st = playback_->stats();
-            if (st.receiver.framesOutput >= std::min(st.framesReceived + 3, frames_))
+            // A looping clip is decoded again after each end: one more pass of frames to wait
+            // for per end seen (capped at one pass, the second pass's frames were never waited
+            // for, and a decode thread descheduled for 200 ms left the render thread without one)
+            const std::uint64_t decodable = frames_ * (st.endsOfStream + 1);
+            if (st.receiver.framesOutput >= std::min(st.framesReceived + 3, decodable))
                 break;
             const auto now = std::chrono::steady_clock::now();
             if (st.receiver.framesOutput != lastOutput) {
                 lastOutput = st.receiver.framesOutput;
                 since = now;
-            } else if (now - since > 200ms) {
+            } else if (now - since > 1s) {
                 break;
             }
             std::this_thread::yield();
