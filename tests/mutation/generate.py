@@ -14,9 +14,11 @@ Operators (one change on one line each; strings, character literals and comments
   swap     swapped arguments or fields: f(a, b) -> f(b, a) and {a, b} -> {b, a}
 
 The sample: every candidate of a component is listed in a fixed order, the equivalent mutants of
-tests/mutation/equivalent.toml are taken out (each has a reason there), and N are drawn by a
-random.Random seeded with "<seed>/<component>", taking the operators in turn so that each is tried.
-The same seed and sources give the same sample.
+tests/mutation/equivalent.toml are taken out (each has a reason there), and N are drawn taking the
+operators in turn (so that each is tried), each operator's candidates ranked by a hash of the seed,
+the component and the candidate's file and text. The same seed and sources give the same sample; an
+edit elsewhere leaves it as it was unless a new candidate ranks into it; a sample of N is the head of
+a sample of N + k with the same seed.
 
 Usage: generate.py [--per-component N] [--seed S] [--component NAME]... [--all] [--list-components]
 Source: the operator set of Offutt et al., "An Experimental Determination of Sufficient Mutant
@@ -25,7 +27,6 @@ Operators" (ACM TOSEM 1996), and of Petrovic & Ivankovic, "State of Mutation Tes
 """
 import argparse
 import hashlib
-import random
 import re
 import sys
 import tomllib
@@ -92,6 +93,10 @@ STMT_CALL = re.compile(r"^\s*[A-Za-z_][\w:.]*(?:->[\w.]+)*(?:\(.*\))+;\s*$")
 STMT_INCR = re.compile(r"^\s*(\+\+|--)?[A-Za-z_][\w.\[\]]*(\+\+|--)?;\s*$")
 
 
+# The size in an array declaration (`char buf[32];`, `std::array<T, 4> a{}` is not matched): one more
+# element changes no behaviour of code that uses sizeof or the declared size.
+ARRAY_DECL = re.compile(r"^\s*(?:static\s+)?(?:const\s+)?[A-Za-z_][\w:<>]*\s+\w+\s*\[\s*\w+\s*\]$")
+
 # Calls whose two arguments commute (a swap is an equivalent mutant) or that are not calls.
 NOT_SWAPPED = {"if", "while", "for", "switch", "return", "max", "min", "fmax", "fmin", "hypot", "swap",
                "equal", "add", "plus", "multiplies", "dot"}
@@ -125,6 +130,8 @@ def candidates_of_line(text, masked):
             yield "aor", at(m.start(), m.end(), ARITHMETIC[op])
     if re.search(r"\s(<|<=|>|>=|==|!=)\s|\[", masked):
         for m in INT_IN_BOUND.finditer(masked):
+            if ARRAY_DECL.search(masked[:m.end() + 1]):
+                continue   # an array one element larger (char buf[161]) is an equivalent mutant
             yield "obo", at(m.start(), m.end(), f"({m.group(1)} + 1)")
     for m in FLOAT_RE.finditer(masked):
         value, suffix = m.group(1), m.group(2)
@@ -182,14 +189,18 @@ def candidates_of(component, equivalent, headers):
 
 
 def sample(cands, n, seed, name):
-    rng = random.Random(f"{seed}/{name}")
+    """N candidates, the operators taken in turn (their order drawn from the seed), each operator's
+    candidates ranked by a hash of the seed and the candidate's file and text (not its line number).
+    So an edit elsewhere in a component (lines moved, a file added) leaves the sample as it was unless
+    a new candidate ranks into it, and a smaller sample is the head of a larger one of the same seed."""
+    def key(*parts):
+        return hashlib.sha1("\n".join((str(seed), name) + parts).encode()).hexdigest()
     by_op = {}
     for c in cands:
         by_op.setdefault(c[2], []).append(c)
     for group in by_op.values():
-        rng.shuffle(group)
-    chosen, ops = [], sorted(by_op)
-    rng.shuffle(ops)
+        group.sort(key=lambda c: key(c[0], c[3].strip(), c[4].strip()), reverse=True)
+    chosen, ops = [], sorted(by_op, key=lambda op: key(op))
     while len(chosen) < n and any(by_op.values()):
         for op in ops:
             if by_op[op] and len(chosen) < n:
