@@ -20,6 +20,7 @@ public:
     explicit HookOnlyDisplay(bool readback) { caps_.readback = readback; }
 
     std::optional<Errc> failOpen; ///< openDevice() fails with it.
+    bool knowsRefresh = true;     ///< openDevice() sets refreshHz_ (a pbuffer cannot tell one).
     int opens = 0;
     int closes = 0;
     int currents = 0;
@@ -35,7 +36,8 @@ protected:
         if (failOpen)
             return unexpected(*failOpen, "test failure");
         size_ = {cfg.width, cfg.height};
-        refreshHz_ = cfg.refreshHz;
+        if (knowsRefresh)
+            refreshHz_ = cfg.refreshHz;
         return ok();
     }
     void closeDevice() noexcept override { ++closes; }
@@ -66,6 +68,21 @@ DisplayConfig config640()
     c.height = 480;
     c.refreshHz = 50.0;
     return c;
+}
+
+TEST(DisplayBaseTest, aReopenedOutputThatCannotTellItsRefreshRateReadsZeroNotTheLastRate)
+{
+    // GIVEN a display opened at 50 Hz and closed
+    HookOnlyDisplay d(false);
+    ASSERT_TRUE(d.open(config640()));
+    ASSERT_EQ(d.refreshHz(), 50.0);
+    d.close();
+    // WHEN it is opened again on an output that cannot tell its rate
+    d.knowsRefresh = false;
+    ASSERT_TRUE(d.open(config640()));
+    // THEN the rate reads 0 (unknown), not the 50 Hz of before
+    EXPECT_EQ(d.refreshHz(), 0.0);
+    EXPECT_EQ(d.size().width, 640);
 }
 
 TEST(DisplayBaseTest, closedDisplayRejectsCallsWithoutReachingTheBackend)

@@ -30,7 +30,8 @@ MeshData makeSphere(int rings, int segments);
 MeshData makeBust(int rings, int segments);
 
 /// \brief A rectangle in the x-y plane facing +z, \a width × \a height metres centred on the
-/// origin, with vertical folds of amplitude \a foldDepth (metres) and wavelength \a foldPeriod.
+/// origin, with vertical folds of wavelength \a foldPeriod whose amplitude deepens linearly from
+/// 0.6 \a foldDepth (metres) at the top edge to \a foldDepth at the bottom, as a hanging curtain's.
 MeshData makeCurtain(float width, float height, float foldDepth, float foldPeriod, int columns,
                      int rows);
 

@@ -315,6 +315,23 @@ TEST_F(ControlServerTest, malformedAndBinaryInputIsAnsweredNeverFatal)
     EXPECT_EQ(server_->clientCount(), 1u);
 }
 
+TEST_F(ControlServerTest, anActionThatThrowsIsAnsweredWithItsReasonAndThePlayerGoesOn)
+{
+    // GIVEN a playing player whose recenter action throws (a library's exception escaping it)
+    platform::UniqueFd c = connectClient();
+    ASSERT_TRUE(machine_.execute("play").accepted);
+    ASSERT_TRUE(machine_.onOpened());
+    fake_.throws["recenter"] = "the device went away";
+    // WHEN a client asks for it
+    // THEN the client gets the exception's reason as its error
+    EXPECT_EQ(roundTrip(c, R"({"command":["recenter"]})"),
+              json({{"error", "the command failed: the device went away"}}));
+    // AND the socket still serves the next command
+    fake_.throws.clear();
+    EXPECT_EQ(roundTrip(c, R"({"command":["recenter"]})"), json({{"error", "success"}}));
+    EXPECT_EQ(server_->clientCount(), 1u);
+}
+
 TEST_F(ControlServerTest, clientLeavingMidLineDoesNotDisturbOthers)
 {
     platform::UniqueFd stay = connectClient();

@@ -107,6 +107,25 @@ TEST(SamplePointsTest, pointsConcentrateWhereDepthChanges)
     EXPECT_GT(nearEdge, 5 * farAway);
 }
 
+TEST(SamplePointsTest, theGradientCriterionFollowsTheEdgeNotItsTranspose)
+{
+    // GIVEN a step edge at x = 40 (40 | 120 levels), away from the image's diagonal
+    Plane<float> p(128, 128);
+    for (int y = 0; y < 128; ++y)
+        for (int x = 0; x < 128; ++x)
+            p.at(x, y) = x < 40 ? 40.0f : 120.0f;
+    SamplingOptions g;
+    g.criterion = SamplingCriterion::Gradient; // the paper's criterion: side x mean gradient
+    const auto pts = samplePoints(p, g);
+    // THEN a 16-px column band around the edge holds far more points than the row band at y = 40
+    // outside it (the edge's transpose) and than a column band far from it
+    const std::size_t nearEdge = countIn(pts, 32, 0, 48, 128);
+    const std::size_t transposed = countIn(pts, 64, 32, 128, 48);
+    const std::size_t farAway = countIn(pts, 96, 0, 112, 128);
+    EXPECT_GT(nearEdge, 5 * transposed);
+    EXPECT_GT(nearEdge, 5 * farAway);
+}
+
 TEST(TriangulateTest, rendersAPlaneExactlyAndCoversTheImage)
 {
     // GIVEN a tilted plane and adaptively sampled points of a bumpy map (irregular triangles)

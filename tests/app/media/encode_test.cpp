@@ -140,6 +140,9 @@ TEST_F(EncodeTest, transcodeKeepsDepthTags)
     auto s = encodeStreams(**c, **d, fastOptions(path("second.mkv")));
     ASSERT_TRUE(s) << s.error().what;
     EXPECT_EQ(s->frames, 3);
+    // the summary (encode's "depth: ... linear mapping" line) gives the mapping written, the
+    // source's, not the options' default (inverse_z)
+    EXPECT_EQ(s->mapping, depth::DepthMapping::Linear);
     const auto rb = test::readBack(path("second.mkv"), {0}, false);
     ASSERT_EQ(rb.streams.size(), 2u);
     test::expectStream(
@@ -163,6 +166,7 @@ TEST_F(EncodeTest, ffv1Gray16RoundTripsBitExact)
     ASSERT_TRUE(s) << s.error().what;
     EXPECT_TRUE(s->metric);
     EXPECT_EQ(s->depthBits, 16);
+    EXPECT_EQ(s->mapping, depth::DepthMapping::Linear);
 
     const auto rb = test::readBack(path("out.mkv"));
     ASSERT_TRUE(rb.ok) << rb.error;

@@ -75,6 +75,24 @@ TEST(ImageConverterTest, otherSizesAreScaled)
     EXPECT_LT(half->row(10)[2], half->row(10)[29]); // the ramp survives
 }
 
+TEST(ImageConverterTest, aNewHeightAloneIsScaledNotCopied)
+{
+    // GIVEN a vertical ramp, 16 x 32 Gray8: row y holds 8 y
+    ImageConverter conv;
+    Image src = Image::make(16, 32, PixelFormat::Gray8);
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 16; ++x)
+            src.row(y)[x] = static_cast<std::uint8_t>(8 * y);
+    // WHEN only the height changes (same format and width), to 8 rows
+    auto out = conv.convert(src, PixelFormat::Gray8, 16, 8);
+    ASSERT_TRUE(out) << out.error().what;
+    ASSERT_EQ(out->height, 8);
+    // THEN each output row samples the source 4 rows per row (row k near 8 (4k + 1.5)), not row k:
+    // the last row reads the bottom of the ramp (about 244), where a copy of row 7 would read 56
+    for (int k = 0; k < 8; ++k)
+        EXPECT_NEAR(out->row(k)[8], 8.0 * (4 * k + 1.5), 12.0) << "row " << k;
+}
+
 TEST(ImageConverterTest, emptyOrInconsistentImagesAreRefused)
 {
     ImageConverter conv;

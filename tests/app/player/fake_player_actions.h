@@ -7,6 +7,8 @@
 #include <string_view>
 #include <vector>
 
+#include <stdexcept>
+
 #include "depthtouch/player/state_machine.h"
 
 namespace depthtouch::player::test {
@@ -16,6 +18,8 @@ public:
     std::vector<std::string> calls;
     /// Action name ("open", "pause", ...) → error it returns (every time until erased).
     std::map<std::string, Error> failures;
+    /// Action name → the what() of a std::runtime_error it throws (every time until erased).
+    std::map<std::string, std::string> throws;
 
     Result<void> open(std::string_view url) override
     {
@@ -58,6 +62,8 @@ private:
     Result<void> record(const std::string &name, std::string call)
     {
         calls.push_back(std::move(call));
+        if (const auto t = throws.find(name); t != throws.end())
+            throw std::runtime_error(t->second);
         const auto it = failures.find(name);
         if (it != failures.end())
             return unexpected(it->second);

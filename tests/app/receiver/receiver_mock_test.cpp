@@ -100,6 +100,31 @@ TEST(ReceiverMockTest, framePeriodsComeFromTheStreamsRates)
     EXPECT_EQ((*r)->info().depthPeriod, hal::Pts(33'333'333));
 }
 
+TEST(ReceiverMockTest, framePeriodsOutsideOneTenthHertzToTenKilohertzAreTakenAsUnknown)
+{
+    // GIVEN streams whose rates give periods at and beyond the limits the receiver trusts
+    // (0.1 ms to 10 s): a rate beyond them is a broken header, paired at the 30 fps default
+    struct Case {
+        hal::Rational rate;
+        hal::Pts want;
+    };
+    const hal::Pts unknown(33'333'333);
+    for (const Case &c :
+         {Case{{1, 10}, hal::Pts(10'000'000'000)}, Case{{1, 15}, unknown}, Case{{2, 31}, unknown},
+          Case{{10'000, 1}, hal::Pts(100'000)}, Case{{20'000, 1}, unknown}}) {
+        MockRig rig;
+        rig.editInfo = [&c](hal::MediaInfo &mi) {
+            for (hal::StreamInfo &s : mi.streams)
+                s.frameRate = c.rate;
+        };
+        auto r = rig.open("mock://clip?frames=3");
+        ASSERT_TRUE(r) << r.error().what;
+        // THEN the period is 1/rate inside the limits, the default outside them
+        EXPECT_EQ((*r)->info().colorPeriod, c.want) << c.rate.num << "/" << c.rate.den;
+        EXPECT_EQ((*r)->info().depthPeriod, c.want) << c.rate.num << "/" << c.rate.den;
+    }
+}
+
 TEST(ReceiverMockTest, pairsEveryColorFrameWithItsDepthFrameAndTheNext)
 {
     // GIVEN a mock clip of 20 frames at 25 fps with color and depth

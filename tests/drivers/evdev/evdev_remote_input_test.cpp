@@ -198,5 +198,22 @@ TEST(EvdevFactoryTest, optionsAreChecked)
     EXPECT_EQ(r.error().code, Errc::InvalidArgument);
 }
 
+TEST(EvdevFactoryTest, theBackendsDevicePathIsOpenedWhenNoOptionNamesOne)
+{
+    // GIVEN "evdev:/dev/null" (the device after the backend's name, no device= option)
+    hal::BackendConfig cfg;
+    cfg.device = "/dev/null";
+    // THEN that path is opened and refused as not an input device (a bad option: exit 2), where
+    // an unopened path would read as a missing device
+    auto r = EvdevRemoteInput::create(cfg);
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().code, Errc::InvalidArgument) << r.error().what;
+    // AND a device= option wins over it
+    cfg.options = hal::OptionList("device=/nonexistent/event0");
+    r = EvdevRemoteInput::create(cfg);
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().code, Errc::NoDevice) << r.error().what;
+}
+
 } // namespace
 } // namespace depthtouch::drivers
