@@ -103,6 +103,55 @@ TEST_F(RenderGoldenTest, avatarOsdAndSnapshot)
             << y;
 }
 
+TEST_F(RenderGoldenTest, theAvatarSphereIsRoundWhereItCutsTheSurface)
+{
+    // GIVEN a flat surface and a large proxy sphere (r = 50 mm) sunk into it until only its front
+    // 5 % shows: the visible cap is where the sphere's mesh lies in front of the surface
+    const Depth8 d(64, 48, [](int, int) { return 128; });
+    Yuv420 col(64, 48, [](int, int) { return std::array<int, 3>{126, 128, 128}; });
+    setMode(StereoMode::Mono, 1.2);
+    ASSERT_TRUE(renderer_->setDepth(d.view()));
+    ASSERT_TRUE(renderer_->setColor(col.view(), ColorSpec{}));
+    AvatarState av;
+    av.visible = true;
+    av.radius = 0.05;
+    const double surface = renderer_->mapping().point(32, 24, 128).z;
+    av.proxy = {0.0, 0.0, surface - 0.95 * av.radius};
+    av.hip = av.proxy; // no HIP marker
+    renderer_->setAvatar(av);
+    const Picture pic = draw(400, 300);
+    int n = 0;
+    const auto eyes =
+        eyeViews(StereoMode::Mono, renderer_->options().stereo, 400, 300,
+                 renderer_->mapping().width(), renderer_->mapping().height(), 0.04, n);
+    const glm::dvec2 at = project(eyes[0], 300, av.proxy + glm::dvec3(0, 0, av.radius));
+    const int cx = static_cast<int>(at.x);
+    const int cy = static_cast<int>(at.y);
+    const auto warm = [&pic](int x, int y) {
+        const Rgb c = pic.at(x, y);
+        return c.r > c.b + 60;
+    };
+    ASSERT_TRUE(warm(cx, cy));
+    // WHEN the cap's half-widths are measured from its centre, across and along the sphere's axis
+    int left = 0, right = 0, up = 0, down = 0;
+    while (cx - left - 1 >= 0 && warm(cx - left - 1, cy))
+        ++left;
+    while (cx + right + 1 < 400 && warm(cx + right + 1, cy))
+        ++right;
+    while (cy - up - 1 >= 0 && warm(cx, cy - up - 1))
+        ++up;
+    while (cy + down + 1 < 300 && warm(cx, cy + down + 1))
+        ++down;
+    // THEN the cap is a circle (a sphere cut by a plane facing the camera): its widths across and
+    // along agree within 15 % (a sphere of 12 slices instead of 24 sags 3.4 % of r between its
+    // meridians and shows a cap about 0.63 times as wide as it is tall)
+    const double across = 0.5 * (left + right);
+    const double along = 0.5 * (up + down);
+    ASSERT_GT(along, 8.0) << "the cap is too small to measure";
+    EXPECT_NEAR(across / along, 1.0, 0.15)
+        << "cap " << left << "+" << right << " px across, " << up << "+" << down << " px along";
+}
+
 TEST_F(RenderGoldenTest, snapshotsQueuedFasterThanWrittenAreAllWrittenAndErrorsReported)
 {
     const Depth8 d(64, 48, bumpy);
