@@ -207,7 +207,7 @@ baseline_times() {
         return 1
     fi
     newer=$(cd "$root" && git ls-files -z -- app tests cmake toolchain CMakeLists.txt CMakePresets.json |
-        xargs -0 -r find 2>/dev/null -newer "$costs" -type f | head -1)
+        find -files0-from - -newer "$costs" -type f -print -quit)
     [ -z "$newer" ] || { echo "mutation: $newer changed after $1's tests ran: run them again" >&2; return 1; }
     for t in "${all_tests[@]}"; do
         name=${t%%\[*}
@@ -220,17 +220,16 @@ baseline_times() {
 if [ -n "$baseline_from" ]; then
     step "unmutated times from $baseline_from (its tests passed on these sources)"
     baseline_times "$(cd "$root" && realpath -e "$baseline_from" 2>/dev/null || echo "$baseline_from")" || exit 1
+else
+    step "run ${#all_tests[@]} tests unmutated (they must pass)"
+    for t in "${all_tests[@]}"; do
+        started=$SECONDS
+        if ! run_test "$t"; then
+            tail -30 "$log"; echo "mutation: $t fails before any mutation" >&2; exit 1
+        fi
+        base_seconds[$t]=$((SECONDS - started + 1))
+    done
 fi
-
-[ -n "$baseline_from" ] || step "run ${#all_tests[@]} tests unmutated (they must pass)"
-for t in "${all_tests[@]}"; do
-    [ -z "$baseline_from" ] || break
-    started=$SECONDS
-    if ! run_test "$t"; then
-        tail -30 "$log"; echo "mutation: $t fails before any mutation" >&2; exit 1
-    fi
-    base_seconds[$t]=$((SECONDS - started + 1))
-done
 
 # ---- the mutants ----------------------------------------------------------------------------------
 # The generated sample's summary: counts and the score per component (also when stopped early).
