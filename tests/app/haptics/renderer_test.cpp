@@ -211,6 +211,30 @@ TEST(MeshBvhTest, treeQueriesAgreeWithTheGridWalk)
     EXPECT_GT(n.hits, 50);
 }
 
+TEST(MeshBvhTest, countsTheTreeNodesItVisits)
+{
+    // GIVEN a 3×3 frame: 2·2·2 = 8 triangles, more than a leaf holds (4), so the root is split at
+    // the median into two leaves of four
+    const OwnedFrame f = makeFrame(kBox, 3, 3, 0.0, [](double, double) { return 0.002; });
+    MeshBvhRenderer mesh(RendererConfig::forMethod(Method::MeshBvh), 3, 3);
+    ASSERT_TRUE(mesh.setFrames(f.view(), nullptr));
+    ASSERT_EQ(mesh.nodeCount(), 3u);
+    // WHEN a segment passes beside the box (x beyond its half width of 5 cm)
+    const Crossing beside = mesh.firstCrossingBvh({0.08, 0.0, 0.01}, {0.08, 0.0, -0.01});
+    // THEN only the root was looked at, and no triangle was tested
+    EXPECT_FALSE(beside.hit);
+    EXPECT_EQ(beside.cellsVisited, 1);
+    EXPECT_EQ(beside.cellsTested, 0);
+    // WHEN a segment goes straight down through the surface at the middle sample, a corner of
+    // every cell
+    const Crossing through = mesh.firstCrossingBvh({0.0, 0.0, 0.01}, {0.0, 0.0, -0.01});
+    // THEN the root met it and both its children were taken: three nodes; the triangles tested
+    // are those of the leaves whose boxes hold the middle sample: both, eight
+    EXPECT_TRUE(through.hit);
+    EXPECT_EQ(through.cellsVisited, 3);
+    EXPECT_EQ(through.cellsTested, 8);
+}
+
 TEST(MeshBvhTest, rendersTheSameForcesAsTheProxyGraphOnAStillFrame)
 {
     const OwnedFrame f = makeFrame(kBox, 48, 36, 0.0, bumpy);

@@ -36,7 +36,9 @@ public:
     [[nodiscard]] std::size_t nodeCount() const noexcept { return nodesUsed_; }
 
     /// \brief First downward crossing of \a p0 → \a p1 through the tree (exact segment–triangle
-    /// tests).
+    /// tests). Its cost figures count tree nodes, not grid cells: cellsVisited is every node taken
+    /// from the walk's stack (the root, and both children of each inner node whose box the segment
+    /// meets), cellsTested every triangle tested exactly (those of the leaves whose box it meets).
     [[nodiscard]] Crossing firstCrossingBvh(const glm::dvec3 &p0,
                                             const glm::dvec3 &p1) const noexcept;
 
