@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <sys/mman.h>
 #include <unistd.h>
 #include <vector>
 
@@ -336,6 +337,89 @@ TEST(HapticTaskTest, statsGiveTheLongestDeviceCall)
     const HapticStats s = rig.task().stats();
     EXPECT_DOUBLE_EQ(s.deviceCallMaxUs, 3000.0);
     EXPECT_NE(s.toJson().find("\"device_call_max_us\": 3000"), std::string::npos) << s.toJson();
+    rig.finish(); // the haptic thread stops before the devices declared after the rig go
+}
+
+/// A device whose every read writes to a page of memory it never touched before: one page fault
+/// (minor: an anonymous page, no I/O) on the haptic thread per update. Delegates everything else.
+class FaultingDevice final : public hal::HapticDevice {
+public:
+    explicit FaultingDevice(hal::HapticDevice &inner) : inner_(inner)
+    {
+        void *m = mmap(nullptr, kPages * kPage, PROT_READ | PROT_WRITE,
+                       MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+        if (m != MAP_FAILED) {
+            pages_ = static_cast<volatile unsigned char *>(m);
+            // One fault per page: no transparent huge page may bring 512 pages in at once.
+            (void)madvise(m, kPages * kPage, MADV_NOHUGEPAGE);
+        }
+    }
+    ~FaultingDevice() override
+    {
+        if (pages_ != nullptr)
+            munmap(const_cast<unsigned char *>(pages_), kPages * kPage);
+    }
+    FaultingDevice(const FaultingDevice &) = delete;
+    FaultingDevice &operator=(const FaultingDevice &) = delete;
+    const hal::HapticCapabilities &capabilities() const noexcept override
+    {
+        return inner_.capabilities();
+    }
+    State state() const noexcept override { return inner_.state(); }
+    Result<void> open() override { return inner_.open(); }
+    void close() noexcept override { inner_.close(); }
+    Result<void> read(hal::HapticState &out) noexcept override
+    {
+        const std::uint64_t n = reads_.fetch_add(1);
+        if (pages_ != nullptr && n < kPages)
+            pages_[n * kPage] = 1;
+        return inner_.read(out);
+    }
+    Result<void> commandForce(const hal::Vec3 &force) noexcept override
+    {
+        return inner_.commandForce(force);
+    }
+    bool isConnected() const noexcept override { return inner_.isConnected(); }
+
+    [[nodiscard]] bool mapped() const { return pages_ != nullptr; }
+    [[nodiscard]] std::uint64_t reads() const { return reads_.load(); }
+
+private:
+    static constexpr std::size_t kPage = 4096;
+    static constexpr std::uint64_t kPages = 1024;
+    hal::HapticDevice &inner_;
+    volatile unsigned char *pages_ = nullptr;
+    std::atomic<std::uint64_t> reads_{0};
+};
+
+TEST(HapticTaskTest, pageFaultsAfterTheWarmupAreReadEvery256Updates)
+{
+    // GIVEN a task (memory not locked) on a device that takes one new page fault in every read
+    Rig rig;
+    drivers::MockHapticDevice mock(rig.clock());
+    FaultingDevice faulting(mock);
+    ASSERT_TRUE(faulting.mapped());
+    pressScript(mock, rig.clock().now());
+    rig.publishFlat(0.0);
+    rig.start(faulting, Rig::baseConfig());
+    // WHEN 255 updates have run
+    rig.runMs(255);
+    ASSERT_EQ(faulting.reads(), 255u);
+    // THEN no count was read yet (HapticStats: the thread reads its faults every 256 updates)
+    EXPECT_EQ(rig.task().stats().pageFaultsMinor, 0u);
+    // WHEN the 256th update has run
+    rig.runMs(1);
+    ASSERT_EQ(faulting.reads(), 256u);
+    // THEN the count covers every update after the warm-up: at least one fault in each of
+    // updates kWarmupUpdates + 1 .. 256
+    const std::uint64_t at256 = rig.task().stats().pageFaultsMinor;
+    EXPECT_GE(at256, 256u - HapticTask::kWarmupUpdates);
+    // AND it is not read again until the 512th update, then with the faults since
+    rig.runMs(255);
+    EXPECT_EQ(rig.task().stats().pageFaultsMinor, at256);
+    rig.runMs(1);
+    ASSERT_EQ(faulting.reads(), 512u);
+    EXPECT_GE(rig.task().stats().pageFaultsMinor, at256 + 256u);
     rig.finish(); // the haptic thread stops before the devices declared after the rig go
 }
 
