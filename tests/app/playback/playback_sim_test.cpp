@@ -315,6 +315,63 @@ TEST(PlaybackSim, SeekRestartsAtTheTargetAndKeepsTheForce)
     EXPECT_EQ(p.playback().stats().seeks, 1u);
 }
 
+/// The mock source with every timestamp moved \a offset later: a stream whose first frame is not
+/// at 0 (an MPEG-TS capture's timestamps start where its clock was). Seeks take the same timeline.
+class OffsetSource final : public hal::MediaSource {
+public:
+    OffsetSource(std::unique_ptr<hal::MediaSource> inner, hal::Pts offset)
+        : inner_(std::move(inner)), offset_(offset)
+    {
+    }
+    [[nodiscard]] State state() const noexcept override { return inner_->state(); }
+    [[nodiscard]] Result<void> open(const char *url) override { return inner_->open(url); }
+    void close() noexcept override { inner_->close(); }
+    [[nodiscard]] const hal::MediaInfo &info() const noexcept override { return inner_->info(); }
+    [[nodiscard]] Result<hal::Packet> readPacket() override
+    {
+        auto p = inner_->readPacket();
+        if (p && !p->isEndOfStream()) {
+            p->pts += offset_;
+            p->dts += offset_;
+        }
+        return p;
+    }
+    [[nodiscard]] Result<void> seek(hal::Pts position) override
+    {
+        return inner_->seek(position - offset_);
+    }
+
+private:
+    std::unique_ptr<hal::MediaSource> inner_;
+    hal::Pts offset_;
+};
+
+TEST(PlaybackSim, ThePositionCountsFromTheFirstFramesTimestamp)
+{
+    // GIVEN a clip of 60 frames at 30 fps whose timestamps start at 10 s
+    SimPlayer p(playback::PlaybackConfig{}, nullptr, {}, 30.0, "",
+                [](std::unique_ptr<hal::MediaSource> mock) -> std::unique_ptr<hal::MediaSource> {
+                    return std::make_unique<OffsetSource>(std::move(mock), 10s);
+                });
+    p.play("mock://clip?frames=60&fps=30&width=64&height=48", 60);
+    // WHEN ten frames have gone on screen (none dropped)
+    p.stepUntil([&] { return p.playback().stats().framesPresented >= 10; });
+    ASSERT_EQ(p.playback().stats().framesPresented, 10u);
+    ASSERT_EQ(p.playback().stats().framesDropped, 0u);
+    // THEN the position is the tenth frame's time from the first: 9/30 s (Playback::position())
+    EXPECT_NEAR(p.playback().position(), 9.0 / 30.0, 1e-9);
+    // WHEN seeking to 1 s from the first frame
+    ASSERT_TRUE(p.machine().execute("seek 1 absolute").accepted);
+    p.stepUntil([&] { return p.playback().position() >= 1.0 - 1e-9; });
+    const platform::TimePoint shownAt = p.clock().now();
+    p.step(100);
+    // THEN it plays on from 1 s after the first frame (the stream's 11 s), never ahead of the
+    // simulated time since it went on screen
+    const double since = platform::toSeconds(p.clock().now() - shownAt);
+    EXPECT_GE(p.playback().position(), 1.0 - 1e-9);
+    EXPECT_LE(p.playback().position(), 1.0 + since + 1e-9);
+}
+
 TEST(PlaybackSim, TheStiffnessCommandScalesTheForceTheFingerFeels)
 {
     // GIVEN the still finger 2 mm into a still surface: k·2 mm = 1.6 N at the default 800 N/m

@@ -98,18 +98,27 @@ private:
 using DecoderDecoration = std::function<Result<std::unique_ptr<hal::VideoDecoder>>(
     const hal::StreamInfo &stream, Result<std::unique_ptr<hal::VideoDecoder>> mock)>;
 
+/// Takes the mock media source made for an open (mockPlayback()) and returns the source to use.
+using SourceDecoration =
+    std::function<std::unique_ptr<hal::MediaSource>(std::unique_ptr<hal::MediaSource> mock)>;
+
 /// Creates a Playback of \a config on \a clock (which must outlive it) with the mock media source
-/// and mock decoders (each passed through \a decorate when set), \a display and \a device (null:
-/// none). A failed creation is a test failure.
+/// (passed through \a source when set) and mock decoders (each passed through \a decorate when
+/// set), \a display and \a device (null: none). A failed creation is a test failure.
 inline std::unique_ptr<playback::Playback>
 mockPlayback(const playback::PlaybackConfig &config, platform::Clock &clock, hal::Display *display,
-             hal::HapticDevice *device, DecoderDecoration decorate = {})
+             hal::HapticDevice *device, DecoderDecoration decorate = {},
+             SourceDecoration source = {})
 {
     playback::PlaybackHal ph;
-    ph.makeSource = [&clock]() {
+    ph.makeSource = [&clock, source = std::move(source)]()
+        -> Result<std::unique_ptr<hal::MediaSource>> {
         hal::BackendConfig c;
         c.clock = &clock;
-        return drivers::MockMediaSource::create(c);
+        auto mock = drivers::MockMediaSource::create(c);
+        if (!mock || !source)
+            return mock;
+        return source(std::move(*mock));
     };
     ph.makeDecoder = [&clock, decorate = std::move(decorate)](const hal::StreamInfo &stream) {
         hal::BackendConfig c;
@@ -132,9 +141,11 @@ class SimPlayer {
 public:
     /// \param device the haptic device (made on clock()), or nullptr for none.
     /// \param depth scripted depth content, or empty for the mock decoder's own.
+    /// \param source wraps the mock media source of each open, or empty for the mock itself.
     SimPlayer(playback::PlaybackConfig config,
               const std::function<std::unique_ptr<hal::HapticDevice>(platform::Clock &)> &device,
-              DepthScript depth = {}, double fps = 30.0, const char *displayOptions = "")
+              DepthScript depth = {}, double fps = 30.0, const char *displayOptions = "",
+              SourceDecoration source = {})
         : clock_(platform::ManualClock::Mode::Blocking, platform::TimePoint(100s))
     {
         hal::BackendConfig cfg;
@@ -156,7 +167,8 @@ public:
                     return inner;
                 return std::unique_ptr<hal::VideoDecoder>(std::make_unique<ScriptedDepthDecoder>(
                     std::move(*inner), depth, fps, boxDepth));
-            });
+            },
+            std::move(source));
         machine_ = std::make_unique<player::StateMachine>(*playback_, player::PlayerSettings{});
     }
 
