@@ -122,6 +122,29 @@ TEST(FeelTest, AlternatingLogGivesItsRunLengthAndSignReversals)
     EXPECT_LE(f.longestAlternation, 1u);
 }
 
+// feel.h: a sign-reversal spike points against a change of more than alternationStep; a change of
+// exactly alternationStep before it is not one (0.25 N: exact in binary, as is 1.25 N − 1 N).
+TEST(FeelTest, ASignReversalNeedsAChangeBeforeItAboveTheAlternationStep)
+{
+    FeelThresholds th;
+    th.alternationStep = 0.25;
+    // GIVEN a steady 1 N that rises by exactly the alternation step at row 50, then drops to 0 N
+    // at row 51 (a spike of 1.25 N, against the rise) and stays there
+    auto rows = pressRows(100);
+    rows[50].force = {0.0, 0.0, 1.25};
+    for (std::size_t i = 51; i < rows.size(); ++i)
+        rows[i].force = {};
+    FeelFigures f = computeFeel(rows, th);
+    // THEN the drop is a spike but no sign reversal, and no change makes an alternating run
+    EXPECT_EQ(f.reversalSpikes, 0u);
+    EXPECT_EQ(f.longestAlternation, 1u);
+    // WHEN the rise is 0.5 N, over the step  THEN the drop reverses it: one reversal, a run of 2
+    rows[50].force = {0.0, 0.0, 1.5};
+    f = computeFeel(rows, th);
+    EXPECT_EQ(f.reversalSpikes, 1u);
+    EXPECT_EQ(f.longestAlternation, 2u);
+}
+
 TEST(FeelTest, TimeAtTheDeviceMaximumWithoutATrip)
 {
     auto rows = pressRows(100);
