@@ -3,7 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
+#include <optional>
+#include <vector>
 
 #include "depthtouch/depth/conversion.h"
 
@@ -133,4 +136,51 @@ TEST(MetricToNearnessTest, eightBitNearnessPassesThroughAndQuantizeRoundTrips)
     Plane<float> over(2, 1);
     over.samples = {-3.0f, 300.4f};
     EXPECT_EQ(quantize(over, 255.0).samples, (std::vector<std::uint16_t>{0, 255}));
+}
+
+namespace {
+
+/// docs/architecture.md "Metric depth input": v = v_max·(1/Z − 1/far)/(1/near − 1/far).
+double inverseZLevel(double z, double nearM, double farM, double vmax)
+{
+    return vmax * (1.0 / z - 1.0 / farM) / (1.0 / nearM - 1.0 / farM);
+}
+
+} // namespace
+
+TEST(MetricToLevels8Test, convertsWithTheGivenPlanesAndKeepsTheFirstFramesForTheNext)
+{
+    // GIVEN a flat 4×3 frame at 1 m (mm units) and planes at 0.5 m and 4 m
+    std::optional<DepthRange> range = DepthRange{0.5, 4.0};
+    // WHEN it becomes 8-bit levels of the same size
+    auto levels = metricToLevels8(Plane<std::uint16_t>(4, 3, 1000), range, 4, 3);
+    ASSERT_TRUE(levels);
+    // THEN every level is 1 m through those planes, not through the frame's own (flat) range,
+    // and the planes are left as given
+    const auto atOneMetre =
+        static_cast<std::uint16_t>(std::lround(inverseZLevel(1.0, 0.5, 4.0, 255.0)));
+    EXPECT_EQ(levels->samples, std::vector<std::uint16_t>(12, atOneMetre));
+    ASSERT_TRUE(range.has_value());
+    EXPECT_EQ(range->nearM, 0.5);
+    EXPECT_EQ(range->farM, 4.0);
+
+    // GIVEN no planes and a first frame half at 1 m, half at 2 m
+    range.reset();
+    Plane<std::uint16_t> first(4, 2, 1000);
+    for (int x = 0; x < 4; ++x)
+        first.samples[static_cast<std::size_t>(4 + x)] = 2000;
+    ASSERT_TRUE(metricToLevels8(first, range, 4, 2));
+    // THEN its robust range (the 1 % and 99 % depths) is returned: 1 m and 2 m
+    ASSERT_TRUE(range.has_value());
+    EXPECT_DOUBLE_EQ(range->nearM, 1.0);
+    EXPECT_DOUBLE_EQ(range->farM, 2.0);
+    // WHEN the next frame, flat at 1.5 m, is converted with them
+    levels = metricToLevels8(Plane<std::uint16_t>(4, 2, 1500), range, 4, 2);
+    ASSERT_TRUE(levels);
+    // THEN its levels are 1.5 m between 1 m and 2 m (85), the planes unchanged
+    const auto between =
+        static_cast<std::uint16_t>(std::lround(inverseZLevel(1.5, 1.0, 2.0, 255.0)));
+    EXPECT_EQ(levels->samples, std::vector<std::uint16_t>(8, between));
+    EXPECT_DOUBLE_EQ(range->nearM, 1.0);
+    EXPECT_DOUBLE_EQ(range->farM, 2.0);
 }
