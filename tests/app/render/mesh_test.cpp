@@ -391,3 +391,34 @@ TEST(BlockStepsTest, anEdgeBetweenTheProbesSendsItsTileToStepOne)
                 << "tile " << t << (v.format == scene::SampleFormat::Gray8 ? " 8-bit" : " 16-bit");
     }
 }
+
+/// Blocks: a hole's border is over any cap (adaptive_mesh.h, "Holes"), also at a hole threshold of
+/// 1 (only the code 0 is a hole) and with a cap above every jump the samples can make, in 8- and
+/// 16-bit depth: the tile with a hole that no probe sees is drawn at step 1.
+TEST(BlockStepsTest, aHoleBetweenTheProbesSendsItsTileToStepOneAtAHoleThresholdOfOne)
+{
+    // GIVEN a flat 64×48-cell frame at level 100 with a hole (code 0) on rows 24-25 of tile (1, 1),
+    // where no probe row (21, 29) is, holes below 1, and a cap of 100 000 levels (over 65 535)
+    const auto holed = [](int c, int r) {
+        return (r == 24 || r == 25) && c >= 18 && c <= 28 ? 0 : 100;
+    };
+    MeshOptions o;
+    o.mode = MeshMode::Blocks;
+    o.tileSize = 16;
+    o.maxStep = 16;
+    o.tolerance = 100.0;
+    o.maxErrorCap = 100000.0;
+    const test::Depth8 d8(65, 49, holed);
+    const test::Depth16 d16(65, 49, holed);
+    for (scene::DepthFrameView v : {d8.view(), d16.view()}) {
+        v.holeBelow = 1;
+        AdaptiveMesh mesh;
+        ASSERT_TRUE(mesh.build(v, o));
+        // THEN that tile is drawn at step 1 and the other eleven at step 16
+        ASSERT_EQ(mesh.tilesX(), 4);
+        ASSERT_EQ(mesh.tilesY(), 3);
+        for (int t = 0; t < 12; ++t)
+            EXPECT_EQ(mesh.tileSteps()[static_cast<std::size_t>(t)], t == 5 ? 1 : 16)
+                << "tile " << t << (v.format == scene::SampleFormat::Gray8 ? " 8-bit" : " 16-bit");
+    }
+}
