@@ -14,6 +14,8 @@
 #include <vector>
 
 #include <GLES3/gl3.h>
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include "depthtouch/drivers/backends.h"
@@ -256,6 +258,56 @@ TEST_F(SyntheticSceneTest, spheresLieAtDifferentDepthsAndMove)
     EXPECT_GT(levels.size(), 60u);
     EXPECT_GT(meanAbsDiff(a, b), 20.0);
     EXPECT_FALSE(spheres->isCut(15));
+}
+
+/// A sphere of the `spheres` scene as synthetic_scene.h gives it: radius, and its centre's path
+/// base + amplitude·sin(ω·t + φ) on each axis.
+struct DocumentedSphere {
+    double radius;
+    glm::dvec3 base;
+    glm::dvec3 amplitude;
+    glm::dvec3 omega;
+    glm::dvec3 phase;
+};
+
+TEST_F(SyntheticSceneTest, spheresAreWhereTheirDocumentedPathsPutThem)
+{
+    // GIVEN the spheres, the camera and the planes as synthetic_scene.h gives them
+    const DocumentedSphere spheres[] = {
+        {0.10, {-0.35, -0.10, -1.25}, {0.15, 0.06, 0.35}, {0.9, 1.3, 0.7}, {0.0, 0.5, 1.0}},
+        {0.08, {0.30, 0.05, -0.95}, {0.12, 0.10, 0.20}, {1.1, 0.8, 0.9}, {1.2, 0.0, 2.0}},
+        {0.14, {0.15, -0.08, -1.95}, {0.40, 0.08, 0.30}, {0.6, 1.0, 0.5}, {2.0, 1.0, 0.3}},
+        {0.07, {-0.10, 0.12, -0.80}, {0.20, 0.05, 0.08}, {1.4, 1.7, 1.2}, {0.7, 2.2, 0.0}},
+        {0.12, {-0.60, 0.10, -2.20}, {0.20, 0.12, 0.10}, {0.7, 0.9, 0.8}, {3.0, 0.4, 1.5}},
+    };
+    const glm::dvec3 eye(0.0, 0.12, 0.0);
+    const glm::dmat4 view = glm::lookAt(eye, glm::dvec3(0.0, -0.05, -1.5), glm::dvec3(0, 1, 0));
+    const glm::dmat4 proj = glm::perspective(glm::radians(40.0), double{kW} / kH, 0.5, 3.0);
+    const glm::dvec3 axis = glm::normalize(glm::dvec3(0.0, -0.05, -1.5) - eye);
+    auto scene = this->scene("spheres");
+    ASSERT_TRUE(scene);
+    // (frames 0 and 45 at 30 fps: every sphere's centre is in the picture, none behind another)
+    for (const std::uint64_t frame : {0u, 45u}) {
+        const Frame f = render(*scene, frame);
+        const double t = static_cast<double>(frame) / 30.0;
+        for (std::size_t i = 0; i < std::size(spheres); ++i) {
+            const DocumentedSphere &s = spheres[i];
+            const glm::dvec3 centre = s.base + s.amplitude * glm::sin(s.omega * t + s.phase);
+            // WHEN the pixel the centre projects to is read (rows top first)
+            const glm::dvec4 clip = proj * view * glm::dvec4(centre, 1.0);
+            const double x = (clip.x / clip.w * 0.5 + 0.5) * kW;
+            const double y = (0.5 - clip.y / clip.w * 0.5) * kH;
+            ASSERT_TRUE(x >= 0.0 && x < kW && y >= 0.0 && y < kH) << "sphere " << i;
+            const int v = f.nearAt(static_cast<int>(x), static_cast<int>(y));
+            // THEN it shows the sphere's nearest point: the ray through its centre meets it at
+            // |centre − eye| − radius, whose depth along the camera axis is Z; nearness back to
+            // metres by the inverse-Z mapping, v = 65535·(1/Z − 1/far)/(1/near − 1/far)
+            const glm::dvec3 ray = centre - eye;
+            const double z = (glm::length(ray) - s.radius) * glm::dot(ray, axis) / glm::length(ray);
+            const double seen = 1.0 / (v / 65535.0 * (1.0 / 0.5 - 1.0 / 3.0) + 1.0 / 3.0);
+            EXPECT_NEAR(seen, z, 0.002) << "sphere " << i << ", frame " << frame;
+        }
+    }
 }
 
 TEST_F(SyntheticSceneTest, cutSceneDepthJumpsAtTheCutOnly)

@@ -11,7 +11,19 @@
 ///   (±12°, 2.5 s). At frame 0 it faces the camera, horizontally centred. Camera 0.75 m from the
 ///   head centre, vertical field of view 28°. Near/far 0.5 m / 1.5 m.
 /// - `spheres`: five textured spheres (marble, painted, rubber) moving on independent paths at
-///   0.7–2.3 m in a room with a wooden floor and a plastered wall. Near/far 0.5 m / 3.0 m.
+///   0.7–2.3 m in a room with a wooden floor and a plastered wall. Camera at (0, 0.12, 0) m
+///   looking at (0, −0.05, −1.5) m (x right, y up), vertical field of view 40°. Each sphere's
+///   centre follows base + amplitude·sin(ω·t + φ) on each axis (m, rad/s, rad; t = frame / fps):
+///
+///   | sphere | radius (m) | base (m) | amplitude (m) | ω (rad/s) | φ (rad) |
+///   |---|---|---|---|---|---|
+///   | marble | 0.10 | −0.35, −0.10, −1.25 | 0.15, 0.06, 0.35 | 0.9, 1.3, 0.7 | 0, 0.5, 1.0 |
+///   | paint | 0.08 | 0.30, 0.05, −0.95 | 0.12, 0.10, 0.20 | 1.1, 0.8, 0.9 | 1.2, 0, 2.0 |
+///   | marble | 0.14 | 0.15, −0.08, −1.95 | 0.40, 0.08, 0.30 | 0.6, 1.0, 0.5 | 2.0, 1.0, 0.3 |
+///   | rubber | 0.07 | −0.10, 0.12, −0.80 | 0.20, 0.05, 0.08 | 1.4, 1.7, 1.2 | 0.7, 2.2, 0 |
+///   | paint | 0.12 | −0.60, 0.10, −2.20 | 0.20, 0.12, 0.10 | 0.7, 0.9, 0.8 | 3.0, 0.4, 1.5 |
+///
+///   Near/far 0.5 m / 3.0 m.
 /// - `cut`: shots of `head` and `spheres` alternating every 2 s (a scene cut: the depth jumps
 ///   between the last frame of a shot and the first of the next). Near/far 0.5 m / 3.0 m.
 ///
