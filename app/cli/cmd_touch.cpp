@@ -71,6 +71,7 @@ struct TouchOptions {
     bool noSafety = false;
     double maxForceStep = 2.0;
     std::string reengage = "release";
+    std::string fingerContact = "god-object"; ///< --finger-contact
     double fingerRadius = std::nan(""); ///< m; NaN: 0.015 x box width
     double staticFriction = 0.0;        ///< μs of the friction cone
     double dynamicFriction = 0.0;       ///< μd
@@ -124,6 +125,10 @@ const OptionRow<TouchOptions> kTouchRows[] = {
      "smooth surfaces at 1 m/s (k=800: <= 0.8 N/update) and always trips at a cut of half the box "
      "depth (16 N)"},
     {"reengage", &TouchOptions::reengage, "After a trip: release | ramp"},
+    {"finger-contact", &TouchOptions::fingerContact,
+     "How --method finger meets the surface: god-object (slides on from the last proxy) | penalty "
+     "(the plane under the HIP) | adaptive (penalty while the HIP rests, god-object while it "
+     "slides)"},
     {"quiet", &TouchOptions::quiet,
      "No summary of the run (on stdout; on stderr when --out is stdout)"},
     {"finger-radius",
@@ -291,6 +296,9 @@ int runTouch(const TouchOptions &o)
         return fail(kExitBadInput, "--method must be finger, modified, proxy-graph or mesh-bvh");
     if (o.reengage != "release" && o.reengage != "ramp")
         return fail(kExitBadInput, "--reengage must be release or ramp");
+    const auto contact = parseFingerContact(o.fingerContact);
+    if (!contact)
+        return fail(kExitBadInput, "--finger-contact must be god-object, penalty or adaptive");
     ReplayOptions opt;
     opt.rate = o.rate;
     opt.method = *method;
@@ -308,6 +316,7 @@ int runTouch(const TouchOptions &o)
     c.reengage = o.reengage == "ramp" ? Reengage::Ramp : Reengage::Release;
     c.rampTime = o.rampTime;
     c.fingerRadius = o.fingerRadius;
+    c.fingerContact = *contact;
     c.staticFriction = o.staticFriction;
     c.dynamicFriction = o.dynamicFriction;
     if (*method == Method::MeshBvh && (o.staticFriction > 0.0 || o.dynamicFriction > 0.0))

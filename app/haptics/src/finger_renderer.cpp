@@ -200,6 +200,9 @@ void FingerRenderer::reset(const glm::dvec3 &hip) noexcept
     lastDepth_ = 0.0;
     saturatedSince_ = std::nan("");
     letGoNext_ = false;
+    lastT_ = std::nan("");
+    speed_ = 0.0;
+    resting_ = false;
     force_.reset();
     friction_.release();
 }
@@ -348,15 +351,17 @@ void FingerRenderer::capture(const glm::dvec3 &hip, Candidate &c) noexcept
     // within its held depth (plus a ramped step) instead of the capture depth of a new contact.
     FingerPlane start{};
     c.proxy = solve(hip, hip.x, hip.y, c.plane, start, c.below);
+    if (c.below > 0.0)
+        enter(c.below, c);
+}
+
+void FingerRenderer::enter(double below, Candidate &c) noexcept
+{
     const double reach = behind_ ? std::max(captureDepth_, heldDepth_ + stepDepth_) : captureDepth_;
-    c.contact =
-        c.below > 0.0 && (contact_ || enterAnyDepth_ || c.below <= reach || !config_.safety);
-    if (c.below > 0.0 && !c.contact) {
-        behind_ = true; // came under the surface from the side, or the surface jumped onto it
-    } else if (c.contact && behind_) {
-        behind_ = false;
-        // caught again (the force steps at most maxForceStep an update)
-    }
+    c.contact = contact_ || enterAnyDepth_ || below <= reach || !config_.safety;
+    // Not caught: it came under the surface from the side, or the surface jumped onto it. Caught
+    // again: the force steps at most maxForceStep an update.
+    behind_ = !c.contact;
 }
 
 void FingerRenderer::pushUp(const glm::dvec3 &hip, double raw, Candidate &c) const noexcept
@@ -413,7 +418,17 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     const bool inside = raw > hip.z; // false for NaN
     Candidate c;
     c.proxy = hip;
-    if (!inside) {
+    const bool wasResting = resting_;
+    if (restingContact(hip, t)) {
+        if (over)
+            penalty(hip, c);
+        else
+            behind_ = false;
+        if (!behind_ && !c.contact)
+            heldDepth_ = 0.0;
+        if (c.contact && !wasResting && contact_)
+            c.stepped = true; // from the god-object's proxy to the penalty's: ramped in
+    } else if (!inside) {
         behind_ = false;
         heldDepth_ = 0.0;
     } else if (contact_ && config_.correction) {
@@ -425,6 +440,8 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     } else {
         capture(hip, c);
     }
+    if (wasResting && !resting_ && c.contact && contact_ && !c.trip)
+        c.stepped = true; // from the penalty's proxy to the god-object's: ramped in
     // The material under the goal (the track's per-pixel stiffness and friction), else the
     // renderer's own friction at stiffness scale 1.
     const bool material = field_.current().material.present();
@@ -469,6 +486,22 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     lastHeight_ = c.plane.height;
     std::copy(std::begin(c.plane.taps), std::end(c.plane.taps), std::begin(lastTaps_));
     return out;
+}
+
+bool FingerRenderer::restingContact(const glm::dvec3 &hip, double t) noexcept
+{
+    if (config_.fingerContact != FingerContact::Adaptive) {
+        resting_ = config_.fingerContact == FingerContact::Penalty;
+        return resting_;
+    }
+    const double dt = t - lastT_;
+    if (dt > 0.0) { // not on the first update, nor after a restarted clock
+        const double moved = std::hypot(hip.x - lastHip_.x, hip.y - lastHip_.y);
+        speed_ += (moved / dt - speed_) * std::min(1.0, dt / kFingerSpeedTime);
+    }
+    lastT_ = t;
+    resting_ = resting_ ? speed_ < kFingerSlideSpeed : speed_ < kFingerRestSpeed;
+    return resting_;
 }
 
 void FingerRenderer::watchSaturation(const glm::dvec3 &force, double t, bool contact) noexcept

@@ -40,6 +40,18 @@ const char *methodName(Method method) noexcept
     return "?";
 }
 
+Result<FingerContact> parseFingerContact(std::string_view text) noexcept
+{
+    if (text == "god-object")
+        return FingerContact::GodObject;
+    if (text == "penalty")
+        return FingerContact::Penalty;
+    if (text == "adaptive")
+        return FingerContact::Adaptive;
+    return unexpected(Errc::InvalidArgument,
+                      "finger contact must be god-object, penalty or adaptive");
+}
+
 Result<Method> parseMethod(std::string_view text) noexcept
 {
     for (Method m : {Method::Modified, Method::ProxyGraph, Method::MeshBvh, Method::Finger})

@@ -91,10 +91,16 @@ void replay(SyntheticVideo &video, HapticRenderer &r, double t0, double t1,
     }
 }
 
-FingerRenderer makeFinger()
+FingerRenderer makeFinger(FingerContact contact = FingerContact::GodObject)
 {
-    return FingerRenderer(RendererConfig::forMethod(Method::Finger));
+    RendererConfig c = RendererConfig::forMethod(Method::Finger);
+    c.fingerContact = contact;
+    return FingerRenderer(c);
 }
+
+/// The contacts a resting finger is tested with: each alone, and the one that switches.
+constexpr FingerContact kContacts[] = {FingerContact::GodObject, FingerContact::Penalty,
+                                       FingerContact::Adaptive};
 
 /// A keyboard at −5 mm and a hand \a tall high on it for x ≥ edge(t) − 0.3·y (its edge a tanh
 /// 0.2 mm wide, slanted across the rows), 8-bit.
@@ -131,24 +137,27 @@ TEST(FingerOccluderTest, aPressBesideAHandsEdgeDoesNotAlternate)
     };
     for (const Case &k : {Case{0.004, 0.0, 0.003, -0.6}, Case{0.004, 0.0005, 0.006, -0.3},
                           Case{0.004, 0.0005, 0.006, 0.0}, Case{0.009, 0.0005, 0.003, -0.3},
-                          Case{0.009, 0.0005, 0.006, -0.6}, Case{0.015, 0.0005, 0.003, -0.3}}) {
-        SyntheticVideo video = keyboardAndHand(
-            [a = k.amplitude](double t) { return a * std::sin(2.0 * 3.14159265 * 2.0 * t); },
-            k.tall);
-        FingerRenderer finger = makeFinger();
-        const auto hip = pressAndHold(k.offset * radius, k.tall, k.depth);
-        finger.reset(hip(0.0));
-        Log log;
-        replay(video, finger, 0.0, 1.3, hip, log);
-        const int run = log.longestAlternation(300, 0.1);
-        std::printf("hand %.0f mm moving ±%.1f mm, press %.0f mm at %.1f r: longest alternating "
-                    "run %d updates, final force %.2f N\n",
-                    k.tall * 1e3, k.amplitude * 1e3, k.depth * 1e3, k.offset, run,
-                    glm::length(log.out.back().force));
-        EXPECT_LE(run, 3) << k.tall << " " << k.amplitude << " " << k.depth << " " << k.offset;
-        EXPECT_TRUE(log.out.back().contact);
-        EXPECT_GT(glm::length(log.out.back().force), 0.5 * 800.0 * k.depth);
-    }
+                          Case{0.009, 0.0005, 0.006, -0.6}, Case{0.015, 0.0005, 0.003, -0.3}})
+        for (FingerContact contact : kContacts) {
+            SyntheticVideo video = keyboardAndHand(
+                [a = k.amplitude](double t) { return a * std::sin(2.0 * 3.14159265 * 2.0 * t); },
+                k.tall);
+            FingerRenderer finger = makeFinger(contact);
+            const auto hip = pressAndHold(k.offset * radius, k.tall, k.depth);
+            finger.reset(hip(0.0));
+            Log log;
+            replay(video, finger, 0.0, 1.3, hip, log);
+            const int run = log.longestAlternation(300, 0.1);
+            std::printf(
+                "contact %d, hand %.0f mm moving ±%.1f mm, press %.0f mm at %.1f r: longest "
+                "alternating run %d updates, final force %.2f N\n",
+                static_cast<int>(contact), k.tall * 1e3, k.amplitude * 1e3, k.depth * 1e3, k.offset,
+                run, glm::length(log.out.back().force));
+            EXPECT_LE(run, 3) << static_cast<int>(contact) << " " << k.tall << " " << k.amplitude
+                              << " " << k.depth << " " << k.offset;
+            EXPECT_TRUE(log.out.back().contact);
+            EXPECT_GT(glm::length(log.out.back().force), 0.5 * 800.0 * k.depth);
+        }
 }
 
 // Mechanism 2, the latch: a finger pressed 3 mm into the keyboard; a hand (9 mm tall) slides over
@@ -248,29 +257,34 @@ TEST(FingerOccluderTest, aSurfaceSweepingUnderARestingFingerNeverJumpsTheProxyOn
         const double dome = d2 < r * r ? -0.006 + std::sqrt(r * r - d2) * (14.0 / 14.0) : -1.0;
         return std::max(-0.010, dome);
     };
-    SyntheticVideo video(kBox, kW, kH, kFps, head, SampleFormat::Gray8);
-    FingerRenderer finger = makeFinger();
-    const glm::dvec3 rest(0.0, 0.0, -0.011);
-    auto hip = [&rest](double t) {
-        return t < 0.1 ? rest + glm::dvec3(0.0, 0.0, 0.003 * (1.0 - t / 0.1)) : rest;
-    };
-    finger.reset(hip(0.0));
-    Log log;
-    replay(video, finger, 0.0, 0.6, hip, log);
-    double worstJump = 0.0;
-    for (std::size_t k = 1; k < log.out.size(); ++k)
-        if (log.out[k].contact && log.out[k - 1].contact)
-            worstJump = std::max(worstJump, glm::length(log.out[k].proxy - log.out[k - 1].proxy));
-    int released = 0;
-    for (const HapticOutput &o : log.out)
-        released += o.released ? 1 : 0;
-    std::printf("head sweeping under a resting finger: largest proxy jump in contact %.2f mm, %d "
-                "updates at the maximum, %d release(s), largest force step %.2f N\n",
-                worstJump * 1e3, log.updatesAtMax(0), released, log.largestStep(0));
-    ASSERT_TRUE(log.out[150].contact); // resting on the curtain before the head came
-    EXPECT_LE(worstJump, radius);
-    EXPECT_LE(log.updatesAtMax(0), 5);
-    EXPECT_LE(log.largestStep(0), RendererConfig{}.maxForceStep + 1e-9);
+    for (FingerContact contact : kContacts) {
+        SyntheticVideo video(kBox, kW, kH, kFps, head, SampleFormat::Gray8);
+        FingerRenderer finger = makeFinger(contact);
+        const glm::dvec3 rest(0.0, 0.0, -0.011);
+        auto hip = [&rest](double t) {
+            return t < 0.1 ? rest + glm::dvec3(0.0, 0.0, 0.003 * (1.0 - t / 0.1)) : rest;
+        };
+        finger.reset(hip(0.0));
+        Log log;
+        replay(video, finger, 0.0, 0.6, hip, log);
+        double worstJump = 0.0;
+        for (std::size_t k = 1; k < log.out.size(); ++k)
+            if (log.out[k].contact && log.out[k - 1].contact)
+                worstJump =
+                    std::max(worstJump, glm::length(log.out[k].proxy - log.out[k - 1].proxy));
+        int released = 0;
+        for (const HapticOutput &o : log.out)
+            released += o.released ? 1 : 0;
+        std::printf(
+            "contact %d, head sweeping under a resting finger: largest proxy jump in contact "
+            "%.2f mm, %d updates at the maximum, %d release(s), largest force step %.2f N\n",
+            static_cast<int>(contact), worstJump * 1e3, log.updatesAtMax(0), released,
+            log.largestStep(0));
+        ASSERT_TRUE(log.out[150].contact); // resting on the curtain before the head came
+        EXPECT_LE(worstJump, radius);
+        EXPECT_LE(log.updatesAtMax(0), 5);
+        EXPECT_LE(log.largestStep(0), RendererConfig{}.maxForceStep + 1e-9);
+    }
 }
 
 // The bounded push: a table rising at 27 cm/s toward a resting finger (9 mm a frame at 30 fps,
@@ -283,25 +297,28 @@ TEST(FingerOccluderTest, aSurfaceRisingFastUnderARestingFingerPushesAtABoundedRa
         kBox, kW, kH, kFps,
         [](double, double, int i) { return -0.015 + 0.009 * std::clamp(i - 3, 0, 2); },
         SampleFormat::Gray16);
-    FingerRenderer finger = makeFinger();
-    const glm::dvec3 rest(0.0, 0.0, -0.016);
-    auto hip = [&rest](double t) {
-        return t < 0.05 ? rest + glm::dvec3(0.0, 0.0, 0.004 * (1.0 - t / 0.05)) : rest;
-    };
-    finger.reset(hip(0.0));
-    Log log;
-    replay(video, finger, 0.0, 0.2, hip, log);
-    double worstRise = 0.0;
-    for (std::size_t k = 60; k < log.out.size(); ++k)
-        worstRise =
-            std::max(worstRise, glm::length(log.out[k].force) - glm::length(log.out[k - 1].force));
-    const double bound = RendererConfig{}.maxForceStep / 16.0;
-    std::printf("table rising at 27 cm/s under a resting finger: largest force rise %.3f N an "
-                "update (bound %.3f N), final force %.2f N\n",
-                worstRise, bound, glm::length(log.out.back().force));
-    ASSERT_TRUE(log.out[80].contact);
-    EXPECT_LE(worstRise, bound + 1e-6);
-    EXPECT_GT(worstRise, 0.8 * bound); // it did push, at the bound
+    for (FingerContact contact : kContacts) {
+        FingerRenderer finger = makeFinger(contact);
+        const glm::dvec3 rest(0.0, 0.0, -0.016);
+        auto hip = [&rest](double t) {
+            return t < 0.05 ? rest + glm::dvec3(0.0, 0.0, 0.004 * (1.0 - t / 0.05)) : rest;
+        };
+        finger.reset(hip(0.0));
+        Log log;
+        replay(video, finger, 0.0, 0.2, hip, log);
+        double worstRise = 0.0;
+        for (std::size_t k = 60; k < log.out.size(); ++k)
+            worstRise = std::max(worstRise,
+                                 glm::length(log.out[k].force) - glm::length(log.out[k - 1].force));
+        const double bound = RendererConfig{}.maxForceStep / 16.0;
+        std::printf(
+            "contact %d, table rising at 27 cm/s under a resting finger: largest force rise "
+            "%.3f N an update (bound %.3f N), final force %.2f N\n",
+            static_cast<int>(contact), worstRise, bound, glm::length(log.out.back().force));
+        ASSERT_TRUE(log.out[80].contact);
+        EXPECT_LE(worstRise, bound + 1e-6);
+        EXPECT_GT(worstRise, 0.8 * bound); // it did push, at the bound
+    }
 }
 
 /// An 8-bit frame of a table at −5 mm with holes where \a hole(x, y), coded as `encode` codes

@@ -274,6 +274,18 @@ TEST(RendererConfigTest, rejectsOutOfRangeParameters)
     EXPECT_FALSE(makeRenderer(Method::Modified, RendererConfig{}, 1, 10));
 }
 
+TEST(RendererConfigTest, theFingerContactsAreNamedAsTouchTakesThem)
+{
+    // touch --finger-contact: the three names of the README's touch row, nothing else; god-object
+    // is the default of a renderer's configuration.
+    EXPECT_EQ(RendererConfig{}.fingerContact, FingerContact::GodObject);
+    EXPECT_EQ(*parseFingerContact("god-object"), FingerContact::GodObject);
+    EXPECT_EQ(*parseFingerContact("penalty"), FingerContact::Penalty);
+    EXPECT_EQ(*parseFingerContact("adaptive"), FingerContact::Adaptive);
+    for (const char *bad : {"", "godobject", "Penalty", "adaptive "})
+        EXPECT_FALSE(parseFingerContact(bad)) << bad;
+}
+
 } // namespace
 } // namespace depthtouch::haptics
 

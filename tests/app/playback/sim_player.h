@@ -111,8 +111,8 @@ mockPlayback(const playback::PlaybackConfig &config, platform::Clock &clock, hal
              SourceDecoration source = {})
 {
     playback::PlaybackHal ph;
-    ph.makeSource = [&clock, source = std::move(source)]()
-        -> Result<std::unique_ptr<hal::MediaSource>> {
+    ph.makeSource = [&clock,
+                     source = std::move(source)]() -> Result<std::unique_ptr<hal::MediaSource>> {
         hal::BackendConfig c;
         c.clock = &clock;
         auto mock = drivers::MockMediaSource::create(c);

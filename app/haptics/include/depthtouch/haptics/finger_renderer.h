@@ -69,6 +69,16 @@
 ///    - *Holes* (DepthFrameView::holeBelow; docs/architecture.md §3 "Holes"): HeightField puts a
 ///      hole's vertex 1 m under the box, so a hole is free space and its border a cliff; the
 ///      stencil's median ignores a minority of hole taps.
+/// 5b. **The penalty contact** (RendererConfig::fingerContact; GodObject, steps 2–5, by
+///    default): with FingerContact::Penalty the contact is the penalty of the plane under the
+///    HIP's own x–y (finger_contact.cpp): the proxy is the HIP's projection on it, moving at most
+///    the HIP's motion plus r/4 an update, a function of the HIP and the time alone, so beside a
+///    moving edge no two solutions can take turns. It keeps steps 3–5's capture depth, cuts,
+///    bounded push and saturation, and is free above the sensor surface at the HIP's own x–y
+///    where that was measured. FingerContact::Adaptive takes it while the HIP rests (its x–y
+///    speed, smoothed over kFingerSpeedTime, under kFingerRestSpeed, until it passes
+///    kFingerSlideSpeed: a press, a hold, a tap) and the god-object while it slides; a switch
+///    ramps the force in (ForceStage::shape()).
 /// 6. **Friction** (RendererConfig::staticFriction, dynamicFriction; friction.h): the proxy of
 ///    steps 2–4 is the frictionless goal; in contact the friction cone holds the proxy where it
 ///    was while the tangential force is within μs·Fn and lets it slide at μd·Fn otherwise. The
@@ -81,7 +91,8 @@
 ///    device maximum, ramp, slew ≤ maxForceStep per update).
 ///
 /// Cost: 9 height lookups per plane fit, at most 2 + kFingerIterations fits (3 +
-/// 2·kFingerIterations beside a wall) and one raw lookup an update; nothing per frame.
+/// 2·kFingerIterations beside a wall) and one raw lookup an update sliding, two fits and one raw
+/// lookup resting; nothing per frame.
 /// Thread-safety: thread-bound (the haptic thread); no allocation.
 
 #include <cmath>
@@ -104,6 +115,11 @@ inline constexpr double kFingerGlideGain = 0.05;
 /// The surface at the HIP's own x–y replaces a proxy held more than r to the side only when it is
 /// nearer the HIP by this share (hysteresis between the two solutions).
 inline constexpr double kFingerSwitchGain = 0.02;
+/// FingerContact::Adaptive: the HIP rests below this x–y speed (m/s) and slides above
+/// kFingerSlideSpeed; its speed is smoothed over kFingerSpeedTime (s).
+inline constexpr double kFingerRestSpeed = 0.01;
+inline constexpr double kFingerSlideSpeed = 0.02;
+inline constexpr double kFingerSpeedTime = 0.02;
 /// Plane refits per update after the first (a converged proxy stops earlier).
 inline constexpr int kFingerIterations = 2;
 /// Taps farther than this many stencil half-widths from the stencil's median are left out of the
@@ -170,6 +186,18 @@ private:
     void slide(const glm::dvec3 &hip, double raw, Candidate &c) const noexcept;
     /// Not in contact: a new contact from the HIP, or a finger behind the surface caught again.
     void capture(const glm::dvec3 &hip, Candidate &c) noexcept;
+    /// The penalty contact (finger_contact.cpp): the whole update's contact from the plane under
+    /// the HIP's own x–y. \pre the HIP is over the grid.
+    void penalty(const glm::dvec3 &hip, Candidate &c) noexcept;
+    /// Whether a finger not in contact, \a below (m) under the surface, comes into contact: a new
+    /// contact no deeper than the capture depth, or a finger let go caught again by the surface it
+    /// was held on; else it is behind the surface (behind_ set).
+    void enter(double below, Candidate &c) noexcept;
+    /// \return whether this update (HIP \a hip, time \a t) takes the penalty contact: always for
+    /// FingerContact::Penalty, never for GodObject; for Adaptive while the HIP rests (its x–y
+    /// speed, smoothed over kFingerSpeedTime, under kFingerRestSpeed; back to the god-object over
+    /// kFingerSlideSpeed).
+    bool restingContact(const glm::dvec3 &hip, double t) noexcept;
     /// Never a force with a downward part: a proxy under the HIP becomes the HIP's projection on
     /// its plane (along the plane's normal, z up), or with the HIP above that plane the sensor
     /// surface \a raw (m) straight above the HIP.
@@ -221,8 +249,11 @@ private:
     double lastDepth_ = 0.0;  ///< |proxy − HIP| of the last update in contact, else 0, m.
     double heldDepth_ = 0.0;  ///< The held depth when an occluder or a cut let the finger go, m.
     double saturatedSince_ = std::nan(""); ///< Haptic time the command reached the maximum, s.
-    bool letGoNext_ = false; ///< The command stayed at the maximum: let go on the next update.
-    FrictionCone friction_;  ///< Friction on the proxy; proxy_ stays the frictionless goal.
+    bool letGoNext_ = false;      ///< The command stayed at the maximum: let go on the next update.
+    double lastT_ = std::nan(""); ///< Haptic time of the last update, s.
+    double speed_ = 0.0;          ///< The HIP's x–y speed, smoothed, m/s.
+    bool resting_ = false;        ///< FingerContact::Adaptive: the penalty contact is in use.
+    FrictionCone friction_;       ///< Friction on the proxy; proxy_ stays the frictionless goal.
 };
 
 } // namespace depthtouch::haptics

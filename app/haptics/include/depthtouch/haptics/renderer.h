@@ -37,6 +37,24 @@ const char *methodName(Method method) noexcept;
 /// \brief Parses a methodName(). \return Errc::InvalidArgument for any other text.
 Result<Method> parseMethod(std::string_view text) noexcept;
 
+/// \brief How the fingertip renderer (Method::Finger) meets its finger-scale surface.
+enum class FingerContact : std::uint8_t {
+    /// The penalty of the patch under the HIP's own x–y: the force is k times the HIP's depth
+    /// along the normal of the finger-scale plane there, a continuous function of the HIP and the
+    /// time (finger_contact.cpp). No search, so no two solutions can take turns.
+    Penalty,
+    /// The god-object on the finger-scale surface: the proxy slides on from where it was
+    /// (finger_renderer.h, steps 2–5), held against a silhouette's wall.
+    GodObject,
+    /// The penalty while the HIP rests (a press, a hold, a tap: no god-object's search to take
+    /// turns between two solutions), the god-object while it slides (held against a silhouette's
+    /// wall); a switch ramps the force in.
+    Adaptive,
+};
+
+/// \brief Parses "god-object", "penalty" or "adaptive". \return Errc::InvalidArgument otherwise.
+Result<FingerContact> parseFingerContact(std::string_view text) noexcept;
+
 /// \brief What force-jump safety does once it trips (paper IV.C and beyond).
 enum class Reengage : std::uint8_t {
     Release, ///< Paper IV.C: the proxy collocates with the HIP (zero force) and may stay inside.
@@ -82,6 +100,8 @@ struct RendererConfig {
     /// in `bench feel` 1 mm let the finger through on the forearm scene and 2 mm spiked crossing
     /// it, while 1.5 mm met every goal).
     double fingerRadius = std::nan("");
+    /// Fingertip renderer only: how the finger meets the surface (FingerContact).
+    FingerContact fingerContact = FingerContact::GodObject;
     /// Static friction coefficient μs (dimensionless, 0..kMaxFriction) of the friction cone on
     /// the proxy (friction.h; Ruspini et al. 1997): the proxy stays while the tangential spring
     /// force is within μs·Fn. Methods Finger and Modified (and ProxyGraph); MeshBvh ignores it.

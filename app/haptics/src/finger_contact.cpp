@@ -1,0 +1,92 @@
+/// \file
+/// \brief FingerContact::Penalty: the fingertip renderer's contact from the finger-scale plane
+/// under the HIP's own x–y (renderer.h, finger_renderer.h).
+///
+/// Per update: the plane of the 3×3 stencil at the HIP's x–y (fitFingerPlane(): half-width r, the
+/// quadric's height where the nine fit one, taps far from the median and holes left out). The HIP
+/// is free above it, or where most of the stencil is a hole (nothing was measured under the
+/// finger). Under it, the proxy is the HIP's projection on the plane: the force k·(proxy − HIP)
+/// is the penalty of the HIP's depth along the plane's normal, which for a plane is the
+/// god-object's own force (Zilles & Salisbury 1995), and which, unlike a god-object's search,
+/// depends on the HIP and the time alone. Beside an object's moving edge the proxy cannot take
+/// turns between two solutions (a limit cycle): there is one.
+///
+/// State is kept only where a viewer's finger needs it, shared with the god-object contact:
+/// - a finger that comes under the plane deeper than the capture depth came from the side under
+///   an object, or the surface jumped onto it: it is behind the surface and free until it is out,
+///   or until the surface it was held on is back within its held depth (enter());
+/// - in contact, the depth may grow by the HIP's own motion plus maxForceStep/(16k) an update
+///   (limitPush()): a surface that sweeps under a resting finger pushes it out at a bounded rate;
+/// - cuts from the depth itself (paper IV.C, fix (c)): most of the stencil where the last update's
+///   was, refitted now, moved by more than the cut threshold (stencilStep()); a smaller step of its
+///   height is ramped in;
+/// - the command held at the device maximum lets the finger go (watchSaturation()).
+/// Cost: two plane fits an update (18 height lookups) in contact, one out of it.
+/// Thread-safety: thread-bound (the haptic thread); no allocation.
+
+#include "depthtouch/haptics/finger_renderer.h"
+
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace depthtouch::haptics {
+
+namespace {
+/// How far under the back of the box an interpolated height may lie and still be measured, m: a
+/// hole's vertex (HeightField::holeDrop(), 1 m under it) drags its triangle below this at a weight
+/// of 0.1 %.
+constexpr double kFingerHoleMargin = 1e-3;
+} // namespace
+
+void FingerRenderer::penalty(const glm::dvec3 &hip, Candidate &c) noexcept
+{
+    c.plane = fitFingerPlane(field_, hip.x, hip.y, radius_);
+    double below = 0.0;
+    glm::dvec3 goal = projectOnPlane(c.plane, hip, below);
+    // The sensor surface at the HIP's own x–y counts only where it was measured: a triangle with a
+    // hole vertex lies under the box (a finger resting at a hole's border rests on the patch).
+    const double raw = field_.heightAt(hip.x, hip.y);
+    const bool measured = raw >= -0.5 * field_.box().depth - kFingerHoleMargin;
+    if (field_.overHole(c.plane.height) && measured && raw > hip.z) {
+        // Most of the patch is a hole but the HIP's own spot was measured: it pushes straight up.
+        goal = {hip.x, hip.y, raw};
+        below = raw - hip.z;
+    } else if (field_.overHole(c.plane.height) || !(below > 0.0) || (measured && !(raw > hip.z))) {
+        // Free: above the plane, over a hole, or above the sensor surface at the HIP's own x–y
+        // (what the camera saw in front of the surface is free space).
+        behind_ = false;
+        return;
+    }
+    if (!contact_) {
+        enter(below, c);
+        if (c.contact) {
+            c.proxy = goal;
+            c.below = below;
+        }
+        return;
+    }
+    c.contact = true;
+    c.below = below;
+    c.proxy = goal;
+    // The proxy moves at most as far as the HIP did plus r/4 an update (as glide() does for the
+    // god-object): a patch that tilts, steps or sweeps in under a resting finger turns and grows
+    // the force over a few updates, never jumping the proxy onto it. Both ends lie on the outer
+    // side of the HIP (the normal points up), so the proxy held short never pulls it down.
+    const double allowed = glm::length(hip - lastHip_) + 0.25 * radius_;
+    const glm::dvec3 step = goal - proxy_;
+    const double d = glm::length(step);
+    if (d > allowed)
+        c.proxy = proxy_ + step * (allowed / d);
+    // Fix (c) from the depth: the stencil where the last update's was, refitted now.
+    const FingerPlane then = fitFingerPlane(field_, lastX_, lastY_, radius_);
+    const double moved = field_.overHole(then.height) ? 0.0 : std::fabs(then.height - lastHeight_);
+    if (config_.safety && stencilStep(then) > field_.cutThreshold())
+        c.trip = true;
+    else if (moved > stepDepth_)
+        c.stepped = true;
+    if (!c.trip)
+        limitPush(hip, c);
+}
+
+} // namespace depthtouch::haptics
