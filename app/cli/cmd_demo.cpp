@@ -30,6 +30,7 @@
 #include <glm/geometric.hpp>
 
 #include "commands.h"
+#include "demo_feel.h"
 #include "message_text.h"
 #include "option_cli.h"
 #include "output_paths.h"
@@ -150,231 +151,6 @@ std::string encodeScene(const DemoOptions &o, const std::string &clip, bool &int
     return {};
 }
 
-/// One row of the force log (docs/architecture.md §4): media time (s), HIP, proxy (m), force (N),
-/// flags.
-struct LogRow {
-    double t = 0.0;
-    double playT = 0.0; ///< Play time, s from the first update (monotonic through loops).
-    glm::dvec3 hip{};
-    glm::dvec3 proxy{};
-    glm::dvec3 force{};
-    bool contact = false;
-    bool released = false;
-    double gain = 1.0; ///< The output ramp's factor on the force (the log's gain column).
-};
-
-/// \return the rows of force log \a path (empty when it cannot be read).
-std::vector<LogRow> readForceLog(const std::string &path)
-{
-    std::vector<LogRow> rows;
-    std::ifstream in(path);
-    std::string line;
-    std::getline(in, line); // header
-    while (std::getline(in, line)) {
-        LogRow r;
-        int contact = 0;
-        int released = 0;
-        if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%d,%d,%lf,%lf", &r.t,
-                        &r.hip.x, &r.hip.y, &r.hip.z, &r.proxy.x, &r.proxy.y, &r.proxy.z,
-                        &r.force.x, &r.force.y, &r.force.z, &contact, &released, &r.playT,
-                        &r.gain) != 14)
-            continue;
-        r.contact = contact != 0;
-        r.released = released != 0;
-        rows.push_back(r);
-    }
-    return rows;
-}
-
-/// \return the play time of each row, s from the first (the log's play_t column; its t is media
-/// time, which starts again at every loop).
-std::vector<double> playTimes(const std::vector<LogRow> &rows)
-{
-    std::vector<double> play(rows.size(), 0.0);
-    for (std::size_t i = 0; i < rows.size(); ++i)
-        play[i] = rows[i].playT - rows.front().playT;
-    return play;
-}
-
-/// The clip's depth as the player touches it: 8-bit nearness (the luma of the depth stream), in
-/// the default scene box, frame i at media time i / fps.
-class ClipSurface {
-public:
-    /// \return an error text, or empty.
-    std::string load(const std::string &clip)
-    {
-        media::SourceOptions so;
-        so.streamTitle = "depth";
-        auto src = media::openFfmpegFrameSource(clip, so);
-        if (!src)
-            return std::string("cannot read the clip's depth: ") + src.error().what;
-        fps_ = (*src)->info().fps > 0 ? (*src)->info().fps : 30.0;
-        for (;;) {
-            auto f = (*src)->next(media::PixelFormat::Gray8);
-            if (!f)
-                break;
-            frames_.push_back(std::move(f->image));
-        }
-        if (frames_.size() < 2)
-            return "the clip's depth has fewer than 2 frames";
-        field_ = haptics::HeightField(haptics::SceneBox{});
-        // The backdrop: the nearest surface in the outer tenth of the first frame on both sides.
-        const media::Image &f0 = frames_.front();
-        int maxV = 0;
-        for (int y = 0; y < f0.height; ++y)
-            for (int x = 0; x < f0.width; ++x)
-                if (x < f0.width / 10 || x >= f0.width - f0.width / 10)
-                    maxV = std::max(maxV, static_cast<int>(f0.row(y)[x]));
-        backdropZ_ = (maxV / 255.0 - 0.5) * haptics::SceneBox{}.depth;
-        return {};
-    }
-
-    /// Sets the surface at media time \a t (frames i and i + 1 interpolated, as the renderer does).
-    void setTime(double t)
-    {
-        const auto n = static_cast<long long>(frames_.size());
-        const long long i =
-            std::clamp(static_cast<long long>(std::floor(t * fps_ + 1e-9)), 0LL, n - 1);
-        const haptics::DepthFrameView cur = view(static_cast<std::size_t>(i));
-        const haptics::DepthFrameView next = view(static_cast<std::size_t>(std::min(i + 1, n - 1)));
-        (void)field_.setFrames(cur, i + 1 < n ? &next : nullptr);
-        field_.setTime(t, true);
-        prev_ = view(static_cast<std::size_t>(std::max(i - 1, 0LL)));
-        cur_ = cur;
-        next_ = next;
-    }
-    /// \return the surface height under (x, y), m; NaN off the frame.
-    [[nodiscard]] double heightAt(double x, double y) const noexcept
-    {
-        return field_.contains(x, y) ? field_.heightAt(x, y) : std::nan("");
-    }
-    /// \return true when a sample within a finger's reach of (x, y) (the renderer's stencil, 1.5 %
-    /// of the box width) moves by more than the cut threshold from the previous frame to the
-    /// current one or from it to the next (of the last setTime()).
-    [[nodiscard]] bool cutAt(double x, double y) const noexcept
-    {
-        const double reach = 0.015 * field_.box().width;
-        for (int j = -1; j <= 1; ++j) {
-            for (int i = -1; i <= 1; ++i) {
-                const double px = x + i * reach;
-                const double py = y + j * reach;
-                if (!field_.contains(px, py))
-                    continue;
-                const int c = static_cast<int>(std::lround(field_.xToColumn(px)));
-                const int r = static_cast<int>(std::lround(field_.yToRow(py)));
-                const double z = field_.frameZ(cur_, c, r);
-                if (std::fabs(field_.frameZ(next_, c, r) - z) > field_.cutThreshold() ||
-                    std::fabs(z - field_.frameZ(prev_, c, r)) > field_.cutThreshold())
-                    return true;
-            }
-        }
-        return false;
-    }
-    /// \return the height of the backdrop (curtain), m.
-    [[nodiscard]] double backdropZ() const noexcept { return backdropZ_; }
-
-private:
-    [[nodiscard]] haptics::DepthFrameView view(std::size_t i) const noexcept
-    {
-        const media::Image &im = frames_[i];
-        return {im.data.data(),
-                im.width,
-                im.height,
-                im.stride,
-                haptics::SampleFormat::Gray8,
-                static_cast<double>(i) / fps_};
-    }
-
-    std::vector<media::Image> frames_;
-    double fps_ = 30.0;
-    haptics::HeightField field_;
-    haptics::DepthFrameView prev_{};
-    haptics::DepthFrameView cur_{};
-    haptics::DepthFrameView next_{};
-    double backdropZ_ = 0.0;
-};
-
-/// Contact on the figure (head, neck, shoulders) counts when the surface under the proxy is this
-/// much nearer than the backdrop, m.
-constexpr double kFigureMargin = 0.002;
-
-/// What the demo measured in the force log.
-struct DemoFeel {
-    haptics::FeelFigures feel;
-    double contactSeconds = 0.0;
-    double figureSeconds = 0.0; ///< Of the contact time, on the figure (nearer than the backdrop).
-    /// The stiffness felt, |F| / |proxy − HIP| (N/m), of the contact updates pressed over 0.5 mm
-    /// and under the force clamp, not ramping (after a release or a watchdog trip), on the figure
-    /// and on the backdrop: the material track's stiffness scales times --stiffness (skin and cloth
-    /// differ).
-    std::vector<double> figureStiffness;
-    std::vector<double> backdropStiffness;
-};
-
-/// Contact updates pressed less than this deep are left out of the stiffness felt, m.
-constexpr double kStiffnessMinDepth = 0.0005;
-/// The renderer's force clamp, N: updates near it are left out of the stiffness felt.
-const double kDemoMaxForce = haptics::RendererConfig{}.maxForce;
-/// The haptic task's force slew limit, N/s: updates whose force moved at it (catching up with a
-/// proxy that jumped, as at a silhouette) are left out of the stiffness felt.
-const double kDemoForceRate = haptic_task::HapticTaskConfig{}.maxForceRate;
-/// After a safety release the renderer ramps the force back in over this time, s: those updates
-/// are left out of the stiffness felt too.
-const double kDemoRampTime = haptics::RendererConfig{}.rampTime;
-
-/// Fills each row's surface heights and flags, \a plot with the chart's columns, and the figures.
-DemoFeel measureFeel(const std::vector<LogRow> &rows, const std::vector<double> &play,
-                     ClipSurface &surface, std::vector<std::array<double, 6>> &plot)
-{
-    std::vector<haptics::FeelSample> samples(rows.size());
-    DemoFeel d;
-    constexpr std::size_t kSpeedRows = 10; // lateral speed over 10 updates
-    double releasedAt = -1e9;              // play time of the last released update, s
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-        const LogRow &r = rows[i];
-        if (r.released)
-            releasedAt = play[i];
-        surface.setTime(r.t);
-        haptics::FeelSample &s = samples[i];
-        s.t = play[i];
-        s.hip = r.hip;
-        s.force = r.force;
-        s.surfaceZ = surface.heightAt(r.hip.x, r.hip.y);
-        s.released = r.released;
-        s.surfaceCut = surface.cutAt(r.proxy.x, r.proxy.y) ||
-                       (i > 0 && surface.cutAt(rows[i - 1].proxy.x, rows[i - 1].proxy.y));
-        const std::size_t j = i >= kSpeedRows ? i - kSpeedRows : 0;
-        const double span = play[i] - play[j];
-        const double speed =
-            span > 0.0 ? std::hypot(r.hip.x - rows[j].hip.x, r.hip.y - rows[j].hip.y) / span : 0.0;
-        s.sliding = r.contact && speed > 0.002;
-        s.held = r.contact && speed <= 0.002;
-        const double dt = i + 1 < rows.size() ? play[i + 1] - play[i] : 0.0;
-        const double under = surface.heightAt(r.proxy.x, r.proxy.y);
-        const bool onFigure = r.contact && under > surface.backdropZ() + kFigureMargin;
-        if (r.contact) {
-            d.contactSeconds += dt;
-            if (onFigure)
-                d.figureSeconds += dt;
-            const double depth = glm::length(r.proxy - r.hip);
-            const double force = glm::length(r.force);
-            const double step = i > 0 ? play[i] - play[i - 1] : 0.0;
-            const bool slewing =
-                i > 0 && glm::length(r.force - rows[i - 1].force) >= 0.9 * kDemoForceRate * step;
-            // The renderer's ramp after its release, and the task's output ramp after a watchdog
-            // trip (a late wake-up on a loaded machine): a ramped force is not the surface's.
-            const bool ramping = play[i] - releasedAt < kDemoRampTime || r.gain < 1.0;
-            if (!r.released && !slewing && !ramping && depth > kStiffnessMinDepth &&
-                force < 0.95 * kDemoMaxForce)
-                (onFigure ? d.figureStiffness : d.backdropStiffness).push_back(force / depth);
-        }
-        plot.push_back({play[i], glm::length(r.force), r.contact ? 1.0 : 0.0, 1e3 * r.hip.z,
-                        1e3 * s.surfaceZ, onFigure ? 1.0 : 0.0});
-    }
-    d.feel = haptics::computeFeel(samples);
-    return d;
-}
-
 /// Writes \a text to \a path whole (a temporary name, renamed when complete). \return true, or
 /// false with \a lost set to the one error line (when it is still empty).
 bool writeDemoFile(const std::string &path, const std::string &text, std::string &lost)
@@ -456,8 +232,9 @@ std::string chartForce(const std::string &dir, const std::vector<std::array<doub
 std::string reportFeel(const DemoOptions &o, const std::string &clip, const std::string &forceLog)
 {
     const std::vector<LogRow> rows = readForceLog(forceLog);
-    ClipSurface surface;
-    if (const std::string err = surface.load(clip); !err.empty() || rows.empty()) {
+    std::string err;
+    const std::unique_ptr<DemoSurface> surface = loadClipSurface(clip, err);
+    if (!surface || rows.empty()) {
         std::printf("  feel              not measured: %s\n",
                     err.empty() ? "empty force log" : err.c_str());
         return {};
@@ -465,7 +242,7 @@ std::string reportFeel(const DemoOptions &o, const std::string &clip, const std:
     const std::vector<double> play = playTimes(rows);
     std::vector<std::array<double, 6>> plot;
     plot.reserve(rows.size());
-    const DemoFeel d = measureFeel(rows, play, surface, plot);
+    const DemoFeel d = measureFeel(rows, play, *surface, plot);
     const haptics::FeelFigures &f = d.feel;
     std::printf("  feel              %zu safety trips (%zu at real cuts), pop-through %.0f ms, "
                 "phantom force %.0f ms, %.2f spikes/s while sliding (%.1f s)\n",

@@ -1,0 +1,145 @@
+/// \file
+/// \brief The demo's feel measure (app/cli/demo_feel.h) on a force log it is handed row by row and
+/// a surface whose cuts, heights and backdrop the test sets: the figures the demo prints (trips at
+/// real cuts, contact share on the figure, stiffness felt) against values computed here.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include "demo_feel.h"
+
+namespace depthtouch::cli {
+namespace {
+
+/// A figure (z = 0) left of x = 0.02 m in front of a backdrop at z = −0.016 m; the surface moved by
+/// more than the cut threshold only within 0.1 mm of (cutX, 0).
+class FakeSurface final : public DemoSurface {
+public:
+    explicit FakeSurface(double cutX) : cutX_(cutX) {}
+    void setTime(double t) override { t_ = t; }
+    [[nodiscard]] double heightAt(double x, double) const noexcept override
+    {
+        return x < 0.02 ? 0.0 : kBackdrop;
+    }
+    [[nodiscard]] bool cutAt(double x, double y) const noexcept override
+    {
+        return std::hypot(x - cutX_, y) < 1e-4;
+    }
+    [[nodiscard]] double backdropZ() const noexcept override { return kBackdrop; }
+    static constexpr double kBackdrop = -0.016;
+
+private:
+    double cutX_;
+    double t_ = 0.0;
+};
+
+/// A row pressed \a depth under the surface at (x, 0) with a force of k·depth straight up.
+LogRow pressed(double t, double x, double surfaceZ, double depth, double k)
+{
+    LogRow r;
+    r.t = t;
+    r.playT = t;
+    r.hip = {x, 0.0, surfaceZ - depth};
+    r.proxy = {x, 0.0, surfaceZ};
+    r.force = {0.0, 0.0, k * depth};
+    r.contact = true;
+    return r;
+}
+
+// A trip on the update after the proxy left a cut is at that cut: the previous row's proxy counts
+// (the renderer trips on the stencil where the last update's was). Row 0's proxy sits on the cut
+// and row 1, tripped, has moved off it.
+TEST(DemoFeelTest, aTripJustAfterTheProxyLeftTheCutCountsAsAtTheCut)
+{
+    for (const double cutX : {0.005, 0.010}) { // on row 0's proxy, and nowhere the finger went
+        std::vector<LogRow> rows;
+        rows.push_back(pressed(0.000, 0.005, 0.0, 0.002, 800.0));
+        rows.push_back(pressed(0.001, 0.007, 0.0, 0.002, 800.0));
+        rows.back().released = true;
+        rows.back().force = {};
+        for (int i = 2; i < 40; ++i)
+            rows.push_back(pressed(0.001 * i, 0.007, 0.0, 0.002, 800.0));
+        FakeSurface surface(cutX);
+        std::vector<std::array<double, 6>> plot;
+        const DemoFeel d = measureFeel(rows, playTimes(rows), surface, plot);
+        EXPECT_EQ(d.feel.trips, 1u);
+        EXPECT_EQ(d.feel.realCutTrips, cutX == 0.005 ? 1u : 0u) << cutX;
+        EXPECT_EQ(d.feel.falseTrips, cutX == 0.005 ? 0u : 1u) << cutX;
+    }
+}
+
+// The contact share on the figure and the stiffness felt, on the figure and on the backdrop, are
+// the ones the rows were made with: 30 updates on the figure pressed 2 mm at 500 N/m, 10 on the
+// backdrop pressed 1 mm at 1000 N/m, 10 pressed only 0.3 mm (left out of the stiffness), all at
+// 1 N (no force step for the slew check to leave out), and the chart's columns follow each row.
+TEST(DemoFeelTest, theContactShareAndTheStiffnessFeltAreTheRows)
+{
+    std::vector<LogRow> rows;
+    double t = 0.0;
+    for (int i = 0; i < 30; ++i, t += 0.001)
+        rows.push_back(pressed(t, 0.0, 0.0, 0.002, 500.0));
+    for (int i = 0; i < 10; ++i, t += 0.001)
+        rows.push_back(pressed(t, 0.03, FakeSurface::kBackdrop, 0.001, 1000.0));
+    for (int i = 0; i < 10; ++i, t += 0.001)
+        rows.push_back(pressed(t, 0.03, FakeSurface::kBackdrop, 0.0003, 1.0 / 0.0003));
+    FakeSurface surface(1.0);
+    std::vector<std::array<double, 6>> plot;
+    const DemoFeel d = measureFeel(rows, playTimes(rows), surface, plot);
+    // Each row lasts until the next one: 50 rows, the last with no length.
+    EXPECT_NEAR(d.contactSeconds, 0.049, 1e-9);
+    EXPECT_NEAR(d.figureSeconds, 0.030, 1e-9);
+    ASSERT_EQ(d.figureStiffness.size(), 30u);
+    ASSERT_EQ(d.backdropStiffness.size(), 10u);
+    for (double k : d.figureStiffness)
+        EXPECT_NEAR(k, 500.0, 1e-6);
+    for (double k : d.backdropStiffness)
+        EXPECT_NEAR(k, 1000.0, 1e-6);
+    ASSERT_EQ(plot.size(), rows.size());
+    EXPECT_NEAR(plot[5][1], 1.0, 1e-12);   // |F| N
+    EXPECT_EQ(plot[5][5], 1.0);            // on the figure
+    EXPECT_NEAR(plot[35][3], -17.0, 1e-9); // HIP z, mm
+    EXPECT_NEAR(plot[35][4], -16.0, 1e-9); // surface z, mm
+    EXPECT_EQ(plot[35][5], 0.0);           // on the backdrop
+}
+
+// The force log is read by its columns (docs/architecture.md §4: t, HIP, proxy, force, contact,
+// released, play_t, gain); a row that does not parse is skipped, and play time counts from the
+// first row.
+TEST(DemoFeelTest, theForceLogIsReadByItsColumns)
+{
+    const std::filesystem::path path =
+        std::filesystem::temp_directory_path() / ("demo_feel_test_" + std::to_string(::getpid()));
+    {
+        std::ofstream out(path);
+        out << "t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released,play_t,gain\n"
+            << "0.5,0.001,0.002,-0.003,0.004,0.005,0.006,0.1,-0.2,1.5,1,0,2.25,1\n"
+            << "not,a,row\n"
+            << "0.0,0,0,0,0,0,0,0,0,0,0,1,2.5,0.25\n";
+    }
+    const std::vector<LogRow> rows = readForceLog(path.string());
+    std::filesystem::remove(path);
+    ASSERT_EQ(rows.size(), 2u);
+    EXPECT_EQ(rows[0].t, 0.5);
+    EXPECT_EQ(rows[0].hip.y, 0.002);
+    EXPECT_EQ(rows[0].proxy.z, 0.006);
+    EXPECT_EQ(rows[0].force.y, -0.2);
+    EXPECT_EQ(rows[0].force.z, 1.5);
+    EXPECT_TRUE(rows[0].contact);
+    EXPECT_FALSE(rows[0].released);
+    EXPECT_TRUE(rows[1].released);
+    EXPECT_EQ(rows[1].gain, 0.25);
+    const std::vector<double> play = playTimes(rows);
+    EXPECT_EQ(play[0], 0.0);
+    EXPECT_EQ(play[1], 0.25);
+}
+
+} // namespace
+} // namespace depthtouch::cli
