@@ -69,6 +69,17 @@ void FingerRenderer::penalty(const glm::dvec3 &hip, Candidate &c) noexcept
     c.contact = true;
     c.below = below;
     c.proxy = goal;
+    // Fix (c) from the depth: the stencil where the last update's was, refitted now.
+    const FingerPlane then = fitFingerPlane(field_, lastX_, lastY_, radius_);
+    const double moved = field_.overHole(then.height) ? 0.0 : std::fabs(then.height - lastHeight_);
+    if (config_.safety && stencilStep(then) > field_.cutThreshold()) {
+        // A cut: the proxy is re-seated on the new surface at once, as the god-object's is, and
+        // the force stage ramps the change in (Reengage::Ramp) or the finger is let go (Release).
+        c.trip = true;
+        return;
+    }
+    if (moved > stepDepth_)
+        c.stepped = true;
     // The proxy moves at most as far as the HIP did plus r/4 an update (as glide() does for the
     // god-object): a patch that tilts, steps or sweeps in under a resting finger turns and grows
     // the force over a few updates, never jumping the proxy onto it. Both ends lie on the outer
@@ -78,15 +89,7 @@ void FingerRenderer::penalty(const glm::dvec3 &hip, Candidate &c) noexcept
     const double d = glm::length(step);
     if (d > allowed)
         c.proxy = proxy_ + step * (allowed / d);
-    // Fix (c) from the depth: the stencil where the last update's was, refitted now.
-    const FingerPlane then = fitFingerPlane(field_, lastX_, lastY_, radius_);
-    const double moved = field_.overHole(then.height) ? 0.0 : std::fabs(then.height - lastHeight_);
-    if (config_.safety && stencilStep(then) > field_.cutThreshold())
-        c.trip = true;
-    else if (moved > stepDepth_)
-        c.stepped = true;
-    if (!c.trip)
-        limitPush(hip, c);
+    limitPush(hip, c);
 }
 
 } // namespace depthtouch::haptics

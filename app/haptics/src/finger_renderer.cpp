@@ -426,7 +426,7 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
             behind_ = false;
         if (!behind_ && !c.contact)
             heldDepth_ = 0.0;
-        if (c.contact && !wasResting && contact_)
+        if (c.contact && !wasResting && contact_ && switchSteps(c))
             c.stepped = true; // from the god-object's proxy to the penalty's: ramped in
     } else if (!inside) {
         behind_ = false;
@@ -440,7 +440,7 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     } else {
         capture(hip, c);
     }
-    if (wasResting && !resting_ && c.contact && contact_ && !c.trip)
+    if (wasResting && !resting_ && c.contact && contact_ && !c.trip && switchSteps(c))
         c.stepped = true; // from the penalty's proxy to the god-object's: ramped in
     // The material under the goal (the track's per-pixel stiffness and friction), else the
     // renderer's own friction at stiffness scale 1.
@@ -486,6 +486,15 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     lastHeight_ = c.plane.height;
     std::copy(std::begin(c.plane.taps), std::end(c.plane.taps), std::begin(lastTaps_));
     return out;
+}
+
+bool FingerRenderer::switchSteps(const Candidate &c) const noexcept
+{
+    // On a smooth surface the two contacts' proxies lie within a small step of each other: the
+    // force changes by less than the ramp's own threshold (a surface step of stepDepth_), and a
+    // ramp would only hold the old force while the new one moves on (a finger lifted off just
+    // after it came to rest would be let go from the ramp's stale force: a spike).
+    return glm::length(c.proxy - proxy_) > stepDepth_;
 }
 
 bool FingerRenderer::restingContact(const glm::dvec3 &hip, double t) noexcept

@@ -235,12 +235,14 @@ std::vector<FeelSetting> feelSettings(const std::vector<Method> &methods)
         }
         out.push_back({methodName(m), m, c});
         if (m == Method::Finger) {
-            // The penalty contact, alone and while the HIP rests (renderer.h FingerContact).
-            c.fingerContact = FingerContact::Adaptive;
-            out.push_back({"finger-adaptive", m, c});
+            // The default contact's two parts alone: the god-object everywhere, the penalty
+            // everywhere (renderer.h FingerContact; the default is Adaptive).
+            const FingerContact contact = c.fingerContact;
+            c.fingerContact = FingerContact::GodObject;
+            out.push_back({"finger-god-object", m, c});
             c.fingerContact = FingerContact::Penalty;
             out.push_back({"finger-penalty", m, c});
-            c.fingerContact = FingerContact::GodObject;
+            c.fingerContact = contact;
             // The player's re-engagement, and the finger's size either side of its default.
             c.reengage = Reengage::Ramp;
             out.push_back({"finger-ramp", m, c});

@@ -69,8 +69,8 @@
 ///    - *Holes* (DepthFrameView::holeBelow; docs/architecture.md §3 "Holes"): HeightField puts a
 ///      hole's vertex 1 m under the box, so a hole is free space and its border a cliff; the
 ///      stencil's median ignores a minority of hole taps.
-/// 5b. **The penalty contact** (RendererConfig::fingerContact; GodObject, steps 2–5, by
-///    default): with FingerContact::Penalty the contact is the penalty of the plane under the
+/// 5b. **The penalty contact** (RendererConfig::fingerContact; Adaptive, below, by default):
+///    with FingerContact::Penalty the contact is the penalty of the plane under the
 ///    HIP's own x–y (finger_contact.cpp): the proxy is the HIP's projection on it, moving at most
 ///    the HIP's motion plus r/4 an update, a function of the HIP and the time alone, so beside a
 ///    moving edge no two solutions can take turns. It keeps steps 3–5's capture depth, cuts,
@@ -78,7 +78,9 @@
 ///    where that was measured. FingerContact::Adaptive takes it while the HIP rests (its x–y
 ///    speed, smoothed over kFingerSpeedTime, under kFingerRestSpeed, until it passes
 ///    kFingerSlideSpeed: a press, a hold, a tap) and the god-object while it slides; a switch
-///    ramps the force in (ForceStage::shape()).
+///    that moves the proxy by more than a ramped step ramps the force in (ForceStage::shape()).
+///    At a cut the penalty's proxy is re-seated on the new surface at once, as the god-object's
+///    is (the force stage ramps the change in or the finger is let go, as Reengage says).
 /// 6. **Friction** (RendererConfig::staticFriction, dynamicFriction; friction.h): the proxy of
 ///    steps 2–4 is the frictionless goal; in contact the friction cone holds the proxy where it
 ///    was while the tangential force is within μs·Fn and lets it slide at μd·Fn otherwise. The
@@ -180,6 +182,9 @@ private:
         bool letGo = false;     ///< Let go whatever Reengage says (occluder, saturation).
         bool saturated = false; ///< Let go at the device maximum.
     };
+    /// \return whether a switch between the contacts moves the proxy by more than stepDepth_
+    /// (the candidate \a c against the last update's proxy): only then is it ramped in.
+    [[nodiscard]] bool switchSteps(const Candidate &c) const noexcept;
 
     /// In contact: slide on from the last proxy (steps 2 and 4 of the file comment).
     /// \a raw: the sensor surface at the HIP's own x–y, m (over the HIP: slide() runs inside).

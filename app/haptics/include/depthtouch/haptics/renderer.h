@@ -100,8 +100,11 @@ struct RendererConfig {
     /// in `bench feel` 1 mm let the finger through on the forearm scene and 2 mm spiked crossing
     /// it, while 1.5 mm met every goal).
     double fingerRadius = std::nan("");
-    /// Fingertip renderer only: how the finger meets the surface (FingerContact).
-    FingerContact fingerContact = FingerContact::GodObject;
+    /// Fingertip renderer only: how the finger meets the surface (FingerContact). Adaptive by
+    /// default: in `bench feel` it keeps the god-object's figures on swipes, circles and traces
+    /// and takes the longest alternating run in holds, presses and taps from 20 to 3 updates
+    /// (docs/benchmarks.md, "the penalty contact").
+    FingerContact fingerContact = FingerContact::Adaptive;
     /// Static friction coefficient μs (dimensionless, 0..kMaxFriction) of the friction cone on
     /// the proxy (friction.h; Ruspini et al. 1997): the proxy stays while the tangential spring
     /// force is within μs·Fn. Methods Finger and Modified (and ProxyGraph); MeshBvh ignores it.
