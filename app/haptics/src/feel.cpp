@@ -128,7 +128,9 @@ public:
         // Arriving faster than a bounded push-out could follow adds to the swept depth; a surface
         // that falls back takes its arrival away first.
         const double rise = std::isfinite(r.surfaceRise) ? r.surfaceRise : 0.0;
-        const double push = th.pushRate * dt;
+        // Across a hole the rise took the time since the surface was last measured (feel.h).
+        const double push =
+            th.pushRate * (std::isnan(r.surfaceRiseSeconds) ? dt : r.surfaceRiseSeconds);
         const double gained = rise > push ? rise - push : std::min(rise, 0.0);
         swept_ = std::clamp(swept_ + gained, 0.0, inside);
     }

@@ -239,6 +239,56 @@ TEST(FeelTest, ASurfaceArrivingOverTheFingerCoversIt)
     EXPECT_NEAR(f.popThroughMs, 158.0, 1e-9); // 42..199: 2 mm and more inside, no force
 }
 
+// An object whose stereo shadow runs ahead of it: under a finger pressed 2 mm into a backdrop at
+// z = 0 the surface is a hole (no depth) from 40 to 59 ms, then the object appears at 16 mm, 18 mm
+// over the HIP, and stays. The renderer pushes the finger out at a bounded rate, reaches the
+// device maximum and lets go at 100 ms: the object rose 16 mm over the finger in the 21 ms since
+// the backdrop was last measured there (0.76 m/s, faster than a bounded push-out follows), so
+// the trip is an arrival trip, not a false one, and 18 mm inside it is no pop-through. A pixel
+// that drops out and comes back at its own height (a flickering hole border) rose by nothing:
+// the same let-go there is a false trip and its pop-through counts.
+TEST(FeelTest, ASurfaceComingOverTheFingerWhileAHoleHidItCoversIt)
+{
+    const auto run = [](double appearsAt) {
+        auto rows = pressRows(200);
+        for (std::size_t i = 0; i < rows.size(); ++i) {
+            rows[i].surfaceZ = i < 40 ? 0.0 : i < 60 ? std::nan("") : appearsAt;
+            if (i == 60) { // the bench's surfaceRise across the hole: since 39 ms
+                rows[i].surfaceRise = appearsAt - rows[39].surfaceZ;
+                rows[i].surfaceRiseSeconds = rows[60].t - rows[39].t;
+            } else if (i > 0) {
+                rows[i].surfaceRise = rows[i].surfaceZ - rows[i - 1].surfaceZ;
+            }
+            if (i >= 100)
+                rows[i].force = {};
+        }
+        rows[100].released = true;
+        return computeFeel(rows);
+    };
+    FeelFigures f = run(16e-3);
+    EXPECT_EQ(f.trips, 1u);
+    EXPECT_EQ(f.arrivalTrips, 1u);
+    EXPECT_EQ(f.falseTrips, 0u);
+    EXPECT_EQ(f.popThroughMs, 0.0);
+    EXPECT_NEAR(f.coveredMs, 140.0, 1e-9); // 60..199
+    f = run(0.0);
+    EXPECT_EQ(f.arrivalTrips, 0u);
+    EXPECT_EQ(f.falseTrips, 1u);
+    EXPECT_EQ(f.coveredMs, 0.0);
+    EXPECT_NEAR(f.popThroughMs, 100.0, 1e-9); // 100..199: back on the backdrop with no force
+    // The same 16 mm over 200 ms of hole (0.08 m/s) is a rise a renderer must push out of.
+    auto rows = pressRows(400);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        rows[i].surfaceZ = i < 40 ? 0.0 : i < 240 ? std::nan("") : 16e-3;
+        if (i == 240) {
+            rows[i].surfaceRise = 16e-3;
+            rows[i].surfaceRiseSeconds = rows[240].t - rows[39].t;
+        }
+    }
+    f = computeFeel(rows);
+    EXPECT_EQ(f.coveredMs, 0.0);
+}
+
 // A height field only pushes: 12 updates of a force pointing down by more than the phantom
 // threshold (0.2 N), wherever the HIP is, are 12 ms of pull-down force; 0.1 N down is not counted.
 TEST(FeelTest, ADownwardForceIsPullDown)

@@ -50,6 +50,35 @@ std::size_t frameAt(const FeelScene &scene, double t) noexcept
     return std::min(scene.frameCount() - 1, static_cast<std::size_t>(f));
 }
 
+/// How many frames back surfaceRise() looks for the last measured surface across a hole.
+constexpr int kRiseLookBackFrames = 30;
+
+/// Sets \a row's surfaceRise (m) and surfaceRiseSeconds (s): how far the reference under the HIP's
+/// x–y rose since the update before (at \a prevT), or, where that update had a hole there (a
+/// stereo shadow or a time-of-flight dropout runs ahead of a moving edge; a flickering pixel),
+/// since the last frame it was measured there, over the time since (feel.h). A surface back at
+/// its height after a dropout rose by nothing; one that came over the finger while the hole hid
+/// it rose by the whole step. None measured in the kRiseLookBackFrames before: not known (NaN).
+void surfaceRise(const FeelScene &scene, ReferenceSurface &ref, double prevT,
+                 const StrokeSample &s, FeelSample &row)
+{
+    const double before = ref.height(prevT, s.hip.x, s.hip.y);
+    if (!std::isnan(before) || std::isnan(row.surfaceZ)) {
+        row.surfaceRise = row.surfaceZ - before;
+        return;
+    }
+    const double frame = std::floor(prevT * scene.fps + 1e-9);
+    for (int k = 0; k < kRiseLookBackFrames && frame - k >= 0.0; ++k) {
+        const double tk = (frame - k) / scene.fps; // the start of a frame at or before prevT
+        const double h = ref.height(tk, s.hip.x, s.hip.y);
+        if (!std::isnan(h)) {
+            row.surfaceRise = row.surfaceZ - h;
+            row.surfaceRiseSeconds = s.t - tk;
+            return;
+        }
+    }
+}
+
 /// True when the surface over (x, y) steps by more than \a cut between frame i−1 and i or i and i+1
 /// at any corner of the grid cell under it.
 bool cutAt(const FeelScene &scene, const HeightField &field, std::size_t i, const glm::dvec3 &p,
@@ -162,7 +191,7 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
             row.idealForce = 0.0;
         }
         if (prevT < s.t) // the surface under the HIP's x–y one update earlier
-            row.surfaceRise = row.surfaceZ - ref.height(prevT, s.hip.x, s.hip.y);
+            surfaceRise(scene, ref, prevT, s, row);
         prevT = s.t;
         row.pressed = s.pressed;
         row.heldSurfaceZ = s.heldZ;

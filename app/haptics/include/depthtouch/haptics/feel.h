@@ -38,7 +38,10 @@
 ///   and phantom force are not counted while an occluder is over the finger.
 /// - **covered by an arriving surface** (any stroke, `surfaceRise` given): the surface under the
 ///   HIP's own x–y rose faster than `pushRate` (a person walking in front of the finger, an
-///   object's side sweeping over it). What each update's rise exceeds a push-out at `pushRate` by
+///   object's side sweeping over it), also across a hole (a stereo shadow or a time-of-flight
+///   dropout runs ahead of a moving edge): a surface that comes back out of a hole higher than it
+///   was last measured there rose by the difference over the time since (`surfaceRiseSeconds`);
+///   one back at its height after a dropout rose by nothing and covers nothing. What each update's rise exceeds a push-out at `pushRate` by
 ///   adds to the *swept depth*, a fall of the surface takes from it (never more than the HIP's
 ///   depth under the surface; 0 once the HIP is out). While it exceeds `depthMargin` the finger is
 ///   covered: the
@@ -83,8 +86,13 @@ struct FeelSample {
     /// Height of the surface a held finger rests on (without any occluder), m; NaN: not a hold.
     double heldSurfaceZ = std::nan("");
     /// How far the surface under the HIP's x–y rose since the update before (the same x–y, the
-    /// surface one update earlier), m; NaN: not known (no arrival is judged).
+    /// surface one update earlier), m; where the update before had a hole there, since the
+    /// surface was last measured at that x–y (see surfaceRiseSeconds); NaN: not known (no
+    /// arrival is judged).
     double surfaceRise = std::nan("");
+    /// The time surfaceRise took, s: NaN for one update (the row's own duration); across a hole,
+    /// the time since the surface was last measured there (it may have come at any time in it).
+    double surfaceRiseSeconds = std::nan("");
     double updateSeconds = 0.0; ///< Wall time of the update, s (0 when not measured).
 };
 
