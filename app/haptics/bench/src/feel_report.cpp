@@ -212,10 +212,13 @@ Axis logAxis(std::vector<double> v, double floor, double goal)
     return {lo / 2.5, hi * 2.5, true};
 }
 
-/// Places one label per point in graph coordinates so that no two labels and no label and point
-/// overlap (greedy over candidate offsets, nearest first). \return the label centres' left ends.
+/// Places one label per point in graph coordinates so that no two labels, no label and point and
+/// no label and the goal line's own label (left-aligned at graph x 0.01 just above \a goalY,
+/// \a goalChars characters at 9 pt) overlap (greedy over candidate offsets, nearest first).
+/// \return the label centres' left ends.
 std::vector<std::pair<double, double>>
-placeLabels(const std::vector<std::pair<double, double>> &pts, const std::vector<std::string> &text)
+placeLabels(const std::vector<std::pair<double, double>> &pts, const std::vector<std::string> &text,
+            double goalY, std::size_t goalChars)
 {
     constexpr double kCharW = 0.017; // graph units per character (a 520 px panel, 10 pt font)
     constexpr double kH = 0.05;
@@ -223,6 +226,7 @@ placeLabels(const std::vector<std::pair<double, double>> &pts, const std::vector
         double x0, y0, x1, y1;
     };
     std::vector<Box> taken;
+    taken.push_back({0.0, goalY, 0.01 + 0.9 * kCharW * static_cast<double>(goalChars), goalY + kH});
     for (const auto &[x, y] : pts)
         taken.push_back({x - 0.012, y - 0.018, x + 0.012, y + 0.018});
     std::vector<std::pair<double, double>> out;
@@ -292,7 +296,7 @@ void writePanel(std::ostream &s, const Panel &p, const std::vector<ChartPoint> &
         gp.emplace_back(p.x.graph(p.xv[i]), p.y.graph(p.yv[i]));
         names.push_back(pts[i].setting);
     }
-    const auto labels = placeLabels(gp, names);
+    const auto labels = placeLabels(gp, names, p.y.graph(p.goal), p.goalText.size());
     for (std::size_t i = 0; i < pts.size(); ++i) {
         s << "set label '" << names[i] << "' at graph " << labels[i].first << ", graph "
           << labels[i].second << " left front tc rgb '" << methodColour(names[i]) << "'\n";
