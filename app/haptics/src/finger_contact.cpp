@@ -39,14 +39,13 @@ namespace {
 constexpr double kFingerHoleMargin = 1e-3;
 } // namespace
 
-void FingerRenderer::penalty(const glm::dvec3 &hip, Candidate &c) noexcept
+void FingerRenderer::penalty(const glm::dvec3 &hip, double raw, Candidate &c) noexcept
 {
     c.plane = fitFingerPlane(field_, hip.x, hip.y, radius_);
     double below = 0.0;
     glm::dvec3 goal = projectOnPlane(c.plane, hip, below);
     // The sensor surface at the HIP's own x–y counts only where it was measured: a triangle with a
     // hole vertex lies under the box (a finger resting at a hole's border rests on the patch).
-    const double raw = field_.heightAt(hip.x, hip.y);
     const bool measured = raw >= -0.5 * field_.box().depth - kFingerHoleMargin;
     if (field_.overHole(c.plane.height) && measured && raw > hip.z) {
         // Most of the patch is a hole but the HIP's own spot was measured: it pushes straight up.

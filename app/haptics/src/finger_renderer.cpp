@@ -414,14 +414,14 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     field_.setTime(t, config_.interpolation);
     const bool over = field_.contains(hip.x, hip.y); // false before the first frames
     // The sensor surface at the HIP's own x–y: above it is free space (what the camera saw).
-    const double raw = over ? field_.heightAt(hip.x, hip.y) : std::nan("");
+    const double raw = over ? sensorHeight(hip) : std::nan("");
     const bool inside = raw > hip.z; // false for NaN
     Candidate c;
     c.proxy = hip;
     const bool wasResting = resting_;
     if (restingContact(hip, t)) {
         if (over)
-            penalty(hip, c);
+            penalty(hip, raw, c);
         else
             behind_ = false;
         if (!behind_ && !c.contact)
@@ -486,6 +486,28 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     lastHeight_ = c.plane.height;
     std::copy(std::begin(c.plane.taps), std::end(c.plane.taps), std::begin(lastTaps_));
     return out;
+}
+
+double FingerRenderer::sensorHeight(const glm::dvec3 &hip) const noexcept
+{
+    const double raw = field_.heightAt(hip.x, hip.y);
+    if (!contact_ || raw > hip.z)
+        return raw;
+    // In contact, and free by the surface at the HIP's own x–y: one pixel read far back (an active
+    // stereo mismatch, a time-of-flight dropout, a single hole) is not free space under a pressed
+    // finger. The median of the surface at the HIP and one pixel around it (a pixel's vertex
+    // reaches four of the nine) is; past a silhouette's edge by more than a pixel, most of them
+    // lie on the far side and the finger is free as before.
+    const double s = field_.spacing();
+    double z[9];
+    int k = 0;
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const double x = hip.x + s * dx;
+            const double y = hip.y + s * dy;
+            z[k++] = field_.contains(x, y) ? field_.heightAt(x, y) : raw;
+        }
+    return median9(z);
 }
 
 bool FingerRenderer::switchSteps(const Candidate &c) const noexcept

@@ -280,5 +280,40 @@ TEST(FingerGuardTest, aFlyingPixelUnderTheHipIsNotTheSurface)
     EXPECT_NEAR(last.force.z, kK * 0.002, 0.05);
 }
 
+// A pixel read far back under a pressed finger (an active-stereo mismatch, a time-of-flight
+// dropout): a flat 16-bit table at z = 0, the finger pressed 3 mm in at a pixel's vertex, and from
+// update 150 that one pixel reads 20 mm behind the table. The surface at the HIP's own x–y (its
+// triangles share that vertex) now lies 17 mm under the HIP, which the renderer read as free space
+// (what the camera saw in front of the surface): 0 N, 3 mm inside the table (the bench's stereo
+// holds, 32-45 ms of pop-through each). The median of the surface one pixel around the HIP is the
+// table: the finger keeps k·3 mm = 2.4 N up, for every contact.
+TEST(FingerGuardTest, aPixelReadFarBackUnderAPressedFingerIsNotFreeSpace)
+{
+    for (const FingerContact contact :
+         {FingerContact::GodObject, FingerContact::Penalty, FingerContact::Adaptive}) {
+        Rig rig(contact);
+        const int col = kW / 2;
+        const int row = kH / 2;
+        const auto table = [] {
+            return makeFrame(kBox, kW, kH, 0.0, [](double, double) { return 0.0; });
+        };
+        rig.show(table());
+        const double x = test::sampleX(kBox, kW, col);
+        const double y = test::sampleY(kBox, kW, kH, row);
+        rig.press({x, y, -0.003});
+        ASSERT_TRUE(rig.out.back().contact) << static_cast<int>(contact);
+        OwnedFrame f = table();
+        f.set(col, row, test::toNearness(kBox, SampleFormat::Gray16, -0.020));
+        rig.show(std::move(f));
+        double least = 1e9;
+        for (int k = 0; k < 100; ++k)
+            least = std::min(least, rig.step({x, y, -0.003}).force.z);
+        std::printf("contact %d, a pixel 20 mm back under the finger: least Fz %.3f N\n",
+                    static_cast<int>(contact), least);
+        EXPECT_TRUE(rig.out.back().contact) << static_cast<int>(contact);
+        EXPECT_NEAR(least, kK * 0.003, 0.1) << static_cast<int>(contact);
+    }
+}
+
 } // namespace
 } // namespace depthtouch::haptics

@@ -192,8 +192,13 @@ private:
     /// Not in contact: a new contact from the HIP, or a finger behind the surface caught again.
     void capture(const glm::dvec3 &hip, Candidate &c) noexcept;
     /// The penalty contact (finger_contact.cpp): the whole update's contact from the plane under
-    /// the HIP's own x–y. \pre the HIP is over the grid.
-    void penalty(const glm::dvec3 &hip, Candidate &c) noexcept;
+    /// the HIP's own x–y; \a raw: sensorHeight() there, m. \pre the HIP is over the grid.
+    void penalty(const glm::dvec3 &hip, double raw, Candidate &c) noexcept;
+    /// \return the sensor surface at the HIP's own x–y, m (above it is free space): the height
+    /// there, or, in contact where that is under the HIP, the median of the heights at the HIP
+    /// and one pixel around it (one pixel read far back is not free space under a pressed
+    /// finger). \pre the HIP is over the grid.
+    [[nodiscard]] double sensorHeight(const glm::dvec3 &hip) const noexcept;
     /// Whether a finger not in contact, \a below (m) under the surface, comes into contact: a new
     /// contact no deeper than the capture depth, or a finger let go caught again by the surface it
     /// was held on; else it is behind the surface (behind_ set).
