@@ -74,7 +74,9 @@ public:
     {
         if (!std::isfinite(r.heldSurfaceZ)) {
             finish(r.t, f);
-            covered_ = false;
+            // An occluder over the finger when the hold ended stays over it until the finger is
+            // out of it (a hole hides it, it does not take it away).
+            covered_ = covered_ && !(std::isfinite(r.surfaceZ) && r.hip.z >= r.surfaceZ);
             return;
         }
         const bool onHeld =
@@ -128,9 +130,7 @@ public:
         // Arriving faster than a bounded push-out could follow adds to the swept depth; a surface
         // that falls back takes its arrival away first.
         const double rise = std::isfinite(r.surfaceRise) ? r.surfaceRise : 0.0;
-        // Across a hole the rise took the time since the surface was last measured (feel.h).
-        const double push =
-            th.pushRate * (std::isnan(r.surfaceRiseSeconds) ? dt : r.surfaceRiseSeconds);
+        const double push = th.pushRate * dt;
         const double gained = rise > push ? rise - push : std::min(rise, 0.0);
         swept_ = std::clamp(swept_ + gained, 0.0, inside);
     }

@@ -242,51 +242,78 @@ TEST(FeelTest, ASurfaceArrivingOverTheFingerCoversIt)
 // An object whose stereo shadow runs ahead of it: under a finger pressed 2 mm into a backdrop at
 // z = 0 the surface is a hole (no depth) from 40 to 59 ms, then the object appears at 16 mm, 18 mm
 // over the HIP, and stays. The renderer pushes the finger out at a bounded rate, reaches the
-// device maximum and lets go at 100 ms: the object rose 16 mm over the finger in the 21 ms since
-// the backdrop was last measured there (0.76 m/s, faster than a bounded push-out follows), so
-// the trip is an arrival trip, not a false one, and 18 mm inside it is no pop-through. A pixel
-// that drops out and comes back at its own height (a flickering hole border) rose by nothing:
-// the same let-go there is a false trip and its pop-through counts.
+// device maximum and lets go at 100 ms: the object rose 16 mm over the finger in the update it
+// came out of the hole (no renderer saw it come), so the trip is an arrival trip, not a false
+// one, and 18 mm inside it is no pop-through. A pixel that drops out and comes back at its own
+// height (a flickering hole border) rose by nothing: the same let-go there is a false trip and
+// its pop-through counts; so does one back 0.5 mm higher (under the 1 mm margin).
 TEST(FeelTest, ASurfaceComingOverTheFingerWhileAHoleHidItCoversIt)
 {
-    const auto run = [](double appearsAt) {
-        auto rows = pressRows(200);
+    const auto run = [](double appearsAt, std::size_t holeEnd) {
+        auto rows = pressRows(holeEnd + 140);
         for (std::size_t i = 0; i < rows.size(); ++i) {
-            rows[i].surfaceZ = i < 40 ? 0.0 : i < 60 ? std::nan("") : appearsAt;
-            if (i == 60) { // the bench's surfaceRise across the hole: since 39 ms
+            rows[i].surfaceZ = i < 40 ? 0.0 : i < holeEnd ? std::nan("") : appearsAt;
+            if (i == holeEnd) // the bench's surfaceRise across the hole: since 39 ms
                 rows[i].surfaceRise = appearsAt - rows[39].surfaceZ;
-                rows[i].surfaceRiseSeconds = rows[60].t - rows[39].t;
-            } else if (i > 0) {
+            else if (i > 0)
                 rows[i].surfaceRise = rows[i].surfaceZ - rows[i - 1].surfaceZ;
-            }
-            if (i >= 100)
+            if (i >= holeEnd + 40)
                 rows[i].force = {};
         }
-        rows[100].released = true;
+        rows[holeEnd + 40].released = true;
         return computeFeel(rows);
     };
-    FeelFigures f = run(16e-3);
+    FeelFigures f = run(16e-3, 60);
     EXPECT_EQ(f.trips, 1u);
     EXPECT_EQ(f.arrivalTrips, 1u);
     EXPECT_EQ(f.falseTrips, 0u);
     EXPECT_EQ(f.popThroughMs, 0.0);
     EXPECT_NEAR(f.coveredMs, 140.0, 1e-9); // 60..199
-    f = run(0.0);
-    EXPECT_EQ(f.arrivalTrips, 0u);
-    EXPECT_EQ(f.falseTrips, 1u);
-    EXPECT_EQ(f.coveredMs, 0.0);
-    EXPECT_NEAR(f.popThroughMs, 100.0, 1e-9); // 100..199: back on the backdrop with no force
-    // The same 16 mm over 200 ms of hole (0.08 m/s) is a rise a renderer must push out of.
-    auto rows = pressRows(400);
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-        rows[i].surfaceZ = i < 40 ? 0.0 : i < 240 ? std::nan("") : 16e-3;
-        if (i == 240) {
-            rows[i].surfaceRise = 16e-3;
-            rows[i].surfaceRiseSeconds = rows[240].t - rows[39].t;
+    // However long the hole hid it: 200 ms of hole, then 16 mm over the finger.
+    f = run(16e-3, 240);
+    EXPECT_EQ(f.arrivalTrips, 1u);
+    EXPECT_NEAR(f.coveredMs, 140.0, 1e-9);
+    for (const double back : {0.0, 0.5e-3}) {
+        f = run(back, 60);
+        EXPECT_EQ(f.arrivalTrips, 0u) << back;
+        EXPECT_EQ(f.falseTrips, 1u) << back;
+        EXPECT_EQ(f.coveredMs, 0.0) << back;
+        EXPECT_NEAR(f.popThroughMs, 100.0, 1e-9) << back; // 100..199: inside with no force
+    }
+}
+
+// A held finger (2 mm into a surface at z = 0, held from 0 to 99 ms) that an object covers from
+// 50 ms on (20 mm over the surface, the finger let go behind it) and that lifts out through the
+// object after the hold: 2 mm an update from 100 ms, out of it at 111 ms. The object is over the
+// finger until it is out: no pop-through after the hold either. With no object, the same lift
+// with no force counts as pop-through while the HIP is over 1 mm inside (100 ms only).
+TEST(FeelTest, AnOccluderOverAHeldFingerCoversItUntilItIsOut)
+{
+    const auto run = [](bool object) {
+        auto rows = pressRows(130);
+        for (std::size_t i = 0; i < rows.size(); ++i) {
+            const double k = static_cast<double>(i);
+            rows[i].heldSurfaceZ = i < 100 ? 0.0 : std::nan("");
+            rows[i].surfaceZ = object && i >= 50 ? 20e-3 : 0.0;
+            if (i >= 100)
+                rows[i].hip.z = -2e-3 + 2e-3 * (k - 99.0);
+            if (object && i >= 50)
+                rows[i].force = {};
         }
+        return computeFeel(rows);
+    };
+    FeelFigures f = run(true);
+    EXPECT_EQ(f.popThroughMs, 0.0);
+    f = run(false);
+    EXPECT_NEAR(f.popThroughMs, 0.0, 1e-9); // a 1 N press, lifted: force until it is out
+    auto rows = pressRows(130);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        rows[i].heldSurfaceZ = i < 100 ? 0.0 : std::nan("");
+        if (i >= 100)
+            rows[i].force = {};
     }
     f = computeFeel(rows);
-    EXPECT_EQ(f.coveredMs, 0.0);
+    EXPECT_NEAR(f.popThroughMs, 30.0, 1e-9); // 100..129: 2 mm inside with no force
 }
 
 // A height field only pushes: 12 updates of a force pointing down by more than the phantom

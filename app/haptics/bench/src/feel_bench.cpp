@@ -53,12 +53,13 @@ std::size_t frameAt(const FeelScene &scene, double t) noexcept
 /// How many frames back surfaceRise() looks for the last measured surface across a hole.
 constexpr int kRiseLookBackFrames = 30;
 
-/// Sets \a row's surfaceRise (m) and surfaceRiseSeconds (s): how far the reference under the HIP's
-/// x–y rose since the update before (at \a prevT), or, where that update had a hole there (a
-/// stereo shadow or a time-of-flight dropout runs ahead of a moving edge; a flickering pixel),
-/// since the last frame it was measured there, over the time since (feel.h). A surface back at
-/// its height after a dropout rose by nothing; one that came over the finger while the hole hid
-/// it rose by the whole step. None measured in the kRiseLookBackFrames before: not known (NaN).
+/// Sets \a row's surfaceRise (m): how far the reference under the HIP's x–y rose since the update
+/// before (at \a prevT), or, where that update had a hole there (a stereo shadow or a
+/// time-of-flight dropout runs ahead of a moving edge; a flickering pixel), since the last frame
+/// it was measured there (feel.h). A surface back at its height after a dropout rose by nothing;
+/// one that came over the finger while the hole hid it (no renderer sees it before it is back)
+/// rose by the whole step in this update. None measured in the kRiseLookBackFrames before: not
+/// known (NaN).
 void surfaceRise(const FeelScene &scene, ReferenceSurface &ref, double prevT,
                  const StrokeSample &s, FeelSample &row)
 {
@@ -73,7 +74,6 @@ void surfaceRise(const FeelScene &scene, ReferenceSurface &ref, double prevT,
         const double h = ref.height(tk, s.hip.x, s.hip.y);
         if (!std::isnan(h)) {
             row.surfaceRise = row.surfaceZ - h;
-            row.surfaceRiseSeconds = s.t - tk;
             return;
         }
     }

@@ -35,13 +35,14 @@
 ///   `depthMargin` above it, or no surface); from the first update after it where the surface under
 ///   the HIP is again the held surface and the HIP is under it, the time until |F| ≥ `popForce`.
 ///   Never regained before the hold ends: the time to its end (and counted as missed). Pop-through
-///   and phantom force are not counted while an occluder is over the finger.
+///   and phantom force are not counted while an occluder is over the finger, also after the hold
+///   has ended, until the finger is out of it (lifted out through an object that came over it).
 /// - **covered by an arriving surface** (any stroke, `surfaceRise` given): the surface under the
 ///   HIP's own x–y rose faster than `pushRate` (a person walking in front of the finger, an
 ///   object's side sweeping over it), also across a hole (a stereo shadow or a time-of-flight
 ///   dropout runs ahead of a moving edge): a surface that comes back out of a hole higher than it
-///   was last measured there rose by the difference over the time since (`surfaceRiseSeconds`);
-///   one back at its height after a dropout rose by nothing and covers nothing. What each update's rise exceeds a push-out at `pushRate` by
+///   was last measured there rose by the difference in that update (no renderer saw it come); one
+///   back at its height after a dropout rose by nothing and covers nothing. What each update's rise exceeds a push-out at `pushRate` by
 ///   adds to the *swept depth*, a fall of the surface takes from it (never more than the HIP's
 ///   depth under the surface; 0 once the HIP is out). While it exceeds `depthMargin` the finger is
 ///   covered: the
@@ -87,12 +88,9 @@ struct FeelSample {
     double heldSurfaceZ = std::nan("");
     /// How far the surface under the HIP's x–y rose since the update before (the same x–y, the
     /// surface one update earlier), m; where the update before had a hole there, since the
-    /// surface was last measured at that x–y (see surfaceRiseSeconds); NaN: not known (no
-    /// arrival is judged).
+    /// surface was last measured at that x–y (a renderer sees nothing in a hole: what came
+    /// while it hid the surface arrives in this update); NaN: not known (no arrival is judged).
     double surfaceRise = std::nan("");
-    /// The time surfaceRise took, s: NaN for one update (the row's own duration); across a hole,
-    /// the time since the surface was last measured there (it may have come at any time in it).
-    double surfaceRiseSeconds = std::nan("");
     double updateSeconds = 0.0; ///< Wall time of the update, s (0 when not measured).
 };
 
