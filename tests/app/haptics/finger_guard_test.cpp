@@ -104,7 +104,8 @@ TEST(FingerGuardTest, aSuddenTiltMovesTheProxyAtMostAQuarterRadiusPerUpdate)
                     static_cast<int>(contact), worst * 1e3, 0.25 * kRadius * 1e3,
                     last.proxy.x * 1e3);
         EXPECT_LE(worst, 0.25 * kRadius + 1e-9) << static_cast<int>(contact);
-        EXPECT_GT(worst, 0.2 * kRadius) << static_cast<int>(contact); // it did glide, near the limit
+        // it did glide, at close to the limit
+        EXPECT_GT(worst, 0.2 * kRadius) << static_cast<int>(contact);
         // AND it arrives: the projection of the HIP on the plane z = x is (−1.5, 0, −1.5) mm, and
         // the force is k·3 mm/√2 along the plane's normal (8-bit quantisation: 0.16 mm)
         EXPECT_TRUE(last.contact);

@@ -60,8 +60,8 @@ constexpr int kRiseLookBackFrames = 30;
 /// one that came over the finger while the hole hid it (no renderer sees it before it is back)
 /// rose by the whole step in this update. None measured in the kRiseLookBackFrames before: not
 /// known (NaN).
-void surfaceRise(const FeelScene &scene, ReferenceSurface &ref, double prevT,
-                 const StrokeSample &s, FeelSample &row)
+void surfaceRise(const FeelScene &scene, ReferenceSurface &ref, double prevT, const StrokeSample &s,
+                 FeelSample &row)
 {
     const double before = ref.height(prevT, s.hip.x, s.hip.y);
     if (!std::isnan(before) || std::isnan(row.surfaceZ)) {

@@ -42,13 +42,13 @@
 ///   object's side sweeping over it), also across a hole (a stereo shadow or a time-of-flight
 ///   dropout runs ahead of a moving edge): a surface that comes back out of a hole higher than it
 ///   was last measured there rose by the difference in that update (no renderer saw it come); one
-///   back at its height after a dropout rose by nothing and covers nothing. What each update's rise exceeds a push-out at `pushRate` by
-///   adds to the *swept depth*, a fall of the surface takes from it (never more than the HIP's
-///   depth under the surface; 0 once the HIP is out). While it exceeds `depthMargin` the finger is
-///   covered: the
-///   finger may be pushed out at a bounded rate or let go (issue 27), so neither pop-through nor
-///   phantom force is counted, and a trip there is an *arrival trip*, not a false one. Spikes, the
-///   alternating run and the time at the device maximum are counted as everywhere.
+///   back at its height after a dropout rose by nothing and covers nothing. What each update's rise
+///   exceeds a push-out at `pushRate` by adds to the *swept depth*, a fall of the surface takes
+///   from it (never more than the HIP's depth under the surface; 0 once the HIP is out). While it
+///   exceeds `depthMargin` the finger is covered: the finger may be pushed out at a bounded rate or
+///   let go (issue 27), so neither pop-through nor phantom force is counted, and a trip there is an
+///   *arrival trip*, not a false one. Spikes, the alternating run and the time at the device
+///   maximum are counted as everywhere.
 /// - **pull-down force**: time with the force pointing down more than `phantomForce` (Fz <
 ///   −`phantomForce`): a height field's surface only pushes up and out, so a spring that pulls the
 ///   finger down (toward or into the surface) is a fault wherever the finger is.
