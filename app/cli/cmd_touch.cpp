@@ -71,7 +71,7 @@ struct TouchOptions {
     bool noSafety = false;
     double maxForceStep = 2.0;
     std::string reengage = "release";
-    std::string fingerContact = "adaptive"; ///< --finger-contact (RendererConfig's default)
+    std::string fingerContact = "god-object"; ///< --finger-contact (RendererConfig's default)
     double fingerRadius = std::nan(""); ///< m; NaN: 0.015 x box width
     double staticFriction = 0.0;        ///< μs of the friction cone
     double dynamicFriction = 0.0;       ///< μd
@@ -128,7 +128,7 @@ const OptionRow<TouchOptions> kTouchRows[] = {
     {"finger-contact", &TouchOptions::fingerContact,
      "How --method finger meets the surface: god-object (slides on from the last proxy) | penalty "
      "(the plane under the HIP) | adaptive (penalty while the HIP rests, god-object while it "
-     "slides; the default, as in play)"},
+     "slides); god-object is the default, as in play"},
     {"quiet", &TouchOptions::quiet,
      "No summary of the run (on stdout; on stderr when --out is stdout)"},
     {"finger-radius",

@@ -316,5 +316,41 @@ TEST(FingerGuardTest, aPixelReadFarBackUnderAPressedFingerIsNotFreeSpace)
     }
 }
 
+// A scene cut under a resting finger, re-engaged by a ramp (play's default): a flat table at z = 0
+// with the finger pressed 3 mm in becomes a table 15 mm higher in one frame (more than the cut
+// threshold, a quarter of the box's 40 mm depth). Safety trips and the proxy is re-seated on the new
+// surface at once, for every contact; the force stage ramps the change in. The penalty's proxy
+// used to creep onto it at r/4 an update (0.375 mm: 40 updates to climb 15 mm), restarting the
+// ramp each update, so a cut was felt as a train of force steps (PlaybackSim's cut test).
+TEST(FingerGuardTest, aCutUnderARestingFingerReseatsTheProxyOnTheNewSurfaceAtOnce)
+{
+    for (const FingerContact contact :
+         {FingerContact::GodObject, FingerContact::Penalty, FingerContact::Adaptive}) {
+        RendererConfig c = RendererConfig::forMethod(Method::Finger);
+        c.fingerContact = contact;
+        c.reengage = Reengage::Ramp;
+        FingerRenderer finger(c);
+        OwnedFrame low = makeFrame(kBox, kW, kH, 0.0, [](double, double) { return 0.0; });
+        ASSERT_TRUE(finger.setFrames(low.view(), nullptr));
+        const glm::dvec3 hip(0.0, 0.0, -0.003);
+        finger.reset(hip + glm::dvec3(0, 0, 0.005));
+        long n = 0;
+        for (int k = 1; k <= 50; ++k)
+            finger.update(hip + glm::dvec3(0, 0, 0.005 * (1.0 - k / 50.0)), 1e-3 * n++);
+        for (int k = 0; k < 100; ++k)
+            finger.update(hip, 1e-3 * n++);
+        OwnedFrame high = makeFrame(kBox, kW, kH, 0.0, [](double, double) { return 0.015; });
+        ASSERT_TRUE(finger.setFrames(high.view(), nullptr));
+        const HapticOutput cut = finger.update(hip, 1e-3 * n++);
+        const HapticOutput next = finger.update(hip, 1e-3 * n++);
+        std::printf("contact %d: cut released %d, proxy z %.2f mm then %.2f mm (new surface 15 mm)\n",
+                    static_cast<int>(contact), static_cast<int>(cut.released), cut.proxy.z * 1e3,
+                    next.proxy.z * 1e3);
+        EXPECT_TRUE(cut.released) << static_cast<int>(contact);
+        EXPECT_TRUE(next.contact) << static_cast<int>(contact);
+        EXPECT_NEAR(next.proxy.z, 0.015, 0.5e-3) << static_cast<int>(contact);
+    }
+}
+
 } // namespace
 } // namespace depthtouch::haptics

@@ -276,10 +276,9 @@ TEST(RendererConfigTest, rejectsOutOfRangeParameters)
 
 TEST(RendererConfigTest, theFingerContactsAreNamedAsTouchTakesThem)
 {
-    // touch --finger-contact: the three names of the README's touch row, nothing else; adaptive
-    // (the penalty while the HIP rests, the god-object while it slides) is the default of a
-    // renderer's configuration, as the README's touch row says.
-    EXPECT_EQ(RendererConfig{}.fingerContact, FingerContact::Adaptive);
+    // touch --finger-contact: the three names of the README's touch row, nothing else; god-object
+    // is the default of a renderer's configuration, as the README's touch row says.
+    EXPECT_EQ(RendererConfig{}.fingerContact, FingerContact::GodObject);
     EXPECT_EQ(*parseFingerContact("god-object"), FingerContact::GodObject);
     EXPECT_EQ(*parseFingerContact("penalty"), FingerContact::Penalty);
     EXPECT_EQ(*parseFingerContact("adaptive"), FingerContact::Adaptive);

@@ -264,11 +264,11 @@ std::vector<FeelSetting> feelSettings(const std::vector<Method> &methods)
         }
         out.push_back({methodName(m), m, c});
         if (m == Method::Finger) {
-            // The default contact's two parts alone: the god-object everywhere, the penalty
-            // everywhere (renderer.h FingerContact; the default is Adaptive).
+            // The other contacts (renderer.h FingerContact; the default is the god-object): the
+            // penalty while the HIP rests, and the penalty everywhere.
             const FingerContact contact = c.fingerContact;
-            c.fingerContact = FingerContact::GodObject;
-            out.push_back({"finger-god-object", m, c});
+            c.fingerContact = FingerContact::Adaptive;
+            out.push_back({"finger-adaptive", m, c});
             c.fingerContact = FingerContact::Penalty;
             out.push_back({"finger-penalty", m, c});
             c.fingerContact = contact;

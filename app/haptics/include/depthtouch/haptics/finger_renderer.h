@@ -69,8 +69,8 @@
 ///    - *Holes* (DepthFrameView::holeBelow; docs/architecture.md §3 "Holes"): HeightField puts a
 ///      hole's vertex 1 m under the box, so a hole is free space and its border a cliff; the
 ///      stencil's median ignores a minority of hole taps.
-/// 5b. **The penalty contact** (RendererConfig::fingerContact; Adaptive, below, by default):
-///    with FingerContact::Penalty the contact is the penalty of the plane under the
+/// 5b. **The penalty contact** (RendererConfig::fingerContact; GodObject, steps 2–5, by
+///    default): with FingerContact::Penalty the contact is the penalty of the plane under the
 ///    HIP's own x–y (finger_contact.cpp): the proxy is the HIP's projection on it, moving at most
 ///    the HIP's motion plus r/4 an update, a function of the HIP and the time alone, so beside a
 ///    moving edge no two solutions can take turns. It keeps steps 3–5's capture depth, cuts,
