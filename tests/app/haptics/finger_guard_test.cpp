@@ -318,8 +318,8 @@ TEST(FingerGuardTest, aPixelReadFarBackUnderAPressedFingerIsNotFreeSpace)
 
 // A scene cut under a resting finger, re-engaged by a ramp (play's default): a flat table at z = 0
 // with the finger pressed 3 mm in becomes a table 15 mm higher in one frame (more than the cut
-// threshold, a quarter of the box's 40 mm depth). Safety trips and the proxy is re-seated on the new
-// surface at once, for every contact; the force stage ramps the change in. The penalty's proxy
+// threshold, a quarter of the box's 40 mm depth). Safety trips and the proxy is re-seated on the
+// new surface at once, for every contact; the force stage ramps the change in. The penalty's proxy
 // used to creep onto it at r/4 an update (0.375 mm: 40 updates to climb 15 mm), restarting the
 // ramp each update, so a cut was felt as a train of force steps (PlaybackSim's cut test).
 TEST(FingerGuardTest, aCutUnderARestingFingerReseatsTheProxyOnTheNewSurfaceAtOnce)
@@ -343,9 +343,10 @@ TEST(FingerGuardTest, aCutUnderARestingFingerReseatsTheProxyOnTheNewSurfaceAtOnc
         ASSERT_TRUE(finger.setFrames(high.view(), nullptr));
         const HapticOutput cut = finger.update(hip, 1e-3 * n++);
         const HapticOutput next = finger.update(hip, 1e-3 * n++);
-        std::printf("contact %d: cut released %d, proxy z %.2f mm then %.2f mm (new surface 15 mm)\n",
-                    static_cast<int>(contact), static_cast<int>(cut.released), cut.proxy.z * 1e3,
-                    next.proxy.z * 1e3);
+        std::printf(
+            "contact %d: cut released %d, proxy z %.2f mm then %.2f mm (new surface 15 mm)\n",
+            static_cast<int>(contact), static_cast<int>(cut.released), cut.proxy.z * 1e3,
+            next.proxy.z * 1e3);
         EXPECT_TRUE(cut.released) << static_cast<int>(contact);
         EXPECT_TRUE(next.contact) << static_cast<int>(contact);
         EXPECT_NEAR(next.proxy.z, 0.015, 0.5e-3) << static_cast<int>(contact);
