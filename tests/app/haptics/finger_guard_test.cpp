@@ -334,15 +334,15 @@ TEST(FingerGuardTest, aCutUnderARestingFingerReseatsTheProxyOnTheNewSurfaceAtOnc
         ASSERT_TRUE(finger.setFrames(low.view(), nullptr));
         const glm::dvec3 hip(0.0, 0.0, -0.003);
         finger.reset(hip + glm::dvec3(0, 0, 0.005));
-        long n = 0;
-        for (int k = 1; k <= 50; ++k)
-            finger.update(hip + glm::dvec3(0, 0, 0.005 * (1.0 - k / 50.0)), 1e-3 * n++);
-        for (int k = 0; k < 100; ++k)
-            finger.update(hip, 1e-3 * n++);
+        double t = 0.0;
+        for (int k = 1; k <= 50; ++k, t += 1e-3)
+            finger.update(hip + glm::dvec3(0, 0, 0.005 * (1.0 - k / 50.0)), t);
+        for (int k = 0; k < 100; ++k, t += 1e-3)
+            finger.update(hip, t);
         OwnedFrame high = makeFrame(kBox, kW, kH, 0.0, [](double, double) { return 0.015; });
         ASSERT_TRUE(finger.setFrames(high.view(), nullptr));
-        const HapticOutput cut = finger.update(hip, 1e-3 * n++);
-        const HapticOutput next = finger.update(hip, 1e-3 * n++);
+        const HapticOutput cut = finger.update(hip, t);
+        const HapticOutput next = finger.update(hip, t + 1e-3);
         std::printf(
             "contact %d: cut released %d, proxy z %.2f mm then %.2f mm (new surface 15 mm)\n",
             static_cast<int>(contact), static_cast<int>(cut.released), cut.proxy.z * 1e3,
