@@ -1,3 +1,8 @@
+/// \file
+/// \brief The functions of types.h: each PixelFormat's name, plane count, bits per sample, plane
+/// layout and image size (one table, kFormatTraits, in the enumeration's order), the names of
+/// stream kinds and codecs, and StreamConfig::fromStream. Thread-safety: pure functions over
+/// constant tables.
 #include "depthtouch/hal/types.h"
 
 #include "depthtouch/hal/media_source.h"

@@ -4,13 +4,11 @@
 #include "depthtouch/media/encode_job.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <deque>
-#include <thread>
 #include <utility>
 #include <vector>
 
@@ -290,7 +288,7 @@ Result<void> openOutputs(const EncodeOptions &options, const ColorShape &shape,
 /// Waits until \a pts seconds after \a start (the media rate of a paced output), in steps of at
 /// most 50 ms so that \a stopped() ends the wait promptly. \return false when stopped.
 template <class Stopped>
-bool waitForMediaTime(const platform::SteadyClock &clock, platform::TimePoint start, double pts,
+bool waitForMediaTime(platform::Clock &clock, platform::TimePoint start, double pts,
                       const Stopped &stopped)
 {
     for (;;) {
@@ -299,7 +297,7 @@ bool waitForMediaTime(const platform::SteadyClock &clock, platform::TimePoint st
         const double ahead = pts - platform::toSeconds(clock.now() - start);
         if (ahead <= 0.0)
             return true;
-        std::this_thread::sleep_for(std::chrono::duration<double>(std::min(ahead, 0.05)));
+        clock.sleepFor(platform::fromSeconds(std::min(ahead, 0.05)));
     }
 }
 
@@ -334,7 +332,7 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth, Fram
                                     const EncodeCallbacks &callbacks)
 {
     DT_TRY(options.validate());
-    const platform::SteadyClock &clock = platform::SteadyClock::instance();
+    platform::SteadyClock &clock = platform::SteadyClock::instance();
     const platform::TimePoint start = clock.now();
     const auto stopped = [stop] {
         return stop != nullptr && stop->load(std::memory_order_relaxed);

@@ -15,7 +15,7 @@ extern "C" {
 #include <libavutil/opt.h>
 }
 
-#include "av_handles.h"
+#include "media_libav.h"
 #include "hls_files.h"
 #include "depthtouch/platform/enum_names.h"
 #include "depthtouch/platform/file_access.h"

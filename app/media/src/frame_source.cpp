@@ -14,7 +14,7 @@ extern "C" {
 #include <libavutil/pixdesc.h>
 }
 
-#include "av_handles.h"
+#include "media_libav.h"
 #include "image_sequence.h"
 #include "material_stream.h"
 #include "depthtouch/scene/material.h"

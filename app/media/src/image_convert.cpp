@@ -7,7 +7,7 @@
 #include <cstring>
 #include <utility>
 
-#include "av_handles.h"
+#include "media_libav.h"
 
 namespace depthtouch::media {
 

@@ -16,7 +16,7 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
-#include "av_handles.h"
+#include "media_libav.h"
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
 

@@ -10,7 +10,7 @@ extern "C" {
 #include <libavutil/frame.h>
 }
 
-#include "av_handles.h"
+#include "media_libav.h"
 #include "material_stream.h"
 #include "depthtouch/media/material_track.h"
 #include "depthtouch/scene/material.h"

@@ -6,7 +6,7 @@
 
 #include <utility>
 
-#include "av_handles.h"
+#include "media_libav.h"
 #include "depthtouch/media/image_convert.h"
 #include "depthtouch/scene/material.h"
 

@@ -80,7 +80,7 @@ void makeFifo(const fs::path &p)
 
 // --- Item 1: a JSON number beyond a double ---------------------------------------------------
 
-TEST(PlayFaults, NumbersBeyondADoubleOnTheSocketDoNotEndThePlayer)
+TEST(PlayFaultsTest, NumbersBeyondADoubleOnTheSocketDoNotEndThePlayer)
 {
     TempDir tmp("dt-faults-");
     const std::string sock = (tmp.dir() / "ctl.sock").string();
@@ -111,7 +111,7 @@ void expectPromptReplies(ControlClient &c, const std::string &state, int n)
     }
 }
 
-TEST(PlayFaults, SocketAnswersWithin100msWhileAFifoOrASilentStreamOpens)
+TEST(PlayFaultsTest, SocketAnswersWithin100msWhileAFifoOrASilentStreamOpens)
 {
     TempDir tmp("dt-faults-");
     const std::string sock = (tmp.dir() / "ctl.sock").string();
@@ -138,7 +138,7 @@ TEST(PlayFaults, SocketAnswersWithin100msWhileAFifoOrASilentStreamOpens)
     EXPECT_LT(r.seconds, 8.0) << "the quit waited for the blocked open";
 }
 
-TEST(PlayFaults, SeekRepliesWithin100ms)
+TEST(PlayFaultsTest, SeekRepliesWithin100ms)
 {
     TempDir tmp("dt-faults-");
     const std::string sock = (tmp.dir() / "ctl.sock").string();
@@ -161,7 +161,7 @@ TEST(PlayFaults, SeekRepliesWithin100ms)
 
 // --- Item 3 (play): a FIFO never written, SIGTERM and --duration while blocked in an open -----
 
-TEST(PlayFaults, SigtermAndDurationEndAPlayerBlockedInAnOpen)
+TEST(PlayFaultsTest, SigtermAndDurationEndAPlayerBlockedInAnOpen)
 {
     TempDir tmp("dt-faults-");
     const fs::path fifo = tmp.dir() / "in.fifo";
@@ -182,7 +182,7 @@ TEST(PlayFaults, SigtermAndDurationEndAPlayerBlockedInAnOpen)
 
 // --- Items 3 and 11: config files ------------------------------------------------------------
 
-TEST(PlayFaults, ConfigThatIsADirectoryDeviceOrSilentFifoIsBadInput)
+TEST(PlayFaultsTest, ConfigThatIsADirectoryDeviceOrSilentFifoIsBadInput)
 {
     TempDir tmp("dt-faults-");
     const fs::path fifo = tmp.dir() / "cfg.fifo";
@@ -195,7 +195,7 @@ TEST(PlayFaults, ConfigThatIsADirectoryDeviceOrSilentFifoIsBadInput)
     }
 }
 
-TEST(PlayFaults, ConfigErrorsAreReportedAndBounded)
+TEST(PlayFaultsTest, ConfigErrorsAreReportedAndBounded)
 {
     TempDir tmp("dt-faults-");
     const fs::path cfg = tmp.dir() / "play.toml";
@@ -217,7 +217,7 @@ TEST(PlayFaults, ConfigErrorsAreReportedAndBounded)
 
 // --- Item 12: exit codes ---------------------------------------------------------------------
 
-TEST(PlayFaults, BadControlPathIsBadInput)
+TEST(PlayFaultsTest, BadControlPathIsBadInput)
 {
     TempDir tmp("dt-faults-");
     const fs::path file = tmp.dir() / "file";
@@ -245,7 +245,7 @@ TEST(PlayFaults, BadControlPathIsBadInput)
     EXPECT_TRUE(fs::exists(file) && fs::is_fifo(fifo) && fs::is_symlink(link)) << "left alone";
 }
 
-TEST(PlayFaults, QuitAfterARecoveredFailedPlayIsSuccess)
+TEST(PlayFaultsTest, QuitAfterARecoveredFailedPlayIsSuccess)
 {
     TempDir tmp("dt-faults-");
     const std::string sock = (tmp.dir() / "ctl.sock").string();
@@ -273,7 +273,7 @@ TEST(PlayFaults, QuitAfterARecoveredFailedPlayIsSuccess)
     EXPECT_EQ(r.errLines(), 1u) << "the failed open, once: " << describe(r);
 }
 
-TEST(PlayFaults, LostOutputIsFailureAndAMissingFolderBadInput)
+TEST(PlayFaultsTest, LostOutputIsFailureAndAMissingFolderBadInput)
 {
     TempDir tmp("dt-faults-");
     const struct {
@@ -300,7 +300,7 @@ TEST(PlayFaults, LostOutputIsFailureAndAMissingFolderBadInput)
 
 // --- Item 15: one line on stderr -------------------------------------------------------------
 
-TEST(PlayFaults, AFailureIsOneLineAndQuietIsSilent)
+TEST(PlayFaultsTest, AFailureIsOneLineAndQuietIsSilent)
 {
     const ProcessResult missing = runProcess(ffmpegPlay("nonexist.mkv"), kLimit);
     expectOneLine(missing, 2, "play nonexist.mkv");
@@ -320,7 +320,7 @@ TEST(PlayFaults, AFailureIsOneLineAndQuietIsSilent)
 
 // --- Item 5: a file cut after its header ----------------------------------------------------
 
-TEST(PlayFaults, AFileCutAfterItsHeaderEndsWithOneLine)
+TEST(PlayFaultsTest, AFileCutAfterItsHeaderEndsWithOneLine)
 {
     if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0)
         GTEST_SKIP() << "no ffmpeg CLI on PATH";

@@ -190,7 +190,7 @@ bool waitForState(ControlClient &c, const std::string &state, std::chrono::milli
 
 // --- Group 1: a simulated device whose options would spin the haptic thread ------------------
 
-TEST(StopFaults, AnExplorePeriodThatWouldSpinTheHapticThreadIsBadInput)
+TEST(StopFaultsTest, AnExplorePeriodThatWouldSpinTheHapticThreadIsBadInput)
 {
     // GIVEN the simulated hand asked for a new point every nanosecond (one device call spun for
     // tens of seconds at FIFO 90 before, ignoring --duration and SIGTERM)
@@ -209,7 +209,7 @@ TEST(StopFaults, AnExplorePeriodThatWouldSpinTheHapticThreadIsBadInput)
 
 // --- Group 2: stop, quit, SIGTERM and --duration with a silent live stream --------------------
 
-TEST(StopFaults, QuitEndsAPlayerWhoseLiveStreamWentSilentWithin2s)
+TEST(StopFaultsTest, QuitEndsAPlayerWhoseLiveStreamWentSilentWithin2s)
 {
     if (!haveFfmpeg())
         GTEST_SKIP() << "no ffmpeg CLI on PATH";
@@ -237,7 +237,7 @@ TEST(StopFaults, QuitEndsAPlayerWhoseLiveStreamWentSilentWithin2s)
     EXPECT_EQ(r.exitCode, 0) << describe(r);
 }
 
-TEST(StopFaults, SigtermAndDurationEndAPlayerWhoseLiveStreamWentSilentWithin2s)
+TEST(StopFaultsTest, SigtermAndDurationEndAPlayerWhoseLiveStreamWentSilentWithin2s)
 {
     if (!haveFfmpeg())
         GTEST_SKIP() << "no ffmpeg CLI on PATH";
@@ -275,7 +275,7 @@ TEST(StopFaults, SigtermAndDurationEndAPlayerWhoseLiveStreamWentSilentWithin2s)
     }
 }
 
-TEST(StopFaults, ASilentLiveStreamIsReportedAndTheNextSenderPlays)
+TEST(StopFaultsTest, ASilentLiveStreamIsReportedAndTheNextSenderPlays)
 {
     if (!haveFfmpeg())
         GTEST_SKIP() << "no ffmpeg CLI on PATH";
@@ -350,7 +350,7 @@ bool everyRowWhole(const std::string &csv)
     return rows > 1 && !csv.empty() && csv.back() == '\n';
 }
 
-TEST(StopFaults, HupQuitAndUsr1EndPlayCleanlyWithItsOutputsWhole)
+TEST(StopFaultsTest, HupQuitAndUsr1EndPlayCleanlyWithItsOutputsWhole)
 {
     for (const int sig : {SIGHUP, SIGQUIT, SIGUSR1}) {
         TempDir tmp("dt-stop-");
@@ -373,7 +373,7 @@ TEST(StopFaults, HupQuitAndUsr1EndPlayCleanlyWithItsOutputsWhole)
     }
 }
 
-TEST(StopFaults, HupEndsAnEncodeWithAWholeFile)
+TEST(StopFaultsTest, HupEndsAnEncodeWithAWholeFile)
 {
     if (!haveFfmpeg())
         GTEST_SKIP() << "no ffmpeg CLI on PATH";
@@ -406,7 +406,7 @@ TEST(StopFaults, HupEndsAnEncodeWithAWholeFile)
     }
 }
 
-TEST(StopFaults, TermWhileTheDemoMakesItsClipKeepsNoClip)
+TEST(StopFaultsTest, TermWhileTheDemoMakesItsClipKeepsNoClip)
 {
     TempDir tmp("dt-stop-");
     const fs::path out = tmp.dir() / "demo";
@@ -433,7 +433,7 @@ TEST(StopFaults, TermWhileTheDemoMakesItsClipKeepsNoClip)
     EXPECT_TRUE(temporaryFiles(out).empty());
 }
 
-TEST(StopFaults, FileSizeLimitEndsAnEncodeWithOneLineAndNoTemporaryFile)
+TEST(StopFaultsTest, FileSizeLimitEndsAnEncodeWithOneLineAndNoTemporaryFile)
 {
     if (!haveFfmpeg())
         GTEST_SKIP() << "no ffmpeg CLI on PATH";
@@ -459,7 +459,7 @@ TEST(StopFaults, FileSizeLimitEndsAnEncodeWithOneLineAndNoTemporaryFile)
     EXPECT_TRUE(temporaryFiles(tmp.dir()).empty());
 }
 
-TEST(StopFaults, HupEndsATouchReplayWithNothingCutLeft)
+TEST(StopFaultsTest, HupEndsATouchReplayWithNothingCutLeft)
 {
     TempDir tmp("dt-stop-");
     // GIVEN a replay of 999 s at 1 kHz over 30000 raw 8x8 depth frames

@@ -62,7 +62,7 @@ grep -q "every color frame is paired" "$work/probe.txt" && grep -q "90 frames" "
 "$exe" play "http://127.0.0.1:$port/stream.m3u8" --display mock --haptic none --stats "$work/hls.json" \
     >"$work/play.out" 2>&1 || { cat "$work/play.out"; fail "hls: play exited $?"; }
 # Every frame came over HTTP with its depth and was presented or dropped as late (how many were
-# on time is the machine's CPU: a figure, not a check; the logic is PlaybackSim's on simulated time)
+# on time is the machine's CPU: a figure, not a check; the logic is PlaybackSimTest's on simulated time)
 received=$(sed -n 's/.*"frames_received": *\([0-9]*\).*/\1/p' "$work/hls.json")
 presented=$(sed -n 's/.*"frames_presented": *\([0-9]*\).*/\1/p' "$work/hls.json")
 dropped=$(sed -n 's/.*"frames_dropped": *\([0-9]*\).*/\1/p' "$work/hls.json")

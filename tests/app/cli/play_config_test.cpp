@@ -25,7 +25,7 @@ bool noneGiven(const std::string &)
     return false;
 }
 
-TEST(PlayConfig, ReadsABoundedFileAndNeverBlocks)
+TEST(PlayConfigTest, ReadsABoundedFileAndNeverBlocks)
 {
     testing::TempDir tmp("dt-play-config-");
     std::string text;
@@ -53,7 +53,7 @@ TEST(PlayConfig, ReadsABoundedFileAndNeverBlocks)
     }
 }
 
-TEST(PlayConfig, AppliesKeysAndTheCommandLineWins)
+TEST(PlayConfigTest, AppliesKeysAndTheCommandLineWins)
 {
     PlayOptions o;
     const std::string text = "display = \"kms\"\nstiffness = 1200\nloop = true\nrecord-crf = 30\n";
@@ -71,7 +71,7 @@ TEST(PlayConfig, AppliesKeysAndTheCommandLineWins)
     EXPECT_EQ(given.stiffness, 1200.0);
 }
 
-TEST(PlayConfig, AWrongTypeIsAnErrorEvenWhenTheCommandLineGivesTheOption)
+TEST(PlayConfigTest, AWrongTypeIsAnErrorEvenWhenTheCommandLineGivesTheOption)
 {
     PlayOptions o;
     const std::string err = applyPlayConfigText(
@@ -79,7 +79,7 @@ TEST(PlayConfig, AWrongTypeIsAnErrorEvenWhenTheCommandLineGivesTheOption)
     EXPECT_EQ(err, "--config 'p.toml': 'stiffness' has the wrong type or is out of range");
 }
 
-TEST(PlayConfig, CountsAreIntegersInRange)
+TEST(PlayConfigTest, CountsAreIntegersInRange)
 {
     // 1e30 as a count was undefined behaviour inside toml++ (found by play_config_fuzz).
     for (const char *text : {"snapshot-every = 1e30\n", "mesh-step = -1\n",
@@ -91,7 +91,7 @@ TEST(PlayConfig, CountsAreIntegersInRange)
     }
 }
 
-TEST(PlayConfig, MessagesQuoteAtMost64BytesOnOneLine)
+TEST(PlayConfigTest, MessagesQuoteAtMost64BytesOnOneLine)
 {
     PlayOptions o;
     const std::string hugeKey(1 << 20, 'k');

@@ -140,7 +140,7 @@ KitchenPlay playKitchen(const fs::path &clip, const fs::path &stats, const fs::p
     return k;
 }
 
-TEST(PlayEndToEnd, RealKitchenWithTheSimulatedHand)
+TEST(PlayEndToEndTest, RealKitchenWithTheSimulatedHand)
 {
     DT_NEED_SHARED_DATA("rgbd-7scenes-redkitchen/frame-000000.depth.png");
     const std::string scene = depthtouch::testing::sharedDataPath("rgbd-7scenes-redkitchen");
@@ -159,7 +159,7 @@ TEST(PlayEndToEnd, RealKitchenWithTheSimulatedHand)
     // (the level of detail and the preroll keep the draw within the frame period on an idle one):
     // a figure printed here, with the share of the CPU its host (steal) and other programs took,
     // not an assertion (the presentation logic is checked on simulated time:
-    // PlaybackSim.PlaysEveryFrameOnceOnTimeAndTheHapticTaskAtItsRate).
+    // PlaybackSimTest.PlaysEveryFrameOnceOnTimeAndTheHapticTaskAtItsRate).
     const fs::path stats = tmp.dir() / "stats.json";
     const fs::path forceLog = tmp.dir() / "force.csv";
     const KitchenPlay play = playKitchen(clip, stats, forceLog, tmp.dir() / "snap");
@@ -227,7 +227,7 @@ TEST(PlayEndToEnd, RealKitchenWithTheSimulatedHand)
     EXPECT_GT(zMax - zMin, 0.5e-3) << "the proxy did not follow the moving surface";
 }
 
-TEST(PlayEndToEnd, ControlSocketDrivesTheLoopingPlayer)
+TEST(PlayEndToEndTest, ControlSocketDrivesTheLoopingPlayer)
 {
     depthtouch::testing::TempDir tmp("dt-play-ctl-");
     const std::string sock = (tmp.dir() / "ctl.sock").string();
@@ -280,7 +280,7 @@ TEST(PlayEndToEnd, ControlSocketDrivesTheLoopingPlayer)
     EXPECT_FALSE(fs::exists(sock)) << "the socket file is removed at exit";
 }
 
-TEST(PlayEndToEnd, TheSnapshotCommandSavesThePresentedFrame)
+TEST(PlayEndToEndTest, TheSnapshotCommandSavesThePresentedFrame)
 {
     // --snapshot-dir without --snapshot-every: snapshots on request only, one per command.
     depthtouch::testing::TempDir tmp("dt-play-snap-");
@@ -308,7 +308,7 @@ TEST(PlayEndToEnd, TheSnapshotCommandSavesThePresentedFrame)
     EXPECT_GT(fs::file_size(pngs[0]), 1000u);
 }
 
-TEST(PlayEndToEnd, TheSnapshotCommandIsRefusedWhenTheFolderTakesNoFile)
+TEST(PlayEndToEndTest, TheSnapshotCommandIsRefusedWhenTheFolderTakesNoFile)
 {
     // GIVEN a player whose --snapshot-dir became read-only while it plays
     depthtouch::testing::TempDir tmp("dt-play-snap-ro-");
@@ -361,7 +361,7 @@ Extent litExtent(const depthtouch::media::Image &image)
     return e;
 }
 
-TEST(PlayEndToEnd, EachStereoLayoutGetsItsNaturalSizeAndFillsIt)
+TEST(PlayEndToEndTest, EachStereoLayoutGetsItsNaturalSizeAndFillsIt)
 {
     // 64×48 depth: side by side 128×48, top and bottom 64×96, one picture 64×48; the picture
     // reaches every edge (no pillar or letter box).
@@ -394,7 +394,7 @@ TEST(PlayEndToEnd, EachStereoLayoutGetsItsNaturalSizeAndFillsIt)
     }
 }
 
-TEST(PlayEndToEnd, RecordsWhatTheViewerSees)
+TEST(PlayEndToEndTest, RecordsWhatTheViewerSees)
 {
     depthtouch::testing::TempDir tmp("dt-play-rec-");
     const fs::path rec = tmp.dir() / "output.mkv";
@@ -424,7 +424,7 @@ TEST(PlayEndToEnd, RecordsWhatTheViewerSees)
     EXPECT_GE(p["streams"][0]["duration_s"].get<double>(), 0.8 * (presented - 1) / 30.0);
 }
 
-TEST(PlayEndToEnd, BadInputIsOneLineAndExitCodeTwo)
+TEST(PlayEndToEndTest, BadInputIsOneLineAndExitCodeTwo)
 {
     const RunResult missing = run(std::string(DEPTHTOUCH) + " play /nonexistent/clip.mkv --quiet");
     EXPECT_EQ(missing.exitCode, 2) << missing.output;
@@ -453,7 +453,7 @@ TEST(PlayEndToEnd, BadInputIsOneLineAndExitCodeTwo)
     EXPECT_NE(unknown.output.find("unknown key 'stifness'"), std::string::npos) << unknown.output;
 }
 
-TEST(PlayEndToEnd, ConfigFileSetsOptionsAndTheCommandLineWins)
+TEST(PlayEndToEndTest, ConfigFileSetsOptionsAndTheCommandLineWins)
 {
     depthtouch::testing::TempDir tmp("dt-play-cfg-");
     const fs::path cfg = tmp.dir() / "play.toml";

@@ -114,7 +114,7 @@ std::vector<Row> configRows()
     return rows;
 }
 
-TEST(PlayOptionTable, EachRowGivesTheSameValueOnTheCommandLineAndInTheConfigFile)
+TEST(PlayOptionTableTest, EachRowGivesTheSameValueOnTheCommandLineAndInTheConfigFile)
 {
     for (const Row &row : configRows()) {
         const Sample s = sampleOf(row, false);
@@ -130,7 +130,7 @@ TEST(PlayOptionTable, EachRowGivesTheSameValueOnTheCommandLineAndInTheConfigFile
     }
 }
 
-TEST(PlayOptionTable, AValueOutOfRangeGivesTheSameErrorOnBothPaths)
+TEST(PlayOptionTableTest, AValueOutOfRangeGivesTheSameErrorOnBothPaths)
 {
     int checked = 0;
     for (const Row &row : configRows()) {
@@ -159,7 +159,7 @@ TEST(PlayOptionTable, AValueOutOfRangeGivesTheSameErrorOnBothPaths)
                               "max-lateness, snapshot-every";
 }
 
-TEST(PlayOptionTable, TheMessagesOfBadValuesStayAsTheyWere)
+TEST(PlayOptionTableTest, TheMessagesOfBadValuesStayAsTheyWere)
 {
     const std::pair<std::vector<std::string>, std::string> cases[] = {
         {{"--stereo", "3d"}, "--stereo must be sbs, tab, anaglyph, mono or interleaved"},
@@ -186,7 +186,7 @@ TEST(PlayOptionTable, TheMessagesOfBadValuesStayAsTheyWere)
 // A number given as "" or as nan / inf is refused when the command line is read: CLI11 gave ""
 // the value 0 (for most rows the default: `--duration ''` played for ever) and nan passed every
 // range check.
-TEST(PlayOptionTable, AnEmptyOrNonFiniteNumberIsRefused)
+TEST(PlayOptionTableTest, AnEmptyOrNonFiniteNumberIsRefused)
 {
     const std::pair<std::vector<std::string>, std::string> cases[] = {
         {{"--duration", ""}, "--duration: a value is needed, not an empty text"},
@@ -209,7 +209,7 @@ TEST(PlayOptionTable, AnEmptyOrNonFiniteNumberIsRefused)
     EXPECT_DOUBLE_EQ(o.duration, 2.5);
 }
 
-TEST(PlayOptionTable, ArgumentAndConfigPathAreNotConfigKeys)
+TEST(PlayOptionTableTest, ArgumentAndConfigPathAreNotConfigKeys)
 {
     for (const char *key : {"url", "config"}) {
         std::string error;
@@ -218,7 +218,7 @@ TEST(PlayOptionTable, ArgumentAndConfigPathAreNotConfigKeys)
     }
 }
 
-TEST(PlayOptionTable, OptionsLandInThePlayersConfig)
+TEST(PlayOptionTableTest, OptionsLandInThePlayersConfig)
 {
     const playback::PlaybackConfig defaults = landPlayOptions(PlayOptions{});
     EXPECT_EQ(defaults.haptics.servoRateHz, playbackDefaults().haptics.servoRateHz);
@@ -264,7 +264,7 @@ bool helpNames(const std::string &help, const Row &row)
            help.find(std::string(row.help).substr(0, 30)) != std::string::npos;
 }
 
-TEST(PlayOptionTable, HelpListsEveryRow)
+TEST(PlayOptionTableTest, HelpListsEveryRow)
 {
     PlayOptions opt;
     CLI::App app{"play"};
@@ -275,7 +275,7 @@ TEST(PlayOptionTable, HelpListsEveryRow)
 }
 
 #ifdef DEPTHTOUCH
-TEST(PlayOptionTable, PlayHelpOfTheExecutableListsEveryRow)
+TEST(PlayOptionTableTest, PlayHelpOfTheExecutableListsEveryRow)
 {
     std::unique_ptr<FILE, int (*)(FILE *)> p(::popen(DEPTHTOUCH " play --help 2>&1", "r"),
                                              &::pclose);

@@ -42,7 +42,7 @@ std::unique_ptr<hal::HapticDevice> stillFinger(platform::Clock &clock)
     return mock;
 }
 
-TEST(PlayRate, TheServoLoopRunsAtTheRateOfTheOptionAndItsRampsKeepTheirSeconds)
+TEST(PlayRateTest, TheServoLoopRunsAtTheRateOfTheOptionAndItsRampsKeepTheirSeconds)
 {
     // GIVEN `play --rate 500` on the still finger 2 mm into a still surface (k·2 mm = 1.6 N)
     const playback::PlaybackConfig config = configOf({"--rate", "500"});

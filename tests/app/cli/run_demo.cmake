@@ -86,8 +86,8 @@ endfunction()
 #   starved machine leaves frames undecoded at the stop (the README's test command beside a busy
 #   loop and a -Werror build: 56 presented + 2 dropped of 88 periods, 60 received, a 963 ms render
 #   stall); that every due frame is presented or dropped, and dropped when it cannot catch up, is
-#   checked exactly on simulated time (PlaybackSim.AStallDelaysFramesWithinTheMaxLatenessAndDropsThemBeyondIt,
-#   PlaybackSim.FramesThatCannotCatchUpAreSkippedAfterThreeTimesTheMaxLateness).
+#   checked exactly on simulated time (PlaybackSimTest.AStallDelaysFramesWithinTheMaxLatenessAndDropsThemBeyondIt,
+#   PlaybackSimTest.FramesThatCannotCatchUpAreSkippedAfterThreeTimesTheMaxLateness).
 string(JSON runS GET "${stats}" haptic_run_s)
 string(JSON playingS GET "${stats}" playing_s)
 string(JSON missed GET "${stats}" missed_periods)

@@ -30,7 +30,7 @@ std::unique_ptr<hal::HapticDevice> pressingHand(platform::Clock &clock)
     return std::move(*drivers::SimHapticDevice::create(c));
 }
 
-TEST(PlaybackSim, PlaysEveryFrameOnceOnTimeAndTheHapticTaskAtItsRate)
+TEST(PlaybackSimTest, PlaysEveryFrameOnceOnTimeAndTheHapticTaskAtItsRate)
 {
     // GIVEN one second of video at 30 fps on the mock display (60 Hz) and the pressing hand
     SimPlayer p(playback::PlaybackConfig{}, &pressingHand);
@@ -149,7 +149,7 @@ void expectSmoothBeforeTheCut(const CutRun &run)
     EXPECT_LE(largestStep(beforeCut), 0.01) << "the surface's motion is felt in steps";
 }
 
-TEST(PlaybackSim, ASceneCutInAPlayedClipReseatsTheProxyAndRampsTheForceIn)
+TEST(PlaybackSimTest, ASceneCutInAPlayedClipReseatsTheProxyAndRampsTheForceIn)
 {
     // GIVEN the player re-engaging by a ramp (the `play` default) and the fingertip renderer
     const CutRun run = playCut(haptics::Reengage::Ramp);
@@ -182,7 +182,7 @@ TEST(PlaybackSim, ASceneCutInAPlayedClipReseatsTheProxyAndRampsTheForceIn)
     EXPECT_NEAR(run.reengaged, 800.0 * 0.003, 0.01);
 }
 
-TEST(PlaybackSim, ASceneCutInAPlayedClipReleasesTheForceUntilTheFingerComesOut)
+TEST(PlaybackSimTest, ASceneCutInAPlayedClipReleasesTheForceUntilTheFingerComesOut)
 {
     // GIVEN the player releasing at a cut (paper IV.C, the renderer's default)
     const CutRun run = playCut(haptics::Reengage::Release);
@@ -210,7 +210,7 @@ std::vector<double> loggedTimes(const std::string &path)
     return t;
 }
 
-TEST(PlaybackSim, PauseFreezesTheHapticTimeAndTheSurfaceUnderTheFinger)
+TEST(PlaybackSimTest, PauseFreezesTheHapticTimeAndTheSurfaceUnderTheFinger)
 {
     // GIVEN the rising surface under the still finger, the force logged
     char dir[] = "/tmp/dt-playback-sim-XXXXXX";
@@ -260,7 +260,7 @@ TEST(PlaybackSim, PauseFreezesTheHapticTimeAndTheSurfaceUnderTheFinger)
     rmdir(dir);
 }
 
-TEST(PlaybackSim, ALoopRestartsTheHapticClockAndTheSurfaceIsInterpolatedAgain)
+TEST(PlaybackSimTest, ALoopRestartsTheHapticClockAndTheSurfaceIsInterpolatedAgain)
 {
     // GIVEN one second of the rising surface played in a loop under the still finger
     SimPlayer p(playback::PlaybackConfig{}, &stillFinger, &cutClip);
@@ -282,7 +282,7 @@ TEST(PlaybackSim, ALoopRestartsTheHapticClockAndTheSurfaceIsInterpolatedAgain)
     EXPECT_NEAR(f.back() - f.front(), 800.0 * 0.0001 * 30.0 * 0.5, 0.08) << "0.5 s of rise";
 }
 
-TEST(PlaybackSim, SeekRestartsAtTheTargetAndKeepsTheForce)
+TEST(PlaybackSimTest, SeekRestartsAtTheTargetAndKeepsTheForce)
 {
     SimPlayer p(playback::PlaybackConfig{}, &pressingHand);
     p.play("mock://clip?frames=300&fps=30", 300);
@@ -346,7 +346,7 @@ private:
     hal::Pts offset_;
 };
 
-TEST(PlaybackSim, ThePositionCountsFromTheFirstFramesTimestamp)
+TEST(PlaybackSimTest, ThePositionCountsFromTheFirstFramesTimestamp)
 {
     // GIVEN a clip of 60 frames at 30 fps whose timestamps start at 10 s
     SimPlayer p(playback::PlaybackConfig{}, nullptr, {}, 30.0, "",
@@ -372,7 +372,7 @@ TEST(PlaybackSim, ThePositionCountsFromTheFirstFramesTimestamp)
     EXPECT_LE(p.playback().position(), 1.0 + since + 1e-9);
 }
 
-TEST(PlaybackSim, TheStiffnessCommandScalesTheForceTheFingerFeels)
+TEST(PlaybackSimTest, TheStiffnessCommandScalesTheForceTheFingerFeels)
 {
     // GIVEN the still finger 2 mm into a still surface: k·2 mm = 1.6 N at the default 800 N/m
     SimPlayer p(playback::PlaybackConfig{}, &stillFinger, [](std::uint32_t) { return -0.011; });
@@ -412,7 +412,7 @@ playback::PlaybackStats playWithAStall(double maxLateness, double stall, std::ui
     return s;
 }
 
-TEST(PlaybackSim, AStallDelaysFramesWithinTheMaxLatenessAndDropsThemBeyondIt)
+TEST(PlaybackSimTest, AStallDelaysFramesWithinTheMaxLatenessAndDropsThemBeyondIt)
 {
     // GIVEN 2 s at 30 fps on a 60 Hz display, the render thread stalled 120 ms (3.6 frame
     // periods) in one present
@@ -432,7 +432,7 @@ TEST(PlaybackSim, AStallDelaysFramesWithinTheMaxLatenessAndDropsThemBeyondIt)
     EXPECT_GE(strict.framesDropped, 1u);
 }
 
-TEST(PlaybackSim, FramesThatCannotCatchUpAreSkippedAfterThreeTimesTheMaxLateness)
+TEST(PlaybackSimTest, FramesThatCannotCatchUpAreSkippedAfterThreeTimesTheMaxLateness)
 {
     // GIVEN 30 fps on a 30 Hz display: every refresh needs a new frame, so a late player cannot
     // catch up by showing frames for one refresh instead of two

@@ -78,8 +78,8 @@ struct Rig {
 };
 
 // (The stiffness's effect on the force:
-// PlaybackSim.TheStiffnessCommandScalesTheForceTheFingerFeels.)
-TEST(Playback, TheHapticsSwitchRampsTheForceOut)
+// PlaybackSimTest.TheStiffnessCommandScalesTheForceTheFingerFeels.)
+TEST(PlaybackTest, TheHapticsSwitchRampsTheForceOut)
 {
     Rig rig;
     ASSERT_TRUE(rig.machine->execute("play mock://clip?frames=100&fps=30").accepted);
@@ -92,7 +92,7 @@ TEST(Playback, TheHapticsSwitchRampsTheForceOut)
     ASSERT_TRUE(rig.machine->execute("recenter").accepted);
 }
 
-TEST(Playback, ColorOnlyPlaysFlatWithoutHaptics)
+TEST(PlaybackTest, ColorOnlyPlaysFlatWithoutHaptics)
 {
     Rig rig;
     ASSERT_TRUE(rig.machine->execute("play mock://clip?frames=10&depth=0").accepted);
@@ -107,7 +107,7 @@ TEST(Playback, ColorOnlyPlaysFlatWithoutHaptics)
     EXPECT_EQ(rig.playback->hapticTask(), nullptr);
 }
 
-TEST(Playback, AnUnopenableUrlIsAnErrorAndPlayCanStartAgain)
+TEST(PlaybackTest, AnUnopenableUrlIsAnErrorAndPlayCanStartAgain)
 {
     Rig rig;
     ASSERT_TRUE(rig.machine->execute("play mock://clip?frames=0").accepted);
@@ -119,7 +119,7 @@ TEST(Playback, AnUnopenableUrlIsAnErrorAndPlayCanStartAgain)
     EXPECT_EQ(rig.playback->stats().opens, 1u);
 }
 
-TEST(Playback, AnUnopenableUrlAfterAPlayedClipIsAnErrorNotAPlay)
+TEST(PlaybackTest, AnUnopenableUrlAfterAPlayedClipIsAnErrorNotAPlay)
 {
     // GIVEN a clip played to its end
     Rig rig;
@@ -134,7 +134,7 @@ TEST(Playback, AnUnopenableUrlAfterAPlayedClipIsAnErrorNotAPlay)
     EXPECT_EQ(rig.playback->stats().opens, 1u);
 }
 
-TEST(Playback, WithoutADeviceItPlaysWithoutHaptics)
+TEST(PlaybackTest, WithoutADeviceItPlaysWithoutHaptics)
 {
     Rig rig(/*haptics=*/false);
     ASSERT_TRUE(rig.machine->execute("play mock://clip?frames=5").accepted);

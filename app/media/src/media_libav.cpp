@@ -1,7 +1,7 @@
 /// \file
-/// \brief Shared libav helpers of dt_media (see av_handles.h).
+/// \brief Shared libav helpers of dt_media (see media_libav.h).
 
-#include "av_handles.h"
+#include "media_libav.h"
 
 #include <cstdlib>
 #include <mutex>
