@@ -112,8 +112,8 @@ Result<hb::FeelScene> loadClip(const std::string &url, const std::string &name)
     }
     const double fps = info.fps > 0.0 ? info.fps : 30.0;
     return hb::sceneFromNearness(
-        name, frames, wide ? haptics::SampleFormat::Gray16 : haptics::SampleFormat::Gray8, fps,
-        haptics::SceneBox{});
+        name, frames, wide ? scene::SampleFormat::Gray16 : scene::SampleFormat::Gray8, fps,
+        scene::SceneBox{});
 }
 
 /// One capture of the shared data: where its depth PNGs are and how to play them.
@@ -205,7 +205,7 @@ int loadScenes(const BenchFeelOptions &o, std::vector<hb::FeelScene> &scenes,
         for (int b : bits) {
             std::fprintf(stderr, "mapping %s (%d-bit, holes kept) ...\n", c.name, b);
             auto sc = hb::sceneFromSensorDepth(std::string(c.name) + "/" + std::to_string(b), *mm,
-                                               c.fps, haptics::SceneBox{}, b);
+                                               c.fps, scene::SceneBox{}, b);
             if (!sc)
                 return fail(kExitFailure, std::string(c.name) + ": " + sc.error().what);
             scenes.push_back(std::move(*sc));
@@ -303,7 +303,7 @@ int runBenchFeel(const BenchFeelOptions &o)
         strokes.push_back(hb::makeFamilyStrokes(s, plan, &placeNotes));
         std::printf("%-28s %dx%d %s, %zu frames at %.1f fps, %zu strokes\n", s.name.c_str(),
                     s.width, s.height,
-                    s.format == haptics::SampleFormat::Gray8 ? "8-bit" : "16-bit", s.frameCount(),
+                    s.format == scene::SampleFormat::Gray8 ? "8-bit" : "16-bit", s.frameCount(),
                     s.fps, strokes.back().size());
     }
     std::vector<std::vector<hb::Stroke>> cleanStrokes;

@@ -158,7 +158,7 @@ class StoppableFrames final : public haptics::FrameProvider {
 public:
     explicit StoppableFrames(haptics::FrameProvider &inner) noexcept : inner_(inner) {}
     [[nodiscard]] std::size_t frameCount() const noexcept override { return inner_.frameCount(); }
-    Result<haptics::DepthFrameView> frame(std::size_t i) noexcept override
+    Result<scene::DepthFrameView> frame(std::size_t i) noexcept override
     {
         if (gTouchStop.load(std::memory_order_relaxed))
             return unexpected(Errc::Timeout, "stopped by a signal");

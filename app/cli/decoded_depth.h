@@ -159,7 +159,7 @@ public:
         return buf;
     }
 
-    Result<haptics::DepthFrameView> frame(std::size_t i) noexcept override
+    Result<scene::DepthFrameView> frame(std::size_t i) noexcept override
     {
         try {
             while (decoded_ <= i) {
@@ -171,13 +171,13 @@ public:
             if (i < first)
                 return unexpected(Errc::InvalidArgument, "depth frame requested out of order");
             const Stored &f = frames_[i - first];
-            haptics::DepthFrameView v;
+            scene::DepthFrameView v;
             v.data = f.bytes.data();
             v.width = config_.width;
             v.height = config_.height;
             v.format = f.format;
             v.strideBytes =
-                static_cast<std::size_t>(config_.width) * haptics::bytesPerSample(f.format);
+                static_cast<std::size_t>(config_.width) * scene::bytesPerSample(f.format);
             v.pts = f.pts;
             v.holeBelow = holeBelow_;
             return v;
@@ -189,7 +189,7 @@ public:
 private:
     struct Stored {
         std::vector<std::uint8_t> bytes;
-        haptics::SampleFormat format = haptics::SampleFormat::Gray8;
+        scene::SampleFormat format = scene::SampleFormat::Gray8;
         double pts = 0.0;
     };
 
@@ -236,7 +236,7 @@ private:
         const int w = img.width;
         const int h = img.height;
         if (img.format == hal::PixelFormat::Gray8) {
-            s.format = haptics::SampleFormat::Gray8;
+            s.format = scene::SampleFormat::Gray8;
             s.bytes.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
             for (int y = 0; y < h; ++y)
                 std::memcpy(s.bytes.data() +
@@ -265,7 +265,7 @@ private:
                 raw = depth::quantizeOccupied(n->nearness, n->valid, metric_->convert.vmax,
                                               kMetricOccupancy, holes);
             }
-            s.format = haptics::SampleFormat::Gray16;
+            s.format = scene::SampleFormat::Gray16;
             s.bytes.resize(raw.size() * 2u);
             std::memcpy(s.bytes.data(), raw.samples.data(), s.bytes.size());
         }

@@ -40,7 +40,7 @@ public:
         }
         if (frames_.size() < 2)
             return "the clip's depth has fewer than 2 frames";
-        field_ = haptics::HeightField(haptics::SceneBox{});
+        field_ = haptics::HeightField(scene::SceneBox{});
         // The backdrop: the nearest surface in the outer tenth of the first frame on both sides.
         const media::Image &f0 = frames_.front();
         int maxV = 0;
@@ -48,7 +48,7 @@ public:
             for (int x = 0; x < f0.width; ++x)
                 if (x < f0.width / 10 || x >= f0.width - f0.width / 10)
                     maxV = std::max(maxV, static_cast<int>(f0.row(y)[x]));
-        backdropZ_ = (maxV / 255.0 - 0.5) * haptics::SceneBox{}.depth;
+        backdropZ_ = (maxV / 255.0 - 0.5) * scene::SceneBox{}.depth;
         return {};
     }
 
@@ -58,8 +58,8 @@ public:
         const auto n = static_cast<long long>(frames_.size());
         const long long i =
             std::clamp(static_cast<long long>(std::floor(t * fps_ + 1e-9)), 0LL, n - 1);
-        const haptics::DepthFrameView cur = view(static_cast<std::size_t>(i));
-        const haptics::DepthFrameView next = view(static_cast<std::size_t>(std::min(i + 1, n - 1)));
+        const scene::DepthFrameView cur = view(static_cast<std::size_t>(i));
+        const scene::DepthFrameView next = view(static_cast<std::size_t>(std::min(i + 1, n - 1)));
         (void)field_.setFrames(cur, i + 1 < n ? &next : nullptr);
         field_.setTime(t, true);
         prev_ = view(static_cast<std::size_t>(std::max(i - 1, 0LL)));
@@ -97,23 +97,23 @@ public:
     [[nodiscard]] double backdropZ() const noexcept override { return backdropZ_; }
 
 private:
-    [[nodiscard]] haptics::DepthFrameView view(std::size_t i) const noexcept
+    [[nodiscard]] scene::DepthFrameView view(std::size_t i) const noexcept
     {
         const media::Image &im = frames_[i];
         return {im.data.data(),
                 im.width,
                 im.height,
                 im.stride,
-                haptics::SampleFormat::Gray8,
+                scene::SampleFormat::Gray8,
                 static_cast<double>(i) / fps_};
     }
 
     std::vector<media::Image> frames_;
     double fps_ = 30.0;
     haptics::HeightField field_;
-    haptics::DepthFrameView prev_{};
-    haptics::DepthFrameView cur_{};
-    haptics::DepthFrameView next_{};
+    scene::DepthFrameView prev_{};
+    scene::DepthFrameView cur_{};
+    scene::DepthFrameView next_{};
     double backdropZ_ = 0.0;
 };
 

@@ -37,7 +37,7 @@ public:
     /// \return depth frame \a i with its material. Errors: the depth's; the material source's
     /// (Errc::InvalidArgument when it has no frame); Errc::InvalidArgument for a frame older than
     /// the kKeptFrames last ones.
-    Result<haptics::DepthFrameView> frame(std::size_t i) noexcept override
+    Result<scene::DepthFrameView> frame(std::size_t i) noexcept override
     {
         auto view = depth_->frame(i);
         if (!view)

@@ -39,7 +39,7 @@ static_assert(DepthHandoff::kSlots < static_cast<int>(kNone), "slot indices must
 } // namespace
 
 Result<std::unique_ptr<DepthHandoff>>
-DepthHandoff::create(int width, int height, haptics::SampleFormat format, bool material)
+DepthHandoff::create(int width, int height, scene::SampleFormat format, bool material)
 {
     if (width < 2 || height < 2 || width > 16384 || height > 16384)
         return unexpected(Errc::InvalidArgument,
@@ -51,10 +51,10 @@ DepthHandoff::create(int width, int height, haptics::SampleFormat format, bool m
     }
 }
 
-DepthHandoff::DepthHandoff(int width, int height, haptics::SampleFormat format, bool material)
+DepthHandoff::DepthHandoff(int width, int height, scene::SampleFormat format, bool material)
     : width_(width), height_(height), format_(format),
       frameBytes_(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) *
-                  haptics::bytesPerSample(format)),
+                  scene::bytesPerSample(format)),
       materialBytes_(
           material ? static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3 : 0),
       slotBytes_(frameBytes_ + materialBytes_), storage_(slotBytes_ * kSlots, 0),
@@ -77,13 +77,13 @@ DepthSlot DepthHandoff::slot(int index) noexcept
     return s;
 }
 
-haptics::DepthFrameView DepthHandoff::view(int index) const noexcept
+scene::DepthFrameView DepthHandoff::view(int index) const noexcept
 {
-    haptics::DepthFrameView v;
+    scene::DepthFrameView v;
     v.data = storage_.data() + static_cast<std::size_t>(index) * slotBytes_;
     v.width = width_;
     v.height = height_;
-    v.strideBytes = static_cast<std::size_t>(width_) * haptics::bytesPerSample(format_);
+    v.strideBytes = static_cast<std::size_t>(width_) * scene::bytesPerSample(format_);
     v.format = format_;
     v.pts = pts_[index];
     v.holeBelow = holeBelow_[index];
@@ -141,10 +141,10 @@ void DepthHandoff::publish(const DepthSlot &current, const DepthSlot *next) noex
     published_.fetch_add(1, std::memory_order_relaxed);
 }
 
-DepthSlot DepthHandoff::copyIn(const haptics::DepthFrameView &frame) noexcept
+DepthSlot DepthHandoff::copyIn(const scene::DepthFrameView &frame) noexcept
 {
     DepthSlot s = beginFrame();
-    const std::size_t bytesPerSample = haptics::bytesPerSample(format_);
+    const std::size_t bytesPerSample = scene::bytesPerSample(format_);
     const std::size_t rowBytes = static_cast<std::size_t>(width_) * bytesPerSample;
     const int rows = std::min(height_, frame.height);
     const std::size_t copyBytes =
@@ -168,8 +168,8 @@ DepthSlot DepthHandoff::copyIn(const haptics::DepthFrameView &frame) noexcept
     return s;
 }
 
-void DepthHandoff::publishPair(const haptics::DepthFrameView &current,
-                               const haptics::DepthFrameView *next) noexcept
+void DepthHandoff::publishPair(const scene::DepthFrameView &current,
+                               const scene::DepthFrameView *next) noexcept
 {
     // The previous pair's next frame is on screen now: its slot already holds it.
     const bool held =
@@ -186,7 +186,7 @@ void DepthHandoff::publishPair(const haptics::DepthFrameView &current,
     pairNextPts_ = next->pts;
 }
 
-Result<void> DepthHandoff::push(const haptics::DepthFrameView &frame) noexcept
+Result<void> DepthHandoff::push(const scene::DepthFrameView &frame) noexcept
 {
     DT_TRY(frame.validate());
     if (frame.width != width_ || frame.height != height_ || frame.format != format_)
@@ -232,7 +232,7 @@ bool DepthHandoff::acquire(DepthPair &out) noexcept
     const std::uint32_t next = field(state, kPubNextShift);
     out.current = view(static_cast<int>(cur));
     out.hasNext = next != kNone;
-    out.next = out.hasNext ? view(static_cast<int>(next)) : haptics::DepthFrameView{};
+    out.next = out.hasNext ? view(static_cast<int>(next)) : scene::DepthFrameView{};
     out.sequence = ++taken_;
     return true;
 }

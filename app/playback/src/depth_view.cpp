@@ -5,15 +5,15 @@
 
 namespace depthtouch::playback {
 
-haptics::SampleFormat sampleFormatOf(hal::PixelFormat format) noexcept
+scene::SampleFormat sampleFormatOf(hal::PixelFormat format) noexcept
 {
-    return format == hal::PixelFormat::Gray16 ? haptics::SampleFormat::Gray16
-                                              : haptics::SampleFormat::Gray8;
+    return format == hal::PixelFormat::Gray16 ? scene::SampleFormat::Gray16
+                                              : scene::SampleFormat::Gray8;
 }
 
-haptics::DepthFrameView depthView(const receiver::StoredFrame &f, double pts) noexcept
+scene::DepthFrameView depthView(const receiver::StoredFrame &f, double pts) noexcept
 {
-    haptics::DepthFrameView v;
+    scene::DepthFrameView v;
     v.data = f.image.planes[0].data;
     v.width = f.image.width;
     v.height = f.image.height;

@@ -14,12 +14,12 @@ namespace depthtouch::playback {
 
 /// \return SampleFormat::Gray16 for PixelFormat::Gray16, else SampleFormat::Gray8 (the decoders
 /// give depth as Gray8 or Gray16 only).
-haptics::SampleFormat sampleFormatOf(hal::PixelFormat format) noexcept;
+scene::SampleFormat sampleFormatOf(hal::PixelFormat format) noexcept;
 
 /// \return a view of the decoded depth frame \a f (plane 0, its stride, its hole threshold
 /// StoredFrame::holeBelow) with PTS \a pts (s). The view borrows \a f's pixels: keep \a f alive
 /// while the view is used.
-haptics::DepthFrameView depthView(const receiver::StoredFrame &f, double pts) noexcept;
+scene::DepthFrameView depthView(const receiver::StoredFrame &f, double pts) noexcept;
 
 /// \return a view of the material frame \a f (Rgb24 codes, scene/material.h) of a depth frame of
 /// \a width × \a height, or an empty view when \a f is null, not Rgb24 or of another size.

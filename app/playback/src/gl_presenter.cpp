@@ -119,13 +119,13 @@ public:
     }
 
 private:
-    haptics::DepthFrameView depthOf(const DrawInput &in);
-    void ensureRendererAndTarget(hal::Size size, const haptics::DepthFrameView &dv);
-    void applyOptions(player::StereoMode mode, const haptics::DepthFrameView &dv, double period);
+    scene::DepthFrameView depthOf(const DrawInput &in);
+    void ensureRendererAndTarget(hal::Size size, const scene::DepthFrameView &dv);
+    void applyOptions(player::StereoMode mode, const scene::DepthFrameView &dv, double period);
     /// The level of detail's mesh for W×H depth into \a m (mode, tile, tolerance).
     static void toBlocks(render::MeshOptions &m, int width, int height);
     bool setPicture(const receiver::StoredFrame *depthFrame,
-                    const receiver::StoredFrame *colorFrame, const haptics::DepthFrameView &dv,
+                    const receiver::StoredFrame *colorFrame, const scene::DepthFrameView &dv,
                     DrawOutcome &out);
     void setOverlays(const DrawInput &in);
     void output(hal::Size size, DrawOutcome &out);
@@ -167,7 +167,7 @@ DrawOutcome GlPresenter::draw(const DrawInput &in)
     out.drawn = false;
     const receiver::StoredFrame *depthFrame = in.frame.depth ? in.frame.depth.get() : nullptr;
     const receiver::StoredFrame *colorFrame = in.frame.color ? in.frame.color.get() : nullptr;
-    const haptics::DepthFrameView dv = depthOf(in);
+    const scene::DepthFrameView dv = depthOf(in);
     const hal::Size size = display_.size();
     ensureRendererAndTarget(size, dv);
     // Made before the first frame is drawn, so that frame is snapshot 0 (docs/playing.md: a PNG
@@ -186,11 +186,11 @@ DrawOutcome GlPresenter::draw(const DrawInput &in)
 }
 
 /// The depth to draw: the frame's, or a flat surface of the colour frame's size without depth.
-haptics::DepthFrameView GlPresenter::depthOf(const DrawInput &in)
+scene::DepthFrameView GlPresenter::depthOf(const DrawInput &in)
 {
     if (in.frame.depth)
         return depthView(*in.frame.depth.get(), in.pts);
-    haptics::DepthFrameView dv;
+    scene::DepthFrameView dv;
     if (in.frame.color) {
         const int w = in.frame.color.get()->image.width;
         const int h = in.frame.color.get()->image.height;
@@ -199,13 +199,13 @@ haptics::DepthFrameView GlPresenter::depthOf(const DrawInput &in)
               w,
               h,
               static_cast<std::size_t>(w),
-              haptics::SampleFormat::Gray8,
+              scene::SampleFormat::Gray8,
               in.pts};
     }
     return dv;
 }
 
-void GlPresenter::ensureRendererAndTarget(hal::Size size, const haptics::DepthFrameView &dv)
+void GlPresenter::ensureRendererAndTarget(hal::Size size, const scene::DepthFrameView &dv)
 {
     if (!renderer_) {
         render::RendererOptions ro;
@@ -258,7 +258,7 @@ void GlPresenter::toBlocks(render::MeshOptions &m, int width, int height)
 }
 
 /// The stereo mode, and the mesh budget of the level of detail (created with the first frame).
-void GlPresenter::applyOptions(player::StereoMode mode, const haptics::DepthFrameView &dv,
+void GlPresenter::applyOptions(player::StereoMode mode, const scene::DepthFrameView &dv,
                                double period)
 {
     render::RendererOptions ro = renderer_->options();
@@ -294,7 +294,7 @@ void GlPresenter::applyOptions(player::StereoMode mode, const haptics::DepthFram
 /// result.
 bool GlPresenter::setPicture(const receiver::StoredFrame *depthFrame,
                              const receiver::StoredFrame *colorFrame,
-                             const haptics::DepthFrameView &dv, DrawOutcome &out)
+                             const scene::DepthFrameView &dv, DrawOutcome &out)
 {
     if (!prepWorker_)
         prepWorker_ = std::make_unique<PrepWorker>();

@@ -251,13 +251,13 @@ void RenderLoop::publishDepth(Session &s)
 {
     if (!s.handoff || !frames_.shown.depth)
         return;
-    const receiver::DepthPair dp = frames_.shown.depthPair();
+    const receiver::StoredDepthPair dp = frames_.shown.depthPair();
     if (frames_.reseat)
         s.handoff->restart();
-    haptics::DepthFrameView current = depthView(*dp.current, ptsSeconds(dp.currentPts));
+    scene::DepthFrameView current = depthView(*dp.current, ptsSeconds(dp.currentPts));
     current.material = materialView(dp.material, current.width, current.height);
     if (dp.next != nullptr) {
-        haptics::DepthFrameView next = depthView(*dp.next, ptsSeconds(dp.nextPts));
+        scene::DepthFrameView next = depthView(*dp.next, ptsSeconds(dp.nextPts));
         next.material = materialView(dp.materialNext, next.width, next.height);
         s.handoff->publishPair(current, &next);
     } else {

@@ -29,9 +29,9 @@ const char *receiverModeName(ReceiverMode mode) noexcept
     return platform::enumName(mode, kNames, "?");
 }
 
-DepthPair PairedFrame::depthPair() const noexcept
+StoredDepthPair PairedFrame::depthPair() const noexcept
 {
-    DepthPair p;
+    StoredDepthPair p;
     p.current = depth.get();
     p.next = depthNext.get();
     if (p.current != nullptr)

@@ -17,7 +17,7 @@ using test::Frame16;
 
 std::unique_ptr<DepthHandoff> makeHandoff(int w = 8, int h = 6)
 {
-    auto r = DepthHandoff::create(w, h, haptics::SampleFormat::Gray16);
+    auto r = DepthHandoff::create(w, h, scene::SampleFormat::Gray16);
     EXPECT_TRUE(r);
     return std::move(*r);
 }
@@ -32,8 +32,8 @@ Frame16 constantFrame(std::uint16_t value, double pts)
 /// Publishes (\a current, \a next) on \a handoff with publishPair() and acquires the pair into \a
 /// out.
 ::testing::AssertionResult publishAndAcquire(DepthHandoff &handoff,
-                                             const haptics::DepthFrameView &current,
-                                             const haptics::DepthFrameView *next, DepthPair &out)
+                                             const scene::DepthFrameView &current,
+                                             const scene::DepthFrameView *next, DepthPair &out)
 {
     handoff.publishPair(current, next);
     if (!handoff.acquire(out))
@@ -43,13 +43,13 @@ Frame16 constantFrame(std::uint16_t value, double pts)
 
 TEST(DepthHandoffTest, rejectsBadSizes)
 {
-    EXPECT_EQ(DepthHandoff::create(1, 10, haptics::SampleFormat::Gray8).error().code,
+    EXPECT_EQ(DepthHandoff::create(1, 10, scene::SampleFormat::Gray8).error().code,
               Errc::InvalidArgument);
-    EXPECT_EQ(DepthHandoff::create(10, 0, haptics::SampleFormat::Gray8).error().code,
+    EXPECT_EQ(DepthHandoff::create(10, 0, scene::SampleFormat::Gray8).error().code,
               Errc::InvalidArgument);
-    EXPECT_EQ(DepthHandoff::create(20000, 10, haptics::SampleFormat::Gray8).error().code,
+    EXPECT_EQ(DepthHandoff::create(20000, 10, scene::SampleFormat::Gray8).error().code,
               Errc::InvalidArgument);
-    auto ok = DepthHandoff::create(64, 48, haptics::SampleFormat::Gray16);
+    auto ok = DepthHandoff::create(64, 48, scene::SampleFormat::Gray16);
     ASSERT_TRUE(ok);
     EXPECT_EQ((*ok)->frameBytes(), 64u * 48u * 2u);
 }
@@ -168,10 +168,10 @@ TEST(DepthHandoffTest, pushRejectsAFrameOfAnotherShape)
     auto handoff = makeHandoff();
     Frame16 wrong(9, 6, 0.0);
     EXPECT_EQ(handoff->push(wrong.view()).error().code, Errc::InvalidArgument);
-    haptics::DepthFrameView gray8 = constantFrame(1, 0.0).view();
-    gray8.format = haptics::SampleFormat::Gray8;
+    scene::DepthFrameView gray8 = constantFrame(1, 0.0).view();
+    gray8.format = scene::SampleFormat::Gray8;
     EXPECT_EQ(handoff->push(gray8).error().code, Errc::InvalidArgument);
-    haptics::DepthFrameView empty{};
+    scene::DepthFrameView empty{};
     EXPECT_EQ(handoff->push(empty).error().code, Errc::InvalidArgument);
     DepthPair pair;
     EXPECT_FALSE(handoff->acquire(pair)) << "nothing was published";
@@ -251,7 +251,7 @@ TEST(DepthHandoffTest, materialTravelsWithItsDepthFrame)
 {
     // GIVEN a handoff that carries materials, frames 0 and 1 with material codes 10 and 20 and
     // frame 2 without any (a material frame missing in the stream)
-    auto made = DepthHandoff::create(8, 6, haptics::SampleFormat::Gray16, true);
+    auto made = DepthHandoff::create(8, 6, scene::SampleFormat::Gray16, true);
     ASSERT_TRUE(made);
     DepthHandoff &handoff = **made;
     EXPECT_TRUE(handoff.carriesMaterial());

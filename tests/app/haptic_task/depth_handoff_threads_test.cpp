@@ -20,14 +20,14 @@ std::uint16_t valueOf(double pts)
 }
 
 /// \return true when every sample of \a v has the value derived from its PTS.
-bool intact(const haptics::DepthFrameView &v)
+bool intact(const scene::DepthFrameView &v)
 {
     return test::allSamples(v, valueOf(v.pts));
 }
 
 TEST(DepthHandoffThreadsTest, manyPublishesWhileReadingGiveNoTornFrame)
 {
-    auto created = DepthHandoff::create(64, 48, haptics::SampleFormat::Gray16);
+    auto created = DepthHandoff::create(64, 48, scene::SampleFormat::Gray16);
     ASSERT_TRUE(created);
     DepthHandoff &handoff = **created;
     constexpr int kFrames = 20000;

@@ -323,7 +323,7 @@ TEST(DisciplineTest, hapticThreadNeverAllocatesLocksOrWritesAfterStart)
     platform::SteadyClock &clock = platform::SteadyClock::instance();
     constexpr int kW = 96;
     constexpr int kH = 72;
-    auto handoff = DepthHandoff::create(kW, kH, haptics::SampleFormat::Gray16);
+    auto handoff = DepthHandoff::create(kW, kH, scene::SampleFormat::Gray16);
     ASSERT_TRUE(handoff);
     hal::BackendConfig cfg;
     cfg.options =

@@ -49,19 +49,19 @@ struct Frame16 {
     }
     void fillFlat(double z) { std::fill(samples.begin(), samples.end(), nearness16(z)); }
 
-    [[nodiscard]] haptics::DepthFrameView view() const
+    [[nodiscard]] scene::DepthFrameView view() const
     {
-        return haptics::DepthFrameView{reinterpret_cast<const std::uint8_t *>(samples.data()),
+        return scene::DepthFrameView{reinterpret_cast<const std::uint8_t *>(samples.data()),
                                        width,
                                        height,
                                        static_cast<std::size_t>(width) * 2,
-                                       haptics::SampleFormat::Gray16,
+                                       scene::SampleFormat::Gray16,
                                        pts};
     }
 };
 
 /// \return true when every sample of \a v equals \a value.
-inline bool allSamples(const haptics::DepthFrameView &v, std::uint16_t value)
+inline bool allSamples(const scene::DepthFrameView &v, std::uint16_t value)
 {
     for (int r = 0; r < v.height; ++r)
         for (int c = 0; c < v.width; ++c)

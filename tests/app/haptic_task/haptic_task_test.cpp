@@ -288,7 +288,7 @@ TEST(HapticTaskTest, aWakeUpSecondsLateCommandsNoForce)
     // GIVEN a task pressing a flat surface with 4 N at 1 kHz
     ManualClock manual(ManualClock::Mode::Blocking, platform::TimePoint(10s));
     StoppableClock clock(manual);
-    auto handoff = DepthHandoff::create(kW, kH, haptics::SampleFormat::Gray16);
+    auto handoff = DepthHandoff::create(kW, kH, scene::SampleFormat::Gray16);
     ASSERT_TRUE(handoff);
     drivers::MockHapticDevice mock(clock);
     SlowDevice device(mock, manual);
@@ -660,7 +660,7 @@ TEST(HapticTaskTest, badConfigIsRejected)
 {
     platform::ManualClock clock;
     drivers::MockHapticDevice mock(clock);
-    auto handoff = DepthHandoff::create(kW, kH, haptics::SampleFormat::Gray16);
+    auto handoff = DepthHandoff::create(kW, kH, scene::SampleFormat::Gray16);
     ASSERT_TRUE(handoff);
     const auto rejects = [&](auto change) {
         HapticTaskConfig c = Rig::baseConfig();

@@ -95,7 +95,7 @@ TEST(HapticTaskPageFaultTest, lockedTaskTakesNoPageFaultUnderMemoryPressure)
     // GIVEN the haptic task with its default memory lock, the simulated hand stroking a 640x480
     // frame on the steady clock
     platform::SteadyClock &clock = platform::SteadyClock::instance();
-    auto handoff = DepthHandoff::create(640, 480, haptics::SampleFormat::Gray16);
+    auto handoff = DepthHandoff::create(640, 480, scene::SampleFormat::Gray16);
     ASSERT_TRUE(handoff);
     Frame16 frame(640, 480, 0.0);
     frame.fill([](double x, double y) { return 0.004 * std::sin(60.0 * x) * std::cos(40.0 * y); });

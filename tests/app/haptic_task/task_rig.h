@@ -28,7 +28,7 @@ class Rig {
 public:
     Rig() : clock_(platform::ManualClock::Mode::Blocking, platform::TimePoint(10s))
     {
-        auto h = DepthHandoff::create(kW, kH, haptics::SampleFormat::Gray16);
+        auto h = DepthHandoff::create(kW, kH, scene::SampleFormat::Gray16);
         EXPECT_TRUE(h);
         handoff_ = std::move(*h);
     }

@@ -321,7 +321,7 @@ TEST(FingerGuardTest, aPixelReadFarBackUnderAPressedFingerIsNotFreeSpace)
 // threshold, a quarter of the box's 40 mm depth). Safety trips and the proxy is re-seated on the
 // new surface at once, for every contact; the force stage ramps the change in. The penalty's proxy
 // used to creep onto it at r/4 an update (0.375 mm: 40 updates to climb 15 mm), restarting the
-// ramp each update, so a cut was felt as a train of force steps (PlaybackSim's cut test).
+// ramp each update, so a cut was felt as a train of force steps (PlaybackSimTest's cut test).
 TEST(FingerGuardTest, aCutUnderARestingFingerReseatsTheProxyOnTheNewSurfaceAtOnce)
 {
     for (const FingerContact contact :

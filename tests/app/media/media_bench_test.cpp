@@ -106,9 +106,9 @@ TEST(MediaBenchTest, strokeEndsTwoMillimetresBelowTheSurfaceItFollows)
 {
     // GIVEN a still synthetic clip's depth
     const Clip clip = makeSyntheticClip(64, 48, 10);
-    std::vector<haptics::DepthFrameView> frames;
+    std::vector<scene::DepthFrameView> frames;
     for (std::size_t i = 0; i < clip.frames(); ++i) {
-        haptics::DepthFrameView v;
+        scene::DepthFrameView v;
         v.data = clip.nearness(i).data.data();
         v.width = clip.width;
         v.height = clip.height;
@@ -116,7 +116,7 @@ TEST(MediaBenchTest, strokeEndsTwoMillimetresBelowTheSurfaceItFollows)
         v.pts = static_cast<double>(i) / clip.fps;
         frames.push_back(v);
     }
-    const haptics::SceneBox box{};
+    const scene::SceneBox box{};
     const auto stroke = makeStroke(frames, box, 0.0);
     ASSERT_FALSE(stroke.empty());
     // THEN it starts above the surface, spans the clip and moves left to right

@@ -170,7 +170,7 @@ std::vector<MaterialRecord> drainMaterial(Receiver &r, std::size_t limit = 10'00
         m.material = indexOf(f.material);
         m.materialNext = indexOf(f.materialNext);
         m.hasNext = static_cast<bool>(f.depthNext);
-        const receiver::DepthPair p = f.depthPair();
+        const receiver::StoredDepthPair p = f.depthPair();
         EXPECT_EQ(p.material, f.material.get());
         EXPECT_EQ(p.materialNext, f.materialNext.get());
         return m;

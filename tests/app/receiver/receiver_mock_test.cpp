@@ -149,7 +149,7 @@ TEST(ReceiverMockTest, pairsEveryColorFrameWithItsDepthFrameAndTheNext)
         ASSERT_TRUE(f.color);
         EXPECT_EQ(drivers::readMockFrameIndex(f.color->image), static_cast<std::uint32_t>(count));
         EXPECT_EQ(f.pts, milliseconds(40 * count));
-        const receiver::DepthPair pair = f.depthPair();
+        const receiver::StoredDepthPair pair = f.depthPair();
         ASSERT_NE(pair.current, nullptr);
         EXPECT_EQ(pair.currentPts, f.pts);
         EXPECT_TRUE(sameDepth(*pair.current, mockDepthAt(f.pts, 32, 24))) << count;

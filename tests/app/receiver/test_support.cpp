@@ -44,7 +44,7 @@ Record recordOf(const receiver::PairedFrame &f)
     r.hasNext = static_cast<bool>(f.depthNext);
     if (f.color)
         r.colorPts = f.color->pts;
-    const receiver::DepthPair p = f.depthPair();
+    const receiver::StoredDepthPair p = f.depthPair();
     r.depthPts = p.currentPts;
     r.nextPts = p.nextPts;
     if (p.current != nullptr)

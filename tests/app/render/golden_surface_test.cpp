@@ -119,12 +119,12 @@ TEST_F(RenderGoldenTest, drawnSurfaceIsTheTouchedHeightField)
     const Depth8 d8(97, 65, bumpy);
     const Depth16 d16(97, 65,
                       [](int c, int r) { return bumpy(c, r) * 257 + (c * 31 + r * 17) % 200; });
-    for (const haptics::DepthFrameView view : {d8.view(), d16.view()}) {
+    for (const scene::DepthFrameView view : {d8.view(), d16.view()}) {
         ASSERT_TRUE(renderer_->setDepth(view));
         haptics::HeightField hf(renderer_->options().box);
         ASSERT_TRUE(hf.setFrames(view, nullptr));
         const double level = renderer_->mapping().levelMetres() *
-                             (view.format == haptics::SampleFormat::Gray8 ? 1.0 : 257.0);
+                             (view.format == scene::SampleFormat::Gray8 ? 1.0 : 257.0);
         // WHEN its scene-box position is read back from straight above (one pixel per sample)
         const Agreement top = agreement(
             *renderer_, hf,

@@ -364,7 +364,7 @@ TEST_F(RenderGoldenTest, badInputIsRefused)
     auto t = RenderTarget::create(32, 32);
     ASSERT_TRUE(t);
     EXPECT_EQ(renderer_->render(*t).error().code, Errc::InvalidState);
-    haptics::DepthFrameView bad;
+    scene::DepthFrameView bad;
     EXPECT_EQ(renderer_->setDepth(bad).error().code, Errc::InvalidArgument);
     Yuv420 col(8, 8, [](int, int) { return std::array<int, 3>{0, 0, 0}; });
     hal::ImageView v = col.view();

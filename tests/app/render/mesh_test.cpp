@@ -162,7 +162,7 @@ TEST(AdaptiveMeshTest, rejectsBadOptionsAndKeepsThePreviousMesh)
     bad = adaptive(1.0);
     bad.maxStep = 32;
     EXPECT_EQ(mesh.build(d.view(), bad).error().code, Errc::InvalidArgument);
-    haptics::DepthFrameView empty;
+    scene::DepthFrameView empty;
     EXPECT_EQ(mesh.build(empty, adaptive(1.0)).error().code, Errc::InvalidArgument);
     EXPECT_EQ(mesh.indices(), before);
 }

@@ -99,7 +99,7 @@ TEST(StereoCameraTest, layoutsSplitTheFrame)
 TEST(SurfaceMappingTest, isTheHapticHeightFieldMapping)
 {
     const test::Depth8 d(11, 7, [](int c, int r) { return 20 * c + r; });
-    haptics::SceneBox box{0.12, 0.05};
+    scene::SceneBox box{0.12, 0.05};
     haptics::HeightField hf(box);
     ASSERT_TRUE(hf.setFrames(d.view(), nullptr));
     const auto mapping = SurfaceMapping::of(box, d.view());

@@ -160,7 +160,7 @@ Result<RtCase> runTask(double rateHz, SchedPolicy policy, platform::MemoryLockMo
     SteadyClock &clock = SteadyClock::instance();
     constexpr int kW = 320;
     constexpr int kH = 240;
-    auto handoff = DepthHandoff::create(kW, kH, haptics::SampleFormat::Gray8);
+    auto handoff = DepthHandoff::create(kW, kH, scene::SampleFormat::Gray8);
     if (!handoff)
         return unexpected(handoff.error());
     auto device = make();
@@ -191,11 +191,11 @@ Result<RtCase> runTask(double rateHz, SchedPolicy policy, platform::MemoryLockMo
                     pixels[static_cast<std::size_t>(r * kW + col)] =
                         static_cast<std::uint8_t>(std::lround(std::fmin(v, 255.0)));
                 }
-            const haptics::DepthFrameView view{pixels.data(),
+            const scene::DepthFrameView view{pixels.data(),
                                                kW,
                                                kH,
                                                static_cast<std::size_t>(kW),
-                                               haptics::SampleFormat::Gray8,
+                                               scene::SampleFormat::Gray8,
                                                t};
             (void)(*handoff)->push(view);
             clock.sleepUntil(origin + platform::fromSeconds(t)); // frame i+1 out at frame i's PTS

@@ -140,7 +140,7 @@ namespace {
 /// HIP path from (x0, y) to (x1, y) (m) with a sway of \a sway m in y, following the surface of
 /// \a frames 2 mm below it after an approach from 8 mm above (see makeStroke()).
 std::vector<haptics::TrajectorySample>
-followSurface(const std::vector<haptics::DepthFrameView> &frames, const haptics::SceneBox &box,
+followSurface(const std::vector<scene::DepthFrameView> &frames, const scene::SceneBox &box,
               double x0, double x1, double y, double sway, double rowPeriod)
 {
     std::vector<haptics::TrajectorySample> out;
@@ -174,20 +174,20 @@ followSurface(const std::vector<haptics::DepthFrameView> &frames, const haptics:
 } // namespace
 
 std::vector<haptics::TrajectorySample>
-makeStroke(const std::vector<haptics::DepthFrameView> &frames, const haptics::SceneBox &box,
+makeStroke(const std::vector<scene::DepthFrameView> &frames, const scene::SceneBox &box,
            double laneY, double rowPeriod)
 {
     return followSurface(frames, box, -0.4 * box.width, 0.4 * box.width, laneY, 0.001, rowPeriod);
 }
 
-std::vector<haptics::TrajectorySample> makePress(const std::vector<haptics::DepthFrameView> &frames,
-                                                 const haptics::SceneBox &box, double x, double y,
+std::vector<haptics::TrajectorySample> makePress(const std::vector<scene::DepthFrameView> &frames,
+                                                 const scene::SceneBox &box, double x, double y,
                                                  double rowPeriod)
 {
     return followSurface(frames, box, x, x, y, 0.0, rowPeriod);
 }
 
-std::vector<double> strokeLanes(int width, int height, const haptics::SceneBox &box)
+std::vector<double> strokeLanes(int width, int height, const scene::SceneBox &box)
 {
     const double halfHeight = width > 1 ? 0.5 * box.width * (height - 1) / (width - 1) : 0.0;
     std::vector<double> lanes{0.0};

@@ -142,7 +142,7 @@ Result<RateAccuracy> measureRateAccuracy(const Clip &clip, const ReceiverBackend
             source.insert(source.end(), im.row(y), im.row(y) + im.width);
     }
 
-    const haptics::SceneBox box{};
+    const scene::SceneBox box{};
     haptics::ReplayOptions ro;
     ro.rate = options.hapticRate;
     ro.method = haptics::Method::Modified;

@@ -127,19 +127,19 @@ Result<Decoded> decodeFile(const std::string &path, const ReceiverBackends &back
 }
 
 /// Views of W×H Gray8 frames stored back to back, PTS i/fps.
-std::vector<haptics::DepthFrameView> viewsOf(const std::vector<std::uint8_t> &video, int width,
+std::vector<scene::DepthFrameView> viewsOf(const std::vector<std::uint8_t> &video, int width,
                                              int height, double fps)
 {
     const std::size_t frameBytes =
         static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-    std::vector<haptics::DepthFrameView> views;
+    std::vector<scene::DepthFrameView> views;
     for (std::size_t i = 0; frameBytes > 0 && (i + 1) * frameBytes <= video.size(); ++i) {
-        haptics::DepthFrameView v;
+        scene::DepthFrameView v;
         v.data = video.data() + i * frameBytes;
         v.width = width;
         v.height = height;
         v.strideBytes = static_cast<std::size_t>(width);
-        v.format = haptics::SampleFormat::Gray8;
+        v.format = scene::SampleFormat::Gray8;
         v.pts = static_cast<double>(i) / fps;
         views.push_back(v);
     }
@@ -147,7 +147,7 @@ std::vector<haptics::DepthFrameView> viewsOf(const std::vector<std::uint8_t> &vi
 }
 
 /// Index of the frame shown at haptic time \a t (s from the first PTS), as replay() picks it.
-std::size_t frameAt(const std::vector<haptics::DepthFrameView> &frames, double t)
+std::size_t frameAt(const std::vector<scene::DepthFrameView> &frames, double t)
 {
     std::size_t i = 0;
     while (i + 1 < frames.size() && frames[i + 1].pts - frames.front().pts <= t)
@@ -157,8 +157,8 @@ std::size_t frameAt(const std::vector<haptics::DepthFrameView> &frames, double t
 
 /// Updates of \a rows whose proxy ended below the surface the renderer saw (frames i, i+1
 /// interpolated, paper Eq. 1) by more than a millionth of the sample spacing.
-long countPopThroughs(const std::vector<haptics::DepthFrameView> &frames,
-                      const std::vector<haptics::ForceLogRow> &rows, const haptics::SceneBox &box)
+long countPopThroughs(const std::vector<scene::DepthFrameView> &frames,
+                      const std::vector<haptics::ForceLogRow> &rows, const scene::SceneBox &box)
 {
     haptics::HeightField surface(box);
     std::size_t current = frames.size();
@@ -184,11 +184,11 @@ namespace {
 /// Frames stored back to back in memory that the caller keeps alive: no copy per replay.
 class BorrowedFrames final : public haptics::FrameProvider {
 public:
-    explicit BorrowedFrames(std::vector<haptics::DepthFrameView> views) : views_(std::move(views))
+    explicit BorrowedFrames(std::vector<scene::DepthFrameView> views) : views_(std::move(views))
     {
     }
     [[nodiscard]] std::size_t frameCount() const noexcept override { return views_.size(); }
-    Result<haptics::DepthFrameView> frame(std::size_t i) noexcept override
+    Result<scene::DepthFrameView> frame(std::size_t i) noexcept override
     {
         if (i >= views_.size())
             return unexpected(Errc::InvalidArgument, "depth frame index out of range");
@@ -196,7 +196,7 @@ public:
     }
 
 private:
-    std::vector<haptics::DepthFrameView> views_;
+    std::vector<scene::DepthFrameView> views_;
 };
 
 } // namespace

@@ -56,17 +56,17 @@ Result<Decoded> decodeFile(const std::string &path, const ReceiverBackends &back
                            bool depthOnly, bool capture, int width, int height);
 
 /// Views of W×H Gray8 frames stored back to back, PTS i/fps.
-std::vector<haptics::DepthFrameView> viewsOf(const std::vector<std::uint8_t> &video, int width,
+std::vector<scene::DepthFrameView> viewsOf(const std::vector<std::uint8_t> &video, int width,
                                              int height, double fps);
 
 /// Index of the frame shown at haptic time \a t (s from the first PTS), as replay() picks it.
-std::size_t frameAt(const std::vector<haptics::DepthFrameView> &frames, double t);
+std::size_t frameAt(const std::vector<scene::DepthFrameView> &frames, double t);
 
 /// Updates of \a rows whose proxy ended below the surface the renderer saw (frames i, i+1
 /// interpolated, paper Eq. 1) by more than a millionth of the sample spacing; -1 when a frame
 /// pair cannot be set.
-long countPopThroughs(const std::vector<haptics::DepthFrameView> &frames,
-                      const std::vector<haptics::ForceLogRow> &rows, const haptics::SceneBox &box);
+long countPopThroughs(const std::vector<scene::DepthFrameView> &frames,
+                      const std::vector<haptics::ForceLogRow> &rows, const scene::SceneBox &box);
 
 /// \return the force log of replaying \a stroke on the W×H Gray8 frames of \a video (no copy).
 Result<std::vector<haptics::ForceLogRow>>

@@ -145,7 +145,7 @@ void fuzzMedia(const std::uint8_t *data, std::size_t size)
             check(static_cast<bool>(n)); // Busy is impossible: every frame is dropped at once
             if (!*n)
                 break;
-            const receiver::DepthPair p = f.depthPair();
+            const receiver::StoredDepthPair p = f.depthPair();
             checker(f.pts, f.index, p.current != nullptr, p.next != nullptr, p.currentPts,
                     p.nextPts, f.depthMissing, f.depthDuplicated);
             check(static_cast<bool>(f.color) == (*r)->info().hasColor);

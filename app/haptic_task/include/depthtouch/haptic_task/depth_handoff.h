@@ -46,8 +46,8 @@ struct DepthSlot {
 
 /// \brief The pair the haptic thread renders: frame i and the buffered frame i+1 (paper IV.B).
 struct DepthPair {
-    haptics::DepthFrameView current{}; ///< Frame i.
-    haptics::DepthFrameView next{};    ///< Frame i+1; meaningful when hasNext.
+    scene::DepthFrameView current{}; ///< Frame i.
+    scene::DepthFrameView next{};    ///< Frame i+1; meaningful when hasNext.
     bool hasNext = false;              ///< False at the end of the stream or before frame i+1.
     std::uint64_t sequence = 0;        ///< Publications taken by the reader so far (1 = first).
 };
@@ -80,11 +80,11 @@ public:
     /// \return the handoff, or Errc::InvalidArgument (width or height < 2, or above 16384),
     /// Errc::OutOfResources (allocation failed).
     static Result<std::unique_ptr<DepthHandoff>>
-    create(int width, int height, haptics::SampleFormat format, bool material = false);
+    create(int width, int height, scene::SampleFormat format, bool material = false);
 
     [[nodiscard]] int width() const noexcept { return width_; }   ///< W, samples.
     [[nodiscard]] int height() const noexcept { return height_; } ///< H, rows.
-    [[nodiscard]] haptics::SampleFormat format() const noexcept { return format_; }
+    [[nodiscard]] scene::SampleFormat format() const noexcept { return format_; }
     /// \return bytes of one frame (W·H·bytesPerSample).
     [[nodiscard]] std::size_t frameBytes() const noexcept { return frameBytes_; }
     /// \return true when the slots carry material images (create()'s \a material).
@@ -109,13 +109,13 @@ public:
     /// overlap (W samples of the handoff's sample size per row, at the view's stride); the views'
     /// format is not checked. Any other publication (publish(), push(), finish()) or restart() in
     /// between makes the next call copy both frames. Wait-free, no allocation.
-    void publishPair(const haptics::DepthFrameView &current,
-                     const haptics::DepthFrameView *next) noexcept;
+    void publishPair(const scene::DepthFrameView &current,
+                     const scene::DepthFrameView *next) noexcept;
     /// \brief Copies \a frame into a free slot and publishes (previously pushed frame, \a frame),
     /// or (\a frame, none) for the first frame since create() or restart().
     /// \return Errc::InvalidArgument (nothing published) when the frame is malformed or its size
     /// or sample format differ from the handoff's.
-    [[nodiscard]] Result<void> push(const haptics::DepthFrameView &frame) noexcept;
+    [[nodiscard]] Result<void> push(const scene::DepthFrameView &frame) noexcept;
     /// \brief End of stream: publishes (last pushed frame, none), so the surface holds still.
     /// No-op before the first push().
     void finish() noexcept;
@@ -161,17 +161,17 @@ public:
     }
 
 private:
-    DepthHandoff(int width, int height, haptics::SampleFormat format, bool material);
+    DepthHandoff(int width, int height, scene::SampleFormat format, bool material);
     DT_DISABLE_COPY_AND_MOVE(DepthHandoff)
 
     [[nodiscard]] DepthSlot slot(int index) noexcept;
-    [[nodiscard]] haptics::DepthFrameView view(int index) const noexcept;
+    [[nodiscard]] scene::DepthFrameView view(int index) const noexcept;
     /// Writer: copies \a frame into a slot from beginFrame() (see publishPair()).
-    [[nodiscard]] DepthSlot copyIn(const haptics::DepthFrameView &frame) noexcept;
+    [[nodiscard]] DepthSlot copyIn(const scene::DepthFrameView &frame) noexcept;
 
     const int width_;
     const int height_;
-    const haptics::SampleFormat format_;
+    const scene::SampleFormat format_;
     const std::size_t frameBytes_;
     const std::size_t materialBytes_;   ///< W·H·3 with materials, else 0.
     const std::size_t slotBytes_;       ///< frameBytes_ + materialBytes_.

@@ -56,7 +56,7 @@ namespace depthtouch::receiver {
 
 /// \brief Depth frames i and i+1 of a paired frame and their material frames, as the haptic task
 /// takes them. Borrowed from the PairedFrame: valid while it is held.
-struct DepthPair {
+struct StoredDepthPair {
     const StoredFrame *current = nullptr; ///< Frame i; nullptr when the output has no depth.
     const StoredFrame *next = nullptr;    ///< Frame i+1; nullptr at the end of the depth video.
     hal::Pts currentPts = hal::kNoPts;    ///< Stream timeline (ns).
@@ -86,7 +86,7 @@ struct PairedFrame {
     std::uint32_t generation = 0; ///< Seek generation (DecoderThread); 0 from Receiver itself.
 
     /// \return depth frames i and i+1 with their PTS.
-    [[nodiscard]] DepthPair depthPair() const noexcept;
+    [[nodiscard]] StoredDepthPair depthPair() const noexcept;
 };
 
 /// \brief Settings of a Receiver.

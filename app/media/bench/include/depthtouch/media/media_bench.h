@@ -201,19 +201,19 @@ ForceError compareForces(const std::vector<haptics::ForceLogRow> &a,
 /// \param frames the reference depth frames (PTS in s, increasing). \pre at least 2 frames.
 /// \param laneY the lane's y in the scene-box frame, m. \param rowPeriod s, > 0.
 std::vector<haptics::TrajectorySample>
-makeStroke(const std::vector<haptics::DepthFrameView> &frames, const haptics::SceneBox &box,
+makeStroke(const std::vector<scene::DepthFrameView> &frames, const scene::SceneBox &box,
            double laneY, double rowPeriod = 0.001);
 
 /// \brief A press: the HIP at (\a x, \a y) (m) approaches as in makeStroke() and then stays 2 mm
 /// below the surface of \a frames while they play, one row every \a rowPeriod seconds.
-std::vector<haptics::TrajectorySample> makePress(const std::vector<haptics::DepthFrameView> &frames,
-                                                 const haptics::SceneBox &box, double x, double y,
+std::vector<haptics::TrajectorySample> makePress(const std::vector<scene::DepthFrameView> &frames,
+                                                 const scene::SceneBox &box, double x, double y,
                                                  double rowPeriod = 0.001);
 
 /// \return the stroke lanes (y, m) for \a width × \a height frames in \a box: the middle row,
 /// then alternately above and below it in steps of a tenth of the half height, up to 0.8 of it
 /// (17 lanes).
-std::vector<double> strokeLanes(int width, int height, const haptics::SceneBox &box);
+std::vector<double> strokeLanes(int width, int height, const scene::SceneBox &box);
 
 /// \brief Prints the tables and the goals (720×486 decode + pairing ≥ 10× real time, 1920×1080 ≥
 /// 2×) to stdout.
