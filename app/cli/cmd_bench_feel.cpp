@@ -111,9 +111,9 @@ Result<hb::FeelScene> loadClip(const std::string &url, const std::string &name)
         }
     }
     const double fps = info.fps > 0.0 ? info.fps : 30.0;
-    return hb::sceneFromNearness(
-        name, frames, wide ? scene::SampleFormat::Gray16 : scene::SampleFormat::Gray8, fps,
-        scene::SceneBox{});
+    return hb::sceneFromNearness(name, frames,
+                                 wide ? scene::SampleFormat::Gray16 : scene::SampleFormat::Gray8,
+                                 fps, scene::SceneBox{});
 }
 
 /// One capture of the shared data: where its depth PNGs are and how to play them.
@@ -302,9 +302,8 @@ int runBenchFeel(const BenchFeelOptions &o)
     for (const hb::FeelScene &s : scenes) {
         strokes.push_back(hb::makeFamilyStrokes(s, plan, &placeNotes));
         std::printf("%-28s %dx%d %s, %zu frames at %.1f fps, %zu strokes\n", s.name.c_str(),
-                    s.width, s.height,
-                    s.format == scene::SampleFormat::Gray8 ? "8-bit" : "16-bit", s.frameCount(),
-                    s.fps, strokes.back().size());
+                    s.width, s.height, s.format == scene::SampleFormat::Gray8 ? "8-bit" : "16-bit",
+                    s.frameCount(), s.fps, strokes.back().size());
     }
     std::vector<std::vector<hb::Stroke>> cleanStrokes;
     hb::StrokePlan cleanPlan;

@@ -195,12 +195,8 @@ scene::DepthFrameView GlPresenter::depthOf(const DrawInput &in)
         const int w = in.frame.color.get()->image.width;
         const int h = in.frame.color.get()->image.height;
         flatDepth_.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0);
-        dv = {flatDepth_.data(),
-              w,
-              h,
-              static_cast<std::size_t>(w),
-              scene::SampleFormat::Gray8,
-              in.pts};
+        dv = {flatDepth_.data(),          w,     h, static_cast<std::size_t>(w),
+              scene::SampleFormat::Gray8, in.pts};
     }
     return dv;
 }

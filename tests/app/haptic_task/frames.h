@@ -52,11 +52,11 @@ struct Frame16 {
     [[nodiscard]] scene::DepthFrameView view() const
     {
         return scene::DepthFrameView{reinterpret_cast<const std::uint8_t *>(samples.data()),
-                                       width,
-                                       height,
-                                       static_cast<std::size_t>(width) * 2,
-                                       scene::SampleFormat::Gray16,
-                                       pts};
+                                     width,
+                                     height,
+                                     static_cast<std::size_t>(width) * 2,
+                                     scene::SampleFormat::Gray16,
+                                     pts};
     }
 };
 

@@ -191,12 +191,8 @@ Result<RtCase> runTask(double rateHz, SchedPolicy policy, platform::MemoryLockMo
                     pixels[static_cast<std::size_t>(r * kW + col)] =
                         static_cast<std::uint8_t>(std::lround(std::fmin(v, 255.0)));
                 }
-            const scene::DepthFrameView view{pixels.data(),
-                                               kW,
-                                               kH,
-                                               static_cast<std::size_t>(kW),
-                                               scene::SampleFormat::Gray8,
-                                               t};
+            const scene::DepthFrameView view{
+                pixels.data(), kW, kH, static_cast<std::size_t>(kW), scene::SampleFormat::Gray8, t};
             (void)(*handoff)->push(view);
             clock.sleepUntil(origin + platform::fromSeconds(t)); // frame i+1 out at frame i's PTS
         }

@@ -173,9 +173,9 @@ followSurface(const std::vector<scene::DepthFrameView> &frames, const scene::Sce
 
 } // namespace
 
-std::vector<haptics::TrajectorySample>
-makeStroke(const std::vector<scene::DepthFrameView> &frames, const scene::SceneBox &box,
-           double laneY, double rowPeriod)
+std::vector<haptics::TrajectorySample> makeStroke(const std::vector<scene::DepthFrameView> &frames,
+                                                  const scene::SceneBox &box, double laneY,
+                                                  double rowPeriod)
 {
     return followSurface(frames, box, -0.4 * box.width, 0.4 * box.width, laneY, 0.001, rowPeriod);
 }

@@ -128,7 +128,7 @@ Result<Decoded> decodeFile(const std::string &path, const ReceiverBackends &back
 
 /// Views of W×H Gray8 frames stored back to back, PTS i/fps.
 std::vector<scene::DepthFrameView> viewsOf(const std::vector<std::uint8_t> &video, int width,
-                                             int height, double fps)
+                                           int height, double fps)
 {
     const std::size_t frameBytes =
         static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
@@ -184,9 +184,7 @@ namespace {
 /// Frames stored back to back in memory that the caller keeps alive: no copy per replay.
 class BorrowedFrames final : public haptics::FrameProvider {
 public:
-    explicit BorrowedFrames(std::vector<scene::DepthFrameView> views) : views_(std::move(views))
-    {
-    }
+    explicit BorrowedFrames(std::vector<scene::DepthFrameView> views) : views_(std::move(views)) {}
     [[nodiscard]] std::size_t frameCount() const noexcept override { return views_.size(); }
     Result<scene::DepthFrameView> frame(std::size_t i) noexcept override
     {

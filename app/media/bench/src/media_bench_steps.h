@@ -57,7 +57,7 @@ Result<Decoded> decodeFile(const std::string &path, const ReceiverBackends &back
 
 /// Views of W×H Gray8 frames stored back to back, PTS i/fps.
 std::vector<scene::DepthFrameView> viewsOf(const std::vector<std::uint8_t> &video, int width,
-                                             int height, double fps);
+                                           int height, double fps);
 
 /// Index of the frame shown at haptic time \a t (s from the first PTS), as replay() picks it.
 std::size_t frameAt(const std::vector<scene::DepthFrameView> &frames, double t);

@@ -46,8 +46,8 @@ struct DepthSlot {
 
 /// \brief The pair the haptic thread renders: frame i and the buffered frame i+1 (paper IV.B).
 struct DepthPair {
-    scene::DepthFrameView current{}; ///< Frame i.
-    scene::DepthFrameView next{};    ///< Frame i+1; meaningful when hasNext.
+    scene::DepthFrameView current{};   ///< Frame i.
+    scene::DepthFrameView next{};      ///< Frame i+1; meaningful when hasNext.
     bool hasNext = false;              ///< False at the end of the stream or before frame i+1.
     std::uint64_t sequence = 0;        ///< Publications taken by the reader so far (1 = first).
 };

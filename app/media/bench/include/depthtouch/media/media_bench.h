@@ -200,9 +200,9 @@ ForceError compareForces(const std::vector<haptics::ForceLogRow> &a,
 /// until the last frame's PTS.
 /// \param frames the reference depth frames (PTS in s, increasing). \pre at least 2 frames.
 /// \param laneY the lane's y in the scene-box frame, m. \param rowPeriod s, > 0.
-std::vector<haptics::TrajectorySample>
-makeStroke(const std::vector<scene::DepthFrameView> &frames, const scene::SceneBox &box,
-           double laneY, double rowPeriod = 0.001);
+std::vector<haptics::TrajectorySample> makeStroke(const std::vector<scene::DepthFrameView> &frames,
+                                                  const scene::SceneBox &box, double laneY,
+                                                  double rowPeriod = 0.001);
 
 /// \brief A press: the HIP at (\a x, \a y) (m) approaches as in makeStroke() and then stays 2 mm
 /// below the surface of \a frames while they play, one row every \a rowPeriod seconds.
