@@ -36,7 +36,7 @@ std::string tableError(const std::string &path, const std::string &why)
 }
 
 /// \return the colour of "#rrggbb" \a text, nullopt when malformed.
-std::optional<std::array<std::uint8_t, 3>> parseColour(const std::string &text)
+std::optional<std::array<std::uint8_t, 3>> parseColor(const std::string &text)
 {
     if (text.size() != 7 || text[0] != '#')
         return std::nullopt;
@@ -58,7 +58,7 @@ std::optional<std::array<std::uint8_t, 3>> parseColour(const std::string &text)
     return rgb;
 }
 
-std::string colourText(const std::uint8_t *rgb)
+std::string colorText(const std::uint8_t *rgb)
 {
     char buf[8];
     std::snprintf(buf, sizeof buf, "#%02x%02x%02x", rgb[0], rgb[1], rgb[2]);
@@ -97,7 +97,7 @@ std::string parseMaterial(const std::string &name, const toml::table &t, NamedMa
         bool ok = true;
         if (key == "label") {
             const std::optional<std::string> text = node.value<std::string>();
-            const auto rgb = text ? parseColour(*text) : std::nullopt;
+            const auto rgb = text ? parseColor(*text) : std::nullopt;
             if (!rgb)
                 return what + ": label must be a colour \"#rrggbb\"";
             m.label = *rgb;
@@ -152,7 +152,7 @@ std::string parseMaterialTable(std::string_view text, const std::string &path,
             if (other.label == m.label)
                 return tableError(path, "materials " + quotedText(other.name) + " and " +
                                             quotedText(name) + " have the same label " +
-                                            colourText(m.label.data()));
+                                            colorText(m.label.data()));
         out.push_back(std::move(m));
     }
     if (out.empty())
@@ -181,7 +181,7 @@ std::string mapLabels(const media::Image &labels, const std::string &labelsPath,
             }
             if (last == nullptr)
                 return "--material-map " + quotedText(labelsPath) + ": label colour " +
-                       colourText(in) + " (pixel " + std::to_string(x) + ", " + std::to_string(y) +
+                       colorText(in) + " (pixel " + std::to_string(x) + ", " + std::to_string(y) +
                        ") has no material in --materials";
             scene::encodeMaterial(last->material, out);
         }

@@ -145,7 +145,7 @@ TEST(MaterialMapTest, labelsMapToTheirMaterialsCodes)
                 << "pixel " << i << " plane " << c;
 }
 
-TEST(MaterialMapTest, aLabelColourTheTableLacksNamesTheColourAndAPixel)
+TEST(MaterialMapTest, aLabelColorTheTableLacksNamesTheColorAndAPixel)
 {
     const auto table = parseOk("[a]\nlabel = \"#ff0000\"\n");
     const std::array<std::uint8_t, 3> r{255, 0, 0};

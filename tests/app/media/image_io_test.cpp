@@ -167,7 +167,7 @@ TEST_F(ImageIoTest, writeRefusesEmptyImagesAndUnwritablePaths)
         Errc::Io);
 }
 
-TEST_F(ImageIoTest, readsRealJpegColourAndTruncatedJpegFails)
+TEST_F(ImageIoTest, readsRealJpegColorAndTruncatedJpegFails)
 {
     DT_NEED_SHARED_DATA("rgbd-7scenes-redkitchen/frame-000000.color.jpg");
     const std::string jpg =

@@ -222,7 +222,7 @@ protected:
     std::unique_ptr<StereoRenderer> renderer_;
     test::Depth8 depth_{32, 24, [](int c, int r) { return 100 + c + r; }};
     /// Colour with structure in every plane: Y ramps, Cb and Cr vary by quadrant.
-    test::Yuv420 colour_{32, 24, [](int c, int r) {
+    test::Yuv420 color_{32, 24, [](int c, int r) {
         return std::array<int, 3>{40 + 5 * c, c < 16 ? 90 : 170, r < 12 ? 200 : 60};
     }};
 };
@@ -230,7 +230,7 @@ protected:
 TEST_F(DmaBufRenderTest, yuv420DmaBufOnlyFrameDrawsLikeItsCpuPlanes)
 {
     // GIVEN the colour frame as CPU planes, drawn as the reference
-    ASSERT_TRUE(renderer_->setColor(colour_.view(), ColorSpec{}));
+    ASSERT_TRUE(renderer_->setColor(color_.view(), ColorSpec{}));
     const auto reference = draw();
     ASSERT_GT(lit(reference), 1000);
     // AND the same frame as a YUV420 "dma-buf": a memfd with padded rows (pitch 40 / 24)
@@ -238,11 +238,11 @@ TEST_F(DmaBufRenderTest, yuv420DmaBufOnlyFrameDrawsLikeItsCpuPlanes)
     const std::uint32_t yPitch = 40, cPitch = 24;
     std::vector<std::uint8_t> bytes(yPitch * h + 2 * cPitch * ch, 0xee);
     for (std::uint32_t r = 0; r < h; ++r)
-        std::copy_n(&colour_.y[r * w], w, &bytes[r * yPitch]);
+        std::copy_n(&color_.y[r * w], w, &bytes[r * yPitch]);
     const std::size_t uAt = yPitch * h, vAt = uAt + cPitch * ch;
     for (std::uint32_t r = 0; r < ch; ++r) {
-        std::copy_n(&colour_.u[r * cw], cw, &bytes[uAt + r * cPitch]);
-        std::copy_n(&colour_.v[r * cw], cw, &bytes[vAt + r * cPitch]);
+        std::copy_n(&color_.u[r * cw], cw, &bytes[uAt + r * cPitch]);
+        std::copy_n(&color_.v[r * cw], cw, &bytes[vAt + r * cPitch]);
     }
     MemFd mem(bytes);
     ASSERT_GE(mem.fd(), 0);
@@ -270,15 +270,15 @@ TEST_F(DmaBufRenderTest, yuv420DmaBufOnlyFrameDrawsLikeItsCpuPlanes)
 
 TEST_F(DmaBufRenderTest, nv12DmaBufOnlyFrameDrawsLikeItsCpuPlanes)
 {
-    ASSERT_TRUE(renderer_->setColor(colour_.view(), ColorSpec{YuvMatrix::Bt709, false}));
+    ASSERT_TRUE(renderer_->setColor(color_.view(), ColorSpec{YuvMatrix::Bt709, false}));
     const auto reference = draw();
     // GIVEN the same frame as NV12 in a memfd (pitch 32: rows packed)
     const int w = 32, h = 24, cw = 16, ch = 12;
     std::vector<std::uint8_t> bytes(static_cast<std::size_t>(w * h + 2 * cw * ch));
-    std::copy(colour_.y.begin(), colour_.y.end(), bytes.begin());
+    std::copy(color_.y.begin(), color_.y.end(), bytes.begin());
     for (int i = 0; i < cw * ch; ++i) {
-        bytes[static_cast<std::size_t>(w * h + 2 * i)] = colour_.u[static_cast<std::size_t>(i)];
-        bytes[static_cast<std::size_t>(w * h + 2 * i + 1)] = colour_.v[static_cast<std::size_t>(i)];
+        bytes[static_cast<std::size_t>(w * h + 2 * i)] = color_.u[static_cast<std::size_t>(i)];
+        bytes[static_cast<std::size_t>(w * h + 2 * i + 1)] = color_.v[static_cast<std::size_t>(i)];
     }
     MemFd mem(bytes);
     ASSERT_GE(mem.fd(), 0);
@@ -297,7 +297,7 @@ TEST_F(DmaBufRenderTest, nv12DmaBufOnlyFrameDrawsLikeItsCpuPlanes)
     EXPECT_EQ(maxDiff(second, first), 0);
     EXPECT_EQ(renderer_->dmaBufStats().imported + renderer_->dmaBufStats().uploaded, 2u);
     // AND a CPU frame afterwards is drawn from its planes again
-    ASSERT_TRUE(renderer_->setColorFrame(colour_.view(), hal::DmaBufImage{},
+    ASSERT_TRUE(renderer_->setColorFrame(color_.view(), hal::DmaBufImage{},
                                          ColorSpec{YuvMatrix::Bt709, false}));
     EXPECT_EQ(maxDiff(draw(), reference), 0);
 }
@@ -312,9 +312,9 @@ TEST_F(DmaBufRenderTest, frameWithBothUsesItsCpuPlanesWhenItCannotImport)
     img.planeCount = 3;
     for (auto &p : img.planes)
         p = {987654, 0, 32};
-    ASSERT_TRUE(renderer_->setColor(colour_.view(), ColorSpec{}));
+    ASSERT_TRUE(renderer_->setColor(color_.view(), ColorSpec{}));
     const auto reference = draw();
-    auto r = renderer_->setColorFrame(colour_.view(), img, ColorSpec{});
+    auto r = renderer_->setColorFrame(color_.view(), img, ColorSpec{});
     // THEN on a platform without import the CPU planes are drawn; with import the bad fd is an
     // error
     if (r) {

@@ -392,7 +392,7 @@ int distanceTo(int c, int r, int w, int h, const std::function<bool(int, int)> &
 
 } // namespace
 
-TEST_F(RenderGeometryTest, holesShowTheClearColourInEveryMeshMode)
+TEST_F(RenderGeometryTest, holesShowTheClearColorInEveryMeshMode)
 {
     // GIVEN a bumpy frame with a 30x25 hole coded 0 under a threshold of 24 (docs/architecture.md
     // §3 "Holes"), every other sample measured at 60 or more

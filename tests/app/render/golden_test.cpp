@@ -34,7 +34,7 @@ using test::Depth16;
 using test::Depth8;
 using test::Yuv420;
 
-TEST_F(RenderGoldenTest, flatPlaneWithSolidColourFillsTheBoxRegion)
+TEST_F(RenderGoldenTest, flatPlaneWithSolidColorFillsTheBoxRegion)
 {
     // GIVEN a flat depth frame at mid nearness and a solid red colour frame (BT.601 limited)
     const Depth8 d(64, 43, [](int, int) { return 128; });
@@ -225,7 +225,7 @@ TEST_F(RenderGoldenTest, yuvConversionMatchesBt601LimitedOnScreen)
     }
 }
 
-TEST_F(RenderGoldenTest, cpuAndShaderColourConversionAgree)
+TEST_F(RenderGoldenTest, cpuAndShaderColorConversionAgree)
 {
     // GIVEN a bumpy surface with a colour frame of steep gradients that stay in gamut (odd size)
     const Depth8 d(97, 65, bumpy);
@@ -262,7 +262,7 @@ TEST_F(RenderGoldenTest, cpuAndShaderColourConversionAgree)
         << "the surface was drawn";
 }
 
-TEST_F(RenderGoldenTest, colourFilterIsHonoured)
+TEST_F(RenderGoldenTest, colorFilterIsHonoured)
 {
     // GIVEN a flat surface coloured by a 2×2 frame of black and white columns, stretched over the
     // whole eye, on the CPU path
@@ -310,8 +310,8 @@ TEST_F(RenderGoldenTest, framePreparedAheadDrawsTheSamePicture)
     // AND from a FramePrep built on another thread
     FramePrep prep;
     std::thread worker([&] {
-        const hal::ImageView colour = col.view();
-        ASSERT_TRUE(prep.build(d.view(), &colour, ColorSpec{YuvMatrix::Bt601, false},
+        const hal::ImageView color = col.view();
+        ASSERT_TRUE(prep.build(d.view(), &color, ColorSpec{YuvMatrix::Bt601, false},
                                renderer_->options().mesh));
     });
     worker.join();

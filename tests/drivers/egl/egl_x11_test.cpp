@@ -219,7 +219,7 @@ TEST_F(EglX11Test, opensAFixedSizeWindowTitledDepthTouch)
     EXPECT_EQ(d->size().width, 0);
 }
 
-TEST_F(EglX11Test, clearedColoursReadBackTopRowFirst)
+TEST_F(EglX11Test, clearedColorsReadBackTopRowFirst)
 {
     auto d = create("readback=1");
     ASSERT_NE(d, nullptr);

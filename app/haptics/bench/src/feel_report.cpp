@@ -177,7 +177,7 @@ std::vector<ChartPoint> chartPoints(const FeelReport &report, bool &real)
     return out;
 }
 
-const char *methodColour(const std::string &setting)
+const char *methodColor(const std::string &setting)
 {
     if (setting.rfind("finger", 0) == 0)
         return "#1f5fbf";
@@ -299,7 +299,7 @@ void writePanel(std::ostream &s, const Panel &p, const std::vector<ChartPoint> &
     const auto labels = placeLabels(gp, names, p.y.graph(p.goal), p.goalText.size());
     for (std::size_t i = 0; i < pts.size(); ++i) {
         s << "set label '" << names[i] << "' at graph " << labels[i].first << ", graph "
-          << labels[i].second << " left front tc rgb '" << methodColour(names[i]) << "'\n";
+          << labels[i].second << " left front tc rgb '" << methodColor(names[i]) << "'\n";
         s << "set arrow from graph " << gp[i].first << ", graph " << gp[i].second << " to graph "
           << (labels[i].first < gp[i].first
                   ? labels[i].first + 0.017 * static_cast<double>(names[i].size())
@@ -309,9 +309,9 @@ void writePanel(std::ostream &s, const Panel &p, const std::vector<ChartPoint> &
     s << "$pts << EOD\n";
     for (std::size_t i = 0; i < pts.size(); ++i) {
         const double ps = 1.2 + 2.3 * std::sqrt(std::max(pts[i].p999, 0.0) / maxP);
-        unsigned colour = 0;
-        std::sscanf(methodColour(pts[i].setting) + 1, "%x", &colour);
-        s << p.xv[i] << ' ' << p.yv[i] << ' ' << ps << ' ' << colour << '\n';
+        unsigned color = 0;
+        std::sscanf(methodColor(pts[i].setting) + 1, "%x", &color);
+        s << p.xv[i] << ' ' << p.yv[i] << ' ' << ps << ' ' << color << '\n';
     }
     s << "EOD\nplot $pts using 1:2:3:4 with points pt 7 ps variable lc rgb variable\n";
 }

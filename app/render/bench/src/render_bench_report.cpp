@@ -54,7 +54,7 @@ void writeFpsChart(const std::vector<BenchRow> &rows, const std::filesystem::pat
         "fixed step (full, 2, 4, 8)",      "adaptive per tile (tolerance)",
         "quadtree (mean error budget)",    "quadtree-0.50 under a block budget",
         "blocks: a step per tile, ranges", "blocks-0.40 under a cell budget"};
-    static constexpr const char *kColours[] = {"#1f77b4", "#2ca02c", "#d62728",
+    static constexpr const char *kColors[] = {"#1f77b4", "#2ca02c", "#d62728",
                                                "#9467bd", "#ff7f0e", "#8c564b"};
     // Labels placed apart per family: right, left, above, below the point.
     static constexpr const char *kOffsets[] = {"1.2,0.6",   "-1.2,-0.9", "1.0,1.1",
@@ -99,10 +99,10 @@ void writeFpsChart(const std::vector<BenchRow> &rows, const std::filesystem::pat
         const int k = present[i];
         const std::string file = i == 0 ? "'" + (base / "fps_vs_error.dat").string() + "'" : "''";
         gp << (i == 0 ? "" : ", \\\n     ") << file << " index " << i
-           << " using ($1 < 0.1 ? 0.1 : $1):2 with linespoints lw 2 pt 7 lc rgb '" << kColours[k]
+           << " using ($1 < 0.1 ? 0.1 : $1):2 with linespoints lw 2 pt 7 lc rgb '" << kColors[k]
            << "' title '" << kTitles[k] << "', \\\n     '' index " << i
            << " using ($1 < 0.1 ? 0.1 : $1):2:3 with labels " << kAlign[k] << " offset "
-           << kOffsets[k] << " tc rgb '" << kColours[k] << "' notitle";
+           << kOffsets[k] << " tc rgb '" << kColors[k] << "' notitle";
     }
     if (present.empty())
         gp << "NaN notitle";
@@ -163,7 +163,7 @@ void writeCpuChart(const std::vector<BenchRow> &rows, const std::filesystem::pat
             d << "\n\n";
         }
     }
-    static constexpr const char *kColours[] = {"#1f77b4", "#2ca02c", "#d62728", "#9467bd",
+    static constexpr const char *kColors[] = {"#1f77b4", "#2ca02c", "#d62728", "#9467bd",
                                                "#ff7f0e", "#8c564b", "#17becf", "#7f7f7f"};
     const std::string dat = "'" + (base / "cpu_vs_depth_size.dat").string() + "'";
     platform::TextReportFile gp((base / "cpu_vs_depth_size.gp").string(), error);
@@ -186,7 +186,7 @@ void writeCpuChart(const std::vector<BenchRow> &rows, const std::filesystem::pat
         gp << "set title '" << title << "'\nset ylabel 'ms per frame (thread CPU time)'\nplot ";
         for (std::size_t k = 0; k < series.size(); ++k)
             gp << (k == 0 ? "" : ", \\\n     ") << (k == 0 ? dat : "''") << " index " << k
-               << " using 1:" << column << " with linespoints lw 2 pt 7 lc rgb '" << kColours[k % 8]
+               << " using 1:" << column << " with linespoints lw 2 pt 7 lc rgb '" << kColors[k % 8]
                << "' title '" << series[k] << "'";
         gp << '\n';
     };
