@@ -1,8 +1,9 @@
 // The `synthetic:` and `v4l2:` frame sources of the depthtouch executable (app/cli/
-// source_providers.h): the spec grammar, the synthetic head through makeSourceProviders() on the
-// headless EGL display (color and depth of the same frames, nearness tags), a camera source on
-// the mock RGB-D camera, and `depthtouch encode --color synthetic:head --depth synthetic:head`
-// end to end, read back with libavformat. The GL cases skip when there is no headless display.
+// source_providers.h, over media/camera_source.h and synthetic/synthetic_source.h): the spec
+// grammar, the synthetic head through makeSourceProviders() on the headless EGL display (color and
+// depth of the same frames, nearness tags), a camera source on the mock RGB-D camera, and
+// `depthtouch encode --color synthetic:head --depth synthetic:head` end to end, read back with
+// libavformat. The GL cases skip when there is no headless display.
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -18,15 +19,21 @@
 
 #include "app/media/readback.h"
 #include "depthtouch/drivers/backends.h"
+#include "depthtouch/media/camera_source.h"
 #include "depthtouch/media/frame_source.h"
-#include "source_factories.h"
+#include "depthtouch/synthetic/synthetic_source.h"
 #include "source_providers.h"
 #include "support/temp_dir.h"
 
 namespace depthtouch::cli {
 namespace {
 
+using media::openCameraSource;
+using media::parseCameraSpec;
 using media::PixelFormat;
+using media::shareCamera;
+using synthetic::parseSyntheticSpec;
+using synthetic::SyntheticSourceFactory;
 
 media::SourceOptions optionsFor(const std::string &title)
 {
@@ -280,7 +287,8 @@ TEST(SyntheticSourceTest, colorAndDepthShowTheSameFramesWithNearnessTags)
 TEST(SyntheticSourceTest, colorAndDepthOfOneSceneDrawEachFrameOnce)
 {
     // GIVEN the color and depth sources of one scene from one factory
-    SyntheticSourceFactory factory;
+    SyntheticSourceFactory factory(
+        [] { return drivers::createDisplay("headless", hal::BackendConfig{}); });
     auto color = factory.open("head,size=64x48,frames=6", optionsFor("color"));
     if (!color && color.error().code == Errc::NotSupported)
         GTEST_SKIP() << "No OpenGL ES: " << color.error().what;

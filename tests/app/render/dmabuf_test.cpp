@@ -222,9 +222,10 @@ protected:
     std::unique_ptr<StereoRenderer> renderer_;
     test::Depth8 depth_{32, 24, [](int c, int r) { return 100 + c + r; }};
     /// Colour with structure in every plane: Y ramps, Cb and Cr vary by quadrant.
-    test::Yuv420 color_{32, 24, [](int c, int r) {
-        return std::array<int, 3>{40 + 5 * c, c < 16 ? 90 : 170, r < 12 ? 200 : 60};
-    }};
+    test::Yuv420 color_{
+        32, 24, [](int c, int r) {
+            return std::array<int, 3>{40 + 5 * c, c < 16 ? 90 : 170, r < 12 ? 200 : 60};
+        }};
 };
 
 TEST_F(DmaBufRenderTest, yuv420DmaBufOnlyFrameDrawsLikeItsCpuPlanes)

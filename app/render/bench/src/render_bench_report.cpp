@@ -55,7 +55,7 @@ void writeFpsChart(const std::vector<BenchRow> &rows, const std::filesystem::pat
         "quadtree (mean error budget)",    "quadtree-0.50 under a block budget",
         "blocks: a step per tile, ranges", "blocks-0.40 under a cell budget"};
     static constexpr const char *kColors[] = {"#1f77b4", "#2ca02c", "#d62728",
-                                               "#9467bd", "#ff7f0e", "#8c564b"};
+                                              "#9467bd", "#ff7f0e", "#8c564b"};
     // Labels placed apart per family: right, left, above, below the point.
     static constexpr const char *kOffsets[] = {"1.2,0.6",   "-1.2,-0.9", "1.0,1.1",
                                                "-1.0,-1.3", "1.2,-0.9",  "-1.2,0.9"};
@@ -164,7 +164,7 @@ void writeCpuChart(const std::vector<BenchRow> &rows, const std::filesystem::pat
         }
     }
     static constexpr const char *kColors[] = {"#1f77b4", "#2ca02c", "#d62728", "#9467bd",
-                                               "#ff7f0e", "#8c564b", "#17becf", "#7f7f7f"};
+                                              "#ff7f0e", "#8c564b", "#17becf", "#7f7f7f"};
     const std::string dat = "'" + (base / "cpu_vs_depth_size.dat").string() + "'";
     platform::TextReportFile gp((base / "cpu_vs_depth_size.gp").string(), error);
     gp << "set terminal pngcairo size 1200,620 noenhanced font ',10'\n"

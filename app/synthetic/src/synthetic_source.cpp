@@ -1,11 +1,11 @@
 /// \file
-/// \brief `synthetic:NAME` sources (see source_providers.h): a SyntheticRenderer owns a thread with
+/// \brief `synthetic:NAME` sources (see synthetic_source.h): a SyntheticRenderer owns a thread with
 /// a headless EGL display, its GL ES context and one synthetic::SyntheticScene; the color, depth
 /// and material sources of one scene ask it for frames by index. Each frame is drawn once for every
 /// stream attached, kept in a small cache until the other stream takes it, and the next frame is
 /// drawn ahead while the caller encodes the current one.
 
-#include "source_factories.h"
+#include "depthtouch/synthetic/synthetic_source.h"
 
 #include <atomic>
 #include <cmath>
@@ -19,17 +19,14 @@
 #include "depthtouch/hal/backends.h"
 #include "depthtouch/media/image_convert.h"
 
-#if __has_include("depthtouch/synthetic/synthetic_scene.h")
-#include "depthtouch/drivers/backends.h"
 #include "depthtouch/synthetic/synthetic_scene.h"
-#define DT_CLI_HAVE_SYNTHETIC 1
-#else
-#define DT_CLI_HAVE_SYNTHETIC 0
-#endif
 
-namespace depthtouch::cli {
+namespace depthtouch::synthetic {
 
-#if DT_CLI_HAVE_SYNTHETIC
+using media::findShared;
+using media::parseSizeText;
+using media::persistentText;
+using media::wantsDepthStream;
 
 namespace {
 
@@ -96,7 +93,8 @@ public:
     /// Starts the thread and waits until it has its display, context and scene.
     /// Errors: NotSupported (no OpenGL ES display or context; a scene that does not build).
     static Result<std::shared_ptr<SyntheticRenderer>>
-    start(const SyntheticSpec &spec, std::shared_ptr<std::atomic<std::uint64_t>> drawnTotal);
+    start(const SyntheticSpec &spec, std::shared_ptr<std::atomic<std::uint64_t>> drawnTotal,
+          DisplayOpener openDisplay);
 
     ~SyntheticRenderer()
     {
@@ -183,8 +181,9 @@ private:
     };
 
     SyntheticRenderer(const SyntheticSpec &spec,
-                      std::shared_ptr<std::atomic<std::uint64_t>> drawnTotal)
-        : spec_(spec), drawnTotal_(std::move(drawnTotal))
+                      std::shared_ptr<std::atomic<std::uint64_t>> drawnTotal,
+                      DisplayOpener openDisplay)
+        : spec_(spec), drawnTotal_(std::move(drawnTotal)), openDisplay_(std::move(openDisplay))
     {
     }
 
@@ -214,7 +213,7 @@ private:
         hal::DisplayConfig dc;
         dc.width = 16; // the scene draws into its own framebuffer: the display's can be tiny
         dc.height = 16;
-        auto display = drivers::createDisplay("headless", hal::BackendConfig{});
+        auto display = openDisplay_();
         std::unique_ptr<synthetic::SyntheticScene> scene;
         Error failure{};
         bool failed = false;
@@ -333,6 +332,7 @@ private:
 
     const SyntheticSpec spec_;
     const std::shared_ptr<std::atomic<std::uint64_t>> drawnTotal_;
+    const DisplayOpener openDisplay_;
     std::thread thread_;
 
     std::mutex mutex_;
@@ -356,9 +356,11 @@ private:
 
 Result<std::shared_ptr<SyntheticRenderer>>
 SyntheticRenderer::start(const SyntheticSpec &spec,
-                         std::shared_ptr<std::atomic<std::uint64_t>> drawnTotal)
+                         std::shared_ptr<std::atomic<std::uint64_t>> drawnTotal,
+                         DisplayOpener openDisplay)
 {
-    std::shared_ptr<SyntheticRenderer> r(new SyntheticRenderer(spec, std::move(drawnTotal)));
+    std::shared_ptr<SyntheticRenderer> r(
+        new SyntheticRenderer(spec, std::move(drawnTotal), std::move(openDisplay)));
     r->thread_ = std::thread([raw = r.get()] { raw->run(); });
     std::unique_lock lock(r->mutex_);
     r->done_.wait(lock, [&] { return r->started_; });
@@ -495,9 +497,9 @@ Result<SyntheticSpec> parseSyntheticSpec(std::string_view target,
 
 SyntheticSourceFactory::~SyntheticSourceFactory() = default;
 
-bool SyntheticSourceFactory::available() noexcept
+SyntheticSourceFactory::SyntheticSourceFactory(DisplayOpener openDisplay)
+    : openDisplay_(std::move(openDisplay))
 {
-    return true;
 }
 
 std::uint64_t SyntheticSourceFactory::framesDrawn() const noexcept
@@ -516,7 +518,7 @@ SyntheticSourceFactory::open(std::string_view target, const media::SourceOptions
     const std::lock_guard lock(mutex_);
     std::shared_ptr<SyntheticRenderer> renderer = findShared(renderers_, key);
     if (!renderer) {
-        auto started = SyntheticRenderer::start(*spec, drawn_);
+        auto started = SyntheticRenderer::start(*spec, drawn_, openDisplay_);
         if (!started)
             return unexpected(started.error());
         renderer = std::move(*started);
@@ -526,31 +528,4 @@ SyntheticSourceFactory::open(std::string_view target, const media::SourceOptions
         std::make_unique<SyntheticFrameSource>(std::move(renderer), *spec));
 }
 
-#else // no OpenGL ES in this build
-
-Result<SyntheticSpec> parseSyntheticSpec(std::string_view, const media::SourceOptions &)
-{
-    return unexpected(Errc::NotSupported, "Synthetic CG scene sources are not built in");
-}
-
-SyntheticSourceFactory::~SyntheticSourceFactory() = default;
-
-bool SyntheticSourceFactory::available() noexcept
-{
-    return false;
-}
-
-std::uint64_t SyntheticSourceFactory::framesDrawn() const noexcept
-{
-    return 0;
-}
-
-Result<std::unique_ptr<media::FrameSource>>
-SyntheticSourceFactory::open(std::string_view, const media::SourceOptions &)
-{
-    return unexpected(Errc::NotSupported, "Synthetic CG scene sources are not built in");
-}
-
-#endif
-
-} // namespace depthtouch::cli
+} // namespace depthtouch::synthetic

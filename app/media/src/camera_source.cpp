@@ -1,8 +1,8 @@
 /// \file
-/// \brief `v4l2:DEVICE` sources (see source_providers.h): a CameraShare owns one hal::DepthCamera
+/// \brief `v4l2:DEVICE` sources (see camera_source.h): a CameraShare owns one hal::DepthCamera
 /// and hands each capture's color and depth frame to the two sources of the camera.
 
-#include "source_factories.h"
+#include "depthtouch/media/camera_source.h"
 
 #include <chrono>
 #include <cmath>
@@ -11,12 +11,11 @@
 #include <optional>
 #include <string>
 
-#include "depthtouch/drivers/backends.h"
 #include "depthtouch/hal/backends.h"
 #include "depthtouch/media/image_convert.h"
 #include "depthtouch/platform/clock.h"
 
-namespace depthtouch::cli {
+namespace depthtouch::media {
 
 namespace {
 
@@ -300,7 +299,7 @@ CameraSourceFactory::open(std::string_view target, const media::SourceOptions &o
         hal::BackendConfig cfg;
         cfg.device = spec->device;
         cfg.options = hal::OptionList(spec->backendOptions);
-        auto camera = drivers::createDepthCamera("v4l2", cfg);
+        auto camera = openCamera_(cfg);
         if (!camera) {
             Error e = camera.error();
             e.what = persistentText("No V4L2 depth camera at " + spec->device + ": " + e.what);
@@ -315,4 +314,4 @@ CameraSourceFactory::open(std::string_view target, const media::SourceOptions &o
     return openCameraSource(std::move(share), spec->depth);
 }
 
-} // namespace depthtouch::cli
+} // namespace depthtouch::media
