@@ -116,14 +116,6 @@ struct FfmpegVideoDecoder::Impl {
     {
     }
 
-    Result<void> checkState(bool allowed, const char *call, const char *required) const noexcept
-    {
-        if (allowed)
-            return ok();
-        DT_LOG(Ffmpeg, Debug, "In state %d trying %s() requiring %s", static_cast<int>(state), call,
-               required);
-        return unexpected(Errc::InvalidState, "Call not allowed in the decoder's state");
-    }
     void dropQueue() noexcept
     {
         head = 0;
@@ -151,7 +143,6 @@ struct FfmpegVideoDecoder::Impl {
     const FfmpegDecoderSettings settings;
     const char *hwName; ///< libavcodec decoder by name (h264_v4l2m2m), nullptr for software.
     hal::VideoDecoderCapabilities caps;
-    State state = State::Closed;
     hal::StreamConfig config;
     av::CodecContextPtr ctx;
     av::PacketPtr packet;
@@ -162,7 +153,6 @@ struct FfmpegVideoDecoder::Impl {
     std::vector<QueuedPacket> queue;
     std::size_t head = 0;
     std::size_t count = 0;
-    bool draining = false;  ///< An end-of-stream packet was queued (sent once the queue is empty).
     bool eosSent = false;   ///< libavcodec was told to drain.
     bool ended = false;     ///< libavcodec returned EOF.
     std::uint64_t sent = 0; ///< Packets given to libavcodec since configure/flush.
@@ -259,7 +249,10 @@ Result<hal::FrameRef> FfmpegVideoDecoder::Impl::lendFrame() noexcept
     return pool.lend(slot);
 }
 
-FfmpegVideoDecoder::FfmpegVideoDecoder(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+FfmpegVideoDecoder::FfmpegVideoDecoder(std::unique_ptr<Impl> impl) : impl_(std::move(impl))
+{
+    caps_ = impl_->caps;
+}
 FfmpegVideoDecoder::~FfmpegVideoDecoder() = default;
 
 Result<std::unique_ptr<hal::VideoDecoder>> FfmpegVideoDecoder::create(const hal::BackendConfig &cfg)
@@ -310,25 +303,11 @@ FfmpegVideoDecoder::createV4l2m2m(const hal::BackendConfig &cfg)
     return std::unique_ptr<hal::VideoDecoder>(new FfmpegVideoDecoder(std::move(impl)));
 }
 
-const hal::VideoDecoderCapabilities &FfmpegVideoDecoder::capabilities() const noexcept
-{
-    return impl_->caps;
-}
-
-hal::VideoDecoder::State FfmpegVideoDecoder::state() const noexcept
-{
-    return impl_->state;
-}
-
-Result<void> FfmpegVideoDecoder::configure(const hal::StreamConfig &cfg)
+Result<void> FfmpegVideoDecoder::configureDevice(const hal::StreamConfig &cfg)
 {
     Impl &d = *impl_;
-    DT_TRY(d.checkState(d.state != State::Running, "configure", "Closed or Configured"));
-    if (!d.caps.supports(cfg.codec) || avCodecOf(cfg.codec) == AV_CODEC_ID_NONE)
+    if (avCodecOf(cfg.codec) == AV_CODEC_ID_NONE)
         return unexpected(Errc::NotSupported, "Codec not supported by the ffmpeg decoder");
-    if (cfg.width <= 0 || cfg.height <= 0 || cfg.width > d.caps.maxWidth ||
-        cfg.height > d.caps.maxHeight)
-        return unexpected(Errc::InvalidArgument, "Frame size out of range");
     hal::PixelFormat format = cfg.format;
     if (format == hal::PixelFormat::Unknown)
         format = cfg.kind == hal::StreamKind::Depth ? hal::PixelFormat::Gray8
@@ -422,22 +401,14 @@ Result<void> FfmpegVideoDecoder::configure(const hal::StreamConfig &cfg)
     d.config = cfg;
     d.config.format = format;
     d.dropQueue();
-    d.draining = d.eosSent = d.ended = false;
+    d.eosSent = d.ended = false;
     d.sent = d.received = 0;
-    d.state = State::Configured;
     return ok();
 }
 
-Result<void> FfmpegVideoDecoder::queuePacket(const hal::Packet &pkt)
+Result<void> FfmpegVideoDecoder::queuePacketDevice(const hal::Packet &pkt)
 {
     Impl &d = *impl_;
-    DT_TRY(d.checkState(d.state != State::Closed && !d.draining, "queuePacket",
-                        "Configured or Running, before end of stream"));
-    if (pkt.isEndOfStream()) { // a flag, not a queue slot: always accepted
-        d.draining = true;
-        d.state = State::Running;
-        return ok();
-    }
     if (d.count == d.queue.size())
         return unexpected(Errc::Busy, "Decoder input queue is full");
     if (pkt.data == nullptr || pkt.size == 0) {
@@ -454,14 +425,12 @@ Result<void> FfmpegVideoDecoder::queuePacket(const hal::Packet &pkt)
     std::memset(q.data.data() + pkt.size, 0, AV_INPUT_BUFFER_PADDING_SIZE);
     d.packetsQueued.fetch_add(1, std::memory_order_relaxed);
     ++d.count;
-    d.state = State::Running;
     return ok();
 }
 
-Result<hal::FrameRef> FfmpegVideoDecoder::dequeueFrame(hal::Deadline until)
+Result<hal::FrameRef> FfmpegVideoDecoder::dequeueFrameDevice(hal::Deadline until)
 {
     Impl &d = *impl_;
-    DT_TRY(d.checkState(d.state == State::Running, "dequeueFrame", "Running"));
     d.releaseReturned();
     if (d.ended)
         return unexpected(Errc::EndOfStream, "Decoder drained");
@@ -485,7 +454,7 @@ Result<hal::FrameRef> FfmpegVideoDecoder::dequeueFrame(hal::Deadline until)
         }
         int s = 0;
         if (d.count == 0) {
-            if (!d.draining || d.eosSent)
+            if (!draining() || d.eosSent)
                 break;
             d.eosSent = true;
             s = avcodec_send_packet(d.ctx.get(), nullptr);
@@ -515,33 +484,25 @@ Result<hal::FrameRef> FfmpegVideoDecoder::dequeueFrame(hal::Deadline until)
     return unexpected(Errc::Timeout, "No frame decoded by the deadline");
 }
 
-Result<void> FfmpegVideoDecoder::flush()
+void FfmpegVideoDecoder::flushDevice() noexcept
 {
     Impl &d = *impl_;
-    DT_TRY(d.checkState(d.state != State::Closed, "flush", "Configured or Running"));
-    if (d.state == State::Configured)
-        return ok();
     d.framesDropped.fetch_add(d.count, std::memory_order_relaxed);
     d.settleDropped();
     d.dropQueue();
     avcodec_flush_buffers(d.ctx.get());
-    d.draining = d.eosSent = d.ended = false;
-    d.state = State::Configured;
-    return ok();
+    d.eosSent = d.ended = false;
 }
 
-void FfmpegVideoDecoder::close() noexcept
+void FfmpegVideoDecoder::closeDevice() noexcept
 {
     Impl &d = *impl_;
-    if (d.state == State::Closed)
-        return;
     d.settleDropped();
     d.dropQueue();
     d.releaseReturned();
     d.ctx.reset();
     d.sws.reset();
-    d.draining = d.eosSent = d.ended = false;
-    d.state = State::Closed;
+    d.eosSent = d.ended = false;
 }
 
 hal::DecoderStats FfmpegVideoDecoder::stats() const noexcept

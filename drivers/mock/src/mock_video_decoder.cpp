@@ -57,28 +57,12 @@ MockVideoDecoder::MockVideoDecoder(platform::Clock &clock, const MockDecoderSett
 
 MockVideoDecoder::~MockVideoDecoder() = default;
 
-Result<void> MockVideoDecoder::checkState(bool allowed, const char *call,
-                                          const char *required) const noexcept
+Result<void> MockVideoDecoder::configureDevice(const hal::StreamConfig &cfg)
 {
-    if (allowed)
-        return ok();
-    DT_LOG(Mock, Error, "In state %s trying %s() requiring %s", hal::toString(state_), call,
-           required);
-    return unexpected(Errc::InvalidState, "Call not allowed in the decoder's state");
-}
-
-Result<void> MockVideoDecoder::configure(const hal::StreamConfig &cfg)
-{
-    DT_TRY(checkState(state_ != State::Running, "configure", "Closed or Configured"));
     if (failConfigureArmed_) {
         failConfigureArmed_ = false;
         return unexpected(failConfigure_, "Failed to configure mock decoder (injected fault)");
     }
-    if (!caps_.supports(cfg.codec))
-        return unexpected(Errc::NotSupported, "Mock decoder decodes only the Mock codec");
-    if (cfg.width < 1 || cfg.height < 1 || cfg.width > caps_.maxWidth ||
-        cfg.height > caps_.maxHeight)
-        return unexpected(Errc::InvalidArgument, "Stream size out of range");
     if (!outputFormatSupported(cfg.kind, cfg.format))
         return unexpected(Errc::NotSupported, "Mock decoder cannot output this pixel format");
     DT_TRY(pool_->allocate(settings_.poolFrames, cfg.format, cfg.width, cfg.height));
@@ -86,8 +70,6 @@ Result<void> MockVideoDecoder::configure(const hal::StreamConfig &cfg)
     dropQueue();
     queuedSinceConfigure_ = 0;
     sequence_ = 0;
-    draining_ = false;
-    state_ = State::Configured;
     return ok();
 }
 
@@ -98,16 +80,8 @@ void MockVideoDecoder::dropQueue() noexcept
     count_ = 0;
 }
 
-Result<void> MockVideoDecoder::queuePacket(const hal::Packet &pkt)
+Result<void> MockVideoDecoder::queuePacketDevice(const hal::Packet &pkt)
 {
-    DT_TRY(checkState(state_ != State::Closed, "queuePacket", "Configured or Running"));
-    if (draining_)
-        return unexpected(Errc::InvalidState, "Packet after end of stream: flush() first");
-    if (pkt.isEndOfStream()) {
-        draining_ = true;
-        state_ = State::Running;
-        return ok();
-    }
     if (count_ == queue_.size())
         return unexpected(Errc::Busy, "Decoder input queue full");
     MockPacketHeader header;
@@ -123,15 +97,13 @@ Result<void> MockVideoDecoder::queuePacket(const hal::Packet &pkt)
     q.ordinal = queuedSinceConfigure_++;
     ++count_;
     packetsQueued_.fetch_add(1, std::memory_order_relaxed);
-    state_ = State::Running;
     return ok();
 }
 
-Result<hal::FrameRef> MockVideoDecoder::dequeueFrame(hal::Deadline until)
+Result<hal::FrameRef> MockVideoDecoder::dequeueFrameDevice(hal::Deadline until)
 {
-    DT_TRY(checkState(state_ == State::Running, "dequeueFrame", "Running"));
     if (count_ == 0) {
-        if (draining_)
+        if (draining())
             return unexpected(Errc::EndOfStream, "Decoder drained");
         // Nothing can arrive while the caller waits here (queuePacket() runs on the same thread).
         if (until > clock_.now())
@@ -175,20 +147,14 @@ Result<hal::FrameRef> MockVideoDecoder::dequeueFrame(hal::Deadline until)
     return pool_->lend(slot);
 }
 
-Result<void> MockVideoDecoder::flush()
+void MockVideoDecoder::flushDevice() noexcept
 {
-    DT_TRY(checkState(state_ != State::Closed, "flush", "Configured or Running"));
     dropQueue();
-    draining_ = false;
-    state_ = State::Configured;
-    return ok();
 }
 
-void MockVideoDecoder::close() noexcept
+void MockVideoDecoder::closeDevice() noexcept
 {
     dropQueue();
-    draining_ = false;
-    state_ = State::Closed;
 }
 
 hal::DecoderStats MockVideoDecoder::stats() const noexcept

@@ -37,7 +37,7 @@
 #include <memory>
 
 #include "depthtouch/hal/backends.h"
-#include "depthtouch/hal/video_decoder.h"
+#include "depthtouch/hal/video_decoder_base.h"
 #include "depthtouch/platform/clock.h"
 
 namespace depthtouch::drivers {
@@ -52,7 +52,7 @@ struct FfmpegDecoderSettings {
     static Result<FfmpegDecoderSettings> parse(hal::OptionList options);
 };
 
-class FfmpegVideoDecoder final : public hal::VideoDecoder {
+class FfmpegVideoDecoder final : public hal::VideoDecoderBase {
 public:
     /// Backend factory of `ffmpeg` (software decoding).
     static Result<std::unique_ptr<hal::VideoDecoder>> create(const hal::BackendConfig &cfg);
@@ -61,19 +61,20 @@ public:
 
     ~FfmpegVideoDecoder() override;
 
-    [[nodiscard]] const hal::VideoDecoderCapabilities &capabilities() const noexcept override;
-    [[nodiscard]] State state() const noexcept override;
-    [[nodiscard]] Result<void> configure(const hal::StreamConfig &cfg) override;
-    [[nodiscard]] Result<void> queuePacket(const hal::Packet &pkt) override;
-    [[nodiscard]] Result<hal::FrameRef> dequeueFrame(hal::Deadline until) override;
-    [[nodiscard]] Result<void> flush() override;
-    void close() noexcept override;
     [[nodiscard]] hal::DecoderStats stats() const noexcept override;
 
     /// \return frames lent and not yet returned. Thread-safe.
     [[nodiscard]] int framesLent() const noexcept;
 
     struct Impl;
+
+protected:
+    // hal::VideoDecoderBase's hooks (the state checks are the base's).
+    [[nodiscard]] Result<void> configureDevice(const hal::StreamConfig &cfg) override;
+    [[nodiscard]] Result<void> queuePacketDevice(const hal::Packet &pkt) override;
+    [[nodiscard]] Result<hal::FrameRef> dequeueFrameDevice(hal::Deadline until) override;
+    void flushDevice() noexcept override;
+    void closeDevice() noexcept override;
 
 private:
     explicit FfmpegVideoDecoder(std::unique_ptr<Impl> impl);

@@ -17,7 +17,7 @@
 
 #include "depthtouch/drivers/mock/mock_pattern.h"
 #include "depthtouch/hal/backends.h"
-#include "depthtouch/hal/video_decoder.h"
+#include "depthtouch/hal/video_decoder_base.h"
 #include "depthtouch/platform/clock.h"
 
 namespace depthtouch::drivers {
@@ -34,7 +34,7 @@ struct MockDecoderSettings {
     static Result<MockDecoderSettings> parse(hal::OptionList options);
 };
 
-class MockVideoDecoder final : public hal::VideoDecoder {
+class MockVideoDecoder final : public hal::VideoDecoderBase {
 public:
     /// Backend factory: settings from cfg.options, time from cfg.clock.
     static Result<std::unique_ptr<hal::VideoDecoder>> create(const hal::BackendConfig &cfg);
@@ -42,16 +42,6 @@ public:
     explicit MockVideoDecoder(platform::Clock &clock, const MockDecoderSettings &settings = {});
     ~MockVideoDecoder() override;
 
-    [[nodiscard]] const hal::VideoDecoderCapabilities &capabilities() const noexcept override
-    {
-        return caps_;
-    }
-    [[nodiscard]] State state() const noexcept override { return state_; }
-    [[nodiscard]] Result<void> configure(const hal::StreamConfig &cfg) override;
-    [[nodiscard]] Result<void> queuePacket(const hal::Packet &pkt) override;
-    [[nodiscard]] Result<hal::FrameRef> dequeueFrame(hal::Deadline until) override;
-    [[nodiscard]] Result<void> flush() override;
-    void close() noexcept override;
     [[nodiscard]] hal::DecoderStats stats() const noexcept override;
 
     /// \name Fault injection
@@ -73,6 +63,14 @@ public:
     /// \return frames lent and not yet returned. Thread-safe.
     [[nodiscard]] int framesLent() const noexcept;
 
+protected:
+    // hal::VideoDecoderBase's hooks (the state checks are the base's).
+    [[nodiscard]] Result<void> configureDevice(const hal::StreamConfig &cfg) override;
+    [[nodiscard]] Result<void> queuePacketDevice(const hal::Packet &pkt) override;
+    [[nodiscard]] Result<hal::FrameRef> dequeueFrameDevice(hal::Deadline until) override;
+    void flushDevice() noexcept override;
+    void closeDevice() noexcept override;
+
 private:
     struct QueuedPacket {
         std::uint8_t data[kMockPacketMaxBytes];
@@ -81,14 +79,11 @@ private:
         std::uint64_t ordinal = 0;
     };
 
-    Result<void> checkState(bool allowed, const char *call, const char *required) const noexcept;
     void dropQueue() noexcept;
 
     platform::Clock &clock_;
     const MockDecoderSettings settings_;
-    hal::VideoDecoderCapabilities caps_;
     std::unique_ptr<FramePool> pool_;
-    State state_ = State::Closed;
     hal::StreamConfig config_;
 
     std::vector<QueuedPacket> queue_; ///< Ring of settings_.queuePackets packets.
@@ -96,7 +91,6 @@ private:
     std::size_t count_ = 0;
     std::uint64_t queuedSinceConfigure_ = 0;
     std::uint64_t sequence_ = 0;
-    bool draining_ = false;
 
     std::atomic<std::uint64_t> packetsQueued_{0};
     std::atomic<std::uint64_t> framesDecoded_{0};
