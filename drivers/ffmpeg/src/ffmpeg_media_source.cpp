@@ -517,24 +517,12 @@ FfmpegMediaSource::FfmpegMediaSource(platform::Clock &clock, FfmpegSourceSetting
 
 FfmpegMediaSource::~FfmpegMediaSource() = default;
 
-hal::MediaSource::State FfmpegMediaSource::state() const noexcept
+Result<void> FfmpegMediaSource::openDevice(const char *url)
 {
-    return impl_->fmt ? State::Open : State::Closed;
+    return impl_->open(url);
 }
 
-Result<void> FfmpegMediaSource::open(const char *url)
-{
-    if (impl_->fmt)
-        return unexpected(Errc::InvalidState, "open() on an open media source (close first)");
-    if (url == nullptr || *url == '\0')
-        return unexpected(Errc::InvalidArgument, "Empty media URL");
-    auto r = impl_->open(url);
-    if (!r)
-        impl_->reset();
-    return r;
-}
-
-void FfmpegMediaSource::close() noexcept
+void FfmpegMediaSource::closeDevice() noexcept
 {
     impl_->reset();
 }
@@ -549,26 +537,19 @@ void FfmpegMediaSource::cancelRead() noexcept
     impl_->cancelRequests.fetch_add(1, std::memory_order_acq_rel);
 }
 
-const hal::MediaInfo &FfmpegMediaSource::info() const noexcept
+const hal::MediaInfo &FfmpegMediaSource::infoDevice() const noexcept
 {
     return impl_->info;
 }
 
-Result<hal::Packet> FfmpegMediaSource::readPacket()
+Result<hal::Packet> FfmpegMediaSource::readPacketDevice()
 {
-    if (!impl_->fmt)
-        return unexpected(Errc::InvalidState, "readPacket() requires an open media source");
     return impl_->read();
 }
 
-Result<void> FfmpegMediaSource::seek(hal::Pts position)
+Result<void> FfmpegMediaSource::seekDevice(hal::Pts position)
 {
-    if (!impl_->fmt)
-        return unexpected(Errc::InvalidState, "seek() requires an open media source");
-    if (!impl_->info.seekable)
-        return unexpected(Errc::NotSupported, "The media input is not seekable");
     impl_->consumeCancels(); // what a cancelled read was cancelled for
-    position = std::clamp(position, hal::Pts{0}, std::max(impl_->info.duration, hal::Pts{0}));
     const std::int64_t us =
         std::chrono::duration_cast<std::chrono::microseconds>(position + impl_->start).count();
     impl_->armDeadline();

@@ -74,12 +74,8 @@ MockMediaSource::MockMediaSource(const MockMediaSettings &settings)
 {
 }
 
-Result<void> MockMediaSource::open(const char *url)
+Result<void> MockMediaSource::openDevice(const char *url)
 {
-    if (state_ != State::Closed) {
-        DT_LOG(Mock, Error, "In state Open trying open() requiring Closed");
-        return unexpected(Errc::InvalidState, "open() requires state Closed");
-    }
     if (failOpenArmed_) {
         failOpenArmed_ = false;
         return unexpected(failOpen_, "Failed to open mock media (injected fault)");
@@ -133,20 +129,16 @@ Result<void> MockMediaSource::open(const char *url)
     buffer_.assign(kMockPacketMaxBytes, 0);
     next_ = 0;
     packetsRead_ = 0;
-    state_ = State::Open;
     return ok();
 }
 
-void MockMediaSource::close() noexcept
+void MockMediaSource::closeDevice() noexcept
 {
-    state_ = State::Closed;
     info_ = {};
 }
 
-Result<hal::Packet> MockMediaSource::readPacket()
+Result<hal::Packet> MockMediaSource::readPacketDevice()
 {
-    if (state_ != State::Open)
-        return unexpected(Errc::InvalidState, "readPacket() requires state Open");
     const auto streams = static_cast<std::uint64_t>(streamCount());
     const std::uint64_t frame = next_ / streams;
     if (frame >= static_cast<std::uint64_t>(current_.frames))
@@ -174,13 +166,9 @@ Result<hal::Packet> MockMediaSource::readPacket()
     return p;
 }
 
-Result<void> MockMediaSource::seek(hal::Pts position)
+Result<void> MockMediaSource::seekDevice(hal::Pts position)
 {
-    if (state_ != State::Open)
-        return unexpected(Errc::InvalidState, "seek() requires state Open");
-    if (!current_.seekable)
-        return unexpected(Errc::NotSupported, "Mock media is not seekable");
-    const std::int64_t ns = position.count() < 0 ? 0 : position.count();
+    const std::int64_t ns = position.count(); // within [0, duration] (the base clamps it)
     auto frame = static_cast<std::uint64_t>(ns / 1'000'000'000 * current_.fps +
                                             ns % 1'000'000'000 * current_.fps / 1'000'000'000);
     const auto last = static_cast<std::uint64_t>(current_.frames - 1);

@@ -85,7 +85,8 @@ TEST(MockMediaSourceTest, refusesOtherSchemesAndBadOptions)
 {
     MockMediaSource src(small());
     EXPECT_EQ(errcOf(src.open("file.mkv")), Errc::NotSupported);
-    EXPECT_EQ(errcOf(src.open(nullptr)), Errc::NotSupported);
+    // No URL is a malformed request, for every backend alike (hal::MediaSourceBase).
+    EXPECT_EQ(errcOf(src.open(nullptr)), Errc::InvalidArgument);
     EXPECT_EQ(errcOf(src.open("mock:?frames=0")), Errc::InvalidArgument);
     EXPECT_EQ(errcOf(src.open("mock:?framez=3")), Errc::InvalidArgument);
     EXPECT_EQ(errcOf(src.open("mock:?color=0&depth=0")), Errc::InvalidArgument);

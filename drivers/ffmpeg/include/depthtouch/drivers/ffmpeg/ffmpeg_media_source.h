@@ -35,7 +35,7 @@
 #include <vector>
 
 #include "depthtouch/hal/backends.h"
-#include "depthtouch/hal/media_source.h"
+#include "depthtouch/hal/media_source_base.h"
 #include "depthtouch/platform/clock.h"
 
 namespace depthtouch::drivers {
@@ -50,7 +50,7 @@ struct FfmpegSourceSettings {
     static Result<FfmpegSourceSettings> parse(hal::OptionList options);
 };
 
-class FfmpegMediaSource final : public hal::MediaSource {
+class FfmpegMediaSource final : public hal::MediaSourceBase {
 public:
     /// Backend factory.
     static Result<std::unique_ptr<hal::MediaSource>> create(const hal::BackendConfig &cfg);
@@ -58,14 +58,16 @@ public:
     FfmpegMediaSource(platform::Clock &clock, FfmpegSourceSettings settings);
     ~FfmpegMediaSource() override;
 
-    [[nodiscard]] State state() const noexcept override;
-    [[nodiscard]] Result<void> open(const char *url) override;
-    void close() noexcept override;
     void interrupt() noexcept override;
     void cancelRead() noexcept override;
-    [[nodiscard]] const hal::MediaInfo &info() const noexcept override;
-    [[nodiscard]] Result<hal::Packet> readPacket() override;
-    [[nodiscard]] Result<void> seek(hal::Pts position) override;
+
+protected:
+    // hal::MediaSourceBase's hooks (the state checks are the base's).
+    [[nodiscard]] Result<void> openDevice(const char *url) override;
+    void closeDevice() noexcept override;
+    [[nodiscard]] const hal::MediaInfo &infoDevice() const noexcept override;
+    [[nodiscard]] Result<hal::Packet> readPacketDevice() override;
+    [[nodiscard]] Result<void> seekDevice(hal::Pts position) override;
 
 private:
     struct Impl;

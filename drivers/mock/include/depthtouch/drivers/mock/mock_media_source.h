@@ -17,7 +17,7 @@
 
 #include "depthtouch/drivers/mock/mock_pattern.h"
 #include "depthtouch/hal/backends.h"
-#include "depthtouch/hal/media_source.h"
+#include "depthtouch/hal/media_source_base.h"
 
 namespace depthtouch::drivers {
 
@@ -41,7 +41,7 @@ struct MockMediaSettings {
     static Result<MockMediaSettings> parse(hal::OptionList options, const MockMediaSettings &base);
 };
 
-class MockMediaSource final : public hal::MediaSource {
+class MockMediaSource final : public hal::MediaSourceBase {
 public:
     /// Backend factory: settings from cfg.options.
     static Result<std::unique_ptr<hal::MediaSource>> create(const hal::BackendConfig &cfg);
@@ -49,12 +49,6 @@ public:
     explicit MockMediaSource(const MockMediaSettings &settings = {});
     ~MockMediaSource() override = default;
 
-    [[nodiscard]] State state() const noexcept override { return state_; }
-    [[nodiscard]] Result<void> open(const char *url) override;
-    void close() noexcept override;
-    [[nodiscard]] const hal::MediaInfo &info() const noexcept override { return info_; }
-    [[nodiscard]] Result<hal::Packet> readPacket() override;
-    [[nodiscard]] Result<void> seek(hal::Pts position) override;
 
     /// \name Fault injection (persist across open/close until changed)
     ///@{
@@ -76,6 +70,14 @@ public:
     /// \return the settings of the open file (URL query applied).
     [[nodiscard]] const MockMediaSettings &settings() const noexcept { return current_; }
 
+protected:
+    // hal::MediaSourceBase's hooks (the state checks are the base's).
+    [[nodiscard]] Result<void> openDevice(const char *url) override;
+    void closeDevice() noexcept override;
+    [[nodiscard]] const hal::MediaInfo &infoDevice() const noexcept override { return info_; }
+    [[nodiscard]] Result<hal::Packet> readPacketDevice() override;
+    [[nodiscard]] Result<void> seekDevice(hal::Pts position) override;
+
 private:
     static constexpr std::uint64_t kNever = ~std::uint64_t{0};
 
@@ -86,7 +88,6 @@ private:
 
     MockMediaSettings settings_;
     MockMediaSettings current_;
-    State state_ = State::Closed;
     hal::MediaInfo info_;
     std::uint64_t next_ = 0; ///< Ordinal of the next packet.
     std::uint64_t packetsRead_ = 0;
