@@ -123,9 +123,9 @@ public:
     /// \param[in] url A file path or stream URL the backend understands (NUL-terminated).
     /// \return nothing on success (state Open; see info()). Errors: InvalidState (not Closed),
     /// NotSupported (scheme or container the backend cannot read), NoDevice or Io (cannot open or
-    /// read), InvalidArgument (a null or empty \a url, malformed file, no video stream). On error the
-    /// source stays Closed. Backends derive from MediaSourceBase (media_source_base.h), which keeps
-    /// this contract.
+    /// read), InvalidArgument (a null or empty \a url, malformed file, no video stream). On error
+    /// the source stays Closed. Backends derive from MediaSourceBase (media_source_base.h), which
+    /// keeps this contract.
     [[nodiscard]] virtual Result<void> open(const char *url) = 0;
 
     /// \brief Closes the source and frees its buffers. Always allowed; no-op when Closed.

@@ -3,8 +3,8 @@
 /// \brief MediaSourceBase: the hal::MediaSource contract in one place, for every demuxer backend.
 ///
 /// A backend derives from MediaSourceBase and implements only the device work (the protected
-/// `...Device()` hooks); the public methods are `final` and do the contract of media_source.h around
-/// them, as DisplayBase and VideoDecoderBase do for theirs (libcamera's queueRequest() and
+/// `...Device()` hooks); the public methods are `final` and do the contract of media_source.h
+/// around them, as DisplayBase and VideoDecoderBase do for theirs (libcamera's queueRequest() and
 /// queueRequestDevice()):
 /// - open(): InvalidState unless Closed (logged, category HalSource); InvalidArgument for a null or
 ///   empty URL; then openDevice(); Open on success; on error closeDevice() undoes what it began and

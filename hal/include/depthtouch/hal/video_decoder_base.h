@@ -12,8 +12,8 @@
 ///   Configured on success, the state unchanged on error.
 /// - queuePacket(): InvalidState when Closed or after an end-of-stream packet until flush(); an
 ///   end-of-stream packet is a flag (never a queue slot: always accepted) that moves to Running and
-///   makes draining() true; a packet with data goes to queuePacketDevice() and moves to Running when
-///   accepted.
+///   makes draining() true; a packet with data goes to queuePacketDevice() and moves to Running
+///   when accepted.
 /// - dequeueFrame(): InvalidState unless Running, then dequeueFrameDevice().
 /// - flush(): InvalidState when Closed; a no-op when Configured; from Running flushDevice(), then
 ///   Configured and no longer draining.
@@ -48,9 +48,9 @@ public:
 protected:
     VideoDecoderBase() = default;
 
-    /// \brief Prepares decoding of \a cfg (called Closed or Configured, with a codec caps_ lists and
-    /// a size within caps_). \return Errors: as configure() (NotSupported, InvalidArgument, Busy,
-    /// NoDevice, OutOfResources), with nothing changed.
+    /// \brief Prepares decoding of \a cfg (called Closed or Configured, with a codec caps_ lists
+    /// and a size within caps_). \return Errors: as configure() (NotSupported, InvalidArgument,
+    /// Busy, NoDevice, OutOfResources), with nothing changed.
     [[nodiscard]] virtual Result<void> configureDevice(const StreamConfig &cfg) = 0;
     /// \brief Queues \a pkt, a packet with data (called Configured or Running, not draining).
     /// \return Errors: as queuePacket() (Busy, InvalidArgument, Io).

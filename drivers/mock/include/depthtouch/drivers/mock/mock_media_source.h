@@ -49,7 +49,6 @@ public:
     explicit MockMediaSource(const MockMediaSettings &settings = {});
     ~MockMediaSource() override = default;
 
-
     /// \name Fault injection (persist across open/close until changed)
     ///@{
     /// The next open() fails with \a code (once).
