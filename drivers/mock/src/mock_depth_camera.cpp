@@ -22,12 +22,6 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kHalfFovRadians = 30.0 * kPi / 180.0;
 constexpr double kMotionPeriodSeconds = 2.0;
 
-Unexpected denied(hal::DepthCamera::State s, const char *call, const char *required) noexcept
-{
-    DT_LOG(Mock, Error, "In state %s trying %s() requiring %s", hal::toString(s), call, required);
-    return unexpected(Errc::InvalidState, "Call not allowed in the camera's state");
-}
-
 /// Depth along the optical axis of the first hit of the ray through (u, v), and whether it is the
 /// sphere.
 struct Hit {
@@ -94,17 +88,10 @@ MockDepthCamera::MockDepthCamera(platform::Clock &clock, const MockCameraSetting
 
 MockDepthCamera::~MockDepthCamera() = default;
 
-Result<void> MockDepthCamera::configure(const hal::CameraConfig &cfg)
+Result<void> MockDepthCamera::configureDevice(const hal::CameraConfig &cfg)
 {
-    if (state_ == State::Streaming)
-        return denied(state_, "configure", "Unconfigured or Configured");
     if (!present_)
         return unexpected(Errc::NoDevice, "Mock depth camera unplugged");
-    if (!cfg.depth && !cfg.color)
-        return unexpected(Errc::InvalidArgument, "No stream requested");
-    if (cfg.depth && cfg.depthFormat == hal::PixelFormat::Gray16 &&
-        !(cfg.nearMetres > 0.0 && cfg.farMetres > cfg.nearMetres))
-        return unexpected(Errc::InvalidArgument, "Nearness needs 0 < near < far");
     const auto match =
         std::find_if(caps_.modes.begin(), caps_.modes.end(), [&](const hal::CameraMode &m) {
             return m.width == cfg.width && m.height == cfg.height &&
@@ -121,37 +108,23 @@ Result<void> MockDepthCamera::configure(const hal::CameraConfig &cfg)
     DT_TRY(colorPool_->allocate(cfg.color ? settings_.poolFrames : 0, cfg.colorFormat, cfg.width,
                                 cfg.height));
     config_ = cfg;
-    state_ = State::Configured;
     return ok();
 }
 
-hal::CameraIntrinsics MockDepthCamera::intrinsics() const noexcept
+hal::CameraIntrinsics MockDepthCamera::intrinsicsDevice() const noexcept
 {
-    if (state_ == State::Unconfigured)
-        return {};
     const double f = 0.5 * config_.width / std::tan(kHalfFovRadians);
     return {f, f, 0.5 * (config_.width - 1), 0.5 * (config_.height - 1)};
 }
 
-Result<void> MockDepthCamera::start()
+Result<void> MockDepthCamera::startDevice()
 {
-    if (state_ != State::Configured)
-        return denied(state_, "start", "Configured");
     if (!present_)
         return unexpected(Errc::NoDevice, "Mock depth camera unplugged");
     start_ = clock_.now();
     next_ = 0;
     pendingDrops_ = 0;
     dropped_ = 0;
-    state_ = State::Streaming;
-    return ok();
-}
-
-Result<void> MockDepthCamera::stop()
-{
-    if (state_ != State::Streaming)
-        return denied(state_, "stop", "Streaming");
-    state_ = State::Configured;
     return ok();
 }
 
@@ -160,10 +133,8 @@ platform::TimePoint MockDepthCamera::exposure(std::uint64_t k) const noexcept
     return start_ + platform::fromSeconds(static_cast<double>(k) / config_.fps);
 }
 
-Result<hal::Capture> MockDepthCamera::capture(hal::Deadline until)
+Result<hal::Capture> MockDepthCamera::captureDevice(hal::Deadline until)
 {
-    if (state_ != State::Streaming)
-        return denied(state_, "capture", "Streaming");
     if (!present_)
         return unexpected(Errc::NoDevice, "Mock depth camera unplugged");
     next_ += pendingDrops_;

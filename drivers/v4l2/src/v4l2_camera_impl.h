@@ -22,9 +22,6 @@ namespace depthtouch::drivers {
 
 namespace v4l2 {
 
-/// \return the name of camera state \a s, for logs.
-const char *stateName(hal::DepthCamera::State s) noexcept;
-
 /// \return whether frame rates \a a and \a b are the same (within 0.1 %).
 bool sameFps(double a, double b) noexcept;
 
@@ -74,8 +71,6 @@ struct V4l2DepthCamera::Impl {
     {
     }
 
-    /// \return InvalidState for call \a call made outside state \a required (logged).
-    Unexpected denied(const char *call, const char *required) const noexcept;
     /// Turns a failed ioctl into an error; ENODEV and friends mark the camera unplugged.
     Unexpected fail(const Node &n, int err, const char *what) noexcept;
 
@@ -105,7 +100,6 @@ struct V4l2DepthCamera::Impl {
     std::vector<ModeSource> modeSources; ///< Parallel to caps.modes.
     Node depth;
     Node color; ///< path empty: no color node.
-    State state = State::Unconfigured;
     hal::CameraConfig config;
     FramePool depthPool;
     FramePool colorPool;

@@ -52,19 +52,6 @@ bool offers(const V4l2FormatDesc *f, int w, int h, double fps) noexcept
 
 namespace v4l2 {
 
-const char *stateName(hal::DepthCamera::State s) noexcept
-{
-    switch (s) {
-    case hal::DepthCamera::State::Unconfigured:
-        return "Unconfigured";
-    case hal::DepthCamera::State::Configured:
-        return "Configured";
-    case hal::DepthCamera::State::Streaming:
-        return "Streaming";
-    }
-    return "?";
-}
-
 bool sameFps(double a, double b) noexcept
 {
     return std::fabs(a - b) < 1e-3 * std::max(1.0, std::fabs(b));

@@ -30,13 +30,6 @@ std::uint16_t loadLe16(const std::uint8_t *p) noexcept
 
 } // namespace
 
-Unexpected V4l2DepthCamera::Impl::denied(const char *call, const char *required) const noexcept
-{
-    DT_LOG(V4l2, Error, "In state %s trying %s() requiring %s", v4l2::stateName(state), call,
-           required);
-    return unexpected(Errc::InvalidState, "Call not allowed in the camera's state");
-}
-
 Unexpected V4l2DepthCamera::Impl::fail(const Node &n, int err, const char *what) noexcept
 {
     const Errc code = errcOfErrno(err);

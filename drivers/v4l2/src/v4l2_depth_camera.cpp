@@ -35,11 +35,14 @@ Result<void> queryNode(V4l2Device &dev, Node &node, const char *role)
 
 using v4l2::sameFps;
 
-V4l2DepthCamera::V4l2DepthCamera(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+V4l2DepthCamera::V4l2DepthCamera(std::unique_ptr<Impl> impl) : impl_(std::move(impl))
+{
+    caps_ = impl_->caps;
+}
 
 V4l2DepthCamera::~V4l2DepthCamera()
 {
-    if (impl_->state == State::Streaming)
+    if (state() == State::Streaming)
         (void)stop();
 }
 
@@ -90,26 +93,9 @@ Result<std::unique_ptr<V4l2DepthCamera>> V4l2DepthCamera::open(std::unique_ptr<V
     return std::unique_ptr<V4l2DepthCamera>(new V4l2DepthCamera(std::move(impl)));
 }
 
-const hal::DepthCameraCapabilities &V4l2DepthCamera::capabilities() const noexcept
-{
-    return impl_->caps;
-}
-
-hal::DepthCamera::State V4l2DepthCamera::state() const noexcept
-{
-    return impl_->state;
-}
-
-Result<void> V4l2DepthCamera::configure(const hal::CameraConfig &cfg)
+Result<void> V4l2DepthCamera::configureDevice(const hal::CameraConfig &cfg)
 {
     Impl &d = *impl_;
-    if (d.state == State::Streaming)
-        return d.denied("configure", "Unconfigured or Configured");
-    if (!cfg.depth && !cfg.color)
-        return unexpected(Errc::InvalidArgument, "No stream requested");
-    if (cfg.depth && cfg.depthFormat == hal::PixelFormat::Gray16 &&
-        !(cfg.nearMetres > 0.0 && cfg.farMetres > cfg.nearMetres))
-        return unexpected(Errc::InvalidArgument, "Nearness needs 0 < near < far");
     std::size_t mode = d.caps.modes.size();
     for (std::size_t i = 0; i < d.caps.modes.size(); ++i) {
         const hal::CameraMode &m = d.caps.modes[i];
@@ -135,7 +121,7 @@ Result<void> V4l2DepthCamera::configure(const hal::CameraConfig &cfg)
     // From here the nodes change: a failure leaves the camera Unconfigured, never with pools
     // that do not match the nodes' formats.
     if (auto r = d.applyConfig(cfg, mode); !r) {
-        d.state = State::Unconfigured;
+        markUnconfigured();
         d.depth.active = false;
         d.color.active = false;
         d.converter.reset();
@@ -143,24 +129,19 @@ Result<void> V4l2DepthCamera::configure(const hal::CameraConfig &cfg)
         (void)d.colorPool.allocate(0, hal::PixelFormat::Unknown, 0, 0);
         return r;
     }
-    d.state = State::Configured;
     return ok();
 }
 
-hal::CameraIntrinsics V4l2DepthCamera::intrinsics() const noexcept
+hal::CameraIntrinsics V4l2DepthCamera::intrinsicsDevice() const noexcept
 {
     const Impl &d = *impl_;
-    if (d.state == State::Unconfigured)
-        return {};
     const double f = 0.5 * d.config.width / std::tan(0.5 * d.settings.hfovDegrees * kPi / 180.0);
     return {f, f, 0.5 * (d.config.width - 1), 0.5 * (d.config.height - 1)};
 }
 
-Result<void> V4l2DepthCamera::start()
+Result<void> V4l2DepthCamera::startDevice()
 {
     Impl &d = *impl_;
-    if (d.state != State::Configured)
-        return d.denied("start", "Configured");
     if (d.lost)
         d.closeNodes();
     DT_TRY(d.openNodes());
@@ -179,30 +160,23 @@ Result<void> V4l2DepthCamera::start()
             return r;
         }
     }
-    d.state = State::Streaming;
     return ok();
 }
 
-Result<void> V4l2DepthCamera::stop()
+void V4l2DepthCamera::stopDevice() noexcept
 {
     Impl &d = *impl_;
-    if (d.state != State::Streaming)
-        return d.denied("stop", "Streaming");
     d.stopNode(d.depth);
     d.stopNode(d.color);
     d.pendingDepth.reset();
     d.heldColor.reset();
     if (d.lost)
         d.closeNodes();
-    d.state = State::Configured;
-    return ok();
 }
 
-Result<hal::Capture> V4l2DepthCamera::capture(hal::Deadline until)
+Result<hal::Capture> V4l2DepthCamera::captureDevice(hal::Deadline until)
 {
     Impl &d = *impl_;
-    if (d.state != State::Streaming)
-        return d.denied("capture", "Streaming");
     if (d.lost)
         return unexpected(Errc::NoDevice, "V4L2 camera unplugged");
     if (!d.depthPool.hasFree() || (d.colorActive() && !d.colorPool.hasFree())) {
@@ -241,7 +215,7 @@ V4l2CameraStats V4l2DepthCamera::stats() const noexcept
 
 std::uint32_t V4l2DepthCamera::depthFourcc() const noexcept
 {
-    return impl_->state == State::Unconfigured ? 0 : impl_->depth.fourcc;
+    return state() == State::Unconfigured ? 0 : impl_->depth.fourcc;
 }
 
 std::uint32_t V4l2DepthCamera::colorFourcc() const noexcept

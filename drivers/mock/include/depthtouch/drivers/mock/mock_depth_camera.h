@@ -16,7 +16,7 @@
 #include <memory>
 
 #include "depthtouch/hal/backends.h"
-#include "depthtouch/hal/depth_camera.h"
+#include "depthtouch/hal/depth_camera_base.h"
 #include "depthtouch/platform/clock.h"
 
 namespace depthtouch::drivers {
@@ -39,24 +39,13 @@ struct MockCameraSettings {
     static Result<MockCameraSettings> parse(hal::OptionList options);
 };
 
-class MockDepthCamera final : public hal::DepthCamera {
+class MockDepthCamera final : public hal::DepthCameraBase {
 public:
     /// Backend factory: settings from cfg.options, time from cfg.clock.
     static Result<std::unique_ptr<hal::DepthCamera>> create(const hal::BackendConfig &cfg);
 
     explicit MockDepthCamera(platform::Clock &clock, const MockCameraSettings &settings = {});
     ~MockDepthCamera() override;
-
-    [[nodiscard]] const hal::DepthCameraCapabilities &capabilities() const noexcept override
-    {
-        return caps_;
-    }
-    [[nodiscard]] State state() const noexcept override { return state_; }
-    [[nodiscard]] Result<void> configure(const hal::CameraConfig &cfg) override;
-    [[nodiscard]] hal::CameraIntrinsics intrinsics() const noexcept override;
-    [[nodiscard]] Result<void> start() override;
-    [[nodiscard]] Result<hal::Capture> capture(hal::Deadline until) override;
-    [[nodiscard]] Result<void> stop() override;
 
     /// \name Fault injection
     ///@{
@@ -73,16 +62,22 @@ public:
     /// \return frames skipped since start() (injected drops, late consumer, full pool).
     [[nodiscard]] std::uint64_t framesDropped() const noexcept { return dropped_; }
 
+protected:
+    // hal::DepthCameraBase's hooks (the state checks are the base's).
+    [[nodiscard]] Result<void> configureDevice(const hal::CameraConfig &cfg) override;
+    [[nodiscard]] hal::CameraIntrinsics intrinsicsDevice() const noexcept override;
+    [[nodiscard]] Result<void> startDevice() override;
+    [[nodiscard]] Result<hal::Capture> captureDevice(hal::Deadline until) override;
+    void stopDevice() noexcept override {}
+
 private:
     [[nodiscard]] platform::TimePoint exposure(std::uint64_t k) const noexcept;
     void render(hal::Frame *depth, hal::Frame *color, double seconds) const noexcept;
 
     platform::Clock &clock_;
     const MockCameraSettings settings_;
-    hal::DepthCameraCapabilities caps_;
     std::unique_ptr<FramePool> depthPool_;
     std::unique_ptr<FramePool> colorPool_;
-    State state_ = State::Unconfigured;
     hal::CameraConfig config_;
     bool present_ = true;
     platform::TimePoint start_{};

@@ -44,7 +44,7 @@
 
 #include "depthtouch/drivers/v4l2/v4l2_device.h"
 #include "depthtouch/hal/backends.h"
-#include "depthtouch/hal/depth_camera.h"
+#include "depthtouch/hal/depth_camera_base.h"
 #include "depthtouch/platform/clock.h"
 
 namespace depthtouch::drivers {
@@ -70,7 +70,7 @@ struct V4l2CameraStats {
     std::uint64_t framesUnpaired = 0; ///< Depth buffers without a color partner.
 };
 
-class V4l2DepthCamera final : public hal::DepthCamera {
+class V4l2DepthCamera final : public hal::DepthCameraBase {
 public:
     /// Backend factory: settings from cfg, kernel side from makeV4l2Device(), time from cfg.clock.
     /// Errors: InvalidArgument (options), NoDevice (no depth node), NotSupported (the node offers
@@ -85,14 +85,6 @@ public:
 
     ~V4l2DepthCamera() override;
 
-    [[nodiscard]] const hal::DepthCameraCapabilities &capabilities() const noexcept override;
-    [[nodiscard]] State state() const noexcept override;
-    [[nodiscard]] Result<void> configure(const hal::CameraConfig &cfg) override;
-    [[nodiscard]] hal::CameraIntrinsics intrinsics() const noexcept override;
-    [[nodiscard]] Result<void> start() override;
-    [[nodiscard]] Result<hal::Capture> capture(hal::Deadline until) override;
-    [[nodiscard]] Result<void> stop() override;
-
     /// \return the counters since the last start().
     [[nodiscard]] V4l2CameraStats stats() const noexcept;
     /// \return the V4L2 pixel format of the depth node (0 before configure()).
@@ -103,6 +95,14 @@ public:
     [[nodiscard]] V4l2Device &device() noexcept;
 
     struct Impl;
+
+protected:
+    // hal::DepthCameraBase's hooks (the state checks are the base's).
+    [[nodiscard]] Result<void> configureDevice(const hal::CameraConfig &cfg) override;
+    [[nodiscard]] hal::CameraIntrinsics intrinsicsDevice() const noexcept override;
+    [[nodiscard]] Result<void> startDevice() override;
+    [[nodiscard]] Result<hal::Capture> captureDevice(hal::Deadline until) override;
+    void stopDevice() noexcept override;
 
 private:
     explicit V4l2DepthCamera(std::unique_ptr<Impl> impl);
