@@ -5,7 +5,7 @@
 # Usage: haptics_cost.sh [HAPTICS_COST_BINARY] [UPDATES] [OUT_DIR]
 # Prints one line per setting: size, speed, Ir/update, and the program's work/accuracy lines.
 set -eu
-bin=${1:-build/host/app/haptics/bench/haptics_cost}
+bin=${1:-build/host/bench/haptics/haptics_cost}
 updates=${2:-3000}
 out=${3:-bench-out/haptics-cost}
 mkdir -p "$out"
