@@ -47,7 +47,10 @@ private:
     std::uint64_t base_;
 };
 
-bool surface(float z) noexcept { return std::isfinite(z) && z > 0.0f; }
+bool surface(float z) noexcept
+{
+    return std::isfinite(z) && z > 0.0f;
+}
 
 /// Marks silhouette pixels (\a other: the depth across the edge, 0 when none) and the projector
 /// shadow (\a hole) left of every silhouette whose near side is on the right.

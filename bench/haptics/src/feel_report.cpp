@@ -29,7 +29,10 @@ void printRow(const FeelRow &r)
         100.0 * f.rippleRelative, f.maxForce, f.updateP50 * 1e6, f.updateP999 * 1e6);
 }
 
-const char *verdict(bool ok) { return ok ? "met" : "NOT met"; }
+const char *verdict(bool ok)
+{
+    return ok ? "met" : "NOT met";
+}
 
 /// The figures new with the stroke families, per row (table, CSV and JSON share the order).
 void printFamilyRow(const FeelRow &r)

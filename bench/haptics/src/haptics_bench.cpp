@@ -31,7 +31,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double median(std::vector<double> v) { return percentile(v, 0.5); }
+double median(std::vector<double> v)
+{
+    return percentile(v, 0.5);
+}
 
 struct OneRun {
     double medianNs, p99Ns, p999Ns, maxNs, frameNs, rms;

@@ -4,8 +4,8 @@
 /// backend.
 ///
 /// A backend derives from DepthCameraBase and implements only the device work (the protected
-/// `...Device()` hooks); the public methods are `final` and do the contract of depth_camera.h around
-/// them, as DisplayBase, VideoDecoderBase and MediaSourceBase do for theirs (libcamera's
+/// `...Device()` hooks); the public methods are `final` and do the contract of depth_camera.h
+/// around them, as DisplayBase, VideoDecoderBase and MediaSourceBase do for theirs (libcamera's
 /// queueRequest() and queueRequestDevice()):
 /// - configure(): InvalidState when Streaming; InvalidArgument when no stream is on, or for 16-bit
 ///   nearness without 0 < near < far; then configureDevice(); Configured on success. On error the
@@ -42,9 +42,9 @@ public:
 protected:
     DepthCameraBase() = default;
 
-    /// \brief Selects the mode of \a cfg and allocates the pools (called Unconfigured or Configured,
-    /// with a stream on and valid near/far planes). \return Errors: as configure() (Busy,
-    /// NotSupported, NoDevice, ...); call markUnconfigured() first when the device is left
+    /// \brief Selects the mode of \a cfg and allocates the pools (called Unconfigured or
+    /// Configured, with a stream on and valid near/far planes). \return Errors: as configure()
+    /// (Busy, NotSupported, NoDevice, ...); call markUnconfigured() first when the device is left
     /// without a configuration.
     [[nodiscard]] virtual Result<void> configureDevice(const CameraConfig &cfg) = 0;
     /// \return the intrinsics of the configured depth image (called Configured or Streaming).

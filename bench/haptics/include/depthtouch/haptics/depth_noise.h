@@ -33,17 +33,17 @@ namespace depthtouch::haptics::bench {
 
 /// \brief Parameters of the sensor model (defaults: Kinect v1 at 640×480).
 struct KinectNoiseOptions {
-    double disparityStep = 2.85e-3;  ///< Quantisation of 1/Z, m⁻¹ (depth step = this·Z², m).
-    double flickerSigma = 1.5e-3;    ///< σ of 1/Z per frame, m⁻¹ (σ_Z = this·Z², m); 0 = off.
-    double focalPx = 585.0;          ///< Focal length, px (shadow width).
+    double disparityStep = 2.85e-3; ///< Quantisation of 1/Z, m⁻¹ (depth step = this·Z², m).
+    double flickerSigma = 1.5e-3;   ///< σ of 1/Z per frame, m⁻¹ (σ_Z = this·Z², m); 0 = off.
+    double focalPx = 585.0;         ///< Focal length, px (shadow width).
     double baseline = 0.075; ///< Projector–camera baseline, m (shadow width); 0 = no shadow.
     double edgeJump = 0.03;  ///< Relative depth jump between neighbours that is a silhouette.
-    double edgeHoleProbability = 0.4;   ///< Per silhouette pixel and frame.
-    double flyingProbability = 0.3;     ///< Per silhouette pixel and frame (when not a hole).
-    double speckleProbability = 2e-5;   ///< Per pixel and frame: seeds a 3×3 random hole.
-    double minRange = 0.4;           ///< m: nearer is no return.
-    double maxRange = 4.5;           ///< m: farther is no return.
-    std::uint64_t seed = 1;          ///< Seed of the random effects.
+    double edgeHoleProbability = 0.4; ///< Per silhouette pixel and frame.
+    double flyingProbability = 0.3;   ///< Per silhouette pixel and frame (when not a hole).
+    double speckleProbability = 2e-5; ///< Per pixel and frame: seeds a 3×3 random hole.
+    double minRange = 0.4;            ///< m: nearer is no return.
+    double maxRange = 4.5;            ///< m: farther is no return.
+    std::uint64_t seed = 1;           ///< Seed of the random effects.
 };
 
 /// \brief Applies the sensor model to one frame.

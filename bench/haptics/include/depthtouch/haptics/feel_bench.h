@@ -76,9 +76,9 @@ struct FeelRow {
     std::size_t strokes = 0;
     /// accumulate() over the strokes, but the update percentiles of all their updates pooled.
     FeelFigures total{};
-    double realTripsPerSecond = 0.0; ///< realCutTrips / slidingSeconds.
+    double realTripsPerSecond = 0.0;   ///< realCutTrips / slidingSeconds.
     double worstSpikesPerSecond = 0.0; ///< The largest spikes/s of one sliding stroke.
-    std::string worstStroke;      ///< Its name.
+    std::string worstStroke;           ///< Its name.
 };
 
 /// \brief The feel goals, each judged on the worst family × scene × setting row (the figures of a
@@ -96,7 +96,7 @@ struct FeelGoals {
     double maxPullDownMs = 0.0;  ///< With a downward force (a height field only pushes).
     double deviceMaxForce = 8.5; ///< N (the Falcon).
     // Older goals, kept for the scenario tests of makeStrokes()' slides.
-    double maxSpikesPerSecond = 2.0; ///< Average over the sliding time.
+    double maxSpikesPerSecond = 2.0;       ///< Average over the sliding time.
     double maxStrokeSpikesPerSecond = 4.0; ///< On any stroke.
 };
 
@@ -115,16 +115,16 @@ std::vector<GoalVerdict> judgeGoals(const std::vector<FeelRow> &familyRows,
 
 /// \brief Everything one run measured.
 struct FeelReport {
-    std::vector<FeelRow> rows;        ///< Per scene × setting, in scene order.
-    std::vector<FeelRow> familyRows;  ///< Per scene × setting × family.
+    std::vector<FeelRow> rows;       ///< Per scene × setting, in scene order.
+    std::vector<FeelRow> familyRows; ///< Per scene × setting × family.
     /// Per setting: force RMS error against the ideal god-object (k·depth along the normal) on the
     /// clean scenes, N (NaN when not measured), in settings order.
     std::vector<std::pair<std::string, double>> cleanRms;
-    std::vector<FeelRow> totals;      ///< Per setting over all scenes (scene "all").
+    std::vector<FeelRow> totals; ///< Per setting over all scenes (scene "all").
     std::vector<FeelStrokeResult> strokes;
-    std::vector<std::string> notes;   ///< Settings or scenes skipped, and why.
+    std::vector<std::string> notes; ///< Settings or scenes skipped, and why.
     FeelGoals goals{};
-    double seconds = 0.0;             ///< Wall time of the replays, s.
+    double seconds = 0.0; ///< Wall time of the replays, s.
 };
 
 /// \brief Replays \a strokes of \a scene with \a setting. \return one result per stroke, or the

@@ -104,15 +104,15 @@ struct SyntheticSceneOptions {
     int width = 640;
     int height = 480;
     double fps = 30.0;
-    double seconds = 3.0;          ///< Clip length, s (frames = round(seconds·fps)).
-    int bits = 8;                  ///< 8 (Gray8, the default video) or 16 (Gray16).
+    double seconds = 3.0; ///< Clip length, s (frames = round(seconds·fps)).
+    int bits = 8;         ///< 8 (Gray8, the default video) or 16 (Gray16).
     SceneBox box{};
-    KinectNoiseOptions noise{};    ///< The sensor model (noise.seed picks the draws).
+    KinectNoiseOptions noise{}; ///< The sensor model (noise.seed picks the draws).
     SensorModel sensor = SensorModel::StructuredLight;
-    TofNoiseOptions tof{};         ///< With SensorModel::TimeOfFlight.
-    StereoNoiseOptions stereo{};   ///< With SensorModel::ActiveStereo.
-    bool noisy = true;             ///< false: the clean scene through the same mapping.
-    bool keepHoles = true;         ///< See the file comment.
+    TofNoiseOptions tof{};       ///< With SensorModel::TimeOfFlight.
+    StereoNoiseOptions stereo{}; ///< With SensorModel::ActiveStereo.
+    bool noisy = true;           ///< false: the clean scene through the same mapping.
+    bool keepHoles = true;       ///< See the file comment.
 };
 
 /// \brief Renders \a scene (clean metric depth), applies the sensor model, maps it like `depthtouch
@@ -210,11 +210,11 @@ const char *strokeFamilyName(StrokeFamily family) noexcept;
 
 /// \brief One haptic update of a stroke: time, HIP and what the finger is doing.
 struct StrokeSample {
-    double t = 0.0;        ///< s (the frames' clock).
-    glm::dvec3 hip{};      ///< m, scene-box frame.
-    bool sliding = false;  ///< Moving along the surface, pressed in.
-    bool held = false;     ///< Still (in x–y), pressed in.
-    bool pressed = false;  ///< Under the surface it follows (any phase).
+    double t = 0.0;       ///< s (the frames' clock).
+    glm::dvec3 hip{};     ///< m, scene-box frame.
+    bool sliding = false; ///< Moving along the surface, pressed in.
+    bool held = false;    ///< Still (in x–y), pressed in.
+    bool pressed = false; ///< Under the surface it follows (any phase).
     /// Holds: the height of the held surface under the HIP (followed while it drifts, kept while
     /// something rises over it), m; NaN otherwise.
     double heldZ = std::nan("");
@@ -223,11 +223,11 @@ struct StrokeSample {
 /// \brief Where and how one stroke goes.
 struct StrokeSpec {
     StrokeKind kind = StrokeKind::Slide;
-    glm::dvec2 from{};     ///< Press point (x, y), m.
-    glm::dvec2 to{};       ///< Far end of the slide (ignored for Press), m.
-    double startT = 0.0;   ///< s.
-    double depth = 1e-3;   ///< How far in the HIP is pressed under the reference surface, m (> 0).
-    double speed = 0.05;   ///< Slide speed, m/s (> 0).
+    glm::dvec2 from{};   ///< Press point (x, y), m.
+    glm::dvec2 to{};     ///< Far end of the slide (ignored for Press), m.
+    double startT = 0.0; ///< s.
+    double depth = 1e-3; ///< How far in the HIP is pressed under the reference surface, m (> 0).
+    double speed = 0.05; ///< Slide speed, m/s (> 0).
     std::string name;
 };
 
@@ -251,15 +251,15 @@ Stroke makeStroke(const FeelScene &scene, const StrokeSpec &spec, const StrokeTi
 
 /// \brief Which strokes makeStrokes() places.
 struct StrokePlan {
-    std::vector<double> depths{1e-3, 3e-3};   ///< m.
-    std::vector<double> speeds{0.05, 0.10};   ///< m/s.
+    std::vector<double> depths{1e-3, 3e-3}; ///< m.
+    std::vector<double> speeds{0.05, 0.10}; ///< m/s.
     int slidesPerSetting =
-        2; ///< Slides per depth × speed, at seeded places on smooth valid surface.
-    bool crossings = true;     ///< One Cross stroke per scene crossing × depth × speed.
-    int presses = 1;           ///< Press strokes per depth.
-    StrokeTiming timing{};     ///< slide is shortened to fit the clip (at least 0.3 s).
-    double rate = 1000.0;      ///< Samples per second.
-    std::uint64_t seed = 7;    ///< Placement draws.
+        2;                 ///< Slides per depth × speed, at seeded places on smooth valid surface.
+    bool crossings = true; ///< One Cross stroke per scene crossing × depth × speed.
+    int presses = 1;       ///< Press strokes per depth.
+    StrokeTiming timing{}; ///< slide is shortened to fit the clip (at least 0.3 s).
+    double rate = 1000.0;  ///< Samples per second.
+    std::uint64_t seed = 7; ///< Placement draws.
 };
 
 /// \brief The strokes of \a plan on \a scene. A slide's line is kept 4 mm inside the box, over
