@@ -340,7 +340,12 @@ void SimHapticDevice::updateSurfaceEstimate(double t, double h, double depth, do
     if (unfeltSeconds_ >= settings_.reaction) {
         surfaceEstimate_ =
             std::max(surfaceEstimate_ - settings_.approach * h, caps_.workspaceMin.z);
-        if (surfaceEstimate_ < lastFeltZ_ - settings_.reach && surfaceEstimate_ < settings_.z)
+        // Went through: `reach` below the last touch, or down at the device's end stop (before
+        // any touch, or with the last touch less than `reach` above the floor: a hand that
+        // reached the floor with nothing felt does not stay there).
+        const bool atFloor = surfaceEstimate_ <= caps_.workspaceMin.z;
+        if ((atFloor || surfaceEstimate_ < lastFeltZ_ - settings_.reach) &&
+            surfaceEstimate_ < settings_.z)
             retreating_ = true;
     }
 }

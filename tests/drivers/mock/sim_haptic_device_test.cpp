@@ -228,6 +228,30 @@ TEST(SimHandTest, handThatWentThroughTheSurfaceBacksUpAndTouchesAgain)
     EXPECT_NEAR(hand.position().z, -1.2 / 3000.0, 1e-5);
 }
 
+TEST(SimHandTest, handThatSearchedToTheFloorBeforeTheSceneCameBacksUpAndTouchesIt)
+{
+    // GIVEN a hand that starts searching before there is anything to touch (a player whose first
+    // depth frame comes late on a loaded machine), and a surface at z = 0 that then appears and,
+    // like the renderer, pushes a finger found under it only once it came back above it
+    Hand hand("intent=press,z=0.01,depth=0.004,delay=0");
+    bool appeared = false;
+    bool above = false;
+    const auto surface = [&](const hal::Vec3 &p) {
+        if (!appeared)
+            return hal::Vec3{};
+        above = above || p.z > 0.0;
+        return hal::Vec3{0.0, 0.0, above && p.z < 0.0 ? -3000.0 * p.z : 0.0};
+    };
+    const double lowest = hand.run(1000, surface);
+    // WHEN the surface appears with the finger at the device's end stop (workspace 6 cm)
+    ASSERT_NEAR(lowest, -0.06, 1e-9);
+    appeared = true;
+    hand.run(3000, surface);
+    // THEN the hand went back up, found the surface and presses it as intended
+    EXPECT_NEAR(hand.force(), 1.2, 0.01);
+    EXPECT_NEAR(hand.position().z, -1.2 / 3000.0, 1e-5);
+}
+
 TEST(SimHandTest, exploreRefusesAPeriodShorterThanTenMilliseconds)
 {
     // GIVEN explore periods of a nanosecond (a FIFO thread spinning for tens of seconds on one

@@ -19,7 +19,7 @@
 /// nothing for `reaction` seconds it lowers s at `approach` m/s to look for the surface; `reach`
 /// below the last touch without finding one (it went through), it goes back up to the start
 /// height `z` at 2·approach and looks again (s starts at `z`; before the first touch it searches
-/// down to the workspace floor).
+/// down to the workspace floor; at the floor, touched or not, it goes back up as from `reach`).
 /// When the support goes (a hole, a pop-through, a released proxy) the fingertip therefore sinks
 /// only toward s − depth, at most `depth` below where it was, until the search resumes.
 /// Intents (the lateral intended point and the depth):
