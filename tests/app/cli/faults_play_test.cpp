@@ -254,8 +254,8 @@ TEST(PlayFaultsTest, QuitAfterARecoveredFailedPlayIsSuccess)
     ASSERT_TRUE(c.connect(sock, 10s));
     EXPECT_EQ(c.request(R"({"command":["stop"]})"), R"({"error":"success"})");
     EXPECT_EQ(c.request(R"({"command":["play","/nonexistent/x.mkv"]})"), R"({"error":"success"})");
-    // Wait for the state itself: every reply has an "error" field ("success"), so the wait looks for
-    // the state's value, or it would end at the first reply, before the open has failed.
+    // Wait for the state itself: every reply has an "error" field ("success"), so the wait looks
+    // for the state's value, or it would end at the first reply, before the open has failed.
     std::string state;
     for (int i = 0; i < 100 && state.find(R"("data":"error")") == std::string::npos; ++i) {
         std::this_thread::sleep_for(20ms);
