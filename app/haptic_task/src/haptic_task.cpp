@@ -106,7 +106,7 @@ HapticTask::HapticTask(const HapticTaskConfig &config, hal::HapticDevice &device
       timer_(clock, platform::fromSeconds(1.0 / config.servoRateHz)),
       maxForce_(config.renderer.maxForce), period_(1.0 / config.servoRateHz),
       enabled_(config.startEnabled), stiffness_(config.renderer.stiffness),
-      offset_(config.mapping.offset),
+      rendererStiffness_(config.renderer.stiffness), offset_(config.mapping.offset),
       wakeHist_(std::make_unique<LatencyHistogram>()),
       updateHist_(std::make_unique<LatencyHistogram>()),
       periodHist_(std::make_unique<LatencyHistogram>())
@@ -488,6 +488,13 @@ HapticTask::watchDeadlines(const platform::PeriodicWait &wait) noexcept
     }
     const double t = std::max(platform::toSeconds(c.begin - handoff_.mediaOrigin()), lastT_);
     lastT_ = t;
+    // Run-time stiffness (setStiffness()) goes into the renderer, so its safety and slew limit
+    // act on the force the device is sent.
+    const double k = stiffness_.load(std::memory_order_relaxed);
+    if (k != rendererStiffness_) {
+        renderer_->setStiffness(k);
+        rendererStiffness_ = k;
+    }
     const haptics::HapticOutput out = renderer_->update(hip, t);
     sample.t = t;
     sample.hip = out.hip;
@@ -502,11 +509,8 @@ HapticTask::watchDeadlines(const platform::PeriodicWait &wait) noexcept
         sample.flags |= TelemetrySample::Released;
         bump(releases_);
     }
-    // Run-time stiffness (setStiffness()): the force is linear in k.
-    const glm::dvec3 target =
-        out.force * (stiffness_.load(std::memory_order_relaxed) / config_.renderer.stiffness);
     pose_.store({out.hip.x, out.hip.y, out.hip.z, out.proxy.x, out.proxy.y, out.proxy.z, 1.0});
-    return target;
+    return out.force;
 }
 
 [[gnu::always_inline]] inline double HapticTask::rampGain(CycleContext &c) noexcept

@@ -177,10 +177,22 @@ FingerRenderer::FingerRenderer(const RendererConfig &config) noexcept
 {
     field_.setCutThreshold(config.cutThreshold);
     radius_ = std::isnan(config.fingerRadius) ? 0.015 * config.box.width : config.fingerRadius;
-    const double tripDepth = config.maxForceStep / config.stiffness; // the force step as a depth
-    captureDepth_ = std::max(tripDepth, 0.1 * config.box.depth);
+    setDepths();
+}
+
+void FingerRenderer::setDepths() noexcept
+{
+    const double tripDepth = config_.maxForceStep / config_.stiffness; // the force step as a depth
+    captureDepth_ = std::max(tripDepth, 0.1 * config_.box.depth);
     stepDepth_ = 0.25 * tripDepth;
     pushDepth_ = 0.0625 * tripDepth;
+}
+
+void FingerRenderer::setStiffness(double newtonsPerMetre) noexcept
+{
+    force_.setStiffness(newtonsPerMetre);
+    config_.stiffness = force_.stiffness();
+    setDepths();
 }
 
 Result<void> FingerRenderer::setFrames(const DepthFrameView &current,

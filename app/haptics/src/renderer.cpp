@@ -109,6 +109,14 @@ void ForceStage::reset() noexcept
     ramping_ = false;
 }
 
+void ForceStage::setStiffness(double newtonsPerMetre) noexcept
+{
+    if (!(newtonsPerMetre > 0.0) || !std::isfinite(newtonsPerMetre))
+        return;
+    prevRaw_ *= newtonsPerMetre / config_.stiffness;
+    config_.stiffness = newtonsPerMetre;
+}
+
 glm::dvec3 ForceStage::spring(const glm::dvec3 &hip, const glm::dvec3 &proxy, bool contact,
                               double t, double stiffnessScale) noexcept
 {

@@ -74,11 +74,17 @@ TEST(PlayRateTest, TheServoLoopRunsAtTheRateOfTheOptionAndItsRampsKeepTheirSecon
     p.step(130);
     EXPECT_NEAR(mock.lastForce().z, 1.6, 0.01);
 
-    // WHEN the stiffness steps from 800 to 3000 N/m (1.6 N → 6 N)  THEN the force-rate limit
-    // (2000 N/s) lets it rise 4 N in the 2 ms of one update, and it is there on the next
+    // WHEN the stiffness steps from 800 to 3000 N/m (1.6 N → 6 N)  THEN the renderer's slew
+    // limit (maxForceStep, 2 N an update), tighter than the task's force-rate limit (2000 N/s:
+    // 4 N in the 2 ms of one update), lets it rise 2 N an update: the stiffness is applied before
+    // the renderer's safety, which shapes the force the device is sent
+    const double step = config.haptics.renderer.maxForceStep;
+    ASSERT_LT(step, config.haptics.maxForceRate * 0.002);
     ASSERT_TRUE(p.machine().execute("stiffness 3000").accepted);
     p.step(2);
-    EXPECT_NEAR(mock.lastForce().z, 1.6 + 2000.0 * 0.002, 0.01);
+    EXPECT_NEAR(mock.lastForce().z, 1.6 + step, 0.01);
+    p.step(2);
+    EXPECT_NEAR(mock.lastForce().z, 1.6 + 2.0 * step, 0.01);
     p.step(2);
     EXPECT_NEAR(mock.lastForce().z, 3000.0 * 0.002, 0.01);
 }

@@ -1,5 +1,6 @@
 #include "depthtouch/haptics/renderer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <utility>
@@ -79,6 +80,48 @@ TEST(RendererTest, forceIsClampedToTheDeviceMaximum)
     const HapticOutput out = pressDown(r, 0.0, 0.0, z, 0.015, t); // k·15 mm = 12 N
     EXPECT_NEAR(glm::length(out.force), 8.5, 1e-12);
     EXPECT_NEAR(out.proxy.z - out.hip.z, 0.015, 1e-12);
+}
+
+TEST(RendererTest, aStiffnessSetWhilePressingIsFeltInSlewedStepsWithoutATrip)
+{
+    // GIVEN each method pressing a flat surface 2 mm deep at the configured 800 N/m (1.6 N)
+    const OwnedFrame f = makeFrame(kBox, 64, 48, 0.0, [](double, double) { return 0.002; });
+    for (const Method m : {Method::Modified, Method::MeshBvh, Method::Finger}) {
+        SCOPED_TRACE(methodName(m));
+        RendererConfig cfg;
+        auto made = makeRenderer(m, cfg, 64, 48);
+        ASSERT_TRUE(made);
+        HapticRenderer &r = **made;
+        ASSERT_TRUE(r.setFrames(f.view(), nullptr));
+        double t = 0.0;
+        const double z = 0.002;
+        r.reset({0.01, 0.005, z + 0.005});
+        HapticOutput out = pressDown(r, 0.01, 0.005, z, 0.002, t);
+        for (int i = 0; i < 50; ++i, t += 0.001)
+            out = r.update({0.01, 0.005, z - 0.002}, t);
+        ASSERT_NEAR(out.force.z, 800.0 * 0.002, 0.02);
+        // WHEN the stiffness becomes 3500 N/m (7 N at the same depth: a jump of 5.4 N, over
+        // the 2 N force-jump threshold) and then a nonsense value
+        r.setStiffness(3500.0);
+        r.setStiffness(-1.0);
+        r.setStiffness(std::nan(""));
+        double last = out.force.z;
+        double largest = 0.0;
+        bool released = false;
+        for (int i = 0; i < 10; ++i, t += 0.001) {
+            out = r.update({0.01, 0.005, z - 0.002}, t);
+            largest = std::max(largest, std::fabs(out.force.z - last));
+            last = out.force.z;
+            released = released || out.released;
+        }
+        // THEN the force is k·depth at the new k, reached in steps of at most maxForceStep,
+        // and the change itself never tripped safety (the contact held)
+        EXPECT_NEAR(out.force.z, 3500.0 * 0.002, 0.03);
+        EXPECT_LE(largest, cfg.maxForceStep + 1e-9);
+        EXPECT_GT(largest, 1.0) << "the force rose in a few steps";
+        EXPECT_FALSE(released);
+        EXPECT_TRUE(out.contact);
+    }
 }
 
 TEST(RendererTest, dampingOpposesTheHipVelocityInContact)

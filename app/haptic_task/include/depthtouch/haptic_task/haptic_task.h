@@ -238,9 +238,11 @@ public:
     [[nodiscard]] bool enabled() const noexcept { return enabled_.load(std::memory_order_acquire); }
 
     /// \brief Changes the surface stiffness at run time, N/m (> 0; other values are ignored).
-    /// The renderer's force is scaled by \a newtonsPerMetre / config().renderer.stiffness (its
-    /// damping with it) before the clamp to the device maximum and the force-rate limit, so a
-    /// change is felt within a few milliseconds and never as a step. Async-signal-safe.
+    /// The haptic thread hands it to the renderer at its next update
+    /// (haptics::HapticRenderer::setStiffness()): the renderer's force-jump safety and slew limit
+    /// act on the force at the new stiffness, and with the force-rate limit after them a change
+    /// is felt within a few milliseconds and never as a step. The damping b stays as configured.
+    /// Async-signal-safe.
     void setStiffness(double newtonsPerMetre) noexcept
     {
         if (newtonsPerMetre > 0.0 && newtonsPerMetre < 1e6)
@@ -389,6 +391,7 @@ private:
     platform::SeqLockArray<3> force_; ///< Last commanded force, N (read by lastForce()).
     platform::SeqLockArray<7> pose_;  ///< HIP, proxy (m) and a valid flag (lastPose()).
     std::atomic<double> stiffness_;   ///< N/m (setStiffness()).
+    double rendererStiffness_;        ///< The stiffness the renderer has, N/m (haptic thread).
     std::atomic<std::uint32_t> reseatRequests_{0};
     std::atomic<std::uint32_t> clockRestarts_{0};
     std::uint32_t clockRestartsDone_ = 0; ///< RT thread only.

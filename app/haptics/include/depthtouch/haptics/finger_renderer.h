@@ -163,6 +163,8 @@ public:
     HapticOutput update(const glm::dvec3 &hip, double t) noexcept override;
     void reset(const glm::dvec3 &hip) noexcept override;
     void restartClock() noexcept override;
+    /// Also the depths derived from k (captureDepth_, stepDepth_, pushDepth_).
+    void setStiffness(double newtonsPerMetre) noexcept override;
     [[nodiscard]] Method method() const noexcept override { return Method::Finger; }
 
     [[nodiscard]] const HeightField &surface() const noexcept { return field_; }
@@ -182,6 +184,8 @@ private:
         bool letGo = false;     ///< Let go whatever Reengage says (occluder, saturation).
         bool saturated = false; ///< Let go at the device maximum.
     };
+    /// Sets captureDepth_, stepDepth_ and pushDepth_ from the stiffness and maxForceStep.
+    void setDepths() noexcept;
     /// \return whether a switch between the contacts moves the proxy by more than stepDepth_
     /// (the candidate \a c against the last update's proxy): only then is it ramped in.
     [[nodiscard]] bool switchSteps(const Candidate &c) const noexcept;

@@ -30,6 +30,10 @@ public:
                                          const DepthFrameView *next) noexcept override;
     HapticOutput update(const glm::dvec3 &hip, double t) noexcept override;
     void reset(const glm::dvec3 &hip) noexcept override;
+    void setStiffness(double newtonsPerMetre) noexcept override
+    {
+        force_.setStiffness(newtonsPerMetre);
+    }
     [[nodiscard]] Method method() const noexcept override { return Method::MeshBvh; }
 
     /// \return the number of tree nodes of the last build.

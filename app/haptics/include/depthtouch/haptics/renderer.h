@@ -163,6 +163,14 @@ public:
     /// keeps its support; a surface that changed is what the renderer's safety handles.
     virtual void restartClock() noexcept {}
 
+    /// \brief Changes the stiffness k, N/m, from the next update (a viewer's run-time setting;
+    /// RendererConfig::stiffness is the start value): the spring force, the force-jump safety and
+    /// the slew limit all act on the force at the new k, the force that is sent to the device.
+    /// The last force is rescaled with it, so the change itself never trips safety; the slew
+    /// limit (and the haptic task's force-rate limit) bring the command to the new force.
+    /// Values that are not positive and finite are ignored. Real-time safe.
+    virtual void setStiffness(double newtonsPerMetre) noexcept = 0;
+
     [[nodiscard]] virtual Method method() const noexcept = 0;
 
 protected:
@@ -219,6 +227,11 @@ public:
     /// \brief The frames' clock restarted (seek, loop): the next t may be smaller. The force
     /// history is kept (no kick); a ramp in progress continues where it was.
     void restartClock() noexcept { rebase_ = havePrev_; }
+    /// \brief HapticRenderer::setStiffness(): k becomes \a newtonsPerMetre (ignored unless
+    /// positive and finite) and the last unshaped force is rescaled to it, so the force-jump
+    /// check compares forces at the same k.
+    void setStiffness(double newtonsPerMetre) noexcept;
+    [[nodiscard]] double stiffness() const noexcept { return config_.stiffness; }
 
 private:
     RendererConfig config_;
@@ -251,6 +264,10 @@ public:
     HapticOutput update(const glm::dvec3 &hip, double t) noexcept override;
     void reset(const glm::dvec3 &hip) noexcept override;
     void restartClock() noexcept override { force_.restartClock(); }
+    void setStiffness(double newtonsPerMetre) noexcept override
+    {
+        force_.setStiffness(newtonsPerMetre);
+    }
     [[nodiscard]] Method method() const noexcept override
     {
         return config_.correction || config_.interpolation || config_.safety ? Method::Modified
