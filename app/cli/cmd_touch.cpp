@@ -35,7 +35,6 @@
 #include <glm/geometric.hpp>
 
 #include "commands.h"
-#include "decoded_depth.h"
 #include "material_frames.h"
 #include "option_cli.h"
 #include "output_paths.h"
@@ -45,6 +44,7 @@
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/haptics/replay.h"
+#include "depthtouch/receiver/depth_file.h"
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
 
@@ -220,12 +220,24 @@ int openRawDepth(const TouchOptions &o, std::unique_ptr<haptics::FrameProvider> 
     return kExitOk;
 }
 
+/// The depth file as the replay's frame provider.
+class DepthFileFrames final : public haptics::FrameProvider {
+public:
+    explicit DepthFileFrames(std::unique_ptr<receiver::DepthFile> file) : file_(std::move(file)) {}
+    [[nodiscard]] std::size_t frameCount() const noexcept override { return file_->frameCount(); }
+    Result<scene::DepthFrameView> frame(std::size_t i) noexcept override { return file_->frame(i); }
+    [[nodiscard]] const receiver::DepthFile &file() const noexcept { return *file_; }
+
+private:
+    std::unique_ptr<receiver::DepthFile> file_;
+};
+
 /// The depth input through the ffmpeg backends, with the metric conversion of --near/--far (or
 /// of the first frame's robust range, for an input that says nothing of depth). \a decoded
 /// receives the provider (owned by \a frames). Returns kExitOk, or the exit code after printing
 /// the one error line.
 int openDecodedDepth(const TouchOptions &o, std::unique_ptr<haptics::FrameProvider> &frames,
-                     DecodedFrameProvider *&decoded)
+                     const receiver::DepthFile *&decoded)
 {
     if (!(o.fps > 0.0) || o.fps > 10'000.0)
         return fail(kExitBadInput, "--fps must be in (0, 10000]");
@@ -234,11 +246,11 @@ int openDecodedDepth(const TouchOptions &o, std::unique_ptr<haptics::FrameProvid
     auto mapping = depth::parseMapping(o.depthMapping);
     if (!mapping)
         return fail(kExitBadInput, "--depth-mapping must be inverse_z or linear");
-    DecodedFrameProvider::Metric unplanned;
+    receiver::DepthFile::Metric unplanned;
     unplanned.convert.raw.metresPerUnit = o.depthScale;
     unplanned.convert.mapping = *mapping;
     unplanned.convert.vmax = 65535.0;
-    std::optional<DecodedFrameProvider::Metric> metric;
+    std::optional<receiver::DepthFile::Metric> metric;
     if (o.nearM || o.farM) {
         if (!o.nearM || !o.farM || !(*o.nearM > 0.0) || !(*o.farM > *o.nearM))
             return fail(kExitBadInput,
@@ -250,11 +262,24 @@ int openDecodedDepth(const TouchOptions &o, std::unique_ptr<haptics::FrameProvid
     // stays quiet unless the user asked for it with DT_LOG.
     if (std::getenv("DT_LOG") == nullptr)
         platform::setLogLevel(platform::LogLevel::Warning);
-    auto provider = std::make_unique<DecodedFrameProvider>();
+    // The ffmpeg backends, the source at the --fps of inputs that have none (image sequences).
+    const std::string fpsOption = "fps=" + std::to_string(o.fps);
+    hal::BackendConfig sourceConfig;
+    sourceConfig.options = hal::OptionList(fpsOption);
+    auto source = drivers::createMediaSource("ffmpeg", sourceConfig);
+    if (!source)
+        return fail(kExitBadInput,
+                    std::string("no FFmpeg media source in this build: ") + source.error().what);
+    auto decoder = drivers::createVideoDecoder("ffmpeg", hal::BackendConfig{});
+    if (!decoder)
+        return fail(kExitBadInput, std::string("no FFmpeg video decoder: ") + decoder.error().what);
+    auto file =
+        std::make_unique<receiver::DepthFile>(std::move(*source), std::move(*decoder), o.fps);
     std::string error;
-    if (!provider->open(o.depth, o.fps, metric, unplanned, error))
+    if (!file->open(o.depth, metric, unplanned, error))
         return fail(kExitBadInput, error);
-    decoded = provider.get();
+    auto provider = std::make_unique<DepthFileFrames>(std::move(file));
+    decoded = &provider->file();
     frames = std::move(provider);
     return kExitOk;
 }
@@ -337,7 +362,7 @@ int runTouch(const TouchOptions &o)
 
     // Depth input: a raw gray file with --size, else anything FFmpeg reads.
     std::unique_ptr<FrameProvider> frames;
-    DecodedFrameProvider *decoded = nullptr;
+    const receiver::DepthFile *decoded = nullptr;
     MaterialFrameProvider *materialFrames = nullptr;
     if (const int rc =
             !o.size.empty() ? openRawDepth(o, frames) : openDecodedDepth(o, frames, decoded);
