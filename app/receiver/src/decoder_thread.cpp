@@ -137,7 +137,6 @@ void DecoderThread::run() noexcept
             if (r && *r) {
                 frame.generation = generation;
                 haveFrame = true;
-                publishStats();
             } else if (r) {
                 publishStats();
                 ended_.store(true, std::memory_order_release);
@@ -152,6 +151,9 @@ void DecoderThread::run() noexcept
         if (haveFrame && queue_.tryPush(std::move(frame))) {
             frame = PairedFrame{};
             haveFrame = false;
+            // Published once the frame is queued: a consumer that reads framesOutput finds that
+            // many frames given to it (taken, or waiting in the queue), none still held here.
+            publishStats();
             continue;
         }
         // Queue full, consumer holding every frame, or nothing to do: wait for the consumer.

@@ -252,10 +252,13 @@ public:
 
 private:
     /// Waits (real time, on the events) until the clock-driven threads sleep and the decode thread
-    /// has two frames queued beyond those the render thread took (it counts a frame as output
-    /// before it is queued, hence three), or has decoded the whole clip, or is blocked with its
-    /// queue full (its output stopped for 1 s of real time: 200 ms was seen to pass while a loaded
-    /// machine held the decode thread).
+    /// has three frames queued beyond those the render thread took (its framesOutput counts the
+    /// frames it queued), or has queued the whole clip, or is blocked with its queue full (its
+    /// output stopped for 1 s of real time: 200 ms was seen to pass while a loaded machine held
+    /// the decode thread). Its output was once counted before the frame was queued: at the clip's
+    /// end "the whole clip" then held while the last frame was still in the decode thread's hands,
+    /// and under eight runnable threads on two cores that frame was shown up to 1.1 s late on
+    /// simulated time (PlaybackSimTest.AStallDelaysFramesWithinTheMaxLatenessAndDropsThemBeyondIt).
     void settle()
     {
         const player::PlayerState s = machine_->state();

@@ -59,7 +59,8 @@ public:
     [[nodiscard]] bool failed() const noexcept { return failed_.load(std::memory_order_acquire); }
     /// \return the Receiver's error after failed().
     [[nodiscard]] Error error() const noexcept;
-    /// \return a snapshot of the Receiver's counters, taken by the decoder thread after each frame.
+    /// \return a snapshot of the Receiver's counters, taken by the decoder thread after each frame
+    /// it queued (framesOutput counts frames given to the consumer, none held back) and at the end.
     [[nodiscard]] ReceiverStats stats() const;
     /// \brief What the decoder thread is doing, for telling a silent live stream: bumped when it
     /// enters and when it leaves Receiver::next() (which waits only on the source), so the value is
