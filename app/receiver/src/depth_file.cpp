@@ -110,7 +110,6 @@ bool DepthFile::open(const std::string &url, std::optional<Metric> metric, const
         error = "cannot decode depth input '" + url + "': " + r.error().what;
         return false;
     }
-    url_ = url;
     return true;
 }
 

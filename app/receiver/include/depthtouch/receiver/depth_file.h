@@ -84,7 +84,6 @@ private:
     std::unique_ptr<hal::VideoDecoder> decoder_;
     hal::StreamConfig config_;
     std::optional<Metric> metric_;
-    std::string url_;
     double fps_ = 30.0;
     int stream_ = -1;
     std::size_t count_ = 0;
