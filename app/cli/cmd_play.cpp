@@ -204,7 +204,8 @@ std::optional<PlayResult> openBackends(const PlayOptions &opt, const hal::Backen
     if (take(drivers::createVideoDecoder(opt.decoder, decoderCfg, &rep), rep, decoder))
         return PlayResult{kExitBadInput, {}};
     std::unique_ptr<hal::MediaSource> source;
-    if (take(drivers::createMediaSource(opt.source, cfg, &rep), rep, source))
+    if (take(drivers::createMediaSource(opt.source, withOptions(cfg, opt.sourceOptions), &rep), rep,
+             source))
         return PlayResult{kExitBadInput, {}};
     return std::nullopt;
 }
@@ -214,7 +215,9 @@ playback::PlaybackHal playbackHal(const PlayOptions &opt, const hal::BackendConf
                                   const PlayBackends &b)
 {
     playback::PlaybackHal ph;
-    ph.makeSource = [name = opt.source, cfg]() { return drivers::createMediaSource(name, cfg); };
+    ph.makeSource = [name = opt.source, c = withOptions(cfg, opt.sourceOptions)]() {
+        return drivers::createMediaSource(name, c);
+    };
     ph.makeDecoder = [name = opt.decoder, c = withOptions(cfg, opt.decoderOptions)](
                          const hal::StreamInfo &) { return drivers::createVideoDecoder(name, c); };
     ph.display = b.display.get();

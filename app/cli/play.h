@@ -28,6 +28,7 @@ struct PlayOptions {
     std::string decoder = "ffmpeg"; ///< Video decoder backend(s).
     std::string decoderOptions;     ///< Options of the decoder backend(s), e.g. drm-prime.
     std::string source = "ffmpeg";  ///< Media source backend.
+    std::string sourceOptions;      ///< Options of the media source, e.g. timeout_ms=30000.
     std::string remote = "none";    ///< Remote-control backend(s): evdev, tty, none.
     std::string remoteOptions;
     std::string stereo = "sbs"; ///< sbs, tab, anaglyph, mono, interleaved.

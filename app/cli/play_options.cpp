@@ -48,6 +48,8 @@ const OptionRow<PlayOptions> kPlayRows[] = {
     {"decoder-options", &PlayOptions::decoderOptions,
      "Options of the decoder backend(s), e.g. drm-prime (zero-copy) or pool=24"},
     {"source", &PlayOptions::source, "Media source backend"},
+    {"source-options", &PlayOptions::sourceOptions,
+     "Options of the media source, e.g. timeout_ms=30000 (longest blocking open or read)"},
     {"remote", &PlayOptions::remote, "Remote control backend(s): evdev, tty, none"},
     {"remote-options", &PlayOptions::remoteOptions,
      "Options of the remote, e.g. device=/dev/input/event3"},
