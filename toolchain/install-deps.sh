@@ -19,8 +19,9 @@ HOST_PACKAGES=(
     python3
     # .ci/format-check: clang-format-diff on the lines changed since .ci/format-base
     clang-format-14
-    # packaging: the man page from --help; dpkg-shlibdeps (dpkg-dev) for the package's Depends
-    help2man dpkg-dev
+    # packaging: the man page from --help; dpkg-shlibdeps (dpkg-dev) for the package's Depends;
+    # the package test's checks: lintian, and systemd-analyze (systemd) scoring the unit's sandbox
+    help2man dpkg-dev lintian systemd
     # the documentation's examples: socat talks to the control socket (docs/devices.md)
     socat
     # the HLS test serves a playlist over HTTP with busybox's httpd

@@ -1,11 +1,16 @@
 # The Debian package and the install rules (packaging/CMakeLists.txt), as an integrator meets them:
-#  1. DESTDIR=stage cmake --install: the program, unit, sysusers entry, udev rule, config, man page, docs;
-#  2. cpack writes depthtouch_<version>_<arch>.deb: its Architecture, Depends (from dpkg-shlibdeps),
-#     conffiles and contents;
+#  1. DESTDIR=stage cmake --install: the program, unit, sysusers entry, udev rule, config, man page, docs,
+#     copyright and changelog; the unit's sandbox scored by `systemd-analyze security` (at most 4.0, "OK");
+#  1b. cmake --install --prefix P: every file it writes lies under P, and the unit names P's program and config;
+#  2. cpack writes depthtouch_<version>_<arch>.deb and depthtouch-dbgsym_<version>_<arch>.ddeb: the .deb's
+#     Architecture, Depends (from dpkg-shlibdeps, and the Mesa driver), conffiles, maintainer scripts and
+#     contents, its program stripped, the .ddeb holding that program's debug information under its build-id;
+#     lintian reports no error and no warning on either;
 #  3. (native builds) the package unpacked into a scratch root (dpkg-deb -x) runs: --version and a
 #     short demo from there.
 # -DBUILD=<build dir> -DOUT=<scratch folder> -DVERSION=<x.y.z> -DARCH=<Debian arch> -DRUN=ON|OFF
-# (RUN: a native build, whose program runs here)
+# -DSANITIZE=<the build's DT_SANITIZE> (RUN: a native build, whose program runs here; a sanitizer
+# build's package is not one that ships: lintian is not run on it)
 file(REMOVE_RECURSE "${OUT}")
 file(MAKE_DIRECTORY "${OUT}")
 
@@ -29,21 +34,73 @@ set(ENV{DESTDIR} "${OUT}/stage")
 run(${CMAKE_COMMAND} --install "${BUILD}")
 unset(ENV{DESTDIR})
 set(files usr/bin/depthtouch usr/lib/systemd/system/depthtouch.service usr/lib/sysusers.d/depthtouch.conf
-    usr/lib/udev/rules.d/60-novint-falcon.rules etc/depthtouch/play.toml usr/share/doc/depthtouch/README.md)
+    usr/lib/udev/rules.d/60-novint-falcon.rules etc/depthtouch/play.toml usr/share/doc/depthtouch/README.md
+    usr/share/doc/depthtouch/copyright usr/share/doc/depthtouch/changelog.gz
+    usr/share/doc/depthtouch/docs/architecture.md)
 if(RUN) # the man page is made by running the program: native builds only
-    list(APPEND files usr/share/man/man1/depthtouch.1)
+    list(APPEND files usr/share/man/man1/depthtouch.1.gz)
 endif()
 foreach(p ${files})
     expect_file("${OUT}/stage" "${p}")
 endforeach()
 file(READ "${OUT}/stage/usr/lib/systemd/system/depthtouch.service" unit)
 foreach(line "ExecStart=/usr/bin/depthtouch play --config /etc/depthtouch/play.toml" "LimitRTPRIO=95"
-             "LimitMEMLOCK=infinity")
+             "LimitMEMLOCK=infinity" "DeviceAllow=char-drm rw" "DeviceAllow=char-usb_device rw")
     string(FIND "${unit}" "${line}" at)
     if(at LESS 0)
         message(FATAL_ERROR "the unit lacks '${line}':\n${unit}")
     endif()
 endforeach()
+# The sandbox: systemd's own score of the unit (0 = fully confined, 10 = not at all; "OK" up to 4.0).
+# The unit must still allow what the player needs: real-time scheduling and memory locking (the
+# syscall filter's @resources and @memlock groups, RestrictRealtime off).
+foreach(line "RestrictRealtime=" "MemoryDenyWriteExecute=")
+    string(FIND "${unit}" "${line}" at)
+    if(NOT at LESS 0)
+        message(FATAL_ERROR "the unit sets ${line}, which the player cannot run under:\n${unit}")
+    endif()
+endforeach()
+find_program(SYSTEMD_ANALYZE systemd-analyze)
+if(SYSTEMD_ANALYZE)
+    execute_process(COMMAND ${SYSTEMD_ANALYZE} security --offline=yes --no-pager
+            "${OUT}/stage/usr/lib/systemd/system/depthtouch.service"
+        OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT "${out}${err}" MATCHES "Overall exposure level for depthtouch.service: ([0-9.]+)")
+        message(FATAL_ERROR "systemd-analyze security printed no score:\n${out}${err}")
+    endif()
+    set(score ${CMAKE_MATCH_1})
+    message("systemd-analyze security: ${score}")
+    if(score GREATER 4.0)
+        message(FATAL_ERROR "the unit's exposure is ${score}, over 4.0 (OK):\n${out}")
+    endif()
+    foreach(group @resources @memlock)
+        execute_process(COMMAND ${SYSTEMD_ANALYZE} syscall-filter @system-service OUTPUT_VARIABLE groups)
+        string(FIND "${groups}" "${group}" at)
+        if(at LESS 0)
+            message(FATAL_ERROR "@system-service lacks ${group} (sched_setscheduler, mlockall)")
+        endif()
+    endforeach()
+else()
+    message(FATAL_ERROR "systemd-analyze not found (toolchain/install-deps.sh installs systemd)")
+endif()
+
+# 1b. an install under another prefix stays inside it
+file(REMOVE "${BUILD}/install_manifest.txt")
+run(${CMAKE_COMMAND} --install "${BUILD}" --prefix "${OUT}/prefix")
+file(STRINGS "${BUILD}/install_manifest.txt" written)
+foreach(p ${written})
+    string(FIND "${p}" "${OUT}/prefix/" at)
+    if(NOT at EQUAL 0)
+        message(FATAL_ERROR "--prefix ${OUT}/prefix wrote ${p}, outside the prefix")
+    endif()
+endforeach()
+expect_file("${OUT}/prefix" etc/depthtouch/play.toml)
+file(READ "${OUT}/prefix/lib/systemd/system/depthtouch.service" unit)
+set(line "ExecStart=${OUT}/prefix/bin/depthtouch play --config ${OUT}/prefix/etc/depthtouch/play.toml")
+string(FIND "${unit}" "${line}" at)
+if(at LESS 0)
+    message(FATAL_ERROR "the unit installed under a prefix lacks '${line}':\n${unit}")
+endif()
 
 # 2. the package
 run(cpack --config "${BUILD}/CPackConfig.cmake" -B "${OUT}/cpack")
@@ -59,9 +116,56 @@ if(NOT out MATCHES "Architecture: ${ARCH}\n" OR NOT out MATCHES "Depends:[^\n]*l
    OR NOT out MATCHES "Depends:[^\n]*libavcodec")
     message(FATAL_ERROR "the control fields are wrong (Architecture ${ARCH}, Depends from the shlibs):\n${out}")
 endif()
+if(NOT out MATCHES "Depends:[^\n]*libgl1-mesa-dri")
+    message(FATAL_ERROR "Depends lacks the Mesa driver the headless display draws with:\n${out}")
+endif()
 run(dpkg-deb -I "${debs}" conffiles)
 if(NOT out MATCHES "^/etc/depthtouch/play.toml")
     message(FATAL_ERROR "conffiles: '${out}'")
+endif()
+# The maintainer scripts: the service stopped on remove, state forgotten on purge, restarted on upgrade.
+foreach(pair "prerm;deb-systemd-invoke stop depthtouch.service" "postrm;deb-systemd-helper purge depthtouch.service"
+             "postinst;deb-systemd-invoke try-restart depthtouch.service" "postinst;systemd-sysusers depthtouch.conf")
+    list(GET pair 0 script)
+    list(GET pair 1 line)
+    run(dpkg-deb -I "${debs}" ${script})
+    string(FIND "${out}" "${line}" at)
+    if(at LESS 0)
+        message(FATAL_ERROR "${script} lacks '${line}':\n${out}")
+    endif()
+endforeach()
+# The program stripped; its debug information in the .ddeb under the program's build-id.
+run(dpkg-deb -x "${debs}" "${OUT}/deb-root")
+execute_process(COMMAND readelf -S -n "${OUT}/deb-root/usr/bin/depthtouch" OUTPUT_VARIABLE elf)
+if(elf MATCHES "\\.debug_info")
+    message(FATAL_ERROR "the packaged program is not stripped")
+endif()
+if(NOT elf MATCHES "Build ID: ([0-9a-f][0-9a-f])([0-9a-f]+)")
+    message(FATAL_ERROR "the packaged program has no build-id:\n${elf}")
+endif()
+set(debug_file "usr/lib/debug/.build-id/${CMAKE_MATCH_1}/${CMAKE_MATCH_2}.debug")
+file(GLOB ddebs "${OUT}/cpack/depthtouch-dbgsym_${VERSION}_${ARCH}.ddeb")
+if(NOT ddebs)
+    message(FATAL_ERROR "cpack wrote no depthtouch-dbgsym_${VERSION}_${ARCH}.ddeb")
+endif()
+run(dpkg-deb -x "${ddebs}" "${OUT}/ddeb-root")
+expect_file("${OUT}/ddeb-root" "${debug_file}")
+execute_process(COMMAND readelf -S "${OUT}/ddeb-root/${debug_file}" OUTPUT_VARIABLE dbg)
+if(NOT dbg MATCHES "\\.debug_info")
+    message(FATAL_ERROR "${debug_file} holds no debug information")
+endif()
+find_program(LINTIAN lintian)
+if(SANITIZE)
+    message("lintian: not run on a sanitizer build's package (${SANITIZE})")
+elseif(NOT LINTIAN)
+    message(FATAL_ERROR "lintian not found (toolchain/install-deps.sh installs it)")
+else()
+    execute_process(COMMAND ${LINTIAN} --fail-on error,warning "${debs}" "${ddebs}"
+        RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    message("lintian: ${out}")
+    if(NOT rc EQUAL 0 OR out MATCHES "(^|\n)[EW]: ")
+        message(FATAL_ERROR "lintian (exit ${rc}):\n${out}\n${err}")
+    endif()
 endif()
 run(dpkg-deb -c "${debs}")
 foreach(p ${files})
