@@ -37,8 +37,20 @@ set(files usr/bin/depthtouch usr/lib/systemd/system/depthtouch.service usr/lib/s
     usr/lib/udev/rules.d/60-novint-falcon.rules etc/depthtouch/play.toml usr/share/doc/depthtouch/README.md
     usr/share/doc/depthtouch/copyright usr/share/doc/depthtouch/changelog.gz
     usr/share/doc/depthtouch/docs/architecture.md)
-if(RUN) # the man page is made by running the program: native builds only
+if(RUN) # the man pages are made by running the program: native builds only; one per command of
+    # the program's own --help
     list(APPEND files usr/share/man/man1/depthtouch.1.gz)
+    execute_process(COMMAND "${BUILD}/app/cli/depthtouch" --help OUTPUT_VARIABLE top)
+    string(REGEX REPLACE ".*\nSubcommands:\n" "" listing "${top}")
+    string(REGEX MATCHALL "(^|\n)  [a-z][a-z0-9-]*" commands "${listing}")
+    string(REGEX REPLACE "(^|\n)  " "" commands "${commands}")
+    list(LENGTH commands n)
+    if(n LESS 5)
+        message(FATAL_ERROR "depthtouch --help lists ${n} commands: '${commands}'")
+    endif()
+    foreach(cmd ${commands})
+        list(APPEND files usr/share/man/man1/depthtouch-${cmd}.1.gz)
+    endforeach()
 endif()
 foreach(p ${files})
     expect_file("${OUT}/stage" "${p}")
