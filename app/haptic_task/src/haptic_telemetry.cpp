@@ -47,6 +47,9 @@ void HapticTask::superviseDevice()
                config_.rampTime * 1e3);
         reconnects_.store(reconnects_.load(std::memory_order_relaxed) + 1,
                           std::memory_order_relaxed);
+        // This loss is over: the next one is said again, even when it comes before this thread
+        // next finds the device in use (a loaded machine, or an unplug within one interval).
+        lostLogged_ = false;
         owner_.store(kRestored, std::memory_order_release);
     }
 }

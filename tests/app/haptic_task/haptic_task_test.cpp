@@ -507,14 +507,15 @@ TEST(HapticTaskTest, everyLossOfTheDeviceIsLoggedOnce)
     Rig rig;
     drivers::MockHapticDevice mock(rig.clock());
     startPressingFlat(rig, mock, mock);
-    // WHEN the device is unplugged and comes back, twice
+    // WHEN the device is unplugged and comes back, twice: the second time at once after it came
+    // back, before the service thread's next look finds it in use (as a loaded machine delays it)
     for (int i = 0; i < 2; ++i) {
         mock.disconnect();
         rig.runMs(50);
         mock.reconnect();
         rig.runUntil([&] { return rig.task().deviceConnected(); });
-        rig.runMs(20);
     }
+    rig.runMs(20);
     const HapticStats s = rig.task().stats();
     rig.finish();
     platform::setLogSink(nullptr, nullptr);
