@@ -346,8 +346,18 @@ Result<void> Playback::stop()
 
 Result<void> Playback::seek(double seconds, player::SeekMode mode)
 {
+    impl_->osdEvents.fetch_add(1, std::memory_order_relaxed);
+    return seekTo(seconds, mode);
+}
+
+Result<void> Playback::restartForLoop()
+{
+    return seekTo(0.0, player::SeekMode::Absolute);
+}
+
+Result<void> Playback::seekTo(double seconds, player::SeekMode mode)
+{
     Impl &m = *impl_;
-    m.osdEvents.fetch_add(1, std::memory_order_relaxed);
     if (!std::isfinite(seconds))
         return Error(Errc::InvalidArgument, "seek: not a number");
     std::lock_guard<std::mutex> lock(m.mutex);

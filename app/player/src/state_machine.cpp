@@ -347,9 +347,10 @@ bool StateMachine::onEndOfStream()
     if (state_ != PlayerState::Playing && state_ != PlayerState::Paused)
         return false;
     if (loop_) {
-        const Result<void> r = actions_.seek(0.0, SeekMode::Absolute);
+        // As mpv's --loop-file: the file has not ended for a client, it was seeked to its start.
+        const Result<void> r = actions_.restartForLoop();
         if (r)
-            emit(PlayerEventKind::EndOfFile, "loop");
+            emit(PlayerEventKind::Seeked, "loop");
         else
             fail(std::string("loop seek failed: ") + r.error().what);
         return true;

@@ -40,6 +40,8 @@ public:
                       mode == SeekMode::Absolute ? "absolute" : "relative");
         return record("seek", buf);
     }
+    // A seek to 0 (failures["seek"] fails it too), recorded apart from a viewer's seek.
+    Result<void> restartForLoop() override { return record("seek", "restart-for-loop"); }
     Result<void> setStereoMode(StereoMode mode) override
     {
         return record("setStereoMode", std::string("setStereoMode ") + stereoModeName(mode));

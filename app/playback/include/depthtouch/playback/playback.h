@@ -201,6 +201,8 @@ public:
     [[nodiscard]] Result<void> resume() override;
     [[nodiscard]] Result<void> stop() override;
     [[nodiscard]] Result<void> seek(double seconds, player::SeekMode mode) override;
+    /// seek(0, Absolute) without bringing the OSD up: the loop's restart is no viewer's command.
+    [[nodiscard]] Result<void> restartForLoop() override;
     [[nodiscard]] Result<void> setStereoMode(player::StereoMode mode) override;
     [[nodiscard]] Result<void> setHapticsEnabled(bool enabled) override;
     [[nodiscard]] Result<void> setStiffness(double newtonsPerMetre) override;
@@ -250,6 +252,8 @@ private:
     void finishOpen(std::unique_ptr<receiver::Receiver> rec);
     /// Reports a live stream from which nothing came for PlaybackConfig::liveSilenceSeconds.
     void watchSilence(player::StateMachine &machine);
+    /// seek() and restartForLoop(): the seek itself, clamped to the stream.
+    [[nodiscard]] Result<void> seekTo(double seconds, player::SeekMode mode);
     std::unique_ptr<Impl> impl_;
     PlaybackInfo info_;
 };

@@ -66,6 +66,10 @@ public:
     /// Flushes the decoders and re-seats the haptic surface without a force kick; keeps the
     /// paused/playing condition.
     [[nodiscard]] virtual Result<void> seek(double seconds, SeekMode mode) = 0;
+    /// Starts the stream again from its beginning at its end, with loop on: a seek to 0 that is
+    /// no viewer's command (nothing is shown for it on screen, as mpv's --loop-file). The default
+    /// is seek(0, Absolute).
+    [[nodiscard]] virtual Result<void> restartForLoop() { return seek(0.0, SeekMode::Absolute); }
     /// Changes how the two eye views are packed.
     [[nodiscard]] virtual Result<void> setStereoMode(StereoMode mode) = 0;
     /// Turns force output on or off (off: zero force, the haptic task keeps running).
