@@ -5,7 +5,9 @@
 /// runs the modified proxy graph renderer (paper IV) against the depth frames of a DepthHandoff,
 /// clamps and rate-limits the force, commands it and pushes one telemetry sample per update; plus
 /// the non-real-time telemetry thread (force log CSV, counters, percentiles) and the device
-/// watchdog with hot-plug recovery.
+/// watchdog with hot-plug recovery. Its parameters are HapticTaskConfig (haptic_task_config.h), its
+/// per-update telemetry TelemetrySample (telemetry_sample.h), its results HapticStats
+/// (haptic_stats.h); this header includes them.
 ///
 /// Units and frames: docs/architecture.md §3 (metres, seconds, newtons; scene box x right, y up, z
 /// toward the viewer). The device frame has the same axes (hal/haptic_device.h); the mapping is
@@ -23,7 +25,10 @@
 
 #include "depthtouch/hal/haptic_device.h"
 #include "depthtouch/haptic_task/depth_handoff.h"
+#include "depthtouch/haptic_task/haptic_stats.h"
+#include "depthtouch/haptic_task/haptic_task_config.h"
 #include "depthtouch/haptic_task/latency_histogram.h"
+#include "depthtouch/haptic_task/telemetry_sample.h"
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/file_access.h"
@@ -34,149 +39,6 @@
 #include "depthtouch/platform/spsc_ring.h"
 
 namespace depthtouch::haptic_task {
-
-/// \brief Device frame → scene-box frame: `HIP = scale·p_device + offset`.
-struct DeviceMapping {
-    double scale = 1.0;  ///< Scene metres per device metre (> 0).
-    glm::dvec3 offset{}; ///< Scene position of the device origin, m.
-    /// Device button (bit index) that clutches: while it is held the HIP stays where it was and the
-    /// force goes to zero; on release the offset changes so the HIP continues from there, which
-    /// re-centres the handle in its workspace. −1: no clutch.
-    int clutchButton = -1;
-};
-
-/// \brief Parameters of the haptic task. Defaults are the player's.
-struct HapticTaskConfig {
-    double servoRateHz = 1000.0; ///< Updates per second, 100 .. 10000 (4 kHz and more supported).
-    /// Renderer: method and parameters (stiffness N/m, damping N·s/m, maxForce N, scene box, fixes
-    /// of paper IV, static and dynamic friction on the proxy), handed to the renderer as given.
-    /// The renderer's maxForce is lowered to the device's maximum when that is less.
-    haptics::Method method = haptics::Method::Finger;
-    haptics::RendererConfig renderer = haptics::RendererConfig::forMethod(haptics::Method::Finger);
-    /// Force rate limit, N/s (> 0): the commanded force moves by at most maxForceRate·Δt per
-    /// update. Safety zeroing (watchdog, unplug, stop) is not rate-limited. Default: 0 → 8.5 N
-    /// in 4.25 ms.
-    double maxForceRate = 2000.0;
-    DeviceMapping mapping{};
-    /// Watchdog: more than this many consecutive missed deadlines (overruns, counting the periods
-    /// skipped by the re-sync) command zero force at once; the force then ramps back in (rampTime)
-    /// while the loop keeps its deadlines. ≥ 1.
-    int watchdogMissedDeadlines = 5;
-    /// Watchdog: more than this many consecutive device time-outs (Errc::Timeout) command zero
-    /// force; it ramps back in once the device answers. ≥ 1.
-    int watchdogDeviceTimeouts = 5;
-    /// Duration of the smooth force ramp of setEnabled() and of every resumption (watchdog,
-    /// reconnect), s (> 0). The gain follows smoothstep(phase), phase moving linearly.
-    double rampTime = 0.25;
-    bool startEnabled = true; ///< Haptics on at start (else setEnabled(true) ramps them in).
-
-    /// \name The haptic thread
-    ///@{
-    /// SCHED_FIFO (the default: the highest priority of the table, kHapticThread) or SCHED_OTHER
-    /// (for comparison in `depthtouch bench rt`).
-    platform::SchedPolicy policy = platform::SchedPolicy::Fifo;
-    bool requireRt = false; ///< Fail start() when SCHED_FIFO or the memory lock is refused.
-    /// Keep the haptic path resident before the thread starts (RealtimeThread, memoryLock).
-    bool lockMemory = true;
-    /// How: Owned (the default) mlock()s the haptic thread's stack, the task, its telemetry ring,
-    /// the renderer, the device object, the hand-off and its pixels, and the code of the program,
-    /// the C/C++ runtime and libusb (docs/memory.md); All is mlockall(MCL_CURRENT), the behaviour
-    /// before issue #21 (for `bench rt`).
-    platform::MemoryLockMode memoryLock = platform::MemoryLockMode::Owned;
-    int cpu = -1;           ///< CPU to pin the haptic thread to, −1: none.
-    /// Instrumentation: called on the haptic thread once, before its first update (e.g. a debug
-    /// hook that makes malloc fail loudly on that thread, docs/style.md §4.7). Must be real-time
-    /// safe.
-    void (*threadHook)(void *user) = nullptr;
-    void *threadHookUser = nullptr;
-    ///@}
-
-    /// \name The telemetry thread (SCHED_OTHER, kTelemetryThread; not real-time)
-    ///@{
-    /// Force log CSV (docs/architecture.md §4) written as the telemetry drains; empty: none.
-    std::string forceLogPath;
-    /// How often the telemetry thread drains the ring and checks the device, ms (1 .. 1000).
-    int telemetryIntervalMs = 5;
-    /// How often a lost device is closed and opened again, ms (≥ 1).
-    int reconnectIntervalMs = 100;
-    ///@}
-
-    /// \return Errc::InvalidArgument with a static message when a value is out of range.
-    [[nodiscard]] Result<void> validate() const noexcept;
-};
-
-/// \brief One haptic update as pushed into the telemetry ring (no allocation, trivially copyable).
-struct TelemetrySample {
-    enum Flags : std::uint16_t {
-        Rendered = 1u << 0,      ///< Device read and frames present: t, hip, proxy are meaningful.
-        Contact = 1u << 1,       ///< Proxy held on the surface.
-        Released = 1u << 2,      ///< Renderer force-jump safety released the proxy (paper IV.C).
-        Overrun = 1u << 3,       ///< This cycle started late.
-        WatchdogTrip = 1u << 4,  ///< The watchdog zeroed the force on this cycle.
-        DeviceLost = 1u << 5,    ///< The device is unplugged or being reconnected.
-        DeviceTimeout = 1u << 6, ///< The device did not answer this cycle.
-        Clutched = 1u << 7,      ///< The clutch button is held.
-        NoFrames = 1u << 8,      ///< No depth frame published yet.
-    };
-    double t = 0.0;                  ///< Haptic time, s (clock time − media origin).
-    glm::dvec3 hip{};                ///< HIP, m, scene box.
-    glm::dvec3 proxy{};              ///< Proxy after the update, m.
-    glm::dvec3 force{};              ///< Force commanded to the device, N.
-    std::int64_t wakeNs = 0;         ///< Clock time of the wake-up, ns since the clock's epoch.
-    std::int32_t wakeLatencyNs = 0;  ///< Wake time − deadline, ns.
-    std::int32_t updateNs = 0;       ///< Time from the wake-up to the command, ns.
-    std::uint64_t cycle = 0;         ///< Cycle number, 1-based (gaps: samples lost to a full ring).
-    std::uint32_t missedPeriods = 0; ///< Deadlines skipped by an overrun's re-sync.
-    float gain = 0.0f;               ///< Enable/ramp gain in [0, 1].
-    std::uint16_t flags = 0;
-};
-
-/// \brief Counters and percentiles of a run (the haptic part of the stats JSON,
-/// docs/architecture.md §4).
-struct HapticStats {
-    double servoRateHz = 0.0;
-    std::uint64_t updates = 0; ///< Cycles of the haptic loop.
-    /// Time from the first to the last update drained, s: updates ≈ runSeconds · servoRateHz + 1
-    /// when no period was missed.
-    double runSeconds = 0.0;
-    std::uint64_t renderedUpdates = 0; ///< Cycles that ran the renderer.
-    std::uint64_t contactUpdates = 0;  ///< Rendered cycles with the proxy on the surface.
-    std::uint64_t overruns = 0;        ///< Cycles that started after their deadline.
-    std::uint64_t missedPeriods = 0;   ///< Deadlines skipped by the re-syncs.
-    std::uint64_t safetyReleases = 0;  ///< Renderer releases (IV.C) + watchdog trips.
-    std::uint64_t watchdogTrips = 0;   ///< Zero-force trips of the watchdog (deadlines, time-outs).
-    std::uint64_t deviceLosses = 0;    ///< Times the device disappeared.
-    std::uint64_t reconnects = 0;      ///< Times it came back.
-    std::uint64_t telemetryDropped = 0; ///< Samples lost to a full ring (not in the percentiles).
-    double maxForce = 0.0;              ///< Largest commanded force magnitude, N.
-    /// The force log could not be written whole (a write or its close failed: a full disk); the
-    /// run's output is lost.
-    bool forceLogLost = false;
-    double deviceMaxForce = 0.0; ///< The device's maximum, N.
-    /// Longest single device call (read() or commandForce()) on the haptic thread, µs: bounded by
-    /// every backend whatever its options (docs/devices.md "Time of a device call").
-    double deviceCallMaxUs = 0.0;
-    LatencySummary wakeLatency; ///< Wake time − deadline.
-    LatencySummary updateTime;  ///< Wake-up to force command.
-    LatencySummary periodError; ///< |wake_k − wake_{k−1} − period| over on-time pairs.
-    std::string thread;         ///< What the haptic thread got (RealtimeThreadReport).
-    /// Page faults the haptic thread took after its warm-up (the first kWarmupUpdates updates;
-    /// getrusage(RUSAGE_THREAD) read by the thread itself every 256 updates and at its end). With
-    /// the memory locked: 0, also under memory pressure.
-    std::uint64_t pageFaultsMinor = 0;
-    std::uint64_t pageFaultsMajor = 0;  ///< As pageFaultsMinor, faults that needed I/O.
-    std::uint64_t pageFaultsWarmup = 0; ///< Minor + major faults of the warm-up.
-    double lockedMiB = 0.0; ///< Memory the haptic thread's start locked (Owned mode), MiB.
-
-    /// \return a JSON object: haptic_updates, haptic_run_s, haptic_rate_hz, rendered_updates,
-    /// contact_updates, overruns, missed_periods, wake_latency_us / update_time_us /
-    /// period_error_us {p50, p90, p99, p999, max, mean}, safety_releases, watchdog_trips,
-    /// device_losses, reconnects, telemetry_dropped, max_force_n, device_max_force_n,
-    /// device_call_max_us,
-    /// force_log_lost, haptic_thread, haptic_page_faults {minor, major, warmup},
-    /// haptic_locked_mib.
-    [[nodiscard]] std::string toJson(int indent = 2) const;
-};
 
 /// \brief The haptic servo loop and its telemetry.
 ///
@@ -200,7 +62,7 @@ struct HapticStats {
 class HapticTask {
 public:
     /// Capacity of the telemetry ring: 8 s at 1 kHz, drained every few milliseconds.
-    static constexpr std::size_t kTelemetryCapacity = 8192;
+    static constexpr std::size_t kTelemetryCapacity = haptic_task::kTelemetryCapacity;
     /// Updates of the warm-up: the first pass over the haptic path (lazy symbol bindings resolved,
     /// every buffer touched once) before the page faults are counted (HapticStats).
     static constexpr std::uint64_t kWarmupUpdates = 32;
@@ -294,7 +156,7 @@ public:
     [[nodiscard]] const HapticTaskConfig &config() const noexcept { return config_; }
 
 private:
-    using Ring = platform::SpscRing<TelemetrySample, kTelemetryCapacity>;
+    using Ring = TelemetryRing;
     static constexpr std::uint8_t kRtOwns = 0;   ///< The haptic thread uses the device.
     static constexpr std::uint8_t kLost = 1;     ///< The telemetry thread may close/open it.
     static constexpr std::uint8_t kRestored = 2; ///< Reopened; the haptic thread takes it back.
