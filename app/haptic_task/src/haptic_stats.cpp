@@ -1,5 +1,5 @@
 // HapticStats::toJson: the haptic part of the stats JSON (docs/architecture.md §4).
-#include "depthtouch/haptic_task/haptic_task.h"
+#include "depthtouch/haptic_task/haptic_stats.h"
 
 #include <nlohmann/json.hpp>
 
