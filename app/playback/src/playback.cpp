@@ -9,9 +9,12 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <mutex>
 #include <optional>
 #include <system_error>
+
+#include <glm/geometric.hpp>
 
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/percentile.h"
@@ -348,6 +351,29 @@ Result<void> Playback::seek(double seconds, player::SeekMode mode)
 {
     impl_->osdEvents.fetch_add(1, std::memory_order_relaxed);
     return seekTo(seconds, mode);
+}
+
+player::PlayerActions::MediaPosition Playback::mediaPosition() const
+{
+    Impl &m = *impl_;
+    std::lock_guard<std::mutex> lock(m.mutex);
+    MediaPosition at;
+    if (m.session == nullptr)
+        return at;
+    at.timePos = m.position;
+    const double duration = ptsSeconds(m.session->receiver->info().duration);
+    if (duration > 0.0)
+        at.duration = duration;
+    return at;
+}
+
+double Playback::hapticForce() const
+{
+    Impl &m = *impl_;
+    std::lock_guard<std::mutex> lock(m.mutex);
+    if (m.session == nullptr || m.session->task == nullptr)
+        return std::numeric_limits<double>::quiet_NaN();
+    return glm::length(m.session->task->lastForce());
 }
 
 Result<void> Playback::restartForLoop()

@@ -23,8 +23,19 @@ constexpr std::array<const char *, kPlayerStateCount> kStateNames = {
     "idle", "opening", "playing", "paused", "stopped", "error"};
 constexpr std::array<const char *, 5> kStereoNames = {"sbs", "tab", "anaglyph", "mono",
                                                       "interleaved"};
-constexpr std::array<const char *, 7> kPropertyNames = {"state", "stereo-mode", "haptics",
-                                                        "stiffness", "loop", "url", "error"};
+constexpr std::array<const char *, kPropertyCount> kPropertyNames = {
+    "state",       "stereo-mode", "haptics",  "stiffness",   "loop",         "url",
+    "error",       "time-pos",    "duration", "percent-pos", "pause",        "path",
+    "idle-active", "eof-reached", "volume",   "mute",        "haptic-force", "contact"};
+
+/// The property names, comma-separated (for error texts).
+std::string propertyList()
+{
+    std::string out;
+    for (const char *name : kPropertyNames)
+        out += std::string(out.empty() ? "" : ", ") + name;
+    return out;
+}
 
 std::string quoted(std::string_view s)
 {
@@ -94,6 +105,14 @@ StereoMode nextStereoMode(StereoMode mode) noexcept
 {
     const auto i = (static_cast<std::size_t>(mode) + 1) % kStereoNames.size();
     return static_cast<StereoMode>(i);
+}
+
+std::optional<Property> propertyFromName(std::string_view name) noexcept
+{
+    for (std::size_t i = 0; i < kPropertyNames.size(); ++i)
+        if (lowerEquals(name, kPropertyNames[i]))
+            return static_cast<Property>(i);
+    return std::nullopt;
 }
 
 const char *propertyName(Property property) noexcept
@@ -200,14 +219,12 @@ std::string parseStiffnessArgs(std::span<const std::string_view> args, Command &
 std::string parseGetArgs(std::span<const std::string_view> args, Command &out)
 {
     if (args.size() != 1)
-        return "needs a property (state, stereo-mode, haptics, stiffness, loop, url, error)";
-    for (std::size_t i = 0; i < kPropertyNames.size(); ++i)
-        if (lowerEquals(args[0], kPropertyNames[i])) {
-            out.property = static_cast<Property>(i);
-            return {};
-        }
-    return "unknown property " + quoted(args[0]) +
-           " (state, stereo-mode, haptics, stiffness, loop, url, error)";
+        return "needs a property (" + propertyList() + ")";
+    if (const std::optional<Property> p = propertyFromName(args[0])) {
+        out.property = *p;
+        return {};
+    }
+    return "unknown property " + quoted(args[0]) + " (" + propertyList() + ")";
 }
 
 } // namespace detail

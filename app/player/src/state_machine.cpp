@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdio>
+#include <limits>
 #include <utility>
 
 #include "command_parsers.h"
@@ -188,8 +190,54 @@ struct CommandHandlers {
             return CommandOutcome::accept(m.url_);
         case Property::Error:
             return CommandOutcome::accept(m.errorReason_);
+        default:
+            return media(m, c.property);
         }
-        return CommandOutcome::refuse("unknown property");
+    }
+
+    /// The properties of the media, the session and the haptic device (mpv's names): a value, or
+    /// "property unavailable" where there is none now (nothing open, a live stream's length).
+    static CommandOutcome media(StateMachine &m, Property p)
+    {
+        const PlayerState s = m.state_;
+        const bool open = s == PlayerState::Playing || s == PlayerState::Paused;
+        const PlayerActions::MediaPosition at = m.actions_.mediaPosition();
+        constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+        const auto number = [](double v) {
+            return std::isfinite(v) ? CommandOutcome::accept(v)
+                                    : CommandOutcome::refuse("property unavailable");
+        };
+        switch (p) {
+        case Property::TimePos:
+            return number(open ? at.timePos : kNone);
+        case Property::Duration:
+            return number(open ? at.duration : kNone);
+        case Property::PercentPos:
+            return number(open && at.duration > 0.0 ? 100.0 * at.timePos / at.duration : kNone);
+        case Property::Pause:
+            return CommandOutcome::accept(s == PlayerState::Paused);
+        case Property::Path:
+            if (m.url_.empty() || !(open || s == PlayerState::Opening))
+                return CommandOutcome::refuse("property unavailable");
+            return CommandOutcome::accept(m.url_);
+        case Property::IdleActive: // mpv: no file loaded
+            return CommandOutcome::accept(!open && s != PlayerState::Opening);
+        case Property::EofReached:
+            return CommandOutcome::accept(m.eofReached_);
+        case Property::Volume: // no audio output yet: full volume, as mpv's default
+            return CommandOutcome::accept(100.0);
+        case Property::Mute:
+            return CommandOutcome::accept(false);
+        case Property::HapticForce:
+            return number(open ? m.actions_.hapticForce() : kNone);
+        case Property::Contact: {
+            const double f = open ? m.actions_.hapticForce() : kNone;
+            return std::isfinite(f) ? CommandOutcome::accept(f > 0.0)
+                                    : CommandOutcome::refuse("property unavailable");
+        }
+        default:
+            return CommandOutcome::refuse("unknown property");
+        }
     }
 };
 
@@ -356,6 +404,7 @@ bool StateMachine::onEndOfStream()
         return true;
     }
     const Result<void> r = actions_.stop();
+    eofReached_ = true;
     emit(PlayerEventKind::EndOfFile, "eof");
     enterOrFail(PlayerState::Stopped, "stop", r);
     return true;
@@ -401,6 +450,8 @@ void StateMachine::setState(PlayerState state)
         return;
     DT_LOG(Player, Info, "State %s -> %s", playerStateName(state_), playerStateName(state));
     state_ = state;
+    if (state == PlayerState::Opening || state == PlayerState::Playing)
+        eofReached_ = false;
     emit(PlayerEventKind::StateChanged);
 }
 

@@ -90,7 +90,8 @@ TEST(CommandParseTest, badTextIsRejectedWithAReason)
         {"stereo-mode 4d", "stereo-mode: unknown stereo mode '4d' (sbs, tab, anaglyph, mono, "
                            "interleaved)"},
         {"get colour", "get: unknown property 'colour' (state, stereo-mode, haptics, stiffness, "
-                       "loop, url, error)"},
+                       "loop, url, error, time-pos, duration, percent-pos, pause, path, "
+                       "idle-active, eof-reached, volume, mute, haptic-force, contact)"},
         {"play 'open", "unterminated quote"},
         {"play a b", "play: takes at most one argument (a file or URL)"},
     };

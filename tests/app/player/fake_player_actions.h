@@ -2,6 +2,7 @@
 // A PlayerActions that records every call as text and can be told to fail one action.
 
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <string>
 #include <string_view>
@@ -20,6 +21,11 @@ public:
     std::map<std::string, Error> failures;
     /// Action name → the what() of a std::runtime_error it throws (every time until erased).
     std::map<std::string, std::string> throws;
+    MediaPosition position;                                  ///< What mediaPosition() answers.
+    double force = std::numeric_limits<double>::quiet_NaN(); ///< What hapticForce() answers.
+
+    MediaPosition mediaPosition() const override { return position; }
+    double hapticForce() const override { return force; }
 
     Result<void> open(std::string_view url) override
     {

@@ -2,6 +2,7 @@
 #include "depthtouch/player/state_machine.h"
 
 #include <set>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -663,6 +664,50 @@ TEST(StateMachineTest, queriesReturnTheSettings)
     EXPECT_EQ(m.execute("get stiffness").data, Value(800.0));
     EXPECT_EQ(m.execute("get loop").data, Value(false));
     EXPECT_EQ(m.execute("get url").data, Value(std::string(kUrl)));
+}
+
+// The properties a UI draws from (mpv's names, read with "get" and get_property): each against
+// the value the fake pipeline was given, and "property unavailable" where mpv says so.
+TEST(StateMachineTest, mediaPropertiesFollowThePipelineAndTheState)
+{
+    Rig rig(S::Idle);
+    auto &[fake, m, listener] = rig;
+    const auto get = [&](const char *name) { return m.execute(std::string("get ") + name); };
+    fake.position = {12.5, 50.0};
+    fake.force = 1.25;
+    // nothing open: no position, no force; idle-active
+    EXPECT_EQ(get("time-pos").reason, "property unavailable");
+    EXPECT_EQ(get("haptic-force").reason, "property unavailable");
+    EXPECT_EQ(get("path").reason, "property unavailable");
+    EXPECT_EQ(get("idle-active").data, Value(true));
+    EXPECT_EQ(get("eof-reached").data, Value(false));
+    reach(m, fake, S::Playing);
+    EXPECT_EQ(get("time-pos").data, Value(12.5));
+    EXPECT_EQ(get("duration").data, Value(50.0));
+    EXPECT_EQ(get("percent-pos").data, Value(25.0));
+    EXPECT_EQ(get("pause").data, Value(false));
+    EXPECT_EQ(get("path").data, Value(m.url()));
+    EXPECT_EQ(get("idle-active").data, Value(false));
+    EXPECT_EQ(get("haptic-force").data, Value(1.25));
+    EXPECT_EQ(get("contact").data, Value(true));
+    fake.force = 0.0;
+    EXPECT_EQ(get("contact").data, Value(false));
+    EXPECT_EQ(get("volume").data, Value(100.0));
+    EXPECT_EQ(get("mute").data, Value(false));
+    ASSERT_TRUE(m.execute("pause").accepted);
+    EXPECT_EQ(get("pause").data, Value(true));
+    // a live stream has no length: duration and percent-pos are unavailable, time-pos is not
+    fake.position = {3.0, std::numeric_limits<double>::quiet_NaN()};
+    EXPECT_EQ(get("duration").reason, "property unavailable");
+    EXPECT_EQ(get("percent-pos").reason, "property unavailable");
+    EXPECT_EQ(get("time-pos").data, Value(3.0));
+    // the end without loop: eof-reached until the next play
+    ASSERT_TRUE(m.execute("play").accepted);
+    EXPECT_TRUE(m.onEndOfStream());
+    EXPECT_EQ(get("eof-reached").data, Value(true));
+    EXPECT_EQ(get("idle-active").data, Value(true));
+    ASSERT_TRUE(m.execute("play").accepted);
+    EXPECT_EQ(get("eof-reached").data, Value(false));
 }
 
 } // namespace

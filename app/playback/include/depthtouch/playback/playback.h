@@ -203,6 +203,11 @@ public:
     [[nodiscard]] Result<void> seek(double seconds, player::SeekMode mode) override;
     /// seek(0, Absolute) without bringing the OSD up: the loop's restart is no viewer's command.
     [[nodiscard]] Result<void> restartForLoop() override;
+    /// The presented frame's position from the stream's first frame and the stream's length (the
+    /// container's duration; NaN for a live stream), s; NaN for both when nothing is open.
+    [[nodiscard]] MediaPosition mediaPosition() const override;
+    /// |F| of the haptic task's last command, N; NaN without a haptic task.
+    [[nodiscard]] double hapticForce() const override;
     [[nodiscard]] Result<void> setStereoMode(player::StereoMode mode) override;
     [[nodiscard]] Result<void> setHapticsEnabled(bool enabled) override;
     [[nodiscard]] Result<void> setStiffness(double newtonsPerMetre) override;

@@ -76,8 +76,36 @@ enum class SeekMode : std::uint8_t {
 };
 /// What a stiffness command does.
 enum class StiffnessChange : std::uint8_t { Up, Down, Set };
-/// Properties readable with "get".
-enum class Property : std::uint8_t { State, StereoMode, Haptics, Stiffness, Loop, Url, Error };
+/// Properties readable with "get" (and mpv's get_property on the control socket), by name:
+/// "state", "stereo-mode", "haptics", "stiffness" (N/m), "loop", "url", "error", and mpv's
+/// "time-pos", "duration", "percent-pos" (s, s, %), "pause", "path", "idle-active", "eof-reached",
+/// "volume" (0-100), "mute", then "haptic-force" (|F| commanded, N) and "contact" (|F| > 0).
+enum class Property : std::uint8_t {
+    State,
+    StereoMode,
+    Haptics,
+    Stiffness,
+    Loop,
+    Url,
+    Error,
+    TimePos,
+    Duration,
+    PercentPos,
+    Pause,
+    Path,
+    IdleActive,
+    EofReached,
+    Volume,
+    Mute,
+    HapticForce,
+    Contact,
+};
+
+/// Number of Property values.
+inline constexpr std::size_t kPropertyCount = 18;
+
+/// \return the property called \a name (propertyName()'s names, any case), or std::nullopt.
+std::optional<Property> propertyFromName(std::string_view name) noexcept;
 
 /// \brief A parsed command: its id and the arguments that apply to it.
 struct Command {

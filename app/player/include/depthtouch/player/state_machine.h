@@ -29,6 +29,7 @@
 /// thread; a listener must not send commands from its callback (such a command is refused).
 /// Design: docs/architecture.md §5 (main thread), docs/style.md §7.
 
+#include <limits>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -88,6 +89,24 @@ public:
     /// sender comes (a failed try is retried, not reported) or stop() or open() abandons it.
     /// Completion is reported as for open(). The default opens once, as open().
     [[nodiscard]] virtual Result<void> awaitNextSender(std::string_view url) { return open(url); }
+
+    /// \name Queries (the properties time-pos, duration, percent-pos, haptic-force, contact)
+    ///@{
+    /// Where the media is, s: the position of the presented frame from the stream's start, and the
+    /// stream's length; NaN where unknown (nothing open; a live stream's length). The default
+    /// knows neither.
+    struct MediaPosition {
+        double timePos = std::numeric_limits<double>::quiet_NaN();
+        double duration = std::numeric_limits<double>::quiet_NaN();
+    };
+    [[nodiscard]] virtual MediaPosition mediaPosition() const { return {}; }
+    /// The force commanded to the haptic device, |F| in N; NaN without a haptic task (nothing
+    /// open, no device). The default has none.
+    [[nodiscard]] virtual double hapticForce() const
+    {
+        return std::numeric_limits<double>::quiet_NaN();
+    }
+    ///@}
 
 protected:
     PlayerActions() = default;
@@ -248,6 +267,7 @@ private:
     StiffnessRange range_;
     std::string errorReason_;
     bool quit_ = false;
+    bool eofReached_ = false; ///< The stream ended without loop (mpv's eof-reached).
     bool notifying_ = false; ///< True while listeners run: commands from them are refused.
 };
 
