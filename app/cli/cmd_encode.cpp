@@ -29,13 +29,13 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
-#include "material_map.h"
 #include "option_cli.h"
 #include "output_paths.h"
 #include "source_providers.h"
 #include "stop_signals.h"
 #include "depthtouch/media/encode_job.h"
 #include "depthtouch/media/frame_source.h"
+#include "depthtouch/media/material_map.h"
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
 
@@ -236,12 +236,13 @@ int checkEncodeOptions(const EncodeCliOptions &o, const media::EncodeOptions &eo
         // Before any input is read: what planOutput() refuses, and an output that is an input.
         if (auto p = platform::planOutput(o.output); !p)
             return fail(kExitBadInput, "cannot write '" + o.output + "': it " + p.error().what);
-        const OutputPathCheck same = checkDistinctPaths({{"--color", o.color},
-                                                         {"--depth", o.depth},
-                                                         {"--material", o.material},
-                                                         {"--material-map", o.materialMap},
-                                                         {"--materials", o.materials}},
-                                                        {{"-o", o.output}});
+        const platform::OutputPathCheck same =
+            platform::checkDistinctPaths({{"--color", o.color},
+                                          {"--depth", o.depth},
+                                          {"--material", o.material},
+                                          {"--material-map", o.materialMap},
+                                          {"--materials", o.materials}},
+                                         {{"-o", o.output}});
         if (same.exitCode != kExitOk)
             return fail(same.exitCode, same.message);
     }
@@ -295,7 +296,7 @@ openMaterial(const EncodeCliOptions &o, const media::SourceProviders &providers,
         static const std::string kNone;
         return openInput(o, providers, {"material", o.material, kNone, kNone, kNone}, error);
     }
-    auto map = openMaterialMap(o.materialMap, o.materials, o.fps, error);
+    auto map = media::openMaterialMap(o.materialMap, o.materials, o.fps, error);
     return map ? std::make_unique<NamedSource>("material", o.materialMap, std::move(map)) : nullptr;
 }
 

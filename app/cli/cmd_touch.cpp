@@ -354,7 +354,7 @@ int runTouch(const TouchOptions &o)
     // the work, and only a regular file or a new path is ever replaced.
     if (auto p = platform::planOutput(o.out); !p)
         return fail(kExitBadInput, "cannot write '" + o.out + "': it " + p.error().what);
-    if (const OutputPathCheck same = checkDistinctPaths(
+    if (const platform::OutputPathCheck same = platform::checkDistinctPaths(
             {{"the input", o.depth}, {"--trajectory", o.trajectory}, {"--material", o.material}},
             {{"--out", o.out}});
         same.exitCode != kExitOk)
