@@ -24,7 +24,9 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "depthtouch/haptics/depth_frame.h"
@@ -214,6 +216,30 @@ std::vector<haptics::TrajectorySample> makePress(const std::vector<scene::DepthF
 /// then alternately above and below it in steps of a tenth of the half height, up to 0.8 of it
 /// (17 lanes).
 std::vector<double> strokeLanes(int width, int height, const scene::SceneBox &box);
+
+/// \brief What measureSizes() measures.
+struct MediaSizesPlan {
+    std::vector<std::pair<int, int>> sizes; ///< Frame sizes (width, height), pixels; the first
+                                            ///< also gets the rate/accuracy sweep.
+    int frames = 60;                        ///< Frames per clip at 30 fps.
+    bool synthetic = false;                 ///< A synthetic clip instead of the 7-Scenes frames.
+    std::string scene;                      ///< The 7-Scenes kitchen folder (unless synthetic).
+};
+
+/// \brief Why measureSizes() stopped: the one-line message, and whether the input was bad (frames
+/// that cannot be read, an option the encoder refuses) rather than the run failing.
+struct MediaBenchError {
+    bool badInput = false;
+    std::string message;
+};
+
+/// \brief For each size of \a plan: loads its clip and measures its throughput
+/// (measureThroughput()) and, on the first size, rate against accuracy (measureRateAccuracy()),
+/// into \a report (its content, fps, throughput and rate rows); progress lines on stderr. \return
+/// nothing, or why not.
+std::optional<MediaBenchError> measureSizes(const MediaSizesPlan &plan,
+                                            const ReceiverBackends &backends,
+                                            const MediaBenchOptions &mo, MediaBenchReport &report);
 
 /// \brief Prints the tables and the goals (720×486 decode + pairing ≥ 10× real time, 1920×1080 ≥
 /// 2×) to stdout.
