@@ -16,8 +16,6 @@
 #include <utility>
 #include <vector>
 
-#include <unistd.h>
-
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
@@ -143,18 +141,6 @@ int findScene(const BenchMediaOptions &o, std::string &scene)
     return kExitOk;
 }
 
-/// Removes the scratch folder when it goes out of scope, unless the files are kept.
-struct ScratchCleanup {
-    std::filesystem::path dir;
-    bool keep;
-    ~ScratchCleanup()
-    {
-        std::error_code e;
-        if (!keep)
-            std::filesystem::remove_all(dir, e);
-    }
-};
-
 /// The receiver on the ffmpeg backends, `decodeThreads` decoder threads per stream.
 ReceiverBackends ffmpegBackends(int decodeThreads)
 {
@@ -184,26 +170,6 @@ MediaBenchOptions benchOptions(const BenchMediaOptions &o, const std::filesystem
     return mo;
 }
 
-/// Prints the table and writes the CSV/PNG files. Returns the command's exit code.
-int finishReport(const BenchMediaOptions &o, const MediaBenchReport &report,
-                 const std::filesystem::path &work)
-{
-    std::printf("\n");
-    printReport(report);
-    std::string error;
-    std::string note;
-    if (!writeReport(report, o.out, error, note))
-        return fail(kExitFailure, error);
-    if (!note.empty())
-        std::printf("note: %s\n", note.c_str());
-    std::printf(
-        "wrote "
-        "%s/{media_throughput.csv,rate_accuracy.csv,rate_vs_accuracy.png,media_throughput.png}\n",
-        o.out.c_str());
-    if (o.keepFiles)
-        std::printf("encoded files kept in %s\n", work.c_str());
-    return kExitOk;
-}
 #endif
 
 int runBenchMedia(const BenchMediaOptions &o)
@@ -224,13 +190,11 @@ int runBenchMedia(const BenchMediaOptions &o)
         platform::setLogLevel(platform::LogLevel::Error);
 
     // Encoded files go to a private scratch folder, removed at the end.
-    std::error_code ec;
-    const std::filesystem::path work =
-        std::filesystem::temp_directory_path(ec) / ("dt-bench-media-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(work, ec);
-    if (ec)
-        return fail(kExitFailure, "cannot create a scratch folder: " + ec.message());
-    const ScratchCleanup cleanup{work, o.keepFiles};
+    std::string error;
+    const std::unique_ptr<ScratchFolder> scratch = ScratchFolder::make(o.keepFiles, error);
+    if (!scratch)
+        return fail(kExitFailure, error);
+    const std::filesystem::path &work = scratch->path();
 
     const ReceiverBackends backends = ffmpegBackends(o.decodeThreads);
     const MediaBenchOptions mo = benchOptions(o, work);
@@ -245,7 +209,9 @@ int runBenchMedia(const BenchMediaOptions &o)
         return fail(e->badInput ? kExitBadInput : kExitFailure, e->message);
     if (getloadavg(&load, 1) == 1)
         report.loadAfter = load;
-    return finishReport(o, report, work);
+    if (!finishReport(report, o.out, o.keepFiles ? work.string() : std::string(), error))
+        return fail(kExitFailure, error);
+    return kExitOk;
 #else
     (void)o;
     std::fprintf(stderr, "depthtouch bench media: built without FFmpeg (no encoder or decoder)\n");

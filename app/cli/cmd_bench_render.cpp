@@ -180,23 +180,10 @@ int runBenchRender(const BenchRenderOptions &o)
     }
     bo.stageBreakdown = o.stages;
     bo.framesPerConfig = o.frames;
-    bench::printTable(rows, bo);
-    std::string error;
-    std::string note;
-    if (!bench::writeBenchOutputs(rows, o.out, error, note)) {
+    if (std::string error; !bench::finishRenderBench(rows, bo, firstFrames, o.out, error)) {
         std::fprintf(stderr, "depthtouch bench render: %s\n", error.c_str());
         return kExitFailure;
     }
-    const std::string snap = o.out + "/kitchen_sbs.png";
-    if (auto r =
-            bench::writeSideBySideSnapshot(firstFrames, 0, MeshOptions{}, o.width, o.height, snap);
-        !r)
-        std::fprintf(stderr, "depthtouch bench render: snapshot not written: %s\n", r.error().what);
-    if (!note.empty())
-        std::printf("note: %s\n", note.c_str());
-    std::printf("wrote %s/{render_bench.csv,fps_vs_error.png,stages.png,cpu_vs_depth_size.png,"
-                "kitchen_sbs.png}\n",
-                o.out.c_str());
     display->close();
     return kExitOk;
 #else

@@ -1,8 +1,12 @@
 /// \file
-/// \brief `depthtouch bench media` over its frame sizes: see measureSizes() in media_bench.h.
+/// \brief `depthtouch bench media` over its frame sizes, its scratch folder and its last output:
+/// see measureSizes(), ScratchFolder and finishReport() in media_bench.h.
+
+#include <unistd.h>
 
 #include <cstdio>
 #include <optional>
+#include <system_error>
 #include <string>
 #include <utility>
 
@@ -85,6 +89,45 @@ std::optional<MediaBenchError> measureSizes(const MediaSizesPlan &plan,
         if (auto e = measureSize(plan, backends, mo, k, report))
             return e;
     return std::nullopt;
+}
+
+std::unique_ptr<ScratchFolder> ScratchFolder::make(bool keep, std::string &error)
+{
+    std::error_code ec;
+    std::filesystem::path dir =
+        std::filesystem::temp_directory_path(ec) / ("dt-bench-media-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir, ec);
+    if (ec) {
+        error = "cannot create a scratch folder: " + ec.message();
+        return nullptr;
+    }
+    return std::unique_ptr<ScratchFolder>(new ScratchFolder(std::move(dir), keep));
+}
+
+ScratchFolder::~ScratchFolder()
+{
+    std::error_code e;
+    if (!keep_)
+        std::filesystem::remove_all(dir_, e);
+}
+
+bool finishReport(const MediaBenchReport &report, const std::string &out, const std::string &keptIn,
+                  std::string &error)
+{
+    std::printf("\n");
+    printReport(report);
+    std::string note;
+    if (!writeReport(report, out, error, note))
+        return false;
+    if (!note.empty())
+        std::printf("note: %s\n", note.c_str());
+    std::printf(
+        "wrote "
+        "%s/{media_throughput.csv,rate_accuracy.csv,rate_vs_accuracy.png,media_throughput.png}\n",
+        out.c_str());
+    if (!keptIn.empty())
+        std::printf("encoded files kept in %s\n", keptIn.c_str());
+    return true;
 }
 
 } // namespace depthtouch::media::bench

@@ -1,8 +1,9 @@
 /// \file
-/// \brief `depthtouch bench render` over several depth sizes: see runDepthSizes() in
-/// render_bench.h.
+/// \brief `depthtouch bench render` over several depth sizes, and its end: see runDepthSizes() and
+/// finishRenderBench() in render_bench.h.
 
 #include <algorithm>
+#include <cstdio>
 #include <string>
 #include <utility>
 #include <vector>
@@ -45,6 +46,27 @@ std::optional<DepthSizesError> runDepthSizes(const DepthSizesPlan &plan, BenchOp
         }
     }
     return std::nullopt;
+}
+
+bool finishRenderBench(const std::vector<BenchRow> &rows, const BenchOptions &options,
+                       const std::vector<RgbdFrame> &firstFrames, const std::string &out,
+                       std::string &error)
+{
+    printTable(rows, options);
+    std::string note;
+    if (!writeBenchOutputs(rows, out, error, note))
+        return false;
+    const std::string snap = out + "/kitchen_sbs.png";
+    if (auto r = writeSideBySideSnapshot(firstFrames, 0, MeshOptions{}, options.outputWidth,
+                                         options.outputHeight, snap);
+        !r)
+        std::fprintf(stderr, "depthtouch bench render: snapshot not written: %s\n", r.error().what);
+    if (!note.empty())
+        std::printf("note: %s\n", note.c_str());
+    std::printf("wrote %s/{render_bench.csv,fps_vs_error.png,stages.png,cpu_vs_depth_size.png,"
+                "kitchen_sbs.png}\n",
+                out.c_str());
+    return true;
 }
 
 } // namespace depthtouch::render::bench

@@ -22,6 +22,7 @@
 /// thread. Timing uses platform::SteadyClock on the calling thread (one core).
 
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -240,6 +241,29 @@ struct MediaBenchError {
 std::optional<MediaBenchError> measureSizes(const MediaSizesPlan &plan,
                                             const ReceiverBackends &backends,
                                             const MediaBenchOptions &mo, MediaBenchReport &report);
+
+/// \brief A private scratch folder for the encoded files (`dt-bench-media-PID` in the system's
+/// temporary folder), removed with what it holds on destruction unless kept.
+class ScratchFolder {
+public:
+    /// \brief Creates the folder. \return it, or null with \a error set to the one error line.
+    static std::unique_ptr<ScratchFolder> make(bool keep, std::string &error);
+    ~ScratchFolder();
+    ScratchFolder(const ScratchFolder &) = delete;
+    ScratchFolder &operator=(const ScratchFolder &) = delete;
+    [[nodiscard]] const std::filesystem::path &path() const noexcept { return dir_; }
+
+private:
+    ScratchFolder(std::filesystem::path dir, bool keep) : dir_(std::move(dir)), keep_(keep) {}
+    std::filesystem::path dir_;
+    bool keep_;
+};
+
+/// \brief Prints \a report (printReport()), writes its files into \a out (writeReport()) and says
+/// what was written (and, with \a keptIn not empty, where the encoded files were kept) on stdout.
+/// \return false with \a error set when a file cannot be written.
+bool finishReport(const MediaBenchReport &report, const std::string &out, const std::string &keptIn,
+                  std::string &error);
 
 /// \brief Prints the tables and the goals (720×486 decode + pairing ≥ 10× real time, 1920×1080 ≥
 /// 2×) to stdout.

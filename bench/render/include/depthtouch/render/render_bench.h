@@ -186,4 +186,13 @@ std::optional<DepthSizesError> runDepthSizes(const DepthSizesPlan &plan, BenchOp
 bool writeBenchOutputs(const std::vector<BenchRow> &rows, const std::string &dir,
                        std::string &error, std::string &note);
 
+/// \brief The end of `depthtouch bench render`: prints the tables (printTable() with \a options),
+/// writes the files into \a out (writeBenchOutputs()) and the side-by-side snapshot of frame 0 of
+/// \a firstFrames (kitchen_sbs.png, at the options' output size; one that cannot be written is a
+/// line on stderr, not an error), and says what was written on stdout. Needs the GLES context
+/// current. \return false with \a error set when a file of the tables cannot be written.
+bool finishRenderBench(const std::vector<BenchRow> &rows, const BenchOptions &options,
+                       const std::vector<RgbdFrame> &firstFrames, const std::string &out,
+                       std::string &error);
+
 } // namespace depthtouch::render::bench
