@@ -14,7 +14,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -31,19 +30,19 @@
 #include "option_cli.h"
 #include "output_paths.h"
 #include "depthtouch/demo/demo_chart.h"
+#include "depthtouch/demo/demo_clip.h"
 #include "depthtouch/demo/demo_feel.h"
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptic_task/haptic_task.h"
 #include "depthtouch/haptics/feel.h"
 #include "depthtouch/haptics/height_field.h"
 #include "depthtouch/haptics/renderer.h"
-#include "depthtouch/media/encode_job.h"
 #include "depthtouch/media/frame_source.h"
 #include "depthtouch/platform/percentile.h"
+#include "depthtouch/platform/stop_signals.h"
 #include "play.h"
 #include "play_options.h"
 #include "source_providers.h"
-#include "stop_signals.h"
 
 namespace depthtouch::cli {
 
@@ -92,59 +91,6 @@ const OptionRow<DemoOptions> kDemoRows[] = {
     {"require-rt", &DemoOptions::requireRt, "Fail when SCHED_FIFO is refused"},
     {"rebuild", &DemoOptions::rebuild, "Render and encode the clip again"},
 };
-
-/// Encodes the scene into \a clip. \return an error text, or empty.
-/// Renders and encodes the scene into \a clip. A stop signal (stop_signals.h) during it sets
-/// \a interrupted: the clip is then removed (a short clip would be reused by the next demo).
-/// \return an error line, empty on success or interruption.
-std::string encodeScene(const DemoOptions &o, const std::string &clip, bool &interrupted)
-{
-    media::SourceProviders providers = makeSourceProviders();
-    const std::string spec =
-        "synthetic:" + o.scene + ",size=" + o.size + ",frames=" + std::to_string(o.frames);
-    media::SourceOptions so;
-    so.streamTitle = "color";
-    auto color = media::openFrameSource(spec, so, providers);
-    if (!color)
-        return std::string("cannot render the scene: ") + color.error().what;
-    so.streamTitle = "depth";
-    auto depth = media::openFrameSource(spec, so, providers);
-    if (!depth)
-        return std::string("cannot render the scene's depth: ") + depth.error().what;
-    // The scene's haptic materials (skin, cloth...) as the clip's material track.
-    so.streamTitle = "material";
-    auto material = media::openFrameSource(spec, so, providers);
-    if (!material)
-        return std::string("cannot render the scene's materials: ") + material.error().what;
-    media::EncodeOptions eo;
-    eo.output = clip;
-    eo.preset = "veryfast";
-    eo.depthCrf = 12;
-    media::EncodeCallbacks cb;
-    cb.progress = [](const media::EncodeProgress &p) {
-        if (p.totalFrames > 0 && (p.frames % 10 == 0 || p.frames == p.totalFrames)) {
-            std::fprintf(stderr, "\r  rendering and encoding frame %lld of %lld (%.1f fps)",
-                         p.frames, p.totalFrames,
-                         p.elapsed > 0 ? static_cast<double>(p.frames) / p.elapsed : 0.0);
-            std::fflush(stderr);
-        }
-    };
-    std::atomic<bool> stop{false};
-    auto r = [&] {
-        StopSignals signals(stop, false);
-        return media::encodeStreams(**color, **depth, material->get(), eo, &stop, cb);
-    }();
-    std::fprintf(stderr, "\n");
-    if (stop.load()) {
-        interrupted = true;
-        std::error_code ec;
-        std::filesystem::remove(clip, ec);
-        return {};
-    }
-    if (!r)
-        return std::string("cannot encode the scene: ") + r.error().what;
-    return {};
-}
 
 /// Measures the run in \a forceLog against the clip's depth, prints the feel lines and draws the
 /// chart (when the clip or the log cannot be read, prints a note instead).
@@ -256,7 +202,9 @@ int runDemo(const DemoOptions &o)
                     o.scene.c_str(), o.frames, o.size.c_str(), clip.c_str());
         std::fflush(stdout);
         bool interrupted = false;
-        if (const std::string err = encodeScene(o, clip, interrupted); !err.empty()) {
+        if (const std::string err = demo::encodeScene(o.scene, o.size, o.frames, clip,
+                                                      makeSourceProviders(), interrupted);
+            !err.empty()) {
             std::fprintf(stderr, "depthtouch demo: %s\n", err.c_str());
             return kExitFailure;
         }
@@ -264,7 +212,7 @@ int runDemo(const DemoOptions &o)
             std::fprintf(stderr,
                          "depthtouch demo: interrupted by %s while making the clip; "
                          "nothing was kept\n",
-                         stopSignalName(StopSignals::caughtSignal()));
+                         platform::stopSignalName(platform::StopSignals::caughtSignal()));
             return kExitInterrupted;
         }
     }

@@ -30,6 +30,7 @@
 #include "commands.h"
 #include "depthtouch/control/control_loop.h"
 #include "depthtouch/control/control_server.h"
+#include "depthtouch/control/play_loop.h"
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/platform/clock.h"
@@ -37,6 +38,7 @@
 #include "depthtouch/platform/log.h"
 #include "depthtouch/platform/memory_lock.h"
 #include "depthtouch/platform/message_text.h"
+#include "depthtouch/platform/stop_signals.h"
 #include "depthtouch/playback/play_report.h"
 #include "depthtouch/playback/playback.h"
 #include "depthtouch/player/state_machine.h"
@@ -45,7 +47,6 @@
 #include "play.h"
 #include "play_config.h"
 #include "play_options.h"
-#include "stop_signals.h"
 
 namespace depthtouch::cli {
 
@@ -264,64 +265,10 @@ std::optional<PlayResult> openControlSocket(const PlayOptions &opt, player::Stat
     return std::nullopt;
 }
 
-/// How the main loop ended.
-struct LoopOutcome {
-    std::string failure;         ///< The reason when the player ended in Error.
-    bool opened = false;         ///< The input played (Playing or Paused was reached).
-    bool stoppedOpening = false; ///< A signal or --duration came while the input was opening.
-    double rssStart = -1.0;
-    double rssAfterWarmup = -1.0;
-    double rssEnd = -1.0;
-    double lockedMiB = -1.0; ///< Locked memory (VmLck), MiB: the larger of the 5 s and end samples.
-};
-
-/// Runs the control loop until the player quits, ends (without --idle), a signal or --duration.
-LoopOutcome playUntilDone(const PlayOptions &opt, player::StateMachine &machine,
-                          control::ControlLoop &loop,
-                          std::unique_ptr<control::ControlServer> &server,
-                          playback::Playback &playback, platform::Clock &clock)
-{
-    LoopOutcome out;
-    out.rssStart = platform::residentMiB();
-    const platform::TimePoint start = clock.now();
-    machine.execute("play");
-    while (!machine.quitRequested()) {
-        if (auto r = loop.runUntil(clock.now() + std::chrono::milliseconds(10)); !r) {
-            std::fprintf(stderr, "depthtouch play: control socket failed: %s\n", r.error().what);
-            server.reset();
-        }
-        playback.report(machine);
-        const player::PlayerState st = machine.state();
-        if (st == player::PlayerState::Playing || st == player::PlayerState::Paused)
-            out.opened = true;
-        // A failure counts while the player stays in Error; one it left (a client's stop or
-        // play, with --idle) was recovered from.
-        if (st == player::PlayerState::Error)
-            out.failure = machine.errorReason();
-        else
-            out.failure.clear();
-        const double elapsed = platform::toSeconds(clock.now() - start);
-        if (out.rssAfterWarmup < 0.0 && elapsed >= 5.0) {
-            out.rssAfterWarmup = platform::residentMiB();
-            out.lockedMiB = platform::lockedMiB();
-        }
-        if (gPlayStop.load() || (opt.duration > 0.0 && elapsed >= opt.duration)) {
-            out.stoppedOpening = st == player::PlayerState::Opening;
-            machine.execute("quit");
-            break;
-        }
-        if ((st == player::PlayerState::Error || st == player::PlayerState::Stopped) && !opt.idle)
-            break;
-    }
-    out.rssEnd = platform::residentMiB();
-    out.lockedMiB = std::max(out.lockedMiB, platform::lockedMiB());
-    return out;
-}
-
 /// Writes the stats file and works out the exit code of a run that ended as \a out says; prints
 /// the summary when the input played.
-PlayResult finishPlay(const PlayOptions &opt, const playback::PlayRunFigures &run, LoopOutcome out,
-                      bool quitRequested, bool errorPrinted)
+PlayResult finishPlay(const PlayOptions &opt, const playback::PlayRunFigures &run,
+                      control::LoopOutcome out, bool quitRequested, bool errorPrinted)
 {
     PlayResult result;
     result.stats = playback::playStatsJson(opt.url, run);
@@ -411,8 +358,10 @@ PlayResult runPlay(const PlayOptions &opt)
     gPlayStop.store(false);
     // Every stop signal quits the same way, until the outputs are written (the recording and the
     // force log finished, the stats written); the control loop's waits are restarted.
-    const StopSignals signals(gPlayStop, true);
-    const LoopOutcome out = playUntilDone(opt, machine, loop, server, playback, clock);
+    const platform::StopSignals signals(gPlayStop, true);
+    const control::LoopOutcome out = control::playUntilDone(
+        machine, loop, server, [&playback, &machine] { playback.report(machine); }, gPlayStop,
+        {opt.duration, opt.idle}, clock);
     (void)playback.stop();
     playback.close(); // the recording ends and the snapshots are written: their losses count
 
