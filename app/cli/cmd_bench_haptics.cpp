@@ -14,8 +14,6 @@
 #include "option_cli.h"
 #include "output_paths.h"
 #include "depthtouch/haptics/haptics_bench.h"
-#include "depthtouch/platform/realtime_thread.h"
-#include "depthtouch/platform/thread_config.h"
 
 namespace depthtouch::cli {
 
@@ -46,24 +44,6 @@ const OptionRow<BenchHapticsOptions> kBenchHapticsRows[] = {
      kNegated},
 };
 
-/// \return "met" or "NOT met" of a goal.
-const char *metText(bool met)
-{
-    return met ? "met" : "NOT met";
-}
-
-/// Prints the goal line of an update time \a ns (p99.9, ns): at most 2000 ns.
-void printTimeGoal(const std::string &what, double ns)
-{
-    std::printf("  %s: %.0f ns (goal <= 2000 ns): %s\n", what.c_str(), ns, metText(ns <= 2000.0));
-}
-
-/// Prints the goal line of the median update time at 3840x2160 over that at 720x486: at most 1.5.
-void printRatioGoal(const char *what, double ratio)
-{
-    std::printf("  %s: %.2f (goal <= 1.5): %s\n", what, ratio, metText(ratio <= 1.5));
-}
-
 int runBenchHaptics(const BenchHapticsOptions &o)
 {
     // An --out where nothing can be written fails now, not after the whole run.
@@ -79,61 +59,16 @@ int runBenchHaptics(const BenchHapticsOptions &o)
     opt.quick = o.quick;
     opt.runs = o.runs;
     opt.updates = o.updates;
-    // Time the updates as the servo loop runs them: on a SCHED_FIFO thread (the haptic thread's
-    // priority), so other processes on a shared machine do not preempt the timed updates. Falls
-    // back to normal scheduling, with a note, when the kernel refuses.
-    BenchReport report;
-    platform::RealtimeThreadOptions rt;
-    rt.lockMemory = false;
-    const platform::ThreadConfig cfg{
-        "dt-bench", o.fifo ? platform::SchedPolicy::Fifo : platform::SchedPolicy::Other,
-        o.fifo ? platform::kHapticThread.relativePriority : 0, 8u << 20};
-    platform::RealtimeThread worker(
-        cfg, rt, [&](platform::StopToken) { report = runHapticsBenchmark(opt); });
-    if (Result<void> started = worker.start(); !started) {
+    auto report = runHapticsBenchmarkTimed(opt, o.fifo);
+    if (!report) {
         std::fprintf(stderr, "depthtouch bench haptics: cannot start the bench thread: %s\n",
-                     started.error().what);
+                     report.error().what);
         return kExitFailure;
     }
-    char how[160];
-    std::printf("timing thread: %s\n", worker.report().format(how, sizeof how));
-    worker.join();
-    std::printf("\ngoals (this run):\n");
-    printTimeGoal("modified p99.9 at 720x486, 1 m/s", report.modifiedP999At720Fast);
-    const std::string runs = std::to_string(report.runsAt720Fast);
-    printTimeGoal(
-        "modified p99.9 at 720x486, 1 m/s, interference-filtered (per-update minimum over " + runs +
-            " runs)",
-        report.modifiedMinOfRunsP999At720Fast);
-    printRatioGoal("modified median 3840x2160 / 720x486 (worst motion)", report.resolutionRatio);
-    printRatioGoal("modified median 3840x2160 / 720x486 (worst motion), interference-filtered "
-                   "(median of the per-update minimum over the runs)",
-                   report.minOfRunsResolutionRatio);
-    std::printf("  finger p99.9 at 720x486, 1 m/s: %.0f ns raw, %.0f ns interference-filtered "
-                "(goal <= 2000 ns): "
-                "%s\n",
-                report.fingerP999At720Fast, report.fingerMinOfRunsP999At720Fast,
-                metText(report.fingerMinOfRunsP999At720Fast <= 2000.0));
-    printRatioGoal("finger median 3840x2160 / 720x486 (worst motion), interference-filtered",
-                   report.fingerMinOfRunsResolutionRatio);
-    std::printf("  mesh-bvh per-frame rebuild / modified per-frame cost at 720x486: %.0fx (goal >= "
-                "1000x): %s\n",
-                report.rebuildRatio, metText(report.rebuildRatio >= 1000.0));
-    std::printf("  friction on the proxy, cost per update with / without at 720x486 (worst motion, "
-                "same run): finger %.2f (filtered %.2f), modified %.2f (filtered %.2f)\n",
-                report.fingerFrictionRatio, report.fingerFrictionMinOfRunsRatio,
-                report.modifiedFrictionRatio, report.modifiedFrictionMinOfRunsRatio);
-    std::printf("  per-pixel materials, cost per update with / without at 720x486 (worst motion, "
-                "same run): finger %.2f (filtered %.2f), modified %.2f (filtered %.2f); finger "
-                "p99.9 at 1 m/s with materials %.0f ns raw, %.0f ns filtered (goal <= 2000 ns): "
-                "%s\n",
-                report.fingerMaterialsRatio, report.fingerMaterialsMinOfRunsRatio,
-                report.modifiedMaterialsRatio, report.modifiedMaterialsMinOfRunsRatio,
-                report.fingerMaterialsP999At720Fast, report.fingerMaterialsMinOfRunsP999At720Fast,
-                metText(report.fingerMaterialsMinOfRunsP999At720Fast <= 2000.0));
+    printBenchGoals(*report);
     std::string error;
     std::string note;
-    if (!writeBenchOutputs(report, o.out, error, note)) {
+    if (!writeBenchOutputs(*report, o.out, error, note)) {
         std::fprintf(stderr, "depthtouch bench haptics: %s\n", error.c_str());
         return kExitFailure;
     }

@@ -16,8 +16,6 @@
 #include <utility>
 #include <vector>
 
-#include <unistd.h>
-
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
@@ -143,18 +141,6 @@ int findScene(const BenchMediaOptions &o, std::string &scene)
     return kExitOk;
 }
 
-/// Removes the scratch folder when it goes out of scope, unless the files are kept.
-struct ScratchCleanup {
-    std::filesystem::path dir;
-    bool keep;
-    ~ScratchCleanup()
-    {
-        std::error_code e;
-        if (!keep)
-            std::filesystem::remove_all(dir, e);
-    }
-};
-
 /// The receiver on the ffmpeg backends, `decodeThreads` decoder threads per stream.
 ReceiverBackends ffmpegBackends(int decodeThreads)
 {
@@ -184,95 +170,6 @@ MediaBenchOptions benchOptions(const BenchMediaOptions &o, const std::filesystem
     return mo;
 }
 
-/// The clip of one size: synthetic, or the 7-Scenes frames. Returns kExitOk, or the exit code
-/// after printing the one error line.
-int loadClip(const BenchMediaOptions &o, const std::string &scene, int w, int h, Clip &clip)
-{
-    if (o.synthetic) {
-        clip = makeSyntheticClip(w, h, o.frames);
-    } else {
-        auto loaded = loadKitchenClip(scene, o.frames, w, h);
-        if (!loaded)
-            return fail(loaded.error().code == Errc::Io ? kExitBadInput : kExitFailure,
-                        std::string("cannot read the 7-Scenes frames: ") + loaded.error().what);
-        clip = std::move(*loaded);
-    }
-    return kExitOk;
-}
-
-/// Rate against accuracy on one clip, into the report. Returns kExitOk, or the exit code after
-/// printing the one error line.
-int measureRate(const BenchMediaOptions &o, const Clip &clip, int w, int h,
-                const ReceiverBackends &backends, const MediaBenchOptions &mo,
-                MediaBenchReport &report)
-{
-    std::fprintf(stderr, "bench media: %dx%d depth rate vs accuracy (%zu settings) ...\n", w, h,
-                 o.depthCrfs.size() + 1);
-    auto rate = measureRateAccuracy(clip, backends, mo);
-    if (!rate)
-        return fail(rate.error().code == Errc::InvalidArgument ? kExitBadInput : kExitFailure,
-                    std::string("rate vs accuracy: ") + rate.error().what);
-    report.rate = std::move(rate->rows);
-    report.rateWidth = w;
-    report.rateHeight = h;
-    report.losslessExact = rate->losslessExact;
-    report.stroke = rate->stroke;
-    return kExitOk;
-}
-
-/// What every size is measured with.
-struct BenchSetup {
-    const BenchMediaOptions &o;
-    const std::string &scene;
-    const ReceiverBackends &backends;
-    const MediaBenchOptions &mo;
-};
-
-/// Loads the clip of size `k` and measures its throughput, and on the first size also rate against
-/// accuracy, into the report. Returns kExitOk, or the exit code after printing the one error line.
-int measureSize(const BenchSetup &b, std::size_t k, int w, int h, MediaBenchReport &report)
-{
-    const BenchMediaOptions &o = b.o;
-    std::fprintf(stderr, "bench media: loading %dx%d ...\n", w, h);
-    Clip clip;
-    if (const int rc = loadClip(o, b.scene, w, h, clip); rc != kExitOk)
-        return rc;
-    report.content += (report.content.empty() ? "" : "; ") + clip.description;
-    report.fps = clip.fps;
-    std::fprintf(stderr, "bench media: %dx%d encode per preset, decode + pairing x%d ...\n", w, h,
-                 o.runs);
-    auto rows = measureThroughput(clip, b.backends, b.mo);
-    if (!rows)
-        return fail(rows.error().code == Errc::InvalidArgument ? kExitBadInput : kExitFailure,
-                    std::string("throughput at ") + std::to_string(w) + "x" + std::to_string(h) +
-                        ": " + rows.error().what);
-    report.throughput.insert(report.throughput.end(), rows->begin(), rows->end());
-    // Rate against accuracy on the first size (720×486 by default: the paper's frame size).
-    if (k == 0)
-        return measureRate(o, clip, w, h, b.backends, b.mo, report);
-    return kExitOk;
-}
-
-/// Prints the table and writes the CSV/PNG files. Returns the command's exit code.
-int finishReport(const BenchMediaOptions &o, const MediaBenchReport &report,
-                 const std::filesystem::path &work)
-{
-    std::printf("\n");
-    printReport(report);
-    std::string error;
-    std::string note;
-    if (!writeReport(report, o.out, error, note))
-        return fail(kExitFailure, error);
-    if (!note.empty())
-        std::printf("note: %s\n", note.c_str());
-    std::printf(
-        "wrote "
-        "%s/{media_throughput.csv,rate_accuracy.csv,rate_vs_accuracy.png,media_throughput.png}\n",
-        o.out.c_str());
-    if (o.keepFiles)
-        std::printf("encoded files kept in %s\n", work.c_str());
-    return kExitOk;
-}
 #endif
 
 int runBenchMedia(const BenchMediaOptions &o)
@@ -293,13 +190,11 @@ int runBenchMedia(const BenchMediaOptions &o)
         platform::setLogLevel(platform::LogLevel::Error);
 
     // Encoded files go to a private scratch folder, removed at the end.
-    std::error_code ec;
-    const std::filesystem::path work =
-        std::filesystem::temp_directory_path(ec) / ("dt-bench-media-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(work, ec);
-    if (ec)
-        return fail(kExitFailure, "cannot create a scratch folder: " + ec.message());
-    const ScratchCleanup cleanup{work, o.keepFiles};
+    std::string error;
+    const std::unique_ptr<ScratchFolder> scratch = ScratchFolder::make(o.keepFiles, error);
+    if (!scratch)
+        return fail(kExitFailure, error);
+    const std::filesystem::path &work = scratch->path();
 
     const ReceiverBackends backends = ffmpegBackends(o.decodeThreads);
     const MediaBenchOptions mo = benchOptions(o, work);
@@ -309,14 +204,14 @@ int runBenchMedia(const BenchMediaOptions &o)
     if (getloadavg(&load, 1) == 1)
         report.loadBefore = load;
     report.fps = 30.0;
-    for (std::size_t k = 0; k < sizes.size(); ++k) {
-        const auto [w, h] = sizes[k];
-        if (const int rc = measureSize({o, scene, backends, mo}, k, w, h, report); rc != kExitOk)
-            return rc;
-    }
+    const MediaSizesPlan plan{sizes, o.frames, o.synthetic, scene};
+    if (const auto e = measureSizes(plan, backends, mo, report))
+        return fail(e->badInput ? kExitBadInput : kExitFailure, e->message);
     if (getloadavg(&load, 1) == 1)
         report.loadAfter = load;
-    return finishReport(o, report, work);
+    if (!finishReport(report, o.out, o.keepFiles ? work.string() : std::string(), error))
+        return fail(kExitFailure, error);
+    return kExitOk;
 #else
     (void)o;
     std::fprintf(stderr, "depthtouch bench media: built without FFmpeg (no encoder or decoder)\n");

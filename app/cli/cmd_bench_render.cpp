@@ -8,7 +8,6 @@
 /// snapshot into --out and prints the tables. The GL context comes
 /// from a Display backend (--display, default headless).
 
-#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -130,50 +129,6 @@ bool depthSizesOf(const BenchRenderOptions &o, std::vector<std::pair<int, int>> 
     return true;
 }
 
-/// Runs every depth size in \a sizes (the kitchen from \a scene, and the synthetic head when
-/// \a withHead) into \a rows; the first size's kitchen frames into \a firstFrames.
-/// \return kExitOk, or the exit code of the failure (its line printed).
-int measureSizes(const BenchRenderOptions &o, const std::string &scene,
-                 const std::vector<std::pair<int, int>> &sizes, bool withHead,
-                 const std::vector<render::bench::BenchConfig> &configs,
-                 render::bench::BenchOptions &bo, std::vector<render::bench::BenchRow> &rows,
-                 std::vector<render::bench::RgbdFrame> &firstFrames)
-{
-    namespace bench = render::bench;
-    for (std::size_t si = 0; si < sizes.size(); ++si) {
-        const auto [w, h] = sizes[si];
-        // Fewer frames of a larger size: about the memory of 60 frames of 720×486.
-        const double area = static_cast<double>(w) * h;
-        const int count = std::clamp(static_cast<int>(60.0 * 720.0 * 486.0 / area), 8, 60);
-        for (const char *source : {"kitchen", "head"}) {
-            const bool kitchen = source[0] == 'k';
-            if (!kitchen && !withHead)
-                continue;
-            auto frames = kitchen ? bench::loadKitchenFrames(scene, count, w, h)
-                                  : bench::loadHeadFrames(std::min(count, 12), w, h);
-            if (!frames) {
-                std::fprintf(stderr, "depthtouch bench render: cannot make the %s frames: %s\n",
-                             source, frames.error().what);
-                return kExitBadInput;
-            }
-            const bool first = si == 0 && kitchen;
-            bo.source = source;
-            bo.configs = first || !o.only.empty() ? configs : bench::depthSizeConfigs();
-            bo.framesPerConfig = first ? o.frames : std::max(5, o.frames / 4);
-            bo.warmup = first ? 5 : 2;
-            bo.stageBreakdown = first && o.stages;
-            auto part = bench::runRenderBenchmark(*frames, bo);
-            if (!part) {
-                std::fprintf(stderr, "depthtouch bench render: %s\n", part.error().what);
-                return kExitFailure;
-            }
-            rows.insert(rows.end(), part->begin(), part->end());
-            if (first)
-                firstFrames = std::move(*frames);
-        }
-    }
-    return kExitOk;
-}
 #endif
 
 int runBenchRender(const BenchRenderOptions &o)
@@ -217,29 +172,18 @@ int runBenchRender(const BenchRenderOptions &o)
     bo.presentFramebuffer = display->framebuffer();
     std::vector<bench::BenchRow> rows;
     std::vector<bench::RgbdFrame> firstFrames;
-    if (const int code =
-            measureSizes(o, scene, sizes, !o.depthSizes.empty(), *configs, bo, rows, firstFrames);
-        code != kExitOk)
-        return code;
+    const bench::DepthSizesPlan plan{
+        scene, sizes, !o.depthSizes.empty(), !o.only.empty(), o.frames, o.stages, *configs};
+    if (const auto e = bench::runDepthSizes(plan, bo, rows, firstFrames)) {
+        std::fprintf(stderr, "depthtouch bench render: %s\n", e->message.c_str());
+        return e->badInput ? kExitBadInput : kExitFailure;
+    }
     bo.stageBreakdown = o.stages;
     bo.framesPerConfig = o.frames;
-    bench::printTable(rows, bo);
-    std::string error;
-    std::string note;
-    if (!bench::writeBenchOutputs(rows, o.out, error, note)) {
+    if (std::string error; !bench::finishRenderBench(rows, bo, firstFrames, o.out, error)) {
         std::fprintf(stderr, "depthtouch bench render: %s\n", error.c_str());
         return kExitFailure;
     }
-    const std::string snap = o.out + "/kitchen_sbs.png";
-    if (auto r =
-            bench::writeSideBySideSnapshot(firstFrames, 0, MeshOptions{}, o.width, o.height, snap);
-        !r)
-        std::fprintf(stderr, "depthtouch bench render: snapshot not written: %s\n", r.error().what);
-    if (!note.empty())
-        std::printf("note: %s\n", note.c_str());
-    std::printf("wrote %s/{render_bench.csv,fps_vs_error.png,stages.png,cpu_vs_depth_size.png,"
-                "kitchen_sbs.png}\n",
-                o.out.c_str());
     display->close();
     return kExitOk;
 #else

@@ -6,10 +6,8 @@
 
 #include <unistd.h>
 
-#include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <map>
 #include <memory>
 #include <string>
 #include <thread>
@@ -203,48 +201,6 @@ bool setDevice(const BenchRtOptions &o, RtBenchOptions &opt)
     return true;
 }
 
-/// Prints each goal's median ratio over the runs (with its range) and whether it is met.
-void printGoalMedians(int runs, std::map<std::string, std::vector<double>> &ratios,
-                      std::map<std::string, double> &goals)
-{
-    std::printf("\ngoals, median over %d runs (min .. max):\n", runs);
-    for (auto &[label, v] : ratios) {
-        std::sort(v.begin(), v.end());
-        const std::size_t n = v.size();
-        const double median = n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-        std::printf("  %-40s %.2f (%.2f .. %.2f; goal <= %.2f): %s\n", label.c_str(), median,
-                    v.front(), v.back(), goals[label], median <= goals[label] ? "met" : "NOT met");
-    }
-}
-
-/// Measures every case --runs times, printing each run's report (and, over several runs, the goals'
-/// medians); returns every run's cases and the first run's task error.
-RtBenchReport measureRuns(const BenchRtOptions &o, const RtBenchOptions &opt)
-{
-    // Each run measures every case once; the goals compare figures of the same run, and over
-    // several runs their medians are what counts on a shared, noisy machine.
-    RtBenchReport result;
-    std::map<std::string, std::vector<double>> ratios;
-    std::map<std::string, double> goals;
-    for (int run = 0; run < o.runs; ++run) {
-        if (o.runs > 1)
-            std::printf("\n--- run %d of %d ---\n", run + 1, o.runs);
-        RtBenchReport one = runRtBenchmark(opt);
-        printRtReport(one);
-        for (const RtGoalRatio &g : rtGoalRatios(one)) {
-            ratios[g.label].push_back(g.ratio);
-            goals[g.label] = g.goal;
-        }
-        if (run == 0)
-            result.taskError = one.taskError;
-        for (RtCase &c : one.cases)
-            result.cases.push_back(std::move(c));
-    }
-    if (o.runs > 1)
-        printGoalMedians(o.runs, ratios, goals);
-    return result;
-}
-
 int runBenchRt(const BenchRtOptions &o)
 {
     // An --out where nothing can be written fails now, not after the whole run.
@@ -275,7 +231,7 @@ int runBenchRt(const BenchRtOptions &o)
         std::fprintf(stderr, "depthtouch bench rt: --runs must be in 1..50\n");
         return kExitBadInput;
     }
-    RtBenchReport result = measureRuns(o, opt);
+    RtBenchReport result = runRtBenchmarkRuns(opt, o.runs);
     std::string error;
     std::string note;
     if (!writeRtBenchOutputs(result, o.out, error, note)) {

@@ -14,13 +14,10 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -30,25 +27,22 @@
 #include <glm/geometric.hpp>
 
 #include "commands.h"
-#include "demo_feel.h"
-#include "message_text.h"
 #include "option_cli.h"
 #include "output_paths.h"
+#include "depthtouch/demo/demo_chart.h"
+#include "depthtouch/demo/demo_clip.h"
+#include "depthtouch/demo/demo_feel.h"
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptic_task/haptic_task.h"
 #include "depthtouch/haptics/feel.h"
 #include "depthtouch/haptics/height_field.h"
 #include "depthtouch/haptics/renderer.h"
-#include "depthtouch/haptics/spectrum.h"
-#include "depthtouch/media/encode_job.h"
 #include "depthtouch/media/frame_source.h"
-#include "depthtouch/platform/file_access.h"
-#include "depthtouch/platform/gnuplot.h"
 #include "depthtouch/platform/percentile.h"
+#include "depthtouch/platform/stop_signals.h"
 #include "play.h"
 #include "play_options.h"
 #include "source_providers.h"
-#include "stop_signals.h"
 
 namespace depthtouch::cli {
 
@@ -98,151 +92,23 @@ const OptionRow<DemoOptions> kDemoRows[] = {
     {"rebuild", &DemoOptions::rebuild, "Render and encode the clip again"},
 };
 
-/// Encodes the scene into \a clip. \return an error text, or empty.
-/// Renders and encodes the scene into \a clip. A stop signal (stop_signals.h) during it sets
-/// \a interrupted: the clip is then removed (a short clip would be reused by the next demo).
-/// \return an error line, empty on success or interruption.
-std::string encodeScene(const DemoOptions &o, const std::string &clip, bool &interrupted)
-{
-    media::SourceProviders providers = makeSourceProviders();
-    const std::string spec =
-        "synthetic:" + o.scene + ",size=" + o.size + ",frames=" + std::to_string(o.frames);
-    media::SourceOptions so;
-    so.streamTitle = "color";
-    auto color = media::openFrameSource(spec, so, providers);
-    if (!color)
-        return std::string("cannot render the scene: ") + color.error().what;
-    so.streamTitle = "depth";
-    auto depth = media::openFrameSource(spec, so, providers);
-    if (!depth)
-        return std::string("cannot render the scene's depth: ") + depth.error().what;
-    // The scene's haptic materials (skin, cloth...) as the clip's material track.
-    so.streamTitle = "material";
-    auto material = media::openFrameSource(spec, so, providers);
-    if (!material)
-        return std::string("cannot render the scene's materials: ") + material.error().what;
-    media::EncodeOptions eo;
-    eo.output = clip;
-    eo.preset = "veryfast";
-    eo.depthCrf = 12;
-    media::EncodeCallbacks cb;
-    cb.progress = [](const media::EncodeProgress &p) {
-        if (p.totalFrames > 0 && (p.frames % 10 == 0 || p.frames == p.totalFrames)) {
-            std::fprintf(stderr, "\r  rendering and encoding frame %lld of %lld (%.1f fps)",
-                         p.frames, p.totalFrames,
-                         p.elapsed > 0 ? static_cast<double>(p.frames) / p.elapsed : 0.0);
-            std::fflush(stderr);
-        }
-    };
-    std::atomic<bool> stop{false};
-    auto r = [&] {
-        StopSignals signals(stop, false);
-        return media::encodeStreams(**color, **depth, material->get(), eo, &stop, cb);
-    }();
-    std::fprintf(stderr, "\n");
-    if (stop.load()) {
-        interrupted = true;
-        std::error_code ec;
-        std::filesystem::remove(clip, ec);
-        return {};
-    }
-    if (!r)
-        return std::string("cannot encode the scene: ") + r.error().what;
-    return {};
-}
-
-/// Writes \a text to \a path whole (a temporary name, renamed when complete). \return true, or
-/// false with \a lost set to the one error line (when it is still empty).
-bool writeDemoFile(const std::string &path, const std::string &text, std::string &lost)
-{
-    auto w = platform::writeOutputFile(path, text);
-    if (!w && lost.empty()) {
-        char why[160];
-        lost = "cannot write " + quotedText(path, 120) + ": " + w.error().format(why, sizeof why);
-    }
-    return w.has_value();
-}
-
-/// Writes force-plot.csv, force-psd.csv and the chart script; runs gnuplot.
-/// \return a note for the summary; \a lost says why a file could not be written.
-std::string chartForce(const std::string &dir, const std::vector<std::array<double, 6>> &plot,
-                       double rate, std::string &lost)
-{
-    if (plot.size() < 256)
-        return "force log too short for a chart";
-    std::vector<double> magnitude(plot.size());
-    for (std::size_t i = 0; i < plot.size(); ++i)
-        magnitude[i] = plot[i][1];
-    const haptics::Psd psd =
-        haptics::averagedPsd(magnitude.data(), magnitude.size(), 8, rate, rate / 2.0);
-    const std::string psdCsv = dir + "/force-psd.csv";
-    std::ostringstream psdText;
-    {
-        std::ostream &f = psdText;
-        f << "hz,psd_n2_per_hz\n";
-        for (std::size_t k = 1; k < psd.density.size(); ++k)
-            f << static_cast<double>(k) * psd.binHz << ',' << psd.density[k] << '\n';
-    }
-    const std::string plotCsv = dir + "/force-plot.csv";
-    std::ostringstream plotText;
-    {
-        std::ostream &f = plotText;
-        f << "play_s,force_n,contact,hip_z_mm,surface_z_mm,on_figure\n";
-        for (const auto &p : plot)
-            f << p[0] << ',' << p[1] << ',' << p[2] << ',' << p[3] << ','
-              << (std::isnan(p[4]) ? std::string("NaN") : std::to_string(p[4])) << ',' << p[5]
-              << '\n';
-    }
-    const std::string script = dir + "/force.gp";
-    std::ostringstream scriptText;
-    {
-        std::ostream &g = scriptText;
-        g << "set terminal pngcairo size 1000,900 font ',10'\n"
-          << "set output '" << dir << "/force.png'\n"
-          << "set datafile separator ','\nset datafile missing 'NaN'\n"
-          << "set multiplot layout 3,1 title 'DepthTouch demo: the simulated finger stroking "
-             "the head'\n"
-          << "set grid\nset key outside right top vertical\nset lmargin 10\nset rmargin 20\n"
-          << "set xlabel 'play time (s)'\nset ylabel '|F| (N)'\n"
-          << "plot '" << plotCsv << "' every ::1 using 1:($6*0.3) with filledcurves y=0 "
-          << "lc rgb '#d8e8d0' title 'on the head', '' every ::1 using 1:($3*0.15) with steps "
-          << "lc rgb '#888888' title 'contact', '' every ::1 using 1:2 with lines lw 1 "
-          << "lc rgb '#1f5fbf' title '|F|'\n"
-          << "set ylabel 'height under the finger (mm)'\n"
-          << "plot '" << plotCsv << "' every ::1 using 1:5 with lines lw 1 lc rgb '#c05000' "
-          << "title 'surface', '' every ::1 using 1:4 with lines lw 1 "
-          << "lc rgb '#1f5fbf' title 'finger'\n"
-          << "set xlabel 'frequency (Hz)'\nset ylabel 'PSD (N^2/Hz)'\nset logscale y\n"
-          << "set format y '10^{%L}'\n"
-          << "plot '" << psdCsv << "' every ::1 using 1:2 with lines lw 1 lc rgb '#1f5fbf' "
-          << "title 'force PSD'\n"
-          << "unset multiplot\n";
-    }
-    if (!writeDemoFile(psdCsv, psdText.str(), lost) ||
-        !writeDemoFile(plotCsv, plotText.str(), lost) ||
-        !writeDemoFile(script, scriptText.str(), lost))
-        return "not drawn: " + lost;
-    const platform::PlotStatus st = platform::runGnuplot(script);
-    return st == platform::PlotStatus::Drawn ? dir + "/force.png" : platform::plotStatusNote(st);
-}
-
 /// Measures the run in \a forceLog against the clip's depth, prints the feel lines and draws the
 /// chart (when the clip or the log cannot be read, prints a note instead).
 /// \return why a file of the chart could not be written, or empty.
 std::string reportFeel(const DemoOptions &o, const std::string &clip, const std::string &forceLog)
 {
-    const std::vector<LogRow> rows = readForceLog(forceLog);
+    const std::vector<demo::LogRow> rows = demo::readForceLog(forceLog);
     std::string err;
-    const std::unique_ptr<DemoSurface> surface = loadClipSurface(clip, err);
+    const std::unique_ptr<demo::DemoSurface> surface = demo::loadClipSurface(clip, err);
     if (!surface || rows.empty()) {
         std::printf("  feel              not measured: %s\n",
                     err.empty() ? "empty force log" : err.c_str());
         return {};
     }
-    const std::vector<double> play = playTimes(rows);
+    const std::vector<double> play = demo::playTimes(rows);
     std::vector<std::array<double, 6>> plot;
     plot.reserve(rows.size());
-    const DemoFeel d = measureFeel(rows, play, *surface, plot);
+    const demo::DemoFeel d = demo::measureFeel(rows, play, *surface, plot);
     const haptics::FeelFigures &f = d.feel;
     std::printf("  feel              %zu safety trips (%zu at real cuts), pop-through %.0f ms, "
                 "phantom force %.0f ms, %.2f spikes/s while sliding (%.1f s)\n",
@@ -252,7 +118,8 @@ std::string reportFeel(const DemoOptions &o, const std::string &clip, const std:
                 "than the %s)\n",
                 o.scene == "head" ? "head" : "fig.",
                 d.contactSeconds > 0 ? 100.0 * d.figureSeconds / d.contactSeconds : 0.0,
-                d.contactSeconds, 1e3 * kFigureMargin, o.scene == "head" ? "curtain" : "backdrop");
+                d.contactSeconds, 1e3 * demo::kFigureMargin,
+                o.scene == "head" ? "curtain" : "backdrop");
     auto median = [](std::vector<double> v) {
         return v.empty() ? std::nan("") : platform::percentile(v, 0.5);
     };
@@ -262,7 +129,7 @@ std::string reportFeel(const DemoOptions &o, const std::string &clip, const std:
                 o.scene == "head" ? "curtain" : "backdrop", median(d.backdropStiffness),
                 o.stiffness);
     std::string lost;
-    const std::string chart = chartForce(o.outDir, plot, o.rate, lost);
+    const std::string chart = demo::chartForce(o.outDir, plot, o.rate, lost);
     std::printf("  chart             %s\n", chart.c_str());
     return lost;
 }
@@ -315,7 +182,8 @@ int runDemo(const DemoOptions &o)
     if (hapticOptions.empty() && o.haptic == "sim")
         hapticOptions = o.scene == "head" ? kHeadStroke : "intent=stroke";
     // A folder where nothing can be written is found now, not after the clip and the play.
-    if (const OutputPathCheck c = checkOutputFolder("--out", o.outDir); c.exitCode != kExitOk) {
+    if (const platform::OutputPathCheck c = platform::checkOutputFolder("--out", o.outDir);
+        c.exitCode != kExitOk) {
         std::fprintf(stderr, "depthtouch demo: %s\n", c.message.c_str());
         return c.exitCode;
     }
@@ -334,7 +202,9 @@ int runDemo(const DemoOptions &o)
                     o.scene.c_str(), o.frames, o.size.c_str(), clip.c_str());
         std::fflush(stdout);
         bool interrupted = false;
-        if (const std::string err = encodeScene(o, clip, interrupted); !err.empty()) {
+        if (const std::string err = demo::encodeScene(o.scene, o.size, o.frames, clip,
+                                                      makeSourceProviders(), interrupted);
+            !err.empty()) {
             std::fprintf(stderr, "depthtouch demo: %s\n", err.c_str());
             return kExitFailure;
         }
@@ -342,7 +212,7 @@ int runDemo(const DemoOptions &o)
             std::fprintf(stderr,
                          "depthtouch demo: interrupted by %s while making the clip; "
                          "nothing was kept\n",
-                         stopSignalName(StopSignals::caughtSignal()));
+                         platform::stopSignalName(platform::StopSignals::caughtSignal()));
             return kExitInterrupted;
         }
     }

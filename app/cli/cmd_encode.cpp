@@ -29,15 +29,17 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
-#include "material_map.h"
 #include "option_cli.h"
 #include "output_paths.h"
 #include "source_providers.h"
-#include "stop_signals.h"
 #include "depthtouch/media/encode_job.h"
+#include "depthtouch/media/encode_progress.h"
 #include "depthtouch/media/frame_source.h"
+#include "depthtouch/media/material_map.h"
+#include "depthtouch/media/named_source.h"
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
+#include "depthtouch/platform/stop_signals.h"
 
 namespace depthtouch::cli {
 
@@ -89,77 +91,12 @@ std::string describe(const Error &e)
     return e.format(buf, sizeof buf);
 }
 
-/// A FrameSource that remembers its name and its first error, so the one error line can say which
-/// input failed.
-class NamedSource final : public media::FrameSource {
-public:
-    NamedSource(std::string role, std::string spec, std::unique_ptr<media::FrameSource> inner)
-        : role_(std::move(role)), spec_(std::move(spec)), inner_(std::move(inner))
-    {
-    }
-    [[nodiscard]] const media::SourceInfo &info() const noexcept override { return inner_->info(); }
-    Result<media::SourceFrame> next(media::PixelFormat format, int width, int height) override
-    {
-        auto r = inner_->next(format, width, height);
-        if (!r && r.error().code != Errc::EndOfStream && !failed_) {
-            failed_ = true;
-            error_ = r.error();
-        }
-        return r;
-    }
-    [[nodiscard]] bool failed() const noexcept { return failed_; }
-    [[nodiscard]] std::string message() const
-    {
-        return "cannot read " + role_ + " input '" + spec_ + "': " + describe(error_);
-    }
-
-private:
-    std::string role_;
-    std::string spec_;
-    std::unique_ptr<media::FrameSource> inner_;
-    bool failed_ = false;
-    Error error_{};
-};
-
 bool parseSize(const std::string &text, int &w, int &h)
 {
     char x = 0;
     std::istringstream ss(text);
     return static_cast<bool>(ss >> w >> x >> h) && x == 'x' && ss.eof() && w > 0 && h > 0;
 }
-
-/// Draws "frames, fps, ETA" on one terminal line.
-class Progress {
-public:
-    explicit Progress(bool enabled) : enabled_(enabled) {}
-    void update(const media::EncodeProgress &p)
-    {
-        if (!enabled_ || p.elapsed - lastDraw_ < 0.25)
-            return;
-        lastDraw_ = p.elapsed;
-        const double fps = p.elapsed > 0.0 ? static_cast<double>(p.frames) / p.elapsed : 0.0;
-        if (p.totalFrames > 0 && fps > 0.0) {
-            const double eta = static_cast<double>(p.totalFrames - p.frames) / fps;
-            std::fprintf(stderr, "\rframe %lld/%lld  %.1f fps  ETA %.0f s   ", p.frames,
-                         p.totalFrames, fps, eta > 0.0 ? eta : 0.0);
-        } else {
-            std::fprintf(stderr, "\rframe %lld  %.1f fps   ", p.frames, fps);
-        }
-        std::fflush(stderr);
-        drawn_ = true;
-    }
-    void finish()
-    {
-        if (drawn_)
-            std::fprintf(stderr, "\n");
-        drawn_ = false;
-    }
-
-private:
-    bool enabled_;
-    bool drawn_ = false;
-    double lastDraw_ = -1.0;
-};
 
 /// The output, container, color encoder, depth codec, grid and limits. Returns kExitOk, or the exit
 /// code after printing the one error line.
@@ -236,12 +173,13 @@ int checkEncodeOptions(const EncodeCliOptions &o, const media::EncodeOptions &eo
         // Before any input is read: what planOutput() refuses, and an output that is an input.
         if (auto p = platform::planOutput(o.output); !p)
             return fail(kExitBadInput, "cannot write '" + o.output + "': it " + p.error().what);
-        const OutputPathCheck same = checkDistinctPaths({{"--color", o.color},
-                                                         {"--depth", o.depth},
-                                                         {"--material", o.material},
-                                                         {"--material-map", o.materialMap},
-                                                         {"--materials", o.materials}},
-                                                        {{"-o", o.output}});
+        const platform::OutputPathCheck same =
+            platform::checkDistinctPaths({{"--color", o.color},
+                                          {"--depth", o.depth},
+                                          {"--material", o.material},
+                                          {"--material-map", o.materialMap},
+                                          {"--materials", o.materials}},
+                                         {{"-o", o.output}});
         if (same.exitCode != kExitOk)
             return fail(same.exitCode, same.message);
     }
@@ -266,9 +204,9 @@ struct InputSpec {
 };
 
 /// Opens one input; on failure sets `error` to the one error line and returns nullptr.
-std::unique_ptr<NamedSource> openInput(const EncodeCliOptions &o,
-                                       const media::SourceProviders &providers, const InputSpec &in,
-                                       std::string &error)
+std::unique_ptr<media::NamedSource> openInput(const EncodeCliOptions &o,
+                                              const media::SourceProviders &providers,
+                                              const InputSpec &in, std::string &error)
 {
     const std::string role = in.role;
     media::SourceOptions so;
@@ -283,26 +221,27 @@ std::unique_ptr<NamedSource> openInput(const EncodeCliOptions &o,
         error = "cannot open " + role + " input '" + in.spec + "': " + describe(s.error());
         return nullptr;
     }
-    return std::make_unique<NamedSource>(role, in.spec, std::move(*s));
+    return std::make_unique<media::NamedSource>(role, in.spec, std::move(*s));
 }
 
 /// Opens the material input of --material or --material-map (none without them); on failure
 /// sets `error` and returns nullptr.
-std::unique_ptr<NamedSource>
+std::unique_ptr<media::NamedSource>
 openMaterial(const EncodeCliOptions &o, const media::SourceProviders &providers, std::string &error)
 {
     if (!o.material.empty()) {
         static const std::string kNone;
         return openInput(o, providers, {"material", o.material, kNone, kNone, kNone}, error);
     }
-    auto map = openMaterialMap(o.materialMap, o.materials, o.fps, error);
-    return map ? std::make_unique<NamedSource>("material", o.materialMap, std::move(map)) : nullptr;
+    auto map = media::openMaterialMap(o.materialMap, o.materials, o.fps, error);
+    return map ? std::make_unique<media::NamedSource>("material", o.materialMap, std::move(map))
+               : nullptr;
 }
 
 /// Opens the color input, then (if that opened) the depth input; on failure sets `error`.
 void openInputs(const EncodeCliOptions &o, const media::SourceProviders &providers,
-                std::unique_ptr<NamedSource> &color, std::unique_ptr<NamedSource> &depthSrc,
-                std::string &error)
+                std::unique_ptr<media::NamedSource> &color,
+                std::unique_ptr<media::NamedSource> &depthSrc, std::string &error)
 {
     // A camera or display backend that fails to open logs why at Error level; the one error line
     // below carries the same reason, so the backends stay quiet while opening (unless DT_LOG).
@@ -321,8 +260,9 @@ void openInputs(const EncodeCliOptions &o, const media::SourceProviders &provide
 
 /// The exit code of a failed encode, after its one error line: the input that failed, else the
 /// output (an I/O error: lost output) or the encoder.
-int encodeFailure(const EncodeCliOptions &o, const NamedSource &color, const NamedSource &depthSrc,
-                  const NamedSource *material, const Error &error)
+int encodeFailure(const EncodeCliOptions &o, const media::NamedSource &color,
+                  const media::NamedSource &depthSrc, const media::NamedSource *material,
+                  const Error &error)
 {
     if (color.failed())
         return fail(kExitBadInput, color.message());
@@ -363,7 +303,7 @@ constexpr double kFarthestSensorRange = 12.0;
 /// Prints the summary of a finished encode; returns its exit code (kExitInterrupted after a
 /// stop signal, with a line on stderr).
 int reportEncode(const EncodeCliOptions &o, const media::EncodeOptions &eo,
-                 const NamedSource &color, const media::EncodeSummary &s)
+                 const media::NamedSource &color, const media::EncodeSummary &s)
 {
     const int w = eo.width > 0 ? eo.width : color.info().width;
     const int h = eo.height > 0 ? eo.height : color.info().height;
@@ -403,7 +343,8 @@ int reportEncode(const EncodeCliOptions &o, const media::EncodeOptions &eo,
         std::fprintf(stderr,
                      "depthtouch encode: interrupted by %s; '%s' holds the %lld frame pairs "
                      "encoded and is complete\n",
-                     stopSignalName(StopSignals::caughtSignal()), o.output.c_str(), s.frames);
+                     platform::stopSignalName(platform::StopSignals::caughtSignal()),
+                     o.output.c_str(), s.frames);
         return kExitInterrupted;
     }
     return kExitOk;
@@ -430,19 +371,19 @@ int runEncode(const EncodeCliOptions &o)
     // One set of providers for both inputs: `synthetic:NAME` color and depth share one renderer,
     // `v4l2:DEVICE` color and depth one camera.
     const media::SourceProviders providers = makeSourceProviders();
-    std::unique_ptr<NamedSource> color;
-    std::unique_ptr<NamedSource> depthSrc;
+    std::unique_ptr<media::NamedSource> color;
+    std::unique_ptr<media::NamedSource> depthSrc;
     std::string error;
     openInputs(o, providers, color, depthSrc, error);
     if (!color || !depthSrc)
         return fail(kExitBadInput, error);
-    std::unique_ptr<NamedSource> material;
+    std::unique_ptr<media::NamedSource> material;
     if (!o.material.empty() || !o.materialMap.empty()) {
         if (material = openMaterial(o, providers, error); !material)
             return fail(kExitBadInput, error);
     }
 
-    Progress progress(::isatty(STDERR_FILENO) == 1);
+    media::ProgressLine progress(::isatty(STDERR_FILENO) == 1);
     media::EncodeCallbacks callbacks;
     callbacks.progress = [&progress](const media::EncodeProgress &p) { progress.update(p); };
     callbacks.warning = [&progress](const std::string &w) {
@@ -453,7 +394,7 @@ int runEncode(const EncodeCliOptions &o)
     gStop.store(false);
     Result<media::EncodeSummary> summary = [&] {
         // Without SA_RESTART: a read blocked on an input returns, and the flag is seen.
-        StopSignals signals(gStop, false);
+        platform::StopSignals signals(gStop, false);
         return media::encodeStreams(*color, *depthSrc, material.get(), eo, &gStop, callbacks);
     }();
     progress.finish();

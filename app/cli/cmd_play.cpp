@@ -30,22 +30,23 @@
 #include "commands.h"
 #include "depthtouch/control/control_loop.h"
 #include "depthtouch/control/control_server.h"
+#include "depthtouch/control/play_loop.h"
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
 #include "depthtouch/platform/memory_lock.h"
+#include "depthtouch/platform/message_text.h"
+#include "depthtouch/platform/stop_signals.h"
+#include "depthtouch/playback/play_report.h"
 #include "depthtouch/playback/playback.h"
 #include "depthtouch/player/state_machine.h"
-#include "message_text.h"
 #include "option_cli.h"
 #include "output_paths.h"
 #include "play.h"
 #include "play_config.h"
 #include "play_options.h"
-#include "play_report.h"
-#include "stop_signals.h"
 
 namespace depthtouch::cli {
 
@@ -69,7 +70,8 @@ public:
                 std::fprintf(stderr, "depthtouch play: %s\n", player::playerStateName(e.state));
             break;
         case player::PlayerEventKind::Error:
-            std::fprintf(stderr, "depthtouch play: %s\n", printableText(e.message, 400).c_str());
+            std::fprintf(stderr, "depthtouch play: %s\n",
+                         platform::printableText(e.message, 400).c_str());
             errorPrinted_ = true;
             break;
         case player::PlayerEventKind::EndOfFile:
@@ -114,7 +116,7 @@ int controlSocketExitCode(const Error &e)
 /// Prints \a why as the run's one error line (printable, at most 400 bytes of it).
 void failLine(std::string_view why)
 {
-    std::fprintf(stderr, "depthtouch play: %s\n", printableText(why, 400).c_str());
+    std::fprintf(stderr, "depthtouch play: %s\n", platform::printableText(why, 400).c_str());
 }
 
 PlayResult badInput(const std::string &why)
@@ -133,11 +135,12 @@ std::optional<PlayResult> checkPlayOptions(const PlayOptions &opt)
         return badInput("nothing to play: give a file or URL");
     // Outputs: a missing folder is bad input, an output that takes no byte is lost at once.
     // An output never replaces an input or another output (compared by file identity).
-    for (const OutputPathCheck &c :
-         {checkOutputPath("--record", opt.record), checkOutputPath("--force-log", opt.forceLog),
-          checkOutputPath("--stats", opt.stats, true),
-          checkOutputFolder("--snapshot-dir", opt.snapshotDir),
-          checkDistinctPaths(
+    for (const platform::OutputPathCheck &c :
+         {platform::checkOutputPath("--record", opt.record),
+          platform::checkOutputPath("--force-log", opt.forceLog),
+          platform::checkOutputPath("--stats", opt.stats, true),
+          platform::checkOutputFolder("--snapshot-dir", opt.snapshotDir),
+          platform::checkDistinctPaths(
               {{"the input", opt.url}, {"--config", opt.config}},
               {{"--record", opt.record}, {"--force-log", opt.forceLog}, {"--stats", opt.stats}})}) {
         if (c.exitCode != kExitOk) {
@@ -254,90 +257,39 @@ std::optional<PlayResult> openControlSocket(const PlayOptions &opt, player::Stat
     if (!s) {
         char why[160];
         std::fprintf(stderr, "depthtouch play: cannot create the control socket %s: %s\n",
-                     quotedText(opt.control, 120).c_str(), s.error().format(why, sizeof why));
+                     platform::quotedText(opt.control, 120).c_str(),
+                     s.error().format(why, sizeof why));
         return PlayResult{controlSocketExitCode(s.error()), {}};
     }
     server = std::move(*s);
     return std::nullopt;
 }
 
-/// How the main loop ended.
-struct LoopOutcome {
-    std::string failure;         ///< The reason when the player ended in Error.
-    bool opened = false;         ///< The input played (Playing or Paused was reached).
-    bool stoppedOpening = false; ///< A signal or --duration came while the input was opening.
-    double rssStart = -1.0;
-    double rssAfterWarmup = -1.0;
-    double rssEnd = -1.0;
-    double lockedMiB = -1.0; ///< Locked memory (VmLck), MiB: the larger of the 5 s and end samples.
-};
-
-/// Runs the control loop until the player quits, ends (without --idle), a signal or --duration.
-LoopOutcome playUntilDone(const PlayOptions &opt, player::StateMachine &machine,
-                          control::ControlLoop &loop,
-                          std::unique_ptr<control::ControlServer> &server,
-                          playback::Playback &playback, platform::Clock &clock)
-{
-    LoopOutcome out;
-    out.rssStart = residentMiB();
-    const platform::TimePoint start = clock.now();
-    machine.execute("play");
-    while (!machine.quitRequested()) {
-        if (auto r = loop.runUntil(clock.now() + std::chrono::milliseconds(10)); !r) {
-            std::fprintf(stderr, "depthtouch play: control socket failed: %s\n", r.error().what);
-            server.reset();
-        }
-        playback.report(machine);
-        const player::PlayerState st = machine.state();
-        if (st == player::PlayerState::Playing || st == player::PlayerState::Paused)
-            out.opened = true;
-        // A failure counts while the player stays in Error; one it left (a client's stop or
-        // play, with --idle) was recovered from.
-        if (st == player::PlayerState::Error)
-            out.failure = machine.errorReason();
-        else
-            out.failure.clear();
-        const double elapsed = platform::toSeconds(clock.now() - start);
-        if (out.rssAfterWarmup < 0.0 && elapsed >= 5.0) {
-            out.rssAfterWarmup = residentMiB();
-            out.lockedMiB = platform::lockedMiB();
-        }
-        if (gPlayStop.load() || (opt.duration > 0.0 && elapsed >= opt.duration)) {
-            out.stoppedOpening = st == player::PlayerState::Opening;
-            machine.execute("quit");
-            break;
-        }
-        if ((st == player::PlayerState::Error || st == player::PlayerState::Stopped) && !opt.idle)
-            break;
-    }
-    out.rssEnd = residentMiB();
-    out.lockedMiB = std::max(out.lockedMiB, platform::lockedMiB());
-    return out;
-}
-
 /// Writes the stats file and works out the exit code of a run that ended as \a out says; prints
 /// the summary when the input played.
-PlayResult finishPlay(const PlayOptions &opt, const PlayRunFigures &run, LoopOutcome out,
-                      bool quitRequested, bool errorPrinted)
+PlayResult finishPlay(const PlayOptions &opt, const playback::PlayRunFigures &run,
+                      control::LoopOutcome out, bool quitRequested, bool errorPrinted)
 {
     PlayResult result;
-    result.stats = playStatsJson(opt.url, run);
+    result.stats = playback::playStatsJson(opt.url, run);
     std::string lost; // an output that could not be written: exit 1
     if (!opt.stats.empty()) {
         if (auto w = platform::writeOutputFile(opt.stats, result.stats.dump(2) + "\n"); !w) {
             char why[160];
-            lost = "cannot write the stats " + quotedText(opt.stats, 120) + ": " +
+            lost = "cannot write the stats " + platform::quotedText(opt.stats, 120) + ": " +
                    w.error().format(why, sizeof why);
         }
     }
     const bool statsLost = !lost.empty();
     const bool forceLogLost = run.haptic && run.haptic->forceLogLost;
     if (lost.empty() && forceLogLost)
-        lost = "cannot write the force log " + quotedText(opt.forceLog, 120) + " (disk full?)";
+        lost = "cannot write the force log " + platform::quotedText(opt.forceLog, 120) +
+               " (disk full?)";
     if (lost.empty() && !run.stats.recordingLost.empty())
-        lost = "lost the recording " + quotedText(opt.record, 120) + ": " + run.stats.recordingLost;
+        lost = "lost the recording " + platform::quotedText(opt.record, 120) + ": " +
+               run.stats.recordingLost;
     if (lost.empty() && !run.stats.snapshotLost.empty())
-        lost = "in " + quotedText(opt.snapshotDir, 120) + ": " + run.stats.snapshotLost;
+        lost = "in " + platform::quotedText(opt.snapshotDir, 120) + ": " + run.stats.snapshotLost;
 
     // An input that opened but failed before giving a single frame (cut after its header) is
     // bad input like one that does not open.
@@ -349,7 +301,7 @@ PlayResult finishPlay(const PlayOptions &opt, const PlayRunFigures &run, LoopOut
                 failLine(out.failure);
             result.exitCode = kExitBadInput;
         } else if (out.stoppedOpening) {
-            failLine("stopped while opening " + quotedText(opt.url, 120));
+            failLine("stopped while opening " + platform::quotedText(opt.url, 120));
             result.exitCode = kExitFailure;
         } else if (!quitRequested) {
             failLine("nothing was played");
@@ -363,9 +315,9 @@ PlayResult finishPlay(const PlayOptions &opt, const PlayRunFigures &run, LoopOut
     if (!lost.empty() && out.failure.empty())
         failLine(lost);
     // The summary names only the files that were written.
-    printPlaySummary(opt.url, run, run.stats.recordingLost.empty() ? opt.record : std::string(),
-                     forceLogLost ? std::string() : opt.forceLog,
-                     statsLost ? std::string() : opt.stats);
+    playback::printPlaySummary(
+        opt.url, run, run.stats.recordingLost.empty() ? opt.record : std::string(),
+        forceLogLost ? std::string() : opt.forceLog, statsLost ? std::string() : opt.stats);
     result.exitCode = out.failure.empty() && lost.empty() ? kExitOk : kExitFailure;
     if (run.haptic && run.haptic->maxForce > run.deviceMaxForce + 1e-9)
         result.exitCode = kExitFailure;
@@ -406,12 +358,14 @@ PlayResult runPlay(const PlayOptions &opt)
     gPlayStop.store(false);
     // Every stop signal quits the same way, until the outputs are written (the recording and the
     // force log finished, the stats written); the control loop's waits are restarted.
-    const StopSignals signals(gPlayStop, true);
-    const LoopOutcome out = playUntilDone(opt, machine, loop, server, playback, clock);
+    const platform::StopSignals signals(gPlayStop, true);
+    const control::LoopOutcome out = control::playUntilDone(
+        machine, loop, server, [&playback, &machine] { playback.report(machine); }, gPlayStop,
+        {opt.duration, opt.idle}, clock);
     (void)playback.stop();
     playback.close(); // the recording ends and the snapshots are written: their losses count
 
-    PlayRunFigures run;
+    playback::PlayRunFigures run;
     run.info = &playback.info();
     run.stats = playback.stats();
     run.haptic = playback.hapticStats();
@@ -446,7 +400,8 @@ void registerPlayCommand(CLI::App &app, int &exitCode)
                     },
                     *o);
             if (!err.empty()) {
-                std::fprintf(stderr, "depthtouch play: %s\n", printableText(err, 400).c_str());
+                std::fprintf(stderr, "depthtouch play: %s\n",
+                             platform::printableText(err, 400).c_str());
                 exitCode = kExitBadInput;
                 return;
             }

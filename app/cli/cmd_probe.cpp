@@ -7,7 +7,6 @@
 /// (docs/materials.md) is shown with its role, lossless or not and the value ranges of its first
 /// frame (decoded with libavcodec; regular files only: a FIFO or URL cannot be read twice).
 
-#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -23,10 +22,9 @@
 #include "depthtouch/media/material_track.h"
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
-#include "depthtouch/receiver/pts_pairer.h"
+#include "depthtouch/receiver/packet_census.h"
 #include "depthtouch/receiver/receiver.h"
 #include "depthtouch/receiver/stream_roles.h"
-#include "depthtouch/scene/depth_frame.h"
 
 namespace depthtouch::cli {
 
@@ -55,79 +53,6 @@ const OptionRow<ProbeOptions> kProbeRows[] = {
     {"decoder", &ProbeOptions::decoder, "Video decoder backend for --decode (default: ffmpeg)"},
 };
 
-/// Per-stream packet census of the demux pass.
-struct StreamCount {
-    std::uint64_t packets = 0;
-    std::uint64_t keyframes = 0;
-    std::vector<hal::Pts> pts;
-};
-
-struct PairingCensus {
-    receiver::PairerStats stats;
-    std::uint64_t colorFrames = 0;
-    std::uint64_t colorWithPartner = 0;
-};
-
-hal::Pts periodOf(const hal::Rational &r)
-{
-    return r.num > 0 && r.den > 0
-               ? hal::Pts(static_cast<std::int64_t>(1e9 * static_cast<double>(r.den) / r.num + 0.5))
-               : hal::Pts{0};
-}
-
-/// Runs the pairing rules on the streams' packet PTS (presentation order = sorted).
-PairingCensus pairPackets(const hal::MediaInfo &info, const receiver::StreamRoles &roles,
-                          std::vector<StreamCount> &counts)
-{
-    PairingCensus out;
-    receiver::PairerConfig pc;
-    pc.color = roles.color >= 0;
-    pc.depth = roles.depth >= 0;
-    if (!pc.color && !pc.depth)
-        return out;
-    hal::Pts cp = pc.color ? periodOf(info.streams[static_cast<std::size_t>(roles.color)].frameRate)
-                           : hal::Pts{0};
-    hal::Pts dp = pc.depth ? periodOf(info.streams[static_cast<std::size_t>(roles.depth)].frameRate)
-                           : hal::Pts{0};
-    if (cp <= hal::Pts{0})
-        cp = dp > hal::Pts{0} ? dp : hal::Pts(33'333'333);
-    if (dp <= hal::Pts{0})
-        dp = cp;
-    pc.colorPeriod = cp;
-    pc.depthPeriod = dp;
-    receiver::PtsPairer<int> pairer(pc);
-    std::vector<hal::Pts> empty;
-    std::vector<hal::Pts> &c = pc.color ? counts[static_cast<std::size_t>(roles.color)].pts : empty;
-    std::vector<hal::Pts> &d = pc.depth ? counts[static_cast<std::size_t>(roles.depth)].pts : empty;
-    std::sort(c.begin(), c.end());
-    std::sort(d.begin(), d.end());
-    std::size_t ci = 0;
-    std::size_t di = 0;
-    receiver::PtsPairer<int>::Output o;
-    const auto drainOutputs = [&] {
-        while (pairer.pull(o)) {
-            if (o.hasColor) {
-                ++out.colorFrames;
-                if (!o.depthMissing && !o.depthDuplicated && o.hasDepth)
-                    ++out.colorWithPartner;
-            }
-        }
-    };
-    while (ci < c.size() || di < d.size()) {
-        const bool color = di >= d.size() || (ci < c.size() && c[ci] <= d[di]);
-        receiver::PtsPairer<int>::Item item;
-        item.pts = color ? c[ci++] : d[di++];
-        (void)pairer.push(color ? receiver::PairStream::Color : receiver::PairStream::Depth,
-                          std::move(item));
-        drainOutputs();
-    }
-    pairer.endOfStream(receiver::PairStream::Color);
-    pairer.endOfStream(receiver::PairStream::Depth);
-    drainOutputs();
-    out.stats = pairer.stats();
-    return out;
-}
-
 std::string rateText(const hal::Rational &r)
 {
     if (r.num <= 0 || r.den <= 0)
@@ -137,20 +62,13 @@ std::string rateText(const hal::Rational &r)
     return buf;
 }
 
-/// The demux pass: every packet's stream, keyframe flag and PTS, and why reading stopped early.
-struct DemuxCensus {
-    std::vector<StreamCount> counts;
-    std::uint64_t packets = 0;
-    std::string readError; ///< Empty when reading reached the end of the stream.
-};
-
 /// Everything the report prints: the demux census, the pairing census and the --decode pass.
 struct ProbeReport {
     hal::MediaInfo info;
     receiver::StreamRoles roles;
-    DemuxCensus demux;
+    receiver::DemuxCensus demux;
     std::vector<hal::Pts> spans;
-    PairingCensus census;
+    receiver::PairingCensus census;
     std::uint64_t unpairedColor = 0;
     bool everyPaired = false;
     nlohmann::json decodeJson;
@@ -170,45 +88,6 @@ bool decodeInputReadable(const ProbeOptions &opt)
         return false;
     }
     return true;
-}
-
-/// Reads every packet of an open source (then closes it), counting them per stream.
-DemuxCensus countPackets(hal::MediaSource &src, std::size_t streams)
-{
-    DemuxCensus out;
-    out.counts.resize(streams);
-    for (;;) {
-        auto p = src.readPacket();
-        if (!p) {
-            if (p.error().code != Errc::EndOfStream)
-                out.readError = p.error().what;
-            break;
-        }
-        ++out.packets;
-        if (p->streamIndex < 0 || static_cast<std::size_t>(p->streamIndex) >= out.counts.size())
-            continue;
-        StreamCount &sc = out.counts[static_cast<std::size_t>(p->streamIndex)];
-        ++sc.packets;
-        sc.keyframes += p->keyframe ? 1u : 0u;
-        sc.pts.push_back(p->pts);
-    }
-    src.close();
-    return out;
-}
-
-/// Each stream's duration: its PTS range plus one frame period (0 for a stream without packets).
-std::vector<hal::Pts> streamSpans(const hal::MediaInfo &info,
-                                  const std::vector<StreamCount> &counts)
-{
-    std::vector<hal::Pts> spans(counts.size(), hal::Pts{0});
-    for (std::size_t i = 0; i < counts.size(); ++i) {
-        const auto &v = counts[i].pts;
-        if (!v.empty()) {
-            const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-            spans[i] = *hi - *lo + periodOf(info.streams[i].frameRate);
-        }
-    }
-    return spans;
 }
 
 /// The receiver's counters as the JSON report's "decode" object.
@@ -247,45 +126,17 @@ std::string decodeStatsText(const char *mode, const receiver::ReceiverStats &s)
     return line;
 }
 
-/// The hole samples (docs/architecture.md §3 "Holes") of the distinct depth frames decoded.
-struct HoleCount {
-    std::uint64_t samples = 0;
-    std::uint64_t holes = 0;
-    std::uint64_t lastSequence = ~std::uint64_t{0};
-
-    void add(const receiver::StoredFrame &d)
-    {
-        if (d.sequence == lastSequence || d.image.planes[0].data == nullptr)
-            return;
-        lastSequence = d.sequence;
-        scene::DepthFrameView v;
-        v.data = d.image.planes[0].data;
-        v.width = d.image.width;
-        v.height = d.image.height;
-        v.strideBytes = static_cast<std::size_t>(d.image.planes[0].strideBytes);
-        v.format = d.image.format == hal::PixelFormat::Gray16 ? scene::SampleFormat::Gray16
-                                                              : scene::SampleFormat::Gray8;
-        v.holeBelow = d.holeBelow;
-        samples += static_cast<std::uint64_t>(v.width) * static_cast<std::uint64_t>(v.height);
-        if (v.holeBelow == 0)
-            return;
-        for (int y = 0; y < v.height; ++y)
-            for (int x = 0; x < v.width; ++x)
-                holes += v.measured(x, y) ? 0u : 1u;
-    }
-
-    /// The text report's "holes" line.
-    [[nodiscard]] std::string text(std::uint32_t holeBelow) const
-    {
-        char line[200];
-        std::snprintf(
-            line, sizeof line,
-            "holes: %.2f %% of %llu decoded depth samples (below %u, decoded units)\n",
-            samples > 0 ? 100.0 * static_cast<double>(holes) / static_cast<double>(samples) : 0.0,
-            static_cast<unsigned long long>(samples), holeBelow);
-        return line;
-    }
-};
+/// The text report's "holes" line.
+std::string holesText(const receiver::HoleCount &h, std::uint32_t holeBelow)
+{
+    char line[200];
+    std::snprintf(
+        line, sizeof line,
+        "holes: %.2f %% of %llu decoded depth samples (below %u, decoded units)\n",
+        h.samples > 0 ? 100.0 * static_cast<double>(h.holes) / static_cast<double>(h.samples) : 0.0,
+        static_cast<unsigned long long>(h.samples), holeBelow);
+    return line;
+}
 
 /// The --decode pass: runs the real receiver (decode + pairing) over the whole input and keeps its
 /// counters in the report. Returns kExitOk, or kExitBadInput after printing why it could not run.
@@ -307,16 +158,7 @@ int runDecodePass(const ProbeOptions &opt, const std::string &sourceName, bool m
                      r.error().what, errcName(r.error().code));
         return kExitBadInput;
     }
-    receiver::PairedFrame f;
-    HoleCount holes;
-    for (;;) {
-        auto n = (*r)->next(f);
-        if (!n || !*n)
-            break;
-        if (f.depth)
-            holes.add(*f.depth);
-    }
-    f = receiver::PairedFrame{};
+    const receiver::HoleCount holes = receiver::decodeToEnd(**r);
     const receiver::ReceiverStats s = (*r)->stats();
     rep.decodeJson = decodeStatsJson(receiver::receiverModeName((*r)->info().mode), s);
     rep.decodeText = decodeStatsText(receiver::receiverModeName((*r)->info().mode), s);
@@ -324,7 +166,7 @@ int runDecodePass(const ProbeOptions &opt, const std::string &sourceName, bool m
         rep.decodeJson["hole_below"] = (*r)->info().depthHoleBelow;
         rep.decodeJson["depth_samples"] = holes.samples;
         rep.decodeJson["hole_samples"] = holes.holes;
-        rep.decodeText += holes.text((*r)->info().depthHoleBelow);
+        rep.decodeText += holesText(holes, (*r)->info().depthHoleBelow);
     }
     return kExitOk;
 }
@@ -362,7 +204,7 @@ nlohmann::json streamsJson(const ProbeReport &rep)
 {
     nlohmann::json streams = nlohmann::json::array();
     for (const hal::StreamInfo &s : rep.info.streams) {
-        const StreamCount &c = rep.demux.counts[static_cast<std::size_t>(s.index)];
+        const receiver::StreamCount &c = rep.demux.counts[static_cast<std::size_t>(s.index)];
         streams.push_back(
             {{"index", s.index},
              {"title", s.title},
@@ -382,7 +224,7 @@ nlohmann::json streamsJson(const ProbeReport &rep)
 /// Prints the report as JSON (--json).
 void printJsonReport(const ProbeOptions &opt, const ProbeReport &rep)
 {
-    const PairingCensus &census = rep.census;
+    const receiver::PairingCensus &census = rep.census;
     const hal::StreamInfo *depth = depthStreamOf(rep);
     nlohmann::json j;
     j["file"] = opt.file;
@@ -449,7 +291,7 @@ void printStreamsText(const ProbeOptions &opt, const ProbeReport &rep)
     std::printf("%s: %zu video stream%s, %.3f s\n", opt.file.c_str(), info.streams.size(),
                 info.streams.size() == 1 ? "" : "s", platform::toSeconds(info.duration));
     for (const hal::StreamInfo &s : info.streams) {
-        const StreamCount &c = rep.demux.counts[static_cast<std::size_t>(s.index)];
+        const receiver::StreamCount &c = rep.demux.counts[static_cast<std::size_t>(s.index)];
         std::printf("  #%d %-8s %-26s %-6s %dx%d %-8s %s fps, %llu frames (%.3f s)\n", s.index,
                     s.title.empty() ? "-" : s.title.c_str(), roleOf(rep, s.index).c_str(),
                     hal::codecName(s.codec), s.width, s.height, hal::pixelFormatName(s.format),
@@ -472,7 +314,7 @@ void printStreamsText(const ProbeOptions &opt, const ProbeReport &rep)
 void printPairingText(const ProbeReport &rep)
 {
     const receiver::StreamRoles &roles = rep.roles;
-    const PairingCensus &census = rep.census;
+    const receiver::PairingCensus &census = rep.census;
     if (roles.color >= 0 && roles.depth >= 0)
         std::printf("pairing: %llu of %llu color frames have a depth partner within half a frame "
                     "(%llu without: %llu reuse the previous depth frame, %llu have none); %llu "
@@ -535,9 +377,9 @@ int runProbe(const ProbeOptions &opt)
     ProbeReport rep;
     rep.info = (*src)->info();
     rep.roles = receiver::identifyStreams(rep.info);
-    rep.demux = countPackets(**src, rep.info.streams.size());
-    rep.spans = streamSpans(rep.info, rep.demux.counts);
-    rep.census = pairPackets(rep.info, rep.roles, rep.demux.counts);
+    rep.demux = receiver::countPackets(**src, rep.info.streams.size());
+    rep.spans = receiver::streamSpans(rep.info, rep.demux.counts);
+    rep.census = receiver::pairPackets(rep.info, rep.roles, rep.demux.counts);
     rep.unpairedColor = rep.census.colorFrames - rep.census.colorWithPartner;
     rep.everyPaired = rep.roles.color >= 0 && rep.roles.depth >= 0 && rep.unpairedColor == 0;
     // The material track: read once more through libavformat (a regular file only).

@@ -32,14 +32,11 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
-#include <glm/geometric.hpp>
 
 #include "commands.h"
-#include "material_frames.h"
 #include "option_cli.h"
 #include "output_paths.h"
 #include "source_providers.h"
-#include "stop_signals.h"
 #include "depthtouch/depth/conversion.h"
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptics/renderer.h"
@@ -47,6 +44,8 @@
 #include "depthtouch/receiver/depth_file.h"
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
+#include "depthtouch/platform/stop_signals.h"
+#include "depthtouch/touch/touch_frames.h"
 
 namespace depthtouch::cli {
 
@@ -152,23 +151,6 @@ const OptionRow<TouchOptions> kTouchRows[] = {
 
 std::atomic<bool> gTouchStop{false};
 
-/// The depth frames of a replay that a stop signal ends: once one came, every frame fails (the
-/// replay asks for the next frame on every update of a video of two frames or more).
-class StoppableFrames final : public haptics::FrameProvider {
-public:
-    explicit StoppableFrames(haptics::FrameProvider &inner) noexcept : inner_(inner) {}
-    [[nodiscard]] std::size_t frameCount() const noexcept override { return inner_.frameCount(); }
-    Result<scene::DepthFrameView> frame(std::size_t i) noexcept override
-    {
-        if (gTouchStop.load(std::memory_order_relaxed))
-            return unexpected(Errc::Timeout, "stopped by a signal");
-        return inner_.frame(i);
-    }
-
-private:
-    haptics::FrameProvider &inner_;
-};
-
 int fail(int code, const std::string &message)
 {
     std::fprintf(stderr, "depthtouch touch: %s\n", message.c_str());
@@ -220,18 +202,6 @@ int openRawDepth(const TouchOptions &o, std::unique_ptr<haptics::FrameProvider> 
     return kExitOk;
 }
 
-/// The depth file as the replay's frame provider.
-class DepthFileFrames final : public haptics::FrameProvider {
-public:
-    explicit DepthFileFrames(std::unique_ptr<receiver::DepthFile> file) : file_(std::move(file)) {}
-    [[nodiscard]] std::size_t frameCount() const noexcept override { return file_->frameCount(); }
-    Result<scene::DepthFrameView> frame(std::size_t i) noexcept override { return file_->frame(i); }
-    [[nodiscard]] const receiver::DepthFile &file() const noexcept { return *file_; }
-
-private:
-    std::unique_ptr<receiver::DepthFile> file_;
-};
-
 /// The depth input through the ffmpeg backends, with the metric conversion of --near/--far (or
 /// of the first frame's robust range, for an input that says nothing of depth). \a decoded
 /// receives the provider (owned by \a frames). Returns kExitOk, or the exit code after printing
@@ -278,7 +248,7 @@ int openDecodedDepth(const TouchOptions &o, std::unique_ptr<haptics::FrameProvid
     std::string error;
     if (!file->open(o.depth, metric, unplanned, error))
         return fail(kExitBadInput, error);
-    auto provider = std::make_unique<DepthFileFrames>(std::move(file));
+    auto provider = std::make_unique<touch::DepthFileFrames>(std::move(file));
     decoded = &provider->file();
     frames = std::move(provider);
     return kExitOk;
@@ -290,25 +260,14 @@ int openDecodedDepth(const TouchOptions &o, std::unique_ptr<haptics::FrameProvid
 void printTouchSummary(const TouchOptions &o, const std::vector<haptics::ForceLogRow> &rows,
                        const std::string &readingNote)
 {
-    std::size_t contact = 0;
-    std::size_t trips = 0;
-    double maxForce = 0.0;
-    for (const haptics::ForceLogRow &r : rows) {
-        contact += r.out.contact ? 1u : 0u;
-        trips += r.out.released ? 1u : 0u;
-        maxForce = std::max(maxForce, glm::length(r.out.force));
-    }
-    const double seconds = rows.empty() ? 0.0 : rows.back().t - rows.front().t;
-    const double share =
-        rows.empty() ? 0.0
-                     : 100.0 * static_cast<double>(contact) / static_cast<double>(rows.size());
+    const haptics::ReplaySummary sum = haptics::summarizeReplay(rows);
     std::FILE *sink = o.out == "/dev/stdout" || o.out == "-" ? stderr : stdout;
     std::fprintf(
         sink,
         "touch: %zu updates over %.3f s at %g Hz (%s): %.0f %% in contact, max force %.2f N "
         "(device maximum %.2f N), %zu safety trips; force log %s\n",
-        rows.size(), seconds, o.rate, o.method.c_str(), share, maxForce, o.maxForce, trips,
-        o.out.c_str());
+        rows.size(), sum.seconds, o.rate, o.method.c_str(), sum.contactPercent, sum.maxForce,
+        o.maxForce, sum.trips, o.out.c_str());
     if (!readingNote.empty())
         std::fprintf(sink, "touch: depth: %s\n", readingNote.c_str());
 }
@@ -354,7 +313,7 @@ int runTouch(const TouchOptions &o)
     // the work, and only a regular file or a new path is ever replaced.
     if (auto p = platform::planOutput(o.out); !p)
         return fail(kExitBadInput, "cannot write '" + o.out + "': it " + p.error().what);
-    if (const OutputPathCheck same = checkDistinctPaths(
+    if (const platform::OutputPathCheck same = platform::checkDistinctPaths(
             {{"the input", o.depth}, {"--trajectory", o.trajectory}, {"--material", o.material}},
             {{"--out", o.out}});
         same.exitCode != kExitOk)
@@ -363,7 +322,7 @@ int runTouch(const TouchOptions &o)
     // Depth input: a raw gray file with --size, else anything FFmpeg reads.
     std::unique_ptr<FrameProvider> frames;
     const receiver::DepthFile *decoded = nullptr;
-    MaterialFrameProvider *materialFrames = nullptr;
+    touch::MaterialFrameProvider *materialFrames = nullptr;
     if (const int rc =
             !o.size.empty() ? openRawDepth(o, frames) : openDecodedDepth(o, frames, decoded);
         rc != kExitOk)
@@ -383,7 +342,7 @@ int runTouch(const TouchOptions &o)
             return fail(kExitBadInput,
                         "cannot open material input '" + o.material + "': " + source.error().what);
         auto withMaterial =
-            std::make_unique<MaterialFrameProvider>(std::move(frames), std::move(*source));
+            std::make_unique<touch::MaterialFrameProvider>(std::move(frames), std::move(*source));
         materialFrames = withMaterial.get();
         frames = std::move(withMaterial);
     }
@@ -403,13 +362,14 @@ int runTouch(const TouchOptions &o)
     // A stop signal ends the replay (nothing is written) or, once the rows are made, lets the
     // output be written whole and renamed before the exit: never a temporary file left.
     gTouchStop.store(false);
-    const StopSignals signals(gTouchStop, true);
-    StoppableFrames stoppable(*frames);
+    const platform::StopSignals signals(gTouchStop, true);
+    touch::StoppableFrames stoppable(*frames, gTouchStop);
     auto rows = replay(stoppable, *traj, opt);
     if (gTouchStop.load() && !rows)
-        return fail(kExitInterrupted, std::string("interrupted by ") +
-                                          stopSignalName(StopSignals::caughtSignal()) +
-                                          "; nothing written");
+        return fail(kExitInterrupted,
+                    std::string("interrupted by ") +
+                        platform::stopSignalName(platform::StopSignals::caughtSignal()) +
+                        "; nothing written");
     if (!rows)
         return fail(rows.error().code == Errc::Io ? kExitFailure : kExitBadInput,
                     rows.error().what);
@@ -429,9 +389,10 @@ int runTouch(const TouchOptions &o)
                          materialFrames->framesRead(), o.material.c_str());
     }
     if (gTouchStop.load())
-        return fail(kExitInterrupted, std::string("interrupted by ") +
-                                          stopSignalName(StopSignals::caughtSignal()) + "; '" +
-                                          o.out + "' is complete");
+        return fail(kExitInterrupted,
+                    std::string("interrupted by ") +
+                        platform::stopSignalName(platform::StopSignals::caughtSignal()) + "; '" +
+                        o.out + "' is complete");
     return kExitOk;
 }
 

@@ -12,7 +12,7 @@
 #include <toml++/toml.h>
 
 #include "depthtouch/platform/file_access.h"
-#include "message_text.h"
+#include "depthtouch/platform/message_text.h"
 #include "play_options.h"
 
 namespace depthtouch::cli {
@@ -63,7 +63,7 @@ const OptionRow<PlayOptions> *rowOfKey(const std::string &key)
 
 std::string fileError(const std::string &path, const std::string &why)
 {
-    return "--config " + quotedText(path) + ": " + why;
+    return "--config " + platform::quotedText(path) + ": " + why;
 }
 
 } // namespace
@@ -87,14 +87,14 @@ std::string applyPlayConfigText(std::string_view text, const std::string &path,
         table = toml::parse(text, path);
     } catch (const toml::parse_error &e) {
         const toml::source_position &at = e.source().begin;
-        return fileError(path,
-                         "line " + std::to_string(at.line) + ": " + printableText(e.description()));
+        return fileError(path, "line " + std::to_string(at.line) + ": " +
+                                   platform::printableText(e.description()));
     }
     for (const auto &[k, node] : table) {
         const std::string key(k.str());
         const OptionRow<PlayOptions> *row = rowOfKey(key);
         if (row == nullptr)
-            return fileError(path, "unknown key " + quotedText(key));
+            return fileError(path, "unknown key " + platform::quotedText(key));
         // The type is checked on a scratch copy when the command line gives the option.
         PlayOptions scratch;
         PlayOptions &into = given && given(key) ? scratch : options;
@@ -102,7 +102,8 @@ std::string applyPlayConfigText(std::string_view text, const std::string &path,
         const bool stored =
             std::visit([&](auto field) { return storeValue(value, into.*field); }, row->field);
         if (!stored)
-            return fileError(path, quotedText(key) + " has the wrong type or is out of range");
+            return fileError(path,
+                             platform::quotedText(key) + " has the wrong type or is out of range");
     }
     return {};
 }

@@ -6,8 +6,8 @@
 /// `loop = true`): the rows of `play`'s option table (play_options.h) but `url` and `config`. Every
 /// key is checked, also one whose option was given on the command line (that one is then not
 /// applied: the command line wins): an unknown key or a value of the wrong type is an error. Error
-/// messages are one line and quote at most 64 bytes of any key, value or path (message_text.h).
-/// Thread-safety: reentrant (no shared state).
+/// messages are one line and quote at most 64 bytes of any key, value or path
+/// (depthtouch/platform/message_text.h). Thread-safety: reentrant (no shared state).
 
 #include <chrono>
 #include <cstddef>

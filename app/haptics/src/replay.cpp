@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include <glm/geometric.hpp>
+
 namespace depthtouch::haptics {
 
 namespace {
@@ -291,6 +293,22 @@ std::string formatForceLog(const std::vector<ForceLogRow> &rows)
         }
     }
     return out;
+}
+
+ReplaySummary summarizeReplay(const std::vector<ForceLogRow> &rows)
+{
+    ReplaySummary sum;
+    std::size_t contact = 0;
+    for (const ForceLogRow &r : rows) {
+        contact += r.out.contact ? 1u : 0u;
+        sum.trips += r.out.released ? 1u : 0u;
+        sum.maxForce = std::max(sum.maxForce, glm::length(r.out.force));
+    }
+    sum.seconds = rows.empty() ? 0.0 : rows.back().t - rows.front().t;
+    sum.contactPercent =
+        rows.empty() ? 0.0
+                     : 100.0 * static_cast<double>(contact) / static_cast<double>(rows.size());
+    return sum;
 }
 
 } // namespace depthtouch::haptics

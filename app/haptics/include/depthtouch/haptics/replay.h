@@ -130,6 +130,17 @@ Result<std::vector<ForceLogRow>> replay(FrameProvider &frames,
                                         const std::vector<TrajectorySample> &trajectory,
                                         const ReplayOptions &options);
 
+/// \brief What a replay's rows add up to (the summary of `depthtouch touch`).
+struct ReplaySummary {
+    double seconds = 0.0;        ///< From the first row's time to the last's, s.
+    double contactPercent = 0.0; ///< Share of the rows in contact, %.
+    double maxForce = 0.0;       ///< Largest |force|, N.
+    std::size_t trips = 0;       ///< Rows of a safety release.
+};
+
+/// \return the summary of \a rows (zeros for none).
+ReplaySummary summarizeReplay(const std::vector<ForceLogRow> &rows);
+
 /// \return the force log CSV: header
 /// `t,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,released` then one line per row
 /// (times µs-exact, positions to 1 nm, forces to 1 µN), whole whatever the magnitudes.

@@ -98,6 +98,12 @@ std::vector<RtGoalRatio> rtGoalRatios(const RtBenchReport &report);
 /// by at most 20 %) to stdout.
 void printRtReport(const RtBenchReport &report);
 
+/// \brief Runs every case \a runs times (runRtBenchmark()), printing each run's report (a
+/// "--- run i of n ---" line before each when more than one) and, over several runs, each goal's
+/// median ratio with its range and whether it is met (rtGoalRatios()).
+/// \return every run's cases, and the first run's task error.
+RtBenchReport runRtBenchmarkRuns(const RtBenchOptions &options, int runs);
+
 /// \brief Writes rt_bench.csv, rt_bench.gp and rt_bench.png (gnuplot, when installed) into \a dir.
 /// \return false with \a error set when a file cannot be written; \a note explains a missing chart.
 bool writeRtBenchOutputs(const RtBenchReport &report, const std::string &dir, std::string &error,

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "depthtouch/platform/result.h"
+
 namespace depthtouch::haptics::bench {
 
 /// Friction of the `-friction` settings (friction.h): μs and μd.
@@ -105,6 +107,16 @@ struct BenchReport {
 
 /// \brief Runs the benchmark. Allocates freely (not real-time).
 BenchReport runHapticsBenchmark(const BenchOptions &options);
+
+/// \brief Runs the benchmark on a timing thread, as the servo loop runs its updates: SCHED_FIFO at
+/// the haptic thread's priority when \a fifo (so other processes on a shared machine do not preempt
+/// the timed updates; normal scheduling, with a note, when the kernel refuses), else a normal
+/// thread; prints the thread's scheduling on stdout. \return the report, or the error of a thread
+/// that could not start.
+Result<BenchReport> runHapticsBenchmarkTimed(const BenchOptions &options, bool fifo);
+
+/// \brief Prints the goals of \a report on stdout, each with "met" or "NOT met".
+void printBenchGoals(const BenchReport &report);
 
 /// \brief Writes haptics_bench.csv, haptics_bench.json, psd.csv and (with gnuplot)
 /// speed_vs_accuracy.png and psd.png into \a dir (created). \return false and a message in \a error

@@ -22,9 +22,12 @@
 /// thread. Timing uses platform::SteadyClock on the calling thread (one core).
 
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "depthtouch/haptics/depth_frame.h"
@@ -214,6 +217,53 @@ std::vector<haptics::TrajectorySample> makePress(const std::vector<scene::DepthF
 /// then alternately above and below it in steps of a tenth of the half height, up to 0.8 of it
 /// (17 lanes).
 std::vector<double> strokeLanes(int width, int height, const scene::SceneBox &box);
+
+/// \brief What measureSizes() measures.
+struct MediaSizesPlan {
+    std::vector<std::pair<int, int>> sizes; ///< Frame sizes (width, height), pixels; the first
+                                            ///< also gets the rate/accuracy sweep.
+    int frames = 60;                        ///< Frames per clip at 30 fps.
+    bool synthetic = false;                 ///< A synthetic clip instead of the 7-Scenes frames.
+    std::string scene;                      ///< The 7-Scenes kitchen folder (unless synthetic).
+};
+
+/// \brief Why measureSizes() stopped: the one-line message, and whether the input was bad (frames
+/// that cannot be read, an option the encoder refuses) rather than the run failing.
+struct MediaBenchError {
+    bool badInput = false;
+    std::string message;
+};
+
+/// \brief For each size of \a plan: loads its clip and measures its throughput
+/// (measureThroughput()) and, on the first size, rate against accuracy (measureRateAccuracy()),
+/// into \a report (its content, fps, throughput and rate rows); progress lines on stderr. \return
+/// nothing, or why not.
+std::optional<MediaBenchError> measureSizes(const MediaSizesPlan &plan,
+                                            const ReceiverBackends &backends,
+                                            const MediaBenchOptions &mo, MediaBenchReport &report);
+
+/// \brief A private scratch folder for the encoded files (`dt-bench-media-PID` in the system's
+/// temporary folder), removed with what it holds on destruction unless kept.
+class ScratchFolder {
+public:
+    /// \brief Creates the folder. \return it, or null with \a error set to the one error line.
+    static std::unique_ptr<ScratchFolder> make(bool keep, std::string &error);
+    ~ScratchFolder();
+    ScratchFolder(const ScratchFolder &) = delete;
+    ScratchFolder &operator=(const ScratchFolder &) = delete;
+    [[nodiscard]] const std::filesystem::path &path() const noexcept { return dir_; }
+
+private:
+    ScratchFolder(std::filesystem::path dir, bool keep) : dir_(std::move(dir)), keep_(keep) {}
+    std::filesystem::path dir_;
+    bool keep_;
+};
+
+/// \brief Prints \a report (printReport()), writes its files into \a out (writeReport()) and says
+/// what was written (and, with \a keptIn not empty, where the encoded files were kept) on stdout.
+/// \return false with \a error set when a file cannot be written.
+bool finishReport(const MediaBenchReport &report, const std::string &out, const std::string &keptIn,
+                  std::string &error);
 
 /// \brief Prints the tables and the goals (720×486 decode + pairing ≥ 10× real time, 1920×1080 ≥
 /// 2×) to stdout.

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "depthtouch/platform/result.h"
@@ -149,6 +150,33 @@ Result<std::vector<BenchConfig>> selectConfigs(const std::string &names);
 /// \brief Prints the tables (frame rate vs error; stage breakdown) to stdout.
 void printTable(const std::vector<BenchRow> &rows, const BenchOptions &options);
 
+/// \brief What runDepthSizes() measures.
+struct DepthSizesPlan {
+    std::string scene;                      ///< The 7-Scenes kitchen folder.
+    std::vector<std::pair<int, int>> sizes; ///< Depth sizes (width, height), pixels; the first
+                                            ///< is the main one.
+    bool withHead = false;   ///< Also the synthetic head at each size (--depth-sizes given).
+    bool allConfigs = false; ///< Every size runs \a configs (--only given), not only the first.
+    int frames = 0;      ///< Frames per config at the first size (a quarter, at least 5, after).
+    bool stages = false; ///< Per-stage breakdown of the first size's kitchen.
+    std::vector<BenchConfig> configs; ///< The configs of the first size.
+};
+
+/// \brief Why runDepthSizes() stopped: the one-line message, and whether the input was bad (the
+/// frames of a size could not be made) rather than the run failing.
+struct DepthSizesError {
+    bool badInput = false;
+    std::string message;
+};
+
+/// \brief Runs every depth size of \a plan (the kitchen, and the head when asked; fewer frames of a
+/// larger size: about the memory of 60 frames of 720×486) with \a bo (its source, configs, frames,
+/// warm-up and breakdown set per run) into \a rows; the first size's kitchen frames into
+/// \a firstFrames. Needs the GLES context current. \return nothing, or why not.
+std::optional<DepthSizesError> runDepthSizes(const DepthSizesPlan &plan, BenchOptions &bo,
+                                             std::vector<BenchRow> &rows,
+                                             std::vector<RgbdFrame> &firstFrames);
+
 /// \brief Writes `render_bench.csv` (one row per setting, frame source and depth size; stage
 /// medians and p99 included) and, when gnuplot is installed, `fps_vs_error.png` (one line per
 /// family, the rows of the first source and size), `stages.png` (stacked stage medians, same rows)
@@ -157,5 +185,14 @@ void printTable(const std::vector<BenchRow> &rows, const BenchOptions &options);
 /// when the directory or CSV cannot be written.
 bool writeBenchOutputs(const std::vector<BenchRow> &rows, const std::string &dir,
                        std::string &error, std::string &note);
+
+/// \brief The end of `depthtouch bench render`: prints the tables (printTable() with \a options),
+/// writes the files into \a out (writeBenchOutputs()) and the side-by-side snapshot of frame 0 of
+/// \a firstFrames (kitchen_sbs.png, at the options' output size; one that cannot be written is a
+/// line on stderr, not an error), and says what was written on stdout. Needs the GLES context
+/// current. \return false with \a error set when a file of the tables cannot be written.
+bool finishRenderBench(const std::vector<BenchRow> &rows, const BenchOptions &options,
+                       const std::vector<RgbdFrame> &firstFrames, const std::string &out,
+                       std::string &error);
 
 } // namespace depthtouch::render::bench

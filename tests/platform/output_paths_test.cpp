@@ -1,7 +1,7 @@
-/// Unit tests of app/cli/output_paths.h (issue 28): outputs compared with inputs and with each
+/// Unit tests of platform/output_paths.h (issue 28): outputs compared with inputs and with each
 /// other by file identity, not by spelling; output folders checked before a run.
 
-#include "output_paths.h"
+#include "depthtouch/platform/output_paths.h"
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -12,10 +12,9 @@
 
 #include <gtest/gtest.h>
 
-#include "commands.h"
 #include "support/temp_dir.h"
 
-namespace depthtouch::cli {
+namespace depthtouch::platform {
 namespace {
 
 class OutputPathsTest : public ::testing::Test {
@@ -41,7 +40,7 @@ TEST_F(OutputPathsTest, anOutputThatIsAnInputIsBadInputHoweverSpelled)
         const OutputPathCheck c = checkDistinctPaths(
             {{"the input", path("clip.mkv")}, {"--trajectory", path("t.csv")}}, {{"--out", out}});
         // THEN it is refused as bad input, naming both
-        EXPECT_EQ(c.exitCode, kExitBadInput) << out;
+        EXPECT_EQ(c.exitCode, kOutputBadInput) << out;
         EXPECT_NE(c.message.find("--out"), std::string::npos) << c.message;
         EXPECT_NE(c.message.find("the input"), std::string::npos) << c.message;
     }
@@ -53,7 +52,7 @@ TEST_F(OutputPathsTest, twoOutputsThatNameOneNewFileAreBadInput)
     const OutputPathCheck c =
         checkDistinctPaths({}, {{"--force-log", path("x.csv")}, {"--stats", path("sub/../x.csv")}});
     // THEN the second is refused, naming the first
-    EXPECT_EQ(c.exitCode, kExitBadInput);
+    EXPECT_EQ(c.exitCode, kOutputBadInput);
     EXPECT_NE(c.message.find("--stats"), std::string::npos) << c.message;
     EXPECT_NE(c.message.find("--force-log"), std::string::npos) << c.message;
 }
@@ -71,21 +70,21 @@ TEST_F(OutputPathsTest, distinctFilesDevicesUrlsAndEmptyNamesPass)
                                                   {"-o", "udp://127.0.0.1:5000"},
                                                   {"--out", path("sub/t.csv")}});
     // THEN nothing is refused
-    EXPECT_EQ(c.exitCode, kExitOk) << c.message;
+    EXPECT_EQ(c.exitCode, kOutputUsable) << c.message;
 }
 
 TEST_F(OutputPathsTest, anOutputFolderMustTakeFiles)
 {
     // GIVEN a folder, a new folder under it, a regular file and /proc/self (no file can be made)
-    EXPECT_EQ(checkOutputFolder("--out", path("sub")).exitCode, kExitOk);
-    EXPECT_EQ(checkOutputFolder("--out", path("new/deeper")).exitCode, kExitOk);
-    EXPECT_EQ(checkOutputFolder("--out", path("t.csv")).exitCode, kExitBadInput);
-    EXPECT_EQ(checkOutputFolder("--out", path("t.csv/below")).exitCode, kExitBadInput);
-    EXPECT_EQ(checkOutputFolder("--snapshot-dir", "/proc/self/snap").exitCode, kExitBadInput);
-    EXPECT_EQ(checkOutputFolder("--out", "").exitCode, kExitOk);
+    EXPECT_EQ(checkOutputFolder("--out", path("sub")).exitCode, kOutputUsable);
+    EXPECT_EQ(checkOutputFolder("--out", path("new/deeper")).exitCode, kOutputUsable);
+    EXPECT_EQ(checkOutputFolder("--out", path("t.csv")).exitCode, kOutputBadInput);
+    EXPECT_EQ(checkOutputFolder("--out", path("t.csv/below")).exitCode, kOutputBadInput);
+    EXPECT_EQ(checkOutputFolder("--snapshot-dir", "/proc/self/snap").exitCode, kOutputBadInput);
+    EXPECT_EQ(checkOutputFolder("--out", "").exitCode, kOutputUsable);
     // AND nothing was made
     EXPECT_FALSE(std::ifstream(path("new")).good());
 }
 
 } // namespace
-} // namespace depthtouch::cli
+} // namespace depthtouch::platform

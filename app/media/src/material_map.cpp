@@ -1,7 +1,7 @@
 /// \file
 /// \brief The material table and label mapping of `encode --material-map`: see material_map.h.
 
-#include "material_map.h"
+#include "depthtouch/media/material_map.h"
 
 #include <cmath>
 #include <cstdio>
@@ -12,9 +12,9 @@
 #include "depthtouch/media/image_io.h"
 #include "depthtouch/media/material_track.h"
 #include "depthtouch/platform/file_access.h"
-#include "message_text.h"
+#include "depthtouch/platform/message_text.h"
 
-namespace depthtouch::cli {
+namespace depthtouch::media {
 
 namespace {
 
@@ -32,7 +32,7 @@ constexpr double kMaxFriction = 255.0 * scene::kFrictionPerCode;
 
 std::string tableError(const std::string &path, const std::string &why)
 {
-    return "--materials " + quotedText(path) + ": " + why;
+    return "--materials " + platform::quotedText(path) + ": " + why;
 }
 
 /// \return the colour of "#rrggbb" \a text, nullopt when malformed.
@@ -80,7 +80,7 @@ bool storeRanged(const toml::node &n, double max, double &field)
 std::string parseMaterial(const std::string &name, const toml::table &t, NamedMaterial &m)
 {
     m.name = name;
-    const std::string what = "material " + quotedText(name);
+    const std::string what = "material " + platform::quotedText(name);
     if (const toml::node *p = t.get("preset")) {
         const std::optional<std::string> preset = p->value<std::string>();
         const MaterialPreset *found = nullptr;
@@ -109,7 +109,7 @@ std::string parseMaterial(const std::string &name, const toml::table &t, NamedMa
         } else if (key == "dynamic_friction") {
             ok = storeRanged(node, kMaxFriction, m.material.dynamicFriction);
         } else if (key != "preset") {
-            return what + ": unknown key " + quotedText(key) +
+            return what + ": unknown key " + platform::quotedText(key) +
                    " (use label, preset, stiffness_scale, static_friction, dynamic_friction)";
         }
         if (!ok)
@@ -136,22 +136,22 @@ std::string parseMaterialTable(std::string_view text, const std::string &path,
         table = toml::parse(text, path);
     } catch (const toml::parse_error &e) {
         return tableError(path, "line " + std::to_string(e.source().begin.line) + ": " +
-                                    printableText(e.description()));
+                                    platform::printableText(e.description()));
     }
     out.clear();
     for (const auto &[k, node] : table) {
         const std::string name(k.str());
         const toml::table *t = node.as_table();
         if (t == nullptr)
-            return tableError(path, "unknown key " + quotedText(name) +
+            return tableError(path, "unknown key " + platform::quotedText(name) +
                                         " (each material is a table: [name])");
         NamedMaterial m;
         if (std::string why = parseMaterial(name, *t, m); !why.empty())
             return tableError(path, why);
         for (const NamedMaterial &other : out)
             if (other.label == m.label)
-                return tableError(path, "materials " + quotedText(other.name) + " and " +
-                                            quotedText(name) + " have the same label " +
+                return tableError(path, "materials " + platform::quotedText(other.name) + " and " +
+                                            platform::quotedText(name) + " have the same label " +
                                             colorText(m.label.data()));
         out.push_back(std::move(m));
     }
@@ -160,12 +160,12 @@ std::string parseMaterialTable(std::string_view text, const std::string &path,
     return {};
 }
 
-std::string mapLabels(const media::Image &labels, const std::string &labelsPath,
-                      const std::vector<NamedMaterial> &table, media::Image &codes)
+std::string mapLabels(const Image &labels, const std::string &labelsPath,
+                      const std::vector<NamedMaterial> &table, Image &codes)
 {
-    if (labels.empty() || labels.format != media::PixelFormat::Rgb24)
-        return "--material-map " + quotedText(labelsPath) + ": not an RGB picture";
-    codes = media::Image::make(labels.width, labels.height, media::PixelFormat::Rgb24);
+    if (labels.empty() || labels.format != PixelFormat::Rgb24)
+        return "--material-map " + platform::quotedText(labelsPath) + ": not an RGB picture";
+    codes = Image::make(labels.width, labels.height, PixelFormat::Rgb24);
     const NamedMaterial *last = nullptr;
     for (int y = 0; y < labels.height; ++y) {
         const std::uint8_t *in = labels.row(y);
@@ -180,7 +180,7 @@ std::string mapLabels(const media::Image &labels, const std::string &labelsPath,
                         last = &m;
             }
             if (last == nullptr)
-                return "--material-map " + quotedText(labelsPath) + ": label colour " +
+                return "--material-map " + platform::quotedText(labelsPath) + ": label colour " +
                        colorText(in) + " (pixel " + std::to_string(x) + ", " + std::to_string(y) +
                        ") has no material in --materials";
             scene::encodeMaterial(last->material, out);
@@ -189,9 +189,9 @@ std::string mapLabels(const media::Image &labels, const std::string &labelsPath,
     return {};
 }
 
-std::unique_ptr<media::FrameSource> openMaterialMap(const std::string &labelsPath,
-                                                    const std::string &tablePath, double fps,
-                                                    std::string &error)
+std::unique_ptr<FrameSource> openMaterialMap(const std::string &labelsPath,
+                                             const std::string &tablePath, double fps,
+                                             std::string &error)
 {
     auto bytes = platform::readFileBounded(tablePath, kMaxMaterialTableBytes);
     if (!bytes) {
@@ -203,17 +203,17 @@ std::unique_ptr<media::FrameSource> openMaterialMap(const std::string &labelsPat
     const std::string text(bytes->begin(), bytes->end());
     if (error = parseMaterialTable(text, tablePath, table); !error.empty())
         return nullptr;
-    auto labels = media::readImage(labelsPath, media::PixelFormat::Rgb24);
+    auto labels = media::readImage(labelsPath, PixelFormat::Rgb24);
     if (!labels) {
         char why[160];
-        error = "--material-map " + quotedText(labelsPath) + ": " +
+        error = "--material-map " + platform::quotedText(labelsPath) + ": " +
                 labels.error().format(why, sizeof why);
         return nullptr;
     }
-    media::Image codes;
+    Image codes;
     if (error = mapLabels(*labels, labelsPath, table, codes); !error.empty())
         return nullptr;
     return media::makeStillFrameSource(std::move(codes), fps, "material map " + labelsPath);
 }
 
-} // namespace depthtouch::cli
+} // namespace depthtouch::media

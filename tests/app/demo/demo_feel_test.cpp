@@ -1,7 +1,7 @@
 /// \file
-/// \brief The demo's feel measure (app/cli/demo_feel.h) on a force log it is handed row by row and
-/// a surface whose cuts, heights and backdrop the test sets: the figures the demo prints (trips at
-/// real cuts, contact share on the figure, stiffness felt) against values computed here.
+/// \brief The demo's feel measure (depthtouch/demo/demo_feel.h) on a force log it is handed row by
+/// row and a surface whose cuts, heights and backdrop the test sets: the figures the demo prints
+/// (trips at real cuts, contact share on the figure, stiffness felt) against values computed here.
 
 #include <gtest/gtest.h>
 
@@ -14,9 +14,9 @@
 
 #include <unistd.h>
 
-#include "demo_feel.h"
+#include "depthtouch/demo/demo_feel.h"
 
-namespace depthtouch::cli {
+namespace depthtouch::demo {
 namespace {
 
 /// A figure (z = 0) left of x = 0.02 m in front of a backdrop at z = −0.016 m; the surface moved by
@@ -142,4 +142,4 @@ TEST(DemoFeelTest, theForceLogIsReadByItsColumns)
 }
 
 } // namespace
-} // namespace depthtouch::cli
+} // namespace depthtouch::demo

@@ -1,11 +1,11 @@
 /// \file
 /// \brief StopSignals: see stop_signals.h.
 
-#include "stop_signals.h"
+#include "depthtouch/platform/stop_signals.h"
 
 #include <cerrno>
 
-namespace depthtouch::cli {
+namespace depthtouch::platform {
 
 namespace {
 
@@ -71,4 +71,4 @@ const char *stopSignalName(int sig) noexcept
     }
 }
 
-} // namespace depthtouch::cli
+} // namespace depthtouch::platform

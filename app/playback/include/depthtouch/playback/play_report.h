@@ -11,15 +11,12 @@
 #include "depthtouch/haptic_task/haptic_task.h"
 #include "depthtouch/playback/playback.h"
 
-namespace depthtouch::cli {
-
-/// \return the resident set size, MiB (VmRSS of /proc/self/status), or −1.
-double residentMiB();
+namespace depthtouch::playback {
 
 /// \brief What one run of the player gave: the player's figures and the run's own.
 struct PlayRunFigures {
-    const playback::PlaybackInfo *info = nullptr;   ///< The opened input (never null).
-    playback::PlaybackStats stats;                  ///< The player's counters.
+    const PlaybackInfo *info = nullptr;             ///< The opened input (never null).
+    PlaybackStats stats;                            ///< The player's counters.
     std::optional<haptic_task::HapticStats> haptic; ///< The haptic task's, when it ran.
     std::string display;                            ///< The display backend chosen.
     std::string hapticDevice;                       ///< The haptic device backend chosen.
@@ -42,4 +39,4 @@ nlohmann::json playStatsJson(const std::string &url, const PlayRunFigures &run);
 void printPlaySummary(const std::string &url, const PlayRunFigures &run, const std::string &record,
                       const std::string &forceLog, const std::string &statsFile);
 
-} // namespace depthtouch::cli
+} // namespace depthtouch::playback

@@ -1,7 +1,7 @@
 /// \file
 /// \brief The demo's feel measure (demo_feel.h): the force log against the clip's decoded depth.
 
-#include "demo_feel.h"
+#include "depthtouch/demo/demo_feel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,7 +15,7 @@
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/media/frame_source.h"
 
-namespace depthtouch::cli {
+namespace depthtouch::demo {
 
 namespace {
 
@@ -221,4 +221,4 @@ DemoFeel measureFeel(const std::vector<LogRow> &rows, const std::vector<double> 
     return d;
 }
 
-} // namespace depthtouch::cli
+} // namespace depthtouch::demo

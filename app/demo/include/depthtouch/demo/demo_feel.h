@@ -16,7 +16,7 @@
 
 #include "depthtouch/haptics/feel.h"
 
-namespace depthtouch::cli {
+namespace depthtouch::demo {
 
 /// One row of the force log (docs/architecture.md §4): media time (s), HIP, proxy (m), force (N),
 /// flags.
@@ -82,4 +82,4 @@ struct DemoFeel {
 DemoFeel measureFeel(const std::vector<LogRow> &rows, const std::vector<double> &play,
                      DemoSurface &surface, std::vector<std::array<double, 6>> &plot);
 
-} // namespace depthtouch::cli
+} // namespace depthtouch::demo

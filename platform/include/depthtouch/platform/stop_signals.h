@@ -1,10 +1,11 @@
 #pragma once
 /// \file
-/// \brief The signals that end `play`, `encode` and `touch` the clean way: SIGINT, SIGTERM, SIGHUP
-/// (a closed terminal), SIGQUIT, SIGUSR1 and SIGXFSZ (`ulimit -f`; the write that crossed the
-/// limit then fails with EFBIG and is reported as a lost output). While a StopSignals lives, each
-/// of them only sets a flag that the command polls, so that its outputs are finished and renamed,
-/// or removed, and never left cut under their final names or as temporary files.
+/// \brief The signals that end a command (`depthtouch play`, `encode`, `touch`) the clean way:
+/// SIGINT, SIGTERM, SIGHUP (a closed terminal), SIGQUIT, SIGUSR1 and SIGXFSZ (`ulimit -f`; the
+/// write that crossed the limit then fails with EFBIG and is reported as a lost output). While a
+/// StopSignals lives, each of them only sets a flag that the command polls, so that its outputs are
+/// finished and renamed, or removed, and never left cut under their final names or as temporary
+/// files.
 ///
 /// Thread-safety: one StopSignals at a time, made and destroyed on one thread; the handler is
 /// async-signal-safe (lock-free atomic stores only).
@@ -13,7 +14,7 @@
 #include <csignal>
 #include <cstddef>
 
-namespace depthtouch::cli {
+namespace depthtouch::platform {
 
 /// The signals a StopSignals catches.
 inline constexpr int kStopSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGXFSZ};
@@ -40,4 +41,4 @@ private:
 /// \return the name of a stop signal ("SIGTERM"), "a signal" for another number. Static string.
 [[nodiscard]] const char *stopSignalName(int sig) noexcept;
 
-} // namespace depthtouch::cli
+} // namespace depthtouch::platform

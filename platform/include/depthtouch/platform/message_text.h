@@ -8,7 +8,7 @@
 #include <string>
 #include <string_view>
 
-namespace depthtouch::cli {
+namespace depthtouch::platform {
 
 /// \return \a text with every byte outside printable ASCII (newlines, control bytes, UTF-8) as '?'
 /// and, when longer than \a maxBytes, cut there with "..." appended.
@@ -32,4 +32,4 @@ inline std::string quotedText(std::string_view text, std::size_t maxBytes = 64)
     return "'" + printableText(text, maxBytes) + "'";
 }
 
-} // namespace depthtouch::cli
+} // namespace depthtouch::platform

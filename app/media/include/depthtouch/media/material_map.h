@@ -32,7 +32,7 @@
 #include "depthtouch/media/image.h"
 #include "depthtouch/scene/material.h"
 
-namespace depthtouch::cli {
+namespace depthtouch::media {
 
 /// Largest materials.toml read, bytes.
 inline constexpr std::size_t kMaxMaterialTableBytes = std::size_t{1} << 20;
@@ -62,14 +62,14 @@ std::string parseMaterialTable(std::string_view text, const std::string &path,
 /// messages) through \a table, into \a codes (Rgb24, the same size).
 /// \return an empty string, or the one error line naming the first colour the table lacks and
 /// one pixel (column, row) that has it.
-std::string mapLabels(const media::Image &labels, const std::string &labelsPath,
-                      const std::vector<NamedMaterial> &table, media::Image &codes);
+std::string mapLabels(const Image &labels, const std::string &labelsPath,
+                      const std::vector<NamedMaterial> &table, Image &codes);
 
 /// \brief Reads \a labelsPath (any picture FFmpeg reads, as RGB24) and \a tablePath, and maps
 /// them (mapLabels()). \return the material codes as a still FrameSource at \a fps frames/s, or
 /// nullptr with \a error set to the one error line.
-std::unique_ptr<media::FrameSource> openMaterialMap(const std::string &labelsPath,
-                                                    const std::string &tablePath, double fps,
-                                                    std::string &error);
+std::unique_ptr<FrameSource> openMaterialMap(const std::string &labelsPath,
+                                             const std::string &tablePath, double fps,
+                                             std::string &error);
 
-} // namespace depthtouch::cli
+} // namespace depthtouch::media

@@ -1,18 +1,16 @@
 /// \file
 /// \brief The stats JSON and summary of `depthtouch play`: see play_report.h.
 
-#include "play_report.h"
+#include "depthtouch/playback/play_report.h"
 
 #include <cstdio>
 
-#include "depthtouch/platform/memory_lock.h"
-
-namespace depthtouch::cli {
+namespace depthtouch::playback {
 
 namespace {
 
 /// Adds the player's own figures (frames, render, level of detail) to \a j.
-void addPlaybackStats(nlohmann::json &j, const playback::PlaybackStats &ps)
+void addPlaybackStats(nlohmann::json &j, const PlaybackStats &ps)
 {
     j["frames_decoded"] = ps.receiver.colorFrames + ps.receiver.depthFrames;
     j["frames_received"] = ps.framesReceived;
@@ -71,14 +69,9 @@ void printHapticSummary(const haptic_task::HapticStats &hs, double deviceMaxForc
 
 } // namespace
 
-double residentMiB()
-{
-    return platform::residentMiB();
-}
-
 nlohmann::json playStatsJson(const std::string &url, const PlayRunFigures &run)
 {
-    const playback::PlaybackInfo &info = *run.info;
+    const PlaybackInfo &info = *run.info;
     nlohmann::json j =
         run.haptic ? nlohmann::json::parse(run.haptic->toJson()) : nlohmann::json::object();
     j["url"] = url;
@@ -104,8 +97,8 @@ nlohmann::json playStatsJson(const std::string &url, const PlayRunFigures &run)
 void printPlaySummary(const std::string &url, const PlayRunFigures &run, const std::string &record,
                       const std::string &forceLog, const std::string &statsFile)
 {
-    const playback::PlaybackInfo &info = *run.info;
-    const playback::PlaybackStats &ps = run.stats;
+    const PlaybackInfo &info = *run.info;
+    const PlaybackStats &ps = run.stats;
     std::printf("DepthTouch play: %s (%s, %dx%d depth at %.3g fps) on %s, haptics %s\n",
                 url.c_str(), info.mode.c_str(), info.depthWidth, info.depthHeight, info.fps,
                 run.display.c_str(), info.haptics ? run.hapticDevice.c_str() : "off");
@@ -141,4 +134,4 @@ void printPlaySummary(const std::string &url, const PlayRunFigures &run, const s
                     !forceLog.empty() && !statsFile.empty() ? ", " : "", statsFile.c_str());
 }
 
-} // namespace depthtouch::cli
+} // namespace depthtouch::playback

@@ -1,5 +1,5 @@
-// `encode --material-map labels.png --materials materials.toml` (app/cli/material_map.h): the
-// TOML table (presets, overrides, ranges, unknown keys, labels) and the label mapping to the
+// `encode --material-map labels.png --materials materials.toml` (depthtouch/media/material_map.h):
+// the TOML table (presets, overrides, ranges, unknown keys, labels) and the label mapping to the
 // material track's codes (depthtouch/scene/material.h), with its one-line errors.
 #include <cstdint>
 #include <string>
@@ -7,9 +7,9 @@
 
 #include <gtest/gtest.h>
 
-#include "material_map.h"
+#include "depthtouch/media/material_map.h"
 
-namespace depthtouch::cli {
+namespace depthtouch::media {
 namespace {
 
 std::vector<NamedMaterial> parseOk(const std::string &text)
@@ -165,4 +165,4 @@ TEST(MaterialMapTest, missingFilesAreOneLine)
 }
 
 } // namespace
-} // namespace depthtouch::cli
+} // namespace depthtouch::media

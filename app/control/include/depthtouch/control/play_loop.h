@@ -1,0 +1,48 @@
+#pragma once
+/// \file
+/// \brief The player's main loop (`depthtouch play`): the control loop run in 10 ms turns on the
+/// main thread, driving the state machine from its remote, terminal and control socket, until
+/// the player quits, ends (unless it idles), a stop flag is set or its duration is over; with the
+/// resident and locked memory sampled at the start, after 5 s and at the end. Times in seconds,
+/// memory in MiB. Thread-safety: main thread only (the stop flag may be set from anywhere).
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "depthtouch/control/control_loop.h"
+#include "depthtouch/control/control_server.h"
+#include "depthtouch/platform/clock.h"
+#include "depthtouch/player/state_machine.h"
+
+namespace depthtouch::control {
+
+/// How the main loop ended.
+struct LoopOutcome {
+    std::string failure;         ///< The reason when the player ended in Error.
+    bool opened = false;         ///< The input played (Playing or Paused was reached).
+    bool stoppedOpening = false; ///< The stop flag or the duration came while it was opening.
+    double rssStart = -1.0;
+    double rssAfterWarmup = -1.0;
+    double rssEnd = -1.0;
+    double lockedMiB = -1.0; ///< Locked memory (VmLck), MiB: the larger of the 5 s and end samples.
+};
+
+/// \brief When playUntilDone() ends besides a quit.
+struct PlayLimits {
+    double duration = 0.0; ///< Play time, s, after which it quits (0: none).
+    bool idle = false;     ///< Stay when the player stops or fails (a client may play again).
+};
+
+/// \brief Sends "play", then runs \a loop in 10 ms turns, calling \a eachTurn after each (the
+/// pipeline's report to \a machine), until the machine quits, or \a stop or \a limits' duration
+/// sends "quit", or the player stops or fails (unless \a limits idle). A control socket that
+/// fails is reported on stderr ("depthtouch play: control socket failed: ...") and \a server
+/// closed. \return how it ended.
+LoopOutcome playUntilDone(player::StateMachine &machine, ControlLoop &loop,
+                          std::unique_ptr<ControlServer> &server,
+                          const std::function<void()> &eachTurn, const std::atomic<bool> &stop,
+                          const PlayLimits &limits, platform::Clock &clock);
+
+} // namespace depthtouch::control

@@ -1,0 +1,66 @@
+/// \file
+/// \brief The demo's clip: see demo_clip.h.
+
+#include "depthtouch/demo/demo_clip.h"
+
+#include <atomic>
+#include <cstdio>
+#include <filesystem>
+#include <system_error>
+
+#include "depthtouch/media/encode_job.h"
+#include "depthtouch/platform/stop_signals.h"
+
+namespace depthtouch::demo {
+
+std::string encodeScene(const std::string &scene, const std::string &size, int frames,
+                        const std::string &clip, const media::SourceProviders &providers,
+                        bool &interrupted)
+{
+    const std::string spec =
+        "synthetic:" + scene + ",size=" + size + ",frames=" + std::to_string(frames);
+    media::SourceOptions so;
+    so.streamTitle = "color";
+    auto color = media::openFrameSource(spec, so, providers);
+    if (!color)
+        return std::string("cannot render the scene: ") + color.error().what;
+    so.streamTitle = "depth";
+    auto depth = media::openFrameSource(spec, so, providers);
+    if (!depth)
+        return std::string("cannot render the scene's depth: ") + depth.error().what;
+    // The scene's haptic materials (skin, cloth...) as the clip's material track.
+    so.streamTitle = "material";
+    auto material = media::openFrameSource(spec, so, providers);
+    if (!material)
+        return std::string("cannot render the scene's materials: ") + material.error().what;
+    media::EncodeOptions eo;
+    eo.output = clip;
+    eo.preset = "veryfast";
+    eo.depthCrf = 12;
+    media::EncodeCallbacks cb;
+    cb.progress = [](const media::EncodeProgress &p) {
+        if (p.totalFrames > 0 && (p.frames % 10 == 0 || p.frames == p.totalFrames)) {
+            std::fprintf(stderr, "\r  rendering and encoding frame %lld of %lld (%.1f fps)",
+                         p.frames, p.totalFrames,
+                         p.elapsed > 0 ? static_cast<double>(p.frames) / p.elapsed : 0.0);
+            std::fflush(stderr);
+        }
+    };
+    std::atomic<bool> stop{false};
+    auto r = [&] {
+        platform::StopSignals signals(stop, false);
+        return media::encodeStreams(**color, **depth, material->get(), eo, &stop, cb);
+    }();
+    std::fprintf(stderr, "\n");
+    if (stop.load()) {
+        interrupted = true;
+        std::error_code ec;
+        std::filesystem::remove(clip, ec);
+        return {};
+    }
+    if (!r)
+        return std::string("cannot encode the scene: ") + r.error().what;
+    return {};
+}
+
+} // namespace depthtouch::demo

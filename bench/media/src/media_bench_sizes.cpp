@@ -1,0 +1,133 @@
+/// \file
+/// \brief `depthtouch bench media` over its frame sizes, its scratch folder and its last output:
+/// see measureSizes(), ScratchFolder and finishReport() in media_bench.h.
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <optional>
+#include <system_error>
+#include <string>
+#include <utility>
+
+#include "depthtouch/media/media_bench.h"
+
+namespace depthtouch::media::bench {
+
+namespace {
+
+/// The clip of one size: synthetic, or the 7-Scenes frames.
+std::optional<MediaBenchError> loadClip(const MediaSizesPlan &plan, int w, int h, Clip &clip)
+{
+    if (plan.synthetic) {
+        clip = makeSyntheticClip(w, h, plan.frames);
+    } else {
+        auto loaded = loadKitchenClip(plan.scene, plan.frames, w, h);
+        if (!loaded)
+            return MediaBenchError{loaded.error().code == Errc::Io,
+                                   std::string("cannot read the 7-Scenes frames: ") +
+                                       loaded.error().what};
+        clip = std::move(*loaded);
+    }
+    return std::nullopt;
+}
+
+/// Rate against accuracy on one clip, into the report.
+std::optional<MediaBenchError> measureRate(const Clip &clip, int w, int h,
+                                           const ReceiverBackends &backends,
+                                           const MediaBenchOptions &mo, MediaBenchReport &report)
+{
+    std::fprintf(stderr, "bench media: %dx%d depth rate vs accuracy (%zu settings) ...\n", w, h,
+                 mo.depthCrfs.size() + 1);
+    auto rate = measureRateAccuracy(clip, backends, mo);
+    if (!rate)
+        return MediaBenchError{rate.error().code == Errc::InvalidArgument,
+                               std::string("rate vs accuracy: ") + rate.error().what};
+    report.rate = std::move(rate->rows);
+    report.rateWidth = w;
+    report.rateHeight = h;
+    report.losslessExact = rate->losslessExact;
+    report.stroke = rate->stroke;
+    return std::nullopt;
+}
+
+/// Loads the clip of size `k` and measures its throughput, and on the first size also rate against
+/// accuracy, into the report.
+std::optional<MediaBenchError> measureSize(const MediaSizesPlan &plan,
+                                           const ReceiverBackends &backends,
+                                           const MediaBenchOptions &mo, std::size_t k,
+                                           MediaBenchReport &report)
+{
+    const auto [w, h] = plan.sizes[k];
+    std::fprintf(stderr, "bench media: loading %dx%d ...\n", w, h);
+    Clip clip;
+    if (auto e = loadClip(plan, w, h, clip))
+        return e;
+    report.content += (report.content.empty() ? "" : "; ") + clip.description;
+    report.fps = clip.fps;
+    std::fprintf(stderr, "bench media: %dx%d encode per preset, decode + pairing x%d ...\n", w, h,
+                 mo.decodeRuns);
+    auto rows = measureThroughput(clip, backends, mo);
+    if (!rows)
+        return MediaBenchError{rows.error().code == Errc::InvalidArgument,
+                               std::string("throughput at ") + std::to_string(w) + "x" +
+                                   std::to_string(h) + ": " + rows.error().what};
+    report.throughput.insert(report.throughput.end(), rows->begin(), rows->end());
+    // Rate against accuracy on the first size (720×486 by default: the paper's frame size).
+    if (k == 0)
+        return measureRate(clip, w, h, backends, mo, report);
+    return std::nullopt;
+}
+
+} // namespace
+
+std::optional<MediaBenchError> measureSizes(const MediaSizesPlan &plan,
+                                            const ReceiverBackends &backends,
+                                            const MediaBenchOptions &mo, MediaBenchReport &report)
+{
+    for (std::size_t k = 0; k < plan.sizes.size(); ++k)
+        if (auto e = measureSize(plan, backends, mo, k, report))
+            return e;
+    return std::nullopt;
+}
+
+std::unique_ptr<ScratchFolder> ScratchFolder::make(bool keep, std::string &error)
+{
+    std::error_code ec;
+    std::filesystem::path dir =
+        std::filesystem::temp_directory_path(ec) / ("dt-bench-media-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir, ec);
+    if (ec) {
+        error = "cannot create a scratch folder: " + ec.message();
+        return nullptr;
+    }
+    return std::unique_ptr<ScratchFolder>(new ScratchFolder(std::move(dir), keep));
+}
+
+ScratchFolder::~ScratchFolder()
+{
+    std::error_code e;
+    if (!keep_)
+        std::filesystem::remove_all(dir_, e);
+}
+
+bool finishReport(const MediaBenchReport &report, const std::string &out, const std::string &keptIn,
+                  std::string &error)
+{
+    std::printf("\n");
+    printReport(report);
+    std::string note;
+    if (!writeReport(report, out, error, note))
+        return false;
+    if (!note.empty())
+        std::printf("note: %s\n", note.c_str());
+    std::printf(
+        "wrote "
+        "%s/{media_throughput.csv,rate_accuracy.csv,rate_vs_accuracy.png,media_throughput.png}\n",
+        out.c_str());
+    if (!keptIn.empty())
+        std::printf("encoded files kept in %s\n", keptIn.c_str());
+    return true;
+}
+
+} // namespace depthtouch::media::bench
