@@ -53,7 +53,8 @@ std::string_view trimmed(std::string_view s) noexcept
 
 } // namespace
 
-std::string handleControlLine(std::string_view line, player::StateMachine &machine)
+std::string handleControlLine(std::string_view line, player::StateMachine &machine,
+                              PropertyObservers *observers)
 {
     const std::string_view text = trimmed(line);
     if (text.empty())
@@ -87,6 +88,8 @@ std::string handleControlLine(std::string_view line, player::StateMachine &machi
     if (cmdIt == request.end())
         return errorReply("missing \"command\"", requestId);
 
+    if (std::optional<std::string> mpv = handleMpvCommand(*cmdIt, requestId, machine, observers))
+        return std::move(*mpv);
     const player::ParsedCommand parsed = player::parseCommandJson(*cmdIt);
     if (!parsed)
         return errorReply(parsed.error, requestId);
@@ -156,7 +159,7 @@ void ControlServer::onLine(platform::UnixSocketServer::ClientId client, std::str
 {
     std::string reply;
     try {
-        reply = handleControlLine(line, machine_);
+        reply = handleControlLine(line, machine_, &observers_[client]);
     } catch (const std::exception &e) {
         // Nothing a client sends may end the player: the client gets the reason instead.
         DT_LOG(Control, Error, "Control line failed: %s", e.what());
@@ -174,6 +177,24 @@ void ControlServer::onLineTooLong(platform::UnixSocketServer::ClientId client)
     server_->send(client, errorReply("line too long (limit " + std::to_string(maxLineBytes_) +
                                      " bytes)") +
                               "\n");
+}
+
+void ControlServer::onDisconnect(platform::UnixSocketServer::ClientId client)
+{
+    observers_.erase(client);
+}
+
+Result<void> ControlServer::poll(platform::Duration timeout)
+{
+    DT_TRY(server_->poll(timeout));
+    std::vector<std::string> lines;
+    for (auto &[client, observers] : observers_) {
+        lines.clear();
+        propertyChanges(machine_, observers, lines);
+        for (std::string &line : lines)
+            server_->send(client, line += '\n');
+    }
+    return {};
 }
 
 void ControlServer::onPlayerEvent(const player::PlayerEvent &event)

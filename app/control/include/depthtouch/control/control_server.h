@@ -3,7 +3,8 @@
 /// \brief The player's control socket: JSON lines over a Unix-domain socket, in the spirit of
 /// mpv's JSON IPC, so integrators can drive the player from any language.
 ///
-/// Protocol (one request per line, one reply per request, events pushed to every client):
+/// Protocol (one request per line, one reply per request, events pushed to every client; mpv's
+/// verbs get_property, set_property, observe_property, cycle, add, keypress as mpv_ipc.h says):
 /// - Request: `{"command": ["seek", 10], "request_id": 7}`; "request_id" is optional (any JSON
 ///   value, echoed in the reply). A line that does not start with '{' is a text command, e.g.
 ///   `seek -10` or `toggle-pause`. Empty lines are ignored (no reply).
@@ -12,8 +13,8 @@
 ///   "<reason>"}`.
 /// - Events, to every client: `{"event": "state", "data": "paused"}`; names and data:
 ///   state (state name), stereo-mode (mode name), haptics (bool), stiffness (N/m), loop (bool),
-///   seek, end-file ("eof" or "loop"), error (reason), shutdown. Events caused by a command are
-///   sent before its reply.
+///   seek (also a loop's restart), end-file ("eof" or "silent"), error (reason), shutdown. Events
+///   caused by a command are sent before its reply.
 /// - Limits: a line longer than maxLineBytes (4 KiB) is answered with
 ///   `{"error": "line too long (limit 4096 bytes)"}` and discarded up to its newline; the
 ///   connection stays open. Malformed JSON and binary input are answered with an error and never
@@ -21,10 +22,12 @@
 ///
 /// Thread-safety: thread-bound (the thread of the StateMachine).
 
+#include <map>
 #include <memory>
 #include <string>
 #include <string_view>
 
+#include "depthtouch/control/mpv_ipc.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/result.h"
 #include "depthtouch/platform/unix_socket_server.h"
@@ -34,7 +37,10 @@ namespace depthtouch::control {
 
 /// \brief Handles one request line. \return the reply line without '\n', or an empty string for
 /// an empty line (no reply).
-std::string handleControlLine(std::string_view line, player::StateMachine &machine);
+/// mpv's verbs (mpv_ipc.h) are answered as mpv does; \a observers are the sending client's
+/// observed properties (nullptr: none can be observed).
+std::string handleControlLine(std::string_view line, player::StateMachine &machine,
+                              PropertyObservers *observers = nullptr);
 
 /// \return the JSON event line (without '\n') of \a event.
 std::string eventJson(const player::PlayerEvent &event);
@@ -53,8 +59,9 @@ public:
     /// Unsubscribes, closes every client and removes the socket file.
     ~ControlServer() override;
 
-    /// \brief Serves clients for up to \a timeout (real time; zero: handle what is pending).
-    Result<void> poll(platform::Duration timeout) { return server_->poll(timeout); }
+    /// \brief Serves clients for up to \a timeout (real time; zero: handle what is pending), then
+    /// sends each client's observed properties that changed (property-change events).
+    Result<void> poll(platform::Duration timeout);
 
     [[nodiscard]] std::size_t clientCount() const noexcept { return server_->clientCount(); }
     [[nodiscard]] const std::string &path() const noexcept { return server_->path(); }
@@ -64,11 +71,14 @@ private:
 
     void onLine(platform::UnixSocketServer::ClientId client, std::string_view line) override;
     void onLineTooLong(platform::UnixSocketServer::ClientId client) override;
+    void onDisconnect(platform::UnixSocketServer::ClientId client) override;
     void onPlayerEvent(const player::PlayerEvent &event) override;
 
     player::StateMachine &machine_;
     std::unique_ptr<platform::UnixSocketServer> server_;
     std::size_t maxLineBytes_ = 0;
+    /// Each client's observe_property list (removed when it disconnects).
+    std::map<platform::UnixSocketServer::ClientId, PropertyObservers> observers_;
 };
 
 } // namespace depthtouch::control

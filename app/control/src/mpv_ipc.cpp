@@ -1,0 +1,366 @@
+#include "depthtouch/control/mpv_ipc.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <string_view>
+#include <variant>
+
+#include <nlohmann/json.hpp>
+
+#include "depthtouch/hal/remote_input.h"
+#include "depthtouch/player/key_bindings.h"
+
+namespace depthtouch::control {
+
+namespace {
+
+using nlohmann::json;
+using player::Property;
+
+// mpv's error texts (mpv's client.h, mpv_error_string()).
+constexpr const char *kNotFound = "property not found";
+constexpr const char *kUnavailable = "property unavailable";
+constexpr const char *kFormat = "unsupported format for accessing property";
+constexpr const char *kInvalid = "invalid parameter";
+
+std::string dump(const json &j)
+{
+    return j.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+std::string reply(const char *error, const json *requestId, const json *data = nullptr)
+{
+    json r = {{"error", error}};
+    if (data != nullptr)
+        r["data"] = *data;
+    if (requestId != nullptr)
+        r["request_id"] = *requestId;
+    return dump(r);
+}
+
+std::string reply(const std::string &error, const json *requestId)
+{
+    return reply(error.c_str(), requestId);
+}
+
+/// A property as a client names it: mpv's "loop-file" is the player's loop, as "inf" or "no".
+struct Named {
+    Property property = Property::State;
+    bool loopFile = false;
+};
+
+std::optional<Named> propertyNamed(const json &name)
+{
+    if (!name.is_string())
+        return std::nullopt;
+    const std::string &text = name.get_ref<const std::string &>();
+    if (text == "loop-file")
+        return Named{Property::Loop, true};
+    if (const std::optional<Property> p = player::propertyFromName(text))
+        return Named{*p, false};
+    return std::nullopt;
+}
+
+json toJson(const player::Value &value)
+{
+    return std::visit(
+        [](const auto &v) -> json {
+            using T = std::decay_t<decltype(v)>;
+            if constexpr (std::is_same_v<T, std::monostate>)
+                return nullptr;
+            else
+                return v;
+        },
+        value);
+}
+
+/// The value of \a named now, or the reason there is none ("property unavailable").
+player::CommandOutcome read(player::StateMachine &machine, const Named &named)
+{
+    player::Command get;
+    get.id = player::CommandId::Get;
+    get.property = named.property;
+    player::CommandOutcome out = machine.execute(get);
+    if (out.accepted && named.loopFile && std::holds_alternative<bool>(out.data))
+        out.data = std::string(std::get<bool>(out.data) ? "inf" : "no");
+    return out;
+}
+
+/// mpv's string form of a value: yes/no, a number with six decimals, or the text.
+std::string asMpvString(const player::Value &value)
+{
+    if (const bool *b = std::get_if<bool>(&value))
+        return *b ? "yes" : "no";
+    if (const double *d = std::get_if<double>(&value)) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%.6f", *d);
+        return buf;
+    }
+    if (const std::string *s = std::get_if<std::string>(&value))
+        return *s;
+    return {};
+}
+
+/// \a value as a flag: a JSON bool, or (from set_property_string) yes/no/true/false/inf.
+std::optional<bool> flag(const json &value)
+{
+    if (value.is_boolean())
+        return value.get<bool>();
+    if (value.is_string()) {
+        const std::string &s = value.get_ref<const std::string &>();
+        if (s == "yes" || s == "true" || s == "inf")
+            return true;
+        if (s == "no" || s == "false")
+            return false;
+    }
+    return std::nullopt;
+}
+
+/// \a value as a finite number: a JSON number, or (from set_property_string) its text.
+std::optional<double> number(const json &value)
+{
+    double v = std::numeric_limits<double>::quiet_NaN();
+    if (value.is_number())
+        v = value.get<double>();
+    else if (value.is_string()) {
+        const std::string &s = value.get_ref<const std::string &>();
+        char *end = nullptr;
+        v = std::strtod(s.c_str(), &end);
+        if (s.empty() || end != s.c_str() + s.size())
+            return std::nullopt;
+    }
+    if (!std::isfinite(v))
+        return std::nullopt;
+    return v;
+}
+
+/// \return the player command text that sets \a named to \a value, "" when the value does not fit
+/// (kFormat), or nullopt when the property cannot be set (kUnavailable).
+std::optional<std::string> setterText(player::StateMachine &machine, const Named &named,
+                                      const json &value)
+{
+    char buf[96];
+    switch (named.property) {
+    case Property::Pause: {
+        const std::optional<bool> on = flag(value);
+        return on ? std::string(*on ? "pause" : "play") : std::string();
+    }
+    case Property::Haptics:
+    case Property::Loop: {
+        const std::optional<bool> on = flag(value);
+        if (!on)
+            return std::string();
+        return std::string(named.property == Property::Haptics ? "haptics " : "loop ") +
+               (*on ? "on" : "off");
+    }
+    case Property::StereoMode:
+        return value.is_string() ? "stereo-mode " + value.get<std::string>() : std::string();
+    case Property::Stiffness:
+    case Property::TimePos:
+    case Property::PercentPos: {
+        const std::optional<double> v = number(value);
+        if (!v)
+            return std::string();
+        if (named.property == Property::Stiffness)
+            std::snprintf(buf, sizeof buf, "stiffness %.17g", *v);
+        else if (named.property == Property::TimePos)
+            std::snprintf(buf, sizeof buf, "seek %.17g absolute", std::max(0.0, *v));
+        else {
+            const player::CommandOutcome d = machine.execute("get duration");
+            if (!d.accepted || !std::holds_alternative<double>(d.data))
+                return std::nullopt;
+            const double duration = std::get<double>(d.data);
+            std::snprintf(buf, sizeof buf, "seek %.17g absolute",
+                          std::clamp(*v, 0.0, 100.0) / 100.0 * duration);
+        }
+        return std::string(buf);
+    }
+    default: // read-only, or (volume, mute) no audio output to set
+        return std::nullopt;
+    }
+}
+
+/// The player command text of mpv's `cycle NAME`, or nullopt when it does not cycle.
+std::optional<std::string> cycleText(Property p)
+{
+    switch (p) {
+    case Property::Pause:
+        return "toggle-pause";
+    case Property::Haptics:
+        return "haptics toggle";
+    case Property::Loop:
+        return "loop toggle";
+    case Property::StereoMode:
+        return "next-stereo-mode";
+    default:
+        return std::nullopt;
+    }
+}
+
+std::string run(player::StateMachine &machine, const std::string &text, const json *requestId)
+{
+    const player::CommandOutcome out = machine.execute(text);
+    return out.accepted ? reply("success", requestId) : reply(out.reason, requestId);
+}
+
+std::string getProperty(const json &command, const json *requestId,
+                        player::StateMachine &machine, bool asString)
+{
+    if (command.size() != 2)
+        return reply(kInvalid, requestId);
+    const std::optional<Named> named = propertyNamed(command[1]);
+    if (!named)
+        return reply(kNotFound, requestId);
+    const player::CommandOutcome out = read(machine, *named);
+    if (!out.accepted)
+        return reply(out.reason, requestId);
+    const json data = asString ? json(asMpvString(out.data)) : toJson(out.data);
+    return reply("success", requestId, &data);
+}
+
+std::string setProperty(const json &command, const json *requestId,
+                        player::StateMachine &machine, bool fromString)
+{
+    if (command.size() != 3)
+        return reply(kInvalid, requestId);
+    const std::optional<Named> named = propertyNamed(command[1]);
+    if (!named)
+        return reply(kNotFound, requestId);
+    if (fromString && !command[2].is_string())
+        return reply(kFormat, requestId);
+    const std::optional<std::string> text = setterText(machine, *named, command[2]);
+    if (!text)
+        return reply(kUnavailable, requestId);
+    if (text->empty())
+        return reply(kFormat, requestId);
+    return run(machine, *text, requestId);
+}
+
+std::string addProperty(const json &command, const json *requestId,
+                        player::StateMachine &machine)
+{
+    if (command.size() != 2 && command.size() != 3)
+        return reply(kInvalid, requestId);
+    const std::optional<Named> named = propertyNamed(command[1]);
+    if (!named)
+        return reply(kNotFound, requestId);
+    const std::optional<double> by = command.size() == 3 ? number(command[2]) : 1.0;
+    if (!by)
+        return reply(kFormat, requestId);
+    char buf[96];
+    if (named->property == Property::TimePos)
+        std::snprintf(buf, sizeof buf, "seek %.17g relative", *by);
+    else if (named->property == Property::Stiffness)
+        std::snprintf(buf, sizeof buf, "stiffness %.17g", machine.stiffness() + *by);
+    else
+        return reply(kUnavailable, requestId);
+    return run(machine, buf, requestId);
+}
+
+std::string keypress(const json &command, const json *requestId, player::StateMachine &machine)
+{
+    if (command.size() != 2 || !command[1].is_string())
+        return reply(kInvalid, requestId);
+    // The remote's key names (KEY_PLAYPAUSE, PLAYPAUSE, ok), and mpv's spellings with '_'
+    // (VOLUME_UP) where the kernel's have none.
+    std::string name = command[1].get<std::string>();
+    hal::Key key = hal::keyFromName(name.c_str());
+    if (key == hal::Key::Unknown) {
+        name.erase(std::remove(name.begin(), name.end(), '_'), name.end());
+        key = hal::keyFromName(name.c_str());
+    }
+    if (key == hal::Key::Unknown)
+        return reply(kInvalid, requestId);
+    const char *text = player::commandTextForKey(key);
+    if (text == nullptr)
+        return reply("success", requestId); // an unbound key does nothing, as in mpv
+    return run(machine, text, requestId);
+}
+
+std::string observe(const json &command, const json *requestId, PropertyObservers *observers)
+{
+    if (observers == nullptr || command.size() != 3 || !command[1].is_number_integer())
+        return reply(kInvalid, requestId);
+    const std::optional<Named> named = propertyNamed(command[2]);
+    if (!named)
+        return reply(kNotFound, requestId);
+    constexpr std::size_t kMaxObservers = 64; // a client cannot grow the player without bound
+    if (observers->size() >= kMaxObservers)
+        return reply(kInvalid, requestId);
+    PropertyObserver o;
+    o.id = command[1].get<std::int64_t>();
+    o.property = named->property;
+    o.loopFile = named->loopFile;
+    observers->push_back(o);
+    return reply("success", requestId);
+}
+
+std::string unobserve(const json &command, const json *requestId, PropertyObservers *observers)
+{
+    if (observers == nullptr || command.size() != 2 || !command[1].is_number_integer())
+        return reply(kInvalid, requestId);
+    const std::int64_t id = command[1].get<std::int64_t>();
+    const auto gone = std::remove_if(observers->begin(), observers->end(),
+                                     [id](const PropertyObserver &o) { return o.id == id; });
+    if (gone == observers->end())
+        return reply(kInvalid, requestId);
+    observers->erase(gone, observers->end());
+    return reply("success", requestId);
+}
+
+} // namespace
+
+std::optional<std::string> handleMpvCommand(const json &command, const json *requestId,
+                                            player::StateMachine &machine,
+                                            PropertyObservers *observers)
+{
+    if (!command.is_array() || command.empty() || !command[0].is_string())
+        return std::nullopt;
+    const std::string &verb = command[0].get_ref<const std::string &>();
+    if (verb == "get_property" || verb == "get_property_string")
+        return getProperty(command, requestId, machine, verb == "get_property_string");
+    if (verb == "set_property" || verb == "set_property_string")
+        return setProperty(command, requestId, machine, verb == "set_property_string");
+    if (verb == "cycle") {
+        if (command.size() < 2)
+            return reply(kInvalid, requestId);
+        const std::optional<Named> named = propertyNamed(command[1]);
+        if (!named)
+            return reply(kNotFound, requestId);
+        const std::optional<std::string> text = cycleText(named->property);
+        return text ? run(machine, *text, requestId) : reply(kUnavailable, requestId);
+    }
+    if (verb == "add")
+        return addProperty(command, requestId, machine);
+    if (verb == "keypress")
+        return keypress(command, requestId, machine);
+    if (verb == "observe_property" || verb == "observe_property_string")
+        return observe(command, requestId, observers);
+    if (verb == "unobserve_property")
+        return unobserve(command, requestId, observers);
+    return std::nullopt;
+}
+
+void propertyChanges(player::StateMachine &machine, PropertyObservers &observers,
+                     std::vector<std::string> &lines)
+{
+    for (PropertyObserver &o : observers) {
+        const player::CommandOutcome out = read(machine, Named{o.property, o.loopFile});
+        const std::string now = out.accepted ? dump(toJson(out.data)) : std::string();
+        if (o.sent && now == o.last)
+            continue;
+        json event = {{"event", "property-change"},
+                      {"id", o.id},
+                      {"name", o.loopFile ? "loop-file" : player::propertyName(o.property)}};
+        if (out.accepted)
+            event["data"] = toJson(out.data);
+        lines.push_back(dump(event));
+        o.last = now;
+        o.sent = true;
+    }
+}
+
+} // namespace depthtouch::control

@@ -1,0 +1,209 @@
+// mpv's JSON IPC on the control socket (app/control/mpv_ipc.h): the message shapes of mpv's
+// docs/man/ipc.rst (requests with "command" and "request_id", replies with "error", "data" and
+// "request_id", "property-change" events), each value checked against what the fake pipeline was
+// given or the state the command must leave, and observed properties over a real socket.
+#include "depthtouch/control/mpv_ipc.h"
+
+#include <string>
+#include <vector>
+
+#include <sys/socket.h>
+#include <sys/un.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "app/player/fake_player_actions.h"
+#include "depthtouch/control/control_server.h"
+#include "support/temp_dir.h"
+
+namespace depthtouch::control {
+namespace {
+
+using nlohmann::json;
+using player::PlayerSettings;
+using player::PlayerState;
+using player::StateMachine;
+using player::test::FakePlayerActions;
+
+PlayerSettings settings()
+{
+    PlayerSettings s;
+    s.url = "movie.mkv";
+    return s;
+}
+
+json reply(std::string_view line, StateMachine &m, PropertyObservers *observers = nullptr)
+{
+    return json::parse(handleControlLine(line, m, observers));
+}
+
+/// A machine playing movie.mkv at 12.5 s of 50 s, the device commanding 1.5 N.
+struct Playing {
+    Playing()
+    {
+        fake.position = {12.5, 50.0};
+        fake.force = 1.5;
+        EXPECT_TRUE(m.execute("play").accepted);
+        EXPECT_TRUE(m.onOpened());
+    }
+    FakePlayerActions fake;
+    StateMachine m{fake, settings()};
+};
+
+TEST(MpvIpcTest, getPropertyAnswersAsMpvWithTheRequestId)
+{
+    Playing p;
+    // ipc.rst: { "command": ["get_property", "time-pos"], "request_id": 100 }
+    EXPECT_EQ(reply(R"({ "command": ["get_property", "time-pos"], "request_id": 100 })", p.m),
+              json({{"data", 12.5}, {"error", "success"}, {"request_id", 100}}));
+    EXPECT_EQ(reply(R"({"command":["get_property","duration"]})", p.m),
+              json({{"data", 50.0}, {"error", "success"}}));
+    EXPECT_EQ(reply(R"({"command":["get_property","percent-pos"]})", p.m)["data"], 25.0);
+    EXPECT_EQ(reply(R"({"command":["get_property","pause"]})", p.m)["data"], false);
+    EXPECT_EQ(reply(R"({"command":["get_property","path"]})", p.m)["data"], "movie.mkv");
+    EXPECT_EQ(reply(R"({"command":["get_property","idle-active"]})", p.m)["data"], false);
+    EXPECT_EQ(reply(R"({"command":["get_property","haptic-force"]})", p.m)["data"], 1.5);
+    EXPECT_EQ(reply(R"({"command":["get_property","contact"]})", p.m)["data"], true);
+    EXPECT_EQ(reply(R"({"command":["get_property","stiffness"]})", p.m)["data"], 800.0);
+    EXPECT_EQ(reply(R"({"command":["get_property","loop-file"]})", p.m)["data"], "no");
+    // mpv's string forms: yes/no, six decimals
+    EXPECT_EQ(reply(R"({"command":["get_property_string","pause"]})", p.m)["data"], "no");
+    EXPECT_EQ(reply(R"({"command":["get_property_string","time-pos"]})", p.m)["data"],
+              "12.500000");
+    // mpv's errors
+    EXPECT_EQ(reply(R"({"command":["get_property","nonsense"],"request_id":1})", p.m),
+              json({{"error", "property not found"}, {"request_id", 1}}));
+    p.fake.position.duration = std::numeric_limits<double>::quiet_NaN(); // a live stream
+    EXPECT_EQ(reply(R"({"command":["get_property","duration"]})", p.m),
+              json({{"error", "property unavailable"}}));
+    EXPECT_EQ(reply(R"({"command":["get_property"]})", p.m), json({{"error", "invalid parameter"}}));
+}
+
+TEST(MpvIpcTest, setPropertyCycleAddAndKeypressDriveThePlayer)
+{
+    Playing p;
+    const json success = {{"error", "success"}};
+    // ipc.rst: { "command": ["set_property", "pause", true] }
+    EXPECT_EQ(reply(R"({ "command": ["set_property", "pause", true] })", p.m), success);
+    EXPECT_EQ(p.m.state(), PlayerState::Paused);
+    EXPECT_EQ(reply(R"({"command":["cycle","pause"]})", p.m), success);
+    EXPECT_EQ(p.m.state(), PlayerState::Playing);
+    EXPECT_EQ(reply(R"({"command":["set_property","time-pos",30]})", p.m), success);
+    EXPECT_EQ(reply(R"({"command":["add","time-pos",-10]})", p.m), success);
+    EXPECT_EQ(reply(R"({"command":["set_property","percent-pos",50]})", p.m), success);
+    EXPECT_EQ(reply(R"({"command":["set_property_string","haptics","no"]})", p.m), success);
+    EXPECT_FALSE(p.m.hapticsEnabled());
+    EXPECT_EQ(reply(R"({"command":["set_property","stiffness",1200]})", p.m), success);
+    EXPECT_EQ(p.m.stiffness(), 1200.0);
+    EXPECT_EQ(reply(R"({"command":["add","stiffness",-200]})", p.m), success);
+    EXPECT_EQ(p.m.stiffness(), 1000.0);
+    EXPECT_EQ(reply(R"({"command":["set_property","loop-file","inf"]})", p.m), success);
+    EXPECT_TRUE(p.m.loop());
+    EXPECT_EQ(reply(R"({"command":["set_property","stereo-mode","tab"]})", p.m), success);
+    EXPECT_EQ(reply(R"({"command":["cycle","stereo-mode"]})", p.m), success);
+    EXPECT_EQ(p.m.stereoMode(), player::StereoMode::Anaglyph);
+    // the remote's keys by name (KEY_PLAYPAUSE, and mpv's spelling with '_')
+    EXPECT_EQ(reply(R"({"command":["keypress","PLAYPAUSE"]})", p.m), success);
+    EXPECT_EQ(p.m.state(), PlayerState::Paused);
+    EXPECT_EQ(reply(R"({"command":["keypress","NOT_A_KEY"]})", p.m),
+              json({{"error", "invalid parameter"}}));
+    // read-only, unknown, a value of the wrong kind, and no audio output to set
+    EXPECT_EQ(reply(R"({"command":["set_property","duration",3]})", p.m),
+              json({{"error", "property unavailable"}}));
+    EXPECT_EQ(reply(R"({"command":["set_property","colour",3]})", p.m),
+              json({{"error", "property not found"}}));
+    EXPECT_EQ(reply(R"({"command":["set_property","pause","maybe"]})", p.m),
+              json({{"error", "unsupported format for accessing property"}}));
+    EXPECT_EQ(reply(R"({"command":["set_property","volume",50]})", p.m),
+              json({{"error", "property unavailable"}}));
+    EXPECT_EQ(p.fake.calls,
+              (std::vector<std::string>{"open movie.mkv", "startPlayback", "pause", "resume",
+                                        "seek 30 absolute", "seek -10 relative",
+                                        "seek 25 absolute", "setHapticsEnabled off",
+                                        "setStiffness 1200", "setStiffness 1000",
+                                        "setStereoMode tab", "setStereoMode anaglyph", "pause"}));
+}
+
+TEST(MpvIpcTest, observedPropertiesSendAChangeOnlyWhenTheValueChanges)
+{
+    Playing p;
+    PropertyObservers observers;
+    // ipc.rst: { "command": ["observe_property", 1, "volume"] }
+    EXPECT_EQ(reply(R"({ "command": ["observe_property", 1, "time-pos"] })", p.m, &observers),
+              json({{"error", "success"}}));
+    EXPECT_EQ(reply(R"({"command":["observe_property",2,"pause"]})", p.m, &observers),
+              json({{"error", "success"}}));
+    std::vector<std::string> lines;
+    propertyChanges(p.m, observers, lines);
+    ASSERT_EQ(lines.size(), 2u) << "the first value of each, at once";
+    EXPECT_EQ(json::parse(lines[0]), json({{"event", "property-change"},
+                                           {"id", 1},
+                                           {"name", "time-pos"},
+                                           {"data", 12.5}}));
+    EXPECT_EQ(json::parse(lines[1]), json({{"event", "property-change"},
+                                           {"id", 2},
+                                           {"name", "pause"},
+                                           {"data", false}}));
+    lines.clear();
+    propertyChanges(p.m, observers, lines);
+    EXPECT_TRUE(lines.empty()) << "nothing changed";
+    p.fake.position.timePos = 13.0;
+    ASSERT_TRUE(p.m.execute("pause").accepted);
+    propertyChanges(p.m, observers, lines);
+    ASSERT_EQ(lines.size(), 2u);
+    EXPECT_EQ(json::parse(lines[0])["data"], 13.0);
+    EXPECT_EQ(json::parse(lines[1])["data"], true);
+    // stopped: time-pos is unavailable, sent without data as mpv does
+    ASSERT_TRUE(p.m.execute("stop").accepted);
+    lines.clear();
+    propertyChanges(p.m, observers, lines);
+    ASSERT_EQ(lines.size(), 2u);
+    EXPECT_EQ(json::parse(lines[0]),
+              json({{"event", "property-change"}, {"id", 1}, {"name", "time-pos"}}));
+    EXPECT_EQ(reply(R"({"command":["unobserve_property",1]})", p.m, &observers),
+              json({{"error", "success"}}));
+    EXPECT_EQ(observers.size(), 1u);
+    EXPECT_EQ(reply(R"({"command":["unobserve_property",1]})", p.m, &observers),
+              json({{"error", "invalid parameter"}}));
+    EXPECT_EQ(reply(R"({"command":["observe_property",3,"time-pos"]})", p.m),
+              json({{"error", "invalid parameter"}}))
+        << "no client, nothing to observe for";
+}
+
+TEST(MpvIpcTest, aClientOnTheSocketGetsItsObservedPropertiesAsEvents)
+{
+    testing::TempDir dir("dt-mpv-");
+    const std::string path = dir.path("mpv.sock");
+    Playing p;
+    auto server = ControlServer::create(path, p.m);
+    ASSERT_TRUE(server) << server.error().what;
+    platform::UniqueFd fd(::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
+    sockaddr_un addr{};
+    addr.sun_family = AF_UNIX;
+    std::snprintf(addr.sun_path, sizeof addr.sun_path, "%s", path.c_str());
+    ASSERT_EQ(::connect(fd.get(), reinterpret_cast<const sockaddr *>(&addr), sizeof addr), 0);
+    const std::string request = R"({"command":["observe_property",7,"haptic-force"],"request_id":5})"
+                                "\n";
+    ASSERT_EQ(::send(fd.get(), request.data(), request.size(), MSG_NOSIGNAL),
+              static_cast<ssize_t>(request.size()));
+    std::string got;
+    for (int i = 0; i < 200 && std::count(got.begin(), got.end(), '\n') < 2; ++i) {
+        ASSERT_TRUE((*server)->poll(std::chrono::milliseconds(5)));
+        char chunk[1024];
+        const ssize_t n = ::recv(fd.get(), chunk, sizeof chunk, MSG_DONTWAIT);
+        if (n > 0)
+            got.append(chunk, static_cast<std::size_t>(n));
+    }
+    const std::size_t nl = got.find('\n');
+    ASSERT_NE(nl, std::string::npos) << got;
+    EXPECT_EQ(json::parse(got.substr(0, nl)), json({{"error", "success"}, {"request_id", 5}}));
+    EXPECT_EQ(json::parse(got.substr(nl + 1, got.find('\n', nl + 1) - nl - 1)),
+              json({{"event", "property-change"},
+                    {"id", 7},
+                    {"name", "haptic-force"},
+                    {"data", 1.5}}));
+}
+
+} // namespace
+} // namespace depthtouch::control
