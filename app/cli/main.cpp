@@ -7,11 +7,13 @@
 #include <cstdlib>
 #include <cstring>
 #include <new>
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "suggest.h"
 
 namespace {
 
@@ -77,6 +79,11 @@ int main(int argc, char **argv)
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError &e) {
+        if (const std::optional<std::string> says =
+                depthtouch::cli::describeMistake(app, argc, argv, e)) {
+            std::fprintf(stderr, "depthtouch: %s (see --help)\n", says->c_str());
+            return depthtouch::cli::kExitBadInput;
+        }
         const int code = app.exit(e);
         // CLI11 returns 0 for --help/--version; any real parse error is bad input.
         return code == 0 ? checkStandardOutput(0) : depthtouch::cli::kExitBadInput;

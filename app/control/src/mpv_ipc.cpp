@@ -206,8 +206,8 @@ std::string run(player::StateMachine &machine, const std::string &text, const js
     return out.accepted ? reply("success", requestId) : reply(out.reason, requestId);
 }
 
-std::string getProperty(const json &command, const json *requestId,
-                        player::StateMachine &machine, bool asString)
+std::string getProperty(const json &command, const json *requestId, player::StateMachine &machine,
+                        bool asString)
 {
     if (command.size() != 2)
         return reply(kInvalid, requestId);
@@ -221,8 +221,8 @@ std::string getProperty(const json &command, const json *requestId,
     return reply("success", requestId, &data);
 }
 
-std::string setProperty(const json &command, const json *requestId,
-                        player::StateMachine &machine, bool fromString)
+std::string setProperty(const json &command, const json *requestId, player::StateMachine &machine,
+                        bool fromString)
 {
     if (command.size() != 3)
         return reply(kInvalid, requestId);
@@ -239,8 +239,7 @@ std::string setProperty(const json &command, const json *requestId,
     return run(machine, *text, requestId);
 }
 
-std::string addProperty(const json &command, const json *requestId,
-                        player::StateMachine &machine)
+std::string addProperty(const json &command, const json *requestId, player::StateMachine &machine)
 {
     if (command.size() != 2 && command.size() != 3)
         return reply(kInvalid, requestId);

@@ -69,15 +69,15 @@ TEST(MpvIpcTest, getPropertyAnswersAsMpvWithTheRequestId)
     EXPECT_EQ(reply(R"({"command":["get_property","loop-file"]})", p.m)["data"], "no");
     // mpv's string forms: yes/no, six decimals
     EXPECT_EQ(reply(R"({"command":["get_property_string","pause"]})", p.m)["data"], "no");
-    EXPECT_EQ(reply(R"({"command":["get_property_string","time-pos"]})", p.m)["data"],
-              "12.500000");
+    EXPECT_EQ(reply(R"({"command":["get_property_string","time-pos"]})", p.m)["data"], "12.500000");
     // mpv's errors
     EXPECT_EQ(reply(R"({"command":["get_property","nonsense"],"request_id":1})", p.m),
               json({{"error", "property not found"}, {"request_id", 1}}));
     p.fake.position.duration = std::numeric_limits<double>::quiet_NaN(); // a live stream
     EXPECT_EQ(reply(R"({"command":["get_property","duration"]})", p.m),
               json({{"error", "property unavailable"}}));
-    EXPECT_EQ(reply(R"({"command":["get_property"]})", p.m), json({{"error", "invalid parameter"}}));
+    EXPECT_EQ(reply(R"({"command":["get_property"]})", p.m),
+              json({{"error", "invalid parameter"}}));
 }
 
 TEST(MpvIpcTest, setPropertyCycleAddAndKeypressDriveThePlayer)
@@ -117,12 +117,11 @@ TEST(MpvIpcTest, setPropertyCycleAddAndKeypressDriveThePlayer)
               json({{"error", "unsupported format for accessing property"}}));
     EXPECT_EQ(reply(R"({"command":["set_property","volume",50]})", p.m),
               json({{"error", "property unavailable"}}));
-    EXPECT_EQ(p.fake.calls,
-              (std::vector<std::string>{"open movie.mkv", "startPlayback", "pause", "resume",
-                                        "seek 30 absolute", "seek -10 relative",
-                                        "seek 25 absolute", "setHapticsEnabled off",
-                                        "setStiffness 1200", "setStiffness 1000",
-                                        "setStereoMode tab", "setStereoMode anaglyph", "pause"}));
+    EXPECT_EQ(p.fake.calls, (std::vector<std::string>{
+                                "open movie.mkv", "startPlayback", "pause", "resume",
+                                "seek 30 absolute", "seek -10 relative", "seek 25 absolute",
+                                "setHapticsEnabled off", "setStiffness 1200", "setStiffness 1000",
+                                "setStereoMode tab", "setStereoMode anaglyph", "pause"}));
 }
 
 TEST(MpvIpcTest, observedPropertiesSendAChangeOnlyWhenTheValueChanges)
@@ -137,14 +136,11 @@ TEST(MpvIpcTest, observedPropertiesSendAChangeOnlyWhenTheValueChanges)
     std::vector<std::string> lines;
     propertyChanges(p.m, observers, lines);
     ASSERT_EQ(lines.size(), 2u) << "the first value of each, at once";
-    EXPECT_EQ(json::parse(lines[0]), json({{"event", "property-change"},
-                                           {"id", 1},
-                                           {"name", "time-pos"},
-                                           {"data", 12.5}}));
-    EXPECT_EQ(json::parse(lines[1]), json({{"event", "property-change"},
-                                           {"id", 2},
-                                           {"name", "pause"},
-                                           {"data", false}}));
+    EXPECT_EQ(
+        json::parse(lines[0]),
+        json({{"event", "property-change"}, {"id", 1}, {"name", "time-pos"}, {"data", 12.5}}));
+    EXPECT_EQ(json::parse(lines[1]),
+              json({{"event", "property-change"}, {"id", 2}, {"name", "pause"}, {"data", false}}));
     lines.clear();
     propertyChanges(p.m, observers, lines);
     EXPECT_TRUE(lines.empty()) << "nothing changed";
@@ -183,8 +179,9 @@ TEST(MpvIpcTest, aClientOnTheSocketGetsItsObservedPropertiesAsEvents)
     addr.sun_family = AF_UNIX;
     std::snprintf(addr.sun_path, sizeof addr.sun_path, "%s", path.c_str());
     ASSERT_EQ(::connect(fd.get(), reinterpret_cast<const sockaddr *>(&addr), sizeof addr), 0);
-    const std::string request = R"({"command":["observe_property",7,"haptic-force"],"request_id":5})"
-                                "\n";
+    const std::string request =
+        R"({"command":["observe_property",7,"haptic-force"],"request_id":5})"
+        "\n";
     ASSERT_EQ(::send(fd.get(), request.data(), request.size(), MSG_NOSIGNAL),
               static_cast<ssize_t>(request.size()));
     std::string got;
@@ -198,11 +195,9 @@ TEST(MpvIpcTest, aClientOnTheSocketGetsItsObservedPropertiesAsEvents)
     const std::size_t nl = got.find('\n');
     ASSERT_NE(nl, std::string::npos) << got;
     EXPECT_EQ(json::parse(got.substr(0, nl)), json({{"error", "success"}, {"request_id", 5}}));
-    EXPECT_EQ(json::parse(got.substr(nl + 1, got.find('\n', nl + 1) - nl - 1)),
-              json({{"event", "property-change"},
-                    {"id", 7},
-                    {"name", "haptic-force"},
-                    {"data", 1.5}}));
+    EXPECT_EQ(
+        json::parse(got.substr(nl + 1, got.find('\n', nl + 1) - nl - 1)),
+        json({{"event", "property-change"}, {"id", 7}, {"name", "haptic-force"}, {"data", 1.5}}));
 }
 
 } // namespace

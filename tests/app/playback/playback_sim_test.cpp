@@ -360,6 +360,11 @@ TEST(PlaybackSimTest, ThePositionCountsFromTheFirstFramesTimestamp)
     ASSERT_EQ(p.playback().stats().framesDropped, 0u);
     // THEN the position is the tenth frame's time from the first: 9/30 s (Playback::position())
     EXPECT_NEAR(p.playback().position(), 9.0 / 30.0, 1e-9);
+    // and the control socket's time-pos (mpv's) says the same; the duration is the clip's 2 s
+    EXPECT_EQ(p.machine().execute("get time-pos").data, player::Value(p.playback().position()));
+    const player::CommandOutcome duration = p.machine().execute("get duration");
+    ASSERT_TRUE(duration.accepted) << duration.reason;
+    EXPECT_NEAR(std::get<double>(duration.data), 2.0, 1e-9);
     // WHEN seeking to 1 s from the first frame
     ASSERT_TRUE(p.machine().execute("seek 1 absolute").accepted);
     p.stepUntil([&] { return p.playback().position() >= 1.0 - 1e-9; });

@@ -8,9 +8,9 @@
 /// haptic-force, contact, loop).
 ///
 /// Reference: mpv's manual, "JSON IPC" (docs/man/ipc.rst): a request `{"command": ["get_property",
-/// "time-pos"], "request_id": 7}` is answered `{"data": 12.5, "error": "success", "request_id": 7}`;
-/// errors carry mpv's texts ("property not found", "property unavailable", "unsupported format for
-/// accessing property", "invalid parameter"); an observed property sends
+/// "time-pos"], "request_id": 7}` is answered `{"data": 12.5, "error": "success", "request_id":
+/// 7}`; errors carry mpv's texts ("property not found", "property unavailable", "unsupported format
+/// for accessing property", "invalid parameter"); an observed property sends
 /// `{"event": "property-change", "id": 1, "name": "time-pos", "data": 12.5}` when it changes (no
 /// "data" while it is unavailable), the first one at once.
 ///
@@ -32,9 +32,9 @@ namespace depthtouch::control {
 struct PropertyObserver {
     std::int64_t id = 0;
     player::Property property = player::Property::State;
-    bool loopFile = false;   ///< Observed as "loop-file" ("inf"/"no") rather than "loop" (bool).
-    std::string last;        ///< The "data" last sent, as JSON text ("" before the first event).
-    bool sent = false;       ///< The first property-change went out.
+    bool loopFile = false; ///< Observed as "loop-file" ("inf"/"no") rather than "loop" (bool).
+    std::string last;      ///< The "data" last sent, as JSON text ("" before the first event).
+    bool sent = false;     ///< The first property-change went out.
 };
 
 /// The observers of one client (a few: one per property a UI shows).
