@@ -18,7 +18,8 @@ namespace depthtouch::cli {
 /// \return the name of \a names nearest to \a word by edit distance (Levenshtein: insertions,
 /// deletions, substitutions and swaps of neighbours), when it is within 2 edits or a third of the
 /// word's length (whichever is more); else std::nullopt.
-std::optional<std::string> nearestName(std::string_view word, const std::vector<std::string> &names);
+std::optional<std::string> nearestName(std::string_view word,
+                                       const std::vector<std::string> &names);
 
 /// \return the one-line message (without "depthtouch: " and the newline) for a command line that
 /// CLI11 refused with \a error, naming the first mistyped word of \a argv and the nearest

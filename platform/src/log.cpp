@@ -9,6 +9,8 @@
 #include <ctime>
 #include <mutex>
 #include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace depthtouch::platform {
 
@@ -131,10 +133,42 @@ void logMessageV(const LogCategory &category, LogLevel level, const char *format
         gSink(gSinkUser, level, category.name, message);
         return;
     }
+    static const bool journal = isJournalStream(std::getenv("JOURNAL_STREAM"), STDERR_FILENO);
     timespec ts{};
     clock_gettime(CLOCK_MONOTONIC, &ts);
-    std::fprintf(stderr, "[%5lld.%06ld] %s %s: %s\n", static_cast<long long>(ts.tv_sec),
-                 ts.tv_nsec / 1000, levelTag(level), category.name, message);
+    char line[1200];
+    formatLogLine(line, sizeof line, journal, level, category.name, message, ts);
+    std::fprintf(stderr, "%s\n", line);
+}
+
+bool isJournalStream(const char *journalStream, int fd) noexcept
+{
+    unsigned long long device = 0;
+    unsigned long long inode = 0;
+    char rest = 0;
+    if (journalStream == nullptr ||
+        std::sscanf(journalStream, "%llu:%llu%c", &device, &inode, &rest) != 2)
+        return false;
+    struct stat st {};
+    if (::fstat(fd, &st) != 0)
+        return false;
+    return static_cast<unsigned long long>(st.st_dev) == device &&
+           static_cast<unsigned long long>(st.st_ino) == inode;
+}
+
+int formatLogLine(char *out, std::size_t size, bool journal, LogLevel level, const char *category,
+                  const char *message, const timespec &monotonic) noexcept
+{
+    if (journal) {
+        // syslog(3) priorities: LOG_DEBUG 7, LOG_INFO 6, LOG_WARNING 4, LOG_ERR 3.
+        static constexpr std::array<int, 4> kPriority = {7, 6, 4, 3};
+        const auto i = static_cast<std::size_t>(level);
+        const int priority = i < kPriority.size() ? kPriority[i] : 6;
+        return std::snprintf(out, size, "<%d>%s: %s", priority, category, message);
+    }
+    return std::snprintf(out, size, "[%5lld.%06ld] %s %s: %s",
+                         static_cast<long long>(monotonic.tv_sec), monotonic.tv_nsec / 1000,
+                         levelTag(level), category, message);
 }
 
 void logMessage(const LogCategory &category, LogLevel level, const char *format, ...) noexcept

@@ -1,10 +1,13 @@
 #include "depthtouch/platform/log.h"
 
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include <sys/stat.h>
 
 DT_LOG_CATEGORY(Capture)
 DT_LOG_CATEGORY(EnvProbe)
@@ -170,6 +173,40 @@ TEST(LogTest, environmentSetsCategoryLevelsAtFirstUse)
     EXPECT_EQ(kLogCategoryEnvProbe.threshold(), LogLevel::Error);
     EXPECT_EQ(kLogCategoryEnvOther.threshold(), LogLevel::Debug);
     unsetenv("DT_LOG");
+}
+
+// Under systemd, stderr is the journal's stream: systemd says so in JOURNAL_STREAM ("DEV:INO" of
+// that stream), and the log then writes sd-daemon(3)'s priority prefixes instead of its own time.
+TEST(LogTest, theJournalIsRecognisedByItsStreamAndGetsPriorityPrefixes)
+{
+    FILE *file = std::tmpfile();
+    ASSERT_NE(file, nullptr);
+    const int fd = ::fileno(file);
+    struct stat st {};
+    ASSERT_EQ(::fstat(fd, &st), 0);
+    const std::string mine = std::to_string(static_cast<unsigned long long>(st.st_dev)) + ":" +
+                             std::to_string(static_cast<unsigned long long>(st.st_ino));
+    EXPECT_TRUE(isJournalStream(mine.c_str(), fd));
+    const std::string other = std::to_string(static_cast<unsigned long long>(st.st_dev)) + ":" +
+                              std::to_string(static_cast<unsigned long long>(st.st_ino) + 1);
+    EXPECT_FALSE(isJournalStream(other.c_str(), fd));
+    EXPECT_FALSE(isJournalStream(nullptr, fd));
+    EXPECT_FALSE(isJournalStream("", fd));
+    EXPECT_FALSE(isJournalStream((mine + "x").c_str(), fd));
+    std::fclose(file);
+
+    char line[128];
+    const timespec t{12, 345678000};
+    formatLogLine(line, sizeof line, true, LogLevel::Warning, "Haptic", "device lost", t);
+    EXPECT_STREQ(line, "<4>Haptic: device lost");
+    formatLogLine(line, sizeof line, true, LogLevel::Error, "Player", "x", t);
+    EXPECT_STREQ(line, "<3>Player: x");
+    formatLogLine(line, sizeof line, true, LogLevel::Info, "Player", "x", t);
+    EXPECT_STREQ(line, "<6>Player: x");
+    formatLogLine(line, sizeof line, true, LogLevel::Debug, "Player", "x", t);
+    EXPECT_STREQ(line, "<7>Player: x");
+    formatLogLine(line, sizeof line, false, LogLevel::Warning, "Haptic", "device lost", t);
+    EXPECT_STREQ(line, "[   12.345678] WARN  Haptic: device lost");
 }
 
 } // namespace

@@ -3,7 +3,8 @@
 /// \brief Logging for non-real-time threads: one category per module, printf-style messages, one
 /// line each.
 ///
-/// Output: "[   12.345678] WARN  Category: message" on stderr (or a sink installed for tests).
+/// Output: "[   12.345678] WARN  Category: message" on stderr (or a sink installed for tests); when
+/// stderr is the systemd journal's stream (a service), "<4>Category: message" (formatLogLine()).
 /// The level is set per category from the environment variable DT_LOG ("debug", or
 /// "Haptic:debug,*:warn"; read once per category, at its first use; see logLevelFromSpec()) or with
 /// setLogLevel(). Thread-safety: thread-safe (a mutex serialises lines). **Never call from the
@@ -11,6 +12,8 @@
 
 #include <atomic>
 #include <cstdarg>
+#include <cstddef>
+#include <ctime>
 
 namespace depthtouch::platform {
 
@@ -50,6 +53,18 @@ LogLevel logLevelFromSpec(const char *spec, const char *category) noexcept;
 bool parseLogLevel(const char *text, LogLevel &out) noexcept;
 /// Installs \a sink (nullptr restores stderr). Thread-safe.
 void setLogSink(LogSink sink, void *user) noexcept;
+/// \brief Whether the descriptor \a fd is this process's stream to the systemd journal:
+/// \a journalStream (the JOURNAL_STREAM variable systemd sets for a service, "DEVICE:INODE") names
+/// fd's device and inode (systemd.exec(5), "$JOURNAL_STREAM"). False for a null or malformed text.
+/// Reentrant.
+bool isJournalStream(const char *journalStream, int fd) noexcept;
+/// \brief Formats one line (without newline) into \a out, at most \a size bytes, NUL-terminated.
+/// For the journal: "<P>Category: message", P the syslog priority of \a level (7 debug, 6 info,
+/// 4 warning, 3 error), the prefix sd-daemon(3) describes, so that journalctl shows and filters
+/// the level and adds its own time stamp. Otherwise: "[   12.345678] WARN  Category: message",
+/// \a monotonic the time since boot. \return the length of the line (as snprintf, before any cut).
+int formatLogLine(char *out, std::size_t size, bool journal, LogLevel level, const char *category,
+                  const char *message, const timespec &monotonic) noexcept;
 
 } // namespace depthtouch::platform
 
