@@ -314,10 +314,12 @@ PlayResult finishPlay(const PlayOptions &opt, const playback::PlayRunFigures &ru
     }
     if (!lost.empty() && out.failure.empty())
         failLine(lost);
-    // The summary names only the files that were written.
-    playback::printPlaySummary(
-        opt.url, run, run.stats.recordingLost.empty() ? opt.record : std::string(),
-        forceLogLost ? std::string() : opt.forceLog, statsLost ? std::string() : opt.stats);
+    // The summary names only the files that were written; --quiet prints none (mpv's
+    // --really-quiet: errors only).
+    if (!opt.quiet)
+        playback::printPlaySummary(
+            opt.url, run, run.stats.recordingLost.empty() ? opt.record : std::string(),
+            forceLogLost ? std::string() : opt.forceLog, statsLost ? std::string() : opt.stats);
     result.exitCode = out.failure.empty() && lost.empty() ? kExitOk : kExitFailure;
     if (run.haptic && run.haptic->maxForce > run.deviceMaxForce + 1e-9)
         result.exitCode = kExitFailure;

@@ -54,7 +54,7 @@ struct PlayOptions {
     double maxLateness = playbackDefaults().maxLateness; ///< Lateness a frame is still drawn with.
     bool requireRt = playbackDefaults().haptics.requireRt;
     bool idle = false;    ///< Stay up after the end / an error (control socket).
-    bool quiet = false;   ///< No state-change lines on stderr (errors only).
+    bool quiet = false;   ///< Errors only: no state-change lines, no summary.
     bool verbose = false; ///< State changes and the log on stderr (`play` sets the log).
 };
 

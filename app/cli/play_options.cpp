@@ -160,7 +160,8 @@ const OptionRow<PlayOptions> kPlayRows[] = {
      .help = "Fail when SCHED_FIFO is refused",
      .land = [](const PlayOptions &o, Config &c) { c.haptics.requireRt = o.requireRt; }},
     {"idle", &PlayOptions::idle, "Stay up after the end or an error (for --control)"},
-    {"quiet", &PlayOptions::quiet, "No state-change lines on stderr (errors only)"},
+    {"quiet", &PlayOptions::quiet,
+     "Nothing but errors: no state-change lines, no summary (mpv's --really-quiet)"},
     {"verbose", &PlayOptions::verbose,
      "State changes and the log (INFO and up) on stderr; without it a failure is one line"},
 };

@@ -330,6 +330,7 @@ TEST(PlayFaultsTest, AFailureIsOneLineAndQuietIsSilent)
     const ProcessResult quiet = runProcess(mockPlay(kMockClip, {"--quiet"}), kLimit);
     EXPECT_EQ(quiet.exitCode, 0) << describe(quiet);
     EXPECT_EQ(quiet.err, "");
+    EXPECT_EQ(quiet.out, "") << "--quiet prints no summary either (mpv's --really-quiet)";
     const ProcessResult plain = runProcess(mockPlay(kMockClip), kLimit);
     EXPECT_EQ(plain.exitCode, 0) << describe(plain);
     EXPECT_EQ(plain.err, "") << "no state lines when stderr is not a terminal";
