@@ -120,13 +120,19 @@ std::string reportFeel(const DemoOptions &o, const std::string &clip, const std:
                 d.contactSeconds > 0 ? 100.0 * d.figureSeconds / d.contactSeconds : 0.0,
                 d.contactSeconds, 1e3 * demo::kFigureMargin,
                 o.scene == "head" ? "curtain" : "backdrop");
-    auto median = [](std::vector<double> v) {
-        return v.empty() ? std::nan("") : platform::percentile(v, 0.5);
+    // "curtain 528 N/m", or "curtain not touched" when the finger never pressed it.
+    auto felt = [](const char *what, const std::vector<double> &v) {
+        char text[64];
+        if (v.empty())
+            std::snprintf(text, sizeof text, "%s not touched", what);
+        else
+            std::snprintf(text, sizeof text, "%s %.0f N/m", what, platform::percentile(v, 0.5));
+        return std::string(text);
     };
-    std::printf("  stiffness felt    %s %.0f N/m, %s %.0f N/m (median |F| / depth; the clip's "
-                "material track scales --stiffness %.0f N/m)\n",
-                o.scene == "head" ? "head" : "figure", median(d.figureStiffness),
-                o.scene == "head" ? "curtain" : "backdrop", median(d.backdropStiffness),
+    std::printf("  stiffness felt    %s, %s (median |F| / depth; the clip's material track scales "
+                "--stiffness %.0f N/m)\n",
+                felt(o.scene == "head" ? "head" : "figure", d.figureStiffness).c_str(),
+                felt(o.scene == "head" ? "curtain" : "backdrop", d.backdropStiffness).c_str(),
                 o.stiffness);
     std::string lost;
     const std::string chart = demo::chartForce(o.outDir, plot, o.rate, lost);
@@ -233,7 +239,7 @@ int runDemo(const DemoOptions &o)
     p.forceLog = o.outDir + "/force-log.csv";
     p.stats = o.outDir + "/stats.json";
     p.requireRt = o.requireRt;
-    p.quiet = true;
+    p.quiet = false; // the play's summary is the demo's report (state lines only on a terminal)
     std::printf("Playing it for %.0f s on the '%s' display with the '%s' haptic device "
                 "(%s)\n",
                 o.duration, o.display.c_str(), o.haptic.c_str(), hapticOptions.c_str());
