@@ -21,19 +21,6 @@ std::string dump(const json &j)
     return j.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
-json toJson(const player::Value &value)
-{
-    return std::visit(
-        [](const auto &v) -> json {
-            using T = std::decay_t<decltype(v)>;
-            if constexpr (std::is_same_v<T, std::monostate>)
-                return nullptr;
-            else
-                return v;
-        },
-        value);
-}
-
 std::string errorReply(std::string_view reason, const json *requestId = nullptr)
 {
     json reply = {{"error", reason}};
@@ -66,7 +53,7 @@ std::string handleControlLine(std::string_view line, player::StateMachine &machi
             return errorReply(out.reason);
         json reply = {{"error", "success"}};
         if (!std::holds_alternative<std::monostate>(out.data))
-            reply["data"] = toJson(out.data);
+            reply["data"] = valueJson(out.data);
         return dump(reply);
     }
 
@@ -98,7 +85,7 @@ std::string handleControlLine(std::string_view line, player::StateMachine &machi
         return errorReply(out.reason, requestId);
     json reply = {{"error", "success"}};
     if (!std::holds_alternative<std::monostate>(out.data))
-        reply["data"] = toJson(out.data);
+        reply["data"] = valueJson(out.data);
     if (requestId != nullptr)
         reply["request_id"] = *requestId;
     return dump(reply);

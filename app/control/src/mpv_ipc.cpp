@@ -64,19 +64,6 @@ std::optional<Named> propertyNamed(const json &name)
     return std::nullopt;
 }
 
-json toJson(const player::Value &value)
-{
-    return std::visit(
-        [](const auto &v) -> json {
-            using T = std::decay_t<decltype(v)>;
-            if constexpr (std::is_same_v<T, std::monostate>)
-                return nullptr;
-            else
-                return v;
-        },
-        value);
-}
-
 /// The value of \a named now, or the reason there is none ("property unavailable").
 player::CommandOutcome read(player::StateMachine &machine, const Named &named)
 {
@@ -217,7 +204,7 @@ std::string getProperty(const json &command, const json *requestId, player::Stat
     const player::CommandOutcome out = read(machine, *named);
     if (!out.accepted)
         return reply(out.reason, requestId);
-    const json data = asString ? json(asMpvString(out.data)) : toJson(out.data);
+    const json data = asString ? json(asMpvString(out.data)) : valueJson(out.data);
     return reply("success", requestId, &data);
 }
 
@@ -312,6 +299,19 @@ std::string unobserve(const json &command, const json *requestId, PropertyObserv
 
 } // namespace
 
+json valueJson(const player::Value &value)
+{
+    return std::visit(
+        [](const auto &v) -> json {
+            using T = std::decay_t<decltype(v)>;
+            if constexpr (std::is_same_v<T, std::monostate>)
+                return nullptr;
+            else
+                return v;
+        },
+        value);
+}
+
 std::optional<std::string> handleMpvCommand(const json &command, const json *requestId,
                                             player::StateMachine &machine,
                                             PropertyObservers *observers)
@@ -348,14 +348,14 @@ void propertyChanges(player::StateMachine &machine, PropertyObservers &observers
 {
     for (PropertyObserver &o : observers) {
         const player::CommandOutcome out = read(machine, Named{o.property, o.loopFile});
-        const std::string now = out.accepted ? dump(toJson(out.data)) : std::string();
+        const std::string now = out.accepted ? dump(valueJson(out.data)) : std::string();
         if (o.sent && now == o.last)
             continue;
         json event = {{"event", "property-change"},
                       {"id", o.id},
                       {"name", o.loopFile ? "loop-file" : player::propertyName(o.property)}};
         if (out.accepted)
-            event["data"] = toJson(out.data);
+            event["data"] = valueJson(out.data);
         lines.push_back(dump(event));
         o.last = now;
         o.sent = true;

@@ -51,6 +51,9 @@ std::optional<std::string> handleMpvCommand(const nlohmann::json &command,
                                             player::StateMachine &machine,
                                             PropertyObservers *observers);
 
+/// \return \a value as JSON: null (nothing), a bool, a number or a text. Reentrant.
+nlohmann::json valueJson(const player::Value &value);
+
 /// \brief Appends to \a lines (without '\n') one property-change event per observer of
 /// \a observers whose property changed since its last event (or has had none).
 void propertyChanges(player::StateMachine &machine, PropertyObservers &observers,
