@@ -335,10 +335,13 @@ int reportEncode(const EncodeCliOptions &o, const media::EncodeOptions &eo,
             s.range.farM, eo.raw.metresPerUnit);
     if (s.enhance)
         printEnhanceTotals(*s.enhance);
-    if (!o.material.empty() || !o.materialMap.empty())
+    if (!o.materialMap.empty()) // one still, coded once and used for every frame
+        std::printf("material: %.1f kB lossless (the label map '%s', one still for every frame)\n",
+                    static_cast<double>(s.materialBytes) / 1000.0, o.materialMap.c_str());
+    else if (!o.material.empty())
         std::printf("material: %.1f kB lossless (%lld frames read from '%s', the last held)\n",
                     static_cast<double>(s.materialBytes) / 1000.0, s.materialFrames,
-                    (o.material.empty() ? o.materialMap : o.material).c_str());
+                    o.material.c_str());
     if (s.interrupted) {
         std::fprintf(stderr,
                      "depthtouch encode: interrupted by %s; '%s' holds the %lld frame pairs "

@@ -41,6 +41,9 @@ done <"$work/materials.txt")
 "$exe" encode --color "$work/c-%03d.png" --depth "$work/d-%03d.png" --material-map "$work/labels.ppm" \
     --materials "$work/materials.toml" -o "$work/out.mkv" --preset ultrafast >"$work/enc.txt" 2>&1 ||
     { cat "$work/enc.txt"; fail "encode --material-map"; }
+# The summary calls the label map what it is: one still for every frame (not "N frames read").
+grep -q "^material: .* (the label map '$work/labels.ppm', one still for every frame)$" "$work/enc.txt" ||
+    { cat "$work/enc.txt"; fail "encode's material summary line"; }
 ff -i "$work/out.mkv" -map 0:2 -frames:v 1 -f rawvideo -pix_fmt rgb24 "$work/codes.raw" || fail "decode the material track"
 
 # Each stripe's codes as read back (every pixel of the stripe must be one triple) against the table.
