@@ -250,14 +250,9 @@ std::string keypress(const json &command, const json *requestId, player::StateMa
 {
     if (command.size() != 2 || !command[1].is_string())
         return reply(kInvalid, requestId);
-    // The remote's key names (KEY_PLAYPAUSE, PLAYPAUSE, ok), and mpv's spellings with '_'
-    // (VOLUME_UP) where the kernel's have none.
-    std::string name = command[1].get<std::string>();
-    hal::Key key = hal::keyFromName(name.c_str());
-    if (key == hal::Key::Unknown) {
-        name.erase(std::remove(name.begin(), name.end(), '_'), name.end());
-        key = hal::keyFromName(name.c_str());
-    }
+    // The remote's key names (KEY_PLAYPAUSE, PLAYPAUSE, ok); keyFromName() ignores case and '_',
+    // so mpv's spellings (VOLUME_UP) match the kernel's (KEY_VOLUMEUP) too.
+    const hal::Key key = hal::keyFromName(command[1].get_ref<const std::string &>().c_str());
     if (key == hal::Key::Unknown)
         return reply(kInvalid, requestId);
     const char *text = player::commandTextForKey(key);
