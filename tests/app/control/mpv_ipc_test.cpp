@@ -98,6 +98,13 @@ TEST(MpvIpcTest, setPropertyCycleAddAndKeypressDriveThePlayer)
     EXPECT_EQ(p.m.stiffness(), 1200.0);
     EXPECT_EQ(reply(R"({"command":["add","stiffness",-200]})", p.m), success);
     EXPECT_EQ(p.m.stiffness(), 1000.0);
+    // set_property_string: the number in a text, all of it
+    EXPECT_EQ(reply(R"({"command":["set_property_string","stiffness","1100"]})", p.m), success);
+    EXPECT_EQ(p.m.stiffness(), 1100.0);
+    EXPECT_EQ(reply(R"({"command":["set_property_string","stiffness","900x"]})", p.m),
+              json({{"error", "unsupported format for accessing property"}}));
+    EXPECT_EQ(reply(R"({"command":["set_property_string","stiffness","1000"]})", p.m), success);
+    EXPECT_EQ(p.m.stiffness(), 1000.0);
     EXPECT_EQ(reply(R"({"command":["set_property","loop-file","inf"]})", p.m), success);
     EXPECT_TRUE(p.m.loop());
     EXPECT_EQ(reply(R"({"command":["set_property","stereo-mode","tab"]})", p.m), success);
@@ -122,12 +129,12 @@ TEST(MpvIpcTest, setPropertyCycleAddAndKeypressDriveThePlayer)
               json({{"error", "unsupported format for accessing property"}}));
     EXPECT_EQ(reply(R"({"command":["set_property","volume",50]})", p.m),
               json({{"error", "property unavailable"}}));
-    EXPECT_EQ(p.fake.calls,
-              (std::vector<std::string>{"open movie.mkv", "startPlayback", "pause", "resume",
-                                        "seek 30 absolute", "seek -10 relative", "seek 25 absolute",
-                                        "setHapticsEnabled off", "setStiffness 1200",
-                                        "setStiffness 1000", "setStereoMode tab",
-                                        "setStereoMode anaglyph", "pause", "setStereoMode mono"}));
+    EXPECT_EQ(p.fake.calls, (std::vector<std::string>{
+                                "open movie.mkv", "startPlayback", "pause", "resume",
+                                "seek 30 absolute", "seek -10 relative", "seek 25 absolute",
+                                "setHapticsEnabled off", "setStiffness 1200", "setStiffness 1000",
+                                "setStiffness 1100", "setStiffness 1000", "setStereoMode tab",
+                                "setStereoMode anaglyph", "pause", "setStereoMode mono"}));
 }
 
 TEST(MpvIpcTest, observedPropertiesSendAChangeOnlyWhenTheValueChanges)
