@@ -110,8 +110,10 @@ std::optional<std::string> describeMistake(const CLI::App &app, int argc, const 
     }
     const std::vector<std::string> commands = subcommandNames(*at);
     const bool extras = dynamic_cast<const CLI::ExtrasError *>(&error) != nullptr;
-    const bool missingCommand = dynamic_cast<const CLI::RequiredError *>(&error) != nullptr &&
-                                std::string(error.what()).find("subcommand") != std::string::npos;
+    // A command that takes commands (the program, bench) has no required option of its own: a
+    // RequiredError there is the missing command.
+    const bool missingCommand =
+        dynamic_cast<const CLI::RequiredError *>(&error) != nullptr && !commands.empty();
     if (!commands.empty() && next < argc && (extras || missingCommand)) {
         const std::string word = argv[next];
         std::optional<std::string> near = nearestName(word, commands);
@@ -119,7 +121,7 @@ std::optional<std::string> describeMistake(const CLI::App &app, int argc, const 
             near = "--version";
         return withSuggestion("'" + word + "' is not a command" + of, near);
     }
-    if (missingCommand && !commands.empty()) {
+    if (missingCommand) {
         std::string list;
         for (const std::string &n : commands)
             list += (list.empty() ? "" : ", ") + n;

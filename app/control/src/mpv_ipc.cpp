@@ -156,7 +156,7 @@ std::optional<std::string> setterText(player::StateMachine &machine, const Named
         else if (named.property == Property::TimePos)
             std::snprintf(buf, sizeof buf, "seek %.17g absolute", std::max(0.0, *v));
         else {
-            const player::CommandOutcome d = machine.execute("get duration");
+            const player::CommandOutcome d = read(machine, Named{Property::Duration, false});
             if (!d.accepted || !std::holds_alternative<double>(d.data))
                 return std::nullopt;
             const double duration = std::get<double>(d.data);

@@ -28,6 +28,9 @@ constexpr std::array<const char *, kPropertyCount> kPropertyNames = {
     "error",       "time-pos",    "duration", "percent-pos", "pause",        "path",
     "idle-active", "eof-reached", "volume",   "mute",        "haptic-force", "contact"};
 
+static_assert(kPropertyCount == static_cast<std::size_t>(Property::Contact) + 1,
+              "one name per Property");
+
 /// The property names, comma-separated (for error texts).
 std::string propertyList()
 {
