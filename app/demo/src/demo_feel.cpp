@@ -31,7 +31,7 @@ public:
         auto src = media::openFfmpegFrameSource(clip, so);
         if (!src)
             return std::string("cannot read the clip's depth: ") + src.error().what;
-        fps_ = (*src)->info().fps > 0 ? (*src)->info().fps : 30.0;
+        fps_ = (*src)->info().fps; // > 0: the stream's rate, or SourceOptions::fps (30)
         for (;;) {
             auto f = (*src)->next(media::PixelFormat::Gray8);
             if (!f)

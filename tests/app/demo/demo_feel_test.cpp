@@ -110,6 +110,40 @@ TEST(DemoFeelTest, theContactShareAndTheStiffnessFeltAreTheRows)
     EXPECT_EQ(plot[35][5], 0.0);           // on the backdrop
 }
 
+/// A flat surface at \a height over the whole frame, in front of FakeSurface's backdrop; no cuts.
+class LedgeSurface final : public DemoSurface {
+public:
+    explicit LedgeSurface(double height) : height_(height) {}
+    void setTime(double) override {}
+    [[nodiscard]] double heightAt(double, double) const noexcept override { return height_; }
+    [[nodiscard]] bool cutAt(double, double) const noexcept override { return false; }
+    [[nodiscard]] double backdropZ() const noexcept override { return FakeSurface::kBackdrop; }
+
+private:
+    double height_;
+};
+
+// The figure is what stands more than kFigureMargin (2 mm) in front of the backdrop: a ledge
+// exactly 2 mm in front of it is still the backdrop (a fold of the curtain), one 0.1 mm further
+// out is the figure. Both pressed 2 mm at 500 N/m for 20 updates.
+TEST(DemoFeelTest, aSurfaceExactlyTheFigureMarginInFrontOfTheBackdropIsBackdrop)
+{
+    const double atMargin = FakeSurface::kBackdrop + kFigureMargin;
+    for (const double z : {atMargin, atMargin + 1e-4}) {
+        std::vector<LogRow> rows;
+        for (int i = 0; i < 20; ++i)
+            rows.push_back(pressed(0.001 * i, 0.0, z, 0.002, 500.0));
+        LedgeSurface surface(z);
+        std::vector<std::array<double, 6>> plot;
+        const DemoFeel d = measureFeel(rows, playTimes(rows), surface, plot);
+        const bool figure = z > atMargin;
+        EXPECT_NEAR(d.contactSeconds, 0.019, 1e-9) << z;
+        EXPECT_NEAR(d.figureSeconds, figure ? 0.019 : 0.0, 1e-9) << z;
+        EXPECT_EQ(d.figureStiffness.size(), figure ? 20u : 0u) << z;
+        EXPECT_EQ(d.backdropStiffness.size(), figure ? 0u : 20u) << z;
+    }
+}
+
 // The force log is read by its columns (docs/architecture.md §4: t, HIP, proxy, force, contact,
 // released, play_t, gain); a row that does not parse is skipped, and play time counts from the
 // first row.
