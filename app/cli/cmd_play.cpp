@@ -6,9 +6,10 @@
 /// (docs/architecture.md §4) when asked, and prints a summary.
 ///
 /// The options are the rows of `play`'s option table (play_options.h); they may also come from a
-/// TOML file (`--config`, play_config.h): keys are the long option names without the dashes
-/// (`stiffness = 1200`, `display = "headless"`, `loop = true`); options given on the command line
-/// win. Unknown keys and values of the wrong type are errors (exit 2).
+/// TOML file (play_config.h): keys are the long option names without the dashes (`stiffness =
+/// 1200`, `display = "headless"`, `loop = true`), read from the system file, the user file and
+/// `--config` in that order (play_config_files.h); options given on the command line win. Unknown
+/// keys and values of the wrong type are errors (exit 2).
 
 #include <algorithm>
 #include <atomic>
@@ -46,6 +47,7 @@
 #include "output_paths.h"
 #include "play.h"
 #include "play_config.h"
+#include "play_config_files.h"
 #include "play_options.h"
 
 namespace depthtouch::cli {
@@ -333,7 +335,7 @@ void requestPlayStop() noexcept
     gPlayStop.store(true);
 }
 
-PlayResult runPlay(const PlayOptions &opt)
+PlayResult runPlay(const PlayOptions &opt, const player::KeyMap &keys)
 {
     if (std::optional<PlayResult> bad = checkPlayOptions(opt))
         return *bad;
@@ -348,7 +350,9 @@ PlayResult runPlay(const PlayOptions &opt)
         return badInput(pb.error().what);
     playback::Playback &playback = **pb;
 
-    player::StateMachine machine(playback, playerSettings(opt));
+    player::PlayerSettings settings = playerSettings(opt);
+    settings.keys = keys;
+    player::StateMachine machine(playback, std::move(settings));
     StderrListener listener(!opt.quiet && ::isatty(STDERR_FILENO) == 1, opt.verbose);
     machine.addListener(&listener);
     std::unique_ptr<control::ControlServer> server;
@@ -390,29 +394,39 @@ void registerPlayCommand(CLI::App &app, int &exitCode)
         "play", "Play a color + depth file or stream: stereo video and haptics in real time");
     addOptions(*cmd, playOptionTable(), *o);
     cmd->callback([o, cmd, &exitCode] {
-        if (!o->config.empty()) {
-            std::string text;
-            std::string err = readPlayConfigFile(o->config, text);
-            if (err.empty())
-                err = applyPlayConfigText(
-                    text, o->config,
-                    [cmd](const std::string &key) {
-                        const CLI::Option *given = cmd->get_option_no_throw("--" + key);
-                        return given != nullptr && given->count() > 0;
-                    },
-                    *o);
-            if (!err.empty()) {
-                std::fprintf(stderr, "depthtouch play: %s\n",
-                             platform::printableText(err, 400).c_str());
-                exitCode = kExitBadInput;
-                return;
-            }
+        const GivenOnCommandLine given = [cmd](const std::string &key) {
+            const CLI::Option *opt = cmd->get_option_no_throw("--" + key);
+            return opt != nullptr && opt->count() > 0;
+        };
+        const ConfigDirs dirs = configDirsFromEnvironment();
+        const PlayConfigLoad load = loadPlayConfigFiles(playConfigFiles(dirs, *o), given, *o);
+        player::KeyMap keys;
+        std::string error = load.error;
+        if (error.empty())
+            error = loadKeyMapFiles(keyMapFiles(dirs, *o), keys);
+        if (!error.empty()) {
+            std::fprintf(stderr, "depthtouch play: %s\n",
+                         platform::printableText(error, 400).c_str());
+            exitCode = kExitBadInput;
+            return;
+        }
+        if (o->showConfig) {
+            std::fputs(showPlayConfig(*o, load).c_str(), stdout);
+            exitCode = std::fflush(stdout) == 0 && std::ferror(stdout) == 0 ? 0 : 1;
+            return;
+        }
+        if (o->url.empty()) {
+            std::fputs("depthtouch play: url is required: the file or stream to play (or "
+                       "--show-config)\n",
+                       stderr);
+            exitCode = kExitBadInput;
+            return;
         }
         // The log's timestamped lines only when asked for (--verbose, or DT_LOG's levels): the
         // player's own lines say what went wrong, once.
         if (std::getenv("DT_LOG") == nullptr)
             platform::setLogLevel(o->verbose ? platform::LogLevel::Info : platform::LogLevel::Off);
-        exitCode = runPlay(*o).exitCode;
+        exitCode = runPlay(*o, keys).exitCode;
     });
 }
 

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "depthtouch/playback/playback.h"
+#include "depthtouch/player/key_bindings.h"
 
 namespace depthtouch::cli {
 
@@ -45,9 +46,12 @@ struct PlayOptions {
     int recordCrf = playbackDefaults().recordCrf;
     std::string forceLog;
     std::string stats;
-    std::string control; ///< Control socket path.
-    std::string config;  ///< TOML file.
-    std::string size;    ///< Output WxH, empty: 2·depth width × depth height.
+    std::string control;     ///< Control socket path.
+    std::string config;      ///< TOML file read after the default ones (play_config_files.h).
+    std::string inputConf;   ///< Key map file read after the default ones (mpv's input.conf).
+    bool noConfig = false;   ///< Read neither the system nor the user config file (mpv's name).
+    bool showConfig = false; ///< Print the settings in effect and where each came from; no play.
+    std::string size;        ///< Output WxH, empty: 2·depth width × depth height.
     int meshStep = playbackDefaults().meshStep;        ///< 0: adaptive level of detail.
     double osdSeconds = playbackDefaults().osdSeconds; ///< On-screen display after a command, s.
     double lodTarget = playbackDefaults().lodTarget;   ///< Share of a refresh period drawing takes.
@@ -73,6 +77,6 @@ void requestPlayStop() noexcept;
 /// from), 1 (pipeline failure, an output that could not be written, stopped while still opening),
 /// 2 (bad input: an option, an input that does not open, a control socket path or an output
 /// folder that cannot be used). Each failure is one line on stderr.
-PlayResult runPlay(const PlayOptions &options);
+PlayResult runPlay(const PlayOptions &options, const player::KeyMap &keys = {});
 
 } // namespace depthtouch::cli

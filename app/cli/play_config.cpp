@@ -61,19 +61,19 @@ const OptionRow<PlayOptions> *rowOfKey(const std::string &key)
     return nullptr;
 }
 
-std::string fileError(const std::string &path, const std::string &why)
+std::string fileError(std::string_view label, const std::string &path, const std::string &why)
 {
-    return "--config " + platform::quotedText(path) + ": " + why;
+    return std::string(label) + " " + platform::quotedText(path) + ": " + why;
 }
 
 } // namespace
 
-std::string readPlayConfigFile(const std::string &path, std::string &text)
+std::string readPlayConfigFile(const std::string &path, std::string &text, std::string_view label)
 {
     auto bytes = platform::readFileBounded(path, kMaxPlayConfigBytes, kPlayConfigFifoWait);
     if (!bytes) {
         char why[160];
-        return fileError(path, bytes.error().format(why, sizeof why));
+        return fileError(label, path, bytes.error().format(why, sizeof why));
     }
     text.assign(bytes->begin(), bytes->end());
     return {};
@@ -82,28 +82,40 @@ std::string readPlayConfigFile(const std::string &path, std::string &text)
 std::string applyPlayConfigText(std::string_view text, const std::string &path,
                                 const GivenOnCommandLine &given, PlayOptions &options)
 {
+    std::vector<std::string> applied;
+    return applyPlayConfigText(text, path, given, options, applied, kConfigOptionLabel);
+}
+
+std::string applyPlayConfigText(std::string_view text, const std::string &path,
+                                const GivenOnCommandLine &given, PlayOptions &options,
+                                std::vector<std::string> &applied, std::string_view label)
+{
     toml::table table;
     try {
         table = toml::parse(text, path);
     } catch (const toml::parse_error &e) {
         const toml::source_position &at = e.source().begin;
-        return fileError(path, "line " + std::to_string(at.line) + ": " +
-                                   platform::printableText(e.description()));
+        return fileError(label, path,
+                         "line " + std::to_string(at.line) + ": " +
+                             platform::printableText(e.description()));
     }
     for (const auto &[k, node] : table) {
         const std::string key(k.str());
         const OptionRow<PlayOptions> *row = rowOfKey(key);
         if (row == nullptr)
-            return fileError(path, "unknown key " + platform::quotedText(key));
+            return fileError(label, path, "unknown key " + platform::quotedText(key));
         // The type is checked on a scratch copy when the command line gives the option.
         PlayOptions scratch;
-        PlayOptions &into = given && given(key) ? scratch : options;
+        const bool fromCommandLine = given && given(key);
+        PlayOptions &into = fromCommandLine ? scratch : options;
         const auto &value = node; // a lambda may not capture a structured binding (clang 14)
         const bool stored =
             std::visit([&](auto field) { return storeValue(value, into.*field); }, row->field);
         if (!stored)
-            return fileError(path,
+            return fileError(label, path,
                              platform::quotedText(key) + " has the wrong type or is out of range");
+        if (!fromCommandLine)
+            applied.push_back(key);
     }
     return {};
 }

@@ -14,6 +14,7 @@
 #include <functional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "play.h"
 
@@ -25,12 +26,19 @@ inline constexpr std::size_t kMaxPlayConfigBytes = std::size_t{1} << 20;
 /// writes at once).
 inline constexpr std::chrono::milliseconds kPlayConfigFifoWait{2000};
 
+/// How an error names the file of `--config`, and a default config file.
+inline constexpr std::string_view kConfigOptionLabel = "--config";
+inline constexpr std::string_view kConfigFileLabel = "config file";
+
 /// \brief Reads the config file \a path into \a text, bounded (platform::readFileBounded): at
 /// most kMaxPlayConfigBytes (/dev/zero is refused after that), a FIFO waits at most
 /// kPlayConfigFifoWait for its writer, a directory or socket is refused.
+/// \a label names the file in the error: kConfigOptionLabel, or kConfigFileLabel for a default
+/// file (play_config_files.h).
 /// \return an empty string, or the error line (e.g. "--config '/dev/zero': is larger than the
 /// limit (InvalidArgument)").
-std::string readPlayConfigFile(const std::string &path, std::string &text);
+std::string readPlayConfigFile(const std::string &path, std::string &text,
+                               std::string_view label = kConfigOptionLabel);
 
 /// Whether the option of a key (its long name without dashes, e.g. "stiffness") was given on
 /// the command line.
@@ -42,5 +50,11 @@ using GivenOnCommandLine = std::function<bool(const std::string &key)>;
 /// out of range). \a options may be partly updated on error.
 std::string applyPlayConfigText(std::string_view text, const std::string &path,
                                 const GivenOnCommandLine &given, PlayOptions &options);
+
+/// \brief As above; also appends to \a applied each key it applied (not those of the command
+/// line), and names the file in errors after \a label (kConfigOptionLabel, kConfigFileLabel).
+std::string applyPlayConfigText(std::string_view text, const std::string &path,
+                                const GivenOnCommandLine &given, PlayOptions &options,
+                                std::vector<std::string> &applied, std::string_view label);
 
 } // namespace depthtouch::cli

@@ -49,7 +49,7 @@ Result<void> ControlLoop::runUntil(platform::TimePoint until)
 void ControlLoop::handleKey(const hal::KeyEvent &event)
 {
     ++stats_.keys;
-    const std::optional<player::Command> command = player::commandForKey(event);
+    const std::optional<player::Command> command = machine_.keyMap().commandFor(event);
     if (!command)
         return;
     ++stats_.keyCommands;

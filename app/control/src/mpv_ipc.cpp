@@ -255,7 +255,7 @@ std::string keypress(const json &command, const json *requestId, player::StateMa
     const hal::Key key = hal::keyFromName(command[1].get_ref<const std::string &>().c_str());
     if (key == hal::Key::Unknown)
         return reply(kInvalid, requestId);
-    const char *text = player::commandTextForKey(key);
+    const char *text = machine.keyMap().commandText(key);
     if (text == nullptr)
         return reply("success", requestId); // an unbound key does nothing, as in mpv
     return run(machine, text, requestId);

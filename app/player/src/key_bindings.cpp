@@ -1,5 +1,7 @@
 #include "depthtouch/player/key_bindings.h"
 
+#include <algorithm>
+
 namespace depthtouch::player {
 
 namespace {
@@ -31,11 +33,92 @@ constexpr KeyBinding kBindings[] = {
     {Key::Power, "quit"},
 };
 
+/// \return \a text without the spaces and tabs at its ends.
+std::string_view trimmed(std::string_view text)
+{
+    const std::size_t begin = text.find_first_not_of(" \t\r");
+    if (begin == std::string_view::npos)
+        return {};
+    return text.substr(begin, text.find_last_not_of(" \t\r") - begin + 1);
+}
+
 } // namespace
 
 std::span<const KeyBinding> defaultKeyBindings() noexcept
 {
     return kBindings;
+}
+
+KeyMap::KeyMap()
+{
+    for (const KeyBinding &b : kBindings)
+        bindings_.emplace_back(b.key, b.command);
+}
+
+std::string KeyMap::apply(std::string_view text)
+{
+    constexpr std::size_t kMaxLine = 256;
+    constexpr int kMaxLines = 1000;
+    std::vector<std::pair<hal::Key, std::string>> out = bindings_;
+    int lineNo = 0;
+    for (std::size_t at = 0; at <= text.size(); ++lineNo) {
+        const std::size_t end = std::min(text.find('\n', at), text.size());
+        std::string_view line = text.substr(at, end - at);
+        at = end + 1;
+        const std::string where = "line " + std::to_string(lineNo + 1) + ": ";
+        if (lineNo >= kMaxLines)
+            return where + "more than 1000 lines";
+        if (line.size() > kMaxLine)
+            return where + "longer than 256 bytes";
+        line = trimmed(line.substr(0, line.find('#')));
+        if (line.empty())
+            continue;
+        const std::size_t space = std::min(line.find_first_of(" \t"), line.size());
+        const std::string name(line.substr(0, space));
+        const std::string command(trimmed(line.substr(space)));
+        const hal::Key key = hal::keyFromName(name.c_str());
+        if (key == hal::Key::Unknown)
+            return where + "unknown key '" + name + "'";
+        const auto bound =
+            std::find_if(out.begin(), out.end(), [key](const auto &b) { return b.first == key; });
+        if (command == "ignore") {
+            if (bound != out.end())
+                out.erase(bound);
+            continue;
+        }
+        const ParsedCommand parsed = parseCommandText(command);
+        if (!parsed)
+            return where + (command.empty() ? std::string("no command for ") + name : parsed.error);
+        if (bound != out.end())
+            bound->second = command;
+        else
+            out.emplace_back(key, command);
+    }
+    bindings_ = std::move(out);
+    return {};
+}
+
+const char *KeyMap::commandText(hal::Key key) const noexcept
+{
+    for (const auto &[k, command] : bindings_)
+        if (k == key)
+            return command.c_str();
+    return nullptr;
+}
+
+std::optional<Command> KeyMap::commandFor(const hal::KeyEvent &event) const
+{
+    if (event.action == hal::KeyAction::Release)
+        return std::nullopt;
+    const char *text = commandText(event.key);
+    if (text == nullptr)
+        return std::nullopt;
+    ParsedCommand parsed = parseCommandText(text);
+    if (!parsed)
+        return std::nullopt;
+    if (event.action == hal::KeyAction::Repeat && !commandSpec(parsed.command->id).autoRepeat)
+        return std::nullopt;
+    return std::move(parsed.command);
 }
 
 const char *commandTextForKey(hal::Key key) noexcept
@@ -48,17 +131,8 @@ const char *commandTextForKey(hal::Key key) noexcept
 
 std::optional<Command> commandForKey(const hal::KeyEvent &event)
 {
-    if (event.action == hal::KeyAction::Release)
-        return std::nullopt;
-    const char *text = commandTextForKey(event.key);
-    if (text == nullptr)
-        return std::nullopt;
-    ParsedCommand parsed = parseCommandText(text);
-    if (!parsed)
-        return std::nullopt;
-    if (event.action == hal::KeyAction::Repeat && !commandSpec(parsed.command->id).autoRepeat)
-        return std::nullopt;
-    return std::move(parsed.command);
+    static const KeyMap defaults;
+    return defaults.commandFor(event);
 }
 
 } // namespace depthtouch::player

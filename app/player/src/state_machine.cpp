@@ -316,7 +316,7 @@ bool isRefusal(Errc code) noexcept
 StateMachine::StateMachine(PlayerActions &actions, PlayerSettings settings)
     : actions_(actions), url_(std::move(settings.url)), loop_(settings.loop),
       reopenWhenSilent_(settings.reopenWhenSilent), stereoMode_(settings.stereoMode),
-      haptics_(settings.haptics), range_(settings.range)
+      haptics_(settings.haptics), range_(settings.range), keys_(std::move(settings.keys))
 {
     if (range_.min > range_.max)
         std::swap(range_.min, range_.max);

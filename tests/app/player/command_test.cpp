@@ -219,5 +219,61 @@ TEST(KeyBindingsTest, pressSendsRepeatOnlyWhereItMakesSense)
     EXPECT_FALSE(commandForKey(key(hal::Key::Digit7, A::Press))) << "unbound key";
 }
 
+// A key map in mpv's input.conf form rebinds the defaults line by line: comments and blank lines
+// are skipped, mpv's and the kernel's key names both read, a later line wins, `ignore` unbinds,
+// a new key is bound; a wrong line names its number and changes nothing.
+TEST(KeyBindingsTest, aKeyMapRebindsTheDefaultsAsMpvsInputConf)
+{
+    using A = hal::KeyAction;
+    KeyMap keys;
+    EXPECT_STREQ(keys.commandText(hal::Key::Up), "stiffness +"); // the defaults
+    EXPECT_EQ(keys.commandText(hal::Key::Blue), nullptr);
+    const std::string conf = "# a remote's key map\n"
+                             "\n"
+                             "UP        seek 60   # Kodi's big step\n"
+                             "KEY_DOWN  seek -60\n"
+                             "volume_up stiffness +\n"
+                             "BLUE      haptics toggle\n"
+                             "BLUE      recenter\n" // a later line wins
+                             "EXIT      ignore\n";
+    ASSERT_EQ(keys.apply(conf), "");
+    auto c = keys.commandFor(key(hal::Key::Up, A::Repeat)); // seek repeats
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->id, CommandId::Seek);
+    EXPECT_EQ(c->seconds, 60.0);
+    c = keys.commandFor(key(hal::Key::Down, A::Press));
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->seconds, -60.0);
+    c = keys.commandFor(key(hal::Key::VolumeUp, A::Press));
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->id, CommandId::Stiffness);
+    EXPECT_EQ(c->stiffnessChange, StiffnessChange::Up);
+    c = keys.commandFor(key(hal::Key::Blue, A::Press));
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->id, CommandId::Recenter);
+    EXPECT_FALSE(keys.commandFor(key(hal::Key::Exit, A::Press))) << "ignore unbinds";
+    c = keys.commandFor(key(hal::Key::Power, A::Press)); // untouched defaults stay
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->id, CommandId::Quit);
+
+    const std::pair<std::string, std::string> wrong[] = {
+        {"UP seek 5\nFROBNICATE quit\n", "line 2: unknown key 'FROBNICATE'"},
+        {"UP\n", "line 1: no command for UP"},
+        {"UP seek\n", "line 1: "},
+        {"UP jump 5\n", "line 1: "},
+        {std::string(300, 'x') + "\n", "line 1: longer than 256 bytes"},
+    };
+    for (const auto &[text, want] : wrong) {
+        KeyMap k;
+        const std::string err = k.apply(text);
+        EXPECT_EQ(err.rfind(want, 0), 0u) << text << " -> " << err;
+        EXPECT_STREQ(k.commandText(hal::Key::Up), "stiffness +") << "a wrong file changed a key";
+    }
+    std::string many;
+    for (int i = 0; i < 1001; ++i)
+        many += "# a comment\n";
+    EXPECT_EQ(KeyMap().apply(many), "line 1001: more than 1000 lines");
+}
+
 } // namespace
 } // namespace depthtouch::player

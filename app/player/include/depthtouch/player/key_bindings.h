@@ -1,14 +1,20 @@
 #pragma once
 /// \file
-/// \brief Remote-control keys to commands: one declarative table shared by every RemoteInput
-/// backend (evdev remotes, the terminal keyboard, scripted mock keys).
+/// \brief Remote-control keys to commands: the default bindings, one declarative table shared by
+/// every RemoteInput backend (evdev remotes, the terminal keyboard, scripted mock keys), and a
+/// KeyMap that a key map file in mpv's `input.conf` form rebinds (docs/playing.md, "Keys").
 ///
 /// A press sends the key's command; an auto-repeat sends it again only when the command allows
 /// it (CommandSpec::autoRepeat: seek, stiffness); a release sends nothing.
-/// Thread-safety: the table is immutable; the functions are reentrant.
+/// Thread-safety: the table is immutable; a KeyMap is built at setup and only read after (its
+/// const members are reentrant).
 
 #include <optional>
 #include <span>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
 
 #include "depthtouch/hal/remote_input.h"
 #include "depthtouch/player/command.h"
@@ -21,14 +27,47 @@ struct KeyBinding {
     const char *command;
 };
 
-/// \return the default bindings (see the README's "Remote control" section).
+/// \return the default bindings (docs/playing.md, "Keys").
 std::span<const KeyBinding> defaultKeyBindings() noexcept;
 
-/// \return the command text bound to \a key, or nullptr when the key is not bound.
+/// \brief The keys' commands in effect: the defaults, rebound line by line by key map files.
+///
+/// A key map file is mpv's `input.conf`: one binding a line, `KEY command [arguments]`, `#` starts
+/// a comment, blank lines are skipped. KEY is a key name as hal::keyFromName() reads it (the
+/// kernel's KEY_VOLUMEUP, or mpv's VOLUME_UP, UP, ENTER, PLAYPAUSE: case and '_' do not matter);
+/// the command is a control command (parseCommandText(): `seek -30`, `stiffness +`, `haptics
+/// toggle`); `ignore` unbinds the key, as in mpv.
+class KeyMap {
+public:
+    /// The default bindings.
+    KeyMap();
+
+    /// \brief Applies the bindings of key map \a text, in order (a later line for the same key
+    /// wins). Nothing is applied when a line is wrong.
+    /// \return an empty string, or "line N: " and what is wrong (an unknown key, a command that
+    /// does not parse, a line over 256 bytes, more than 1000 lines).
+    std::string apply(std::string_view text);
+
+    /// \return the command text bound to \a key, or nullptr when the key is not bound.
+    [[nodiscard]] const char *commandText(hal::Key key) const noexcept;
+    /// \return the command \a event sends, or std::nullopt (unbound key, release, or a repeat of a
+    /// command that does not auto-repeat).
+    [[nodiscard]] std::optional<Command> commandFor(const hal::KeyEvent &event) const;
+    /// \return every binding in effect, in the defaults' order, then the keys bound later.
+    [[nodiscard]] const std::vector<std::pair<hal::Key, std::string>> &bindings() const noexcept
+    {
+        return bindings_;
+    }
+
+private:
+    std::vector<std::pair<hal::Key, std::string>> bindings_;
+};
+
+/// \return the command text the default bindings give \a key, or nullptr when it is not bound.
 const char *commandTextForKey(hal::Key key) noexcept;
 
-/// \return the command \a event sends, or std::nullopt (unbound key, release, or a repeat of a
-/// command that does not auto-repeat).
+/// \return the command \a event sends with the default bindings, or std::nullopt (unbound key,
+/// release, or a repeat of a command that does not auto-repeat).
 std::optional<Command> commandForKey(const hal::KeyEvent &event);
 
 } // namespace depthtouch::player

@@ -38,6 +38,7 @@
 #include "depthtouch/platform/macros.h"
 #include "depthtouch/platform/result.h"
 #include "depthtouch/player/command.h"
+#include "depthtouch/player/key_bindings.h"
 
 namespace depthtouch::player {
 
@@ -184,6 +185,7 @@ struct PlayerSettings {
     bool haptics = true;
     double stiffness = 800.0; ///< N/m, clamped into range.
     StiffnessRange range;
+    KeyMap keys; ///< The remote's keys (the defaults, or as key map files rebound them).
 };
 
 /// \brief The player state machine. See the file comment for the diagram and the rules.
@@ -232,6 +234,8 @@ public:
     [[nodiscard]] const StiffnessRange &stiffnessRange() const noexcept { return range_; }
     [[nodiscard]] bool loop() const noexcept { return loop_; }
     [[nodiscard]] const std::string &url() const noexcept { return url_; }
+    /// The key bindings the remote and mpv's keypress use (fixed at construction).
+    [[nodiscard]] const KeyMap &keyMap() const noexcept { return keys_; }
     /// The reason of the last failure (kept until the next one).
     [[nodiscard]] const std::string &errorReason() const noexcept { return errorReason_; }
     /// True once quit was accepted.
@@ -265,6 +269,7 @@ private:
     bool haptics_;
     double stiffness_;
     StiffnessRange range_;
+    KeyMap keys_;
     std::string errorReason_;
     bool quit_ = false;
     bool eofReached_ = false; ///< The stream ended without loop (mpv's eof-reached).

@@ -1,0 +1,205 @@
+/// \file
+/// \brief Where `play`'s settings come from: see play_config_files.h.
+
+#include "play_config_files.h"
+
+#include <charconv>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <optional>
+#include <sstream>
+#include <system_error>
+#include <type_traits>
+#include <variant>
+
+#include <toml++/toml.h>
+
+#include "depthtouch/platform/message_text.h"
+#include "option_table.h"
+#include "play_options.h"
+
+#ifndef DT_SYSTEM_CONFIG_DIR
+#define DT_SYSTEM_CONFIG_DIR "/etc/depthtouch"
+#endif
+
+namespace depthtouch::cli {
+
+namespace {
+
+constexpr const char *kFileName = "play.toml";
+constexpr const char *kKeyMapName = "input.conf";
+constexpr const char *kCommandLine = "command line";
+
+/// \return the environment variable \a name, or nullopt when unset.
+std::optional<std::string> environment(const char *name)
+{
+    const char *v = std::getenv(name);
+    return v == nullptr ? std::nullopt : std::optional<std::string>(v);
+}
+
+/// \return \a v as TOML's shortest float text that reads back the same (0.9, not toml++'s
+/// 17-digit 0.90000000000000002), with ".0" when it would read as an integer.
+std::string floatText(double v)
+{
+    char buf[64];
+    const std::to_chars_result r = std::to_chars(buf, buf + sizeof buf, v);
+    std::string text(buf, r.ptr);
+    if (text.find_first_of(".eni") == std::string::npos) // not 1e+30, inf or nan
+        text += ".0";
+    return text;
+}
+
+/// \return the TOML line "key = value" of \a value (a string, a number, a boolean or an array of
+/// them); nullopt for an unset number.
+template <class T> std::optional<std::string> tomlLine(const std::string &key, const T &value)
+{
+    toml::table t;
+    if constexpr (std::is_same_v<T, std::string> || std::is_same_v<T, bool>) {
+        t.insert(key, value);
+    } else if constexpr (std::is_floating_point_v<T>) {
+        return key + " = " + floatText(static_cast<double>(value));
+    } else if constexpr (std::is_integral_v<T>) {
+        t.insert(key, static_cast<std::int64_t>(value));
+    } else if constexpr (std::is_same_v<T, std::optional<double>>) {
+        if (!value)
+            return std::nullopt;
+        return key + " = " + floatText(*value);
+    } else {
+        toml::array a; // std::vector of strings or numbers
+        for (const auto &item : value) {
+            if constexpr (std::is_integral_v<std::decay_t<decltype(item)>>)
+                a.push_back(static_cast<std::int64_t>(item));
+            else
+                a.push_back(item);
+        }
+        t.insert(key, std::move(a));
+    }
+    // Basic strings ("kms"), as the examples in the docs write them, not literal ones ('kms').
+    constexpr toml::format_flags kFlags =
+        toml::toml_formatter::default_flags & ~toml::format_flags::allow_literal_strings;
+    std::ostringstream out;
+    out << toml::toml_formatter{t, kFlags};
+    return out.str();
+}
+
+} // namespace
+
+ConfigDirs configDirsFromEnvironment()
+{
+    ConfigDirs dirs;
+    dirs.system = environment("DT_SYSTEM_CONFIG_DIR").value_or(DT_SYSTEM_CONFIG_DIR);
+    // XDG Base Directory Specification: a relative XDG_CONFIG_HOME is invalid and ignored.
+    const std::string xdg = environment("XDG_CONFIG_HOME").value_or("");
+    const std::string home = environment("HOME").value_or("");
+    if (!xdg.empty() && xdg.front() == '/')
+        dirs.user = xdg + "/depthtouch";
+    else if (!home.empty())
+        dirs.user = home + "/.config/depthtouch";
+    return dirs;
+}
+
+/// \return \a name in the default folders (unless \a noConfig), then \a given (when not empty).
+std::vector<PlayConfigFile> filesNamed(const ConfigDirs &dirs, const char *name, bool noConfig,
+                                       const std::string &given)
+{
+    std::vector<PlayConfigFile> files;
+    if (!noConfig) {
+        for (const std::string *dir : {&dirs.system, &dirs.user})
+            if (!dir->empty())
+                files.push_back({*dir + "/" + name, false});
+    }
+    if (!given.empty())
+        files.push_back({given, true});
+    return files;
+}
+
+std::vector<PlayConfigFile> playConfigFiles(const ConfigDirs &dirs, const PlayOptions &options)
+{
+    return filesNamed(dirs, kFileName, options.noConfig, options.config);
+}
+
+std::vector<PlayConfigFile> keyMapFiles(const ConfigDirs &dirs, const PlayOptions &options)
+{
+    return filesNamed(dirs, kKeyMapName, options.noConfig, options.inputConf);
+}
+
+std::string loadKeyMapFiles(const std::vector<PlayConfigFile> &files, player::KeyMap &keys)
+{
+    for (const PlayConfigFile &file : files) {
+        std::error_code ec;
+        if (!file.required && !std::filesystem::exists(file.path, ec))
+            continue;
+        const std::string_view label = file.required ? "--input-conf" : "key map";
+        std::string text;
+        std::string error = readPlayConfigFile(file.path, text, label);
+        if (error.empty()) {
+            error = keys.apply(text);
+            if (!error.empty())
+                error = std::string(label) + " " + platform::quotedText(file.path) + ": " +
+                        platform::printableText(error, 200);
+        }
+        if (!error.empty())
+            return error;
+    }
+    return {};
+}
+
+PlayConfigLoad loadPlayConfigFiles(const std::vector<PlayConfigFile> &files,
+                                   const GivenOnCommandLine &given, PlayOptions &options)
+{
+    PlayConfigLoad load;
+    for (const PlayConfigFile &file : files) {
+        std::error_code ec;
+        if (!file.required && !std::filesystem::exists(file.path, ec)) {
+            load.absent.push_back(file.path);
+            continue;
+        }
+        const std::string_view label = file.required ? kConfigOptionLabel : kConfigFileLabel;
+        std::string text;
+        load.error = readPlayConfigFile(file.path, text, label);
+        std::vector<std::string> applied;
+        if (load.error.empty())
+            load.error = applyPlayConfigText(text, file.path, given, options, applied, label);
+        if (!load.error.empty())
+            return load;
+        load.read.push_back(file.path);
+        for (const std::string &key : applied)
+            load.origins[key] = file.path;
+    }
+    if (given) {
+        for (const OptionRow<PlayOptions> &row : playOptionTable()) {
+            const std::string key(row.name);
+            if ((row.flags & kCommandLineOnly) == 0 && given(key))
+                load.origins[key] = kCommandLine;
+        }
+    }
+    return load;
+}
+
+std::string showPlayConfig(const PlayOptions &options, const PlayConfigLoad &load)
+{
+    std::ostringstream out;
+    out << "# depthtouch play: the settings in effect (later sources win: the system file, the "
+           "user file, --config, the command line)\n";
+    for (const std::string &path : load.read)
+        out << "# read: " << path << "\n";
+    for (const std::string &path : load.absent)
+        out << "# not found: " << path << "\n";
+    for (const OptionRow<PlayOptions> &row : playOptionTable()) {
+        if ((row.flags & kCommandLineOnly) != 0)
+            continue;
+        const std::string key(row.name);
+        const auto at = load.origins.find(key);
+        const std::string origin = at == load.origins.end() ? "default" : at->second;
+        const std::optional<std::string> line =
+            std::visit([&](auto field) { return tomlLine(key, options.*field); }, row.field);
+        if (line)
+            out << *line << "  # " << origin << "\n";
+        else
+            out << "# " << key << " is not set  # " << origin << "\n";
+    }
+    return out.str();
+}
+
+} // namespace depthtouch::cli
