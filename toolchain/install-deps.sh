@@ -24,6 +24,8 @@ HOST_PACKAGES=(
     help2man dpkg-dev lintian systemd
     # the documentation's examples: socat talks to the control socket (docs/devices.md)
     socat
+    # the completion test runs the generated zsh function (bash is there already)
+    zsh
     # the HLS test serves a playlist over HTTP with busybox's httpd
     busybox
     # tests and benchmarks

@@ -115,7 +115,8 @@ const OptionRow<TouchOptions> kTouchRows[] = {
     {"max-force", &TouchOptions::maxForce, "Device maximum force (N, up to 1000)"},
     {"box-width", &TouchOptions::boxWidth, "Scene box width (m)"},
     {"box-depth", &TouchOptions::boxDepth, "Scene box depth (m)"},
-    {"method", &TouchOptions::method, "finger | modified | proxy-graph | mesh-bvh"},
+    {"method", &TouchOptions::method, "finger | modified | proxy-graph | mesh-bvh",
+     oneOf("finger modified proxy-graph mesh-bvh")},
     {"no-correction", &TouchOptions::noCorrection, "Turn off fix (a), collision correction"},
     {"no-interpolation", &TouchOptions::noInterpolation, "Turn off fix (b), surface interpolation"},
     {"no-safety", &TouchOptions::noSafety, "Turn off fix (c), force-jump safety"},
@@ -123,11 +124,12 @@ const OptionRow<TouchOptions> kTouchRows[] = {
      "Force change per update that trips safety (N); the default 2 N never trips while stroking "
      "smooth surfaces at 1 m/s (k=800: <= 0.8 N/update) and always trips at a cut of half the box "
      "depth (16 N)"},
-    {"reengage", &TouchOptions::reengage, "After a trip: release | ramp"},
+    {"reengage", &TouchOptions::reengage, "After a trip: release | ramp", oneOf("release ramp")},
     {"finger-contact", &TouchOptions::fingerContact,
      "How --method finger meets the surface: god-object (slides on from the last proxy) | penalty "
      "(the plane under the HIP) | adaptive (penalty while the HIP rests, god-object while it "
-     "slides); god-object is the default, as in play"},
+     "slides); god-object is the default, as in play",
+     oneOf("god-object penalty adaptive")},
     {"quiet", &TouchOptions::quiet,
      "No summary of the run (on stdout; on stderr when --out is stdout)"},
     {"finger-radius",

@@ -13,6 +13,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "completion.h"
 #include "suggest.h"
 
 namespace {
@@ -21,13 +22,10 @@ using depthtouch::cli::RegisterCommand;
 
 /// Every subcommand, in the order `depthtouch --help` lists them.
 constexpr RegisterCommand kCommands[] = {
-    &depthtouch::cli::registerDemoCommand,
-    &depthtouch::cli::registerPlayCommand,
-    &depthtouch::cli::registerBackendsCommand,
-    &depthtouch::cli::registerTouchCommand,
-    &depthtouch::cli::registerEncodeCommand,
-    &depthtouch::cli::registerProbeCommand,
-    &depthtouch::cli::registerBenchCommand,
+    &depthtouch::cli::registerDemoCommand,     &depthtouch::cli::registerPlayCommand,
+    &depthtouch::cli::registerBackendsCommand, &depthtouch::cli::registerTouchCommand,
+    &depthtouch::cli::registerEncodeCommand,   &depthtouch::cli::registerProbeCommand,
+    &depthtouch::cli::registerBenchCommand,    &depthtouch::cli::registerCompletionCommand,
 };
 
 /// \return \a exitCode, or for a command that succeeded kExitFailure after one line when the

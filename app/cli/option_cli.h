@@ -7,9 +7,11 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <map>
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <utility>
 
@@ -35,6 +37,14 @@ inline const CLI::Validator kNumberGiven(
         return std::string();
     },
     std::string());
+
+/// \brief The words the value of each option made from a table row with OptionCheck::Kind::Choices
+/// must be one of, separated by spaces: what shell completion offers (completion.h).
+inline std::map<const CLI::Option *, std::string_view> &optionChoices()
+{
+    static std::map<const CLI::Option *, std::string_view> choices;
+    return choices;
+}
 
 /// \brief Adds one CLI11 option (or flag, or argument) per row of \a table to \a cmd, each
 /// storing into its field of \a options (which must outlive the parse).
@@ -62,6 +72,8 @@ void addOptions(CLI::App &cmd, OptionTable<std::type_identity_t<Options>> table,
                         opt->required();
                     if ((row.flags & kCommaList) != 0)
                         opt->delimiter(',');
+                    if (row.check.kind == OptionCheck::Kind::Choices)
+                        optionChoices()[opt] = row.check.words;
                 }
             },
             row.field);

@@ -51,6 +51,9 @@ if(RUN) # the man pages are made by running the program: native builds only; one
     foreach(cmd ${commands})
         list(APPEND files usr/share/man/man1/depthtouch-${cmd}.1.gz)
     endforeach()
+    # shell completion, written by the program too
+    list(APPEND files usr/share/bash-completion/completions/depthtouch
+        usr/share/zsh/vendor-completions/_depthtouch)
 endif()
 foreach(p ${files})
     expect_file("${OUT}/stage" "${p}")
