@@ -341,6 +341,7 @@ void GlPresenter::setOverlays(const DrawInput &in)
         osd.hapticsOn = task != nullptr && task->enabled();
         osd.force = task != nullptr ? glm::length(task->lastForce()) : 0.0;
         osd.maxForce = std::max(1e-3, config_.haptics.renderer.maxForce);
+        osd.stiffness = task != nullptr ? task->stiffness() : 0.0;
         renderer_->setOsd(osd);
     }
 }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdio>
 #include <iterator>
 #include <string>
 
@@ -165,10 +167,17 @@ void StereoRenderer::drawOsd(const Viewport &vp)
     glBindBuffer(GL_ARRAY_BUFFER, g.osdVbo);
 
     const std::string haptics = osd_.hapticsOn ? "HAPTICS ON" : "HAPTICS OFF";
-    const std::size_t chars = std::max(osd_.status.size(), haptics.size());
+    std::string stiffness;
+    if (osd_.stiffness > 0.0 && std::isfinite(osd_.stiffness)) {
+        char buf[40];
+        std::snprintf(buf, sizeof buf, "STIFFNESS %.0f N/M", std::min(osd_.stiffness, 1e9));
+        stiffness = buf;
+    }
+    const std::size_t chars = std::max({osd_.status.size(), haptics.size(), stiffness.size()});
     const float barW = std::min(static_cast<float>(vp.width) * 0.4f, 12.0f * cw);
     const float panelW = std::max(static_cast<float>(chars) * cw, barW) + 2.0f * margin;
-    const float panelH = 3.0f * ch + 3.0f * margin;
+    const float lines = stiffness.empty() ? 3.0f : 4.0f;
+    const float panelH = lines * ch + lines * margin;
     // Translucent panel, then text, then the force bar (frame + fill from green to red).
     quad(margin, vh - margin - panelH, margin + panelW, vh - margin, 0, 0, 0, 0);
     flush(false, 0.0f, 0.0f, 0.0f, 0.5f);
@@ -182,6 +191,11 @@ void StereoRenderer::drawOsd(const Viewport &vp)
     else
         flush(true, 0.6f, 0.6f, 0.6f, 1.0f);
     y -= ch + 0.5f * margin;
+    if (!stiffness.empty()) {
+        text(stiffness, 2.0f * margin, y);
+        flush(true, 1.0f, 1.0f, 1.0f, 1.0f);
+        y -= ch + 0.5f * margin;
+    }
     const float x0 = 2.0f * margin;
     quad(x0, y - 0.6f * ch, x0 + barW, y, 0, 0, 0, 0);
     flush(false, 0.3f, 0.3f, 0.3f, 0.8f);

@@ -103,6 +103,54 @@ TEST_F(RenderGoldenTest, avatarOsdAndSnapshot)
             << y;
 }
 
+// The OSD shows the stiffness the finger feels (what the remote's Up and Down change) on a line of
+// its own under the haptics line: the panel grows by that line, and the line's pixels follow the
+// number (900 and 800 N/m, the same length of text, draw differently there and nowhere else).
+TEST_F(RenderGoldenTest, theOsdShowsTheStiffnessOnALineOfItsOwn)
+{
+    const Depth8 d(64, 48, [](int, int) { return 128; });
+    Yuv420 col(64, 48, [](int, int) { return std::array<int, 3>{126, 128, 128}; });
+    setMode(StereoMode::Mono, 1.2);
+    ASSERT_TRUE(renderer_->setDepth(d.view()));
+    ASSERT_TRUE(renderer_->setColor(col.view(), ColorSpec{}));
+    OsdState osd;
+    osd.visible = true;
+    osd.status = "PLAYING";
+    osd.hapticsOn = true;
+    renderer_->setOsd(osd);
+    const Picture without = draw(200, 150);
+    osd.stiffness = 900.0;
+    renderer_->setOsd(osd);
+    const Picture k900 = draw(200, 150);
+    osd.stiffness = 800.0;
+    renderer_->setOsd(osd);
+    const Picture k800 = draw(200, 150);
+    // Rows (from the top) where two pictures differ, over the whole width.
+    const auto rowsDiffering = [](const Picture &a, const Picture &b) {
+        std::vector<int> rows;
+        for (int y = 0; y < 150; ++y)
+            for (int x = 0; x < 200; ++x)
+                if (a.at(x, y).g != b.at(x, y).g || a.at(x, y).r != b.at(x, y).r) {
+                    rows.push_back(y);
+                    break;
+                }
+        return rows;
+    };
+    const std::vector<int> grown = rowsDiffering(without, k900);
+    const std::vector<int> number = rowsDiffering(k900, k800);
+    ASSERT_FALSE(grown.empty()) << "the stiffness line changed nothing";
+    ASSERT_FALSE(number.empty()) << "900 and 800 N/m look the same";
+    // The number's rows are one text line (8 px at this size) in the panel's top 60 rows, below
+    // the status and haptics lines (which 900 and 800 leave alone).
+    EXPECT_LE(number.back() - number.front(), 8);
+    EXPECT_GT(number.front(), 20);
+    EXPECT_LT(number.back(), 60);
+    // A stiffness of 0 (no haptic task) draws no line: the picture of the plain OSD.
+    osd.stiffness = 0.0;
+    renderer_->setOsd(osd);
+    EXPECT_TRUE(rowsDiffering(without, draw(200, 150)).empty());
+}
+
 TEST_F(RenderGoldenTest, theAvatarSphereIsRoundWhereItCutsTheSurface)
 {
     // GIVEN a flat surface and a large proxy sphere (r = 50 mm) sunk into it until only its front
