@@ -28,6 +28,14 @@ rate_of() {
 # line KEY: the --show-config line of KEY (without the origin); origin KEY: its origin.
 line() { grep "^$1 = " "$work/show" | sed 's/  # .*//'; }
 origin() { grep "^$1 = " "$work/show" | sed 's/.*  # //'; }
+# refused WANT ARGS...: play ARGS is exit 2 with one stderr line holding WANT.
+refused() {
+    want="$1"; shift
+    "$exe" play "$clip" "$@" >"$work/out" 2>"$work/err" </dev/null
+    rc=$?
+    [ "$rc" -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -qF -- "$want" "$work/err" ||
+        fail "play $*: exit $rc, '$(cat "$work/err")', want '$want'"
+}
 show() { "$exe" play --show-config "$@" >"$work/show" 2>"$work/err" </dev/null ||
     { cat "$work/err"; fail "--show-config $*: exit $?"; }; }
 
@@ -61,15 +69,8 @@ show --no-config
 
 # A broken system file is an error that names it (exit 2, one line); so is a missing --config.
 printf 'stifness = 1\n' >"$sys"
-"$exe" play "$clip" --source mock --decoder mock >"$work/out" 2>"$work/err" </dev/null
-rc=$?
-[ "$rc" -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] &&
-    grep -qF "config file '$sys': unknown key 'stifness'" "$work/err" ||
-    fail "broken system file: exit $rc, '$(cat "$work/err")'"
-"$exe" play "$clip" --no-config --config "$work/none.toml" >"$work/out" 2>"$work/err" </dev/null
-rc=$?
-[ "$rc" -eq 2 ] && grep -qF -- "--config '$work/none.toml'" "$work/err" ||
-    fail "missing --config: exit $rc, '$(cat "$work/err")'"
+refused "config file '$sys': unknown key 'stifness'" --source mock --decoder mock
+refused "--config '$work/none.toml'" --no-config --config "$work/none.toml"
 
 # The key map (mpv's input.conf) is found the same way: the blue key, unbound by default, quits
 # where the system input.conf binds it, and plays on where the user's unbinds it again (ignore).
@@ -95,9 +96,5 @@ p=$(playing_of --input-conf "$work/keys.conf") && quick "$p" || fail "--input-co
 p=$(playing_of --no-config) && ! quick "$p" || fail "--no-config read input.conf: played $p s"
 echo "key map: BLUE unbound by default, bound by the system input.conf, unbound by the user's"
 printf 'BLUE quit\nFOO quit\n' >"$work/etc/input.conf"
-"$exe" play "$clip" --source mock --decoder mock >"$work/out" 2>"$work/err" </dev/null
-rc=$?
-[ "$rc" -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] &&
-    grep -qF "key map '$work/etc/input.conf': line 2: unknown key 'FOO'" "$work/err" ||
-    fail "broken input.conf: exit $rc, '$(cat "$work/err")'"
+refused "key map '$work/etc/input.conf': line 2: unknown key 'FOO'" --source mock --decoder mock
 echo "config files: system, user, --config, command line in that order; errors name the file"
