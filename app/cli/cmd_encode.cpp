@@ -508,7 +508,8 @@ void registerEncodeCommand(CLI::App &app, int &exitCode)
     CLI::App *cmd = addTableCommand<EncodeCliOptions>(
         app, "encode", "Encode color + depth into one file or stream (H.264 color, 4:0:0 depth)",
         kEncodeRows, runEncode, exitCode);
-    cmd->get_option("--frames")->check(CLI::Validator(wholeFrameCount, "N >= 0"));
+    // No description: --help shows "INT" and the row's own help says what it must be.
+    cmd->get_option("--frames")->check(CLI::Validator(wholeFrameCount, ""));
 }
 
 } // namespace depthtouch::cli

@@ -60,7 +60,13 @@ void addOptions(CLI::App &cmd, OptionTable<std::type_identity_t<Options>> table,
             [&](auto field) {
                 auto &value = options.*field;
                 if constexpr (std::is_same_v<std::remove_reference_t<decltype(value)>, bool>) {
-                    cmd.add_flag(((row.flags & kNegated) != 0 ? "!" : "") + names, value, help);
+                    // A negated flag (--no-fifo) sets its field false; CLI11's "!" form would
+                    // show "--no-fifo{false}" in --help.
+                    if ((row.flags & kNegated) != 0)
+                        cmd.add_flag_callback(
+                            names, [&value] { value = false; }, help);
+                    else
+                        cmd.add_flag(names, value, help);
                 } else {
                     CLI::Option *opt = cmd.add_option(names, value, help);
                     if constexpr (!std::is_same_v<std::remove_reference_t<decltype(value)>,

@@ -34,6 +34,17 @@ says "'xyzzyplugh' is not a command (see --help)" xyzzyplugh
 # what CLI11 says well stays: a missing value, a value that is not a number
 says "url is required" play
 says "--stiffness" play x.mkv --stiffness abc
+# --help shows no parser artefacts: no "--no-fifo{false}" default, no validator name after a type
+# ("INT:N >= 0"), in any command's help
+for c in "" demo play backends touch encode probe completion "bench haptics" "bench render" \
+    "bench rt" "bench media" "bench feel"; do
+    # shellcheck disable=SC2086 # the command words are split on purpose
+    "$exe" $c --help >"$work/help" 2>&1 || fail "'$c --help': exit $?"
+    if grep -nE '\{(true|false)\}|\b(INT|UINT|FLOAT|TEXT):' "$work/help"; then
+        fail "'$c --help' shows a parser artefact"
+    fi
+done
+"$exe" bench haptics --help | grep -q -- "^  --no-fifo " || fail "bench haptics --help lacks --no-fifo"
 # and what is right still works
 "$exe" --version | grep -q "^depthtouch " || fail "--version"
 "$exe" play --help | grep -q -- "--stiffness" || fail "play --help"
