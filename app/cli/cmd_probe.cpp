@@ -7,6 +7,7 @@
 /// (docs/materials.md) is shown with its role, lossless or not and the value ranges of its first
 /// frame (decoded with libavcodec; regular files only: a FIFO or URL cannot be read twice).
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -221,6 +222,54 @@ nlohmann::json streamsJson(const ProbeReport &rep)
     return streams;
 }
 
+/// How long (s) audio stream \a a overlaps the picture, taken as [0, the longest video stream's
+/// span]; 0 when it does not, or when its length is unknown.
+double audioOverlap(const ProbeReport &rep, const hal::AudioStreamInfo &a)
+{
+    hal::Pts picture{0};
+    for (const hal::Pts span : rep.spans)
+        picture = std::max(picture, span);
+    const double begin = std::max(0.0, platform::toSeconds(a.start));
+    const double end =
+        std::min(platform::toSeconds(picture), platform::toSeconds(a.start + a.duration));
+    return std::max(0.0, end - begin);
+}
+
+/// The JSON report's "audio" array.
+nlohmann::json audioJson(const ProbeReport &rep)
+{
+    nlohmann::json audio = nlohmann::json::array();
+    for (const hal::AudioStreamInfo &a : rep.info.audio)
+        audio.push_back({{"stream", a.containerIndex},
+                         {"codec", a.codec},
+                         {"sample_rate", a.sampleRate},
+                         {"channels", a.channels},
+                         {"start_s", platform::toSeconds(a.start)},
+                         {"duration_s", platform::toSeconds(a.duration)},
+                         {"language", a.language.empty() ? nlohmann::json(nullptr)
+                                                         : nlohmann::json(a.language)},
+                         {"overlap_s", audioOverlap(rep, a)}});
+    return audio;
+}
+
+/// Prints one line per audio stream.
+void printAudioText(const ProbeReport &rep)
+{
+    for (const hal::AudioStreamInfo &a : rep.info.audio) {
+        char overlap[96];
+        if (const double o = audioOverlap(rep, a); o > 0.0)
+            std::snprintf(overlap, sizeof overlap, "overlaps the picture for %.3f s", o);
+        else
+            std::snprintf(overlap, sizeof overlap, "does not overlap the picture");
+        std::printf("audio: stream #%d %s, %d Hz, %d channel%s, %.3f s from %.3f s%s%s; %s "
+                    "(listed, not played: no audio output yet)\n",
+                    a.containerIndex, a.codec.c_str(), a.sampleRate, a.channels,
+                    a.channels == 1 ? "" : "s", platform::toSeconds(a.duration),
+                    platform::toSeconds(a.start), a.language.empty() ? "" : ", language ",
+                    a.language.c_str(), overlap);
+    }
+}
+
 /// Prints the report as JSON (--json).
 void printJsonReport(const ProbeOptions &opt, const ProbeReport &rep)
 {
@@ -233,6 +282,7 @@ void printJsonReport(const ProbeOptions &opt, const ProbeReport &rep)
     j["read_error"] =
         rep.demux.readError.empty() ? nlohmann::json(nullptr) : nlohmann::json(rep.demux.readError);
     j["streams"] = streamsJson(rep);
+    j["audio"] = audioJson(rep);
     if (depth != nullptr)
         j["depth_metadata"] = {{"near_m", depth->depth.nearMetres},
                                {"far_m", depth->depth.farMetres},
@@ -308,6 +358,7 @@ void printStreamsText(const ProbeOptions &opt, const ProbeReport &rep)
             std::printf("depth metadata: none\n");
     }
     printMaterialText(rep);
+    printAudioText(rep);
 }
 
 /// Prints the text report's pairing line and timestamp line.

@@ -18,6 +18,7 @@
 extern "C" {
 #include <libavutil/dict.h>
 #include <libavutil/mathematics.h>
+#include <libavutil/parseutils.h>
 #include <libavutil/pixdesc.h>
 }
 
@@ -194,6 +195,8 @@ struct FfmpegMediaSource::Impl {
     void addStream(unsigned i, int videoStreams, int videoOrdinal, const AVDictionary *serviceTags);
     /// Sets info.duration from the container, or from the longest listed stream.
     void readDuration() noexcept;
+    /// Lists the audio stream \a st in info.audio.
+    void addAudioStream(const AVStream &st);
     /// \return what libavformat opens for \a url: itself, or for a FIFO `pipe:FD` once a writer
     /// came within the timeout (open(2) of a FIFO would block until one does; the descriptor stays
     /// non-blocking so libavformat's reads honour the interrupt callback).
@@ -295,6 +298,8 @@ void FfmpegMediaSource::Impl::addStream(unsigned i, int videoStreams, int videoO
     AVFormatContext *ctx = fmt.get();
     const AVStream &st = *ctx->streams[i];
     const AVCodecParameters &par = *st.codecpar;
+    if (par.codec_type == AVMEDIA_TYPE_AUDIO)
+        addAudioStream(st);
     if (par.codec_type != AVMEDIA_TYPE_VIDEO)
         return;
     if ((st.disposition & AV_DISPOSITION_ATTACHED_PIC) != 0)
@@ -378,6 +383,29 @@ void FfmpegMediaSource::Impl::readDuration() noexcept
                     info.duration, hal::Pts(av_rescale_q(st.duration, st.time_base, kNanoseconds)));
         }
     }
+}
+
+void FfmpegMediaSource::Impl::addAudioStream(const AVStream &st)
+{
+    const AVCodecParameters &par = *st.codecpar;
+    hal::AudioStreamInfo a;
+    a.containerIndex = st.index;
+    a.codec = avcodec_get_name(par.codec_id);
+    a.sampleRate = par.sample_rate;
+    a.channels = par.ch_layout.nb_channels;
+    if (st.start_time != AV_NOPTS_VALUE)
+        a.start = hal::Pts(av_rescale_q(st.start_time, st.time_base, kNanoseconds)) - start;
+    // MKV gives no stream duration but libavformat's muxer writes a DURATION tag.
+    const AVDictionaryEntry *tag = av_dict_get(st.metadata, "DURATION", nullptr, 0);
+    std::int64_t tagged = 0;
+    if (st.duration != AV_NOPTS_VALUE && st.duration > 0)
+        a.duration = hal::Pts(av_rescale_q(st.duration, st.time_base, kNanoseconds));
+    else if (tag != nullptr && av_parse_time(&tagged, tag->value, 1) == 0 && tagged > 0)
+        a.duration = hal::Pts(av_rescale_q(tagged, kMicroseconds, kNanoseconds));
+    const AVDictionaryEntry *lang = av_dict_get(st.metadata, "language", nullptr, 0);
+    if (lang != nullptr && std::string_view(lang->value) != "und") // ISO 639-2 "undetermined"
+        a.language = lang->value;
+    info.audio.push_back(std::move(a));
 }
 
 Result<void> FfmpegMediaSource::Impl::open(const char *url)

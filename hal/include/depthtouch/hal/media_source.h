@@ -76,9 +76,24 @@ struct StreamInfo {
     DepthMetadata depth;                 ///< Meaningful when kind == StreamKind::Depth.
 };
 
+/// \brief An audio stream of the input, as the container describes it. Listed (`probe`), not
+/// delivered: read() returns no audio packets, and the player has no audio output yet.
+struct AudioStreamInfo {
+    int containerIndex = -1; ///< The stream's number in the container (not a Packet::streamIndex).
+    std::string codec;       ///< The codec's libavcodec name ("aac", "opus", "pcm_s16le").
+    int sampleRate = 0;      ///< Samples per second per channel, Hz; 0 when unknown.
+    int channels = 0;        ///< 0 when unknown.
+    /// The first sample's time on the clock of the video packets' Pts (the input's start is 0),
+    /// and the stream's length (zero when the container does not say).
+    Pts start{0};
+    Pts duration{0};
+    std::string language; ///< The language tag (ISO 639-2, "eng"), empty when none.
+};
+
 /// \brief What an opened source contains.
 struct MediaInfo {
     std::vector<StreamInfo> streams; ///< In container order; streams[i].index == i.
+    std::vector<AudioStreamInfo> audio; ///< Its audio streams, in container order.
     platform::Duration
         duration{};        ///< Length of the longest stream; zero when unknown (live stream).
     bool seekable = false; ///< Whether seek() can succeed.
