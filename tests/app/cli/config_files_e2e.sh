@@ -76,16 +76,18 @@ refused "--config '$work/none.toml'" --no-config --config "$work/none.toml"
 # where the system input.conf binds it, and plays on where the user's unbinds it again (ignore).
 rm -f "$sys"
 long="mock://clip?frames=900&fps=30&width=64&height=48"
-# playing_of ARGS...: playing_s of a mock play of 30 s with the blue key pressed at 0.3 s.
+# playing_of ARGS...: playing_s of a mock play of 30 s with the blue key pressed at 0.3 s, ended
+# after 5 s: a bound key ends it under 1.5 s, an unbound one plays on (robust to a start of up to
+# 3.5 s on a loaded or sanitized build).
 playing_of() {
     rm -f "$work/stats.json"
     "$exe" play "$long" --source mock --decoder mock --display mock --haptic mock --quiet \
-        --remote mock --remote-options keys=KEY_BLUE@0.3 --duration 3 \
+        --remote mock --remote-options keys=KEY_BLUE@0.3 --duration 5 \
         --stats "$work/stats.json" "$@" >"$work/out" 2>"$work/err" </dev/null ||
         { cat "$work/err"; fail "play $*: exit $?"; }
     python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["playing_s"])' "$work/stats.json"
 }
-quick() { python3 -c 'import sys; sys.exit(0 if float(sys.argv[1]) < 2.0 else 1)' "$1"; }
+quick() { python3 -c 'import sys; sys.exit(0 if float(sys.argv[1]) < 1.5 else 1)' "$1"; }
 p=$(playing_of) && ! quick "$p" || fail "the blue key is bound by default: played $p s"
 printf '# the blue key quits\nBLUE   quit   # as EXIT does\n' >"$work/etc/input.conf"
 p=$(playing_of) && quick "$p" || fail "the system input.conf's BLUE quit: played $p s"
