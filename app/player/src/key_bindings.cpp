@@ -121,18 +121,4 @@ std::optional<Command> KeyMap::commandFor(const hal::KeyEvent &event) const
     return std::move(parsed.command);
 }
 
-const char *commandTextForKey(hal::Key key) noexcept
-{
-    for (const KeyBinding &b : kBindings)
-        if (b.key == key)
-            return b.command;
-    return nullptr;
-}
-
-std::optional<Command> commandForKey(const hal::KeyEvent &event)
-{
-    static const KeyMap defaults;
-    return defaults.commandFor(event);
-}
-
 } // namespace depthtouch::player

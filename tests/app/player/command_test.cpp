@@ -191,6 +191,10 @@ TEST(KeyBindingsTest, everyBindingParses)
 TEST(KeyBindingsTest, pressSendsRepeatOnlyWhereItMakesSense)
 {
     using A = hal::KeyAction;
+    const KeyMap defaults;
+    const auto commandForKey = [&defaults](const hal::KeyEvent &e) {
+        return defaults.commandFor(e);
+    };
     auto c = commandForKey(key(hal::Key::PlayPause, A::Press));
     ASSERT_TRUE(c);
     EXPECT_EQ(c->id, CommandId::TogglePause);

@@ -63,11 +63,4 @@ private:
     std::vector<std::pair<hal::Key, std::string>> bindings_;
 };
 
-/// \return the command text the default bindings give \a key, or nullptr when it is not bound.
-const char *commandTextForKey(hal::Key key) noexcept;
-
-/// \return the command \a event sends with the default bindings, or std::nullopt (unbound key,
-/// release, or a repeat of a command that does not auto-repeat).
-std::optional<Command> commandForKey(const hal::KeyEvent &event);
-
 } // namespace depthtouch::player
