@@ -9,6 +9,8 @@
 #  3. (native builds) the package unpacked into a scratch root (dpkg-deb -x) runs: --version and a
 #     short demo from there.
 # -DBUILD=<build dir> -DOUT=<scratch folder> -DVERSION=<x.y.z> -DARCH=<Debian arch> -DRUN=ON|OFF
+# -DPAGES=ON|OFF (the build wrote the man pages and shell completion) -DRUN_PROGRAM=<the program, or
+# its emulator wrapper in a cross build>
 # -DSANITIZE=<the build's DT_SANITIZE> (RUN: a native build, whose program runs here; a sanitizer
 # build's package is not one that ships: lintian is not run on it)
 file(REMOVE_RECURSE "${OUT}")
@@ -37,10 +39,10 @@ set(files usr/bin/depthtouch usr/lib/systemd/system/depthtouch.service usr/lib/s
     usr/lib/udev/rules.d/60-novint-falcon.rules etc/depthtouch/play.toml usr/share/doc/depthtouch/README.md
     usr/share/doc/depthtouch/copyright usr/share/doc/depthtouch/changelog.gz
     usr/share/doc/depthtouch/docs/architecture.md)
-if(RUN) # the man pages are made by running the program: native builds only; one per command of
-    # the program's own --help
+if(PAGES) # the man pages are made by running the program (a cross build's through its emulator,
+    # RUN_PROGRAM); one per command of the program's own --help
     list(APPEND files usr/share/man/man1/depthtouch.1.gz)
-    execute_process(COMMAND "${BUILD}/app/cli/depthtouch" --help OUTPUT_VARIABLE top)
+    execute_process(COMMAND ${RUN_PROGRAM} --help OUTPUT_VARIABLE top)
     string(REGEX REPLACE ".*\nSubcommands:\n" "" listing "${top}")
     string(REGEX MATCHALL "(^|\n)  [a-z][a-z0-9-]*" commands "${listing}")
     string(REGEX REPLACE "(^|\n)  " "" commands "${commands}")
