@@ -1,0 +1,253 @@
+/// \file
+/// \brief The sender's muxer: containers, output files and URLs (see encoder.h).
+
+#include <array>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <string>
+
+extern "C" {
+#include <libavutil/opt.h>
+}
+
+#include "muxer_impl.h"
+#include "depthtouch/platform/enum_names.h"
+#include "depthtouch/platform/file_access.h"
+
+namespace depthtouch::media {
+
+using namespace detail;
+
+namespace {
+
+bool endsWith(const std::string &s, const char *suffix)
+{
+    const std::size_t n = std::strlen(suffix);
+    if (s.size() < n)
+        return false;
+    for (std::size_t i = 0; i < n; ++i) {
+        const char a = s[s.size() - n + i];
+        const char lower = (a >= 'A' && a <= 'Z') ? static_cast<char>(a - 'A' + 'a') : a;
+        if (lower != suffix[i])
+            return false;
+    }
+    return true;
+}
+
+} // namespace
+
+const char *containerName(Container c) noexcept
+{
+    static constexpr std::array<const char *, 4> kNames = {"matroska", "mp4", "mpegts", "hls"};
+    return platform::enumName(c, kNames, "matroska");
+}
+
+Result<Container> parseContainer(const std::string &text)
+{
+    if (text == "mkv" || text == "matroska")
+        return Container::Matroska;
+    if (text == "mp4")
+        return Container::Mp4;
+    if (text == "ts" || text == "mpegts")
+        return Container::MpegTs;
+    if (text == "hls")
+        return Container::Hls;
+    return unexpected(Errc::InvalidArgument, "Unknown container (use mkv, mp4, ts or hls)");
+}
+
+bool isOutputUrl(const std::string &output)
+{
+    const std::size_t p = output.find("://");
+    return p != std::string::npos && p > 0 && output.compare(0, p, "file") != 0;
+}
+
+Container containerForOutput(const std::string &output)
+{
+    // The path part of a URL may carry query options (udp://host:port?pkt_size=1316).
+    const std::string path = output.substr(0, output.find('?'));
+    if (endsWith(path, ".mp4") || endsWith(path, ".m4v") || endsWith(path, ".mov"))
+        return Container::Mp4;
+    if (endsWith(path, ".ts") || endsWith(path, ".m2ts") || endsWith(path, ".mts"))
+        return Container::MpegTs;
+    if (endsWith(path, ".mkv") || endsWith(path, ".mka") || endsWith(path, ".webm"))
+        return Container::Matroska;
+    if (endsWith(path, ".m3u8"))
+        return Container::Hls;
+    return isOutputUrl(output) ? Container::MpegTs : Container::Matroska;
+}
+
+Muxer::Muxer() : impl_(std::make_unique<Impl>()) {}
+Muxer::~Muxer() = default;
+
+Result<std::unique_ptr<Muxer>> Muxer::open(const MuxerOptions &options)
+{
+    if (options.output.empty())
+        return unexpected(Errc::InvalidArgument, "Empty output name");
+    quietFfmpegLog();
+    std::unique_ptr<Muxer> muxer(new Muxer());
+    Impl &m = *muxer->impl_;
+    m.container = options.container;
+    m.live = options.live;
+    m.output = options.output;
+    const bool url = isOutputUrl(options.output);
+    if (url && (options.output.compare(0, 6, "rtp://") == 0 ||
+                options.output.compare(0, 7, "rtsp://") == 0))
+        return unexpected(Errc::NotSupported,
+                          "RTP output is not supported: send MPEG-TS over udp:// or srt://, or "
+                          "HLS (a .m3u8 output) through an HTTP server");
+    std::string target = options.output;
+    if (options.container == Container::Hls && !url) {
+        // The playlist and each segment are written under a temporary name and renamed when
+        // complete (`hls_flags temp_file`), as they are made: a player may follow them while the
+        // encode runs. Every file the muxer writes is tracked (HlsFiles): a failed write is
+        // seen and, when the output fails, nothing of it is left. The folder must exist.
+        const std::filesystem::path dir =
+            std::filesystem::path(options.output).parent_path().empty()
+                ? std::filesystem::path(".")
+                : std::filesystem::path(options.output).parent_path();
+        std::error_code ec;
+        if (!std::filesystem::is_directory(dir, ec))
+            return unexpected(Errc::InvalidArgument, "the HLS output's folder does not exist");
+    } else if (!url) {
+        // Only a regular file or a new path is replaced (written aside, then renamed); a device or
+        // a FIFO with a reader is written in place; anything else is refused.
+        auto plan = platform::planOutput(options.output);
+        if (!plan)
+            return unexpected(Errc::InvalidArgument, plan.error().what, plan.error().sysErrno);
+        if (plan->mode == platform::OutputMode::Replace) {
+            m.tmpPath = plan->tempPath;
+            m.finalPath = plan->path;
+            target = m.tmpPath;
+        } else {
+            target = plan->path;
+        }
+    }
+
+    int ret = avformat_alloc_output_context2(&m.fmt, nullptr, containerName(options.container),
+                                             target.c_str());
+    if (ret < 0 || m.fmt == nullptr) {
+        DT_LOG(Media, Warning, "Failed to create muxer %s: %s", containerName(options.container),
+               AvErrorText(ret).text);
+        return unexpected(Errc::NotSupported, "FFmpeg lacks the container's muxer");
+    }
+    for (const auto &[key, value] : options.tags)
+        av_dict_set(&m.fmt->metadata, key.c_str(), value.c_str(), 0);
+    if (options.container == Container::Hls && !url) {
+        m.hls.install(m.fmt);
+        m.hlsFile = true;
+    }
+    if ((options.container == Container::MpegTs || options.container == Container::Hls) &&
+        !options.tags.empty()) {
+        // MPEG-TS carries neither stream titles nor free tags; its service (program) name does
+        // travel, so the tags go there as "key=value;…" (color is stream 0, depth stream 1).
+        std::string text;
+        for (const auto &[key, value] : options.tags)
+            text += (text.empty() ? "" : ";") + key + "=" + value;
+        av_dict_set(&m.fmt->metadata, "service_name", text.c_str(), 0);
+        av_dict_set(&m.fmt->metadata, "service_provider", "DepthTouch", 0);
+    }
+    if ((m.fmt->oformat->flags & AVFMT_NOFILE) == 0) {
+        AVDictionary *ioOpts = nullptr;
+        // Seven 188-byte TS packets per datagram (FFmpeg's UDP default of 1472 bytes splits them),
+        // unless the URL says otherwise.
+        if (url && options.container == Container::MpegTs &&
+            options.output.compare(0, 6, "udp://") == 0 &&
+            options.output.find("pkt_size") == std::string::npos)
+            av_dict_set(&ioOpts, "pkt_size", "1316", 0);
+        ret = avio_open2(&m.fmt->pb, target.c_str(), AVIO_FLAG_WRITE, nullptr, &ioOpts);
+        av_dict_free(&ioOpts);
+        if (ret < 0) {
+            DT_LOG(Media, Warning, "Failed to create %s: %s", target.c_str(),
+                   AvErrorText(ret).text);
+            return unexpected(Errc::Io, "Failed to create the output", errnoOf(ret));
+        }
+    }
+    return muxer;
+}
+
+Result<void> Muxer::start()
+{
+    Impl &m = *impl_;
+    if (m.started || m.fmt == nullptr || m.fmt->nb_streams == 0)
+        return unexpected(Errc::InvalidState, "Muxer started twice or without streams");
+    AVDictionary *opts = nullptr;
+    // MP4 keeps only its known tags unless asked to write the others (the depth tags).
+    if (m.container == Container::Mp4)
+        av_dict_set(&opts, "movflags", "+use_metadata_tags", 0);
+    if (m.container == Container::Hls) {
+        // Two-second MPEG-TS segments (Apple's recommendation for low latency is 2 to 6 s). Live:
+        // a window of six, older segments deleted; otherwise an event playlist of every segment,
+        // playable while it grows and closed by EXT-X-ENDLIST at the end.
+        av_dict_set(&opts, "hls_time", "2", 0);
+        av_dict_set(&opts, "hls_list_size", m.live ? "6" : "0", 0);
+        const char *flags = m.live ? "delete_segments" : "";
+        if (m.hlsFile)
+            flags = m.live ? "delete_segments+temp_file" : "temp_file";
+        if (*flags != '\0')
+            av_dict_set(&opts, "hls_flags", flags, 0);
+        if (!m.live)
+            av_dict_set(&opts, "hls_playlist_type", "event", 0);
+    }
+    const int ret = avformat_write_header(m.fmt, &opts);
+    av_dict_free(&opts);
+    if (ret < 0) {
+        DT_LOG(Media, Warning, "Failed to write the header of %s: %s", m.output.c_str(),
+               AvErrorText(ret).text);
+        return unexpected(ret == AVERROR(EINVAL) ? Errc::InvalidArgument : Errc::Io,
+                          "Failed to write the output's header", errnoOf(ret));
+    }
+    m.started = true;
+    return ok();
+}
+
+Result<void> Muxer::finish()
+{
+    Impl &m = *impl_;
+    if (!m.started || m.finished)
+        return unexpected(Errc::InvalidState, "Muxer finished twice or never started");
+    int ret = av_write_trailer(m.fmt);
+    if (ret >= 0 && m.hls.error() < 0)
+        ret = m.hls.error();
+    if (ret < 0)
+        DT_LOG(Media, Warning, "Failed to write the trailer of %s: %s", m.output.c_str(),
+               AvErrorText(ret).text);
+    int closeRet = 0;
+    if (m.fmt->pb != nullptr) {
+        avio_flush(m.fmt->pb);
+        if (m.fmt->pb->error < 0 && ret >= 0)
+            ret = m.fmt->pb->error;
+        closeRet = avio_closep(&m.fmt->pb);
+    }
+    if (ret < 0 || closeRet < 0) {
+        m.close(true);
+        return unexpected(Errc::Io, "Failed to finish the output",
+                          errnoOf(ret < 0 ? ret : closeRet));
+    }
+    if (!m.tmpPath.empty() && std::rename(m.tmpPath.c_str(), m.finalPath.c_str()) != 0) {
+        const int err = errno;
+        m.close(true);
+        return unexpected(Errc::Io, "Failed to rename the output into place", err);
+    }
+    m.finished = true;
+    m.close(false);
+    return ok();
+}
+
+void Muxer::abort() noexcept
+{
+    impl_->close(true);
+}
+
+long long Muxer::bytesWritten() const noexcept
+{
+    const Impl &m = *impl_;
+    return m.fmt != nullptr && m.fmt->pb != nullptr ? avio_tell(m.fmt->pb) : 0;
+}
+
+Container Muxer::container() const noexcept
+{
+    return impl_->container;
+}
+
+} // namespace depthtouch::media
