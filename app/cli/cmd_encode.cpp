@@ -54,6 +54,10 @@ struct EncodeCliOptions {
     int crf = 23;
     std::string preset = "medium";
     int depthCrf = 18;
+    int gop = 0;
+    std::string bitrate, maxrate, bufsize;                // ffmpeg's -b:v, -maxrate, -bufsize
+    std::string depthBitrate, depthMaxrate, depthBufsize; // the same for depth
+    std::string muxrate;                                  // ffmpeg's -muxrate (MPEG-TS)
     bool depthLossless = false;
     int depthBits = 8;
     std::string size;
@@ -98,6 +102,35 @@ bool parseSize(const std::string &text, int &w, int &h)
     return static_cast<bool>(ss >> w >> x >> h) && x == 'x' && ss.eof() && w > 0 && h > 0;
 }
 
+/// The bit-rate options as ffmpeg reads them into \a eo (checked together by
+/// EncodeOptions::validate()). Returns kExitOk, or the exit code after printing the one error line.
+int setRateOptions(const EncodeCliOptions &o, media::EncodeOptions &eo)
+{
+    const struct {
+        const char *name;
+        const std::string &text;
+        long long &value;
+    } rates[] = {{"--bitrate", o.bitrate, eo.colorRate.bitRate},
+                 {"--maxrate", o.maxrate, eo.colorRate.maxRate},
+                 {"--bufsize", o.bufsize, eo.colorRate.bufSize},
+                 {"--depth-bitrate", o.depthBitrate, eo.depthRate.bitRate},
+                 {"--depth-maxrate", o.depthMaxrate, eo.depthRate.maxRate},
+                 {"--depth-bufsize", o.depthBufsize, eo.depthRate.bufSize},
+                 {"--muxrate", o.muxrate, eo.muxRate}};
+    for (const auto &r : rates) {
+        if (r.text.empty())
+            continue;
+        const auto v = media::parseBitRate(r.text);
+        if (!v)
+            return fail(kExitBadInput, std::string(r.name) +
+                                           " must be bits/s as ffmpeg writes them "
+                                           "(500k, 4M, 2.5M; 1k or more)");
+        r.value = *v;
+    }
+    eo.gop = o.gop;
+    return kExitOk;
+}
+
 /// The output, container, color encoder, depth codec, grid and limits. Returns kExitOk, or the exit
 /// code after printing the one error line.
 int setOutputOptions(const EncodeCliOptions &o, media::EncodeOptions &eo)
@@ -135,7 +168,7 @@ int setOutputOptions(const EncodeCliOptions &o, media::EncodeOptions &eo)
     // A live output (a URL, an endless loop) leaves at the media rate, a file as fast as it can.
     eo.paced =
         o.realtime == "on" || (o.realtime == "auto" && (media::isOutputUrl(o.output) || o.loop));
-    return kExitOk;
+    return setRateOptions(o, eo);
 }
 
 /// The raw depth conversion, the nearness mapping and range, and the enhancement. Returns kExitOk,
@@ -444,6 +477,24 @@ const OptionRow<EncodeCliOptions> kEncodeRows[] = {
     {"crf", &EncodeCliOptions::crf, "Color x264 constant rate factor 0..51"},
     {"preset", &EncodeCliOptions::preset, "x264 preset (ultrafast ... veryslow)"},
     {"depth-crf", &EncodeCliOptions::depthCrf, "Depth x264 constant rate factor 0..51 (lossy)"},
+    {"gop",
+     &EncodeCliOptions::gop,
+     "Frames between key frames, the same pictures in every stream (ffmpeg -g; no scene-cut key "
+     "frames); each is a tune-in point (0: 2 s for URLs, --loop and HLS, x264's 250 otherwise)",
+     {},
+     0,
+     'g'},
+    {"bitrate", &EncodeCliOptions::bitrate,
+     "Color average bit rate in place of --crf (ffmpeg -b:v; bits/s: 500k, 4M)"},
+    {"maxrate", &EncodeCliOptions::maxrate,
+     "Color peak bit rate, with --bufsize (VBV; = --bitrate for constant bit rate)"},
+    {"bufsize", &EncodeCliOptions::bufsize, "Color VBV buffer size (bits: 2M)"},
+    {"depth-bitrate", &EncodeCliOptions::depthBitrate,
+     "Depth average bit rate in place of --depth-crf (lossy depth)"},
+    {"depth-maxrate", &EncodeCliOptions::depthMaxrate, "Depth peak bit rate, with --depth-bufsize"},
+    {"depth-bufsize", &EncodeCliOptions::depthBufsize, "Depth VBV buffer size (bits)"},
+    {"muxrate", &EncodeCliOptions::muxrate,
+     "Constant MPEG-TS mux rate, null-packet padded (ffmpeg -muxrate; bits/s; TS outputs only)"},
     {"depth-lossless", &EncodeCliOptions::depthLossless,
      "Lossless depth (x264 qp 0, High 4:4:4 Predictive)"},
     {"depth-bits", &EncodeCliOptions::depthBits,

@@ -27,6 +27,55 @@ std::string number(double v)
     return buf;
 }
 
+/// The rate options of one stream (\a depth: the --depth- ones).
+Result<void> validateRate(const RateControl &r, bool depth)
+{
+    if (r.bitRate < 0 || r.maxRate < 0 || r.bufSize < 0)
+        return unexpected(Errc::InvalidArgument, "Bit rates and buffer sizes must be >= 0");
+    if (r.maxRate > 0 && r.bufSize == 0)
+        return unexpected(Errc::InvalidArgument,
+                          depth ? "--depth-maxrate needs --depth-bufsize (the VBV buffer it drains)"
+                                : "--maxrate needs --bufsize (the VBV buffer it drains)");
+    if (r.bufSize > 0 && r.maxRate == 0)
+        return unexpected(Errc::InvalidArgument, depth ? "--depth-bufsize needs --depth-maxrate"
+                                                       : "--bufsize needs --maxrate");
+    if (r.maxRate > 0 && r.bitRate > r.maxRate)
+        return unexpected(Errc::InvalidArgument,
+                          depth ? "--depth-maxrate must be at least --depth-bitrate"
+                                : "--maxrate must be at least --bitrate");
+    return ok();
+}
+
+/// The bit-rate options together: each stream's, lossless depth's, the mux rate's container and
+/// its floor (the streams' peak rates, when both are bounded).
+Result<void> validateRates(const EncodeOptions &o, Container c)
+{
+    if (o.gop < 0 || o.gop > 100000)
+        return unexpected(Errc::InvalidArgument, "--gop must be in 0..100000 frames");
+    if (auto v = validateRate(o.colorRate, false); !v)
+        return v;
+    if (auto v = validateRate(o.depthRate, true); !v)
+        return v;
+    const RateControl &d = o.depthRate;
+    if ((d.bitRate > 0 || d.maxRate > 0) &&
+        (o.depthLossless || o.depthCodec == VideoCodec::Ffv1Gray16))
+        return unexpected(Errc::InvalidArgument, "--depth-bitrate and --depth-maxrate apply to "
+                                                 "lossy depth only (not --depth-lossless or "
+                                                 "--depth-bits 16)");
+    if (o.muxRate < 0)
+        return unexpected(Errc::InvalidArgument, "--muxrate must be >= 0");
+    if (o.muxRate > 0 && c != Container::MpegTs)
+        return unexpected(Errc::InvalidArgument,
+                          "--muxrate needs an MPEG-TS output (.ts, udp://, srt://)");
+    const long long colorPeak = o.colorRate.maxRate;
+    const long long depthPeak = d.maxRate;
+    if (o.muxRate > 0 && colorPeak > 0 && depthPeak > 0 && o.muxRate <= colorPeak + depthPeak)
+        return unexpected(
+            Errc::InvalidArgument,
+            "--muxrate must exceed --maxrate + --depth-maxrate (and the TS overhead)");
+    return ok();
+}
+
 } // namespace
 
 Result<void> EncodeOptions::validate() const
@@ -63,7 +112,7 @@ Result<void> EncodeOptions::validate() const
     const Container c = container.value_or(containerForOutput(output));
     if (depthCodec == VideoCodec::Ffv1Gray16 && c != Container::Matroska)
         return unexpected(Errc::InvalidArgument, "FFV1 gray16 depth needs an MKV output");
-    return ok();
+    return validateRates(*this, c);
 }
 
 std::vector<std::pair<std::string, std::string>>
@@ -250,6 +299,7 @@ Result<void> openOutputs(const EncodeOptions &options, const ColorShape &shape,
     mo.container = options.container.value_or(containerForOutput(options.output));
     mo.tags = tags;
     mo.live = options.paced;
+    mo.muxRate = options.muxRate;
     auto muxer = Muxer::open(mo);
     if (!muxer)
         return unexpected(muxer.error());
@@ -259,8 +309,10 @@ Result<void> openOutputs(const EncodeOptions &options, const ColorShape &shape,
                                               options.preset, options.threads);
     // A live stream and HLS segments: a key frame every 2 s (where a receiver can join, where a
     // segment can end).
-    if (options.paced || mo.container == Container::Hls)
+    cc.gop = options.gop;
+    if (cc.gop == 0 && (options.paced || mo.container == Container::Hls))
         cc.gop = std::max(1, static_cast<int>(std::lround(2.0 * shape.fps)));
+    cc.rate = options.colorRate;
     auto colorEnc = VideoEncoder::create(cc, *out.muxer);
     if (!colorEnc)
         return unexpected(colorEnc.error());
@@ -270,6 +322,7 @@ Result<void> openOutputs(const EncodeOptions &options, const ColorShape &shape,
     dc.codec = options.depthCodec;
     dc.crf = options.depthCrf;
     dc.lossless = options.depthLossless;
+    dc.rate = options.depthRate;
     dc.title = "depth";
     dc.tags = tags;
     auto depthEnc = VideoEncoder::create(dc, *out.muxer);

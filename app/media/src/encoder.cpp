@@ -3,9 +3,11 @@
 
 #include "depthtouch/media/encoder.h"
 
+#include <cmath>
 #include <string>
 
 extern "C" {
+#include <libavutil/eval.h>
 #include <libavutil/imgutils.h>
 #include <libavutil/opt.h>
 }
@@ -75,17 +77,41 @@ AVDictionary *encoderOptions(const VideoEncoderConfig &config, AVCodecContext &c
         c.gop_size = 1;
     } else {
         av_dict_set(&opts, "preset", config.preset.c_str(), 0);
-        if (config.gop > 0)
+        if (config.gop > 0) {
             c.gop_size = config.gop;
-        if (config.lossless || config.codec == VideoCodec::H264Rgb)
+            // Key frames on the gop grid only, so every stream of the output has its key frames
+            // on the same pictures (each a tune-in point for all of them).
+            av_dict_set(&opts, "x264-params", "scenecut=0", 0);
+        }
+        if (config.lossless || config.codec == VideoCodec::H264Rgb) {
             av_dict_set(&opts, "qp", "0", 0);
+            return opts;
+        }
+        // libx264 takes ABR when bit_rate is set and no crf is; the VBV caps either.
+        if (config.rate.bitRate > 0)
+            c.bit_rate = config.rate.bitRate;
         else
             av_dict_set(&opts, "crf", std::to_string(config.crf).c_str(), 0);
+        c.rc_max_rate = config.rate.maxRate;
+        c.rc_buffer_size = static_cast<int>(config.rate.bufSize);
     }
     return opts;
 }
 
 } // namespace
+
+std::optional<long long> parseBitRate(const std::string &text)
+{
+    constexpr double kMin = 1000.0;        // x264 counts kbit/s
+    constexpr double kMax = 1099511627776; // 2^40: beyond any link, and within x264's int kbit/s
+    if (text.empty() || text.front() == ' ' || text.front() == '\t')
+        return std::nullopt;
+    char *tail = nullptr;
+    const double v = av_strtod(text.c_str(), &tail);
+    if (tail == nullptr || *tail != '\0' || !(v >= kMin) || v > kMax || v != std::floor(v))
+        return std::nullopt;
+    return static_cast<long long>(v);
+}
 
 bool isEncodableSize(int width, int height) noexcept
 {

@@ -19,6 +19,7 @@ VideoEncoderConfig materialStreamConfig(const VideoEncoderConfig &base)
     VideoEncoderConfig mc = base;
     mc.codec = VideoCodec::H264Rgb;
     mc.lossless = true;
+    mc.rate = {}; // lossless: no rate control
     mc.title = scene::kMaterialTitle;
     mc.tags = {{scene::kMaterialPlanesTag, scene::kMaterialPlanesValue},
                {scene::kMaterialScalesTag, scene::kMaterialScalesValue}};

@@ -89,6 +89,7 @@ Result<std::unique_ptr<Muxer>> Muxer::open(const MuxerOptions &options)
     Impl &m = *muxer->impl_;
     m.container = options.container;
     m.live = options.live;
+    m.muxRate = options.muxRate;
     m.output = options.output;
     const bool url = isOutputUrl(options.output);
     if (url && (options.output.compare(0, 6, "rtp://") == 0 ||
@@ -175,6 +176,8 @@ Result<void> Muxer::start()
     // MP4 keeps only its known tags unless asked to write the others (the depth tags).
     if (m.container == Container::Mp4)
         av_dict_set(&opts, "movflags", "+use_metadata_tags", 0);
+    if (m.container == Container::MpegTs && m.muxRate > 0)
+        av_dict_set_int(&opts, "muxrate", m.muxRate, 0);
     if (m.container == Container::Hls) {
         // Two-second MPEG-TS segments (Apple's recommendation for low latency is 2 to 6 s). Live:
         // a window of six, older segments deleted; otherwise an event playlist of every segment,

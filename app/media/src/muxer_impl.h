@@ -20,6 +20,7 @@ struct Muxer::Impl {
     AVFormatContext *fmt = nullptr;
     Container container = Container::Matroska;
     bool live = false;
+    long long muxRate = 0; ///< MuxerOptions::muxRate.
     std::string output;
     std::string finalPath; ///< Where tmpPath is renamed to (the output, or a link's target).
     std::string tmpPath;   ///< Empty for URLs and outputs written in place (devices, FIFOs).

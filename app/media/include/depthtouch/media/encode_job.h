@@ -63,6 +63,12 @@ struct EncodeOptions {
     int depthCrf = 18;                            ///< Depth x264 CRF 0..51 (lossy).
     bool depthLossless = false;                   ///< Depth x264 qp 0 (FFV1 is always lossless).
     int threads = 0;                              ///< Encoder threads per stream; 0 = automatic.
+    /// Frames between key frames, the same in every stream (VideoEncoderConfig::gop: aligned, no
+    /// scene-cut key frames); 0: 2 s for a paced output and HLS, x264's default otherwise.
+    int gop = 0;
+    RateControl colorRate; ///< Color bit rate, maxrate, VBV buffer; default: the CRF alone.
+    RateControl depthRate; ///< Depth's likewise (lossy H.264 depth only).
+    long long muxRate = 0; ///< MPEG-TS constant mux rate, bits/s (MuxerOptions::muxRate); 0: none.
     int width = 0; ///< Output grid (pixels, even); 0 = the color size.
     int height = 0;
     /// Write at the media rate (as `ffmpeg -re`): pair n leaves no earlier than its PTS after the

@@ -19,6 +19,7 @@
 /// and its encoders).
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -66,6 +67,9 @@ struct MuxerOptions {
     /// A live stream (paced, possibly endless): an HLS playlist keeps a sliding window of six
     /// segments and deletes older ones; otherwise it lists every segment (an event playlist).
     bool live = false;
+    /// MPEG-TS only: a constant multiplex rate (bits/s, ffmpeg's `-muxrate`), padded with null
+    /// packets, as broadcast multiplexers and IPTV head-ends expect; 0: variable.
+    long long muxRate = 0;
 };
 
 class VideoEncoder;
@@ -122,6 +126,21 @@ enum class VideoCodec : std::uint8_t {
     H264Rgb,
 };
 
+/// \brief An H.264 stream's rate control, with ffmpeg's meanings (`-b:v`, `-maxrate`, `-bufsize`;
+/// libx264's ABR and VBV, H.264 Annex C's hypothetical reference decoder). Ignored by lossless
+/// streams (qp 0, FFV1). bitRate == maxRate with a bufSize is a constant bit rate for broadcast.
+struct RateControl {
+    long long bitRate = 0; ///< Average bits/s in place of the CRF (x264 ABR); 0: the CRF.
+    long long maxRate = 0; ///< Peak bits/s that the VBV buffer drains at; 0: none. Needs bufSize.
+    long long bufSize = 0; ///< VBV buffer (bits); 0: none.
+};
+
+/// \return a bit rate or buffer size as ffmpeg reads one (`-b:v 4M`): a number with an optional
+/// SI prefix (k, M, G; Ki, Mi, Gi for powers of 1024) and an optional B for bytes, parsed by
+/// libavutil's av_strtod(); nullopt when the text is not one, or the value is not whole bits
+/// in 1000..2^40 (x264 counts kbit/s).
+std::optional<long long> parseBitRate(const std::string &text);
+
 /// \brief Options of VideoEncoder::create().
 struct VideoEncoderConfig {
     VideoCodec codec = VideoCodec::H264Yuv420p;
@@ -132,9 +151,13 @@ struct VideoEncoderConfig {
     bool lossless = false; ///< x264 qp 0 (x264 then uses High 4:4:4 Predictive).
     std::string preset = "medium";                         ///< x264 preset (ultrafast … placebo).
     int threads = 0;                                       ///< Encoder threads; 0 = automatic.
-    /// H.264 frames between key frames (0: x264's default, 250). A live stream sets about 2 s,
-    /// the longest a joining receiver waits and the length of an HLS segment.
+    /// H.264 frames between key frames (0: x264's default, 250, with key frames at scene cuts
+    /// too). Set: a key frame exactly every gop frames and nowhere else (x264's scene-cut
+    /// detection off), so streams of one output with the same gop have their key frames on the
+    /// same pictures. A live stream sets about 2 s, the longest a joining receiver waits and the
+    /// length of an HLS segment.
     int gop = 0;
+    RateControl rate; ///< Bit rate (H.264, not lossless); default: the CRF alone.
     std::string title;                                     ///< Stream title ("color", "depth").
     std::vector<std::pair<std::string, std::string>> tags; ///< Extra stream metadata.
 };
