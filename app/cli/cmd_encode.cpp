@@ -502,8 +502,8 @@ const OptionRow<EncodeCliOptions> kEncodeRows[] = {
     {"size", &EncodeCliOptions::size, "Output grid WxH (default: the color size)"},
     {"threads", &EncodeCliOptions::threads, "Encoder threads per stream (0: automatic)"},
     {"loop", &EncodeCliOptions::loop,
-     "Loop image-sequence inputs forever (a live source; stop with --frames, --duration or "
-     "Ctrl-C)"},
+     "Loop the inputs forever: image sequences, pictures, video files (a live source; stop with "
+     "--frames, --duration or Ctrl-C)"},
     {"realtime", &EncodeCliOptions::realtime,
      "Write at the media rate, as a live sender: auto (for URL outputs and --loop) | on | off",
      oneOf("auto on off")},

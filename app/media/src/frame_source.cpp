@@ -7,7 +7,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <string>
+#include <string_view>
+#include <system_error>
 
 extern "C" {
 #include <libavutil/imgutils.h>
@@ -79,6 +82,9 @@ private:
     Result<void> decodeOne();
     /// Opens the image sequence again from image number \a n (after a gap in the numbers).
     Result<void> reopenSequenceAt(long long n);
+    /// A looped video file at its end: back to its start, the PTS going on after the frames so
+    /// far (as ffmpeg's -stream_loop -1).
+    Result<void> rewind();
     /// libavformat's interrupt callback: 1 (give up) once the I/O deadline has passed.
     static int interrupted(void *self) noexcept
     {
@@ -117,7 +123,23 @@ private:
     long long runImages_ = 0;
     bool demuxEnded_ = false;
     bool drained_ = false;
+    bool loopVideo_ = false; ///< A video file with SourceOptions::loop: rewind() at its end.
+    long long indexAtRewind_ =
+        -1; ///< index_ at the last rewind (none decoded since: an empty file).
 };
+
+/// \return whether the regular file \a url is a single picture: libavformat opens it with one of
+/// its image demuxers (png_pipe, jpeg_pipe, ..., image2), not a video container. False when it does
+/// not open at all (the real open reports why).
+bool isStillPicture(const std::string &url)
+{
+    AVFormatContext *ctx = nullptr;
+    if (avformat_open_input(&ctx, url.c_str(), nullptr, nullptr) < 0)
+        return false;
+    const std::string_view name = ctx->iformat->name;
+    avformat_close_input(&ctx);
+    return name == "image2" || (name.size() > 5 && name.substr(name.size() - 5) == "_pipe");
+}
 
 Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions &options)
 {
@@ -139,8 +161,12 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
     };
     const bool sequence = options.format.empty() && !isUrl(url) && isPrintfPattern(url);
     const bool glob = options.format.empty() && !sequence && isGlobPattern(url);
-    // A single picture loops as a one-image sequence.
-    const bool still = options.loop && options.format.empty() && !sequence && !glob && !isUrl(url);
+    // A single picture loops as a one-image sequence; a video file by going back to its start.
+    std::error_code ec;
+    const bool localFile = options.loop && options.format.empty() && !sequence && !glob &&
+                           !isUrl(url) && std::filesystem::is_regular_file(url, ec);
+    const bool still = options.loop && localFile && isStillPicture(url);
+    loopVideo_ = options.loop && localFile && !still;
     if (sequence || glob || still || options.format == "image2") {
         forced = av_find_input_format("image2");
         set("pattern_type", glob ? "glob" : (still ? "none" : "sequence"));
@@ -157,8 +183,8 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
         // takes the rate of the option, as a sequence does, not the demuxer's default of 25.
         set("framerate", fpsText(options.fps));
     }
-    if (options.loop && forced == nullptr)
-        return unexpected(Errc::InvalidArgument, "Only image sequences can loop");
+    if (options.loop && forced == nullptr && !loopVideo_)
+        return unexpected(Errc::InvalidArgument, "Only image sequences and regular files can loop");
     if (!options.videoSize.empty())
         set("video_size", options.videoSize);
     if (!options.pixelFormat.empty()) {
@@ -329,6 +355,10 @@ Result<void> FfmpegFrameSource::decodeOne()
         int ret = avcodec_receive_frame(codec_.get(), frame_.get());
         if (ret == 0)
             return ok();
+        if (ret == AVERROR_EOF && loopVideo_) {
+            DT_TRY(rewind());
+            continue;
+        }
         if (ret == AVERROR_EOF)
             return unexpected(Errc::EndOfStream, "End of the input");
         if (ret != AVERROR(EAGAIN)) {
@@ -405,6 +435,29 @@ Result<void> FfmpegFrameSource::reopenSequenceAt(long long n)
     firstPts_ = AV_NOPTS_VALUE;
     runStart_ = n;
     runImages_ = 0;
+    return ok();
+}
+
+Result<void> FfmpegFrameSource::rewind()
+{
+    if (index_ == indexAtRewind_)
+        return unexpected(Errc::EndOfStream, "End of the input (no frame to loop)");
+    indexAtRewind_ = index_;
+    const AVStream &st = *fmt_->streams[stream_];
+    armDeadline();
+    const int ret =
+        av_seek_frame(fmt_.get(), stream_, st.start_time != AV_NOPTS_VALUE ? st.start_time : 0,
+                      AVSEEK_FLAG_BACKWARD);
+    if (ret < 0) {
+        DT_LOG(Media, Warning, "Failed to loop %s: %s", url_.c_str(), AvErrorText(ret).text);
+        return unexpected(Errc::NotSupported, "The input cannot go back to its start to loop",
+                          errnoOf(ret));
+    }
+    avcodec_flush_buffers(codec_.get());
+    demuxEnded_ = false;
+    drained_ = false;
+    ptsOffset_ = static_cast<double>(index_) / fps_;
+    firstPts_ = AV_NOPTS_VALUE;
     return ok();
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "depthtouch/media/encode_job.h"
+#include "depthtouch/media/encoder.h"
 #include "depthtouch/media/frame_source.h"
 #include "depthtouch/media/image_io.h"
 #include "encode_sources.h"
@@ -99,6 +100,49 @@ TEST_F(FrameSourceTest, rawVideoOptionsAndLoopingStill)
         auto f = (*still)->next(PixelFormat::Rgb24);
         ASSERT_TRUE(f) << "looping still ended at " << i;
         EXPECT_EQ(f->image.data, makeColor(0).data);
+    }
+}
+
+/// GIVEN a three-frame video file (FFV1, lossless) at 10 fps WHEN opened with loop THEN it plays
+/// 0, 1, 2, 0, 1, 2, 0, 1 bit-exact with PTS going on at 1/10 s across each seam (ffmpeg's
+/// -stream_loop -1); without loop it ends after three frames.
+TEST_F(FrameSourceTest, aLoopedVideoFileStartsAgainWithItsTimestampsGoingOn)
+{
+    {
+        MuxerOptions mo;
+        mo.output = path("v.mkv");
+        auto muxer = Muxer::open(mo);
+        ASSERT_TRUE(muxer) << muxer.error().what;
+        VideoEncoderConfig vc;
+        vc.codec = VideoCodec::Ffv1Gray16;
+        vc.width = kW;
+        vc.height = kH;
+        vc.fps = 10.0;
+        auto enc = VideoEncoder::create(vc, **muxer);
+        ASSERT_TRUE(enc) << enc.error().what;
+        ASSERT_TRUE((*muxer)->start());
+        for (int i = 0; i < 3; ++i)
+            ASSERT_TRUE((*enc)->encode(makeMetric(i), i / 10.0));
+        ASSERT_TRUE((*enc)->flush());
+        ASSERT_TRUE((*muxer)->finish());
+    }
+    SourceOptions once;
+    auto plain = openFrameSource(path("v.mkv"), once);
+    ASSERT_TRUE(plain) << plain.error().what;
+    for (int i = 0; i < 3; ++i)
+        ASSERT_TRUE((*plain)->next(PixelFormat::Gray16)) << i;
+    EXPECT_FALSE((*plain)->next(PixelFormat::Gray16));
+
+    SourceOptions loop;
+    loop.loop = true;
+    auto looped = openFrameSource(path("v.mkv"), loop);
+    ASSERT_TRUE(looped) << looped.error().what;
+    EXPECT_EQ((*looped)->info().frameCount, 0); // endless
+    for (int i = 0; i < 8; ++i) {
+        auto f = (*looped)->next(PixelFormat::Gray16);
+        ASSERT_TRUE(f) << "the looped video ended at frame " << i << ": " << f.error().what;
+        EXPECT_EQ(f->image.data, makeMetric(i % 3).data) << "frame " << i;
+        EXPECT_NEAR(f->pts, i / 10.0, 1e-6) << "frame " << i;
     }
 }
 
