@@ -38,6 +38,7 @@ void addPlaybackStats(nlohmann::json &j, const PlaybackStats &ps)
     j["frames_lod_limited"] = ps.framesLodLimited;
     j["presented_fps"] = ps.presentedFps;
     j["playing_s"] = ps.playingSeconds;
+    j["tune_in_s"] = ps.tuneInSeconds;
     j["seeks"] = ps.seeks;
     j["snapshots_written"] = ps.snapshotsWritten;
     j["frames_recorded"] = ps.framesRecorded;
@@ -116,6 +117,9 @@ void printPlaySummary(const std::string &url, const PlayRunFigures &run, const s
                 static_cast<unsigned long long>(ps.framesDropped),
                 static_cast<unsigned long long>(ps.framesLate), ps.lateMsMax, ps.presentedFps,
                 ps.renderMsP50, ps.renderMsP99);
+    if (ps.framesPresented > 0)
+        std::printf("  tune-in           %.2f s from the open to the first frame on screen\n",
+                    ps.tuneInSeconds);
     if (ps.lodBudget > 0)
         std::printf("  level of detail   %.0f triangles a frame (median); %llu of %llu frames made "
                     "coarser to keep time, budget now %zu blocks\n",

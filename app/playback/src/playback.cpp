@@ -41,6 +41,7 @@ struct Playback::Impl : RenderShared {
     std::unique_ptr<Session> owned;
     AsyncOpener opener;     ///< The source's open and probe, off the main thread.
     std::string openingUrl; ///< What the opener opens.
+    platform::TimePoint openStarted{}; ///< When the opener was started (tune-in time).
     bool openDone = false;  ///< open() finished: report onOpened().
     std::string openError;  ///< open() failed: report onOpenFailed().
     bool hapticsEnabled;
@@ -189,6 +190,7 @@ Result<void> Playback::startOpening(std::string_view url, bool untilOpened)
                         why, untilOpened))
         return Error(Errc::OutOfResources, "cannot start the thread that opens the input");
     m.openingUrl = std::string(url);
+    m.openStarted = m.clock.now();
     return {};
 }
 
@@ -272,6 +274,7 @@ void Playback::finishOpen(std::unique_ptr<receiver::Receiver> rec)
     auto fail = [&](std::string why) { m.openError = std::move(why); };
 
     auto s = std::make_unique<Session>();
+    s->openStarted = m.openStarted;
     s->receiver = std::move(rec);
     const receiver::ReceiverInfo &ri = s->receiver->info();
     PlaybackInfo info = describe(ri, m.openingUrl, s->period);

@@ -313,6 +313,10 @@ void RenderLoop::count(Session &s, const DrawOutcome &d, const Result<hal::Prese
         ++stats.renderErrors;
     if (presented) {
         ++stats.framesPresented;
+        if (!s.presentedOnce) {
+            s.presentedOnce = true;
+            stats.tuneInSeconds = platform::toSeconds(clock_.now() - s.openStarted);
+        }
     } else {
         ++stats.presentErrors;
         // The window was closed or the display went away: playback cannot go on.

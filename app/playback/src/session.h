@@ -13,6 +13,7 @@
 #include "depthtouch/hal/display.h"
 #include "depthtouch/haptic_task/depth_handoff.h"
 #include "depthtouch/haptic_task/haptic_task.h"
+#include "depthtouch/platform/clock.h"
 #include "depthtouch/receiver/decoder_thread.h"
 #include "depthtouch/receiver/receiver.h"
 
@@ -41,6 +42,8 @@ struct Session {
     double startPts = 0.0;            ///< PTS of the first frame (s); positions count from it.
     hal::DisplayConfig displayConfig; ///< For the display's first open.
     bool haveStart = false;
+    platform::TimePoint openStarted{}; ///< When open() was called (PlaybackStats::tuneInSeconds).
+    bool presentedOnce = false;        ///< A frame of this session was presented.
     bool live = false; ///< The source cannot seek (a network stream, a FIFO): it may go silent.
 };
 

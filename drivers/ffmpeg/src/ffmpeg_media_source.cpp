@@ -248,7 +248,12 @@ struct FfmpegMediaSource::Impl {
     std::vector<std::uint8_t> raw;
     hal::MediaInfo info;
     hal::Pts start{0};
+    bool live = false; ///< A network URL or a FIFO (openInput()).
 };
+
+namespace {
+constexpr int kLiveFpsProbeFrames = 5; ///< See openInput().
+} // namespace
 
 Result<void> FfmpegMediaSource::Impl::openInput(const char *url)
 {
@@ -272,6 +277,15 @@ Result<void> FfmpegMediaSource::Impl::openInput(const char *url)
     AVDictionary *opts = nullptr;
     if (settings.fps > 0.0)
         av_dict_set(&opts, "framerate", std::to_string(settings.fps).c_str(), 0);
+    // A live input (a network URL, a FIFO) takes its frame rate from the timestamps of 5 frames
+    // (libavformat's fpsprobesize) instead of 20: the probe no longer holds the first picture
+    // back by about 0.7 s at 30 fps, and 5 steps of a constant rate give it (docs/
+    // playing.md "Tune-in"). A file is probed in full: it is read from disk in no time.
+    const std::string_view target(*openUrl);
+    live = (target.find("://") != std::string_view::npos && target.substr(0, 7) != "file://") ||
+           target.substr(0, 5) == "pipe:";
+    if (live)
+        ctx->fps_probe_size = kLiveFpsProbeFrames;
     armDeadline();
     int r = avformat_open_input(&ctx, openUrl->c_str(), forced, &opts); // frees ctx on failure
     av_dict_free(&opts);
@@ -331,8 +345,11 @@ void FfmpegMediaSource::Impl::addStream(unsigned i, int videoStreams, int videoO
     si.format = halFormatOf(pixfmt, si.kind);
     si.width = par.width;
     si.height = par.height;
-    AVRational rate = st.avg_frame_rate.num > 0 && st.avg_frame_rate.den > 0 ? st.avg_frame_rate
-                                                                             : st.r_frame_rate;
+    // A live input's average over its few probed frames is rough (29.92 for 30 was seen); the
+    // rate of its timestamp steps is exact for a constant rate.
+    const bool real = st.r_frame_rate.num > 0 && st.r_frame_rate.den > 0;
+    const bool average = st.avg_frame_rate.num > 0 && st.avg_frame_rate.den > 0;
+    AVRational rate = average && !(live && real) ? st.avg_frame_rate : st.r_frame_rate;
     if (rate.num > 0 && rate.den > 0)
         si.frameRate = {rate.num, rate.den};
     si.timeBase = {st.time_base.num, st.time_base.den};

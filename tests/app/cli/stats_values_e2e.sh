@@ -17,7 +17,7 @@
 # Every run: url, display, haptic_device, final_state "stopped", mode, no errors or concealment, no
 # zero-copy on the mock decoder, no material track, nothing recorded, rss_mib_after_5s = -1 (runs
 # under 5 s), presented_fps = frames_presented / playing_s, the key set itself (a new key must get a
-# check here). Real-time figures (render and latency times, frames dropped or late, overruns,
+# check here). Real-time figures (tune-in, render and latency times, frames dropped or late, overruns,
 # watchdog trips, memory) are checked for type and ordering only. Usage: stats_values_e2e.sh DEPTHTOUCH
 set -u
 exe="$1"
@@ -58,7 +58,7 @@ pkeys = {"url", "mode", "depth_size", "color_size", "output_size", "fps", "displ
          "color_frames_imported", "color_frames_dmabuf_uploaded", "depth_pairs_published",
          "material_frames", "material_held", "material_missing", "material_damaged", "render_ms_p50",
          "render_ms_p99", "mesh_triangles_p50", "lod_budget_blocks", "frames_lod_limited",
-         "presented_fps", "playing_s", "seeks", "snapshots_written", "frames_recorded",
+         "presented_fps", "playing_s", "tune_in_s", "seeks", "snapshots_written", "frames_recorded",
          "frames_prepared_ahead", "rss_mib_start", "rss_mib_after_5s", "rss_mib_end", "locked_mib",
          "notes", "final_state"}
 keys = pkeys | (hkeys if haptic else set())
@@ -120,6 +120,8 @@ want("presented_fps", abs(d.get("presented_fps", 0) * d.get("playing_s", 0) - pr
      "frames_presented / playing_s")
 want("render_ms_p99", 0 <= d.get("render_ms_p50", -1) <= d.get("render_ms_p99", -1), ">= render_ms_p50 >= 0")
 want("late_ms_max", d.get("late_ms_max", -1) >= 0, ">= 0")
+# tune-in: from the open to the first frame on screen (exact on simulated time in PlaybackSimTest)
+want("tune_in_s", 0 < d.get("tune_in_s", 0) <= limit, "in (0, %g]" % limit)
 want("rss_mib_start", d.get("rss_mib_start", 0) > 0, "> 0"); want("rss_mib_end", d.get("rss_mib_end", 0) > 0, "> 0")
 eq("rss_mib_after_5s", -1.0)
 want("locked_mib", d.get("locked_mib", -1) >= 0, ">= 0")

@@ -377,6 +377,25 @@ TEST(PlaybackSimTest, ThePositionCountsFromTheFirstFramesTimestamp)
     EXPECT_LE(p.playback().position(), 1.0 + since + 1e-9);
 }
 
+TEST(PlaybackSimTest, TheTuneInTimeCountsFromTheOpenToItsFirstFrameOnScreen)
+{
+    // GIVEN a player that idled 250 ms before its open
+    SimPlayer p(playback::PlaybackConfig{}, nullptr);
+    p.step(250);
+    EXPECT_EQ(p.playback().stats().tuneInSeconds, 0.0); // nothing on screen yet
+    // WHEN the clip is opened and its first frame goes on screen
+    const platform::TimePoint opened = p.clock().now();
+    p.play("mock://clip?frames=60&fps=30&width=64&height=48", 60);
+    p.stepUntil([&] { return p.playback().stats().framesPresented >= 1; });
+    const platform::TimePoint shown = p.clock().now();
+    // THEN the tune-in time is from that open to that frame (the idle time is not in it)
+    EXPECT_NEAR(p.playback().stats().tuneInSeconds, platform::toSeconds(shown - opened), 1e-3);
+    EXPECT_LT(p.playback().stats().tuneInSeconds, 0.25);
+    // and it stays that of the open while the clip plays on
+    p.step(100);
+    EXPECT_NEAR(p.playback().stats().tuneInSeconds, platform::toSeconds(shown - opened), 1e-3);
+}
+
 TEST(PlaybackSimTest, TheStiffnessCommandScalesTheForceTheFingerFeels)
 {
     // GIVEN the still finger 2 mm into a still surface: k·2 mm = 1.6 N at the default 800 N/m

@@ -153,7 +153,11 @@ struct PlaybackStats {
     std::size_t lodBudget = 0;     ///< The LOD's leaf-block budget at the last frame (0: no LOD).
     std::uint64_t framesLodLimited = 0; ///< Frames whose mesh the LOD budget made coarser.
     double presentedFps = 0.0; ///< framesPresented over the time spent playing (not paused).
+    /// Tune-in time of the last open: seconds from open() (or awaitNextSender()) to its first
+    /// frame on screen — the source's open and probe, the wait for a key frame of every stream,
+    /// decode and draw; 0 until it has one. On the Playback's clock.
     double playingSeconds = 0.0;
+    double tuneInSeconds = 0.0;
     /// The last colour frame that came as dma-bufs was imported by the GPU without a copy.
     bool zeroCopy = false;
     std::uint64_t colorFramesImported = 0;       ///< Dma-buf colour frames imported (zero-copy).
