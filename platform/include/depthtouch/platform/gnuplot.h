@@ -23,6 +23,11 @@ enum class PlotStatus : std::uint8_t {
 /// \return the outcome; gnuplot's own messages go to this process's stderr.
 PlotStatus runGnuplot(const std::string &script) noexcept;
 
+/// \brief Runs `gnuplot SCRIPT` as runGnuplot(script), its stderr appended to the file \a messages
+/// (created if missing) instead of this process's, so its warnings cannot land amid a printed
+/// table. \return the outcome; Failed also when \a messages cannot be opened.
+PlotStatus runGnuplot(const std::string &script, const std::string &messages) noexcept;
+
 /// \return a one-line remark for the user about \a status ("" for Drawn), e.g. "gnuplot not found:
 /// no PNG chart (install gnuplot-nox)". Static string.
 const char *plotStatusNote(PlotStatus status) noexcept;
