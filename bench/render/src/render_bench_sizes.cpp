@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "depthtouch/render/render_bench.h"
+#include "render_bench_charts.h"
 
 namespace depthtouch::render::bench {
 
@@ -63,9 +64,9 @@ bool finishRenderBench(const std::vector<BenchRow> &rows, const BenchOptions &op
         std::fprintf(stderr, "depthtouch bench render: snapshot not written: %s\n", r.error().what);
     if (!note.empty())
         std::printf("note: %s\n", note.c_str());
-    std::printf("wrote %s/{render_bench.csv,fps_vs_error.png,stages.png,cpu_vs_depth_size.png,"
+    std::printf("wrote %s/{render_bench.csv,fps_vs_error.png,%scpu_vs_depth_size.png,"
                 "kitchen_sbs.png}\n",
-                out.c_str());
+                out.c_str(), detail::stagePassRun(rows) ? "stages.png," : "");
     return true;
 }
 

@@ -45,6 +45,14 @@ elif [ -n "$data" ] && [ -f "$data/rgbd-7scenes-redkitchen/frame-000000.depth.pn
     png render fps_vs_error.png
     png render stages.png
     png render cpu_vs_depth_size.png
+    # --no-stages draws no stage chart and removes the one of the run before from --out, so no old
+    # chart is taken for this run's; gnuplot's warnings stay out of the printed tables.
+    bench render --frames 5 --data "$data" --no-stages --only step8,quadtree-0.50
+    [ -f "$work/render/stages.png" ] && fail "bench render --no-stages left a stages.png"
+    grep -E "^Warning: |, line [0-9]+: " "$work/render.log" &&
+        fail "bench render: gnuplot's warnings in the output"
+    png render fps_vs_error.png
+    png render cpu_vs_depth_size.png
 else
     [ "${DT_REQUIRE_SHARED_DATA:-0}" != 0 ] && fail "bench render: no shared RGB-D data at '$data'"
     skipped="bench render skipped: no shared RGB-D data at '$data'"

@@ -179,10 +179,12 @@ std::optional<DepthSizesError> runDepthSizes(const DepthSizesPlan &plan, BenchOp
 
 /// \brief Writes `render_bench.csv` (one row per setting, frame source and depth size; stage
 /// medians and p99 included) and, when gnuplot is installed, `fps_vs_error.png` (one line per
-/// family, the rows of the first source and size), `stages.png` (stacked stage medians, same rows)
-/// and `cpu_vs_depth_size.png` (geometry CPU per frame against the depth size) into \a dir.
-/// \param[out] note a remark for the user (e.g. gnuplot missing) \return false with \a error set
-/// when the directory or CSV cannot be written.
+/// family, the rows of the first source and size), `stages.png` (stacked stage medians, same rows;
+/// only when they had the stage pass, else an earlier run's is removed) and `cpu_vs_depth_size.png`
+/// (geometry CPU per frame against the depth size, or the triangles at one size) into \a dir.
+/// gnuplot's messages go to `gnuplot.log` there, never to stderr.
+/// \param[out] note a remark for the user (e.g. gnuplot missing, or its first message)
+/// \return false with \a error set when the directory or CSV cannot be written.
 bool writeBenchOutputs(const std::vector<BenchRow> &rows, const std::string &dir,
                        std::string &error, std::string &note);
 
