@@ -21,6 +21,10 @@ using namespace detail;
 
 namespace {
 
+/// How long closing an SRT output waits for its last packets to be acknowledged (s). A receiver
+/// that has gone is not waited for: the connection is already broken.
+constexpr int kSrtLingerSeconds = 2;
+
 bool endsWith(const std::string &s, const char *suffix)
 {
     const std::size_t n = std::strlen(suffix);
@@ -156,6 +160,12 @@ Result<std::unique_ptr<Muxer>> Muxer::open(const MuxerOptions &options)
             options.output.compare(0, 6, "udp://") == 0 &&
             options.output.find("pkt_size") == std::string::npos)
             av_dict_set(&ioOpts, "pkt_size", "1316", 0);
+        // SRT closes at once in live mode, dropping what it has not yet delivered (the last
+        // 0.27 s of a clip were lost): wait up to kSrtLingerSeconds for the receiver's
+        // acknowledgement, unless the URL says otherwise (libsrt's linger).
+        if (url && options.output.compare(0, 6, "srt://") == 0 &&
+            options.output.find("linger") == std::string::npos)
+            av_dict_set_int(&ioOpts, "linger", kSrtLingerSeconds, 0);
         ret = avio_open2(&m.fmt->pb, target.c_str(), AVIO_FLAG_WRITE, nullptr, &ioOpts);
         av_dict_free(&ioOpts);
         if (ret < 0) {
