@@ -19,10 +19,12 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <sstream>
 #include <string>
+#include <system_error>
 
 #include <unistd.h>
 
@@ -79,6 +81,8 @@ struct EncodeCliOptions {
     std::string material;    ///< --material SRC: material codes (image, sequence, video).
     std::string materialMap; ///< --material-map: label image.
     std::string materials;   ///< --materials: the table of --material-map.
+    std::string audio;       ///< --audio FILE: the sound's source.
+    bool noAudio = false;    ///< --no-audio.
 };
 
 std::atomic<bool> gStop{false};
@@ -131,6 +135,28 @@ int setRateOptions(const EncodeCliOptions &o, media::EncodeOptions &eo)
     return kExitOk;
 }
 
+/// The sound: --audio's file, else the color input when it is a regular file (its first audio
+/// stream, if any); none with --no-audio or --loop (the sound would end after one pass).
+int setAudioOptions(const EncodeCliOptions &o, media::EncodeOptions &eo)
+{
+    std::error_code ec;
+    if (o.audio.empty()) {
+        if (!o.noAudio && !o.loop && std::filesystem::is_regular_file(o.color, ec)) {
+            eo.audioSource = o.color;
+            eo.audioFromPicture = true;
+        }
+        return kExitOk;
+    }
+    if (o.noAudio || o.loop)
+        return fail(kExitBadInput, "--audio excludes --no-audio and --loop");
+    if (!std::filesystem::is_regular_file(o.audio, ec))
+        return fail(kExitBadInput, "--audio must name a file: '" + o.audio + "' is not one");
+    eo.audioSource = o.audio;
+    eo.audioFromPicture = o.audio == o.color;
+    eo.audioRequired = true;
+    return kExitOk;
+}
+
 /// The output, container, color encoder, depth codec, grid and limits. Returns kExitOk, or the exit
 /// code after printing the one error line.
 int setOutputOptions(const EncodeCliOptions &o, media::EncodeOptions &eo)
@@ -168,6 +194,8 @@ int setOutputOptions(const EncodeCliOptions &o, media::EncodeOptions &eo)
     // A live output (a URL, an endless loop) leaves at the media rate, a file as fast as it can.
     eo.paced =
         o.realtime == "on" || (o.realtime == "auto" && (media::isOutputUrl(o.output) || o.loop));
+    if (const int rc = setAudioOptions(o, eo); rc != kExitOk)
+        return rc;
     return setRateOptions(o, eo);
 }
 
@@ -211,7 +239,8 @@ int checkEncodeOptions(const EncodeCliOptions &o, const media::EncodeOptions &eo
                                           {"--depth", o.depth},
                                           {"--material", o.material},
                                           {"--material-map", o.materialMap},
-                                          {"--materials", o.materials}},
+                                          {"--materials", o.materials},
+                                          {"--audio", o.audio}},
                                          {{"-o", o.output}});
         if (same.exitCode != kExitOk)
             return fail(same.exitCode, same.message);
@@ -375,6 +404,9 @@ int reportEncode(const EncodeCliOptions &o, const media::EncodeOptions &eo,
         std::printf("material: %.1f kB lossless (%lld frames read from '%s', the last held)\n",
                     static_cast<double>(s.materialBytes) / 1000.0, s.materialFrames,
                     o.material.c_str());
+    if (!s.audio.empty())
+        std::printf("audio: %s, %.1f kB\n", s.audio.c_str(),
+                    static_cast<double>(s.audioBytes) / 1000.0);
     if (s.interrupted) {
         std::fprintf(stderr,
                      "depthtouch encode: interrupted by %s; '%s' holds the %lld frame pairs "
@@ -550,6 +582,10 @@ const OptionRow<EncodeCliOptions> kEncodeRows[] = {
     {"materials", &EncodeCliOptions::materials,
      "TOML table of the --material-map labels: [name] label = \"#rrggbb\", preset, "
      "stiffness_scale, static_friction, dynamic_friction"},
+    {"audio", &EncodeCliOptions::audio,
+     "Sound from this file's first audio stream (default: the color input's, when it is a file; "
+     "copied when the container carries its codec, else coded as AAC)"},
+    {"no-audio", &EncodeCliOptions::noAudio, "Leave the sound out"},
 };
 
 } // namespace

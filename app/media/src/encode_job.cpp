@@ -152,6 +152,7 @@ struct Outputs {
     std::unique_ptr<VideoEncoder> color;
     std::unique_ptr<VideoEncoder> depth;
     std::unique_ptr<VideoEncoder> material;
+    std::unique_ptr<AudioTrack> audio; ///< Null without sound.
 };
 
 /// \return the encoded size (--size or the color's) and rate of \a color, checked for 4:2:0
@@ -335,6 +336,14 @@ Result<void> openOutputs(const EncodeOptions &options, const ColorShape &shape,
             return unexpected(materialEnc.error());
         out.material = std::move(*materialEnc);
     }
+    if (!options.audioSource.empty()) {
+        auto audio = AudioTrack::open(options.audioSource, options.audioFromPicture, *out.muxer);
+        if (!audio)
+            return unexpected(audio.error());
+        if (!*audio && options.audioRequired)
+            return unexpected(Errc::InvalidArgument, "The --audio source has no audio stream");
+        out.audio = std::move(*audio);
+    }
     return out.muxer->start();
 }
 
@@ -480,6 +489,8 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth, Fram
             DT_TRY(materials->encodeNext(*out.material, shape.width, shape.height, pts));
         lastPts = pts;
         summary.duration = pts + 1.0 / fps;
+        if (out.audio)
+            DT_TRY(out.audio->writeUntil(summary.duration));
         ++summary.frames;
         if (callbacks.progress)
             reportProgress(callbacks, summary.frames, expected,
@@ -496,10 +507,16 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth, Fram
         summary.materialBytes = out.material->bytes();
         summary.materialFrames = materials->framesRead();
     }
+    if (out.audio) {
+        DT_TRY(out.audio->finish(summary.duration));
+        summary.audio = out.audio->description();
+        summary.audioBytes = out.audio->bytes();
+    }
     // The encoders refer to the muxer's streams: they go first.
     out.color.reset();
     out.depth.reset();
     out.material.reset();
+    out.audio.reset();
     DT_TRY(out.muxer->finish());
     summary.elapsed = platform::toSeconds(clock.now() - start);
     return summary;

@@ -47,6 +47,7 @@
 
 #include "depthtouch/depth/conversion.h"
 #include "depthtouch/depth/enhance.h"
+#include "depthtouch/media/audio_track.h"
 #include "depthtouch/media/encoder.h"
 #include "depthtouch/media/frame_source.h"
 #include "depthtouch/platform/result.h"
@@ -69,6 +70,12 @@ struct EncodeOptions {
     RateControl colorRate; ///< Color bit rate, maxrate, VBV buffer; default: the CRF alone.
     RateControl depthRate; ///< Depth's likewise (lossy H.264 depth only).
     long long muxRate = 0; ///< MPEG-TS constant mux rate, bits/s (MuxerOptions::muxRate); 0: none.
+    /// Sound (AudioTrack): the file whose first audio stream the output carries; empty: none.
+    std::string audioSource;
+    /// audioSource is the color input: its video stream's start is the picture's (output 0).
+    bool audioFromPicture = false;
+    /// A source without an audio stream is an error (`--audio` named it), not silence.
+    bool audioRequired = false;
     int width = 0; ///< Output grid (pixels, even); 0 = the color size.
     int height = 0;
     /// Write at the media rate (as `ffmpeg -re`): pair n leaves no earlier than its PTS after the
@@ -124,6 +131,8 @@ struct EncodeSummary {
     long long depthBytes = 0;  ///< Compressed depth bytes.
     long long materialBytes = 0;  ///< Compressed material bytes (0 without a material track).
     long long materialFrames = 0; ///< Material frames read (the rest held the last one).
+    std::string audio;            ///< AudioTrack::description(), empty without sound.
+    long long audioBytes = 0;     ///< Audio bytes written.
     double elapsed = 0.0;      ///< Wall-clock seconds.
     double duration = 0.0;     ///< PTS span written (seconds).
     bool interrupted = false;  ///< *stop ended it.

@@ -73,6 +73,7 @@ struct MuxerOptions {
 };
 
 class VideoEncoder;
+class AudioTrack;
 
 /// \brief One output file or stream: owns the libavformat context and the output I/O.
 class Muxer {
@@ -112,6 +113,7 @@ private:
     Muxer();
     std::unique_ptr<Impl> impl_;
     friend class VideoEncoder;
+    friend class AudioTrack;
 };
 
 /// \brief Codecs and sample layouts an encoder produces.
