@@ -31,6 +31,21 @@ namespace depthtouch::cli {
 
 namespace {
 
+/// A depth plane (m) as the report shows it: unknown (0 in hal::DepthMetadata: a file made from
+/// 8-bit nearness without --near/--far, whose tags say "unknown") is not a distance.
+std::string planeText(double metres)
+{
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g m", metres);
+    return metres > 0.0 ? buf : "unknown";
+}
+
+/// The same in the JSON report: null when unknown.
+nlohmann::json planeJson(double metres)
+{
+    return metres > 0.0 ? nlohmann::json(metres) : nlohmann::json(nullptr);
+}
+
 struct ProbeOptions {
     std::string file;
     bool json = false;
@@ -284,8 +299,8 @@ void printJsonReport(const ProbeOptions &opt, const ProbeReport &rep)
     j["streams"] = streamsJson(rep);
     j["audio"] = audioJson(rep);
     if (depth != nullptr)
-        j["depth_metadata"] = {{"near_m", depth->depth.nearMetres},
-                               {"far_m", depth->depth.farMetres},
+        j["depth_metadata"] = {{"near_m", planeJson(depth->depth.nearMetres)},
+                               {"far_m", planeJson(depth->depth.farMetres)},
                                {"mapping", depth->depth.mapping},
                                {"bits", depth->depth.bits},
                                {"occupancy", depth->depth.occupancy}};
@@ -351,9 +366,10 @@ void printStreamsText(const ProbeOptions &opt, const ProbeReport &rep)
     if (const hal::StreamInfo *depth = depthStreamOf(rep); depth != nullptr) {
         const hal::DepthMetadata &m = depth->depth;
         if (receiver::hasDepthMetadata(m))
-            std::printf("depth metadata: near %g m, far %g m, mapping %s, %d bits, %s\n",
-                        m.nearMetres, m.farMetres, m.mapping.empty() ? "-" : m.mapping.c_str(),
-                        m.bits, occupancyText(m.occupancy).c_str());
+            std::printf("depth metadata: near %s, far %s, mapping %s, %d bits, %s\n",
+                        planeText(m.nearMetres).c_str(), planeText(m.farMetres).c_str(),
+                        m.mapping.empty() ? "-" : m.mapping.c_str(), m.bits,
+                        occupancyText(m.occupancy).c_str());
         else
             std::printf("depth metadata: none\n");
     }

@@ -109,7 +109,8 @@ struct AudioTrack::Impl {
         const auto limit = static_cast<std::int64_t>(std::floor(endSeconds * encoder->sample_rate));
         for (;;) {
             int n = std::min(av_audio_fifo_size(fifo.get()), size);
-            n = static_cast<int>(std::min<std::int64_t>(n, std::max<std::int64_t>(0, limit - nextSample)));
+            n = static_cast<int>(
+                std::min<std::int64_t>(n, std::max<std::int64_t>(0, limit - nextSample)));
             if (n <= 0 || (n < size && !last))
                 return ok();
             AVFrame &f = *converted;
@@ -184,9 +185,9 @@ struct AudioTrack::Impl {
         if (av_channel_layout_copy(&c.ch_layout, &encoder->ch_layout) < 0 ||
             av_frame_get_buffer(&c, 0) < 0)
             return unexpected(Errc::OutOfResources, "Failed to allocate an audio frame");
-        const int n = swr_convert(swr.get(), c.data, c.nb_samples,
-                                  const_cast<const std::uint8_t **>(frame->extended_data),
-                                  frame->nb_samples);
+        const int n =
+            swr_convert(swr.get(), c.data, c.nb_samples,
+                        const_cast<const std::uint8_t **>(frame->extended_data), frame->nb_samples);
         if (n < 0)
             return unexpected(Errc::InvalidArgument, "Failed to convert the audio");
         if (n > 0 && av_audio_fifo_write(fifo.get(), reinterpret_cast<void **>(c.data), n) != n)
@@ -253,7 +254,8 @@ Result<void> AudioTrack::Impl::openCoding(const AVStream &st)
     AVCodecContext &e = *encoder;
     e.sample_fmt = AV_SAMPLE_FMT_FLTP; // the native AAC encoder's only format
     e.sample_rate = aacRate(*aac, decoder->sample_rate);
-    if (av_channel_layout_copy(&e.ch_layout, &decoder->ch_layout) < 0 || e.ch_layout.nb_channels < 1)
+    if (av_channel_layout_copy(&e.ch_layout, &decoder->ch_layout) < 0 ||
+        e.ch_layout.nb_channels < 1)
         av_channel_layout_default(&e.ch_layout, 2);
     if (e.ch_layout.order == AV_CHANNEL_ORDER_UNSPEC)
         av_channel_layout_default(&e.ch_layout, e.ch_layout.nb_channels);
@@ -304,8 +306,8 @@ Result<std::unique_ptr<AudioTrack>> AudioTrack::open(const std::string &source, 
     const AVStream &st = *ctx->streams[a.index];
     a.inTb = st.time_base;
     // Output 0 is the color stream's start (the same file) or the audio's own start.
-    const int video = pictureSource ? av_find_best_stream(ctx, AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0)
-                                    : -1;
+    const int video =
+        pictureSource ? av_find_best_stream(ctx, AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0) : -1;
     const AVStream *zero = video >= 0 ? ctx->streams[video] : &st;
     if (zero->start_time != AV_NOPTS_VALUE)
         a.origin = av_rescale_q(zero->start_time, zero->time_base, a.inTb);
@@ -358,8 +360,14 @@ Result<void> AudioTrack::finish(double endSeconds)
     return a.drainEncoder();
 }
 
-const std::string &AudioTrack::description() const noexcept { return impl_->description; }
+const std::string &AudioTrack::description() const noexcept
+{
+    return impl_->description;
+}
 
-long long AudioTrack::bytes() const noexcept { return impl_->bytes; }
+long long AudioTrack::bytes() const noexcept
+{
+    return impl_->bytes;
+}
 
 } // namespace depthtouch::media

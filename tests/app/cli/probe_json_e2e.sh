@@ -2,7 +2,8 @@
 # End-to-end: the depth metadata `depthtouch probe --json` reports against the planes, mapping and
 # bits the test passed to `depthtouch encode` and against ffprobe's reading of the file's tags:
 # "depth_metadata" near_m, far_m, mapping, bits and occupancy, and the text report's line, for two
-# files that differ in every key (MP4: inverse_z 10-bit with a hole; MKV: linear 16-bit, filled).
+# files that differ in every key (MP4: inverse_z 10-bit with a hole; MKV: linear 16-bit, filled), and
+# a file of 8-bit nearness without planes (unknown: null and "unknown", not 0 m).
 # Exit 77 (skip) without the ffmpeg CLI tools. Usage: probe_json_e2e.sh DEPTHTOUCH
 set -u
 exe="$1"
@@ -59,4 +60,15 @@ check() { # file, near, far, mapping, bits, encode args...
 }
 check a.mp4 0.8 3 inverse_z 10
 check b.mkv 0.6 2.5 linear 16 --fill-holes
+# 8-bit nearness without planes: its tags say "unknown", and so must the report (null in the JSON,
+# "unknown" in the text), not a plane at 0 m.
+ff -f lavfi -i testsrc=size=64x48:rate=30:duration=0.4 -vf format=gray -c:v ffv1 "$work/n.mkv" ||
+    fail "ffmpeg nearness"
+"$exe" encode --color "$work/c-%03d.png" --depth "$work/n.mkv" -o "$work/c.mkv" --preset ultrafast \
+    >"$work/c.enc" 2>&1 || { cat "$work/c.enc"; fail "encode c.mkv"; }
+[ "$(tag depth_near "$work/c.mkv")" = unknown ] || fail "c.mkv: depth_near tag '$(tag depth_near "$work/c.mkv")'"
+"$exe" probe "$work/c.mkv" --json | tr -d ' \n' | grep -q '"far_m":null' &&
+    "$exe" probe "$work/c.mkv" --json | tr -d ' \n' | grep -q '"near_m":null' &&
+    "$exe" probe "$work/c.mkv" | grep -q "^depth metadata: near unknown, far unknown, mapping" ||
+    { "$exe" probe "$work/c.mkv"; fail "c.mkv: unknown planes reported as distances"; }
 echo PASS
