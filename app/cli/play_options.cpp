@@ -3,7 +3,10 @@
 
 #include "play_options.h"
 
+#include <cctype>
 #include <cstdio>
+#include <optional>
+#include <string>
 
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/player/state_machine.h"
@@ -25,6 +28,20 @@ bool parseOutputSize(std::string_view text, int &w, int &h)
     char extra = 0;
     return std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) == 3 && (x == 'x' || x == 'X') &&
            w >= 16 && h >= 16 && w <= Config::kMaxOutputSize && h <= Config::kMaxOutputSize;
+}
+
+/// FFmpeg stereo3d's names that say whether each eye is squeezed into its half (sbs2l, ab2l, tb2l:
+/// frame-compatible) or full size (sbsl, abl, tbl); nullopt for the others (--size decides).
+std::optional<bool> stereoHalves(std::string_view name)
+{
+    std::string n(name);
+    for (char &ch : n)
+        ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (n == "sbs2l" || n == "ab2l" || n == "tb2l")
+        return true;
+    if (n == "sbsl" || n == "abl" || n == "tbl")
+        return false;
+    return std::nullopt;
 }
 
 bool isStereoMode(std::string_view text)
@@ -55,10 +72,15 @@ const OptionRow<PlayOptions> kPlayRows[] = {
      "Options of the remote, e.g. device=/dev/input/event3"},
     {.name = "stereo",
      .field = &PlayOptions::stereo,
-     .help = "Stereo layout: sbs, tab, anaglyph, mono, interleaved",
+     .help = "Stereo layout: sbs, tab, anaglyph, mono, interleaved, or FFmpeg stereo3d's sbsl, "
+             "sbs2l, abl, ab2l, arcc, irl",
      .check = textWhere(isStereoMode, "sbs, tab, anaglyph, mono or interleaved"),
-     .land = [](const PlayOptions &o,
-                Config &c) { c.stereoMode = *player::stereoModeFromName(o.stereo); }},
+     .land =
+         [](const PlayOptions &o, Config &c) {
+             c.stereoMode = *player::stereoModeFromName(o.stereo);
+             if (const auto halves = stereoHalves(o.stereo))
+                 c.frameCompatible = *halves;
+         }},
     {.name = "stiffness",
      .field = &PlayOptions::stiffness,
      .help = "Surface stiffness, N/m",
@@ -147,7 +169,9 @@ const OptionRow<PlayOptions> kPlayRows[] = {
      .land =
          [](const PlayOptions &o, Config &c) {
              parseOutputSize(o.size, c.outputWidth, c.outputHeight);
-             c.frameCompatible = !o.size.empty(); // a display-sized output is a 3D TV's frame
+             // A display-sized output is a 3D TV's frame, unless the layout's name says.
+             if (!stereoHalves(o.stereo))
+                 c.frameCompatible = !o.size.empty();
          }},
     {.name = "mesh-step",
      .field = &PlayOptions::meshStep,

@@ -101,6 +101,21 @@ std::optional<StereoMode> stereoModeFromName(std::string_view name) noexcept
         return StereoMode::SideBySide;
     if (lowerEquals(name, "top-bottom"))
         return StereoMode::TopAndBottom;
+    // FFmpeg's stereo3d filter's names of the same packings (docs/playing.md "Stereo layouts"):
+    // left eye first (left half, top half, top row); arcc: red/cyan anaglyph of the eyes' colour.
+    struct Alias {
+        const char *name;
+        StereoMode mode;
+    };
+    static constexpr Alias kStereo3d[] = {
+        {"sbsl", StereoMode::SideBySide},  {"sbs2l", StereoMode::SideBySide},
+        {"abl", StereoMode::TopAndBottom}, {"ab2l", StereoMode::TopAndBottom},
+        {"tbl", StereoMode::TopAndBottom}, {"tb2l", StereoMode::TopAndBottom},
+        {"arcc", StereoMode::Anaglyph},    {"irl", StereoMode::Interleaved},
+    };
+    for (const Alias &a : kStereo3d)
+        if (lowerEquals(name, a.name))
+            return a.mode;
     return std::nullopt;
 }
 

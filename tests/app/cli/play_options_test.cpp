@@ -250,6 +250,16 @@ TEST(PlayOptionTableTest, OptionsLandInThePlayersConfig)
     EXPECT_EQ(c.lodTarget, 0.5);
     EXPECT_EQ(c.maxLateness, 0.1);
     EXPECT_TRUE(c.haptics.requireRt);
+    // FFmpeg stereo3d's names say half (sbs2l, ab2l) or full-size eyes (sbsl) whatever --size says
+    const playback::PlaybackConfig full =
+        landPlayOptions(fromCommandLine({"--stereo", "sbsl", "--size", "1920x1080"}));
+    EXPECT_EQ(full.stereoMode, player::StereoMode::SideBySide);
+    EXPECT_FALSE(full.frameCompatible);
+    const playback::PlaybackConfig half = landPlayOptions(fromCommandLine({"--stereo", "ab2l"}));
+    EXPECT_EQ(half.stereoMode, player::StereoMode::TopAndBottom);
+    EXPECT_TRUE(half.frameCompatible);
+    EXPECT_EQ(landPlayOptions(fromCommandLine({"--stereo", "irl"})).stereoMode,
+              player::StereoMode::Interleaved);
     EXPECT_EQ(defaults.haptics.renderer.staticFriction, 0.0) << "frictionless by default";
     const playback::PlaybackConfig f =
         landPlayOptions(fromCommandLine({"--static-friction", "0.5", "--dynamic-friction", "0.3"}));

@@ -172,6 +172,17 @@ TEST(StereoModeTest, namesRoundTripAndCycle)
     EXPECT_EQ(m, StereoMode::SideBySide);
     EXPECT_EQ(stereoModeFromName("side-by-side"), StereoMode::SideBySide);
     EXPECT_EQ(stereoModeFromName("3d"), std::nullopt);
+    // FFmpeg stereo3d's names of the same packings, left eye first (docs/playing.md)
+    EXPECT_EQ(stereoModeFromName("sbsl"), StereoMode::SideBySide);
+    EXPECT_EQ(stereoModeFromName("SBS2L"), StereoMode::SideBySide);
+    EXPECT_EQ(stereoModeFromName("abl"), StereoMode::TopAndBottom);
+    EXPECT_EQ(stereoModeFromName("tb2l"), StereoMode::TopAndBottom);
+    EXPECT_EQ(stereoModeFromName("arcc"), StereoMode::Anaglyph);
+    EXPECT_EQ(stereoModeFromName("irl"), StereoMode::Interleaved);
+    // right-eye-first packings and the other anaglyphs are not drawn: refused, not mistaken
+    EXPECT_EQ(stereoModeFromName("sbsr"), std::nullopt);
+    EXPECT_EQ(stereoModeFromName("irr"), std::nullopt);
+    EXPECT_EQ(stereoModeFromName("arcg"), std::nullopt);
 }
 
 hal::KeyEvent key(hal::Key k, hal::KeyAction a)

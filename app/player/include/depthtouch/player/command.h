@@ -44,7 +44,9 @@ enum class StereoMode : std::uint8_t {
 
 /// \return "sbs", "tab", "anaglyph", "mono" or "interleaved" (static string).
 const char *stereoModeName(StereoMode mode) noexcept;
-/// \return the mode called \a name (the names of stereoModeName()), or std::nullopt.
+/// \return the mode called \a name (the names of stereoModeName(), "side-by-side", "top-bottom", or
+/// FFmpeg stereo3d's names of the same packings: sbsl, sbs2l, abl, ab2l, tbl, tb2l, arcc, irl),
+/// or std::nullopt.
 std::optional<StereoMode> stereoModeFromName(std::string_view name) noexcept;
 /// \return the mode after \a mode in the cycle sbs → tab → anaglyph → mono → interleaved → sbs.
 StereoMode nextStereoMode(StereoMode mode) noexcept;
