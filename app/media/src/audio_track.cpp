@@ -195,15 +195,19 @@ struct AudioTrack::Impl {
         return ok();
     }
 
-    /// Reads the next packet of the audio stream into `packet`; false at the end.
+    /// Reads the next packet of the audio stream into `packet`; false at the end. A read error
+    /// (a damaged or truncated file) ends the sound, not the encode: the picture goes on.
     Result<bool> read()
     {
         for (;;) {
             const int ret = av_read_frame(in.get(), packet.get());
             if (ret == AVERROR_EOF)
                 return false;
-            if (ret < 0)
-                return unexpected(Errc::Io, "Failed to read the audio source", errnoOf(ret));
+            if (ret < 0) {
+                description += ", ended early (unreadable after " +
+                               std::to_string(static_cast<long long>(bytes / 1000)) + " kB)";
+                return false;
+            }
             if (packet->stream_index == index)
                 return true;
             av_packet_unref(packet.get());
@@ -296,10 +300,11 @@ Result<std::unique_ptr<AudioTrack>> AudioTrack::open(const std::string &source, 
     a.muxer = &m;
     AVFormatContext *ctx = nullptr;
     if (avformat_open_input(&ctx, source.c_str(), nullptr, nullptr) < 0)
-        return unexpected(Errc::Io, "Failed to open the audio source");
+        return unexpected(Errc::InvalidArgument,
+                          "The sound's source does not open as media (damaged or truncated?)");
     a.in.reset(ctx);
     if (avformat_find_stream_info(ctx, nullptr) < 0)
-        return unexpected(Errc::Io, "Failed to read the audio source's streams");
+        return unexpected(Errc::InvalidArgument, "The sound's source has no readable streams");
     a.index = av_find_best_stream(ctx, AVMEDIA_TYPE_AUDIO, -1, -1, nullptr, 0);
     if (a.index < 0)
         return std::unique_ptr<AudioTrack>();

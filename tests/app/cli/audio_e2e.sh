@@ -89,4 +89,7 @@ bad() { # WORDS ARGS...
 bad "--audio must name a file" --color "$work/film.mp4" --audio "$work/missing.wav"
 bad "--audio excludes" --color "$work/film.mp4" --audio "$work/other.wav" --no-audio
 bad "has no audio stream" --color "$work/film.mp4" --audio "$work/depth.mkv"
-echo "audio: copied and coded sound on the picture's timeline in MKV, MP4 and MPEG-TS; --no-audio; 3 mistakes refused"
+# an MP4 cut in half, before its index (written last): it does not open
+head -c $(($(wc -c <"$work/film.mp4") / 2)) "$work/film.mp4" >"$work/cut.mp4"
+bad "does not open as media" --color "$work/film.mp4" --audio "$work/cut.mp4"
+echo "audio: copied and coded sound on the picture's timeline in MKV, MP4 and MPEG-TS; --no-audio; 4 mistakes refused"

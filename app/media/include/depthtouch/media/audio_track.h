@@ -30,9 +30,10 @@ public:
     /// \brief Opens the first audio stream of \a source (a file or URL FFmpeg reads) and adds its
     /// stream to \a muxer. \a pictureSource: whether \a source is also the color input (its video
     /// stream's start is output time 0). \pre muxer not started.
-    /// \return the track; nullptr when \a source opens but has no audio stream; Errc::Io when it
-    ///         does not open, Errc::NotSupported when its codec cannot be decoded or AAC cannot be
-    ///         encoded, Errc::InvalidArgument when the container refuses the stream.
+    /// \return the track; nullptr when \a source opens but has no audio stream;
+    ///         Errc::InvalidArgument when it does not open as media or the container refuses the
+    ///         stream, Errc::NotSupported when its codec cannot be decoded or AAC cannot be
+    ///         encoded. A read error later ends the sound early (description() says so).
     static Result<std::unique_ptr<AudioTrack>> open(const std::string &source, bool pictureSource,
                                                     Muxer &muxer);
 
