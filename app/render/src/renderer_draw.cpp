@@ -223,8 +223,9 @@ Result<void> StereoRenderer::render(const RenderTarget &target)
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     stageTimes_.clear = stageEnd(t);
     int count = 0;
-    const auto eyes = eyeViews(options_.mode, options_.stereo, target.width(), target.height(),
-                               mapping_.width(), mapping_.height(), options_.box.depth, count);
+    const auto eyes =
+        eyeViews(options_.mode, options_.stereo, target.width(), target.height(),
+                 mapping_.pictureWidth(), mapping_.pictureHeight(), options_.box.depth, count);
     stageTimes_.eye[1] = 0.0;
     double overlay = 0.0;
     for (int i = 0; i < count; ++i) {

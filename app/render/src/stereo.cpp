@@ -35,30 +35,36 @@ EyeView eyeView(const StereoParams &params, double eyeX, double aspect, Viewport
                 double boxWidth, double boxHeight, double boxDepth)
 {
     const double d = params.viewDistance;
-    const double conv = params.convergence;
-    // Window that shows the box (at z = 0) with a margin, widened to the eye image's aspect.
+    // Window that shows the picture with a margin, widened to the eye image's aspect.
     double hw = 0.5 * boxWidth * params.margin;
     double hh = 0.5 * boxHeight * params.margin;
     if (hw / hh < aspect)
         hw = hh * aspect;
     else
         hh = hw / aspect;
-    // The same window moved to the zero-parallax plane (similar triangles from the eyes' line).
-    hw *= conv / d;
-    hh *= conv / d;
-    const double zNear = std::max(0.1 * d, d - 1.5 * boxDepth);
+    // The outermost pixel centres fall on the picture's outer samples; pull the window 1/128 pixel
+    // inside so the rasteriser's fill rule (which drops centres exactly on right and top edges)
+    // keeps them.
+    hw *= 1.0 - 1.0 / (128.0 * std::max(1, viewport.width));
+    hh *= 1.0 - 1.0 / (128.0 * std::max(1, viewport.height));
+    // Shift-sensor parallax (Fehn 2004): each eye sees the picture straight on, shifted in x by
+    // -eyeX·(z − zc)/convergence, zc the zero-parallax plane. No point is scaled by its depth, so
+    // the mono view is the source picture pixel for pixel.
+    const double zc = d - params.convergence;
+    const double shear = -eyeX / params.convergence;
+    const double zNear = d - 1.5 * boxDepth;
     const double zFar = d + 1.5 * boxDepth;
-    const double k = zNear / conv;
 
     EyeView e;
     e.eyeOffset = eyeX;
     e.viewport = viewport;
     e.projection =
-        glm::frustum(static_cast<float>((-hw - eyeX) * k), static_cast<float>((hw - eyeX) * k),
-                     static_cast<float>(-hh * k), static_cast<float>(hh * k),
-                     static_cast<float>(zNear), static_cast<float>(zFar));
-    e.view = glm::translate(glm::mat4(1.0f), glm::vec3(static_cast<float>(-eyeX), 0.0f,
-                                                       static_cast<float>(-d)));
+        glm::ortho(static_cast<float>(-hw), static_cast<float>(hw), static_cast<float>(-hh),
+                   static_cast<float>(hh), static_cast<float>(zNear), static_cast<float>(zFar));
+    glm::mat4 shift(1.0f); // x' = x + shear·(z − zc)
+    shift[2][0] = static_cast<float>(shear);
+    shift[3][0] = static_cast<float>(-shear * zc);
+    e.view = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, static_cast<float>(-d))) * shift;
     return e;
 }
 

@@ -134,11 +134,11 @@ TEST_F(RenderGoldenTest, drawnSurfaceIsTheTouchedHeightField)
         EXPECT_EQ(top.covered, 97 * 65);
         EXPECT_LT(top.maxGridDx, 0.02 * hf.spacing());
         EXPECT_LT(top.maxDz, 0.01 * level) << "haptic and graphic surfaces differ";
-        // AND through the left eye's off-axis perspective (between the samples too)
+        // AND through the left eye's shift-sensor view (between the samples too)
         int n = 0;
-        const auto eyes =
-            eyeViews(StereoMode::SideBySide, renderer_->options().stereo, 400, 150,
-                     renderer_->mapping().width(), renderer_->mapping().height(), 0.04, n);
+        const auto eyes = eyeViews(StereoMode::SideBySide, renderer_->options().stereo, 400, 150,
+                                   renderer_->mapping().pictureWidth(),
+                                   renderer_->mapping().pictureHeight(), 0.04, n);
         const Agreement persp = agreement(*renderer_, hf, eyes[0], 400, 150, false);
         EXPECT_GT(persp.covered, persp.total / 2);
         EXPECT_LT(persp.maxDz, 0.02 * level) << "haptic and graphic surfaces differ";

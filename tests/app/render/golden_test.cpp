@@ -46,9 +46,9 @@ TEST_F(RenderGoldenTest, flatPlaneWithSolidColorFillsTheBoxRegion)
     const Picture p = draw(160, 120);
     // THEN the box's projected rectangle is red and the rest is the black background
     int n = 0;
-    const auto eyes =
-        eyeViews(StereoMode::Mono, renderer_->options().stereo, 160, 120,
-                 renderer_->mapping().width(), renderer_->mapping().height(), 0.04, n);
+    const auto eyes = eyeViews(StereoMode::Mono, renderer_->options().stereo, 160, 120,
+                               renderer_->mapping().pictureWidth(),
+                               renderer_->mapping().pictureHeight(), 0.04, n);
     const double z = renderer_->mapping().point(0, 0, 128).z;
     const glm::dvec2 tl = project(eyes[0], 120, {-0.05, renderer_->mapping().height() / 2, z});
     const glm::dvec2 br = project(eyes[0], 120, {0.05, -renderer_->mapping().height() / 2, z});
@@ -76,28 +76,33 @@ TEST_F(RenderGoldenTest, flatPlaneWithSolidColorFillsTheBoxRegion)
 
 TEST_F(RenderGoldenTest, raisedSquareHasCrossedParallaxAndFarMarkUncrossed)
 {
-    // GIVEN a far plane with a raised white square in its middle (nearness 255 = nearest)
+    // GIVEN a far plane with a raised square in its middle (nearness 255 = nearest) with a red mark
+    // on it (its edges are not the measure: the mesh's steep sides between the far plane and the
+    // square stretch the colour across the depth edge, DIBR's rubber sheet)
     const auto inSquare = [](int c, int r) { return c >= 24 && c <= 40 && r >= 16 && r <= 32; };
+    const auto inMark = [](int c, int r) { return c >= 30 && c <= 34 && r >= 22 && r <= 26; };
     const Depth8 d(64, 48, [&](int c, int r) { return inSquare(c, r) ? 255 : 0; });
     Yuv420 col(64, 48, [&](int c, int r) {
-        return inSquare(c, r) ? std::array<int, 3>{235, 128, 128}
-                              : std::array<int, 3>{40, 128, 128};
+        return inMark(c, r)     ? std::array<int, 3>{81, 90, 240}
+               : inSquare(c, r) ? std::array<int, 3>{235, 128, 128}
+                                : std::array<int, 3>{40, 128, 128};
     });
     setMode(StereoMode::SideBySide);
     ASSERT_TRUE(renderer_->setDepth(d.view()));
     ASSERT_TRUE(renderer_->setColor(col.view(), ColorSpec{}));
     // WHEN drawn side-by-side
     const Picture p = draw(320, 120);
-    const Blob left = findBlob(p, 0, 160, 0, 120, bright);
-    const Blob right = findBlob(p, 160, 320, 0, 120, bright);
-    ASSERT_GT(left.count, 50);
-    ASSERT_GT(right.count, 50);
-    // THEN the near square's left-eye image is right of its right-eye image (crossed parallax), by
+    const auto red = [](Rgb c) { return c.r > 200 && c.g < 60 && c.b < 60; };
+    const Blob left = findBlob(p, 0, 160, 0, 120, red);
+    const Blob right = findBlob(p, 160, 320, 0, 120, red);
+    ASSERT_GT(left.count, 20);
+    ASSERT_GT(right.count, 20);
+    // THEN the near mark's left-eye image is right of its right-eye image (crossed parallax), by
     // the disparity the eye cameras predict
     int n = 0;
-    const auto eyes =
-        eyeViews(StereoMode::SideBySide, renderer_->options().stereo, 320, 120,
-                 renderer_->mapping().width(), renderer_->mapping().height(), 0.04, n);
+    const auto eyes = eyeViews(StereoMode::SideBySide, renderer_->options().stereo, 320, 120,
+                               renderer_->mapping().pictureWidth(),
+                               renderer_->mapping().pictureHeight(), 0.04, n);
     const glm::dvec3 centre = renderer_->mapping().point(32, 24, 255);
     const double predicted =
         project(eyes[0], 120, centre).x - (project(eyes[1], 120, centre).x - 160);
@@ -114,6 +119,50 @@ TEST_F(RenderGoldenTest, raisedSquareHasCrossedParallaxAndFarMarkUncrossed)
     ASSERT_GT(l2.count, 20);
     // THEN it lies behind the screen: uncrossed (left-eye image left of the right-eye image)
     EXPECT_LT(l2.cx - r2.cx, -1.0);
+}
+
+// The picture is the source's (docs/playing.md "Picture"): with the default margin the mono view of
+// a W×H frame drawn into W×H pixels is the colour frame pixel for pixel, a near disc in front of a
+// far wall included (a camera that scales points by their distance draws the disc bigger relative
+// to the wall and leaves a border: 20 dB here). The reference is the BT.601 limited-range formula
+// computed here from the luma (grey chroma, so no chroma filter enters).
+TEST_F(RenderGoldenTest, theMonoViewIsTheSourcePicturePixelForPixel)
+{
+    // GIVEN a far wall and a near disc at the left edge, each with a texture of its own
+    constexpr int kW = 96;
+    constexpr int kH = 72;
+    const auto inDisc = [](int c, int r) {
+        return (c - 14) * (c - 14) + (r - 36) * (r - 36) < 196;
+    };
+    const Depth8 d(kW, kH, [&](int c, int r) { return inDisc(c, r) ? 250 : 10 + r / 8; });
+    const auto luma = [&](int c, int r) {
+        return inDisc(c, r) ? 235 - ((c / 3 + r / 3) % 2) * 55 : 40 + (c * 5 + r * 3) % 100;
+    };
+    Yuv420 col(kW, kH, [&](int c, int r) { return std::array<int, 3>{luma(c, r), 128, 128}; });
+    RendererOptions o = renderer_->options();
+    o.mode = StereoMode::Mono;
+    o.stereo = StereoParams{}; // the product's defaults: margin 1
+    ASSERT_TRUE(renderer_->setOptions(o));
+    ASSERT_TRUE(renderer_->setDepth(d.view()));
+    ASSERT_TRUE(renderer_->setColor(col.view(), ColorSpec{YuvMatrix::Bt601, false}));
+    // WHEN drawn mono at the source size
+    const Picture p = draw(kW, kH);
+    // THEN every pixel is the colour frame's: PSNR ≥ 35 dB (8-bit peak), and the disc's first
+    // and last bright columns on its middle row are the source's
+    double se = 0.0;
+    for (int r = 0; r < kH; ++r)
+        for (int c = 0; c < kW; ++c) {
+            const double want = std::clamp(255.0 / 219.0 * (luma(c, r) - 16), 0.0, 255.0);
+            const Rgb got = p.at(c, r);
+            for (const int v : {got.r, got.g, got.b})
+                se += (v - want) * (v - want);
+        }
+    const double mse = se / (3.0 * kW * kH);
+    const double psnr = 10.0 * std::log10(255.0 * 255.0 / std::max(mse, 1e-9));
+    EXPECT_GE(psnr, 35.0) << "mse " << mse;
+    const Blob disc = findBlob(p, 0, kW, 36, 37, [](Rgb c) { return c.r > 170; });
+    EXPECT_EQ(disc.x0, 1); // columns 1..27 of the source are in the disc on row 36
+    EXPECT_EQ(disc.x1, 27);
 }
 
 TEST_F(RenderGoldenTest, eachOutputModeHasItsLayout)

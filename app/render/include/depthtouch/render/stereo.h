@@ -1,15 +1,21 @@
 #pragma once
 /// \file
-/// \brief Two eye cameras with off-axis (asymmetric) frusta, and the stereo output layouts.
+/// \brief Two shift-sensor eye cameras, and the stereo output layouts.
 ///
-/// Viewer model (scene-box frame, metres, docs/architecture.md §3): the eyes sit on the line
-/// `y = 0, z = viewDistance`, `±eyeSeparation/2` left and right of the z axis, and look along −z at
-/// the box. The zero-parallax (screen) plane is `convergence` in front of the eyes, i.e. at
-/// `z = viewDistance − convergence`; both eyes' frusta share the window in that plane (off-axis
-/// projection, no toe-in, hence no vertical parallax). A point nearer than the screen plane has
-/// crossed parallax (its left-eye image lies to the right of its right-eye image); a farther one
-/// uncrossed. The window is sized so the box (at z = 0) fills the view at the eye viewport's
-/// aspect.
+/// Viewer model (scene-box frame, metres, docs/architecture.md §3, docs/playing.md "Picture"): the
+/// eyes sit on the line `y = 0, z = viewDistance`, `±eyeSeparation/2` left and right of the z
+/// axis, and look along −z at the box. The zero-parallax (screen) plane is `convergence` in front
+/// of the eyes, at `zc = viewDistance − convergence`. Each eye is a shift-sensor camera (C. Fehn,
+/// "Depth-image-based rendering (DIBR), compression and transmission for a new approach on 3D-TV",
+/// SPIE 5291, 2004): it sees the picture straight on (a parallel projection along −z) and shifts a
+/// point at depth z by `−eyeX·(z − zc)/convergence` in x. The parallax is thus linear in the
+/// nearness, which is linear in 1/Z for the default `inverse_z` mapping: the shift-sensor rig's
+/// parallax, `f·b·(1/Z − 1/Zc)`. No point is scaled by its distance, so the mono view (and the
+/// zero-parallax plane of each eye) is the source picture pixel for pixel, whatever the source
+/// camera's field of view: a near object keeps its size relative to the wall. A point nearer than
+/// the screen plane has crossed parallax (its left-eye image lies to the right of its right-eye
+/// image); a farther one uncrossed. The window frames the picture (`boxWidth` × `boxHeight`) at the
+/// eye viewport's aspect, with `margin`.
 ///
 /// Output layouts of one frame (W×H pixels):
 ///  - `mono`: one centred camera, full frame;
@@ -47,7 +53,7 @@ struct StereoParams {
     double eyeSeparation = 0.010; ///< Distance between the eyes, m (> 0 for stereo).
     double viewDistance = 0.20;   ///< Eyes to the box centre along z, m (> box depth).
     double convergence = 0.20; ///< Eyes to the zero-parallax plane, m (> 0); default: box centre.
-    double margin = 1.04;         ///< Window size / box size (≥ 1 keeps a border around the box).
+    double margin = 1.0; ///< Window size / picture size (1 fills the eye; > 1 keeps a border).
     /// sbs/tab: true = frame-compatible (each eye squeezed into its half, the display stretches it
     /// back: HDMI half side-by-side/top-and-bottom); false = each half is a full-aspect eye image
     /// (e.g. 1440×486 side-by-side of two 720×486 eyes).
@@ -64,8 +70,8 @@ struct Viewport {
 
 /// \brief One camera: view and projection matrices and where it draws.
 struct EyeView {
-    glm::mat4 view{1.0f};       ///< Scene box → eye frame.
-    glm::mat4 projection{1.0f}; ///< Eye frame → clip space (off-axis frustum).
+    glm::mat4 view{1.0f};       ///< Scene box → eye frame (with the eye's parallax shift).
+    glm::mat4 projection{1.0f}; ///< Eye frame → clip space (parallel projection of the window).
     Viewport viewport{};
     double eyeOffset = 0.0;      ///< Eye x position, m (−sep/2 left, +sep/2 right, 0 mono).
     int rowParity = -1;          ///< RowInterleaved: draw only window rows y with y % 2 == parity.
@@ -73,14 +79,15 @@ struct EyeView {
 };
 
 /// \brief The eyes to draw for \a mode in a \a width × \a height frame, left eye first.
-/// \param[in] boxWidth, boxHeight x and y extent of the scene box, m (> 0)
+/// \param[in] boxWidth, boxHeight x and y extent of the picture in the scene box, m (> 0): the
+/// sample grid plus half a sample at each side, SurfaceMapping::pictureWidth() and pictureHeight()
 /// \param[in] boxDepth z extent of the box, m (> 0): sets the near and far planes
 /// \return 1 view (Mono) or 2 views (left, right); \a count receives the number.
 std::array<EyeView, 2> eyeViews(StereoMode mode, const StereoParams &params, int width, int height,
                                 double boxWidth, double boxHeight, double boxDepth, int &count);
 
-/// \brief A single off-axis camera at eye offset \a eyeX, drawing into \a viewport, whose window
-/// has the aspect ratio \a aspect (width/height of the eye image as the viewer sees it).
+/// \brief A single shift-sensor camera at eye offset \a eyeX, drawing into \a viewport, whose
+/// window has the aspect ratio \a aspect (width/height of the eye image as the viewer sees it).
 EyeView eyeView(const StereoParams &params, double eyeX, double aspect, Viewport viewport,
                 double boxWidth, double boxHeight, double boxDepth);
 

@@ -47,6 +47,11 @@ struct SurfaceMapping {
     [[nodiscard]] double width() const noexcept { return dx * (columns - 1); }
     /// \return box height (y extent), m.
     [[nodiscard]] double height() const noexcept { return -dy * (rows - 1); }
+    /// \return the picture's width: the box plus half a sample at each side (W pixels, each
+    /// centred on its sample), m.
+    [[nodiscard]] double pictureWidth() const noexcept { return dx * columns; }
+    /// \return the picture's height (H pixels), m.
+    [[nodiscard]] double pictureHeight() const noexcept { return -dy * rows; }
 };
 
 } // namespace depthtouch::scene
