@@ -53,6 +53,8 @@ constexpr KeyEntry kKeys[] = {
     {Key::Green, "KEY_GREEN"},
     {Key::Yellow, "KEY_YELLOW"},
     {Key::Blue, "KEY_BLUE"},
+    {Key::ChannelUp, "KEY_CHANNELUP"},
+    {Key::ChannelDown, "KEY_CHANNELDOWN"},
     {Key::Mode3d, "KEY_3D_MODE"},
 };
 

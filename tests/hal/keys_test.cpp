@@ -17,7 +17,7 @@ TEST(KeysTest, everyKeyRoundTripsThroughItsName)
 {
     std::size_t count = 0;
     const Key *keys = allKeys(count);
-    ASSERT_EQ(count, 35u);
+    ASSERT_EQ(count, 37u);
     std::set<std::string> names;
     for (std::size_t i = 0; i < count; ++i) {
         const Key k = keys[i];
@@ -41,6 +41,8 @@ TEST(KeysTest, namesAreForgiving)
     EXPECT_EQ(keyFromName("KEY_3D_MODE"), Key::Mode3d);
     EXPECT_EQ(keyFromName("0"), Key::Digit0);
     EXPECT_EQ(keyFromName("OK"), Key::Ok);
+    EXPECT_EQ(keyFromName("CHANNEL_UP"), Key::ChannelUp); // mpv's name
+    EXPECT_EQ(keyFromName("KEY_CHANNELDOWN"), Key::ChannelDown);
 }
 
 TEST(KeysTest, unknownNamesAndCodes)
@@ -76,6 +78,8 @@ TEST(KeysTest, valuesAreTheLinuxCodes)
     EXPECT_EQ(static_cast<int>(Key::Menu), KEY_MENU);
     EXPECT_EQ(static_cast<int>(Key::Info), KEY_INFO);
     EXPECT_EQ(static_cast<int>(Key::Mode3d), KEY_3D_MODE);
+    EXPECT_EQ(static_cast<int>(Key::ChannelUp), KEY_CHANNELUP);
+    EXPECT_EQ(static_cast<int>(Key::ChannelDown), KEY_CHANNELDOWN);
     EXPECT_EQ(static_cast<int>(Key::Digit0), KEY_0);
     EXPECT_EQ(static_cast<int>(Key::Digit1), KEY_1);
     EXPECT_EQ(static_cast<int>(Key::Digit9), KEY_9);

@@ -443,6 +443,12 @@ Result<void> Playback::recenter()
     return {};
 }
 
+Result<void> Playback::showProgress()
+{
+    impl_->osdEvents.fetch_add(1, std::memory_order_relaxed);
+    return {};
+}
+
 Result<void> Playback::snapshot()
 {
     if (impl_->config.snapshotDir.empty())

@@ -9,26 +9,35 @@ namespace {
 using hal::Key;
 
 // Remote keys and the terminal keyboard (drivers/tty maps h → KEY_RED, r → KEY_GREEN, c →
-// KEY_YELLOW, 3 →
-// KEY_3D_MODE, q → KEY_EXIT, space → KEY_PLAYPAUSE, s → KEY_STOP, arrows → arrows).
+// KEY_YELLOW, 3 → KEY_3D_MODE, q → KEY_EXIT, space → KEY_PLAYPAUSE, s → KEY_STOP, + / - →
+// KEY_CHANNELUP / KEY_CHANNELDOWN, o → KEY_INFO, arrows → arrows). Where a key means the same in
+// Kodi's full-screen video (system/keymaps/remote.xml: play PlayPause, pause, stop, forward and
+// reverse, Left/Right StepBack/StepForward, Up/Down ChapterOrBigStep, select/menu/info OSD, back,
+// power ShutDown) it does the same here; Up/Down's big step is mpv's (seek ±60 s). Stiffness, the
+// one thing neither has, is on the other ± rocker of a TV remote, CH+/CH−.
 constexpr KeyBinding kBindings[] = {
     {Key::PlayPause, "toggle-pause"},
-    {Key::Ok, "toggle-pause"},
-    {Key::Enter, "toggle-pause"},
-    {Key::Play, "play"},
+    {Key::Play, "toggle-pause"},
     {Key::Pause, "pause"},
     {Key::Stop, "stop"},
     {Key::FastForward, "seek 10"},
     {Key::Right, "seek 10"},
     {Key::Rewind, "seek -10"},
     {Key::Left, "seek -10"},
-    {Key::Up, "stiffness +"},
-    {Key::Down, "stiffness -"},
+    {Key::Up, "seek 60"},
+    {Key::Down, "seek -60"},
+    {Key::Ok, "show-progress"},
+    {Key::Enter, "show-progress"},
+    {Key::Menu, "show-progress"},
+    {Key::Info, "show-progress"},
+    {Key::ChannelUp, "stiffness +"},
+    {Key::ChannelDown, "stiffness -"},
     {Key::Mode3d, "next-stereo-mode"},
     {Key::Digit3, "next-stereo-mode"},
     {Key::Red, "haptics toggle"},
     {Key::Green, "recenter"},
     {Key::Yellow, "snapshot"},
+    {Key::Back, "quit"},
     {Key::Exit, "quit"},
     {Key::Power, "quit"},
 };

@@ -151,6 +151,11 @@ struct CommandHandlers {
         return m.apply("snapshot", m.actions_.snapshot(), [] {});
     }
 
+    static CommandOutcome showProgress(StateMachine &m, const Command &)
+    {
+        return m.apply("show-progress", m.actions_.showProgress(), [] {});
+    }
+
     static CommandOutcome loop(StateMachine &m, const Command &c)
     {
         const bool target = c.toggle == Switch::Toggle ? !m.loop_ : c.toggle == Switch::On;
@@ -280,6 +285,9 @@ constexpr CommandSpec kCommands[] = {
      &parseGetArgs, &H::get},
     {"snapshot", CommandId::Snapshot, "", "Save the presented frame as PNG (play --snapshot-dir)",
      kActive, false, &parseNoArgs, &H::snapshot},
+    {"show-progress", CommandId::ShowProgress, "",
+     "Show the on-screen display (state, haptics, stiffness, force) for --osd-seconds", kAnyState,
+     false, &parseNoArgs, &H::showProgress},
 };
 
 constexpr bool tableInIdOrder()

@@ -19,10 +19,15 @@ struct Alias {
 
 // Codes outside hal::Key that remotes commonly send for the same function.
 constexpr Alias kAliases[] = {
-    {KEY_MODE, hal::Key::Mode3d},     {KEY_PLAYCD, hal::Key::Play},
-    {KEY_PAUSECD, hal::Key::Pause},   {KEY_STOPCD, hal::Key::Stop},
-    {KEY_SELECT, hal::Key::Ok},       {KEY_SPACE, hal::Key::PlayPause},
+    {KEY_MODE, hal::Key::Mode3d},
+    {KEY_PLAYCD, hal::Key::Play},
+    {KEY_PAUSECD, hal::Key::Pause},
+    {KEY_STOPCD, hal::Key::Stop},
+    {KEY_SELECT, hal::Key::Ok},
+    {KEY_SPACE, hal::Key::PlayPause},
     {KEY_ESC, hal::Key::Exit},
+    {KEY_PAGEUP, hal::Key::ChannelUp},
+    {KEY_PAGEDOWN, hal::Key::ChannelDown},
 };
 
 Result<RepeatPolicy> repeatPolicy(const hal::OptionList &options)
@@ -50,6 +55,8 @@ bool isContinuousKey(hal::Key key) noexcept
     case hal::Key::Rewind:
     case hal::Key::VolumeUp:
     case hal::Key::VolumeDown:
+    case hal::Key::ChannelUp:
+    case hal::Key::ChannelDown:
         return true;
     default:
         return false;

@@ -65,9 +65,10 @@ struct KeyBytes {
 
 /// The keys of single bytes (both cases of a letter).
 constexpr KeyBytes kByteKeys[] = {
-    {" pP", hal::Key::PlayPause}, {"sS", hal::Key::Stop},  {"3", hal::Key::Mode3d},
-    {"hH", hal::Key::Red},        {"rR", hal::Key::Green}, {"cC", hal::Key::Yellow},
-    {"qQ", hal::Key::Exit},
+    {" pP", hal::Key::PlayPause}, {"sS", hal::Key::Stop},      {"3", hal::Key::Mode3d},
+    {"hH", hal::Key::Red},        {"rR", hal::Key::Green},     {"cC", hal::Key::Yellow},
+    {"qQ", hal::Key::Exit},       {"+=", hal::Key::ChannelUp}, {"-", hal::Key::ChannelDown},
+    {"oO", hal::Key::Info},
 };
 
 /// The keys of the final byte of an arrow key's escape sequence (ESC [ A .. D).

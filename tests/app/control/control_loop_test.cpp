@@ -43,9 +43,9 @@ TEST(ControlLoopTest, remoteKeysDriveTheMachineUntilQuit)
     fake.calls.clear();
     const TimePoint t0 = clock.now();
     remote.pushKey(Key::Right, t0 + seconds(1));
-    remote.push({Key::Up, KeyAction::Press, t0 + seconds(2)});
-    remote.push({Key::Up, KeyAction::Repeat, t0 + milliseconds(2250)});
-    remote.push({Key::Up, KeyAction::Release, t0 + milliseconds(2300)});
+    remote.push({Key::ChannelUp, KeyAction::Press, t0 + seconds(2)});
+    remote.push({Key::ChannelUp, KeyAction::Repeat, t0 + milliseconds(2250)});
+    remote.push({Key::ChannelUp, KeyAction::Release, t0 + milliseconds(2300)});
     remote.pushKey(Key::Mode3d, t0 + seconds(3));
     remote.pushKey(Key::PlayPause, t0 + seconds(4));
     remote.push({Key::PlayPause, KeyAction::Repeat, t0 + milliseconds(4050)});

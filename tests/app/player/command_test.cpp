@@ -219,10 +219,11 @@ TEST(KeyBindingsTest, pressSendsRepeatOnlyWhereItMakesSense)
     c = commandForKey(key(hal::Key::Left, A::Press));
     ASSERT_TRUE(c);
     EXPECT_EQ(c->seconds, -10.0);
-    c = commandForKey(key(hal::Key::Down, A::Repeat));
+    c = commandForKey(key(hal::Key::ChannelDown, A::Repeat));
     ASSERT_TRUE(c);
     EXPECT_EQ(c->id, CommandId::Stiffness);
     EXPECT_EQ(c->stiffnessChange, StiffnessChange::Down);
+    EXPECT_FALSE(commandForKey(key(hal::Key::Ok, A::Repeat)));
 
     EXPECT_FALSE(commandForKey(key(hal::Key::Mode3d, A::Repeat)));
     c = commandForKey(key(hal::Key::Mode3d, A::Press));
@@ -234,6 +235,50 @@ TEST(KeyBindingsTest, pressSendsRepeatOnlyWhereItMakesSense)
     EXPECT_FALSE(commandForKey(key(hal::Key::Digit7, A::Press))) << "unbound key";
 }
 
+// The defaults follow Kodi's full-screen video keymap (system/keymaps/remote.xml, FullscreenVideo
+// and global) wherever Kodi's action is one of ours; the table below is that file's, written down
+// here key by key, not read from the bindings.
+TEST(KeyBindingsTest, theDefaultsFollowKodisFullScreenVideoKeys)
+{
+    using A = hal::KeyAction;
+    struct Kodi {
+        hal::Key key;
+        const char *kodiAction;
+        CommandId id;
+        double seconds; // for seeks: the sign says the direction, the size small or big step
+    };
+    const Kodi kodi[] = {
+        {hal::Key::PlayPause, "PlayPause", CommandId::TogglePause, 0.0},
+        {hal::Key::Play, "PlayPause", CommandId::TogglePause, 0.0},
+        {hal::Key::Pause, "Pause", CommandId::Pause, 0.0},
+        {hal::Key::Stop, "Stop", CommandId::Stop, 0.0},
+        {hal::Key::FastForward, "FastForward", CommandId::Seek, 10.0},
+        {hal::Key::Rewind, "Rewind", CommandId::Seek, -10.0},
+        {hal::Key::Right, "StepForward", CommandId::Seek, 10.0},
+        {hal::Key::Left, "StepBack", CommandId::Seek, -10.0},
+        {hal::Key::Up, "ChapterOrBigStepForward", CommandId::Seek, 60.0},
+        {hal::Key::Down, "ChapterOrBigStepBack", CommandId::Seek, -60.0},
+        {hal::Key::Ok, "OSD", CommandId::ShowProgress, 0.0},
+        {hal::Key::Menu, "OSD", CommandId::ShowProgress, 0.0},
+        {hal::Key::Info, "Info", CommandId::ShowProgress, 0.0},
+        {hal::Key::Back, "Back", CommandId::Quit, 0.0},
+        {hal::Key::Power, "ShutDown()", CommandId::Quit, 0.0},
+    };
+    const KeyMap defaults;
+    for (const Kodi &k : kodi) {
+        const auto c = defaults.commandFor(key(k.key, A::Press));
+        ASSERT_TRUE(c) << hal::keyName(k.key) << " (Kodi: " << k.kodiAction << ") is unbound";
+        EXPECT_EQ(c->id, k.id) << hal::keyName(k.key) << " (Kodi: " << k.kodiAction << ")";
+        if (k.id == CommandId::Seek) {
+            EXPECT_EQ(c->seconds, k.seconds) << hal::keyName(k.key);
+            EXPECT_EQ(c->seekMode, SeekMode::Relative) << hal::keyName(k.key);
+        }
+    }
+    // The volume keys mean volume there: they are left for sound, not given to the stiffness
+    for (const hal::Key k : {hal::Key::VolumeUp, hal::Key::VolumeDown, hal::Key::Mute})
+        EXPECT_EQ(defaults.commandText(k), nullptr) << hal::keyName(k);
+}
+
 // A key map in mpv's input.conf form rebinds the defaults line by line: comments and blank lines
 // are skipped, mpv's and the kernel's key names both read, a later line wins, `ignore` unbinds,
 // a new key is bound; a wrong line names its number and changes nothing.
@@ -241,12 +286,12 @@ TEST(KeyBindingsTest, aKeyMapRebindsTheDefaultsAsMpvsInputConf)
 {
     using A = hal::KeyAction;
     KeyMap keys;
-    EXPECT_STREQ(keys.commandText(hal::Key::Up), "stiffness +"); // the defaults
+    EXPECT_STREQ(keys.commandText(hal::Key::Up), "seek 60"); // the defaults
     EXPECT_EQ(keys.commandText(hal::Key::Blue), nullptr);
     const std::string conf = "# a remote's key map\n"
                              "\n"
-                             "UP        seek 60   # Kodi's big step\n"
-                             "KEY_DOWN  seek -60\n"
+                             "UP        seek 600  # Kodi's big step\n"
+                             "KEY_DOWN  seek -600\n"
                              "volume_up stiffness +\n"
                              "BLUE      haptics toggle\n"
                              "BLUE      recenter\n" // a later line wins
@@ -255,10 +300,10 @@ TEST(KeyBindingsTest, aKeyMapRebindsTheDefaultsAsMpvsInputConf)
     auto c = keys.commandFor(key(hal::Key::Up, A::Repeat)); // seek repeats
     ASSERT_TRUE(c);
     EXPECT_EQ(c->id, CommandId::Seek);
-    EXPECT_EQ(c->seconds, 60.0);
+    EXPECT_EQ(c->seconds, 600.0);
     c = keys.commandFor(key(hal::Key::Down, A::Press));
     ASSERT_TRUE(c);
-    EXPECT_EQ(c->seconds, -60.0);
+    EXPECT_EQ(c->seconds, -600.0);
     c = keys.commandFor(key(hal::Key::VolumeUp, A::Press));
     ASSERT_TRUE(c);
     EXPECT_EQ(c->id, CommandId::Stiffness);
@@ -282,7 +327,7 @@ TEST(KeyBindingsTest, aKeyMapRebindsTheDefaultsAsMpvsInputConf)
         KeyMap k;
         const std::string err = k.apply(text);
         EXPECT_EQ(err.rfind(want, 0), 0u) << text << " -> " << err;
-        EXPECT_STREQ(k.commandText(hal::Key::Up), "stiffness +") << "a wrong file changed a key";
+        EXPECT_STREQ(k.commandText(hal::Key::Up), "seek 60") << "a wrong file changed a key";
     }
     std::string many;
     for (int i = 0; i < 1001; ++i)

@@ -65,6 +65,7 @@ public:
     }
     Result<void> recenter() override { return record("recenter", "recenter"); }
     Result<void> snapshot() override { return record("snapshot", "snapshot"); }
+    Result<void> showProgress() override { return record("showProgress", "showProgress"); }
 
 private:
     Result<void> record(const std::string &name, std::string call)

@@ -129,6 +129,7 @@ const std::vector<Row> kRows = {
     {S::Idle, "quit", true, S::Idle, ""},
     {S::Idle, "get state", true, S::Idle, ""},
     {S::Idle, "snapshot", false, S::Idle, ""},
+    {S::Idle, "show-progress", true, S::Idle, "showProgress"},
     // Opening
     {S::Opening, "play", false, S::Opening, ""},
     {S::Opening, "pause", false, S::Opening, ""},
@@ -144,6 +145,7 @@ const std::vector<Row> kRows = {
     {S::Opening, "quit", true, S::Stopped, "stop"},
     {S::Opening, "get state", true, S::Opening, ""},
     {S::Opening, "snapshot", false, S::Opening, ""},
+    {S::Opening, "show-progress", true, S::Opening, "showProgress"},
     // Playing
     {S::Playing, "play", false, S::Playing, ""},
     {S::Playing, "pause", true, S::Paused, "pause"},
@@ -159,6 +161,7 @@ const std::vector<Row> kRows = {
     {S::Playing, "quit", true, S::Stopped, "stop"},
     {S::Playing, "get state", true, S::Playing, ""},
     {S::Playing, "snapshot", true, S::Playing, "snapshot"},
+    {S::Playing, "show-progress", true, S::Playing, "showProgress"},
     // Paused
     {S::Paused, "play", true, S::Playing, "resume"},
     {S::Paused, "pause", false, S::Paused, ""},
@@ -174,6 +177,7 @@ const std::vector<Row> kRows = {
     {S::Paused, "quit", true, S::Stopped, "stop"},
     {S::Paused, "get state", true, S::Paused, ""},
     {S::Paused, "snapshot", true, S::Paused, "snapshot"},
+    {S::Paused, "show-progress", true, S::Paused, "showProgress"},
     // Stopped
     {S::Stopped, "play", true, S::Opening, "open movie.mkv"},
     {S::Stopped, "pause", false, S::Stopped, ""},
@@ -189,6 +193,7 @@ const std::vector<Row> kRows = {
     {S::Stopped, "quit", true, S::Stopped, ""},
     {S::Stopped, "get state", true, S::Stopped, ""},
     {S::Stopped, "snapshot", false, S::Stopped, ""},
+    {S::Stopped, "show-progress", true, S::Stopped, "showProgress"},
     // Error
     {S::Error, "play", true, S::Opening, "open movie.mkv"},
     {S::Error, "pause", false, S::Error, ""},
@@ -204,6 +209,7 @@ const std::vector<Row> kRows = {
     {S::Error, "quit", true, S::Error, ""},
     {S::Error, "get state", true, S::Error, ""},
     {S::Error, "snapshot", false, S::Error, ""},
+    {S::Error, "show-progress", true, S::Error, "showProgress"},
 };
 
 std::string rowName(const Row &r)

@@ -54,9 +54,9 @@ TEST_F(RenderGoldenTest, avatarOsdAndSnapshot)
     const Picture withAvatar = draw(200, 150);
     // THEN the pixel at the proxy is the sphere's warm colour instead of the grey surface
     int n = 0;
-    const auto eyes =
-        eyeViews(StereoMode::Mono, renderer_->options().stereo, 200, 150,
-                 renderer_->mapping().width(), renderer_->mapping().height(), 0.04, n);
+    const auto eyes = eyeViews(StereoMode::Mono, renderer_->options().stereo, 200, 150,
+                               renderer_->mapping().pictureWidth(),
+                               renderer_->mapping().pictureHeight(), 0.04, n);
     const glm::dvec2 at = project(eyes[0], 150, av.proxy + glm::dvec3(0, 0, av.radius));
     const Rgb before = plain.at(static_cast<int>(at.x), static_cast<int>(at.y));
     const Rgb sphere = withAvatar.at(static_cast<int>(at.x), static_cast<int>(at.y));
@@ -103,7 +103,7 @@ TEST_F(RenderGoldenTest, avatarOsdAndSnapshot)
             << y;
 }
 
-// The OSD shows the stiffness the finger feels (what the remote's Up and Down change) on a line of
+// The OSD shows the stiffness the finger feels (what the remote's CH+ and CH− change) on a line of
 // its own under the haptics line: the panel grows by that line, and the line's pixels follow the
 // number (900 and 800 N/m, the same length of text, draw differently there and nowhere else).
 TEST_F(RenderGoldenTest, theOsdShowsTheStiffnessOnALineOfItsOwn)
@@ -169,9 +169,9 @@ TEST_F(RenderGoldenTest, theAvatarSphereIsRoundWhereItCutsTheSurface)
     renderer_->setAvatar(av);
     const Picture pic = draw(400, 300);
     int n = 0;
-    const auto eyes =
-        eyeViews(StereoMode::Mono, renderer_->options().stereo, 400, 300,
-                 renderer_->mapping().width(), renderer_->mapping().height(), 0.04, n);
+    const auto eyes = eyeViews(StereoMode::Mono, renderer_->options().stereo, 400, 300,
+                               renderer_->mapping().pictureWidth(),
+                               renderer_->mapping().pictureHeight(), 0.04, n);
     const glm::dvec2 at = project(eyes[0], 300, av.proxy + glm::dvec3(0, 0, av.radius));
     const int cx = static_cast<int>(at.x);
     const int cy = static_cast<int>(at.y);

@@ -68,10 +68,12 @@ TEST_F(EvdevRemoteInputTest, mapsRemoteKeysAndSkipsOtherEvents)
     fake_->pushKey(t + milliseconds(130), KEY_3D_MODE, 1);
     fake_->pushKey(t + milliseconds(140), KEY_EXIT, 1);
     fake_->pushKey(t + milliseconds(150), KEY_FASTFORWARD, 7); // unknown value
+    fake_->pushKey(t + milliseconds(160), KEY_PAGEUP, 1);      // a keyboard's CH+
+    fake_->pushKey(t + milliseconds(170), KEY_CHANNELDOWN, 1);
 
     const auto events = drain(*remote);
 
-    ASSERT_EQ(events.size(), 6u);
+    ASSERT_EQ(events.size(), 8u);
     EXPECT_EQ(events[0].key, Key::PlayPause);
     EXPECT_EQ(events[0].action, KeyAction::Press);
     EXPECT_EQ(events[0].time, t);
@@ -81,6 +83,8 @@ TEST_F(EvdevRemoteInputTest, mapsRemoteKeysAndSkipsOtherEvents)
     EXPECT_EQ(events[3].key, Key::Stop);
     EXPECT_EQ(events[4].key, Key::Mode3d);
     EXPECT_EQ(events[5].key, Key::Exit);
+    EXPECT_EQ(events[6].key, Key::ChannelUp);
+    EXPECT_EQ(events[7].key, Key::ChannelDown);
     EXPECT_EQ(fake_->pending(), 0u);
 }
 
@@ -88,7 +92,8 @@ TEST_F(EvdevRemoteInputTest, autoRepeatPassesOnlyForContinuousKeys)
 {
     auto remote = make();
     const TimePoint t = clock_.now();
-    for (const int key : {KEY_FASTFORWARD, KEY_PLAYPAUSE, KEY_UP, KEY_3D_MODE, KEY_REWIND}) {
+    for (const int key :
+         {KEY_FASTFORWARD, KEY_PLAYPAUSE, KEY_UP, KEY_3D_MODE, KEY_REWIND, KEY_CHANNELUP}) {
         const auto code = static_cast<unsigned short>(key);
         fake_->pushKey(t, code, 1);
         fake_->pushKey(t + milliseconds(300), code, 2);
@@ -102,6 +107,7 @@ TEST_F(EvdevRemoteInputTest, autoRepeatPassesOnlyForContinuousKeys)
     EXPECT_EQ(repeats[Key::FastForward], 2);
     EXPECT_EQ(repeats[Key::Up], 2);
     EXPECT_EQ(repeats[Key::Rewind], 2);
+    EXPECT_EQ(repeats[Key::ChannelUp], 2) << "a held CH+ steps the stiffness on";
     EXPECT_EQ(repeats.count(Key::PlayPause), 0u) << "a held toggle must not repeat";
     EXPECT_EQ(repeats.count(Key::Mode3d), 0u);
 }

@@ -38,6 +38,9 @@ TEST(TerminalKeysTest, decodesLettersAndArrows)
                                 Key::Green, Key::Yellow, Key::Exit, Key::Exit, Key::PlayPause}));
     EXPECT_EQ(decode("\x1b[A\x1b[B\x1b[C\x1b[D\x1bOA\x1bOD"),
               (std::vector<Key>{Key::Up, Key::Down, Key::Right, Key::Left, Key::Up, Key::Left}));
+    // + (or =) and - set the stiffness (CH+/CH−), o brings up the on-screen display (mpv's key)
+    EXPECT_EQ(decode("+=-oO"), (std::vector<Key>{Key::ChannelUp, Key::ChannelUp, Key::ChannelDown,
+                                                 Key::Info, Key::Info}));
     // Other sequences (F5, Delete, a cursor report) are skipped whole.
     EXPECT_EQ(decode("\x1b[15~\x1b[3~\x1b[12;40Rq"), std::vector<Key>{Key::Exit});
 }

@@ -216,6 +216,8 @@ public:
     [[nodiscard]] Result<void> setHapticsEnabled(bool enabled) override;
     [[nodiscard]] Result<void> setStiffness(double newtonsPerMetre) override;
     [[nodiscard]] Result<void> recenter() override;
+    /// Brings the on-screen display up (the render thread restarts its --osd-seconds).
+    [[nodiscard]] Result<void> showProgress() override;
     /// Errc::InvalidState without PlaybackConfig::snapshotDir, when the folder takes no file or
     /// when an earlier snapshot could not be written (refused: playback goes on),
     /// Errc::NotSupported on a display that draws nothing (mock); else requestSnapshot().

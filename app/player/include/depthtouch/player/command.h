@@ -67,6 +67,7 @@ enum class CommandId : std::uint8_t {
     Quit,           ///< "quit".
     Get,            ///< "get PROPERTY": a query, changes nothing.
     Snapshot,       ///< "snapshot": save the presented frame as PNG (play --snapshot-dir).
+    ShowProgress,   ///< "show-progress": bring the on-screen display up (mpv's command).
 };
 
 /// On / off / toggle argument of haptics and loop.

@@ -86,6 +86,13 @@ public:
     {
         return unexpected(Errc::NotSupported, "this player takes no snapshots");
     }
+    /// Brings the on-screen display up for its time (play --osd-seconds), changing nothing else
+    /// (mpv's show-progress; Kodi's OSD on OK). The default refuses with Errc::NotSupported (a
+    /// player without an on-screen display).
+    [[nodiscard]] virtual Result<void> showProgress()
+    {
+        return unexpected(Errc::NotSupported, "this player has no on-screen display");
+    }
     /// Starts opening \a url again after its live stream fell silent, and keeps trying until a
     /// sender comes (a failed try is retried, not reported) or stop() or open() abandons it.
     /// Completion is reported as for open(). The default opens once, as open().

@@ -77,7 +77,7 @@ struct OsdState {
     double force = 0.0;       ///< Current force magnitude, N (bar length).
     double maxForce = 8.5;    ///< Full-scale force of the bar, N (> 0).
     /// The stiffness the finger feels, N/m: a line "STIFFNESS 900 N/M" under the haptics line
-    /// (what the remote's Up and Down change); 0 or less: no such line.
+    /// (what the remote's CH+ and CH− change); 0 or less: no such line.
     double stiffness = 0.0;
 };
 

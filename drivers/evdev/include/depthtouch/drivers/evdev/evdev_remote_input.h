@@ -6,9 +6,10 @@
 ///
 /// Keys: EV_KEY codes listed in hal::Key map one to one; a few common aliases map too (KEY_MODE →
 /// KEY_3D_MODE, KEY_PLAYCD / KEY_PAUSECD / KEY_STOPCD → play / pause / stop, KEY_SELECT → KEY_OK,
-/// KEY_SPACE → KEY_PLAYPAUSE, KEY_ESC → KEY_EXIT). Other codes and event types are skipped.
-/// Auto-repeat (EV_KEY value 2) is passed for the continuous keys (arrows, fast-forward, rewind,
-/// volume) and dropped for the others, so a held toggle does not toggle again (option repeat).
+/// KEY_SPACE → KEY_PLAYPAUSE, KEY_ESC → KEY_EXIT, KEY_PAGEUP / KEY_PAGEDOWN → KEY_CHANNELUP /
+/// KEY_CHANNELDOWN). Other codes and event types are skipped. Auto-repeat (EV_KEY value 2) is
+/// passed for the continuous keys (arrows, fast-forward, rewind, volume, channel) and dropped for
+/// the others, so a held toggle does not toggle again (option repeat).
 ///
 /// Options: `device=/dev/input/eventN` (or BackendConfig::device; default: the first device with
 /// EV_KEY and a media key), `grab=1` (EVIOCGRAB: other readers, e.g. the console, stop seeing the

@@ -4,8 +4,10 @@
 /// for developers at a shell.
 ///
 /// Keys: space or p → KEY_PLAYPAUSE, s → KEY_STOP, ← / → → KEY_LEFT / KEY_RIGHT, ↑ / ↓ → KEY_UP /
-/// KEY_DOWN, 3 → KEY_3D_MODE, h → KEY_RED (haptics), r → KEY_GREEN (recenter), c → KEY_YELLOW
-/// (snapshot), q → KEY_EXIT (letters in either case; arrows as "ESC [ A" or "ESC O A"). Each key is
+/// KEY_DOWN, + (or =) / - → KEY_CHANNELUP / KEY_CHANNELDOWN (stiffness), o → KEY_INFO (the
+/// on-screen display, as mpv's show-progress key), 3 → KEY_3D_MODE, h → KEY_RED (haptics), r →
+/// KEY_GREEN (recenter), c → KEY_YELLOW (snapshot), q → KEY_EXIT (letters in either case; arrows
+/// as "ESC [ A" or "ESC O A"). Each key is
 /// reported as a press followed by a release at the same time (a terminal has no key-up). Other
 /// bytes are skipped.
 ///
