@@ -30,6 +30,10 @@
 #if DT_HAVE_EGL && DT_HAVE_EGL_X11
 #include "depthtouch/drivers/egl/egl_x11_display.h"
 #endif
+#if DT_HAVE_FFMPEG
+#include "depthtouch/drivers/ffmpeg/wav_audio_output.h"
+#endif
+#include "depthtouch/drivers/mock/mock_audio_output.h"
 #include "depthtouch/drivers/mock/mock_depth_camera.h"
 #include "depthtouch/drivers/mock/mock_display.h"
 #include "depthtouch/drivers/mock/mock_haptic_device.h"
@@ -133,6 +137,21 @@ constexpr hal::Backend<hal::DepthCamera> kDepthCameraBackends[] = {
      &MockDepthCamera::create},
 };
 
+// No real sound card backend yet: `null` keeps the time and autoprobes, so a player always has an
+// audio clock; `wav` and `mock` are asked for by name.
+constexpr hal::Backend<hal::AudioOutput> kAudioOutputBackends[] = {
+#if DT_HAVE_FFMPEG
+    {"wav", "Writes the sound into a WAV file, timed like a sound card (path=FILE, buffer=MS)",
+     false, &WavAudioOutput::create},
+#endif
+    {"mock",
+     "Simulated sound card with faults (buffer=MS, unplug=S, refuse_rate, "
+     "refuse_channels)",
+     false, &createMockAudioOutput},
+    {"null", "No sound: the time kept as a sound card would (buffer=MS)", true,
+     &createNullAudioOutput},
+};
+
 template <class I> std::vector<hal::BackendInfo> infos(hal::BackendTable<I> table)
 {
     std::vector<hal::BackendInfo> out;
@@ -148,8 +167,9 @@ const char *backendKindName(BackendKind kind) noexcept
 {
     // Indexed by BackendKind.
     static constexpr const char *kNames[] = {"media source",  "video decoder", "display",
-                                             "haptic device", "remote input",  "depth camera"};
-    static_assert(std::size(kNames) == static_cast<std::size_t>(BackendKind::DepthCamera) + 1);
+                                             "haptic device", "remote input",  "depth camera",
+                                             "audio output"};
+    static_assert(std::size(kNames) == static_cast<std::size_t>(BackendKind::AudioOutput) + 1);
     const auto i = static_cast<std::size_t>(kind);
     return i < std::size(kNames) ? kNames[i] : "unknown";
 }
@@ -178,6 +198,10 @@ hal::BackendTable<hal::DepthCamera> depthCameraBackends() noexcept
 {
     return kDepthCameraBackends;
 }
+hal::BackendTable<hal::AudioOutput> audioOutputBackends() noexcept
+{
+    return kAudioOutputBackends;
+}
 
 namespace {
 
@@ -197,6 +221,8 @@ template <class R, class F> R withTable(BackendKind kind, F f)
         return f(remoteInputBackends());
     case BackendKind::DepthCamera:
         return f(depthCameraBackends());
+    case BackendKind::AudioOutput:
+        return f(audioOutputBackends());
     }
     return R{};
 }
@@ -257,6 +283,14 @@ Result<std::unique_ptr<hal::DepthCamera>> createDepthCamera(std::string_view nam
                                                             hal::SelectionReport *report)
 {
     return hal::selectBackend(backendKindName(BackendKind::DepthCamera), depthCameraBackends(),
+                              names, cfg, report);
+}
+
+Result<std::unique_ptr<hal::AudioOutput>> createAudioOutput(std::string_view names,
+                                                            const hal::BackendConfig &cfg,
+                                                            hal::SelectionReport *report)
+{
+    return hal::selectBackend(backendKindName(BackendKind::AudioOutput), audioOutputBackends(),
                               names, cfg, report);
 }
 

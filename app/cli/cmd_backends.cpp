@@ -16,9 +16,10 @@ void registerBackendsCommand(CLI::App &app, int &exitCode)
         app.add_subcommand("backends", "List the compiled-in HAL backends of each kind");
     cmd->callback([&exitCode] {
         using drivers::BackendKind;
-        constexpr BackendKind kKinds[] = {BackendKind::MediaSource,  BackendKind::VideoDecoder,
-                                          BackendKind::Display,      BackendKind::HapticDevice,
-                                          BackendKind::RemoteInput,  BackendKind::DepthCamera};
+        constexpr BackendKind kKinds[] = {BackendKind::MediaSource, BackendKind::VideoDecoder,
+                                          BackendKind::Display,     BackendKind::HapticDevice,
+                                          BackendKind::RemoteInput, BackendKind::DepthCamera,
+                                          BackendKind::AudioOutput};
         for (BackendKind kind : kKinds) {
             std::printf("%s:\n", drivers::backendKindName(kind));
             for (const hal::BackendInfo &b : drivers::listBackends(kind))

@@ -1,4 +1,5 @@
 // The names of the HAL interfaces' states, for messages: one copy for every backend.
+#include "depthtouch/hal/audio_output.h"
 #include "depthtouch/hal/depth_camera.h"
 #include "depthtouch/hal/display.h"
 #include "depthtouch/hal/haptic_device.h"
@@ -19,6 +20,7 @@ constexpr std::array<const char *, 3> kDepthCameraStates = {"Unconfigured", "Con
                                                             "Streaming"};
 constexpr std::array<const char *, 3> kVideoDecoderStates = {"Closed", "Configured", "Running"};
 constexpr std::array<const char *, 2> kMediaSourceStates = {"Closed", "Open"};
+constexpr std::array<const char *, 4> kAudioOutputStates = {"Closed", "Open", "Paused", "Lost"};
 
 } // namespace
 
@@ -45,6 +47,11 @@ const char *toString(VideoDecoder::State s) noexcept
 const char *toString(MediaSource::State s) noexcept
 {
     return platform::enumName(s, kMediaSourceStates, "?");
+}
+
+const char *toString(AudioOutput::State s) noexcept
+{
+    return platform::enumName(s, kAudioOutputStates, "?");
 }
 
 } // namespace depthtouch::hal

@@ -17,7 +17,8 @@ using testing::errcOf;
 
 constexpr BackendKind kKinds[] = {BackendKind::MediaSource, BackendKind::VideoDecoder,
                                   BackendKind::Display,     BackendKind::HapticDevice,
-                                  BackendKind::RemoteInput, BackendKind::DepthCamera};
+                                  BackendKind::RemoteInput, BackendKind::DepthCamera,
+                                  BackendKind::AudioOutput};
 
 TEST(BackendTablesTest, everyInterfaceHasAMockBackend)
 {
@@ -91,6 +92,7 @@ TEST(BackendSelectionTest, autoprobeNeverPicksASimulatedBackend)
     check(createHapticDevice("", {}, &report), report, BackendKind::HapticDevice);
     check(createRemoteInput("", {}, &report), report, BackendKind::RemoteInput);
     check(createDepthCamera("", {}, &report), report, BackendKind::DepthCamera);
+    check(createAudioOutput("", {}, &report), report, BackendKind::AudioOutput);
 }
 
 TEST(BackendSelectionTest, unknownNameListsTheAvailableOnes)

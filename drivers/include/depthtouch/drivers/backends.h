@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "depthtouch/hal/audio_output.h"
 #include "depthtouch/hal/backends.h"
 #include "depthtouch/hal/depth_camera.h"
 #include "depthtouch/hal/display.h"
@@ -33,7 +34,8 @@ enum class BackendKind : std::uint8_t {
     Display,
     HapticDevice,
     RemoteInput,
-    DepthCamera
+    DepthCamera,
+    AudioOutput
 };
 
 /// \return e.g. "haptic device" (static string).
@@ -53,6 +55,7 @@ hal::BackendTable<hal::Display> displayBackends() noexcept;
 hal::BackendTable<hal::HapticDevice> hapticDeviceBackends() noexcept;
 hal::BackendTable<hal::RemoteInput> remoteInputBackends() noexcept;
 hal::BackendTable<hal::DepthCamera> depthCameraBackends() noexcept;
+hal::BackendTable<hal::AudioOutput> audioOutputBackends() noexcept;
 ///@}
 
 /// \name Creating a backend
@@ -77,6 +80,9 @@ Result<std::unique_ptr<hal::RemoteInput>> createRemoteInput(std::string_view nam
                                                             const hal::BackendConfig &cfg,
                                                             hal::SelectionReport *report = nullptr);
 Result<std::unique_ptr<hal::DepthCamera>> createDepthCamera(std::string_view names,
+                                                            const hal::BackendConfig &cfg,
+                                                            hal::SelectionReport *report = nullptr);
+Result<std::unique_ptr<hal::AudioOutput>> createAudioOutput(std::string_view names,
                                                             const hal::BackendConfig &cfg,
                                                             hal::SelectionReport *report = nullptr);
 ///@}

@@ -1,0 +1,77 @@
+#pragma once
+/// \file
+/// \brief PacedAudioOutput: an audio output without a sound card that keeps time like one, the
+/// base of the `null`, `mock` (drivers/mock) and `wav` (drivers/ffmpeg) backends.
+///
+/// Time: drivers::AudioPacer on the backend clock: frames queued by write() are heard at the sample
+/// rate from the moment the device starts; running dry while open is an underrun (counted, then the
+/// device waits for the next write). drain() sleeps on the clock until the queue is heard.
+///
+/// Options (`key=value`, parsePacedAudioSettings()): `buffer=MS` the device buffer, 10..2000 ms
+/// (default 100); with faults (the `mock` backend): `unplug=S` the device goes away once S seconds
+/// of sound were written (write() takes what comes before it, then NoDevice), `refuse_rate=HZ`
+/// open() refuses that sample rate (NotSupported), `refuse_channels=N` open() refuses N channels.
+/// Unknown keys and values out of range: InvalidArgument.
+/// Thread-safety: as hal::AudioOutput.
+
+#include <cstdint>
+#include <memory>
+
+#include "depthtouch/drivers/common/audio_pacer.h"
+#include "depthtouch/hal/audio_output_base.h"
+#include "depthtouch/hal/backends.h"
+#include "depthtouch/platform/clock.h"
+
+namespace depthtouch::drivers {
+
+/// \brief What the `null` and `mock` audio outputs are told by their options.
+struct PacedAudioSettings {
+    double bufferMs = 100.0;    ///< Device buffer, ms.
+    double unplugSeconds = 0.0; ///< mock: sound written before the device goes away, s (0: never).
+    int refuseRate = 0;         ///< mock: a sample rate open() refuses (0: none).
+    int refuseChannels = 0;     ///< mock: a channel count open() refuses (0: none).
+};
+
+/// \brief The settings of \a options: `buffer`, and the faults when \a faults.
+/// \return Errors: InvalidArgument (an unknown key, logged; a value out of range). Reentrant.
+[[nodiscard]] Result<PacedAudioSettings> parsePacedAudioSettings(hal::OptionList options,
+                                                                 bool faults);
+
+/// \brief A sound card simulated on the clock (see the file comment); a subclass keeps the frames
+/// the device takes (keep()).
+class PacedAudioOutput : public hal::AudioOutputBase {
+public:
+    PacedAudioOutput(platform::Clock &clock, const PacedAudioSettings &settings);
+    ~PacedAudioOutput() override { close(); }
+
+protected:
+    [[nodiscard]] Result<void> openDevice(const hal::AudioFormat &format) override;
+    [[nodiscard]] Result<std::size_t> writeDevice(const std::int16_t *samples,
+                                                  std::size_t frames) override;
+    [[nodiscard]] Result<std::size_t> delayDevice() override;
+    [[nodiscard]] std::size_t bufferFramesDevice() const noexcept override
+    {
+        return pacer_.bufferFrames();
+    }
+    [[nodiscard]] Result<void> pauseDevice(bool paused) override;
+    [[nodiscard]] Result<void> flushDevice() override;
+    [[nodiscard]] Result<void> drainDevice() override;
+    void closeDevice() noexcept override {}
+
+    /// \brief What a subclass does with the \a frames frames the device took (a file backend
+    /// writes them). Errors end the write with that error. The default keeps nothing.
+    [[nodiscard]] virtual Result<void> keep(const std::int16_t *samples, std::size_t frames);
+
+    /// Plays what is due now and publishes the counts.
+    void catchUp() noexcept;
+
+    platform::Clock &clock_;
+
+private:
+    PacedAudioSettings settings_;
+    AudioPacer pacer_;
+    std::uint64_t unplugAt_ = 0; ///< Frames written after which the device is gone (0: never).
+    bool unplugged_ = false;
+};
+
+} // namespace depthtouch::drivers

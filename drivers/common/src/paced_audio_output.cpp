@@ -1,0 +1,131 @@
+#include "depthtouch/drivers/common/paced_audio_output.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "depthtouch/drivers/common/backend_options.h"
+#include "depthtouch/platform/log.h"
+
+DT_LOG_CATEGORY(AudioOutput)
+
+namespace depthtouch::drivers {
+
+namespace {
+
+constexpr const char *kNullKeys[] = {"buffer"};
+constexpr const char *kMockKeys[] = {"buffer", "unplug", "refuse_rate", "refuse_channels"};
+
+} // namespace
+
+Result<PacedAudioSettings> parsePacedAudioSettings(hal::OptionList options, bool faults)
+{
+    if (faults) {
+        if (auto r = rejectUnknownOptions(options, kMockKeys, std::size(kMockKeys),
+                                          kLogCategoryAudioOutput, "Unknown audio output option");
+            !r)
+            return unexpected(r.error());
+    } else if (auto r =
+                   rejectUnknownOptions(options, kNullKeys, std::size(kNullKeys),
+                                        kLogCategoryAudioOutput, "Unknown audio output option");
+               !r) {
+        return unexpected(r.error());
+    }
+    PacedAudioSettings s;
+    if (!readOption(options, "buffer", s.bufferMs, 10.0, 2000.0) ||
+        !readOption(options, "unplug", s.unplugSeconds, 0.0, 1e6) ||
+        !readOption(options, "refuse_rate", s.refuseRate, 0, hal::kMaxAudioRate) ||
+        !readOption(options, "refuse_channels", s.refuseChannels, 0, hal::kMaxAudioChannels))
+        return unexpected(Errc::InvalidArgument, "Audio output option out of range");
+    return s;
+}
+
+PacedAudioOutput::PacedAudioOutput(platform::Clock &clock, const PacedAudioSettings &settings)
+    : clock_(clock), settings_(settings)
+{
+}
+
+Result<void> PacedAudioOutput::openDevice(const hal::AudioFormat &format)
+{
+    if (format.sampleRate == settings_.refuseRate)
+        return unexpected(Errc::NotSupported, "the audio device refuses this sample rate");
+    if (format.channels == settings_.refuseChannels)
+        return unexpected(Errc::NotSupported, "the audio device refuses this channel count");
+    const auto buffer = static_cast<std::size_t>(
+        std::max(1.0, std::round(settings_.bufferMs * 1e-3 * format.sampleRate)));
+    pacer_.start(format.sampleRate, buffer);
+    unplugAt_ =
+        static_cast<std::uint64_t>(std::llround(settings_.unplugSeconds * format.sampleRate));
+    unplugged_ = false;
+    return ok();
+}
+
+void PacedAudioOutput::catchUp() noexcept
+{
+    pacer_.update(clock_.now());
+    setPlayed(pacer_.played());
+    for (std::uint64_t n = underruns(); n < pacer_.underruns(); ++n)
+        countUnderrun();
+}
+
+Result<void> PacedAudioOutput::keep(const std::int16_t *, std::size_t)
+{
+    return ok();
+}
+
+Result<std::size_t> PacedAudioOutput::writeDevice(const std::int16_t *samples, std::size_t frames)
+{
+    if (unplugged_)
+        return unexpected(Errc::NoDevice, "the audio device was unplugged");
+    if (unplugAt_ > 0) {
+        const std::uint64_t left = unplugAt_ - std::min(unplugAt_, framesWritten());
+        if (left == 0) {
+            unplugged_ = true;
+            return unexpected(Errc::NoDevice, "the audio device was unplugged");
+        }
+        frames = static_cast<std::size_t>(std::min<std::uint64_t>(frames, left));
+    }
+    const std::size_t taken = pacer_.push(frames, clock_.now());
+    catchUp();
+    if (taken > 0)
+        if (auto r = keep(samples, taken); !r)
+            return unexpected(r.error());
+    return taken;
+}
+
+Result<std::size_t> PacedAudioOutput::delayDevice()
+{
+    if (unplugged_)
+        return unexpected(Errc::NoDevice, "the audio device was unplugged");
+    catchUp();
+    return pacer_.queued();
+}
+
+Result<void> PacedAudioOutput::pauseDevice(bool paused)
+{
+    if (unplugged_)
+        return unexpected(Errc::NoDevice, "the audio device was unplugged");
+    pacer_.pause(paused, clock_.now());
+    catchUp();
+    return ok();
+}
+
+Result<void> PacedAudioOutput::flushDevice()
+{
+    if (unplugged_)
+        return unexpected(Errc::NoDevice, "the audio device was unplugged");
+    pacer_.flush(clock_.now());
+    catchUp();
+    return ok();
+}
+
+Result<void> PacedAudioOutput::drainDevice()
+{
+    if (unplugged_)
+        return unexpected(Errc::NoDevice, "the audio device was unplugged");
+    (void)clock_.sleepUntil(pacer_.drainedAt(clock_.now()));
+    pacer_.finishDrain(clock_.now());
+    catchUp();
+    return ok();
+}
+
+} // namespace depthtouch::drivers
