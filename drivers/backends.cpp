@@ -16,6 +16,9 @@
 #if DT_HAVE_EVDEV
 #include "depthtouch/drivers/evdev/evdev_remote_input.h"
 #endif
+#if DT_HAVE_ALSA
+#include "depthtouch/drivers/alsa/alsa_audio_output.h"
+#endif
 #if DT_HAVE_V4L2
 #include "depthtouch/drivers/v4l2/v4l2_depth_camera.h"
 #include "depthtouch/drivers/v4l2/v4l2_device.h"
@@ -137,9 +140,13 @@ constexpr hal::Backend<hal::DepthCamera> kDepthCameraBackends[] = {
      &MockDepthCamera::create},
 };
 
-// No real sound card backend yet: `null` keeps the time and autoprobes, so a player always has an
-// audio clock; `wav` and `mock` are asked for by name.
+// ALSA first; where no sound card answers, `null` keeps the time, so a player always has an audio
+// clock; `wav` and `mock` are asked for by name.
 constexpr hal::Backend<hal::AudioOutput> kAudioOutputBackends[] = {
+#if DT_HAVE_ALSA
+    {"alsa", "ALSA PCM (device=default|hw:0,3|plughw:1|null, buffer=MS)", true,
+     &AlsaAudioOutput::create},
+#endif
 #if DT_HAVE_FFMPEG
     {"wav", "Writes the sound into a WAV file, timed like a sound card (path=FILE, buffer=MS)",
      false, &WavAudioOutput::create},

@@ -41,8 +41,8 @@ HOST_PACKAGES=(
     libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri libgbm-dev libdrm-dev libx11-dev
     # tests of the X11 display: a private virtual X server
     xvfb
-    # drivers: USB haptic device, remote-control input
-    libusb-1.0-0-dev libevdev-dev
+    # drivers: USB haptic device, remote-control input, sound output
+    libusb-1.0-0-dev libevdev-dev libasound2-dev
     # fuzz preset: clang with libFuzzer and the sanitizer runtimes
     clang-14 libclang-rt-14-dev
 )
@@ -52,7 +52,7 @@ CROSS_DEV_PACKAGES=(
     libgtest-dev libgmock-dev
     libavcodec-dev libavformat-dev libavutil-dev libswscale-dev libswresample-dev
     libegl-dev libgles-dev libgbm-dev libdrm-dev
-    libusb-1.0-0-dev libevdev-dev
+    libusb-1.0-0-dev libevdev-dev libasound2-dev
     libcgal-dev
     libtomlplusplus-dev
 )
