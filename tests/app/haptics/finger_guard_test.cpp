@@ -316,6 +316,33 @@ TEST(FingerGuardTest, aPixelReadFarBackUnderAPressedFingerIsNotFreeSpace)
     }
 }
 
+// A penalty finger swept fast across a slope: the penalty's proxy (the surface point over the HIP)
+// moves 1 mm an update, more than the ramp's step threshold (maxForceStep/(4k) = 0.625 mm), while
+// the surface itself stays where it is. That is no step to ramp in: the force follows the depth
+// under the HIP as it does when the finger rests there (a ramp restarted every update would hold
+// the force of where the stroke began).
+TEST(FingerGuardTest, aFastPenaltyStrokeOnASlopeFollowsTheDepthWithoutARamp)
+{
+    const auto slope = [](double x, double) { return 0.2 * x; };
+    const glm::dvec3 start(-0.010, 0.0, -0.003);
+    const glm::dvec3 end(0.010, 0.0, -0.003); // 20 mm along x in 20 updates: 1 m/s
+    Rig stroke(FingerContact::Penalty);
+    stroke.show(still(slope));
+    stroke.press(start);
+    for (int k = 1; k <= 20; ++k)
+        stroke.step(start + (end - start) * (k / 20.0));
+    Rig rest(FingerContact::Penalty);
+    rest.show(still(slope));
+    rest.press(end);
+    const double moving = glm::length(stroke.out.back().force);
+    const double resting = glm::length(rest.out.back().force);
+    std::printf("penalty stroke at 1 m/s up a 0.2 slope: %.3f N at its end, %.3f N resting there "
+                "(%.3f N where it began)\n",
+                moving, resting, glm::length(stroke.out[149].force));
+    EXPECT_GT(resting, glm::length(stroke.out[149].force) + 2.0) << "the depth grew 4 mm";
+    EXPECT_NEAR(moving, resting, 0.2);
+}
+
 // A scene cut under a resting finger, re-engaged by a ramp (play's default): a flat table at z = 0
 // with the finger pressed 3 mm in becomes a table 15 mm higher in one frame (more than the cut
 // threshold, a quarter of the box's 40 mm depth). Safety trips and the proxy is re-seated on the
