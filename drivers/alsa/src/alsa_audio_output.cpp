@@ -158,28 +158,27 @@ Result<void> AlsaAudioOutput::pauseDevice(bool paused)
     return ok();
 }
 
-Result<void> AlsaAudioOutput::flushDevice()
+Result<void> AlsaAudioOutput::restart(int err, const char *what)
 {
-    int err = snd_pcm_drop(pcm_);
     if (err >= 0)
         err = snd_pcm_prepare(pcm_);
     if (err < 0)
-        return unexpected(gone(err) ? Errc::NoDevice : Errc::Io, "ALSA could not flush", -err);
+        return unexpected(gone(err) ? Errc::NoDevice : Errc::Io, what, -err);
     publish(0);
     return ok();
+}
+
+Result<void> AlsaAudioOutput::flushDevice()
+{
+    return restart(snd_pcm_drop(pcm_), "ALSA could not flush");
 }
 
 Result<void> AlsaAudioOutput::drainDevice()
 {
     snd_pcm_nonblock(pcm_, 0);
-    int err = snd_pcm_drain(pcm_);
+    const int err = snd_pcm_drain(pcm_);
     snd_pcm_nonblock(pcm_, 1);
-    if (err >= 0)
-        err = snd_pcm_prepare(pcm_);
-    if (err < 0)
-        return unexpected(gone(err) ? Errc::NoDevice : Errc::Io, "ALSA could not drain", -err);
-    publish(0);
-    return ok();
+    return restart(err, "ALSA could not drain");
 }
 
 void AlsaAudioOutput::closeDevice() noexcept

@@ -12,24 +12,24 @@ namespace depthtouch::drivers {
 
 namespace {
 
-constexpr const char *kNullKeys[] = {"buffer"};
-constexpr const char *kMockKeys[] = {"buffer", "unplug", "refuse_rate", "refuse_channels"};
+// The keys each backend takes, indexed by PacedAudioBackend (unused entries empty).
+constexpr const char *kKeys[][4] = {
+    {"buffer"},
+    {"buffer", "unplug", "refuse_rate", "refuse_channels"},
+    {"buffer", "path"},
+};
+constexpr std::size_t kKeyCounts[] = {1, 4, 2};
 
 } // namespace
 
-Result<PacedAudioSettings> parsePacedAudioSettings(hal::OptionList options, bool faults)
+Result<PacedAudioSettings> parsePacedAudioSettings(hal::OptionList options,
+                                                   PacedAudioBackend backend)
 {
-    if (faults) {
-        if (auto r = rejectUnknownOptions(options, kMockKeys, std::size(kMockKeys),
-                                          kLogCategoryAudioOutput, "Unknown audio output option");
-            !r)
-            return unexpected(r.error());
-    } else if (auto r =
-                   rejectUnknownOptions(options, kNullKeys, std::size(kNullKeys),
-                                        kLogCategoryAudioOutput, "Unknown audio output option");
-               !r) {
+    const auto b = static_cast<std::size_t>(backend);
+    if (auto r = rejectUnknownOptions(options, kKeys[b], kKeyCounts[b], kLogCategoryAudioOutput,
+                                      "Unknown audio output option");
+        !r)
         return unexpected(r.error());
-    }
     PacedAudioSettings s;
     if (!readOption(options, "buffer", s.bufferMs, 10.0, 2000.0) ||
         !readOption(options, "unplug", s.unplugSeconds, 0.0, 1e6) ||
@@ -55,7 +55,6 @@ Result<void> PacedAudioOutput::openDevice(const hal::AudioFormat &format)
     pacer_.start(format.sampleRate, buffer);
     unplugAt_ =
         static_cast<std::uint64_t>(std::llround(settings_.unplugSeconds * format.sampleRate));
-    unplugged_ = false;
     return ok();
 }
 
@@ -74,14 +73,11 @@ Result<void> PacedAudioOutput::keep(const std::int16_t *, std::size_t)
 
 Result<std::size_t> PacedAudioOutput::writeDevice(const std::int16_t *samples, std::size_t frames)
 {
-    if (unplugged_)
-        return unexpected(Errc::NoDevice, "the audio device was unplugged");
+    // Once this says NoDevice the output is Lost (AudioOutputBase): no hook runs until an open().
     if (unplugAt_ > 0) {
         const std::uint64_t left = unplugAt_ - std::min(unplugAt_, framesWritten());
-        if (left == 0) {
-            unplugged_ = true;
+        if (left == 0)
             return unexpected(Errc::NoDevice, "the audio device was unplugged");
-        }
         frames = static_cast<std::size_t>(std::min<std::uint64_t>(frames, left));
     }
     const std::size_t taken = pacer_.push(frames, clock_.now());
@@ -94,16 +90,12 @@ Result<std::size_t> PacedAudioOutput::writeDevice(const std::int16_t *samples, s
 
 Result<std::size_t> PacedAudioOutput::delayDevice()
 {
-    if (unplugged_)
-        return unexpected(Errc::NoDevice, "the audio device was unplugged");
     catchUp();
     return pacer_.queued();
 }
 
 Result<void> PacedAudioOutput::pauseDevice(bool paused)
 {
-    if (unplugged_)
-        return unexpected(Errc::NoDevice, "the audio device was unplugged");
     pacer_.pause(paused, clock_.now());
     catchUp();
     return ok();
@@ -111,8 +103,6 @@ Result<void> PacedAudioOutput::pauseDevice(bool paused)
 
 Result<void> PacedAudioOutput::flushDevice()
 {
-    if (unplugged_)
-        return unexpected(Errc::NoDevice, "the audio device was unplugged");
     pacer_.flush(clock_.now());
     catchUp();
     return ok();
@@ -120,8 +110,6 @@ Result<void> PacedAudioOutput::flushDevice()
 
 Result<void> PacedAudioOutput::drainDevice()
 {
-    if (unplugged_)
-        return unexpected(Errc::NoDevice, "the audio device was unplugged");
     (void)clock_.sleepUntil(pacer_.drainedAt(clock_.now()));
     pacer_.finishDrain(clock_.now());
     catchUp();

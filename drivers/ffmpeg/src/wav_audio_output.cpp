@@ -19,22 +19,10 @@ constexpr const char *kDefaultPath = "depthtouch-audio.wav";
 
 Result<std::unique_ptr<hal::AudioOutput>> WavAudioOutput::create(const hal::BackendConfig &cfg)
 {
-    // path= is this backend's own key; the rest are the paced output's (buffer).
-    std::string path(cfg.device);
-    std::string rest;
-    std::string_view text = cfg.options.text();
-    while (!text.empty()) {
-        const std::size_t end = text.find_first_of(",;&");
-        const std::string_view item = text.substr(0, end);
-        if (item.rfind("path=", 0) == 0)
-            path = std::string(item.substr(5));
-        else if (!item.empty())
-            rest += (rest.empty() ? "" : ",") + std::string(item);
-        text = end == std::string_view::npos ? std::string_view{} : text.substr(end + 1);
-    }
-    auto s = parsePacedAudioSettings(hal::OptionList(rest), false);
+    auto s = parsePacedAudioSettings(cfg.options, PacedAudioBackend::Wav);
     if (!s)
         return unexpected(s.error());
+    std::string path(cfg.options.find("path").value_or(cfg.device));
     if (path.empty())
         path = kDefaultPath;
     return std::unique_ptr<hal::AudioOutput>(

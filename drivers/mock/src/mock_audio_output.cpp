@@ -6,9 +6,10 @@ namespace depthtouch::drivers {
 
 namespace {
 
-Result<std::unique_ptr<hal::AudioOutput>> create(const hal::BackendConfig &cfg, bool faults)
+Result<std::unique_ptr<hal::AudioOutput>> create(const hal::BackendConfig &cfg,
+                                                 PacedAudioBackend backend)
 {
-    auto s = parsePacedAudioSettings(cfg.options, faults);
+    auto s = parsePacedAudioSettings(cfg.options, backend);
     if (!s)
         return unexpected(s.error());
     return std::unique_ptr<hal::AudioOutput>(
@@ -19,12 +20,12 @@ Result<std::unique_ptr<hal::AudioOutput>> create(const hal::BackendConfig &cfg, 
 
 Result<std::unique_ptr<hal::AudioOutput>> createNullAudioOutput(const hal::BackendConfig &cfg)
 {
-    return create(cfg, false);
+    return create(cfg, PacedAudioBackend::Null);
 }
 
 Result<std::unique_ptr<hal::AudioOutput>> createMockAudioOutput(const hal::BackendConfig &cfg)
 {
-    return create(cfg, true);
+    return create(cfg, PacedAudioBackend::Mock);
 }
 
 } // namespace depthtouch::drivers

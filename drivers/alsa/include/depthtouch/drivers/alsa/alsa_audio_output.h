@@ -49,6 +49,9 @@ private:
     /// Counts and recovers an underrun or suspend (\a err -EPIPE or -ESTRPIPE), or says what
     /// \a err is. \return ok when the stream can go on.
     [[nodiscard]] Result<void> recover(long err);
+    /// After a drop or a drain that returned \a err: prepares the PCM for the next write (empty).
+    /// \return NoDevice (gone) or Io with \a what (a static string) when either failed.
+    [[nodiscard]] Result<void> restart(int err, const char *what);
     /// Publishes framesPlayed() from the frames written and \a delay.
     void publish(long delay) noexcept;
 

@@ -32,10 +32,15 @@ struct PacedAudioSettings {
     int refuseChannels = 0;     ///< mock: a channel count open() refuses (0: none).
 };
 
-/// \brief The settings of \a options: `buffer`, and the faults when \a faults.
-/// \return Errors: InvalidArgument (an unknown key, logged; a value out of range). Reentrant.
+/// \brief Which backend's options parsePacedAudioSettings() reads: `buffer` for all, the faults
+/// for Mock, `path` (read by the backend itself) for Wav.
+enum class PacedAudioBackend : std::uint8_t { Null, Mock, Wav };
+
+/// \brief The settings of \a options for \a backend.
+/// \return Errors: InvalidArgument (a key \a backend does not take, logged; a value out of
+/// range). Reentrant.
 [[nodiscard]] Result<PacedAudioSettings> parsePacedAudioSettings(hal::OptionList options,
-                                                                 bool faults);
+                                                                 PacedAudioBackend backend);
 
 /// \brief A sound card simulated on the clock (see the file comment); a subclass keeps the frames
 /// the device takes (keep()).
@@ -71,7 +76,6 @@ private:
     PacedAudioSettings settings_;
     AudioPacer pacer_;
     std::uint64_t unplugAt_ = 0; ///< Frames written after which the device is gone (0: never).
-    bool unplugged_ = false;
 };
 
 } // namespace depthtouch::drivers
