@@ -34,6 +34,7 @@
 #include "depthtouch/control/play_loop.h"
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptics/renderer.h"
+#include "depthtouch/media/audio_reader.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
@@ -158,8 +159,10 @@ struct PlayBackends {
     std::unique_ptr<hal::Display> display;
     std::unique_ptr<hal::HapticDevice> device;
     std::unique_ptr<hal::RemoteInput> remote; ///< Null with --remote none.
+    std::unique_ptr<hal::AudioOutput> audio;  ///< Null with --no-audio or --audio-device none.
     hal::SelectionReport displayReport;
     hal::SelectionReport hapticReport;
+    hal::SelectionReport audioReport;
 };
 
 /// Moves the backend \a made into \a into. \return nullopt, or after its one error line the
@@ -204,6 +207,12 @@ std::optional<PlayResult> openBackends(const PlayOptions &opt, const hal::Backen
         if (auto bad = take(drivers::createRemoteInput(opt.remote, remoteCfg, &rep), rep, b.remote))
             return bad;
     }
+    if (!opt.noAudio && opt.audioDevice != "none") {
+        const hal::BackendConfig audioCfg = withOptions(cfg, opt.audioDeviceOptions);
+        if (auto bad = take(drivers::createAudioOutput(opt.audioDevice, audioCfg, &b.audioReport),
+                            b.audioReport, b.audio))
+            return bad;
+    }
     std::unique_ptr<hal::VideoDecoder> decoder;
     const hal::BackendConfig decoderCfg = withOptions(cfg, opt.decoderOptions);
     if (take(drivers::createVideoDecoder(opt.decoder, decoderCfg, &rep), rep, decoder))
@@ -228,6 +237,13 @@ playback::PlaybackHal playbackHal(const PlayOptions &opt, const hal::BackendConf
     ph.display = b.display.get();
     ph.device = b.hapticReport.chosen == "none" ? nullptr : b.device.get();
     ph.clock = cfg.clock;
+    ph.audioOutput = b.audio.get();
+    ph.makeAudioSource = [](const std::string &url) -> Result<std::unique_ptr<hal::AudioSource>> {
+        auto reader = media::AudioReader::open(url);
+        if (!reader)
+            return unexpected(reader.error());
+        return std::unique_ptr<hal::AudioSource>(std::move(*reader));
+    };
     return ph;
 }
 
@@ -377,6 +393,7 @@ PlayResult runPlay(const PlayOptions &opt, const player::KeyMap &keys)
     run.haptic = playback.hapticStats();
     run.display = b.displayReport.chosen;
     run.hapticDevice = b.hapticReport.chosen;
+    run.audioDevice = b.audio ? b.audioReport.chosen : std::string();
     run.deviceMaxForce = b.device->capabilities().maxForce;
     run.rssStart = out.rssStart;
     run.rssAfterWarmup = out.rssAfterWarmup;

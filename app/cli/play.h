@@ -32,6 +32,12 @@ struct PlayOptions {
     std::string sourceOptions;      ///< Options of the media source, e.g. timeout_ms=30000.
     std::string remote = "none";    ///< Remote-control backend(s): evdev, tty, none.
     std::string remoteOptions;
+    /// Sound output backend(s): alsa, wav, null, mock; none: no sound (as --no-audio).
+    std::string audioDevice = "alsa,null";
+    std::string audioDeviceOptions; ///< e.g. device=hw:0 (alsa), path=out.wav (wav).
+    bool noAudio = false;           ///< Play without sound (mpv's --no-audio).
+    double volume = playbackDefaults().audio.volume; ///< Percent, 0..130.
+    bool mute = playbackDefaults().audio.mute;
     std::string stereo = "sbs"; ///< sbs, tab, anaglyph, mono, interleaved.
     double stiffness = playbackDefaults().haptics.renderer.stiffness;             ///< N/m.
     double staticFriction = playbackDefaults().haptics.renderer.staticFriction;   ///< μs.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 namespace depthtouch::playback {
 
@@ -97,6 +98,17 @@ bool FrameClock::endPreroll(TimePoint now, double pts) noexcept
     // The haptic time never runs backwards (it holds until the new origin catches up).
     prerolling_ = false;
     origin_ = now - fromSeconds(pts);
+    return true;
+}
+
+bool FrameClock::follow(TimePoint at, double mediaTime, double tolerance) noexcept
+{
+    if (!started_ || prerolling_ || wasPaused_)
+        return false;
+    const TimePoint heard = at - fromSeconds(mediaTime);
+    if (std::abs(toSeconds(heard - origin_)) <= tolerance)
+        return false;
+    origin_ = heard;
     return true;
 }
 

@@ -43,6 +43,12 @@ void addPlaybackStats(nlohmann::json &j, const PlaybackStats &ps)
     j["snapshots_written"] = ps.snapshotsWritten;
     j["frames_recorded"] = ps.framesRecorded;
     j["frames_prepared_ahead"] = ps.framesPreparedAhead;
+    j["audio_underruns"] = ps.audioUnderruns;
+    j["audio_delay_ms"] = ps.audioDelayMs;
+    j["av_offset_ms_p50"] = ps.avOffsetMsP50;
+    j["av_offset_ms_p99"] = ps.avOffsetMsP99;
+    if (!ps.audioLost.empty())
+        j["audio_lost"] = ps.audioLost;
 }
 
 /// Prints the haptic task's lines of the summary.
@@ -83,6 +89,8 @@ nlohmann::json playStatsJson(const std::string &url, const PlayRunFigures &run)
     j["fps"] = info.fps;
     j["display"] = run.display;
     j["haptic_device"] = run.hapticDevice;
+    j["audio_device"] = run.audioDevice;
+    j["audio"] = info.audio; // the sound played ("48000 Hz 2 ch"); empty: none
     addPlaybackStats(j, run.stats);
     j["rss_mib_start"] = run.rssStart;
     j["rss_mib_after_5s"] = run.rssAfterWarmup;
@@ -125,6 +133,13 @@ void printPlaySummary(const std::string &url, const PlayRunFigures &run, const s
                     "coarser to keep time, budget now %zu blocks\n",
                     ps.meshTrianglesP50, static_cast<unsigned long long>(ps.framesLodLimited),
                     static_cast<unsigned long long>(ps.framesPresented), ps.lodBudget);
+    if (!info.audio.empty())
+        std::printf("  sound             %s on %s: %llu underruns; A/V offset median %+.1f ms, "
+                    "p99 %.1f ms; device queue %.0f ms%s%s\n",
+                    info.audio.c_str(), run.audioDevice.c_str(),
+                    static_cast<unsigned long long>(ps.audioUnderruns), ps.avOffsetMsP50,
+                    ps.avOffsetMsP99, ps.audioDelayMs, ps.audioLost.empty() ? "" : "; ",
+                    ps.audioLost.c_str());
     if (run.haptic)
         printHapticSummary(*run.haptic, run.deviceMaxForce);
     std::printf("  memory            %.1f MiB resident at start, %.1f MiB at the end; %.1f MiB "

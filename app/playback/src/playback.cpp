@@ -21,109 +21,13 @@
 #include "depthtouch/platform/realtime_thread.h"
 #include "depthtouch/platform/thread_config.h"
 
-#include "async_opener.h"
 #include "depth_view.h"
+#include "playback_impl.h"
 #include "presenter.h"
-#include "render_loop.h"
-#include "render_shared.h"
-#include "session.h"
 
 namespace depthtouch::playback {
 
 using platform::percentile;
-
-struct Playback::Impl : RenderShared {
-    PlaybackConfig config;
-    PlaybackHal hal;
-    platform::Clock &clock;
-
-    // --- Main thread only ---
-    std::unique_ptr<Session> owned;
-    AsyncOpener opener;     ///< The source's open and probe, off the main thread.
-    std::string openingUrl; ///< What the opener opens.
-    platform::TimePoint openStarted{}; ///< When the opener was started (tune-in time).
-    bool openDone = false;  ///< open() finished: report onOpened().
-    std::string openError;  ///< open() failed: report onOpenFailed().
-    bool hapticsEnabled;
-    double stiffness;
-    std::optional<haptic_task::HapticStats> lastHapticStats;
-    /// The decode thread's DecoderThread::readProgress() when it was last seen to change, and
-    /// when: the same odd value for PlaybackConfig::liveSilenceSeconds is a silent live stream.
-    std::uint64_t silentProgress = 0;
-    platform::TimePoint silentSince{};
-
-    RenderLoop loop;                                        ///< The render thread's body.
-    std::unique_ptr<platform::RealtimeThread> renderThread; ///< kRenderThread, from the first open.
-
-    Impl(const PlaybackConfig &c, const PlaybackHal &h)
-        : config(c), hal(h), clock(*h.clock), hapticsEnabled(c.hapticsEnabled),
-          stiffness(c.haptics.renderer.stiffness), loop(*this, config, *h.display, *h.clock)
-    {
-        stereoMode = c.stereoMode;
-        renderMs.reserve(std::size_t{1} << 16);
-        meshTriangles.reserve(std::size_t{1} << 16);
-    }
-
-    /// Hands \a next (may be null) to the render thread and waits until it dropped every frame of
-    /// the previous session.
-    void switchSession(Session *next)
-    {
-        std::unique_lock<std::mutex> lock(mutex);
-        session = next;
-        playing = false;
-        paused = false;
-        endOfStream = false;
-        const std::uint64_t gen = ++sessionGen;
-        cv.notify_all();
-        if (renderThread)
-            cv.wait(lock, [&] { return sessionAck >= gen || quit; });
-    }
-
-    void tearDown()
-    {
-        opener.abandon();
-        switchSession(nullptr);
-        if (!owned)
-            return;
-        if (owned->task) {
-            owned->task->stop();
-            lastHapticStats = owned->task->stats();
-        }
-        if (owned->decoder)
-            owned->decoder->stop();
-        {
-            std::lock_guard<std::mutex> lock(mutex);
-            stats.receiver = owned->receiver ? owned->receiver->stats() : stats.receiver;
-        }
-        owned.reset();
-    }
-
-    /// Notes a command for the OSD, then runs \a change under the lock when a session is open.
-    /// \return nothing, or InvalidState with \a nothingOpen (a static string) when none is.
-    template <class F> Result<void> changeSession(const char *nothingOpen, F &&change)
-    {
-        osdEvents.fetch_add(1, std::memory_order_relaxed);
-        std::lock_guard<std::mutex> lock(mutex);
-        if (session == nullptr)
-            return Error(Errc::InvalidState, nothingOpen);
-        change();
-        return {};
-    }
-
-    /// Starts the render thread once. \return an error text, or empty.
-    std::string startRenderThread()
-    {
-        if (renderThread)
-            return {};
-        auto t = std::make_unique<platform::RealtimeThread>(
-            platform::kRenderThread, platform::kPlainThreadOptions,
-            [this](platform::StopToken) { loop.run(); });
-        if (auto r = t->start(); !r)
-            return std::string("cannot start the render thread: ") + r.error().what;
-        renderThread = std::move(t);
-        return {};
-    }
-};
 
 // ---------------------------------------------------------------------------------------------
 
@@ -285,6 +189,7 @@ void Playback::finishOpen(std::unique_ptr<receiver::Receiver> rec)
         return fail(std::move(why));
 
     s->live = !s->receiver->source().info().seekable;
+    attachAudio(m, *s, info);
     m.silentProgress = 0; // the new decode thread counts from 0
     s->decoder = std::make_unique<receiver::DecoderThread>(*s->receiver);
     if (auto r = s->decoder->start(); !r)
@@ -545,6 +450,19 @@ PlaybackStats Playback::stats() const
     s.meshTrianglesP50 = percentile(impl_->meshTriangles, 0.50);
     if (impl_->owned && impl_->owned->decoder)
         s.receiver = impl_->owned->decoder->stats();
+    if (!impl_->avOffsetMs.empty()) {
+        s.avOffsetMsP50 = percentile(impl_->avOffsetMs, 0.50);
+        std::vector<double> magnitude(impl_->avOffsetMs);
+        for (double &v : magnitude)
+            v = std::abs(v);
+        s.avOffsetMsP99 = percentile(magnitude, 0.99);
+    }
+    AudioStats a = impl_->audioBefore;
+    if (impl_->owned && impl_->owned->audio)
+        a = addedAudioStats(a, impl_->owned->audio->stats());
+    s.audioUnderruns = a.underruns;
+    s.audioDelayMs = a.delaySeconds * 1e3;
+    s.audioLost = a.lost;
     return s;
 }
 

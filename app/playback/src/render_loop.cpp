@@ -18,6 +18,12 @@ namespace depthtouch::playback {
 
 using platform::TimePoint;
 
+namespace {
+/// How far the picture's media origin may be from the audio clock before it moves onto it, s:
+/// well under a frame, above the jitter of a device's delay report.
+constexpr double kAudioFollowSeconds = 0.002;
+} // namespace
+
 void RenderLoop::Frames::dropFrames() noexcept
 {
     shown = receiver::PairedFrame{};
@@ -125,6 +131,7 @@ void RenderLoop::play(Session &s, const Commands &cmd)
     // Pause: the media clock stands still (the haptic time with it).
     if (frameClock_.holdForPause(now, cmd.paused) && s.handoff)
         s.handoff->setMediaOrigin(frameClock_.origin());
+    followAudio(s, cmd.paused);
     takeFrames(s, now);
     checkDecoder(s, now);
     if (frames_.pendingCount == 0) {
@@ -147,6 +154,31 @@ void RenderLoop::play(Session &s, const Commands &cmd)
     drawAndPresent(s, cmd, pts);
 }
 
+/// Audio as the master clock: the media origin (the picture's and the haptic time's) follows the
+/// time the speaker plays (audio_player.h), while the sound plays.
+void RenderLoop::followAudio(Session &s, bool paused)
+{
+    if (!s.audio)
+        return;
+    s.audio->setPaused(paused);
+    const AudioClock c = s.audio->clock();
+    if (c.running && frameClock_.follow(c.at, c.mediaTime, kAudioFollowSeconds) && s.handoff)
+        s.handoff->setMediaOrigin(frameClock_.origin());
+}
+
+/// The A/V offset of the frame of PTS \a pts (s) presented at \a shownAt: the media time heard
+/// then minus \a pts (positive: the sound is ahead of the picture).
+void RenderLoop::measureAvOffset(Session &s, TimePoint shownAt, double pts)
+{
+    const AudioClock c = s.audio->clock();
+    if (!c.running)
+        return;
+    const double offset = c.mediaTime + platform::toSeconds(shownAt - c.at) - pts;
+    std::lock_guard<std::mutex> lock(shared_.mutex);
+    if (shared_.avOffsetMs.size() < shared_.avOffsetMs.capacity())
+        shared_.avOffsetMs.push_back(offset * 1e3);
+}
+
 /// Seek: drop what was queued; the decode thread restarts at \a seekTo (s, stream timeline).
 void RenderLoop::seek(Session &s, double seekTo)
 {
@@ -154,6 +186,8 @@ void RenderLoop::seek(Session &s, double seekTo)
         p = receiver::PairedFrame{};
     frames_.pendingCount = 0;
     frameClock_.restart();
+    if (s.audio)
+        s.audio->halt();
     frames_.reseat = true;
     frames_.eosSent = false;
     presenter_->dropPrepared();
@@ -279,8 +313,14 @@ void RenderLoop::drawAndPresent(Session &s, const Commands &cmd, double pts)
     const auto presented = display_.present();
     const std::optional<LodSample> lod = presenter_->afterPresent(
         drawSeconds, d.drawn, static_cast<bool>(presented), frameClock_.prerolling());
-    if (frameClock_.endPreroll(clock_.now(), pts) && s.handoff)
+    const bool first = frameClock_.prerolling();
+    const TimePoint shownAt = clock_.now();
+    if (frameClock_.endPreroll(shownAt, pts) && s.handoff)
         s.handoff->setMediaOrigin(frameClock_.origin());
+    if (first && s.audio)
+        s.audio->start(pts); // the sound starts with the first frame on screen
+    else if (s.audio && presented)
+        measureAvOffset(s, shownAt, pts);
     count(s, d, presented, drawSeconds * 1e3, lod, pts);
 }
 

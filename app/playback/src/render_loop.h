@@ -75,6 +75,8 @@ private:
     void adoptSession();
     void openDisplay();
     void play(Session &s, const Commands &cmd);
+    void followAudio(Session &s, bool paused);
+    void measureAvOffset(Session &s, platform::TimePoint shownAt, double pts);
     void seek(Session &s, double seekTo);
     void takeFrames(Session &s, platform::TimePoint now);
     void checkDecoder(Session &s, platform::TimePoint now);

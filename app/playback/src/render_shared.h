@@ -40,6 +40,7 @@ struct RenderShared {
     std::string failure;               ///< Pipeline failure not yet reported.
     std::string displayError;          ///< The render thread could not open the display.
     std::vector<double> renderMs;      ///< Draw time per frame, ms (first 2^16 frames).
+    std::vector<double> avOffsetMs;    ///< Audio minus picture per presented frame, ms (2^16).
     std::vector<double> meshTriangles; ///< Triangles drawn per frame under the LOD (first 2^16).
     bool endOfStream = false;          ///< Not yet reported.
 

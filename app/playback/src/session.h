@@ -10,10 +10,12 @@
 #include <cstdint>
 #include <memory>
 
+#include "depthtouch/hal/audio_source.h"
 #include "depthtouch/hal/display.h"
 #include "depthtouch/haptic_task/depth_handoff.h"
 #include "depthtouch/haptic_task/haptic_task.h"
 #include "depthtouch/platform/clock.h"
+#include "depthtouch/playback/audio_player.h"
 #include "depthtouch/receiver/decoder_thread.h"
 #include "depthtouch/receiver/receiver.h"
 
@@ -31,13 +33,17 @@ inline hal::Pts ptsFromSeconds(double s) noexcept
     return hal::Pts(static_cast<std::int64_t>(std::llround(s * 1e9)));
 }
 
-/// \brief One open stream: its receiver and decode thread, and, with depth and a device, the depth
-/// hand-off and the haptic task.
+/// \brief One open stream: its receiver and decode thread, with depth and a device the depth
+/// hand-off and the haptic task, with sound its audio player.
 struct Session {
     std::unique_ptr<receiver::Receiver> receiver;
     std::unique_ptr<receiver::DecoderThread> decoder;
     std::unique_ptr<haptic_task::DepthHandoff> handoff; ///< Written by the render thread.
     std::unique_ptr<haptic_task::HapticTask> task;
+    /// The sound, when the input has some and PlaybackHal has an audio output (the player before
+    /// its source: destroyed first).
+    std::unique_ptr<hal::AudioSource> audioSource;
+    std::unique_ptr<AudioPlayer> audio;
     double period = 1.0 / 30.0;       ///< Frame period, s.
     double startPts = 0.0;            ///< PTS of the first frame (s); positions count from it.
     hal::DisplayConfig displayConfig; ///< For the display's first open.

@@ -154,9 +154,9 @@ TEST(PlayOptionTableTest, AValueOutOfRangeGivesTheSameErrorOnBothPaths)
         }
         ++checked;
     }
-    EXPECT_EQ(checked, 13) << "stereo, stiffness, static-friction, dynamic-friction, rate, "
-                              "reengage, duration, record-crf, size, osd-seconds, lod-target, "
-                              "max-lateness, snapshot-every";
+    EXPECT_EQ(checked, 14) << "volume, stereo, stiffness, static-friction, dynamic-friction, "
+                              "rate, reengage, duration, record-crf, size, osd-seconds, "
+                              "lod-target, max-lateness, snapshot-every";
 }
 
 TEST(PlayOptionTableTest, TheMessagesOfBadValuesStayAsTheyWere)
@@ -175,6 +175,7 @@ TEST(PlayOptionTableTest, TheMessagesOfBadValuesStayAsTheyWere)
         {{"--static-friction", "-0.1"}, "--static-friction must be in [0, 2]"},
         {{"--dynamic-friction", "3"}, "--dynamic-friction must be in [0, 2]"},
         {{"--snapshot-every", "-1"}, "--snapshot-every must be in [0, 1000000]"},
+        {{"--volume", "131"}, "--volume must be in [0, 130] %"},
     };
     for (const auto &[args, message] : cases)
         EXPECT_EQ(checkPlayOptionValues(fromCommandLine(args)), message) << args[0];

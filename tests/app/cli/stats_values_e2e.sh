@@ -60,7 +60,8 @@ pkeys = {"url", "mode", "depth_size", "color_size", "output_size", "fps", "displ
          "render_ms_p99", "mesh_triangles_p50", "lod_budget_blocks", "frames_lod_limited",
          "presented_fps", "playing_s", "tune_in_s", "seeks", "snapshots_written", "frames_recorded",
          "frames_prepared_ahead", "rss_mib_start", "rss_mib_after_5s", "rss_mib_end", "locked_mib",
-         "notes", "final_state"}
+         "notes", "final_state", "audio", "audio_device", "audio_underruns", "audio_delay_ms",
+         "av_offset_ms_p50", "av_offset_ms_p99"}
 keys = pkeys | (hkeys if haptic else set())
 if set(d) != keys:
     bad.append("keys: unexpected %s, missing %s" % (sorted(set(d) - keys), sorted(keys - set(d))))
@@ -89,6 +90,11 @@ for k in ("frames_concealed", "decode_errors", "color_frames_dmabuf", "color_fra
           "material_damaged", "frames_recorded"):
     eq(k, 0)
 eq("zero_copy", False)
+# The mock clips have no sound: the default output (alsa, else null) is chosen, nothing played.
+want("audio_device", d.get("audio_device") in ("alsa", "null"), "alsa or null")
+eq("audio", ""); eq("audio_underruns", 0)
+for k in ("audio_delay_ms", "av_offset_ms_p50", "av_offset_ms_p99"):
+    eq(k, 0.0)
 eq("depth_pairs_published", pre if haptic else 0)
 want("frames_late", count("frames_late") <= pre, "<= presented")
 want("frames_prepared_ahead", count("frames_prepared_ahead") <= pre, "<= presented")

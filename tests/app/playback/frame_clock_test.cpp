@@ -117,6 +117,28 @@ TEST(FrameClockTest, pauseFreezesMediaTimeAndHoldsTheShownFrame)
     EXPECT_EQ(clock.pace(at(3.1), 1.1, nullptr, kPeriod, false).step, Step::Show);
 }
 
+TEST(FrameClockTest, theOriginFollowsTheAudioClockBeyondTheTolerance)
+{
+    // GIVEN a clock started at PTS 0 at t = 0 and out of its preroll
+    FrameClock clock(0.0);
+    EXPECT_FALSE(clock.follow(at(0.5), 0.3, 0.002)); // not started: nothing to follow
+    (void)clock.pace(at(0.0), 0.0, nullptr, kPeriod, false);
+    EXPECT_FALSE(clock.follow(at(0.5), 0.3, 0.002)); // prerolling: the first frame anchors it
+    (void)clock.endPreroll(at(0.0), 0.0);
+    // WHEN the speaker plays media time 0.9 s at t = 1 s (the sound 0.1 s behind the picture)
+    EXPECT_TRUE(clock.follow(at(1.0), 0.9, 0.002));
+    // THEN media time 0.9 s is now: the frame of PTS 1.0 s waits 0.1 s more
+    EXPECT_EQ(clock.origin(), at(0.1));
+    EXPECT_EQ(clock.pace(at(1.05), 1.0, nullptr, kPeriod, false).step, Step::Wait);
+    EXPECT_EQ(clock.pace(at(1.1), 1.0, nullptr, kPeriod, false).step, Step::Show);
+    // AND a report within the tolerance (1 ms off) moves nothing
+    EXPECT_FALSE(clock.follow(at(2.0), 1.901, 0.002));
+    EXPECT_EQ(clock.origin(), at(0.1));
+    // AND while paused the audio clock is not followed (the pause freezes media time)
+    EXPECT_TRUE(clock.holdForPause(at(2.0), true));
+    EXPECT_FALSE(clock.follow(at(2.5), 0.0, 0.002));
+}
+
 TEST(FrameClockTest, pauseBeforeTheFirstFrameMovesNothing)
 {
     FrameClock clock(0.0);

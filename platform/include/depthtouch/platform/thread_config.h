@@ -72,6 +72,9 @@ constexpr bool isValidThreadConfig(const ThreadConfig &config) noexcept
 inline constexpr ThreadConfig kHapticThread{"dt-haptic", SchedPolicy::Fifo, -9, 256 * 1024};
 /// Demux, decode and pairing of color and depth frames.
 inline constexpr ThreadConfig kDecodeThread{"dt-decode", SchedPolicy::Other, 0, 1024 * 1024};
+/// Decodes the sound, turns it by the volume and keeps the audio output's queue filled; its clock
+/// is the one the picture and the haptic time follow (playback/audio_player.h).
+inline constexpr ThreadConfig kAudioThread{"dt-audio", SchedPolicy::Other, 0, 1024 * 1024};
 /// Texture upload, stereo drawing and presentation, paced by vsync; publishes the depth pairs. The
 /// GL driver compiles its shaders on it (llvmpipe: LLVM), so it gets a default thread's stack.
 inline constexpr ThreadConfig kRenderThread{"dt-render", SchedPolicy::Other, 0, 8 * 1024 * 1024};
@@ -91,7 +94,7 @@ inline constexpr ThreadConfig kTelemetryThread{"dt-telemetry", SchedPolicy::Othe
 
 /// Every thread of the product, highest priority first.
 inline constexpr ThreadConfig kThreadTable[] = {
-    kHapticThread, kDecodeThread,   kRenderThread,  kPrepThread,
+    kHapticThread, kDecodeThread,   kAudioThread,   kRenderThread,    kPrepThread,
     kRecordThread, kSnapshotThread, kControlThread, kTelemetryThread,
 };
 

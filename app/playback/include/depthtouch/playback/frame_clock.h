@@ -79,6 +79,11 @@ public:
     /// \brief The frame of PTS \a pts that started the clock is on screen at \a now: media time is
     /// its PTS now. \return whether the origin moved (false when not prerolling).
     bool endPreroll(platform::TimePoint now, double pts) noexcept;
+    /// \brief Audio as the master clock (audio_player.h): media time \a mediaTime (s) is heard at
+    /// \a at, so the origin moves to at − mediaTime when it is more than \a tolerance (s) away.
+    /// Ignored while the clock is not started, prerolling or paused.
+    /// \return whether the origin moved (publish it to the haptic task).
+    bool follow(platform::TimePoint at, double mediaTime, double tolerance) noexcept;
     /// \return whether the frame of PTS \a shownPts shown last has had its \a period on screen at
     /// \a now (true when the clock is not started).
     [[nodiscard]] bool lastFrameDone(platform::TimePoint now, double shownPts,

@@ -20,8 +20,9 @@ struct PlayRunFigures {
     std::optional<haptic_task::HapticStats> haptic; ///< The haptic task's, when it ran.
     std::string display;                            ///< The display backend chosen.
     std::string hapticDevice;                       ///< The haptic device backend chosen.
-    double deviceMaxForce = 0.0;                    ///< Its maximum force, N.
-    double rssStart = -1.0;                         ///< Resident memory, MiB (−1: unknown).
+    std::string audioDevice;     ///< The sound output backend chosen; empty: none (--no-audio).
+    double deviceMaxForce = 0.0; ///< Its maximum force, N.
+    double rssStart = -1.0;      ///< Resident memory, MiB (−1: unknown).
     double rssAfterWarmup = -1.0;
     double rssEnd = -1.0;
     /// Locked memory (VmLck of /proc/self/status), MiB: the larger of the samples after 5 s and at

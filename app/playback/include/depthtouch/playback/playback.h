@@ -37,12 +37,15 @@
 #include <string>
 #include <vector>
 
+#include "depthtouch/hal/audio_output.h"
+#include "depthtouch/hal/audio_source.h"
 #include "depthtouch/hal/display.h"
 #include "depthtouch/hal/haptic_device.h"
 #include "depthtouch/hal/media_source.h"
 #include "depthtouch/haptic_task/haptic_task.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/result.h"
+#include "depthtouch/playback/audio_player.h"
 #include "depthtouch/player/state_machine.h"
 #include "depthtouch/receiver/receiver.h"
 
@@ -116,6 +119,11 @@ struct PlaybackConfig {
     /// receiver's buffers hold a few tenths of a second of frames on top: the report comes
     /// about 1.6 s after a 30 fps sender stopped. 0: never.
     double liveSilenceSeconds = 1.0;
+    /// Sound (`play --no-audio` turns it off): the input's first audio stream through
+    /// PlaybackHal::audioOutput, as the master clock (audio_player.h). Inputs that cannot seek (a
+    /// live stream, a FIFO) play without sound: their audio is not read twice.
+    bool audioEnabled = true;
+    AudioPlayerConfig audio{}; ///< The start volume and mute, the device's queue.
 };
 
 /// \brief The HAL objects a Playback uses (the executable chooses the backends).
@@ -126,6 +134,13 @@ struct PlaybackHal {
     hal::Display *display = nullptr;      ///< Required; opened by create().
     hal::HapticDevice *device = nullptr;  ///< Optional: nullptr plays without haptics.
     platform::Clock *clock = nullptr;     ///< Required.
+    /// Optional: the sound device (nullptr plays without sound), opened for each input with sound
+    /// and closed with it.
+    hal::AudioOutput *audioOutput = nullptr;
+    /// Optional with audioOutput: opens the first audio stream of an input (media::AudioReader);
+    /// a null source: the input has no sound.
+    std::function<Result<std::unique_ptr<hal::AudioSource>>(const std::string &url)>
+        makeAudioSource;
 };
 
 /// \brief Counters since create() (all opens together). Plain values.
@@ -167,6 +182,15 @@ struct PlaybackStats {
     /// it was written or none was asked for.
     std::string recordingLost;
     std::string snapshotLost; ///< Why a snapshot was not written (the first); empty when none.
+    /// The sound (all opens together): the device's underruns, its queue at the last turn (ms),
+    /// and the A/V offset of the presented frames (the media time heard when a frame went on
+    /// screen minus its PTS, ms; positive: the sound is ahead): the median offset and the 99th
+    /// percentile of |offset|; 0 when nothing was measured.
+    std::uint64_t audioUnderruns = 0;
+    double audioDelayMs = 0.0;
+    double avOffsetMsP50 = 0.0;
+    double avOffsetMsP99 = 0.0;
+    std::string audioLost; ///< Why the sound stopped (an unplugged device); empty when it did not.
 };
 
 /// What open() found about the stream, for the summary.
@@ -178,6 +202,7 @@ struct PlaybackInfo {
     double fps = 0.0;
     int outputWidth = 0, outputHeight = 0;
     bool haptics = false; ///< A haptic task runs (depth present and a device given).
+    std::string audio;    ///< The sound played, e.g. "48000 Hz 2 ch"; empty: none.
     bool gl = false;      ///< Frames are drawn with the stereo renderer (else only presented).
     std::vector<std::string> notes;
 };
@@ -218,6 +243,12 @@ public:
     [[nodiscard]] Result<void> recenter() override;
     /// Brings the on-screen display up (the render thread restarts its --osd-seconds).
     [[nodiscard]] Result<void> showProgress() override;
+    /// \brief The volume of the sound, percent (0..AudioPlayerConfig::kMaxVolume, clamped) and
+    /// mute; kept for the next inputs. Main thread.
+    void setVolume(double percent);
+    void setMute(bool mute);
+    [[nodiscard]] double volume() const noexcept;
+    [[nodiscard]] bool muted() const noexcept;
     /// Errc::InvalidState without PlaybackConfig::snapshotDir, when the folder takes no file or
     /// when an earlier snapshot could not be written (refused: playback goes on),
     /// Errc::NotSupported on a display that draws nothing (mock); else requestSnapshot().

@@ -1,0 +1,52 @@
+#pragma once
+/// \file
+/// \brief AudioReader: the receiver's sound, a hal::AudioSource that decodes the first audio stream
+/// of a file with libavformat and libavcodec and converts it with libswresample to interleaved
+/// signed 16-bit PCM (docs/playing.md, "Sound").
+///
+/// The input is opened a second time beside the player's MediaSource (a demuxer of its own that
+/// reads only the audio stream), so only inputs that can be read twice have sound: files and
+/// seekable URLs (Playback asks for it only when its MediaSource can seek). Format: the stream's
+/// own rate and channel layout (up to 8 channels, FFmpeg's order); a rate outside 8..192 kHz is
+/// resampled to 48 kHz, more channels are down-mixed to stereo. Timeline: media time 0 is the
+/// input's start (AVFormatContext::start_time), as the video packets' Pts of the ffmpeg
+/// MediaSource. Decoded frames without a timestamp follow the previous one.
+///
+/// Thread-safety: thread-bound (the audio thread); open() on any thread.
+
+#include <memory>
+#include <string>
+
+#include "depthtouch/hal/audio_source.h"
+#include "depthtouch/platform/result.h"
+
+namespace depthtouch::media {
+
+/// See the file comment.
+class AudioReader final : public hal::AudioSource {
+public:
+    ~AudioReader() override;
+    AudioReader(const AudioReader &) = delete;
+    AudioReader &operator=(const AudioReader &) = delete;
+
+    /// \brief Opens the first audio stream of \a url (a file or URL FFmpeg reads).
+    /// \return the reader; nullptr when \a url opens but has no audio stream. Errors:
+    /// InvalidArgument (not readable as media), NotSupported (no decoder for the codec),
+    /// OutOfResources.
+    static Result<std::unique_ptr<AudioReader>> open(const std::string &url);
+
+    [[nodiscard]] hal::AudioFormat format() const noexcept override;
+    [[nodiscard]] Result<hal::PcmBlock> read(std::int16_t *samples, std::size_t frames) override;
+    [[nodiscard]] Result<void> seek(double seconds) override;
+
+    /// \return e.g. "aac 48000 Hz 2 ch" (the stream as coded).
+    [[nodiscard]] const std::string &description() const noexcept;
+
+    struct Impl;
+
+private:
+    AudioReader();
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace depthtouch::media

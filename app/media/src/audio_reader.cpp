@@ -1,0 +1,260 @@
+/// \file
+/// \brief The receiver's sound: see audio_reader.h.
+
+#include "depthtouch/media/audio_reader.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+extern "C" {
+#include <libavutil/channel_layout.h>
+#include <libswresample/swresample.h>
+}
+
+#include "media_libav.h"
+
+namespace depthtouch::media {
+
+using namespace detail;
+
+namespace {
+
+struct SwrDeleter {
+    void operator()(SwrContext *s) const noexcept { swr_free(&s); }
+};
+
+/// The rate a decoded stream of \a rate Hz is played at: its own when an AudioOutput takes it.
+int playableRate(int rate) noexcept
+{
+    return rate >= hal::kMinAudioRate && rate <= hal::kMaxAudioRate ? rate : 48000;
+}
+
+} // namespace
+
+struct AudioReader::Impl {
+    InputContextPtr in;
+    int index = -1;          ///< The audio stream of `in`.
+    AVRational tb{1, 1};     ///< Its time base.
+    std::int64_t origin = 0; ///< Its time (tb) of media time 0: the input's start.
+    CodecContextPtr decoder;
+    std::unique_ptr<SwrContext, SwrDeleter> swr;
+    // What swr converts from (set from the first frame, again when a frame differs).
+    int inFormat = -1;
+    int inRate = 0;
+    AVChannelLayout inLayout{};
+    hal::AudioFormat out;
+    AVChannelLayout outLayout{};
+    PacketPtr packet;
+    FramePtr frame;
+    std::vector<std::int16_t> pending; ///< Converted frames not yet read.
+    std::size_t pendingFrames = 0;
+    std::size_t pendingPos = 0; ///< Frames of `pending` already read.
+    double pendingStart = 0.0;  ///< Media time of pending's first frame, s.
+    double nextStart = 0.0;     ///< Media time after the last converted frame, s.
+    double skipUntil = -std::numeric_limits<double>::infinity(); ///< seek(): drop before it.
+    bool flushed = false; ///< The decoder was sent its end (the input has no more packets).
+    bool ended = false;   ///< The decoder is drained: nothing more until seek().
+    std::string description;
+
+    ~Impl()
+    {
+        av_channel_layout_uninit(&inLayout);
+        av_channel_layout_uninit(&outLayout);
+    }
+
+    /// Sets swr up for frames like \a f (the first one, or one whose format changed).
+    Result<void> configure(const AVFrame &f)
+    {
+        if (swr && f.format == inFormat && f.sample_rate == inRate &&
+            av_channel_layout_compare(&f.ch_layout, &inLayout) == 0)
+            return ok();
+        av_channel_layout_uninit(&inLayout);
+        if (av_channel_layout_copy(&inLayout, &f.ch_layout) < 0)
+            return unexpected(Errc::OutOfResources, "Failed to describe the sound");
+        if (inLayout.order == AV_CHANNEL_ORDER_UNSPEC)
+            av_channel_layout_default(&inLayout, inLayout.nb_channels);
+        inFormat = f.format;
+        inRate = f.sample_rate;
+        SwrContext *s = nullptr;
+        if (swr_alloc_set_opts2(&s, &outLayout, AV_SAMPLE_FMT_S16, out.sampleRate, &inLayout,
+                                static_cast<AVSampleFormat>(inFormat), inRate, 0, nullptr) < 0 ||
+            swr_init(s) < 0) {
+            swr_free(&s);
+            return unexpected(Errc::NotSupported, "Failed to convert the sound");
+        }
+        swr.reset(s);
+        return ok();
+    }
+
+    /// Converts `frame` into `pending` and drops what lies before skipUntil.
+    Result<void> convert()
+    {
+        DT_TRY(configure(*frame));
+        const std::int64_t ts = frame->best_effort_timestamp;
+        const double start =
+            ts == AV_NOPTS_VALUE ? nextStart : static_cast<double>(ts - origin) * av_q2d(tb);
+        const int room = swr_get_out_samples(swr.get(), frame->nb_samples);
+        const auto channels = static_cast<std::size_t>(out.channels);
+        pending.resize(static_cast<std::size_t>(std::max(room, 1)) * channels);
+        auto *dst = reinterpret_cast<std::uint8_t *>(pending.data());
+        const int n =
+            swr_convert(swr.get(), &dst, std::max(room, 1),
+                        const_cast<const std::uint8_t **>(frame->extended_data), frame->nb_samples);
+        if (n < 0)
+            return unexpected(Errc::InvalidArgument, "Failed to convert the sound");
+        pendingFrames = static_cast<std::size_t>(n);
+        pendingStart = start;
+        pendingPos = 0;
+        nextStart = start + n / static_cast<double>(out.sampleRate);
+        if (start < skipUntil) {
+            const auto skip = static_cast<std::size_t>(
+                std::llround((skipUntil - start) * static_cast<double>(out.sampleRate)));
+            pendingPos = std::min(skip, pendingFrames);
+        }
+        return ok();
+    }
+
+    /// Reads packets of the audio stream into the decoder until it gives a frame.
+    /// \return false at the end of the sound.
+    Result<bool> decodeMore()
+    {
+        for (;;) {
+            const int got = avcodec_receive_frame(decoder.get(), frame.get());
+            if (got >= 0) {
+                DT_TRY(convert());
+                av_frame_unref(frame.get());
+                if (pendingPos < pendingFrames)
+                    return true;
+                continue;
+            }
+            if (got == AVERROR_EOF || (got == AVERROR(EAGAIN) && flushed))
+                return false;
+            if (got != AVERROR(EAGAIN))
+                continue; // a damaged frame: skipped
+            const int r = av_read_frame(in.get(), packet.get());
+            if (r == AVERROR_EOF) {
+                flushed = true;
+                avcodec_send_packet(decoder.get(), nullptr);
+                continue;
+            }
+            if (r < 0)
+                return unexpected(Errc::Io, "The sound could not be read further");
+            if (packet->stream_index == index)
+                avcodec_send_packet(decoder.get(), packet.get()); // a damaged packet: skipped
+            av_packet_unref(packet.get());
+        }
+    }
+
+    Result<void> openDecoder(const AVStream &st)
+    {
+        const AVCodec *dec = avcodec_find_decoder(st.codecpar->codec_id);
+        if (dec == nullptr)
+            return unexpected(Errc::NotSupported, "No decoder for the sound's codec");
+        decoder.reset(avcodec_alloc_context3(dec));
+        packet.reset(av_packet_alloc());
+        frame.reset(av_frame_alloc());
+        if (!decoder || !packet || !frame ||
+            avcodec_parameters_to_context(decoder.get(), st.codecpar) < 0)
+            return unexpected(Errc::OutOfResources, "Failed to set the sound's decoder up");
+        if (avcodec_open2(decoder.get(), dec, nullptr) < 0)
+            return unexpected(Errc::NotSupported, "The sound's decoder refused the stream");
+        const int channels = st.codecpar->ch_layout.nb_channels;
+        out.sampleRate = playableRate(st.codecpar->sample_rate);
+        out.channels = channels >= 1 && channels <= hal::kMaxAudioChannels ? channels : 2;
+        if (out.channels == channels && st.codecpar->ch_layout.order != AV_CHANNEL_ORDER_UNSPEC)
+            av_channel_layout_copy(&outLayout, &st.codecpar->ch_layout);
+        else
+            av_channel_layout_default(&outLayout, out.channels);
+        return ok();
+    }
+};
+
+AudioReader::AudioReader() : impl_(std::make_unique<Impl>()) {}
+AudioReader::~AudioReader() = default;
+
+Result<std::unique_ptr<AudioReader>> AudioReader::open(const std::string &url)
+{
+    quietFfmpegLog();
+    std::unique_ptr<AudioReader> reader(new AudioReader());
+    Impl &a = *reader->impl_;
+    AVFormatContext *ctx = nullptr;
+    if (avformat_open_input(&ctx, url.c_str(), nullptr, nullptr) < 0)
+        return unexpected(Errc::InvalidArgument, "The input does not open as media");
+    a.in.reset(ctx);
+    if (avformat_find_stream_info(ctx, nullptr) < 0)
+        return unexpected(Errc::InvalidArgument, "The input has no readable streams");
+    a.index = av_find_best_stream(ctx, AVMEDIA_TYPE_AUDIO, -1, -1, nullptr, 0);
+    if (a.index < 0)
+        return std::unique_ptr<AudioReader>();
+    const AVStream &st = *ctx->streams[a.index];
+    a.tb = st.time_base;
+    if (ctx->start_time != AV_NOPTS_VALUE)
+        a.origin = av_rescale_q(ctx->start_time, AV_TIME_BASE_Q, a.tb);
+    for (unsigned i = 0; i < ctx->nb_streams; ++i)
+        if (static_cast<int>(i) != a.index)
+            ctx->streams[i]->discard = AVDISCARD_ALL;
+    DT_TRY(a.openDecoder(st));
+    a.description = std::string(avcodec_get_name(st.codecpar->codec_id)) + " " +
+                    std::to_string(st.codecpar->sample_rate) + " Hz " +
+                    std::to_string(st.codecpar->ch_layout.nb_channels) + " ch";
+    return reader;
+}
+
+hal::AudioFormat AudioReader::format() const noexcept
+{
+    return impl_->out;
+}
+
+Result<hal::PcmBlock> AudioReader::read(std::int16_t *samples, std::size_t frames)
+{
+    Impl &a = *impl_;
+    if (samples == nullptr && frames > 0)
+        return unexpected(Errc::InvalidArgument, "No buffer for the sound");
+    hal::PcmBlock block;
+    block.start = a.nextStart;
+    if (frames == 0 || a.ended)
+        return block;
+    if (a.pendingPos >= a.pendingFrames) {
+        auto more = a.decodeMore();
+        if (!more || !*more) {
+            a.ended = true;
+            if (!more)
+                return unexpected(more.error());
+            return block;
+        }
+    }
+    const auto channels = static_cast<std::size_t>(a.out.channels);
+    block.frames = std::min(frames, a.pendingFrames - a.pendingPos);
+    block.start =
+        a.pendingStart + static_cast<double>(a.pendingPos) / static_cast<double>(a.out.sampleRate);
+    std::memcpy(samples, a.pending.data() + a.pendingPos * channels,
+                block.frames * channels * sizeof(std::int16_t));
+    a.pendingPos += block.frames;
+    return block;
+}
+
+Result<void> AudioReader::seek(double seconds)
+{
+    Impl &a = *impl_;
+    const double at = std::max(seconds, 0.0);
+    const std::int64_t target = a.origin + static_cast<std::int64_t>(std::floor(at / av_q2d(a.tb)));
+    if (av_seek_frame(a.in.get(), a.index, target, AVSEEK_FLAG_BACKWARD) < 0)
+        return unexpected(Errc::Io, "The sound could not seek");
+    avcodec_flush_buffers(a.decoder.get());
+    a.swr.reset(); // set up again from the next frame: nothing of before the seek stays in it
+    a.pendingFrames = a.pendingPos = 0;
+    a.skipUntil = at;
+    a.nextStart = at;
+    a.flushed = a.ended = false;
+    return ok();
+}
+
+const std::string &AudioReader::description() const noexcept
+{
+    return impl_->description;
+}
+
+} // namespace depthtouch::media

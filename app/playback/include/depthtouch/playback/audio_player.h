@@ -1,0 +1,162 @@
+#pragma once
+/// \file
+/// \brief AudioPlayer: the sound of an open stream, pulled from a hal::AudioSource, turned by the
+/// volume and written to a hal::AudioOutput on the audio thread, and the audio clock the picture
+/// and the haptic time follow (docs/playing.md, "Sound"; docs/architecture.md §1).
+///
+/// Clock: audio is the master clock when it plays (mpv's default `--video-sync=audio`). After each
+/// turn the audio thread publishes which media time the speaker plays at that moment: the media
+/// time after the last frame written minus the device's queue (AudioOutput::delayFrames()). The
+/// render thread moves the picture's media origin onto it (FrameClock::follow()), and with it the
+/// haptic task's. The device's queue is kept at AudioPlayerConfig::queueSeconds: that is the
+/// latency of pause, seek and volume.
+///
+/// Timeline: start(t) plays from media time t (the first frame on screen after open, a seek, a
+/// loop): the source seeks there sample-accurately; where the source has no sound (before its
+/// start, a gap) silence is played, sound it repeats is dropped. halt() silences at once (a seek
+/// begins, stop). Pause holds the device's queue (AudioOutput::pause). The volume is a gain on the
+/// samples, (volume / 100)³ as mpv's software volume, moved to a new value over 10 ms so a change
+/// does not click; mute is gain 0 the same way.
+///
+/// Failures: a source that cannot be read further ends the sound (stats().ended); an output that
+/// is unplugged or fails ends the sound with stats().lost set; the picture plays on its own clock
+/// from then on.
+///
+/// Thread-safety: the control calls (start, halt, setPaused, setVolume, setMute, clock, stats) on
+/// any thread but the haptic thread (they take a short mutex); step() on one thread: the audio
+/// thread (startThread()) or a test's. Buffers are allocated by the constructor.
+
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "depthtouch/hal/audio_output.h"
+#include "depthtouch/hal/audio_source.h"
+#include "depthtouch/platform/clock.h"
+#include "depthtouch/platform/realtime_thread.h"
+#include "depthtouch/platform/result.h"
+
+namespace depthtouch::playback {
+
+/// \brief Settings of an AudioPlayer (the `play` options --volume, --mute).
+struct AudioPlayerConfig {
+    /// Largest volume, percent (mpv's --volume-max default).
+    static constexpr double kMaxVolume = 130.0;
+    double volume = 100.0; ///< Percent, 0..kMaxVolume.
+    bool mute = false;
+    /// Sound kept queued in the device, s (10 ms .. 1 s): the delay of pause, seek and volume.
+    double queueSeconds = 0.1;
+};
+
+/// \brief Where the sound is: the media time the speaker plays at clock time `at`.
+struct AudioClock {
+    bool running = false;     ///< Sound plays (not paused, halted, ended or lost).
+    platform::TimePoint at{}; ///< When it was measured (the player's clock).
+    double mediaTime = 0.0;   ///< Media time heard at `at`, s.
+};
+
+/// \brief Counters of the sound since the player was made. Plain values.
+struct AudioStats {
+    std::uint64_t framesWritten = 0; ///< Frames of sound (not silence) the device took.
+    std::uint64_t silenceFrames = 0; ///< Silence written where the source had no sound.
+    std::uint64_t underruns = 0;     ///< The device's (AudioOutput::underruns()).
+    double delaySeconds = 0.0;       ///< The device's queue at the last turn, s.
+    bool ended = false;              ///< The source has no more sound (until the next start()).
+    std::string lost;                ///< Why the sound stopped for good; empty while it works.
+};
+
+/// See the file comment.
+class AudioPlayer {
+public:
+    /// \brief Opens \a output for \a source's format. Both must outlive the player.
+    /// \return the player (idle until start()). Errors: InvalidArgument (a config out of range),
+    /// the output's open() error.
+    static Result<std::unique_ptr<AudioPlayer>> create(hal::AudioSource &source,
+                                                       hal::AudioOutput &output,
+                                                       platform::Clock &clock,
+                                                       const AudioPlayerConfig &config);
+    /// Stops the audio thread and closes the output.
+    ~AudioPlayer();
+    AudioPlayer(const AudioPlayer &) = delete;
+    AudioPlayer &operator=(const AudioPlayer &) = delete;
+
+    /// \brief Starts the audio thread (platform::kAudioThread), which runs step() every quarter of
+    /// the queue. \return Errc::OutOfResources when no thread could be started.
+    [[nodiscard]] Result<void> startThread();
+
+    /// \name Control
+    ///@{
+    /// Plays from media time \a seconds (see the file comment).
+    void start(double seconds);
+    /// Silences at once and waits for the next start().
+    void halt();
+    void setPaused(bool paused);
+    /// \a percent clamped to 0..kMaxVolume.
+    void setVolume(double percent);
+    void setMute(bool mute);
+    ///@}
+
+    [[nodiscard]] AudioClock clock() const;
+    [[nodiscard]] AudioStats stats() const;
+
+    /// \brief One turn of the audio thread: takes the commands and fills the device's queue up to
+    /// queueSeconds. Never blocks.
+    void step();
+
+private:
+    AudioPlayer(hal::AudioSource &source, hal::AudioOutput &output, platform::Clock &clock,
+                const AudioPlayerConfig &config);
+    /// Writes sound or silence until the queue holds \a queueFrames or the source ends.
+    void fill(std::size_t delay);
+    /// Writes \a frames of `block_` from `blockPos_` with the gain; \return the frames taken.
+    std::size_t writeSound(std::size_t frames);
+    /// Writes \a frames of silence; \return the frames taken.
+    std::size_t writeSilence(std::size_t frames);
+    void lose(const Error &error);
+    /// Publishes the clock (\a mediaTime heard at \a at) and the counters; \a queued: the
+    /// device's queue, s.
+    void publish(bool running, double mediaTime, double queued, platform::TimePoint at);
+
+    hal::AudioSource &source_;
+    hal::AudioOutput &output_;
+    platform::Clock &clock_;
+    AudioPlayerConfig config_;
+    hal::AudioFormat format_;
+    std::size_t queueFrames_;
+
+    // Commands (mutex_), written by the control calls, taken by step().
+    mutable std::mutex mutex_;
+    std::uint64_t startGen_ = 0;
+    double startAt_ = 0.0;
+    std::uint64_t haltGen_ = 0;
+    bool paused_ = false;
+    double targetGain_ = 1.0;
+    AudioClock published_;
+    AudioStats stats_;
+
+    // The audio thread's own.
+    enum class Mode : std::uint8_t { Idle, Playing, Ended, Lost };
+    Mode mode_ = Mode::Idle;
+    std::uint64_t startSeen_ = 0;
+    std::uint64_t haltSeen_ = 0;
+    bool pausedSeen_ = false;
+    double gain_ = 1.0;                ///< Gain of the last frame written.
+    double rampTarget_ = 1.0;          ///< The gain it moves to (targetGain_ as of this turn).
+    double writtenEnd_ = 0.0;          ///< Media time after the last frame written, s.
+    std::vector<std::int16_t> block_;  ///< The source's block being written.
+    std::vector<std::int16_t> scaled_; ///< Its frames with the gain, as written.
+    hal::PcmBlock have_{};             ///< What block_ holds.
+    std::size_t blockPos_ = 0;         ///< Frames of block_ written.
+    bool sourceEnded_ = false;
+    std::uint64_t soundFrames_ = 0;
+    std::uint64_t silenceFrames_ = 0;
+    std::optional<platform::RealtimeThread> thread_;
+};
+
+/// \return the gain of \a percent volume, muted or not: (percent / 100)³, 0 when muted.
+double volumeGain(double percent, bool mute) noexcept;
+
+} // namespace depthtouch::playback

@@ -1,0 +1,302 @@
+/// \file
+/// \brief The sound of an open stream: see audio_player.h.
+
+#include "depthtouch/playback/audio_player.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "depthtouch/platform/thread_config.h"
+
+namespace depthtouch::playback {
+
+namespace {
+
+constexpr std::size_t kBlockFrames = 2048; ///< Frames read from the source at a time.
+constexpr double kGainRampSeconds = 0.01;  ///< A volume change moves over this long.
+constexpr double kMinQueueSeconds = 0.01;
+constexpr double kMaxQueueSeconds = 1.0;
+
+} // namespace
+
+double volumeGain(double percent, bool mute) noexcept
+{
+    if (mute || !(percent > 0.0))
+        return 0.0;
+    const double v = std::min(percent, AudioPlayerConfig::kMaxVolume) / 100.0;
+    return v * v * v;
+}
+
+AudioPlayer::AudioPlayer(hal::AudioSource &source, hal::AudioOutput &output, platform::Clock &clock,
+                         const AudioPlayerConfig &config)
+    : source_(source), output_(output), clock_(clock), config_(config), format_(source.format()),
+      queueFrames_(static_cast<std::size_t>(
+          std::llround(config.queueSeconds * static_cast<double>(format_.sampleRate))))
+{
+    const auto samples = kBlockFrames * static_cast<std::size_t>(format_.channels);
+    block_.resize(samples);
+    scaled_.resize(samples);
+    targetGain_ = gain_ = volumeGain(config.volume, config.mute);
+}
+
+Result<std::unique_ptr<AudioPlayer>> AudioPlayer::create(hal::AudioSource &source,
+                                                         hal::AudioOutput &output,
+                                                         platform::Clock &clock,
+                                                         const AudioPlayerConfig &config)
+{
+    if (!(config.volume >= 0.0 && config.volume <= AudioPlayerConfig::kMaxVolume))
+        return unexpected(Errc::InvalidArgument, "The volume must be 0 to 130 %");
+    if (!(config.queueSeconds >= kMinQueueSeconds && config.queueSeconds <= kMaxQueueSeconds))
+        return unexpected(Errc::InvalidArgument, "The sound's queue must be 0.01 to 1 s");
+    DT_TRY(output.open(source.format()));
+    return std::unique_ptr<AudioPlayer>(new AudioPlayer(source, output, clock, config));
+}
+
+AudioPlayer::~AudioPlayer()
+{
+    if (thread_) {
+        thread_->requestStop();
+        thread_->join();
+    }
+    output_.close();
+}
+
+Result<void> AudioPlayer::startThread()
+{
+    // A quarter of the queue between turns keeps it at least three quarters full.
+    const auto period = std::chrono::duration_cast<platform::Duration>(
+        std::chrono::duration<double>(config_.queueSeconds / 4.0));
+    thread_.emplace(platform::kAudioThread, platform::kPlainThreadOptions,
+                    [this, period](platform::StopToken stop) {
+                        while (!stop.stopRequested()) {
+                            step();
+                            clock_.sleepFor(period);
+                        }
+                    });
+    if (auto r = thread_->start(); !r) {
+        thread_.reset();
+        return unexpected(Errc::OutOfResources, "No thread for the sound");
+    }
+    return ok();
+}
+
+void AudioPlayer::start(double seconds)
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++startGen_;
+    startAt_ = seconds;
+    published_.running = false;
+}
+
+void AudioPlayer::halt()
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++haltGen_;
+    published_.running = false;
+}
+
+void AudioPlayer::setPaused(bool paused)
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    paused_ = paused;
+    if (paused)
+        published_.running = false;
+}
+
+void AudioPlayer::setVolume(double percent)
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    config_.volume =
+        std::clamp(std::isfinite(percent) ? percent : 0.0, 0.0, AudioPlayerConfig::kMaxVolume);
+    targetGain_ = volumeGain(config_.volume, config_.mute);
+}
+
+void AudioPlayer::setMute(bool mute)
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    config_.mute = mute;
+    targetGain_ = volumeGain(config_.volume, config_.mute);
+}
+
+AudioClock AudioPlayer::clock() const
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    return published_;
+}
+
+AudioStats AudioPlayer::stats() const
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    AudioStats s = stats_;
+    s.underruns = output_.underruns();
+    return s;
+}
+
+void AudioPlayer::publish(bool running, double mediaTime, double queued, platform::TimePoint at)
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    stats_.delaySeconds = queued;
+    const bool current = startGen_ == startSeen_ && haltGen_ == haltSeen_ && !paused_;
+    published_.running = running && current;
+    published_.at = at;
+    published_.mediaTime = mediaTime;
+    stats_.framesWritten = soundFrames_;
+    stats_.silenceFrames = silenceFrames_;
+    stats_.ended = mode_ == Mode::Ended;
+}
+
+void AudioPlayer::lose(const Error &error)
+{
+    mode_ = Mode::Lost;
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (stats_.lost.empty())
+        stats_.lost = std::string("the sound output failed: ") + error.what;
+    published_.running = false;
+}
+
+void AudioPlayer::step()
+{
+    std::uint64_t startGen = 0;
+    std::uint64_t haltGen = 0;
+    double startAt = 0.0;
+    bool paused = false;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        startGen = startGen_;
+        haltGen = haltGen_;
+        startAt = startAt_;
+        paused = paused_;
+        rampTarget_ = targetGain_;
+    }
+    if (mode_ == Mode::Lost)
+        return;
+    if (mode_ != Mode::Playing || paused)
+        gain_ = rampTarget_; // nothing sounds: a new volume needs no ramp
+    if (haltGen != haltSeen_ || startGen != startSeen_) {
+        const bool restart = startGen != startSeen_;
+        haltSeen_ = haltGen;
+        startSeen_ = startGen;
+        if (auto f = output_.flush(); !f)
+            return lose(f.error());
+        mode_ = Mode::Idle;
+        if (restart) {
+            // A source that cannot seek plays on from where it is: its sound before t is dropped.
+            (void)source_.seek(startAt);
+            writtenEnd_ = startAt;
+            have_ = {};
+            blockPos_ = 0;
+            sourceEnded_ = false;
+            mode_ = Mode::Playing;
+        }
+    }
+    if (paused != pausedSeen_) {
+        if (auto p = output_.pause(paused); !p)
+            return lose(p.error());
+        pausedSeen_ = paused;
+    }
+    if (mode_ == Mode::Idle || paused) {
+        publish(false, writtenEnd_, 0.0, clock_.now());
+        return;
+    }
+    if (mode_ == Mode::Playing) {
+        auto before = output_.delayFrames();
+        if (!before)
+            return lose(before.error());
+        fill(*before);
+        if (mode_ == Mode::Lost)
+            return;
+    }
+    auto delay = output_.delayFrames();
+    if (!delay)
+        return lose(delay.error());
+    const double queued = static_cast<double>(*delay) / static_cast<double>(format_.sampleRate);
+    if (mode_ == Mode::Playing && sourceEnded_ && *delay == 0)
+        mode_ = Mode::Ended;
+    publish(mode_ == Mode::Playing, writtenEnd_ - queued, queued, clock_.now());
+}
+
+void AudioPlayer::fill(std::size_t delay)
+{
+    const double rate = static_cast<double>(format_.sampleRate);
+    std::size_t queued = delay;
+    while (queued < queueFrames_) {
+        const std::size_t want = std::min(queueFrames_ - queued, kBlockFrames);
+        if (blockPos_ >= have_.frames) {
+            if (sourceEnded_)
+                return;
+            auto got = source_.read(block_.data(), kBlockFrames);
+            if (!got || got->frames == 0) {
+                sourceEnded_ = true; // the end, or a read error: the sound ends there
+                return;
+            }
+            have_ = *got;
+            blockPos_ = 0;
+        }
+        const double gap = have_.start + static_cast<double>(blockPos_) / rate - writtenEnd_;
+        const auto gapFrames = std::llround(gap * rate);
+        std::size_t taken = 0;
+        if (gapFrames >= 1) {
+            taken = writeSilence(std::min(want, static_cast<std::size_t>(gapFrames)));
+        } else if (gapFrames <= -1) {
+            blockPos_ += std::min(have_.frames - blockPos_, static_cast<std::size_t>(-gapFrames));
+            continue;
+        } else {
+            taken = writeSound(std::min(want, have_.frames - blockPos_));
+        }
+        if (mode_ == Mode::Lost || taken == 0)
+            return; // lost, or the device's buffer is full
+        queued += taken;
+    }
+}
+
+namespace {
+
+/// \return \a from moved toward \a to by at most \a by.
+double moveToward(double from, double to, double by) noexcept
+{
+    return from < to ? std::min(from + by, to) : std::max(from - by, to);
+}
+
+} // namespace
+
+std::size_t AudioPlayer::writeSound(std::size_t frames)
+{
+    const auto channels = static_cast<std::size_t>(format_.channels);
+    const double rate = static_cast<double>(format_.sampleRate);
+    const double step = 1.0 / (kGainRampSeconds * rate);
+    const std::int16_t *src = block_.data() + blockPos_ * channels;
+    for (std::size_t i = 0; i < frames; ++i) {
+        const double g = moveToward(gain_, rampTarget_, static_cast<double>(i + 1) * step);
+        for (std::size_t c = 0; c < channels; ++c) {
+            const double v = std::round(static_cast<double>(src[i * channels + c]) * g);
+            scaled_[i * channels + c] = static_cast<std::int16_t>(std::clamp(v, -32768.0, 32767.0));
+        }
+    }
+    auto w = output_.write(scaled_.data(), frames);
+    if (!w) {
+        lose(w.error());
+        return 0;
+    }
+    gain_ = moveToward(gain_, rampTarget_, static_cast<double>(*w) * step);
+    blockPos_ += *w;
+    writtenEnd_ += static_cast<double>(*w) / rate;
+    soundFrames_ += *w;
+    return *w;
+}
+
+std::size_t AudioPlayer::writeSilence(std::size_t frames)
+{
+    const auto channels = static_cast<std::size_t>(format_.channels);
+    std::fill_n(scaled_.begin(), frames * channels, std::int16_t{0});
+    auto w = output_.write(scaled_.data(), frames);
+    if (!w) {
+        lose(w.error());
+        return 0;
+    }
+    writtenEnd_ += static_cast<double>(*w) / static_cast<double>(format_.sampleRate);
+    silenceFrames_ += *w;
+    return *w;
+}
+
+} // namespace depthtouch::playback

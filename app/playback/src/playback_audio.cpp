@@ -1,0 +1,90 @@
+/// \file
+/// \brief Playback's sound on the main thread: the audio player of a session (attachAudio), the
+/// volume and mute commands, the sound's counters. See playback.h and audio_player.h.
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "playback_impl.h"
+
+namespace depthtouch::playback {
+
+/// \return \a before's counters with \a later's added (a later session's queue and end win).
+AudioStats addedAudioStats(AudioStats before, const AudioStats &later)
+{
+    before.framesWritten += later.framesWritten;
+    before.silenceFrames += later.silenceFrames;
+    before.underruns += later.underruns;
+    before.delaySeconds = later.delaySeconds;
+    before.ended = later.ended;
+    if (before.lost.empty())
+        before.lost = later.lost;
+    return before;
+}
+
+void attachAudio(Playback::Impl &m, Session &s, PlaybackInfo &info)
+{
+    if (!m.config.audioEnabled || m.hal.audioOutput == nullptr || !m.hal.makeAudioSource)
+        return;
+    if (s.receiver->source().info().audio.empty())
+        return;
+    if (s.live) {
+        info.notes.emplace_back("a live stream's sound is not played yet: playing without sound");
+        return;
+    }
+    auto source = m.hal.makeAudioSource(m.openingUrl);
+    if (!source || !*source) {
+        info.notes.emplace_back(std::string("no sound: ") +
+                                (source ? "no audio stream could be read" : source.error().what));
+        return;
+    }
+    AudioPlayerConfig ac = m.config.audio;
+    ac.volume = m.volume;
+    ac.mute = m.mute;
+    auto player = AudioPlayer::create(**source, *m.hal.audioOutput, m.clock, ac);
+    if (!player) {
+        info.notes.emplace_back(std::string("no sound: the audio output refused it: ") +
+                                player.error().what);
+        return;
+    }
+    if (auto t = (*player)->startThread(); !t) {
+        info.notes.emplace_back(std::string("no sound: ") + t.error().what);
+        return;
+    }
+    const hal::AudioFormat f = (*source)->format();
+    info.audio = std::to_string(f.sampleRate) + " Hz " + std::to_string(f.channels) + " ch";
+    s.audioSource = std::move(*source);
+    s.audio = std::move(*player);
+}
+
+void Playback::setVolume(double percent)
+{
+    Impl &m = *impl_;
+    m.volume =
+        std::clamp(std::isfinite(percent) ? percent : 0.0, 0.0, AudioPlayerConfig::kMaxVolume);
+    m.osdEvents.fetch_add(1, std::memory_order_relaxed);
+    if (m.owned && m.owned->audio)
+        m.owned->audio->setVolume(m.volume);
+}
+
+void Playback::setMute(bool mute)
+{
+    Impl &m = *impl_;
+    m.mute = mute;
+    m.osdEvents.fetch_add(1, std::memory_order_relaxed);
+    if (m.owned && m.owned->audio)
+        m.owned->audio->setMute(mute);
+}
+
+double Playback::volume() const noexcept
+{
+    return impl_->volume;
+}
+
+bool Playback::muted() const noexcept
+{
+    return impl_->mute;
+}
+
+} // namespace depthtouch::playback

@@ -1,0 +1,92 @@
+#!/bin/sh
+# End-to-end: `play` plays the sound of its input through the sound output (the wav backend, read
+# back here by Python's wave module, not by the library that wrote it). A 3 s clip whose sound is
+# silent but for a 5 ms click at 1.000 s is encoded with its sound (AAC), then played on the mock
+# display: the click must be in the WAV 1.000 s after its first frame within 2 ms (the sound
+# starts with the first frame, PTS 0), the WAV must last the clip, --volume 50 must scale the click
+# by (0.5)^3 as mpv's volume does, --mute must write silence, --no-audio and --audio-device none no
+# file, the stats JSON must name the device and the sound, and a sound output that does not exist
+# is one line and exit 2. Exit 77 (skip) without the ffmpeg CLI. Usage: play_audio_e2e.sh DEPTHTOUCH
+set -u
+exe="$1"
+for tool in ffmpeg python3; do
+    command -v "$tool" >/dev/null 2>&1 || { echo "$tool not on PATH: skipped"; exit 77; }
+done
+work=$(mktemp -d "${TMPDIR:-/tmp}/dt-play-audio.XXXXXX") || exit 1
+trap 'rm -rf "$work"' EXIT
+ff() { ffmpeg -nostdin -hide_banner -v error -y "$@" </dev/null; }
+fail() { echo "FAIL: $*"; exit 1; }
+
+ff -f lavfi -i testsrc=size=96x72:rate=30:duration=3 \
+    -f lavfi -i "aevalsrc='if(between(t,1,1.005),0.9*sin(2*PI*1000*t),0)':s=48000:d=3" -ac 2 \
+    -pix_fmt yuv420p -c:v libx264 -preset ultrafast -c:a aac "$work/film.mp4" || fail "ffmpeg film"
+ff -f lavfi -i testsrc=size=96x72:rate=30:duration=3 -vf format=gray -c:v libx264 -preset ultrafast \
+    "$work/depth.mkv" || fail "ffmpeg depth"
+"$exe" encode --depth "$work/depth.mkv" --color "$work/film.mp4" --preset ultrafast \
+    -o "$work/clip.mkv" >"$work/log" 2>&1 || { cat "$work/log"; fail "encode"; }
+
+play() { # WAV ARGS...
+    out="$1"
+    shift
+    "$exe" play "$work/clip.mkv" --display mock --haptic none --no-config --audio-device wav \
+        --audio-device-options "path=$out" "$@"
+}
+
+cat >"$work/check.py" <<'PY'
+import json, struct, sys, wave
+path, stats, want_gain = sys.argv[1], sys.argv[2], float(sys.argv[3])
+ref_peak = float(sys.argv[4]) if len(sys.argv) > 4 else 0.0
+w = wave.open(path)
+rate, channels, n = w.getframerate(), w.getnchannels(), w.getnframes()
+s = struct.unpack("<%dh" % (n * channels), w.readframes(n))
+bad = []
+if (rate, channels) != (48000, 2):
+    bad.append("%d Hz %d ch, want 48000 Hz 2 ch" % (rate, channels))
+if abs(n / rate - 3.0) > 0.05:
+    bad.append("the sound lasts %.3f s, want the clip's 3.000" % (n / rate))
+peak = max(abs(x) for x in s)
+if want_gain == 0.0:
+    if peak != 0:
+        bad.append("muted, yet a sample of %d" % peak)
+else:
+    loud = [i // channels for i, x in enumerate(s) if abs(x) > 0.25 * peak]
+    click = loud[0] / rate
+    if abs(click - 1.0) > 0.002:
+        bad.append("the click sounds %.4f s after the first frame, want 1.000" % click)
+    if ref_peak and abs(peak / ref_peak - want_gain) > 0.01:
+        bad.append("peak %d is %.4f of the full volume's, want %.4f" % (peak, peak / ref_peak, want_gain))
+j = json.load(open(stats))
+if j.get("audio_device") != "wav" or j.get("audio") != "48000 Hz 2 ch":
+    bad.append("stats: audio_device %r, audio %r" % (j.get("audio_device"), j.get("audio")))
+if bad:
+    sys.exit("%s: %s" % (path, "; ".join(bad)))
+print(peak)
+PY
+
+# 1. Full volume: the click 1.000 s in, the sound as long as the clip.
+play "$work/a.wav" --stats "$work/a.json" >"$work/log" 2>&1 || { cat "$work/log"; fail "play"; }
+grep -q "^  sound             48000 Hz 2 ch on wav: " "$work/log" || { cat "$work/log"; fail "summary"; }
+peak=$(python3 "$work/check.py" "$work/a.wav" "$work/a.json" 1.0) || fail "full volume"
+# 2. --volume 50: (50/100)^3 of it, at the same time.
+play "$work/b.wav" --stats "$work/b.json" --volume 50 >"$work/log" 2>&1 || { cat "$work/log"; fail "--volume"; }
+python3 "$work/check.py" "$work/b.wav" "$work/b.json" 0.125 "$peak" >/dev/null || fail "--volume 50"
+# 3. --mute: silence, as long.
+play "$work/c.wav" --stats "$work/c.json" --mute >"$work/log" 2>&1 || { cat "$work/log"; fail "--mute"; }
+python3 "$work/check.py" "$work/c.wav" "$work/c.json" 0.0 >/dev/null || fail "--mute"
+# 4. --no-audio, --audio-device none: no sound written, none in the stats.
+for off in "--no-audio" "--audio-device none"; do
+    # shellcheck disable=SC2086
+    "$exe" play "$work/clip.mkv" --display mock --haptic none --no-config $off \
+        --audio-device-options "path=$work/d.wav" --stats "$work/d.json" >"$work/log" 2>&1 ||
+        { cat "$work/log"; fail "$off"; }
+    [ ! -e "$work/d.wav" ] || fail "$off wrote sound"
+    python3 -c "import json,sys; j=json.load(open(sys.argv[1])); sys.exit(j['audio'] != '' or j['audio_device'] != '')" \
+        "$work/d.json" || fail "$off: stats name a sound"
+done
+# 5. A sound output that does not exist: one line naming the ones that do, exit 2.
+"$exe" play "$work/clip.mkv" --display mock --haptic none --no-config --audio-device pulse \
+    >/dev/null 2>"$work/err"
+rc=$?
+[ $rc -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "alsa" "$work/err" ||
+    { cat "$work/err"; fail "--audio-device pulse: exit $rc, want 2 and one line naming alsa"; }
+echo "play: the click 1.000 s after the first frame, --volume 50 at 0.125, --mute silent, no sound with --no-audio, a bad device refused"

@@ -1,0 +1,278 @@
+// The player's sound (playback::AudioPlayer) on simulated time: a source whose every sample says
+// which frame of the sound it is, a sound card simulated on a ManualClock (drivers::
+// PacedAudioOutput) that keeps what it was given. Checked against the source's own numbering and
+// the clock: where the sound starts (sample-accurate, silence before the source's first sample),
+// the audio clock (the media time heard, which the picture follows), pause, a seek's restart, the
+// volume's gain and its 10 ms ramp (no click), mute, the end of the sound and an unplugged device.
+#include "depthtouch/playback/audio_player.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <vector>
+
+#include "depthtouch/drivers/common/paced_audio_output.h"
+#include "depthtouch/platform/clock.h"
+
+namespace depthtouch::playback {
+namespace {
+
+using std::chrono::milliseconds;
+
+constexpr int kRate = 48000;
+
+/// Mono sound whose frame i (from its first) has the value value(i); it starts at media time
+/// `begin` and lasts `length` seconds.
+class NumberedSource final : public hal::AudioSource {
+public:
+    NumberedSource(double begin, double length) : begin_(begin), frames_(framesOf(length)) {}
+
+    static std::int16_t value(std::int64_t i) { return static_cast<std::int16_t>(i % 30000); }
+    static std::int64_t framesOf(double seconds) { return std::llround(seconds * kRate); }
+
+    [[nodiscard]] hal::AudioFormat format() const noexcept override { return {kRate, 1}; }
+    [[nodiscard]] Result<hal::PcmBlock> read(std::int16_t *samples, std::size_t frames) override
+    {
+        hal::PcmBlock b;
+        b.start = begin_ + static_cast<double>(next_) / kRate;
+        const std::int64_t n =
+            std::min<std::int64_t>(static_cast<std::int64_t>(frames), frames_ - next_);
+        for (std::int64_t i = 0; i < n; ++i)
+            samples[i] = level_ >= 0 ? level_ : value(next_ + i);
+        b.frames = static_cast<std::size_t>(std::max<std::int64_t>(n, 0));
+        next_ += n;
+        return b;
+    }
+    [[nodiscard]] Result<void> seek(double seconds) override
+    {
+        next_ = std::clamp<std::int64_t>(framesOf(seconds - begin_), 0, frames_);
+        return ok();
+    }
+    /// Every sample \a level instead of its number (a steady tone for the volume).
+    void setLevel(std::int16_t level) { level_ = level; }
+
+private:
+    double begin_;
+    std::int64_t frames_;
+    std::int64_t next_ = 0;
+    std::int16_t level_ = -1;
+};
+
+/// The simulated sound card, keeping every sample it took.
+class KeepingOutput final : public drivers::PacedAudioOutput {
+public:
+    KeepingOutput(platform::Clock &clock, const drivers::PacedAudioSettings &s)
+        : PacedAudioOutput(clock, s)
+    {
+    }
+    std::vector<std::int16_t> kept;
+
+private:
+    Result<void> keep(const std::int16_t *samples, std::size_t frames) override
+    {
+        kept.insert(kept.end(), samples, samples + frames);
+        return ok();
+    }
+};
+
+class AudioPlayerTest : public ::testing::Test {
+protected:
+    void make(double begin = 0.0, double length = 10.0, AudioPlayerConfig config = {},
+              double unplugSeconds = 0.0)
+    {
+        drivers::PacedAudioSettings s;
+        s.bufferMs = 500.0;
+        s.unplugSeconds = unplugSeconds;
+        source_ = std::make_unique<NumberedSource>(begin, length);
+        output_ = std::make_unique<KeepingOutput>(clock_, s);
+        auto p = AudioPlayer::create(*source_, *output_, clock_, config);
+        ASSERT_TRUE(p) << p.error().what;
+        player_ = std::move(*p);
+    }
+    /// Runs the audio thread's turns every 25 ms for \a ms.
+    void play(int ms)
+    {
+        for (int t = 0; t < ms; t += 25) {
+            player_->step();
+            clock_.advance(milliseconds(25));
+        }
+        player_->step();
+    }
+    /// The media time heard now, from the published clock.
+    double heardNow() const
+    {
+        const AudioClock c = player_->clock();
+        return c.mediaTime + platform::toSeconds(clock_.now() - c.at);
+    }
+
+    platform::ManualClock clock_{platform::ManualClock::Mode::AutoAdvance};
+    std::unique_ptr<NumberedSource> source_;
+    std::unique_ptr<KeepingOutput> output_;
+    std::unique_ptr<AudioPlayer> player_;
+};
+
+TEST_F(AudioPlayerTest, theSoundStartsAtTheStartTimeToTheSample)
+{
+    make();
+    player_->start(1.25);
+    play(200);
+    ASSERT_GE(output_->kept.size(), 100u);
+    // Frame 60000 of the source is media time 1.25 s.
+    for (std::size_t i = 0; i < 100; ++i)
+        ASSERT_EQ(output_->kept[i], NumberedSource::value(60000 + static_cast<std::int64_t>(i)))
+            << "frame " << i;
+    const AudioStats st = player_->stats();
+    EXPECT_EQ(st.silenceFrames, 0u);
+    EXPECT_EQ(st.underruns, 0u);
+}
+
+TEST_F(AudioPlayerTest, whereTheSourceHasNoSoundYetSilencePlaysUntilItsFirstSample)
+{
+    make(/*begin=*/0.2);
+    player_->start(0.0);
+    play(400);
+    const auto gap = static_cast<std::size_t>(0.2 * kRate);
+    ASSERT_GT(output_->kept.size(), gap + 10);
+    EXPECT_TRUE(std::all_of(output_->kept.begin(), output_->kept.begin() + gap,
+                            [](std::int16_t v) { return v == 0; }));
+    for (std::size_t i = 0; i < 10; ++i)
+        EXPECT_EQ(output_->kept[gap + i], NumberedSource::value(static_cast<std::int64_t>(i)));
+    EXPECT_EQ(player_->stats().silenceFrames, gap);
+}
+
+TEST_F(AudioPlayerTest, theClockIsTheMediaTimeTheSpeakerPlays)
+{
+    AudioPlayerConfig c;
+    c.queueSeconds = 0.1;
+    make(0.0, 10.0, c);
+    EXPECT_FALSE(player_->clock().running); // nothing plays before start()
+    player_->start(2.0);
+    player_->step();
+    // Nothing heard yet: the sound written is 0.1 s ahead of the speaker.
+    EXPECT_TRUE(player_->clock().running);
+    EXPECT_NEAR(heardNow(), 2.0, 1.0 / kRate);
+    EXPECT_NEAR(player_->stats().delaySeconds, 0.1, 1.0 / kRate);
+    play(500);
+    EXPECT_NEAR(heardNow(), 2.5, 1.0 / kRate);
+    // The queue stays near its setting: between three quarters of it and all of it.
+    EXPECT_GE(player_->stats().delaySeconds, 0.075 - 1e-9);
+    EXPECT_LE(player_->stats().delaySeconds, 0.1 + 1e-9);
+}
+
+TEST_F(AudioPlayerTest, pauseStopsTheClockAndResumeGoesOnWhereItStopped)
+{
+    make();
+    player_->start(0.0);
+    play(300);
+    const double before = heardNow();
+    player_->setPaused(true);
+    EXPECT_FALSE(player_->clock().running);
+    play(1000);
+    EXPECT_FALSE(player_->clock().running);
+    EXPECT_EQ(player_->stats().underruns, 0u); // a paused device holds its queue
+    player_->setPaused(false);
+    player_->step();
+    ASSERT_TRUE(player_->clock().running);
+    EXPECT_NEAR(heardNow(), before, 2.0 / kRate);
+    // Not one frame lost or repeated across the pause.
+    play(300);
+    for (std::size_t i = 0; i < output_->kept.size(); ++i)
+        ASSERT_EQ(output_->kept[i], NumberedSource::value(static_cast<std::int64_t>(i))) << i;
+}
+
+TEST_F(AudioPlayerTest, aSeekSilencesAtOnceAndPlaysOnFromTheNewPlace)
+{
+    make();
+    player_->start(0.0);
+    play(300);
+    player_->halt();
+    player_->step();
+    EXPECT_FALSE(player_->clock().running);
+    EXPECT_EQ(*output_->delayFrames(), 0u); // the queue was dropped
+    const std::size_t before = output_->kept.size();
+    play(200); // halted: nothing is written
+    EXPECT_EQ(output_->kept.size(), before);
+    player_->start(5.0);
+    play(100);
+    ASSERT_GT(output_->kept.size(), before);
+    EXPECT_EQ(output_->kept[before], NumberedSource::value(5 * kRate));
+    EXPECT_NEAR(heardNow(), 5.1, 1.0 / kRate);
+}
+
+TEST_F(AudioPlayerTest, theVolumeIsMpvsCubicGainReachedIn10MsWithoutAClick)
+{
+    make();
+    source_->setLevel(16000);
+    player_->start(0.0);
+    play(200);
+    const std::size_t change = output_->kept.size();
+    player_->setVolume(50.0); // (0.5)^3 = 0.125
+    play(300);
+    const auto &k = output_->kept;
+    EXPECT_EQ(k[change - 1], 16000);
+    const std::size_t ramp = kRate / 100; // 10 ms
+    EXPECT_EQ(k[change + ramp + 10], 2000);
+    EXPECT_EQ(k.back(), 2000);
+    // The gain moves at most 1/480 a frame (full scale in 10 ms): the largest step between two
+    // samples is 16000 / 480 = 33.3, where an instant change would step by 14000.
+    int largest = 0;
+    for (std::size_t i = change; i < change + ramp + 10; ++i)
+        largest = std::max(largest, std::abs(k[i] - k[i - 1]));
+    EXPECT_LE(largest, 34);
+    EXPECT_GT(largest, 0);
+    player_->setMute(true);
+    play(100);
+    EXPECT_EQ(output_->kept.back(), 0);
+    EXPECT_DOUBLE_EQ(volumeGain(100.0, false), 1.0);
+    EXPECT_DOUBLE_EQ(volumeGain(130.0, false), 1.3 * 1.3 * 1.3);
+    EXPECT_DOUBLE_EQ(volumeGain(500.0, false), 1.3 * 1.3 * 1.3);
+    EXPECT_DOUBLE_EQ(volumeGain(80.0, true), 0.0);
+}
+
+TEST_F(AudioPlayerTest, theSoundEndsWhenTheSourceDoesAndTheClockStopsWhenItIsHeard)
+{
+    AudioPlayerConfig c;
+    c.queueSeconds = 0.1;
+    make(0.0, /*length=*/0.5, c);
+    player_->start(0.0);
+    play(450);
+    EXPECT_TRUE(player_->clock().running);
+    EXPECT_FALSE(player_->stats().ended);
+    play(200);
+    EXPECT_FALSE(player_->clock().running);
+    EXPECT_TRUE(player_->stats().ended);
+    EXPECT_EQ(player_->stats().framesWritten, static_cast<std::uint64_t>(kRate / 2));
+}
+
+TEST_F(AudioPlayerTest, anUnpluggedDeviceEndsTheSoundWithAReasonAndTheClockStops)
+{
+    make(0.0, 10.0, {}, /*unplugSeconds=*/0.3);
+    player_->start(0.0);
+    play(600);
+    const AudioStats st = player_->stats();
+    EXPECT_NE(st.lost.find("unplugged"), std::string::npos) << st.lost;
+    EXPECT_FALSE(player_->clock().running);
+    EXPECT_EQ(st.framesWritten, static_cast<std::uint64_t>(0.3 * kRate));
+    player_->start(1.0); // later commands are no-ops, never a crash
+    play(100);
+    EXPECT_FALSE(player_->clock().running);
+}
+
+TEST_F(AudioPlayerTest, aConfigOutOfRangeIsRefused)
+{
+    NumberedSource src(0.0, 1.0);
+    drivers::PacedAudioSettings s;
+    KeepingOutput out(clock_, s);
+    AudioPlayerConfig c;
+    c.volume = 131.0;
+    EXPECT_EQ(AudioPlayer::create(src, out, clock_, c).error().code, Errc::InvalidArgument);
+    c.volume = 100.0;
+    c.queueSeconds = 0.0;
+    EXPECT_EQ(AudioPlayer::create(src, out, clock_, c).error().code, Errc::InvalidArgument);
+}
+
+} // namespace
+} // namespace depthtouch::playback
