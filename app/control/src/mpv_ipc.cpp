@@ -145,6 +145,11 @@ std::optional<std::string> setterText(player::StateMachine &machine, const Named
     }
     case Property::StereoMode:
         return value.is_string() ? "stereo-mode " + value.get<std::string>() : std::string();
+    case Property::Mute: {
+        const std::optional<bool> on = flag(value);
+        return on ? std::string(*on ? "mute on" : "mute off") : std::string();
+    }
+    case Property::Volume:
     case Property::Stiffness:
     case Property::TimePos:
     case Property::PercentPos: {
@@ -153,6 +158,8 @@ std::optional<std::string> setterText(player::StateMachine &machine, const Named
             return std::string();
         if (named.property == Property::Stiffness)
             std::snprintf(buf, sizeof buf, "stiffness %.17g", *v);
+        else if (named.property == Property::Volume)
+            std::snprintf(buf, sizeof buf, "volume %.17g", *v);
         else if (named.property == Property::TimePos)
             std::snprintf(buf, sizeof buf, "seek %.17g absolute", std::max(0.0, *v));
         else {
@@ -165,7 +172,7 @@ std::optional<std::string> setterText(player::StateMachine &machine, const Named
         }
         return std::string(buf);
     }
-    default: // read-only, or (volume, mute) no audio output to set
+    default: // read-only
         return std::nullopt;
     }
 }
@@ -182,6 +189,8 @@ std::optional<std::string> cycleText(Property p)
         return "loop toggle";
     case Property::StereoMode:
         return "next-stereo-mode";
+    case Property::Mute:
+        return "mute toggle";
     default:
         return std::nullopt;
     }
@@ -241,6 +250,9 @@ std::string addProperty(const json &command, const json *requestId, player::Stat
         std::snprintf(buf, sizeof buf, "seek %.17g relative", *by);
     else if (named->property == Property::Stiffness)
         std::snprintf(buf, sizeof buf, "stiffness %.17g", machine.stiffness() + *by);
+    else if (named->property == Property::Volume) // mpv's add stops at the ends of the range
+        std::snprintf(buf, sizeof buf, "volume %.17g",
+                      std::clamp(machine.volume() + *by, 0.0, player::kMaxVolume));
     else
         return reply(kUnavailable, requestId);
     return run(machine, buf, requestId);

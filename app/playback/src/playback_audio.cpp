@@ -10,6 +10,9 @@
 
 namespace depthtouch::playback {
 
+static_assert(AudioPlayerConfig::kMaxVolume == player::kMaxVolume,
+              "the player's volume commands and the audio player agree on the largest volume");
+
 /// \return \a before's counters with \a later's added (a later session's queue and end win).
 AudioStats addedAudioStats(AudioStats before, const AudioStats &later)
 {
@@ -58,7 +61,7 @@ void attachAudio(Playback::Impl &m, Session &s, PlaybackInfo &info)
     s.audio = std::move(*player);
 }
 
-void Playback::setVolume(double percent)
+Result<void> Playback::setVolume(double percent)
 {
     Impl &m = *impl_;
     m.volume =
@@ -66,25 +69,17 @@ void Playback::setVolume(double percent)
     m.osdEvents.fetch_add(1, std::memory_order_relaxed);
     if (m.owned && m.owned->audio)
         m.owned->audio->setVolume(m.volume);
+    return ok();
 }
 
-void Playback::setMute(bool mute)
+Result<void> Playback::setMute(bool mute)
 {
     Impl &m = *impl_;
     m.mute = mute;
     m.osdEvents.fetch_add(1, std::memory_order_relaxed);
     if (m.owned && m.owned->audio)
         m.owned->audio->setMute(mute);
-}
-
-double Playback::volume() const noexcept
-{
-    return impl_->volume;
-}
-
-bool Playback::muted() const noexcept
-{
-    return impl_->mute;
+    return ok();
 }
 
 } // namespace depthtouch::playback

@@ -213,24 +213,48 @@ std::string parseSwitchArgs(std::span<const std::string_view> args, Command &out
     return quoted(args[0]) + " is not on, off or toggle";
 }
 
+namespace {
+
+/// Parses "+" / "up", "-" / "down" or a number into \a change and \a value. \return false when
+/// \a a is none of them or the number is not finite.
+bool parseStep(std::string_view a, StiffnessChange &change, double &value)
+{
+    if (a == "+" || lowerEquals(a, "up")) {
+        change = StiffnessChange::Up;
+        return true;
+    }
+    if (a == "-" || lowerEquals(a, "down")) {
+        change = StiffnessChange::Down;
+        return true;
+    }
+    change = StiffnessChange::Set;
+    return parseNumber(a, value);
+}
+
+} // namespace
+
 std::string parseStiffnessArgs(std::span<const std::string_view> args, Command &out)
 {
     if (args.size() != 1)
         return "needs +, - or a value in N/m";
-    const std::string_view a = args[0];
-    if (a == "+" || lowerEquals(a, "up")) {
-        out.stiffnessChange = StiffnessChange::Up;
-        return {};
-    }
-    if (a == "-" || lowerEquals(a, "down")) {
-        out.stiffnessChange = StiffnessChange::Down;
-        return {};
-    }
     double value = 0.0;
-    if (!parseNumber(a, value) || value <= 0.0 || value > kMaxStiffnessValue)
-        return quoted(a) + " is not +, - or a positive stiffness in N/m";
-    out.stiffnessChange = StiffnessChange::Set;
+    if (!parseStep(args[0], out.stiffnessChange, value) ||
+        (out.stiffnessChange == StiffnessChange::Set &&
+         (value <= 0.0 || value > kMaxStiffnessValue)))
+        return quoted(args[0]) + " is not +, - or a positive stiffness in N/m";
     out.stiffness = value;
+    return {};
+}
+
+std::string parseVolumeArgs(std::span<const std::string_view> args, Command &out)
+{
+    if (args.size() != 1)
+        return "needs +, - or a volume in %";
+    double value = 0.0;
+    if (!parseStep(args[0], out.volumeChange, value) ||
+        (out.volumeChange == StiffnessChange::Set && !(value >= 0.0 && value <= kMaxVolume)))
+        return quoted(args[0]) + " is not +, - or a volume of 0 to 130 %";
+    out.volume = value;
     return {};
 }
 
@@ -356,6 +380,7 @@ std::string commandText(const Command &command)
         break;
     case CommandId::Haptics:
     case CommandId::Loop:
+    case CommandId::Mute:
         out += command.toggle == Switch::On    ? " on"
                : command.toggle == Switch::Off ? " off"
                                                : " toggle";
@@ -366,6 +391,14 @@ std::string commandText(const Command &command)
             out += buf;
         } else {
             out += command.stiffnessChange == StiffnessChange::Up ? " +" : " -";
+        }
+        break;
+    case CommandId::Volume:
+        if (command.volumeChange == StiffnessChange::Set) {
+            std::snprintf(buf, sizeof buf, " %g", command.volume);
+            out += buf;
+        } else {
+            out += command.volumeChange == StiffnessChange::Up ? " +" : " -";
         }
         break;
     case CommandId::Get:

@@ -15,6 +15,7 @@ std::string parseSeekArgs(std::span<const std::string_view> args, Command &out);
 std::string parseStereoModeArgs(std::span<const std::string_view> args, Command &out);
 std::string parseSwitchArgs(std::span<const std::string_view> args, Command &out);
 std::string parseStiffnessArgs(std::span<const std::string_view> args, Command &out);
+std::string parseVolumeArgs(std::span<const std::string_view> args, Command &out);
 std::string parseGetArgs(std::span<const std::string_view> args, Command &out);
 
 } // namespace depthtouch::player::detail

@@ -10,11 +10,13 @@ using hal::Key;
 
 // Remote keys and the terminal keyboard (drivers/tty maps h → KEY_RED, r → KEY_GREEN, c →
 // KEY_YELLOW, 3 → KEY_3D_MODE, q → KEY_EXIT, space → KEY_PLAYPAUSE, s → KEY_STOP, + / - →
-// KEY_CHANNELUP / KEY_CHANNELDOWN, o → KEY_INFO, arrows → arrows). Where a key means the same in
-// Kodi's full-screen video (system/keymaps/remote.xml: play PlayPause, pause, stop, forward and
-// reverse, Left/Right StepBack/StepForward, Up/Down ChapterOrBigStep, select/menu/info OSD, back,
-// power ShutDown) it does the same here; Up/Down's big step is mpv's (seek ±60 s). Stiffness, the
-// one thing neither has, is on the other ± rocker of a TV remote, CH+/CH−.
+// KEY_CHANNELUP / KEY_CHANNELDOWN, o → KEY_INFO, 0 / 9 → KEY_VOLUMEUP / KEY_VOLUMEDOWN and m →
+// KEY_MUTE as mpv's, arrows → arrows). Where a key means the same in Kodi's full-screen video
+// (system/keymaps/remote.xml: play PlayPause, pause, stop, forward and reverse, Left/Right
+// StepBack/StepForward, Up/Down ChapterOrBigStep, select/menu/info OSD, back, power ShutDown) it
+// does the same here; Up/Down's big step is mpv's (seek ±60 s). Stiffness, the one thing neither
+// has, is on the other ± rocker of a TV remote, CH+/CH−; VOL+/VOL− and MUTE are the sound's, as
+// everywhere (mpv's `add volume ±2`, `cycle mute`).
 constexpr KeyBinding kBindings[] = {
     {Key::PlayPause, "toggle-pause"},
     {Key::Play, "toggle-pause"},
@@ -32,6 +34,9 @@ constexpr KeyBinding kBindings[] = {
     {Key::Info, "show-progress"},
     {Key::ChannelUp, "stiffness +"},
     {Key::ChannelDown, "stiffness -"},
+    {Key::VolumeUp, "volume +"},
+    {Key::VolumeDown, "volume -"},
+    {Key::Mute, "mute toggle"},
     {Key::Mode3d, "next-stereo-mode"},
     {Key::Digit3, "next-stereo-mode"},
     {Key::Red, "haptics toggle"},

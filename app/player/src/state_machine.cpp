@@ -141,6 +141,28 @@ struct CommandHandlers {
         });
     }
 
+    /// One step of mpv's volume keys (`add volume ±2`), or a value; kept when no sound plays.
+    static CommandOutcome volume(StateMachine &m, const Command &c)
+    {
+        constexpr double kStep = 2.0;
+        double target = c.volume;
+        if (c.volumeChange != StiffnessChange::Set)
+            target =
+                std::clamp(m.volume_ + (c.volumeChange == StiffnessChange::Up ? kStep : -kStep),
+                           0.0, kMaxVolume);
+        if (target == m.volume_)
+            return CommandOutcome::accept();
+        return m.apply("volume", m.actions_.setVolume(target), [&] { m.volume_ = target; });
+    }
+
+    static CommandOutcome mute(StateMachine &m, const Command &c)
+    {
+        const bool target = c.toggle == Switch::Toggle ? !m.mute_ : c.toggle == Switch::On;
+        if (target == m.mute_)
+            return CommandOutcome::accept();
+        return m.apply("mute", m.actions_.setMute(target), [&] { m.mute_ = target; });
+    }
+
     static CommandOutcome recenter(StateMachine &m, const Command &)
     {
         return m.apply("recenter", m.actions_.recenter(), [] {});
@@ -229,10 +251,10 @@ struct CommandHandlers {
             return CommandOutcome::accept(!open && s != PlayerState::Opening);
         case Property::EofReached:
             return CommandOutcome::accept(m.eofReached_);
-        case Property::Volume: // no audio output yet: full volume, as mpv's default
-            return CommandOutcome::accept(100.0);
+        case Property::Volume:
+            return CommandOutcome::accept(m.volume_);
         case Property::Mute:
-            return CommandOutcome::accept(false);
+            return CommandOutcome::accept(m.mute_);
         case Property::HapticForce:
             return number(open ? m.actions_.hapticForce() : kNone);
         case Property::Contact: {
@@ -288,6 +310,10 @@ constexpr CommandSpec kCommands[] = {
     {"show-progress", CommandId::ShowProgress, "",
      "Show the on-screen display (state, haptics, stiffness, force) for --osd-seconds", kAnyState,
      false, &parseNoArgs, &H::showProgress},
+    {"volume", CommandId::Volume, "+|-|N", "Step the volume up or down 2 %, or set N % (0..130)",
+     kAnyState, true, &parseVolumeArgs, &H::volume},
+    {"mute", CommandId::Mute, "on|off|toggle", "Mute or unmute the sound", kAnyState, false,
+     &parseSwitchArgs, &H::mute},
 };
 
 constexpr bool tableInIdOrder()
@@ -324,13 +350,16 @@ bool isRefusal(Errc code) noexcept
 StateMachine::StateMachine(PlayerActions &actions, PlayerSettings settings)
     : actions_(actions), url_(std::move(settings.url)), loop_(settings.loop),
       reopenWhenSilent_(settings.reopenWhenSilent), stereoMode_(settings.stereoMode),
-      haptics_(settings.haptics), range_(settings.range), keys_(std::move(settings.keys))
+      haptics_(settings.haptics), range_(settings.range), mute_(settings.mute),
+      keys_(std::move(settings.keys))
 {
     if (range_.min > range_.max)
         std::swap(range_.min, range_.max);
     if (!(range_.step > 0.0))
         range_.step = 1.0;
     stiffness_ = std::clamp(settings.stiffness, range_.min, range_.max);
+    volume_ = std::clamp(std::isfinite(settings.volume) ? settings.volume : 100.0, 0.0, kMaxVolume);
+    mute_ = settings.mute;
 }
 
 bool StateMachine::isValid(CommandId id) const noexcept

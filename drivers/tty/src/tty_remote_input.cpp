@@ -68,7 +68,8 @@ constexpr KeyBytes kByteKeys[] = {
     {" pP", hal::Key::PlayPause}, {"sS", hal::Key::Stop},      {"3", hal::Key::Mode3d},
     {"hH", hal::Key::Red},        {"rR", hal::Key::Green},     {"cC", hal::Key::Yellow},
     {"qQ", hal::Key::Exit},       {"+=", hal::Key::ChannelUp}, {"-", hal::Key::ChannelDown},
-    {"oO", hal::Key::Info},
+    {"oO", hal::Key::Info},       {"0*", hal::Key::VolumeUp},  {"9/", hal::Key::VolumeDown},
+    {"mM", hal::Key::Mute}, // mpv's volume and mute keys
 };
 
 /// The keys of the final byte of an arrow key's escape sequence (ESC [ A .. D).

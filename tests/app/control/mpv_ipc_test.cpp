@@ -115,26 +115,52 @@ TEST(MpvIpcTest, setPropertyCycleAddAndKeypressDriveThePlayer)
     EXPECT_EQ(p.m.state(), PlayerState::Paused);
     EXPECT_EQ(reply(R"({"command":["keypress","NOT_A_KEY"]})", p.m),
               json({{"error", "invalid parameter"}}));
-    // mpv's VOLUME_UP is the kernel's KEY_VOLUMEUP: a key (unbound until there is audio), not an
-    // unknown name; the kernel's spelling with '_' (3D_MODE) is taken as it is
+    // mpv's VOLUME_UP is the kernel's KEY_VOLUMEUP: the volume 2 % up, as mpv's key; the
+    // kernel's spelling with '_' (3D_MODE) is taken as it is
     EXPECT_EQ(reply(R"({"command":["keypress","VOLUME_UP"]})", p.m), success);
+    EXPECT_EQ(p.m.volume(), 102.0);
     EXPECT_EQ(reply(R"({"command":["keypress","KEY_3D_MODE"]})", p.m), success);
     EXPECT_EQ(p.m.stereoMode(), player::StereoMode::Mono);
-    // read-only, unknown, a value of the wrong kind, and no audio output to set
+    // the volume and mute: set_property, add, cycle (mpv's verbs), read back
+    EXPECT_EQ(reply(R"({"command":["set_property","volume",50]})", p.m), success);
+    EXPECT_EQ(reply(R"({"command":["add","volume",-10]})", p.m), success);
+    EXPECT_EQ(p.m.volume(), 40.0);
+    EXPECT_EQ(reply(R"({"command":["get_property","volume"]})", p.m),
+              json({{"data", 40.0}, {"error", "success"}}));
+    EXPECT_EQ(reply(R"({"command":["set_property","volume",131]})", p.m),
+              json({{"error", "volume: '131' is not +, - or a volume of 0 to 130 %"}}));
+    EXPECT_EQ(reply(R"({"command":["cycle","mute"]})", p.m), success);
+    EXPECT_TRUE(p.m.muted());
+    EXPECT_EQ(reply(R"({"command":["set_property","mute","no"]})", p.m), success);
+    EXPECT_FALSE(p.m.muted());
+    // read-only, unknown, a value of the wrong kind
     EXPECT_EQ(reply(R"({"command":["set_property","duration",3]})", p.m),
               json({{"error", "property unavailable"}}));
     EXPECT_EQ(reply(R"({"command":["set_property","colour",3]})", p.m),
               json({{"error", "property not found"}}));
     EXPECT_EQ(reply(R"({"command":["set_property","pause","maybe"]})", p.m),
               json({{"error", "unsupported format for accessing property"}}));
-    EXPECT_EQ(reply(R"({"command":["set_property","volume",50]})", p.m),
-              json({{"error", "property unavailable"}}));
-    EXPECT_EQ(p.fake.calls, (std::vector<std::string>{
-                                "open movie.mkv", "startPlayback", "pause", "resume",
-                                "seek 30 absolute", "seek -10 relative", "seek 25 absolute",
-                                "setHapticsEnabled off", "setStiffness 1200", "setStiffness 1000",
-                                "setStiffness 1100", "setStiffness 1000", "setStereoMode tab",
-                                "setStereoMode anaglyph", "pause", "setStereoMode mono"}));
+    EXPECT_EQ(p.fake.calls, (std::vector<std::string>{"open movie.mkv",
+                                                      "startPlayback",
+                                                      "pause",
+                                                      "resume",
+                                                      "seek 30 absolute",
+                                                      "seek -10 relative",
+                                                      "seek 25 absolute",
+                                                      "setHapticsEnabled off",
+                                                      "setStiffness 1200",
+                                                      "setStiffness 1000",
+                                                      "setStiffness 1100",
+                                                      "setStiffness 1000",
+                                                      "setStereoMode tab",
+                                                      "setStereoMode anaglyph",
+                                                      "pause",
+                                                      "setVolume 102",
+                                                      "setStereoMode mono",
+                                                      "setVolume 50",
+                                                      "setVolume 40",
+                                                      "setMute on",
+                                                      "setMute off"}));
 }
 
 TEST(MpvIpcTest, observedPropertiesSendAChangeOnlyWhenTheValueChanges)

@@ -263,6 +263,9 @@ TEST(KeyBindingsTest, theDefaultsFollowKodisFullScreenVideoKeys)
         {hal::Key::Info, "Info", CommandId::ShowProgress, 0.0},
         {hal::Key::Back, "Back", CommandId::Quit, 0.0},
         {hal::Key::Power, "ShutDown()", CommandId::Quit, 0.0},
+        {hal::Key::VolumeUp, "VolumeUp", CommandId::Volume, 0.0},
+        {hal::Key::VolumeDown, "VolumeDown", CommandId::Volume, 0.0},
+        {hal::Key::Mute, "Mute", CommandId::Mute, 0.0},
     };
     const KeyMap defaults;
     for (const Kodi &k : kodi) {
@@ -274,9 +277,10 @@ TEST(KeyBindingsTest, theDefaultsFollowKodisFullScreenVideoKeys)
             EXPECT_EQ(c->seekMode, SeekMode::Relative) << hal::keyName(k.key);
         }
     }
-    // The volume keys mean volume there: they are left for sound, not given to the stiffness
-    for (const hal::Key k : {hal::Key::VolumeUp, hal::Key::VolumeDown, hal::Key::Mute})
-        EXPECT_EQ(defaults.commandText(k), nullptr) << hal::keyName(k);
+    // The volume keys step the volume as mpv's (`add volume ±2`) and MUTE toggles, as Kodi's
+    EXPECT_STREQ(defaults.commandText(hal::Key::VolumeUp), "volume +");
+    EXPECT_STREQ(defaults.commandText(hal::Key::VolumeDown), "volume -");
+    EXPECT_STREQ(defaults.commandText(hal::Key::Mute), "mute toggle");
 }
 
 // A key map in mpv's input.conf form rebinds the defaults line by line: comments and blank lines

@@ -66,6 +66,16 @@ public:
     Result<void> recenter() override { return record("recenter", "recenter"); }
     Result<void> snapshot() override { return record("snapshot", "snapshot"); }
     Result<void> showProgress() override { return record("showProgress", "showProgress"); }
+    Result<void> setVolume(double percent) override
+    {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "setVolume %g", percent);
+        return record("setVolume", buf);
+    }
+    Result<void> setMute(bool mute) override
+    {
+        return record("setMute", mute ? "setMute on" : "setMute off");
+    }
 
 private:
     Result<void> record(const std::string &name, std::string call)

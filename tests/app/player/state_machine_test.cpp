@@ -130,6 +130,8 @@ const std::vector<Row> kRows = {
     {S::Idle, "get state", true, S::Idle, ""},
     {S::Idle, "snapshot", false, S::Idle, ""},
     {S::Idle, "show-progress", true, S::Idle, "showProgress"},
+    {S::Idle, "volume +", true, S::Idle, "setVolume 102"},
+    {S::Idle, "mute toggle", true, S::Idle, "setMute on"},
     // Opening
     {S::Opening, "play", false, S::Opening, ""},
     {S::Opening, "pause", false, S::Opening, ""},
@@ -146,6 +148,8 @@ const std::vector<Row> kRows = {
     {S::Opening, "get state", true, S::Opening, ""},
     {S::Opening, "snapshot", false, S::Opening, ""},
     {S::Opening, "show-progress", true, S::Opening, "showProgress"},
+    {S::Opening, "volume +", true, S::Opening, "setVolume 102"},
+    {S::Opening, "mute toggle", true, S::Opening, "setMute on"},
     // Playing
     {S::Playing, "play", false, S::Playing, ""},
     {S::Playing, "pause", true, S::Paused, "pause"},
@@ -162,6 +166,8 @@ const std::vector<Row> kRows = {
     {S::Playing, "get state", true, S::Playing, ""},
     {S::Playing, "snapshot", true, S::Playing, "snapshot"},
     {S::Playing, "show-progress", true, S::Playing, "showProgress"},
+    {S::Playing, "volume +", true, S::Playing, "setVolume 102"},
+    {S::Playing, "mute toggle", true, S::Playing, "setMute on"},
     // Paused
     {S::Paused, "play", true, S::Playing, "resume"},
     {S::Paused, "pause", false, S::Paused, ""},
@@ -178,6 +184,8 @@ const std::vector<Row> kRows = {
     {S::Paused, "get state", true, S::Paused, ""},
     {S::Paused, "snapshot", true, S::Paused, "snapshot"},
     {S::Paused, "show-progress", true, S::Paused, "showProgress"},
+    {S::Paused, "volume +", true, S::Paused, "setVolume 102"},
+    {S::Paused, "mute toggle", true, S::Paused, "setMute on"},
     // Stopped
     {S::Stopped, "play", true, S::Opening, "open movie.mkv"},
     {S::Stopped, "pause", false, S::Stopped, ""},
@@ -194,6 +202,8 @@ const std::vector<Row> kRows = {
     {S::Stopped, "get state", true, S::Stopped, ""},
     {S::Stopped, "snapshot", false, S::Stopped, ""},
     {S::Stopped, "show-progress", true, S::Stopped, "showProgress"},
+    {S::Stopped, "volume +", true, S::Stopped, "setVolume 102"},
+    {S::Stopped, "mute toggle", true, S::Stopped, "setMute on"},
     // Error
     {S::Error, "play", true, S::Opening, "open movie.mkv"},
     {S::Error, "pause", false, S::Error, ""},
@@ -210,6 +220,8 @@ const std::vector<Row> kRows = {
     {S::Error, "get state", true, S::Error, ""},
     {S::Error, "snapshot", false, S::Error, ""},
     {S::Error, "show-progress", true, S::Error, "showProgress"},
+    {S::Error, "volume +", true, S::Error, "setVolume 102"},
+    {S::Error, "mute toggle", true, S::Error, "setMute on"},
 };
 
 std::string rowName(const Row &r)

@@ -41,6 +41,9 @@ TEST(TerminalKeysTest, decodesLettersAndArrows)
     // + (or =) and - set the stiffness (CH+/CH−), o brings up the on-screen display (mpv's key)
     EXPECT_EQ(decode("+=-oO"), (std::vector<Key>{Key::ChannelUp, Key::ChannelUp, Key::ChannelDown,
                                                  Key::Info, Key::Info}));
+    // mpv's volume and mute keys
+    EXPECT_EQ(decode("0*9/mM"), (std::vector<Key>{Key::VolumeUp, Key::VolumeUp, Key::VolumeDown,
+                                                  Key::VolumeDown, Key::Mute, Key::Mute}));
     // Other sequences (F5, Delete, a cursor report) are skipped whole.
     EXPECT_EQ(decode("\x1b[15~\x1b[3~\x1b[12;40Rq"), std::vector<Key>{Key::Exit});
 }

@@ -243,12 +243,10 @@ public:
     [[nodiscard]] Result<void> recenter() override;
     /// Brings the on-screen display up (the render thread restarts its --osd-seconds).
     [[nodiscard]] Result<void> showProgress() override;
-    /// \brief The volume of the sound, percent (0..AudioPlayerConfig::kMaxVolume, clamped) and
-    /// mute; kept for the next inputs. Main thread.
-    void setVolume(double percent);
-    void setMute(bool mute);
-    [[nodiscard]] double volume() const noexcept;
-    [[nodiscard]] bool muted() const noexcept;
+    /// The volume of the sound, percent (0..AudioPlayerConfig::kMaxVolume, clamped), and mute;
+    /// kept for the next inputs; each brings the on-screen display up.
+    [[nodiscard]] Result<void> setVolume(double percent) override;
+    [[nodiscard]] Result<void> setMute(bool mute) override;
     /// Errc::InvalidState without PlaybackConfig::snapshotDir, when the folder takes no file or
     /// when an earlier snapshot could not be written (refused: playback goes on),
     /// Errc::NotSupported on a display that draws nothing (mock); else requestSnapshot().

@@ -68,7 +68,12 @@ enum class CommandId : std::uint8_t {
     Get,            ///< "get PROPERTY": a query, changes nothing.
     Snapshot,       ///< "snapshot": save the presented frame as PNG (play --snapshot-dir).
     ShowProgress,   ///< "show-progress": bring the on-screen display up (mpv's command).
+    Volume,         ///< "volume +|-|N": one step (2 %) up or down, or N % (0..kMaxVolume).
+    Mute,           ///< "mute on|off|toggle".
 };
+
+/// Largest volume, percent (mpv's --volume-max default); 100 is the sound as coded.
+inline constexpr double kMaxVolume = 130.0;
 
 /// On / off / toggle argument of haptics and loop.
 enum class Switch : std::uint8_t { On, Off, Toggle };
@@ -77,12 +82,13 @@ enum class SeekMode : std::uint8_t {
     Relative, ///< Offset from the current position (negative: back).
     Absolute, ///< Position from the start of the stream.
 };
-/// What a stiffness command does.
+/// What a stiffness or a volume command does: one step up or down, or set a value.
 enum class StiffnessChange : std::uint8_t { Up, Down, Set };
 /// Properties readable with "get" (and mpv's get_property on the control socket), by name:
 /// "state", "stereo-mode", "haptics", "stiffness" (N/m), "loop", "url", "error", and mpv's
 /// "time-pos", "duration", "percent-pos" (s, s, %), "pause", "path", "idle-active", "eof-reached",
-/// "volume" (0-100), "mute", then "haptic-force" (|F| commanded, N) and "contact" (|F| > 0).
+/// "volume" (%, 0..kMaxVolume), "mute", then "haptic-force" (|F| commanded, N) and "contact" (|F| >
+/// 0).
 enum class Property : std::uint8_t {
     State,
     StereoMode,
@@ -117,9 +123,11 @@ struct Command {
     double seconds = 0.0;                  ///< Seek: offset or position (s).
     SeekMode seekMode = SeekMode::Relative; ///< Seek.
     StereoMode stereoMode = StereoMode::SideBySide; ///< SetStereoMode.
-    Switch toggle = Switch::Toggle;        ///< Haptics, Loop.
+    Switch toggle = Switch::Toggle;                 ///< Haptics, Loop, Mute.
     StiffnessChange stiffnessChange = StiffnessChange::Up; ///< Stiffness.
     double stiffness = 0.0;                ///< Stiffness with Set: N/m.
+    StiffnessChange volumeChange = StiffnessChange::Up; ///< Volume.
+    double volume = 0.0;                                ///< Volume with Set: %.
     Property property = Property::State;   ///< Get.
 };
 

@@ -93,6 +93,19 @@ public:
     {
         return unexpected(Errc::NotSupported, "this player has no on-screen display");
     }
+    /// Sets the volume of the sound to \a percent (0..kMaxVolume, already checked) and mutes or
+    /// unmutes it; kept for the inputs opened later. The defaults refuse with Errc::NotSupported
+    /// (a player without sound).
+    [[nodiscard]] virtual Result<void> setVolume(double percent)
+    {
+        (void)percent;
+        return unexpected(Errc::NotSupported, "this player has no sound");
+    }
+    [[nodiscard]] virtual Result<void> setMute(bool mute)
+    {
+        (void)mute;
+        return unexpected(Errc::NotSupported, "this player has no sound");
+    }
     /// Starts opening \a url again after its live stream fell silent, and keeps trying until a
     /// sender comes (a failed try is retried, not reported) or stop() or open() abandons it.
     /// Completion is reported as for open(). The default opens once, as open().
@@ -192,6 +205,8 @@ struct PlayerSettings {
     bool haptics = true;
     double stiffness = 800.0; ///< N/m, clamped into range.
     StiffnessRange range;
+    double volume = 100.0; ///< The sound's start volume, % (0..kMaxVolume).
+    bool mute = false;
     KeyMap keys; ///< The remote's keys (the defaults, or as key map files rebound them).
 };
 
@@ -240,6 +255,8 @@ public:
     [[nodiscard]] double stiffness() const noexcept { return stiffness_; } ///< N/m.
     [[nodiscard]] const StiffnessRange &stiffnessRange() const noexcept { return range_; }
     [[nodiscard]] bool loop() const noexcept { return loop_; }
+    [[nodiscard]] double volume() const noexcept { return volume_; } ///< %.
+    [[nodiscard]] bool muted() const noexcept { return mute_; }
     [[nodiscard]] const std::string &url() const noexcept { return url_; }
     /// The key bindings the remote and mpv's keypress use (fixed at construction).
     [[nodiscard]] const KeyMap &keyMap() const noexcept { return keys_; }
@@ -276,6 +293,8 @@ private:
     bool haptics_;
     double stiffness_;
     StiffnessRange range_;
+    double volume_; ///< %.
+    bool mute_;
     KeyMap keys_;
     std::string errorReason_;
     bool quit_ = false;
