@@ -201,8 +201,8 @@ int runDemo(const DemoOptions &o)
         return kExitFailure;
     }
     // The clip: made once per scene, size and length, then reused.
-    const std::string clip =
-        o.outDir + "/" + o.scene + "-" + o.size + "-" + std::to_string(o.frames) + "-materials.mkv";
+    const std::string clip = o.outDir + "/" + o.scene + "-" + o.size + "-" +
+                             std::to_string(o.frames) + "-materials-sound.mkv";
     if (o.rebuild || !std::filesystem::exists(clip)) {
         std::printf("Rendering the built-in '%s' scene (%d frames at %s) into %s (once)...\n",
                     o.scene.c_str(), o.frames, o.size.c_str(), clip.c_str());

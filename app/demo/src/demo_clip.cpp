@@ -9,9 +9,35 @@
 #include <system_error>
 
 #include "depthtouch/media/encode_job.h"
+#include "depthtouch/media/sound_file.h"
 #include "depthtouch/platform/stop_signals.h"
+#if DT_DEMO_SOUNDTRACK
+#include "depthtouch/synthetic/soundtrack.h"
+#endif
 
 namespace depthtouch::demo {
+
+namespace {
+
+/// Writes the scene's soundtrack for \a frames frames at 30 fps to \a path (a click at the start,
+/// for the head its turning: synthetic/soundtrack.h). \return an error text, or empty.
+std::string writeSoundtrack(const std::string &scene, int frames, const std::string &path)
+{
+#if DT_DEMO_SOUNDTRACK
+    constexpr int kRate = 48000;
+    const auto pcm = synthetic::sceneSoundtrack(scene, frames / 30.0, kRate);
+    if (auto r = media::writeWavFile(path, pcm, hal::AudioFormat{kRate, 1}); !r)
+        return std::string("cannot write the scene's soundtrack: ") + r.error().what;
+    return {};
+#else
+    (void)scene;
+    (void)frames;
+    (void)path;
+    return "the built-in scenes are not built";
+#endif
+}
+
+} // namespace
 
 std::string encodeScene(const std::string &scene, const std::string &size, int frames,
                         const std::string &clip, const media::SourceProviders &providers,
@@ -37,6 +63,11 @@ std::string encodeScene(const std::string &scene, const std::string &size, int f
     eo.output = clip;
     eo.preset = "veryfast";
     eo.depthCrf = 12;
+    const std::string soundtrack = clip + ".soundtrack.wav";
+    if (std::string why = writeSoundtrack(scene, frames, soundtrack); !why.empty())
+        return why;
+    eo.audioSource = soundtrack;
+    eo.audioRequired = true;
     media::EncodeCallbacks cb;
     cb.progress = [](const media::EncodeProgress &p) {
         if (p.totalFrames > 0 && (p.frames % 10 == 0 || p.frames == p.totalFrames)) {
@@ -52,6 +83,8 @@ std::string encodeScene(const std::string &scene, const std::string &size, int f
         return media::encodeStreams(**color, **depth, material->get(), eo, &stop, cb);
     }();
     std::fprintf(stderr, "\n");
+    std::error_code removed;
+    std::filesystem::remove(soundtrack, removed);
     if (stop.load()) {
         interrupted = true;
         std::error_code ec;

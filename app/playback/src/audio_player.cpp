@@ -128,9 +128,7 @@ AudioClock AudioPlayer::clock() const
 AudioStats AudioPlayer::stats() const
 {
     std::lock_guard<std::mutex> lock(mutex_);
-    AudioStats s = stats_;
-    s.underruns = output_.underruns();
-    return s;
+    return stats_;
 }
 
 void AudioPlayer::publish(bool running, double mediaTime, double queued, platform::TimePoint at)
@@ -142,6 +140,7 @@ void AudioPlayer::publish(bool running, double mediaTime, double queued, platfor
     published_.at = at;
     published_.mediaTime = mediaTime;
     stats_.framesWritten = soundFrames_;
+    stats_.underruns = underruns_;
     stats_.silenceFrames = silenceFrames_;
     stats_.ended = mode_ == Mode::Ended;
 }
@@ -210,6 +209,11 @@ void AudioPlayer::step()
     auto delay = output_.delayFrames();
     if (!delay)
         return lose(delay.error());
+    // The device running dry after the last sound is the end, not an underrun.
+    const std::uint64_t underruns = output_.underruns();
+    if (!sourceEnded_)
+        underruns_ += underruns - underrunsSeen_;
+    underrunsSeen_ = underruns;
     const double queued = static_cast<double>(*delay) / static_cast<double>(format_.sampleRate);
     if (mode_ == Mode::Playing && sourceEnded_ && *delay == 0)
         mode_ = Mode::Ended;

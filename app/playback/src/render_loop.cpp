@@ -22,6 +22,11 @@ namespace {
 /// How far the picture's media origin may be from the audio clock before it moves onto it, s:
 /// well under a frame, above the jitter of a device's delay report.
 constexpr double kAudioFollowSeconds = 0.002;
+/// The picture's lead on the audio clock (the time from a frame's turn to its light on screen:
+/// the draw and the wait for the refresh) is learnt from the measured A/V offsets: each adds this
+/// share of itself to the lead, which stays within [0, kMaxLeadSeconds].
+constexpr double kLeadGain = 0.1;
+constexpr double kMaxLeadSeconds = 0.1;
 } // namespace
 
 void RenderLoop::Frames::dropFrames() noexcept
@@ -155,25 +160,28 @@ void RenderLoop::play(Session &s, const Commands &cmd)
 }
 
 /// Audio as the master clock: the media origin (the picture's and the haptic time's) follows the
-/// time the speaker plays (audio_player.h), while the sound plays.
+/// time the speaker plays (audio_player.h), while the sound plays, a frame's turn coming avLead_
+/// before its time so that it is on screen at its time.
 void RenderLoop::followAudio(Session &s, bool paused)
 {
     if (!s.audio)
         return;
     s.audio->setPaused(paused);
     const AudioClock c = s.audio->clock();
-    if (c.running && frameClock_.follow(c.at, c.mediaTime, kAudioFollowSeconds) && s.handoff)
+    if (c.running && frameClock_.follow(c.at, c.mediaTime + avLead_, kAudioFollowSeconds) &&
+        s.handoff)
         s.handoff->setMediaOrigin(frameClock_.origin());
 }
 
 /// The A/V offset of the frame of PTS \a pts (s) presented at \a shownAt: the media time heard
-/// then minus \a pts (positive: the sound is ahead of the picture).
+/// then minus \a pts (positive: the sound is ahead of the picture); the lead learns from it.
 void RenderLoop::measureAvOffset(Session &s, TimePoint shownAt, double pts)
 {
     const AudioClock c = s.audio->clock();
     if (!c.running)
         return;
     const double offset = c.mediaTime + platform::toSeconds(shownAt - c.at) - pts;
+    avLead_ = std::clamp(avLead_ + kLeadGain * offset, 0.0, kMaxLeadSeconds);
     std::lock_guard<std::mutex> lock(shared_.mutex);
     if (shared_.avOffsetMs.size() < shared_.avOffsetMs.capacity())
         shared_.avOffsetMs.push_back(offset * 1e3);

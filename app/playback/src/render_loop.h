@@ -94,6 +94,7 @@ private:
     std::unique_ptr<Presenter> presenter_;
     Frames frames_;
     FrameClock frameClock_;
+    double avLead_ = 0.0; ///< s: how much earlier than its time a frame's turn comes with sound.
 };
 
 } // namespace depthtouch::playback

@@ -245,6 +245,26 @@ TEST_F(AudioPlayerTest, theSoundEndsWhenTheSourceDoesAndTheClockStopsWhenItIsHea
     EXPECT_FALSE(player_->clock().running);
     EXPECT_TRUE(player_->stats().ended);
     EXPECT_EQ(player_->stats().framesWritten, static_cast<std::uint64_t>(kRate / 2));
+    // The device ran dry after the last sound: the end, not an underrun.
+    EXPECT_EQ(output_->underruns(), 1u);
+    EXPECT_EQ(player_->stats().underruns, 0u);
+}
+
+TEST_F(AudioPlayerTest, aThreadLateForLongerThanTheQueueIsAnUnderrunAndTheSoundGoesOn)
+{
+    AudioPlayerConfig c;
+    c.queueSeconds = 0.1;
+    make(0.0, 10.0, c);
+    player_->start(0.0);
+    play(200);
+    EXPECT_EQ(player_->stats().underruns, 0u);
+    clock_.advance(milliseconds(300)); // no turn for 0.3 s: the 0.1 s queued runs out
+    play(100);
+    EXPECT_EQ(player_->stats().underruns, 1u);
+    EXPECT_TRUE(player_->clock().running);
+    // Nothing of the sound was skipped: it goes on with the next frame of the source.
+    for (std::size_t i = 0; i < output_->kept.size(); ++i)
+        ASSERT_EQ(output_->kept[i], NumberedSource::value(static_cast<std::int64_t>(i))) << i;
 }
 
 TEST_F(AudioPlayerTest, anUnpluggedDeviceEndsTheSoundWithAReasonAndTheClockStops)

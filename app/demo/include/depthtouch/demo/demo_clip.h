@@ -14,9 +14,10 @@
 namespace depthtouch::demo {
 
 /// \brief Renders scene \a scene (`synthetic:` name) at \a size ("WxH", pixels) for \a frames
-/// frames and encodes it into \a clip. A stop signal during it sets \a interrupted: the clip is
-/// then removed (a short clip would be reused by the next demo).
-/// \return an error line, empty on success or interruption.
+/// frames and encodes it into \a clip, with the scene's soundtrack (synthetic/soundtrack.h: a click
+/// at the start, the head's turning) as its sound. A stop signal during it sets \a interrupted: the
+/// clip is then removed (a short clip would be reused by the next demo). \return an error line,
+/// empty on success or interruption.
 std::string encodeScene(const std::string &scene, const std::string &size, int frames,
                         const std::string &clip, const media::SourceProviders &providers,
                         bool &interrupted);

@@ -62,10 +62,12 @@ struct AudioClock {
 struct AudioStats {
     std::uint64_t framesWritten = 0; ///< Frames of sound (not silence) the device took.
     std::uint64_t silenceFrames = 0; ///< Silence written where the source had no sound.
-    std::uint64_t underruns = 0;     ///< The device's (AudioOutput::underruns()).
-    double delaySeconds = 0.0;       ///< The device's queue at the last turn, s.
-    bool ended = false;              ///< The source has no more sound (until the next start()).
-    std::string lost;                ///< Why the sound stopped for good; empty while it works.
+    /// The device's (AudioOutput::underruns()) while the source had sound: running dry after
+    /// its end is not one.
+    std::uint64_t underruns = 0;
+    double delaySeconds = 0.0; ///< The device's queue at the last turn, s.
+    bool ended = false;        ///< The source has no more sound (until the next start()).
+    std::string lost;          ///< Why the sound stopped for good; empty while it works.
 };
 
 /// See the file comment.
@@ -153,6 +155,8 @@ private:
     bool sourceEnded_ = false;
     std::uint64_t soundFrames_ = 0;
     std::uint64_t silenceFrames_ = 0;
+    std::uint64_t underruns_ = 0;     ///< Counted (AudioStats::underruns).
+    std::uint64_t underrunsSeen_ = 0; ///< The device's count at the last turn.
     std::optional<platform::RealtimeThread> thread_;
 };
 

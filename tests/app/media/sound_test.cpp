@@ -1,0 +1,117 @@
+// The receiver's sound reader (media::AudioReader) on a WAV file written by media::writeWavFile
+// from a built-in scene's soundtrack (synthetic::sceneSoundtrack): every sample read back as
+// written (PCM is lossless), the blocks' media times, a sample-accurate seek, the end, a file
+// without sound, and the soundtrack's events where the picture has them (the click at the clip's
+// start, the head's tone loud as it passes the camera and silent where it turns back).
+#include "depthtouch/media/audio_reader.h"
+#include "depthtouch/media/sound_file.h"
+#include "depthtouch/synthetic/soundtrack.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace depthtouch::media {
+namespace {
+
+constexpr int kRate = 48000;
+
+class SoundTest : public ::testing::Test {
+protected:
+    void SetUp() override
+    {
+        dir_ = std::filesystem::temp_directory_path() / ("dt-sound-" + std::to_string(::getpid()));
+        std::filesystem::create_directories(dir_);
+    }
+    void TearDown() override { std::filesystem::remove_all(dir_); }
+    std::string path(const char *name) const { return (dir_ / name).string(); }
+
+    /// Reads all of \a reader's sound, checking that the blocks follow each other.
+    static std::vector<std::int16_t> readAll(hal::AudioSource &reader, double start)
+    {
+        std::vector<std::int16_t> all;
+        std::vector<std::int16_t> buf(1000);
+        double expected = start;
+        for (;;) {
+            auto b = reader.read(buf.data(), buf.size());
+            EXPECT_TRUE(b) << b.error().what;
+            if (!b || b->frames == 0)
+                break;
+            EXPECT_NEAR(b->start, expected, 0.5 / kRate);
+            expected = b->start + static_cast<double>(b->frames) / kRate;
+            all.insert(all.end(), buf.begin(), buf.begin() + static_cast<long>(b->frames));
+        }
+        return all;
+    }
+
+    std::filesystem::path dir_;
+};
+
+TEST_F(SoundTest, aWavFileReadsBackSampleForSampleWithItsMediaTimes)
+{
+    const auto pcm = synthetic::sceneSoundtrack("head", 2.0, kRate);
+    ASSERT_EQ(pcm.size(), 2u * kRate);
+    ASSERT_TRUE(writeWavFile(path("head.wav"), pcm, {kRate, 1}));
+    auto reader = AudioReader::open(path("head.wav"));
+    ASSERT_TRUE(reader) << reader.error().what;
+    ASSERT_TRUE(*reader);
+    EXPECT_EQ((*reader)->format().sampleRate, kRate);
+    EXPECT_EQ((*reader)->format().channels, 1);
+    EXPECT_EQ((*reader)->description(), "pcm_s16le 48000 Hz 1 ch");
+    EXPECT_EQ(readAll(**reader, 0.0), pcm);
+    // Ended: it stays ended until a seek, which finds the sound to the sample.
+    std::vector<std::int16_t> buf(10);
+    EXPECT_EQ((*reader)->read(buf.data(), buf.size())->frames, 0u);
+    ASSERT_TRUE((*reader)->seek(1.25));
+    const auto tail = readAll(**reader, 1.25);
+    ASSERT_EQ(tail.size(), pcm.size() - 60000);
+    EXPECT_TRUE(std::equal(tail.begin(), tail.end(), pcm.begin() + 60000));
+}
+
+TEST_F(SoundTest, aFileWithoutSoundOpensAsNoneAndANonMediaFileIsRefused)
+{
+    // A file that is no media at all
+    {
+        std::FILE *f = std::fopen(path("text.wav").c_str(), "w");
+        ASSERT_NE(f, nullptr);
+        std::fputs("not a sound\n", f);
+        std::fclose(f);
+    }
+    EXPECT_EQ(AudioReader::open(path("text.wav")).error().code, Errc::InvalidArgument);
+    EXPECT_EQ(AudioReader::open(path("missing.wav")).error().code, Errc::InvalidArgument);
+    EXPECT_EQ(writeWavFile(path("bad.wav"), {1, 2, 3}, {kRate, 2}).error().code,
+              Errc::InvalidArgument); // not whole frames
+    EXPECT_EQ(writeWavFile(path("none/x.wav"), {1, 2}, {kRate, 2}).error().code, Errc::Io);
+}
+
+TEST_F(SoundTest, theSoundtracksEventsAreThePicturesEvents)
+{
+    const auto pcm = synthetic::sceneSoundtrack("head", 4.0, kRate);
+    const auto peak = [&](double from, double to) {
+        int m = 0;
+        for (auto i = static_cast<std::size_t>(from * kRate);
+             i < static_cast<std::size_t>(to * kRate); ++i)
+            m = std::max(m, std::abs(static_cast<int>(pcm[i])));
+        return m;
+    };
+    // The click at the clip's start: half of full scale within its 5 ms, on the tone at its
+    // loudest (0.15: the head passes the camera at t = 0)
+    EXPECT_NEAR(peak(0.0, 0.005), 0.65 * 32767, 0.02 * 32767);
+    // The tone: loud where the head passes the camera (t = 2 s), silent where it turns back
+    // (t = 1 s, 3 s: only the 2 ms tick of the turn-around)
+    EXPECT_GT(peak(1.95, 2.05), 0.14 * 32767);
+    EXPECT_LT(peak(1.003, 1.01), 0.01 * 32767);
+    EXPECT_NEAR(peak(1.0, 1.002), 0.3 * 32767, 0.02 * 32767); // the tick alone
+    EXPECT_EQ(synthetic::soundtrackEvents("head", 4.0), (std::vector<double>{0.0, 1.0, 3.0}));
+    EXPECT_EQ(synthetic::soundtrackEvents("spheres", 4.0), (std::vector<double>{0.0}));
+    EXPECT_TRUE(synthetic::sceneSoundtrack("head", 0.0, kRate).empty());
+}
+
+} // namespace
+} // namespace depthtouch::media
