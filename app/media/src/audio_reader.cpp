@@ -11,20 +11,16 @@
 
 extern "C" {
 #include <libavutil/channel_layout.h>
-#include <libswresample/swresample.h>
 }
 
 #include "media_libav.h"
+#include "swr_handle.h"
 
 namespace depthtouch::media {
 
 using namespace detail;
 
 namespace {
-
-struct SwrDeleter {
-    void operator()(SwrContext *s) const noexcept { swr_free(&s); }
-};
 
 /// The rate a decoded stream of \a rate Hz is played at: its own when an AudioOutput takes it.
 int playableRate(int rate) noexcept
@@ -40,7 +36,7 @@ struct AudioReader::Impl {
     AVRational tb{1, 1};     ///< Its time base.
     std::int64_t origin = 0; ///< Its time (tb) of media time 0: the input's start.
     CodecContextPtr decoder;
-    std::unique_ptr<SwrContext, SwrDeleter> swr;
+    SwrPtr swr;
     // What swr converts from (set from the first frame, again when a frame differs).
     int inFormat = -1;
     int inRate = 0;

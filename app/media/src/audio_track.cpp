@@ -11,10 +11,10 @@
 extern "C" {
 #include <libavutil/audio_fifo.h>
 #include <libavutil/channel_layout.h>
-#include <libswresample/swresample.h>
 }
 
 #include "muxer_impl.h"
+#include "swr_handle.h"
 
 namespace depthtouch::media {
 
@@ -22,9 +22,6 @@ using namespace detail;
 
 namespace {
 
-struct SwrDeleter {
-    void operator()(SwrContext *s) const noexcept { swr_free(&s); }
-};
 struct FifoDeleter {
     void operator()(AVAudioFifo *f) const noexcept { av_audio_fifo_free(f); }
 };
@@ -66,7 +63,7 @@ struct AudioTrack::Impl {
     // Coding as AAC (when the container does not carry the source's codec):
     CodecContextPtr decoder;
     CodecContextPtr encoder;
-    std::unique_ptr<SwrContext, SwrDeleter> swr;
+    SwrPtr swr;
     std::unique_ptr<AVAudioFifo, FifoDeleter> fifo;
     FramePtr frame;
     FramePtr converted;

@@ -125,6 +125,18 @@ AudioClock AudioPlayer::clock() const
     return published_;
 }
 
+double AudioPlayer::volume() const
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    return config_.volume;
+}
+
+bool AudioPlayer::muted() const
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    return config_.mute;
+}
+
 AudioStats AudioPlayer::stats() const
 {
     std::lock_guard<std::mutex> lock(mutex_);

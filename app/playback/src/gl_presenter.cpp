@@ -8,7 +8,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdio>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "depthtouch/platform/log.h"
@@ -27,6 +29,16 @@ DT_LOG_CATEGORY(Playback)
 namespace depthtouch::playback {
 
 namespace {
+
+/// The OSD's words for the sound: "  MUTED" or "  VOL 50%".
+std::string soundStatus(double volume, bool muted)
+{
+    if (muted)
+        return "  MUTED";
+    char buf[24];
+    std::snprintf(buf, sizeof buf, "  VOL %.0f%%", volume);
+    return buf;
+}
 
 render::StereoMode toRenderMode(player::StereoMode m) noexcept
 {
@@ -338,6 +350,8 @@ void GlPresenter::setOverlays(const DrawInput &in)
         render::OsdState osd;
         osd.visible = osdUp;
         osd.status = in.paused ? "PAUSED" : "PLAYING";
+        if (in.session.audio) // the sound's volume, as the remote's VOL+/VOL-/MUTE change it
+            osd.status += soundStatus(in.session.audio->volume(), in.session.audio->muted());
         osd.hapticsOn = task != nullptr && task->enabled();
         osd.force = task != nullptr ? glm::length(task->lastForce()) : 0.0;
         osd.maxForce = std::max(1e-3, config_.haptics.renderer.maxForce);

@@ -226,6 +226,10 @@ TEST_F(AudioPlayerTest, theVolumeIsMpvsCubicGainReachedIn10MsWithoutAClick)
     player_->setMute(true);
     play(100);
     EXPECT_EQ(output_->kept.back(), 0);
+    EXPECT_TRUE(player_->muted());
+    EXPECT_EQ(player_->volume(), 50.0); // kept through mute, as the OSD shows it
+    player_->setVolume(1e9);
+    EXPECT_EQ(player_->volume(), AudioPlayerConfig::kMaxVolume);
     EXPECT_DOUBLE_EQ(volumeGain(100.0, false), 1.0);
     EXPECT_DOUBLE_EQ(volumeGain(130.0, false), 1.3 * 1.3 * 1.3);
     EXPECT_DOUBLE_EQ(volumeGain(500.0, false), 1.3 * 1.3 * 1.3);

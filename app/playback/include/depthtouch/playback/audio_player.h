@@ -102,6 +102,8 @@ public:
     ///@}
 
     [[nodiscard]] AudioClock clock() const;
+    [[nodiscard]] double volume() const; ///< %, as setVolume() left it.
+    [[nodiscard]] bool muted() const;
     [[nodiscard]] AudioStats stats() const;
 
     /// \brief One turn of the audio thread: takes the commands and fills the device's queue up to
