@@ -17,6 +17,7 @@ void registerBenchCommand(CLI::App &app, int &exitCode)
     registerBenchRtCommand(*bench, exitCode);
     registerBenchMediaCommand(*bench, exitCode);
     registerBenchFeelCommand(*bench, exitCode);
+    registerBenchAvCommand(*bench, exitCode);
 }
 
 } // namespace depthtouch::cli

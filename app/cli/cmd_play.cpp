@@ -141,11 +141,14 @@ std::optional<PlayResult> checkPlayOptions(const PlayOptions &opt)
     for (const platform::OutputPathCheck &c :
          {platform::checkOutputPath("--record", opt.record),
           platform::checkOutputPath("--force-log", opt.forceLog),
+          platform::checkOutputPath("--av-log", opt.avLog),
           platform::checkOutputPath("--stats", opt.stats, true),
           platform::checkOutputFolder("--snapshot-dir", opt.snapshotDir),
-          platform::checkDistinctPaths(
-              {{"the input", opt.url}, {"--config", opt.config}},
-              {{"--record", opt.record}, {"--force-log", opt.forceLog}, {"--stats", opt.stats}})}) {
+          platform::checkDistinctPaths({{"the input", opt.url}, {"--config", opt.config}},
+                                       {{"--record", opt.record},
+                                        {"--force-log", opt.forceLog},
+                                        {"--av-log", opt.avLog},
+                                        {"--stats", opt.stats}})}) {
         if (c.exitCode != kExitOk) {
             failLine(c.message);
             return PlayResult{c.exitCode, {}};
@@ -308,6 +311,8 @@ PlayResult finishPlay(const PlayOptions &opt, const playback::PlayRunFigures &ru
     if (lost.empty() && !run.stats.recordingLost.empty())
         lost = "lost the recording " + platform::quotedText(opt.record, 120) + ": " +
                run.stats.recordingLost;
+    if (lost.empty() && !run.stats.avLogLost.empty())
+        lost = platform::quotedText(opt.avLog, 120) + ": " + run.stats.avLogLost;
     if (lost.empty() && !run.stats.snapshotLost.empty())
         lost = "in " + platform::quotedText(opt.snapshotDir, 120) + ": " + run.stats.snapshotLost;
 

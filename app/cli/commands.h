@@ -34,5 +34,6 @@ void registerBenchRenderCommand(CLI::App &bench, int &exitCode);
 void registerBenchRtCommand(CLI::App &bench, int &exitCode);
 void registerBenchMediaCommand(CLI::App &bench, int &exitCode);
 void registerBenchFeelCommand(CLI::App &bench, int &exitCode);
+void registerBenchAvCommand(CLI::App &bench, int &exitCode);
 
 } // namespace depthtouch::cli

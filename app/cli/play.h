@@ -51,6 +51,7 @@ struct PlayOptions {
     std::string record; ///< Recording of the output (H.264 file).
     int recordCrf = playbackDefaults().recordCrf;
     std::string forceLog;
+    std::string avLog; ///< A/V offset per presented frame with sound (CSV).
     std::string stats;
     std::string control;     ///< Control socket path.
     std::string config;      ///< TOML file read after the default ones (play_config_files.h).

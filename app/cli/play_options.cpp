@@ -160,6 +160,11 @@ const OptionRow<PlayOptions> kPlayRows[] = {
      .field = &PlayOptions::forceLog,
      .help = "Force log CSV (one row per haptic update)",
      .land = [](const PlayOptions &o, Config &c) { c.haptics.forceLogPath = o.forceLog; }},
+    {.name = "av-log",
+     .field = &PlayOptions::avLog,
+     .help = "A/V log CSV (one row per presented frame with sound: time, PTS, offset of the sound "
+             "heard then, ms)",
+     .land = [](const PlayOptions &o, Config &c) { c.avLogPath = o.avLog; }},
     {"stats", &PlayOptions::stats, "Stats JSON written at the end"},
     {"control", &PlayOptions::control, "Control socket path (JSON lines)"},
     {"config",

@@ -182,6 +182,8 @@ void AudioPlayer::step()
     }
     if (mode_ == Mode::Lost)
         return;
+    if (mode_ == Mode::Playing && output_.delayFrames()) // the device's count brought up to date
+        countUnderruns(); // before a restart forgets that the sound had ended
     if (mode_ != Mode::Playing || paused)
         gain_ = rampTarget_; // nothing sounds: a new volume needs no ramp
     if (haltGen != haltSeen_ || startGen != startSeen_) {
@@ -221,15 +223,20 @@ void AudioPlayer::step()
     auto delay = output_.delayFrames();
     if (!delay)
         return lose(delay.error());
+    countUnderruns();
+    const double queued = static_cast<double>(*delay) / static_cast<double>(format_.sampleRate);
+    if (mode_ == Mode::Playing && sourceEnded_ && *delay == 0)
+        mode_ = Mode::Ended;
+    publish(mode_ == Mode::Playing, writtenEnd_ - queued, queued, clock_.now());
+}
+
+void AudioPlayer::countUnderruns()
+{
     // The device running dry after the last sound is the end, not an underrun.
     const std::uint64_t underruns = output_.underruns();
     if (!sourceEnded_)
         underruns_ += underruns - underrunsSeen_;
     underrunsSeen_ = underruns;
-    const double queued = static_cast<double>(*delay) / static_cast<double>(format_.sampleRate);
-    if (mode_ == Mode::Playing && sourceEnded_ && *delay == 0)
-        mode_ = Mode::Ended;
-    publish(mode_ == Mode::Playing, writtenEnd_ - queued, queued, clock_.now());
 }
 
 void AudioPlayer::fill(std::size_t delay)

@@ -69,6 +69,12 @@ void Playback::close()
     }
     if (impl_->renderThread && impl_->renderThread->joinable())
         impl_->renderThread->join();
+    if (!impl_->config.avLogPath.empty() && !impl_->avLogWritten) {
+        impl_->avLogWritten = true;
+        std::string lost = writeAvLog(*impl_);
+        std::lock_guard<std::mutex> lock(impl_->mutex);
+        impl_->stats.avLogLost = std::move(lost);
+    }
 }
 
 Result<void> Playback::open(std::string_view url)

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <string>
 
+#include "depthtouch/platform/report_file.h"
+
 #include "playback_impl.h"
 
 namespace depthtouch::playback {
@@ -59,6 +61,15 @@ void attachAudio(Playback::Impl &m, Session &s, PlaybackInfo &info)
     info.audio = std::to_string(f.sampleRate) + " Hz " + std::to_string(f.channels) + " ch";
     s.audioSource = std::move(*source);
     s.audio = std::move(*player);
+}
+
+std::string writeAvLog(const Playback::Impl &m)
+{
+    platform::ReportFile f(m.config.avLogPath);
+    f.print("time_s,pts_s,offset_ms\n");
+    for (std::size_t i = 0; i < m.avOffsetMs.size(); ++i)
+        f.print("%.6f,%.6f,%.3f\n", m.avOffsetAt[i], m.avOffsetPts[i], m.avOffsetMs[i]);
+    return f.close() ? std::string() : "cannot write the A/V log (disk full or no such folder?)";
 }
 
 Result<void> Playback::setVolume(double percent)

@@ -40,7 +40,8 @@ struct Playback::Impl : RenderShared {
     double stiffness;
     double volume; ///< Of the sound, percent (kept for the next inputs).
     bool mute;
-    AudioStats audioBefore; ///< The sound's counters of the sessions before the current one.
+    AudioStats audioBefore;    ///< The sound's counters of the sessions before the current one.
+    bool avLogWritten = false; ///< close() wrote PlaybackConfig::avLogPath (once).
     std::optional<haptic_task::HapticStats> lastHapticStats;
     /// The decode thread's DecoderThread::readProgress() when it was last seen to change, and
     /// when: the same odd value for PlaybackConfig::liveSilenceSeconds is a silent live stream.
@@ -59,6 +60,8 @@ struct Playback::Impl : RenderShared {
         renderMs.reserve(std::size_t{1} << 16);
         meshTriangles.reserve(std::size_t{1} << 16);
         avOffsetMs.reserve(std::size_t{1} << 16);
+        avOffsetAt.reserve(std::size_t{1} << 16);
+        avOffsetPts.reserve(std::size_t{1} << 16);
     }
 
     /// Hands \a next (may be null) to the render thread and waits until it dropped every frame of
@@ -123,6 +126,10 @@ struct Playback::Impl : RenderShared {
         return {};
     }
 };
+
+/// Writes PlaybackConfig::avLogPath from \a m's A/V offsets (after the render thread ended).
+/// \return why it could not be written, or empty.
+std::string writeAvLog(const Playback::Impl &m);
 
 /// The sound of \a s, when the input has some, the player has an audio output and the source can
 /// be read twice (a note in \a info says why not otherwise). Never fails the open: the input then

@@ -183,8 +183,13 @@ void RenderLoop::measureAvOffset(Session &s, TimePoint shownAt, double pts)
     const double offset = c.mediaTime + platform::toSeconds(shownAt - c.at) - pts;
     avLead_ = std::clamp(avLead_ + kLeadGain * offset, 0.0, kMaxLeadSeconds);
     std::lock_guard<std::mutex> lock(shared_.mutex);
-    if (shared_.avOffsetMs.size() < shared_.avOffsetMs.capacity())
-        shared_.avOffsetMs.push_back(offset * 1e3);
+    if (shared_.avOffsetMs.size() >= shared_.avOffsetMs.capacity())
+        return;
+    if (shared_.avOffsetMs.empty())
+        firstAvOffset_ = shownAt;
+    shared_.avOffsetMs.push_back(offset * 1e3);
+    shared_.avOffsetAt.push_back(platform::toSeconds(shownAt - firstAvOffset_));
+    shared_.avOffsetPts.push_back(pts);
 }
 
 /// Seek: drop what was queued; the decode thread restarts at \a seekTo (s, stream timeline).

@@ -95,6 +95,7 @@ private:
     Frames frames_;
     FrameClock frameClock_;
     double avLead_ = 0.0; ///< s: how much earlier than its time a frame's turn comes with sound.
+    platform::TimePoint firstAvOffset_{}; ///< When the first A/V offset was measured.
 };
 
 } // namespace depthtouch::playback

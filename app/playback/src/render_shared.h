@@ -35,12 +35,14 @@ struct RenderShared {
     bool quit = false;
 
     // --- Render thread -> main thread ---
-    double position = 0.0;             ///< s from the first frame.
-    PlaybackStats stats;               ///< Render-thread counters (copied out by stats()).
-    std::string failure;               ///< Pipeline failure not yet reported.
-    std::string displayError;          ///< The render thread could not open the display.
-    std::vector<double> renderMs;      ///< Draw time per frame, ms (first 2^16 frames).
-    std::vector<double> avOffsetMs;    ///< Audio minus picture per presented frame, ms (2^16).
+    double position = 0.0;          ///< s from the first frame.
+    PlaybackStats stats;            ///< Render-thread counters (copied out by stats()).
+    std::string failure;            ///< Pipeline failure not yet reported.
+    std::string displayError;       ///< The render thread could not open the display.
+    std::vector<double> renderMs;   ///< Draw time per frame, ms (first 2^16 frames).
+    std::vector<double> avOffsetMs; ///< Audio minus picture per presented frame, ms (2^16).
+    std::vector<double> avOffsetAt; ///< When each was presented, s from the first; its PTS, s.
+    std::vector<double> avOffsetPts;
     std::vector<double> meshTriangles; ///< Triangles drawn per frame under the LOD (first 2^16).
     bool endOfStream = false;          ///< Not yet reported.
 

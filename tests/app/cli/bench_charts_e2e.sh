@@ -37,6 +37,25 @@ png haptics speed_vs_accuracy.png
 png haptics psd.png
 bench feel --quick --method finger --data "$work/no-data"
 png feel feel.png
+bench av --duration 2 --frames 30 --size 96x64
+png av av.png
+# The offsets it prints are the ones its A/V logs hold: the p99 of |offset_ms| in av-null.csv.
+python3 - "$work/av" <<'PY' || fail "bench av: printed figures differ from its logs"
+import csv, math, re, sys
+d = sys.argv[1]
+printed = {}
+for line in open(d + "/../av.log"):
+    m = re.match(r"(null|wav)\s+(\d+)\s+(\S+)\s+(\S+)", line)
+    if m:
+        printed[m.group(1)] = (int(m.group(2)), float(m.group(4)))
+for out in ("null", "wav"):
+    off = sorted(abs(float(r["offset_ms"])) for r in csv.DictReader(open("%s/av-%s.csv" % (d, out))))
+    frames, p99 = printed[out]
+    # platform::percentile: the nearest rank
+    want = off[max(0, math.ceil(0.99 * len(off)) - 1)]
+    if frames != len(off) or abs(p99 - want) > 0.051:
+        sys.exit("%s: printed %d frames, p99 %.1f; the log has %d, p99 %.2f" % (out, frames, p99, len(off), want))
+PY
 skipped=""
 if ! "$exe" bench render --help >/dev/null 2>&1; then
     skipped="bench render not in this build (no EGL)"

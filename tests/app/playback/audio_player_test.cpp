@@ -249,9 +249,25 @@ TEST_F(AudioPlayerTest, theSoundEndsWhenTheSourceDoesAndTheClockStopsWhenItIsHea
     EXPECT_FALSE(player_->clock().running);
     EXPECT_TRUE(player_->stats().ended);
     EXPECT_EQ(player_->stats().framesWritten, static_cast<std::uint64_t>(kRate / 2));
-    // The device ran dry after the last sound: the end, not an underrun.
+    // The device ran dry after the last sound: the end, not an underrun, also when a loop starts
+    // the sound again at once.
     EXPECT_EQ(output_->underruns(), 1u);
     EXPECT_EQ(player_->stats().underruns, 0u);
+}
+
+TEST_F(AudioPlayerTest, aLoopThatStartsTheSoundAgainAfterItRanOutCountsNoUnderrun)
+{
+    AudioPlayerConfig c;
+    c.queueSeconds = 0.1;
+    make(0.0, /*length=*/0.5, c);
+    player_->start(0.0);
+    play(450);                         // all the sound written; the device plays its last 0.05 s
+    clock_.advance(milliseconds(200)); // it runs dry before the next turn...
+    player_->start(0.0);               // ...which is the loop's start
+    play(200);
+    EXPECT_GE(output_->underruns(), 1u);
+    EXPECT_EQ(player_->stats().underruns, 0u);
+    EXPECT_TRUE(player_->clock().running);
 }
 
 TEST_F(AudioPlayerTest, aThreadLateForLongerThanTheQueueIsAnUnderrunAndTheSoundGoesOn)

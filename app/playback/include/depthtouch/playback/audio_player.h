@@ -113,6 +113,8 @@ public:
 private:
     AudioPlayer(hal::AudioSource &source, hal::AudioOutput &output, platform::Clock &clock,
                 const AudioPlayerConfig &config);
+    /// Adds the device's underruns since the last call, unless the source had ended.
+    void countUnderruns();
     /// Writes sound or silence until the queue holds \a queueFrames or the source ends.
     void fill(std::size_t delay);
     /// Writes \a frames of `block_` from `blockPos_` with the gain; \return the frames taken.

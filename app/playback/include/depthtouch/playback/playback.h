@@ -124,6 +124,11 @@ struct PlaybackConfig {
     /// live stream, a FIFO) play without sound: their audio is not read twice.
     bool audioEnabled = true;
     AudioPlayerConfig audio{}; ///< The start volume and mute, the device's queue.
+    /// A/V log (`play --av-log`): a CSV written by close(), one row per presented frame while
+    /// sound played (the first 65536): `time_s` (s from the first row, the player's clock),
+    /// `pts_s` (the frame's PTS, s), `offset_ms` (the media time heard when it was presented
+    /// minus its PTS, ms). Empty: none.
+    std::string avLogPath;
 };
 
 /// \brief The HAL objects a Playback uses (the executable chooses the backends).
@@ -191,6 +196,7 @@ struct PlaybackStats {
     double avOffsetMsP50 = 0.0;
     double avOffsetMsP99 = 0.0;
     std::string audioLost; ///< Why the sound stopped (an unplugged device); empty when it did not.
+    std::string avLogLost; ///< Why the A/V log was not written; empty when it was or none asked.
 };
 
 /// What open() found about the stream, for the summary.
