@@ -22,6 +22,10 @@ using namespace detail;
 
 namespace {
 
+/// A frame that starts this close to the previous one's end (s) follows it: 2 ms, four times the
+/// rounding of a millisecond time base.
+constexpr double kContinuity = 0.002;
+
 /// The rate a decoded stream of \a rate Hz is played at: its own when an AudioOutput takes it.
 int playableRate(int rate) noexcept
 {
@@ -50,6 +54,7 @@ struct AudioReader::Impl {
     std::size_t pendingPos = 0; ///< Frames of `pending` already read.
     double pendingStart = 0.0;  ///< Media time of pending's first frame, s.
     double nextStart = 0.0;     ///< Media time after the last converted frame, s.
+    bool haveNext = false;      ///< nextStart follows a frame (not a seek or the start).
     double skipUntil = -std::numeric_limits<double>::infinity(); ///< seek(): drop before it.
     bool flushed = false; ///< The decoder was sent its end (the input has no more packets).
     bool ended = false;   ///< The decoder is drained: nothing more until seek().
@@ -90,8 +95,13 @@ struct AudioReader::Impl {
     {
         DT_TRY(configure(*frame));
         const std::int64_t ts = frame->best_effort_timestamp;
-        const double start =
+        double start =
             ts == AV_NOPTS_VALUE ? nextStart : static_cast<double>(ts - origin) * av_q2d(tb);
+        // A container whose timestamps are rounded (MKV: to the millisecond) puts each frame up
+        // to half a unit off the previous one's end: that is no gap and no overlap.
+        if (haveNext && std::abs(start - nextStart) <= kContinuity)
+            start = nextStart;
+        haveNext = true;
         const int room = swr_get_out_samples(swr.get(), frame->nb_samples);
         const auto channels = static_cast<std::size_t>(out.channels);
         pending.resize(static_cast<std::size_t>(std::max(room, 1)) * channels);
@@ -244,6 +254,7 @@ Result<void> AudioReader::seek(double seconds)
     a.pendingFrames = a.pendingPos = 0;
     a.skipUntil = at;
     a.nextStart = at;
+    a.haveNext = false;
     a.flushed = a.ended = false;
     return ok();
 }

@@ -3,7 +3,8 @@
 # back here by Python's wave module, not by the library that wrote it). A 3 s clip whose sound is
 # silent but for a 5 ms click at 1.000 s is encoded with its sound (AAC), then played on the mock
 # display: the click must be in the WAV 1.000 s after its first frame within 2 ms (the sound
-# starts with the first frame, PTS 0), the WAV must last the clip, --volume 50 must scale the click
+# starts with the first frame, PTS 0), the WAV must last the clip and hold every sample as ffmpeg
+# decodes the clip's sound (none dropped or silenced between frames), --volume 50 must scale the click
 # by (0.5)^3 as mpv's volume does, --mute must write silence, --no-audio and --audio-device none no
 # file, the stats JSON must name the device and the sound, and a sound output that does not exist
 # is one line and exit 2. Exit 77 (skip) without the ffmpeg CLI. Usage: play_audio_e2e.sh DEPTHTOUCH
@@ -36,6 +37,7 @@ cat >"$work/check.py" <<'PY'
 import json, struct, sys, wave
 path, stats, want_gain = sys.argv[1], sys.argv[2], float(sys.argv[3])
 ref_peak = float(sys.argv[4]) if len(sys.argv) > 4 else 0.0
+reference = sys.argv[5] if len(sys.argv) > 5 else ""
 w = wave.open(path)
 rate, channels, n = w.getframerate(), w.getnchannels(), w.getnframes()
 s = struct.unpack("<%dh" % (n * channels), w.readframes(n))
@@ -55,6 +57,15 @@ else:
         bad.append("the click sounds %.4f s after the first frame, want 1.000" % click)
     if ref_peak and abs(peak / ref_peak - want_gain) > 0.01:
         bad.append("peak %d is %.4f of the full volume's, want %.4f" % (peak, peak / ref_peak, want_gain))
+if reference:
+    # Every sample as ffmpeg decodes the clip's sound: nothing dropped, repeated or silenced
+    # between the decoder's frames (MKV's millisecond timestamps are no gaps).
+    raw = open(reference, "rb").read()
+    ref = struct.unpack("<%dh" % (len(raw) // 2), raw)
+    m = min(len(s), len(ref))
+    differ = sum(1 for a, b in zip(s[:m], ref[:m]) if a != b)
+    if differ or len(s) < len(ref) - 2 * 480:
+        bad.append("%d of %d samples differ from ffmpeg's decoding (%d samples there)" % (differ, m, len(ref)))
 j = json.load(open(stats))
 if j.get("audio_device") != "wav" or j.get("audio") != "48000 Hz 2 ch":
     bad.append("stats: audio_device %r, audio %r" % (j.get("audio_device"), j.get("audio")))
@@ -66,7 +77,9 @@ PY
 # 1. Full volume: the click 1.000 s in, the sound as long as the clip.
 play "$work/a.wav" --stats "$work/a.json" >"$work/log" 2>&1 || { cat "$work/log"; fail "play"; }
 grep -q "^  sound             48000 Hz 2 ch on wav: " "$work/log" || { cat "$work/log"; fail "summary"; }
-peak=$(python3 "$work/check.py" "$work/a.wav" "$work/a.json" 1.0) || fail "full volume"
+ffmpeg -nostdin -v error -i "$work/clip.mkv" -map 0:a:0 -f s16le -ac 2 -ar 48000 - >"$work/ref.raw" ||
+    fail "ffmpeg decoding the clip's sound"
+peak=$(python3 "$work/check.py" "$work/a.wav" "$work/a.json" 1.0 0 "$work/ref.raw") || fail "full volume"
 # 2. --volume 50: (50/100)^3 of it, at the same time.
 play "$work/b.wav" --stats "$work/b.json" --volume 50 >"$work/log" 2>&1 || { cat "$work/log"; fail "--volume"; }
 python3 "$work/check.py" "$work/b.wav" "$work/b.json" 0.125 "$peak" >/dev/null || fail "--volume 50"

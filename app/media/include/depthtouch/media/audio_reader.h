@@ -10,7 +10,8 @@
 /// own rate and channel layout (up to 8 channels, FFmpeg's order); a rate outside 8..192 kHz is
 /// resampled to 48 kHz, more channels are down-mixed to stereo. Timeline: media time 0 is the
 /// input's start (AVFormatContext::start_time), as the video packets' Pts of the ffmpeg
-/// MediaSource. Decoded frames without a timestamp follow the previous one.
+/// MediaSource. Decoded frames without a timestamp follow the previous one, and so do frames
+/// within 2 ms of its end (a container's rounded timestamps: MKV's are in milliseconds).
 ///
 /// Thread-safety: thread-bound (the audio thread); open() on any thread.
 
