@@ -200,6 +200,7 @@ void AudioPlayer::step()
             have_ = {};
             blockPos_ = 0;
             sourceEnded_ = false;
+            gain_ = 0.0; // faded in over the ramp: a start, a seek or a loop does not click
             mode_ = Mode::Playing;
         }
     }

@@ -120,10 +120,13 @@ TEST_F(AudioPlayerTest, theSoundStartsAtTheStartTimeToTheSample)
     player_->start(1.25);
     play(200);
     ASSERT_GE(output_->kept.size(), 100u);
-    // Frame 60000 of the source is media time 1.25 s.
-    for (std::size_t i = 0; i < 100; ++i)
-        ASSERT_EQ(output_->kept[i], NumberedSource::value(60000 + static_cast<std::int64_t>(i)))
-            << "frame " << i;
+    // Frame 60000 of the source is media time 1.25 s; the sound fades in over 10 ms (480 frames:
+    // frame i at gain (i + 1) / 480), then plays as it is.
+    for (std::size_t i = 0; i < 1000; ++i) {
+        const double gain = std::min(1.0, static_cast<double>(i + 1) / 480.0);
+        const double want = NumberedSource::value(60000 + static_cast<std::int64_t>(i)) * gain;
+        ASSERT_NEAR(output_->kept[i], want, 0.5) << "frame " << i;
+    }
     const AudioStats st = player_->stats();
     EXPECT_EQ(st.silenceFrames, 0u);
     EXPECT_EQ(st.underruns, 0u);
@@ -138,8 +141,12 @@ TEST_F(AudioPlayerTest, whereTheSourceHasNoSoundYetSilencePlaysUntilItsFirstSamp
     ASSERT_GT(output_->kept.size(), gap + 10);
     EXPECT_TRUE(std::all_of(output_->kept.begin(), output_->kept.begin() + gap,
                             [](std::int16_t v) { return v == 0; }));
-    for (std::size_t i = 0; i < 10; ++i)
-        EXPECT_EQ(output_->kept[gap + i], NumberedSource::value(static_cast<std::int64_t>(i)));
+    for (std::size_t i = 0; i < 10; ++i) // fading in from the source's first sample
+        EXPECT_NEAR(output_->kept[gap + i],
+                    NumberedSource::value(static_cast<std::int64_t>(i)) *
+                        static_cast<double>(i + 1) / 480.0,
+                    0.5);
+    EXPECT_EQ(output_->kept[gap + 480], NumberedSource::value(480));
     EXPECT_EQ(player_->stats().silenceFrames, gap);
 }
 
@@ -177,9 +184,9 @@ TEST_F(AudioPlayerTest, pauseStopsTheClockAndResumeGoesOnWhereItStopped)
     player_->step();
     ASSERT_TRUE(player_->clock().running);
     EXPECT_NEAR(heardNow(), before, 2.0 / kRate);
-    // Not one frame lost or repeated across the pause.
+    // Not one frame lost or repeated across the pause (after the first 10 ms, faded in).
     play(300);
-    for (std::size_t i = 0; i < output_->kept.size(); ++i)
+    for (std::size_t i = 480; i < output_->kept.size(); ++i)
         ASSERT_EQ(output_->kept[i], NumberedSource::value(static_cast<std::int64_t>(i))) << i;
 }
 
@@ -197,8 +204,10 @@ TEST_F(AudioPlayerTest, aSeekSilencesAtOnceAndPlaysOnFromTheNewPlace)
     EXPECT_EQ(output_->kept.size(), before);
     player_->start(5.0);
     play(100);
-    ASSERT_GT(output_->kept.size(), before);
-    EXPECT_EQ(output_->kept[before], NumberedSource::value(5 * kRate));
+    ASSERT_GT(output_->kept.size(), before + 480);
+    // From the new place, faded in: no step at the join larger than the ramp's
+    EXPECT_EQ(output_->kept[before], 0);
+    EXPECT_EQ(output_->kept[before + 479], NumberedSource::value(5 * kRate + 479));
     EXPECT_NEAR(heardNow(), 5.1, 1.0 / kRate);
 }
 
@@ -283,7 +292,7 @@ TEST_F(AudioPlayerTest, aThreadLateForLongerThanTheQueueIsAnUnderrunAndTheSoundG
     EXPECT_EQ(player_->stats().underruns, 1u);
     EXPECT_TRUE(player_->clock().running);
     // Nothing of the sound was skipped: it goes on with the next frame of the source.
-    for (std::size_t i = 0; i < output_->kept.size(); ++i)
+    for (std::size_t i = 480; i < output_->kept.size(); ++i)
         ASSERT_EQ(output_->kept[i], NumberedSource::value(static_cast<std::int64_t>(i))) << i;
 }
 

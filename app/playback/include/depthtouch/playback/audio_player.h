@@ -16,7 +16,8 @@
 /// start, a gap) silence is played, sound it repeats is dropped. halt() silences at once (a seek
 /// begins, stop). Pause holds the device's queue (AudioOutput::pause). The volume is a gain on the
 /// samples, (volume / 100)³ as mpv's software volume, moved to a new value over 10 ms so a change
-/// does not click; mute is gain 0 the same way.
+/// does not click; mute is gain 0 the same way; the sound fades in over the same 10 ms at every
+/// start (open, seek, loop).
 ///
 /// Failures: a source that cannot be read further ends the sound (stats().ended); an output that
 /// is unplugged or fails ends the sound with stats().lost set; the picture plays on its own clock
