@@ -22,6 +22,9 @@ using namespace detail;
 
 namespace {
 
+/// libav's time base of AVFormatContext::start_time (AV_TIME_BASE_Q is a C compound literal).
+constexpr AVRational kMicroseconds{1, AV_TIME_BASE};
+
 /// A frame that starts this close to the previous one's end (s) follows it: 2 ms, four times the
 /// rounding of a millisecond time base.
 constexpr double kContinuity = 0.002;
@@ -198,7 +201,7 @@ Result<std::unique_ptr<AudioReader>> AudioReader::open(const std::string &url)
     const AVStream &st = *ctx->streams[a.index];
     a.tb = st.time_base;
     if (ctx->start_time != AV_NOPTS_VALUE)
-        a.origin = av_rescale_q(ctx->start_time, AV_TIME_BASE_Q, a.tb);
+        a.origin = av_rescale_q(ctx->start_time, kMicroseconds, a.tb);
     for (unsigned i = 0; i < ctx->nb_streams; ++i)
         if (static_cast<int>(i) != a.index)
             ctx->streams[i]->discard = AVDISCARD_ALL;
