@@ -18,6 +18,12 @@ constexpr double kGainRampSeconds = 0.01;  ///< A volume change moves over this 
 constexpr double kMinQueueSeconds = 0.01;
 constexpr double kMaxQueueSeconds = 1.0;
 
+/// Frames of a ramp (the fade-in and fade-out of a join) at \a rate Hz.
+std::size_t rampFrames(int rate) noexcept
+{
+    return static_cast<std::size_t>(std::ceil(kGainRampSeconds * static_cast<double>(rate)));
+}
+
 } // namespace
 
 double volumeGain(double percent, bool mute) noexcept
@@ -37,6 +43,9 @@ AudioPlayer::AudioPlayer(hal::AudioSource &source, hal::AudioOutput &output, pla
     const auto samples = kBlockFrames * static_cast<std::size_t>(format_.channels);
     block_.resize(samples);
     scaled_.resize(samples);
+    const auto channels = static_cast<std::size_t>(format_.channels);
+    written_.resize((queueFrames_ + kBlockFrames) * channels);
+    fadeOut_.resize(rampFrames(format_.sampleRate) * channels);
     targetGain_ = gain_ = volumeGain(config.volume, config.mute);
 }
 
@@ -184,33 +193,23 @@ void AudioPlayer::step()
         return;
     if (mode_ == Mode::Playing && output_.delayFrames()) // the device's count brought up to date
         countUnderruns(); // before a restart forgets that the sound had ended
-    if (mode_ != Mode::Playing || paused)
+    if (mode_ != Mode::Playing)
         gain_ = rampTarget_; // nothing sounds: a new volume needs no ramp
-    if (haltGen != haltSeen_ || startGen != startSeen_) {
-        const bool restart = startGen != startSeen_;
-        haltSeen_ = haltGen;
-        startSeen_ = startGen;
-        if (auto f = output_.flush(); !f)
-            return lose(f.error());
-        mode_ = Mode::Idle;
-        if (restart) {
-            // A source that cannot seek plays on from where it is: its sound before t is dropped.
-            (void)source_.seek(startAt);
-            writtenEnd_ = startAt;
-            have_ = {};
-            blockPos_ = 0;
-            sourceEnded_ = false;
-            gain_ = 0.0; // faded in over the ramp: a start, a seek or a loop does not click
-            mode_ = Mode::Playing;
-        }
-    }
-    if (paused != pausedSeen_) {
-        if (auto p = output_.pause(paused); !p)
-            return lose(p.error());
-        pausedSeen_ = paused;
-    }
-    if (mode_ == Mode::Idle || paused) {
-        publish(false, writtenEnd_, 0.0, clock_.now());
+    if (!control(startGen, haltGen, startAt, paused))
+        return;
+    if (mode_ == Mode::Idle || mode_ == Mode::Paused) {
+        // Halted: the fade-out of the cut, then nothing. Paused: silence keeps the device going.
+        auto delay = output_.delayFrames();
+        if (!delay)
+            return lose(delay.error());
+        std::size_t want = fadeOutFrames_ - fadeOutPos_;
+        if (mode_ == Mode::Paused)
+            want = std::max(want, queueFrames_ - std::min(queueFrames_, *delay));
+        for (std::size_t w = 1; want > 0 && w > 0; want -= w)
+            w = writeZeros(want);
+        if (mode_ == Mode::Lost)
+            return;
+        publish(false, mode_ == Mode::Paused ? pausedAt_ : writtenEnd_, 0.0, clock_.now());
         return;
     }
     if (mode_ == Mode::Playing) {
@@ -229,6 +228,88 @@ void AudioPlayer::step()
     if (mode_ == Mode::Playing && sourceEnded_ && *delay == 0)
         mode_ = Mode::Ended;
     publish(mode_ == Mode::Playing, writtenEnd_ - queued, queued, clock_.now());
+}
+
+bool AudioPlayer::control(std::uint64_t startGen, std::uint64_t haltGen, double startAt,
+                          bool paused)
+{
+    const bool restart = startGen != startSeen_;
+    if (restart || haltGen != haltSeen_) {
+        haltSeen_ = haltGen;
+        startSeen_ = startGen;
+        if (!cut())
+            return false;
+        mode_ = Mode::Idle;
+        if (restart && paused) {
+            mode_ = Mode::Paused; // a seek while paused: the sound starts there at the resume
+            pausedAt_ = startAt;
+        } else if (restart) {
+            begin(startAt);
+        }
+    }
+    if (paused == pausedSeen_)
+        return true;
+    pausedSeen_ = paused;
+    if (paused && mode_ == Mode::Playing) {
+        auto delay = output_.delayFrames();
+        if (!delay) {
+            lose(delay.error());
+            return false;
+        }
+        pausedAt_ = writtenEnd_ - static_cast<double>(*delay) / format_.sampleRate;
+        if (!cut())
+            return false;
+        mode_ = Mode::Paused;
+    } else if (!paused && mode_ == Mode::Paused) {
+        if (!cut()) // the silence queued while paused
+            return false;
+        begin(pausedAt_);
+    }
+    return true;
+}
+
+bool AudioPlayer::cut()
+{
+    auto delay = output_.delayFrames();
+    if (!delay) {
+        lose(delay.error());
+        return false;
+    }
+    // The queue's first frames (the one heard next first) faded to 0 over the ramp, or over the
+    // whole queue when it is shorter.
+    const auto channels = static_cast<std::size_t>(format_.channels);
+    const std::size_t ringFrames = written_.size() / channels;
+    const std::size_t queued =
+        static_cast<std::size_t>(std::min<std::uint64_t>({*delay, writtenFrames_, ringFrames}));
+    const std::size_t n = std::min(queued, fadeOut_.size() / channels);
+    const std::uint64_t first = writtenFrames_ - queued;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double g = 1.0 - static_cast<double>(i + 1) / static_cast<double>(n);
+        const std::size_t at = static_cast<std::size_t>((first + i) % ringFrames) * channels;
+        for (std::size_t c = 0; c < channels; ++c)
+            fadeOut_[i * channels + c] =
+                static_cast<std::int16_t>(std::lround(written_[at + c] * g));
+    }
+    fadeOutFrames_ = n;
+    fadeOutPos_ = 0;
+    if (auto f = output_.flush(); !f) {
+        lose(f.error());
+        return false;
+    }
+    return true;
+}
+
+void AudioPlayer::begin(double seconds)
+{
+    // A source that cannot seek plays on from where it is: its sound before t is dropped.
+    (void)source_.seek(seconds);
+    writtenEnd_ = seconds;
+    have_ = {};
+    blockPos_ = 0;
+    sourceEnded_ = false;
+    gain_ = 0.0; // faded in over the ramp: a start, a seek, a loop or a resume does not click
+    underrunsSeen_ = output_.underruns(); // the device running dry while halted is none
+    mode_ = Mode::Playing;
 }
 
 void AudioPlayer::countUnderruns()
@@ -297,29 +378,50 @@ std::size_t AudioPlayer::writeSound(std::size_t frames)
             scaled_[i * channels + c] = static_cast<std::int16_t>(std::clamp(v, -32768.0, 32767.0));
         }
     }
-    auto w = output_.write(scaled_.data(), frames);
-    if (!w) {
-        lose(w.error());
-        return 0;
-    }
-    gain_ = moveToward(gain_, rampTarget_, static_cast<double>(*w) * step);
-    blockPos_ += *w;
-    writtenEnd_ += static_cast<double>(*w) / rate;
-    soundFrames_ += *w;
-    return *w;
+    const std::size_t w = writeOut(frames);
+    gain_ = moveToward(gain_, rampTarget_, static_cast<double>(w) * step);
+    blockPos_ += w;
+    writtenEnd_ += static_cast<double>(w) / rate;
+    soundFrames_ += w;
+    return w;
 }
 
 std::size_t AudioPlayer::writeSilence(std::size_t frames)
 {
+    const std::size_t w = writeZeros(frames);
+    writtenEnd_ += static_cast<double>(w) / static_cast<double>(format_.sampleRate);
+    silenceFrames_ += w;
+    return w;
+}
+
+std::size_t AudioPlayer::writeZeros(std::size_t frames)
+{
     const auto channels = static_cast<std::size_t>(format_.channels);
+    frames = std::min(frames, kBlockFrames);
     std::fill_n(scaled_.begin(), frames * channels, std::int16_t{0});
+    return writeOut(frames);
+}
+
+std::size_t AudioPlayer::writeOut(std::size_t frames)
+{
+    const auto channels = static_cast<std::size_t>(format_.channels);
+    const std::size_t mixed = std::min(frames, fadeOutFrames_ - fadeOutPos_);
+    const std::int16_t *fade = fadeOut_.data() + fadeOutPos_ * channels;
+    for (std::size_t i = 0; i < mixed * channels; ++i)
+        scaled_[i] = static_cast<std::int16_t>(
+            std::clamp(scaled_[i] + static_cast<int>(fade[i]), -32768, 32767));
     auto w = output_.write(scaled_.data(), frames);
     if (!w) {
         lose(w.error());
         return 0;
     }
-    writtenEnd_ += static_cast<double>(*w) / static_cast<double>(format_.sampleRate);
-    silenceFrames_ += *w;
+    fadeOutPos_ += std::min(*w, mixed);
+    const std::size_t ringFrames = written_.size() / channels;
+    for (std::size_t i = 0; i < *w; ++i) {
+        const std::size_t at = static_cast<std::size_t>((writtenFrames_ + i) % ringFrames);
+        std::copy_n(scaled_.data() + i * channels, channels, written_.data() + at * channels);
+    }
+    writtenFrames_ += *w;
     return *w;
 }
 

@@ -53,17 +53,37 @@ Result<void> PacedAudioOutput::openDevice(const hal::AudioFormat &format)
     const auto buffer = static_cast<std::size_t>(
         std::max(1.0, std::round(settings_.bufferMs * 1e-3 * format.sampleRate)));
     pacer_.start(format.sampleRate, buffer);
+    queue_.assign(buffer * static_cast<std::size_t>(format.channels), 0);
+    queueHead_ = queueCount_ = 0;
+    playedSeen_ = 0;
     unplugAt_ =
         static_cast<std::uint64_t>(std::llround(settings_.unplugSeconds * format.sampleRate));
     return ok();
 }
 
-void PacedAudioOutput::catchUp() noexcept
+Result<void> PacedAudioOutput::catchUp()
 {
     pacer_.update(clock_.now());
     setPlayed(pacer_.played());
     for (std::uint64_t n = underruns(); n < pacer_.underruns(); ++n)
         countUnderrun();
+    // Hand the frames heard since the last call to keep(), oldest first (one or two pieces of the
+    // ring).
+    const auto channels = static_cast<std::size_t>(format().channels);
+    const std::size_t capacity = queue_.size() / std::max<std::size_t>(1, channels);
+    auto heard = static_cast<std::size_t>(
+        std::min<std::uint64_t>(pacer_.played() - playedSeen_, queueCount_));
+    playedSeen_ = pacer_.played();
+    while (heard > 0 && capacity > 0) {
+        const std::size_t piece = std::min(heard, capacity - queueHead_);
+        const std::int16_t *from = queue_.data() + queueHead_ * channels;
+        queueHead_ = (queueHead_ + piece) % capacity;
+        queueCount_ -= piece;
+        heard -= piece;
+        if (auto r = keep(from, piece); !r)
+            return r;
+    }
+    return ok();
 }
 
 Result<void> PacedAudioOutput::keep(const std::int16_t *, std::size_t)
@@ -80,40 +100,45 @@ Result<std::size_t> PacedAudioOutput::writeDevice(const std::int16_t *samples, s
             return unexpected(Errc::NoDevice, "the audio device was unplugged");
         frames = static_cast<std::size_t>(std::min<std::uint64_t>(frames, left));
     }
+    DT_TRY(catchUp()); // first what was heard: it makes room in the ring
     const std::size_t taken = pacer_.push(frames, clock_.now());
-    catchUp();
-    if (taken > 0)
-        if (auto r = keep(samples, taken); !r)
-            return unexpected(r.error());
+    const auto channels = static_cast<std::size_t>(format().channels);
+    const std::size_t capacity = queue_.size() / std::max<std::size_t>(1, channels);
+    for (std::size_t i = 0; i < taken; ++i) {
+        const std::size_t at = (queueHead_ + queueCount_ + i) % capacity;
+        std::copy_n(samples + i * channels, channels, queue_.data() + at * channels);
+    }
+    queueCount_ += taken;
+    DT_TRY(catchUp());
     return taken;
 }
 
 Result<std::size_t> PacedAudioOutput::delayDevice()
 {
-    catchUp();
+    DT_TRY(catchUp());
     return pacer_.queued();
 }
 
 Result<void> PacedAudioOutput::pauseDevice(bool paused)
 {
     pacer_.pause(paused, clock_.now());
-    catchUp();
-    return ok();
+    return catchUp();
 }
 
 Result<void> PacedAudioOutput::flushDevice()
 {
+    DT_TRY(catchUp()); // what was heard up to now stays heard
     pacer_.flush(clock_.now());
-    catchUp();
-    return ok();
+    queueHead_ = queueCount_ = 0;
+    playedSeen_ = pacer_.played();
+    return catchUp();
 }
 
 Result<void> PacedAudioOutput::drainDevice()
 {
     (void)clock_.sleepUntil(pacer_.drainedAt(clock_.now()));
     pacer_.finishDrain(clock_.now());
-    catchUp();
-    return ok();
+    return catchUp();
 }
 
 } // namespace depthtouch::drivers

@@ -39,6 +39,7 @@ Result<void> WavAudioOutput::openDevice(const hal::AudioFormat &format)
     ffmpeg::quietLibav();
     if (av::openWavFile(out_, path_.c_str(), format.sampleRate, format.channels) < 0)
         return unexpected(Errc::Io, "cannot create the WAV file");
+    kept_ = 0;
     return PacedAudioOutput::openDevice(format);
 }
 
@@ -46,14 +47,15 @@ Result<void> WavAudioOutput::keep(const std::int16_t *samples, std::size_t frame
 {
     if (out_ == nullptr)
         return unexpected(Errc::InvalidState, "no WAV file");
-    if (av::writeWavFrames(out_, samples, frames, format().channels,
-                           static_cast<std::int64_t>(framesWritten())) < 0)
+    if (av::writeWavFrames(out_, samples, frames, format().channels, kept_) < 0)
         return unexpected(Errc::Io, "cannot write the WAV file (disk full?)");
+    kept_ += static_cast<std::int64_t>(frames);
     return ok();
 }
 
 void WavAudioOutput::closeDevice() noexcept
 {
+    (void)catchUp(); // what was heard by now; the rest of the queue never is
     (void)av::closeWavFile(out_);
 }
 

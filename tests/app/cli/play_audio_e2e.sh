@@ -7,7 +7,9 @@
 # decodes the clip's sound (none dropped or silenced between frames), --volume 50 must scale the click
 # by (0.5)^3 as mpv's volume does, --mute must write silence, --no-audio and --audio-device none no
 # file, the stats JSON must name the device and the sound, and a sound output that does not exist
-# is one line and exit 2. Exit 77 (skip) without the ffmpeg CLI. Usage: play_audio_e2e.sh DEPTHTOUCH
+# is one line and exit 2; a tone paused, resumed, sought and stopped through the control socket
+# must join without a click (no sample step above a ramp's). Exit 77 (skip) without the ffmpeg CLI.
+# Usage: play_audio_e2e.sh DEPTHTOUCH
 set -u
 exe="$1"
 for tool in ffmpeg python3; do
@@ -102,4 +104,61 @@ done
 rc=$?
 [ $rc -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "alsa" "$work/err" ||
     { cat "$work/err"; fail "--audio-device pulse: exit $rc, want 2 and one line naming alsa"; }
-echo "play: the click 1.000 s after the first frame, --volume 50 at 0.125, --mute silent, no sound with --no-audio, a bad device refused"
+# 6. Joins: a steady 100 Hz tone (its own largest step between samples: 0.5 * 32767 * 2 pi 100 /
+# 48000 = 214), paused, resumed, sought and stopped through the control socket. What the wav
+# output heard must never step by more than the tone's own step plus a 10 ms ramp's (16384 / 480
+# = 34) and the coding error: 400, where a cut without a fade steps by up to 16384.
+ff -f lavfi -i testsrc=size=96x72:rate=30:duration=3 \
+    -f lavfi -i "aevalsrc='0.5*sin(2*PI*100*t)':s=48000:d=3" -ac 2 \
+    -pix_fmt yuv420p -c:v libx264 -preset ultrafast -c:a aac -b:a 192k "$work/tone.mp4" ||
+    fail "ffmpeg tone"
+"$exe" encode --depth "$work/depth.mkv" --color "$work/tone.mp4" --preset ultrafast \
+    -o "$work/tone.mkv" >"$work/log" 2>&1 || { cat "$work/log"; fail "encode tone"; }
+"$exe" play "$work/tone.mkv" --display mock --haptic none --no-config --audio-device wav \
+    --audio-device-options "path=$work/j.wav" --control "$work/ctl" >"$work/log" 2>&1 &
+player=$!
+python3 - "$work/ctl" "$work/j.wav" <<'PY' || { kill "$player" 2>/dev/null; cat "$work/log"; fail "joins"; }
+import json, socket, struct, sys, time, wave
+path, wav = sys.argv[1], sys.argv[2]
+end = time.monotonic() + 20
+while True:
+    try:
+        s = socket.socket(socket.AF_UNIX); s.connect(path); break
+    except OSError:
+        if time.monotonic() > end: sys.exit("no control socket")
+        time.sleep(0.05)
+f = s.makefile("rw")
+def ask(*cmd):
+    f.write(json.dumps({"command": list(cmd), "request_id": 1}) + "\n"); f.flush()
+    while True:
+        r = json.loads(f.readline())
+        if r.get("request_id") == 1: return r
+def pos():
+    return ask("get_property", "time-pos").get("data") or 0.0
+while pos() < 0.6:
+    if time.monotonic() > end: sys.exit("the tone never played 0.6 s")
+    time.sleep(0.02)
+# Pause 0.4 s, resume, seek back 1.5 s in (the 3 s clip), pause again, stop.
+for cmd, wait in ((("set_property", "pause", True), 0.4), (("set_property", "pause", False), 0.5),
+                  (("seek", 1.5, "absolute"), 0.6), (("set_property", "pause", True), 0.2)):
+    r = ask(*cmd)
+    if r.get("error") != "success": sys.exit("%s: %s" % (cmd, r))
+    time.sleep(wait)
+ask("stop")
+s.close()
+time.sleep(1.0)
+w = wave.open(wav)
+n, ch = w.getnframes(), w.getnchannels()
+x = struct.unpack("<%dh" % (n * ch), w.readframes(n))[0::ch]
+steps = [abs(b - a) for a, b in zip(x, x[1:])]
+largest = max(steps)
+quiet = sum(1 for v in x if v == 0)
+at = steps.index(largest) / 48000
+if quiet < 0.3 * 48000:
+    sys.exit("%.2f s of silence heard: the pause was not heard" % (quiet / 48000))
+if largest > 400:
+    sys.exit("a step of %d at %.3f s of what was heard: a click (limit 400)" % (largest, at))
+print("joins: largest step %d (limit 400), %.2f s of silence heard, %.2f s in all" % (largest, quiet / 48000, n / 48000))
+PY
+wait "$player" || { cat "$work/log"; fail "play with joins"; }
+echo "play: the click 1.000 s after the first frame, --volume 50 at 0.125, --mute silent, no sound with --no-audio, a bad device refused, pause/resume/seek/stop without a click"

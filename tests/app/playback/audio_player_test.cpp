@@ -3,13 +3,16 @@
 // PacedAudioOutput) that keeps what it was given. Checked against the source's own numbering and
 // the clock: where the sound starts (sample-accurate, silence before the source's first sample),
 // the audio clock (the media time heard, which the picture follows), pause, a seek's restart, the
-// volume's gain and its 10 ms ramp (no click), mute, the end of the sound and an unplugged device.
+// volume's gain and its 10 ms ramp (no click), joins without a click (every start fades in, every
+// cut fades out: judged on what the card played), mute, the end of the sound and an unplugged
+// device.
 #include "depthtouch/playback/audio_player.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <vector>
@@ -61,7 +64,7 @@ private:
     std::int16_t level_ = -1;
 };
 
-/// The simulated sound card, keeping every sample it took.
+/// The simulated sound card, keeping every sample it played (a flush drops the rest).
 class KeepingOutput final : public drivers::PacedAudioOutput {
 public:
     KeepingOutput(platform::Clock &clock, const drivers::PacedAudioSettings &s)
@@ -175,19 +178,41 @@ TEST_F(AudioPlayerTest, pauseStopsTheClockAndResumeGoesOnWhereItStopped)
     player_->start(0.0);
     play(300);
     const double before = heardNow();
+    const auto pausedAt = static_cast<std::size_t>(std::llround(before * kRate));
+    ASSERT_EQ(output_->kept.size(), pausedAt); // the card keeps what it played
     player_->setPaused(true);
     EXPECT_FALSE(player_->clock().running);
     play(1000);
     EXPECT_FALSE(player_->clock().running);
-    EXPECT_EQ(player_->stats().underruns, 0u); // a paused device holds its queue
+    EXPECT_EQ(player_->stats().underruns, 0u); // silence kept the device going
+    // Heard while paused: the next 10 ms faded out, then silence.
+    const auto &k = output_->kept;
+    ASSERT_GE(k.size(), pausedAt + 48000); // a second of pause heard
+    for (std::size_t i = 0; i < 480; ++i)
+        ASSERT_NEAR(k[pausedAt + i],
+                    NumberedSource::value(static_cast<std::int64_t>(pausedAt + i)) *
+                        (1.0 - static_cast<double>(i + 1) / 480.0),
+                    1.0)
+            << i;
+    EXPECT_TRUE(std::all_of(k.begin() + static_cast<std::ptrdiff_t>(pausedAt + 480), k.end(),
+                            [](std::int16_t v) { return v == 0; }));
+    // Resumed within one turn of the audio thread, where it stopped...
     player_->setPaused(false);
     player_->step();
+    const std::size_t resumedAt = k.size();
     ASSERT_TRUE(player_->clock().running);
     EXPECT_NEAR(heardNow(), before, 2.0 / kRate);
-    // Not one frame lost or repeated across the pause (after the first 10 ms, faded in).
+    // ...faded in, then not one frame lost or repeated across the pause.
     play(300);
-    for (std::size_t i = 480; i < output_->kept.size(); ++i)
-        ASSERT_EQ(output_->kept[i], NumberedSource::value(static_cast<std::int64_t>(i))) << i;
+    ASSERT_GT(k.size(), resumedAt + 9600);
+    // The silence queued while paused was dropped: the sound at the pause, at the ramp's first
+    // step.
+    EXPECT_NEAR(k[resumedAt], NumberedSource::value(static_cast<std::int64_t>(pausedAt)) / 480.0,
+                0.5);
+    for (std::size_t i = 480; i < 9600; ++i)
+        ASSERT_EQ(k[resumedAt + i], NumberedSource::value(static_cast<std::int64_t>(pausedAt + i)))
+            << i;
+    EXPECT_EQ(player_->stats().underruns, 0u);
 }
 
 TEST_F(AudioPlayerTest, aSeekSilencesAtOnceAndPlaysOnFromTheNewPlace)
@@ -195,13 +220,18 @@ TEST_F(AudioPlayerTest, aSeekSilencesAtOnceAndPlaysOnFromTheNewPlace)
     make();
     player_->start(0.0);
     play(300);
+    const std::size_t heard = output_->kept.size();
     player_->halt();
     player_->step();
     EXPECT_FALSE(player_->clock().running);
-    EXPECT_EQ(*output_->delayFrames(), 0u); // the queue was dropped
+    // The 0.1 s queue was dropped; what is left is the fade-out of its first 10 ms.
+    EXPECT_EQ(*output_->delayFrames(), 480u);
+    play(200); // halted: nothing more is written
     const std::size_t before = output_->kept.size();
-    play(200); // halted: nothing is written
-    EXPECT_EQ(output_->kept.size(), before);
+    EXPECT_EQ(before, heard + 480);
+    EXPECT_NEAR(output_->kept[heard + 240],
+                NumberedSource::value(static_cast<std::int64_t>(heard) + 240) * 0.4979, 1.0);
+    EXPECT_EQ(output_->kept[before - 1], 0);
     player_->start(5.0);
     play(100);
     ASSERT_GT(output_->kept.size(), before + 480);
@@ -209,6 +239,52 @@ TEST_F(AudioPlayerTest, aSeekSilencesAtOnceAndPlaysOnFromTheNewPlace)
     EXPECT_EQ(output_->kept[before], 0);
     EXPECT_EQ(output_->kept[before + 479], NumberedSource::value(5 * kRate + 479));
     EXPECT_NEAR(heardNow(), 5.1, 1.0 / kRate);
+    EXPECT_EQ(player_->stats().underruns, 0u); // the card running dry while halted is none
+}
+
+/// The largest step between two neighbouring samples of \a k from \a from on.
+int largestStep(const std::vector<std::int16_t> &k, std::size_t from = 1)
+{
+    int largest = 0;
+    for (std::size_t i = std::max<std::size_t>(from, 1); i < k.size(); ++i)
+        largest = std::max(largest, std::abs(k[i] - k[i - 1]));
+    return largest;
+}
+
+TEST_F(AudioPlayerTest, noJoinClicksStartPauseResumeSeekAndRestartWhilePlaying)
+{
+    // GIVEN a steady level of 20000 (any cut without a ramp steps by 20000)
+    make();
+    source_->setLevel(20000);
+    player_->start(0.0);
+    play(200);
+    player_->setPaused(true); // pause, and resume while the fade-out still plays
+    player_->step();
+    clock_.advance(milliseconds(4));
+    player_->setPaused(false);
+    play(200);
+    player_->setPaused(true); // a long pause
+    play(500);
+    player_->setPaused(false);
+    play(200);
+    player_->halt(); // a seek: halt, then the new place a while later
+    play(100);
+    player_->start(3.0);
+    play(200);
+    player_->start(6.0); // a loop's restart while sound plays: the cut and the start cross-fade
+    play(200);
+    player_->halt();
+    play(100);
+    // THEN what the card played never steps by more than a ramp's step (20000 / 480 = 41.7)
+    const auto &k = output_->kept;
+    ASSERT_GT(k.size(), static_cast<std::size_t>(kRate));
+    EXPECT_LE(largestStep(k), 42);
+    EXPECT_EQ(k.front(), 42); // the first sample is the fade-in's first step: 20000 / 480
+    EXPECT_EQ(k.back(), 0);   // and it ends faded out
+    // Sound and silence both there: 8 ramps (4 in, 4 out) and full level between them.
+    EXPECT_GT(std::count(k.begin(), k.end(), std::int16_t{20000}), 4 * 4800);
+    EXPECT_GT(std::count(k.begin(), k.end(), std::int16_t{0}), 4 * 4800);
+    EXPECT_EQ(player_->stats().underruns, 0u);
 }
 
 TEST_F(AudioPlayerTest, theVolumeIsMpvsCubicGainReachedIn10MsWithoutAClick)
@@ -217,7 +293,8 @@ TEST_F(AudioPlayerTest, theVolumeIsMpvsCubicGainReachedIn10MsWithoutAClick)
     source_->setLevel(16000);
     player_->start(0.0);
     play(200);
-    const std::size_t change = output_->kept.size();
+    // The change applies from the next frame written (the card plays what it holds first).
+    const auto change = static_cast<std::size_t>(output_->framesWritten());
     player_->setVolume(50.0); // (0.5)^3 = 0.125
     play(300);
     const auto &k = output_->kept;
@@ -233,7 +310,7 @@ TEST_F(AudioPlayerTest, theVolumeIsMpvsCubicGainReachedIn10MsWithoutAClick)
     EXPECT_LE(largest, 34);
     EXPECT_GT(largest, 0);
     player_->setMute(true);
-    play(100);
+    play(300); // the 0.1 s queued plays first
     EXPECT_EQ(output_->kept.back(), 0);
     EXPECT_TRUE(player_->muted());
     EXPECT_EQ(player_->volume(), 50.0); // kept through mute, as the OSD shows it

@@ -242,7 +242,7 @@ template <class T> T field(const std::vector<char> &data, std::size_t offset)
     return v;
 }
 
-TEST_F(AudioOutputTest, theWavOutputWritesEveryFrameItTookInOrder)
+TEST_F(AudioOutputTest, theWavOutputWritesEveryFrameItPlayedInOrder)
 {
     const std::string path = ::testing::TempDir() + "/dt_audio_output_test.wav";
     std::filesystem::remove(path);
@@ -290,6 +290,45 @@ TEST_F(AudioOutputTest, theWavOutputWritesEveryFrameItTookInOrder)
     EXPECT_EQ(field<std::uint16_t>(fmt->data, 14), 16u);
     ASSERT_EQ(data->data.size(), tone.size() * 2);
     EXPECT_EQ(std::memcmp(data->data.data(), tone.data(), data->data.size()), 0);
+}
+
+TEST_F(AudioOutputTest, theWavOutputHoldsWhatWasHeardNotWhatAFlushDropped)
+{
+    const std::string path = ::testing::TempDir() + "/dt_audio_output_flush.wav";
+    std::filesystem::remove(path);
+    const std::string options = "path=" + path + ",buffer=200";
+    if (backendNames(BackendKind::AudioOutput).find("wav") == std::string::npos)
+        GTEST_SKIP() << "no wav backend in this build (no FFmpeg)";
+    auto made = createAudioOutput("wav", configWith(&clock_, options.c_str()));
+    ASSERT_TRUE(made) << made.error().what;
+    auto &out = *made;
+    ASSERT_TRUE(out->open({kRate, 1}));
+    // GIVEN 100 ms of frames numbered 1.., of which 40 ms are heard before a flush (a seek)
+    std::vector<std::int16_t> first(framesIn(100));
+    for (std::size_t i = 0; i < first.size(); ++i)
+        first[i] = static_cast<std::int16_t>(i + 1);
+    ASSERT_EQ(*out->write(first.data(), first.size()), first.size());
+    clock_.advance(milliseconds(40));
+    ASSERT_TRUE(out->flush());
+    // AND then 30 ms of -7, drained
+    const std::vector<std::int16_t> second(framesIn(30), -7);
+    ASSERT_EQ(*out->write(second.data(), second.size()), second.size());
+    ASSERT_TRUE(out->drain());
+    out->close();
+    // THEN the file is the 40 ms heard, then the 30 ms: the dropped 60 ms are not in it
+    std::string form;
+    const Chunk *data = nullptr;
+    const std::vector<Chunk> chunks = riffChunks(path, form);
+    for (const Chunk &c : chunks)
+        data = c.id == "data" ? &c : data;
+    ASSERT_NE(data, nullptr);
+    ASSERT_EQ(data->data.size(), 2 * framesIn(70));
+    std::vector<std::int16_t> heard(framesIn(70));
+    std::memcpy(heard.data(), data->data.data(), data->data.size());
+    for (std::size_t i = 0; i < framesIn(40); ++i)
+        ASSERT_EQ(heard[i], first[i]) << i;
+    for (std::size_t i = framesIn(40); i < heard.size(); ++i)
+        ASSERT_EQ(heard[i], -7) << i;
 }
 
 TEST_F(AudioOutputTest, theWavOutputSaysWhenItsFileCannotBeMade)

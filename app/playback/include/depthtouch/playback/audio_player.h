@@ -14,10 +14,16 @@
 /// Timeline: start(t) plays from media time t (the first frame on screen after open, a seek, a
 /// loop): the source seeks there sample-accurately; where the source has no sound (before its
 /// start, a gap) silence is played, sound it repeats is dropped. halt() silences at once (a seek
-/// begins, stop). Pause holds the device's queue (AudioOutput::pause). The volume is a gain on the
-/// samples, (volume / 100)³ as mpv's software volume, moved to a new value over 10 ms so a change
-/// does not click; mute is gain 0 the same way; the sound fades in over the same 10 ms at every
-/// start (open, seek, loop).
+/// begins, stop). Pause silences the same way and plays silence while paused (the device keeps
+/// running, as Kodi's sink does); resume starts again at the media time heard at the pause. The
+/// volume is a gain on the samples, (volume / 100)³ as mpv's software volume, moved to a new value
+/// over 10 ms so a change does not click; mute is gain 0 the same way.
+///
+/// Joins without a click: every start (open, seek, loop, resume) fades in over the same 10 ms, and
+/// every cut (halt, pause, a start while sound plays) drops the device's queue but first fades out
+/// over 10 ms from the sample being heard (the dropped queue's first 10 ms, ramped to 0), mixed
+/// into what comes next. No sample step at a join is larger than the sound's own steps plus a
+/// ramp step (full scale / 480 at 48 kHz).
 ///
 /// Failures: a source that cannot be read further ends the sound (stats().ended); an output that
 /// is unplugged or fails ends the sound with stats().lost set; the picture plays on its own clock
@@ -120,8 +126,20 @@ private:
     void fill(std::size_t delay);
     /// Writes \a frames of `block_` from `blockPos_` with the gain; \return the frames taken.
     std::size_t writeSound(std::size_t frames);
-    /// Writes \a frames of silence; \return the frames taken.
+    /// Writes \a frames of silence on the timeline (the source's gap); \return the frames taken.
     std::size_t writeSilence(std::size_t frames);
+    /// Writes \a frames of silence off the timeline (paused, a halt's fade-out).
+    std::size_t writeZeros(std::size_t frames);
+    /// Writes the first \a frames of `scaled_` with the pending fade-out mixed in and keeps them
+    /// in `written_`; \return the frames taken (0 when lost).
+    std::size_t writeOut(std::size_t frames);
+    /// Takes the commands: halt, start, pause, resume. \return false when the output was lost.
+    bool control(std::uint64_t startGen, std::uint64_t haltGen, double startAt, bool paused);
+    /// Drops the device's queue, keeping its first 10 ms faded to 0 as the pending fade-out.
+    /// \return false when the output was lost.
+    bool cut();
+    /// Plays from media time \a seconds (the source seeks there), faded in.
+    void begin(double seconds);
     void lose(const Error &error);
     /// Publishes the clock (\a mediaTime heard at \a at) and the counters; \a queued: the
     /// device's queue, s.
@@ -145,7 +163,7 @@ private:
     AudioStats stats_;
 
     // The audio thread's own.
-    enum class Mode : std::uint8_t { Idle, Playing, Ended, Lost };
+    enum class Mode : std::uint8_t { Idle, Playing, Paused, Ended, Lost };
     Mode mode_ = Mode::Idle;
     std::uint64_t startSeen_ = 0;
     std::uint64_t haltSeen_ = 0;
@@ -158,6 +176,14 @@ private:
     hal::PcmBlock have_{};             ///< What block_ holds.
     std::size_t blockPos_ = 0;         ///< Frames of block_ written.
     bool sourceEnded_ = false;
+    double pausedAt_ = 0.0; ///< Paused: the media time heard at the pause, s.
+    /// The last frames written, after the gain (a ring of the queue's size and a block): what the
+    /// device has queued, for the fade-out of a cut.
+    std::vector<std::int16_t> written_;
+    std::uint64_t writtenFrames_ = 0;   ///< Frames ever put in written_.
+    std::vector<std::int16_t> fadeOut_; ///< The pending fade-out (10 ms at most).
+    std::size_t fadeOutFrames_ = 0;     ///< Its length, frames.
+    std::size_t fadeOutPos_ = 0;        ///< Frames of it written.
     std::uint64_t soundFrames_ = 0;
     std::uint64_t silenceFrames_ = 0;
     std::uint64_t underruns_ = 0;     ///< Counted (AudioStats::underruns).

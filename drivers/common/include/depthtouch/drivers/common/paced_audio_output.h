@@ -6,6 +6,9 @@
 /// Time: drivers::AudioPacer on the backend clock: frames queued by write() are heard at the sample
 /// rate from the moment the device starts; running dry while open is an underrun (counted, then the
 /// device waits for the next write). drain() sleeps on the clock until the queue is heard.
+/// What is heard is handed to keep() as it is heard, in order: frames dropped by flush() or still
+/// queued at close() never are (a file backend holds what a speaker would have played, not what
+/// was written).
 ///
 /// Options (`key=value`, parsePacedAudioSettings()): `buffer=MS` the device buffer, 10..2000 ms
 /// (default 100); with faults (the `mock` backend): `unplug=S` the device goes away once S seconds
@@ -16,6 +19,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "depthtouch/drivers/common/audio_pacer.h"
 #include "depthtouch/hal/audio_output_base.h"
@@ -63,19 +67,24 @@ protected:
     [[nodiscard]] Result<void> drainDevice() override;
     void closeDevice() noexcept override {}
 
-    /// \brief What a subclass does with the \a frames frames the device took (a file backend
-    /// writes them). Errors end the write with that error. The default keeps nothing.
+    /// \brief What a subclass does with \a frames frames once they are heard (a file backend
+    /// writes them), oldest first. An error ends the call that played them (write, delay, flush,
+    /// drain) with that error. The default keeps nothing.
     [[nodiscard]] virtual Result<void> keep(const std::int16_t *samples, std::size_t frames);
 
-    /// Plays what is due now and publishes the counts.
-    void catchUp() noexcept;
+    /// Plays what is due now, publishes the counts and keeps what was heard.
+    [[nodiscard]] Result<void> catchUp();
 
     platform::Clock &clock_;
 
 private:
     PacedAudioSettings settings_;
     AudioPacer pacer_;
-    std::uint64_t unplugAt_ = 0; ///< Frames written after which the device is gone (0: never).
+    std::uint64_t unplugAt_ = 0;      ///< Frames written after which the device is gone (0: never).
+    std::vector<std::int16_t> queue_; ///< The queued frames (a ring of the buffer's size).
+    std::size_t queueHead_ = 0;       ///< Frame index in queue_ of the oldest queued frame.
+    std::size_t queueCount_ = 0;      ///< Frames in queue_ not yet heard.
+    std::uint64_t playedSeen_ = 0;    ///< The pacer's played() when queue_ was last trimmed.
 };
 
 } // namespace depthtouch::drivers
