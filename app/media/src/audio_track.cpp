@@ -28,14 +28,24 @@ struct FifoDeleter {
 
 constexpr long long kAacBitRatePerChannel = 64000; ///< 128 kbit/s for stereo.
 
-/// \return whether \a container carries \a codec as it is. MPEG-TS (and HLS's segments), whose
-/// muxer does not answer avformat_query_codec(): the audio stream types of ISO/IEC 13818-1 that
-/// libavformat's muxer writes.
+/// \return whether \a codec is a broadcast sound codec a set-top box decodes (AAC, Opus, MPEG-1
+/// Layer II/III, AC-3, E-AC-3): sound already so coded is copied; PCM, FLAC and the rest are coded
+/// as AAC (PCM would take 1.5 Mbit/s of a stream for stereo at 48 kHz).
+bool broadcastCodec(AVCodecID codec)
+{
+    return codec == AV_CODEC_ID_AAC || codec == AV_CODEC_ID_OPUS || codec == AV_CODEC_ID_MP2 ||
+           codec == AV_CODEC_ID_MP3 || codec == AV_CODEC_ID_AC3 || codec == AV_CODEC_ID_EAC3;
+}
+
+/// \return whether \a container carries \a codec (a broadcastCodec()) as it is. MPEG-TS (and
+/// HLS's segments), whose muxer does not answer avformat_query_codec(): all of them (ISO/IEC
+/// 13818-1's audio stream types that libavformat's muxer writes).
 bool carries(Container container, const AVOutputFormat &format, AVCodecID codec)
 {
+    if (!broadcastCodec(codec))
+        return false;
     if (container == Container::MpegTs || container == Container::Hls)
-        return codec == AV_CODEC_ID_AAC || codec == AV_CODEC_ID_MP2 || codec == AV_CODEC_ID_MP3 ||
-               codec == AV_CODEC_ID_AC3 || codec == AV_CODEC_ID_EAC3 || codec == AV_CODEC_ID_OPUS;
+        return true;
     return avformat_query_codec(&format, codec, FF_COMPLIANCE_NORMAL) == 1;
 }
 

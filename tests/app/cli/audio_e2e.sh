@@ -63,8 +63,8 @@ for out in a.mkv a.mp4 a.ts; do
     grep -q "^audio: aac 48000 Hz 2 ch, copied" "$work/log" || { cat "$work/log"; fail "$out: summary"; }
     python3 "$work/check.py" "$work/$out" aac 48000 2 3.0 || fail "$out"
 done
-# 2. --audio: a 5 s PCM file, coded as AAC (MP4 and MPEG-TS do not carry PCM), cut to the picture.
-for out in b.mp4 b.ts; do
+# 2. --audio: a 5 s PCM file, coded as AAC (also in MKV, which could carry PCM), cut to the picture.
+for out in b.mkv b.mp4 b.ts; do
     enc --color "$work/film.mp4" --audio "$work/other.wav" -o "$work/$out" >"$work/log" 2>&1 ||
         { cat "$work/log"; fail "encode --audio $out"; }
     grep -q "^audio: pcm_s16le 44100 Hz 1 ch, coded as aac" "$work/log" || { cat "$work/log"; fail "$out: summary"; }
