@@ -17,6 +17,8 @@ constexpr std::size_t kBlockFrames = 2048; ///< Frames read from the source at a
 constexpr double kGainRampSeconds = 0.01;  ///< A volume change moves over this long.
 constexpr double kMinQueueSeconds = 0.01;
 constexpr double kMaxQueueSeconds = 1.0;
+constexpr double kFastestDevice = 1.005; ///< The fastest a device's rate is believed, × nominal.
+constexpr double kRunSlack = 0.02;       ///< Sound a device may seem to play ahead of time, s.
 
 /// Frames of a ramp (the fade-in and fade-out of a join) at \a rate Hz.
 std::size_t rampFrames(int rate) noexcept
@@ -199,7 +201,7 @@ void AudioPlayer::step()
         return;
     if (mode_ == Mode::Idle || mode_ == Mode::Paused) {
         // Halted: the fade-out of the cut, then nothing. Paused: silence keeps the device going.
-        auto delay = output_.delayFrames();
+        auto delay = queued();
         if (!delay)
             return lose(delay.error());
         std::size_t want = fadeOutFrames_ - fadeOutPos_;
@@ -213,14 +215,14 @@ void AudioPlayer::step()
         return;
     }
     if (mode_ == Mode::Playing) {
-        auto before = output_.delayFrames();
+        auto before = queued();
         if (!before)
             return lose(before.error());
         fill(*before);
         if (mode_ == Mode::Lost)
             return;
     }
-    auto delay = output_.delayFrames();
+    auto delay = queued();
     if (!delay)
         return lose(delay.error());
     countUnderruns();
@@ -251,7 +253,7 @@ bool AudioPlayer::control(std::uint64_t startGen, std::uint64_t haltGen, double 
         return true;
     pausedSeen_ = paused;
     if (paused && mode_ == Mode::Playing) {
-        auto delay = output_.delayFrames();
+        auto delay = queued();
         if (!delay) {
             lose(delay.error());
             return false;
@@ -270,7 +272,7 @@ bool AudioPlayer::control(std::uint64_t startGen, std::uint64_t haltGen, double 
 
 bool AudioPlayer::cut()
 {
-    auto delay = output_.delayFrames();
+    auto delay = queued();
     if (!delay) {
         lose(delay.error());
         return false;
@@ -296,7 +298,28 @@ bool AudioPlayer::cut()
         lose(f.error());
         return false;
     }
+    runStart_ = clock_.now(); // the device is empty: a new run of frames begins
+    runFirstFrame_ = writtenFrames_;
     return true;
+}
+
+Result<std::size_t> AudioPlayer::queued()
+{
+    auto delay = output_.delayFrames();
+    if (!delay)
+        return delay;
+    // A device cannot play faster than time passes; one that seems to (ALSA's `null` PCM takes
+    // every frame at once and says none is queued) would run the clock, and the picture that
+    // follows it, ahead. The queue is at least what was written in this run less what could have
+    // been heard since it began: its time at the rate, 0.5 % fast (no sound card's crystal is off
+    // by that much), plus 20 ms.
+    const double rate = static_cast<double>(format_.sampleRate);
+    const double couldHear =
+        platform::toSeconds(clock_.now() - runStart_) * rate * kFastestDevice + kRunSlack * rate;
+    const auto run = static_cast<double>(writtenFrames_ - runFirstFrame_);
+    if (run > couldHear)
+        delay = std::max(*delay, static_cast<std::size_t>(run - couldHear));
+    return delay;
 }
 
 void AudioPlayer::begin(double seconds)

@@ -387,6 +387,39 @@ TEST_F(AudioPlayerTest, anUnpluggedDeviceEndsTheSoundWithAReasonAndTheClockStops
     EXPECT_FALSE(player_->clock().running);
 }
 
+/// A device that takes every frame at once and says none is queued (ALSA's `null` PCM).
+class InstantOutput final : public drivers::PacedAudioOutput {
+public:
+    explicit InstantOutput(platform::Clock &clock) : PacedAudioOutput(clock, {}) {}
+    std::uint64_t taken = 0;
+
+private:
+    Result<std::size_t> writeDevice(const std::int16_t *, std::size_t frames) override
+    {
+        taken += frames;
+        return frames;
+    }
+    Result<std::size_t> delayDevice() override { return std::size_t{0}; }
+};
+
+TEST_F(AudioPlayerTest, aDeviceThatTakesEverythingAtOnceDoesNotRunTheClockAhead)
+{
+    NumberedSource src(0.0, 10.0);
+    InstantOutput out(clock_);
+    auto made = AudioPlayer::create(src, out, clock_, {});
+    ASSERT_TRUE(made) << made.error().what;
+    player_ = std::move(*made);
+    player_->start(0.0);
+    play(2000);
+    // The clock keeps real time (at most 0.5 % fast and 20 ms ahead), where the device's word
+    // alone would have it at 8 s (0.1 s queued every 25 ms turn, none ever said queued).
+    ASSERT_TRUE(player_->clock().running);
+    EXPECT_GE(heardNow(), 2.0 - 1e-9);
+    EXPECT_LE(heardNow(), 2.0 * 1.005 + 0.02 + 1e-9);
+    // And only that much more than the queue is written.
+    EXPECT_LE(out.taken, static_cast<std::uint64_t>((2.0 * 1.005 + 0.02 + 0.1) * kRate) + 1);
+}
+
 TEST_F(AudioPlayerTest, aConfigOutOfRangeIsRefused)
 {
     NumberedSource src(0.0, 1.0);

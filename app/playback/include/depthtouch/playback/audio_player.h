@@ -140,6 +140,10 @@ private:
     bool cut();
     /// Plays from media time \a seconds (the source seeks there), faded in.
     void begin(double seconds);
+    /// \return the device's queue, frames: AudioOutput::delayFrames(), but never less than what
+    /// this run wrote beyond what could have been heard in its time (a device that takes frames
+    /// faster than real time does not run the clock ahead). Errors: the device's.
+    [[nodiscard]] Result<std::size_t> queued();
     void lose(const Error &error);
     /// Publishes the clock (\a mediaTime heard at \a at) and the counters; \a queued: the
     /// device's queue, s.
@@ -181,6 +185,8 @@ private:
     /// device has queued, for the fade-out of a cut.
     std::vector<std::int16_t> written_;
     std::uint64_t writtenFrames_ = 0;   ///< Frames ever put in written_.
+    platform::TimePoint runStart_{};    ///< When the device was last emptied (cut()).
+    std::uint64_t runFirstFrame_ = 0;   ///< writtenFrames_ then.
     std::vector<std::int16_t> fadeOut_; ///< The pending fade-out (10 ms at most).
     std::size_t fadeOutFrames_ = 0;     ///< Its length, frames.
     std::size_t fadeOutPos_ = 0;        ///< Frames of it written.
