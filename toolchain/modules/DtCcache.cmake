@@ -4,7 +4,9 @@
 # directory is left out of the hash (CCACHE_NOHASHDIR), so two copies of the source tree compiled with
 # the same preset and flags share their objects: the mutation check (tests/mutation/run.sh) builds a
 # scratch copy of the tree and compiles only the files a mutant changed. A launcher set by the user
-# (CMAKE_CXX_COMPILER_LAUNCHER) is kept. Reference: ccache(1), "Compiling in different directories".
+# (CMAKE_CXX_COMPILER_LAUNCHER) is kept. Sets DT_CCACHE_ACTIVE when ccache is the launcher: a
+# compile that uses a precompiled header is never cached, so targets then go without one.
+# Reference: ccache(1), "Compiling in different directories" and "Precompiled headers".
 option(DT_CCACHE "Compile through ccache when it is installed" ON)
 if(DT_CCACHE AND NOT CMAKE_CXX_COMPILER_LAUNCHER AND NOT CMAKE_C_COMPILER_LAUNCHER)
     find_program(DT_CCACHE_PROGRAM ccache)
@@ -14,6 +16,7 @@ if(DT_CCACHE AND NOT CMAKE_CXX_COMPILER_LAUNCHER AND NOT CMAKE_C_COMPILER_LAUNCH
             ${DT_CCACHE_PROGRAM})
         set(CMAKE_C_COMPILER_LAUNCHER ${_dt_launcher})
         set(CMAKE_CXX_COMPILER_LAUNCHER ${_dt_launcher})
+        set(DT_CCACHE_ACTIVE ON) # app/cli then uses no precompiled header (ccache cannot cache it)
         message(STATUS "ccache: ${DT_CCACHE_PROGRAM} (base directory ${CMAKE_SOURCE_DIR})")
     endif()
 endif()
