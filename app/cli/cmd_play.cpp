@@ -247,6 +247,16 @@ playback::PlaybackHal playbackHal(const PlayOptions &opt, const hal::BackendConf
             return unexpected(reader.error());
         return std::unique_ptr<hal::AudioSource>(std::move(*reader));
     };
+    ph.makeLiveAudioSource =
+        [](const hal::AudioStreamInfo &stream) -> Result<playback::PlaybackHal::LiveAudio> {
+        auto reader = media::AudioReader::fromPackets(stream);
+        if (!reader)
+            return unexpected(reader.error());
+        playback::PlaybackHal::LiveAudio live;
+        live.sink = (*reader)->packetSink();
+        live.source = std::move(*reader);
+        return live;
+    };
     return ph;
 }
 

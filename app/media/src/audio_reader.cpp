@@ -6,7 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <deque>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 extern "C" {
@@ -35,9 +38,54 @@ int playableRate(int rate) noexcept
     return rate >= hal::kMinAudioRate && rate <= hal::kMaxAudioRate ? rate : 48000;
 }
 
+/// Packets a live input's queue holds at most: about 10 s of AAC at 48 kHz (1024 frames each).
+constexpr std::size_t kMaxQueuedPackets = 512;
+
+/// The packets of a live input's audio stream, from the decode thread (push) to the audio thread
+/// (pop). The oldest is dropped when it is full (the sound is not being played).
+class PacketQueue final : public hal::AudioPacketSink {
+public:
+    struct Item {
+        std::vector<std::uint8_t> data;
+        std::int64_t pts = AV_NOPTS_VALUE; ///< ns on the video packets' clock.
+    };
+
+    void push(const hal::Packet &p) noexcept override
+    {
+        try {
+            Item item{std::vector<std::uint8_t>(p.data, p.data + p.size),
+                      p.pts == hal::kNoPts ? AV_NOPTS_VALUE : p.pts.count()};
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (items_.size() >= kMaxQueuedPackets)
+                items_.pop_front();
+            items_.push_back(std::move(item));
+        } catch (...) { // out of memory: this packet of sound is dropped
+        }
+    }
+    /// \return false when there is none now.
+    bool pop(Item &out)
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (items_.empty())
+            return false;
+        out = std::move(items_.front());
+        items_.pop_front();
+        return true;
+    }
+
+private:
+    std::mutex mutex_;
+    std::deque<Item> items_;
+};
+
+/// What AudioReader::Impl::decodeMore() came to.
+enum class Got : std::uint8_t { Frame, End, Pending };
+
 } // namespace
 
 struct AudioReader::Impl {
+    std::shared_ptr<PacketQueue> queue; ///< A live input's packets; null: `in` is read.
+    PacketQueue::Item item;             ///< The queue's packet being decoded.
     InputContextPtr in;
     int index = -1;          ///< The audio stream of `in`.
     AVRational tb{1, 1};     ///< Its time base.
@@ -127,8 +175,9 @@ struct AudioReader::Impl {
     }
 
     /// Reads packets of the audio stream into the decoder until it gives a frame.
-    /// \return false at the end of the sound.
-    Result<bool> decodeMore()
+    /// \return Frame, End (the end of the sound) or Pending (a live input's next packet has not
+    /// come yet).
+    Result<Got> decodeMore()
     {
         for (;;) {
             const int got = avcodec_receive_frame(decoder.get(), frame.get());
@@ -136,13 +185,24 @@ struct AudioReader::Impl {
                 DT_TRY(convert());
                 av_frame_unref(frame.get());
                 if (pendingPos < pendingFrames)
-                    return true;
+                    return Got::Frame;
                 continue;
             }
             if (got == AVERROR_EOF || (got == AVERROR(EAGAIN) && flushed))
-                return false;
+                return Got::End;
             if (got != AVERROR(EAGAIN))
                 continue; // a damaged frame: skipped
+            if (queue) {
+                if (!queue->pop(item))
+                    return Got::Pending;
+                packet->data = item.data.data(); // not reference-counted: the decoder copies it
+                packet->size = static_cast<int>(item.data.size());
+                packet->pts = packet->dts = item.pts;
+                avcodec_send_packet(decoder.get(), packet.get()); // a damaged packet: skipped
+                packet->data = nullptr;
+                packet->size = 0;
+                continue;
+            }
             const int r = av_read_frame(in.get(), packet.get());
             if (r == AVERROR_EOF) {
                 flushed = true;
@@ -157,24 +217,24 @@ struct AudioReader::Impl {
         }
     }
 
-    Result<void> openDecoder(const AVStream &st)
+    Result<void> openDecoder(const AVCodecParameters &par)
     {
-        const AVCodec *dec = avcodec_find_decoder(st.codecpar->codec_id);
+        const AVCodec *dec = avcodec_find_decoder(par.codec_id);
         if (dec == nullptr)
             return unexpected(Errc::NotSupported, "No decoder for the sound's codec");
         decoder.reset(avcodec_alloc_context3(dec));
         packet.reset(av_packet_alloc());
         frame.reset(av_frame_alloc());
-        if (!decoder || !packet || !frame ||
-            avcodec_parameters_to_context(decoder.get(), st.codecpar) < 0)
+        if (!decoder || !packet || !frame || avcodec_parameters_to_context(decoder.get(), &par) < 0)
             return unexpected(Errc::OutOfResources, "Failed to set the sound's decoder up");
+        decoder->pkt_timebase = tb;
         if (avcodec_open2(decoder.get(), dec, nullptr) < 0)
             return unexpected(Errc::NotSupported, "The sound's decoder refused the stream");
-        const int channels = st.codecpar->ch_layout.nb_channels;
-        out.sampleRate = playableRate(st.codecpar->sample_rate);
+        const int channels = par.ch_layout.nb_channels;
+        out.sampleRate = playableRate(par.sample_rate);
         out.channels = channels >= 1 && channels <= hal::kMaxAudioChannels ? channels : 2;
-        if (out.channels == channels && st.codecpar->ch_layout.order != AV_CHANNEL_ORDER_UNSPEC)
-            av_channel_layout_copy(&outLayout, &st.codecpar->ch_layout);
+        if (out.channels == channels && par.ch_layout.order != AV_CHANNEL_ORDER_UNSPEC)
+            av_channel_layout_copy(&outLayout, &par.ch_layout);
         else
             av_channel_layout_default(&outLayout, out.channels);
         return ok();
@@ -205,11 +265,49 @@ Result<std::unique_ptr<AudioReader>> AudioReader::open(const std::string &url)
     for (unsigned i = 0; i < ctx->nb_streams; ++i)
         if (static_cast<int>(i) != a.index)
             ctx->streams[i]->discard = AVDISCARD_ALL;
-    DT_TRY(a.openDecoder(st));
+    DT_TRY(a.openDecoder(*st.codecpar));
     a.description = std::string(avcodec_get_name(st.codecpar->codec_id)) + " " +
                     std::to_string(st.codecpar->sample_rate) + " Hz " +
                     std::to_string(st.codecpar->ch_layout.nb_channels) + " ch";
     return reader;
+}
+
+Result<std::unique_ptr<AudioReader>> AudioReader::fromPackets(const hal::AudioStreamInfo &stream)
+{
+    quietFfmpegLog();
+    const AVCodec *dec = avcodec_find_decoder_by_name(stream.codec.c_str());
+    if (dec == nullptr)
+        return unexpected(Errc::NotSupported, "No decoder for the sound's codec");
+    std::unique_ptr<AVCodecParameters, void (*)(AVCodecParameters *)> par(
+        avcodec_parameters_alloc(), [](AVCodecParameters *p) { avcodec_parameters_free(&p); });
+    if (!par)
+        return unexpected(Errc::OutOfResources, "Failed to describe the sound");
+    par->codec_type = AVMEDIA_TYPE_AUDIO;
+    par->codec_id = dec->id;
+    par->sample_rate = stream.sampleRate;
+    av_channel_layout_default(&par->ch_layout, std::max(stream.channels, 1));
+    if (!stream.extradata.empty()) {
+        const std::size_t size = stream.extradata.size();
+        par->extradata =
+            static_cast<std::uint8_t *>(av_mallocz(size + AV_INPUT_BUFFER_PADDING_SIZE));
+        if (par->extradata == nullptr)
+            return unexpected(Errc::OutOfResources, "Failed to describe the sound");
+        std::memcpy(par->extradata, stream.extradata.data(), size);
+        par->extradata_size = static_cast<int>(size);
+    }
+    std::unique_ptr<AudioReader> reader(new AudioReader());
+    Impl &a = *reader->impl_;
+    a.tb = AVRational{1, 1'000'000'000}; // hal::Pts: ns, 0 at the input's start
+    a.queue = std::make_shared<PacketQueue>();
+    DT_TRY(a.openDecoder(*par));
+    a.description = stream.codec + " " + std::to_string(stream.sampleRate) + " Hz " +
+                    std::to_string(stream.channels) + " ch";
+    return reader;
+}
+
+std::shared_ptr<hal::AudioPacketSink> AudioReader::packetSink() const
+{
+    return impl_->queue;
 }
 
 hal::AudioFormat AudioReader::format() const noexcept
@@ -228,7 +326,11 @@ Result<hal::PcmBlock> AudioReader::read(std::int16_t *samples, std::size_t frame
         return block;
     if (a.pendingPos >= a.pendingFrames) {
         auto more = a.decodeMore();
-        if (!more || !*more) {
+        if (more && *more == Got::Pending) {
+            block.pending = true;
+            return block;
+        }
+        if (!more || *more == Got::End) {
             a.ended = true;
             if (!more)
                 return unexpected(more.error());
@@ -248,6 +350,8 @@ Result<hal::PcmBlock> AudioReader::read(std::int16_t *samples, std::size_t frame
 Result<void> AudioReader::seek(double seconds)
 {
     Impl &a = *impl_;
+    if (a.queue)
+        return unexpected(Errc::NotSupported, "A live input's sound cannot seek");
     const double at = std::max(seconds, 0.0);
     const std::int64_t target = a.origin + static_cast<std::int64_t>(std::floor(at / av_q2d(a.tb)));
     if (av_seek_frame(a.in.get(), a.index, target, AVSEEK_FLAG_BACKWARD) < 0)

@@ -354,6 +354,8 @@ void AudioPlayer::fill(std::size_t delay)
             if (sourceEnded_)
                 return;
             auto got = source_.read(block_.data(), kBlockFrames);
+            if (got && got->frames == 0 && got->pending)
+                return; // a live input's sound has not come yet: the next turn
             if (!got || got->frames == 0) {
                 sourceEnded_ = true; // the end, or a read error: the sound ends there
                 return;

@@ -34,11 +34,26 @@ void attachAudio(Playback::Impl &m, Session &s, PlaybackInfo &info)
         return;
     if (s.receiver->source().info().audio.empty())
         return;
-    if (s.live) {
-        info.notes.emplace_back("a live stream's sound is not played yet: playing without sound");
-        return;
+    Result<std::unique_ptr<hal::AudioSource>> source{nullptr};
+    std::shared_ptr<hal::AudioPacketSink> sink;
+    if (s.live) { // one demuxer: it hands the sound's packets over (no second reader)
+        if (!m.hal.makeLiveAudioSource)
+            return;
+        const hal::AudioStreamInfo &stream = s.receiver->source().info().audio.front();
+        auto live = m.hal.makeLiveAudioSource(stream);
+        if (live) {
+            sink = live->sink;
+            source = std::move(live->source);
+        } else {
+            source = unexpected(live.error());
+        }
+        if (source && *source && sink) {
+            if (auto d = s.receiver->source().deliverAudio(stream.containerIndex); !d)
+                source = unexpected(d.error());
+        }
+    } else {
+        source = m.hal.makeAudioSource(m.openingUrl);
     }
-    auto source = m.hal.makeAudioSource(m.openingUrl);
     if (!source || !*source) {
         info.notes.emplace_back(std::string("no sound: ") +
                                 (source ? "no audio stream could be read" : source.error().what));
@@ -57,6 +72,8 @@ void attachAudio(Playback::Impl &m, Session &s, PlaybackInfo &info)
         info.notes.emplace_back(std::string("no sound: ") + t.error().what);
         return;
     }
+    if (sink)
+        s.receiver->setAudioSink(sink); // before the decode thread starts
     const hal::AudioFormat f = (*source)->format();
     info.audio = std::to_string(f.sampleRate) + " Hz " + std::to_string(f.channels) + " ch";
     s.audioSource = std::move(*source);

@@ -114,6 +114,11 @@ hal::MediaSource &Receiver::source() noexcept
     return *impl_->source;
 }
 
+void Receiver::setAudioSink(std::shared_ptr<hal::AudioPacketSink> sink) noexcept
+{
+    impl_->audioSink = std::move(sink);
+}
+
 bool Receiver::ended() const noexcept
 {
     return impl_->ended;

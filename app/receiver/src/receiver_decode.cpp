@@ -246,6 +246,11 @@ bool Receiver::Impl::readAndQueue()
             return true;
         }
         ++stats.packetsRead;
+        if (p->audio) { // a live input's sound, for the audio thread
+            if (audioSink != nullptr)
+                audioSink->push(*p);
+            return true;
+        }
         if (streamOf(p->streamIndex) == nullptr) {
             ++stats.packetsIgnored;
             return true;

@@ -13,6 +13,7 @@
 #include "depthtouch/receiver/frame_store.h"
 #include "depthtouch/receiver/material_pairer.h"
 #include "depthtouch/receiver/pts_pairer.h"
+#include "depthtouch/hal/audio_source.h"
 #include "depthtouch/receiver/receiver.h"
 
 namespace depthtouch::receiver {
@@ -79,6 +80,7 @@ struct Receiver::Impl {
     }
 
     std::unique_ptr<hal::MediaSource> source;
+    std::shared_ptr<hal::AudioPacketSink> audioSink; ///< Takes the audio packets (setAudioSink()).
     ReceiverConfig cfg;
     ReceiverInfo info;
     ReceiverStats stats;

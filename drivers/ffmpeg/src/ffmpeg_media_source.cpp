@@ -212,6 +212,24 @@ struct FfmpegMediaSource::Impl {
         return "pipe:" + std::to_string(fifo.get());
     }
     Result<hal::Packet> read();
+    /// \return \a p, a packet of the audio stream delivered, as a hal::Packet (Packet::audio).
+    hal::Packet audioPacket(const AVPacket &p) const noexcept
+    {
+        const AVRational tb = fmt->streams[p.stream_index]->time_base;
+        const auto at = [&](std::int64_t ts) {
+            return ts == AV_NOPTS_VALUE ? hal::kNoPts
+                                        : hal::Pts(av_rescale_q(ts, tb, kNanoseconds)) - start;
+        };
+        hal::Packet out;
+        out.audio = true;
+        out.streamIndex = p.stream_index;
+        out.pts = at(p.pts);
+        out.dts = at(p.dts);
+        out.keyframe = (p.flags & AV_PKT_FLAG_KEY) != 0;
+        out.data = p.data;
+        out.size = static_cast<std::size_t>(p.size);
+        return out;
+    }
     hal::Pts toPts(std::int64_t ts, const Stream &s) const noexcept
     {
         if (ts == AV_NOPTS_VALUE)
@@ -226,6 +244,7 @@ struct FfmpegMediaSource::Impl {
         fifo.reset();
         streams.clear();
         avToHal.clear();
+        audioIndex = -1;
         info = {};
         start = hal::Pts{0};
         interrupted.store(false, std::memory_order_relaxed);
@@ -248,7 +267,8 @@ struct FfmpegMediaSource::Impl {
     std::vector<std::uint8_t> raw;
     hal::MediaInfo info;
     hal::Pts start{0};
-    bool live = false; ///< A network URL or a FIFO (openInput()).
+    bool live = false;   ///< A network URL or a FIFO (openInput()).
+    int audioIndex = -1; ///< The audio stream deliverAudio() chose (libav index), -1: none.
 };
 
 namespace {
@@ -422,6 +442,8 @@ void FfmpegMediaSource::Impl::addAudioStream(const AVStream &st)
     const AVDictionaryEntry *lang = av_dict_get(st.metadata, "language", nullptr, 0);
     if (lang != nullptr && std::string_view(lang->value) != "und") // ISO 639-2 "undetermined"
         a.language = lang->value;
+    if (par.extradata != nullptr && par.extradata_size > 0)
+        a.extradata.assign(par.extradata, par.extradata + par.extradata_size);
     info.audio.push_back(std::move(a));
 }
 
@@ -489,6 +511,8 @@ Result<hal::Packet> FfmpegMediaSource::Impl::read()
             return unexpected(Errc::Io, "Failed to read a packet", AVUNERROR(r));
         }
         const AVPacket &p = *packet;
+        if (p.stream_index == audioIndex && p.size > 0 && p.data != nullptr)
+            return audioPacket(p);
         if (p.stream_index < 0 || static_cast<std::size_t>(p.stream_index) >= avToHal.size())
             continue;
         const int halIndex = avToHal[static_cast<std::size_t>(p.stream_index)];
@@ -590,6 +614,22 @@ const hal::MediaInfo &FfmpegMediaSource::infoDevice() const noexcept
 Result<hal::Packet> FfmpegMediaSource::readPacketDevice()
 {
     return impl_->read();
+}
+
+Result<void> FfmpegMediaSource::deliverAudio(int containerIndex)
+{
+    if (state() != State::Open)
+        return unexpected(Errc::InvalidState, "The media source is not open");
+    if (containerIndex < 0) {
+        impl_->audioIndex = -1;
+        return ok();
+    }
+    for (const hal::AudioStreamInfo &a : impl_->info.audio)
+        if (a.containerIndex == containerIndex) {
+            impl_->audioIndex = containerIndex;
+            return ok();
+        }
+    return unexpected(Errc::InvalidArgument, "No such audio stream");
 }
 
 Result<void> FfmpegMediaSource::seekDevice(hal::Pts position)

@@ -8,7 +8,8 @@
 # by (0.5)^3 as mpv's volume does, --mute must write silence, --no-audio and --audio-device none no
 # file, the stats JSON must name the device and the sound, and a sound output that does not exist
 # is one line and exit 2; a tone paused, resumed, sought and stopped through the control socket
-# must join without a click (no sample step above a ramp's). Exit 77 (skip) without the ffmpeg CLI.
+# must join without a click (no sample step above a ramp's); a live UDP stream's sound must be heard
+# at its media times. Exit 77 (skip) without the ffmpeg CLI.
 # Usage: play_audio_e2e.sh DEPTHTOUCH
 set -u
 exe="$1"
@@ -161,4 +162,44 @@ if largest > 400:
 print("joins: largest step %d (limit 400), %.2f s of silence heard, %.2f s in all" % (largest, quiet / 48000, n / 48000))
 PY
 wait "$player" || { cat "$work/log"; fail "play with joins"; }
-echo "play: the click 1.000 s after the first frame, --volume 50 at 0.125, --mute silent, no sound with --no-audio, a bad device refused, pause/resume/seek/stop without a click"
+# 7. A live stream's sound (UDP, one demuxer: its audio packets handed to the audio thread). The
+# tone sounds the first half of every second of the sender's clip: each onset must be heard at
+# its media time (whole seconds after the first frame, which is PTS 0 as the player listens
+# before the sender starts) within 3 ms.
+ff -f lavfi -i testsrc=size=96x72:rate=30:duration=3 \
+    -f lavfi -i "aevalsrc='0.5*sin(2*PI*100*t)*lt(mod(t,1),0.5)':s=48000:d=3" -ac 2 \
+    -pix_fmt yuv420p -c:v libx264 -preset ultrafast -c:a aac "$work/gated.mp4" || fail "ffmpeg gated"
+port=$((20000 + $$ % 20000))
+"$exe" play "udp://127.0.0.1:$port" --display mock --haptic none --no-config --audio-device wav \
+    --audio-device-options "path=$work/live.wav" --duration 4 --av-log "$work/live.csv" \
+    --stats "$work/live.json" >"$work/live.log" 2>&1 &
+player=$!
+sleep 1
+"$exe" encode --color "$work/gated.mp4" --depth "$work/depth.mkv" --preset ultrafast \
+    -o "udp://127.0.0.1:$port" >"$work/send.log" 2>&1 || { cat "$work/send.log"; fail "encode to udp"; }
+wait "$player" || { cat "$work/live.log"; fail "play udp"; }
+python3 - "$work/live.wav" "$work/live.csv" "$work/live.json" <<'PY' || { cat "$work/live.log"; fail "live sound"; }
+import json, struct, sys, wave
+w = wave.open(sys.argv[1])
+n, ch = w.getnframes(), w.getnchannels()
+x = struct.unpack("<%dh" % (n * ch), w.readframes(n))[0::ch]
+rows = [l.split(",") for l in open(sys.argv[2]).read().split("\n")[1:] if l]
+first = float(rows[0][1]) - 1 / 30  # the log starts at the second frame on screen
+quiet, onsets = 0, []
+for i, v in enumerate(x):
+    if abs(v) > 1000:
+        if quiet > 0.3 * 48000:
+            onsets.append(first + i / 48000)
+        quiet = 0
+    else:
+        quiet += 1
+if json.load(open(sys.argv[3])).get("audio") != "48000 Hz 2 ch":
+    sys.exit("the stats name no sound")
+if n < 1.5 * 48000 or len(onsets) < 1:
+    sys.exit("%.2f s of sound heard, onsets %s" % (n / 48000, onsets))
+late = [o - round(o) for o in onsets]
+if any(abs(d) > 0.003 for d in late):
+    sys.exit("onsets at %s s of media time, want whole seconds within 3 ms" % onsets)
+print("live: %.2f s of sound, onsets %s" % (n / 48000, ", ".join("%.4f" % o for o in onsets)))
+PY
+echo "play: the click 1.000 s after the first frame, --volume 50 at 0.125, --mute silent, no sound with --no-audio, a bad device refused, pause/resume/seek/stop without a click, a live stream's sound in sync"

@@ -2,7 +2,8 @@
 // from a built-in scene's soundtrack (synthetic::sceneSoundtrack): every sample read back as
 // written (PCM is lossless), the blocks' media times, a sample-accurate seek, the end, a file
 // without sound, and the soundtrack's events where the picture has them (the click at the clip's
-// start, the head's tone loud as it passes the camera and silent where it turns back).
+// start, the head's tone loud as it passes the camera and silent where it turns back); a live
+// input's sound decoded from the packets its demuxer hands over (in order, at their times).
 #include "depthtouch/media/audio_reader.h"
 #include "depthtouch/media/sound_file.h"
 #include "depthtouch/synthetic/soundtrack.h"
@@ -13,7 +14,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <chrono>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -72,6 +75,60 @@ TEST_F(SoundTest, aWavFileReadsBackSampleForSampleWithItsMediaTimes)
     const auto tail = readAll(**reader, 1.25);
     ASSERT_EQ(tail.size(), pcm.size() - 60000);
     EXPECT_TRUE(std::equal(tail.begin(), tail.end(), pcm.begin() + 60000));
+}
+
+TEST_F(SoundTest, aLiveInputsSoundIsDecodedFromThePacketsItsDemuxerHandsOver)
+{
+    // GIVEN a reader of a live stream's PCM sound (48 kHz mono), fed through its packet sink
+    hal::AudioStreamInfo stream;
+    stream.codec = "pcm_s16le";
+    stream.sampleRate = kRate;
+    stream.channels = 1;
+    auto reader = AudioReader::fromPackets(stream);
+    ASSERT_TRUE(reader) << reader.error().what;
+    const std::shared_ptr<hal::AudioPacketSink> sink = (*reader)->packetSink();
+    ASSERT_TRUE(sink);
+    std::vector<std::int16_t> buf(2000);
+    // WHEN nothing has come yet THEN it says so: not the end
+    auto none = (*reader)->read(buf.data(), buf.size());
+    ASSERT_TRUE(none);
+    EXPECT_EQ(none->frames, 0u);
+    EXPECT_TRUE(none->pending);
+    // WHEN three packets of 480 frames come (media time 2.5 s on: a stream tuned in mid-way),
+    // the second numbered on from the first
+    auto push = [&](int first, double at) {
+        std::vector<std::int16_t> pcm(480);
+        for (int i = 0; i < 480; ++i)
+            pcm[static_cast<std::size_t>(i)] = static_cast<std::int16_t>(first + i);
+        hal::Packet p;
+        p.audio = true;
+        p.data = reinterpret_cast<const std::uint8_t *>(pcm.data());
+        p.size = pcm.size() * sizeof(std::int16_t);
+        p.pts = std::chrono::duration_cast<hal::Pts>(std::chrono::duration<double>(at));
+        sink->push(p); // a copy: pcm goes away
+    };
+    push(0, 2.5);
+    push(480, 2.51);
+    push(960, 2.52);
+    // THEN every sample comes out once, in order, at its packet's time, then pending again
+    std::vector<std::int16_t> got;
+    for (int turn = 0; turn < 10; ++turn) {
+        auto b = (*reader)->read(buf.data(), buf.size());
+        ASSERT_TRUE(b) << b.error().what;
+        if (b->frames == 0) {
+            EXPECT_TRUE(b->pending);
+            break;
+        }
+        EXPECT_NEAR(b->start, 2.5 + static_cast<double>(got.size()) / kRate, 0.5 / kRate);
+        got.insert(got.end(), buf.begin(), buf.begin() + static_cast<long>(b->frames));
+    }
+    ASSERT_EQ(got.size(), 1440u);
+    for (std::size_t i = 0; i < got.size(); ++i)
+        ASSERT_EQ(got[i], static_cast<std::int16_t>(i)) << i;
+    EXPECT_EQ((*reader)->seek(1.0).error().code, Errc::NotSupported); // one pass, as it comes
+    // A codec without a decoder is refused
+    stream.codec = "no-such-codec";
+    EXPECT_EQ(AudioReader::fromPackets(stream).error().code, Errc::NotSupported);
 }
 
 TEST_F(SoundTest, aFileWithoutSoundOpensAsNoneAndANonMediaFileIsRefused)

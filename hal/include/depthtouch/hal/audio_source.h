@@ -15,6 +15,7 @@
 #include <cstdint>
 
 #include "depthtouch/hal/audio_output.h"
+#include "depthtouch/hal/media_source.h"
 #include "depthtouch/platform/result.h"
 
 namespace depthtouch::hal {
@@ -23,6 +24,8 @@ namespace depthtouch::hal {
 struct PcmBlock {
     std::size_t frames = 0; ///< Frames written to the caller's buffer; 0 at the end of the sound.
     double start = 0.0;     ///< Media time of the first frame, s (see the file comment).
+    /// With frames 0: not the end, a live input has no more sound yet (read again later).
+    bool pending = false;
 };
 
 /// \brief A decoded audio stream.
@@ -43,6 +46,16 @@ public:
     /// time \a seconds (sample-accurate; later when the sound starts later).
     /// \return Errors: NotSupported (the input cannot seek), Io.
     [[nodiscard]] virtual Result<void> seek(double seconds) = 0;
+};
+
+/// \brief Where a demuxer's thread hands the packets of a live input's audio stream
+/// (MediaSource::deliverAudio()) for an AudioSource on the audio thread to decode.
+class AudioPacketSink {
+public:
+    virtual ~AudioPacketSink() = default;
+    /// \brief Takes a copy of \a packet (its data is the source's). Never blocks; what does not
+    /// fit is dropped. Thread-safety: one pushing thread, beside the AudioSource's reader.
+    virtual void push(const Packet &packet) noexcept = 0;
 };
 
 } // namespace depthtouch::hal

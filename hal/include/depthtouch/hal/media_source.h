@@ -76,8 +76,8 @@ struct StreamInfo {
     DepthMetadata depth;                 ///< Meaningful when kind == StreamKind::Depth.
 };
 
-/// \brief An audio stream of the input, as the container describes it. Listed (`probe`), not
-/// delivered: read() returns no audio packets, and the player has no audio output yet.
+/// \brief An audio stream of the input, as the container describes it. Listed (`probe`); its
+/// packets are delivered only once asked for (MediaSource::deliverAudio(): a live stream's sound).
 struct AudioStreamInfo {
     int containerIndex = -1; ///< The stream's number in the container (not a Packet::streamIndex).
     std::string codec;       ///< The codec's libavcodec name ("aac", "opus", "pcm_s16le").
@@ -87,7 +87,8 @@ struct AudioStreamInfo {
     /// and the stream's length (zero when the container does not say).
     Pts start{0};
     Pts duration{0};
-    std::string language; ///< The language tag (ISO 639-2, "eng"), empty when none.
+    std::string language;                ///< The language tag (ISO 639-2, "eng"), empty when none.
+    std::vector<std::uint8_t> extradata; ///< Codec setup data (AAC's AudioSpecificConfig), or none.
 };
 
 /// \brief What an opened source contains.
@@ -109,6 +110,9 @@ struct Packet {
     Pts pts = kNoPts;      ///< Presentation time on the stream timeline.
     Pts dts = kNoPts;      ///< Decode time on the stream timeline.
     bool keyframe = false; ///< The packet starts an independently decodable picture.
+    /// A packet of the audio stream MediaSource::deliverAudio() chose: streamIndex is then its
+    /// AudioStreamInfo::containerIndex, and pts/dts lie on the video packets' clock.
+    bool audio = false;
 
     /// An end-of-stream packet: queueing it into a VideoDecoder drains the decoder.
     static constexpr Packet endOfStream(int stream = -1) noexcept
@@ -176,6 +180,18 @@ public:
     /// the request if no read did; later calls work as usual. Thread-safe and async-signal-safe;
     /// allowed in every state. The default does nothing: for a backend whose reads never block.
     virtual void cancelRead() noexcept {}
+
+    /// \brief Makes readPacket() also return the packets of the audio stream listed with
+    /// \a containerIndex (Packet::audio set), from the next read on; -1 stops it. For a live
+    /// input, whose sound cannot be read a second time beside it.
+    /// \pre Open. \return Errors: InvalidState (not Open), InvalidArgument (no such audio stream),
+    /// NotSupported (the backend delivers no sound: the default).
+    /// Thread-safety: the reading thread, or any thread before it reads.
+    [[nodiscard]] virtual Result<void> deliverAudio(int containerIndex)
+    {
+        (void)containerIndex;
+        return unexpected(Errc::NotSupported, "This media source delivers no sound");
+    }
 
 protected:
     MediaSource() = default;

@@ -13,7 +13,11 @@
 /// MediaSource. Decoded frames without a timestamp follow the previous one, and so do frames
 /// within 2 ms of its end (a container's rounded timestamps: MKV's are in milliseconds).
 ///
-/// Thread-safety: thread-bound (the audio thread); open() on any thread.
+/// A live input cannot be opened twice: fromPackets() decodes the packets its one demuxer delivers
+/// instead.
+///
+/// Thread-safety: thread-bound (the audio thread); open() and fromPackets() on any thread; the
+/// packet sink's push() on the demuxer's thread.
 
 #include <memory>
 #include <string>
@@ -35,6 +39,16 @@ public:
     /// InvalidArgument (not readable as media), NotSupported (no decoder for the codec),
     /// OutOfResources.
     static Result<std::unique_ptr<AudioReader>> open(const std::string &url);
+
+    /// \brief A reader of a live input's sound: it decodes the packets the demuxer's thread hands
+    /// to packetSink() (MediaSource::deliverAudio(), receiver::Receiver::setAudioSink()), in
+    /// order; read() says PcmBlock::pending while none has come, and seek() is NotSupported.
+    /// Media time: the packets' Pts. \return the reader. Errors: NotSupported (no decoder for
+    /// \a stream's codec, or it refuses the stream), OutOfResources.
+    static Result<std::unique_ptr<AudioReader>> fromPackets(const hal::AudioStreamInfo &stream);
+    /// \return fromPackets()'s queue (about 10 s of packets; the oldest dropped when full),
+    /// shared with the demuxer's thread; nullptr for a reader of a file.
+    [[nodiscard]] std::shared_ptr<hal::AudioPacketSink> packetSink() const;
 
     [[nodiscard]] hal::AudioFormat format() const noexcept override;
     [[nodiscard]] Result<hal::PcmBlock> read(std::int16_t *samples, std::size_t frames) override;

@@ -146,6 +146,13 @@ struct PlaybackHal {
     /// a null source: the input has no sound.
     std::function<Result<std::unique_ptr<hal::AudioSource>>(const std::string &url)>
         makeAudioSource;
+    /// A live input's sound (optional with audioOutput): decodes the packets of \a stream that the
+    /// receiver hands to LiveAudio::sink (media::AudioReader::fromPackets()).
+    struct LiveAudio {
+        std::unique_ptr<hal::AudioSource> source;
+        std::shared_ptr<hal::AudioPacketSink> sink;
+    };
+    std::function<Result<LiveAudio>(const hal::AudioStreamInfo &stream)> makeLiveAudioSource;
 };
 
 /// \brief Counters since create() (all opens together). Plain values.

@@ -52,6 +52,10 @@
 #include "depthtouch/receiver/frame_store.h"
 #include "depthtouch/receiver/stream_roles.h"
 
+namespace depthtouch::hal {
+class AudioPacketSink;
+}
+
 namespace depthtouch::receiver {
 
 /// \brief Depth frames i and i+1 of a paired frame and their material frames, as the haptic task
@@ -189,6 +193,10 @@ public:
     [[nodiscard]] ReceiverStats stats() const noexcept;
     /// \return the source (for its MediaInfo; reading it directly breaks the receiver).
     [[nodiscard]] hal::MediaSource &source() noexcept;
+    /// \brief Hands the audio packets the source delivers (MediaSource::deliverAudio()) to
+    /// \a sink (shared with the sound's reader; nullptr: dropped, the default). Thread-safety:
+    /// before the thread that calls next() starts, or on it.
+    void setAudioSink(std::shared_ptr<hal::AudioPacketSink> sink) noexcept;
 
     /// \brief Decodes until the next paired frame is ready.
     /// \param[out] out The frame (overwritten).

@@ -60,6 +60,7 @@ public:
 
     void interrupt() noexcept override;
     void cancelRead() noexcept override;
+    [[nodiscard]] Result<void> deliverAudio(int containerIndex) override;
 
 protected:
     // hal::MediaSourceBase's hooks (the state checks are the base's).
