@@ -63,7 +63,12 @@ Result<void> PacedAudioOutput::openDevice(const hal::AudioFormat &format)
 
 Result<void> PacedAudioOutput::catchUp()
 {
-    pacer_.update(clock_.now());
+    return catchUp(clock_.now());
+}
+
+Result<void> PacedAudioOutput::catchUp(platform::TimePoint now)
+{
+    pacer_.update(now);
     setPlayed(pacer_.played());
     for (std::uint64_t n = underruns(); n < pacer_.underruns(); ++n)
         countUnderrun();
@@ -100,8 +105,11 @@ Result<std::size_t> PacedAudioOutput::writeDevice(const std::int16_t *samples, s
             return unexpected(Errc::NoDevice, "the audio device was unplugged");
         frames = static_cast<std::size_t>(std::min<std::uint64_t>(frames, left));
     }
-    DT_TRY(catchUp()); // first what was heard: it makes room in the ring
-    const std::size_t taken = pacer_.push(frames, clock_.now());
+    // First what was heard (it makes room in the ring), at the same time as the push: nothing
+    // plays between the two.
+    const platform::TimePoint now = clock_.now();
+    DT_TRY(catchUp(now));
+    const std::size_t taken = pacer_.push(frames, now);
     const auto channels = static_cast<std::size_t>(format().channels);
     const std::size_t capacity = queue_.size() / std::max<std::size_t>(1, channels);
     for (std::size_t i = 0; i < taken; ++i) {
@@ -109,7 +117,6 @@ Result<std::size_t> PacedAudioOutput::writeDevice(const std::int16_t *samples, s
         std::copy_n(samples + i * channels, channels, queue_.data() + at * channels);
     }
     queueCount_ += taken;
-    DT_TRY(catchUp());
     return taken;
 }
 
@@ -127,8 +134,9 @@ Result<void> PacedAudioOutput::pauseDevice(bool paused)
 
 Result<void> PacedAudioOutput::flushDevice()
 {
-    DT_TRY(catchUp()); // what was heard up to now stays heard
-    pacer_.flush(clock_.now());
+    const platform::TimePoint now = clock_.now();
+    DT_TRY(catchUp(now)); // what was heard up to now stays heard
+    pacer_.flush(now);
     queueHead_ = queueCount_ = 0;
     playedSeen_ = pacer_.played();
     return catchUp();

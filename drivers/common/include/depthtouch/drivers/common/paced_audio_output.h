@@ -74,6 +74,8 @@ protected:
 
     /// Plays what is due now, publishes the counts and keeps what was heard.
     [[nodiscard]] Result<void> catchUp();
+    /// The same at \a now (a time the caller uses again, so nothing plays in between).
+    [[nodiscard]] Result<void> catchUp(platform::TimePoint now);
 
     platform::Clock &clock_;
 
