@@ -418,6 +418,7 @@ TEST_F(AudioPlayerTest, aDeviceThatTakesEverythingAtOnceDoesNotRunTheClockAhead)
     EXPECT_LE(heardNow(), 2.0 * 1.005 + 0.02 + 1e-9);
     // And only that much more than the queue is written.
     EXPECT_LE(out.taken, static_cast<std::uint64_t>((2.0 * 1.005 + 0.02 + 0.1) * kRate) + 1);
+    player_.reset(); // before the source and the output it uses go
 }
 
 TEST_F(AudioPlayerTest, aConfigOutOfRangeIsRefused)
