@@ -86,7 +86,7 @@ const OptionRow<DemoOptions> kDemoRows[] = {
     {"haptic-options", &DemoOptions::hapticOptions,
      "Options of the haptic device (default for sim: a stroke over the face and across the head's "
      "contour)"},
-    {"stiffness", &DemoOptions::stiffness, "Surface stiffness, N/m"},
+    {"stiffness", &DemoOptions::stiffness, "Surface stiffness, N/m (100..3000)"},
     {"rate", &DemoOptions::rate, "Haptic servo rate, Hz"},
     {"require-rt", &DemoOptions::requireRt, "Fail when SCHED_FIFO is refused"},
     {"rebuild", &DemoOptions::rebuild, "Render and encode the clip again"},

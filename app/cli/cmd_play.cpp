@@ -272,8 +272,6 @@ player::PlayerSettings playerSettings(const PlayOptions &opt)
     settings.stereoMode = *player::stereoModeFromName(opt.stereo);
     settings.haptics = true;
     settings.stiffness = opt.stiffness;
-    settings.range.max = std::max(settings.range.max, opt.stiffness);
-    settings.range.min = std::min(settings.range.min, opt.stiffness);
     settings.volume = opt.volume;
     settings.mute = opt.mute;
     return settings;

@@ -110,7 +110,7 @@ const OptionRow<TouchOptions> kTouchRows[] = {
     {"depth-mapping", &TouchOptions::depthMapping, "Metric conversion: inverse_z | linear"},
     {"bits", &TouchOptions::bits, "Raw depth sample size: 8 or 16 (host byte order)"},
     {"rate", &TouchOptions::rate, "Haptic update rate (Hz, 100..10000)"},
-    {"stiffness", &TouchOptions::stiffness, "Spring stiffness k (N/m, up to 100000)"},
+    {"stiffness", &TouchOptions::stiffness, "Spring stiffness k (N/m, 100..3000)"},
     {"damping", &TouchOptions::damping, "Damping b (N·s/m, 0..1000)"},
     {"max-force", &TouchOptions::maxForce, "Device maximum force (N, up to 1000)"},
     {"box-width", &TouchOptions::boxWidth, "Scene box width (m)"},

@@ -10,6 +10,7 @@
 
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/player/state_machine.h"
+#include "depthtouch/scene/stiffness.h"
 
 namespace depthtouch::cli {
 
@@ -101,7 +102,7 @@ const OptionRow<PlayOptions> kPlayRows[] = {
     {.name = "stiffness",
      .field = &PlayOptions::stiffness,
      .help = "Surface stiffness, N/m",
-     .check = inRange(1.0, 20000.0, "N/m"),
+     .check = inRange(scene::kMinStiffness, scene::kMaxStiffness, "N/m"),
      .land = [](const PlayOptions &o, Config &c) { c.haptics.renderer.stiffness = o.stiffness; }},
     {.name = "static-friction",
      .field = &PlayOptions::staticFriction,

@@ -76,8 +76,8 @@ Result<void> RendererConfig::validate() const noexcept
     auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
     if (!positive(box.width) || !positive(box.depth))
         return unexpected(Errc::InvalidArgument, "box width and depth must be positive");
-    if (!positive(stiffness))
-        return unexpected(Errc::InvalidArgument, "stiffness must be positive");
+    if (!scene::stiffnessInRange(stiffness))
+        return unexpected(Errc::InvalidArgument, "stiffness must be in [100, 3000] N/m");
     if (!std::isfinite(damping) || damping < 0.0)
         return unexpected(Errc::InvalidArgument, "damping must be zero or positive");
     if (!positive(maxForce))
@@ -111,7 +111,7 @@ void ForceStage::reset() noexcept
 
 void ForceStage::setStiffness(double newtonsPerMetre) noexcept
 {
-    if (!(newtonsPerMetre > 0.0) || !std::isfinite(newtonsPerMetre))
+    if (!scene::stiffnessInRange(newtonsPerMetre))
         return;
     prevRaw_ *= newtonsPerMetre / config_.stiffness;
     config_.stiffness = newtonsPerMetre;

@@ -175,8 +175,6 @@ Result<void> validateReplayOptions(const ReplayOptions &options) noexcept
         return unexpected(Errc::InvalidArgument, "haptic rate must be in 100..10000 Hz");
     DT_TRY(options.config.validate());
     const RendererConfig &c = options.config;
-    if (!within(c.stiffness, L::kMaxStiffness))
-        return unexpected(Errc::InvalidArgument, "stiffness must be in (0, 100000] N/m");
     if (!(c.damping >= 0.0 && c.damping <= L::kMaxDamping))
         return unexpected(Errc::InvalidArgument, "damping must be in [0, 1000] N*s/m");
     if (!within(c.maxForce, L::kMaxForce))

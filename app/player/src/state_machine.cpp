@@ -110,26 +110,28 @@ struct CommandHandlers {
 
     static CommandOutcome stiffness(StateMachine &m, const Command &c)
     {
-        const StiffnessRange &r = m.range_;
+        using scene::kMaxStiffness;
+        using scene::kMinStiffness;
         double target = m.stiffness_;
         switch (c.stiffnessChange) {
         case StiffnessChange::Up:
-            target = std::min(m.stiffness_ + r.step, r.max);
+            target = std::min(m.stiffness_ + scene::kStiffnessStep, kMaxStiffness);
             if (target == m.stiffness_)
                 return CommandOutcome::refuse("stiffness already at its maximum, " +
-                                              formatNewtonsPerMetre(r.max));
+                                              formatNewtonsPerMetre(kMaxStiffness));
             break;
         case StiffnessChange::Down:
-            target = std::max(m.stiffness_ - r.step, r.min);
+            target = std::max(m.stiffness_ - scene::kStiffnessStep, kMinStiffness);
             if (target == m.stiffness_)
                 return CommandOutcome::refuse("stiffness already at its minimum, " +
-                                              formatNewtonsPerMetre(r.min));
+                                              formatNewtonsPerMetre(kMinStiffness));
             break;
         case StiffnessChange::Set:
-            if (c.stiffness < r.min || c.stiffness > r.max)
+            if (!scene::stiffnessInRange(c.stiffness))
                 return CommandOutcome::refuse("stiffness " + formatNewtonsPerMetre(c.stiffness) +
-                                              " is outside " + formatNewtonsPerMetre(r.min) +
-                                              " .. " + formatNewtonsPerMetre(r.max));
+                                              " is outside " +
+                                              formatNewtonsPerMetre(kMinStiffness) + " .. " +
+                                              formatNewtonsPerMetre(kMaxStiffness));
             target = c.stiffness;
             if (target == m.stiffness_)
                 return CommandOutcome::accept();
@@ -350,14 +352,10 @@ bool isRefusal(Errc code) noexcept
 StateMachine::StateMachine(PlayerActions &actions, PlayerSettings settings)
     : actions_(actions), url_(std::move(settings.url)), loop_(settings.loop),
       reopenWhenSilent_(settings.reopenWhenSilent), stereoMode_(settings.stereoMode),
-      haptics_(settings.haptics), range_(settings.range), mute_(settings.mute),
-      keys_(std::move(settings.keys))
+      haptics_(settings.haptics), mute_(settings.mute), keys_(std::move(settings.keys))
 {
-    if (range_.min > range_.max)
-        std::swap(range_.min, range_.max);
-    if (!(range_.step > 0.0))
-        range_.step = 1.0;
-    stiffness_ = std::clamp(settings.stiffness, range_.min, range_.max);
+    stiffness_ = std::clamp(std::isfinite(settings.stiffness) ? settings.stiffness : 800.0,
+                            scene::kMinStiffness, scene::kMaxStiffness);
     volume_ = std::clamp(std::isfinite(settings.volume) ? settings.volume : 100.0, 0.0, kMaxVolume);
     mute_ = settings.mute;
 }

@@ -164,7 +164,8 @@ TEST(PlayOptionTableTest, TheMessagesOfBadValuesStayAsTheyWere)
     const std::pair<std::vector<std::string>, std::string> cases[] = {
         {{"--stereo", "3d"}, "--stereo must be sbs, tab, anaglyph, mono or interleaved"},
         {{"--rate", "50"}, "--rate must be in [100, 10000] Hz"},
-        {{"--stiffness", "0"}, "--stiffness must be in [1, 20000] N/m"},
+        {{"--stiffness", "0"}, "--stiffness must be in [100, 3000] N/m"},
+        {{"--stiffness", "3001"}, "--stiffness must be in [100, 3000] N/m"},
         {{"--duration", "-1"}, "--duration must be >= 0 s"},
         {{"--osd-seconds", "1e9"}, "--osd-seconds must be in [0, 86400] s"},
         {{"--lod-target", "5"}, "--lod-target must be in [0, 4] refresh periods (0: off)"},

@@ -100,9 +100,11 @@ TEST(RendererTest, aStiffnessSetWhilePressingIsFeltInSlewedStepsWithoutATrip)
         for (int i = 0; i < 50; ++i, t += 0.001)
             out = r.update({0.01, 0.005, z - 0.002}, t);
         ASSERT_NEAR(out.force.z, 800.0 * 0.002, 0.02);
-        // WHEN the stiffness becomes 3500 N/m (7 N at the same depth: a jump of 5.4 N, over
-        // the 2 N force-jump threshold) and then a nonsense value
+        // WHEN the stiffness becomes 3000 N/m (6 N at the same depth: a jump of 4.4 N, over
+        // the 2 N force-jump threshold) and then values outside the one range (stiffness.h)
+        r.setStiffness(3000.0);
         r.setStiffness(3500.0);
+        r.setStiffness(50.0);
         r.setStiffness(-1.0);
         r.setStiffness(std::nan(""));
         double last = out.force.z;
@@ -116,7 +118,7 @@ TEST(RendererTest, aStiffnessSetWhilePressingIsFeltInSlewedStepsWithoutATrip)
         }
         // THEN the force is k·depth at the new k, reached in steps of at most maxForceStep,
         // and the change itself never tripped safety (the contact held)
-        EXPECT_NEAR(out.force.z, 3500.0 * 0.002, 0.03);
+        EXPECT_NEAR(out.force.z, 3000.0 * 0.002, 0.03);
         EXPECT_LE(largest, cfg.maxForceStep + 1e-9);
         EXPECT_GT(largest, 1.0) << "the force rose in a few steps";
         EXPECT_FALSE(released);

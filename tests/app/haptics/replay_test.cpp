@@ -167,6 +167,11 @@ TEST(ReplayTest, optionsOutsideTheirRangesAreRefused)
     EXPECT_TRUE(bad([](ReplayOptions &o) { o.rate = 99.0; }));
     EXPECT_TRUE(bad([](ReplayOptions &o) { o.rate = std::nan(""); }));
     EXPECT_TRUE(bad([](ReplayOptions &o) { o.config.stiffness = 1e308; }));
+    // the stiffness's one range (scene/stiffness.h), its ends included
+    EXPECT_FALSE(bad([](ReplayOptions &o) { o.config.stiffness = 100.0; }));
+    EXPECT_FALSE(bad([](ReplayOptions &o) { o.config.stiffness = 3000.0; }));
+    EXPECT_TRUE(bad([](ReplayOptions &o) { o.config.stiffness = 99.5; }));
+    EXPECT_TRUE(bad([](ReplayOptions &o) { o.config.stiffness = 3000.5; }));
     EXPECT_TRUE(bad([](ReplayOptions &o) { o.config.damping = 1e308; }));
     EXPECT_TRUE(bad([](ReplayOptions &o) { o.config.maxForce = 1e308; }));
     EXPECT_TRUE(bad([](ReplayOptions &o) { o.config.box.width = 1e300; }));
@@ -189,7 +194,7 @@ TEST(ReplayTest, forcesAreFiniteAndWithinTheMaximumAtTheExtremesOfEveryRange)
             opt.rate = ReplayLimits::kMaxRate;
             opt.config = RendererConfig::forMethod(m);
             opt.config.safety = safety;
-            opt.config.stiffness = ReplayLimits::kMaxStiffness;
+            opt.config.stiffness = scene::kMaxStiffness;
             opt.config.damping = ReplayLimits::kMaxDamping;
             RawVideoFrameProvider frames(rawVideo(16, 12, 3), 16, 12, SampleFormat::Gray16, 30.0);
             const auto rows = replay(frames, *traj, opt);

@@ -3,6 +3,7 @@
 
 #include <set>
 #include <limits>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -25,15 +26,13 @@ PlayerSettings defaultSettings()
     PlayerSettings s;
     s.url = kUrl;
     s.stiffness = 800.0;
-    s.range = {100.0, 3000.0, 100.0};
     return s;
 }
 
-/// The default settings with the stiffness \a range and the initial \a stiffness.
-PlayerSettings stiffnessSettings(const StiffnessRange &range, double stiffness)
+/// The default settings with the initial \a stiffness.
+PlayerSettings stiffnessSettings(double stiffness)
 {
     PlayerSettings s = defaultSettings();
-    s.range = range;
     s.stiffness = stiffness;
     return s;
 }
@@ -571,35 +570,42 @@ TEST(StateMachineTest, stereoModeCyclesThroughEveryMode)
     EXPECT_TRUE(fake.calls.empty());
 }
 
-TEST(StateMachineTest, stiffnessStepsAreClampedToTheRange)
+// The one range of every stiffness entry point (scene/stiffness.h): 100..3000 N/m, 100 a step.
+TEST(StateMachineTest, stiffnessStepsAreClampedToTheOneRange)
 {
     FakePlayerActions fake;
-    StateMachine m(fake, stiffnessSettings({200.0, 1000.0, 300.0}, 800.0));
+    StateMachine m(fake, stiffnessSettings(2950.0));
 
     EXPECT_TRUE(m.execute("stiffness +").accepted);
-    EXPECT_EQ(m.stiffness(), 1000.0) << "800 + 300 clamps to the maximum";
+    EXPECT_EQ(m.stiffness(), 3000.0) << "2950 + 100 clamps to the maximum";
     const CommandOutcome atMax = m.execute("stiffness +");
     EXPECT_FALSE(atMax.accepted);
-    EXPECT_EQ(atMax.reason, "stiffness already at its maximum, 1000 N/m");
-    EXPECT_FALSE(m.execute("stiffness 5000").accepted);
-    EXPECT_FALSE(m.execute("stiffness 150").accepted);
+    EXPECT_EQ(atMax.reason, "stiffness already at its maximum, 3000 N/m");
+    const CommandOutcome over = m.execute("stiffness 3001");
+    EXPECT_FALSE(over.accepted);
+    EXPECT_EQ(over.reason, "stiffness 3001 N/m is outside 100 N/m .. 3000 N/m");
+    EXPECT_FALSE(m.execute("stiffness 99").accepted);
+    EXPECT_TRUE(m.execute("stiffness 250").accepted);
     EXPECT_TRUE(m.execute("stiffness -").accepted);
     EXPECT_TRUE(m.execute("stiffness -").accepted);
-    EXPECT_TRUE(m.execute("stiffness -").accepted);
-    EXPECT_EQ(m.stiffness(), 200.0);
+    EXPECT_EQ(m.stiffness(), 100.0) << "150 - 100 clamps to the minimum";
+    const CommandOutcome atMin = m.execute("stiffness -");
+    EXPECT_FALSE(atMin.accepted);
+    EXPECT_EQ(atMin.reason, "stiffness already at its minimum, 100 N/m");
     EXPECT_FALSE(m.execute("stiffness down").accepted);
-    EXPECT_TRUE(m.execute("stiffness 450").accepted);
-    EXPECT_EQ(fake.calls, (std::vector<std::string>{"setStiffness 1000", "setStiffness 700",
-                                                    "setStiffness 400", "setStiffness 200",
-                                                    "setStiffness 450"}));
-    EXPECT_EQ(m.execute("get stiffness").data, Value(450.0));
+    EXPECT_TRUE(m.execute("stiffness 3000").accepted) << "the ends are in the range";
+    EXPECT_EQ(fake.calls,
+              (std::vector<std::string>{"setStiffness 3000", "setStiffness 250", "setStiffness 150",
+                                        "setStiffness 100", "setStiffness 3000"}));
+    EXPECT_EQ(m.execute("get stiffness").data, Value(3000.0));
 }
 
-TEST(StateMachineTest, initialStiffnessIsClamped)
+TEST(StateMachineTest, initialStiffnessIsClampedToTheOneRange)
 {
     FakePlayerActions fake;
-    StateMachine m(fake, stiffnessSettings({100.0, 500.0, 50.0}, 9000.0));
-    EXPECT_EQ(m.stiffness(), 500.0);
+    EXPECT_EQ(StateMachine(fake, stiffnessSettings(9000.0)).stiffness(), 3000.0);
+    EXPECT_EQ(StateMachine(fake, stiffnessSettings(20.0)).stiffness(), 100.0);
+    EXPECT_EQ(StateMachine(fake, stiffnessSettings(std::nan(""))).stiffness(), 800.0);
 }
 
 TEST(StateMachineTest, hapticsSwitch)

@@ -21,6 +21,7 @@
 #include "depthtouch/haptics/height_field.h"
 #include "depthtouch/haptics/proxy_solver.h"
 #include "depthtouch/platform/result.h"
+#include "depthtouch/scene/stiffness.h"
 
 namespace depthtouch::haptics {
 
@@ -66,7 +67,7 @@ enum class Reengage : std::uint8_t {
 /// `touch` keeps Release.
 struct RendererConfig {
     SceneBox box{};             ///< Scene box the frames fill, m.
-    double stiffness = 800.0;   ///< k, N/m (> 0).
+    double stiffness = 800.0;   ///< k, N/m (scene::kMinStiffness..kMaxStiffness, stiffness.h).
     double damping = 0.0;       ///< b, N·s/m (≥ 0); F −= b·v_HIP while in contact.
     double maxForce = 8.5;      ///< Device maximum, N (> 0): |F| is clamped to it.
     bool correction = true;     ///< Fix (a), paper IV.A: lift the previous proxy with the surface.
@@ -168,7 +169,8 @@ public:
     /// the slew limit all act on the force at the new k, the force that is sent to the device.
     /// The last force is rescaled with it, so the change itself never trips safety; the slew
     /// limit (and the haptic task's force-rate limit) bring the command to the new force.
-    /// Values that are not positive and finite are ignored. Real-time safe.
+    /// Values outside scene::kMinStiffness..kMaxStiffness (stiffness.h) are ignored. Real-time
+    /// safe.
     virtual void setStiffness(double newtonsPerMetre) noexcept = 0;
 
     [[nodiscard]] virtual Method method() const noexcept = 0;
@@ -227,9 +229,9 @@ public:
     /// \brief The frames' clock restarted (seek, loop): the next t may be smaller. The force
     /// history is kept (no kick); a ramp in progress continues where it was.
     void restartClock() noexcept { rebase_ = havePrev_; }
-    /// \brief HapticRenderer::setStiffness(): k becomes \a newtonsPerMetre (ignored unless
-    /// positive and finite) and the last unshaped force is rescaled to it, so the force-jump
-    /// check compares forces at the same k.
+    /// \brief HapticRenderer::setStiffness(): k becomes \a newtonsPerMetre (ignored outside
+    /// scene::kMinStiffness..kMaxStiffness) and the last unshaped force is rescaled to it, so the
+    /// force-jump check compares forces at the same k.
     void setStiffness(double newtonsPerMetre) noexcept;
     [[nodiscard]] double stiffness() const noexcept { return config_.stiffness; }
 

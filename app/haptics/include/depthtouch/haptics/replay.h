@@ -41,9 +41,10 @@ struct ReplayLimits {
     /// Haptic rate, Hz (the player's servo range).
     static constexpr double kMinRate = 100.0;
     static constexpr double kMaxRate = 10'000.0;
-    /// Renderer parameters: stiffness N/m, damping N·s/m, maximum force N, force step N, ramp time
-    /// s, box width and depth m (all also > 0, damping ≥ 0; see RendererConfig).
-    static constexpr double kMaxStiffness = 100'000.0;
+    /// Renderer parameters: damping N·s/m, maximum force N, force step N, ramp time s, box width
+    /// and depth m (all also > 0, damping ≥ 0; see RendererConfig). The stiffness has the one
+    /// range of every entry point, scene::kMinStiffness..kMaxStiffness
+    /// (RendererConfig::validate()).
     static constexpr double kMaxDamping = 1'000.0;
     static constexpr double kMaxForce = 1'000.0;
     static constexpr double kMaxForceStep = 10'000.0;

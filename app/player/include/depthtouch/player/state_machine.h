@@ -39,6 +39,7 @@
 #include "depthtouch/platform/result.h"
 #include "depthtouch/player/command.h"
 #include "depthtouch/player/key_bindings.h"
+#include "depthtouch/scene/stiffness.h"
 
 namespace depthtouch::player {
 
@@ -76,7 +77,8 @@ public:
     [[nodiscard]] virtual Result<void> setStereoMode(StereoMode mode) = 0;
     /// Turns force output on or off (off: zero force, the haptic task keeps running).
     [[nodiscard]] virtual Result<void> setHapticsEnabled(bool enabled) = 0;
-    /// Sets the surface stiffness \a newtonsPerMetre (N/m), already within the configured range.
+    /// Sets the surface stiffness \a newtonsPerMetre (N/m), already within the one range
+    /// scene::kMinStiffness..kMaxStiffness (depthtouch/scene/stiffness.h).
     [[nodiscard]] virtual Result<void> setStiffness(double newtonsPerMetre) = 0;
     /// Re-seats the haptic workspace centre on the surface (the proxy is released, no force kick).
     [[nodiscard]] virtual Result<void> recenter() = 0;
@@ -186,13 +188,6 @@ struct CommandOutcome {
     static CommandOutcome refuse(std::string why) { return {false, std::move(why), {}}; }
 };
 
-/// Range and step of the stiffness commands (N/m).
-struct StiffnessRange {
-    double min = 100.0;  ///< N/m.
-    double max = 3000.0; ///< N/m.
-    double step = 100.0; ///< N/m per "stiffness +" or "-".
-};
-
 /// \brief Start-up settings of the machine (from options and the config file).
 struct PlayerSettings {
     std::string url;    ///< What "play" opens when it names nothing.
@@ -203,8 +198,9 @@ struct PlayerSettings {
     bool reopenWhenSilent = false;
     StereoMode stereoMode = StereoMode::SideBySide;
     bool haptics = true;
-    double stiffness = 800.0; ///< N/m, clamped into range.
-    StiffnessRange range;
+    /// N/m, clamped into scene::kMinStiffness..kMaxStiffness, the range of every stiffness
+    /// command; "stiffness +" or "-" steps by scene::kStiffnessStep.
+    double stiffness = 800.0;
     double volume = 100.0; ///< The sound's start volume, % (0..kMaxVolume).
     bool mute = false;
     KeyMap keys; ///< The remote's keys (the defaults, or as key map files rebound them).
@@ -253,7 +249,6 @@ public:
     [[nodiscard]] StereoMode stereoMode() const noexcept { return stereoMode_; }
     [[nodiscard]] bool hapticsEnabled() const noexcept { return haptics_; }
     [[nodiscard]] double stiffness() const noexcept { return stiffness_; } ///< N/m.
-    [[nodiscard]] const StiffnessRange &stiffnessRange() const noexcept { return range_; }
     [[nodiscard]] bool loop() const noexcept { return loop_; }
     [[nodiscard]] double volume() const noexcept { return volume_; } ///< %.
     [[nodiscard]] bool muted() const noexcept { return mute_; }
@@ -292,7 +287,6 @@ private:
     StereoMode stereoMode_;
     bool haptics_;
     double stiffness_;
-    StiffnessRange range_;
     double volume_; ///< %.
     bool mute_;
     KeyMap keys_;
