@@ -7,7 +7,6 @@
 /// (docs/materials.md) is shown with its role, lossless or not and the value ranges of its first
 /// frame (decoded with libavcodec; regular files only: a FIFO or URL cannot be read twice).
 
-#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -15,7 +14,6 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 
 #include "commands.h"
 #include "option_cli.h"
@@ -23,28 +21,12 @@
 #include "depthtouch/media/material_track.h"
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
-#include "depthtouch/receiver/packet_census.h"
+#include "depthtouch/probe/probe_report.h"
 #include "depthtouch/receiver/receiver.h"
-#include "depthtouch/receiver/stream_roles.h"
 
 namespace depthtouch::cli {
 
 namespace {
-
-/// A depth plane (m) as the report shows it: unknown (0 in hal::DepthMetadata: a file made from
-/// 8-bit nearness without --near/--far, whose tags say "unknown") is not a distance.
-std::string planeText(double metres)
-{
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g m", metres);
-    return metres > 0.0 ? buf : "unknown";
-}
-
-/// The same in the JSON report: null when unknown.
-nlohmann::json planeJson(double metres)
-{
-    return metres > 0.0 ? nlohmann::json(metres) : nlohmann::json(nullptr);
-}
 
 struct ProbeOptions {
     std::string file;
@@ -69,29 +51,6 @@ const OptionRow<ProbeOptions> kProbeRows[] = {
     {"decoder", &ProbeOptions::decoder, "Video decoder backend for --decode (default: ffmpeg)"},
 };
 
-std::string rateText(const hal::Rational &r)
-{
-    if (r.num <= 0 || r.den <= 0)
-        return "unknown";
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.3g", r.toDouble());
-    return buf;
-}
-
-/// Everything the report prints: the demux census, the pairing census and the --decode pass.
-struct ProbeReport {
-    hal::MediaInfo info;
-    receiver::StreamRoles roles;
-    receiver::DemuxCensus demux;
-    std::vector<hal::Pts> spans;
-    receiver::PairingCensus census;
-    std::uint64_t unpairedColor = 0;
-    bool everyPaired = false;
-    nlohmann::json decodeJson;
-    std::string decodeText;
-    std::optional<media::MaterialStreamInfo> material; ///< The material stream, when there is one.
-};
-
 /// --decode reads the input twice (demux census, then the receiver): a FIFO cannot be. Prints why
 /// and returns false for a FIFO under --decode.
 bool decodeInputReadable(const ProbeOptions &opt)
@@ -106,58 +65,10 @@ bool decodeInputReadable(const ProbeOptions &opt)
     return true;
 }
 
-/// The receiver's counters as the JSON report's "decode" object.
-nlohmann::json decodeStatsJson(const char *mode, const receiver::ReceiverStats &s)
-{
-    return {{"mode", mode},
-            {"color_frames", s.colorFrames},
-            {"depth_frames", s.depthFrames},
-            {"paired_frames", s.framesOutput},
-            {"concealed", s.framesConcealed},
-            {"decode_errors", s.decodeErrors},
-            {"depth_missing", s.depthMissing},
-            {"depth_duplicated", s.depthDuplicated},
-            {"depth_unpaired", s.depthUnpaired},
-            {"pts_gaps", s.ptsGaps},
-            {"pts_duplicates", s.ptsDuplicates},
-            {"pts_non_monotonic", s.ptsNonMonotonic},
-            {"read_errors", s.readErrors}};
-}
-
-/// The receiver's counters as the text report's "decode" line.
-std::string decodeStatsText(const char *mode, const receiver::ReceiverStats &s)
-{
-    char line[512];
-    std::snprintf(line, sizeof line,
-                  "decode (%s): %llu color + %llu depth frames -> %llu paired; %llu concealed, "
-                  "%llu decode errors, %llu without depth, %llu reused depth, %llu read errors\n",
-                  mode, static_cast<unsigned long long>(s.colorFrames),
-                  static_cast<unsigned long long>(s.depthFrames),
-                  static_cast<unsigned long long>(s.framesOutput),
-                  static_cast<unsigned long long>(s.framesConcealed),
-                  static_cast<unsigned long long>(s.decodeErrors),
-                  static_cast<unsigned long long>(s.depthMissing),
-                  static_cast<unsigned long long>(s.depthDuplicated),
-                  static_cast<unsigned long long>(s.readErrors));
-    return line;
-}
-
-/// The text report's "holes" line.
-std::string holesText(const receiver::HoleCount &h, std::uint32_t holeBelow)
-{
-    char line[200];
-    std::snprintf(
-        line, sizeof line,
-        "holes: %.2f %% of %llu decoded depth samples (below %u, decoded units)\n",
-        h.samples > 0 ? 100.0 * static_cast<double>(h.holes) / static_cast<double>(h.samples) : 0.0,
-        static_cast<unsigned long long>(h.samples), holeBelow);
-    return line;
-}
-
 /// The --decode pass: runs the real receiver (decode + pairing) over the whole input and keeps its
 /// counters in the report. Returns kExitOk, or kExitBadInput after printing why it could not run.
 int runDecodePass(const ProbeOptions &opt, const std::string &sourceName, bool mockUrl,
-                  const hal::BackendConfig &cfg, ProbeReport &rep)
+                  const hal::BackendConfig &cfg, probe::ProbeReport &rep)
 {
     auto src2 = drivers::createMediaSource(sourceName, cfg);
     const std::string decName = !opt.decoder.empty() ? opt.decoder : mockUrl ? "mock" : "ffmpeg";
@@ -174,251 +85,8 @@ int runDecodePass(const ProbeOptions &opt, const std::string &sourceName, bool m
                      r.error().what, errcName(r.error().code));
         return kExitBadInput;
     }
-    const receiver::HoleCount holes = receiver::decodeToEnd(**r);
-    const receiver::ReceiverStats s = (*r)->stats();
-    rep.decodeJson = decodeStatsJson(receiver::receiverModeName((*r)->info().mode), s);
-    rep.decodeText = decodeStatsText(receiver::receiverModeName((*r)->info().mode), s);
-    if ((*r)->info().hasDepth) {
-        rep.decodeJson["hole_below"] = (*r)->info().depthHoleBelow;
-        rep.decodeJson["depth_samples"] = holes.samples;
-        rep.decodeJson["hole_samples"] = holes.holes;
-        rep.decodeText += holesText(holes, (*r)->info().depthHoleBelow);
-    }
+    probe::addDecodePass(rep, **r);
     return kExitOk;
-}
-
-/// The role a stream plays, with the reason it was chosen ("ignored" for any other stream).
-std::string roleOf(const ProbeReport &rep, int index)
-{
-    const receiver::StreamRoles &roles = rep.roles;
-    if (rep.material && index == rep.material->index && index != roles.color &&
-        index != roles.depth)
-        return "material (" + rep.material->titleFrom + ")";
-    if (index == roles.color)
-        return std::string("color (") + roles.colorReason + ")";
-    if (index == roles.depth)
-        return std::string("depth (") + roles.depthReason + ")";
-    return "ignored";
-}
-
-/// The text report's words for the depth_occupancy tag \a threshold.
-std::string occupancyText(std::uint32_t threshold)
-{
-    return threshold == 0 ? std::string("no holes (no depth_occupancy)")
-                          : "holes below " + std::to_string(threshold) + " (depth_occupancy)";
-}
-
-/// The depth stream's description, or nullptr when the file has none.
-const hal::StreamInfo *depthStreamOf(const ProbeReport &rep)
-{
-    return rep.roles.depth >= 0 ? &rep.info.streams[static_cast<std::size_t>(rep.roles.depth)]
-                                : nullptr;
-}
-
-/// The JSON report's "streams" array.
-nlohmann::json streamsJson(const ProbeReport &rep)
-{
-    nlohmann::json streams = nlohmann::json::array();
-    for (const hal::StreamInfo &s : rep.info.streams) {
-        const receiver::StreamCount &c = rep.demux.counts[static_cast<std::size_t>(s.index)];
-        streams.push_back(
-            {{"index", s.index},
-             {"title", s.title},
-             {"role", roleOf(rep, s.index)},
-             {"codec", hal::codecName(s.codec)},
-             {"width", s.width},
-             {"height", s.height},
-             {"pix_fmt", hal::pixelFormatName(s.format)},
-             {"frame_rate", s.frameRate.toDouble()},
-             {"frames", c.packets},
-             {"keyframes", c.keyframes},
-             {"duration_s", platform::toSeconds(rep.spans[static_cast<std::size_t>(s.index)])}});
-    }
-    return streams;
-}
-
-/// How long (s) audio stream \a a overlaps the picture, taken as [0, the longest video stream's
-/// span]; 0 when it does not, or when its length is unknown.
-double audioOverlap(const ProbeReport &rep, const hal::AudioStreamInfo &a)
-{
-    hal::Pts picture{0};
-    for (const hal::Pts span : rep.spans)
-        picture = std::max(picture, span);
-    const double begin = std::max(0.0, platform::toSeconds(a.start));
-    const double end =
-        std::min(platform::toSeconds(picture), platform::toSeconds(a.start + a.duration));
-    return std::max(0.0, end - begin);
-}
-
-/// The JSON report's "audio" array.
-nlohmann::json audioJson(const ProbeReport &rep)
-{
-    nlohmann::json audio = nlohmann::json::array();
-    for (const hal::AudioStreamInfo &a : rep.info.audio)
-        audio.push_back({{"stream", a.containerIndex},
-                         {"codec", a.codec},
-                         {"sample_rate", a.sampleRate},
-                         {"channels", a.channels},
-                         {"start_s", platform::toSeconds(a.start)},
-                         {"duration_s", platform::toSeconds(a.duration)},
-                         {"language", a.language.empty() ? nlohmann::json(nullptr)
-                                                         : nlohmann::json(a.language)},
-                         {"overlap_s", audioOverlap(rep, a)}});
-    return audio;
-}
-
-/// Prints one line per audio stream.
-void printAudioText(const ProbeReport &rep)
-{
-    for (const hal::AudioStreamInfo &a : rep.info.audio) {
-        char overlap[96];
-        if (const double o = audioOverlap(rep, a); o > 0.0)
-            std::snprintf(overlap, sizeof overlap, "overlaps the picture for %.3f s", o);
-        else
-            std::snprintf(overlap, sizeof overlap, "does not overlap the picture");
-        std::printf("audio: stream #%d %s, %d Hz, %d channel%s, %.3f s from %.3f s%s%s; %s "
-                    "(listed, not played: no audio output yet)\n",
-                    a.containerIndex, a.codec.c_str(), a.sampleRate, a.channels,
-                    a.channels == 1 ? "" : "s", platform::toSeconds(a.duration),
-                    platform::toSeconds(a.start), a.language.empty() ? "" : ", language ",
-                    a.language.c_str(), overlap);
-    }
-}
-
-/// Prints the report as JSON (--json).
-void printJsonReport(const ProbeOptions &opt, const ProbeReport &rep)
-{
-    const receiver::PairingCensus &census = rep.census;
-    const hal::StreamInfo *depth = depthStreamOf(rep);
-    nlohmann::json j;
-    j["file"] = opt.file;
-    j["duration_s"] = platform::toSeconds(rep.info.duration);
-    j["packets"] = rep.demux.packets;
-    j["read_error"] =
-        rep.demux.readError.empty() ? nlohmann::json(nullptr) : nlohmann::json(rep.demux.readError);
-    j["streams"] = streamsJson(rep);
-    j["audio"] = audioJson(rep);
-    if (depth != nullptr)
-        j["depth_metadata"] = {{"near_m", planeJson(depth->depth.nearMetres)},
-                               {"far_m", planeJson(depth->depth.farMetres)},
-                               {"mapping", depth->depth.mapping},
-                               {"bits", depth->depth.bits},
-                               {"occupancy", depth->depth.occupancy}};
-    else
-        j["depth_metadata"] = nullptr;
-    j["pairing"] = {{"color_frames", census.colorFrames},
-                    {"color_with_depth_partner", census.colorWithPartner},
-                    {"color_without_depth_partner", rep.unpairedColor},
-                    {"depth_reused", census.stats.depthDuplicated},
-                    {"depth_missing", census.stats.depthMissing},
-                    {"depth_unpaired", census.stats.depthUnpaired},
-                    {"pts_gaps", census.stats.ptsGaps},
-                    {"pts_duplicates", census.stats.ptsDuplicates},
-                    {"every_color_frame_paired", rep.everyPaired}};
-    if (const auto &m = rep.material) {
-        nlohmann::json mj = {{"stream", m->index},        {"width", m->width},
-                             {"height", m->height},       {"codec", m->codec},
-                             {"pix_fmt", m->pixelFormat}, {"tags", m->tagsPresent}};
-        mj["lossless"] = m->lossless ? nlohmann::json(*m->lossless) : nlohmann::json(nullptr);
-        if (m->decoded)
-            mj["first_frame"] = {{"stiffness_scale", {m->minValue[0], m->maxValue[0]}},
-                                 {"static_friction", {m->minValue[1], m->maxValue[1]}},
-                                 {"dynamic_friction", {m->minValue[2], m->maxValue[2]}}};
-        j["material"] = mj;
-    }
-    j["notes"] = rep.roles.notes;
-    if (opt.decode)
-        j["decode"] = rep.decodeJson;
-    std::printf("%s\n", j.dump(2).c_str());
-}
-
-/// Prints the material line ("has materials") when the file has a material track.
-void printMaterialText(const ProbeReport &rep)
-{
-    if (!rep.material)
-        return;
-    const media::MaterialStreamInfo &m = *rep.material;
-    const char *lossless = !m.lossless ? "unknown" : *m.lossless ? "yes" : "NO";
-    std::printf("material: stream #%d %dx%d %s %s, lossless %s%s; has materials\n", m.index,
-                m.width, m.height, m.codec.c_str(), m.pixelFormat.c_str(), lossless,
-                m.tagsPresent ? ", planes and scales tagged" : "");
-    if (m.decoded)
-        std::printf("material first frame: stiffness scale %.4g..%.4g, static friction %.3g..%.3g, "
-                    "dynamic friction %.3g..%.3g\n",
-                    m.minValue[0], m.maxValue[0], m.minValue[1], m.maxValue[1], m.minValue[2],
-                    m.maxValue[2]);
-}
-
-/// Prints the text report's header line, one line per stream and the depth metadata line.
-void printStreamsText(const ProbeOptions &opt, const ProbeReport &rep)
-{
-    const hal::MediaInfo &info = rep.info;
-    std::printf("%s: %zu video stream%s, %.3f s\n", opt.file.c_str(), info.streams.size(),
-                info.streams.size() == 1 ? "" : "s", platform::toSeconds(info.duration));
-    for (const hal::StreamInfo &s : info.streams) {
-        const receiver::StreamCount &c = rep.demux.counts[static_cast<std::size_t>(s.index)];
-        std::printf("  #%d %-8s %-26s %-6s %dx%d %-8s %s fps, %llu frames (%.3f s)\n", s.index,
-                    s.title.empty() ? "-" : s.title.c_str(), roleOf(rep, s.index).c_str(),
-                    hal::codecName(s.codec), s.width, s.height, hal::pixelFormatName(s.format),
-                    rateText(s.frameRate).c_str(), static_cast<unsigned long long>(c.packets),
-                    platform::toSeconds(rep.spans[static_cast<std::size_t>(s.index)]));
-    }
-    if (const hal::StreamInfo *depth = depthStreamOf(rep); depth != nullptr) {
-        const hal::DepthMetadata &m = depth->depth;
-        if (receiver::hasDepthMetadata(m))
-            std::printf("depth metadata: near %s, far %s, mapping %s, %d bits, %s\n",
-                        planeText(m.nearMetres).c_str(), planeText(m.farMetres).c_str(),
-                        m.mapping.empty() ? "-" : m.mapping.c_str(), m.bits,
-                        occupancyText(m.occupancy).c_str());
-        else
-            std::printf("depth metadata: none\n");
-    }
-    printMaterialText(rep);
-    printAudioText(rep);
-}
-
-/// Prints the text report's pairing line and timestamp line.
-void printPairingText(const ProbeReport &rep)
-{
-    const receiver::StreamRoles &roles = rep.roles;
-    const receiver::PairingCensus &census = rep.census;
-    if (roles.color >= 0 && roles.depth >= 0)
-        std::printf("pairing: %llu of %llu color frames have a depth partner within half a frame "
-                    "(%llu without: %llu reuse the previous depth frame, %llu have none); %llu "
-                    "depth frames unpaired; %s\n",
-                    static_cast<unsigned long long>(census.colorWithPartner),
-                    static_cast<unsigned long long>(census.colorFrames),
-                    static_cast<unsigned long long>(rep.unpairedColor),
-                    static_cast<unsigned long long>(census.stats.depthDuplicated),
-                    static_cast<unsigned long long>(census.stats.depthMissing),
-                    static_cast<unsigned long long>(census.stats.depthUnpaired),
-                    rep.everyPaired ? "every color frame is paired"
-                                    : "NOT every color frame is paired");
-    else if (roles.depth >= 0)
-        std::printf("pairing: no color stream (depth only, %llu frames)\n",
-                    static_cast<unsigned long long>(
-                        rep.demux.counts[static_cast<std::size_t>(roles.depth)].packets));
-    else
-        std::printf("pairing: no depth stream (color only: plays flat 2D, haptics off)\n");
-    if (census.stats.ptsGaps + census.stats.ptsDuplicates > 0)
-        std::printf("timestamps: %llu gaps, %llu duplicates\n",
-                    static_cast<unsigned long long>(census.stats.ptsGaps),
-                    static_cast<unsigned long long>(census.stats.ptsDuplicates));
-}
-
-/// Prints the report as text (the default).
-void printTextReport(const ProbeOptions &opt, const ProbeReport &rep)
-{
-    printStreamsText(opt, rep);
-    printPairingText(rep);
-    for (const std::string &n : rep.roles.notes)
-        std::printf("note: %s\n", n.c_str());
-    if (!rep.demux.readError.empty())
-        std::printf("warning: reading stopped after %llu packets: %s (truncated or damaged file)\n",
-                    static_cast<unsigned long long>(rep.demux.packets),
-                    rep.demux.readError.c_str());
-    if (opt.decode)
-        std::printf("%s", rep.decodeText.c_str());
 }
 
 int runProbe(const ProbeOptions &opt)
@@ -441,14 +109,7 @@ int runProbe(const ProbeOptions &opt)
                      r.error().what, errcName(r.error().code));
         return kExitBadInput;
     }
-    ProbeReport rep;
-    rep.info = (*src)->info();
-    rep.roles = receiver::identifyStreams(rep.info);
-    rep.demux = receiver::countPackets(**src, rep.info.streams.size());
-    rep.spans = receiver::streamSpans(rep.info, rep.demux.counts);
-    rep.census = receiver::pairPackets(rep.info, rep.roles, rep.demux.counts);
-    rep.unpairedColor = rep.census.colorFrames - rep.census.colorWithPartner;
-    rep.everyPaired = rep.roles.color >= 0 && rep.roles.depth >= 0 && rep.unpairedColor == 0;
+    probe::ProbeReport rep = probe::census(**src);
     // The material track: read once more through libavformat (a regular file only).
     if (!mockUrl && platform::pathKind(opt.file.c_str()) == platform::PathKind::Regular) {
         if (auto m = media::probeMaterialStream(opt.file))
@@ -461,9 +122,9 @@ int runProbe(const ProbeOptions &opt)
             return rc;
     }
     if (opt.json)
-        printJsonReport(opt, rep);
+        std::printf("%s\n", probe::reportJson(rep, opt.file, opt.decode).dump(2).c_str());
     else
-        printTextReport(opt, rep);
+        probe::printReportText(stdout, rep, opt.file, opt.decode);
     return kExitOk;
 }
 

@@ -15,9 +15,9 @@
 
 namespace depthtouch::scene {
 
-inline constexpr double kMinStiffness = 100.0;   ///< N/m.
-inline constexpr double kMaxStiffness = 3000.0;  ///< N/m.
-inline constexpr double kStiffnessStep = 100.0;  ///< N/m, one remote step (`stiffness +`).
+inline constexpr double kMinStiffness = 100.0;  ///< N/m.
+inline constexpr double kMaxStiffness = 3000.0; ///< N/m.
+inline constexpr double kStiffnessStep = 100.0; ///< N/m, one remote step (`stiffness +`).
 
 /// \return whether \a newtonsPerMetre lies in kMinStiffness..kMaxStiffness (false for NaN).
 [[nodiscard]] inline bool stiffnessInRange(double newtonsPerMetre) noexcept
