@@ -20,6 +20,7 @@
 #include "depthtouch/platform/percentile.h"
 #include "depthtouch/platform/realtime_thread.h"
 #include "depthtouch/platform/thread_config.h"
+#include "depthtouch/scene/stiffness.h"
 
 #include "depth_view.h"
 #include "playback_impl.h"
@@ -337,8 +338,8 @@ Result<void> Playback::setHapticsEnabled(bool enabled)
 Result<void> Playback::setStiffness(double newtonsPerMetre)
 {
     impl_->osdEvents.fetch_add(1, std::memory_order_relaxed);
-    if (!(newtonsPerMetre > 0.0))
-        return Error(Errc::InvalidArgument, "stiffness must be positive");
+    if (!scene::stiffnessInRange(newtonsPerMetre))
+        return Error(Errc::InvalidArgument, "stiffness must be in [100, 3000] N/m");
     impl_->stiffness = newtonsPerMetre;
     if (impl_->owned && impl_->owned->task)
         impl_->owned->task->setStiffness(newtonsPerMetre);

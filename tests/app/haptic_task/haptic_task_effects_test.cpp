@@ -66,8 +66,9 @@ TEST(HapticTaskEffectsTest, theStiffnessSetWhilePlayingScalesTheForceAtTheSamePe
         const glm::dvec3 hip = hipOf(rig.task());
         EXPECT_NEAR(hip.z, hipBefore.z, 1e-12) << "the penetration did not change";
     }
-    // AND a stiffness that is not a positive number is ignored: the force stays
-    rig.task().setStiffness(-5.0);
+    // AND a stiffness outside the one range (scene/stiffness.h) is ignored: the force stays
+    for (const double bad : {-5.0, 99.0, 3001.0, 1e9})
+        rig.task().setStiffness(bad);
     rig.runMs(10);
     EXPECT_DOUBLE_EQ(rig.task().stiffness(), 400.0);
     EXPECT_NEAR(rig.task().lastForce().z, base * 0.5, 0.01);

@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "depthtouch/platform/macros.h"
+#include "depthtouch/scene/stiffness.h"
 
 namespace depthtouch::haptic_task {
 
@@ -41,10 +42,11 @@ public:
     void setEnabled(bool enabled) noexcept { enabled_.store(enabled, std::memory_order_release); }
     [[nodiscard]] bool enabled() const noexcept { return enabled_.load(std::memory_order_acquire); }
 
-    /// The surface stiffness, N/m: values outside (0, 10⁶) are ignored.
+    /// The surface stiffness, N/m: values outside the one range scene::kMinStiffness..
+    /// kMaxStiffness (stiffness.h) are ignored, as the renderer ignores them.
     void setStiffness(double newtonsPerMetre) noexcept
     {
-        if (newtonsPerMetre > 0.0 && newtonsPerMetre < 1e6)
+        if (scene::stiffnessInRange(newtonsPerMetre))
             stiffness_.store(newtonsPerMetre, std::memory_order_release);
     }
     /// \return the stiffness set, N/m.

@@ -102,7 +102,8 @@ public:
     void setEnabled(bool enabled) noexcept { controls_.setEnabled(enabled); }
     [[nodiscard]] bool enabled() const noexcept { return controls_.enabled(); }
 
-    /// \brief Changes the surface stiffness at run time, N/m (> 0; other values are ignored).
+    /// \brief Changes the surface stiffness at run time, N/m (scene::kMinStiffness..kMaxStiffness;
+    /// other values are ignored).
     /// The haptic thread hands it to the renderer at its next update
     /// (haptics::HapticRenderer::setStiffness()): the renderer's force-jump safety and slew limit
     /// act on the force at the new stiffness, and with the force-rate limit after them a change
