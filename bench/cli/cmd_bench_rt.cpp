@@ -1,8 +1,8 @@
 /// \file
 /// \brief `depthtouch bench rt`: wake latency and period error of the haptic servo loop (bare loop
 /// and the full haptic task with the simulated hand on a moving depth video) at 1 kHz and 4 kHz,
-/// SCHED_FIFO against SCHED_OTHER, the memory lock of issue #21 against mlockall(MCL_CURRENT)
-/// (alternating), idle and optionally loaded; CSV and a PNG chart into --out.
+/// SCHED_FIFO against SCHED_OTHER, the owned memory lock (docs/memory.md) against
+/// mlockall(MCL_CURRENT) (alternating), idle and optionally loaded; CSV and a PNG chart into --out.
 
 #include <unistd.h>
 
@@ -53,7 +53,7 @@ const OptionRow<BenchRtOptions> kBenchRtRows[] = {
     {"policies", &BenchRtOptions::policies, "fifo, other or fifo,other"},
     {"locks", &BenchRtOptions::locks,
      "Memory locks compared, alternating: owned (mlock of what the haptic thread owns, the "
-     "default), all (mlockall(MCL_CURRENT), the lock before issue #21), onfault "
+     "default), all (mlockall(MCL_CURRENT), the earlier lock), onfault "
      "(mlockall(MCL_CURRENT|MCL_FUTURE|MCL_ONFAULT)), none"},
     {"load", &BenchRtOptions::load, "Also run every case while other threads load the CPUs"},
     {"load-threads", &BenchRtOptions::loadThreads, "Threads of the load"},

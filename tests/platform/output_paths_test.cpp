@@ -1,4 +1,4 @@
-/// Unit tests of platform/output_paths.h (issue 28): outputs compared with inputs and with each
+/// Unit tests of platform/output_paths.h: outputs compared with inputs and with each
 /// other by file identity, not by spelling; output folders checked before a run.
 
 #include "depthtouch/platform/output_paths.h"

@@ -1,5 +1,5 @@
 #!/bin/sh
-# End-to-end (issue 31, the sender's part): `encode` keeps the sound of its color input, or takes
+# End-to-end: `encode` keeps the sound of its color input, or takes
 # --audio's, on the picture's timeline. The color source is a 3 s clip whose sound is silent but
 # for a 5 ms click at 1.000 s; in every output (MKV, MP4, MPEG-TS; copied AAC, and PCM coded as
 # AAC) the click must sound 1.000 s after the picture's start within 2 ms (the sound decoded by

@@ -1,5 +1,5 @@
 #!/bin/sh
-# The command line's mistakes as a user types them (issue 32): each is refused with exit 2 and one
+# The command line's mistakes as a user types them: each is refused with exit 2 and one
 # stderr line that names the mistyped word and, where one is near, the word meant (as git and mpv
 # do), not CLI11's generic "A subcommand is required" or "arguments were not expected".
 # Usage: command_line_e2e.sh /path/to/depthtouch

@@ -1,5 +1,5 @@
 #!/bin/bash
-# Shell completion (issue 32), as a user pressing Tab meets it: `depthtouch completion bash` is
+# Shell completion, as a user pressing Tab meets it: `depthtouch completion bash` is
 # sourced into bash and _depthtouch is called with COMP_WORDS as bash fills them; what it offers is
 # compared with sources of their own: the commands of `--help` and of the "needs a command" line,
 # the long options of `play --help`, and the words of `touch --method`'s refusal. The zsh function

@@ -1,5 +1,5 @@
 #!/bin/sh
-# `play` reads its settings as mpv does (issue 32): the system file (DT_SYSTEM_CONFIG_DIR stands for
+# `play` reads its settings as mpv does: the system file (DT_SYSTEM_CONFIG_DIR stands for
 # /etc/depthtouch), then the user's ($XDG_CONFIG_HOME/depthtouch/play.toml), then --config, then the
 # command line, each later one winning key by key; --no-config leaves the first two out;
 # --show-config prints the settings in effect with where each came from. Checked on the values a

@@ -1,5 +1,5 @@
 #!/bin/sh
-# Fault suite of the outputs (issue 28, groups 3 and 4), run on the `depthtouch` executable:
+# Fault suite of the outputs, run on the `depthtouch` executable:
 # - an output that names an input, or another output, however spelled (a link, `..`), is bad input
 #   (exit 2, one stderr line) before any work, and the input keeps its bytes;
 # - an output that cannot be completed (a full disk, simulated with RLIMIT_FSIZE and SIGXFSZ

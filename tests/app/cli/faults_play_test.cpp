@@ -1,5 +1,5 @@
 /// \file
-/// \brief Hostile inputs to `depthtouch play` (issue 16), each run with a time limit: every run
+/// \brief Hostile inputs to `depthtouch play`, each run with a time limit: every run
 /// ends within its bound with the documented exit code (0 quit or ended, 1 failure or lost output,
 /// 2 bad input) and exactly one line on stderr; a client's line never ends the player; the control
 /// socket answers while an input's open blocks; SIGTERM ends a player blocked in an open. A run

@@ -1,5 +1,5 @@
 /// \file
-/// \brief Stop means stop (issue 28, groups 1, 2 and 5), each run with a time limit: a simulated
+/// \brief Stop means stop, each run with a time limit: a simulated
 /// hand whose options would spin the haptic thread is bad input; a player whose live stream went
 /// silent answers `quit` and ends on SIGTERM or --duration within 5 s (the source's 10 s I/O
 /// timeout before), reports the silence and plays the next sender; SIGHUP, SIGQUIT and SIGUSR1

@@ -1,5 +1,5 @@
 #!/bin/sh
-# Fault suite (issue 16) of the tools: `touch`, `encode`, `probe` and `play` run against hostile
+# Fault suite of the tools: `touch`, `encode`, `probe` and `play` run against hostile
 # inputs and outputs, each under a time bound. Every run must end in time with the documented exit
 # code (2 bad input, 1 lost output), print exactly one line on stderr, and leave every output path
 # that was not a regular file as it was (a device, a FIFO, a directory, a link).

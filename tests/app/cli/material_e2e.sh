@@ -1,5 +1,5 @@
 #!/bin/sh
-# End-to-end: the material track (issue 22, docs/materials.md) through `depthtouch encode` and
+# End-to-end: the material track (docs/materials.md) through `depthtouch encode` and
 # `probe`. Color and depth are made with the ffmpeg CLI, material pictures written as binary PPM
 # here (exact codes). For MKV, MP4 and MPEG-TS: `--material` (a still, a two-picture sequence whose
 # last picture holds, stripes shrunk by a non-integer ratio) and `--material-map` with a

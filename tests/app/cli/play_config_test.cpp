@@ -1,6 +1,6 @@
 /// \file
 /// \brief The `play --config` loader (app/cli/play_config.h): what it reads (bounded in size and
-/// in the wait for a FIFO's writer) and how it applies and checks keys (issue 16 #11 and the
+/// in the wait for a FIFO's writer) and how it applies and checks keys (with the
 /// fuzzer's finds).
 
 #include "play_config.h"

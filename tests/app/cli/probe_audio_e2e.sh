@@ -1,5 +1,5 @@
 #!/bin/sh
-# End-to-end (issue 31, first step): `depthtouch probe` lists a file's audio streams, each against
+# End-to-end: `depthtouch probe` lists a file's audio streams, each against
 # ffprobe's reading of the same file: codec, sample rate, channels, language and length (MKV: the
 # stream's DURATION tag; MP4: the stream's duration), and how long each overlaps the picture
 # (computed here from the lengths); a file without audio lists none. Exit 77 (skip) without the

@@ -1,5 +1,5 @@
 #!/bin/sh
-# End-to-end (issue 33, rate control): `depthtouch encode`'s broadcast options read back by ffprobe.
+# End-to-end (rate control): `depthtouch encode`'s broadcast options read back by ffprobe.
 # A 3 s noisy clip (30 fps: every picture costs bits, so a rate limit binds) is encoded to MPEG-TS
 # with -g 15, color and depth at a constant bit rate (bitrate = maxrate, a buffer of one second) and
 # a constant mux rate; ffprobe's packets must show key frames on the same pictures in both streams,

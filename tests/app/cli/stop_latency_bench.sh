@@ -12,7 +12,7 @@
 # Measured: quit and SIGTERM from the request to the process's exit; stop from the request to its
 # answer; --duration 3 from the control socket's appearance (the control loop starts just after)
 # to the exit, less 3 s, with --idle, so that the player is waiting for the next sender by then.
-# Source: issue 28's goal (stop, quit, SIGTERM and --duration within 100 ms at p99 over 20 tries).
+# Source: the goal of docs/benchmarks.md (stop, quit, SIGTERM and --duration within 100 ms at p99 over 20 tries).
 set -euo pipefail
 
 exe=${1:?usage: stop_latency_bench.sh DEPTHTOUCH [OUT_DIR] [N]}

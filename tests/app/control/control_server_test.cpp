@@ -107,7 +107,7 @@ TEST(ControlProtocolTest, badRequestsGetAnErrorAndChangeNothing)
 
 TEST(ControlProtocolTest, numbersBeyondADoubleAreAnErrorNotAnAbort)
 {
-    // Issue 16 #1: nlohmann's out_of_range.406 went through to std::terminate (SIGABRT).
+    // Once: nlohmann's out_of_range.406 went through to std::terminate (SIGABRT).
     FakePlayerActions fake;
     StateMachine m(fake, settings());
     for (const char *line :

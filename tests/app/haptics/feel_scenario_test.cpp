@@ -1,5 +1,5 @@
 /// \file
-/// \brief Issue 15's failures on the feel bench's synthetic scenes (a Kinect-v1 sensor model, 8-bit
+/// \brief The failures on the feel bench's synthetic scenes (a Kinect-v1 sensor model, 8-bit
 /// depth as encode makes it): the finger renderer meets every feel goal, and the renderer it
 /// replaces
 /// (`modified`, paper IV) fails on the same strokes. The kitchen is checked end to end by
@@ -53,7 +53,7 @@ FeelSetting setting(const char *name)
     return {};
 }
 
-/// The goals of issue 15 (FeelGoals' defaults).
+/// The goals of docs/benchmarks.md (FeelGoals' defaults).
 void expectGoalsMet(const StrokesRun &r)
 {
     const FeelGoals goals;

@@ -230,7 +230,7 @@ TEST(FingerPlaneTest, aTapFarFromTheMedianIsLeftOutOfTheFit)
     EXPECT_NEAR(p.height, 0.0, 5e-6);
 }
 
-// Issue 15: on 8-bit depth with sensor flicker, strokes pressed 1 and 3 mm in at 5 and 10 cm/s.
+// on 8-bit depth with sensor flicker, strokes pressed 1 and 3 mm in at 5 and 10 cm/s.
 // The per-triangle descent (`modified`) trips safety with no cut and its force steps; the
 // fingertip renderer neither trips nor spikes, and never lets the finger through.
 TEST(FingerScenarioTest, noisyEightBitTableStrokesHoldWithoutTripsOrSpikes)
@@ -313,7 +313,7 @@ OwnedFrame stepFrame(const SceneBox &box, int i, double top, double halfWidth)
     return f;
 }
 
-// Issue 15: a finger 1 to 3 mm below the top of a 13 mm silhouette, moving toward it at 5 cm/s,
+// a finger 1 to 3 mm below the top of a 13 mm silhouette, moving toward it at 5 cm/s,
 // climbs onto the object (a fingertip rides over a rounded edge); the god-object on the
 // triangles stays at the foot of the wall for good.
 TEST(FingerScenarioTest, fingerBelowTheTopOfASilhouetteClimbsOntoIt)
@@ -349,7 +349,7 @@ TEST(FingerScenarioTest, fingerBelowTheTopOfASilhouetteClimbsOntoIt)
     }
 }
 
-// Issue 15: a finger in free space that passes under a thin object (a 9 mm forearm 10 mm above
+// a finger in free space that passes under a thin object (a 9 mm forearm 10 mm above
 // the backdrop) is behind it, not inside it: no force pulls it back once it is past, and none
 // holds it while it is under (the far side is what the camera did not see).
 TEST(FingerScenarioTest, fingerPassingUnderAThinObjectIsNotPulledBack)

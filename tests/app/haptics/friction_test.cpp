@@ -1,8 +1,8 @@
 /// \file
 /// \brief Friction on the proxy (friction.h, Ruspini et al. 1997's friction cone): the cone on its
-/// own, the configuration's checks, and the scenario of issue 22: on a tilted plane with μs = 0.5,
-/// μd = 0.3 the proxy holds under a HIP pushed sideways until the tangential force reaches
-/// 0.5·Fn, then slides at 0.3·Fn (within 1 %), in the `finger` and `modified` renderers.
+/// own, the configuration's checks, and the scenario of docs/materials.md: on a tilted plane with
+/// μs = 0.5, μd = 0.3 the proxy holds under a HIP pushed sideways until the tangential force
+/// reaches 0.5·Fn, then slides at 0.3·Fn (within 1 %), in the `finger` and `modified` renderers.
 
 #include <algorithm>
 #include <cmath>

@@ -1,9 +1,9 @@
 /// \file
 /// \brief Per-pixel haptic materials (scene/material.h, haptics/material_field.h): the coding, the
-/// lookup interpolated in space and time (paper Eq. 1), and the scenarios of issue 22 in the
-/// `finger` and `modified` renderers: a stiffness boundary (400 → 1200 N/m) crossed at 10 cm/s with
-/// no force step above the safety threshold, and the friction cone driven by the material's μs and
-/// μd as it is by the renderer's own (within 1 %).
+/// lookup interpolated in space and time (paper Eq. 1), and the scenarios of docs/materials.md in
+/// the `finger` and `modified` renderers: a stiffness boundary (400 → 1200 N/m) crossed at 10 cm/s
+/// with no force step above the safety threshold, and the friction cone driven by the material's μs
+/// and μd as it is by the renderer's own (within 1 %).
 
 #include <algorithm>
 #include <cmath>

@@ -114,7 +114,7 @@ TEST(ReplayTest, rejectsBadOptionsAndVideos)
 
 TEST(TrajectoryCsvTest, rejectsPositionsAndTimesBeyondTheLimits)
 {
-    // GIVEN rows with a coordinate of 1.7e308 m, a time of 1e300 s or 1e9 s (issue 16: NaN forces,
+    // GIVEN rows with a coordinate of 1.7e308 m, a time of 1e300 s or 1e9 s (once: NaN forces,
     // a one-row log, std::bad_alloc)
     const char *cases[] = {
         "t,x,y,z\n0,0,0,0\n0.1,1.7e308,0,0\n",
@@ -183,7 +183,7 @@ TEST(ReplayTest, optionsOutsideTheirRangesAreRefused)
 TEST(ReplayTest, forcesAreFiniteAndWithinTheMaximumAtTheExtremesOfEveryRange)
 {
     // GIVEN the stiffest, most damped settings allowed, safety off, and a HIP swinging between the
-    // position limits (issue 16: NaN forces with exit 0)
+    // position limits (once: NaN forces with exit 0)
     auto traj = parseTrajectoryCsv("t,x,y,z\n0,0,0,-0.01\n0.01,100,-100,-100\n0.02,-100,100,100\n"
                                    "0.03,0.001,0.001,-100\n0.05,0.001,0.001,-0.02\n");
     ASSERT_TRUE(traj);
@@ -222,7 +222,7 @@ TEST(ForceLogTest, rowsAreWholeWhateverTheMagnitudes)
         r.out.hip = r.out.proxy = r.out.force = glm::dvec3(-1e300);
     // WHEN formatted
     const std::string csv = formatForceLog(rows);
-    // THEN there are 501 lines, each with 12 fields (issue 16: rows were cut at 319 characters)
+    // THEN there are 501 lines, each with 12 fields (once: rows were cut at 319 characters)
     std::size_t lines = 0;
     std::size_t start = 0;
     for (std::size_t nl = csv.find('\n'); nl != std::string::npos; nl = csv.find('\n', start)) {

@@ -1,5 +1,5 @@
 /// \file
-/// \brief Stability scenarios of the haptic renderer (issue 3): every method runs on synthetic
+/// \brief Stability scenarios of the haptic renderer: every method runs on synthetic
 /// depth videos; the modified proxy graph must pass and the baselines must show the failures the
 /// paper describes (sections IV.A–C, VI). The measured figures are printed.
 

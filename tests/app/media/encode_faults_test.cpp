@@ -1,5 +1,5 @@
 /// \file
-/// \brief The sender (app/media) against hostile outputs and sources (issue 16): an output path
+/// \brief The sender (app/media) against hostile outputs and sources: an output path
 /// that is not a regular file is never replaced, sizes and rates outside what H.264 encodes are
 /// refused before any frame is read, an image sequence with a gap is followed across it, a silent
 /// FIFO source gives up in its time.
@@ -86,7 +86,7 @@ TEST_F(EncodeFaultsTest, onlyARegularFileOrANewPathIsReplaced)
         ASSERT_FALSE(s) << name;
         EXPECT_EQ(s.error().code, Errc::InvalidArgument) << name;
     }
-    // AND both are still what they were (issue 16: the temporary file was renamed over them)
+    // AND both are still what they were (once: the temporary file was renamed over them)
     EXPECT_TRUE(isKind(path("dir"), S_IFDIR));
     EXPECT_TRUE(isKind(path("fifo"), S_IFIFO));
     // AND a character device is written in place
@@ -106,13 +106,13 @@ TEST_F(EncodeFaultsTest, onlyARegularFileOrANewPathIsReplaced)
 
 TEST_F(EncodeFaultsTest, ratesAndSizesOutsideWhatH264EncodesAreRefusedAtOnce)
 {
-    // GIVEN a color source at 1e-9 frames/s (issue 16: a duration of -9223372036.855 s)
+    // GIVEN a color source at 1e-9 frames/s (once: a duration of -9223372036.855 s)
     FlatSource slow(3, 1e-9, PixelFormat::Rgb24);
     FlatSource depth(3, 30.0, PixelFormat::Gray8);
     auto s = encodeStreams(slow, depth, options(path("out.mkv")));
     ASSERT_FALSE(s);
     EXPECT_EQ(s.error().code, Errc::InvalidArgument);
-    // AND --size 16384x16384 (issue 16: 8 s and 3.9 GB before failing), checked without a frame
+    // AND --size 16384x16384 (once: 8 s and 3.9 GB before failing), checked without a frame
     EncodeOptions o = options(path("out.mkv"));
     o.width = o.height = 16384;
     const auto t0 = std::chrono::steady_clock::now();
@@ -130,7 +130,7 @@ TEST_F(EncodeFaultsTest, ratesAndSizesOutsideWhatH264EncodesAreRefusedAtOnce)
 
 TEST_F(EncodeFaultsTest, anImageSequenceWithAGapIsFollowedAcrossIt)
 {
-    // GIVEN frames 0-4 and 10-14 of a printf-pattern sequence (issue 16: 5 were read, silently)
+    // GIVEN frames 0-4 and 10-14 of a printf-pattern sequence (once: 5 were read, silently)
     for (const int i : {0, 1, 2, 3, 4, 10, 11, 12, 13, 14}) {
         Image img = Image::make(kW, kH, PixelFormat::Gray8);
         std::fill(img.data.begin(), img.data.end(), static_cast<std::uint8_t>(10 * i));

@@ -87,7 +87,7 @@ TEST_F(ReceiverMediaTest, untitledStreamsAreIdentifiedByPixelFormatOrOrder)
     EXPECT_EQ((*r)->info().roles.depth, 1);
     EXPECT_EQ(drain(**r).size(), 5u);
 
-    // gray H.264 (libavcodec says 4:2:0): metadata of its own tells, else its 4:0:0 SPS (issue 16)
+    // gray H.264 (libavcodec says 4:2:0): metadata of its own tells, else its 4:0:0 SPS
     Clip meta = Clip::standard(32, 24, 5);
     meta.color.title.clear();
     meta.depth.title.clear();
@@ -119,7 +119,7 @@ TEST_F(ReceiverMediaTest, singleStreamFilesPlayDepthOnlyOrColorOnly)
     depth.depth.title.clear();
     depth.depth.metadata.clear();
     const std::string path = write("depth-only.mkv", depth);
-    // gray H.264 alone is depth by its 4:0:0 SPS (issue 16: it played as color), and when the
+    // gray H.264 alone is depth by its 4:0:0 SPS (once: it played as color), and when the
     // caller wants depth (touch)
     auto auto_ = openFfmpeg(path);
     ASSERT_TRUE(auto_);

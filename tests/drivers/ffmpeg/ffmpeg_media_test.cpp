@@ -175,7 +175,7 @@ TEST_F(FfmpegMediaTest, grayH264IsLumaAsIs)
     // The CLI's decode of the luma with no range conversion.
     ASSERT_TRUE(ffmpeg("-i " + mkv + " -vf extractplanes=y -f rawvideo -pix_fmt gray " + raw));
     const Decoded d = decodeAll(mkv, hal::StreamKind::Depth);
-    // libavcodec reports gray H.264 as yuv(j)420p; its SPS says 4:0:0, so it is depth (issue 16).
+    // libavcodec reports gray H.264 as yuv(j)420p; its SPS says 4:0:0, so it is depth.
     EXPECT_EQ(d.stream.kind, hal::StreamKind::Depth);
     EXPECT_EQ(d.stream.format, hal::PixelFormat::Gray8);
     ASSERT_EQ(d.frames.size(), 15u);
@@ -240,7 +240,7 @@ TEST_F(FfmpegMediaTest, grayH264IsDepthInEveryContainerAndColorH264StaysColor)
 
 TEST_F(FfmpegMediaTest, nonsenseDepthBitsTagIsIgnored)
 {
-    // GIVEN a depth stream tagged depth_bits=inf (issue 16: printed as -2147483648 bits)
+    // GIVEN a depth stream tagged depth_bits=inf (once: printed as -2147483648 bits)
     const std::string path = tmp_.path("inf.mkv");
     ASSERT_TRUE(
         ffmpeg("-f lavfi -i testsrc=size=64x48:rate=30:duration=0.2 -c:v libx264 -pix_fmt gray "

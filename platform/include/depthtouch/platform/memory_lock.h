@@ -34,8 +34,8 @@ enum class MemoryLockMode : std::uint8_t {
     /// any thread touches it, including every later mapping; falls back to All where the kernel
     /// does not know MCL_ONFAULT (EINVAL). For comparison (docs/memory.md).
     OnFault,
-    /// mlockall(MCL_CURRENT): every page mapped at start, faulted in and locked (the behaviour
-    /// before issue #21). For comparison (`bench rt`, docs/memory.md).
+    /// mlockall(MCL_CURRENT): every page mapped at start, faulted in and locked (the earlier
+    /// behaviour). For comparison (`bench rt`, docs/memory.md).
     All,
 };
 

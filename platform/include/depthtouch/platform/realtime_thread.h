@@ -56,7 +56,7 @@ struct RealtimeThreadOptions {
     /// How the memory is kept resident (with lockMemory). MemoryLockMode::Owned, the default,
     /// mlock()s the thread's stack, the code and static data of the program and of the C/C++
     /// runtime (kRuntimeObjects and lockObjects) and \a regions: a few MiB, where
-    /// mlockall(MCL_CURRENT) (MemoryLockMode::All, the behaviour before issue #21) faulted in and
+    /// mlockall(MCL_CURRENT) (MemoryLockMode::All, the earlier behaviour) faulted in and
     /// locked every library and every thread's stack mapped at that moment (measured with the
     /// player: 280-420 MiB locked, 180-260 MiB more resident than without haptics; docs/memory.md).
     MemoryLockMode lockMode = MemoryLockMode::Owned;

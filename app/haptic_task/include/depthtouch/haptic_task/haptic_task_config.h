@@ -59,8 +59,8 @@ struct HapticTaskConfig {
     bool lockMemory = true;
     /// How: Owned (the default) mlock()s the haptic thread's stack, the task, its telemetry ring,
     /// the renderer, the device object, the hand-off and its pixels, and the code of the program,
-    /// the C/C++ runtime and libusb (docs/memory.md); All is mlockall(MCL_CURRENT), the behaviour
-    /// before issue #21 (for `bench rt`).
+    /// the C/C++ runtime and libusb (docs/memory.md); All is mlockall(MCL_CURRENT), the earlier
+    /// behaviour (for `bench rt`).
     platform::MemoryLockMode memoryLock = platform::MemoryLockMode::Owned;
     int cpu = -1; ///< CPU to pin the haptic thread to, −1: none.
     /// Instrumentation: called on the haptic thread once, before its first update (e.g. a debug

@@ -46,9 +46,9 @@
 ///   exceeds a push-out at `pushRate` by adds to the *swept depth*, a fall of the surface takes
 ///   from it (never more than the HIP's depth under the surface; 0 once the HIP is out). While it
 ///   exceeds `depthMargin` the finger is covered: the finger may be pushed out at a bounded rate or
-///   let go (issue 27), so neither pop-through nor phantom force is counted, and a trip there is an
-///   *arrival trip*, not a false one. Spikes, the alternating run and the time at the device
-///   maximum are counted as everywhere.
+///   let go (docs/benchmarks.md), so neither pop-through nor phantom force is counted, and a trip
+///   there is an *arrival trip*, not a false one. Spikes, the alternating run and the time at the
+///   device maximum are counted as everywhere.
 /// - **pull-down force**: time with the force pointing down more than `phantomForce` (Fz <
 ///   −`phantomForce`): a height field's surface only pushes up and out, so a spring that pulls the
 ///   finger down (toward or into the surface) is a fault wherever the finger is.
@@ -94,7 +94,7 @@ struct FeelSample {
     double updateSeconds = 0.0; ///< Wall time of the update, s (0 when not measured).
 };
 
-/// \brief Thresholds of the figures (the defaults are issue 15's).
+/// \brief Thresholds of the figures (the defaults are the goals of docs/benchmarks.md).
 struct FeelThresholds {
     double depthMargin = 1e-3;   ///< m, for pop-through and phantom force.
     double popForce = 0.1;       ///< N: under this while inside is pop-through.

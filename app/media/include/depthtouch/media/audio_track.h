@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// \brief The sender's sound (issue 31): the first audio stream of a source carried into the
+/// \brief The sender's sound: the first audio stream of a source carried into the
 /// output beside color and depth, on the picture's timeline.
 ///
 /// The audio is copied as it is when the output's container carries its codec (AAC, Opus, MP3,

@@ -3,7 +3,7 @@
 /// \brief `depthtouch bench rt`: wake latency (wake time − deadline) and period error of the haptic
 /// servo loop at 1 kHz and 4 kHz, for a bare PeriodicTimer loop and for the full HapticTask (device
 /// read, renderer on a moving depth video, force command, telemetry), SCHED_FIFO against
-/// SCHED_OTHER and the memory lock of issue #21 (Owned) against mlockall(MCL_CURRENT) (All),
+/// SCHED_OTHER and the owned memory lock (Owned) against mlockall(MCL_CURRENT) (All),
 /// alternating in the same run, idle and optionally while other threads load the CPUs. Writes CSV
 /// and a PNG chart.
 ///
@@ -32,7 +32,7 @@ struct RtBenchOptions {
     std::vector<platform::SchedPolicy> policies{platform::SchedPolicy::Fifo,
                                                 platform::SchedPolicy::Other};
     /// Memory locks compared, in this order for every rate and policy (alternating in the same
-    /// run): MemoryLockMode::Owned (the default lock since issue #21) and All
+    /// run): MemoryLockMode::Owned (the default lock) and All
     /// (mlockall(MCL_CURRENT), the one before), undone with munlockall() after each case. Not
     /// empty.
     std::vector<platform::MemoryLockMode> lockModes{platform::MemoryLockMode::Owned,
@@ -90,8 +90,8 @@ struct RtGoalRatio {
 };
 
 /// \return the goal ratios of \a report: task/bare wake p50 and p99 (goal 1.10) per case,
-/// loaded/idle wake p99 (goal 1.20) per loaded case, and owned/all wake p99 (goal 1.00: the lock
-/// of issue #21 no worse than mlockall) per case measured with both.
+/// loaded/idle wake p99 (goal 1.20) per loaded case, and owned/all wake p99 (goal 1.00: the owned
+/// lock no worse than mlockall) per case measured with both.
 std::vector<RtGoalRatio> rtGoalRatios(const RtBenchReport &report);
 
 /// \brief Prints the table and the goal checks (task within 10 % of the bare loop; load moving p99

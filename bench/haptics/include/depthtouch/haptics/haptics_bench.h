@@ -1,6 +1,7 @@
 #pragma once
 /// \file
-/// \brief `depthtouch bench haptics`: speed and accuracy of the haptic renderers (issue 3).
+/// \brief `depthtouch bench haptics`: speed and accuracy of the haptic renderers
+/// (docs/benchmarks.md).
 ///
 /// For each method (modified, proxy-graph, mesh-bvh), depth resolution (720×486, 1920×1080,
 /// 3840×2160) and HIP motion (still, stroking at 0.1 m/s and at 1 m/s) it replays a moving analytic
@@ -69,7 +70,7 @@ struct PsdCurves {
     std::vector<double> holdDb;         ///< modified with interpolation off (sample-and-hold)
 };
 
-/// \brief Everything one run produced, plus the goals of issue 3 evaluated on it.
+/// \brief Everything one run produced, plus the goals of docs/benchmarks.md evaluated on it.
 struct BenchReport {
     std::vector<BenchRow> rows;
     PsdCurves psd;
@@ -87,8 +88,8 @@ struct BenchReport {
     double fingerP999At720Fast = 0.0;
     double fingerMinOfRunsP999At720Fast = 0.0;
     double fingerMinOfRunsResolutionRatio = 0.0;
-    /// Cost of friction on the proxy (issue 22): the worst median ratio over the motions at
-    /// 720×486 of `finger-friction` / `finger` and `modified-friction` / `modified`, measured in
+    /// Cost of friction on the proxy (docs/materials.md): the worst median ratio over the motions
+    /// at 720×486 of `finger-friction` / `finger` and `modified-friction` / `modified`, measured in
     /// the same run, raw and interference-filtered.
     double fingerFrictionRatio = 0.0;
     double fingerFrictionMinOfRunsRatio = 0.0;

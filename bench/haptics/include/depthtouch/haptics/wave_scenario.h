@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// \brief The scenario of `depthtouch bench haptics` (issue 3), shared by the benchmark and by the
+/// \brief The scenario of `depthtouch bench haptics`, shared by the benchmark and by the
 /// `haptics_cost` instruction-count program: a travelling sinusoid sampled into 16-bit depth frames
 /// (30 fps video, 1 kHz haptics) and a HIP held still or stroking 2 mm under it.
 ///
