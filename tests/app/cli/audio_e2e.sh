@@ -8,13 +8,9 @@
 # Exit 77 (skip) without the ffmpeg CLI tools. Usage: audio_e2e.sh DEPTHTOUCH
 set -u
 exe="$1"
-for tool in ffmpeg ffprobe python3; do
-    command -v "$tool" >/dev/null 2>&1 || { echo "$tool not on PATH: skipped"; exit 77; }
-done
-work=$(mktemp -d "${TMPDIR:-/tmp}/dt-audio.XXXXXX") || exit 1
-trap 'rm -rf "$work"' EXIT
-ff() { ffmpeg -nostdin -hide_banner -v error -y "$@" </dev/null; }
-fail() { echo "FAIL: $*"; exit 1; }
+. "$(dirname "$0")/../../e2e_lib.sh"
+e2e_need ffmpeg ffprobe python3
+e2e_work audio
 
 ff -f lavfi -i testsrc=size=96x72:rate=30:duration=3 \
     -f lavfi -i "aevalsrc='if(between(t,1,1.005),0.9*sin(2*PI*1000*t),0)':s=48000:d=3" -ac 2 \

@@ -5,11 +5,10 @@
 # gnuplot. Usage: bench_charts_e2e.sh /path/to/depthtouch [shared-data-folder]
 set -u
 exe="$1"
+. "$(dirname "$0")/../../e2e_lib.sh"
 data="${2:-}"
-command -v gnuplot >/dev/null 2>&1 || { echo "gnuplot not installed: skipped"; exit 77; }
-work=$(mktemp -d "${TMPDIR:-/tmp}/dt-charts-e2e.XXXXXX") || exit 1
-trap 'rm -rf "$work"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+e2e_need gnuplot
+e2e_work charts-e2e
 
 bench() { # name, args...
     name="$1"; shift

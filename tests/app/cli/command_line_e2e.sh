@@ -5,9 +5,8 @@
 # Usage: command_line_e2e.sh /path/to/depthtouch
 set -u
 exe="$1"
-work=$(mktemp -d "${TMPDIR:-/tmp}/dt-cmdline.XXXXXX") || exit 1
-trap 'rm -rf "$work"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+. "$(dirname "$0")/../../e2e_lib.sh"
+e2e_work cmdline
 
 # says WANT_TEXT ARGS...: exit 2, exactly one stderr line, and it holds WANT_TEXT.
 says() {

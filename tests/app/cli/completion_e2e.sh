@@ -8,9 +8,8 @@
 [ -n "${BASH_VERSION:-}" ] || exec bash "$0" "$@" # ctest runs it with sh
 set -u
 exe="$1"
-work=$(mktemp -d "${TMPDIR:-/tmp}/dt-completion.XXXXXX") || exit 1
-trap 'rm -rf "$work"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+. "$(dirname "$0")/../../e2e_lib.sh"
+e2e_work completion
 "$exe" completion bash >"$work/c.bash" || fail "completion bash: exit $?"
 "$exe" completion zsh >"$work/_depthtouch" || fail "completion zsh: exit $?"
 

@@ -7,9 +7,8 @@
 # Usage: config_files_e2e.sh /path/to/depthtouch
 set -u
 exe="$1"
-work=$(mktemp -d "${TMPDIR:-/tmp}/dt-config-files.XXXXXX") || exit 1
-trap 'rm -rf "$work"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+. "$(dirname "$0")/../../e2e_lib.sh"
+e2e_work config-files
 mkdir -p "$work/etc" "$work/xdg/depthtouch"
 export DT_SYSTEM_CONFIG_DIR="$work/etc" XDG_CONFIG_HOME="$work/xdg"
 sys="$work/etc/play.toml"

@@ -6,11 +6,9 @@
 # the surface was 20 mm off.
 # Usage: depth_bits_e2e.sh DEPTHTOUCH   (exit 77 without the ffmpeg CLI)
 exe=$1
-command -v ffmpeg >/dev/null 2>&1 || { echo "SKIP: no ffmpeg CLI"; exit 77; }
-work=$(mktemp -d "${TMPDIR:-/tmp}/dt-depth-bits.XXXXXX") || exit 1
-trap 'rm -rf "$work"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
-ff() { ffmpeg -nostdin -hide_banner -v error -y "$@" </dev/null; }
+. "$(dirname "$0")/../../e2e_lib.sh"
+e2e_need ffmpeg
+e2e_work depth-bits
 
 ff -f lavfi -i testsrc=size=64x48:rate=30:duration=1 -start_number 0 "$work/c-%03d.png" || fail "ffmpeg color"
 ff -f lavfi -i color=c=black:size=64x48:rate=30:duration=1 -vf "format=gray16le,geq=lum='1500'" \

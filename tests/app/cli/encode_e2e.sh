@@ -7,15 +7,11 @@
 # Usage: encode_e2e.sh /path/to/depthtouch
 set -u
 exe="$1"
-for tool in ffmpeg ffprobe; do
-    command -v "$tool" >/dev/null 2>&1 || { echo "$tool CLI not on PATH: skipped"; exit 77; }
-done
-work=$(mktemp -d "${TMPDIR:-/tmp}/dt-encode-e2e.XXXXXX") || exit 1
+. "$(dirname "$0")/../../e2e_lib.sh"
+e2e_need ffmpeg ffprobe
 pid=""
-trap '[ -n "$pid" ] && kill "$pid" 2>/dev/null; rm -rf "$work"' EXIT
-ff() { ffmpeg -nostdin -hide_banner -v error -y "$@" </dev/null; }
-fail() { echo "FAIL: $*"; exit 1; }
-probe() { ffprobe -v error "$@"; }
+e2e_cleanup() { [ -n "$pid" ] && kill "$pid" 2>/dev/null; }
+e2e_work encode-e2e
 
 ff -f lavfi -i testsrc=size=64x48:rate=30:duration=0.4 -start_number 0 "$work/c-%03d.png" || fail "ffmpeg color"
 ff -f lavfi -i color=c=black:size=64x48:rate=30:duration=0.4 \

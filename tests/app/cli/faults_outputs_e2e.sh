@@ -10,11 +10,11 @@
 # Usage: faults_outputs_e2e.sh /path/to/depthtouch
 set -u
 exe="$(cd "$(dirname "$1")" && pwd)/$(basename "$1")" # absolute: the runs are in the work folder
-command -v timeout >/dev/null 2>&1 || { echo "timeout not on PATH: skipped"; exit 77; }
-work=$(mktemp -d "${TMPDIR:-/tmp}/dt-outputs.XXXXXX") || exit 1
+. "$(dirname "$0")/../../e2e_lib.sh"
+e2e_need timeout
 ro=""
-trap '[ -n "$ro" ] && { chattr -i "$ro" 2>/dev/null; chmod 0755 "$ro"; }; rm -rf "$work"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+e2e_cleanup() { [ -n "$ro" ] && { chattr -i "$ro" 2>/dev/null; chmod 0755 "$ro"; }; }
+e2e_work outputs
 w="$work"
 cd "$w" || exit 1
 

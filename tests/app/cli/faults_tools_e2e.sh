@@ -7,13 +7,11 @@
 # Usage: faults_tools_e2e.sh /path/to/depthtouch
 set -u
 exe="$1"
-command -v ffmpeg >/dev/null 2>&1 || { echo "ffmpeg CLI not on PATH: skipped"; exit 77; }
-command -v timeout >/dev/null 2>&1 || { echo "timeout not on PATH: skipped"; exit 77; }
-work=$(mktemp -d "${TMPDIR:-/tmp}/dt-faults.XXXXXX") || exit 1
+. "$(dirname "$0")/../../e2e_lib.sh"
+e2e_need ffmpeg timeout
 writer=""
-trap '[ -n "$writer" ] && kill "$writer" 2>/dev/null; rm -rf "$work"' EXIT
-ff() { ffmpeg -nostdin -hide_banner -v error -y "$@" </dev/null; }
-fail() { echo "FAIL: $*"; exit 1; }
+e2e_cleanup() { [ -n "$writer" ] && kill "$writer" 2>/dev/null; }
+e2e_work faults
 w="$work"
 
 # Inputs: an untitled gray H.264 clip (depth by its 4:0:0 SPS), color and depth PNG sequences with

@@ -11,11 +11,9 @@
 # Usage: force_direction_e2e.sh DEPTHTOUCH
 set -u
 exe="$1"
-command -v ffmpeg >/dev/null 2>&1 || { echo "ffmpeg CLI not on PATH: skipped"; exit 77; }
-work=$(mktemp -d "${TMPDIR:-/tmp}/dt-force-direction.XXXXXX") || exit 1
-trap 'rm -rf "$work"' EXIT
-ff() { ffmpeg -nostdin -hide_banner -v error -y "$@" </dev/null; }
-fail() { echo "FAIL: $*"; exit 1; }
+. "$(dirname "$0")/../../e2e_lib.sh"
+e2e_need ffmpeg
+e2e_work force-direction
 
 W=64; H=48; box_width=0.1; box_depth=0.04
 # normal DV_DC DV_DR: the unit outward normal "nx ny nz" of a plane whose nearness changes by DV_DC

@@ -11,19 +11,16 @@
 # Exit 77 (skip) without the ffmpeg CLI or busybox. Usage: live_e2e.sh /path/to/depthtouch
 set -u
 exe="$1"
-command -v ffmpeg >/dev/null 2>&1 || { echo "ffmpeg CLI not on PATH: skipped"; exit 77; }
+. "$(dirname "$0")/../../e2e_lib.sh"
+e2e_need ffmpeg
 command -v busybox >/dev/null 2>&1 || { echo "busybox not installed (toolchain/install-deps.sh): skipped"; exit 77; }
-work=$(mktemp -d "${TMPDIR:-/tmp}/dt-live-e2e.XXXXXX") || exit 1
 httpd=""
 sender=""
-cleanup() {
+e2e_cleanup() {
     [ -n "$httpd" ] && kill "$httpd" 2>/dev/null
     [ -n "$sender" ] && kill "$sender" 2>/dev/null
-    rm -rf "$work"
 }
-trap cleanup EXIT
-ff() { ffmpeg -nostdin -hide_banner -v error -y "$@" </dev/null; }
-fail() { echo "FAIL: $*"; exit 1; }
+e2e_work live-e2e
 # A port from the process id, so parallel runs do not collide.
 port=$((20000 + $$ % 20000))
 

@@ -10,14 +10,9 @@
 # Usage: material_e2e.sh /path/to/depthtouch
 set -u
 exe="$1"
-for tool in ffmpeg ffprobe cmp od; do
-    command -v "$tool" >/dev/null 2>&1 || { echo "$tool not on PATH: skipped"; exit 77; }
-done
-work=$(mktemp -d "${TMPDIR:-/tmp}/dt-material-e2e.XXXXXX") || exit 1
-trap 'rm -rf "$work"' EXIT
-ff() { ffmpeg -nostdin -hide_banner -v error -y "$@" </dev/null; }
-fail() { echo "FAIL: $*"; exit 1; }
-probe() { ffprobe -v error "$@"; }
+. "$(dirname "$0")/../../e2e_lib.sh"
+e2e_need ffmpeg ffprobe cmp od
+e2e_work material-e2e
 
 # octal R G B: the printf escapes of one pixel.
 octal() { printf '\\%03o\\%03o\\%03o' "$1" "$2" "$3"; }

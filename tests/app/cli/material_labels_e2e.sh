@@ -7,13 +7,9 @@
 # CLI tools. Usage: material_labels_e2e.sh DEPTHTOUCH
 set -u
 exe="$1"
-for tool in ffmpeg od; do
-    command -v "$tool" >/dev/null 2>&1 || { echo "$tool not on PATH: skipped"; exit 77; }
-done
-work=$(mktemp -d "${TMPDIR:-/tmp}/dt-material-labels.XXXXXX") || exit 1
-trap 'rm -rf "$work"' EXIT
-ff() { ffmpeg -nostdin -hide_banner -v error -y "$@" </dev/null; }
-fail() { echo "FAIL: $*"; exit 1; }
+. "$(dirname "$0")/../../e2e_lib.sh"
+e2e_need ffmpeg od
+e2e_work material-labels
 
 ff -f lavfi -i testsrc=size=64x48:rate=30:duration=0.2 -start_number 0 "$work/c-%03d.png" || fail "ffmpeg color"
 ff -f lavfi -i color=c=gray:size=64x48:rate=30:duration=0.2 -pix_fmt gray -start_number 0 "$work/d-%03d.png" \

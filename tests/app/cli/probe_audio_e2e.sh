@@ -6,13 +6,9 @@
 # ffmpeg CLI tools. Usage: probe_audio_e2e.sh DEPTHTOUCH
 set -u
 exe="$1"
-for tool in ffmpeg ffprobe python3; do
-    command -v "$tool" >/dev/null 2>&1 || { echo "$tool not on PATH: skipped"; exit 77; }
-done
-work=$(mktemp -d "${TMPDIR:-/tmp}/dt-probe-audio.XXXXXX") || exit 1
-trap 'rm -rf "$work"' EXIT
-ff() { ffmpeg -nostdin -hide_banner -v error -y "$@" </dev/null; }
-fail() { echo "FAIL: $*"; exit 1; }
+. "$(dirname "$0")/../../e2e_lib.sh"
+e2e_need ffmpeg ffprobe python3
+e2e_work probe-audio
 
 # A 1 s DepthTouch clip (30 pairs), then the same with a 1.5 s mono 44.1 kHz AAC track tagged
 # English (MKV) and with a 3 s stereo 48 kHz AAC track (MP4).

@@ -7,13 +7,9 @@
 # Exit 77 (skip) without the ffmpeg CLI tools. Usage: probe_json_e2e.sh DEPTHTOUCH
 set -u
 exe="$1"
-for tool in ffmpeg ffprobe; do
-    command -v "$tool" >/dev/null 2>&1 || { echo "$tool CLI not on PATH: skipped"; exit 77; }
-done
-work=$(mktemp -d "${TMPDIR:-/tmp}/dt-probe-json.XXXXXX") || exit 1
-trap 'rm -rf "$work"' EXIT
-ff() { ffmpeg -nostdin -hide_banner -v error -y "$@" </dev/null; }
-fail() { echo "FAIL: $*"; exit 1; }
+. "$(dirname "$0")/../../e2e_lib.sh"
+e2e_need ffmpeg ffprobe
+e2e_work probe-json
 
 ff -f lavfi -i testsrc=size=64x48:rate=30:duration=0.4 -start_number 0 "$work/c-%03d.png" || fail "ffmpeg color"
 # 1.0 .. 2.26 m in mm with a hole (0) in the top-left corner.

@@ -9,13 +9,9 @@
 # CLI tools. Usage: rate_control_e2e.sh DEPTHTOUCH
 set -u
 exe="$1"
-for tool in ffmpeg ffprobe awk; do
-    command -v "$tool" >/dev/null 2>&1 || { echo "$tool not on PATH: skipped"; exit 77; }
-done
-work=$(mktemp -d "${TMPDIR:-/tmp}/dt-rate.XXXXXX") || exit 1
-trap 'rm -rf "$work"' EXIT
-ff() { ffmpeg -nostdin -hide_banner -v error -y "$@" </dev/null; }
-fail() { echo "FAIL: $*"; exit 1; }
+. "$(dirname "$0")/../../e2e_lib.sh"
+e2e_need ffmpeg ffprobe awk
+e2e_work rate
 
 ff -f lavfi -i testsrc=size=192x144:rate=30:duration=3 -vf noise=alls=30:allf=t -c:v ffv1 \
     "$work/c.mkv" || fail "ffmpeg color"

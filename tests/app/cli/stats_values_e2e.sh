@@ -21,9 +21,8 @@
 # watchdog trips, memory) are checked for type and ordering only. Usage: stats_values_e2e.sh DEPTHTOUCH
 set -u
 exe="$1"
-work=$(mktemp -d "${TMPDIR:-/tmp}/dt-stats-values.XXXXXX") || exit 1
-trap 'rm -rf "$work"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+. "$(dirname "$0")/../../e2e_lib.sh"
+e2e_work stats-values
 mock="--source mock --decoder mock --quiet"
 
 cat >"$work/check.py" <<'EOF'

@@ -9,11 +9,9 @@
 # the same force log. Exit 77 (skip) without the ffmpeg CLI. Usage: touch_depth_scale_e2e.sh DEPTHTOUCH
 set -u
 exe="$1"
-command -v ffmpeg >/dev/null 2>&1 || { echo "ffmpeg CLI not on PATH: skipped"; exit 77; }
-work=$(mktemp -d "${TMPDIR:-/tmp}/dt-touch-scale.XXXXXX") || exit 1
-trap 'rm -rf "$work"' EXIT
-ff() { ffmpeg -nostdin -hide_banner -v error -y "$@" </dev/null; }
-fail() { echo "FAIL: $*"; exit 1; }
+. "$(dirname "$0")/../../e2e_lib.sh"
+e2e_need ffmpeg
+e2e_work touch-scale
 
 near=0.5; far=2; wall=0.9; k=800; z0=0.02; z1=-0.01; box_depth=0.04
 # plane FILE-PATTERN UNITS: 16-bit PNGs of the wall at UNITS everywhere, 2 s at 30 fps.

@@ -6,11 +6,9 @@
 # bad input. Exit 77 (skip) without the ffmpeg CLI. Usage: touch_e2e.sh /path/to/depthtouch
 set -u
 exe="$1"
-command -v ffmpeg >/dev/null 2>&1 || { echo "ffmpeg CLI not on PATH: skipped"; exit 77; }
-work=$(mktemp -d "${TMPDIR:-/tmp}/dt-touch-e2e.XXXXXX") || exit 1
-trap 'rm -rf "$work"' EXIT
-ff() { ffmpeg -nostdin -hide_banner -v error -y "$@" </dev/null; }
-fail() { echo "FAIL: $*"; exit 1; }
+. "$(dirname "$0")/../../e2e_lib.sh"
+e2e_need ffmpeg
+e2e_work touch-e2e
 
 # A flat surface at mid nearness (z = 0 in the scene box); the HIP goes from 2 cm above it to 1 cm
 # below in 1 s: contact from about t = 0.67 s.
