@@ -10,14 +10,10 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
-#include <mutex>
 #include <optional>
 #include <system_error>
 
-#include <glm/geometric.hpp>
-
 #include "depthtouch/platform/file_access.h"
-#include "depthtouch/platform/percentile.h"
 #include "depthtouch/platform/realtime_thread.h"
 #include "depthtouch/platform/thread_config.h"
 #include "depthtouch/scene/stiffness.h"
@@ -27,8 +23,6 @@
 #include "presenter.h"
 
 namespace depthtouch::playback {
-
-using platform::percentile;
 
 // ---------------------------------------------------------------------------------------------
 
@@ -63,18 +57,12 @@ Playback::~Playback()
 void Playback::close()
 {
     impl_->tearDown();
-    {
-        std::lock_guard<std::mutex> lock(impl_->mutex);
-        impl_->quit = true;
-        impl_->cv.notify_all();
-    }
+    impl_->quit();
     if (impl_->renderThread && impl_->renderThread->joinable())
         impl_->renderThread->join();
     if (!impl_->config.avLogPath.empty() && !impl_->avLogWritten) {
         impl_->avLogWritten = true;
-        std::string lost = writeAvLog(*impl_);
-        std::lock_guard<std::mutex> lock(impl_->mutex);
-        impl_->stats.avLogLost = std::move(lost);
+        impl_->setAvLogLost(writeAvLog(*impl_));
     }
 }
 
@@ -208,20 +196,11 @@ void Playback::finishOpen(std::unique_ptr<receiver::Receiver> rec)
         }
     }
     m.owned = std::move(s);
-    {
-        std::lock_guard<std::mutex> lock(m.mutex);
-        ++m.stats.opens;
-    }
+    m.countOpen();
     m.switchSession(m.owned.get());
-    {
-        std::unique_lock<std::mutex> lock(m.mutex);
-        if (!m.displayError.empty()) {
-            std::string why = std::move(m.displayError);
-            m.displayError.clear();
-            lock.unlock();
-            m.tearDown();
-            return fail(why);
-        }
+    if (std::string why = m.takeDisplayError(); !why.empty()) {
+        m.tearDown();
+        return fail(why);
     }
     const hal::Size size = m.hal.display->size();
     info.outputWidth = size.width;
@@ -236,24 +215,20 @@ void Playback::finishOpen(std::unique_ptr<receiver::Receiver> rec)
 
 Result<void> Playback::startPlayback()
 {
-    Impl &m = *impl_;
-    return m.changeSession("nothing is open", [&] {
-        m.playing = true;
-        m.paused = false;
-        m.cv.notify_all();
-    });
+    impl_->osdEvents.fetch_add(1, std::memory_order_relaxed);
+    return impl_->startPlaying();
 }
 
 Result<void> Playback::pause()
 {
-    Impl &m = *impl_;
-    return m.changeSession("nothing is playing", [&] { m.paused = true; });
+    impl_->osdEvents.fetch_add(1, std::memory_order_relaxed);
+    return impl_->setPaused(true, "nothing is playing");
 }
 
 Result<void> Playback::resume()
 {
-    Impl &m = *impl_;
-    return m.changeSession("nothing is open", [&] { m.paused = false; });
+    impl_->osdEvents.fetch_add(1, std::memory_order_relaxed);
+    return impl_->setPaused(false, "nothing is open");
 }
 
 Result<void> Playback::stop()
@@ -270,25 +245,12 @@ Result<void> Playback::seek(double seconds, player::SeekMode mode)
 
 player::PlayerActions::MediaPosition Playback::mediaPosition() const
 {
-    Impl &m = *impl_;
-    std::lock_guard<std::mutex> lock(m.mutex);
-    MediaPosition at;
-    if (m.session == nullptr)
-        return at;
-    at.timePos = m.position;
-    const double duration = ptsSeconds(m.session->receiver->info().duration);
-    if (duration > 0.0)
-        at.duration = duration;
-    return at;
+    return impl_->mediaPosition();
 }
 
 double Playback::hapticForce() const
 {
-    Impl &m = *impl_;
-    std::lock_guard<std::mutex> lock(m.mutex);
-    if (m.session == nullptr || m.session->task == nullptr)
-        return std::numeric_limits<double>::quiet_NaN();
-    return glm::length(m.session->task->lastForce());
+    return impl_->hapticForce();
 }
 
 Result<void> Playback::restartForLoop()
@@ -298,31 +260,15 @@ Result<void> Playback::restartForLoop()
 
 Result<void> Playback::seekTo(double seconds, player::SeekMode mode)
 {
-    Impl &m = *impl_;
     if (!std::isfinite(seconds))
         return Error(Errc::InvalidArgument, "seek: not a number");
-    std::lock_guard<std::mutex> lock(m.mutex);
-    if (m.session == nullptr)
-        return Error(Errc::InvalidState, "nothing is open");
-    const double start = m.session->haveStart ? m.session->startPts : 0.0;
-    double target = mode == player::SeekMode::Absolute ? seconds : m.position + seconds;
-    target = std::max(0.0, target);
-    const double duration = ptsSeconds(m.session->receiver->info().duration);
-    if (duration > 0.0)
-        target = std::min(target, std::max(0.0, duration - m.session->period));
-    m.seekTarget = start + target;
-    m.position = target;
-    ++m.seekGen;
-    ++m.stats.seeks;
-    m.endOfStream = false;
-    return {};
+    return impl_->seek(seconds, mode);
 }
 
 Result<void> Playback::setStereoMode(player::StereoMode mode)
 {
     impl_->osdEvents.fetch_add(1, std::memory_order_relaxed);
-    std::lock_guard<std::mutex> lock(impl_->mutex);
-    impl_->stereoMode = mode;
+    impl_->setStereoMode(mode);
     return {};
 }
 
@@ -380,12 +326,8 @@ Result<void> Playback::snapshot()
     if (auto w = platform::checkFolderWritable(folder.string()); !w)
         return Error(Errc::InvalidState, "the snapshot folder takes no file (read-only?)",
                      w.error().sysErrno);
-    {
-        std::lock_guard<std::mutex> lock(impl_->mutex);
-        if (!impl_->stats.snapshotLost.empty())
-            return Error(Errc::InvalidState,
-                         "an earlier snapshot could not be written (disk full?)");
-    }
+    if (impl_->snapshotLost())
+        return Error(Errc::InvalidState, "an earlier snapshot could not be written (disk full?)");
     requestSnapshot();
     return {};
 }
@@ -408,17 +350,10 @@ void Playback::report(player::StateMachine &machine)
         m.openError.clear();
         machine.onOpenFailed(why);
     }
-    std::string failure;
-    bool eos = false;
-    {
-        std::lock_guard<std::mutex> lock(m.mutex);
-        failure.swap(m.failure);
-        eos = m.endOfStream;
-        m.endOfStream = false;
-    }
-    if (!failure.empty())
-        machine.onFailure(failure);
-    if (eos)
+    const RenderShared::Report r = m.takeReport();
+    if (!r.failure.empty())
+        machine.onFailure(r.failure);
+    if (r.endOfStream)
         machine.onEndOfStream();
     else
         watchSilence(machine);
@@ -450,20 +385,9 @@ void Playback::watchSilence(player::StateMachine &machine)
 
 PlaybackStats Playback::stats() const
 {
-    std::lock_guard<std::mutex> lock(impl_->mutex);
-    PlaybackStats s = impl_->stats;
-    s.renderMsP50 = percentile(impl_->renderMs, 0.50);
-    s.renderMsP99 = percentile(impl_->renderMs, 0.99);
-    s.meshTrianglesP50 = percentile(impl_->meshTriangles, 0.50);
+    PlaybackStats s = impl_->RenderShared::stats();
     if (impl_->owned && impl_->owned->decoder)
         s.receiver = impl_->owned->decoder->stats();
-    if (!impl_->avOffsetMs.empty()) {
-        s.avOffsetMsP50 = percentile(impl_->avOffsetMs, 0.50);
-        std::vector<double> magnitude(impl_->avOffsetMs);
-        for (double &v : magnitude)
-            v = std::abs(v);
-        s.avOffsetMsP99 = percentile(magnitude, 0.99);
-    }
     AudioStats a = impl_->audioBefore;
     if (impl_->owned && impl_->owned->audio)
         a = addedAudioStats(a, impl_->owned->audio->stats());
@@ -487,8 +411,7 @@ std::optional<haptic_task::HapticStats> Playback::hapticStats()
 
 double Playback::position() const noexcept
 {
-    std::lock_guard<std::mutex> lock(impl_->mutex);
-    return impl_->position;
+    return impl_->RenderShared::position();
 }
 
 void Playback::requestSnapshot() noexcept

@@ -84,8 +84,9 @@ std::string writeAvLog(const Playback::Impl &m)
 {
     platform::ReportFile f(m.config.avLogPath);
     f.print("time_s,pts_s,offset_ms\n");
-    for (std::size_t i = 0; i < m.avOffsetMs.size(); ++i)
-        f.print("%.6f,%.6f,%.3f\n", m.avOffsetAt[i], m.avOffsetPts[i], m.avOffsetMs[i]);
+    const RenderShared::AvOffsets av = m.avOffsets();
+    for (std::size_t i = 0; i < av.ms.size(); ++i)
+        f.print("%.6f,%.6f,%.3f\n", av.at[i], av.pts[i], av.ms[i]);
     return f.close() ? std::string() : "cannot write the A/V log (disk full or no such folder?)";
 }
 

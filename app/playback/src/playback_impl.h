@@ -4,7 +4,7 @@
 /// open and the commands; playback_audio.cpp, the sound) and handed to the render thread as its
 /// RenderShared. Private to dt_playback.
 ///
-/// Thread-safety: as playback.h; the RenderShared part under its mutex.
+/// Thread-safety: as playback.h; the RenderShared part through its methods (render_shared.h).
 
 #include <memory>
 #include <optional>
@@ -52,31 +52,17 @@ struct Playback::Impl : RenderShared {
     std::unique_ptr<platform::RealtimeThread> renderThread; ///< kRenderThread, from the first open.
 
     Impl(const PlaybackConfig &c, const PlaybackHal &h)
-        : config(c), hal(h), clock(*h.clock), hapticsEnabled(c.hapticsEnabled),
-          stiffness(c.haptics.renderer.stiffness), volume(c.audio.volume), mute(c.audio.mute),
-          loop(*this, config, *h.display, *h.clock)
+        : RenderShared(c.stereoMode), config(c), hal(h), clock(*h.clock),
+          hapticsEnabled(c.hapticsEnabled), stiffness(c.haptics.renderer.stiffness),
+          volume(c.audio.volume), mute(c.audio.mute), loop(*this, config, *h.display, *h.clock)
     {
-        stereoMode = c.stereoMode;
-        renderMs.reserve(std::size_t{1} << 16);
-        meshTriangles.reserve(std::size_t{1} << 16);
-        avOffsetMs.reserve(std::size_t{1} << 16);
-        avOffsetAt.reserve(std::size_t{1} << 16);
-        avOffsetPts.reserve(std::size_t{1} << 16);
     }
 
     /// Hands \a next (may be null) to the render thread and waits until it dropped every frame of
     /// the previous session.
     void switchSession(Session *next)
     {
-        std::unique_lock<std::mutex> lock(mutex);
-        session = next;
-        playing = false;
-        paused = false;
-        endOfStream = false;
-        const std::uint64_t gen = ++sessionGen;
-        cv.notify_all();
-        if (renderThread)
-            cv.wait(lock, [&] { return sessionAck >= gen || quit; });
+        RenderShared::switchSession(next, static_cast<bool>(renderThread));
     }
 
     void tearDown()
@@ -91,25 +77,11 @@ struct Playback::Impl : RenderShared {
         }
         if (owned->decoder)
             owned->decoder->stop();
-        {
-            std::lock_guard<std::mutex> lock(mutex);
-            stats.receiver = owned->receiver ? owned->receiver->stats() : stats.receiver;
-        }
+        if (owned->receiver)
+            setReceiverStats(owned->receiver->stats());
         if (owned->audio)
             audioBefore = addedAudioStats(audioBefore, owned->audio->stats());
         owned.reset();
-    }
-
-    /// Notes a command for the OSD, then runs \a change under the lock when a session is open.
-    /// \return nothing, or InvalidState with \a nothingOpen (a static string) when none is.
-    template <class F> Result<void> changeSession(const char *nothingOpen, F &&change)
-    {
-        osdEvents.fetch_add(1, std::memory_order_relaxed);
-        std::lock_guard<std::mutex> lock(mutex);
-        if (session == nullptr)
-            return Error(Errc::InvalidState, nothingOpen);
-        change();
-        return {};
     }
 
     /// Starts the render thread once. \return an error text, or empty.

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <mutex>
 #include <string>
 
 #include "depthtouch/platform/log.h"
@@ -63,65 +62,47 @@ RenderLoop::RenderLoop(RenderShared &shared, const PlaybackConfig &config, hal::
 void RenderLoop::run()
 {
     for (;;) {
-        Commands cmd;
-        const Turn turn = takeCommands(cmd);
-        if (turn == Turn::Quit)
+        const RenderShared::Turn turn = shared_.nextTurn(frames_.gen);
+        if (turn.step == RenderShared::Turn::Step::Quit)
             break;
-        if (turn == Turn::Play)
-            play(*frames_.session, cmd);
+        if (turn.step == RenderShared::Turn::Step::Adopt)
+            shared_.acknowledgeSession(turn.gen, adoptSession(turn));
+        else if (turn.step == RenderShared::Turn::Step::Play)
+            play(*frames_.session, turn.commands);
     }
     leave();
 }
 
-/// Commands and session changes. \return Quit, Idle (nothing to play: waited up to 20 ms) or Play.
-RenderLoop::Turn RenderLoop::takeCommands(Commands &cmd)
-{
-    std::unique_lock<std::mutex> lock(shared_.mutex);
-    if (shared_.quit)
-        return Turn::Quit;
-    if (frames_.gen != shared_.sessionGen) {
-        adoptSession();
-        shared_.sessionAck = shared_.sessionGen;
-        shared_.cv.notify_all();
-    }
-    if (frames_.session == nullptr || !shared_.playing) {
-        shared_.cv.wait_for(lock, std::chrono::milliseconds(20));
-        return Turn::Idle;
-    }
-    cmd.paused = shared_.paused;
-    cmd.seekGen = shared_.seekGen;
-    cmd.seekTo = shared_.seekTarget;
-    cmd.mode = shared_.stereoMode;
-    return Turn::Play;
-}
-
-/// A new session (under the lock): drops every frame of the old one and restarts the clock.
-void RenderLoop::adoptSession()
+/// A new session (\a turn's; the main thread waits for its acknowledgement): drops every frame
+/// of the old one and restarts the clock. \return why the display could not be opened, or empty.
+std::string RenderLoop::adoptSession(const RenderShared::Turn &turn)
 {
     frames_.dropFrames();
     frames_ = Frames{};
-    frames_.session = shared_.session;
-    frames_.gen = shared_.sessionGen;
-    frames_.seekSeen = shared_.seekGen;
+    frames_.session = turn.session;
+    frames_.gen = turn.gen;
+    frames_.seekSeen = turn.seekGen;
     frameClock_ = FrameClock(config_.maxLateness);
     presenter_->newSession();
     if (frames_.session != nullptr && display_.state() != hal::Display::State::Open)
-        openDisplay();
+        return openDisplay();
+    return {};
 }
 
-/// The display's first open (under the lock), sized for the first stream, its GL context made
-/// current on this thread.
-void RenderLoop::openDisplay()
+/// The display's first open, sized for the first stream, its GL context made current on this
+/// thread. \return why it could not be opened, or empty.
+std::string RenderLoop::openDisplay()
 {
-    if (auto r = display_.open(frames_.session->displayConfig); !r) {
-        shared_.displayError = std::string("cannot open the display: ") + r.error().what;
-    } else if (display_.capabilities().hasGlesContext) {
+    if (auto r = display_.open(frames_.session->displayConfig); !r)
+        return std::string("cannot open the display: ") + r.error().what;
+    if (display_.capabilities().hasGlesContext) {
         if (auto c = display_.makeCurrent(); !c)
             DT_LOG(Playback, Warning, "No GL context (%s): frames are presented undrawn",
                    c.error().what);
         else
             presenter_->contextReady();
     }
+    return {};
 }
 
 /// One turn of playing: at most one frame shown, or a short sleep.
@@ -144,11 +125,8 @@ void RenderLoop::play(Session &s, const Commands &cmd)
         return;
     }
     const double pts = ptsSeconds(frames_.pending[0].pts);
-    if (!s.haveStart) {
-        std::lock_guard<std::mutex> lock(shared_.mutex);
-        s.startPts = pts;
-        s.haveStart = true;
-    }
+    if (!s.haveStart)
+        shared_.setStart(s, pts);
     if (!pace(s, now, pts, cmd.paused))
         return;
     // Frame i goes on screen: the haptic task gets (depth i, depth i+1).
@@ -182,14 +160,7 @@ void RenderLoop::measureAvOffset(Session &s, TimePoint shownAt, double pts)
         return;
     const double offset = c.mediaTime + platform::toSeconds(shownAt - c.at) - pts;
     avLead_ = std::clamp(avLead_ + kLeadGain * offset, 0.0, kMaxLeadSeconds);
-    std::lock_guard<std::mutex> lock(shared_.mutex);
-    if (shared_.avOffsetMs.size() >= shared_.avOffsetMs.capacity())
-        return;
-    if (shared_.avOffsetMs.empty())
-        firstAvOffset_ = shownAt;
-    shared_.avOffsetMs.push_back(offset * 1e3);
-    shared_.avOffsetAt.push_back(platform::toSeconds(shownAt - firstAvOffset_));
-    shared_.avOffsetPts.push_back(pts);
+    shared_.addAvOffset(offset * 1e3, shownAt, pts);
 }
 
 /// Seek: drop what was queued; the decode thread restarts at \a seekTo (s, stream timeline).
@@ -216,8 +187,7 @@ void RenderLoop::takeFrames(Session &s, TimePoint now)
            s.decoder->poll(frames_.pending[static_cast<std::size_t>(frames_.pendingCount)])) {
         ++frames_.pendingCount;
         frames_.anyFrame = true;
-        std::lock_guard<std::mutex> lock(shared_.mutex);
-        ++shared_.stats.framesReceived;
+        shared_.countFrameReceived();
     }
     if (frames_.pendingCount > 0 && frameClock_.started()) {
         double nextPts = 0.0;
@@ -232,27 +202,20 @@ void RenderLoop::takeFrames(Session &s, TimePoint now)
 /// frame has had its time on screen).
 void RenderLoop::checkDecoder(Session &s, TimePoint now)
 {
-    if (s.decoder->failed()) {
-        std::lock_guard<std::mutex> lock(shared_.mutex);
-        if (shared_.failure.empty())
-            shared_.failure = std::string("decoding failed: ") + s.decoder->error().what;
-    }
+    if (s.decoder->failed())
+        shared_.reportFailure(std::string("decoding failed: ") + s.decoder->error().what);
     if (frames_.pendingCount == 0 && !frames_.anyFrame && s.decoder->finished() &&
         !frames_.eosSent) {
         // The input ended before its first complete frame (a file cut after its header): a
         // failure, not a player that shows nothing for ever.
         frames_.eosSent = true;
-        std::lock_guard<std::mutex> lock(shared_.mutex);
-        if (shared_.failure.empty())
-            shared_.failure = "the input ended before its first complete frame (truncated?)";
+        shared_.reportFailure("the input ended before its first complete frame (truncated?)");
     }
     if (frames_.pendingCount == 0 && !frames_.eosSent && s.decoder->finished() &&
         frames_.haveShown() &&
         frameClock_.lastFrameDone(now, ptsSeconds(frames_.shown.pts), s.period)) {
         frames_.eosSent = true;
-        std::lock_guard<std::mutex> lock(shared_.mutex);
-        shared_.endOfStream = true;
-        ++shared_.stats.endsOfStream;
+        shared_.reportEndOfStream();
     }
 }
 
@@ -272,8 +235,7 @@ bool RenderLoop::pace(Session &s, TimePoint now, double pts, bool paused)
         return false;
     case Pace::Step::Drop: {
         frames_.popFront();
-        std::lock_guard<std::mutex> lock(shared_.mutex);
-        ++shared_.stats.framesDropped;
+        shared_.countDropped();
         return false;
     }
     case Pace::Step::Show:
@@ -284,10 +246,7 @@ bool RenderLoop::pace(Session &s, TimePoint now, double pts, bool paused)
             s.handoff->setMediaOrigin(frameClock_.origin());
         return true;
     }
-    std::lock_guard<std::mutex> lock(shared_.mutex);
-    if (p.lateSeconds > s.period)
-        ++shared_.stats.framesLate;
-    shared_.stats.lateMsMax = std::max(shared_.stats.lateMsMax, 1e3 * p.lateSeconds);
+    shared_.countShown(p.lateSeconds, s.period);
     return true;
 }
 
@@ -312,8 +271,7 @@ void RenderLoop::publishDepth(Session &s)
     }
     if (frames_.reseat && s.task)
         s.task->requestClockRestart();
-    std::lock_guard<std::mutex> lock(shared_.mutex);
-    ++shared_.stats.depthPairsPublished;
+    shared_.countDepthPairPublished();
 }
 
 /// Draws the shown frame (PTS \a pts, s), presents it, ends the preroll and counts.
@@ -337,72 +295,36 @@ void RenderLoop::drawAndPresent(Session &s, const Commands &cmd, double pts)
     count(s, d, presented, drawSeconds * 1e3, lod, pts);
 }
 
-/// The counters of one presented frame (draw time \a ms), under the lock.
+/// The counters of one presented frame (draw time \a ms).
 void RenderLoop::count(Session &s, const DrawOutcome &d, const Result<hal::PresentInfo> &presented,
                        double ms, const std::optional<LodSample> &lod, double pts)
 {
-    std::lock_guard<std::mutex> lock(shared_.mutex);
-    PlaybackStats &stats = shared_.stats;
-    if (d.preparedAhead)
-        ++stats.framesPreparedAhead;
-    if (d.recorded)
-        ++stats.framesRecorded;
-    if (d.snapshotWritten)
-        ++stats.snapshotsWritten;
-    if (!d.recordError.empty()) {
-        shared_.failure = d.recordError;
-        stats.recordingLost = d.recordError;
+    RenderShared::PresentedFrame f;
+    f.draw = d;
+    f.lod = lod;
+    f.presented = static_cast<bool>(presented);
+    if (!presented && presented.error().code == Errc::NoDevice)
+        f.displayLost = std::string("the display was lost: ") + presented.error().what;
+    if (presented && !s.presentedOnce) {
+        s.presentedOnce = true;
+        f.tuneInSeconds = platform::toSeconds(clock_.now() - s.openStarted);
     }
-    if (!d.snapshotError.empty() && stats.snapshotLost.empty())
-        stats.snapshotLost = d.snapshotError;
-    if (lod) {
-        stats.lodBudget = lod->budget;
-        if (lod->limited)
-            ++stats.framesLodLimited;
-        if (shared_.meshTriangles.size() < shared_.meshTriangles.capacity())
-            shared_.meshTriangles.push_back(lod->triangles);
-    }
-    if (!d.drawn)
-        ++stats.renderErrors;
-    if (presented) {
-        ++stats.framesPresented;
-        if (!s.presentedOnce) {
-            s.presentedOnce = true;
-            stats.tuneInSeconds = platform::toSeconds(clock_.now() - s.openStarted);
-        }
-    } else {
-        ++stats.presentErrors;
-        // The window was closed or the display went away: playback cannot go on.
-        if (presented.error().code == Errc::NoDevice && shared_.failure.empty())
-            shared_.failure = std::string("the display was lost: ") + presented.error().what;
-    }
-    shared_.position = pts - s.startPts;
-    const double played = frameClock_.playingSeconds(clock_.now());
-    stats.playingSeconds = played;
-    stats.presentedFps = played > 0 ? static_cast<double>(stats.framesPresented) / played : 0.0;
-    if (shared_.renderMs.size() < shared_.renderMs.capacity())
-        shared_.renderMs.push_back(ms);
-    presenter_->addStats(stats);
+    f.drawMs = ms;
+    f.position = pts - s.startPts;
+    f.playingSeconds = frameClock_.playingSeconds(clock_.now());
+    presenter_->addStats(presenterStats_);
+    f.zeroCopy = presenterStats_.zeroCopy;
+    f.colorFramesImported = presenterStats_.colorFramesImported;
+    f.colorFramesDmaBufUploaded = presenterStats_.colorFramesDmaBufUploaded;
+    shared_.countPresented(f);
 }
 
 /// Leaving: drop frames; GL objects go while the context is current.
 void RenderLoop::leave()
 {
     frames_.dropFrames();
-    {
-        std::lock_guard<std::mutex> lock(shared_.mutex);
-        shared_.sessionAck = shared_.sessionGen;
-        shared_.cv.notify_all();
-    }
-    OutputsLost lost = presenter_->shutdown();
-    {
-        std::lock_guard<std::mutex> lock(shared_.mutex);
-        PlaybackStats &stats = shared_.stats;
-        if (!lost.recording.empty() && stats.recordingLost.empty())
-            stats.recordingLost = std::move(lost.recording);
-        if (!lost.snapshot.empty() && stats.snapshotLost.empty())
-            stats.snapshotLost = std::move(lost.snapshot);
-    }
+    shared_.acknowledgeAll();
+    shared_.addLostOutputs(presenter_->shutdown());
     display_.close();
 }
 

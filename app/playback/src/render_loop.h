@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 
 #include "depthtouch/hal/display.h"
 #include "depthtouch/platform/clock.h"
@@ -36,18 +37,12 @@ public:
     RenderLoop(const RenderLoop &) = delete;
     RenderLoop &operator=(const RenderLoop &) = delete;
 
-    /// \brief Runs until RenderShared::quit: plays the current session, then drops its frames,
+    /// \brief Runs until RenderShared::quit(): plays the current session, then drops its frames,
     /// ends the recording, drops the GL objects and closes the display.
     void run();
 
 private:
-    /// What the main thread asked, read once per turn.
-    struct Commands {
-        bool paused = false;
-        std::uint64_t seekGen = 0;
-        double seekTo = 0.0; ///< s, stream timeline.
-        player::StereoMode mode = player::StereoMode::SideBySide;
-    };
+    using Commands = RenderShared::Commands;
     /// The frames this thread holds for the session.
     struct Frames {
         Session *session = nullptr;
@@ -69,11 +64,8 @@ private:
         /// \return the PTS of pending[1], s, or null when only one frame is queued.
         [[nodiscard]] const double *nextPts(double &storage) const noexcept;
     };
-    enum class Turn : std::uint8_t { Quit, Idle, Play };
-
-    Turn takeCommands(Commands &cmd);
-    void adoptSession();
-    void openDisplay();
+    std::string adoptSession(const RenderShared::Turn &turn);
+    std::string openDisplay();
     void play(Session &s, const Commands &cmd);
     void followAudio(Session &s, bool paused);
     void measureAvOffset(Session &s, platform::TimePoint shownAt, double pts);
@@ -95,7 +87,8 @@ private:
     Frames frames_;
     FrameClock frameClock_;
     double avLead_ = 0.0; ///< s: how much earlier than its time a frame's turn comes with sound.
-    platform::TimePoint firstAvOffset_{}; ///< When the first A/V offset was measured.
+    /// The presenter's own counters (Presenter::addStats()), kept between frames.
+    PlaybackStats presenterStats_;
 };
 
 } // namespace depthtouch::playback

@@ -4,7 +4,8 @@
 /// destroys), and the conversions between stream PTS and seconds.
 ///
 /// Thread-safety: built and destroyed on the main thread; the render thread uses it between the
-/// two (see RenderShared::session), and writes startPts/haveStart under RenderShared::mutex.
+/// two (see RenderShared::switchSession()), and writes startPts/haveStart through
+/// RenderShared::setStart() (the main thread reads them in RenderShared::seek()).
 
 #include <cmath>
 #include <cstdint>
