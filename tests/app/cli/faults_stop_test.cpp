@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -188,6 +189,31 @@ bool waitForState(ControlClient &c, const std::string &state, std::chrono::milli
     return false;
 }
 
+/// A player of a live stream that goes silent: `play FIFO --idle --control SOCK` fed by a
+/// SilentSender of \a clip, its control socket connected (members destroyed client first, then
+/// the player, then the sender, as a test's locals declared in that order).
+struct SilentLivePlay {
+    fs::path fifo;
+    std::string sock;
+    std::optional<SilentSender> sender;
+    std::optional<Process> player;
+    ControlClient c;
+};
+
+/// Starts \a p in \a dir (FIFO NAME.fifo, socket NAME.sock) and waits until it plays.
+void startSilentLivePlay(SilentLivePlay &p, const fs::path &dir, const fs::path &clip,
+                         const std::string &name)
+{
+    p.fifo = dir / (name + ".fifo");
+    ASSERT_EQ(::mkfifo(p.fifo.c_str(), 0600), 0);
+    p.sock = (dir / (name + ".sock")).string();
+    p.sender.emplace(p.fifo, clip);
+    // (--idle: the player stays after it reported the silence, whichever comes first)
+    p.player.emplace(livePlay(p.fifo, {"--idle", "--control", p.sock}));
+    ASSERT_TRUE(p.c.connect(p.sock, 10s));
+    ASSERT_TRUE(waitForState(p.c, "playing", 10s));
+}
+
 // --- Group 1: a simulated device whose options would spin the haptic thread ------------------
 
 TEST(StopFaultsTest, AnExplorePeriodThatWouldSpinTheHapticThreadIsBadInput)
@@ -215,24 +241,17 @@ TEST(StopFaultsTest, QuitEndsAPlayerWhoseLiveStreamWentSilentWithin2s)
         GTEST_SKIP() << "no ffmpeg CLI on PATH";
     TempDir tmp("dt-stop-");
     const fs::path clip = makeLiveClip(tmp.dir());
-    const fs::path fifo = tmp.dir() / "live.fifo";
-    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-    const std::string sock = (tmp.dir() / "ctl.sock").string();
-    SilentSender sender(fifo, clip);
-    // (--idle: the player stays after it reported the silence, whichever comes first)
-    Process player(livePlay(fifo, {"--idle", "--control", sock}));
-    ControlClient c;
-    ASSERT_TRUE(c.connect(sock, 10s));
+    SilentLivePlay p;
     // GIVEN a player that played the stream's second and waits on its silence
-    ASSERT_TRUE(waitForState(c, "playing", 10s));
+    ASSERT_NO_FATAL_FAILURE(startSilentLivePlay(p, tmp.dir(), clip, "live"));
     std::this_thread::sleep_for(1500ms);
     // WHEN a client sends quit
     const auto quitAt = SteadyClock::now();
-    EXPECT_EQ(c.request(R"({"command":["quit"]})", 15000ms), R"({"error":"success"})");
+    EXPECT_EQ(p.c.request(R"({"command":["quit"]})", 15000ms), R"({"error":"success"})");
     // THEN the answer and the exit come within 5 s (8.7 s before: the read's 10 s time-out; the
     // bound leaves room for a loaded machine, the stop itself takes about 0.04 s)
-    EXPECT_LT(c.lastReplySeconds(), 5.0);
-    const ProcessResult r = player.wait(kLimit);
+    EXPECT_LT(p.c.lastReplySeconds(), 5.0);
+    const ProcessResult r = p.player->wait(kLimit);
     EXPECT_LT(secondsSince(quitAt), 5.0) << describe(r);
     EXPECT_EQ(r.exitCode, 0) << describe(r);
 }
@@ -244,19 +263,13 @@ TEST(StopFaultsTest, SigtermAndDurationEndAPlayerWhoseLiveStreamWentSilentWithin
     TempDir tmp("dt-stop-");
     const fs::path clip = makeLiveClip(tmp.dir());
     {
-        const fs::path fifo = tmp.dir() / "term.fifo";
-        ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-        const std::string sock = (tmp.dir() / "term.sock").string();
-        SilentSender sender(fifo, clip);
-        Process player(livePlay(fifo, {"--idle", "--control", sock}));
-        ControlClient c;
-        ASSERT_TRUE(c.connect(sock, 10s));
-        ASSERT_TRUE(waitForState(c, "playing", 10s));
+        SilentLivePlay p;
+        ASSERT_NO_FATAL_FAILURE(startSilentLivePlay(p, tmp.dir(), clip, "term"));
         std::this_thread::sleep_for(1500ms);
         // WHEN SIGTERM comes while the stream is silent
         const auto termAt = SteadyClock::now();
-        player.signal(SIGTERM);
-        const ProcessResult r = player.wait(kLimit);
+        p.player->signal(SIGTERM);
+        const ProcessResult r = p.player->wait(kLimit);
         // THEN the player ends within 5 s, as after a quit
         EXPECT_LT(secondsSince(termAt), 5.0) << describe(r);
         EXPECT_EQ(r.exitCode, 0) << describe(r);
@@ -281,14 +294,9 @@ TEST(StopFaultsTest, ASilentLiveStreamIsReportedAndTheNextSenderPlays)
         GTEST_SKIP() << "no ffmpeg CLI on PATH";
     TempDir tmp("dt-stop-");
     const fs::path clip = makeLiveClip(tmp.dir());
-    const fs::path fifo = tmp.dir() / "live.fifo";
-    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-    const std::string sock = (tmp.dir() / "ctl.sock").string();
-    SilentSender first(fifo, clip);
-    Process player(livePlay(fifo, {"--idle", "--control", sock}));
-    ControlClient c;
-    ASSERT_TRUE(c.connect(sock, 10s));
-    ASSERT_TRUE(waitForState(c, "playing", 10s));
+    SilentLivePlay p;
+    ASSERT_NO_FATAL_FAILURE(startSilentLivePlay(p, tmp.dir(), clip, "live"));
+    ControlClient &c = p.c;
     const auto playingAt = SteadyClock::now();
     // WHEN the sender goes silent after its one-second clip
     // THEN the state leaves "playing" 1 s into the silence (generous: 8 s after playing began;
@@ -303,10 +311,10 @@ TEST(StopFaultsTest, ASilentLiveStreamIsReportedAndTheNextSenderPlays)
     EXPECT_TRUE(told) << "no end-file event saying silent";
     // AND the next sender on the same address plays, without a restart and without a command
     std::this_thread::sleep_for(1500ms); // a few tries of the waiting open
-    SilentSender next(fifo, clip);
+    SilentSender next(p.fifo, clip);
     EXPECT_TRUE(waitForState(c, "playing", 10s));
     EXPECT_EQ(c.request(R"({"command":["quit"]})", 5000ms), R"({"error":"success"})");
-    const ProcessResult r = player.wait(kLimit);
+    const ProcessResult r = p.player->wait(kLimit);
     EXPECT_EQ(r.exitCode, 0) << describe(r);
 }
 
