@@ -146,10 +146,10 @@ std::string drawChart(const BenchAvOptions &o, const std::vector<AvRun> &runs)
           << " with lines dt 2 lw 2 lc rgb '#2a9d2a' title 'goal +-20 ms (p99)', " << -kGoalMs
           << " with lines dt 2 lw 2 lc rgb '#2a9d2a' notitle, "
           << "45 with lines dt 3 lc rgb '#c03030' title 'BT.1359 detectable: sound 45 ms early'";
-        const char *colours[] = {"#1f5fbf", "#d07000", "#7a3fb0", "#333333"};
+        const char *colors[] = {"#1f5fbf", "#d07000", "#7a3fb0", "#333333"};
         for (std::size_t i = 0; i < runs.size(); ++i)
             g << ", '" << runs[i].log << "' every ::1 using 1:3 with lines lw 1 lc rgb '"
-              << colours[i % 4] << "' title '" << runs[i].output << " output'";
+              << colors[i % 4] << "' title '" << runs[i].output << " output'";
         g << "\n";
     }
     if (!lost.empty())

@@ -546,9 +546,9 @@ void writeStagesChart(const std::vector<BenchRow> &rows, const std::filesystem::
        << "set style data histograms\nset style histogram rowstacked\n"
        << "set style fill solid 0.9 border rgb 'black'\nset boxwidth 0.7\n"
        << "set xtics rotate by -35\nset bmargin 6\n"
-       << "colours = '#1f77b4 #ff7f0e #2ca02c #d62728 #9467bd #8c564b #e377c2 #7f7f7f #17becf'\n"
+       << "colors = '#1f77b4 #ff7f0e #2ca02c #d62728 #9467bd #8c564b #e377c2 #7f7f7f #17becf'\n"
        << "plot for [k=2:" << (kStageCount + 1) << "] '" << (base / "stages.dat").string()
-       << "' using k:xtic(1) lc rgb word(colours, k-1) title columnheader(k)\n";
+       << "' using k:xtic(1) lc rgb word(colors, k-1) title columnheader(k)\n";
 }
 
 void writeCpuChart(const std::vector<BenchRow> &rows, const std::filesystem::path &base,

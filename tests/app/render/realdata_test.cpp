@@ -75,7 +75,7 @@ TEST(RenderRealDataTest, writesASideBySideSnapshot)
 // docs/playing.md "Picture": the mono view of a real frame at the colour frame's size is that frame
 // pixel for pixel where there is depth (the kitchen's holes are filled): its luma, computed here
 // from the rendered R'G'B' with BT.601's weights, against the frame's own Y' in full range.
-TEST(RenderRealDataTest, theMonoViewIsTheColourFrame)
+TEST(RenderRealDataTest, theMonoViewIsTheColorFrame)
 {
     DT_NEED_SHARED_DATA("rgbd-7scenes-redkitchen/frame-000000.depth.png");
     DT_REQUIRE_GLES_CONTEXT(ctx);
@@ -107,8 +107,8 @@ TEST(RenderRealDataTest, theMonoViewIsTheColourFrame)
     ASSERT_TRUE(t->readRgb(rgb));
     // Over the picture the depth covers: the mesh spans the samples' centres, so a colour frame
     // finer than the depth (640×480 over 320×240) has a ring of half a sample outside it.
-    const auto inside = [](int i, int colour, int depth) {
-        const double at = (i + 0.5) / colour;
+    const auto inside = [](int i, int color, int depth) {
+        const double at = (i + 0.5) / color;
         return at >= 0.5 / depth && at <= (depth - 0.5) / depth;
     };
     double se = 0.0;
