@@ -35,8 +35,9 @@ HOST_PACKAGES=(
     # depth enhancement: Delaunay triangulation
     libcgal-dev
     libtomlplusplus-dev
-    # drivers: FFmpeg (decode, encode, image I/O) and its command-line tools for tests
-    libavcodec-dev libavformat-dev libavutil-dev libswscale-dev libswresample-dev ffmpeg
+    # drivers: FFmpeg (decode, encode, image I/O) and its command-line tools for tests; TagLib for
+    # the ID3 tags of MPEG-TS timed metadata
+    libavcodec-dev libavformat-dev libavutil-dev libswscale-dev libswresample-dev ffmpeg libtag1-dev
     # drivers: EGL + GLES on Mesa (llvmpipe when there is no GPU), GBM/KMS, X11
     libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri libgbm-dev libdrm-dev libx11-dev
     # tests of the X11 display: a private virtual X server
@@ -50,7 +51,7 @@ HOST_PACKAGES=(
 # -dev packages the cross build links against, per Debian architecture.
 CROSS_DEV_PACKAGES=(
     libgtest-dev libgmock-dev
-    libavcodec-dev libavformat-dev libavutil-dev libswscale-dev libswresample-dev
+    libavcodec-dev libavformat-dev libavutil-dev libswscale-dev libswresample-dev libtag1-dev
     libegl-dev libgles-dev libgbm-dev libdrm-dev
     libusb-1.0-0-dev libevdev-dev libasound2-dev
     libcgal-dev

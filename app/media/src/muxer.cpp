@@ -144,12 +144,11 @@ Result<std::unique_ptr<Muxer>> Muxer::open(const MuxerOptions &options)
     }
     if ((options.container == Container::MpegTs || options.container == Container::Hls) &&
         !options.tags.empty()) {
-        // MPEG-TS carries neither stream titles nor free tags; its service (program) name does
-        // travel, so the tags go there as "key=value;…" (color is stream 0, depth stream 1).
-        std::string text;
-        for (const auto &[key, value] : options.tags)
-            text += (text.empty() ? "" : ";") + key + "=" + value;
-        av_dict_set(&m.fmt->metadata, "service_name", text.c_str(), 0);
+        // MPEG-TS carries neither stream titles nor free tags: they travel as timed ID3
+        // (timed_metadata.h; color is stream 0, depth stream 1). The service is named plainly,
+        // as a TV shows it.
+        m.timedTags = options.tags;
+        av_dict_set(&m.fmt->metadata, "service_name", "DepthTouch", 0);
         av_dict_set(&m.fmt->metadata, "service_provider", "DepthTouch", 0);
     }
     if ((m.fmt->oformat->flags & AVFMT_NOFILE) == 0) {
@@ -182,6 +181,13 @@ Result<void> Muxer::start()
     Impl &m = *impl_;
     if (m.started || m.fmt == nullptr || m.fmt->nb_streams == 0)
         return unexpected(Errc::InvalidState, "Muxer started twice or without streams");
+    if (!m.timedTags.empty()) {
+        auto timed = TimedMetadata::add(*m.fmt, m.timedTags);
+        if (!timed)
+            return unexpected(timed.error());
+        m.timed = std::move(*timed);
+        m.unseenStreams.assign(m.fmt->nb_streams, true);
+    }
     AVDictionary *opts = nullptr;
     // MP4 keeps only its known tags unless asked to write the others (the depth tags).
     if (m.container == Container::Mp4)

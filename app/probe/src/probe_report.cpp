@@ -209,7 +209,7 @@ void printStreamsText(std::FILE *out, const std::string &file, const ProbeReport
                  info.streams.size() == 1 ? "" : "s", platform::toSeconds(info.duration));
     for (const hal::StreamInfo &s : info.streams) {
         const receiver::StreamCount &c = rep.demux.counts[static_cast<std::size_t>(s.index)];
-        std::fprintf(out, "  #%d %-8s %-26s %-6s %dx%d %-8s %s fps, %llu frames (%.3f s)\n",
+        std::fprintf(out, "  #%d %-8s %-32s %-6s %dx%d %-8s %s fps, %llu frames (%.3f s)\n",
                      s.index, s.title.empty() ? "-" : s.title.c_str(), roleOf(rep, s.index).c_str(),
                      hal::codecName(s.codec), s.width, s.height, hal::pixelFormatName(s.format),
                      rateText(s.frameRate).c_str(), static_cast<unsigned long long>(c.packets),

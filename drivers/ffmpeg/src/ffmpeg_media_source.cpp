@@ -14,6 +14,7 @@
 #include "depthtouch/platform/log.h"
 #include "ffmpeg_common.h"
 #include "h264_sps.h"
+#include "timed_metadata_reader.h"
 
 extern "C" {
 #include <libavutil/dict.h>
@@ -34,8 +35,9 @@ constexpr const char *kOptionKeys[] = {"fps", "format", "timeout_ms"};
 constexpr AVRational kNanoseconds{1, 1'000'000'000};
 constexpr AVRational kMicroseconds{1, AV_TIME_BASE}; // AV_TIME_BASE_Q is a C compound literal
 
-/// \return the value of tag \a key (any case) of the stream, else of the container, else of the
-/// MPEG-TS service's \a service tags; nullptr when none has it.
+/// \return the value of tag \a key (any case) of the stream, else of the container, else of
+/// DepthTouch's MPEG-TS tags \a service (its timed metadata, or the service name of older files);
+/// nullptr when none has it.
 const char *tagOf(const AVStream &st, const AVFormatContext &fmt, const AVDictionary *service,
                   const char *key) noexcept
 {
@@ -191,7 +193,7 @@ struct FfmpegMediaSource::Impl {
     Result<void> openInput(const char *url);
     /// Lists libav stream \a i when it is a video stream this build delivers (\a videoStreams:
     /// the input's video streams, for telling depth from color; \a videoOrdinal: the video
-    /// streams before it; \a serviceTags: the tags of DepthTouch's MPEG-TS service, or nullptr).
+    /// streams before it; \a serviceTags: DepthTouch's MPEG-TS tags, or nullptr).
     void addStream(unsigned i, int videoStreams, int videoOrdinal, const AVDictionary *serviceTags);
     /// Sets info.duration from the container, or from the longest listed stream.
     void readDuration() noexcept;
@@ -244,6 +246,7 @@ struct FfmpegMediaSource::Impl {
         fifo.reset();
         streams.clear();
         avToHal.clear();
+        pending.clear();
         audioIndex = -1;
         info = {};
         start = hal::Pts{0};
@@ -260,6 +263,10 @@ struct FfmpegMediaSource::Impl {
     platform::UniqueFd fifo; ///< A FIFO input, opened here (read by libavformat as pipe:FD).
     av::InputContextPtr fmt;
     av::PacketPtr packet;
+    PendingPackets pending; ///< Read ahead of the timed metadata at open: delivered first.
+    /// Where the MPEG-TS tags came from (StreamInfo::titleFrom): the service name of files
+    /// written before the timed metadata stream, or that stream.
+    const char *serviceTagsFrom = "MPEG-TS service";
     av::FramePtr frame;
     av::SwsPtr sws;
     std::vector<Stream> streams; ///< By HAL index.
@@ -273,6 +280,9 @@ struct FfmpegMediaSource::Impl {
 
 namespace {
 constexpr int kLiveFpsProbeFrames = 5; ///< See openInput().
+/// How many packets open() reads ahead for a timed ID3 tag (about a GOP of a live stream joined
+/// mid-GOP: the sender writes one before each color key frame).
+constexpr int kTimedMetadataPackets = 600;
 } // namespace
 
 Result<void> FfmpegMediaSource::Impl::openInput(const char *url)
@@ -350,7 +360,7 @@ void FfmpegMediaSource::Impl::addStream(unsigned i, int videoStreams, int videoO
         si.titleFrom = "MP4 handler name";
     } else if (serviceTags != nullptr && videoOrdinal < 2) {
         si.title = videoOrdinal == 0 ? "color" : "depth";
-        si.titleFrom = "MPEG-TS service";
+        si.titleFrom = serviceTagsFrom;
     }
     const AVPixelFormat pixfmt =
         si.title == "color" ? static_cast<AVPixelFormat>(par.format) : samplesFormatOf(par);
@@ -461,8 +471,14 @@ Result<void> FfmpegMediaSource::Impl::open(const char *url)
     if (ctx->start_time != AV_NOPTS_VALUE)
         start = hal::Pts(av_rescale_q(ctx->start_time, kMicroseconds, kNanoseconds));
     avToHal.assign(ctx->nb_streams, -1);
+    AVDictionary *tags = serviceTagsOf(*ctx);
+    serviceTagsFrom = "MPEG-TS service";
+    if (tags == nullptr) {
+        tags = readTimedMetadata(*ctx, pending, kTimedMetadataPackets, [this] { armDeadline(); });
+        serviceTagsFrom = "MPEG-TS timed metadata";
+    }
     const std::unique_ptr<AVDictionary, void (*)(AVDictionary *)> service(
-        serviceTagsOf(*ctx), [](AVDictionary *d) { av_dict_free(&d); });
+        tags, [](AVDictionary *d) { av_dict_free(&d); });
     int videoOrdinal = 0;
     for (unsigned i = 0; i < ctx->nb_streams; ++i) {
         addStream(i, videoStreams, videoOrdinal, service.get());
@@ -490,8 +506,14 @@ Result<hal::Packet> FfmpegMediaSource::Impl::read()
         av_packet_unref(packet.get());
         if (interrupted.load(std::memory_order_relaxed))
             return unexpected(Errc::Timeout, "Interrupted by a stop request");
-        armDeadline();
-        const int r = av_read_frame(fmt.get(), packet.get());
+        int r = 0;
+        if (!pending.empty()) { // read ahead at open (readTimedMetadata())
+            av_packet_move_ref(packet.get(), pending.front().get());
+            pending.pop_front();
+        } else {
+            armDeadline();
+            r = av_read_frame(fmt.get(), packet.get());
+        }
         if (r < 0 && interrupted.load(std::memory_order_relaxed))
             return unexpected(Errc::Timeout, "Interrupted by a stop request");
         if (r < 0 && readCancelled()) {
@@ -641,6 +663,7 @@ Result<void> FfmpegMediaSource::seekDevice(hal::Pts position)
     const int r = av_seek_frame(impl_->fmt.get(), -1, us, AVSEEK_FLAG_BACKWARD);
     if (r < 0)
         return unexpected(impl_->failure(r, Errc::Io, "Failed to seek"));
+    impl_->pending.clear();
     for (auto &s : impl_->streams) {
         s.lastPts = hal::kNoPts;
         if (s.imageDecoder)

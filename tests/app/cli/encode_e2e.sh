@@ -56,16 +56,37 @@ probe -select_streams v:1 -show_entries stream=profile -of csv=p=0 "$work/lossle
     | grep -q "High 4:4:4 Predictive" || fail "lossless profile"
 
 # 2b. The roles and depth metadata come back from every container: MKV titles and tags, MP4 handler
-# names and tags, DepthTouch's MPEG-TS service (which carries no titles or free tags).
+# names and tags, DepthTouch's MPEG-TS timed metadata (MPEG-TS carries no titles or free tags).
 for ext in mkv mp4 ts; do
     "$exe" encode --color "$work/c-%03d.png" --depth "$work/d-%03d.png" -o "$work/roles.$ext" \
         --preset ultrafast >/dev/null 2>&1 || fail "roles.$ext encode"
     "$exe" probe "$work/roles.$ext" >"$work/roles.$ext.txt" 2>&1 || { cat "$work/roles.$ext.txt"; fail "probe roles.$ext"; }
-    case $ext in mkv) from="title" ;; mp4) from="MP4 handler name" ;; ts) from="MPEG-TS service" ;; esac
+    case $ext in mkv) from="title" ;; mp4) from="MP4 handler name" ;; ts) from="MPEG-TS timed metadata" ;; esac
     grep -q "color ($from)" "$work/roles.$ext.txt" && grep -q "depth ($from)" "$work/roles.$ext.txt" \
         && grep -q "^depth metadata: near " "$work/roles.$ext.txt" \
         || { cat "$work/roles.$ext.txt"; fail "roles.$ext: roles from $from and the depth metadata"; }
 done
+# MPEG-TS: the service keeps a plain name (a TV shows it as the channel's), the tags ride in a timed
+# ID3 stream (stream type 0x15), read here by ffprobe and ffmpeg, not by DepthTouch.
+[ "$(probe -show_entries program_tags=service_name -of default=nw=1:nk=1 "$work/roles.ts" | head -1)" = "DepthTouch" ] ||
+    fail "ts: the service name is not plain"
+[ "$(probe -show_entries stream=codec_name -of csv=p=0 "$work/roles.ts" | sed -n 3p)" = "timed_id3" ] ||
+    fail "ts: no timed ID3 stream"
+ff -i "$work/roles.ts" -map 0:2 -c copy -f data "$work/roles.id3" || fail "ffmpeg: the ID3 stream"
+grep -q "depth_near" "$work/roles.id3" && grep -q "depth_mapping" "$work/roles.id3" ||
+    fail "ts: the ID3 tag lacks the depth tags"
+# Joined mid-stream (the file cut at a third, on a TS packet boundary, a 15-frame GOP): the tags come
+# with the next key frame, and no packet read ahead for them is lost (probe's frame count = ffprobe's).
+ff -f lavfi -i testsrc=size=64x48:rate=30:duration=2 -start_number 0 "$work/long-%03d.png" || fail "ffmpeg long"
+"$exe" encode --color "$work/long-%03d.png" --depth "$work/d-%03d.png" --loop --frames 60 -o "$work/gop.ts" \
+    -g 15 --preset ultrafast >/dev/null 2>&1 || fail "gop.ts encode"
+size=$(wc -c <"$work/gop.ts")
+dd if="$work/gop.ts" of="$work/mid.ts" bs=188 skip=$((size / 188 / 3)) 2>/dev/null
+"$exe" probe "$work/mid.ts" >"$work/mid.txt" 2>&1 || { cat "$work/mid.txt"; fail "probe mid.ts"; }
+want=$(probe -count_packets -select_streams v:0 -show_entries stream=nb_read_packets -of csv=p=0 "$work/mid.ts")
+grep -q "color (MPEG-TS timed metadata)" "$work/mid.txt" && grep -q "^depth metadata: near " "$work/mid.txt" &&
+    grep -q "yuv420p  30 fps, $want frames" "$work/mid.txt" ||
+    { cat "$work/mid.txt"; fail "mid.ts: the tags, and $want color frames"; }
 echo "roles: $(grep -h 'color (' "$work"/roles.*.txt | awk '{print $3, $4, $5, $6}' | tr '\n' ';')"
 
 # 3. Bad input: one error line, exit 2, no output file, no temporary file.

@@ -44,7 +44,7 @@ grep -q '^#EXT-X-PLAYLIST-TYPE:EVENT$' "$work/www/stream.m3u8" ||
 segments=$(grep -c '\.ts$' "$work/www/stream.m3u8")
 [ "$segments" -ge 2 ] || fail "hls: $segments segments, want 2 or more"
 "$exe" probe "$work/www/stream0.ts" >"$work/seg.txt" 2>&1
-grep -q "depth (MPEG-TS service)" "$work/seg.txt" && grep -q "^depth metadata: near " "$work/seg.txt" ||
+grep -q "depth (MPEG-TS timed metadata)" "$work/seg.txt" && grep -q "^depth metadata: near " "$work/seg.txt" ||
     { cat "$work/seg.txt"; fail "hls: a segment carries the roles and the depth metadata"; }
 busybox httpd -f -p "127.0.0.1:$port" -h "$work/www" &
 httpd=$!

@@ -349,8 +349,8 @@ TEST_F(EncodeTest, frameAndDurationLimits)
     }
 }
 
-/// GIVEN MPEG-TS WHEN encoded THEN both streams share each PTS and the depth tags travel in the
-/// service name.
+/// GIVEN MPEG-TS WHEN encoded THEN both streams share each PTS and the depth tags travel in a
+/// third, timed ID3 stream.
 TEST_F(EncodeTest, mpegTsKeepsPairedPtsAndTags)
 {
     TestSource color = colorSource(5);
@@ -360,7 +360,8 @@ TEST_F(EncodeTest, mpegTsKeepsPairedPtsAndTags)
     const auto rb = test::readBack(path("out.ts"), {0}, false);
     ASSERT_TRUE(rb.ok);
     EXPECT_EQ(rb.format, "mpegts");
-    ASSERT_EQ(rb.streams.size(), 2u);
+    ASSERT_EQ(rb.streams.size(), 3u);
+    EXPECT_EQ(rb.streams[2].codec, "timed_id3");
     ASSERT_EQ(rb.streams[0].pts.size(), 5u);
     EXPECT_EQ(rb.streams[0].pts, rb.streams[1].pts);
 }

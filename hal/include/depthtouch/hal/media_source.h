@@ -61,10 +61,10 @@ struct StreamInfo {
     int index = -1;                      ///< Packet::streamIndex of its packets.
     StreamKind kind = StreamKind::Color; ///< From the stream title ("color" / "depth").
     /// The stream's role name: the container's stream title (MKV), else its MP4 handler name, else
-    /// the order DepthTouch's MPEG-TS service gives (color, then depth); empty when none says.
+    /// the order DepthTouch's MPEG-TS metadata gives (color, then depth); empty when none says.
     std::string title;
-    /// Where title came from: "title", "MP4 handler name" or "MPEG-TS service" (static string;
-    /// empty when title is empty).
+    /// Where title came from: "title", "MP4 handler name", "MPEG-TS timed metadata" or (files
+    /// written before it) "MPEG-TS service" (static string; empty when title is empty).
     const char *titleFrom = "";
     CodecId codec = CodecId::Unknown;
     PixelFormat format = PixelFormat::Unknown; ///< Decoded pixel format the stream declares.
