@@ -14,6 +14,7 @@
 #include "depthtouch/platform/log.h"
 #include "ffmpeg_common.h"
 #include "h264_sps.h"
+#include "stream_tags.h"
 #include "timed_metadata_reader.h"
 
 extern "C" {
@@ -34,74 +35,6 @@ namespace {
 constexpr const char *kOptionKeys[] = {"fps", "format", "timeout_ms"};
 constexpr AVRational kNanoseconds{1, 1'000'000'000};
 constexpr AVRational kMicroseconds{1, AV_TIME_BASE}; // AV_TIME_BASE_Q is a C compound literal
-
-/// \return the value of tag \a key (any case) of the stream, else of the container, else of
-/// DepthTouch's MPEG-TS tags \a service (its timed metadata, or the service name of older files);
-/// nullptr when none has it.
-const char *tagOf(const AVStream &st, const AVFormatContext &fmt, const AVDictionary *service,
-                  const char *key) noexcept
-{
-    if (const AVDictionaryEntry *e = av_dict_get(st.metadata, key, nullptr, 0))
-        return e->value;
-    if (const AVDictionaryEntry *e = av_dict_get(fmt.metadata, key, nullptr, 0))
-        return e->value;
-    if (const AVDictionaryEntry *e = av_dict_get(service, key, nullptr, 0))
-        return e->value;
-    return nullptr;
-}
-
-/// \return the tags DepthTouch's MPEG-TS muxer writes into the service name ("key=value;…",
-/// service provider "DepthTouch"; app/media/src/encoder.cpp), parsed with av_dict_parse_string;
-/// nullptr for any other input. The caller frees it (av_dict_free).
-AVDictionary *serviceTagsOf(const AVFormatContext &fmt) noexcept
-{
-    for (unsigned p = 0; p < fmt.nb_programs; ++p) {
-        const AVDictionaryEntry *provider =
-            av_dict_get(fmt.programs[p]->metadata, "service_provider", nullptr, 0);
-        const AVDictionaryEntry *name =
-            av_dict_get(fmt.programs[p]->metadata, "service_name", nullptr, 0);
-        if (provider == nullptr || name == nullptr ||
-            std::strcmp(provider->value, "DepthTouch") != 0)
-            continue;
-        AVDictionary *tags = nullptr;
-        if (av_dict_parse_string(&tags, name->value, "=", ";", 0) < 0)
-            av_dict_free(&tags);
-        return tags;
-    }
-    return nullptr;
-}
-
-/// \return whether \a text names a stream role DepthTouch writes ("color", "depth" or "material":
-/// an MP4 handler name that counts as the stream title).
-bool isRoleName(const char *text) noexcept
-{
-    return text != nullptr && (std::strcmp(text, "color") == 0 || std::strcmp(text, "depth") == 0 ||
-                               std::strcmp(text, "material") == 0);
-}
-
-double tagDouble(const char *text) noexcept
-{
-    if (text == nullptr)
-        return 0.0;
-    char *end = nullptr;
-    const double v = std::strtod(text, &end);
-    return end != text && v > 0.0 && std::isfinite(v) ? v : 0.0;
-}
-
-/// \return the depth_bits tag: 1..16, else 0 (absent or nonsense such as "inf").
-int tagBits(const char *text) noexcept
-{
-    const double v = tagDouble(text);
-    return v >= 1.0 && v <= 16.0 ? static_cast<int>(v) : 0;
-}
-
-/// \return the depth_occupancy tag: a whole number 1..65535, else 0 (absent, or not a whole number
-/// in range: no holes).
-std::uint32_t tagOccupancy(const char *text) noexcept
-{
-    const double v = tagDouble(text);
-    return v >= 1.0 && v <= 65535.0 && v == std::floor(v) ? static_cast<std::uint32_t>(v) : 0u;
-}
 
 /// \return the pixel format a stream's samples really have: an H.264 stream whose SPS says 4:0:0
 /// (monochrome) is gray, though libavcodec reports it as yuv(j)420p with neutral chroma.
