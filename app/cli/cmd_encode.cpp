@@ -61,7 +61,8 @@ struct EncodeCliOptions {
     std::string depthBitrate, depthMaxrate, depthBufsize; // the same for depth
     std::string muxrate;                                  // ffmpeg's -muxrate (MPEG-TS)
     bool depthLossless = false;
-    int depthBits = 8;
+    std::string depthCodec; ///< h264, hevc, ffv1; empty: by --depth-bits.
+    int depthBits = 0;      ///< 0: the codec's own (h264 8, hevc 10, ffv1 16).
     std::string size;
     int threads = 0;
     long long frames = 0;
@@ -157,6 +158,32 @@ int setAudioOptions(const EncodeCliOptions &o, media::EncodeOptions &eo)
     return kExitOk;
 }
 
+/// The depth codec of --depth-codec and --depth-bits (each alone picks the other's default:
+/// h264 8, hevc 10, ffv1 16; 16 bits alone: ffv1). Returns kExitOk, or the exit code after
+/// printing the one error line.
+int setDepthCodec(const EncodeCliOptions &o, media::EncodeOptions &eo)
+{
+    const std::string codec =
+        !o.depthCodec.empty() ? o.depthCodec : (o.depthBits == 16 ? "ffv1" : "h264");
+    const int bits = o.depthBits != 0 ? o.depthBits
+                                      : (codec == "hevc"   ? 10
+                                         : codec == "ffv1" ? 16
+                                                           : 8);
+    if (codec == "h264" && bits == 8)
+        eo.depthCodec = media::VideoCodec::H264Gray;
+    else if (codec == "h264" && bits == 10)
+        eo.depthCodec = media::VideoCodec::H264Gray10;
+    else if (codec == "hevc" && bits == 10)
+        eo.depthCodec = media::VideoCodec::HevcMain10;
+    else if (codec == "ffv1" && bits == 16)
+        eo.depthCodec = media::VideoCodec::Ffv1Gray16;
+    else
+        return fail(kExitBadInput, "--depth-bits must be 8 or 10 with --depth-codec h264, 10 with "
+                                   "hevc, 16 with ffv1, not " +
+                                       std::to_string(o.depthBits) + " with " + codec);
+    return kExitOk;
+}
+
 /// The output, container, color encoder, depth codec, grid and limits. Returns kExitOk, or the exit
 /// code after printing the one error line.
 int setOutputOptions(const EncodeCliOptions &o, media::EncodeOptions &eo)
@@ -172,20 +199,8 @@ int setOutputOptions(const EncodeCliOptions &o, media::EncodeOptions &eo)
     eo.preset = o.preset;
     eo.depthCrf = o.depthCrf;
     eo.depthLossless = o.depthLossless;
-    switch (o.depthBits) {
-    case 8:
-        eo.depthCodec = media::VideoCodec::H264Gray;
-        break;
-    case 10:
-        eo.depthCodec = media::VideoCodec::H264Gray10;
-        break;
-    case 16:
-        eo.depthCodec = media::VideoCodec::Ffv1Gray16;
-        break;
-    default:
-        return fail(kExitBadInput, "--depth-bits must be 8 (H.264 gray), 10 (H.264 gray10) or 16 "
-                                   "(FFV1 gray16)");
-    }
+    if (const int rc = setDepthCodec(o, eo); rc != kExitOk)
+        return rc;
     if (!o.size.empty() && !parseSize(o.size, eo.width, eo.height))
         return fail(kExitBadInput, "--size must be WxH (pixels)");
     eo.threads = o.threads;
@@ -529,8 +544,16 @@ const OptionRow<EncodeCliOptions> kEncodeRows[] = {
      "Constant MPEG-TS mux rate, null-packet padded (ffmpeg -muxrate; bits/s; TS outputs only)"},
     {"depth-lossless", &EncodeCliOptions::depthLossless,
      "Lossless depth (x264 qp 0, High 4:4:4 Predictive)"},
-    {"depth-bits", &EncodeCliOptions::depthBits,
-     "Depth samples: 8 = H.264 gray, 10 = H.264 gray10, 16 = FFV1 gray16 (MKV)"},
+    {"depth-codec", &EncodeCliOptions::depthCodec,
+     "Depth codec: h264 (4:0:0, 8 or 10 bits) | hevc (Main10 4:2:0, depth in luma, neutral "
+     "chroma: what set-top hardware decoders take) | ffv1 (16-bit lossless, MKV); default h264, "
+     "ffv1 with --depth-bits 16; docs/making-content.md compares them",
+     oneOf("h264 hevc ffv1"), kHideDefault},
+    {"depth-bits",
+     &EncodeCliOptions::depthBits,
+     "Depth samples: 8 or 10 (h264), 10 (hevc), 16 (ffv1); default: the codec's (h264 8)",
+     {},
+     kHideDefault},
     {"size", &EncodeCliOptions::size, "Output grid WxH (default: the color size)"},
     {"threads", &EncodeCliOptions::threads, "Encoder threads per stream (0: automatic)"},
     {"loop", &EncodeCliOptions::loop,

@@ -17,6 +17,7 @@ int depthBitsOf(VideoCodec codec) noexcept
 {
     switch (codec) {
     case VideoCodec::H264Gray10:
+    case VideoCodec::HevcMain10:
         return 10;
     case VideoCodec::Ffv1Gray16:
         return 16;

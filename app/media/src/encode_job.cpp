@@ -106,7 +106,8 @@ Result<void> EncodeOptions::validate() const
     if (rangeFrames < 1)
         return unexpected(Errc::InvalidArgument, "The robust range needs at least one frame");
     if (depthCodec == VideoCodec::H264Yuv420p || depthCodec == VideoCodec::H264Rgb)
-        return unexpected(Errc::InvalidArgument, "Depth codec must be gray, gray10 or ffv1");
+        return unexpected(Errc::InvalidArgument,
+                          "Depth codec must be gray, gray10, hevc main10 or ffv1");
     if (enhance && !(enhanceOptions.sampling.tolerance > 0.0f))
         return unexpected(Errc::InvalidArgument, "--enhance-tolerance must be positive");
     const Container c = container.value_or(containerForOutput(output));

@@ -3,6 +3,7 @@
 
 #include "depthtouch/media/encoder.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -50,6 +51,14 @@ Result<CodecChoice> codecFor(const VideoEncoderConfig &config, Container contain
         out.pixFmt = AV_PIX_FMT_GRAY10;
         out.input = PixelFormat::Gray16;
         break;
+    case VideoCodec::HevcMain10:
+        if (config.width % 2 != 0 || config.height % 2 != 0)
+            return unexpected(Errc::InvalidArgument,
+                              "HEVC 4:2:0 depth needs an even width and height");
+        out.pixFmt = AV_PIX_FMT_YUV420P10;
+        out.name = "libx265";
+        out.input = PixelFormat::Gray16;
+        break;
     case VideoCodec::Ffv1Gray16:
         out.pixFmt = AV_PIX_FMT_GRAY16;
         out.name = "ffv1";
@@ -66,8 +75,20 @@ Result<CodecChoice> codecFor(const VideoEncoderConfig &config, Container contain
     return out;
 }
 
-/// The encoder's private options (x264: preset, CRF or lossless qp 0; FFV1: level 3, slice CRCs,
-/// intra only), and the GOP into \a c. The caller frees the dictionary.
+/// x265's own parameters (`-x265-params`): its log to errors only (it prints to stderr by itself),
+/// no scene-cut key frames with a GOP, lossless when asked.
+std::string x265Params(const VideoEncoderConfig &config)
+{
+    std::string p = "log-level=error";
+    if (config.gop > 0)
+        p += ":scenecut=0";
+    if (config.lossless)
+        p += ":lossless=1";
+    return p;
+}
+
+/// The encoder's private options (x264 and x265: preset, CRF or lossless; FFV1: level 3, slice
+/// CRCs, intra only), and the GOP into \a c. The caller frees the dictionary.
 AVDictionary *encoderOptions(const VideoEncoderConfig &config, AVCodecContext &c)
 {
     AVDictionary *opts = nullptr;
@@ -76,18 +97,24 @@ AVDictionary *encoderOptions(const VideoEncoderConfig &config, AVCodecContext &c
         av_dict_set(&opts, "slicecrc", "1", 0);
         c.gop_size = 1;
     } else {
+        const bool x265 = config.codec == VideoCodec::HevcMain10;
         av_dict_set(&opts, "preset", config.preset.c_str(), 0);
         if (config.gop > 0) {
             c.gop_size = config.gop;
             // Key frames on the gop grid only, so every stream of the output has its key frames
             // on the same pictures (each a tune-in point for all of them).
-            av_dict_set(&opts, "x264-params", "scenecut=0", 0);
+            if (!x265)
+                av_dict_set(&opts, "x264-params", "scenecut=0", 0);
         }
+        if (x265)
+            av_dict_set(&opts, "x265-params", x265Params(config).c_str(), 0);
+        if (x265 && config.lossless)
+            return opts;
         if (config.lossless || config.codec == VideoCodec::H264Rgb) {
             av_dict_set(&opts, "qp", "0", 0);
             return opts;
         }
-        // libx264 takes ABR when bit_rate is set and no crf is; the VBV caps either.
+        // libx264 and libx265 take ABR when bit_rate is set and no crf is; the VBV caps either.
         if (config.rate.bitRate > 0)
             c.bit_rate = config.rate.bitRate;
         else
@@ -96,6 +123,22 @@ AVDictionary *encoderOptions(const VideoEncoderConfig &config, AVCodecContext &c
         c.rc_buffer_size = static_cast<int>(config.rate.bufSize);
     }
     return opts;
+}
+
+/// Depth (Gray16 holding 0..1023) into the luma of a yuv420p10 \a frame, both chroma planes
+/// neutral (512), as MPEG Immersive Video carries geometry (ISO/IEC 23090-12): a 4:2:0 Main10
+/// picture that every HEVC hardware decoder takes.
+void copyIntoLuma(const Image &image, AVFrame &frame)
+{
+    av_image_copy_plane(frame.data[0], frame.linesize[0], image.data.data(),
+                        static_cast<int>(image.stride), image.width * 2, image.height);
+    constexpr std::uint16_t kNeutral = 512;
+    for (int p = 1; p < 3; ++p) {
+        for (int y = 0; y < (image.height + 1) / 2; ++y) {
+            auto *row = reinterpret_cast<std::uint16_t *>(frame.data[p] + y * frame.linesize[p]);
+            std::fill(row, row + (image.width + 1) / 2, kNeutral);
+        }
+    }
 }
 
 } // namespace
@@ -207,7 +250,7 @@ Result<std::unique_ptr<VideoEncoder>> VideoEncoder::create(const VideoEncoderCon
     const AVCodec *codec = avcodec_find_encoder_by_name(codecName);
     if (codec == nullptr)
         return unexpected(Errc::NotSupported,
-                          "FFmpeg lacks the encoder (libx264, libx264rgb or ffv1)");
+                          "FFmpeg lacks the encoder (libx264, libx264rgb, libx265 or ffv1)");
     e.codec.reset(avcodec_alloc_context3(codec));
     e.frame.reset(av_frame_alloc());
     e.packet.reset(av_packet_alloc());
@@ -297,6 +340,8 @@ Result<void> VideoEncoder::encode(const Image &image, double ptsSeconds)
         src.linesize[0] = static_cast<int>(image.stride);
         DT_TRY(e.scaler.convert(src, e.frame->data, e.frame->linesize, AV_PIX_FMT_YUV420P,
                                 image.width, image.height));
+    } else if (e.config.codec == VideoCodec::HevcMain10) {
+        copyIntoLuma(image, *e.frame);
     } else {
         // Gray and RGB24 layouts match the codec's sample layout bit for bit (gray10/gray16
         // native order; libx264rgb takes packed RGB24).

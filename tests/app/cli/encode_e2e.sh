@@ -113,6 +113,8 @@ bad "near >= far" --color "$work/c-%03d.png" --depth "$D" -o "$work/bad.mkv" --n
 bad "unwritable output" --color "$work/c-%03d.png" --depth "$D" -o "$work/no/such/dir/bad.mkv"
 bad "bad preset" --color "$work/c-%03d.png" --depth "$D" -o "$work/bad.mkv" --preset turbo
 bad "ffv1 in mp4" --color "$work/c-%03d.png" --depth "$D" -o "$work/bad.mp4" --depth-bits 16
+bad "8-bit hevc" --color "$work/c-%03d.png" --depth "$D" -o "$work/bad.mkv" --depth-codec hevc --depth-bits 8
+bad "unknown depth codec" --color "$work/c-%03d.png" --depth "$D" -o "$work/bad.mkv" --depth-codec vp9
 bad "no camera" --color v4l2:/dev/video99 --depth "$D" -o "$work/bad.mkv"
 # A missing required option is CLI11's parse error (its message plus a --help hint), exit 2.
 "$exe" encode --color "$work/c-%03d.png" -o "$work/bad.mkv" >/dev/null 2>&1

@@ -236,6 +236,43 @@ TEST_F(EncodeTest, gray10LosslessInMp4)
     }
 }
 
+/// GIVEN 8-bit nearness WHEN encoded as lossless HEVC Main10 into MPEG-TS THEN ffprobe sees HEVC
+/// Main 10 4:2:0 (what set-top hardware decoders take), the luma holds the 8-bit levels scaled to
+/// 0..1023 exactly, the PTS match color's, and the depth tags say 10 bits.
+TEST_F(EncodeTest, hevcMain10LosslessInMpegTs)
+{
+    constexpr int kFrames = 3;
+    TestSource color = colorSource(kFrames);
+    TestSource depthSrc = nearness8Source(kFrames);
+    EncodeOptions o = fastOptions(path("out.ts"));
+    o.depthCodec = VideoCodec::HevcMain10;
+    o.depthLossless = true;
+    auto s = encodeStreams(color, depthSrc, o);
+    ASSERT_TRUE(s) << s.error().what;
+    EXPECT_EQ(s->depthBits, 10);
+    const auto rb = test::readBack(path("out.ts"));
+    ASSERT_TRUE(rb.ok) << rb.error;
+    ASSERT_GE(rb.streams.size(), 2u);
+    const auto &d = rb.streams[1];
+    test::expectStream(d, {.codec = "hevc", .pixFmt = "yuv420p10le"});
+    ASSERT_EQ(d.frames.size(), static_cast<std::size_t>(kFrames));
+    for (int i = 0; i < kFrames; ++i) {
+        const Image src = makeNearness8(i);
+        const Image &got = d.frames[static_cast<std::size_t>(i)];
+        ASSERT_EQ(got.format, PixelFormat::Gray16);
+        int mismatches = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                const auto want =
+                    static_cast<std::uint16_t>(std::lround(src.row(y)[x] * 1023.0 / 255.0));
+                mismatches += got.sample16(x, y) != want;
+            }
+        EXPECT_EQ(mismatches, 0) << "frame " << i;
+        EXPECT_DOUBLE_EQ(rb.streams[0].pts[static_cast<std::size_t>(i)],
+                         d.pts[static_cast<std::size_t>(i)]);
+    }
+}
+
 /// GIVEN metric depth without planes WHEN encoded THEN near/far come from the first frames' robust
 /// range, once: the tags hold exactly the planes reported, the same for the whole file.
 TEST_F(EncodeTest, robustRangeDecidedOnceFromFirstFrames)

@@ -60,7 +60,8 @@ struct EncodeOptions {
     std::optional<Container> container;           ///< nullopt: containerForOutput(output).
     int crf = 23;                                 ///< Color x264 CRF 0..51.
     std::string preset = "medium";                ///< x264 preset of both H.264 streams.
-    VideoCodec depthCodec = VideoCodec::H264Gray; ///< H264Gray, H264Gray10 or Ffv1Gray16.
+    VideoCodec depthCodec =
+        VideoCodec::H264Gray; ///< H264Gray, H264Gray10, HevcMain10 or Ffv1Gray16.
     int depthCrf = 18;                            ///< Depth x264 CRF 0..51 (lossy).
     bool depthLossless = false;                   ///< Depth x264 qp 0 (FFV1 is always lossless).
     int threads = 0;                              ///< Encoder threads per stream; 0 = automatic.

@@ -122,6 +122,11 @@ enum class VideoCodec : std::uint8_t {
     H264Gray,    ///< libx264, 8-bit 4:0:0, from Gray8 (full range: levels 0..255 as they are).
     H264Gray10,  ///< libx264, 10-bit 4:0:0, from Gray16 holding 0..1023.
     Ffv1Gray16,  ///< FFV1 level 3 with slice CRCs, 16-bit gray, from Gray16 (always lossless).
+    /// libx265, HEVC Main10 4:2:0 from Gray16 holding 0..1023: the samples in the luma plane,
+    /// both chroma planes neutral (512), as MPEG Immersive Video carries geometry (ISO/IEC
+    /// 23090-12), so that the hardware HEVC decoders of set-top SoCs and GPUs decode it. Even
+    /// width and height. Lossless: x265 lossless mode.
+    HevcMain10,
     /// libx264rgb, 8-bit 4:4:4 RGB (High 4:4:4 Predictive), from Rgb24, always lossless (qp 0,
     /// VideoEncoderConfig::crf and lossless ignored): decodes to gbrp bit-exactly. The material
     /// track (depthtouch/scene/material.h, materialStreamConfig()).
