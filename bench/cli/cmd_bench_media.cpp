@@ -6,6 +6,7 @@
 /// rate_accuracy.csv, rate_vs_accuracy.png and media_throughput.png into --out and prints a table
 /// and the goals (720×486 ≥ 10×, 1920×1080 ≥ 2× real time at 30 fps).
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include <sstream>
 #include <string>
 #include <system_error>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -41,6 +43,8 @@ struct BenchMediaOptions {
     int frames = 60;
     int runs = 3;
     std::vector<std::string> sizes{"720x486", "1920x1080"};
+    std::vector<std::string> codecSizes{"720x486", "1920x1080", "3840x2160"};
+    std::vector<int> codecCrfs{12, 18, 24, 30};
     std::vector<std::string> presets{"ultrafast", "veryfast", "medium"};
     std::vector<int> depthCrfs{10, 18, 24, 30, 36, 42};
     std::string ratePreset = "medium";
@@ -63,7 +67,13 @@ const OptionRow<BenchMediaOptions> kBenchMediaRows[] = {
     {"presets", &BenchMediaOptions::presets, "x264 presets timed (color and depth)"},
     {"depth-crfs", &BenchMediaOptions::depthCrfs,
      "Depth CRFs of the rate/accuracy sweep (lossless always)"},
-    {"rate-preset", &BenchMediaOptions::ratePreset, "x264 preset of the rate/accuracy sweep"},
+    {"rate-preset", &BenchMediaOptions::ratePreset,
+     "x264 / x265 preset of the rate/accuracy sweep and the depth codec comparison"},
+    {"codec-sizes", &BenchMediaOptions::codecSizes,
+     "Frame sizes WxH of the depth codec comparison (h264 8 and 10 bits, hevc, ffv1); the first "
+     "gets every --codec-crfs"},
+    {"codec-crfs", &BenchMediaOptions::codecCrfs,
+     "CRFs of each lossy depth codec in the comparison (0..51)"},
     {"encode-threads", &BenchMediaOptions::encodeThreads,
      "x264 threads per stream (0 = automatic)"},
     {"decode-threads", &BenchMediaOptions::decodeThreads, "Decoder threads per stream"},
@@ -115,6 +125,18 @@ int checkBenchOptions(const BenchMediaOptions &o, std::vector<std::pair<int, int
             return fail(kExitBadInput, "--sizes entries must be WxH, even, 16..8192 ('" + s + "')");
         sizes.emplace_back(w, h);
     }
+    for (const std::string &s : o.codecSizes) {
+        int w = 0;
+        int h = 0;
+        if (!parseSize(s, w, h))
+            return fail(kExitBadInput,
+                        "--codec-sizes entries must be WxH, even, 16..8192 ('" + s + "')");
+    }
+    for (const int crf : o.codecCrfs)
+        if (crf < 0 || crf > 51)
+            return fail(kExitBadInput, "--codec-crfs values must be in 0..51");
+    if (o.codecCrfs.empty() && !o.codecSizes.empty())
+        return fail(kExitBadInput, "--codec-crfs needs at least one CRF");
     if (sizes.empty())
         return fail(kExitBadInput, "--sizes needs at least one size");
     return kExitOk;
@@ -204,7 +226,20 @@ int runBenchMedia(const BenchMediaOptions &o)
     if (getloadavg(&load, 1) == 1)
         report.loadBefore = load;
     report.fps = 30.0;
-    const MediaSizesPlan plan{sizes, o.frames, o.synthetic, scene};
+    MediaSizesPlan plan;
+    plan.sizes = sizes;
+    plan.frames = o.frames;
+    plan.synthetic = o.synthetic;
+    plan.scene = scene;
+    for (const std::string &s : o.codecSizes) {
+        int w = 0;
+        int h = 0;
+        parseSize(s, w, h); // checked above
+        plan.codecSizes.emplace_back(w, h);
+    }
+    plan.codecCrfs = o.codecCrfs;
+    plan.codecThreads = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 16u));
+    plan.allThreads = ffmpegBackends(plan.codecThreads);
     if (const auto e = measureSizes(plan, backends, mo, report))
         return fail(e->badInput ? kExitBadInput : kExitFailure, e->message);
     if (getloadavg(&load, 1) == 1)

@@ -158,12 +158,13 @@ Plane<std::uint16_t> quantizeOccupied(const Plane<float> &nearness,
     return out;
 }
 
-Result<Plane<std::uint16_t>> metricToLevels8(const Plane<std::uint16_t> &raw,
-                                             std::optional<DepthRange> &range, int width,
-                                             int height)
+Result<Plane<std::uint16_t>> metricToLevels(const Plane<std::uint16_t> &raw,
+                                            std::optional<DepthRange> &range, int width, int height,
+                                            double vmax)
 {
     ConvertOptions co;
     co.range = range;
+    co.vmax = vmax;
     auto nf = metricToNearness(raw, co);
     if (!nf)
         return unexpected(nf.error());
@@ -175,7 +176,7 @@ Result<Plane<std::uint16_t>> metricToLevels8(const Plane<std::uint16_t> &raw,
     auto resampled = resample(nf->nearness, width, height);
     if (!resampled)
         return unexpected(resampled.error());
-    return quantize(*resampled, 255.0);
+    return quantize(*resampled, vmax);
 }
 
 } // namespace depthtouch::depth

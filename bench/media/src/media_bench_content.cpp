@@ -68,12 +68,19 @@ Result<Clip> loadKitchenClip(const std::string &sceneDir, int frames, int width,
         auto q = depth::metricToLevels8(toPlane16(*raw), range, width, height);
         if (!q)
             return unexpected(q.error());
+        auto fine = depth::metricToLevels(toPlane16(*raw), range, width, height, 65535.0);
+        if (!fine)
+            return unexpected(fine.error());
         Image near = Image::make(width, height, PixelFormat::Gray8);
+        Image near16 = Image::make(width, height, PixelFormat::Gray16);
         for (int y = 0; y < height; ++y)
-            for (int x = 0; x < width; ++x)
+            for (int x = 0; x < width; ++x) {
                 near.row(y)[x] = static_cast<std::uint8_t>(q->at(x, y));
+                near16.setSample16(x, y, fine->at(x, y));
+            }
         clip.colors.push_back(std::move(color->image));
         clip.nearnesses.push_back(std::move(near));
+        clip.fineNearnesses.push_back(std::move(near16));
     }
     // Forward, then backward, then forward…: a longer clip without a cut.
     const std::size_t period = stored > 1 ? 2u * static_cast<std::size_t>(stored) - 2u : 1u;
@@ -106,6 +113,7 @@ Clip makeSyntheticClip(int width, int height, int frames, double fps)
         const double c2x = width * 0.70;
         const double c2y = height * (0.50 + 0.15 * std::cos(2.0 * kPi * 0.4 * t));
         Image near = Image::make(width, height, PixelFormat::Gray8);
+        Image near16 = Image::make(width, height, PixelFormat::Gray16);
         Image color = Image::make(width, height, PixelFormat::Rgb24);
         const int shift = n * 2;
         for (int y = 0; y < height; ++y) {
@@ -119,6 +127,9 @@ Clip makeSyntheticClip(int width, int height, int frames, double fps)
                     v = std::max(v, 150.0 + 90.0 * std::sqrt(1.0 - (d2 * d2) / (r2 * r2)));
                 const auto level = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
                 near.row(y)[x] = level;
+                near16.setSample16(x, y,
+                                   static_cast<std::uint16_t>(
+                                       std::clamp(std::lround(v * 65535.0 / 255.0), 0L, 65535L)));
                 const bool check = (((x + shift) / 8) + (y / 8)) % 2 == 0;
                 std::uint8_t *px = color.row(y) + 3 * x;
                 px[0] = static_cast<std::uint8_t>(255 * x / width);
@@ -128,6 +139,7 @@ Clip makeSyntheticClip(int width, int height, int frames, double fps)
         }
         clip.colors.push_back(std::move(color));
         clip.nearnesses.push_back(std::move(near));
+        clip.fineNearnesses.push_back(std::move(near16));
         clip.order.push_back(static_cast<std::size_t>(n));
     }
     clip.description = "synthetic: tilted plane with two moving spheres, " +

@@ -5,12 +5,14 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <optional>
 #include <system_error>
 #include <string>
 #include <utility>
 
 #include "depthtouch/media/media_bench.h"
+#include "media_bench_steps.h"
 
 namespace depthtouch::media::bench {
 
@@ -79,6 +81,38 @@ std::optional<MediaBenchError> measureSize(const MediaSizesPlan &plan,
     return std::nullopt;
 }
 
+/// Loads the clip of codec size `k` and compares the depth codecs on it, into the report.
+std::optional<MediaBenchError> measureCodecSize(const MediaSizesPlan &plan,
+                                                const ReceiverBackends &backends,
+                                                const MediaBenchOptions &mo, std::size_t k,
+                                                MediaBenchReport &report)
+{
+    const auto [w, h] = plan.codecSizes[k];
+    CodecPlan cp;
+    cp.allThreads = plan.codecThreads;
+    cp.preset = mo.ratePreset;
+    cp.crfs = plan.codecCrfs;
+    if (k > 0 && !cp.crfs.empty()) {
+        int nearest = cp.crfs.front();
+        for (const int c : cp.crfs)
+            if (std::abs(c - 18) < std::abs(nearest - 18))
+                nearest = c;
+        cp.crfs = {nearest};
+    }
+    std::fprintf(stderr, "bench media: %dx%d depth codecs (%zu CRFs each, FFV1) ...\n", w, h,
+                 cp.crfs.size());
+    Clip clip;
+    if (auto e = loadClip(plan, w, h, clip))
+        return e;
+    auto rows = measureCodecs(clip, backends, plan.allThreads, cp, mo);
+    if (!rows)
+        return MediaBenchError{rows.error().code == Errc::InvalidArgument,
+                               std::string("depth codecs at ") + sizeText(w, h) + ": " +
+                                   rows.error().what};
+    report.codecs.insert(report.codecs.end(), rows->begin(), rows->end());
+    return std::nullopt;
+}
+
 } // namespace
 
 std::optional<MediaBenchError> measureSizes(const MediaSizesPlan &plan,
@@ -87,6 +121,10 @@ std::optional<MediaBenchError> measureSizes(const MediaSizesPlan &plan,
 {
     for (std::size_t k = 0; k < plan.sizes.size(); ++k)
         if (auto e = measureSize(plan, backends, mo, k, report))
+            return e;
+    report.codecThreads = plan.codecThreads;
+    for (std::size_t k = 0; k < plan.codecSizes.size(); ++k)
+        if (auto e = measureCodecSize(plan, backends, mo, k, report))
             return e;
     return std::nullopt;
 }
@@ -116,15 +154,19 @@ bool finishReport(const MediaBenchReport &report, const std::string &out, const 
 {
     std::printf("\n");
     printReport(report);
+    printCodecs(report.codecs, report.codecThreads);
     std::string note;
     if (!writeReport(report, out, error, note))
         return false;
-    if (!note.empty())
-        std::printf("note: %s\n", note.c_str());
-    std::printf(
-        "wrote "
-        "%s/{media_throughput.csv,rate_accuracy.csv,rate_vs_accuracy.png,media_throughput.png}\n",
-        out.c_str());
+    std::string codecNote;
+    if (!writeCodecs(report.codecs, report.codecThreads, out, error, codecNote))
+        return false;
+    if (!note.empty() || !codecNote.empty())
+        std::printf("note: %s\n", note.empty() ? codecNote.c_str() : note.c_str());
+    std::printf("wrote "
+                "%s/{media_throughput.csv,rate_accuracy.csv,rate_vs_accuracy.png,media_throughput."
+                "png,depth_codecs.csv%s}\n",
+                out.c_str(), report.codecs.empty() ? "" : ",depth_codecs.png");
     if (!keptIn.empty())
         std::printf("encoded files kept in %s\n", keptIn.c_str());
     return true;

@@ -23,12 +23,38 @@ double kbps(long long bytes, std::size_t frames, double fps)
     return seconds > 0.0 ? static_cast<double>(bytes) * 8.0 / seconds / 1000.0 : 0.0;
 }
 
+namespace {
+
+/// The depth pictures of \a codec when it is not 8-bit: the clip's 16-bit nearness as it is
+/// (FFV1) or rounded to 10 bits (Gray16 holding 0..1023); none for 8-bit H.264.
+std::vector<Image> depthInputs(const Clip &clip, VideoCodec codec)
+{
+    std::vector<Image> out;
+    if (codec == VideoCodec::H264Gray)
+        return out;
+    const double scale = codec == VideoCodec::Ffv1Gray16 ? 1.0 : 1023.0 / 65535.0;
+    for (std::size_t i = 0; i < clip.frames(); ++i) {
+        const Image &fine = clip.fineNearness(i);
+        Image im = Image::make(fine.width, fine.height, PixelFormat::Gray16);
+        for (int y = 0; y < fine.height; ++y)
+            for (int x = 0; x < fine.width; ++x)
+                im.setSample16(
+                    x, y, static_cast<std::uint16_t>(std::lround(fine.sample16(x, y) * scale)));
+        out.push_back(std::move(im));
+    }
+    return out;
+}
+
+} // namespace
+
 Result<Encoded> encodeClip(const Clip &clip, const std::string &path, const EncodeSetting &s)
 {
     MuxerOptions mo;
     mo.output = path;
     mo.container = Container::Matroska;
-    const auto tags = depthTags(std::nullopt, depth::DepthMapping::InverseZ, 8);
+    const std::vector<Image> inputs = depthInputs(clip, s.depthCodec);
+    const int bits = inputs.empty() ? 8 : s.depthCodec == VideoCodec::Ffv1Gray16 ? 16 : 10;
+    const auto tags = depthTags(std::nullopt, depth::DepthMapping::InverseZ, bits);
     mo.tags = tags;
     auto muxer = Muxer::open(mo);
     if (!muxer)
@@ -43,7 +69,7 @@ Result<Encoded> encodeClip(const Clip &clip, const std::string &path, const Enco
         color = std::move(*c);
     }
     VideoEncoderConfig dc = cc;
-    dc.codec = VideoCodec::H264Gray;
+    dc.codec = s.depthCodec;
     dc.crf = s.depthCrf;
     dc.lossless = s.depthLossless;
     dc.title = "depth";
@@ -60,7 +86,7 @@ Result<Encoded> encodeClip(const Clip &clip, const std::string &path, const Enco
         const double pts = static_cast<double>(i) / clip.fps;
         if (color)
             DT_TRY(color->encode(clip.color(i), pts));
-        DT_TRY((*depthEnc)->encode(clip.nearness(i), pts));
+        DT_TRY((*depthEnc)->encode(inputs.empty() ? clip.nearness(i) : inputs[i], pts));
     }
     if (color)
         DT_TRY(color->flush());
@@ -109,16 +135,19 @@ Result<Decoded> decodeFile(const std::string &path, const ReceiverBackends &back
         out.seconds += s;
         out.cpuSeconds += platform::toSeconds(cpu1 - cpu0);
         if (capture) {
-            if (!f.depth || f.depth->image.format != hal::PixelFormat::Gray8 ||
-                f.depth->image.width != width || f.depth->image.height != height)
+            const bool wide = f.depth && f.depth->image.format == hal::PixelFormat::Gray16;
+            if (!f.depth || (f.depth->image.format != hal::PixelFormat::Gray8 && !wide) ||
+                f.depth->image.width != width || f.depth->image.height != height ||
+                (!out.depth.empty() && wide != (out.depthFormat == scene::SampleFormat::Gray16)))
                 return unexpected(Errc::InvalidArgument,
-                                  "decoded depth frame is not 8-bit gray of the clip size");
+                                  "decoded depth frame is not 8- or 16-bit gray of the clip size");
+            out.depthFormat = wide ? scene::SampleFormat::Gray16 : scene::SampleFormat::Gray8;
+            const std::size_t rowBytes = static_cast<std::size_t>(width) * (wide ? 2u : 1u);
             const std::size_t at = out.depth.size();
-            out.depth.resize(at + frameBytes);
+            out.depth.resize(at + frameBytes * (wide ? 2u : 1u));
             for (int y = 0; y < height; ++y)
-                std::memcpy(out.depth.data() + at +
-                                static_cast<std::size_t>(y) * static_cast<std::size_t>(width),
-                            f.depth->image.row(0, y), static_cast<std::size_t>(width));
+                std::memcpy(out.depth.data() + at + static_cast<std::size_t>(y) * rowBytes,
+                            f.depth->image.row(0, y), rowBytes);
         }
     }
     f = receiver::PairedFrame{};
@@ -126,20 +155,20 @@ Result<Decoded> decodeFile(const std::string &path, const ReceiverBackends &back
     return out;
 }
 
-/// Views of W×H Gray8 frames stored back to back, PTS i/fps.
+/// Views of W×H frames of \a format stored back to back, PTS i/fps.
 std::vector<scene::DepthFrameView> viewsOf(const std::vector<std::uint8_t> &video, int width,
-                                           int height, double fps)
+                                           int height, double fps, scene::SampleFormat format)
 {
-    const std::size_t frameBytes =
-        static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+    const std::size_t rowBytes = static_cast<std::size_t>(width) * scene::bytesPerSample(format);
+    const std::size_t frameBytes = rowBytes * static_cast<std::size_t>(height);
     std::vector<scene::DepthFrameView> views;
     for (std::size_t i = 0; frameBytes > 0 && (i + 1) * frameBytes <= video.size(); ++i) {
         scene::DepthFrameView v;
         v.data = video.data() + i * frameBytes;
         v.width = width;
         v.height = height;
-        v.strideBytes = static_cast<std::size_t>(width);
-        v.format = scene::SampleFormat::Gray8;
+        v.strideBytes = rowBytes;
+        v.format = format;
         v.pts = static_cast<double>(i) / fps;
         views.push_back(v);
     }
@@ -202,9 +231,9 @@ private:
 Result<std::vector<haptics::ForceLogRow>>
 replayOn(const std::vector<std::uint8_t> &video, int width, int height, double fps,
          const std::vector<haptics::TrajectorySample> &stroke,
-         const haptics::ReplayOptions &options)
+         const haptics::ReplayOptions &options, scene::SampleFormat format)
 {
-    BorrowedFrames frames(viewsOf(video, width, height, fps));
+    BorrowedFrames frames(viewsOf(video, width, height, fps, format));
     return haptics::replay(frames, stroke, options);
 }
 

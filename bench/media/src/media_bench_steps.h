@@ -12,6 +12,7 @@
 
 #include "depthtouch/haptics/depth_frame.h"
 #include "depthtouch/haptics/replay.h"
+#include "depthtouch/media/encoder.h"
 #include "depthtouch/media/media_bench.h"
 #include "depthtouch/platform/result.h"
 #include "depthtouch/receiver/receiver.h"
@@ -24,6 +25,9 @@ double kbps(long long bytes, std::size_t frames, double fps);
 /// One encode: color (optional) and depth of every clip frame into one MKV.
 struct EncodeSetting {
     std::string preset;
+    /// H264Gray (the clip's 8-bit nearness), H264Gray10 or HevcMain10 (its 16-bit nearness
+    /// rounded to 10 bits), Ffv1Gray16 (its 16-bit nearness).
+    VideoCodec depthCodec = VideoCodec::H264Gray;
     bool withColor = true;
     int colorCrf = 23;
     int depthCrf = 18;
@@ -48,16 +52,19 @@ struct Decoded {
     double cpuSeconds = 0.0;          ///< Process CPU time of the same calls.
     receiver::ReceiverStats stats;
     std::vector<std::uint8_t> depth; ///< Depth frames back to back (when captured), W×H each.
+    scene::SampleFormat depthFormat = scene::SampleFormat::Gray8; ///< Of the captured frames.
 };
 
 /// \return the times of one receiver pass over \a path; with \a capture, the depth frames as
-/// well (\a width × \a height Gray8 each). \a depthOnly plays the depth stream alone.
+/// well (\a width × \a height, Gray8 or Gray16 as decoded, the same for every frame).
+/// \a depthOnly plays the depth stream alone.
 Result<Decoded> decodeFile(const std::string &path, const ReceiverBackends &backends,
                            bool depthOnly, bool capture, int width, int height);
 
-/// Views of W×H Gray8 frames stored back to back, PTS i/fps.
+/// Views of W×H frames of \a format stored back to back, PTS i/fps.
 std::vector<scene::DepthFrameView> viewsOf(const std::vector<std::uint8_t> &video, int width,
-                                           int height, double fps);
+                                           int height, double fps,
+                                           scene::SampleFormat format = scene::SampleFormat::Gray8);
 
 /// Index of the frame shown at haptic time \a t (s from the first PTS), as replay() picks it.
 std::size_t frameAt(const std::vector<scene::DepthFrameView> &frames, double t);
@@ -68,11 +75,12 @@ std::size_t frameAt(const std::vector<scene::DepthFrameView> &frames, double t);
 long countPopThroughs(const std::vector<scene::DepthFrameView> &frames,
                       const std::vector<haptics::ForceLogRow> &rows, const scene::SceneBox &box);
 
-/// \return the force log of replaying \a stroke on the W×H Gray8 frames of \a video (no copy).
+/// \return the force log of replaying \a stroke on the W×H frames of \a video (no copy).
 Result<std::vector<haptics::ForceLogRow>>
 replayOn(const std::vector<std::uint8_t> &video, int width, int height, double fps,
          const std::vector<haptics::TrajectorySample> &stroke,
-         const haptics::ReplayOptions &options);
+         const haptics::ReplayOptions &options,
+         scene::SampleFormat format = scene::SampleFormat::Gray8);
 
 /// \return the path of temporary file \a name in the options' work folder.
 std::string tempName(const MediaBenchOptions &o, const std::string &name);

@@ -28,9 +28,18 @@ png() { # name, file
 
 bench rt --duration 0.2 --rates 1000 --policies fifo
 png rt rt_bench.png
-bench media --synthetic --frames 10 --runs 1 --sizes 160x120 --presets ultrafast --depth-crfs 30
+bench media --synthetic --frames 10 --runs 1 --sizes 160x120 --presets ultrafast --depth-crfs 30 \
+    --codec-sizes 160x120 96x64 --codec-crfs 18 30 --rate-preset ultrafast
 png media media_throughput.png
 png media rate_vs_accuracy.png
+png media depth_codecs.png
+# The depth codec table: each lossy codec at both CRFs at the first size, at the CRF nearest 18
+# alone at the second, FFV1 once at each: 7 + 4 rows.
+codec_rows() { grep -c -E "^$1 +(h264-8|h264-10|hevc-10) +$2 " "$work/media.log"; }
+[ "$(codec_rows 160x120 crf18)" -eq 3 ] && [ "$(codec_rows 160x120 crf30)" -eq 3 ] &&
+    [ "$(codec_rows 96x64 crf18)" -eq 3 ] && [ "$(codec_rows 96x64 crf30)" -eq 0 ] &&
+    [ "$(grep -c -E '^(160x120|96x64) +ffv1-16 +lossless ' "$work/media.log")" -eq 2 ] ||
+    { cat "$work/media.log"; fail "bench media: the depth codec rows are not 7 + 4"; }
 bench haptics --quick
 png haptics speed_vs_accuracy.png
 png haptics psd.png

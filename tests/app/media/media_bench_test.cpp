@@ -213,6 +213,95 @@ TEST(MediaBenchTest, tinyRunWritesTheExpectedRows)
     }
 }
 
+/// RMS height error (mm in the default scene box) of the clip's 16-bit nearness rounded to
+/// \a vmax levels: the least error any decoder of that bit depth can have.
+double roundingErrorMm(const Clip &clip, double vmax)
+{
+    double sq = 0.0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < clip.frames(); ++i) {
+        const media::Image &fine = clip.fineNearness(i);
+        for (int y = 0; y < fine.height; ++y)
+            for (int x = 0; x < fine.width; ++x) {
+                const double v = fine.sample16(x, y) / 65535.0;
+                const double d = std::round(v * vmax) / vmax - v;
+                sq += d * d;
+                ++n;
+            }
+    }
+    return 1000.0 * scene::SceneBox{}.depth * std::sqrt(sq / static_cast<double>(n));
+}
+
+TEST(MediaBenchTest, codecComparisonMeasuresEachCodecAgainstTheSixteenBitSource)
+{
+    platform::setLogLevel(platform::LogLevel::Error);
+    depthtouch::testing::TempDir tmp("dt-media-bench-codecs-");
+    ASSERT_FALSE(tmp.dir().empty());
+    // GIVEN an 8-frame 64×48 synthetic clip and one CRF
+    const Clip clip = makeSyntheticClip(64, 48, 8);
+    ASSERT_EQ(clip.fineNearnesses.size(), clip.nearnesses.size());
+    MediaBenchOptions o;
+    o.decodeRuns = 1;
+    o.workDir = tmp.dir().string();
+    CodecPlan plan;
+    plan.crfs = {18};
+    plan.preset = "ultrafast";
+    plan.allThreads = 1;
+    const ReceiverBackends backends = ffmpegBackends();
+
+    // WHEN the depth codecs are compared
+    auto rows = measureCodecs(clip, backends, backends, plan, o);
+    ASSERT_TRUE(rows) << rows.error().what;
+
+    // THEN each codec has one row, in encode's order
+    ASSERT_EQ(rows->size(), 4u);
+    const char *names[] = {"h264-8", "h264-10", "hevc-10", "ffv1-16"};
+    for (std::size_t k = 0; k < 4; ++k) {
+        EXPECT_EQ((*rows)[k].codec, names[k]);
+        EXPECT_GT((*rows)[k].depthKbps, 0.0);
+        EXPECT_GT((*rows)[k].decodeFps1, 0.0);
+    }
+    const CodecRow &h8 = (*rows)[0];
+    const CodecRow &h10 = (*rows)[1];
+    const CodecRow &hevc = (*rows)[2];
+    const CodecRow &ffv1 = (*rows)[3];
+    // AND 16-bit FFV1 gives the source back: no height or force error
+    EXPECT_TRUE(ffv1.lossless);
+    EXPECT_EQ(ffv1.depthErrorMm, 0.0);
+    EXPECT_EQ(ffv1.forceRmsN, 0.0);
+    EXPECT_EQ(ffv1.forceMaxN, 0.0);
+    // AND no lossy codec is finer than its bit depth's rounding of the source, and each costs
+    // fewer bits than lossless
+    EXPECT_GE(h8.depthErrorMm, 0.99 * roundingErrorMm(clip, 255.0));
+    EXPECT_GE(h10.depthErrorMm, 0.99 * roundingErrorMm(clip, 1023.0));
+    EXPECT_GE(hevc.depthErrorMm, 0.99 * roundingErrorMm(clip, 1023.0));
+    for (const CodecRow *r : {&h8, &h10, &hevc}) {
+        EXPECT_EQ(r->crf, 18);
+        EXPECT_LT(r->depthKbps, ffv1.depthKbps) << r->codec;
+        // A sample read at the wrong scale (10 bits as 8, or 16) is off by millimetres.
+        EXPECT_LT(r->depthErrorMm, 1.0) << r->codec;
+    }
+    EXPECT_TRUE(std::filesystem::is_empty(tmp.dir()));
+
+    // WHEN they are written
+    const std::string out = tmp.path("out");
+    std::filesystem::create_directories(out);
+    std::string error;
+    std::string note;
+    ASSERT_TRUE(writeCodecs(*rows, 1, out, error, note)) << error;
+    // THEN the CSV holds a header and the four rows
+    const auto lines = readLines(out + "/depth_codecs.csv");
+    ASSERT_EQ(lines.size(), 5u);
+    EXPECT_EQ(lines[0].rfind("size,codec,setting,crf,depth_kbps,decode_fps_1_thread", 0), 0u);
+    EXPECT_EQ(lines[1].rfind("64x48,h264-8,crf18,18,", 0), 0u) << lines[1];
+    EXPECT_EQ(lines[4].rfind("64x48,ffv1-16,lossless,,", 0), 0u) << lines[4];
+    EXPECT_EQ(splitCsv(lines[0]).size(), splitCsv(lines[3]).size());
+    EXPECT_EQ(splitCsv(lines[4]).back(), "0.00000"); // FFV1's height error
+    if (note.empty()) {
+        EXPECT_TRUE(std::filesystem::exists(out + "/depth_codecs.png"));
+    }
+}
+
 TEST(MediaBenchTest, kitchenClipNeedsItsFolder)
 {
     auto clip = loadKitchenClip("/nonexistent-dt-folder", 4, 64, 48);

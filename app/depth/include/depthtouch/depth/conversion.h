@@ -126,14 +126,23 @@ Plane<std::uint16_t> quantizeOccupied(const Plane<float> &nearness,
                                       const Plane<std::uint8_t> &valid, double vmax,
                                       const Occupancy &occ, std::size_t &holes);
 
-/// \brief One frame of a metric depth clip as 8-bit nearness levels of another size:
-/// metricToNearness() (default options but \a range), holes filled (fillInvalid()), resampled to
-/// \a width × \a height (resample(), edge-aware) and rounded (quantize(), vmax 255).
+/// \brief One frame of a metric depth clip as nearness levels of another size:
+/// metricToNearness() (default options but \a range and \a vmax), holes filled (fillInvalid()),
+/// resampled to \a width × \a height (resample(), edge-aware) and rounded (quantize()).
 /// \param[in,out] range the planes to convert with, or nullopt for the frame's robust range; set to
 /// the planes used, so that the next frame of the clip keeps them.
-/// \return the W×H levels (0..255), or the error of the first step that failed.
-Result<Plane<std::uint16_t>> metricToLevels8(const Plane<std::uint16_t> &raw,
-                                             std::optional<DepthRange> &range, int width,
-                                             int height);
+/// \param[in] vmax 255 (8-bit levels) or 65535 (16-bit)
+/// \return the W×H levels (0..vmax), or the error of the first step that failed.
+Result<Plane<std::uint16_t>> metricToLevels(const Plane<std::uint16_t> &raw,
+                                            std::optional<DepthRange> &range, int width, int height,
+                                            double vmax);
+
+/// \return metricToLevels() with vmax 255.
+inline Result<Plane<std::uint16_t>> metricToLevels8(const Plane<std::uint16_t> &raw,
+                                                    std::optional<DepthRange> &range, int width,
+                                                    int height)
+{
+    return metricToLevels(raw, range, width, height, 255.0);
+}
 
 } // namespace depthtouch::depth

@@ -33,6 +33,7 @@
 #include "depthtouch/haptics/depth_frame.h"
 #include "depthtouch/haptics/replay.h"
 #include "depthtouch/hal/media_source.h"
+#include "depthtouch/media/depth_codec_bench.h"
 #include "depthtouch/media/image.h"
 #include "depthtouch/platform/result.h"
 #include "depthtouch/receiver/receiver.h"
@@ -50,6 +51,9 @@ struct Clip {
     double fps = 30.0;
     std::vector<Image> colors;     ///< Stored pictures: Rgb24, width × height.
     std::vector<Image> nearnesses; ///< Stored pictures: Gray8, width × height, same count.
+    /// The same nearness at 16 bits (Gray16, 0..65535, the source's own precision before the
+    /// 8-bit rounding), same count: the reference of the depth codec comparison.
+    std::vector<Image> fineNearnesses;
     std::vector<std::size_t> order; ///< Frame i → stored picture; each entry < colors.size().
     std::string description; ///< E.g. "7-Scenes redkitchen: 60 frames 640x480 stretched to …".
 
@@ -61,6 +65,11 @@ struct Clip {
     [[nodiscard]] const Image &nearness(std::size_t i) const noexcept
     {
         return nearnesses[order[i]];
+    }
+    /// \return the 16-bit nearness of frame \a i. \pre i < frames().
+    [[nodiscard]] const Image &fineNearness(std::size_t i) const noexcept
+    {
+        return fineNearnesses[order[i]];
     }
 };
 
@@ -161,6 +170,8 @@ struct MediaBenchReport {
     std::string stroke;         ///< The strokes replayed (RateAccuracy::stroke).
     double loadBefore = -1.0;   ///< 1-minute load average before and after the run (-1: unknown).
     double loadAfter = -1.0;
+    std::vector<CodecRow> codecs; ///< The depth codec comparison (depth_codec_bench.h).
+    int codecThreads = 1;         ///< Decoder threads of CodecRow::decodeFpsAll.
 };
 
 /// \brief Encodes \a clip once per preset and times decode + pairing of each file.
@@ -225,6 +236,12 @@ struct MediaSizesPlan {
     int frames = 60;                        ///< Frames per clip at 30 fps.
     bool synthetic = false;                 ///< A synthetic clip instead of the 7-Scenes frames.
     std::string scene;                      ///< The 7-Scenes kitchen folder (unless synthetic).
+    /// Sizes of the depth codec comparison (measureCodecs()); the first gets every CRF of
+    /// codecCrfs, the others the one nearest 18. Empty: no comparison.
+    std::vector<std::pair<int, int>> codecSizes;
+    std::vector<int> codecCrfs{18};
+    ReceiverBackends allThreads; ///< Decoders with `codecThreads` threads each.
+    int codecThreads = 1;
 };
 
 /// \brief Why measureSizes() stopped: the one-line message, and whether the input was bad (frames
@@ -236,7 +253,8 @@ struct MediaBenchError {
 
 /// \brief For each size of \a plan: loads its clip and measures its throughput
 /// (measureThroughput()) and, on the first size, rate against accuracy (measureRateAccuracy()),
-/// into \a report (its content, fps, throughput and rate rows); progress lines on stderr. \return
+/// then for each of its codec sizes the depth codecs (measureCodecs()), into \a report (its
+/// content, fps, throughput, rate and codec rows); progress lines on stderr. \return
 /// nothing, or why not.
 std::optional<MediaBenchError> measureSizes(const MediaSizesPlan &plan,
                                             const ReceiverBackends &backends,
