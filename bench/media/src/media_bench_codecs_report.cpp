@@ -59,7 +59,8 @@ bool writeRateBlocks(const std::vector<CodecRow> &rows, const std::string &path)
         f.print("# %s\n", codec);
         for (const CodecRow &r : rows)
             if (r.codec == codec && std::make_pair(r.width, r.height) == sizes.front())
-                f.print("%.2f,%.6f,%s\n", r.depthKbps, r.forceRmsN, crfText(r).c_str());
+                f.print("%.2f,%.6f,%s,%.5f\n", r.depthKbps, r.forceRmsN, crfText(r).c_str(),
+                        r.depthErrorMm);
         f.print("\n\n");
     }
     return f.close();
@@ -147,31 +148,37 @@ bool writeCodecs(const std::vector<CodecRow> &rows, int allThreads, const std::s
     const std::string script = (base / "depth_codecs.gp").string();
     platform::ReportFile g(script);
     const auto first = sizesOf(rows).front();
-    g.print("set terminal pngcairo size 1400,620 noenhanced\n"
+    g.print("set terminal pngcairo size 1900,700 noenhanced\n"
             "set datafile separator ','\n"
             "set output '%s'\n"
-            "set multiplot layout 1,2 title 'Depth codecs: pick by haptic force error, bit "
+            "set multiplot layout 1,3 title 'Depth codecs: pick by haptic force error, bit "
             "rate and decode rate'\n",
             (base / "depth_codecs.png").string().c_str());
-    g.print("set title 'Force error vs depth bit rate, %s (labels: CRF)'\n"
-            "set logscale x\nset grid\nset key top right\n"
-            "set xlabel 'depth bit rate (kbit/s, log scale)'\n"
-            "set ylabel 'force RMS error vs 16-bit source (N)'\nset yrange [0:*]\n"
-            "plot '%s' index 0 using 1:2 with linespoints pt 7 lw 2 lc rgb '#1f77b4' title "
-            "'H.264 4:0:0 8-bit', \\\n"
-            "  '' index 1 using 1:2 with linespoints pt 5 lw 2 lc rgb '#ff7f0e' title "
-            "'H.264 4:0:0 10-bit', \\\n"
-            "  '' index 2 using 1:2 with linespoints pt 9 lw 2 lc rgb '#2ca02c' title "
-            "'HEVC Main10 4:2:0', \\\n"
-            "  '' index 3 using 1:2 with points pt 13 ps 2 lc rgb '#d62728' title "
-            "'FFV1 16-bit lossless', \\\n"
-            "  '' index 2 using 1:2:3 with labels offset 0,-1 font ',8' textcolor rgb '#2ca02c' "
-            "notitle, \\\n"
-            "  '' index 0 using 1:2:3 with labels offset 0,1 font ',8' textcolor rgb '#1f77b4' "
-            "notitle\n",
-            sizeText(first.first, first.second).c_str(), rate.c_str());
+    // The force error and the height error against the bit rate: the same series, column 2 or 4.
+    const char *panels[][4] = {
+        {"Force error", "force RMS error vs 16-bit source (N)", "2", "set key below"},
+        {"Surface height error", "height RMS error vs 16-bit source (mm)", "4", "unset key"}};
+    for (const auto &p : panels)
+        g.print("set title '%s, %s (labels: CRF)'\n"
+                "set logscale x\nset grid\n%s\n"
+                "set xlabel 'depth bit rate (kbit/s, log scale)'\n"
+                "set ylabel '%s'\nset yrange [0:*]\n"
+                "plot '%s' index 0 using 1:%s with linespoints pt 7 lw 2 lc rgb '#1f77b4' title "
+                "'H.264 4:0:0 8-bit', \\\n"
+                "  '' index 1 using 1:%s with linespoints pt 5 lw 2 lc rgb '#ff7f0e' title "
+                "'H.264 4:0:0 10-bit', \\\n"
+                "  '' index 2 using 1:%s with linespoints pt 9 lw 2 lc rgb '#2ca02c' title "
+                "'HEVC Main10 4:2:0', \\\n"
+                "  '' index 3 using 1:%s with points pt 13 ps 2 lc rgb '#d62728' title "
+                "'FFV1 16-bit lossless', \\\n"
+                "  '' index 2 using 1:%s:3 with labels offset 0,-1 font ',8' textcolor rgb "
+                "'#2ca02c' notitle, \\\n"
+                "  '' index 0 using 1:%s:3 with labels offset 0,1 font ',8' textcolor rgb "
+                "'#1f77b4' notitle\n",
+                p[0], sizeText(first.first, first.second).c_str(), p[3], p[1], rate.c_str(), p[2], p[2],
+                p[2], p[2], p[2], p[2]);
     g.print("unset logscale x\nunset xlabel\nunset yrange\n"
-            "set title 'Software decode + pairing (CRF 18; solid 1 thread, hatched %d)'\n"
+            "set title 'Software decode (CRF 18; hatched: %d threads)'\n"
             "set style data histograms\nset style histogram clustered gap 1\n"
             "set style fill solid 0.85 border -1\nset boxwidth 0.9\n"
             "set logscale y\nset grid ytics\nset ylabel 'frames/s (log scale)'\n"
