@@ -22,6 +22,8 @@ void addPlaybackStats(nlohmann::json &j, const PlaybackStats &ps)
     j["decode_errors"] = ps.receiver.decodeErrors;
     j["zero_copy"] = ps.zeroCopy;
     j["color_frames_dmabuf"] = ps.receiver.colorFramesZeroCopy;
+    j["color_frames_hardware"] = ps.receiver.colorFramesHardware;
+    j["depth_frames_hardware"] = ps.receiver.depthFramesHardware;
     j["color_frames_imported"] = ps.colorFramesImported;
     j["color_frames_dmabuf_uploaded"] = ps.colorFramesDmaBufUploaded;
     j["depth_pairs_published"] = ps.depthPairsPublished;
@@ -128,6 +130,12 @@ void printPlaySummary(const std::string &url, const PlayRunFigures &run, const s
     if (ps.framesPresented > 0)
         std::printf("  tune-in           %.2f s from the open to the first frame on screen\n",
                     ps.tuneInSeconds);
+    std::printf("  decoding          color %llu of %llu frames in hardware, depth %llu of %llu "
+                "(the rest in software; decoder option hwaccel)\n",
+                static_cast<unsigned long long>(ps.receiver.colorFramesHardware),
+                static_cast<unsigned long long>(ps.receiver.colorFrames),
+                static_cast<unsigned long long>(ps.receiver.depthFramesHardware),
+                static_cast<unsigned long long>(ps.receiver.depthFrames));
     if (ps.lodBudget > 0)
         std::printf("  level of detail   %.0f triangles a frame (median); %llu of %llu frames made "
                     "coarser to keep time, budget now %zu blocks\n",

@@ -52,7 +52,9 @@ nlohmann::json decodeStatsJson(const char *mode, const receiver::ReceiverStats &
             {"pts_gaps", s.ptsGaps},
             {"pts_duplicates", s.ptsDuplicates},
             {"pts_non_monotonic", s.ptsNonMonotonic},
-            {"read_errors", s.readErrors}};
+            {"read_errors", s.readErrors},
+            {"color_frames_hardware", s.colorFramesHardware},
+            {"depth_frames_hardware", s.depthFramesHardware}};
 }
 
 /// The receiver's counters as the text report's "decode" line.
@@ -61,7 +63,8 @@ std::string decodeStatsText(const char *mode, const receiver::ReceiverStats &s)
     char line[512];
     std::snprintf(line, sizeof line,
                   "decode (%s): %llu color + %llu depth frames -> %llu paired; %llu concealed, "
-                  "%llu decode errors, %llu without depth, %llu reused depth, %llu read errors\n",
+                  "%llu decode errors, %llu without depth, %llu reused depth, %llu read errors; "
+                  "%llu color + %llu depth frames decoded in hardware\n",
                   mode, static_cast<unsigned long long>(s.colorFrames),
                   static_cast<unsigned long long>(s.depthFrames),
                   static_cast<unsigned long long>(s.framesOutput),
@@ -69,7 +72,9 @@ std::string decodeStatsText(const char *mode, const receiver::ReceiverStats &s)
                   static_cast<unsigned long long>(s.decodeErrors),
                   static_cast<unsigned long long>(s.depthMissing),
                   static_cast<unsigned long long>(s.depthDuplicated),
-                  static_cast<unsigned long long>(s.readErrors));
+                  static_cast<unsigned long long>(s.readErrors),
+                  static_cast<unsigned long long>(s.colorFramesHardware),
+                  static_cast<unsigned long long>(s.depthFramesHardware));
     return line;
 }
 

@@ -106,6 +106,11 @@ ReceiverStats Receiver::stats() const noexcept
         s.ptsNonMonotonic += m.ptsNonMonotonic;
     }
     s.ptsGaps = p.ptsGaps;
+    const auto hardware = [](const Impl::Stream &st) -> std::uint64_t {
+        return st.decoder ? st.decoder->stats().framesHardware : 0;
+    };
+    s.colorFramesHardware = hardware(impl_->streams[0]);
+    s.depthFramesHardware = hardware(impl_->streams[1]);
     return s;
 }
 

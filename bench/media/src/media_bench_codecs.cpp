@@ -80,8 +80,9 @@ void forceError(const std::vector<std::vector<haptics::ForceLogRow>> &reference,
 }
 
 /// RMS height error (mm in \a box) of decoded \a video against the 16-bit \a source.
-double heightErrorMm(const std::vector<std::uint8_t> &source, const std::vector<std::uint8_t> &video,
-                     scene::SampleFormat format, const scene::SceneBox &box)
+double heightErrorMm(const std::vector<std::uint8_t> &source,
+                     const std::vector<std::uint8_t> &video, scene::SampleFormat format,
+                     const scene::SceneBox &box)
 {
     const std::size_t n = source.size() / 2;
     if (n == 0 || video.size() != n * scene::bytesPerSample(format))
@@ -167,9 +168,9 @@ Result<std::vector<CodecRow>> measureCodecs(const Clip &clip, const ReceiverBack
             row.height = clip.height;
             row.lossless = s.lossless;
             row.crf = s.lossless ? 0 : plan.crfs[k];
-            const std::string path = tempName(options, "codec-" + sizeText(clip.width, clip.height) +
-                                                           "-" + s.name + "-" +
-                                                           std::to_string(row.crf) + ".mkv");
+            const std::string path =
+                tempName(options, "codec-" + sizeText(clip.width, clip.height) + "-" + s.name +
+                                      "-" + std::to_string(row.crf) + ".mkv");
             EncodeSetting es;
             es.preset = plan.preset;
             es.withColor = false;

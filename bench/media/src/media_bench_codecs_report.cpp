@@ -29,8 +29,7 @@ std::string crfText(const CodecRow &r)
 }
 
 /// The row of \a codec at \a w × \a h whose CRF is nearest 18 (`encode`'s depth default), or null.
-const CodecRow *decodeRow(const std::vector<CodecRow> &rows, const std::string &codec, int w,
-                          int h)
+const CodecRow *decodeRow(const std::vector<CodecRow> &rows, const std::string &codec, int w, int h)
 {
     const CodecRow *best = nullptr;
     for (const CodecRow &r : rows)
@@ -96,8 +95,8 @@ void printCodecs(const std::vector<CodecRow> &rows, int allThreads)
                 "threads (frames/s, wall clock, median run); force error = strokes and presses "
                 "replayed (modified proxy graph) on the decoded vs the 16-bit source depth\n",
                 allThreads);
-    std::printf("%-9s %-8s %-9s %9s %9s %9s %10s %10s %9s\n", "size", "codec", "setting",
-                "kbit/s", "dec fps", "dec fps", "force RMS", "force max", "height");
+    std::printf("%-9s %-8s %-9s %9s %9s %9s %10s %10s %9s\n", "size", "codec", "setting", "kbit/s",
+                "dec fps", "dec fps", "force RMS", "force max", "height");
     std::printf("%-9s %-8s %-9s %9s %9s %9s %10s %10s %9s\n", "", "", "", "", "1 thread", "all",
                 "N", "N", "RMS mm");
     for (const CodecRow &r : rows)
@@ -175,8 +174,8 @@ bool writeCodecs(const std::vector<CodecRow> &rows, int allThreads, const std::s
                 "'#2ca02c' notitle, \\\n"
                 "  '' index 0 using 1:%s:3 with labels offset 0,1 font ',8' textcolor rgb "
                 "'#1f77b4' notitle\n",
-                p[0], sizeText(first.first, first.second).c_str(), p[3], p[1], rate.c_str(), p[2], p[2],
-                p[2], p[2], p[2], p[2]);
+                p[0], sizeText(first.first, first.second).c_str(), p[3], p[1], rate.c_str(), p[2],
+                p[2], p[2], p[2], p[2], p[2]);
     g.print("unset logscale x\nunset xlabel\nunset yrange\n"
             "set title 'Software decode (CRF 18; hatched: %d threads)'\n"
             "set style data histograms\nset style histogram clustered gap 1\n"

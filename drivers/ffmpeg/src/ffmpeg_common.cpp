@@ -165,8 +165,9 @@ constexpr bool kBigEndianHost = AV_PIX_FMT_GRAY16 == AV_PIX_FMT_GRAY16BE;
 
 /// Luma of 10-bit samples into 16-bit Gray16 with the full range kept: v·65535/1023 by bit
 /// replication ((v << 6) | (v >> 4): 0 → 0, 1023 → 65535), byte-swapped when \a swapped. Depth
-/// nearness, not video: no limited-range conversion.
-void copyGray10As16(const AVFrame &src, const hal::ImageView &dst, bool swapped) noexcept
+/// nearness, not video: no limited-range conversion. \a shift: the samples' place in their 16 bits
+/// (0, or 6 for P010).
+void copyGray10As16(const AVFrame &src, const hal::ImageView &dst, bool swapped, int shift) noexcept
 {
     for (int y = 0; y < dst.height; ++y) {
         const std::uint8_t *s = src.data[0] + static_cast<std::ptrdiff_t>(y) * src.linesize[0];
@@ -177,7 +178,7 @@ void copyGray10As16(const AVFrame &src, const hal::ImageView &dst, bool swapped)
             std::memcpy(&raw, s + i, sizeof raw);
             if (swapped)
                 raw = static_cast<std::uint16_t>((raw >> 8) | (raw << 8));
-            const unsigned v = raw & 0x3ffu;
+            const unsigned v = (static_cast<unsigned>(raw) >> shift) & 0x3ffu;
             const auto wide = static_cast<std::uint16_t>((v << 6) | (v >> 4));
             std::memcpy(d + i, &wide, sizeof wide);
         }
@@ -207,7 +208,8 @@ Result<void> copyFrame(const AVFrame &src, const hal::ImageView &dst, av::SwsPtr
     case hal::PixelFormat::Gray16:
         if (isYuvLike(d) && srcBytes == 2 && d->comp[0].depth == 10 &&
             dst.format == hal::PixelFormat::Gray16) {
-            copyGray10As16(src, dst, srcBe != kBigEndianHost);
+            // P010 (a hardware decoder's 10-bit 4:2:0) keeps the samples in the high bits.
+            copyGray10As16(src, dst, srcBe != kBigEndianHost, d->comp[0].shift);
             return ok();
         }
         if (isYuvLike(d) && srcBytes == 2 &&

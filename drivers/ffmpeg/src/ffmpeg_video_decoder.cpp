@@ -13,6 +13,7 @@
 #include "depthtouch/drivers/ffmpeg/drm_prime.h"
 #include "depthtouch/platform/log.h"
 #include "ffmpeg_common.h"
+#include "hw_accel.h"
 
 extern "C" {
 #include <libavutil/hwcontext.h>
@@ -29,7 +30,7 @@ using namespace ffmpeg;
 
 namespace {
 
-constexpr const char *kOptionKeys[] = {"pool", "queue", "threads", "drm-prime"};
+constexpr const char *kOptionKeys[] = {"pool", "queue", "threads", "drm-prime", "hwaccel"};
 constexpr AVRational kNanoseconds{1, 1'000'000'000};
 constexpr int kMaxSize = 8192;
 
@@ -103,10 +104,13 @@ Result<FfmpegDecoderSettings> FfmpegDecoderSettings::parse(hal::OptionList optio
         return unexpected(Errc::InvalidArgument, "ffmpeg decoder option queue must be 1..256");
     if (!threads || *threads < 1 || *threads > 16)
         return unexpected(Errc::InvalidArgument, "ffmpeg decoder option threads must be 1..16");
+    const std::string hwaccel(options.find("hwaccel").value_or(s.hwaccel));
+    DT_TRY(parseHwAccel(hwaccel));
     s.poolFrames = *pool;
     s.queuePackets = *queue;
     s.threads = *threads;
     s.drmPrime = *drmPrime;
+    s.hwaccel = hwaccel;
     return s;
 }
 
@@ -164,6 +168,10 @@ struct FfmpegVideoDecoder::Impl {
     std::atomic<std::uint64_t> framesConcealed{0};
     std::atomic<std::uint64_t> framesDropped{0};
     std::atomic<std::uint64_t> framesDmaBuf{0};
+    std::atomic<std::uint64_t> framesHardware{0};
+
+    HwAccel hw;             ///< The hwaccel device of this configure(), or software.
+    av::FramePtr hwScratch; ///< A hardware frame copied to system memory.
 
     /// `drm-prime` and the decoder can export DRM PRIME: frames may be lent as dma-bufs.
     bool primeMode = false;
@@ -186,6 +194,8 @@ Result<hal::FrameRef> FfmpegVideoDecoder::Impl::lendFrame() noexcept
         frame->decode_error_flags != 0 || (frame->flags & AV_FRAME_FLAG_CORRUPT) != 0;
     const std::int64_t ts =
         frame->best_effort_timestamp != AV_NOPTS_VALUE ? frame->best_effort_timestamp : frame->pts;
+    // A hwaccel device's frame, or any frame of a V4L2 M2M decoder.
+    const bool hardware = hwName != nullptr || (hw.active() && frame->format == hw.pixFmt);
     Result<void> copied = ok();
     bool dmabuf = false;
     if (primeMode && frame->format == AV_PIX_FMT_DRM_PRIME) {
@@ -226,8 +236,13 @@ Result<hal::FrameRef> FfmpegVideoDecoder::Impl::lendFrame() noexcept
                        av_get_pix_fmt_name(static_cast<AVPixelFormat>(frame->format)));
             }
         }
+        const AVFrame *sys = inSystemMemory(*frame, hw, *hwScratch);
+        if (copied && sys == nullptr)
+            copied = unexpected(Errc::Io, "Failed to copy a hardware frame to memory");
         if (copied)
-            copied = copyFrame(*frame, out->image, sws);
+            copied = copyFrame(*sys, out->image, sws);
+        if (hwScratch)
+            av_frame_unref(hwScratch.get());
         out->dmabuf = hal::DmaBufImage{};
     }
     av_frame_unref(frame.get());
@@ -244,6 +259,8 @@ Result<hal::FrameRef> FfmpegVideoDecoder::Impl::lendFrame() noexcept
     framesDecoded.fetch_add(1, std::memory_order_relaxed);
     if (dmabuf)
         framesDmaBuf.fetch_add(1, std::memory_order_relaxed);
+    if (hardware)
+        framesHardware.fetch_add(1, std::memory_order_relaxed);
     if (corrupt)
         framesConcealed.fetch_add(1, std::memory_order_relaxed);
     return pool.lend(slot);
@@ -369,6 +386,20 @@ Result<void> FfmpegVideoDecoder::configureDevice(const hal::StreamConfig &cfg)
                    codec->name);
         }
     }
+    HwAccel hw;
+    av::FramePtr hwScratch;
+    if (d.hwName == nullptr && !prime) {
+        auto mode = parseHwAccel(d.settings.hwaccel);
+        auto attached = mode ? attachHwAccel(*ctx, *codec, *mode) : unexpected(mode.error());
+        if (!attached)
+            return unexpected(attached.error());
+        hw = *attached;
+        if (hw.active()) {
+            hwScratch.reset(av_frame_alloc());
+            if (!hwScratch)
+                return unexpected(Errc::OutOfResources, "Failed to allocate the decoder");
+        }
+    }
     const int r = avcodec_open2(ctx.get(), codec, nullptr);
     if (r < 0) {
         DT_LOG(Ffmpeg, Error, "Failed to open the %s decoder", codec->name);
@@ -393,6 +424,8 @@ Result<void> FfmpegVideoDecoder::configureDevice(const hal::StreamConfig &cfg)
     d.ctx = std::move(ctx);
     d.held = std::move(held);
     d.primeMode = prime;
+    d.hw = hw;
+    d.hwScratch = std::move(hwScratch);
     d.loggedPrime = d.loggedCpu = false;
     d.packet = std::move(packet);
     d.frame = std::move(frame);
@@ -514,6 +547,7 @@ hal::DecoderStats FfmpegVideoDecoder::stats() const noexcept
     s.framesConcealed = d.framesConcealed.load(std::memory_order_relaxed);
     s.framesDropped = d.framesDropped.load(std::memory_order_relaxed);
     s.framesDmaBuf = d.framesDmaBuf.load(std::memory_order_relaxed);
+    s.framesHardware = d.framesHardware.load(std::memory_order_relaxed);
     return s;
 }
 

@@ -54,7 +54,8 @@ hkeys = {"haptic_updates", "haptic_run_s", "haptic_rate_hz", "rendered_updates",
 pkeys = {"url", "mode", "depth_size", "color_size", "output_size", "fps", "display", "haptic_device",
          "frames_decoded", "frames_received", "frames_presented", "frames_dropped", "frames_late",
          "late_ms_max", "frames_concealed", "decode_errors", "zero_copy", "color_frames_dmabuf",
-         "color_frames_imported", "color_frames_dmabuf_uploaded", "depth_pairs_published",
+         "color_frames_imported", "color_frames_dmabuf_uploaded", "color_frames_hardware",
+         "depth_frames_hardware", "depth_pairs_published",
          "material_frames", "material_held", "material_missing", "material_damaged", "render_ms_p50",
          "render_ms_p99", "mesh_triangles_p50", "lod_budget_blocks", "frames_lod_limited",
          "presented_fps", "playing_s", "tune_in_s", "seeks", "snapshots_written", "frames_recorded",
@@ -84,9 +85,11 @@ if "loop" in opt:  # up to 2 frames taken but not yet shown when --duration stop
 else:
     eq("frames_received", frames); want("frames_dropped", pre + drop == frames, "frames - presented")
     eq("frames_decoded", streams * frames); eq("seeks", 0)
+# The mock decoder is software: no frame of it counts as a hardware decoder's.
 for k in ("frames_concealed", "decode_errors", "color_frames_dmabuf", "color_frames_imported",
-          "color_frames_dmabuf_uploaded", "material_frames", "material_held", "material_missing",
-          "material_damaged", "frames_recorded"):
+          "color_frames_dmabuf_uploaded", "color_frames_hardware", "depth_frames_hardware",
+          "material_frames", "material_held", "material_missing", "material_damaged",
+          "frames_recorded"):
     eq(k, 0)
 eq("zero_copy", False)
 # The mock clips have no sound: the default output (alsa, else null) is chosen, nothing played.

@@ -26,7 +26,8 @@ std::vector<std::uint8_t> readBytes(const std::string &path)
 }
 
 Decoded decodeAll(const std::string &url, hal::StreamKind kind, const std::string &sourceOptions,
-                  bool (*mutate)(int index, std::vector<std::uint8_t> &bytes))
+                  bool (*mutate)(int index, std::vector<std::uint8_t> &bytes),
+                  const std::string &decoderOptions)
 {
     Decoded out;
     hal::BackendConfig srcCfg;
@@ -49,6 +50,7 @@ Decoded decodeAll(const std::string &url, hal::StreamKind kind, const std::strin
         return out;
     out.stream = *chosen;
     hal::BackendConfig decCfg;
+    decCfg.options = hal::OptionList(decoderOptions);
     auto dec = drivers::createVideoDecoder("ffmpeg", decCfg);
     EXPECT_TRUE(dec);
     if (!dec)

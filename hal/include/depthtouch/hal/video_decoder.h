@@ -82,6 +82,8 @@ struct DecoderStats {
     std::uint64_t framesConcealed = 0; ///< Frames output with Frame::corrupt set.
     std::uint64_t framesDropped = 0;   ///< Packets that produced no frame (decode error, flush).
     std::uint64_t framesDmaBuf = 0;    ///< Frames lent as dma-bufs (Frame::dmabuf), no CPU copy.
+    std::uint64_t framesHardware = 0;  ///< Frames a hardware decoder made (a libavcodec hwaccel
+                                       ///< device, a V4L2 M2M device); the rest were software.
 };
 
 /// \brief Hardware or software video decoder for one stream.

@@ -165,6 +165,10 @@ struct ReceiverStats {
     std::uint64_t streamsResumed = 0;   ///< A stream drained as ended sent packets again.
     std::uint64_t seeks = 0;
     std::uint64_t colorFramesZeroCopy = 0; ///< Color frames kept as the decoder's dma-bufs.
+    /// Frames a hardware decoder made (hal::DecoderStats::framesHardware: a hwaccel device, a
+    /// V4L2 M2M device); the others were decoded in software.
+    std::uint64_t colorFramesHardware = 0;
+    std::uint64_t depthFramesHardware = 0;
 };
 
 /// Makes the decoder of one stream (the executable's backend choice). Called by open().

@@ -27,12 +27,12 @@ struct MediaBenchOptions;
 
 /// \brief One depth codec setting at one frame size.
 struct CodecRow {
-    std::string codec;  ///< "h264-8", "h264-10", "hevc-10" or "ffv1-16" (codec-bits).
+    std::string codec; ///< "h264-8", "h264-10", "hevc-10" or "ffv1-16" (codec-bits).
     VideoCodec id = VideoCodec::H264Gray;
-    int width = 0;      ///< Pixels.
-    int height = 0;     ///< Pixels.
-    bool lossless = false; ///< FFV1 (always lossless).
-    int crf = 0;           ///< x264 / x265 CRF of a lossy setting.
+    int width = 0;             ///< Pixels.
+    int height = 0;            ///< Pixels.
+    bool lossless = false;     ///< FFV1 (always lossless).
+    int crf = 0;               ///< x264 / x265 CRF of a lossy setting.
     double depthKbps = 0.0;    ///< Depth bit rate at the clip's frame rate, kbit/s.
     double decodeFps1 = 0.0;   ///< Depth-only decode + pairing, frames per wall-clock second,
                                ///< one decoder thread (median of the runs).
@@ -45,8 +45,8 @@ struct CodecRow {
 
 /// \brief What measureCodecs() measures at one size.
 struct CodecPlan {
-    std::vector<int> crfs{18}; ///< CRFs of each lossy codec (x264, x265), each a row.
-    int allThreads = 1;        ///< Decoder threads of CodecRow::decodeFpsAll.
+    std::vector<int> crfs{18};     ///< CRFs of each lossy codec (x264, x265), each a row.
+    int allThreads = 1;            ///< Decoder threads of CodecRow::decodeFpsAll.
     std::string preset = "medium"; ///< x264 / x265 preset.
 };
 

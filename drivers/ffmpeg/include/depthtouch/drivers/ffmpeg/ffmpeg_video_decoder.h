@@ -35,6 +35,7 @@
 /// frames lent as dma-bufs. Thread-safety: as hal::VideoDecoder.
 
 #include <memory>
+#include <string>
 
 #include "depthtouch/hal/backends.h"
 #include "depthtouch/hal/video_decoder_base.h"
@@ -48,6 +49,12 @@ struct FfmpegDecoderSettings {
     int queuePackets = 8;
     int threads = 2;
     bool drmPrime = false; ///< `drm-prime`: lend DRM PRIME frames when the decoder can.
+    /// `hwaccel` (ffmpeg's `-hwaccel`): none | auto | vaapi | cuda | vdpau. auto (the default)
+    /// decodes on the first of VAAPI, CUDA (NVDEC), VDPAU that opens and decodes the stream, else
+    /// in software; a named one that does not open fails configure() (Errc::NoDevice). Frames are
+    /// copied back to system memory (DecoderStats::framesHardware counts them). Not with
+    /// `drm-prime` or the v4l2m2m backend, which are hardware paths of their own.
+    std::string hwaccel = "auto";
 
     static Result<FfmpegDecoderSettings> parse(hal::OptionList options);
 };
