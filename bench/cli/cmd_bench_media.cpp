@@ -100,9 +100,10 @@ bool parseSize(const std::string &text, int &w, int &h)
 
 using namespace depthtouch::media::bench;
 
-/// Checks the numeric options and parses --sizes. Returns kExitOk, or the exit code after printing
-/// the one error line.
-int checkBenchOptions(const BenchMediaOptions &o, std::vector<std::pair<int, int>> &sizes)
+/// Checks the numeric options and parses --sizes and --codec-sizes. Returns kExitOk, or the exit
+/// code after printing the one error line.
+int checkBenchOptions(const BenchMediaOptions &o, std::vector<std::pair<int, int>> &sizes,
+                      std::vector<std::pair<int, int>> &codecSizes)
 {
     if (o.frames < 2 || o.frames > 10000)
         return fail(kExitBadInput, "--frames must be in 2..10000");
@@ -131,6 +132,7 @@ int checkBenchOptions(const BenchMediaOptions &o, std::vector<std::pair<int, int
         if (!parseSize(s, w, h))
             return fail(kExitBadInput,
                         "--codec-sizes entries must be WxH, even, 16..8192 ('" + s + "')");
+        codecSizes.emplace_back(w, h);
     }
     for (const int crf : o.codecCrfs)
         if (crf < 0 || crf > 51)
@@ -201,7 +203,8 @@ int runBenchMedia(const BenchMediaOptions &o)
     if (const int rc = checkOutFolder("bench media", o.out); rc != kExitOk)
         return rc;
     std::vector<std::pair<int, int>> sizes;
-    if (const int rc = checkBenchOptions(o, sizes); rc != kExitOk)
+    std::vector<std::pair<int, int>> codecSizes;
+    if (const int rc = checkBenchOptions(o, sizes, codecSizes); rc != kExitOk)
         return rc;
     std::string scene;
     if (const int rc = findScene(o, scene); rc != kExitOk)
@@ -231,12 +234,7 @@ int runBenchMedia(const BenchMediaOptions &o)
     plan.frames = o.frames;
     plan.synthetic = o.synthetic;
     plan.scene = scene;
-    for (const std::string &s : o.codecSizes) {
-        int w = 0;
-        int h = 0;
-        parseSize(s, w, h); // checked above
-        plan.codecSizes.emplace_back(w, h);
-    }
+    plan.codecSizes = codecSizes;
     plan.codecCrfs = o.codecCrfs;
     plan.codecThreads = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 16u));
     plan.allThreads = ffmpegBackends(plan.codecThreads);

@@ -34,13 +34,13 @@ Result<HwAccelMode> parseHwAccel(std::string_view name) noexcept;
 /// \brief The hardware device a decoder context decodes on.
 struct HwAccel {
     AVPixelFormat pixFmt = AV_PIX_FMT_NONE; ///< Its frames' format; NONE: software.
-    const char *name = "software";           ///< "vaapi", "cuda", "vdpau" or "software".
+    const char *name = "software";          ///< "vaapi", "cuda", "vdpau" or "software".
     [[nodiscard]] bool active() const noexcept { return pixFmt != AV_PIX_FMT_NONE; }
 };
 
 /// \brief Opens a device of \a mode for \a codec and attaches it to \a ctx (hw_device_ctx and a
-/// get_format that picks the device's format while libavcodec offers it, software otherwise), before
-/// avcodec_open2(). Auto tries each device type \a codec has a hwaccel for and falls back to
+/// get_format that picks the device's format while libavcodec offers it, software otherwise),
+/// before avcodec_open2(). Auto tries each device type \a codec has a hwaccel for and falls back to
 /// software quietly; a named type that does not open is Errc::NoDevice ("hwaccel vaapi: no
 /// device"). \a ctx->opaque is taken (the chosen format).
 /// \return the accelerator (inactive for software).

@@ -197,6 +197,29 @@ TEST_F(EncodeTest, ffv1Gray16RoundTripsBitExact)
     }
 }
 
+/// Expects the depth stream (1) of \a rb to hold \a frames frames whose samples are
+/// makeNearness8()'s levels scaled to 0..1023 exactly, each with its color frame's PTS.
+void expectTenBitLevelsOf8BitNearness(const test::FileReadback &rb, int frames)
+{
+    const auto &d = rb.streams[1];
+    ASSERT_EQ(d.frames.size(), static_cast<std::size_t>(frames));
+    for (int i = 0; i < frames; ++i) {
+        const Image src = makeNearness8(i);
+        const Image &got = d.frames[static_cast<std::size_t>(i)];
+        ASSERT_EQ(got.format, PixelFormat::Gray16);
+        int mismatches = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                const auto want =
+                    static_cast<std::uint16_t>(std::lround(src.row(y)[x] * 1023.0 / 255.0));
+                mismatches += got.sample16(x, y) != want;
+            }
+        EXPECT_EQ(mismatches, 0) << "frame " << i;
+        EXPECT_DOUBLE_EQ(rb.streams[0].pts[static_cast<std::size_t>(i)],
+                         d.pts[static_cast<std::size_t>(i)]);
+    }
+}
+
 /// GIVEN 8-bit nearness WHEN encoded as lossless H.264 gray10 into MP4 THEN samples are the 8-bit
 /// levels scaled to 0..1023, and MP4 carries the titles (handler names) and the container tags.
 TEST_F(EncodeTest, gray10LosslessInMp4)
@@ -217,23 +240,7 @@ TEST_F(EncodeTest, gray10LosslessInMp4)
     EXPECT_EQ(rb.streams[1].tags.at("handler_name"), "depth");
     EXPECT_EQ(rb.tags.at("depth_bits"), "10");
     EXPECT_EQ(rb.tags.at("depth_mapping"), "inverse_z");
-    const auto &d = rb.streams[1];
-    ASSERT_EQ(d.frames.size(), static_cast<std::size_t>(kFrames));
-    for (int i = 0; i < kFrames; ++i) {
-        const Image src = makeNearness8(i);
-        const Image &got = d.frames[static_cast<std::size_t>(i)];
-        ASSERT_EQ(got.format, PixelFormat::Gray16);
-        int mismatches = 0;
-        for (int y = 0; y < kH; ++y)
-            for (int x = 0; x < kW; ++x) {
-                const auto want =
-                    static_cast<std::uint16_t>(std::lround(src.row(y)[x] * 1023.0 / 255.0));
-                mismatches += got.sample16(x, y) != want;
-            }
-        EXPECT_EQ(mismatches, 0) << "frame " << i;
-        EXPECT_DOUBLE_EQ(rb.streams[0].pts[static_cast<std::size_t>(i)],
-                         d.pts[static_cast<std::size_t>(i)]);
-    }
+    expectTenBitLevelsOf8BitNearness(rb, kFrames);
 }
 
 /// GIVEN 8-bit nearness WHEN encoded as lossless HEVC Main10 into MPEG-TS THEN ffprobe sees HEVC
@@ -253,24 +260,8 @@ TEST_F(EncodeTest, hevcMain10LosslessInMpegTs)
     const auto rb = test::readBack(path("out.ts"));
     ASSERT_TRUE(rb.ok) << rb.error;
     ASSERT_GE(rb.streams.size(), 2u);
-    const auto &d = rb.streams[1];
-    test::expectStream(d, {.codec = "hevc", .pixFmt = "yuv420p10le"});
-    ASSERT_EQ(d.frames.size(), static_cast<std::size_t>(kFrames));
-    for (int i = 0; i < kFrames; ++i) {
-        const Image src = makeNearness8(i);
-        const Image &got = d.frames[static_cast<std::size_t>(i)];
-        ASSERT_EQ(got.format, PixelFormat::Gray16);
-        int mismatches = 0;
-        for (int y = 0; y < kH; ++y)
-            for (int x = 0; x < kW; ++x) {
-                const auto want =
-                    static_cast<std::uint16_t>(std::lround(src.row(y)[x] * 1023.0 / 255.0));
-                mismatches += got.sample16(x, y) != want;
-            }
-        EXPECT_EQ(mismatches, 0) << "frame " << i;
-        EXPECT_DOUBLE_EQ(rb.streams[0].pts[static_cast<std::size_t>(i)],
-                         d.pts[static_cast<std::size_t>(i)]);
-    }
+    test::expectStream(rb.streams[1], {.codec = "hevc", .pixFmt = "yuv420p10le"});
+    expectTenBitLevelsOf8BitNearness(rb, kFrames);
 }
 
 /// GIVEN metric depth without planes WHEN encoded THEN near/far come from the first frames' robust

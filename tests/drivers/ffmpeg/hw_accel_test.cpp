@@ -83,8 +83,8 @@ TEST_F(HwAccelTest, aDeviceAskedForByNameOpensOrFailsConfigure)
     ASSERT_TRUE(src);
     ASSERT_TRUE((*src)->open(hevc.c_str()));
     const hal::StreamConfig sc = hal::StreamConfig::fromStream((*src)->info().streams[0]);
-    for (const auto &[name, type] : {std::pair{"vaapi", AV_HWDEVICE_TYPE_VAAPI},
-                                     std::pair{"cuda", AV_HWDEVICE_TYPE_CUDA}}) {
+    for (const auto &[name, type] :
+         {std::pair{"vaapi", AV_HWDEVICE_TYPE_VAAPI}, std::pair{"cuda", AV_HWDEVICE_TYPE_CUDA}}) {
         hal::BackendConfig cfg;
         const std::string options = std::string("hwaccel=") + name;
         cfg.options = hal::OptionList(options);
@@ -102,8 +102,8 @@ TEST_F(HwAccelTest, aDeviceAskedForByNameOpensOrFailsConfigure)
 
 TEST(HwAccelOptionTest, hwaccelTakesFfmpegsNames)
 {
-    for (const char *ok : {"hwaccel=none", "hwaccel=auto", "hwaccel=vaapi", "hwaccel=cuda",
-                           "hwaccel=vdpau"}) {
+    for (const char *ok :
+         {"hwaccel=none", "hwaccel=auto", "hwaccel=vaapi", "hwaccel=cuda", "hwaccel=vdpau"}) {
         hal::BackendConfig cfg;
         cfg.options = hal::OptionList(ok);
         EXPECT_TRUE(drivers::createVideoDecoder("ffmpeg", cfg)) << ok;
