@@ -76,10 +76,11 @@ Result<CodecChoice> codecFor(const VideoEncoderConfig &config, Container contain
 }
 
 /// x265's own parameters (`-x265-params`): its log to errors only (it prints to stderr by itself),
-/// no scene-cut key frames with a GOP, lossless when asked.
+/// closed GOPs (every key frame an IDR picture, as x264's: a receiver that tunes in or seeks there
+/// loses no leading pictures), no scene-cut key frames with a GOP, lossless when asked.
 std::string x265Params(const VideoEncoderConfig &config)
 {
-    std::string p = "log-level=error";
+    std::string p = "log-level=error:open-gop=0";
     if (config.gop > 0)
         p += ":scenecut=0";
     if (config.lossless)

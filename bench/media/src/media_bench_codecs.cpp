@@ -171,13 +171,8 @@ Result<std::vector<CodecRow>> measureCodecs(const Clip &clip, const ReceiverBack
             const std::string path =
                 tempName(options, "codec-" + sizeText(clip.width, clip.height) + "-" + s.name +
                                       "-" + std::to_string(row.crf) + ".mkv");
-            EncodeSetting es;
-            es.preset = plan.preset;
-            es.withColor = false;
-            es.depthCodec = s.id;
-            es.depthCrf = row.crf;
-            es.threads = options.encodeThreads;
-            auto enc = encodeClip(clip, path, es);
+            auto enc = encodeDepthOnly(clip, path, plan.preset, s.id, row.crf, false,
+                                       options.encodeThreads);
             if (!enc)
                 return unexpected(enc.error());
             row.depthKbps = kbps(enc->depthBytes, clip.frames(), clip.fps);

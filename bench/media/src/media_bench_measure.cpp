@@ -173,13 +173,8 @@ Result<RateAccuracy> measureRateAccuracy(const Clip &clip, const ReceiverBackend
             options, "rate-" + sizeText(clip.width, clip.height) + "-" +
                          (s.lossless ? std::string("lossless") : "crf" + std::to_string(s.crf)) +
                          ".mkv");
-        EncodeSetting es;
-        es.preset = options.ratePreset;
-        es.withColor = false;
-        es.depthCrf = s.crf;
-        es.depthLossless = s.lossless;
-        es.threads = options.encodeThreads;
-        auto enc = encodeClip(clip, path, es);
+        auto enc = encodeDepthOnly(clip, path, options.ratePreset, VideoCodec::H264Gray, s.crf,
+                                   s.lossless, options.encodeThreads);
         if (!enc)
             return unexpected(enc.error());
         auto dec = decodeFile(path, backends, true, true, clip.width, clip.height);

@@ -17,6 +17,20 @@
 
 namespace depthtouch::media::bench {
 
+Result<Encoded> encodeDepthOnly(const Clip &clip, const std::string &path,
+                                const std::string &preset, VideoCodec codec, int crf, bool lossless,
+                                int threads)
+{
+    EncodeSetting es;
+    es.preset = preset;
+    es.withColor = false;
+    es.depthCodec = codec;
+    es.depthCrf = crf;
+    es.depthLossless = lossless;
+    es.threads = threads;
+    return encodeClip(clip, path, es);
+}
+
 double kbps(long long bytes, std::size_t frames, double fps)
 {
     const double seconds = static_cast<double>(frames) / fps;

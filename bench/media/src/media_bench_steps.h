@@ -45,6 +45,11 @@ struct Encoded {
 /// \return the sizes and times of encoding every frame of \a clip with \a s into \a path.
 Result<Encoded> encodeClip(const Clip &clip, const std::string &path, const EncodeSetting &s);
 
+/// \return encodeClip() of the depth alone: \a codec at \a crf (or lossless) with \a preset.
+Result<Encoded> encodeDepthOnly(const Clip &clip, const std::string &path,
+                                const std::string &preset, VideoCodec codec, int crf, bool lossless,
+                                int threads);
+
 /// One pass of the receiver over a file.
 struct Decoded {
     std::vector<double> frameSeconds; ///< Time of each next() that gave a paired frame.
