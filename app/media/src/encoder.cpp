@@ -365,6 +365,7 @@ Result<void> VideoEncoder::encode(const Image &image, double ptsSeconds)
 Result<void> VideoEncoder::flush()
 {
     Impl &e = *impl_;
+    e.muxer->beginDrain();
     const int ret = avcodec_send_frame(e.codec.get(), nullptr);
     if (ret < 0 && ret != AVERROR_EOF)
         return unexpected(Errc::InvalidArgument, "Failed to flush the encoder");
