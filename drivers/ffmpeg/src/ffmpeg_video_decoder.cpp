@@ -236,7 +236,7 @@ Result<hal::FrameRef> FfmpegVideoDecoder::Impl::lendFrame() noexcept
                        av_get_pix_fmt_name(static_cast<AVPixelFormat>(frame->format)));
             }
         }
-        const AVFrame *sys = inSystemMemory(*frame, hw, *hwScratch);
+        const AVFrame *sys = inSystemMemory(*frame, hw, hwScratch.get());
         if (copied && sys == nullptr)
             copied = unexpected(Errc::Io, "Failed to copy a hardware frame to memory");
         if (copied)

@@ -103,15 +103,17 @@ Result<HwAccel> attachHwAccel(AVCodecContext &ctx, const AVCodec &codec, HwAccel
                                       "decode this codec");
 }
 
-const AVFrame *inSystemMemory(const AVFrame &frame, const HwAccel &hw, AVFrame &scratch) noexcept
+const AVFrame *inSystemMemory(const AVFrame &frame, const HwAccel &hw, AVFrame *scratch) noexcept
 {
     if (!hw.active() || frame.format != hw.pixFmt)
         return &frame;
-    av_frame_unref(&scratch);
-    if (av_hwframe_transfer_data(&scratch, &frame, 0) < 0 ||
-        av_frame_copy_props(&scratch, &frame) < 0)
+    if (scratch == nullptr)
         return nullptr;
-    return &scratch;
+    av_frame_unref(scratch);
+    if (av_hwframe_transfer_data(scratch, &frame, 0) < 0 ||
+        av_frame_copy_props(scratch, &frame) < 0)
+        return nullptr;
+    return scratch;
 }
 
 } // namespace depthtouch::drivers::ffmpeg

@@ -48,7 +48,8 @@ Result<HwAccel> attachHwAccel(AVCodecContext &ctx, const AVCodec &codec, HwAccel
 
 /// \brief \a frame in system memory: itself when it is not a frame of \a hw, else copied into
 /// \a scratch (av_hwframe_transfer_data; NV12 or P010 for 8- and 10-bit 4:2:0), with its
-/// timestamps and flags. \return the frame to read, or nullptr when the copy failed.
-const AVFrame *inSystemMemory(const AVFrame &frame, const HwAccel &hw, AVFrame &scratch) noexcept;
+/// timestamps and flags. \a scratch may be null while \a hw is inactive.
+/// \return the frame to read, or nullptr when the copy failed.
+const AVFrame *inSystemMemory(const AVFrame &frame, const HwAccel &hw, AVFrame *scratch) noexcept;
 
 } // namespace depthtouch::drivers::ffmpeg
