@@ -145,11 +145,7 @@ Result<std::vector<CodecRow>> measureCodecs(const Clip &clip, const ReceiverBack
     if (clip.frames() < 2 || clip.fineNearnesses.empty())
         return unexpected(Errc::InvalidArgument, "clip has fewer than 2 frames or no 16-bit depth");
     const scene::SceneBox box{};
-    haptics::ReplayOptions ro;
-    ro.rate = options.hapticRate;
-    ro.method = haptics::Method::Modified;
-    ro.config = haptics::RendererConfig::forMethod(haptics::Method::Modified);
-    ro.config.box = box;
+    const haptics::ReplayOptions ro = paperReplay(options, box);
     const std::vector<std::uint8_t> source = sourceFrames(clip);
     const auto views =
         viewsOf(source, clip.width, clip.height, clip.fps, scene::SampleFormat::Gray16);

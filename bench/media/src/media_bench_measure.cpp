@@ -143,11 +143,7 @@ Result<RateAccuracy> measureRateAccuracy(const Clip &clip, const ReceiverBackend
     }
 
     const scene::SceneBox box{};
-    haptics::ReplayOptions ro;
-    ro.rate = options.hapticRate;
-    ro.method = haptics::Method::Modified;
-    ro.config = haptics::RendererConfig::forMethod(haptics::Method::Modified);
-    ro.config.box = box;
+    const haptics::ReplayOptions ro = paperReplay(options, box);
 
     // Each setting: encode depth only, decode it through the receiver, compare with lossless.
     struct Setting {

@@ -31,6 +31,16 @@ Result<Encoded> encodeDepthOnly(const Clip &clip, const std::string &path,
     return encodeClip(clip, path, es);
 }
 
+haptics::ReplayOptions paperReplay(const MediaBenchOptions &options, const scene::SceneBox &box)
+{
+    haptics::ReplayOptions ro;
+    ro.rate = options.hapticRate;
+    ro.method = haptics::Method::Modified;
+    ro.config = haptics::RendererConfig::forMethod(haptics::Method::Modified);
+    ro.config.box = box;
+    return ro;
+}
+
 double kbps(long long bytes, std::size_t frames, double fps)
 {
     const double seconds = static_cast<double>(frames) / fps;

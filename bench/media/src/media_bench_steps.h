@@ -50,6 +50,10 @@ Result<Encoded> encodeDepthOnly(const Clip &clip, const std::string &path,
                                 const std::string &preset, VideoCodec codec, int crf, bool lossless,
                                 int threads);
 
+/// \return the replay of the paper's renderer (modified proxy graph, section IV) at the options'
+/// haptic rate (Hz) in \a box (m).
+haptics::ReplayOptions paperReplay(const MediaBenchOptions &options, const scene::SceneBox &box);
+
 /// One pass of the receiver over a file.
 struct Decoded {
     std::vector<double> frameSeconds; ///< Time of each next() that gave a paired frame.
