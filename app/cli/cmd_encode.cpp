@@ -173,8 +173,11 @@ constexpr double kFarthestSensorRange = 12.0;
 int reportEncode(const EncodeCliOptions &o, const media::EncodeOptions &eo,
                  const media::NamedSource &color, const media::EncodeSummary &s)
 {
-    const int w = eo.width > 0 ? eo.width : color.info().width;
-    const int h = eo.height > 0 ? eo.height : color.info().height;
+    const bool ladder = !s.renditions.empty();
+    const int w =
+        ladder ? s.renditions.front().width : (eo.width > 0 ? eo.width : color.info().width);
+    const int h =
+        ladder ? s.renditions.front().height : (eo.height > 0 ? eo.height : color.info().height);
     std::printf("encoded %lld frame pairs %dx%d (%.2f s of video) in %.2f s: %.1f fps; color %.1f "
                 "kB, depth %.1f kB (%d-bit); ended by %s\n",
                 s.frames, w, h, s.duration, s.elapsed,
@@ -213,6 +216,10 @@ int reportEncode(const EncodeCliOptions &o, const media::EncodeOptions &eo,
     if (!s.audio.empty())
         std::printf("audio: %s, %.1f kB\n", s.audio.c_str(),
                     static_cast<double>(s.audioBytes) / 1000.0);
+    for (const media::RenditionSummary &r : s.renditions)
+        std::printf("rendition %dx%d: %s, peak %.0f kbit/s, average %.0f kbit/s\n", r.width,
+                    r.height, r.playlist.c_str(), static_cast<double>(r.peakBitRate) / 1000.0,
+                    static_cast<double>(r.averageBitRate) / 1000.0);
     if (s.interrupted) {
         std::fprintf(stderr,
                      "depthtouch encode: interrupted by %s; '%s' holds the %lld frame pairs "
@@ -342,6 +349,9 @@ const OptionRow<EncodeCliOptions> kEncodeRows[] = {
      {},
      kHideDefault},
     {"size", &EncodeCliOptions::size, "Output grid WxH (default: the color size)"},
+    {"renditions", &EncodeCliOptions::renditions,
+     "HLS rendition ladder: heights in pixels, tallest first (1080,720,480); each rendition "
+     "carries every stream; -o names their multivariant playlist"},
     {"threads", &EncodeCliOptions::threads, "Encoder threads per stream (0: automatic)"},
     {"loop", &EncodeCliOptions::loop,
      "Loop the inputs forever: image sequences, pictures, video files (a live source; stop with "

@@ -3,7 +3,9 @@
 
 #include "encode_settings.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <system_error>
 #include <sstream>
@@ -57,6 +59,26 @@ int setRateOptions(const EncodeCliOptions &o, media::EncodeOptions &eo)
         r.value = *v;
     }
     eo.gop = o.gop;
+    return kExitOk;
+}
+
+/// --renditions: comma-separated heights in pixels (their order and range are
+/// EncodeOptions::validate()'s).
+int setRenditions(const EncodeCliOptions &o, media::EncodeOptions &eo)
+{
+    std::size_t at = 0;
+    while (at < o.renditions.size()) {
+        const std::size_t comma = std::min(o.renditions.find(',', at), o.renditions.size());
+        const std::string item = o.renditions.substr(at, comma - at);
+        char *end = nullptr;
+        const long h = std::strtol(item.c_str(), &end, 10);
+        if (item.empty() || *end != '\0' || h <= 0 || h > 100000)
+            return fail(kExitBadInput, "--renditions must be heights in pixels, tallest first "
+                                       "(1080,720,480): '" +
+                                           item + "' is not one");
+        eo.renditions.push_back(static_cast<int>(h));
+        at = comma + 1;
+    }
     return kExitOk;
 }
 
@@ -202,6 +224,8 @@ int encodeOptionsFrom(const EncodeCliOptions &o, media::EncodeOptions &eo)
     if (const int rc = setOutputOptions(o, eo); rc != kExitOk)
         return rc;
     if (const int rc = setDepthOptions(o, eo); rc != kExitOk)
+        return rc;
+    if (const int rc = setRenditions(o, eo); rc != kExitOk)
         return rc;
     return checkEncodeOptions(o, eo);
 }

@@ -29,6 +29,7 @@ struct EncodeCliOptions {
     std::string depthCodec; ///< h264, hevc, ffv1; empty: by --depth-bits.
     int depthBits = 0;      ///< 0: the codec's own (h264 8, hevc 10, ffv1 16).
     std::string size;
+    std::string renditions; ///< --renditions: heights, tallest first ("1080,720,480").
     int threads = 0;
     long long frames = 0;
     double duration = 0.0;

@@ -15,10 +15,13 @@
 #include "depthtouch/media/material_track.h"
 #include "depthtouch/platform/clock.h"
 #include "depth_pipeline.h"
+#include "encode_outputs.h"
 
 namespace depthtouch::media {
 
 namespace {
+
+constexpr std::size_t kMaxRenditions = 8; ///< Apple's ladders have up to 8 or 9 video rungs.
 
 std::string number(double v)
 {
@@ -76,6 +79,28 @@ Result<void> validateRates(const EncodeOptions &o, Container c)
     return ok();
 }
 
+/// The ladder's heights: even, tallest first, distinct, for an HLS file output.
+Result<void> validateRenditions(const std::vector<int> &heights, const std::string &output,
+                                Container c)
+{
+    if (heights.empty())
+        return ok();
+    if (c != Container::Hls || isOutputUrl(output))
+        return unexpected(Errc::InvalidArgument,
+                          "--renditions needs an HLS output file (.m3u8, not a URL)");
+    if (heights.size() > kMaxRenditions)
+        return unexpected(Errc::InvalidArgument, "--renditions takes at most 8 heights");
+    for (std::size_t i = 0; i < heights.size(); ++i) {
+        if (heights[i] < 16 || heights[i] > 8192 || heights[i] % 2 != 0)
+            return unexpected(Errc::InvalidArgument,
+                              "--renditions heights must be even, 16..8192 pixels");
+        if (i > 0 && heights[i] >= heights[i - 1])
+            return unexpected(Errc::InvalidArgument,
+                              "--renditions heights must be given tallest first, each once");
+    }
+    return ok();
+}
+
 } // namespace
 
 Result<void> EncodeOptions::validate() const
@@ -111,6 +136,8 @@ Result<void> EncodeOptions::validate() const
     if (enhance && !(enhanceOptions.sampling.tolerance > 0.0f))
         return unexpected(Errc::InvalidArgument, "--enhance-tolerance must be positive");
     const Container c = container.value_or(containerForOutput(output));
+    if (auto v = validateRenditions(renditions, output, c); !v)
+        return v;
     if (depthCodec == VideoCodec::Ffv1Gray16 && c != Container::Matroska)
         return unexpected(Errc::InvalidArgument, "FFV1 gray16 depth needs an MKV output");
     return validateRates(*this, c);
@@ -133,35 +160,28 @@ depthTags(const std::optional<depth::DepthRange> &range, depth::DepthMapping map
 
 namespace {
 
+using detail::ColorShape;
+
 /// A color and a depth frame read together.
 struct Pair {
     SourceFrame color;
     SourceFrame depth;
 };
 
-/// The size and rate the color is encoded at.
-struct ColorShape {
-    int width = 0;
-    int height = 0;
-    double fps = 0.0;
-};
-
-/// The muxer and the encoders (material: optional); the encoders refer to the muxer's streams,
-/// so they are declared after it and go first.
-struct Outputs {
-    std::unique_ptr<Muxer> muxer;
-    std::unique_ptr<VideoEncoder> color;
-    std::unique_ptr<VideoEncoder> depth;
-    std::unique_ptr<VideoEncoder> material;
-    std::unique_ptr<AudioTrack> audio; ///< Null without sound.
-};
-
 /// \return the encoded size (--size or the color's) and rate of \a color, checked for 4:2:0
 /// H.264.
 Result<ColorShape> colorShape(FrameSource &color, const EncodeOptions &options)
 {
-    const int width = options.width > 0 ? options.width : color.info().width;
-    const int height = options.height > 0 ? options.height : color.info().height;
+    int width = options.width > 0 ? options.width : color.info().width;
+    int height = options.height > 0 ? options.height : color.info().height;
+    if (!options.renditions.empty() && height > 0) {
+        // A ladder is encoded at its tallest rendition; the others are made from that.
+        auto plans = detail::planRenditions(options.output, options.renditions, width, height);
+        if (!plans)
+            return unexpected(plans.error());
+        width = plans->front().width;
+        height = plans->front().height;
+    }
     if (width % 2 != 0 || height % 2 != 0)
         return unexpected(Errc::InvalidArgument,
                           "Color is an odd size; 4:2:0 needs even sizes (use --size)");
@@ -290,64 +310,6 @@ void reportProgress(const EncodeCallbacks &callbacks, long long frames, long lon
     callbacks.progress(p);
 }
 
-/// Opens the muxer with \a tags and the color, depth and (\a material) material encoders; the
-/// header is written.
-Result<void> openOutputs(const EncodeOptions &options, const ColorShape &shape,
-                         const std::vector<std::pair<std::string, std::string>> &tags,
-                         bool material, Outputs &out)
-{
-    MuxerOptions mo;
-    mo.output = options.output;
-    mo.container = options.container.value_or(containerForOutput(options.output));
-    mo.tags = tags;
-    mo.live = options.paced;
-    mo.muxRate = options.muxRate;
-    auto muxer = Muxer::open(mo);
-    if (!muxer)
-        return unexpected(muxer.error());
-    out.muxer = std::move(*muxer);
-
-    VideoEncoderConfig cc = colorStreamConfig(shape.width, shape.height, shape.fps, options.crf,
-                                              options.preset, options.threads);
-    // A live stream and HLS segments: a key frame every 2 s (where a receiver can join, where a
-    // segment can end).
-    cc.gop = options.gop;
-    if (cc.gop == 0 && (options.paced || mo.container == Container::Hls))
-        cc.gop = std::max(1, static_cast<int>(std::lround(2.0 * shape.fps)));
-    cc.rate = options.colorRate;
-    auto colorEnc = VideoEncoder::create(cc, *out.muxer);
-    if (!colorEnc)
-        return unexpected(colorEnc.error());
-    out.color = std::move(*colorEnc);
-
-    VideoEncoderConfig dc = cc;
-    dc.codec = options.depthCodec;
-    dc.crf = options.depthCrf;
-    dc.lossless = options.depthLossless;
-    dc.rate = options.depthRate;
-    dc.title = "depth";
-    dc.tags = tags;
-    auto depthEnc = VideoEncoder::create(dc, *out.muxer);
-    if (!depthEnc)
-        return unexpected(depthEnc.error());
-    out.depth = std::move(*depthEnc);
-    if (material) {
-        auto materialEnc = VideoEncoder::create(materialStreamConfig(cc), *out.muxer);
-        if (!materialEnc)
-            return unexpected(materialEnc.error());
-        out.material = std::move(*materialEnc);
-    }
-    if (!options.audioSource.empty()) {
-        auto audio = AudioTrack::open(options.audioSource, options.audioFromPicture, *out.muxer);
-        if (!audio)
-            return unexpected(audio.error());
-        if (!*audio && options.audioRequired)
-            return unexpected(Errc::InvalidArgument, "The --audio source has no audio stream");
-        out.audio = std::move(*audio);
-    }
-    return out.muxer->start();
-}
-
 /// Waits until \a pts seconds after \a start (the media rate of a paced output), in steps of at
 /// most 50 ms so that \a stopped() ends the wait promptly. \return false when stopped.
 template <class Stopped>
@@ -432,8 +394,8 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth, Fram
     // Output: container tags and streams, then the header.
     const auto tags = depthTags(range, mapping, pipeline.bits(), pipeline.occupancy().threshold);
     summary.mapping = mapping;
-    Outputs out;
-    DT_TRY(openOutputs(options, shape, tags, material != nullptr, out));
+    detail::EncodeOutputs out;
+    DT_TRY(out.open(options, shape, tags, material != nullptr, metric, range));
     std::optional<MaterialTrack> materials;
     if (material != nullptr)
         materials.emplace(*material);
@@ -484,14 +446,17 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth, Fram
         auto depthImage = pipeline.process(pair.depth.image, summary);
         if (!depthImage)
             return unexpected(depthImage.error());
-        DT_TRY(out.color->encode(pair.color.image, pts));
-        DT_TRY(out.depth->encode(*depthImage, pts));
-        if (materials)
-            DT_TRY(materials->encodeNext(*out.material, shape.width, shape.height, pts));
+        std::optional<Image> materialImage;
+        if (materials) {
+            auto m = materials->next(shape.width, shape.height);
+            if (!m)
+                return unexpected(m.error());
+            materialImage = std::move(*m);
+        }
         lastPts = pts;
         summary.duration = pts + 1.0 / fps;
-        if (out.audio)
-            DT_TRY(out.audio->writeUntil(summary.duration));
+        DT_TRY(out.encode(pair.color.image, pair.depth.image, *depthImage,
+                          materialImage ? &*materialImage : nullptr, pts, summary.duration));
         ++summary.frames;
         if (callbacks.progress)
             reportProgress(callbacks, summary.frames, expected,
@@ -499,26 +464,9 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth, Fram
     }
     if (summary.frames == 0)
         return unexpected(Errc::InvalidArgument, "Nothing to encode (no frame pair)");
-    DT_TRY(out.color->flush());
-    DT_TRY(out.depth->flush());
-    summary.colorBytes = out.color->bytes();
-    summary.depthBytes = out.depth->bytes();
-    if (out.material) {
-        DT_TRY(out.material->flush());
-        summary.materialBytes = out.material->bytes();
+    DT_TRY(out.finish(summary, summary.duration));
+    if (materials)
         summary.materialFrames = materials->framesRead();
-    }
-    if (out.audio) {
-        DT_TRY(out.audio->finish(summary.duration));
-        summary.audio = out.audio->description();
-        summary.audioBytes = out.audio->bytes();
-    }
-    // The encoders refer to the muxer's streams: they go first.
-    out.color.reset();
-    out.depth.reset();
-    out.material.reset();
-    out.audio.reset();
-    DT_TRY(out.muxer->finish());
     summary.elapsed = platform::toSeconds(clock.now() - start);
     return summary;
 }

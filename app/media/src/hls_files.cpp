@@ -17,10 +17,14 @@ namespace {
 
 constexpr const char kTmpSuffix[] = ".tmp"; // what `hls_flags temp_file` appends
 
+bool endsWith(const std::string &name, const char *suffix, std::size_t n)
+{
+    return name.size() > n && name.compare(name.size() - n, n, suffix) == 0;
+}
+
 bool endsWithTmp(const std::string &name)
 {
-    const std::size_t n = sizeof kTmpSuffix - 1;
-    return name.size() > n && name.compare(name.size() - n, n, kTmpSuffix) == 0;
+    return endsWith(name, kTmpSuffix, sizeof kTmpSuffix - 1);
 }
 
 } // namespace
@@ -39,17 +43,28 @@ int HlsFiles::open(AVFormatContext *s, AVIOContext **pb, const char *url, int fl
     auto *self = static_cast<HlsFiles *>(s->opaque);
     if (self == nullptr || self->defaultOpen_ == nullptr)
         return AVERROR(EINVAL);
+    bool segment = false;
     if ((flags & AVIO_FLAG_WRITE) != 0 && url != nullptr) {
         try {
             std::string name(url);
             if (endsWithTmp(name))
                 name.resize(name.size() - (sizeof kTmpSuffix - 1));
+            segment = endsWith(name, ".ts", 3);
             self->written_.insert(std::move(name));
         } catch (const std::bad_alloc &) {
             return AVERROR(ENOMEM);
         }
     }
-    return self->defaultOpen_(s, pb, url, flags, options);
+    const int ret = self->defaultOpen_(s, pb, url, flags, options);
+    if (ret >= 0 && *pb != nullptr && (flags & AVIO_FLAG_WRITE) != 0) {
+        try {
+            self->open_[*pb] = segment;
+        } catch (const std::bad_alloc &) {
+            avio_closep(pb); // not given to the muxer: closed here
+            return AVERROR(ENOMEM);
+        }
+    }
+    return ret;
 }
 
 int HlsFiles::close(AVFormatContext *s, AVIOContext *pb)
@@ -58,9 +73,22 @@ int HlsFiles::close(AVFormatContext *s, AVIOContext *pb)
     // error flag does.
     avio_flush(pb);
     const int failed = pb->error;
+    const long long size = avio_tell(pb);
+    auto *self = static_cast<HlsFiles *>(s->opaque);
+    if (self != nullptr) {
+        const auto it = self->open_.find(pb);
+        if (it != self->open_.end()) {
+            if (it->second && failed >= 0) {
+                try {
+                    self->segmentBytes_.push_back(size);
+                } catch (const std::bad_alloc &) { // a BANDWIDTH figure short of one segment
+                }
+            }
+            self->open_.erase(it);
+        }
+    }
     const int closed = avio_close(pb);
     const int ret = failed < 0 ? failed : closed;
-    auto *self = static_cast<HlsFiles *>(s->opaque);
     if (self != nullptr && ret < 0 && self->error_ == 0)
         self->error_ = ret;
     return ret;

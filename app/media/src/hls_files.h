@@ -6,8 +6,10 @@
 /// reports success, and so that an output that failed leaves none of them behind.
 /// Thread-safety: used by the thread that drives the muxer (the callbacks run inside its calls).
 
+#include <map>
 #include <set>
 #include <string>
+#include <vector>
 
 struct AVFormatContext;
 struct AVIOContext;
@@ -28,6 +30,13 @@ public:
     /// \brief Removes every file written (under its final and its temporary name).
     void removeAll() noexcept;
 
+    /// \return the bytes of each MPEG-TS segment closed so far, in the order they were written
+    /// (for a multivariant playlist's BANDWIDTH, renditions.h).
+    [[nodiscard]] const std::vector<long long> &segmentBytes() const noexcept
+    {
+        return segmentBytes_;
+    }
+
 private:
     static int open(AVFormatContext *s, AVIOContext **pb, const char *url, int flags,
                     AVDictionary **options);
@@ -35,7 +44,9 @@ private:
 
     int (*defaultOpen_)(AVFormatContext *, AVIOContext **, const char *, int,
                         AVDictionary **) = nullptr;
-    std::set<std::string> written_; ///< Final names (without the muxer's ".tmp").
+    std::set<std::string> written_;            ///< Final names (without the muxer's ".tmp").
+    std::map<const AVIOContext *, bool> open_; ///< Open files: true for a segment (".ts").
+    std::vector<long long> segmentBytes_;
     int error_ = 0;
 };
 

@@ -264,6 +264,11 @@ long long Muxer::bytesWritten() const noexcept
     return m.fmt != nullptr && m.fmt->pb != nullptr ? avio_tell(m.fmt->pb) : 0;
 }
 
+std::vector<long long> Muxer::segmentBytes() const
+{
+    return impl_->hls.segmentBytes();
+}
+
 Container Muxer::container() const noexcept
 {
     return impl_->container;

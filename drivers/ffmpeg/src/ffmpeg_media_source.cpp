@@ -14,6 +14,7 @@
 #include "depthtouch/platform/log.h"
 #include "ffmpeg_common.h"
 #include "h264_sps.h"
+#include "hls_variants.h"
 #include "stream_tags.h"
 #include "timed_metadata_reader.h"
 
@@ -32,7 +33,7 @@ using namespace ffmpeg;
 
 namespace {
 
-constexpr const char *kOptionKeys[] = {"fps", "format", "timeout_ms"};
+constexpr const char *kOptionKeys[] = {"fps", "format", "timeout_ms", "rendition"};
 constexpr AVRational kNanoseconds{1, 1'000'000'000};
 constexpr AVRational kMicroseconds{1, AV_TIME_BASE}; // AV_TIME_BASE_Q is a C compound literal
 
@@ -73,6 +74,12 @@ Result<FfmpegSourceSettings> FfmpegSourceSettings::parse(hal::OptionList options
     s.timeoutMs = *timeout;
     if (auto f = options.find("format"))
         s.format = std::string(*f);
+    if (auto r = options.find("rendition")) {
+        auto choice = parseRenditionChoice(*r);
+        if (!choice)
+            return unexpected(choice.error());
+        s.renditionHeight = choice->maxHeight;
+    }
     return s;
 }
 
@@ -266,6 +273,7 @@ Result<void> FfmpegMediaSource::Impl::openInput(const char *url)
         return unexpected(
             failure(r, errcOf(r, Errc::InvalidArgument), "Failed to read the stream list"));
     }
+    keepOneVariant(*ctx, RenditionChoice{settings.renditionHeight}); // sizes known now
     return ok();
 }
 
@@ -275,6 +283,8 @@ void FfmpegMediaSource::Impl::addStream(unsigned i, int videoStreams, int videoO
     AVFormatContext *ctx = fmt.get();
     const AVStream &st = *ctx->streams[i];
     const AVCodecParameters &par = *st.codecpar;
+    if (st.discard == AVDISCARD_ALL) // another rendition (hls_variants.h)
+        return;
     if (par.codec_type == AVMEDIA_TYPE_AUDIO)
         addAudioStream(st);
     if (par.codec_type != AVMEDIA_TYPE_VIDEO)
@@ -394,9 +404,13 @@ Result<void> FfmpegMediaSource::Impl::open(const char *url)
 {
     DT_TRY(openInput(url));
     AVFormatContext *ctx = fmt.get();
+    const auto keptVideo = [ctx](unsigned i) {
+        return ctx->streams[i]->codecpar->codec_type == AVMEDIA_TYPE_VIDEO &&
+               ctx->streams[i]->discard != AVDISCARD_ALL;
+    };
     int videoStreams = 0;
     for (unsigned i = 0; i < ctx->nb_streams; ++i)
-        if (ctx->streams[i]->codecpar->codec_type == AVMEDIA_TYPE_VIDEO)
+        if (keptVideo(i))
             ++videoStreams;
     if (videoStreams == 0)
         return unexpected(Errc::InvalidArgument, "The input has no video stream");
@@ -415,7 +429,7 @@ Result<void> FfmpegMediaSource::Impl::open(const char *url)
     int videoOrdinal = 0;
     for (unsigned i = 0; i < ctx->nb_streams; ++i) {
         addStream(i, videoStreams, videoOrdinal, service.get());
-        if (ctx->streams[i]->codecpar->codec_type == AVMEDIA_TYPE_VIDEO)
+        if (keptVideo(i))
             ++videoOrdinal;
     }
     if (info.streams.empty())

@@ -44,6 +44,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "depthtouch/depth/conversion.h"
 #include "depthtouch/depth/enhance.h"
@@ -77,6 +78,11 @@ struct EncodeOptions {
     bool audioFromPicture = false;
     /// A source without an audio stream is an error (`--audio` named it), not silence.
     bool audioRequired = false;
+    /// An HLS rendition ladder (`--renditions`): the heights (pixels, even, tallest first, at
+    /// most the output grid's) of renditions that each carry color, depth, material and sound at
+    /// that height and the grid's aspect; the output names their multivariant playlist
+    /// (docs/making-content.md "A rendition ladder"). Empty: one output.
+    std::vector<int> renditions;
     int width = 0; ///< Output grid (pixels, even); 0 = the color size.
     int height = 0;
     /// Write at the media rate (as `ffmpeg -re`): pair n leaves no earlier than its PTS after the
@@ -125,9 +131,19 @@ struct EnhanceTotals {
     double levelsMax = 255.0;        ///< The scale of the levels above (2^bits − 1).
 };
 
+/// \brief One rendition of a ladder, as written in the multivariant playlist.
+struct RenditionSummary {
+    int width = 0;                ///< Pixels.
+    int height = 0;               ///< Pixels.
+    std::string playlist;         ///< Its media playlist's path.
+    long long peakBitRate = 0;    ///< BANDWIDTH (RFC 8216 §4.3.4.2), bits/s.
+    long long averageBitRate = 0; ///< AVERAGE-BANDWIDTH, bits/s.
+};
+
 /// \brief What the encode did.
 struct EncodeSummary {
     long long frames = 0;      ///< Pairs written.
+    /// Compressed bytes of each kind, summed over the renditions of a ladder.
     long long colorBytes = 0;  ///< Compressed color bytes.
     long long depthBytes = 0;  ///< Compressed depth bytes.
     long long materialBytes = 0;  ///< Compressed material bytes (0 without a material track).
@@ -149,6 +165,7 @@ struct EncodeSummary {
     long long repeatedFrames = 0; ///< Depth frames without valid samples (previous repeated).
     bool depthResampled = false;  ///< Depth was resampled to the output grid.
     std::string endedBy;          ///< "color", "depth", "frames", "duration" or "stop".
+    std::vector<RenditionSummary> renditions; ///< A ladder's, tallest first; empty without.
     std::optional<EnhanceTotals> enhance;
 };
 

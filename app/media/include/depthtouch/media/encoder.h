@@ -102,8 +102,11 @@ public:
     /// \brief Closes the output without a trailer and removes a file output's temporary file.
     void abort() noexcept;
 
-    /// \return bytes written so far.
+    /// \return bytes written so far (0 for HLS, whose muxer writes files of its own).
     [[nodiscard]] long long bytesWritten() const noexcept;
+    /// \return HLS file output: the bytes of each MPEG-TS segment completed so far, in order;
+    /// empty otherwise.
+    [[nodiscard]] std::vector<long long> segmentBytes() const;
     /// \return the container.
     [[nodiscard]] Container container() const noexcept;
 

@@ -45,6 +45,10 @@ struct FfmpegSourceSettings {
     double fps = 0.0;       ///< Image-sequence frame rate (`fps`); 0 = demuxer default.
     std::string format;     ///< Forced demuxer (`format`); empty = probe.
     int timeoutMs = 10'000; ///< Longest blocking libavformat call (`timeout_ms`).
+    /// HLS multivariant input: the variant kept (`rendition`: highest, lowest or a height in
+    /// pixels, the tallest at most that); 0 = highest, -1 = lowest (drivers/ffmpeg/src/
+    /// hls_variants.h).
+    int renditionHeight = 0;
 
     /// \return the settings, or InvalidArgument for an unknown key or a bad value.
     static Result<FfmpegSourceSettings> parse(hal::OptionList options);
