@@ -37,7 +37,7 @@ Result<void> FrameStore::allocate(int count, hal::PixelFormat format, int width,
     auto slots = std::make_unique<Slot[]>(static_cast<std::size_t>(count));
     for (int i = 0; i < count; ++i) {
         Slot &s = slots[static_cast<std::size_t>(i)];
-        s.pixels = std::make_unique<std::uint8_t[]>(bytes);
+        s.pixels = std::make_unique_for_overwrite<std::uint8_t[]>(bytes);
         s.frame.image.width = width;
         s.frame.image.height = height;
         s.frame.image.format = format;

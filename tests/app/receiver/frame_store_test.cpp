@@ -1,8 +1,14 @@
 // receiver::FrameStore::allocate(): the pool sizes its header documents (1..1024 frames), bounds
-// included, and a refusal that leaves the pool as it was.
+// included, and a refusal that leaves the pool as it was; and the pixels that become resident only
+// when a frame is written into its slot.
 #include "depthtouch/receiver/frame_store.h"
 
 #include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cstring>
+#include <fstream>
 
 namespace depthtouch::receiver {
 namespace {
@@ -24,6 +30,41 @@ TEST(FrameStoreTest, poolsOfOneTo1024FramesAreMadeAndOthersRefused)
     }
     // AND so is a frame with no bytes
     EXPECT_FALSE(store.allocate(4, hal::PixelFormat::Gray8, 0, 2));
+}
+
+/// \return this process's resident memory (bytes), from /proc/self/statm.
+long long residentBytes()
+{
+    std::ifstream statm("/proc/self/statm");
+    long long size = 0;
+    long long resident = 0;
+    statm >> size >> resident;
+    return resident * sysconf(_SC_PAGESIZE);
+}
+
+TEST(FrameStoreTest, aSlotBecomesResidentOnlyWhenAFrameIsWrittenIntoIt)
+{
+    // GIVEN 32 slots of 3840 x 2160 Gray16 (16.6 MB each, 531 MB in all)
+    constexpr int kW = 3840;
+    constexpr int kH = 2160;
+    constexpr long long kFrame = 2LL * kW * kH;
+    const long long before = residentBytes();
+    FrameStore store;
+    ASSERT_TRUE(store.allocate(32, hal::PixelFormat::Gray16, kW, kH));
+    // THEN allocating them made less than two frames resident
+    const long long allocated = residentBytes();
+    EXPECT_LT(allocated - before, 2 * kFrame) << "allocate() touched the slots' pixels";
+    // WHEN three frames are written, one after another, each released before the next
+    for (int i = 0; i < 3; ++i) {
+        StoredFrame *w = nullptr;
+        FrameHandle h = store.acquire(w);
+        ASSERT_TRUE(h);
+        std::memset(w->image.row(0, 0), 0x5a, static_cast<std::size_t>(kFrame));
+    }
+    // THEN they went into the same slot: about one frame became resident, not three
+    const long long written = residentBytes();
+    EXPECT_GT(written - allocated, kFrame * 9 / 10);
+    EXPECT_LT(written - allocated, 2 * kFrame);
 }
 
 } // namespace
