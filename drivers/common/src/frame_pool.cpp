@@ -41,8 +41,9 @@ Result<void> FramePool::allocate(int count, hal::PixelFormat format, int width, 
     for (int i = 0; i < count; ++i) {
         Slot &s = slots[static_cast<std::size_t>(i)];
         if (pixels == Pixels::Now) {
-            s.pixels.assign(hal::imageBytes(format, width, height), 0);
-            pointPlanes(s.frame.image, s.pixels.data(), format, width, height);
+            s.pixelBytes = hal::imageBytes(format, width, height);
+            s.pixels = std::make_unique_for_overwrite<std::uint8_t[]>(s.pixelBytes);
+            pointPlanes(s.frame.image, s.pixels.get(), format, width, height);
         } else {
             s.frame.image.width = width;
             s.frame.image.height = height;
@@ -62,14 +63,15 @@ Result<void> FramePool::ensurePixels(std::uint32_t slot) noexcept
     DT_DEBUG_ASSERT(slot < static_cast<std::uint32_t>(count_));
     Slot &s = slots_[slot];
     const std::size_t bytes = hal::imageBytes(format_, width_, height_);
-    if (s.pixels.size() != bytes) {
+    if (s.pixelBytes != bytes || !s.pixels) {
         try {
-            s.pixels.assign(bytes, 0);
+            s.pixels = std::make_unique_for_overwrite<std::uint8_t[]>(bytes);
+            s.pixelBytes = bytes;
         } catch (const std::bad_alloc &) {
             return unexpected(Errc::OutOfResources, "Failed to allocate a frame's pixels");
         }
     }
-    pointPlanes(s.frame.image, s.pixels.data(), format_, width_, height_);
+    pointPlanes(s.frame.image, s.pixels.get(), format_, width_, height_);
     return ok();
 }
 

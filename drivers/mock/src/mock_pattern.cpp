@@ -83,14 +83,31 @@ double mockDepthNearness(double x, double y, int width, int height, double secon
     return kBackgroundNearness + (1.0 - kBackgroundNearness) * bump;
 }
 
+namespace {
+
+/// Writes 0 into every byte of \a image's planes.
+void zeroPlanes(const hal::ImageView &image) noexcept
+{
+    for (int p = 0; p < hal::planeCount(image.format); ++p) {
+        const hal::PlaneLayout l = hal::planeLayout(image.format, image.width, image.height, p);
+        for (int y = 0; y < l.rows; ++y)
+            std::memset(image.row(p, y), 0, static_cast<std::size_t>(l.rowBytes));
+    }
+}
+
+} // namespace
+
 void renderMockDepth(const hal::ImageView &image, double seconds) noexcept
 {
     const int bits = hal::bitsPerSample(image.format);
     const bool gray = image.format == hal::PixelFormat::Gray8 ||
                       image.format == hal::PixelFormat::Gray10 ||
                       image.format == hal::PixelFormat::Gray16;
-    if (!gray || image.empty())
+    if (!gray || image.empty()) { // no pattern for this layout: zeros, as the pools no longer are
+        if (!image.empty())
+            zeroPlanes(image);
         return;
+    }
     const double maxValue = static_cast<double>((1u << bits) - 1u);
     const int bytesPerSample = bits > 8 ? 2 : 1;
     for (int y = 0; y < image.height; ++y) {
@@ -139,7 +156,8 @@ void renderMockColor(const hal::ImageView &image, std::uint32_t frameIndex) noex
             }
         }
         break;
-    default:
+    default: // no pattern for this layout: black (the frame pools do not zero their frames)
+        zeroPlanes(image);
         return;
     }
     // The index stamp: four bytes of row 0 (needs a row of at least 4 bytes).

@@ -5,10 +5,9 @@
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cstring>
-#include <fstream>
+
+#include "support/resident_memory.h"
 
 namespace depthtouch::receiver {
 namespace {
@@ -32,15 +31,7 @@ TEST(FrameStoreTest, poolsOfOneTo1024FramesAreMadeAndOthersRefused)
     EXPECT_FALSE(store.allocate(4, hal::PixelFormat::Gray8, 0, 2));
 }
 
-/// \return this process's resident memory (bytes), from /proc/self/statm.
-long long residentBytes()
-{
-    std::ifstream statm("/proc/self/statm");
-    long long size = 0;
-    long long resident = 0;
-    statm >> size >> resident;
-    return resident * sysconf(_SC_PAGESIZE);
-}
+using testing::residentBytes;
 
 TEST(FrameStoreTest, aSlotBecomesResidentOnlyWhenAFrameIsWrittenIntoIt)
 {

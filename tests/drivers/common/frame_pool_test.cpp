@@ -5,6 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+
+#include "support/resident_memory.h"
+
 namespace depthtouch::drivers {
 namespace {
 
@@ -51,6 +55,31 @@ TEST(FramePoolTest, framesHavePlanesAtOnceByDefault)
     EXPECT_FALSE(f->image.empty());
     EXPECT_EQ(f->image.planes[1].strideBytes, 4);
     pool.abandon(slot);
+}
+
+/// GIVEN a pool of 8 frames of 3840 x 2160 Gray16 (16.6 MB each) with pixels now WHEN it is made
+/// THEN less than two frames become resident; a frame written, released and written again takes
+/// the same slot: about one frame resident (the decoder's pool follows the frames lent at once).
+TEST(FramePoolTest, aFrameBecomesResidentOnlyWhenWritten)
+{
+    constexpr int kW = 3840;
+    constexpr int kH = 2160;
+    constexpr long long kFrame = 2LL * kW * kH;
+    const long long before = testing::residentBytes();
+    FramePool pool;
+    ASSERT_TRUE(pool.allocate(8, hal::PixelFormat::Gray16, kW, kH));
+    const long long allocated = testing::residentBytes();
+    EXPECT_LT(allocated - before, 2 * kFrame) << "allocate() touched the frames' pixels";
+    for (int i = 0; i < 3; ++i) {
+        std::uint32_t slot = 99;
+        hal::Frame *f = pool.acquire(slot);
+        ASSERT_NE(f, nullptr);
+        std::memset(f->image.row(0, 0), 0x5a, static_cast<std::size_t>(kFrame));
+        pool.releaseFrame(slot);
+    }
+    const long long written = testing::residentBytes();
+    EXPECT_GT(written - allocated, kFrame * 9 / 10);
+    EXPECT_LT(written - allocated, 2 * kFrame);
 }
 
 } // namespace

@@ -65,7 +65,10 @@ public:
 
 private:
     struct Slot {
-        std::vector<std::uint8_t> pixels;
+        /// Not zero-filled: its pages become resident when a frame is first written into it
+        /// (acquire() takes the lowest free slot), as the receiver's FrameStore.
+        std::unique_ptr<std::uint8_t[]> pixels;
+        std::size_t pixelBytes = 0;
         hal::Frame frame;
         std::atomic<bool> inUse{false};
     };
