@@ -12,8 +12,7 @@
 /// Memory: allocate() reserves every slot's pixels but writes none of them (no zero fill), and
 /// acquire() hands out the lowest free slot, so a slot's pages become resident only when a frame is
 /// first written into it: the store's resident size follows the most frames held at once, not its
-/// count (docs/memory.md "4K"). Every
-/// written frame fills its planes whole before anyone reads it.
+/// count (docs/memory.md "4K"). Every written frame fills its planes whole before anyone reads it.
 ///
 /// Zero-copy frames: a slot may instead hold the decoder's frame itself (StoredFrame::decoded, a
 /// colour frame lent as dma-bufs); the last handle's release returns it to the decoder.
