@@ -6,6 +6,8 @@
 # ff ARGS...        the ffmpeg CLI, quiet, overwriting, never reading stdin.
 # probe ARGS...     ffprobe, errors only.
 # fail MESSAGE      "FAIL: MESSAGE" on stdout and exit 1.
+# e2e_wait_served EXE URL OUT  `EXE probe URL` (output in OUT) until it succeeds, for a server just
+#                   started: up to 5 s, then fail with its output.
 
 e2e_need() {
     for tool in "$@"; do
@@ -20,3 +22,11 @@ e2e_work() {
 ff() { ffmpeg -nostdin -hide_banner -v error -y "$@" </dev/null; }
 probe() { ffprobe -v error "$@"; }
 fail() { echo "FAIL: $*"; exit 1; }
+e2e_wait_served() {
+    tries=0
+    until "$1" probe "$2" >"$3" 2>&1; do
+        tries=$((tries + 1))
+        [ $tries -lt 25 ] || { cat "$3"; fail "no server answers at $2"; }
+        sleep 0.2
+    done
+}

@@ -37,12 +37,7 @@ lowest=$(sed -n 's/.*RESOLUTION=\([0-9]*\)x60.*/\1,60/p' "$work/www/show.m3u8")
 port=$((20000 + $$ % 20000))
 (cd "$work/www" && exec python3 -m http.server --bind 127.0.0.1 "$port") >"$work/http.log" 2>&1 &
 server=$!
-i=0
-until "$exe" probe "http://127.0.0.1:$port/show.m3u8" >"$work/probe.txt" 2>&1; do
-    i=$((i + 1))
-    [ $i -lt 25 ] || { cat "$work/probe.txt"; fail "the HTTP server on port $port does not serve"; }
-    sleep 0.2
-done
+e2e_wait_served "$exe" "http://127.0.0.1:$port/show.m3u8" "$work/probe.txt"
 play_size() { # $1: the source option's value or "" (the default); prints the played color size
     opt=""
     [ -n "$1" ] && opt="--source-options rendition=$1"

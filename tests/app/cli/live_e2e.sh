@@ -48,12 +48,7 @@ grep -q "depth (MPEG-TS timed metadata)" "$work/seg.txt" && grep -q "^depth meta
     { cat "$work/seg.txt"; fail "hls: a segment carries the roles and the depth metadata"; }
 busybox httpd -f -p "127.0.0.1:$port" -h "$work/www" &
 httpd=$!
-i=0
-until "$exe" probe "http://127.0.0.1:$port/stream.m3u8" >"$work/probe.txt" 2>&1; do
-    i=$((i + 1))
-    [ $i -lt 20 ] || { cat "$work/probe.txt"; fail "hls: httpd on port $port does not serve the playlist"; }
-    sleep 0.2
-done
+e2e_wait_served "$exe" "http://127.0.0.1:$port/stream.m3u8" "$work/probe.txt"
 grep -q "every color frame is paired" "$work/probe.txt" && grep -q "90 frames" "$work/probe.txt" ||
     { cat "$work/probe.txt"; fail "hls: probe over HTTP pairs every frame"; }
 "$exe" play "http://127.0.0.1:$port/stream.m3u8" --display mock --haptic none --stats "$work/hls.json" \
