@@ -33,6 +33,7 @@ struct ProbeOptions {
     bool json = false;
     bool decode = false;
     std::string source;  ///< Media source backend; empty: mock for mock: URLs, else ffmpeg.
+    std::string sourceOptions; ///< The source's options (K=V,..), as play's --source-options.
     std::string decoder; ///< Decoder backend for --decode; empty: matches the source.
 };
 
@@ -48,6 +49,8 @@ const OptionRow<ProbeOptions> kProbeRows[] = {
      "Also decode and pair every frame (concealed frames, decode errors)"},
     {"source", &ProbeOptions::source,
      "Media source backend (default: ffmpeg; mock for mock: URLs)"},
+    {"source-options", &ProbeOptions::sourceOptions,
+     "Options of the media source, as play's (e.g. rendition=480 for an HLS ladder)"},
     {"decoder", &ProbeOptions::decoder, "Video decoder backend for --decode (default: ffmpeg)"},
 };
 
@@ -91,13 +94,15 @@ int runDecodePass(const ProbeOptions &opt, const std::string &sourceName, bool m
 
 int runProbe(const ProbeOptions &opt)
 {
-    // Library warnings would interleave with the report; the report says what matters.
-    platform::setLogLevel(platform::LogLevel::Error);
+    // Library warnings and errors would interleave with the report, or add a second line to a
+    // refusal: the report and the one error line say what matters.
+    platform::setLogLevel(platform::LogLevel::Off);
     const bool mockUrl = opt.file.rfind("mock:", 0) == 0;
     const std::string sourceName = !opt.source.empty() ? opt.source : mockUrl ? "mock" : "ffmpeg";
     if (!decodeInputReadable(opt))
         return kExitBadInput;
     hal::BackendConfig cfg;
+    cfg.options = hal::OptionList(opt.sourceOptions);
     auto src = drivers::createMediaSource(sourceName, cfg);
     if (!src) {
         std::fprintf(stderr, "depthtouch probe: no media source '%s': %s\n", sourceName.c_str(),

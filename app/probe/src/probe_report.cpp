@@ -212,6 +212,15 @@ void printStreamsText(std::FILE *out, const std::string &file, const ProbeReport
     const hal::MediaInfo &info = rep.info;
     std::fprintf(out, "%s: %zu video stream%s, %.3f s\n", file.c_str(), info.streams.size(),
                  info.streams.size() == 1 ? "" : "s", platform::toSeconds(info.duration));
+    if (!info.renditions.empty()) {
+        std::fprintf(out,
+                     "renditions: %zu (HLS multivariant playlist; the source option rendition "
+                     "picks one)\n",
+                     info.renditions.size());
+        for (const hal::RenditionInfo &r : info.renditions)
+            std::fprintf(out, "  %dx%d, %.0f kbit/s%s\n", r.width, r.height,
+                         static_cast<double>(r.bitRate) / 1000.0, r.kept ? " (read below)" : "");
+    }
     for (const hal::StreamInfo &s : info.streams) {
         const receiver::StreamCount &c = rep.demux.counts[static_cast<std::size_t>(s.index)];
         std::fprintf(out, "  #%d %-8s %-32s %-6s %dx%d %-8s %s fps, %llu frames (%.3f s)\n",
@@ -318,6 +327,10 @@ nlohmann::json reportJson(const ProbeReport &rep, const std::string &file, bool 
     j["read_error"] =
         rep.demux.readError.empty() ? nlohmann::json(nullptr) : nlohmann::json(rep.demux.readError);
     j["streams"] = streamsJson(rep);
+    j["renditions"] = nlohmann::json::array();
+    for (const hal::RenditionInfo &r : rep.info.renditions)
+        j["renditions"].push_back(
+            {{"width", r.width}, {"height", r.height}, {"bandwidth", r.bitRate}, {"kept", r.kept}});
     j["audio"] = audioJson(rep);
     if (depth != nullptr)
         j["depth_metadata"] = {{"near_m", planeJson(depth->depth.nearMetres)},

@@ -273,7 +273,7 @@ Result<void> FfmpegMediaSource::Impl::openInput(const char *url)
         return unexpected(
             failure(r, errcOf(r, Errc::InvalidArgument), "Failed to read the stream list"));
     }
-    keepOneVariant(*ctx, RenditionChoice{settings.renditionHeight}); // sizes known now
+    keepOneVariant(*ctx, RenditionChoice{settings.renditionHeight}, info.renditions); // sizes known
     return ok();
 }
 

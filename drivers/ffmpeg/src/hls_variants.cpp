@@ -76,8 +76,10 @@ Result<RenditionChoice> parseRenditionChoice(std::string_view text)
     return RenditionChoice{static_cast<int>(h)};
 }
 
-int keepOneVariant(AVFormatContext &ctx, const RenditionChoice &choice) noexcept
+int keepOneVariant(AVFormatContext &ctx, const RenditionChoice &choice,
+                   std::vector<hal::RenditionInfo> &renditions)
 {
+    renditions.clear();
     if (ctx.iformat == nullptr || std::strcmp(ctx.iformat->name, "hls") != 0 || ctx.nb_programs < 2)
         return -1;
     unsigned best = 0;
@@ -86,6 +88,17 @@ int keepOneVariant(AVFormatContext &ctx, const RenditionChoice &choice) noexcept
             best = p;
     for (unsigned i = 0; i < ctx.nb_streams; ++i)
         ctx.streams[i]->discard = AVDISCARD_ALL;
+    for (unsigned p = 0; p < ctx.nb_programs; ++p) {
+        const Variant v = variantOf(ctx, *ctx.programs[p]);
+        int width = 0;
+        for (unsigned k = 0; k < ctx.programs[p]->nb_stream_indexes; ++k) {
+            const unsigned i = ctx.programs[p]->stream_index[k];
+            if (i < ctx.nb_streams && ctx.streams[i]->codecpar->height == v.height &&
+                ctx.streams[i]->codecpar->codec_type == AVMEDIA_TYPE_VIDEO)
+                width = ctx.streams[i]->codecpar->width;
+        }
+        renditions.push_back(hal::RenditionInfo{width, v.height, v.bitRate, p == best});
+    }
     const AVProgram &kept = *ctx.programs[best];
     for (unsigned k = 0; k < kept.nb_stream_indexes; ++k)
         if (kept.stream_index[k] < ctx.nb_streams)

@@ -8,7 +8,9 @@
 /// Thread-safety: reentrant (one format context per call).
 
 #include <string_view>
+#include <vector>
 
+#include "depthtouch/hal/media_source.h"
 #include "depthtouch/platform/result.h"
 
 struct AVFormatContext;
@@ -31,7 +33,10 @@ Result<RenditionChoice> parseRenditionChoice(std::string_view text);
 /// video stream's; ties go to the higher `variant_bitrate`. Call after avformat_find_stream_info()
 /// (the sizes are not known before; it reads the first segment of every variant): from then on
 /// the demuxer fetches the kept variant's segments alone.
+/// \param[out] renditions every variant, in ctx->programs' order, the kept one marked; cleared
+/// when nothing was discarded.
 /// \return the chosen program's index in ctx->programs, or -1 when nothing was discarded.
-int keepOneVariant(AVFormatContext &ctx, const RenditionChoice &choice) noexcept;
+int keepOneVariant(AVFormatContext &ctx, const RenditionChoice &choice,
+                   std::vector<hal::RenditionInfo> &renditions);
 
 } // namespace depthtouch::drivers::ffmpeg

@@ -34,6 +34,25 @@ done
 lowest=$(sed -n 's/.*RESOLUTION=\([0-9]*\)x60.*/\1,60/p' "$work/www/show.m3u8")
 [ "$lowest" = "80,60" ] || { cat "$work/www/show.m3u8"; fail "the 60p rendition keeps the aspect: $lowest"; }
 
+# probe lists the renditions from the multivariant playlist, the one it reads marked, and reads the
+# one the source option asks for (JSON: width, height, BANDWIDTH as the playlist gives it).
+"$exe" probe "$work/www/show.m3u8" >"$work/probe0.txt" 2>&1 || { cat "$work/probe0.txt"; fail "probe exited $?"; }
+grep -q '^renditions: 3 ' "$work/probe0.txt" && grep -q '^  160x120, .* (read below)$' "$work/probe0.txt" &&
+    grep -q '^  #0 color .* 160x120 ' "$work/probe0.txt" ||
+    { cat "$work/probe0.txt"; fail "probe lists 3 renditions and reads the tallest"; }
+"$exe" probe --json --source-options rendition=lowest "$work/www/show.m3u8" >"$work/probe1.json" 2>&1 ||
+    { cat "$work/probe1.json"; fail "probe --source-options rendition=lowest exited $?"; }
+bw60=$(sed -n 's/^#EXT-X-STREAM-INF:BANDWIDTH=\([0-9]*\),.*RESOLUTION=80x60,.*/\1/p' "$work/www/show.m3u8")
+python3 - "$work/probe1.json" "$bw60" <<'PY' || fail "probe --json: the renditions and the kept one"
+import json, sys
+j = json.load(open(sys.argv[1]))
+r = j["renditions"]
+assert [(x["width"], x["height"]) for x in r] == [(160, 120), (120, 90), (80, 60)], r
+assert [x["kept"] for x in r] == [False, False, True], r
+assert r[2]["bandwidth"] == int(sys.argv[2]), (r[2], sys.argv[2])
+assert j["streams"][0]["width"] == 80, j["streams"][0]
+PY
+
 port=$((20000 + $$ % 20000))
 (cd "$work/www" && exec python3 -m http.server --bind 127.0.0.1 "$port") >"$work/http.log" 2>&1 &
 server=$!

@@ -92,8 +92,18 @@ struct AudioStreamInfo {
 };
 
 /// \brief What an opened source contains.
+/// \brief One rendition of an adaptive input (an HLS multivariant playlist).
+struct RenditionInfo {
+    int width = 0; ///< Its tallest video stream's size (pixels); 0 when unknown.
+    int height = 0;
+    long long bitRate = 0; ///< The playlist's BANDWIDTH (bits/s); 0 when not given.
+    bool kept = false;     ///< The rendition whose streams are listed and read.
+};
+
 struct MediaInfo {
     std::vector<StreamInfo> streams; ///< In container order; streams[i].index == i.
+    /// An adaptive input's renditions, in the playlist's order (one kept); empty otherwise.
+    std::vector<RenditionInfo> renditions;
     std::vector<AudioStreamInfo> audio; ///< Its audio streams, in container order.
     platform::Duration
         duration{};        ///< Length of the longest stream; zero when unknown (live stream).
