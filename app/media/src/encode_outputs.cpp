@@ -167,9 +167,9 @@ Result<void> EncodeOutputs::encode(const Image &color, const Image &depthFrame, 
             DT_TRY(r.out.audio->writeUntil(until));
     }
     if (!master_.empty()) {
-        std::size_t segments = 0;
+        long long segments = 0;
         for (const Rendition &r : renditions_)
-            segments += r.out.muxer->segmentBytes().size();
+            segments += r.out.muxer->segmentsCompleted();
         if (segments != segmentsSeen_) {
             segmentsSeen_ = segments;
             DT_TRY(writeMultivariant(until, false));
@@ -219,9 +219,10 @@ Result<void> EncodeOutputs::writeMultivariant(double duration, bool final)
         const Rendition &r = renditions_[i];
         const std::vector<long long> bytes = r.out.muxer->segmentBytes();
         std::vector<double> seconds(bytes.size(), segmentSeconds_);
-        if (final && !seconds.empty())
+        if (final && !seconds.empty()) // the last segment: what the duration leaves of its own
             seconds.back() = std::max(
-                duration - segmentSeconds_ * static_cast<double>(seconds.size() - 1), 1e-3);
+                duration - segmentSeconds_ * (std::ceil(duration / segmentSeconds_ - 1e-9) - 1.0),
+                1e-3);
         RenditionRate &rate = rates_[i];
         rate.peak = peakBitRate(bytes, seconds, segmentSeconds_);
         double total = 0.0;

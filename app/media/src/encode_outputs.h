@@ -100,7 +100,7 @@ private:
     std::vector<Rendition> renditions_;
     std::string master_;               ///< The multivariant playlist; empty without a ladder.
     std::vector<RenditionRate> rates_; ///< As last written.
-    std::size_t segmentsSeen_ = 0;     ///< Segments of all renditions when it was last written.
+    long long segmentsSeen_ = 0;       ///< Segments of all renditions when it was last written.
     double segmentSeconds_ = 2.0;      ///< Each complete segment's duration.
     bool finished_ = false;
 };

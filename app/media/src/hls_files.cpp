@@ -16,6 +16,8 @@ namespace depthtouch::media {
 namespace {
 
 constexpr const char kTmpSuffix[] = ".tmp"; // what `hls_flags temp_file` appends
+/// The segment sizes kept (2 s segments: about 2.3 hours of an endless live output).
+constexpr std::size_t kSegmentsKept = 4096;
 
 bool endsWith(const std::string &name, const char *suffix, std::size_t n)
 {
@@ -80,7 +82,10 @@ int HlsFiles::close(AVFormatContext *s, AVIOContext *pb)
         if (it != self->open_.end()) {
             if (it->second && failed >= 0) {
                 try {
+                    if (self->segmentBytes_.size() >= kSegmentsKept) // an endless live output
+                        self->segmentBytes_.erase(self->segmentBytes_.begin());
                     self->segmentBytes_.push_back(size);
+                    ++self->segmentsClosed_;
                 } catch (const std::bad_alloc &) { // a BANDWIDTH figure short of one segment
                 }
             }

@@ -30,12 +30,14 @@ public:
     /// \brief Removes every file written (under its final and its temporary name).
     void removeAll() noexcept;
 
-    /// \return the bytes of each MPEG-TS segment closed so far, in the order they were written
-    /// (for a multivariant playlist's BANDWIDTH, renditions.h).
+    /// \return the bytes of each MPEG-TS segment closed so far, in the order they were written,
+    /// the last 4096 of an endless output (for a multivariant playlist's BANDWIDTH, renditions.h).
     [[nodiscard]] const std::vector<long long> &segmentBytes() const noexcept
     {
         return segmentBytes_;
     }
+    /// \return the MPEG-TS segments closed so far, all of them.
+    [[nodiscard]] long long segmentsClosed() const noexcept { return segmentsClosed_; }
 
 private:
     static int open(AVFormatContext *s, AVIOContext **pb, const char *url, int flags,
@@ -47,6 +49,7 @@ private:
     std::set<std::string> written_;            ///< Final names (without the muxer's ".tmp").
     std::map<const AVIOContext *, bool> open_; ///< Open files: true for a segment (".ts").
     std::vector<long long> segmentBytes_;
+    long long segmentsClosed_ = 0;
     int error_ = 0;
 };
 

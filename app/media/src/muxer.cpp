@@ -269,6 +269,11 @@ std::vector<long long> Muxer::segmentBytes() const
     return impl_->hls.segmentBytes();
 }
 
+long long Muxer::segmentsCompleted() const noexcept
+{
+    return impl_->hls.segmentsClosed();
+}
+
 Container Muxer::container() const noexcept
 {
     return impl_->container;

@@ -104,9 +104,11 @@ public:
 
     /// \return bytes written so far (0 for HLS, whose muxer writes files of its own).
     [[nodiscard]] long long bytesWritten() const noexcept;
-    /// \return HLS file output: the bytes of each MPEG-TS segment completed so far, in order;
-    /// empty otherwise.
+    /// \return HLS file output: the bytes of each MPEG-TS segment completed so far, in order (the
+    /// last 4096 of an endless output); empty otherwise.
     [[nodiscard]] std::vector<long long> segmentBytes() const;
+    /// \return HLS file output: the MPEG-TS segments completed so far; 0 otherwise.
+    [[nodiscard]] long long segmentsCompleted() const noexcept;
     /// \return the container.
     [[nodiscard]] Container container() const noexcept;
 
