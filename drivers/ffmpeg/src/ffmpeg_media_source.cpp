@@ -15,6 +15,7 @@
 #include "ffmpeg_common.h"
 #include "h264_sps.h"
 #include "hls_variants.h"
+#include "still_image.h"
 #include "stream_tags.h"
 #include "timed_metadata_reader.h"
 
@@ -343,15 +344,11 @@ void FfmpegMediaSource::Impl::addStream(unsigned i, int videoStreams, int videoO
         s.frameDuration = hal::Pts(av_rescale_q(1, av_inv_q(rate), kNanoseconds));
     if (si.codec == hal::CodecId::Unknown) {
         // A still-image codec (image sequence): decode here, deliver RawVideo packets.
-        const AVCodec *codec = avcodec_find_decoder(par.codec_id);
-        if (codec == nullptr || si.format == hal::PixelFormat::Unknown || si.width <= 0 ||
-            si.height <= 0)
+        if (si.format == hal::PixelFormat::Unknown || si.width <= 0 || si.height <= 0)
             return;
-        av::CodecContextPtr dec(avcodec_alloc_context3(codec));
-        if (!dec || avcodec_parameters_to_context(dec.get(), &par) < 0 ||
-            avcodec_open2(dec.get(), codec, nullptr) < 0)
+        s.imageDecoder = openStillImageDecoder(par);
+        if (!s.imageDecoder)
             return;
-        s.imageDecoder = std::move(dec);
         si.codec = hal::CodecId::RawVideo;
         si.extradata.clear();
     }
@@ -503,34 +500,9 @@ Result<hal::Packet> FfmpegMediaSource::Impl::read()
             out.size = static_cast<std::size_t>(p.size);
             return out;
         }
-        // Still image: decode to a tightly packed RawVideo image.
+        // Still image: decoded here into a tightly packed RawVideo image.
         const hal::StreamInfo &si = info.streams[static_cast<std::size_t>(halIndex)];
-        AVCodecContext *dec = s.imageDecoder.get();
-        avcodec_flush_buffers(dec);
-        int d = avcodec_send_packet(dec, packet.get());
-        if (d >= 0)
-            d = avcodec_receive_frame(dec, frame.get());
-        if (d == AVERROR(EAGAIN)) {
-            avcodec_send_packet(dec, nullptr);
-            d = avcodec_receive_frame(dec, frame.get());
-        }
-        if (d < 0)
-            return unexpected(Errc::Io, "Failed to decode an image of the sequence", AVUNERROR(d));
-        raw.resize(hal::imageBytes(si.format, si.width, si.height));
-        hal::ImageView view;
-        view.width = si.width;
-        view.height = si.height;
-        view.format = si.format;
-        std::uint8_t *base = raw.data();
-        for (int plane = 0; plane < hal::planeCount(si.format); ++plane) {
-            const hal::PlaneLayout l = hal::planeLayout(si.format, si.width, si.height, plane);
-            view.planes[static_cast<std::size_t>(plane)] = {base, l.rowBytes};
-            base += static_cast<std::size_t>(l.rowBytes) * static_cast<std::size_t>(l.rows);
-        }
-        auto c = copyFrame(*frame, view, sws);
-        av_frame_unref(frame.get());
-        if (!c)
-            return unexpected(Errc::Io, "An image of the sequence differs in size or format");
+        DT_TRY(decodeStillImage(*s.imageDecoder, *packet, *frame, si, raw, sws));
         out.data = raw.data();
         out.size = raw.size();
         out.keyframe = true;
