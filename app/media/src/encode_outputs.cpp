@@ -26,11 +26,21 @@ RateControl scaled(RateControl r, double k)
 }
 
 /// Bits per pixel and frame of color and depth together, for a rendition's BANDWIDTH before its
-/// first segment is measured: about twice what the kitchen clip needs at the default CRFs
-/// (docs/benchmarks.md "The depth codecs compared").
+/// first segment is measured: a guess on the high side (the kitchen's depth alone needs 0.074 at
+/// 1080p and CRF 18, docs/benchmarks.md "The depth codecs compared"; the synthetic head's ladder
+/// here measured 0.05 to 0.07 for both streams), replaced once a segment is complete.
 constexpr double kEstimatedBitsPerPixel = 0.3;
 
 } // namespace
+
+int keyFrameInterval(const EncodeOptions &options, Container container, double fps)
+{
+    // A live stream and HLS segments: a key frame every segment (where a receiver can join, where
+    // a segment can end).
+    if (options.gop == 0 && (options.paced || container == Container::Hls))
+        return std::max(1, static_cast<int>(std::lround(MuxerOptions::kHlsSegmentSeconds * fps)));
+    return options.gop;
+}
 
 Result<void> openOutputs(const EncodeOptions &options, const std::string &output,
                          const ColorShape &shape, double rateScale,
@@ -50,11 +60,7 @@ Result<void> openOutputs(const EncodeOptions &options, const std::string &output
 
     VideoEncoderConfig cc = colorStreamConfig(shape.width, shape.height, shape.fps, options.crf,
                                               options.preset, options.threads);
-    // A live stream and HLS segments: a key frame every 2 s (where a receiver can join, where a
-    // segment can end).
-    cc.gop = options.gop;
-    if (cc.gop == 0 && (options.paced || mo.container == Container::Hls))
-        cc.gop = std::max(1, static_cast<int>(std::lround(2.0 * shape.fps)));
+    cc.gop = keyFrameInterval(options, mo.container, shape.fps);
     cc.rate = scaled(options.colorRate, rateScale);
     auto colorEnc = VideoEncoder::create(cc, *out.muxer);
     if (!colorEnc)
@@ -100,7 +106,6 @@ Result<void> EncodeOutputs::open(const EncodeOptions &options, const ColorShape 
                                  bool material, bool metric,
                                  const std::optional<depth::DepthRange> &range)
 {
-    options_ = &options;
     shape_ = shape;
     std::vector<RenditionPlan> plans;
     if (options.renditions.empty()) {
@@ -112,11 +117,10 @@ Result<void> EncodeOutputs::open(const EncodeOptions &options, const ColorShape 
             return unexpected(planned.error());
         plans = std::move(*planned);
         master_ = options.output;
-        const int gop = options.gop > 0
-                            ? options.gop
-                            : std::max(1, static_cast<int>(std::lround(2.0 * shape.fps)));
-        const double keyInterval = gop / shape.fps;
-        segmentSeconds_ = std::ceil(2.0 / keyInterval - 1e-9) * keyInterval;
+        // The HLS muxer ends a segment at the first key frame at least kHlsSegmentSeconds in.
+        const double keyInterval = keyFrameInterval(options, Container::Hls, shape.fps) / shape.fps;
+        segmentSeconds_ =
+            std::ceil(MuxerOptions::kHlsSegmentSeconds / keyInterval - 1e-9) * keyInterval;
     }
     static const EncodeCallbacks kQuiet{};
     renditions_ = std::vector<Rendition>(plans.size());

@@ -37,6 +37,10 @@ struct Outputs {
     std::unique_ptr<AudioTrack> audio; ///< Null without sound.
 };
 
+/// \return the frames between key frames of every stream: \a options' --gop, else 2 s (a
+/// segment, MuxerOptions::kHlsSegmentSeconds) for a paced output and HLS, else 0 (x264's own).
+int keyFrameInterval(const EncodeOptions &options, Container container, double fps);
+
 /// Opens the muxer of \a output with \a tags and the color, depth and (\a material) material
 /// encoders at \a shape's size and rate (\a options' bit rates scaled by \a rateScale); the
 /// header is written.
@@ -70,8 +74,7 @@ public:
     /// own files).
     ~EncodeOutputs();
 
-    /// \brief Opens every output (headers written). \a options must outlive
-    /// this object.
+    /// \brief Opens every output (headers written).
     Result<void> open(const EncodeOptions &options, const ColorShape &shape,
                       const std::vector<std::pair<std::string, std::string>> &tags, bool material,
                       bool metric, const std::optional<depth::DepthRange> &range);
@@ -95,7 +98,6 @@ public:
 private:
     Result<void> writeMultivariant(double duration, bool final);
 
-    const EncodeOptions *options_ = nullptr;
     ColorShape shape_{};
     std::vector<Rendition> renditions_;
     std::string master_;               ///< The multivariant playlist; empty without a ladder.

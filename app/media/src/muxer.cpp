@@ -198,7 +198,7 @@ Result<void> Muxer::start()
         // Two-second MPEG-TS segments (Apple's recommendation for low latency is 2 to 6 s). Live:
         // a window of six, older segments deleted; otherwise an event playlist of every segment,
         // playable while it grows and closed by EXT-X-ENDLIST at the end.
-        av_dict_set(&opts, "hls_time", "2", 0);
+        av_dict_set_int(&opts, "hls_time", MuxerOptions::kHlsSegmentSeconds, 0);
         av_dict_set(&opts, "hls_list_size", m.live ? "6" : "0", 0);
         const char *flags = m.live ? "delete_segments" : "";
         if (m.hlsFile)

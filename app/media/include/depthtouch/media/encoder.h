@@ -70,6 +70,9 @@ struct MuxerOptions {
     /// MPEG-TS only: a constant multiplex rate (bits/s, ffmpeg's `-muxrate`), padded with null
     /// packets, as broadcast multiplexers and IPTV head-ends expect; 0: variable.
     long long muxRate = 0;
+    /// HLS: the target length of a segment (s, the muxer's `hls_time`); 2 s, within Apple's 2 to
+    /// 6 s for low latency.
+    static constexpr int kHlsSegmentSeconds = 2;
 };
 
 class VideoEncoder;
