@@ -277,20 +277,26 @@ bool AudioPlayer::cut()
         lose(delay.error());
         return false;
     }
-    // The queue's first frames (the one heard next first) faded to 0 over the ramp, or over the
-    // whole queue when it is shorter.
+    // The queue's first frames (the one heard next first) faded to 0 over the ramp. A queue
+    // shorter than the ramp (a late thread left little queued) is followed by the sound that
+    // would have come next, so the fade still takes the whole ramp where the source has it.
     const auto channels = static_cast<std::size_t>(format_.channels);
     const std::size_t ringFrames = written_.size() / channels;
+    const std::size_t ramp = fadeOut_.size() / channels;
     const std::size_t queued =
         static_cast<std::size_t>(std::min<std::uint64_t>({*delay, writtenFrames_, ringFrames}));
-    const std::size_t n = std::min(queued, fadeOut_.size() / channels);
+    std::size_t n = std::min(queued, ramp);
     const std::uint64_t first = writtenFrames_ - queued;
     for (std::size_t i = 0; i < n; ++i) {
-        const double g = 1.0 - static_cast<double>(i + 1) / static_cast<double>(n);
         const std::size_t at = static_cast<std::size_t>((first + i) % ringFrames) * channels;
+        std::copy_n(written_.data() + at, channels, fadeOut_.data() + i * channels);
+    }
+    n += nextSound(fadeOut_.data() + n * channels, ramp - n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const double g = 1.0 - static_cast<double>(i + 1) / static_cast<double>(n);
         for (std::size_t c = 0; c < channels; ++c)
             fadeOut_[i * channels + c] =
-                static_cast<std::int16_t>(std::lround(written_[at + c] * g));
+                static_cast<std::int16_t>(std::lround(fadeOut_[i * channels + c] * g));
     }
     fadeOutFrames_ = n;
     fadeOutPos_ = 0;
@@ -301,6 +307,23 @@ bool AudioPlayer::cut()
     runStart_ = clock_.now(); // the device is empty: a new run of frames begins
     runFirstFrame_ = writtenFrames_;
     return true;
+}
+
+std::size_t AudioPlayer::nextSound(std::int16_t *to, std::size_t frames) const
+{
+    if (mode_ != Mode::Playing || blockPos_ >= have_.frames)
+        return 0;
+    const double rate = static_cast<double>(format_.sampleRate);
+    const double gap = have_.start + static_cast<double>(blockPos_) / rate - writtenEnd_;
+    if (std::llround(gap * rate) != 0)
+        return 0; // silence comes next: nothing to fade
+    const auto channels = static_cast<std::size_t>(format_.channels);
+    const std::size_t n = std::min(frames, have_.frames - blockPos_);
+    const std::int16_t *src = block_.data() + blockPos_ * channels;
+    for (std::size_t i = 0; i < n * channels; ++i)
+        to[i] = static_cast<std::int16_t>(
+            std::clamp(std::round(static_cast<double>(src[i]) * gain_), -32768.0, 32767.0));
+    return n;
 }
 
 Result<std::size_t> AudioPlayer::queued()

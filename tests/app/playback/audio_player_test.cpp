@@ -287,6 +287,30 @@ TEST_F(AudioPlayerTest, noJoinClicksStartPauseResumeSeekAndRestartWhilePlaying)
     EXPECT_EQ(player_->stats().underruns, 0u);
 }
 
+TEST_F(AudioPlayerTest, aPauseWhenTheQueueHasNearlyRunDryStillFadesOverTheWholeRamp)
+{
+    // GIVEN a steady level of 20000 and a 0.1 s queue, the audio thread late until only about
+    // 1 ms of sound is left in the device (a loaded machine)
+    AudioPlayerConfig c;
+    c.queueSeconds = 0.1;
+    make(0.0, 10.0, c);
+    source_->setLevel(20000);
+    player_->start(0.0);
+    play(200);
+    const double queuedBefore = player_->stats().delaySeconds;
+    clock_.advance(std::chrono::microseconds(std::llround((queuedBefore - 0.001) * 1e6)));
+    // WHEN the viewer pauses then
+    player_->setPaused(true);
+    play(100);
+    // THEN the fade-out still takes the whole 10 ms ramp (20000 / 480 = 41.7 a sample), taking
+    // the sound that would have come next where the queue holds less; no underrun
+    const auto &k = output_->kept;
+    ASSERT_GT(k.size(), static_cast<std::size_t>(kRate / 5));
+    EXPECT_LE(largestStep(k), 42);
+    EXPECT_EQ(k.back(), 0);
+    EXPECT_EQ(player_->stats().underruns, 0u);
+}
+
 TEST_F(AudioPlayerTest, theVolumeIsMpvsCubicGainReachedIn10MsWithoutAClick)
 {
     make();

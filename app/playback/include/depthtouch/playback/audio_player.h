@@ -144,6 +144,10 @@ private:
     /// this run wrote beyond what could have been heard in its time (a device that takes frames
     /// faster than real time does not run the clock ahead). Errors: the device's.
     [[nodiscard]] Result<std::size_t> queued();
+    /// Copies up to \a frames of the sound that comes next (the source's block after what was
+    /// written, at the present gain) into \a to, without taking them; 0 unless sound plays and
+    /// follows on without a gap. For a fade-out longer than what the device has queued.
+    [[nodiscard]] std::size_t nextSound(std::int16_t *to, std::size_t frames) const;
     void lose(const Error &error);
     /// Publishes the clock (\a mediaTime heard at \a at) and the counters; \a queued: the
     /// device's queue, s.
