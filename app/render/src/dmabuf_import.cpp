@@ -17,7 +17,7 @@
 #include <string>
 
 #include "depthtouch/platform/log.h"
-#include "gl_program.h"
+#include "depthtouch/render/gl_program.h"
 #include "depthtouch/render/renderer.h"
 
 DT_LOG_CATEGORY(DmaBuf)

@@ -1,4 +1,4 @@
-#include "gl_program.h"
+#include "depthtouch/render/gl_program.h"
 
 #include <cstring>
 
@@ -20,6 +20,24 @@ void logFailure(bool optional, const char *what, const char *log)
         DT_LOG(Render, Error, "Failed to %s: %s", what, log);
 }
 
+/// \return \a object (a shader or a program) when its \a status (GL_COMPILE_STATUS or
+/// GL_LINK_STATUS, read with \a getIv) says it built; otherwise logs its info log (\a getLog) as
+/// logFailure() does, deletes it with \a deleteObject and returns 0.
+template <class GetIv, class GetLog, class Delete>
+GLuint builtOrZero(GLuint object, GLenum status, GetIv getIv, GetLog getLog, Delete deleteObject,
+                   bool optional, const char *what)
+{
+    GLint okFlag = 0;
+    getIv(object, status, &okFlag);
+    if (okFlag != 0)
+        return object;
+    char log[2048] = {};
+    getLog(object, static_cast<GLsizei>(sizeof log), nullptr, log);
+    logFailure(optional, what, log);
+    deleteObject(object);
+    return 0;
+}
+
 } // namespace
 
 GLuint compileShader(GLenum type, const std::string &source, bool optional)
@@ -28,16 +46,8 @@ GLuint compileShader(GLenum type, const std::string &source, bool optional)
     const char *text = source.c_str();
     glShaderSource(s, 1, &text, nullptr);
     glCompileShader(s);
-    GLint okFlag = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &okFlag);
-    if (okFlag == 0) {
-        char log[2048] = {};
-        glGetShaderInfoLog(s, sizeof log, nullptr, log);
-        logFailure(optional, "compile shader", log);
-        glDeleteShader(s);
-        return 0;
-    }
-    return s;
+    return builtOrZero(s, GL_COMPILE_STATUS, glGetShaderiv, glGetShaderInfoLog, glDeleteShader,
+                       optional, "compile shader");
 }
 
 GLuint linkProgram(const std::string &vs, const std::string &fs, const char *attribute0,
@@ -58,16 +68,8 @@ GLuint linkProgram(const std::string &vs, const std::string &fs, const char *att
     glLinkProgram(p);
     glDeleteShader(v);
     glDeleteShader(f);
-    GLint okFlag = 0;
-    glGetProgramiv(p, GL_LINK_STATUS, &okFlag);
-    if (okFlag == 0) {
-        char log[2048] = {};
-        glGetProgramInfoLog(p, sizeof log, nullptr, log);
-        logFailure(optional, "link program", log);
-        glDeleteProgram(p);
-        return 0;
-    }
-    return p;
+    return builtOrZero(p, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram,
+                       optional, "link program");
 }
 
 bool hasExtension(const char *name)

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "gl_program.h"
+#include "depthtouch/render/gl_program.h"
 #include "osd_font.h"
 #include "renderer_gl.h"
 

@@ -8,7 +8,7 @@
 
 #include "depthtouch/platform/log.h"
 #include "depthtouch/render/renderer.h"
-#include "gl_program.h"
+#include "depthtouch/render/gl_program.h"
 #include "renderer_gl.h"
 
 DT_LOG_CATEGORY(Render)

@@ -1,4 +1,3 @@
-#include <array>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -8,6 +7,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "depthtouch/platform/log.h"
+#include "depthtouch/render/gl_program.h"
 #include "scene_impl.h"
 #include "shaders.h"
 
@@ -59,60 +59,10 @@ void destroy(GpuMesh &g) noexcept
     g = {};
 }
 
-namespace {
-
-/// \return \a object (a shader or a program) when its \a status (GL_COMPILE_STATUS or
-/// GL_LINK_STATUS, read with \a getIv) says it built; otherwise logs its info log (\a getLog) as
-/// "Failed to WHAT", deletes it with \a deleteObject and returns 0. GL thread only.
-template <class GetIv, class GetLog, class Delete>
-GLuint builtOrZero(GLuint object, GLenum status, GetIv getIv, GetLog getLog, Delete deleteObject,
-                   const char *what)
-{
-    GLint okFlag = 0;
-    getIv(object, status, &okFlag);
-    if (okFlag != 0)
-        return object;
-    std::array<char, 2048> log{};
-    getLog(object, static_cast<GLsizei>(log.size()), nullptr, log.data());
-    DT_LOG(Synthetic, Error, "Failed to %s: %s", what, log.data());
-    deleteObject(object);
-    return 0;
-}
-
-GLuint compile(GLenum type, const char *source)
-{
-    const GLuint s = glCreateShader(type);
-    glShaderSource(s, 1, &source, nullptr);
-    glCompileShader(s);
-    return builtOrZero(s, GL_COMPILE_STATUS, glGetShaderiv, glGetShaderInfoLog, glDeleteShader,
-                       "compile a shader");
-}
-
-} // namespace
-
-GLuint link(const char *vertex, const char *fragment)
-{
-    const GLuint vs = compile(GL_VERTEX_SHADER, vertex);
-    const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment);
-    if (vs == 0 || fs == 0) {
-        glDeleteShader(vs);
-        glDeleteShader(fs);
-        return 0;
-    }
-    const GLuint p = glCreateProgram();
-    glAttachShader(p, vs);
-    glAttachShader(p, fs);
-    glLinkProgram(p);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    return builtOrZero(p, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram,
-                       "link a shader program");
-}
-
 Result<void> SyntheticScene::Impl::init()
 {
-    lit = link(shaders::kLitVertex, shaders::kLitFragment);
-    nearness = link(shaders::kQuadVertex, shaders::kNearnessFragment);
+    lit = render::gl::linkProgram(shaders::kLitVertex, shaders::kLitFragment);
+    nearness = render::gl::linkProgram(shaders::kQuadVertex, shaders::kNearnessFragment);
     if (lit == 0 || nearness == 0)
         return unexpected(Errc::NotSupported, "Synthetic scene shaders do not compile");
     u.model = glGetUniformLocation(lit, "uModel");

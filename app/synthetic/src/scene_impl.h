@@ -53,9 +53,6 @@ GpuMesh upload(const MeshData &m);
 /// Deletes the GL objects of \a g and clears it.
 void destroy(GpuMesh &g) noexcept;
 
-/// \return the program of \a vertex and \a fragment, or 0 when one does not build (logged).
-GLuint link(const char *vertex, const char *fragment);
-
 /// \brief The GL objects and state of one SyntheticScene.
 struct SyntheticScene::Impl {
     const SceneDef *def = nullptr;

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// \brief Shader compiling and program linking shared by the renderer's GL parts (internal).
-/// Needs a current GLES context. Thread-safety: the GL thread only.
+/// \brief Shader compiling and program linking shared by the renderer's GL parts and the synthetic
+/// scenes (app/synthetic). Needs a current GLES context. Thread-safety: the GL thread only.
 
 #include <GLES3/gl3.h>
 
