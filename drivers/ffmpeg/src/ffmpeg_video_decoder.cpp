@@ -13,6 +13,7 @@
 #include "depthtouch/drivers/ffmpeg/drm_prime.h"
 #include "depthtouch/platform/log.h"
 #include "ffmpeg_common.h"
+#include "frame_scaler.h"
 #include "hw_accel.h"
 
 extern "C" {
@@ -151,7 +152,9 @@ struct FfmpegVideoDecoder::Impl {
     av::CodecContextPtr ctx;
     av::PacketPtr packet;
     av::FramePtr frame;
-    av::SwsPtr sws;
+    FrameScaler scaler;      ///< copyFrame(), and frames of another size scaled to the stream's.
+    int scaledFromWidth = 0; ///< The decoded size last logged as scaled (0: none).
+    int scaledFromHeight = 0;
     FramePool pool;
 
     std::vector<QueuedPacket> queue;
@@ -239,8 +242,18 @@ Result<hal::FrameRef> FfmpegVideoDecoder::Impl::lendFrame() noexcept
         const AVFrame *sys = inSystemMemory(*frame, hw, hwScratch.get());
         if (copied && sys == nullptr)
             copied = unexpected(Errc::Io, "Failed to copy a hardware frame to memory");
-        if (copied)
-            copied = copyFrame(*sys, out->image, sws);
+        if (copied && (sys->width != out->image.width || sys->height != out->image.height) &&
+            (sys->width != scaledFromWidth || sys->height != scaledFromHeight)) {
+            scaledFromWidth = sys->width;
+            scaledFromHeight = sys->height;
+            DT_LOG(Ffmpeg, Warning, "The %s stream's pictures changed to %dx%d: scaled to %dx%d",
+                   hal::streamKindName(config.kind), sys->width, sys->height, out->image.width,
+                   out->image.height);
+        }
+        if (copied) // depth and material codes nearest-neighbour: no surface between two codes
+            copied = scaler.copy(*sys, out->image,
+                                 config.kind == hal::StreamKind::Depth ||
+                                     out->image.format == hal::PixelFormat::Rgb24);
         if (hwScratch)
             av_frame_unref(hwScratch.get());
         out->dmabuf = hal::DmaBufImage{};
@@ -430,7 +443,8 @@ Result<void> FfmpegVideoDecoder::configureDevice(const hal::StreamConfig &cfg)
     d.packet = std::move(packet);
     d.frame = std::move(frame);
     d.queue = std::move(queue);
-    d.sws.reset();
+    d.scaler = FrameScaler{};
+    d.scaledFromWidth = d.scaledFromHeight = 0;
     d.config = cfg;
     d.config.format = format;
     d.dropQueue();
@@ -534,7 +548,7 @@ void FfmpegVideoDecoder::closeDevice() noexcept
     d.dropQueue();
     d.releaseReturned();
     d.ctx.reset();
-    d.sws.reset();
+    d.scaler = FrameScaler{};
     d.eosSent = d.ended = false;
 }
 
