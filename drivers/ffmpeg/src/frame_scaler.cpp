@@ -68,7 +68,6 @@ Result<void> FrameScaler::copy(const AVFrame &src, const hal::ImageView &dst, bo
                               dst.planes[2].strideBytes, 0};
     if (sws_scale(ctx, from, fromStrides, 0, src.height, to, toStrides) <= 0)
         return unexpected(Errc::InvalidArgument, "Scaling a frame of another size failed");
-    ++scaled_;
     return ok();
 }
 

@@ -32,9 +32,6 @@ public:
     /// NotSupported when libswscale has no scaler for the format.
     Result<void> copy(const AVFrame &src, const hal::ImageView &dst, bool nearest) noexcept;
 
-    /// \return frames scaled so far (their decoded size differed from the target's).
-    [[nodiscard]] std::uint64_t scaled() const noexcept { return scaled_; }
-
 private:
     Result<void> allocate(hal::PixelFormat format, int width, int height) noexcept;
 
@@ -42,7 +39,6 @@ private:
     av::SwsPtr scale_;   ///< The scaler from the scratch image to the target.
     std::vector<std::uint8_t> bytes_;
     hal::ImageView scratch_;
-    std::uint64_t scaled_ = 0;
 };
 
 } // namespace depthtouch::drivers::ffmpeg
