@@ -31,22 +31,33 @@ protected:
             GTEST_SKIP() << "The ffmpeg command-line tool is not on PATH: no test media";
         ASSERT_FALSE(tmp_.dir().empty());
     }
-    /// Writes \a first then \a second (two H.264 Annex B streams) into one file; \return its path.
-    std::string spliced(const std::string &first, const std::string &second)
+    /// \return the path of one H.264 Annex B file (lossless, \a pixFmt): kBefore frames of the
+    /// colour \a before at \a beforeSize, then kAfter frames at \a afterSize (W x H) whose left
+    /// half is the colour \a left and right half \a right; "" when the ffmpeg CLI fails.
+    std::string spliced(const std::string &pixFmt, const std::string &before,
+                        const std::string &beforeSize, const std::string &left,
+                        const std::string &right, int afterWidth, int afterHeight)
     {
+        const std::string encode = " -c:v libx264 -qp 0 -pix_fmt " + pixFmt + " -f h264 ";
+        const std::string first = tmp_.path("before.h264");
+        const std::string second = tmp_.path("after.h264");
+        const std::string half =
+            ":s=" + std::to_string(afterWidth / 2) + "x" + std::to_string(afterHeight) + ":r=30";
+        if (!ffmpeg("-f lavfi -i color=c=" + before + ":s=" + beforeSize + ":r=30:d=3 -frames:v " +
+                    std::to_string(kBefore) + encode + first) ||
+            !ffmpeg("-f lavfi -i color=c=" + left + half + " -f lavfi -i color=c=" + right + half +
+                    " -filter_complex hstack -frames:v " + std::to_string(kAfter) + encode +
+                    second))
+            return "";
         std::vector<std::uint8_t> bytes = readBytes(first);
         const std::vector<std::uint8_t> more = readBytes(second);
-        EXPECT_FALSE(bytes.empty());
-        EXPECT_FALSE(more.empty());
         bytes.insert(bytes.end(), more.begin(), more.end());
         const std::string path = tmp_.path("spliced.h264");
         FILE *f = std::fopen(path.c_str(), "wb");
-        EXPECT_NE(f, nullptr);
-        if (f != nullptr) {
-            EXPECT_EQ(std::fwrite(bytes.data(), 1, bytes.size(), f), bytes.size());
-            std::fclose(f);
-        }
-        return path;
+        if (f == nullptr)
+            return "";
+        const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+        return std::fclose(f) == 0 && written && !more.empty() ? path : "";
     }
     TempDir tmp_{"dt-size-change-test-"};
 };
@@ -55,21 +66,10 @@ TEST_F(SizeChangeTest, depthThatHalvesItsSizeIsScaledBackNearestAndNoFrameIsLost
 {
     // GIVEN lossless 8-bit depth: 90 frames (3 s) at 128x96 of code 90, then 6 at 64x48 whose left
     // half is code 40 and right half code 200 (a silhouette)
-    const std::string big = tmp_.path("big.h264");
-    ASSERT_TRUE(ffmpeg("-f lavfi -i color=c=0x5a5a5a:s=128x96:r=30:d=3 -frames:v " +
-                       std::to_string(kBefore) +
-                       " -c:v libx264 "
-                       "-qp 0 -pix_fmt gray -f h264 " +
-                       big));
-    const std::string small = tmp_.path("small.h264");
-    ASSERT_TRUE(ffmpeg("-f lavfi -i color=c=0x282828:s=32x48:r=30:d=0.2 -f lavfi -i "
-                       "color=c=0xc8c8c8:s=32x48:r=30:d=0.2 -filter_complex hstack -frames:v " +
-                       std::to_string(kAfter) +
-                       " "
-                       "-c:v libx264 -qp 0 -pix_fmt gray -f h264 " +
-                       small));
+    const std::string file = spliced("gray", "0x5a5a5a", "128x96", "0x282828", "0xc8c8c8", 64, 48);
+    ASSERT_FALSE(file.empty());
     // WHEN the two, one after the other, are decoded as the depth stream they open as
-    const Decoded d = decodeAll(spliced(big, small), hal::StreamKind::Depth);
+    const Decoded d = decodeAll(file, hal::StreamKind::Depth);
     // THEN every frame comes out at 128x96: the first 90 code 90, the last six 40 and 200 only,
     // split at the middle column (nearest-neighbour: no code between the two was invented)
     ASSERT_EQ(d.stream.width, 128);
@@ -96,22 +96,10 @@ TEST_F(SizeChangeTest, colorThatDoublesItsSizeIsScaledBackSmoothly)
 {
     // GIVEN 4:2:0 color: 90 frames at 64x48, then 6 at 128x96 whose left half is dark and right
     // half bright
-    const std::string small = tmp_.path("small.h264");
-    ASSERT_TRUE(ffmpeg("-f lavfi -i color=c=gray:s=64x48:r=30:d=3 -frames:v " +
-                       std::to_string(kBefore) +
-                       " -c:v libx264 "
-                       "-qp 0 -pix_fmt yuv420p -f h264 " +
-                       small));
-    const std::string big = tmp_.path("big.h264");
-    ASSERT_TRUE(ffmpeg("-f lavfi -i color=c=0x282828:s=64x96:r=30:d=0.2 -f lavfi -i "
-                       "color=c=0xc8c8c8:s=64x96:r=30:d=0.2 -filter_complex hstack -frames:v " +
-                       std::to_string(kAfter) +
-                       " "
-                       "-c:v libx264 -qp 0 -pix_fmt yuv420p -f h264 " +
-                       big));
-    const std::string both = spliced(small, big);
+    const std::string file = spliced("yuv420p", "gray", "64x48", "0x282828", "0xc8c8c8", 128, 96);
+    ASSERT_FALSE(file.empty());
     // WHEN decoded as color
-    const Decoded d = decodeAll(both, hal::StreamKind::Color);
+    const Decoded d = decodeAll(file, hal::StreamKind::Color);
     // THEN all 96 frames are 64x48 4:2:0, and the halved silhouette's luma passes through a
     // value between the two sides (bilinear), dark on the left, bright on the right
     ASSERT_EQ(d.stream.width, 64);
