@@ -184,6 +184,7 @@ void Playback::finishOpen(std::unique_ptr<receiver::Receiver> rec)
         return fail(std::move(why));
 
     s->live = !s->receiver->source().info().seekable;
+    s->adaptive = !s->receiver->source().info().renditions.empty();
     attachAudio(m, *s, info);
     m.silentProgress = 0; // the new decode thread counts from 0
     s->decoder = std::make_unique<receiver::DecoderThread>(*s->receiver);
@@ -362,7 +363,8 @@ void Playback::report(player::StateMachine &machine)
 void Playback::watchSilence(player::StateMachine &machine)
 {
     Impl &m = *impl_;
-    if (!m.owned || !m.owned->live || !m.owned->decoder || !(m.config.liveSilenceSeconds > 0.0))
+    if (!m.owned || !m.owned->live || m.owned->adaptive || !m.owned->decoder ||
+        !(m.config.liveSilenceSeconds > 0.0))
         return;
     const std::uint64_t progress = m.owned->decoder->readProgress();
     const platform::TimePoint now = m.clock.now();

@@ -52,6 +52,9 @@ struct Session {
     platform::TimePoint openStarted{}; ///< When open() was called (PlaybackStats::tuneInSeconds).
     bool presentedOnce = false;        ///< A frame of this session was presented.
     bool live = false; ///< The source cannot seek (a network stream, a FIFO): it may go silent.
+    /// An adaptive input (an HLS ladder): it waits for whole segments over a slow link, so it is
+    /// not watched for silence (the source's I/O time-out ends a server that stopped answering).
+    bool adaptive = false;
 };
 
 } // namespace depthtouch::playback

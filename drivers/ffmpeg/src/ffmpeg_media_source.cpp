@@ -15,6 +15,7 @@
 #include "ffmpeg_common.h"
 #include "h264_sps.h"
 #include "hls_variants.h"
+#include "rendition_switch.h"
 #include "still_image.h"
 #include "stream_tags.h"
 #include "timed_metadata_reader.h"
@@ -34,60 +35,14 @@ using namespace ffmpeg;
 
 namespace {
 
-constexpr const char *kOptionKeys[] = {"fps", "format", "timeout_ms", "rendition"};
 constexpr AVRational kNanoseconds{1, 1'000'000'000};
 constexpr AVRational kMicroseconds{1, AV_TIME_BASE}; // AV_TIME_BASE_Q is a C compound literal
 
-/// \return the pixel format a stream's samples really have: an H.264 stream whose SPS says 4:0:0
-/// (monochrome) is gray, though libavcodec reports it as yuv(j)420p with neutral chroma.
-AVPixelFormat samplesFormatOf(const AVCodecParameters &par) noexcept
-{
-    const auto fmt = static_cast<AVPixelFormat>(par.format);
-    if (par.codec_id != AV_CODEC_ID_H264 || par.extradata == nullptr ||
-        h264ChromaFormatIdc(par.extradata, static_cast<std::size_t>(par.extradata_size)) != 0)
-        return fmt;
-    const AVPixFmtDescriptor *d = av_pix_fmt_desc_get(fmt);
-    if (d == nullptr || d->comp[0].depth <= 8)
-        return AV_PIX_FMT_GRAY8;
-    return d->comp[0].depth <= 10 ? AV_PIX_FMT_GRAY10 : AV_PIX_FMT_GRAY16;
-}
-
-bool isGray(AVPixelFormat f) noexcept
-{
-    return f == AV_PIX_FMT_GRAY8 || f == AV_PIX_FMT_GRAY16LE || f == AV_PIX_FMT_GRAY16BE ||
-           f == AV_PIX_FMT_GRAY10LE || f == AV_PIX_FMT_GRAY10BE;
-}
-
 } // namespace
-
-Result<FfmpegSourceSettings> FfmpegSourceSettings::parse(hal::OptionList options)
-{
-    FfmpegSourceSettings s;
-    DT_TRY(rejectUnknownOptions(options, kOptionKeys, std::size(kOptionKeys), kLogCategoryFfmpeg,
-                                "Unknown ffmpeg media source option"));
-    auto fps = options.getDouble("fps", 0.0);
-    auto timeout = options.getInt("timeout_ms", s.timeoutMs);
-    if (!fps || *fps < 0.0 || *fps > 10'000.0)
-        return unexpected(Errc::InvalidArgument, "ffmpeg option fps must be in 0..10000");
-    if (!timeout || *timeout < 1)
-        return unexpected(Errc::InvalidArgument, "ffmpeg option timeout_ms must be positive");
-    s.fps = *fps;
-    s.timeoutMs = *timeout;
-    if (auto f = options.find("format"))
-        s.format = std::string(*f);
-    if (auto r = options.find("rendition")) {
-        auto choice = parseRenditionChoice(*r);
-        if (!choice)
-            return unexpected(choice.error());
-        s.renditionHeight = choice->maxHeight;
-    }
-    return s;
-}
 
 struct FfmpegMediaSource::Impl {
     struct Stream {
         int avIndex = -1;
-        AVRational timeBase{1, 1};
         hal::Pts frameDuration{0};
         hal::Pts lastPts = hal::kNoPts;
         av::CodecContextPtr imageDecoder; ///< Set for still-image codecs delivered as RawVideo.
@@ -156,28 +111,44 @@ struct FfmpegMediaSource::Impl {
     }
     Result<hal::Packet> read();
     /// \return \a p, a packet of the audio stream delivered, as a hal::Packet (Packet::audio).
-    hal::Packet audioPacket(const AVPacket &p) const noexcept
+    /// \a id: the audio stream's container index as listed at open.
+    hal::Packet audioPacket(const AVPacket &p, int id) const noexcept
     {
         const AVRational tb = fmt->streams[p.stream_index]->time_base;
-        const auto at = [&](std::int64_t ts) {
-            return ts == AV_NOPTS_VALUE ? hal::kNoPts
-                                        : hal::Pts(av_rescale_q(ts, tb, kNanoseconds)) - start;
-        };
         hal::Packet out;
         out.audio = true;
-        out.streamIndex = p.stream_index;
-        out.pts = at(p.pts);
-        out.dts = at(p.dts);
+        out.streamIndex = id;
+        out.pts = toPts(p.pts, tb);
+        out.dts = toPts(p.dts, tb);
         out.keyframe = (p.flags & AV_PKT_FLAG_KEY) != 0;
         out.data = p.data;
         out.size = static_cast<std::size_t>(p.size);
         return out;
     }
-    hal::Pts toPts(std::int64_t ts, const Stream &s) const noexcept
+    hal::Pts toPts(std::int64_t ts, AVRational tb) const noexcept
     {
         if (ts == AV_NOPTS_VALUE)
             return hal::kNoPts;
-        return hal::Pts(av_rescale_q(ts, s.timeBase, kNanoseconds)) - start;
+        return hal::Pts(av_rescale_q(ts, tb, kNanoseconds)) - start;
+    }
+    /// \return the libav index, among the streams listed at open, that packet \a p's stream
+    /// stands for (itself but after a rendition switch), or -1 to skip \a p; performs a
+    /// switch the packet calls for (rendition_switch.h).
+    Result<int> judge(const AVPacket &p, platform::Duration waited)
+    {
+        if (!renditions.active())
+            return p.stream_index;
+        const auto seconds = [](platform::Duration d) {
+            return std::chrono::duration<double>(d).count();
+        };
+        switch (
+            renditions.judge(*fmt, p, seconds(waited), seconds(clock.now().time_since_epoch()))) {
+        case RenditionSwitch::Verdict::Deliver:
+            return renditions.identity(p.stream_index);
+        case RenditionSwitch::Verdict::Drop:
+            break;
+        }
+        return -1;
     }
     void reset() noexcept
     {
@@ -189,6 +160,8 @@ struct FfmpegMediaSource::Impl {
         avToHal.clear();
         pending.clear();
         audioIndex = -1;
+        keptVariant = -1;
+        renditions = RenditionSwitch{};
         info = {};
         start = hal::Pts{0};
         interrupted.store(false, std::memory_order_relaxed);
@@ -215,6 +188,8 @@ struct FfmpegMediaSource::Impl {
     std::vector<std::uint8_t> raw;
     hal::MediaInfo info;
     hal::Pts start{0};
+    int keptVariant = -1; ///< keepOneVariant()'s program.
+    RenditionSwitch renditions;
     bool live = false;   ///< A network URL or a FIFO (openInput()).
     int audioIndex = -1; ///< The audio stream deliverAudio() chose (libav index), -1: none.
 };
@@ -274,7 +249,8 @@ Result<void> FfmpegMediaSource::Impl::openInput(const char *url)
         return unexpected(
             failure(r, errcOf(r, Errc::InvalidArgument), "Failed to read the stream list"));
     }
-    keepOneVariant(*ctx, RenditionChoice{settings.renditionHeight}, info.renditions); // sizes known
+    keptVariant = keepOneVariant(*ctx, RenditionChoice{settings.renditionHeight},
+                                 info.renditions); // sizes known
     return ok();
 }
 
@@ -339,7 +315,6 @@ void FfmpegMediaSource::Impl::addStream(unsigned i, int videoStreams, int videoO
 
     Stream s;
     s.avIndex = static_cast<int>(i);
-    s.timeBase = st.time_base;
     if (rate.num > 0 && rate.den > 0)
         s.frameDuration = hal::Pts(av_rescale_q(1, av_inv_q(rate), kNanoseconds));
     if (si.codec == hal::CodecId::Unknown) {
@@ -441,6 +416,12 @@ Result<void> FfmpegMediaSource::Impl::open(const char *url)
     frame.reset(av_frame_alloc());
     if (!packet || !frame)
         return unexpected(Errc::OutOfResources, "Failed to allocate a packet");
+    if (settings.renditionAuto) {
+        std::vector<int> video;
+        for (const Stream &s : streams)
+            video.push_back(s.avIndex);
+        renditions.start(*ctx, keptVariant, video, info.renditions);
+    }
     return ok();
 }
 
@@ -451,12 +432,19 @@ Result<hal::Packet> FfmpegMediaSource::Impl::read()
         if (interrupted.load(std::memory_order_relaxed))
             return unexpected(Errc::Timeout, "Interrupted by a stop request");
         int r = 0;
+        platform::Duration waited{0};
+        if (renditions.due()) { // rendition_switch.h
+            armDeadline();
+            DT_TRY(renditions.perform(*fmt));
+        }
         if (!pending.empty()) { // read ahead at open (readTimedMetadata())
             av_packet_move_ref(packet.get(), pending.front().get());
             pending.pop_front();
         } else {
             armDeadline();
+            const platform::TimePoint asked = clock.now();
             r = av_read_frame(fmt.get(), packet.get());
+            waited = clock.now() - asked;
         }
         if (r < 0 && interrupted.load(std::memory_order_relaxed))
             return unexpected(Errc::Timeout, "Interrupted by a stop request");
@@ -477,18 +465,25 @@ Result<hal::Packet> FfmpegMediaSource::Impl::read()
             return unexpected(Errc::Io, "Failed to read a packet", AVUNERROR(r));
         }
         const AVPacket &p = *packet;
-        if (p.stream_index == audioIndex && p.size > 0 && p.data != nullptr)
-            return audioPacket(p);
-        if (p.stream_index < 0 || static_cast<std::size_t>(p.stream_index) >= avToHal.size())
+        auto judged = judge(p, waited); // the stream listed at open it stands for
+        if (!judged)
+            return unexpected(judged.error());
+        const int id = *judged;
+        if (id < 0)
             continue;
-        const int halIndex = avToHal[static_cast<std::size_t>(p.stream_index)];
+        if (id == audioIndex && p.size > 0 && p.data != nullptr)
+            return audioPacket(p, id);
+        if (static_cast<std::size_t>(id) >= avToHal.size())
+            continue;
+        const int halIndex = avToHal[static_cast<std::size_t>(id)];
         if (halIndex < 0 || p.size <= 0 || p.data == nullptr)
             continue;
         Stream &s = streams[static_cast<std::size_t>(halIndex)];
         hal::Packet out;
         out.streamIndex = halIndex;
-        out.dts = toPts(p.dts, s);
-        out.pts = toPts(p.pts, s);
+        const AVRational tb = fmt->streams[p.stream_index]->time_base;
+        out.dts = toPts(p.dts, tb);
+        out.pts = toPts(p.pts, tb);
         if (out.pts == hal::kNoPts)
             out.pts = out.dts;
         if (out.pts == hal::kNoPts)
@@ -583,6 +578,7 @@ Result<void> FfmpegMediaSource::seekDevice(hal::Pts position)
     if (r < 0)
         return unexpected(impl_->failure(r, Errc::Io, "Failed to seek"));
     impl_->pending.clear();
+    impl_->renditions.onSeek();
     for (auto &s : impl_->streams) {
         s.lastPts = hal::kNoPts;
         if (s.imageDecoder)

@@ -1,5 +1,9 @@
 #include "h264_sps.h"
 
+extern "C" {
+#include <libavutil/pixdesc.h>
+}
+
 #include <array>
 
 namespace depthtouch::drivers::ffmpeg {
@@ -116,6 +120,24 @@ int h264ChromaFormatIdc(const std::uint8_t *extradata, std::size_t size) noexcep
         i = end - 1;
     }
     return -1;
+}
+
+AVPixelFormat samplesFormatOf(const AVCodecParameters &par) noexcept
+{
+    const auto fmt = static_cast<AVPixelFormat>(par.format);
+    if (par.codec_id != AV_CODEC_ID_H264 || par.extradata == nullptr ||
+        h264ChromaFormatIdc(par.extradata, static_cast<std::size_t>(par.extradata_size)) != 0)
+        return fmt;
+    const AVPixFmtDescriptor *d = av_pix_fmt_desc_get(fmt);
+    if (d == nullptr || d->comp[0].depth <= 8)
+        return AV_PIX_FMT_GRAY8;
+    return d->comp[0].depth <= 10 ? AV_PIX_FMT_GRAY10 : AV_PIX_FMT_GRAY16;
+}
+
+bool isGray(AVPixelFormat f) noexcept
+{
+    return f == AV_PIX_FMT_GRAY8 || f == AV_PIX_FMT_GRAY16LE || f == AV_PIX_FMT_GRAY16BE ||
+           f == AV_PIX_FMT_GRAY10LE || f == AV_PIX_FMT_GRAY10BE;
 }
 
 } // namespace depthtouch::drivers::ffmpeg

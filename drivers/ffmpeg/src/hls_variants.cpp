@@ -63,6 +63,8 @@ bool better(const Variant &a, const Variant &b, const RenditionChoice &choice) n
 
 Result<RenditionChoice> parseRenditionChoice(std::string_view text)
 {
+    if (text == "auto")
+        return RenditionChoice{0, true};
     if (text == "highest")
         return RenditionChoice{0};
     if (text == "lowest")
@@ -71,8 +73,9 @@ Result<RenditionChoice> parseRenditionChoice(std::string_view text)
     char *end = nullptr;
     const long h = std::strtol(s.c_str(), &end, 10);
     if (s.empty() || *end != '\0' || h < 1 || h > kMaxHeight)
-        return unexpected(Errc::InvalidArgument,
-                          "ffmpeg option rendition must be highest, lowest or a height 1..8192");
+        return unexpected(
+            Errc::InvalidArgument,
+            "ffmpeg option rendition must be auto, highest, lowest or a height 1..8192");
     return RenditionChoice{static_cast<int>(h)};
 }
 

@@ -4,7 +4,8 @@
 /// HLS demuxer lists every variant's streams as a program of their own and fetches the segments
 /// of every variant whose streams are not discarded. The media source keeps one variant, by the
 /// `rendition` option, and discards the others' streams, so that only its segments are fetched
-/// and the stream roles (color, depth, material) are read within it.
+/// and the stream roles (color, depth, material) are read within it; with `auto` it may change
+/// variant while reading (rendition_switch.h).
 /// Thread-safety: reentrant (one format context per call).
 
 #include <string_view>
@@ -22,9 +23,12 @@ struct RenditionChoice {
     /// 0: the tallest variant (`highest`, the default); -1: the shortest (`lowest`); > 0: the
     /// tallest variant at most this many pixels high, else the shortest.
     int maxHeight = 0;
+    /// `auto` (the default): start at the tallest and change with the throughput while reading
+    /// (rendition_switch.h).
+    bool automatic = false;
 };
 
-/// \brief Parses `highest`, `lowest` or a height in pixels (1..8192).
+/// \brief Parses `auto`, `highest`, `lowest` or a height in pixels (1..8192).
 /// \return the choice; Errc::InvalidArgument for anything else.
 Result<RenditionChoice> parseRenditionChoice(std::string_view text);
 

@@ -27,11 +27,12 @@ std::vector<std::uint8_t> readBytes(const std::string &path)
 
 Decoded decodeAll(const std::string &url, hal::StreamKind kind, const std::string &sourceOptions,
                   bool (*mutate)(int index, std::vector<std::uint8_t> &bytes),
-                  const std::string &decoderOptions)
+                  const std::string &decoderOptions, platform::Clock *sourceClock)
 {
     Decoded out;
     hal::BackendConfig srcCfg;
     srcCfg.options = hal::OptionList(sourceOptions);
+    srcCfg.clock = sourceClock;
     auto src = drivers::createMediaSource("ffmpeg", srcCfg);
     EXPECT_TRUE(src);
     if (!src)

@@ -37,11 +37,12 @@ struct Decoded {
 
 /// Decodes the stream of kind \a kind (or the only stream) of \a url; bounded loops (a stuck
 /// decoder fails the test instead of hanging). \a mutate may damage packet payloads;
-/// \a decoderOptions are the ffmpeg decoder's (e.g. "hwaccel=none").
+/// \a decoderOptions are the ffmpeg decoder's (e.g. "hwaccel=none"); \a sourceClock the media
+/// source's clock (nullptr: the steady clock).
 Decoded decodeAll(const std::string &url, hal::StreamKind kind,
                   const std::string &sourceOptions = "",
                   bool (*mutate)(int index, std::vector<std::uint8_t> &bytes) = nullptr,
-                  const std::string &decoderOptions = "");
+                  const std::string &decoderOptions = "", platform::Clock *sourceClock = nullptr);
 
 /// \return the bytes of a file ("" when unreadable).
 std::vector<std::uint8_t> readBytes(const std::string &path);

@@ -117,7 +117,8 @@ struct PlaybackConfig {
     /// (player::StateMachine::onStreamSilent(): "end-file" "silent", then Stopped, or Opening
     /// while it waits for the next sender) instead of waiting for the source's I/O time-out. The
     /// receiver's buffers hold a few tenths of a second of frames on top: the report comes
-    /// about 1.6 s after a 30 fps sender stopped. 0: never.
+    /// about 1.6 s after a 30 fps sender stopped. 0: never. An adaptive input (an HLS ladder,
+    /// hal::MediaInfo::renditions) is not watched: a slow link delivers it a segment at a time.
     double liveSilenceSeconds = 1.0;
     /// Sound (`play --no-audio` turns it off): the input's first audio stream through
     /// PlaybackHal::audioOutput, as the master clock (audio_player.h). Inputs that cannot seek (a

@@ -49,6 +49,9 @@ struct FfmpegSourceSettings {
     /// pixels, the tallest at most that); 0 = highest, -1 = lowest (drivers/ffmpeg/src/
     /// hls_variants.h).
     int renditionHeight = 0;
+    /// `rendition=auto` (the default): start at the tallest, change with the throughput
+    /// (drivers/ffmpeg/src/rendition_switch.h).
+    bool renditionAuto = true;
 
     /// \return the settings, or InvalidArgument for an unknown key or a bad value.
     static Result<FfmpegSourceSettings> parse(hal::OptionList options);
