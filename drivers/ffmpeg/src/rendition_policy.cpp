@@ -45,15 +45,19 @@ bool ThroughputEstimate::add(std::size_t bytes, double waited, double now) noexc
 
 double ThroughputEstimate::rate(int buckets) const noexcept
 {
-    double bytes = 0.0, waited = 0.0;
+    double bytes = 0.0, waited = 0.0, recentBytes = 0.0, recentWaited = 0.0;
     for (int k = 0; k < buckets; ++k) {
         const Bucket &b = ring_[(bucket_ - k + kBuckets) % kBuckets];
         bytes += b.bytes;
         waited += b.waited;
+        if (recentWaited < kRecentWaiting) { // the newest buckets holding kRecentWaiting
+            recentBytes += b.bytes;
+            recentWaited += b.waited;
+        }
     }
     if (waited < kAmpleShare * buckets * kBucket)
         return kUnbounded;
-    return 8.0 * bytes / waited;
+    return 8.0 * recentBytes / recentWaited;
 }
 
 double ThroughputEstimate::bitsPerSecond() const noexcept

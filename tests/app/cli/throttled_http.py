@@ -14,7 +14,7 @@ import time
 
 
 class Link:
-    """A token-free pacer: the bytes sent so far in the current rate step decide the next wait."""
+    """Paces the bytes sent by every connection to the schedule's rate (a token bucket of 16 kB)."""
 
     def __init__(self, schedule):
         self.schedule = sorted(schedule)
@@ -23,6 +23,7 @@ class Link:
         self.step = -1
         self.step_start = 0.0
         self.sent = 0
+        self.burst = 16384  # bytes a link that was idle may send at once
 
     def rate(self, now):
         t = now - self.start
@@ -42,6 +43,9 @@ class Link:
             rate = self.rate(now)
             if rate <= 0:
                 return
+            if self.step_start + self.sent / rate < now - self.burst / rate:
+                # An idle link saves no credit beyond one burst: no catching up at full speed.
+                self.step_start, self.sent = now - self.burst / rate, 0
             self.sent += n
             due = self.step_start + self.sent / rate
         if due > now:

@@ -45,9 +45,9 @@ TEST(ThroughputEstimateTest, aFastPastDoesNotHideASlowPresent)
     // 8 s at 10 MB/s (waiting 20 % of the time), then the link falls to 25 kB/s.
     double t = feed(e, 0.0, 8.0, 200'000, 0.02, 0.1);
     EXPECT_NEAR(e.bitsPerSecond(), 8.0 * 200'000 / 0.02, 1e3);
-    t = feed(e, t, 2.1, 2500, 0.1, 0.1);
-    // After the short window of slow reads its rate counts, though the long window still holds
-    // the fast bytes (an average of the samples' rates would still say about 8 Mbit/s).
+    t = feed(e, t, 1.25, 2500, 0.1, 0.1);
+    // After a second of slow reads their rate counts, though both windows still hold fast bytes
+    // (the bytes over the waiting of the last 2 s would say about 9.6 Mbit/s).
     EXPECT_NEAR(e.bitsPerSecond(), 200'000.0, 2'000.0);
 }
 

@@ -1,0 +1,71 @@
+#!/bin/sh
+# End-to-end: an HLS ladder (`encode --renditions`, three renditions of color and still depth)
+# played over HTTP with the default `rendition=auto` while the link falls, 4 s in, to 1.15 times
+# the smallest rendition's BANDWIDTH (throttled_http.py): the player goes down to the smallest
+# rendition and plays on to the end: no stall longer than a segment (late_ms_max), no more than a
+# segment of pictures skipped, the smaller rendition's segments fetched from then on, and the sim
+# finger pressing the depth through the switch: no safety release, no force step at the switch
+# larger than the press's own or the force stage's slew limit (2 N an update).
+# Usage: ladder_switch_e2e.sh DEPTHTOUCH   (exit 77 without the ffmpeg CLI or python3)
+exe=$1
+here=$(dirname "$0")
+. "$here/../../e2e_lib.sh"
+e2e_need ffmpeg python3
+e2e_work ladder-switch
+server=""
+e2e_cleanup() { [ -n "$server" ] && kill "$server" 2>/dev/null; }
+
+ff -f lavfi -i testsrc2=size=320x240:rate=30:duration=16 -start_number 0 "$work/c-%03d.png" || fail "ffmpeg color"
+ff -f lavfi -i "gradients=size=320x240:rate=30:duration=16:speed=0.00001,format=gray" -start_number 0 "$work/d-%03d.png" ||
+    fail "ffmpeg depth"
+mkdir "$work/www"
+"$exe" encode --color "$work/c-%03d.png" --depth "$work/d-%03d.png" \
+    --renditions 240,120,60 -o "$work/www/show.m3u8" --preset ultrafast >"$work/enc.out" 2>&1 ||
+    { cat "$work/enc.out"; fail "encode --renditions exited $?"; }
+low=$(sed -n 's/^#EXT-X-STREAM-INF:BANDWIDTH=\([0-9]*\),.*RESOLUTION=80x60,.*/\1/p' "$work/www/show.m3u8")
+[ -n "$low" ] || { cat "$work/www/show.m3u8"; fail "no 80x60 rendition"; }
+link=$((low * 115 / 100 / 8)) # bytes/s
+
+port=$((20000 + $$ % 20000))
+python3 "$here/throttled_http.py" "$port" "$work/www" "0=0,4=$link" 2>"$work/http.log" &
+server=$!
+python3 - "$port" <<'PY' || fail "the throttled server does not listen"
+import socket, sys, time
+for _ in range(50):
+    try:
+        socket.create_connection(("127.0.0.1", int(sys.argv[1])), 0.2).close()
+        sys.exit(0)
+    except OSError:
+        time.sleep(0.1)
+sys.exit(1)
+PY
+"$exe" play "http://127.0.0.1:$port/show.m3u8" --display mock --haptic sim --verbose \
+    --force-log "$work/f.csv" --stats "$work/p.json" >"$work/play.out" 2>&1 ||
+    { cat "$work/play.out"; fail "play exited $?"; }
+grep -q 'Rendition 320x240 -> 80x60' "$work/play.out" ||
+    { cat "$work/play.out"; fail "no switch down to 80x60 on a link of $link bytes/s"; }
+last=$(grep -o 'GET /show_[0-9]*p[0-9]*\.ts' "$work/http.log" | tail -1)
+[ "$last" = "GET /show_60p7.ts" ] || { cat "$work/http.log"; fail "the last segment fetched: $last, want show_60p7.ts"; }
+python3 - "$work/p.json" "$work/f.csv" "$work/play.out" <<'PY' || { cat "$work/play.out"; fail "the play across the switch"; }
+import csv, json, math, re, sys
+j = json.load(open(sys.argv[1]))
+segment_frames = 60  # 2 s at 30 fps
+assert j["frames_received"] >= 480 - segment_frames, ("pictures skipped", j["frames_received"])
+assert j["late_ms_max"] < 2000, ("a stall longer than a segment", j["late_ms_max"])
+# The finger feels the new rendition's depth: depth went on reaching the haptic task.
+assert j["depth_pairs_published"] >= 0.9 * j["frames_received"], (j["depth_pairs_published"], j["frames_received"])
+rows = list(csv.DictReader(open(sys.argv[2])))
+assert rows, "an empty force log"
+assert not any(r["released"] == "1" for r in rows), "a safety release"
+# The switch's place in the video (the log: "... at 8.000 s"). The depth is still: a force step
+# there comes from the change of rendition alone, and may not exceed the finger's own steps.
+at = float(re.search(r"Rendition 320x240 -> 80x60 at ([0-9.]+) s", open(sys.argv[3]).read()).group(1))
+force = lambda r: [float(r[k]) for k in ("fx", "fy", "fz")]
+near, far = [0.0], [0.0]
+for a, b in zip(rows, rows[1:]):
+    (near if abs(float(b["play_t"]) - at) < 0.1 else far).append(math.dist(force(a), force(b)))
+assert max(far) > 0.0, "the finger never pressed"
+assert max(near) <= 2.0 and max(near) <= 1.25 * max(far), ("a force step at the switch", max(near), max(far))
+print("switch at %.3f s: %d of 480 frames received, late at most %.0f ms; largest force step %.3f N at the "
+      "switch, %.3f N elsewhere" % (at, j["frames_received"], j["late_ms_max"], max(near), max(far)))
+PY
