@@ -230,8 +230,8 @@ Result<void> RenditionSwitch::perform(AVFormatContext &ctx)
         current_ = target_;
         ++switches_;
         const std::int64_t start = ctx.start_time == AV_NOPTS_VALUE ? 0 : ctx.start_time;
-        DT_LOG(Ffmpeg, Info, "Rendition %dx%d -> %dx%d at %.3f s (throughput %.0f kbit/s)",
-               a.width, a.height, b.width, b.height, static_cast<double>(at - start) / 1e6, kbps);
+        DT_LOG(Ffmpeg, Info, "Rendition %dx%d -> %dx%d at %.3f s (throughput %.0f kbit/s)", a.width,
+               a.height, b.width, b.height, static_cast<double>(at - start) / 1e6, kbps);
         return ok();
     }
     DT_LOG(Ffmpeg, Warning, "Rendition %dx%d could not be sought to: staying at %dx%d", b.width,
