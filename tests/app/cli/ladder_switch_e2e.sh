@@ -16,7 +16,7 @@ server=""
 e2e_cleanup() { [ -n "$server" ] && kill "$server" 2>/dev/null; }
 
 ff -f lavfi -i testsrc2=size=320x240:rate=30:duration=16 -start_number 0 "$work/c-%03d.png" || fail "ffmpeg color"
-ff -f lavfi -i "gradients=size=320x240:rate=30:duration=16:speed=0.00001,format=gray" -start_number 0 "$work/d-%03d.png" ||
+ff -f lavfi -i "gradients=size=320x240:rate=30:duration=16:speed=0.00001:seed=1,format=gray" -start_number 0 "$work/d-%03d.png" ||
     fail "ffmpeg depth"
 mkdir "$work/www"
 "$exe" encode --color "$work/c-%03d.png" --depth "$work/d-%03d.png" \
@@ -61,6 +61,9 @@ assert not any(r["released"] == "1" for r in rows), "a safety release"
 # there comes from the change of rendition alone, and may not exceed the finger's own steps.
 at = float(re.search(r"Rendition 320x240 -> 80x60 at ([0-9.]+) s", open(sys.argv[3]).read()).group(1))
 force = lambda r: [float(r[k]) for k in ("fx", "fy", "fz")]
+pressed = [r for r in rows if abs(float(r["play_t"]) - at) < 0.1]
+assert pressed and all(r["contact"] == "1" and float(r["fz"]) > 1.0 for r in pressed), \
+    "the finger presses the surface through the switch"
 near, far = [0.0], [0.0]
 for a, b in zip(rows, rows[1:]):
     (near if abs(float(b["play_t"]) - at) < 0.1 else far).append(math.dist(force(a), force(b)))
