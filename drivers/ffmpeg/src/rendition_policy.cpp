@@ -46,18 +46,24 @@ bool ThroughputEstimate::add(std::size_t bytes, double waited, double now) noexc
 double ThroughputEstimate::rate(int buckets) const noexcept
 {
     double bytes = 0.0, waited = 0.0, recentBytes = 0.0, recentWaited = 0.0;
+    int span = 0; // buckets back to where the newest reads had waited kRecentWaiting together
     for (int k = 0; k < buckets; ++k) {
         const Bucket &b = ring_[(bucket_ - k + kBuckets) % kBuckets];
         bytes += b.bytes;
         waited += b.waited;
-        if (recentWaited < kRecentWaiting) { // the newest buckets holding kRecentWaiting
+        if (recentWaited < kRecentWaiting) {
             recentBytes += b.bytes;
             recentWaited += b.waited;
+            span = k + 1;
         }
     }
     if (waited < kAmpleShare * buckets * kBucket)
         return kUnbounded;
-    return 8.0 * recentBytes / recentWaited;
+    // The newest waiting counts once it filled at least kBusyShare of its own span: a span that
+    // reaches back into a time of reading without waiting mixes a fast past into it.
+    if (recentWaited >= kRecentWaiting && recentWaited >= kBusyShare * span * kBucket)
+        return 8.0 * recentBytes / recentWaited;
+    return 8.0 * bytes / waited;
 }
 
 double ThroughputEstimate::bitsPerSecond() const noexcept

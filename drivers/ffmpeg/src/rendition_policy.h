@@ -5,14 +5,16 @@
 /// switch itself is rendition_switch.h's.
 ///
 /// The throughput is the bytes of the packets read over the time spent waiting for them in
-/// av_read_frame(), over the newest reads that waited kRecentWaiting seconds together, within the
-/// last kFastWindow and within the last kSlowWindow seconds of wall time (buckets of kBucket
-/// seconds); the lower of the two counts: a fall is seen after a second of waiting, a rise only
-/// once it lasts (the two windows of hls.js's and Shaka Player's estimators, as sums rather than
-/// averages of rates, and over the newest waiting, so that a fast past cannot outweigh a slow
-/// present). A window that waited less than kAmpleShare of its length did not meet the network's
-/// limit: its rate is unbounded (a fast link, a paused or full player), and the tallest rung
-/// stays. Before kFastWindow has passed the estimate is unknown.
+/// av_read_frame(), within the last kFastWindow and within the last kSlowWindow seconds of wall
+/// time (buckets of kBucket seconds); the lower of the two counts: a fall is seen within about a
+/// second, a rise only once it lasts (the two windows of hls.js's and Shaka Player's estimators,
+/// as sums rather than averages of rates). Within a window, the newest reads that waited
+/// kRecentWaiting seconds together count alone when that waiting filled at least kBusyShare of
+/// the wall time they span (the reader was held by the link): a fast past neither outweighs a
+/// slow present nor, while the estimate falls, decides a change down to a rendition the link
+/// cannot carry either. A window that waited less than kAmpleShare of its length did not meet the
+/// network's limit: its rate is unbounded (a fast link, a paused or full player), and the tallest
+/// rung stays. Before kFastWindow has passed the estimate is unknown.
 ///
 /// The rule (RenditionPolicy::choose()): down as soon as the throughput is below the playing
 /// rung's BANDWIDTH, to the tallest rung whose BANDWIDTH is at most kDownShare of it (the
@@ -35,6 +37,7 @@ public:
     static constexpr double kSlowWindow = 8.0;
     static constexpr double kAmpleShare = 0.05;
     static constexpr double kRecentWaiting = 1.0; ///< Seconds.
+    static constexpr double kBusyShare = 0.5;
     /// What bitsPerSecond() returns for a window that did not meet the limit.
     static constexpr double kUnbounded = 1e15;
 
