@@ -228,7 +228,6 @@ Result<void> RenditionSwitch::perform(AVFormatContext &ctx)
     const std::int64_t at = first < 0 ? 0 : tracks_[static_cast<std::size_t>(first)].keyDts;
     if (seekTo(target_) >= 0) {
         current_ = target_;
-        ++switches_;
         const std::int64_t start = ctx.start_time == AV_NOPTS_VALUE ? 0 : ctx.start_time;
         DT_LOG(Ffmpeg, Info, "Rendition %dx%d -> %dx%d at %.3f s (throughput %.0f kbit/s)", a.width,
                a.height, b.width, b.height, static_cast<double>(at - start) / 1e6, kbps);

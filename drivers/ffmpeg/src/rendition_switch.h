@@ -72,8 +72,6 @@ public:
     Result<void> perform(AVFormatContext &ctx);
     /// \brief A seek of the whole input: a planned switch is dropped.
     void onSeek() noexcept;
-    /// \return the switches made so far.
-    [[nodiscard]] int switches() const noexcept { return switches_; }
 
 private:
     enum class Phase { Steady, Planned, Due, Joining };
@@ -106,7 +104,6 @@ private:
     ThroughputEstimate throughput_;
     double lastSwitch_ = -1.0; ///< Seconds (judge()'s clock).
     double now_ = 0.0;
-    int switches_ = 0;
 };
 
 } // namespace depthtouch::drivers::ffmpeg
