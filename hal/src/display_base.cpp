@@ -1,6 +1,7 @@
 #include "depthtouch/hal/display_base.h"
 
 #include "depthtouch/platform/log.h"
+#include "session_state.h"
 
 DT_LOG_CATEGORY(Display)
 
@@ -19,12 +20,11 @@ Result<void> DisplayBase::open(const DisplayConfig &cfg)
 
 void DisplayBase::close() noexcept
 {
-    if (state_ == State::Closed)
-        return;
-    closeDevice();
-    state_ = State::Closed;
-    size_ = {};
-    refreshHz_ = 0.0;
+    detail::closeSession(state_, [this]() noexcept {
+        closeDevice();
+        size_ = {};
+        refreshHz_ = 0.0;
+    });
 }
 
 void DisplayBase::markLost() noexcept

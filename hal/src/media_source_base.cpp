@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "depthtouch/platform/log.h"
+#include "session_state.h"
 
 DT_LOG_CATEGORY(HalSource)
 
@@ -35,10 +36,7 @@ Result<void> MediaSourceBase::open(const char *url)
 
 void MediaSourceBase::close() noexcept
 {
-    if (state_ == State::Closed)
-        return;
-    closeDevice();
-    state_ = State::Closed;
+    detail::closeSession(state_, [this]() noexcept { closeDevice(); });
 }
 
 const MediaInfo &MediaSourceBase::info() const noexcept

@@ -4,6 +4,7 @@
 #include "depthtouch/hal/video_decoder_base.h"
 
 #include "depthtouch/platform/log.h"
+#include "session_state.h"
 
 DT_LOG_CATEGORY(HalDecoder)
 
@@ -70,11 +71,10 @@ Result<void> VideoDecoderBase::flush()
 
 void VideoDecoderBase::close() noexcept
 {
-    if (state_ == State::Closed)
-        return;
-    closeDevice();
-    state_ = State::Closed;
-    draining_ = false;
+    detail::closeSession(state_, [this]() noexcept {
+        closeDevice();
+        draining_ = false;
+    });
 }
 
 } // namespace depthtouch::hal

@@ -324,6 +324,21 @@ bool isSurfaceGone(EGLint error) noexcept
     return error == EGL_CONTEXT_LOST || error == EGL_BAD_NATIVE_WINDOW || error == EGL_BAD_SURFACE;
 }
 
+Result<void> makeWindowCurrent(EGLDisplay display, EGLSurface surface, EGLContext context,
+                               const platform::LogCategory &category, const char *what,
+                               const char *lostWhat) noexcept
+{
+    const EGLint err = makeCurrentUnlessCurrent(display, surface, context);
+    if (err == EGL_SUCCESS)
+        return ok();
+    if (category.enabled(platform::LogLevel::Error))
+        platform::logMessage(category, platform::LogLevel::Error,
+                             "Failed to make the %s context current: %s", what, eglErrorName(err));
+    if (isSurfaceGone(err))
+        return unexpected(Errc::NoDevice, lostWhat);
+    return unexpected(Errc::Io, "eglMakeCurrent failed");
+}
+
 void bindDrawTarget(GLuint fbo, hal::Size size) noexcept
 {
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);

@@ -13,6 +13,7 @@
 
 #include "depthtouch/hal/display.h"
 #include "depthtouch/hal/types.h"
+#include "depthtouch/platform/log.h"
 #include "depthtouch/platform/result.h"
 
 namespace depthtouch::drivers::egl {
@@ -50,6 +51,16 @@ EGLSurface createWindowSurface(EGLDisplay display, EGLConfig config, void *platf
 /// \return EGL_SUCCESS, or the eglGetError() code of the eglMakeCurrent() that failed.
 EGLint makeCurrentUnlessCurrent(EGLDisplay display, EGLSurface surface,
                                 EGLContext context) noexcept;
+
+/// \brief Makes a window display's \a context current on the calling thread, drawing to and
+/// reading from \a surface (makeCurrentUnlessCurrent()). On failure logs "Failed to make the
+/// <what> context current: <EGL error>" at Error level under \a category.
+/// \return nothing once current. Errors: NoDevice with \a lostWhat when the error means the
+/// context or surface is gone (isSurfaceGone(): the caller then marks the display lost), Io
+/// otherwise. \a what and \a lostWhat are static strings.
+Result<void> makeWindowCurrent(EGLDisplay display, EGLSurface surface, EGLContext context,
+                               const platform::LogCategory &category, const char *what,
+                               const char *lostWhat) noexcept;
 
 /// \return true for the eglMakeCurrent()/eglSwapBuffers() errors that mean the context or the
 /// window surface is gone for good (the display is lost): EGL_CONTEXT_LOST, EGL_BAD_NATIVE_WINDOW,

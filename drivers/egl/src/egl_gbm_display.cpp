@@ -340,16 +340,11 @@ void EglGbmDisplay::lose(const char *why) noexcept
 Result<void> EglGbmDisplay::ensureCurrent()
 {
     Kms &k = *kms_;
-    const EGLint err = egl::makeCurrentUnlessCurrent(k.display, k.eglSurface, k.context);
-    if (err == EGL_SUCCESS)
-        return ok();
-    DT_LOG(Kms, Error, "Failed to make the GBM surface context current: %s",
-           egl::eglErrorName(err));
-    if (egl::isSurfaceGone(err)) {
+    auto current = egl::makeWindowCurrent(k.display, k.eglSurface, k.context, kLogCategoryKms,
+                                          "GBM surface", "KMS display lost (EGL context gone)");
+    if (!current && current.error().code == Errc::NoDevice)
         lose("the EGL context or surface is gone");
-        return unexpected(Errc::NoDevice, "KMS display lost (EGL context gone)");
-    }
-    return unexpected(Errc::Io, "eglMakeCurrent failed");
+    return current;
 }
 
 Result<void> EglGbmDisplay::makeCurrentDevice()

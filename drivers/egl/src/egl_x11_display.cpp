@@ -391,15 +391,11 @@ Result<void> EglX11Display::ensureCurrent()
     if (state() == State::Lost)
         return unexpected(Errc::NoDevice, "X11 display lost (window closed or X server gone)");
     X &x = *x_;
-    const EGLint err = egl::makeCurrentUnlessCurrent(x.display, x.surface, x.context);
-    if (err == EGL_SUCCESS)
-        return ok();
-    DT_LOG(Egl, Error, "Failed to make the X11 window context current: %s", egl::eglErrorName(err));
-    if (egl::isSurfaceGone(err)) {
+    auto current = egl::makeWindowCurrent(x.display, x.surface, x.context, kLogCategoryEgl,
+                                          "X11 window", "X11 window surface lost");
+    if (!current && current.error().code == Errc::NoDevice)
         lose("the window surface is gone");
-        return unexpected(Errc::NoDevice, "X11 window surface lost");
-    }
-    return unexpected(Errc::Io, "eglMakeCurrent failed");
+    return current;
 }
 
 Result<void> EglX11Display::makeCurrentDevice()
