@@ -9,6 +9,7 @@
 // moving depth video, run-time disable/enable, an unplug and a reconnect.
 #include "depthtouch/haptic_task/haptic_task.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cstdarg>
 #include <cstdio>
@@ -60,6 +61,23 @@ inline void countIf(std::atomic<std::uint64_t> &counter) noexcept
 template <class F> F resolve(const char *name) noexcept
 {
     return reinterpret_cast<F>(dlsym(RTLD_NEXT, name));
+}
+
+/// The name of a forwarded function, as a template argument (one lookup per function).
+template <std::size_t N> struct Symbol {
+    constexpr Symbol(const char (&s)[N]) noexcept { std::copy_n(s, N, name); }
+    char name[N];
+};
+
+/// Counts a call in \a counter (when the thread is watched) and forwards \a args to the next
+/// definition of the function named \a S, of type R(Args...), looked up on the first call.
+/// \return what that definition returns.
+template <Symbol S, class R, class... Args>
+R countAndForward(std::atomic<std::uint64_t> &counter, Args... args)
+{
+    static const auto real = resolve<R (*)(Args...)>(S.name);
+    countIf(counter);
+    return real(args...);
 }
 
 } // namespace
@@ -163,33 +181,23 @@ void operator delete[](void *p, const std::nothrow_t &) noexcept
 extern "C" {
 int pthread_mutex_lock(pthread_mutex_t *m)
 {
-    static const auto real = resolve<int (*)(pthread_mutex_t *)>("pthread_mutex_lock");
-    countIf(gLocks);
-    return real(m);
+    return countAndForward<"pthread_mutex_lock", int>(gLocks, m);
 }
 int pthread_mutex_trylock(pthread_mutex_t *m)
 {
-    static const auto real = resolve<int (*)(pthread_mutex_t *)>("pthread_mutex_trylock");
-    countIf(gLocks);
-    return real(m);
+    return countAndForward<"pthread_mutex_trylock", int>(gLocks, m);
 }
 int pthread_rwlock_rdlock(pthread_rwlock_t *l)
 {
-    static const auto real = resolve<int (*)(pthread_rwlock_t *)>("pthread_rwlock_rdlock");
-    countIf(gLocks);
-    return real(l);
+    return countAndForward<"pthread_rwlock_rdlock", int>(gLocks, l);
 }
 int pthread_rwlock_wrlock(pthread_rwlock_t *l)
 {
-    static const auto real = resolve<int (*)(pthread_rwlock_t *)>("pthread_rwlock_wrlock");
-    countIf(gLocks);
-    return real(l);
+    return countAndForward<"pthread_rwlock_wrlock", int>(gLocks, l);
 }
 int sem_wait(sem_t *s)
 {
-    static const auto real = resolve<int (*)(sem_t *)>("sem_wait");
-    countIf(gLocks);
-    return real(s);
+    return countAndForward<"sem_wait", int>(gLocks, s);
 }
 
 // ---- Writes ----------------------------------------------------------------------------------
@@ -210,28 +218,19 @@ ssize_t pwrite(int fd, const void *buf, std::size_t count, off_t offset)
 }
 std::size_t fwrite(const void *p, std::size_t size, std::size_t n, FILE *f)
 {
-    static const auto real =
-        resolve<std::size_t (*)(const void *, std::size_t, std::size_t, FILE *)>("fwrite");
-    countIf(gWrites);
-    return real(p, size, n, f);
+    return countAndForward<"fwrite", std::size_t>(gWrites, p, size, n, f);
 }
 int fputs(const char *s, FILE *f)
 {
-    static const auto real = resolve<int (*)(const char *, FILE *)>("fputs");
-    countIf(gWrites);
-    return real(s, f);
+    return countAndForward<"fputs", int>(gWrites, s, f);
 }
 int fputc(int c, FILE *f)
 {
-    static const auto real = resolve<int (*)(int, FILE *)>("fputc");
-    countIf(gWrites);
-    return real(c, f);
+    return countAndForward<"fputc", int>(gWrites, c, f);
 }
 int vfprintf(FILE *f, const char *format, va_list args)
 {
-    static const auto real = resolve<int (*)(FILE *, const char *, va_list)>("vfprintf");
-    countIf(gWrites);
-    return real(f, format, args);
+    return countAndForward<"vfprintf", int>(gWrites, f, format, args);
 }
 // The interposers pass their caller's format on (clang's -Wformat-nonliteral would stop them).
 #pragma GCC diagnostic push
@@ -259,9 +258,7 @@ int __vfprintf_chk(FILE *f, int, const char *format, va_list args)
 #pragma GCC diagnostic pop
 int fflush(FILE *f)
 {
-    static const auto real = resolve<int (*)(FILE *)>("fflush");
-    countIf(gWrites);
-    return real(f);
+    return countAndForward<"fflush", int>(gWrites, f);
 }
 }
 

@@ -34,23 +34,19 @@ using test::startPressingFlat;
 
 /// A device that makes its reads take simulated time (a slow USB transaction), for the deadline
 /// watchdog. Delegates everything else.
-class SlowDevice final : public hal::HapticDevice {
+class SlowDevice final : public test::DelegatingDevice {
 public:
-    SlowDevice(hal::HapticDevice &inner, ManualClock &clock) : inner_(inner), clock_(clock) {}
-    const hal::HapticCapabilities &capabilities() const noexcept override
+    SlowDevice(hal::HapticDevice &inner, ManualClock &clock)
+        : DelegatingDevice(inner), clock_(clock)
     {
-        return inner_.capabilities();
     }
-    State state() const noexcept override { return inner_.state(); }
-    Result<void> open() override { return inner_.open(); }
-    void close() noexcept override { inner_.close(); }
     Result<void> read(hal::HapticState &out) noexcept override
     {
         if (slowCycles_.load() > 0) {
             slowCycles_.fetch_sub(1);
             clock_.advance(3ms);
         }
-        return inner_.read(out);
+        return DelegatingDevice::read(out);
     }
     Result<void> commandForce(const hal::Vec3 &force) noexcept override
     {
@@ -58,9 +54,8 @@ public:
             std::sqrt(force.x * force.x + force.y * force.y + force.z * force.z);
         if (magnitude > largestCommand_.load())
             largestCommand_.store(magnitude);
-        return inner_.commandForce(force);
+        return DelegatingDevice::commandForce(force);
     }
-    bool isConnected() const noexcept override { return inner_.isConnected(); }
 
     /// The next \a n reads each take 3 ms (three periods at 1 kHz).
     void makeSlow(int n) { slowCycles_.store(n); }
@@ -70,7 +65,6 @@ public:
     double largestCommand() const { return largestCommand_.load(); }
 
 private:
-    hal::HapticDevice &inner_;
     ManualClock &clock_;
     std::atomic<int> slowCycles_{0};
     std::atomic<double> largestCommand_{0.0};
@@ -342,9 +336,9 @@ TEST(HapticTaskTest, statsGiveTheLongestDeviceCall)
 
 /// A device whose every read writes to a page of memory it never touched before: one page fault
 /// (minor: an anonymous page, no I/O) on the haptic thread per update. Delegates everything else.
-class FaultingDevice final : public hal::HapticDevice {
+class FaultingDevice final : public test::DelegatingDevice {
 public:
-    explicit FaultingDevice(hal::HapticDevice &inner) : inner_(inner)
+    explicit FaultingDevice(hal::HapticDevice &inner) : DelegatingDevice(inner)
     {
         void *m = mmap(nullptr, kPages * kPage, PROT_READ | PROT_WRITE,
                        MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
@@ -361,25 +355,13 @@ public:
     }
     FaultingDevice(const FaultingDevice &) = delete;
     FaultingDevice &operator=(const FaultingDevice &) = delete;
-    const hal::HapticCapabilities &capabilities() const noexcept override
-    {
-        return inner_.capabilities();
-    }
-    State state() const noexcept override { return inner_.state(); }
-    Result<void> open() override { return inner_.open(); }
-    void close() noexcept override { inner_.close(); }
     Result<void> read(hal::HapticState &out) noexcept override
     {
         const std::uint64_t n = reads_.fetch_add(1);
         if (pages_ != nullptr && n < kPages)
             pages_[n * kPage] = 1;
-        return inner_.read(out);
+        return DelegatingDevice::read(out);
     }
-    Result<void> commandForce(const hal::Vec3 &force) noexcept override
-    {
-        return inner_.commandForce(force);
-    }
-    bool isConnected() const noexcept override { return inner_.isConnected(); }
 
     [[nodiscard]] bool mapped() const { return pages_ != nullptr; }
     [[nodiscard]] std::uint64_t reads() const { return reads_.load(); }
@@ -387,7 +369,6 @@ public:
 private:
     static constexpr std::size_t kPage = 4096;
     static constexpr std::uint64_t kPages = 1024;
-    hal::HapticDevice &inner_;
     volatile unsigned char *pages_ = nullptr;
     std::atomic<std::uint64_t> reads_{0};
 };

@@ -14,6 +14,7 @@
 #include "app/haptic_task/frames.h"
 #include "depthtouch/drivers/mock/mock_haptic_device.h"
 #include "depthtouch/drivers/mock/sim_haptic_device.h"
+#include "depthtouch/hal/haptic_device.h"
 #include "depthtouch/haptic_task/haptic_task.h"
 
 namespace depthtouch::haptic_task::test {
@@ -133,5 +134,28 @@ inline void startPressingFlat(Rig &rig, drivers::MockHapticDevice &mock, hal::Ha
     rig.start(device, config);
     rig.runMs(300);
 }
+
+/// \brief A haptic device that forwards every call to \a inner: the base of the test devices that
+/// change one call (a slow read, a page fault in every read) and delegate everything else.
+class DelegatingDevice : public hal::HapticDevice {
+public:
+    explicit DelegatingDevice(hal::HapticDevice &inner) : inner_(inner) {}
+    const hal::HapticCapabilities &capabilities() const noexcept override
+    {
+        return inner_.capabilities();
+    }
+    State state() const noexcept override { return inner_.state(); }
+    Result<void> open() override { return inner_.open(); }
+    void close() noexcept override { inner_.close(); }
+    Result<void> read(hal::HapticState &out) noexcept override { return inner_.read(out); }
+    Result<void> commandForce(const hal::Vec3 &force) noexcept override
+    {
+        return inner_.commandForce(force);
+    }
+    bool isConnected() const noexcept override { return inner_.isConnected(); }
+
+private:
+    hal::HapticDevice &inner_;
+};
 
 } // namespace depthtouch::haptic_task::test

@@ -98,6 +98,26 @@ FingerRenderer makeFinger(FingerContact contact = FingerContact::GodObject)
     return FingerRenderer(c);
 }
 
+/// Runs a new finger with contact \a contact, its proxy reset at \a hip(0), along the HIP path
+/// \a hip(t) on \a video from t = 0 to \a duration (s); \return its log.
+Log runFinger(SyntheticVideo &video, FingerContact contact,
+              const std::function<glm::dvec3(double)> &hip, double duration)
+{
+    FingerRenderer finger = makeFinger(contact);
+    finger.reset(hip(0.0));
+    Log log;
+    replay(video, finger, 0.0, duration, hip, log);
+    return log;
+}
+
+/// A HIP path that comes straight down \a drop (m) onto \a rest in \a time (s), then rests there.
+std::function<glm::dvec3(double)> settleOnto(glm::dvec3 rest, double drop, double time)
+{
+    return [=](double t) {
+        return t < time ? rest + glm::dvec3(0.0, 0.0, drop * (1.0 - t / time)) : rest;
+    };
+}
+
 /// The contacts a resting finger is tested with: each alone, and the one that switches.
 constexpr FingerContact kContacts[] = {FingerContact::GodObject, FingerContact::Penalty,
                                        FingerContact::Adaptive};
@@ -142,11 +162,8 @@ TEST(FingerOccluderTest, aPressBesideAHandsEdgeDoesNotAlternate)
             SyntheticVideo video = keyboardAndHand(
                 [a = k.amplitude](double t) { return a * std::sin(2.0 * 3.14159265 * 2.0 * t); },
                 k.tall);
-            FingerRenderer finger = makeFinger(contact);
-            const auto hip = pressAndHold(k.offset * radius, k.tall, k.depth);
-            finger.reset(hip(0.0));
-            Log log;
-            replay(video, finger, 0.0, 1.3, hip, log);
+            const Log log =
+                runFinger(video, contact, pressAndHold(k.offset * radius, k.tall, k.depth), 1.3);
             const int run = log.longestAlternation(300, 0.1);
             std::printf(
                 "contact %d, hand %.0f mm moving ±%.1f mm, press %.0f mm at %.1f r: longest "
@@ -181,11 +198,8 @@ TEST(FingerOccluderTest, aHeldPressIsFeltAgainWhenTheOccluderLeaves)
         return 0.010;
     };
     SyntheticVideo video = keyboardAndHand(edge, 0.009);
-    FingerRenderer finger = makeFinger();
-    const auto hip = pressAndHold(0.0, 0.009, 0.003);
-    finger.reset(hip(0.0));
-    Log log;
-    replay(video, finger, 0.0, 2.0, hip, log);
+    const Log log =
+        runFinger(video, FingerContact::GodObject, pressAndHold(0.0, 0.009, 0.003), 2.0);
     ASSERT_TRUE(log.out[450].contact); // pressed before the hand came
     // The patch is clear once the edge (slanted 0.3 across y, 0.2 mm soft) is r + 1 mm past x = 0:
     // at t = 1.1 + (radius + 0.001 + 0.010) / 0.05 on the way back.
@@ -218,11 +232,7 @@ TEST(FingerOccluderTest, aHeldPressIsFeltAgainAfterAHandFlashesOverIt)
 {
     auto edge = [](double t) { return t >= 0.5 && t < 0.7 ? -0.030 : 0.030; };
     SyntheticVideo video = keyboardAndHand(edge, 0.015);
-    FingerRenderer finger = makeFinger();
-    const auto hip = pressAndHold(0.0, 0.0, 0.003);
-    finger.reset(hip(0.0));
-    Log log;
-    replay(video, finger, 0.0, 1.2, hip, log);
+    const Log log = runFinger(video, FingerContact::GodObject, pressAndHold(0.0, 0.0, 0.003), 1.2);
     ASSERT_TRUE(log.out[450].contact);
     // The hand's last frame ends at 0.7 s (frame 21 at 0.7 s shows the keyboard again).
     double regained = std::nan("");
@@ -259,14 +269,7 @@ TEST(FingerOccluderTest, aSurfaceSweepingUnderARestingFingerNeverJumpsTheProxyOn
     };
     for (FingerContact contact : kContacts) {
         SyntheticVideo video(kBox, kW, kH, kFps, head, SampleFormat::Gray8);
-        FingerRenderer finger = makeFinger(contact);
-        const glm::dvec3 rest(0.0, 0.0, -0.011);
-        auto hip = [&rest](double t) {
-            return t < 0.1 ? rest + glm::dvec3(0.0, 0.0, 0.003 * (1.0 - t / 0.1)) : rest;
-        };
-        finger.reset(hip(0.0));
-        Log log;
-        replay(video, finger, 0.0, 0.6, hip, log);
+        const Log log = runFinger(video, contact, settleOnto({0.0, 0.0, -0.011}, 0.003, 0.1), 0.6);
         double worstJump = 0.0;
         for (std::size_t k = 1; k < log.out.size(); ++k)
             if (log.out[k].contact && log.out[k - 1].contact)
@@ -298,14 +301,7 @@ TEST(FingerOccluderTest, aSurfaceRisingFastUnderARestingFingerPushesAtABoundedRa
         [](double, double, int i) { return -0.015 + 0.009 * std::clamp(i - 3, 0, 2); },
         SampleFormat::Gray16);
     for (FingerContact contact : kContacts) {
-        FingerRenderer finger = makeFinger(contact);
-        const glm::dvec3 rest(0.0, 0.0, -0.016);
-        auto hip = [&rest](double t) {
-            return t < 0.05 ? rest + glm::dvec3(0.0, 0.0, 0.004 * (1.0 - t / 0.05)) : rest;
-        };
-        finger.reset(hip(0.0));
-        Log log;
-        replay(video, finger, 0.0, 0.2, hip, log);
+        const Log log = runFinger(video, contact, settleOnto({0.0, 0.0, -0.016}, 0.004, 0.05), 0.2);
         double worstRise = 0.0;
         for (std::size_t k = 60; k < log.out.size(); ++k)
             worstRise = std::max(worstRise,
@@ -359,13 +355,10 @@ TEST(FingerOccluderTest, aSilhouettePassingOverPartOfThePatchIsNoCut)
     for (const double to : {-0.6, -3.0}) {
         SyntheticVideo video =
             keyboardAndHand([&](double t) { return (t < 0.5 ? 0.6 : to) * radius; }, 0.030);
-        FingerRenderer finger = makeFinger();
         const auto hip = [](double t) {
             return glm::dvec3(0.0, 0.0, -0.003 - 0.004 * std::min(1.0, t / 0.2));
         };
-        finger.reset(hip(0.0));
-        Log log;
-        replay(video, finger, 0.0, 0.8, hip, log);
+        const Log log = runFinger(video, FingerContact::GodObject, hip, 0.8);
         std::size_t firstTrip = log.out.size();
         for (std::size_t i = 0; i < log.out.size() && firstTrip == log.out.size(); ++i)
             if (log.out[i].released)

@@ -17,7 +17,7 @@
 #include <cstdlib>
 #include <vector>
 
-#include "app/render/egl_test_context.h"
+#include "app/render/gles_fixture.h"
 #include "app/render/render_test_support.h"
 #include "depthtouch/render/dmabuf_import.h"
 #include "depthtouch/render/render_target.h"
@@ -169,34 +169,22 @@ private:
     int fd_ = -1;
 };
 
-class DmaBufRenderTest : public ::testing::Test {
+class DmaBufRenderTest : public test::GlesRendererTest {
 protected:
     void SetUp() override
     {
-        std::string why;
-        ctx_ = test::EglTestContext::create(why);
-        if (!ctx_)
-            GTEST_SKIP() << "No GLES 3 context on the EGL surfaceless platform: " << why;
         RendererOptions o;
         o.mode = StereoMode::Mono;
         o.stereo.margin = 1.3;
         o.mesh.mode = MeshMode::Fixed;
         o.mesh.fixedStep = 1;
-        auto r = StereoRenderer::create(o);
-        ASSERT_TRUE(r) << r.error().what;
-        renderer_ = std::move(*r);
+        setUpRenderer(o);
+        if (!renderer_)
+            return; // skipped, or the options were refused
         ASSERT_TRUE(renderer_->setDepth(depth_.view()));
     }
 
-    std::vector<std::uint8_t> draw()
-    {
-        auto t = RenderTarget::create(96, 64);
-        EXPECT_TRUE(t);
-        EXPECT_TRUE(renderer_->render(*t));
-        std::vector<std::uint8_t> rgb;
-        EXPECT_TRUE(t->readRgb(rgb));
-        return rgb;
-    }
+    std::vector<std::uint8_t> draw() { return test::drawRgb(*renderer_, 96, 64); }
 
     /// Largest difference of one channel, and the pixels that are not background.
     static int maxDiff(const std::vector<std::uint8_t> &a, const std::vector<std::uint8_t> &b)
@@ -218,8 +206,6 @@ protected:
     /// few codes when a GPU driver converted it (its own Y'CbCr matrix and chroma filter).
     int tolerance() const { return renderer_->dmaBufStats().zeroCopy ? 12 : 0; }
 
-    std::unique_ptr<test::EglTestContext> ctx_;
-    std::unique_ptr<StereoRenderer> renderer_;
     test::Depth8 depth_{32, 24, [](int c, int r) { return 100 + c + r; }};
     /// Colour with structure in every plane: Y ramps, Cb and Cr vary by quadrant.
     test::Yuv420 color_{

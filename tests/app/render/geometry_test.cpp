@@ -19,7 +19,7 @@
 #include <utility>
 #include <vector>
 
-#include "app/render/egl_test_context.h"
+#include "app/render/gles_fixture.h"
 #include "app/render/render_test_support.h"
 #include "depthtouch/render/render_target.h"
 #include "depthtouch/render/renderer.h"
@@ -87,16 +87,8 @@ std::pair<int, long long> openEdgesAndArea(const std::vector<std::uint32_t> &idx
     return {open, area2};
 }
 
-class RenderGeometryTest : public ::testing::Test {
+class RenderGeometryTest : public test::GlesTest {
 protected:
-    void SetUp() override
-    {
-        std::string why;
-        ctx_ = test::EglTestContext::create(why);
-        if (!ctx_)
-            GTEST_SKIP() << "No GLES 3 context on the EGL surfaceless platform: " << why;
-    }
-
     static std::unique_ptr<StereoRenderer> make(const MeshOptions &mesh)
     {
         RendererOptions o;
@@ -110,12 +102,7 @@ protected:
     /// Draws the current frame of \a r into a 240×90 side-by-side target; \return its pixels.
     static std::vector<std::uint8_t> picture(StereoRenderer &r)
     {
-        auto t = RenderTarget::create(240, 90);
-        EXPECT_TRUE(t);
-        EXPECT_TRUE(r.render(*t));
-        std::vector<std::uint8_t> rgb;
-        EXPECT_TRUE(t->readRgb(rgb));
-        return rgb;
+        return test::drawRgb(r, 240, 90);
     }
 
     /// The picture a renderer made for this frame alone draws of \a d with \a mesh.
@@ -128,7 +115,6 @@ protected:
         return picture(*r);
     }
 
-    std::unique_ptr<test::EglTestContext> ctx_;
     /// A detailed frame (a long triangle list, tiles at several steps), a gentle one (a short
     /// list) and a colour frame of their size, 130×90.
     const Depth8 detailed{130, 90, bumpy};

@@ -5,11 +5,13 @@
 /// pixels, blobs of pixels, the projection of a scene point. Shared by golden_test.cpp (pictures,
 /// layouts, colour), golden_surface_test.cpp (the drawn surface against the touched one) and
 /// golden_overlay_test.cpp (avatar, OSD, snapshots).
-/// Thread-safety: test code, one thread.
+/// The owned test frames (render_test_support.h) are named here too, so that the tests using this
+/// namespace see them. Thread-safety: test code, one thread.
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -18,11 +20,16 @@
 
 #include <glm/vec4.hpp>
 
-#include "app/render/egl_test_context.h"
+#include "app/render/gles_fixture.h"
+#include "app/render/render_test_support.h"
 #include "depthtouch/render/render_target.h"
 #include "depthtouch/render/renderer.h"
 
 namespace depthtouch::render::golden {
+
+using test::Depth16;
+using test::Depth8;
+using test::Yuv420;
 
 struct Rgb {
     int r, g, b;
@@ -90,21 +97,15 @@ inline glm::dvec2 project(const EyeView &e, int targetHeight, glm::dvec3 p)
     return {wx, targetHeight - wy};
 }
 
-class RenderGoldenTest : public ::testing::Test {
+class RenderGoldenTest : public depthtouch::test::GlesRendererTest {
 protected:
     void SetUp() override
     {
-        std::string why;
-        ctx_ = depthtouch::test::EglTestContext::create(why);
-        if (!ctx_)
-            GTEST_SKIP() << "No GLES 3 context on the EGL surfaceless platform: " << why;
         RendererOptions o;
         o.mesh.mode = MeshMode::Fixed;
         o.mesh.fixedStep = 1;
         o.stereo.eyeSeparation = 0.03; // parallax of a few pixels in these small frames
-        auto r = StereoRenderer::create(o);
-        ASSERT_TRUE(r) << r.error().what;
-        renderer_ = std::move(*r);
+        setUpRenderer(o);
     }
 
     void setMode(StereoMode mode, double margin = 1.04,
@@ -117,20 +118,38 @@ protected:
         ASSERT_TRUE(renderer_->setOptions(o));
     }
 
+    /// Shows a flat plane at mid nearness (8-bit level 128) of \a w × \a h samples in the solid
+    /// colour \a yuv (8-bit Y', Cb, Cr, read as \a spec says), drawn mono with box margin
+    /// \a margin. A refused option or frame fails the test fatally: call it inside
+    /// ASSERT_NO_FATAL_FAILURE.
+    void showFlatPlane(int w, int h, std::array<int, 3> yuv, double margin,
+                       const ColorSpec &spec = {})
+    {
+        const Depth8 d(w, h, [](int, int) { return 128; });
+        Yuv420 col(w, h, [yuv](int, int) { return yuv; });
+        setMode(StereoMode::Mono, margin);
+        ASSERT_TRUE(renderer_->setDepth(d.view()));
+        ASSERT_TRUE(renderer_->setColor(col.view(), spec));
+    }
+
+    /// The eyes the renderer draws for \a mode in a \a w × \a h target (pixels) with its current
+    /// cameras and picture size and a box depth of 0.04 m, left eye first (one for Mono).
+    [[nodiscard]] std::array<EyeView, 2> eyesFor(StereoMode mode, int w, int h) const
+    {
+        int n = 0;
+        return eyeViews(mode, renderer_->options().stereo, w, h,
+                        renderer_->mapping().pictureWidth(), renderer_->mapping().pictureHeight(),
+                        0.04, n);
+    }
+
     Picture draw(int w, int h)
     {
-        auto t = RenderTarget::create(w, h);
-        EXPECT_TRUE(t);
-        EXPECT_TRUE(renderer_->render(*t));
         Picture p;
         p.width = w;
         p.height = h;
-        EXPECT_TRUE(t->readRgb(p.rgb));
+        p.rgb = depthtouch::test::drawRgb(*renderer_, w, h);
         return p;
     }
-
-    std::unique_ptr<depthtouch::test::EglTestContext> ctx_;
-    std::unique_ptr<StereoRenderer> renderer_;
 };
 
 } // namespace depthtouch::render::golden

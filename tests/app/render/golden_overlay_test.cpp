@@ -17,7 +17,6 @@
 
 #include "app/render/egl_test_context.h"
 #include "app/render/golden_fixture.h"
-#include "app/render/render_test_support.h"
 #include "depthtouch/haptics/height_field.h"
 #include "depthtouch/media/image_io.h"
 #include "depthtouch/render/render_target.h"
@@ -26,18 +25,11 @@
 
 using namespace depthtouch;
 using namespace depthtouch::render;
-using namespace depthtouch::render::golden; // the fixture and its picture helpers
-using test::Depth16;
-using test::Depth8;
-using test::Yuv420;
+using namespace depthtouch::render::golden; // the fixture, its picture helpers and test frames
 
 TEST_F(RenderGoldenTest, avatarOsdAndSnapshot)
 {
-    const Depth8 d(64, 48, [](int, int) { return 128; });
-    Yuv420 col(64, 48, [](int, int) { return std::array<int, 3>{126, 128, 128}; });
-    setMode(StereoMode::Mono, 1.2);
-    ASSERT_TRUE(renderer_->setDepth(d.view()));
-    ASSERT_TRUE(renderer_->setColor(col.view(), ColorSpec{}));
+    ASSERT_NO_FATAL_FAILURE(showFlatPlane(64, 48, {126, 128, 128}, 1.2)); // grey
     const Picture plain = draw(200, 150);
     // GIVEN the proxy resting on the surface near the box centre and the OSD on
     AvatarState av;
@@ -53,10 +45,7 @@ TEST_F(RenderGoldenTest, avatarOsdAndSnapshot)
     renderer_->setOsd(osd);
     const Picture withAvatar = draw(200, 150);
     // THEN the pixel at the proxy is the sphere's warm colour instead of the grey surface
-    int n = 0;
-    const auto eyes = eyeViews(StereoMode::Mono, renderer_->options().stereo, 200, 150,
-                               renderer_->mapping().pictureWidth(),
-                               renderer_->mapping().pictureHeight(), 0.04, n);
+    const auto eyes = eyesFor(StereoMode::Mono, 200, 150);
     const glm::dvec2 at = project(eyes[0], 150, av.proxy + glm::dvec3(0, 0, av.radius));
     const Rgb before = plain.at(static_cast<int>(at.x), static_cast<int>(at.y));
     const Rgb sphere = withAvatar.at(static_cast<int>(at.x), static_cast<int>(at.y));
@@ -108,11 +97,7 @@ TEST_F(RenderGoldenTest, avatarOsdAndSnapshot)
 // number (900 and 800 N/m, the same length of text, draw differently there and nowhere else).
 TEST_F(RenderGoldenTest, theOsdShowsTheStiffnessOnALineOfItsOwn)
 {
-    const Depth8 d(64, 48, [](int, int) { return 128; });
-    Yuv420 col(64, 48, [](int, int) { return std::array<int, 3>{126, 128, 128}; });
-    setMode(StereoMode::Mono, 1.2);
-    ASSERT_TRUE(renderer_->setDepth(d.view()));
-    ASSERT_TRUE(renderer_->setColor(col.view(), ColorSpec{}));
+    ASSERT_NO_FATAL_FAILURE(showFlatPlane(64, 48, {126, 128, 128}, 1.2)); // grey
     OsdState osd;
     osd.visible = true;
     osd.status = "PLAYING";
@@ -155,11 +140,7 @@ TEST_F(RenderGoldenTest, theAvatarSphereIsRoundWhereItCutsTheSurface)
 {
     // GIVEN a flat surface and a large proxy sphere (r = 50 mm) sunk into it until only its front
     // 5 % shows: the visible cap is where the sphere's mesh lies in front of the surface
-    const Depth8 d(64, 48, [](int, int) { return 128; });
-    Yuv420 col(64, 48, [](int, int) { return std::array<int, 3>{126, 128, 128}; });
-    setMode(StereoMode::Mono, 1.2);
-    ASSERT_TRUE(renderer_->setDepth(d.view()));
-    ASSERT_TRUE(renderer_->setColor(col.view(), ColorSpec{}));
+    ASSERT_NO_FATAL_FAILURE(showFlatPlane(64, 48, {126, 128, 128}, 1.2)); // grey
     AvatarState av;
     av.visible = true;
     av.radius = 0.05;
@@ -168,10 +149,7 @@ TEST_F(RenderGoldenTest, theAvatarSphereIsRoundWhereItCutsTheSurface)
     av.hip = av.proxy; // no HIP marker
     renderer_->setAvatar(av);
     const Picture pic = draw(400, 300);
-    int n = 0;
-    const auto eyes = eyeViews(StereoMode::Mono, renderer_->options().stereo, 400, 300,
-                               renderer_->mapping().pictureWidth(),
-                               renderer_->mapping().pictureHeight(), 0.04, n);
+    const auto eyes = eyesFor(StereoMode::Mono, 400, 300);
     const glm::dvec2 at = project(eyes[0], 300, av.proxy + glm::dvec3(0, 0, av.radius));
     const int cx = static_cast<int>(at.x);
     const int cy = static_cast<int>(at.y);

@@ -17,7 +17,6 @@
 
 #include "app/render/egl_test_context.h"
 #include "app/render/golden_fixture.h"
-#include "app/render/render_test_support.h"
 #include "depthtouch/haptics/height_field.h"
 #include "depthtouch/media/image_io.h"
 #include "depthtouch/render/render_target.h"
@@ -26,10 +25,7 @@
 
 using namespace depthtouch;
 using namespace depthtouch::render;
-using namespace depthtouch::render::golden; // the fixture and its picture helpers
-using test::Depth16;
-using test::Depth8;
-using test::Yuv420;
+using namespace depthtouch::render::golden; // the fixture, its picture helpers and test frames
 
 namespace {
 
@@ -135,10 +131,7 @@ TEST_F(RenderGoldenTest, drawnSurfaceIsTheTouchedHeightField)
         EXPECT_LT(top.maxGridDx, 0.02 * hf.spacing());
         EXPECT_LT(top.maxDz, 0.01 * level) << "haptic and graphic surfaces differ";
         // AND through the left eye's shift-sensor view (between the samples too)
-        int n = 0;
-        const auto eyes = eyeViews(StereoMode::SideBySide, renderer_->options().stereo, 400, 150,
-                                   renderer_->mapping().pictureWidth(),
-                                   renderer_->mapping().pictureHeight(), 0.04, n);
+        const auto eyes = eyesFor(StereoMode::SideBySide, 400, 150);
         const Agreement persp = agreement(*renderer_, hf, eyes[0], 400, 150, false);
         EXPECT_GT(persp.covered, persp.total / 2);
         EXPECT_LT(persp.maxDz, 0.02 * level) << "haptic and graphic surfaces differ";

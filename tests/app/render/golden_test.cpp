@@ -20,7 +20,6 @@
 
 #include "app/render/egl_test_context.h"
 #include "app/render/golden_fixture.h"
-#include "app/render/render_test_support.h"
 #include "depthtouch/haptics/height_field.h"
 #include "depthtouch/media/image_io.h"
 #include "depthtouch/render/render_target.h"
@@ -29,26 +28,17 @@
 
 using namespace depthtouch;
 using namespace depthtouch::render;
-using namespace depthtouch::render::golden; // the fixture and its picture helpers
-using test::Depth16;
-using test::Depth8;
-using test::Yuv420;
+using namespace depthtouch::render::golden; // the fixture, its picture helpers and test frames
 
 TEST_F(RenderGoldenTest, flatPlaneWithSolidColorFillsTheBoxRegion)
 {
     // GIVEN a flat depth frame at mid nearness and a solid red colour frame (BT.601 limited)
-    const Depth8 d(64, 43, [](int, int) { return 128; });
-    Yuv420 c(64, 43, [](int, int) { return std::array<int, 3>{81, 90, 240}; });
-    setMode(StereoMode::Mono, 1.3);
-    ASSERT_TRUE(renderer_->setDepth(d.view()));
-    ASSERT_TRUE(renderer_->setColor(c.view(), ColorSpec{YuvMatrix::Bt601, false}));
+    ASSERT_NO_FATAL_FAILURE(
+        showFlatPlane(64, 43, {81, 90, 240}, 1.3, ColorSpec{YuvMatrix::Bt601, false}));
     // WHEN drawn mono into 160×120
     const Picture p = draw(160, 120);
     // THEN the box's projected rectangle is red and the rest is the black background
-    int n = 0;
-    const auto eyes = eyeViews(StereoMode::Mono, renderer_->options().stereo, 160, 120,
-                               renderer_->mapping().pictureWidth(),
-                               renderer_->mapping().pictureHeight(), 0.04, n);
+    const auto eyes = eyesFor(StereoMode::Mono, 160, 120);
     const double z = renderer_->mapping().point(0, 0, 128).z;
     const glm::dvec2 tl = project(eyes[0], 120, {-0.05, renderer_->mapping().height() / 2, z});
     const glm::dvec2 br = project(eyes[0], 120, {0.05, -renderer_->mapping().height() / 2, z});
@@ -99,10 +89,7 @@ TEST_F(RenderGoldenTest, raisedSquareHasCrossedParallaxAndFarMarkUncrossed)
     ASSERT_GT(right.count, 20);
     // THEN the near mark's left-eye image is right of its right-eye image (crossed parallax), by
     // the disparity the eye cameras predict
-    int n = 0;
-    const auto eyes = eyeViews(StereoMode::SideBySide, renderer_->options().stereo, 320, 120,
-                               renderer_->mapping().pictureWidth(),
-                               renderer_->mapping().pictureHeight(), 0.04, n);
+    const auto eyes = eyesFor(StereoMode::SideBySide, 320, 120);
     const glm::dvec3 centre = renderer_->mapping().point(32, 24, 255);
     const double predicted =
         project(eyes[0], 120, centre).x - (project(eyes[1], 120, centre).x - 160);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <set>
 #include <utility>
 #include <vector>
@@ -363,6 +364,42 @@ TEST(QuadtreeMeshTest, blockBudgetBoundsTheLeavesAndRefinesEdgesBreadthFirst)
     }
 }
 
+namespace {
+
+/// Blocks options with 16-sample tiles from step 16 and a tolerance of 100 levels (no refinement
+/// for the mean error budget): only the probes and the pass over neighbouring samples refine.
+MeshOptions blocksFromStep16()
+{
+    MeshOptions o;
+    o.mode = MeshMode::Blocks;
+    o.tileSize = 16;
+    o.maxStep = 16;
+    o.tolerance = 100.0;
+    return o;
+}
+
+/// Builds a mesh with \a o from the 65×49-sample frame filled by \a f, in 8- and 16-bit depth with
+/// holes below the code \a holeBelow, and checks that it has 4×3 tiles, tile (1, 1) drawn at step 1
+/// and the other eleven at step 16.
+void expectOnlyTileOneOneAtStepOne(const std::function<int(int, int)> &f, const MeshOptions &o,
+                                   std::uint32_t holeBelow)
+{
+    const test::Depth8 d8(65, 49, f);
+    const test::Depth16 d16(65, 49, f);
+    for (scene::DepthFrameView v : {d8.view(), d16.view()}) {
+        v.holeBelow = holeBelow;
+        AdaptiveMesh mesh;
+        ASSERT_TRUE(mesh.build(v, o));
+        ASSERT_EQ(mesh.tilesX(), 4);
+        ASSERT_EQ(mesh.tilesY(), 3);
+        for (int t = 0; t < 12; ++t)
+            EXPECT_EQ(mesh.tileSteps()[static_cast<std::size_t>(t)], t == 5 ? 1 : 16)
+                << "tile " << t << (v.format == scene::SampleFormat::Gray8 ? " 8-bit" : " 16-bit");
+    }
+}
+
+} // namespace
+
 /// Blocks: a depth edge that no probe sees still sends its tile to full resolution (the pass over
 /// neighbouring samples), in 8- and 16-bit depth; the flat tiles stay at the coarsest step.
 TEST(BlockStepsTest, anEdgeBetweenTheProbesSendsItsTileToStepOne)
@@ -373,23 +410,8 @@ TEST(BlockStepsTest, anEdgeBetweenTheProbesSendsItsTileToStepOne)
     const auto ridge = [](int c, int r) {
         return (r == 24 || r == 25) && c >= 18 && c <= 28 ? 140 : 100;
     };
-    MeshOptions o;
-    o.mode = MeshMode::Blocks;
-    o.tileSize = 16;
-    o.maxStep = 16;
-    o.tolerance = 100.0; // no refinement for the mean error budget
-    const test::Depth8 d8(65, 49, ridge);
-    const test::Depth16 d16(65, 49, ridge);
-    for (const scene::DepthFrameView &v : {d8.view(), d16.view()}) {
-        AdaptiveMesh mesh;
-        ASSERT_TRUE(mesh.build(v, o));
-        // THEN that tile is drawn at step 1 and the other eleven at step 16
-        ASSERT_EQ(mesh.tilesX(), 4);
-        ASSERT_EQ(mesh.tilesY(), 3);
-        for (int t = 0; t < 12; ++t)
-            EXPECT_EQ(mesh.tileSteps()[static_cast<std::size_t>(t)], t == 5 ? 1 : 16)
-                << "tile " << t << (v.format == scene::SampleFormat::Gray8 ? " 8-bit" : " 16-bit");
-    }
+    // THEN that tile is drawn at step 1 and the other eleven at step 16
+    expectOnlyTileOneOneAtStepOne(ridge, blocksFromStep16(), 0);
 }
 
 /// Blocks: a hole's border is over any cap (adaptive_mesh.h, "Holes"), also at a hole threshold of
@@ -402,23 +424,8 @@ TEST(BlockStepsTest, aHoleBetweenTheProbesSendsItsTileToStepOneAtAHoleThresholdO
     const auto holed = [](int c, int r) {
         return (r == 24 || r == 25) && c >= 18 && c <= 28 ? 0 : 100;
     };
-    MeshOptions o;
-    o.mode = MeshMode::Blocks;
-    o.tileSize = 16;
-    o.maxStep = 16;
-    o.tolerance = 100.0;
+    MeshOptions o = blocksFromStep16();
     o.maxErrorCap = 100000.0;
-    const test::Depth8 d8(65, 49, holed);
-    const test::Depth16 d16(65, 49, holed);
-    for (scene::DepthFrameView v : {d8.view(), d16.view()}) {
-        v.holeBelow = 1;
-        AdaptiveMesh mesh;
-        ASSERT_TRUE(mesh.build(v, o));
-        // THEN that tile is drawn at step 1 and the other eleven at step 16
-        ASSERT_EQ(mesh.tilesX(), 4);
-        ASSERT_EQ(mesh.tilesY(), 3);
-        for (int t = 0; t < 12; ++t)
-            EXPECT_EQ(mesh.tileSteps()[static_cast<std::size_t>(t)], t == 5 ? 1 : 16)
-                << "tile " << t << (v.format == scene::SampleFormat::Gray8 ? " 8-bit" : " 16-bit");
-    }
+    // THEN that tile is drawn at step 1 and the other eleven at step 16
+    expectOnlyTileOneOneAtStepOne(holed, o, 1);
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <vector>
 
 #include "depthtouch/hal/types.h"
@@ -14,45 +15,20 @@
 
 namespace depthtouch::test {
 
-/// A W×H 8-bit nearness frame filled by \a f(c, r).
-struct Depth8 {
+/// A W×H nearness frame of \a Sample codes in format \a Format, filled by \a f(c, r) clamped to
+/// the codes \a Sample holds.
+template <class Sample, scene::SampleFormat Format> struct DepthFrame {
     int width = 0;
     int height = 0;
-    std::vector<std::uint8_t> samples;
+    std::vector<Sample> samples;
 
-    Depth8(int w, int h, const std::function<int(int, int)> &f) : width(w), height(h)
+    DepthFrame(int w, int h, const std::function<int(int, int)> &f) : width(w), height(h)
     {
         samples.resize(static_cast<std::size_t>(w * h));
         for (int r = 0; r < h; ++r)
             for (int c = 0; c < w; ++c)
-                samples[static_cast<std::size_t>(r * w + c)] =
-                    static_cast<std::uint8_t>(std::clamp(f(c, r), 0, 255));
-    }
-    [[nodiscard]] scene::DepthFrameView view() const
-    {
-        scene::DepthFrameView v;
-        v.data = samples.data();
-        v.width = width;
-        v.height = height;
-        v.strideBytes = static_cast<std::size_t>(width);
-        v.format = scene::SampleFormat::Gray8;
-        return v;
-    }
-};
-
-/// A W×H 16-bit nearness frame filled by \a f(c, r).
-struct Depth16 {
-    int width = 0;
-    int height = 0;
-    std::vector<std::uint16_t> samples;
-
-    Depth16(int w, int h, const std::function<int(int, int)> &f) : width(w), height(h)
-    {
-        samples.resize(static_cast<std::size_t>(w * h));
-        for (int r = 0; r < h; ++r)
-            for (int c = 0; c < w; ++c)
-                samples[static_cast<std::size_t>(r * w + c)] =
-                    static_cast<std::uint16_t>(std::clamp(f(c, r), 0, 65535));
+                samples[static_cast<std::size_t>(r * w + c)] = static_cast<Sample>(
+                    std::clamp(f(c, r), 0, static_cast<int>(std::numeric_limits<Sample>::max())));
     }
     [[nodiscard]] scene::DepthFrameView view() const
     {
@@ -60,11 +36,16 @@ struct Depth16 {
         v.data = reinterpret_cast<const std::uint8_t *>(samples.data());
         v.width = width;
         v.height = height;
-        v.strideBytes = static_cast<std::size_t>(width) * 2;
-        v.format = scene::SampleFormat::Gray16;
+        v.strideBytes = static_cast<std::size_t>(width) * sizeof(Sample);
+        v.format = Format;
         return v;
     }
 };
+
+/// A W×H 8-bit nearness frame filled by \a f(c, r).
+using Depth8 = DepthFrame<std::uint8_t, scene::SampleFormat::Gray8>;
+/// A W×H 16-bit nearness frame filled by \a f(c, r).
+using Depth16 = DepthFrame<std::uint16_t, scene::SampleFormat::Gray16>;
 
 /// A W×H yuv420p frame whose pixel (x, y) has Y, U, V = \a f(x, y) (chroma taken at even pixels).
 struct Yuv420 {
