@@ -2,6 +2,7 @@
 
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -72,6 +73,14 @@ protected:
         platform::setLogSink(nullptr, nullptr);
         platform::setLogLevel(platform::LogLevel::Info);
     }
+    /// Selects a widget from kTable with the list \a names (recording into report_). \return the
+    /// name of the widget made, "" where none was (a test failure).
+    std::string selected(std::string_view names)
+    {
+        auto w = selectBackend<Widget>("widget", kTable, names, cfg_, &report_);
+        EXPECT_TRUE(w) << names;
+        return w ? (*w)->name() : "";
+    }
     bool logged(const std::string &needle) const
     {
         for (const LogLine &l : lines_)
@@ -89,9 +98,7 @@ TEST_F(SelectBackendTest, autoprobeSkipsExplicitOnlyEntriesAndFailures)
 {
     // GIVEN no names  WHEN selecting  THEN autoprobe tries beta (fails), then gamma (succeeds), in
     // table order
-    auto w = selectBackend<Widget>("widget", kTable, "", cfg_, &report_);
-    ASSERT_TRUE(w);
-    EXPECT_STREQ((*w)->name(), "gamma");
+    EXPECT_EQ(selected(""), "gamma");
     EXPECT_EQ(gAttempts, (std::vector<std::string>{"beta", "gamma"}));
     EXPECT_EQ(report_.chosen, "gamma");
     EXPECT_TRUE(report_.message.empty());
@@ -103,9 +110,7 @@ TEST_F(SelectBackendTest, autoprobeSkipsExplicitOnlyEntriesAndFailures)
 
 TEST_F(SelectBackendTest, listedNamesAreTriedInTheGivenOrder)
 {
-    auto w = selectBackend<Widget>("widget", kTable, "delta,alpha", cfg_, &report_);
-    ASSERT_TRUE(w);
-    EXPECT_STREQ((*w)->name(), "delta");
+    EXPECT_EQ(selected("delta,alpha"), "delta");
     EXPECT_EQ(gAttempts, (std::vector<std::string>{"delta"}));
 }
 
@@ -118,9 +123,7 @@ TEST_F(SelectBackendTest, explicitOnlyBackendCanBeNamed)
 
 TEST_F(SelectBackendTest, failedListedBackendFallsThroughToTheNext)
 {
-    auto w = selectBackend<Widget>("widget", kTable, " beta , ,alpha ", cfg_, &report_);
-    ASSERT_TRUE(w);
-    EXPECT_STREQ((*w)->name(), "alpha");
+    EXPECT_EQ(selected(" beta , ,alpha "), "alpha");
     EXPECT_EQ(gAttempts, (std::vector<std::string>{"beta", "alpha"}));
     EXPECT_EQ(report_.chosen, "alpha");
 }

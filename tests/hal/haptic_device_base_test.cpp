@@ -66,6 +66,16 @@ protected:
 
 using depthtouch::testing::errcOf;
 
+/// Opens \a dev and makes its hooks fail with \a code from then on. \return the error of the
+/// read() that follows.
+std::optional<Errc> readErrorOnceFailingWith(HookOnlyDevice &dev, Errc code)
+{
+    EXPECT_TRUE(dev.open());
+    dev.failWith = code;
+    HapticState s;
+    return errcOf(dev.read(s));
+}
+
 bool sameBits(double a, double b)
 {
     return std::memcmp(&a, &b, sizeof a) == 0;
@@ -174,10 +184,7 @@ TEST(HapticDeviceBaseTest, unpluggedDeviceIsZeroedAndNeverCommandedAgain)
 TEST(HapticDeviceBaseTest, deviceReportingNoDeviceIsMarkedDisconnected)
 {
     HookOnlyDevice dev(8.5);
-    ASSERT_TRUE(dev.open());
-    dev.failWith = Errc::NoDevice;
-    HapticState s;
-    EXPECT_EQ(errcOf(dev.read(s)), Errc::NoDevice);
+    EXPECT_EQ(readErrorOnceFailingWith(dev, Errc::NoDevice), Errc::NoDevice);
     EXPECT_EQ(dev.state(), State::Disconnected);
     EXPECT_EQ(dev.zeroes, 1);
     dev.close();
@@ -189,10 +196,7 @@ TEST(HapticDeviceBaseTest, deviceReportingNoDeviceIsMarkedDisconnected)
 TEST(HapticDeviceBaseTest, timeoutKeepsTheDeviceOpen)
 {
     HookOnlyDevice dev(8.5);
-    ASSERT_TRUE(dev.open());
-    dev.failWith = Errc::Timeout;
-    HapticState s;
-    EXPECT_EQ(errcOf(dev.read(s)), Errc::Timeout);
+    EXPECT_EQ(readErrorOnceFailingWith(dev, Errc::Timeout), Errc::Timeout);
     EXPECT_EQ(errcOf(dev.commandForce({1.0, 0.0, 0.0})), Errc::Timeout);
     EXPECT_EQ(errcOf(dev.commandForce({std::nan(""), 0.0, 0.0})), Errc::Timeout);
     EXPECT_EQ(dev.state(), State::Open);

@@ -20,11 +20,24 @@ std::string slurp(const std::string &path)
     return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
 }
 
-TEST(ReportFileTest, createsTheFolderAndItsParentsAndAcceptsAnExistingOne)
+/// A scratch folder per test (tmp_, path()).
+class ReportFileTest : public testing::TempDirTest {
+protected:
+    ReportFileTest() : TempDirTest("dt-report-file-") {}
+
+    /// \return the path of out.csv in the scratch folder, written with \a text first.
+    std::string fileHolding(const std::string &text) const
+    {
+        const std::string file = path("out.csv");
+        std::ofstream(file) << text;
+        return file;
+    }
+};
+
+TEST_F(ReportFileTest, createsTheFolderAndItsParentsAndAcceptsAnExistingOne)
 {
     // GIVEN a temporary folder
-    testing::TempDir tmp("dt-report-file-");
-    const std::string dir = tmp.path("a/b/c");
+    const std::string dir = path("a/b/c");
     // WHEN a nested report folder is created twice
     // THEN both calls succeed and the folder exists
     EXPECT_EQ(createReportFolder(dir), "");
@@ -32,22 +45,19 @@ TEST(ReportFileTest, createsTheFolderAndItsParentsAndAcceptsAnExistingOne)
     EXPECT_TRUE(std::filesystem::is_directory(dir));
 }
 
-TEST(ReportFileTest, aFolderUnderARegularFileGivesTheSystemsReason)
+TEST_F(ReportFileTest, aFolderUnderARegularFileGivesTheSystemsReason)
 {
     // GIVEN a regular file
-    testing::TempDir tmp("dt-report-file-");
-    std::ofstream(tmp.path("file")) << "x";
+    std::ofstream(path("file")) << "x";
     // WHEN a folder is asked for below it
     // THEN the reason is returned
-    EXPECT_NE(createReportFolder(tmp.path("file/sub")), "");
+    EXPECT_NE(createReportFolder(path("file/sub")), "");
 }
 
-TEST(ReportFileTest, writesThePrintedTextAndClosesOnce)
+TEST_F(ReportFileTest, writesThePrintedTextAndClosesOnce)
 {
     // GIVEN a file in a temporary folder
-    testing::TempDir tmp("dt-report-file-");
-    const std::string path = tmp.path("out.csv");
-    std::ofstream(path) << "old content that is replaced";
+    const std::string path = fileHolding("old content that is replaced");
     ReportFile f(path);
     ASSERT_TRUE(f.isOpen());
     // WHEN lines are printed and the file is closed
@@ -60,11 +70,10 @@ TEST(ReportFileTest, writesThePrintedTextAndClosesOnce)
     EXPECT_EQ(slurp(path), "a,b\n7,0.50,x\n");
 }
 
-TEST(ReportFileTest, aFileThatDoesNotOpenIsReportedAtClose)
+TEST_F(ReportFileTest, aFileThatDoesNotOpenIsReportedAtClose)
 {
     // GIVEN a path in a folder that does not exist
-    testing::TempDir tmp("dt-report-file-");
-    ReportFile f(tmp.path("missing/out.csv"));
+    ReportFile f(path("missing/out.csv"));
     // WHEN it is written to and closed
     EXPECT_FALSE(f.isOpen());
     f.print("ignored\n");
@@ -72,7 +81,7 @@ TEST(ReportFileTest, aFileThatDoesNotOpenIsReportedAtClose)
     EXPECT_FALSE(f.close());
 }
 
-TEST(ReportFileTest, aFailedWriteIsReportedAtClose)
+TEST_F(ReportFileTest, aFailedWriteIsReportedAtClose)
 {
     // GIVEN /dev/full, which refuses every write with ENOSPC
     ReportFile f("/dev/full");
@@ -84,12 +93,10 @@ TEST(ReportFileTest, aFailedWriteIsReportedAtClose)
     EXPECT_FALSE(f.close());
 }
 
-TEST(ReportFileTest, aReportFileIsUnderItsNameOnlyOnceWrittenWhole)
+TEST_F(ReportFileTest, aReportFileIsUnderItsNameOnlyOnceWrittenWhole)
 {
     // GIVEN a file being printed to
-    testing::TempDir tmp("dt-report-file-");
-    const std::string path = tmp.path("out.csv");
-    std::ofstream(path) << "previous";
+    const std::string path = fileHolding("previous");
     ReportFile f(path);
     ASSERT_TRUE(f.isOpen());
     f.print("a,b\n");
@@ -98,22 +105,21 @@ TEST(ReportFileTest, aReportFileIsUnderItsNameOnlyOnceWrittenWhole)
     // AND closed, the new text is there and nothing else is in the folder
     EXPECT_TRUE(f.close());
     EXPECT_EQ(slurp(path), "a,b\n");
-    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(tmp.dir()),
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(tmp_.dir()),
                             std::filesystem::directory_iterator()),
               1);
 }
 
-TEST(ReportFileTest, aTextReportFileIsWrittenWholeOrSaysWhy)
+TEST_F(ReportFileTest, aTextReportFileIsWrittenWholeOrSaysWhy)
 {
     // GIVEN a text report streamed into a folder, and one into /dev/full
-    testing::TempDir tmp("dt-report-file-");
     std::string error;
     {
-        TextReportFile f(tmp.path("chart.gp"), error);
+        TextReportFile f(path("chart.gp"), error);
         f << "plot " << 1.5 << "\n";
         // WHEN it goes out of scope THEN it is written whole
     }
-    EXPECT_EQ(slurp(tmp.path("chart.gp")), "plot 1.5\n");
+    EXPECT_EQ(slurp(path("chart.gp")), "plot 1.5\n");
     EXPECT_TRUE(error.empty()) << error;
     TextReportFile full("/dev/full", error);
     for (int i = 0; i < 4096; ++i)

@@ -58,6 +58,17 @@ protected:
         ASSERT_TRUE(r) << r.error().what;
         server_ = std::move(*r);
     }
+    /// Starts the server with room for \a maxClients clients, answering each line with
+    /// "echo LINE\n" to the client that sent it.
+    void startEchoing(std::size_t maxClients)
+    {
+        UnixSocketServerOptions options;
+        options.maxClients = maxClients;
+        start(options);
+        handler_.onLineHook = [this](ClientId id, std::string_view line) {
+            server_->send(id, "echo " + std::string(line) + "\n");
+        };
+    }
 
     UniqueFd connectClient()
     {
@@ -226,12 +237,7 @@ TEST_F(UnixSocketServerTest, clientDisconnectMidLineDropsThePartialLine)
 
 TEST_F(UnixSocketServerTest, manyClientsRepliesAndBroadcast)
 {
-    UnixSocketServerOptions options;
-    options.maxClients = 8;
-    start(options);
-    handler_.onLineHook = [&](ClientId id, std::string_view line) {
-        server_->send(id, "echo " + std::string(line) + "\n");
-    };
+    startEchoing(8);
     std::vector<UniqueFd> clients;
     for (int i = 0; i < 10; ++i)
         clients.push_back(connectClient());
@@ -257,12 +263,7 @@ TEST_F(UnixSocketServerTest, manyClientsRepliesAndBroadcast)
 // with nothing pending keep theirs.
 TEST_F(UnixSocketServerTest, clientsStalledMidLineGiveTheirPlaceToANewOne)
 {
-    UnixSocketServerOptions options;
-    options.maxClients = 4;
-    start(options);
-    handler_.onLineHook = [&](ClientId id, std::string_view line) {
-        server_->send(id, "echo " + std::string(line) + "\n");
-    };
+    startEchoing(4);
     // GIVEN one quiet subscriber and three clients stuck in the middle of a line
     std::vector<UniqueFd> clients;
     clients.push_back(connectClient());

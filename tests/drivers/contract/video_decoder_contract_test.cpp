@@ -70,6 +70,13 @@ protected:
     {
         ASSERT_TRUE(dec_->configure(hal::StreamConfig::fromStream(stream(hal::StreamKind::Color))));
     }
+    /// Configures the decoder for the clip's color stream (configureColor()). \return the packets
+    /// of that stream.
+    const std::vector<OwnedPacket> &configureColorPackets()
+    {
+        configureColor();
+        return packetsOf(stream(hal::StreamKind::Color));
+    }
     hal::Deadline soon() const { return clock_->clock().now() + milliseconds(500); }
 
     std::unique_ptr<VideoDecoder> &dec_ = backend_;
@@ -204,8 +211,7 @@ TEST_P(VideoDecoderContractTest, decodesEveryPacketOfEachStreamThenDrains)
 
 TEST_P(VideoDecoderContractTest, heldFramesExhaustThePoolAndComeBackOnRelease)
 {
-    configureColor();
-    const auto &pkts = packetsOf(stream(hal::StreamKind::Color));
+    const auto &pkts = configureColorPackets();
     const int pool = dec_->capabilities().poolFrames;
     ASSERT_GT(pkts.size(), static_cast<std::size_t>(pool) + 2);
     std::vector<hal::FrameRef> held;
@@ -242,8 +248,7 @@ TEST_P(VideoDecoderContractTest, heldFramesExhaustThePoolAndComeBackOnRelease)
 
 TEST_P(VideoDecoderContractTest, fullInputQueueIsBusyWithoutBlocking)
 {
-    configureColor();
-    const auto &pkts = packetsOf(stream(hal::StreamKind::Color));
+    const auto &pkts = configureColorPackets();
     const platform::TimePoint start = clock_->clock().now();
     std::size_t accepted = 0;
     bool busy = false;
@@ -265,8 +270,7 @@ TEST_P(VideoDecoderContractTest, fullInputQueueIsBusyWithoutBlocking)
 
 TEST_P(VideoDecoderContractTest, flushKeepsHeldFramesValid)
 {
-    configureColor();
-    const auto &pkts = packetsOf(stream(hal::StreamKind::Color));
+    const auto &pkts = configureColorPackets();
     ASSERT_TRUE(dec_->queuePacket(pkts[0].view()));
     auto first = dec_->dequeueFrame(soon());
     ASSERT_TRUE(first);
@@ -293,8 +297,7 @@ TEST_P(VideoDecoderContractTest, flushKeepsHeldFramesValid)
 
 TEST_P(VideoDecoderContractTest, configureNeedsEveryFrameBack)
 {
-    configureColor();
-    const auto &pkts = packetsOf(stream(hal::StreamKind::Color));
+    const auto &pkts = configureColorPackets();
     ASSERT_TRUE(dec_->queuePacket(pkts[0].view()));
     auto frame = dec_->dequeueFrame(soon());
     ASSERT_TRUE(frame);
@@ -315,8 +318,7 @@ TEST_P(VideoDecoderContractTest, configureNeedsEveryFrameBack)
 
 TEST_P(VideoDecoderContractTest, dequeueWithNothingQueuedTimesOutAtTheDeadline)
 {
-    configureColor();
-    const auto &pkts = packetsOf(stream(hal::StreamKind::Color));
+    const auto &pkts = configureColorPackets();
     ASSERT_TRUE(dec_->queuePacket(pkts[0].view()));
     ASSERT_TRUE(dec_->dequeueFrame(soon()));
     // A deadline in the past polls.

@@ -17,6 +17,7 @@
 
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/drivers/egl/egl_x11_display.h"
+#include "display_selection.h"
 #include "gl_pixels.h"
 #include "xvfb_server.h"
 
@@ -31,6 +32,7 @@ using test::drawHalves;
 using test::expectRgb;
 using test::pixelAt;
 using test::pixelView;
+using test::refusedThenAutoprobed;
 using test::Rgb;
 
 using testing::XvfbServer;
@@ -151,19 +153,19 @@ protected:
         return d ? std::move(*d) : nullptr;
     }
 
-    /// Creates a display into \a d and opens a 160×120 window with \a dc, makes it current when
+    /// Creates a display into d_ and opens a 160×120 window with dc_, makes it current when
     /// \a current, and presents once; fails the test (fatally) where any step fails.
-    void openWindow(std::unique_ptr<hal::Display> &d, hal::DisplayConfig &dc, bool current)
+    void openWindow(bool current)
     {
-        d = create();
-        ASSERT_NE(d, nullptr);
-        dc.width = 160;
-        dc.height = 120;
-        ASSERT_TRUE(d->open(dc));
+        d_ = create();
+        ASSERT_NE(d_, nullptr);
+        dc_.width = 160;
+        dc_.height = 120;
+        ASSERT_TRUE(d_->open(dc_));
         if (current) {
-            ASSERT_TRUE(d->makeCurrent());
+            ASSERT_TRUE(d_->makeCurrent());
         }
-        ASSERT_TRUE(d->present());
+        ASSERT_TRUE(d_->present());
     }
     /// \return the X window of the x11 display \a d.
     static ::Window windowOf(hal::Display &d)
@@ -183,6 +185,8 @@ protected:
 
     platform::ManualClock clock_{platform::ManualClock::Mode::AutoAdvance};
     hal::BackendConfig cfg_;
+    std::unique_ptr<hal::Display> d_; ///< The display of openWindow().
+    hal::DisplayConfig dc_;           ///< Its configuration.
 };
 
 TEST_F(EglX11Test, opensAFixedSizeWindowTitledDepthTouch)
@@ -280,22 +284,20 @@ TEST_F(EglX11Test, openedOnOneThreadRendersOnAnother)
 
 TEST_F(EglX11Test, closingTheWindowMakesTheDisplayLost)
 {
-    std::unique_ptr<hal::Display> d;
-    hal::DisplayConfig dc;
-    ASSERT_NO_FATAL_FAILURE(openWindow(d, dc, false));
+    ASSERT_NO_FATAL_FAILURE(openWindow(false));
     // WHEN the user closes the window
     XClient wm(gXvfb->server.name());
     ASSERT_NE(wm.get(), nullptr);
-    wm.closeWindow(windowOf(*d));
+    wm.closeWindow(windowOf(*d_));
     // THEN present() reports NoDevice and the display is Lost
-    ASSERT_TRUE(presentUntilLost(*d));
-    EXPECT_EQ(d->present().error().code, Errc::NoDevice);
-    EXPECT_EQ(d->makeCurrent().error().code, Errc::NoDevice);
+    ASSERT_TRUE(presentUntilLost(*d_));
+    EXPECT_EQ(d_->present().error().code, Errc::NoDevice);
+    EXPECT_EQ(d_->makeCurrent().error().code, Errc::NoDevice);
     // AND closing and opening again gives a new window
-    d->close();
-    EXPECT_EQ(d->state(), State::Closed);
-    ASSERT_TRUE(d->open(dc));
-    auto info = d->present();
+    d_->close();
+    EXPECT_EQ(d_->state(), State::Closed);
+    ASSERT_TRUE(d_->open(dc_));
+    auto info = d_->present();
     ASSERT_TRUE(info);
     EXPECT_EQ(info->frameCounter, 1u);
     EXPECT_EQ(wm.windowsTitled("DepthTouch").size(), 1u);
@@ -303,18 +305,16 @@ TEST_F(EglX11Test, closingTheWindowMakesTheDisplayLost)
 
 TEST_F(EglX11Test, aWindowDestroyedByAnotherClientMakesTheDisplayLost)
 {
-    std::unique_ptr<hal::Display> d;
-    hal::DisplayConfig dc;
-    ASSERT_NO_FATAL_FAILURE(openWindow(d, dc, true));
+    ASSERT_NO_FATAL_FAILURE(openWindow(true));
     // WHEN another client destroys the window (requests on it then fail with X protocol errors,
     // which must not end the process)
     XClient other(gXvfb->server.name());
     ASSERT_NE(other.get(), nullptr);
-    XDestroyWindow(other.get(), windowOf(*d));
+    XDestroyWindow(other.get(), windowOf(*d_));
     XSync(other.get(), False);
     // THEN the display is Lost and closes cleanly
-    ASSERT_TRUE(presentUntilLost(*d));
-    d->close();
+    ASSERT_TRUE(presentUntilLost(*d_));
+    d_->close();
     EXPECT_TRUE(other.windowsTitled("DepthTouch").empty());
 }
 
@@ -324,25 +324,23 @@ TEST_F(EglX11Test, losingTheXServerMakesTheDisplayLostWithoutACrash)
     XvfbServer server;
     ASSERT_TRUE(server.start()) << server.why();
     cfg_.device = server.name();
-    std::unique_ptr<hal::Display> d;
-    hal::DisplayConfig dc;
-    ASSERT_NO_FATAL_FAILURE(openWindow(d, dc, true));
+    ASSERT_NO_FATAL_FAILURE(openWindow(true));
     // WHEN the server dies
     server.stop(SIGKILL);
     // THEN the display is Lost, and opening fails with NoDevice while no server runs
-    ASSERT_TRUE(presentUntilLost(*d));
-    EXPECT_EQ(d->makeCurrent().error().code, Errc::NoDevice);
-    d->close();
-    EXPECT_EQ(d->state(), State::Closed);
-    EXPECT_EQ(d->open(dc).error().code, Errc::NoDevice);
+    ASSERT_TRUE(presentUntilLost(*d_));
+    EXPECT_EQ(d_->makeCurrent().error().code, Errc::NoDevice);
+    d_->close();
+    EXPECT_EQ(d_->state(), State::Closed);
+    EXPECT_EQ(d_->open(dc_).error().code, Errc::NoDevice);
     // AND once a server is back on that display, open() works and counting restarts
     ASSERT_TRUE(server.start(/*reuseNumber=*/true)) << server.why();
     ASSERT_EQ(server.name(), std::string(cfg_.device));
-    ASSERT_TRUE(d->open(dc));
-    auto info = d->present();
+    ASSERT_TRUE(d_->open(dc_));
+    auto info = d_->present();
     ASSERT_TRUE(info) << info.error().what;
     EXPECT_EQ(info->frameCounter, 1u);
-    d->close();
+    d_->close();
 }
 
 TEST_F(EglX11Test, optionsAreCheckedAndFullscreenCoversTheScreen)
@@ -371,14 +369,8 @@ TEST_F(EglX11Test, autoprobeTakesX11WhenAServerAnswers)
 TEST(EglX11SelectionTest, withoutDisplayAutoprobeTakesHeadlessAndX11FailsClearly)
 {
     ScopedDisplayEnv env(nullptr);
-    hal::SelectionReport report;
-    auto x11 = createDisplay("x11", {}, &report);
-    ASSERT_FALSE(x11);
-    EXPECT_EQ(x11.error().code, Errc::NoDevice);
-    EXPECT_NE(report.message.find("No X server"), std::string::npos) << report.message;
-    auto any = createDisplay("", {}, &report);
-    ASSERT_TRUE(any) << report.message;
-    EXPECT_EQ(report.chosen, "headless"); // kms (tried first) finds no display here
+    // kms (tried first) finds no display here
+    EXPECT_EQ(refusedThenAutoprobed("x11", "No X server"), "headless");
 }
 
 TEST(EglX11SelectionTest, unreachableServerIsNoDevice)

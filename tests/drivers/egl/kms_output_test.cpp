@@ -8,6 +8,7 @@
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/drivers/egl/egl_gbm_display.h"
 #include "depthtouch/drivers/egl/kms_output.h"
+#include "display_selection.h"
 
 namespace depthtouch::drivers {
 namespace {
@@ -171,15 +172,8 @@ TEST(KmsBackendTest, noDrmDeviceIsNoDevice)
     if (std::filesystem::exists("/dev/dri"))
         GTEST_SKIP() << "This machine has /dev/dri";
     EXPECT_EQ(EglGbmDisplay::create({}).error().code, Errc::NoDevice);
-    hal::SelectionReport report;
-    auto d = createDisplay("kms", {}, &report);
-    ASSERT_FALSE(d);
-    EXPECT_EQ(d.error().code, Errc::NoDevice);
-    EXPECT_NE(report.message.find("No DRM device"), std::string::npos) << report.message;
     // Autoprobe moves on to the next display.
-    auto any = createDisplay("", {}, &report);
-    ASSERT_TRUE(any);
-    EXPECT_NE(report.chosen, "kms");
+    EXPECT_NE(test::refusedThenAutoprobed("kms", "No DRM device"), "kms");
 }
 
 TEST(KmsBackendTest, optionsAreCheckedBeforeTheDevice)

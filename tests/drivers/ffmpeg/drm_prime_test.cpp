@@ -15,8 +15,12 @@ extern "C" {
 #include <libavutil/hwcontext_drm.h>
 }
 
+#include "support/expectations.h"
+
 namespace depthtouch::drivers {
 namespace {
+
+using testing::errcOf;
 
 constexpr std::uint32_t kR8 = hal::drmFourcc('R', '8', ' ', ' ');
 constexpr std::uint32_t kGr88 = hal::drmFourcc('G', 'R', '8', '8');
@@ -149,9 +153,7 @@ TEST(DrmPrimeTest, refusesTooManyPlanes)
     // GIVEN a layer claiming 5 planes (more than AV_DRM_MAX_PLANES)
     AVDRMFrameDescriptor d = nv12OneObject();
     d.layers[0].nb_planes = 5;
-    auto r = dmaBufFromDrmDescriptor(d, 640, 480);
-    ASSERT_FALSE(r);
-    EXPECT_EQ(r.error().code, Errc::InvalidArgument);
+    EXPECT_EQ(errcOf(dmaBufFromDrmDescriptor(d, 640, 480)), Errc::InvalidArgument);
     // AND 5 objects
     d = nv12OneObject();
     d.nb_objects = 5;
@@ -160,9 +162,7 @@ TEST(DrmPrimeTest, refusesTooManyPlanes)
     d = nv12OneObject();
     d.layers[0].nb_planes = 3;
     d.layers[0].planes[2] = {0, 0, 704};
-    r = dmaBufFromDrmDescriptor(d, 640, 480);
-    ASSERT_FALSE(r);
-    EXPECT_EQ(r.error().code, Errc::NotSupported);
+    EXPECT_EQ(errcOf(dmaBufFromDrmDescriptor(d, 640, 480)), Errc::NotSupported);
 }
 
 TEST(DrmPrimeTest, refusesUnknownLayouts)
@@ -171,9 +171,7 @@ TEST(DrmPrimeTest, refusesUnknownLayouts)
     AVDRMFrameDescriptor d = nv12OneObject();
     d.layers[0].format = hal::drmFourcc('X', 'R', '2', '4');
     d.layers[0].nb_planes = 1;
-    auto r = dmaBufFromDrmDescriptor(d, 640, 480);
-    ASSERT_FALSE(r);
-    EXPECT_EQ(r.error().code, Errc::NotSupported);
+    EXPECT_EQ(errcOf(dmaBufFromDrmDescriptor(d, 640, 480)), Errc::NotSupported);
     // AND two R8 layers (neither NV12 nor YUV420)
     d = nv12OneObject();
     d.nb_layers = 2;
@@ -182,9 +180,7 @@ TEST(DrmPrimeTest, refusesUnknownLayouts)
     d.layers[1].format = kR8;
     d.layers[1].nb_planes = 1;
     d.layers[1].planes[0] = {0, 704 * 480, 704};
-    r = dmaBufFromDrmDescriptor(d, 640, 480);
-    ASSERT_FALSE(r);
-    EXPECT_EQ(r.error().code, Errc::NotSupported);
+    EXPECT_EQ(errcOf(dmaBufFromDrmDescriptor(d, 640, 480)), Errc::NotSupported);
 }
 
 TEST(DrmPrimeTest, refusesInconsistentPlanes)

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <set>
 #include <cstdio>
@@ -24,13 +25,18 @@ namespace {
 
 using std::chrono::milliseconds;
 
-class FfmpegMediaTest : public ::testing::Test {
+/// \return a thread that calls \a act after \a delay.
+std::thread after(milliseconds delay, std::function<void()> act)
+{
+    return std::thread([delay, act = std::move(act)] {
+        std::this_thread::sleep_for(delay);
+        act();
+    });
+}
+
+class FfmpegMediaTest : public FfmpegCliTest {
 protected:
-    void SetUp() override
-    {
-        if (!haveFfmpegCli())
-            GTEST_SKIP() << "The ffmpeg command-line tool is not on PATH: no test media";
-    }
+    FfmpegMediaTest() : FfmpegCliTest("dt-ffmpeg-media-test-") {}
     static std::unique_ptr<hal::MediaSource> source(const std::string &options = "")
     {
         hal::BackendConfig cfg;
@@ -38,6 +44,23 @@ protected:
         auto src = drivers::createMediaSource("ffmpeg", cfg);
         EXPECT_TRUE(src);
         return src ? std::move(*src) : nullptr;
+    }
+    /// \return a source with the live stream \a fifo open and its first \a packets packets read
+    /// (a test failure where fewer come); nullptr, a test failure, where it does not open.
+    static std::unique_ptr<hal::MediaSource> liveSource(const std::string &fifo, int packets)
+    {
+        auto src = source();
+        if (!src)
+            return nullptr;
+        const auto opened = src->open(fifo.c_str());
+        EXPECT_TRUE(opened);
+        if (!opened)
+            return nullptr;
+        int read = 0;
+        while (read < packets && src->readPacket())
+            ++read;
+        EXPECT_EQ(read, packets);
+        return src;
     }
     std::string twoStreamClip()
     {
@@ -53,7 +76,6 @@ protected:
             out));
         return out;
     }
-    TempDir tmp_;
 };
 
 TEST_F(FfmpegMediaTest, twoStreamFileListsKindsMetadataAndMatchingPts)
@@ -295,34 +317,11 @@ TEST_F(FfmpegMediaTest, interruptEndsAReadBlockedOnASilentStreamAtOnce)
     const std::string fifo = tmp_.path("live.fifo");
     ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
     const std::string clip = twoStreamClip();
-    std::atomic<bool> senderQuits{false};
-    std::thread sender([&] {
-        const int fd = ::open(fifo.c_str(), O_WRONLY);
-        if (fd < 0)
-            return;
-        const std::vector<std::uint8_t> bytes = readBytes(clip);
-        std::size_t done = 0;
-        while (done < bytes.size()) {
-            const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-            if (n <= 0)
-                break;
-            done += static_cast<std::size_t>(n);
-        }
-        while (!senderQuits.load())
-            std::this_thread::sleep_for(milliseconds(10));
-        ::close(fd);
-    });
-    auto src = source();
-    ASSERT_TRUE(src->open(fifo.c_str()));
-    int packets = 0;
-    while (packets < 60 && src->readPacket())
-        ++packets;
-    EXPECT_EQ(packets, 60);
+    LiveFifo sender(fifo, readBytes(clip));
+    auto src = liveSource(fifo, 60);
+    ASSERT_TRUE(src);
     // WHEN another thread asks the source to stop while the next read waits for data
-    std::thread stopper([&] {
-        std::this_thread::sleep_for(milliseconds(300));
-        src->interrupt();
-    });
+    std::thread stopper = after(milliseconds(300), [&] { src->interrupt(); });
     const auto t0 = std::chrono::steady_clock::now();
     auto blocked = src->readPacket();
     const auto waited = std::chrono::steady_clock::now() - t0;
@@ -336,8 +335,7 @@ TEST_F(FfmpegMediaTest, interruptEndsAReadBlockedOnASilentStreamAtOnce)
     EXPECT_FALSE(src->readPacket());
     EXPECT_LT(std::chrono::steady_clock::now() - t1, std::chrono::seconds(1));
     src->close();
-    senderQuits.store(true);
-    sender.join();
+    sender.stop();
 }
 
 TEST_F(FfmpegMediaTest, cancelReadEndsOneBlockedReadAndTheSourceReadsOn)
@@ -349,40 +347,11 @@ TEST_F(FfmpegMediaTest, cancelReadEndsOneBlockedReadAndTheSourceReadsOn)
     ASSERT_TRUE(ffmpeg("-f lavfi -i testsrc=size=64x48:rate=30:duration=1 -c:v libx264 "
                        "-preset ultrafast -pix_fmt yuv420p -f mpegts " +
                        clip));
-    const std::vector<std::uint8_t> bytes = readBytes(clip);
-    std::atomic<int> sends{1}; // clips the sender is asked to send
-    std::atomic<bool> senderQuits{false};
-    std::thread sender([&] {
-        const int fd = ::open(fifo.c_str(), O_WRONLY);
-        if (fd < 0)
-            return;
-        int sent = 0;
-        while (!senderQuits.load()) {
-            if (sent < sends.load()) {
-                std::size_t done = 0;
-                while (done < bytes.size()) {
-                    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-                    if (n <= 0)
-                        break;
-                    done += static_cast<std::size_t>(n);
-                }
-                ++sent;
-            }
-            std::this_thread::sleep_for(milliseconds(10));
-        }
-        ::close(fd);
-    });
-    auto src = source();
-    ASSERT_TRUE(src->open(fifo.c_str()));
-    int packets = 0;
-    while (packets < 25 && src->readPacket())
-        ++packets;
-    EXPECT_EQ(packets, 25);
+    LiveFifo sender(fifo, readBytes(clip));
+    auto src = liveSource(fifo, 25);
+    ASSERT_TRUE(src);
     // WHEN a seek's cancelRead() comes while a read waits for data
-    std::thread canceller([&] {
-        std::this_thread::sleep_for(milliseconds(300));
-        src->cancelRead();
-    });
+    std::thread canceller = after(milliseconds(300), [&] { src->cancelRead(); });
     Result<hal::Packet> blocked = src->readPacket();
     for (int i = 0; i < 10 && blocked; ++i) // the demuxer may still hold a packet or two
         blocked = src->readPacket();
@@ -390,11 +359,10 @@ TEST_F(FfmpegMediaTest, cancelReadEndsOneBlockedReadAndTheSourceReadsOn)
     // THEN that read returns with Timeout, once: with data again the source reads on
     ASSERT_FALSE(blocked);
     EXPECT_EQ(blocked.error().code, Errc::Timeout);
-    sends.store(2);
+    sender.sendAgain();
     EXPECT_TRUE(src->readPacket());
     src->close();
-    senderQuits.store(true);
-    sender.join();
+    sender.stop();
 }
 
 TEST_F(FfmpegMediaTest, drmPrimeFallsBackToTheSameCpuFrames)

@@ -1,7 +1,12 @@
 #include "ffmpeg_test_support.h"
 
+#include <chrono>
 #include <fstream>
 #include <iterator>
+#include <utility>
+
+#include <fcntl.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -23,6 +28,58 @@ std::vector<std::uint8_t> readBytes(const std::string &path)
 {
     std::ifstream in(path, std::ios::binary);
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+LiveFifo::LiveFifo(std::string path, std::vector<std::uint8_t> clip)
+    : path_(std::move(path)), clip_(std::move(clip)), thread_([this] { run(); })
+{
+}
+
+LiveFifo::~LiveFifo()
+{
+    stop();
+}
+
+void LiveFifo::stop()
+{
+    quit_.store(true);
+    if (thread_.joinable())
+        thread_.join();
+}
+
+void LiveFifo::run()
+{
+    // Without a reader a non-blocking open fails (ENXIO): retry, so that stop() always ends this
+    // thread, then write blocking as a live source does.
+    int fd = -1;
+    while (fd < 0 && !quit_.load()) {
+        fd = ::open(path_.c_str(), O_WRONLY | O_NONBLOCK);
+        if (fd < 0)
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    if (fd < 0)
+        return;
+    (void)::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    int sent = 0;
+    while (!quit_.load()) {
+        if (sent < sends_.load()) {
+            writeClip(fd);
+            ++sent;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    ::close(fd);
+}
+
+void LiveFifo::writeClip(int fd) const
+{
+    std::size_t done = 0;
+    while (done < clip_.size()) {
+        const ssize_t n = ::write(fd, clip_.data() + done, clip_.size() - done);
+        if (n <= 0)
+            break;
+        done += static_cast<std::size_t>(n);
+    }
 }
 
 Decoded decodeAll(const std::string &url, hal::StreamKind kind, const std::string &sourceOptions,

@@ -34,15 +34,9 @@ bool deviceOpens(AVHWDeviceType type)
     return true;
 }
 
-class HwAccelTest : public ::testing::Test {
+class HwAccelTest : public FfmpegCliTest {
 protected:
-    void SetUp() override
-    {
-        if (!haveFfmpegCli())
-            GTEST_SKIP() << "The ffmpeg command-line tool is not on PATH: no test media";
-        ASSERT_FALSE(tmp_.dir().empty());
-    }
-    TempDir tmp_{"dt-hwaccel-test-"};
+    HwAccelTest() : FfmpegCliTest("dt-hwaccel-test-") {}
 };
 
 TEST_F(HwAccelTest, autoDecodesTheSamplesOfTheSoftwareDecoder)

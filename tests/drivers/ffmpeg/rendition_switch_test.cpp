@@ -61,13 +61,14 @@ private:
     mutable std::atomic<std::int64_t> t_{0};
 };
 
-class RenditionSwitchTest : public ::testing::Test {
+class RenditionSwitchTest : public FfmpegCliTest {
 protected:
+    RenditionSwitchTest() : FfmpegCliTest("dt-rendition-switch-test-") {}
     void SetUp() override
     {
-        if (!haveFfmpegCli())
-            GTEST_SKIP() << "The ffmpeg command-line tool is not on PATH: no test media";
-        ASSERT_FALSE(tmp_.dir().empty());
+        FfmpegCliTest::SetUp();
+        if (IsSkipped() || HasFatalFailure())
+            return;
         // Two renditions, key frames every 2 s in both, one 2 s segment per key frame.
         ASSERT_TRUE(ffmpeg("-f lavfi -i color=c=red:s=320x240:r=30:d=8 -f lavfi -i "
                            "color=c=blue:s=160x120:r=30:d=8 -map 0:v -map 1:v -c:v libx264 "
@@ -116,7 +117,6 @@ protected:
     {
         return std::chrono::duration<double>(d.pts[i] - d.pts[0]).count();
     }
-    TempDir tmp_{"dt-rendition-switch-test-"};
 };
 
 TEST_F(RenditionSwitchTest, aSlowLinkFromTheStartGoesDownAtTheNextKeyFrameLosingNothing)

@@ -23,14 +23,9 @@ using namespace ffmpegtest;
 constexpr int kBefore = 90;
 constexpr int kAfter = 6;
 
-class SizeChangeTest : public ::testing::Test {
+class SizeChangeTest : public FfmpegCliTest {
 protected:
-    void SetUp() override
-    {
-        if (!haveFfmpegCli())
-            GTEST_SKIP() << "The ffmpeg command-line tool is not on PATH: no test media";
-        ASSERT_FALSE(tmp_.dir().empty());
-    }
+    SizeChangeTest() : FfmpegCliTest("dt-size-change-test-") {}
     /// \return the path of one H.264 Annex B file (lossless, \a pixFmt): kBefore frames of the
     /// colour \a before at \a beforeSize, then kAfter frames at \a afterSize (W x H) whose left
     /// half is the colour \a left and right half \a right; "" when the ffmpeg CLI fails.
@@ -59,7 +54,6 @@ protected:
         const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
         return std::fclose(f) == 0 && written && !more.empty() ? path : "";
     }
-    TempDir tmp_{"dt-size-change-test-"};
 };
 
 TEST_F(SizeChangeTest, depthThatHalvesItsSizeIsScaledBackNearestAndNoFrameIsLost)

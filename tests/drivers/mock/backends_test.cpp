@@ -47,8 +47,7 @@ TEST(BackendTablesTest, everyInterfaceHasAMockBackend)
 TEST(BackendSelectionTest, byName)
 {
     platform::ManualClock clock;
-    hal::BackendConfig cfg;
-    cfg.clock = &clock;
+    const hal::BackendConfig cfg = testing::configWith(&clock, "");
     hal::SelectionReport report;
     auto dev = createHapticDevice("mock", cfg, &report);
     ASSERT_TRUE(dev);

@@ -235,6 +235,26 @@ std::vector<Chunk> riffChunks(const std::string &path, std::string &form)
     return chunks;
 }
 
+/// The `wav` output's tests: skipped in a build without it (it comes with FFmpeg).
+class WavOutputTest : public AudioOutputTest {
+protected:
+    void SetUp() override
+    {
+        if (backendNames(BackendKind::AudioOutput).find("wav") == std::string::npos)
+            GTEST_SKIP() << "no wav backend in this build (no FFmpeg)";
+    }
+    /// \return a `wav` output writing the file \a path (removed first) with a \a bufferMs ms
+    /// buffer; nullptr, a test failure, where it cannot be made.
+    std::unique_ptr<hal::AudioOutput> wav(const std::string &path, int bufferMs)
+    {
+        std::filesystem::remove(path);
+        const std::string options = "path=" + path + ",buffer=" + std::to_string(bufferMs);
+        auto made = createAudioOutput("wav", configWith(&clock_, options.c_str()));
+        EXPECT_TRUE(made) << made.error().what;
+        return made ? std::move(*made) : nullptr;
+    }
+};
+
 template <class T> T field(const std::vector<char> &data, std::size_t offset)
 {
     T v{};
@@ -242,16 +262,11 @@ template <class T> T field(const std::vector<char> &data, std::size_t offset)
     return v;
 }
 
-TEST_F(AudioOutputTest, theWavOutputWritesEveryFrameItPlayedInOrder)
+TEST_F(WavOutputTest, theWavOutputWritesEveryFrameItPlayedInOrder)
 {
     const std::string path = ::testing::TempDir() + "/dt_audio_output_test.wav";
-    std::filesystem::remove(path);
-    const std::string options = "path=" + path + ",buffer=50";
-    if (backendNames(BackendKind::AudioOutput).find("wav") == std::string::npos)
-        GTEST_SKIP() << "no wav backend in this build (no FFmpeg)";
-    auto made = createAudioOutput("wav", configWith(&clock_, options.c_str()));
-    ASSERT_TRUE(made) << made.error().what;
-    auto &out = *made;
+    auto out = wav(path, 50);
+    ASSERT_TRUE(out);
     // GIVEN a 1 kHz tone on the left, its negative on the right, written in 7 ms pieces
     ASSERT_TRUE(out->open({kRate, 2}));
     std::vector<std::int16_t> tone(2 * framesIn(250));
@@ -292,16 +307,11 @@ TEST_F(AudioOutputTest, theWavOutputWritesEveryFrameItPlayedInOrder)
     EXPECT_EQ(std::memcmp(data->data.data(), tone.data(), data->data.size()), 0);
 }
 
-TEST_F(AudioOutputTest, theWavOutputHoldsWhatWasHeardNotWhatAFlushDropped)
+TEST_F(WavOutputTest, theWavOutputHoldsWhatWasHeardNotWhatAFlushDropped)
 {
     const std::string path = ::testing::TempDir() + "/dt_audio_output_flush.wav";
-    std::filesystem::remove(path);
-    const std::string options = "path=" + path + ",buffer=200";
-    if (backendNames(BackendKind::AudioOutput).find("wav") == std::string::npos)
-        GTEST_SKIP() << "no wav backend in this build (no FFmpeg)";
-    auto made = createAudioOutput("wav", configWith(&clock_, options.c_str()));
-    ASSERT_TRUE(made) << made.error().what;
-    auto &out = *made;
+    auto out = wav(path, 200);
+    ASSERT_TRUE(out);
     ASSERT_TRUE(out->open({kRate, 1}));
     // GIVEN 100 ms of frames numbered 1.., of which 40 ms are heard before a flush (a seek)
     std::vector<std::int16_t> first(framesIn(100));
@@ -331,10 +341,8 @@ TEST_F(AudioOutputTest, theWavOutputHoldsWhatWasHeardNotWhatAFlushDropped)
         ASSERT_EQ(heard[i], -7) << i;
 }
 
-TEST_F(AudioOutputTest, theWavOutputSaysWhenItsFileCannotBeMade)
+TEST_F(WavOutputTest, theWavOutputSaysWhenItsFileCannotBeMade)
 {
-    if (backendNames(BackendKind::AudioOutput).find("wav") == std::string::npos)
-        GTEST_SKIP() << "no wav backend in this build (no FFmpeg)";
     auto made = createAudioOutput("wav", configWith(&clock_, "path=/nonexistent-dir/x.wav"));
     ASSERT_TRUE(made) << made.error().what;
     EXPECT_EQ(errcOf((*made)->open({kRate, 2})), Errc::Io);

@@ -54,6 +54,10 @@ public:
     [[nodiscard]] hal::Vec3 position() const { return dev_->position(); }
     [[nodiscard]] double force() const { return force_; }
     [[nodiscard]] const SimHandSettings &settings() const { return settings_; }
+    /// The device, open, for a test that drives it call by call.
+    [[nodiscard]] SimHapticDevice &device() { return *dev_; }
+    /// The manual clock the device reads.
+    [[nodiscard]] platform::ManualClock &clock() { return clock_; }
 
 private:
     platform::ManualClock clock_;
@@ -268,33 +272,29 @@ TEST(SimHandTest, exploreRefusesAPeriodShorterThanTenMilliseconds)
 TEST(SimHandTest, oneCallIntegratesAtMostATenthOfASecond)
 {
     // GIVEN a free fingertip (no hand) pushed by 0.01 N along x
-    platform::ManualClock clock;
-    auto settings = SimHandSettings::parse(hal::OptionList("intent=idle"));
-    ASSERT_TRUE(settings);
-    SimHapticDevice dev(clock, *settings);
-    ASSERT_TRUE(dev.open());
+    Hand hand("intent=idle");
+    ASSERT_FALSE(::testing::Test::HasFailure());
+    SimHapticDevice &dev = hand.device();
     ASSERT_TRUE(dev.commandForce(hal::Vec3{0.01, 0.0, 0.0}));
     // WHEN the next read comes 10 s later (a stopped process, a jump of the clock)
-    clock.advance(std::chrono::seconds(10));
+    hand.clock().advance(std::chrono::seconds(10));
     hal::HapticState s;
     ASSERT_TRUE(dev.read(s));
     // THEN that call integrated 0.1 s of motion at most (v = F·t/m = 0.01 m/s), not 1 s or 10 s
     EXPECT_GT(s.velocity.x, 0.009);
     EXPECT_LT(s.velocity.x, 0.0101);
     // AND the rest of the gap was skipped: the hand's time is the clock's
-    EXPECT_EQ(s.time, clock.now());
+    EXPECT_EQ(s.time, hand.clock().now());
 }
 
 TEST(SimHandTest, exploreHandCatchesUpALongGapInBoundedWork)
 {
     // GIVEN an exploring hand with the shortest period, on a manual clock
-    platform::ManualClock clock;
-    auto settings = SimHandSettings::parse(hal::OptionList("intent=explore,period=0.01,seed=5"));
-    ASSERT_TRUE(settings);
-    SimHapticDevice dev(clock, *settings);
-    ASSERT_TRUE(dev.open());
+    Hand hand("intent=explore,period=0.01,seed=5");
+    ASSERT_FALSE(::testing::Test::HasFailure());
+    SimHapticDevice &dev = hand.device();
     // WHEN a read comes after 10^7 s (10^9 explore points missed)
-    clock.advance(std::chrono::seconds(10'000'000));
+    hand.clock().advance(std::chrono::seconds(10'000'000));
     hal::HapticState s;
     const auto begin = std::chrono::steady_clock::now();
     ASSERT_TRUE(dev.read(s));
