@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "depthtouch/platform/thread_config.h"
+#include "depthtouch/platform/work_queue.h"
 
 namespace depthtouch::haptic_task {
 
@@ -47,11 +48,7 @@ Result<void> TelemetryService::start()
 
 void TelemetryService::halt() noexcept
 {
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        serviceStop_ = true;
-    }
-    wake_.notify_all();
+    platform::raiseAndNotifyAll(mutex_, serviceStop_, wake_);
     if (service_)
         service_->join();
 }

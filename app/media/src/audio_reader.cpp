@@ -249,26 +249,18 @@ Result<std::unique_ptr<AudioReader>> AudioReader::open(const std::string &url)
     quietFfmpegLog();
     std::unique_ptr<AudioReader> reader(new AudioReader());
     Impl &a = *reader->impl_;
-    AVFormatContext *ctx = nullptr;
-    if (avformat_open_input(&ctx, url.c_str(), nullptr, nullptr) < 0)
-        return unexpected(Errc::InvalidArgument, "The input does not open as media");
-    a.in.reset(ctx);
-    if (avformat_find_stream_info(ctx, nullptr) < 0)
-        return unexpected(Errc::InvalidArgument, "The input has no readable streams");
-    a.index = av_find_best_stream(ctx, AVMEDIA_TYPE_AUDIO, -1, -1, nullptr, 0);
+    DT_TRY(openAudioInput(url, a.in, a.index, "The input does not open as media",
+                          "The input has no readable streams"));
     if (a.index < 0)
         return std::unique_ptr<AudioReader>();
+    AVFormatContext *ctx = a.in.get();
     const AVStream &st = *ctx->streams[a.index];
     a.tb = st.time_base;
     if (ctx->start_time != AV_NOPTS_VALUE)
         a.origin = av_rescale_q(ctx->start_time, kMicroseconds, a.tb);
-    for (unsigned i = 0; i < ctx->nb_streams; ++i)
-        if (static_cast<int>(i) != a.index)
-            ctx->streams[i]->discard = AVDISCARD_ALL;
+    discardOtherStreams(*ctx, a.index);
     DT_TRY(a.openDecoder(*st.codecpar));
-    a.description = std::string(avcodec_get_name(st.codecpar->codec_id)) + " " +
-                    std::to_string(st.codecpar->sample_rate) + " Hz " +
-                    std::to_string(st.codecpar->ch_layout.nb_channels) + " ch";
+    a.description = audioDescription(*st.codecpar);
     return reader;
 }
 

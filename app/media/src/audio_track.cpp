@@ -305,16 +305,12 @@ Result<std::unique_ptr<AudioTrack>> AudioTrack::open(const std::string &source, 
     std::unique_ptr<AudioTrack> track(new AudioTrack());
     Impl &a = *track->impl_;
     a.muxer = &m;
-    AVFormatContext *ctx = nullptr;
-    if (avformat_open_input(&ctx, source.c_str(), nullptr, nullptr) < 0)
-        return unexpected(Errc::InvalidArgument,
-                          "The sound's source does not open as media (damaged or truncated?)");
-    a.in.reset(ctx);
-    if (avformat_find_stream_info(ctx, nullptr) < 0)
-        return unexpected(Errc::InvalidArgument, "The sound's source has no readable streams");
-    a.index = av_find_best_stream(ctx, AVMEDIA_TYPE_AUDIO, -1, -1, nullptr, 0);
+    DT_TRY(openAudioInput(source, a.in, a.index,
+                          "The sound's source does not open as media (damaged or truncated?)",
+                          "The sound's source has no readable streams"));
     if (a.index < 0)
         return std::unique_ptr<AudioTrack>();
+    AVFormatContext *ctx = a.in.get();
     const AVStream &st = *ctx->streams[a.index];
     a.inTb = st.time_base;
     // Output 0 is the color stream's start (the same file) or the audio's own start.
@@ -323,17 +319,12 @@ Result<std::unique_ptr<AudioTrack>> AudioTrack::open(const std::string &source, 
     const AVStream *zero = video >= 0 ? ctx->streams[video] : &st;
     if (zero->start_time != AV_NOPTS_VALUE)
         a.origin = av_rescale_q(zero->start_time, zero->time_base, a.inTb);
-    for (unsigned i = 0; i < ctx->nb_streams; ++i)
-        if (static_cast<int>(i) != a.index)
-            ctx->streams[i]->discard = AVDISCARD_ALL;
+    discardOtherStreams(*ctx, a.index);
     a.packet.reset(av_packet_alloc());
     a.out = avformat_new_stream(m.fmt, nullptr);
     if (!a.packet || a.out == nullptr)
         return unexpected(Errc::OutOfResources, "Failed to add the audio stream");
-    const char *name = avcodec_get_name(st.codecpar->codec_id);
-    const int channels = st.codecpar->ch_layout.nb_channels;
-    a.description = std::string(name) + " " + std::to_string(st.codecpar->sample_rate) + " Hz " +
-                    std::to_string(channels) + " ch";
+    a.description = audioDescription(*st.codecpar);
     if (carries(m.container, *m.fmt->oformat, st.codecpar->codec_id)) {
         if (avcodec_parameters_copy(a.out->codecpar, st.codecpar) < 0)
             return unexpected(Errc::OutOfResources, "Failed to describe the audio stream");

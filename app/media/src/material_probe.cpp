@@ -168,9 +168,7 @@ Result<std::optional<MaterialStreamInfo>> probeMaterialStream(const std::string 
     if (!codec || !frame || avcodec_parameters_to_context(codec.get(), &par) < 0 ||
         avcodec_open2(codec.get(), dec, nullptr) < 0)
         return std::optional<MaterialStreamInfo>{info};
-    for (unsigned i = 0; i < fmt->nb_streams; ++i)
-        fmt->streams[i]->discard =
-            static_cast<int>(i) == info.index ? AVDISCARD_DEFAULT : AVDISCARD_ALL;
+    discardOtherStreams(*fmt, info.index);
     if (decodeFirstFrame(*fmt, info.index, *codec, *frame)) {
         info.lossless = x264Lossless(*frame);
         if (frame->format == AV_PIX_FMT_GBRP) {

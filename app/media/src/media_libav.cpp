@@ -20,6 +20,32 @@ void quietFfmpegLog() noexcept
     });
 }
 
+Result<void> openAudioInput(const std::string &url, InputContextPtr &in, int &index,
+                            const char *notOpened, const char *noStreams)
+{
+    AVFormatContext *ctx = nullptr;
+    if (avformat_open_input(&ctx, url.c_str(), nullptr, nullptr) < 0)
+        return unexpected(Errc::InvalidArgument, notOpened);
+    in.reset(ctx);
+    if (avformat_find_stream_info(ctx, nullptr) < 0)
+        return unexpected(Errc::InvalidArgument, noStreams);
+    index = av_find_best_stream(ctx, AVMEDIA_TYPE_AUDIO, -1, -1, nullptr, 0);
+    return ok();
+}
+
+void discardOtherStreams(AVFormatContext &ctx, int keep) noexcept
+{
+    for (unsigned i = 0; i < ctx.nb_streams; ++i)
+        if (static_cast<int>(i) != keep)
+            ctx.streams[i]->discard = AVDISCARD_ALL;
+}
+
+std::string audioDescription(const AVCodecParameters &par)
+{
+    return std::string(avcodec_get_name(par.codec_id)) + " " + std::to_string(par.sample_rate) +
+           " Hz " + std::to_string(par.ch_layout.nb_channels) + " ch";
+}
+
 PixelFormat nativeLayout(AVPixelFormat f) noexcept
 {
     const AVPixFmtDescriptor *d = av_pix_fmt_desc_get(f);

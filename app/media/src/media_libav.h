@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 
 extern "C" {
 #include <libavcodec/avcodec.h>
@@ -53,6 +54,22 @@ inline int errnoOf(int averr) noexcept
 /// Keeps FFmpeg's own log quiet (fatal messages only; errors too when DT_LOG is set): our errors
 /// carry the message. Idempotent, thread-safe.
 void quietFfmpegLog() noexcept;
+
+/// \brief Opens \a url with libavformat (its own format probing, no options), reads the
+/// information of its streams and finds its best audio stream.
+/// \param[out] in The input, once it opens.
+/// \param[out] index Its best audio stream, -1 when it has none.
+/// \return Errc::InvalidArgument with the message \a notOpened when it does not open, with
+/// \a noStreams when its streams cannot be read (both static strings).
+Result<void> openAudioInput(const std::string &url, InputContextPtr &in, int &index,
+                            const char *notOpened, const char *noStreams);
+
+/// \brief Sets every stream of \a ctx but \a keep to AVDISCARD_ALL: the demuxer drops their
+/// packets.
+void discardOtherStreams(AVFormatContext &ctx, int keep) noexcept;
+
+/// \return "<codec> <rate> Hz <channels> ch" of the audio stream \a par, e.g. "aac 48000 Hz 2 ch".
+std::string audioDescription(const AVCodecParameters &par);
 
 /// \return the Image layout closest to a decoded frame's format \a f.
 PixelFormat nativeLayout(AVPixelFormat f) noexcept;

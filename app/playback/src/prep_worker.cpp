@@ -7,6 +7,7 @@
 
 #include "depthtouch/platform/log.h"
 #include "depthtouch/platform/thread_config.h"
+#include "depthtouch/platform/work_queue.h"
 
 #include "depth_view.h"
 
@@ -51,11 +52,7 @@ PrepWorker::PrepWorker()
 
 PrepWorker::~PrepWorker()
 {
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        quit_ = true;
-    }
-    cv_.notify_all();
+    platform::raiseAndNotifyAll(mutex_, quit_, cv_);
     if (thread_)
         thread_->join();
 }

@@ -4,9 +4,11 @@
 #include "recorder.h"
 
 #include <cstring>
+#include <optional>
 
 #include "depthtouch/platform/log.h"
 #include "depthtouch/platform/thread_config.h"
+#include "depthtouch/platform/work_queue.h"
 
 DT_LOG_CATEGORY(Playback)
 
@@ -83,11 +85,7 @@ std::string Recorder::finish() noexcept
 {
     if (!thread_ || !thread_->joinable())
         return {};
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        stop_ = true;
-    }
-    workCv_.notify_one();
+    platform::raiseAndNotifyAll(mutex_, stop_, workCv_); // the encoder thread is its one waiter
     thread_->join();
     std::string why = error_;
     if (why.empty()) {
@@ -113,20 +111,15 @@ std::string Recorder::finish() noexcept
 void Recorder::encodeLoop()
 {
     std::unique_lock<std::mutex> lock(mutex_);
-    for (;;) {
-        workCv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
-        if (queue_.empty())
-            return;
-        Job job = std::move(queue_.front());
-        queue_.pop_front();
+    while (std::optional<Job> job = platform::waitForJob(lock, workCv_, stop_, queue_)) {
         lock.unlock();
-        auto r = encoder_->encode(job.image, job.pts);
+        auto r = encoder_->encode(job->image, job->pts);
         lock.lock();
         if (!r && error_.empty()) {
             error_ = std::string("cannot encode the recording: ") + r.error().what;
             queue_.clear();
         }
-        spare_.push_back(std::move(job.image));
+        spare_.push_back(std::move(job->image));
         spaceCv_.notify_one();
     }
 }

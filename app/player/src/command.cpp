@@ -362,6 +362,15 @@ std::string commandText(const Command &command)
 {
     std::string out = commandSpec(command.id).name;
     char buf[64];
+    // A level's change: " <value>" when set, " +" or " -" when stepped.
+    const auto appendChange = [&out, &buf](StiffnessChange change, double value) {
+        if (change == StiffnessChange::Set) {
+            std::snprintf(buf, sizeof buf, " %g", value);
+            out += buf;
+        } else {
+            out += change == StiffnessChange::Up ? " +" : " -";
+        }
+    };
     switch (command.id) {
     case CommandId::Play:
         if (!command.url.empty())
@@ -383,20 +392,10 @@ std::string commandText(const Command &command)
                                                : " toggle";
         break;
     case CommandId::Stiffness:
-        if (command.stiffnessChange == StiffnessChange::Set) {
-            std::snprintf(buf, sizeof buf, " %g", command.stiffness);
-            out += buf;
-        } else {
-            out += command.stiffnessChange == StiffnessChange::Up ? " +" : " -";
-        }
+        appendChange(command.stiffnessChange, command.stiffness);
         break;
     case CommandId::Volume:
-        if (command.volumeChange == StiffnessChange::Set) {
-            std::snprintf(buf, sizeof buf, " %g", command.volume);
-            out += buf;
-        } else {
-            out += command.volumeChange == StiffnessChange::Up ? " +" : " -";
-        }
+        appendChange(command.volumeChange, command.volume);
         break;
     case CommandId::Get:
         out += std::string(" ") + propertyName(command.property);

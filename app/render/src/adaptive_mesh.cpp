@@ -306,18 +306,12 @@ void AdaptiveMesh::emitTile(int tx, int ty, std::vector<std::uint32_t> &out) con
         out.push_back(c);
     };
 
-    for (int ra = r0; ra < r1; ra += s) {
-        const int rb = std::min(ra + s, r1);
-        for (int ca = c0; ca < c1; ca += s) {
-            const int cb = std::min(ca + s, c1);
-            const std::uint32_t a = vertex(ca, ra);
-            const std::uint32_t b = vertex(cb, ra);
-            const std::uint32_t c = vertex(cb, rb);
-            const std::uint32_t d = vertex(ca, rb);
-            triangle(a, b, c); // (c, r), (c+1, r), (c+1, r+1): haptics TriangleId upper == 0
-            triangle(a, c, d); // (c, r), (c+1, r+1), (c, r+1): upper == 1
-        }
-    }
+    const auto cell = [&triangle](std::uint32_t a, std::uint32_t b, std::uint32_t c,
+                                  std::uint32_t d) {
+        triangle(a, b, c); // (c, r), (c+1, r), (c+1, r+1): haptics TriangleId upper == 0
+        triangle(a, c, d); // (c, r), (c+1, r+1), (c, r+1): upper == 1
+    };
+    mesh::forEachCell(c0, r0, c1, r1, s, vertex, cell);
 }
 
 MeshError measureMeshError(const scene::DepthFrameView &depth,

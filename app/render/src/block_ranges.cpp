@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "mesh_cells.h"
+
 // The static index buffer of MeshMode::Blocks and the runs a frame draws of it.
 
 namespace depthtouch::render::gl {
@@ -61,17 +63,11 @@ void BlockRanges::build(int w, int h, int tileSize, int levelCount,
                 const int r0 = ty * tile;
                 const int c1 = std::min(c0 + tile, cellsX);
                 const int r1 = std::min(r0 + tile, cellsY);
-                for (int ra = r0; ra < r1; ra += s) {
-                    const int rb = std::min(ra + s, r1);
-                    for (int ca = c0; ca < c1; ca += s) {
-                        const int cb = std::min(ca + s, c1);
-                        const std::uint32_t a = vertex(ca, ra);
-                        const std::uint32_t b = vertex(cb, ra);
-                        const std::uint32_t c = vertex(cb, rb);
-                        const std::uint32_t d = vertex(ca, rb);
+                mesh::forEachCell(
+                    c0, r0, c1, r1, s, vertex,
+                    [&indices](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
                         indices.insert(indices.end(), {a, b, c, a, c, d});
-                    }
-                }
+                    });
             }
     }
     start[k] = coarseBase + static_cast<std::uint32_t>(indices.size());

@@ -331,13 +331,7 @@ Result<void> DmaBufImporter::draw(const hal::DmaBufImage &image, const ColorSpec
     if (d.target == 0 || d.targetWidth != image.width || d.targetHeight != image.height) {
         if (d.target != 0)
             glDeleteTextures(1, &d.target);
-        glGenTextures(1, &d.target);
-        glBindTexture(GL_TEXTURE_2D, d.target);
-        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, image.width, image.height);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        d.target = gl::createTexture2D(GL_RGBA8, image.width, image.height, GL_LINEAR);
         d.targetWidth = image.width;
         d.targetHeight = image.height;
     }

@@ -72,6 +72,19 @@ GLuint linkProgram(const std::string &vs, const std::string &fs, const char *att
                        optional, "link program");
 }
 
+GLuint createTexture2D(GLenum internalFormat, GLsizei width, GLsizei height, GLint minMag)
+{
+    GLuint name = 0;
+    glGenTextures(1, &name);
+    glBindTexture(GL_TEXTURE_2D, name);
+    glTexStorage2D(GL_TEXTURE_2D, 1, internalFormat, width, height);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, minMag);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, minMag);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return name;
+}
+
 bool hasExtension(const char *name)
 {
     GLint n = 0;

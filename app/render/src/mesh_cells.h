@@ -1,9 +1,11 @@
 #pragma once
 /// \file
 /// \brief Cell arithmetic shared by the adaptive mesh's files, private to dt_render: the integer
-/// log2 of a block size, the value of a cell's two-triangle surface, and the error a sample counts
-/// beside a hole.
+/// log2 of a block size, the walk over a block's cells at a step, the value of a cell's
+/// two-triangle surface, and the error a sample counts beside a hole.
 /// Thread-safety: pure functions.
+
+#include <algorithm>
 
 namespace depthtouch::render::mesh {
 
@@ -23,6 +25,22 @@ inline double cellValue(double z00, double z10, double z11, double z01, double u
     if (u >= v)
         return z00 + u * (z10 - z00) + v * (z11 - z10);
     return z00 + v * (z01 - z00) + u * (z11 - z01);
+}
+
+/// Visits the cells of step \a s of the block of samples (c0..c1, r0..r1), row-major, the last row
+/// and column cut at the block's edge: \a cell(a, b, c, d) with the vertex numbers \a vertex(c, r)
+/// gives its corners, a top-left, b top-right, c bottom-right, d bottom-left. Its two triangles
+/// split top-left → bottom-right are (a, b, c) and (a, c, d) (docs/architecture.md §3).
+template <class Vertex, class Cell>
+inline void forEachCell(int c0, int r0, int c1, int r1, int s, const Vertex &vertex, Cell &&cell)
+{
+    for (int ra = r0; ra < r1; ra += s) {
+        const int rb = std::min(ra + s, r1);
+        for (int ca = c0; ca < c1; ca += s) {
+            const int cb = std::min(ca + s, c1);
+            cell(vertex(ca, ra), vertex(cb, ra), vertex(cb, rb), vertex(ca, rb));
+        }
+    }
 }
 
 /// Holes (docs/architecture.md §3): the error of a sample where a block's coverage is wrong, a hole

@@ -4,8 +4,34 @@
 
 #include <cstring>
 #include <utility>
+#include <vector>
 
 namespace depthtouch::render {
+
+namespace {
+
+/// Reads the whole colour buffer of \a target, which must be of format \a format, as RGBA
+/// samples of \a type into \a raw (GL's rows: bottom-up), packed at \a alignment bytes.
+/// \return Errc::InvalidState with \a wrongFormat when it is not such a target, Errc::Io with
+/// \a readFailed when glReadPixels fails (both static strings).
+template <class T>
+Result<void> readRgbaRows(const RenderTarget &target, TargetFormat format, const char *wrongFormat,
+                          GLenum type, GLint alignment, const char *readFailed, std::vector<T> &raw)
+{
+    if (target.framebuffer() == 0 || target.format() != format)
+        return unexpected(Errc::InvalidState, wrongFormat);
+    const auto w = static_cast<std::size_t>(target.width());
+    const auto h = static_cast<std::size_t>(target.height());
+    raw.assign(w * h * 4, T{});
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, target.framebuffer());
+    glPixelStorei(GL_PACK_ALIGNMENT, alignment);
+    glReadPixels(0, 0, target.width(), target.height(), GL_RGBA, type, raw.data());
+    if (glGetError() != GL_NO_ERROR)
+        return unexpected(Errc::Io, readFailed);
+    return ok();
+}
+
+} // namespace
 
 Result<RenderTarget> RenderTarget::create(int width, int height, TargetFormat format)
 {
@@ -78,16 +104,11 @@ void RenderTarget::bind() const noexcept
 
 Result<void> RenderTarget::readRgb(std::vector<std::uint8_t> &rgb) const
 {
-    if (fbo_ == 0 || format_ != TargetFormat::Rgba8)
-        return unexpected(Errc::InvalidState, "render target is not an RGBA8 target");
+    std::vector<std::uint8_t> rgba;
+    DT_TRY(readRgbaRows(*this, TargetFormat::Rgba8, "render target is not an RGBA8 target",
+                        GL_UNSIGNED_BYTE, 1, "glReadPixels failed", rgba));
     const auto w = static_cast<std::size_t>(width_);
     const auto h = static_cast<std::size_t>(height_);
-    std::vector<std::uint8_t> rgba(w * h * 4);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-    if (glGetError() != GL_NO_ERROR)
-        return unexpected(Errc::Io, "glReadPixels failed");
     rgb.resize(w * h * 3);
     // GL rows run bottom-up; images top-down.
     for (std::size_t y = 0; y < h; ++y) {
@@ -104,16 +125,11 @@ Result<void> RenderTarget::readRgb(std::vector<std::uint8_t> &rgb) const
 
 Result<void> RenderTarget::readRgbaFloat(std::vector<float> &rgba) const
 {
-    if (fbo_ == 0 || format_ != TargetFormat::Rgba32F)
-        return unexpected(Errc::InvalidState, "render target is not a float target");
+    std::vector<float> raw;
+    DT_TRY(readRgbaRows(*this, TargetFormat::Rgba32F, "render target is not a float target",
+                        GL_FLOAT, 4, "glReadPixels (float) failed", raw));
     const auto w = static_cast<std::size_t>(width_);
     const auto h = static_cast<std::size_t>(height_);
-    std::vector<float> raw(w * h * 4);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
-    glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, raw.data());
-    if (glGetError() != GL_NO_ERROR)
-        return unexpected(Errc::Io, "glReadPixels (float) failed");
     rgba.resize(w * h * 4);
     for (std::size_t y = 0; y < h; ++y)
         std::memcpy(rgba.data() + y * w * 4, raw.data() + (h - 1 - y) * w * 4,

@@ -15,6 +15,7 @@
 
 #include "depthtouch/render/adaptive_mesh.h"
 #include "depthtouch/render/color.h"
+#include "depthtouch/render/gl_program.h"
 #include "depthtouch/render/renderer.h"
 #include "block_ranges.h"
 
@@ -43,13 +44,7 @@ struct Texture {
         }
         if (name != 0)
             glDeleteTextures(1, &name);
-        glGenTextures(1, &name);
-        glBindTexture(GL_TEXTURE_2D, name);
-        glTexStorage2D(GL_TEXTURE_2D, 1, format, w, h);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, minMag);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, minMag);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        name = createTexture2D(format, w, h, minMag);
         width = w;
         height = h;
         internalFormat = format;

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <system_error>
 #include <utility>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "depthtouch/media/image.h"
 #include "depthtouch/media/image_io.h"
 #include "depthtouch/platform/log.h"
+#include "depthtouch/platform/work_queue.h"
 #include "depthtouch/render/render_target.h"
 
 namespace depthtouch::render {
@@ -47,11 +49,7 @@ Snapshotter::Snapshotter(std::string dir, std::uint64_t everyN, std::string pref
 
 Snapshotter::~Snapshotter()
 {
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        stop_ = true;
-    }
-    cv_.notify_all();
+    platform::raiseAndNotifyAll(mutex_, stop_, cv_);
     if (writer_)
         writer_->join();
 }
@@ -67,19 +65,15 @@ Result<void> Snapshotter::write(const Job &job)
 void Snapshotter::writerLoop()
 {
     std::unique_lock<std::mutex> lock(mutex_);
-    for (;;) {
-        cv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
-        if (queue_.empty())
-            return; // stopped, and everything written
-        Job job = std::move(queue_.front());
-        queue_.pop_front();
+    // Until stopped, and everything written.
+    while (std::optional<Job> job = platform::waitForJob(lock, cv_, stop_, queue_)) {
         busy_ = true;
         lock.unlock();
-        auto r = write(job);
+        auto r = write(*job);
         lock.lock();
         busy_ = false;
         if (!r) {
-            DT_LOG(Snapshot, Error, "Failed to write %s: %s", job.path.c_str(), r.error().what);
+            DT_LOG(Snapshot, Error, "Failed to write %s: %s", job->path.c_str(), r.error().what);
             failed_ = true;
             failedErrno_ = r.error().sysErrno;
         }

@@ -18,6 +18,7 @@
 
 #include "depthtouch/hal/backends.h"
 #include "depthtouch/media/image_convert.h"
+#include "depthtouch/platform/work_queue.h"
 
 #include "depthtouch/synthetic/synthetic_scene.h"
 
@@ -98,11 +99,7 @@ public:
 
     ~SyntheticRenderer()
     {
-        {
-            const std::lock_guard lock(mutex_);
-            stop_ = true;
-        }
-        wake_.notify_all();
+        platform::raiseAndNotifyAll(mutex_, stop_, wake_);
         if (thread_.joinable())
             thread_.join();
     }

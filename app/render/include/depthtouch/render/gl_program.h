@@ -1,7 +1,8 @@
 #pragma once
 /// \file
-/// \brief Shader compiling and program linking shared by the renderer's GL parts and the synthetic
-/// scenes (app/synthetic). Needs a current GLES context. Thread-safety: the GL thread only.
+/// \brief Shader compiling, program linking and texture making shared by the renderer's GL parts
+/// and the synthetic scenes (app/synthetic). Needs a current GLES context. Thread-safety: the GL
+/// thread only.
 
 #include <GLES3/gl3.h>
 
@@ -20,6 +21,12 @@ GLuint compileShader(GLenum type, const std::string &source, bool optional = fal
 /// as compileShader() does).
 GLuint linkProgram(const std::string &vs, const std::string &fs, const char *attribute0 = nullptr,
                    bool optional = false);
+
+/// \brief Creates a 2-D texture with immutable storage of one level: \a internalFormat, \a width ×
+/// \a height texels, sampled with \a minMag (GL_NEAREST or GL_LINEAR) both when minified and
+/// magnified, clamped to its edges.
+/// \return its name, left bound to GL_TEXTURE_2D (GL errors are the GL's, as for glTexStorage2D).
+GLuint createTexture2D(GLenum internalFormat, GLsizei width, GLsizei height, GLint minMag);
 
 /// \return true when the current context lists \a name among its extensions (glGetStringi).
 bool hasExtension(const char *name);
