@@ -20,6 +20,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bench_options.h"
 #include "commands.h"
 #include "depthtouch/demo/demo_clip.h"
 #include "depthtouch/platform/gnuplot.h"
@@ -51,7 +52,7 @@ constexpr const char *kAbout =
     "scene with its soundtrack, per sound output, against the 20 ms goal";
 
 const OptionRow<BenchAvOptions> kBenchAvRows[] = {
-    {"out", &BenchAvOptions::out, "Output directory"},
+    benchOutRow<BenchAvOptions>(),
     {"duration", &BenchAvOptions::duration, "Seconds played on each sound output"},
     {"output",
      &BenchAvOptions::outputs,

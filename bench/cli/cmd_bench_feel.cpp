@@ -17,6 +17,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bench_options.h"
 #include "commands.h"
 #include "option_cli.h"
 #include "output_paths.h"
@@ -47,7 +48,7 @@ constexpr const char *kAbout =
 
 /// The options of `bench feel`, in `--help` order.
 const OptionRow<BenchFeelOptions> kBenchFeelRows[] = {
-    {"out", &BenchFeelOptions::out, "Output directory"},
+    benchOutRow<BenchFeelOptions>(),
     {"clip",
      &BenchFeelOptions::clips,
      "Also touch the depth of this video or DepthTouch file (repeatable)",
@@ -65,11 +66,7 @@ const OptionRow<BenchFeelOptions> kBenchFeelRows[] = {
     {"quick", &BenchFeelOptions::quick,
      "8-bit only, fewer synthetic scenes, one stroke per family variant, each method's first "
      "setting (under 30 s)"},
-    {"no-fifo",
-     &BenchFeelOptions::fifo,
-     "Time on a normal thread instead of a SCHED_FIFO one at the haptic priority",
-     {},
-     kNegated},
+    noFifoRow<BenchFeelOptions>(),
     {"dump",
      &BenchFeelOptions::dump,
      "Write the per-update log of every stroke whose 'scene|setting|stroke' contains this text to "

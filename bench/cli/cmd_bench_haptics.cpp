@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bench_options.h"
 #include "commands.h"
 #include "option_cli.h"
 #include "output_paths.h"
@@ -33,15 +34,11 @@ constexpr const char *kAbout =
 
 /// The options of `bench haptics`, in `--help` order.
 const OptionRow<BenchHapticsOptions> kBenchHapticsRows[] = {
-    {"out", &BenchHapticsOptions::out, "Output directory"},
+    benchOutRow<BenchHapticsOptions>(),
     {"quick", &BenchHapticsOptions::quick, "Short run (1 repetition, 3000 updates per setting)"},
     {"runs", &BenchHapticsOptions::runs, "Repetitions per setting (medians are reported)"},
     {"updates", &BenchHapticsOptions::updates, "Haptic updates per run"},
-    {"no-fifo",
-     &BenchHapticsOptions::fifo,
-     "Time on a normal thread instead of a SCHED_FIFO one at the haptic priority",
-     {},
-     kNegated},
+    noFifoRow<BenchHapticsOptions>(),
 };
 
 int runBenchHaptics(const BenchHapticsOptions &o)

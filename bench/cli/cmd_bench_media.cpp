@@ -20,6 +20,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bench_options.h"
 #include "commands.h"
 #include "option_cli.h"
 #include "output_paths.h"
@@ -56,9 +57,8 @@ struct BenchMediaOptions {
 
 /// The options of `bench media`, in `--help` order.
 const OptionRow<BenchMediaOptions> kBenchMediaRows[] = {
-    {"data", &BenchMediaOptions::data,
-     "Shared RGB-D data folder (default: $DT_SHARED_DATA or ../shared/data)"},
-    {"out", &BenchMediaOptions::out, "Output directory"},
+    sharedDataRow<BenchMediaOptions>(),
+    benchOutRow<BenchMediaOptions>(),
     {"frames", &BenchMediaOptions::frames,
      "Frames per clip at 30 fps (the 60 real frames are played forward and back beyond 60)"},
     {"runs", &BenchMediaOptions::runs, "Decode + pairing runs per file (median run reported)"},
@@ -149,12 +149,7 @@ int checkBenchOptions(const BenchMediaOptions &o, std::vector<std::pair<int, int
 int findScene(const BenchMediaOptions &o, std::string &scene)
 {
     if (!o.synthetic) {
-        std::string data = o.data;
-        if (data.empty()) {
-            const char *env = std::getenv("DT_SHARED_DATA");
-            data = env != nullptr ? env : "../shared/data";
-        }
-        scene = data + "/rgbd-7scenes-redkitchen";
+        scene = sharedDataFolder(o.data) + "/rgbd-7scenes-redkitchen";
         std::error_code ec;
         if (!std::filesystem::exists(scene + "/frame-000000.depth.png", ec))
             return fail(

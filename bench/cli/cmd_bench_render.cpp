@@ -9,7 +9,6 @@
 /// from a Display backend (--display, default headless).
 
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -18,6 +17,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bench_options.h"
 #include "commands.h"
 #include "option_cli.h"
 #include "output_paths.h"
@@ -55,9 +55,8 @@ constexpr const char *kAbout = "Stereo renderer: frame rate vs geometric error o
 /// The options of `bench render`, in `--help` order.
 const OptionRow<BenchRenderOptions> kBenchRenderRows[] = {
     {"display", &BenchRenderOptions::display, "Display backend providing the GLES context"},
-    {"data", &BenchRenderOptions::data,
-     "Shared RGB-D data folder (default: $DT_SHARED_DATA or ../shared/data)"},
-    {"out", &BenchRenderOptions::out, "Output directory"},
+    sharedDataRow<BenchRenderOptions>(),
+    benchOutRow<BenchRenderOptions>(),
     {"frames", &BenchRenderOptions::frames, "Timed frames per mesh setting"},
     {"width", &BenchRenderOptions::width, "Side-by-side output width, pixels (two eyes)"},
     {"height", &BenchRenderOptions::height, "Output height, pixels"},
@@ -142,12 +141,7 @@ int runBenchRender(const BenchRenderOptions &o)
         std::fprintf(stderr, "depthtouch bench render: --frames must be >= 5 and sizes positive\n");
         return kExitBadInput;
     }
-    std::string data = o.data;
-    if (data.empty()) {
-        const char *env = std::getenv("DT_SHARED_DATA");
-        data = env != nullptr ? env : "../shared/data";
-    }
-    const std::string scene = data + "/rgbd-7scenes-redkitchen";
+    const std::string scene = sharedDataFolder(o.data) + "/rgbd-7scenes-redkitchen";
     if (!std::filesystem::exists(scene + "/frame-000000.depth.png")) {
         std::fprintf(
             stderr,

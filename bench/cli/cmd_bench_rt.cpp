@@ -15,6 +15,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bench_options.h"
 #include "commands.h"
 #include "option_cli.h"
 #include "output_paths.h"
@@ -47,7 +48,7 @@ constexpr const char *kAbout = "Haptic loop timing: wake latency and period erro
 
 /// The options of `bench rt`, in `--help` order.
 const OptionRow<BenchRtOptions> kBenchRtRows[] = {
-    {"out", &BenchRtOptions::out, "Output directory"},
+    benchOutRow<BenchRtOptions>(),
     {"duration", &BenchRtOptions::duration, "Seconds per case"},
     {"rates", &BenchRtOptions::rates, "Servo rates, Hz"},
     {"policies", &BenchRtOptions::policies, "fifo, other or fifo,other"},

@@ -107,6 +107,27 @@ void speckle(const Draws &draws, double probability, depth::Plane<std::uint8_t> 
                             hole.at(x + dx, y + dy) = 1;
 }
 
+/// What a projector–camera model (structured light, active stereo) starts a frame from.
+struct ProjectorFrame {
+    depth::Plane<float> other;       ///< Depth across a silhouette, m (0: none); findSilhouettes().
+    depth::Plane<std::uint8_t> hole; ///< Projector shadow and speckle holes (1: hole).
+    Draws draws;                     ///< The frame's random draws.
+};
+
+/// The silhouettes, holes and draws of frame \a frameIndex of \a clean (m) under options \a o
+/// (edgeJump, focalPx, baseline, speckleProbability, seed).
+template <class Options>
+ProjectorFrame projectorFrame(const depth::Plane<float> &clean, const Options &o,
+                              std::uint64_t frameIndex)
+{
+    ProjectorFrame f{depth::Plane<float>(clean.width, clean.height, 0.0f),
+                     depth::Plane<std::uint8_t>(clean.width, clean.height, 0),
+                     Draws(o.seed, frameIndex)};
+    findSilhouettes(clean, {o.edgeJump, o.focalPx, o.baseline}, f.other, f.hole);
+    speckle(f.draws, o.speckleProbability, f.hole);
+    return f;
+}
+
 std::uint16_t toMillimetres(double z) noexcept
 {
     return static_cast<std::uint16_t>(std::clamp(std::lround(z * 1000.0), 1L, 65534L));
@@ -191,11 +212,7 @@ depth::Plane<std::uint16_t> applyStereoNoise(const depth::Plane<float> &clean,
                                              const StereoNoiseOptions &o, std::uint64_t frameIndex)
 {
     depth::Plane<std::uint16_t> out(clean.width, clean.height, 0);
-    depth::Plane<float> other(clean.width, clean.height, 0.0f);
-    depth::Plane<std::uint8_t> hole(clean.width, clean.height, 0);
-    findSilhouettes(clean, {o.edgeJump, o.focalPx, o.baseline}, other, hole);
-    const Draws draws(o.seed, frameIndex);
-    speckle(draws, o.speckleProbability, hole);
+    const auto [other, hole, draws] = projectorFrame(clean, o, frameIndex);
     const double fb = o.focalPx * o.baseline;
     for (std::size_t i = 0; i < clean.size(); ++i) {
         if (!surface(clean.samples[i]) || hole.samples[i])
@@ -230,11 +247,7 @@ depth::Plane<std::uint16_t> applyKinectNoise(const depth::Plane<float> &clean,
                                              const KinectNoiseOptions &o, std::uint64_t frameIndex)
 {
     depth::Plane<std::uint16_t> out(clean.width, clean.height, 0);
-    depth::Plane<float> other(clean.width, clean.height, 0.0f);
-    depth::Plane<std::uint8_t> hole(clean.width, clean.height, 0);
-    findSilhouettes(clean, {o.edgeJump, o.focalPx, o.baseline}, other, hole);
-    const Draws draws(o.seed, frameIndex);
-    speckle(draws, o.speckleProbability, hole);
+    const auto [other, hole, draws] = projectorFrame(clean, o, frameIndex);
     for (std::size_t i = 0; i < clean.size(); ++i) {
         double z = static_cast<double>(clean.samples[i]);
         if (!surface(clean.samples[i]) || hole.samples[i])

@@ -93,7 +93,7 @@ double rolledHeight(ReferenceSurface &ref, double t, const Path &path, double s)
 /// What one stroke does, phase by phase.
 struct Motion {
     StrokeFamily family = StrokeFamily::Hold;
-    Path path;           ///< x–y; a moving stroke's main phase travels it at `speed`.
+    Path path{};         ///< x–y; a moving stroke's main phase travels it at `speed`.
     double speed = 0.0;  ///< m/s along the path (0: still).
     double depth = 1e-3; ///< m under the surface in the main phase.
     double approach = kApproachSpeed; ///< m/s, in and out.
@@ -222,6 +222,7 @@ private:
     double startFor(double seconds);
     void onSilhouette(Motion m, double reach, const SetPath &set, const std::string &name);
     std::pair<glm::dvec2, bool> nearSide(const SilhouettePoint &e, double by, double t);
+    void stillOnEdge(const Motion &m, double by, const std::string &name);
     bool stillAt(Motion m, std::size_t i, const std::string &name, const std::string &where,
                  double coverFrom = -1.0, double coverTo = -1.0);
     void drawAt(Candidates &from, Motion m, const std::string &name, const std::string &where);
@@ -283,6 +284,19 @@ std::pair<glm::dvec2, bool> FamilyPlacer::nearSide(const SilhouettePoint &e, dou
     return std::pair{p, std::isfinite(ref_.height(t, p.x, p.y))};
 }
 
+/// A still stroke (press, tap, hold) on a silhouette's near side, \a by m from the step.
+void FamilyPlacer::stillOnEdge(const Motion &m, double by, const std::string &name)
+{
+    onSilhouette(
+        m, 2 * kMm,
+        [&](Motion &mm2, const SilhouettePoint &e) {
+            const auto [p, ok] = nearSide(e, by, mm2.startT);
+            mm2.path = linePath(p, p);
+            return ok;
+        },
+        name);
+}
+
 /// A still stroke at pixel \a i; [\a coverFrom, \a coverTo]: the time the main phase must cover
 /// (occluders; none when negative).
 bool FamilyPlacer::stillAt(Motion m, std::size_t i, const std::string &name,
@@ -334,11 +348,10 @@ void FamilyPlacer::swipes()
 {
     for (double v : plan_.swipeSpeeds)
         for (int k = 0; k < plan_.places; ++k) {
-            Motion m;
-            m.family = StrokeFamily::Swipe;
-            m.speed = v;
-            m.depth = plan_.swipeDepth;
-            m.main = plan_.moveSeconds;
+            const Motion m{.family = StrokeFamily::Swipe,
+                           .speed = v,
+                           .depth = plan_.swipeDepth,
+                           .main = plan_.moveSeconds};
             onSilhouette(
                 m, plan_.swipeReach,
                 [&](Motion &mm2, const SilhouettePoint &e) {
@@ -354,21 +367,11 @@ void FamilyPlacer::presses()
 {
     for (double d : plan_.pressDepths)
         for (double v : plan_.pressSpeeds) {
-            Motion m;
-            m.family = StrokeFamily::Press;
-            m.depth = d;
-            m.approach = v;
-            m.main = plan_.pressHold;
+            const Motion m{
+                .family = StrokeFamily::Press, .depth = d, .approach = v, .main = plan_.pressHold};
             // Alternately on a silhouette's near side and beside a moving object.
             if (count_ % 2 == 0)
-                onSilhouette(
-                    m, 2 * kMm,
-                    [&](Motion &mm2, const SilhouettePoint &e) {
-                        const auto [p, ok] = nearSide(e, 1 * kMm, mm2.startT);
-                        mm2.path = linePath(p, p);
-                        return ok;
-                    },
-                    fmt("press %.1f mm %.0f cm/s edge", d / kMm, v * 100));
+                stillOnEdge(m, 1 * kMm, fmt("press %.1f mm %.0f cm/s edge", d / kMm, v * 100));
             else
                 drawAt(pixels_.moving, m, fmt("press %.1f mm %.0f cm/s moving", d / kMm, v * 100),
                        "moving");
@@ -378,11 +381,10 @@ void FamilyPlacer::presses()
 void FamilyPlacer::circles()
 {
     for (int k = 0; k < plan_.places; ++k) {
-        Motion m;
-        m.family = StrokeFamily::Circle;
-        m.speed = plan_.circleSpeed;
-        m.depth = plan_.circleDepth;
-        m.main = plan_.moveSeconds;
+        const Motion m{.family = StrokeFamily::Circle,
+                       .speed = plan_.circleSpeed,
+                       .depth = plan_.circleDepth,
+                       .main = plan_.moveSeconds};
         const double phase = 2.0 * std::numbers::pi * draws_.next();
         onSilhouette(
             m, plan_.circleRadius + kTipRadius,
@@ -398,11 +400,10 @@ void FamilyPlacer::circles()
 void FamilyPlacer::traces()
 {
     for (double v : plan_.traceSpeeds) {
-        Motion m;
-        m.family = StrokeFamily::Trace;
-        m.speed = v;
-        m.depth = plan_.traceDepth;
-        m.main = plan_.moveSeconds;
+        const Motion m{.family = StrokeFamily::Trace,
+                       .speed = v,
+                       .depth = plan_.traceDepth,
+                       .main = plan_.moveSeconds};
         onSilhouette(
             m, 10 * kMm,
             [&](Motion &mm2, const SilhouettePoint &e) {
@@ -433,10 +434,8 @@ void FamilyPlacer::taps()
 {
     Candidates &holeBorder = pixels_.holeBorder;
     for (int k = 0; k < plan_.places; ++k) {
-        Motion m;
-        m.family = StrokeFamily::Tap;
-        m.depth = plan_.tapDepth;
-        m.main = plan_.moveSeconds;
+        const Motion m{
+            .family = StrokeFamily::Tap, .depth = plan_.tapDepth, .main = plan_.moveSeconds};
         const std::string name = fmt("tap %.0f Hz ", plan_.tapHz);
         if (k % 2 == 1) {
             drawAt(holeBorder.empty() ? pixels_.moving : holeBorder, m,
@@ -444,24 +443,14 @@ void FamilyPlacer::taps()
                    holeBorder.empty() ? "moving" : "hole");
             continue;
         }
-        onSilhouette(
-            m, 2 * kMm,
-            [&](Motion &mm2, const SilhouettePoint &e) {
-                const auto [p, ok] = nearSide(e, 1 * kMm, mm2.startT);
-                mm2.path = linePath(p, p);
-                return ok;
-            },
-            name + "edge");
+        stillOnEdge(m, 1 * kMm, name + "edge");
     }
 }
 
 void FamilyPlacer::holds()
 {
     for (double d : plan_.holdDepths) {
-        Motion m;
-        m.family = StrokeFamily::Hold;
-        m.depth = d;
-        m.main = plan_.holdSeconds;
+        const Motion m{.family = StrokeFamily::Hold, .depth = d, .main = plan_.holdSeconds};
         const std::string depthName = fmt("hold %.0f mm ", d / kMm);
         drawAt(pixels_.moving, m, depthName + "beside moving", "moving");
         drawAt(pixels_.occluded, m, depthName + "under occluder", "occluder");
@@ -469,15 +458,7 @@ void FamilyPlacer::holds()
         drawAt(pixels_.holeBorder, m, depthName + "hole border", "hole");
         drawAt(pixels_.still, m, depthName + "still", "still");
         // On an edge: the near side of a silhouette, 0.5 mm from the step.
-        Motion e = m;
-        onSilhouette(
-            e, 2 * kMm,
-            [&](Motion &mm2, const SilhouettePoint &pt) {
-                const auto [p, ok] = nearSide(pt, 0.5 * kMm, mm2.startT);
-                mm2.path = linePath(p, p);
-                return ok;
-            },
-            depthName + "edge");
+        stillOnEdge(m, 0.5 * kMm, depthName + "edge");
     }
 }
 

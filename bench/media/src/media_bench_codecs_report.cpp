@@ -131,10 +131,8 @@ bool writeCodecs(const std::vector<CodecRow> &rows, int allThreads, const std::s
                     sizeText(r.width, r.height).c_str(), r.codec.c_str(), crfText(r).c_str(),
                     r.lossless ? "" : std::to_string(r.crf).c_str(), r.depthKbps, r.decodeFps1,
                     r.decodeFpsAll, allThreads, r.forceRmsN, r.forceMaxN, r.depthErrorMm);
-        if (!f.close()) {
-            error = "cannot write " + csv;
+        if (!closeReport(f, csv, error))
             return false;
-        }
     }
     if (rows.empty())
         return true;
@@ -195,12 +193,7 @@ bool writeCodecs(const std::vector<CodecRow> &rows, int allThreads, const std::s
             "30 with lines dt 3 lw 2 lc rgb 'gray40' title 'real time (30 fps)'\n"
             "unset multiplot\n",
             allThreads, decode.c_str(), allThreads, allThreads, allThreads, allThreads, kGoalFps);
-    if (!g.close()) {
-        error = "cannot write " + script;
-        return false;
-    }
-    note = platform::plotStatusNote(platform::runGnuplot(script));
-    return true;
+    return closeAndPlot(g, script, error, note);
 }
 
 } // namespace depthtouch::media::bench

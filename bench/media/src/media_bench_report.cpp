@@ -116,10 +116,8 @@ bool writeReport(const MediaBenchReport &r, const std::string &dir, std::string 
                     t.decodeMedianMs, t.decodeP99Ms, t.decodeRealtime, t.decodeCpuRealtime, goal,
                     goal <= 0.0 ? "" : (t.decodeCpuRealtime >= goal ? "yes" : "no"));
         }
-        if (!f.close()) {
-            error = "cannot write " + throughputCsv;
+        if (!closeReport(f, throughputCsv, error))
             return false;
-        }
     }
     {
         platform::ReportFile f(rateCsv);
@@ -132,59 +130,49 @@ bool writeReport(const MediaBenchReport &r, const std::string &dir, std::string 
                     q.depthKbps, psnrText(q.psnrDb).c_str(), q.forceRmsN, q.forceMaxN, q.releases,
                     q.popThroughs, q.forceRmsNoSafetyN, q.forceMaxNoSafetyN, q.pressRmsN,
                     q.pressMaxN, q.forceRefRmsN, q.updates);
-        if (!f.close()) {
-            error = "cannot write " + rateCsv;
+        if (!closeReport(f, rateCsv, error))
             return false;
-        }
     }
 
     const std::string script = (base / "media_bench.gp").string();
-    {
-        platform::ReportFile g(script);
-        g.print("set terminal pngcairo size 1000,680 noenhanced\n"
-                "set datafile separator ','\n"
-                "set output '%s'\n"
-                "set title 'Depth rate vs accuracy, %s, x264 gray: PSNR and haptic force error "
-                "vs lossless depth'\n"
-                "set logscale x\nset grid\n"
-                "set xlabel 'depth bitrate (kbit/s, log scale)'\n"
-                "set ylabel 'depth PSNR vs lossless (dB, 8-bit nearness)'\n"
-                "set y2label 'force RMS error vs lossless depth (N)'\n"
-                "set ytics nomirror\nset y2tics\nset y2range [0:*]\n"
-                "set key below\n"
-                "plot '%s' skip 1 using 3:(strcol(4) eq 'inf' ? NaN : $4) axes x1y1 with "
-                "linespoints pt 7 lw 2 title 'PSNR (dB, left)', \\\n"
-                "     '' skip 1 using 3:5 axes x1y2 with linespoints pt 5 lw 2 title 'force RMS "
-                "error, strokes as touch runs them (N, right)', \\\n"
-                "     '' skip 1 using 3:9 axes x1y2 with linespoints pt 9 lw 2 dt 2 title 'force "
-                "RMS error, strokes, safety off (N, right)', \\\n"
-                "     '' skip 1 using 3:11 axes x1y2 with linespoints pt 11 lw 2 title 'force "
-                "RMS error, presses (N, right)', \\\n"
-                "     '' skip 1 using 3:(strcol(4) eq 'inf' ? NaN : $4):1 axes x1y1 with labels "
-                "offset 0,1 font ',8' notitle\n",
-                (base / "rate_vs_accuracy.png").string().c_str(),
-                sizeText(r.rateWidth, r.rateHeight).c_str(), rateCsv.c_str());
-        g.print("reset\nset datafile separator ','\n"
-                "set terminal pngcairo size 1000,560 noenhanced\n"
-                "set output '%s'\n"
-                "set title 'Color + depth throughput, one core: x real time at %.0f fps "
-                "(goals: decode 10x at 720x486, 2x at 1920x1080)'\n"
-                "set style data histograms\nset style histogram clustered gap 1\n"
-                "set style fill solid 0.8 border -1\nset boxwidth 0.9\n"
-                "set logscale y\nset grid ytics\nset ylabel 'x real time (log scale)'\n"
-                "set xtics rotate by -20 font ',9'\nset key below horizontal\n"
-                "plot '%s' skip 1 using ($7/%g):xtic(stringcolumn(1).' '.stringcolumn(2)) "
-                "title 'encode (cpu)', '' skip 1 using 13 title 'decode + pairing (cpu)', "
-                "'' skip 1 using 12 title 'decode + pairing (wall)'\n",
-                (base / "media_throughput.png").string().c_str(), r.fps, throughputCsv.c_str(),
-                r.fps);
-        if (!g.close()) {
-            error = "cannot write " + script;
-            return false;
-        }
-    }
-    note = platform::plotStatusNote(platform::runGnuplot(script));
-    return true;
+    platform::ReportFile g(script);
+    g.print("set terminal pngcairo size 1000,680 noenhanced\n"
+            "set datafile separator ','\n"
+            "set output '%s'\n"
+            "set title 'Depth rate vs accuracy, %s, x264 gray: PSNR and haptic force error "
+            "vs lossless depth'\n"
+            "set logscale x\nset grid\n"
+            "set xlabel 'depth bitrate (kbit/s, log scale)'\n"
+            "set ylabel 'depth PSNR vs lossless (dB, 8-bit nearness)'\n"
+            "set y2label 'force RMS error vs lossless depth (N)'\n"
+            "set ytics nomirror\nset y2tics\nset y2range [0:*]\n"
+            "set key below\n"
+            "plot '%s' skip 1 using 3:(strcol(4) eq 'inf' ? NaN : $4) axes x1y1 with "
+            "linespoints pt 7 lw 2 title 'PSNR (dB, left)', \\\n"
+            "     '' skip 1 using 3:5 axes x1y2 with linespoints pt 5 lw 2 title 'force RMS "
+            "error, strokes as touch runs them (N, right)', \\\n"
+            "     '' skip 1 using 3:9 axes x1y2 with linespoints pt 9 lw 2 dt 2 title 'force "
+            "RMS error, strokes, safety off (N, right)', \\\n"
+            "     '' skip 1 using 3:11 axes x1y2 with linespoints pt 11 lw 2 title 'force "
+            "RMS error, presses (N, right)', \\\n"
+            "     '' skip 1 using 3:(strcol(4) eq 'inf' ? NaN : $4):1 axes x1y1 with labels "
+            "offset 0,1 font ',8' notitle\n",
+            (base / "rate_vs_accuracy.png").string().c_str(),
+            sizeText(r.rateWidth, r.rateHeight).c_str(), rateCsv.c_str());
+    g.print("reset\nset datafile separator ','\n"
+            "set terminal pngcairo size 1000,560 noenhanced\n"
+            "set output '%s'\n"
+            "set title 'Color + depth throughput, one core: x real time at %.0f fps "
+            "(goals: decode 10x at 720x486, 2x at 1920x1080)'\n"
+            "set style data histograms\nset style histogram clustered gap 1\n"
+            "set style fill solid 0.8 border -1\nset boxwidth 0.9\n"
+            "set logscale y\nset grid ytics\nset ylabel 'x real time (log scale)'\n"
+            "set xtics rotate by -20 font ',9'\nset key below horizontal\n"
+            "plot '%s' skip 1 using ($7/%g):xtic(stringcolumn(1).' '.stringcolumn(2)) "
+            "title 'encode (cpu)', '' skip 1 using 13 title 'decode + pairing (cpu)', "
+            "'' skip 1 using 12 title 'decode + pairing (wall)'\n",
+            (base / "media_throughput.png").string().c_str(), r.fps, throughputCsv.c_str(), r.fps);
+    return closeAndPlot(g, script, error, note);
 }
 
 } // namespace depthtouch::media::bench

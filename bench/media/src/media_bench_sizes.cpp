@@ -34,6 +34,20 @@ std::optional<MediaBenchError> loadClip(const MediaSizesPlan &plan, int w, int h
     return std::nullopt;
 }
 
+/// Appends the rows of the measurement \a what at size \a w × \a h to \a into. \return its error,
+/// "WHAT at WxH: REASON" (a usage error when an argument was invalid), when it failed.
+template <class Row>
+std::optional<MediaBenchError> appendRows(const Result<std::vector<Row>> &rows, const char *what,
+                                          int w, int h, std::vector<Row> &into)
+{
+    if (!rows)
+        return MediaBenchError{rows.error().code == Errc::InvalidArgument,
+                               std::string(what) + " at " + sizeText(w, h) + ": " +
+                                   rows.error().what};
+    into.insert(into.end(), rows->begin(), rows->end());
+    return std::nullopt;
+}
+
 /// Rate against accuracy on one clip, into the report.
 std::optional<MediaBenchError> measureRate(const Clip &clip, int w, int h,
                                            const ReceiverBackends &backends,
@@ -69,12 +83,9 @@ std::optional<MediaBenchError> measureSize(const MediaSizesPlan &plan,
     report.fps = clip.fps;
     std::fprintf(stderr, "bench media: %dx%d encode per preset, decode + pairing x%d ...\n", w, h,
                  mo.decodeRuns);
-    auto rows = measureThroughput(clip, backends, mo);
-    if (!rows)
-        return MediaBenchError{rows.error().code == Errc::InvalidArgument,
-                               std::string("throughput at ") + std::to_string(w) + "x" +
-                                   std::to_string(h) + ": " + rows.error().what};
-    report.throughput.insert(report.throughput.end(), rows->begin(), rows->end());
+    if (auto e = appendRows(measureThroughput(clip, backends, mo), "throughput", w, h,
+                            report.throughput))
+        return e;
     // Rate against accuracy on the first size (720×486 by default: the paper's frame size).
     if (k == 0)
         return measureRate(clip, w, h, backends, mo, report);
@@ -104,13 +115,8 @@ std::optional<MediaBenchError> measureCodecSize(const MediaSizesPlan &plan,
     Clip clip;
     if (auto e = loadClip(plan, w, h, clip))
         return e;
-    auto rows = measureCodecs(clip, backends, plan.allThreads, cp, mo);
-    if (!rows)
-        return MediaBenchError{rows.error().code == Errc::InvalidArgument,
-                               std::string("depth codecs at ") + sizeText(w, h) + ": " +
-                                   rows.error().what};
-    report.codecs.insert(report.codecs.end(), rows->begin(), rows->end());
-    return std::nullopt;
+    return appendRows(measureCodecs(clip, backends, plan.allThreads, cp, mo), "depth codecs", w, h,
+                      report.codecs);
 }
 
 } // namespace

@@ -14,6 +14,7 @@
 #include "depthtouch/media/encoder.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/cpu_time.h"
+#include "depthtouch/platform/gnuplot.h"
 
 namespace depthtouch::media::bench {
 
@@ -291,6 +292,23 @@ std::string psnrText(double db)
 std::string settingText(const RateRow &r)
 {
     return r.lossless ? std::string("lossless") : "crf" + std::to_string(r.crf);
+}
+
+bool closeReport(platform::ReportFile &f, const std::string &path, std::string &error)
+{
+    if (f.close())
+        return true;
+    error = "cannot write " + path;
+    return false;
+}
+
+bool closeAndPlot(platform::ReportFile &g, const std::string &script, std::string &error,
+                  std::string &note)
+{
+    if (!closeReport(g, script, error))
+        return false;
+    note = platform::plotStatusNote(platform::runGnuplot(script));
+    return true;
 }
 
 } // namespace depthtouch::media::bench

@@ -14,6 +14,7 @@
 #include "depthtouch/haptics/replay.h"
 #include "depthtouch/media/encoder.h"
 #include "depthtouch/media/media_bench.h"
+#include "depthtouch/platform/report_file.h"
 #include "depthtouch/platform/result.h"
 #include "depthtouch/receiver/receiver.h"
 
@@ -105,5 +106,15 @@ std::string psnrText(double db);
 
 /// \return "lossless" or "crfN" for the depth setting of \a r.
 std::string settingText(const RateRow &r);
+
+/// Closes \a f, the report file at \a path. \return false with \a error "cannot write PATH" when
+/// it was not written whole.
+bool closeReport(platform::ReportFile &f, const std::string &path, std::string &error);
+
+/// Closes the gnuplot script \a g at \a script (closeReport()) and runs it; \a note: how the
+/// charts went (platform::plotStatusNote()). \return false with \a error when the script was not
+/// written.
+bool closeAndPlot(platform::ReportFile &g, const std::string &script, std::string &error,
+                  std::string &note);
 
 } // namespace depthtouch::media::bench

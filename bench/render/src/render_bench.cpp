@@ -26,6 +26,23 @@ using detail::colorView;
 using detail::depthView;
 using platform::percentile;
 
+namespace {
+
+/// Mesh options of a tiled mode: \a tile cells a tile side, also the coarsest step; error bound
+/// \a tolerance; at most \a thousandBlocks thousand blocks (0: no budget).
+MeshOptions tiledMesh(MeshMode mode, int tile, double tolerance, int thousandBlocks = 0)
+{
+    MeshOptions m;
+    m.mode = mode;
+    m.tileSize = tile;
+    m.maxStep = tile;
+    m.tolerance = tolerance;
+    m.maxBlocks = static_cast<std::size_t>(thousandBlocks) * 1000;
+    return m;
+}
+
+} // namespace
+
 std::vector<BenchConfig> defaultConfigs()
 {
     std::vector<BenchConfig> out;
@@ -36,32 +53,22 @@ std::vector<BenchConfig> defaultConfigs()
         out.push_back({step == 1 ? "full" : "step" + std::to_string(step), m});
     }
     for (const double tol : {0.3, 0.5, 0.7, 0.9, 1.2}) {
-        MeshOptions m; // per-tile steps: tile 8, mean criterion, cap 16 levels
-        m.mode = MeshMode::Adaptive;
-        m.tileSize = 8;
-        m.maxStep = 8;
-        m.tolerance = tol;
+        // per-tile steps: tile 8, mean criterion, cap 16 levels
+        const MeshOptions m = tiledMesh(MeshMode::Adaptive, 8, tol);
         char name[32];
         std::snprintf(name, sizeof name, "adaptive-%.1f", tol);
         out.push_back({name, m});
     }
     for (const double tol : {0.3, 0.4, 0.45, 0.5, 0.6}) {
-        MeshOptions m; // quadtree: root 32, frame mean error budget, cap 16 levels
-        m.mode = MeshMode::Quadtree;
-        m.tileSize = 32;
-        m.maxStep = 32;
-        m.tolerance = tol;
+        // quadtree: root 32, frame mean error budget, cap 16 levels
+        const MeshOptions m = tiledMesh(MeshMode::Quadtree, 32, tol);
         char name[32];
         std::snprintf(name, sizeof name, "quadtree-%.2f", tol);
         out.push_back({name, m});
     }
     for (const int thousands : {3, 6, 9, 12}) {
-        MeshOptions m; // quadtree-0.50 under a leaf-block budget (what the player's LOD sets)
-        m.mode = MeshMode::Quadtree;
-        m.tileSize = 32;
-        m.maxStep = 32;
-        m.tolerance = 0.5;
-        m.maxBlocks = static_cast<std::size_t>(thousands) * 1000;
+        // quadtree-0.50 under a leaf-block budget (what the player's LOD sets)
+        const MeshOptions m = tiledMesh(MeshMode::Quadtree, 32, 0.5, thousands);
         char name[32];
         std::snprintf(name, sizeof name, "budget-%dk", thousands);
         out.push_back({name, m});
@@ -70,11 +77,8 @@ std::vector<BenchConfig> defaultConfigs()
         for (const double tol : {0.4, 0.5, 0.6}) {
             if (tile != 8 && tol != 0.5)
                 continue;
-            MeshOptions m; // a step per tile from probes, precomputed ranges (the player's LOD)
-            m.mode = MeshMode::Blocks;
-            m.tileSize = tile;
-            m.maxStep = tile;
-            m.tolerance = tol;
+            // a step per tile from probes, precomputed ranges (the player's LOD)
+            const MeshOptions m = tiledMesh(MeshMode::Blocks, tile, tol);
             char name[32];
             if (tile == 8) // blocks-*: the player's tile size for the depth size (8 at 720x486)
                 std::snprintf(name, sizeof name, "blocks-%.2f", tol);
@@ -83,12 +87,8 @@ std::vector<BenchConfig> defaultConfigs()
             out.push_back({name, m});
         }
     for (const int thousands : {3, 6, 9}) {
-        MeshOptions m; // blocks-0.40 (the player's tolerance) under a cell budget
-        m.mode = MeshMode::Blocks;
-        m.tileSize = 8;
-        m.maxStep = 8;
-        m.tolerance = 0.4;
-        m.maxBlocks = static_cast<std::size_t>(thousands) * 1000;
+        // blocks-0.40 (the player's tolerance) under a cell budget
+        const MeshOptions m = tiledMesh(MeshMode::Blocks, 8, 0.4, thousands);
         char name[32];
         std::snprintf(name, sizeof name, "blocks-budget-%dk", thousands);
         out.push_back({name, m});

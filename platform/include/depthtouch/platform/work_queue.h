@@ -27,8 +27,8 @@ inline void raiseAndNotifyAll(std::mutex &mutex, bool &flag, std::condition_vari
 
 /// \brief Waits on \a cv (with \a lock, which holds the mutex guarding \a stop and \a queue) until
 /// \a stop is set or \a queue has a job, then takes the job at its front.
-/// \return the job, still under \a lock; nullopt when \a stop is set and \a queue is empty (the jobs
-/// queued before the stop are all handed out first).
+/// \return the job, still under \a lock; nullopt when \a stop is set and \a queue is empty (the
+/// jobs queued before the stop are all handed out first).
 template <class Job>
 std::optional<Job> waitForJob(std::unique_lock<std::mutex> &lock, std::condition_variable &cv,
                               const bool &stop, std::deque<Job> &queue)
