@@ -36,6 +36,15 @@ struct ProcessResult {
     }
 };
 
+/// \return \a r in one line and stderr after it, for a failed expectation: the exit code, a
+/// time-out, the signal, the run time (seconds) and at most the first 2000 characters of stderr.
+inline std::string describe(const ProcessResult &r)
+{
+    return "exit " + std::to_string(r.exitCode) + (r.timedOut ? " (timed out)" : "") + ", signal " +
+           std::to_string(r.signal) + ", " + std::to_string(r.seconds) + " s, stderr:\n" +
+           r.err.substr(0, 2000);
+}
+
 /// \brief A child process started at construction; killed (SIGKILL) if still running at
 /// destruction.
 class Process {

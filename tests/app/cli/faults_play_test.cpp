@@ -27,44 +27,15 @@
 #include "../../support/temp_dir.h"
 #include "cli_process.h"
 #include "control_client.h"
+#include "play_args.h"
 
 namespace {
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
-using depthtouch::testing::ControlClient;
-using depthtouch::testing::Process;
-using depthtouch::testing::ProcessResult;
-using depthtouch::testing::runProcess;
-using depthtouch::testing::TempDir;
-using Args = std::vector<std::string>;
+using namespace depthtouch::testing;
 
 constexpr auto kLimit = 20s; ///< No run may take longer.
-const std::string kMockClip = "mock://clip?frames=30&fps=30";
-
-/// `depthtouch play URL` on the mock backends (haptic device \a haptic), then \a extra.
-Args mockPlay(const std::string &url, const Args &extra = {}, const std::string &haptic = "none")
-{
-    Args a = {DEPTHTOUCH, "play", url, "--source", "mock", "--decoder", "mock",
-              "--display", "mock", "--haptic", haptic};
-    a.insert(a.end(), extra.begin(), extra.end());
-    return a;
-}
-
-/// `depthtouch play URL` on the ffmpeg source and decoder (mock display), then \a extra.
-Args ffmpegPlay(const std::string &url, const Args &extra = {})
-{
-    Args a = {DEPTHTOUCH, "play", url, "--display", "mock", "--haptic", "none"};
-    a.insert(a.end(), extra.begin(), extra.end());
-    return a;
-}
-
-std::string describe(const ProcessResult &r)
-{
-    return "exit " + std::to_string(r.exitCode) + (r.timedOut ? " (timed out)" : "") +
-           ", signal " + std::to_string(r.signal) + ", " + std::to_string(r.seconds) +
-           " s, stderr:\n" + r.err.substr(0, 2000);
-}
 
 /// The run ended in time with \a code and exactly one line on stderr.
 void expectOneLine(const ProcessResult &r, int code, const std::string &what)

@@ -20,6 +20,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <optional>
 #include <sstream>
@@ -32,16 +33,13 @@
 #include "../../support/temp_dir.h"
 #include "cli_process.h"
 #include "control_client.h"
+#include "play_args.h"
 
 namespace {
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
-using depthtouch::testing::ControlClient;
-using depthtouch::testing::Process;
-using depthtouch::testing::ProcessResult;
-using depthtouch::testing::TempDir;
-using Args = std::vector<std::string>;
+using namespace depthtouch::testing;
 using SteadyClock = std::chrono::steady_clock;
 
 constexpr auto kLimit = 30s; ///< No run may take longer.
@@ -55,13 +53,6 @@ bool haveFfmpeg()
 bool ffmpeg(const std::string &args)
 {
     return std::system(("ffmpeg -nostdin -hide_banner -v error -y " + args).c_str()) == 0;
-}
-
-std::string describe(const ProcessResult &r)
-{
-    return "exit " + std::to_string(r.exitCode) + (r.timedOut ? " (timed out)" : "") + ", signal " +
-           std::to_string(r.signal) + ", " + std::to_string(r.seconds) + " s, stderr:\n" +
-           r.err.substr(0, 2000);
 }
 
 double secondsSince(SteadyClock::time_point t)
@@ -168,14 +159,6 @@ fs::path makeLiveClip(const fs::path &dir)
     return clip;
 }
 
-/// `depthtouch play FIFO` on the ffmpeg source and decoder, mock display, then \a extra.
-Args livePlay(const fs::path &fifo, const Args &extra)
-{
-    Args a = {DEPTHTOUCH, "play", fifo.string(), "--display", "mock", "--haptic", "none"};
-    a.insert(a.end(), extra.begin(), extra.end());
-    return a;
-}
-
 /// Waits until the player on \a c says \a state (at most \a limit).
 bool waitForState(ControlClient &c, const std::string &state, std::chrono::milliseconds limit)
 {
@@ -209,9 +192,26 @@ void startSilentLivePlay(SilentLivePlay &p, const fs::path &dir, const fs::path 
     p.sock = (dir / (name + ".sock")).string();
     p.sender.emplace(p.fifo, clip);
     // (--idle: the player stays after it reported the silence, whichever comes first)
-    p.player.emplace(livePlay(p.fifo, {"--idle", "--control", p.sock}));
+    p.player.emplace(ffmpegPlay(p.fifo.string(), {"--idle", "--control", p.sock}));
     ASSERT_TRUE(p.c.connect(p.sock, 10s));
     ASSERT_TRUE(waitForState(p.c, "playing", 10s));
+}
+
+/// Starts a silent live play of \a clip in \a dir (files NAME.*), lets it play the stream's
+/// second and wait on its silence, then calls \a stop on it and expects the player to end with
+/// exit 0 within 5 s of the call (the bound leaves room for a loaded machine).
+void expectSilentLivePlayStopsWithin5s(const fs::path &dir, const fs::path &clip,
+                                       const std::string &name,
+                                       const std::function<void(SilentLivePlay &)> &stop)
+{
+    SilentLivePlay p;
+    ASSERT_NO_FATAL_FAILURE(startSilentLivePlay(p, dir, clip, name));
+    std::this_thread::sleep_for(1500ms);
+    const auto stopAt = SteadyClock::now();
+    stop(p);
+    const ProcessResult r = p.player->wait(kLimit);
+    EXPECT_LT(secondsSince(stopAt), 5.0) << describe(r);
+    EXPECT_EQ(r.exitCode, 0) << describe(r);
 }
 
 // --- Group 1: a simulated device whose options would spin the haptic thread ------------------
@@ -220,10 +220,9 @@ TEST(StopFaultsTest, AnExplorePeriodThatWouldSpinTheHapticThreadIsBadInput)
 {
     // GIVEN the simulated hand asked for a new point every nanosecond (one device call spun for
     // tens of seconds at FIFO 90 before, ignoring --duration and SIGTERM)
-    const ProcessResult r = depthtouch::testing::runProcess(
-        {DEPTHTOUCH, "play", "mock://clip?frames=30&fps=30", "--source", "mock", "--decoder",
-         "mock", "--display", "mock", "--haptic", "sim", "--haptic-options",
-         "intent=explore,period=1e-9", "--duration", "3"},
+    const ProcessResult r = runProcess(
+        mockPlay(kMockClip, {"--haptic-options", "intent=explore,period=1e-9", "--duration", "3"},
+                 "sim"),
         kLimit);
     // THEN it is refused at once: exit 2 and one line naming the option
     EXPECT_FALSE(r.timedOut) << describe(r);
@@ -241,19 +240,14 @@ TEST(StopFaultsTest, QuitEndsAPlayerWhoseLiveStreamWentSilentWithin2s)
         GTEST_SKIP() << "no ffmpeg CLI on PATH";
     TempDir tmp("dt-stop-");
     const fs::path clip = makeLiveClip(tmp.dir());
-    SilentLivePlay p;
     // GIVEN a player that played the stream's second and waits on its silence
-    ASSERT_NO_FATAL_FAILURE(startSilentLivePlay(p, tmp.dir(), clip, "live"));
-    std::this_thread::sleep_for(1500ms);
     // WHEN a client sends quit
-    const auto quitAt = SteadyClock::now();
-    EXPECT_EQ(p.c.request(R"({"command":["quit"]})", 15000ms), R"({"error":"success"})");
     // THEN the answer and the exit come within 5 s (8.7 s before: the read's 10 s time-out; the
     // bound leaves room for a loaded machine, the stop itself takes about 0.04 s)
-    EXPECT_LT(p.c.lastReplySeconds(), 5.0);
-    const ProcessResult r = p.player->wait(kLimit);
-    EXPECT_LT(secondsSince(quitAt), 5.0) << describe(r);
-    EXPECT_EQ(r.exitCode, 0) << describe(r);
+    expectSilentLivePlayStopsWithin5s(tmp.dir(), clip, "live", [](SilentLivePlay &p) {
+        EXPECT_EQ(p.c.request(R"({"command":["quit"]})", 15000ms), R"({"error":"success"})");
+        EXPECT_LT(p.c.lastReplySeconds(), 5.0);
+    });
 }
 
 TEST(StopFaultsTest, SigtermAndDurationEndAPlayerWhoseLiveStreamWentSilentWithin2s)
@@ -262,25 +256,17 @@ TEST(StopFaultsTest, SigtermAndDurationEndAPlayerWhoseLiveStreamWentSilentWithin
         GTEST_SKIP() << "no ffmpeg CLI on PATH";
     TempDir tmp("dt-stop-");
     const fs::path clip = makeLiveClip(tmp.dir());
-    {
-        SilentLivePlay p;
-        ASSERT_NO_FATAL_FAILURE(startSilentLivePlay(p, tmp.dir(), clip, "term"));
-        std::this_thread::sleep_for(1500ms);
-        // WHEN SIGTERM comes while the stream is silent
-        const auto termAt = SteadyClock::now();
-        p.player->signal(SIGTERM);
-        const ProcessResult r = p.player->wait(kLimit);
-        // THEN the player ends within 5 s, as after a quit
-        EXPECT_LT(secondsSince(termAt), 5.0) << describe(r);
-        EXPECT_EQ(r.exitCode, 0) << describe(r);
-    }
+    // WHEN SIGTERM comes while the stream is silent
+    // THEN the player ends within 5 s, as after a quit
+    ASSERT_NO_FATAL_FAILURE(expectSilentLivePlayStopsWithin5s(
+        tmp.dir(), clip, "term", [](SilentLivePlay &p) { p.player->signal(SIGTERM); }));
     {
         const fs::path fifo = tmp.dir() / "duration.fifo";
         ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
         SilentSender sender(fifo, clip);
         // WHEN --duration 3 runs out with the stream silent since 1 s (or the silence is reported
         // first: the player ends then)
-        Process player(livePlay(fifo, {"--duration", "3"}));
+        Process player(ffmpegPlay(fifo.string(), {"--duration", "3"}));
         const ProcessResult r = player.wait(kLimit);
         // THEN the player ends by 3 s (9-10 s later before)
         EXPECT_LT(r.seconds, 7.0) << describe(r);
@@ -323,22 +309,10 @@ TEST(StopFaultsTest, ASilentLiveStreamIsReportedAndTheNextSenderPlays)
 /// `depthtouch play` of a looping mock clip with the simulated hand, a force log and stats.
 Args mockPlayWithOutputs(const fs::path &dir)
 {
-    return {DEPTHTOUCH,
-            "play",
-            "mock://clip?frames=30&fps=30",
-            "--source",
-            "mock",
-            "--decoder",
-            "mock",
-            "--display",
-            "mock",
-            "--haptic",
-            "sim",
-            "--loop",
-            "--force-log",
-            (dir / "forces.csv").string(),
-            "--stats",
-            (dir / "stats.json").string()};
+    return mockPlay(kMockClip,
+                    {"--loop", "--force-log", (dir / "forces.csv").string(), "--stats",
+                     (dir / "stats.json").string()},
+                    "sim");
 }
 
 /// \return whether every line of the CSV text \a csv has as many fields as its header.

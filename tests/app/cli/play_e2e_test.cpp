@@ -64,6 +64,54 @@ RunResult run(const std::string &command)
     return r;
 }
 
+/// `depthtouch play` of a looping mock clip (60 frames at 30 fps, mock source and decoder, 30 s at
+/// the most) on a thread of its own, on display \a display with haptic device \a haptic, its
+/// control socket ctl.sock in \a dir, then \a extra options. The destructor waits for it to end.
+class ControlledPlay {
+public:
+    ControlledPlay(const std::string &display, const std::string &haptic, const fs::path &dir,
+                   const std::string &extra)
+        : sock_((dir / "ctl.sock").string())
+    {
+        const std::string cmd = std::string(DEPTHTOUCH) +
+                                " play 'mock://clip?frames=60&fps=30' --source mock --decoder mock "
+                                "--display " +
+                                display + " --haptic " + haptic +
+                                " --loop --duration 30 --control " + sock_ + extra;
+        thread_ = std::thread([this, cmd] { result_ = run(cmd); });
+    }
+    ~ControlledPlay()
+    {
+        if (thread_.joinable())
+            thread_.join();
+    }
+    ControlledPlay(const ControlledPlay &) = delete;
+    ControlledPlay &operator=(const ControlledPlay &) = delete;
+
+    /// The path of the control socket.
+    [[nodiscard]] const std::string &sock() const { return sock_; }
+
+    /// Connects \a c to the control socket (at most 10 s). \return whether it connected.
+    ::testing::AssertionResult connect(ControlClient &c) const
+    {
+        if (c.connect(sock_, 10s))
+            return ::testing::AssertionSuccess();
+        return ::testing::AssertionFailure() << "no control socket at " << sock_;
+    }
+
+    /// Waits for the player to end. \return its exit code and output.
+    const RunResult &join()
+    {
+        thread_.join();
+        return result_;
+    }
+
+private:
+    const std::string sock_;
+    RunResult result_;
+    std::thread thread_;
+};
+
 /// The player under test is built like this test: with AddressSanitizer it runs a few times
 /// slower, so the kitchen is encoded at 10 frames/s instead of 30 there, and every frame must still
 /// be presented. Without it a kitchen frame takes 16 to 19 ms to draw (render p50 on this 2-core VM
@@ -230,17 +278,12 @@ TEST(PlayEndToEndTest, RealKitchenWithTheSimulatedHand)
 TEST(PlayEndToEndTest, ControlSocketDrivesTheLoopingPlayer)
 {
     depthtouch::testing::TempDir tmp("dt-play-ctl-");
-    const std::string sock = (tmp.dir() / "ctl.sock").string();
     const fs::path stats = tmp.dir() / "stats.json";
-    const std::string cmd = std::string(DEPTHTOUCH) +
-                            " play 'mock://clip?frames=60&fps=30' --source mock --decoder mock "
-                            "--display mock --haptic sim --loop --duration 30 --control " +
-                            sock + " --stats " + stats.string();
-    RunResult result;
-    std::thread player([&] { result = run(cmd); });
+    ControlledPlay player("mock", "sim", tmp.dir(), " --stats " + stats.string());
+    const std::string &sock = player.sock();
 
     ControlClient c;
-    ASSERT_TRUE(c.connect(sock, 10s)) << "no control socket at " << sock;
+    ASSERT_TRUE(player.connect(c));
     EXPECT_TRUE(fs::exists(sock));
     EXPECT_EQ(fs::status(sock).permissions() & fs::perms::all,
               fs::perms::owner_read | fs::perms::owner_write);
@@ -267,7 +310,7 @@ TEST(PlayEndToEndTest, ControlSocketDrivesTheLoopingPlayer)
     EXPECT_EQ(c.request(R"({"command":["toggle-pause"]})"), R"({"error":"success"})");
     std::this_thread::sleep_for(300ms);
     EXPECT_EQ(c.request(R"({"command":["quit"]})"), R"({"error":"success"})");
-    player.join();
+    const RunResult &result = player.join();
     EXPECT_EQ(result.exitCode, 0) << result.output;
     bool sawPaused = false;
     for (const std::string &e : c.events)
@@ -284,21 +327,15 @@ TEST(PlayEndToEndTest, TheSnapshotCommandSavesThePresentedFrame)
 {
     // --snapshot-dir without --snapshot-every: snapshots on request only, one per command.
     depthtouch::testing::TempDir tmp("dt-play-snap-");
-    const std::string sock = (tmp.dir() / "ctl.sock").string();
     const fs::path snaps = tmp.dir() / "snaps";
-    const std::string cmd = std::string(DEPTHTOUCH) +
-                            " play 'mock://clip?frames=60&fps=30' --source mock --decoder mock "
-                            "--display headless --haptic none --loop --duration 30 --control " +
-                            sock + " --snapshot-dir " + snaps.string();
-    RunResult result;
-    std::thread player([&] { result = run(cmd); });
+    ControlledPlay player("headless", "none", tmp.dir(), " --snapshot-dir " + snaps.string());
     ControlClient c;
-    ASSERT_TRUE(c.connect(sock, 10s)) << "no control socket at " << sock;
+    ASSERT_TRUE(player.connect(c));
     std::this_thread::sleep_for(300ms);
     EXPECT_EQ(c.request(R"({"command":["snapshot"]})"), R"({"error":"success"})");
     std::this_thread::sleep_for(500ms);
     EXPECT_EQ(c.request(R"({"command":["quit"]})"), R"({"error":"success"})");
-    player.join();
+    const RunResult &result = player.join();
     ASSERT_EQ(result.exitCode, 0) << result.output;
     std::vector<fs::path> pngs;
     for (const auto &e : fs::directory_iterator(snaps))
@@ -312,17 +349,11 @@ TEST(PlayEndToEndTest, TheSnapshotCommandIsRefusedWhenTheFolderTakesNoFile)
 {
     // GIVEN a player whose --snapshot-dir became read-only while it plays
     depthtouch::testing::TempDir tmp("dt-play-snap-ro-");
-    const std::string sock = (tmp.dir() / "ctl.sock").string();
     const fs::path snaps = tmp.dir() / "snaps";
     fs::create_directories(snaps);
-    const std::string cmd = std::string(DEPTHTOUCH) +
-                            " play 'mock://clip?frames=60&fps=30' --source mock --decoder mock "
-                            "--display headless --haptic none --loop --duration 30 --control " +
-                            sock + " --snapshot-dir " + snaps.string();
-    RunResult result;
-    std::thread player([&] { result = run(cmd); });
+    ControlledPlay player("headless", "none", tmp.dir(), " --snapshot-dir " + snaps.string());
     ControlClient c;
-    ASSERT_TRUE(c.connect(sock, 10s)) << "no control socket at " << sock;
+    ASSERT_TRUE(player.connect(c));
     std::this_thread::sleep_for(300ms); // playing
     // (root writes through permissions: an immutable folder stops it)
     const bool root = ::geteuid() == 0;
@@ -331,7 +362,7 @@ TEST(PlayEndToEndTest, TheSnapshotCommandIsRefusedWhenTheFolderTakesNoFile)
     // WHEN a snapshot is asked for
     const std::string answer = locked ? c.request(R"({"command":["snapshot"]})") : "";
     EXPECT_EQ(c.request(R"({"command":["quit"]})"), R"({"error":"success"})");
-    player.join();
+    const RunResult &result = player.join();
     (void)std::system(((root ? "chattr -i '" : "chmod 0755 '") + snaps.string() + "'").c_str());
     if (!locked)
         GTEST_SKIP() << "cannot make " << snaps << " read-only here";

@@ -55,6 +55,19 @@ double meanGray8(const media::Image &img, int x0, int y0, int x1, int y1)
 // ---------------------------------------------------------------------------------------------
 // Grammar (no GL)
 
+/// Expects \a spec to be \a scene at \a width × \a height pixels, \a fps frames per second and
+/// \a frames frames, the depth stream when \a depth (else color).
+void expectSpec(const synthetic::SyntheticSpec &spec, const std::string &scene, int width,
+                int height, double fps, long long frames, bool depth)
+{
+    EXPECT_EQ(spec.scene, scene);
+    EXPECT_EQ(spec.width, width);
+    EXPECT_EQ(spec.height, height);
+    EXPECT_DOUBLE_EQ(spec.fps, fps);
+    EXPECT_EQ(spec.frames, frames);
+    EXPECT_EQ(spec.depth, depth);
+}
+
 TEST(SyntheticSpecTest, defaultsComeFromTheSourceOptions)
 {
     // GIVEN a bare scene name and the options encode passes for its depth input at 25 fps
@@ -64,12 +77,7 @@ TEST(SyntheticSpecTest, defaultsComeFromTheSourceOptions)
     auto spec = parseSyntheticSpec("head", o);
     // THEN 720×486, the options' rate, 4 s of frames, the depth stream
     ASSERT_TRUE(spec) << spec.error().what;
-    EXPECT_EQ(spec->scene, "head");
-    EXPECT_EQ(spec->width, 720);
-    EXPECT_EQ(spec->height, 486);
-    EXPECT_DOUBLE_EQ(spec->fps, 25.0);
-    EXPECT_EQ(spec->frames, 100);
-    EXPECT_TRUE(spec->depth);
+    expectSpec(*spec, "head", 720, 486, 25.0, 100, true);
 
     // A color title, videoSize and loop: that size, endless
     media::SourceOptions c = optionsFor("color");
@@ -89,12 +97,7 @@ TEST(SyntheticSpecTest, optionsAfterTheNameWin)
     o.videoSize = "320x240";
     auto spec = parseSyntheticSpec("cut,size=160x120,fps=12.5,frames=7,stream=depth", o);
     ASSERT_TRUE(spec) << spec.error().what;
-    EXPECT_EQ(spec->scene, "cut");
-    EXPECT_EQ(spec->width, 160);
-    EXPECT_EQ(spec->height, 120);
-    EXPECT_DOUBLE_EQ(spec->fps, 12.5);
-    EXPECT_EQ(spec->frames, 7);
-    EXPECT_TRUE(spec->depth);
+    expectSpec(*spec, "cut", 160, 120, 12.5, 7, true);
     auto endless = parseSyntheticSpec("head,frames=0", o);
     ASSERT_TRUE(endless);
     EXPECT_EQ(endless->frames, 0);

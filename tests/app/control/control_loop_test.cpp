@@ -21,15 +21,9 @@ using hal::KeyAction;
 using platform::ManualClock;
 using platform::TimePoint;
 using player::test::FakePlayerActions;
+using player::test::movieSettings;
 using std::chrono::milliseconds;
 using std::chrono::seconds;
-
-player::PlayerSettings settings()
-{
-    player::PlayerSettings s;
-    s.url = "movie.mkv";
-    return s;
-}
 
 TEST(ControlLoopTest, remoteKeysDriveTheMachineUntilQuit)
 {
@@ -37,7 +31,7 @@ TEST(ControlLoopTest, remoteKeysDriveTheMachineUntilQuit)
     ManualClock clock(ManualClock::Mode::AutoAdvance, TimePoint(seconds(100)));
     drivers::MockRemoteInput remote(clock);
     FakePlayerActions fake;
-    player::StateMachine m(fake, settings());
+    player::StateMachine m(fake, movieSettings());
     ASSERT_TRUE(m.execute("play").accepted);
     ASSERT_TRUE(m.onOpened());
     fake.calls.clear();
@@ -76,7 +70,7 @@ TEST(ControlLoopTest, quietInputReturnsAtTheDeadline)
     ManualClock clock(ManualClock::Mode::AutoAdvance, TimePoint(seconds(5)));
     drivers::MockRemoteInput remote(clock);
     FakePlayerActions fake;
-    player::StateMachine m(fake, settings());
+    player::StateMachine m(fake, movieSettings());
     ControlLoop loop(m, &remote, nullptr, clock);
     ASSERT_TRUE(loop.runUntil(clock.now() + seconds(2)));
     EXPECT_EQ(clock.now(), TimePoint(seconds(7)));
@@ -91,7 +85,7 @@ TEST(ControlLoopTest, runControlLoopReadsTheRemoteUntilQuit)
     drivers::MockRemoteInput remote(clock);
     remote.pushKey(Key::Exit, TimePoint(milliseconds(7500)));
     FakePlayerActions fake;
-    player::StateMachine m(fake, settings());
+    player::StateMachine m(fake, movieSettings());
     // WHEN the main loop runs  THEN it reads the key and returns once quit is asked, at that time
     ASSERT_TRUE(runControlLoop(m, &remote, nullptr, clock));
     EXPECT_TRUE(m.quitRequested());
@@ -105,7 +99,7 @@ TEST(ControlLoopTest, lostRemoteIsLeftAloneUntilTheDeadline)
     drivers::MockRemoteInput remote(clock);
     remote.unplug();
     FakePlayerActions fake;
-    player::StateMachine m(fake, settings());
+    player::StateMachine m(fake, movieSettings());
     ControlLoop loop(m, &remote, nullptr, clock);
 
     // WHEN the loop runs for 2 s, and the remote comes back with a key while it runs again
@@ -136,7 +130,7 @@ TEST(ControlLoopTest, lostRemoteLeavesTheSocketWorking)
     drivers::MockRemoteInput remote(clock);
     remote.unplug();
     FakePlayerActions fake;
-    player::StateMachine m(fake, settings());
+    player::StateMachine m(fake, movieSettings());
     {
         auto server = ControlServer::create(path, m);
         ASSERT_TRUE(server) << server.error().what;

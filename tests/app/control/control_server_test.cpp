@@ -21,18 +21,11 @@ namespace depthtouch::control {
 namespace {
 
 using nlohmann::json;
-using player::PlayerSettings;
 using player::PlayerState;
 using player::StateMachine;
 using player::test::FakePlayerActions;
+using player::test::movieSettings;
 using std::chrono::milliseconds;
-
-PlayerSettings settings()
-{
-    PlayerSettings s;
-    s.url = "movie.mkv";
-    return s;
-}
 
 json reply(std::string_view line, StateMachine &m)
 {
@@ -45,7 +38,7 @@ json reply(std::string_view line, StateMachine &m)
 TEST(ControlProtocolTest, commandsRepliesAndRequestIds)
 {
     FakePlayerActions fake;
-    StateMachine m(fake, settings());
+    StateMachine m(fake, movieSettings());
     EXPECT_EQ(reply(R"({"command":["play"]})", m), json({{"error", "success"}}));
     ASSERT_TRUE(m.onOpened());
     EXPECT_EQ(reply(R"({"command":["seek",10],"request_id":7})", m),
@@ -65,7 +58,7 @@ TEST(ControlProtocolTest, commandsRepliesAndRequestIds)
 TEST(ControlProtocolTest, textCommandsToo)
 {
     FakePlayerActions fake;
-    StateMachine m(fake, settings());
+    StateMachine m(fake, movieSettings());
     EXPECT_EQ(reply("  toggle-pause ", m), json({{"error", "success"}}));
     EXPECT_EQ(m.state(), PlayerState::Opening);
     EXPECT_EQ(reply("get state", m), json({{"error", "success"}, {"data", "opening"}}));
@@ -77,7 +70,7 @@ TEST(ControlProtocolTest, textCommandsToo)
 TEST(ControlProtocolTest, badRequestsGetAnErrorAndChangeNothing)
 {
     FakePlayerActions fake;
-    StateMachine m(fake, settings());
+    StateMachine m(fake, movieSettings());
     const std::pair<std::string, std::string> cases[] = {
         {R"({"command":["seek",10])", "malformed JSON at byte 23"},
         {R"({"command":)", "malformed JSON at byte 12"},
@@ -109,7 +102,7 @@ TEST(ControlProtocolTest, numbersBeyondADoubleAreAnErrorNotAnAbort)
 {
     // Once: nlohmann's out_of_range.406 went through to std::terminate (SIGABRT).
     FakePlayerActions fake;
-    StateMachine m(fake, settings());
+    StateMachine m(fake, movieSettings());
     for (const char *line :
          {R"({"command":["seek",1e400]})", R"({"command":["get","state"],"request_id":1e999})",
           R"({"command":["stiffness",1e309]})", R"({"command":["seek",-1e400]})"}) {
@@ -234,7 +227,7 @@ protected:
     testing::TempDir dir_{"dt-ctl-"};
     std::string path_ = dir_.path("dt.sock");
     FakePlayerActions fake_;
-    StateMachine machine_{fake_, settings()};
+    StateMachine machine_{fake_, movieSettings()};
     std::unique_ptr<ControlServer> server_;
     std::map<int, std::string> pending_;
 };

@@ -21,17 +21,10 @@ namespace depthtouch::control {
 namespace {
 
 using nlohmann::json;
-using player::PlayerSettings;
 using player::PlayerState;
 using player::StateMachine;
 using player::test::FakePlayerActions;
-
-PlayerSettings settings()
-{
-    PlayerSettings s;
-    s.url = "movie.mkv";
-    return s;
-}
+using player::test::movieSettings;
 
 json reply(std::string_view line, StateMachine &m, PropertyObservers *observers = nullptr)
 {
@@ -48,7 +41,7 @@ struct Playing {
         EXPECT_TRUE(m.onOpened());
     }
     FakePlayerActions fake;
-    StateMachine m{fake, settings()};
+    StateMachine m{fake, movieSettings()};
 };
 
 TEST(MpvIpcTest, getPropertyAnswersAsMpvWithTheRequestId)

@@ -77,6 +77,13 @@ protected:
         EXPECT_EQ(rb.streams.size(), 2u);
         return rb;
     }
+
+    /// Encodes 2 frames of holedPlane() with \a o as encode() does. \return the file read back.
+    test::FileReadback encodeHoledPlanes(const EncodeOptions &o, EncodeSummary &summary)
+    {
+        TestSource depth([](int) { return holedPlane(); }, 2, 30.0, PixelFormat::Gray16);
+        return encode(o, depth, summary);
+    }
 };
 
 /// GIVEN metric depth with a known hole WHEN encoded losslessly (8-bit qp 0) THEN the stream and
@@ -84,11 +91,10 @@ protected:
 /// decodes to 0 (below it) and every measured one to the plane's occupied code (at or above it).
 TEST_F(EncodeHolesTest, losslessHolesDecodeBelowTheThresholdAndSurfacesAbove)
 {
-    TestSource depthSrc([](int) { return holedPlane(); }, 2, 30.0, PixelFormat::Gray16);
     EncodeOptions o = fastOptions(path("out.mkv"));
     o.depthLossless = true;
     EncodeSummary s;
-    const auto rb = encode(o, depthSrc, s);
+    const auto rb = encodeHoledPlanes(o, s);
     ASSERT_EQ(rb.streams.size(), 2u);
     const depth::Occupancy occ = depth::occupancyFor(8, true);
     EXPECT_EQ(rb.streams[1].tags.at("depth_occupancy"), std::to_string(occ.threshold));
@@ -112,11 +118,10 @@ TEST_F(EncodeHolesTest, losslessHolesDecodeBelowTheThresholdAndSurfacesAbove)
 TEST_F(EncodeHolesTest, lossyHolesStayOnTheirSideOfTheGuardBand)
 {
     for (const int bits : {8, 10}) {
-        TestSource depthSrc([](int) { return holedPlane(); }, 2, 30.0, PixelFormat::Gray16);
         EncodeOptions o = fastOptions(path("lossy" + std::to_string(bits) + ".mkv"));
         o.depthCodec = bits == 8 ? VideoCodec::H264Gray : VideoCodec::H264Gray10;
         EncodeSummary s;
-        const auto rb = encode(o, depthSrc, s);
+        const auto rb = encodeHoledPlanes(o, s);
         ASSERT_EQ(rb.streams.size(), 2u);
         const depth::Occupancy occ = depth::occupancyFor(bits, false);
         EXPECT_EQ(rb.streams[1].tags.at("depth_occupancy"), std::to_string(occ.threshold));
@@ -156,12 +161,11 @@ TEST_F(EncodeHolesTest, resamplingKeepsHolesApartFromMeasuredDepth)
 /// measured sample falls below the threshold.
 TEST_F(EncodeHolesTest, enhancementDoesNotTurnHolesIntoSurfaces)
 {
-    TestSource depthSrc([](int) { return holedPlane(); }, 2, 30.0, PixelFormat::Gray16);
     EncodeOptions o = fastOptions(path("out.mkv"));
     o.depthLossless = true;
     o.enhance = true;
     EncodeSummary s;
-    const auto rb = encode(o, depthSrc, s);
+    const auto rb = encodeHoledPlanes(o, s);
     ASSERT_EQ(rb.streams.size(), 2u);
     ASSERT_TRUE(s.enhance.has_value());
     const auto threshold = static_cast<int>(depth::occupancyFor(8, true).threshold);
@@ -197,12 +201,11 @@ TEST_F(EncodeHolesTest, frameWithoutValidDepthIsAllHoles)
 /// every hole carries the plane's nearness, never the far plane (0): no sample is a hole.
 TEST_F(EncodeHolesTest, fillHolesFillsAndWritesNoThreshold)
 {
-    TestSource depthSrc([](int) { return holedPlane(); }, 2, 30.0, PixelFormat::Gray16);
     EncodeOptions o = fastOptions(path("out.mkv"));
     o.depthLossless = true;
     o.fillHoles = true;
     EncodeSummary s;
-    const auto rb = encode(o, depthSrc, s);
+    const auto rb = encodeHoledPlanes(o, s);
     ASSERT_EQ(rb.streams.size(), 2u);
     EXPECT_EQ(rb.streams[1].tags.count("depth_occupancy"), 0u);
     EXPECT_EQ(rb.tags.count("depth_occupancy"), 0u);

@@ -220,17 +220,23 @@ void expectTenBitLevelsOf8BitNearness(const test::FileReadback &rb, int frames)
     }
 }
 
+/// Encodes \a frames frames of colour and 8-bit nearness (30 fps) with \a o, the depth lossless in
+/// \a codec. \return the summary, or the error, of encodeStreams().
+Result<EncodeSummary> encodeLosslessNearness8(EncodeOptions o, VideoCodec codec, int frames)
+{
+    TestSource color = colorSource(frames);
+    TestSource depthSrc = nearness8Source(frames);
+    o.depthCodec = codec;
+    o.depthLossless = true;
+    return encodeStreams(color, depthSrc, o);
+}
+
 /// GIVEN 8-bit nearness WHEN encoded as lossless H.264 gray10 into MP4 THEN samples are the 8-bit
 /// levels scaled to 0..1023, and MP4 carries the titles (handler names) and the container tags.
 TEST_F(EncodeTest, gray10LosslessInMp4)
 {
     constexpr int kFrames = 3;
-    TestSource color = colorSource(kFrames);
-    TestSource depthSrc = nearness8Source(kFrames);
-    EncodeOptions o = fastOptions(path("out.mp4"));
-    o.depthCodec = VideoCodec::H264Gray10;
-    o.depthLossless = true;
-    auto s = encodeStreams(color, depthSrc, o);
+    auto s = encodeLosslessNearness8(fastOptions(path("out.mp4")), VideoCodec::H264Gray10, kFrames);
     ASSERT_TRUE(s) << s.error().what;
     const auto rb = test::readBack(path("out.mp4"));
     ASSERT_TRUE(rb.ok) << rb.error;
@@ -249,12 +255,7 @@ TEST_F(EncodeTest, gray10LosslessInMp4)
 TEST_F(EncodeTest, hevcMain10LosslessInMpegTs)
 {
     constexpr int kFrames = 3;
-    TestSource color = colorSource(kFrames);
-    TestSource depthSrc = nearness8Source(kFrames);
-    EncodeOptions o = fastOptions(path("out.ts"));
-    o.depthCodec = VideoCodec::HevcMain10;
-    o.depthLossless = true;
-    auto s = encodeStreams(color, depthSrc, o);
+    auto s = encodeLosslessNearness8(fastOptions(path("out.ts")), VideoCodec::HevcMain10, kFrames);
     ASSERT_TRUE(s) << s.error().what;
     EXPECT_EQ(s->depthBits, 10);
     const auto rb = test::readBack(path("out.ts"));

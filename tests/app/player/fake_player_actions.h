@@ -90,6 +90,14 @@ private:
     }
 };
 
+/// \return the settings of a player of "movie.mkv", the rest at their defaults.
+inline PlayerSettings movieSettings()
+{
+    PlayerSettings s;
+    s.url = "movie.mkv";
+    return s;
+}
+
 /// Records the events of a StateMachine.
 class RecordingListener final : public PlayerListener {
 public:

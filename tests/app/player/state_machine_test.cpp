@@ -37,6 +37,23 @@ PlayerSettings stiffnessSettings(double stiffness)
     return s;
 }
 
+/// The default settings with looping on (--loop).
+PlayerSettings loopSettings()
+{
+    PlayerSettings s = defaultSettings();
+    s.loop = true;
+    return s;
+}
+
+/// The default settings of a player that stays up and waits for the next sender of a silent
+/// stream (--idle).
+PlayerSettings reopenSettings()
+{
+    PlayerSettings s = defaultSettings();
+    s.reopenWhenSilent = true;
+    return s;
+}
+
 /// Drives \a m (on \a fake) into \a target through the public API, then clears the record.
 void reach(StateMachine &m, FakePlayerActions &fake, PlayerState target)
 {
@@ -79,6 +96,21 @@ struct Rig {
     StateMachine m;
     RecordingListener listener;
 };
+
+/// Expects \a rig's playing machine to take the pipeline's report \a notify (onEndOfStream,
+/// onStreamSilent) by stopping, with an "end-file" event that gives \a reason, and a second report
+/// to change nothing.
+void expectStopsOnce(Rig &rig, bool (StateMachine::*notify)(), const std::string &reason)
+{
+    auto &[fake, m, listener] = rig;
+    EXPECT_TRUE((m.*notify)());
+    EXPECT_EQ(m.state(), S::Stopped);
+    EXPECT_EQ(fake.calls, std::vector<std::string>{"stop"});
+    EXPECT_EQ(listener.names(), (std::vector<std::string>{"end-file", "state"}));
+    EXPECT_EQ(listener.events.front().message, reason);
+    EXPECT_FALSE((m.*notify)());
+    EXPECT_EQ(fake.calls.size(), 1u);
+}
 
 /// The settings a refused or failed command must leave as they were.
 struct SettingsSnapshot {
@@ -410,24 +442,13 @@ TEST(StateMachineTest, playWithoutUrlIsRefused)
 TEST(StateMachineTest, endOfStreamWithoutLoopStops)
 {
     Rig rig(S::Playing);
-    auto &[fake, m, listener] = rig;
-
-    EXPECT_TRUE(m.onEndOfStream());
-
-    EXPECT_EQ(m.state(), S::Stopped);
-    EXPECT_EQ(fake.calls, std::vector<std::string>{"stop"});
-    EXPECT_EQ(listener.names(), (std::vector<std::string>{"end-file", "state"}));
-    EXPECT_EQ(listener.events.front().message, "eof");
-    // A late second notification changes nothing.
-    EXPECT_FALSE(m.onEndOfStream());
-    EXPECT_EQ(fake.calls.size(), 1u);
+    // It stops with the reason "eof"; a late second notification changes nothing.
+    expectStopsOnce(rig, &StateMachine::onEndOfStream, "eof");
 }
 
 TEST(StateMachineTest, endOfStreamWithLoopSeeksToTheStart)
 {
-    PlayerSettings settings = defaultSettings();
-    settings.loop = true;
-    Rig rig(S::Playing, settings);
+    Rig rig(S::Playing, loopSettings());
     auto &[fake, m, listener] = rig;
 
     EXPECT_TRUE(m.onEndOfStream());
@@ -460,20 +481,11 @@ TEST(StateMachineTest, endOfStreamIsIgnoredWhenNotPlaying)
 TEST(StateMachineTest, silentLiveStreamStopsEvenWithLoop)
 {
     // GIVEN a player looping a live stream
-    PlayerSettings settings = defaultSettings();
-    settings.loop = true;
-    Rig rig(S::Playing, settings);
-    auto &[fake, m, listener] = rig;
+    Rig rig(S::Playing, loopSettings());
     // WHEN the pipeline reports that the stream went silent
-    EXPECT_TRUE(m.onStreamSilent());
     // THEN it stops (no seek: a live stream cannot loop) and says why on the socket
-    EXPECT_EQ(m.state(), S::Stopped);
-    EXPECT_EQ(fake.calls, std::vector<std::string>{"stop"});
-    EXPECT_EQ(listener.names(), (std::vector<std::string>{"end-file", "state"}));
-    EXPECT_EQ(listener.events.front().message, "silent");
     // AND a late second report changes nothing, nor one while not playing
-    EXPECT_FALSE(m.onStreamSilent());
-    EXPECT_EQ(fake.calls.size(), 1u);
+    expectStopsOnce(rig, &StateMachine::onStreamSilent, "silent");
     for (PlayerState s : {S::Idle, S::Opening, S::Stopped, S::Error}) {
         FakePlayerActions other;
         StateMachine idle(other, defaultSettings());
@@ -486,9 +498,7 @@ TEST(StateMachineTest, silentLiveStreamStopsEvenWithLoop)
 TEST(StateMachineTest, aPlayerThatStaysWaitsForTheNextSenderOfASilentStream)
 {
     // GIVEN a player that stays up (--idle) playing a live address
-    PlayerSettings settings = defaultSettings();
-    settings.reopenWhenSilent = true;
-    Rig rig(S::Playing, settings);
+    Rig rig(S::Playing, reopenSettings());
     auto &[fake, m, listener] = rig;
     // WHEN its stream goes silent
     EXPECT_TRUE(m.onStreamSilent());
@@ -513,9 +523,7 @@ TEST(StateMachineTest, aPlayerThatStaysWaitsForTheNextSenderOfASilentStream)
 TEST(StateMachineTest, aFailedWaitForTheNextSenderIsAnError)
 {
     // GIVEN a player that stays up, whose pipeline cannot start waiting (no thread)
-    PlayerSettings settings = defaultSettings();
-    settings.reopenWhenSilent = true;
-    Rig rig(S::Playing, settings);
+    Rig rig(S::Playing, reopenSettings());
     auto &[fake, m, listener] = rig;
     fake.failures["awaitNextSender"] = Error(Errc::OutOfResources, "no thread");
     // WHEN its stream goes silent
@@ -527,10 +535,8 @@ TEST(StateMachineTest, aFailedWaitForTheNextSenderIsAnError)
 
 TEST(StateMachineTest, loopSeekFailureIsAnError)
 {
-    PlayerSettings settings = defaultSettings();
-    settings.loop = true;
     FakePlayerActions fake;
-    StateMachine m(fake, settings);
+    StateMachine m(fake, loopSettings());
     reach(m, fake, S::Playing);
     fake.failures["seek"] = Error(Errc::Io, "demuxer cannot seek");
     EXPECT_TRUE(m.onEndOfStream());

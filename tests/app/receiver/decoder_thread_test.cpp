@@ -19,7 +19,10 @@ namespace {
 
 using std::chrono::milliseconds;
 
-std::unique_ptr<Receiver> openMock(platform::Clock &clock, const std::string &url)
+/// Opens \a url on \a source and mock decoders on \a clock, for a consumer that may hold the
+/// decoder thread's queue and two more frames. \return null (a test failure) when it fails.
+std::unique_ptr<Receiver> openOn(platform::Clock &clock, std::unique_ptr<hal::MediaSource> source,
+                                 const std::string &url)
 {
     DecoderFactory factory = [&clock](const hal::StreamInfo &) {
         return Result<std::unique_ptr<hal::VideoDecoder>>(
@@ -27,10 +30,15 @@ std::unique_ptr<Receiver> openMock(platform::Clock &clock, const std::string &ur
     };
     ReceiverConfig cfg;
     cfg.consumerFrames = static_cast<int>(DecoderThread::kQueueFrames) + 2;
-    auto r =
-        Receiver::open(std::make_unique<drivers::MockMediaSource>(), url.c_str(), factory, cfg);
+    auto r = Receiver::open(std::move(source), url.c_str(), factory, cfg);
     EXPECT_TRUE(r);
     return r ? std::move(*r) : nullptr;
+}
+
+/// Opens \a url on the mock source and decoders (openOn()).
+std::unique_ptr<Receiver> openMock(platform::Clock &clock, const std::string &url)
+{
+    return openOn(clock, std::make_unique<drivers::MockMediaSource>(), url);
 }
 
 /// A seekable source that stalls (a server that stops sending mid-file): after \a stallAfter
@@ -81,22 +89,6 @@ private:
     bool cancels_ = false; ///< Guarded by mutex_.
 };
 
-/// Opens \a url on a StallingSource (stalling after \a stallAfter packets) and mock decoders.
-std::unique_ptr<Receiver> openStalling(platform::Clock &clock, const std::string &url,
-                                       int stallAfter)
-{
-    DecoderFactory factory = [&clock](const hal::StreamInfo &) {
-        return Result<std::unique_ptr<hal::VideoDecoder>>(
-            std::unique_ptr<hal::VideoDecoder>(std::make_unique<drivers::MockVideoDecoder>(clock)));
-    };
-    ReceiverConfig cfg;
-    cfg.consumerFrames = static_cast<int>(DecoderThread::kQueueFrames) + 2;
-    auto r =
-        Receiver::open(std::make_unique<StallingSource>(stallAfter), url.c_str(), factory, cfg);
-    EXPECT_TRUE(r);
-    return r ? std::move(*r) : nullptr;
-}
-
 /// Polls until \a done or a real-time guard expires (a hang fails instead of blocking ctest).
 template <class F> bool pollUntil(F done)
 {
@@ -127,7 +119,29 @@ protected:
     /// ASSERT_NO_FATAL_FAILURE).
     void start(const std::string &url)
     {
-        receiver_ = openMock(clock_, url);
+        ASSERT_NO_FATAL_FAILURE(startOn(std::make_unique<drivers::MockMediaSource>(), url));
+    }
+
+    /// Opens \a url on a StallingSource that stalls after \a stallAfter packets, starts a
+    /// decoder thread on it and polls every frame until the thread read them all, then leaves its
+    /// read 100 ms to wait on the stalled input (use with ASSERT_NO_FATAL_FAILURE).
+    void startStalled(const std::string &url, int stallAfter)
+    {
+        ASSERT_NO_FATAL_FAILURE(startOn(std::make_unique<StallingSource>(stallAfter), url));
+        DecoderThread &t = *thread_;
+        ASSERT_TRUE(pollUntil([&] {
+            PairedFrame f;
+            while (t.poll(f)) {
+            }
+            return t.stats().packetsRead >= static_cast<std::uint64_t>(stallAfter);
+        }));
+        std::this_thread::sleep_for(milliseconds(100));
+    }
+
+    /// Opens \a url on \a source (openOn()) and starts a decoder thread on it.
+    void startOn(std::unique_ptr<hal::MediaSource> source, const std::string &url)
+    {
+        receiver_ = openOn(clock_, std::move(source), url);
         ASSERT_NE(receiver_, nullptr);
         thread_.emplace(*receiver_);
         ASSERT_TRUE(thread_->start());
@@ -190,18 +204,10 @@ TEST_F(DecoderThreadTest, seekDiscardsQueuedFramesAndRestartsAtTheTarget)
 
 TEST_F(DecoderThreadTest, stopDoesNotWaitForAStalledInput)
 {
-    // GIVEN a decode thread whose input stalls after 20 packets (10 frames), all of them polled
-    auto r = openStalling(clock_, "mock://clip?frames=100&fps=25", 20);
-    ASSERT_NE(r, nullptr);
-    DecoderThread t(*r);
-    ASSERT_TRUE(t.start());
-    ASSERT_TRUE(pollUntil([&] {
-        PairedFrame f;
-        while (t.poll(f)) {
-        }
-        return t.stats().packetsRead >= 20;
-    }));
-    std::this_thread::sleep_for(milliseconds(100)); // the read now waits on the stalled input
+    // GIVEN a decode thread whose input stalls after 20 packets (10 frames), all of them polled,
+    // and whose read now waits on the stalled input
+    ASSERT_NO_FATAL_FAILURE(startStalled("mock://clip?frames=100&fps=25", 20));
+    DecoderThread &t = *thread_;
     // WHEN the player stops
     const auto begin = std::chrono::steady_clock::now();
     t.stop();
@@ -212,17 +218,8 @@ TEST_F(DecoderThreadTest, stopDoesNotWaitForAStalledInput)
 TEST_F(DecoderThreadTest, seekDoesNotWaitForAStalledInput)
 {
     // GIVEN a decode thread whose seekable input stalls after 20 packets (10 frames)
-    auto r = openStalling(clock_, "mock://clip?frames=100&fps=25&gop=5", 20);
-    ASSERT_NE(r, nullptr);
-    DecoderThread t(*r);
-    ASSERT_TRUE(t.start());
-    ASSERT_TRUE(pollUntil([&] {
-        PairedFrame f;
-        while (t.poll(f)) {
-        }
-        return t.stats().packetsRead >= 20;
-    }));
-    std::this_thread::sleep_for(milliseconds(100));
+    ASSERT_NO_FATAL_FAILURE(startStalled("mock://clip?frames=100&fps=25&gop=5", 20));
+    DecoderThread &t = *thread_;
     // WHEN the viewer seeks to 2 s
     const auto begin = std::chrono::steady_clock::now();
     t.seek(milliseconds(2000));

@@ -38,6 +38,14 @@ hal::MediaInfo mediaOf(std::vector<hal::StreamInfo> streams)
     return mi;
 }
 
+/// Expects the streams \a r found: \a color, \a depth and \a material (indexes; -1: none).
+void expectRoles(const receiver::StreamRoles &r, int color, int depth, int material)
+{
+    EXPECT_EQ(r.color, color);
+    EXPECT_EQ(r.depth, depth);
+    EXPECT_EQ(r.material, material);
+}
+
 TEST(MaterialRolesTest, titledMaterialIsFoundInAnyCase)
 {
     // GIVEN color, depth and a stream titled "Material"
@@ -45,9 +53,7 @@ TEST(MaterialRolesTest, titledMaterialIsFoundInAnyCase)
                                             stream(1, "depth", hal::PixelFormat::Gray8),
                                             stream(2, "Material", hal::PixelFormat::Rgb24)}));
     // THEN it is the material track, by title
-    EXPECT_EQ(r.color, 0);
-    EXPECT_EQ(r.depth, 1);
-    EXPECT_EQ(r.material, 2);
+    expectRoles(r, 0, 1, 2);
     EXPECT_STREQ(r.materialReason, "title");
     EXPECT_FALSE(hasNoteWith(r, "ignored"));
 }
@@ -69,9 +75,7 @@ TEST(MaterialRolesTest, untitledRgbStreamAfterColorAndDepthIsTheMaterialByStream
     const auto r = identifyStreams(
         mediaOf({stream(0, "", hal::PixelFormat::Yuv420p), stream(1, "", hal::PixelFormat::Gray8),
                  stream(2, "", hal::PixelFormat::Rgb24)}));
-    EXPECT_EQ(r.color, 0);
-    EXPECT_EQ(r.depth, 1);
-    EXPECT_EQ(r.material, 2);
+    expectRoles(r, 0, 1, 2);
     EXPECT_STREQ(r.materialReason, "stream order");
     EXPECT_TRUE(hasNoteWith(r, "material track by stream order"));
 
@@ -99,21 +103,15 @@ TEST(MaterialRolesTest, materialIsNeverTakenAsColorOrDepth)
     const auto r = identifyStreams(mediaOf(
         {stream(0, "material", hal::PixelFormat::Rgb24), stream(1, "", hal::PixelFormat::Gray8)}));
     // THEN depth is found and there is no color (the material is not taken by stream order)
-    EXPECT_EQ(r.depth, 1);
-    EXPECT_EQ(r.color, -1);
-    EXPECT_EQ(r.material, 0);
+    expectRoles(r, -1, 1, 0);
     // AND with an untitled non-gray stream, that one is color, never the material
     const auto c = identifyStreams(mediaOf({stream(0, "material", hal::PixelFormat::Rgb24),
                                             stream(1, "", hal::PixelFormat::Yuv420p),
                                             stream(2, "", hal::PixelFormat::Yuv420p)}));
-    EXPECT_EQ(c.color, 1);
-    EXPECT_EQ(c.depth, 2);
-    EXPECT_EQ(c.material, 0);
+    expectRoles(c, 1, 2, 0);
     // AND a lone material track is neither color nor depth
     const auto lone = identifyStreams(mediaOf({stream(0, "material", hal::PixelFormat::Rgb24)}));
-    EXPECT_EQ(lone.color, -1);
-    EXPECT_EQ(lone.depth, -1);
-    EXPECT_EQ(lone.material, 0);
+    expectRoles(lone, -1, -1, 0);
 }
 
 TEST(MaterialRolesTest, secondMaterialTrackIsIgnored)

@@ -177,6 +177,40 @@ std::vector<MaterialRecord> drainMaterial(Receiver &r, std::size_t limit = 10'00
     });
 }
 
+/// Expects the material counters of \a s: \a frames material frames decoded, \a held outputs that
+/// reused an older material frame, \a missing outputs without one.
+void expectMaterialCounts(const receiver::ReceiverStats &s, std::uint64_t frames,
+                          std::uint64_t held, std::uint64_t missing)
+{
+    EXPECT_EQ(s.materialFrames, frames);
+    EXPECT_EQ(s.materialHeld, held);
+    EXPECT_EQ(s.materialMissing, missing);
+}
+
+/// What a test reads of a material clip: every paired frame, then the receiver's counters.
+struct MaterialRun {
+    std::vector<MaterialRecord> frames;
+    receiver::ReceiverStats stats;
+};
+
+/// Opens \a url on a MaterialRig whose source \a setUp adjusts, and reads every paired frame
+/// (drainMaterial()). A failed open is a test failure and reads no frame.
+MaterialRun readMaterialClip(const std::string &url,
+                             const std::function<void(MaterialSource &)> &setUp)
+{
+    MaterialRig rig;
+    rig.onSource = setUp;
+    auto r = rig.open(url);
+    if (!r) {
+        ADD_FAILURE() << "open(" << url << ") failed: " << r.error().what;
+        return {};
+    }
+    MaterialRun run;
+    run.frames = drainMaterial(**r);
+    run.stats = (*r)->stats();
+    return run;
+}
+
 TEST(ReceiverMaterialTest, eachDepthFrameGetsTheMaterialFrameOfItsPts)
 {
     // GIVEN a clip of 20 frames with one material frame per depth frame
@@ -209,9 +243,7 @@ TEST(ReceiverMaterialTest, eachDepthFrameGetsTheMaterialFrameOfItsPts)
         EXPECT_EQ(rest[k].materialNext, rest[k].hasNext ? i + 1 : kNone);
     }
     const auto s = (*r)->stats();
-    EXPECT_EQ(s.materialFrames, 20u);
-    EXPECT_EQ(s.materialHeld, 0u);
-    EXPECT_EQ(s.materialMissing, 0u);
+    expectMaterialCounts(s, 20, 0, 0);
     EXPECT_EQ(s.pairingForced, 0u);
     EXPECT_EQ(s.framesOutput, 20u);
 }
@@ -219,33 +251,25 @@ TEST(ReceiverMaterialTest, eachDepthFrameGetsTheMaterialFrameOfItsPts)
 TEST(ReceiverMaterialTest, stillMaterialHoldsForTheWholeVideo)
 {
     // GIVEN one material frame, at the first PTS
-    MaterialRig rig;
-    rig.onSource = [](MaterialSource &s) { s.has = [](std::uint32_t k) { return k == 0; }; };
-    auto r = rig.open("mock://clip?frames=30");
-    ASSERT_TRUE(r);
-    const auto frames = drainMaterial(**r);
+    const MaterialRun run = readMaterialClip("mock://clip?frames=30", [](MaterialSource &s) {
+        s.has = [](std::uint32_t k) { return k == 0; };
+    });
     // THEN every frame plays with it, as frame i and as frame i+1
-    ASSERT_EQ(frames.size(), 30u);
-    for (const auto &m : frames) {
+    ASSERT_EQ(run.frames.size(), 30u);
+    for (const auto &m : run.frames) {
         EXPECT_EQ(m.material, 0u);
         EXPECT_EQ(m.materialNext, m.hasNext ? 0u : kNone);
     }
-    const auto s = (*r)->stats();
-    EXPECT_EQ(s.materialFrames, 1u);
-    EXPECT_EQ(s.materialHeld, 29u);
-    EXPECT_EQ(s.materialMissing, 0u);
+    expectMaterialCounts(run.stats, 1, 29, 0);
 }
 
 TEST(ReceiverMaterialTest, missingMaterialFrameIsHeldAndCounted)
 {
     // GIVEN material frame 7 lost, and none before frame 2
-    MaterialRig rig;
-    rig.onSource = [](MaterialSource &s) {
+    const MaterialRun run = readMaterialClip("mock://clip?frames=12", [](MaterialSource &s) {
         s.has = [](std::uint32_t k) { return k != 7 && k >= 2; };
-    };
-    auto r = rig.open("mock://clip?frames=12");
-    ASSERT_TRUE(r);
-    const auto frames = drainMaterial(**r);
+    });
+    const auto &frames = run.frames;
     ASSERT_EQ(frames.size(), 12u);
     // THEN frames 0 and 1 have none, frame 7 holds frame 6's, the others their own
     EXPECT_EQ(frames[0].material, kNone);
@@ -255,23 +279,17 @@ TEST(ReceiverMaterialTest, missingMaterialFrameIsHeldAndCounted)
     EXPECT_EQ(frames[7].material, 6u);
     EXPECT_EQ(frames[7].materialNext, 8u);
     EXPECT_EQ(frames[8].material, 8u);
-    const auto s = (*r)->stats();
-    EXPECT_EQ(s.materialHeld, 1u);
-    EXPECT_EQ(s.materialMissing, 2u);
-    EXPECT_EQ(s.materialFrames, 9u);
+    expectMaterialCounts(run.stats, 9, 1, 2);
 }
 
 TEST(ReceiverMaterialTest, damagedMaterialFramesAreSkippedAndThePreviousHolds)
 {
     // GIVEN material frames 4 and 5 damaged (a damaged file: the decoder conceals them, and their
     // concealed codes would read as stiffness 0, nothing under the finger)
-    MaterialRig rig;
-    rig.onSource = [](MaterialSource &s) {
+    const MaterialRun run = readMaterialClip("mock://clip?frames=10", [](MaterialSource &s) {
         s.damaged = [](std::uint32_t k) { return k == 4 || k == 5; };
-    };
-    auto r = rig.open("mock://clip?frames=10");
-    ASSERT_TRUE(r);
-    const auto frames = drainMaterial(**r);
+    });
+    const auto &frames = run.frames;
     ASSERT_EQ(frames.size(), 10u);
     // THEN depth frames 4 and 5 keep frame 3's material, and frame 6 has its own again
     EXPECT_EQ(frames[3].material, 3u);
@@ -280,23 +298,17 @@ TEST(ReceiverMaterialTest, damagedMaterialFramesAreSkippedAndThePreviousHolds)
     EXPECT_EQ(frames[5].materialNext, 6u);
     EXPECT_EQ(frames[6].material, 6u);
     // AND the damage is counted, apart from frames that never came
-    const auto s = (*r)->stats();
-    EXPECT_EQ(s.materialDamaged, 2u);
-    EXPECT_EQ(s.materialFrames, 10u);
-    EXPECT_EQ(s.materialHeld, 2u);
-    EXPECT_EQ(s.materialMissing, 0u);
+    EXPECT_EQ(run.stats.materialDamaged, 2u);
+    expectMaterialCounts(run.stats, 10, 2, 0);
 }
 
 TEST(ReceiverMaterialTest, twoMissingMaterialFramesInARowHoldTheLastOne)
 {
     // GIVEN material frames 7 and 8 lost (a gap of two)
-    MaterialRig rig;
-    rig.onSource = [](MaterialSource &s) {
+    const MaterialRun run = readMaterialClip("mock://clip?frames=12", [](MaterialSource &s) {
         s.has = [](std::uint32_t k) { return k != 7 && k != 8; };
-    };
-    auto r = rig.open("mock://clip?frames=12");
-    ASSERT_TRUE(r);
-    const auto frames = drainMaterial(**r);
+    });
+    const auto &frames = run.frames;
     ASSERT_EQ(frames.size(), 12u);
     // THEN depth frames 7 and 8 play with frame 6's material, as frame i and as frame i+1: never
     // with none (the stiffness and friction of the material would vanish under the finger)
@@ -309,10 +321,7 @@ TEST(ReceiverMaterialTest, twoMissingMaterialFramesInARowHoldTheLastOne)
     EXPECT_EQ(frames[9].material, 9u);
     for (std::size_t i = 0; i < frames.size(); ++i)
         EXPECT_NE(frames[i].material, kNone) << "depth frame " << i << " has no material";
-    const auto s = (*r)->stats();
-    EXPECT_EQ(s.materialHeld, 2u);
-    EXPECT_EQ(s.materialMissing, 0u);
-    EXPECT_EQ(s.materialFrames, 10u);
+    expectMaterialCounts(run.stats, 10, 2, 0);
 }
 
 TEST(ReceiverMaterialTest, depthOnlyFileWithMaterialFindsDepth)
@@ -368,8 +377,7 @@ TEST(ReceiverMaterialTest, seekFlushesTheMaterialAndAStillHoldsAfterIt)
     MaterialRig rig;
     std::unique_ptr<Receiver> r;
     // WHEN seeking to 1 s (frame 25)
-    ASSERT_TRUE(
-        openReadAndSeek(rig, "mock://clip?frames=50&fps=25&gop=10", 5, milliseconds(1000), r));
+    ASSERT_TRUE(openReadAndSeekTo1s(rig, r));
     const auto frames = drainMaterial(*r);
     // THEN frames 25..49 come with their own material
     ASSERT_EQ(frames.size(), 25u);
@@ -428,15 +436,12 @@ TEST(ReceiverMaterialTest, consumerHoldingFramesHoldsTheirMaterialFrames)
 TEST(ReceiverMaterialTest, lateMaterialPacketsAreStillPaired)
 {
     // GIVEN material packets written 2 frames after their depth frame (within the window)
-    MaterialRig rig;
-    rig.onSource = [](MaterialSource &s) { s.lag = 2; };
-    auto r = rig.open("mock://clip?frames=20");
-    ASSERT_TRUE(r);
-    const auto frames = drainMaterial(**r);
-    ASSERT_EQ(frames.size(), 20u);
+    const MaterialRun run =
+        readMaterialClip("mock://clip?frames=20", [](MaterialSource &s) { s.lag = 2; });
+    ASSERT_EQ(run.frames.size(), 20u);
     for (std::uint32_t i = 0; i < 20; ++i)
-        EXPECT_EQ(frames[i].material, i);
-    EXPECT_EQ((*r)->stats().pairingForced, 0u);
+        EXPECT_EQ(run.frames[i].material, i);
+    EXPECT_EQ(run.stats.pairingForced, 0u);
 }
 
 TEST(ReceiverMaterialTest, materialDecoderThatNeverOutputsCannotStallPairing)

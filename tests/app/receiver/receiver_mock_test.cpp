@@ -364,8 +364,7 @@ TEST(ReceiverMockTest, seekRestartsAtTheTargetWithFreshPairing)
 {
     MockRig rig;
     std::unique_ptr<Receiver> r;
-    ASSERT_TRUE(
-        openReadAndSeek(rig, "mock://clip?frames=50&fps=25&gop=10", 5, milliseconds(1000), r));
+    ASSERT_TRUE(openReadAndSeekTo1s(rig, r));
     const auto frames = drain(*r);
     // frames 25..49: decoding restarts at the keyframe (20) and skips up to the target
     ASSERT_EQ(frames.size(), 25u);

@@ -3,6 +3,7 @@
 /// \brief Test helpers of the receiver without FFmpeg: a temporary directory, a MediaSource
 /// decorator that injects timestamp and size faults, and what a test records of each paired frame.
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -106,6 +107,15 @@ template <class Rig>
     if (!out->seek(position))
         return ::testing::AssertionFailure() << "seek() failed";
     return ::testing::AssertionSuccess();
+}
+
+/// openReadAndSeek() of the seek tests' clip (50 frames at 25 fps, a keyframe every 10 frames):
+/// reads 5 frames, then seeks to 1 s (frame 25, decoded from keyframe 20).
+template <class Rig>
+::testing::AssertionResult openReadAndSeekTo1s(Rig &rig, std::unique_ptr<receiver::Receiver> &out)
+{
+    return openReadAndSeek(rig, "mock://clip?frames=50&fps=25&gop=10", 5,
+                           std::chrono::milliseconds(1000), out);
 }
 
 /// \return whether one of the notes of \a owner (a ReceiverInfo, a StreamRoles: anything with a

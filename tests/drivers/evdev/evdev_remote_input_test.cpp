@@ -12,10 +12,12 @@
 #include <gtest/gtest.h>
 
 #include "drivers/evdev/fake_event_source.h"
+#include "support/expectations.h"
 
 namespace depthtouch::drivers {
 namespace {
 
+using depthtouch::testing::errcOf;
 using hal::Key;
 using hal::KeyAction;
 using platform::ManualClock;
@@ -195,13 +197,9 @@ TEST(EvdevFactoryTest, optionsAreChecked)
 {
     hal::BackendConfig cfg;
     cfg.options = hal::OptionList("colour=red");
-    auto r = EvdevRemoteInput::create(cfg);
-    ASSERT_FALSE(r);
-    EXPECT_EQ(r.error().code, Errc::InvalidArgument);
+    EXPECT_EQ(errcOf(EvdevRemoteInput::create(cfg)), Errc::InvalidArgument);
     cfg.options = hal::OptionList("device=/dev/null");
-    r = EvdevRemoteInput::create(cfg);
-    ASSERT_FALSE(r);
-    EXPECT_EQ(r.error().code, Errc::InvalidArgument);
+    EXPECT_EQ(errcOf(EvdevRemoteInput::create(cfg)), Errc::InvalidArgument);
 }
 
 TEST(EvdevFactoryTest, theBackendsDevicePathIsOpenedWhenNoOptionNamesOne)

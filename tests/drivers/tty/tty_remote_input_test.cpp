@@ -14,9 +14,12 @@
 
 #include <gtest/gtest.h>
 
+#include "support/expectations.h"
+
 namespace depthtouch::drivers {
 namespace {
 
+using depthtouch::testing::errcOf;
 using hal::Key;
 using hal::KeyAction;
 using std::chrono::milliseconds;
@@ -187,18 +190,12 @@ TEST(TtyRemoteInputFactoryTest, notATerminalIsNoDevice)
 {
     hal::BackendConfig cfg;
     cfg.device = "/dev/null";
-    auto r = TtyRemoteInput::create(cfg);
-    ASSERT_FALSE(r);
-    EXPECT_EQ(r.error().code, Errc::NoDevice);
+    EXPECT_EQ(errcOf(TtyRemoteInput::create(cfg)), Errc::NoDevice);
     cfg.device = "/nonexistent/tty";
-    r = TtyRemoteInput::create(cfg);
-    ASSERT_FALSE(r);
-    EXPECT_EQ(r.error().code, Errc::NoDevice);
+    EXPECT_EQ(errcOf(TtyRemoteInput::create(cfg)), Errc::NoDevice);
     cfg.device = "";
     cfg.options = hal::OptionList("speed=9600");
-    r = TtyRemoteInput::create(cfg);
-    ASSERT_FALSE(r);
-    EXPECT_EQ(r.error().code, Errc::InvalidArgument);
+    EXPECT_EQ(errcOf(TtyRemoteInput::create(cfg)), Errc::InvalidArgument);
 }
 
 } // namespace
