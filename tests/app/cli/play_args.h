@@ -19,8 +19,8 @@ inline const std::string kMockClip = "mock://clip?frames=30&fps=30";
 inline Args mockPlay(const std::string &url, const Args &extra = {},
                      const std::string &haptic = "none")
 {
-    Args a = {DEPTHTOUCH, "play", url, "--source", "mock", "--decoder", "mock",
-              "--display", "mock", "--haptic", haptic};
+    Args a = {DEPTHTOUCH, "play",      url,    "--source", "mock", "--decoder",
+              "mock",     "--display", "mock", "--haptic", haptic};
     a.insert(a.end(), extra.begin(), extra.end());
     return a;
 }
