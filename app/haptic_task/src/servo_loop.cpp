@@ -239,6 +239,7 @@ ServoLoop::beginSample(const platform::PeriodicWait &wait) const noexcept
         renderer_->setStiffness(k);
         rendererStiffness_ = k;
     }
+    renderer_->setOutputGain(c.gain);
     const haptics::HapticOutput out = renderer_->update(hip, t);
     sample.t = t;
     sample.hip = out.hip;
@@ -329,9 +330,9 @@ void ServoLoop::cycle(const platform::PeriodicWait &wait) noexcept
     if (ownDevice(c.sample) && readDevice(state, c.sample)) {
         const glm::dvec3 hip = mapToScene(state, c.sample);
         applyRestarts();
+        c.gain = rampGain(c);
         const glm::dvec3 target = render(hip, c);
-        const double gain = rampGain(c);
-        const glm::dvec3 force = shapeForce(target, gain, c);
+        const glm::dvec3 force = shapeForce(target, c.gain, c);
         if (command(force, c))
             recordForce(force, c.sample);
     }

@@ -547,12 +547,19 @@ bool FingerRenderer::restingContact(const glm::dvec3 &hip, double t) noexcept
     return resting_;
 }
 
+void FingerRenderer::setOutputGain(double gain) noexcept
+{
+    if (!std::isnan(gain))
+        outputGain_ = std::clamp(gain, 0.0, 1.0);
+}
+
 void FingerRenderer::watchSaturation(const glm::dvec3 &force, double t, bool contact) noexcept
 {
     // The command at the device maximum: the finger is deeper than the device can push it out of
     // (an object pressed onto it that the hand does not yield to, or a press past what the device
     // renders). Held there for kFingerSaturationTime, the next update lets it go.
-    if (!contact || !config_.safety || !(glm::length(force) >= config_.maxForce * (1.0 - 1e-9))) {
+    const double sent = outputGain_ * glm::length(force);
+    if (!contact || !config_.safety || !(sent >= config_.maxForce * (1.0 - 1e-9))) {
         saturatedSince_ = std::nan("");
         return;
     }

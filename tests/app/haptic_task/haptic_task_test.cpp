@@ -556,6 +556,33 @@ TEST(HapticTaskTest, disableAndEnableRampTheForceSmoothly)
     rig.finish(); // the haptic thread stops before the devices declared after the rig go
 }
 
+// The renderer's let-go at the device maximum watches the force sent, after the task's gain: a hand
+// that sinks 12 mm into the surface while the force is off (disabled, or the watchdog's zero) is
+// held, not let go for a command the device was never sent (it would fall through the surface as
+// the force came back); once the ramp brings the force sent to the maximum, it is let go.
+TEST(HapticTaskTest, theLetGoAtTheDeviceMaximumWatchesTheForceSent)
+{
+    Rig rig;
+    drivers::MockHapticDevice mock(rig.clock());
+    startPressingFlat(rig, mock, mock); // 5 mm, 4 N
+    ASSERT_NEAR(rig.task().lastForce().z, 4.0, 0.01);
+    rig.task().setEnabled(false);
+    rig.runMs(110); // the ramp (100 ms) to zero force
+    const platform::TimePoint now = rig.clock().now();
+    mock.setWaypoints({{now, {0.0, 0.0, -0.005}, 0}, {now + 70ms, {0.0, 0.0, -0.012}, 0}});
+    const std::uint64_t before = rig.task().stats().safetyReleases;
+    rig.runMs(200); // k·12 mm = 9.6 N: the renderer's command at the 8.5 N maximum, none sent
+    EXPECT_EQ(rig.task().lastForce().z, 0.0);
+    EXPECT_EQ(rig.task().stats().safetyReleases, before);
+    rig.task().setEnabled(true);
+    rig.runMs(90); // the ramp part-way: the force sent rises toward the maximum
+    EXPECT_GT(rig.task().lastForce().z, 4.0);
+    EXPECT_EQ(rig.task().stats().safetyReleases, before);
+    rig.runMs(30); // at the maximum for more than kFingerSaturationTime: let go
+    EXPECT_GT(rig.task().stats().safetyReleases, before);
+    rig.finish(); // the haptic thread stops before the devices declared after the rig go
+}
+
 TEST(HapticTaskTest, forceRateIsLimitedAndForceIsClampedToTheDeviceMaximum)
 {
     Rig rig;

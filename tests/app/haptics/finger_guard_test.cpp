@@ -380,5 +380,42 @@ TEST(FingerGuardTest, aCutUnderARestingFingerReseatsTheProxyOnTheNewSurfaceAtOnc
     }
 }
 
+// Saturation, on the force sent: a hand pressed 12 mm into a table (k·12 mm = 9.6 N, over the
+// device's 8.5 N) while the caller scales the force by 0.5 (the haptic task ramping it back in
+// after its watchdog zeroed it, the hand having sunk meanwhile). The device is sent 4.25 N, not its
+// maximum: the finger is held and pushed out as the gain rises. Once the gain is 1 the command is
+// at the maximum and the finger is let go after kFingerSaturationTime. Without the gain the
+// renderer let go of a hand the device never pushed at its maximum, and it fell through the
+// surface.
+TEST(FingerGuardTest, theDeviceMaximumLetsGoOnlyWhenTheForceSentReachesIt)
+{
+    Rig rig;
+    rig.show(still([](double, double) { return 0.0; }));
+    const glm::dvec3 hip(0.0, 0.0, -0.012);
+    const double maxForce = RendererConfig::forMethod(Method::Finger).maxForce;
+    rig.finger.setOutputGain(0.5);
+    rig.finger.reset({0.0, 0.0, 0.005});
+    for (int k = 1; k <= 170; ++k) // 0.1 mm an update, from 5 mm above to 12 mm under
+        rig.step({0.0, 0.0, 0.005 - 1e-4 * k});
+    for (int k = 0; k < 100; ++k)
+        rig.step(hip);
+    const auto released = [&](std::size_t from) {
+        return std::any_of(rig.out.begin() + static_cast<long>(from), rig.out.end(),
+                           [](const HapticOutput &o) { return o.released; });
+    };
+    const HapticOutput held = rig.out.back();
+    EXPECT_FALSE(released(0));
+    EXPECT_TRUE(held.contact);
+    EXPECT_NEAR(glm::length(held.force), maxForce, 1e-6); // the renderer's command, before the gain
+    EXPECT_GT(held.force.z, 0.0);
+
+    rig.finger.setOutputGain(1.0);
+    const std::size_t from = rig.out.size();
+    const int limit = static_cast<int>(std::lround(kFingerSaturationTime / 1e-3)) + 2;
+    for (int k = 0; k < limit; ++k)
+        rig.step(hip);
+    EXPECT_TRUE(released(from));
+}
+
 } // namespace
 } // namespace depthtouch::haptics

@@ -49,8 +49,10 @@ namespace depthtouch::haptic_task {
 /// \brief The haptic servo loop and its telemetry.
 ///
 /// Per update, on the haptic thread (nothing else): take the newest depth pair from the handoff;
-/// read the device; map to the scene; renderer update; gain (enable ramp), clamp to the device
-/// maximum, force-rate limit; commandForce(); push one TelemetrySample. It never allocates, locks,
+/// read the device; map to the scene; gain (enable ramp, zero when late), told to the renderer
+/// (HapticRenderer::setOutputGain(): its let-go at the device maximum watches the force sent);
+/// renderer update; gain applied, clamp to the device maximum, force-rate limit; commandForce();
+/// push one TelemetrySample. It never allocates, locks,
 /// logs, writes files or throws after start() (checked by a test that interposes malloc,
 /// pthread_mutex_lock and write on that thread). Every buffer is allocated by create().
 ///

@@ -72,6 +72,7 @@ private:
         platform::TimePoint begin; ///< Wake-up time of the cycle.
         TelemetrySample sample;    ///< The cycle's telemetry, pushed by finishCycle().
         bool late = false;         ///< The deadline watchdog holds the force at zero.
+        double gain = 1.0;         ///< This cycle's ramp gain, 0..1 (rampGain(), before render()).
     };
 
     [[nodiscard]] bool stopRequested() const noexcept { return controls_.stopRequested(); }
@@ -92,8 +93,8 @@ private:
     glm::dvec3 mapToScene(const hal::HapticState &state, TelemetrySample &sample) noexcept;
     /// Applies the clock restarts and re-seats asked for since the last cycle.
     void applyRestarts() noexcept;
-    /// Runs the renderer at \a hip. \return its force at the run-time stiffness, N (zero without
-    /// frames).
+    /// Runs the renderer at \a hip, telling it the cycle's ramp gain (its safety watches the force
+    /// sent). \return its force at the run-time stiffness, N (zero without frames).
     glm::dvec3 render(const glm::dvec3 &hip, CycleContext &c) noexcept;
     /// Moves the enable ramp (zero when late). \return the gain in [0, 1].
     double rampGain(CycleContext &c) noexcept;

@@ -165,6 +165,8 @@ public:
     void restartClock() noexcept override;
     /// Also the depths derived from k (captureDepth_, stepDepth_, pushDepth_).
     void setStiffness(double newtonsPerMetre) noexcept override;
+    /// The saturation watch (kFingerSaturationTime) compares gain × |F| with the device maximum.
+    void setOutputGain(double gain) noexcept override;
     [[nodiscard]] Method method() const noexcept override { return Method::Finger; }
 
     [[nodiscard]] const HeightField &surface() const noexcept { return field_; }
@@ -223,8 +225,8 @@ private:
     [[nodiscard]] double stencilStep(const FingerPlane &now) const noexcept;
     /// Bounds the growth of the HIP's depth under the proxy (a surface sweeping in).
     void limitPush(const glm::dvec3 &hip, Candidate &c) const noexcept;
-    /// After kFingerSaturationTime with the command \a force (N) at the device maximum in
-    /// contact, the next update lets the finger go.
+    /// After kFingerSaturationTime with the command sent, outputGain_ × \a force (N), at the
+    /// device maximum in contact, the next update lets the finger go.
     void watchSaturation(const glm::dvec3 &force, double t, bool contact) noexcept;
 
     /// The god-object on the finger-scale surface from q = (\a startX, \a startY) (m): the proxy
@@ -253,6 +255,7 @@ private:
     /// maxForceStep / (16k), m (0.16 mm: 16 cm/s at 1 kHz, 0.125 N an update at the defaults).
     double pushDepth_ = 0.0;
     glm::dvec3 proxy_{};
+    double outputGain_ = 1.0; ///< setOutputGain(): the caller's factor on the force, 0..1.
     bool contact_ = false;
     bool behind_ = false;      ///< HIP under the surface without contact (see the file comment).
     bool enterAnyDepth_ = true; ///< After reset(): a HIP found inside comes into contact.

@@ -173,6 +173,14 @@ public:
     /// safe.
     virtual void setStiffness(double newtonsPerMetre) noexcept = 0;
 
+    /// \brief The factor, 0..1, by which the caller scales this renderer's force before the device
+    /// (the haptic task's enable ramp, and its ramp back in after the watchdog zeroed the force),
+    /// from the next update. A renderer whose safety watches the device maximum compares the
+    /// force sent, gain × |F|, with it: a hand that sank while the force was off is pushed out by
+    /// the ramp, not let go for a command the device was never sent. Values outside 0..1 are
+    /// clamped, NaN ignored. Default 1; the base ignores it. Real-time safe.
+    virtual void setOutputGain(double gain) noexcept { (void)gain; }
+
     [[nodiscard]] virtual Method method() const noexcept = 0;
 
 protected:
