@@ -207,6 +207,7 @@ void FingerRenderer::reset(const glm::dvec3 &hip) noexcept
     lastHip_ = hip;
     contact_ = false;
     behind_ = false;
+    wall_ = false;
     enterAnyDepth_ = true;
     heldDepth_ = 0.0;
     lastDepth_ = 0.0;
@@ -365,6 +366,17 @@ void FingerRenderer::capture(const glm::dvec3 &hip, Candidate &c) noexcept
     c.proxy = solve(hip, hip.x, hip.y, c.plane, start, c.below);
     if (c.below > 0.0)
         enter(c.below, c);
+    // Through an object's side: its wall, where that is nearer than a caught top (the god-object's
+    // nearest point) or where the top was too deep to be caught (finger_wall.cpp).
+    Candidate wall = c;
+    if (config_.correction && enterWall(hip, wall)) {
+        if (!c.contact || wall.below < c.below) {
+            c = wall;
+            behind_ = false;
+        } else {
+            wall_ = false;
+        }
+    }
 }
 
 void FingerRenderer::enter(double below, Candidate &c) noexcept
@@ -432,6 +444,7 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     c.proxy = hip;
     const bool wasResting = resting_;
     if (restingContact(hip, t)) {
+        wall_ = false;
         if (over)
             penalty(hip, raw, c);
         else
@@ -443,6 +456,8 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     } else if (!inside) {
         behind_ = false;
         heldDepth_ = 0.0;
+    } else if (contact_ && wall_) {
+        wallContact(hip, raw, c);
     } else if (contact_ && config_.correction) {
         slide(hip, raw, c);
         if (c.contact && !c.trip)
@@ -470,8 +485,10 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
         c.contact = false;
         behind_ = true;
     }
-    if (!c.contact)
+    if (!c.contact) {
         c.proxy = hip;
+        wall_ = false;
+    }
     enterAnyDepth_ = false;
     out.released = c.trip;
     // Friction acts on the force and the reported proxy; proxy_ keeps the frictionless goal (the

@@ -39,7 +39,10 @@
 ///    in the default box; at least maxForceStep/k) it came from the side under an object's
 ///    silhouette, or the surface jumped onto it: it is *behind* the surface (the camera did not
 ///    see there) and stays free until it is out (paper IV.C's release "may stay inside"). An
-///    edge met less deep than that is climbed.
+///    edge met less deep than that is climbed. A free HIP whose path since the last update went
+///    through an object's side (steeper than kFingerWallSlope) meets that side as a wall instead,
+///    where the wall is nearer than the top (finger_wall.cpp): the proxy stays on the side, found
+///    again each update along its normal, and turns onto the top over the upper edge.
 /// 4. **Cuts from the depth itself** (fix (c)): most of the patch under the proxy, refitted at the
 ///    same x–y, moved by more than the cut threshold (HeightField::cutThreshold(), a quarter of the
 ///    box depth) since the last update: the median of the nine taps' own steps (stencilStep()). An
@@ -99,6 +102,7 @@
 
 #include <cmath>
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "depthtouch/haptics/friction.h"
@@ -223,6 +227,20 @@ private:
     /// moved 0 (a hole opening is no cut). A cut moves the whole patch; an object's silhouette
     /// passing over the finger moves some of the taps only, and is no cut.
     [[nodiscard]] double stencilStep(const FingerPlane &now) const noexcept;
+    /// \return whether \a p (m) is in free space: off the grid or above the surface at its x–y.
+    [[nodiscard]] bool freeAt(const glm::dvec3 &p) const noexcept;
+    /// The outward horizontal normal \a n of an object's side at \a at (m): the direction of
+    /// steepest descent of the heights ±r around it (read once, where the HIP came through).
+    /// \return false where the surface there is no steeper than kFingerWallSlope (no wall).
+    bool wallNormal(const glm::dvec3 &at, glm::dvec2 &n) const noexcept;
+    /// A free HIP that came under the surface through an object's side (finger_wall.cpp): \return
+    /// whether it did, with \a c the wall contact (wall_ set); false for a path through the top or
+    /// a HIP that was not free at the last update.
+    bool enterWall(const glm::dvec3 &hip, Candidate &c) noexcept;
+    /// On a wall: the proxy HIP + s·n on the object's side found again along its normal (s moves
+    /// at a bounded rate), turning onto the top (\a raw, m) over the upper edge, or the ordinary
+    /// contact once the top is nearer than the side by r.
+    void wallContact(const glm::dvec3 &hip, double raw, Candidate &c) noexcept;
     /// Bounds the growth of the HIP's depth under the proxy (a surface sweeping in).
     void limitPush(const glm::dvec3 &hip, Candidate &c) const noexcept;
     /// After kFingerSaturationTime with the command sent, outputGain_ × \a force (N), at the
@@ -258,6 +276,9 @@ private:
     double outputGain_ = 1.0; ///< setOutputGain(): the caller's factor on the force, 0..1.
     bool contact_ = false;
     bool behind_ = false;      ///< HIP under the surface without contact (see the file comment).
+    bool wall_ = false;        ///< The contact is on an object's side (finger_wall.cpp).
+    glm::dvec2 wallNormal_{};  ///< The wall's outward horizontal normal (unit).
+    double wallDepth_ = 0.0;   ///< The HIP's depth behind the wall along it, last update, m.
     bool enterAnyDepth_ = true; ///< After reset(): a HIP found inside comes into contact.
     double lastX_ = 0.0;      ///< Centre of the last plane fitted in the last update, m.
     double lastY_ = 0.0;

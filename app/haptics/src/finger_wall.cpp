@@ -1,0 +1,146 @@
+/// \file
+/// \brief The fingertip renderer's wall contact: a finger that moves into an object's silhouette
+/// from the side meets the object's side as a wall (renderer.h, finger_renderer.h step 3).
+///
+/// A height field is solid under its surface, so an object seen by a depth camera stands on the
+/// surface behind it as a column: its silhouette is a wall as tall as the depth step. A free HIP
+/// that crosses that wall sideways (a swipe from the backdrop onto a person, a circle across an
+/// arm's edge) comes under the object's top far deeper than a new contact may be caught (the
+/// capture depth): taken as *behind* the surface, it would be free and fall into the object for
+/// as long as it took to rise above its top (20-60 ms a crossing on `bench feel`'s swipes at
+/// 20-50 cm/s: pop-through).
+///
+/// Method (the god-object of Zilles & Salisbury 1995, on the wall): the proxy is the last point of
+/// the HIP's path from the last update that is free (bisection on the segment), and the wall is
+/// the vertical plane through it whose outward normal n is the horizontal direction of steepest
+/// descent of the surface there (heights ±r apart: a step's gradient points into the object).
+/// n is kept for the contact: read again each update at the proxy on a ragged silhouette (a
+/// person's edge at 8 bits), it turned the search line, which moved the proxy, which turned n, and
+/// the proxy hopped 0.5 mm between an edge's pixels at the servo rate. Each update the wall is
+/// found again along n from the HIP: the proxy is HIP + s·n, s the smallest depth along n that is
+/// free (bisection), so a moving object's side moves the proxy with it; s may change by the HIP's
+/// own motion plus pushDepth_ an update (the bounded push of limitPush(): a wall that sweeps onto
+/// the finger faster than that pushes it out at a bounded rate, and the saturation let-go trips a
+/// hand that does not yield; nor does the proxy hop back between an edge's pixels). The force k·s·n
+/// is horizontal. Where the top comes as near as the side (the object's upper edge) the proxy turns
+/// from the side to the top straight above the HIP over a band of r, a corner rounded at the
+/// finger's scale (a 90° step of the force there would be a spike), and the finger leaves the
+/// wall for the ordinary contact once the top is nearer by r, the god-object's nearest point. It
+/// is free once it is above the surface at its own x–y.
+/// Cost: on a wall, one bisection (kFingerWallBisections + 1 height lookups) and one plane fit an
+/// update; when a free HIP comes under the surface, one bisection along its path, 5 lookups for
+/// the normal and one plane fit.
+/// Thread-safety: thread-bound (the haptic thread); no allocation.
+
+#include "depthtouch/haptics/finger_renderer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace depthtouch::haptics {
+
+namespace {
+/// Bisection steps along the HIP's path or the wall's normal: 2⁻¹² of the searched length (under
+/// 2 µm for a 5 mm depth).
+constexpr int kFingerWallBisections = 12;
+/// A wall is steeper than this slope (the height difference over ±r, divided by 2r).
+constexpr double kFingerWallSlope = 1.0;
+} // namespace
+
+bool FingerRenderer::freeAt(const glm::dvec3 &p) const noexcept
+{
+    return !field_.contains(p.x, p.y) || field_.heightAt(p.x, p.y) < p.z;
+}
+
+bool FingerRenderer::wallNormal(const glm::dvec3 &at, glm::dvec2 &n) const noexcept
+{
+    const double r = radius_;
+    auto height = [this](double x, double y, double fallback) {
+        return field_.contains(x, y) ? field_.heightAt(x, y) : fallback;
+    };
+    const double h = height(at.x, at.y, at.z);
+    const double gx = height(at.x + r, at.y, h) - height(at.x - r, at.y, h);
+    const double gy = height(at.x, at.y + r, h) - height(at.x, at.y - r, h);
+    const double g = std::sqrt(gx * gx + gy * gy);
+    if (!(g > kFingerWallSlope * 2.0 * r))
+        return false;
+    n = glm::dvec2(-gx / g, -gy / g);
+    return true;
+}
+
+bool FingerRenderer::enterWall(const glm::dvec3 &hip, Candidate &c) noexcept
+{
+    // The last HIP, free at this time, and this one inside: where the path crossed the surface.
+    if (!freeAt(lastHip_) || freeAt(hip))
+        return false;
+    glm::dvec3 out = lastHip_;
+    glm::dvec3 in = hip;
+    for (int i = 0; i < kFingerWallBisections; ++i) {
+        const glm::dvec3 mid = 0.5 * (out + in);
+        (freeAt(mid) ? out : in) = mid;
+    }
+    glm::dvec2 n{};
+    const glm::dvec2 path(hip.x - lastHip_.x, hip.y - lastHip_.y);
+    // A path through the top (no horizontal part into the wall) is the ordinary contact.
+    if (!wallNormal(out, n) || !(glm::dot(n, path) < 0.0))
+        return false;
+    const double s = (out.x - hip.x) * n.x + (out.y - hip.y) * n.y;
+    if (!(s >= 0.0))
+        return false;
+    wallNormal_ = n;
+    wallDepth_ = s;
+    c.proxy = hip + s * glm::dvec3(n, 0.0);
+    c.below = s;
+    c.contact = true;
+    c.plane = fitFingerPlane(field_, c.proxy.x, c.proxy.y, radius_);
+    wall_ = true;
+    return true;
+}
+
+void FingerRenderer::wallContact(const glm::dvec3 &hip, double raw, Candidate &c) noexcept
+{
+    const glm::dvec3 n(wallNormal_, 0.0);
+    // The side: the smallest free depth along n, searched as far as the bounded push reaches (the
+    // side's depth grows by the HIP's motion and pushDepth_ an update, as in limitPush()).
+    const double reach = wallDepth_ + glm::length(hip - lastHip_) + pushDepth_;
+    double s = reach;
+    if (freeAt(hip + s * n)) {
+        double in = 0.0;
+        for (int i = 0; i < kFingerWallBisections; ++i) {
+            const double mid = 0.5 * (in + s);
+            (freeAt(hip + mid * n) ? s : in) = mid;
+        }
+    }
+    // A side read on a ragged silhouette (flying pixels, 8-bit steps) moves no faster than the
+    // HIP and the bounded push either: the proxy does not hop between the edge's pixels.
+    s = std::max(s, wallDepth_ - glm::length(hip - lastHip_) - pushDepth_);
+    wallDepth_ = s;
+    // The corner, rounded over a band of r: the proxy turns from the side (depth s along n) to the
+    // top straight above the HIP (depth raw − z) as the top becomes the nearer of the two, and the
+    // finger leaves the wall once the top is nearer by r (the god-object's nearest point, without
+    // a 90° step of the force at the corner).
+    const double top = raw - hip.z;
+    const double toTop = std::clamp(0.5 + (s - top) / (2.0 * radius_), 0.0, 1.0);
+    if (toTop >= 1.0) {
+        wall_ = false;
+        FingerPlane start{};
+        c.proxy = solve(hip, hip.x, hip.y, c.plane, start, c.below);
+        if (!(c.below > 0.0)) { // the stencil's median is beside the object: straight up
+            c.plane = fitFingerPlane(field_, hip.x, hip.y, radius_);
+            c.proxy = {hip.x, hip.y, raw};
+            c.below = top;
+        }
+        c.contact = true;
+        pushUp(hip, raw, c);
+        limitPush(hip, c);
+        return;
+    }
+    c.proxy = hip + (1.0 - toTop) * s * n + glm::dvec3(0.0, 0.0, toTop * top);
+    c.contact = true;
+    c.below = glm::length(c.proxy - hip);
+    c.plane = fitFingerPlane(field_, c.proxy.x, c.proxy.y, radius_);
+}
+
+} // namespace depthtouch::haptics

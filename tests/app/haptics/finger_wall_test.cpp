@@ -1,0 +1,140 @@
+/// \file
+/// \brief The fingertip renderer's wall contact (finger_wall.cpp): a free finger that moves into
+/// an object's silhouette from the side meets the object's side, and its force turns over the
+/// object's upper edge without a step. Before, a finger that came under an object's top deeper
+/// than the capture depth was *behind* the surface and free: it fell into the object with no
+/// force until it rose above the top (the swipes of `bench feel` across silhouettes: up to 64 ms
+/// of pop-through a stroke). Depth is 8-bit at 30 fps, a still table with a box on it.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "app/haptics/synthetic.h"
+#include "app/haptics/video.h"
+#include "depthtouch/haptics/finger_renderer.h"
+
+namespace depthtouch::haptics {
+namespace {
+
+using test::SyntheticVideo;
+
+constexpr SceneBox kBox{};
+constexpr double kTable = -0.005;    ///< m
+constexpr double kTop = 0.010;       ///< the box's top, m; its side at x = 0
+constexpr double kStiffness = 800.0; ///< N/m, the default config's
+
+/// A table at kTable and a box up to kTop for x ≥ 0 (its side a tanh 0.2 mm wide), 8-bit.
+SyntheticVideo tableAndBox()
+{
+    return SyntheticVideo(
+        kBox, 320, 240, 30.0,
+        [](double x, double, int) {
+            return kTable + (kTop - kTable) * 0.5 * (1.0 + std::tanh(x / 0.0002));
+        },
+        SampleFormat::Gray8);
+}
+
+struct StrokeLog {
+    std::vector<glm::dvec3> hip;
+    std::vector<HapticOutput> out;
+};
+
+/// A new finger (the default config) along \a hip(t), t from 0 to \a duration at 1 kHz.
+StrokeLog stroke(const std::function<glm::dvec3(double)> &hip, double duration)
+{
+    SyntheticVideo video = tableAndBox();
+    FingerRenderer finger(RendererConfig::forMethod(Method::Finger));
+    finger.reset(hip(0.0));
+    StrokeLog run;
+    const long n = std::lround(duration * 1000.0);
+    for (long k = 0; k < n; ++k) {
+        const double t = static_cast<double>(k) / 1000.0;
+        if (video.advance(t))
+            video.feed(finger);
+        run.hip.push_back(hip(t));
+        run.out.push_back(finger.update(run.hip.back(), t));
+    }
+    return run;
+}
+
+/// \return x (m) where the box's side, as the renderer sees it (8-bit, interpolated between
+/// pixels), rises through height \a z (m): the wall a finger at that height meets.
+double sideAt(double z)
+{
+    SyntheticVideo video = tableAndBox();
+    video.advance(0.0);
+    const HeightField &surface = video.reference(0.0);
+    double out = -0.002;
+    double in = 0.002;
+    for (int i = 0; i < 40; ++i) {
+        const double mid = 0.5 * (out + in);
+        (surface.heightAt(mid, 0.0) < z ? out : in) = mid;
+    }
+    return out;
+}
+
+/// The HIP at height \a z (m), from x = −10 mm at 20 cm/s to \a stop (m), then held there.
+std::function<glm::dvec3(double)> swipeTo(double z, double stop)
+{
+    return [=](double t) { return glm::dvec3(std::min(-0.010 + 0.2 * t, stop), 0.0, z); };
+}
+
+// A free finger 1 mm above the table swipes into the box's side, 14 mm under its top (deeper than
+// a new contact may be caught), and stays at x = 3 mm. The side is a wall: the force points back
+// out along −x, k times the depth past the side (where the 8-bit surface, interpolated between
+// pixels, rises through the finger's height), and never down. Before: no force at all.
+TEST(FingerWallTest, aFreeSwipeIntoAnObjectsSideMeetsItsWall)
+{
+    const double z = kTable + 0.001;
+    const double side = sideAt(z);
+    const StrokeLog run = stroke(swipeTo(z, 0.003), 0.1);
+    int free = 0;
+    for (std::size_t k = 0; k < run.out.size(); ++k) {
+        const double past = run.hip[k].x - side; // m
+        if (past <= 0.0001)
+            continue;
+        const glm::dvec3 &f = run.out[k].force;
+        free += run.out[k].contact ? 0 : 1;
+        EXPECT_LT(f.x, -0.5 * kStiffness * past) << "at x = " << run.hip[k].x;
+        EXPECT_LE(std::fabs(f.y) + std::fabs(f.z), 0.1 * std::fabs(f.x) + 0.05)
+            << "at x = " << run.hip[k].x;
+    }
+    const glm::dvec3 last = run.out.back().force;
+    std::printf("free swipe into a 15 mm side (at x = %.2f mm), held 3 mm in: %d updates free past "
+                "the side, force (%.2f, %.2f, %.2f) N\n",
+                side * 1e3, free, last.x, last.y, last.z);
+    EXPECT_EQ(free, 0);
+    EXPECT_NEAR(last.x, -kStiffness * (0.003 - side), 0.02);
+    EXPECT_FALSE(run.out.back().released);
+}
+
+// A free finger 2 mm under the box's top swipes across its upper edge onto it. The force turns from
+// the side (−x) to the top (+z) over the rounded corner: no update past the side without contact,
+// no step of the force over 0.5 N (the feel bench's spike), and on the top k times 2 mm up.
+TEST(FingerWallTest, theForceTurnsOverAnObjectsUpperEdgeWithoutAStep)
+{
+    const StrokeLog run = stroke(swipeTo(kTop - 0.002, 0.008), 0.12);
+    double largest = 0.0;
+    int free = 0;
+    for (std::size_t k = 1; k < run.out.size(); ++k) {
+        largest = std::max(largest, glm::length(run.out[k].force - run.out[k - 1].force));
+        free += run.hip[k].x > 0.0005 && !run.out[k].contact ? 1 : 0;
+    }
+    const glm::dvec3 last = run.out.back().force;
+    std::printf("free swipe 2 mm under a box's top across its edge: largest step %.2f N, %d "
+                "updates free past the side, force on the top (%.2f, %.2f, %.2f) N\n",
+                largest, free, last.x, last.y, last.z);
+    EXPECT_EQ(free, 0);
+    EXPECT_LE(largest, 0.5);
+    EXPECT_NEAR(last.z, kStiffness * 0.002, 0.25);
+    EXPECT_LT(std::fabs(last.x), 0.1);
+}
+
+} // namespace
+} // namespace depthtouch::haptics
