@@ -145,5 +145,29 @@ TEST(FeelScenarioPushTest, theFingerNeverPullsDownOnTheBenchsStrokes)
     EXPECT_GE(lowest, 0.0) << where;
 }
 
+// A 6 mm press at 5 cm/s beside the synthetic head's contour (8-bit, holes kept, as `bench feel`
+// places it): the stencil's descent stepped onto a patch of the contour whose kept taps (the side
+// steeper than the outlier rule keeps, a hole beside it) span no plane; flat at their median, 0.1
+// mm over the finger and nearer than the side it pressed into, it took the force to 0.1 N with the
+// finger 6 mm inside the head: 42 ms of pop-through. The descent does not move onto a plane its
+// taps do not span; the press meets the pop-through goal.
+TEST(FeelScenarioPushTest, aDeepPressBesideTheHeadsContourKeepsItsForce)
+{
+    auto scene = makeSyntheticScene(SyntheticScene::Head);
+    ASSERT_TRUE(scene) << scene.error().what;
+    std::vector<Stroke> strokes;
+    for (Stroke &s : makeFamilyStrokes(*scene, FamilyPlan{}))
+        if (s.name == "press 6.0 mm 5 cm/s edge")
+            strokes.push_back(std::move(s));
+    ASSERT_EQ(strokes.size(), 1u);
+    auto results = runFeelStrokes(*scene, strokes, setting("finger"));
+    ASSERT_TRUE(results) << results.error().what;
+    const FeelFigures &f = results->front().figures;
+    std::printf("%s on the head: pop-through %.0f ms, max %.2f N, %zu trips\n",
+                strokes.front().name.c_str(), f.popThroughMs, f.maxForce, f.trips);
+    EXPECT_LE(f.popThroughMs, FeelGoals{}.maxPopThroughMs);
+    EXPECT_EQ(f.falseTrips, 0u);
+}
+
 } // namespace
 } // namespace depthtouch::haptics::bench

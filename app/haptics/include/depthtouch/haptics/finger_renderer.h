@@ -146,6 +146,9 @@ struct FingerPlane {
     /// The nine interpolated heights, row-major from (x − r, y − r) (hole taps as HeightField
     /// gives them, 1 m under the box), m.
     double taps[9] = {};
+    /// Whether the taps kept by the outlier rule span a plane; if not, the plane is flat at their
+    /// median.
+    bool spanned = true;
 };
 
 /// \brief Fits the plane of the 3×3 stencil of half-width \a r (m) at (x, y) on \a field.
