@@ -174,9 +174,7 @@ void FingerRenderer::slide(const glm::dvec3 &hip, double raw, Candidate &c) cons
     if (!c.contact) {
         // Still under the sensor surface at its own x–y (the stencil's median is the backdrop
         // beside an object's silhouette): the contact goes on, pushing straight up from there.
-        c.plane = fitFingerPlane(field_, hip.x, hip.y, radius_);
-        c.proxy = {hip.x, hip.y, raw};
-        c.below = raw - hip.z;
+        straightUp(hip, raw, c);
         c.contact = true;
         return;
     }
@@ -248,9 +246,19 @@ void FingerRenderer::pushUp(const glm::dvec3 &hip, double raw, Candidate &c) con
         c.below = below;
         return;
     }
+    straightUp(hip, raw, c);
+}
+
+void FingerRenderer::straightUp(const glm::dvec3 &hip, double raw, Candidate &c) const noexcept
+{
     c.plane = fitFingerPlane(field_, hip.x, hip.y, radius_);
     c.proxy = {hip.x, hip.y, raw};
     c.below = raw - hip.z;
+}
+
+double FingerRenderer::pushReach(const glm::dvec3 &hip) const noexcept
+{
+    return glm::length(hip - lastHip_) + pushDepth_;
 }
 
 double FingerRenderer::stencilStep(const FingerPlane &now) const noexcept
@@ -270,7 +278,7 @@ void FingerRenderer::limitPush(const glm::dvec3 &hip, Candidate &c) const noexce
     // pushes it out at a bounded rate, and a hand that yields rises onto it; one that does not is
     // let go once the force has reached the device maximum (watchSaturation()).
     const double depth = glm::length(c.proxy - hip);
-    const double allowed = lastDepth_ + glm::length(hip - lastHip_) + pushDepth_;
+    const double allowed = lastDepth_ + pushReach(hip);
     if (depth > allowed)
         c.proxy = hip + (c.proxy - hip) * (allowed / depth);
 }

@@ -45,8 +45,6 @@ namespace {
 /// Bisection steps along the HIP's path or the wall's normal: 2⁻¹² of the searched length (under
 /// 2 µm for a 5 mm depth).
 constexpr int kFingerWallBisections = 12;
-/// A wall is steeper than this slope (the height difference over ±r, divided by 2r).
-constexpr double kFingerWallSlope = 1.0;
 } // namespace
 
 bool FingerRenderer::freeAt(const glm::dvec3 &p) const noexcept
@@ -104,7 +102,7 @@ void FingerRenderer::wallContact(const glm::dvec3 &hip, double raw, Candidate &c
     const glm::dvec3 n(wallNormal_, 0.0);
     // The side: the smallest free depth along n, searched as far as the bounded push reaches (the
     // side's depth grows by the HIP's motion and pushDepth_ an update, as in limitPush()).
-    const double reach = wallDepth_ + glm::length(hip - lastHip_) + pushDepth_;
+    const double reach = wallDepth_ + pushReach(hip);
     double s = reach;
     if (freeAt(hip + s * n)) {
         double in = 0.0;
@@ -115,7 +113,7 @@ void FingerRenderer::wallContact(const glm::dvec3 &hip, double raw, Candidate &c
     }
     // A side read on a ragged silhouette (flying pixels, 8-bit steps) moves no faster than the
     // HIP and the bounded push either: the proxy does not hop between the edge's pixels.
-    s = std::max(s, wallDepth_ - glm::length(hip - lastHip_) - pushDepth_);
+    s = std::max(s, wallDepth_ - pushReach(hip));
     wallDepth_ = s;
     // The corner, rounded over a band of r: the proxy turns from the side (depth s along n) to the
     // top straight above the HIP (depth raw − z) as the top becomes the nearer of the two, and the
@@ -127,11 +125,8 @@ void FingerRenderer::wallContact(const glm::dvec3 &hip, double raw, Candidate &c
         wall_ = false;
         FingerPlane start{};
         c.proxy = solve(hip, hip.x, hip.y, c.plane, start, c.below);
-        if (!(c.below > 0.0)) { // the stencil's median is beside the object: straight up
-            c.plane = fitFingerPlane(field_, hip.x, hip.y, radius_);
-            c.proxy = {hip.x, hip.y, raw};
-            c.below = top;
-        }
+        if (!(c.below > 0.0)) // the stencil's median is beside the object: straight up
+            straightUp(hip, raw, c);
         c.contact = true;
         pushUp(hip, raw, c);
         limitPush(hip, c);

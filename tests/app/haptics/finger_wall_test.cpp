@@ -29,13 +29,14 @@ constexpr double kTable = -0.005;    ///< m
 constexpr double kTop = 0.010;       ///< the box's top, m; its side at x = 0
 constexpr double kStiffness = 800.0; ///< N/m, the default config's
 
-/// A table at kTable and a box up to kTop for x ≥ 0 (its side a tanh 0.2 mm wide), 8-bit.
-SyntheticVideo tableAndBox()
+/// A table at kTable and a box up to kTop for x ≥ \a side(frame) (m; its side a tanh 0.2 mm
+/// wide), 8-bit.
+SyntheticVideo tableAndBox(const std::function<double(int)> &side = [](int) { return 0.0; })
 {
     return SyntheticVideo(
         kBox, 320, 240, 30.0,
-        [](double x, double, int) {
-            return kTable + (kTop - kTable) * 0.5 * (1.0 + std::tanh(x / 0.0002));
+        [side](double x, double, int frame) {
+            return kTable + (kTop - kTable) * 0.5 * (1.0 + std::tanh((x - side(frame)) / 0.0002));
         },
         SampleFormat::Gray8);
 }
@@ -45,10 +46,11 @@ struct StrokeLog {
     std::vector<HapticOutput> out;
 };
 
-/// A new finger (the default config) along \a hip(t), t from 0 to \a duration at 1 kHz.
-StrokeLog stroke(const std::function<glm::dvec3(double)> &hip, double duration)
+/// A new finger (the default config) along \a hip(t), t from 0 to \a duration at 1 kHz, on
+/// \a video.
+StrokeLog stroke(const std::function<glm::dvec3(double)> &hip, double duration,
+                 SyntheticVideo video = tableAndBox())
 {
-    SyntheticVideo video = tableAndBox();
     FingerRenderer finger(RendererConfig::forMethod(Method::Finger));
     finger.reset(hip(0.0));
     StrokeLog run;
@@ -134,6 +136,40 @@ TEST(FingerWallTest, theForceTurnsOverAnObjectsUpperEdgeWithoutAStep)
     EXPECT_LE(largest, 0.5);
     EXPECT_NEAR(last.z, kStiffness * 0.002, 0.25);
     EXPECT_LT(std::fabs(last.x), 0.1);
+}
+
+// The finger swipes into the box's side 1 mm above the table and stays 1 mm past it; from the
+// third frame the box moves toward it at 30 cm/s (10 mm a frame: between two frames the side's
+// heights blend, and the wall found along its normal jumps 10 mm in one update). The wall pushes
+// the held finger out at a bounded rate: the force grows by at most maxForceStep / 16 an update
+// (the bounded push, finger_renderer.h: 0.125 N at the defaults), always back out along −x,
+// until the device maximum lets the finger go. Without the bound: a step of several newtons.
+TEST(FingerWallTest, aSideThatSweepsOntoAHeldFingerPushesItOutAtABoundedRate)
+{
+    const RendererConfig config = RendererConfig::forMethod(Method::Finger);
+    const double z = kTable + 0.001;
+    auto side = [](int frame) { return frame < 3 ? 0.0 : -0.010 * (frame - 3); };
+    const StrokeLog run = stroke(swipeTo(z, 0.001), 0.25, tableAndBox(side));
+    double largest = 0.0; // the largest growth of |F| in one update while held, N
+    double most = 0.0;
+    bool letGo = false;
+    for (std::size_t k = 100; k < run.out.size() && !letGo; ++k) {
+        const glm::dvec3 &f = run.out[k].force;
+        letGo = run.out[k].released;
+        if (letGo)
+            break;
+        largest = std::max(largest, glm::length(f) - glm::length(run.out[k - 1].force));
+        most = std::max(most, glm::length(f));
+        EXPECT_LT(f.x, 0.0) << "at t = " << k << " ms";
+        EXPECT_LE(std::fabs(f.y) + std::fabs(f.z), 0.1 * std::fabs(f.x) + 0.05)
+            << "at t = " << k << " ms";
+    }
+    std::printf("a side sweeping onto a held finger at 30 cm/s: largest growth %.3f N an update, "
+                "up to %.2f N, let go: %s\n",
+                largest, most, letGo ? "yes" : "no");
+    EXPECT_LE(largest, config.maxForceStep / 16.0 + 0.01);
+    EXPECT_GE(most, 0.99 * config.maxForce); // it did push, up to the device maximum
+    EXPECT_TRUE(letGo);
 }
 
 } // namespace

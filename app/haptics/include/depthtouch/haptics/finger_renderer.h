@@ -126,6 +126,9 @@ inline constexpr double kFingerSwitchGain = 0.02;
 inline constexpr double kFingerRestSpeed = 0.01;
 inline constexpr double kFingerSlideSpeed = 0.02;
 inline constexpr double kFingerSpeedTime = 0.02;
+/// An object's side, met as a wall (finger_wall.cpp), is steeper than this slope: the height
+/// difference over ±r, divided by 2r (45°).
+inline constexpr double kFingerWallSlope = 1.0;
 /// Plane refits per update after the first (a converged proxy stops earlier).
 inline constexpr int kFingerIterations = 2;
 /// Taps farther than this many stencil half-widths from the stencil's median are left out of the
@@ -225,6 +228,13 @@ private:
     /// its plane (along the plane's normal, z up), or with the HIP above that plane the sensor
     /// surface \a raw (m) straight above the HIP.
     void pushUp(const glm::dvec3 &hip, double raw, Candidate &c) const noexcept;
+    /// The contact straight up from the HIP: the proxy on the sensor surface \a raw (m) at the
+    /// HIP's own x–y, the plane fitted there (a finger under the surface whose stencil's median
+    /// lies beside an object's silhouette).
+    void straightUp(const glm::dvec3 &hip, double raw, Candidate &c) const noexcept;
+    /// \return how much the HIP's depth under the proxy (or behind a wall) may grow this update:
+    /// the HIP's own motion since the last update plus pushDepth_, m (the bounded push).
+    [[nodiscard]] double pushReach(const glm::dvec3 &hip) const noexcept;
     /// \return how far the stencil \a now (refitted where the last update's plane was) moved
     /// since that update: the median over its taps of |now − then|, m; a tap that is or was a hole
     /// moved 0 (a hole opening is no cut). A cut moves the whole patch; an object's silhouette
