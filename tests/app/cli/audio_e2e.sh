@@ -9,8 +9,7 @@
 set -u
 exe="$1"
 . "$(dirname "$0")/../../e2e_lib.sh"
-e2e_need ffmpeg ffprobe python3
-e2e_work audio
+e2e_start audio ffmpeg ffprobe python3
 
 ff -f lavfi -i testsrc=size=96x72:rate=30:duration=3 \
     -f lavfi -i "aevalsrc='if(between(t,1,1.005),0.9*sin(2*PI*1000*t),0)':s=48000:d=3" -ac 2 \

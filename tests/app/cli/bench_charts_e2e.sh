@@ -7,8 +7,7 @@ set -u
 exe="$1"
 . "$(dirname "$0")/../../e2e_lib.sh"
 data="${2:-}"
-e2e_need gnuplot
-e2e_work charts-e2e
+e2e_start charts-e2e gnuplot
 
 bench() { # name, args...
     name="$1"; shift

@@ -8,10 +8,9 @@
 # Usage: depth_bits_e2e.sh DEPTHTOUCH   (exit 77 without the ffmpeg CLI)
 exe=$1
 . "$(dirname "$0")/../../e2e_lib.sh"
-e2e_need ffmpeg
-e2e_work depth-bits
+e2e_start depth-bits ffmpeg
 
-ff -f lavfi -i testsrc=size=64x48:rate=30:duration=1 -start_number 0 "$work/c-%03d.png" || fail "ffmpeg color"
+e2e_color_pngs 64x48 1
 ff -f lavfi -i color=c=black:size=64x48:rate=30:duration=1 -vf "format=gray16le,geq=lum='1500'" \
     -pix_fmt gray16be -start_number 0 "$work/d-%03d.png" || fail "ffmpeg depth"
 

@@ -8,15 +8,10 @@
 set -u
 exe="$1"
 . "$(dirname "$0")/../../e2e_lib.sh"
-e2e_need ffmpeg ffprobe
-pid=""
-e2e_cleanup() { [ -n "$pid" ] && kill "$pid" 2>/dev/null; }
-e2e_work encode-e2e
+e2e_start encode-e2e ffmpeg ffprobe
 
-ff -f lavfi -i testsrc=size=64x48:rate=30:duration=0.4 -start_number 0 "$work/c-%03d.png" || fail "ffmpeg color"
-ff -f lavfi -i color=c=black:size=64x48:rate=30:duration=0.4 \
-    -vf "format=gray16le,geq=lum='if(lt(X,8)*lt(Y,8),0,1000+20*X)'" -pix_fmt gray16be \
-    -start_number 0 "$work/d-%03d.png" || fail "ffmpeg depth"
+e2e_color_pngs 64x48 0.4
+e2e_metric_depth_pngs 0.4
 
 # 1. Success: MKV with both streams, titles, tags; quiet on a non-terminal stderr.
 "$exe" encode --color "$work/c-%03d.png" --depth "$work/d-%03d.png" -o "$work/out.mkv" \
@@ -139,17 +134,17 @@ bad "no camera" --color v4l2:/dev/video99 --depth "$D" -o "$work/bad.mkv"
 # 4. SIGINT during an endless encode: the file is complete and playable.
 "$exe" encode --color "$work/c-000.png" --depth "$work/d-000.png" --loop -o "$work/int.mkv" \
     --preset ultrafast >"$work/int.out" 2>"$work/int.err" &
-pid=$!
+e2e_bg=$!
 i=0
 while [ $i -lt 200 ]; do  # until the encoder has opened its output (at most 20 s)
     ls "$work" | grep -q '^int\.mkv\.tmp\.' && break
     sleep 0.1; i=$((i + 1))
 done
 sleep 1  # let it encode a while
-kill -INT "$pid"
-wait "$pid"
+kill -INT "$e2e_bg"
+wait "$e2e_bg"
 rc=$?
-pid=""
+e2e_bg=""
 [ "$rc" -eq 130 ] || { cat "$work/int.err"; fail "interrupted encode: exit $rc, want 130"; }
 [ -s "$work/int.mkv" ] || fail "interrupted encode left no file"
 counts=$(probe -count_frames -show_entries stream=nb_read_frames -of csv=p=0 "$work/int.mkv" | tr '\n' ' ')

@@ -8,10 +8,7 @@
 set -u
 exe="$1"
 . "$(dirname "$0")/../../e2e_lib.sh"
-e2e_need ffmpeg timeout
-writer=""
-e2e_cleanup() { [ -n "$writer" ] && kill "$writer" 2>/dev/null; }
-e2e_work faults
+e2e_start faults ffmpeg timeout
 w="$work"
 
 # Inputs: an untitled gray H.264 clip (depth by its 4:0:0 SPS), color and depth PNG sequences with
@@ -89,9 +86,9 @@ run "probe --decode FIFO" 2 10 "$exe" probe --decode "$w/fifo"
 run "encode --color FIFO without writer" 2 30 "$exe" encode --color "$w/fifo" \
     --depth "$w/d-%03d.png" -o "$w/x.mkv"
 # With a writer, probe reads the stream once and ends.
-cat "$w/gray.mkv" >"$w/fifo" & writer=$!
+cat "$w/gray.mkv" >"$w/fifo" & e2e_bg=$!
 run "probe FIFO with writer" 0 30 "$exe" probe "$w/fifo"
-wait "$writer" 2>/dev/null; writer=""
+wait "$e2e_bg" 2>/dev/null; e2e_bg=""
 run "encode from a silent URL" 2 40 "$exe" encode --color udp://127.0.0.1:9 \
     --depth udp://127.0.0.1:9 -o "$w/x.mkv" --duration 3
 [ ! -e "$w/x.mkv" ] || fail "encode left an output"

@@ -12,8 +12,7 @@
 set -u
 exe="$1"
 . "$(dirname "$0")/../../e2e_lib.sh"
-e2e_need ffmpeg
-e2e_work force-direction
+e2e_start force-direction ffmpeg
 
 W=64; H=48; box_width=0.1; box_depth=0.04
 # normal DV_DC DV_DR: the unit outward normal "nx ny nz" of a plane whose nearness changes by DV_DC
@@ -53,7 +52,7 @@ check touch "$work/touch.csv" $(normal 512 256)
 
 # play: metric depth 2000 mm - 16 mm per column + 8 mm per row, linear between 1 and 3 m: nearness
 # (3000 - d) / 2000 x 65535, so 524.28 per column and -262.14 per row.
-ff -f lavfi -i testsrc=size=${W}x$H:rate=30:duration=1 -start_number 0 "$work/c-%03d.png" || fail "ffmpeg color"
+e2e_color_pngs "${W}x$H" 1
 ff -f lavfi -i color=c=black:size=${W}x$H:rate=30:duration=1 -vf "format=gray16le,geq=lum='2000-16*(X-32)+8*(Y-24)'" \
     -pix_fmt gray16be -start_number 0 "$work/d-%03d.png" || fail "ffmpeg depth"
 "$exe" encode --color "$work/c-%03d.png" --depth "$work/d-%03d.png" -o "$work/plane.mkv" --depth-bits 16 \

@@ -8,12 +8,9 @@
 # Usage: ladder_e2e.sh DEPTHTOUCH   (exit 77 without the ffmpeg CLI or python3)
 exe=$1
 . "$(dirname "$0")/../../e2e_lib.sh"
-e2e_need ffmpeg python3
-e2e_work ladder
-server=""
-e2e_cleanup() { [ -n "$server" ] && kill "$server" 2>/dev/null; }
+e2e_start ladder ffmpeg python3
 
-ff -f lavfi -i testsrc=size=160x120:rate=30:duration=6 -start_number 0 "$work/c-%03d.png" || fail "ffmpeg color"
+e2e_color_pngs 160x120 6
 ff -f lavfi -i "gradients=size=160x120:rate=30:duration=6,format=gray" -start_number 0 "$work/d-%03d.png" ||
     fail "ffmpeg depth"
 ff -f lavfi -i color=c=0x010000:size=160x120:rate=1:duration=1 -frames:v 1 "$work/m.png" || fail "ffmpeg material"
@@ -55,7 +52,7 @@ PY
 
 port=$((20000 + $$ % 20000))
 (cd "$work/www" && exec python3 -m http.server --bind 127.0.0.1 "$port") >"$work/http.log" 2>&1 &
-server=$!
+e2e_bg=$!
 e2e_wait_served "$exe" "http://127.0.0.1:$port/show.m3u8" "$work/probe.txt"
 play_size() { # $1: the source option's value or "" (the default); prints the played color size
     opt=""

@@ -10,10 +10,7 @@
 exe=$1
 here=$(dirname "$0")
 . "$here/../../e2e_lib.sh"
-e2e_need ffmpeg python3
-e2e_work ladder-switch
-server=""
-e2e_cleanup() { [ -n "$server" ] && kill "$server" 2>/dev/null; }
+e2e_start ladder-switch ffmpeg python3
 
 ff -f lavfi -i testsrc2=size=320x240:rate=30:duration=16 -start_number 0 "$work/c-%03d.png" || fail "ffmpeg color"
 ff -f lavfi -i "color=c=0x909090:size=320x240:rate=30:duration=16,format=gray" -start_number 0 "$work/d-%03d.png" ||
@@ -28,7 +25,7 @@ link=$((low * 115 / 100 / 8)) # bytes/s
 
 port=$((20000 + $$ % 20000))
 python3 "$here/throttled_http.py" "$port" "$work/www" "0=0,4=$link" 2>"$work/http.log" &
-server=$!
+e2e_bg=$!
 python3 - "$port" <<'PY' || fail "the throttled server does not listen"
 import socket, sys, time
 for _ in range(50):

@@ -25,7 +25,7 @@ e2e_work live-e2e
 port=$((20000 + $$ % 20000))
 
 # 90 frames (3 s at 30 fps): two HLS segments of 2 s.
-ff -f lavfi -i testsrc=size=64x48:rate=30:duration=3 -start_number 0 "$work/c-%03d.png" || fail "ffmpeg color"
+e2e_color_pngs 64x48 3
 ff -f lavfi -i color=c=black:size=64x48:rate=30:duration=3 \
     -vf "format=gray16le,geq=lum='1000+20*X'" -pix_fmt gray16be -start_number 0 "$work/d-%03d.png" ||
     fail "ffmpeg depth"

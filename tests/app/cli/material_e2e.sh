@@ -11,8 +11,7 @@
 set -u
 exe="$1"
 . "$(dirname "$0")/../../e2e_lib.sh"
-e2e_need ffmpeg ffprobe cmp od
-e2e_work material-e2e
+e2e_start material-e2e ffmpeg ffprobe cmp od
 
 # octal R G B: the printf escapes of one pixel.
 octal() { printf '\\%03o\\%03o\\%03o' "$1" "$2" "$3"; }
@@ -30,7 +29,7 @@ ppm() { { printf 'P6\n%d %d\n255\n' "$1" "$2"; cat; } >"$3"; }
 # repeat N FILE OUT: FILE repeated N times.
 repeat() { : >"$3"; i=0; while [ "$i" -lt "$1" ]; do cat "$2" >>"$3"; i=$((i + 1)); done; }
 
-ff -f lavfi -i testsrc=size=64x48:rate=30:duration=0.4 -start_number 0 "$work/c-%03d.png" || fail "ffmpeg color"
+e2e_color_pngs 64x48 0.4
 ff -f lavfi -i color=c=gray:size=64x48:rate=30:duration=0.4 -pix_fmt gray -start_number 0 "$work/d-%03d.png" \
     || fail "ffmpeg depth"
 frames=12

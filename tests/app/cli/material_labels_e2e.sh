@@ -8,10 +8,9 @@
 set -u
 exe="$1"
 . "$(dirname "$0")/../../e2e_lib.sh"
-e2e_need ffmpeg od
-e2e_work material-labels
+e2e_start material-labels ffmpeg od
 
-ff -f lavfi -i testsrc=size=64x48:rate=30:duration=0.2 -start_number 0 "$work/c-%03d.png" || fail "ffmpeg color"
+e2e_color_pngs 64x48 0.2
 ff -f lavfi -i color=c=gray:size=64x48:rate=30:duration=0.2 -pix_fmt gray -start_number 0 "$work/d-%03d.png" \
     || fail "ffmpeg depth"
 

@@ -7,8 +7,7 @@
 set -u
 exe="$1"
 . "$(dirname "$0")/../../e2e_lib.sh"
-e2e_need ffmpeg ffprobe python3
-e2e_work probe-audio
+e2e_start probe-audio ffmpeg ffprobe python3
 
 # A 1 s DepthTouch clip (30 pairs), then the same with a 1.5 s mono 44.1 kHz AAC track tagged
 # English (MKV) and with a 3 s stereo 48 kHz AAC track (MP4).

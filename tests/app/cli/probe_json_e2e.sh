@@ -8,14 +8,11 @@
 set -u
 exe="$1"
 . "$(dirname "$0")/../../e2e_lib.sh"
-e2e_need ffmpeg ffprobe
-e2e_work probe-json
+e2e_start probe-json ffmpeg ffprobe
 
-ff -f lavfi -i testsrc=size=64x48:rate=30:duration=0.4 -start_number 0 "$work/c-%03d.png" || fail "ffmpeg color"
+e2e_color_pngs 64x48 0.4
 # 1.0 .. 2.26 m in mm with a hole (0) in the top-left corner.
-ff -f lavfi -i color=c=black:size=64x48:rate=30:duration=0.4 \
-    -vf "format=gray16le,geq=lum='if(lt(X,8)*lt(Y,8),0,1000+20*X)'" -pix_fmt gray16be \
-    -start_number 0 "$work/d-%03d.png" || fail "ffmpeg depth"
+e2e_metric_depth_pngs 0.4
 
 # key NAME JSON: the value of "NAME" in the one-line "depth_metadata" object (strings unquoted).
 key() { printf '%s\n' "$2" | sed -n "s/.*\"$1\":\"\{0,1\}\([^,\"}]*\).*/\1/p"; }

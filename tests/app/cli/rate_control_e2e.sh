@@ -10,8 +10,7 @@
 set -u
 exe="$1"
 . "$(dirname "$0")/../../e2e_lib.sh"
-e2e_need ffmpeg ffprobe awk
-e2e_work rate
+e2e_start rate ffmpeg ffprobe awk
 
 ff -f lavfi -i testsrc=size=192x144:rate=30:duration=3 -vf noise=alls=30:allf=t -c:v ffv1 \
     "$work/c.mkv" || fail "ffmpeg color"

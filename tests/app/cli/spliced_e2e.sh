@@ -7,8 +7,7 @@
 set -u
 exe="$1"
 . "$(dirname "$0")/../../e2e_lib.sh"
-e2e_need ffmpeg ffprobe
-e2e_work spliced
+e2e_start spliced ffmpeg ffprobe
 
 clip() { # name, size, seconds
     ff -f lavfi -i "testsrc2=s=$2:r=30:d=$3" -pix_fmt yuv420p "$work/c$1.mkv" || fail "ffmpeg color $1"

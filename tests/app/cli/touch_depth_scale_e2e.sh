@@ -10,8 +10,7 @@
 set -u
 exe="$1"
 . "$(dirname "$0")/../../e2e_lib.sh"
-e2e_need ffmpeg
-e2e_work touch-scale
+e2e_start touch-scale ffmpeg
 
 near=0.5; far=2; wall=0.9; k=800; z0=0.02; z1=-0.01; box_depth=0.04
 # plane FILE-PATTERN UNITS: 16-bit PNGs of the wall at UNITS everywhere, 2 s at 30 fps.

@@ -7,8 +7,7 @@
 set -u
 exe="$1"
 . "$(dirname "$0")/../../e2e_lib.sh"
-e2e_need ffmpeg
-e2e_work touch-e2e
+e2e_start touch-e2e ffmpeg
 
 # A flat surface at mid nearness (z = 0 in the scene box); the HIP goes from 2 cm above it to 1 cm
 # below in 1 s: contact from about t = 0.67 s.
