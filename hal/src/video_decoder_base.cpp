@@ -10,6 +10,18 @@ DT_LOG_CATEGORY(HalDecoder)
 
 namespace depthtouch::hal {
 
+DecoderStats DecoderCounters::snapshot() const noexcept
+{
+    DecoderStats s;
+    s.packetsQueued = packetsQueued.load(std::memory_order_relaxed);
+    s.framesDecoded = framesDecoded.load(std::memory_order_relaxed);
+    s.framesConcealed = framesConcealed.load(std::memory_order_relaxed);
+    s.framesDropped = framesDropped.load(std::memory_order_relaxed);
+    s.framesDmaBuf = framesDmaBuf.load(std::memory_order_relaxed);
+    s.framesHardware = framesHardware.load(std::memory_order_relaxed);
+    return s;
+}
+
 Result<void> VideoDecoderBase::check(bool allowed, const char *call, const char *required,
                                      const char *message) const noexcept
 {

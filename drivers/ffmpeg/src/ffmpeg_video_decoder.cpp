@@ -1,6 +1,5 @@
 #include "depthtouch/drivers/ffmpeg/ffmpeg_video_decoder.h"
 
-#include <atomic>
 #include <cstring>
 #include <filesystem>
 #include <iterator>
@@ -130,7 +129,7 @@ struct FfmpegVideoDecoder::Impl {
     void settleDropped() noexcept
     {
         if (sent > received)
-            framesDropped.fetch_add(sent - received, std::memory_order_relaxed);
+            counters.framesDropped.fetch_add(sent - received, std::memory_order_relaxed);
         sent = 0;
         received = 0;
     }
@@ -166,12 +165,7 @@ struct FfmpegVideoDecoder::Impl {
     std::uint64_t received = 0;
     std::uint64_t sequence = 0;
 
-    std::atomic<std::uint64_t> packetsQueued{0};
-    std::atomic<std::uint64_t> framesDecoded{0};
-    std::atomic<std::uint64_t> framesConcealed{0};
-    std::atomic<std::uint64_t> framesDropped{0};
-    std::atomic<std::uint64_t> framesDmaBuf{0};
-    std::atomic<std::uint64_t> framesHardware{0};
+    hal::DecoderCounters counters;
 
     HwAccel hw;             ///< The hwaccel device of this configure(), or software.
     av::FramePtr hwScratch; ///< A hardware frame copied to system memory.
@@ -261,7 +255,7 @@ Result<hal::FrameRef> FfmpegVideoDecoder::Impl::lendFrame() noexcept
     av_frame_unref(frame.get());
     if (!copied) {
         pool.releaseFrame(slot);
-        framesDropped.fetch_add(1, std::memory_order_relaxed);
+        counters.framesDropped.fetch_add(1, std::memory_order_relaxed);
         return unexpected(Errc::Io, copied.error().what);
     }
     out->kind = config.kind;
@@ -269,13 +263,13 @@ Result<hal::FrameRef> FfmpegVideoDecoder::Impl::lendFrame() noexcept
     out->time = clock.now();
     out->sequence = ++sequence;
     out->corrupt = corrupt;
-    framesDecoded.fetch_add(1, std::memory_order_relaxed);
+    counters.framesDecoded.fetch_add(1, std::memory_order_relaxed);
     if (dmabuf)
-        framesDmaBuf.fetch_add(1, std::memory_order_relaxed);
+        counters.framesDmaBuf.fetch_add(1, std::memory_order_relaxed);
     if (hardware)
-        framesHardware.fetch_add(1, std::memory_order_relaxed);
+        counters.framesHardware.fetch_add(1, std::memory_order_relaxed);
     if (corrupt)
-        framesConcealed.fetch_add(1, std::memory_order_relaxed);
+        counters.framesConcealed.fetch_add(1, std::memory_order_relaxed);
     return pool.lend(slot);
 }
 
@@ -459,7 +453,7 @@ Result<void> FfmpegVideoDecoder::queuePacketDevice(const hal::Packet &pkt)
     if (d.count == d.queue.size())
         return unexpected(Errc::Busy, "Decoder input queue is full");
     if (pkt.data == nullptr || pkt.size == 0) {
-        d.framesDropped.fetch_add(1, std::memory_order_relaxed);
+        d.counters.framesDropped.fetch_add(1, std::memory_order_relaxed);
         return unexpected(Errc::InvalidArgument, "Packet without data");
     }
     QueuedPacket &q = d.queue[(d.head + d.count) % d.queue.size()];
@@ -470,7 +464,7 @@ Result<void> FfmpegVideoDecoder::queuePacketDevice(const hal::Packet &pkt)
     q.data.resize(pkt.size + AV_INPUT_BUFFER_PADDING_SIZE);
     std::memcpy(q.data.data(), pkt.data, pkt.size);
     std::memset(q.data.data() + pkt.size, 0, AV_INPUT_BUFFER_PADDING_SIZE);
-    d.packetsQueued.fetch_add(1, std::memory_order_relaxed);
+    d.counters.packetsQueued.fetch_add(1, std::memory_order_relaxed);
     ++d.count;
     return ok();
 }
@@ -496,7 +490,7 @@ Result<hal::FrameRef> FfmpegVideoDecoder::dequeueFrameDevice(hal::Deadline until
             return unexpected(Errc::EndOfStream, "Decoder drained");
         }
         if (r != AVERROR(EAGAIN)) {
-            d.framesDropped.fetch_add(1, std::memory_order_relaxed);
+            d.counters.framesDropped.fetch_add(1, std::memory_order_relaxed);
             return unexpected(Errc::Io, "Failed to decode a frame", AVUNERROR(r));
         }
         int s = 0;
@@ -523,7 +517,7 @@ Result<hal::FrameRef> FfmpegVideoDecoder::dequeueFrameDevice(hal::Deadline until
                 ++d.sent;
         }
         if (s < 0 && s != AVERROR_EOF) {
-            d.framesDropped.fetch_add(1, std::memory_order_relaxed);
+            d.counters.framesDropped.fetch_add(1, std::memory_order_relaxed);
             return unexpected(Errc::Io, "The decoder rejected a packet", AVUNERROR(s));
         }
     }
@@ -534,7 +528,7 @@ Result<hal::FrameRef> FfmpegVideoDecoder::dequeueFrameDevice(hal::Deadline until
 void FfmpegVideoDecoder::flushDevice() noexcept
 {
     Impl &d = *impl_;
-    d.framesDropped.fetch_add(d.count, std::memory_order_relaxed);
+    d.counters.framesDropped.fetch_add(d.count, std::memory_order_relaxed);
     d.settleDropped();
     d.dropQueue();
     avcodec_flush_buffers(d.ctx.get());
@@ -554,15 +548,7 @@ void FfmpegVideoDecoder::closeDevice() noexcept
 
 hal::DecoderStats FfmpegVideoDecoder::stats() const noexcept
 {
-    const Impl &d = *impl_;
-    hal::DecoderStats s;
-    s.packetsQueued = d.packetsQueued.load(std::memory_order_relaxed);
-    s.framesDecoded = d.framesDecoded.load(std::memory_order_relaxed);
-    s.framesConcealed = d.framesConcealed.load(std::memory_order_relaxed);
-    s.framesDropped = d.framesDropped.load(std::memory_order_relaxed);
-    s.framesDmaBuf = d.framesDmaBuf.load(std::memory_order_relaxed);
-    s.framesHardware = d.framesHardware.load(std::memory_order_relaxed);
-    return s;
+    return impl_->counters.snapshot();
 }
 
 int FfmpegVideoDecoder::framesLent() const noexcept

@@ -75,7 +75,7 @@ Result<void> MockVideoDecoder::configureDevice(const hal::StreamConfig &cfg)
 
 void MockVideoDecoder::dropQueue() noexcept
 {
-    framesDropped_.fetch_add(count_, std::memory_order_relaxed);
+    counters_.framesDropped.fetch_add(count_, std::memory_order_relaxed);
     head_ = 0;
     count_ = 0;
 }
@@ -87,7 +87,7 @@ Result<void> MockVideoDecoder::queuePacketDevice(const hal::Packet &pkt)
     MockPacketHeader header;
     if (pkt.size > sizeof(QueuedPacket::data) ||
         parseMockPacket(pkt.data, pkt.size, header) == MockPacketCheck::Malformed) {
-        framesDropped_.fetch_add(1, std::memory_order_relaxed);
+        counters_.framesDropped.fetch_add(1, std::memory_order_relaxed);
         return unexpected(Errc::InvalidArgument, "Not a Mock codec packet");
     }
     QueuedPacket &q = queue_[(head_ + count_) % queue_.size()];
@@ -96,7 +96,7 @@ Result<void> MockVideoDecoder::queuePacketDevice(const hal::Packet &pkt)
     q.pts = pkt.pts;
     q.ordinal = queuedSinceConfigure_++;
     ++count_;
-    packetsQueued_.fetch_add(1, std::memory_order_relaxed);
+    counters_.packetsQueued.fetch_add(1, std::memory_order_relaxed);
     return ok();
 }
 
@@ -114,7 +114,7 @@ Result<hal::FrameRef> MockVideoDecoder::dequeueFrameDevice(hal::Deadline until)
     if (q.ordinal == failPacketAt_) {
         head_ = (head_ + 1) % queue_.size();
         --count_;
-        framesDropped_.fetch_add(1, std::memory_order_relaxed);
+        counters_.framesDropped.fetch_add(1, std::memory_order_relaxed);
         return unexpected(Errc::Io, "Failed to decode packet (injected fault)");
     }
     std::uint32_t slot = 0;
@@ -135,7 +135,7 @@ Result<hal::FrameRef> MockVideoDecoder::dequeueFrameDevice(hal::Deadline until)
     } else {
         renderMockConcealed(frame->image);
         frame->corrupt = true;
-        framesConcealed_.fetch_add(1, std::memory_order_relaxed);
+        counters_.framesConcealed.fetch_add(1, std::memory_order_relaxed);
     }
     frame->kind = config_.kind;
     frame->pts = q.pts;
@@ -143,7 +143,7 @@ Result<hal::FrameRef> MockVideoDecoder::dequeueFrameDevice(hal::Deadline until)
     frame->sequence = sequence_++;
     head_ = (head_ + 1) % queue_.size();
     --count_;
-    framesDecoded_.fetch_add(1, std::memory_order_relaxed);
+    counters_.framesDecoded.fetch_add(1, std::memory_order_relaxed);
     return pool_->lend(slot);
 }
 
@@ -159,12 +159,7 @@ void MockVideoDecoder::closeDevice() noexcept
 
 hal::DecoderStats MockVideoDecoder::stats() const noexcept
 {
-    hal::DecoderStats s;
-    s.packetsQueued = packetsQueued_.load(std::memory_order_relaxed);
-    s.framesDecoded = framesDecoded_.load(std::memory_order_relaxed);
-    s.framesConcealed = framesConcealed_.load(std::memory_order_relaxed);
-    s.framesDropped = framesDropped_.load(std::memory_order_relaxed);
-    return s;
+    return counters_.snapshot();
 }
 
 int MockVideoDecoder::framesLent() const noexcept

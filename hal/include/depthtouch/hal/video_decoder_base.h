@@ -22,11 +22,27 @@
 ///
 /// Thread-safety: thread-bound, as hal::VideoDecoder (stats() stays the backend's, thread-safe).
 
+#include <atomic>
 #include <cstdint>
 
 #include "depthtouch/hal/video_decoder.h"
 
 namespace depthtouch::hal {
+
+/// \brief The counts of DecoderStats as atomics, for a backend's stats(): the backend counts on the
+/// thread that decodes while stats() is read from any other. Thread-safe; real-time safe (relaxed,
+/// lock-free counters).
+struct DecoderCounters {
+    std::atomic<std::uint64_t> packetsQueued{0};   ///< DecoderStats::packetsQueued.
+    std::atomic<std::uint64_t> framesDecoded{0};   ///< DecoderStats::framesDecoded.
+    std::atomic<std::uint64_t> framesConcealed{0}; ///< DecoderStats::framesConcealed.
+    std::atomic<std::uint64_t> framesDropped{0};   ///< DecoderStats::framesDropped.
+    std::atomic<std::uint64_t> framesDmaBuf{0};    ///< DecoderStats::framesDmaBuf.
+    std::atomic<std::uint64_t> framesHardware{0};  ///< DecoderStats::framesHardware.
+
+    /// \return the counts, each read once (not one instant across the counters).
+    [[nodiscard]] DecoderStats snapshot() const noexcept;
+};
 
 /// \brief The base of every video decoder backend: owns the state, the end-of-stream flag and the
 /// contract (see the file comment); the backend implements the hooks.

@@ -10,7 +10,6 @@
 /// the injected clock. Thread-safety: as hal::VideoDecoder; the fault-injection calls are
 /// thread-bound too.
 
-#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -92,10 +91,7 @@ private:
     std::uint64_t queuedSinceConfigure_ = 0;
     std::uint64_t sequence_ = 0;
 
-    std::atomic<std::uint64_t> packetsQueued_{0};
-    std::atomic<std::uint64_t> framesDecoded_{0};
-    std::atomic<std::uint64_t> framesConcealed_{0};
-    std::atomic<std::uint64_t> framesDropped_{0};
+    hal::DecoderCounters counters_; ///< stats() (never a dma-buf or hardware frame).
 
     Errc failConfigure_ = Errc::NoDevice;
     bool failConfigureArmed_ = false;
