@@ -219,17 +219,23 @@ void skipChild(ChildOutcome &o, const char *reason)
     copyText(o.skipReason, sizeof(o.skipReason), reason);
 }
 
-/// In a forked child: lowers the limit \a resource (RLIMIT_...) to 0 and drops capability \a cap.
-/// \return false, with the outcome skipped for \a reason, when either fails.
-bool lowerLimitAndDropCapability(ChildOutcome &o, decltype(RLIMIT_RTPRIO) resource, int cap,
-                                 const char *reason)
+/// runInChild() of \a scenario in a child that first lowers the limit \a resource (RLIMIT_...) to 0
+/// and drops capability \a cap; where either fails, the outcome is skipped for \a reason and
+/// \a scenario does not run.
+template <class Scenario>
+bool runInChildWithout(decltype(RLIMIT_RTPRIO) resource, int cap, const char *reason,
+                       Scenario scenario, ChildOutcome &out)
 {
-    const rlimit none{0, 0};
-    if (setrlimit(resource, &none) != 0 || !dropCapability(cap)) {
-        skipChild(o, reason);
-        return false;
-    }
-    return true;
+    return runInChild(
+        [&](ChildOutcome &o) {
+            const rlimit none{0, 0};
+            if (setrlimit(resource, &none) != 0 || !dropCapability(cap)) {
+                skipChild(o, reason);
+                return;
+            }
+            scenario(o);
+        },
+        out);
 }
 
 bool contains(const char *text, const char *needle)
@@ -293,11 +299,9 @@ TEST(RealtimeThreadTest, refusedFifoFallsBackOrFailsWhenRequired)
 {
     // GIVEN a child where the kernel refuses SCHED_FIFO: RLIMIT_RTPRIO 0 and no CAP_SYS_NICE
     ChildOutcome out;
-    ASSERT_TRUE(runInChild(
+    ASSERT_TRUE(runInChildWithout(
+        RLIMIT_RTPRIO, CAP_SYS_NICE, "cannot lower RLIMIT_RTPRIO or drop CAP_SYS_NICE",
         [](ChildOutcome &o) {
-            if (!lowerLimitAndDropCapability(o, RLIMIT_RTPRIO, CAP_SYS_NICE,
-                                             "cannot lower RLIMIT_RTPRIO or drop CAP_SYS_NICE"))
-                return;
             sched_param param{};
             param.sched_priority = 1;
             if (sched_setscheduler(0, SCHED_FIFO, &param) == 0) {
@@ -344,11 +348,9 @@ TEST(RealtimeThreadTest, refusedMemoryLockFallsBackOrFailsWhenRequired)
     // GIVEN a child where the kernel refuses mlock and mlockall: RLIMIT_MEMLOCK 0 and no
     // CAP_IPC_LOCK
     ChildOutcome out;
-    ASSERT_TRUE(runInChild(
+    ASSERT_TRUE(runInChildWithout(
+        RLIMIT_MEMLOCK, CAP_IPC_LOCK, "cannot lower RLIMIT_MEMLOCK or drop CAP_IPC_LOCK",
         [](ChildOutcome &o) {
-            if (!lowerLimitAndDropCapability(o, RLIMIT_MEMLOCK, CAP_IPC_LOCK,
-                                             "cannot lower RLIMIT_MEMLOCK or drop CAP_IPC_LOCK"))
-                return;
             static char probe[1];
             if (mlock(probe, 1) == 0 || mlockall(MCL_CURRENT) == 0) {
                 munlockall();
