@@ -347,13 +347,6 @@ Result<void> EglGbmDisplay::ensureCurrent()
     return current;
 }
 
-Result<void> EglGbmDisplay::makeCurrentDevice()
-{
-    DT_TRY(ensureCurrent());
-    egl::bindDrawTarget(0, size_);
-    return ok();
-}
-
 Result<hal::PresentInfo> EglGbmDisplay::presentDevice()
 {
     DT_TRY(ensureCurrent());
@@ -381,10 +374,9 @@ Result<hal::PresentInfo> EglGbmDisplay::presentDevice()
     return info;
 }
 
-Result<void> EglGbmDisplay::readPixelsDevice(const hal::ImageView &out)
+egl::FrameCopy &EglGbmDisplay::frameCopy() noexcept
 {
-    DT_TRY(ensureCurrent());
-    return kms_->copy.read(out, size_);
+    return kms_->copy;
 }
 
 } // namespace depthtouch::drivers

@@ -398,13 +398,6 @@ Result<void> EglX11Display::ensureCurrent()
     return current;
 }
 
-Result<void> EglX11Display::makeCurrentDevice()
-{
-    DT_TRY(ensureCurrent());
-    egl::bindDrawTarget(0, size_);
-    return ok();
-}
-
 Result<hal::PresentInfo> EglX11Display::presentDevice()
 {
     DT_TRY(ensureCurrent());
@@ -430,10 +423,9 @@ Result<hal::PresentInfo> EglX11Display::presentDevice()
     return pacer_.follow(clock_, static_cast<unsigned>(settings_.swapInterval));
 }
 
-Result<void> EglX11Display::readPixelsDevice(const hal::ImageView &out)
+egl::FrameCopy &EglX11Display::frameCopy() noexcept
 {
-    DT_TRY(ensureCurrent());
-    return x_->copy.read(out, size_);
+    return x_->copy;
 }
 
 } // namespace depthtouch::drivers

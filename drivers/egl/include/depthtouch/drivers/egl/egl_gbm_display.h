@@ -50,13 +50,13 @@
 #include <memory>
 #include <string>
 
+#include "depthtouch/drivers/egl/egl_window_display.h"
 #include "depthtouch/hal/backends.h"
-#include "depthtouch/hal/display_base.h"
 #include "depthtouch/platform/clock.h"
 
 namespace depthtouch::drivers {
 
-class EglGbmDisplay final : public hal::DisplayBase {
+class EglGbmDisplay final : public EglWindowDisplay {
 public:
     /// Options of the kms display (see the file comment).
     struct Settings {
@@ -80,15 +80,14 @@ public:
 protected:
     [[nodiscard]] Result<void> openDevice(const hal::DisplayConfig &cfg) override;
     void closeDevice() noexcept override;
-    [[nodiscard]] Result<void> makeCurrentDevice() override;
     [[nodiscard]] Result<hal::PresentInfo> presentDevice() override;
-    [[nodiscard]] Result<void> readPixelsDevice(const hal::ImageView &out) override;
 
 private:
     struct Kms; ///< DRM, GBM, EGL and GL handles (keeps their headers out of this header).
 
     [[nodiscard]] Result<void> openOutput(const hal::DisplayConfig &cfg);
-    [[nodiscard]] Result<void> ensureCurrent();
+    [[nodiscard]] Result<void> ensureCurrent() override;
+    [[nodiscard]] egl::FrameCopy &frameCopy() noexcept override;
     void lose(const char *why) noexcept;
 
     platform::Clock &clock_;

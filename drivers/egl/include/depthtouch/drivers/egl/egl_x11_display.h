@@ -42,13 +42,13 @@
 #include <string>
 
 #include "depthtouch/drivers/egl/display_settings.h"
+#include "depthtouch/drivers/egl/egl_window_display.h"
 #include "depthtouch/hal/backends.h"
-#include "depthtouch/hal/display_base.h"
 #include "depthtouch/platform/clock.h"
 
 namespace depthtouch::drivers {
 
-class EglX11Display final : public hal::DisplayBase {
+class EglX11Display final : public EglWindowDisplay {
 public:
     /// Backend factory: settings from cfg.options, X display name from cfg.device (empty:
     /// $DISPLAY), time from cfg.clock; checks that the X server answers and that EGL has the X11
@@ -65,9 +65,7 @@ public:
 protected:
     [[nodiscard]] Result<void> openDevice(const hal::DisplayConfig &cfg) override;
     void closeDevice() noexcept override;
-    [[nodiscard]] Result<void> makeCurrentDevice() override;
     [[nodiscard]] Result<hal::PresentInfo> presentDevice() override;
-    [[nodiscard]] Result<void> readPixelsDevice(const hal::ImageView &out) override;
 
 private:
     struct X; ///< Xlib, EGL and GL handles (keeps X11 and EGL headers out of this header).
@@ -76,7 +74,8 @@ private:
     /// context, and clears the first frame. What a failed step made is left in x_.
     /// \return the window's size.
     [[nodiscard]] Result<hal::Size> openWindow(const EglDisplaySettings &resolved);
-    [[nodiscard]] Result<void> ensureCurrent();
+    [[nodiscard]] Result<void> ensureCurrent() override;
+    [[nodiscard]] egl::FrameCopy &frameCopy() noexcept override;
     /// Handles the pending X events; a closed window or a broken connection makes the state Lost.
     void pumpEvents() noexcept;
     void lose(const char *why) noexcept;
