@@ -78,6 +78,14 @@ protected:
         return rb;
     }
 
+    /// \return fastOptions() into out.mkv with lossless depth: the encoding of most cases here.
+    EncodeOptions losslessOptions()
+    {
+        EncodeOptions o = fastOptions(path("out.mkv"));
+        o.depthLossless = true;
+        return o;
+    }
+
     /// Encodes 2 frames of holedPlane() with \a o as encode() does. \return the file read back.
     test::FileReadback encodeHoledPlanes(const EncodeOptions &o, EncodeSummary &summary)
     {
@@ -91,8 +99,7 @@ protected:
 /// decodes to 0 (below it) and every measured one to the plane's occupied code (at or above it).
 TEST_F(EncodeHolesTest, losslessHolesDecodeBelowTheThresholdAndSurfacesAbove)
 {
-    EncodeOptions o = fastOptions(path("out.mkv"));
-    o.depthLossless = true;
+    EncodeOptions o = losslessOptions();
     EncodeSummary s;
     const auto rb = encodeHoledPlanes(o, s);
     ASSERT_EQ(rb.streams.size(), 2u);
@@ -143,8 +150,7 @@ TEST_F(EncodeHolesTest, resamplingKeepsHolesApartFromMeasuredDepth)
 {
     TestSource depthSrc([](int) { return holedPlane(kW / 2, kH / 2); }, 2, 30.0,
                         PixelFormat::Gray16);
-    EncodeOptions o = fastOptions(path("out.mkv"));
-    o.depthLossless = true;
+    EncodeOptions o = losslessOptions();
     EncodeSummary s;
     const auto rb = encode(o, depthSrc, s);
     ASSERT_EQ(rb.streams.size(), 2u);
@@ -161,8 +167,7 @@ TEST_F(EncodeHolesTest, resamplingKeepsHolesApartFromMeasuredDepth)
 /// measured sample falls below the threshold.
 TEST_F(EncodeHolesTest, enhancementDoesNotTurnHolesIntoSurfaces)
 {
-    EncodeOptions o = fastOptions(path("out.mkv"));
-    o.depthLossless = true;
+    EncodeOptions o = losslessOptions();
     o.enhance = true;
     EncodeSummary s;
     const auto rb = encodeHoledPlanes(o, s);
@@ -183,8 +188,7 @@ TEST_F(EncodeHolesTest, frameWithoutValidDepthIsAllHoles)
     TestSource depthSrc(
         [](int i) { return i == 0 ? holedPlane() : Image::make(kW, kH, PixelFormat::Gray16); }, 2,
         30.0, PixelFormat::Gray16);
-    EncodeOptions o = fastOptions(path("out.mkv"));
-    o.depthLossless = true;
+    EncodeOptions o = losslessOptions();
     EncodeSummary s;
     const auto rb = encode(o, depthSrc, s);
     ASSERT_EQ(rb.streams.size(), 2u);
@@ -201,8 +205,7 @@ TEST_F(EncodeHolesTest, frameWithoutValidDepthIsAllHoles)
 /// every hole carries the plane's nearness, never the far plane (0): no sample is a hole.
 TEST_F(EncodeHolesTest, fillHolesFillsAndWritesNoThreshold)
 {
-    EncodeOptions o = fastOptions(path("out.mkv"));
-    o.depthLossless = true;
+    EncodeOptions o = losslessOptions();
     o.fillHoles = true;
     EncodeSummary s;
     const auto rb = encodeHoledPlanes(o, s);
