@@ -47,6 +47,8 @@ void FingerRenderer::reset(const glm::dvec3 &hip) noexcept
     contact_ = false;
     behind_ = false;
     wall_ = false;
+    pushing_ = false;
+    pushed_ = false;
     enterAnyDepth_ = true;
     heldDepth_ = 0.0;
     lastDepth_ = 0.0;
@@ -271,16 +273,43 @@ double FingerRenderer::stencilStep(const FingerPlane &now) const noexcept
     return median9(moved);
 }
 
-void FingerRenderer::limitPush(const glm::dvec3 &hip, Candidate &c) const noexcept
+void FingerRenderer::limitPush(const glm::dvec3 &hip, Candidate &c) noexcept
 {
     // How deep the HIP is under the proxy may grow by the HIP's own motion and pushDepth_ an
     // update: a surface that sweeps under a resting finger (an object's side, a turning head)
     // pushes it out at a bounded rate, and a hand that yields rises onto it; one that does not is
     // let go once the force has reached the device maximum (watchSaturation()).
-    const double depth = glm::length(c.proxy - hip);
-    const double allowed = lastDepth_ + pushReach(hip);
-    if (depth > allowed)
-        c.proxy = hip + (c.proxy - hip) * (allowed / depth);
+    const glm::dvec3 candidate = c.proxy - hip;
+    const double depth = glm::length(candidate);
+    const double reach = pushReach(hip);
+    const double allowed = lastDepth_ + reach;
+    if (!pushed_) {
+        if (!(depth > allowed))
+            return;
+        pushing_ = true;
+        pushDir_ = candidate / depth;
+        c.proxy = hip + pushDir_ * allowed;
+        return;
+    }
+    // While pushed, the proxy's offset from the HIP turns toward the candidate's by at most reach
+    // (m across) an update: under an occluder two far solutions (the top straight above the HIP,
+    // a point on the object's flank) took turns being the candidate, and the proxy hopped between
+    // them at the servo rate (a 500 Hz limit cycle of the force's direction); nor does the
+    // force's direction step where the push ends. A surface that leaves the finger takes its
+    // force at once (the depth is the candidate's, up to the bound).
+    const glm::dvec3 dir = depth > 0.0 ? candidate / depth : pushDir_;
+    const double angle = std::acos(std::clamp(glm::dot(dir, pushDir_), -1.0, 1.0));
+    const double turn = reach / std::max(lastDepth_, radius_);
+    if (angle > turn) {
+        const glm::dvec3 across = dir - glm::dot(dir, pushDir_) * pushDir_;
+        const double acrossLength = glm::length(across);
+        if (acrossLength > 0.0)
+            pushDir_ = std::cos(turn) * pushDir_ + std::sin(turn) * (across / acrossLength);
+    } else {
+        pushDir_ = dir;
+    }
+    c.proxy = hip + pushDir_ * std::min(depth, allowed);
+    pushing_ = !(angle <= turn && depth <= allowed);
 }
 
 HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
@@ -295,6 +324,8 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     Candidate c;
     c.proxy = hip;
     const bool wasResting = resting_;
+    pushed_ = pushing_ && contact_; // limitPush() bounded the last update's proxy
+    pushing_ = false;
     if (restingContact(hip, t)) {
         wall_ = false;
         if (over)
@@ -428,7 +459,7 @@ void FingerRenderer::watchSaturation(const glm::dvec3 &force, double t, bool con
     // (an object pressed onto it that the hand does not yield to, or a press past what the device
     // renders). Held there for kFingerSaturationTime, the next update lets it go.
     const double sent = outputGain_ * glm::length(force);
-    if (!contact || !config_.safety || !(sent >= config_.maxForce * (1.0 - 1e-9))) {
+    if (!contact || !config_.safety || !(sent >= config_.maxForce * (1.0 - kFingerAtMaximum))) {
         saturatedSince_ = std::nan("");
         return;
     }

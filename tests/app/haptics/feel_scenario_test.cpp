@@ -150,7 +150,8 @@ TEST(FeelScenarioPushTest, theFingerNeverPullsDownOnTheBenchsStrokes)
 // steeper than the outlier rule keeps, a hole beside it) span no plane; flat at their median, 0.1
 // mm over the finger and nearer than the side it pressed into, it took the force to 0.1 N with the
 // finger 6 mm inside the head: 42 ms of pop-through. The descent does not move onto a plane its
-// taps do not span; the press meets the pop-through goal.
+// taps do not span; the press meets the pop-through goal. (The bounded push, which turns at a
+// bounded rate, now holds this press too: without the span rule it also meets the goal.)
 TEST(FeelScenarioPushTest, aDeepPressBesideTheHeadsContourKeepsItsForce)
 {
     auto scene = makeSyntheticScene(SyntheticScene::Head);
@@ -166,6 +167,34 @@ TEST(FeelScenarioPushTest, aDeepPressBesideTheHeadsContourKeepsItsForce)
     std::printf("%s on the head: pop-through %.0f ms, max %.2f N, %zu trips\n",
                 strokes.front().name.c_str(), f.popThroughMs, f.maxForce, f.trips);
     EXPECT_LE(f.popThroughMs, FeelGoals{}.maxPopThroughMs);
+    EXPECT_EQ(f.falseTrips, 0u);
+}
+
+// A finger held 3 mm in beside the synthetic occluder (8-bit, holes kept, as `bench feel` places
+// it) while the occluder sweeps over it: pushed out at a bounded rate, the candidate proxy took
+// turns between the occluder's top straight above the HIP and a point on its flank, and the force
+// changed direction every update (before: an alternating run of 9 updates, 16 sign-reversal
+// spikes). Now the push follows the mean of the last two candidates and turns at a bounded rate:
+// no run longer than the goal's, no sign reversal.
+TEST(FeelScenarioPushTest, aHeldFingerPushedOutByAnOccluderDoesNotAlternate)
+{
+    auto scene = makeSyntheticScene(SyntheticScene::Occluder);
+    ASSERT_TRUE(scene) << scene.error().what;
+    std::vector<Stroke> strokes;
+    for (Stroke &s : makeFamilyStrokes(*scene, FamilyPlan{}))
+        if (s.name == "hold 3 mm under occluder")
+            strokes.push_back(std::move(s));
+    ASSERT_EQ(strokes.size(), 1u);
+    auto results = runFeelStrokes(*scene, strokes, setting("finger"));
+    ASSERT_TRUE(results) << results.error().what;
+    const FeelFigures &f = results->front().figures;
+    std::printf("%s: longest alternating run %zu, %zu sign-reversal spikes, max %.2f N, %zu "
+                "trips\n",
+                strokes.front().name.c_str(), f.longestAlternation, f.reversalSpikes, f.maxForce,
+                f.trips);
+    EXPECT_GT(f.maxForce, 1.0); // the occluder did push
+    EXPECT_LE(f.longestAlternation, FeelGoals{}.maxAlternation);
+    EXPECT_EQ(f.reversalSpikes, 0u);
     EXPECT_EQ(f.falseTrips, 0u);
 }
 

@@ -62,13 +62,16 @@
 ///    - *Bounded push*: the HIP's depth under the proxy grows by at most the HIP's own motion plus
 ///      maxForceStep/(16k) per update, so a surface that sweeps under a resting finger (an
 ///      object's side, a turning head) pushes it out at a bounded rate, and a hand that yields
-///      rises onto it instead of being thrown out at full force or left behind it.
+///      rises onto it instead of being thrown out at full force or left behind it. While bounded,
+///      the push's direction turns toward each update's candidate by at most that rate across:
+///      under an occluder two far solutions took turns and the force's direction alternated at the
+///      servo rate (a 500 Hz limit cycle).
 ///    - *Caught again*: a finger let go behind an occluder (or by a cut) is caught by the surface
 ///      it was held on as soon as that surface is within its held depth (plus the ramped step)
 ///      again, e.g. when the occluder leaves; before, it stayed free until lifted out.
-///    - *Saturation*: a command at the device maximum for kFingerSaturationTime lets the finger go
-///      (whatever Reengage says): the device cannot push it out, and a force held at the maximum
-///      is what a user must never feel for long.
+///    - *Saturation*: a command at the device maximum (within kFingerAtMaximum) for
+///      kFingerSaturationTime lets the finger go (whatever Reengage says): the device cannot push
+///      it out, and a force held at the maximum is what a user must never feel for long.
 ///    - *Holes* (DepthFrameView::holeBelow; docs/architecture.md §3 "Holes"): HeightField puts a
 ///      hole's vertex 1 m under the box, so a hole is free space and its border a cliff; the
 ///      stencil's median ignores a minority of hole taps.
@@ -114,6 +117,9 @@ namespace depthtouch::haptics {
 /// Longest time the command may stay at the device maximum before the finger is let go (on the
 /// next update), s: at most 5 updates at the maximum at 1 kHz, whatever the clock's jitter.
 inline constexpr double kFingerSaturationTime = 0.003;
+/// A command within this share of the device maximum is at it (the force-step limiter and the
+/// ramps approach it in small steps; `bench feel` counts time at the maximum the same way).
+inline constexpr double kFingerAtMaximum = 1e-3;
 /// A glide (a move of the proxy cut short at r/4 plus the HIP's own move) is taken only when it
 /// brings the surface point nearer the HIP by this share of its length: two far solutions beside
 /// an edge that moves a little each update cannot take turns.
@@ -255,7 +261,9 @@ private:
     /// contact once the top is nearer than the side by r.
     void wallContact(const glm::dvec3 &hip, double raw, Candidate &c) noexcept;
     /// Bounds the growth of the HIP's depth under the proxy (a surface sweeping in).
-    void limitPush(const glm::dvec3 &hip, Candidate &c) const noexcept;
+    /// While bounded, the push's direction (pushDir_) turns toward the candidate's by at most
+    /// pushReach() across an update; the depth is the candidate's, up to the bound.
+    void limitPush(const glm::dvec3 &hip, Candidate &c) noexcept;
     /// After kFingerSaturationTime with the command sent, outputGain_ × \a force (N), at the
     /// device maximum in contact, the next update lets the finger go.
     void watchSaturation(const glm::dvec3 &force, double t, bool contact) noexcept;
@@ -298,6 +306,9 @@ private:
     double lastHeight_ = 0.0; ///< Its S, m.
     double lastTaps_[9] = {}; ///< Its taps, m (a cut moves most of them, see stencilStep()).
     double lastDepth_ = 0.0;  ///< |proxy − HIP| of the last update in contact, else 0, m.
+    bool pushing_ = false;    ///< limitPush() bounded this update's proxy.
+    bool pushed_ = false;     ///< It bounded the last update's (in contact).
+    glm::dvec3 pushDir_{};    ///< The bounded push's direction from the HIP (unit).
     double heldDepth_ = 0.0;  ///< The held depth when an occluder or a cut let the finger go, m.
     double saturatedSince_ = std::nan(""); ///< Haptic time the command reached the maximum, s.
     bool letGoNext_ = false;      ///< The command stayed at the maximum: let go on the next update.
