@@ -16,45 +16,17 @@
 #include "depthtouch/media/encode_job.h"
 #include "depthtouch/media/frame_source.h"
 #include "depthtouch/media/image_io.h"
+#include "encode_sources.h"
 #include "support/temp_dir.h"
 
 namespace depthtouch::media {
 namespace {
 
+using test::colorSource;
+using test::nearness8Source;
+
 constexpr int kW = 32;
 constexpr int kH = 24;
-
-/// A fixed number of frames of one color or gray level at a given rate.
-class FlatSource final : public FrameSource {
-public:
-    FlatSource(int count, double fps, PixelFormat native, int w = kW, int h = kH) : count_(count)
-    {
-        info_.width = w;
-        info_.height = h;
-        info_.fps = fps;
-        info_.nativeFormat = native;
-        info_.frameCount = count;
-        info_.description = "flat";
-    }
-    [[nodiscard]] const SourceInfo &info() const noexcept override { return info_; }
-    Result<SourceFrame> next(PixelFormat format, int width, int height) override
-    {
-        if (index_ >= count_)
-            return unexpected(Errc::EndOfStream, "end");
-        SourceFrame f;
-        f.image = Image::make(width > 0 ? width : info_.width, height > 0 ? height : info_.height,
-                              format);
-        std::fill(f.image.data.begin(), f.image.data.end(), std::uint8_t{100});
-        f.pts = index_ / info_.fps;
-        ++index_;
-        return f;
-    }
-
-private:
-    int count_;
-    int index_ = 0;
-    SourceInfo info_;
-};
 
 class EncodeFaultsTest : public testing::TempDirTest {
 protected:
@@ -79,8 +51,8 @@ TEST_F(EncodeFaultsTest, onlyARegularFileOrANewPathIsReplaced)
     ASSERT_EQ(::mkdir(path("dir").c_str(), 0700), 0);
     ASSERT_EQ(::mkfifo(path("fifo").c_str(), 0600), 0);
     for (const char *name : {"dir", "fifo"}) {
-        FlatSource color(3, 30.0, PixelFormat::Rgb24);
-        FlatSource depth(3, 30.0, PixelFormat::Gray8);
+        auto color = colorSource(3);
+        auto depth = nearness8Source(3);
         // WHEN encoding THEN each is refused as bad input
         auto s = encodeStreams(color, depth, options(path(name)));
         ASSERT_FALSE(s) << name;
@@ -90,14 +62,14 @@ TEST_F(EncodeFaultsTest, onlyARegularFileOrANewPathIsReplaced)
     EXPECT_TRUE(isKind(path("dir"), S_IFDIR));
     EXPECT_TRUE(isKind(path("fifo"), S_IFIFO));
     // AND a character device is written in place
-    FlatSource color(3, 30.0, PixelFormat::Rgb24);
-    FlatSource depth(3, 30.0, PixelFormat::Gray8);
+    auto color = colorSource(3);
+    auto depth = nearness8Source(3);
     auto s = encodeStreams(color, depth, options("/dev/null"));
     ASSERT_TRUE(s) << s.error().what;
     EXPECT_TRUE(isKind("/dev/null", S_IFCHR));
     // AND a write that fails is lost output (Io), the device left as it is
-    FlatSource color2(3, 30.0, PixelFormat::Rgb24);
-    FlatSource depth2(3, 30.0, PixelFormat::Gray8);
+    auto color2 = colorSource(3);
+    auto depth2 = nearness8Source(3);
     auto full = encodeStreams(color2, depth2, options("/dev/full"));
     ASSERT_FALSE(full);
     EXPECT_EQ(full.error().code, Errc::Io);
@@ -107,8 +79,8 @@ TEST_F(EncodeFaultsTest, onlyARegularFileOrANewPathIsReplaced)
 TEST_F(EncodeFaultsTest, ratesAndSizesOutsideWhatH264EncodesAreRefusedAtOnce)
 {
     // GIVEN a color source at 1e-9 frames/s (once: a duration of -9223372036.855 s)
-    FlatSource slow(3, 1e-9, PixelFormat::Rgb24);
-    FlatSource depth(3, 30.0, PixelFormat::Gray8);
+    auto slow = colorSource(3, 1e-9);
+    auto depth = nearness8Source(3);
     auto s = encodeStreams(slow, depth, options(path("out.mkv")));
     ASSERT_FALSE(s);
     EXPECT_EQ(s.error().code, Errc::InvalidArgument);

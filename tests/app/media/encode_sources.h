@@ -1,8 +1,8 @@
 #pragma once
 /// \file
-/// \brief Test support of the sender's tests (encode_test.cpp, encode_holes_test.cpp): frames made
-/// on demand (colour, 8-bit nearness, 16-bit metric depth), a FrameSource over them and the
-/// fixture with a scratch folder and fast encode options.
+/// \brief Test support of the sender's tests (encode_test.cpp, encode_holes_test.cpp,
+/// encode_faults_test.cpp): frames made on demand (colour, 8-bit nearness, 16-bit metric depth), a
+/// FrameSource over them and the fixture with a scratch folder and fast encode options.
 
 #include <gtest/gtest.h>
 
