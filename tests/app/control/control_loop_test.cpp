@@ -2,16 +2,11 @@
 // the one command table.
 #include "depthtouch/control/control_loop.h"
 
-#include <cstring>
-
-#include <sys/socket.h>
-#include <sys/un.h>
-#include <unistd.h>
-
 #include <gtest/gtest.h>
 
-#include "app/player/fake_player_actions.h"
+#include "control_test_support.h"
 #include "depthtouch/drivers/mock/mock_remote_input.h"
+#include "support/temp_dir.h"
 
 namespace depthtouch::control {
 namespace {
@@ -20,8 +15,6 @@ using hal::Key;
 using hal::KeyAction;
 using platform::ManualClock;
 using platform::TimePoint;
-using player::test::FakePlayerActions;
-using player::test::movieSettings;
 using std::chrono::milliseconds;
 using std::chrono::seconds;
 
@@ -30,11 +23,10 @@ TEST(ControlLoopTest, remoteKeysDriveTheMachineUntilQuit)
     // GIVEN a playing machine and a remote with a scripted key sequence
     ManualClock clock(ManualClock::Mode::AutoAdvance, TimePoint(seconds(100)));
     drivers::MockRemoteInput remote(clock);
-    FakePlayerActions fake;
-    player::StateMachine m(fake, movieSettings());
-    ASSERT_TRUE(m.execute("play").accepted);
-    ASSERT_TRUE(m.onOpened());
-    fake.calls.clear();
+    FakePlayer p;
+    ASSERT_TRUE(p.m.execute("play").accepted);
+    ASSERT_TRUE(p.m.onOpened());
+    p.fake.calls.clear();
     const TimePoint t0 = clock.now();
     remote.pushKey(Key::Right, t0 + seconds(1));
     remote.push({Key::ChannelUp, KeyAction::Press, t0 + seconds(2)});
@@ -49,15 +41,15 @@ TEST(ControlLoopTest, remoteKeysDriveTheMachineUntilQuit)
     remote.pushKey(Key::Play, t0 + seconds(8)); // after quit: never read
 
     // WHEN the loop runs
-    ControlLoop loop(m, &remote, nullptr, clock);
+    ControlLoop loop(p.m, &remote, nullptr, clock);
     ASSERT_TRUE(loop.runUntil(t0 + seconds(60)));
 
     // THEN each key's command ran in order, repeats only where allowed, and quit ended the loop
-    EXPECT_TRUE(m.quitRequested());
-    EXPECT_EQ(m.state(), player::PlayerState::Stopped);
-    EXPECT_EQ(fake.calls, (std::vector<std::string>{"seek 10 relative", "setStiffness 900",
-                                                    "setStiffness 1000", "setStereoMode tab",
-                                                    "pause", "stop"}));
+    EXPECT_TRUE(p.m.quitRequested());
+    EXPECT_EQ(p.m.state(), player::PlayerState::Stopped);
+    EXPECT_EQ(p.fake.calls,
+              (std::vector<std::string>{"seek 10 relative", "setStiffness 900", "setStiffness 1000",
+                                        "setStereoMode tab", "pause", "stop"}));
     EXPECT_GE(clock.now(), t0 + seconds(7));
     EXPECT_LT(clock.now(), t0 + seconds(8));
     EXPECT_EQ(loop.stats().keyCommands, 7u);
@@ -69,13 +61,12 @@ TEST(ControlLoopTest, quietInputReturnsAtTheDeadline)
 {
     ManualClock clock(ManualClock::Mode::AutoAdvance, TimePoint(seconds(5)));
     drivers::MockRemoteInput remote(clock);
-    FakePlayerActions fake;
-    player::StateMachine m(fake, movieSettings());
-    ControlLoop loop(m, &remote, nullptr, clock);
+    FakePlayer p;
+    ControlLoop loop(p.m, &remote, nullptr, clock);
     ASSERT_TRUE(loop.runUntil(clock.now() + seconds(2)));
     EXPECT_EQ(clock.now(), TimePoint(seconds(7)));
-    EXPECT_FALSE(m.quitRequested());
-    EXPECT_TRUE(fake.calls.empty());
+    EXPECT_FALSE(p.m.quitRequested());
+    EXPECT_TRUE(p.fake.calls.empty());
 }
 
 TEST(ControlLoopTest, runControlLoopReadsTheRemoteUntilQuit)
@@ -84,11 +75,10 @@ TEST(ControlLoopTest, runControlLoopReadsTheRemoteUntilQuit)
     ManualClock clock(ManualClock::Mode::AutoAdvance, TimePoint(seconds(5)));
     drivers::MockRemoteInput remote(clock);
     remote.pushKey(Key::Exit, TimePoint(milliseconds(7500)));
-    FakePlayerActions fake;
-    player::StateMachine m(fake, movieSettings());
+    FakePlayer p;
     // WHEN the main loop runs  THEN it reads the key and returns once quit is asked, at that time
-    ASSERT_TRUE(runControlLoop(m, &remote, nullptr, clock));
-    EXPECT_TRUE(m.quitRequested());
+    ASSERT_TRUE(runControlLoop(p.m, &remote, nullptr, clock));
+    EXPECT_TRUE(p.m.quitRequested());
     EXPECT_EQ(clock.now(), TimePoint(milliseconds(7500)));
 }
 
@@ -98,9 +88,8 @@ TEST(ControlLoopTest, lostRemoteIsLeftAloneUntilTheDeadline)
     ManualClock clock(ManualClock::Mode::AutoAdvance, TimePoint(seconds(5)));
     drivers::MockRemoteInput remote(clock);
     remote.unplug();
-    FakePlayerActions fake;
-    player::StateMachine m(fake, movieSettings());
-    ControlLoop loop(m, &remote, nullptr, clock);
+    FakePlayer p;
+    ControlLoop loop(p.m, &remote, nullptr, clock);
 
     // WHEN the loop runs for 2 s, and the remote comes back with a key while it runs again
     ASSERT_TRUE(loop.runUntil(clock.now() + seconds(2)));
@@ -115,42 +104,33 @@ TEST(ControlLoopTest, lostRemoteIsLeftAloneUntilTheDeadline)
     EXPECT_TRUE(lostAfterFirst);
     EXPECT_EQ(firstEnd, TimePoint(seconds(7)));
     EXPECT_EQ(clock.now(), TimePoint(seconds(9)));
-    EXPECT_FALSE(m.quitRequested()) << "a remote reported lost is not read again";
+    EXPECT_FALSE(p.m.quitRequested()) << "a remote reported lost is not read again";
     EXPECT_EQ(remote.pending(), 2u) << "the Exit key's press and release stay unread";
     EXPECT_EQ(loop.stats().keys, 0u);
 }
 
 TEST(ControlLoopTest, lostRemoteLeavesTheSocketWorking)
 {
-    char tmpl[] = "/tmp/dt-loop-XXXXXX";
-    ASSERT_NE(::mkdtemp(tmpl), nullptr);
-    const std::string path = std::string(tmpl) + "/dt.sock";
+    testing::TempDir dir("dt-loop-");
+    const std::string path = dir.path("dt.sock");
 
     ManualClock clock(ManualClock::Mode::AutoAdvance, TimePoint(seconds(1)));
     drivers::MockRemoteInput remote(clock);
     remote.unplug();
-    FakePlayerActions fake;
-    player::StateMachine m(fake, movieSettings());
+    FakePlayer p;
     {
-        auto server = ControlServer::create(path, m);
+        auto server = ControlServer::create(path, p.m);
         ASSERT_TRUE(server) << server.error().what;
 
-        platform::UniqueFd client(::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
-        sockaddr_un addr{};
-        addr.sun_family = AF_UNIX;
-        std::strncpy(addr.sun_path, path.c_str(), sizeof addr.sun_path - 1);
-        ASSERT_EQ(::connect(client.get(), reinterpret_cast<const sockaddr *>(&addr), sizeof addr),
-                  0);
-        const std::string request = "{\"command\":[\"play\"]}\n{\"command\":[\"quit\"]}\n";
-        ASSERT_EQ(::send(client.get(), request.data(), request.size(), MSG_NOSIGNAL),
-                  static_cast<ssize_t>(request.size()));
+        const platform::UniqueFd client = connectClient(path);
+        ASSERT_NO_FATAL_FAILURE(
+            sendAll(client, "{\"command\":[\"play\"]}\n{\"command\":[\"quit\"]}\n"));
 
-        ASSERT_TRUE(runControlLoop(m, &remote, server->get(), clock));
+        ASSERT_TRUE(runControlLoop(p.m, &remote, server->get(), clock));
 
-        EXPECT_TRUE(m.quitRequested());
-        EXPECT_EQ(fake.calls, (std::vector<std::string>{"open movie.mkv", "stop"}));
+        EXPECT_TRUE(p.m.quitRequested());
+        EXPECT_EQ(p.fake.calls, (std::vector<std::string>{"open movie.mkv", "stop"}));
     }
-    ::rmdir(tmpl);
 }
 
 } // namespace

@@ -14,7 +14,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "app/player/fake_player_actions.h"
+#include "control_test_support.h"
 #include "support/temp_dir.h"
 
 namespace depthtouch::control {
@@ -23,8 +23,6 @@ namespace {
 using nlohmann::json;
 using player::PlayerState;
 using player::StateMachine;
-using player::test::FakePlayerActions;
-using player::test::movieSettings;
 using std::chrono::milliseconds;
 
 json reply(std::string_view line, StateMachine &m)
@@ -37,40 +35,37 @@ json reply(std::string_view line, StateMachine &m)
 
 TEST(ControlProtocolTest, commandsRepliesAndRequestIds)
 {
-    FakePlayerActions fake;
-    StateMachine m(fake, movieSettings());
-    EXPECT_EQ(reply(R"({"command":["play"]})", m), json({{"error", "success"}}));
-    ASSERT_TRUE(m.onOpened());
-    EXPECT_EQ(reply(R"({"command":["seek",10],"request_id":7})", m),
+    FakePlayer p;
+    EXPECT_EQ(reply(R"({"command":["play"]})", p.m), json({{"error", "success"}}));
+    ASSERT_TRUE(p.m.onOpened());
+    EXPECT_EQ(reply(R"({"command":["seek",10],"request_id":7})", p.m),
               json({{"error", "success"}, {"request_id", 7}}));
-    EXPECT_EQ(reply(R"({"command":["get","state"],"request_id":"a"})", m),
+    EXPECT_EQ(reply(R"({"command":["get","state"],"request_id":"a"})", p.m),
               json({{"error", "success"}, {"data", "playing"}, {"request_id", "a"}}));
-    EXPECT_EQ(reply(R"({"command":["get","haptics"]})", m),
+    EXPECT_EQ(reply(R"({"command":["get","haptics"]})", p.m),
               json({{"error", "success"}, {"data", true}}));
-    EXPECT_EQ(reply(R"({"command":["get","stiffness"]})", m),
+    EXPECT_EQ(reply(R"({"command":["get","stiffness"]})", p.m),
               json({{"error", "success"}, {"data", 800.0}}));
-    EXPECT_EQ(reply(R"({"command":["play"],"request_id":8})", m),
+    EXPECT_EQ(reply(R"({"command":["play"],"request_id":8})", p.m),
               json({{"error", "already playing"}, {"request_id", 8}}));
-    EXPECT_EQ(fake.calls, (std::vector<std::string>{"open movie.mkv", "startPlayback",
-                                                    "seek 10 relative"}));
+    EXPECT_EQ(p.fake.calls,
+              (std::vector<std::string>{"open movie.mkv", "startPlayback", "seek 10 relative"}));
 }
 
 TEST(ControlProtocolTest, textCommandsToo)
 {
-    FakePlayerActions fake;
-    StateMachine m(fake, movieSettings());
-    EXPECT_EQ(reply("  toggle-pause ", m), json({{"error", "success"}}));
-    EXPECT_EQ(m.state(), PlayerState::Opening);
-    EXPECT_EQ(reply("get state", m), json({{"error", "success"}, {"data", "opening"}}));
-    EXPECT_EQ(reply("seek", m), json({{"error", "seek: needs SECONDS [relative|absolute]"}}));
-    EXPECT_EQ(handleControlLine("", m), "");
-    EXPECT_EQ(handleControlLine("   ", m), "");
+    FakePlayer p;
+    EXPECT_EQ(reply("  toggle-pause ", p.m), json({{"error", "success"}}));
+    EXPECT_EQ(p.m.state(), PlayerState::Opening);
+    EXPECT_EQ(reply("get state", p.m), json({{"error", "success"}, {"data", "opening"}}));
+    EXPECT_EQ(reply("seek", p.m), json({{"error", "seek: needs SECONDS [relative|absolute]"}}));
+    EXPECT_EQ(handleControlLine("", p.m), "");
+    EXPECT_EQ(handleControlLine("   ", p.m), "");
 }
 
 TEST(ControlProtocolTest, badRequestsGetAnErrorAndChangeNothing)
 {
-    FakePlayerActions fake;
-    StateMachine m(fake, movieSettings());
+    FakePlayer p;
     const std::pair<std::string, std::string> cases[] = {
         {R"({"command":["seek",10])", "malformed JSON at byte 23"},
         {R"({"command":)", "malformed JSON at byte 12"},
@@ -86,33 +81,32 @@ TEST(ControlProtocolTest, badRequestsGetAnErrorAndChangeNothing)
         {"{\"command\":[\"play\",\"\xff\xfe\"]", "malformed JSON at byte 21"},
     };
     for (const auto &[line, error] : cases) {
-        const json r = reply(line, m);
+        const json r = reply(line, p.m);
         EXPECT_EQ(r.value("error", ""), error) << line;
         EXPECT_FALSE(r.contains("data"));
     }
-    EXPECT_EQ(reply(R"([1,2])", m).value("error", ""), "unknown command '[1,2]'")
+    EXPECT_EQ(reply(R"([1,2])", p.m).value("error", ""), "unknown command '[1,2]'")
         << "an array is not an object: parsed as a text command";
-    EXPECT_EQ(reply(R"({"command":["fly"],"request_id":[1]})", m),
+    EXPECT_EQ(reply(R"({"command":["fly"],"request_id":[1]})", p.m),
               json({{"error", "unknown command 'fly'"}, {"request_id", json::array({1})}}));
-    EXPECT_TRUE(fake.calls.empty());
-    EXPECT_EQ(m.state(), PlayerState::Idle);
+    EXPECT_TRUE(p.fake.calls.empty());
+    EXPECT_EQ(p.m.state(), PlayerState::Idle);
 }
 
 TEST(ControlProtocolTest, numbersBeyondADoubleAreAnErrorNotAnAbort)
 {
     // Once: nlohmann's out_of_range.406 went through to std::terminate (SIGABRT).
-    FakePlayerActions fake;
-    StateMachine m(fake, movieSettings());
+    FakePlayer p;
     for (const char *line :
          {R"({"command":["seek",1e400]})", R"({"command":["get","state"],"request_id":1e999})",
           R"({"command":["stiffness",1e309]})", R"({"command":["seek",-1e400]})"}) {
-        const json r = reply(line, m);
+        const json r = reply(line, p.m);
         EXPECT_EQ(r.value("error", ""), "malformed JSON: a number is out of range") << line;
     }
-    EXPECT_EQ(reply("seek 1e400", m).value("error", ""),
+    EXPECT_EQ(reply("seek 1e400", p.m).value("error", ""),
               "seek: '1e400' is not a number of seconds");
-    EXPECT_TRUE(fake.calls.empty());
-    EXPECT_EQ(m.state(), PlayerState::Idle);
+    EXPECT_TRUE(p.fake.calls.empty());
+    EXPECT_EQ(p.m.state(), PlayerState::Idle);
 }
 
 TEST(ControlProtocolTest, eventLines)
@@ -146,21 +140,13 @@ protected:
     {
         platform::UnixSocketServerOptions options;
         options.maxLineBytes = 4096;
-        auto r = ControlServer::create(path_, machine_, options);
+        auto r = ControlServer::create(path_, player_.m, options);
         ASSERT_TRUE(r) << r.error().what;
         server_ = std::move(*r);
     }
     void TearDown() override { server_.reset(); }
 
-    platform::UniqueFd connectClient()
-    {
-        platform::UniqueFd fd(::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
-        sockaddr_un addr{};
-        addr.sun_family = AF_UNIX;
-        std::strncpy(addr.sun_path, path_.c_str(), sizeof addr.sun_path - 1);
-        EXPECT_EQ(::connect(fd.get(), reinterpret_cast<const sockaddr *>(&addr), sizeof addr), 0);
-        return fd;
-    }
+    platform::UniqueFd connectClient() { return control::connectClient(path_); }
 
     /// Connects \a count clients and lets the server accept them.
     std::vector<platform::UniqueFd> connectClients(int count)
@@ -176,12 +162,6 @@ protected:
     {
         for (int i = 0; i < rounds; ++i)
             ASSERT_TRUE(server_->poll(milliseconds(1)));
-    }
-
-    static void writeAll(const platform::UniqueFd &fd, std::string_view data)
-    {
-        ASSERT_EQ(::send(fd.get(), data.data(), data.size(), MSG_NOSIGNAL),
-                  static_cast<ssize_t>(data.size()));
     }
 
     /// Serves the socket while reading \a count lines from \a fd (at most ~2 s).
@@ -210,7 +190,7 @@ protected:
     json roundTrip(const platform::UniqueFd &fd, std::string_view request,
                    std::vector<json> *events = nullptr)
     {
-        writeAll(fd, std::string(request) + "\n");
+        sendAll(fd, std::string(request) + "\n");
         for (int i = 0; i < 20; ++i) {
             const std::vector<json> lines = readLines(fd, 1);
             if (lines.empty())
@@ -226,8 +206,7 @@ protected:
 
     testing::TempDir dir_{"dt-ctl-"};
     std::string path_ = dir_.path("dt.sock");
-    FakePlayerActions fake_;
-    StateMachine machine_{fake_, movieSettings()};
+    FakePlayer player_;
     std::unique_ptr<ControlServer> server_;
     std::map<int, std::string> pending_;
 };
@@ -237,7 +216,7 @@ TEST_F(ControlServerTest, everyCommandRoundTrips)
     platform::UniqueFd c = connectClient();
     const json success = {{"error", "success"}};
     EXPECT_EQ(roundTrip(c, R"({"command":["play"]})"), success);
-    ASSERT_TRUE(machine_.onOpened());
+    ASSERT_TRUE(player_.m.onOpened());
     EXPECT_EQ(roundTrip(c, R"({"command":["pause"]})"), success);
     EXPECT_EQ(roundTrip(c, R"({"command":["toggle-pause"]})"), success);
     EXPECT_EQ(roundTrip(c, R"({"command":["seek",-5]})"), success);
@@ -252,21 +231,20 @@ TEST_F(ControlServerTest, everyCommandRoundTrips)
               json({{"error", "success"}, {"data", true}, {"request_id", 3}}));
     EXPECT_EQ(roundTrip(c, R"({"command":["stop"]})"), success);
     EXPECT_EQ(roundTrip(c, R"({"command":["quit"]})"), success);
-    EXPECT_TRUE(machine_.quitRequested());
-    EXPECT_EQ(fake_.calls,
+    EXPECT_TRUE(player_.m.quitRequested());
+    EXPECT_EQ(player_.fake.calls,
               (std::vector<std::string>{"open movie.mkv", "startPlayback", "pause", "resume",
-                                        "seek -5 relative", "seek 30 absolute",
-                                        "setStereoMode tab", "setStereoMode mono",
-                                        "setHapticsEnabled off", "setStiffness 900", "recenter",
-                                        "stop"}));
+                                        "seek -5 relative", "seek 30 absolute", "setStereoMode tab",
+                                        "setStereoMode mono", "setHapticsEnabled off",
+                                        "setStiffness 900", "recenter", "stop"}));
 }
 
 TEST_F(ControlServerTest, eventsReachEveryClient)
 {
     std::vector<platform::UniqueFd> clients = connectClients(3);
     ASSERT_EQ(server_->clientCount(), 3u);
-    ASSERT_TRUE(machine_.execute("play").accepted);
-    ASSERT_TRUE(machine_.onOpened());
+    ASSERT_TRUE(player_.m.execute("play").accepted);
+    ASSERT_TRUE(player_.m.onOpened());
 
     std::vector<json> events;
     EXPECT_EQ(roundTrip(clients[0], R"({"command":["pause"],"request_id":1})", &events),
@@ -286,11 +264,11 @@ TEST_F(ControlServerTest, oversizedLineIsAnsweredAndTheConnectionKept)
 {
     platform::UniqueFd c = connectClient();
     const std::string big = R"({"command":["play",")" + std::string(10000, 'x') + R"("]})";
-    writeAll(c, big + "\n");
+    sendAll(c, big + "\n");
     const std::vector<json> lines = readLines(c, 1);
     ASSERT_EQ(lines.size(), 1u);
     EXPECT_EQ(lines[0], json({{"error", "line too long (limit 4096 bytes)"}}));
-    EXPECT_TRUE(fake_.calls.empty());
+    EXPECT_TRUE(player_.fake.calls.empty());
     EXPECT_EQ(roundTrip(c, R"({"command":["get","state"]})"),
               json({{"error", "success"}, {"data", "idle"}}));
 }
@@ -312,15 +290,15 @@ TEST_F(ControlServerTest, anActionThatThrowsIsAnsweredWithItsReasonAndThePlayerG
 {
     // GIVEN a playing player whose recenter action throws (a library's exception escaping it)
     platform::UniqueFd c = connectClient();
-    ASSERT_TRUE(machine_.execute("play").accepted);
-    ASSERT_TRUE(machine_.onOpened());
-    fake_.throws["recenter"] = "the device went away";
+    ASSERT_TRUE(player_.m.execute("play").accepted);
+    ASSERT_TRUE(player_.m.onOpened());
+    player_.fake.throws["recenter"] = "the device went away";
     // WHEN a client asks for it
     // THEN the client gets the exception's reason as its error
     EXPECT_EQ(roundTrip(c, R"({"command":["recenter"]})"),
               json({{"error", "the command failed: the device went away"}}));
     // AND the socket still serves the next command
-    fake_.throws.clear();
+    player_.fake.throws.clear();
     EXPECT_EQ(roundTrip(c, R"({"command":["recenter"]})"), json({{"error", "success"}}));
     EXPECT_EQ(server_->clientCount(), 1u);
 }
@@ -330,12 +308,12 @@ TEST_F(ControlServerTest, clientLeavingMidLineDoesNotDisturbOthers)
     platform::UniqueFd stay = connectClient();
     {
         platform::UniqueFd leave = connectClient();
-        writeAll(leave, R"({"command":["pl)");
+        sendAll(leave, R"({"command":["pl)");
         pump();
     }
     pump();
     EXPECT_EQ(server_->clientCount(), 1u);
-    EXPECT_TRUE(fake_.calls.empty());
+    EXPECT_TRUE(player_.fake.calls.empty());
     EXPECT_EQ(roundTrip(stay, "get state"), json({{"error", "success"}, {"data", "idle"}}));
 }
 
@@ -344,8 +322,8 @@ TEST_F(ControlServerTest, manyClientsEachGetTheirOwnReplies)
     std::vector<platform::UniqueFd> clients = connectClients(12);
     EXPECT_EQ(server_->clientCount(), 12u);
     for (std::size_t i = 0; i < clients.size(); ++i)
-        writeAll(clients[i], R"({"command":["get","url"],"request_id":)" + std::to_string(i) +
-                                 "}\n");
+        sendAll(clients[i],
+                R"({"command":["get","url"],"request_id":)" + std::to_string(i) + "}\n");
     for (std::size_t i = 0; i < clients.size(); ++i) {
         const std::vector<json> lines = readLines(clients[i], 1);
         ASSERT_EQ(lines.size(), 1u) << i;
@@ -365,7 +343,7 @@ TEST_F(ControlServerTest, shutdownRemovesTheSocketFile)
     char buf[16];
     EXPECT_EQ(::recv(c.get(), buf, sizeof buf, 0), 0) << "clients see the connection close";
     // The machine no longer knows the server: events after it is gone are harmless.
-    EXPECT_TRUE(machine_.execute("play").accepted);
+    EXPECT_TRUE(player_.m.execute("play").accepted);
 }
 
 } // namespace

@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "app/player/fake_player_actions.h"
+#include "control_test_support.h"
 #include "depthtouch/control/control_server.h"
 #include "support/temp_dir.h"
 
@@ -23,8 +23,6 @@ namespace {
 using nlohmann::json;
 using player::PlayerState;
 using player::StateMachine;
-using player::test::FakePlayerActions;
-using player::test::movieSettings;
 
 json reply(std::string_view line, StateMachine &m, PropertyObservers *observers = nullptr)
 {
@@ -32,7 +30,7 @@ json reply(std::string_view line, StateMachine &m, PropertyObservers *observers 
 }
 
 /// A machine playing movie.mkv at 12.5 s of 50 s, the device commanding 1.5 N.
-struct Playing {
+struct Playing : FakePlayer {
     Playing()
     {
         fake.position = {12.5, 50.0};
@@ -40,8 +38,6 @@ struct Playing {
         EXPECT_TRUE(m.execute("play").accepted);
         EXPECT_TRUE(m.onOpened());
     }
-    FakePlayerActions fake;
-    StateMachine m{fake, movieSettings()};
 };
 
 TEST(MpvIpcTest, getPropertyAnswersAsMpvWithTheRequestId)
@@ -206,16 +202,10 @@ TEST(MpvIpcTest, aClientOnTheSocketGetsItsObservedPropertiesAsEvents)
     Playing p;
     auto server = ControlServer::create(path, p.m);
     ASSERT_TRUE(server) << server.error().what;
-    platform::UniqueFd fd(::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
-    sockaddr_un addr{};
-    addr.sun_family = AF_UNIX;
-    std::snprintf(addr.sun_path, sizeof addr.sun_path, "%s", path.c_str());
-    ASSERT_EQ(::connect(fd.get(), reinterpret_cast<const sockaddr *>(&addr), sizeof addr), 0);
-    const std::string request =
-        R"({"command":["observe_property",7,"haptic-force"],"request_id":5})"
-        "\n";
-    ASSERT_EQ(::send(fd.get(), request.data(), request.size(), MSG_NOSIGNAL),
-              static_cast<ssize_t>(request.size()));
+    const platform::UniqueFd fd = connectClient(path);
+    ASSERT_NO_FATAL_FAILURE(
+        sendAll(fd, R"({"command":["observe_property",7,"haptic-force"],"request_id":5})"
+                    "\n"));
     std::string got;
     for (int i = 0; i < 200 && std::count(got.begin(), got.end(), '\n') < 2; ++i) {
         ASSERT_TRUE((*server)->poll(std::chrono::milliseconds(5)));
