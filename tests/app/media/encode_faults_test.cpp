@@ -25,9 +25,6 @@ namespace {
 using test::colorSource;
 using test::nearness8Source;
 
-constexpr int kW = 32;
-constexpr int kH = 24;
-
 class EncodeFaultsTest : public testing::TempDirTest {
 protected:
     static EncodeOptions options(const std::string &output)
@@ -104,7 +101,7 @@ TEST_F(EncodeFaultsTest, anImageSequenceWithAGapIsFollowedAcrossIt)
 {
     // GIVEN frames 0-4 and 10-14 of a printf-pattern sequence (once: 5 were read, silently)
     for (const int i : {0, 1, 2, 3, 4, 10, 11, 12, 13, 14}) {
-        Image img = Image::make(kW, kH, PixelFormat::Gray8);
+        Image img = Image::make(test::kW, test::kH, PixelFormat::Gray8);
         std::fill(img.data.begin(), img.data.end(), static_cast<std::uint8_t>(10 * i));
         char name[32];
         std::snprintf(name, sizeof name, "f-%03d.png", i);
