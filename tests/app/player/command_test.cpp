@@ -3,6 +3,7 @@
 
 #include <set>
 #include <string>
+#include <string_view>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -35,39 +36,46 @@ TEST(CommandTableTest, oneRowPerCommandWithUniqueNames)
     EXPECT_FALSE(commandSpec(CommandId::NextStereoMode).autoRepeat);
 }
 
+/// The command that \a parsed holds of \a text; a refusal is a test failure (with its reason) and
+/// gives a default Command.
+Command commandOf(const ParsedCommand &parsed, std::string_view text)
+{
+    EXPECT_TRUE(parsed) << text << ": " << parsed.error;
+    return parsed ? *parsed.command : Command{};
+}
+
+/// The command parseCommandText() reads in \a text (commandOf()).
+Command fromText(std::string_view text)
+{
+    return commandOf(parseCommandText(text), text);
+}
+
+/// The command parseCommandJson() reads in the JSON \a text (commandOf()).
+Command fromJson(std::string_view text)
+{
+    return commandOf(parseCommandJson(json::parse(text)), text);
+}
+
 TEST(CommandParseTest, textCommands)
 {
-    auto p = parseCommandText("  seek   -12.5 ");
-    ASSERT_TRUE(p) << p.error;
-    EXPECT_EQ(p.command->id, CommandId::Seek);
-    EXPECT_EQ(p.command->seconds, -12.5);
-    EXPECT_EQ(p.command->seekMode, SeekMode::Relative);
+    const Command seek = fromText("  seek   -12.5 ");
+    EXPECT_EQ(seek.id, CommandId::Seek);
+    EXPECT_EQ(seek.seconds, -12.5);
+    EXPECT_EQ(seek.seekMode, SeekMode::Relative);
 
-    p = parseCommandText("seek +30 absolute");
-    ASSERT_TRUE(p) << p.error;
-    EXPECT_EQ(p.command->seconds, 30.0);
-    EXPECT_EQ(p.command->seekMode, SeekMode::Absolute);
+    const Command absolute = fromText("seek +30 absolute");
+    EXPECT_EQ(absolute.seconds, 30.0);
+    EXPECT_EQ(absolute.seekMode, SeekMode::Absolute);
 
-    p = parseCommandText("play \"my clip.mkv\"");
-    ASSERT_TRUE(p) << p.error;
-    EXPECT_EQ(p.command->url, "my clip.mkv");
+    EXPECT_EQ(fromText("play \"my clip.mkv\"").url, "my clip.mkv");
+    EXPECT_EQ(fromText("haptics OFF").toggle, Switch::Off);
 
-    p = parseCommandText("haptics OFF");
-    ASSERT_TRUE(p) << p.error;
-    EXPECT_EQ(p.command->toggle, Switch::Off);
+    const Command stiffness = fromText("stiffness 1200");
+    EXPECT_EQ(stiffness.stiffnessChange, StiffnessChange::Set);
+    EXPECT_EQ(stiffness.stiffness, 1200.0);
 
-    p = parseCommandText("stiffness 1200");
-    ASSERT_TRUE(p) << p.error;
-    EXPECT_EQ(p.command->stiffnessChange, StiffnessChange::Set);
-    EXPECT_EQ(p.command->stiffness, 1200.0);
-
-    p = parseCommandText("stereo-mode Anaglyph");
-    ASSERT_TRUE(p) << p.error;
-    EXPECT_EQ(p.command->stereoMode, StereoMode::Anaglyph);
-
-    p = parseCommandText("get stereo-mode");
-    ASSERT_TRUE(p) << p.error;
-    EXPECT_EQ(p.command->property, Property::StereoMode);
+    EXPECT_EQ(fromText("stereo-mode Anaglyph").stereoMode, StereoMode::Anaglyph);
+    EXPECT_EQ(fromText("get stereo-mode").property, Property::StereoMode);
 }
 
 TEST(CommandParseTest, badTextIsRejectedWithAReason)
@@ -111,25 +119,11 @@ TEST(CommandParseTest, errorMessagesStayPrintable)
 
 TEST(CommandParseTest, jsonArrays)
 {
-    auto p = parseCommandJson(json::parse(R"(["seek", 10])"));
-    ASSERT_TRUE(p) << p.error;
-    EXPECT_EQ(p.command->seconds, 10.0);
-
-    p = parseCommandJson(json::parse(R"(["seek", -2.25, "relative"])"));
-    ASSERT_TRUE(p) << p.error;
-    EXPECT_EQ(p.command->seconds, -2.25);
-
-    p = parseCommandJson(json::parse(R"(["haptics", false])"));
-    ASSERT_TRUE(p) << p.error;
-    EXPECT_EQ(p.command->toggle, Switch::Off);
-
-    p = parseCommandJson(json::parse(R"(["stiffness", "+"])"));
-    ASSERT_TRUE(p) << p.error;
-    EXPECT_EQ(p.command->stiffnessChange, StiffnessChange::Up);
-
-    p = parseCommandJson(json::parse(R"(["toggle-pause"])"));
-    ASSERT_TRUE(p) << p.error;
-    EXPECT_EQ(p.command->id, CommandId::TogglePause);
+    EXPECT_EQ(fromJson(R"(["seek", 10])").seconds, 10.0);
+    EXPECT_EQ(fromJson(R"(["seek", -2.25, "relative"])").seconds, -2.25);
+    EXPECT_EQ(fromJson(R"(["haptics", false])").toggle, Switch::Off);
+    EXPECT_EQ(fromJson(R"(["stiffness", "+"])").stiffnessChange, StiffnessChange::Up);
+    EXPECT_EQ(fromJson(R"(["toggle-pause"])").id, CommandId::TogglePause);
 }
 
 TEST(CommandParseTest, badJsonIsRejectedWithAReason)
