@@ -72,10 +72,10 @@ Result<void> AudioOutputBase::pause(bool paused)
     return ok();
 }
 
-Result<void> AudioOutputBase::flush()
+Result<std::size_t> AudioOutputBase::flush()
 {
     if (auto r = checkUsable(); !r)
-        return r;
+        return unexpected(r.error());
     return noteLoss(flushDevice());
 }
 

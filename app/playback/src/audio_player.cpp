@@ -253,14 +253,10 @@ bool AudioPlayer::control(std::uint64_t startGen, std::uint64_t haltGen, double 
         return true;
     pausedSeen_ = paused;
     if (paused && mode_ == Mode::Playing) {
-        auto delay = queued();
-        if (!delay) {
-            lose(delay.error());
+        const auto dropped = cut();
+        if (!dropped)
             return false;
-        }
-        pausedAt_ = writtenEnd_ - static_cast<double>(*delay) / format_.sampleRate;
-        if (!cut())
-            return false;
+        pausedAt_ = writtenEnd_ - static_cast<double>(*dropped) / format_.sampleRate;
         mode_ = Mode::Paused;
     } else if (!paused && mode_ == Mode::Paused) {
         if (!cut()) // the silence queued while paused
@@ -270,21 +266,27 @@ bool AudioPlayer::control(std::uint64_t startGen, std::uint64_t haltGen, double 
     return true;
 }
 
-bool AudioPlayer::cut()
+std::optional<std::size_t> AudioPlayer::cut()
 {
-    auto delay = queued();
-    if (!delay) {
-        lose(delay.error());
-        return false;
+    // The drop first: the device plays on until it, and the frames it dropped are those after
+    // the last one heard.
+    auto dropped = output_.flush();
+    if (!dropped) {
+        lose(dropped.error());
+        return std::nullopt;
     }
-    // The queue's first frames (the one heard next first) faded to 0 over the ramp. A queue
-    // shorter than the ramp (a late thread left little queued) is followed by the sound that
-    // would have come next, so the fade still takes the whole ramp where the source has it.
+    const std::size_t delay = atLeastTheRun(*dropped);
+    runStart_ = clock_.now(); // the device is empty: a new run of frames begins
+    runFirstFrame_ = writtenFrames_;
+    // The dropped queue's first frames (the one heard next first) faded to 0 over the ramp, to
+    // be written next. A queue shorter than the ramp (a late thread left little queued) is
+    // followed by the sound that would have come next, so the fade still takes the whole ramp
+    // where the source has it.
     const auto channels = static_cast<std::size_t>(format_.channels);
     const std::size_t ringFrames = written_.size() / channels;
     const std::size_t ramp = fadeOut_.size() / channels;
     const std::size_t queued =
-        static_cast<std::size_t>(std::min<std::uint64_t>({*delay, writtenFrames_, ringFrames}));
+        static_cast<std::size_t>(std::min<std::uint64_t>({delay, writtenFrames_, ringFrames}));
     std::size_t n = std::min(queued, ramp);
     const std::uint64_t first = writtenFrames_ - queued;
     for (std::size_t i = 0; i < n; ++i) {
@@ -300,13 +302,7 @@ bool AudioPlayer::cut()
     }
     fadeOutFrames_ = n;
     fadeOutPos_ = 0;
-    if (auto f = output_.flush(); !f) {
-        lose(f.error());
-        return false;
-    }
-    runStart_ = clock_.now(); // the device is empty: a new run of frames begins
-    runFirstFrame_ = writtenFrames_;
-    return true;
+    return delay;
 }
 
 std::size_t AudioPlayer::nextSound(std::int16_t *to, std::size_t frames) const
@@ -331,6 +327,11 @@ Result<std::size_t> AudioPlayer::queued()
     auto delay = output_.delayFrames();
     if (!delay)
         return delay;
+    return atLeastTheRun(*delay);
+}
+
+std::size_t AudioPlayer::atLeastTheRun(std::size_t delay) const
+{
     // A device cannot play faster than time passes; one that seems to (ALSA's `null` PCM takes
     // every frame at once and says none is queued) would run the clock, and the picture that
     // follows it, ahead. The queue is at least what was written in this run less what could have
@@ -341,7 +342,7 @@ Result<std::size_t> AudioPlayer::queued()
         platform::toSeconds(clock_.now() - runStart_) * rate * kFastestDevice + kRunSlack * rate;
     const auto run = static_cast<double>(writtenFrames_ - runFirstFrame_);
     if (run > couldHear)
-        delay = std::max(*delay, static_cast<std::size_t>(run - couldHear));
+        delay = std::max(delay, static_cast<std::size_t>(run - couldHear));
     return delay;
 }
 

@@ -168,9 +168,15 @@ Result<void> AlsaAudioOutput::restart(int err, const char *what)
     return ok();
 }
 
-Result<void> AlsaAudioOutput::flushDevice()
+Result<std::size_t> AlsaAudioOutput::flushDevice()
 {
-    return restart(snd_pcm_drop(pcm_), "ALSA could not flush");
+    // The delay just before the drop: what it drops (a stopped or broken stream drops nothing
+    // that would be heard).
+    snd_pcm_sframes_t delay = 0;
+    if (snd_pcm_delay(pcm_, &delay) < 0)
+        delay = 0;
+    DT_TRY(restart(snd_pcm_drop(pcm_), "ALSA could not flush"));
+    return static_cast<std::size_t>(std::max<snd_pcm_sframes_t>(0, delay));
 }
 
 Result<void> AlsaAudioOutput::drainDevice()

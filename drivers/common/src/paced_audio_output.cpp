@@ -132,14 +132,16 @@ Result<void> PacedAudioOutput::pauseDevice(bool paused)
     return catchUp();
 }
 
-Result<void> PacedAudioOutput::flushDevice()
+Result<std::size_t> PacedAudioOutput::flushDevice()
 {
     const platform::TimePoint now = clock_.now();
     DT_TRY(catchUp(now)); // what was heard up to now stays heard
+    const std::size_t dropped = pacer_.queued();
     pacer_.flush(now);
     queueHead_ = queueCount_ = 0;
     playedSeen_ = pacer_.played();
-    return catchUp();
+    DT_TRY(catchUp());
+    return dropped;
 }
 
 Result<void> PacedAudioOutput::drainDevice()

@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+#include <functional>
 #include <vector>
 
 #include "depthtouch/drivers/common/paced_audio_output.h"
@@ -72,8 +73,18 @@ public:
     {
     }
     std::vector<std::int16_t> kept;
+    /// Runs after every answer to delayFrames(): the audio thread descheduled between asking for
+    /// the queue and acting on the answer (a loaded machine), while the card plays on.
+    std::function<void()> afterDelay;
 
 private:
+    Result<std::size_t> delayDevice() override
+    {
+        auto d = PacedAudioOutput::delayDevice();
+        if (afterDelay)
+            afterDelay();
+        return d;
+    }
     Result<void> keep(const std::int16_t *samples, std::size_t frames) override
     {
         kept.insert(kept.end(), samples, samples + frames);
@@ -213,6 +224,45 @@ TEST_F(AudioPlayerTest, pauseStopsTheClockAndResumeGoesOnWhereItStopped)
         ASSERT_EQ(k[resumedAt + i], NumberedSource::value(static_cast<std::int64_t>(pausedAt + i)))
             << i;
     EXPECT_EQ(player_->stats().underruns, 0u);
+}
+
+TEST_F(AudioPlayerTest, aPauseOnABusyMachineFadesOutFromTheLastFrameHeardAndResumesThere)
+{
+    // GIVEN the numbered sound playing, and an audio thread descheduled for 0.1 ms (5 frames)
+    // after each time it asks the card for its queue
+    make();
+    player_->start(0.0);
+    play(300);
+    output_->afterDelay = [this] { clock_.advance(std::chrono::microseconds(104)); };
+    // WHEN the viewer pauses, and resumes a while later
+    player_->setPaused(true);
+    play(200);
+    const std::size_t resumedAt = output_->kept.size();
+    player_->setPaused(false);
+    play(100);
+    // THEN the card heard every frame once, in order, from the start's fade-in up to the pause
+    // (the first frame not at its full level), then the frames that follow it faded out over
+    // 10 ms: none heard twice
+    const auto &k = output_->kept;
+    std::size_t last = 480;
+    while (last < k.size() && k[last] == NumberedSource::value(static_cast<std::int64_t>(last)))
+        ++last;
+    ASSERT_GT(last, static_cast<std::size_t>(kRate / 4));
+    for (std::size_t i = 0; i < 480; ++i)
+        ASSERT_NEAR(k[last + i],
+                    NumberedSource::value(static_cast<std::int64_t>(last + i)) *
+                        (1.0 - static_cast<double>(i + 1) / 480.0),
+                    1.0)
+            << "fade-out frame " << i;
+    // AND the resume fades in from that frame (the first sound after the pause's silence)
+    std::size_t resumed = resumedAt;
+    while (resumed < k.size() && k[resumed] == 0)
+        ++resumed;
+    ASSERT_GT(k.size(), resumed + 960);
+    EXPECT_NEAR(k[resumed], NumberedSource::value(static_cast<std::int64_t>(last)) / 480.0, 0.5);
+    for (std::size_t i = 480; i < 960; ++i)
+        ASSERT_EQ(k[resumed + i], NumberedSource::value(static_cast<std::int64_t>(last + i)))
+            << "resumed frame " << i;
 }
 
 TEST_F(AudioPlayerTest, aSeekSilencesAtOnceAndPlaysOnFromTheNewPlace)

@@ -89,8 +89,10 @@ public:
     [[nodiscard]] virtual Result<void> pause(bool paused) = 0;
 
     /// \brief Drops the queued frames at once (a seek): delayFrames() becomes 0.
-    /// \return Errors: InvalidState (Closed), NoDevice (Lost).
-    [[nodiscard]] virtual Result<void> flush() = 0;
+    /// \return the frames dropped: those queued and not yet heard at the moment of the drop, so
+    /// that the caller knows the last frame heard without asking delayFrames() first (the device
+    /// plays on between the two calls). Errors: InvalidState (Closed), NoDevice (Lost).
+    [[nodiscard]] virtual Result<std::size_t> flush() = 0;
 
     /// \brief Waits on the backend clock until the queued frames are heard (the end of a stream),
     /// in Open. \return Errors: InvalidState (Closed or Paused: a paused device never drains),

@@ -50,7 +50,7 @@ public:
         return underruns_.load(std::memory_order_relaxed);
     }
     [[nodiscard]] Result<void> pause(bool paused) final;
-    [[nodiscard]] Result<void> flush() final;
+    [[nodiscard]] Result<std::size_t> flush() final;
     [[nodiscard]] Result<void> drain() final;
     void close() noexcept final;
 
@@ -75,8 +75,9 @@ protected:
     [[nodiscard]] virtual std::size_t bufferFramesDevice() const noexcept = 0;
     /// \brief Holds (\a paused) or releases the queue. Called only on a change. Errors: NoDevice.
     [[nodiscard]] virtual Result<void> pauseDevice(bool paused) = 0;
-    /// \brief Drops the queue. Errors: NoDevice.
-    [[nodiscard]] virtual Result<void> flushDevice() = 0;
+    /// \brief Drops the queue. \return the frames dropped (queued, not yet heard, at the drop).
+    /// Errors: NoDevice.
+    [[nodiscard]] virtual Result<std::size_t> flushDevice() = 0;
     /// \brief Plays out the queue (called Open). Errors: NoDevice.
     [[nodiscard]] virtual Result<void> drainDevice() = 0;
     /// \brief Closes the device (called in Open, Paused or Lost). noexcept.

@@ -135,15 +135,20 @@ private:
     std::size_t writeOut(std::size_t frames);
     /// Takes the commands: halt, start, pause, resume. \return false when the output was lost.
     bool control(std::uint64_t startGen, std::uint64_t haltGen, double startAt, bool paused);
-    /// Drops the device's queue, keeping its first 10 ms faded to 0 as the pending fade-out.
-    /// \return false when the output was lost.
-    bool cut();
+    /// Drops the device's queue, keeping its first 10 ms faded to 0 as the pending fade-out: the
+    /// frames that follow the last one heard before the drop (AudioOutput::flush() says how many it
+    /// dropped; a queue asked for first would be stale by what played until the drop).
+    /// \return the frames dropped, as queued() counts them; none when the output was lost.
+    std::optional<std::size_t> cut();
     /// Plays from media time \a seconds (the source seeks there), faded in.
     void begin(double seconds);
     /// \return the device's queue, frames: AudioOutput::delayFrames(), but never less than what
     /// this run wrote beyond what could have been heard in its time (a device that takes frames
     /// faster than real time does not run the clock ahead). Errors: the device's.
     [[nodiscard]] Result<std::size_t> queued();
+    /// \return \a delay (frames the device says it holds), but never less than what this run
+    /// wrote beyond what could have been heard in its time.
+    [[nodiscard]] std::size_t atLeastTheRun(std::size_t delay) const;
     /// Copies up to \a frames of the sound that comes next (the source's block after what was
     /// written, at the present gain) into \a to, without taking them; 0 unless sound plays and
     /// follows on without a gap. For a fade-out longer than what the device has queued.

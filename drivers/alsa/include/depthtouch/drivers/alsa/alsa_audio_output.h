@@ -13,8 +13,8 @@
 /// and the write goes on; delayFrames() is snd_pcm_delay(); framesPlayed() is frames written less
 /// that delay. An unplugged device (-ENODEV, -ENOTTY, -EBADFD after recovery fails) is NoDevice:
 /// the output is Lost. pause() uses snd_pcm_pause() (NotSupported where the device cannot pause),
-/// flush() snd_pcm_drop() then snd_pcm_prepare(), drain() a blocking snd_pcm_drain().
-/// Thread-safety: as hal::AudioOutput.
+/// flush() snd_pcm_delay() (what it drops), snd_pcm_drop() then snd_pcm_prepare(), drain() a
+/// blocking snd_pcm_drain(). Thread-safety: as hal::AudioOutput.
 
 #include <memory>
 #include <string>
@@ -41,7 +41,7 @@ protected:
     [[nodiscard]] Result<std::size_t> delayDevice() override;
     [[nodiscard]] std::size_t bufferFramesDevice() const noexcept override { return buffer_; }
     [[nodiscard]] Result<void> pauseDevice(bool paused) override;
-    [[nodiscard]] Result<void> flushDevice() override;
+    [[nodiscard]] Result<std::size_t> flushDevice() override;
     [[nodiscard]] Result<void> drainDevice() override;
     void closeDevice() noexcept override;
 

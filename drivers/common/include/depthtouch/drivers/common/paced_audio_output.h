@@ -63,7 +63,7 @@ protected:
         return pacer_.bufferFrames();
     }
     [[nodiscard]] Result<void> pauseDevice(bool paused) override;
-    [[nodiscard]] Result<void> flushDevice() override;
+    [[nodiscard]] Result<std::size_t> flushDevice() override;
     [[nodiscard]] Result<void> drainDevice() override;
     void closeDevice() noexcept override {}
 
