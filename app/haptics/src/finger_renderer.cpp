@@ -166,6 +166,7 @@ void FingerRenderer::slide(const glm::dvec3 &hip, double raw, Candidate &c) cons
         // Nearer by a share (hysteresis): beside an edge the two solutions must not take turns.
         const double nearer = (1.0 - kFingerSwitchGain) * glm::length(c.proxy - hip);
         if (localBelow > 0.0 && (!c.contact || overtaken || localBelow < nearer)) {
+            c.switched = c.contact && !overtaken;
             c.proxy = local;
             c.plane = localPlane;
             c.below = localBelow;
@@ -283,7 +284,12 @@ void FingerRenderer::limitPush(const glm::dvec3 &hip, Candidate &c) noexcept
     const double depth = glm::length(candidate);
     const double reach = pushReach(hip);
     const double allowed = lastDepth_ + reach;
-    if (!pushed_) {
+    if (!pushed_ && c.switched && lastDepth_ > 0.0) {
+        // A proxy held to the side, replaced by the surface at the HIP's own x–y (slide()): the
+        // force turns from the side's direction over a few updates, as a bounded push does, for
+        // beside flickering pixels the two solutions took turns.
+        pushDir_ = glm::normalize(proxy_ - lastHip_);
+    } else if (!pushed_) {
         if (!(depth > allowed))
             return;
         pushing_ = true;

@@ -65,7 +65,9 @@
 ///      rises onto it instead of being thrown out at full force or left behind it. While bounded,
 ///      the push's direction turns toward each update's candidate by at most that rate across:
 ///      under an occluder two far solutions took turns and the force's direction alternated at the
-///      servo rate (a 500 Hz limit cycle).
+///      servo rate (a 500 Hz limit cycle). So does a proxy held to the side of the HIP when the
+///      surface above the HIP replaces it (step 2): beside flickering pixels the two took turns,
+///      and each switch turned the force at once.
 ///    - *Caught again*: a finger let go behind an occluder (or by a cut) is caught by the surface
 ///      it was held on as soon as that surface is within its held depth (plus the ramped step)
 ///      again, e.g. when the occluder leaves; before, it stayed free until lifted out.
@@ -201,6 +203,9 @@ private:
         bool stepped = false;   ///< A step or a re-caught contact: the force ramps in.
         bool letGo = false;     ///< Let go whatever Reengage says (occluder, saturation).
         bool saturated = false; ///< Let go at the device maximum.
+        /// A proxy held to the side was replaced by the surface at the HIP's own x–y: its
+        /// direction from the HIP turns at a bounded rate (limitPush()).
+        bool switched = false;
     };
     /// Sets captureDepth_, stepDepth_ and pushDepth_ from the stiffness and maxForceStep.
     void setDepths() noexcept;
