@@ -127,6 +127,11 @@ const double kDemoForceRate = haptic_task::HapticTaskConfig{}.maxForceRate;
 /// After a safety release the renderer ramps the force back in over this time, s: those updates
 /// are left out of the stiffness felt too.
 const double kDemoRampTime = haptics::RendererConfig{}.rampTime;
+/// The proxy rests on the surface when it is this close to the surface under it, m. A proxy held
+/// on a silhouette's side (over the backdrop, mm above it: the HIP went past the edge while the
+/// frames came late) pushes with the renderer's bounded push, not with the material's stiffness,
+/// and is left out of the stiffness felt.
+constexpr double kRestTolerance = 0.001;
 
 } // namespace
 
@@ -210,7 +215,8 @@ DemoFeel measureFeel(const std::vector<LogRow> &rows, const std::vector<double> 
             // The renderer's ramp after its release, and the task's output ramp after a watchdog
             // trip (a late wake-up on a loaded machine): a ramped force is not the surface's.
             const bool ramping = play[i] - releasedAt < kDemoRampTime || r.gain < 1.0;
-            if (!r.released && !slewing && !ramping && depth > kStiffnessMinDepth &&
+            const bool resting = std::abs(r.proxy.z - under) < kRestTolerance;
+            if (!r.released && !slewing && !ramping && resting && depth > kStiffnessMinDepth &&
                 force < 0.95 * kDemoMaxForce)
                 (onFigure ? d.figureStiffness : d.backdropStiffness).push_back(force / depth);
         }

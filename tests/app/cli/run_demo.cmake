@@ -57,6 +57,9 @@ endif()
 # zeroes the force and ramps it back in over 0.25 s: those updates read 0..500 N/m, and one run in
 # ten read 51-282 N/m when they were most of the curtain's contact. The force log's gain column marks
 # the ramp and the demo leaves those updates out, so the cloth's own 0.66 x 800 = 528 N/m is read.
+# Under load the frames come late too and the HIP can pass the head's edge while the finger holds its
+# proxy on the head's side, millimetres above the curtain, pushing at the bounded push's rate (one CI
+# run read 133 N/m from 7 such updates): the demo counts only updates whose proxy rests on the surface.
 if(NOT curtainK STREQUAL "not touched" AND (curtainK LESS 480 OR curtainK GREATER 580))
     fail("stiffness felt on the curtain ${curtainK} N/m: not the cloth's 525 N/m")
 endif()

@@ -110,6 +110,32 @@ TEST(DemoFeelTest, theContactShareAndTheStiffnessFeltAreTheRows)
     EXPECT_EQ(plot[35][5], 0.0);           // on the backdrop
 }
 
+// A proxy held on the figure's side over the backdrop is not pressing the curtain: on a loaded
+// machine (frames late, the HIP past the head's edge) the finger renderer held its proxy 6 mm above
+// the backdrop, 8-12 mm from the HIP, pushing with its bounded push (1.2-1.5 N), and those rows
+// read 117-411 N/m as the curtain's stiffness. Rows whose proxy is over 1 mm off the surface under
+// it are left out; the 10 rows resting on the curtain (1 mm at 1000 N/m) are its stiffness.
+TEST(DemoFeelTest, aProxyHeldAboveTheBackdropIsNotTheCurtainsStiffness)
+{
+    std::vector<LogRow> rows;
+    double t = 0.0;
+    for (int i = 0; i < 20; ++i, t += 0.001) {
+        LogRow r = pressed(t, 0.03, FakeSurface::kBackdrop + 0.006, 0.01, 130.0);
+        rows.push_back(r);
+    }
+    FakeSurface surface(1.0);
+    std::vector<std::array<double, 6>> plot;
+    DemoFeel d = measureFeel(rows, playTimes(rows), surface, plot);
+    EXPECT_NEAR(d.contactSeconds, 0.019, 1e-9); // in contact all the same
+    EXPECT_TRUE(d.backdropStiffness.empty()) << d.backdropStiffness.size();
+    for (int i = 0; i < 10; ++i, t += 0.001)
+        rows.push_back(pressed(t, 0.03, FakeSurface::kBackdrop + 0.0009, 0.001, 1000.0));
+    d = measureFeel(rows, playTimes(rows), surface, plot);
+    ASSERT_EQ(d.backdropStiffness.size(), 10u);
+    for (double k : d.backdropStiffness)
+        EXPECT_NEAR(k, 1000.0, 1e-6);
+}
+
 /// A flat surface at \a height over the whole frame, in front of FakeSurface's backdrop; no cuts.
 class LedgeSurface final : public DemoSurface {
 public:
