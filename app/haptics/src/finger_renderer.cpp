@@ -276,14 +276,20 @@ double FingerRenderer::stencilStep(const FingerPlane &now) const noexcept
 
 void FingerRenderer::limitPush(const glm::dvec3 &hip, Candidate &c) noexcept
 {
-    // How deep the HIP is under the proxy may grow by the HIP's own motion and pushDepth_ an
-    // update: a surface that sweeps under a resting finger (an object's side, a turning head)
-    // pushes it out at a bounded rate, and a hand that yields rises onto it; one that does not is
-    // let go once the force has reached the device maximum (watchSaturation()).
+    // How deep the HIP is under the proxy may grow by the HIP's own motion (once pushed, its
+    // motion into the surface) and pushDepth_ an update: a surface that sweeps under a resting
+    // finger (an object's side, a turning head) pushes it out at a bounded rate, and a hand that
+    // yields rises onto it; one that does not is let go once the force has reached the device
+    // maximum (watchSaturation()).
     const glm::dvec3 candidate = c.proxy - hip;
     const double depth = glm::length(candidate);
     const double reach = pushReach(hip);
-    const double allowed = lastDepth_ + reach;
+    // Once pushed, the HIP's motion counts only into the surface (against pushDir_): a hand that
+    // yields to the push is followed at pushDepth_ an update, not by its own motion as well (in
+    // the demo the force grew the faster the hand gave way, to the device maximum).
+    const double deeper =
+        pushed_ ? std::max(0.0, glm::dot(lastHip_ - hip, pushDir_)) + pushDepth_ : reach;
+    const double allowed = lastDepth_ + deeper;
     if (!pushed_ && c.switched && lastDepth_ > 0.0) {
         // A proxy held to the side, replaced by the surface at the HIP's own x–y (slide()): the
         // force turns from the side's direction over a few updates, as a bounded push does, for

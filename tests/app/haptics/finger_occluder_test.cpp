@@ -317,6 +317,41 @@ TEST(FingerOccluderTest, aSurfaceRisingFastUnderARestingFingerPushesAtABoundedRa
     }
 }
 
+// The same table rising under a finger whose hand yields to the push (rising at 5 cm/s, slower
+// than the table): once pushed, the force follows the yielding hand at the same bounded rate,
+// 0.125 N an update; only the update that starts the push may grow by the HIP's own motion too.
+// Before, the pushed depth grew by the HIP's motion wherever it went: every update of a hand giving
+// way at 0.05 mm an update rose by 0.165 N, the faster the more it gave way (in the demo the
+// turning head pushed a yielding hand to the device maximum).
+TEST(FingerOccluderTest, aHandThatYieldsToThePushIsFollowedAtTheBoundedRateNotFaster)
+{
+    SyntheticVideo video(
+        kBox, kW, kH, kFps,
+        [](double, double, int i) { return -0.015 + 0.009 * std::clamp(i - 3, 0, 2); },
+        SampleFormat::Gray16);
+    const auto settle = settleOnto({0.0, 0.0, -0.016}, 0.004, 0.05);
+    const auto yielding = [&settle](double t) {
+        return settle(t) + glm::dvec3(0.0, 0.0, 0.05 * std::max(0.0, t - 0.1));
+    };
+    const double bound = RendererConfig{}.maxForceStep / 16.0;
+    for (FingerContact contact : kContacts) {
+        const Log log = runFinger(video, contact, yielding, 0.2);
+        int pushed = 0; // updates whose force rose by the bound (within 20 %) or more
+        int faster = 0; // of them, those that rose faster than the bound
+        for (std::size_t k = 60; k < log.out.size(); ++k) {
+            const double rise = glm::length(log.out[k].force) - glm::length(log.out[k - 1].force);
+            pushed += !log.out[k].released && rise > 0.8 * bound ? 1 : 0;
+            faster += !log.out[k].released && rise > bound + 1e-6 ? 1 : 0;
+        }
+        std::printf("contact %d, table rising at 27 cm/s under a finger yielding at 5 cm/s: %d "
+                    "updates pushed, %d of them faster than %.3f N an update\n",
+                    static_cast<int>(contact), pushed, faster, bound);
+        ASSERT_TRUE(log.out[80].contact);
+        EXPECT_GT(pushed, 20); // it did push, for a while
+        EXPECT_LE(faster, 1);
+    }
+}
+
 /// An 8-bit frame of a table at −5 mm with holes where \a hole(x, y), coded as `encode` codes
 /// them (docs/architecture.md §3 "Holes"): holes 0 under the threshold 24, measured nearness n at
 /// 48 + n·(255 − 48)/255. With \a threshold 0, as a file without holes: n itself, and code 0

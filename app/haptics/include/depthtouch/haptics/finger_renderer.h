@@ -60,9 +60,11 @@
 ///      only when nearer by kFingerSwitchGain: beside an object's edge, two solutions cannot take
 ///      turns from one update to the next (before: a 500 Hz buzz pressing beside a typing hand).
 ///    - *Bounded push*: the HIP's depth under the proxy grows by at most the HIP's own motion plus
-///      maxForceStep/(16k) per update, so a surface that sweeps under a resting finger (an
+///      maxForceStep/(16k) per update, and once pushed by the HIP's motion into the surface
+///      (against the push) plus that, so a surface that sweeps under a resting finger (an
 ///      object's side, a turning head) pushes it out at a bounded rate, and a hand that yields
-///      rises onto it instead of being thrown out at full force or left behind it. While bounded,
+///      rises onto it instead of being thrown out at full force or left behind it (a yielding
+///      hand's own motion does not speed the push up). While bounded,
 ///      the push's direction turns toward each update's candidate by at most that rate across:
 ///      under an occluder two far solutions took turns and the force's direction alternated at the
 ///      servo rate (a 500 Hz limit cycle). So does a proxy held to the side of the HIP when the
@@ -244,7 +246,8 @@ private:
     /// lies beside an object's silhouette).
     void straightUp(const glm::dvec3 &hip, double raw, Candidate &c) const noexcept;
     /// \return how much the HIP's depth under the proxy (or behind a wall) may grow this update:
-    /// the HIP's own motion since the last update plus pushDepth_, m (the bounded push).
+    /// the HIP's own motion since the last update plus pushDepth_, m (the bounded push; once
+    /// pushed, limitPush() counts only the motion into the surface).
     [[nodiscard]] double pushReach(const glm::dvec3 &hip) const noexcept;
     /// \return how far the stencil \a now (refitted where the last update's plane was) moved
     /// since that update: the median over its taps of |now − then|, m; a tap that is or was a hole
