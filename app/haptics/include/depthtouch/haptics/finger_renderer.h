@@ -64,8 +64,8 @@
 ///      (against the push) plus that, so a surface that sweeps under a resting finger (an
 ///      object's side, a turning head) pushes it out at a bounded rate, and a hand that yields
 ///      rises onto it instead of being thrown out at full force or left behind it (a yielding
-///      hand's own motion does not speed the push up). While bounded,
-///      the push's direction turns toward each update's candidate by at most that rate across:
+///      hand's own motion does not speed the push up). While bounded, the push's direction
+///      turns toward each update's candidate by at most that rate across:
 ///      under an occluder two far solutions took turns and the force's direction alternated at the
 ///      servo rate (a 500 Hz limit cycle). So does a proxy held to the side of the HIP when the
 ///      surface above the HIP replaces it (step 2): beside flickering pixels the two took turns,
