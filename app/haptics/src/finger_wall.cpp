@@ -101,8 +101,11 @@ void FingerRenderer::wallContact(const glm::dvec3 &hip, double raw, Candidate &c
 {
     const glm::dvec3 n(wallNormal_, 0.0);
     // The side: the smallest free depth along n, searched as far as the bounded push reaches (the
-    // side's depth grows by the HIP's motion and pushDepth_ an update, as in limitPush()).
-    const double reach = wallDepth_ + pushReach(hip);
+    // side's depth grows by the HIP's motion into it and pushDepth_ an update, as a pushed
+    // limitPush()'s: sliding along a ragged side, a jut is pushed in at that rate, not stepped
+    // onto by the slide's own motion).
+    const double reach =
+        wallDepth_ + std::max(0.0, glm::dot(glm::dvec2(lastHip_ - hip), wallNormal_)) + pushDepth_;
     double s = reach;
     if (freeAt(hip + s * n)) {
         double in = 0.0;

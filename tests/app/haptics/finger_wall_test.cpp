@@ -172,5 +172,41 @@ TEST(FingerWallTest, aSideThatSweepsOntoAHeldFingerPushesItOutAtABoundedRate)
     EXPECT_TRUE(letGo);
 }
 
+// A finger held 1 mm past an object's ragged side (its edge juts out and back by 0.3 mm every
+// millimetre along y, as an 8-bit silhouette's pixels do) slides along it at 50 cm/s. The side's
+// depth grows by the HIP's motion into the side plus the bounded push, so where the side juts out
+// the force grows by at most maxForceStep / 16 an update (0.125 N) and k times the slide's share
+// into the side (its found normal is tilted 4 degrees: 0.03 mm of the 0.5 mm an update). Before,
+// the depth could grow by the HIP's whole motion along the side: a 0.47 N step at each jut (the
+// feel bench's swipes across silhouettes had their spikes there).
+TEST(FingerWallTest, slidingAlongARaggedSideGrowsTheForceNoFasterThanTheBoundedPush)
+{
+    const RendererConfig config = RendererConfig::forMethod(Method::Finger);
+    SyntheticVideo ragged(
+        kBox, 320, 240, 30.0,
+        [](double x, double y, int) {
+            const double side = std::fmod(y + 1.0, 0.002) < 0.001 ? 0.0003 : -0.0003;
+            return kTable + (kTop - kTable) * 0.5 * (1.0 + std::tanh((x - side) / 0.0002));
+        },
+        SampleFormat::Gray8);
+    const double z = kTable + 0.001;
+    const auto hip = [z](double t) {
+        const glm::dvec3 in = swipeTo(z, 0.001)(t);
+        return in + glm::dvec3(0.0, 0.5 * std::max(0.0, t - 0.1), 0.0);
+    };
+    const StrokeLog run = stroke(hip, 0.14, ragged);
+    double largest = 0.0; // the largest growth of |F| in one update while sliding, N
+    for (std::size_t k = 101; k < run.out.size(); ++k) {
+        ASSERT_TRUE(run.out[k].contact) << "at t = " << k << " ms";
+        EXPECT_LT(run.out[k].force.x, 0.0) << "at t = " << k << " ms"; // back out of the side
+        largest =
+            std::max(largest, glm::length(run.out[k].force) - glm::length(run.out[k - 1].force));
+    }
+    std::printf("sliding along a ragged side at 50 cm/s: largest growth %.3f N an update\n",
+                largest);
+    EXPECT_LE(largest, config.maxForceStep / 16.0 + kStiffness * 0.1 * 0.0005);
+    EXPECT_GT(largest, 0.5 * config.maxForceStep / 16.0); // the juts did push
+}
+
 } // namespace
 } // namespace depthtouch::haptics
