@@ -127,11 +127,6 @@ const double kDemoForceRate = haptic_task::HapticTaskConfig{}.maxForceRate;
 /// After a safety release the renderer ramps the force back in over this time, s: those updates
 /// are left out of the stiffness felt too.
 const double kDemoRampTime = haptics::RendererConfig{}.rampTime;
-/// The proxy rests on the surface when it is this close to the surface under it, m. A proxy held
-/// on a silhouette's side (over the backdrop, mm above it: the HIP went past the edge while the
-/// frames came late) pushes with the renderer's bounded push, not with the material's stiffness,
-/// and is left out of the stiffness felt.
-constexpr double kRestTolerance = 0.001;
 
 } // namespace
 

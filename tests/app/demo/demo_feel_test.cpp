@@ -170,6 +170,22 @@ TEST(DemoFeelTest, aSurfaceExactlyTheFigureMarginInFrontOfTheBackdropIsBackdrop)
     }
 }
 
+// The rest rule is strict: a proxy exactly kRestTolerance above the surface under it does not rest
+// on it, one a micrometre nearer does (20 rows each, pressed 2 mm at 500 N/m on a ledge at 0).
+TEST(DemoFeelTest, aProxyExactlyTheRestToleranceAboveTheSurfaceDoesNotRest)
+{
+    for (const double above : {kRestTolerance, kRestTolerance - 1e-6}) {
+        std::vector<LogRow> rows;
+        for (int i = 0; i < 20; ++i)
+            rows.push_back(pressed(0.001 * i, 0.0, above, 0.002, 500.0));
+        LedgeSurface surface(0.0);
+        std::vector<std::array<double, 6>> plot;
+        const DemoFeel d = measureFeel(rows, playTimes(rows), surface, plot);
+        EXPECT_NEAR(d.figureSeconds, 0.019, 1e-9) << above; // on the figure all the same
+        EXPECT_EQ(d.figureStiffness.size(), above < kRestTolerance ? 20u : 0u) << above;
+    }
+}
+
 // The force log is read by its columns (docs/architecture.md §4: t, HIP, proxy, force, contact,
 // released, play_t, gain); a row that does not parse is skipped, and play time counts from the
 // first row.

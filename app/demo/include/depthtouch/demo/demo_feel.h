@@ -63,6 +63,12 @@ std::unique_ptr<DemoSurface> loadClipSurface(const std::string &clip, std::strin
 /// much nearer than the backdrop, m.
 constexpr double kFigureMargin = 0.002;
 
+/// The proxy rests on the surface when it is less than this from the surface under it, m. A proxy
+/// held on a silhouette's side (over the backdrop, mm above it: the HIP went past the edge while
+/// the frames came late) pushes with the renderer's bounded push, not with the material's
+/// stiffness, and is left out of the stiffness felt.
+constexpr double kRestTolerance = 0.001;
+
 /// What the demo measured in the force log.
 struct DemoFeel {
     haptics::FeelFigures feel;
