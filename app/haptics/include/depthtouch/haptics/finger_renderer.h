@@ -246,8 +246,9 @@ private:
     /// lies beside an object's silhouette).
     void straightUp(const glm::dvec3 &hip, double raw, Candidate &c) const noexcept;
     /// \return how much the HIP's depth under the proxy (or behind a wall) may grow this update:
-    /// the HIP's own motion since the last update plus pushDepth_, m (the bounded push; once
-    /// pushed, limitPush() counts only the motion into the surface).
+    /// the HIP's own motion since the last update plus pushDepth_, m (the bounded push). A pushed
+    /// limitPush() and a wall's growth count only the motion into the surface instead; the wall
+    /// still shrinks by at most this.
     [[nodiscard]] double pushReach(const glm::dvec3 &hip) const noexcept;
     /// \return how far the stencil \a now (refitted where the last update's plane was) moved
     /// since that update: the median over its taps of |now − then|, m; a tap that is or was a hole
