@@ -77,6 +77,7 @@ void ServoLoop::zeroForce() noexcept
 {
     prevForce_ = {};
     phase_ = 0.0;
+    resumePhase_ = 0.0;
     counters_.setGain(0.0);
     counters_.publishForce({});
 }
@@ -208,6 +209,7 @@ ServoLoop::beginSample(const platform::PeriodicWait &wait) const noexcept
         needReset_ = true;
         lastT_ = -1e300;
         phase_ = 0.0;
+        resumePhase_ = 0.0;
     }
 }
 
@@ -266,11 +268,33 @@ ServoLoop::beginSample(const platform::PeriodicWait &wait) const noexcept
             supervisor_.countTrip();
             c.sample.flags |= TelemetrySample::WatchdogTrip;
         }
+        resumePhase_ = std::max(resumePhase_, phase_);
         phase_ = 0.0;
         prevForce_ = {};
+        stalled_ = true;
     } else {
-        const double step = period_ / config_.rampTime;
-        phase_ = controls_.enabled() ? std::min(1.0, phase_ + step) : std::max(0.0, phase_ - step);
+        if (stalled_) {
+            // Back on time after the deadline watchdog's zero: the force comes back to where it
+            // was over as long as it was gone (at least a period, at most rampTime). A stall of a
+            // few periods moved the hand a few millimetres at most, so a full ramp would only let
+            // the finger sink through the surface meanwhile; a long stop (SIGSTOP, a suspended
+            // machine) still ramps over rampTime. Past the phase it had, the ramp goes on at the
+            // enable ramp's rate.
+            resumeTime_ =
+                std::clamp(platform::toSeconds(c.begin - lastOnTime_), period_, config_.rampTime);
+            stalled_ = false;
+        }
+        const bool resuming = phase_ < resumePhase_;
+        const double step = period_ / (resuming ? resumeTime_ : config_.rampTime);
+        if (!controls_.enabled())
+            phase_ = std::max(0.0, phase_ - step);
+        else if (resuming)
+            phase_ = std::min(resumePhase_, phase_ + step);
+        else
+            phase_ = std::min(1.0, phase_ + step);
+        if (!resuming || !controls_.enabled())
+            resumePhase_ = 0.0;
+        lastOnTime_ = c.begin;
     }
     const double gain = smoothstep(phase_);
     counters_.setGain(gain);

@@ -239,12 +239,17 @@ TEST(HapticTaskTest, missedDeadlinesZeroTheForceAndItRampsBack)
     EXPECT_EQ(s.watchdogTrips, 1u);
     EXPECT_GE(s.overruns, 10u);
     EXPECT_GE(s.missedPeriods, 20u);
-    // AND the force ramps back in once the deadlines are kept
-    rig.runMs(20);
+    // AND once the deadlines are kept the force comes back over as long as it was gone (the ten
+    // updates took 30 ms), not over the 100 ms enable ramp (smoothstep(0.35) of 4 N = 1.1 N)
+    const double gone = platform::toSeconds(rig.clock().now() - from);
+    ASSERT_GT(gone, 0.029);
+    rig.runMs(10);
     const double early = rig.task().lastForce().z;
     EXPECT_GT(early, 0.0);
-    EXPECT_LT(early, 1.0);
-    rig.runMs(150);
+    EXPECT_LT(early, 4.0 * 0.75); // smoothstep(10 / 30) = 0.26 of it
+    rig.runMs(25);
+    EXPECT_NEAR(rig.task().lastForce().z, 4.0, 0.01);
+    rig.runMs(135);
     EXPECT_NEAR(rig.task().lastForce().z, 4.0, 0.01);
     // AND every 1 ms period since was an update or a missed deadline: none lost, none counted
     // twice (the accounting a real-time run can only check within its wake-ups' lateness)
@@ -252,6 +257,75 @@ TEST(HapticTaskTest, missedDeadlinesZeroTheForceAndItRampsBack)
     const auto periods = static_cast<std::uint64_t>(
         std::llround(platform::toSeconds(rig.clock().now() - from) * 1000.0));
     EXPECT_EQ((s.updates - before.updates) + (s.missedPeriods - before.missedPeriods), periods);
+    rig.finish(); // the haptic thread stops before the devices declared after the rig go
+}
+
+// What a viewer feels of a stall: the simulated hand presses a flat surface with 3 N and the
+// haptic thread loses 10 ms (three updates of three periods). The force comes back over those
+// 10 ms; with the 250 ms enable ramp the hand, still pushing, sank about 20 mm through the surface
+// before the force held it again.
+TEST(HapticTaskTest, aHandPressingThroughAShortStallSinksLittleFurther)
+{
+    Rig rig;
+    auto sim = makeSim(rig.clock(), "intent=press,force=3,x=0.005,y=-0.004,z=0.02");
+    SlowDevice slow(*sim, rig.clock());
+    rig.publishFlat(-0.01);
+    HapticTaskConfig c = Rig::baseConfig();
+    c.rampTime = 0.25; // the product's default
+    const double k = c.renderer.stiffness;
+    rig.start(slow, c);
+    rig.runMs(1500);
+    const double resting = -0.01 - sim->position().z;
+    ASSERT_NEAR(resting, 3.0 / k, 0.5e-3); // F = k·depth
+    // WHEN three updates in a row take three periods each
+    slow.makeSlow(3);
+    rig.runMs(1);
+    ASSERT_EQ(rig.task().stats().watchdogTrips, 1u);
+    double deepest = 0.0;
+    for (int i = 0; i < 400; ++i) {
+        rig.runMs(1);
+        deepest = std::max(deepest, -0.01 - sim->position().z);
+    }
+    // THEN the hand sinks at most a millimetre and a half further, and rests again at 3 N
+    EXPECT_LT(deepest, resting + 1.5e-3);
+    EXPECT_NEAR(glm::length(rig.task().lastForce()), 3.0, 0.1);
+    rig.finish(); // the haptic thread stops before the devices declared after the rig go
+}
+
+// A stall in the middle of the enable ramp (the viewer just switched haptics on) gives back the
+// force the ramp had reached, quickly, and the rest of the ramp goes on at its own pace: the fast
+// resumption never makes the enable ramp shorter.
+TEST(HapticTaskTest, aStallDuringTheEnableRampResumesOnlyToWhereTheRampWas)
+{
+    Rig rig;
+    drivers::MockHapticDevice mock(rig.clock());
+    SlowDevice slow(mock, rig.clock());
+    HapticTaskConfig c = Rig::baseConfig(); // rampTime 100 ms
+    c.watchdogMissedDeadlines = 5;
+    startPressingFlat(rig, mock, slow, c);
+    ASSERT_NEAR(rig.task().lastForce().z, 4.0, 0.01);
+    rig.task().setEnabled(false);
+    rig.runMs(110);
+    ASSERT_EQ(rig.task().lastForce().z, 0.0);
+    rig.task().setEnabled(true);
+    rig.runMs(30); // phase 0.3: smoothstep 0.216 of 4 N
+    const double reached = rig.task().lastForce().z;
+    ASSERT_NEAR(reached, 4.0 * 0.216, 0.05);
+    // WHEN three updates in a row take three periods each (nine deadlines missed)
+    slow.makeSlow(3);
+    rig.runMs(1);
+    ASSERT_EQ(rig.task().stats().watchdogTrips, 1u);
+    ASSERT_EQ(rig.task().lastForce().z, 0.0);
+    // THEN about 10 ms later the force is back near where the ramp was, and 20 ms later it has
+    // gone on at the enable ramp's pace (phase 0.5: 2 N), not to the full 4 N
+    rig.runMs(12);
+    EXPECT_GT(rig.task().lastForce().z, reached);
+    EXPECT_LT(rig.task().lastForce().z, 4.0 * 0.42);
+    rig.runMs(20);
+    EXPECT_GT(rig.task().lastForce().z, 4.0 * 0.3);
+    EXPECT_LT(rig.task().lastForce().z, 4.0 * 0.7);
+    rig.runMs(80);
+    EXPECT_NEAR(rig.task().lastForce().z, 4.0, 0.01);
     rig.finish(); // the haptic thread stops before the devices declared after the rig go
 }
 
@@ -307,8 +381,13 @@ TEST(HapticTaskTest, aWakeUpSecondsLateCommandsNoForce)
     // watchdog zeroed the force only at the next), and the watchdog counts one trip
     EXPECT_EQ(device.largestCommand(), 0.0);
     EXPECT_EQ((*task)->stats().watchdogTrips, 1u);
-    // AND the force ramps back once the deadlines are kept
-    for (int i = 0; i < 200; ++i)
+    // AND the force ramps back once the deadlines are kept, over rampTime (100 ms), not over the
+    // 3 s it was gone nor faster: at 20 ms it is smoothstep(0.2) of 4 N = 0.42 N
+    for (int i = 0; i < 20; ++i)
+        manual.advance(1ms);
+    EXPECT_GT((*task)->lastForce().z, 0.2);
+    EXPECT_LT((*task)->lastForce().z, 1.0);
+    for (int i = 0; i < 180; ++i)
         manual.advance(1ms);
     EXPECT_NEAR((*task)->lastForce().z, 4.0, 0.01);
     (*task)->requestStop();

@@ -38,14 +38,16 @@ struct HapticTaskConfig {
     double maxForceRate = 2000.0;
     DeviceMapping mapping{};
     /// Watchdog: more than this many consecutive missed deadlines (overruns, counting the periods
-    /// skipped by the re-sync) command zero force at once; the force then ramps back in (rampTime)
-    /// while the loop keeps its deadlines. ≥ 1.
+    /// skipped by the re-sync) command zero force at once; once the loop keeps its deadlines the
+    /// force ramps back to where it was over as long as it was gone (at least a period, at most
+    /// rampTime), then on at the enable ramp's rate. ≥ 1.
     int watchdogMissedDeadlines = 5;
     /// Watchdog: more than this many consecutive device time-outs (Errc::Timeout) command zero
     /// force; it ramps back in once the device answers. ≥ 1.
     int watchdogDeviceTimeouts = 5;
-    /// Duration of the smooth force ramp of setEnabled() and of every resumption (watchdog,
-    /// reconnect), s (> 0). The gain follows smoothstep(phase), phase moving linearly.
+    /// Duration of the smooth force ramp of setEnabled(), of a reconnect and of a re-seat, and the
+    /// longest resumption after the deadline watchdog, s (> 0). The gain follows smoothstep(phase),
+    /// phase moving linearly.
     double rampTime = 0.25;
     bool startEnabled = true; ///< Haptics on at start (else setEnabled(true) ramps them in).
 

@@ -96,7 +96,8 @@ private:
     /// Runs the renderer at \a hip, telling it the cycle's ramp gain (its safety watches the force
     /// sent). \return its force at the run-time stiffness, N (zero without frames).
     glm::dvec3 render(const glm::dvec3 &hip, CycleContext &c) noexcept;
-    /// Moves the enable ramp (zero when late). \return the gain in [0, 1].
+    /// Moves the enable ramp (zero when late; after the deadline watchdog's zero, back to the phase
+    /// it had over as long as the force was gone, at most rampTime). \return the gain in [0, 1].
     double rampGain(CycleContext &c) noexcept;
     /// \return \a target with the gain, zeroed by the clutch or a late loop, clamped to the
     /// maximum and rate-limited.
@@ -135,6 +136,11 @@ private:
     bool haveFrames_ = false;
     double lastT_ = 0.0;
     double phase_ = 0.0; ///< Ramp phase in [0, 1]; gain = smoothstep(phase).
+    /// The phase the deadline watchdog's zero interrupted, regained over resumeTime_ (0: none).
+    double resumePhase_ = 0.0;
+    double resumeTime_ = 0.0;          ///< s: how long the force was gone (rampGain()).
+    bool stalled_ = false;             ///< The last cycle was late (the watchdog held zero).
+    platform::TimePoint lastOnTime_{}; ///< Wake-up of the last cycle that was not late.
     glm::dvec3 prevForce_{};
     platform::TimePoint prevCommandTime_{};
     bool havePrevCommand_ = false;
