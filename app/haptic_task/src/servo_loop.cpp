@@ -275,11 +275,12 @@ ServoLoop::beginSample(const platform::PeriodicWait &wait) const noexcept
     } else {
         if (stalled_) {
             // Back on time after the deadline watchdog's zero: the force comes back to where it
-            // was over as long as it was gone (at least a period, at most rampTime). A stall of a
-            // few periods moved the hand a few millimetres at most, so a full ramp would only let
-            // the finger sink through the surface meanwhile; a long stop (SIGSTOP, a suspended
-            // machine) still ramps over rampTime. Past the phase it had, the ramp goes on at the
-            // enable ramp's rate.
+            // was over as long as it was gone (at least a period, at most rampTime). The first
+            // update back renders from the HIP where it is now and the force is slewed as at any
+            // contact, so after a stall of a few periods a full ramp would only let a pressing
+            // finger sink through the surface; a long stop (SIGSTOP, a suspended machine), where
+            // the hand may be anywhere, still ramps over rampTime. Past the phase it had, the
+            // ramp goes on at the enable ramp's rate.
             resumeTime_ =
                 std::clamp(platform::toSeconds(c.begin - lastOnTime_), period_, config_.rampTime);
             stalled_ = false;
