@@ -90,9 +90,8 @@ void expectPushedOutSmoothly(const FeelFigures &f, bool noReversal)
     EXPECT_GT(f.maxForce, 1.0);
     EXPECT_LE(f.longestAlternation, FeelGoals{}.maxAlternation);
     EXPECT_EQ(f.falseTrips, 0u);
-    if (noReversal) {
+    if (noReversal)
         EXPECT_EQ(f.reversalSpikes, 0u);
-    }
 }
 
 /// The goals of docs/benchmarks.md (FeelGoals' defaults).
