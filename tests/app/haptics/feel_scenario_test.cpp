@@ -56,12 +56,9 @@ FeelSetting setting(const char *name)
 /// The figures of `finger` on the bench's family stroke \a name on the synthetic \a which scene
 /// (8-bit, holes kept, placed as `bench feel` places it), printed; empty figures (and a failure)
 /// when the scene or the stroke cannot be made.
-FeelFigures familyStroke(SyntheticScene which, const std::string &name,
-                         SensorModel sensor = SensorModel::StructuredLight)
+FeelFigures familyStroke(SyntheticScene which, const std::string &name)
 {
-    SyntheticSceneOptions options;
-    options.sensor = sensor;
-    auto scene = makeSyntheticScene(which, options);
+    auto scene = makeSyntheticScene(which);
     EXPECT_TRUE(scene) << (scene ? "" : scene.error().what);
     std::vector<Stroke> strokes;
     if (scene)
@@ -199,37 +196,6 @@ TEST(FeelScenarioPushTest, aDeepPressBesideTheHeadsContourKeepsItsForce)
 TEST(FeelScenarioPushTest, aHeldFingerPushedOutByAnOccluderDoesNotAlternate)
 {
     const FeelFigures f = familyStroke(SyntheticScene::Occluder, "hold 3 mm under occluder");
-    EXPECT_GT(f.maxForce, 1.0); // the occluder did push
-    EXPECT_LE(f.longestAlternation, FeelGoals{}.maxAlternation);
-    EXPECT_EQ(f.reversalSpikes, 0u);
-    EXPECT_EQ(f.falseTrips, 0u);
-}
-
-// A 0.5 mm press at 5 cm/s beside the synthetic occluder seen through the active-stereo model
-// (8-bit, holes kept, as `bench feel` places it). The occluder sweeps over the finger and pushes it
-// out; the glide toward the proxy's new optimum started from the pushed proxy, which is off the
-// surface (along the push), and ended alternately on the occluder's top and back on the plane it
-// started on: the force's direction turned to and fro, an alternating run of 11 updates (13 on
-// the 16-bit clip). The glide now starts from the last proxy on the surface, and while pushed it
-// does not go back the way the last update's glide went.
-TEST(FeelScenarioPushTest, aShallowPressUnderAPassingOccluderDoesNotAlternate)
-{
-    const FeelFigures f = familyStroke(SyntheticScene::Occluder, "press 0.5 mm 5 cm/s edge",
-                                       SensorModel::ActiveStereo);
-    EXPECT_GT(f.maxForce, 1.0); // the occluder did push
-    EXPECT_LE(f.longestAlternation, FeelGoals{}.maxAlternation);
-    EXPECT_EQ(f.falseTrips, 0u);
-}
-
-// A finger held 3 mm in under the synthetic occluder seen through the time-of-flight model: pushed
-// out, the search from either side of a ridge of flying pixels ended on the other side, and the
-// proxy glided 0.38 mm there and back every update (an alternating run of 17 updates, 2
-// sign-reversal spikes, once the glide started from the surface). While pushed, a glide back the
-// way the last one went waits an update: the proxy goes on toward the optimum it was heading for.
-TEST(FeelScenarioPushTest, aPushedFingerDoesNotGlideToAndFro)
-{
-    const FeelFigures f = familyStroke(SyntheticScene::Occluder, "hold 3 mm under occluder",
-                                       SensorModel::TimeOfFlight);
     EXPECT_GT(f.maxForce, 1.0); // the occluder did push
     EXPECT_LE(f.longestAlternation, FeelGoals{}.maxAlternation);
     EXPECT_EQ(f.reversalSpikes, 0u);
