@@ -57,10 +57,10 @@ struct CameraConfig {
 
 /// \brief Pinhole intrinsics of the depth image (pixels).
 struct CameraIntrinsics {
-    double fx = 0.0;
-    double fy = 0.0;
-    double cx = 0.0;
-    double cy = 0.0;
+    double fx = 0.0; ///< Focal length along x, pixels.
+    double fy = 0.0; ///< Focal length along y, pixels.
+    double cx = 0.0; ///< Principal point x, pixels from the left edge.
+    double cy = 0.0; ///< Principal point y, pixels from the top edge.
 };
 
 /// \brief What a camera can do. Constant for the camera's lifetime.

@@ -20,10 +20,10 @@ namespace depthtouch::haptics {
 /// \brief One trajectory row: time (s, t = 0 at the first depth frame's PTS) and HIP position (m,
 /// scene-box frame).
 struct TrajectorySample {
-    double t = 0.0;
-    double x = 0.0;
-    double y = 0.0;
-    double z = 0.0;
+    double t = 0.0; ///< s, from the first depth frame's PTS.
+    double x = 0.0; ///< m, scene-box x (right).
+    double y = 0.0; ///< m, scene-box y (up).
+    double z = 0.0; ///< m, scene-box z (towards the viewer).
 };
 
 /// \brief Bounds on what a trajectory or a replay may ask for, so hostile input cannot make the

@@ -62,10 +62,10 @@ struct StereoParams {
 
 /// \brief A pixel rectangle of the output frame, OpenGL convention (x, y of the lower-left corner).
 struct Viewport {
-    int x = 0;
-    int y = 0;
-    int width = 0;
-    int height = 0;
+    int x = 0;      ///< pixels from the frame's left edge.
+    int y = 0;      ///< pixels from the frame's bottom edge.
+    int width = 0;  ///< pixels.
+    int height = 0; ///< pixels.
 };
 
 /// \brief One camera: view and projection matrices and where it draws.
