@@ -43,6 +43,8 @@ Result<void> FingerRenderer::setFrames(const DepthFrameView &current,
 void FingerRenderer::reset(const glm::dvec3 &hip) noexcept
 {
     proxy_ = hip;
+    surfaceProxy_ = hip;
+    lastGlide_ = {};
     lastHip_ = hip;
     contact_ = false;
     behind_ = false;
@@ -109,21 +111,35 @@ glm::dvec3 FingerRenderer::solve(const glm::dvec3 &hip, double startX, double st
 }
 
 glm::dvec3 FingerRenderer::glide(const glm::dvec3 &hip, const glm::dvec3 &proxy, FingerPlane &plane,
-                                 double &moved) const noexcept
+                                 double &moved, glm::dvec2 &dir) const noexcept
 {
     moved = 0.0;
+    dir = {};
     const double hx = hip.x - lastHip_.x;
     const double hy = hip.y - lastHip_.y;
     const double allowed = std::sqrt(hx * hx + hy * hy) + 0.25 * radius_;
-    const double dx = proxy.x - proxy_.x;
-    const double dy = proxy.y - proxy_.y;
+    // From the last proxy on the surface: a pushed proxy is off it, along the push (a glide from
+    // there took turns with the plane it started on, a buzz of the force's direction).
+    const glm::dvec3 &from = surfaceProxy_;
+    const double dx = proxy.x - from.x;
+    const double dy = proxy.y - from.y;
     const double d = std::sqrt(dx * dx + dy * dy);
     if (!(d > allowed))
         return proxy;
+    if (pushed_ && dx * lastGlide_.x + dy * lastGlide_.y < -0.5 * d) {
+        // Back the way the last glide went: two far optima take turns (the search from either
+        // side of a ridge ends on the other), and the proxy would glide to and fro at the servo
+        // rate. It stays this update; the last glide's direction is kept, so it goes on, at half
+        // the pace, toward the one it was heading for.
+        plane = fitFingerPlane(field_, from.x, from.y, radius_);
+        dir = lastGlide_;
+        return {plane.x, plane.y, plane.height};
+    }
     moved = allowed;
+    dir = {dx / d, dy / d};
     // Toward the new optimum by what is allowed, on the surface there.
-    plane = fitFingerPlane(field_, proxy_.x + dx * (allowed / d), proxy_.y + dy * (allowed / d),
-                           radius_);
+    plane =
+        fitFingerPlane(field_, from.x + dx * (allowed / d), from.y + dy * (allowed / d), radius_);
     return {plane.x, plane.y, plane.height};
 }
 
@@ -182,7 +198,7 @@ void FingerRenderer::slide(const glm::dvec3 &hip, double raw, Candidate &c) cons
         return;
     }
     double glided = 0.0;
-    c.proxy = glide(hip, c.proxy, c.plane, glided);
+    c.proxy = glide(hip, c.proxy, c.plane, glided, c.glide);
     // A descent never ends farther from the HIP than where it started (the surface point of the
     // last update's plane, refitted now), and a glide (a jump of the optimum, followed over a few
     // updates) only for a gain of kFingerGlideGain of its length: otherwise the proxy stays, so
@@ -284,6 +300,7 @@ void FingerRenderer::limitPush(const glm::dvec3 &hip, Candidate &c) noexcept
     const glm::dvec3 candidate = c.proxy - hip;
     const double depth = glm::length(candidate);
     const double reach = pushReach(hip);
+    c.found = c.proxy;
     // Once pushed, the HIP's motion counts only into the surface (against pushDir_): a hand that
     // yields to the push is followed at pushDepth_ an update, not by its own motion as well (in
     // the demo the force grew the faster the hand gave way, to the device maximum).
@@ -301,6 +318,7 @@ void FingerRenderer::limitPush(const glm::dvec3 &hip, Candidate &c) noexcept
         pushing_ = true;
         pushDir_ = candidate / depth;
         c.proxy = hip + pushDir_ * allowed;
+        c.bounded = true;
         return;
     }
     // While pushed, the proxy's offset from the HIP turns toward the candidate's by at most reach
@@ -321,6 +339,7 @@ void FingerRenderer::limitPush(const glm::dvec3 &hip, Candidate &c) noexcept
         pushDir_ = dir;
     }
     c.proxy = hip + pushDir_ * std::min(depth, allowed);
+    c.bounded = true;
     pushing_ = !(angle <= turn && depth <= allowed);
 }
 
@@ -403,6 +422,8 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     out.constraints = c.contact ? 1 : 0;
     contact_ = c.contact;
     proxy_ = c.proxy;
+    surfaceProxy_ = c.bounded && c.contact ? c.found : c.proxy;
+    lastGlide_ = c.contact ? c.glide : glm::dvec2{};
     lastHip_ = hip;
     lastDepth_ = c.contact ? glm::length(c.proxy - hip) : 0.0;
     lastX_ = c.plane.x;

@@ -53,12 +53,16 @@ FeelSetting setting(const char *name)
     return {};
 }
 
-/// The figures of `finger` on the bench's family stroke \a name on the synthetic \a which scene
-/// (8-bit, holes kept, placed as `bench feel` places it), printed; empty figures (and a failure)
-/// when the scene or the stroke cannot be made.
-FeelFigures familyStroke(SyntheticScene which, const std::string &name)
+/// The figures of the bench's setting \a renderer on its family stroke \a name on the synthetic
+/// \a which scene (8-bit, holes kept, placed as `bench feel` places it), printed; empty figures
+/// (and a failure) when the scene or the stroke cannot be made.
+FeelFigures familyStroke(SyntheticScene which, const std::string &name,
+                         SensorModel sensor = SensorModel::StructuredLight,
+                         const char *renderer = "finger")
 {
-    auto scene = makeSyntheticScene(which);
+    SyntheticSceneOptions options;
+    options.sensor = sensor;
+    auto scene = makeSyntheticScene(which, options);
     EXPECT_TRUE(scene) << (scene ? "" : scene.error().what);
     std::vector<Stroke> strokes;
     if (scene)
@@ -68,15 +72,15 @@ FeelFigures familyStroke(SyntheticScene which, const std::string &name)
     EXPECT_EQ(strokes.size(), 1u) << name;
     if (strokes.size() != 1u)
         return {};
-    auto results = runFeelStrokes(*scene, strokes, setting("finger"));
+    auto results = runFeelStrokes(*scene, strokes, setting(renderer));
     EXPECT_TRUE(results) << (results ? "" : results.error().what);
     if (!results)
         return {};
     const FeelFigures &f = results->front().figures;
-    std::printf("%s on %s: pop-through %.0f ms, longest alternating run %zu, %zu sign-reversal "
-                "spikes, max %.2f N, %zu trips\n",
-                name.c_str(), scene->name.c_str(), f.popThroughMs, f.longestAlternation,
-                f.reversalSpikes, f.maxForce, f.trips);
+    std::printf("%s, %s on %s: pop-through %.0f ms, longest alternating run %zu, %zu "
+                "sign-reversal spikes, pull-down %.0f ms, max %.2f N, %zu trips\n",
+                renderer, name.c_str(), scene->name.c_str(), f.popThroughMs, f.longestAlternation,
+                f.reversalSpikes, f.pullDownMs, f.maxForce, f.trips);
     return f;
 }
 
@@ -199,6 +203,51 @@ TEST(FeelScenarioPushTest, aHeldFingerPushedOutByAnOccluderDoesNotAlternate)
     EXPECT_GT(f.maxForce, 1.0); // the occluder did push
     EXPECT_LE(f.longestAlternation, FeelGoals{}.maxAlternation);
     EXPECT_EQ(f.reversalSpikes, 0u);
+    EXPECT_EQ(f.falseTrips, 0u);
+}
+
+// A 0.5 mm press at 5 cm/s beside the synthetic occluder seen through the active-stereo model
+// (8-bit, holes kept, as `bench feel` places it). The occluder sweeps over the finger and pushes it
+// out; the glide toward the proxy's new optimum started from the pushed proxy, which is off the
+// surface (along the push), and ended alternately on the occluder's top and back on the plane it
+// started on: the force's direction turned to and fro, an alternating run of 11 updates (13 on
+// the 16-bit clip). The glide now starts from the last proxy on the surface, and while pushed it
+// does not go back the way the last update's glide went.
+TEST(FeelScenarioPushTest, aShallowPressUnderAPassingOccluderDoesNotAlternate)
+{
+    const FeelFigures f = familyStroke(SyntheticScene::Occluder, "press 0.5 mm 5 cm/s edge",
+                                       SensorModel::ActiveStereo);
+    EXPECT_GT(f.maxForce, 1.0); // the occluder did push
+    EXPECT_LE(f.longestAlternation, FeelGoals{}.maxAlternation);
+    EXPECT_EQ(f.falseTrips, 0u);
+}
+
+// A finger held 3 mm in under the synthetic occluder seen through the time-of-flight model: pushed
+// out, the search from either side of a ridge of flying pixels ended on the other side, and the
+// proxy glided 0.38 mm there and back every update (an alternating run of 17 updates, 2
+// sign-reversal spikes, once the glide started from the surface). While pushed, a glide back the
+// way the last one went waits an update: the proxy goes on toward the optimum it was heading for.
+TEST(FeelScenarioPushTest, aPushedFingerDoesNotGlideToAndFro)
+{
+    const FeelFigures f = familyStroke(SyntheticScene::Occluder, "hold 3 mm under occluder",
+                                       SensorModel::TimeOfFlight);
+    EXPECT_GT(f.maxForce, 1.0); // the occluder did push
+    EXPECT_LE(f.longestAlternation, FeelGoals{}.maxAlternation);
+    EXPECT_EQ(f.reversalSpikes, 0u);
+    EXPECT_EQ(f.falseTrips, 0u);
+}
+
+// A 0.5 mm press at 5 cm/s beside the synthetic occluder's edge with a 1 mm fingertip (the
+// bench's `finger-r1mm`). Beside the edge the glide toward a new optimum can end part-way down the
+// occluder's side, under the HIP: the spring would pull the finger down it. A height field's
+// surface pushes up, so the proxy is then put on the plane under the HIP (pushUp()): no update
+// with the force pointing down. Without that: 58 ms of it (Fz under −0.2 N).
+TEST(FeelScenarioPushTest, aThinFingerPressingBesideAnEdgeIsNeverPulledDownItsSide)
+{
+    const FeelFigures f = familyStroke(SyntheticScene::Occluder, "press 0.5 mm 5 cm/s edge",
+                                       SensorModel::StructuredLight, "finger-r1mm");
+    EXPECT_GT(f.maxForce, 1.0); // it did press
+    EXPECT_EQ(f.pullDownMs, 0.0);
     EXPECT_EQ(f.falseTrips, 0u);
 }
 

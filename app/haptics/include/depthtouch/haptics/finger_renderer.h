@@ -26,7 +26,9 @@
 ///    the last proxy, so the proxy slides continuously and holds against a silhouette wall like a
 ///    god-object; the proxy's height is taken on the current surface, so a rising surface lifts it
 ///    (fix (a)). The proxy's x–y moves at most as far as the HIP's plus r/4 per update (glide()),
-///    so a jump of the optimum (over a silhouette's edge) is a glide, not a step of the force. Held
+///    so a jump of the optimum (over a silhouette's edge) is a glide, not a step of the force; the
+///    glide starts from the last proxy on the surface (not from a pushed proxy, which is off it),
+///    and while pushed it does not go straight back the way the last update's went. Held
 ///    against a wall (the proxy more than r to the side of the HIP), the proxy moves to the surface
 ///    at the HIP's own x–y when that is nearer: a silhouette's far side is what the camera did not
 ///    see, not a wall to be pulled back through (a finger that went under a forearm); and a HIP
@@ -208,6 +210,10 @@ private:
         /// A proxy held to the side was replaced by the surface at the HIP's own x–y: its
         /// direction from the HIP turns at a bounded rate (limitPush()).
         bool switched = false;
+        /// limitPush() bounded the proxy: where it was found, on the surface (m).
+        bool bounded = false;
+        glm::dvec3 found{};
+        glm::dvec2 glide{}; ///< glide()'s direction (unit), or zero.
     };
     /// Sets captureDepth_, stepDepth_ and pushDepth_ from the stiffness and maxForceStep.
     void setDepths() noexcept;
@@ -287,9 +293,11 @@ private:
     /// jumps (from an object's side onto its top, from a wall to the surface behind it) the proxy
     /// glides there over a few updates instead of stepping the force. \return the proxy, on the
     /// surface; \a plane is refitted where it stops short, and \a moved is how far it went then
-    /// (m; 0 when the optimum was within reach).
+    /// (m; 0 when the optimum was within reach). It glides from surfaceProxy_; while pushed, a
+    /// glide back against the last one (\a dir then keeps lastGlide_) stays where it starts.
+    /// \a dir: the glide's x–y direction (unit), zero when within reach.
     glm::dvec3 glide(const glm::dvec3 &hip, const glm::dvec3 &proxy, FingerPlane &plane,
-                     double &moved) const noexcept;
+                     double &moved, glm::dvec2 &dir) const noexcept;
 
     RendererConfig config_;
     HeightField field_;
@@ -303,6 +311,10 @@ private:
     /// maxForceStep / (16k), m (0.16 mm: 16 cm/s at 1 kHz, 0.125 N an update at the defaults).
     double pushDepth_ = 0.0;
     glm::dvec3 proxy_{};
+    /// The last update's proxy on the surface: proxy_, or where limitPush() found it before
+    /// bounding it (m). The glide starts from it.
+    glm::dvec3 surfaceProxy_{};
+    glm::dvec2 lastGlide_{};  ///< The last update's glide direction (unit), or zero.
     double outputGain_ = 1.0; ///< setOutputGain(): the caller's factor on the force, 0..1.
     bool contact_ = false;
     bool behind_ = false;      ///< HIP under the surface without contact (see the file comment).
