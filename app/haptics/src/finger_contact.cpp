@@ -32,13 +32,6 @@
 
 namespace depthtouch::haptics {
 
-namespace {
-/// How far under the back of the box an interpolated height may lie and still be measured, m: a
-/// hole's vertex (HeightField::holeDrop(), 1 m under it) drags its triangle below this at a weight
-/// of 0.1 %.
-constexpr double kFingerHoleMargin = 1e-3;
-} // namespace
-
 void FingerRenderer::penalty(const glm::dvec3 &hip, double raw, Candidate &c) noexcept
 {
     c.plane = fitFingerPlane(field_, hip.x, hip.y, radius_);

@@ -48,6 +48,7 @@ void FingerRenderer::reset(const glm::dvec3 &hip) noexcept
     lastHip_ = hip;
     contact_ = false;
     behind_ = false;
+    holeSince_ = std::nan("");
     wall_ = false;
     pushing_ = false;
     pushed_ = false;
@@ -357,7 +358,10 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     const bool wasResting = resting_;
     pushed_ = pushing_ && contact_; // limitPush() bounded the last update's proxy
     pushing_ = false;
-    if (restingContact(hip, t)) {
+    const bool resting = restingContact(hip, t);
+    if (holdOverHole(hip, raw, t, c)) {
+        // Held on the surface it pressed: a hole opened under the finger (finger_hole.cpp).
+    } else if (resting) {
         wall_ = false;
         if (over)
             penalty(hip, raw, c);

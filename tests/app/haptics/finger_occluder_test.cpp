@@ -355,17 +355,24 @@ TEST(FingerOccluderTest, aHandThatYieldsToThePushIsFollowedAtTheBoundedRateNotFa
 /// An 8-bit frame of a table at −5 mm with holes where \a hole(x, y), coded as `encode` codes
 /// them (docs/architecture.md §3 "Holes"): holes 0 under the threshold 24, measured nearness n at
 /// 48 + n·(255 − 48)/255. With \a threshold 0, as a file without holes: n itself, and code 0
-/// (the far plane) where the hole is.
-OwnedFrame tableWithHoles(const std::function<bool(double, double)> &hole, std::uint32_t threshold)
+/// (the far plane) where the hole is. Where \a raised(x, y), an object \a tall (m) over the table.
+OwnedFrame tableWithHoles(const std::function<bool(double, double)> &hole, std::uint32_t threshold,
+                          const std::function<bool(double, double)> &raised = nullptr,
+                          double tall = 0.0)
 {
     const double far = 2.0 * threshold; // DepthFrameView::farCode()
     OwnedFrame f(kW, kH, SampleFormat::Gray8, 0.0);
-    const double n = (-0.005 / kBox.depth + 0.5) * 255.0;
-    const auto code = static_cast<std::uint32_t>(std::lround(far + n * (255.0 - far) / 255.0));
+    const auto code = [far](double z) {
+        const double n = (z / kBox.depth + 0.5) * 255.0;
+        return static_cast<std::uint32_t>(std::lround(far + n * (255.0 - far) / 255.0));
+    };
     for (int r = 0; r < kH; ++r)
-        for (int c = 0; c < kW; ++c)
-            f.set(c, r,
-                  hole(test::sampleX(kBox, kW, c), test::sampleY(kBox, kW, kH, r)) ? 0u : code);
+        for (int c = 0; c < kW; ++c) {
+            const double x = test::sampleX(kBox, kW, c);
+            const double y = test::sampleY(kBox, kW, kH, r);
+            const bool up = raised && raised(x, y);
+            f.set(c, r, hole(x, y) ? 0u : code(-0.005 + (up ? tall : 0.0)));
+        }
     f.setHoleBelow(threshold);
     return f;
 }
@@ -442,12 +449,19 @@ TEST(FingerOccluderTest, aHoleIsFreeSpace)
         for (const HapticOutput &o : log.out)
             trips += o.released ? 1 : 0;
         const double onTable = glm::length(log.out[250].force);
+        // 2.5 mm past the rim (t = 0.35 s): farther than the fingertip's radius (1.5 mm) from where
+        // the hole opened under it, and the unload of the held force (0.25 N an update) done
+        const HapticOutput &pastRim = log.out[350];
         const HapticOutput &last = log.out.back();
-        std::printf("%s: on the table %.2f N, 22 mm down over the hole %.2f N, %d trip(s)\n",
-                    holes ? "hole" : "no threshold", onTable, glm::length(last.force), trips);
+        std::printf("%s: on the table %.2f N, 2.5 mm past the rim %.2f N, 22 mm down over the "
+                    "hole %.2f N, %d trip(s)\n",
+                    holes ? "hole" : "no threshold", onTable, glm::length(pastRim.force),
+                    glm::length(last.force), trips);
         EXPECT_NEAR(onTable, 800.0 * 0.002, 0.2);
         EXPECT_EQ(trips, 0);
         if (holes) {
+            EXPECT_FALSE(pastRim.contact);
+            EXPECT_EQ(glm::length(pastRim.force), 0.0);
             EXPECT_FALSE(last.contact);
             EXPECT_EQ(glm::length(last.force), 0.0);
         } else {
@@ -458,10 +472,11 @@ TEST(FingerOccluderTest, aHoleIsFreeSpace)
 }
 
 // A hole opening under a pressed finger (the sensor stops measuring there: a shadow band moving
-// over it) is the surface gone, not a cut. First most of the fingertip's patch turns to holes but
-// the depth at the finger itself is still measured: no safety trip, the press goes on. Then the
-// finger's own spot goes too: free, the force unloads at the slew limit, no trip. The table
-// coming back is felt again.
+// over it) is the surface unseen, not a cut. First most of the fingertip's patch turns to holes
+// but the depth at the finger itself is still measured: no safety trip, the press goes on. Then
+// the finger's own spot goes too: it is held on the table for kFingerHoleHold (0.1 s), then free,
+// its force unloading by maxForceStep/8 (0.25 N) an update, no trip. The table coming back is
+// felt again.
 TEST(FingerOccluderTest, aHoleOpeningUnderAPressedFingerIsNoCut)
 {
     auto tableWithHoleWhere = [](const std::function<bool(double, double)> &hole) {
@@ -489,7 +504,10 @@ TEST(FingerOccluderTest, aHoleOpeningUnderAPressedFingerIsNoCut)
     const double pressed = glm::length(log.out.back().force);
     run(around, 200);
     const double patchGone = glm::length(log.out.back().force);
+    const std::size_t opened = log.out.size();
     run(all, 200);
+    const double spotHeld = glm::length(log.out[opened + 90].force);
+    const double unloadStep = log.largestStep(opened);
     const double spotGone = glm::length(log.out.back().force);
     const bool contactSpotGone = log.out.back().contact;
     run(table, 200);
@@ -497,16 +515,127 @@ TEST(FingerOccluderTest, aHoleOpeningUnderAPressedFingerIsNoCut)
     for (const HapticOutput &o : log.out)
         trips += o.released ? 1 : 0;
     std::printf("hole under a pressed finger: %.2f N pressed, %.2f N with the patch a hole, %.2f N "
-                "with its spot a hole, %.2f N after, %d trip(s), largest step %.2f N\n",
-                pressed, patchGone, spotGone, glm::length(log.out.back().force), trips,
-                log.largestStep(0));
+                "90 ms after its spot went, %.2f N 200 ms after (largest step %.2f N), %.2f N "
+                "after, %d trip(s), largest step %.2f N\n",
+                pressed, patchGone, spotHeld, spotGone, unloadStep,
+                glm::length(log.out.back().force), trips, log.largestStep(0));
     EXPECT_NEAR(pressed, 800.0 * 0.002, 0.2);
     EXPECT_EQ(trips, 0);
     EXPECT_NEAR(patchGone, 800.0 * 0.002, 0.2);
+    EXPECT_NEAR(spotHeld, patchGone, 0.02);
+    EXPECT_LE(unloadStep, RendererConfig{}.maxForceStep / 8.0 + 1e-9);
     EXPECT_FALSE(contactSpotGone);
     EXPECT_EQ(spotGone, 0.0);
     EXPECT_LE(log.largestStep(0), RendererConfig{}.maxForceStep + 1e-9);
     EXPECT_NEAR(glm::length(log.out.back().force), 800.0 * 0.002, 0.2);
+}
+
+// A finger pressed 2 mm into the table while the shadow band a structured-light sensor casts
+// beside an occluder passes over it (an 8 mm band of holes for two frames, 67 ms): the table is
+// unseen, not gone. The force stays as it was (held on the table, within 0.02 N, no trip) and the
+// table back is felt on without a step (none over 0.05 N). Pressed 1 mm deeper while unseen, the
+// force does not grow (nothing measured to press into). Before, the force went to 0 the
+// update the spot turned to a hole and stepped back on when the band had passed: on the bench's
+// occluder a press at the edge stepped 1.1 N off and 2 N on.
+TEST(FingerOccluderTest, aShadowBandPassingUnderAPressedFingerKeepsItsForce)
+{
+    const auto none = [](double, double) { return false; };
+    const OwnedFrame table = tableWithHoles(none, 24u);
+    const OwnedFrame band =
+        tableWithHoles([](double x, double) { return std::fabs(x) < 0.004; }, 24u);
+    for (const double deeper : {0.0, 0.001}) {
+        FingerRenderer finger = makeFinger();
+        Log log;
+        int k = 0;
+        auto run = [&](const OwnedFrame &f, int n) {
+            ASSERT_TRUE(finger.setFrames(f.view(), nullptr));
+            for (int i = 0; i < n; ++i, ++k) {
+                const double t = k / kRate;
+                const double lift = k < 50 ? 0.004 * (1.0 - k / 50.0) : 0.0;
+                const double press = k >= 200 && k < 267 ? deeper * (k - 200) / 66.0 : 0.0;
+                log.out.push_back(finger.update(glm::dvec3(0.0, 0.0, -0.007 + lift - press), t));
+                log.t.push_back(t);
+            }
+        };
+        finger.reset(glm::dvec3(0.0, 0.0, -0.003));
+        run(table, 200);
+        const double pressed = glm::length(log.out.back().force);
+        run(band, 67);
+        double lowest = pressed;
+        double highest = pressed;
+        for (std::size_t i = 200; i < 267; ++i) {
+            lowest = std::min(lowest, glm::length(log.out[i].force));
+            highest = std::max(highest, glm::length(log.out[i].force));
+        }
+        if (deeper == 0.0) {
+            run(table, 100);
+        }
+        int trips = 0;
+        for (const HapticOutput &o : log.out)
+            trips += o.released ? 1 : 0;
+        std::printf("pressed %.1f mm deeper under a shadow band: %.2f N pressed, %.2f-%.2f N "
+                    "under the band, largest step %.2f N, %d trip(s)\n",
+                    deeper * 1e3, pressed, lowest, highest, log.largestStep(100), trips);
+        EXPECT_NEAR(pressed, 800.0 * 0.002, 0.2);
+        EXPECT_GE(lowest, pressed - 0.02);
+        EXPECT_LE(highest, pressed + 0.02);
+        EXPECT_EQ(trips, 0);
+        if (deeper == 0.0) {
+            EXPECT_LE(log.largestStep(100), 0.05);
+        }
+    }
+}
+
+// A pressed finger whose patch turns to holes but its spot (one frame), then its spot too (one
+// frame), then is covered by an object 20 mm over the table (a person arriving behind their own
+// shadow band): what is measured again is not the table it was held on (its spot is 20 mm off; the
+// patch it was held with was holes, so no step of the patch tells it). It is free, as if the hole
+// had left it free, and caught by what is there: the object is deeper over the finger than a new
+// contact may be (behind it), so no force and no trip. Held on through the object's arrival
+// instead, the step of the patch was a cut and safety tripped (4 of the real clips' holds under
+// occluders).
+TEST(FingerOccluderTest, anObjectArrivingOverAHeldHoleDoesNotTrip)
+{
+    const auto none = [](double, double) { return false; };
+    const auto over = [](double x, double) { return std::fabs(x) < 0.006; };
+    const auto overButTheSpot = [](double x, double y) {
+        return std::fabs(x) < 0.006 && (std::fabs(x) > 0.0006 || std::fabs(y) > 0.0006);
+    };
+    const OwnedFrame table = tableWithHoles(none, 24u);
+    const OwnedFrame patchGone = tableWithHoles(overButTheSpot, 24u);
+    const OwnedFrame band = tableWithHoles(over, 24u);
+    const OwnedFrame object = tableWithHoles(none, 24u, over, 0.020);
+    FingerRenderer finger = makeFinger();
+    const glm::dvec3 hip(0.0, 0.0, -0.007);
+    finger.reset(hip + glm::dvec3(0.0, 0.0, 0.004));
+    Log log;
+    int k = 0;
+    auto run = [&](const OwnedFrame &f, int n) {
+        ASSERT_TRUE(finger.setFrames(f.view(), nullptr));
+        for (int i = 0; i < n; ++i, ++k) {
+            const double t = k / kRate;
+            const double lift = k < 50 ? 0.004 * (1.0 - k / 50.0) : 0.0;
+            log.out.push_back(finger.update(hip + glm::dvec3(0, 0, lift), t));
+            log.t.push_back(t);
+        }
+    };
+    run(table, 200);
+    const double pressed = glm::length(log.out.back().force);
+    run(patchGone, 33);
+    run(band, 33);
+    const double held = glm::length(log.out.back().force);
+    run(object, 100);
+    int trips = 0;
+    for (const HapticOutput &o : log.out)
+        trips += o.released ? 1 : 0;
+    const double covered = glm::length(log.out[266 + 5].force);
+    std::printf("a hole, then an object 20 mm over the held finger: %.2f N pressed, %.2f N over "
+                "the hole, %.2f N 5 ms after the object came, %d trip(s)\n",
+                pressed, held, covered, trips);
+    EXPECT_NEAR(held, pressed, 0.02);
+    EXPECT_EQ(trips, 0);
+    EXPECT_EQ(covered, 0.0);
+    EXPECT_EQ(glm::length(log.out.back().force), 0.0);
 }
 
 } // namespace

@@ -80,7 +80,13 @@
 ///      it out, and a force held at the maximum is what a user must never feel for long.
 ///    - *Holes* (DepthFrameView::holeBelow; docs/architecture.md §3 "Holes"): HeightField puts a
 ///      hole's vertex 1 m under the box, so a hole is free space and its border a cliff; the
-///      stencil's median ignores a minority of hole taps.
+///      stencil's median ignores a minority of hole taps. A hole that opens under a pressed
+///      finger (the shadow band a structured-light sensor casts beside an occluder, a dropout)
+///      is the surface unseen, as under an occluder, not the surface gone: the finger is held on
+///      it (the proxy keeps its height and its offset from the HIP, the depth no more than it
+///      was) for kFingerHoleHold while it
+///      stays within r of where the hole opened, then its force unloads by maxForceStep/8 an
+///      update (finger_hole.cpp). A free finger that meets a hole finds free space.
 /// 5b. **The penalty contact** (RendererConfig::fingerContact; GodObject, steps 2–5, by
 ///    default): with FingerContact::Penalty the contact is the penalty of the plane under the
 ///    HIP's own x–y (finger_contact.cpp): the proxy is the HIP's projection on it, moving at most
@@ -141,6 +147,14 @@ inline constexpr double kFingerSpeedTime = 0.02;
 /// An object's side, met as a wall (finger_wall.cpp), is steeper than this slope: the height
 /// difference over ±r, divided by 2r (45°).
 inline constexpr double kFingerWallSlope = 1.0;
+/// How far under the back of the box an interpolated height may lie and still be measured, m: a
+/// hole's vertex (HeightField::holeDrop(), 1 m under it) drags its triangle below this at a weight
+/// of 0.1 %.
+inline constexpr double kFingerHoleMargin = 1e-3;
+/// A pressed finger whose spot stopped being measured (a hole opened under it) is held on the
+/// surface it pressed for this long, s, while it stays within r of where the hole opened
+/// (finger_hole.cpp): three frames at 30 fps.
+inline constexpr double kFingerHoleHold = 0.1;
 /// Plane refits per update after the first (a converged proxy stops earlier).
 inline constexpr int kFingerIterations = 2;
 /// Taps farther than this many stencil half-widths from the stencil's median are left out of the
@@ -243,6 +257,12 @@ private:
     /// speed, smoothed over kFingerSpeedTime, under kFingerRestSpeed; back to the god-object over
     /// kFingerSlideSpeed).
     bool restingContact(const glm::dvec3 &hip, double t) noexcept;
+    /// The hold over a hole that opened under the pressed finger (finger_hole.cpp): \a raw
+    /// (sensorHeight(), m, NaN off the grid) was not measured. \return whether this update's
+    /// contact is that hold (\a c set: the proxy, its depth, the last plane); false, and the hold
+    /// forgotten, where the spot was measured, the finger was free or on a wall, or the hold has
+    /// unloaded.
+    bool holdOverHole(const glm::dvec3 &hip, double raw, double t, Candidate &c) noexcept;
     /// Never a force with a downward part: a proxy under the HIP becomes the HIP's projection on
     /// its plane (along the plane's normal, z up), or with the HIP above that plane the sensor
     /// surface \a raw (m) straight above the HIP.
@@ -331,6 +351,9 @@ private:
     bool pushed_ = false;     ///< It bounded the last update's (in contact).
     glm::dvec3 pushDir_{};    ///< The bounded push's direction from the HIP (unit).
     double heldDepth_ = 0.0;  ///< The held depth when an occluder or a cut let the finger go, m.
+    double holeSince_ = std::nan(""); ///< Haptic time a hole opened under the pressed finger, s.
+    glm::dvec2 holeAt_{};             ///< The HIP's x–y then, m.
+    double holeDepth_ = 0.0;          ///< |proxy − HIP| then: the held depth's bound, m.
     double saturatedSince_ = std::nan(""); ///< Haptic time the command reached the maximum, s.
     bool letGoNext_ = false;      ///< The command stayed at the maximum: let go on the next update.
     double lastT_ = std::nan(""); ///< Haptic time of the last update, s.

@@ -1,0 +1,78 @@
+/// \file
+/// \brief The fingertip renderer's hold over a hole that opens under a pressed finger
+/// (finger_renderer.h, step 5 "Holes").
+///
+/// A hole is where the sensor measured nothing (DepthFrameView::holeBelow): free space to a finger
+/// that meets it. Under a finger already pressing the surface it is the surface unseen, as under
+/// an occluder: a structured-light sensor casts a shadow band beside an object's edge that sweeps
+/// over the surface with the object, and a time-of-flight or stereo sensor drops pixels for a frame
+/// or two. Before, the force went to zero the update the spot turned to a hole and came back when
+/// it was measured again: a press beside a passing occluder gave a 1.1 N step off and a 2 N step
+/// on one frame later, and one 6 mm deep unloaded 4.5 N in three updates (`bench feel`, the
+/// synthetic occluder's press at its edge).
+///
+/// Now the proxy keeps its height and its x–y offset from the HIP (the force stays as it was: it
+/// shrinks as the finger lifts, and does not grow as it presses deeper, for there is nothing
+/// measured to press into) for kFingerHoleHold while the HIP stays within r of
+/// where the hole opened: a finger that slides on past the rim finds the hole free, as a fingertip
+/// of radius r rolls off an edge. When the hold ends, the force unloads by maxForceStep/8 an update
+/// (0.25 N) instead of at once. A measured spot again ends the hold: the finger slides on from the
+/// held proxy, or, where what is measured now is a cut from what it was held on (an occluder came
+/// over the unseen spot), it is free and caught by what is there, as it was without the hold.
+/// Cost: no height lookup (the plane is the last update's). Thread-safety: thread-bound.
+
+#include "depthtouch/haptics/finger_renderer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace depthtouch::haptics {
+
+bool FingerRenderer::holdOverHole(const glm::dvec3 &hip, double raw, double t,
+                                  Candidate &c) noexcept
+{
+    // NaN (off the grid) is not measured, but neither is it a hole: the finger left the grid.
+    const bool hole = raw < -0.5 * field_.box().depth - kFingerHoleMargin;
+    if (!hole || !contact_ || wall_) {
+        const double cut = field_.cutThreshold();
+        if (!std::isnan(holeSince_) && contact_ && !wall_ && config_.safety &&
+            (std::fabs(raw - proxy_.z) > cut ||
+             stencilStep(fitFingerPlane(field_, lastX_, lastY_, radius_)) > cut)) {
+            // Measured again, but not the surface the finger was held on (an occluder came over
+            // it while it was unseen): free, as the hole left it before the hold, to be caught
+            // by what is there now (capture()) instead of tripping on the step.
+            contact_ = false;
+            behind_ = false;
+            heldDepth_ = 0.0;
+        }
+        holeSince_ = std::nan("");
+        return false;
+    }
+    if (std::isnan(holeSince_)) {
+        holeSince_ = t;
+        holeAt_ = {hip.x, hip.y};
+        holeDepth_ = lastDepth_;
+    }
+    const glm::dvec3 goal(hip.x + proxy_.x - lastHip_.x, hip.y + proxy_.y - lastHip_.y, proxy_.z);
+    const glm::dvec3 offset = goal - hip;
+    const double reach = glm::length(offset);
+    const bool held = t - holeSince_ <= kFingerHoleHold &&
+                      glm::length(glm::dvec2(hip.x, hip.y) - holeAt_) <= radius_;
+    // Held, the force does not grow past the one the finger had when the hole opened (nothing is
+    // measured to press into); past the hold the depth shrinks by half a ramped step an update.
+    const double depth = std::min(reach, held ? holeDepth_ : lastDepth_ - 0.5 * stepDepth_);
+    if (!(goal.z > hip.z) || !(depth > 0.0))
+        return false;
+    c.contact = true;
+    c.proxy = hip + offset * (depth / reach);
+    c.below = c.proxy.z - hip.z;
+    c.plane.x = lastX_ + c.proxy.x - proxy_.x; // the last plane, carried with the proxy
+    c.plane.y = lastY_ + c.proxy.y - proxy_.y;
+    c.plane.height = lastHeight_;
+    std::copy(std::begin(lastTaps_), std::end(lastTaps_), std::begin(c.plane.taps));
+    return true;
+}
+
+} // namespace depthtouch::haptics
