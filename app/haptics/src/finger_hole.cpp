@@ -13,13 +13,16 @@
 ///
 /// Now the proxy keeps its height and its x–y offset from the HIP (the force stays as it was: it
 /// shrinks as the finger lifts, and does not grow as it presses deeper, for there is nothing
-/// measured to press into) for kFingerHoleHold while the HIP stays within r of
-/// where the hole opened: a finger that slides on past the rim finds the hole free, as a fingertip
-/// of radius r rolls off an edge. When the hold ends, the force unloads by maxForceStep/8 an update
-/// (0.25 N) instead of at once. A measured spot again ends the hold: the finger slides on from the
-/// held proxy, or, where what is measured now is a cut from what it was held on (an occluder came
-/// over the unseen spot), it is free and caught by what is there, as it was without the hold.
-/// Cost: no height lookup (the plane is the last update's). Thread-safety: thread-bound.
+/// measured to press into) for kFingerHoleHold while the HIP stays within r of where the hole
+/// opened (a finger that slides on past the rim finds the hole free, as a fingertip of radius r
+/// rolls off an edge) and under the held proxy's height. When the hold ends, the force unloads by
+/// maxForceStep/8 an update (0.25 N) along its last direction instead of at once: a finger lifting
+/// off a rim beside the hole, its force mostly sideways, stepped 0.7-0.8 N off when it passed the
+/// proxy's height. A measured spot again ends the hold: the finger slides on from the held proxy,
+/// or, where what is measured now is a cut from what it was held on (an occluder came over the
+/// unseen spot), it is free and caught by what is there, as it was without the hold.
+/// Cost: no height lookup while held (the plane is the last update's); one plane fit (9 lookups) on
+/// the update the spot is measured again. Thread-safety: thread-bound.
 
 #include "depthtouch/haptics/finger_renderer.h"
 
@@ -50,23 +53,30 @@ bool FingerRenderer::holdOverHole(const glm::dvec3 &hip, double raw, double t,
         holeSince_ = std::nan("");
         return false;
     }
+    const glm::dvec3 goal(hip.x + proxy_.x - lastHip_.x, hip.y + proxy_.y - lastHip_.y, proxy_.z);
+    const glm::dvec3 offset = goal - hip;
+    const double reach = glm::length(offset);
     if (std::isnan(holeSince_)) {
         holeSince_ = t;
         holeAt_ = {hip.x, hip.y};
         holeDepth_ = lastDepth_;
+        const glm::dvec3 last = proxy_ - lastHip_;
+        holeDir_ = glm::length(last) > 0.0 ? last / glm::length(last) : glm::dvec3(0.0, 0.0, 1.0);
     }
-    const glm::dvec3 goal(hip.x + proxy_.x - lastHip_.x, hip.y + proxy_.y - lastHip_.y, proxy_.z);
-    const glm::dvec3 offset = goal - hip;
-    const double reach = glm::length(offset);
-    const bool held = t - holeSince_ <= kFingerHoleHold &&
-                      glm::length(glm::dvec2(hip.x, hip.y) - holeAt_) <= radius_;
     // Held, the force does not grow past the one the finger had when the hole opened (nothing is
-    // measured to press into); past the hold the depth shrinks by half a ramped step an update.
-    const double depth = std::min(reach, held ? holeDepth_ : lastDepth_ - 0.5 * stepDepth_);
-    if (!(goal.z > hip.z) || !(depth > 0.0))
+    // measured to press into). Past the hold, or with the HIP risen to the held proxy's height
+    // (lifting off a rim beside the hole, the force mostly sideways), the depth shrinks by half a
+    // ramped step an update along the last direction: the force unloads, never steps off.
+    const bool held = t - holeSince_ <= kFingerHoleHold &&
+                      glm::length(glm::dvec2(hip.x, hip.y) - holeAt_) <= radius_ && goal.z > hip.z;
+    if (held)
+        holeDir_ = offset / reach;
+    const double depth =
+        held ? std::min(reach, holeDepth_) : std::min(holeDepth_, lastDepth_ - 0.5 * stepDepth_);
+    if (!(depth > 0.0))
         return false;
     c.contact = true;
-    c.proxy = hip + offset * (depth / reach);
+    c.proxy = hip + holeDir_ * depth;
     c.below = c.proxy.z - hip.z;
     c.plane.x = lastX_ + c.proxy.x - proxy_.x; // the last plane, carried with the proxy
     c.plane.y = lastY_ + c.proxy.y - proxy_.y;

@@ -355,10 +355,10 @@ TEST(FingerOccluderTest, aHandThatYieldsToThePushIsFollowedAtTheBoundedRateNotFa
 /// An 8-bit frame of a table at −5 mm with holes where \a hole(x, y), coded as `encode` codes
 /// them (docs/architecture.md §3 "Holes"): holes 0 under the threshold 24, measured nearness n at
 /// 48 + n·(255 − 48)/255. With \a threshold 0, as a file without holes: n itself, and code 0
-/// (the far plane) where the hole is. Where \a raised(x, y), an object \a tall (m) over the table.
+/// (the far plane) where the hole is. Raised by \a over(x, y) (m) where that is given (an object,
+/// a slope).
 OwnedFrame tableWithHoles(const std::function<bool(double, double)> &hole, std::uint32_t threshold,
-                          const std::function<bool(double, double)> &raised = nullptr,
-                          double tall = 0.0)
+                          const std::function<double(double, double)> &over = nullptr)
 {
     const double far = 2.0 * threshold; // DepthFrameView::farCode()
     OwnedFrame f(kW, kH, SampleFormat::Gray8, 0.0);
@@ -370,8 +370,7 @@ OwnedFrame tableWithHoles(const std::function<bool(double, double)> &hole, std::
         for (int c = 0; c < kW; ++c) {
             const double x = test::sampleX(kBox, kW, c);
             const double y = test::sampleY(kBox, kW, kH, r);
-            const bool up = raised && raised(x, y);
-            f.set(c, r, hole(x, y) ? 0u : code(-0.005 + (up ? tall : 0.0)));
+            f.set(c, r, hole(x, y) ? 0u : code(-0.005 + (over ? over(x, y) : 0.0)));
         }
     f.setHoleBelow(threshold);
     return f;
@@ -604,7 +603,8 @@ TEST(FingerOccluderTest, anObjectArrivingOverAHeldHoleDoesNotTrip)
     const OwnedFrame table = tableWithHoles(none, 24u);
     const OwnedFrame patchGone = tableWithHoles(overButTheSpot, 24u);
     const OwnedFrame band = tableWithHoles(over, 24u);
-    const OwnedFrame object = tableWithHoles(none, 24u, over, 0.020);
+    const OwnedFrame object =
+        tableWithHoles(none, 24u, [&over](double x, double y) { return over(x, y) ? 0.020 : 0.0; });
     FingerRenderer finger = makeFinger();
     const glm::dvec3 hip(0.0, 0.0, -0.007);
     finger.reset(hip + glm::dvec3(0.0, 0.0, 0.004));
@@ -636,6 +636,54 @@ TEST(FingerOccluderTest, anObjectArrivingOverAHeldHoleDoesNotTrip)
     EXPECT_EQ(trips, 0);
     EXPECT_EQ(covered, 0.0);
     EXPECT_EQ(glm::length(log.out.back().force), 0.0);
+}
+
+// A finger pressed 1 mm into a 27° slope (its force leaning 0.45 of its size sideways), when the
+// slope under it turns to holes and the finger lifts 3 mm in 30 ms: held, the force shrinks as it
+// lifts; once the HIP is at the held proxy's height the rest of it (mostly sideways) unloads by
+// 0.25 N an update along the last direction, never pointing down. Before, the hold ended there
+// and the sideways rest of the force stepped off at once (a 0.7-0.8 N step at kitchen/8's hole
+// border, lifting off its rim in a tap).
+TEST(FingerOccluderTest, aFingerLiftingOffASlopeOverAHoleLetsGoGently)
+{
+    const auto slope = [](double x, double) { return 0.5 * x; };
+    const OwnedFrame measured = tableWithHoles([](double, double) { return false; }, 24u, slope);
+    const OwnedFrame unseen =
+        tableWithHoles([](double x, double) { return std::fabs(x) < 0.006; }, 24u, slope);
+    FingerRenderer finger = makeFinger();
+    const glm::dvec3 hip(0.0, 0.0, -0.005 - 0.001 / std::cos(std::atan(0.5)));
+    finger.reset(hip + glm::dvec3(0.0, 0.0, 0.004));
+    Log log;
+    int k = 0;
+    auto run = [&](const OwnedFrame &f, int n, double lift0, double lift1) {
+        ASSERT_TRUE(finger.setFrames(f.view(), nullptr));
+        for (int i = 0; i < n; ++i, ++k) {
+            const double lift = lift0 + (lift1 - lift0) * i / n;
+            log.out.push_back(finger.update(hip + glm::dvec3(0, 0, lift), k / kRate));
+            log.t.push_back(k / kRate);
+        }
+    };
+    run(measured, 50, 0.004, 0.0);
+    run(measured, 150, 0.0, 0.0);
+    const glm::dvec3 pressed = log.out.back().force;
+    run(unseen, 30, 0.0, 0.003);
+    run(unseen, 20, 0.003, 0.003);
+    double lowestZ = 0.0;
+    for (std::size_t i = 200; i < log.out.size(); ++i)
+        lowestZ = std::min(lowestZ, log.out[i].force.z);
+    int trips = 0;
+    for (const HapticOutput &o : log.out)
+        trips += o.released ? 1 : 0;
+    std::printf("lifting off a slope over a hole: pressed (%.2f, %.2f) N, largest step %.2f N, "
+                "lowest Fz %.3f N, %.2f N at the end, %d trip(s)\n",
+                pressed.x, pressed.z, log.largestStep(200), lowestZ,
+                glm::length(log.out.back().force), trips);
+    EXPECT_NEAR(glm::length(pressed), 800.0 * 0.001, 0.15);
+    EXPECT_LT(pressed.x, -0.3); // it leans away from the slope
+    EXPECT_LE(log.largestStep(200), RendererConfig{}.maxForceStep / 8.0 + 1e-9);
+    EXPECT_GE(lowestZ, 0.0);
+    EXPECT_EQ(glm::length(log.out.back().force), 0.0);
+    EXPECT_EQ(trips, 0);
 }
 
 } // namespace
