@@ -381,6 +381,40 @@ OwnedFrame tableWithHole(bool holes)
     return tableWithHoles([](double x, double) { return x > 0.0; }, holes ? 24u : 0u);
 }
 
+/// A new finger (the default config) pressed at \a hip (m): it comes down onto it from 4 mm above
+/// over the first 50 updates, then is fed still frames in turn at 1 kHz.
+struct FramePress {
+    explicit FramePress(const glm::dvec3 &at) : hip(at)
+    {
+        finger.reset(hip + glm::dvec3(0.0, 0.0, 0.004));
+    }
+    /// \a n updates on \a frame, the HIP moved up from \a from to \a to (m) over them.
+    void run(const OwnedFrame &frame, int n, double from = 0.0, double to = 0.0)
+    {
+        ASSERT_TRUE(finger.setFrames(frame.view(), nullptr));
+        for (int i = 0; i < n; ++i, ++k) {
+            const double t = k / kRate;
+            const double lift = k < 50 ? 0.004 * (1.0 - k / 50.0) : 0.0;
+            const double moved = from + (to - from) * i / n;
+            log.out.push_back(finger.update(hip + glm::dvec3(0.0, 0.0, lift + moved), t));
+            log.t.push_back(t);
+        }
+    }
+    [[nodiscard]] double force() const { return glm::length(log.out.back().force); }
+    [[nodiscard]] int trips() const
+    {
+        int n = 0;
+        for (const HapticOutput &o : log.out)
+            n += o.released ? 1 : 0;
+        return n;
+    }
+
+    FingerRenderer finger = makeFinger();
+    glm::dvec3 hip;
+    Log log;
+    int k = 0;
+};
+
 // A cut moves the whole fingertip patch; an object's silhouette passing over part of it does not.
 // A finger pressed 2 mm into the keyboard at x = 0; a hand 30 mm tall (more than the 25 mm cut
 // threshold of the 0.1 m box) has its edge beside the patch (its right column of taps on the
@@ -485,48 +519,33 @@ TEST(FingerOccluderTest, aHoleOpeningUnderAPressedFingerIsNoCut)
     const OwnedFrame around =
         tableWithHoleWhere([](double x, double y) { return x > 0.0006 || y > 0.0006; });
     const OwnedFrame all = tableWithHoleWhere([](double x, double) { return x > -0.004; });
-    FingerRenderer finger = makeFinger();
-    const glm::dvec3 hip(0.0, 0.0, -0.007);
-    finger.reset(hip + glm::dvec3(0.0, 0.0, 0.004));
-    Log log;
-    int k = 0;
-    auto run = [&](const OwnedFrame &f, int n) {
-        ASSERT_TRUE(finger.setFrames(f.view(), nullptr));
-        for (int i = 0; i < n; ++i, ++k) {
-            const double t = k / kRate;
-            const double lift = k < 50 ? 0.004 * (1.0 - k / 50.0) : 0.0;
-            log.out.push_back(finger.update(hip + glm::dvec3(0, 0, lift), t));
-            log.t.push_back(t);
-        }
-    };
-    run(table, 200);
-    const double pressed = glm::length(log.out.back().force);
-    run(around, 200);
-    const double patchGone = glm::length(log.out.back().force);
+    FramePress press(glm::dvec3(0.0, 0.0, -0.007));
+    const Log &log = press.log;
+    press.run(table, 200);
+    const double pressed = press.force();
+    press.run(around, 200);
+    const double patchGone = press.force();
     const std::size_t opened = log.out.size();
-    run(all, 200);
+    press.run(all, 200);
     const double spotHeld = glm::length(log.out[opened + 90].force);
     const double unloadStep = log.largestStep(opened);
-    const double spotGone = glm::length(log.out.back().force);
+    const double spotGone = press.force();
     const bool contactSpotGone = log.out.back().contact;
-    run(table, 200);
-    int trips = 0;
-    for (const HapticOutput &o : log.out)
-        trips += o.released ? 1 : 0;
+    press.run(table, 200);
     std::printf("hole under a pressed finger: %.2f N pressed, %.2f N with the patch a hole, %.2f N "
                 "90 ms after its spot went, %.2f N 200 ms after (largest step %.2f N), %.2f N "
                 "after, %d trip(s), largest step %.2f N\n",
-                pressed, patchGone, spotHeld, spotGone, unloadStep,
-                glm::length(log.out.back().force), trips, log.largestStep(0));
+                pressed, patchGone, spotHeld, spotGone, unloadStep, press.force(), press.trips(),
+                log.largestStep(0));
     EXPECT_NEAR(pressed, 800.0 * 0.002, 0.2);
-    EXPECT_EQ(trips, 0);
+    EXPECT_EQ(press.trips(), 0);
     EXPECT_NEAR(patchGone, 800.0 * 0.002, 0.2);
     EXPECT_NEAR(spotHeld, patchGone, 0.02);
     EXPECT_LE(unloadStep, RendererConfig{}.maxForceStep / 8.0 + 1e-9);
     EXPECT_FALSE(contactSpotGone);
     EXPECT_EQ(spotGone, 0.0);
     EXPECT_LE(log.largestStep(0), RendererConfig{}.maxForceStep + 1e-9);
-    EXPECT_NEAR(glm::length(log.out.back().force), 800.0 * 0.002, 0.2);
+    EXPECT_NEAR(press.force(), 800.0 * 0.002, 0.2);
 }
 
 // A finger pressed 2 mm into the table while the shadow band a structured-light sensor casts
@@ -543,23 +562,11 @@ TEST(FingerOccluderTest, aShadowBandPassingUnderAPressedFingerKeepsItsForce)
     const OwnedFrame band =
         tableWithHoles([](double x, double) { return std::fabs(x) < 0.004; }, 24u);
     for (const double deeper : {0.0, 0.001}) {
-        FingerRenderer finger = makeFinger();
-        Log log;
-        int k = 0;
-        auto run = [&](const OwnedFrame &f, int n) {
-            ASSERT_TRUE(finger.setFrames(f.view(), nullptr));
-            for (int i = 0; i < n; ++i, ++k) {
-                const double t = k / kRate;
-                const double lift = k < 50 ? 0.004 * (1.0 - k / 50.0) : 0.0;
-                const double press = k >= 200 && k < 267 ? deeper * (k - 200) / 66.0 : 0.0;
-                log.out.push_back(finger.update(glm::dvec3(0.0, 0.0, -0.007 + lift - press), t));
-                log.t.push_back(t);
-            }
-        };
-        finger.reset(glm::dvec3(0.0, 0.0, -0.003));
-        run(table, 200);
-        const double pressed = glm::length(log.out.back().force);
-        run(band, 67);
+        FramePress press(glm::dvec3(0.0, 0.0, -0.007));
+        const Log &log = press.log;
+        press.run(table, 200);
+        const double pressed = press.force();
+        press.run(band, 67, 0.0, -deeper);
         double lowest = pressed;
         double highest = pressed;
         for (std::size_t i = 200; i < 267; ++i) {
@@ -567,18 +574,15 @@ TEST(FingerOccluderTest, aShadowBandPassingUnderAPressedFingerKeepsItsForce)
             highest = std::max(highest, glm::length(log.out[i].force));
         }
         if (deeper == 0.0) {
-            run(table, 100);
+            press.run(table, 100);
         }
-        int trips = 0;
-        for (const HapticOutput &o : log.out)
-            trips += o.released ? 1 : 0;
         std::printf("pressed %.1f mm deeper under a shadow band: %.2f N pressed, %.2f-%.2f N "
                     "under the band, largest step %.2f N, %d trip(s)\n",
-                    deeper * 1e3, pressed, lowest, highest, log.largestStep(100), trips);
+                    deeper * 1e3, pressed, lowest, highest, log.largestStep(100), press.trips());
         EXPECT_NEAR(pressed, 800.0 * 0.002, 0.2);
         EXPECT_GE(lowest, pressed - 0.02);
         EXPECT_LE(highest, pressed + 0.02);
-        EXPECT_EQ(trips, 0);
+        EXPECT_EQ(press.trips(), 0);
         if (deeper == 0.0) {
             EXPECT_LE(log.largestStep(100), 0.05);
         }
@@ -605,37 +609,21 @@ TEST(FingerOccluderTest, anObjectArrivingOverAHeldHoleDoesNotTrip)
     const OwnedFrame band = tableWithHoles(over, 24u);
     const OwnedFrame object =
         tableWithHoles(none, 24u, [&over](double x, double y) { return over(x, y) ? 0.020 : 0.0; });
-    FingerRenderer finger = makeFinger();
-    const glm::dvec3 hip(0.0, 0.0, -0.007);
-    finger.reset(hip + glm::dvec3(0.0, 0.0, 0.004));
-    Log log;
-    int k = 0;
-    auto run = [&](const OwnedFrame &f, int n) {
-        ASSERT_TRUE(finger.setFrames(f.view(), nullptr));
-        for (int i = 0; i < n; ++i, ++k) {
-            const double t = k / kRate;
-            const double lift = k < 50 ? 0.004 * (1.0 - k / 50.0) : 0.0;
-            log.out.push_back(finger.update(hip + glm::dvec3(0, 0, lift), t));
-            log.t.push_back(t);
-        }
-    };
-    run(table, 200);
-    const double pressed = glm::length(log.out.back().force);
-    run(patchGone, 33);
-    run(band, 33);
-    const double held = glm::length(log.out.back().force);
-    run(object, 100);
-    int trips = 0;
-    for (const HapticOutput &o : log.out)
-        trips += o.released ? 1 : 0;
-    const double covered = glm::length(log.out[266 + 5].force);
+    FramePress press(glm::dvec3(0.0, 0.0, -0.007));
+    press.run(table, 200);
+    const double pressed = press.force();
+    press.run(patchGone, 33);
+    press.run(band, 33);
+    const double held = press.force();
+    press.run(object, 100);
+    const double covered = glm::length(press.log.out[266 + 5].force);
     std::printf("a hole, then an object 20 mm over the held finger: %.2f N pressed, %.2f N over "
                 "the hole, %.2f N 5 ms after the object came, %d trip(s)\n",
-                pressed, held, covered, trips);
+                pressed, held, covered, press.trips());
     EXPECT_NEAR(held, pressed, 0.02);
-    EXPECT_EQ(trips, 0);
+    EXPECT_EQ(press.trips(), 0);
     EXPECT_EQ(covered, 0.0);
-    EXPECT_EQ(glm::length(log.out.back().force), 0.0);
+    EXPECT_EQ(press.force(), 0.0);
 }
 
 // A finger pressed 1 mm into a 27° slope (its force leaning 0.45 of its size sideways), when the
@@ -650,40 +638,24 @@ TEST(FingerOccluderTest, aFingerLiftingOffASlopeOverAHoleLetsGoGently)
     const OwnedFrame measured = tableWithHoles([](double, double) { return false; }, 24u, slope);
     const OwnedFrame unseen =
         tableWithHoles([](double x, double) { return std::fabs(x) < 0.006; }, 24u, slope);
-    FingerRenderer finger = makeFinger();
-    const glm::dvec3 hip(0.0, 0.0, -0.005 - 0.001 / std::cos(std::atan(0.5)));
-    finger.reset(hip + glm::dvec3(0.0, 0.0, 0.004));
-    Log log;
-    int k = 0;
-    auto run = [&](const OwnedFrame &f, int n, double lift0, double lift1) {
-        ASSERT_TRUE(finger.setFrames(f.view(), nullptr));
-        for (int i = 0; i < n; ++i, ++k) {
-            const double lift = lift0 + (lift1 - lift0) * i / n;
-            log.out.push_back(finger.update(hip + glm::dvec3(0, 0, lift), k / kRate));
-            log.t.push_back(k / kRate);
-        }
-    };
-    run(measured, 50, 0.004, 0.0);
-    run(measured, 150, 0.0, 0.0);
+    FramePress press(glm::dvec3(0.0, 0.0, -0.005 - 0.001 / std::cos(std::atan(0.5))));
+    const Log &log = press.log;
+    press.run(measured, 200);
     const glm::dvec3 pressed = log.out.back().force;
-    run(unseen, 30, 0.0, 0.003);
-    run(unseen, 20, 0.003, 0.003);
+    press.run(unseen, 30, 0.0, 0.003);
+    press.run(unseen, 20, 0.003, 0.003);
     double lowestZ = 0.0;
     for (std::size_t i = 200; i < log.out.size(); ++i)
         lowestZ = std::min(lowestZ, log.out[i].force.z);
-    int trips = 0;
-    for (const HapticOutput &o : log.out)
-        trips += o.released ? 1 : 0;
     std::printf("lifting off a slope over a hole: pressed (%.2f, %.2f) N, largest step %.2f N, "
                 "lowest Fz %.3f N, %.2f N at the end, %d trip(s)\n",
-                pressed.x, pressed.z, log.largestStep(200), lowestZ,
-                glm::length(log.out.back().force), trips);
+                pressed.x, pressed.z, log.largestStep(200), lowestZ, press.force(), press.trips());
     EXPECT_NEAR(glm::length(pressed), 800.0 * 0.001, 0.15);
     EXPECT_LT(pressed.x, -0.3); // it leans away from the slope
     EXPECT_LE(log.largestStep(200), RendererConfig{}.maxForceStep / 8.0 + 1e-9);
     EXPECT_GE(lowestZ, 0.0);
-    EXPECT_EQ(glm::length(log.out.back().force), 0.0);
-    EXPECT_EQ(trips, 0);
+    EXPECT_EQ(press.force(), 0.0);
+    EXPECT_EQ(press.trips(), 0);
 }
 
 } // namespace
