@@ -1,0 +1,296 @@
+/// \file
+/// \brief The fingertip renderer (finger_renderer.h) over holes, where the sensor measured nothing
+/// (docs/architecture.md §3 "Holes"): free space to a finger that meets one, no cut where one opens
+/// under a pressed finger, and the surface unseen (held, then let go gently: finger_hole.cpp) while
+/// a shadow band or a dropout passes under a finger that presses it. Frames are 8-bit still
+/// tables, coded as `encode` codes holes.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <functional>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "app/haptics/finger_log.h"
+#include "app/haptics/synthetic.h"
+#include "depthtouch/haptics/finger_renderer.h"
+
+namespace depthtouch::haptics::test {
+namespace {
+
+constexpr int kW = 320;
+constexpr int kH = 240;
+
+/// An 8-bit frame of a table at −5 mm with holes where \a hole(x, y), coded as `encode` codes
+/// them (docs/architecture.md §3 "Holes"): holes 0 under the threshold 24, measured nearness n at
+/// 48 + n·(255 − 48)/255. With \a threshold 0, as a file without holes: n itself, and code 0
+/// (the far plane) where the hole is. Raised by \a over(x, y) (m) where that is given (an object,
+/// a slope).
+OwnedFrame tableWithHoles(const std::function<bool(double, double)> &hole, std::uint32_t threshold,
+                          const std::function<double(double, double)> &over = nullptr)
+{
+    const double far = 2.0 * threshold; // DepthFrameView::farCode()
+    OwnedFrame f(kW, kH, SampleFormat::Gray8, 0.0);
+    const auto code = [far](double z) {
+        const double n = (z / kBox.depth + 0.5) * 255.0;
+        return static_cast<std::uint32_t>(std::lround(far + n * (255.0 - far) / 255.0));
+    };
+    for (int r = 0; r < kH; ++r)
+        for (int c = 0; c < kW; ++c) {
+            const double x = sampleX(kBox, kW, c);
+            const double y = sampleY(kBox, kW, kH, r);
+            f.set(c, r, hole(x, y) ? 0u : code(-0.005 + (over ? over(x, y) : 0.0)));
+        }
+    f.setHoleBelow(threshold);
+    return f;
+}
+
+OwnedFrame tableWithHole(bool holes)
+{
+    return tableWithHoles([](double x, double) { return x > 0.0; }, holes ? 24u : 0u);
+}
+
+/// A new finger (the default config) pressed at \a hip (m): it comes down onto it from 4 mm above
+/// over the first 50 updates, then is fed still frames in turn at 1 kHz.
+struct FramePress {
+    explicit FramePress(const glm::dvec3 &at) : hip(at)
+    {
+        finger.reset(hip + glm::dvec3(0.0, 0.0, 0.004));
+    }
+    /// \a n updates on \a frame, the HIP moved up from \a from to \a to (m) over them.
+    void run(const OwnedFrame &frame, int n, double from = 0.0, double to = 0.0)
+    {
+        ASSERT_TRUE(finger.setFrames(frame.view(), nullptr));
+        for (int i = 0; i < n; ++i, ++k) {
+            const double t = k / kRate;
+            const double lift = k < 50 ? 0.004 * (1.0 - k / 50.0) : 0.0;
+            const double moved = from + (to - from) * i / n;
+            log.out.push_back(finger.update(hip + glm::dvec3(0.0, 0.0, lift + moved), t));
+            log.t.push_back(t);
+        }
+    }
+    [[nodiscard]] double force() const { return glm::length(log.out.back().force); }
+    [[nodiscard]] int trips() const
+    {
+        int n = 0;
+        for (const HapticOutput &o : log.out)
+            n += o.released ? 1 : 0;
+        return n;
+    }
+
+    FingerRenderer finger = makeFinger();
+    glm::dvec3 hip;
+    Log log;
+    int k = 0;
+};
+
+// Mechanism 4, holes: where the sensor measured nothing (coded 0 under the stream's occupancy
+// threshold) there is free space, not a surface at the far plane. A finger slid at 5 cm/s from
+// the table, pressed 2 mm in, out over the hole and down to 22 mm feels no force there and is not
+// tripped; the same frame read without the threshold (code 0: the far plane at −20 mm) pushes it
+// back up with k·2 mm.
+TEST(FingerHoleTest, aHoleIsFreeSpace)
+{
+    for (bool holes : {true, false}) {
+        const OwnedFrame frame = tableWithHole(holes);
+        FingerRenderer finger = makeFinger();
+        ASSERT_TRUE(finger.setFrames(frame.view(), nullptr));
+        Log log;
+        auto hip = [](double t) {
+            if (t < 0.1)
+                return glm::dvec3(-0.010, 0.0, -0.002 - 0.005 * t / 0.1);
+            if (t < 0.5)
+                return glm::dvec3(-0.010 + 0.05 * (t - 0.1), 0.0, -0.007);
+            return glm::dvec3(0.010, 0.0, -0.007 - 0.015 * std::min(1.0, (t - 0.5) / 0.2));
+        };
+        finger.reset(hip(0.0));
+        for (int k = 0; k < 900; ++k) {
+            const double t = k / kRate;
+            log.out.push_back(finger.update(hip(t), t));
+            log.t.push_back(t);
+        }
+        int trips = 0;
+        for (const HapticOutput &o : log.out)
+            trips += o.released ? 1 : 0;
+        const double onTable = glm::length(log.out[250].force);
+        // 2.5 mm past the rim (t = 0.35 s): farther than the fingertip's radius (1.5 mm) from where
+        // the hole opened under it, and the unload of the held force (0.25 N an update) done
+        const HapticOutput &pastRim = log.out[350];
+        const HapticOutput &last = log.out.back();
+        std::printf("%s: on the table %.2f N, 2.5 mm past the rim %.2f N, 22 mm down over the "
+                    "hole %.2f N, %d trip(s)\n",
+                    holes ? "hole" : "no threshold", onTable, glm::length(pastRim.force),
+                    glm::length(last.force), trips);
+        EXPECT_NEAR(onTable, 800.0 * 0.002, 0.2);
+        EXPECT_EQ(trips, 0);
+        if (holes) {
+            EXPECT_FALSE(pastRim.contact);
+            EXPECT_EQ(glm::length(pastRim.force), 0.0);
+            EXPECT_FALSE(last.contact);
+            EXPECT_EQ(glm::length(last.force), 0.0);
+        } else {
+            EXPECT_TRUE(last.contact);
+            EXPECT_NEAR(last.force.z, 800.0 * 0.002, 0.2);
+        }
+    }
+}
+
+// A hole opening under a pressed finger (the sensor stops measuring there: a shadow band moving
+// over it) is the surface unseen, not a cut. First most of the fingertip's patch turns to holes
+// but the depth at the finger itself is still measured: no safety trip, the press goes on. Then
+// the finger's own spot goes too: it is held on the table for kFingerHoleHold (0.1 s), then free,
+// its force unloading by maxForceStep/8 (0.25 N) an update, no trip. The table coming back is
+// felt again.
+TEST(FingerHoleTest, aHoleOpeningUnderAPressedFingerIsNoCut)
+{
+    auto tableWithHoleWhere = [](const std::function<bool(double, double)> &hole) {
+        return tableWithHoles(hole, 24u);
+    };
+    const OwnedFrame table = tableWithHoleWhere([](double, double) { return false; });
+    const OwnedFrame around =
+        tableWithHoleWhere([](double x, double y) { return x > 0.0006 || y > 0.0006; });
+    const OwnedFrame all = tableWithHoleWhere([](double x, double) { return x > -0.004; });
+    FramePress press(glm::dvec3(0.0, 0.0, -0.007));
+    const Log &log = press.log;
+    press.run(table, 200);
+    const double pressed = press.force();
+    press.run(around, 200);
+    const double patchGone = press.force();
+    const std::size_t opened = log.out.size();
+    press.run(all, 200);
+    const double spotHeld = glm::length(log.out[opened + 90].force);
+    const double unloadStep = log.largestStep(opened);
+    const double spotGone = press.force();
+    const bool contactSpotGone = log.out.back().contact;
+    press.run(table, 200);
+    std::printf("hole under a pressed finger: %.2f N pressed, %.2f N with the patch a hole, %.2f N "
+                "90 ms after its spot went, %.2f N 200 ms after (largest step %.2f N), %.2f N "
+                "after, %d trip(s), largest step %.2f N\n",
+                pressed, patchGone, spotHeld, spotGone, unloadStep, press.force(), press.trips(),
+                log.largestStep(0));
+    EXPECT_NEAR(pressed, 800.0 * 0.002, 0.2);
+    EXPECT_EQ(press.trips(), 0);
+    EXPECT_NEAR(patchGone, 800.0 * 0.002, 0.2);
+    EXPECT_NEAR(spotHeld, patchGone, 0.02);
+    EXPECT_LE(unloadStep, RendererConfig{}.maxForceStep / 8.0 + 1e-9);
+    EXPECT_FALSE(contactSpotGone);
+    EXPECT_EQ(spotGone, 0.0);
+    EXPECT_LE(log.largestStep(0), RendererConfig{}.maxForceStep + 1e-9);
+    EXPECT_NEAR(press.force(), 800.0 * 0.002, 0.2);
+}
+
+// A finger pressed 2 mm into the table while the shadow band a structured-light sensor casts
+// beside an occluder passes over it (an 8 mm band of holes for two frames, 67 ms): the table is
+// unseen, not gone. The force stays as it was (held on the table, within 0.02 N, no trip) and the
+// table back is felt on without a step (none over 0.05 N). Pressed 1 mm deeper while unseen, the
+// force does not grow (nothing measured to press into). Before, the force went to 0 the
+// update the spot turned to a hole and stepped back on when the band had passed: on the bench's
+// occluder a press at the edge stepped 1.1 N off and 2 N on.
+TEST(FingerHoleTest, aShadowBandPassingUnderAPressedFingerKeepsItsForce)
+{
+    const auto none = [](double, double) { return false; };
+    const OwnedFrame table = tableWithHoles(none, 24u);
+    const OwnedFrame band =
+        tableWithHoles([](double x, double) { return std::fabs(x) < 0.004; }, 24u);
+    for (const double deeper : {0.0, 0.001}) {
+        FramePress press(glm::dvec3(0.0, 0.0, -0.007));
+        const Log &log = press.log;
+        press.run(table, 200);
+        const double pressed = press.force();
+        press.run(band, 67, 0.0, -deeper);
+        double lowest = pressed;
+        double highest = pressed;
+        for (std::size_t i = 200; i < 267; ++i) {
+            lowest = std::min(lowest, glm::length(log.out[i].force));
+            highest = std::max(highest, glm::length(log.out[i].force));
+        }
+        if (deeper == 0.0) {
+            press.run(table, 100);
+        }
+        std::printf("pressed %.1f mm deeper under a shadow band: %.2f N pressed, %.2f-%.2f N "
+                    "under the band, largest step %.2f N, %d trip(s)\n",
+                    deeper * 1e3, pressed, lowest, highest, log.largestStep(100), press.trips());
+        EXPECT_NEAR(pressed, 800.0 * 0.002, 0.2);
+        EXPECT_GE(lowest, pressed - 0.02);
+        EXPECT_LE(highest, pressed + 0.02);
+        EXPECT_EQ(press.trips(), 0);
+        if (deeper == 0.0) {
+            EXPECT_LE(log.largestStep(100), 0.05);
+        }
+    }
+}
+
+// A pressed finger whose patch turns to holes but its spot (one frame), then its spot too (one
+// frame), then is covered by an object 20 mm over the table (a person arriving behind their own
+// shadow band): what is measured again is not the table it was held on (its spot is 20 mm off; the
+// patch it was held with was holes, so no step of the patch tells it). It is free, as if the hole
+// had left it free, and caught by what is there: the object is deeper over the finger than a new
+// contact may be (behind it), so no force and no trip. Held on through the object's arrival
+// instead, the step of the patch was a cut and safety tripped (4 of the real clips' holds under
+// occluders).
+TEST(FingerHoleTest, anObjectArrivingOverAHeldHoleDoesNotTrip)
+{
+    const auto none = [](double, double) { return false; };
+    const auto over = [](double x, double) { return std::fabs(x) < 0.006; };
+    const auto overButTheSpot = [](double x, double y) {
+        return std::fabs(x) < 0.006 && (std::fabs(x) > 0.0006 || std::fabs(y) > 0.0006);
+    };
+    const OwnedFrame table = tableWithHoles(none, 24u);
+    const OwnedFrame patchGone = tableWithHoles(overButTheSpot, 24u);
+    const OwnedFrame band = tableWithHoles(over, 24u);
+    const OwnedFrame object =
+        tableWithHoles(none, 24u, [&over](double x, double y) { return over(x, y) ? 0.020 : 0.0; });
+    FramePress press(glm::dvec3(0.0, 0.0, -0.007));
+    press.run(table, 200);
+    const double pressed = press.force();
+    press.run(patchGone, 33);
+    press.run(band, 33);
+    const double held = press.force();
+    press.run(object, 100);
+    const double covered = glm::length(press.log.out[266 + 5].force);
+    std::printf("a hole, then an object 20 mm over the held finger: %.2f N pressed, %.2f N over "
+                "the hole, %.2f N 5 ms after the object came, %d trip(s)\n",
+                pressed, held, covered, press.trips());
+    EXPECT_NEAR(held, pressed, 0.02);
+    EXPECT_EQ(press.trips(), 0);
+    EXPECT_EQ(covered, 0.0);
+    EXPECT_EQ(press.force(), 0.0);
+}
+
+// A finger pressed 1 mm into a 27° slope (its force leaning 0.45 of its size sideways), when the
+// slope under it turns to holes and the finger lifts 3 mm in 30 ms: held, the force shrinks as it
+// lifts; once the HIP is at the held proxy's height the rest of it (mostly sideways) unloads by
+// 0.25 N an update along the last direction, never pointing down. Before, the hold ended there
+// and the sideways rest of the force stepped off at once (a 0.7-0.8 N step at kitchen/8's hole
+// border, lifting off its rim in a tap).
+TEST(FingerHoleTest, aFingerLiftingOffASlopeOverAHoleLetsGoGently)
+{
+    const auto slope = [](double x, double) { return 0.5 * x; };
+    const OwnedFrame measured = tableWithHoles([](double, double) { return false; }, 24u, slope);
+    const OwnedFrame unseen =
+        tableWithHoles([](double x, double) { return std::fabs(x) < 0.006; }, 24u, slope);
+    FramePress press(glm::dvec3(0.0, 0.0, -0.005 - 0.001 / std::cos(std::atan(0.5))));
+    const Log &log = press.log;
+    press.run(measured, 200);
+    const glm::dvec3 pressed = log.out.back().force;
+    press.run(unseen, 30, 0.0, 0.003);
+    press.run(unseen, 20, 0.003, 0.003);
+    double lowestZ = 0.0;
+    for (std::size_t i = 200; i < log.out.size(); ++i)
+        lowestZ = std::min(lowestZ, log.out[i].force.z);
+    std::printf("lifting off a slope over a hole: pressed (%.2f, %.2f) N, largest step %.2f N, "
+                "lowest Fz %.3f N, %.2f N at the end, %d trip(s)\n",
+                pressed.x, pressed.z, log.largestStep(200), lowestZ, press.force(), press.trips());
+    EXPECT_NEAR(glm::length(pressed), 800.0 * 0.001, 0.15);
+    EXPECT_LT(pressed.x, -0.3); // it leans away from the slope
+    EXPECT_LE(log.largestStep(200), RendererConfig{}.maxForceStep / 8.0 + 1e-9);
+    EXPECT_GE(lowestZ, 0.0);
+    EXPECT_EQ(press.force(), 0.0);
+    EXPECT_EQ(press.trips(), 0);
+}
+
+} // namespace
+} // namespace depthtouch::haptics::test
