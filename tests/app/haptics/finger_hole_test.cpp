@@ -194,9 +194,10 @@ TEST(FingerHoleTest, aShadowBandPassingUnderAPressedFingerKeepsItsForce)
     const auto none = [](double, double) { return false; };
     const OwnedFrame table = tableWithHoles(none, 24u);
     const OwnedFrame band =
-        tableWithHoles([](double x, double) { return std::fabs(x) < 0.004; }, 24u);
+        tableWithHoles([](double x, double) { return std::fabs(x - 0.002) < 0.004; }, 24u);
     for (const double deeper : {0.0, 0.001}) {
-        FramePress press(glm::dvec3(0.0, 0.0, -0.007));
+        FramePress press(
+            glm::dvec3(0.002, -0.001, -0.007)); // x ≠ y: where the hole opened is a point
         const Log &log = press.log;
         press.run(table, 200);
         const double pressed = press.force();
