@@ -42,19 +42,23 @@ std::size_t frameAt(const FeelScene &s, double t) noexcept
 }
 
 /// The height a held finger rests on: follows the reference while it drifts (at most kFollow
-/// m/s, within kBand of the tracked height, or as it recedes), keeps its height while something
-/// rises over it (an occluder) or the reference is a hole.
+/// m/s, within kBand of the tracked height), goes down after it as it recedes (at kRecede m/s, a
+/// press's speed: a hand does not fall 10 mm in one update when what it pressed on leaves or comes
+/// back out of a hole lower), keeps its height while something rises over it (an occluder) or the
+/// reference is a hole.
 class HeldSurface {
 public:
     static constexpr double kFollow = 0.03; ///< m/s.
     static constexpr double kBand = 1e-3;   ///< m.
+    static constexpr double kRecede = 0.1;  ///< m/s, the fastest press (FamilyPlan::pressSpeeds).
     double step(double h, double dt) noexcept
     {
         if (!std::isfinite(z_)) {
             z_ = h;
         } else if (std::isfinite(h) && h <= z_ + kBand) {
             const double reach = kFollow * dt;
-            z_ = h < z_ - kBand ? h : std::clamp(h, z_ - reach, z_ + reach);
+            z_ = h < z_ - kBand ? std::max(h, z_ - kRecede * dt)
+                                : std::clamp(h, z_ - reach, z_ + reach);
         }
         return z_;
     }
@@ -138,10 +142,8 @@ Stroke sampleStroke(const FeelScene &scene, const Motion &m, const FamilyPlan &p
                 z = target;
             const double reach = m.speed * dt;
             const double climb = kClimb * reach;
-            if (mainPhase && std::isfinite(target))
-                z += std::clamp(target - z, -climb, climb); // up or down a silhouette's side
-            else if (std::isfinite(target))
-                z = target;
+            if (std::isfinite(target)) // up or down a silhouette's side, also before and after
+                z += std::clamp(target - z, -climb, climb);
             if (mainPhase)
                 s += reach;
             base = z;
@@ -433,9 +435,11 @@ void FamilyPlacer::traces()
 void FamilyPlacer::taps()
 {
     Candidates &holeBorder = pixels_.holeBorder;
+    // Whole taps: one cut short would end at its bottom and the lift would jump to the hover.
+    const double taps = std::max(1.0, std::round(plan_.moveSeconds * plan_.tapHz));
     for (int k = 0; k < plan_.places; ++k) {
         const Motion m{
-            .family = StrokeFamily::Tap, .depth = plan_.tapDepth, .main = plan_.moveSeconds};
+            .family = StrokeFamily::Tap, .depth = plan_.tapDepth, .main = taps / plan_.tapHz};
         const std::string name = fmt("tap %.0f Hz ", plan_.tapHz);
         if (k % 2 == 1) {
             drawAt(holeBorder.empty() ? pixels_.moving : holeBorder, m,

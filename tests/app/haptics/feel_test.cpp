@@ -645,6 +645,15 @@ TEST(FeelFamiliesTest, StrokesCrossSilhouettesAndHoldBesideTheMovingSquare)
     std::size_t under = 0;
     for (const auto &st : strokes) {
         ASSERT_FALSE(st.samples.empty()) << st.name;
+        // A hand's path: the HIP never jumps, also where the surface under it leaves or comes back
+        // out of a hole lower (a held finger follows at a press's 0.1 m/s; a moving one climbs at
+        // most kClimb = 4 times its speed). Before, a hold under the square fell onto the wall in
+        // one update when the square left.
+        const double reach = (st.speed * 5.0 + 0.2) / plan.rate;
+        for (std::size_t k = 1; k < st.samples.size(); ++k)
+            ASSERT_LE(glm::length(st.samples[k].hip - st.samples[k - 1].hip), reach)
+                << st.name << " jumps at t = " << st.samples[k].t
+                << " from z = " << st.samples[k - 1].hip.z << " to " << st.samples[k].hip.z;
         if (st.family == bench::StrokeFamily::Swipe) {
             ++swipes;
             bool onNear = false;
@@ -701,6 +710,40 @@ TEST(FeelFamiliesTest, StrokesCrossSilhouettesAndHoldBesideTheMovingSquare)
     EXPECT_EQ(traces, plan.traceSpeeds.size());
     EXPECT_EQ(beside, plan.holdDepths.size());
     EXPECT_EQ(under, plan.holdDepths.size());
+}
+
+// A hand's path where the surface leaves: a room (a step of 100 mm across it, so strokes have
+// silhouettes to be placed on) moves 30 mm back from the camera in one frame. Every still stroke
+// follows it down at a press's speed (0.1 m/s), none falls the 30 mm in one update (before: a hold
+// fell onto the receded surface in one update, a knock no hand makes).
+TEST(FeelFamiliesTest, AStillFingerFollowsASurfaceThatRecedesAtAPressSpeed)
+{
+    std::vector<depth::Plane<std::uint16_t>> mm;
+    for (int f = 0; f < 60; ++f) {
+        depth::Plane<std::uint16_t> p(96, 72, 1000);
+        const int back = f < 20 ? 0 : 30;
+        for (int r = 0; r < 72; ++r)
+            for (int c = 0; c < 96; ++c)
+                p.at(c, r) = static_cast<std::uint16_t>((c < 48 ? 900 : 1000) + back);
+        mm.push_back(std::move(p));
+    }
+    auto s = bench::sceneFromSensorDepth("receding", mm, 30.0, SceneBox{}, 16);
+    ASSERT_TRUE(s) << s.error().what;
+    bench::FamilyPlan plan;
+    const auto strokes = bench::makeFamilyStrokes(*s, plan, nullptr);
+    std::size_t still = 0;
+    for (const auto &st : strokes) {
+        if (st.speed > 0.0)
+            continue;
+        ++still;
+        double fastest = 0.0;
+        for (std::size_t k = 1; k < st.samples.size(); ++k)
+            fastest =
+                std::max(fastest, (st.samples[k - 1].hip.z - st.samples[k].hip.z) * plan.rate);
+        // Down at the press speed, plus a tap's own (π·5 Hz·5 mm) or an approach's 0.05 m/s.
+        EXPECT_LE(fastest, 0.1 + 0.08 + 1e-6) << st.name;
+    }
+    EXPECT_GT(still, 0u);
 }
 
 // Holes are kept: a sample the sensor did not measure is code 0 under holeBelow in the touched
