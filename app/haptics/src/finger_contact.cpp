@@ -55,6 +55,7 @@ void FingerRenderer::penalty(const glm::dvec3 &hip, double raw, Candidate &c) no
         if (c.contact) {
             c.proxy = goal;
             c.below = below;
+            limitPush(hip, c); // caught deep (behind an object): the force grows at a bounded rate
         }
         return;
     }
@@ -81,7 +82,7 @@ void FingerRenderer::penalty(const glm::dvec3 &hip, double raw, Candidate &c) no
     const double d = glm::length(step);
     if (d > allowed)
         c.proxy = proxy_ + step * (allowed / d);
-    limitPush(hip, c);
+    limitPush(hip, c); // a surface rising under the finger pushes it out at a bounded rate
 }
 
 } // namespace depthtouch::haptics

@@ -239,6 +239,8 @@ void FingerRenderer::capture(const glm::dvec3 &hip, Candidate &c) noexcept
             wall_ = false;
         }
     }
+    if (c.contact && !contact_)
+        limitPush(hip, c); // caught deep (behind an object, under a returning surface): bounded
 }
 
 void FingerRenderer::enter(double below, Candidate &c) noexcept

@@ -74,7 +74,10 @@
 ///      and each switch turned the force at once.
 ///    - *Caught again*: a finger let go behind an occluder (or by a cut) is caught by the surface
 ///      it was held on as soon as that surface is within its held depth (plus the ramped step)
-///      again, e.g. when the occluder leaves; before, it stayed free until lifted out.
+///      again, e.g. when the occluder leaves; before, it stayed free until lifted out. A finger
+///      caught (or a new contact made) deeper than the HIP moved plus pushDepth_ gets its force
+///      at the bounded push's rate (limitPush(), maxForceStep/16 an update), not in steps of
+///      maxForceStep: the surface came back over the finger, as an arriving surface does.
 ///    - *Saturation*: a command at the device maximum (within kFingerAtMaximum) for
 ///      kFingerSaturationTime lets the finger go (whatever Reengage says): the device cannot push
 ///      it out, and a force held at the maximum is what a user must never feel for long.
