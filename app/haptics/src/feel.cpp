@@ -226,7 +226,11 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
         const double inside = std::isnan(r.depthInside) ? r.surfaceZ - r.hip.z : r.depthInside;
         if (contacted && !offSurface && inside > th.depthMargin && force < th.popForce)
             f.popThroughMs += 1e3 * dt[i];
-        if (!offSurface && r.hip.z > r.surfaceZ + th.depthMargin && force > th.phantomForce)
+        const double reach =
+            std::isnan(r.reachSurfaceZ) ? r.surfaceZ : std::max(r.surfaceZ, r.reachSurfaceZ);
+        const bool unloading = force < glm::length(prevForce) - 0.99 * th.forceStep;
+        if (!offSurface && r.hip.z > reach + th.depthMargin && force > th.phantomForce &&
+            !unloading)
             f.phantomMs += 1e3 * dt[i];
         if (r.sliding && glm::length(r.force - prevForce) > th.spikeStep)
             ++f.spikes;

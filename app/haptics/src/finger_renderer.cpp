@@ -15,7 +15,7 @@ FingerRenderer::FingerRenderer(const RendererConfig &config) noexcept
       friction_(config.staticFriction, config.dynamicFriction)
 {
     field_.setCutThreshold(config.cutThreshold);
-    radius_ = std::isnan(config.fingerRadius) ? 0.015 * config.box.width : config.fingerRadius;
+    radius_ = config.fingerRadiusInBox();
     setDepths();
 }
 

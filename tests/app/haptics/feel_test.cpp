@@ -88,6 +88,33 @@ TEST(FeelTest, PhantomForceAboveOrOffTheSurface)
     EXPECT_NEAR(f.phantomMs, 5.0, 1e-9);
 }
 
+// A fingertip leaving an edge: 2 mm above the surface under its centre, a surface within its
+// reach at its own height still holds it (no phantom force); one whose reach is as low as its
+// centre's does not (phantom). A release in progress: a 5 N force falling by the step limit (2 N
+// an update) over a surface that vanished is no phantom until it stops falling that fast.
+TEST(FeelTest, PhantomForceSparesAFingertipOnAnEdgeAndAReleaseInProgress)
+{
+    auto rows = pressRows(40);
+    for (std::size_t i = 0; i < 5; ++i) {
+        rows[i].hip.z = 2e-3;
+        rows[i].reachSurfaceZ = 1.5e-3; // an edge within the radius, 0.5 mm under the HIP
+    }
+    for (std::size_t i = 5; i < 8; ++i) {
+        rows[i].hip.z = 2e-3;
+        rows[i].reachSurfaceZ = 0.0; // nothing higher within reach: phantom, 3 ms
+    }
+    rows[8].hip.z = -2e-3;
+    rows[9].hip.z = -2e-3;
+    rows[9].force = {0.0, 0.0, 5.0};
+    const double falling[] = {3.0, 1.0, 0.5, 0.5}; // 2 N, 2 N, then 0.5 N an update: 2 ms
+    for (std::size_t k = 0; k < 4; ++k) {
+        rows[10 + k].hip.z = 2e-3;
+        rows[10 + k].force = {0.0, 0.0, falling[k]};
+    }
+    const FeelFigures f = computeFeel(rows);
+    EXPECT_NEAR(f.phantomMs, 3.0 + 2.0, 1e-9);
+}
+
 // A proxy alternating between two points every update: forces 1 N and 2.2 N in turn over 40
 // updates (39 changes of 1.2 N, each against the one before), then steady.
 TEST(FeelTest, AlternatingLogGivesItsRunLengthAndSignReversals)

@@ -13,9 +13,12 @@
 /// - **pop-through**: after the first contact, the HIP is more than `depthMargin` inside the
 ///   surface (FeelSample::depthInside, else under it at its own x–y) and |F| < `popForce`.
 /// - **phantom force**: the HIP is more than `depthMargin` above the surface at its own x–y and |F|
-/// >
-///   `phantomForce`. Where there is no surface (off the grid, or a hole: nothing was measured)
-///   neither phantom force nor pop-through is judged.
+///   > `phantomForce`, and above all the surface within the fingertip's reach (FeelSample::
+///   reachSurfaceZ: a fingertip of radius r still rests on an edge r beside its centre, as a
+///   finger leaving a table's edge does), and the force is not falling at the force stage's step
+///   limit (`forceStep`: a release in progress, renderer.h ForceStage). Where there is no surface
+///   (off the grid, or a hole: nothing was measured) neither phantom force nor pop-through is
+///   judged.
 /// - **spike**: |F(n) − F(n−1)| > `spikeStep` in one update, counted while `sliding`.
 /// - **ripple**: RMS of |F| about its mean over the updates marked `held` (HIP still, pressed in),
 ///   also given relative to that mean (the force just-noticeable difference is 5–10 %).
@@ -91,6 +94,10 @@ struct FeelSample {
     /// surface was last measured at that x–y (a renderer sees nothing in a hole: what came
     /// while it hid the surface arrives in this update); NaN: not known (no arrival is judged).
     double surfaceRise = std::nan("");
+    /// The highest surface within the fingertip's reach of the HIP's x–y (a disc of the
+    /// renderer's finger radius), m; NaN: a point contact, or not known (surfaceZ alone judges
+    /// phantom force).
+    double reachSurfaceZ = std::nan("");
     double updateSeconds = 0.0; ///< Wall time of the update, s (0 when not measured).
 };
 
@@ -102,6 +109,9 @@ struct FeelThresholds {
     double spikeStep = 0.5;      ///< N per update.
     double alternationStep = 0.05; ///< N per update: smallest change of an alternating run.
     double deviceMaxForce = 8.5;   ///< N (the Falcon): time at the maximum.
+    /// N per update: the force stage's step limit (RendererConfig::maxForceStep); a force falling
+    /// by it (within 1 %) is a release in progress, not phantom force.
+    double forceStep = 2.0;
     /// m/s: a surface arriving faster than this covers the finger (a renderer that pushes the
     /// finger out at a bounded rate, 0.16 m/s for the finger renderer's defaults, cannot follow).
     double pushRate = 0.15;

@@ -122,6 +122,11 @@ struct RendererConfig {
     /// \return the configuration of \a method: Modified all fixes on; ProxyGraph and MeshBvh all
     /// off.
     static RendererConfig forMethod(Method method) noexcept;
+    /// \return the fingertip's radius, m: fingerRadius, or 0.015 × box width where it is NaN.
+    [[nodiscard]] double fingerRadiusInBox() const noexcept
+    {
+        return std::isnan(fingerRadius) ? 0.015 * box.width : fingerRadius;
+    }
     /// \brief Checks ranges. \return Errc::InvalidArgument with a static message.
     [[nodiscard]] Result<void> validate() const noexcept;
 };
