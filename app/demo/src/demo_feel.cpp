@@ -71,12 +71,19 @@ public:
     {
         return field_.contains(x, y) ? field_.heightAt(x, y) : std::nan("");
     }
+    /// \return the player's fingertip radius in the clip's box (RendererConfig's default), m.
+    [[nodiscard]] double fingerReach() const noexcept override
+    {
+        haptics::RendererConfig config;
+        config.box = field_.box();
+        return config.fingerRadiusInBox();
+    }
     /// \return true when a sample within a finger's reach of (x, y) (the renderer's stencil, 1.5 %
     /// of the box width) moves by more than the cut threshold from the previous frame to the
     /// current one or from it to the next (of the last setTime()).
     [[nodiscard]] bool cutAt(double x, double y) const noexcept override
     {
-        const double reach = 0.015 * field_.box().width;
+        const double reach = fingerReach();
         for (int j = -1; j <= 1; ++j) {
             for (int i = -1; i <= 1; ++i) {
                 const double px = x + i * reach;
@@ -186,6 +193,10 @@ DemoFeel measureFeel(const std::vector<LogRow> &rows, const std::vector<double> 
         s.hip = r.hip;
         s.force = r.force;
         s.surfaceZ = surface.heightAt(r.hip.x, r.hip.y);
+        if (surface.fingerReach() > 0.0)
+            s.reachSurfaceZ = haptics::reachHeight(
+                [&surface](double x, double y) { return surface.heightAt(x, y); }, r.hip.x, r.hip.y,
+                surface.fingerReach());
         s.released = r.released;
         s.surfaceCut = surface.cutAt(r.proxy.x, r.proxy.y) ||
                        (i > 0 && surface.cutAt(rows[i - 1].proxy.x, rows[i - 1].proxy.y));

@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <numbers>
 #include <utility>
 
 #include <glm/geometric.hpp>
@@ -136,22 +135,6 @@ glm::dvec3 idealForce(ReferenceSurface &ref, double t, const glm::dvec3 &hip, do
     return k * (h - hip.z) * n.z * n;
 }
 
-/// The highest reference surface within \a radius (m) of \a hip's x–y at \a t (the centre, 8
-/// points at half the radius and 8 on it), m; NaN where none of them is measured.
-double reachHeight(ReferenceSurface &ref, double t, const glm::dvec3 &hip, double radius)
-{
-    double best = ref.height(t, hip.x, hip.y);
-    for (int ring = 1; ring <= 2; ++ring)
-        for (int k = 0; k < 8; ++k) {
-            const double a = std::numbers::pi / 4.0 * k;
-            const double d = 0.5 * ring * radius;
-            const double h = ref.height(t, hip.x + d * std::cos(a), hip.y + d * std::sin(a));
-            if (std::isfinite(h) && !(h <= best))
-                best = h;
-        }
-    return best;
-}
-
 /// Replays one stroke on a fresh renderer; fills \a rows; with \a errors, the squared force
 /// errors against idealForce() of the pressed updates.
 Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const FeelSetting &setting,
@@ -201,7 +184,9 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
         row.proxy = out.proxy;
         row.surfaceZ = ref.height(s.t, s.hip.x, s.hip.y);
         if (setting.method == Method::Finger) // a fingertip reaches what is within its radius
-            row.reachSurfaceZ = reachHeight(ref, s.t, s.hip, cfg.fingerRadiusInBox());
+            row.reachSurfaceZ =
+                reachHeight([&](double x, double y) { return ref.height(s.t, x, y); }, s.hip.x,
+                            s.hip.y, cfg.fingerRadiusInBox());
         if (row.surfaceZ > s.hip.z) {
             if (const HeightField *rf = ref.at(s.t); rf != nullptr)
                 row.depthInside = depthInside(*rf, s.hip, row.surfaceZ - s.hip.z);

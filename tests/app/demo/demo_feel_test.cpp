@@ -36,6 +36,9 @@ public:
     [[nodiscard]] double backdropZ() const noexcept override { return kBackdrop; }
     static constexpr double kBackdrop = -0.016;
 
+    [[nodiscard]] double fingerReach() const noexcept override { return reach; }
+    double reach = 0.0; ///< m.
+
 private:
     double cutX_;
     double t_ = 0.0;
@@ -52,6 +55,30 @@ LogRow pressed(double t, double x, double surfaceZ, double depth, double k)
     r.force = {0.0, 0.0, k * depth};
     r.contact = true;
     return r;
+}
+
+// A fingertip leaving the figure's edge (x = 0.02 m) onto the backdrop 16 mm below: 0.5 mm past
+// the edge, 1 mm above the figure's height, still pushed up 0.8 N by the rim for 20 updates. With
+// the player's 1.5 mm fingertip judged, the rim is within its reach: no phantom force; judged as a
+// point, 20 ms of it.
+TEST(DemoFeelTest, aFingertipOnTheRimBesideItsCentreIsNoPhantomForce)
+{
+    std::vector<LogRow> rows;
+    for (int i = 0; i < 20; ++i)
+        rows.push_back(pressed(0.001 * i, 0.010, 0.0, 0.002, 800.0)); // on the figure
+    for (int i = 20; i < 40; ++i) {
+        rows.push_back(pressed(0.001 * i, 0.0205, 0.0, 0.0, 800.0));
+        rows.back().hip.z = 0.001;
+        rows.back().proxy = {0.0199, 0.0, 0.0};
+        rows.back().force = {0.0, 0.0, 0.8};
+    }
+    for (const double reach : {0.0015, 0.0}) {
+        FakeSurface surface(1.0);
+        surface.reach = reach;
+        std::vector<std::array<double, 6>> plot;
+        const DemoFeel d = measureFeel(rows, playTimes(rows), surface, plot);
+        EXPECT_NEAR(d.feel.phantomMs, reach > 0.0 ? 0.0 : 20.0, 1e-6) << reach;
+    }
 }
 
 // A trip on the update after the proxy left a cut is at that cut: the previous row's proxy counts

@@ -52,6 +52,9 @@ public:
     [[nodiscard]] virtual bool cutAt(double x, double y) const noexcept = 0;
     /// \return the height of the backdrop (the head scene's curtain), m.
     [[nodiscard]] virtual double backdropZ() const noexcept = 0;
+    /// \return the fingertip's radius phantom force is judged at (haptics::reachHeight()), m; 0:
+    /// a point contact.
+    [[nodiscard]] virtual double fingerReach() const noexcept { return 0.0; }
 };
 
 /// \return the depth of the demo clip \a clip (its `depth` stream, 8-bit nearness in the default

@@ -62,6 +62,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <numbers>
 #include <span>
 
 #include <glm/vec3.hpp>
@@ -100,6 +101,24 @@ struct FeelSample {
     double reachSurfaceZ = std::nan("");
     double updateSeconds = 0.0; ///< Wall time of the update, s (0 when not measured).
 };
+
+/// \return the highest of \a heightAt(x, y) (m; NaN where nothing was measured) at (\a x, \a y)
+/// and at 8 points each on circles of radius/2 and \a radius (m) around it: the surface within a
+/// fingertip's reach (FeelSample::reachSurfaceZ); NaN where none of them is measured.
+template <class HeightAt>
+double reachHeight(const HeightAt &heightAt, double x, double y, double radius)
+{
+    double best = heightAt(x, y);
+    for (int ring = 1; ring <= 2; ++ring)
+        for (int k = 0; k < 8; ++k) {
+            const double a = 0.25 * std::numbers::pi * k;
+            const double d = 0.5 * ring * radius;
+            const double h = heightAt(x + d * std::cos(a), y + d * std::sin(a));
+            if (std::isfinite(h) && !(h <= best))
+                best = h;
+        }
+    return best;
+}
 
 /// \brief Thresholds of the figures (the defaults are the goals of docs/benchmarks.md).
 struct FeelThresholds {
