@@ -45,9 +45,9 @@ void FingerRenderer::reset(const glm::dvec3 &hip) noexcept
     proxy_ = hip;
     surfaceProxy_ = hip;
     lastGlide_ = {};
-    sideOffset_ = {};
-    sideTrend_ = {};
-    lastSide_ = {};
+    offset_ = {};
+    offsetTrend_ = {};
+    lastOffset_ = {};
     lastHip_ = hip;
     contact_ = false;
     behind_ = false;
@@ -366,6 +366,7 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     const bool resting = restingContact(hip, t);
     if (holdOverHole(hip, raw, t, c)) {
         // Held on the surface it pressed: a hole opened under the finger (finger_hole.cpp).
+        c.unseen = true;
     } else if (resting) {
         wall_ = false;
         if (over)
@@ -414,11 +415,11 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     }
     enterAnyDepth_ = false;
     out.released = c.trip;
-    // The sideways offset is filtered, and friction acts, on the force and the reported proxy;
+    // The offset from the HIP is filtered, and friction acts, on the force and the reported proxy;
     // proxy_ keeps the unfiltered, frictionless goal (the glide and the next update's search start
-    // from it). Friction's held proxy (its own stick and slip) replaces the filtered one.
+    // from it). Friction acts on the filtered goal.
     glm::dvec3 held = c.proxy;
-    smoothSide(hip, c, held);
+    smoothOffset(hip, c, held);
     if (friction_.enabled() || material) {
         if (c.contact && !c.trip)
             held = friction_.apply(held, hip, t);
@@ -444,37 +445,38 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     return out;
 }
 
-void FingerRenderer::smoothSide(const glm::dvec3 &hip, const Candidate &c,
-                                glm::dvec3 &held) noexcept
+void FingerRenderer::smoothOffset(const glm::dvec3 &hip, const Candidate &c,
+                                  glm::dvec3 &held) noexcept
 {
-    // The proxy's x–y offset from the HIP through an alpha-beta filter (Kalman's steady state for
-    // a constant-velocity track; Brookner, "Tracking and Kalman Filtering Made Easy", ch. 1): on
-    // noisy depth each update's plane tilts anew as the taps cross pixels, and at 50 cm/s the
-    // sideways force turned back and forth by 0.05-0.2 N every update (an alternating run of 11 on
-    // the synthetic head's cheek). The trend term follows an offset that changes steadily (a
-    // slope under a moving finger) without lag. A new contact, a trip or a ramped step starts it
-    // afresh at the offset.
-    // The filtered offset moves no farther in an update than the unfiltered one did, or than a
-    // catch-up of pushDepth_/4: the proxy's bounds (r/4 an update, the bounded push) hold for the
-    // force's proxy too, and the trend's overshoot where a glide stops is cut short.
-    const glm::dvec2 side{c.proxy.x - hip.x, c.proxy.y - hip.y};
-    if (c.contact && contact_ && !c.trip && !c.stepped) {
-        const glm::dvec2 predicted = sideOffset_ + sideTrend_;
-        const glm::dvec2 residual = side - predicted;
-        const glm::dvec2 step = predicted + kFingerSideAlpha * residual - sideOffset_;
-        sideTrend_ += kFingerSideBeta * residual;
-        const double limit = std::max(glm::length(side - lastSide_), 0.25 * pushDepth_);
+    // The proxy's offset from the HIP through an alpha-beta filter (the steady-state Kalman filter
+    // of a constant-velocity track; Brookner, "Tracking and Kalman Filtering Made Easy", ch. 1): on
+    // noisy depth each update's plane tilts and shifts anew as the taps cross pixels, and at 50
+    // cm/s the force turned back and forth by 0.05-0.2 N every update (alternating runs of 11 on
+    // the synthetic head's cheek and the time-of-flight occluder's flying pixels). The trend term
+    // follows an offset that changes steadily (a slope under a moving finger, a press) without
+    // lag. The filtered offset moves no farther in an update than the unfiltered one did, or than
+    // a catch-up of pushDepth_/4: the proxy's bounds (r/4 an update, the bounded push) hold for
+    // the force's proxy too, and the trend's overshoot where a glide stops is cut short. A new
+    // contact, a trip, a ramped step or a hold over a hole (nothing measured: its own unload rate
+    // is the force's) starts it afresh at the offset. It never puts the proxy under the HIP where
+    // the unfiltered proxy is not (pushUp()).
+    const glm::dvec3 offset = c.proxy - hip;
+    if (c.contact && contact_ && !c.trip && !c.stepped && !c.unseen) {
+        const glm::dvec3 predicted = offset_ + offsetTrend_;
+        const glm::dvec3 residual = offset - predicted;
+        const glm::dvec3 step = predicted + kFingerOffsetAlpha * residual - offset_;
+        offsetTrend_ += kFingerOffsetBeta * residual;
+        const double limit = std::max(glm::length(offset - lastOffset_), 0.25 * pushDepth_);
         const double length = glm::length(step);
         const double scale = length > limit ? limit / length : 1.0;
-        sideOffset_ += step * scale;
-        sideTrend_ *= scale;
+        offset_ += step * scale;
+        offsetTrend_ *= scale;
     } else {
-        sideOffset_ = side;
-        sideTrend_ = {};
+        offset_ = offset;
+        offsetTrend_ = {};
     }
-    lastSide_ = side;
-    held.x = hip.x + sideOffset_.x;
-    held.y = hip.y + sideOffset_.y;
+    lastOffset_ = offset;
+    held = hip + glm::dvec3{offset_.x, offset_.y, std::max(offset_.z, std::min(offset.z, 0.0))};
 }
 
 double FingerRenderer::sensorHeight(const glm::dvec3 &hip) const noexcept

@@ -447,10 +447,10 @@ int longestTurning(const std::vector<PathRow> &rows, std::size_t from, double th
 }
 
 // A fast swipe over a noisy table: pressed 2 mm into the 8-bit table with flicker, the finger
-// swipes back and forth at 50 cm/s. Each update the taps cross pixels and the plane tilts anew;
-// before the sideways offset was filtered (smoothSide()), the sideways force turned back and forth
-// by 0.05-0.2 N every update (a run of 10 here, 11 on the feel bench's head; 4 now). The normal
-// force is not filtered: the mean force stays k times the depth.
+// swipes back and forth at 50 cm/s. Each update the taps cross pixels and the plane tilts and
+// shifts anew; before the proxy's offset from the HIP was filtered (smoothOffset()), the force
+// turned back and forth by 0.05-0.2 N every update (a run of 10 here, 11 on the feel bench's
+// head; 1 now). The mean force stays k times the depth.
 TEST(FingerScenarioTest, aFastSwipeOverANoisyTableDoesNotTurnTheForceBackAndForth)
 {
     const SceneBox box{};
@@ -471,7 +471,7 @@ TEST(FingerScenarioTest, aFastSwipeOverANoisyTableDoesNotTurnTheForceBackAndFort
     std::printf(
         "50 cm/s swipe on the noisy table: longest turning run %d updates, mean |F| %.2f N\n", run,
         sum / n);
-    EXPECT_LE(run, 5);
+    EXPECT_LE(run, 3);
     // k times the depth along the plane's normal: 2 mm straight down is 2 mm/√(1 + |∇z|²) deep.
     EXPECT_NEAR(sum / n, 800.0 * 0.002 / std::sqrt(1.0 + 0.12 * 0.12 + 0.05 * 0.05), 0.15);
 }

@@ -72,11 +72,11 @@
 ///      servo rate (a 500 Hz limit cycle). So does a proxy held to the side of the HIP when the
 ///      surface above the HIP replaces it (step 2): beside flickering pixels the two took turns,
 ///      and each switch turned the force at once.
-///    - *Sideways noise*: the proxy's x–y offset from the HIP that the force and the report use
-///      passes an alpha-beta filter (smoothSide(); the search keeps the unfiltered goal), each
+///    - *Depth noise*: the proxy's offset from the HIP that the force and the report use passes
+///      an alpha-beta filter (smoothOffset(); the search keeps the unfiltered goal), each
 ///      update's move no longer than the unfiltered offset's: on noisy depth at 50 cm/s the taps
-///      cross pixels every update and the plane tilted anew each time, turning the sideways force
-///      back and forth by 0.05-0.2 N at the servo rate. The normal force is not filtered.
+///      cross pixels every update and the plane tilted and shifted anew each time, turning the
+///      force back and forth by 0.05-0.2 N at the servo rate.
 ///    - *Caught again*: a finger let go behind an occluder (or by a cut) is caught by the surface
 ///      it was held on as soon as that surface is within its held depth (plus the ramped step)
 ///      again, e.g. when the occluder leaves; before, it stayed free until lifted out. A finger
@@ -170,12 +170,13 @@ inline constexpr int kFingerIterations = 2;
 /// plane fit (an object's silhouette beside the finger, a flying pixel): slopes up to about 2
 /// (63°) keep every tap.
 inline constexpr double kFingerOutlier = 3.0;
-/// Gains of the alpha-beta filter on the force's sideways offset (FingerRenderer::smoothSide()):
-/// the offset's share of each residual and the trend's (α²/(2 − α), Benedict and Bordner's
-/// pairing for a track with steady motion). The clean moving wave's force RMS error is
-/// unchanged by it (0.0261/0.0240/0.0249 N → 0.0259/0.0237/0.0244 N at 5/10/20 cm/s).
-inline constexpr double kFingerSideAlpha = 0.4;
-inline constexpr double kFingerSideBeta = 0.1;
+/// Gains of the alpha-beta filter on the force's offset from the HIP (FingerRenderer::
+/// smoothOffset()): the offset's share of each residual and the trend's (about α²/(2 − α),
+/// Benedict and Bordner's pairing for a track with steady motion). The clean moving wave's force
+/// RMS error moves little with it (0.0261/0.0240/0.0249 N → 0.0265/0.0242/0.0255 N at 5/10/20
+/// cm/s; the paper's method 0.036/0.023/0.024).
+inline constexpr double kFingerOffsetAlpha = 0.4;
+inline constexpr double kFingerOffsetBeta = 0.1;
 
 /// \brief The least-squares plane through the 3×3 stencil at a point: z = height + slope·(p − at).
 struct FingerPlane {
@@ -243,6 +244,9 @@ private:
         bool bounded = false;
         glm::dvec3 found{};
         glm::dvec2 glide{}; ///< glide()'s direction (unit), or zero.
+        /// Held over a hole (holdOverHole()): nothing measured, no noise to filter; its own
+        /// unload rate is the force's.
+        bool unseen = false;
     };
     /// Sets captureDepth_, stepDepth_ and pushDepth_ from the stiffness and maxForceStep.
     void setDepths() noexcept;
@@ -317,10 +321,10 @@ private:
     /// After kFingerSaturationTime with the command sent, outputGain_ × \a force (N), at the
     /// device maximum in contact, the next update lets the finger go.
     void watchSaturation(const glm::dvec3 &force, double t, bool contact) noexcept;
-    /// Sets \a held's x–y (the proxy the force and the report use; m, box frame) to the HIP's plus
-    /// the filtered x–y offset of \a c's proxy (kFingerSideAlpha, kFingerSideBeta); proxy_ keeps
-    /// the unfiltered goal.
-    void smoothSide(const glm::dvec3 &hip, const Candidate &c, glm::dvec3 &held) noexcept;
+    /// Sets \a held (the proxy the force and the report use; m, box frame) to the HIP plus the
+    /// filtered offset of \a c's proxy (kFingerOffsetAlpha, kFingerOffsetBeta); proxy_ keeps the
+    /// unfiltered goal.
+    void smoothOffset(const glm::dvec3 &hip, const Candidate &c, glm::dvec3 &held) noexcept;
 
     /// The god-object on the finger-scale surface from q = (\a startX, \a startY) (m): the proxy
     /// (m), the last plane fitted (\a plane), the first one, at q (\a start), and how far the HIP
@@ -353,11 +357,11 @@ private:
     /// The last update's proxy on the surface: proxy_, or where limitPush() found it before
     /// bounding it (m). The glide starts from it.
     glm::dvec3 surfaceProxy_{};
-    glm::dvec2 lastGlide_{};  ///< The last update's glide direction (unit), or zero.
-    glm::dvec2 sideOffset_{}; ///< Filtered x–y offset of the force's proxy from the HIP, m.
-    glm::dvec2 sideTrend_{};  ///< Its change an update (smoothSide()'s trend), m.
-    glm::dvec2 lastSide_{};   ///< The last update's unfiltered x–y offset, m.
-    double outputGain_ = 1.0; ///< setOutputGain(): the caller's factor on the force, 0..1.
+    glm::dvec2 lastGlide_{};   ///< The last update's glide direction (unit), or zero.
+    glm::dvec3 offset_{};      ///< Filtered offset of the force's proxy from the HIP, m.
+    glm::dvec3 offsetTrend_{}; ///< Its change an update (smoothOffset()'s trend), m.
+    glm::dvec3 lastOffset_{};  ///< The last update's unfiltered offset, m.
+    double outputGain_ = 1.0;  ///< setOutputGain(): the caller's factor on the force, 0..1.
     bool contact_ = false;
     bool behind_ = false;      ///< HIP under the surface without contact (see the file comment).
     bool wall_ = false;        ///< The contact is on an object's side (finger_wall.cpp).
