@@ -461,7 +461,19 @@ void FingerRenderer::smoothOffset(const glm::dvec3 &hip, const Candidate &c,
     // is the force's) starts it afresh at the offset. It never puts the proxy under the HIP where
     // the unfiltered proxy is not (pushUp()).
     const glm::dvec3 offset = c.proxy - hip;
-    if (c.contact && contact_ && !c.trip && !c.stepped && !c.unseen) {
+    if (!config_.smoothOffset) {
+        held = c.proxy;
+        return;
+    }
+    if (lastOffset_ == offset) {
+        // Nothing moved (a paused picture under a still finger): straight to the offset, at most
+        // the catch-up, so that the force stands still once it is there.
+        const glm::dvec3 rest = offset - offset_;
+        const double length = glm::length(rest);
+        const double catchUp = 0.25 * pushDepth_;
+        offset_ += length > catchUp ? rest * (catchUp / length) : rest;
+        offsetTrend_ = {};
+    } else if (c.contact && contact_ && !c.trip && !c.stepped && !c.unseen) {
         const glm::dvec3 predicted = offset_ + offsetTrend_;
         const glm::dvec3 residual = offset - predicted;
         const glm::dvec3 step = predicted + kFingerOffsetAlpha * residual - offset_;

@@ -268,6 +268,10 @@ std::vector<FeelSetting> feelSettings(const std::vector<Method> &methods)
         }
         out.push_back({methodName(m), m, c});
         if (m == Method::Finger) {
+            // What the offset filter takes out: the force on the search's own proxy.
+            c.smoothOffset = false;
+            out.push_back({"finger-unfiltered", m, c});
+            c.smoothOffset = true;
             // The other contacts (renderer.h FingerContact; the default is the god-object): the
             // penalty while the HIP rests, and the penalty everywhere.
             const FingerContact contact = c.fingerContact;

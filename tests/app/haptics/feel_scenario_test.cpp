@@ -226,7 +226,7 @@ TEST(FeelScenarioPushTest, aShallowPressUnderAPassingOccluderDoesNotAlternate)
 {
     expectPushedOutSmoothly(
         familyStroke(SyntheticScene::Occluder, "press 0.5 mm 5 cm/s edge",
-                     SensorModel::ActiveStereo),
+                     SensorModel::ActiveStereo, "finger-unfiltered"),
         false); // 2 sign-reversal spikes, with or without the glide from the surface
 }
 
@@ -238,7 +238,7 @@ TEST(FeelScenarioPushTest, aShallowPressUnderAPassingOccluderDoesNotAlternate)
 TEST(FeelScenarioPushTest, aPushedFingerDoesNotGlideToAndFro)
 {
     expectPushedOutSmoothly(familyStroke(SyntheticScene::Occluder, "hold 3 mm under occluder",
-                                         SensorModel::TimeOfFlight),
+                                         SensorModel::TimeOfFlight, "finger-unfiltered"),
                             true);
 }
 

@@ -49,9 +49,11 @@ struct StrokeLog {
 /// A new finger (the default config) along \a hip(t), t from 0 to \a duration at 1 kHz, on
 /// \a video.
 StrokeLog stroke(const std::function<glm::dvec3(double)> &hip, double duration,
-                 SyntheticVideo video = tableAndBox())
+                 SyntheticVideo video = tableAndBox(), bool smoothOffset = true)
 {
-    FingerRenderer finger(RendererConfig::forMethod(Method::Finger));
+    RendererConfig config = RendererConfig::forMethod(Method::Finger);
+    config.smoothOffset = smoothOffset;
+    FingerRenderer finger(config);
     finger.reset(hip(0.0));
     StrokeLog run;
     const long n = std::lround(duration * 1000.0);
@@ -194,7 +196,7 @@ TEST(FingerWallTest, slidingAlongARaggedSideGrowsTheForceNoFasterThanTheBoundedP
         const glm::dvec3 in = swipeTo(z, 0.001)(t);
         return in + glm::dvec3(0.0, 0.5 * std::max(0.0, t - 0.1), 0.0);
     };
-    const StrokeLog run = stroke(hip, 0.14, ragged);
+    const StrokeLog run = stroke(hip, 0.14, ragged, false); // the search's own proxy
     double largest = 0.0; // the largest growth of |F| in one update while sliding, N
     for (std::size_t k = 101; k < run.out.size(); ++k) {
         ASSERT_TRUE(run.out[k].contact) << "at t = " << k << " ms";

@@ -101,6 +101,11 @@ struct RendererConfig {
     /// in `bench feel` 1 mm let the finger through on the forearm scene and 2 mm spiked crossing
     /// it, while 1.5 mm met every goal).
     double fingerRadius = std::nan("");
+    /// Fingertip renderer only: the force follows the search's proxy through the offset filter
+    /// (FingerRenderer::smoothOffset(): depth noise at speed turned the force back and forth at the
+    /// servo rate). Off: the force follows the search's proxy itself (`bench feel`'s
+    /// `finger-unfiltered`, and the tests of the search's own stability).
+    bool smoothOffset = true;
     /// Fingertip renderer only: how the finger meets the surface (FingerContact). GodObject by
     /// default: Adaptive takes the longest alternating run of `bench feel`'s holds, presses and
     /// taps from 20 to 3 updates, but pressed 2-8 mm into the moving wave of `bench haptics` its
