@@ -76,7 +76,8 @@
 ///      an alpha-beta filter (smoothOffset(); the search keeps the unfiltered goal), each
 ///      update's move no longer than the unfiltered offset's: on noisy depth at 50 cm/s the taps
 ///      cross pixels every update and the plane tilted and shifted anew each time, turning the
-///      force back and forth by 0.05-0.2 N at the servo rate.
+///      force back and forth by 0.05-0.2 N at the servo rate (RendererConfig::smoothOffset turns it
+///      off: `bench feel`'s `finger-unfiltered`).
 ///    - *Caught again*: a finger let go behind an occluder (or by a cut) is caught by the surface
 ///      it was held on as soon as that surface is within its held depth (plus the ramped step)
 ///      again, e.g. when the occluder leaves; before, it stayed free until lifted out. A finger
