@@ -46,8 +46,8 @@ struct StrokeLog {
     std::vector<HapticOutput> out;
 };
 
-/// A new finger (the default config) along \a hip(t), t from 0 to \a duration at 1 kHz, on
-/// \a video.
+/// A new finger (the default config; with \a smoothOffset false, the force on the search's own
+/// proxy) along \a hip(t), t from 0 to \a duration at 1 kHz, on \a video.
 StrokeLog stroke(const std::function<glm::dvec3(double)> &hip, double duration,
                  SyntheticVideo video = tableAndBox(), bool smoothOffset = true)
 {
