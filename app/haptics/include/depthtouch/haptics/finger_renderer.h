@@ -77,7 +77,15 @@
 ///      update's move no longer than the unfiltered offset's: on noisy depth at 50 cm/s the taps
 ///      cross pixels every update and the plane tilted and shifted anew each time, turning the
 ///      force back and forth by 0.05-0.2 N at the servo rate (RendererConfig::smoothOffset turns it
-///      off: `bench feel`'s `finger-unfiltered`).
+///      off: `bench feel`'s `finger-unfiltered`). Where it lags, it catches up by a share of the
+///      gap; it unloads by at most maxForceStep/8 an update.
+///    - *Steps*: a step of the surface under the stencil (over stepDepth_, under the cut) is
+///      ramped in over the ramp time only as a step up from a force of a step's size or more;
+///      from less, the bounded push grows it, and a step down is unloaded by the filter.
+///    - *Within reach*: in contact, a HIP above the sensor surface at its own x–y is not free
+///      while the surface within r/2 of it is still above it (a few pixels read far back under
+///      the fingertip): the contact goes on while the HIP is under the stencil's plane and no
+///      deeper than last update (withinReach()).
 ///    - *Caught again*: a finger let go behind an occluder (or by a cut) is caught by the surface
 ///      it was held on as soon as that surface is within its held depth (plus the ramped step)
 ///      again, e.g. when the occluder leaves; before, it stayed free until lifted out. A finger
@@ -121,8 +129,9 @@
 ///    device maximum, ramp, slew ≤ maxForceStep per update).
 ///
 /// Cost: 9 height lookups per plane fit, at most 2 + kFingerIterations fits (3 +
-/// 2·kFingerIterations beside a wall) and one raw lookup an update sliding, two fits and one raw
-/// lookup resting; nothing per frame.
+/// 2·kFingerIterations beside a wall) and one raw lookup an update sliding (17 more where the
+/// raw lookup is under the HIP in contact: withinReach()), two fits and one raw lookup resting;
+/// nothing per frame.
 /// Thread-safety: thread-bound (the haptic thread); no allocation.
 
 #include <cmath>
@@ -268,6 +277,12 @@ private:
     /// and one pixel around it (one pixel read far back is not free space under a pressed
     /// finger). \pre the HIP is over the grid.
     [[nodiscard]] double sensorHeight(const glm::dvec3 &hip) const noexcept;
+    /// \return whether a sliding contact goes on with the HIP above the sensor surface at its
+    /// own x–y: some surface within the finger radius of the HIP's x–y (haptics::reachHeight(),
+    /// the disc bench feel judges phantom force by) is above the HIP; slide() then ends the
+    /// contact where the HIP leaves the stencil's plane. False where \a raw (sensorHeight(), m)
+    /// is NaN (a hole, off the grid), out of contact, on a wall, or without fix (a).
+    [[nodiscard]] bool withinReach(const glm::dvec3 &hip, double raw) const noexcept;
     /// Whether a finger not in contact, \a below (m) under the surface, comes into contact: a new
     /// contact no deeper than the capture depth, or a finger let go caught again by the surface it
     /// was held on; else it is behind the surface (behind_ set).
