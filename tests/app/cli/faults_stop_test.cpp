@@ -159,6 +159,34 @@ fs::path makeLiveClip(const fs::path &dir)
     return clip;
 }
 
+/// The inputs of an encode: one color picture (testsrc) and one gray depth picture.
+struct StillInputs {
+    fs::path color;
+    fs::path depth;
+};
+
+/// Makes \a in: c-000.png and d-000.png of \a size (WxH) in \a dir, with the ffmpeg CLI.
+void makeStillInputs(const fs::path &dir, const std::string &size, StillInputs &in)
+{
+    in = {dir / "c-000.png", dir / "d-000.png"};
+    ASSERT_TRUE(
+        ffmpeg("-f lavfi -i testsrc=size=" + size + " -frames:v 1 '" + in.color.string() + "'"));
+    ASSERT_TRUE(ffmpeg("-f lavfi -i color=gray:size=" + size + " -pix_fmt gray -frames:v 1 '" +
+                       in.depth.string() + "'"));
+}
+
+/// \brief The cases whose inputs the ffmpeg CLI makes: a scratch folder (tmp_); the test skips
+/// without the CLI.
+class StopFaultsFfmpegTest : public TempDirTest {
+protected:
+    StopFaultsFfmpegTest() : TempDirTest("dt-stop-") {}
+    void SetUp() override
+    {
+        if (!haveFfmpeg())
+            GTEST_SKIP() << "no ffmpeg CLI on PATH";
+    }
+};
+
 /// Waits until the player on \a c says \a state (at most \a limit).
 bool waitForState(ControlClient &c, const std::string &state, std::chrono::milliseconds limit)
 {
@@ -234,34 +262,28 @@ TEST(StopFaultsTest, AnExplorePeriodThatWouldSpinTheHapticThreadIsBadInput)
 
 // --- Group 2: stop, quit, SIGTERM and --duration with a silent live stream --------------------
 
-TEST(StopFaultsTest, QuitEndsAPlayerWhoseLiveStreamWentSilentWithin2s)
+TEST_F(StopFaultsFfmpegTest, QuitEndsAPlayerWhoseLiveStreamWentSilentWithin2s)
 {
-    if (!haveFfmpeg())
-        GTEST_SKIP() << "no ffmpeg CLI on PATH";
-    TempDir tmp("dt-stop-");
-    const fs::path clip = makeLiveClip(tmp.dir());
+    const fs::path clip = makeLiveClip(tmp_.dir());
     // GIVEN a player that played the stream's second and waits on its silence
     // WHEN a client sends quit
     // THEN the answer and the exit come within 5 s (8.7 s before: the read's 10 s time-out; the
     // bound leaves room for a loaded machine, the stop itself takes about 0.04 s)
-    expectSilentLivePlayStopsWithin5s(tmp.dir(), clip, "live", [](SilentLivePlay &p) {
+    expectSilentLivePlayStopsWithin5s(tmp_.dir(), clip, "live", [](SilentLivePlay &p) {
         EXPECT_EQ(p.c.request(R"({"command":["quit"]})", 15000ms), R"({"error":"success"})");
         EXPECT_LT(p.c.lastReplySeconds(), 5.0);
     });
 }
 
-TEST(StopFaultsTest, SigtermAndDurationEndAPlayerWhoseLiveStreamWentSilentWithin2s)
+TEST_F(StopFaultsFfmpegTest, SigtermAndDurationEndAPlayerWhoseLiveStreamWentSilentWithin2s)
 {
-    if (!haveFfmpeg())
-        GTEST_SKIP() << "no ffmpeg CLI on PATH";
-    TempDir tmp("dt-stop-");
-    const fs::path clip = makeLiveClip(tmp.dir());
+    const fs::path clip = makeLiveClip(tmp_.dir());
     // WHEN SIGTERM comes while the stream is silent
     // THEN the player ends within 5 s, as after a quit
     ASSERT_NO_FATAL_FAILURE(expectSilentLivePlayStopsWithin5s(
-        tmp.dir(), clip, "term", [](SilentLivePlay &p) { p.player->signal(SIGTERM); }));
+        tmp_.dir(), clip, "term", [](SilentLivePlay &p) { p.player->signal(SIGTERM); }));
     {
-        const fs::path fifo = tmp.dir() / "duration.fifo";
+        const fs::path fifo = tmp_.dir() / "duration.fifo";
         ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
         SilentSender sender(fifo, clip);
         // WHEN --duration 3 runs out with the stream silent since 1 s (or the silence is reported
@@ -274,14 +296,11 @@ TEST(StopFaultsTest, SigtermAndDurationEndAPlayerWhoseLiveStreamWentSilentWithin
     }
 }
 
-TEST(StopFaultsTest, ASilentLiveStreamIsReportedAndTheNextSenderPlays)
+TEST_F(StopFaultsFfmpegTest, ASilentLiveStreamIsReportedAndTheNextSenderPlays)
 {
-    if (!haveFfmpeg())
-        GTEST_SKIP() << "no ffmpeg CLI on PATH";
-    TempDir tmp("dt-stop-");
-    const fs::path clip = makeLiveClip(tmp.dir());
+    const fs::path clip = makeLiveClip(tmp_.dir());
     SilentLivePlay p;
-    ASSERT_NO_FATAL_FAILURE(startSilentLivePlay(p, tmp.dir(), clip, "live"));
+    ASSERT_NO_FATAL_FAILURE(startSilentLivePlay(p, tmp_.dir(), clip, "live"));
     ControlClient &c = p.c;
     const auto playingAt = SteadyClock::now();
     // WHEN the sender goes silent after its one-second clip
@@ -332,6 +351,20 @@ bool everyRowWhole(const std::string &csv)
     return rows > 1 && !csv.empty() && csv.back() == '\n';
 }
 
+/// Lets \a p run a second more, sends it \a sig, waits for its end (at most kLimit) and expects it
+/// to exit with \a exitCode, not killed by the signal. \return the run; \a what is set to
+/// "signal N", for the caller's messages.
+ProcessResult signalAfterASecond(Process &p, int sig, int exitCode, std::string &what)
+{
+    std::this_thread::sleep_for(1000ms);
+    p.signal(sig);
+    const ProcessResult r = p.wait(kLimit);
+    what = std::string("signal ") + std::to_string(sig);
+    EXPECT_EQ(r.signal, 0) << what << ": " << describe(r);
+    EXPECT_EQ(r.exitCode, exitCode) << what << ": " << describe(r);
+    return r;
+}
+
 TEST(StopFaultsTest, HupQuitAndUsr1EndPlayCleanlyWithItsOutputsWhole)
 {
     for (const int sig : {SIGHUP, SIGQUIT, SIGUSR1}) {
@@ -339,15 +372,11 @@ TEST(StopFaultsTest, HupQuitAndUsr1EndPlayCleanlyWithItsOutputsWhole)
         Process player(mockPlayWithOutputs(tmp.dir()));
         // GIVEN a player that plays and feels for a second
         ASSERT_TRUE(waitUntilCaught(player.pid(), sig, 20s));
-        std::this_thread::sleep_for(1000ms);
         // WHEN the signal comes (a closed terminal, Ctrl-\, a service manager's USR1)
-        player.signal(sig);
-        const ProcessResult r = player.wait(kLimit);
         // THEN it quits as on SIGTERM: exit 0, the stats written, the force log whole, no
         // temporary file left
-        const std::string what = std::string("signal ") + std::to_string(sig);
-        EXPECT_EQ(r.signal, 0) << what << ": " << describe(r);
-        EXPECT_EQ(r.exitCode, 0) << what << ": " << describe(r);
+        std::string what;
+        signalAfterASecond(player, sig, 0, what);
         EXPECT_NE(readText(tmp.dir() / "stats.json").find("\"haptic_updates\""), std::string::npos)
             << what;
         EXPECT_TRUE(everyRowWhole(readText(tmp.dir() / "forces.csv"))) << what;
@@ -355,35 +384,25 @@ TEST(StopFaultsTest, HupQuitAndUsr1EndPlayCleanlyWithItsOutputsWhole)
     }
 }
 
-TEST(StopFaultsTest, HupEndsAnEncodeWithAWholeFile)
+TEST_F(StopFaultsFfmpegTest, HupEndsAnEncodeWithAWholeFile)
 {
-    if (!haveFfmpeg())
-        GTEST_SKIP() << "no ffmpeg CLI on PATH";
-    TempDir tmp("dt-stop-");
-    const fs::path color = tmp.dir() / "c-000.png";
-    const fs::path depth = tmp.dir() / "d-000.png";
-    ASSERT_TRUE(ffmpeg("-f lavfi -i testsrc=size=64x48 -frames:v 1 '" + color.string() + "'"));
-    ASSERT_TRUE(ffmpeg("-f lavfi -i color=gray:size=64x48 -pix_fmt gray -frames:v 1 '" +
-                       depth.string() + "'"));
-    const fs::path out = tmp.dir() / "live.mkv";
+    StillInputs in;
+    ASSERT_NO_FATAL_FAILURE(makeStillInputs(tmp_.dir(), "64x48", in));
+    const fs::path out = tmp_.dir() / "live.mkv";
     for (const int sig : {SIGHUP, SIGUSR1}) {
-        Process enc({DEPTHTOUCH, "encode", "--color", color.string(), "--depth", depth.string(),
-                     "--loop", "--preset", "ultrafast", "-o", out.string()});
+        Process enc({DEPTHTOUCH, "encode", "--color", in.color.string(), "--depth",
+                     in.depth.string(), "--loop", "--preset", "ultrafast", "-o", out.string()});
         // GIVEN an endless encode that has written for a while
         const auto end = SteadyClock::now() + 20s;
-        while (temporaryFiles(tmp.dir()).empty() && SteadyClock::now() < end)
+        while (temporaryFiles(tmp_.dir()).empty() && SteadyClock::now() < end)
             std::this_thread::sleep_for(50ms);
-        std::this_thread::sleep_for(1000ms);
         // WHEN the signal comes
-        enc.signal(sig);
-        const ProcessResult r = enc.wait(kLimit);
         // THEN it ends as on SIGINT: exit 130, one line, the file complete under its name
-        const std::string what = std::string("signal ") + std::to_string(sig);
-        EXPECT_EQ(r.signal, 0) << what << ": " << describe(r);
-        EXPECT_EQ(r.exitCode, 130) << what << ": " << describe(r);
+        std::string what;
+        const ProcessResult r = signalAfterASecond(enc, sig, 130, what);
         EXPECT_NE(r.err.find("interrupted by SIG"), std::string::npos) << what << ": " << r.err;
         EXPECT_GT(fs::exists(out) ? fs::file_size(out) : 0u, 1000u) << what;
-        EXPECT_TRUE(temporaryFiles(tmp.dir()).empty()) << what;
+        EXPECT_TRUE(temporaryFiles(tmp_.dir()).empty()) << what;
         fs::remove(out);
     }
 }
@@ -415,20 +434,14 @@ TEST(StopFaultsTest, TermWhileTheDemoMakesItsClipKeepsNoClip)
     EXPECT_TRUE(temporaryFiles(out).empty());
 }
 
-TEST(StopFaultsTest, FileSizeLimitEndsAnEncodeWithOneLineAndNoTemporaryFile)
+TEST_F(StopFaultsFfmpegTest, FileSizeLimitEndsAnEncodeWithOneLineAndNoTemporaryFile)
 {
-    if (!haveFfmpeg())
-        GTEST_SKIP() << "no ffmpeg CLI on PATH";
-    TempDir tmp("dt-stop-");
-    const fs::path color = tmp.dir() / "c-000.png";
-    const fs::path depth = tmp.dir() / "d-000.png";
-    ASSERT_TRUE(ffmpeg("-f lavfi -i testsrc=size=160x120 -frames:v 1 '" + color.string() + "'"));
-    ASSERT_TRUE(ffmpeg("-f lavfi -i color=gray:size=160x120 -pix_fmt gray -frames:v 1 '" +
-                       depth.string() + "'"));
-    const fs::path out = tmp.dir() / "big.mkv";
+    StillInputs in;
+    ASSERT_NO_FATAL_FAILURE(makeStillInputs(tmp_.dir(), "160x120", in));
+    const fs::path out = tmp_.dir() / "big.mkv";
     // GIVEN an endless encode under `ulimit -f 100` (100 KiB)
     Process enc({"/bin/sh", "-c", "ulimit -f 100 && exec \"$0\" \"$@\"", DEPTHTOUCH, "encode",
-                 "--color", color.string(), "--depth", depth.string(), "--loop", "--realtime",
+                 "--color", in.color.string(), "--depth", in.depth.string(), "--loop", "--realtime",
                  "off", "--preset", "ultrafast", "-o", out.string()});
     // WHEN the output reaches the limit (SIGXFSZ, then EFBIG)
     const ProcessResult r = enc.wait(kLimit);
@@ -438,7 +451,7 @@ TEST(StopFaultsTest, FileSizeLimitEndsAnEncodeWithOneLineAndNoTemporaryFile)
     EXPECT_EQ(r.exitCode, 1) << describe(r);
     EXPECT_EQ(r.errLines(), 1u) << describe(r);
     EXPECT_FALSE(fs::exists(out));
-    EXPECT_TRUE(temporaryFiles(tmp.dir()).empty());
+    EXPECT_TRUE(temporaryFiles(tmp_.dir()).empty());
 }
 
 TEST(StopFaultsTest, HupEndsATouchReplayWithNothingCutLeft)
