@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "depthtouch/depth/conversion.h"
 #include "depthtouch/depth/occupancy.h"
@@ -61,6 +62,15 @@ int sampleOf(const Image &f, int x, int y)
     return f.format == PixelFormat::Gray8 ? f.row(y)[x] : f.sample16(x, y);
 }
 
+/// Asserts that every sample (x, y) of every kW×kH frame of \a frames is \a want(x, y) (an int).
+template <class Want> void expectSamples(const std::vector<Image> &frames, Want want)
+{
+    for (const Image &f : frames)
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x)
+                ASSERT_EQ(sampleOf(f, x, y), want(x, y)) << "sample (" << x << ", " << y << ")";
+}
+
 class EncodeHolesTest : public EncodeTest {
 protected:
     /// Encodes 2 frames of \a depth with \a o (planes kPlanes) into out.mkv and reads it back.
@@ -92,6 +102,15 @@ protected:
         TestSource depth([](int) { return holedPlane(); }, 2, 30.0, PixelFormat::Gray16);
         return encode(o, depth, summary);
     }
+
+    /// encodeHoledPlanes() with losslessOptions() and the switch \a on (e.g.
+    /// &EncodeOptions::enhance) set.
+    test::FileReadback encodeHoledLosslessWith(bool EncodeOptions::*on, EncodeSummary &summary)
+    {
+        EncodeOptions o = losslessOptions();
+        o.*on = true;
+        return encodeHoledPlanes(o, summary);
+    }
 };
 
 /// GIVEN metric depth with a known hole WHEN encoded losslessly (8-bit qp 0) THEN the stream and
@@ -112,11 +131,7 @@ TEST_F(EncodeHolesTest, losslessHolesDecodeBelowTheThresholdAndSurfacesAbove)
     EXPECT_EQ(s.filledSamples, 0);
     const int want = planeCode(8, occ);
     ASSERT_GE(want, static_cast<int>(occ.first));
-    for (const Image &f : rb.streams[1].frames)
-        for (int y = 0; y < kH; ++y)
-            for (int x = 0; x < kW; ++x)
-                ASSERT_EQ(sampleOf(f, x, y), inHole(x, y) ? 0 : want)
-                    << "sample (" << x << ", " << y << ")";
+    expectSamples(rb.streams[1].frames, [want](int x, int y) { return inHole(x, y) ? 0 : want; });
 }
 
 /// GIVEN the same depth WHEN encoded at 8 and 10 bits lossy (x264 at the default --depth-crf)
@@ -156,21 +171,16 @@ TEST_F(EncodeHolesTest, resamplingKeepsHolesApartFromMeasuredDepth)
     ASSERT_EQ(rb.streams.size(), 2u);
     EXPECT_TRUE(s.depthResampled);
     const int want = planeCode(8, depth::occupancyFor(8, true));
-    for (const Image &f : rb.streams[1].frames)
-        for (int y = 0; y < kH; ++y)
-            for (int x = 0; x < kW; ++x)
-                ASSERT_EQ(sampleOf(f, x, y), inHole(x / 2, y / 2, kW / 2, kH / 2) ? 0 : want)
-                    << "sample (" << x << ", " << y << ")";
+    expectSamples(rb.streams[1].frames,
+                  [want](int x, int y) { return inHole(x / 2, y / 2, kW / 2, kH / 2) ? 0 : want; });
 }
 
 /// GIVEN depth with holes WHEN encoded with the enhancement THEN the holes stay holes (0) and no
 /// measured sample falls below the threshold.
 TEST_F(EncodeHolesTest, enhancementDoesNotTurnHolesIntoSurfaces)
 {
-    EncodeOptions o = losslessOptions();
-    o.enhance = true;
     EncodeSummary s;
-    const auto rb = encodeHoledPlanes(o, s);
+    const auto rb = encodeHoledLosslessWith(&EncodeOptions::enhance, s);
     ASSERT_EQ(rb.streams.size(), 2u);
     ASSERT_TRUE(s.enhance.has_value());
     const auto threshold = static_cast<int>(depth::occupancyFor(8, true).threshold);
@@ -195,20 +205,15 @@ TEST_F(EncodeHolesTest, frameWithoutValidDepthIsAllHoles)
     ASSERT_EQ(rb.streams[1].frames.size(), 2u);
     EXPECT_EQ(s.repeatedFrames, 0);
     EXPECT_EQ(s.holeSamples, 12LL * 10 + 13 * 17 + kW * kH);
-    const Image &f = rb.streams[1].frames[1];
-    for (int y = 0; y < kH; ++y)
-        for (int x = 0; x < kW; ++x)
-            ASSERT_EQ(sampleOf(f, x, y), 0) << "sample (" << x << ", " << y << ")";
+    expectSamples({rb.streams[1].frames[1]}, [](int, int) { return 0; });
 }
 
 /// GIVEN the same depth WHEN encoded with fillHoles THEN no depth_occupancy tag is written and
 /// every hole carries the plane's nearness, never the far plane (0): no sample is a hole.
 TEST_F(EncodeHolesTest, fillHolesFillsAndWritesNoThreshold)
 {
-    EncodeOptions o = losslessOptions();
-    o.fillHoles = true;
     EncodeSummary s;
-    const auto rb = encodeHoledPlanes(o, s);
+    const auto rb = encodeHoledLosslessWith(&EncodeOptions::fillHoles, s);
     ASSERT_EQ(rb.streams.size(), 2u);
     EXPECT_EQ(rb.streams[1].tags.count("depth_occupancy"), 0u);
     EXPECT_EQ(rb.tags.count("depth_occupancy"), 0u);
@@ -218,10 +223,7 @@ TEST_F(EncodeHolesTest, fillHolesFillsAndWritesNoThreshold)
     const auto want = static_cast<int>(
         std::lround(depth::metresToNearness(1.5, kPlanes, depth::DepthMapping::InverseZ, 255.0)));
     ASSERT_GT(want, 0);
-    for (const Image &f : rb.streams[1].frames)
-        for (int y = 0; y < kH; ++y)
-            for (int x = 0; x < kW; ++x)
-                ASSERT_EQ(sampleOf(f, x, y), want) << "sample (" << x << ", " << y << ")";
+    expectSamples(rb.streams[1].frames, [want](int, int) { return want; });
 }
 
 } // namespace
