@@ -3,6 +3,7 @@
 // consumer holding frames, a lagging material decoder and memory.
 #include <cstring>
 #include <functional>
+#include <initializer_list>
 #include <memory>
 #include <string>
 #include <vector>
@@ -25,6 +26,7 @@ using receiver::ReceiverConfig;
 using std::chrono::milliseconds;
 
 constexpr std::uint32_t kNone = ~std::uint32_t{0};
+constexpr std::uint32_t kAny = kNone - 1; ///< An expectation that checks nothing.
 
 /// \brief Adds a material track to a mock clip: a third stream (Mock codec, Rgb24) whose frame k
 /// is sent right after the depth packet of frame k when `has(k)`. The mock decoder stamps the frame
@@ -187,6 +189,40 @@ void expectMaterialCounts(const receiver::ReceiverStats &s, std::uint64_t frames
     EXPECT_EQ(s.materialMissing, missing);
 }
 
+/// What a test expects of depth frame \a frame: the material frame paired with it as frame i and
+/// the one paired as frame i+1 (kAny: not checked).
+struct ExpectedMaterial {
+    std::size_t frame = 0;
+    std::uint32_t material = kAny;
+    std::uint32_t materialNext = kAny;
+};
+
+/// Expects each of \a expected of \a frames.
+void expectMaterials(const std::vector<MaterialRecord> &frames,
+                     std::initializer_list<ExpectedMaterial> expected)
+{
+    for (const ExpectedMaterial &e : expected) {
+        ASSERT_LT(e.frame, frames.size());
+        if (e.material != kAny) {
+            EXPECT_EQ(frames[e.frame].material, e.material) << "depth frame " << e.frame;
+        }
+        if (e.materialNext != kAny) {
+            EXPECT_EQ(frames[e.frame].materialNext, e.materialNext) << "depth frame " << e.frame;
+        }
+    }
+}
+
+/// Reads every paired frame of \a r and expects \a count of them, none with material (the file
+/// plays on without its material track). \return the receiver's counters after the last frame.
+receiver::ReceiverStats drainWithoutMaterial(Receiver &r, std::size_t count)
+{
+    const auto frames = drainMaterial(r);
+    EXPECT_EQ(frames.size(), count);
+    for (const auto &m : frames)
+        EXPECT_EQ(m.material, kNone);
+    return r.stats();
+}
+
 /// What a test reads of a material clip: every paired frame, then the receiver's counters.
 struct MaterialRun {
     std::vector<MaterialRecord> frames;
@@ -272,13 +308,7 @@ TEST(ReceiverMaterialTest, missingMaterialFrameIsHeldAndCounted)
     const auto &frames = run.frames;
     ASSERT_EQ(frames.size(), 12u);
     // THEN frames 0 and 1 have none, frame 7 holds frame 6's, the others their own
-    EXPECT_EQ(frames[0].material, kNone);
-    EXPECT_EQ(frames[1].material, kNone);
-    EXPECT_EQ(frames[1].materialNext, 2u);
-    EXPECT_EQ(frames[6].materialNext, 6u);
-    EXPECT_EQ(frames[7].material, 6u);
-    EXPECT_EQ(frames[7].materialNext, 8u);
-    EXPECT_EQ(frames[8].material, 8u);
+    expectMaterials(frames, {{0, kNone}, {1, kNone, 2}, {6, kAny, 6}, {7, 6, 8}, {8, 8}});
     expectMaterialCounts(run.stats, 9, 1, 2);
 }
 
@@ -292,11 +322,7 @@ TEST(ReceiverMaterialTest, damagedMaterialFramesAreSkippedAndThePreviousHolds)
     const auto &frames = run.frames;
     ASSERT_EQ(frames.size(), 10u);
     // THEN depth frames 4 and 5 keep frame 3's material, and frame 6 has its own again
-    EXPECT_EQ(frames[3].material, 3u);
-    EXPECT_EQ(frames[4].material, 3u);
-    EXPECT_EQ(frames[5].material, 3u);
-    EXPECT_EQ(frames[5].materialNext, 6u);
-    EXPECT_EQ(frames[6].material, 6u);
+    expectMaterials(frames, {{3, 3}, {4, 3}, {5, 3, 6}, {6, 6}});
     // AND the damage is counted, apart from frames that never came
     EXPECT_EQ(run.stats.materialDamaged, 2u);
     expectMaterialCounts(run.stats, 10, 2, 0);
@@ -312,13 +338,7 @@ TEST(ReceiverMaterialTest, twoMissingMaterialFramesInARowHoldTheLastOne)
     ASSERT_EQ(frames.size(), 12u);
     // THEN depth frames 7 and 8 play with frame 6's material, as frame i and as frame i+1: never
     // with none (the stiffness and friction of the material would vanish under the finger)
-    EXPECT_EQ(frames[6].material, 6u);
-    EXPECT_EQ(frames[6].materialNext, 6u);
-    EXPECT_EQ(frames[7].material, 6u);
-    EXPECT_EQ(frames[7].materialNext, 6u);
-    EXPECT_EQ(frames[8].material, 6u);
-    EXPECT_EQ(frames[8].materialNext, 9u);
-    EXPECT_EQ(frames[9].material, 9u);
+    expectMaterials(frames, {{6, 6, 6}, {7, 6, 6}, {8, 6, 9}, {9, 9}});
     for (std::size_t i = 0; i < frames.size(); ++i)
         EXPECT_NE(frames[i].material, kNone) << "depth frame " << i << " has no material";
     expectMaterialCounts(run.stats, 10, 2, 0);
@@ -347,11 +367,7 @@ TEST(ReceiverMaterialTest, materialOfAnotherSizeIsLeftOutAndTheFilePlays)
     EXPECT_FALSE((*r)->info().hasMaterial);
     EXPECT_EQ((*r)->info().roles.material, 2); // found, then refused
     EXPECT_TRUE(hasNoteWith((*r)->info(), "material stream 2 left out: its size 32x48"));
-    const auto frames = drainMaterial(**r);
-    ASSERT_EQ(frames.size(), 10u);
-    for (const auto &m : frames)
-        EXPECT_EQ(m.material, kNone);
-    const auto s = (*r)->stats();
+    const auto s = drainWithoutMaterial(**r, 10);
     EXPECT_EQ(s.materialFrames, 0u);
     EXPECT_EQ(s.materialMissing, 0u); // no track: nothing is missing
     EXPECT_EQ(s.packetsIgnored, 10u);
@@ -457,11 +473,7 @@ TEST(ReceiverMaterialTest, materialDecoderThatNeverOutputsCannotStallPairing)
     auto r = rig.open("mock://clip?frames=30", cfg);
     ASSERT_TRUE(r);
     // THEN every frame still comes out, without material, decided early
-    const auto frames = drainMaterial(**r);
-    ASSERT_EQ(frames.size(), 30u);
-    for (const auto &m : frames)
-        EXPECT_EQ(m.material, kNone);
-    const auto s = (*r)->stats();
+    const auto s = drainWithoutMaterial(**r, 30);
     EXPECT_GT(s.pairingForced, 0u);
     EXPECT_EQ(s.materialMissing, 30u);
 }
