@@ -64,6 +64,26 @@ std::optional<Named> propertyNamed(const json &name)
     return std::nullopt;
 }
 
+/// A command's property argument: the property it names, or the reply that refuses the command.
+struct PropertyArgument {
+    std::optional<Named> named;
+    std::string refusal; ///< mpv's reply, when named is empty.
+};
+
+/// \return the property that element \a at of \a command names, or the refusal mpv replies:
+/// "invalid parameter" when \a wellFormed is false (the caller's count and type checks of
+/// \a command), "property not found" for a name that is no property.
+PropertyArgument propertyArgument(const json &command, std::size_t at, bool wellFormed,
+                                  const json *requestId)
+{
+    if (!wellFormed)
+        return {std::nullopt, reply(kInvalid, requestId)};
+    const std::optional<Named> named = propertyNamed(command[at]);
+    if (!named)
+        return {std::nullopt, reply(kNotFound, requestId)};
+    return {named, {}};
+}
+
 /// The value of \a named now, or the reason there is none ("property unavailable").
 player::CommandOutcome read(player::StateMachine &machine, const Named &named)
 {
@@ -205,12 +225,10 @@ std::string run(player::StateMachine &machine, const std::string &text, const js
 std::string getProperty(const json &command, const json *requestId, player::StateMachine &machine,
                         bool asString)
 {
-    if (command.size() != 2)
-        return reply(kInvalid, requestId);
-    const std::optional<Named> named = propertyNamed(command[1]);
-    if (!named)
-        return reply(kNotFound, requestId);
-    const player::CommandOutcome out = read(machine, *named);
+    const PropertyArgument arg = propertyArgument(command, 1, command.size() == 2, requestId);
+    if (!arg.named)
+        return arg.refusal;
+    const player::CommandOutcome out = read(machine, *arg.named);
     if (!out.accepted)
         return reply(out.reason, requestId);
     const json data = asString ? json(asMpvString(out.data)) : valueJson(out.data);
@@ -220,14 +238,12 @@ std::string getProperty(const json &command, const json *requestId, player::Stat
 std::string setProperty(const json &command, const json *requestId, player::StateMachine &machine,
                         bool fromString)
 {
-    if (command.size() != 3)
-        return reply(kInvalid, requestId);
-    const std::optional<Named> named = propertyNamed(command[1]);
-    if (!named)
-        return reply(kNotFound, requestId);
+    const PropertyArgument arg = propertyArgument(command, 1, command.size() == 3, requestId);
+    if (!arg.named)
+        return arg.refusal;
     if (fromString && !command[2].is_string())
         return reply(kFormat, requestId);
-    const std::optional<std::string> text = setterText(machine, *named, command[2]);
+    const std::optional<std::string> text = setterText(machine, *arg.named, command[2]);
     if (!text)
         return reply(kUnavailable, requestId);
     if (text->empty())
@@ -237,20 +253,20 @@ std::string setProperty(const json &command, const json *requestId, player::Stat
 
 std::string addProperty(const json &command, const json *requestId, player::StateMachine &machine)
 {
-    if (command.size() != 2 && command.size() != 3)
-        return reply(kInvalid, requestId);
-    const std::optional<Named> named = propertyNamed(command[1]);
-    if (!named)
-        return reply(kNotFound, requestId);
+    const PropertyArgument arg =
+        propertyArgument(command, 1, command.size() == 2 || command.size() == 3, requestId);
+    if (!arg.named)
+        return arg.refusal;
+    const Named &named = *arg.named;
     const std::optional<double> by = command.size() == 3 ? number(command[2]) : 1.0;
     if (!by)
         return reply(kFormat, requestId);
     char buf[96];
-    if (named->property == Property::TimePos)
+    if (named.property == Property::TimePos)
         std::snprintf(buf, sizeof buf, "seek %.17g relative", *by);
-    else if (named->property == Property::Stiffness)
+    else if (named.property == Property::Stiffness)
         std::snprintf(buf, sizeof buf, "stiffness %.17g", machine.stiffness() + *by);
-    else if (named->property == Property::Volume) // mpv's add stops at the ends of the range
+    else if (named.property == Property::Volume) // mpv's add stops at the ends of the range
         std::snprintf(buf, sizeof buf, "volume %.17g",
                       std::clamp(machine.volume() + *by, 0.0, player::kMaxVolume));
     else
@@ -275,18 +291,18 @@ std::string keypress(const json &command, const json *requestId, player::StateMa
 
 std::string observe(const json &command, const json *requestId, PropertyObservers *observers)
 {
-    if (observers == nullptr || command.size() != 3 || !command[1].is_number_integer())
-        return reply(kInvalid, requestId);
-    const std::optional<Named> named = propertyNamed(command[2]);
-    if (!named)
-        return reply(kNotFound, requestId);
+    const PropertyArgument arg = propertyArgument(
+        command, 2, observers != nullptr && command.size() == 3 && command[1].is_number_integer(),
+        requestId);
+    if (!arg.named)
+        return arg.refusal;
     constexpr std::size_t kMaxObservers = 64; // a client cannot grow the player without bound
     if (observers->size() >= kMaxObservers)
         return reply(kInvalid, requestId);
     PropertyObserver o;
     o.id = command[1].get<std::int64_t>();
-    o.property = named->property;
-    o.loopFile = named->loopFile;
+    o.property = arg.named->property;
+    o.loopFile = arg.named->loopFile;
     observers->push_back(o);
     return reply("success", requestId);
 }
@@ -331,12 +347,10 @@ std::optional<std::string> handleMpvCommand(const json &command, const json *req
     if (verb == "set_property" || verb == "set_property_string")
         return setProperty(command, requestId, machine, verb == "set_property_string");
     if (verb == "cycle") {
-        if (command.size() < 2)
-            return reply(kInvalid, requestId);
-        const std::optional<Named> named = propertyNamed(command[1]);
-        if (!named)
-            return reply(kNotFound, requestId);
-        const std::optional<std::string> text = cycleText(named->property);
+        const PropertyArgument arg = propertyArgument(command, 1, command.size() >= 2, requestId);
+        if (!arg.named)
+            return arg.refusal;
+        const std::optional<std::string> text = cycleText(arg.named->property);
         return text ? run(machine, *text, requestId) : reply(kUnavailable, requestId);
     }
     if (verb == "add")
