@@ -164,7 +164,7 @@ private:
 
 namespace {
 
-class CameraFrameSource final : public media::FrameSource {
+class CameraFrameSource final : public media::ConvertingFrameSource {
 public:
     CameraFrameSource(std::shared_ptr<CameraShare> share, bool depth)
         : share_(std::move(share)), depth_(depth)
@@ -183,10 +183,6 @@ public:
                             std::to_string(c.height) + " " + (depth ? "depth" : "color");
     }
     ~CameraFrameSource() override { share_->detach(depth_); }
-    CameraFrameSource(const CameraFrameSource &) = delete;
-    CameraFrameSource &operator=(const CameraFrameSource &) = delete;
-
-    [[nodiscard]] const media::SourceInfo &info() const noexcept override { return info_; }
 
     Result<media::SourceFrame> next(media::PixelFormat format, int width, int height) override
     {
@@ -201,8 +197,6 @@ public:
 private:
     std::shared_ptr<CameraShare> share_;
     bool depth_;
-    media::SourceInfo info_;
-    media::ImageConverter converter_;
 };
 
 } // namespace

@@ -108,7 +108,7 @@ Result<void> MaterialTrack::encodeNext(VideoEncoder &encoder, int width, int hei
 
 namespace {
 
-class StillFrameSource final : public FrameSource {
+class StillFrameSource final : public ConvertingFrameSource {
 public:
     StillFrameSource(Image image, double fps, std::string description)
         : image_(std::move(image)), fps_(fps)
@@ -120,8 +120,6 @@ public:
         info_.frameCount = 0; // endless
         info_.description = std::move(description);
     }
-
-    [[nodiscard]] const SourceInfo &info() const noexcept override { return info_; }
 
     Result<SourceFrame> next(PixelFormat format, int width, int height) override
     {
@@ -137,8 +135,6 @@ public:
 private:
     Image image_;
     double fps_;
-    SourceInfo info_;
-    ImageConverter converter_;
     long long frames_ = 0;
 };
 

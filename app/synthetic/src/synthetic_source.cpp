@@ -372,7 +372,7 @@ SyntheticRenderer::start(const SyntheticSpec &spec,
 namespace {
 
 /// One stream of a synthetic scene as a FrameSource.
-class SyntheticFrameSource final : public media::FrameSource {
+class SyntheticFrameSource final : public media::ConvertingFrameSource {
 public:
     SyntheticFrameSource(std::shared_ptr<SyntheticRenderer> renderer, const SyntheticSpec &spec)
         : renderer_(std::move(renderer)), spec_(spec)
@@ -392,10 +392,6 @@ public:
                           {"depth_mapping", "inverse_z"}};
     }
     ~SyntheticFrameSource() override { renderer_->detach(streamOf(spec_)); }
-    SyntheticFrameSource(const SyntheticFrameSource &) = delete;
-    SyntheticFrameSource &operator=(const SyntheticFrameSource &) = delete;
-
-    [[nodiscard]] const media::SourceInfo &info() const noexcept override { return info_; }
 
     Result<media::SourceFrame> next(media::PixelFormat format, int width, int height) override
     {
@@ -427,8 +423,6 @@ public:
 private:
     std::shared_ptr<SyntheticRenderer> renderer_;
     SyntheticSpec spec_;
-    media::SourceInfo info_;
-    media::ImageConverter converter_;
     std::uint64_t index_ = 0;
 };
 

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "depthtouch/media/image.h"
+#include "depthtouch/media/image_convert.h"
 #include "depthtouch/platform/result.h"
 
 namespace depthtouch::media {
@@ -81,6 +82,20 @@ protected:
     FrameSource() = default;
     FrameSource(const FrameSource &) = delete;
     FrameSource &operator=(const FrameSource &) = delete;
+};
+
+/// \brief A FrameSource that makes its frames itself (a camera, a synthetic scene, a still): its
+/// constructor fills in info_, and its next() brings each frame to the layout and size asked with
+/// converter_.
+class ConvertingFrameSource : public FrameSource {
+public:
+    [[nodiscard]] const SourceInfo &info() const noexcept final { return info_; }
+
+protected:
+    ConvertingFrameSource() = default;
+
+    SourceInfo info_;
+    ImageConverter converter_;
 };
 
 /// \brief Options for opening a source.
