@@ -212,13 +212,8 @@ Result<CameraSpec> parseCameraSpec(std::string_view target, const media::SourceO
         comma == std::string_view::npos ? std::string_view{} : target.substr(comma + 1));
     spec.backendOptions = split.rest;
     const hal::OptionList ours(split.ours);
-    if (!options.format.empty() || !options.pixelFormat.empty())
-        return unexpected(Errc::InvalidArgument,
-                          "A V4L2 camera takes no demuxer or pixel format option");
-    const std::optional<std::string_view> size = ours.find("size");
-    const std::string_view sizeText = size ? *size : std::string_view(options.videoSize);
-    if (!sizeText.empty() && !parseSizeText(sizeText, spec.width, spec.height))
-        return unexpected(Errc::InvalidArgument, "Camera size must be WxH (pixels)");
+    DT_TRY(readSpecFrameSize(ours, options, "A V4L2 camera takes no demuxer or pixel format option",
+                             "Camera size must be WxH (pixels)", spec.width, spec.height));
     auto fps = ours.getDouble("fps", 0.0);
     if (!fps || *fps < 0.0 || *fps > 1000.0)
         return unexpected(Errc::InvalidArgument, "Camera fps must be 0..1000 frames/s");

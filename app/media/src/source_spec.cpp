@@ -5,6 +5,7 @@
 
 #include <charconv>
 #include <mutex>
+#include <optional>
 #include <set>
 
 namespace depthtouch::media {
@@ -33,6 +34,18 @@ bool parseSizeText(std::string_view text, int &width, int &height)
     width = w;
     height = h;
     return true;
+}
+
+Result<void> readSpecFrameSize(const hal::OptionList &spec, const SourceOptions &options,
+                               const char *noDemuxer, const char *badSize, int &width, int &height)
+{
+    if (!options.format.empty() || !options.pixelFormat.empty())
+        return unexpected(Errc::InvalidArgument, noDemuxer);
+    const std::optional<std::string_view> size = spec.find("size");
+    const std::string_view sizeText = size ? *size : std::string_view(options.videoSize);
+    if (!sizeText.empty() && !parseSizeText(sizeText, width, height))
+        return unexpected(Errc::InvalidArgument, badSize);
+    return ok();
 }
 
 Result<bool> wantsDepthStream(std::string_view streamOption, const SourceOptions &options)

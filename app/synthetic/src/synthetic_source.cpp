@@ -25,8 +25,8 @@
 namespace depthtouch::synthetic {
 
 using media::findShared;
-using media::parseSizeText;
 using media::persistentText;
+using media::readSpecFrameSize;
 using media::wantsDepthStream;
 
 namespace {
@@ -450,14 +450,9 @@ Result<SyntheticSpec> parseSyntheticSpec(std::string_view target,
                           persistentText("Unknown synthetic source option '" +
                                          std::string(unknown) +
                                          "' (the options are size, fps, frames, stream)"));
-    if (!options.format.empty() || !options.pixelFormat.empty())
-        return unexpected(Errc::InvalidArgument,
-                          "A synthetic scene takes no demuxer or pixel format option");
-
-    const std::optional<std::string_view> size = list.find("size");
-    const std::string_view sizeText = size ? *size : std::string_view(options.videoSize);
-    if (!sizeText.empty() && !parseSizeText(sizeText, spec.width, spec.height))
-        return unexpected(Errc::InvalidArgument, "Synthetic size must be WxH (pixels)");
+    DT_TRY(readSpecFrameSize(list, options,
+                             "A synthetic scene takes no demuxer or pixel format option",
+                             "Synthetic size must be WxH (pixels)", spec.width, spec.height));
     if (spec.width < 16 || spec.height < 16 || spec.width > 4096 || spec.height > 4096)
         return unexpected(Errc::InvalidArgument, "Synthetic size must be 16..4096 pixels a side");
 

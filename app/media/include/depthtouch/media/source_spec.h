@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "depthtouch/hal/backends.h"
 #include "depthtouch/media/frame_source.h"
 #include "depthtouch/platform/result.h"
 
@@ -21,6 +22,14 @@ const char *persistentText(const std::string &text);
 
 /// \brief Parses "WxH" (both > 0). \return false when \a text is not that.
 bool parseSizeText(std::string_view text, int &width, int &height);
+
+/// \brief Reads the frame size of a source that makes its frames itself (it has no demuxer):
+/// `size=WxH` of its \a spec options, else SourceOptions::videoSize; neither leaves \a width and
+/// \a height unchanged.
+/// \return Errc::InvalidArgument with \a noDemuxer when \a options name a demuxer or a pixel
+/// format, with \a badSize when the size is not WxH (both static strings).
+Result<void> readSpecFrameSize(const hal::OptionList &spec, const SourceOptions &options,
+                               const char *noDemuxer, const char *badSize, int &width, int &height);
 
 /// \brief Which stream a source delivers: `stream=` of the spec, else SourceOptions::streamTitle
 /// ("depth" → depth). \return Errc::InvalidArgument for a `stream=` other than color or depth.
