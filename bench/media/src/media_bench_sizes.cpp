@@ -48,10 +48,23 @@ std::optional<MediaBenchError> appendRows(const Result<std::vector<Row>> &rows, 
     return std::nullopt;
 }
 
-/// Rate against accuracy on one clip, into the report.
-std::optional<MediaBenchError> measureRate(const Clip &clip, int w, int h,
-                                           const ReceiverBackends &backends,
-                                           const MediaBenchOptions &mo, MediaBenchReport &report)
+/// One measureSizes() run: what every step measures with, and the report the steps fill.
+struct SizesRun {
+    const MediaSizesPlan &plan;
+    const ReceiverBackends &backends;
+    const MediaBenchOptions &mo;
+    MediaBenchReport &report;
+
+    /// Rate against accuracy on one clip of size \a w × \a h.
+    std::optional<MediaBenchError> measureRate(const Clip &clip, int w, int h);
+    /// Loads the clip of size `k` and measures its throughput, and on the first size also rate
+    /// against accuracy.
+    std::optional<MediaBenchError> measureSize(std::size_t k);
+    /// Loads the clip of codec size `k` and compares the depth codecs on it.
+    std::optional<MediaBenchError> measureCodecSize(std::size_t k);
+};
+
+std::optional<MediaBenchError> SizesRun::measureRate(const Clip &clip, int w, int h)
 {
     std::fprintf(stderr, "bench media: %dx%d depth rate vs accuracy (%zu settings) ...\n", w, h,
                  mo.depthCrfs.size() + 1);
@@ -67,12 +80,7 @@ std::optional<MediaBenchError> measureRate(const Clip &clip, int w, int h,
     return std::nullopt;
 }
 
-/// Loads the clip of size `k` and measures its throughput, and on the first size also rate against
-/// accuracy, into the report.
-std::optional<MediaBenchError> measureSize(const MediaSizesPlan &plan,
-                                           const ReceiverBackends &backends,
-                                           const MediaBenchOptions &mo, std::size_t k,
-                                           MediaBenchReport &report)
+std::optional<MediaBenchError> SizesRun::measureSize(std::size_t k)
 {
     const auto [w, h] = plan.sizes[k];
     std::fprintf(stderr, "bench media: loading %dx%d ...\n", w, h);
@@ -88,15 +96,11 @@ std::optional<MediaBenchError> measureSize(const MediaSizesPlan &plan,
         return e;
     // Rate against accuracy on the first size (720×486 by default: the paper's frame size).
     if (k == 0)
-        return measureRate(clip, w, h, backends, mo, report);
+        return measureRate(clip, w, h);
     return std::nullopt;
 }
 
-/// Loads the clip of codec size `k` and compares the depth codecs on it, into the report.
-std::optional<MediaBenchError> measureCodecSize(const MediaSizesPlan &plan,
-                                                const ReceiverBackends &backends,
-                                                const MediaBenchOptions &mo, std::size_t k,
-                                                MediaBenchReport &report)
+std::optional<MediaBenchError> SizesRun::measureCodecSize(std::size_t k)
 {
     const auto [w, h] = plan.codecSizes[k];
     CodecPlan cp;
@@ -125,12 +129,13 @@ std::optional<MediaBenchError> measureSizes(const MediaSizesPlan &plan,
                                             const ReceiverBackends &backends,
                                             const MediaBenchOptions &mo, MediaBenchReport &report)
 {
+    SizesRun run{plan, backends, mo, report};
     for (std::size_t k = 0; k < plan.sizes.size(); ++k)
-        if (auto e = measureSize(plan, backends, mo, k, report))
+        if (auto e = run.measureSize(k))
             return e;
     report.codecThreads = plan.codecThreads;
     for (std::size_t k = 0; k < plan.codecSizes.size(); ++k)
-        if (auto e = measureCodecSize(plan, backends, mo, k, report))
+        if (auto e = run.measureCodecSize(k))
             return e;
     return std::nullopt;
 }
