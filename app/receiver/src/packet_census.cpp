@@ -26,23 +26,16 @@ PairingCensus pairPackets(const hal::MediaInfo &info, const StreamRoles &roles,
                           std::vector<StreamCount> &counts)
 {
     PairingCensus out;
-    PairerConfig pc;
-    pc.color = roles.color >= 0;
-    pc.depth = roles.depth >= 0;
-    if (!pc.color && !pc.depth)
+    const bool hasColor = roles.color >= 0;
+    const bool hasDepth = roles.depth >= 0;
+    if (!hasColor && !hasDepth)
         return out;
-    hal::Pts cp = pc.color
-                      ? packetPeriod(info.streams[static_cast<std::size_t>(roles.color)].frameRate)
-                      : hal::Pts{0};
-    hal::Pts dp = pc.depth
-                      ? packetPeriod(info.streams[static_cast<std::size_t>(roles.depth)].frameRate)
-                      : hal::Pts{0};
-    if (cp <= hal::Pts{0})
-        cp = dp > hal::Pts{0} ? dp : hal::Pts(33'333'333);
-    if (dp <= hal::Pts{0})
-        dp = cp;
-    pc.colorPeriod = cp;
-    pc.depthPeriod = dp;
+    const PairerConfig pc = PairerConfig::forStreams(
+        hasColor, hasDepth,
+        hasColor ? packetPeriod(info.streams[static_cast<std::size_t>(roles.color)].frameRate)
+                 : hal::Pts{0},
+        hasDepth ? packetPeriod(info.streams[static_cast<std::size_t>(roles.depth)].frameRate)
+                 : hal::Pts{0});
     PtsPairer<int> pairer(pc);
     std::vector<hal::Pts> empty;
     std::vector<hal::Pts> &c = pc.color ? counts[static_cast<std::size_t>(roles.color)].pts : empty;

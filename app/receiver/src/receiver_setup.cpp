@@ -13,8 +13,6 @@ namespace depthtouch::receiver {
 
 namespace {
 
-constexpr hal::Pts kDefaultPeriod{33'333'333}; // 30 fps when a stream does not say
-
 bool isGray(hal::PixelFormat f) noexcept
 {
     return f == hal::PixelFormat::Gray8 || f == hal::PixelFormat::Gray10 ||
@@ -162,12 +160,11 @@ Result<void> Receiver::Impl::setUp(const DecoderFactory &makeDecoder)
     if (info.mode == ReceiverMode::DepthOnly)
         note("no color stream: depth only");
 
-    hal::Pts cp = info.hasColor ? periodOf(info.color.frameRate) : hal::Pts{0};
-    hal::Pts dp = info.hasDepth ? periodOf(info.depth.frameRate) : hal::Pts{0};
-    if (cp == hal::Pts{0})
-        cp = dp != hal::Pts{0} ? dp : kDefaultPeriod;
-    if (dp == hal::Pts{0})
-        dp = cp;
+    const PairerConfig pc = PairerConfig::forStreams(
+        info.hasColor, info.hasDepth, info.hasColor ? periodOf(info.color.frameRate) : hal::Pts{0},
+        info.hasDepth ? periodOf(info.depth.frameRate) : hal::Pts{0}, cfg.pairingWindow);
+    const hal::Pts cp = pc.colorPeriod;
+    const hal::Pts dp = pc.depthPeriod;
     if (info.hasColor && info.hasDepth && info.color.frameRate.den != 0 &&
         info.depth.frameRate.den != 0 && cp != dp)
         note("color and depth frame rates differ (" +
@@ -176,12 +173,6 @@ Result<void> Receiver::Impl::setUp(const DecoderFactory &makeDecoder)
              " fps): depth frames are reused or skipped to follow the color");
     info.colorPeriod = cp;
     info.depthPeriod = dp;
-    PairerConfig pc;
-    pc.color = info.hasColor;
-    pc.depth = info.hasDepth;
-    pc.colorPeriod = cp;
-    pc.depthPeriod = dp;
-    pc.window = cfg.pairingWindow;
     pairer = std::make_unique<Pairer>(pc);
     info.tolerance = pairer->tolerance();
     if (info.hasMaterial)

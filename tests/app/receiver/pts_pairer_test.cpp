@@ -17,13 +17,7 @@ constexpr milliseconds kPeriod{40}; // 25 fps
 PairerConfig config(bool color = true, bool depth = true, milliseconds colorPeriod = kPeriod,
                     milliseconds depthPeriod = kPeriod, int window = 8)
 {
-    PairerConfig c;
-    c.color = color;
-    c.depth = depth;
-    c.colorPeriod = colorPeriod;
-    c.depthPeriod = depthPeriod;
-    c.window = window;
-    return c;
+    return PairerConfig::forStreams(color, depth, colorPeriod, depthPeriod, window);
 }
 
 Pairer::Item item(std::int64_t ms, int id, bool corrupt = false)

@@ -38,13 +38,29 @@
 
 namespace depthtouch::receiver {
 
+/// The frame period of a stream whose rate is unknown: 30 fps, ns.
+constexpr hal::Pts kDefaultFramePeriod{33'333'333};
+
 /// Which streams exist and how they are timed.
 struct PairerConfig {
-    bool color = true;                           ///< The input has a color stream.
-    bool depth = true;                           ///< The input has a depth stream.
-    hal::Pts colorPeriod = hal::Pts(33'333'333); ///< Color frame period (ns).
-    hal::Pts depthPeriod = hal::Pts(33'333'333); ///< Depth frame period (ns).
-    int window = 8;                              ///< Frames a stream may wait for the other, ≥ 1.
+    bool color = true;                          ///< The input has a color stream.
+    bool depth = true;                          ///< The input has a depth stream.
+    hal::Pts colorPeriod = kDefaultFramePeriod; ///< Color frame period (ns).
+    hal::Pts depthPeriod = kDefaultFramePeriod; ///< Depth frame period (ns).
+    int window = 8;                             ///< Frames a stream may wait for the other, ≥ 1.
+
+    /// \return the configuration of an input with the streams \a color and \a depth, whose frame
+    /// periods (ns) are \a colorPeriod and \a depthPeriod, 0 where a stream gives none: a missing
+    /// period is the other stream's, and with neither both are kDefaultFramePeriod.
+    static PairerConfig forStreams(bool color, bool depth, hal::Pts colorPeriod,
+                                   hal::Pts depthPeriod, int window = 8) noexcept
+    {
+        if (colorPeriod == hal::Pts{0})
+            colorPeriod = depthPeriod != hal::Pts{0} ? depthPeriod : kDefaultFramePeriod;
+        if (depthPeriod == hal::Pts{0})
+            depthPeriod = colorPeriod;
+        return {color, depth, colorPeriod, depthPeriod, window};
+    }
 };
 
 /// Counters of the pairing and of the timestamp checks since construction (reset() keeps them).
