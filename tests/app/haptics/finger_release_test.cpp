@@ -37,16 +37,41 @@ OwnedFrame raisedTable(double lift)
                           [lift](double, double) { return lift; });
 }
 
-/// The largest fall and rise of |F| from one update to the next from update \a from on, N.
-void largestSteps(const Log &log, std::size_t from, double &fall, double &rise)
+/// What a finger pressed at \a hipZ (m) on the still table raised by \a before (m) felt once the
+/// table, pressed 300 updates, was raised by \a after instead (printed as \a what): the largest
+/// fall and rise of |F| from one update to the next over the next 40 updates, |F| 20 updates
+/// after the change and k times the depth then, N.
+struct TableStep {
+    double fall = 0.0;
+    double rise = 0.0;
+    double after20 = 0.0;
+    double expected = 0.0; ///< k times the HIP's depth under the changed table, N.
+    double pressed = 0.0;  ///< |F| before the change, N.
+    bool contact = false;  ///< In contact at the end.
+};
+
+TableStep stepUnder(const char *what, double hipZ, double before, double after)
 {
-    fall = 0.0;
-    rise = 0.0;
-    for (std::size_t i = std::max<std::size_t>(from, 1); i < log.out.size(); ++i) {
-        const double d = glm::length(log.out[i].force) - glm::length(log.out[i - 1].force);
-        fall = std::max(fall, -d);
-        rise = std::max(rise, d);
+    FramePress press({0.0, 0.0, hipZ});
+    press.run(raisedTable(before), 300);
+    TableStep s;
+    s.pressed = press.force();
+    const std::size_t from = press.log.out.size();
+    press.run(raisedTable(after), 40);
+    for (std::size_t i = from; i < press.log.out.size(); ++i) {
+        const double d =
+            glm::length(press.log.out[i].force) - glm::length(press.log.out[i - 1].force);
+        s.fall = std::max(s.fall, -d);
+        s.rise = std::max(s.rise, d);
     }
+    s.after20 = glm::length(press.log.out[from + 20].force);
+    s.expected = kStiffness * (coded(after) - hipZ);
+    s.contact = press.log.out.back().contact;
+    std::printf("%s: %.2f N pressed, 20 updates later %.2f N (k times the depth %.2f N), largest "
+                "fall %.3f N and rise %.3f N an update\n",
+                what, s.pressed, s.after20, s.expected, s.fall, s.rise);
+    EXPECT_NEAR(s.pressed, kStiffness * (coded(before) - hipZ), 0.01);
+    return s;
 }
 
 // A finger pressed 4 mm into a table that falls 3 mm in one update (an object it pressed moves
@@ -57,21 +82,10 @@ void largestSteps(const Log &log, std::size_t from, double &fall, double &rise)
 // at): no knock either.
 TEST(FingerReleaseTest, aSurfaceThatFallsAwayUnderAPressedFingerUnloadsAtABoundedRate)
 {
-    FramePress press({0.0, 0.0, -0.006});
-    press.run(raisedTable(0.003), 300);
-    ASSERT_NEAR(press.force(), kStiffness * (coded(0.003) + 0.006), 0.01);
-    const std::size_t fell = press.log.out.size();
-    press.run(raisedTable(0.0), 30);
-    double fall = 0.0;
-    double rise = 0.0;
-    largestSteps(press.log, fell, fall, rise);
-    const double after20 = glm::length(press.log.out[fell + 20].force);
-    std::printf("table falling 3 mm under a 4 mm press: force 20 updates later %.2f N (k times the "
-                "depth left %.2f N), largest fall %.3f N an update\n",
-                after20, kStiffness * (coded(0.0) + 0.006), fall);
-    EXPECT_TRUE(press.log.out.back().contact);
-    EXPECT_NEAR(after20, kStiffness * (coded(0.0) + 0.006), 0.01);
-    EXPECT_LE(fall, RendererConfig{}.maxForceStep / 8.0 + 1e-6);
+    const TableStep s = stepUnder("table falling 3 mm under a 4 mm press", -0.006, 0.003, 0.0);
+    EXPECT_TRUE(s.contact);
+    EXPECT_NEAR(s.after20, s.expected, 0.01);
+    EXPECT_LE(s.fall, RendererConfig{}.maxForceStep / 8.0 + 1e-6);
 }
 
 // A finger resting 0.2 mm into a table (0.16 N) when the table steps up 1 mm in one update. A
@@ -81,22 +95,11 @@ TEST(FingerReleaseTest, aSurfaceThatFallsAwayUnderAPressedFingerUnloadsAtABounde
 // maxForceStep/16 an update to k·1.2 mm.
 TEST(FingerReleaseTest, aStepUpUnderAFingerThatBarelyTouchesGrowsAtTheBoundedPushRate)
 {
-    FramePress press({0.0, 0.0, -0.0052});
-    press.run(raisedTable(0.0), 300);
-    ASSERT_NEAR(press.force(), kStiffness * (coded(0.0) + 0.0052), 0.01);
-    ASSERT_LT(press.force(), 0.25 * RendererConfig{}.maxForceStep); // under the step's own size
-    const std::size_t stepped = press.log.out.size();
-    press.run(raisedTable(0.001), 40);
-    double fall = 0.0;
-    double rise = 0.0;
-    largestSteps(press.log, stepped, fall, rise);
-    const double after20 = glm::length(press.log.out[stepped + 20].force);
-    const double deep = kStiffness * (coded(0.001) + 0.0052);
-    std::printf("table stepping up 1 mm under a 0.2 mm touch: force 20 updates later %.2f N (k "
-                "times the depth %.2f N), largest rise %.3f N an update\n",
-                after20, deep, rise);
-    EXPECT_NEAR(after20, deep, 0.01);
-    EXPECT_LE(rise, RendererConfig{}.maxForceStep / 16.0 + 1e-6);
+    const TableStep s =
+        stepUnder("table stepping up 1 mm under a 0.2 mm touch", -0.0052, 0.0, 0.001);
+    ASSERT_LT(s.pressed, 0.25 * RendererConfig{}.maxForceStep); // under the step's own size
+    EXPECT_NEAR(s.after20, s.expected, 0.01);
+    EXPECT_LE(s.rise, RendererConfig{}.maxForceStep / 16.0 + 1e-6);
 }
 
 // A finger pressed 1 mm into a table; for 30 updates a patch 0.6 mm across under its centre reads
