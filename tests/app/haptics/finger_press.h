@@ -26,8 +26,9 @@ inline constexpr int kStillH = 240; ///< Frame height, pixels.
 /// 48 + n·(255 − 48)/255. With \a threshold 0, as a file without holes: n itself, and code 0
 /// (the far plane) where the hole is. Raised by \a over(x, y) (m) where that is given (an object,
 /// a slope).
-inline OwnedFrame tableWithHoles(const std::function<bool(double, double)> &hole, std::uint32_t threshold,
-                          const std::function<double(double, double)> &over = nullptr)
+inline OwnedFrame tableWithHoles(const std::function<bool(double, double)> &hole,
+                                 std::uint32_t threshold,
+                                 const std::function<double(double, double)> &over = nullptr)
 {
     const double far = 2.0 * threshold; // DepthFrameView::farCode()
     OwnedFrame f(kStillW, kStillH, SampleFormat::Gray8, 0.0);
@@ -44,7 +45,6 @@ inline OwnedFrame tableWithHoles(const std::function<bool(double, double)> &hole
     f.setHoleBelow(threshold);
     return f;
 }
-
 
 /// A new finger (the default config) pressed at \a hip (m): it comes down onto it from 4 mm above
 /// over the first 50 updates, then is fed still frames in turn at 1 kHz.
@@ -79,6 +79,5 @@ struct FramePress {
     Log log;
     int k = 0;
 };
-
 
 } // namespace depthtouch::haptics::test

@@ -112,8 +112,8 @@ TEST(FingerReleaseTest, aFewPixelsReadFarBackUnderAPressedFingertipDoNotLetItGo)
 {
     FramePress press({0.0, 0.0, -0.006});
     const OwnedFrame table = raisedTable(0.0);
-    const OwnedFrame dropout = tableWithHoles(
-        [](double x, double y) { return std::hypot(x, y) < 0.0003; }, 0u);
+    const OwnedFrame dropout =
+        tableWithHoles([](double x, double y) { return std::hypot(x, y) < 0.0003; }, 0u);
     press.run(table, 300);
     const double pressed = kStiffness * (coded(0.0) + 0.006);
     ASSERT_NEAR(press.force(), pressed, 0.01);
