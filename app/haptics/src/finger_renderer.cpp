@@ -411,7 +411,7 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     // the force near zero for tens of updates with the HIP inside (15 ms of pop-through on the
     // feel bench's forearm); the bounded push (limitPush()) grows it instead. A step down (the
     // surface fell away: the proxy is nearer the HIP than last update) ramped down held a force
-    // the surface no longer gives for as long (3 N for 0.8 N, 20 updates after a 3 mm fall); the
+    // the surface no longer gives for as long (3.0 N for 0.85 N, 20 updates after a 3 mm fall); the
     // offset filter unloads it at its bounded rate instead (smoothOffset()).
     if (c.stepped && !c.trip &&
         (lastDepth_ < stepDepth_ || glm::length(c.proxy - hip) < lastDepth_))

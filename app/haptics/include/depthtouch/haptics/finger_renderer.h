@@ -278,10 +278,11 @@ private:
     /// finger). \pre the HIP is over the grid.
     [[nodiscard]] double sensorHeight(const glm::dvec3 &hip) const noexcept;
     /// \return whether a sliding contact goes on with the HIP above the sensor surface at its
-    /// own x–y: some surface within the finger radius of the HIP's x–y (haptics::reachHeight(),
-    /// the disc bench feel judges phantom force by) is above the HIP; slide() then ends the
-    /// contact where the HIP leaves the stencil's plane. False where \a raw (sensorHeight(), m)
-    /// is NaN (a hole, off the grid), out of contact, on a wall, or without fix (a).
+    /// own x–y: some surface within half the finger radius of the HIP's x–y
+    /// (haptics::reachHeight(), the disc bench feel judges phantom force by, halved) is above the
+    /// HIP; slide() then ends the contact where the HIP leaves the stencil's plane, and update()
+    /// where it is deeper than last update. False where \a raw (sensorHeight(), m) is NaN (off
+    /// the grid) or a hole, out of contact, on a wall, or without fix (a).
     [[nodiscard]] bool withinReach(const glm::dvec3 &hip, double raw) const noexcept;
     /// Whether a finger not in contact, \a below (m) under the surface, comes into contact: a new
     /// contact no deeper than the capture depth, or a finger let go caught again by the surface it
