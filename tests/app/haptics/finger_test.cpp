@@ -230,6 +230,30 @@ TEST(FingerPlaneTest, aTapFarFromTheMedianIsLeftOutOfTheFit)
     EXPECT_NEAR(p.height, 0.0, 5e-6);
 }
 
+// Across a silhouette lower than the outlier rule's reach (a 2 mm step: its taps are kept), six
+// of the nine taps on the top, one of them on a flying pixel 15 mm up (left out, so the curvature
+// correction of a full stencil does not apply): the least-squares height lies 0.6 mm under the
+// top, and a fingertip there would be inside the object with no force. It is kept within r/4 of
+// the taps' median (the top) instead. (Before this test the clamp's only guard was a margin of
+// 0.05 mm in the head-sweep test, which the release rules of finger_renderer.cpp took away.)
+TEST(FingerPlaneTest, acrossALowSilhouetteTheHeightStaysNearTheTapsMedian)
+{
+    const SceneBox box{};
+    const double r = 1.5e-3;
+    const double top = 0.002;
+    const OwnedFrame f = test::makeFrame(box, kW, kH, 0.0, [top, r](double x, double y) {
+        const bool pillar = std::hypot(x - 1.3 * r, y - r) < 0.4e-3; // under a corner tap
+        return x >= 0.0 ? top + (pillar ? 0.015 : 0.0) : 0.0;
+    });
+    HeightField field(box);
+    ASSERT_TRUE(field.setFrames(f.view(), nullptr));
+    const FingerPlane p = fitFingerPlane(field, 0.3 * r, 0.0, r);
+    std::printf("2 mm step, stencil 0.3 r onto the top: height %.3f mm under the top\n",
+                (top - p.height) * 1e3);
+    EXPECT_GE(p.height, top - 0.25 * r - 1e-5); // 10 µm: the frame codes heights in 16 bits
+    EXPECT_LT(p.height, top + 1e-5);
+}
+
 // on 8-bit depth with sensor flicker, strokes pressed 1 and 3 mm in at 5 and 10 cm/s.
 // The per-triangle descent (`modified`) trips safety with no cut and its force steps; the
 // fingertip renderer neither trips nor spikes, and never lets the finger through.
