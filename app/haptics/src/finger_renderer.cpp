@@ -468,66 +468,6 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     return out;
 }
 
-void FingerRenderer::smoothOffset(const glm::dvec3 &hip, const Candidate &c,
-                                  glm::dvec3 &held) noexcept
-{
-    // The proxy's offset from the HIP through an alpha-beta filter (the steady-state Kalman filter
-    // of a constant-velocity track; Brookner, "Tracking and Kalman Filtering Made Easy", ch. 1): on
-    // noisy depth each update's plane tilts and shifts anew as the taps cross pixels, and at 50
-    // cm/s the force turned back and forth by 0.05-0.2 N every update (alternating runs of 11 on
-    // the synthetic head's cheek and the time-of-flight occluder's flying pixels). The trend term
-    // follows an offset that changes steadily (a slope under a moving finger, a press) without
-    // lag. The filtered offset moves no farther in an update than the unfiltered one did, or than
-    // the catch-up below: the proxy's bounds (r/4 an update, the bounded push) hold for the
-    // force's proxy too, and the trend's overshoot where a glide stops is cut short. Where it lags
-    // (the unfiltered offset jumped once, then held still), it catches up by a share alpha of the
-    // gap an update: with pushDepth_/4 alone it crawled, and a tap lifting off the living room's
-    // table edge kept 3.4 N for a contact 0.1 mm deep until the contact ended, then dropped it
-    // in two 2 N steps. It unloads by at most 2·pushDepth_ an update. A new contact, a trip, a
-    // ramped step or a hold over a hole (nothing measured: its own unload rate is the force's)
-    // starts it afresh at the offset, whether or not the offset moved (a hold over a hole keeps
-    // its depth: taken for a still input, it crawled from the pushed offset it started with). It
-    // never puts the proxy under the HIP where the unfiltered proxy is not (pushUp()).
-    const glm::dvec3 offset = c.proxy - hip;
-    if (!config_.smoothOffset) {
-        held = c.proxy;
-        return;
-    }
-    // The catch-up toward the unfiltered offset where the filter lags it: a share alpha of the
-    // gap, at least pushDepth_/4 and at most 2·pushDepth_ an update (0.25 N at the default
-    // stiffness, the rate a hold over a hole unloads at).
-    const double gap = glm::length(offset - offset_);
-    const double catchUp =
-        std::max(0.25 * pushDepth_, std::min(kFingerOffsetAlpha * gap, 2.0 * pushDepth_));
-    if (!c.contact || !contact_ || c.trip || c.stepped || c.unseen) {
-        offset_ = offset;
-        offsetTrend_ = {};
-    } else if (lastOffset_ == offset) {
-        // Nothing moved (a paused picture under a still finger): straight to the offset, at most
-        // the catch-up, so that the force stands still once it is there.
-        offset_ += gap > catchUp ? (offset - offset_) * (catchUp / gap) : offset - offset_;
-        offsetTrend_ = {};
-    } else {
-        const glm::dvec3 predicted = offset_ + offsetTrend_;
-        const glm::dvec3 residual = offset - predicted;
-        const glm::dvec3 step = predicted + kFingerOffsetAlpha * residual - offset_;
-        offsetTrend_ += kFingerOffsetBeta * residual;
-        const double limit = std::max(glm::length(offset - lastOffset_), catchUp);
-        const double length = glm::length(step);
-        const double scale = length > limit ? limit / length : 1.0;
-        const double was = glm::length(offset_);
-        offset_ += step * scale;
-        offsetTrend_ *= scale;
-        // Unloading at most 2·pushDepth_ an update: a surface that falls away under the finger
-        // (not a cut) takes its force over a few updates, not in one step of up to 2 N.
-        const double now = glm::length(offset_);
-        if (now > 0.0 && now < was - 2.0 * pushDepth_)
-            offset_ *= (was - 2.0 * pushDepth_) / now;
-    }
-    lastOffset_ = offset;
-    held = hip + glm::dvec3{offset_.x, offset_.y, std::max(offset_.z, std::min(offset.z, 0.0))};
-}
-
 bool FingerRenderer::withinReach(const glm::dvec3 &hip, double raw) const noexcept
 {
     // A fingertip is not a point: pressed on a surface, it is not let go because a few pixels

@@ -73,12 +73,12 @@
 ///      surface above the HIP replaces it (step 2): beside flickering pixels the two took turns,
 ///      and each switch turned the force at once.
 ///    - *Depth noise*: the proxy's offset from the HIP that the force and the report use passes
-///      an alpha-beta filter (smoothOffset(); the search keeps the unfiltered goal), each
-///      update's move no longer than the unfiltered offset's: on noisy depth at 50 cm/s the taps
-///      cross pixels every update and the plane tilted and shifted anew each time, turning the
-///      force back and forth by 0.05-0.2 N at the servo rate (RendererConfig::smoothOffset turns it
-///      off: `bench feel`'s `finger-unfiltered`). Where it lags, it catches up by a share of the
-///      gap; it unloads by at most maxForceStep/8 an update.
+///      an alpha-beta filter (smoothOffset(), finger_offset.cpp; the search keeps the unfiltered
+///      goal), each update's move no longer than the unfiltered offset's: on noisy depth at 50 cm/s
+///      the taps cross pixels every update and the plane tilted and shifted anew each time, turning
+///      the force back and forth by 0.05-0.2 N at the servo rate (RendererConfig::smoothOffset
+///      turns it off: `bench feel`'s `finger-unfiltered`). Where it lags, it catches up by a share
+///      of the gap; it unloads by at most maxForceStep/8 an update.
 ///    - *Steps*: a step of the surface under the stencil (over stepDepth_, under the cut) is
 ///      ramped in over the ramp time only as a step up from a force of a step's size or more;
 ///      from less, the bounded push grows it, and a step down is unloaded by the filter.
