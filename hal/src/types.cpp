@@ -120,15 +120,13 @@ const char *codecName(CodecId codec) noexcept
 
 StreamConfig StreamConfig::fromStream(const StreamInfo &stream)
 {
-    StreamConfig cfg;
-    cfg.codec = stream.codec;
-    cfg.kind = stream.kind;
-    cfg.format = stream.format;
-    cfg.width = stream.width;
-    cfg.height = stream.height;
-    cfg.frameRate = stream.frameRate;
-    cfg.extradata = stream.extradata;
-    return cfg;
+    return StreamConfig{.codec = stream.codec,
+                        .kind = stream.kind,
+                        .format = stream.format,
+                        .width = stream.width,
+                        .height = stream.height,
+                        .frameRate = stream.frameRate,
+                        .extradata = stream.extradata};
 }
 
 } // namespace depthtouch::hal

@@ -22,14 +22,13 @@ Result<Encoded> encodeDepthOnly(const Clip &clip, const std::string &path,
                                 const std::string &preset, VideoCodec codec, int crf, bool lossless,
                                 int threads)
 {
-    EncodeSetting es;
-    es.preset = preset;
-    es.withColor = false;
-    es.depthCodec = codec;
-    es.depthCrf = crf;
-    es.depthLossless = lossless;
-    es.threads = threads;
-    return encodeClip(clip, path, es);
+    return encodeClip(clip, path,
+                      EncodeSetting{.preset = preset,
+                                    .depthCodec = codec,
+                                    .withColor = false,
+                                    .depthCrf = crf,
+                                    .depthLossless = lossless,
+                                    .threads = threads});
 }
 
 haptics::ReplayOptions paperReplay(const MediaBenchOptions &options, const scene::SceneBox &box)
