@@ -43,8 +43,23 @@ void FingerRenderer::smoothOffset(const glm::dvec3 &hip, const Candidate &c,
     const double gap = glm::length(offset - offset_);
     const double catchUp =
         std::max(0.25 * pushDepth_, std::min(kFingerOffsetAlpha * gap, 2.0 * pushDepth_));
-    if (!c.contact || !contact_ || c.trip || c.stepped || c.unseen) {
+    // Unloading at most 2·pushDepth_ an update (from an offset \a was long): a surface that falls
+    // away under the finger (not a cut) takes its force over a few updates, not in one step of up
+    // to 2 N.
+    const auto unloadBounded = [this](const glm::dvec3 &next, double was) {
+        const double now = glm::length(next);
+        const double least = was - 2.0 * pushDepth_;
+        return now > 0.0 && now < least ? next * (least / now) : next;
+    };
+    if (!c.contact || !contact_ || c.trip || c.stepped) {
         offset_ = offset;
+        offsetTrend_ = {};
+    } else if (c.unseen) {
+        // Held over a hole: the hold's own offset, whose unload is the force's (finger_hole.cpp),
+        // but from a filter still unloading, no faster than its bound: on the synthetic occluder a
+        // hole opened while the filter took 6.9 N off a push the surface had ended, and the
+        // hold's 1.1 mm came through at once (three 2 N steps, the force's own step limit).
+        offset_ = unloadBounded(offset, glm::length(offset_));
         offsetTrend_ = {};
     } else if (lastOffset_ == offset) {
         // Nothing moved (a paused picture under a still finger): straight to the offset, at most
@@ -60,16 +75,36 @@ void FingerRenderer::smoothOffset(const glm::dvec3 &hip, const Candidate &c,
         const double length = glm::length(step);
         const double scale = length > limit ? limit / length : 1.0;
         const double was = glm::length(offset_);
-        offset_ += step * scale;
+        offset_ = unloadBounded(offset_ + step * scale, was);
         offsetTrend_ *= scale;
-        // Unloading at most 2·pushDepth_ an update: a surface that falls away under the finger
-        // (not a cut) takes its force over a few updates, not in one step of up to 2 N.
-        const double now = glm::length(offset_);
-        if (now > 0.0 && now < was - 2.0 * pushDepth_)
-            offset_ *= (was - 2.0 * pushDepth_) / now;
     }
     lastOffset_ = offset;
     held = hip + glm::dvec3{offset_.x, offset_.y, std::max(offset_.z, std::min(offset.z, 0.0))};
+}
+
+void FingerRenderer::handOverRamp(const glm::dvec3 &hip, double stiffnessScale,
+                                  glm::dvec3 &held) noexcept
+{
+    // A ramp blends from the force before a trip or a step to the new contact's over the ramp
+    // time (0.25 s). Where the surface falls away under the finger during it (a tap's pushed
+    // proxy snapping back to the table beside an object, a finger lifting), the ramp held the
+    // force it started from with the proxy 0.1 mm from the HIP (2.7 N for 0.1 N on the living
+    // room's table edge), and dropped it in 2 N steps (the step limit) when the contact ended.
+    // Where the finger is left less than a ramped step's depth deep, the filter takes that force as
+    // its offset and unloads it at 2·pushDepth_ an update. Deeper, the ramp goes on: a pressed
+    // finger's force turning under it (a hold at the kitchen's cabinet edge) is the ramp's to
+    // blend.
+    if (!config_.smoothOffset || !force_.ramping())
+        return;
+    const double k = config_.stiffness * stiffnessScale;
+    const glm::dvec3 command = force_.lastCommand();
+    const double depth = glm::length(held - hip);
+    if (!(k > 0.0) || !(depth < stepDepth_ && k * depth < glm::length(command)))
+        return;
+    force_.endRamp();
+    offset_ = command / k;
+    offsetTrend_ = {};
+    held = hip + offset_;
 }
 
 } // namespace depthtouch::haptics

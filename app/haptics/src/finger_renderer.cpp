@@ -443,6 +443,8 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     // from it). Friction acts on the filtered goal.
     glm::dvec3 held = c.proxy;
     smoothOffset(hip, c, held);
+    if (c.contact && !c.trip && !c.stepped)
+        handOverRamp(hip, stiffnessScale, held);
     if (friction_.enabled() || material) {
         if (c.contact && !c.trip)
             held = friction_.apply(held, hip, t);

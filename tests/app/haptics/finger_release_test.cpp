@@ -4,7 +4,9 @@
 /// down over a quarter second; a step up under a finger that barely touches grows at the bounded
 /// push's rate, not from a ramp that holds it near zero; a few pixels read far back under the
 /// fingertip (time-of-flight flying pixels, a stereo mismatch, a ragged Kinect edge) do not let
-/// it go while the surface within its reach stays above it. Still 8-bit tables (finger_press.h).
+/// it go while the surface within its reach stays above it; a hole that opens while a fall is
+/// unloaded goes on unloading at the same rate, and so does a surface that falls away during a
+/// ramped step. Still 8-bit tables (finger_press.h).
 
 #include <algorithm>
 #include <cmath>
@@ -126,6 +128,66 @@ TEST(FingerReleaseTest, aFewPixelsReadFarBackUnderAPressedFingertipDoNotLetItGo)
     std::printf("far pixels under a 1 mm press: least force %.2f N (k times the depth %.2f N)\n",
                 least, pressed);
     EXPECT_NEAR(least, pressed, 0.01);
+}
+
+// A finger pressed 4 mm into a table that falls 3 mm (the filter unloads the force at its
+// bounded rate), and two updates later the spot under the finger turns to a hole (the shadow band
+// beside the object that fell away): the hold over the hole takes the unload on from where the
+// force is, at the same bounded rate. Before, the hold reset the filter to its own 1 mm offset:
+// the force dropped 2.2 N at once, in the two steps the force's step limit allows (on the feel
+// bench's synthetic occluder, a tap beside the occluder: 6.9 N to 0.85 N, three spikes).
+TEST(FingerReleaseTest, aHoleOpeningWhileAFallIsUnloadedGoesOnUnloadingAtTheBoundedRate)
+{
+    FramePress press({0.0, 0.0, -0.006});
+    press.run(raisedTable(0.003), 300);
+    const double pressed = press.force();
+    ASSERT_NEAR(pressed, kStiffness * (coded(0.003) + 0.006), 0.01);
+    const std::size_t from = press.log.out.size();
+    press.run(raisedTable(0.0), 2);
+    press.run(tableWithHoles([](double x, double y) { return std::hypot(x, y) < 0.004; }, 24u), 60);
+    double fall = 0.0;
+    for (std::size_t i = from; i < press.log.out.size(); ++i)
+        fall = std::max(fall, glm::length(press.log.out[i - 1].force) -
+                                  glm::length(press.log.out[i].force));
+    const double afterFall = glm::length(press.log.out[from + 1].force);
+    const double inHole = glm::length(press.log.out[from + 2].force);
+    std::printf("hole opening 2 updates after a 3 mm fall under a 4 mm press: %.2f N pressed, "
+                "%.2f N then %.2f N, largest fall %.3f N an update\n",
+                pressed, afterFall, inHole, fall);
+    EXPECT_GT(inHole, pressed - 3.0 * RendererConfig{}.maxForceStep / 8.0); // still unloading
+    EXPECT_LE(fall, RendererConfig{}.maxForceStep / 8.0 + 1e-6);
+    EXPECT_LT(press.force(), 0.5 * pressed); // and unloaded, not held
+}
+
+// A finger pressed 2 mm into a table that steps up 2 mm (the step is ramped in over 0.25 s),
+// and 50 updates into the ramp falls back 3.5 mm, 0.5 mm over the HIP: the ramp blended from
+// the force before the step toward the new target over its whole time, and held about 1.3 N for
+// the 0.4 N the surface gives 20 updates on (on the feel bench's living room, a tap's pushed
+// proxy snapping back to the table kept 2.7 N with the proxy 0.1 mm from the HIP, then dropped it
+// in 2 N steps as the finger lifted off). Now the filter takes the ramp's force over and unloads
+// it at its bounded rate.
+TEST(FingerReleaseTest, aSurfaceThatFallsAwayDuringARampedStepUnloadsAtTheBoundedRate)
+{
+    FramePress press({0.0, 0.0, -0.007});
+    press.run(raisedTable(0.0), 300);
+    ASSERT_NEAR(press.force(), kStiffness * (coded(0.0) + 0.007), 0.01);
+    press.run(raisedTable(0.002), 50);
+    const double ramped = press.force();
+    const double target = kStiffness * (coded(0.002) + 0.007);
+    ASSERT_LT(ramped, target - 0.2); // still ramping up
+    const std::size_t from = press.log.out.size();
+    press.run(raisedTable(-0.0015), 40);
+    double fall = 0.0;
+    for (std::size_t i = from; i < press.log.out.size(); ++i)
+        fall = std::max(fall, glm::length(press.log.out[i - 1].force) -
+                                  glm::length(press.log.out[i].force));
+    const double after20 = glm::length(press.log.out[from + 20].force);
+    const double expected = kStiffness * (coded(-0.0015) + 0.007);
+    std::printf("table falling 3.5 mm during a ramped 2 mm step: %.2f N ramping to %.2f N, 20 "
+                "updates after the fall %.2f N (k times the depth %.2f N), largest fall %.3f N\n",
+                ramped, target, after20, expected, fall);
+    EXPECT_NEAR(after20, expected, 0.05);
+    EXPECT_LE(fall, RendererConfig{}.maxForceStep / 8.0 + 1e-6);
 }
 
 } // namespace

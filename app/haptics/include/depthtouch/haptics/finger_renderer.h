@@ -78,10 +78,12 @@
 ///      the taps cross pixels every update and the plane tilted and shifted anew each time, turning
 ///      the force back and forth by 0.05-0.2 N at the servo rate (RendererConfig::smoothOffset
 ///      turns it off: `bench feel`'s `finger-unfiltered`). Where it lags, it catches up by a share
-///      of the gap; it unloads by at most maxForceStep/8 an update.
+///      of the gap; it unloads by at most maxForceStep/8 an update, a hold over a hole too.
 ///    - *Steps*: a step of the surface under the stencil (over stepDepth_, under the cut) is
 ///      ramped in over the ramp time only as a step up from a force of a step's size or more;
-///      from less, the bounded push grows it, and a step down is unloaded by the filter.
+///      from less, the bounded push grows it, and a step down is unloaded by the filter. A ramp
+///      holding more than the surface gives with the finger under stepDepth_ in hands its force
+///      to the filter (handOverRamp()).
 ///    - *Within reach*: in contact, a HIP above the sensor surface at its own x–y is not free
 ///      while the surface within r/2 of it is still above it (a few pixels read far back under
 ///      the fingertip): the contact goes on while the HIP is under the stencil's plane and no
@@ -342,6 +344,10 @@ private:
     /// filtered offset of \a c's proxy (kFingerOffsetAlpha, kFingerOffsetBeta); proxy_ keeps the
     /// unfiltered goal.
     void smoothOffset(const glm::dvec3 &hip, const Candidate &c, glm::dvec3 &held) noexcept;
+    /// A ramp in progress (a trip's, a ramped step's) whose command is above the spring force
+    /// of \a held (m) at \a stiffnessScale: the ramp ends and the filter takes its command as
+    /// the offset (\a held moves to it), to unload at its bounded rate (finger_offset.cpp).
+    void handOverRamp(const glm::dvec3 &hip, double stiffnessScale, glm::dvec3 &held) noexcept;
 
     /// The god-object on the finger-scale surface from q = (\a startX, \a startY) (m): the proxy
     /// (m), the last plane fitted (\a plane), the first one, at q (\a start), and how far the HIP

@@ -252,6 +252,14 @@ public:
     /// force-jump check compares forces at the same k.
     void setStiffness(double newtonsPerMetre) noexcept;
     [[nodiscard]] double stiffness() const noexcept { return config_.stiffness; }
+    /// \return a ramp (after a trip or a ramped step) is in progress. Thread-bound, as the stage.
+    [[nodiscard]] bool ramping() const noexcept { return ramping_; }
+    /// \return the last command shape() returned, N (zero after reset()).
+    [[nodiscard]] const glm::dvec3 &lastCommand() const noexcept { return prevCommand_; }
+    /// \brief Ends a ramp in progress: from the next shape() the command follows the raw force,
+    /// within maxForceStep an update (the fingertip renderer hands a ramp that holds more than
+    /// the surface gives to its own bounded unload, finger_offset.cpp).
+    void endRamp() noexcept { ramping_ = false; }
 
 private:
     RendererConfig config_;
