@@ -107,4 +107,25 @@ void FingerRenderer::handOverRamp(const glm::dvec3 &hip, double stiffnessScale,
     held = hip + offset_;
 }
 
+void FingerRenderer::releaseCovered(const glm::dvec3 &hip, double raw, const Candidate &c,
+                                    glm::dvec3 &force) noexcept
+{
+    // A cut that covers a pressed finger (a hand over a held press, an occluder's edge over the
+    // whole fingertip patch) trips and lets it go behind the new surface. Its force went in the
+    // force's step limit, 2 N an update: a press 6 mm into the active-stereo lab's floor, a
+    // person's edge over it, gave 4.9 -> 2.9 -> 0.9 -> 0 N, three knocks. With the HIP under the
+    // new surface there is no free space for that force to push the finger into: it unloads at
+    // maxForceStep/8 an update, as a surface that falls away does, while the HIP stays covered.
+    if (c.contact || !config_.smoothOffset || !(raw > hip.z)) {
+        release_ = {};
+        return;
+    }
+    if (c.trip)
+        release_ = force_.lastCommand();
+    const double length = glm::length(release_);
+    const double step = config_.maxForceStep / 8.0;
+    release_ = length > step ? release_ * ((length - step) / length) : glm::dvec3{};
+    force = release_;
+}
+
 } // namespace depthtouch::haptics

@@ -49,6 +49,7 @@ void FingerRenderer::reset(const glm::dvec3 &hip) noexcept
     offset_ = {};
     offsetTrend_ = {};
     lastOffset_ = {};
+    release_ = {};
     lastHip_ = hip;
     contact_ = false;
     behind_ = false;
@@ -451,7 +452,8 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
         else
             friction_.release();
     }
-    const glm::dvec3 rawForce = force_.spring(hip, held, c.contact, t, stiffnessScale);
+    glm::dvec3 rawForce = force_.spring(hip, held, c.contact, t, stiffnessScale);
+    releaseCovered(hip, raw, c, rawForce);
     out.force = force_.shape(rawForce, t, c.contact, c.trip || c.stepped);
     watchSaturation(out.force, t, c.contact);
     out.proxy = held;

@@ -199,6 +199,32 @@ TEST(FingerOccluderTest, aHeldPressIsFeltAgainAfterAHandFlashesOverIt)
     EXPECT_NEAR(last.force.z, 800.0 * 0.003, 0.2);
 }
 
+// The trip itself: the hand covers the fingertip and the finger is let go behind it. Its 2.4 N
+// went in the force's step limit (2 N an update: 2.4 -> 0.4 -> 0 N, a knock); with the HIP under
+// the hand there is no free space for it to push the finger into, so it unloads at
+// maxForceStep/8 an update and is gone within 12 updates.
+TEST(FingerOccluderTest, aTripUnderTheHandThatCoversTheFingerUnloadsAtTheBoundedRate)
+{
+    auto edge = [](double t) { return t >= 0.5 && t < 0.7 ? -0.030 : 0.030; };
+    SyntheticVideo video = keyboardAndHand(edge, 0.015);
+    const Log log = runFinger(video, FingerContact::GodObject, pressAndHold(0.0, 0.0, 0.003), 0.6);
+    std::size_t trip = 0;
+    while (trip < log.out.size() && !log.out[trip].released)
+        ++trip;
+    ASSERT_LT(trip + 12, log.out.size());
+    const double pressed = glm::length(log.out[trip - 1].force);
+    double fall = 0.0;
+    for (std::size_t k = trip; k < trip + 12; ++k)
+        fall = std::max(fall, glm::length(log.out[k - 1].force) - glm::length(log.out[k].force));
+    std::printf("trip under a hand over a %.2f N press: largest fall %.3f N an update, %.2f N 12 "
+                "updates on\n",
+                pressed, fall, glm::length(log.out[trip + 12].force));
+    EXPECT_GT(pressed, 2.0);
+    EXPECT_FALSE(log.out[trip].contact);
+    EXPECT_LE(fall, RendererConfig{}.maxForceStep / 8.0 + 1e-6);
+    EXPECT_EQ(glm::length(log.out[trip + 12].force), 0.0);
+}
+
 // The catch after the flash: the finger, 3 mm under the keyboard when the hand leaves, is caught
 // again by each contact, and its force comes back at the bounded push's rate (maxForceStep/16 an
 // update), not as one step. Before, the 2.4 N of the 3 mm came in one or two updates of up to

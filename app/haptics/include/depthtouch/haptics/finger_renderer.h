@@ -348,6 +348,11 @@ private:
     /// of \a held (m) at \a stiffnessScale: the ramp ends and the filter takes its command as
     /// the offset (\a held moves to it), to unload at its bounded rate (finger_offset.cpp).
     void handOverRamp(const glm::dvec3 &hip, double stiffnessScale, glm::dvec3 &held) noexcept;
+    /// A trip with the HIP under the surface now measured at its x–y (\a raw, m; a cut that
+    /// covered the finger): \a force (N) becomes the command at the trip, unloaded by
+    /// maxForceStep/8 an update while the HIP stays covered and free.
+    void releaseCovered(const glm::dvec3 &hip, double raw, const Candidate &c,
+                        glm::dvec3 &force) noexcept;
 
     /// The god-object on the finger-scale surface from q = (\a startX, \a startY) (m): the proxy
     /// (m), the last plane fitted (\a plane), the first one, at q (\a start), and how far the HIP
@@ -383,8 +388,10 @@ private:
     glm::dvec2 lastGlide_{};   ///< The last update's glide direction (unit), or zero.
     glm::dvec3 offset_{};      ///< Filtered offset of the force's proxy from the HIP, m.
     glm::dvec3 offsetTrend_{}; ///< Its change an update (smoothOffset()'s trend), m.
-    glm::dvec3 lastOffset_{};  ///< The last update's unfiltered offset, m.
-    double outputGain_ = 1.0;  ///< setOutputGain(): the caller's factor on the force, 0..1.
+    glm::dvec3
+        release_{}; ///< A trip's force unloading under a covering surface (releaseCovered()), N.
+    glm::dvec3 lastOffset_{}; ///< The last update's unfiltered offset, m.
+    double outputGain_ = 1.0; ///< setOutputGain(): the caller's factor on the force, 0..1.
     bool contact_ = false;
     bool behind_ = false;      ///< HIP under the surface without contact (see the file comment).
     bool wall_ = false;        ///< The contact is on an object's side (finger_wall.cpp).
