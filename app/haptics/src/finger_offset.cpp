@@ -71,7 +71,11 @@ void FingerRenderer::smoothOffset(const glm::dvec3 &hip, const Candidate &c,
         const glm::dvec3 residual = offset - predicted;
         const glm::dvec3 step = predicted + kFingerOffsetAlpha * residual - offset_;
         offsetTrend_ += kFingerOffsetBeta * residual;
-        const double limit = std::max(glm::length(offset - lastOffset_), catchUp);
+        // At most 3·pushDepth_ (0.375 N) however far the unfiltered offset jumped: a switch of
+        // the solution (a press at rest by the kitchen's cabinet edge: the top 5.5 mm above, then
+        // a point 2.2 mm to the side) turned the force by 1 N in an update.
+        const double limit =
+            std::min(std::max(glm::length(offset - lastOffset_), catchUp), 3.0 * pushDepth_);
         const double length = glm::length(step);
         const double scale = length > limit ? limit / length : 1.0;
         const double was = glm::length(offset_);

@@ -2,7 +2,8 @@
 /// \brief The guards of the fingertip renderer (finger_renderer.h) one at a time, on still 8-bit
 /// frames swapped without interpolation (the hardest case: a depth frame that changes at once): the
 /// glide limit, the ramp of a small surface step, the capture depth of a new contact, the local
-/// candidate beside a silhouette and the stencil's median under a flying pixel (on a 16-bit frame).
+/// candidate beside a silhouette, the stencil's median under a flying pixel (on a 16-bit frame) and
+/// the filter's bound on a switch of the proxy's solution.
 /// Each test names the guard it pins and what the viewer would feel without it (the mutants of
 /// tests/mutation/mutants/haptics.txt).
 
@@ -473,6 +474,35 @@ TEST(FingerGuardTest, aCommandWithinATenthOfAPercentOfTheMaximumIsAtIt)
                                           [](const HapticOutput &o) { return o.released; });
         EXPECT_EQ(released, gain > 1.0 - kFingerAtMaximum) << "gain " << gain;
     }
+}
+
+// Switch: a finger pressed 5 mm into a block's top, 4 mm from its edge; in one frame the edge
+// comes to 1.5 mm from the HIP, and the god-object's nearest surface is now the block's side:
+// the proxy switches to it and the force turns from straight up toward the side. The filter
+// moves the force's offset by at most 3·pushDepth_ an update (3·maxForceStep/16 = 0.375 N), so
+// the turn takes a few updates. Before, its move was bounded only by the unfiltered offset's
+// own, and a switch turned the force by 0.98 N in one update (on the kitchen's cabinet edge a
+// press at rest switched between the top 5.5 mm above and a point 2.2 mm to the side: 1 N knocks).
+TEST(FingerGuardTest, aSwitchToANearerSideTurnsTheForceAtTheBoundedRate)
+{
+    Rig rig(FingerContact::GodObject);
+    rig.show(still([](double x, double) { return x < 0.004 ? 0.0 : -0.008; }));
+    const glm::dvec3 hip(0.0, 0.0, -0.005);
+    rig.press(hip);
+    ASSERT_NEAR(rig.out.back().force.z, kK * 0.005, 0.15); // 8-bit quantisation: 0.16 mm
+    const std::size_t before = rig.out.size();
+    rig.show(still([](double x, double) { return x < 0.0015 ? 0.0 : -0.008; }));
+    for (int k = 0; k < 60; ++k)
+        rig.step(hip);
+    double worst = 0.0;
+    for (std::size_t i = before; i < rig.out.size(); ++i)
+        worst = std::max(worst, glm::length(rig.out[i].force - rig.out[i - 1].force));
+    const glm::dvec3 last = rig.out.back().force;
+    std::printf("switch to the side: largest force change %.3f N per update, final force (%.2f, "
+                "%.2f, %.2f) N\n",
+                worst, last.x, last.y, last.z);
+    EXPECT_LE(worst, 3.0 * RendererConfig{}.maxForceStep / 16.0 + 1e-6);
+    EXPECT_GT(last.x, 1.0); // it did turn toward the side
 }
 
 } // namespace

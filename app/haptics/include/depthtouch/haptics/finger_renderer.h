@@ -74,7 +74,8 @@
 ///      and each switch turned the force at once.
 ///    - *Depth noise*: the proxy's offset from the HIP that the force and the report use passes
 ///      an alpha-beta filter (smoothOffset(), finger_offset.cpp; the search keeps the unfiltered
-///      goal), each update's move no longer than the unfiltered offset's: on noisy depth at 50 cm/s
+///      goal), each update's move no longer than the unfiltered offset's nor than 3·pushDepth_
+///      (a switch of the solution turns the force over a few updates): on noisy depth at 50 cm/s
 ///      the taps cross pixels every update and the plane tilted and shifted anew each time, turning
 ///      the force back and forth by 0.05-0.2 N at the servo rate (RendererConfig::smoothOffset
 ///      turns it off: `bench feel`'s `finger-unfiltered`). Where it lags, it catches up by a share
