@@ -187,12 +187,20 @@ DemoFeel measureFeel(const std::vector<LogRow> &rows, const std::vector<double> 
         const LogRow &r = rows[i];
         if (r.released)
             releasedAt = play[i];
-        surface.setTime(r.t);
         haptics::FeelSample &s = samples[i];
+        // The rise of the surface under the HIP's x–y since the update before (feel.h: a surface
+        // arriving over the finger covers it), unknown across a loop's restart of media time.
+        double before = std::nan("");
+        if (i > 0 && r.t >= rows[i - 1].t) {
+            surface.setTime(rows[i - 1].t);
+            before = surface.heightAt(r.hip.x, r.hip.y);
+        }
+        surface.setTime(r.t);
         s.t = play[i];
         s.hip = r.hip;
         s.force = r.force;
         s.surfaceZ = surface.heightAt(r.hip.x, r.hip.y);
+        s.surfaceRise = s.surfaceZ - before;
         if (surface.fingerReach() > 0.0)
             s.reachSurfaceZ = haptics::reachHeight(
                 [&surface](double x, double y) { return surface.heightAt(x, y); }, r.hip.x, r.hip.y,

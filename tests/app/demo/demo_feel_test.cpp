@@ -176,6 +176,54 @@ private:
     double height_;
 };
 
+/// FakeSurface's figure (z = 0) left of an edge at \a edgeAt0 + \a speed·t (m, m/s), the backdrop
+/// right of it; no cuts.
+class SweepSurface final : public DemoSurface {
+public:
+    SweepSurface(double edgeAt0, double speed) : edgeAt0_(edgeAt0), speed_(speed) {}
+    void setTime(double t) override { t_ = t; }
+    [[nodiscard]] double heightAt(double x, double) const noexcept override
+    {
+        return x < edgeAt0_ + speed_ * t_ ? 0.0 : FakeSurface::kBackdrop;
+    }
+    [[nodiscard]] bool cutAt(double, double) const noexcept override { return false; }
+    [[nodiscard]] double backdropZ() const noexcept override { return FakeSurface::kBackdrop; }
+
+private:
+    double edgeAt0_;
+    double speed_;
+    double t_ = 0.0;
+};
+
+// A finger pressed 1 mm into the backdrop at x = 30 mm, held there by the renderer with 0.05 N once
+// the figure's edge has swept over it at 10 cm/s (the demo's turning head over a finger on the
+// curtain): from row 100 the figure is 16 mm above the HIP. The surface arrived faster than a
+// bounded push could follow (feel.h, "covered by an arriving surface"), as the feel bench judges
+// it: no pop-through. Before, the demo's judge had no surface rise and counted 100 ms of it. A
+// figure that stood over the HIP from the start (it did not arrive) is still pop-through: 199 ms.
+TEST(DemoFeelTest, aFigureArrivingOverARestingFingerCoversItButOneAlreadyThereDoesNot)
+{
+    std::vector<LogRow> rows;
+    for (int i = 0; i < 200; ++i) {
+        rows.push_back(pressed(0.001 * i, 0.030, FakeSurface::kBackdrop, 0.001, 50.0));
+        rows.back().force.z = i < 100 ? 0.8 : 0.05; // pressed; resting lightly once covered
+    }
+    SweepSurface arriving(0.020, 0.1); // the edge passes x = 30 mm at t = 0.1 s
+    std::vector<std::array<double, 6>> plot;
+    const DemoFeel swept = measureFeel(rows, playTimes(rows), arriving, plot);
+    SweepSurface there(0.040, 0.0); // over the HIP all along
+    plot.clear();
+    for (LogRow &r : rows)
+        r.force.z = 0.05;
+    rows.front().force.z = 0.8; // a contact, then nothing: the finger is inside the figure
+    const DemoFeel stood = measureFeel(rows, playTimes(rows), there, plot);
+    std::printf("figure arriving over a resting finger: pop-through %.0f ms; already over it: "
+                "%.0f ms\n",
+                swept.feel.popThroughMs, stood.feel.popThroughMs);
+    EXPECT_NEAR(swept.feel.popThroughMs, 0.0, 1e-6);
+    EXPECT_NEAR(stood.feel.popThroughMs, 199.0, 1.0);
+}
+
 // The figure is what stands more than kFigureMargin (2 mm) in front of the backdrop: a ledge
 // exactly 2 mm in front of it is still the backdrop (a fold of the curtain), one 0.1 mm further
 // out is the figure. Both pressed 2 mm at 500 N/m for 20 updates.

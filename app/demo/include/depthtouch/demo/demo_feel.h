@@ -88,6 +88,9 @@ struct DemoFeel {
 /// Sets each row of \a rows (with its play time in \a play) against \a surface: the feel
 /// figures, the contact time on the figure and the stiffness felt; fills \a plot with the chart's
 /// columns per row (play time s, |F| N, contact 0/1, HIP z mm, surface z mm, on the figure 0/1).
+/// Each row's surface rise under the HIP since the row before (FeelSample::surfaceRise; unknown
+/// across a loop's restart of media time) judges a surface arriving over the finger as the feel
+/// bench does (haptics/feel.h, "covered by an arriving surface").
 DemoFeel measureFeel(const std::vector<LogRow> &rows, const std::vector<double> &play,
                      DemoSurface &surface, std::vector<std::array<double, 6>> &plot);
 
