@@ -201,6 +201,10 @@ DemoFeel measureFeel(const std::vector<LogRow> &rows, const std::vector<double> 
         s.force = r.force;
         s.surfaceZ = surface.heightAt(r.hip.x, r.hip.y);
         s.surfaceRise = s.surfaceZ - before;
+        if (s.surfaceZ > r.hip.z) // judged by the distance to the surface, as in bench feel
+            s.depthInside = haptics::depthInside(
+                [&surface](double x, double y) { return surface.heightAt(x, y); }, r.hip,
+                s.surfaceZ - r.hip.z);
         if (surface.fingerReach() > 0.0)
             s.reachSurfaceZ = haptics::reachHeight(
                 [&surface](double x, double y) { return surface.heightAt(x, y); }, r.hip.x, r.hip.y,

@@ -18,27 +18,6 @@ namespace depthtouch::haptics::bench {
 
 namespace {
 
-/// \return the distance from \a hip to the nearest point of \a truth (its time set), searched
-/// on rings out to \a vertical (the depth under the surface at the HIP's x–y, which bounds it), m.
-double depthInside(const HeightField &truth, const glm::dvec3 &hip, double vertical)
-{
-    double best = vertical;
-    constexpr int kDirections = 24;
-    const double step = 0.2e-3;
-    for (double ring = step; ring < best; ring += step) {
-        for (int k = 0; k < kDirections; ++k) {
-            const double a = 6.283185307179586 * k / kDirections;
-            const double x = hip.x + ring * std::cos(a);
-            const double y = hip.y + ring * std::sin(a);
-            if (!truth.contains(x, y))
-                continue;
-            const double dz = truth.heightAt(x, y) - hip.z;
-            best = std::min(best, std::sqrt(ring * ring + std::max(dz, 0.0) * std::max(dz, 0.0)));
-        }
-    }
-    return best;
-}
-
 using Clock = std::chrono::steady_clock;
 
 /// Frame whose PTS is the last at or before \a t (as replay() picks them).
@@ -189,7 +168,11 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
                             s.hip.y, cfg.fingerRadiusInBox());
         if (row.surfaceZ > s.hip.z) {
             if (const HeightField *rf = ref.at(s.t); rf != nullptr)
-                row.depthInside = depthInside(*rf, s.hip, row.surfaceZ - s.hip.z);
+                row.depthInside = depthInside(
+                    [rf](double x, double y) {
+                        return rf->contains(x, y) ? rf->heightAt(x, y) : std::nan("");
+                    },
+                    s.hip, row.surfaceZ - s.hip.z);
             row.idealForce = cfg.stiffness * (row.surfaceZ - s.hip.z);
         } else {
             row.idealForce = 0.0;

@@ -224,6 +224,30 @@ TEST(DemoFeelTest, aFigureArrivingOverARestingFingerCoversItButOneAlreadyThereDo
     EXPECT_NEAR(stood.feel.popThroughMs, 199.0, 1.0);
 }
 
+// A finger slid off the figure's edge (x = 20 mm) 10 mm under its top, 0.2 mm inside its side,
+// held on that side with 0.05 N for 50 updates after a pressed start: the HIP is 0.2 mm from the
+// figure's surface, not 10 mm under it, and the feel bench judges pop-through by that distance
+// (FeelSample::depthInside): none. Before, the demo judged it by the height above the HIP at its
+// own x–y, and counted 50 ms. The same finger 3 mm from the side (x = 17 mm) is pop-through.
+TEST(DemoFeelTest, aFingerBesideTheFiguresSideIsJudgedByItsDistanceToIt)
+{
+    for (const double x : {0.0198, 0.017}) {
+        std::vector<LogRow> rows;
+        for (int i = 0; i < 60; ++i) {
+            rows.push_back(pressed(0.001 * i, x, 0.0, 0.010, 80.0)); // 0.8 N at first
+            if (i >= 10)
+                rows.back().force = {0.05, 0.0, 0.0};
+        }
+        FakeSurface surface(1.0);
+        std::vector<std::array<double, 6>> plot;
+        const DemoFeel d = measureFeel(rows, playTimes(rows), surface, plot);
+        std::printf("finger %.1f mm inside the figure's side, 10 mm under its top: pop-through "
+                    "%.0f ms\n",
+                    (0.02 - x) * 1e3, d.feel.popThroughMs);
+        EXPECT_NEAR(d.feel.popThroughMs, x > 0.019 ? 0.0 : 50.0, 1e-6) << x;
+    }
+}
+
 // The figure is what stands more than kFigureMargin (2 mm) in front of the backdrop: a ledge
 // exactly 2 mm in front of it is still the backdrop (a fold of the curtain), one 0.1 mm further
 // out is the figure. Both pressed 2 mm at 500 N/m for 20 updates.

@@ -60,6 +60,7 @@
 /// Units: s, m, N (scene-box frame, docs/architecture.md §3). Thread-safety: reentrant; allocates
 /// (not for the haptic thread).
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <numbers>
@@ -117,6 +118,30 @@ double reachHeight(const HeightAt &heightAt, double x, double y, double radius)
             if (std::isfinite(h) && !(h <= best))
                 best = h;
         }
+    return best;
+}
+
+/// \return the distance from \a hip (m) to the nearest point of the surface \a heightAt(x, y) (m;
+/// NaN where nothing was measured or off the frame), searched on rings 0.2 mm apart in 24
+/// directions out to \a vertical (the depth under the surface at the HIP's x–y, which bounds it),
+/// m: FeelSample::depthInside, the depth pop-through is judged by (a HIP just beside an object's
+/// steep side is that far inside it, not the height of the side).
+template <class HeightAt>
+double depthInside(const HeightAt &heightAt, const glm::dvec3 &hip, double vertical)
+{
+    double best = vertical;
+    constexpr int kDirections = 24;
+    const double step = 0.2e-3;
+    for (double ring = step; ring < best; ring += step) {
+        for (int k = 0; k < kDirections; ++k) {
+            const double a = 2.0 * std::numbers::pi * k / kDirections;
+            const double h = heightAt(hip.x + ring * std::cos(a), hip.y + ring * std::sin(a));
+            if (!std::isfinite(h))
+                continue;
+            const double dz = std::max(h - hip.z, 0.0);
+            best = std::min(best, std::sqrt(ring * ring + dz * dz));
+        }
+    }
     return best;
 }
 
