@@ -98,8 +98,10 @@ bool realScene(const std::string &scene)
 /// The chart's figures of one setting.
 struct ChartPoint {
     std::string setting;
-    double cleanRms = 0.0;    ///< N.
-    double worstSpikes = 0.0; ///< Spikes per second pressed, worst real family × clip row.
+    double cleanRms = 0.0; ///< N.
+    /// Spikes per second pressed, worst real hold, tap or press family × clip row (the figure of
+    /// the goal the panel draws; swipes, circles and traces have the ideal penalty's as theirs).
+    double worstSpikes = 0.0;
     std::string spikesWhere;
     double worstPop = 0.0; ///< ms, worst real row.
     double p999 = 0.0;     ///< µs.
@@ -164,7 +166,8 @@ std::vector<ChartPoint> chartPoints(const FeelReport &report, bool &real)
         for (const FeelRow &r : report.familyRows) {
             if (r.setting != t.setting || (real && !realScene(r.scene)))
                 continue;
-            if (r.total.pressedSpikesPerSecond >= p.worstSpikes) {
+            const bool still = r.family == "hold" || r.family == "tap" || r.family == "press";
+            if (still && r.total.pressedSpikesPerSecond >= p.worstSpikes) {
                 p.worstSpikes = r.total.pressedSpikesPerSecond;
                 p.spikesWhere = r.scene + " / " + r.family;
             }
@@ -363,10 +366,10 @@ bool writeChartScript(const FeelReport &report, const std::filesystem::path &bas
     char goalPop[64];
     std::snprintf(goalPop, sizeof goalPop, "goal: pop-through <= %.0f ms", g.maxPopThroughMs);
     const std::vector<Panel> panels = {
-        {"robustness: worst family x clip force spikes", "spikes per s pressed (0 drawn at 0.1)",
-         "force RMS error on clean synthetic surfaces (N)", xClean,
-         logAxis(spikes, 0.1, g.maxStillSpikesPerSecond), xs, spikes, g.maxStillSpikesPerSecond,
-         goalSpikes, 0.1},
+        {"robustness: worst hold, tap or press x clip force spikes",
+         "spikes per s pressed (0 drawn at 0.1)", "force RMS error on clean synthetic surfaces (N)",
+         xClean, logAxis(spikes, 0.1, g.maxStillSpikesPerSecond), xs, spikes,
+         g.maxStillSpikesPerSecond, goalSpikes, 0.1},
         {"robustness: worst family x clip pop-through", "pop-through (ms, 0 drawn at 0.1)",
          "force RMS error on clean synthetic surfaces (N)", xClean,
          logAxis(pops, 0.1, g.maxPopThroughMs), xs, pops, g.maxPopThroughMs, goalPop, 0.1},
