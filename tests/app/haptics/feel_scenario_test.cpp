@@ -213,6 +213,10 @@ TEST(FeelScenarioPushTest, aHeldFingerPushedOutByAnOccluderDoesNotAlternate)
 {
     expectPushedOutSmoothly(familyStroke(SyntheticScene::Occluder, "hold 3 mm under occluder"),
                             true);
+    // The push's own bounded turn, without the offset filter's bound on the force's move.
+    expectPushedOutSmoothly(familyStroke(SyntheticScene::Occluder, "hold 3 mm under occluder",
+                                         SensorModel::StructuredLight, "finger-unfiltered"),
+                            true);
 }
 
 // A 0.5 mm press at 5 cm/s beside the synthetic occluder seen through the active-stereo model

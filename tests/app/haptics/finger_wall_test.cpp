@@ -123,21 +123,24 @@ TEST(FingerWallTest, aFreeSwipeIntoAnObjectsSideMeetsItsWall)
 // no step of the force over 0.5 N (the feel bench's spike), and on the top k times 2 mm up.
 TEST(FingerWallTest, theForceTurnsOverAnObjectsUpperEdgeWithoutAStep)
 {
-    const StrokeLog run = stroke(swipeTo(kTop - 0.002, 0.008), 0.12);
-    double largest = 0.0;
-    int free = 0;
-    for (std::size_t k = 1; k < run.out.size(); ++k) {
-        largest = std::max(largest, glm::length(run.out[k].force - run.out[k - 1].force));
-        free += run.hip[k].x > 0.0005 && !run.out[k].contact ? 1 : 0;
+    // Also unfiltered: the corner's own rounding, without the offset filter's bound on the force.
+    for (const bool smooth : {true, false}) {
+        const StrokeLog run = stroke(swipeTo(kTop - 0.002, 0.008), 0.12, tableAndBox(), smooth);
+        double largest = 0.0;
+        int free = 0;
+        for (std::size_t k = 1; k < run.out.size(); ++k) {
+            largest = std::max(largest, glm::length(run.out[k].force - run.out[k - 1].force));
+            free += run.hip[k].x > 0.0005 && !run.out[k].contact ? 1 : 0;
+        }
+        const glm::dvec3 last = run.out.back().force;
+        std::printf("free swipe 2 mm under a box's top across its edge: largest step %.2f N, %d "
+                    "updates free past the side, force on the top (%.2f, %.2f, %.2f) N\n",
+                    largest, free, last.x, last.y, last.z);
+        EXPECT_EQ(free, 0) << smooth;
+        EXPECT_LE(largest, 0.5) << smooth;
+        EXPECT_NEAR(last.z, kStiffness * 0.002, 0.25) << smooth;
+        EXPECT_LT(std::fabs(last.x), 0.1) << smooth;
     }
-    const glm::dvec3 last = run.out.back().force;
-    std::printf("free swipe 2 mm under a box's top across its edge: largest step %.2f N, %d "
-                "updates free past the side, force on the top (%.2f, %.2f, %.2f) N\n",
-                largest, free, last.x, last.y, last.z);
-    EXPECT_EQ(free, 0);
-    EXPECT_LE(largest, 0.5);
-    EXPECT_NEAR(last.z, kStiffness * 0.002, 0.25);
-    EXPECT_LT(std::fabs(last.x), 0.1);
 }
 
 // The finger swipes into the box's side 1 mm above the table and stays 1 mm past it; from the
