@@ -351,18 +351,41 @@ bool everyRowWhole(const std::string &csv)
     return rows > 1 && !csv.empty() && csv.back() == '\n';
 }
 
-/// Lets \a p run a second more, sends it \a sig, waits for its end (at most kLimit) and expects it
-/// to exit with \a exitCode, not killed by the signal. \return the run; \a what is set to
-/// "signal N", for the caller's messages.
-ProcessResult signalAfterASecond(Process &p, int sig, int exitCode, std::string &what)
+/// Sends \a p signal \a sig, waits for its end (at most kLimit) and expects it to exit with
+/// \a exitCode, not killed by the signal (\a what names the case in the messages). \return the run.
+ProcessResult signalAndWait(Process &p, int sig, int exitCode, const std::string &what)
 {
-    std::this_thread::sleep_for(1000ms);
     p.signal(sig);
     const ProcessResult r = p.wait(kLimit);
-    what = std::string("signal ") + std::to_string(sig);
     EXPECT_EQ(r.signal, 0) << what << ": " << describe(r);
     EXPECT_EQ(r.exitCode, exitCode) << what << ": " << describe(r);
     return r;
+}
+
+/// Waits until output \a out (under its name, or its temporary name \a out.tmp.PID while written)
+/// holds at least \a bytes, at most 20 s (a timeout, not a pace: a busy machine only takes longer),
+/// then sends \a p signal \a sig, waits for its end (at most kLimit) and expects it to exit with
+/// \a exitCode, not killed by the signal. \return the run; \a what is set to "signal N", for the
+/// caller's messages.
+ProcessResult signalOnceWritten(Process &p, const fs::path &out, std::uintmax_t bytes, int sig,
+                                int exitCode, std::string &what)
+{
+    what = std::string("signal ") + std::to_string(sig);
+    const auto written = [&out, bytes] {
+        const std::string name = out.filename().string();
+        std::error_code ec;
+        for (const auto &e : fs::directory_iterator(out.parent_path(), ec)) {
+            const std::string f = e.path().filename().string();
+            if ((f == name || f.rfind(name + ".tmp.", 0) == 0) && e.file_size(ec) >= bytes)
+                return true;
+        }
+        return false;
+    };
+    const auto end = SteadyClock::now() + 20s;
+    while (!written() && SteadyClock::now() < end)
+        std::this_thread::sleep_for(20ms);
+    EXPECT_TRUE(written()) << what << ": nothing written in 20 s";
+    return signalAndWait(p, sig, exitCode, what);
 }
 
 TEST(StopFaultsTest, HupQuitAndUsr1EndPlayCleanlyWithItsOutputsWhole)
@@ -370,13 +393,13 @@ TEST(StopFaultsTest, HupQuitAndUsr1EndPlayCleanlyWithItsOutputsWhole)
     for (const int sig : {SIGHUP, SIGQUIT, SIGUSR1}) {
         TempDir tmp("dt-stop-");
         Process player(mockPlayWithOutputs(tmp.dir()));
-        // GIVEN a player that plays and feels for a second
+        // GIVEN a player that plays and feels (its force log has rows)
         ASSERT_TRUE(waitUntilCaught(player.pid(), sig, 20s));
         // WHEN the signal comes (a closed terminal, Ctrl-\, a service manager's USR1)
         // THEN it quits as on SIGTERM: exit 0, the stats written, the force log whole, no
         // temporary file left
         std::string what;
-        signalAfterASecond(player, sig, 0, what);
+        signalOnceWritten(player, tmp.dir() / "forces.csv", 1000, sig, 0, what);
         EXPECT_NE(readText(tmp.dir() / "stats.json").find("\"haptic_updates\""), std::string::npos)
             << what;
         EXPECT_TRUE(everyRowWhole(readText(tmp.dir() / "forces.csv"))) << what;
@@ -392,14 +415,17 @@ TEST_F(StopFaultsFfmpegTest, HupEndsAnEncodeWithAWholeFile)
     for (const int sig : {SIGHUP, SIGUSR1}) {
         Process enc({DEPTHTOUCH, "encode", "--color", in.color.string(), "--depth",
                      in.depth.string(), "--loop", "--preset", "ultrafast", "-o", out.string()});
-        // GIVEN an endless encode that has written for a while
+        // GIVEN an endless encode that has written for a while: its temporary output exists, and a
+        // second more (the muxer buffers: the file stays empty until it is closed, so nothing on
+        // disk shows the frames; a busy machine encodes fewer of them, and one is enough)
         const auto end = SteadyClock::now() + 20s;
         while (temporaryFiles(tmp_.dir()).empty() && SteadyClock::now() < end)
             std::this_thread::sleep_for(50ms);
+        std::this_thread::sleep_for(1000ms);
         // WHEN the signal comes
         // THEN it ends as on SIGINT: exit 130, one line, the file complete under its name
-        std::string what;
-        const ProcessResult r = signalAfterASecond(enc, sig, 130, what);
+        const std::string what = std::string("signal ") + std::to_string(sig);
+        const ProcessResult r = signalAndWait(enc, sig, 130, what);
         EXPECT_NE(r.err.find("interrupted by SIG"), std::string::npos) << what << ": " << r.err;
         EXPECT_GT(fs::exists(out) ? fs::file_size(out) : 0u, 1000u) << what;
         EXPECT_TRUE(temporaryFiles(tmp_.dir()).empty()) << what;
