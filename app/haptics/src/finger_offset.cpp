@@ -21,17 +21,18 @@ void FingerRenderer::smoothOffset(const glm::dvec3 &hip, const Candidate &c,
     // cm/s the force turned back and forth by 0.05-0.2 N every update (alternating runs of 11 on
     // the synthetic head's cheek and the time-of-flight occluder's flying pixels). The trend term
     // follows an offset that changes steadily (a slope under a moving finger, a press) without
-    // lag. The filtered offset moves no farther in an update than the unfiltered one did, or than
-    // the catch-up below: the proxy's bounds (r/4 an update, the bounded push) hold for the
-    // force's proxy too, and the trend's overshoot where a glide stops is cut short. Where it lags
+    // lag. The filtered offset moves no farther in an update than the unfiltered one did (or than
+    // the catch-up below), and never more than 3·pushDepth_: the proxy's bounds (r/4 an update,
+    // the bounded push) hold for the force's proxy too, the trend's overshoot where a glide stops
+    // is cut short, and a switch of the solution turns the force over a few updates. Where it lags
     // (the unfiltered offset jumped once, then held still), it catches up by a share alpha of the
     // gap an update: with pushDepth_/4 alone it crawled, and a tap lifting off the living room's
     // table edge kept 3.4 N for a contact 0.1 mm deep until the contact ended, then dropped it
-    // in two 2 N steps. It unloads by at most 2·pushDepth_ an update. A new contact, a trip, a
-    // ramped step or a hold over a hole (nothing measured: its own unload rate is the force's)
-    // starts it afresh at the offset, whether or not the offset moved (a hold over a hole keeps
-    // its depth: taken for a still input, it crawled from the pushed offset it started with). It
-    // never puts the proxy under the HIP where the unfiltered proxy is not (pushUp()).
+    // in two 2 N steps. It unloads by at most 2·pushDepth_ an update. A new contact, a trip or a
+    // ramped step starts it afresh at the offset, whether or not the offset moved; a hold over a
+    // hole (nothing measured: its own unload rate is the force's) takes the hold's offset, but
+    // from where the filter is, no faster than that bound. It never puts the proxy under the HIP
+    // where the unfiltered proxy is not (pushUp()).
     const glm::dvec3 offset = c.proxy - hip;
     if (!config_.smoothOffset) {
         held = c.proxy;
