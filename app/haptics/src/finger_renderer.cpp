@@ -50,6 +50,7 @@ void FingerRenderer::reset(const glm::dvec3 &hip) noexcept
     offsetTrend_ = {};
     lastOffset_ = {};
     release_ = {};
+    releaseStep_ = 0.0;
     lastHip_ = hip;
     contact_ = false;
     behind_ = false;
@@ -487,12 +488,16 @@ bool FingerRenderer::withinReach(const glm::dvec3 &hip, double raw) const noexce
     // rules hold (finger_hole.cpp).
     if (!std::isfinite(raw) || field_.overHole(raw) || !contact_ || wall_ || !config_.correction)
         return false;
-    const double reach = reachHeight(
+    return reachAbove(hip, 0.5 * radius_) > hip.z; // false for NaN
+}
+
+double FingerRenderer::reachAbove(const glm::dvec3 &hip, double radius) const noexcept
+{
+    return reachHeight(
         [this](double x, double y) {
             return field_.contains(x, y) ? field_.heightAt(x, y) : std::nan("");
         },
-        hip.x, hip.y, 0.5 * radius_);
-    return reach > hip.z; // false for NaN
+        hip.x, hip.y, radius);
 }
 
 double FingerRenderer::sensorHeight(const glm::dvec3 &hip) const noexcept

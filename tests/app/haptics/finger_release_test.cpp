@@ -6,11 +6,13 @@
 /// fingertip (time-of-flight flying pixels, a stereo mismatch, a ragged Kinect edge) do not let
 /// it go while the surface within its reach stays above it; a hole that opens while a fall is
 /// unloaded goes on unloading at the same rate, and so does a surface that falls away during a
-/// ramped step. Still 8-bit tables (finger_press.h).
+/// ramped step; a finger sliding off a rim unloads as it rolls off, and is free once the rim is
+/// out of its reach. Still 8-bit tables (finger_press.h).
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -188,6 +190,53 @@ TEST(FingerReleaseTest, aSurfaceThatFallsAwayDuringARampedStepUnloadsAtTheBounde
                 ramped, target, after20, expected, fall);
     EXPECT_NEAR(after20, expected, 0.05);
     EXPECT_LE(fall, RendererConfig{}.maxForceStep / 8.0 + 1e-6);
+}
+
+// A finger slid at 50 cm/s 2 mm under the top of a block 5 mm high (the table beyond its edge at
+// x = 0) off that edge. Free once the edge is more than half its radius behind it, it was let go
+// in one update, a force the fingertip still rests on the rim with (on the kitchen's ragged
+// cabinet edge, 0.8 N up on each 3 mm tooth and down at once in each gap: 33 sign reversals a
+// second). Now the force unloads from maxForceStep/8, the step doubling each update, while the
+// rim is within the radius, and is 0 once it is not.
+TEST(FingerReleaseTest, aFingerSlidingOffARimUnloadsAsItRollsOffAndIsFreeOutOfReach)
+{
+    const OwnedFrame block = tableWithHoles([](double, double) { return false; }, 0u,
+                                            [](double x, double) { return x < 0.0 ? 0.005 : 0.0; });
+    FingerRenderer finger = makeFinger();
+    ASSERT_TRUE(finger.setFrames(block.view(), nullptr));
+    const RendererConfig cfg = RendererConfig::forMethod(Method::Finger);
+    const double r = cfg.fingerRadiusInBox();
+    const double top = coded(0.005);
+    glm::dvec3 hip{-0.010, 0.0, top + 0.004};
+    finger.reset(hip);
+    std::vector<double> force;
+    std::vector<double> x;
+    for (int k = 0; k < 500; ++k) {
+        hip.z = top + 0.004 - 0.006 * std::min(k, 50) / 50.0; // down to 2 mm under the top
+        if (k >= 300)
+            hip.x = std::min(hip.x + 0.0005, 0.005); // 50 cm/s at 1 kHz
+        const HapticOutput out = finger.update(hip, k / kRate);
+        force.push_back(glm::length(out.force));
+        x.push_back(hip.x);
+    }
+    const double pressed = force[299];
+    std::vector<double> falls; // while unloading past the edge, N
+    double outOfReach = 0.0;
+    for (std::size_t i = 300; i < force.size(); ++i) {
+        if (x[i] > 0.0 && force[i] > 0.0 && force[i] < force[i - 1] - 1e-3)
+            falls.push_back(force[i - 1] - force[i]);
+        if (x[i] > r + 2.0 * kBox.width / kStillW) // a pixel's vertex beyond the radius
+            outOfReach = std::max(outOfReach, force[i]);
+    }
+    std::printf("sliding off a rim 2 mm under its top at 50 cm/s: %.2f N pressed, %zu updates "
+                "unloading past the edge (falls %.3f, %.3f N), %.3f N once out of reach\n",
+                pressed, falls.size(), falls.empty() ? 0.0 : falls[0],
+                falls.size() < 2 ? 0.0 : falls[1], outOfReach);
+    EXPECT_NEAR(pressed, kStiffness * 0.002, 0.05);
+    ASSERT_GE(falls.size(), 2u);
+    EXPECT_NEAR(falls[0], cfg.maxForceStep / 8.0, 1e-6);
+    EXPECT_NEAR(falls[1], 2.0 * falls[0], 1e-6);
+    EXPECT_EQ(outOfReach, 0.0);
 }
 
 } // namespace

@@ -88,7 +88,10 @@
 ///    - *Within reach*: in contact, a HIP above the sensor surface at its own x–y is not free
 ///      while the surface within r/2 of it is still above it (a few pixels read far back under
 ///      the fingertip): the contact goes on while the HIP is under the stencil's plane and no
-///      deeper than last update (withinReach()).
+///      deeper than last update (withinReach()). A contact that ends with a surface above the
+///      HIP within r (a rim the fingertip slides off) unloads its last force from maxForceStep/8,
+///      the step doubling each update, while that surface stays within r; then it is 0
+///      (releaseCovered()).
 ///    - *Caught again*: a finger let go behind an occluder (or by a cut) is caught by the surface
 ///      it was held on as soon as that surface is within its held depth (plus the ramped step)
 ///      again, e.g. when the occluder leaves; before, it stayed free until lifted out. A finger
@@ -287,6 +290,9 @@ private:
     /// where it is deeper than last update. False where \a raw (sensorHeight(), m) is NaN (off
     /// the grid) or a hole, out of contact, on a wall, or without fix (a).
     [[nodiscard]] bool withinReach(const glm::dvec3 &hip, double raw) const noexcept;
+    /// \return the highest measured surface (m, box frame) at the HIP's x–y and on rings of
+    /// \a radius/2 and \a radius (m) around it (reachHeight(), feel.h); NaN where none is.
+    [[nodiscard]] double reachAbove(const glm::dvec3 &hip, double radius) const noexcept;
     /// Whether a finger not in contact, \a below (m) under the surface, comes into contact: a new
     /// contact no deeper than the capture depth, or a finger let go caught again by the surface it
     /// was held on; else it is behind the surface (behind_ set).
@@ -350,8 +356,10 @@ private:
     /// the offset (\a held moves to it), to unload at its bounded rate (finger_offset.cpp).
     void handOverRamp(const glm::dvec3 &hip, double stiffnessScale, glm::dvec3 &held) noexcept;
     /// A trip with the HIP under the surface now measured at its x–y (\a raw, m; a cut that
-    /// covered the finger): \a force (N) becomes the command at the trip, unloaded by
-    /// maxForceStep/8 an update while the HIP stays covered and free.
+    /// covered the finger), or a contact that ended with a surface above the HIP within the
+    /// fingertip's radius r (a rim it slid off): \a force (N) becomes the last command,
+    /// unloaded by maxForceStep/8 an update while the HIP stays covered, from maxForceStep/8
+    /// doubling each update (at most maxForceStep) while only the rim is within r.
     void releaseCovered(const glm::dvec3 &hip, double raw, const Candidate &c,
                         glm::dvec3 &force) noexcept;
 
@@ -389,10 +397,10 @@ private:
     glm::dvec2 lastGlide_{};   ///< The last update's glide direction (unit), or zero.
     glm::dvec3 offset_{};      ///< Filtered offset of the force's proxy from the HIP, m.
     glm::dvec3 offsetTrend_{}; ///< Its change an update (smoothOffset()'s trend), m.
-    glm::dvec3
-        release_{}; ///< A trip's force unloading under a covering surface (releaseCovered()), N.
-    glm::dvec3 lastOffset_{}; ///< The last update's unfiltered offset, m.
-    double outputGain_ = 1.0; ///< setOutputGain(): the caller's factor on the force, 0..1.
+    glm::dvec3 release_{};     ///< A force unloading after its contact ended (releaseCovered()), N.
+    double releaseStep_ = 0.0; ///< release_'s last step, N.
+    glm::dvec3 lastOffset_{};  ///< The last update's unfiltered offset, m.
+    double outputGain_ = 1.0;  ///< setOutputGain(): the caller's factor on the force, 0..1.
     bool contact_ = false;
     bool behind_ = false;      ///< HIP under the surface without contact (see the file comment).
     bool wall_ = false;        ///< The contact is on an object's side (finger_wall.cpp).
