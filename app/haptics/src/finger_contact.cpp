@@ -15,8 +15,9 @@
 /// - a finger that comes under the plane deeper than the capture depth came from the side under
 ///   an object, or the surface jumped onto it: it is behind the surface and free until it is out,
 ///   or until the surface it was held on is back within its held depth (enter());
-/// - in contact, the depth may grow by the HIP's own motion plus maxForceStep/(16k) an update
-///   (limitPush()): a surface that sweeps under a resting finger pushes it out at a bounded rate;
+/// - in contact, the depth may grow by the HIP's motion into the surface plus maxForceStep/(16k)
+///   an update (limitPush()): a surface that sweeps under a resting finger pushes it out at a
+///   bounded rate;
 /// - cuts from the depth itself (paper IV.C, fix (c)): most of the stencil where the last update's
 ///   was, refitted now, moved by more than the cut threshold (stencilStep()); a smaller step of its
 ///   height is ramped in;

@@ -309,20 +309,23 @@ double FingerRenderer::stencilStep(const FingerPlane &now) const noexcept
 
 void FingerRenderer::limitPush(const glm::dvec3 &hip, Candidate &c) noexcept
 {
-    // How deep the HIP is under the proxy may grow by the HIP's own motion (once pushed, its
-    // motion into the surface) and pushDepth_ an update: a surface that sweeps under a resting
-    // finger (an object's side, a turning head) pushes it out at a bounded rate, and a hand that
-    // yields rises onto it; one that does not is let go once the force has reached the device
-    // maximum (watchSaturation()).
+    // How deep the HIP is under the proxy may grow by the HIP's motion into the surface (along
+    // the candidate's offset; once pushed, against the push) and pushDepth_ an update: a surface
+    // that sweeps under a resting finger (an object's side, a turning head) pushes it out at a
+    // bounded rate, and a hand that yields rises onto it; one that does not is let go once the
+    // force has reached the device maximum (watchSaturation()). The motion along the surface adds
+    // nothing: a swipe at 50 cm/s onto each 3 mm tooth of the kitchen's ragged cabinet edge made
+    // its contact 0.66 mm deep in one update (0.5 N, after the last tooth's force had unloaded:
+    // a sign reversal each), where the depth it pressed the tooth's top by grew by none of it.
     const glm::dvec3 candidate = c.proxy - hip;
     const double depth = glm::length(candidate);
     const double reach = pushReach(hip);
     c.found = c.proxy;
-    // Once pushed, the HIP's motion counts only into the surface (against pushDir_): a hand that
-    // yields to the push is followed at pushDepth_ an update, not by its own motion as well (in
-    // the demo the force grew the faster the hand gave way, to the device maximum).
-    const double deeper =
-        pushed_ ? std::max(0.0, glm::dot(lastHip_ - hip, pushDir_)) + pushDepth_ : reach;
+    // Once pushed, the HIP's motion counts only against pushDir_: a hand that yields to the push
+    // is followed at pushDepth_ an update, not by its own motion as well (in the demo the force
+    // grew the faster the hand gave way, to the device maximum).
+    const glm::dvec3 into = pushed_ ? pushDir_ : (depth > 0.0 ? candidate / depth : pushDir_);
+    const double deeper = std::max(0.0, glm::dot(lastHip_ - hip, into)) + pushDepth_;
     const double allowed = lastDepth_ + deeper;
     if (!pushed_ && c.switched && lastDepth_ > 0.0) {
         // A proxy held to the side, replaced by the surface at the HIP's own x–y (slide()): the

@@ -7,7 +7,8 @@
 /// it go while the surface within its reach stays above it; a hole that opens while a fall is
 /// unloaded goes on unloading at the same rate, and so does a surface that falls away during a
 /// ramped step; a finger sliding off a rim unloads as it rolls off, and is free once the rim is
-/// out of its reach. Still 8-bit tables (finger_press.h).
+/// out of its reach; one gliding along a surface that rises under it is not pressed in by its
+/// motion along it. Still 8-bit tables (finger_press.h).
 
 #include <algorithm>
 #include <cmath>
@@ -237,6 +238,46 @@ TEST(FingerReleaseTest, aFingerSlidingOffARimUnloadsAsItRollsOffAndIsFreeOutOfRe
     EXPECT_NEAR(falls[0], cfg.maxForceStep / 8.0, 1e-6);
     EXPECT_NEAR(falls[1], 2.0 * falls[0], 1e-6);
     EXPECT_EQ(outOfReach, 0.0);
+}
+
+// A table that rises 2.8 mm in one frame under a finger gliding 1 mm over it at 50 cm/s (an
+// object's top arriving under it): the finger, 1.8 mm under the new top, is caught and pushed out
+// at the bounded push's rate. Its motion along the table does not press it in: the depth may grow
+// by the HIP's motion into the surface only. Before, it grew by all of the HIP's 0.5 mm an update
+// too: 0.53 N on the first update (on the kitchen's ragged cabinet edge, a swipe caught by each
+// 3 mm tooth after the last one's force had unloaded: a sign reversal on every tooth).
+TEST(FingerReleaseTest, aFingerGlidingAlongASurfaceThatRisesUnderItIsNotPressedInByItsMotion)
+{
+    FingerRenderer finger = makeFinger();
+    const RendererConfig cfg = RendererConfig::forMethod(Method::Finger);
+    const OwnedFrame low = raisedTable(0.0);
+    const OwnedFrame high = raisedTable(0.0028);
+    glm::dvec3 hip{-0.020, 0.0, coded(0.0) + 0.001};
+    finger.reset(hip);
+    double first = 0.0; // |F| on the first update in contact, N
+    double rise = 0.0;  // the largest rise of |F| in one update, N
+    double last = 0.0;
+    for (int k = 0; k < 80; ++k) {
+        if (k == 0 || k == 20)
+            ASSERT_TRUE(finger.setFrames((k == 0 ? low : high).view(), nullptr));
+        hip.x = -0.020 + 0.0005 * k; // 50 cm/s at 1 kHz
+        const HapticOutput out = finger.update(hip, k / kRate);
+        const double f = glm::length(out.force);
+        if (first == 0.0 && out.contact)
+            first = f;
+        rise = std::max(rise, f - last);
+        last = f;
+    }
+    const double push = cfg.maxForceStep / 16.0; // the bounded push's growth an update, N
+    const double expected = kStiffness * (coded(0.0028) - hip.z);
+    std::printf("a table rising 1.8 mm over a finger gliding at 50 cm/s: %.3f N on the first "
+                "update in contact, largest rise %.3f N an update (the bounded push %.3f N), "
+                "%.2f N at the end (k times the depth %.2f N)\n",
+                first, rise, push, last, expected);
+    EXPECT_GT(first, 0.0);
+    EXPECT_LE(first, push + 1e-6);
+    EXPECT_LE(rise, push + 1e-6);
+    EXPECT_NEAR(last, expected, 0.05);
 }
 
 } // namespace

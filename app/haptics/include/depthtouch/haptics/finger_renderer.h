@@ -61,9 +61,10 @@
 ///      glide's length, and the surface at the HIP's own x–y replaces a proxy held to the side
 ///      only when nearer by kFingerSwitchGain: beside an object's edge, two solutions cannot take
 ///      turns from one update to the next (before: a 500 Hz buzz pressing beside a typing hand).
-///    - *Bounded push*: the HIP's depth under the proxy grows by at most the HIP's own motion plus
-///      maxForceStep/(16k) per update, and once pushed by the HIP's motion into the surface
-///      (against the push) plus that, so a surface that sweeps under a resting finger (an
+///    - *Bounded push*: the HIP's depth under the proxy grows by at most the HIP's motion into
+///      the surface (along the offset; once pushed, against the push) plus maxForceStep/(16k)
+///      per update (a finger swiped onto a ledge is not pressed into it by its motion along
+///      it), so a surface that sweeps under a resting finger (an
 ///      object's side, a turning head) pushes it out at a bounded rate, and a hand that yields
 ///      rises onto it instead of being thrown out at full force or left behind it (a yielding
 ///      hand's own motion does not speed the push up). While bounded, the push's direction
@@ -316,10 +317,9 @@ private:
     /// HIP's own x–y, the plane fitted there (a finger under the surface whose stencil's median
     /// lies beside an object's silhouette).
     void straightUp(const glm::dvec3 &hip, double raw, Candidate &c) const noexcept;
-    /// \return how much the HIP's depth under the proxy (or behind a wall) may grow this update:
-    /// the HIP's own motion since the last update plus pushDepth_, m (the bounded push). A pushed
-    /// limitPush() and a wall's growth count only the motion into the surface instead; the wall
-    /// still shrinks by at most this.
+    /// \return the HIP's own motion since the last update plus pushDepth_, m: how far a bounded
+    /// push's direction turns across an update (limitPush()), and the most a wall's depth
+    /// shrinks by; the depths themselves grow by the HIP's motion into the surface only.
     [[nodiscard]] double pushReach(const glm::dvec3 &hip) const noexcept;
     /// \return how far the stencil \a now (refitted where the last update's plane was) moved
     /// since that update: the median over its taps of |now − then|, m; a tap that is or was a hole
