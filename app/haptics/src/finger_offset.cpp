@@ -113,7 +113,7 @@ void FingerRenderer::handOverRamp(const glm::dvec3 &hip, double stiffnessScale,
 }
 
 void FingerRenderer::releaseCovered(const glm::dvec3 &hip, double raw, const Candidate &c,
-                                    glm::dvec3 &force) noexcept
+                                    bool wasInContact, glm::dvec3 &force) noexcept
 {
     // A cut that covers a pressed finger (a hand over a held press, an occluder's edge over the
     // whole fingertip patch) trips and lets it go behind the new surface. Its force went in the
@@ -121,23 +121,26 @@ void FingerRenderer::releaseCovered(const glm::dvec3 &hip, double raw, const Can
     // person's edge over it, gave 4.9 -> 2.9 -> 0.9 -> 0 N, three knocks. With the HIP under the
     // new surface there is no free space for that force to push the finger into: it unloads at
     // maxForceStep/8 an update, as a surface that falls away does, while the HIP stays covered.
-    // A contact that ends with a surface above the HIP within the fingertip's radius (a finger
-    // sliding off a rim: free at half the radius, withinReach()) unloads from maxForceStep/8, the
-    // step doubling each update (at most maxForceStep), while the rim stays within the radius:
-    // a ball rolling off an edge is pushed less and less, slowly at first (its depth falls as
-    // r − √(x² + h²) with its distance x past the edge). It went to 0 in one update: a swipe at
-    // 50 cm/s 2 mm into the kitchen's ragged cabinet edge (3 mm teeth, 3 mm gaps) rose to 0.8 N
-    // on each tooth and dropped it at each gap, 33 sign reversals a second. At a constant
-    // maxForceStep/8 it outlasted the rim by an update at 50 cm/s where the measured edge lies a
-    // pixel beyond the true one (1 ms of phantom force on six clips). Out of the radius the force
-    // is 0, as the release of a contact was.
+    // A contact that ends (\a wasInContact: also where a hold over a hole ended it, measured
+    // again lower) with a surface above the HIP within 3r/4 (a finger sliding off a rim: free at
+    // r/2, withinReach()) unloads from maxForceStep/8, the step doubling each update (at most
+    // maxForceStep), while the rim stays within 3r/4: a ball rolling off an edge is pushed less
+    // and less, slowly at first (its depth falls as r − √(x² + h²) with its distance x past the
+    // edge). It went to 0 in one update: a swipe at 50 cm/s 2 mm into the kitchen's ragged
+    // cabinet edge (3 mm teeth, 3 mm gaps) rose to 0.8 N on each tooth and dropped it at each
+    // gap, 33 sign reversals a second. At a constant maxForceStep/8, or out to the whole radius,
+    // it outlasted the rim by an update at 50 cm/s where the measured edge lies a pixel beyond
+    // the true one (1-12 ms of phantom force over the clips). Out of 3r/4 the force is 0, as the
+    // release of a contact was.
     if (c.contact || !config_.smoothOffset) {
         release_ = {};
         return;
     }
     const bool covered = raw > hip.z; // false for NaN
-    const bool started = c.trip ? covered : contact_;
-    if (!covered && !(reachAbove(hip, radius_) > hip.z)) {
+    // A hold over a hole that ends under what came over it (contact_ cleared) leaves the finger
+    // free with no force, as the hole did before the hold (finger_hole.cpp).
+    const bool started = c.trip ? covered : (covered ? contact_ : wasInContact);
+    if (!covered && !(reachAbove(hip, 0.75 * radius_) > hip.z)) {
         release_ = {};
         return;
     }

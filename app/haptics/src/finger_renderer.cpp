@@ -375,7 +375,8 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     Candidate c;
     c.proxy = hip;
     const bool wasResting = resting_;
-    pushed_ = pushing_ && contact_; // limitPush() bounded the last update's proxy
+    const bool wasInContact = contact_; // holdOverHole() may end it before the search
+    pushed_ = pushing_ && contact_;     // limitPush() bounded the last update's proxy
     pushing_ = false;
     const bool resting = restingContact(hip, t);
     if (holdOverHole(hip, raw, t, c)) {
@@ -457,7 +458,7 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
             friction_.release();
     }
     glm::dvec3 rawForce = force_.spring(hip, held, c.contact, t, stiffnessScale);
-    releaseCovered(hip, raw, c, rawForce);
+    releaseCovered(hip, raw, c, wasInContact, rawForce);
     out.force = force_.shape(rawForce, t, c.contact, c.trip || c.stepped);
     watchSaturation(out.force, t, c.contact);
     out.proxy = held;

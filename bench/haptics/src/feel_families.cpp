@@ -33,6 +33,11 @@ constexpr double kApproachSpeed = 0.05; ///< Press-in and lift speed of all but 
 /// A moving stroke climbs (or steps down) a silhouette's side at most this many times faster than
 /// it moves along (the hand lifts over an edge as it goes on: a fast stroke runs into the side).
 constexpr double kClimb = 4.0;
+/// A moving stroke's hand does not follow the rolled height's jitter update by update (the ball's
+/// taps crossing hole pixels and noise: 0.1-0.2 mm up and down at 1 kHz over bonn-crowd's holes):
+/// the height it follows moves only where the rolled height leaves a band of ± this around it (a
+/// play operator), m.
+constexpr double kPlay = 0.1e-3;
 
 /// The frame whose PTS is the last at or before \a t.
 std::size_t frameAt(const FeelScene &s, double t) noexcept
@@ -142,8 +147,10 @@ Stroke sampleStroke(const FeelScene &scene, const Motion &m, const FamilyPlan &p
                 z = target;
             const double reach = m.speed * dt;
             const double climb = kClimb * reach;
-            if (std::isfinite(target)) // up or down a silhouette's side, also before and after
-                z += std::clamp(target - z, -climb, climb);
+            if (std::isfinite(target)) { // up or down a silhouette's side, also before and after
+                const double follow = std::clamp(z, target - kPlay, target + kPlay);
+                z += std::clamp(follow - z, -climb, climb);
+            }
             if (mainPhase)
                 s += reach;
             base = z;

@@ -198,7 +198,7 @@ TEST(FingerReleaseTest, aSurfaceThatFallsAwayDuringARampedStepUnloadsAtTheBounde
 // in one update, a force the fingertip still rests on the rim with (on the kitchen's ragged
 // cabinet edge, 0.8 N up on each 3 mm tooth and down at once in each gap: 33 sign reversals a
 // second). Now the force unloads from maxForceStep/8, the step doubling each update, while the
-// rim is within the radius, and is 0 once it is not.
+// rim is within 3/4 of the radius, and is 0 once it is not.
 TEST(FingerReleaseTest, aFingerSlidingOffARimUnloadsAsItRollsOffAndIsFreeOutOfReach)
 {
     const OwnedFrame block = tableWithHoles([](double, double) { return false; }, 0u,
@@ -226,7 +226,7 @@ TEST(FingerReleaseTest, aFingerSlidingOffARimUnloadsAsItRollsOffAndIsFreeOutOfRe
     for (std::size_t i = 300; i < force.size(); ++i) {
         if (x[i] > 0.0 && force[i] > 0.0 && force[i] < force[i - 1] - 1e-3)
             falls.push_back(force[i - 1] - force[i]);
-        if (x[i] > r + 2.0 * kBox.width / kStillW) // a pixel's vertex beyond the radius
+        if (x[i] > 0.75 * r + 2.0 * kBox.width / kStillW) // a pixel's vertex beyond 3r/4
             outOfReach = std::max(outOfReach, force[i]);
     }
     std::printf("sliding off a rim 2 mm under its top at 50 cm/s: %.2f N pressed, %zu updates "
@@ -258,8 +258,9 @@ TEST(FingerReleaseTest, aFingerGlidingAlongASurfaceThatRisesUnderItIsNotPressedI
     double rise = 0.0;  // the largest rise of |F| in one update, N
     double last = 0.0;
     for (int k = 0; k < 80; ++k) {
-        if (k == 0 || k == 20)
+        if (k == 0 || k == 20) {
             ASSERT_TRUE(finger.setFrames((k == 0 ? low : high).view(), nullptr));
+        }
         hip.x = -0.020 + 0.0005 * k; // 50 cm/s at 1 kHz
         const HapticOutput out = finger.update(hip, k / kRate);
         const double f = glm::length(out.force);

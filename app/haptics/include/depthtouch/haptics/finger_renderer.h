@@ -90,9 +90,9 @@
 ///      while the surface within r/2 of it is still above it (a few pixels read far back under
 ///      the fingertip): the contact goes on while the HIP is under the stencil's plane and no
 ///      deeper than last update (withinReach()). A contact that ends with a surface above the
-///      HIP within r (a rim the fingertip slides off) unloads its last force from maxForceStep/8,
-///      the step doubling each update, while that surface stays within r; then it is 0
-///      (releaseCovered()).
+///      HIP within 3r/4 (a rim the fingertip slides off) unloads its last force from
+///      maxForceStep/8, the step doubling each update, while that surface stays within 3r/4;
+///      then it is 0 (releaseCovered()).
 ///    - *Caught again*: a finger let go behind an occluder (or by a cut) is caught by the surface
 ///      it was held on as soon as that surface is within its held depth (plus the ramped step)
 ///      again, e.g. when the occluder leaves; before, it stayed free until lifted out. A finger
@@ -356,11 +356,12 @@ private:
     /// the offset (\a held moves to it), to unload at its bounded rate (finger_offset.cpp).
     void handOverRamp(const glm::dvec3 &hip, double stiffnessScale, glm::dvec3 &held) noexcept;
     /// A trip with the HIP under the surface now measured at its x–y (\a raw, m; a cut that
-    /// covered the finger), or a contact that ended with a surface above the HIP within the
-    /// fingertip's radius r (a rim it slid off): \a force (N) becomes the last command,
-    /// unloaded by maxForceStep/8 an update while the HIP stays covered, from maxForceStep/8
-    /// doubling each update (at most maxForceStep) while only the rim is within r.
-    void releaseCovered(const glm::dvec3 &hip, double raw, const Candidate &c,
+    /// covered the finger), or a contact (\a wasInContact: at the update's start) that ended
+    /// with a surface above the HIP within 3r/4 (a rim it slid off, also out of a hold over a
+    /// hole): \a force (N) becomes the last command, unloaded by maxForceStep/8 an update while
+    /// the HIP stays covered, from maxForceStep/8 doubling each update (at most maxForceStep)
+    /// while only the rim is within 3r/4.
+    void releaseCovered(const glm::dvec3 &hip, double raw, const Candidate &c, bool wasInContact,
                         glm::dvec3 &force) noexcept;
 
     /// The god-object on the finger-scale surface from q = (\a startX, \a startY) (m): the proxy
