@@ -12,10 +12,10 @@
 /// synthetic occluder's press at its edge).
 ///
 /// Now the proxy keeps its height and its x–y offset from the HIP (the force stays as it was: it
-/// shrinks as the finger lifts, and does not grow as it presses deeper, for there is nothing
-/// measured to press into) for kFingerHoleHold while the HIP stays within r of where the hole
-/// opened (a finger that slides on past the rim finds the hole free, as a fingertip of radius r
-/// rolls off an edge) and under the held proxy's height. When the hold ends, the force unloads by
+/// shrinks as the finger lifts, and neither grows nor turns as it presses deeper, for there is
+/// nothing measured to press into) for kFingerHoleHold while the HIP stays within r of where the
+/// hole opened (a finger that slides on past the rim finds the hole free, as a fingertip of radius
+/// r rolls off an edge) and under the held proxy's height. When the hold ends, the force unloads by
 /// maxForceStep/8 an update (0.25 N) along its last direction instead of at once: a finger lifting
 /// off a rim beside the hole, its force mostly sideways, stepped 0.7-0.8 N off when it passed the
 /// proxy's height. A measured spot again ends the hold: the finger slides on from the held proxy,
@@ -69,7 +69,11 @@ bool FingerRenderer::holdOverHole(const glm::dvec3 &hip, double raw, double t,
     // ramped step an update along the last direction: the force unloads, never steps off.
     const bool held = t - holeSince_ <= kFingerHoleHold &&
                       glm::length(glm::dvec2(hip.x, hip.y) - holeAt_) <= radius_ && goal.z > hip.z;
-    if (held)
+    // Pressed deeper than the hold's depth, the force keeps its direction as well as its size:
+    // turned toward the deeper HIP, it swung by 0.06 N an update before the hold ended (a swipe
+    // down into the stereo occluder's shadow band, then let go over the backdrop beyond it: a
+    // force that turns and then drops is a sign reversal).
+    if (held && reach <= holeDepth_)
         holeDir_ = offset / reach;
     const double depth =
         held ? std::min(reach, holeDepth_) : std::min(holeDepth_, lastDepth_ - 0.5 * stepDepth_);

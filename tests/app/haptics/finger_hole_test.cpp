@@ -233,5 +233,31 @@ TEST(FingerHoleTest, aFingerLiftingOffASlopeOverAHoleLetsGoGently)
     EXPECT_EQ(press.trips(), 0);
 }
 
+// The same finger on the 27° slope, when the slope turns to holes and the finger presses 2 mm
+// deeper in 20 ms: held, the force keeps its size (nothing measured to press into) and its
+// direction. Before, it turned toward the deeper HIP by up to 0.06 N an update while its size
+// stayed; a force that turns and then drops when the hold ends (the stereo occluder's shadow
+// band, swiped into at 50 cm/s, the backdrop beyond it 10 mm lower) is a sign reversal.
+TEST(FingerHoleTest, aFingerPressedDeeperOverAHoleKeepsItsForcesDirection)
+{
+    const auto slope = [](double x, double) { return 0.5 * x; };
+    const OwnedFrame measured = tableWithHoles([](double, double) { return false; }, 24u, slope);
+    const OwnedFrame unseen =
+        tableWithHoles([](double x, double) { return std::fabs(x) < 0.006; }, 24u, slope);
+    FramePress press(glm::dvec3(0.0, 0.0, -0.005 - 0.001 / std::cos(std::atan(0.5))));
+    const Log &log = press.log;
+    press.run(measured, 200);
+    const glm::dvec3 pressed = log.out.back().force;
+    press.run(unseen, 20, 0.0, -0.002);
+    const glm::dvec3 deeper = log.out.back().force;
+    std::printf("pressed 2 mm deeper over a hole on a slope: (%.3f, %.3f) N before, (%.3f, %.3f) N "
+                "after, largest step %.4f N, %d trip(s)\n",
+                pressed.x, pressed.z, deeper.x, deeper.z, log.largestStep(201), press.trips());
+    EXPECT_LT(pressed.x, -0.3); // it leans away from the slope
+    EXPECT_NEAR(glm::length(deeper - pressed), 0.0, 1e-6);
+    EXPECT_LT(log.largestStep(201), 1e-6);
+    EXPECT_EQ(press.trips(), 0);
+}
+
 } // namespace
 } // namespace depthtouch::haptics::test

@@ -108,10 +108,11 @@
 ///      finger (the shadow band a structured-light sensor casts beside an occluder, a dropout)
 ///      is the surface unseen, as under an occluder, not the surface gone: the finger is held on
 ///      it (the proxy keeps its height and its offset from the HIP, the depth no more than it
-///      was) for kFingerHoleHold while it stays within r of where the hole opened and under the
-///      proxy's height, then its force unloads by maxForceStep/8 an update along its last
-///      direction; measured again a cut off the held surface, the finger is free and caught by
-///      what is there (finger_hole.cpp). A free finger that meets a hole finds free space.
+///      was, its direction kept while the HIP is deeper than that) for kFingerHoleHold while it
+///      stays within r of where the hole opened and under the proxy's height, then its force
+///      unloads by maxForceStep/8 an update along its last direction; measured again a cut off the
+///      held surface, the finger is free and caught by what is there (finger_hole.cpp). A free
+///      finger that meets a hole finds free space.
 /// 5b. **The penalty contact** (RendererConfig::fingerContact; GodObject, steps 2–5, by
 ///    default): with FingerContact::Penalty the contact is the penalty of the plane under the
 ///    HIP's own x–y (finger_contact.cpp): the proxy is the HIP's projection on it, moving at most
