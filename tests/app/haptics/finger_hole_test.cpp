@@ -201,6 +201,18 @@ TEST(FingerHoleTest, anObjectArrivingOverAHeldHoleDoesNotTrip)
     EXPECT_EQ(press.force(), 0.0);
 }
 
+/// A 27° slope (z = x/2 over the table at −5 mm) measured, the same with holes where |x| < 6 mm,
+/// and a HIP 1 mm into it (along its normal) at x = y = 0, m.
+struct SlopeWithHole {
+    OwnedFrame measured = tableWithHoles([](double, double) { return false; }, 24u, rise);
+    OwnedFrame unseen =
+        tableWithHoles([](double x, double) { return std::fabs(x) < 0.006; }, 24u, rise);
+    glm::dvec3 hip{0.0, 0.0, -0.005 - 0.001 / std::cos(std::atan(0.5))};
+
+private:
+    static double rise(double x, double) { return 0.5 * x; }
+};
+
 // A finger pressed 1 mm into a 27° slope (its force leaning 0.45 of its size sideways), when the
 // slope under it turns to holes and the finger lifts 3 mm in 30 ms: held, the force shrinks as it
 // lifts; once the HIP is at the held proxy's height the rest of it (mostly sideways) unloads by
@@ -209,16 +221,13 @@ TEST(FingerHoleTest, anObjectArrivingOverAHeldHoleDoesNotTrip)
 // border, lifting off its rim in a tap).
 TEST(FingerHoleTest, aFingerLiftingOffASlopeOverAHoleLetsGoGently)
 {
-    const auto slope = [](double x, double) { return 0.5 * x; };
-    const OwnedFrame measured = tableWithHoles([](double, double) { return false; }, 24u, slope);
-    const OwnedFrame unseen =
-        tableWithHoles([](double x, double) { return std::fabs(x) < 0.006; }, 24u, slope);
-    FramePress press(glm::dvec3(0.0, 0.0, -0.005 - 0.001 / std::cos(std::atan(0.5))));
+    const SlopeWithHole slope;
+    FramePress press(slope.hip);
     const Log &log = press.log;
-    press.run(measured, 200);
+    press.run(slope.measured, 200);
     const glm::dvec3 pressed = log.out.back().force;
-    press.run(unseen, 30, 0.0, 0.003);
-    press.run(unseen, 20, 0.003, 0.003);
+    press.run(slope.unseen, 30, 0.0, 0.003);
+    press.run(slope.unseen, 20, 0.003, 0.003);
     double lowestZ = 0.0;
     for (std::size_t i = 200; i < log.out.size(); ++i)
         lowestZ = std::min(lowestZ, log.out[i].force.z);
@@ -240,15 +249,12 @@ TEST(FingerHoleTest, aFingerLiftingOffASlopeOverAHoleLetsGoGently)
 // band, swiped into at 50 cm/s, the backdrop beyond it 10 mm lower) is a sign reversal.
 TEST(FingerHoleTest, aFingerPressedDeeperOverAHoleKeepsItsForcesDirection)
 {
-    const auto slope = [](double x, double) { return 0.5 * x; };
-    const OwnedFrame measured = tableWithHoles([](double, double) { return false; }, 24u, slope);
-    const OwnedFrame unseen =
-        tableWithHoles([](double x, double) { return std::fabs(x) < 0.006; }, 24u, slope);
-    FramePress press(glm::dvec3(0.0, 0.0, -0.005 - 0.001 / std::cos(std::atan(0.5))));
+    const SlopeWithHole slope;
+    FramePress press(slope.hip);
     const Log &log = press.log;
-    press.run(measured, 200);
+    press.run(slope.measured, 200);
     const glm::dvec3 pressed = log.out.back().force;
-    press.run(unseen, 20, 0.0, -0.002);
+    press.run(slope.unseen, 20, 0.0, -0.002);
     const glm::dvec3 deeper = log.out.back().force;
     std::printf("pressed 2 mm deeper over a hole on a slope: (%.3f, %.3f) N before, (%.3f, %.3f) N "
                 "after, largest step %.4f N, %d trip(s)\n",
