@@ -201,13 +201,20 @@ TEST(FingerHoleTest, anObjectArrivingOverAHeldHoleDoesNotTrip)
     EXPECT_EQ(press.force(), 0.0);
 }
 
-/// A 27° slope (z = x/2 over the table at −5 mm) measured, the same with holes where |x| < 6 mm,
-/// and a HIP 1 mm into it (along its normal) at x = y = 0, m.
+/// A 27° slope (z = x/2 over the table at −5 mm) measured, the same with holes where |x| < 6 mm
+/// (`unseen`), and a finger pressed 1 mm into it (along its normal) at x = y = 0 for 200 updates
+/// on the measured slope: its force then, N.
 struct SlopeWithHole {
+    SlopeWithHole()
+    {
+        press.run(measured, 200);
+        pressed = press.log.out.back().force;
+    }
     OwnedFrame measured = tableWithHoles([](double, double) { return false; }, 24u, rise);
     OwnedFrame unseen =
         tableWithHoles([](double x, double) { return std::fabs(x) < 0.006; }, 24u, rise);
-    glm::dvec3 hip{0.0, 0.0, -0.005 - 0.001 / std::cos(std::atan(0.5))};
+    FramePress press{glm::dvec3(0.0, 0.0, -0.005 - 0.001 / std::cos(std::atan(0.5)))};
+    glm::dvec3 pressed{};
 
 private:
     static double rise(double x, double) { return 0.5 * x; }
@@ -221,11 +228,10 @@ private:
 // border, lifting off its rim in a tap).
 TEST(FingerHoleTest, aFingerLiftingOffASlopeOverAHoleLetsGoGently)
 {
-    const SlopeWithHole slope;
-    FramePress press(slope.hip);
+    SlopeWithHole slope;
+    FramePress &press = slope.press;
     const Log &log = press.log;
-    press.run(slope.measured, 200);
-    const glm::dvec3 pressed = log.out.back().force;
+    const glm::dvec3 pressed = slope.pressed;
     press.run(slope.unseen, 30, 0.0, 0.003);
     press.run(slope.unseen, 20, 0.003, 0.003);
     double lowestZ = 0.0;
@@ -249,11 +255,10 @@ TEST(FingerHoleTest, aFingerLiftingOffASlopeOverAHoleLetsGoGently)
 // band, swiped into at 50 cm/s, the backdrop beyond it 10 mm lower) is a sign reversal.
 TEST(FingerHoleTest, aFingerPressedDeeperOverAHoleKeepsItsForcesDirection)
 {
-    const SlopeWithHole slope;
-    FramePress press(slope.hip);
+    SlopeWithHole slope;
+    FramePress &press = slope.press;
     const Log &log = press.log;
-    press.run(slope.measured, 200);
-    const glm::dvec3 pressed = log.out.back().force;
+    const glm::dvec3 pressed = slope.pressed;
     press.run(slope.unseen, 20, 0.0, -0.002);
     const glm::dvec3 deeper = log.out.back().force;
     std::printf("pressed 2 mm deeper over a hole on a slope: (%.3f, %.3f) N before, (%.3f, %.3f) N "
