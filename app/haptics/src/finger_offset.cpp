@@ -140,6 +140,8 @@ void FingerRenderer::releaseCovered(const glm::dvec3 &hip, double raw, const Can
     // A hold over a hole that ends under what came over it (contact_ cleared) leaves the finger
     // free with no force, as the hole did before the hold (finger_hole.cpp).
     const bool started = c.trip ? covered : (covered ? contact_ : wasInContact);
+    if (!started && release_ == glm::dvec3{})
+        return; // nothing to unload (a free finger: no lookups)
     if (!covered && !(reachAbove(hip, 0.75 * radius_) > hip.z)) {
         release_ = {};
         return;
