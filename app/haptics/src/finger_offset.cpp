@@ -123,15 +123,16 @@ void FingerRenderer::releaseCovered(const glm::dvec3 &hip, double raw, const Can
     // maxForceStep/8 an update, as a surface that falls away does, while the HIP stays covered.
     // A contact that ends (\a wasInContact: also where a hold over a hole ended it, measured
     // again lower) with a surface above the HIP within 3r/4 (a finger sliding off a rim: free at
-    // r/2, withinReach()) unloads from maxForceStep/8, the step doubling each update (at most
-    // maxForceStep), while the rim stays within 3r/4: a ball rolling off an edge is pushed less
-    // and less, slowly at first (its depth falls as r − √(x² + h²) with its distance x past the
-    // edge). It went to 0 in one update: a swipe at 50 cm/s 2 mm into the kitchen's ragged
+    // r/2, withinReach()) unloads from maxForceStep/8, the step doubling to maxForceStep/4 (0.25,
+    // 0.5, 0.5 N ...), while the rim stays within 3r/4: a ball rolling off an edge is pushed
+    // less and less, slowly at first (its depth falls as r − √(x² + h²) with its distance x past
+    // the edge). It went to 0 in one update: a swipe at 50 cm/s 2 mm into the kitchen's ragged
     // cabinet edge (3 mm teeth, 3 mm gaps) rose to 0.8 N on each tooth and dropped it at each
     // gap, 33 sign reversals a second. At a constant maxForceStep/8, or out to the whole radius,
     // it outlasted the rim by an update at 50 cm/s where the measured edge lies a pixel beyond
-    // the true one (1-12 ms of phantom force over the clips). Out of 3r/4 the force is 0, as the
-    // release of a contact was.
+    // the true one (1-12 ms of phantom force over the clips); doubling up to maxForceStep, its
+    // last step was a spike (0.7 N beside the living room's moving object). Out of 3r/4 the force
+    // is 0, as the release of a contact was.
     if (c.contact || !config_.smoothOffset) {
         release_ = {};
         return;
@@ -151,7 +152,7 @@ void FingerRenderer::releaseCovered(const glm::dvec3 &hip, double raw, const Can
         releaseStep_ = 0.0;
     }
     const double least = config_.maxForceStep / 8.0;
-    releaseStep_ = covered ? least : std::clamp(2.0 * releaseStep_, least, config_.maxForceStep);
+    releaseStep_ = covered ? least : std::clamp(2.0 * releaseStep_, least, 2.0 * least);
     const double length = glm::length(release_);
     release_ = length > releaseStep_ ? release_ * ((length - releaseStep_) / length) : glm::dvec3{};
     force = release_;

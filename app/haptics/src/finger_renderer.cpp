@@ -301,7 +301,7 @@ double FingerRenderer::stencilStep(const FingerPlane &now) const noexcept
 {
     double moved[9];
     for (int k = 0; k < 9; ++k)
-        moved[k] = field_.overHole(now.taps[k]) || field_.overHole(lastTaps_[k])
+        moved[k] = field_.besideHole(now.taps[k]) || field_.besideHole(lastTaps_[k])
                        ? 0.0
                        : std::fabs(now.taps[k] - lastTaps_[k]);
     return median9(moved);

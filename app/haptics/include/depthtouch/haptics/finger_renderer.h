@@ -91,7 +91,7 @@
 ///      the fingertip): the contact goes on while the HIP is under the stencil's plane and no
 ///      deeper than last update (withinReach()). A contact that ends with a surface above the
 ///      HIP within 3r/4 (a rim the fingertip slides off) unloads its last force from
-///      maxForceStep/8, the step doubling each update, while that surface stays within 3r/4;
+///      maxForceStep/8, the step doubling to maxForceStep/4, while that surface stays within 3r/4;
 ///      then it is 0 (releaseCovered()).
 ///    - *Caught again*: a finger let go behind an occluder (or by a cut) is caught by the surface
 ///      it was held on as soon as that surface is within its held depth (plus the ramped step)
@@ -324,8 +324,9 @@ private:
     [[nodiscard]] double pushReach(const glm::dvec3 &hip) const noexcept;
     /// \return how far the stencil \a now (refitted where the last update's plane was) moved
     /// since that update: the median over its taps of |now − then|, m; a tap that is or was a hole
-    /// moved 0 (a hole opening is no cut). A cut moves the whole patch; an object's silhouette
-    /// passing over the finger moves some of the taps only, and is no cut.
+    /// or on a hole's cliff (HeightField::besideHole()) moved 0 (a hole opening is no cut). A cut
+    /// moves the whole patch; an object's silhouette passing over the finger moves some of the
+    /// taps only, and is no cut.
     [[nodiscard]] double stencilStep(const FingerPlane &now) const noexcept;
     /// \return whether \a p (m) is in free space: off the grid or above the surface at its x–y.
     [[nodiscard]] bool freeAt(const glm::dvec3 &p) const noexcept;
@@ -360,7 +361,7 @@ private:
     /// covered the finger), or a contact (\a wasInContact: at the update's start) that ended
     /// with a surface above the HIP within 3r/4 (a rim it slid off, also out of a hold over a
     /// hole): \a force (N) becomes the last command, unloaded by maxForceStep/8 an update while
-    /// the HIP stays covered, from maxForceStep/8 doubling each update (at most maxForceStep)
+    /// the HIP stays covered, from maxForceStep/8 doubling to maxForceStep/4
     /// while only the rim is within 3r/4.
     void releaseCovered(const glm::dvec3 &hip, double raw, const Candidate &c, bool wasInContact,
                         glm::dvec3 &force) noexcept;

@@ -177,6 +177,9 @@ public:
 
     /// Depth of a hole's vertex under the back of the box, m (see the class comment).
     static constexpr double holeDrop() noexcept { return 1.0; }
+    /// How far under the back of the box a height must lie to be on a hole's cliff
+    /// (besideHole()), m: a micrometre, above any rounding of the far plane's height.
+    static constexpr double kBesideHoleMargin = 1e-6;
     /// \return the z of a hole's vertex, m: −box depth/2 − holeDrop().
     [[nodiscard]] double holeZ() const noexcept { return holeZ_; }
     /// \return true when a height from this field (vertexZ(), heightAt()) lies at least half of
@@ -184,6 +187,13 @@ public:
     [[nodiscard]] bool overHole(double z) const noexcept
     {
         return z < -halfDepth_ - 0.5 * holeDrop();
+    }
+    /// \return true when a height from this field lies under the back of the box at all: no
+    /// measured vertex does (the far plane is the deepest measured height), so it is interpolated
+    /// from a hole's vertex, on the cliff at a hole's border.
+    [[nodiscard]] bool besideHole(double z) const noexcept
+    {
+        return z < -halfDepth_ - kBesideHoleMargin;
     }
 
     /// \return vertex (c, r) in the scene-box frame, m.
