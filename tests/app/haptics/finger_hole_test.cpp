@@ -270,5 +270,34 @@ TEST(FingerHoleTest, aFingerPressedDeeperOverAHoleKeepsItsForcesDirection)
     EXPECT_EQ(press.trips(), 0);
 }
 
+// A finger pressed 1 mm into the far plane (the backdrop nothing nearer was measured in front of)
+// between a hole's border and an object's edge, as on the living room at 8 bits: from one frame
+// to the next the hole grows to cover a pixel more (the fingertip patch's taps on that side lie
+// on the cliff to its vertices, 23-167 mm lower) and the object's edge pixels read the far plane
+// (the other side's taps 23 mm lower), while the far plane under the finger stays. Six taps of
+// nine moved by more than the cut threshold, and safety tripped: every 8 frames in `bench feel
+// --quick`, 4 false trips in a 1 s hold. A tap on a hole's cliff (under the back of the box at
+// all, HeightField::besideHole()) moved 0, as one in the hole does: no cut.
+TEST(FingerHoleTest, aHoleGrowingBesideAFingerOnTheFarPlaneIsNoCut)
+{
+    const double r = RendererConfig::forMethod(Method::Finger).fingerRadiusInBox();
+    const auto farPlane = [](double, double) { return -0.015; }; // the table 15 mm down: z −20 mm
+    const auto objectBeside = [r](double x, double) { return x > 0.8 * r ? 0.0084 : -0.015; };
+    const OwnedFrame before =
+        tableWithHoles([r](double x, double) { return x < -1.4 * r; }, 24u, objectBeside);
+    const OwnedFrame after =
+        tableWithHoles([r](double x, double) { return x < -r; }, 24u, farPlane);
+    FramePress press(glm::dvec3(0.0, 0.0, -0.021));
+    press.run(before, 200);
+    const double pressed = press.force();
+    press.run(after, 50);
+    std::printf("a hole growing and an object's edge receding beside a finger on the far plane: "
+                "%.2f N pressed, %.2f N after, %d trip(s)\n",
+                pressed, press.force(), press.trips());
+    EXPECT_NEAR(pressed, 800.0 * 0.001, 0.1);
+    EXPECT_EQ(press.trips(), 0);
+    EXPECT_NEAR(press.force(), pressed, 0.1);
+}
+
 } // namespace
 } // namespace depthtouch::haptics::test
