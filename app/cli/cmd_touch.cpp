@@ -40,6 +40,7 @@
 #include "depthtouch/depth/conversion.h"
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptics/renderer.h"
+#include "depthtouch/haptics/renderer_table.h"
 #include "depthtouch/haptics/replay.h"
 #include "depthtouch/receiver/depth_file.h"
 #include "depthtouch/platform/file_access.h"
@@ -115,8 +116,9 @@ const OptionRow<TouchOptions> kTouchRows[] = {
     {"max-force", &TouchOptions::maxForce, "Device maximum force (N, up to 1000)"},
     {"box-width", &TouchOptions::boxWidth, "Scene box width (m)"},
     {"box-depth", &TouchOptions::boxDepth, "Scene box depth (m)"},
-    {"method", &TouchOptions::method, "finger | modified | proxy-graph | mesh-bvh",
-     oneOf("finger modified proxy-graph mesh-bvh")},
+    {"method", &TouchOptions::method,
+     "Haptic renderer, a row of the renderer table (docs/architecture.md)",
+     oneOf(haptics::rendererChoiceWords())},
     {"no-correction", &TouchOptions::noCorrection, "Turn off fix (a), collision correction"},
     {"no-interpolation", &TouchOptions::noInterpolation, "Turn off fix (b), surface interpolation"},
     {"no-safety", &TouchOptions::noSafety, "Turn off fix (c), force-jump safety"},
@@ -267,9 +269,10 @@ void printTouchSummary(const TouchOptions &o, const std::vector<haptics::ForceLo
     std::fprintf(
         sink,
         "touch: %zu updates over %.3f s at %g Hz (%s): %.0f %% in contact, max force %.2f N "
-        "(device maximum %.2f N), %zu safety trips; force log %s\n",
+        "(device maximum %.2f N), %zu safety trips, energy into the hand %.3f mJ (peak %.3f mJ); "
+        "force log %s\n",
         rows.size(), sum.seconds, o.rate, o.method.c_str(), sum.contactPercent, sum.maxForce,
-        o.maxForce, sum.trips, o.out.c_str());
+        o.maxForce, sum.trips, 1e3 * sum.energy, 1e3 * sum.energyPeak, o.out.c_str());
     if (!readingNote.empty())
         std::fprintf(sink, "touch: depth: %s\n", readingNote.c_str());
 }
@@ -279,7 +282,7 @@ int runTouch(const TouchOptions &o)
     using namespace depthtouch::haptics;
     auto method = parseMethod(o.method);
     if (!method)
-        return fail(kExitBadInput, "--method must be finger, modified, proxy-graph or mesh-bvh");
+        return fail(kExitBadInput, "--method must be " + rendererNames());
     if (o.reengage != "release" && o.reengage != "ramp")
         return fail(kExitBadInput, "--reengage must be release or ramp");
     const auto contact = parseFingerContact(o.fingerContact);
@@ -294,7 +297,8 @@ int runTouch(const TouchOptions &o)
     c.damping = o.damping;
     c.maxForce = o.maxForce;
     // The baselines run with every fix off; the --no-* flags turn single fixes off in `modified`.
-    const bool fixes = *method == Method::Modified || *method == Method::Finger;
+    const RendererEntry &entry = rendererEntry(*method);
+    const bool fixes = entry.fixes;
     c.correction = fixes && !o.noCorrection;
     c.interpolation = fixes && !o.noInterpolation;
     c.safety = fixes && !o.noSafety;
@@ -305,10 +309,10 @@ int runTouch(const TouchOptions &o)
     c.fingerContact = *contact;
     c.staticFriction = o.staticFriction;
     c.dynamicFriction = o.dynamicFriction;
-    if (*method == Method::MeshBvh && (o.staticFriction > 0.0 || o.dynamicFriction > 0.0))
-        return fail(kExitBadInput, "--method mesh-bvh has no friction");
-    if (*method == Method::MeshBvh && !o.material.empty())
-        return fail(kExitBadInput, "--method mesh-bvh has no materials");
+    if (!entry.friction && (o.staticFriction > 0.0 || o.dynamicFriction > 0.0))
+        return fail(kExitBadInput, std::string("--method ") + entry.name + " has no friction");
+    if (!entry.friction && !o.material.empty())
+        return fail(kExitBadInput, std::string("--method ") + entry.name + " has no materials");
     if (auto v = validateReplayOptions(opt); !v)
         return fail(kExitBadInput, v.error().what);
     // The output first: a directory, a FIFO without a reader or a missing folder fails before

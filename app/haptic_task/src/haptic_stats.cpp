@@ -34,6 +34,8 @@ std::string HapticStats::toJson(int indent) const
         {"reconnects", reconnects},
         {"telemetry_dropped", telemetryDropped},
         {"max_force_n", maxForce},
+        {"energy_into_hand_mj", 1e3 * energy},
+        {"energy_peak_mj", 1e3 * energyPeak},
         {"device_max_force_n", deviceMaxForce},
         {"device_call_max_us", deviceCallMaxUs},
         {"force_log_lost", forceLogLost},

@@ -76,6 +76,7 @@ void ServoLoop::countFaults(const platform::PageFaults &since) noexcept
 void ServoLoop::zeroForce() noexcept
 {
     prevForce_ = {};
+    passivity_.breakPath();
     phase_ = 0.0;
     resumePhase_ = 0.0;
     counters_.setGain(0.0);
@@ -339,11 +340,14 @@ ServoLoop::beginSample(const platform::PeriodicWait &wait) const noexcept
 }
 
 [[gnu::always_inline]] inline void ServoLoop::recordForce(const glm::dvec3 &force,
+                                                          const glm::dvec3 &position,
                                                           TelemetrySample &sample) noexcept
 {
     counters_.publishForce(force);
     sample.force = force;
     counters_.noteForce(glm::length(force));
+    passivity_.update(position, force);
+    counters_.setEnergy(passivity_.energy(), passivity_.peak());
 }
 
 void ServoLoop::cycle(const platform::PeriodicWait &wait) noexcept
@@ -359,7 +363,7 @@ void ServoLoop::cycle(const platform::PeriodicWait &wait) noexcept
         const glm::dvec3 target = render(hip, c);
         const glm::dvec3 force = shapeForce(target, c.gain, c);
         if (command(force, c))
-            recordForce(force, c.sample);
+            recordForce(force, {state.position.x, state.position.y, state.position.z}, c.sample);
     }
     finishCycle(c);
 }

@@ -9,6 +9,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "depthtouch/haptics/passivity.h"
 #include "depthtouch/platform/percentile.h"
 
 namespace depthtouch::haptics {
@@ -173,8 +174,15 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
     double atMax = 0.0;  // time at the maximum without a trip, ending at this update, ms
     RegainTracker regain;
     ArrivalTracker arrival;
+    PassivityObserver energy;
+    PassivityObserver idealEnergy;
+    bool idealGiven = false;
     for (std::size_t i = 0; i < rows.size(); ++i) {
         const FeelSample &r = rows[i];
+        energy.update(r.hip, r.force);
+        const bool idealHere = std::isfinite(r.idealPenalty.x);
+        idealGiven = idealGiven || idealHere;
+        idealEnergy.update(r.hip, idealHere ? r.idealPenalty : glm::dvec3{0.0});
         const double force = glm::length(r.force);
         const bool offSurface = std::isnan(r.surfaceZ);
         f.seconds += dt[i];
@@ -239,6 +247,10 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
     }
     if (!rows.empty())
         regain.finish(rows.back().t + dt.back(), f);
+    f.energyMj = 1e3 * energy.energy();
+    f.energyPeakMj = 1e3 * energy.peak();
+    f.idealEnergyMj = 1e3 * idealEnergy.energy();
+    f.energyExcessMj = idealGiven ? f.energyMj - f.idealEnergyMj : std::nan("");
     ripple(rows, f);
     updatePercentiles(rows, f);
     rates(f);
@@ -272,6 +284,13 @@ void accumulate(FeelFigures &total, const FeelFigures &run) noexcept
     total.regainMs = std::max(total.regainMs, run.regainMs);
     total.atMaxMs = std::max(total.atMaxMs, run.atMaxMs);
     total.pullDownMs += run.pullDownMs;
+    total.energyMj += run.energyMj;
+    total.idealEnergyMj += run.idealEnergyMj;
+    total.energyPeakMj = std::max(total.energyPeakMj, run.energyPeakMj);
+    if (!(total.energyExcessMj >= run.energyExcessMj)) // NaN on either side: the other
+        total.energyExcessMj = std::isnan(run.energyExcessMj) && !std::isnan(total.energyExcessMj)
+                                   ? total.energyExcessMj
+                                   : run.energyExcessMj;
     rates(total);
 }
 

@@ -7,6 +7,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "depthtouch/haptics/passivity.h"
+
 namespace depthtouch::haptics {
 
 namespace {
@@ -297,11 +299,15 @@ ReplaySummary summarizeReplay(const std::vector<ForceLogRow> &rows)
 {
     ReplaySummary sum;
     std::size_t contact = 0;
+    PassivityObserver energy;
     for (const ForceLogRow &r : rows) {
+        energy.update(r.out.hip, r.out.force);
         contact += r.out.contact ? 1u : 0u;
         sum.trips += r.out.released ? 1u : 0u;
         sum.maxForce = std::max(sum.maxForce, glm::length(r.out.force));
     }
+    sum.energy = energy.energy();
+    sum.energyPeak = energy.peak();
     sum.seconds = rows.empty() ? 0.0 : rows.back().t - rows.front().t;
     sum.contactPercent =
         rows.empty() ? 0.0

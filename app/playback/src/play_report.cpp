@@ -74,6 +74,9 @@ void printHapticSummary(const haptic_task::HapticStats &hs, double deviceMaxForc
                 static_cast<unsigned long long>(hs.pageFaultsWarmup), hs.lockedMiB);
     std::printf("  max force         %.2f N (device maximum %.2f N)\n", hs.maxForce,
                 deviceMaxForce);
+    std::printf("  energy            %.2f mJ put into the hand at the device, at most %.2f mJ at "
+                "any time (passivity observer)\n",
+                1e3 * hs.energy, 1e3 * hs.energyPeak);
 }
 
 } // namespace

@@ -97,25 +97,8 @@ std::vector<std::uint8_t> feelMaterial(int w, int h)
     return rgb;
 }
 
-/// The ideal god-object force on a smooth surface: k·d·n, n the reference's unit normal under the
-/// HIP (central differences over ±0.3 mm), d the depth under the reference along it. Zero outside.
-glm::dvec3 idealForce(ReferenceSurface &ref, double t, const glm::dvec3 &hip, double h, double k)
-{
-    if (!std::isfinite(h) || h <= hip.z)
-        return glm::dvec3{0.0};
-    constexpr double e = 0.3e-3;
-    const double hx0 = ref.height(t, hip.x - e, hip.y);
-    const double hx1 = ref.height(t, hip.x + e, hip.y);
-    const double hy0 = ref.height(t, hip.x, hip.y - e);
-    const double hy1 = ref.height(t, hip.x, hip.y + e);
-    glm::dvec3 n{0.0, 0.0, 1.0};
-    if (std::isfinite(hx0) && std::isfinite(hx1) && std::isfinite(hy0) && std::isfinite(hy1))
-        n = glm::normalize(glm::dvec3{-(hx1 - hx0) / (2 * e), -(hy1 - hy0) / (2 * e), 1.0});
-    return k * (h - hip.z) * n.z * n;
-}
-
 /// Replays one stroke on a fresh renderer; fills \a rows; with \a errors, the squared force
-/// errors against idealForce() of the pressed updates.
+/// errors against the ideal penalty (feel.h idealPenalty()) of the pressed updates.
 Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const FeelSetting &setting,
                           const RendererConfig &cfg, std::vector<FeelSample> &rows,
                           std::vector<double> *errors = nullptr)
@@ -166,6 +149,8 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
             row.reachSurfaceZ =
                 reachHeight([&](double x, double y) { return ref.height(s.t, x, y); }, s.hip.x,
                             s.hip.y, cfg.fingerRadiusInBox());
+        const auto refHeight = [&ref, &s](double x, double y) { return ref.height(s.t, x, y); };
+        row.idealPenalty = idealPenalty(refHeight, s.hip, row.surfaceZ, cfg.stiffness);
         if (row.surfaceZ > s.hip.z) {
             if (const HeightField *rf = ref.at(s.t); rf != nullptr)
                 row.depthInside = depthInside(
@@ -183,8 +168,7 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
         row.pressed = s.pressed;
         row.heldSurfaceZ = s.heldZ;
         if (errors != nullptr && (s.pressed || s.sliding || s.held))
-            errors->push_back(
-                glm::length(out.force - idealForce(ref, s.t, s.hip, row.surfaceZ, cfg.stiffness)));
+            errors->push_back(glm::length(out.force - row.idealPenalty));
         row.released = out.released;
         row.surfaceCut = cutAt(scene, truth, i, prevProxy, cut) ||
                          cutAt(scene, truth, i, out.proxy, cut) ||
@@ -381,6 +365,8 @@ std::vector<GoalVerdict> judgeGoals(const std::vector<FeelRow> &rows, const std:
     judge(buf, g.maxAtMaxMs, [](const FeelRow &r) { return r.total.atMaxMs; });
     std::snprintf(buf, sizeof buf, "pull-down force <= %.0f ms", g.maxPullDownMs);
     judge(buf, g.maxPullDownMs, [](const FeelRow &r) { return r.total.pullDownMs; });
+    std::snprintf(buf, sizeof buf, "energy - ideal penalty's <= %.2f mJ", g.maxExcessEnergyMj);
+    judge(buf, g.maxExcessEnergyMj, [](const FeelRow &r) { return r.total.energyExcessMj; });
     return out;
 }
 

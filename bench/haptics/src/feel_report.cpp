@@ -43,11 +43,11 @@ void printFamilyRow(const FeelRow &r)
         std::snprintf(regain, sizeof regain, "%.0f(%zu/%zu)", f.regainMs, f.regainMissed,
                       f.regainEvents);
     std::printf("%-26s %-17s %-6s %3zu %4zu %8.1f %7.1f %4zu %6.2f %7.2f %7.2f %-12s %6.1f %6.2f "
-                "%6.2f\n",
+                "%7.3f %7.3f %6.2f\n",
                 r.scene.c_str(), r.setting.c_str(), r.family.c_str(), r.strokes, f.falseTrips,
                 f.popThroughMs, f.phantomMs, f.longestAlternation, f.reversalSpikesPerSecond,
                 f.pressedSpikesPerSecond, f.idealSpikesPerSecond, regain, f.atMaxMs, f.maxForce,
-                f.updateP999 * 1e6);
+                f.energyExcessMj, f.energyMj, f.updateP999 * 1e6);
 }
 
 nlohmann::json figuresJson(const FeelFigures &f)
@@ -68,14 +68,20 @@ nlohmann::json figuresJson(const FeelFigures &f)
             {"at_max_ms", f.atMaxMs},
             {"pull_down_ms", f.pullDownMs},
             {"arrival_trips", f.arrivalTrips},
-            {"covered_ms", f.coveredMs}};
+            {"covered_ms", f.coveredMs},
+            {"energy_mj", f.energyMj},
+            {"ideal_energy_mj", f.idealEnergyMj},
+            {"energy_excess_mj",
+             std::isnan(f.energyExcessMj) ? nlohmann::json() : nlohmann::json(f.energyExcessMj)},
+            {"energy_peak_mj", f.energyPeakMj}};
 }
 
 /// The CSV columns of figuresJson(), in order.
 constexpr const char *kFamilyColumns =
     "pressed_s,pressed_spikes,pressed_spikes_per_s,ideal_spikes,ideal_spikes_per_s,"
     "spikes_over_ideal,sign_reversal_spikes,sign_reversal_spikes_per_s,longest_alternating_run,"
-    "regain_events,regain_missed,regain_ms,at_max_ms,pull_down_ms,arrival_trips,covered_ms";
+    "regain_events,regain_missed,regain_ms,at_max_ms,pull_down_ms,arrival_trips,covered_ms,"
+    "energy_mj,ideal_energy_mj,energy_excess_mj,energy_peak_mj";
 
 void writeFamilyCsv(std::ostream &c, const FeelFigures &f)
 {
@@ -86,7 +92,11 @@ void writeFamilyCsv(std::ostream &c, const FeelFigures &f)
         c << ratio;
     c << ',' << f.reversalSpikes << ',' << f.reversalSpikesPerSecond << ',' << f.longestAlternation
       << ',' << f.regainEvents << ',' << f.regainMissed << ',' << f.regainMs << ',' << f.atMaxMs
-      << ',' << f.pullDownMs << ',' << f.arrivalTrips << ',' << f.coveredMs;
+      << ',' << f.pullDownMs << ',' << f.arrivalTrips << ',' << f.coveredMs << ',' << f.energyMj
+      << ',' << f.idealEnergyMj << ',';
+    if (!std::isnan(f.energyExcessMj))
+        c << f.energyExcessMj;
+    c << ',' << f.energyPeakMj;
 }
 
 /// True for the scenes made from real captures (not "synthetic-...").
@@ -499,11 +509,12 @@ void printFeelReport(const FeelReport &report)
         std::printf("\nper stroke family (pop, phantom: ms summed; alt: longest alternating run, "
                     "updates; rev/s: sign-reversal spikes; spk/s: spikes pressed; ideal/s: the "
                     "ideal penalty's on the same path; regain: ms (missed/events); atmax: ms at "
-                    "%.1f N without a trip)\n",
+                    "%.1f N without a trip; +E mJ: energy put into the hand beyond the ideal "
+                    "penalty's, worst stroke; E mJ: energy put into the hand, summed)\n",
                     report.goals.deviceMaxForce);
-        std::printf("%-26s %-17s %-6s %3s %4s %8s %7s %4s %6s %7s %7s %-12s %6s %6s %6s\n", "scene",
-                    "setting", "family", "n", "fals", "pop ms", "phan ms", "alt", "rev/s", "spk/s",
-                    "ideal/s", "regain ms", "atmax", "max|F|", "p999us");
+        std::printf("%-26s %-17s %-6s %3s %4s %8s %7s %4s %6s %7s %7s %-12s %6s %6s %7s %7s %6s\n",
+                    "scene", "setting", "family", "n", "fals", "pop ms", "phan ms", "alt", "rev/s",
+                    "spk/s", "ideal/s", "regain ms", "atmax", "max|F|", "+E mJ", "E mJ", "p999us");
         scene.clear();
         for (const FeelRow &r : report.familyRows) {
             if (!scene.empty() && r.scene != scene)

@@ -58,6 +58,12 @@ public:
         if (magnitude > maxForceSeen_.load(std::memory_order_relaxed))
             maxForceSeen_.store(magnitude, std::memory_order_relaxed);
     }
+    /// The passivity observer's energy and peak so far, J (HapticStats::energy).
+    void setEnergy(double energy, double peak) noexcept
+    {
+        energy_.store(energy, std::memory_order_relaxed);
+        energyPeak_.store(peak, std::memory_order_relaxed);
+    }
     /// Keeps the longest device call (HapticStats::deviceCallMaxUs).
     void noteDeviceCall(platform::Duration took) noexcept
     {
@@ -101,8 +107,8 @@ public:
     /// \brief The HIP and the proxy of the last rendered update, m. \return false before one.
     bool lastPose(glm::dvec3 &hip, glm::dvec3 &proxy) const noexcept;
     /// \brief Fills updates, renderedUpdates, contactUpdates, safetyReleases (the renderer's
-    /// releases only: the caller adds the watchdog trips), maxForce, deviceCallMaxUs and the page
-    /// faults of \a s.
+    /// releases only: the caller adds the watchdog trips), maxForce, energy, deviceCallMaxUs and
+    /// the page faults of \a s.
     void fill(HapticStats &s) const noexcept;
     ///@}
 
@@ -112,6 +118,8 @@ private:
     std::atomic<std::uint64_t> contacts_{0};
     std::atomic<std::uint64_t> releases_{0};
     std::atomic<double> maxForceSeen_{0.0};        ///< N.
+    std::atomic<double> energy_{0.0};              ///< J (setEnergy()).
+    std::atomic<double> energyPeak_{0.0};          ///< J.
     std::atomic<std::int64_t> deviceCallMaxNs_{0}; ///< Longest device call, ns.
     std::atomic<double> gain_{0.0};
     platform::SeqLockArray<3> force_; ///< Last commanded force, N (lastForce()).

@@ -28,6 +28,12 @@ struct HapticStats {
     std::uint64_t reconnects = 0;      ///< Times it came back.
     std::uint64_t telemetryDropped = 0; ///< Samples lost to a full ring (not in the percentiles).
     double maxForce = 0.0;              ///< Largest commanded force magnitude, N.
+    /// Energy the commanded force put into the hand at the device's port over the run, J (the
+    /// passivity observer of haptics/passivity.h on the device's own position, m, and the force
+    /// commanded, held until the next command); > 0 is energy the renderer (or the moving
+    /// picture) gave the hand.
+    double energy = 0.0;
+    double energyPeak = 0.0; ///< Its largest value at any time in the run, J (≥ 0).
     /// The force log could not be written whole (a write or its close failed: a full disk); the
     /// run's output is lost.
     bool forceLogLost = false;

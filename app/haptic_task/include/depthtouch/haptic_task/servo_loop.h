@@ -18,6 +18,7 @@
 #include "depthtouch/haptic_task/haptic_counters.h"
 #include "depthtouch/haptic_task/haptic_task_config.h"
 #include "depthtouch/haptic_task/telemetry_sample.h"
+#include "depthtouch/haptics/passivity.h"
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/macros.h"
@@ -104,8 +105,10 @@ private:
     glm::dvec3 shapeForce(glm::dvec3 target, double gain, const CycleContext &c) const noexcept;
     /// Commands \a force. \return false when the device was lost.
     bool command(const glm::dvec3 &force, CycleContext &c) noexcept;
-    /// Publishes the commanded force and records it in the telemetry and the maximum.
-    void recordForce(const glm::dvec3 &force, TelemetrySample &sample) noexcept;
+    /// Publishes the commanded force and records it in the telemetry, the maximum and the
+    /// passivity observer (with the device's own \a position, m).
+    void recordForce(const glm::dvec3 &force, const glm::dvec3 &position,
+                     TelemetrySample &sample) noexcept;
     /// Pushes the telemetry sample and counts the cycle.
     void finishCycle(CycleContext &c) noexcept;
     ///@}
@@ -142,6 +145,9 @@ private:
     bool stalled_ = false;             ///< The last cycle was late (the watchdog held zero).
     platform::TimePoint lastOnTime_{}; ///< Wake-up of the last cycle that was not late.
     glm::dvec3 prevForce_{};
+    /// Energy into the hand at the device's port (HapticStats::energy); its path breaks where
+    /// the force was zeroed (zeroForce()).
+    haptics::PassivityObserver passivity_;
     platform::TimePoint prevCommandTime_{};
     bool havePrevCommand_ = false;
     bool clutched_ = false;

@@ -57,6 +57,10 @@
 ///   finger down (toward or into the surface) is a fault wherever the finger is.
 /// - **time at the device maximum**: the longest run of consecutive updates with |F| ≥
 ///   `deviceMaxForce`·(1 − 1e-3) and no safety trip among them.
+/// - **energy into the hand** (passivity.h, Hannaford & Ryu's observer): E = Σ F(n−1)·(HIP(n) −
+///   HIP(n−1)), the net work the commanded force did on the hand over the run; the same sum of the
+///   ideal penalty's force (`idealPenalty`, idealPenalty()) on the same path; their difference is
+///   the energy the renderer generated beyond the work the (moving) surface itself did.
 /// Units: s, m, N (scene-box frame, docs/architecture.md §3). Thread-safety: reentrant; allocates
 /// (not for the haptic thread).
 
@@ -89,6 +93,9 @@ struct FeelSample {
     bool pressed = false;    ///< Pressed in (any stroke phase under the surface; see the file).
     /// |F| of the ideal penalty on this update, k·max(0, surfaceZ − hip.z), N; NaN: not given.
     double idealForce = std::nan("");
+    /// The ideal penalty's force on this update (idealPenalty()), N; NaN: not given (no ideal
+    /// energy is summed).
+    glm::dvec3 idealPenalty{std::nan("")};
     /// Height of the surface a held finger rests on (without any occluder), m; NaN: not a hold.
     double heldSurfaceZ = std::nan("");
     /// How far the surface under the HIP's x–y rose since the update before (the same x–y, the
@@ -145,6 +152,30 @@ double depthInside(const HeightAt &heightAt, const glm::dvec3 &hip, double verti
     return best;
 }
 
+/// \return the ideal penalty's force at \a hip (m) on the surface \a heightAt(x, y) (m; NaN where
+/// nothing was measured) at stiffness \a k (N/m), N: k·d·n, n the surface's unit normal under the
+/// HIP (central differences over ±0.3 mm; straight up where a difference is not measured) and d
+/// the HIP's depth under the surface along it, (h − z)·n_z: the god-object on the surface's local
+/// plane (Zilles & Salisbury 1995). Zero above the surface or where \a h (the height under the
+/// HIP, m) is NaN.
+template <class HeightAt>
+glm::dvec3 idealPenalty(const HeightAt &heightAt, const glm::dvec3 &hip, double h, double k)
+{
+    if (!std::isfinite(h) || h <= hip.z)
+        return glm::dvec3{0.0};
+    constexpr double e = 0.3e-3;
+    const double hx0 = heightAt(hip.x - e, hip.y);
+    const double hx1 = heightAt(hip.x + e, hip.y);
+    const double hy0 = heightAt(hip.x, hip.y - e);
+    const double hy1 = heightAt(hip.x, hip.y + e);
+    glm::dvec3 n{0.0, 0.0, 1.0};
+    if (std::isfinite(hx0) && std::isfinite(hx1) && std::isfinite(hy0) && std::isfinite(hy1)) {
+        const glm::dvec3 g{-(hx1 - hx0) / (2 * e), -(hy1 - hy0) / (2 * e), 1.0};
+        n = g / std::sqrt(g.x * g.x + g.y * g.y + g.z * g.z);
+    }
+    return k * (h - hip.z) * n.z * n;
+}
+
 /// \brief Thresholds of the figures (the defaults are the goals of docs/benchmarks.md).
 struct FeelThresholds {
     double depthMargin = 1e-3;   ///< m, for pop-through and phantom force.
@@ -194,6 +225,18 @@ struct FeelFigures {
     double regainMs = 0.0;                ///< The longest time to regain contact, ms (0: no event).
     double atMaxMs = 0.0;    ///< The longest time at the device maximum without a trip, ms.
     double pullDownMs = 0.0; ///< Time with a downward force (Fz < −phantomForce), ms.
+    /// Energy the commanded force put into the hand (PassivityObserver), mJ; summed by
+    /// accumulate().
+    double energyMj = 0.0;
+    /// The same of the ideal penalty on the same path (FeelSample::idealPenalty), mJ; summed.
+    double idealEnergyMj = 0.0;
+    /// energyMj − idealEnergyMj of one run, mJ: what the renderer generated beyond the surface's
+    /// own work; accumulate() keeps the largest of its runs (the worst stroke). NaN where no row
+    /// gave the ideal penalty.
+    double energyExcessMj = std::nan("");
+    /// The largest energy the force had put into the hand at any time in one run, mJ (≥ 0;
+    /// PassivityObserver::peak()); accumulate() keeps the largest.
+    double energyPeakMj = 0.0;
     /// pressedSpikes / idealSpikes; NaN when the ideal penalty has no spike.
     [[nodiscard]] double spikeRatio() const noexcept
     {

@@ -137,6 +137,10 @@ struct ReplaySummary {
     double contactPercent = 0.0; ///< Share of the rows in contact, %.
     double maxForce = 0.0;       ///< Largest |force|, N.
     std::size_t trips = 0;       ///< Rows of a safety release.
+    /// Energy the force put into the hand over the run (passivity.h: Hannaford & Ryu's observer
+    /// on the logged HIP and force), J; > 0 is energy the renderer generated.
+    double energy = 0.0;
+    double energyPeak = 0.0; ///< Its largest value at any time, J.
 };
 
 /// \return the summary of \a rows (zeros for none).

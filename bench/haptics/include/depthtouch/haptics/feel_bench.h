@@ -95,6 +95,10 @@ struct FeelGoals {
     double maxAtMaxMs = 5.0;     ///< At the device maximum without a trip.
     double maxPullDownMs = 0.0;  ///< With a downward force (a height field only pushes).
     double deviceMaxForce = 8.5; ///< N (the Falcon).
+    /// Energy the renderer put into the hand beyond the ideal penalty's on the same path, on any
+    /// one stroke, mJ (FeelFigures::energyExcessMj; passivity.h): a renderer that generates no
+    /// energy of its own gives back no more than the ideal penalty.
+    double maxExcessEnergyMj = 0.0;
     // Older goals, kept for the scenario tests of makeStrokes()' slides.
     double maxSpikesPerSecond = 2.0;       ///< Average over the sliding time.
     double maxStrokeSpikesPerSecond = 4.0; ///< On any stroke.
