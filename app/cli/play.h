@@ -44,6 +44,8 @@ struct PlayOptions {
     double dynamicFriction = playbackDefaults().haptics.renderer.dynamicFriction; ///< μd.
     double rate = playbackDefaults().haptics.servoRateHz; ///< Haptic servo rate, Hz.
     std::string reengage = "ramp"; ///< After a force-jump release: ramp (re-seat) or release.
+    /// The haptic renderer: a name of the renderer table (haptics/renderer_table.h).
+    std::string method = haptics::methodName(playbackDefaults().haptics.method);
     bool loop = false;
     double duration = 0.0; ///< s of wall time, 0: until the end of the stream.
     std::string snapshotDir;

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "depthtouch/haptics/renderer.h"
+#include "depthtouch/haptics/renderer_table.h"
 #include "depthtouch/player/state_machine.h"
 #include "depthtouch/scene/stiffness.h"
 
@@ -132,6 +133,21 @@ const OptionRow<PlayOptions> kPlayRows[] = {
          [](const PlayOptions &o, Config &c) {
              c.haptics.renderer.reengage =
                  o.reengage == "ramp" ? haptics::Reengage::Ramp : haptics::Reengage::Release;
+         }},
+    {.name = "method",
+     .field = &PlayOptions::method,
+     .help = "Haptic renderer, a row of the renderer table (docs/architecture.md); the "
+             "baselines run with the paper's fixes off",
+     .check = oneOf(haptics::rendererChoiceWords()),
+     .land =
+         [](const PlayOptions &o, Config &c) {
+             const haptics::RendererEntry *e = haptics::findRenderer(o.method);
+             if (e == nullptr) // checked before it lands (oneOf)
+                 return;
+             c.haptics.method = e->method;
+             c.haptics.renderer.correction = e->fixes;
+             c.haptics.renderer.interpolation = e->fixes;
+             c.haptics.renderer.safety = e->fixes;
          }},
     {"loop", &PlayOptions::loop, "Start again at the end"},
     {.name = "duration",

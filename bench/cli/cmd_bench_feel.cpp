@@ -23,6 +23,7 @@
 #include "output_paths.h"
 #include "depthtouch/haptics/feel_bench.h"
 #include "depthtouch/haptics/feel_suite.h"
+#include "depthtouch/haptics/renderer_table.h"
 #include "depthtouch/platform/log.h"
 
 namespace depthtouch::cli {
@@ -31,10 +32,20 @@ namespace {
 
 namespace hb = haptics::bench;
 
+std::vector<std::string> defaultFeelMethods()
+{
+    std::vector<std::string> out;
+    for (const haptics::RendererEntry &e : haptics::rendererTable())
+        if (e.feelByDefault)
+            out.emplace_back(e.name);
+    return out;
+}
+
 struct BenchFeelOptions {
     std::string out = "bench-feel-out";
     std::vector<std::string> clips;
-    std::vector<std::string> methods{"finger", "modified", "proxy-graph"};
+    /// The renderer table's rows measured by default (RendererEntry::feelByDefault).
+    std::vector<std::string> methods = defaultFeelMethods();
     std::string data;
     bool quick = false;
     bool fifo = true;
@@ -56,7 +67,7 @@ const OptionRow<BenchFeelOptions> kBenchFeelRows[] = {
      kHideDefault},
     {"method",
      &BenchFeelOptions::methods,
-     "Renderers (comma-separated): finger, modified, proxy-graph, mesh-bvh",
+     "Renderers (comma-separated), rows of the renderer table (docs/architecture.md)",
      {},
      kCommaList},
     {"data", &BenchFeelOptions::data,
@@ -96,8 +107,8 @@ int runBenchFeel(const BenchFeelOptions &o)
     for (const std::string &m : o.methods) {
         auto parsed = haptics::parseMethod(m);
         if (!parsed)
-            return fail(kExitBadInput, "--method: unknown method '" + m +
-                                           "' (finger, modified, proxy-graph, mesh-bvh)");
+            return fail(kExitBadInput,
+                        "--method: unknown method '" + m + "' (" + haptics::rendererNames() + ")");
         methods.push_back(*parsed);
     }
     for (const std::string &clip : o.clips)

@@ -2,14 +2,11 @@
 
 #include <cmath>
 #include <limits>
-#include <new>
 
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
-#include "depthtouch/haptics/finger_renderer.h"
 #include "depthtouch/haptics/material_field.h"
-#include "depthtouch/haptics/mesh_bvh.h"
 #include "depthtouch/haptics/proxy_solver.h"
 
 namespace depthtouch::haptics {
@@ -29,17 +26,6 @@ glm::dvec3 slewForce(const glm::dvec3 &previous, const glm::dvec3 &target, doubl
     return limitForce(previous + limitForce(to - previous, maxStep), maxForce);
 }
 
-const char *methodName(Method method) noexcept
-{
-    switch (method) {
-    case Method::Modified: return "modified";
-    case Method::ProxyGraph: return "proxy-graph";
-    case Method::MeshBvh: return "mesh-bvh";
-    case Method::Finger: return "finger";
-    }
-    return "?";
-}
-
 Result<FingerContact> parseFingerContact(std::string_view text) noexcept
 {
     if (text == "god-object")
@@ -50,25 +36,6 @@ Result<FingerContact> parseFingerContact(std::string_view text) noexcept
         return FingerContact::Adaptive;
     return unexpected(Errc::InvalidArgument,
                       "finger contact must be god-object, penalty or adaptive");
-}
-
-Result<Method> parseMethod(std::string_view text) noexcept
-{
-    for (Method m : {Method::Modified, Method::ProxyGraph, Method::MeshBvh, Method::Finger})
-        if (text == methodName(m))
-            return m;
-    return unexpected(Errc::InvalidArgument,
-                      "unknown method (finger, modified, proxy-graph or mesh-bvh)");
-}
-
-RendererConfig RendererConfig::forMethod(Method method) noexcept
-{
-    RendererConfig c;
-    const bool fixes = method == Method::Modified || method == Method::Finger;
-    c.correction = fixes;
-    c.interpolation = fixes;
-    c.safety = fixes;
-    return c;
 }
 
 Result<void> RendererConfig::validate() const noexcept
@@ -307,27 +274,6 @@ HapticOutput ProxyGraphRenderer::update(const glm::dvec3 &hip, double t) noexcep
     else
         surfaceUnderProxy_ = field_.contains(proxy.x, proxy.y) ? proxy.z : std::nan("");
     return out;
-}
-
-Result<std::unique_ptr<HapticRenderer>> makeRenderer(Method method, const RendererConfig &config,
-                                                     int maxWidth, int maxHeight)
-{
-    DT_TRY(config.validate());
-    if (maxWidth < 2 || maxHeight < 2)
-        return unexpected(Errc::InvalidArgument, "frame size must be at least 2x2");
-    std::unique_ptr<HapticRenderer> r;
-    if (method == Method::MeshBvh) {
-        try {
-            r = std::make_unique<MeshBvhRenderer>(config, maxWidth, maxHeight);
-        } catch (const std::bad_alloc &) {
-            return unexpected(Errc::OutOfResources, "not enough memory for the mesh and its tree");
-        }
-    } else if (method == Method::Finger) {
-        r = std::make_unique<FingerRenderer>(config);
-    } else {
-        r = std::make_unique<ProxyGraphRenderer>(config);
-    }
-    return r;
 }
 
 } // namespace depthtouch::haptics

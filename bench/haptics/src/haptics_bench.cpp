@@ -16,6 +16,7 @@
 #include "depthtouch/haptics/finger_renderer.h"
 #include "depthtouch/haptics/mesh_bvh.h"
 #include "depthtouch/haptics/renderer.h"
+#include "depthtouch/haptics/renderer_table.h"
 #include "depthtouch/haptics/spectrum.h"
 #include "depthtouch/haptics/wave_scenario.h"
 #include "depthtouch/platform/gnuplot.h"
@@ -387,13 +388,20 @@ BenchReport runHapticsBenchmark(const BenchOptions &options)
             std::printf("haptics bench: %dx%d: generating the depth frames...\n", w, h);
 
         const WaveScenario scene(w, h, box);
-        std::vector<std::string> methods = {"finger", "modified", "proxy-graph", "mesh-bvh"};
-        if (w == 720) {
-            // Friction on the proxy is timed beside its frictionless renderer at 720×486 only.
-            // So are per-pixel materials (a material track under the proxy).
-            methods = {"finger",   "finger-friction",   "finger-materials",   "modified-hold",
-                       "modified", "modified-friction", "modified-materials", "proxy-graph",
-                       "mesh-bvh"};
+        // The renderer table's rows. Friction on the proxy is timed beside its frictionless
+        // renderer at 720×486 only, and so are per-pixel materials (a material track under the
+        // proxy), for the rows with the paper's fixes that render them; the paper's method is
+        // also timed on sample-and-hold frames there.
+        std::vector<std::string> methods;
+        for (const RendererEntry &e : rendererTable()) {
+            const std::string name = e.name;
+            if (w == 720 && e.method == Method::Modified)
+                methods.push_back("modified-hold");
+            methods.push_back(name);
+            if (w == 720 && e.fixes && e.friction) {
+                methods.push_back(name + "-friction");
+                methods.push_back(name + "-materials");
+            }
         }
         for (const std::string &method : methods) {
             for (double speed : speeds) {
@@ -524,7 +532,13 @@ bool writeChartData(const BenchReport &report, const std::filesystem::path &base
     {
         // one data block per method for the speed-vs-accuracy scatter
         platform::TextReportFile d((base / "speed_vs_accuracy.dat").string(), error);
-        for (const char *m : {"finger", "modified", "modified-hold", "proxy-graph", "mesh-bvh"}) {
+        std::vector<std::string> series;
+        for (const RendererEntry &e : rendererTable()) {
+            series.emplace_back(e.name);
+            if (e.method == Method::Modified)
+                series.emplace_back("modified-hold");
+        }
+        for (const std::string &m : series) {
             d << "# " << m << "\n";
             for (const BenchRow &r : report.rows)
                 if (r.method == m)

@@ -28,6 +28,7 @@
 #include <cstring>
 #include <limits>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -36,6 +37,7 @@
 #include "depthtouch/haptics/finger_renderer.h"
 #include "depthtouch/haptics/haptics_bench.h"
 #include "depthtouch/haptics/renderer.h"
+#include "depthtouch/haptics/renderer_table.h"
 #include "depthtouch/haptics/wave_scenario.h"
 #include "depthtouch/platform/percentile.h"
 
@@ -64,14 +66,32 @@ struct CostArgs {
     bool friction = false; ///< --friction: μs kBenchStaticFriction, μd kBenchDynamicFriction
 };
 
+/// \return the names of the renderer table's rows with the paper's fixes, "finger or modified"
+/// (or joined by \a separator alone).
+std::string fixedMethods(const char *separator = nullptr)
+{
+    std::string out;
+    std::vector<const char *> names;
+    for (const RendererEntry &e : rendererTable())
+        if (e.fixes)
+            names.push_back(e.name);
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        if (i > 0)
+            out += separator != nullptr ? separator : (i + 1 == names.size() ? " or " : ", ");
+        out += names[i];
+    }
+    return out;
+}
+
 /// Parses the command line; prints what is wrong and returns nothing on bad arguments.
 std::optional<CostArgs> parseArgs(int argc, char **argv)
 {
     CostArgs args;
     if (argc >= 3 && std::string_view(argv[1]) == "--method") {
+        // The renderers of depth video (the table's rows with the paper's fixes), not baselines.
         const auto m = parseMethod(argv[2]);
-        if (!m || (*m != Method::Modified && *m != Method::Finger)) {
-            std::fprintf(stderr, "haptics_cost: --method must be modified or finger\n");
+        if (!m || !rendererEntry(*m).fixes) {
+            std::fprintf(stderr, "haptics_cost: --method must be %s\n", fixedMethods().c_str());
             return std::nullopt;
         }
         args.method = *m;
@@ -84,8 +104,10 @@ std::optional<CostArgs> parseArgs(int argc, char **argv)
         argv += 1;
     }
     if (argc < 4 || argc > 6) {
-        std::fprintf(stderr, "usage: haptics_cost [--method finger|modified] [--friction] WIDTH "
-                             "HEIGHT SPEED_M_PER_S [UPDATES [REPEATS]]\n");
+        std::fprintf(stderr,
+                     "usage: haptics_cost [--method %s] [--friction] WIDTH HEIGHT SPEED_M_PER_S "
+                     "[UPDATES [REPEATS]]\n",
+                     fixedMethods("|").c_str());
         return std::nullopt;
     }
     args.w = std::atoi(argv[1]);
