@@ -179,10 +179,6 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
     bool idealGiven = false;
     for (std::size_t i = 0; i < rows.size(); ++i) {
         const FeelSample &r = rows[i];
-        energy.update(r.hip, r.force);
-        const bool idealHere = std::isfinite(r.idealPenalty.x);
-        idealGiven = idealGiven || idealHere;
-        idealEnergy.update(r.hip, idealHere ? r.idealPenalty : glm::dvec3{0.0});
         const double force = glm::length(r.force);
         const bool offSurface = std::isnan(r.surfaceZ);
         f.seconds += dt[i];
@@ -214,6 +210,20 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
         prevStep = step;
         arrival.row(r, dt[i], th);
         const bool covered = regain.covered() || arrival.covered(th);
+        if (covered) { // a renderer may push out at a bounded rate or let go: no energy is judged
+            energy.breakPath();
+            idealEnergy.breakPath();
+        } else {
+            // The ideal penalty as a device renders it: clamped to the device maximum.
+            const bool idealHere = std::isfinite(r.idealPenalty.x);
+            idealGiven = idealGiven || idealHere;
+            const double idealNorm = idealHere ? glm::length(r.idealPenalty) : 0.0;
+            const glm::dvec3 ideal = idealNorm > th.deviceMaxForce
+                                         ? r.idealPenalty * (th.deviceMaxForce / idealNorm)
+                                         : (idealHere ? r.idealPenalty : glm::dvec3{0.0});
+            energy.update(r.hip, r.force);
+            idealEnergy.update(r.hip, ideal);
+        }
         if (r.released) {
             ++f.trips;
             if (r.surfaceCut)

@@ -149,15 +149,17 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
             row.reachSurfaceZ =
                 reachHeight([&](double x, double y) { return ref.height(s.t, x, y); }, s.hip.x,
                             s.hip.y, cfg.fingerRadiusInBox());
-        const auto refHeight = [&ref, &s](double x, double y) { return ref.height(s.t, x, y); };
-        row.idealPenalty = idealPenalty(refHeight, s.hip, row.surfaceZ, cfg.stiffness);
+        row.idealPenalty = glm::dvec3{0.0};
         if (row.surfaceZ > s.hip.z) {
+            // The ideal god-object: its proxy is the nearest surface point (energy, feel.h).
+            glm::dvec3 nearest{s.hip.x, s.hip.y, row.surfaceZ};
             if (const HeightField *rf = ref.at(s.t); rf != nullptr)
-                row.depthInside = depthInside(
+                row.depthInside = nearestSurface(
                     [rf](double x, double y) {
                         return rf->contains(x, y) ? rf->heightAt(x, y) : std::nan("");
                     },
-                    s.hip, row.surfaceZ - s.hip.z);
+                    s.hip, row.surfaceZ - s.hip.z, &nearest);
+            row.idealPenalty = cfg.stiffness * (nearest - s.hip);
             row.idealForce = cfg.stiffness * (row.surfaceZ - s.hip.z);
         } else {
             row.idealForce = 0.0;
@@ -168,7 +170,10 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
         row.pressed = s.pressed;
         row.heldSurfaceZ = s.heldZ;
         if (errors != nullptr && (s.pressed || s.sliding || s.held))
-            errors->push_back(glm::length(out.force - row.idealPenalty));
+            errors->push_back(glm::length(
+                out.force -
+                idealPenalty([&ref, &s](double x, double y) { return ref.height(s.t, x, y); },
+                             s.hip, row.surfaceZ, cfg.stiffness)));
         row.released = out.released;
         row.surfaceCut = cutAt(scene, truth, i, prevProxy, cut) ||
                          cutAt(scene, truth, i, out.proxy, cut) ||

@@ -168,6 +168,68 @@ TEST(FeelEnergyTest, AccumulatingSumsTheEnergyAndKeepsTheWorstStrokesExcess)
     EXPECT_NEAR(total.energyExcessMj, lag2.energyExcessMj, 1e-12);
 }
 
+/// A HIP 8 mm under a surface at z = 0 rising 0.1 mm an update to 2 mm under it, pushed up by
+/// 5 N; with \a arrived the surface came over it in the first update (10 mm in 1 ms).
+std::vector<FeelSample> risingUnder(bool arrived)
+{
+    std::vector<FeelSample> rows(61);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        FeelSample &r = rows[i];
+        r.t = 1e-3 * static_cast<double>(i);
+        r.hip = {0.0, 0.0, -8e-3 + 1e-4 * static_cast<double>(i)};
+        r.force = {0.0, 0.0, 5.0};
+        r.surfaceZ = 0.0;
+        r.surfaceRise = i == 0 && arrived ? 10e-3 : 0.0;
+        r.idealPenalty = glm::dvec3{0.0};
+    }
+    return rows;
+}
+
+TEST(FeelEnergyTest, NoEnergyIsJudgedWhileAnArrivingSurfaceCoversTheFinger)
+{
+    // Under a still surface the 5 N does 5 N · 6 mm = 30 mJ on the hand; under a surface that
+    // swept over the finger (the renderer may push out at a bounded rate there) nothing is judged.
+    const FeelFigures still = computeFeel(risingUnder(false));
+    EXPECT_NEAR(still.energyMj, 30.0, 1e-9);
+    EXPECT_NEAR(still.energyExcessMj, 30.0, 1e-9);
+    const FeelFigures covered = computeFeel(risingUnder(true));
+    EXPECT_GT(covered.coveredMs, 50.0);
+    EXPECT_EQ(covered.energyMj, 0.0);
+    EXPECT_EQ(covered.idealEnergyMj, 0.0);
+}
+
+TEST(FeelEnergyTest, TheIdealPenaltyIsClampedToTheDeviceMaximumAsADeviceRendersIt)
+{
+    // 20 N asked for, 8.5 N rendered, over 1 mm up: 8.5 mJ.
+    std::vector<FeelSample> rows = risingUnder(false);
+    rows.resize(11);
+    for (FeelSample &r : rows)
+        r.idealPenalty = {0.0, 0.0, 20.0};
+    FeelThresholds th;
+    th.deviceMaxForce = 8.5;
+    const FeelFigures f = computeFeel(rows, th);
+    EXPECT_NEAR(f.idealEnergyMj, 8.5, 1e-9);
+    EXPECT_NEAR(f.energyMj, 5.0, 1e-9);
+    EXPECT_NEAR(f.energyExcessMj, -3.5, 1e-9);
+}
+
+TEST(FeelEnergyTest, TheIdealGodObjectsProxyIsTheNearestSurfacePoint)
+{
+    // A step: z = 0 for x < 0, z = 10 mm for x >= 0. A HIP at x = 1 mm, z = 5 mm is 5 mm under
+    // the top but 1 mm beside the step's side: the nearest point is on the side, within a ring
+    // step (0.2 mm) and a direction step (15°) of (0, 0, 5 mm).
+    const auto step = [](double x, double) { return x < 0.0 ? 0.0 : 10e-3; };
+    const glm::dvec3 hip{1e-3, 0.0, 5e-3};
+    glm::dvec3 nearest{};
+    const double d = nearestSurface(step, hip, 5e-3, &nearest);
+    EXPECT_LE(d, 1.2e-3 + 1e-9);
+    EXPECT_GE(d, 1e-3 - 1e-9);
+    EXPECT_NEAR(glm::length(nearest - hip), d, 1e-12);
+    EXPECT_LT(nearest.x, 1e-9);          // on the side of the step
+    EXPECT_NEAR(nearest.z, 5e-3, 1e-12); // level with the HIP: the side is vertical
+    EXPECT_DOUBLE_EQ(depthInside(step, hip, 5e-3), d);
+}
+
 TEST(FeelEnergyTest, TheIdealPenaltyPushesAlongTheNormalOfATiltedPlane)
 {
     // z = 0.5·x: the normal is (−0.5, 0, 1)/|·|; 2 mm under it at x = 0, d along the normal is

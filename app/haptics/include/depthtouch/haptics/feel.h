@@ -59,8 +59,12 @@
 ///   `deviceMaxForce`·(1 − 1e-3) and no safety trip among them.
 /// - **energy into the hand** (passivity.h, Hannaford & Ryu's observer): E = Σ F(n−1)·(HIP(n) −
 ///   HIP(n−1)), the net work the commanded force did on the hand over the run; the same sum of the
-///   ideal penalty's force (`idealPenalty`, idealPenalty()) on the same path; their difference is
-///   the energy the renderer generated beyond the work the (moving) surface itself did.
+///   ideal god-object's force (`idealPenalty`, from nearestSurface(): passive on a still surface),
+///   clamped to `deviceMaxForce` as a device renders it) on the same path; their difference is the
+///   energy the renderer generated beyond the work the (moving) surface itself did. Neither is
+///   summed while the finger is covered by an arriving surface or an occluder (as pop-through and
+///   phantom force are not: the renderer may push out at a bounded rate or let go there), nor over
+///   the move into or out of it.
 /// Units: s, m, N (scene-box frame, docs/architecture.md §3). Thread-safety: reentrant; allocates
 /// (not for the haptic thread).
 
@@ -93,8 +97,8 @@ struct FeelSample {
     bool pressed = false;    ///< Pressed in (any stroke phase under the surface; see the file).
     /// |F| of the ideal penalty on this update, k·max(0, surfaceZ − hip.z), N; NaN: not given.
     double idealForce = std::nan("");
-    /// The ideal penalty's force on this update (idealPenalty()), N; NaN: not given (no ideal
-    /// energy is summed).
+    /// The ideal god-object's force on this update, N: k·(nearest surface point − HIP) under the
+    /// surface (nearestSurface()), zero above it; NaN: not given (no ideal energy is summed).
     glm::dvec3 idealPenalty{std::nan("")};
     /// Height of the surface a held finger rests on (without any occluder), m; NaN: not a hold.
     double heldSurfaceZ = std::nan("");
@@ -128,6 +132,40 @@ double reachHeight(const HeightAt &heightAt, double x, double y, double radius)
     return best;
 }
 
+/// \brief depthInside()'s search, which also gives where the nearest surface point is: \a nearest
+/// (when not null) is set to it, m (the point straight above the HIP when nothing nearer is
+/// found). \return the distance, m. The ideal god-object's proxy (Zilles & Salisbury 1995), whose
+/// spring k·(nearest − HIP) is the force of the potential ½·k·distance², passive on a still
+/// surface (FeelSample::idealPenalty).
+template <class HeightAt>
+double nearestSurface(const HeightAt &heightAt, const glm::dvec3 &hip, double vertical,
+                      glm::dvec3 *nearest)
+{
+    double best = vertical;
+    glm::dvec3 at{hip.x, hip.y, hip.z + vertical};
+    constexpr int kDirections = 24;
+    const double step = 0.2e-3;
+    for (double ring = step; ring < best; ring += step) {
+        for (int k = 0; k < kDirections; ++k) {
+            const double a = 2.0 * std::numbers::pi * k / kDirections;
+            const double x = hip.x + ring * std::cos(a);
+            const double y = hip.y + ring * std::sin(a);
+            const double h = heightAt(x, y);
+            if (!std::isfinite(h))
+                continue;
+            const double dz = std::max(h - hip.z, 0.0);
+            const double d = std::sqrt(ring * ring + dz * dz);
+            if (d < best) {
+                best = d;
+                at = {x, y, hip.z + dz};
+            }
+        }
+    }
+    if (nearest != nullptr)
+        *nearest = at;
+    return best;
+}
+
 /// \return the distance from \a hip (m) to the nearest point of the surface \a heightAt(x, y) (m;
 /// NaN where nothing was measured or off the frame), searched on rings 0.2 mm apart in 24
 /// directions out to \a vertical (the depth under the surface at the HIP's x–y, which bounds it),
@@ -136,20 +174,7 @@ double reachHeight(const HeightAt &heightAt, double x, double y, double radius)
 template <class HeightAt>
 double depthInside(const HeightAt &heightAt, const glm::dvec3 &hip, double vertical)
 {
-    double best = vertical;
-    constexpr int kDirections = 24;
-    const double step = 0.2e-3;
-    for (double ring = step; ring < best; ring += step) {
-        for (int k = 0; k < kDirections; ++k) {
-            const double a = 2.0 * std::numbers::pi * k / kDirections;
-            const double h = heightAt(hip.x + ring * std::cos(a), hip.y + ring * std::sin(a));
-            if (!std::isfinite(h))
-                continue;
-            const double dz = std::max(h - hip.z, 0.0);
-            best = std::min(best, std::sqrt(ring * ring + dz * dz));
-        }
-    }
-    return best;
+    return nearestSurface(heightAt, hip, vertical, nullptr);
 }
 
 /// \return the ideal penalty's force at \a hip (m) on the surface \a heightAt(x, y) (m; NaN where
