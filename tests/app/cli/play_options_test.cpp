@@ -154,8 +154,8 @@ TEST(PlayOptionTableTest, AValueOutOfRangeGivesTheSameErrorOnBothPaths)
         }
         ++checked;
     }
-    EXPECT_EQ(checked, 14) << "volume, stereo, stiffness, static-friction, dynamic-friction, "
-                              "rate, reengage, duration, record-crf, size, osd-seconds, "
+    EXPECT_EQ(checked, 15) << "volume, stereo, stiffness, static-friction, dynamic-friction, "
+                              "rate, reengage, method, duration, record-crf, size, osd-seconds, "
                               "lod-target, max-lateness, snapshot-every";
 }
 
@@ -171,6 +171,7 @@ TEST(PlayOptionTableTest, TheMessagesOfBadValuesStayAsTheyWere)
         {{"--lod-target", "5"}, "--lod-target must be in [0, 4] refresh periods (0: off)"},
         {{"--max-lateness", "-1"}, "--max-lateness must be in [0, 10] seconds"},
         {{"--reengage", "snap"}, "--reengage must be ramp or release"},
+        {{"--method", "god-object"}, "--method must be finger, modified, proxy-graph or mesh-bvh"},
         {{"--size", "8x8"}, "--size must be WxH, 16..8192 pixels each"},
         {{"--record-crf", "52"}, "--record-crf must be in [0, 51]"},
         {{"--static-friction", "-0.1"}, "--static-friction must be in [0, 2]"},
@@ -224,6 +225,19 @@ TEST(PlayOptionTableTest, OptionsLandInThePlayersConfig)
 {
     const playback::PlaybackConfig defaults = landPlayOptions(PlayOptions{});
     EXPECT_EQ(defaults.haptics.servoRateHz, playbackDefaults().haptics.servoRateHz);
+    EXPECT_EQ(defaults.haptics.method, haptics::Method::Finger) << "the renderer table's first row";
+    EXPECT_TRUE(defaults.haptics.renderer.safety);
+    // --method picks a row of the renderer table, with the paper's fixes as the row says.
+    const playback::PlaybackConfig paper =
+        landPlayOptions(fromCommandLine({"--method", "modified"}));
+    EXPECT_EQ(paper.haptics.method, haptics::Method::Modified);
+    EXPECT_TRUE(paper.haptics.renderer.correction && paper.haptics.renderer.interpolation &&
+                paper.haptics.renderer.safety);
+    const playback::PlaybackConfig baseline =
+        landPlayOptions(fromConfig("method = \"proxy-graph\"\n"));
+    EXPECT_EQ(baseline.haptics.method, haptics::Method::ProxyGraph);
+    EXPECT_FALSE(baseline.haptics.renderer.correction || baseline.haptics.renderer.interpolation ||
+                 baseline.haptics.renderer.safety);
     EXPECT_EQ(defaults.haptics.renderer.reengage, haptics::Reengage::Ramp) << "play's own default";
     EXPECT_FALSE(defaults.frameCompatible);
 
