@@ -221,6 +221,7 @@ public:
     void traces();
     void taps();
     void holds();
+    void fastStrokes();
     std::vector<Stroke> take() { return std::move(out_); }
 
 private:
@@ -473,6 +474,42 @@ void FamilyPlacer::holds()
     }
 }
 
+/// The fast circle and the swipe along the keys (FamilyPlan::fastCircleSpeed, keysSwipeSpeed),
+/// last and from draws of their own (seed + 101): the strokes before them keep their places.
+void FamilyPlacer::fastStrokes()
+{
+    draws_ = Draws(plan_.seed + 101);
+    if (plan_.fastCircleSpeed > 0.0) {
+        const Motion m{.family = StrokeFamily::Circle,
+                       .speed = plan_.fastCircleSpeed,
+                       .depth = plan_.circleDepth,
+                       .main = plan_.moveSeconds};
+        const double phase = 2.0 * std::numbers::pi * draws_.next();
+        onSilhouette(
+            m, plan_.circleRadius + kTipRadius,
+            [&](Motion &mm2, const SilhouettePoint &e) {
+                mm2.path = circlePath(e.at, plan_.circleRadius, phase);
+                return true;
+            },
+            fmt("circle r%.0f mm %.0f cm/s #1", plan_.circleRadius / kMm,
+                plan_.fastCircleSpeed * 100));
+    }
+    const auto keys = std::find_if(scene_.crossings.begin(), scene_.crossings.end(),
+                                   [](const SilhouetteCrossing &c) { return c.what == "keys"; });
+    if (plan_.keysSwipeSpeed <= 0.0 || keys == scene_.crossings.end())
+        return;
+    Motion m{.family = StrokeFamily::Swipe,
+             .path = linePath(keys->from, keys->to),
+             .speed = plan_.keysSwipeSpeed,
+             .depth = plan_.swipeDepth,
+             .main = plan_.moveSeconds};
+    m.startT = startFor(strokeSeconds(m));
+    Stroke st = sampleStroke(scene_, m, plan_);
+    st.name = fmt("swipe %.0f cm/s keys", plan_.keysSwipeSpeed * 100);
+    st.where = "keys";
+    out_.push_back(std::move(st));
+}
+
 } // namespace
 
 const char *strokeFamilyName(StrokeFamily family) noexcept
@@ -494,6 +531,7 @@ std::vector<Stroke> makeFamilyStrokes(const FeelScene &scene, const FamilyPlan &
     placer.traces();
     placer.taps();
     placer.holds();
+    placer.fastStrokes();
     return placer.take();
 }
 

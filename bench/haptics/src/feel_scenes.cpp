@@ -9,7 +9,6 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <numbers>
 #include <utility>
 
 #include <glm/geometric.hpp>
@@ -19,59 +18,21 @@
 #include "depthtouch/depth/fill.h"
 #include "depthtouch/depth/filters.h"
 #include "depthtouch/platform/enum_names.h"
+#include "feel_scene_internal.h"
 
 namespace depthtouch::haptics::bench {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+using detail::Camera;
+using detail::cylinderZ;
+using detail::kInf;
+using detail::kTwoPi;
+using detail::planeZ;
+using detail::Pose;
+using detail::sphereZ;
+
 constexpr int kRangeFrames = 5; ///< As `depthtouch encode` (EncodeOptions::rangeFrames).
-
-/// Pinhole camera (Kinect v1 scaled to the width): pixel (u, v) looks along (dx, dy, 1).
-struct Camera {
-    double f, cx, cy;
-    explicit Camera(int w, int h) : f(585.0 * w / 640.0), cx(0.5 * w), cy(0.5 * h) {}
-};
-
-/// Z of the plane Z = a + b·X + c·Y along (dx, dy, 1); +inf when missed.
-double planeZ(double a, double b, double c, const glm::dvec3 &d) noexcept
-{
-    const double den = 1.0 - b * d.x - c * d.y;
-    return den > 1e-9 ? a / den : kInf;
-}
-
-/// Nearest root of A·Z² − 2·B·Z + C = 0 (ray–quadric), +inf when missed.
-double nearRoot(double a, double b, double c) noexcept
-{
-    const double disc = b * b - a * c;
-    if (disc < 0.0 || a <= 0.0)
-        return kInf;
-    const double z = (b - std::sqrt(disc)) / a;
-    return z > 0.0 ? z : kInf;
-}
-
-double sphereZ(const glm::dvec3 &c, double r, const glm::dvec3 &d) noexcept
-{
-    return nearRoot(glm::dot(d, d), glm::dot(d, c), glm::dot(c, c) - r * r);
-}
-
-/// Infinite cylinder of radius \a r along unit \a axis through \a p.
-double cylinderZ(const glm::dvec3 &p, const glm::dvec3 &axis, double r,
-                 const glm::dvec3 &d) noexcept
-{
-    const glm::dvec3 w = d - glm::dot(d, axis) * axis;
-    const glm::dvec3 pp = p - glm::dot(p, axis) * axis;
-    return nearRoot(glm::dot(w, w), glm::dot(w, pp), glm::dot(pp, pp) - r * r);
-}
-
-/// Where the scene's objects are at time t (camera pan folded in), camera frame (x right, y down).
-struct Pose {
-    double panX, panY;
-    glm::dvec3 head;   ///< Sphere centre, m.
-    glm::dvec3 bar;    ///< A point on the bar's axis, m.
-    glm::dvec3 occluder; ///< Centre of the occluder's rounded end, m.
-};
 
 constexpr double kHeadRadius = 0.2;
 constexpr double kBarRadius = 0.04;
@@ -82,7 +43,7 @@ constexpr double kOccluderRadius = 0.045;
 Pose poseAt(double t, double clipSeconds) noexcept
 {
     Pose p{};
-    p.panX = 0.01 * t - 0.015;                 // camera pans right at 1 cm/s
+    p.panX = 0.01 * t - 0.015;                   // camera pans right at 1 cm/s
     p.panY = 0.002 * std::sin(kTwoPi * 0.5 * t); // and bobs ±2 mm
     p.head = {-0.02 - p.panX + 0.01 * std::sin(kTwoPi * 0.3 * t),
               0.006 * std::sin(kTwoPi * 0.5 * t) - p.panY, 1.0};
@@ -91,6 +52,7 @@ Pose poseAt(double t, double clipSeconds) noexcept
     // the centre of the view.
     const double u = clipSeconds > 0.0 ? t / clipSeconds : 0.5;
     p.occluder = {-0.30 + 0.60 * u - p.panX, -0.02 - p.panY, 0.85};
+    p.typing = detail::typingPoseAt(t, p.panX, p.panY);
     return p;
 }
 
@@ -117,6 +79,8 @@ double sceneDepth(SyntheticScene s, const Pose &p, const glm::dvec3 &d) noexcept
             z = kInf;
         return std::min({back, z, sphereZ(p.occluder, kOccluderRadius, d)});
     }
+    case SyntheticScene::Typing:
+        return detail::typingDepth(p.typing, d);
     }
     return kInf;
 }
@@ -143,10 +107,14 @@ depth::Plane<float> renderClean(SyntheticScene s, int w, int h, double t, double
     for (int v = 0; v < h; ++v)
         for (int u = 0; u < w; ++u) {
             const glm::dvec3 d{(u + 0.5 - cam.cx) / cam.f, (v + 0.5 - cam.cy) / cam.f, 1.0};
-            const double zz = sceneDepth(s, pose, d);
+            bool isDark = false;
+            const double zz = s == SyntheticScene::Typing
+                                  ? detail::typingDepth(pose.typing, d, &isDark)
+                                  : sceneDepth(s, pose, d);
             z.at(u, v) = std::isfinite(zz) ? static_cast<float>(zz) : 0.0f;
-            if (dark != nullptr && s == SyntheticScene::Occluder && std::isfinite(zz) && zz > 1.0 &&
-                darkPrint(pose, d, zz))
+            if (dark != nullptr && s == SyntheticScene::Occluder && std::isfinite(zz) && zz > 1.0)
+                isDark = darkPrint(pose, d, zz);
+            if (dark != nullptr && isDark)
                 dark->at(u, v) = 1;
         }
     return z;
@@ -173,17 +141,19 @@ std::vector<SilhouetteCrossing> crossingsOf(SyntheticScene s, int w, int h, doub
         out.push_back({what, pixelToBox(a.x, a.y, w, h, box), pixelToBox(b.x, b.y, w, h, box)});
     };
     if (s == SyntheticScene::Head) {
-        const glm::dvec2 c{cam.cx + cam.f * p.head.x / p.head.z,
-                           cam.cy + cam.f * p.head.y / p.head.z};
+        const glm::dvec2 c = cam.project(p.head);
         const double rr =
             cam.f * kHeadRadius / std::sqrt(p.head.z * p.head.z - kHeadRadius * kHeadRadius);
         add("head side", c + glm::dvec2{rr, 0.0}, {1.0, 0.0}, 12.0);
         add("head top", c + glm::dvec2{0.0, -rr}, {0.0, -1.0}, 12.0);
     } else if (s == SyntheticScene::Forearm) {
-        const glm::dvec2 c{cam.cx + cam.f * p.bar.x / p.bar.z, cam.cy + cam.f * p.bar.y / p.bar.z};
+        const glm::dvec2 c = cam.project(p.bar);
         const glm::dvec2 n{-kBarAxis.y, kBarAxis.x}; // across the bar, image frame
         add("forearm", c, n, 16.0);
         add("forearm (2)", c + glm::dvec2{kBarAxis.x, kBarAxis.y} * (20.0 * mm), n, 16.0);
+    } else if (s == SyntheticScene::Typing) {
+        for (const detail::ImageCrossing &c : detail::typingCrossings(p.typing, cam))
+            add(c.what, c.edge, c.outward, c.reach);
     }
     return out;
 }
@@ -283,8 +253,9 @@ depth::Plane<std::uint16_t> firstFrames(const std::vector<depth::Plane<std::uint
 
 const char *syntheticSceneName(SyntheticScene scene) noexcept
 {
-    static constexpr std::array<const char *, 4> kNames = {
-        "synthetic-table", "synthetic-head", "synthetic-forearm", "synthetic-occluder"};
+    static constexpr std::array<const char *, 5> kNames = {
+        "synthetic-table", "synthetic-head", "synthetic-forearm", "synthetic-occluder",
+        "synthetic-typing"};
     return platform::enumName(scene, kNames, "?");
 }
 

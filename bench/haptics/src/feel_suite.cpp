@@ -202,6 +202,8 @@ std::optional<FeelSuiteError> loadFeelScenes(const FeelSuiteOptions &o,
         {SyntheticScene::Occluder, SensorModel::StructuredLight, true},
         {SyntheticScene::Occluder, SensorModel::TimeOfFlight, true},
         {SyntheticScene::Occluder, SensorModel::ActiveStereo, true},
+        {SyntheticScene::Typing, SensorModel::TimeOfFlight, true},
+        {SyntheticScene::Typing, SensorModel::StructuredLight, false},
     };
     for (const Synthetic &s : kSynthetic) {
         if (o.quick && !s.quick)

@@ -83,6 +83,18 @@ enum class SyntheticScene : std::uint8_t {
     /// that sweeps across it from left to right once in the clip: an occluder passing in front of
     /// a finger held on the backdrop, and beside one held above its rounded end.
     Occluder,
+    /// A hand typing, seen from about 1 m above a desk (the content of a real time-of-flight clip
+    /// the other scenes miss): a desk 1.06 m away, a keyboard of 29 × 6 raised keycaps on it
+    /// (centred 3 cm above the optical axis; 15 mm pitch, 11 mm flat tops with a dark legend, 10 mm
+    /// over their plate, itself 12 mm over the desk: key edges are depth steps of about 3.5 mm in
+    /// the box, ridges to swipe across), and over its right part (the hand's axis 9 cm right of the
+    /// optical axis, its knuckles 3.5 cm below it) a palm with four fingers (capsules) whose tips
+    /// strike keys at 3–6 Hz, each with its own phase, rising 2–3.5 cm between strikes and
+    /// alternating between two neighbouring keys (so they sweep past the keys beside them), and a
+    /// forearm from the bottom edge of the view; the hand and forearm sway sideways ±2 cm at 0.3 Hz
+    /// (at most 3.8 cm/s). Positions before the camera's pan (1 cm/s). Crossings: "keys" (along a
+    /// row of keys left of the hand) and "forearm".
+    Typing,
 };
 
 /// \brief The depth camera model a synthetic scene is seen through.
@@ -95,7 +107,8 @@ enum class SensorModel : std::uint8_t {
 /// \return "sl", "tof" or "stereo".
 const char *sensorModelName(SensorModel model) noexcept;
 
-/// \return "synthetic-table", "synthetic-head", "synthetic-forearm" or "synthetic-occluder".
+/// \return "synthetic-table", "synthetic-head", "synthetic-forearm", "synthetic-occluder" or
+/// "synthetic-typing".
 const char *syntheticSceneName(SyntheticScene scene) noexcept;
 
 /// \brief Options of makeSyntheticScene(). The camera is a Kinect v1 (fx = fy = 585 px at 640×480,
@@ -312,6 +325,12 @@ struct FamilyPlan {
     double circleRadius = 8e-3;                    ///< m.
     double circleSpeed = 0.10;                     ///< m/s.
     double circleDepth = 2e-3;                     ///< m.
+    /// One more circle (circleRadius) at this speed, m/s, placed after all other strokes with its
+    /// own draws (seed + 101), so the others keep their places; 0: none.
+    double fastCircleSpeed = 0.30;
+    /// With it, a swipe at this speed, m/s, along the scene's crossing named "keys" when it has
+    /// one (the typing scene's row of keys); 0: none.
+    double keysSwipeSpeed = 0.50;
     double tapHz = 5.0;
     double tapDepth = 2e-3;                      ///< m under the surface at the bottom.
     double tapAbove = 3e-3;                      ///< m over it at the top.
@@ -326,8 +345,10 @@ struct FamilyPlan {
 
 /// \brief The six families of strokes of \a plan on \a scene, placed where the content is hardest
 /// (see StrokeFamily): silhouettes from findSilhouettes() at each stroke's time, moving regions,
-/// passing occluders, flicker and hole borders from analyseScene(); seeded. A stroke with no place
-/// to go is left out and named in \a notes (when given).
+/// passing occluders, flicker and hole borders from analyseScene(); seeded. After them, with draws
+/// of their own: a fast circle (FamilyPlan::fastCircleSpeed) on a silhouette and a fast swipe
+/// along the "keys" crossing (FamilyPlan::keysSwipeSpeed); they do not move the others. A stroke
+/// with no place to go is left out and named in \a notes (when given).
 std::vector<Stroke> makeFamilyStrokes(const FeelScene &scene, const FamilyPlan &plan = {},
                                       std::vector<std::string> *notes = nullptr);
 
