@@ -35,7 +35,7 @@ namespace depthtouch::haptics {
 
 void FingerRenderer::penalty(const glm::dvec3 &hip, double raw, Candidate &c) noexcept
 {
-    c.plane = fitFingerPlane(field_, hip.x, hip.y, radius_);
+    c.plane = fitFingerPlane(field_, hip.x, hip.y, p_.radius);
     double below = 0.0;
     glm::dvec3 goal = projectOnPlane(c.plane, hip, below);
     // The sensor surface at the HIP's own x–y counts only where it was measured: a triangle with a
@@ -64,7 +64,7 @@ void FingerRenderer::penalty(const glm::dvec3 &hip, double raw, Candidate &c) no
     c.below = below;
     c.proxy = goal;
     // Fix (c) from the depth: the stencil where the last update's was, refitted now.
-    const FingerPlane then = fitFingerPlane(field_, lastX_, lastY_, radius_);
+    const FingerPlane then = fitFingerPlane(field_, lastX_, lastY_, p_.radius);
     const double moved = field_.overHole(then.height) ? 0.0 : std::fabs(then.height - lastHeight_);
     if (config_.safety && stencilStep(then) > field_.cutThreshold()) {
         // A cut: the proxy is re-seated on the new surface at once, as the god-object's is, and
@@ -72,13 +72,13 @@ void FingerRenderer::penalty(const glm::dvec3 &hip, double raw, Candidate &c) no
         c.trip = true;
         return;
     }
-    if (moved > stepDepth_)
+    if (moved > p_.stepDepth)
         c.stepped = true;
     // The proxy moves at most as far as the HIP did plus r/4 an update (as glide() does for the
     // god-object): a patch that tilts, steps or sweeps in under a resting finger turns and grows
     // the force over a few updates, never jumping the proxy onto it. Both ends lie on the outer
     // side of the HIP (the normal points up), so the proxy held short never pulls it down.
-    const double allowed = glm::length(hip - lastHip_) + 0.25 * radius_;
+    const double allowed = glm::length(hip - lastHip_) + p_.glideReach;
     const glm::dvec3 step = goal - proxy_;
     const double d = glm::length(step);
     if (d > allowed)

@@ -42,7 +42,7 @@ bool FingerRenderer::holdOverHole(const glm::dvec3 &hip, double raw, double t,
         const double cut = field_.cutThreshold();
         if (!std::isnan(holeSince_) && contact_ && !wall_ && config_.safety &&
             (std::fabs(raw - proxy_.z) > cut ||
-             stencilStep(fitFingerPlane(field_, lastX_, lastY_, radius_)) > cut)) {
+             stencilStep(fitFingerPlane(field_, lastX_, lastY_, p_.radius)) > cut)) {
             // Measured again, but not the surface the finger was held on (an occluder came over
             // it while it was unseen): free, as the hole left it before the hold, to be caught
             // by what is there now (capture()) instead of tripping on the step.
@@ -68,7 +68,8 @@ bool FingerRenderer::holdOverHole(const glm::dvec3 &hip, double raw, double t,
     // (lifting off a rim beside the hole, the force mostly sideways), the depth shrinks by half a
     // ramped step an update along the last direction: the force unloads, never steps off.
     const bool held = t - holeSince_ <= kFingerHoleHold &&
-                      glm::length(glm::dvec2(hip.x, hip.y) - holeAt_) <= radius_ && goal.z > hip.z;
+                      glm::length(glm::dvec2(hip.x, hip.y) - holeAt_) <= p_.radius &&
+                      goal.z > hip.z;
     // Pressed deeper than the hold's depth, the force keeps its direction as well as its size:
     // turned toward the deeper HIP, it swung by 0.06 N an update before the hold ended (a swipe
     // down into the stereo occluder's shadow band, then let go over the backdrop beyond it: a
@@ -76,7 +77,7 @@ bool FingerRenderer::holdOverHole(const glm::dvec3 &hip, double raw, double t,
     if (held && reach <= holeDepth_)
         holeDir_ = offset / reach;
     const double depth =
-        held ? std::min(reach, holeDepth_) : std::min(holeDepth_, lastDepth_ - 0.5 * stepDepth_);
+        held ? std::min(reach, holeDepth_) : std::min(holeDepth_, lastDepth_ - p_.unloadDepth);
     if (!(depth > 0.0))
         return false;
     c.contact = true;

@@ -22,13 +22,13 @@ void FingerRenderer::smoothOffset(const glm::dvec3 &hip, const Candidate &c,
     // the synthetic head's cheek and the time-of-flight occluder's flying pixels). The trend term
     // follows an offset that changes steadily (a slope under a moving finger, a press) without
     // lag. The filtered offset moves no farther in an update than the unfiltered one did (or than
-    // the catch-up below), and never more than 3·pushDepth_: the proxy's bounds (r/4 an update,
+    // the catch-up below), and never more than 3·p_.pushDepth: the proxy's bounds (r/4 an update,
     // the bounded push) hold for the force's proxy too, the trend's overshoot where a glide stops
     // is cut short, and a switch of the solution turns the force over a few updates. Where it lags
     // (the unfiltered offset jumped once, then held still), it catches up by a share alpha of the
-    // gap an update: with pushDepth_/4 alone it crawled, and a tap lifting off the living room's
+    // gap an update: with p_.pushDepth/4 alone it crawled, and a tap lifting off the living room's
     // table edge kept 3.4 N for a contact 0.1 mm deep until the contact ended, then dropped it
-    // in two 2 N steps. It unloads by at most 2·pushDepth_ an update. A new contact, a trip or a
+    // in two 2 N steps. It unloads by at most 2·p_.pushDepth an update. A new contact, a trip or a
     // ramped step starts it afresh at the offset, whether or not the offset moved; a hold over a
     // hole (nothing measured: its own unload rate is the force's) takes the hold's offset, but
     // from where the filter is, no faster than that bound. It never puts the proxy under the HIP
@@ -39,17 +39,17 @@ void FingerRenderer::smoothOffset(const glm::dvec3 &hip, const Candidate &c,
         return;
     }
     // The catch-up toward the unfiltered offset where the filter lags it: a share alpha of the
-    // gap, at least pushDepth_/4 and at most 2·pushDepth_ an update (0.25 N at the default
+    // gap, at least p_.pushDepth/4 and at most 2·p_.pushDepth an update (0.25 N at the default
     // stiffness, the rate a hold over a hole unloads at).
     const double gap = glm::length(offset - offset_);
     const double catchUp =
-        std::max(0.25 * pushDepth_, std::min(kFingerOffsetAlpha * gap, 2.0 * pushDepth_));
-    // Unloading at most 2·pushDepth_ an update (from an offset \a was long): a surface that falls
+        std::max(0.25 * p_.pushDepth, std::min(kFingerOffsetAlpha * gap, p_.unloadDepth));
+    // Unloading at most 2·p_.pushDepth an update (from an offset \a was long): a surface that falls
     // away under the finger (not a cut) takes its force over a few updates, not in one step of up
     // to 2 N.
     const auto unloadBounded = [this](const glm::dvec3 &next, double was) {
         const double now = glm::length(next);
-        const double least = was - 2.0 * pushDepth_;
+        const double least = was - p_.unloadDepth;
         return now > 0.0 && now < least ? next * (least / now) : next;
     };
     if (!c.contact || !contact_ || c.trip || c.stepped) {
@@ -72,11 +72,11 @@ void FingerRenderer::smoothOffset(const glm::dvec3 &hip, const Candidate &c,
         const glm::dvec3 residual = offset - predicted;
         const glm::dvec3 step = predicted + kFingerOffsetAlpha * residual - offset_;
         offsetTrend_ += kFingerOffsetBeta * residual;
-        // At most 3·pushDepth_ (0.375 N) however far the unfiltered offset jumped: a switch of
+        // At most 3·p_.pushDepth (0.375 N) however far the unfiltered offset jumped: a switch of
         // the solution (a press at rest by the kitchen's cabinet edge: the top 5.5 mm above, then
         // a point 2.2 mm to the side) turned the force by 1 N in an update.
         const double limit =
-            std::min(std::max(glm::length(offset - lastOffset_), catchUp), 3.0 * pushDepth_);
+            std::min(std::max(glm::length(offset - lastOffset_), catchUp), 3.0 * p_.pushDepth);
         const double length = glm::length(step);
         const double scale = length > limit ? limit / length : 1.0;
         const double was = glm::length(offset_);
@@ -96,7 +96,7 @@ void FingerRenderer::handOverRamp(const glm::dvec3 &hip, double stiffnessScale,
     // force it started from with the proxy 0.1 mm from the HIP (2.7 N for 0.1 N on the living
     // room's table edge), and dropped it in 2 N steps (the step limit) when the contact ended.
     // Where the finger is left less than a ramped step's depth deep, the filter takes that force as
-    // its offset and unloads it at 2·pushDepth_ an update. Deeper, the ramp goes on: a pressed
+    // its offset and unloads it at 2·p_.pushDepth an update. Deeper, the ramp goes on: a pressed
     // finger's force turning under it (a hold at the kitchen's cabinet edge) is the ramp's to
     // blend.
     if (!config_.smoothOffset || !force_.ramping())
@@ -104,7 +104,7 @@ void FingerRenderer::handOverRamp(const glm::dvec3 &hip, double stiffnessScale,
     const double k = config_.stiffness * stiffnessScale;
     const glm::dvec3 command = force_.lastCommand();
     const double depth = glm::length(held - hip);
-    if (!(k > 0.0) || !(depth < stepDepth_ && k * depth < glm::length(command)))
+    if (!(k > 0.0) || !(depth < p_.stepDepth && k * depth < glm::length(command)))
         return;
     force_.endRamp();
     offset_ = command / k;
@@ -143,7 +143,7 @@ void FingerRenderer::releaseCovered(const glm::dvec3 &hip, double raw, const Can
     const bool started = c.trip ? covered : (covered ? contact_ : wasInContact);
     if (!started && release_ == glm::dvec3{})
         return; // nothing to unload (a free finger: no lookups)
-    if (!covered && !(reachAbove(hip, 0.75 * radius_) > hip.z)) {
+    if (!covered && !(reachAbove(hip, p_.rimReach) > hip.z)) {
         release_ = {};
         return;
     }
@@ -151,7 +151,7 @@ void FingerRenderer::releaseCovered(const glm::dvec3 &hip, double raw, const Can
         release_ = force_.lastCommand();
         releaseStep_ = 0.0;
     }
-    const double least = config_.maxForceStep / 8.0;
+    const double least = p_.unloadForce;
     releaseStep_ = covered ? least : std::clamp(2.0 * releaseStep_, least, 2.0 * least);
     const double length = glm::length(release_);
     release_ = length > releaseStep_ ? release_ * ((length - releaseStep_) / length) : glm::dvec3{};

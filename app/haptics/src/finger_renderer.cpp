@@ -11,28 +11,36 @@
 
 namespace depthtouch::haptics {
 
+FingerParameters fingerParameters(const RendererConfig &config) noexcept
+{
+    FingerParameters p;
+    p.radius = config.fingerRadiusInBox();
+    p.stiffness = config.stiffness;
+    p.maxForceStep = config.maxForceStep;
+    p.boxDepth = config.box.depth;
+    const double stepForceDepth = p.maxForceStep / p.stiffness; // ΔF/k
+    p.captureDepth = std::max(stepForceDepth, 0.1 * p.boxDepth);
+    p.stepDepth = 0.25 * stepForceDepth;
+    p.pushDepth = 0.0625 * stepForceDepth;
+    p.unloadDepth = 0.125 * stepForceDepth;
+    p.unloadForce = p.maxForceStep / 8.0;
+    p.glideReach = 0.25 * p.radius;
+    p.holdReach = 0.5 * p.radius;
+    p.rimReach = 0.75 * p.radius;
+    return p;
+}
+
 FingerRenderer::FingerRenderer(const RendererConfig &config) noexcept
-    : config_(config), field_(config.box), force_(config),
+    : config_(config), field_(config.box), force_(config), p_(fingerParameters(config)),
       friction_(config.staticFriction, config.dynamicFriction)
 {
     field_.setCutThreshold(config.cutThreshold);
-    radius_ = config.fingerRadiusInBox();
-    setDepths();
-}
-
-void FingerRenderer::setDepths() noexcept
-{
-    const double tripDepth = config_.maxForceStep / config_.stiffness; // the force step as a depth
-    captureDepth_ = std::max(tripDepth, 0.1 * config_.box.depth);
-    stepDepth_ = 0.25 * tripDepth;
-    pushDepth_ = 0.0625 * tripDepth;
 }
 
 void FingerRenderer::setStiffness(double newtonsPerMetre) noexcept
 {
     force_.setStiffness(newtonsPerMetre);
     config_.stiffness = force_.stiffness();
-    setDepths();
 }
 
 Result<void> FingerRenderer::setFrames(const DepthFrameView &current,
@@ -76,7 +84,7 @@ glm::dvec3 FingerRenderer::solve(const glm::dvec3 &hip, double startX, double st
                                  FingerPlane &plane, FingerPlane &start,
                                  double &below) const noexcept
 {
-    plane = fitFingerPlane(field_, startX, startY, radius_);
+    plane = fitFingerPlane(field_, startX, startY, p_.radius);
     start = plane;
     glm::dvec3 p = projectOnPlane(plane, hip, below);
     // The god-object's objective: the distance from the HIP to the surface point at q.
@@ -93,11 +101,11 @@ glm::dvec3 FingerRenderer::solve(const glm::dvec3 &hip, double startX, double st
         const double d = std::sqrt(dx * dx + dy * dy);
         if (!(d > settle))
             break;
-        if (d > radius_) {
-            dx *= radius_ / d;
-            dy *= radius_ / d;
+        if (d > p_.radius) {
+            dx *= p_.radius / d;
+            dy *= p_.radius / d;
         }
-        FingerPlane next = fitFingerPlane(field_, plane.x + dx, plane.y + dy, radius_);
+        FingerPlane next = fitFingerPlane(field_, plane.x + dx, plane.y + dy, p_.radius);
         // A plane the taps do not span (flat at their median on a side too steep for the outlier
         // rule) is no surface to move onto: beside the head's contour it lay 0.1 mm over a finger
         // pressed 6 mm into the side, and the force vanished (42 ms of pop-through).
@@ -106,7 +114,7 @@ glm::dvec3 FingerRenderer::solve(const glm::dvec3 &hip, double startX, double st
         if (!(distance(next) <= best)) {
             // Overshot (a surface curved tighter than the HIP is deep, e.g. a forearm's side):
             // half the step, so that the proxy does not hop between two sides of the optimum.
-            next = fitFingerPlane(field_, plane.x + 0.5 * dx, plane.y + 0.5 * dy, radius_);
+            next = fitFingerPlane(field_, plane.x + 0.5 * dx, plane.y + 0.5 * dy, p_.radius);
             if (!(distance(next) <= best))
                 break;
         }
@@ -124,7 +132,7 @@ glm::dvec3 FingerRenderer::glide(const glm::dvec3 &hip, const glm::dvec3 &proxy,
     dir = {};
     const double hx = hip.x - lastHip_.x;
     const double hy = hip.y - lastHip_.y;
-    const double allowed = std::sqrt(hx * hx + hy * hy) + 0.25 * radius_;
+    const double allowed = std::sqrt(hx * hx + hy * hy) + p_.glideReach;
     // From the last proxy on the surface: a pushed proxy is off it, along the push (a glide from
     // there took turns with the plane it started on, a buzz of the force's direction).
     const glm::dvec3 &from = surfaceProxy_;
@@ -138,7 +146,7 @@ glm::dvec3 FingerRenderer::glide(const glm::dvec3 &hip, const glm::dvec3 &proxy,
         // side of a ridge ends on the other), and the proxy would glide to and fro at the servo
         // rate. It stays this update; the last glide's direction is kept, so it goes on, at half
         // the pace, toward the one it was heading for.
-        plane = fitFingerPlane(field_, from.x, from.y, radius_);
+        plane = fitFingerPlane(field_, from.x, from.y, p_.radius);
         dir = lastGlide_;
         return {plane.x, plane.y, plane.height};
     }
@@ -146,7 +154,7 @@ glm::dvec3 FingerRenderer::glide(const glm::dvec3 &hip, const glm::dvec3 &proxy,
     dir = {dx / d, dy / d};
     // Toward the new optimum by what is allowed, on the surface there.
     plane =
-        fitFingerPlane(field_, from.x + dx * (allowed / d), from.y + dy * (allowed / d), radius_);
+        fitFingerPlane(field_, from.x + dx * (allowed / d), from.y + dy * (allowed / d), p_.radius);
     return {plane.x, plane.y, plane.height};
 }
 
@@ -166,7 +174,7 @@ void FingerRenderer::slide(const glm::dvec3 &hip, double raw, Candidate &c) cons
     const double step = stencilStep(start);
     if (config_.safety && step > field_.cutThreshold())
         c.trip = true;
-    else if (moved > stepDepth_)
+    else if (moved > p_.stepDepth)
         c.stepped = true;
     c.contact = c.below > 0.0;
     // Two cases go to the surface at the HIP's own x–y. Held against a wall (the proxy more than r
@@ -181,7 +189,7 @@ void FingerRenderer::slide(const glm::dvec3 &hip, double raw, Candidate &c) cons
     const double sideY = c.proxy.y - hip.y;
     const bool overtaken = c.contact && c.proxy.z < hip.z;
     bool atHip = false;
-    if (!c.contact || overtaken || sideX * sideX + sideY * sideY > radius_ * radius_) {
+    if (!c.contact || overtaken || sideX * sideX + sideY * sideY > p_.radius * p_.radius) {
         FingerPlane localPlane{};
         FingerPlane localStart{};
         double localBelow = 0.0;
@@ -255,7 +263,8 @@ void FingerRenderer::capture(const glm::dvec3 &hip, Candidate &c) noexcept
 
 void FingerRenderer::enter(double below, Candidate &c) noexcept
 {
-    const double reach = behind_ ? std::max(captureDepth_, heldDepth_ + stepDepth_) : captureDepth_;
+    const double reach =
+        behind_ ? std::max(p_.captureDepth, heldDepth_ + p_.stepDepth) : p_.captureDepth;
     c.contact = contact_ || enterAnyDepth_ || below <= reach || !config_.safety;
     // Not caught: it came under the surface from the side, or the surface jumped onto it. Caught
     // again: the force steps at most maxForceStep an update.
@@ -287,14 +296,14 @@ void FingerRenderer::pushUp(const glm::dvec3 &hip, double raw, Candidate &c) con
 
 void FingerRenderer::straightUp(const glm::dvec3 &hip, double raw, Candidate &c) const noexcept
 {
-    c.plane = fitFingerPlane(field_, hip.x, hip.y, radius_);
+    c.plane = fitFingerPlane(field_, hip.x, hip.y, p_.radius);
     c.proxy = {hip.x, hip.y, raw};
     c.below = raw - hip.z;
 }
 
 double FingerRenderer::pushReach(const glm::dvec3 &hip) const noexcept
 {
-    return glm::length(hip - lastHip_) + pushDepth_;
+    return glm::length(hip - lastHip_) + p_.pushDepth;
 }
 
 double FingerRenderer::stencilStep(const FingerPlane &now) const noexcept
@@ -310,7 +319,7 @@ double FingerRenderer::stencilStep(const FingerPlane &now) const noexcept
 void FingerRenderer::limitPush(const glm::dvec3 &hip, Candidate &c) noexcept
 {
     // How deep the HIP is under the proxy may grow by the HIP's motion into the surface (along
-    // the candidate's offset; once pushed, against the push) and pushDepth_ an update: a surface
+    // the candidate's offset; once pushed, against the push) and p_.pushDepth an update: a surface
     // that sweeps under a resting finger (an object's side, a turning head) pushes it out at a
     // bounded rate, and a hand that yields rises onto it; one that does not is let go once the
     // force has reached the device maximum (watchSaturation()). The motion along the surface adds
@@ -322,10 +331,10 @@ void FingerRenderer::limitPush(const glm::dvec3 &hip, Candidate &c) noexcept
     const double reach = pushReach(hip);
     c.found = c.proxy;
     // Once pushed, the HIP's motion counts only against pushDir_: a hand that yields to the push
-    // is followed at pushDepth_ an update, not by its own motion as well (in the demo the force
+    // is followed at p_.pushDepth an update, not by its own motion as well (in the demo the force
     // grew the faster the hand gave way, to the device maximum).
     const glm::dvec3 into = pushed_ ? pushDir_ : (depth > 0.0 ? candidate / depth : pushDir_);
-    const double deeper = std::max(0.0, glm::dot(lastHip_ - hip, into)) + pushDepth_;
+    const double deeper = std::max(0.0, glm::dot(lastHip_ - hip, into)) + p_.pushDepth;
     const double allowed = lastDepth_ + deeper;
     if (!pushed_ && c.switched && lastDepth_ > 0.0) {
         // A proxy held to the side, replaced by the surface at the HIP's own x–y (slide()): the
@@ -349,7 +358,7 @@ void FingerRenderer::limitPush(const glm::dvec3 &hip, Candidate &c) noexcept
     // force at once (the depth is the candidate's, up to the bound).
     const glm::dvec3 dir = depth > 0.0 ? candidate / depth : pushDir_;
     const double angle = std::acos(std::clamp(glm::dot(dir, pushDir_), -1.0, 1.0));
-    const double turn = reach / std::max(lastDepth_, radius_);
+    const double turn = reach / std::max(lastDepth_, p_.radius);
     if (angle > turn) {
         const glm::dvec3 across = dir - glm::dot(dir, pushDir_) * pushDir_;
         const double acrossLength = glm::length(across);
@@ -420,7 +429,7 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     // the surface no longer gives for as long (3.0 N for 0.85 N, 20 updates after a 3 mm fall); the
     // offset filter unloads it at its bounded rate instead (smoothOffset()).
     if (c.stepped && !c.trip &&
-        (lastDepth_ < stepDepth_ || glm::length(c.proxy - hip) < lastDepth_))
+        (lastDepth_ < p_.stepDepth || glm::length(c.proxy - hip) < lastDepth_))
         c.stepped = false;
     // The material under the goal (the track's per-pixel stiffness and friction), else the
     // renderer's own friction at stiffness scale 1.
@@ -492,7 +501,7 @@ bool FingerRenderer::withinReach(const glm::dvec3 &hip, double raw) const noexce
     // rules hold (finger_hole.cpp).
     if (!std::isfinite(raw) || field_.overHole(raw) || !contact_ || wall_ || !config_.correction)
         return false;
-    return reachAbove(hip, 0.5 * radius_) > hip.z; // false for NaN
+    return reachAbove(hip, p_.holdReach) > hip.z; // false for NaN
 }
 
 double FingerRenderer::reachAbove(const glm::dvec3 &hip, double radius) const noexcept
@@ -529,10 +538,10 @@ double FingerRenderer::sensorHeight(const glm::dvec3 &hip) const noexcept
 bool FingerRenderer::switchSteps(const Candidate &c) const noexcept
 {
     // On a smooth surface the two contacts' proxies lie within a small step of each other: the
-    // force changes by less than the ramp's own threshold (a surface step of stepDepth_), and a
+    // force changes by less than the ramp's own threshold (a surface step of p_.stepDepth), and a
     // ramp would only hold the old force while the new one moves on (a finger lifted off just
     // after it came to rest would be let go from the ramp's stale force: a spike).
-    return glm::length(c.proxy - proxy_) > stepDepth_;
+    return glm::length(c.proxy - proxy_) > p_.stepDepth;
 }
 
 bool FingerRenderer::restingContact(const glm::dvec3 &hip, double t) noexcept

@@ -19,7 +19,7 @@
 /// the proxy hopped 0.5 mm between an edge's pixels at the servo rate. Each update the wall is
 /// found again along n from the HIP: the proxy is HIP + s·n, s the smallest depth along n that is
 /// free (bisection), so a moving object's side moves the proxy with it; s may change by the HIP's
-/// own motion plus pushDepth_ an update (the bounded push of limitPush(): a wall that sweeps onto
+/// own motion plus p_.pushDepth an update (the bounded push of limitPush(): a wall that sweeps onto
 /// the finger faster than that pushes it out at a bounded rate, and the saturation let-go trips a
 /// hand that does not yield; nor does the proxy hop back between an edge's pixels). The force k·s·n
 /// is horizontal. Where the top comes as near as the side (the object's upper edge) the proxy turns
@@ -54,7 +54,7 @@ bool FingerRenderer::freeAt(const glm::dvec3 &p) const noexcept
 
 bool FingerRenderer::wallNormal(const glm::dvec3 &at, glm::dvec2 &n) const noexcept
 {
-    const double r = radius_;
+    const double r = p_.radius;
     auto height = [this](double x, double y, double fallback) {
         return field_.contains(x, y) ? field_.heightAt(x, y) : fallback;
     };
@@ -92,7 +92,7 @@ bool FingerRenderer::enterWall(const glm::dvec3 &hip, Candidate &c) noexcept
     c.proxy = hip + s * glm::dvec3(n, 0.0);
     c.below = s;
     c.contact = true;
-    c.plane = fitFingerPlane(field_, c.proxy.x, c.proxy.y, radius_);
+    c.plane = fitFingerPlane(field_, c.proxy.x, c.proxy.y, p_.radius);
     wall_ = true;
     return true;
 }
@@ -101,11 +101,12 @@ void FingerRenderer::wallContact(const glm::dvec3 &hip, double raw, Candidate &c
 {
     const glm::dvec3 n(wallNormal_, 0.0);
     // The side: the smallest free depth along n, searched as far as the bounded push reaches (the
-    // side's depth grows by the HIP's motion into it and pushDepth_ an update, as a pushed
+    // side's depth grows by the HIP's motion into it and p_.pushDepth an update, as a pushed
     // limitPush()'s: sliding along a ragged side, a jut is pushed in at that rate, not stepped
     // onto by the slide's own motion).
-    const double reach =
-        wallDepth_ + std::max(0.0, glm::dot(glm::dvec2(lastHip_ - hip), wallNormal_)) + pushDepth_;
+    const double reach = wallDepth_ +
+                         std::max(0.0, glm::dot(glm::dvec2(lastHip_ - hip), wallNormal_)) +
+                         p_.pushDepth;
     double s = reach;
     if (freeAt(hip + s * n)) {
         double in = 0.0;
@@ -123,7 +124,7 @@ void FingerRenderer::wallContact(const glm::dvec3 &hip, double raw, Candidate &c
     // finger leaves the wall once the top is nearer by r (the god-object's nearest point, without
     // a 90° step of the force at the corner).
     const double top = raw - hip.z;
-    const double toTop = std::clamp(0.5 + (s - top) / (2.0 * radius_), 0.0, 1.0);
+    const double toTop = std::clamp(0.5 + (s - top) / (2.0 * p_.radius), 0.0, 1.0);
     if (toTop >= 1.0) {
         wall_ = false;
         FingerPlane start{};
@@ -138,7 +139,7 @@ void FingerRenderer::wallContact(const glm::dvec3 &hip, double raw, Candidate &c
     c.proxy = hip + (1.0 - toTop) * s * n + glm::dvec3(0.0, 0.0, toTop * top);
     c.contact = true;
     c.below = glm::length(c.proxy - hip);
-    c.plane = fitFingerPlane(field_, c.proxy.x, c.proxy.y, radius_);
+    c.plane = fitFingerPlane(field_, c.proxy.x, c.proxy.y, p_.radius);
 }
 
 } // namespace depthtouch::haptics

@@ -9,6 +9,11 @@
 /// surface is a staircase of 45° facets), then jumps by millimetres, which the force-jump safety of
 /// paper IV.C reads as a scene cut. A finger touches a patch, not a facet.
 ///
+/// Every length and force threshold below is a row of the parameter table (FingerParameters:
+/// captureDepth, stepDepth, pushDepth, unloadDepth and unloadForce from the force step ΔF and the
+/// stiffness k at construction; glideReach r/4, holdReach r/2, rimReach 3r/4 from the fingertip's
+/// radius r), derived once: a run-time stiffness change changes forces, not when contact exists.
+///
 /// Method, per update (haptic time t, HIP h; docs/architecture.md §3 frame, m):
 /// 1. **Finger-scale surface.** At a point q the surface is the least-squares plane through the
 ///    heights (fix (b): interpolated between frames i and i+1, paper Eq. 1) at the 3×3 points
@@ -75,16 +80,16 @@
 ///      and each switch turned the force at once.
 ///    - *Depth noise*: the proxy's offset from the HIP that the force and the report use passes
 ///      an alpha-beta filter (smoothOffset(), finger_offset.cpp; the search keeps the unfiltered
-///      goal), each update's move no longer than the unfiltered offset's nor than 3·pushDepth_
+///      goal), each update's move no longer than the unfiltered offset's nor than 3·pushDepth
 ///      (a switch of the solution turns the force over a few updates): on noisy depth at 50 cm/s
 ///      the taps cross pixels every update and the plane tilted and shifted anew each time, turning
 ///      the force back and forth by 0.05-0.2 N at the servo rate (RendererConfig::smoothOffset
 ///      turns it off: `bench feel`'s `finger-unfiltered`). Where it lags, it catches up by a share
 ///      of the gap; it unloads by at most maxForceStep/8 an update, a hold over a hole too.
-///    - *Steps*: a step of the surface under the stencil (over stepDepth_, under the cut) is
+///    - *Steps*: a step of the surface under the stencil (over stepDepth, under the cut) is
 ///      ramped in over the ramp time only as a step up from a force of a step's size or more;
 ///      from less, the bounded push grows it, and a step down is unloaded by the filter. A ramp
-///      holding more than the surface gives with the finger under stepDepth_ in hands its force
+///      holding more than the surface gives with the finger under stepDepth in hands its force
 ///      to the filter (handOverRamp()).
 ///    - *Within reach*: in contact, a HIP above the sensor surface at its own x–y is not free
 ///      while the surface within r/2 of it is still above it (a few pixels read far back under
@@ -96,7 +101,7 @@
 ///    - *Caught again*: a finger let go behind an occluder (or by a cut) is caught by the surface
 ///      it was held on as soon as that surface is within its held depth (plus the ramped step)
 ///      again, e.g. when the occluder leaves; before, it stayed free until lifted out. A finger
-///      caught (or a new contact made) deeper than the HIP moved plus pushDepth_ gets its force
+///      caught (or a new contact made) deeper than the HIP moved plus pushDepth gets its force
 ///      at the bounded push's rate (limitPush(), maxForceStep/16 an update), not in steps of
 ///      maxForceStep: the surface came back over the finger, as an arriving surface does.
 ///    - *Saturation*: a command at the device maximum (within kFingerAtMaximum) for
@@ -196,6 +201,60 @@ inline constexpr double kFingerOutlier = 3.0;
 inline constexpr double kFingerOffsetAlpha = 0.4;
 inline constexpr double kFingerOffsetBeta = 0.1;
 
+/// \brief The fingertip model's parameter table: the physical parameters it is given and every
+/// length and force threshold of the renderer, derived from them once, at construction
+/// (fingerParameters()). A run-time stiffness change (HapticRenderer::setStiffness(), a viewer's
+/// remote) changes the forces, not these: when a finger is in contact, behind the surface or
+/// pushed is a matter of geometry.
+///
+/// Units: m, N, N/m; per update means per servo tick (the renderer does not know the servo rate:
+/// the rates below are per update, as the force stage's step limit is).
+struct FingerParameters {
+    /// \name The physical parameters (RendererConfig)
+    ///@{
+    double radius = 0.0;       ///< r: the fingertip's radius, the stencil's half-width, m.
+    double stiffness = 0.0;    ///< k at construction, N/m.
+    double maxForceStep = 0.0; ///< ΔF: the most the force may change in an update, N.
+    double boxDepth = 0.0;     ///< D: the scene box's depth, m.
+    ///@}
+    /// \name Depths, from the force step: ΔF/k is how deep a surface must move under a finger to
+    /// step its force by ΔF
+    ///@{
+    /// The deepest a free finger found under the surface is taken into contact: max(ΔF/k, D/10).
+    /// Deeper, it came from the side under an object (or the surface jumped onto it) and is behind
+    /// it; within a tenth of the box, a surface's own relief is climbed.
+    double captureDepth = 0.0;
+    /// A step of the surface under the finger that is ramped in rather than taken at once, and
+    /// a switch between solutions that counts as one: ΔF/(4k), a quarter of a force step.
+    double stepDepth = 0.0;
+    /// The bounded push: how much deeper the HIP may get under the proxy in an update beyond its
+    /// own motion into the surface (a surface sweeping under a resting finger): ΔF/(16k), 0.16 mm
+    /// (16 cm/s at 1 kHz) at the defaults.
+    double pushDepth = 0.0;
+    /// The most a force unloads by in an update where the surface fell away or is unseen (the
+    /// offset filter, a hold over a hole): ΔF/(8k), an eighth of a force step; unloadForce in N.
+    double unloadDepth = 0.0;
+    /// ΔF/8, N: the release's first step (a contact ending at a rim, a cut covering the finger).
+    double unloadForce = 0.0;
+    ///@}
+    /// \name Reaches, from the fingertip's radius
+    ///@{
+    /// How far the proxy may glide beyond the HIP's own motion in an update: r/4 (a jump of the
+    /// optimum over a silhouette's edge is followed in four updates, not in one step).
+    double glideReach = 0.0;
+    /// A contact goes on while some surface within r/2 of the HIP is above it (withinReach()):
+    /// the half of the fingertip nearest its centre.
+    double holdReach = 0.0;
+    /// A contact that ends with a surface above the HIP within 3r/4 rolls off a rim: its force
+    /// unloads (releaseCovered()).
+    double rimReach = 0.0;
+    ///@}
+};
+
+/// \return the parameter table of \a config (RendererConfig::fingerRadiusInBox(), stiffness,
+/// maxForceStep, box depth).
+FingerParameters fingerParameters(const RendererConfig &config) noexcept;
+
 /// \brief The least-squares plane through the 3×3 stencil at a point: z = height + slope·(p − at).
 struct FingerPlane {
     double x = 0.0;      ///< Stencil centre, m.
@@ -233,7 +292,7 @@ public:
     HapticOutput update(const glm::dvec3 &hip, double t) noexcept override;
     void reset(const glm::dvec3 &hip) noexcept override;
     void restartClock() noexcept override;
-    /// Also the depths derived from k (captureDepth_, stepDepth_, pushDepth_).
+    /// The forces only: the depths of the parameter table keep the stiffness of construction.
     void setStiffness(double newtonsPerMetre) noexcept override;
     /// The saturation watch (kFingerSaturationTime) compares gain × |F| with the device maximum.
     void setOutputGain(double gain) noexcept override;
@@ -242,7 +301,9 @@ public:
     [[nodiscard]] const HeightField &surface() const noexcept { return field_; }
     [[nodiscard]] const RendererConfig &config() const noexcept { return config_; }
     /// \return the stencil half-width in effect, m.
-    [[nodiscard]] double radius() const noexcept { return radius_; }
+    [[nodiscard]] double radius() const noexcept { return p_.radius; }
+    /// \return the parameter table in effect.
+    [[nodiscard]] const FingerParameters &parameters() const noexcept { return p_; }
 
 private:
     /// One update's proxy before friction and force.
@@ -266,9 +327,7 @@ private:
         /// unload rate is the force's.
         bool unseen = false;
     };
-    /// Sets captureDepth_, stepDepth_ and pushDepth_ from the stiffness and maxForceStep.
-    void setDepths() noexcept;
-    /// \return whether a switch between the contacts moves the proxy by more than stepDepth_
+    /// \return whether a switch between the contacts moves the proxy by more than stepDepth
     /// (the candidate \a c against the last update's proxy): only then is it ramped in.
     [[nodiscard]] bool switchSteps(const Candidate &c) const noexcept;
 
@@ -318,7 +377,7 @@ private:
     /// HIP's own x–y, the plane fitted there (a finger under the surface whose stencil's median
     /// lies beside an object's silhouette).
     void straightUp(const glm::dvec3 &hip, double raw, Candidate &c) const noexcept;
-    /// \return the HIP's own motion since the last update plus pushDepth_, m: how far a bounded
+    /// \return the HIP's own motion since the last update plus pushDepth, m: how far a bounded
     /// push's direction turns across an update (limitPush()), and the most a wall's depth
     /// shrinks by; the depths themselves grow by the HIP's motion into the surface only.
     [[nodiscard]] double pushReach(const glm::dvec3 &hip) const noexcept;
@@ -386,13 +445,7 @@ private:
     HeightField field_;
     ForceStage force_;
     glm::dvec3 lastHip_{};     ///< HIP of the last update, m.
-    double radius_ = 0.0;      ///< r, m.
-    double captureDepth_ = 0.0; ///< Deepest new contact: max(maxForceStep / k, box depth / 10), m.
-    double stepDepth_ =
-        0.0; ///< Surface step under the proxy that is ramped in: maxForceStep / (4k), m.
-    /// Growth of the HIP's depth under the proxy an update beyond the HIP's own motion:
-    /// maxForceStep / (16k), m (0.16 mm: 16 cm/s at 1 kHz, 0.125 N an update at the defaults).
-    double pushDepth_ = 0.0;
+    FingerParameters p_;       ///< The parameter table (fingerParameters()), fixed at construction.
     glm::dvec3 proxy_{};
     /// The last update's proxy on the surface: proxy_, or where limitPush() found it before
     /// bounding it (m). The glide starts from it.
