@@ -115,6 +115,12 @@ TEST(HapticTaskTest, simulatedHandRestsOnAStaticSurfaceWithForceEqualToKTimesPen
     EXPECT_EQ(run.stats.updates, 1500u);
     EXPECT_EQ(run.stats.overruns, 0u);
     EXPECT_EQ(run.stats.telemetryDropped, 0u);
+    // AND the energy into the hand at the device's port (haptics/passivity.h): pressing a passive
+    // spring the hand gave energy (< 0), at most what the spring holds at rest, ½·k·penetration²
+    // (less where the enable ramp's gain was under 1), and got little back at any time
+    EXPECT_LT(run.stats.energy, 0.0);
+    EXPECT_GE(run.stats.energy, -0.5 * 800.0 * penetration * penetration * 1.01);
+    EXPECT_LT(run.stats.energyPeak, 1e-4);
     // AND the force log has the docs/architecture.md §4 header and one row per rendered update
     std::ifstream in(log);
     std::string line;
