@@ -48,10 +48,10 @@ void FingerRenderer::penalty(const glm::dvec3 &hip, double raw, Candidate &c) no
     } else if (field_.overHole(c.plane.height) || !(below > 0.0) || (measured && !(raw > hip.z))) {
         // Free: above the plane, over a hole, or above the sensor surface at the HIP's own x–y
         // (what the camera saw in front of the surface is free space).
-        behind_ = false;
+        c.behind = false;
         return;
     }
-    if (!contact_) {
+    if (!touching()) {
         enter(below, c);
         if (c.contact) {
             c.proxy = goal;

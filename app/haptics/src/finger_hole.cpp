@@ -38,25 +38,24 @@ bool FingerRenderer::holdOverHole(const glm::dvec3 &hip, double raw, double t,
 {
     // NaN (off the grid) is not measured, but neither is it a hole: the finger left the grid.
     const bool hole = raw < -0.5 * field_.box().depth - kFingerHoleMargin;
-    if (!hole || !contact_ || wall_) {
+    if (!hole || !touching() || state_ == FingerState::OnWall) {
         const double cut = field_.cutThreshold();
-        if (!std::isnan(holeSince_) && contact_ && !wall_ && config_.safety &&
+        if (state_ == FingerState::OverHole && config_.safety &&
             (std::fabs(raw - proxy_.z) > cut ||
              stencilStep(fitFingerPlane(field_, lastX_, lastY_, p_.radius)) > cut)) {
             // Measured again, but not the surface the finger was held on (an occluder came over
             // it while it was unseen): free, as the hole left it before the hold, to be caught
             // by what is there now (capture()) instead of tripping on the step.
-            contact_ = false;
-            behind_ = false;
+            state_ = FingerState::Free;
+            c.behind = false;
             heldDepth_ = 0.0;
         }
-        holeSince_ = std::nan("");
         return false;
     }
     const glm::dvec3 goal(hip.x + proxy_.x - lastHip_.x, hip.y + proxy_.y - lastHip_.y, proxy_.z);
     const glm::dvec3 offset = goal - hip;
     const double reach = glm::length(offset);
-    if (std::isnan(holeSince_)) {
+    if (state_ != FingerState::OverHole) {
         holeSince_ = t;
         holeAt_ = {hip.x, hip.y};
         holeDepth_ = lastDepth_;

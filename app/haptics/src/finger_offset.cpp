@@ -52,7 +52,7 @@ void FingerRenderer::smoothOffset(const glm::dvec3 &hip, const Candidate &c,
         const double least = was - p_.unloadDepth;
         return now > 0.0 && now < least ? next * (least / now) : next;
     };
-    if (!c.contact || !contact_ || c.trip || c.stepped) {
+    if (!c.contact || !touching() || c.trip || c.stepped) {
         offset_ = offset;
         offsetTrend_ = {};
     } else if (c.unseen) {
@@ -140,7 +140,7 @@ void FingerRenderer::releaseCovered(const glm::dvec3 &hip, double raw, const Can
     const bool covered = raw > hip.z; // false for NaN
     // A hold over a hole that ends under what came over it (contact_ cleared) leaves the finger
     // free with no force, as the hole did before the hold (finger_hole.cpp).
-    const bool started = c.trip ? covered : (covered ? contact_ : wasInContact);
+    const bool started = c.trip ? covered : (covered ? touching() : wasInContact);
     if (!started && release_ == glm::dvec3{})
         return; // nothing to unload (a free finger: no lookups)
     if (!covered && !(reachAbove(hip, p_.rimReach) > hip.z)) {

@@ -60,10 +60,7 @@ void FingerRenderer::reset(const glm::dvec3 &hip) noexcept
     release_ = {};
     releaseStep_ = 0.0;
     lastHip_ = hip;
-    contact_ = false;
-    behind_ = false;
-    holeSince_ = std::nan("");
-    wall_ = false;
+    state_ = FingerState::Free;
     pushing_ = false;
     pushed_ = false;
     enterAnyDepth_ = true;
@@ -252,23 +249,21 @@ void FingerRenderer::capture(const glm::dvec3 &hip, Candidate &c) noexcept
     if (config_.correction && enterWall(hip, wall)) {
         if (!c.contact || wall.below < c.below) {
             c = wall;
-            behind_ = false;
-        } else {
-            wall_ = false;
+            c.behind = false;
         }
     }
-    if (c.contact && !contact_)
+    if (c.contact && !touching())
         limitPush(hip, c); // caught deep (behind an object, under a returning surface): bounded
 }
 
 void FingerRenderer::enter(double below, Candidate &c) noexcept
 {
     const double reach =
-        behind_ ? std::max(p_.captureDepth, heldDepth_ + p_.stepDepth) : p_.captureDepth;
-    c.contact = contact_ || enterAnyDepth_ || below <= reach || !config_.safety;
+        c.behind ? std::max(p_.captureDepth, heldDepth_ + p_.stepDepth) : p_.captureDepth;
+    c.contact = touching() || enterAnyDepth_ || below <= reach || !config_.safety;
     // Not caught: it came under the surface from the side, or the surface jumped onto it. Caught
     // again: the force steps at most maxForceStep an update.
-    behind_ = !c.contact;
+    c.behind = !c.contact;
 }
 
 void FingerRenderer::pushUp(const glm::dvec3 &hip, double raw, Candidate &c) const noexcept
@@ -384,29 +379,31 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     Candidate c;
     c.proxy = hip;
     const bool wasResting = resting_;
-    const bool wasInContact = contact_; // holdOverHole() may end it before the search
-    pushed_ = pushing_ && contact_;     // limitPush() bounded the last update's proxy
+    c.behind = state_ == FingerState::Behind;
+    c.wall = state_ == FingerState::OnWall;
+    const bool wasInContact = touching(); // holdOverHole() may end it before the search
+    pushed_ = pushing_ && touching();     // limitPush() bounded the last update's proxy
     pushing_ = false;
     const bool resting = restingContact(hip, t);
     if (holdOverHole(hip, raw, t, c)) {
         // Held on the surface it pressed: a hole opened under the finger (finger_hole.cpp).
         c.unseen = true;
     } else if (resting) {
-        wall_ = false;
+        c.wall = false;
         if (over)
             penalty(hip, raw, c);
         else
-            behind_ = false;
-        if (!behind_ && !c.contact)
+            c.behind = false;
+        if (!c.behind && !c.contact)
             heldDepth_ = 0.0;
-        if (c.contact && !wasResting && contact_ && switchSteps(c))
+        if (c.contact && !wasResting && touching() && switchSteps(c))
             c.stepped = true; // from the god-object's proxy to the penalty's: ramped in
     } else if (!inside && !withinReach(hip, raw)) {
-        behind_ = false;
+        c.behind = false;
         heldDepth_ = 0.0;
-    } else if (contact_ && wall_) {
+    } else if (state_ == FingerState::OnWall) {
         wallContact(hip, raw, c);
-    } else if (contact_ && config_.correction) {
+    } else if (touching() && config_.correction) {
         slide(hip, raw, c);
         if (c.contact && !c.trip)
             pushUp(hip, raw, c);
@@ -419,7 +416,7 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     } else {
         capture(hip, c);
     }
-    if (wasResting && !resting_ && c.contact && contact_ && !c.trip && switchSteps(c))
+    if (wasResting && !resting_ && c.contact && touching() && !c.trip && switchSteps(c))
         c.stepped = true; // from the penalty's proxy to the god-object's: ramped in
     // A step is ramped from the force before it over the ramp time (0.25 s), which is right for a
     // step up under a pressed finger only: from a force under the step's own size the ramp held
@@ -445,11 +442,11 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
         // Behind the surface: free until out, or caught again by the surface it was held on.
         heldDepth_ = c.saturated ? 0.0 : lastDepth_;
         c.contact = false;
-        behind_ = true;
+        c.behind = true;
     }
     if (!c.contact) {
         c.proxy = hip;
-        wall_ = false;
+        c.wall = false;
     }
     enterAnyDepth_ = false;
     out.released = c.trip;
@@ -473,7 +470,7 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     out.proxy = held;
     out.contact = c.contact;
     out.constraints = c.contact ? 1 : 0;
-    contact_ = c.contact;
+    state_ = nextState(c);
     proxy_ = c.proxy;
     surfaceProxy_ = c.bounded && c.contact ? c.found : c.proxy;
     lastGlide_ = c.contact ? c.glide : glm::dvec2{};
@@ -499,7 +496,8 @@ bool FingerRenderer::withinReach(const glm::dvec3 &hip, double raw) const noexce
     // 8-bit edge, where bench feel, judging phantom force by the true surface within the radius,
     // found 4 ms of it. Over a hole (nothing measured at the HIP: off the grid too) the hole's own
     // rules hold (finger_hole.cpp).
-    if (!std::isfinite(raw) || field_.overHole(raw) || !contact_ || wall_ || !config_.correction)
+    if (!std::isfinite(raw) || field_.overHole(raw) || !touching() ||
+        state_ == FingerState::OnWall || !config_.correction)
         return false;
     return reachAbove(hip, p_.holdReach) > hip.z; // false for NaN
 }
@@ -516,7 +514,7 @@ double FingerRenderer::reachAbove(const glm::dvec3 &hip, double radius) const no
 double FingerRenderer::sensorHeight(const glm::dvec3 &hip) const noexcept
 {
     const double raw = field_.heightAt(hip.x, hip.y);
-    if (!contact_ || raw > hip.z)
+    if (!touching() || raw > hip.z)
         return raw;
     // In contact, and free by the surface at the HIP's own x–y: one pixel read far back (an active
     // stereo mismatch, a time-of-flight dropout, a single hole) is not free space under a pressed
@@ -533,6 +531,15 @@ double FingerRenderer::sensorHeight(const glm::dvec3 &hip) const noexcept
             z[k++] = field_.contains(x, y) ? field_.heightAt(x, y) : raw;
         }
     return median9(z);
+}
+
+FingerState FingerRenderer::nextState(const Candidate &c) noexcept
+{
+    if (c.contact)
+        return c.unseen ? FingerState::OverHole
+               : c.wall ? FingerState::OnWall
+                        : FingerState::Touching;
+    return c.behind ? FingerState::Behind : FingerState::Free;
 }
 
 bool FingerRenderer::switchSteps(const Candidate &c) const noexcept

@@ -93,7 +93,7 @@ bool FingerRenderer::enterWall(const glm::dvec3 &hip, Candidate &c) noexcept
     c.below = s;
     c.contact = true;
     c.plane = fitFingerPlane(field_, c.proxy.x, c.proxy.y, p_.radius);
-    wall_ = true;
+    c.wall = true;
     return true;
 }
 
@@ -126,7 +126,7 @@ void FingerRenderer::wallContact(const glm::dvec3 &hip, double raw, Candidate &c
     const double top = raw - hip.z;
     const double toTop = std::clamp(0.5 + (s - top) / (2.0 * p_.radius), 0.0, 1.0);
     if (toTop >= 1.0) {
-        wall_ = false;
+        c.wall = false;
         FingerPlane start{};
         c.proxy = solve(hip, hip.x, hip.y, c.plane, start, c.below);
         if (!(c.below > 0.0)) // the stencil's median is beside the object: straight up

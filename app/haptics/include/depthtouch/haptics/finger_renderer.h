@@ -148,6 +148,7 @@
 /// Thread-safety: thread-bound (the haptic thread); no allocation.
 
 #include <cmath>
+#include <cstdint>
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -281,6 +282,50 @@ FingerPlane fitFingerPlane(const HeightField &field, double x, double y, double 
 /// (positive: \a p is under the plane), m.
 glm::dvec3 projectOnPlane(const FingerPlane &plane, const glm::dvec3 &p, double &below) noexcept;
 
+/// \brief The fingertip's contact state, one value carried from update to update
+/// (FingerRenderer::state()). reset() makes it Free. Each transition has one named guard,
+/// checked in update() in this order; a transition not listed keeps the state:
+///
+///                through a side            corner
+///         ┌─────────────────────► OnWall ──────────┐
+///         │                                        ▼
+///  reset► Free ────────── caught ──────────────► Touching ─── hole ───► OverHole
+///         ▲  │ ◄──────────── out ─────────────────── │  ▲ ◄── measured ──── │
+///     out │  │ deep                             trip │  │                   │ cut,
+///         │  ▼                                       ▼  │ caught again      ▼ unloaded
+///         └─ Behind ◄────────────────────────────────┘  │                  Free
+///              └────────────────────────────────────────┘
+///
+/// (OnWall and OverHole also trip to Behind, and OnWall goes out to Free: the list below has
+/// every arrow.)
+///
+/// The transitions, from → to: *guard* (where it is checked):
+/// - Touching → OverHole: *hole*, the spot under the pressed finger turned to a hole
+///   (holdOverHole()).
+/// - OverHole → Touching: *measured*, the spot is measured again: the surface it was held on.
+/// - OverHole → Free: *cut*, measured again a cut off the held surface; *unloaded*, the hold's
+///   force is spent.
+/// - Free → Touching: *caught*, under the surface no deeper than captureDepth (enter()).
+/// - Free → Behind: *deep*, under it deeper than that: it came from the side, or the surface
+///   jumped onto it (enter()).
+/// - Behind → Touching: *caught again*, the surface it was held on is within heldDepth +
+///   stepDepth (enter()).
+/// - Free → OnWall: *through a side*, the path since the last update crossed a side steeper than
+///   kFingerWallSlope (enterWall()).
+/// - OnWall → Touching: *corner*, the top is nearer than the side by r (wallContact()).
+/// - Touching, OnWall → Free: *out*, above the sensor surface at its x–y with nothing within
+///   holdReach above it (withinReach()), or out from under the stencil's plane (slide()).
+/// - Behind → Free: *out*, above the sensor surface at its x–y.
+/// - Touching, OnWall, OverHole → Behind: *trip*, a cut with Reengage::Release, an occluder over
+///   the finger, or the device maximum held for kFingerSaturationTime.
+enum class FingerState : std::uint8_t {
+    Free,     ///< No contact: the HIP is in front of what the camera saw.
+    Behind,   ///< Under the surface without contact: came from the side, or was let go there.
+    Touching, ///< On the finger-scale surface: the god-object's or the penalty's contact.
+    OnWall,   ///< On an object's side, met through it (finger_wall.cpp).
+    OverHole, ///< Pressed where a hole opened: held on the unseen surface (finger_hole.cpp).
+};
+
 /// \brief The fingertip-proxy renderer (see the file comment). Method::Finger.
 class FingerRenderer final : public HapticRenderer {
 public:
@@ -302,6 +347,8 @@ public:
     [[nodiscard]] const RendererConfig &config() const noexcept { return config_; }
     /// \return the stencil half-width in effect, m.
     [[nodiscard]] double radius() const noexcept { return p_.radius; }
+    /// \return the contact state after the last update (FingerState).
+    [[nodiscard]] FingerState state() const noexcept { return state_; }
     /// \return the parameter table in effect.
     [[nodiscard]] const FingerParameters &parameters() const noexcept { return p_; }
 
@@ -326,7 +373,21 @@ private:
         /// Held over a hole (holdOverHole()): nothing measured, no noise to filter; its own
         /// unload rate is the force's.
         bool unseen = false;
+        /// The next state's flags while the update decides (nextState()): on an object's side,
+        /// and under the surface without contact. They start as the state at the update's start.
+        bool wall = false;
+        bool behind = false;
     };
+    /// \return whether the finger is in contact at the update's start (Touching, OnWall or
+    /// OverHole; holdOverHole() may end it before the search).
+    [[nodiscard]] bool touching() const noexcept
+    {
+        return state_ == FingerState::Touching || state_ == FingerState::OnWall ||
+               state_ == FingerState::OverHole;
+    }
+    /// \return the state the update \a c leaves: its contact, on a wall, held over a hole,
+    /// behind the surface or free.
+    [[nodiscard]] static FingerState nextState(const Candidate &c) noexcept;
     /// \return whether a switch between the contacts moves the proxy by more than stepDepth
     /// (the candidate \a c against the last update's proxy): only then is it ramped in.
     [[nodiscard]] bool switchSteps(const Candidate &c) const noexcept;
@@ -457,11 +518,9 @@ private:
     double releaseStep_ = 0.0; ///< release_'s last step, N.
     glm::dvec3 lastOffset_{};  ///< The last update's unfiltered offset, m.
     double outputGain_ = 1.0;  ///< setOutputGain(): the caller's factor on the force, 0..1.
-    bool contact_ = false;
-    bool behind_ = false;      ///< HIP under the surface without contact (see the file comment).
-    bool wall_ = false;        ///< The contact is on an object's side (finger_wall.cpp).
-    glm::dvec2 wallNormal_{};  ///< The wall's outward horizontal normal (unit).
-    double wallDepth_ = 0.0;   ///< The HIP's depth behind the wall along it, last update, m.
+    FingerState state_ = FingerState::Free; ///< The contact state (FingerState).
+    glm::dvec2 wallNormal_{};               ///< The wall's outward horizontal normal (unit).
+    double wallDepth_ = 0.0;    ///< The HIP's depth behind the wall along it, last update, m.
     bool enterAnyDepth_ = true; ///< After reset(): a HIP found inside comes into contact.
     double lastX_ = 0.0;      ///< Centre of the last plane fitted in the last update, m.
     double lastY_ = 0.0;
@@ -472,10 +531,10 @@ private:
     bool pushed_ = false;     ///< It bounded the last update's (in contact).
     glm::dvec3 pushDir_{};    ///< The bounded push's direction from the HIP (unit).
     double heldDepth_ = 0.0;  ///< The held depth when an occluder or a cut let the finger go, m.
-    double holeSince_ = std::nan(""); ///< Haptic time a hole opened under the pressed finger, s.
-    glm::dvec2 holeAt_{};             ///< The HIP's x–y then, m.
-    double holeDepth_ = 0.0;          ///< |proxy − HIP| then: the held depth's bound, m.
-    glm::dvec3 holeDir_{};            ///< The held force's direction (unit), HIP to proxy.
+    double holeSince_ = 0.0;  ///< Haptic time the hole opened (FingerState::OverHole), s.
+    glm::dvec2 holeAt_{};     ///< The HIP's x–y then, m.
+    double holeDepth_ = 0.0;  ///< |proxy − HIP| then: the held depth's bound, m.
+    glm::dvec3 holeDir_{};    ///< The held force's direction (unit), HIP to proxy.
     double saturatedSince_ = std::nan(""); ///< Haptic time the command reached the maximum, s.
     bool letGoNext_ = false;      ///< The command stayed at the maximum: let go on the next update.
     double lastT_ = std::nan(""); ///< Haptic time of the last update, s.
