@@ -301,4 +301,25 @@ Result<std::unique_ptr<hal::AudioOutput>> createAudioOutput(std::string_view nam
                               names, cfg, report);
 }
 
+std::string audioOutputFilePath(std::string_view names, std::string_view options)
+{
+#if DT_HAVE_FFMPEG
+    for (std::string_view rest = names; !rest.empty();) {
+        const std::size_t comma = rest.find(',');
+        std::string_view name = rest.substr(0, comma);
+        rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 1);
+        while (!name.empty() && name.front() == ' ')
+            name.remove_prefix(1);
+        while (!name.empty() && name.back() == ' ')
+            name.remove_suffix(1);
+        if (name == "wav")
+            return wavOutputPath(options, {});
+    }
+#else
+    (void)names;
+    (void)options;
+#endif
+    return {};
+}
+
 } // namespace depthtouch::drivers

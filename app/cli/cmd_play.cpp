@@ -122,6 +122,9 @@ void failLine(std::string_view why)
     std::fprintf(stderr, "depthtouch play: %s\n", platform::printableText(why, 400).c_str());
 }
 
+/// How messages name the sound output's file.
+constexpr const char *kWavOption = "--audio-device-options path";
+
 PlayResult badInput(const std::string &why)
 {
     failLine(why);
@@ -137,18 +140,24 @@ std::optional<PlayResult> checkPlayOptions(const PlayOptions &opt)
     if (opt.url.empty())
         return badInput("nothing to play: give a file or URL");
     // Outputs: a missing folder is bad input, an output that takes no byte is lost at once.
-    // An output never replaces an input or another output (compared by file identity).
+    // An output never replaces an input or another output (compared by file identity). The sound
+    // output's file (`wav`'s path=) is one of them.
+    const std::string wav =
+        opt.noAudio ? std::string()
+                    : drivers::audioOutputFilePath(opt.audioDevice, opt.audioDeviceOptions);
     for (const platform::OutputPathCheck &c :
          {platform::checkOutputPath("--record", opt.record),
           platform::checkOutputPath("--force-log", opt.forceLog),
           platform::checkOutputPath("--av-log", opt.avLog),
           platform::checkOutputPath("--stats", opt.stats, true),
+          platform::checkOutputPath(kWavOption, wav, true),
           platform::checkOutputFolder("--snapshot-dir", opt.snapshotDir),
           platform::checkDistinctPaths({{"the input", opt.url}, {"--config", opt.config}},
                                        {{"--record", opt.record},
                                         {"--force-log", opt.forceLog},
                                         {"--av-log", opt.avLog},
-                                        {"--stats", opt.stats}})}) {
+                                        {"--stats", opt.stats},
+                                        {kWavOption, wav}})}) {
         if (c.exitCode != kExitOk) {
             failLine(c.message);
             return PlayResult{c.exitCode, {}};
@@ -323,6 +332,8 @@ PlayResult finishPlay(const PlayOptions &opt, const playback::PlayRunFigures &ru
         lost = platform::quotedText(opt.avLog, 120) + ": " + run.stats.avLogLost;
     if (lost.empty() && !run.stats.snapshotLost.empty())
         lost = "in " + platform::quotedText(opt.snapshotDir, 120) + ": " + run.stats.snapshotLost;
+    if (lost.empty())
+        lost = run.audioOutputLost; // the `wav` file: its open, a write or its rename failed
 
     // An input that opened but failed before giving a single frame (cut after its header) is
     // bad input like one that does not open.
@@ -409,6 +420,10 @@ PlayResult runPlay(const PlayOptions &opt, const player::KeyMap &keys)
     run.display = b.displayReport.chosen;
     run.hapticDevice = b.hapticReport.chosen;
     run.audioDevice = b.audio ? b.audioReport.chosen : std::string();
+    if (b.audio) {
+        b.audio->close(); // closed by playback.close(); a file output is finished by now
+        run.audioOutputLost = b.audio->lostOutput();
+    }
     run.deviceMaxForce = b.device->capabilities().maxForce;
     run.rssStart = out.rssStart;
     run.rssAfterWarmup = out.rssAfterWarmup;

@@ -5,7 +5,9 @@
 /// socket answers while an input's open blocks; SIGTERM ends a player blocked in an open. A run
 /// that waits for what it should not (a blocked open, a silent FIFO) would take minutes, so each
 /// bound is far from both outcomes; the times themselves are printed, not asserted.
-/// Runs on the mock backends (and the ffmpeg ones for FIFOs and files), no GL needed.
+/// Runs on the mock backends (and the ffmpeg ones for FIFOs and files), no GL needed. The `wav`
+/// sound output's file obeys the rule of every output (issue 60): never an input or another
+/// output, written whole or not at all, and a FIFO without a reader never holds the player.
 
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -15,9 +17,11 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <thread>
 #include <vector>
@@ -60,9 +64,9 @@ TEST(PlayFaultsTest, NumbersBeyondADoubleOnTheSocketDoNotEndThePlayer)
     Process player(mockPlay(kMockClip, {"--loop", "--control", sock, "--duration", "15"}));
     ControlClient c;
     ASSERT_TRUE(c.connect(sock, 10s));
-    for (const char *line : {R"({"command":["seek",1e400]})",
-                             R"({"command":["get","state"],"request_id":1e999})",
-                             R"({"command":["stiffness",1e309]})"})
+    for (const char *line :
+         {R"({"command":["seek",1e400]})", R"({"command":["get","state"],"request_id":1e999})",
+          R"({"command":["stiffness",1e309]})"})
         EXPECT_EQ(c.request(line), R"({"error":"malformed JSON: a number is out of range"})");
     EXPECT_NE(c.request(R"({"command":["get","url"]})").find("success"), std::string::npos);
     EXPECT_EQ(c.request(R"({"command":["quit"]})"), R"({"error":"success"})");
@@ -132,8 +136,8 @@ TEST(PlayFaultsTest, SeekAndStateRepliesComeWhilePlaying)
 {
     TempDir tmp("dt-faults-");
     const std::string sock = (tmp.dir() / "ctl.sock").string();
-    Process player(mockPlay("mock://clip?frames=300&fps=30", {"--loop", "--control", sock,
-                                                              "--duration", "15"}));
+    Process player(mockPlay("mock://clip?frames=300&fps=30",
+                            {"--loop", "--control", sock, "--duration", "15"}));
     ControlClient c;
     ASSERT_TRUE(c.connect(sock, 10s));
     std::this_thread::sleep_for(300ms);
@@ -225,9 +229,9 @@ TEST(PlayFaultsTest, BadControlPathIsBadInput)
     ASSERT_EQ(::bind(fd, reinterpret_cast<sockaddr *>(&addr), sizeof addr), 0);
     ASSERT_EQ(::listen(fd, 4), 0);
     const std::string tooLong = (tmp.dir() / std::string(120, 's')).string();
-    for (const std::string &path : {file.string(), link.string(), tmp.dir().string(),
-                                    fifo.string(), live.string(), tooLong,
-                                    (tmp.dir() / "no" / "dir.sock").string()}) {
+    for (const std::string &path :
+         {file.string(), link.string(), tmp.dir().string(), fifo.string(), live.string(), tooLong,
+          (tmp.dir() / "no" / "dir.sock").string()}) {
         const ProcessResult r = runProcess(mockPlay(kMockClip, {"--control", path}), 10s);
         expectOneLine(r, 2, "--control " + path);
     }
@@ -272,12 +276,9 @@ TEST(PlayFaultsTest, LostOutputIsFailureAndAMissingFolderBadInput)
         Args options;
         int code;
     } cases[] = {
-        {{"--force-log", "/dev/full"}, 1},
-        {{"--stats", "/dev/full"}, 1},
-        {{"--stats", tmp.dir().string()}, 1},
-        {{"--record", "/nonexistent/r.mkv"}, 2},
-        {{"--force-log", "/nonexistent/f.csv"}, 2},
-        {{"--stats", "/nonexistent/s.json"}, 2},
+        {{"--force-log", "/dev/full"}, 1},          {{"--stats", "/dev/full"}, 1},
+        {{"--stats", tmp.dir().string()}, 1},       {{"--record", "/nonexistent/r.mkv"}, 2},
+        {{"--force-log", "/nonexistent/f.csv"}, 2}, {{"--stats", "/nonexistent/s.json"}, 2},
     };
     for (const auto &c : cases) {
         const ProcessResult r = runProcess(mockPlay(kMockClip, c.options, "sim"), kLimit);
@@ -321,7 +322,8 @@ TEST(PlayFaultsTest, AFileCutAfterItsHeaderEndsWithOneLine)
     const fs::path clip = tmp.dir() / "clip.mkv";
     const std::string make = "ffmpeg -nostdin -hide_banner -v error -y -f lavfi -i "
                              "testsrc=size=320x240:rate=30:duration=2 -c:v libx264 -preset "
-                             "ultrafast '" + clip.string() + "'";
+                             "ultrafast '" +
+                             clip.string() + "'";
     ASSERT_EQ(std::system(make.c_str()), 0);
     // 2000 bytes: the Matroska header and part of the first key frame (over 8 kB at 320x240).
     ASSERT_GT(fs::file_size(clip), 20000u);
@@ -329,6 +331,166 @@ TEST(PlayFaultsTest, AFileCutAfterItsHeaderEndsWithOneLine)
     const ProcessResult r = runProcess(ffmpegPlay(clip.string()), kLimit);
     expectOneLine(r, 2, "a file cut after its header");
     EXPECT_NE(r.err.find("ended before its first complete frame"), std::string::npos) << r.err;
+}
+
+// --- Issue 60: the `wav` sound output's file is an output like the others --------------------
+
+/// \return a 2 s clip with sound (H.264 + AAC) made in \a dir with the ffmpeg CLI, or "" without
+/// it.
+std::string clipWithSound(const fs::path &dir)
+{
+    if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0)
+        return {};
+    const fs::path clip = dir / "clip.mkv";
+    const std::string make =
+        "ffmpeg -nostdin -hide_banner -v error -y -f lavfi -i testsrc=size=96x72:rate=30:"
+        "duration=2 -f lavfi -i sine=frequency=440:sample_rate=48000:duration=2 -ac 2 -pix_fmt "
+        "yuv420p -c:v libx264 -preset ultrafast -c:a aac '" +
+        clip.string() + "'";
+    return std::system(make.c_str()) == 0 ? clip.string() : std::string();
+}
+
+/// `play CLIP` on the ffmpeg backends with its sound written by `wav` to \a wav, then \a extra.
+Args wavPlay(const std::string &clip, const std::string &wav, const Args &extra = {})
+{
+    Args a = ffmpegPlay(
+        clip, {"--no-config", "--audio-device", "wav", "--audio-device-options", "path=" + wav});
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+}
+
+std::string fileBytes(const fs::path &p)
+{
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// No file in \a dir has \a name's temporary name (`NAME.tmp.PID`).
+void expectNoTemporary(const fs::path &dir, const std::string &name)
+{
+    for (const auto &e : fs::directory_iterator(dir))
+        EXPECT_EQ(e.path().filename().string().rfind(name + ".tmp.", 0), std::string::npos)
+            << "left behind: " << e.path();
+}
+
+TEST(PlayFaultsTest, WavPathThatIsAnInputOrAnotherOutputIsRefused)
+{
+    TempDir tmp("dt-faults-");
+    const std::string clip = clipWithSound(tmp.dir());
+    if (clip.empty())
+        GTEST_SKIP() << "no ffmpeg CLI on PATH";
+    const std::string before = fileBytes(clip);
+    fs::create_directory(tmp.dir() / "sub");
+    fs::create_symlink(clip, tmp.dir() / "link.wav");
+    const fs::path cfg = tmp.dir() / "play.toml";
+    std::ofstream(cfg) << "volume = 50\n";
+    const std::string stats = (tmp.dir() / "s.json").string();
+    const struct {
+        std::string wav;
+        Args extra;
+    } cases[] = {
+        {clip, {}},
+        {(tmp.dir() / "sub" / ".." / "clip.mkv").string(), {}},
+        {(tmp.dir() / "link.wav").string(), {}},
+        {stats, {"--stats", stats}},
+        {stats, {"--force-log", stats}},
+        {cfg.string(), {"--config", cfg.string()}},
+    };
+    for (const auto &c : cases) {
+        const ProcessResult r = runProcess(wavPlay(clip, c.wav, c.extra), kLimit);
+        expectOneLine(r, 2, "path=" + c.wav);
+        EXPECT_NE(r.err.find("--audio-device-options path"), std::string::npos) << r.err;
+        EXPECT_TRUE(fileBytes(clip) == before) << "the input was written through path=" << c.wav;
+    }
+    EXPECT_FALSE(fs::exists(stats));
+}
+
+TEST(PlayFaultsTest, WavOutputLostIsFailureWithNothingUnderItsName)
+{
+    TempDir tmp("dt-faults-");
+    const std::string clip = clipWithSound(tmp.dir());
+    if (clip.empty())
+        GTEST_SKIP() << "no ffmpeg CLI on PATH";
+    for (const std::string &wav : {std::string("/dev/full"), tmp.dir().string()}) {
+        const ProcessResult r = runProcess(wavPlay(clip, wav, {"--duration", "1"}), kLimit);
+        expectOneLine(r, 1, "path=" + wav);
+    }
+    // A full disk (the file size limit: EFBIG) in the middle of the run: exit 1, nothing left.
+    const fs::path big = tmp.dir() / "big.wav";
+    Args limited = {"/bin/sh", "-c", "ulimit -f 40; exec \"$0\" \"$@\""};
+    const Args run = wavPlay(clip, big.string(), {"--duration", "2"});
+    limited.insert(limited.end(), run.begin(), run.end());
+    const ProcessResult full = runProcess(limited, kLimit);
+    expectOneLine(full, 1, "a full disk");
+    EXPECT_NE(full.err.find("cannot write the WAV file"), std::string::npos) << full.err;
+    EXPECT_FALSE(fs::exists(big)) << "a cut WAV under its name";
+    expectNoTemporary(tmp.dir(), "big.wav");
+    // A folder that takes no file: found before playing, as for --stats (bad input).
+    const fs::path ro = tmp.dir() / "ro";
+    fs::create_directory(ro);
+    const bool root = ::geteuid() == 0;
+    if (root ? std::system(("chattr +i '" + ro.string() + "' 2>/dev/null").c_str()) != 0
+             : ::chmod(ro.c_str(), 0555) != 0)
+        GTEST_SKIP() << "no read-only folder can be made here";
+    const ProcessResult r = runProcess(wavPlay(clip, (ro / "a.wav").string()), kLimit);
+    if (root)
+        (void)std::system(("chattr -i '" + ro.string() + "'").c_str());
+    ::chmod(ro.c_str(), 0755);
+    expectOneLine(r, 2, "a read-only folder");
+    EXPECT_TRUE(fs::is_empty(ro));
+}
+
+TEST(PlayFaultsTest, WavOutputIsWholeUnderItsNameWithNoTemporaryLeft)
+{
+    TempDir tmp("dt-faults-");
+    const std::string clip = clipWithSound(tmp.dir());
+    if (clip.empty())
+        GTEST_SKIP() << "no ffmpeg CLI on PATH";
+    const fs::path wav = tmp.dir() / "a.wav";
+    const ProcessResult r = runProcess(wavPlay(clip, wav.string(), {"--duration", "1"}), kLimit);
+    EXPECT_EQ(r.exitCode, 0) << describe(r);
+    EXPECT_EQ(r.err, "");
+    const std::string bytes = fileBytes(wav);
+    ASSERT_GT(bytes.size(), 44u + 48000u) << "a second of sound at least";
+    EXPECT_EQ(bytes.substr(0, 4), "RIFF");
+    std::uint32_t riff = 0;
+    for (int i = 3; i >= 0; --i)
+        riff = riff << 8 | static_cast<unsigned char>(bytes[4 + static_cast<std::size_t>(i)]);
+    EXPECT_EQ(riff, bytes.size() - 8) << "the RIFF size";
+    expectNoTemporary(tmp.dir(), "a.wav");
+}
+
+TEST(PlayFaultsTest, WavToAFifoWithoutAReaderDoesNotHoldThePlayer)
+{
+    TempDir tmp("dt-faults-");
+    const std::string clip = clipWithSound(tmp.dir());
+    if (clip.empty())
+        GTEST_SKIP() << "no ffmpeg CLI on PATH";
+    const fs::path fifo = tmp.dir() / "sound.fifo";
+    makeFifo(fifo);
+    const std::string sock = (tmp.dir() / "ctl.sock").string();
+    Process player(wavPlay(clip, fifo.string(), {"--loop", "--control", sock}));
+    // The control loop answers and the input plays: nothing waits for the FIFO's reader.
+    ControlClient c;
+    ASSERT_TRUE(c.connect(sock, 10s));
+    // One deadline for the whole wait: a control loop blocked in open(2) answers nothing.
+    const auto deadline = std::chrono::steady_clock::now() + 10s;
+    std::string state;
+    while (state.find(R"("data":"playing")") == std::string::npos &&
+           std::chrono::steady_clock::now() < deadline) {
+        std::this_thread::sleep_for(20ms);
+        state = c.request(R"({"command":["get","state"]})", 1s);
+    }
+    EXPECT_EQ(state, R"({"data":"playing","error":"success"})");
+    const auto sent = std::chrono::steady_clock::now();
+    player.signal(SIGTERM);
+    const ProcessResult r = player.wait(kLimit);
+    const double stopSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+    expectOneLine(r, 1, "SIGTERM with a FIFO without a reader as the sound output");
+    EXPECT_NE(r.err.find("is a FIFO with no reader"), std::string::npos) << r.err;
+    EXPECT_LT(stopSeconds, 5.0) << "the bound leaves room for a loaded machine";
+    std::printf("SIGTERM with path= a FIFO without a reader: exited after %.3f s\n", stopSeconds);
 }
 
 } // namespace

@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -351,6 +354,47 @@ TEST_F(WavOutputTest, theWavOutputSaysWhenItsFileCannotBeMade)
     ASSERT_TRUE(made) << made.error().what;
     EXPECT_EQ(errcOf((*made)->open({kRate, 2})), Errc::Io);
     EXPECT_EQ((*made)->state(), State::Closed);
+    EXPECT_NE((*made)->lostOutput().find("'/nonexistent-dir/x.wav'"), std::string::npos)
+        << (*made)->lostOutput();
+}
+
+TEST_F(WavOutputTest, theWavFileIsUnderItsNameOnlyWhenWhole)
+{
+    const std::string path = ::testing::TempDir() + "/dt_audio_output_whole.wav";
+    const std::string temp = path + ".tmp." + std::to_string(::getpid());
+    auto out = wav(path, 50);
+    ASSERT_TRUE(out);
+    ASSERT_TRUE(out->open({kRate, 2}));
+    const std::vector<std::int16_t> silence(2 * framesIn(100), 0);
+    ASSERT_TRUE(out->write(silence.data(), framesIn(40)));
+    clock_.advance(milliseconds(60));
+    ASSERT_TRUE(out->delayFrames());
+    // WHILE it plays, the sound goes to the temporary name beside it: nothing under its name
+    EXPECT_FALSE(std::filesystem::exists(path));
+    EXPECT_TRUE(std::filesystem::exists(temp));
+    out->close();
+    // THEN closed, the file is whole under its name (RIFF size = size - 8), no temporary left
+    EXPECT_FALSE(std::filesystem::exists(temp));
+    EXPECT_EQ(out->lostOutput(), "");
+    std::ifstream in(path, std::ios::binary);
+    const std::vector<char> bytes{std::istreambuf_iterator<char>(in),
+                                  std::istreambuf_iterator<char>()};
+    ASSERT_GT(bytes.size(), 44u);
+    EXPECT_EQ(field<std::uint32_t>(bytes, 4), bytes.size() - 8);
+    std::filesystem::remove(path);
+}
+
+TEST_F(WavOutputTest, aFifoWithoutAReaderIsRefusedAtOnce)
+{
+    const std::string fifo = ::testing::TempDir() + "/dt_audio_output_noreader.fifo";
+    std::filesystem::remove(fifo);
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    auto made = createAudioOutput("wav", configWith(&clock_, ("path=" + fifo).c_str()));
+    ASSERT_TRUE(made) << made.error().what;
+    // open(2) with O_NONBLOCK: ENXIO at once instead of waiting for a reader forever
+    EXPECT_EQ(errcOf((*made)->open({kRate, 2})), Errc::Io);
+    EXPECT_NE((*made)->lostOutput().find("no reader"), std::string::npos) << (*made)->lostOutput();
+    std::filesystem::remove(fifo);
 }
 
 } // namespace

@@ -87,4 +87,9 @@ Result<std::unique_ptr<hal::AudioOutput>> createAudioOutput(std::string_view nam
                                                             hal::SelectionReport *report = nullptr);
 ///@}
 
+/// \brief The file a sound output of \a names (createAudioOutput()'s list) with options
+/// \a options would write: the `wav` backend's `path=` (or its default, `depthtouch-audio.wav`)
+/// when `wav` is named, else empty (a device). For checking it as an output before playing.
+std::string audioOutputFilePath(std::string_view names, std::string_view options);
+
 } // namespace depthtouch::drivers

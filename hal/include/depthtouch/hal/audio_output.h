@@ -30,6 +30,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 #include "depthtouch/platform/result.h"
 
@@ -101,6 +102,13 @@ public:
 
     /// \brief Drops the queue and closes the device (any state; Closed after).
     virtual void close() noexcept = 0;
+
+    /// \brief Why a file output lost what it was given since it was made (it could not be
+    /// opened, a write failed, or finishing it at close() did), e.g. "cannot write 'a.wav': No
+    /// space left on device": the file is then not under its name. The player reports it as lost
+    /// output (exit 1). Empty for a device, or when nothing was lost. Read it after close(), on
+    /// the thread that closed the output.
+    [[nodiscard]] virtual std::string lostOutput() const { return {}; }
 };
 
 /// \return "Closed", "Open", "Paused" or "Lost" (static string; hal/src/state_names.cpp).

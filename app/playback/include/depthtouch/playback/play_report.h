@@ -30,6 +30,8 @@ struct PlayRunFigures {
     double lockedMiB = -1.0;
     std::string finalState; ///< The player's state at the end.
     std::string failure;    ///< Why the player ended in Error (empty: it did not).
+    /// What a file sound output (`wav`) lost (hal::AudioOutput::lostOutput()); empty: nothing.
+    std::string audioOutputLost;
 };
 
 /// \return the stats JSON of a run of \a url.

@@ -17,9 +17,12 @@ extern "C" {
 
 namespace depthtouch::av {
 
-/// \brief Creates \a path as a WAV file of \a rate Hz and \a channels channels and writes its
-/// header. \param[out] out The muxer (nullptr on failure). \return 0 or an AVERROR.
-inline int openWavFile(AVFormatContext *&out, const char *path, int rate, int channels) noexcept
+/// \brief Makes a WAV muxer of \a rate Hz and \a channels channels writing through \a pb (the
+/// caller's AVIOContext, which stays the caller's: closeWavFile() flushes it, never closes it), or,
+/// with \a pb null, into \a path opened by libavformat; writes its header.
+/// \param[out] out The muxer (nullptr on failure). \return 0 or an AVERROR.
+inline int openWavMuxer(AVFormatContext *&out, AVIOContext *pb, const char *path, int rate,
+                        int channels) noexcept
 {
     out = nullptr;
     AVFormatContext *ctx = nullptr;
@@ -37,18 +40,33 @@ inline int openWavFile(AVFormatContext *&out, const char *path, int rate, int ch
         st->codecpar->block_align = 2 * channels;
         st->codecpar->bit_rate = 16LL * rate * channels;
         st->time_base = AVRational{1, rate};
-        err = avio_open(&ctx->pb, path, AVIO_FLAG_WRITE);
+        if (pb != nullptr) {
+            ctx->pb = pb;
+            ctx->flags |= AVFMT_FLAG_CUSTOM_IO;
+        } else {
+            err = avio_open(&ctx->pb, path, AVIO_FLAG_WRITE);
+        }
     }
     if (err >= 0)
         err = avformat_write_header(ctx, nullptr);
+    if (err >= 0 && ctx->pb->error < 0)
+        err = ctx->pb->error;
     if (err < 0) {
-        if (ctx->pb != nullptr)
+        if (ctx->pb != nullptr && (ctx->flags & AVFMT_FLAG_CUSTOM_IO) == 0)
             avio_closep(&ctx->pb);
         avformat_free_context(ctx);
         return err;
     }
     out = ctx;
     return 0;
+}
+
+/// \brief Creates \a path as a WAV file of \a rate Hz and \a channels channels and writes its
+/// header (in place: see openWavMuxer() to write through an output of one's own).
+/// \param[out] out The muxer (nullptr on failure). \return 0 or an AVERROR.
+inline int openWavFile(AVFormatContext *&out, const char *path, int rate, int channels) noexcept
+{
+    return openWavMuxer(out, nullptr, path, rate, channels);
 }
 
 /// \brief Appends \a frames frames of \a samples (\a channels interleaved), the first being frame
@@ -74,7 +92,8 @@ inline int writeWavFrames(AVFormatContext *out, const std::int16_t *samples, std
     return err;
 }
 
-/// \brief Writes the sizes into the header and closes \a out (nullptr after; no-op when null).
+/// \brief Writes the sizes into the header (an output that can seek) and closes \a out (nullptr
+/// after; no-op when null); a caller's AVIOContext (openWavMuxer()) is flushed, not closed.
 /// \return 0 or an AVERROR.
 inline int closeWavFile(AVFormatContext *&out) noexcept
 {
@@ -83,7 +102,14 @@ inline int closeWavFile(AVFormatContext *&out) noexcept
     int err = av_write_trailer(out);
     if (err >= 0 && out->pb->error < 0)
         err = out->pb->error;
-    const int closed = avio_closep(&out->pb);
+    int closed = 0;
+    if ((out->flags & AVFMT_FLAG_CUSTOM_IO) != 0) {
+        avio_flush(out->pb);
+        closed = out->pb->error;
+        out->pb = nullptr;
+    } else {
+        closed = avio_closep(&out->pb);
+    }
     avformat_free_context(out);
     out = nullptr;
     return err < 0 ? err : closed;
