@@ -114,10 +114,6 @@ std::string reportFeel(const DemoOptions &o, const std::string &clip, const std:
                 "phantom force %.0f ms, %.2f spikes/s while sliding (%.1f s)\n",
                 f.trips, f.realCutTrips, f.popThroughMs, f.phantomMs, f.spikesPerSecond,
                 f.slidingSeconds);
-    std::printf("  energy            %.2f mJ put into the hand over the run, at most %.2f mJ at "
-                "any time (passivity observer: > 0 is energy the renderer and the turning head "
-                "gave)\n",
-                f.energyMj, f.energyPeakMj);
     std::printf("  contact on %-6s %.0f %% of %.1f s in contact (surface over %.0f mm nearer "
                 "than the %s)\n",
                 o.scene == "head" ? "head" : "fig.",
