@@ -482,6 +482,7 @@ bool writeFeelJson(const FeelReport &report, const std::filesystem::path &base, 
                                   {"regain_ms", g.maxRegainMs},
                                   {"at_max_ms", g.maxAtMaxMs},
                                   {"pull_down_ms", g.maxPullDownMs},
+                                  {"energy_excess_mj", g.maxExcessEnergyMj},
                                   {"device_max_force_n", g.deviceMaxForce}}}};
     platform::TextReportFile js((base / "feel.json").string(), error);
     js << doc.dump(2) << '\n';

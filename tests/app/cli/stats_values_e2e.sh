@@ -50,7 +50,7 @@ hkeys = {"haptic_updates", "haptic_run_s", "haptic_rate_hz", "rendered_updates",
          "overruns", "missed_periods", "wake_latency_us", "update_time_us", "period_error_us",
          "safety_releases", "watchdog_trips", "device_losses", "reconnects", "telemetry_dropped",
          "max_force_n", "device_max_force_n", "device_call_max_us", "force_log_lost", "haptic_thread",
-         "haptic_page_faults", "haptic_locked_mib"}
+         "haptic_page_faults", "haptic_locked_mib", "energy_into_hand_mj", "energy_peak_mj"}
 pkeys = {"url", "mode", "depth_size", "color_size", "output_size", "fps", "display", "haptic_device",
          "frames_decoded", "frames_received", "frames_presented", "frames_dropped", "frames_late",
          "late_ms_max", "frames_concealed", "decode_errors", "zero_copy", "color_frames_dmabuf",
@@ -162,6 +162,8 @@ if haptic:
     pf = d.get("haptic_page_faults", {})
     want("haptic_page_faults", sorted(pf) == ["major", "minor", "warmup"] and all(type(v) is int and v >= 0 for v in pf.values()), "3 counts")
     want("haptic_locked_mib", d.get("haptic_locked_mib", -1) >= 0, ">= 0")
+    energy = d.get("energy_into_hand_mj", float("nan"))
+    want("energy_peak_mj", d.get("energy_peak_mj", -1) >= max(0.0, energy), ">= max(0, energy_into_hand_mj)")
     if "log" in opt:  # the force log: one row per rendered update (none dropped)
         rows = list(csv.DictReader(open(opt["log"])))
         want("rendered_updates", rendered == len(rows), "%d force log rows" % len(rows))
@@ -171,6 +173,13 @@ if haptic:
         fmax = max([math.sqrt(sum(float(r[c]) ** 2 for c in ("fx", "fy", "fz"))) for r in rows] or [0])
         near("max_force_n", fmax, 1e-4)
         near("haptic_run_s", float(rows[-1]["play_t"]) if rows else 0, 1e-5)
+        # The passivity observer (haptics/passivity.h) over the log: the work of each row's force
+        # over the HIP's move to the next row (the mapping's scale is 1: device and scene moves
+        # are the same), mJ.
+        e = 0.0
+        for a, b in zip(rows, rows[1:]):
+            e += sum(float(a[f]) * (float(b[h]) - float(a[h])) for f, h in (("fx", "hip_x"), ("fy", "hip_y"), ("fz", "hip_z")))
+        near("energy_into_hand_mj", 1e3 * e, 1e-3 + 1e-3 * abs(1e3 * e))
 for b in bad:
     print("FAIL: %s: %s" % (run, b))
 if bad:
