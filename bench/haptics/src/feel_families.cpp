@@ -217,6 +217,8 @@ public:
     }
     void swipes();
     void presses();
+    /// One circle at \a speed (m/s) around a silhouette point, its phase drawn, named \a name.
+    void circle(double speed, const std::string &name);
     void circles();
     void traces();
     void taps();
@@ -388,23 +390,28 @@ void FamilyPlacer::presses()
         }
 }
 
+void FamilyPlacer::circle(double speed, const std::string &name)
+{
+    const Motion m{.family = StrokeFamily::Circle,
+                   .speed = speed,
+                   .depth = plan_.circleDepth,
+                   .main = plan_.moveSeconds};
+    const double phase = 2.0 * std::numbers::pi * draws_.next();
+    onSilhouette(
+        m, plan_.circleRadius + kTipRadius,
+        [&](Motion &mm2, const SilhouettePoint &e) {
+            // The circle's centre on the silhouette: it crosses it twice a turn.
+            mm2.path = circlePath(e.at, plan_.circleRadius, phase);
+            return true;
+        },
+        name);
+}
+
 void FamilyPlacer::circles()
 {
-    for (int k = 0; k < plan_.places; ++k) {
-        const Motion m{.family = StrokeFamily::Circle,
-                       .speed = plan_.circleSpeed,
-                       .depth = plan_.circleDepth,
-                       .main = plan_.moveSeconds};
-        const double phase = 2.0 * std::numbers::pi * draws_.next();
-        onSilhouette(
-            m, plan_.circleRadius + kTipRadius,
-            [&](Motion &mm2, const SilhouettePoint &e) {
-                // The circle's centre on the silhouette: it crosses it twice a turn.
-                mm2.path = circlePath(e.at, plan_.circleRadius, phase);
-                return true;
-            },
-            fmt("circle r%.0f mm #", plan_.circleRadius / kMm) + std::to_string(k + 1));
-    }
+    for (int k = 0; k < plan_.places; ++k)
+        circle(plan_.circleSpeed,
+               fmt("circle r%.0f mm #", plan_.circleRadius / kMm) + std::to_string(k + 1));
 }
 
 void FamilyPlacer::traces()
@@ -479,21 +486,9 @@ void FamilyPlacer::holds()
 void FamilyPlacer::fastStrokes()
 {
     draws_ = Draws(plan_.seed + 101);
-    if (plan_.fastCircleSpeed > 0.0) {
-        const Motion m{.family = StrokeFamily::Circle,
-                       .speed = plan_.fastCircleSpeed,
-                       .depth = plan_.circleDepth,
-                       .main = plan_.moveSeconds};
-        const double phase = 2.0 * std::numbers::pi * draws_.next();
-        onSilhouette(
-            m, plan_.circleRadius + kTipRadius,
-            [&](Motion &mm2, const SilhouettePoint &e) {
-                mm2.path = circlePath(e.at, plan_.circleRadius, phase);
-                return true;
-            },
-            fmt("circle r%.0f mm %.0f cm/s #1", plan_.circleRadius / kMm,
-                plan_.fastCircleSpeed * 100));
-    }
+    if (plan_.fastCircleSpeed > 0.0)
+        circle(plan_.fastCircleSpeed, fmt("circle r%.0f mm %.0f cm/s #1", plan_.circleRadius / kMm,
+                                          plan_.fastCircleSpeed * 100));
     const auto keys = std::find_if(scene_.crossings.begin(), scene_.crossings.end(),
                                    [](const SilhouetteCrossing &c) { return c.what == "keys"; });
     if (plan_.keysSwipeSpeed <= 0.0 || keys == scene_.crossings.end())
