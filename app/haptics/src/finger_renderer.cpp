@@ -31,7 +31,7 @@ FingerParameters fingerParameters(const RendererConfig &config) noexcept
 }
 
 FingerRenderer::FingerRenderer(const RendererConfig &config) noexcept
-    : config_(config), field_(config.box), force_(config), p_(fingerParameters(config)),
+    : config_(config), field_(config.box), p_(fingerParameters(config)), output_(config, p_),
       friction_(config.staticFriction, config.dynamicFriction)
 {
     field_.setCutThreshold(config.cutThreshold);
@@ -39,8 +39,8 @@ FingerRenderer::FingerRenderer(const RendererConfig &config) noexcept
 
 void FingerRenderer::setStiffness(double newtonsPerMetre) noexcept
 {
-    force_.setStiffness(newtonsPerMetre);
-    config_.stiffness = force_.stiffness();
+    output_.setStiffness(newtonsPerMetre);
+    config_.stiffness = output_.stiffness();
 }
 
 Result<void> FingerRenderer::setFrames(const DepthFrameView &current,
@@ -54,11 +54,6 @@ void FingerRenderer::reset(const glm::dvec3 &hip) noexcept
     proxy_ = hip;
     surfaceProxy_ = hip;
     lastGlide_ = {};
-    offset_ = {};
-    offsetTrend_ = {};
-    lastOffset_ = {};
-    release_ = {};
-    releaseStep_ = 0.0;
     lastHip_ = hip;
     state_ = FingerState::Free;
     pushing_ = false;
@@ -66,16 +61,17 @@ void FingerRenderer::reset(const glm::dvec3 &hip) noexcept
     enterAnyDepth_ = true;
     heldDepth_ = 0.0;
     lastDepth_ = 0.0;
-    saturatedSince_ = std::nan("");
-    letGoNext_ = false;
     lastT_ = std::nan("");
     speed_ = 0.0;
     resting_ = false;
-    force_.reset();
+    output_.reset();
     friction_.release();
 }
 
-void FingerRenderer::restartClock() noexcept { force_.restartClock(); }
+void FingerRenderer::restartClock() noexcept
+{
+    output_.restartClock();
+}
 
 glm::dvec3 FingerRenderer::solve(const glm::dvec3 &hip, double startX, double startY,
                                  FingerPlane &plane, FingerPlane &start,
@@ -432,12 +428,11 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     // renderer's own friction at stiffness scale 1.
     const bool material = field_.current().material.present();
     const double stiffnessScale = applyMaterial(field_, c.proxy, c.contact, friction_);
-    if (letGoNext_ && c.contact) {
+    if (output_.takeLetGo() && c.contact) {
         c.trip = true;
         c.letGo = true;
         c.saturated = true;
     }
-    letGoNext_ = false;
     if (c.trip && (c.letGo || config_.reengage == Reengage::Release)) {
         // Behind the surface: free until out, or caught again by the surface it was held on.
         heldDepth_ = c.saturated ? 0.0 : lastDepth_;
@@ -453,20 +448,15 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     // The offset from the HIP is filtered, and friction acts, on the force and the reported proxy;
     // proxy_ keeps the unfiltered, frictionless goal (the glide and the next update's search start
     // from it). Friction acts on the filtered goal.
-    glm::dvec3 held = c.proxy;
-    smoothOffset(hip, c, held);
-    if (c.contact && !c.trip && !c.stepped)
-        handOverRamp(hip, stiffnessScale, held);
+    c.touching = touching();
+    glm::dvec3 held = output_.filter(hip, c, stiffnessScale);
     if (friction_.enabled() || material) {
         if (c.contact && !c.trip)
             held = friction_.apply(held, hip, t);
         else
             friction_.release();
     }
-    glm::dvec3 rawForce = force_.spring(hip, held, c.contact, t, stiffnessScale);
-    releaseCovered(hip, raw, c, wasInContact, rawForce);
-    out.force = force_.shape(rawForce, t, c.contact, c.trip || c.stepped);
-    watchSaturation(out.force, t, c.contact);
+    out.force = output_.force(hip, held, c, t, stiffnessScale, raw, field_, wasInContact);
     out.proxy = held;
     out.contact = c.contact;
     out.constraints = c.contact ? 1 : 0;
@@ -565,30 +555,6 @@ bool FingerRenderer::restingContact(const glm::dvec3 &hip, double t) noexcept
     lastT_ = t;
     resting_ = resting_ ? speed_ < kFingerSlideSpeed : speed_ < kFingerRestSpeed;
     return resting_;
-}
-
-void FingerRenderer::setOutputGain(double gain) noexcept
-{
-    if (!std::isnan(gain))
-        outputGain_ = std::clamp(gain, 0.0, 1.0);
-}
-
-void FingerRenderer::watchSaturation(const glm::dvec3 &force, double t, bool contact) noexcept
-{
-    // The command at the device maximum: the finger is deeper than the device can push it out of
-    // (an object pressed onto it that the hand does not yield to, or a press past what the device
-    // renders). Held there for kFingerSaturationTime, the next update lets it go.
-    const double sent = outputGain_ * glm::length(force);
-    if (!contact || !config_.safety || !(sent >= config_.maxForce * (1.0 - kFingerAtMaximum))) {
-        saturatedSince_ = std::nan("");
-        return;
-    }
-    if (std::isnan(saturatedSince_))
-        saturatedSince_ = t;
-    if (t - saturatedSince_ >= kFingerSaturationTime) {
-        letGoNext_ = true;
-        saturatedSince_ = std::nan("");
-    }
 }
 
 } // namespace depthtouch::haptics

@@ -79,7 +79,7 @@
 ///      surface above the HIP replaces it (step 2): beside flickering pixels the two took turns,
 ///      and each switch turned the force at once.
 ///    - *Depth noise*: the proxy's offset from the HIP that the force and the report use passes
-///      an alpha-beta filter (smoothOffset(), finger_offset.cpp; the search keeps the unfiltered
+///      an alpha-beta filter (FingerOutput, finger_output.h; the search keeps the unfiltered
 ///      goal), each update's move no longer than the unfiltered offset's nor than 3·pushDepth
 ///      (a switch of the solution turns the force over a few updates): on noisy depth at 50 cm/s
 ///      the taps cross pixels every update and the plane tilted and shifted anew each time, turning
@@ -153,18 +153,14 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "depthtouch/haptics/finger_output.h"
+#include "depthtouch/haptics/finger_parameters.h"
 #include "depthtouch/haptics/friction.h"
 #include "depthtouch/haptics/height_field.h"
 #include "depthtouch/haptics/renderer.h"
 
 namespace depthtouch::haptics {
 
-/// Longest time the command may stay at the device maximum before the finger is let go (on the
-/// next update), s: at most 5 updates at the maximum at 1 kHz, whatever the clock's jitter.
-inline constexpr double kFingerSaturationTime = 0.003;
-/// A command within this share of the device maximum is at it (the force-step limiter and the
-/// ramps approach it in small steps; `bench feel` counts time at the maximum the same way).
-inline constexpr double kFingerAtMaximum = 1e-3;
 /// A glide (a move of the proxy cut short at r/4 plus the HIP's own move) is taken only when it
 /// brings the surface point nearer the HIP by this share of its length: two far solutions beside
 /// an edge that moves a little each update cannot take turns.
@@ -194,67 +190,6 @@ inline constexpr int kFingerIterations = 2;
 /// plane fit (an object's silhouette beside the finger, a flying pixel): slopes up to about 2
 /// (63°) keep every tap.
 inline constexpr double kFingerOutlier = 3.0;
-/// Gains of the alpha-beta filter on the force's offset from the HIP (FingerRenderer::
-/// smoothOffset()): the offset's share of each residual and the trend's (about α²/(2 − α),
-/// Benedict and Bordner's pairing for a track with steady motion). The clean moving wave's force
-/// RMS error moves little with it (0.0261/0.0240/0.0249 N → 0.0265/0.0242/0.0255 N at 5/10/20
-/// cm/s; the paper's method 0.0252/0.0228/0.0238: 1.05-1.07 times it).
-inline constexpr double kFingerOffsetAlpha = 0.4;
-inline constexpr double kFingerOffsetBeta = 0.1;
-
-/// \brief The fingertip model's parameter table: the physical parameters it is given and every
-/// length and force threshold of the renderer, derived from them once, at construction
-/// (fingerParameters()). A run-time stiffness change (HapticRenderer::setStiffness(), a viewer's
-/// remote) changes the forces, not these: when a finger is in contact, behind the surface or
-/// pushed is a matter of geometry.
-///
-/// Units: m, N, N/m; per update means per servo tick (the renderer does not know the servo rate:
-/// the rates below are per update, as the force stage's step limit is).
-struct FingerParameters {
-    /// \name The physical parameters (RendererConfig)
-    ///@{
-    double radius = 0.0;       ///< r: the fingertip's radius, the stencil's half-width, m.
-    double stiffness = 0.0;    ///< k at construction, N/m.
-    double maxForceStep = 0.0; ///< ΔF: the most the force may change in an update, N.
-    double boxDepth = 0.0;     ///< D: the scene box's depth, m.
-    ///@}
-    /// \name Depths, from the force step: ΔF/k is how deep a surface must move under a finger to
-    /// step its force by ΔF
-    ///@{
-    /// The deepest a free finger found under the surface is taken into contact: max(ΔF/k, D/10).
-    /// Deeper, it came from the side under an object (or the surface jumped onto it) and is behind
-    /// it; within a tenth of the box, a surface's own relief is climbed.
-    double captureDepth = 0.0;
-    /// A step of the surface under the finger that is ramped in rather than taken at once, and
-    /// a switch between solutions that counts as one: ΔF/(4k), a quarter of a force step.
-    double stepDepth = 0.0;
-    /// The bounded push: how much deeper the HIP may get under the proxy in an update beyond its
-    /// own motion into the surface (a surface sweeping under a resting finger): ΔF/(16k), 0.16 mm
-    /// (16 cm/s at 1 kHz) at the defaults.
-    double pushDepth = 0.0;
-    /// The most a force unloads by in an update where the surface fell away or is unseen (the
-    /// offset filter, a hold over a hole): ΔF/(8k), an eighth of a force step; unloadForce in N.
-    double unloadDepth = 0.0;
-    /// ΔF/8, N: the release's first step (a contact ending at a rim, a cut covering the finger).
-    double unloadForce = 0.0;
-    ///@}
-    /// \name Reaches, from the fingertip's radius
-    ///@{
-    /// How far the proxy may glide beyond the HIP's own motion in an update: r/4 (a jump of the
-    /// optimum over a silhouette's edge is followed in four updates, not in one step).
-    double glideReach = 0.0;
-    /// A contact goes on while some surface within r/2 of the HIP is above it (withinReach()):
-    /// the half of the fingertip nearest its centre.
-    double holdReach = 0.0;
-    /// A contact that ends with a surface above the HIP within 3r/4 rolls off a rim: its force
-    /// unloads (releaseCovered()).
-    double rimReach = 0.0;
-    ///@}
-};
-
-/// \return the parameter table of \a config (RendererConfig::fingerRadiusInBox(), stiffness,
-/// maxForceStep, box depth).
-FingerParameters fingerParameters(const RendererConfig &config) noexcept;
 
 /// \brief The least-squares plane through the 3×3 stencil at a point: z = height + slope·(p − at).
 struct FingerPlane {
@@ -340,7 +275,7 @@ public:
     /// The forces only: the depths of the parameter table keep the stiffness of construction.
     void setStiffness(double newtonsPerMetre) noexcept override;
     /// The saturation watch (kFingerSaturationTime) compares gain × |F| with the device maximum.
-    void setOutputGain(double gain) noexcept override;
+    void setOutputGain(double gain) noexcept override { output_.setOutputGain(gain); }
     [[nodiscard]] Method method() const noexcept override { return Method::Finger; }
 
     [[nodiscard]] const HeightField &surface() const noexcept { return field_; }
@@ -353,14 +288,11 @@ public:
     [[nodiscard]] const FingerParameters &parameters() const noexcept { return p_; }
 
 private:
-    /// One update's proxy before friction and force.
-    struct Candidate {
-        glm::dvec3 proxy{};  ///< The frictionless goal, m.
-        FingerPlane plane{}; ///< The last plane fitted.
-        double below = 0.0;  ///< How far the HIP is under the plane, m.
-        bool contact = false;
-        bool trip = false;      ///< Safety tripped (a cut, an occluder, saturation).
-        bool stepped = false;   ///< A step or a re-caught contact: the force ramps in.
+    /// One update's proxy before friction and force: what the output stage takes (FingerGoal:
+    /// proxy, contact, trip, stepped, unseen, touching) and what the search keeps.
+    struct Candidate : FingerGoal {
+        FingerPlane plane{};    ///< The last plane fitted.
+        double below = 0.0;     ///< How far the HIP is under the plane, m.
         bool letGo = false;     ///< Let go whatever Reengage says (occluder, saturation).
         bool saturated = false; ///< Let go at the device maximum.
         /// A proxy held to the side was replaced by the surface at the HIP's own x–y: its
@@ -370,9 +302,6 @@ private:
         bool bounded = false;
         glm::dvec3 found{};
         glm::dvec2 glide{}; ///< glide()'s direction (unit), or zero.
-        /// Held over a hole (holdOverHole()): nothing measured, no noise to filter; its own
-        /// unload rate is the force's.
-        bool unseen = false;
         /// The next state's flags while the update decides (nextState()): on an object's side,
         /// and under the surface without contact. They start as the state at the update's start.
         bool wall = false;
@@ -466,25 +395,6 @@ private:
     /// While bounded, the push's direction (pushDir_) turns toward the candidate's by at most
     /// pushReach() across an update; the depth is the candidate's, up to the bound.
     void limitPush(const glm::dvec3 &hip, Candidate &c) noexcept;
-    /// After kFingerSaturationTime with the command sent, outputGain_ × \a force (N), at the
-    /// device maximum in contact, the next update lets the finger go.
-    void watchSaturation(const glm::dvec3 &force, double t, bool contact) noexcept;
-    /// Sets \a held (the proxy the force and the report use; m, box frame) to the HIP plus the
-    /// filtered offset of \a c's proxy (kFingerOffsetAlpha, kFingerOffsetBeta); proxy_ keeps the
-    /// unfiltered goal.
-    void smoothOffset(const glm::dvec3 &hip, const Candidate &c, glm::dvec3 &held) noexcept;
-    /// A ramp in progress (a trip's, a ramped step's) whose command is above the spring force
-    /// of \a held (m) at \a stiffnessScale: the ramp ends and the filter takes its command as
-    /// the offset (\a held moves to it), to unload at its bounded rate (finger_offset.cpp).
-    void handOverRamp(const glm::dvec3 &hip, double stiffnessScale, glm::dvec3 &held) noexcept;
-    /// A trip with the HIP under the surface now measured at its x–y (\a raw, m; a cut that
-    /// covered the finger), or a contact (\a wasInContact: at the update's start) that ended
-    /// with a surface above the HIP within 3r/4 (a rim it slid off, also out of a hold over a
-    /// hole): \a force (N) becomes the last command, unloaded by maxForceStep/8 an update while
-    /// the HIP stays covered, from maxForceStep/8 doubling to maxForceStep/4
-    /// while only the rim is within 3r/4.
-    void releaseCovered(const glm::dvec3 &hip, double raw, const Candidate &c, bool wasInContact,
-                        glm::dvec3 &force) noexcept;
 
     /// The god-object on the finger-scale surface from q = (\a startX, \a startY) (m): the proxy
     /// (m), the last plane fitted (\a plane), the first one, at q (\a start), and how far the HIP
@@ -504,20 +414,15 @@ private:
 
     RendererConfig config_;
     HeightField field_;
-    ForceStage force_;
-    glm::dvec3 lastHip_{};     ///< HIP of the last update, m.
-    FingerParameters p_;       ///< The parameter table (fingerParameters()), fixed at construction.
+    FingerParameters p_; ///< The parameter table (fingerParameters()), fixed at construction.
+    /// The force output stage: filter, unload, spring, ramp, slew, clamp, saturation watch.
+    FingerOutput output_;
+    glm::dvec3 lastHip_{}; ///< HIP of the last update, m.
     glm::dvec3 proxy_{};
     /// The last update's proxy on the surface: proxy_, or where limitPush() found it before
     /// bounding it (m). The glide starts from it.
     glm::dvec3 surfaceProxy_{};
-    glm::dvec2 lastGlide_{};   ///< The last update's glide direction (unit), or zero.
-    glm::dvec3 offset_{};      ///< Filtered offset of the force's proxy from the HIP, m.
-    glm::dvec3 offsetTrend_{}; ///< Its change an update (smoothOffset()'s trend), m.
-    glm::dvec3 release_{};     ///< A force unloading after its contact ended (releaseCovered()), N.
-    double releaseStep_ = 0.0; ///< release_'s last step, N.
-    glm::dvec3 lastOffset_{};  ///< The last update's unfiltered offset, m.
-    double outputGain_ = 1.0;  ///< setOutputGain(): the caller's factor on the force, 0..1.
+    glm::dvec2 lastGlide_{};                ///< The last update's glide direction (unit), or zero.
     FingerState state_ = FingerState::Free; ///< The contact state (FingerState).
     glm::dvec2 wallNormal_{};               ///< The wall's outward horizontal normal (unit).
     double wallDepth_ = 0.0;    ///< The HIP's depth behind the wall along it, last update, m.
@@ -535,8 +440,6 @@ private:
     glm::dvec2 holeAt_{};     ///< The HIP's x–y then, m.
     double holeDepth_ = 0.0;  ///< |proxy − HIP| then: the held depth's bound, m.
     glm::dvec3 holeDir_{};    ///< The held force's direction (unit), HIP to proxy.
-    double saturatedSince_ = std::nan(""); ///< Haptic time the command reached the maximum, s.
-    bool letGoNext_ = false;      ///< The command stayed at the maximum: let go on the next update.
     double lastT_ = std::nan(""); ///< Haptic time of the last update, s.
     double speed_ = 0.0;          ///< The HIP's x–y speed, smoothed, m/s.
     bool resting_ = false;        ///< FingerContact::Adaptive: the penalty contact is in use.

@@ -258,7 +258,7 @@ public:
     [[nodiscard]] const glm::dvec3 &lastCommand() const noexcept { return prevCommand_; }
     /// \brief Ends a ramp in progress: from the next shape() the command follows the raw force,
     /// within maxForceStep an update (the fingertip renderer hands a ramp that holds more than
-    /// the surface gives to its own bounded unload, finger_offset.cpp).
+    /// the surface gives to its own bounded unload, finger_output.cpp).
     void endRamp() noexcept { ramping_ = false; }
 
 private:

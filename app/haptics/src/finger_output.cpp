@@ -1,19 +1,21 @@
 /// \file
-/// \brief The fingertip renderer's filter on the force's offset from the HIP (finger_renderer.h,
-/// step 5 "Depth noise" and "Steps"): the search's proxy is the goal; the force and the reported
-/// proxy take its offset from the HIP through an alpha-beta filter, bounded so that the proxy's
-/// own bounds hold for the force too, that a lag is caught up and that an unload is gradual.
+/// \brief The fingertip renderer's force output stage (finger_output.h): the filter on the
+/// force's offset from the HIP (finger_renderer.h, step 5 "Depth noise" and "Steps"), the unload of
+/// a contact that ended, the spring, ForceStage's shaping and the watch of the device maximum.
 
 #include <algorithm>
+#include <cmath>
 
 #include <glm/geometric.hpp>
 
-#include "depthtouch/haptics/finger_renderer.h"
+#include "depthtouch/haptics/finger_output.h"
+
+#include "depthtouch/haptics/feel.h"
 
 namespace depthtouch::haptics {
 
-void FingerRenderer::smoothOffset(const glm::dvec3 &hip, const Candidate &c,
-                                  glm::dvec3 &held) noexcept
+void FingerOutput::smoothOffset(const glm::dvec3 &hip, const FingerGoal &c,
+                                glm::dvec3 &held) noexcept
 {
     // The proxy's offset from the HIP through an alpha-beta filter (the steady-state Kalman filter
     // of a constant-velocity track; Brookner, "Tracking and Kalman Filtering Made Easy", ch. 1): on
@@ -52,7 +54,7 @@ void FingerRenderer::smoothOffset(const glm::dvec3 &hip, const Candidate &c,
         const double least = was - p_.unloadDepth;
         return now > 0.0 && now < least ? next * (least / now) : next;
     };
-    if (!c.contact || !touching() || c.trip || c.stepped) {
+    if (!c.contact || !c.touching || c.trip || c.stepped) {
         offset_ = offset;
         offsetTrend_ = {};
     } else if (c.unseen) {
@@ -87,8 +89,8 @@ void FingerRenderer::smoothOffset(const glm::dvec3 &hip, const Candidate &c,
     held = hip + glm::dvec3{offset_.x, offset_.y, std::max(offset_.z, std::min(offset.z, 0.0))};
 }
 
-void FingerRenderer::handOverRamp(const glm::dvec3 &hip, double stiffnessScale,
-                                  glm::dvec3 &held) noexcept
+void FingerOutput::handOverRamp(const glm::dvec3 &hip, double stiffnessScale,
+                                glm::dvec3 &held) noexcept
 {
     // A ramp blends from the force before a trip or a step to the new contact's over the ramp
     // time (0.25 s). Where the surface falls away under the finger during it (a tap's pushed
@@ -112,8 +114,9 @@ void FingerRenderer::handOverRamp(const glm::dvec3 &hip, double stiffnessScale,
     held = hip + offset_;
 }
 
-void FingerRenderer::releaseCovered(const glm::dvec3 &hip, double raw, const Candidate &c,
-                                    bool wasInContact, glm::dvec3 &force) noexcept
+void FingerOutput::releaseCovered(const glm::dvec3 &hip, double raw, const HeightField &field,
+                                  const FingerGoal &c, bool wasInContact,
+                                  glm::dvec3 &force) noexcept
 {
     // A cut that covers a pressed finger (a hand over a held press, an occluder's edge over the
     // whole fingertip patch) trips and lets it go behind the new surface. Its force went in the
@@ -140,9 +143,16 @@ void FingerRenderer::releaseCovered(const glm::dvec3 &hip, double raw, const Can
     const bool covered = raw > hip.z; // false for NaN
     // A hold over a hole that ends under what came over it (contact_ cleared) leaves the finger
     // free with no force, as the hole did before the hold (finger_hole.cpp).
-    const bool started = c.trip ? covered : (covered ? touching() : wasInContact);
+    const bool started = c.trip ? covered : (covered ? c.touching : wasInContact);
     if (!started && release_ == glm::dvec3{})
         return; // nothing to unload (a free finger: no lookups)
+    const auto reachAbove = [&field](const glm::dvec3 &at, double radius) {
+        return reachHeight(
+            [&field](double x, double y) {
+                return field.contains(x, y) ? field.heightAt(x, y) : std::nan("");
+            },
+            at.x, at.y, radius);
+    };
     if (!covered && !(reachAbove(hip, p_.rimReach) > hip.z)) {
         release_ = {};
         return;
@@ -156,6 +166,63 @@ void FingerRenderer::releaseCovered(const glm::dvec3 &hip, double raw, const Can
     const double length = glm::length(release_);
     release_ = length > releaseStep_ ? release_ * ((length - releaseStep_) / length) : glm::dvec3{};
     force = release_;
+}
+
+glm::dvec3 FingerOutput::filter(const glm::dvec3 &hip, const FingerGoal &c,
+                                double stiffnessScale) noexcept
+{
+    glm::dvec3 held = c.proxy;
+    smoothOffset(hip, c, held);
+    if (c.contact && !c.trip && !c.stepped)
+        handOverRamp(hip, stiffnessScale, held);
+    return held;
+}
+
+glm::dvec3 FingerOutput::force(const glm::dvec3 &hip, const glm::dvec3 &held, const FingerGoal &c,
+                               double t, double stiffnessScale, double raw,
+                               const HeightField &field, bool wasInContact) noexcept
+{
+    glm::dvec3 rawForce = force_.spring(hip, held, c.contact, t, stiffnessScale);
+    releaseCovered(hip, raw, field, c, wasInContact, rawForce);
+    const glm::dvec3 command = force_.shape(rawForce, t, c.contact, c.trip || c.stepped);
+    watchSaturation(command, t, c.contact);
+    return command;
+}
+
+void FingerOutput::reset() noexcept
+{
+    offset_ = {};
+    offsetTrend_ = {};
+    lastOffset_ = {};
+    release_ = {};
+    releaseStep_ = 0.0;
+    saturatedSince_ = std::nan("");
+    letGoNext_ = false;
+    force_.reset();
+}
+
+void FingerOutput::setOutputGain(double gain) noexcept
+{
+    if (!std::isnan(gain))
+        outputGain_ = std::clamp(gain, 0.0, 1.0);
+}
+
+void FingerOutput::watchSaturation(const glm::dvec3 &force, double t, bool contact) noexcept
+{
+    // The command at the device maximum: the finger is deeper than the device can push it out of
+    // (an object pressed onto it that the hand does not yield to, or a press past what the device
+    // renders). Held there for kFingerSaturationTime, the next update lets it go.
+    const double sent = outputGain_ * glm::length(force);
+    if (!contact || !config_.safety || !(sent >= config_.maxForce * (1.0 - kFingerAtMaximum))) {
+        saturatedSince_ = std::nan("");
+        return;
+    }
+    if (std::isnan(saturatedSince_))
+        saturatedSince_ = t;
+    if (t - saturatedSince_ >= kFingerSaturationTime) {
+        letGoNext_ = true;
+        saturatedSince_ = std::nan("");
+    }
 }
 
 } // namespace depthtouch::haptics

@@ -1,0 +1,130 @@
+#pragma once
+/// \file
+/// \brief The fingertip renderer's force output stage (finger_renderer.h, steps 5 and 7): from the
+/// proxy the contact decided to the command, in one place. In order: the alpha-beta filter on the
+/// proxy's offset from the HIP (noise at speed; a bounded move and unload), the hand-over of a ramp
+/// that holds more than the surface gives, the spring s·k·(proxy − HIP) − b·v, the unload of a
+/// contact that ended at a rim or under a cut, ForceStage's ramp, slew and clamp (renderer.h), and
+/// the watch of the device maximum. What comes after it is the device's own: the haptic task's
+/// gain and force-rate limit (ServoLoop::shapeForce()) and the HAL's clamp.
+///
+/// Units: m, N, s; positions in the scene-box frame (docs/architecture.md §3).
+/// Thread-safety: thread-bound (the haptic thread); no allocation, no lock.
+
+#include <cmath>
+
+#include <glm/vec3.hpp>
+
+#include "depthtouch/haptics/finger_parameters.h"
+#include "depthtouch/haptics/height_field.h"
+#include "depthtouch/haptics/renderer.h"
+
+namespace depthtouch::haptics {
+
+/// Longest time the command may stay at the device maximum before the finger is let go (on the
+/// next update), s: at most 5 updates at the maximum at 1 kHz, whatever the clock's jitter.
+inline constexpr double kFingerSaturationTime = 0.003;
+
+/// A command within this share of the device maximum is at it (the force-step limiter and the
+/// ramps approach it in small steps; `bench feel` counts time at the maximum the same way).
+inline constexpr double kFingerAtMaximum = 1e-3;
+
+/// Gains of the alpha-beta filter on the force's offset from the HIP (FingerRenderer::
+/// smoothOffset()): the offset's share of each residual and the trend's (about α²/(2 − α),
+/// Benedict and Bordner's pairing for a track with steady motion). The clean moving wave's force
+/// RMS error moves little with it (0.0261/0.0240/0.0249 N → 0.0265/0.0242/0.0255 N at 5/10/20
+/// cm/s; the paper's method 0.0252/0.0228/0.0238: 1.05-1.07 times it).
+inline constexpr double kFingerOffsetAlpha = 0.4;
+inline constexpr double kFingerOffsetBeta = 0.1;
+
+/// \brief What the contact decided in an update, as the output stage needs it.
+struct FingerGoal {
+    glm::dvec3 proxy{};   ///< The frictionless goal, m (the HIP where there is no contact).
+    bool contact = false; ///< The finger is in contact after the update.
+    bool trip = false;    ///< Safety tripped (a cut, an occluder, the device maximum).
+    bool stepped = false; ///< A step or a re-caught contact: the force ramps in.
+    /// Held over a hole (FingerState::OverHole): nothing measured, no noise to filter; its own
+    /// unload rate is the force's.
+    bool unseen = false;
+    /// In contact at the search's start (FingerRenderer::touching(), after a hold over a hole
+    /// that ended before the search).
+    bool touching = false;
+};
+
+/// \brief The force output stage (see the file comment).
+class FingerOutput {
+public:
+    /// \param config the renderer's (validated); \param p its parameter table.
+    FingerOutput(const RendererConfig &config, const FingerParameters &p) noexcept
+        : config_(config), p_(p), force_(config)
+    {
+    }
+
+    /// \brief The proxy the force and the report use, m: \a c's goal through the offset filter
+    /// (smoothOffset()) and, in a continuing contact, the hand-over of a ramp (handOverRamp()).
+    /// \a stiffnessScale: the material's under the goal.
+    glm::dvec3 filter(const glm::dvec3 &hip, const FingerGoal &c, double stiffnessScale) noexcept;
+    /// \brief The command of time \a t (s), N: the spring of \a held (m, after friction), the
+    /// unload of a contact that ended (releaseCovered(): \a raw the sensor surface at the HIP's
+    /// x–y, m, NaN off the grid; \a field for the rim within the fingertip's reach; \a wasInContact
+    /// at the update's start), then ForceStage::shape() and the watch of the device maximum.
+    /// \return finite, |F| ≤ maxForce.
+    glm::dvec3 force(const glm::dvec3 &hip, const glm::dvec3 &held, const FingerGoal &c, double t,
+                     double stiffnessScale, double raw, const HeightField &field,
+                     bool wasInContact) noexcept;
+    /// \return whether the command stayed at the device maximum for kFingerSaturationTime: the
+    /// finger is let go on this update. Clears it.
+    bool takeLetGo() noexcept
+    {
+        const bool go = letGoNext_;
+        letGoNext_ = false;
+        return go;
+    }
+
+    /// Forgets the filter, the release, the force history and the saturation watch (not the gain).
+    void reset() noexcept;
+    void restartClock() noexcept { force_.restartClock(); }
+    /// The forces only (HapticRenderer::setStiffness()): ignored out of range.
+    void setStiffness(double newtonsPerMetre) noexcept
+    {
+        force_.setStiffness(newtonsPerMetre);
+        config_.stiffness = force_.stiffness();
+    }
+    /// HapticRenderer::setOutputGain(): the caller's factor, 0..1 (NaN ignored).
+    void setOutputGain(double gain) noexcept;
+    [[nodiscard]] double stiffness() const noexcept { return config_.stiffness; }
+
+private:
+    /// Sets \a held (the proxy the force and the report use; m, box frame) to the HIP plus the
+    /// filtered offset of \a c's proxy (kFingerOffsetAlpha, kFingerOffsetBeta).
+    void smoothOffset(const glm::dvec3 &hip, const FingerGoal &c, glm::dvec3 &held) noexcept;
+    /// A ramp in progress (a trip's, a ramped step's) whose command is above the spring force
+    /// of \a held (m) at \a stiffnessScale: the ramp ends and the filter takes its command as
+    /// the offset (\a held moves to it), to unload at its bounded rate.
+    void handOverRamp(const glm::dvec3 &hip, double stiffnessScale, glm::dvec3 &held) noexcept;
+    /// A trip with the HIP under the surface now measured at its x–y (\a raw, m; a cut that
+    /// covered the finger), or a contact (\a wasInContact: at the update's start) that ended
+    /// with a surface above the HIP within rimReach (a rim it slid off, also out of a hold over a
+    /// hole): \a force (N) becomes the last command, unloaded by unloadForce an update while
+    /// the HIP stays covered, from unloadForce doubling to twice it while only the rim is within
+    /// rimReach.
+    void releaseCovered(const glm::dvec3 &hip, double raw, const HeightField &field,
+                        const FingerGoal &c, bool wasInContact, glm::dvec3 &force) noexcept;
+    /// After kFingerSaturationTime with the command sent, outputGain_ × \a force (N), at the
+    /// device maximum in contact, the next update lets the finger go.
+    void watchSaturation(const glm::dvec3 &force, double t, bool contact) noexcept;
+
+    RendererConfig config_;
+    FingerParameters p_;
+    ForceStage force_;
+    glm::dvec3 offset_{};      ///< Filtered offset of the force's proxy from the HIP, m.
+    glm::dvec3 offsetTrend_{}; ///< Its change an update (smoothOffset()'s trend), m.
+    glm::dvec3 lastOffset_{};  ///< The last update's unfiltered offset, m.
+    glm::dvec3 release_{};     ///< A force unloading after its contact ended, N.
+    double releaseStep_ = 0.0; ///< release_'s last step, N.
+    double outputGain_ = 1.0;  ///< setOutputGain(): the caller's factor on the force, 0..1.
+    double saturatedSince_ = std::nan(""); ///< Haptic time the command reached the maximum, s.
+    bool letGoNext_ = false; ///< The command stayed at the maximum: let go on the next update.
+};
+
+} // namespace depthtouch::haptics

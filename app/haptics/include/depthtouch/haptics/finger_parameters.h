@@ -1,0 +1,65 @@
+#pragma once
+/// \file
+/// \brief The fingertip renderer's parameter table (finger_renderer.h): every length and force
+/// threshold of the model, derived once from the physical parameters it is given.
+/// Thread-safety: plain values; fingerParameters() is reentrant.
+
+#include "depthtouch/haptics/renderer.h"
+
+namespace depthtouch::haptics {
+
+/// \brief The fingertip model's parameter table: the physical parameters it is given and every
+/// length and force threshold of the renderer, derived from them once, at construction
+/// (fingerParameters()). A run-time stiffness change (HapticRenderer::setStiffness(), a viewer's
+/// remote) changes the forces, not these: when a finger is in contact, behind the surface or
+/// pushed is a matter of geometry.
+///
+/// Units: m, N, N/m; per update means per servo tick (the renderer does not know the servo rate:
+/// the rates below are per update, as the force stage's step limit is).
+struct FingerParameters {
+    /// \name The physical parameters (RendererConfig)
+    ///@{
+    double radius = 0.0;       ///< r: the fingertip's radius, the stencil's half-width, m.
+    double stiffness = 0.0;    ///< k at construction, N/m.
+    double maxForceStep = 0.0; ///< ΔF: the most the force may change in an update, N.
+    double boxDepth = 0.0;     ///< D: the scene box's depth, m.
+    ///@}
+    /// \name Depths, from the force step: ΔF/k is how deep a surface must move under a finger to
+    /// step its force by ΔF
+    ///@{
+    /// The deepest a free finger found under the surface is taken into contact: max(ΔF/k, D/10).
+    /// Deeper, it came from the side under an object (or the surface jumped onto it) and is behind
+    /// it; within a tenth of the box, a surface's own relief is climbed.
+    double captureDepth = 0.0;
+    /// A step of the surface under the finger that is ramped in rather than taken at once, and
+    /// a switch between solutions that counts as one: ΔF/(4k), a quarter of a force step.
+    double stepDepth = 0.0;
+    /// The bounded push: how much deeper the HIP may get under the proxy in an update beyond its
+    /// own motion into the surface (a surface sweeping under a resting finger): ΔF/(16k), 0.16 mm
+    /// (16 cm/s at 1 kHz) at the defaults.
+    double pushDepth = 0.0;
+    /// The most a force unloads by in an update where the surface fell away or is unseen (the
+    /// offset filter, a hold over a hole): ΔF/(8k), an eighth of a force step; unloadForce in N.
+    double unloadDepth = 0.0;
+    /// ΔF/8, N: the release's first step (a contact ending at a rim, a cut covering the finger).
+    double unloadForce = 0.0;
+    ///@}
+    /// \name Reaches, from the fingertip's radius
+    ///@{
+    /// How far the proxy may glide beyond the HIP's own motion in an update: r/4 (a jump of the
+    /// optimum over a silhouette's edge is followed in four updates, not in one step).
+    double glideReach = 0.0;
+    /// A contact goes on while some surface within r/2 of the HIP is above it (withinReach()):
+    /// the half of the fingertip nearest its centre.
+    double holdReach = 0.0;
+    /// A contact that ends with a surface above the HIP within 3r/4 rolls off a rim: its force
+    /// unloads (releaseCovered()).
+    double rimReach = 0.0;
+    ///@}
+};
+
+/// \return the parameter table of \a config (RendererConfig::fingerRadiusInBox(), stiffness,
+/// maxForceStep, box depth).
+FingerParameters fingerParameters(const RendererConfig &config) noexcept;
+
+} // namespace depthtouch::haptics
