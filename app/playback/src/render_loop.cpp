@@ -127,6 +127,7 @@ void RenderLoop::play(Session &s, const Commands &cmd)
     const double pts = ptsSeconds(frames_.pending[0].pts);
     if (!s.haveStart)
         shared_.setStart(s, pts);
+    rebaseAtDiscontinuity(cmd.paused);
     if (!pace(s, now, pts, cmd.paused))
         return;
     // Frame i goes on screen: the haptic task gets (depth i, depth i+1).
@@ -135,6 +136,26 @@ void RenderLoop::play(Session &s, const Commands &cmd)
     publishDepth(s);
     frames_.reseat = false;
     drawAndPresent(s, cmd, pts);
+}
+
+/// A timestamp discontinuity at pending[0] (a splice, an encoder restart, a looped feed: the
+/// receiver re-based its PTS, PairedFrame::discontinuity): the media clock restarts at that frame
+/// as after a seek, so it is shown at once whatever the time the jump took on a live input, and
+/// the haptic clock restarts with it (the reseat path: HapticTask::requestClockRestart()), so
+/// the surface does not interpolate across the splice. Waits while \a paused.
+void RenderLoop::rebaseAtDiscontinuity(bool paused)
+{
+    receiver::PairedFrame &f = frames_.pending[0];
+    if (!f.discontinuity || paused)
+        return;
+    f.discontinuity = false;
+    if (!frameClock_.started())
+        return; // the clock starts at this frame anyway
+    DT_LOG(Playback, Info, "Timestamp discontinuity at %.3f s: the media clock re-bases",
+           ptsSeconds(f.pts));
+    frameClock_.restart();
+    frames_.reseat = true;
+    frames_.rebasing = true;
 }
 
 /// Audio as the master clock: the media origin (the picture's and the haptic time's) follows the
@@ -170,6 +191,7 @@ void RenderLoop::seek(Session &s, double seekTo)
         p = receiver::PairedFrame{};
     frames_.pendingCount = 0;
     frameClock_.restart();
+    frames_.rebasing = false;
     if (s.audio)
         s.audio->halt();
     frames_.reseat = true;
@@ -288,10 +310,12 @@ void RenderLoop::drawAndPresent(Session &s, const Commands &cmd, double pts)
     const TimePoint shownAt = clock_.now();
     if (frameClock_.endPreroll(shownAt, pts) && s.handoff)
         s.handoff->setMediaOrigin(frameClock_.origin());
-    if (first && s.audio)
+    if (first && s.audio && !frames_.rebasing)
         s.audio->start(pts); // the sound starts with the first frame on screen
-    else if (s.audio && presented)
+    else if (s.audio && presented && !first)
         measureAvOffset(s, shownAt, pts);
+    if (first)
+        frames_.rebasing = false;
     count(s, d, presented, drawSeconds * 1e3, lod, pts);
 }
 

@@ -52,6 +52,7 @@ private:
         int pendingCount = 0;
         std::uint64_t seekSeen = 0;
         bool reseat = false;   ///< Next shown frame comes after a seek: restart the haptic clock.
+        bool rebasing = false; ///< The clock restarts at a discontinuity, not at open or seek.
         bool eosSent = false;  ///< End of stream (or a cut input) reported.
         bool anyFrame = false; ///< The decoder has given a frame in this session.
 
@@ -67,6 +68,7 @@ private:
     std::string adoptSession(const RenderShared::Turn &turn);
     std::string openDisplay();
     void play(Session &s, const Commands &cmd);
+    void rebaseAtDiscontinuity(bool paused);
     void followAudio(Session &s, bool paused);
     void measureAvOffset(Session &s, platform::TimePoint shownAt, double pts);
     void seek(Session &s, double seekTo);

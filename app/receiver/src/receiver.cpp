@@ -106,6 +106,8 @@ ReceiverStats Receiver::stats() const noexcept
         s.ptsNonMonotonic += m.ptsNonMonotonic;
     }
     s.ptsGaps = p.ptsGaps;
+    s.ptsJumps = p.ptsJumps;
+    s.ptsDiscontinuities = p.ptsDiscontinuities;
     const auto hardware = [](const Impl::Stream &st) -> std::uint64_t {
         return st.decoder ? st.decoder->stats().framesHardware : 0;
     };

@@ -125,7 +125,10 @@ void Receiver::Impl::pushFrame(Stream &s, FrameHandle &&h, const StoredFrame &f)
                        f.pts == hal::kNoPts ? -1.0 : platform::toSeconds(f.pts));
             return;
         }
-        if (!materials->push(f.pts, std::move(h)))
+        // On the depth stream's re-based timeline (the material frames follow its splices).
+        const hal::Pts pts =
+            f.pts == hal::kNoPts ? f.pts : f.pts + pairer->offset(PairStream::Depth);
+        if (!materials->push(pts, std::move(h)))
             DT_LOG(Receiver, Debug, "Dropped a material frame: PTS not after the previous one");
         return;
     }
@@ -137,7 +140,9 @@ void Receiver::Impl::pushFrame(Stream &s, FrameHandle &&h, const StoredFrame &f)
     const PushOutcome o = pairer->push(s.which, std::move(item));
     if (o != PushOutcome::Accepted)
         DT_LOG(Receiver, Debug, "Dropped a %s frame: %s PTS", s.name,
-               o == PushOutcome::Duplicate ? "duplicate" : "non-monotonic");
+               o == PushOutcome::Duplicate ? "duplicate"
+               : o == PushOutcome::Jump    ? "jumping"
+                                           : "non-monotonic");
 }
 
 void Receiver::Impl::endStream(Stream &s)
@@ -310,6 +315,7 @@ void Receiver::Impl::toPaired(Pairer::Output &o, PairedFrame &out)
     out.depthMissing = o.depthMissing;
     out.depthDuplicated = o.depthDuplicated;
     out.concealed = o.concealed;
+    out.discontinuity = o.discontinuity;
     out.generation = 0;
     ++stats.framesOutput;
     if (o.concealed)

@@ -1,5 +1,6 @@
 // PtsPairer: the pairing rules on timestamps alone (pure, no decoding).
 #include <chrono>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -312,6 +313,124 @@ TEST(PtsPairerTest, resetStartsAFreshTimeline)
     // an earlier PTS is fine after a reset (seek backwards)
     EXPECT_EQ(p.push(PairStream::Color, item(0, 1)), PushOutcome::Accepted);
     EXPECT_EQ(p.stats().ptsNonMonotonic, 0u);
+}
+
+// Timestamp discontinuities (issue 60): a splice, an encoder restart, a loop. Both streams jump at
+// the same frame; each refuses its first frame after the jump (a lone stray changes nothing) and
+// re-bases at the next, so the outputs go on one period apart, paired, and the first output after
+// the jump is flagged.
+
+/// \return \a segments (each: frame count, first PTS in ms) of 40 ms frames, one after another.
+std::vector<std::int64_t> segments(const std::vector<std::pair<int, std::int64_t>> &segs)
+{
+    std::vector<std::int64_t> v;
+    for (const auto &[count, start] : segs)
+        for (const auto t : times(count, 40, start))
+            v.push_back(t);
+    return v;
+}
+
+/// Pushes \a ms on both streams in file order (color then depth of each frame, as a demuxer
+/// reads them), pulling as it goes, then ends both.
+std::vector<Pairer::Output> runLockstep(Pairer &p, const std::vector<std::int64_t> &ms)
+{
+    std::vector<Pairer::Output> out;
+    for (std::size_t i = 0; i < ms.size(); ++i) {
+        p.push(PairStream::Color, item(ms[i], static_cast<int>(i)));
+        p.push(PairStream::Depth, item(ms[i], 1000 + static_cast<int>(i)));
+        for (auto &o : pullAll(p))
+            out.push_back(o);
+    }
+    p.endOfStream(PairStream::Color);
+    p.endOfStream(PairStream::Depth);
+    for (auto &o : pullAll(p))
+        out.push_back(o);
+    EXPECT_TRUE(p.finished());
+    return out;
+}
+
+/// Runs \a ms on both streams and checks the re-based timeline: \a jumps discontinuities, each
+/// losing one frame per stream, every output paired with its own depth frame, 40 ms apart.
+void expectRebased(const std::vector<std::int64_t> &ms, std::uint64_t jumps)
+{
+    Pairer p(config());
+    const auto out = runLockstep(p, ms);
+    ASSERT_EQ(out.size(), ms.size() - jumps);
+    std::uint64_t flagged = 0;
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        EXPECT_EQ(out[i].pts, out[0].pts + milliseconds(40 * static_cast<std::int64_t>(i))) << i;
+        EXPECT_EQ(out[i].depth.pts, out[i].pts) << i;
+        EXPECT_EQ(out[i].depth.payload, out[i].color.payload + 1000) << i;
+        EXPECT_FALSE(out[i].depthDuplicated || out[i].depthMissing) << i;
+        flagged += out[i].discontinuity ? 1u : 0u;
+    }
+    EXPECT_EQ(flagged, jumps);
+    EXPECT_EQ(p.stats().ptsDiscontinuities, 2u * static_cast<std::uint64_t>(jumps)); // both streams
+    EXPECT_EQ(p.stats().depthUnpaired, 0u);
+}
+
+TEST(PtsPairerDiscontinuityTest, aForwardJumpOf1000sIsRebasedNotWaitedFor)
+{
+    expectRebased(segments({{30, 0}, {30, 1'000'000 + 1200}}), 1);
+}
+
+TEST(PtsPairerDiscontinuityTest, aBackwardJumpIsRebasedNotDropped)
+{
+    expectRebased(segments({{30, 100'000}, {30, 60'000}}), 1);
+}
+
+TEST(PtsPairerDiscontinuityTest, aResetToZeroIsRebased)
+{
+    expectRebased(segments({{30, 5'000}, {30, 0}}), 1);
+}
+
+TEST(PtsPairerDiscontinuityTest, aClipRepeatedThreeTimesPlaysThreeTimes)
+{
+    expectRebased(segments({{30, 0}, {30, 0}, {30, 0}}), 2);
+}
+
+TEST(PtsPairerDiscontinuityTest, a33BitMpegTsWrapIsRebased)
+{
+    // 2^33 ticks of 90 kHz = 95443.717 s: a wrap the demuxer left is a jump back of that much.
+    const std::int64_t wrapMs = (std::int64_t{1} << 33) / 90;
+    expectRebased(segments({{30, wrapMs - 1000}, {30, 200}}), 1);
+}
+
+TEST(PtsPairerDiscontinuityTest, aLoneStrayTimestampIsRefusedAndChangesNothing)
+{
+    Pairer p(config());
+    auto ms = times(20, 40);
+    ms[8] = 500'000; // forward stray
+    ms[14] = 40;     // backward stray
+    const auto out = run(p, ms, times(20, 40));
+    ASSERT_EQ(out.size(), 18u);
+    for (const auto &o : out)
+        EXPECT_FALSE(o.discontinuity);
+    EXPECT_EQ(p.stats().ptsDiscontinuities, 0u);
+    EXPECT_EQ(p.stats().ptsJumps, 1u);
+    EXPECT_EQ(p.stats().ptsNonMonotonic, 1u);
+    EXPECT_EQ(out.back().pts, milliseconds(19 * 40));
+}
+
+TEST(PtsPairerDiscontinuityTest, aForwardStepWithinMaxStepIsAGapNotARebase)
+{
+    Pairer p(config());
+    const auto ms = segments({{10, 0}, {10, 5'000}}); // 4.6 s of nothing: kept as it is
+    const auto out = run(p, ms, ms);
+    ASSERT_EQ(out.size(), 20u);
+    EXPECT_EQ(out[10].pts, milliseconds(5'000));
+    EXPECT_FALSE(out[10].discontinuity);
+    EXPECT_EQ(p.stats().ptsDiscontinuities, 0u);
+}
+
+TEST(PtsPairerDiscontinuityTest, resetForgetsTheRebase)
+{
+    Pairer p(config());
+    (void)runLockstep(p, segments({{10, 0}, {10, 0}}));
+    p.reset();
+    const auto out = run(p, times(3, 40, 80), times(3, 40, 80)); // a seek to 80 ms
+    ASSERT_EQ(out.size(), 3u);
+    EXPECT_EQ(out[0].pts, milliseconds(80));
 }
 
 } // namespace

@@ -22,13 +22,23 @@
 ///   depth frames wait with no color frame, the oldest is dropped as unpaired. Each queue holds at
 ///   most window + 2 items, so push() after a pull() that returned false always has room.
 /// - Timestamps per stream: a missing PTS (kNoPts) becomes previous + period (ptsMissing); a PTS
-/// equal
-///   to the previous one (ptsDuplicates) or before it (ptsNonMonotonic) is refused; a step above
-///   1.5 periods is accepted and counted (ptsGaps).
+///   equal to the previous one (ptsDuplicates) or at most τ before it (ptsNonMonotonic) is
+///   refused; a step above 1.5 periods is accepted and counted (ptsGaps).
+/// - Discontinuities (a broadcast splice, an encoder restart, a looped feed, a 33-bit MPEG-TS
+///   wrap the demuxer did not correct): a step back by more than τ, or forward by more than
+///   PairerConfig::maxStep, is a jump. Its first frame is refused (ptsNonMonotonic backward,
+///   ptsJumps forward), so that a lone stray timestamp changes nothing; when the next frame
+///   continues from it (after it, within maxStep) the stream re-bases (ptsDiscontinuities): its
+///   frames are offset so that the confirming frame comes one period after the previous one,
+///   and Output::discontinuity marks the first output after it. The other stream re-bases at the
+///   same splice with the same offset, so the pairs stay aligned. Output PTS are therefore the
+///   re-based timeline: increasing over the whole input (cf. ffplay's max_frame_duration, 10 s
+///   for AVFMT_TS_DISCONT formats; mpv's "Invalid video timestamp" reset).
 ///
 /// Memory: the queues are allocated by the constructor; push() and pull() never allocate (when the
 /// payload's move and copy do not). Thread-safety: thread-bound.
 
+#include <algorithm>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -41,6 +51,9 @@ namespace depthtouch::receiver {
 /// The frame period of a stream whose rate is unknown: 30 fps, ns.
 constexpr hal::Pts kDefaultFramePeriod{33'333'333};
 
+/// A PTS step forward beyond which a stream re-bases (PairerConfig::maxStep): 10 s, ns.
+constexpr hal::Pts kMaxPtsStep{10'000'000'000};
+
 /// Which streams exist and how they are timed.
 struct PairerConfig {
     bool color = true;                          ///< The input has a color stream.
@@ -48,6 +61,9 @@ struct PairerConfig {
     hal::Pts colorPeriod = kDefaultFramePeriod; ///< Color frame period (ns).
     hal::Pts depthPeriod = kDefaultFramePeriod; ///< Depth frame period (ns).
     int window = 8;                             ///< Frames a stream may wait for the other, ≥ 1.
+    /// A step forward above this (ns) is a timestamp discontinuity, not a gap (see the file
+    /// comment): ffplay's bound for AVFMT_TS_DISCONT formats (MPEG-TS), 10 s.
+    hal::Pts maxStep = kMaxPtsStep;
 
     /// \return the configuration of an input with the streams \a color and \a depth, whose frame
     /// periods (ns) are \a colorPeriod and \a depthPeriod, 0 where a stream gives none: a missing
@@ -59,7 +75,7 @@ struct PairerConfig {
             colorPeriod = depthPeriod != hal::Pts{0} ? depthPeriod : kDefaultFramePeriod;
         if (depthPeriod == hal::Pts{0})
             depthPeriod = colorPeriod;
-        return {color, depth, colorPeriod, depthPeriod, window};
+        return {color, depth, colorPeriod, depthPeriod, window, kMaxPtsStep};
     }
 };
 
@@ -74,12 +90,16 @@ struct PairerStats {
     std::uint64_t ptsDuplicates = 0; ///< Items refused: same PTS as the previous one.
     std::uint64_t ptsNonMonotonic = 0; ///< Items refused: PTS before the previous one.
     std::uint64_t ptsGaps = 0;         ///< Steps of more than 1.5 frame periods.
+    std::uint64_t ptsJumps = 0; ///< Items refused: more than maxStep ahead, not (yet) confirmed.
+    std::uint64_t ptsDiscontinuities = 0; ///< Re-bases of a stream's timeline (jumps confirmed).
 };
 
 enum class PairStream : std::uint8_t { Color = 0, Depth = 1 };
 
 /// How push() took an item.
-enum class PushOutcome : std::uint8_t { Accepted, Duplicate, NonMonotonic };
+/// NonMonotonic: before the previous PTS; Jump: more than PairerConfig::maxStep after it (the
+/// first frame of a discontinuity, which the next frame confirms).
+enum class PushOutcome : std::uint8_t { Accepted, Duplicate, NonMonotonic, Jump };
 
 /// Payload sharing for plain values (packet indices in `depthtouch probe`).
 constexpr int sharePayload(const int &v) noexcept
@@ -96,6 +116,7 @@ public:
         hal::Pts pts = hal::kNoPts;
         bool corrupt = false; ///< Carried to Output::concealed.
         P payload{};
+        bool discontinuity = false; ///< Set by push(): the first item after a re-base.
     };
 
     /// One paired frame. Items that do not exist are left default (hasX false).
@@ -111,6 +132,9 @@ public:
         bool depthMissing = false;
         bool depthDuplicated = false;
         bool concealed = false; ///< The color or the current depth item was corrupt.
+        /// The first output after a timestamp discontinuity (the file comment): the media clock
+        /// and the haptic clock restart here, as after a seek.
+        bool discontinuity = false;
     };
 
     explicit PtsPairer(const PairerConfig &cfg)
@@ -144,23 +168,36 @@ public:
             item.pts = st.last == hal::kNoPts ? hal::Pts{0} : st.last + period;
             ++stats_.ptsMissing;
         }
+        item.discontinuity = false;
         if (st.last != hal::kNoPts) {
-            if (item.pts == st.last) {
+            const hal::Pts step = item.pts - st.last;
+            if (step == hal::Pts{0}) {
                 ++stats_.ptsDuplicates;
                 return PushOutcome::Duplicate;
             }
-            if (item.pts < st.last) {
+            if (step < -(period / 2) || step > cfg_.maxStep) {
+                if (!confirmsJump(st, item.pts))
+                    return refuseJump(st, item.pts, step);
+                rebase(st, item.pts, period);
+                item.discontinuity = true;
+            } else if (step < hal::Pts{0}) {
                 ++stats_.ptsNonMonotonic;
                 return PushOutcome::NonMonotonic;
-            }
-            if (item.pts - st.last > period + period / 2)
+            } else if (step > period + period / 2) {
                 ++stats_.ptsGaps;
+            }
         }
+        st.candidate = hal::kNoPts;
         st.last = item.pts;
+        item.pts += st.offset;
         DT_ASSERT(!q(s).full());
         q(s).push(Slot{std::move(item), false});
         return PushOutcome::Accepted;
     }
+
+    /// \return the offset (ns) push() adds to the PTS of stream \a s now (0 until a re-base):
+    /// its PTS on the timeline of the outputs.
+    [[nodiscard]] hal::Pts offset(PairStream s) const noexcept { return time_[idx(s)].offset; }
 
     /// Marks the end of stream \a s: the waiting frames are decided without it.
     void endOfStream(PairStream s) noexcept { ended_[idx(s)] = true; }
@@ -195,6 +232,7 @@ public:
         hasPrev_ = false;
         ended_[0] = ended_[1] = false;
         time_[0] = time_[1] = StreamTime{};
+        splice_ = Splice{};
         index_ = 0;
     }
 
@@ -204,8 +242,54 @@ private:
         bool used = false; ///< Chosen as the partner of a color frame.
     };
     struct StreamTime {
-        hal::Pts last = hal::kNoPts;
+        hal::Pts last = hal::kNoPts;      ///< Input PTS of the last accepted item.
+        hal::Pts offset{0};               ///< Added to the input PTS: the output timeline.
+        hal::Pts candidate = hal::kNoPts; ///< Input PTS of a refused jump, waiting for a sequel.
+        std::uint32_t epoch = 0;          ///< Re-bases of this stream.
     };
+    /// The latest re-base of either stream: the other one re-bases with the same offset.
+    struct Splice {
+        std::uint32_t epoch = 0;
+        hal::Pts offset{0};
+    };
+
+    /// \return whether \a pts (input, ns) continues a refused jump of \a st: after it, within
+    /// maxStep.
+    [[nodiscard]] bool confirmsJump(const StreamTime &st, hal::Pts pts) const noexcept
+    {
+        return st.candidate != hal::kNoPts && pts > st.candidate &&
+               pts - st.candidate <= cfg_.maxStep;
+    }
+
+    /// Refuses the item of input PTS \a pts, \a step (ns) after the last, as a jump's first frame.
+    PushOutcome refuseJump(StreamTime &st, hal::Pts pts, hal::Pts step) noexcept
+    {
+        st.candidate = pts;
+        if (step < hal::Pts{0}) {
+            ++stats_.ptsNonMonotonic;
+            return PushOutcome::NonMonotonic;
+        }
+        ++stats_.ptsJumps;
+        return PushOutcome::Jump;
+    }
+
+    /// Re-bases \a st so that the item of input PTS \a pts comes one \a period (ns) after the
+    /// last one on the output timeline, or takes the offset of the other stream's re-base at the
+    /// same splice (an epoch it reached first) when that keeps the stream increasing.
+    void rebase(StreamTime &st, hal::Pts pts, hal::Pts period) noexcept
+    {
+        const hal::Pts lastOut = st.last + st.offset;
+        const hal::Pts own = lastOut + period - pts;
+        if (splice_.epoch > st.epoch && pts + splice_.offset > lastOut) {
+            st.offset = splice_.offset;
+            st.epoch = splice_.epoch;
+        } else {
+            st.offset = own;
+            st.epoch = std::max(st.epoch, splice_.epoch) + 1;
+            splice_ = Splice{st.epoch, own};
+        }
+        ++stats_.ptsDiscontinuities;
+    }
     /// A ring of Slots with a capacity fixed by init().
     class Queue {
     public:
@@ -282,6 +366,7 @@ private:
         Slot s = from.pop();
         begin(out, s.item.pts);
         out.concealed = s.item.corrupt;
+        out.discontinuity = s.item.discontinuity;
         return s;
     }
 
@@ -340,6 +425,7 @@ private:
                 ++stats_.pairingForced;
             Slot cs = c.pop();
             begin(out, t);
+            out.discontinuity = cs.item.discontinuity;
             d[0].used = true;
             out.depth = shareItem(d[0].item);
             out.hasDepth = true;
@@ -358,6 +444,7 @@ private:
             ++stats_.pairingForced;
         Slot cs = c.pop();
         begin(out, t);
+        out.discontinuity = cs.item.discontinuity;
         if (hasPrev_) {
             out.depth = shareItem(prev_);
             out.hasDepth = true;
@@ -381,6 +468,7 @@ private:
     hal::Pts tolerance_;
     Queue queues_[2];
     StreamTime time_[2];
+    Splice splice_;
     bool ended_[2] = {false, false};
     Item prev_;
     bool hasPrev_ = false;

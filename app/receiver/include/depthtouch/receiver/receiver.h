@@ -74,9 +74,9 @@ struct StoredDepthPair {
 /// \brief One output of the receiver: a color frame and its depth frames, with what went wrong.
 /// Move-only (holds FrameHandles); dropping it returns the frames to the receiver.
 struct PairedFrame {
-    FrameHandle color;            ///< Empty without a color stream.
-    FrameHandle depth;            ///< Depth frame i; empty when depthMissing.
-    FrameHandle depthNext;        ///< Depth frame i+1; empty at the end of the depth video.
+    FrameHandle color;     ///< Empty without a color stream.
+    FrameHandle depth;     ///< Depth frame i; empty when depthMissing.
+    FrameHandle depthNext; ///< Depth frame i+1; empty at the end of the depth video.
     /// Material frame of depth frame i (Rgb24 codes on the depth grid, scene/material.h; its pts
     /// is the material frame's own, at or before depth i's): empty without a material track, or
     /// when no material frame is at or before depth frame i.
@@ -87,6 +87,9 @@ struct PairedFrame {
     bool depthMissing = false;    ///< No depth frame for it (depth absent, or not yet started).
     bool depthDuplicated = false; ///< No depth frame within half a frame: the previous one reused.
     bool concealed = false;       ///< The decoder concealed damage in its color or depth frame.
+    /// The first frame after a timestamp discontinuity (a splice, a reset, a loop; pts_pairer.h):
+    /// pts is on the re-based timeline, and the consumer restarts its media clock here.
+    bool discontinuity = false;
     std::uint32_t generation = 0; ///< Seek generation (DecoderThread); 0 from Receiver itself.
 
     /// \return depth frames i and i+1 with their PTS.
@@ -115,8 +118,8 @@ struct ReceiverInfo {
     ReceiverMode mode = ReceiverMode::ColorAndDepth;
     bool hasColor = false;
     bool hasDepth = false;
-    hal::StreamInfo color; ///< Valid when hasColor.
-    hal::StreamInfo depth; ///< Valid when hasDepth (depth.depth: the metadata).
+    hal::StreamInfo color;    ///< Valid when hasColor.
+    hal::StreamInfo depth;    ///< Valid when hasDepth (depth.depth: the metadata).
     bool hasMaterial = false; ///< A material track is decoded (never without depth).
     hal::StreamInfo material; ///< Valid when hasMaterial (its frames: Rgb24, depth's size).
     hal::PixelFormat colorFormat = hal::PixelFormat::Unknown; ///< Of the color frames.
@@ -160,9 +163,11 @@ struct ReceiverStats {
     std::uint64_t ptsDuplicates = 0;    ///< Frames dropped: same PTS as the previous one.
     std::uint64_t ptsNonMonotonic = 0;  ///< Frames dropped: PTS before the previous one.
     std::uint64_t ptsGaps = 0;          ///< PTS steps above 1.5 frame periods.
-    std::uint64_t readErrors = 0;       ///< Source read errors (truncated or unreadable input).
-    std::uint64_t consumerBusy = 0;     ///< next() calls refused: the consumer held every frame.
-    std::uint64_t streamsResumed = 0;   ///< A stream drained as ended sent packets again.
+    std::uint64_t ptsJumps = 0;         ///< Frames dropped: a PTS jump forward (not confirmed).
+    std::uint64_t ptsDiscontinuities = 0; ///< Timestamp discontinuities re-based (PtsPairer).
+    std::uint64_t readErrors = 0;         ///< Source read errors (truncated or unreadable input).
+    std::uint64_t consumerBusy = 0;       ///< next() calls refused: the consumer held every frame.
+    std::uint64_t streamsResumed = 0;     ///< A stream drained as ended sent packets again.
     std::uint64_t seeks = 0;
     std::uint64_t colorFramesZeroCopy = 0; ///< Color frames kept as the decoder's dma-bufs.
     /// Frames a hardware decoder made (hal::DecoderStats::framesHardware: a hwaccel device, a
