@@ -57,6 +57,14 @@ namespace {
 
 std::atomic<bool> gPlayStop{false};
 
+/// Prints \a why as the run's one error line (printable, at most 400 bytes of it): at the error
+/// priority ("<3>") when stderr is the journal (a service), as the log's lines.
+void failLine(std::string_view why)
+{
+    platform::printStderrLine(platform::LogLevel::Error, "depthtouch play: %s",
+                              platform::printableText(why, 400).c_str());
+}
+
 /// Prints the player's errors on stderr, each once, as it happens (one line), and its state
 /// changes when asked (--verbose; on a terminal unless --quiet).
 class StderrListener final : public player::PlayerListener {
@@ -73,8 +81,7 @@ public:
                 std::fprintf(stderr, "depthtouch play: %s\n", player::playerStateName(e.state));
             break;
         case player::PlayerEventKind::Error:
-            std::fprintf(stderr, "depthtouch play: %s\n",
-                         platform::printableText(e.message, 400).c_str());
+            failLine(e.message);
             errorPrinted_ = true;
             break;
         case player::PlayerEventKind::EndOfFile:
@@ -114,12 +121,6 @@ int controlSocketExitCode(const Error &e)
     default:
         return kExitFailure;
     }
-}
-
-/// Prints \a why as the run's one error line (printable, at most 400 bytes of it).
-void failLine(std::string_view why)
-{
-    std::fprintf(stderr, "depthtouch play: %s\n", platform::printableText(why, 400).c_str());
 }
 
 /// How messages name the sound output's file.
@@ -200,6 +201,24 @@ hal::BackendConfig withOptions(const hal::BackendConfig &cfg, const std::string 
     return c;
 }
 
+/// Says, as a warning line, that a player that stays up (--idle: the box's service) plays without
+/// the first backend of its list \a names of \a kind (a Falcon or a remote not plugged in at its
+/// start, a sound card the sandbox hides) and with \a report's: its summary, which says so too,
+/// comes only at its stop. Nothing for another player or when the first name was chosen.
+void warnFallback(const PlayOptions &opt, drivers::BackendKind kind, std::string_view names,
+                  const hal::SelectionReport &report)
+{
+    std::string_view first;
+    if (!opt.idle || !hal::detail::nextBackendName(names, first) || first == report.chosen)
+        return;
+    platform::printStderrLine(
+        platform::LogLevel::Warning,
+        "depthtouch play: warning: no %s '%s' (it could not be opened; --verbose says why): "
+        "playing with '%s'",
+        drivers::backendKindName(kind), platform::printableText(first, 60).c_str(),
+        report.chosen.c_str());
+}
+
 /// Makes the display, haptic device and remote, and checks the decoder and source names (one
 /// clear line now; they are made per open()). \return nullopt, or the result of a failure.
 std::optional<PlayResult> openBackends(const PlayOptions &opt, const hal::BackendConfig &cfg,
@@ -213,17 +232,20 @@ std::optional<PlayResult> openBackends(const PlayOptions &opt, const hal::Backen
     if (auto bad = take(drivers::createHapticDevice(opt.haptic, hapticCfg, &b.hapticReport),
                         b.hapticReport, b.device))
         return bad;
+    warnFallback(opt, drivers::BackendKind::HapticDevice, opt.haptic, b.hapticReport);
     hal::SelectionReport rep;
     if (!opt.remote.empty() && opt.remote != "none") {
         const hal::BackendConfig remoteCfg = withOptions(cfg, opt.remoteOptions);
         if (auto bad = take(drivers::createRemoteInput(opt.remote, remoteCfg, &rep), rep, b.remote))
             return bad;
+        warnFallback(opt, drivers::BackendKind::RemoteInput, opt.remote, rep);
     }
     if (!opt.noAudio && opt.audioDevice != "none") {
         const hal::BackendConfig audioCfg = withOptions(cfg, opt.audioDeviceOptions);
         if (auto bad = take(drivers::createAudioOutput(opt.audioDevice, audioCfg, &b.audioReport),
                             b.audioReport, b.audio))
             return bad;
+        warnFallback(opt, drivers::BackendKind::AudioOutput, opt.audioDevice, b.audioReport);
     }
     std::unique_ptr<hal::VideoDecoder> decoder;
     const hal::BackendConfig decoderCfg = withOptions(cfg, opt.decoderOptions);
@@ -296,9 +318,8 @@ std::optional<PlayResult> openControlSocket(const PlayOptions &opt, player::Stat
     auto s = control::ControlServer::create(opt.control, machine);
     if (!s) {
         char why[160];
-        std::fprintf(stderr, "depthtouch play: cannot create the control socket %s: %s\n",
-                     platform::quotedText(opt.control, 120).c_str(),
-                     s.error().format(why, sizeof why));
+        failLine("cannot create the control socket " + platform::quotedText(opt.control, 120) +
+                 ": " + s.error().format(why, sizeof why));
         return PlayResult{controlSocketExitCode(s.error()), {}};
     }
     server = std::move(*s);
@@ -335,6 +356,15 @@ PlayResult finishPlay(const PlayOptions &opt, const playback::PlayRunFigures &ru
     if (lost.empty())
         lost = run.audioOutputLost; // the `wav` file: its open, a write or its rename failed
 
+    // A player that stays up (--idle: the box's service) spends most of its life waiting for a
+    // sender, or in the error of the last one until the next: it printed each failure as it came,
+    // and a stop (SIGTERM from `systemctl stop`, --duration) is its normal end, exit 0, not one
+    // more failure (systemd marks a unit whose stop exits 1 failed). A lost output still counts.
+    if (opt.idle && out.stopped) {
+        out.failure.clear();
+        out.stoppedOpening = false;
+        quitRequested = true;
+    }
     // An input that opened but failed before giving a single frame (cut after its header) is
     // bad input like one that does not open.
     if (out.opened && run.stats.framesReceived == 0 && !out.failure.empty())
@@ -452,8 +482,7 @@ void registerPlayCommand(CLI::App &app, int &exitCode)
         if (error.empty())
             error = loadKeyMapFiles(keyMapFiles(dirs, *o), keys);
         if (!error.empty()) {
-            std::fprintf(stderr, "depthtouch play: %s\n",
-                         platform::printableText(error, 400).c_str());
+            failLine(error);
             exitCode = kExitBadInput;
             return;
         }
@@ -463,9 +492,7 @@ void registerPlayCommand(CLI::App &app, int &exitCode)
             return;
         }
         if (o->url.empty()) {
-            std::fputs("depthtouch play: url is required: the file or stream to play (or "
-                       "--show-config)\n",
-                       stderr);
+            failLine("url is required: the file or stream to play (or --show-config)");
             exitCode = kExitBadInput;
             return;
         }

@@ -14,6 +14,7 @@
 
 #include "commands.h"
 #include "completion.h"
+#include "depthtouch/platform/log.h"
 #include "suggest.h"
 
 namespace {
@@ -38,8 +39,9 @@ int checkStandardOutput(int exitCode)
     const int err = errno;
     if ((flushed && std::ferror(stdout) == 0) || exitCode != depthtouch::cli::kExitOk)
         return exitCode; // a failed command has said why in its own line
-    std::fprintf(stderr, "depthtouch: cannot write the standard output: %s\n",
-                 std::strerror(err != 0 ? err : EIO));
+    depthtouch::platform::printStderrLine(depthtouch::platform::LogLevel::Error,
+                                          "depthtouch: cannot write the standard output: %s",
+                                          std::strerror(err != 0 ? err : EIO));
     return depthtouch::cli::kExitFailure;
 }
 
@@ -63,9 +65,12 @@ int main(int argc, char **argv)
                  "depthtouch"};
     app.set_version_flag("--version", "depthtouch " DT_VERSION);
     app.require_subcommand(1);
-    // Bad input gets one clear line (CLI11's default adds a second "Run with --help" line).
+    // Bad input gets one clear line (CLI11's default adds a second "Run with --help" line), an
+    // error line in the journal of a service (platform/log.h).
     app.failure_message([](const CLI::App *, const CLI::Error &e) {
-        return std::string("depthtouch: ") + e.what() + " (see --help)\n";
+        return std::string(depthtouch::platform::stderrPriorityPrefix(
+                   depthtouch::platform::LogLevel::Error)) +
+               "depthtouch: " + e.what() + " (see --help)\n";
     });
     // A reader that leaves (`| head`) is a write error (EPIPE) reported in one line, not a silent
     // death by SIGPIPE; sockets and pipes of the player see the same error.
@@ -79,7 +84,8 @@ int main(int argc, char **argv)
     } catch (const CLI::ParseError &e) {
         if (const std::optional<std::string> says =
                 depthtouch::cli::describeMistake(app, argc, argv, e)) {
-            std::fprintf(stderr, "depthtouch: %s (see --help)\n", says->c_str());
+            depthtouch::platform::printStderrLine(depthtouch::platform::LogLevel::Error,
+                                                  "depthtouch: %s (see --help)", says->c_str());
             return depthtouch::cli::kExitBadInput;
         }
         const int code = app.exit(e);

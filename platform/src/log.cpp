@@ -16,16 +16,31 @@ namespace depthtouch::platform {
 
 namespace {
 
-std::mutex gMutex;                       // Serialises output lines and guards the sink.
-LogSink gSink = nullptr;                 // Guarded by gMutex.
-void *gSinkUser = nullptr;               // Guarded by gMutex.
-std::atomic<int> gGlobalOverride{-1};    // setLogLevel(); -1 when unset.
+std::mutex gMutex;                    // Serialises output lines and guards the sink.
+LogSink gSink = nullptr;              // Guarded by gMutex.
+void *gSinkUser = nullptr;            // Guarded by gMutex.
+std::atomic<int> gGlobalOverride{-1}; // setLogLevel(); -1 when unset.
 
 const char *levelTag(LogLevel level) noexcept
 {
     // Off (and a value past it) prints no level.
     static constexpr std::array<const char *, 4> kTags = {"DEBUG", "INFO ", "WARN ", "ERROR"};
     return enumName(level, kTags, "     ");
+}
+
+/// \return the journal's priority prefix of \a level: syslog(3) priorities LOG_DEBUG 7, LOG_INFO 6,
+/// LOG_WARNING 4, LOG_ERR 3 (sd-daemon(3)); Off (and a value past it) as info.
+const char *journalPrefix(LogLevel level) noexcept
+{
+    static constexpr std::array<const char *, 4> kPrefixes = {"<7>", "<6>", "<4>", "<3>"};
+    return enumName(level, kPrefixes, "<6>");
+}
+
+/// \return whether stderr is this process's stream to the journal (read once).
+bool stderrIsJournal() noexcept
+{
+    static const bool journal = isJournalStream(std::getenv("JOURNAL_STREAM"), STDERR_FILENO);
+    return journal;
 }
 
 } // namespace
@@ -50,7 +65,7 @@ bool parseLogLevel(const char *text, LogLevel &out) noexcept
         LogLevel level;
     };
     static constexpr Name kNames[] = {
-        {"debug", LogLevel::Debug}, {"info", LogLevel::Info},   {"warn", LogLevel::Warning},
+        {"debug", LogLevel::Debug},     {"info", LogLevel::Info},   {"warn", LogLevel::Warning},
         {"warning", LogLevel::Warning}, {"error", LogLevel::Error}, {"off", LogLevel::Off},
     };
     if (text == nullptr)
@@ -107,7 +122,10 @@ LogLevel logLevelFromSpec(const char *spec, const char *category) noexcept
     return haveSpecific ? specific : general;
 }
 
-void setLogLevel(LogLevel level) noexcept { gGlobalOverride.store(static_cast<int>(level)); }
+void setLogLevel(LogLevel level) noexcept
+{
+    gGlobalOverride.store(static_cast<int>(level));
+}
 
 void resetLogLevel() noexcept
 {
@@ -133,11 +151,10 @@ void logMessageV(const LogCategory &category, LogLevel level, const char *format
         gSink(gSinkUser, level, category.name, message);
         return;
     }
-    static const bool journal = isJournalStream(std::getenv("JOURNAL_STREAM"), STDERR_FILENO);
     timespec ts{};
     clock_gettime(CLOCK_MONOTONIC, &ts);
     char line[1200];
-    formatLogLine(line, sizeof line, journal, level, category.name, message, ts);
+    formatLogLine(line, sizeof line, stderrIsJournal(), level, category.name, message, ts);
     std::fprintf(stderr, "%s\n", line);
 }
 
@@ -159,16 +176,27 @@ bool isJournalStream(const char *journalStream, int fd) noexcept
 int formatLogLine(char *out, std::size_t size, bool journal, LogLevel level, const char *category,
                   const char *message, const timespec &monotonic) noexcept
 {
-    if (journal) {
-        // syslog(3) priorities: LOG_DEBUG 7, LOG_INFO 6, LOG_WARNING 4, LOG_ERR 3.
-        static constexpr std::array<int, 4> kPriority = {7, 6, 4, 3};
-        const auto i = static_cast<std::size_t>(level);
-        const int priority = i < kPriority.size() ? kPriority[i] : 6;
-        return std::snprintf(out, size, "<%d>%s: %s", priority, category, message);
-    }
+    if (journal)
+        return std::snprintf(out, size, "%s%s: %s", journalPrefix(level), category, message);
     return std::snprintf(out, size, "[%5lld.%06ld] %s %s: %s",
                          static_cast<long long>(monotonic.tv_sec), monotonic.tv_nsec / 1000,
                          levelTag(level), category, message);
+}
+
+const char *stderrPriorityPrefix(LogLevel level) noexcept
+{
+    return stderrIsJournal() ? journalPrefix(level) : "";
+}
+
+void printStderrLine(LogLevel level, const char *format, ...) noexcept
+{
+    char text[1200];
+    std::va_list args;
+    va_start(args, format);
+    std::vsnprintf(text, sizeof text, format, args);
+    va_end(args);
+    std::lock_guard<std::mutex> lock(gMutex);
+    std::fprintf(stderr, "%s%s\n", stderrPriorityPrefix(level), text);
 }
 
 void logMessage(const LogCategory &category, LogLevel level, const char *format, ...) noexcept

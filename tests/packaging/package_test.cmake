@@ -1,6 +1,7 @@
 # The Debian package and the install rules (packaging/CMakeLists.txt), as an integrator meets them:
 #  1. DESTDIR=stage cmake --install: the program, unit, sysusers entry, udev rule, config, man page, docs,
-#     copyright and changelog; the unit's sandbox scored by `systemd-analyze security` (at most 4.0, "OK");
+#     copyright and changelog; the unit's sandbox scored by `systemd-analyze security` (at most 4.0, "OK")
+#     and opening the sound card (char-alsa, group audio); the files its Documentation= names installed;
 #  1b. cmake --install --prefix P: every file it writes lies under P, and the unit names P's program and config;
 #  2. cpack writes depthtouch_<version>_<arch>.deb and depthtouch-dbgsym_<version>_<arch>.ddeb: the .deb's
 #     Architecture, Depends (from dpkg-shlibdeps, and the Mesa driver), conffiles, maintainer scripts and
@@ -67,6 +68,27 @@ foreach(line "ExecStart=/usr/bin/depthtouch play --config /etc/depthtouch/play.t
     if(at LESS 0)
         message(FATAL_ERROR "the unit lacks '${line}':\n${unit}")
     endif()
+endforeach()
+# The sound card under the sandbox: DevicePolicy=closed opens only the devices listed, and ALSA's
+# nodes are group audio; without both ALSA is refused and the player falls back to the null output.
+if(NOT unit MATCHES "\nDeviceAllow=char-alsa rw\n" OR NOT unit MATCHES "\nSupplementaryGroups=[^\n]* audio( |\n)")
+    message(FATAL_ERROR "the unit does not open the sound card (DeviceAllow=char-alsa rw, group audio):\n${unit}")
+endif()
+file(READ "${OUT}/stage/usr/lib/sysusers.d/depthtouch.conf" sysusers)
+if(NOT sysusers MATCHES "\nm depthtouch audio\n")
+    message(FATAL_ERROR "the service user is not in the group audio:\n${sysusers}")
+endif()
+# Each file the unit's Documentation= names is installed (`systemctl help depthtouch` opens them).
+if(NOT unit MATCHES "\nDocumentation=([^\n]*)")
+    message(FATAL_ERROR "the unit has no Documentation=:\n${unit}")
+endif()
+string(REGEX MATCHALL "file:[^ ]+" docs "${CMAKE_MATCH_1}")
+if(NOT docs)
+    message(FATAL_ERROR "the unit's Documentation= names no file: '${CMAKE_MATCH_1}'")
+endif()
+foreach(doc ${docs})
+    string(REGEX REPLACE "^file:/" "" doc "${doc}")
+    expect_file("${OUT}/stage" "${doc}")
 endforeach()
 # The sandbox: systemd's own score of the unit (0 = fully confined, 10 = not at all; "OK" up to 4.0).
 # The unit must still allow what the player needs: real-time scheduling and memory locking (the

@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 
+#include "depthtouch/platform/log.h"
 #include "depthtouch/platform/memory_lock.h"
 
 namespace depthtouch::control {
@@ -22,7 +22,8 @@ LoopOutcome playUntilDone(player::StateMachine &machine, ControlLoop &loop,
     machine.execute("play");
     while (!machine.quitRequested()) {
         if (auto r = loop.runUntil(clock.now() + std::chrono::milliseconds(10)); !r) {
-            std::fprintf(stderr, "depthtouch play: control socket failed: %s\n", r.error().what);
+            platform::printStderrLine(platform::LogLevel::Error,
+                                      "depthtouch play: control socket failed: %s", r.error().what);
             server.reset();
         }
         eachTurn();
@@ -42,6 +43,7 @@ LoopOutcome playUntilDone(player::StateMachine &machine, ControlLoop &loop,
         }
         if (stop.load() || (limits.duration > 0.0 && elapsed >= limits.duration)) {
             out.stoppedOpening = st == player::PlayerState::Opening;
+            out.stopped = true;
             machine.execute("quit");
             break;
         }

@@ -243,7 +243,9 @@ TEST(PlayFaultsTest, QuitAfterARecoveredFailedPlayIsSuccess)
 {
     TempDir tmp("dt-faults-");
     const std::string sock = (tmp.dir() / "ctl.sock").string();
-    Process player(mockPlay(kMockClip, {"--loop", "--idle", "--control", sock}));
+    // No sound card needed: with --idle a fallback of the sound output is a warning line.
+    Process player(
+        mockPlay(kMockClip, {"--loop", "--idle", "--control", sock, "--audio-device", "null"}));
     ControlClient c;
     ASSERT_TRUE(c.connect(sock, 10s));
     EXPECT_EQ(c.request(R"({"command":["stop"]})"), R"({"error":"success"})");

@@ -4,7 +4,8 @@
 /// line each.
 ///
 /// Output: "[   12.345678] WARN  Category: message" on stderr (or a sink installed for tests); when
-/// stderr is the systemd journal's stream (a service), "<4>Category: message" (formatLogLine()).
+/// stderr is the systemd journal's stream (a service), "<4>Category: message" (formatLogLine()); a
+/// command's own lines take the same prefix through printStderrLine().
 /// The level is set per category from the environment variable DT_LOG ("debug", or
 /// "Haptic:debug,*:warn"; read once per category, at its first use; see logLevelFromSpec()) or with
 /// setLogLevel(). Thread-safety: thread-safe (a mutex serialises lines). **Never call from the
@@ -65,6 +66,16 @@ bool isJournalStream(const char *journalStream, int fd) noexcept;
 /// \a monotonic the time since boot. \return the length of the line (as snprintf, before any cut).
 int formatLogLine(char *out, std::size_t size, bool journal, LogLevel level, const char *category,
                   const char *message, const timespec &monotonic) noexcept;
+/// \brief The priority prefix of a line at \a level on stderr: "<P>" as formatLogLine() writes it
+/// for the journal (P 7 debug, 6 info, 4 warning, 3 error) when stderr is the journal's stream
+/// (isJournalStream() of JOURNAL_STREAM, read once), else "". Static string. Thread-safe.
+const char *stderrPriorityPrefix(LogLevel level) noexcept;
+/// \brief Writes one line (printf-style, newline added) on stderr with stderrPriorityPrefix() of
+/// \a level in front: a command's own lines (its one failure line at Error, a warning), which are
+/// not log lines (no category, no time stamp, not filtered by the log level) but reach the journal
+/// of a service with their priority like them. Thread-safe (serialised with the log's lines).
+void printStderrLine(LogLevel level, const char *format, ...) noexcept
+    __attribute__((format(printf, 2, 3)));
 
 } // namespace depthtouch::platform
 

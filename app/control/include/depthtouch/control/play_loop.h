@@ -23,6 +23,7 @@ struct LoopOutcome {
     std::string failure;         ///< The reason when the player ended in Error.
     bool opened = false;         ///< The input played (Playing or Paused was reached).
     bool stoppedOpening = false; ///< The stop flag or the duration came while it was opening.
+    bool stopped = false;        ///< The stop flag or the duration ended it (not a quit).
     double rssStart = -1.0;
     double rssAfterWarmup = -1.0;
     double rssEnd = -1.0;

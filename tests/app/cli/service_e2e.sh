@@ -1,0 +1,89 @@
+#!/bin/sh
+# `play` as the box's service runs it (packaging/depthtouch.service.in, issue 61):
+#  - a stop (SIGTERM, as `systemctl stop` sends) of a player that stays up (--idle) while it waits
+#    for a sender, or after the wait timed out, is exit 0: systemd marks a unit whose stop exits
+#    non-zero failed;
+#  - the shipped configuration (packaging/play.toml) starts without a Falcon and a remote: a
+#    missing one is a warning line, not a failure (Restart=on-failure would loop);
+#  - with stderr the journal's stream (JOURNAL_STREAM), the one failure line has the error priority
+#    prefix "<3>" (sd-daemon(3)) and a warning "<4>", as the log's lines.
+# Usage: service_e2e.sh /path/to/depthtouch
+set -u
+exe="$1"
+here=$(cd "$(dirname "$0")" && pwd)
+. "$here/../../e2e_lib.sh"
+e2e_work service
+mkdir -p "$work/etc" "$work/xdg"
+# No system or user configuration of this machine takes part.
+export DT_SYSTEM_CONFIG_DIR="$work/etc" XDG_CONFIG_HOME="$work/xdg"
+unset DT_LOG JOURNAL_STREAM
+port=$((20000 + $$ % 20000))
+clip="mock://clip?frames=6&fps=30&width=64&height=48"
+
+# stopped_after SECONDS ARGS...: `play udp://127.0.0.1:PORT --idle ARGS` (nothing is sent there),
+# SIGTERM after SECONDS; prints the exit code, its stderr in $work/err.
+stopped_after() {
+    wait_s=$1
+    shift
+    "$exe" play "udp://127.0.0.1:$port" --idle --display mock --haptic none --no-audio "$@" \
+        >"$work/out" 2>"$work/err" </dev/null &
+    e2e_bg=$!
+    sleep "$wait_s"
+    kill -TERM "$e2e_bg"
+    wait "$e2e_bg"
+    rc=$?
+    e2e_bg=""
+    echo "$rc"
+}
+
+# 1. SIGTERM while it waits for a sender (opening), and once the wait timed out (error)
+rc=$(stopped_after 1.5)
+[ "$rc" -eq 0 ] || fail "SIGTERM while an idle player waits for a sender: exit $rc, '$(cat "$work/err")'"
+rc=$(stopped_after 2.5 --source-options timeout_ms=300)
+[ "$rc" -eq 0 ] || fail "SIGTERM after an idle player's wait timed out: exit $rc, '$(cat "$work/err")'"
+grep -q "open failed" "$work/err" || fail "the timed-out wait was not reported: '$(cat "$work/err")'"
+
+# 2. the shipped configuration, with what this machine lacks given on the command line (a display,
+# SCHED_FIFO, the control socket's folder): the Falcon and the remote are its own
+config="$here/../../../packaging/play.toml"
+[ -f "$config" ] || fail "no $config"
+"$exe" play --config "$config" --display mock --require-rt=false --control "$work/ctl.sock" \
+    "$clip" --source mock --decoder mock --no-audio --duration 1 >"$work/out" 2>"$work/err" </dev/null
+rc=$?
+[ "$rc" -eq 0 ] || fail "play --config packaging/play.toml: exit $rc, '$(cat "$work/err")'"
+if grep -v "warning: " "$work/err" | grep -q .; then
+    fail "play --config packaging/play.toml printed more than warnings: '$(cat "$work/err")'"
+fi
+# without a Falcon (a machine that runs tests has none), a warning says so
+if grep -q "haptic device 'falcon'" "$work/err"; then
+    grep -q "^depthtouch play: warning: no haptic device 'falcon'.*playing with 'none'" "$work/err" ||
+        fail "the missing Falcon's line: '$(cat "$work/err")'"
+fi
+
+# 3. the journal's priorities: stderr a file whose device and inode JOURNAL_STREAM names
+# journal FILE ARGS...: `depthtouch ARGS` with stderr appended to FILE, the journal's stream.
+journal() {
+    j=$1
+    shift
+    : >"$j"
+    JOURNAL_STREAM=$(stat -c %d:%i "$j") "$exe" "$@" >"$work/out" 2>>"$j" </dev/null
+}
+journal "$work/j1" play /nonexistent/x.mkv --display mock --haptic none --no-audio
+rc=$?
+[ "$rc" -eq 2 ] || fail "play of a missing file: exit $rc, '$(cat "$work/j1")'"
+[ "$(wc -l <"$work/j1")" -eq 1 ] || fail "play of a missing file: '$(cat "$work/j1")'"
+grep -q "^<3>depthtouch play: " "$work/j1" ||
+    fail "the failure line under JOURNAL_STREAM has no <3> prefix: '$(cat "$work/j1")'"
+journal "$work/j2" play "$clip" --no-such-option
+if [ ! -s "$work/j2" ] || grep -qv "^<3>depthtouch: " "$work/j2"; then
+    fail "a bad option's line under JOURNAL_STREAM: '$(cat "$work/j2")'"
+fi
+# the warning of a fallback (--idle: a service), and the log's own lines, with theirs
+journal "$work/j3" play "$clip" --source mock --decoder mock --display mock --haptic mock,none \
+    --no-audio --idle --duration 1 --haptic-options no_such_option=1
+rc=$?
+[ "$rc" -eq 0 ] || fail "play with a fallback under JOURNAL_STREAM: exit $rc, '$(cat "$work/j3")'"
+grep -q "^<4>depthtouch play: warning: no haptic device 'mock'" "$work/j3" ||
+    fail "the fallback's warning under JOURNAL_STREAM: '$(cat "$work/j3")'"
+! grep -qv "^<[0-7]>" "$work/j3" || fail "a line without a priority: '$(cat "$work/j3")'"
+echo "service: ok"
