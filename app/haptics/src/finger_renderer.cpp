@@ -371,14 +371,43 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     const bool over = field_.contains(hip.x, hip.y); // false before the first frames
     // The sensor surface at the HIP's own x–y: above it is free space (what the camera saw).
     const double raw = over ? sensorHeight(hip) : std::nan("");
-    const bool inside = raw > hip.z; // false for NaN
     Candidate c;
     c.proxy = hip;
-    const bool wasResting = resting_;
     c.behind = state_ == FingerState::Behind;
     c.wall = state_ == FingerState::OnWall;
     const bool wasInContact = touching(); // holdOverHole() may end it before the search
-    pushed_ = pushing_ && touching();     // limitPush() bounded the last update's proxy
+    search(hip, raw, over, t, c);
+    // The material under the goal (the track's per-pixel stiffness and friction), else the
+    // renderer's own friction at stiffness scale 1.
+    const bool material = field_.current().material.present();
+    const double stiffnessScale = applyMaterial(field_, c.proxy, c.contact, friction_);
+    letGo(hip, c);
+    out.released = c.trip;
+    // The offset from the HIP is filtered, and friction acts, on the force and the reported proxy;
+    // proxy_ keeps the unfiltered, frictionless goal (the glide and the next update's search start
+    // from it). Friction acts on the filtered goal.
+    c.touching = touching();
+    glm::dvec3 held = output_.filter(hip, c, stiffnessScale);
+    if (friction_.enabled() || material) {
+        if (c.contact && !c.trip)
+            held = friction_.apply(held, hip, t);
+        else
+            friction_.release();
+    }
+    out.force = output_.force(hip, held, c, t, stiffnessScale, raw, field_, wasInContact);
+    out.proxy = held;
+    out.contact = c.contact;
+    out.constraints = c.contact ? 1 : 0;
+    remember(hip, c);
+    return out;
+}
+
+void FingerRenderer::search(const glm::dvec3 &hip, double raw, bool over, double t,
+                            Candidate &c) noexcept
+{
+    const bool inside = raw > hip.z; // false for NaN
+    const bool wasResting = resting_;
+    pushed_ = pushing_ && touching(); // limitPush() bounded the last update's proxy
     pushing_ = false;
     const bool resting = restingContact(hip, t);
     if (holdOverHole(hip, raw, t, c)) {
@@ -424,10 +453,10 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     if (c.stepped && !c.trip &&
         (lastDepth_ < p_.stepDepth || glm::length(c.proxy - hip) < lastDepth_))
         c.stepped = false;
-    // The material under the goal (the track's per-pixel stiffness and friction), else the
-    // renderer's own friction at stiffness scale 1.
-    const bool material = field_.current().material.present();
-    const double stiffnessScale = applyMaterial(field_, c.proxy, c.contact, friction_);
+}
+
+void FingerRenderer::letGo(const glm::dvec3 &hip, Candidate &c) noexcept
+{
     if (output_.takeLetGo() && c.contact) {
         c.trip = true;
         c.letGo = true;
@@ -444,22 +473,10 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
         c.wall = false;
     }
     enterAnyDepth_ = false;
-    out.released = c.trip;
-    // The offset from the HIP is filtered, and friction acts, on the force and the reported proxy;
-    // proxy_ keeps the unfiltered, frictionless goal (the glide and the next update's search start
-    // from it). Friction acts on the filtered goal.
-    c.touching = touching();
-    glm::dvec3 held = output_.filter(hip, c, stiffnessScale);
-    if (friction_.enabled() || material) {
-        if (c.contact && !c.trip)
-            held = friction_.apply(held, hip, t);
-        else
-            friction_.release();
-    }
-    out.force = output_.force(hip, held, c, t, stiffnessScale, raw, field_, wasInContact);
-    out.proxy = held;
-    out.contact = c.contact;
-    out.constraints = c.contact ? 1 : 0;
+}
+
+void FingerRenderer::remember(const glm::dvec3 &hip, const Candidate &c) noexcept
+{
     state_ = nextState(c);
     proxy_ = c.proxy;
     surfaceProxy_ = c.bounded && c.contact ? c.found : c.proxy;
@@ -470,7 +487,6 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     lastY_ = c.plane.y;
     lastHeight_ = c.plane.height;
     std::copy(std::begin(c.plane.taps), std::end(c.plane.taps), std::begin(lastTaps_));
-    return out;
 }
 
 bool FingerRenderer::withinReach(const glm::dvec3 &hip, double raw) const noexcept

@@ -321,6 +321,17 @@ private:
     /// (the candidate \a c against the last update's proxy): only then is it ramped in.
     [[nodiscard]] bool switchSteps(const Candidate &c) const noexcept;
 
+    /// Steps 1–5 of the file comment: this update's contact in \a c (the hold over a hole, the
+    /// penalty while resting, out of reach, the wall, the slide or a new capture), and whether a
+    /// switch or a step of the surface ramps the force in. \a raw: the sensor surface at the HIP's
+    /// x–y (sensorHeight(), m; NaN off the grid); \a over: the HIP is over the grid.
+    void search(const glm::dvec3 &hip, double raw, bool over, double t, Candidate &c) noexcept;
+    /// The trip guards of FingerState: the device maximum held too long lets the finger go; a
+    /// trip with Reengage::Release (or a let-go) leaves it behind the surface; no contact puts the
+    /// proxy on the HIP.
+    void letGo(const glm::dvec3 &hip, Candidate &c) noexcept;
+    /// What the next update starts from: the state, the proxy, the last plane and depth.
+    void remember(const glm::dvec3 &hip, const Candidate &c) noexcept;
     /// In contact: slide on from the last proxy (steps 2 and 4 of the file comment).
     /// \a raw: the sensor surface at the HIP's own x–y, m (over the HIP: slide() runs inside).
     void slide(const glm::dvec3 &hip, double raw, Candidate &c) const noexcept;
