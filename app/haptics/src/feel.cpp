@@ -218,11 +218,11 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
             const bool idealHere = std::isfinite(r.idealPenalty.x);
             idealGiven = idealGiven || idealHere;
             const double idealNorm = idealHere ? glm::length(r.idealPenalty) : 0.0;
-            const glm::dvec3 ideal = idealNorm > th.deviceMaxForce
-                                         ? r.idealPenalty * (th.deviceMaxForce / idealNorm)
-                                         : (idealHere ? r.idealPenalty : glm::dvec3{0.0});
+            const glm::dvec3 rendered = idealNorm > th.deviceMaxForce
+                                            ? r.idealPenalty * (th.deviceMaxForce / idealNorm)
+                                            : (idealHere ? r.idealPenalty : glm::dvec3{0.0});
             energy.update(r.hip, r.force);
-            idealEnergy.update(r.hip, ideal);
+            idealEnergy.update(r.hip, rendered);
         }
         if (r.released) {
             ++f.trips;

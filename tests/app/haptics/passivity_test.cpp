@@ -106,7 +106,8 @@ std::vector<FeelSample> pressAndLeave(int lag)
         r.surfaceZ = 0.0;
         r.idealPenalty = {0.0, 0.0, k * std::max(0.0, -z[i])};
         r.idealForce = r.idealPenalty.z;
-        const std::size_t from = i >= static_cast<std::size_t>(lag) ? i - lag : 0;
+        const std::size_t from =
+            i >= static_cast<std::size_t>(lag) ? i - static_cast<std::size_t>(lag) : 0;
         r.force = {0.0, 0.0, k * std::max(0.0, -z[from])};
         if (static_cast<int>(i) < lag)
             r.force = {};
