@@ -172,6 +172,7 @@ std::optional<std::string> setterText(player::StateMachine &machine, const Named
     case Property::Volume:
     case Property::Stiffness:
     case Property::TimePos:
+    case Property::PlaybackTime:
     case Property::PercentPos: {
         const std::optional<double> v = number(value);
         if (!v)
@@ -180,7 +181,7 @@ std::optional<std::string> setterText(player::StateMachine &machine, const Named
             std::snprintf(buf, sizeof buf, "stiffness %.17g", *v);
         else if (named.property == Property::Volume)
             std::snprintf(buf, sizeof buf, "volume %.17g", *v);
-        else if (named.property == Property::TimePos)
+        else if (named.property != Property::PercentPos) // time-pos, playback-time
             std::snprintf(buf, sizeof buf, "seek %.17g absolute", std::max(0.0, *v));
         else {
             const player::CommandOutcome d = read(machine, Named{Property::Duration, false});
@@ -193,25 +194,6 @@ std::optional<std::string> setterText(player::StateMachine &machine, const Named
         return std::string(buf);
     }
     default: // read-only
-        return std::nullopt;
-    }
-}
-
-/// The player command text of mpv's `cycle NAME`, or nullopt when it does not cycle.
-std::optional<std::string> cycleText(Property p)
-{
-    switch (p) {
-    case Property::Pause:
-        return "toggle-pause";
-    case Property::Haptics:
-        return "haptics toggle";
-    case Property::Loop:
-        return "loop toggle";
-    case Property::StereoMode:
-        return "next-stereo-mode";
-    case Property::Mute:
-        return "mute toggle";
-    default:
         return std::nullopt;
     }
 }
@@ -251,36 +233,37 @@ std::string setProperty(const json &command, const json *requestId, player::Stat
     return run(machine, *text, requestId);
 }
 
-std::string addProperty(const json &command, const json *requestId, player::StateMachine &machine)
+/// mpv's `cycle NAME [up|down]` and `add NAME [N]`: the command table's rows of those names
+/// (player::mpvCommandAliases()), with mpv's errors: "property not found" for a name that is no
+/// property, "unsupported format for accessing property" for add's value that is no number,
+/// "property unavailable" for one that does not cycle or add (read-only).
+std::string cycleOrAdd(const json &command, const json *requestId, player::StateMachine &machine)
 {
+    const bool add = command[0] == "add";
     const PropertyArgument arg =
         propertyArgument(command, 1, command.size() == 2 || command.size() == 3, requestId);
     if (!arg.named)
         return arg.refusal;
-    const Named &named = *arg.named;
-    const std::optional<double> by = command.size() == 3 ? number(command[2]) : 1.0;
-    if (!by)
+    if (add && command.size() == 3 && !number(command[2]))
         return reply(kFormat, requestId);
-    char buf[96];
-    if (named.property == Property::TimePos)
-        std::snprintf(buf, sizeof buf, "seek %.17g relative", *by);
-    else if (named.property == Property::Stiffness)
-        std::snprintf(buf, sizeof buf, "stiffness %.17g", machine.stiffness() + *by);
-    else if (named.property == Property::Volume) // mpv's add stops at the ends of the range
-        std::snprintf(buf, sizeof buf, "volume %.17g",
-                      std::clamp(machine.volume() + *by, 0.0, player::kMaxVolume));
-    else
+    const player::ParsedCommand parsed = player::parseCommandJson(command);
+    if (!parsed)
         return reply(kUnavailable, requestId);
-    return run(machine, buf, requestId);
+    const player::CommandOutcome out = machine.execute(*parsed.command);
+    return out.accepted ? reply("success", requestId) : reply(out.reason, requestId);
 }
+
+/// mpv's client API version (MPV_CLIENT_API_VERSION of mpv 0.38's client.h: MPV_MAKE_VERSION(2,
+/// 3), major << 16 | minor), which get_version answers.
+constexpr std::int64_t kMpvClientApiVersion = (2 << 16) | 3;
 
 std::string keypress(const json &command, const json *requestId, player::StateMachine &machine)
 {
     if (command.size() != 2 || !command[1].is_string())
         return reply(kInvalid, requestId);
-    // The remote's key names (KEY_PLAYPAUSE, PLAYPAUSE, ok); keyFromName() ignores case and '_',
-    // so mpv's spellings (VOLUME_UP) match the kernel's (KEY_VOLUMEUP) too.
-    const hal::Key key = hal::keyFromName(command[1].get_ref<const std::string &>().c_str());
+    // The names of input.conf (player::keyFromInputName()): the kernel's (KEY_PLAYPAUSE, KEY_ESC),
+    // mpv's (VOLUME_UP, SPACE, PGUP) and the terminal's characters (m).
+    const hal::Key key = player::keyFromInputName(command[1].get_ref<const std::string &>());
     if (key == hal::Key::Unknown)
         return reply(kInvalid, requestId);
     const char *text = machine.keyMap().commandText(key);
@@ -346,15 +329,13 @@ std::optional<std::string> handleMpvCommand(const json &command, const json *req
         return getProperty(command, requestId, machine, verb == "get_property_string");
     if (verb == "set_property" || verb == "set_property_string")
         return setProperty(command, requestId, machine, verb == "set_property_string");
-    if (verb == "cycle") {
-        const PropertyArgument arg = propertyArgument(command, 1, command.size() >= 2, requestId);
-        if (!arg.named)
-            return arg.refusal;
-        const std::optional<std::string> text = cycleText(arg.named->property);
-        return text ? run(machine, *text, requestId) : reply(kUnavailable, requestId);
+    if (verb == "cycle" || verb == "add")
+        return cycleOrAdd(command, requestId, machine);
+    if (verb == "get_version") {
+        const json version = kMpvClientApiVersion;
+        return command.size() == 1 ? reply("success", requestId, &version)
+                                   : reply(kInvalid, requestId);
     }
-    if (verb == "add")
-        return addProperty(command, requestId, machine);
     if (verb == "keypress")
         return keypress(command, requestId, machine);
     if (verb == "observe_property" || verb == "observe_property_string")

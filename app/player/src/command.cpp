@@ -17,16 +17,17 @@ namespace {
 /// Largest seek offset or position accepted (s): a day; beyond is a typo, not a request.
 constexpr double kMaxSeekSeconds = 86400.0;
 
-constexpr std::array<const char *, kPlayerStateCount> kStateNames = {
-    "idle", "opening", "playing", "paused", "stopped", "error"};
+constexpr std::array<const char *, kPlayerStateCount> kStateNames = {"idle",   "opening", "playing",
+                                                                     "paused", "stopped", "error"};
 constexpr std::array<const char *, 5> kStereoNames = {"sbs", "tab", "anaglyph", "mono",
                                                       "interleaved"};
 constexpr std::array<const char *, kPropertyCount> kPropertyNames = {
-    "state",       "stereo-mode", "haptics",  "stiffness",   "loop",         "url",
-    "error",       "time-pos",    "duration", "percent-pos", "pause",        "path",
-    "idle-active", "eof-reached", "volume",   "mute",        "haptic-force", "contact"};
+    "state",       "stereo-mode", "haptics",      "stiffness",   "loop",         "url",
+    "error",       "time-pos",    "duration",     "percent-pos", "pause",        "path",
+    "idle-active", "eof-reached", "volume",       "mute",        "haptic-force", "contact",
+    "filename",    "media-title", "playback-time"};
 
-static_assert(kPropertyCount == static_cast<std::size_t>(Property::Contact) + 1,
+static_assert(kPropertyCount == static_cast<std::size_t>(Property::PlaybackTime) + 1,
               "one name per Property");
 
 /// The property names, comma-separated (for error texts).
@@ -266,6 +267,131 @@ std::string parseGetArgs(std::span<const std::string_view> args, Command &out)
     return "unknown property " + quoted(args[0]) + " (" + propertyList() + ")";
 }
 
+namespace {
+
+/// \return the property called \a name, mpv's "loop-file" being the loop; or std::nullopt.
+std::optional<Property> mpvProperty(std::string_view name) noexcept
+{
+    return lowerEquals(name, "loop-file") ? std::optional<Property>(Property::Loop)
+                                          : propertyFromName(name);
+}
+
+} // namespace
+
+namespace {
+
+/// \return the value of hex digit \a c, or -1.
+int hexDigit(char c) noexcept
+{
+    if (c >= '0' && c <= '9')
+        return c - '0';
+    if (c >= 'a' && c <= 'f')
+        return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F')
+        return c - 'A' + 10;
+    return -1;
+}
+
+} // namespace
+
+std::string mediaFilename(std::string_view url)
+{
+    std::string text;
+    const bool isUrl = url.find("://") != std::string_view::npos;
+    for (std::size_t i = 0; i < url.size(); ++i) {
+        const int high = isUrl && url[i] == '%' && i + 2 < url.size() ? hexDigit(url[i + 1]) : -1;
+        const int low = high >= 0 ? hexDigit(url[i + 2]) : -1;
+        if (low >= 0) {
+            text += static_cast<char>(high * 16 + low);
+            i += 2;
+        } else {
+            text += url[i];
+        }
+    }
+    const std::size_t slash = text.find_last_of('/');
+    std::string base = slash == std::string::npos ? text : text.substr(slash + 1);
+    return base.empty() ? text : base;
+}
+
+std::string parseLoadFileArgs(std::span<const std::string_view> args, Command &out)
+{
+    if (args.empty() || args.size() > 2)
+        return "needs a file or URL and at most the flag replace";
+    if (args.size() == 2 && !lowerEquals(args[1], "replace"))
+        return quoted(args[1]) + " needs a playlist, and the player has none (only replace)";
+    if (args[0].empty())
+        return "the file or URL is empty";
+    out.id = CommandId::Play;
+    out.url = std::string(args[0]);
+    return {};
+}
+
+std::string parseCycleArgs(std::span<const std::string_view> args, Command &out)
+{
+    if (args.empty() || args.size() > 2)
+        return "needs PROPERTY [up|down]";
+    const bool down = args.size() == 2 && lowerEquals(args[1], "down");
+    if (args.size() == 2 && !down && !lowerEquals(args[1], "up"))
+        return quoted(args[1]) + " is neither up nor down";
+    const std::optional<Property> p = mpvProperty(args[0]);
+    if (!p)
+        return "unknown property " + quoted(args[0]) + " (" + propertyList() + ")";
+    out.toggle = Switch::Toggle;
+    switch (*p) {
+    case Property::Pause:
+        out.id = CommandId::TogglePause;
+        return {};
+    case Property::Haptics:
+        out.id = CommandId::Haptics;
+        return {};
+    case Property::Loop:
+        out.id = CommandId::Loop;
+        return {};
+    case Property::Mute:
+        out.id = CommandId::Mute;
+        return {};
+    case Property::StereoMode:
+        out.id = CommandId::NextStereoMode;
+        return down ? "stereo-mode cycles up only" : std::string();
+    default:
+        return quoted(args[0]) + " cannot be cycled (pause, haptics, loop, mute, stereo-mode)";
+    }
+}
+
+std::string parseAddArgs(std::span<const std::string_view> args, Command &out)
+{
+    if (args.empty() || args.size() > 2)
+        return "needs PROPERTY [VALUE]";
+    double by = 1.0; // mpv's default
+    if (args.size() == 2 && !parseNumber(args[1], by))
+        return quoted(args[1]) + " is not a number";
+    const std::optional<Property> p = mpvProperty(args[0]);
+    if (!p)
+        return "unknown property " + quoted(args[0]) + " (" + propertyList() + ")";
+    switch (*p) {
+    case Property::TimePos:
+    case Property::PlaybackTime:
+        if (std::fabs(by) > kMaxSeekSeconds)
+            return "seconds out of range";
+        out.id = CommandId::Seek;
+        out.seconds = by;
+        out.seekMode = SeekMode::Relative;
+        return {};
+    case Property::Stiffness:
+        out.id = CommandId::Stiffness;
+        out.stiffnessChange = StiffnessChange::By;
+        out.stiffness = by;
+        return {};
+    case Property::Volume:
+        out.id = CommandId::Volume;
+        out.volumeChange = StiffnessChange::By;
+        out.volume = by;
+        return {};
+    default:
+        return quoted(args[0]) + " cannot be added to (time-pos, playback-time, stiffness, volume)";
+    }
+}
+
 } // namespace detail
 
 const CommandSpec &commandSpec(CommandId id) noexcept
@@ -276,6 +402,9 @@ const CommandSpec &commandSpec(CommandId id) noexcept
 const CommandSpec *findCommand(std::string_view name) noexcept
 {
     for (const CommandSpec &spec : commandTable())
+        if (name == spec.name)
+            return &spec;
+    for (const CommandSpec &spec : mpvCommandAliases())
         if (name == spec.name)
             return &spec;
     return nullptr;
@@ -351,8 +480,8 @@ ParsedCommand parseCommandJson(const nlohmann::json &array)
             std::snprintf(buf, sizeof buf, "%.17g", a.get<double>());
             words.emplace_back(buf);
         } else
-            return {std::nullopt, "argument " + std::to_string(i) +
-                                      " must be a string, a number or a boolean"};
+            return {std::nullopt,
+                    "argument " + std::to_string(i) + " must be a string, a number or a boolean"};
     }
     std::vector<std::string_view> args(words.begin(), words.end());
     return parseCommand(array[0].get_ref<const std::string &>(), args);
@@ -364,8 +493,9 @@ std::string commandText(const Command &command)
     char buf[64];
     // A level's change: " <value>" when set, " +" or " -" when stepped.
     const auto appendChange = [&out, &buf](StiffnessChange change, double value) {
-        if (change == StiffnessChange::Set) {
-            std::snprintf(buf, sizeof buf, " %g", value);
+        if (change == StiffnessChange::Set || change == StiffnessChange::By) {
+            std::snprintf(buf, sizeof buf, change == StiffnessChange::By ? " by %+g" : " %g",
+                          value);
             out += buf;
         } else {
             out += change == StiffnessChange::Up ? " +" : " -";

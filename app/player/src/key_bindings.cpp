@@ -1,6 +1,7 @@
 #include "depthtouch/player/key_bindings.h"
 
 #include <algorithm>
+#include <string>
 
 namespace depthtouch::player {
 
@@ -47,6 +48,54 @@ constexpr KeyBinding kBindings[] = {
     {Key::Power, "quit"},
 };
 
+/// Another name of a key: the kernel's codes the evdev backend folds into a key
+/// (drivers/evdev's kAliases) and mpv's names (mpv's input/keycodes.c), without "KEY_".
+struct KeyAlias {
+    const char *name;
+    Key key;
+};
+
+constexpr KeyAlias kKeyAliases[] = {
+    // evdev: KEY_ESC, KEY_SELECT, KEY_PAGEUP, KEY_PAGEDOWN, KEY_MODE, KEY_SPACE, KEY_*CD
+    {"ESC", Key::Exit},
+    {"SELECT", Key::Ok},
+    {"PAGEUP", Key::ChannelUp},
+    {"PAGEDOWN", Key::ChannelDown},
+    {"MODE", Key::Mode3d},
+    {"SPACE", Key::PlayPause},
+    {"PLAYCD", Key::Play},
+    {"PAUSECD", Key::Pause},
+    {"STOPCD", Key::Stop},
+    // mpv's names of the same keys
+    {"PGUP", Key::ChannelUp},
+    {"PGDWN", Key::ChannelDown},
+    {"KPENTER", Key::Enter},
+    {"FORWARD", Key::FastForward},
+    {"PLAYONLY", Key::Play},
+    {"PAUSEONLY", Key::Pause},
+    {"GOBACK", Key::Back},
+};
+
+/// The terminal's keys (drivers/tty: both cases of a letter), for mpv's one-character names.
+constexpr KeyAlias kCharKeys[] = {
+    {" pP", Key::PlayPause}, {"sS", Key::Stop},   {"3", Key::Mode3d},    {"hH", Key::Red},
+    {"rR", Key::Green},      {"cC", Key::Yellow}, {"qQ", Key::Exit},     {"+=", Key::ChannelUp},
+    {"-", Key::ChannelDown}, {"oO", Key::Info},   {"0*", Key::VolumeUp}, {"9/", Key::VolumeDown},
+    {"mM", Key::Mute},
+};
+
+/// \return \a name upper-cased, without a leading "KEY_" and without '_'.
+std::string folded(std::string_view name)
+{
+    if (name.size() > 4 && (name.substr(0, 4) == "KEY_" || name.substr(0, 4) == "key_"))
+        name.remove_prefix(4);
+    std::string out;
+    for (const char c : name)
+        if (c != '_')
+            out += (c >= 'a' && c <= 'z') ? static_cast<char>(c - 'a' + 'A') : c;
+    return out;
+}
+
 /// \return \a text without the spaces and tabs at its ends.
 std::string_view trimmed(std::string_view text)
 {
@@ -61,6 +110,24 @@ std::string_view trimmed(std::string_view text)
 std::span<const KeyBinding> defaultKeyBindings() noexcept
 {
     return kBindings;
+}
+
+hal::Key keyFromInputName(std::string_view name)
+{
+    if (name.empty() || name.size() > 64)
+        return Key::Unknown;
+    const std::string text(name);
+    if (const Key key = hal::keyFromName(text.c_str()); key != Key::Unknown)
+        return key;
+    const std::string upper = folded(name);
+    for (const KeyAlias &a : kKeyAliases)
+        if (upper == a.name)
+            return a.key;
+    if (name.size() == 1)
+        for (const KeyAlias &a : kCharKeys)
+            if (std::string_view(a.name).find(name.front()) != std::string_view::npos)
+                return a.key;
+    return Key::Unknown;
 }
 
 KeyMap::KeyMap()
@@ -90,7 +157,7 @@ std::string KeyMap::apply(std::string_view text)
         const std::size_t space = std::min(line.find_first_of(" \t"), line.size());
         const std::string name(line.substr(0, space));
         const std::string command(trimmed(line.substr(space)));
-        const hal::Key key = hal::keyFromName(name.c_str());
+        const hal::Key key = keyFromInputName(name);
         if (key == hal::Key::Unknown)
             return where + "unknown key '" + name + "'";
         const auto bound =

@@ -20,8 +20,8 @@ namespace {
 
 constexpr StateMask kActive = stateBit(PlayerState::Playing) | stateBit(PlayerState::Paused);
 constexpr StateMask kNotError = kAnyState & static_cast<StateMask>(~stateBit(PlayerState::Error));
-constexpr StateMask kCanStart = stateBit(PlayerState::Idle) | stateBit(PlayerState::Stopped) |
-                                stateBit(PlayerState::Error);
+constexpr StateMask kCanStart =
+    stateBit(PlayerState::Idle) | stateBit(PlayerState::Stopped) | stateBit(PlayerState::Error);
 
 std::string formatNewtonsPerMetre(double v)
 {
@@ -49,6 +49,12 @@ struct CommandHandlers {
             m.url_ = target;
             m.setState(PlayerState::Opening);
         });
+    }
+
+    /// An mpv alias's command: the handler of the row of the id its parser set.
+    static CommandOutcome byId(StateMachine &m, const Command &c)
+    {
+        return commandSpec(c.id).handle(m, c);
     }
 
     static CommandOutcome play(StateMachine &m, const Command &c)
@@ -127,15 +133,19 @@ struct CommandHandlers {
                                               formatNewtonsPerMetre(kMinStiffness));
             break;
         case StiffnessChange::Set:
-            if (!scene::stiffnessInRange(c.stiffness))
-                return CommandOutcome::refuse("stiffness " + formatNewtonsPerMetre(c.stiffness) +
+        case StiffnessChange::By: {
+            const double value =
+                c.stiffnessChange == StiffnessChange::By ? m.stiffness_ + c.stiffness : c.stiffness;
+            if (!scene::stiffnessInRange(value))
+                return CommandOutcome::refuse("stiffness " + formatNewtonsPerMetre(value) +
                                               " is outside " +
                                               formatNewtonsPerMetre(kMinStiffness) + " .. " +
                                               formatNewtonsPerMetre(kMaxStiffness));
-            target = c.stiffness;
+            target = value;
             if (target == m.stiffness_)
                 return CommandOutcome::accept();
             break;
+        }
         }
         return m.apply("stiffness", m.actions_.setStiffness(target), [&] {
             m.stiffness_ = target;
@@ -148,7 +158,9 @@ struct CommandHandlers {
     {
         constexpr double kStep = 2.0;
         double target = c.volume;
-        if (c.volumeChange != StiffnessChange::Set)
+        if (c.volumeChange == StiffnessChange::By) // mpv's add stops at the ends of the range
+            target = std::clamp(m.volume_ + c.volume, 0.0, kMaxVolume);
+        else if (c.volumeChange != StiffnessChange::Set)
             target =
                 std::clamp(m.volume_ + (c.volumeChange == StiffnessChange::Up ? kStep : -kStep),
                            0.0, kMaxVolume);
@@ -238,6 +250,7 @@ struct CommandHandlers {
         };
         switch (p) {
         case Property::TimePos:
+        case Property::PlaybackTime:
             return number(open ? at.timePos : kNone);
         case Property::Duration:
             return number(open ? at.duration : kNone);
@@ -246,9 +259,12 @@ struct CommandHandlers {
         case Property::Pause:
             return CommandOutcome::accept(s == PlayerState::Paused);
         case Property::Path:
+        case Property::Filename:
+        case Property::MediaTitle:
             if (m.url_.empty() || !(open || s == PlayerState::Opening))
                 return CommandOutcome::refuse("property unavailable");
-            return CommandOutcome::accept(m.url_);
+            return CommandOutcome::accept(p == Property::Path ? m.url_
+                                                              : detail::mediaFilename(m.url_));
         case Property::IdleActive: // mpv: no file loaded
             return CommandOutcome::accept(!open && s != PlayerState::Opening);
         case Property::EofReached:
@@ -318,6 +334,18 @@ constexpr CommandSpec kCommands[] = {
      &parseSwitchArgs, &H::mute},
 };
 
+// mpv's names of the table's commands (mpvCommandAliases()): the parser sets the id of the command
+// meant, whose row then decides the states and whose handler runs. validIn: the widest.
+constexpr CommandSpec kMpvAliases[] = {
+    {"loadfile", CommandId::Play, "URL [replace]", "mpv's loadfile: play URL",
+     kCanStart | stateBit(PlayerState::Paused), false, &parseLoadFileArgs, &H::play},
+    {"cycle", CommandId::TogglePause, "PROPERTY [up|down]",
+     "mpv's cycle: pause, haptics, loop, mute, stereo-mode", kAnyState, false, &parseCycleArgs,
+     &H::byId},
+    {"add", CommandId::Seek, "PROPERTY [N]", "mpv's add: time-pos (seek), stiffness, volume",
+     kAnyState, true, &parseAddArgs, &H::byId},
+};
+
 constexpr bool tableInIdOrder()
 {
     for (std::size_t i = 0; i < std::size(kCommands); ++i)
@@ -332,6 +360,11 @@ static_assert(tableInIdOrder(), "kCommands rows must be in CommandId order");
 std::span<const CommandSpec> commandTable() noexcept
 {
     return kCommands;
+}
+
+std::span<const CommandSpec> mpvCommandAliases() noexcept
+{
+    return kMpvAliases;
 }
 
 const char *playerEventName(PlayerEventKind kind) noexcept
@@ -475,8 +508,7 @@ void StateMachine::addListener(PlayerListener *listener)
 
 void StateMachine::removeListener(PlayerListener *listener)
 {
-    listeners_.erase(std::remove(listeners_.begin(), listeners_.end(), listener),
-                     listeners_.end());
+    listeners_.erase(std::remove(listeners_.begin(), listeners_.end(), listener), listeners_.end());
 }
 
 void StateMachine::setState(PlayerState state)

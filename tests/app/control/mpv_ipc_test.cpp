@@ -222,5 +222,60 @@ TEST(MpvIpcTest, aClientOnTheSocketGetsItsObservedPropertiesAsEvents)
         json({{"event", "property-change"}, {"id", 7}, {"name", "haptic-force"}, {"data", 1.5}}));
 }
 
+// Issue 61: what an mpv client sends first. loadfile plays (the command table's play), get_version
+// answers mpv's client API version, and filename, media-title and playback-time answer with the
+// URL it played and the position it sought to; unknown ones get mpv's errors.
+TEST(MpvIpcTest, loadfileGetVersionAndTheFilesPropertiesAnswerAsMpv)
+{
+    FakePlayer f;
+    const json success = {{"error", "success"}};
+    EXPECT_EQ(reply(R"({"command":["get_version"],"request_id":3})", f.m),
+              json({{"data", (2 << 16) | 3}, {"error", "success"}, {"request_id", 3}}));
+    EXPECT_EQ(reply(R"({"command":["get_property","filename"]})", f.m),
+              json({{"error", "property unavailable"}}))
+        << "nothing loaded";
+    EXPECT_EQ(reply(R"({"command":["loadfile","http://box/films/clip%20one.mkv","replace"]})", f.m),
+              success);
+    EXPECT_EQ(f.m.state(), PlayerState::Opening);
+    ASSERT_TRUE(f.m.onOpened());
+    EXPECT_EQ(reply(R"({"command":["get_property","filename"]})", f.m)["data"], "clip one.mkv");
+    EXPECT_EQ(reply(R"({"command":["get_property","media-title"]})", f.m)["data"], "clip one.mkv");
+    EXPECT_EQ(reply(R"({"command":["get_property","path"]})", f.m)["data"],
+              "http://box/films/clip%20one.mkv");
+    EXPECT_EQ(reply(R"({"command":["set_property","playback-time",42.5]})", f.m), success);
+    ASSERT_EQ(f.fake.calls.back(), "seek 42.5 absolute");
+    f.fake.position = {42.5, 90.0}; // the pipeline is where it was sent
+    EXPECT_EQ(reply(R"({"command":["get_property","playback-time"]})", f.m),
+              json({{"data", 42.5}, {"error", "success"}}));
+    EXPECT_EQ(reply(R"({"command":["get_property_string","playback-time"]})", f.m)["data"],
+              "42.500000");
+    EXPECT_EQ(reply(R"({"command":["add","playback-time",-2.5]})", f.m), success);
+    EXPECT_EQ(f.fake.calls.back(), "seek -2.5 relative");
+    EXPECT_EQ(reply(R"({"command":["stop"]})", f.m), success);
+    EXPECT_EQ(reply(R"({"command":["loadfile","/media/usb/b.mkv"]})", f.m), success);
+    ASSERT_TRUE(f.m.onOpened());
+    EXPECT_EQ(reply(R"({"command":["get_property","filename"]})", f.m)["data"], "b.mkv");
+    EXPECT_EQ(f.fake.calls,
+              (std::vector<std::string>{"open http://box/films/clip%20one.mkv", "startPlayback",
+                                        "seek 42.5 absolute", "seek -2.5 relative", "stop",
+                                        "open /media/usb/b.mkv", "startPlayback"}));
+    // the keys of input.conf by mpv's and the kernel's names
+    EXPECT_EQ(reply(R"({"command":["keypress","SPACE"]})", f.m), success);
+    EXPECT_EQ(f.m.state(), PlayerState::Paused);
+    EXPECT_EQ(reply(R"({"command":["keypress","m"]})", f.m), success);
+    EXPECT_TRUE(f.m.muted());
+    // mpv's errors for what is not there
+    EXPECT_EQ(reply(R"({"command":["get_property","media-titel"]})", f.m),
+              json({{"error", "property not found"}}));
+    EXPECT_EQ(reply(R"({"command":["get_version",1]})", f.m),
+              json({{"error", "invalid parameter"}}));
+    EXPECT_EQ(reply(R"({"command":["keypress","KEY_FOO"]})", f.m),
+              json({{"error", "invalid parameter"}}));
+    EXPECT_EQ(reply(R"({"command":["cycle","duration"]})", f.m),
+              json({{"error", "property unavailable"}}));
+    EXPECT_EQ(reply(R"({"command":["add","colour",1]})", f.m),
+              json({{"error", "property not found"}}));
+}
+
 } // namespace
 } // namespace depthtouch::control

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "depthtouch/player/key_bindings.h"
+#include "app/player/fake_player_actions.h"
 #include "depthtouch/player/state_machine.h"
 
 namespace depthtouch::player {
@@ -99,7 +100,8 @@ TEST(CommandParseTest, badTextIsRejectedWithAReason)
                            "interleaved)"},
         {"get colour", "get: unknown property 'colour' (state, stereo-mode, haptics, stiffness, "
                        "loop, url, error, time-pos, duration, percent-pos, pause, path, "
-                       "idle-active, eof-reached, volume, mute, haptic-force, contact)"},
+                       "idle-active, eof-reached, volume, mute, haptic-force, contact, "
+                       "filename, media-title, playback-time)"},
         {"play 'open", "unterminated quote"},
         {"play a b", "play: takes at most one argument (a file or URL)"},
     };
@@ -114,7 +116,8 @@ TEST(CommandParseTest, errorMessagesStayPrintable)
 {
     const ParsedCommand p = parseCommandText(std::string("seek \x01\xff", 7));
     ASSERT_FALSE(p);
-    EXPECT_EQ(p.error, "seek: '?" "?' is not a number of seconds");
+    EXPECT_EQ(p.error, "seek: '?"
+                       "?' is not a number of seconds");
 }
 
 TEST(CommandParseTest, jsonArrays)
@@ -147,9 +150,9 @@ TEST(CommandParseTest, badJsonIsRejectedWithAReason)
 
 TEST(CommandParseTest, canonicalTextParsesBack)
 {
-    for (const char *text : {"play x.mkv", "seek -10 relative", "seek 5 absolute",
-                             "stereo-mode tab", "haptics off", "loop on", "stiffness +",
-                             "stiffness -", "stiffness 900", "get url", "quit"}) {
+    for (const char *text :
+         {"play x.mkv", "seek -10 relative", "seek 5 absolute", "stereo-mode tab", "haptics off",
+          "loop on", "stiffness +", "stiffness -", "stiffness 900", "get url", "quit"}) {
         const ParsedCommand p = parseCommandText(text);
         ASSERT_TRUE(p) << text;
         EXPECT_EQ(commandText(*p.command), text);
@@ -331,6 +334,124 @@ TEST(KeyBindingsTest, aKeyMapRebindsTheDefaultsAsMpvsInputConf)
     for (int i = 0; i < 1001; ++i)
         many += "# a comment\n";
     EXPECT_EQ(KeyMap().apply(many), "line 1001: more than 1000 lines");
+}
+
+// mpv's commands (issue 61): loadfile, cycle and add are rows of the one table, parsed into the
+// command they mean; a wrong one says why.
+TEST(CommandParseTest, mpvsLoadfileCycleAndAddAreTheTablesCommands)
+{
+    ParsedCommand p = parseCommandText("loadfile clip.mkv replace");
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(p.command->id, CommandId::Play);
+    EXPECT_EQ(p.command->url, "clip.mkv");
+    p = parseCommandJson(json::array({"loadfile", "http://box/a.mkv"}));
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(p.command->url, "http://box/a.mkv");
+    p = parseCommandText("cycle pause");
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(p.command->id, CommandId::TogglePause);
+    p = parseCommandText("cycle loop-file");
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(p.command->id, CommandId::Loop);
+    EXPECT_EQ(p.command->toggle, Switch::Toggle);
+    p = parseCommandText("add volume -2");
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(p.command->id, CommandId::Volume);
+    EXPECT_EQ(p.command->volumeChange, StiffnessChange::By);
+    EXPECT_EQ(p.command->volume, -2.0);
+    p = parseCommandText("add playback-time 5");
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(commandText(*p.command), "seek 5 relative");
+    const std::pair<const char *, const char *> wrong[] = {
+        {"loadfile", "loadfile: needs a file or URL and at most the flag replace"},
+        {"loadfile a.mkv append",
+         "loadfile: 'append' needs a playlist, and the player has none (only replace)"},
+        {"cycle duration",
+         "cycle: 'duration' cannot be cycled (pause, haptics, loop, mute, stereo-mode)"},
+        {"add volume x", "add: 'x' is not a number"},
+        {"add pause 1",
+         "add: 'pause' cannot be added to (time-pos, playback-time, stiffness, volume)"},
+        {"cycle colour", "cycle: unknown property 'colour' (state, stereo-mode, haptics, "
+                         "stiffness, loop, url, error, time-pos, duration, percent-pos, pause, "
+                         "path, idle-active, eof-reached, volume, mute, haptic-force, contact, "
+                         "filename, media-title, playback-time)"},
+    };
+    for (const auto &[text, error] : wrong)
+        EXPECT_EQ(parseCommandText(text).error, error) << text;
+}
+
+// The key names of docs/devices.md and mpv's input.conf (issue 61): the kernel's names that the
+// evdev backend folds into a key, mpv's names, the terminal's characters; mpv's commands bound
+// to them run on the machine.
+TEST(KeyBindingsTest, anInputConfTakesMpvsAndTheKernelsKeyNamesAndMpvsCommands)
+{
+    using hal::Key;
+    const std::pair<const char *, Key> names[] = {
+        {"KEY_ESC", Key::Exit},
+        {"ESC", Key::Exit},
+        {"KEY_SELECT", Key::Ok},
+        {"KEY_PAGEUP", Key::ChannelUp},
+        {"PGUP", Key::ChannelUp},
+        {"KEY_PAGEDOWN", Key::ChannelDown},
+        {"PGDWN", Key::ChannelDown},
+        {"KEY_MODE", Key::Mode3d},
+        {"SPACE", Key::PlayPause},
+        {"KEY_SPACE", Key::PlayPause},
+        {"m", Key::Mute},
+        {"q", Key::Exit},
+        {"p", Key::PlayPause},
+        {"+", Key::ChannelUp},
+        {"ENTER", Key::Enter},
+        {"KP_ENTER", Key::Enter},
+        {"3", Key::Digit3},
+        {"VOLUME_UP", Key::VolumeUp},
+        {"NOT_A_KEY", Key::Unknown},
+        {"", Key::Unknown},
+        {"xy", Key::Unknown},
+    };
+    for (const auto &[name, want] : names)
+        EXPECT_EQ(keyFromInputName(name), want) << name;
+
+    KeyMap keys;
+    ASSERT_EQ(keys.apply("KEY_ESC    quit\n"
+                         "KEY_SELECT cycle pause\n"
+                         "KEY_PAGEUP add volume -2\n"
+                         "PGDWN      add stiffness 50\n"
+                         "KEY_MODE   cycle stereo-mode\n"
+                         "SPACE      cycle pause\n"
+                         "m          cycle mute\n"),
+              "");
+    EXPECT_STREQ(keys.commandText(Key::Ok), "cycle pause");
+    test::FakePlayerActions fake;
+    PlayerSettings settings;
+    settings.url = "movie.mkv";
+    StateMachine m(fake, settings);
+    ASSERT_TRUE(m.execute("play").accepted);
+    ASSERT_TRUE(m.onOpened());
+    const auto press = [&](Key k) {
+        const std::optional<Command> c = keys.commandFor(key(k, hal::KeyAction::Press));
+        return c && m.execute(*c).accepted;
+    };
+    EXPECT_TRUE(press(Key::Ok));
+    EXPECT_EQ(m.state(), PlayerState::Paused);
+    EXPECT_TRUE(press(Key::PlayPause));
+    EXPECT_EQ(m.state(), PlayerState::Playing);
+    EXPECT_TRUE(press(Key::ChannelUp));
+    EXPECT_EQ(m.volume(), 98.0);
+    EXPECT_TRUE(keys.commandFor(key(Key::ChannelUp, hal::KeyAction::Repeat))) << "volume repeats";
+    EXPECT_TRUE(press(Key::ChannelDown));
+    EXPECT_EQ(m.stiffness(), 850.0);
+    EXPECT_TRUE(press(Key::Mode3d));
+    EXPECT_EQ(m.stereoMode(), StereoMode::TopAndBottom);
+    EXPECT_TRUE(press(Key::Mute));
+    EXPECT_TRUE(m.muted());
+    EXPECT_TRUE(press(Key::Exit));
+    EXPECT_TRUE(m.quitRequested());
+
+    EXPECT_EQ(KeyMap().apply("KEY_FOO quit\n"), "line 1: unknown key 'KEY_FOO'");
+    EXPECT_EQ(KeyMap().apply("m cycle duration\n"),
+              "line 1: cycle: 'duration' cannot be cycled (pause, haptics, loop, mute, "
+              "stereo-mode)");
 }
 
 } // namespace

@@ -2,10 +2,11 @@
 /// \file
 /// \brief mpv's JSON IPC on the control socket: the verbs a UI written for mpv sends
 /// (get_property, get_property_string, set_property, set_property_string, observe_property,
-/// unobserve_property, cycle, add, keypress), answered as mpv answers them, over the player's
-/// own properties (player::Property: mpv's time-pos, duration, percent-pos, pause, path,
-/// idle-active, eof-reached, volume, mute, and the player's stereo-mode, haptics, stiffness,
-/// haptic-force, contact, loop).
+/// unobserve_property, cycle, add, keypress, get_version), answered as mpv answers them, over the
+/// player's own properties (player::Property: mpv's time-pos, playback-time, duration, percent-pos,
+/// pause, path, filename, media-title, idle-active, eof-reached, volume, mute, and the player's
+/// stereo-mode, haptics, stiffness, haptic-force, contact, loop). mpv's input commands (loadfile,
+/// cycle, add) are rows of the player's one command table (player::mpvCommandAliases()).
 ///
 /// Reference: mpv's manual, "JSON IPC" (docs/man/ipc.rst): a request `{"command": ["get_property",
 /// "time-pos"], "request_id": 7}` is answered `{"data": 12.5, "error": "success", "request_id":

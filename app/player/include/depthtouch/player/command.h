@@ -82,13 +82,15 @@ enum class SeekMode : std::uint8_t {
     Relative, ///< Offset from the current position (negative: back).
     Absolute, ///< Position from the start of the stream.
 };
-/// What a stiffness or a volume command does: one step up or down, or set a value.
-enum class StiffnessChange : std::uint8_t { Up, Down, Set };
+/// What a stiffness or a volume command does: one step up or down, set a value, or add a value to
+/// the current one (By: mpv's `add stiffness 100`, `add volume -2`; negative: down).
+enum class StiffnessChange : std::uint8_t { Up, Down, Set, By };
 /// Properties readable with "get" (and mpv's get_property on the control socket), by name:
 /// "state", "stereo-mode", "haptics", "stiffness" (N/m), "loop", "url", "error", and mpv's
 /// "time-pos", "duration", "percent-pos" (s, s, %), "pause", "path", "idle-active", "eof-reached",
 /// "volume" (%, 0..kMaxVolume), "mute", then "haptic-force" (|F| commanded, N) and "contact" (|F| >
-/// 0).
+/// 0), then mpv's "filename" (the path's last part, a URL's %-escapes undone), "media-title" (the
+/// filename: the player reads no title tags) and "playback-time" (time-pos, s).
 enum class Property : std::uint8_t {
     State,
     StereoMode,
@@ -108,10 +110,13 @@ enum class Property : std::uint8_t {
     Mute,
     HapticForce,
     Contact,
+    Filename,
+    MediaTitle,
+    PlaybackTime,
 };
 
 /// Number of Property values.
-inline constexpr std::size_t kPropertyCount = 18;
+inline constexpr std::size_t kPropertyCount = 21;
 
 /// \return the property called \a name (propertyName()'s names, any case), or std::nullopt.
 std::optional<Property> propertyFromName(std::string_view name) noexcept;
@@ -119,16 +124,16 @@ std::optional<Property> propertyFromName(std::string_view name) noexcept;
 /// \brief A parsed command: its id and the arguments that apply to it.
 struct Command {
     CommandId id = CommandId::Play;
-    std::string url;                       ///< Play: URL or path; empty for the current one.
-    double seconds = 0.0;                  ///< Seek: offset or position (s).
+    std::string url;                        ///< Play: URL or path; empty for the current one.
+    double seconds = 0.0;                   ///< Seek: offset or position (s).
     SeekMode seekMode = SeekMode::Relative; ///< Seek.
-    StereoMode stereoMode = StereoMode::SideBySide; ///< SetStereoMode.
-    Switch toggle = Switch::Toggle;                 ///< Haptics, Loop, Mute.
+    StereoMode stereoMode = StereoMode::SideBySide;        ///< SetStereoMode.
+    Switch toggle = Switch::Toggle;                        ///< Haptics, Loop, Mute.
     StiffnessChange stiffnessChange = StiffnessChange::Up; ///< Stiffness.
-    double stiffness = 0.0;                ///< Stiffness with Set: N/m.
-    StiffnessChange volumeChange = StiffnessChange::Up; ///< Volume.
-    double volume = 0.0;                                ///< Volume with Set: %.
-    Property property = Property::State;   ///< Get.
+    double stiffness = 0.0;                                ///< Stiffness with Set or By: N/m.
+    StiffnessChange volumeChange = StiffnessChange::Up;    ///< Volume.
+    double volume = 0.0;                                   ///< Volume with Set or By: %.
+    Property property = Property::State;                   ///< Get.
 };
 
 /// \brief A command or why the text could not be parsed.
@@ -154,7 +159,7 @@ struct CommandOutcome;
 
 /// \brief One row of the command table.
 struct CommandSpec {
-    const char *name;  ///< Command name used by every input, e.g. "toggle-pause".
+    const char *name; ///< Command name used by every input, e.g. "toggle-pause".
     CommandId id;
     const char *usage; ///< Arguments, e.g. "SECONDS [relative|absolute]" ("" for none).
     const char *help;  ///< One line.
@@ -171,7 +176,13 @@ struct CommandSpec {
 std::span<const CommandSpec> commandTable() noexcept;
 /// \return the row of \a id.
 const CommandSpec &commandSpec(CommandId id) noexcept;
-/// \return the row called \a name, or nullptr.
+/// \return mpv's command names that are spellings of the table's commands (mpv's `loadfile URL
+/// [replace]`: play; `cycle PROPERTY`: toggle-pause, haptics/loop/mute toggle, next-stereo-mode;
+/// `add PROPERTY [N]`: seek relative, stiffness/volume by N): rows whose parser sets
+/// Command::id to the command they mean, whose handler is that command's (the id's row decides
+/// the states and runs it).
+std::span<const CommandSpec> mpvCommandAliases() noexcept;
+/// \return the row called \a name (the table's, then mpvCommandAliases()), or nullptr.
 const CommandSpec *findCommand(std::string_view name) noexcept;
 
 /// \brief Parses a command from its name and argument words.

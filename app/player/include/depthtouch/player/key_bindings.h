@@ -30,13 +30,26 @@ struct KeyBinding {
 /// \return the default bindings (docs/playing.md, "Keys").
 std::span<const KeyBinding> defaultKeyBindings() noexcept;
 
+/// \brief The key that an `input.conf` line or mpv's `keypress` names.
+///
+/// First a name of hal::keyFromName() (the kernel's `KEY_VOLUMEUP`, or without `KEY_`, any case,
+/// '_' ignored: `VOLUME_UP`, `UP`, `ENTER`, `PLAYPAUSE`, `3`); then the kernel's codes that the
+/// evdev backend reads as one of those keys (`KEY_ESC` is KEY_EXIT, `KEY_SELECT` KEY_OK,
+/// `KEY_PAGEUP`/`KEY_PAGEDOWN` KEY_CHANNELUP/DOWN, `KEY_MODE` KEY_3D_MODE, `KEY_SPACE`
+/// KEY_PLAYPAUSE, `KEY_PLAYCD`, `KEY_PAUSECD`, `KEY_STOPCD`); then mpv's names (`SPACE`, `ESC`,
+/// `PGUP`, `PGDWN`, `KP_ENTER`, `FORWARD`, `PLAYONLY`, `PAUSEONLY`, `GO_BACK`, `SELECT`); then a
+/// single character, the key the terminal backend sends for it (`m` KEY_MUTE, `q` KEY_EXIT, `p`
+/// and ` ` KEY_PLAYPAUSE, `+` KEY_CHANNELUP, ...; a digit is the remote's digit key).
+/// \return the key, or hal::Key::Unknown.
+hal::Key keyFromInputName(std::string_view name);
+
 /// \brief The keys' commands in effect: the defaults, rebound line by line by key map files.
 ///
 /// A key map file is mpv's `input.conf`: one binding a line, `KEY command [arguments]`, `#` starts
-/// a comment, blank lines are skipped. KEY is a key name as hal::keyFromName() reads it (the
-/// kernel's KEY_VOLUMEUP, or mpv's VOLUME_UP, UP, ENTER, PLAYPAUSE: case and '_' do not matter);
-/// the command is a control command (parseCommandText(): `seek -30`, `stiffness +`, `haptics
-/// toggle`); `ignore` unbinds the key, as in mpv.
+/// a comment, blank lines are skipped. KEY is a key name as keyFromInputName() reads it (the
+/// kernel's KEY_VOLUMEUP or KEY_ESC, mpv's VOLUME_UP, SPACE, PGUP, a character: `m`); the command
+/// is a control command (parseCommandText(): `seek -30`, `stiffness +`, mpv's `cycle pause`, `add
+/// volume -2`); `ignore` unbinds the key, as in mpv.
 class KeyMap {
 public:
     /// The default bindings.
