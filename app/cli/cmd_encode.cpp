@@ -35,6 +35,7 @@
 #include "option_cli.h"
 #include "output_paths.h"
 #include "source_providers.h"
+#include "depthtouch/drivers/backends.h"
 #include "depthtouch/media/encode_job.h"
 #include "depthtouch/media/encode_progress.h"
 #include "depthtouch/media/frame_source.h"
@@ -43,6 +44,7 @@
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
 #include "depthtouch/platform/stop_signals.h"
+#include "depthtouch/receiver/stream_roles.h"
 
 namespace depthtouch::cli {
 
@@ -104,6 +106,46 @@ openMaterial(const EncodeCliOptions &o, const media::SourceProviders &providers,
     auto map = media::openMaterialMap(o.materialMap, o.materials, o.fps, error);
     return map ? std::make_unique<media::NamedSource>("material", o.materialMap, std::move(map))
                : nullptr;
+}
+
+/// What a DepthTouch file given as the depth input carries (issue 61: a transcode keeps it).
+struct DepthInputFacts {
+    bool depthTouch = false; ///< Its depth stream has the depth tags (docs/architecture.md §4).
+    std::uint32_t holeBelow = 0; ///< The hole threshold of its frames as encode reads them.
+    bool material = false;       ///< It has a material track.
+};
+
+/// Reads what the depth input \a depth (a regular file whose depth frames carry depth tags)
+/// holds as play and probe read it: its streams through the ffmpeg media source, the depth and
+/// material streams by receiver::identifyStreams(), the hole threshold by
+/// receiver::depthHoleBelow() for frames decoded as encode reads them (8-bit for an 8-bit
+/// input, else 16-bit). Another input is no DepthTouch file; so is a file the media source cannot
+/// open (encode's own read of it reports the error).
+DepthInputFacts depthInputFacts(const std::string &spec, const media::FrameSource &depth)
+{
+    DepthInputFacts f;
+    const media::SourceInfo &si = depth.info();
+    const bool tagged = si.tag("depth_bits") != nullptr || si.tag("depth_occupancy") != nullptr ||
+                        si.tag("depth_mapping") != nullptr;
+    if (!tagged || platform::pathKind(spec.c_str()) != platform::PathKind::Regular)
+        return f;
+    auto source = drivers::createMediaSource("ffmpeg", hal::BackendConfig{});
+    if (!source || !(*source)->open(spec.c_str()))
+        return f;
+    const hal::MediaInfo &info = (*source)->info();
+    const receiver::StreamRoles roles =
+        receiver::identifyStreams(info, receiver::SingleStream::Depth);
+    if (roles.depth < 0)
+        return f;
+    const hal::StreamInfo &ds = info.streams[static_cast<std::size_t>(roles.depth)];
+    if (!receiver::hasDepthMetadata(ds.depth))
+        return f;
+    f.depthTouch = true;
+    f.holeBelow = receiver::depthHoleBelow(ds, si.nativeFormat == media::PixelFormat::Gray16
+                                                   ? hal::PixelFormat::Gray16
+                                                   : hal::PixelFormat::Gray8);
+    f.material = roles.material >= 0;
+    return f;
 }
 
 /// Opens the color input, then (if that opened) the depth input; on failure sets `error`.
@@ -169,9 +211,10 @@ void printEnhanceTotals(const media::EnhanceTotals &t)
 constexpr double kFarthestSensorRange = 12.0;
 
 /// Prints the summary of a finished encode; returns its exit code (kExitInterrupted after a
-/// stop signal, with a line on stderr).
+/// stop signal, with a line on stderr). \a carried: the material track came from the depth
+/// input (a DepthTouch file).
 int reportEncode(const EncodeCliOptions &o, const media::EncodeOptions &eo,
-                 const media::NamedSource &color, const media::EncodeSummary &s)
+                 const media::NamedSource &color, const media::EncodeSummary &s, bool carried)
 {
     const bool ladder = !s.renditions.empty();
     const int w =
@@ -189,6 +232,16 @@ int reportEncode(const EncodeCliOptions &o, const media::EncodeOptions &eo,
                     "filled; %lld frames without valid depth repeated\n",
                     s.range.nearM, s.range.farM, eo.range ? "given" : "robust range of the data",
                     depth::mappingName(s.mapping), s.filledSamples, s.repeatedFrames);
+    else if (eo.depthInputHoleBelow && s.holeSamples > 0)
+        std::printf("depth: holes of '%s' kept, %.1f %% of the samples (%lld), coded below "
+                    "depth_occupancy=%u\n",
+                    o.depth.c_str(),
+                    100.0 * static_cast<double>(s.holeSamples) /
+                        static_cast<double>(s.depthSamples),
+                    s.holeSamples, s.depthOccupancy);
+    else if (eo.depthInputHoleBelow && eo.fillHoles && s.filledSamples > 0)
+        std::printf("depth: %lld hole samples of '%s' filled (--fill-holes)\n", s.filledSamples,
+                    o.depth.c_str());
     else if (s.metric)
         std::printf("depth: metric, near %.4g m, far %.4g m (%s), %s mapping; holes %.1f %% of the "
                     "samples (%lld), coded below depth_occupancy=%u\n",
@@ -209,6 +262,11 @@ int reportEncode(const EncodeCliOptions &o, const media::EncodeOptions &eo,
     if (!o.materialMap.empty()) // one still, coded once and used for every frame
         std::printf("material: %.1f kB lossless (the label map '%s', one still for every frame)\n",
                     static_cast<double>(s.materialBytes) / 1000.0, o.materialMap.c_str());
+    else if (carried)
+        std::printf("material: %.1f kB lossless (the material track carried over from '%s', %lld "
+                    "frames)\n",
+                    static_cast<double>(s.materialBytes) / 1000.0, o.depth.c_str(),
+                    s.materialFrames);
     else if (!o.material.empty())
         std::printf("material: %.1f kB lossless (%lld frames read from '%s', the last held)\n",
                     static_cast<double>(s.materialBytes) / 1000.0, s.materialFrames,
@@ -254,8 +312,24 @@ int runEncode(const EncodeCliOptions &o)
     openInputs(o, providers, color, depthSrc, error);
     if (!color || !depthSrc)
         return fail(kExitBadInput, error);
+    // A DepthTouch file as the depth input keeps its holes and its material track (unless
+    // --material or --material-map replace it).
+    const DepthInputFacts facts = depthInputFacts(o.depth, *depthSrc);
+    if (facts.depthTouch)
+        eo.depthInputHoleBelow = facts.holeBelow;
+    else if (depthSrc->info().tag("depth_occupancy") != nullptr && !o.fillHoles)
+        std::fprintf(stderr,
+                     "depthtouch encode: warning: the holes of depth input '%s' are not "
+                     "kept (not a file encode can read twice): they become depth\n",
+                     o.depth.c_str());
+    const bool carried = facts.material && o.material.empty() && o.materialMap.empty();
     std::unique_ptr<media::NamedSource> material;
-    if (!o.material.empty() || !o.materialMap.empty()) {
+    if (carried) {
+        static const std::string kNone;
+        if (material = openInput(o, providers, {"material", o.depth, kNone, kNone, kNone}, error);
+            !material)
+            return fail(kExitBadInput, error);
+    } else if (!o.material.empty() || !o.materialMap.empty()) {
         if (material = openMaterial(o, providers, error); !material)
             return fail(kExitBadInput, error);
     }
@@ -277,7 +351,7 @@ int runEncode(const EncodeCliOptions &o)
     progress.finish();
     if (!summary)
         return encodeFailure(o, *color, *depthSrc, material.get(), summary.error());
-    return reportEncode(o, eo, *color, *summary);
+    return reportEncode(o, eo, *color, *summary, carried);
 }
 
 /// `--frames`: a whole number >= 0 (a CLI11 check, so that "1.5" or "-1" is refused at once).

@@ -10,8 +10,49 @@
 
 #include "depthtouch/depth/fill.h"
 #include "depthtouch/depth/resample.h"
+#include "depthtouch/scene/depth_frame.h"
 
 namespace depthtouch::media::detail {
+
+namespace {
+
+/// \return the nearness (levels of 0..\a vmax) and holes of \a frame, a DepthTouch file's depth
+/// (Gray8 or Gray16 codes) with hole threshold \a holeBelow in its units, read as play reads it
+/// (scene::DepthFrameView): a code below holeBelow is a hole (nearness 0, valid 0), measured
+/// codes farCode()..v_max span nearness 0..\a vmax (codes in the guard band are the far plane).
+/// Errors: InvalidArgument for an empty frame or a threshold that leaves no measured code.
+Result<depth::NearnessFrame> nearnessOfCodes(const Image &frame, std::uint32_t holeBelow,
+                                             double vmax)
+{
+    scene::DepthFrameView v;
+    v.data = frame.data.data();
+    v.width = frame.width;
+    v.height = frame.height;
+    v.strideBytes = frame.stride;
+    v.format = frame.format == PixelFormat::Gray16 ? scene::SampleFormat::Gray16
+                                                   : scene::SampleFormat::Gray8;
+    v.holeBelow = holeBelow;
+    if (frame.empty() || frame.format == PixelFormat::Rgb24)
+        return unexpected(Errc::InvalidArgument, "Empty depth frame");
+    DT_TRY(v.validate());
+    const auto far = static_cast<double>(v.farCode());
+    const double k = vmax / (scene::maxSampleValue(v.format) - far);
+    depth::NearnessFrame n;
+    n.nearness = depth::Plane<float>(v.width, v.height);
+    n.valid = depth::Plane<std::uint8_t>(v.width, v.height);
+    for (int r = 0; r < v.height; ++r)
+        for (int c = 0; c < v.width; ++c) {
+            const bool measured = v.measured(c, r);
+            const double code = static_cast<double>(v.sample(c, r));
+            n.nearness.at(c, r) =
+                measured ? static_cast<float>(std::max(0.0, code - far) * k) : 0.f;
+            n.valid.at(c, r) = measured ? 1 : 0;
+            n.invalidCount += measured ? 0u : 1u;
+        }
+    return n;
+}
+
+} // namespace
 
 int depthBitsOf(VideoCodec codec) noexcept
 {
@@ -29,9 +70,10 @@ int depthBitsOf(VideoCodec codec) noexcept
 DepthPipeline::DepthPipeline(const EncodeOptions &o, int width, int height, bool metric,
                              std::optional<depth::DepthRange> range, const EncodeCallbacks &cb)
     : options_(o), callbacks_(cb), width_(width), height_(height), metric_(metric),
+      inputHoleBelow_(metric ? 0u : o.depthInputHoleBelow.value_or(0u)),
       bits_(depthBitsOf(o.depthCodec)), vmax_(std::ldexp(1.0, bits_) - 1.0), range_(range)
 {
-    if (metric_ && !o.fillHoles)
+    if ((metric_ || inputHoleBelow_ > 0) && !o.fillHoles)
         occ_ =
             depth::occupancyFor(bits_, o.depthLossless || o.depthCodec == VideoCodec::Ffv1Gray16);
     const auto k = static_cast<float>(vmax_ / 255.0);
@@ -45,6 +87,12 @@ DepthPipeline::DepthPipeline(const EncodeOptions &o, int width, int height, bool
 Result<bool> DepthPipeline::toNearness(const Image &frame, depth::Plane<float> &nearness,
                                        depth::Plane<std::uint8_t> &valid, EncodeSummary &summary)
 {
+    if (!metric_ && (inputHoleBelow_ > 0 || frame.format == PixelFormat::Gray16)) {
+        auto n = nearnessOfCodes(frame, inputHoleBelow_, vmax_);
+        if (!n)
+            return unexpected(n.error());
+        return keepOrFill(*n, nearness, valid, summary);
+    }
     if (!metric_) {
         const depth::Plane<std::uint8_t> p8 = toPlane8(frame);
         if (p8.empty())
@@ -63,23 +111,29 @@ Result<bool> DepthPipeline::toNearness(const Image &frame, depth::Plane<float> &
     auto n = depth::metricToNearness(toPlane16(frame), co);
     if (!n)
         return unexpected(n.error());
+    return keepOrFill(*n, nearness, valid, summary);
+}
+
+Result<bool> DepthPipeline::keepOrFill(depth::NearnessFrame &n, depth::Plane<float> &nearness,
+                                       depth::Plane<std::uint8_t> &valid, EncodeSummary &summary)
+{
     const bool keepHoles = occ_.threshold > 0;
-    if (n->invalidCount == n->valid.size() && !keepHoles) {
+    if (n.invalidCount == n.valid.size() && !keepHoles) {
         // Nothing to fill from: hold the last good depth rather than invent a far plane.
         if (last_.empty())
             return unexpected(Errc::InvalidArgument, "The first depth frame has no valid sample");
         ++summary.repeatedFrames;
         return false;
     }
-    if (n->invalidCount > 0 && keepHoles) {
-        valid = std::move(n->valid);
-    } else if (n->invalidCount > 0) {
-        auto filled = depth::fillInvalid(n->nearness, n->valid);
+    if (n.invalidCount > 0 && keepHoles) {
+        valid = std::move(n.valid);
+    } else if (n.invalidCount > 0) {
+        auto filled = depth::fillInvalid(n.nearness, n.valid);
         if (!filled)
             return unexpected(filled.error());
         summary.filledSamples += static_cast<long long>(*filled);
     }
-    nearness = std::move(n->nearness);
+    nearness = std::move(n.nearness);
     return true;
 }
 

@@ -10,6 +10,11 @@
 /// valid sample is written all holes. With EncodeOptions::fillHoles, holes are filled by push-pull
 /// as before (a frame with no valid sample repeats the previous one) and no threshold is written.
 ///
+/// A DepthTouch file's depth (EncodeOptions::depthInputHoleBelow) is nearness at any bit depth,
+/// read as play reads it (scene::DepthFrameView: a code below its holeBelow is a hole, measured
+/// codes farCode()..v_max span nearness 0..v_max); its holes are holes of the output as metric
+/// holes are (or filled under fillHoles).
+///
 /// Thread-safety: one object per encode, on its thread.
 
 #include <optional>
@@ -48,6 +53,10 @@ private:
     /// \return false when the frame has no valid sample and the previous one is to be repeated.
     Result<bool> toNearness(const Image &frame, depth::Plane<float> &nearness,
                             depth::Plane<std::uint8_t> &valid, EncodeSummary &summary);
+    /// The holes of a converted frame (\a n: nearness, validity, count of holes): kept in
+    /// \a valid when the output has holes, else filled. \return as toNearness().
+    Result<bool> keepOrFill(depth::NearnessFrame &n, depth::Plane<float> &nearness,
+                            depth::Plane<std::uint8_t> &valid, EncodeSummary &summary);
     Result<void> resampleToGrid(depth::Plane<float> &nearness, depth::Plane<std::uint8_t> &valid,
                                 EncodeSummary &summary);
     Result<void> enhanceFrame(depth::Plane<float> &nearness,
@@ -59,6 +68,9 @@ private:
     int width_;
     int height_;
     bool metric_;
+    /// The input's hole threshold in the units of its frames (EncodeOptions::depthInputHoleBelow);
+    /// 0: none.
+    std::uint32_t inputHoleBelow_;
     int bits_;
     double vmax_;
     std::optional<depth::DepthRange> range_;

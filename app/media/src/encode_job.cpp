@@ -370,10 +370,11 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth, Fram
     const ColorShape shape = *shapeOk;
     const double fps = shape.fps;
 
-    // Depth layout: 16-bit samples are metric depth; anything else gives 8-bit nearness (the luma
-    // of a color-format depth video).
-    const bool metric = depth.info().nativeFormat == PixelFormat::Gray16;
-    const PixelFormat depthLayout = metric ? PixelFormat::Gray16 : PixelFormat::Gray8;
+    // Depth layout: 16-bit samples are metric depth, or a DepthTouch file's deep nearness read as
+    // 16 bits; anything else gives 8-bit nearness (the luma of a color-format depth video).
+    const bool deep = depth.info().nativeFormat == PixelFormat::Gray16;
+    const bool metric = deep && !options.depthInputHoleBelow;
+    const PixelFormat depthLayout = deep ? PixelFormat::Gray16 : PixelFormat::Gray8;
 
     // Look ahead: the first frames decide the near/far planes once for the whole file.
     std::deque<Pair> ahead;

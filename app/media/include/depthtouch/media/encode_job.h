@@ -9,6 +9,9 @@
 ///  - 8-bit depth samples are nearness and pass through (scaled to the output's 2^bits − 1);
 ///    color-format depth inputs give their luma, likewise. Without given planes, the input's own
 ///    depth_near/depth_far/depth_mapping tags (a DepthTouch file) are carried over.
+///  - A DepthTouch file's depth (EncodeOptions::depthInputHoleBelow) is nearness at any bit depth;
+///    its holes (codes under its hole threshold) are written as holes, as metric holes are below,
+///    or filled with EncodeOptions::fillHoles.
 ///  - 16-bit samples are metric depth (EncodeOptions::depthScale metres per unit): converted with
 ///    near/far planes that are either given or the robust range (1 %..99 % quantiles) of the valid
 ///    samples of the first EncodeOptions::rangeFrames frames, decided once so the mapping is
@@ -57,15 +60,15 @@ namespace depthtouch::media {
 
 /// \brief Everything `depthtouch encode` can set.
 struct EncodeOptions {
-    std::string output;                           ///< File name or URL.
-    std::optional<Container> container;           ///< nullopt: containerForOutput(output).
-    int crf = 23;                                 ///< Color x264 CRF 0..51.
-    std::string preset = "medium";                ///< x264 preset of both H.264 streams.
+    std::string output;                 ///< File name or URL.
+    std::optional<Container> container; ///< nullopt: containerForOutput(output).
+    int crf = 23;                       ///< Color x264 CRF 0..51.
+    std::string preset = "medium";      ///< x264 preset of both H.264 streams.
     VideoCodec depthCodec =
-        VideoCodec::H264Gray; ///< H264Gray, H264Gray10, HevcMain10 or Ffv1Gray16.
-    int depthCrf = 18;                            ///< Depth x264 CRF 0..51 (lossy).
-    bool depthLossless = false;                   ///< Depth x264 qp 0 (FFV1 is always lossless).
-    int threads = 0;                              ///< Encoder threads per stream; 0 = automatic.
+        VideoCodec::H264Gray;   ///< H264Gray, H264Gray10, HevcMain10 or Ffv1Gray16.
+    int depthCrf = 18;          ///< Depth x264 CRF 0..51 (lossy).
+    bool depthLossless = false; ///< Depth x264 qp 0 (FFV1 is always lossless).
+    int threads = 0;            ///< Encoder threads per stream; 0 = automatic.
     /// Frames between key frames, the same in every stream (VideoEncoderConfig::gop: aligned, no
     /// scene-cut key frames); 0: 2 s for a paced output and HLS, x264's default otherwise.
     int gop = 0;
@@ -99,6 +102,14 @@ struct EncodeOptions {
     /// Metric input: fill invalid samples by push-pull (`--fill-holes`) instead of keeping them as
     /// holes with a `depth_occupancy` threshold.
     bool fillHoles = false;
+    /// The depth input is a DepthTouch file (its depth stream carries the depth tags, as play and
+    /// probe read them): its samples are nearness codes at any bit depth, never metric depth, and
+    /// a sample below this threshold is a hole (scene::DepthFrameView::holeBelow of its frames as
+    /// read: 8-bit frames for an 8-bit input, else 16-bit widened by bit replication;
+    /// receiver::depthHoleBelow() gives it). Its holes stay holes of the output (the
+    /// `depth_occupancy` tag) unless fillHoles. 0: the file has no holes; nullopt: not a
+    /// DepthTouch file (16-bit samples are metric depth).
+    std::optional<std::uint32_t> depthInputHoleBelow;
 
     bool enhance = false; ///< Run the §V.B enhancement on every depth frame.
     /// Enhancement options at the 8-bit scale; scaled to the output's bits (forScale()).
@@ -142,19 +153,19 @@ struct RenditionSummary {
 
 /// \brief What the encode did.
 struct EncodeSummary {
-    long long frames = 0;      ///< Pairs written.
+    long long frames = 0; ///< Pairs written.
     /// Compressed bytes of each kind, summed over the renditions of a ladder.
-    long long colorBytes = 0;  ///< Compressed color bytes.
-    long long depthBytes = 0;  ///< Compressed depth bytes.
+    long long colorBytes = 0;     ///< Compressed color bytes.
+    long long depthBytes = 0;     ///< Compressed depth bytes.
     long long materialBytes = 0;  ///< Compressed material bytes (0 without a material track).
     long long materialFrames = 0; ///< Material frames read (the rest held the last one).
     std::string audio;            ///< AudioTrack::description(), empty without sound.
     long long audioBytes = 0;     ///< Audio bytes written.
-    double elapsed = 0.0;      ///< Wall-clock seconds.
-    double duration = 0.0;     ///< PTS span written (seconds).
-    bool interrupted = false;  ///< *stop ended it.
-    bool metric = false;       ///< Depth was metric and converted with `range`.
-    depth::DepthRange range{}; ///< Planes used (metric, given, or from the input's tags).
+    double elapsed = 0.0;         ///< Wall-clock seconds.
+    double duration = 0.0;        ///< PTS span written (seconds).
+    bool interrupted = false;     ///< *stop ended it.
+    bool metric = false;          ///< Depth was metric and converted with `range`.
+    depth::DepthRange range{};    ///< Planes used (metric, given, or from the input's tags).
     depth::DepthMapping mapping = depth::DepthMapping::InverseZ; ///< Mapping written.
     int depthBits = 8;                                           ///< 8, 10 or 16.
     long long filledSamples = 0;                                 ///< Invalid depth samples filled.
