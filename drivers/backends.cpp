@@ -6,6 +6,7 @@
 #include <iterator>
 
 #include "depthtouch/config.h"
+#include "depthtouch/platform/message_text.h"
 #if DT_HAVE_FFMPEG
 #include "depthtouch/drivers/ffmpeg/ffmpeg_media_source.h"
 #include "depthtouch/drivers/ffmpeg/ffmpeg_video_decoder.h"
@@ -234,6 +235,28 @@ template <class R, class F> R withTable(BackendKind kind, F f)
     return R{};
 }
 
+/// \brief hal::selectBackend() over \a table, after refusing options of which one has an empty
+/// name ("=", "=1"): no backend reads such an option, and its firstUnknownKey() check cannot name
+/// it (an empty name there means "none unknown").
+/// \return the backend. Errors: InvalidArgument (report->message says which options), or those of
+/// hal::selectBackend().
+template <class I>
+Result<std::unique_ptr<I>> selectChecked(BackendKind kind, hal::BackendTable<I> table,
+                                         std::string_view names, const hal::BackendConfig &cfg,
+                                         hal::SelectionReport *report)
+{
+    if (cfg.options.find("")) {
+        if (report != nullptr) {
+            report->chosen.clear();
+            report->message = std::string("Invalid ") + backendKindName(kind) + " options " +
+                              platform::quotedText(cfg.options.text()) +
+                              ": an option has an empty name";
+        }
+        return unexpected(Errc::InvalidArgument, "A backend option has an empty name");
+    }
+    return hal::selectBackend(backendKindName(kind), table, names, cfg, report);
+}
+
 } // namespace
 
 std::vector<hal::BackendInfo> listBackends(BackendKind kind)
@@ -250,55 +273,48 @@ Result<std::unique_ptr<hal::MediaSource>> createMediaSource(std::string_view nam
                                                             const hal::BackendConfig &cfg,
                                                             hal::SelectionReport *report)
 {
-    return hal::selectBackend(backendKindName(BackendKind::MediaSource), mediaSourceBackends(),
-                              names, cfg, report);
+    return selectChecked(BackendKind::MediaSource, mediaSourceBackends(), names, cfg, report);
 }
 
 Result<std::unique_ptr<hal::VideoDecoder>> createVideoDecoder(std::string_view names,
                                                               const hal::BackendConfig &cfg,
                                                               hal::SelectionReport *report)
 {
-    return hal::selectBackend(backendKindName(BackendKind::VideoDecoder), videoDecoderBackends(),
-                              names, cfg, report);
+    return selectChecked(BackendKind::VideoDecoder, videoDecoderBackends(), names, cfg, report);
 }
 
 Result<std::unique_ptr<hal::Display>>
 createDisplay(std::string_view names, const hal::BackendConfig &cfg, hal::SelectionReport *report)
 {
-    return hal::selectBackend(backendKindName(BackendKind::Display), displayBackends(), names, cfg,
-                              report);
+    return selectChecked(BackendKind::Display, displayBackends(), names, cfg, report);
 }
 
 Result<std::unique_ptr<hal::HapticDevice>> createHapticDevice(std::string_view names,
                                                               const hal::BackendConfig &cfg,
                                                               hal::SelectionReport *report)
 {
-    return hal::selectBackend(backendKindName(BackendKind::HapticDevice), hapticDeviceBackends(),
-                              names, cfg, report);
+    return selectChecked(BackendKind::HapticDevice, hapticDeviceBackends(), names, cfg, report);
 }
 
 Result<std::unique_ptr<hal::RemoteInput>> createRemoteInput(std::string_view names,
                                                             const hal::BackendConfig &cfg,
                                                             hal::SelectionReport *report)
 {
-    return hal::selectBackend(backendKindName(BackendKind::RemoteInput), remoteInputBackends(),
-                              names, cfg, report);
+    return selectChecked(BackendKind::RemoteInput, remoteInputBackends(), names, cfg, report);
 }
 
 Result<std::unique_ptr<hal::DepthCamera>> createDepthCamera(std::string_view names,
                                                             const hal::BackendConfig &cfg,
                                                             hal::SelectionReport *report)
 {
-    return hal::selectBackend(backendKindName(BackendKind::DepthCamera), depthCameraBackends(),
-                              names, cfg, report);
+    return selectChecked(BackendKind::DepthCamera, depthCameraBackends(), names, cfg, report);
 }
 
 Result<std::unique_ptr<hal::AudioOutput>> createAudioOutput(std::string_view names,
                                                             const hal::BackendConfig &cfg,
                                                             hal::SelectionReport *report)
 {
-    return hal::selectBackend(backendKindName(BackendKind::AudioOutput), audioOutputBackends(),
-                              names, cfg, report);
+    return selectChecked(BackendKind::AudioOutput, audioOutputBackends(), names, cfg, report);
 }
 
 std::string audioOutputFilePath(std::string_view names, std::string_view options)

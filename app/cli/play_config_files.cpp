@@ -3,15 +3,17 @@
 
 #include "play_config_files.h"
 
+#include <cerrno>
 #include <charconv>
 #include <cstdint>
 #include <cstdlib>
-#include <filesystem>
+#include <cstring>
 #include <optional>
 #include <sstream>
-#include <system_error>
 #include <type_traits>
 #include <variant>
+
+#include <sys/stat.h>
 
 #include <toml++/toml.h>
 
@@ -30,6 +32,40 @@ namespace {
 constexpr const char *kFileName = "play.toml";
 constexpr const char *kKeyMapName = "input.conf";
 constexpr const char *kCommandLine = "command line";
+
+/// What a config file's path holds, looked at before it is read.
+enum class ConfigPresence {
+    Present, ///< To be read (readPlayConfigFile() refuses a folder, bounds a FIFO's wait).
+    Absent,  ///< A default file that is not there: skipped.
+    Refused, ///< There, but no file to read: a link loop, a device, a socket (the error says).
+};
+
+/// \brief Looks at \a file before it is read: a default file is absent only when nothing is
+/// there (ENOENT, ENOTDIR); one there that cannot be read as a file is an error naming it, never
+/// taken as absent, and a device is never opened (a read of /dev/ptmx would wait forever).
+/// \param[out] error The one-line error when Refused.
+ConfigPresence lookAtConfigFile(const PlayConfigFile &file, std::string_view label,
+                                std::string &error)
+{
+    struct stat st {};
+    if (::stat(file.path.c_str(), &st) != 0) {
+        const int err = errno;
+        if (err == ENOENT || err == ENOTDIR)
+            return file.required ? ConfigPresence::Present : ConfigPresence::Absent;
+        error =
+            std::string(label) + " " + platform::quotedText(file.path) + ": " + std::strerror(err);
+        return ConfigPresence::Refused;
+    }
+    const char *kind = S_ISCHR(st.st_mode)    ? "a character device"
+                       : S_ISBLK(st.st_mode)  ? "a block device"
+                       : S_ISSOCK(st.st_mode) ? "a socket"
+                                              : nullptr;
+    if (kind == nullptr)
+        return ConfigPresence::Present;
+    error = std::string(label) + " " + platform::quotedText(file.path) + ": is " + kind +
+            ", not a regular file";
+    return ConfigPresence::Refused;
+}
 
 /// \return the environment variable \a name, or nullopt when unset.
 std::optional<std::string> environment(const char *name)
@@ -127,12 +163,15 @@ std::vector<PlayConfigFile> keyMapFiles(const ConfigDirs &dirs, const PlayOption
 std::string loadKeyMapFiles(const std::vector<PlayConfigFile> &files, player::KeyMap &keys)
 {
     for (const PlayConfigFile &file : files) {
-        std::error_code ec;
-        if (!file.required && !std::filesystem::exists(file.path, ec))
-            continue;
         const std::string_view label = file.required ? "--input-conf" : "key map";
+        std::string error;
+        const ConfigPresence presence = lookAtConfigFile(file, label, error);
+        if (presence == ConfigPresence::Absent)
+            continue;
+        if (presence == ConfigPresence::Refused)
+            return error;
         std::string text;
-        std::string error = readPlayConfigFile(file.path, text, label);
+        error = readPlayConfigFile(file.path, text, label);
         if (error.empty()) {
             error = keys.apply(text);
             if (!error.empty())
@@ -150,12 +189,14 @@ PlayConfigLoad loadPlayConfigFiles(const std::vector<PlayConfigFile> &files,
 {
     PlayConfigLoad load;
     for (const PlayConfigFile &file : files) {
-        std::error_code ec;
-        if (!file.required && !std::filesystem::exists(file.path, ec)) {
+        const std::string_view label = file.required ? kConfigOptionLabel : kConfigFileLabel;
+        const ConfigPresence presence = lookAtConfigFile(file, label, load.error);
+        if (presence == ConfigPresence::Absent) {
             load.absent.push_back(file.path);
             continue;
         }
-        const std::string_view label = file.required ? kConfigOptionLabel : kConfigFileLabel;
+        if (presence == ConfigPresence::Refused)
+            return load;
         std::string text;
         load.error = readPlayConfigFile(file.path, text, label);
         std::vector<std::string> applied;

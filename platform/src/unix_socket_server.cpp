@@ -5,6 +5,7 @@
 #include <cstring>
 #include <vector>
 
+#include <fcntl.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -23,6 +24,9 @@ constexpr int kBacklog = 16;
 constexpr std::size_t kReadChunk = 4096;
 /// Bytes read from one client per poll round, so one busy client cannot starve the others.
 constexpr std::size_t kReadBudget = 64 * 1024;
+/// How long the listening socket is left out of poll() after accept() failed for want of
+/// resources with no spare descriptor to refuse the connection on.
+constexpr Duration kAcceptPause = std::chrono::milliseconds(100);
 
 bool fillAddress(std::string_view path, sockaddr_un &addr) noexcept
 {
@@ -48,6 +52,33 @@ Errc errcOfErrno(int err) noexcept
     return err == EACCES || err == EPERM ? Errc::PermissionDenied : Errc::Io;
 }
 
+/// \brief Binds \a fd to \a addr with the socket file created with permission bits \a mode.
+///
+/// The file gets its mode at its creation, from the umask (bind() creates it with 0777 & ~umask):
+/// there is never a moment with a wider mode, and the mode is never set later by path, which
+/// would follow whatever a user who may write to the folder put there in the meantime. The umask
+/// is the process's: files other threads create meanwhile get at most \a mode too.
+Result<void> bindWithMode(const UniqueFd &fd, const sockaddr_un &addr, const std::string &path,
+                          unsigned mode) noexcept
+{
+    const mode_t oldMask = ::umask(static_cast<mode_t>(~mode & 0777));
+    const int r = ::bind(fd.get(), reinterpret_cast<const sockaddr *>(&addr), sizeof addr);
+    const int err = errno;
+    ::umask(oldMask);
+    if (r != 0) {
+        DT_LOG(Socket, Error, "Failed to bind %s: %s", path.c_str(), std::strerror(err));
+        return unexpected(errcOfErrno(err), "Failed to bind the Unix socket", err);
+    }
+    return ok();
+}
+
+/// \return a descriptor kept in reserve for accepting, and at once closing, a connection when the
+/// process has no descriptor left (EMFILE); invalid if none could be opened.
+UniqueFd openSpareFd() noexcept
+{
+    return UniqueFd(::open("/dev/null", O_RDONLY | O_CLOEXEC));
+}
+
 } // namespace
 
 Result<std::unique_ptr<UnixSocketServer>>
@@ -58,16 +89,20 @@ UnixSocketServer::listen(std::string_view path, Handler &handler, UnixSocketServ
         return unexpected(Errc::InvalidArgument, "Socket path is empty or too long");
     const std::string pathText(path);
 
-    struct stat st{};
+    struct stat st {};
     if (::lstat(pathText.c_str(), &st) == 0) {
         if (!S_ISSOCK(st.st_mode)) {
-            DT_LOG(Socket, Error, "Failed to create control socket %s: the path exists and is "
-                                  "not a socket", pathText.c_str());
+            DT_LOG(Socket, Error,
+                   "Failed to create control socket %s: the path exists and is "
+                   "not a socket",
+                   pathText.c_str());
             return unexpected(Errc::InvalidArgument, "Socket path exists and is not a socket");
         }
         if (someoneListens(addr)) {
-            DT_LOG(Socket, Error, "Failed to create control socket %s: another process listens "
-                                  "on it", pathText.c_str());
+            DT_LOG(Socket, Error,
+                   "Failed to create control socket %s: another process listens "
+                   "on it",
+                   pathText.c_str());
             return unexpected(Errc::Busy, "Another process listens on the socket path");
         }
         DT_LOG(Socket, Info, "Removing stale socket %s", pathText.c_str());
@@ -77,17 +112,13 @@ UnixSocketServer::listen(std::string_view path, Handler &handler, UnixSocketServ
     UniqueFd fd(::socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0));
     if (!fd)
         return unexpected(Errc::Io, "Failed to create a Unix socket", errno);
-    if (::bind(fd.get(), reinterpret_cast<const sockaddr *>(&addr), sizeof addr) != 0) {
-        const int err = errno;
-        DT_LOG(Socket, Error, "Failed to bind %s: %s", pathText.c_str(), std::strerror(err));
-        return unexpected(errcOfErrno(err), "Failed to bind the Unix socket", err);
-    }
-    // No client can connect before listen(): set the mode first, so nobody ever sees a wider one.
-    if (::chmod(pathText.c_str(), static_cast<mode_t>(options.mode)) != 0 ||
-        ::lstat(pathText.c_str(), &st) != 0) {
-        const int err = errno;
-        ::unlink(pathText.c_str());
-        return unexpected(errcOfErrno(err), "Failed to set the socket file mode", err);
+    DT_TRY(bindWithMode(fd, addr, pathText, options.mode));
+    // Only the socket bind() made may be removed at the end: a file found there now in its place
+    // (swapped in by a user who may write to the folder) is refused, and left alone.
+    if (::lstat(pathText.c_str(), &st) != 0 || !S_ISSOCK(st.st_mode)) {
+        DT_LOG(Socket, Error, "Failed to create control socket %s: the socket file was replaced",
+               pathText.c_str());
+        return unexpected(Errc::InvalidArgument, "The socket file was replaced after bind()");
     }
     if (::listen(fd.get(), kBacklog) != 0) {
         const int err = errno;
@@ -103,7 +134,8 @@ UnixSocketServer::listen(std::string_view path, Handler &handler, UnixSocketServ
 
 UnixSocketServer::UnixSocketServer(std::string path, Handler &handler,
                                    UnixSocketServerOptions options, UniqueFd fd) noexcept
-    : path_(std::move(path)), handler_(handler), options_(options), listenFd_(std::move(fd))
+    : path_(std::move(path)), handler_(handler), options_(options), listenFd_(std::move(fd)),
+      spareFd_(openSpareFd())
 {
 }
 
@@ -112,7 +144,7 @@ UnixSocketServer::~UnixSocketServer()
     clients_.clear();
     listenFd_.reset();
     // Remove the file only if it is still the one this server created.
-    struct stat st{};
+    struct stat st {};
     if (::lstat(path_.c_str(), &st) == 0 && S_ISSOCK(st.st_mode) &&
         static_cast<std::uint64_t>(st.st_ino) == inode_)
         ::unlink(path_.c_str());
@@ -120,8 +152,8 @@ UnixSocketServer::~UnixSocketServer()
 
 std::size_t UnixSocketServer::clientCount() const noexcept
 {
-    return static_cast<std::size_t>(std::count_if(
-        clients_.begin(), clients_.end(), [](const auto &c) { return !c.second.closing; }));
+    return static_cast<std::size_t>(std::count_if(clients_.begin(), clients_.end(),
+                                                  [](const auto &c) { return !c.second.closing; }));
 }
 
 Result<void> UnixSocketServer::poll(Duration timeout)
@@ -130,7 +162,21 @@ Result<void> UnixSocketServer::poll(Duration timeout)
     std::vector<ClientId> ids;
     fds.reserve(clients_.size() + 1);
     ids.reserve(clients_.size());
-    fds.push_back({listenFd_.get(), POLLIN, 0});
+    // While accepting is paused (it failed for want of resources), the listening socket is left
+    // out: its pending connections would otherwise wake every poll at once.
+    Duration wait = std::max(timeout, Duration{});
+    bool listening = true;
+    if (acceptPausedUntil_ != TimePoint{}) {
+        if (!spareFd_)
+            spareFd_ = openSpareFd();
+        const TimePoint now = SteadyClock::instance().now();
+        listening = now >= acceptPausedUntil_;
+        if (listening)
+            acceptPausedUntil_ = TimePoint{};
+        else
+            wait = std::min(wait, acceptPausedUntil_ - now);
+    }
+    fds.push_back({listening ? listenFd_.get() : -1, POLLIN, 0});
     for (const auto &[id, c] : clients_) {
         short events = POLLIN;
         if (!c.out.empty())
@@ -138,7 +184,7 @@ Result<void> UnixSocketServer::poll(Duration timeout)
         fds.push_back({c.fd.get(), events, 0});
         ids.push_back(id);
     }
-    const auto ms = std::chrono::ceil<std::chrono::milliseconds>(std::max(timeout, Duration{}));
+    const auto ms = std::chrono::ceil<std::chrono::milliseconds>(wait);
     const int timeoutMs = static_cast<int>(std::min<std::int64_t>(ms.count(), 60'000));
     const int n = ::poll(fds.data(), fds.size(), timeoutMs);
     if (n < 0) {
@@ -169,10 +215,21 @@ void UnixSocketServer::acceptAll()
     for (;;) {
         UniqueFd fd(::accept4(listenFd_.get(), nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC));
         if (!fd) {
-            if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)
-                DT_LOG(Socket, Warning, "Failed to accept a connection: %s", std::strerror(errno));
+            const int err = errno;
+            if (err == EAGAIN || err == EWOULDBLOCK || err == EINTR)
+                return;
+            if (err == ECONNABORTED)
+                continue;
+            if ((err == EMFILE || err == ENFILE) && spareFd_) {
+                if (!refuseOnSpareFd())
+                    return;
+                continue;
+            }
+            DT_LOG(Socket, Warning, "Failed to accept a connection: %s", std::strerror(err));
+            pauseAccepting();
             return;
         }
+        outOfFds_ = false;
         if (clientCount() >= options_.maxClients && !evictStalled()) {
             DT_LOG(Socket, Warning, "Refused a connection to %s: %zu clients already",
                    path_.c_str(), options_.maxClients);
@@ -185,6 +242,30 @@ void UnixSocketServer::acceptAll()
         DT_LOG(Socket, Debug, "Client %llu connected", static_cast<unsigned long long>(id));
         handler_.onConnect(id);
     }
+}
+
+bool UnixSocketServer::refuseOnSpareFd()
+{
+    if (!outOfFds_)
+        DT_LOG(Socket, Warning, "Refusing connections to %s: no file descriptor left",
+               path_.c_str());
+    outOfFds_ = true;
+    spareFd_.reset();
+    UniqueFd fd(::accept4(listenFd_.get(), nullptr, nullptr, SOCK_CLOEXEC));
+    const int err = errno;
+    const bool accepted = fd.isValid();
+    fd.reset(); // the connection closes at once: its client sees the end of the stream
+    spareFd_ = openSpareFd();
+    if (accepted || err == ECONNABORTED)
+        return true;
+    if (err != EAGAIN && err != EWOULDBLOCK && err != EINTR)
+        pauseAccepting(); // even the spare descriptor's slot was taken (ENFILE)
+    return false;
+}
+
+void UnixSocketServer::pauseAccepting() noexcept
+{
+    acceptPausedUntil_ = SteadyClock::instance().now() + kAcceptPause;
 }
 
 bool UnixSocketServer::evictStalled()

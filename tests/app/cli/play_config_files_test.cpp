@@ -13,6 +13,11 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <thread>
+
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <toml++/toml.h>
@@ -206,6 +211,65 @@ TEST(PlayConfigFilesTest, ShowConfigIsTomlOfTheValuesInEffectEachWithItsOrigin)
     EXPECT_EQ(origin.size(), t.size()); // every key has one line with an origin
     EXPECT_NE(text.find("# read: " + sys.string() + "\n"), std::string::npos);
     EXPECT_NE(text.find("# not found: /nonexistent/u/play.toml\n"), std::string::npos);
+}
+
+/// \return what loadPlayConfigFiles() says of the default file \a path, from a child process
+/// killed after 5 s: "hang" when it did not return.
+std::string defaultFileErrorOrHang(const std::string &path)
+{
+    int pipeFds[2];
+    if (::pipe(pipeFds) != 0)
+        return "pipe failed";
+    const pid_t child = ::fork();
+    if (child == 0) {
+        ::close(pipeFds[0]);
+        ::alarm(5);
+        PlayOptions o;
+        const PlayConfigLoad load = loadPlayConfigFiles({{path, false}}, nullptr, o);
+        const std::string out = load.error.empty() ? "absent or read" : load.error;
+        (void)!::write(pipeFds[1], out.data(), out.size());
+        ::_exit(0);
+    }
+    ::close(pipeFds[1]);
+    std::string out;
+    char buf[512];
+    for (ssize_t n; (n = ::read(pipeFds[0], buf, sizeof buf)) > 0;)
+        out.append(buf, static_cast<std::size_t>(n));
+    ::close(pipeFds[0]);
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    return WIFSIGNALED(status) ? "hang" : out;
+}
+
+TEST(PlayConfigFilesTest, ADefaultFileThatIsALinkLoopOrADeviceIsAnErrorNamingItNeverAHang)
+{
+    testing::TempDir tmp("dt-play-config-files-");
+    const fs::path loop = tmp.dir() / "play.toml";
+    fs::create_symlink(loop, loop);
+    const std::string loopError = defaultFileErrorOrHang(loop.string());
+    EXPECT_EQ(loopError.rfind("config file '" + loop.string() + "': ", 0), 0u) << loopError;
+    EXPECT_EQ(loopError.find('\n'), std::string::npos);
+
+    const fs::path keys = tmp.dir() / "input.conf";
+    fs::create_symlink(keys, keys);
+    player::KeyMap keyMap;
+    const std::string keysError = loadKeyMapFiles({{keys.string(), false}}, keyMap);
+    EXPECT_EQ(keysError.rfind("key map '" + keys.string() + "': ", 0), 0u) << keysError;
+
+    const fs::path device = tmp.dir() / "device.toml";
+    fs::create_symlink("/dev/ptmx", device);
+    const std::string deviceError = defaultFileErrorOrHang(device.string());
+    EXPECT_EQ(deviceError.rfind("config file '" + device.string() + "': ", 0), 0u) << deviceError;
+    EXPECT_NE(deviceError.find("character device"), std::string::npos) << deviceError;
+
+    // A FIFO is still read, as documented: with a writer its lines count.
+    const fs::path fifo = tmp.dir() / "fifo.toml";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    std::thread writer([&] { write(fifo, "stiffness = 900\n"); });
+    PlayOptions o;
+    const PlayConfigLoad load = loadPlayConfigFiles({{fifo.string(), true}}, nullptr, o);
+    writer.join();
+    EXPECT_EQ(load.error, "");
 }
 
 } // namespace

@@ -3,15 +3,18 @@
 /// \brief UnixSocketServer: a line-oriented Unix-domain stream socket server driven by poll(), for
 /// local control protocols (one request per line, replies and pushed events as lines).
 ///
-/// The socket file is created with the given mode (default 0600: the owner only) and removed when
-/// the server is destroyed. A stale socket file left by a dead process is replaced; a socket some
-/// live process still listens on, or a path that is not a socket, is refused.
+/// The socket file is created with the given mode (default 0600: the owner only; set through the
+/// umask around bind(), never by a chmod by path that a symlink swapped in could redirect) and
+/// removed when the server is destroyed. A stale socket file left by a dead process is replaced; a
+/// socket some live process still listens on, or a path that is not a socket, is refused.
 ///
 /// Lines: bytes up to '\n' (a trailing '\r' is dropped). A line longer than maxLineBytes is not
 /// delivered: the handler's onLineTooLong() is called once and the rest of that line, up to its
 /// '\n', is discarded; the connection stays open. Partial lines of a client that disconnects are
 /// dropped. Output is queued per client and written without blocking; a client that lets more
-/// than maxQueuedBytes pile up (it does not read) is disconnected.
+/// than maxQueuedBytes pile up (it does not read) is disconnected. When the process has no file
+/// descriptor left, new connections are accepted on a spare one kept for that and closed at once
+/// (their clients see the end of the stream) rather than left pending to wake every poll.
 ///
 /// Thread-safety: thread-bound (create, poll, send and destroy on one thread). Handler callbacks
 /// run inside poll() on that thread; they may call send(), broadcast() and disconnect().
@@ -33,7 +36,7 @@ namespace depthtouch::platform {
 
 /// Limits and file mode of a UnixSocketServer.
 struct UnixSocketServerOptions {
-    std::size_t maxLineBytes = 4096;         ///< Longest line accepted, without its '\n'.
+    std::size_t maxLineBytes = 4096; ///< Longest line accepted, without its '\n'.
     /// Further connections are closed at once, unless a client that holds part of a line gives
     /// its place (the one whose last whole line is oldest is dropped).
     std::size_t maxClients = 16;
@@ -69,8 +72,8 @@ public:
     /// \param[in] path File system path (at most 107 bytes).
     /// \param[in] handler Receives the callbacks; must outlive the server.
     /// \return the server. Errors: InvalidArgument (empty or too long path, or the path exists
-    /// and is not a socket), Busy (another process listens there), Io or PermissionDenied (the
-    /// socket could not be created, bound or chmod-ed).
+    /// and is not a socket, or the socket file was replaced right after bind()), Busy (another
+    /// process listens there), Io or PermissionDenied (the socket could not be created or bound).
     static Result<std::unique_ptr<UnixSocketServer>> listen(std::string_view path, Handler &handler,
                                                             UnixSocketServerOptions options = {});
 
@@ -98,16 +101,23 @@ public:
 private:
     struct Client {
         UniqueFd fd;
-        std::string in;          ///< Bytes of the current, incomplete line.
-        std::string out;         ///< Queued output not yet written.
-        bool discarding = false; ///< Skipping the rest of an over-long line.
-        bool closing = false;    ///< Remove at the end of this poll round.
+        std::string in;             ///< Bytes of the current, incomplete line.
+        std::string out;            ///< Queued output not yet written.
+        bool discarding = false;    ///< Skipping the rest of an over-long line.
+        bool closing = false;       ///< Remove at the end of this poll round.
         std::uint64_t lastLine = 0; ///< activity_ at its connection or its last whole line.
     };
 
     UnixSocketServer(std::string path, Handler &handler, UnixSocketServerOptions options,
                      UniqueFd fd) noexcept;
     void acceptAll();
+    /// With no descriptor left (EMFILE): accepts the next pending connection on the spare
+    /// descriptor's slot and closes it at once, so it does not stay pending and wake every poll.
+    /// \return whether one was refused (more may be pending).
+    bool refuseOnSpareFd();
+    /// Leaves the listening socket out of poll() for a while (accept() failed for want of
+    /// resources and nothing could be refused).
+    void pauseAccepting() noexcept;
     /// With every place taken: drops the client that holds part of a line and has sent no whole
     /// line for longest. \return whether a place was freed.
     bool evictStalled();
@@ -120,6 +130,9 @@ private:
     Handler &handler_;
     UnixSocketServerOptions options_;
     UniqueFd listenFd_;
+    UniqueFd spareFd_; ///< Kept open to be closed when the process runs out of descriptors.
+    TimePoint acceptPausedUntil_{}; ///< Listening socket left out of poll() until then.
+    bool outOfFds_ = false;         ///< Connections are being refused (logged once).
     std::uint64_t inode_ = 0; ///< Inode of the socket file created, so only that file is removed.
     std::map<ClientId, Client> clients_;
     ClientId nextId_ = 1;
