@@ -448,6 +448,9 @@ PlayResult runPlay(const PlayOptions &opt, const player::KeyMap &keys)
     run.stats = playback.stats();
     run.haptic = playback.hapticStats();
     run.display = b.displayReport.chosen;
+    if (run.display == "headless" && opt.display != "headless")
+        run.displayNote = "no screen found (x11 needs $DISPLAY, kms a free DRM card): the picture "
+                          "was drawn offscreen; --display x11 or kms shows it (docs/playing.md)";
     run.hapticDevice = b.hapticReport.chosen;
     run.audioDevice = b.audio ? b.audioReport.chosen : std::string();
     if (b.audio) {

@@ -22,7 +22,10 @@ const playback::PlaybackConfig &playbackDefaults();
 /// playback::PlaybackConfig. The initializers are the defaults.
 struct PlayOptions {
     std::string url;                  ///< File path or stream URL.
-    std::string display = "headless"; ///< Display backend(s), comma-separated, tried in order.
+    /// Display backend(s), comma-separated, tried in order; empty (the default): autoprobe the
+    /// ones this build has, a screen when there is one (a DRM card, an X server), else offscreen,
+    /// as mpv probes its video outputs.
+    std::string display;
     std::string displayOptions;
     std::string haptic = "falcon,none"; ///< Haptic device backend(s).
     std::string hapticOptions;
@@ -30,7 +33,9 @@ struct PlayOptions {
     std::string decoderOptions;     ///< Options of the decoder backend(s), e.g. drm-prime.
     std::string source = "ffmpeg";  ///< Media source backend.
     std::string sourceOptions;      ///< Options of the media source, e.g. timeout_ms=30000.
-    std::string remote = "none";    ///< Remote-control backend(s): evdev, tty, none.
+    /// Remote-control backend(s): evdev, tty, none; by default the terminal's keys when play runs
+    /// in one (mpv's habit), else none.
+    std::string remote = "tty,none";
     std::string remoteOptions;
     /// Sound output backend(s): alsa, wav, null, mock; none: no sound (as --no-audio).
     std::string audioDevice = "alsa,null";

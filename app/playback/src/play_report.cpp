@@ -118,6 +118,8 @@ void printPlaySummary(const std::string &url, const PlayRunFigures &run, const s
                 run.display.c_str(), info.haptics ? run.hapticDevice.c_str() : "off");
     for (const std::string &n : info.notes)
         std::printf("  note              %s\n", n.c_str());
+    if (!run.displayNote.empty())
+        std::printf("  note              %s\n", run.displayNote.c_str());
     if (ps.receiver.materialDamaged > 0)
         std::printf(
             "  material          %llu damaged frames skipped: the material before each held "

@@ -19,7 +19,9 @@ struct PlayRunFigures {
     PlaybackStats stats;                            ///< The player's counters.
     std::optional<haptic_task::HapticStats> haptic; ///< The haptic task's, when it ran.
     std::string display;                            ///< The display backend chosen.
-    std::string hapticDevice;                       ///< The haptic device backend chosen.
+    /// A line for the summary when the display fell back to drawing offscreen, or empty.
+    std::string displayNote;
+    std::string hapticDevice;    ///< The haptic device backend chosen.
     std::string audioDevice;     ///< The sound output backend chosen; empty: none (--no-audio).
     double deviceMaxForce = 0.0; ///< Its maximum force, N.
     double rssStart = -1.0;      ///< Resident memory, MiB (−1: unknown).
