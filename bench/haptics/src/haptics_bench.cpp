@@ -1,17 +1,18 @@
 #include "depthtouch/haptics/haptics_bench.h"
 
+#include "haptics_bench_internal.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
 #include <limits>
 #include <memory>
 #include <string>
+#include <thread>
 
 #include <glm/geometric.hpp>
-#include <nlohmann/json.hpp>
 
 #include "depthtouch/haptics/finger_renderer.h"
 #include "depthtouch/haptics/mesh_bvh.h"
@@ -19,10 +20,8 @@
 #include "depthtouch/haptics/renderer_table.h"
 #include "depthtouch/haptics/spectrum.h"
 #include "depthtouch/haptics/wave_scenario.h"
-#include "depthtouch/platform/gnuplot.h"
 #include "depthtouch/scene/material.h"
 #include "depthtouch/platform/percentile.h"
-#include "depthtouch/platform/report_file.h"
 
 namespace depthtouch::haptics::bench {
 
@@ -39,6 +38,7 @@ double median(std::vector<double> v)
 
 struct OneRun {
     double medianNs, p99Ns, p999Ns, maxNs, frameNs, rms;
+    double errP50, errP95, errP99, errMax; ///< |F − F_ideal| over the timed updates, N
     long pops;
     std::vector<double> forces;
     std::vector<double> times; ///< ns per timed update, in update order
@@ -60,6 +60,20 @@ std::vector<std::uint8_t> benchMaterial(int w, int h)
                      3]);
         }
     return rgb;
+}
+
+/// The force-error figures of \a out from the per-update |F − F_ideal| \a errors (N): RMS,
+/// 50/95/99th percentiles (nearest rank) and maximum; 0 without updates.
+void setForceErrors(OneRun &out, const std::vector<double> &errors)
+{
+    double sq = 0.0;
+    for (double e : errors)
+        sq += e * e;
+    out.rms = errors.empty() ? 0.0 : std::sqrt(sq / static_cast<double>(errors.size()));
+    out.errP50 = percentile(errors, 0.5);
+    out.errP95 = percentile(errors, 0.95);
+    out.errP99 = percentile(errors, 0.99);
+    out.errMax = errors.empty() ? 0.0 : *std::max_element(errors.begin(), errors.end());
 }
 
 bool endsWith(const std::string &s, const char *suffix)
@@ -112,8 +126,8 @@ OneRun runOnce(const std::string &method, const WaveScenario &scene, double spee
     OneRun out{};
     out.times.reserve(updates);
     out.forces.reserve(updates);
-    double errSq = 0.0;
-    std::size_t errN = 0;
+    std::vector<double> errors; ///< |F − F_ideal| per timed update, N
+    errors.reserve(updates);
     int current = -1;
     // Approach time before measuring; short for mesh-bvh, whose every frame costs a full rebuild.
     const std::size_t settle = method == "mesh-bvh" ? 40 : kSettleUpdates;
@@ -142,8 +156,7 @@ OneRun runOnce(const std::string &method, const WaveScenario &scene, double spee
         out.times.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
         const glm::dvec3 truth = WaveScenario::trueForce(hip, t, cfg);
         const glm::dvec3 d = o.force - truth;
-        errSq += glm::dot(d, d);
-        ++errN;
+        errors.push_back(glm::length(d));
         out.forces.push_back(glm::length(o.force));
         const HeightField &surf =
             grid != nullptr ? grid->surface() : (finger != nullptr ? finger->surface() : held);
@@ -160,7 +173,7 @@ OneRun runOnce(const std::string &method, const WaveScenario &scene, double spee
     out.maxNs = *std::max_element(out.times.begin(), out.times.end());
     // The first hand-over of a run includes first-touch effects; use the median of all.
     out.frameNs = median(frameTimes);
-    out.rms = errN ? std::sqrt(errSq / static_cast<double>(errN)) : 0.0;
+    setForceErrors(out, errors);
     return out;
 }
 
@@ -175,7 +188,8 @@ std::vector<double> perUpdateMinimum(const std::vector<OneRun> &all)
     return best;
 }
 
-/// The PSD figure as text: "n/a" when not measured (moving HIP), "no force" when |F| had no power.
+} // namespace
+
 std::string psdText(double db, const char *unit)
 {
     if (std::isnan(db))
@@ -185,6 +199,26 @@ std::string psdText(double db, const char *unit)
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.1f%s", db, unit);
     return buf;
+}
+
+double amortisedFrameCostNs(const BenchRow &row)
+{
+    return row.frameCostNs * kVideoFps / kHapticRate;
+}
+
+bool loadedMachine(const BenchReport &report)
+{
+    const double load = std::max(report.loadAtStart, report.loadAtEnd);
+    return report.cpus > 0 && load > static_cast<double>(report.cpus - 1);
+}
+
+namespace {
+
+/// The machine's 1-minute load average (/proc/loadavg), or −1 when it cannot be read.
+double loadAverage()
+{
+    double load = 0.0;
+    return getloadavg(&load, 1) == 1 ? load : -1.0;
 }
 
 const char *motionName(double speed)
@@ -226,6 +260,15 @@ void fillFigures(BenchRow &row, const std::vector<OneRun> &all, int reps)
     }
     row.frameCostNs = medianOver(all, &OneRun::frameNs);
     row.forceRmsError = medianOver(all, &OneRun::rms);
+    row.forceErrorP50 = medianOver(all, &OneRun::errP50);
+    row.forceErrorP95 = medianOver(all, &OneRun::errP95);
+    row.forceErrorP99 = medianOver(all, &OneRun::errP99);
+    row.forceErrorMax = medianOver(all, &OneRun::errMax);
+    row.p999MinOverRunsNs = row.p999MaxOverRunsNs = all.front().p999Ns;
+    for (const OneRun &o : all) {
+        row.p999MinOverRunsNs = std::min(row.p999MinOverRunsNs, o.p999Ns);
+        row.p999MaxOverRunsNs = std::max(row.p999MaxOverRunsNs, o.p999Ns);
+    }
     row.popThroughs = all.front().pops;
 }
 
@@ -254,12 +297,13 @@ void fillSpectrum(BenchRow &row, const OneRun &first, double speed, BenchReport 
 void printRow(const BenchRow &row)
 {
     std::printf("  %-13s %4dx%-4d %-7s median %8.0f ns  p99 %8.0f  p99.9 %8.0f  max %9.0f  "
-                "frame %11.0f ns  rms %.4f N  pops %ld  psd@30Hz %s  |  per-update min "
-                "of %d runs: median %6.0f  p99.9 %7.0f\n",
+                "frame %11.0f ns  rms %.4f N (p99 %.4f, max %.4f)  pops %ld  psd@30Hz %s  |  "
+                "per-update min of %d runs: median %6.0f  p99.9 %7.0f  (runs' p99.9 %.0f-%.0f)\n",
                 row.method.c_str(), row.width, row.height, row.motion.c_str(), row.medianNs,
                 row.p99Ns, row.p999Ns, row.maxNs, row.frameCostNs, row.forceRmsError,
-                row.popThroughs, psdText(row.psdFrameRateDb, " dB").c_str(), row.runsTimed,
-                row.minOfRunsMedianNs, row.minOfRunsP999Ns);
+                row.forceErrorP99, row.forceErrorMax, row.popThroughs,
+                psdText(row.psdFrameRateDb, " dB").c_str(), row.runsTimed, row.minOfRunsMedianNs,
+                row.minOfRunsP999Ns, row.p999MinOverRunsNs, row.p999MaxOverRunsNs);
 }
 
 /// Runs one setting (method, resolution, HIP motion) and makes its row.
@@ -377,6 +421,8 @@ BenchReport runHapticsBenchmark(const BenchOptions &options)
         std::setvbuf(stdout, nullptr, _IOLBF, 0); // progress lines appear as they are measured
     const int resolutions[3][2] = {{720, 486}, {1920, 1080}, {3840, 2160}};
     const double speeds[3] = {0.0, 0.1, 1.0};
+    report.cpus = static_cast<int>(std::thread::hardware_concurrency());
+    report.loadAtStart = loadAverage();
     const int runs = std::max(1, options.quick ? 1 : options.runs);
     const std::size_t updates =
         static_cast<std::size_t>(options.quick ? 3000 : std::max(1000, options.updates));
@@ -415,184 +461,8 @@ BenchReport runHapticsBenchmark(const BenchOptions &options)
         }
     }
     setGoals(report);
+    report.loadAtEnd = loadAverage();
     return report;
-}
-
-namespace {
-
-/// haptics_bench.csv: a row per renderer, size and motion. \return false (\a error set) when the
-/// file could not be written.
-bool writeRowsCsv(const BenchReport &report, const std::filesystem::path &base, std::string &error)
-{
-    {
-        platform::TextReportFile csv((base / "haptics_bench.csv").string(), error);
-        csv << "method,width,height,motion,updates,median_ns,p99_ns,p999_ns,max_ns,frame_cost_ns,"
-               "force_rms_error_n,pop_throughs,psd_frame_rate_db,runs,min_of_runs_median_ns,"
-               "min_of_runs_p99_ns,min_of_runs_p999_ns\n";
-        for (const BenchRow &r : report.rows) {
-            char line[512];
-            std::snprintf(
-                line, sizeof line,
-                "%s,%d,%d,%s,%zu,%.1f,%.1f,%.1f,%.1f,%.1f,%.6f,%ld,%s,%d,%.1f,%.1f,%.1f\n",
-                r.method.c_str(), r.width, r.height, r.motion.c_str(), r.updates, r.medianNs,
-                r.p99Ns, r.p999Ns, r.maxNs, r.frameCostNs, r.forceRmsError, r.popThroughs,
-                psdText(r.psdFrameRateDb, "").c_str(), r.runsTimed, r.minOfRunsMedianNs,
-                r.minOfRunsP99Ns, r.minOfRunsP999Ns);
-            csv << line;
-        }
-        if (!csv.close())
-            return false;
-    }
-    return true;
-}
-
-/// haptics_bench.json: the rows and the goal figures. \return false (\a error set) when the file
-/// could not be written.
-bool writeReportJson(const BenchReport &report, const std::filesystem::path &base,
-                     std::string &error)
-{
-    {
-        // NaN (not measured) and −infinity (no power at all) have no JSON number: null.
-        auto number = [](double v) {
-            return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
-        };
-        nlohmann::json rows = nlohmann::json::array();
-        for (const BenchRow &r : report.rows)
-            rows.push_back({{"method", r.method},
-                            {"width", r.width},
-                            {"height", r.height},
-                            {"motion", r.motion},
-                            {"updates", r.updates},
-                            {"median_ns", r.medianNs},
-                            {"p99_ns", r.p99Ns},
-                            {"p999_ns", r.p999Ns},
-                            {"max_ns", r.maxNs},
-                            {"frame_cost_ns", r.frameCostNs},
-                            {"force_rms_error_n", r.forceRmsError},
-                            {"pop_throughs", r.popThroughs},
-                            {"psd_frame_rate_db", number(r.psdFrameRateDb)},
-                            {"runs", r.runsTimed},
-                            {"min_of_runs_median_ns", r.minOfRunsMedianNs},
-                            {"min_of_runs_p99_ns", r.minOfRunsP99Ns},
-                            {"min_of_runs_p999_ns", r.minOfRunsP999Ns}});
-        const nlohmann::json doc = {
-            {"rows", rows},
-            {"goals",
-             {{"modified_p999_ns_720x486_1mps", report.modifiedP999At720Fast},
-              {"goal_p999_ns", 2000},
-              {"modified_min_of_runs_p999_ns_720x486_1mps", report.modifiedMinOfRunsP999At720Fast},
-              {"runs_720x486_1mps", report.runsAt720Fast},
-              {"goal_min_of_runs_p999_ns", 2000},
-              {"median_ratio_3840x2160_over_720x486", report.resolutionRatio},
-              {"goal_ratio", 1.5},
-              {"min_of_runs_median_ratio_3840x2160_over_720x486", report.minOfRunsResolutionRatio},
-              {"goal_min_of_runs_ratio", 1.5},
-              {"rebuild_ratio_meshbvh_over_modified", report.rebuildRatio},
-              {"goal_rebuild_ratio", 1000},
-              {"finger_p999_ns_720x486_1mps", report.fingerP999At720Fast},
-              {"finger_min_of_runs_p999_ns_720x486_1mps", report.fingerMinOfRunsP999At720Fast},
-              {"finger_min_of_runs_median_ratio_3840x2160_over_720x486",
-               report.fingerMinOfRunsResolutionRatio},
-              {"finger_friction_median_ratio_720x486", report.fingerFrictionRatio},
-              {"finger_friction_min_of_runs_median_ratio_720x486",
-               report.fingerFrictionMinOfRunsRatio},
-              {"modified_friction_median_ratio_720x486", report.modifiedFrictionRatio},
-              {"modified_friction_min_of_runs_median_ratio_720x486",
-               report.modifiedFrictionMinOfRunsRatio},
-              {"finger_materials_median_ratio_720x486", report.fingerMaterialsRatio},
-              {"finger_materials_min_of_runs_median_ratio_720x486",
-               report.fingerMaterialsMinOfRunsRatio},
-              {"modified_materials_median_ratio_720x486", report.modifiedMaterialsRatio},
-              {"modified_materials_min_of_runs_median_ratio_720x486",
-               report.modifiedMaterialsMinOfRunsRatio},
-              {"finger_materials_p999_ns_720x486_1mps", report.fingerMaterialsP999At720Fast},
-              {"finger_materials_min_of_runs_p999_ns_720x486_1mps",
-               report.fingerMaterialsMinOfRunsP999At720Fast}}}};
-        platform::TextReportFile js((base / "haptics_bench.json").string(), error);
-        js << doc.dump(2) << '\n';
-        if (!js.close())
-            return false;
-    }
-    return true;
-}
-
-/// psd.csv, speed_vs_accuracy.dat and the gnuplot script charts.gp of the two charts.
-/// \return false (\a error set) when a file could not be written.
-bool writeChartData(const BenchReport &report, const std::filesystem::path &base,
-                    std::string &error)
-{
-    {
-        platform::TextReportFile p((base / "psd.csv").string(), error);
-        p << "hz,interpolated_db,sample_and_hold_db\n";
-        const std::size_t n = std::min(report.psd.interpolatedDb.size(), report.psd.holdDb.size());
-        for (std::size_t k = 1; k < n; ++k)
-            p << static_cast<double>(k) * report.psd.binHz << ',' << report.psd.interpolatedDb[k]
-              << ',' << report.psd.holdDb[k] << '\n';
-    }
-    {
-        // one data block per method for the speed-vs-accuracy scatter
-        platform::TextReportFile d((base / "speed_vs_accuracy.dat").string(), error);
-        std::vector<std::string> series;
-        for (const RendererEntry &e : rendererTable()) {
-            series.emplace_back(e.name);
-            if (e.method == Method::Modified)
-                series.emplace_back("modified-hold");
-        }
-        for (const std::string &m : series) {
-            d << "# " << m << "\n";
-            for (const BenchRow &r : report.rows)
-                if (r.method == m)
-                    d << r.medianNs / 1000.0 << ' ' << std::max(r.forceRmsError, 1e-6) << " \""
-                      << r.width << 'x' << r.height << ' ' << r.motion << "\"\n";
-            d << "\n\n";
-        }
-    }
-    {
-        platform::TextReportFile g((base / "charts.gp").string(), error);
-        g << "set terminal pngcairo size 1100,700 noenhanced\n"
-             "set output '"
-          << (base / "speed_vs_accuracy.png").string()
-          << "'\n"
-             "set title \"Haptic renderers: update time vs force error\\n(moving sinusoid, 30 fps "
-             "video, 1 kHz; one point per resolution and HIP motion: haptics_bench.csv)\"\n"
-             "set logscale xy\nset xlabel 'median update time (us)'\nset ylabel 'force RMS error "
-             "vs analytic truth (N)'\n"
-             "set key outside right\nset grid\n"
-             "plot for [i=0:4] '"
-          << (base / "speed_vs_accuracy.dat").string()
-          << "' index i using 1:2 with points pt 7 ps 1.5 title word('finger modified "
-             "modified-hold proxy-graph mesh-bvh', i+1)\n"
-             "set output '"
-          << (base / "psd.png").string()
-          << "'\n"
-             "unset logscale\nset title 'PSD of |F|, HIP still, 720x486 (cf. paper Fig. 12)'\n"
-             "set xlabel 'frequency (Hz)'\nset ylabel 'PSD (dB re 1 N^2/Hz)'\nset xrange [0:100]\n"
-             "set datafile separator ','\n"
-             "plot '"
-          << (base / "psd.csv").string()
-          << "' using 1:3 with lines title 'sample-and-hold', '' using 1:2 with lines title "
-             "'interpolated (Eq. 1)'\n";
-    }
-    return error.empty();
-}
-
-} // namespace
-
-bool writeBenchOutputs(const BenchReport &report, const std::string &dir, std::string &error,
-                       std::string &note)
-{
-    if (!platform::createReportFolder(dir, "Failed to create '" + dir + "'", error))
-        return false;
-    const std::filesystem::path base(dir);
-    if (!writeRowsCsv(report, base, error) || !writeReportJson(report, base, error))
-        return false;
-    if (!writeChartData(report, base, error))
-        return false;
-    // Charts with gnuplot, when it is installed.
-    const platform::PlotStatus plot = platform::runGnuplot((base / "charts.gp").string());
-    if (plot != platform::PlotStatus::Drawn)
-        note = std::string(platform::plotStatusNote(plot)) + "; CSV and JSON written";
-    return true;
 }
 
 } // namespace depthtouch::haptics::bench

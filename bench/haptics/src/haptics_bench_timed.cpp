@@ -31,6 +31,19 @@ void printRatioGoal(const char *what, double ratio)
     std::printf("  %s: %.2f (goal <= 1.5): %s\n", what, ratio, metText(ratio <= 1.5));
 }
 
+/// Prints the machine's 1-minute load at the start and the end of the run and its CPUs, and one
+/// line more when it was loaded (loadedMachine()): its timings read high.
+void printMachineLoad(const BenchReport &report)
+{
+    std::printf("\nmachine: 1-minute load %.2f at the start, %.2f at the end; %d CPUs\n",
+                report.loadAtStart, report.loadAtEnd, report.cpus);
+    if (loadedMachine(report))
+        std::printf("note: the timings were taken on a loaded machine (load above %d, the CPUs "
+                    "minus one): the update times read high; rerun on an idle machine to quote "
+                    "them\n",
+                    report.cpus - 1);
+}
+
 } // namespace
 
 Result<BenchReport> runHapticsBenchmarkTimed(const BenchOptions &opt, bool fifo)
@@ -89,6 +102,7 @@ void printBenchGoals(const BenchReport &report)
                 report.modifiedMaterialsRatio, report.modifiedMaterialsMinOfRunsRatio,
                 report.fingerMaterialsP999At720Fast, report.fingerMaterialsMinOfRunsP999At720Fast,
                 metText(report.fingerMaterialsMinOfRunsP999At720Fast <= 2000.0));
+    printMachineLoad(report);
 }
 
 } // namespace depthtouch::haptics::bench

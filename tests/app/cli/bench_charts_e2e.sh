@@ -42,6 +42,38 @@ codec_rows() { grep -c -E "^$1 +(h264-8|h264-10|hevc-10) +$2 " "$work/media.log"
 bench haptics --quick
 png haptics speed_vs_accuracy.png
 png haptics psd.png
+# Its force-error percentiles, run spread and machine load, checked against one another (no timing
+# is asserted): max >= p99 >= p95 >= p50 >= 0 and max >= RMS per row, in the CSV and the JSON
+# alike; the load figures present; psd.png's script names the renderer.
+python3 - "$work/haptics" "$work/haptics.log" <<'PY' || fail "bench haptics: its figures do not hold together"
+import csv, json, sys
+d, log = sys.argv[1], open(sys.argv[2]).read()
+rows = list(csv.DictReader(open(d + "/haptics_bench.csv")))
+doc = json.load(open(d + "/haptics_bench.json"))
+assert rows and len(rows) == len(doc["rows"]), "CSV and JSON rows differ"
+for r, j in zip(rows, doc["rows"]):
+    e = [float(r["force_error_" + k]) for k in ("p50_n", "p95_n", "p99_n", "max_n")]
+    rms = float(r["force_rms_error_n"])
+    name = "%s %sx%s %s" % (r["method"], r["width"], r["height"], r["motion"])
+    assert 0 <= e[0] <= e[1] <= e[2] <= e[3], "%s: error percentiles %s" % (name, e)
+    assert e[3] >= rms - 1e-6, "%s: max %g < RMS %g" % (name, e[3], rms)
+    for k in ("force_error_p50_n", "force_error_p95_n", "force_error_p99_n", "force_error_max_n"):
+        assert abs(j[k] - float(r[k])) <= 1e-6, "%s: %s differs between CSV and JSON" % (name, k)
+    lo, hi = float(r["p999_min_over_runs_ns"]), float(r["p999_max_over_runs_ns"])
+    assert 0 <= lo <= hi and j["p999_spread_ratio"] >= 1.0, "%s: p99.9 spread %g-%g" % (name, lo, hi)
+    am = float(r["amortised_frame_cost_ns"])
+    assert abs(am - float(r["frame_cost_ns"]) * 30 / 1000) <= 0.1 + 1e-6 * am, "%s: amortised %g" % (name, am)
+m = doc["machine"]
+assert m["load_1min_start"] >= 0 and m["load_1min_end"] >= 0 and m["cpus"] >= 1, m
+loaded = max(m["load_1min_start"], m["load_1min_end"]) > m["cpus"] - 1
+assert m["loaded"] == loaded, m
+assert "1-minute load" in log, "no load line printed"
+assert ("taken on a loaded machine" in log) == loaded, "loaded-machine line does not match the load"
+gp = open(d + "/charts.gp").read()
+psd = gp[gp.index("psd.png"):]
+assert "set title" in psd and "modified renderer" in psd.split("set title", 1)[1].split("\n", 1)[0], "psd.png's title names no renderer"
+assert "goal: update p99.9" in gp and "rebuild amortised" in gp, "speed_vs_accuracy.png lacks its goal line or mesh-bvh's rebuild"
+PY
 bench feel --quick --method finger --data "$work/no-data"
 png feel feel.png
 bench av --duration 2 --frames 30 --size 96x64

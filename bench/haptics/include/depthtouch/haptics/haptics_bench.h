@@ -26,10 +26,10 @@ inline constexpr double kBenchDynamicFriction = 0.4;
 
 /// \brief Options of one benchmark run.
 struct BenchOptions {
-    bool quick = false;    ///< Fewer updates and repetitions.
-    int runs = 3;          ///< Repetitions per setting; statistics are medians over runs.
-    int updates = 20000;   ///< Haptic updates per run (modified, proxy-graph).
-    bool verbose = true;   ///< Print progress and the table to stdout.
+    bool quick = false;  ///< Fewer updates and repetitions.
+    int runs = 3;        ///< Repetitions per setting; statistics are medians over runs.
+    int updates = 20000; ///< Haptic updates per run (modified, proxy-graph).
+    bool verbose = true; ///< Print progress and the table to stdout.
 };
 
 /// \brief One (method, resolution, motion) setting.
@@ -41,9 +41,9 @@ struct BenchRow {
     std::string method;
     int width = 0;
     int height = 0;
-    std::string motion;       ///< still | 0.1 m/s | 1 m/s
-    std::size_t updates = 0;  ///< Updates per run.
-    double medianNs = 0.0;    ///< Per-update time, ns (median over runs of each statistic).
+    std::string motion;      ///< still | 0.1 m/s | 1 m/s
+    std::size_t updates = 0; ///< Updates per run.
+    double medianNs = 0.0;   ///< Per-update time, ns (median over runs of each statistic).
     double p99Ns = 0.0;
     double p999Ns = 0.0;
     double maxNs = 0.0;
@@ -54,14 +54,28 @@ struct BenchRow {
     double minOfRunsMedianNs = 0.0;
     double minOfRunsP99Ns = 0.0;
     double minOfRunsP999Ns = 0.0;
-    int runsTimed = 1;        ///< Runs the minimum is taken over.
-    double frameCostNs = 0.0; ///< Median cost of handing one new depth frame to the renderer, ns.
+    int runsTimed = 1;          ///< Runs the minimum is taken over.
+    double frameCostNs = 0.0;   ///< Median cost of handing one new depth frame to the renderer, ns.
     double forceRmsError = 0.0; ///< N, against the analytic ground truth.
-    long popThroughs = 0;     ///< Updates ending with the proxy below the renderer's surface.
+    /// |F − F_ideal| over the timed updates, N: 50th, 95th, 99th percentile (nearest rank) and
+    /// maximum (median over the runs of each run's figure, as the RMS).
+    double forceErrorP50 = 0.0;
+    double forceErrorP95 = 0.0;
+    double forceErrorP99 = 0.0;
+    double forceErrorMax = 0.0;
+    /// Spread between the runs: the lowest and highest of the runs' own p99.9 update times, ns
+    /// (equal when runs == 1).
+    double p999MinOverRunsNs = 0.0;
+    double p999MaxOverRunsNs = 0.0;
+    long popThroughs = 0; ///< Updates ending with the proxy below the renderer's surface.
     /// PSD of |F| at 30 Hz, dB re 1 N²/Hz: measured on still runs (NaN otherwise); −infinity when
     /// the force was constant (e.g. zero: contact lost).
     double psdFrameRateDb = std::numeric_limits<double>::quiet_NaN();
 };
+
+/// \brief Cost of handing the renderer a new depth frame spread over the haptic updates of one
+/// frame: frameCostNs × kVideoFps / kHapticRate, ns per update (mesh-bvh: its tree rebuild).
+double amortisedFrameCostNs(const BenchRow &row);
 
 /// \brief The PSD curves for the Fig. 12-like chart (720×486, HIP still).
 struct PsdCurves {
@@ -74,10 +88,10 @@ struct PsdCurves {
 struct BenchReport {
     std::vector<BenchRow> rows;
     PsdCurves psd;
-    double modifiedP999At720Fast = 0.0;  ///< ns, raw (median over runs); goal ≤ 2000
+    double modifiedP999At720Fast = 0.0; ///< ns, raw (median over runs); goal ≤ 2000
     double modifiedMinOfRunsP999At720Fast =
-        0.0;                             ///< ns, p99.9 of the per-update minimum; goal ≤ 2000
-    int runsAt720Fast = 0;               ///< runs behind the minimum above
+        0.0;                      ///< ns, p99.9 of the per-update minimum; goal ≤ 2000
+    int runsAt720Fast = 0;        ///< runs behind the minimum above
     double resolutionRatio = 0.0; ///< modified median 3840×2160 / 720×486, worst motion; goal ≤ 1.5
     double minOfRunsResolutionRatio = 0.0; ///< the same with minOfRunsMedianNs; goal ≤ 1.5
     double rebuildRatio =
@@ -104,7 +118,16 @@ struct BenchReport {
     double modifiedMaterialsMinOfRunsRatio = 0.0;
     double fingerMaterialsP999At720Fast = 0.0;
     double fingerMaterialsMinOfRunsP999At720Fast = 0.0;
+    /// The machine's 1-minute load average (/proc/loadavg) when the run started and when it ended;
+    /// −1 when it could not be read.
+    double loadAtStart = -1.0;
+    double loadAtEnd = -1.0;
+    int cpus = 0; ///< CPUs online (std::thread::hardware_concurrency; 0 when unknown).
 };
+
+/// \brief Whether \a report was timed on a loaded machine: the 1-minute load at its start or end
+/// above the number of CPUs minus one (one CPU left for the timed thread).
+bool loadedMachine(const BenchReport &report);
 
 /// \brief Runs the benchmark. Allocates freely (not real-time).
 BenchReport runHapticsBenchmark(const BenchOptions &options);
@@ -116,7 +139,8 @@ BenchReport runHapticsBenchmark(const BenchOptions &options);
 /// that could not start.
 Result<BenchReport> runHapticsBenchmarkTimed(const BenchOptions &options, bool fifo);
 
-/// \brief Prints the goals of \a report on stdout, each with "met" or "NOT met".
+/// \brief Prints the goals of \a report on stdout, each with "met" or "NOT met", then the machine's
+/// load during the run, and a line saying so when the machine was loaded (loadedMachine()).
 void printBenchGoals(const BenchReport &report);
 
 /// \brief Writes haptics_bench.csv, haptics_bench.json, psd.csv and (with gnuplot)
