@@ -39,6 +39,17 @@ std::vector<Pairer::Output> pullAll(Pairer &p)
     return out;
 }
 
+/// Ends both streams of \a p, appends what it still gives to \a out and checks it finished.
+std::vector<Pairer::Output> drain(Pairer &p, std::vector<Pairer::Output> out)
+{
+    p.endOfStream(PairStream::Color);
+    p.endOfStream(PairStream::Depth);
+    for (auto &o : pullAll(p))
+        out.push_back(o);
+    EXPECT_TRUE(p.finished());
+    return out;
+}
+
 /// Pushes color at \a colorMs and depth at \a depthMs interleaved by time, pulling as it goes.
 std::vector<Pairer::Output> run(Pairer &p, const std::vector<std::int64_t> &colorMs,
                                 const std::vector<std::int64_t> &depthMs)
@@ -61,12 +72,7 @@ std::vector<Pairer::Output> run(Pairer &p, const std::vector<std::int64_t> &colo
         for (auto &o : pullAll(p))
             out.push_back(o);
     }
-    p.endOfStream(PairStream::Color);
-    p.endOfStream(PairStream::Depth);
-    for (auto &o : pullAll(p))
-        out.push_back(o);
-    EXPECT_TRUE(p.finished());
-    return out;
+    return drain(p, std::move(out));
 }
 
 std::vector<std::int64_t> times(int count, std::int64_t step, std::int64_t start = 0)
@@ -341,12 +347,7 @@ std::vector<Pairer::Output> runLockstep(Pairer &p, const std::vector<std::int64_
         for (auto &o : pullAll(p))
             out.push_back(o);
     }
-    p.endOfStream(PairStream::Color);
-    p.endOfStream(PairStream::Depth);
-    for (auto &o : pullAll(p))
-        out.push_back(o);
-    EXPECT_TRUE(p.finished());
-    return out;
+    return drain(p, std::move(out));
 }
 
 /// Runs \a ms on both streams and checks the re-based timeline: \a jumps discontinuities, each
