@@ -238,7 +238,10 @@ std::optional<PlayResult> openBackends(const PlayOptions &opt, const hal::Backen
         const hal::BackendConfig remoteCfg = withOptions(cfg, opt.remoteOptions);
         if (auto bad = take(drivers::createRemoteInput(opt.remote, remoteCfg, &rep), rep, b.remote))
             return bad;
-        warnFallback(opt, drivers::BackendKind::RemoteInput, opt.remote, rep);
+        // The default list takes the terminal's keys where play runs in one: none elsewhere is
+        // no fallback to warn of.
+        if (opt.remote != PlayOptions{}.remote)
+            warnFallback(opt, drivers::BackendKind::RemoteInput, opt.remote, rep);
     }
     if (!opt.noAudio && opt.audioDevice != "none") {
         const hal::BackendConfig audioCfg = withOptions(cfg, opt.audioDeviceOptions);
