@@ -31,7 +31,8 @@ cat "$work/a100.ts" "$work/a.ts" >"$work/backward.ts"
 cat "$work/a60.ts" "$work/a0.ts" >"$work/reset.ts"
 cat "$work/a.ts" "$work/a.ts" "$work/a.ts" >"$work/repeat.ts"
 
-# kind, pairs wanted, jumps. --duration bounds a frozen picture (it would end there with 0).
+# kind, pairs wanted, jumps. --duration bounds a frozen picture (it ends there with about 90 pairs:
+# the pairs presented tell; the wall time is only printed, a busy machine takes longer).
 check() {
     start=$(date +%s)
     "$exe" play "$work/$1.ts" --display mock --haptic none --no-config --audio-device none \
@@ -45,9 +46,6 @@ kind, want, jumps, took = sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), int(s
 got = j["frames_presented"]
 if got < want - 2 * jumps - 2:
     sys.exit("%s: presented %d of %d frame pairs" % (kind, got, want))
-# The input lasts want/30 s; a picture frozen until --duration 30 takes 30 s.
-if took > want / 30 + 15:
-    sys.exit("%s: play took %d s for %.0f s of video" % (kind, took, want / 30))
 print("pts_discontinuity: %s: %d of %d frame pairs presented in %d s" % (kind, got, want, took))
 PY
 }

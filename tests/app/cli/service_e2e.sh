@@ -20,15 +20,25 @@ unset DT_LOG JOURNAL_STREAM
 port=$((20000 + $$ % 20000))
 clip="mock://clip?frames=6&fps=30&width=64&height=48"
 
-# stopped_after SECONDS ARGS...: `play udp://127.0.0.1:PORT --idle ARGS` (nothing is sent there),
-# SIGTERM after SECONDS; prints the exit code, its stderr in $work/err.
-stopped_after() {
-    wait_s=$1
+# stopped_in STATE ARGS...: `play udp://127.0.0.1:PORT --idle ARGS` (nothing is sent there), SIGTERM
+# once its control socket says STATE (its stop signals are set by then: the socket is served by the
+# loop that watches them), however long a busy machine takes to get there (at most 60 s); prints
+# the exit code, its stderr in $work/err.
+stopped_in() {
+    state=$1
     shift
-    "$exe" play "udp://127.0.0.1:$port" --idle --display mock --haptic none --no-audio "$@" \
-        >"$work/out" 2>"$work/err" </dev/null &
+    sock="$work/ctl.sock"
+    rm -f "$sock"
+    "$exe" play "udp://127.0.0.1:$port" --idle --display mock --haptic none --no-audio \
+        --control "$sock" "$@" >"$work/out" 2>"$work/err" </dev/null &
     e2e_bg=$!
-    sleep "$wait_s"
+    i=0
+    until [ -S "$sock" ] && echo '{"command":["get","state"]}' |
+        socat -t 2 - "UNIX-CONNECT:$sock" 2>/dev/null | grep -q "\"data\":\"$state\""; do
+        i=$((i + 1))
+        [ "$i" -lt 600 ] || { kill -KILL "$e2e_bg"; fail "the idle player never got to '$state'"; }
+        sleep 0.1
+    done
     kill -TERM "$e2e_bg"
     wait "$e2e_bg"
     rc=$?
@@ -37,9 +47,9 @@ stopped_after() {
 }
 
 # 1. SIGTERM while it waits for a sender (opening), and once the wait timed out (error)
-rc=$(stopped_after 1.5)
+rc=$(stopped_in opening)
 [ "$rc" -eq 0 ] || fail "SIGTERM while an idle player waits for a sender: exit $rc, '$(cat "$work/err")'"
-rc=$(stopped_after 2.5 --source-options timeout_ms=300)
+rc=$(stopped_in error --source-options timeout_ms=300)
 [ "$rc" -eq 0 ] || fail "SIGTERM after an idle player's wait timed out: exit $rc, '$(cat "$work/err")'"
 grep -q "open failed" "$work/err" || fail "the timed-out wait was not reported: '$(cat "$work/err")'"
 
