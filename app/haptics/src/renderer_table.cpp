@@ -26,18 +26,14 @@ std::unique_ptr<HapticRenderer> makeMeshBvh(const RendererConfig &c, int maxWidt
 
 // The rows. The default first; the order is the one outputs list them in.
 constexpr RendererEntry kTable[] = {
-    {Method::Finger, "finger",
-     "the fingertip proxy on the finger-scale surface (finger_renderer.h): the default", true, true,
-     true, makeFinger},
-    {Method::Modified, "modified",
-     "the paper's modified proxy graph, fixes (a)(b)(c) on (paper IV; renderer.h)", true, true,
-     true, makeProxyGraph},
-    {Method::ProxyGraph, "proxy-graph",
-     "baseline: Walker & Salisbury's proxy graph on sample-and-hold frames, fixes off", false, true,
-     true, makeProxyGraph},
-    {Method::MeshBvh, "mesh-bvh",
-     "baseline: a triangle mesh and AABB tree rebuilt every frame (mesh_bvh.h), no friction", false,
-     false, false, makeMeshBvh},
+    // The fingertip proxy on the finger-scale surface (finger_renderer.h): the default.
+    {Method::Finger, "finger", true, true, true, makeFinger},
+    // The paper's modified proxy graph, fixes (a)(b)(c) on (paper IV; renderer.h).
+    {Method::Modified, "modified", true, true, true, makeProxyGraph},
+    // Baseline: Walker & Salisbury's proxy graph on sample-and-hold frames, fixes off.
+    {Method::ProxyGraph, "proxy-graph", false, true, true, makeProxyGraph},
+    // Baseline: a triangle mesh and AABB tree rebuilt every frame (mesh_bvh.h), no friction.
+    {Method::MeshBvh, "mesh-bvh", false, false, false, makeMeshBvh},
 };
 
 } // namespace

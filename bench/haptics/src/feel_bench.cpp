@@ -98,7 +98,7 @@ std::vector<std::uint8_t> feelMaterial(int w, int h)
 }
 
 /// Replays one stroke on a fresh renderer; fills \a rows; with \a errors, the squared force
-/// errors against the ideal penalty (feel.h idealPenalty()) of the pressed updates.
+/// errors against the ideal penalty (feel.h planePenalty()) of the pressed updates.
 Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const FeelSetting &setting,
                           const RendererConfig &cfg, std::vector<FeelSample> &rows,
                           std::vector<double> *errors = nullptr)
@@ -172,7 +172,7 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
         if (errors != nullptr && (s.pressed || s.sliding || s.held))
             errors->push_back(glm::length(
                 out.force -
-                idealPenalty([&ref, &s](double x, double y) { return ref.height(s.t, x, y); },
+                planePenalty([&ref, &s](double x, double y) { return ref.height(s.t, x, y); },
                              s.hip, row.surfaceZ, cfg.stiffness)));
         row.released = out.released;
         row.surfaceCut = cutAt(scene, truth, i, prevProxy, cut) ||

@@ -231,18 +231,18 @@ TEST(FeelEnergyTest, TheIdealGodObjectsProxyIsTheNearestSurfacePoint)
     EXPECT_DOUBLE_EQ(depthInside(step, hip, 5e-3), d);
 }
 
-TEST(FeelEnergyTest, TheIdealPenaltyPushesAlongTheNormalOfATiltedPlane)
+TEST(FeelEnergyTest, ThePlanePenaltyPushesAlongTheNormalOfATiltedPlane)
 {
     // z = 0.5·x: the normal is (−0.5, 0, 1)/|·|; 2 mm under it at x = 0, d along the normal is
     // 2 mm · n_z, and the force k·d·n.
     const auto plane = [](double x, double) { return 0.5 * x; };
     const glm::dvec3 hip{0.0, 0.0, -2e-3};
-    const glm::dvec3 f = idealPenalty(plane, hip, plane(hip.x, hip.y), 1000.0);
+    const glm::dvec3 f = planePenalty(plane, hip, plane(hip.x, hip.y), 1000.0);
     const double nz = 1.0 / std::sqrt(1.25);
     EXPECT_NEAR(f.x, 1000.0 * 2e-3 * nz * (-0.5 * nz), 1e-9);
     EXPECT_NEAR(f.y, 0.0, 1e-12);
     EXPECT_NEAR(f.z, 1000.0 * 2e-3 * nz * nz, 1e-9);
-    EXPECT_EQ(idealPenalty(plane, glm::dvec3{0.0, 0.0, 1e-3}, 0.0, 1000.0), glm::dvec3{0.0});
+    EXPECT_EQ(planePenalty(plane, glm::dvec3{0.0, 0.0, 1e-3}, 0.0, 1000.0), glm::dvec3{0.0});
 }
 
 } // namespace

@@ -18,13 +18,11 @@
 
 namespace depthtouch::haptics {
 
-/// \brief One renderer method.
+/// \brief One renderer method (what it is: the comment of its row in renderer_table.cpp).
 struct RendererEntry {
     Method method;
     /// Its name on every command line, in config files and in outputs ("finger").
     const char *name;
-    /// One line for `--help` and the docs: what it is and where it is described.
-    const char *summary;
     /// The paper's fixes (a), (b), (c) on (RendererConfig::correction, interpolation, safety):
     /// the methods that render depth video; off for the baselines.
     bool fixes;
