@@ -177,9 +177,9 @@ double depthInside(const HeightAt &heightAt, const glm::dvec3 &hip, double verti
     return nearestSurface(heightAt, hip, vertical, nullptr);
 }
 
-/// \return the local plane's penalty force at \a hip (m) on the surface \a heightAt(x, y) (m; NaN where
-/// nothing was measured) at stiffness \a k (N/m), N: k·d·n, n the surface's unit normal under the
-/// HIP (central differences over ±0.3 mm; straight up where a difference is not measured) and d
+/// \return the local plane's penalty force at \a hip (m) on the surface \a heightAt(x, y) (m; NaN
+/// where nothing was measured) at stiffness \a k (N/m), N: k·d·n, n the surface's unit normal under
+/// the HIP (central differences over ±0.3 mm; straight up where a difference is not measured) and d
 /// the HIP's depth under the surface along it, (h − z)·n_z: the god-object on the surface's local
 /// plane (Zilles & Salisbury 1995). Zero above the surface or where \a h (the height under the
 /// HIP, m) is NaN. `bench feel`'s force RMS error on clean surfaces is measured against it; its
