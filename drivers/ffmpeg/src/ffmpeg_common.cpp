@@ -19,6 +19,21 @@ void quietLibav() noexcept
     std::call_once(once, [] { av_log_set_level(AV_LOG_FATAL); });
 }
 
+int discardDataStreams(AVFormatContext &ctx) noexcept
+{
+    int discarded = 0;
+    for (unsigned i = 0; i < ctx.nb_streams; ++i) {
+        AVStream &st = *ctx.streams[i];
+        const AVMediaType type = st.codecpar->codec_type;
+        if ((type == AVMEDIA_TYPE_DATA || type == AVMEDIA_TYPE_UNKNOWN) &&
+            st.codecpar->codec_id != AV_CODEC_ID_TIMED_ID3) {
+            st.discard = AVDISCARD_ALL;
+            ++discarded;
+        }
+    }
+    return discarded;
+}
+
 Errc errcOf(int err, Errc fallback) noexcept
 {
     if (err == AVERROR(ENOENT) || err == AVERROR(ENODEV) || err == AVERROR(ENXIO))

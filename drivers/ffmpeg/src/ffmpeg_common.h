@@ -26,6 +26,14 @@ namespace depthtouch::drivers::ffmpeg {
 /// failed; a corrupt stream would otherwise print a line per damaged slice).
 void quietLibav() noexcept;
 
+/// \brief Discards (AVDISCARD_ALL) the data and unknown streams of \a ctx, but timed ID3
+/// metadata (the MPEG-TS tags: timed_metadata_reader.h). Call before avformat_find_stream_info():
+/// while it probes the codec of an MPEG-TS private-data PID (stream type 0x06), libavformat holds
+/// every packet of the input back until 2 500 packets of that PID or `probesize` bytes came,
+/// which a live input with a sparse PID takes minutes to send; the demuxer skips a discarded PID.
+/// \return how many streams were discarded.
+int discardDataStreams(AVFormatContext &ctx) noexcept;
+
 /// \return the HAL code of a libav* error \a err (AVERROR(...)); \a fallback for the unknown ones.
 Errc errcOf(int err, Errc fallback) noexcept;
 

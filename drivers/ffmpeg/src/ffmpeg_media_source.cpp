@@ -232,6 +232,14 @@ Result<void> FfmpegMediaSource::Impl::openInput(const char *url)
            target.substr(0, 5) == "pipe:";
     if (live)
         ctx->fps_probe_size = kLiveFpsProbeFrames;
+    // Bounded probing (ffmpeg's probesize and analyzeduration): a live input's capped at 3 s of
+    // media time (FfmpegSourceSettings::kLiveAnalyzeDurationUs) instead of libavformat's 5 s.
+    if (settings.probeSize > 0)
+        ctx->probesize = settings.probeSize;
+    if (settings.analyzeDurationUs > 0 || live)
+        ctx->max_analyze_duration = settings.analyzeDurationUs > 0
+                                        ? settings.analyzeDurationUs
+                                        : FfmpegSourceSettings::kLiveAnalyzeDurationUs;
     armDeadline();
     int r = avformat_open_input(&ctx, openUrl->c_str(), forced, &opts); // frees ctx on failure
     av_dict_free(&opts);
@@ -242,6 +250,8 @@ Result<void> FfmpegMediaSource::Impl::openInput(const char *url)
         return unexpected(failure(r, errcOf(r, Errc::Io), "Failed to open the media input"));
     }
     fmt.reset(ctx);
+    if (const int n = discardDataStreams(*ctx); n > 0) // a private-data PID stalls the probe
+        DT_LOG(Ffmpeg, Debug, "'%s': %d data streams ignored", url, n);
     armDeadline();
     r = avformat_find_stream_info(ctx, nullptr);
     if (r < 0) {

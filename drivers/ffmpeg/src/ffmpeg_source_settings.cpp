@@ -14,7 +14,11 @@ DT_LOG_CATEGORY(Ffmpeg)
 namespace depthtouch::drivers {
 
 namespace {
-constexpr const char *kOptionKeys[] = {"fps", "format", "timeout_ms", "rendition"};
+constexpr const char *kOptionKeys[] = {"fps",       "format",    "timeout_ms",
+                                       "rendition", "probesize", "analyzeduration"};
+constexpr int kMinProbeSize = 32;      ///< `probesize`'s smallest, bytes (libavformat's).
+constexpr int kMaxProbeSize = 1 << 30; ///< `probesize`'s largest, bytes (1 GiB).
+constexpr int kMaxAnalyzeDurationUs = 600'000'000; ///< `analyzeduration`'s largest: 10 min, us.
 } // namespace
 
 Result<FfmpegSourceSettings> FfmpegSourceSettings::parse(hal::OptionList options)
@@ -28,8 +32,19 @@ Result<FfmpegSourceSettings> FfmpegSourceSettings::parse(hal::OptionList options
         return unexpected(Errc::InvalidArgument, "ffmpeg option fps must be in 0..10000");
     if (!timeout || *timeout < 1)
         return unexpected(Errc::InvalidArgument, "ffmpeg option timeout_ms must be positive");
+    auto probeSize = options.getInt("probesize", 0);
+    if (!probeSize ||
+        (*probeSize != 0 && (*probeSize < kMinProbeSize || *probeSize > kMaxProbeSize)))
+        return unexpected(Errc::InvalidArgument,
+                          "ffmpeg option probesize must be 32..1073741824 bytes (0: default)");
+    auto analyze = options.getInt("analyzeduration", 0);
+    if (!analyze || *analyze < 0 || *analyze > kMaxAnalyzeDurationUs)
+        return unexpected(Errc::InvalidArgument,
+                          "ffmpeg option analyzeduration must be 0..600000000 us (0: default)");
     s.fps = *fps;
     s.timeoutMs = *timeout;
+    s.probeSize = *probeSize;
+    s.analyzeDurationUs = *analyze;
     if (auto f = options.find("format"))
         s.format = std::string(*f);
     if (auto r = options.find("rendition")) {

@@ -45,6 +45,17 @@ struct FfmpegSourceSettings {
     double fps = 0.0;       ///< Image-sequence frame rate (`fps`); 0 = demuxer default.
     std::string format;     ///< Forced demuxer (`format`); empty = probe.
     int timeoutMs = 10'000; ///< Longest blocking libavformat call (`timeout_ms`).
+    /// Bytes the stream-info probe reads at most (`probesize`, ffmpeg's option and unit); 0 =
+    /// libavformat's 5 000 000.
+    int probeSize = 0;
+    /// Media time the stream-info probe reads at most, microseconds (`analyzeduration`, ffmpeg's
+    /// option and unit); 0 = kLiveAnalyzeDurationUs for a live input (a network URL, a FIFO),
+    /// libavformat's 5 s for a file.
+    int analyzeDurationUs = 0;
+    /// A live input's `analyzeduration` by default: 3 s, longer than the 2 s between key frames
+    /// that `depthtouch encode` writes to URLs (a receiver joining just after one waits for the
+    /// next), shorter than libavformat's 5 s (docs/playing.md "Tune-in").
+    static constexpr int kLiveAnalyzeDurationUs = 3'000'000;
     /// HLS multivariant input: the variant kept (`rendition`: highest, lowest or a height in
     /// pixels, the tallest at most that); 0 = highest, -1 = lowest (drivers/ffmpeg/src/
     /// hls_variants.h).
