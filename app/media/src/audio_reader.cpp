@@ -38,6 +38,19 @@ int playableRate(int rate) noexcept
     return rate >= hal::kMinAudioRate && rate <= hal::kMaxAudioRate ? rate : 48000;
 }
 
+/// Input samples converted at a time: swr's output for them is at most 24 times as many frames
+/// (8 kHz to 192 kHz), 393 216, 6 MiB at 8 channels.
+constexpr int kConvertSamples = 16384;
+
+/// \return whether \a rate Hz is a rate the reader takes (hal::kMinSourceRate..kMaxSourceRate).
+bool saneRate(int rate) noexcept
+{
+    return rate >= hal::kMinSourceRate && rate <= hal::kMaxSourceRate;
+}
+
+constexpr const char *kBadRate = "The sound's sample rate is outside 8000..384000 Hz";
+static_assert(hal::kMinSourceRate == 8000 && hal::kMaxSourceRate == 384000, "kBadRate says so");
+
 /// Packets a live input's queue holds at most: about 10 s of AAC at 48 kHz (1024 frames each).
 constexpr std::size_t kMaxQueuedPackets = 512;
 
@@ -100,6 +113,7 @@ struct AudioReader::Impl {
     AVChannelLayout outLayout{};
     PacketPtr packet;
     FramePtr frame;
+    int frameUsed = -1;                ///< Samples of `frame` converted so far; -1: no frame held.
     std::vector<std::int16_t> pending; ///< Converted frames not yet read.
     std::size_t pendingFrames = 0;
     std::size_t pendingPos = 0; ///< Frames of `pending` already read.
@@ -118,8 +132,11 @@ struct AudioReader::Impl {
     }
 
     /// Sets swr up for frames like \a f (the first one, or one whose format changed).
+    /// InvalidArgument for a rate outside hal::kMinSourceRate..kMaxSourceRate.
     Result<void> configure(const AVFrame &f)
     {
+        if (!saneRate(f.sample_rate))
+            return unexpected(Errc::InvalidArgument, kBadRate);
         if (swr && f.format == inFormat && f.sample_rate == inRate &&
             av_channel_layout_compare(&f.ch_layout, &inLayout) == 0)
             return ok();
@@ -141,25 +158,50 @@ struct AudioReader::Impl {
         return ok();
     }
 
-    /// Converts `frame` into `pending` and drops what lies before skipUntil.
+    /// Drops the frame being converted (a seek, an error).
+    void dropFrame() noexcept
+    {
+        av_frame_unref(frame.get());
+        frameUsed = -1;
+    }
+
+    /// \return the planes of `frame` from its sample \a at.
+    std::vector<const std::uint8_t *> planesFrom(int at) const
+    {
+        const auto fmt = static_cast<AVSampleFormat>(frame->format);
+        const bool planar = av_sample_fmt_is_planar(fmt) != 0;
+        const int channels = frame->ch_layout.nb_channels;
+        const auto step = static_cast<std::size_t>(av_get_bytes_per_sample(fmt)) *
+                          static_cast<std::size_t>(planar ? 1 : channels);
+        std::vector<const std::uint8_t *> planes(static_cast<std::size_t>(planar ? channels : 1));
+        for (std::size_t c = 0; c < planes.size(); ++c)
+            planes[c] = frame->extended_data[c] + static_cast<std::size_t>(at) * step;
+        return planes;
+    }
+
+    /// Converts the next kConvertSamples samples at most of `frame` into `pending` (so that its
+    /// size stays bounded whatever the frame's length) and drops what lies before skipUntil.
     Result<void> convert()
     {
-        DT_TRY(configure(*frame));
+        if (frameUsed == 0)
+            DT_TRY(configure(*frame));
         const std::int64_t ts = frame->best_effort_timestamp;
-        double start =
-            ts == AV_NOPTS_VALUE ? nextStart : static_cast<double>(ts - origin) * av_q2d(tb);
+        double start = ts == AV_NOPTS_VALUE || frameUsed > 0
+                           ? nextStart
+                           : static_cast<double>(ts - origin) * av_q2d(tb);
         // A container whose timestamps are rounded (MKV: to the millisecond) puts each frame up
         // to half a unit off the previous one's end: that is no gap and no overlap.
         if (haveNext && std::abs(start - nextStart) <= kContinuity)
             start = nextStart;
         haveNext = true;
-        const int room = swr_get_out_samples(swr.get(), frame->nb_samples);
+        const int samples = std::min(frame->nb_samples - frameUsed, kConvertSamples);
+        std::vector<const std::uint8_t *> planes = planesFrom(frameUsed);
+        frameUsed += samples;
+        const int room = std::max(swr_get_out_samples(swr.get(), samples), 1);
         const auto channels = static_cast<std::size_t>(out.channels);
-        pending.resize(static_cast<std::size_t>(std::max(room, 1)) * channels);
+        pending.resize(static_cast<std::size_t>(room) * channels);
         auto *dst = reinterpret_cast<std::uint8_t *>(pending.data());
-        const int n =
-            swr_convert(swr.get(), &dst, std::max(room, 1),
-                        const_cast<const std::uint8_t **>(frame->extended_data), frame->nb_samples);
+        const int n = swr_convert(swr.get(), &dst, room, planes.data(), samples);
         if (n < 0)
             return unexpected(Errc::InvalidArgument, "Failed to convert the sound");
         pendingFrames = static_cast<std::size_t>(n);
@@ -180,12 +222,19 @@ struct AudioReader::Impl {
     Result<Got> decodeMore()
     {
         for (;;) {
-            const int got = avcodec_receive_frame(decoder.get(), frame.get());
-            if (got >= 0) {
-                DT_TRY(convert());
-                av_frame_unref(frame.get());
+            if (frameUsed >= 0) { // a frame being converted, a piece at a time
+                auto converted = convert();
+                if (!converted || frameUsed >= frame->nb_samples)
+                    dropFrame();
+                if (!converted)
+                    return unexpected(converted.error());
                 if (pendingPos < pendingFrames)
                     return Got::Frame;
+                continue;
+            }
+            const int got = avcodec_receive_frame(decoder.get(), frame.get());
+            if (got >= 0) {
+                frameUsed = 0;
                 continue;
             }
             if (got == AVERROR_EOF || (got == AVERROR(EAGAIN) && flushed))
@@ -230,8 +279,12 @@ struct AudioReader::Impl {
         decoder->pkt_timebase = tb;
         if (avcodec_open2(decoder.get(), dec, nullptr) < 0)
             return unexpected(Errc::NotSupported, "The sound's decoder refused the stream");
+        // The decoder's rate where it reads one from the stream (AAC's), else the container's.
+        const int rate = decoder->sample_rate > 0 ? decoder->sample_rate : par.sample_rate;
+        if (!saneRate(rate))
+            return unexpected(Errc::InvalidArgument, kBadRate);
         const int channels = par.ch_layout.nb_channels;
-        out.sampleRate = playableRate(par.sample_rate);
+        out.sampleRate = playableRate(rate);
         out.channels = channels >= 1 && channels <= hal::kMaxAudioChannels ? channels : 2;
         if (out.channels == channels && par.ch_layout.order != AV_CHANNEL_ORDER_UNSPEC)
             av_channel_layout_copy(&outLayout, &par.ch_layout);
@@ -349,6 +402,7 @@ Result<void> AudioReader::seek(double seconds)
     if (av_seek_frame(a.in.get(), a.index, target, AVSEEK_FLAG_BACKWARD) < 0)
         return unexpected(Errc::Io, "The sound could not seek");
     avcodec_flush_buffers(a.decoder.get());
+    a.dropFrame();
     a.swr.reset(); // set up again from the next frame: nothing of before the seek stays in it
     a.pendingFrames = a.pendingPos = 0;
     a.skipUntil = at;

@@ -19,6 +19,8 @@ constexpr double kMinQueueSeconds = 0.01;
 constexpr double kMaxQueueSeconds = 1.0;
 constexpr double kFastestDevice = 1.005; ///< The fastest a device's rate is believed, × nominal.
 constexpr double kRunSlack = 0.02;       ///< Sound a device may seem to play ahead of time, s.
+/// The longest sleep of the audio thread between two looks at its stop request.
+constexpr platform::Duration kStopSlice = std::chrono::milliseconds(10);
 
 /// Frames of a ramp (the fade-in and fade-out of a join) at \a rate Hz.
 std::size_t rampFrames(int rate) noexcept
@@ -78,11 +80,16 @@ Result<void> AudioPlayer::startThread()
     // A quarter of the queue between turns keeps it at least three quarters full.
     const auto period = std::chrono::duration_cast<platform::Duration>(
         std::chrono::duration<double>(config_.queueSeconds / 4.0));
+    // The wait is slept in slices of kStopSlice at most: a stop (a join) waits for one slice and
+    // the step under way (bounded: AudioReader converts a bounded piece at a time), not a turn.
     thread_.emplace(platform::kAudioThread, platform::kPlainThreadOptions,
                     [this, period](platform::StopToken stop) {
                         while (!stop.stopRequested()) {
                             step();
-                            clock_.sleepFor(period);
+                            for (platform::Duration left = period;
+                                 left > platform::Duration{0} && !stop.stopRequested();
+                                 left -= kStopSlice)
+                                clock_.sleepFor(std::min(left, kStopSlice));
                         }
                     });
     if (auto r = thread_->start(); !r) {

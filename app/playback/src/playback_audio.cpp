@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "depthtouch/hal/audio_source.h"
 #include "depthtouch/platform/report_file.h"
 
 #include "playback_impl.h"
@@ -55,8 +56,11 @@ void attachAudio(Playback::Impl &m, Session &s, PlaybackInfo &info)
         source = m.hal.makeAudioSource(m.openingUrl);
     }
     if (!source || !*source) {
-        info.notes.emplace_back(std::string("no sound: ") +
-                                (source ? "no audio stream could be read" : source.error().what));
+        std::string why = source ? "no audio stream could be read" : source.error().what;
+        const int rate = s.receiver->source().info().audio.front().sampleRate;
+        if (rate < hal::kMinSourceRate || rate > hal::kMaxSourceRate) // a lying header
+            why += " (the stream says " + std::to_string(rate) + " Hz)";
+        info.notes.emplace_back("no sound: " + why);
         return;
     }
     AudioPlayerConfig ac = m.config.audio;

@@ -3,7 +3,8 @@
 // written (PCM is lossless), the blocks' media times, a sample-accurate seek, the end, a file
 // without sound, and the soundtrack's events where the picture has them (the click at the clip's
 // start, the head's tone loud as it passes the camera and silent where it turns back); a live
-// input's sound decoded from the packets its demuxer hands over (in order, at their times).
+// input's sound decoded from the packets its demuxer hands over (in order, at their times); a
+// header's rate outside 8..384 kHz refused.
 #include "depthtouch/media/audio_reader.h"
 #include "depthtouch/media/sound_file.h"
 #include "depthtouch/synthetic/soundtrack.h"
@@ -13,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <chrono>
 #include <filesystem>
@@ -145,6 +147,53 @@ TEST_F(SoundTest, aFileWithoutSoundOpensAsNoneAndANonMediaFileIsRefused)
     EXPECT_EQ(writeWavFile(path("bad.wav"), {1, 2, 3}, {kRate, 2}).error().code,
               Errc::InvalidArgument); // not whole frames
     EXPECT_EQ(writeWavFile(path("none/x.wav"), {1, 2}, {kRate, 2}).error().code, Errc::Io);
+}
+
+TEST_F(SoundTest, aRateOutsideEightTo384KilohertzIsRefusedAsBadAudio)
+{
+    // GIVEN WAV files whose header gives 1 Hz, 7999 Hz, 384001 Hz and 1e9 Hz (issue 60: 1 Hz was
+    // resampled to 48 kHz with buffers sized by the ratio, gigabytes for 8 channels), and the
+    // edges 8 kHz and 384 kHz
+    const std::vector<std::int16_t> pcm(8 * 4800, 100);
+    const auto wavAt = [&](const char *name, std::uint32_t rate) {
+        EXPECT_TRUE(writeWavFile(path(name), pcm, {kRate, 8}));
+        std::FILE *f = std::fopen(path(name).c_str(), "r+b");
+        EXPECT_NE(f, nullptr);
+        const std::uint8_t le[4] = {
+            static_cast<std::uint8_t>(rate), static_cast<std::uint8_t>(rate >> 8),
+            static_cast<std::uint8_t>(rate >> 16), static_cast<std::uint8_t>(rate >> 24)};
+        std::fseek(f, 24, SEEK_SET); // the fmt chunk's nSamplesPerSec
+        std::fwrite(le, 1, 4, f);
+        std::fclose(f);
+        return path(name);
+    };
+    // WHEN each is opened THEN the lying ones are InvalidArgument, the edges open as is
+    for (const std::uint32_t rate : {1u, 7999u, 384001u, 1'000'000'000u}) {
+        auto reader = AudioReader::open(wavAt("lying.wav", rate));
+        ASSERT_FALSE(reader) << rate << " Hz";
+        EXPECT_EQ(reader.error().code, Errc::InvalidArgument);
+        EXPECT_NE(std::string(reader.error().what).find("8000..384000 Hz"), std::string::npos);
+    }
+    auto low = AudioReader::open(wavAt("low.wav", 8000));
+    ASSERT_TRUE(low && *low);
+    EXPECT_EQ((*low)->format().sampleRate, 8000);
+    auto high = AudioReader::open(wavAt("high.wav", 384000));
+    ASSERT_TRUE(high && *high);
+    EXPECT_EQ((*high)->format().sampleRate, 48000); // above what an output takes: resampled
+    std::vector<std::int16_t> buf(8 * 2048);
+    std::size_t frames = 0;
+    for (auto b = (*high)->read(buf.data(), 2048); b && b->frames > 0;
+         b = (*high)->read(buf.data(), 2048))
+        frames += b->frames;
+    EXPECT_NEAR(static_cast<double>(frames), 4800.0 / 8.0, 20.0); // 12.5 ms at 48 kHz
+    // AND a live stream's lying rate is refused as well
+    hal::AudioStreamInfo stream;
+    stream.codec = "pcm_s16le";
+    stream.sampleRate = 1;
+    stream.channels = 8;
+    auto live = AudioReader::fromPackets(stream);
+    ASSERT_FALSE(live);
+    EXPECT_EQ(live.error().code, Errc::InvalidArgument);
 }
 
 TEST_F(SoundTest, theSoundtracksEventsAreThePicturesEvents)

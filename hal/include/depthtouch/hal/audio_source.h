@@ -20,6 +20,13 @@
 
 namespace depthtouch::hal {
 
+/// The sample rates an AudioSource takes from a sound's header, Hz: 8 kHz (narrow-band telephony)
+/// to 384 kHz (the highest of studio PCM). A stream outside is refused as bad audio (a damaged or
+/// lying header): played as is it would be resampled by any ratio, with buffers sized by it (1 Hz
+/// to 48 kHz took 3.95 GB for 8 channels).
+inline constexpr int kMinSourceRate = 8000;
+inline constexpr int kMaxSourceRate = 384000;
+
 /// \brief What one AudioSource::read() gave.
 struct PcmBlock {
     std::size_t frames = 0; ///< Frames written to the caller's buffer; 0 at the end of the sound.
