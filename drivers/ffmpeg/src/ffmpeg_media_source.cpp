@@ -12,6 +12,7 @@
 #include "depthtouch/drivers/common/backend_options.h"
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
+#include "device_input.h"
 #include "ffmpeg_common.h"
 #include "h264_sps.h"
 #include "hls_variants.h"
@@ -95,17 +96,18 @@ struct FfmpegMediaSource::Impl {
     void readDuration() noexcept;
     /// Lists the audio stream \a st in info.audio.
     void addAudioStream(const AVStream &st);
-    /// \return what libavformat opens for \a url: itself, or for a FIFO `pipe:FD` once a writer
-    /// came within the timeout (open(2) of a FIFO would block until one does; the descriptor stays
-    /// non-blocking so libavformat's reads honour the interrupt callback).
-    Result<std::string> urlToOpen(const char *url)
+    /// \return what libavformat opens for \a url: itself, or for a FIFO or a device (but one the
+    /// forced format opens itself) `pipe:FD`, opened here non-blocking so that its reads honour
+    /// the interrupt callback (device_input.h; a FIFO once a writer came within the timeout).
+    Result<std::string> urlToOpen(const char *url, const AVInputFormat *forced)
     {
-        if (platform::pathKind(url) != platform::PathKind::Fifo)
+        const platform::PathKind kind = platform::pathKind(url);
+        if (!isDeviceInput(kind, forced != nullptr && (forced->flags & AVFMT_NOFILE) != 0))
             return std::string(url);
-        auto fd = platform::openFifoForReading(url, std::chrono::milliseconds(settings.timeoutMs));
+        armDeadline();
+        auto fd = openDeviceInput(url, kind, clock, ioDeadline, interrupted);
         if (!fd)
-            return unexpected(fd.error().code == Errc::Timeout ? Errc::Timeout : Errc::Io,
-                              "The input is a FIFO with no writer", fd.error().sysErrno);
+            return unexpected(fd.error());
         fifo = std::move(*fd);
         return "pipe:" + std::to_string(fifo.get());
     }
@@ -174,7 +176,7 @@ struct FfmpegMediaSource::Impl {
     std::atomic<bool> interrupted{false};          ///< interrupt() was called (until close()).
     std::atomic<std::uint32_t> cancelRequests{0};  ///< cancelRead() calls.
     std::atomic<std::uint32_t> cancelsConsumed{0}; ///< Of them, those a read or a seek took.
-    platform::UniqueFd fifo; ///< A FIFO input, opened here (read by libavformat as pipe:FD).
+    platform::UniqueFd fifo; ///< A FIFO or device input, opened here (read as pipe:FD).
     av::InputContextPtr fmt;
     av::PacketPtr packet;
     PendingPackets pending; ///< Read ahead of the timed metadata at open: delivered first.
@@ -215,7 +217,7 @@ Result<void> FfmpegMediaSource::Impl::openInput(const char *url)
             return unexpected(Errc::NotSupported, "Unknown container format (option format)");
         }
     }
-    auto openUrl = urlToOpen(url);
+    auto openUrl = urlToOpen(url, forced);
     if (!openUrl) {
         avformat_free_context(ctx);
         return unexpected(openUrl.error());

@@ -29,7 +29,8 @@
 /// (platform/thread_config.h): the render thread (kRenderThread, owns the GL context while the
 /// Playback lives; from the first open), its prep worker (kPrepThread) and recorder
 /// (kRecordThread); the receiver's decode thread and the haptic task's threads; and the opener's
-/// thread (async_opener.h, a plain detached thread).
+/// threads (async_opener.h, plain threads: at most two, one of them an abandoned, interrupted
+/// open).
 #include <cstdint>
 #include <functional>
 #include <memory>
