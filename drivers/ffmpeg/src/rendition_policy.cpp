@@ -10,13 +10,13 @@ namespace depthtouch::drivers::ffmpeg {
 
 namespace {
 
-/// \return the tallest (highest BANDWIDTH) rung at most \a limit bits/s, or -1.
+/// \return the tallest (highest BANDWIDTH) usable rung at most \a limit bits/s, or -1.
 long tallestWithin(const std::vector<Rung> &rungs, double limit) noexcept
 {
     long best = -1;
     for (std::size_t i = 0; i < rungs.size(); ++i) {
         const auto rate = static_cast<double>(rungs[i].bitRate);
-        if (rungs[i].bitRate > 0 && rate <= limit &&
+        if (rungs[i].usable && rungs[i].bitRate > 0 && rate <= limit &&
             (best < 0 || rungs[i].bitRate > rungs[static_cast<std::size_t>(best)].bitRate))
             best = static_cast<long>(i);
     }
@@ -82,12 +82,12 @@ std::size_t RenditionPolicy::choose(const std::vector<Rung> &rungs, std::size_t 
     const auto playing = static_cast<double>(rungs[current].bitRate);
     if (throughput < playing) {
         long down = tallestWithin(rungs, kDownShare * throughput);
-        if (down < 0) // none fits: the shortest
+        if (down < 0) // none fits: the shortest usable one
             for (std::size_t i = 0; i < rungs.size(); ++i)
-                if (rungs[i].bitRate > 0 &&
+                if (rungs[i].usable && rungs[i].bitRate > 0 &&
                     (down < 0 || rungs[i].bitRate < rungs[static_cast<std::size_t>(down)].bitRate))
                     down = static_cast<long>(i);
-        return static_cast<std::size_t>(down);
+        return down < 0 ? current : static_cast<std::size_t>(down);
     }
     if (sinceSwitch < kUpHoldSeconds)
         return current;

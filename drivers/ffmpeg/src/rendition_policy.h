@@ -62,9 +62,12 @@ private:
     long long first_ = -1;  ///< The first bucket's number.
 };
 
-/// \brief One rung of the ladder: its BANDWIDTH (bits/s, 0 when the playlist gives none).
+/// \brief One rung of the ladder: its BANDWIDTH (bits/s, 0 when the playlist gives none), and
+/// whether the playing streams' decoders decode it (rendition_match.h): a rung that is not
+/// usable is never chosen.
 struct Rung {
     long long bitRate = 0;
+    bool usable = true;
 };
 
 /// \brief The switching rule above.
@@ -76,8 +79,8 @@ struct RenditionPolicy {
     /// \param rungs the ladder, any order; \a current an index into it.
     /// \param throughput bits/s (ThroughputEstimate::bitsPerSecond(); 0: unknown, no change).
     /// \param sinceSwitch seconds since the last switch (or the start).
-    /// \return the rung to play: \a current when nothing calls for a change. A ladder whose
-    /// rungs give no BANDWIDTH never changes.
+    /// \return the rung to play, a usable one (or \a current): \a current when nothing calls for
+    /// a change. A ladder whose rungs give no BANDWIDTH never changes.
     static std::size_t choose(const std::vector<Rung> &rungs, std::size_t current,
                               double throughput, double sinceSwitch) noexcept;
 };

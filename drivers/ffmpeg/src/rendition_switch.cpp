@@ -7,6 +7,7 @@
 #include <climits>
 
 #include "depthtouch/platform/log.h"
+#include "rendition_match.h"
 
 extern "C" {
 #include <libavformat/avformat.h>
@@ -30,17 +31,6 @@ std::int64_t microseconds(std::int64_t ts, AVRational tb) noexcept
     return ts == AV_NOPTS_VALUE ? kNone : av_rescale_q(ts, tb, kMicroseconds);
 }
 
-/// \return the libav index of the \a ordinal-th stream of \a type in program \a p, or -1.
-int streamOfKind(const AVFormatContext &ctx, const AVProgram &p, AVMediaType type, int ordinal)
-{
-    for (unsigned k = 0; k < p.nb_stream_indexes; ++k) {
-        const unsigned i = p.stream_index[k];
-        if (i < ctx.nb_streams && ctx.streams[i]->codecpar->codec_type == type && ordinal-- == 0)
-            return static_cast<int>(i);
-    }
-    return -1;
-}
-
 } // namespace
 
 void RenditionSwitch::start(const AVFormatContext &ctx, int kept,
@@ -58,9 +48,35 @@ void RenditionSwitch::start(const AVFormatContext &ctx, int kept,
             tracks_[static_cast<std::size_t>(i)].video = true;
     sizes_ = rungs;
     rungs_.clear();
-    for (const hal::RenditionInfo &r : rungs)
-        rungs_.push_back(Rung{r.bitRate});
+    refusals_.assign(rungs.size(), std::string());
+    for (std::size_t p = 0; p < rungs.size(); ++p) {
+        refusals_[p] = renditionMismatch(ctx, kept, static_cast<int>(p));
+        rungs_.push_back(Rung{rungs[p].bitRate, refusals_[p].empty()});
+    }
     mapProgram(ctx, kept);
+}
+
+std::size_t RenditionSwitch::choose(double now)
+{
+    const double bps = throughput_.bitsPerSecond();
+    const auto current = static_cast<std::size_t>(current_);
+    const std::size_t to = RenditionPolicy::choose(rungs_, current, bps, now - lastSwitch_);
+    // The rung the rule would take were every rung usable: when it is not, say why, once.
+    std::vector<Rung> all = rungs_;
+    for (Rung &r : all)
+        r.usable = true;
+    const std::size_t wanted = RenditionPolicy::choose(all, current, bps, now - lastSwitch_);
+    if (wanted != to && !refusals_[wanted].empty()) {
+        const hal::RenditionInfo &b = sizes_[wanted];
+        const hal::RenditionInfo &k = sizes_[static_cast<std::size_t>(kept_)];
+        DT_LOG(Ffmpeg, Warning,
+               "Rendition %dx%d refused: %s (the decoders were opened for %dx%d's); playing "
+               "%dx%d",
+               b.width, b.height, refusals_[wanted].c_str(), k.width, k.height, sizes_[to].width,
+               sizes_[to].height);
+        refusals_[wanted].clear(); // said once
+    }
+    return to;
 }
 
 void RenditionSwitch::mapProgram(const AVFormatContext &ctx, int program)
@@ -127,8 +143,7 @@ RenditionSwitch::Verdict RenditionSwitch::judge(const AVFormatContext &ctx, cons
     now_ = now;
     if (throughput_.add(static_cast<std::size_t>(std::max(p.size, 0)), waited, now) &&
         phase_ == Phase::Steady) {
-        const auto to = RenditionPolicy::choose(rungs_, static_cast<std::size_t>(current_),
-                                                throughput_.bitsPerSecond(), now - lastSwitch_);
+        const std::size_t to = choose(now);
         if (static_cast<int>(to) != current_)
             plan(static_cast<int>(to));
     }

@@ -28,11 +28,19 @@
 /// edge waits for segments to be written, which the throughput cannot tell from a slow link, so
 /// it keeps its first rendition.
 /// Streams are matched by kind and order within their program (the ladder writes each rendition
-/// alike: color, depth, material, sound). A failed seek goes back to the old variant at K; when
-/// that fails too, the read fails (Errc::Io).
-/// Thread-safety: none (the media source's reading thread).
+/// alike: color, depth, material, sound). The receiver's decoders are opened once, for the
+/// streams of the variant read at open: a variant whose streams they cannot decode (another
+/// codec, pixel format or bit depth: rendition_match.h) is never switched to. The switch is
+/// refused rather than the decoders re-opened: the depth (what the finger feels) goes on from a
+/// stream the decoders already decode, on any decoder the device has for that codec, with no
+/// gap; the throughput rule picks among the usable variants instead (a compatible lower rung,
+/// else the playing one stays and stalls rather than lose the depth), and the first time it
+/// wanted an unusable one a warning says which and why (rendition_policy.h). A failed seek goes
+/// back to the old variant at K; when that fails too, the read fails (Errc::Io). Thread-safety:
+/// none (the media source's reading thread).
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "depthtouch/hal/media_source.h"
@@ -84,6 +92,9 @@ private:
         std::int64_t last = INT64_MIN; ///< The last delivered presentation time, microseconds.
         bool joined = false;           ///< Joining: a key frame of the new variant came.
     };
+    /// \return the rung the policy picks at \a now (seconds) among the usable ones; logs, once
+    /// a rung, a switch refused because the rung is not usable.
+    std::size_t choose(double now);
     /// Plans a switch to \a to: Due at once when going down and every video stream's next key
     /// frame is known, else Planned.
     void plan(int to) noexcept;
@@ -99,7 +110,10 @@ private:
     int packetsPlanned_ = 0;
     std::vector<Track> tracks_;   ///< By identity (libav index at open).
     std::vector<int> identityOf_; ///< libav index → identity in the playing variant, or -1.
-    std::vector<Rung> rungs_;
+    std::vector<Rung> rungs_;     ///< Usable: its streams match the kept program's.
+    /// Why each program's streams do not decode as the kept program's ("" when they do, or once
+    /// the refusal was logged).
+    std::vector<std::string> refusals_;
     std::vector<hal::RenditionInfo> sizes_;
     ThroughputEstimate throughput_;
     double lastSwitch_ = -1.0; ///< Seconds (judge()'s clock).

@@ -90,5 +90,20 @@ TEST(RenditionPolicyTest, anUnknownThroughputOrALadderWithoutRatesNeverChanges)
     EXPECT_EQ(RenditionPolicy::choose(kLadder, 7, 1.0, 100.0), 7u) << "an index outside: kept";
 }
 
+// A rung the playing decoders cannot decode (another codec: rendition_match.h) is never chosen,
+// down or up; the usable ones are chosen among as if it were not there (issue 60, class 7).
+TEST(RenditionPolicyTest, anUnusableRungIsNeverChosen)
+{
+    std::vector<Rung> ladder = kLadder;
+    ladder[2].usable = false; // the shortest
+    EXPECT_EQ(RenditionPolicy::choose(ladder, 0, 300'000, 100.0), 1u) << "the shortest usable";
+    EXPECT_EQ(RenditionPolicy::choose(ladder, 1, 300'000, 100.0), 1u);
+    ladder[1].usable = false;
+    EXPECT_EQ(RenditionPolicy::choose(ladder, 0, 300'000, 100.0), 0u) << "none: stays";
+    ladder = kLadder;
+    ladder[0].usable = false; // the tallest
+    EXPECT_EQ(RenditionPolicy::choose(ladder, 2, 10'000'000, 100.0), 1u);
+}
+
 } // namespace
 } // namespace depthtouch::drivers::ffmpeg

@@ -13,10 +13,12 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "depthtouch/platform/log.h"
 #include "ffmpeg_test_support.h"
 
 namespace depthtouch {
@@ -157,6 +159,95 @@ TEST_F(RenditionSwitchTest, aFixedRenditionNeverChanges)
                                 "timeout_ms=1000000,rendition=highest", nullptr, "", &link);
     ASSERT_EQ(d.frames.size(), static_cast<std::size_t>(kFrames));
     EXPECT_EQ(colours(d, 0.0), std::string(kFrames, 'r'));
+}
+
+/// A ladder whose renditions are not all coded alike (issue 60, class 7): red H.264 320x240,
+/// optionally green (lime) H.264 240x180, and blue HEVC 160x120 (the shortest). The decoders are
+/// opened for the H.264 rendition read at open: the HEVC one is never switched to (its packets
+/// would not decode: before, every picture after the switch was a decode error), one warning says
+/// so, and the way down goes to the shortest H.264 rendition instead, when there is one.
+class RenditionCodecTest : public RenditionSwitchTest {
+protected:
+    void SetUp() override
+    {
+        FfmpegCliTest::SetUp(); // not the H.264-only ladder
+        if (IsSkipped() || HasFatalFailure())
+            return;
+        platform::setLogSink(
+            [](void *user, platform::LogLevel level, const char *, const char *message) {
+                if (level == platform::LogLevel::Warning &&
+                    std::string_view(message).substr(0, 10) == "Rendition ")
+                    static_cast<std::vector<std::string> *>(user)->push_back(message);
+            },
+            &warnings_);
+    }
+    void TearDown() override { platform::setLogSink(nullptr, nullptr); }
+    /// Writes the ladder: with \a green, three renditions, else two.
+    void ladder(bool green)
+    {
+        const std::string in = green ? " -f lavfi -i color=c=lime:s=240x180:r=30:d=8" : "";
+        const std::string map = green ? "-map 0:v -map 2:v -map 1:v " : "-map 0:v -map 1:v ";
+        const std::string codecs = green
+                                       ? "-c:v:0 libx264 -c:v:1 libx264 -c:v:2 libx265 -b:v:0 "
+                                         "1000k -b:v:1 500k -b:v:2 200k "
+                                       : "-c:v:0 libx264 -c:v:1 libx265 -b:v:0 1000k -b:v:1 200k ";
+        ASSERT_TRUE(ffmpeg("-f lavfi -i color=c=red:s=320x240:r=30:d=8 -f lavfi -i "
+                           "color=c=blue:s=160x120:r=30:d=8" +
+                           in + " " + map + codecs +
+                           "-pix_fmt yuv420p -x265-params log-level=error -preset ultrafast -g 60 "
+                           "-keyint_min 60 -sc_threshold 0 -f hls -hls_time 2 -hls_playlist_type "
+                           "vod -hls_segment_filename " +
+                           tmp_.path("seg_%v_%d.ts") + " -var_stream_map '" +
+                           (green ? "v:0 v:1 v:2" : "v:0 v:1") + "' -master_pl_name master.m3u8 " +
+                           tmp_.path("out_%v.m3u8")));
+    }
+    /// \return each decoded frame's colour: 'g' green (luma about 145), 'r' red (81), 'b' blue
+    /// (41); checks every frame is 320x240, not corrupt, and the times rising by one frame.
+    static std::string hues(const Decoded &d)
+    {
+        std::string out;
+        for (std::size_t i = 0; i < d.frames.size(); ++i) {
+            EXPECT_EQ(d.frames[i].size(), 320u * 240u * 3u / 2u) << "frame " << i;
+            EXPECT_FALSE(d.corrupt[i]) << "frame " << i;
+            const int y = d.frames[i].empty() ? 0 : d.frames[i][0];
+            out += y > 120 ? 'g' : y > 61 ? 'r' : 'b';
+            if (i > 0) {
+                EXPECT_NEAR(std::chrono::duration<double>(d.pts[i] - d.pts[i - 1]).count(),
+                            1.0 / kFps, 1e-3)
+                    << "frame " << i;
+            }
+        }
+        return out;
+    }
+    std::vector<std::string> warnings_;
+};
+
+TEST_F(RenditionCodecTest, aSlowLinkKeepsTheRenditionItDecodesRatherThanSwitchToAnotherCodec)
+{
+    ladder(false);
+    ScriptedClock link(std::chrono::milliseconds(200)); // far below even the smaller rendition
+    const Decoded d = play(link);
+    EXPECT_EQ(d.stats.framesDropped, 0u);
+    ASSERT_EQ(d.frames.size(), static_cast<std::size_t>(kFrames)) << "every picture decoded";
+    EXPECT_EQ(hues(d), std::string(kFrames, 'r')) << "stays on the H.264 rendition";
+    ASSERT_EQ(warnings_.size(), 1u) << "one line says why";
+    EXPECT_NE(warnings_[0].find("Rendition 160x120 refused"), std::string::npos) << warnings_[0];
+    EXPECT_NE(warnings_[0].find("hevc"), std::string::npos) << warnings_[0];
+    EXPECT_NE(warnings_[0].find("h264"), std::string::npos) << warnings_[0];
+}
+
+TEST_F(RenditionCodecTest, theWayDownGoesToTheShortestRenditionOfTheSameCodec)
+{
+    ladder(true);
+    ScriptedClock link(std::chrono::milliseconds(200));
+    const Decoded d = play(link);
+    EXPECT_EQ(d.stats.framesDropped, 0u);
+    ASSERT_EQ(d.frames.size(), static_cast<std::size_t>(kFrames)) << "no picture lost";
+    const std::string c = hues(d);
+    EXPECT_EQ(c, std::string(60, 'r') + std::string(kFrames - 60, 'g'))
+        << "down to green (H.264) at the first key frame, never to blue (HEVC)";
+    ASSERT_EQ(warnings_.size(), 1u);
+    EXPECT_NE(warnings_[0].find("playing 240x180"), std::string::npos) << warnings_[0];
 }
 
 } // namespace
