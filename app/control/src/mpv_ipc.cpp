@@ -217,6 +217,18 @@ std::string getProperty(const json &command, const json *requestId, player::Stat
     return reply("success", requestId, &data);
 }
 
+/// \return whether the flag property \a named (pause) already has \a value: mpv answers success for
+/// `set_property pause false` while playing, where the player's `play` command would be refused.
+bool alreadySet(player::StateMachine &machine, const Named &named, const json &value)
+{
+    if (named.property != Property::Pause)
+        return false;
+    const std::optional<bool> on = flag(value);
+    const player::CommandOutcome now = read(machine, named);
+    return on && now.accepted && std::holds_alternative<bool>(now.data) &&
+           std::get<bool>(now.data) == *on;
+}
+
 std::string setProperty(const json &command, const json *requestId, player::StateMachine &machine,
                         bool fromString)
 {
@@ -230,6 +242,8 @@ std::string setProperty(const json &command, const json *requestId, player::Stat
         return reply(kUnavailable, requestId);
     if (text->empty())
         return reply(kFormat, requestId);
+    if (alreadySet(machine, *arg.named, command[2]))
+        return reply("success", requestId);
     return run(machine, *text, requestId);
 }
 

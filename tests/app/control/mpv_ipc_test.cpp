@@ -78,6 +78,15 @@ TEST(MpvIpcTest, setPropertyCycleAddAndKeypressDriveThePlayer)
     EXPECT_EQ(p.m.state(), PlayerState::Paused);
     EXPECT_EQ(reply(R"({"command":["cycle","pause"]})", p.m), success);
     EXPECT_EQ(p.m.state(), PlayerState::Playing);
+    // A property set to the value it has is a success in mpv, not the refused command "play".
+    EXPECT_EQ(reply(R"({"command":["set_property","pause",false]})", p.m), success);
+    EXPECT_EQ(p.m.state(), PlayerState::Playing);
+    EXPECT_EQ(reply(R"({"command":["set_property_string","pause","no"]})", p.m), success);
+    EXPECT_EQ(reply(R"({"command":["set_property","pause",true]})", p.m), success);
+    EXPECT_EQ(reply(R"({"command":["set_property","pause",true]})", p.m), success);
+    EXPECT_EQ(p.m.state(), PlayerState::Paused);
+    EXPECT_EQ(reply(R"({"command":["set_property","pause",false]})", p.m), success);
+    EXPECT_EQ(p.m.state(), PlayerState::Playing);
     EXPECT_EQ(reply(R"({"command":["set_property","time-pos",30]})", p.m), success);
     EXPECT_EQ(reply(R"({"command":["add","time-pos",-10]})", p.m), success);
     EXPECT_EQ(reply(R"({"command":["set_property","percent-pos",50]})", p.m), success);
@@ -129,8 +138,11 @@ TEST(MpvIpcTest, setPropertyCycleAddAndKeypressDriveThePlayer)
               json({{"error", "property not found"}}));
     EXPECT_EQ(reply(R"({"command":["set_property","pause","maybe"]})", p.m),
               json({{"error", "unsupported format for accessing property"}}));
+    // The sets to the value the property had reached the player not at all: one pause, one resume.
     EXPECT_EQ(p.fake.calls, (std::vector<std::string>{"open movie.mkv",
                                                       "startPlayback",
+                                                      "pause",
+                                                      "resume",
                                                       "pause",
                                                       "resume",
                                                       "seek 30 absolute",
