@@ -8,6 +8,7 @@
 #include <iterator>
 #include <memory>
 #include <string_view>
+#include <tuple>
 
 #include "depthtouch/drivers/common/backend_options.h"
 #include "depthtouch/platform/file_access.h"
@@ -15,6 +16,7 @@
 #include "device_input.h"
 #include "ffmpeg_common.h"
 #include "h264_sps.h"
+#include "hls_ladder_open.h"
 #include "hls_variants.h"
 #include "rendition_switch.h"
 #include "still_image.h"
@@ -157,6 +159,7 @@ struct FfmpegMediaSource::Impl {
         packet.reset();
         frame.reset();
         fmt.reset();
+        ladderText.reset(); // after the demuxer that read it
         fifo.reset();
         streams.clear();
         avToHal.clear();
@@ -177,6 +180,9 @@ struct FfmpegMediaSource::Impl {
     std::atomic<std::uint32_t> cancelRequests{0};  ///< cancelRead() calls.
     std::atomic<std::uint32_t> cancelsConsumed{0}; ///< Of them, those a read or a seek took.
     platform::UniqueFd fifo; ///< A FIFO or device input, opened here (read as pipe:FD).
+    /// A ladder opened on the renditions that answered: its playlist, read by fmt (declared
+    /// before it, destroyed after it).
+    std::unique_ptr<PlaylistText> ladderText;
     av::InputContextPtr fmt;
     av::PacketPtr packet;
     PendingPackets pending; ///< Read ahead of the timed metadata at open: delivered first.
@@ -242,9 +248,23 @@ Result<void> FfmpegMediaSource::Impl::openInput(const char *url)
         ctx->max_analyze_duration = settings.analyzeDurationUs > 0
                                         ? settings.analyzeDurationUs
                                         : FfmpegSourceSettings::kLiveAnalyzeDurationUs;
+    const auto limits = [fps = ctx->fps_probe_size, size = ctx->probesize,
+                         duration = ctx->max_analyze_duration](AVFormatContext &c) {
+        std::tie(c.fps_probe_size, c.probesize, c.max_analyze_duration) =
+            std::tuple(fps, size, duration);
+    };
     armDeadline();
     int r = avformat_open_input(&ctx, openUrl->c_str(), forced, &opts); // frees ctx on failure
     av_dict_free(&opts);
+    if (r < 0 && forced == nullptr && !fifo && !interrupted.load(std::memory_order_relaxed)) {
+        // One rendition of a ladder that does not answer fails the whole open: open the others.
+        const LadderOpenHooks hooks{{&Impl::interrupt, this},
+                                    [this] { armDeadline(); },
+                                    [this] { return interrupted.load(); },
+                                    limits};
+        if (auto answering = openAnsweringRenditions(*openUrl, hooks, ladderText))
+            std::tie(ctx, r) = std::tuple(*answering, 0);
+    }
     if (r < 0) {
         char msg[AV_ERROR_MAX_STRING_SIZE] = {};
         av_strerror(r, msg, sizeof msg);

@@ -45,9 +45,12 @@ bool taller(const Variant &a, const Variant &b) noexcept
     return a.height != b.height ? a.height > b.height : a.bitRate > b.bitRate;
 }
 
-/// \return whether variant \a a serves \a choice better than \a b.
+/// \return whether variant \a a serves \a choice better than \a b: any with a video stream
+/// serves better than one without.
 bool better(const Variant &a, const Variant &b, const RenditionChoice &choice) noexcept
 {
+    if ((a.height > 0) != (b.height > 0)) // one without video (its playlist did not answer)
+        return a.height > 0;
     if (choice.maxHeight < 0)
         return taller(b, a);
     if (choice.maxHeight == 0)

@@ -34,7 +34,9 @@ Result<RenditionChoice> parseRenditionChoice(std::string_view text);
 
 /// \brief Keeps one variant of \a ctx when its demuxer is HLS and it lists more than one program:
 /// every stream outside the chosen program gets AVDISCARD_ALL. A variant's height is its tallest
-/// video stream's; ties go to the higher `variant_bitrate`. Call after avformat_find_stream_info()
+/// video stream's; ties go to the higher `variant_bitrate`; a variant without a video stream (its
+/// playlist did not answer: libavformat lists it with no streams) is kept only when all are so.
+/// Call after avformat_find_stream_info()
 /// (the sizes are not known before; it reads the first segment of every variant): from then on
 /// the demuxer fetches the kept variant's segments alone.
 /// \param[out] renditions every variant, in ctx->programs' order, the kept one marked; cleared
