@@ -35,5 +35,6 @@ void registerBenchRtCommand(CLI::App &bench, int &exitCode);
 void registerBenchMediaCommand(CLI::App &bench, int &exitCode);
 void registerBenchFeelCommand(CLI::App &bench, int &exitCode);
 void registerBenchAvCommand(CLI::App &bench, int &exitCode);
+void registerBenchStabilityCommand(CLI::App &bench, int &exitCode);
 
 } // namespace depthtouch::cli

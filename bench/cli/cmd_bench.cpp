@@ -18,6 +18,7 @@ void registerBenchCommand(CLI::App &app, int &exitCode)
     registerBenchMediaCommand(*bench, exitCode);
     registerBenchFeelCommand(*bench, exitCode);
     registerBenchAvCommand(*bench, exitCode);
+    registerBenchStabilityCommand(*bench, exitCode);
 }
 
 } // namespace depthtouch::cli

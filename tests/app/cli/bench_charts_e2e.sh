@@ -76,6 +76,24 @@ assert "goal: update p99.9" in gp and "rebuild amortised" in gp, "speed_vs_accur
 PY
 bench feel --quick --method finger --data "$work/no-data"
 png feel feel.png
+bench stability --quick
+png stability stability.png
+png stability stability_energy.png
+# Its limits table is the one its CSV gives: per series, the first k that is not stable.
+python3 - "$work/stability" <<'PY' || fail "bench stability: limits differ from its runs"
+import csv, sys
+d = sys.argv[1]
+rows = list(csv.DictReader(open(d + "/stability.csv")))
+assert rows and {"wall", "finger", "modified"} <= {r["method"] for r in rows}, "methods"
+first = {}
+for r in rows:
+    key = (r["method"], r["surface"], r["servo_rate_hz"], r["hand_damping_n_s_per_m"])
+    if r["outcome"] not in ("settled", "decaying"):
+        first.setdefault(key, float(r["stiffness_n_per_m"]))
+for l in csv.DictReader(open(d + "/stability_limits.csv")):
+    key = (l["method"], l["surface"], l["servo_rate_hz"], l["hand_damping_n_s_per_m"])
+    assert abs(first.get(key, 0.0) - float(l["first_unstable_n_per_m"])) < 1e-3, key
+PY
 bench av --duration 2 --frames 30 --size 96x64
 png av av.png
 # The offsets it prints are the ones its A/V logs hold: the p99 of |offset_ms| in av-null.csv.

@@ -36,7 +36,7 @@ says "--stiffness" play x.mkv --stiffness abc
 # --help shows no parser artefacts: no "--no-fifo{false}" default, no validator name after a type
 # ("INT:N >= 0"), in any command's help
 for c in "" demo play backends touch encode probe completion "bench haptics" "bench render" \
-    "bench rt" "bench media" "bench feel"; do
+    "bench rt" "bench media" "bench feel" "bench stability"; do
     # shellcheck disable=SC2086 # the command words are split on purpose
     "$exe" $c --help >"$work/help" 2>&1 || fail "'$c --help': exit $?"
     if grep -nE '\{(true|false)\}|\b(INT|UINT|FLOAT|TEXT):' "$work/help"; then
