@@ -1,0 +1,221 @@
+/// \file
+/// \brief libdepthtouch's C client API (depthtouch/client.h), linked as the shared library: every
+/// call on a NULL handle or a bad argument answers an error code with mpv's text; options before
+/// dt_initialize() are play's (names, ranges); the C program of client_c_scenario.c plays a mock
+/// clip; the event queue is bounded; quit ends in DT_EVENT_SHUTDOWN. No judgement by the wall
+/// clock: waits are bounded polls for a state.
+
+#include <cstdint>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "depthtouch/client.h"
+#include "lib/client_c_scenario.h"
+
+namespace {
+
+/// A handle on the mock backends (no GL, no sound card, no device), initialized.
+dt_handle *mockPlayer()
+{
+    dt_handle *h = dt_create();
+    for (const char *name : {"display", "haptic", "source", "decoder"})
+        EXPECT_EQ(dt_set_option_string(h, name, "mock"), 0) << name;
+    EXPECT_EQ(dt_set_option_string(h, "no-audio", ""), 0);
+    EXPECT_EQ(dt_initialize(h), 0);
+    return h;
+}
+
+TEST(ClientApiTest, everyCallOnANullHandleIsAnError)
+{
+    const char *args[] = {"pause", nullptr};
+    double d = 0.0;
+    int flag = 0;
+    char *text = nullptr;
+    EXPECT_EQ(dt_initialize(nullptr), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_set_option_string(nullptr, "stiffness", "800"), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_command(nullptr, args), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_command_async(nullptr, 1, args), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_set_property_string(nullptr, "pause", "yes"), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_set_property_double(nullptr, "stiffness", 800.0), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_set_property_flag(nullptr, "pause", 1), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_get_property_string(nullptr, "state", &text), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_get_property_double(nullptr, "time-pos", &d), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_get_property_flag(nullptr, "pause", &flag), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_observe_property(nullptr, 1, "pause", DT_FORMAT_FLAG), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_unobserve_property(nullptr, 1), DT_ERROR_INVALID_PARAMETER);
+    const dt_event *e = dt_wait_event(nullptr, 0.0);
+    ASSERT_NE(e, nullptr);
+    EXPECT_EQ(e->event_id, DT_EVENT_NONE);
+    EXPECT_EQ(e->error, DT_ERROR_INVALID_PARAMETER);
+    dt_wakeup(nullptr);
+    dt_set_wakeup_callback(nullptr, nullptr, nullptr);
+    dt_terminate_destroy(nullptr);
+    dt_free(nullptr);
+    EXPECT_EQ(text, nullptr);
+}
+
+TEST(ClientApiTest, everyNullArgumentIsAnError)
+{
+    dt_handle *h = dt_create();
+    ASSERT_NE(h, nullptr);
+    const char *empty[] = {nullptr};
+    double d = 0.0;
+    EXPECT_EQ(dt_set_option_string(h, nullptr, "1"), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_set_option_string(h, "stiffness", nullptr), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_command(h, nullptr), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_command(h, empty), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_command_async(h, 1, empty), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_set_property_string(h, nullptr, "x"), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_set_property_string(h, "pause", nullptr), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_set_property_double(h, nullptr, 1.0), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_get_property_string(h, "state", nullptr), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_get_property_double(h, nullptr, &d), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_get_property_flag(h, "pause", nullptr), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_observe_property(h, 1, nullptr, DT_FORMAT_FLAG), DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_observe_property(h, 1, "pause", static_cast<dt_format>(2)),
+              DT_ERROR_INVALID_PARAMETER);
+    EXPECT_EQ(dt_observe_property(h, 1, "no-such-property", DT_FORMAT_FLAG),
+              DT_ERROR_PROPERTY_NOT_FOUND);
+    // Before dt_initialize: commands and properties wait for the player.
+    const char *pause[] = {"pause", nullptr};
+    EXPECT_EQ(dt_command(h, pause), DT_ERROR_UNINITIALIZED);
+    EXPECT_EQ(dt_get_property_double(h, "time-pos", &d), DT_ERROR_UNINITIALIZED);
+    EXPECT_EQ(dt_get_property_double(h, "no-such-property", &d), DT_ERROR_PROPERTY_NOT_FOUND);
+    EXPECT_EQ(dt_set_property_string(h, "pause", "yes"), DT_ERROR_UNINITIALIZED);
+    EXPECT_EQ(dt_wait_event(h, 0.0)->event_id, DT_EVENT_NONE);
+    dt_terminate_destroy(h);
+}
+
+TEST(ClientApiTest, errorStringsAreMpvs)
+{
+    EXPECT_STREQ(dt_error_string(DT_ERROR_SUCCESS), "success");
+    EXPECT_STREQ(dt_error_string(DT_ERROR_INVALID_PARAMETER), "invalid parameter");
+    EXPECT_STREQ(dt_error_string(DT_ERROR_UNINITIALIZED), "core not initialized");
+    EXPECT_STREQ(dt_error_string(DT_ERROR_OPTION_NOT_FOUND), "option not found");
+    EXPECT_STREQ(dt_error_string(DT_ERROR_PROPERTY_NOT_FOUND), "property not found");
+    EXPECT_STREQ(dt_error_string(DT_ERROR_PROPERTY_UNAVAILABLE), "property unavailable");
+    EXPECT_STREQ(dt_error_string(DT_ERROR_PROPERTY_FORMAT),
+                 "unsupported format for accessing property");
+    EXPECT_STREQ(dt_error_string(DT_ERROR_COMMAND), "error running command");
+    EXPECT_STREQ(dt_error_string(DT_ERROR_LOADING_FAILED), "loading failed");
+    for (int code = DT_ERROR_SUCCESS; code >= DT_ERROR_HAPTIC_INIT_FAILED; --code)
+        EXPECT_STRNE(dt_error_string(code), "unknown error") << code;
+    EXPECT_STREQ(dt_error_string(1), "unknown error");
+    EXPECT_STREQ(dt_error_string(-1000), "unknown error");
+    EXPECT_STREQ(dt_event_name(DT_EVENT_PROPERTY_CHANGE), "property-change");
+    EXPECT_STREQ(dt_event_name(DT_EVENT_END_FILE), "end-file");
+    EXPECT_EQ(dt_client_api_version(), DT_CLIENT_API_VERSION);
+}
+
+TEST(ClientApiTest, optionsAreThoseOfPlayWithItsRanges)
+{
+    dt_handle *h = dt_create();
+    EXPECT_EQ(dt_set_option_string(h, "stiffness", "3000"), 0);
+    EXPECT_EQ(dt_set_option_string(h, "stiffness", "3000.5"), DT_ERROR_OPTION_FORMAT);
+    EXPECT_EQ(dt_set_option_string(h, "stiffness", "99"), DT_ERROR_OPTION_FORMAT);
+    EXPECT_EQ(dt_set_option_string(h, "stiffness", "1e999"), DT_ERROR_OPTION_FORMAT);
+    EXPECT_EQ(dt_set_option_string(h, "stiffness", "800 N/m"), DT_ERROR_OPTION_FORMAT);
+    EXPECT_EQ(dt_set_option_string(h, "rate", "99"), DT_ERROR_OPTION_FORMAT);
+    EXPECT_EQ(dt_set_option_string(h, "reengage", "sometimes"), DT_ERROR_OPTION_FORMAT);
+    EXPECT_EQ(dt_set_option_string(h, "reengage", "release"), 0);
+    EXPECT_EQ(dt_set_option_string(h, "snapshot-every", "-1"), DT_ERROR_OPTION_FORMAT);
+    EXPECT_EQ(dt_set_option_string(h, "record-crf", "52"), DT_ERROR_OPTION_FORMAT);
+    EXPECT_EQ(dt_set_option_string(h, "no-audio", "maybe"), DT_ERROR_OPTION_FORMAT);
+    EXPECT_EQ(dt_set_option_string(h, "no-audio", "no"), 0);
+    EXPECT_EQ(dt_set_option_string(h, "duration", "-1"), DT_ERROR_OPTION_FORMAT);
+    EXPECT_EQ(dt_set_option_string(h, "audio-device", "null"), 0);
+    EXPECT_EQ(dt_set_option_string(h, "--stiffness", "800"), DT_ERROR_OPTION_NOT_FOUND);
+    // The command line's own: the input is loadfile's, config files are the host's business.
+    for (const char *name : {"url", "config", "no-config", "show-config"})
+        EXPECT_EQ(dt_set_option_string(h, name, "x"), DT_ERROR_OPTION_NOT_FOUND) << name;
+    // A property that is an option, before dt_initialize: the option.
+    EXPECT_EQ(dt_set_property_double(h, "stiffness", 5000.0), DT_ERROR_OPTION_FORMAT);
+    EXPECT_EQ(dt_set_property_double(h, "volume", 50.0), 0);
+    EXPECT_EQ(dt_set_property_flag(h, "mute", 1), 0);
+    dt_terminate_destroy(h);
+}
+
+TEST(ClientApiTest, aBackendThatIsNotThereFailsInitialize)
+{
+    dt_handle *h = dt_create();
+    EXPECT_EQ(dt_set_option_string(h, "display", "no-such-display"), 0);
+    const int rc = dt_initialize(h);
+    EXPECT_LT(rc, 0);
+    EXPECT_STRNE(dt_error_string(rc), "unknown error");
+    // Still usable: a good option, and it starts.
+    EXPECT_EQ(dt_set_option_string(h, "display", "mock"), 0);
+    EXPECT_EQ(dt_set_option_string(h, "haptic", "none"), 0);
+    EXPECT_EQ(dt_set_option_string(h, "no-audio", "yes"), 0);
+    EXPECT_EQ(dt_initialize(h), 0);
+    dt_terminate_destroy(h);
+}
+
+TEST(ClientApiTest, aCProgramPlaysAMockClip)
+{
+    char why[256] = "";
+    const int line = dt_test_c_scenario("mock://clip?frames=60&fps=30", why, sizeof why);
+    EXPECT_EQ(line, 0) << "client_c_scenario.c:" << line << ": " << why;
+}
+
+TEST(ClientApiTest, theEventQueueIsBoundedAndSaysWhatItDropped)
+{
+    dt_handle *h = mockPlayer();
+    const char *get[] = {"get_property", "state", nullptr};
+    constexpr int kSent = 1500;
+    for (int i = 0; i < kSent; ++i)
+        ASSERT_EQ(dt_command_async(h, static_cast<std::uint64_t>(i + 1), get), 0);
+    // A synchronous call runs after every queued one: all replies are queued by now.
+    double d = 0.0;
+    EXPECT_EQ(dt_get_property_double(h, "stiffness", &d), 0);
+    dt_event *e = dt_wait_event(h, 0.0);
+    ASSERT_EQ(e->event_id, DT_EVENT_QUEUE_OVERFLOW);
+    const std::uint64_t dropped = *static_cast<const std::uint64_t *>(e->data);
+    EXPECT_GE(dropped, 500u);
+    int replies = 0;
+    std::uint64_t last = 0;
+    for (e = dt_wait_event(h, 0.0); e->event_id != DT_EVENT_NONE; e = dt_wait_event(h, 0.0)) {
+        if (e->event_id != DT_EVENT_COMMAND_REPLY)
+            continue;
+        EXPECT_EQ(e->error, 0);
+        EXPECT_GT(e->reply_userdata, last); // in order, the oldest dropped
+        last = e->reply_userdata;
+        ++replies;
+    }
+    EXPECT_LE(replies, 1000);
+    EXPECT_EQ(last, static_cast<std::uint64_t>(kSent));
+    dt_terminate_destroy(h);
+}
+
+TEST(ClientApiTest, theWakeupCallbackIsCalledForEachEvent)
+{
+    dt_handle *h = mockPlayer();
+    int calls = 0;
+    dt_set_wakeup_callback(
+        h, [](void *d) { ++*static_cast<int *>(d); }, &calls);
+    const char *get[] = {"get_property", "state", nullptr};
+    ASSERT_EQ(dt_command_async(h, 9, get), 0);
+    double d = 0.0;
+    EXPECT_EQ(dt_get_property_double(h, "stiffness", &d), 0); // after the reply was queued
+    dt_set_wakeup_callback(h, nullptr, nullptr);
+    EXPECT_GE(calls, 1);
+    dt_wakeup(h);
+    dt_terminate_destroy(h);
+}
+
+TEST(ClientApiTest, quitEndsInShutdownAndLaterCallsAreRefused)
+{
+    dt_handle *h = mockPlayer();
+    const char *quit[] = {"quit", nullptr};
+    EXPECT_EQ(dt_command(h, quit), 0);
+    bool shutdown = false;
+    for (int waits = 0; waits < 60 && !shutdown; ++waits)
+        shutdown = dt_wait_event(h, 1.0)->event_id == DT_EVENT_SHUTDOWN;
+    EXPECT_TRUE(shutdown);
+    double d = 0.0;
+    EXPECT_EQ(dt_get_property_double(h, "stiffness", &d), DT_ERROR_UNINITIALIZED);
+    EXPECT_EQ(dt_command(h, quit), DT_ERROR_UNINITIALIZED);
+    dt_terminate_destroy(h);
+}
+
+} // namespace
