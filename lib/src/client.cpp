@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "client_options.h"
+#include "depthtouch/platform/log.h"
 #include "event_queue.h"
 #include "player_thread.h"
 #include "session.h"
@@ -202,6 +203,11 @@ int dt_initialize(dt_handle *ctx)
         const std::lock_guard<std::mutex> lock(ctx->mutex);
         if (ctx->player)
             return DT_ERROR_INVALID_PARAMETER;
+        // As `play`: the log's lines only when asked for (option verbose, or DT_LOG's levels).
+        if (std::getenv("DT_LOG") == nullptr)
+            depthtouch::platform::setLogLevel(ctx->options.verbose
+                                                  ? depthtouch::platform::LogLevel::Info
+                                                  : depthtouch::platform::LogLevel::Off);
         return PlayerThread::start(ctx->options, ctx->observers, ctx->events, ctx->player);
     });
 }
