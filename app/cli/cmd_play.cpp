@@ -376,7 +376,10 @@ PlayResult finishPlay(const PlayOptions &opt, const playback::PlayRunFigures &ru
         if (!out.failure.empty()) {
             if (!errorPrinted) // else printed when it happened
                 failLine(out.failure);
-            result.exitCode = kExitBadInput;
+            // A thread the system would not start (RLIMIT_NPROC, no memory) is no fault of the
+            // input: exit 1, as for a lost output.
+            result.exitCode =
+                out.failureKind == Errc::OutOfResources ? kExitFailure : kExitBadInput;
         } else if (out.stoppedOpening) {
             failLine("stopped while opening " + platform::quotedText(opt.url, 120));
             result.exitCode = kExitFailure;

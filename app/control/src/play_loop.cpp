@@ -32,9 +32,10 @@ LoopOutcome playUntilDone(player::StateMachine &machine, ControlLoop &loop,
             out.opened = true;
         // A failure counts while the player stays in Error; one it left (a client's stop or
         // play, with --idle) was recovered from.
-        if (st == player::PlayerState::Error)
+        if (st == player::PlayerState::Error) {
             out.failure = machine.errorReason();
-        else
+            out.failureKind = machine.errorKind();
+        } else
             out.failure.clear();
         const double elapsed = platform::toSeconds(clock.now() - start);
         if (out.rssAfterWarmup < 0.0 && elapsed >= 5.0) {

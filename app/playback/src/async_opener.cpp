@@ -232,7 +232,7 @@ std::optional<AsyncOpener::Outcome> AsyncOpener::poll()
     reap(false);
     std::string error;
     if (!launchNext(error))
-        return Outcome{nullptr, std::move(error)};
+        return Outcome{nullptr, std::move(error), Errc::OutOfResources};
     if (!current_ || !current_->finished())
         return std::nullopt;
     Outcome out;

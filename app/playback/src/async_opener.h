@@ -45,6 +45,9 @@ public:
     struct Outcome {
         std::unique_ptr<receiver::Receiver> receiver;
         std::string error; ///< Empty on success.
+        /// Whose failure: the input's (InvalidArgument) or the system's (OutOfResources: the
+        /// opening thread could not be started).
+        Errc kind = Errc::InvalidArgument;
     };
     /// The most jobs (threads) alive at once: the one in flight and one being abandoned.
     static constexpr std::size_t kMaxJobs = 2;

@@ -82,6 +82,7 @@ Result<void> Playback::startOpening(std::string_view url, bool untilOpened)
     m.tearDown();
     m.openDone = false;
     m.openError.clear();
+    m.openErrorKind = Errc::InvalidArgument;
     // The source's open and probe may block (a FIFO without a writer, a silent stream): they run
     // on the opener's thread, and report() finishes the open when they are done.
     std::string why;
@@ -170,7 +171,11 @@ std::string attachHaptics(Playback::Impl &m, Session &s, PlaybackInfo &info)
 void Playback::finishOpen(std::unique_ptr<receiver::Receiver> rec)
 {
     Impl &m = *impl_;
-    auto fail = [&](std::string why) { m.openError = std::move(why); };
+    // A thread that cannot be started is the system's failure (exit 1), the rest the input's.
+    auto fail = [&](std::string why, Errc kind = Errc::InvalidArgument) {
+        m.openError = std::move(why);
+        m.openErrorKind = kind;
+    };
 
     auto s = std::make_unique<Session>();
     s->openStarted = m.openStarted;
@@ -181,7 +186,7 @@ void Playback::finishOpen(std::unique_ptr<receiver::Receiver> rec)
         return fail(std::move(why));
     s->displayConfig = displayConfigFor(ri, m.config);
     if (std::string why = m.startRenderThread(); !why.empty())
-        return fail(std::move(why));
+        return fail(std::move(why), Errc::OutOfResources);
 
     s->live = !s->receiver->source().info().seekable;
     s->adaptive = !s->receiver->source().info().renditions.empty();
@@ -189,11 +194,14 @@ void Playback::finishOpen(std::unique_ptr<receiver::Receiver> rec)
     m.silentProgress = 0; // the new decode thread counts from 0
     s->decoder = std::make_unique<receiver::DecoderThread>(*s->receiver);
     if (auto r = s->decoder->start(); !r)
-        return fail(std::string("cannot start the decode thread: ") + r.error().what);
+        return fail(std::string("cannot start the decode thread: ") + r.error().what,
+                    Errc::OutOfResources);
     if (s->task) {
         if (auto r = s->task->start(); !r) {
             s->decoder->stop();
-            return fail(std::string("cannot start the haptic task: ") + r.error().what);
+            return fail(std::string("cannot start the haptic task: ") + r.error().what,
+                        r.error().code == Errc::OutOfResources ? Errc::OutOfResources
+                                                               : Errc::InvalidArgument);
         }
     }
     m.owned = std::move(s);
@@ -339,8 +347,10 @@ void Playback::report(player::StateMachine &machine)
     if (std::optional<AsyncOpener::Outcome> opened = m.opener.poll()) {
         if (opened->receiver)
             finishOpen(std::move(opened->receiver));
-        else
+        else {
             m.openError = std::move(opened->error);
+            m.openErrorKind = opened->kind;
+        }
     }
     if (m.openDone) {
         m.openDone = false;
@@ -349,7 +359,8 @@ void Playback::report(player::StateMachine &machine)
     if (!m.openError.empty()) {
         const std::string why = std::move(m.openError);
         m.openError.clear();
-        machine.onOpenFailed(why);
+        machine.onOpenFailed(why, m.openErrorKind);
+        m.openErrorKind = Errc::InvalidArgument;
     }
     const RenderShared::Report r = m.takeReport();
     if (!r.failure.empty())

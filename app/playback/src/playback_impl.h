@@ -11,6 +11,7 @@
 #include <string>
 
 #include "depthtouch/platform/realtime_thread.h"
+#include "depthtouch/platform/result.h"
 #include "depthtouch/platform/thread_config.h"
 #include "depthtouch/playback/playback.h"
 
@@ -36,6 +37,7 @@ struct Playback::Impl : RenderShared {
     platform::TimePoint openStarted{}; ///< When the opener was started (tune-in time).
     bool openDone = false;             ///< open() finished: report onOpened().
     std::string openError;             ///< open() failed: report onOpenFailed().
+    Errc openErrorKind = Errc::InvalidArgument; ///< Whose: onOpenFailed().
     bool hapticsEnabled;
     double stiffness;
     double volume; ///< Of the sound, percent (kept for the next inputs).

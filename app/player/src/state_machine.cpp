@@ -438,7 +438,7 @@ CommandOutcome StateMachine::apply(const char *what, Result<void> r, F &&onSucce
     }
     if (isRefusal(r.error().code))
         return CommandOutcome::refuse(std::string(what) + " refused: " + r.error().what);
-    fail(std::string(what) + " failed: " + r.error().what);
+    fail(std::string(what) + " failed: " + r.error().what, r.error().code);
     return CommandOutcome::refuse(errorReason_);
 }
 
@@ -450,11 +450,11 @@ bool StateMachine::onOpened()
     return true;
 }
 
-bool StateMachine::onOpenFailed(std::string_view reason)
+bool StateMachine::onOpenFailed(std::string_view reason, Errc kind)
 {
     if (state_ != PlayerState::Opening)
         return false;
-    fail("open failed: " + std::string(reason));
+    fail("open failed: " + std::string(reason), kind);
     return true;
 }
 
@@ -522,10 +522,11 @@ void StateMachine::setState(PlayerState state)
     emit(PlayerEventKind::StateChanged);
 }
 
-void StateMachine::fail(std::string reason)
+void StateMachine::fail(std::string reason, Errc kind)
 {
     DT_LOG(Player, Error, "%s", reason.c_str());
     errorReason_ = std::move(reason);
+    errorKind_ = kind;
     const bool changed = state_ != PlayerState::Error;
     state_ = PlayerState::Error;
     emit(PlayerEventKind::Error, errorReason_);
@@ -538,7 +539,7 @@ void StateMachine::enterOrFail(PlayerState next, const char *action, const Resul
     if (r)
         setState(next);
     else
-        fail(std::string(action) + " failed: " + r.error().what);
+        fail(std::string(action) + " failed: " + r.error().what, r.error().code);
 }
 
 void StateMachine::emit(PlayerEventKind kind, std::string message)

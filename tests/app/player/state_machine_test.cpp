@@ -419,7 +419,12 @@ TEST(StateMachineTest, openingCompletesOrFails)
     EXPECT_TRUE(failing.onOpenFailed("no depth stream"));
     EXPECT_EQ(failing.state(), S::Error);
     EXPECT_EQ(failing.errorReason(), "open failed: no depth stream");
+    EXPECT_EQ(failing.errorKind(), Errc::InvalidArgument) << "an input that does not open";
     EXPECT_FALSE(failing.onOpenFailed("late")) << "not opening any more";
+    // A thread the system would not start: the system's failure (play exits 1, not 2).
+    ASSERT_TRUE(failing.execute("play").accepted);
+    EXPECT_TRUE(failing.onOpenFailed("cannot start the decode thread", Errc::OutOfResources));
+    EXPECT_EQ(failing.errorKind(), Errc::OutOfResources);
 
     FakePlayerActions fake3;
     StateMachine noStart(fake3, defaultSettings());
@@ -427,6 +432,7 @@ TEST(StateMachineTest, openingCompletesOrFails)
     fake3.failures["startPlayback"] = Error(Errc::Busy, "display busy");
     EXPECT_TRUE(noStart.onOpened());
     EXPECT_EQ(noStart.state(), S::Error) << "a refused start cannot leave it opening for ever";
+    EXPECT_EQ(noStart.errorKind(), Errc::Busy) << "the failed action's own code";
 }
 
 TEST(StateMachineTest, playWithoutUrlIsRefused)

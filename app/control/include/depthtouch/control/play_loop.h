@@ -14,6 +14,7 @@
 #include "depthtouch/control/control_loop.h"
 #include "depthtouch/control/control_server.h"
 #include "depthtouch/platform/clock.h"
+#include "depthtouch/platform/result.h"
 #include "depthtouch/player/state_machine.h"
 
 namespace depthtouch::control {
@@ -21,6 +22,9 @@ namespace depthtouch::control {
 /// How the main loop ended.
 struct LoopOutcome {
     std::string failure;         ///< The reason when the player ended in Error.
+    /// Whose failure: the input's (InvalidArgument) or the system's (OutOfResources: a thread
+    /// that could not be started), player::StateMachine::errorKind().
+    Errc failureKind = Errc::InvalidArgument;
     bool opened = false;         ///< The input played (Playing or Paused was reached).
     bool stoppedOpening = false; ///< The stop flag or the duration came while it was opening.
     bool stopped = false;        ///< The stop flag or the duration ended it (not a quit).

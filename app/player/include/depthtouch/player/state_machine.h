@@ -228,8 +228,10 @@ public:
     ///@{
     /// Opening finished: starts playback (Playing), or Error when startPlayback() fails.
     bool onOpened();
-    /// Opening failed: Error with \a reason.
-    bool onOpenFailed(std::string_view reason);
+    /// Opening failed: Error with \a reason. \a kind says whose the failure is: the input's
+    /// (InvalidArgument, the default: a file or stream that does not open or play) or the system's
+    /// (OutOfResources: a thread that could not be started), which errorKind() then answers.
+    bool onOpenFailed(std::string_view reason, Errc kind = Errc::InvalidArgument);
     /// The last frame was presented (Playing or Paused): with loop, seeks to 0 and stays; without,
     /// stops (Stopped). Listeners get EndOfFile.
     bool onEndOfStream();
@@ -257,6 +259,9 @@ public:
     [[nodiscard]] const KeyMap &keyMap() const noexcept { return keys_; }
     /// The reason of the last failure (kept until the next one).
     [[nodiscard]] const std::string &errorReason() const noexcept { return errorReason_; }
+    /// The kind of the last failure: the Errc of the action that failed, InvalidArgument for a
+    /// failure reported without one (onFailure(), onOpenFailed() without a kind).
+    [[nodiscard]] Errc errorKind() const noexcept { return errorKind_; }
     /// True once quit was accepted.
     [[nodiscard]] bool quitRequested() const noexcept { return quit_; }
     ///@}
@@ -272,7 +277,7 @@ private:
     /// refusal → refused with the action's reason; failure → Error.
     template <class F> CommandOutcome apply(const char *what, Result<void> r, F &&onSuccess);
     void setState(PlayerState state);
-    void fail(std::string reason);
+    void fail(std::string reason, Errc kind = Errc::InvalidArgument);
     /// The outcome of the player action \a action ("start", "stop"): \a next when \a r
     /// succeeded, else Error with the reason "ACTION failed: WHY".
     void enterOrFail(PlayerState next, const char *action, const Result<void> &r);
@@ -291,6 +296,7 @@ private:
     bool mute_;
     KeyMap keys_;
     std::string errorReason_;
+    Errc errorKind_ = Errc::InvalidArgument;
     bool quit_ = false;
     bool eofReached_ = false; ///< The stream ended without loop (mpv's eof-reached).
     bool notifying_ = false; ///< True while listeners run: commands from them are refused.
