@@ -218,15 +218,26 @@ PlayConfigLoad loadPlayConfigFiles(const std::vector<PlayConfigFile> &files,
     return load;
 }
 
+namespace {
+
+/// \return \a text fit for a TOML comment: TOML allows no control character but tab there, and a
+/// path may hold a newline or bytes that are no UTF-8; such bytes are shown as '?'.
+std::string commentText(const std::string &text)
+{
+    return platform::printableText(text, 4096);
+}
+
+} // namespace
+
 std::string showPlayConfig(const PlayOptions &options, const PlayConfigLoad &load)
 {
     std::ostringstream out;
     out << "# depthtouch play: the settings in effect (later sources win: the system file, the "
            "user file, --config, the command line)\n";
     for (const std::string &path : load.read)
-        out << "# read: " << path << "\n";
+        out << "# read: " << commentText(path) << "\n";
     for (const std::string &path : load.absent)
-        out << "# not found: " << path << "\n";
+        out << "# not found: " << commentText(path) << "\n";
     for (const OptionRow<PlayOptions> &row : playOptionTable()) {
         if ((row.flags & kCommandLineOnly) != 0)
             continue;
@@ -236,9 +247,9 @@ std::string showPlayConfig(const PlayOptions &options, const PlayConfigLoad &loa
         const std::optional<std::string> line =
             std::visit([&](auto field) { return tomlLine(key, options.*field); }, row.field);
         if (line)
-            out << *line << "  # " << origin << "\n";
+            out << *line << "  # " << commentText(origin) << "\n";
         else
-            out << "# " << key << " is not set  # " << origin << "\n";
+            out << "# " << key << " is not set  # " << commentText(origin) << "\n";
     }
     return out.str();
 }

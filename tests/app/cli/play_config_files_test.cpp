@@ -213,6 +213,25 @@ TEST(PlayConfigFilesTest, ShowConfigIsTomlOfTheValuesInEffectEachWithItsOrigin)
     EXPECT_NE(text.find("# not found: /nonexistent/u/play.toml\n"), std::string::npos);
 }
 
+TEST(PlayConfigFilesTest, ShowConfigStaysTomlWhenAPathHoldsANewline)
+{
+    testing::TempDir tmp("dt-play-config-files-");
+    const fs::path file = tmp.dir() / "a\nstiffness = 1\n\x01play.toml";
+    write(file, "stiffness = 900.0\n");
+    PlayOptions o;
+    const PlayConfigLoad load = loadPlayConfigFiles(
+        {{file.string(), true}, {"/nonexistent/b\n[x]/play.toml", false}}, nullptr, o);
+    ASSERT_EQ(load.error, "");
+    const std::string text = showPlayConfig(o, load);
+    toml::table t;
+    ASSERT_NO_THROW(t = toml::parse(text)) << text;
+    EXPECT_EQ(t["stiffness"].value<double>(), 900.0) << "the file's value, not the path's text";
+    EXPECT_FALSE(t.contains("x"));
+    EXPECT_NE(text.find("# read: " + (tmp.dir() / "a?stiffness = 1??play.toml").string() + "\n"),
+              std::string::npos)
+        << text;
+}
+
 /// \return what loadPlayConfigFiles() says of the default file \a path, from a child process
 /// killed after 5 s: "hang" when it did not return.
 std::string defaultFileErrorOrHang(const std::string &path)
