@@ -164,7 +164,7 @@ if(NOT out MATCHES "^/etc/depthtouch/play.toml")
 endif()
 # The maintainer scripts: the service stopped on remove, state forgotten on purge, restarted on upgrade.
 foreach(pair "prerm;deb-systemd-invoke stop depthtouch.service" "postrm;deb-systemd-helper purge depthtouch.service"
-             "postinst;deb-systemd-invoke try-restart depthtouch.service" "postinst;systemd-sysusers depthtouch.conf")
+             "postinst;deb-systemd-invoke try-restart depthtouch.service" "postinst;depthtouch.conf || true")
     list(GET pair 0 script)
     list(GET pair 1 line)
     run(dpkg-deb -I "${debs}" ${script})
