@@ -15,6 +15,7 @@
 #include "commands.h"
 #include "completion.h"
 #include "depthtouch/platform/log.h"
+#include "depthtouch/platform/stack_limit.h"
 #include "suggest.h"
 
 namespace {
@@ -76,6 +77,12 @@ int main(int argc, char **argv)
     // death by SIGPIPE; sockets and pipes of the player see the same error.
     std::signal(SIGPIPE, SIG_IGN);
     std::set_new_handler(&outOfMemory);
+    // `ulimit -s 48` would crash the first deep call of any thread (glibc sizes them all from it).
+    if (const std::string why = depthtouch::platform::ensureStackLimit(); !why.empty()) {
+        depthtouch::platform::printStderrLine(depthtouch::platform::LogLevel::Error,
+                                              "depthtouch: %s", why.c_str());
+        return depthtouch::cli::kExitFailure;
+    }
     int exitCode = depthtouch::cli::kExitOk;
     for (RegisterCommand reg : kCommands)
         reg(app, exitCode);
