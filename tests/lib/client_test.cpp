@@ -158,6 +158,46 @@ TEST(ClientApiTest, aCProgramPlaysAMockClip)
     EXPECT_EQ(line, 0) << "client_c_scenario.c:" << line << ": " << why;
 }
 
+/// \return the first END_FILE within 60 waits of 1 s (other events skipped), or nullptr.
+const dt_event_end_file *waitForEndFile(dt_handle *h)
+{
+    for (int waits = 0; waits < 60;) {
+        const dt_event *e = dt_wait_event(h, 1.0);
+        if (e->event_id == DT_EVENT_END_FILE)
+            return static_cast<const dt_event_end_file *>(e->data);
+        if (e->event_id == DT_EVENT_NONE)
+            ++waits;
+    }
+    return nullptr;
+}
+
+TEST(ClientApiTest, endFileSaysWhyAndThePlayerStaysUp)
+{
+    dt_handle *h = mockPlayer();
+    // A clip of a third of a second, without loop: its end.
+    const char *shortClip[] = {"loadfile", "mock://clip?frames=10&fps=30", nullptr};
+    ASSERT_EQ(dt_command(h, shortClip), 0);
+    const dt_event_end_file *end = waitForEndFile(h);
+    ASSERT_NE(end, nullptr);
+    EXPECT_EQ(end->reason, DT_END_FILE_REASON_EOF);
+    EXPECT_EQ(end->error, 0);
+    int eof = 0;
+    EXPECT_EQ(dt_get_property_flag(h, "eof-reached", &eof), 0);
+    EXPECT_EQ(eof, 1);
+    // An input that does not open: an error, and the player takes the next one.
+    const char *missing[] = {"loadfile", "/nonexistent/clip.mkv", nullptr};
+    ASSERT_EQ(dt_command(h, missing), 0);
+    end = waitForEndFile(h);
+    ASSERT_NE(end, nullptr);
+    EXPECT_EQ(end->reason, DT_END_FILE_REASON_ERROR);
+    EXPECT_EQ(end->error, DT_ERROR_LOADING_FAILED);
+    ASSERT_EQ(dt_command(h, shortClip), 0);
+    end = waitForEndFile(h);
+    ASSERT_NE(end, nullptr);
+    EXPECT_EQ(end->reason, DT_END_FILE_REASON_EOF);
+    dt_terminate_destroy(h);
+}
+
 TEST(ClientApiTest, theEventQueueIsBoundedAndSaysWhatItDropped)
 {
     dt_handle *h = mockPlayer();
