@@ -7,6 +7,8 @@
 
 #include <cstdint>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -195,6 +197,43 @@ TEST(ClientApiTest, endFileSaysWhyAndThePlayerStaysUp)
     end = waitForEndFile(h);
     ASSERT_NE(end, nullptr);
     EXPECT_EQ(end->reason, DT_END_FILE_REASON_EOF);
+    dt_terminate_destroy(h);
+}
+
+TEST(ClientApiTest, callsFromManyThreadsAtOnceAreEachCarriedOut)
+{
+    dt_handle *h = mockPlayer();
+    ASSERT_EQ(dt_observe_property(h, 3, "stiffness", DT_FORMAT_DOUBLE), 0);
+    constexpr int kThreads = 4;
+    constexpr int kCalls = 200;
+    std::vector<int> failures(kThreads, 0);
+    std::vector<std::thread> threads;
+    for (int t = 0; t < kThreads; ++t) {
+        threads.emplace_back([h, t, &failures] {
+            for (int i = 0; i < kCalls; ++i) {
+                double d = 0.0;
+                const double k = 200.0 + 100.0 * t;
+                failures[static_cast<std::size_t>(t)] +=
+                    (dt_set_property_double(h, "stiffness", k) != 0) +
+                    (dt_get_property_double(h, "stiffness", &d) != 0);
+                const char *get[] = {"get_property", "state", nullptr};
+                failures[static_cast<std::size_t>(t)] +=
+                    dt_command_async(h, static_cast<std::uint64_t>(i), get) != 0;
+            }
+        });
+    }
+    int events = 0;
+    for (int i = 0; i < 100; ++i)
+        events += dt_wait_event(h, 0.0)->event_id != DT_EVENT_NONE;
+    for (std::thread &t : threads)
+        t.join();
+    for (int t = 0; t < kThreads; ++t)
+        EXPECT_EQ(failures[static_cast<std::size_t>(t)], 0) << "thread " << t;
+    double k = 0.0;
+    EXPECT_EQ(dt_get_property_double(h, "stiffness", &k), 0);
+    EXPECT_GE(k, 200.0);
+    EXPECT_LE(k, 500.0);
+    (void)events;
     dt_terminate_destroy(h);
 }
 
