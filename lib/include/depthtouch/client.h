@@ -12,8 +12,8 @@
  *
  * Conventions (as libmpv's):
  * - Every function that returns int returns >= 0 (DT_ERROR_SUCCESS) on success and a negative
- *   dt_error code otherwise. A NULL handle or a NULL/invalid argument is DT_ERROR_INVALID_PARAMETER;
- *   no call crashes on one and no C++ exception ever leaves the library.
+ *   dt_error code otherwise. A NULL handle or a NULL/invalid argument is
+ *   DT_ERROR_INVALID_PARAMETER; no call crashes on one and no C++ exception leaves the library.
  * - Strings are UTF-8, NUL-terminated. Strings the library returns (dt_get_property_string) are
  *   owned by the caller and must be freed with dt_free(). Strings passed in are copied; the caller
  *   keeps ownership.
@@ -57,27 +57,27 @@ typedef struct dt_handle dt_handle;
  * the player's own. */
 typedef enum dt_error {
     DT_ERROR_SUCCESS = 0,
-    DT_ERROR_EVENT_QUEUE_FULL = -1,      /* the event queue overflowed (see DT_EVENT_QUEUE_OVERFLOW) */
-    DT_ERROR_NOMEM = -2,                 /* out of memory */
-    DT_ERROR_UNINITIALIZED = -3,         /* needs dt_initialize(), or the player has shut down */
-    DT_ERROR_INVALID_PARAMETER = -4,     /* NULL handle, NULL or malformed argument, unknown command */
-    DT_ERROR_OPTION_NOT_FOUND = -5,      /* no such option */
-    DT_ERROR_OPTION_FORMAT = -6,         /* the value does not parse or is out of the option's range */
-    DT_ERROR_OPTION_ERROR = -7,          /* the option cannot be set now (after dt_initialize) */
-    DT_ERROR_PROPERTY_NOT_FOUND = -8,    /* no such property */
-    DT_ERROR_PROPERTY_FORMAT = -9,       /* the property has another format (a text read as a double) */
-    DT_ERROR_PROPERTY_UNAVAILABLE = -10, /* no value now (time-pos with nothing open), or read-only */
+    DT_ERROR_EVENT_QUEUE_FULL = -1,   /* the event queue overflowed (see DT_EVENT_QUEUE_OVERFLOW) */
+    DT_ERROR_NOMEM = -2,              /* out of memory */
+    DT_ERROR_UNINITIALIZED = -3,      /* needs dt_initialize(), or the player has shut down */
+    DT_ERROR_INVALID_PARAMETER = -4,  /* NULL handle, NULL or malformed argument, unknown command */
+    DT_ERROR_OPTION_NOT_FOUND = -5,   /* no such option */
+    DT_ERROR_OPTION_FORMAT = -6,      /* the value does not parse or is out of the option's range */
+    DT_ERROR_OPTION_ERROR = -7,       /* the option cannot be set now (after dt_initialize) */
+    DT_ERROR_PROPERTY_NOT_FOUND = -8, /* no such property */
+    DT_ERROR_PROPERTY_FORMAT = -9,    /* another format (a text read as a double) */
+    DT_ERROR_PROPERTY_UNAVAILABLE = -10, /* no value now (time-pos, nothing open), read-only */
     DT_ERROR_PROPERTY_ERROR = -11,       /* the player refused the new value */
-    DT_ERROR_COMMAND = -12,              /* the player refused the command (not valid in its state) */
-    DT_ERROR_LOADING_FAILED = -13,       /* the file or stream did not open (DT_EVENT_END_FILE) */
-    DT_ERROR_AO_INIT_FAILED = -14,       /* the sound output could not be opened */
-    DT_ERROR_VO_INIT_FAILED = -15,       /* the display could not be opened */
+    DT_ERROR_COMMAND = -12,        /* the player refused the command (not valid in its state) */
+    DT_ERROR_LOADING_FAILED = -13, /* the file or stream did not open (DT_EVENT_END_FILE) */
+    DT_ERROR_AO_INIT_FAILED = -14, /* the sound output could not be opened */
+    DT_ERROR_VO_INIT_FAILED = -15, /* the display could not be opened */
     DT_ERROR_NOTHING_TO_PLAY = -16,
     DT_ERROR_UNKNOWN_FORMAT = -17,
     DT_ERROR_UNSUPPORTED = -18,
     DT_ERROR_NOT_IMPLEMENTED = -19,
-    DT_ERROR_GENERIC = -20,              /* any other failure */
-    DT_ERROR_HAPTIC_INIT_FAILED = -21    /* the haptic device could not be opened */
+    DT_ERROR_GENERIC = -20,           /* any other failure */
+    DT_ERROR_HAPTIC_INIT_FAILED = -21 /* the haptic device could not be opened */
 } dt_error;
 
 /* \return a static English text of \a error ("success", "invalid parameter", "property not
@@ -155,7 +155,8 @@ DT_EXPORT int dt_set_property_flag(dt_handle *ctx, const char *name, int data);
  * volume %); _flag: 0 or 1 (pause, mute, loop, haptics, contact, idle-active, eof-reached).
  * \return DT_ERROR_SUCCESS; DT_ERROR_PROPERTY_NOT_FOUND, DT_ERROR_PROPERTY_FORMAT (another
  * format: "state" read as a double), DT_ERROR_PROPERTY_UNAVAILABLE (no value now: time-pos with
- * nothing open), DT_ERROR_UNINITIALIZED, DT_ERROR_INVALID_PARAMETER. \a out is unchanged on error. */
+ * nothing open), DT_ERROR_UNINITIALIZED, DT_ERROR_INVALID_PARAMETER. \a out is unchanged on error.
+ */
 DT_EXPORT int dt_get_property_string(dt_handle *ctx, const char *name, char **out);
 DT_EXPORT int dt_get_property_double(dt_handle *ctx, const char *name, double *out);
 DT_EXPORT int dt_get_property_flag(dt_handle *ctx, const char *name, int *out);
@@ -175,13 +176,13 @@ DT_EXPORT int dt_unobserve_property(dt_handle *ctx, uint64_t reply_userdata);
 
 /* Events (mpv_event_id's values for the ones mpv has). */
 typedef enum dt_event_id {
-    DT_EVENT_NONE = 0,           /* dt_wait_event() timed out */
-    DT_EVENT_SHUTDOWN = 1,       /* the player quit ("quit" command): call dt_terminate_destroy() */
-    DT_EVENT_COMMAND_REPLY = 5,  /* a dt_command_async() finished: error, reply_userdata */
-    DT_EVENT_START_FILE = 6,     /* a file or stream starts opening */
-    DT_EVENT_END_FILE = 7,       /* it ended: data is a dt_event_end_file */
-    DT_EVENT_FILE_LOADED = 8,    /* it opened and plays (or is paused) */
-    DT_EVENT_SEEK = 20,          /* a seek was carried out */
+    DT_EVENT_NONE = 0,          /* dt_wait_event() timed out */
+    DT_EVENT_SHUTDOWN = 1,      /* the player quit ("quit" command): call dt_terminate_destroy() */
+    DT_EVENT_COMMAND_REPLY = 5, /* a dt_command_async() finished: error, reply_userdata */
+    DT_EVENT_START_FILE = 6,    /* a file or stream starts opening */
+    DT_EVENT_END_FILE = 7,      /* it ended: data is a dt_event_end_file */
+    DT_EVENT_FILE_LOADED = 8,   /* it opened and plays (or is paused) */
+    DT_EVENT_SEEK = 20,         /* a seek was carried out */
     DT_EVENT_PROPERTY_CHANGE = 22, /* an observed property changed: data is a dt_event_property */
     DT_EVENT_QUEUE_OVERFLOW = 24 /* events were dropped (oldest first): data is a uint64_t count */
 } dt_event_id;
