@@ -126,6 +126,8 @@ std::string_view OptionList::firstUnknownKey(const char *const *known,
                                              std::size_t count) const noexcept
 {
     std::string_view unknown;
+    if (ignoreUnknown_)
+        return unknown;
     forEachOption(text_, [&](std::string_view k, std::string_view) {
         for (std::size_t i = 0; i < count; ++i)
             if (k == known[i])

@@ -167,6 +167,33 @@ TEST_F(SelectBackendTest, nothingToAutoprobeIsNotSupported)
     EXPECT_EQ(report_.message, "Unknown widget backend 'alpha' (available: none compiled in)");
 }
 
+// A backend that takes the option "size" only, refusing any other key (InvalidArgument), as the
+// drivers do through OptionList::firstUnknownKey().
+template <const char *Name> Result<std::unique_ptr<Widget>> strictWidget(const BackendConfig &cfg)
+{
+    gAttempts.emplace_back(Name);
+    static constexpr const char *kKnown[] = {"size"};
+    if (!cfg.options.firstUnknownKey(kKnown, 1).empty())
+        return unexpected(Errc::InvalidArgument, "Unknown widget option");
+    return std::unique_ptr<Widget>(std::make_unique<NamedWidget<Name>>());
+}
+constexpr char kS[] = "strict";
+constexpr Backend<Widget> kOptionTable[] = {
+    {kB, "absent device", true, &failWidget<kB>},
+    {kS, "takes size only", false, &strictWidget<kS>},
+};
+
+TEST_F(SelectBackendTest, aFallbackIgnoresTheOptionsOfTheFirstBackendListed)
+{
+    // `--audio-device alsa,null --audio-device-options device=hw:1`: the options are alsa's; null,
+    // the fallback, does not know "device" and must not refuse it.
+    cfg_.options = OptionList("device=hw:1,size=3");
+    auto w = selectBackend<Widget>("widget", kOptionTable, "beta,strict", cfg_, &report_);
+    ASSERT_TRUE(w) << report_.message;
+    EXPECT_STREQ((*w)->name(), "strict");
+    EXPECT_EQ(gAttempts, (std::vector<std::string>{"beta", "strict"}));
+}
+
 TEST_F(SelectBackendTest, reportIsOptional)
 {
     auto w = selectBackend<Widget>("widget", kTable, "nope", cfg_);

@@ -96,4 +96,10 @@ rc=$?
 grep -q "^<4>depthtouch play: warning: no haptic device 'mock'" "$work/j3" ||
     fail "the fallback's warning under JOURNAL_STREAM: '$(cat "$work/j3")'"
 ! grep -qv "^<[0-7]>" "$work/j3" || fail "a line without a priority: '$(cat "$work/j3")'"
+# A fallback list's options are the first backend's: null, after an ALSA device that is not
+# there, takes none of them and does not refuse ALSA's "device" (it failed "'null': Unknown audio
+# output option", exit 2).
+"$exe" play "$clip" --source mock --decoder mock --display mock --haptic none --audio-device alsa,null \
+    --audio-device-options device=hw:99 --quiet >"$work/fallback-options" 2>&1 ||
+    fail "--audio-device alsa,null with ALSA's device option: exit $?, '$(cat "$work/fallback-options")'"
 echo "service: ok"

@@ -42,14 +42,26 @@ public:
     /// \a fallback when absent. Errors: InvalidArgument.
     [[nodiscard]] Result<bool> getBool(std::string_view key, bool fallback) const noexcept;
     /// \return the first key that is not one of the \a count names in \a known, or an empty view
-    /// when every key is known. Lets a backend reject a misspelt option.
+    /// when every key is known (always empty for a fallback's list). Lets a backend reject a
+    /// misspelt option.
     [[nodiscard]] std::string_view firstUnknownKey(const char *const *known,
                                                    std::size_t count) const noexcept;
     /// \return the whole text.
     [[nodiscard]] constexpr std::string_view text() const noexcept { return text_; }
+    /// \return these options as a fallback of a backend list gets them (selectBackend()): the
+    /// options were written for the first backend listed (`--audio-device alsa,null
+    /// --audio-device-options device=hw:1`), so a fallback takes the keys it knows and ignores the
+    /// others; a value it knows is still checked.
+    [[nodiscard]] constexpr OptionList forFallback() const noexcept
+    {
+        OptionList o = *this;
+        o.ignoreUnknown_ = true;
+        return o;
+    }
 
 private:
     std::string_view text_;
+    bool ignoreUnknown_ = false;
 };
 
 /// \brief What every backend factory receives. Views only: the strings must outlive the factory
@@ -167,7 +179,10 @@ private:
 ///
 /// With \a names empty (or only separators and spaces), autoprobes: tries the entries with
 /// autoProbe == true in table order. Otherwise tries the listed names ("ffmpeg,mock") in the given
-/// order, autoProbe flags ignored. Every name is checked against the table before any backend is
+/// order, autoProbe flags ignored; the options are the first name's, and each later name gets them
+/// as OptionList::forFallback() (its own keys taken, the others ignored; a backend that
+/// refuses its options falls through to the next name like one whose device is missing). Every
+/// name is checked against the table before any backend is
 /// created. Every attempt and its result is logged (category Backend).
 /// \param[in] kind What is selected, for messages, e.g. "haptic device".
 /// \param[in] table The backends compiled in.
@@ -209,9 +224,18 @@ Result<std::unique_ptr<I>> selectBackend(const char *kind, BackendTable<I> table
     std::unique_ptr<I> created;
     if (listed) {
         rest = names;
-        while (detail::nextBackendName(rest, name))
-            if (attempt(*table.find(name), created))
-                return Result<std::unique_ptr<I>>(std::move(created));
+        BackendConfig fallback = cfg;
+        fallback.options = cfg.options.forFallback();
+        for (bool first = true; detail::nextBackendName(rest, name); first = false) {
+            const Backend<I> &b = *table.find(name);
+            log.trying(b.name, false);
+            Result<std::unique_ptr<I>> r = b.create(first ? cfg : fallback);
+            if (r) {
+                log.succeeded(b.name);
+                return r;
+            }
+            log.failed(b.name, r.error());
+        }
     } else {
         for (const Backend<I> &b : table)
             if (b.autoProbe && attempt(b, created))
