@@ -35,9 +35,9 @@ StoredDepthPair PairedFrame::depthPair() const noexcept
     p.current = depth.get();
     p.next = depthNext.get();
     if (p.current != nullptr)
-        p.currentPts = p.current->pts;
+        p.currentPts = depthPts != hal::kNoPts ? depthPts : p.current->pts;
     if (p.next != nullptr)
-        p.nextPts = p.next->pts;
+        p.nextPts = depthNextPts != hal::kNoPts ? depthNextPts : p.next->pts;
     p.material = material.get();
     p.materialNext = materialNext.get();
     return p;

@@ -292,6 +292,8 @@ void Receiver::Impl::toPaired(Pairer::Output &o, PairedFrame &out)
     out.color = o.hasColor ? std::move(o.color.payload) : FrameHandle{};
     out.depth = o.hasDepth ? std::move(o.depth.payload) : FrameHandle{};
     out.depthNext = o.hasNext ? std::move(o.depthNext.payload) : FrameHandle{};
+    out.depthPts = o.hasDepth ? o.depth.pts : hal::kNoPts; // the re-based timeline, as o.pts
+    out.depthNextPts = o.hasNext ? o.depthNext.pts : hal::kNoPts;
     out.material = FrameHandle{};
     out.materialNext = FrameHandle{};
     if (materials && o.hasDepth) {

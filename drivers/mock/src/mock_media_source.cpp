@@ -158,7 +158,7 @@ Result<hal::Packet> MockMediaSource::readPacketDevice()
     p.streamIndex = stream.index;
     p.data = buffer_.data();
     p.size = size;
-    p.pts = framePts(frame, current_.fps);
+    p.pts = framePts(frame, current_.fps) + (frame >= jumpFrame_ ? jumpOffset_ : hal::Pts{0});
     p.dts = p.pts;
     p.keyframe = keyframe;
     ++next_;

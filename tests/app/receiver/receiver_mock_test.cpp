@@ -1,4 +1,5 @@
 // Receiver on the mock backends (deterministic, ManualClock): pairing, bad input, seek, memory.
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -175,6 +176,46 @@ TEST(ReceiverMockTest, pairsEveryColorFrameWithItsDepthFrameAndTheNext)
     auto again = (*r)->next(f);
     ASSERT_TRUE(again);
     EXPECT_FALSE(*again);
+}
+
+TEST(ReceiverMockTest, theDepthPairIsOnTheOutputTimelineAcrossATimestampReset)
+{
+    // GIVEN an encoder reset at frame 10 (its PTS start again at 0)  WHEN reading every pair  THEN
+    // depth frame i+1 is after frame i on the output timeline, as the haptic task interpolates
+    // between them (the stored frames keep their stream's own PTS, which go back at the reset).
+    MockRig rig;
+    rig.onSource = [](drivers::MockMediaSource &s) {
+        s.jumpPtsAt(10, -std::chrono::duration_cast<hal::Pts>(std::chrono::milliseconds(400)));
+    };
+    auto r = rig.open("mock://clip?frames=20&fps=25&width=32&height=24");
+    ASSERT_TRUE(r);
+    receiver::PairedFrame f;
+    hal::Pts last = hal::kNoPts;
+    int pairs = 0;
+    int outputs = 0;
+    int discontinuities = 0;
+    for (int i = 0; i < 40; ++i) {
+        auto n = (*r)->next(f);
+        ASSERT_TRUE(n);
+        if (!*n)
+            break;
+        const receiver::StoredDepthPair p = f.depthPair();
+        ASSERT_NE(p.current, nullptr);
+        EXPECT_EQ(p.currentPts, f.pts) << "depth i is the color frame's, on its timeline";
+        if (p.next != nullptr) {
+            EXPECT_GT(p.nextPts, p.currentPts) << "output " << f.index;
+            ++pairs;
+        }
+        if (last != hal::kNoPts)
+            EXPECT_GT(f.pts, last);
+        last = f.pts;
+        discontinuities += f.discontinuity ? 1 : 0;
+        ++outputs;
+        f = receiver::PairedFrame{};
+    }
+    EXPECT_GE(outputs, 19) << "at most the frame that confirms the reset is lost";
+    EXPECT_EQ(pairs, outputs - 1) << "every output but the last has its next depth frame";
+    EXPECT_EQ(discontinuities, 1);
 }
 
 TEST(ReceiverMockTest, noAllocationPerFrameAfterOpen)

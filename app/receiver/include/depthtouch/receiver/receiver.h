@@ -63,7 +63,9 @@ namespace depthtouch::receiver {
 struct StoredDepthPair {
     const StoredFrame *current = nullptr; ///< Frame i; nullptr when the output has no depth.
     const StoredFrame *next = nullptr;    ///< Frame i+1; nullptr at the end of the depth video.
-    hal::Pts currentPts = hal::kNoPts;    ///< Stream timeline (ns).
+    /// Output timeline (ns): the stream's, re-based at a timestamp discontinuity as
+    /// PairedFrame::pts is, so nextPts > currentPts across a splice or a reset too.
+    hal::Pts currentPts = hal::kNoPts;
     hal::Pts nextPts = hal::kNoPts;
     /// Material of frame i: Rgb24 codes (scene/material.h), current's width × height; nullptr
     /// without a material track or when no material frame is at or before frame i.
@@ -83,6 +85,10 @@ struct PairedFrame {
     FrameHandle material;
     FrameHandle materialNext;     ///< Material frame of depth frame i+1; as material.
     hal::Pts pts = hal::kNoPts;   ///< Presentation time: the color PTS (depth PTS when depth-only).
+    /// PTS of depth frames i and i+1 on pts's timeline (re-based at a discontinuity, where the
+    /// stored frames keep their stream's own); kNoPts: take the stored frame's (depthPair()).
+    hal::Pts depthPts = hal::kNoPts;
+    hal::Pts depthNextPts = hal::kNoPts;
     std::uint64_t index = 0;      ///< Outputs before this one since open() or the last seek().
     bool depthMissing = false;    ///< No depth frame for it (depth absent, or not yet started).
     bool depthDuplicated = false; ///< No depth frame within half a frame: the previous one reused.

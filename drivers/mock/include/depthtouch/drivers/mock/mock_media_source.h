@@ -62,6 +62,13 @@ public:
     void corruptPacket(std::uint64_t ordinal) noexcept { corruptAt_ = ordinal; }
     /// The file is cut before packet \a ordinal: readPacket() returns Errc::Io from there on.
     void truncateAt(std::uint64_t ordinal) noexcept { truncateAt_ = ordinal; }
+    /// Frames from \a frame on (every stream) get \a offset (ns) added to their PTS: a splice
+    /// (forward), an encoder reset or a looped feed (back), a timestamp discontinuity.
+    void jumpPtsAt(std::uint64_t frame, hal::Pts offset) noexcept
+    {
+        jumpFrame_ = frame;
+        jumpOffset_ = offset;
+    }
     ///@}
 
     /// \return packets returned by readPacket() since open().
@@ -96,6 +103,8 @@ private:
     bool failOpenArmed_ = false;
     std::uint64_t corruptAt_ = kNever;
     std::uint64_t truncateAt_ = kNever;
+    std::uint64_t jumpFrame_ = kNever;
+    hal::Pts jumpOffset_{0};
 };
 
 } // namespace depthtouch::drivers
