@@ -21,7 +21,7 @@ namespace depthtouch::control {
 
 /// How the main loop ended.
 struct LoopOutcome {
-    std::string failure;         ///< The reason when the player ended in Error.
+    std::string failure; ///< The reason when the player ended in Error.
     /// Whose failure: the input's (InvalidArgument) or the system's (OutOfResources: a thread
     /// that could not be started), player::StateMachine::errorKind().
     Errc failureKind = Errc::InvalidArgument;
