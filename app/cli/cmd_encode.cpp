@@ -16,6 +16,7 @@
 
 #include <atomic>
 #include <cerrno>
+#include <cstring>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -289,6 +290,58 @@ int reportEncode(const EncodeCliOptions &o, const media::EncodeOptions &eo,
     return kExitOk;
 }
 
+/// Where --progress writes: stdout or stderr (pipe:1, pipe:2), or a file it opened.
+class ProgressOut {
+public:
+    ProgressOut() = default;
+    ProgressOut(const ProgressOut &) = delete;
+    ProgressOut &operator=(const ProgressOut &) = delete;
+    ~ProgressOut()
+    {
+        if (owned_)
+            std::fclose(out_);
+    }
+    void set(std::FILE *out, bool owned)
+    {
+        out_ = out;
+        owned_ = owned;
+    }
+    [[nodiscard]] std::FILE *get() const noexcept { return out_; }
+
+private:
+    std::FILE *out_ = nullptr;
+    bool owned_ = false;
+};
+
+/// Opens --progress's target before any input is read (ffmpeg's pipe:1 and pipe:2, or a file the
+/// output rules allow: not an input, a folder that takes files). \return kExitOk, or the exit
+/// code after the error line.
+int openProgress(const EncodeCliOptions &o, ProgressOut &out)
+{
+    if (o.progress.empty())
+        return kExitOk;
+    if (o.progress == "pipe:1" || o.progress == "pipe:") {
+        out.set(stdout, false);
+        return kExitOk;
+    }
+    if (o.progress == "pipe:2") {
+        out.set(stderr, false);
+        return kExitOk;
+    }
+    if (auto p = platform::planOutput(o.progress); !p)
+        return fail(kExitBadInput, "cannot write '" + o.progress + "': it " + p.error().what);
+    const platform::OutputPathCheck same = platform::checkDistinctPaths(
+        {{"--color", o.color}, {"--depth", o.depth}, {"--audio", o.audio}},
+        {{"-o", o.output}, {"--progress", o.progress}});
+    if (same.exitCode != kExitOk)
+        return fail(same.exitCode, same.message);
+    std::FILE *f = std::fopen(o.progress.c_str(), "w");
+    if (f == nullptr)
+        return fail(kExitFailure, "cannot write '" + o.progress + "': " + std::strerror(errno));
+    out.set(f, true);
+    return kExitOk;
+}
+
 int runEncode(const EncodeCliOptions &o)
 {
     // One error line on bad input: our log stays at errors unless the user asked with DT_LOG.
@@ -302,6 +355,10 @@ int runEncode(const EncodeCliOptions &o)
         return fail(kExitBadInput, "--material and --material-map exclude each other");
     if (o.materialMap.empty() != o.materials.empty())
         return fail(kExitBadInput, "--material-map and --materials go together");
+
+    ProgressOut progressOut;
+    if (const int rc = openProgress(o, progressOut); rc != kExitOk)
+        return rc;
 
     // One set of providers for both inputs: `synthetic:NAME` color and depth share one renderer,
     // `v4l2:DEVICE` color and depth one camera.
@@ -335,8 +392,12 @@ int runEncode(const EncodeCliOptions &o)
     }
 
     media::ProgressLine progress(::isatty(STDERR_FILENO) == 1);
+    media::ProgressReport report(progressOut.get());
     media::EncodeCallbacks callbacks;
-    callbacks.progress = [&progress](const media::EncodeProgress &p) { progress.update(p); };
+    callbacks.progress = [&progress, &report](const media::EncodeProgress &p) {
+        progress.update(p);
+        report.update(p);
+    };
     callbacks.warning = [&progress](const std::string &w) {
         progress.finish();
         std::fprintf(stderr, "depthtouch encode: warning: %s\n", w.c_str());
@@ -349,9 +410,15 @@ int runEncode(const EncodeCliOptions &o)
         return media::encodeStreams(*color, *depthSrc, material.get(), eo, &gStop, callbacks);
     }();
     progress.finish();
-    if (!summary)
+    if (!summary) {
+        report.finish(media::EncodeProgress{});
         return encodeFailure(o, *color, *depthSrc, material.get(), summary.error());
-    return reportEncode(o, eo, *color, *summary, carried);
+    }
+    const int rc = reportEncode(o, eo, *color, *summary, carried);
+    const media::EncodeProgress last{summary->frames, 0, summary->elapsed, summary->duration};
+    if (!report.finish(last) && rc == kExitOk)
+        return fail(kExitFailure, "cannot write the progress to '" + o.progress + "'");
+    return rc;
 }
 
 /// `--frames`: a whole number >= 0 (a CLI11 check, so that "1.5" or "-1" is refused at once).
@@ -385,6 +452,20 @@ const OptionRow<EncodeCliOptions> kEncodeRows[] = {
      {},
      kRequired,
      'o'},
+    {"overwrite",
+     &EncodeCliOptions::overwrite,
+     "Replace an output file that exists (ffmpeg's -y; without it encode refuses)",
+     {},
+     0,
+     'y'},
+    {"no-overwrite",
+     &EncodeCliOptions::noOverwrite,
+     "Never replace an output file that exists (ffmpeg's -n; the default)",
+     {},
+     0,
+     'n'},
+    {"progress", &EncodeCliOptions::progress,
+     "Write progress as key=value blocks to a file, pipe:1 or pipe:2 (ffmpeg's -progress)"},
     {"format", &EncodeCliOptions::format,
      "Container: mkv | mp4 | ts | hls (default: by extension; mkv for files, ts for URLs)"},
     {"fps", &EncodeCliOptions::fps,

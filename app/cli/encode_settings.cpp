@@ -182,6 +182,19 @@ int setDepthOptions(const EncodeCliOptions &o, media::EncodeOptions &eo)
     return kExitOk;
 }
 
+/// ffmpeg's -y and -n: an output that is an existing regular file is replaced only with -y (a
+/// device or a FIFO is written into, not replaced). Returns kExitOk, or kExitBadInput after the
+/// error line.
+int checkOverwrite(const EncodeCliOptions &o)
+{
+    std::error_code ec;
+    if (o.overwrite || !std::filesystem::is_regular_file(o.output, ec))
+        return kExitOk;
+    return fail(kExitBadInput, "'" + o.output +
+                                   "' exists: -y replaces it (ffmpeg's -y); without -y (or with "
+                                   "-n) encode never does");
+}
+
 /// The checks that need the whole option set: frame rate, the options' own validation, the output
 /// path (before any input is read) and the x264 preset. Returns kExitOk, or the exit code after
 /// printing the one error line.
@@ -205,7 +218,11 @@ int checkEncodeOptions(const EncodeCliOptions &o, const media::EncodeOptions &eo
                                          {{"-o", o.output}});
         if (same.exitCode != kExitOk)
             return fail(same.exitCode, same.message);
+        if (int rc = checkOverwrite(o); rc != kExitOk)
+            return rc;
     }
+    if (o.overwrite && o.noOverwrite)
+        return fail(kExitBadInput, "-y and -n exclude each other");
     static constexpr const char *kPresets[] = {"ultrafast", "superfast", "veryfast", "faster",
                                                "fast",      "medium",    "slow",     "slower",
                                                "veryslow",  "placebo"};

@@ -16,6 +16,9 @@ struct EncodeCliOptions {
     std::string color;
     std::string depth;
     std::string output;
+    bool overwrite = false;   // ffmpeg's -y: an existing output file is replaced
+    bool noOverwrite = false; // ffmpeg's -n: never (the default, said explicitly)
+    std::string progress;     // ffmpeg's -progress: a file, pipe:1 (stdout) or pipe:2 (stderr)
     std::string format;
     double fps = 30.0;
     int crf = 23;

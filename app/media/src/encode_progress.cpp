@@ -24,6 +24,36 @@ void ProgressLine::update(const EncodeProgress &p)
     drawn_ = true;
 }
 
+void ProgressReport::write(const EncodeProgress &p, const char *state)
+{
+    if (out_ == nullptr)
+        return;
+    const double fps = p.elapsed > 0.0 ? static_cast<double>(p.frames) / p.elapsed : 0.0;
+    const auto us = static_cast<long long>(p.pts > 0.0 ? p.pts * 1e6 + 0.5 : 0.0);
+    const int n =
+        std::fprintf(out_,
+                     "frame=%lld\nfps=%.2f\nout_time_us=%lld\nout_time=%02lld:%02lld:%02lld."
+                     "%06lld\nelapsed=%.3f\nprogress=%s\n",
+                     p.frames, fps, us, us / 3'600'000'000LL, us / 60'000'000LL % 60,
+                     us / 1'000'000LL % 60, us % 1'000'000LL, p.elapsed, state);
+    if (n < 0 || std::fflush(out_) != 0)
+        failed_ = true;
+}
+
+void ProgressReport::update(const EncodeProgress &p)
+{
+    if (out_ == nullptr || p.elapsed - lastWrite_ < 0.5)
+        return;
+    lastWrite_ = p.elapsed;
+    write(p, "continue");
+}
+
+bool ProgressReport::finish(const EncodeProgress &p)
+{
+    write(p, "end");
+    return !failed_;
+}
+
 void ProgressLine::finish()
 {
     if (drawn_)

@@ -5,6 +5,8 @@
 /// every 0.25 s of the encode's elapsed time (EncodeProgress, encode_job.h).
 /// Thread-safety: call from the thread that runs the encode's callbacks.
 
+#include <cstdio>
+
 #include "depthtouch/media/encode_job.h"
 
 namespace depthtouch::media {
@@ -23,6 +25,28 @@ private:
     bool enabled_;
     bool drawn_ = false;
     double lastDraw_ = -1.0;
+};
+
+/// \brief ffmpeg's `-progress` for scripts: blocks of key=value lines ("frame=N", "fps=F",
+/// "out_time_us=U" (µs of video encoded), "out_time=HH:MM:SS.uuuuuu", "elapsed=S" (s of wall
+/// time), then "progress=continue", or "progress=end" for the last one), written at most every
+/// 0.5 s of the encode's elapsed time and flushed, to a stream the caller owns (a file, stdout).
+/// Reference: ffmpeg(1), -progress url.
+class ProgressReport {
+public:
+    /// \param out where the blocks go; nullptr writes nothing.
+    explicit ProgressReport(std::FILE *out) : out_(out) {}
+    /// Writes a block from \a p, unless one was written less than 0.5 s (of p.elapsed) ago.
+    void update(const EncodeProgress &p);
+    /// Writes the last block ("progress=end") from \a p. \return false when a write failed.
+    bool finish(const EncodeProgress &p);
+
+private:
+    void write(const EncodeProgress &p, const char *state);
+
+    std::FILE *out_;
+    double lastWrite_ = -1.0;
+    bool failed_ = false;
 };
 
 } // namespace depthtouch::media
