@@ -182,6 +182,21 @@ int setDepthOptions(const EncodeCliOptions &o, media::EncodeOptions &eo)
     return kExitOk;
 }
 
+/// A raw video input (--X-format rawvideo, or a .yuv file, which ffmpeg takes as raw video)
+/// has no header to say its frame size: without --X-video-size it cannot be opened (ffmpeg said
+/// only "Invalid argument"). Returns kExitOk, or kExitBadInput after the error line.
+int checkRawInput(const char *which, const std::string &path, const std::string &format,
+                  const std::string &videoSize)
+{
+    const std::string ext = std::filesystem::path(path).extension().string();
+    const bool raw = format == "rawvideo" || (format.empty() && ext == ".yuv");
+    if (!raw || !videoSize.empty())
+        return kExitOk;
+    return fail(kExitBadInput, std::string("the raw video of --") + which + " '" + path +
+                                   "' needs --" + which + "-video-size WxH and --" + which +
+                                   "-pix-fmt (a raw frame has no header to say them)");
+}
+
 /// ffmpeg's -y and -n: an output that is an existing regular file is replaced only with -y (a
 /// device or a FIFO is written into, not replaced). Returns kExitOk, or kExitBadInput after the
 /// error line.
@@ -223,6 +238,10 @@ int checkEncodeOptions(const EncodeCliOptions &o, const media::EncodeOptions &eo
     }
     if (o.overwrite && o.noOverwrite)
         return fail(kExitBadInput, "-y and -n exclude each other");
+    if (int rc = checkRawInput("color", o.color, o.colorFormat, o.colorVideoSize); rc != kExitOk)
+        return rc;
+    if (int rc = checkRawInput("depth", o.depth, o.depthFormat, o.depthVideoSize); rc != kExitOk)
+        return rc;
     static constexpr const char *kPresets[] = {"ultrafast", "superfast", "veryfast", "faster",
                                                "fast",      "medium",    "slow",     "slower",
                                                "veryslow",  "placebo"};

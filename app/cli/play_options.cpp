@@ -102,7 +102,7 @@ const OptionRow<PlayOptions> kPlayRows[] = {
          }},
     {.name = "stiffness",
      .field = &PlayOptions::stiffness,
-     .help = "Surface stiffness, N/m",
+     .help = "Surface stiffness, N/m (100..3000)",
      .check = inRange(scene::kMinStiffness, scene::kMaxStiffness, "N/m"),
      .land = [](const PlayOptions &o, Config &c) { c.haptics.renderer.stiffness = o.stiffness; }},
     {.name = "static-friction",
@@ -203,7 +203,8 @@ const OptionRow<PlayOptions> kPlayRows[] = {
      kCommandLineOnly},
     {.name = "size",
      .field = &PlayOptions::size,
-     .help = "Output size WxH (default: 2 x depth width by height)",
+     .help = "Output size WxH (default: the stereo layout's for the depth size: sbs 2WxH, tab "
+             "Wx2H, others WxH; at most 3840x2160)",
      .check = textWhere(isOutputSize, "WxH, 16..8192 pixels each"),
      .land =
          [](const PlayOptions &o, Config &c) {

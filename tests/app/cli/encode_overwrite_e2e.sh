@@ -40,4 +40,11 @@ enc -o r.mkv --progress /dev/full >/dev/null 2>full.err
 rc=$?
 [ "$rc" = 1 ] || fail "--progress /dev/full: exit $rc, not 1 (lost output)"
 grep -q "cannot write the progress" full.err || fail "--progress /dev/full: '$(cat full.err)'"
-echo "encode: -y/-n as ffmpeg's, --progress blocks ending in progress=end"
+# A raw video input has no header with its size: the line says which options give it (it said
+# "Failed to open the input (Io, Invalid argument)").
+head -c 57600 /dev/zero >raw.yuv
+"$exe" encode --color synthetic:head,size=160x120,frames=3 --depth raw.yuv -o raw.mkv >raw.out 2>raw.err
+rc=$?
+[ "$rc" = 2 ] || fail "a raw .yuv depth input without its size: exit $rc, not 2"
+grep -q -- "--depth-video-size WxH" raw.err || fail "a raw input without its size: '$(cat raw.err)'"
+echo "encode: -y/-n as ffmpeg's, --progress blocks ending in progress=end, raw input sizes asked for"
