@@ -206,8 +206,9 @@ TEST(ReceiverMockTest, theDepthPairIsOnTheOutputTimelineAcrossATimestampReset)
             EXPECT_GT(p.nextPts, p.currentPts) << "output " << f.index;
             ++pairs;
         }
-        if (last != hal::kNoPts)
+        if (last != hal::kNoPts) {
             EXPECT_GT(f.pts, last);
+        }
         last = f.pts;
         discontinuities += f.discontinuity ? 1 : 0;
         ++outputs;
