@@ -98,7 +98,14 @@ PY
 "$exe" play "udp://127.0.0.1:$port" --display mock --haptic none --no-config --audio-device none \
     --stats "$work/play.json" >"$work/play.log" 2>&1 &
 e2e_bg=$!
-sleep 1
+# The sender starts once the player listens (its port in /proc/net/udp), not after a fixed time:
+# a busy machine must not cost the clip's first pairs.
+hexport=$(printf '%04X' "$port")
+for _ in $(seq 1 200); do
+    grep -q ":$hexport " /proc/net/udp && break
+    kill -0 "$e2e_bg" 2>/dev/null || break
+    sleep 0.05
+done
 python3 "$work/send.py" "$work/clip.ts" "$port" 6 >"$work/send.log" 2>&1 ||
     { cat "$work/send.log"; fail "the sender"; }
 wait "$e2e_bg"
