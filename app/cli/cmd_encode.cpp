@@ -32,11 +32,11 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "encode_inputs.h"
 #include "encode_settings.h"
 #include "option_cli.h"
 #include "output_paths.h"
 #include "source_providers.h"
-#include "depthtouch/drivers/backends.h"
 #include "depthtouch/media/encode_job.h"
 #include "depthtouch/media/encode_progress.h"
 #include "depthtouch/media/frame_source.h"
@@ -74,10 +74,21 @@ struct InputSpec {
     const std::string &pixFmt;
 };
 
-/// Opens one input; on failure sets `error` to the one error line and returns nullptr.
-std::unique_ptr<media::NamedSource> openInput(const EncodeCliOptions &o,
-                                              const media::SourceProviders &providers,
-                                              const InputSpec &in, std::string &error)
+/// \return the streams of input \a spec by role as play finds them (identifyInputStreams()), for a
+/// file opened without a forced demuxer (\a format empty); nullopt otherwise.
+std::optional<InputStreams> identify(const std::string &spec, const std::string &format,
+                                     receiver::SingleStream single)
+{
+    return format.empty() ? identifyInputStreams(spec, single) : std::nullopt;
+}
+
+/// Opens one input, the stream \a ids finds in its role (a DepthTouch file of any container gives
+/// its color, depth or material stream; the depth stream with its depth tags as play reads them),
+/// else the one titled as its role; on failure sets `error` to the one error line and returns
+/// nullptr.
+std::unique_ptr<media::NamedSource>
+openInput(const EncodeCliOptions &o, const media::SourceProviders &providers, const InputSpec &in,
+          const std::optional<InputStreams> &ids, std::string &error)
 {
     const std::string role = in.role;
     media::SourceOptions so;
@@ -86,7 +97,12 @@ std::unique_ptr<media::NamedSource> openInput(const EncodeCliOptions &o,
     so.videoSize = in.videoSize;
     so.pixelFormat = in.pixFmt;
     so.loop = o.loop;
-    so.streamTitle = role; // a DepthTouch file gives its color or depth stream
+    so.streamTitle = role;
+    if (ids) {
+        so.streamIndex = ids->streamOf(role);
+        if (role == "depth")
+            so.tags = ids->depthTags();
+    }
     auto s = media::openFrameSource(in.spec, so, providers);
     if (!s) {
         error = "cannot open " + role + " input '" + in.spec + "': " + describe(s.error());
@@ -102,69 +118,35 @@ openMaterial(const EncodeCliOptions &o, const media::SourceProviders &providers,
 {
     if (!o.material.empty()) {
         static const std::string kNone;
-        return openInput(o, providers, {"material", o.material, kNone, kNone, kNone}, error);
+        return openInput(o, providers, {"material", o.material, kNone, kNone, kNone},
+                         identify(o.material, kNone, receiver::SingleStream::Auto), error);
     }
     auto map = media::openMaterialMap(o.materialMap, o.materials, o.fps, error);
     return map ? std::make_unique<media::NamedSource>("material", o.materialMap, std::move(map))
                : nullptr;
 }
 
-/// What a DepthTouch file given as the depth input carries (issue 61: a transcode keeps it).
-struct DepthInputFacts {
-    bool depthTouch = false; ///< Its depth stream has the depth tags (docs/architecture.md §4).
-    std::uint32_t holeBelow = 0; ///< The hole threshold of its frames as encode reads them.
-    bool material = false;       ///< It has a material track.
-};
-
-/// Reads what the depth input \a depth (a regular file whose depth frames carry depth tags)
-/// holds as play and probe read it: its streams through the ffmpeg media source, the depth and
-/// material streams by receiver::identifyStreams(), the hole threshold by
-/// receiver::depthHoleBelow() for frames decoded as encode reads them (8-bit for an 8-bit
-/// input, else 16-bit). Another input is no DepthTouch file; so is a file the media source cannot
-/// open (encode's own read of it reports the error).
-DepthInputFacts depthInputFacts(const std::string &spec, const media::FrameSource &depth)
-{
-    DepthInputFacts f;
-    const media::SourceInfo &si = depth.info();
-    const bool tagged = si.tag("depth_bits") != nullptr || si.tag("depth_occupancy") != nullptr ||
-                        si.tag("depth_mapping") != nullptr;
-    if (!tagged || platform::pathKind(spec.c_str()) != platform::PathKind::Regular)
-        return f;
-    auto source = drivers::createMediaSource("ffmpeg", hal::BackendConfig{});
-    if (!source || !(*source)->open(spec.c_str()))
-        return f;
-    const hal::MediaInfo &info = (*source)->info();
-    const receiver::StreamRoles roles =
-        receiver::identifyStreams(info, receiver::SingleStream::Depth);
-    if (roles.depth < 0)
-        return f;
-    const hal::StreamInfo &ds = info.streams[static_cast<std::size_t>(roles.depth)];
-    if (!receiver::hasDepthMetadata(ds.depth))
-        return f;
-    f.depthTouch = true;
-    f.holeBelow = receiver::depthHoleBelow(ds, si.nativeFormat == media::PixelFormat::Gray16
-                                                   ? hal::PixelFormat::Gray16
-                                                   : hal::PixelFormat::Gray8);
-    f.material = roles.material >= 0;
-    return f;
-}
-
-/// Opens the color input, then (if that opened) the depth input; on failure sets `error`.
+/// Opens the color input, then (if that opened) the depth input, each identified as play
+/// identifies its streams (\a depthIds: the depth input's streams, nullopt for an input that is no
+/// file read twice); on failure sets `error`.
 void openInputs(const EncodeCliOptions &o, const media::SourceProviders &providers,
                 std::unique_ptr<media::NamedSource> &color,
-                std::unique_ptr<media::NamedSource> &depthSrc, std::string &error)
+                std::unique_ptr<media::NamedSource> &depthSrc,
+                std::optional<InputStreams> &depthIds, std::string &error)
 {
     // A camera or display backend that fails to open logs why at Error level; the one error line
     // below carries the same reason, so the backends stay quiet while opening (unless DT_LOG).
     const bool quietOpen = std::getenv("DT_LOG") == nullptr;
     if (quietOpen)
         platform::setLogLevel(platform::LogLevel::Off);
-    color = openInput(o, providers,
-                      {"color", o.color, o.colorFormat, o.colorVideoSize, o.colorPixFmt}, error);
-    depthSrc =
-        color ? openInput(o, providers,
-                          {"depth", o.depth, o.depthFormat, o.depthVideoSize, o.depthPixFmt}, error)
-              : nullptr;
+    color =
+        openInput(o, providers, {"color", o.color, o.colorFormat, o.colorVideoSize, o.colorPixFmt},
+                  identify(o.color, o.colorFormat, receiver::SingleStream::Color), error);
+    depthIds = identify(o.depth, o.depthFormat, receiver::SingleStream::Depth);
+    depthSrc = color ? openInput(o, providers,
+                                 {"depth", o.depth, o.depthFormat, o.depthVideoSize, o.depthPixFmt},
+                                 depthIds, error)
+                     : nullptr;
     if (quietOpen)
         platform::setLogLevel(platform::LogLevel::Error);
 }
@@ -365,25 +347,32 @@ int runEncode(const EncodeCliOptions &o)
     const media::SourceProviders providers = makeSourceProviders();
     std::unique_ptr<media::NamedSource> color;
     std::unique_ptr<media::NamedSource> depthSrc;
+    std::optional<InputStreams> depthIds;
     std::string error;
-    openInputs(o, providers, color, depthSrc, error);
+    openInputs(o, providers, color, depthSrc, depthIds, error);
     if (!color || !depthSrc)
         return fail(kExitBadInput, error);
-    // A DepthTouch file as the depth input keeps its holes and its material track (unless
-    // --material or --material-map replace it).
-    const DepthInputFacts facts = depthInputFacts(o.depth, *depthSrc);
-    if (facts.depthTouch)
-        eo.depthInputHoleBelow = facts.holeBelow;
+    // A DepthTouch file as the depth input keeps its holes (its threshold as play reads it, for
+    // frames read as encode reads them: 16-bit for a deep input, else 8-bit) and its material
+    // track (unless --material or --material-map replace it).
+    const bool depthTouch = depthIds && depthIds->depthTouch();
+    if (depthTouch)
+        eo.depthInputHoleBelow = receiver::depthHoleBelow(
+            depthIds->depthStream, depthSrc->info().nativeFormat == media::PixelFormat::Gray16
+                                       ? hal::PixelFormat::Gray16
+                                       : hal::PixelFormat::Gray8);
     else if (depthSrc->info().tag("depth_occupancy") != nullptr && !o.fillHoles)
         std::fprintf(stderr,
                      "depthtouch encode: warning: the holes of depth input '%s' are not "
                      "kept (not a file encode can read twice): they become depth\n",
                      o.depth.c_str());
-    const bool carried = facts.material && o.material.empty() && o.materialMap.empty();
+    const bool carried =
+        depthTouch && depthIds->material >= 0 && o.material.empty() && o.materialMap.empty();
     std::unique_ptr<media::NamedSource> material;
     if (carried) {
         static const std::string kNone;
-        if (material = openInput(o, providers, {"material", o.depth, kNone, kNone, kNone}, error);
+        if (material = openInput(o, providers, {"material", o.depth, kNone, kNone, kNone}, depthIds,
+                                 error);
             !material)
             return fail(kExitBadInput, error);
     } else if (!o.material.empty() || !o.materialMap.empty()) {

@@ -196,7 +196,13 @@ Result<void> FfmpegFrameSource::open(const std::string &url, const SourceOptions
     DT_TRY(openDemuxer(forced, dict, sequence || glob));
     int wanted = -1;
     std::string from;
-    if (options.streamTitle == scene::kMaterialTitle) {
+    if (options.streamIndex >= 0) {
+        const auto n = static_cast<unsigned>(options.streamIndex);
+        if (n >= fmt_->nb_streams || fmt_->streams[n]->codecpar->codec_type != AVMEDIA_TYPE_VIDEO)
+            return unexpected(Errc::InvalidArgument,
+                              "The input's chosen stream is no video stream");
+        wanted = options.streamIndex;
+    } else if (options.streamTitle == scene::kMaterialTitle) {
         // An input of several video streams without a material track is not one (a DepthTouch
         // file without materials would otherwise give its colour picture as stiffness and
         // friction); a single video stream is a material video of its own.
@@ -261,9 +267,10 @@ Result<void> FfmpegFrameSource::openDemuxer(const AVInputFormat *forced,
         auto fd =
             platform::openFifoForReading(url_.c_str(), std::chrono::milliseconds(ioTimeoutMs_));
         if (!fd)
-            return unexpected(fd.error().code, fd.error().code == Errc::Timeout
-                                                   ? "A FIFO with no writer (gave up waiting)"
-                                                   : "Failed to open the FIFO",
+            return unexpected(fd.error().code,
+                              fd.error().code == Errc::Timeout
+                                  ? "A FIFO with no writer (gave up waiting)"
+                                  : "Failed to open the FIFO",
                               fd.error().sysErrno);
         fifo_ = std::move(*fd);
         openUrl = "pipe:" + std::to_string(fifo_.get());
@@ -283,8 +290,7 @@ Result<void> FfmpegFrameSource::openDemuxer(const AVInputFormat *forced,
         if (ret == AVERROR_INVALIDDATA)
             return unexpected(Errc::InvalidArgument, "Not a media file FFmpeg can read");
         if (ret == AVERROR(ENOENT))
-            return unexpected(Errc::Io,
-                              pattern ? "No image matches the pattern" : "No such file",
+            return unexpected(Errc::Io, pattern ? "No image matches the pattern" : "No such file",
                               ENOENT);
         return unexpected(Errc::Io, "Failed to open the input", errnoOf(ret));
     }
@@ -323,8 +329,8 @@ void FfmpegFrameSource::describe(const AVStream &stream, const AVCodec &decoder,
     if (sequence && !options.loop) {
         // Frames 0-9 and 20-29: read on across the gap, as the glob form would.
         std::vector<long long> numbers = detail::imageSequenceNumbers(url_);
-        if (!numbers.empty() && numbers.back() - numbers.front() + 1 !=
-                                    static_cast<long long>(numbers.size())) {
+        if (!numbers.empty() &&
+            numbers.back() - numbers.front() + 1 != static_cast<long long>(numbers.size())) {
             info_.frameCount = static_cast<long long>(numbers.size());
             runStart_ = numbers.front();
             sequenceNumbers_ = std::move(numbers);
@@ -332,6 +338,9 @@ void FfmpegFrameSource::describe(const AVStream &stream, const AVCodec &decoder,
     }
     if (options.loop)
         info_.frameCount = 0; // endless
+    for (const auto &[key, value] : options.tags)
+        if (info_.tag(key) == nullptr)
+            info_.tags.emplace_back(key, value);
     for (const AVDictionary *meta : {static_cast<const AVDictionary *>(st->metadata),
                                      static_cast<const AVDictionary *>(fmt_->metadata)}) {
         const AVDictionaryEntry *e = nullptr;

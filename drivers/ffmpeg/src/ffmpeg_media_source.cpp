@@ -302,6 +302,7 @@ void FfmpegMediaSource::Impl::addStream(unsigned i, int videoStreams, int videoO
         return;
     hal::StreamInfo si;
     si.index = static_cast<int>(info.streams.size());
+    si.containerIndex = static_cast<int>(i);
     const AVDictionaryEntry *title = av_dict_get(st.metadata, "title", nullptr, 0);
     const AVDictionaryEntry *handler = av_dict_get(st.metadata, "handler_name", nullptr, 0);
     if (title != nullptr) {

@@ -4,7 +4,10 @@
 # --json --decode` counts in Y within 0.5 percentage points of the share the test put into X), and
 # its material track comes over with the same codes (decoded by ffmpeg, byte for byte), for 8-bit
 # lossy and 16-bit FFV1 depth in X; `--fill-holes` still fills them (no holes, no tag) and
-# `--material-map` replaces the carried track. Exit 77 (skip) without the ffmpeg CLI tools.
+# `--material-map` replaces the carried track. X as MP4 and MPEG-TS too (8- and 10-bit H.264
+# depth; the streams found as play finds them: MP4 handler names, MPEG-TS timed metadata and
+# order): Y, as MKV and as X's own container, has X's hole share (within 0.1 points), planes and
+# material codes. Exit 77 (skip) without the ffmpeg CLI tools.
 # Usage: transcode_holes_e2e.sh DEPTHTOUCH
 set -u
 exe="$1"
@@ -33,8 +36,16 @@ share() {
         'BEGIN { if (n > 0) printf "%.4f", 100 * h / n; else print "none" }'
 }
 near() { awk -v a="$1" -v b="$2" 'BEGIN { d = a - b; exit !(d < 0.5 && d > -0.5) }'; }
-# codes FILE OUT: the first material frame of FILE as raw RGB.
-codes() { ff -i "$1" -map 0:m:title:material -frames:v 1 -f rawvideo -pix_fmt rgb24 "$2" || fail "decode $1's material"; }
+# codes FILE OUT: the first material frame of FILE as raw RGB (found by its MKV title, its MP4
+# handler name, or in MPEG-TS as the third video stream).
+codes() {
+    case "$1" in
+    *.mp4) m=0:m:handler_name:material ;;
+    *.ts) m=0:v:2 ;;
+    *) m=0:m:title:material ;;
+    esac
+    ff -i "$1" -map "$m" -frames:v 1 -f rawvideo -pix_fmt rgb24 "$2" || fail "decode $1's material"
+}
 
 enc() { # output, encode args...
     out="$work/$1"; shift
@@ -83,4 +94,36 @@ enc w.mkv --color "$work/c-%03d.png" --depth "$work/d-%03d.png" --material-map "
     --materials "$work/wood.toml"
 codes "$work/w.mkv" "$work/w.rgb"
 cmp -s "$work/r.rgb" "$work/w.rgb" || fail "--material-map did not replace the carried material track"
+
+# MP4 and MPEG-TS inputs: Y (MKV, and X's own container) keeps X's holes, planes and material.
+same() { awk -v a="$1" -v b="$2" 'BEGIN { d = a - b; exit !(d < 0.1 && d > -0.1) }'; }
+for ext in mp4 ts; do
+    for bits in 8 10; do
+        x="x$bits.$ext"
+        enc "$x" --color "$work/c-%03d.png" --depth "$work/d-%03d.png" --depth-bits "$bits" \
+            --material-map "$work/labels.png" --materials "$work/materials.toml"
+        sx=$(share "$work/$x")
+        near "$sx" "$want_share" || fail "$x: holes $sx %, put in $want_share %"
+        codes "$work/$x" "$work/$x.rgb"
+        for out in mkv "$ext"; do
+            y="y$bits-$ext.$out"
+            enc "$y" --color "$work/$x" --depth "$work/$x" --depth-bits "$bits"
+            sy=$(share "$work/$y")
+            [ "$(key occupancy "$work/$y.json")" -gt 0 ] 2>/dev/null ||
+                { cat "$work/$y.enc"; fail "$y: no depth_occupancy (holes of $x lost)"; }
+            same "$sy" "$sx" || { cat "$work/$y.enc"; fail "$y: holes $sy %, $x has $sx %"; }
+            for plane in near_m far_m; do
+                [ "$(key $plane "$work/$y.json")" = "$(key $plane "$work/$x.json")" ] ||
+                    fail "$y: $plane $(key $plane "$work/$y.json"), $x has $(key $plane "$work/$x.json")"
+            done
+            tr -d ' \n' <"$work/$y.json" | grep -q '"material":{' ||
+                { cat "$work/$y.enc"; fail "$y: no material track ($x has one)"; }
+            codes "$work/$y" "$work/$y.rgb"
+            cmp -s "$work/$x.rgb" "$work/$y.rgb" || fail "$y: material codes differ from $x's"
+            grep -q "^material: .*carried over from '$work/$x'" "$work/$y.enc" ||
+                { cat "$work/$y.enc"; fail "$y: encode does not say the material track was carried over"; }
+            echo "$x -> $y: holes $sx % -> $sy %"
+        done
+    done
+done
 echo PASS

@@ -146,6 +146,60 @@ TEST_F(FrameSourceTest, aLoopedVideoFileStartsAgainWithItsTimestampsGoingOn)
     }
 }
 
+/// GIVEN a file of two untitled FFV1 streams (frames 0.. and 5..) with a container tag
+/// depth_near=9 WHEN opened with SourceOptions::streamIndex THEN that stream is read (1: frames
+/// 5.., 0: frames 0..), a number that is no video stream is InvalidArgument, and the tags given
+/// in SourceOptions::tags come before the file's own and win over them.
+TEST_F(FrameSourceTest, aStreamChosenByItsContainerNumberWithTagsFromElsewhere)
+{
+    {
+        MuxerOptions mo;
+        mo.output = path("two.mkv");
+        mo.tags = {{"depth_near", "9"}, {"depth_far", "12"}};
+        auto muxer = Muxer::open(mo);
+        ASSERT_TRUE(muxer) << muxer.error().what;
+        VideoEncoderConfig vc;
+        vc.codec = VideoCodec::Ffv1Gray16;
+        vc.width = kW;
+        vc.height = kH;
+        vc.fps = 10.0;
+        auto first = VideoEncoder::create(vc, **muxer);
+        auto second = VideoEncoder::create(vc, **muxer);
+        ASSERT_TRUE(first && second);
+        ASSERT_TRUE((*muxer)->start());
+        for (int i = 0; i < 2; ++i) {
+            ASSERT_TRUE((*first)->encode(makeMetric(i), i / 10.0));
+            ASSERT_TRUE((*second)->encode(makeMetric(i + 5), i / 10.0));
+        }
+        ASSERT_TRUE((*first)->flush());
+        ASSERT_TRUE((*second)->flush());
+        ASSERT_TRUE((*muxer)->finish());
+    }
+    for (const int stream : {1, 0}) {
+        SourceOptions so;
+        so.streamIndex = stream;
+        so.tags = {{"depth_near", "0.25"}};
+        auto src = openFrameSource(path("two.mkv"), so);
+        ASSERT_TRUE(src) << src.error().what;
+        for (int i = 0; i < 2; ++i) {
+            auto f = (*src)->next(PixelFormat::Gray16);
+            ASSERT_TRUE(f) << "stream " << stream << " frame " << i;
+            EXPECT_EQ(f->image.data, makeMetric(i + (stream == 1 ? 5 : 0)).data)
+                << "stream " << stream << " frame " << i;
+        }
+        const std::string *near = (*src)->info().tag("depth_near");
+        const std::string *far = (*src)->info().tag("depth_far");
+        ASSERT_TRUE(near != nullptr && far != nullptr);
+        EXPECT_EQ(*near, "0.25");
+        EXPECT_EQ(*far, "12");
+    }
+    SourceOptions none;
+    none.streamIndex = 2;
+    auto bad = openFrameSource(path("two.mkv"), none);
+    ASSERT_FALSE(bad);
+    EXPECT_EQ(bad.error().code, Errc::InvalidArgument);
+}
+
 /// Source specs: prefixes parsed in one place; v4l2:/synthetic: are "not built in" without a
 /// provider and reach the provider when there is one.
 TEST_F(FrameSourceTest, specPrefixesAndProviders)

@@ -137,6 +137,26 @@ TEST_F(FfmpegMediaTest, twoStreamFileListsKindsMetadataAndMatchingPts)
     EXPECT_EQ(dc.pts, pts[0]);
 }
 
+// GIVEN a file whose first container stream is sound WHEN opened THEN its video stream is listed
+// first (StreamInfo::index 0) with its number in the container (containerIndex 1), by which
+// another reader of the file finds it.
+TEST_F(FfmpegMediaTest, aVideoStreamAfterASoundStreamKeepsItsContainerNumber)
+{
+    const std::string mkv = tmp_.path("sound-first.mkv");
+    ASSERT_TRUE(ffmpeg("-f lavfi -i sine=duration=0.2 -f lavfi "
+                       "-i testsrc=size=64x48:rate=30:duration=0.2 -map 0 -map 1 -c:a pcm_s16le "
+                       "-c:v ffv1 " +
+                       mkv));
+    auto src = source();
+    ASSERT_TRUE(src->open(mkv.c_str()));
+    const hal::MediaInfo &info = src->info();
+    ASSERT_EQ(info.streams.size(), 1u);
+    EXPECT_EQ(info.streams[0].index, 0);
+    EXPECT_EQ(info.streams[0].containerIndex, 1);
+    ASSERT_EQ(info.audio.size(), 1u);
+    EXPECT_EQ(info.audio[0].containerIndex, 0);
+}
+
 // Lossless round trip: 16-bit PNG frames → FFV1 gray16le in MKV → our decode, bit-exact against
 // the PNGs (decoded through the image-sequence path) and against the CLI's own raw decode.
 TEST_F(FfmpegMediaTest, ffv1Gray16AndGray8RoundTripBitExact)

@@ -59,6 +59,9 @@ struct DepthMetadata {
 /// \brief One stream of an opened source.
 struct StreamInfo {
     int index = -1;                      ///< Packet::streamIndex of its packets.
+    /// The stream's number in its container (libavformat's stream index: another reader of the
+    /// same file finds the stream by it); -1 where the source has no container (a mock).
+    int containerIndex = -1;
     StreamKind kind = StreamKind::Color; ///< From the stream title ("color" / "depth").
     /// The stream's role name: the container's stream title (MKV), else its MP4 handler name, else
     /// the order DepthTouch's MPEG-TS metadata gives (color, then depth); empty when none says.

@@ -115,6 +115,15 @@ struct SourceOptions {
     /// MPEG-TS order), and an input of several video streams without one is
     /// Errc::InvalidArgument.
     std::string streamTitle;
+    /// Files with several video streams: read the one with this container stream number
+    /// (libavformat's stream index, e.g. hal::StreamInfo::containerIndex of the stream a player's
+    /// identification chose); it takes precedence over streamTitle. -1: by streamTitle. A number
+    /// that is no video stream of the input is Errc::InvalidArgument.
+    int streamIndex = -1;
+    /// Tags known from elsewhere (e.g. a DepthTouch MPEG-TS file's depth tags, carried in its
+    /// timed metadata rather than as stream tags), keys lower-case: listed in SourceInfo::tags
+    /// before the stream's and the container's own, so they win.
+    std::vector<std::pair<std::string, std::string>> tags;
     /// Image sequences only: start over after the last image, forever (a still or a short
     /// sequence as an endless live source; stop it with a frame limit or a signal).
     bool loop = false;
