@@ -202,14 +202,23 @@ hal::BackendConfig withOptions(const hal::BackendConfig &cfg, const std::string 
 }
 
 /// Says, as a warning line, that a player that stays up (--idle: the box's service) plays without
-/// the first backend of its list \a names of \a kind (a Falcon or a remote not plugged in at its
-/// start, a sound card the sandbox hides) and with \a report's: its summary, which says so too,
-/// comes only at its stop. Nothing for another player or when the first name was chosen.
+/// the first backend of its list \a names of \a kind (a sound card the sandbox hides) and with
+/// \a report's, or (\a awaiting) that the device of the backend chosen is not plugged in yet and
+/// is waited for (a Falcon or a remote, hal::BackendConfig::awaitDevice): its summary, which says
+/// so too, comes only at its stop. Nothing for another player or when the first name was chosen
+/// and its device is there.
 void warnFallback(const PlayOptions &opt, drivers::BackendKind kind, std::string_view names,
-                  const hal::SelectionReport &report)
+                  const hal::SelectionReport &report, bool awaiting = false)
 {
     std::string_view first;
-    if (!opt.idle || !hal::detail::nextBackendName(names, first) || first == report.chosen)
+    if (!opt.idle || !hal::detail::nextBackendName(names, first))
+        return;
+    if (first == report.chosen && awaiting)
+        platform::printStderrLine(platform::LogLevel::Warning,
+                                  "depthtouch play: warning: no %s '%s' connected: playing without "
+                                  "it until it is plugged in",
+                                  drivers::backendKindName(kind), report.chosen.c_str());
+    if (first == report.chosen)
         return;
     platform::printStderrLine(
         platform::LogLevel::Warning,
@@ -228,20 +237,26 @@ std::optional<PlayResult> openBackends(const PlayOptions &opt, const hal::Backen
     if (auto bad = take(drivers::createDisplay(opt.display, displayCfg, &b.displayReport),
                         b.displayReport, b.display))
         return bad;
-    const hal::BackendConfig hapticCfg = withOptions(cfg, opt.hapticOptions);
+    // A player that stays up (--idle: the box's service) takes its haptic device and remote
+    // when they are plugged in, after its start too (hot-plug).
+    hal::BackendConfig hapticCfg = withOptions(cfg, opt.hapticOptions);
+    hapticCfg.awaitDevice = opt.idle;
     if (auto bad = take(drivers::createHapticDevice(opt.haptic, hapticCfg, &b.hapticReport),
                         b.hapticReport, b.device))
         return bad;
-    warnFallback(opt, drivers::BackendKind::HapticDevice, opt.haptic, b.hapticReport);
+    warnFallback(opt, drivers::BackendKind::HapticDevice, opt.haptic, b.hapticReport,
+                 b.device->awaitingDevice());
     hal::SelectionReport rep;
     if (!opt.remote.empty() && opt.remote != "none") {
-        const hal::BackendConfig remoteCfg = withOptions(cfg, opt.remoteOptions);
+        hal::BackendConfig remoteCfg = withOptions(cfg, opt.remoteOptions);
+        remoteCfg.awaitDevice = opt.idle;
         if (auto bad = take(drivers::createRemoteInput(opt.remote, remoteCfg, &rep), rep, b.remote))
             return bad;
         // The default list takes the terminal's keys where play runs in one: none elsewhere is
         // no fallback to warn of.
         if (opt.remote != PlayOptions{}.remote)
-            warnFallback(opt, drivers::BackendKind::RemoteInput, opt.remote, rep);
+            warnFallback(opt, drivers::BackendKind::RemoteInput, opt.remote, rep,
+                         b.remote->awaitingDevice());
     }
     if (!opt.noAudio && opt.audioDevice != "none") {
         const hal::BackendConfig audioCfg = withOptions(cfg, opt.audioDeviceOptions);

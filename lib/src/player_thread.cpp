@@ -96,14 +96,19 @@ int openBackends(const cli::PlayOptions &opt, const hal::BackendConfig &cfg, aut
                   rep, b.display, DT_ERROR_VO_INIT_FAILED);
     if (rc < 0)
         return rc;
-    rc = take(drivers::createHapticDevice(opt.haptic, withOptions(cfg, opt.hapticOptions), &rep),
-              rep, b.device, DT_ERROR_HAPTIC_INIT_FAILED);
+    // As play: a player that stays up (idle) picks its devices up when they are plugged in.
+    hal::BackendConfig hapticCfg = withOptions(cfg, opt.hapticOptions);
+    hapticCfg.awaitDevice = opt.idle;
+    rc = take(drivers::createHapticDevice(opt.haptic, hapticCfg, &rep), rep, b.device,
+              DT_ERROR_HAPTIC_INIT_FAILED);
     if (rc < 0)
         return rc;
     b.noDevice = rep.chosen == "none";
     if (!opt.remote.empty() && opt.remote != "none") {
-        rc = take(drivers::createRemoteInput(opt.remote, withOptions(cfg, opt.remoteOptions), &rep),
-                  rep, b.remote, DT_ERROR_GENERIC);
+        hal::BackendConfig remoteCfg = withOptions(cfg, opt.remoteOptions);
+        remoteCfg.awaitDevice = opt.idle;
+        rc = take(drivers::createRemoteInput(opt.remote, remoteCfg, &rep), rep, b.remote,
+                  DT_ERROR_GENERIC);
         if (rc < 0)
             return rc;
     }

@@ -32,6 +32,7 @@ std::string HapticStats::toJson(int indent) const
         {"watchdog_trips", watchdogTrips},
         {"device_losses", deviceLosses},
         {"reconnects", reconnects},
+        {"device_connected", deviceConnected},
         {"telemetry_dropped", telemetryDropped},
         {"max_force_n", maxForce},
         {"energy_into_hand_mj", 1e3 * energy},

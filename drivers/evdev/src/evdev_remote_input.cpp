@@ -1,7 +1,9 @@
 #include "depthtouch/drivers/evdev/evdev_remote_input.h"
 
+#include <chrono>
 #include <iterator>
 
+#include "depthtouch/drivers/evdev/hotplug_event_source.h"
 #include "depthtouch/platform/log.h"
 
 DT_LOG_CATEGORY(Evdev)
@@ -11,6 +13,10 @@ namespace depthtouch::drivers {
 namespace {
 
 constexpr const char *kOptionKeys[] = {"device", "grab", "repeat"};
+
+/// How often an awaited remote is looked for: a key pressed in the first second after it is
+/// plugged in may be missed; a scan of /dev/input costs an open() per event node.
+constexpr platform::Duration kHotplugRetry = std::chrono::seconds(1);
 
 struct Alias {
     int code;
@@ -93,7 +99,24 @@ Result<std::unique_ptr<hal::RemoteInput>> EvdevRemoteInput::create(const hal::Ba
         path = std::string(*device);
     else if (!cfg.device.empty())
         path = std::string(cfg.device);
-    else {
+    if (cfg.awaitDevice) {
+        // The device may come and go: the same path, or the first with media keys, each time.
+        HotplugEventSource::Opener open = [path, grab = *grab]() {
+            if (!path.empty())
+                return openLibevdevSource(path, grab);
+            Result<std::string> found = findRemoteDevice();
+            if (!found)
+                return Result<std::unique_ptr<EventSource>>(unexpected(found.error()));
+            return openLibevdevSource(*found, grab);
+        };
+        auto source = std::make_unique<HotplugEventSource>(std::move(open), kHotplugRetry);
+        source->look(cfg.clockRef().now());
+        Result<std::unique_ptr<EvdevRemoteInput>> remote = createWithSource(cfg, std::move(source));
+        if (!remote)
+            return unexpected(remote.error());
+        return std::unique_ptr<hal::RemoteInput>(std::move(*remote));
+    }
+    if (path.empty()) {
         Result<std::string> found = findRemoteDevice();
         if (!found)
             return unexpected(found.error());

@@ -182,7 +182,7 @@ Result<std::string> findRemoteDevice(const std::string &dir)
         if (opened && hasMediaKey(opened->second.get()))
             return path;
     }
-    DT_LOG(Evdev, Info, "No input device with media keys in %s", dir.c_str());
+    DT_LOG(Evdev, Debug, "No input device with media keys in %s", dir.c_str());
     return unexpected(Errc::NoDevice, "No input device with media keys");
 }
 

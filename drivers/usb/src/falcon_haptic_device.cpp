@@ -97,6 +97,7 @@ Result<std::unique_ptr<hal::HapticDevice>> FalconHapticDevice::create(const hal:
     if (!settings)
         return unexpected(settings.error());
     std::unique_ptr<UsbTransport> transport;
+    bool transportMissing = false;
     if (settings->emulate) {
         FakeFalconSettings fake;
         fake.firmwareAtPowerUp = settings->firmwarePath.empty();
@@ -105,12 +106,19 @@ Result<std::unique_ptr<hal::HapticDevice>> FalconHapticDevice::create(const hal:
         auto found = LibusbTransport::probe(kFalconVendorId, kFalconProductId);
         if (!found)
             return unexpected(found.error());
-        if (!*found)
+        if (!*found && !cfg.awaitDevice)
             return unexpected(Errc::NoDevice, "No Novint Falcon (USB 0403:cb48) connected");
+        transportMissing = !*found;
+        if (!*found)
+            DT_LOG(Falcon, Warning,
+                   "No Novint Falcon (USB 0403:cb48) connected: waiting for one "
+                   "(the haptic task opens it when it is plugged in)");
         transport = std::make_unique<LibusbTransport>();
     }
-    return std::unique_ptr<hal::HapticDevice>(std::make_unique<FalconHapticDevice>(
-        cfg.clockRef(), std::move(transport), std::move(*settings)));
+    auto device = std::make_unique<FalconHapticDevice>(cfg.clockRef(), std::move(transport),
+                                                       std::move(*settings));
+    device->awaiting_.store(transportMissing, std::memory_order_release);
+    return std::unique_ptr<hal::HapticDevice>(std::move(device));
 }
 
 FalconHapticDevice::FalconHapticDevice(platform::Clock &clock,
@@ -145,6 +153,7 @@ Result<FalconHapticDevice::State> FalconHapticDevice::openDevice()
         return unexpected(r.error());
     }
     home();
+    awaiting_.store(false, std::memory_order_release);
     return State::Open;
 }
 

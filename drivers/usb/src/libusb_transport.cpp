@@ -126,8 +126,12 @@ Result<void> LibusbTransport::open(std::uint16_t vendorId, std::uint16_t product
         return unexpected(Errc::Io, "Failed to list USB devices");
     }
     if (rc != 0) {
-        DT_LOG(Usb, Error, "Failed to open USB device %04x:%04x: %s", vendorId, productId,
-               found ? libusb_strerror(rc) : "not found");
+        // Not on the bus is what every try of a device awaited by hot-plug finds: no error line.
+        if (found)
+            DT_LOG(Usb, Error, "Failed to open USB device %04x:%04x: %s", vendorId, productId,
+                   libusb_strerror(rc));
+        else
+            DT_LOG(Usb, Debug, "USB device %04x:%04x not found", vendorId, productId);
         handle_ = nullptr;
         close();
         return unexpected(libusbError(found ? rc : LIBUSB_ERROR_NO_DEVICE,

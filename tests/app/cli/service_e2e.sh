@@ -4,7 +4,8 @@
 #    for a sender, or after the wait timed out, is exit 0: systemd marks a unit whose stop exits
 #    non-zero failed;
 #  - the shipped configuration (packaging/play.toml) starts without a Falcon and a remote: a
-#    missing one is a warning line, not a failure (Restart=on-failure would loop);
+#    missing one is a warning line, not a failure (Restart=on-failure would loop), and is waited
+#    for (hot-plug) rather than replaced by `none`;
 #  - with stderr the journal's stream (JOURNAL_STREAM), the one failure line has the error priority
 #    prefix "<3>" (sd-daemon(3)) and a warning "<4>", as the log's lines.
 # Usage: service_e2e.sh /path/to/depthtouch
@@ -58,16 +59,35 @@ grep -q "open failed" "$work/err" || fail "the timed-out wait was not reported: 
 config="$here/../../../packaging/play.toml"
 [ -f "$config" ] || fail "no $config"
 "$exe" play --config "$config" --display mock --require-rt=false --control "$work/ctl.sock" \
-    "$clip" --source mock --decoder mock --no-audio --duration 1 >"$work/out" 2>"$work/err" </dev/null
+    "$clip" --source mock --decoder mock --no-audio --duration 1 --stats "$work/shipped.json" \
+    >"$work/out" 2>"$work/err" </dev/null
 rc=$?
 [ "$rc" -eq 0 ] || fail "play --config packaging/play.toml: exit $rc, '$(cat "$work/err")'"
 if grep -v "warning: " "$work/err" | grep -q .; then
     fail "play --config packaging/play.toml printed more than warnings: '$(cat "$work/err")'"
 fi
-# without a Falcon (a machine that runs tests has none), a warning says so
+# without a Falcon (a machine that runs tests has none), a warning says so, and the player waits
+# for one (hot-plug: the haptic task opens it when it is plugged in) instead of settling for none;
+# --stats says it was not connected
 if grep -q "haptic device 'falcon'" "$work/err"; then
-    grep -q "^depthtouch play: warning: no haptic device 'falcon'.*playing with 'none'" "$work/err" ||
-        fail "the missing Falcon's line: '$(cat "$work/err")'"
+    grep -q "^depthtouch play: warning: no haptic device 'falcon' connected: playing without it until it is plugged in$" \
+        "$work/err" || fail "the missing Falcon's line: '$(cat "$work/err")'"
+    python3 - "$work/shipped.json" <<'PY' || fail "the awaited Falcon in --stats: $(cat "$work/shipped.json")"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["haptic_device"] == "falcon", j["haptic_device"]
+assert j["device_connected"] is False, j["device_connected"]
+PY
+    # a player that does not stay up still says at once that its Falcon is missing (exit 1)
+    "$exe" play "$clip" --source mock --decoder mock --display mock --haptic falcon --no-audio \
+        --no-config --duration 1 >"$work/out" 2>"$work/err-once" </dev/null
+    rc=$?
+    [ "$rc" -eq 1 ] && grep -q "No Novint Falcon" "$work/err-once" ||
+        fail "play --haptic falcon without one and without --idle: exit $rc, '$(cat "$work/err-once")'"
+fi
+if grep -q "remote input 'evdev'" "$work/err"; then
+    grep -q "^depthtouch play: warning: no remote input 'evdev' connected: playing without it until it is plugged in$" \
+        "$work/err" || fail "the missing remote's line: '$(cat "$work/err")'"
 fi
 
 # 3. the journal's priorities: stderr a file whose device and inode JOURNAL_STREAM names

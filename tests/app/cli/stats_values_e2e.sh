@@ -48,7 +48,8 @@ def count(key):  # a non-negative integer
 haptic = opt["haptic"] != "none"
 hkeys = {"haptic_updates", "haptic_run_s", "haptic_rate_hz", "rendered_updates", "contact_updates",
          "overruns", "missed_periods", "wake_latency_us", "update_time_us", "period_error_us",
-         "safety_releases", "watchdog_trips", "device_losses", "reconnects", "telemetry_dropped",
+         "safety_releases", "watchdog_trips", "device_losses", "reconnects", "device_connected",
+         "telemetry_dropped",
          "max_force_n", "device_max_force_n", "device_call_max_us", "force_log_lost", "haptic_thread",
          "haptic_page_faults", "haptic_locked_mib", "energy_into_hand_mj", "energy_peak_mj"}
 pkeys = {"url", "mode", "depth_size", "color_size", "output_size", "fps", "display", "haptic_device",
@@ -149,6 +150,7 @@ if haptic:
     for k in ("device_losses", "reconnects", "telemetry_dropped"):
         eq(k, 0)
     eq("force_log_lost", False)
+    eq("device_connected", True)  # the simulated hand is there from the start to the end
     eq("device_max_force_n", float(opt.get("max_force", 8.5)))
     want("max_force_n", 0 <= d.get("max_force_n", -1) <= d.get("device_max_force_n", 0) + 1e-9, "<= device_max_force_n")
     if "clamped" in opt:  # the hand pushes harder than the device may: the clamp is reached

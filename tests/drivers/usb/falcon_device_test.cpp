@@ -473,6 +473,31 @@ TEST(FalconBackendTest, withoutADeviceTheFactoryReportsNoDevice)
     EXPECT_EQ(dev.error().code, Errc::NoDevice);
 }
 
+TEST(FalconBackendTest, aPlayerThatWaitsForItsFalconGetsOneThatOpensWhenPluggedIn)
+{
+    // hal::BackendConfig::awaitDevice (`play --idle`): no Falcon at the start is not a failure;
+    // the device says it is awaited, and its open() reports NoDevice until one is plugged in (the
+    // haptic task's supervisor retries it).
+    auto present = LibusbTransport::probe(kFalconVendorId, kFalconProductId);
+    if (present && *present)
+        GTEST_SKIP() << "A Novint Falcon is connected";
+    hal::BackendConfig cfg;
+    cfg.awaitDevice = true;
+    auto dev = FalconHapticDevice::create(cfg);
+    ASSERT_TRUE(dev) << dev.error().what;
+    EXPECT_TRUE((*dev)->awaitingDevice());
+    EXPECT_FALSE((*dev)->isConnected());
+    EXPECT_EQ((*dev)->capabilities().maxForce, kFalconMaxForce) << "its capabilities are known";
+    EXPECT_EQ(codeOf((*dev)->open()), Errc::NoDevice);
+    EXPECT_TRUE((*dev)->awaitingDevice()) << "still awaited after a try";
+
+    // An emulated Falcon is always there: nothing is awaited.
+    cfg.options = hal::OptionList("emulate=1");
+    auto emulated = FalconHapticDevice::create(cfg);
+    ASSERT_TRUE(emulated);
+    EXPECT_FALSE((*emulated)->awaitingDevice());
+}
+
 TEST(LibusbTransportTest, withoutTheDeviceEverythingReportsNoDevice)
 {
     auto present = LibusbTransport::probe(kFalconVendorId, kFalconProductId);

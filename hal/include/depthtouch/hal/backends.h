@@ -73,6 +73,12 @@ struct BackendConfig {
     std::string_view
         device;         ///< Device path or URL, e.g. "/dev/input/event3"; empty for the default.
     OptionList options; ///< Backend-specific options, e.g. "width=64,height=48".
+    /// The device may appear after the start (hot-plug; a player that stays up, `play --idle`):
+    /// a backend whose device can be picked up later is created without it when none is
+    /// connected (it reports itself disconnected and opens the device when one appears: the
+    /// haptic task's reconnects, a remote's rescan) instead of failing with NoDevice. A backend
+    /// that cannot wait for its device ignores it.
+    bool awaitDevice = false;
 
     /// \return *clock, or the process-wide SteadyClock when clock is nullptr.
     [[nodiscard]] platform::Clock &clockRef() const noexcept;

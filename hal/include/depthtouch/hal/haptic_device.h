@@ -105,6 +105,11 @@ public:
     /// \return true when the device is Open and answering. Real-time safe.
     [[nodiscard]] virtual bool isConnected() const noexcept = 0;
 
+    /// \return true while a backend created without its device (BackendConfig::awaitDevice: none
+    /// was connected) has not yet opened one; false otherwise, and for backends that never wait.
+    /// For the player's messages at its start. Thread-safe.
+    [[nodiscard]] virtual bool awaitingDevice() const noexcept { return false; }
+
 protected:
     HapticDevice() = default;
     DT_DISABLE_COPY_AND_MOVE(HapticDevice)

@@ -106,6 +106,11 @@ public:
     /// NoDevice (the input device went away), Io (read failure).
     [[nodiscard]] virtual Result<KeyEvent> poll(Deadline until) = 0;
 
+    /// \return true while a backend created without its device (BackendConfig::awaitDevice) has
+    /// none: poll() then returns Timeout until one is plugged in. False for backends that never
+    /// wait. Thread-bound, as poll().
+    [[nodiscard]] virtual bool awaitingDevice() const noexcept { return false; }
+
 protected:
     RemoteInput() = default;
     DT_DISABLE_COPY_AND_MOVE(RemoteInput)

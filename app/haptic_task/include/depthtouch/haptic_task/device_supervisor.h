@@ -104,9 +104,10 @@ public:
     /// \return true while the haptic thread owns a connected device (false while it is lost or the
     /// device watchdog holds zero).
     [[nodiscard]] bool connected() const noexcept { return owns() && !deviceFailed_.load(); }
-    /// Fills watchdogTrips, deviceLosses and reconnects of \a s.
+    /// Fills watchdogTrips, deviceLosses, reconnects and deviceConnected of \a s.
     void fill(HapticStats &s) const noexcept
     {
+        s.deviceConnected = connected();
         s.watchdogTrips = watchdogTrips_.load(std::memory_order_relaxed);
         s.deviceLosses = deviceLosses_.load(std::memory_order_relaxed);
         s.reconnects = reconnects_.load(std::memory_order_relaxed);

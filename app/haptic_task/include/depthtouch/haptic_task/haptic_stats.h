@@ -26,6 +26,9 @@ struct HapticStats {
     std::uint64_t watchdogTrips = 0;   ///< Zero-force trips of the watchdog (deadlines, time-outs).
     std::uint64_t deviceLosses = 0;    ///< Times the device disappeared.
     std::uint64_t reconnects = 0;      ///< Times it came back.
+    /// The haptic thread had the device, connected, when the stats were read (false: lost, or
+    /// never plugged in since a start that waited for it, hal::BackendConfig::awaitDevice).
+    bool deviceConnected = false;
     std::uint64_t telemetryDropped = 0; ///< Samples lost to a full ring (not in the percentiles).
     double maxForce = 0.0;              ///< Largest commanded force magnitude, N.
     /// Energy the commanded force put into the hand at the device's port over the run, J (the
@@ -56,10 +59,9 @@ struct HapticStats {
     /// \return a JSON object: haptic_updates, haptic_run_s, haptic_rate_hz, rendered_updates,
     /// contact_updates, overruns, missed_periods, wake_latency_us / update_time_us /
     /// period_error_us {p50, p90, p99, p999, max, mean}, safety_releases, watchdog_trips,
-    /// device_losses, reconnects, telemetry_dropped, max_force_n, device_max_force_n,
-    /// device_call_max_us,
-    /// force_log_lost, haptic_thread, haptic_page_faults {minor, major, warmup},
-    /// haptic_locked_mib.
+    /// device_losses, reconnects, device_connected, telemetry_dropped, max_force_n,
+    /// device_max_force_n, device_call_max_us, force_log_lost, haptic_thread, haptic_page_faults
+    /// {minor, major, warmup}, haptic_locked_mib.
     [[nodiscard]] std::string toJson(int indent = 2) const;
 };
 

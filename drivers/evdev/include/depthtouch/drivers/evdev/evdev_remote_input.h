@@ -19,7 +19,11 @@
 /// SYN_DROPPED), tests use a fake that yields input_event records.
 /// Errors: the factory returns NoDevice when no device is found, InvalidArgument when the path is
 /// not an input device (a bad option), PermissionDenied when it cannot be opened; poll() returns
-/// NoDevice once the device is unplugged (ENODEV) and from then on. Time: KeyEvent::time is the
+/// NoDevice once the device is unplugged (ENODEV) and from then on. With
+/// hal::BackendConfig::awaitDevice the device is optional instead: the factory succeeds without
+/// one, and the device (the path given, or the first with media keys) is looked for every second
+/// while it is missing, at the start and after an unplug (HotplugEventSource); poll() then
+/// returns Timeout while there is none, never NoDevice. Time: KeyEvent::time is the
 /// backend clock's time when the event was read. Thread-safety: thread-bound, as hal::RemoteInput.
 
 #include <memory>
@@ -45,6 +49,9 @@ public:
     /// \return the event. Errors: Timeout (nothing by the deadline; a past deadline does not
     /// wait), NoDevice (the device went away), Io.
     [[nodiscard]] virtual Result<input_event> next(platform::Clock &clock, hal::Deadline until) = 0;
+
+    /// \return false while a source that waits for its device has none (HotplugEventSource).
+    [[nodiscard]] virtual bool connected() const noexcept { return true; }
 
 protected:
     EventSource() = default;
@@ -77,6 +84,8 @@ public:
     ~EvdevRemoteInput() override = default;
 
     [[nodiscard]] Result<hal::KeyEvent> poll(hal::Deadline until) override;
+    /// \return true while its source waits for a device (hal::BackendConfig::awaitDevice).
+    [[nodiscard]] bool awaitingDevice() const noexcept override { return !source_->connected(); }
 
     /// The source read from (for tests that feed a fake).
     [[nodiscard]] EventSource &source() noexcept { return *source_; }

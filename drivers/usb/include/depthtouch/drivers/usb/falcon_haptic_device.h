@@ -68,12 +68,20 @@ struct FalconStats {
 class FalconHapticDevice final : public hal::HapticDeviceBase {
 public:
     /// Backend factory: settings from cfg.options. Without `emulate`, checks that a Falcon is on
-    /// the USB bus (NoDevice otherwise), so autoprobing falls through to the next backend.
+    /// the USB bus (NoDevice otherwise), so autoprobing falls through to the next backend; with
+    /// BackendConfig::awaitDevice it is created without one (open() fails with NoDevice until one
+    /// is plugged in: the haptic task's supervisor retries it, DeviceSupervisor).
     static Result<std::unique_ptr<hal::HapticDevice>> create(const hal::BackendConfig &cfg);
 
     FalconHapticDevice(platform::Clock &clock, std::unique_ptr<UsbTransport> transport,
                        FalconSettings settings);
     ~FalconHapticDevice() override;
+
+    /// \return true while created without a Falcon on the bus and none opened since.
+    [[nodiscard]] bool awaitingDevice() const noexcept override
+    {
+        return awaiting_.load(std::memory_order_acquire);
+    }
 
     /// \name Observers (thread-bound)
     ///@{
@@ -112,6 +120,8 @@ private:
     platform::Clock &clock_;
     std::unique_ptr<UsbTransport> transport_;
     FalconSettings settings_;
+    /// Created without a Falcon on the bus (awaitDevice) and none opened since.
+    std::atomic<bool> awaiting_{false};
 
     falcon::CommandPacket command_{};
     falcon::Packet outPacket_{};
