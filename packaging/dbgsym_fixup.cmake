@@ -1,14 +1,16 @@
 # CPack post-build script (CPACK_POST_BUILD_SCRIPTS): finishes the debug package CPack's DEB
-# generator writes (depthtouch-dbgsym_<version>_<arch>.ddeb) as Debian's dh_strip would:
+# generator writes (<package>-dbgsym_<version>_<arch>.ddeb, one per package with an ELF file:
+# depthtouch, libdepthtouch0) as Debian's dh_strip would:
 #  - the debug file's sections compressed (objcopy --compress-debug-sections: about a third the size);
 #  - md5sums listing the package's own paths (CPack 3.25 writes its staging folder's absolute path);
-#  - usr/share/doc/depthtouch-dbgsym a link to depthtouch's folder (its copyright and changelog; the
+#  - usr/share/doc/<package>-dbgsym a link to <package>'s folder (its copyright and changelog; the
 #    ddeb depends on that exact version).
 # Reference: Debian's debhelper, dh_strip(1); deb-md5sums(5).
 foreach(_deb IN LISTS CPACK_PACKAGE_FILES)
-    if(NOT _deb MATCHES "-dbgsym_[^/]*\\.ddeb$")
+    if(NOT _deb MATCHES "/([^/]+)-dbgsym_[^/]*\\.ddeb$")
         continue()
     endif()
+    set(_package "${CMAKE_MATCH_1}")
     set(_root "${_deb}.root")
     file(REMOVE_RECURSE "${_root}")
     execute_process(COMMAND dpkg-deb -R "${_deb}" "${_root}" RESULT_VARIABLE _rc)
@@ -25,7 +27,7 @@ foreach(_deb IN LISTS CPACK_PACKAGE_FILES)
         file(CHMOD "${_root}/${_f}" PERMISSIONS OWNER_READ OWNER_WRITE GROUP_READ WORLD_READ)
     endforeach()
     file(MAKE_DIRECTORY "${_root}/usr/share/doc")
-    file(CREATE_LINK depthtouch "${_root}/usr/share/doc/depthtouch-dbgsym" SYMBOLIC)
+    file(CREATE_LINK "${_package}" "${_root}/usr/share/doc/${_package}-dbgsym" SYMBOLIC)
     set(_sums "")
     foreach(_f IN LISTS _debug)
         file(MD5 "${_root}/${_f}" _md5)

@@ -1,7 +1,8 @@
 #!/bin/sh
 # The integrator's way in (issue 62): libdepthtouch installed alone (`cmake --install BUILD
-# --component libdepthtouch --prefix P`), a C99 program compiled only against the installed header
-# and `pkg-config --cflags --libs depthtouch`, run against the installed library: it plays a mock
+# --component libdepthtouch` and `--component libdepthtouch_dev`, `--prefix P`: the files of the
+# packages libdepthtouch0 and libdepthtouch-dev), a C99 program compiled only against the installed
+# header and `pkg-config --cflags --libs depthtouch`, run against the installed library: it plays a mock
 # clip (client_c_scenario.c: options, loadfile, file-loaded, pause's property change, time-pos
 # advancing, an asynchronous seek, stop's end-file).
 # Usage: installed_client_e2e.sh CMAKE BUILD_DIR SOURCE_DIR CC
@@ -12,10 +13,12 @@ src=$3
 cc=$4
 e2e_start installed-client pkg-config "$cc"
 
-"$cmake_exe" --install "$build" --component libdepthtouch --prefix "$work/prefix" >"$work/install.log" 2>&1 ||
-    fail "the libdepthtouch component did not install: $(cat "$work/install.log")"
+for component in libdepthtouch libdepthtouch_dev; do
+    "$cmake_exe" --install "$build" --component $component --prefix "$work/prefix" >"$work/install.log" 2>&1 ||
+        fail "the $component component did not install: $(cat "$work/install.log")"
+done
 [ -z "$(find "$work/prefix" -name 'depthtouch' -type f -path '*/bin/*')" ] ||
-    fail "the component installed the program too"
+    fail "the components installed the program too"
 pc=$(find "$work/prefix" -name depthtouch.pc)
 [ -n "$pc" ] || fail "no depthtouch.pc installed"
 PKG_CONFIG_PATH=$(dirname "$pc")

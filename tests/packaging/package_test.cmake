@@ -6,10 +6,18 @@
 #  2. cpack writes depthtouch_<version>_<arch>.deb and depthtouch-dbgsym_<version>_<arch>.ddeb: the .deb's
 #     Architecture, Depends (from dpkg-shlibdeps, and the Mesa driver), conffiles, maintainer scripts and
 #     contents, its program stripped, the .ddeb holding that program's debug information under its build-id;
-#     lintian reports no error and no warning on either;
+#  2b. (LIB) and libdepthtouch0 (the .so.0, Section libs, a shlibs, the committed symbols file and
+#     the ldconfig trigger in its control, no maintainer script, the library stripped and its debug
+#     file in libdepthtouch0-dbgsym) and libdepthtouch-dev (the header, the .so link, depthtouch.pc,
+#     the CMake package config; Depends: libdepthtouch0 (= version)); nothing else; the program's
+#     package depends on libdepthtouch0 exactly when the program links it (readelf -d);
+#     lintian reports no error and no warning on any of them;
 #  3. (native builds) the package unpacked into a scratch root (dpkg-deb -x) runs: --version and a
-#     short demo from there.
+#     short demo from there; with LIB, libdepthtouch0 and libdepthtouch-dev unpacked into a root of
+#     their own: a C program built with that root's pkg-config file (CC) loads the library.
 # -DBUILD=<build dir> -DOUT=<scratch folder> -DVERSION=<x.y.z> -DARCH=<Debian arch> -DRUN=ON|OFF
+# -DLIB=ON|OFF (the build has libdepthtouch) -DLIBDIR=<its CMAKE_INSTALL_LIBDIR: lib/<multiarch>>
+# -DSYMBOLS=<packaging/libdepthtouch0.symbols> -DCC=<a C compiler for the target>
 # -DPAGES=ON|OFF (the build wrote the man pages and shell completion) -DRUN_PROGRAM=<the program, or
 # its emulator wrapper in a cross build>
 # -DSANITIZE=<the build's DT_SANITIZE> (RUN: a native build, whose program runs here; a sanitizer
@@ -61,6 +69,19 @@ endif()
 foreach(p ${files})
     expect_file("${OUT}/stage" "${p}")
 endforeach()
+# The library's two packages, file by file (a plain install installs them too).
+set(lib_files usr/${LIBDIR}/libdepthtouch.so.0 usr/${LIBDIR}/libdepthtouch.so.${VERSION}
+    usr/share/doc/libdepthtouch0/copyright usr/share/doc/libdepthtouch0/changelog.gz)
+set(dev_files usr/include/depthtouch/client.h usr/${LIBDIR}/libdepthtouch.so
+    usr/${LIBDIR}/pkgconfig/depthtouch.pc usr/${LIBDIR}/cmake/DepthTouch/depthtouch-config.cmake
+    usr/${LIBDIR}/cmake/DepthTouch/depthtouch-config-version.cmake
+    usr/${LIBDIR}/cmake/DepthTouch/depthtouch-targets.cmake
+    usr/share/doc/libdepthtouch-dev/copyright usr/share/doc/libdepthtouch-dev/changelog.gz)
+if(LIB)
+    foreach(p ${lib_files} ${dev_files})
+        expect_file("${OUT}/stage" "${p}")
+    endforeach()
+endif()
 file(READ "${OUT}/stage/usr/lib/systemd/system/depthtouch.service" unit)
 foreach(line "ExecStart=/usr/bin/depthtouch play --config /etc/depthtouch/play.toml" "LimitRTPRIO=95"
              "LimitMEMLOCK=infinity" "DeviceAllow=char-drm rw" "DeviceAllow=char-usb_device rw")
@@ -141,14 +162,20 @@ if(at LESS 0)
     message(FATAL_ERROR "the unit installed under a prefix lacks '${line}':\n${unit}")
 endif()
 
-# 2. the package
+# 2. the packages: exactly these, no other
 run(cpack --config "${BUILD}/CPackConfig.cmake" -B "${OUT}/cpack")
-file(GLOB debs "${OUT}/cpack/depthtouch_${VERSION}_${ARCH}.deb")
-list(LENGTH debs n)
-if(NOT n EQUAL 1)
-    file(GLOB all "${OUT}/cpack/*")
-    message(FATAL_ERROR "expected depthtouch_${VERSION}_${ARCH}.deb, cpack wrote: ${all}")
+set(expected depthtouch_${VERSION}_${ARCH}.deb depthtouch-dbgsym_${VERSION}_${ARCH}.ddeb)
+if(LIB)
+    list(APPEND expected libdepthtouch0_${VERSION}_${ARCH}.deb libdepthtouch0-dbgsym_${VERSION}_${ARCH}.ddeb
+        libdepthtouch-dev_${VERSION}_${ARCH}.deb)
 endif()
+file(GLOB written RELATIVE "${OUT}/cpack" "${OUT}/cpack/*.deb" "${OUT}/cpack/*.ddeb")
+list(SORT expected)
+list(SORT written)
+if(NOT written STREQUAL expected)
+    message(FATAL_ERROR "cpack wrote '${written}', expected '${expected}'")
+endif()
+set(debs "${OUT}/cpack/depthtouch_${VERSION}_${ARCH}.deb")
 run(dpkg-deb -f "${debs}" Package Version Architecture Depends)
 message("${out}")
 if(NOT out MATCHES "Architecture: ${ARCH}\n" OR NOT out MATCHES "Depends:[^\n]*libc6"
@@ -161,6 +188,10 @@ endif()
 run(dpkg-deb -I "${debs}" conffiles)
 if(NOT out MATCHES "^/etc/depthtouch/play.toml")
     message(FATAL_ERROR "conffiles: '${out}'")
+endif()
+run(dpkg-deb -I "${debs}")
+if(out MATCHES " (shlibs|symbols|triggers) ")
+    message(FATAL_ERROR "the program's package has a library's control files:\n${out}")
 endif()
 # The maintainer scripts: the service stopped on remove, state forgotten on purge, restarted on upgrade.
 foreach(pair "prerm;deb-systemd-invoke stop depthtouch.service" "postrm;deb-systemd-helper purge depthtouch.service"
@@ -183,15 +214,119 @@ if(NOT elf MATCHES "Build ID: ([0-9a-f][0-9a-f])([0-9a-f]+)")
     message(FATAL_ERROR "the packaged program has no build-id:\n${elf}")
 endif()
 set(debug_file "usr/lib/debug/.build-id/${CMAKE_MATCH_1}/${CMAKE_MATCH_2}.debug")
-file(GLOB ddebs "${OUT}/cpack/depthtouch-dbgsym_${VERSION}_${ARCH}.ddeb")
-if(NOT ddebs)
-    message(FATAL_ERROR "cpack wrote no depthtouch-dbgsym_${VERSION}_${ARCH}.ddeb")
-endif()
+set(ddebs "${OUT}/cpack/depthtouch-dbgsym_${VERSION}_${ARCH}.ddeb")
+set(lint "${debs}" "${ddebs}") # the packages lintian reads
 run(dpkg-deb -x "${ddebs}" "${OUT}/ddeb-root")
 expect_file("${OUT}/ddeb-root" "${debug_file}")
 execute_process(COMMAND readelf -S "${OUT}/ddeb-root/${debug_file}" OUTPUT_VARIABLE dbg)
 if(NOT dbg MATCHES "\\.debug_info")
     message(FATAL_ERROR "${debug_file} holds no debug information")
+endif()
+# The program's package depends on the library's exactly when the program links it.
+execute_process(COMMAND readelf -d "${OUT}/deb-root/usr/bin/depthtouch" OUTPUT_VARIABLE dynamic)
+run(dpkg-deb -f "${debs}" Depends)
+if(dynamic MATCHES "NEEDED[^\n]*\\[libdepthtouch\\.so\\.0\\]")
+    if(NOT out MATCHES "(^|[ ,])libdepthtouch0 ")
+        message(FATAL_ERROR "the program links libdepthtouch.so.0, its package does not depend on libdepthtouch0:\n${out}")
+    endif()
+elseif(out MATCHES "libdepthtouch")
+    message(FATAL_ERROR "the program does not link libdepthtouch.so.0, its package depends on it:\n${out}")
+endif()
+
+# 2b. the library's packages
+if(LIB)
+    set(lib_deb "${OUT}/cpack/libdepthtouch0_${VERSION}_${ARCH}.deb")
+    set(dev_deb "${OUT}/cpack/libdepthtouch-dev_${VERSION}_${ARCH}.deb")
+    # The fields a user reads (dpkg-deb -I).
+    run(dpkg-deb -I "${lib_deb}")
+    message("${out}")
+    foreach(field "Package: libdepthtouch0" "Version: ${VERSION}" "Architecture: ${ARCH}" "Section: libs"
+                  "Source: depthtouch")
+        if(NOT out MATCHES "\n ${field}\n")
+            message(FATAL_ERROR "libdepthtouch0's control lacks '${field}':\n${out}")
+        endif()
+    endforeach()
+    if(NOT out MATCHES "\n Depends:[^\n]*libc6")
+        message(FATAL_ERROR "libdepthtouch0's Depends is not from the shlibs of what it links:\n${out}")
+    endif()
+    if(out MATCHES " (postinst|postrm|preinst|prerm|conffiles) ")
+        message(FATAL_ERROR "libdepthtouch0 has a maintainer script or conffiles (the ldconfig trigger does their work):\n${out}")
+    endif()
+    run(dpkg-deb -I "${lib_deb}" shlibs)
+    if(NOT out STREQUAL "libdepthtouch 0 libdepthtouch0 (>= ${VERSION})\n")
+        message(FATAL_ERROR "libdepthtouch0's shlibs: '${out}'")
+    endif()
+    run(dpkg-deb -I "${lib_deb}" symbols)
+    file(READ "${SYMBOLS}" committed)
+    if(NOT out STREQUAL committed)
+        message(FATAL_ERROR "libdepthtouch0's symbols file is not ${SYMBOLS}:\n${out}")
+    endif()
+    run(dpkg-deb -I "${lib_deb}" triggers)
+    if(NOT out STREQUAL "activate-noawait ldconfig\n")
+        message(FATAL_ERROR "libdepthtouch0's triggers: '${out}'")
+    endif()
+    run(dpkg-deb -I "${dev_deb}")
+    message("${out}")
+    foreach(field "Package: libdepthtouch-dev" "Version: ${VERSION}" "Architecture: ${ARCH}" "Section: libdevel"
+                  "Depends: libdepthtouch0 \\(= ${VERSION}\\)" "Source: depthtouch")
+        if(NOT out MATCHES "\n ${field}\n")
+            message(FATAL_ERROR "libdepthtouch-dev's control lacks '${field}':\n${out}")
+        endif()
+    endforeach()
+    if(out MATCHES " (postinst|postrm|preinst|prerm|conffiles|shlibs|symbols|triggers) ")
+        message(FATAL_ERROR "libdepthtouch-dev has control files of a library or a service:\n${out}")
+    endif()
+    # Their files (dpkg-deb -c: "./path" or "./path -> target"), each in one package only.
+    run(dpkg-deb -c "${lib_deb}")
+    set(lib_list "${out}")
+    run(dpkg-deb -c "${dev_deb}")
+    set(dev_list "${out}")
+    run(dpkg-deb -c "${debs}")
+    set(program_list "${out}")
+    foreach(p ${lib_files})
+        if(NOT lib_list MATCHES " \\./${p}( -> [^\n]*)?\n")
+            message(FATAL_ERROR "libdepthtouch0 lacks ${p}:\n${lib_list}")
+        endif()
+    endforeach()
+    if(NOT lib_list MATCHES " \\./usr/${LIBDIR}/libdepthtouch\\.so\\.0 -> libdepthtouch\\.so\\.${VERSION}\n")
+        message(FATAL_ERROR "libdepthtouch0's libdepthtouch.so.0 is not the soname link:\n${lib_list}")
+    endif()
+    foreach(p ${dev_files})
+        if(NOT dev_list MATCHES " \\./${p}( -> [^\n]*)?\n")
+            message(FATAL_ERROR "libdepthtouch-dev lacks ${p}:\n${dev_list}")
+        endif()
+    endforeach()
+    if(NOT dev_list MATCHES " \\./usr/${LIBDIR}/libdepthtouch\\.so -> libdepthtouch\\.so\\.0\n")
+        message(FATAL_ERROR "libdepthtouch-dev's libdepthtouch.so is not the link to the soname:\n${dev_list}")
+    endif()
+    if(lib_list MATCHES "(include/|pkgconfig|cmake/|libdepthtouch\\.so -> )" OR dev_list MATCHES "\\./[^ \n]*/libdepthtouch\\.so\\.")
+        message(FATAL_ERROR "a development file in libdepthtouch0 or the library in libdepthtouch-dev:\n${lib_list}\n${dev_list}")
+    endif()
+    if(program_list MATCHES "(libdepthtouch|include/depthtouch|depthtouch\\.pc|DepthTouch)")
+        message(FATAL_ERROR "the program's package holds a file of the library's:\n${program_list}")
+    endif()
+    # The library stripped, its debug information in libdepthtouch0-dbgsym under its build-id.
+    run(dpkg-deb -x "${lib_deb}" "${OUT}/lib-root")
+    execute_process(COMMAND readelf -S -n -d "${OUT}/lib-root/usr/${LIBDIR}/libdepthtouch.so.${VERSION}"
+        OUTPUT_VARIABLE elf)
+    if(elf MATCHES "\\.debug_info")
+        message(FATAL_ERROR "the packaged library is not stripped")
+    endif()
+    if(NOT elf MATCHES "SONAME[^\n]*\\[libdepthtouch\\.so\\.0\\]")
+        message(FATAL_ERROR "the packaged library's soname is not libdepthtouch.so.0:\n${elf}")
+    endif()
+    if(NOT elf MATCHES "Build ID: ([0-9a-f][0-9a-f])([0-9a-f]+)")
+        message(FATAL_ERROR "the packaged library has no build-id:\n${elf}")
+    endif()
+    set(lib_debug_file "usr/lib/debug/.build-id/${CMAKE_MATCH_1}/${CMAKE_MATCH_2}.debug")
+    set(lib_ddeb "${OUT}/cpack/libdepthtouch0-dbgsym_${VERSION}_${ARCH}.ddeb")
+    run(dpkg-deb -x "${lib_ddeb}" "${OUT}/lib-ddeb-root")
+    expect_file("${OUT}/lib-ddeb-root" "${lib_debug_file}")
+    run(dpkg-deb -f "${lib_ddeb}" Depends)
+    if(NOT out STREQUAL "libdepthtouch0 (= ${VERSION})\n")
+        message(FATAL_ERROR "libdepthtouch0-dbgsym's Depends: '${out}'")
+    endif()
+    list(APPEND lint "${lib_deb}" "${dev_deb}" "${lib_ddeb}")
 endif()
 find_program(LINTIAN lintian)
 if(SANITIZE)
@@ -199,7 +334,7 @@ if(SANITIZE)
 elseif(NOT LINTIAN)
     message(FATAL_ERROR "lintian not found (toolchain/install-deps.sh installs it)")
 else()
-    execute_process(COMMAND ${LINTIAN} --fail-on error,warning "${debs}" "${ddebs}"
+    execute_process(COMMAND ${LINTIAN} --fail-on error,warning ${lint}
         RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
     message("lintian: ${out}")
     if(NOT rc EQUAL 0 OR out MATCHES "(^|\n)[EW]: ")
@@ -225,5 +360,29 @@ if(RUN)
         --out "${OUT}/demo")
     message("${out}")
     expect_file("${OUT}/demo" stats.json)
+    # libdepthtouch0 and libdepthtouch-dev unpacked together: the .so link of the one reaches the
+    # library of the other, and depthtouch.pc (found in that root) points into the root.
+    find_program(PKG_CONFIG pkg-config)
+    if(LIB AND PKG_CONFIG AND CC)
+        run(dpkg-deb -x "${OUT}/cpack/libdepthtouch0_${VERSION}_${ARCH}.deb" "${OUT}/lib-dev-root")
+        run(dpkg-deb -x "${OUT}/cpack/libdepthtouch-dev_${VERSION}_${ARCH}.deb" "${OUT}/lib-dev-root")
+        set(ENV{PKG_CONFIG_PATH} "${OUT}/lib-dev-root/usr/${LIBDIR}/pkgconfig")
+        run(${PKG_CONFIG} --cflags --libs depthtouch)
+        string(STRIP "${out}" flags)
+        separate_arguments(flags UNIX_COMMAND "${flags}")
+        file(WRITE "${OUT}/version.c" "#include <depthtouch/client.h>
+#include <stdio.h>
+int main(void)
+{
+    printf(\"%lx\\n\", dt_client_api_version());
+    return dt_client_api_version() == DT_CLIENT_API_VERSION ? 0 : 1;
+}
+")
+        run(${CC} -std=c99 -Wall -Werror "${OUT}/version.c" ${flags} -o "${OUT}/version")
+        set(ENV{LD_LIBRARY_PATH} "${OUT}/lib-dev-root/usr/${LIBDIR}")
+        run("${OUT}/version")
+        unset(ENV{LD_LIBRARY_PATH})
+        message("a program built against the unpacked libdepthtouch-dev loaded libdepthtouch0 (API ${out})")
+    endif()
 endif()
 message("package: ${debs}")
