@@ -70,7 +70,8 @@ struct TouchOptions {
     bool noInterpolation = false;
     bool noSafety = false;
     double maxForceStep = 2.0;
-    std::string reengage = "release";
+    /// --reengage: play's default (one constant), so touch measures what play renders.
+    std::string reengage = haptics::reengageName(haptics::kCommandReengage);
     std::string fingerContact = "god-object"; ///< --finger-contact (RendererConfig's default)
     double fingerRadius = std::nan(""); ///< m; NaN: 0.015 x box width
     double staticFriction = 0.0;        ///< μs of the friction cone
@@ -126,7 +127,10 @@ const OptionRow<TouchOptions> kTouchRows[] = {
      "Force change per update that trips safety (N); the default 2 N never trips while stroking "
      "smooth surfaces at 1 m/s (k=800: <= 0.8 N/update) and always trips at a cut of half the box "
      "depth (16 N)"},
-    {"reengage", &TouchOptions::reengage, "After a trip: release | ramp", oneOf("release ramp")},
+    {"reengage", &TouchOptions::reengage,
+     "After a force-jump trip (scene cut): ramp (re-seat the proxy, ramp the force in) | release "
+     "(paper IV.C); ramp is play's default too, so touch measures what play renders",
+     oneOf("ramp release")},
     {"finger-contact", &TouchOptions::fingerContact,
      "How --method finger meets the surface: god-object (slides on from the last proxy) | penalty "
      "(the plane under the HIP) | adaptive (penalty while the HIP rests, god-object while it "

@@ -21,7 +21,7 @@ const playback::PlaybackConfig &playbackDefaults();
 /// each one's option name (also its `--config` TOML key), check, help and where it lands in
 /// playback::PlaybackConfig. The initializers are the defaults.
 struct PlayOptions {
-    std::string url;                  ///< File path or stream URL.
+    std::string url; ///< File path or stream URL.
     /// Display backend(s), comma-separated, tried in order; empty (the default): autoprobe the
     /// ones this build has, a screen when there is one (a DRM card, an X server), else offscreen,
     /// as mpv probes its video outputs.
@@ -48,7 +48,8 @@ struct PlayOptions {
     double staticFriction = playbackDefaults().haptics.renderer.staticFriction;   ///< μs.
     double dynamicFriction = playbackDefaults().haptics.renderer.dynamicFriction; ///< μd.
     double rate = playbackDefaults().haptics.servoRateHz; ///< Haptic servo rate, Hz.
-    std::string reengage = "ramp"; ///< After a force-jump release: ramp (re-seat) or release.
+    /// After a force-jump release: ramp (re-seat) or release; touch's default too.
+    std::string reengage = haptics::reengageName(haptics::kCommandReengage);
     /// The haptic renderer: a name of the renderer table (haptics/renderer_table.h).
     std::string method = haptics::methodName(playbackDefaults().haptics.method);
     bool loop = false;

@@ -62,17 +62,28 @@ enum class Reengage : std::uint8_t {
     Ramp,    ///< The proxy is re-seated on the surface above the HIP and the force ramps in.
 };
 
+/// \brief The re-engagement `play` and `touch` run by default (their --reengage), one value for
+/// both so a stroke measured with `touch` is rendered as `play` renders it (issue 61): Ramp.
+/// RendererConfig::reengage keeps Release, the paper's.
+inline constexpr Reengage kCommandReengage = Reengage::Ramp;
+
+/// \return "release" or "ramp", the --reengage word of \a reengage.
+constexpr const char *reengageName(Reengage reengage) noexcept
+{
+    return reengage == Reengage::Ramp ? "ramp" : "release";
+}
+
 /// \brief Renderer parameters. Defaults are the paper's method with its three fixes on
-/// (docs/architecture.md §3); `play` differs only in `reengage`, Ramp by default (app/cli play.h);
-/// `touch` keeps Release.
+/// (docs/architecture.md §3); `play` and `touch` differ only in `reengage`, kCommandReengage (Ramp)
+/// by default.
 struct RendererConfig {
-    SceneBox box{};             ///< Scene box the frames fill, m.
-    double stiffness = 800.0;   ///< k, N/m (scene::kMinStiffness..kMaxStiffness, stiffness.h).
-    double damping = 0.0;       ///< b, N·s/m (≥ 0); F −= b·v_HIP while in contact.
-    double maxForce = 8.5;      ///< Device maximum, N (> 0): |F| is clamped to it.
-    bool correction = true;     ///< Fix (a), paper IV.A: lift the previous proxy with the surface.
-    bool interpolation = true;  ///< Fix (b), paper IV.B Eq. 1: interpolate frames i → i+1.
-    bool safety = true;         ///< Fix (c), paper IV.C: force-jump safety.
+    SceneBox box{};            ///< Scene box the frames fill, m.
+    double stiffness = 800.0;  ///< k, N/m (scene::kMinStiffness..kMaxStiffness, stiffness.h).
+    double damping = 0.0;      ///< b, N·s/m (≥ 0); F −= b·v_HIP while in contact.
+    double maxForce = 8.5;     ///< Device maximum, N (> 0): |F| is clamped to it.
+    bool correction = true;    ///< Fix (a), paper IV.A: lift the previous proxy with the surface.
+    bool interpolation = true; ///< Fix (b), paper IV.B Eq. 1: interpolate frames i → i+1.
+    bool safety = true;        ///< Fix (c), paper IV.C: force-jump safety.
     /// Force-jump threshold, N per update. Default 2 N: at k = 800 N/m a stroke at 1 m/s into a
     /// steep smooth wall changes the force by at most k·1 mm = 0.8 N per 1 ms update and surface
     /// motion that is interpolated (< cut threshold per frame) adds < 0.3 N, so smooth use never
@@ -81,7 +92,7 @@ struct RendererConfig {
     /// already at the maximum.
     double maxForceStep = 2.0;
     Reengage reengage = Reengage::Release; ///< Action after a trip.
-    double rampTime = 0.25;     ///< Ramp duration for Reengage::Ramp, s (> 0).
+    double rampTime = 0.25;                ///< Ramp duration for Reengage::Ramp, s (> 0).
     /// Vertices moving more than this between two frames are not interpolated (held, then stepped
     /// at the frame boundary) so a cut stays visible to safety, m. NaN = 0.25·box depth.
     double cutThreshold = std::nan("");
@@ -138,17 +149,17 @@ struct RendererConfig {
 
 /// \brief Result of one haptic update (one force-log row, docs/architecture.md §4).
 struct HapticOutput {
-    glm::dvec3 hip{};       ///< HIP, m.
-    glm::dvec3 proxy{};     ///< Proxy after the update, m.
-    glm::dvec3 force{};     ///< Commanded force, N (clamped, ramped, slew-limited).
-    bool contact = false;   ///< Proxy held on the surface.
-    bool released = false;  ///< Safety tripped on this update.
-    int constraints = 0;    ///< Active constraint planes at the proxy (0 in free space).
+    glm::dvec3 hip{};      ///< HIP, m.
+    glm::dvec3 proxy{};    ///< Proxy after the update, m.
+    glm::dvec3 force{};    ///< Commanded force, N (clamped, ramped, slew-limited).
+    bool contact = false;  ///< Proxy held on the surface.
+    bool released = false; ///< Safety tripped on this update.
+    int constraints = 0;   ///< Active constraint planes at the proxy (0 in free space).
     /// Cost figures of this update: cells the collision walks visited (the proxy-to-HIP walk is
     /// skipped when the HIP is under the surface, its crossing then being certain).
     int cellsVisited = 0;
     int cellsTested = 0;
-    int proxySteps = 0;     ///< Triangles the proxy slid across.
+    int proxySteps = 0; ///< Triangles the proxy slid across.
 };
 
 /// \brief Interface shared by the renderers (tests, benchmark and the replay loop use it).
@@ -311,7 +322,7 @@ private:
     HeightField field_;
     ForceStage force_;
     glm::dvec3 proxy_{};
-    glm::dvec3 lastHip_{};        ///< HIP of the last update (how far it moved), m.
+    glm::dvec3 lastHip_{}; ///< HIP of the last update (how far it moved), m.
     bool haveProxy_ = false;
     double surfaceUnderProxy_ = 0.0; ///< h(proxy.xy) at the end of the last update, or NaN.
     CoarseGrid
