@@ -190,8 +190,47 @@ void printEnhanceTotals(const media::EnhanceTotals &t)
 }
 
 /// Farthest depth a depth camera measures, m (time-of-flight and stereo sensors stop at about
-/// 10 m): a robust range beyond it means a wrong --depth-scale.
+/// 10 m): a far plane beyond it is worth a warning.
 constexpr double kFarthestSensorRange = 12.0;
+/// Median depth beyond which the whole scene, not a tail of it, is farther than cameras see, m: the
+/// numbers then point to a wrong --depth-scale (TUM's 0.2 mm units read as mm put a room's median
+/// at 5x, 10..15 m; metres read as mm at 1000x).
+constexpr double kFarthestMedian = 0.5 * kFarthestSensorRange;
+
+/// Says on stdout what a robust range left out (a sparse far tail) and on stderr when its far
+/// plane is beyond what cameras measure: the scale alone is blamed only when the median is beyond
+/// kFarthestMedian too; otherwise a dense far tail and the scale are both named, as the numbers
+/// cannot tell them apart (a near scene at 5x reads like a room with a far background).
+void reportRobustRange(const media::EncodeOptions &eo, const media::EncodeSummary &s)
+{
+    if (!s.metric || eo.range || !s.rangeEstimate)
+        return;
+    const depth::RangeEstimate &e = *s.rangeEstimate;
+    if (e.tailCut)
+        std::printf("depth: far tail left out of the range: %.1f %% of the valid samples read "
+                    "%.4g..%.4g m (99 %% quantile %.4g m), under %.1f %% of them per 10 %% step of "
+                    "depth: sparse far outliers (as active-stereo cameras give), coded at the far "
+                    "plane (--far keeps them)\n",
+                    100.0 * e.beyondFraction, s.range.farM, e.maxM, e.quantileFarM,
+                    100.0 * depth::kTailDensity);
+    if (s.range.farM <= kFarthestSensorRange)
+        return;
+    if (e.medianM > kFarthestMedian)
+        std::fprintf(stderr,
+                     "depthtouch encode: warning: the depth reaches %.4g m (median %.4g m), "
+                     "beyond what depth cameras measure: check --depth-scale (%g m per unit now; "
+                     "TUM RGB-D: 0.0002)\n",
+                     s.range.farM, e.medianM, eo.raw.metresPerUnit);
+    else
+        std::fprintf(stderr,
+                     "depthtouch encode: warning: the far plane is %.4g m, beyond what depth "
+                     "cameras measure, while the median depth is %.4g m: a far tail too dense to "
+                     "leave out (at least %.1f %% of the valid samples per 10 %% step of depth: "
+                     "an active-stereo camera's noise on distant or low-texture surfaces, or a far "
+                     "background), or a wrong --depth-scale (%g m per unit now); --far sets the "
+                     "plane\n",
+                     s.range.farM, e.medianM, 100.0 * depth::kTailDensity, eo.raw.metresPerUnit);
+}
 
 /// Prints the summary of a finished encode; returns its exit code (kExitInterrupted after a
 /// stop signal, with a line on stderr). \a carried: the material track came from the depth
@@ -234,12 +273,7 @@ int reportEncode(const EncodeCliOptions &o, const media::EncodeOptions &eo,
                                              static_cast<double>(s.depthSamples)
                                        : 0.0,
                     s.holeSamples, s.depthOccupancy);
-    if (s.metric && !eo.range && s.range.farM > kFarthestSensorRange)
-        std::fprintf(
-            stderr,
-            "depthtouch encode: warning: the depth reaches %.4g m, beyond what depth "
-            "cameras measure: check --depth-scale (%g m per unit now; TUM RGB-D: 0.0002)\n",
-            s.range.farM, eo.raw.metresPerUnit);
+    reportRobustRange(eo, s);
     if (s.enhance)
         printEnhanceTotals(*s.enhance);
     if (!o.materialMap.empty()) // one still, coded once and used for every frame

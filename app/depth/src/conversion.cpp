@@ -47,36 +47,70 @@ double nearnessToMetres(double v, DepthRange range, DepthMapping mapping, double
     return range.farM - t * (range.farM - range.nearM);
 }
 
-Result<DepthRange> robustRange(const Plane<std::uint16_t> &raw, const RawDepthFormat &format,
-                               double lowFraction, double highFraction)
+Result<RangeEstimate> estimateRange(const Plane<std::uint16_t> &raw, const RawDepthFormat &format,
+                                    double lowFraction, double highFraction)
 {
     if (!(lowFraction >= 0.0 && lowFraction < highFraction && highFraction <= 1.0))
         return unexpected(Errc::InvalidArgument,
                           "Depth range quantiles must satisfy 0 <= low < high <= 1");
     if (!(format.metresPerUnit > 0.0))
         return unexpected(Errc::InvalidArgument, "Depth scale must be positive");
-    std::vector<std::uint16_t> valid;
-    valid.reserve(raw.size());
+    // below[v]: valid samples with a raw value < v (a histogram's prefix sums: O(n), exact).
+    std::vector<std::size_t> below(65537, 0);
     for (const std::uint16_t v : raw.samples)
         if (format.isValid(v))
-            valid.push_back(v);
-    if (valid.empty())
+            ++below[static_cast<std::size_t>(v) + 1];
+    for (std::size_t v = 1; v < below.size(); ++v)
+        below[v] += below[v - 1];
+    const std::size_t n = below.back();
+    if (n == 0)
         return unexpected(Errc::InvalidArgument, "No valid depth sample to estimate near/far from");
 
-    const auto quantile = [&valid](double f) {
-        const auto last = static_cast<double>(valid.size() - 1);
-        const auto k = static_cast<std::size_t>(std::lround(f * last));
-        std::nth_element(valid.begin(), valid.begin() + static_cast<std::ptrdiff_t>(k),
-                         valid.end());
-        return static_cast<double>(valid[k]);
+    // The k-th smallest valid value (0-based): the v with below[v] <= k < below[v + 1].
+    const auto kth = [&below](std::size_t k) {
+        const auto it = std::upper_bound(below.begin(), below.end(), k);
+        return static_cast<std::size_t>(it - below.begin()) - 1;
     };
-    DepthRange range{quantile(lowFraction) * format.metresPerUnit,
-                     quantile(highFraction) * format.metresPerUnit};
-    if (range.farM <= range.nearM * 1.0001) {
-        const double mid = 0.5 * (range.nearM + range.farM);
-        range = DepthRange{mid * 0.99, mid * 1.01};
+    const auto quantile = [&](double f) {
+        return kth(static_cast<std::size_t>(std::lround(f * static_cast<double>(n - 1))));
+    };
+    const std::size_t lowV = quantile(lowFraction);
+    const std::size_t highV = quantile(highFraction);
+    // The far plane: the farthest value z <= highV whose step (z/1.1, z] holds kTailDensity of the
+    // samples; a sample s is in it when 11 s > 10 z.
+    std::size_t farV = highV;
+    const auto need = static_cast<double>(n) * kTailDensity;
+    for (std::size_t z = highV; z >= lowV && z > 0; --z) {
+        if (below[z + 1] == below[z])
+            continue;                               // no sample at z
+        const std::size_t from = (10 * z) / 11 + 1; // smallest s with 11 s > 10 z
+        if (static_cast<double>(below[z + 1] - below[from]) >= need) {
+            farV = z;
+            break;
+        }
     }
-    return range;
+    RangeEstimate e;
+    e.medianM = static_cast<double>(quantile(0.5)) * format.metresPerUnit;
+    e.quantileFarM = static_cast<double>(highV) * format.metresPerUnit;
+    e.maxM = static_cast<double>(kth(n - 1)) * format.metresPerUnit;
+    e.beyondFraction = static_cast<double>(n - below[farV + 1]) / static_cast<double>(n);
+    e.tailCut = farV < highV;
+    e.range = DepthRange{static_cast<double>(lowV) * format.metresPerUnit,
+                         static_cast<double>(farV) * format.metresPerUnit};
+    if (e.range.farM <= e.range.nearM * 1.0001) {
+        const double mid = 0.5 * (e.range.nearM + e.range.farM);
+        e.range = DepthRange{mid * 0.99, mid * 1.01};
+    }
+    return e;
+}
+
+Result<DepthRange> robustRange(const Plane<std::uint16_t> &raw, const RawDepthFormat &format,
+                               double lowFraction, double highFraction)
+{
+    auto e = estimateRange(raw, format, lowFraction, highFraction);
+    if (!e)
+        return unexpected(e.error());
+    return e->range;
 }
 
 Result<NearnessFrame> metricToNearness(const Plane<std::uint16_t> &raw,

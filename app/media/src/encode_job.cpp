@@ -244,7 +244,8 @@ void rangeFromTags(const FrameSource &depth, std::optional<depth::DepthRange> &r
 }
 
 /// \return the robust near/far planes of the metric depth frames of \a ahead, taken together.
-Result<depth::DepthRange> robustRangeOf(const std::deque<Pair> &ahead, const EncodeOptions &options)
+Result<depth::RangeEstimate> robustRangeOf(const std::deque<Pair> &ahead,
+                                           const EncodeOptions &options)
 {
     depth::Plane<std::uint16_t> all;
     for (const Pair &p : ahead) {
@@ -253,7 +254,7 @@ Result<depth::DepthRange> robustRangeOf(const std::deque<Pair> &ahead, const Enc
     }
     all.width = static_cast<int>(all.samples.size());
     all.height = 1;
-    auto r = depth::robustRange(all, options.raw);
+    auto r = depth::estimateRange(all, options.raw);
     if (!r)
         return unexpected(Errc::InvalidArgument,
                           "The first depth frames have no valid sample to take near/far from");
@@ -282,10 +283,12 @@ Result<void> lookAhead(FrameSource &color, FrameSource &depth, const EncodeOptio
 }
 
 /// Completes \a range and \a mapping when the options leave them open: from the tags of a
-/// nearness input, or from the robust range of the metric frames of \a ahead.
+/// nearness input, or from the robust range of the metric frames of \a ahead (\a estimate: what
+/// that range was taken from).
 Result<void> chooseRange(const FrameSource &depth, const std::deque<Pair> &ahead,
                          const EncodeOptions &options, bool metric,
-                         std::optional<depth::DepthRange> &range, depth::DepthMapping &mapping)
+                         std::optional<depth::DepthRange> &range, depth::DepthMapping &mapping,
+                         std::optional<depth::RangeEstimate> &estimate)
 {
     if (!metric && !range)
         rangeFromTags(depth, range, mapping);
@@ -293,7 +296,8 @@ Result<void> chooseRange(const FrameSource &depth, const std::deque<Pair> &ahead
         auto r = robustRangeOf(ahead, options);
         if (!r)
             return unexpected(r.error());
-        range = *r;
+        range = r->range;
+        estimate = *r;
     }
     return ok();
 }
@@ -383,7 +387,7 @@ Result<EncodeSummary> encodeStreams(FrameSource &color, FrameSource &depth, Fram
 
     std::optional<depth::DepthRange> range = options.range;
     depth::DepthMapping mapping = options.mapping;
-    DT_TRY(chooseRange(depth, ahead, options, metric, range, mapping));
+    DT_TRY(chooseRange(depth, ahead, options, metric, range, mapping, summary.rangeEstimate));
     summary.metric = metric;
     if (range)
         summary.range = *range;

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -183,4 +184,97 @@ TEST(MetricToLevels8Test, convertsWithTheGivenPlanesAndKeepsTheFirstFramesForThe
     EXPECT_EQ(levels->samples, std::vector<std::uint16_t>(8, between));
     EXPECT_DOUBLE_EQ(range->nearM, 1.0);
     EXPECT_DOUBLE_EQ(range->farM, 2.0);
+}
+
+namespace {
+
+/// An active-stereo frame (W×H mm): a floor ramp from 800 mm (bottom row) to 3000 mm (top row), 8 %
+/// holes, and 2.5 % isolated far speckles, one pixel each with no speckle beside it, spread evenly
+/// in disparity from 1.9 to 0.32 px (10..60 m at f·b = 19136 px·mm, a RealSense D4xx at 640×480),
+/// as IR-stereo mismatches read.
+struct StereoFrame {
+    Plane<std::uint16_t> raw;
+    std::vector<std::uint16_t> valid; ///< The valid samples, sorted.
+    long long speckles = 0;
+    std::uint16_t farthestSpeckle = 0;
+};
+
+StereoFrame stereoFrameWithFarSpeckles()
+{
+    constexpr int kW = 200;
+    constexpr int kH = 150;
+    StereoFrame f;
+    f.raw = Plane<std::uint16_t>(kW, kH, 0);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            std::uint16_t v = static_cast<std::uint16_t>(800 + (2200 * (kH - 1 - y)) / (kH - 1));
+            if ((x * 7 + y * 13) % 40 == 0) { // neighbours differ by 6, 7, 13 or 20 (mod 40)
+                const double d = 0.32 + 1.58 * static_cast<double>(f.speckles % 97) / 96.0;
+                v = static_cast<std::uint16_t>(std::lround(19136.0 / d));
+                ++f.speckles;
+                f.farthestSpeckle = std::max(f.farthestSpeckle, v);
+            } else if ((x * 3 + y * 5) % 12 == 0) {
+                v = 0;
+            }
+            f.raw.at(x, y) = v;
+        }
+    for (const std::uint16_t v : f.raw.samples)
+        if (v != 0)
+            f.valid.push_back(v);
+    std::sort(f.valid.begin(), f.valid.end());
+    return f;
+}
+
+} // namespace
+
+TEST(MetricToNearnessTest, robustRangeLeavesOutTheSparseFarSpecklesOfAStereoSensor)
+{
+    // GIVEN a stereo frame whose 2.5 % far speckles put its 99 % quantile at 10..60 m
+    const StereoFrame f = stereoFrameWithFarSpeckles();
+    const auto n = f.valid.size();
+    const double q99 =
+        f.valid[static_cast<std::size_t>(std::lround(0.99 * static_cast<double>(n - 1)))];
+    ASSERT_GT(q99, 10000.0) << "the speckles must reach into the 99 % quantile";
+    // WHEN the planes are estimated
+    const auto r = robustRange(f.raw, RawDepthFormat{});
+    ASSERT_TRUE(r);
+    // THEN near is the 1 % quantile of the valid samples and far is the planted scene's farthest
+    // depth, 3 m, not the speckles' 10..60 m
+    const double q01 =
+        f.valid[static_cast<std::size_t>(std::lround(0.01 * static_cast<double>(n - 1)))];
+    EXPECT_NEAR(r->nearM, q01 / 1000.0, 1e-9);
+    EXPECT_NEAR(r->farM, 3.000, 1e-9);
+}
+
+TEST(MetricToNearnessTest, estimateRangeSaysWhatTheFarTailWas)
+{
+    const StereoFrame f = stereoFrameWithFarSpeckles();
+    const auto e = estimateRange(f.raw, RawDepthFormat{});
+    ASSERT_TRUE(e);
+    // THEN the tail left out is exactly the speckles, and the median is the ramp's
+    EXPECT_TRUE(e->tailCut);
+    EXPECT_NEAR(e->beyondFraction,
+                static_cast<double>(f.speckles) / static_cast<double>(f.valid.size()), 1e-12);
+    EXPECT_NEAR(e->maxM, f.farthestSpeckle / 1000.0, 1e-9);
+    EXPECT_GT(e->quantileFarM, 10.0);
+    EXPECT_NEAR(e->medianM, f.valid[(f.valid.size() - 1) / 2 + ((f.valid.size() - 1) % 2)] / 1000.0,
+                1e-3);
+}
+
+TEST(MetricToNearnessTest, aDenseFarBackgroundStaysInTheRange)
+{
+    // GIVEN 90 % of the samples on a ramp 1..2 m and 10 % on a wall at 20 m (a real background)
+    Plane<std::uint16_t> raw(1000, 1, 0);
+    for (int i = 0; i < 900; ++i)
+        raw.samples[static_cast<std::size_t>(i)] =
+            static_cast<std::uint16_t>(1000 + (1000 * i) / 899);
+    for (int i = 900; i < 1000; ++i)
+        raw.samples[static_cast<std::size_t>(i)] = 20000;
+    // WHEN the planes are estimated
+    const auto e = estimateRange(raw, RawDepthFormat{});
+    ASSERT_TRUE(e);
+    // THEN the wall is kept: the far plane is at it, nothing is left out
+    EXPECT_FALSE(e->tailCut);
+    EXPECT_NEAR(e->range.farM, 20.0, 1e-9);
+    EXPECT_EQ(e->beyondFraction, 0.0);
 }

@@ -143,3 +143,39 @@ TEST(DepthRealDataTest, tumDepthScaleGivesPlausibleMetres)
     EXPECT_LT(f->range.farM, 10.0);
     EXPECT_LT(f->range.nearM, f->range.farM);
 }
+
+TEST(DepthRealDataTest, activeStereoFarOutliersStayOutOfTheRobustRange)
+{
+    // GIVEN the first 5 frames of the RealSense D4xx lab clip taken together, as encode takes its
+    // range (--range-frames 5): 1.8..3.1 % of their valid samples read 10..61 m (IR-stereo
+    // mismatches on a lab at most ~6 m deep), which put the 99 % quantile at 18.556 m
+    DT_NEED_SHARED_DATA("rgbd-realsense-lab/depth/00004.png");
+    Plane<std::uint16_t> all;
+    for (int n = 0; n < 5; ++n) {
+        char name[64];
+        std::snprintf(name, sizeof name, "rgbd-realsense-lab/depth/%05d.png", n);
+        const Plane<std::uint16_t> raw = readDepth(depthtouch::testing::sharedDataPath(name));
+        ASSERT_EQ(raw.width, 640);
+        all.samples.insert(all.samples.end(), raw.samples.begin(), raw.samples.end());
+    }
+    all.width = static_cast<int>(all.samples.size());
+    all.height = 1;
+    // WHEN the robust range is estimated
+    const auto e = estimateRange(all, RawDepthFormat{});
+    ASSERT_TRUE(e);
+    // THEN it matches a reference written apart (plain Python over the PNGs: sorted valid samples,
+    // the 1 % / 99 % quantiles, then the farthest z <= the 99 % quantile with >= 0.5 % of the
+    // samples in (z/1.1, z]): near 0.499 m, median 0.886 m, 99 % quantile 18.556 m, far 6.379 m,
+    // 3.06 % of the samples beyond it, the farthest 61.236 m
+    EXPECT_NEAR(e->range.nearM, 0.499, 1e-9);
+    EXPECT_NEAR(e->medianM, 0.886, 1e-9);
+    EXPECT_NEAR(e->quantileFarM, 18.556, 1e-9);
+    EXPECT_NEAR(e->range.farM, 6.379, 1e-9);
+    EXPECT_NEAR(e->beyondFraction, 0.030569, 1e-6);
+    EXPECT_NEAR(e->maxM, 61.236, 1e-9);
+    EXPECT_TRUE(e->tailCut);
+    // AND the planes robustRange() gives (metricToNearness, touch, the receiver) are these
+    const auto r = robustRange(all, RawDepthFormat{});
+    ASSERT_TRUE(r);
+    EXPECT_NEAR(r->farM, 6.379, 1e-9) << "was 18.556 m, the 99 % quantile, before the tail cut";
+}

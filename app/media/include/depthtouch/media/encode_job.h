@@ -13,7 +13,8 @@
 ///    its holes (codes under its hole threshold) are written as holes, as metric holes are below,
 ///    or filled with EncodeOptions::fillHoles.
 ///  - 16-bit samples are metric depth (EncodeOptions::depthScale metres per unit): converted with
-///    near/far planes that are either given or the robust range (1 %..99 % quantiles) of the valid
+///    near/far planes that are either given or the robust range (1 %..99 % quantiles, a sparse far
+///    tail cut: depth::estimateRange()) of the valid
 ///    samples of the first EncodeOptions::rangeFrames frames, decided once so the mapping is
 ///    constant over the file, in the 1/Z (MPEG 3DV) or linear mapping. Invalid samples (0 and the
 ///    saturation value) stay holes (docs/architecture.md §3 "Holes"): coded 0, measured nearness
@@ -166,6 +167,8 @@ struct EncodeSummary {
     bool interrupted = false;     ///< *stop ended it.
     bool metric = false;          ///< Depth was metric and converted with `range`.
     depth::DepthRange range{};    ///< Planes used (metric, given, or from the input's tags).
+    /// What a robust range (metric depth, no --near/--far) was taken from; nullopt otherwise.
+    std::optional<depth::RangeEstimate> rangeEstimate;
     depth::DepthMapping mapping = depth::DepthMapping::InverseZ; ///< Mapping written.
     int depthBits = 8;                                           ///< 8, 10 or 16.
     long long filledSamples = 0;                                 ///< Invalid depth samples filled.
