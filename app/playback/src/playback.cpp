@@ -262,6 +262,11 @@ double Playback::hapticForce() const
     return impl_->hapticForce();
 }
 
+std::optional<bool> Playback::hapticDeviceConnected() const
+{
+    return impl_->hapticDeviceConnected();
+}
+
 Result<void> Playback::restartForLoop()
 {
     return seekTo(0.0, player::SeekMode::Absolute);

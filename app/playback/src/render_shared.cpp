@@ -126,6 +126,14 @@ double RenderShared::hapticForce() const
     return glm::length(session_->task->lastForce());
 }
 
+std::optional<bool> RenderShared::hapticDeviceConnected() const
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (session_ == nullptr || session_->task == nullptr)
+        return std::nullopt;
+    return session_->task->deviceConnected();
+}
+
 double RenderShared::position() const
 {
     std::lock_guard<std::mutex> lock(mutex_);

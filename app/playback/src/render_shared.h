@@ -100,6 +100,9 @@ public:
     [[nodiscard]] player::PlayerActions::MediaPosition mediaPosition() const;
     /// \return |F| of the session's haptic task, N; NaN without a session or a task.
     [[nodiscard]] double hapticForce() const;
+    /// \return whether the session's haptic task has its device connected; none without a
+    /// session or a task.
+    [[nodiscard]] std::optional<bool> hapticDeviceConnected() const;
     /// \return s from the first frame.
     [[nodiscard]] double position() const;
     void countOpen();

@@ -22,12 +22,19 @@ constexpr std::array<const char *, kPlayerStateCount> kStateNames = {"idle",   "
 constexpr std::array<const char *, 5> kStereoNames = {"sbs", "tab", "anaglyph", "mono",
                                                       "interleaved"};
 constexpr std::array<const char *, kPropertyCount> kPropertyNames = {
-    "state",       "stereo-mode", "haptics",      "stiffness",   "loop",         "url",
-    "error",       "time-pos",    "duration",     "percent-pos", "pause",        "path",
-    "idle-active", "eof-reached", "volume",       "mute",        "haptic-force", "contact",
-    "filename",    "media-title", "playback-time"};
+    "state",         "stereo-mode",
+    "haptics",       "stiffness",
+    "loop",          "url",
+    "error",         "time-pos",
+    "duration",      "percent-pos",
+    "pause",         "path",
+    "idle-active",   "eof-reached",
+    "volume",        "mute",
+    "haptic-force",  "contact",
+    "filename",      "media-title",
+    "playback-time", "haptic-device-connected"};
 
-static_assert(kPropertyCount == static_cast<std::size_t>(Property::PlaybackTime) + 1,
+static_assert(kPropertyCount == static_cast<std::size_t>(Property::HapticDeviceConnected) + 1,
               "one name per Property");
 
 /// The property names, comma-separated (for error texts).

@@ -280,6 +280,12 @@ struct CommandHandlers {
             return std::isfinite(f) ? CommandOutcome::accept(f > 0.0)
                                     : CommandOutcome::refuse("property unavailable");
         }
+        case Property::HapticDeviceConnected: {
+            const std::optional<bool> connected =
+                open ? m.actions_.hapticDeviceConnected() : std::nullopt;
+            return connected ? CommandOutcome::accept(*connected)
+                             : CommandOutcome::refuse("property unavailable");
+        }
         default:
             return CommandOutcome::refuse("unknown property");
         }

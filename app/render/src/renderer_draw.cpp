@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <iterator>
 #include <string>
+#include <string_view>
 
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
@@ -135,7 +136,7 @@ void StereoRenderer::drawOsd(const Viewport &vp)
                            x0, y0, u0, v1, x1, y1, u1, v0, x0, y1, u0, v0};
         g.osdVertices.insert(g.osdVertices.end(), std::begin(q), std::end(q));
     };
-    const auto text = [&](const std::string &s, float x, float yTop) {
+    const auto text = [&](std::string_view s, float x, float yTop) {
         for (const char c : s) {
             const float u0 =
                 static_cast<float>(detail::glyphIndex(c) * detail::kCellWidth) / atlasW;
@@ -166,7 +167,11 @@ void StereoRenderer::drawOsd(const Viewport &vp)
     glBindVertexArray(g.osdVao);
     glBindBuffer(GL_ARRAY_BUFFER, g.osdVbo);
 
-    const std::string haptics = osd_.hapticsOn ? "HAPTICS ON" : "HAPTICS OFF";
+    const bool feeling = osd_.hapticsOn && osd_.deviceConnected;
+    // A view of a literal: the per-frame path allocates nothing (a std::string of 18 would).
+    const std::string_view haptics = !osd_.hapticsOn        ? "HAPTICS OFF"
+                                     : osd_.deviceConnected ? "HAPTICS ON"
+                                                            : "HAPTICS: NO DEVICE";
     std::string stiffness;
     if (osd_.stiffness > 0.0 && std::isfinite(osd_.stiffness)) {
         char buf[40];
@@ -186,7 +191,7 @@ void StereoRenderer::drawOsd(const Viewport &vp)
     flush(true, 1.0f, 1.0f, 1.0f, 1.0f);
     y -= ch + 0.5f * margin;
     text(haptics, 2.0f * margin, y);
-    if (osd_.hapticsOn)
+    if (feeling)
         flush(true, 0.4f, 1.0f, 0.4f, 1.0f);
     else
         flush(true, 0.6f, 0.6f, 0.6f, 1.0f);

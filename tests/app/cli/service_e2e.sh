@@ -78,6 +78,26 @@ j = json.load(open(sys.argv[1]))
 assert j["haptic_device"] == "falcon", j["haptic_device"]
 assert j["device_connected"] is False, j["device_connected"]
 PY
+    # the control socket says so too (mpv's get_property), while it plays and waits for one
+    sock="$work/ctl2.sock"
+    "$exe" play "mock://clip?frames=3000&fps=30&width=64&height=48" --source mock --decoder mock \
+        --display mock --haptic falcon --idle --no-audio --no-config --control "$sock" \
+        --duration 60 >"$work/out" 2>"$work/err-ipc" </dev/null &
+    e2e_bg=$!
+    i=0
+    answer=""
+    until echo "$answer" | grep -q '"data"'; do
+        i=$((i + 1))
+        [ "$i" -lt 600 ] || { kill -KILL "$e2e_bg"; fail "no haptic-device-connected: '$answer'"; }
+        sleep 0.1
+        [ -S "$sock" ] && answer=$(echo '{"command":["get_property","haptic-device-connected"]}' |
+            socat -t 2 - "UNIX-CONNECT:$sock" 2>/dev/null)
+    done
+    echo '{"command":["quit"]}' | socat -t 2 - "UNIX-CONNECT:$sock" >/dev/null 2>&1
+    wait "$e2e_bg"
+    e2e_bg=""
+    echo "$answer" | grep -q '"data":false' ||
+        fail "haptic-device-connected of an awaited Falcon: '$answer'"
     # a player that does not stay up still says at once that its Falcon is missing (exit 1)
     "$exe" play "$clip" --source mock --decoder mock --display mock --haptic falcon --no-audio \
         --no-config --duration 1 >"$work/out" 2>"$work/err-once" </dev/null

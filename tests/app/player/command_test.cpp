@@ -101,7 +101,7 @@ TEST(CommandParseTest, badTextIsRejectedWithAReason)
         {"get colour", "get: unknown property 'colour' (state, stereo-mode, haptics, stiffness, "
                        "loop, url, error, time-pos, duration, percent-pos, pause, path, "
                        "idle-active, eof-reached, volume, mute, haptic-force, contact, "
-                       "filename, media-title, playback-time)"},
+                       "filename, media-title, playback-time, haptic-device-connected)"},
         {"play 'open", "unterminated quote"},
         {"play a b", "play: takes at most one argument (a file or URL)"},
     };
@@ -374,7 +374,7 @@ TEST(CommandParseTest, mpvsLoadfileCycleAndAddAreTheTablesCommands)
         {"cycle colour", "cycle: unknown property 'colour' (state, stereo-mode, haptics, "
                          "stiffness, loop, url, error, time-pos, duration, percent-pos, pause, "
                          "path, idle-active, eof-reached, volume, mute, haptic-force, contact, "
-                         "filename, media-title, playback-time)"},
+                         "filename, media-title, playback-time, haptic-device-connected)"},
     };
     for (const auto &[text, error] : wrong)
         EXPECT_EQ(parseCommandText(text).error, error) << text;

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -26,6 +27,8 @@ public:
 
     MediaPosition mediaPosition() const override { return position; }
     double hapticForce() const override { return force; }
+    std::optional<bool> connected; ///< What hapticDeviceConnected() answers.
+    std::optional<bool> hapticDeviceConnected() const override { return connected; }
 
     Result<void> open(std::string_view url) override
     {

@@ -728,6 +728,13 @@ TEST(StateMachineTest, mediaPropertiesFollowThePipelineAndTheState)
     EXPECT_EQ(get("contact").data, Value(true));
     fake.force = 0.0;
     EXPECT_EQ(get("contact").data, Value(false));
+    // the haptic device: unavailable without a haptic task, else what the task says (a player
+    // that stays up waits for a Falcon plugged in later: false until then)
+    EXPECT_EQ(get("haptic-device-connected").reason, "property unavailable");
+    fake.connected = false;
+    EXPECT_EQ(get("haptic-device-connected").data, Value(false));
+    fake.connected = true;
+    EXPECT_EQ(get("haptic-device-connected").data, Value(true));
     EXPECT_EQ(get("volume").data, Value(100.0));
     EXPECT_EQ(get("mute").data, Value(false));
     ASSERT_TRUE(m.execute("pause").accepted);

@@ -136,6 +136,45 @@ TEST_F(RenderGoldenTest, theOsdShowsTheStiffnessOnALineOfItsOwn)
     EXPECT_TRUE(rowsDiffering(without, draw(200, 150)).empty());
 }
 
+// A haptic device that is not connected (lost, or not yet plugged in where the player waits for
+// it) reads "HAPTICS: NO DEVICE" instead of "HAPTICS ON": the haptics line changes, in grey, not
+// the green of a device that pushes back.
+TEST_F(RenderGoldenTest, theOsdSaysWhenTheHapticDeviceIsNotConnected)
+{
+    ASSERT_NO_FATAL_FAILURE(showFlatPlane(64, 48, {126, 128, 128}, 1.2)); // grey
+    OsdState osd;
+    osd.visible = true;
+    osd.status = "PLAYING";
+    osd.hapticsOn = true;
+    renderer_->setOsd(osd);
+    const Picture on = draw(200, 150);
+    osd.deviceConnected = false;
+    renderer_->setOsd(osd);
+    const Picture noDevice = draw(200, 150);
+    // The haptics line (the second text line, under the status) is what changes.
+    int firstRow = 150;
+    int lastRow = -1;
+    for (int y = 0; y < 150; ++y)
+        for (int x = 0; x < 200; ++x)
+            if (on.at(x, y).g != noDevice.at(x, y).g || on.at(x, y).r != noDevice.at(x, y).r) {
+                firstRow = std::min(firstRow, y);
+                lastRow = std::max(lastRow, y);
+            }
+    ASSERT_GE(lastRow, 0) << "the device's state changed nothing on screen";
+    EXPECT_GT(firstRow, 10) << "the status line above it is left alone";
+    EXPECT_LT(lastRow, 60) << "within the panel (its three lines end above row 60)";
+    // No green text: a pixel whose green clearly outweighs red and blue is the "ON" colour.
+    const auto greenText = [&](const Picture &p) {
+        int n = 0;
+        for (int y = 0; y < 40; ++y)
+            for (int x = 0; x < 200; ++x)
+                n += p.at(x, y).g > p.at(x, y).r + 60 ? 1 : 0;
+        return n;
+    };
+    EXPECT_GT(greenText(on), 20) << "HAPTICS ON is green";
+    EXPECT_EQ(greenText(noDevice), 0) << "HAPTICS: NO DEVICE is not";
+}
+
 TEST_F(RenderGoldenTest, theAvatarSphereIsRoundWhereItCutsTheSurface)
 {
     // GIVEN a flat surface and a large proxy sphere (r = 50 mm) sunk into it until only its front

@@ -252,6 +252,8 @@ public:
     [[nodiscard]] MediaPosition mediaPosition() const override;
     /// |F| of the haptic task's last command, N; NaN without a haptic task.
     [[nodiscard]] double hapticForce() const override;
+    /// Whether the haptic task's device is connected and answering; none without a haptic task.
+    [[nodiscard]] std::optional<bool> hapticDeviceConnected() const override;
     [[nodiscard]] Result<void> setStereoMode(player::StereoMode mode) override;
     [[nodiscard]] Result<void> setHapticsEnabled(bool enabled) override;
     [[nodiscard]] Result<void> setStiffness(double newtonsPerMetre) override;

@@ -90,7 +90,9 @@ enum class StiffnessChange : std::uint8_t { Up, Down, Set, By };
 /// "time-pos", "duration", "percent-pos" (s, s, %), "pause", "path", "idle-active", "eof-reached",
 /// "volume" (%, 0..kMaxVolume), "mute", then "haptic-force" (|F| commanded, N) and "contact" (|F| >
 /// 0), then mpv's "filename" (the path's last part, a URL's %-escapes undone), "media-title" (the
-/// filename: the player reads no title tags) and "playback-time" (time-pos, s).
+/// filename: the player reads no title tags) and "playback-time" (time-pos, s), then
+/// "haptic-device-connected" (the haptic device is connected and answering; false while a player
+/// that stays up waits for one to be plugged in; unavailable without a haptic task).
 enum class Property : std::uint8_t {
     State,
     StereoMode,
@@ -113,10 +115,11 @@ enum class Property : std::uint8_t {
     Filename,
     MediaTitle,
     PlaybackTime,
+    HapticDeviceConnected,
 };
 
 /// Number of Property values.
-inline constexpr std::size_t kPropertyCount = 21;
+inline constexpr std::size_t kPropertyCount = 22;
 
 /// \return the property called \a name (propertyName()'s names, any case), or std::nullopt.
 std::optional<Property> propertyFromName(std::string_view name) noexcept;

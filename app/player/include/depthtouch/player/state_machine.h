@@ -30,6 +30,7 @@
 /// Design: docs/architecture.md §5 (main thread), docs/style.md §7.
 
 #include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -113,7 +114,8 @@ public:
     /// Completion is reported as for open(). The default opens once, as open().
     [[nodiscard]] virtual Result<void> awaitNextSender(std::string_view url) { return open(url); }
 
-    /// \name Queries (the properties time-pos, duration, percent-pos, haptic-force, contact)
+    /// \name Queries (the properties time-pos, duration, percent-pos, haptic-force, contact,
+    /// haptic-device-connected)
     ///@{
     /// Where the media is, s: the position of the presented frame from the stream's start, and the
     /// stream's length; NaN where unknown (nothing open; a live stream's length). The default
@@ -129,6 +131,10 @@ public:
     {
         return std::numeric_limits<double>::quiet_NaN();
     }
+    /// Whether the haptic device is connected and answering (false: lost, or not yet plugged in
+    /// where the player waits for it, hal::BackendConfig::awaitDevice); none without a haptic
+    /// task (nothing open, no device). The default has none.
+    [[nodiscard]] virtual std::optional<bool> hapticDeviceConnected() const { return {}; }
     ///@}
 
 protected:

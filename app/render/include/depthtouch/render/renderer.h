@@ -74,6 +74,9 @@ struct OsdState {
     bool visible = false;
     std::string status; ///< Player state, e.g. "PLAYING" (upper case letters, digits, . : - / %).
     bool hapticsOn = false;   ///< Shows "HAPTICS ON" or "HAPTICS OFF".
+    /// The haptic device answers; false shows "HAPTICS: NO DEVICE" instead of "HAPTICS ON" (lost,
+    /// or not yet plugged in where the player waits for it).
+    bool deviceConnected = true;
     double force = 0.0;       ///< Current force magnitude, N (bar length).
     double maxForce = 8.5;    ///< Full-scale force of the bar, N (> 0).
     /// The stiffness the finger feels, N/m: a line "STIFFNESS 900 N/M" under the haptics line
