@@ -215,6 +215,7 @@ Result<void> Receiver::seek(hal::Pts position)
         s.eosQueued = false;
         s.drained = false;
         s.paused = false;
+        s.partnerPackets = 0;
     }
     d.pending = Pairer::Output{};
     d.havePending = false;

@@ -189,9 +189,10 @@ void Receiver::Impl::drainLaggingMaterial()
 
 void Receiver::Impl::drainLaggingStream()
 {
-    // One stream's frames wait while the other's stopped coming (a shorter stream, or a long gap):
+    // One stream's packets stopped while the other's went on (a shorter stream, or a long gap):
     // drain the quiet stream's decoder so the frames it still holds (reordering delay) pair before
-    // the pairing window forces decisions without them. Packets that come later resume it.
+    // the pairing window forces decisions without them. Packets that come later resume it, with a
+    // flush: it decodes again from its next key frame.
     if (havePending) { // waiting for material, not for color or depth
         drainLaggingMaterial();
         return;
@@ -207,6 +208,16 @@ void Receiver::Impl::drainLaggingStream()
         quiet = &streams[0];
     // A decoder waiting for its zero-copy frames to come back is blocked, not quiet.
     if (quiet == nullptr || quiet->eosQueued || quiet->decoderBusy)
+        return;
+    // Lagging frames alone do not make a stream quiet: its packets must have stopped. A damaged
+    // stream whose packets still come gives fewer frames than packets (libavcodec keeps back the
+    // pictures it cannot place after a loss, and refuses the undecodable ones); draining it would
+    // end its decoding state, and its resume's flush would then hold every frame until the next
+    // key frame (seconds: 250 frames in a file), where ffmpeg, not flushed, decodes on. Its frames
+    // come again by themselves. A stream still sending has a packet among any window / 2 + 1 of
+    // the other's: with the default window of 8, at the other's frame rate three of its packets
+    // may be lost in a row, at half that rate one.
+    if (quiet->partnerPackets <= window / 2)
         return;
     if (quiet->decoder->queuePacket(hal::Packet::endOfStream(quiet->info.index))) {
         quiet->eosQueued = true;
@@ -262,6 +273,10 @@ bool Receiver::Impl::readAndQueue()
         }
         packet = *p;
         havePacket = true;
+        if (Stream &s = *streamOf(packet.streamIndex); !s.material) {
+            s.partnerPackets = 0;
+            ++streams[s.which == PairStream::Depth ? 0 : 1].partnerPackets;
+        }
     }
     Stream &s = *streamOf(packet.streamIndex);
     if (s.paused) { // it had only paused: decode again (from its next keyframe)

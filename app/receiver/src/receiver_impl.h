@@ -42,6 +42,9 @@ struct Receiver::Impl {
         bool zeroCopy = false; ///< Some of its frames were kept as the decoder's dma-bufs.
         bool decoderBusy = false; ///< Its decoder has lent every frame (held zero-copy): not quiet.
         std::uint64_t sequence = 0;
+        /// Packets of the other stream (color or depth) read since this stream's last packet: its
+        /// packets stopped when they exceed half the pairing window (drainLaggingStream()).
+        std::uint64_t partnerPackets = 0;
     };
 
     Result<void> setUp(const DecoderFactory &makeDecoder);
@@ -59,6 +62,8 @@ struct Receiver::Impl {
     void drainLaggingMaterial();
     bool readAndQueue();
     void endInput();
+    /// Drains the color or depth decoder whose frames lag by the pairing window, but only when its
+    /// packets stopped (see the definition).
     void drainLaggingStream();
     void toPaired(Pairer::Output &o, PairedFrame &out);
     /// Hands `pending` out as \a out (toPaired()) and clears it.

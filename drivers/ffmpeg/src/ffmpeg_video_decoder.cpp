@@ -368,6 +368,10 @@ Result<void> FfmpegVideoDecoder::configureDevice(const hal::StreamConfig &cfg)
     }
     ctx->thread_count = d.hwName != nullptr ? 1 : d.settings.threads;
     ctx->thread_type = FF_THREAD_SLICE;
+    // The pictures libavcodec cannot vouch for stay withheld (the file comment: a depth picture
+    // predicted from pictures the decoder never had is a made-up surface under the finger).
+    ctx->flags &= ~AV_CODEC_FLAG_OUTPUT_CORRUPT;
+    ctx->flags2 &= ~AV_CODEC_FLAG2_SHOW_ALL;
     bool prime = false;
     if (d.settings.drmPrime && cfg.kind == hal::StreamKind::Color) {
         const DrmPrimeSupport support = drmPrimeSupport(codec);

@@ -270,6 +270,44 @@ TEST_F(ReceiverMediaTest, corruptedPacketsAreConcealedOrCountedAndDecodingGoesOn
     EXPECT_NEAR(ms(frames.back().pts), ms(framePts(19, 30)), 1.0);
 }
 
+TEST_F(ReceiverMediaTest, aStreamWhoseFramesOnlyLagDecodesOnWithoutWaitingForAKeyFrame)
+{
+    // GIVEN one key frame (frame 0) and ten depth packets in the middle that decode to no picture
+    // (an access unit delimiter alone: the decoder takes them and gives nothing, as libavcodec
+    // withholds pictures after a loss) while the color frames fill the pairing window
+    Clip clip = Clip::standard(64, 48, 60);
+    clip.gop = 60;
+    const std::string path = write("lag.mkv", clip);
+    auto src = drivers::createMediaSource("ffmpeg", hal::BackendConfig{});
+    ASSERT_TRUE(src);
+    static constexpr std::uint8_t kDelimiter[] = {0, 0, 0, 2, 0x09, 0xf0}; // length-prefixed NAL
+    std::uint64_t depthPackets = 0;
+    FaultySource::PacketEdit edit = [&depthPackets](hal::Packet &p, std::uint64_t) {
+        if (p.streamIndex != 1)
+            return true;
+        if (const std::uint64_t n = depthPackets++; n >= 20 && n < 30) {
+            p.data = kDelimiter;
+            p.size = sizeof kDelimiter;
+        }
+        return true;
+    };
+    auto faulty = std::make_unique<FaultySource>(std::move(*src), nullptr, edit);
+    receiver::DecoderFactory factory = [](const hal::StreamInfo &) {
+        return drivers::createVideoDecoder("ffmpeg", hal::BackendConfig{});
+    };
+    auto r = receiver::Receiver::open(std::move(faulty), path.c_str(), factory);
+    ASSERT_TRUE(r);
+    const auto frames = drain(**r);
+    const auto s = (*r)->stats();
+    // THEN its packets never stopped: the depth decoder is not drained and flushed (which would
+    // hold every depth frame until a key frame that never comes) and decodes the frames after
+    // the gap from the pictures it has
+    EXPECT_EQ(depthPackets, 60u);
+    EXPECT_EQ(s.streamsResumed, 0u);
+    EXPECT_GE(s.depthFrames, 45u);
+    EXPECT_EQ(frames.size(), 60u);
+}
+
 TEST_F(ReceiverMediaTest, unsupportedCodecIsAClearError)
 {
     // the ffmpeg decoders cannot decode the mock codec

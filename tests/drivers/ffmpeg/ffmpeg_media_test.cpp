@@ -552,6 +552,80 @@ TEST_F(FfmpegMediaTest, damagedPacketsAreConcealedOrDroppedAndDecodingGoesOn)
     }
 }
 
+TEST_F(FfmpegMediaTest, aFlushedDecoderLendsNoPictureBeforeTheNextKeyFrame)
+{
+    // The pictures between a flush() (a seek, a drained stream's resume) and the next key frame
+    // predict from pictures the decoder no longer has: libavcodec withholds them and the decoder
+    // does not ask for them (no AV_CODEC_FLAG_OUTPUT_CORRUPT): as depth, they would be a made-up
+    // surface under the finger. Without the flush the same packets all decode.
+    const std::string url = tmp_.path("gop.mkv");
+    ASSERT_TRUE(ffmpeg("-f lavfi -i testsrc=size=64x48:rate=30:duration=0.5 -c:v libx264 "
+                       "-pix_fmt yuv420p -g 10 -bf 0 " +
+                       url));
+    auto src = source();
+    ASSERT_TRUE(src);
+    ASSERT_TRUE(src->open(url.c_str()));
+    struct Stored {
+        std::vector<std::uint8_t> bytes;
+        hal::Pts pts, dts;
+        bool keyframe;
+    };
+    std::vector<Stored> packets;
+    while (auto p = src->readPacket())
+        packets.push_back({{p->data, p->data + p->size}, p->pts, p->dts, p->keyframe});
+    ASSERT_EQ(packets.size(), 15u);
+    for (std::size_t i = 0; i < packets.size(); ++i)
+        ASSERT_EQ(packets[i].keyframe, i % 10 == 0) << i;
+    const int stream = src->info().streams[0].index;
+    hal::StreamConfig sc = hal::StreamConfig::fromStream(src->info().streams[0]);
+    sc.kind = hal::StreamKind::Depth; // its luma as 8-bit depth
+    sc.format = hal::PixelFormat::Gray8;
+
+    for (const std::size_t flushAt : {std::size_t{0}, std::size_t{5}}) {
+        SCOPED_TRACE(flushAt == 0 ? "not flushed" : "flushed after 5 packets");
+        auto dec = drivers::createVideoDecoder("ffmpeg", hal::BackendConfig{});
+        ASSERT_TRUE(dec);
+        ASSERT_TRUE((*dec)->configure(sc));
+        std::vector<std::size_t> lent; // packet numbers of the frames lent
+        bool corrupt = false;
+        const auto takeAll = [&] {
+            for (int guard = 0; guard < 100; ++guard) {
+                auto f = (*dec)->dequeueFrame(hal::Deadline{});
+                if (!f)
+                    return f.error().code;
+                for (std::size_t i = 0; i < packets.size(); ++i)
+                    if (packets[i].pts == (*f)->pts)
+                        lent.push_back(i);
+                corrupt = corrupt || (*f)->corrupt;
+            }
+            return Errc::Busy;
+        };
+        for (std::size_t i = 0; i < packets.size(); ++i) {
+            if (i == flushAt && i > 0) {
+                ASSERT_TRUE((*dec)->flush());
+            }
+            hal::Packet p;
+            p.streamIndex = stream;
+            p.data = packets[i].bytes.data();
+            p.size = packets[i].bytes.size();
+            p.pts = packets[i].pts;
+            p.dts = packets[i].dts;
+            p.keyframe = packets[i].keyframe;
+            ASSERT_TRUE((*dec)->queuePacket(p));
+            EXPECT_EQ(takeAll(), Errc::Timeout) << i;
+        }
+        ASSERT_TRUE((*dec)->queuePacket(hal::Packet::endOfStream(stream)));
+        EXPECT_EQ(takeAll(), Errc::EndOfStream);
+        std::vector<std::size_t> want;
+        for (std::size_t i = 0; i < packets.size(); ++i)
+            if (flushAt == 0 || i < flushAt || i >= 10)
+                want.push_back(i);
+        EXPECT_EQ(lent, want);
+        EXPECT_FALSE(corrupt);
+        EXPECT_EQ((*dec)->stats().framesDropped, flushAt == 0 ? 0u : 5u) << "the withheld ones";
+    }
+}
+
 TEST_F(FfmpegMediaTest, decodesEveryFrameOfAFiveSecond640x480H264Clip)
 {
     // The speed goal lives in `depthtouch bench media` (decode + pairing throughput); here the

@@ -34,6 +34,12 @@
 /// fails); damaged packets are counted (decodeErrors, framesConcealed) and decoding goes on; PTS
 /// gaps, duplicates and non-monotonic PTS are counted (duplicates and backward frames dropped); a
 /// read error ends the input as if the file ended there (readErrors). All counters: ReceiverStats.
+/// A color or depth stream whose packets stop while the other's go on (a shorter stream, a pause)
+/// is drained once the other's frames fill the pairing window, so the frames its decoder holds
+/// back pair; when its packets come again its decoder is flushed and decodes from its next key
+/// frame (streamsResumed). Frames that only lag do not stop a stream: a damaged stream's decoder
+/// withholds pictures while its packets still come, and it decodes on, as ffmpeg does, instead
+/// of waiting for a key frame.
 ///
 /// Thread-safety: thread-bound (the decode thread), except that PairedFrames and their handles may
 /// be moved to and dropped on any thread. Not real-time safe. The Receiver must outlive every

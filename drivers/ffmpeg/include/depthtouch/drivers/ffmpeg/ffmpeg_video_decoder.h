@@ -19,6 +19,18 @@
 /// gray16be becomes host order. A frame libavcodec flags as damaged is lent with Frame::corrupt
 /// (counted concealed); a packet libavcodec refuses is counted dropped (dequeueFrame() returns Io
 /// for it), and so is every packet that produced no frame at drain or flush.
+///
+/// Damaged input decodes on as in ffmpeg: what libavcodec decodes is lent, concealed errors
+/// included (Frame::corrupt), and the pictures it cannot vouch for are withheld, never asked for
+/// (AV_CODEC_FLAG_OUTPUT_CORRUPT and AV_CODEC_FLAG2_SHOW_ALL stay off): after configure() or
+/// flush(), every picture before a key frame or a recovery point, and after a loss the pictures it
+/// cannot place in order. The first are predicted from pictures this decoder never had: as depth, a
+/// made-up surface under the finger, not a patch concealed in a real one (the haptic side bounds
+/// the steps a concealed patch makes). So flush() costs every frame up to the next key frame
+/// (seconds in a file): the receiver flushes a stream for a seek, or to resume one whose packets
+/// had stopped, not one whose frames only lag (receiver.h). With slice threads (`threads` > 1)
+/// libavcodec leaves H.264 error concealment off (unsafe with them): damaged macroblocks are not
+/// concealed (about twice the concealed pictures' error on cli_damaged_ts_end_to_end's clip).
 /// When nothing is queued and no frame is ready, dequeueFrame() sleeps on the backend clock until
 /// the deadline.
 ///
