@@ -3,8 +3,7 @@
 
 #include <cstdio>
 
-#include <CLI/CLI.hpp>
-
+#include "command_line.h"
 #include "commands.h"
 #include "depthtouch/drivers/backends.h"
 
@@ -12,9 +11,8 @@ namespace depthtouch::cli {
 
 void registerBackendsCommand(CLI::App &app, int &exitCode)
 {
-    CLI::App *cmd =
-        app.add_subcommand("backends", "List the compiled-in HAL backends of each kind");
-    cmd->callback([&exitCode] {
+    CLI::App &cmd = addCommand(app, "backends", "List the compiled-in HAL backends of each kind");
+    onRun(cmd, [&exitCode] {
         using drivers::BackendKind;
         constexpr BackendKind kKinds[] = {BackendKind::MediaSource, BackendKind::VideoDecoder,
                                           BackendKind::Display,     BackendKind::HapticDevice,

@@ -29,8 +29,6 @@
 
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
-
 #include "commands.h"
 #include "encode_inputs.h"
 #include "encode_settings.h"
@@ -594,7 +592,7 @@ void registerEncodeCommand(CLI::App &app, int &exitCode)
         app, "encode", "Encode color + depth into one file or stream (H.264 color, 4:0:0 depth)",
         kEncodeRows, runEncode, exitCode);
     // No description: --help shows "INT" and the row's own help says what it must be.
-    cmd->get_option("--frames")->check(CLI::Validator(wholeFrameCount, ""));
+    addValueCheck(*cmd, "--frames", wholeFrameCount);
 }
 
 } // namespace depthtouch::cli

@@ -25,7 +25,6 @@
 
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
@@ -491,13 +490,12 @@ PlayResult runPlay(const PlayOptions &opt, const player::KeyMap &keys)
 void registerPlayCommand(CLI::App &app, int &exitCode)
 {
     auto o = std::make_shared<PlayOptions>();
-    CLI::App *cmd = app.add_subcommand(
-        "play", "Play a color + depth file or stream: stereo video and haptics in real time");
+    CLI::App *cmd = &addCommand(
+        app, "play", "Play a color + depth file or stream: stereo video and haptics in real time");
     addOptions(*cmd, playOptionTable(), *o);
-    cmd->callback([o, cmd, &exitCode] {
+    onRun(*cmd, [o, cmd, &exitCode] {
         const GivenOnCommandLine given = [cmd](const std::string &key) {
-            const CLI::Option *opt = cmd->get_option_no_throw("--" + key);
-            return opt != nullptr && opt->count() > 0;
+            return optionGiven(*cmd, "--" + key);
         };
         const ConfigDirs dirs = configDirsFromEnvironment();
         const PlayConfigLoad load = loadPlayConfigFiles(playConfigFiles(dirs, *o), given, *o);

@@ -13,8 +13,6 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
 #include "commands.h"
 #include "option_cli.h"
 #include "depthtouch/drivers/backends.h"
@@ -32,9 +30,9 @@ struct ProbeOptions {
     std::string file;
     bool json = false;
     bool decode = false;
-    std::string source;  ///< Media source backend; empty: mock for mock: URLs, else ffmpeg.
+    std::string source;        ///< Media source backend; empty: mock for mock: URLs, else ffmpeg.
     std::string sourceOptions; ///< The source's options (K=V,..), as play's --source-options.
-    std::string decoder; ///< Decoder backend for --decode; empty: matches the source.
+    std::string decoder;       ///< Decoder backend for --decode; empty: matches the source.
 };
 
 /// What `probe` does (its line in `depthtouch --help`).

@@ -31,8 +31,6 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
 #include "commands.h"
 #include "option_cli.h"
 #include "output_paths.h"
@@ -73,10 +71,10 @@ struct TouchOptions {
     /// --reengage: play's default (one constant), so touch measures what play renders.
     std::string reengage = haptics::reengageName(haptics::kCommandReengage);
     std::string fingerContact = "god-object"; ///< --finger-contact (RendererConfig's default)
-    double fingerRadius = std::nan(""); ///< m; NaN: 0.015 x box width
-    double staticFriction = 0.0;        ///< μs of the friction cone
-    double dynamicFriction = 0.0;       ///< μd
-    std::string material;               ///< --material SRC: the material track's codes
+    double fingerRadius = std::nan("");       ///< m; NaN: 0.015 x box width
+    double staticFriction = 0.0;              ///< μs of the friction cone
+    double dynamicFriction = 0.0;             ///< μd
+    std::string material;                     ///< --material SRC: the material track's codes
     double rampTime = 0.25;
     std::optional<double> nearM;
     std::optional<double> farM;

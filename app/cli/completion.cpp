@@ -7,62 +7,12 @@
 #include <sstream>
 #include <utility>
 
-#include <CLI/CLI.hpp>
-
+#include "command_line.h"
 #include "commands.h"
-#include "option_cli.h"
 
 namespace depthtouch::cli {
 
 namespace {
-
-/// \return the first line of \a text, cut at 100 characters.
-std::string firstLine(const std::string &text)
-{
-    std::string line = text.substr(0, text.find('\n'));
-    if (line.size() > 100)
-        line = line.substr(0, 97) + "...";
-    return line;
-}
-
-CompletionOption optionOf(const CLI::Option &opt)
-{
-    CompletionOption o;
-    for (const std::string &n : opt.get_lnames())
-        o.names.push_back("--" + n);
-    for (const std::string &n : opt.get_snames())
-        o.names.push_back("-" + n);
-    o.help = firstLine(opt.get_description());
-    o.takesValue = opt.get_items_expected_max() > 0; // a flag expects none
-    const std::string type = opt.get_type_name();
-    o.textValue = o.takesValue && type != "FLOAT" && type != "INT" && type != "UINT";
-    const auto &choices = optionChoices();
-    if (const auto at = choices.find(&opt); at != choices.end())
-        o.choices = std::string(at->second);
-    return o;
-}
-
-void addCommand(const CLI::App &app, const std::string &path, std::vector<CompletionCommand> &out)
-{
-    CompletionCommand c;
-    c.path = path;
-    c.help = firstLine(app.get_description());
-    for (const CLI::Option *opt : app.get_options()) {
-        if (opt->nonpositional()) {
-            c.options.push_back(optionOf(*opt));
-        } else if (c.positionals >= 0) {
-            const int n = opt->get_items_expected_max();
-            c.positionals = n >= CLI::detail::expected_max_vector_size ? -1 : c.positionals + n;
-        }
-    }
-    const std::vector<const CLI::App *> subs =
-        app.get_subcommands([](const CLI::App *s) { return !s->get_group().empty(); });
-    for (const CLI::App *sub : subs)
-        c.subcommands.push_back(sub->get_name());
-    out.push_back(c);
-    for (const CLI::App *sub : subs)
-        addCommand(*sub, path.empty() ? sub->get_name() : path + " " + sub->get_name(), out);
-}
 
 /// \return \a words joined by spaces.
 std::string joined(const std::vector<std::string> &words)
@@ -193,13 +143,6 @@ void writeZshFunction(std::ostream &s, const CompletionCommand &c)
 
 } // namespace
 
-std::vector<CompletionCommand> completionTree(const CLI::App &app)
-{
-    std::vector<CompletionCommand> tree;
-    addCommand(app, "", tree);
-    return tree;
-}
-
 std::string bashCompletion(const std::vector<CompletionCommand> &tree)
 {
     std::ostringstream s;
@@ -253,15 +196,15 @@ std::string zshCompletion(const std::vector<CompletionCommand> &tree)
 
 void registerCompletionCommand(CLI::App &app, int &exitCode)
 {
-    CLI::App *cmd = app.add_subcommand("completion",
-                                       "Print the bash or zsh completion script of these commands");
-    cmd->require_subcommand(1);
+    CLI::App &cmd =
+        addCommand(app, "completion", "Print the bash or zsh completion script of these commands");
+    requireCommand(cmd);
     const std::pair<const char *, const char *> shells[] = {
         {"bash", "The bash script (for /usr/share/bash-completion/completions/depthtouch)"},
         {"zsh", "The zsh function (for a folder of $fpath, as the file _depthtouch)"}};
     for (const auto &[name, help] : shells) {
         const std::string shell = name;
-        cmd->add_subcommand(name, help)->callback([&app, shell, &exitCode] {
+        onRun(addCommand(cmd, name, help), [&app, shell, &exitCode] {
             const std::vector<CompletionCommand> tree = completionTree(app);
             const std::string text = shell == "zsh" ? zshCompletion(tree) : bashCompletion(tree);
             std::fputs(text.c_str(), stdout);

@@ -1,14 +1,15 @@
 #pragma once
 /// \file
 /// \brief Shell completion for `depthtouch`, written from the parsed command line itself (the
-/// CLI11 tree the option tables built: option_cli.h), so that it offers exactly the commands and
-/// options `--help` lists: `depthtouch completion bash` and `depthtouch completion zsh` print the
-/// script; the package installs both (bash-completion's and Debian zsh's vendor folders).
+/// CLI11 tree the option tables built: option_cli.h; command_line.cpp reads it back), so that it
+/// offers exactly the commands and options `--help` lists: `depthtouch completion bash` and
+/// `depthtouch completion zsh` print the script; the package installs both (bash-completion's and
+/// Debian zsh's vendor folders).
 ///
 /// What is completed: the commands and their subcommands; each command's long and short options;
 /// after an option that takes a value, the words of its table row when it has a fixed set
-/// (`--method finger|modified|...`, optionChoices()), file names for a text value, nothing for a
-/// number; the positional argument (a file or URL) as a file name. The bash script needs only
+/// (`--method finger|modified|...`, OptionSpec::choices), file names for a text value, nothing for
+/// a number; the positional argument (a file or URL) as a file name. The bash script needs only
 /// bash's `complete` (not the bash-completion package); the zsh one is a `#compdef` function
 /// using `_arguments`. Thread-safety: main thread only (reads the CLI11 tree).
 
@@ -39,7 +40,8 @@ struct CompletionCommand {
     int positionals = 0; ///< Positional arguments (file or URL) it takes; -1 for any number.
 };
 
-/// \return every command of \a app, the program first, then depth first in `--help` order.
+/// \return every command of \a app, the program first, then depth first in `--help` order
+/// (defined in command_line.cpp, the unit that includes CLI11).
 std::vector<CompletionCommand> completionTree(const CLI::App &app);
 
 /// \return a bash script that defines `_depthtouch` and registers it with `complete`.

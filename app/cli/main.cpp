@@ -7,16 +7,13 @@
 #include <cstdlib>
 #include <cstring>
 #include <new>
-#include <optional>
 #include <string>
 
-#include <CLI/CLI.hpp>
-
+#include "command_line.h"
 #include "commands.h"
 #include "completion.h"
 #include "depthtouch/platform/log.h"
 #include "depthtouch/platform/stack_limit.h"
-#include "suggest.h"
 
 namespace {
 
@@ -62,17 +59,12 @@ int checkStandardOutput(int exitCode)
 
 int main(int argc, char **argv)
 {
-    CLI::App app{"DepthTouch: play color + depth 3D video and touch it with a haptic device",
-                 "depthtouch"};
-    app.set_version_flag("--version", "depthtouch " DT_VERSION);
-    app.require_subcommand(1);
-    // Bad input gets one clear line (CLI11's default adds a second "Run with --help" line), an
-    // error line in the journal of a service (platform/log.h).
-    app.failure_message([](const CLI::App *, const CLI::Error &e) {
-        return std::string(depthtouch::platform::stderrPriorityPrefix(
-                   depthtouch::platform::LogLevel::Error)) +
-               "depthtouch: " + e.what() + " (see --help)\n";
-    });
+    depthtouch::cli::CommandLine line{
+        "DepthTouch: play color + depth 3D video and touch it with a haptic device", "depthtouch"};
+    line.setVersion("depthtouch " DT_VERSION);
+    depthtouch::cli::requireCommand(line.root());
+    // Bad input gets one clear line, an error line in the journal of a service.
+    line.sayMistakesInOneLine();
     // A reader that leaves (`| head`) is a write error (EPIPE) reported in one line, not a silent
     // death by SIGPIPE; sockets and pipes of the player see the same error.
     std::signal(SIGPIPE, SIG_IGN);
@@ -85,19 +77,14 @@ int main(int argc, char **argv)
     }
     int exitCode = depthtouch::cli::kExitOk;
     for (RegisterCommand reg : kCommands)
-        reg(app, exitCode);
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError &e) {
-        if (const std::optional<std::string> says =
-                depthtouch::cli::describeMistake(app, argc, argv, e)) {
-            depthtouch::platform::printStderrLine(depthtouch::platform::LogLevel::Error,
-                                                  "depthtouch: %s (see --help)", says->c_str());
-            return depthtouch::cli::kExitBadInput;
-        }
-        const int code = app.exit(e);
-        // CLI11 returns 0 for --help/--version; any real parse error is bad input.
-        return code == 0 ? checkStandardOutput(0) : depthtouch::cli::kExitBadInput;
+        reg(line.root(), exitCode);
+    switch (line.parseProgram(argc, argv)) {
+    case depthtouch::cli::CommandLine::Parsed::Refused:
+        return depthtouch::cli::kExitBadInput;
+    case depthtouch::cli::CommandLine::Parsed::Shown:
+        return checkStandardOutput(depthtouch::cli::kExitOk);
+    case depthtouch::cli::CommandLine::Parsed::Ran:
+        break;
     }
     return checkStandardOutput(exitCode);
 }

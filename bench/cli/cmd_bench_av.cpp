@@ -18,8 +18,6 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
 #include "bench_options.h"
 #include "commands.h"
 #include "depthtouch/demo/demo_clip.h"

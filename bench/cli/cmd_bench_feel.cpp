@@ -15,8 +15,6 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
 #include "bench_options.h"
 #include "commands.h"
 #include "option_cli.h"

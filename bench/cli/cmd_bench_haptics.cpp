@@ -8,8 +8,6 @@
 #include <memory>
 #include <string>
 
-#include <CLI/CLI.hpp>
-
 #include "bench_options.h"
 #include "commands.h"
 #include "option_cli.h"

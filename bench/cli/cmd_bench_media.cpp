@@ -18,8 +18,6 @@
 #include <utility>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
 #include "bench_options.h"
 #include "commands.h"
 #include "option_cli.h"

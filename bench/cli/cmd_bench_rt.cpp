@@ -13,8 +13,6 @@
 #include <thread>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
 #include "bench_options.h"
 #include "commands.h"
 #include "option_cli.h"

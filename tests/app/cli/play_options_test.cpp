@@ -12,9 +12,9 @@
 #include <variant>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <gtest/gtest.h>
 
+#include "command_line.h"
 #include "option_cli.h"
 #include "play_config.h"
 
@@ -33,17 +33,13 @@ bool noneGiven(const std::string &)
 PlayOptions fromCommandLine(const std::vector<std::string> &args, std::string *error = nullptr)
 {
     PlayOptions opt;
-    CLI::App app{"play"};
-    addOptions(app, playOptionTable(), opt);
+    CommandLine line{"play"};
+    addOptions(line.root(), playOptionTable(), opt);
     std::vector<std::string> argv = {"x.mkv"};
     argv.insert(argv.end(), args.begin(), args.end());
-    std::vector<std::string> reversed(argv.rbegin(), argv.rend()); // CLI11 takes them reversed
-    try {
-        app.parse(reversed);
-    } catch (const CLI::ParseError &e) {
-        if (error != nullptr)
-            *error = e.what();
-    }
+    const std::string refused = line.parse(argv);
+    if (error != nullptr && !refused.empty())
+        *error = refused;
     return opt;
 }
 
@@ -293,9 +289,9 @@ bool helpNames(const std::string &help, const Row &row)
 TEST(PlayOptionTableTest, HelpListsEveryRow)
 {
     PlayOptions opt;
-    CLI::App app{"play"};
-    addOptions(app, playOptionTable(), opt);
-    const std::string help = app.help();
+    CommandLine line{"play"};
+    addOptions(line.root(), playOptionTable(), opt);
+    const std::string help = line.help();
     for (const Row &row : playOptionTable())
         EXPECT_TRUE(helpNames(help, row)) << row.name << "\n" << help;
 }

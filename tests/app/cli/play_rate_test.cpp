@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <gtest/gtest.h>
 
 #include "app/playback/sim_player.h"
 #include "depthtouch/drivers/mock/mock_haptic_device.h"
+#include "command_line.h"
 #include "option_cli.h"
 #include "play_options.h"
 
@@ -25,11 +25,10 @@ using namespace std::chrono_literals;
 playback::PlaybackConfig configOf(std::vector<std::string> args)
 {
     PlayOptions opt;
-    CLI::App app{"play"};
-    addOptions(app, playOptionTable(), opt);
+    CommandLine line{"play"};
+    addOptions(line.root(), playOptionTable(), opt);
     args.insert(args.begin(), "x.mkv");
-    std::vector<std::string> reversed(args.rbegin(), args.rend()); // CLI11 takes them reversed
-    app.parse(reversed);
+    EXPECT_EQ(line.parse(args), "");
     EXPECT_EQ(checkPlayOptionValues(opt), "");
     return landPlayOptions(opt);
 }
