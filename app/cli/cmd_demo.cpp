@@ -16,6 +16,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -37,6 +38,7 @@
 #include "depthtouch/haptics/height_field.h"
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/media/frame_source.h"
+#include "depthtouch/platform/log.h"
 #include "depthtouch/platform/percentile.h"
 #include "depthtouch/platform/stop_signals.h"
 #include "play.h"
@@ -183,6 +185,10 @@ int runDemo(const DemoOptions &o)
         std::fprintf(stderr, "depthtouch demo: %s\n", bad.c_str());
         return kExitBadInput;
     }
+    // The demo's report is its own lines and the play's summary, as play's: the log's timestamped
+    // lines (backend choices, the decoder's hwaccel probe) only when DT_LOG asks for them.
+    if (std::getenv("DT_LOG") == nullptr)
+        platform::setLogLevel(platform::LogLevel::Off);
     std::string hapticOptions = o.hapticOptions;
     if (hapticOptions.empty() && o.haptic == "sim")
         hapticOptions = o.scene == "head" ? kHeadStroke : "intent=stroke";

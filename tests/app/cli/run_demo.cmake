@@ -37,6 +37,11 @@ message("${out}")
 if(NOT rc EQUAL 0)
     fail("depthtouch demo exited with ${rc}: ${err}")
 endif()
+# The main job's report is its own lines and the play's summary: the log's timestamped lines
+# ("[12.345678] INFO  Backend: ...") only with DT_LOG, as for play.
+if(NOT DEFINED ENV{DT_LOG} AND "${out}${err}" MATCHES "\\[[0-9]+\\.[0-9]+\\] +(INFO|WARN|DEBUG)")
+    fail("the log's timestamped lines in the demo's report: ${CMAKE_MATCH_0}")
+endif()
 match_line("haptic updates +([0-9]+) \\(([0-9]+) in contact\\)" "haptic summary" updates contacts)
 # The stroking hand must touch the face.
 if(contacts LESS 100)
