@@ -4,6 +4,12 @@
 #include "hw_accel.h"
 
 #include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include <dirent.h>
+#include <link.h>
 
 extern "C" {
 #include <libavutil/hwcontext.h>
@@ -29,6 +35,50 @@ constexpr Device kDevices[] = {
     {HwAccelMode::Cuda, AV_HWDEVICE_TYPE_CUDA, "cuda"},
     {HwAccelMode::Vdpau, AV_HWDEVICE_TYPE_VDPAU, "vdpau"},
 };
+
+/// The folder libvdpau loads its drivers from: $VDPAU_DRIVER_PATH, else the `vdpau` folder beside
+/// the libvdpau.so.1 this process loaded (libavutil links it); empty when neither is known.
+std::string vdpauModuleDir()
+{
+    if (const char *path = std::getenv("VDPAU_DRIVER_PATH"); path != nullptr && *path != '\0')
+        return path;
+    std::string dir;
+    dl_iterate_phdr(
+        [](dl_phdr_info *info, std::size_t, void *out) {
+            const char *name = info->dlpi_name;
+            const char *slash = name != nullptr ? std::strrchr(name, '/') : nullptr;
+            if (slash == nullptr || std::strncmp(slash + 1, "libvdpau.so", 11) != 0)
+                return 0;
+            *static_cast<std::string *>(out) = std::string(name, slash) + "/vdpau";
+            return 1;
+        },
+        &dir);
+    return dir;
+}
+
+/// \return whether libvdpau has a driver to load (a libvdpau_NAME.so other than its trace
+/// wrapper in its module folder), or this cannot be told. Without one, creating a VDPAU device
+/// makes libvdpau print "Failed to open VDPAU backend ..." on stderr itself, under --quiet too,
+/// and fail: auto then does not try it (a desktop with libvdpau and no NVIDIA or Mesa VDPAU
+/// driver).
+bool vdpauDriverInstalled()
+{
+    const std::string dir = vdpauModuleDir();
+    if (dir.empty())
+        return true;
+    DIR *d = ::opendir(dir.c_str());
+    if (d == nullptr)
+        return false;
+    bool found = false;
+    while (const dirent *e = ::readdir(d)) {
+        const std::string name = e->d_name;
+        if (name.rfind("libvdpau_", 0) == 0 && name.find(".so") != std::string::npos &&
+            name.rfind("libvdpau_trace", 0) != 0)
+            found = true;
+    }
+    ::closedir(d);
+    return found;
+}
 
 /// \return the hwaccel pixel format \a codec decodes to on \a type through a device context, or
 /// NONE when it has no such hwaccel.
@@ -78,6 +128,10 @@ Result<HwAccel> attachHwAccel(AVCodecContext &ctx, const AVCodec &codec, HwAccel
         if (mode != HwAccelMode::Auto && mode != d.mode)
             continue;
         const AVPixelFormat fmt = hwFormatOf(codec, d.type);
+        // Looked up once: the drivers installed do not change while the player runs.
+        static const bool vdpauUsable = vdpauDriverInstalled();
+        if (mode == HwAccelMode::Auto && d.type == AV_HWDEVICE_TYPE_VDPAU && !vdpauUsable)
+            continue;
         AVBufferRef *device = nullptr;
         if (fmt == AV_PIX_FMT_NONE ||
             av_hwdevice_ctx_create(&device, d.type, nullptr, nullptr, 0) < 0)

@@ -21,8 +21,10 @@ namespace depthtouch::drivers::ffmpeg {
 
 /// \brief What the ffmpeg decoder option `hwaccel` asks for.
 enum class HwAccelMode : unsigned char {
-    None,  ///< Software (ffmpeg's default).
-    Auto,  ///< The first device that opens, in the order VAAPI, CUDA, VDPAU; else software.
+    None, ///< Software (ffmpeg's default).
+    /// The first device that opens, in the order VAAPI, CUDA, VDPAU (only where libvdpau has a
+    /// driver installed: it prints its failure on stderr itself); else software.
+    Auto,
     Vaapi, ///< VAAPI or fail.
     Cuda,  ///< CUDA (NVDEC) or fail.
     Vdpau, ///< VDPAU or fail.
