@@ -219,5 +219,25 @@ TEST(EvdevFactoryTest, theBackendsDevicePathIsOpenedWhenNoOptionNamesOne)
     EXPECT_EQ(r.error().code, Errc::NoDevice) << r.error().what;
 }
 
+TEST(EvdevFactoryTest, anAwaitedRemoteThatIsNotThereIsWaitedFor)
+{
+    // GIVEN a player that stays up (hal::BackendConfig::awaitDevice) and a remote not plugged in
+    ManualClock clock(ManualClock::Mode::AutoAdvance, TimePoint(seconds(1)));
+    hal::BackendConfig cfg;
+    cfg.clock = &clock;
+    cfg.awaitDevice = true;
+    cfg.options = hal::OptionList("device=/nonexistent/event0");
+    // THEN the backend is made, says it waits, and a poll is a time-out, not a lost device
+    auto r = EvdevRemoteInput::create(cfg);
+    ASSERT_TRUE(r) << r.error().what;
+    EXPECT_TRUE((*r)->awaitingDevice());
+    EXPECT_EQ(errcOf((*r)->poll(clock.now() + milliseconds(50))), Errc::Timeout);
+    EXPECT_EQ(errcOf((*r)->poll(clock.now() + seconds(2))), Errc::Timeout)
+        << "still not there a retry later";
+    // AND without awaitDevice the same remote is a missing device, as before
+    cfg.awaitDevice = false;
+    EXPECT_EQ(errcOf(EvdevRemoteInput::create(cfg)), Errc::NoDevice);
+}
+
 } // namespace
 } // namespace depthtouch::drivers
