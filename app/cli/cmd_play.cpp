@@ -33,7 +33,6 @@
 #include "depthtouch/control/play_loop.h"
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptics/renderer.h"
-#include "depthtouch/media/audio_reader.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
@@ -47,6 +46,7 @@
 #include "output_paths.h"
 #include "play.h"
 #include "play_config.h"
+#include "play_backends.h"
 #include "play_config_files.h"
 #include "play_options.h"
 
@@ -122,9 +122,6 @@ int controlSocketExitCode(const Error &e)
     }
 }
 
-/// How messages name the sound output's file.
-constexpr const char *kWavOption = "--audio-device-options path";
-
 PlayResult badInput(const std::string &why)
 {
     failLine(why);
@@ -139,190 +136,57 @@ std::optional<PlayResult> checkPlayOptions(const PlayOptions &opt)
         return badInput(bad);
     if (opt.url.empty())
         return badInput("nothing to play: give a file or URL");
-    // Outputs: a missing folder is bad input, an output that takes no byte is lost at once.
-    // An output never replaces an input or another output (compared by file identity). The sound
-    // output's file (`wav`'s path=) is one of them.
-    const std::string wav =
-        opt.noAudio ? std::string()
-                    : drivers::audioOutputFilePath(opt.audioDevice, opt.audioDeviceOptions);
-    for (const platform::OutputPathCheck &c :
-         {platform::checkOutputPath("--record", opt.record),
-          platform::checkOutputPath("--force-log", opt.forceLog),
-          platform::checkOutputPath("--av-log", opt.avLog),
-          platform::checkOutputPath("--stats", opt.stats, true),
-          platform::checkOutputPath(kWavOption, wav, true),
-          platform::checkOutputFolder("--snapshot-dir", opt.snapshotDir),
-          platform::checkDistinctPaths({{"the input", opt.url}, {"--config", opt.config}},
-                                       {{"--record", opt.record},
-                                        {"--force-log", opt.forceLog},
-                                        {"--av-log", opt.avLog},
-                                        {"--stats", opt.stats},
-                                        {kWavOption, wav}})}) {
-        if (c.exitCode != kExitOk) {
-            failLine(c.message);
-            return PlayResult{c.exitCode, {}};
-        }
+    if (const platform::OutputPathCheck c = checkPlayOutputs(opt, true); c.exitCode != kExitOk) {
+        failLine(c.message);
+        return PlayResult{c.exitCode, {}};
     }
     return std::nullopt;
-}
-
-/// The backends a run plays on, and which of the names given were chosen.
-struct PlayBackends {
-    std::unique_ptr<hal::Display> display;
-    std::unique_ptr<hal::HapticDevice> device;
-    std::unique_ptr<hal::RemoteInput> remote; ///< Null with --remote none.
-    std::unique_ptr<hal::AudioOutput> audio;  ///< Null with --no-audio or --audio-device none.
-    hal::SelectionReport displayReport;
-    hal::SelectionReport hapticReport;
-    hal::SelectionReport audioReport;
-};
-
-/// Moves the backend \a made into \a into. \return nullopt, or after its one error line the
-/// result: bad input (2) for a name or option at fault, else failure (1).
-template <class T>
-std::optional<PlayResult> take(Result<std::unique_ptr<T>> made, const hal::SelectionReport &report,
-                               std::unique_ptr<T> &into)
-{
-    if (!made) {
-        failLine(report.message);
-        return PlayResult{made.error().code == Errc::InvalidArgument ? kExitBadInput : kExitFailure,
-                          {}};
-    }
-    into = std::move(*made);
-    return std::nullopt;
-}
-
-/// \return \a cfg with the backend options \a options.
-hal::BackendConfig withOptions(const hal::BackendConfig &cfg, const std::string &options)
-{
-    hal::BackendConfig c = cfg;
-    c.options = hal::OptionList(options);
-    return c;
 }
 
 /// Says, as a warning line, that a player that stays up (--idle: the box's service) plays without
-/// the first backend of its list \a names of \a kind (a sound card the sandbox hides) and with
-/// \a report's, or (\a awaiting) that the device of the backend chosen is not plugged in yet and
-/// is waited for (a Falcon or a remote, hal::BackendConfig::awaitDevice): its summary, which says
-/// so too, comes only at its stop. Nothing for another player or when the first name was chosen
-/// and its device is there.
-void warnFallback(const PlayOptions &opt, drivers::BackendKind kind, std::string_view names,
-                  const hal::SelectionReport &report, bool awaiting = false)
+/// the first backend of the list it was given (a sound card the sandbox hides) and with the one
+/// \a b names, or that the device of the backend chosen is not plugged in yet and is waited for (a
+/// Falcon or a remote, hal::BackendConfig::awaitDevice): its summary, which says so too, comes only
+/// at its stop. Nothing for another player, for the display (its summary says where the picture
+/// went), for the default remote list (it takes the terminal's keys where play runs in one: none
+/// elsewhere is no fallback), or when the first name was chosen and its device is there.
+void warnFallback(const PlayOptions &opt, const OpenedBackend &b)
 {
+    std::string_view names = b.names;
     std::string_view first;
-    if (!opt.idle || !hal::detail::nextBackendName(names, first))
+    if (!opt.idle || b.kind == drivers::BackendKind::Display ||
+        (b.kind == drivers::BackendKind::RemoteInput && opt.remote == PlayOptions{}.remote) ||
+        !hal::detail::nextBackendName(names, first))
         return;
-    if (first == report.chosen && awaiting)
+    const hal::SelectionReport &report = b.report;
+    if (first == report.chosen && b.awaitingDevice)
         platform::printStderrLine(platform::LogLevel::Warning,
                                   "depthtouch play: warning: no %s '%s' connected: playing without "
                                   "it until it is plugged in",
-                                  drivers::backendKindName(kind), report.chosen.c_str());
+                                  drivers::backendKindName(b.kind), report.chosen.c_str());
     if (first == report.chosen)
         return;
     platform::printStderrLine(
         platform::LogLevel::Warning,
         "depthtouch play: warning: no %s '%s' (it could not be opened; --verbose says why): "
         "playing with '%s'",
-        drivers::backendKindName(kind), platform::printableText(first, 60).c_str(),
+        drivers::backendKindName(b.kind), platform::printableText(first, 60).c_str(),
         report.chosen.c_str());
 }
 
-/// Makes the display, haptic device and remote, and checks the decoder and source names (one
-/// clear line now; they are made per open()). \return nullopt, or the result of a failure.
-std::optional<PlayResult> openBackends(const PlayOptions &opt, const hal::BackendConfig &cfg,
-                                       PlayBackends &b)
+/// Opens the backends and the pipeline of \a opt into \a p (play_backends.h), with the warnings
+/// of warnFallback() as they open. \return nullopt, or after the failure's one line its result:
+/// bad input (2) for a name or option at fault, a decoder or source that cannot be made, or a
+/// pipeline that cannot be made on the backends; else failure (1).
+std::optional<PlayResult> openPlay(const PlayOptions &opt, platform::Clock &clock, OpenedPlayer &p)
 {
-    const hal::BackendConfig displayCfg = withOptions(cfg, opt.displayOptions);
-    if (auto bad = take(drivers::createDisplay(opt.display, displayCfg, &b.displayReport),
-                        b.displayReport, b.display))
-        return bad;
-    // A player that stays up (--idle: the box's service) takes its haptic device and remote
-    // when they are plugged in, after its start too (hot-plug).
-    hal::BackendConfig hapticCfg = withOptions(cfg, opt.hapticOptions);
-    hapticCfg.awaitDevice = opt.idle;
-    if (auto bad = take(drivers::createHapticDevice(opt.haptic, hapticCfg, &b.hapticReport),
-                        b.hapticReport, b.device))
-        return bad;
-    warnFallback(opt, drivers::BackendKind::HapticDevice, opt.haptic, b.hapticReport,
-                 b.device->awaitingDevice());
-    hal::SelectionReport rep;
-    if (!opt.remote.empty() && opt.remote != "none") {
-        hal::BackendConfig remoteCfg = withOptions(cfg, opt.remoteOptions);
-        remoteCfg.awaitDevice = opt.idle;
-        if (auto bad = take(drivers::createRemoteInput(opt.remote, remoteCfg, &rep), rep, b.remote))
-            return bad;
-        // The default list takes the terminal's keys where play runs in one: none elsewhere is
-        // no fallback to warn of.
-        if (opt.remote != PlayOptions{}.remote)
-            warnFallback(opt, drivers::BackendKind::RemoteInput, opt.remote, rep,
-                         b.remote->awaitingDevice());
-    }
-    if (!opt.noAudio && opt.audioDevice != "none") {
-        const hal::BackendConfig audioCfg = withOptions(cfg, opt.audioDeviceOptions);
-        if (auto bad = take(drivers::createAudioOutput(opt.audioDevice, audioCfg, &b.audioReport),
-                            b.audioReport, b.audio))
-            return bad;
-        warnFallback(opt, drivers::BackendKind::AudioOutput, opt.audioDevice, b.audioReport);
-    }
-    std::unique_ptr<hal::VideoDecoder> decoder;
-    const hal::BackendConfig decoderCfg = withOptions(cfg, opt.decoderOptions);
-    if (take(drivers::createVideoDecoder(opt.decoder, decoderCfg, &rep), rep, decoder))
-        return PlayResult{kExitBadInput, {}};
-    std::unique_ptr<hal::MediaSource> source;
-    if (take(drivers::createMediaSource(opt.source, withOptions(cfg, opt.sourceOptions), &rep), rep,
-             source))
-        return PlayResult{kExitBadInput, {}};
-    return std::nullopt;
-}
-
-/// \return the HAL of the player: \a b's display and device, a source and decoders per open().
-playback::PlaybackHal playbackHal(const PlayOptions &opt, const hal::BackendConfig &cfg,
-                                  const PlayBackends &b)
-{
-    playback::PlaybackHal ph;
-    ph.makeSource = [name = opt.source, c = withOptions(cfg, opt.sourceOptions)]() {
-        return drivers::createMediaSource(name, c);
-    };
-    ph.makeDecoder = [name = opt.decoder, c = withOptions(cfg, opt.decoderOptions)](
-                         const hal::StreamInfo &) { return drivers::createVideoDecoder(name, c); };
-    ph.display = b.display.get();
-    ph.device = b.hapticReport.chosen == "none" ? nullptr : b.device.get();
-    ph.clock = cfg.clock;
-    ph.audioOutput = b.audio.get();
-    ph.makeAudioSource = [](const std::string &url) -> Result<std::unique_ptr<hal::AudioSource>> {
-        auto reader = media::AudioReader::open(url);
-        if (!reader)
-            return unexpected(reader.error());
-        return std::unique_ptr<hal::AudioSource>(std::move(*reader));
-    };
-    ph.makeLiveAudioSource =
-        [](const hal::AudioStreamInfo &stream) -> Result<playback::PlaybackHal::LiveAudio> {
-        auto reader = media::AudioReader::fromPackets(stream);
-        if (!reader)
-            return unexpected(reader.error());
-        playback::PlaybackHal::LiveAudio live;
-        live.sink = (*reader)->packetSink();
-        live.source = std::move(*reader);
-        return live;
-    };
-    return ph;
-}
-
-/// \return the state machine's settings of \a opt.
-player::PlayerSettings playerSettings(const PlayOptions &opt)
-{
-    player::PlayerSettings settings;
-    settings.url = opt.url;
-    settings.loop = opt.loop;
-    // A player that stays up (--idle: the box's service) waits for the next sender of a live
-    // address that fell silent; one that ends at the end of its input ends there too.
-    settings.reopenWhenSilent = opt.idle;
-    settings.stereoMode = *player::stereoModeFromName(opt.stereo);
-    settings.haptics = true;
-    settings.stiffness = opt.stiffness;
-    settings.volume = opt.volume;
-    settings.mute = opt.mute;
-    return settings;
+    const std::optional<PlayOpenFailure> bad =
+        openPlayer(opt, clock, p, [&opt](const OpenedBackend &b) { warnFallback(opt, b); });
+    if (!bad)
+        return std::nullopt;
+    failLine(bad->message);
+    return PlayResult{
+        bad->badInput || bad->part == PlayPart::Playback ? kExitBadInput : kExitFailure, {}};
 }
 
 /// Makes the control socket of --control into \a server. \return nullopt, or the result of a
@@ -432,15 +296,11 @@ PlayResult runPlay(const PlayOptions &opt, const player::KeyMap &keys)
     if (std::optional<PlayResult> bad = checkPlayOptions(opt))
         return *bad;
     platform::SteadyClock &clock = platform::SteadyClock::instance();
-    hal::BackendConfig cfg;
-    cfg.clock = &clock;
-    PlayBackends b;
-    if (std::optional<PlayResult> bad = openBackends(opt, cfg, b))
+    OpenedPlayer p;
+    if (std::optional<PlayResult> bad = openPlay(opt, clock, p))
         return *bad;
-    auto pb = playback::Playback::create(landPlayOptions(opt), playbackHal(opt, cfg, b));
-    if (!pb)
-        return badInput(pb.error().what);
-    playback::Playback &playback = **pb;
+    playback::Playback &playback = *p.playback;
+    PlayBackends &b = p.backends;
 
     player::PlayerSettings settings = playerSettings(opt);
     settings.keys = keys;

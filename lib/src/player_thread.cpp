@@ -12,13 +12,12 @@
 
 #include "depthtouch/control/control_loop.h"
 #include "depthtouch/control/control_server.h"
-#include "depthtouch/drivers/backends.h"
-#include "depthtouch/media/audio_reader.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/log.h"
 #include "depthtouch/platform/output_paths.h"
 #include "depthtouch/playback/playback.h"
 #include "depthtouch/player/state_machine.h"
+#include "play_backends.h"
 #include "play_options.h"
 
 DT_LOG_CATEGORY(Client)
@@ -33,149 +32,30 @@ struct PlayerThread::Task {
     std::uint64_t userdata = 0;
 };
 
-/// The backends of a player (as `play`'s): destroyed after the Playback.
-struct PlayerThread::Backends {
-    std::unique_ptr<hal::Display> display;
-    std::unique_ptr<hal::HapticDevice> device;
-    std::unique_ptr<hal::RemoteInput> remote;
-    std::unique_ptr<hal::AudioOutput> audio;
-    bool noDevice = false; ///< The haptic backend chosen is `none`.
-};
-
 namespace {
 
-/// \return \a cfg with the backend options \a options.
-hal::BackendConfig withOptions(const hal::BackendConfig &cfg, const std::string &options)
+/// \return the dt_error code of a player \a f says could not be opened, as `play` would open it
+/// (its line logged): DT_ERROR_OPTION_FORMAT for a name or option at fault, else the part's.
+int openErrorCode(const cli::PlayOpenFailure &f)
 {
-    hal::BackendConfig c = cfg;
-    c.options = hal::OptionList(options);
-    return c;
-}
-
-/// Moves \a made into \a into. \return DT_ERROR_SUCCESS, DT_ERROR_OPTION_FORMAT for a name or an
-/// option at fault (InvalidArgument), else \a failure; logs the reason.
-template <class T>
-int take(Result<std::unique_ptr<T>> made, const hal::SelectionReport &report,
-         std::unique_ptr<T> &into, int failure)
-{
-    if (!made) {
-        DT_LOG(Client, Error, "%s", report.message.c_str());
-        return made.error().code == Errc::InvalidArgument ? DT_ERROR_OPTION_FORMAT : failure;
+    DT_LOG(Client, Error, "%s", f.message.c_str());
+    if (f.badInput)
+        return DT_ERROR_OPTION_FORMAT;
+    switch (f.part) {
+    case cli::PlayPart::Display:
+    case cli::PlayPart::Playback:
+        return DT_ERROR_VO_INIT_FAILED;
+    case cli::PlayPart::HapticDevice:
+        return DT_ERROR_HAPTIC_INIT_FAILED;
+    case cli::PlayPart::AudioOutput:
+        return DT_ERROR_AO_INIT_FAILED;
+    case cli::PlayPart::VideoDecoder:
+    case cli::PlayPart::MediaSource:
+        return DT_ERROR_OPTION_FORMAT;
+    case cli::PlayPart::RemoteInput:
+        break;
     }
-    into = std::move(*made);
-    return DT_ERROR_SUCCESS;
-}
-
-/// Checks the output paths of \a opt as `play` does. \return DT_ERROR_SUCCESS or
-/// DT_ERROR_INVALID_PARAMETER (logged).
-int checkOutputs(const cli::PlayOptions &opt)
-{
-    const std::string wav =
-        opt.noAudio ? std::string()
-                    : drivers::audioOutputFilePath(opt.audioDevice, opt.audioDeviceOptions);
-    for (const platform::OutputPathCheck &c :
-         {platform::checkOutputPath("--record", opt.record),
-          platform::checkOutputPath("--force-log", opt.forceLog),
-          platform::checkOutputPath("--av-log", opt.avLog),
-          platform::checkOutputPath("--stats", opt.stats, true),
-          platform::checkOutputPath("--audio-device-options path", wav, true),
-          platform::checkOutputFolder("--snapshot-dir", opt.snapshotDir)}) {
-        if (c.exitCode != platform::kOutputUsable) {
-            DT_LOG(Client, Error, "%s", c.message.c_str());
-            return DT_ERROR_INVALID_PARAMETER;
-        }
-    }
-    return DT_ERROR_SUCCESS;
-}
-
-/// Opens the backends of \a opt into \a b, as `play` does. \return a dt_error code.
-int openBackends(const cli::PlayOptions &opt, const hal::BackendConfig &cfg, auto &b)
-{
-    hal::SelectionReport rep;
-    int rc = take(drivers::createDisplay(opt.display, withOptions(cfg, opt.displayOptions), &rep),
-                  rep, b.display, DT_ERROR_VO_INIT_FAILED);
-    if (rc < 0)
-        return rc;
-    // As play: a player that stays up (idle) picks its devices up when they are plugged in.
-    hal::BackendConfig hapticCfg = withOptions(cfg, opt.hapticOptions);
-    hapticCfg.awaitDevice = opt.idle;
-    rc = take(drivers::createHapticDevice(opt.haptic, hapticCfg, &rep), rep, b.device,
-              DT_ERROR_HAPTIC_INIT_FAILED);
-    if (rc < 0)
-        return rc;
-    b.noDevice = rep.chosen == "none";
-    if (!opt.remote.empty() && opt.remote != "none") {
-        hal::BackendConfig remoteCfg = withOptions(cfg, opt.remoteOptions);
-        remoteCfg.awaitDevice = opt.idle;
-        rc = take(drivers::createRemoteInput(opt.remote, remoteCfg, &rep), rep, b.remote,
-                  DT_ERROR_GENERIC);
-        if (rc < 0)
-            return rc;
-    }
-    if (!opt.noAudio && opt.audioDevice != "none") {
-        rc = take(drivers::createAudioOutput(opt.audioDevice,
-                                             withOptions(cfg, opt.audioDeviceOptions), &rep),
-                  rep, b.audio, DT_ERROR_AO_INIT_FAILED);
-        if (rc < 0)
-            return rc;
-    }
-    // The decoder and source are made per open: their names are checked now.
-    std::unique_ptr<hal::VideoDecoder> decoder;
-    rc = take(drivers::createVideoDecoder(opt.decoder, withOptions(cfg, opt.decoderOptions), &rep),
-              rep, decoder, DT_ERROR_OPTION_FORMAT);
-    if (rc < 0)
-        return rc;
-    std::unique_ptr<hal::MediaSource> source;
-    return take(drivers::createMediaSource(opt.source, withOptions(cfg, opt.sourceOptions), &rep),
-                rep, source, DT_ERROR_OPTION_FORMAT);
-}
-
-/// \return the HAL of the player (as `play`'s): \a b's display, device and sound output, a source
-/// and decoders per open.
-playback::PlaybackHal playbackHal(const cli::PlayOptions &opt, const hal::BackendConfig &cfg,
-                                  const auto &b)
-{
-    playback::PlaybackHal ph;
-    ph.makeSource = [name = opt.source, c = withOptions(cfg, opt.sourceOptions)]() {
-        return drivers::createMediaSource(name, c);
-    };
-    ph.makeDecoder = [name = opt.decoder, c = withOptions(cfg, opt.decoderOptions)](
-                         const hal::StreamInfo &) { return drivers::createVideoDecoder(name, c); };
-    ph.display = b.display.get();
-    ph.device = b.noDevice ? nullptr : b.device.get();
-    ph.clock = cfg.clock;
-    ph.audioOutput = b.audio.get();
-    ph.makeAudioSource = [](const std::string &url) -> Result<std::unique_ptr<hal::AudioSource>> {
-        auto reader = media::AudioReader::open(url);
-        if (!reader)
-            return unexpected(reader.error());
-        return std::unique_ptr<hal::AudioSource>(std::move(*reader));
-    };
-    ph.makeLiveAudioSource =
-        [](const hal::AudioStreamInfo &stream) -> Result<playback::PlaybackHal::LiveAudio> {
-        auto reader = media::AudioReader::fromPackets(stream);
-        if (!reader)
-            return unexpected(reader.error());
-        playback::PlaybackHal::LiveAudio live;
-        live.sink = (*reader)->packetSink();
-        live.source = std::move(*reader);
-        return live;
-    };
-    return ph;
-}
-
-/// \return the state machine's settings of \a opt (as `play`'s; nothing to open yet).
-player::PlayerSettings playerSettings(const cli::PlayOptions &opt)
-{
-    player::PlayerSettings settings;
-    settings.loop = opt.loop;
-    settings.reopenWhenSilent = opt.idle;
-    settings.stereoMode = *player::stereoModeFromName(opt.stereo);
-    settings.haptics = true;
-    settings.stiffness = opt.stiffness;
-    settings.volume = opt.volume;
-    settings.mute = opt.mute;
-    return settings;
+    return DT_ERROR_GENERIC;
 }
 
 } // namespace
@@ -187,8 +67,12 @@ int PlayerThread::start(const cli::PlayOptions &options, const std::vector<Obser
 {
     if (!cli::checkPlayOptionValues(options).empty())
         return DT_ERROR_OPTION_FORMAT;
-    if (const int rc = checkOutputs(options); rc < 0)
-        return rc;
+    // The output paths, checked as `play` checks them.
+    if (const platform::OutputPathCheck c = cli::checkPlayOutputs(options, false);
+        c.exitCode != platform::kOutputUsable) {
+        DT_LOG(Client, Error, "%s", c.message.c_str());
+        return DT_ERROR_INVALID_PARAMETER;
+    }
     std::unique_ptr<PlayerThread> t(new PlayerThread(events));
     auto started = std::make_shared<std::promise<int>>();
     std::future<int> result = started->get_future();
@@ -314,22 +198,14 @@ void PlayerThread::run(cli::PlayOptions opt, std::vector<ObserverSpec> observers
                        const std::function<void(int)> &started)
 {
     platform::SteadyClock &clock = platform::SteadyClock::instance();
-    hal::BackendConfig cfg;
-    cfg.clock = &clock;
-    Backends b;
-    if (const int rc = openBackends(opt, cfg, b); rc < 0) {
-        started(rc);
+    cli::OpenedPlayer p; // the Playback, then its backends, destroyed last
+    if (const std::optional<cli::PlayOpenFailure> bad = cli::openPlayer(opt, clock, p)) {
+        started(openErrorCode(*bad));
         return;
     }
-    auto pb = playback::Playback::create(cli::landPlayOptions(opt), playbackHal(opt, cfg, b));
-    if (!pb) {
-        DT_LOG(Client, Error, "%s", pb.error().what);
-        started(pb.error().code == Errc::InvalidArgument ? DT_ERROR_OPTION_FORMAT
-                                                         : DT_ERROR_VO_INIT_FAILED);
-        return;
-    }
-    playback::Playback &playback = **pb;
-    player::StateMachine machine(playback, playerSettings(opt));
+    playback::Playback &playback = *p.playback;
+    const cli::PlayBackends &b = p.backends;
+    player::StateMachine machine(playback, cli::playerSettings(opt));
     Session session(machine, events_);
     std::unique_ptr<control::ControlServer> server;
     if (!opt.control.empty()) {

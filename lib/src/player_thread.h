@@ -1,10 +1,10 @@
 #pragma once
 /// \file
-/// \brief The player thread of a dt_handle: it opens the backends `play` would open for the same
-/// options (the backend table, drivers/backends.h), makes the Playback and the state machine, and
-/// runs the loop of `play` (app/control/play_loop.h) in 10 ms turns: the pipeline's report, the
-/// control socket (option "control") and the remote (option "remote"), the observers; between
-/// turns it carries out the calls the API posts (call(), post()), at once when one comes.
+/// \brief The player thread of a dt_handle: it opens the backends and the Playback through `play`'s
+/// own path (app/cli/play_backends.h: the backend table, drivers/backends.h), makes the state
+/// machine, and runs the loop of `play` (app/control/play_loop.h) in 10 ms turns: the pipeline's
+/// report, the control socket (option "control") and the remote (option "remote"), the observers;
+/// between turns it carries out the calls the API posts (call(), post()), at once when one comes.
 /// Unlike `play`, it stays up when a file ends or fails (idle, as libmpv), until quit or destroy.
 /// Thread-safety: call(), post() and the destructor are thread-safe; what they run runs on the
 /// player thread.
@@ -50,7 +50,6 @@ public:
 
 private:
     struct Task;
-    struct Backends;
 
     explicit PlayerThread(EventQueue &events);
     /// The thread: opens, reports the open's code through \a started, then runs the loop.
