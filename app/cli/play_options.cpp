@@ -11,7 +11,7 @@
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/haptics/renderer_table.h"
 #include "depthtouch/player/state_machine.h"
-#include "depthtouch/scene/stiffness.h"
+#include "depthtouch/options/option_range.h"
 
 namespace depthtouch::cli {
 
@@ -44,6 +44,13 @@ std::optional<bool> stereoHalves(std::string_view name)
     if (n == "sbsl" || n == "abl" || n == "tbl")
         return false;
     return std::nullopt;
+}
+
+/// The check of an option whose range is its row of depthtouch/options/option_range.h, the one
+/// range every entry point reads (the control socket's commands, libdepthtouch).
+constexpr OptionCheck inRangeOf(const options::OptionRange &range)
+{
+    return inRange(range.min, range.max, range.unit);
 }
 
 bool isStereoMode(std::string_view text)
@@ -83,7 +90,7 @@ const OptionRow<PlayOptions> kPlayRows[] = {
     {.name = "volume",
      .field = &PlayOptions::volume,
      .help = "Start volume, percent (0..130; the gain is (volume/100)^3, as mpv's)",
-     .check = inRange(0.0, playback::AudioPlayerConfig::kMaxVolume, "%"),
+     .check = inRangeOf(options::kVolume),
      .land = [](const PlayOptions &o, Config &c) { c.audio.volume = o.volume; }},
     {.name = "mute",
      .field = &PlayOptions::mute,
@@ -103,7 +110,7 @@ const OptionRow<PlayOptions> kPlayRows[] = {
     {.name = "stiffness",
      .field = &PlayOptions::stiffness,
      .help = "Surface stiffness, N/m (100..3000)",
-     .check = inRange(scene::kMinStiffness, scene::kMaxStiffness, "N/m"),
+     .check = inRangeOf(options::kStiffness),
      .land = [](const PlayOptions &o, Config &c) { c.haptics.renderer.stiffness = o.stiffness; }},
     {.name = "static-friction",
      .field = &PlayOptions::staticFriction,
@@ -122,7 +129,7 @@ const OptionRow<PlayOptions> kPlayRows[] = {
     {.name = "rate",
      .field = &PlayOptions::rate,
      .help = "Haptic servo rate, Hz",
-     .check = inRange(100.0, 10000.0, "Hz"),
+     .check = inRangeOf(options::kServoRate),
      .land = [](const PlayOptions &o, Config &c) { c.haptics.servoRateHz = o.rate; }},
     {.name = "reengage",
      .field = &PlayOptions::reengage,

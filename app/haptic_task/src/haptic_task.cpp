@@ -4,6 +4,7 @@
 #include <new>
 #include <utility>
 
+#include "depthtouch/options/option_range.h"
 #include "depthtouch/platform/memory_lock.h"
 #include "depthtouch/platform/thread_config.h"
 
@@ -33,7 +34,9 @@ platform::ThreadConfig hapticThreadConfig(platform::SchedPolicy policy) noexcept
 
 Result<void> HapticTaskConfig::validate() const noexcept
 {
-    if (!(servoRateHz >= 100.0 && servoRateHz <= 10000.0))
+    static_assert(options::kServoRate.min == 100.0 && options::kServoRate.max == 10000.0,
+                  "the message below says the range");
+    if (!options::kServoRate.contains(servoRateHz))
         return unexpected(Errc::InvalidArgument, "Servo rate must be in [100, 10000] Hz");
     DT_TRY(renderer.validate());
     if (!(maxForceRate > 0.0) || !std::isfinite(maxForceRate))

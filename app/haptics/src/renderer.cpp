@@ -43,6 +43,8 @@ Result<void> RendererConfig::validate() const noexcept
     auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
     if (!positive(box.width) || !positive(box.depth))
         return unexpected(Errc::InvalidArgument, "box width and depth must be positive");
+    static_assert(options::kStiffness.min == 100.0 && options::kStiffness.max == 3000.0,
+                  "the message below says the range");
     if (!scene::stiffnessInRange(stiffness))
         return unexpected(Errc::InvalidArgument, "stiffness must be in [100, 3000] N/m");
     if (!std::isfinite(damping) || damping < 0.0)

@@ -58,7 +58,9 @@ Result<std::unique_ptr<AudioPlayer>> AudioPlayer::create(hal::AudioSource &sourc
                                                          platform::Clock &clock,
                                                          const AudioPlayerConfig &config)
 {
-    if (!(config.volume >= 0.0 && config.volume <= AudioPlayerConfig::kMaxVolume))
+    static_assert(options::kVolume.min == 0.0 && options::kVolume.max == 130.0,
+                  "the message below says the range");
+    if (!options::kVolume.contains(config.volume))
         return unexpected(Errc::InvalidArgument, "The volume must be 0 to 130 %");
     if (!(config.queueSeconds >= kMinQueueSeconds && config.queueSeconds <= kMaxQueueSeconds))
         return unexpected(Errc::InvalidArgument, "The sound's queue must be 0.01 to 1 s");
@@ -125,8 +127,7 @@ void AudioPlayer::setPaused(bool paused)
 void AudioPlayer::setVolume(double percent)
 {
     std::lock_guard<std::mutex> lock(mutex_);
-    config_.volume =
-        std::clamp(std::isfinite(percent) ? percent : 0.0, 0.0, AudioPlayerConfig::kMaxVolume);
+    config_.volume = options::kVolume.clamp(std::isfinite(percent) ? percent : 0.0);
     targetGain_ = volumeGain(config_.volume, config_.mute);
 }
 

@@ -16,7 +16,7 @@
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/realtime_thread.h"
 #include "depthtouch/platform/thread_config.h"
-#include "depthtouch/scene/stiffness.h"
+#include "depthtouch/options/option_range.h"
 
 #include "depth_view.h"
 #include "playback_impl.h"
@@ -298,7 +298,9 @@ Result<void> Playback::setHapticsEnabled(bool enabled)
 Result<void> Playback::setStiffness(double newtonsPerMetre)
 {
     impl_->osdEvents.fetch_add(1, std::memory_order_relaxed);
-    if (!scene::stiffnessInRange(newtonsPerMetre))
+    static_assert(options::kStiffness.min == 100.0 && options::kStiffness.max == 3000.0,
+                  "the message below says the range");
+    if (!options::kStiffness.contains(newtonsPerMetre))
         return Error(Errc::InvalidArgument, "stiffness must be in [100, 3000] N/m");
     impl_->stiffness = newtonsPerMetre;
     if (impl_->owned && impl_->owned->task)

@@ -13,9 +13,6 @@
 
 namespace depthtouch::playback {
 
-static_assert(AudioPlayerConfig::kMaxVolume == player::kMaxVolume,
-              "the player's volume commands and the audio player agree on the largest volume");
-
 /// \return \a before's counters with \a later's added (a later session's queue and end win).
 AudioStats addedAudioStats(AudioStats before, const AudioStats &later)
 {
@@ -97,8 +94,7 @@ std::string writeAvLog(const Playback::Impl &m)
 Result<void> Playback::setVolume(double percent)
 {
     Impl &m = *impl_;
-    m.volume =
-        std::clamp(std::isfinite(percent) ? percent : 0.0, 0.0, AudioPlayerConfig::kMaxVolume);
+    m.volume = options::kVolume.clamp(std::isfinite(percent) ? percent : 0.0); // a safety net
     m.osdEvents.fetch_add(1, std::memory_order_relaxed);
     if (m.owned && m.owned->audio)
         m.owned->audio->setVolume(m.volume);

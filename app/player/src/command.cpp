@@ -244,9 +244,9 @@ std::string parseStiffnessArgs(std::span<const std::string_view> args, Command &
     if (args.size() != 1)
         return "needs +, - or a value in N/m";
     double value = 0.0;
-    if (!parseStep(args[0], out.stiffnessChange, value) ||
-        (out.stiffnessChange == StiffnessChange::Set && value <= 0.0))
-        return quoted(args[0]) + " is not +, - or a positive stiffness in N/m";
+    // Any number parses: the state machine refuses one outside options::kStiffness.
+    if (!parseStep(args[0], out.stiffnessChange, value))
+        return quoted(args[0]) + " is not +, - or a stiffness in N/m";
     out.stiffness = value;
     return {};
 }
@@ -256,9 +256,11 @@ std::string parseVolumeArgs(std::span<const std::string_view> args, Command &out
     if (args.size() != 1)
         return "needs +, - or a volume in %";
     double value = 0.0;
+    constexpr options::OptionRange kRange = options::kVolume;
     if (!parseStep(args[0], out.volumeChange, value) ||
-        (out.volumeChange == StiffnessChange::Set && !(value >= 0.0 && value <= kMaxVolume)))
-        return quoted(args[0]) + " is not +, - or a volume of 0 to 130 %";
+        (out.volumeChange == StiffnessChange::Set && !kRange.contains(value)))
+        return quoted(args[0]) + " is not +, - or a volume of " + kRange.number(kRange.min) +
+               " to " + kRange.text(kRange.max);
     out.volume = value;
     return {};
 }

@@ -23,11 +23,12 @@ constexpr StateMask kNotError = kAnyState & static_cast<StateMask>(~stateBit(Pla
 constexpr StateMask kCanStart =
     stateBit(PlayerState::Idle) | stateBit(PlayerState::Stopped) | stateBit(PlayerState::Error);
 
-std::string formatNewtonsPerMetre(double v)
+/// \return the refusal of \a v outside \a range: "stiffness 3001 N/m is outside 100 N/m .. 3000
+/// N/m".
+std::string outsideRange(const options::OptionRange &range, double v)
 {
-    char buf[48];
-    std::snprintf(buf, sizeof buf, "%g N/m", v);
-    return buf;
+    return std::string(range.name) + " " + range.text(v) + " is outside " + range.text(range.min) +
+           " .. " + range.text(range.max);
 }
 
 } // namespace
@@ -114,56 +115,53 @@ struct CommandHandlers {
         });
     }
 
+    /// `stiffness +|-` steps and clamps at the ends (refused once there), `add stiffness N` clamps
+    /// (mpv's add), `stiffness N` and set_property refuse N outside options::kStiffness.
     static CommandOutcome stiffness(StateMachine &m, const Command &c)
     {
-        using scene::kMaxStiffness;
-        using scene::kMinStiffness;
+        constexpr options::OptionRange kRange = options::kStiffness;
         double target = m.stiffness_;
         switch (c.stiffnessChange) {
         case StiffnessChange::Up:
-            target = std::min(m.stiffness_ + scene::kStiffnessStep, kMaxStiffness);
+        case StiffnessChange::Down: {
+            const bool up = c.stiffnessChange == StiffnessChange::Up;
+            target = kRange.clamp(m.stiffness_ + (up ? kRange.step : -kRange.step));
             if (target == m.stiffness_)
-                return CommandOutcome::refuse("stiffness already at its maximum, " +
-                                              formatNewtonsPerMetre(kMaxStiffness));
+                return CommandOutcome::refuse(std::string("stiffness already at its ") +
+                                              (up ? "maximum, " : "minimum, ") +
+                                              kRange.text(target));
             break;
-        case StiffnessChange::Down:
-            target = std::max(m.stiffness_ - scene::kStiffnessStep, kMinStiffness);
-            if (target == m.stiffness_)
-                return CommandOutcome::refuse("stiffness already at its minimum, " +
-                                              formatNewtonsPerMetre(kMinStiffness));
+        }
+        case StiffnessChange::By:
+            target = kRange.clamp(m.stiffness_ + c.stiffness);
             break;
         case StiffnessChange::Set:
-        case StiffnessChange::By: {
-            const double value =
-                c.stiffnessChange == StiffnessChange::By ? m.stiffness_ + c.stiffness : c.stiffness;
-            if (!scene::stiffnessInRange(value))
-                return CommandOutcome::refuse("stiffness " + formatNewtonsPerMetre(value) +
-                                              " is outside " +
-                                              formatNewtonsPerMetre(kMinStiffness) + " .. " +
-                                              formatNewtonsPerMetre(kMaxStiffness));
-            target = value;
-            if (target == m.stiffness_)
-                return CommandOutcome::accept();
+            if (!kRange.contains(c.stiffness))
+                return CommandOutcome::refuse(outsideRange(kRange, c.stiffness));
+            target = c.stiffness;
             break;
         }
-        }
+        if (target == m.stiffness_)
+            return CommandOutcome::accept();
         return m.apply("stiffness", m.actions_.setStiffness(target), [&] {
             m.stiffness_ = target;
             m.emit(PlayerEventKind::StiffnessChanged);
         });
     }
 
-    /// One step of mpv's volume keys (`add volume ±2`), or a value; kept when no sound plays.
+    /// One step of mpv's volume keys (`add volume ±2`) or `add volume N`, clamped at the ends of
+    /// options::kVolume (mpv's add); a value outside it is refused. Kept when no sound plays.
     static CommandOutcome volume(StateMachine &m, const Command &c)
     {
-        constexpr double kStep = 2.0;
+        constexpr options::OptionRange kRange = options::kVolume;
         double target = c.volume;
-        if (c.volumeChange == StiffnessChange::By) // mpv's add stops at the ends of the range
-            target = std::clamp(m.volume_ + c.volume, 0.0, kMaxVolume);
+        if (c.volumeChange == StiffnessChange::By)
+            target = kRange.clamp(m.volume_ + c.volume);
         else if (c.volumeChange != StiffnessChange::Set)
-            target =
-                std::clamp(m.volume_ + (c.volumeChange == StiffnessChange::Up ? kStep : -kStep),
-                           0.0, kMaxVolume);
+            target = kRange.clamp(
+                m.volume_ + (c.volumeChange == StiffnessChange::Up ? kRange.step : -kRange.step));
+        else if (!kRange.contains(target)) // parseVolumeArgs() refuses it first from text
+            return CommandOutcome::refuse(outsideRange(kRange, target));
         if (target == m.volume_)
             return CommandOutcome::accept();
         return m.apply("volume", m.actions_.setVolume(target), [&] { m.volume_ = target; });
@@ -393,9 +391,10 @@ StateMachine::StateMachine(PlayerActions &actions, PlayerSettings settings)
       reopenWhenSilent_(settings.reopenWhenSilent), stereoMode_(settings.stereoMode),
       haptics_(settings.haptics), mute_(settings.mute), keys_(std::move(settings.keys))
 {
-    stiffness_ = std::clamp(std::isfinite(settings.stiffness) ? settings.stiffness : 800.0,
-                            scene::kMinStiffness, scene::kMaxStiffness);
-    volume_ = std::clamp(std::isfinite(settings.volume) ? settings.volume : 100.0, 0.0, kMaxVolume);
+    // Checked by the caller (play's option table); clamped here as a last safety net.
+    stiffness_ =
+        options::kStiffness.clamp(std::isfinite(settings.stiffness) ? settings.stiffness : 800.0);
+    volume_ = options::kVolume.clamp(std::isfinite(settings.volume) ? settings.volume : 100.0);
     mute_ = settings.mute;
 }
 

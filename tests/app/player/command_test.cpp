@@ -94,7 +94,9 @@ TEST(CommandParseTest, badTextIsRejectedWithAReason)
         {"seek -3 absolute", "seek: an absolute position cannot be negative"},
         {"seek 3 sideways", "seek: 'sideways' is neither relative nor absolute"},
         {"haptics maybe", "haptics: 'maybe' is not on, off or toggle"},
-        {"stiffness -5", "stiffness: '-5' is not +, - or a positive stiffness in N/m"},
+        // Any number parses: the state machine refuses one outside options::kStiffness.
+        {"stiffness soft", "stiffness: 'soft' is not +, - or a stiffness in N/m"},
+        {"stiffness nan", "stiffness: 'nan' is not +, - or a stiffness in N/m"},
         {"stiffness", "stiffness: needs +, - or a value in N/m"},
         {"stereo-mode 4d", "stereo-mode: unknown stereo mode '4d' (sbs, tab, anaglyph, mono, "
                            "interleaved)"},

@@ -13,6 +13,7 @@
 
 #include "depthtouch/haptics/depth_frame.h"
 #include "depthtouch/haptics/renderer.h"
+#include "depthtouch/options/option_range.h"
 #include "depthtouch/platform/result.h"
 
 namespace depthtouch::haptics {
@@ -39,8 +40,8 @@ struct ReplayLimits {
     /// CSV text.
     static constexpr std::size_t kMaxUpdates = 1'000'000;
     /// Haptic rate, Hz (the player's servo range).
-    static constexpr double kMinRate = 100.0;
-    static constexpr double kMaxRate = 10'000.0;
+    static constexpr double kMinRate = options::kServoRate.min;
+    static constexpr double kMaxRate = options::kServoRate.max;
     /// Renderer parameters: damping N·s/m, maximum force N, force step N, ramp time s, box width
     /// and depth m (all also > 0, damping ≥ 0; see RendererConfig). The stiffness has the one
     /// range of every entry point, scene::kMinStiffness..kMaxStiffness
@@ -107,9 +108,9 @@ private:
 
 /// \brief Options of a replay (the `depthtouch touch` options).
 struct ReplayOptions {
-    double rate = 1000.0;                 ///< Haptic updates per second (> 0).
-    Method method = Method::Modified;     ///< Renderer.
-    RendererConfig config{};              ///< Its parameters (fix flags used as given).
+    double rate = 1000.0;             ///< Haptic updates per second (> 0).
+    Method method = Method::Modified; ///< Renderer.
+    RendererConfig config{};          ///< Its parameters (fix flags used as given).
 };
 
 /// \brief One force-log row (docs/architecture.md §4).

@@ -42,6 +42,7 @@
 
 #include "depthtouch/hal/audio_output.h"
 #include "depthtouch/hal/audio_source.h"
+#include "depthtouch/options/option_range.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/realtime_thread.h"
 #include "depthtouch/platform/result.h"
@@ -50,8 +51,9 @@ namespace depthtouch::playback {
 
 /// \brief Settings of an AudioPlayer (the `play` options --volume, --mute).
 struct AudioPlayerConfig {
-    /// Largest volume, percent (mpv's --volume-max default).
-    static constexpr double kMaxVolume = 130.0;
+    /// Largest volume, percent (mpv's --volume-max default): options::kVolume's, the one range
+    /// of every volume setting.
+    static constexpr double kMaxVolume = options::kVolume.max;
     double volume = 100.0; ///< Percent, 0..kMaxVolume.
     bool mute = false;
     /// Sound kept queued in the device, s (10 ms .. 1 s): the delay of pause, seek and volume.

@@ -8,7 +8,8 @@
 /// with its name, argument parser, the states where it is valid, whether key auto-repeat may send
 /// it, and its handler in the StateMachine.
 ///
-/// Units: seek offsets and positions in seconds; stiffness in N/m.
+/// Units: seek offsets and positions in seconds; stiffness in N/m; volume in %. The ranges of
+/// stiffness and volume are their rows of depthtouch/options/option_range.h.
 /// Thread-safety: the table is immutable; the functions are reentrant.
 
 #include <cstddef>
@@ -21,6 +22,8 @@
 #include <vector>
 
 #include <nlohmann/json_fwd.hpp>
+
+#include "depthtouch/options/option_range.h"
 
 namespace depthtouch::player {
 
@@ -72,8 +75,9 @@ enum class CommandId : std::uint8_t {
     Mute,           ///< "mute on|off|toggle".
 };
 
-/// Largest volume, percent (mpv's --volume-max default); 100 is the sound as coded.
-inline constexpr double kMaxVolume = 130.0;
+/// Largest volume, percent (mpv's --volume-max default; options::kVolume, the one range of every
+/// volume setting); 100 is the sound as coded.
+inline constexpr double kMaxVolume = options::kVolume.max;
 
 /// On / off / toggle argument of haptics and loop.
 enum class Switch : std::uint8_t { On, Off, Toggle };

@@ -40,7 +40,7 @@
 #include "depthtouch/platform/result.h"
 #include "depthtouch/player/command.h"
 #include "depthtouch/player/key_bindings.h"
-#include "depthtouch/scene/stiffness.h"
+#include "depthtouch/options/option_range.h"
 
 namespace depthtouch::player {
 
@@ -78,8 +78,8 @@ public:
     [[nodiscard]] virtual Result<void> setStereoMode(StereoMode mode) = 0;
     /// Turns force output on or off (off: zero force, the haptic task keeps running).
     [[nodiscard]] virtual Result<void> setHapticsEnabled(bool enabled) = 0;
-    /// Sets the surface stiffness \a newtonsPerMetre (N/m), already within the one range
-    /// scene::kMinStiffness..kMaxStiffness (depthtouch/scene/stiffness.h).
+    /// Sets the surface stiffness \a newtonsPerMetre (N/m), already within its one range
+    /// options::kStiffness (depthtouch/options/option_range.h).
     [[nodiscard]] virtual Result<void> setStiffness(double newtonsPerMetre) = 0;
     /// Re-seats the haptic workspace centre on the surface (the proxy is released, no force kick).
     [[nodiscard]] virtual Result<void> recenter() = 0;
@@ -196,18 +196,19 @@ struct CommandOutcome {
 
 /// \brief Start-up settings of the machine (from options and the config file).
 struct PlayerSettings {
-    std::string url;    ///< What "play" opens when it names nothing.
-    bool loop = false;  ///< End of stream seeks to 0 and keeps playing.
+    std::string url;   ///< What "play" opens when it names nothing.
+    bool loop = false; ///< End of stream seeks to 0 and keeps playing.
     /// A live stream that fell silent is opened again at once (PlayerActions::awaitNextSender(),
     /// state Opening), so that the next sender on its address plays without a `play` command; off:
     /// it stays Stopped.
     bool reopenWhenSilent = false;
     StereoMode stereoMode = StereoMode::SideBySide;
     bool haptics = true;
-    /// N/m, clamped into scene::kMinStiffness..kMaxStiffness, the range of every stiffness
-    /// command; "stiffness +" or "-" steps by scene::kStiffnessStep.
+    /// N/m, clamped into options::kStiffness, the range of every stiffness setting (the caller
+    /// refuses a value outside it first); "stiffness +" or "-" steps by its step, 100 N/m.
     double stiffness = 800.0;
-    double volume = 100.0; ///< The sound's start volume, % (0..kMaxVolume).
+    /// The sound's start volume, %, clamped into options::kVolume (0..130); steps of 2 %.
+    double volume = 100.0;
     bool mute = false;
     KeyMap keys; ///< The remote's keys (the defaults, or as key map files rebound them).
 };
@@ -305,7 +306,7 @@ private:
     Errc errorKind_ = Errc::InvalidArgument;
     bool quit_ = false;
     bool eofReached_ = false; ///< The stream ended without loop (mpv's eof-reached).
-    bool notifying_ = false; ///< True while listeners run: commands from them are refused.
+    bool notifying_ = false;  ///< True while listeners run: commands from them are refused.
 };
 
 /// \return true when \a code means "refused, nothing changed" (InvalidArgument, NotSupported,
