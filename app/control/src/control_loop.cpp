@@ -14,6 +14,8 @@ ControlLoop::ControlLoop(player::StateMachine &machine, hal::RemoteInput *remote
     : machine_(machine), remote_(remote), server_(server), clock_(clock),
       slice_(std::max(slice, platform::Duration(std::chrono::milliseconds(1))))
 {
+    if (remote_ != nullptr)
+        machine_.setRemoteConnected(!remote_->awaitingDevice());
 }
 
 Result<void> ControlLoop::runUntil(platform::TimePoint until)
@@ -29,6 +31,7 @@ Result<void> ControlLoop::runUntil(platform::TimePoint until)
         const platform::TimePoint sliceEnd = std::min(until, now + slice_);
         if (remote_ != nullptr && !stats_.remoteLost) {
             Result<hal::KeyEvent> key = remote_->poll(sliceEnd);
+            machine_.setRemoteConnected(!remote_->awaitingDevice());
             if (key) {
                 handleKey(*key);
             } else if (key.error().code != Errc::Timeout) {
@@ -36,6 +39,7 @@ Result<void> ControlLoop::runUntil(platform::TimePoint until)
                 DT_LOG(Control, Warning, "Remote control lost, going on without it: %s",
                        key.error().format(buf, sizeof buf));
                 stats_.remoteLost = true;
+                machine_.setRemoteConnected(false);
             }
         } else if (server_ != nullptr) {
             DT_TRY(server_->poll(sliceEnd - now));

@@ -21,20 +21,31 @@ constexpr std::array<const char *, kPlayerStateCount> kStateNames = {"idle",   "
                                                                      "paused", "stopped", "error"};
 constexpr std::array<const char *, 5> kStereoNames = {"sbs", "tab", "anaglyph", "mono",
                                                       "interleaved"};
-constexpr std::array<const char *, kPropertyCount> kPropertyNames = {
-    "state",         "stereo-mode",
-    "haptics",       "stiffness",
-    "loop",          "url",
-    "error",         "time-pos",
-    "duration",      "percent-pos",
-    "pause",         "path",
-    "idle-active",   "eof-reached",
-    "volume",        "mute",
-    "haptic-force",  "contact",
-    "filename",      "media-title",
-    "playback-time", "haptic-device-connected"};
+constexpr std::array<const char *, kPropertyCount> kPropertyNames = {"state",
+                                                                     "stereo-mode",
+                                                                     "haptics",
+                                                                     "stiffness",
+                                                                     "loop",
+                                                                     "url",
+                                                                     "error",
+                                                                     "time-pos",
+                                                                     "duration",
+                                                                     "percent-pos",
+                                                                     "pause",
+                                                                     "path",
+                                                                     "idle-active",
+                                                                     "eof-reached",
+                                                                     "volume",
+                                                                     "mute",
+                                                                     "haptic-force",
+                                                                     "contact",
+                                                                     "filename",
+                                                                     "media-title",
+                                                                     "playback-time",
+                                                                     "haptic-device-connected",
+                                                                     "remote-connected"};
 
-static_assert(kPropertyCount == static_cast<std::size_t>(Property::HapticDeviceConnected) + 1,
+static_assert(kPropertyCount == static_cast<std::size_t>(Property::RemoteConnected) + 1,
               "one name per Property");
 
 /// The property names, comma-separated (for error texts).

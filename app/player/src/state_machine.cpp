@@ -278,6 +278,9 @@ struct CommandHandlers {
             return std::isfinite(f) ? CommandOutcome::accept(f > 0.0)
                                     : CommandOutcome::refuse("property unavailable");
         }
+        case Property::RemoteConnected:
+            return m.remoteConnected_ ? CommandOutcome::accept(*m.remoteConnected_)
+                                      : CommandOutcome::refuse("property unavailable");
         case Property::HapticDeviceConnected: {
             const std::optional<bool> connected =
                 open ? m.actions_.hapticDeviceConnected() : std::nullopt;

@@ -153,7 +153,7 @@ DT_EXPORT int dt_set_property_flag(dt_handle *ctx, const char *name, int data);
  * _string: a new text the caller frees with dt_free() (numbers as "%.6f", flags "yes"/"no");
  * _double: a number (time-pos, duration, percent-pos in s, s, %; stiffness N/m; haptic-force N;
  * volume %); _flag: 0 or 1 (pause, mute, loop, haptics, contact, idle-active, eof-reached,
- * haptic-device-connected).
+ * haptic-device-connected, remote-connected).
  * \return DT_ERROR_SUCCESS; DT_ERROR_PROPERTY_NOT_FOUND, DT_ERROR_PROPERTY_FORMAT (another
  * format: "state" read as a double), DT_ERROR_PROPERTY_UNAVAILABLE (no value now: time-pos with
  * nothing open), DT_ERROR_UNINITIALIZED, DT_ERROR_INVALID_PARAMETER. \a out is unchanged on error.

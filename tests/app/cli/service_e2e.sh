@@ -81,7 +81,7 @@ PY
     # the control socket says so too (mpv's get_property), while it plays and waits for one
     sock="$work/ctl2.sock"
     "$exe" play "mock://clip?frames=3000&fps=30&width=64&height=48" --source mock --decoder mock \
-        --display mock --haptic falcon --idle --no-audio --no-config --control "$sock" \
+        --display mock --haptic falcon --remote evdev --idle --no-audio --no-config --control "$sock" \
         --duration 60 >"$work/out" 2>"$work/err-ipc" </dev/null &
     e2e_bg=$!
     i=0
@@ -93,11 +93,18 @@ PY
         [ -S "$sock" ] && answer=$(echo '{"command":["get_property","haptic-device-connected"]}' |
             socat -t 2 - "UNIX-CONNECT:$sock" 2>/dev/null)
     done
+    remote=$(echo '{"command":["get_property","remote-connected"]}' |
+        socat -t 2 - "UNIX-CONNECT:$sock" 2>/dev/null)
     echo '{"command":["quit"]}' | socat -t 2 - "UNIX-CONNECT:$sock" >/dev/null 2>&1
     wait "$e2e_bg"
     e2e_bg=""
     echo "$answer" | grep -q '"data":false' ||
         fail "haptic-device-connected of an awaited Falcon: '$answer'"
+    # so does the remote's, where no input device with media keys is there (its warning said so)
+    if grep -q "no remote input 'evdev' connected" "$work/err-ipc"; then
+        echo "$remote" | grep -q '"data":false' ||
+            fail "remote-connected of an awaited remote: '$remote'"
+    fi
     # a player that does not stay up still says at once that its Falcon is missing (exit 1)
     "$exe" play "$clip" --source mock --decoder mock --display mock --haptic falcon --no-audio \
         --no-config --duration 1 >"$work/out" 2>"$work/err-once" </dev/null

@@ -109,6 +109,46 @@ TEST(ControlLoopTest, lostRemoteIsLeftAloneUntilTheDeadline)
     EXPECT_EQ(loop.stats().keys, 0u);
 }
 
+/// A remote whose input device is plugged in at a time (hal::BackendConfig::awaitDevice): it
+/// waits until then and says so.
+class AwaitedRemote final : public hal::RemoteInput {
+public:
+    AwaitedRemote(platform::Clock &clock, TimePoint pluggedAt) : clock_(clock), at_(pluggedAt) {}
+    Result<hal::KeyEvent> poll(hal::Deadline until) override
+    {
+        clock_.sleepUntil(until);
+        return unexpected(Errc::Timeout, "No key");
+    }
+    bool awaitingDevice() const noexcept override { return clock_.now() < at_; }
+
+private:
+    platform::Clock &clock_;
+    TimePoint at_;
+};
+
+TEST(ControlLoopTest, theRemotesStateIsTheMachinesRemoteConnected)
+{
+    ManualClock clock(ManualClock::Mode::AutoAdvance, TimePoint(seconds(5)));
+    FakePlayer p;
+    const auto get = [&] { return p.m.execute("get remote-connected"); };
+    // no remote: unavailable
+    EXPECT_EQ(get().reason, "property unavailable");
+    // a remote not yet plugged in: false, then true once it is (within the loop's run)
+    AwaitedRemote remote(clock, TimePoint(seconds(6)));
+    ControlLoop loop(p.m, &remote, nullptr, clock);
+    EXPECT_EQ(get().data, player::Value(false));
+    ASSERT_TRUE(loop.runUntil(TimePoint(milliseconds(5500))));
+    EXPECT_EQ(get().data, player::Value(false));
+    ASSERT_TRUE(loop.runUntil(TimePoint(seconds(7))));
+    EXPECT_EQ(get().data, player::Value(true));
+    // a remote lost (NoDevice, without awaitDevice): false
+    drivers::MockRemoteInput lost(clock);
+    lost.unplug();
+    ControlLoop lostLoop(p.m, &lost, nullptr, clock);
+    ASSERT_TRUE(lostLoop.runUntil(clock.now() + seconds(1)));
+    EXPECT_EQ(get().data, player::Value(false));
+}
+
 TEST(ControlLoopTest, lostRemoteLeavesTheSocketWorking)
 {
     testing::TempDir dir("dt-loop-");

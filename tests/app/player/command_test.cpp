@@ -100,10 +100,11 @@ TEST(CommandParseTest, badTextIsRejectedWithAReason)
         {"stiffness", "stiffness: needs +, - or a value in N/m"},
         {"stereo-mode 4d", "stereo-mode: unknown stereo mode '4d' (sbs, tab, anaglyph, mono, "
                            "interleaved)"},
-        {"get colour", "get: unknown property 'colour' (state, stereo-mode, haptics, stiffness, "
-                       "loop, url, error, time-pos, duration, percent-pos, pause, path, "
-                       "idle-active, eof-reached, volume, mute, haptic-force, contact, "
-                       "filename, media-title, playback-time, haptic-device-connected)"},
+        {"get colour",
+         "get: unknown property 'colour' (state, stereo-mode, haptics, stiffness, "
+         "loop, url, error, time-pos, duration, percent-pos, pause, path, "
+         "idle-active, eof-reached, volume, mute, haptic-force, contact, "
+         "filename, media-title, playback-time, haptic-device-connected, remote-connected)"},
         {"play 'open", "unterminated quote"},
         {"play a b", "play: takes at most one argument (a file or URL)"},
     };
@@ -373,10 +374,11 @@ TEST(CommandParseTest, mpvsLoadfileCycleAndAddAreTheTablesCommands)
         {"add volume x", "add: 'x' is not a number"},
         {"add pause 1",
          "add: 'pause' cannot be added to (time-pos, playback-time, stiffness, volume)"},
-        {"cycle colour", "cycle: unknown property 'colour' (state, stereo-mode, haptics, "
-                         "stiffness, loop, url, error, time-pos, duration, percent-pos, pause, "
-                         "path, idle-active, eof-reached, volume, mute, haptic-force, contact, "
-                         "filename, media-title, playback-time, haptic-device-connected)"},
+        {"cycle colour",
+         "cycle: unknown property 'colour' (state, stereo-mode, haptics, "
+         "stiffness, loop, url, error, time-pos, duration, percent-pos, pause, "
+         "path, idle-active, eof-reached, volume, mute, haptic-force, contact, "
+         "filename, media-title, playback-time, haptic-device-connected, remote-connected)"},
     };
     for (const auto &[text, error] : wrong)
         EXPECT_EQ(parseCommandText(text).error, error) << text;

@@ -49,7 +49,8 @@ class ControlLoop {
 public:
     /// \param[in] machine The state machine. \param[in] remote Remote keys, or nullptr.
     /// \param[in] server The control socket, or nullptr. \param[in] clock The remote's clock.
-    /// All must outlive the loop.
+    /// All must outlive the loop. The machine's remote-connected follows \a remote (set now and
+    /// after each poll: hal::RemoteInput::awaitingDevice(), false once lost).
     ControlLoop(player::StateMachine &machine, hal::RemoteInput *remote, ControlServer *server,
                 platform::Clock &clock, platform::Duration slice = std::chrono::milliseconds(20));
 

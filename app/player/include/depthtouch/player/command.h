@@ -96,7 +96,9 @@ enum class StiffnessChange : std::uint8_t { Up, Down, Set, By };
 /// 0), then mpv's "filename" (the path's last part, a URL's %-escapes undone), "media-title" (the
 /// filename: the player reads no title tags) and "playback-time" (time-pos, s), then
 /// "haptic-device-connected" (the haptic device is connected and answering; false while a player
-/// that stays up waits for one to be plugged in; unavailable without a haptic task).
+/// that stays up waits for one to be plugged in; unavailable without a haptic task) and
+/// "remote-connected" (the remote's input device is there; false while one is waited for;
+/// unavailable without a remote).
 enum class Property : std::uint8_t {
     State,
     StereoMode,
@@ -120,10 +122,11 @@ enum class Property : std::uint8_t {
     MediaTitle,
     PlaybackTime,
     HapticDeviceConnected,
+    RemoteConnected,
 };
 
 /// Number of Property values.
-inline constexpr std::size_t kPropertyCount = 22;
+inline constexpr std::size_t kPropertyCount = 23;
 
 /// \return the property called \a name (propertyName()'s names, any case), or std::nullopt.
 std::optional<Property> propertyFromName(std::string_view name) noexcept;

@@ -271,6 +271,14 @@ public:
     [[nodiscard]] Errc errorKind() const noexcept { return errorKind_; }
     /// True once quit was accepted.
     [[nodiscard]] bool quitRequested() const noexcept { return quit_; }
+    /// What the remote's input device is: there (true), waited for (false: not plugged in, with
+    /// hal::BackendConfig::awaitDevice), or no remote (none). The property remote-connected.
+    [[nodiscard]] std::optional<bool> remoteConnected() const noexcept { return remoteConnected_; }
+    /// The control loop tells the machine what its remote is (ControlLoop, after each poll).
+    void setRemoteConnected(std::optional<bool> connected) noexcept
+    {
+        remoteConnected_ = connected;
+    }
     ///@}
 
     /// Adds \a listener (not owned; must outlive the machine or be removed). Setup only.
@@ -306,6 +314,7 @@ private:
     Errc errorKind_ = Errc::InvalidArgument;
     bool quit_ = false;
     bool eofReached_ = false; ///< The stream ended without loop (mpv's eof-reached).
+    std::optional<bool> remoteConnected_; ///< setRemoteConnected(): none without a remote.
     bool notifying_ = false;  ///< True while listeners run: commands from them are refused.
 };
 
