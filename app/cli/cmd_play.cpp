@@ -332,6 +332,7 @@ PlayResult runPlay(const PlayOptions &opt, const player::KeyMap &keys)
         run.displayNote = "no screen found (x11 needs $DISPLAY, kms a free DRM card): the picture "
                           "was drawn offscreen; --display x11 or kms shows it (docs/playing.md)";
     run.hapticDevice = b.hapticReport.chosen;
+    run.remoteConnected = machine.remoteConnected();
     run.audioDevice = b.audio ? b.audioReport.chosen : std::string();
     if (b.audio) {
         b.audio->close(); // closed by playback.close(); a file output is finished by now

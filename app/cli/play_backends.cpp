@@ -71,6 +71,8 @@ std::optional<PlayOpenFailure> openBackends(const PlayOptions &opt, const hal::B
                             PlayPart::RemoteInput, rep, b.remote))
             return bad;
         tell(drivers::BackendKind::RemoteInput, opt.remote, rep, b.remote->awaitingDevice());
+        if (rep.chosen == "none") // a list that fell back to none (tty,none off a terminal)
+            b.remote.reset();     // is no remote, as --remote none: remote-connected unavailable
     }
     if (!opt.noAudio && opt.audioDevice != "none") {
         const hal::BackendConfig audioCfg = withOptions(cfg, opt.audioDeviceOptions);

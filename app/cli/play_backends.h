@@ -69,7 +69,8 @@ struct PlayOpenFailure {
 struct PlayBackends {
     std::unique_ptr<hal::Display> display;
     std::unique_ptr<hal::HapticDevice> device; ///< Also with `none` (a device that is not there).
-    std::unique_ptr<hal::RemoteInput> remote;  ///< Null with --remote none.
+    /// Null with --remote none, or a list that fell back to `none`.
+    std::unique_ptr<hal::RemoteInput> remote;
     std::unique_ptr<hal::AudioOutput> audio;   ///< Null with --no-audio or --audio-device none.
     hal::SelectionReport displayReport;
     hal::SelectionReport hapticReport;

@@ -94,6 +94,9 @@ nlohmann::json playStatsJson(const std::string &url, const PlayRunFigures &run)
     j["fps"] = info.fps;
     j["display"] = run.display;
     j["haptic_device"] = run.hapticDevice;
+    // null without a remote, as the control socket's remote-connected is unavailable then
+    j["remote_connected"] =
+        run.remoteConnected ? nlohmann::json(*run.remoteConnected) : nlohmann::json();
     j["audio_device"] = run.audioDevice;
     j["audio"] = info.audio; // the sound played ("48000 Hz 2 ch"); empty: none
     addPlaybackStats(j, run.stats);

@@ -115,6 +115,8 @@ fi
 if grep -q "remote input 'evdev'" "$work/err"; then
     grep -q "^depthtouch play: warning: no remote input 'evdev' connected: playing without it until it is plugged in$" \
         "$work/err" || fail "the missing remote's line: '$(cat "$work/err")'"
+    python3 -c 'import json, sys; sys.exit(json.load(open(sys.argv[1]))["remote_connected"] is not False)' \
+        "$work/shipped.json" || fail "the awaited remote in --stats: $(cat "$work/shipped.json")"
 fi
 
 # 3. the journal's priorities: stderr a file whose device and inode JOURNAL_STREAM names

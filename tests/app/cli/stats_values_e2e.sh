@@ -62,7 +62,7 @@ pkeys = {"url", "mode", "depth_size", "color_size", "output_size", "fps", "displ
          "presented_fps", "playing_s", "tune_in_s", "seeks", "snapshots_written", "frames_recorded",
          "frames_prepared_ahead", "rss_mib_start", "rss_mib_after_5s", "rss_mib_end", "locked_mib",
          "notes", "final_state", "audio", "audio_device", "audio_underruns", "audio_delay_ms",
-         "av_offset_ms_p50", "av_offset_ms_p99"}
+         "av_offset_ms_p50", "av_offset_ms_p99", "remote_connected"}
 keys = pkeys | (hkeys if haptic else set())
 if set(d) != keys:
     bad.append("keys: unexpected %s, missing %s" % (sorted(set(d) - keys), sorted(keys - set(d))))
@@ -150,6 +150,8 @@ if haptic:
     for k in ("device_losses", "reconnects", "telemetry_dropped"):
         eq(k, 0)
     eq("force_log_lost", False)
+    want("remote_connected", d.get("remote_connected", 0) is None or isinstance(d["remote_connected"], bool),
+         "null (no remote) or a bool")
     eq("device_connected", True)  # the simulated hand is there from the start to the end
     eq("device_max_force_n", float(opt.get("max_force", 8.5)))
     want("max_force_n", 0 <= d.get("max_force_n", -1) <= d.get("device_max_force_n", 0) + 1e-9, "<= device_max_force_n")

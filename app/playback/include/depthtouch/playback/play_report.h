@@ -22,6 +22,9 @@ struct PlayRunFigures {
     /// A line for the summary when the display fell back to drawing offscreen, or empty.
     std::string displayNote;
     std::string hapticDevice;    ///< The haptic device backend chosen.
+    /// The remote's input device at the end: there, waited for (not plugged in, or lost), or no
+    /// remote (player::StateMachine::remoteConnected()).
+    std::optional<bool> remoteConnected;
     std::string audioDevice;     ///< The sound output backend chosen; empty: none (--no-audio).
     double deviceMaxForce = 0.0; ///< Its maximum force, N.
     double rssStart = -1.0;      ///< Resident memory, MiB (−1: unknown).
