@@ -71,7 +71,7 @@ struct PlayBackends {
     std::unique_ptr<hal::HapticDevice> device; ///< Also with `none` (a device that is not there).
     /// Null with --remote none, or a list that fell back to `none`.
     std::unique_ptr<hal::RemoteInput> remote;
-    std::unique_ptr<hal::AudioOutput> audio;   ///< Null with --no-audio or --audio-device none.
+    std::unique_ptr<hal::AudioOutput> audio; ///< Null with --no-audio or --audio-device none.
     hal::SelectionReport displayReport;
     hal::SelectionReport hapticReport;
     hal::SelectionReport audioReport;

@@ -21,7 +21,7 @@ struct PlayRunFigures {
     std::string display;                            ///< The display backend chosen.
     /// A line for the summary when the display fell back to drawing offscreen, or empty.
     std::string displayNote;
-    std::string hapticDevice;    ///< The haptic device backend chosen.
+    std::string hapticDevice; ///< The haptic device backend chosen.
     /// The remote's input device at the end: there, waited for (not plugged in, or lost), or no
     /// remote (player::StateMachine::remoteConnected()).
     std::optional<bool> remoteConnected;

@@ -313,9 +313,9 @@ private:
     std::string errorReason_;
     Errc errorKind_ = Errc::InvalidArgument;
     bool quit_ = false;
-    bool eofReached_ = false; ///< The stream ended without loop (mpv's eof-reached).
+    bool eofReached_ = false;             ///< The stream ended without loop (mpv's eof-reached).
     std::optional<bool> remoteConnected_; ///< setRemoteConnected(): none without a remote.
-    bool notifying_ = false;  ///< True while listeners run: commands from them are refused.
+    bool notifying_ = false; ///< True while listeners run: commands from them are refused.
 };
 
 /// \return true when \a code means "refused, nothing changed" (InvalidArgument, NotSupported,
