@@ -1,0 +1,474 @@
+/// \file
+/// \brief hapticsink, the depth-only GStreamer sink of the haptic task: see haptic_sink.h.
+
+#include "haptic_sink.h"
+
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <mutex>
+#include <source_location>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "depth_tags.h"
+#include "depthtouch/depth/conversion.h"
+#include "depthtouch/haptics/renderer_table.h"
+#include "depthtouch/options/option_range.h"
+#include "depthtouch/platform/clock.h"
+#include "gst_casts.h"
+#include "haptic_session.h"
+
+namespace depthtouch::gst {
+
+namespace {
+
+/// The element's own state (C++), owned by the instance; every field under mutex.
+struct SinkState {
+    std::mutex mutex;
+    HapticSettings settings;
+    const depth::DepthRange defaultPlanes{};
+    double nearProperty = defaultPlanes.nearM; ///< depth-near as set, m.
+    double farProperty = defaultPlanes.farM;   ///< depth-far as set, m.
+    hal::DepthMetadata tags;                   ///< The stream's depth tags so far.
+    std::unique_ptr<HapticSession> session;    ///< Between start() and stop().
+    GstVideoInfo info{};
+    bool configured = false;
+    scene::SampleFormat format = scene::SampleFormat::Gray8;
+    std::uint32_t holeBelow = 0;
+    /// Without a pipeline clock: the steady time at running time 0, from the first buffer.
+    bool haveOrigin = false;
+    platform::TimePoint origin{};
+};
+
+struct HapticSink {
+    GstBaseSink parent;
+    SinkState *state;
+};
+
+struct HapticSinkClass {
+    GstBaseSinkClass parentClass;
+};
+
+GstBaseSinkClass *parentClass = nullptr;
+
+enum Property : guint {
+    kPropZero,
+    kPropDevice,
+    kPropDeviceOptions,
+    kPropStiffness,
+    kPropMethod,
+    kPropDepthNear,
+    kPropDepthFar,
+    kPropContactForce,
+    kPropContactForceZ,
+    kPropHipZ,
+    kPropServoRate,
+    kPropUpdates,
+    kPropSafetyTrips,
+};
+
+SinkState &stateOf(gpointer self)
+{
+    return *static_cast<HapticSink *>(self)->state;
+}
+
+/// \brief Posts \a text as the element's error (prefixed with its name) and returns FALSE.
+gboolean fail(gpointer self, GQuark domain, gint code, const std::string &text,
+              const std::source_location where = std::source_location::current())
+{
+    const std::string line = std::string(kHapticSinkName) + ": " + text;
+    postError(self, domain, code, line.c_str(), nullptr, where);
+    return FALSE;
+}
+
+// ---- properties -------------------------------------------------------------------------------
+
+void setProperty(GObject *object, guint id, const GValue *value, GParamSpec *spec)
+{
+    SinkState &s = stateOf(object);
+    const std::lock_guard lock(s.mutex);
+    switch (id) {
+    case kPropDevice:
+        s.settings.device = g_value_get_string(value) != nullptr ? g_value_get_string(value) : "";
+        break;
+    case kPropDeviceOptions: {
+        const gchar *text = g_value_get_string(value);
+        s.settings.deviceOptions = text != nullptr ? text : "";
+        break;
+    }
+    case kPropStiffness:
+        s.settings.stiffness = g_value_get_double(value);
+        if (s.session)
+            s.session->setStiffness(s.settings.stiffness);
+        break;
+    case kPropMethod:
+        s.settings.method = g_value_get_string(value) != nullptr ? g_value_get_string(value) : "";
+        break;
+    case kPropDepthNear:
+        s.nearProperty = g_value_get_double(value);
+        break;
+    case kPropDepthFar:
+        s.farProperty = g_value_get_double(value);
+        break;
+    default:
+        warnInvalidProperty(object, id, spec);
+        break;
+    }
+}
+
+void getProperty(GObject *object, guint id, GValue *value, GParamSpec *spec)
+{
+    SinkState &s = stateOf(object);
+    const std::lock_guard lock(s.mutex);
+    const HapticReadout r = s.session ? s.session->readout() : HapticReadout{};
+    switch (id) {
+    case kPropDevice:
+        g_value_set_string(value, s.settings.device.c_str());
+        break;
+    case kPropDeviceOptions:
+        g_value_set_string(value, s.settings.deviceOptions.c_str());
+        break;
+    case kPropStiffness:
+        g_value_set_double(value, s.settings.stiffness);
+        break;
+    case kPropMethod:
+        g_value_set_string(value, s.settings.method.c_str());
+        break;
+    case kPropDepthNear:
+        g_value_set_double(value, s.tags.nearMetres > 0.0 ? s.tags.nearMetres : s.nearProperty);
+        break;
+    case kPropDepthFar:
+        g_value_set_double(value, s.tags.farMetres > 0.0 ? s.tags.farMetres : s.farProperty);
+        break;
+    case kPropContactForce:
+        g_value_set_double(value, glm::length(r.force));
+        break;
+    case kPropContactForceZ:
+        g_value_set_double(value, r.force.z);
+        break;
+    case kPropHipZ:
+        g_value_set_double(value, r.posed ? r.hip.z : 0.0);
+        break;
+    case kPropServoRate:
+        g_value_set_double(value, r.servoRateHz);
+        break;
+    case kPropUpdates:
+        g_value_set_uint64(value, r.updates);
+        break;
+    case kPropSafetyTrips:
+        g_value_set_uint64(value, r.safetyTrips);
+        break;
+    default:
+        warnInvalidProperty(object, id, spec);
+        break;
+    }
+}
+
+constexpr GParamFlags kReadWrite =
+    static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS);
+constexpr GParamFlags kReadOnly =
+    static_cast<GParamFlags>(G_PARAM_READABLE | G_PARAM_STATIC_STRINGS);
+constexpr GParamFlags kReadWriteLive = static_cast<GParamFlags>(
+    G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS | GST_PARAM_MUTABLE_PLAYING);
+constexpr double kMaxPlane = 1e6; ///< Largest plane distance accepted, m.
+
+void installProperties(GObjectClass *oc)
+{
+    const HapticSettings play; // play's defaults
+    const depth::DepthRange planes{};
+    const std::string methods =
+        "Haptic renderer, as play --method: " + haptics::rendererNames(", ", " or ") +
+        " (the renderer table)";
+    g_object_class_install_property(
+        oc, kPropDevice,
+        g_param_spec_string("haptic-device", "Haptic device",
+                            "Haptic device backend(s), comma-separated, tried in order, as play "
+                            "--haptic: falcon, sim (the simulated hand), mock, none",
+                            play.device.c_str(), kReadWrite));
+    g_object_class_install_property(
+        oc, kPropDeviceOptions,
+        g_param_spec_string("haptic-device-options", "Haptic device options",
+                            "The backend's key=value options, comma-separated, as play "
+                            "--haptic-options (sim: intent=press,force=2)",
+                            play.deviceOptions.c_str(), kReadWrite));
+    g_object_class_install_property(
+        oc, kPropStiffness,
+        g_param_spec_double("stiffness", "Stiffness", "Surface stiffness k, N/m (live)",
+                            options::kStiffness.min, options::kStiffness.max, play.stiffness,
+                            kReadWriteLive));
+    // GLib keeps the blurb's pointer: a string that lives as long as the program.
+    static const std::string methodBlurb = methods;
+    g_object_class_install_property(oc, kPropMethod,
+                                    g_param_spec_string("method", "Method", methodBlurb.c_str(),
+                                                        play.method.c_str(), kReadWrite));
+    g_object_class_install_property(
+        oc, kPropDepthNear,
+        g_param_spec_double("depth-near", "Near plane",
+                            "Distance of the largest nearness, m, when the stream's depth_near "
+                            "tag gives none (reads the one in use)",
+                            1e-6, kMaxPlane, planes.nearM, kReadWrite));
+    g_object_class_install_property(
+        oc, kPropDepthFar,
+        g_param_spec_double("depth-far", "Far plane",
+                            "Distance of nearness 0, m, when the stream's depth_far tag gives "
+                            "none (reads the one in use)",
+                            1e-6, kMaxPlane, planes.farM, kReadWrite));
+    g_object_class_install_property(
+        oc, kPropContactForce,
+        g_param_spec_double("contact-force", "Contact force",
+                            "Magnitude of the last force commanded to the device, N", 0.0,
+                            G_MAXDOUBLE, 0.0, kReadOnly));
+    g_object_class_install_property(
+        oc, kPropContactForceZ,
+        g_param_spec_double("contact-force-z", "Contact force along z",
+                            "z of the last force, N, scene box (positive: toward the viewer)",
+                            -G_MAXDOUBLE, G_MAXDOUBLE, 0.0, kReadOnly));
+    g_object_class_install_property(
+        oc, kPropHipZ,
+        g_param_spec_double("hip-z", "HIP height",
+                            "z of the haptic interface point at the last update, m, scene box",
+                            -G_MAXDOUBLE, G_MAXDOUBLE, 0.0, kReadOnly));
+    g_object_class_install_property(
+        oc, kPropServoRate,
+        g_param_spec_double("servo-rate", "Servo rate",
+                            "Haptic updates per second measured over the run, Hz", 0.0, G_MAXDOUBLE,
+                            0.0, kReadOnly));
+    g_object_class_install_property(oc, kPropUpdates,
+                                    g_param_spec_uint64("updates", "Updates",
+                                                        "Cycles of the haptic loop so far", 0,
+                                                        G_MAXUINT64, 0, kReadOnly));
+    g_object_class_install_property(
+        oc, kPropSafetyTrips,
+        g_param_spec_uint64("safety-trips", "Safety trips",
+                            "Force-jump releases of the renderer and watchdog trips so far", 0,
+                            G_MAXUINT64, 0, kReadOnly));
+}
+
+// ---- the base sink's methods ------------------------------------------------------------------
+
+gboolean start(GstBaseSink *sink)
+{
+    SinkState &s = stateOf(sink);
+    const std::lock_guard lock(s.mutex);
+    const std::string bad = checkHapticSettings(s.settings);
+    if (!bad.empty())
+        return fail(sink, GST_RESOURCE_ERROR, GST_RESOURCE_ERROR_SETTINGS, bad);
+    std::string why;
+    s.session = HapticSession::open(s.settings, platform::SteadyClock::instance(), why);
+    if (!s.session)
+        return fail(sink, GST_RESOURCE_ERROR, GST_RESOURCE_ERROR_OPEN_READ_WRITE,
+                    "cannot open the haptic device '" + s.settings.device + "': " + why);
+    s.configured = false;
+    s.haveOrigin = false;
+    s.tags = {};
+    return TRUE;
+}
+
+gboolean stop(GstBaseSink *sink)
+{
+    SinkState &s = stateOf(sink);
+    const std::lock_guard lock(s.mutex);
+    s.session.reset(); // zero force, the task stopped, the device closed
+    s.configured = false;
+    return TRUE;
+}
+
+gboolean setCaps(GstBaseSink *sink, GstCaps *caps)
+{
+    SinkState &s = stateOf(sink);
+    const std::lock_guard lock(s.mutex);
+    GstVideoInfo info;
+    if (gst_video_info_from_caps(&info, caps) == FALSE)
+        return fail(sink, GST_STREAM_ERROR, GST_STREAM_ERROR_FORMAT,
+                    "the caps are not raw video with a size");
+    const GstVideoFormat f = GST_VIDEO_INFO_FORMAT(&info);
+    if (f != GST_VIDEO_FORMAT_GRAY8 && f != GST_VIDEO_FORMAT_GRAY16_LE)
+        return fail(sink, GST_STREAM_ERROR, GST_STREAM_ERROR_FORMAT,
+                    "depth must be GRAY8 or GRAY16_LE nearness");
+    if (f == GST_VIDEO_FORMAT_GRAY16_LE && G_BYTE_ORDER != G_LITTLE_ENDIAN)
+        return fail(sink, GST_STREAM_ERROR, GST_STREAM_ERROR_FORMAT,
+                    "GRAY16_LE on a big-endian host is not supported");
+    const int w = GST_VIDEO_INFO_WIDTH(&info);
+    const int h = GST_VIDEO_INFO_HEIGHT(&info);
+    if (w < 2 || h < 2 || w > 16384 || h > 16384)
+        return fail(sink, GST_STREAM_ERROR, GST_STREAM_ERROR_FORMAT,
+                    "depth frames of " + std::to_string(w) + "x" + std::to_string(h) +
+                        ": 2 to 16384 pixels each way");
+    s.info = info;
+    s.format =
+        f == GST_VIDEO_FORMAT_GRAY8 ? scene::SampleFormat::Gray8 : scene::SampleFormat::Gray16;
+    s.holeBelow = holeBelowFor(s.tags, s.format);
+    if (s.session) {
+        if (auto r = s.session->configure(w, h, s.format); !r) {
+            char buf[256];
+            return fail(sink, GST_RESOURCE_ERROR, GST_RESOURCE_ERROR_FAILED,
+                        std::string("cannot start the haptic task: ") +
+                            r.error().format(buf, sizeof buf));
+        }
+    }
+    s.configured = true;
+    return TRUE;
+}
+
+/// Reads the stream's depth tags from a tag event (extended comments "KEY=value").
+void readTags(SinkState &s, GstEvent *event)
+{
+    GstTagList *list = nullptr;
+    gst_event_parse_tag(event, &list);
+    if (list == nullptr)
+        return;
+    const guint n = gst_tag_list_get_tag_size(list, GST_TAG_EXTENDED_COMMENT);
+    bool changed = false;
+    for (guint i = 0; i < n; ++i) {
+        const gchar *text = nullptr;
+        if (gst_tag_list_peek_string_index(list, GST_TAG_EXTENDED_COMMENT, i, &text) != FALSE &&
+            text != nullptr)
+            changed = applyDepthTag(text, s.tags) || changed;
+    }
+    if (changed && s.configured)
+        s.holeBelow = holeBelowFor(s.tags, s.format);
+}
+
+gboolean event(GstBaseSink *sink, GstEvent *ev)
+{
+    SinkState &s = stateOf(sink);
+    {
+        const std::lock_guard lock(s.mutex);
+        switch (eventType(ev)) {
+        case GST_EVENT_TAG:
+            readTags(s, ev);
+            break;
+        case GST_EVENT_FLUSH_STOP:
+            s.haveOrigin = false;
+            if (s.session)
+                s.session->restart();
+            break;
+        case GST_EVENT_EOS:
+            if (s.session)
+                s.session->finish();
+            break;
+        default:
+            break;
+        }
+    }
+    return parentClass->event(sink, ev);
+}
+
+/// \return the steady clock's time at running time 0: from the pipeline clock when the element
+/// has one (its running time now), else fixed by the first buffer since the start or a flush.
+platform::TimePoint mediaOrigin(GstBaseSink *sink, SinkState &s, GstClockTime running)
+{
+    const platform::TimePoint now = platform::SteadyClock::instance().now();
+    GstClock *clock = gst_element_get_clock(asElement(sink));
+    if (clock != nullptr) {
+        const GstClockTime t = gst_clock_get_time(clock);
+        const GstClockTime base = gst_element_get_base_time(asElement(sink));
+        gst_object_unref(clock);
+        if (isTime(t) && isTime(base)) {
+            const auto rt = static_cast<std::int64_t>(t) - static_cast<std::int64_t>(base);
+            return now - std::chrono::nanoseconds(rt);
+        }
+    }
+    if (!s.haveOrigin) {
+        s.origin = now - std::chrono::nanoseconds(static_cast<std::int64_t>(running));
+        s.haveOrigin = true;
+    }
+    return s.origin;
+}
+
+GstFlowReturn render(GstBaseSink *sink, GstBuffer *buffer)
+{
+    SinkState &s = stateOf(sink);
+    const std::lock_guard lock(s.mutex);
+    if (!s.configured || !s.session || s.session->noDevice())
+        return GST_FLOW_OK;
+    GstClockTime running = 0;
+    if (const GstClockTime pts = bufferPts(buffer); isTime(pts)) {
+        const GstClockTime rt = gst_segment_to_running_time(&sink->segment, GST_FORMAT_TIME, pts);
+        if (isTime(rt))
+            running = rt;
+    }
+    GstVideoFrame frame;
+    if (gst_video_frame_map(&frame, &s.info, buffer, GST_MAP_READ) == FALSE) {
+        fail(sink, GST_STREAM_ERROR, GST_STREAM_ERROR_FAILED, "cannot map a depth buffer");
+        return GST_FLOW_ERROR;
+    }
+    scene::DepthFrameView view;
+    view.data = planeData(frame);
+    view.width = GST_VIDEO_INFO_WIDTH(&s.info);
+    view.height = GST_VIDEO_INFO_HEIGHT(&s.info);
+    view.strideBytes = static_cast<std::size_t>(planeStride(frame));
+    view.format = s.format;
+    view.pts = static_cast<double>(running) * 1e-9;
+    view.holeBelow = s.holeBelow;
+    const auto pushed = s.session->push(view, mediaOrigin(sink, s, running));
+    gst_video_frame_unmap(&frame);
+    if (!pushed) {
+        char buf[256];
+        fail(sink, GST_STREAM_ERROR, GST_STREAM_ERROR_FORMAT,
+             std::string("a depth frame was refused: ") + pushed.error().format(buf, sizeof buf));
+        return GST_FLOW_ERROR;
+    }
+    return GST_FLOW_OK;
+}
+
+// ---- the type ---------------------------------------------------------------------------------
+
+void finalize(GObject *object)
+{
+    auto *self = reinterpret_cast<HapticSink *>(object);
+    delete self->state;
+    self->state = nullptr;
+    asObjectClass(parentClass)->finalize(object);
+}
+
+void instanceInit(GTypeInstance *instance, gpointer)
+{
+    auto *self = reinterpret_cast<HapticSink *>(instance);
+    self->state = new SinkState();
+    gst_base_sink_set_sync(asBaseSink(instance), TRUE);
+}
+
+void classInit(gpointer klass, gpointer)
+{
+    parentClass = static_cast<GstBaseSinkClass *>(g_type_class_peek_parent(klass));
+    GObjectClass *oc = asObjectClass(klass);
+    oc->set_property = setProperty;
+    oc->get_property = getProperty;
+    oc->finalize = finalize;
+    installProperties(oc);
+
+    GstElementClass *ec = asElementClass(klass);
+    gst_element_class_set_static_metadata(
+        ec, "DepthTouch haptic sink", "Sink/Video/Haptic",
+        "Runs DepthTouch's 1 kHz haptic task on a depth video (GRAY8/GRAY16_LE nearness): the "
+        "viewer feels the moving surface through a haptic device",
+        "DepthTouch");
+    GstCaps *caps = gst_caps_from_string("video/x-raw, format=(string){ GRAY8, GRAY16_LE }, "
+                                         "width=(int)[ 2, 16384 ], height=(int)[ 2, 16384 ], "
+                                         "framerate=(fraction)[ 0/1, 2147483647/1 ]");
+    gst_element_class_add_pad_template(
+        ec, gst_pad_template_new("sink", GST_PAD_SINK, GST_PAD_ALWAYS, caps));
+    gst_caps_unref(caps);
+
+    GstBaseSinkClass *bc = asBaseSinkClass(klass);
+    bc->start = start;
+    bc->stop = stop;
+    bc->set_caps = setCaps;
+    bc->event = event;
+    bc->render = render;
+}
+
+} // namespace
+
+GType hapticSinkGetType()
+{
+    static const GType type = g_type_register_static_simple(
+        GST_TYPE_BASE_SINK, "GstHapticSink", sizeof(HapticSinkClass), classInit, sizeof(HapticSink),
+        instanceInit, static_cast<GTypeFlags>(0));
+    return type;
+}
+
+} // namespace depthtouch::gst
