@@ -354,6 +354,7 @@ void GlPresenter::setOverlays(const DrawInput &in)
             osd.status += soundStatus(in.session.audio->volume(), in.session.audio->muted());
         osd.hapticsOn = task != nullptr && task->enabled();
         osd.deviceConnected = task == nullptr || task->deviceConnected();
+        osd.remoteConnected = in.remoteConnected;
         osd.force = task != nullptr ? glm::length(task->lastForce()) : 0.0;
         osd.maxForce = std::max(1e-3, config_.haptics.renderer.maxForce);
         osd.stiffness = task != nullptr ? task->stiffness() : 0.0;

@@ -317,6 +317,12 @@ Result<void> Playback::recenter()
     return {};
 }
 
+void Playback::showRemoteConnected(std::optional<bool> connected)
+{
+    impl_->osdEvents.fetch_add(1, std::memory_order_relaxed);
+    impl_->setRemoteConnected(connected.value_or(true));
+}
+
 Result<void> Playback::showProgress()
 {
     impl_->osdEvents.fetch_add(1, std::memory_order_relaxed);

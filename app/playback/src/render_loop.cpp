@@ -300,7 +300,8 @@ void RenderLoop::publishDepth(Session &s)
 void RenderLoop::drawAndPresent(Session &s, const Commands &cmd, double pts)
 {
     const TimePoint drawStart = clock_.now();
-    const DrawOutcome d = presenter_->draw(DrawInput{frames_.shown, pts, cmd.mode, cmd.paused, s});
+    const DrawOutcome d = presenter_->draw(
+        DrawInput{frames_.shown, pts, cmd.mode, cmd.paused, cmd.remoteConnected, s});
     presenter_->finishDrawing(d.drawn);
     const double drawSeconds = platform::toSeconds(clock_.now() - drawStart);
     const auto presented = display_.present();

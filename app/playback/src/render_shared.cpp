@@ -105,6 +105,12 @@ void RenderShared::setStereoMode(player::StereoMode mode)
     stereoMode_ = mode;
 }
 
+void RenderShared::setRemoteConnected(bool connected)
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    remoteConnected_ = connected;
+}
+
 player::PlayerActions::MediaPosition RenderShared::mediaPosition() const
 {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -229,6 +235,7 @@ RenderShared::Turn RenderShared::nextTurn(std::uint64_t adoptedGen)
     t.commands.seekGen = seekGen_;
     t.commands.seekTo = seekTarget_;
     t.commands.mode = stereoMode_;
+    t.commands.remoteConnected = remoteConnected_;
     return t;
 }
 

@@ -35,6 +35,7 @@ public:
         std::uint64_t seekGen = 0; ///< Bumped by every seek.
         double seekTo = 0.0;       ///< s, stream timeline (absolute).
         player::StereoMode mode = player::StereoMode::SideBySide;
+        bool remoteConnected = true; ///< False: the on-screen display says the remote is missing.
     };
     /// The start of one render-thread turn (nextTurn()).
     struct Turn {
@@ -96,6 +97,8 @@ public:
     /// session.
     Result<void> seek(double seconds, player::SeekMode mode);
     void setStereoMode(player::StereoMode mode);
+    /// \brief The remote's input device is there, or there is no remote (false: waited for, lost).
+    void setRemoteConnected(bool connected);
     /// \return the position and the duration (when known) of the session, s; none without one.
     [[nodiscard]] player::PlayerActions::MediaPosition mediaPosition() const;
     /// \return |F| of the session's haptic task, N; NaN without a session or a task.
@@ -161,6 +164,7 @@ private:
     std::uint64_t seekGen_ = 0; ///< Bumped by seek().
     double seekTarget_ = 0.0;   ///< s, stream timeline (absolute).
     player::StereoMode stereoMode_;
+    bool remoteConnected_ = true; ///< setRemoteConnected().
     bool quit_ = false;
 
     // Render thread -> main thread.

@@ -118,6 +118,41 @@ void StereoRenderer::drawAvatar(const EyeView &eye)
     glBindVertexArray(0);
 }
 
+namespace {
+
+/// One text line of the on-screen display, in its colour.
+struct OsdLine {
+    std::string_view text;
+    float r, g, b;
+};
+
+/// Fills \a lines with the text lines of \a osd, top down (\a stiffness holds the text of the
+/// stiffness line, which views it). \return how many; the force bar comes under them.
+std::size_t osdLines(const OsdState &osd, std::string &stiffness, std::array<OsdLine, 4> &lines)
+{
+    std::size_t count = 0;
+    lines[count++] = {osd.status, 1.0f, 1.0f, 1.0f};
+    // A view of a literal: the per-frame path allocates nothing (a std::string of 18 would).
+    const std::string_view haptics = !osd.hapticsOn        ? "HAPTICS OFF"
+                                     : osd.deviceConnected ? "HAPTICS ON"
+                                                           : "HAPTICS: NO DEVICE";
+    if (osd.hapticsOn && osd.deviceConnected) // green while the device pushes back, else grey
+        lines[count++] = {haptics, 0.4f, 1.0f, 0.4f};
+    else
+        lines[count++] = {haptics, 0.6f, 0.6f, 0.6f};
+    if (!osd.remoteConnected) // grey, as a haptic device that is not there
+        lines[count++] = {"REMOTE: NO DEVICE", 0.6f, 0.6f, 0.6f};
+    if (osd.stiffness > 0.0 && std::isfinite(osd.stiffness)) {
+        char buf[40];
+        std::snprintf(buf, sizeof buf, "STIFFNESS %.0f N/M", std::min(osd.stiffness, 1e9));
+        stiffness = buf;
+        lines[count++] = {stiffness, 1.0f, 1.0f, 1.0f};
+    }
+    return count;
+}
+
+} // namespace
+
 void StereoRenderer::drawOsd(const Viewport &vp)
 {
     if (!osd_.visible)
@@ -167,38 +202,23 @@ void StereoRenderer::drawOsd(const Viewport &vp)
     glBindVertexArray(g.osdVao);
     glBindBuffer(GL_ARRAY_BUFFER, g.osdVbo);
 
-    const bool feeling = osd_.hapticsOn && osd_.deviceConnected;
-    // A view of a literal: the per-frame path allocates nothing (a std::string of 18 would).
-    const std::string_view haptics = !osd_.hapticsOn        ? "HAPTICS OFF"
-                                     : osd_.deviceConnected ? "HAPTICS ON"
-                                                            : "HAPTICS: NO DEVICE";
     std::string stiffness;
-    if (osd_.stiffness > 0.0 && std::isfinite(osd_.stiffness)) {
-        char buf[40];
-        std::snprintf(buf, sizeof buf, "STIFFNESS %.0f N/M", std::min(osd_.stiffness, 1e9));
-        stiffness = buf;
-    }
-    const std::size_t chars = std::max({osd_.status.size(), haptics.size(), stiffness.size()});
+    std::array<OsdLine, 4> lines{};
+    const std::size_t count = osdLines(osd_, stiffness, lines);
+    std::size_t chars = 0;
+    for (std::size_t i = 0; i < count; ++i)
+        chars = std::max(chars, lines[i].text.size());
     const float barW = std::min(static_cast<float>(vp.width) * 0.4f, 12.0f * cw);
     const float panelW = std::max(static_cast<float>(chars) * cw, barW) + 2.0f * margin;
-    const float lines = stiffness.empty() ? 3.0f : 4.0f;
-    const float panelH = lines * ch + lines * margin;
+    const float rows = static_cast<float>(count + 1); // the text lines and the bar
+    const float panelH = rows * ch + rows * margin;
     // Translucent panel, then text, then the force bar (frame + fill from green to red).
     quad(margin, vh - margin - panelH, margin + panelW, vh - margin, 0, 0, 0, 0);
     flush(false, 0.0f, 0.0f, 0.0f, 0.5f);
     float y = vh - 2.0f * margin;
-    text(osd_.status, 2.0f * margin, y);
-    flush(true, 1.0f, 1.0f, 1.0f, 1.0f);
-    y -= ch + 0.5f * margin;
-    text(haptics, 2.0f * margin, y);
-    if (feeling)
-        flush(true, 0.4f, 1.0f, 0.4f, 1.0f);
-    else
-        flush(true, 0.6f, 0.6f, 0.6f, 1.0f);
-    y -= ch + 0.5f * margin;
-    if (!stiffness.empty()) {
-        text(stiffness, 2.0f * margin, y);
-        flush(true, 1.0f, 1.0f, 1.0f, 1.0f);
+    for (std::size_t i = 0; i < count; ++i) {
+        text(lines[i].text, 2.0f * margin, y);
+        flush(true, lines[i].r, lines[i].g, lines[i].b, 1.0f);
         y -= ch + 0.5f * margin;
     }
     const float x0 = 2.0f * margin;

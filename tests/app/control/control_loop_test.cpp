@@ -35,7 +35,7 @@ TEST(ControlLoopTest, remoteKeysDriveTheMachineUntilQuit)
     remote.pushKey(Key::Mode3d, t0 + seconds(3));
     remote.pushKey(Key::PlayPause, t0 + seconds(4));
     remote.push({Key::PlayPause, KeyAction::Repeat, t0 + milliseconds(4050)});
-    remote.pushKey(Key::Pause, t0 + seconds(5)); // refused: already paused
+    remote.pushKey(Key::Pause, t0 + seconds(5));  // refused: already paused
     remote.pushKey(Key::Digit7, t0 + seconds(6)); // unbound
     remote.pushKey(Key::Exit, t0 + seconds(7));
     remote.pushKey(Key::Play, t0 + seconds(8)); // after quit: never read
@@ -147,6 +147,9 @@ TEST(ControlLoopTest, theRemotesStateIsTheMachinesRemoteConnected)
     ControlLoop lostLoop(p.m, &lost, nullptr, clock);
     ASSERT_TRUE(lostLoop.runUntil(clock.now() + seconds(1)));
     EXPECT_EQ(get().data, player::Value(false));
+    // and each change, once, to the player's on-screen display (REMOTE: NO DEVICE): waited
+    // for, plugged in, lost (the polls that change nothing pass nothing on)
+    EXPECT_EQ(p.fake.remoteShown, (std::vector<std::string>{"false", "true", "false"}));
 }
 
 TEST(ControlLoopTest, lostRemoteLeavesTheSocketWorking)

@@ -29,6 +29,12 @@ public:
     double hapticForce() const override { return force; }
     std::optional<bool> connected; ///< What hapticDeviceConnected() answers.
     std::optional<bool> hapticDeviceConnected() const override { return connected; }
+    /// What showRemoteConnected() was told, in order (none: "none").
+    std::vector<std::string> remoteShown;
+    void showRemoteConnected(std::optional<bool> c) override
+    {
+        remoteShown.emplace_back(!c ? "none" : *c ? "true" : "false");
+    }
 
     Result<void> open(std::string_view url) override
     {

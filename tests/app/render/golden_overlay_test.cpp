@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <thread>
 #include <vector>
@@ -173,6 +174,63 @@ TEST_F(RenderGoldenTest, theOsdSaysWhenTheHapticDeviceIsNotConnected)
     };
     EXPECT_GT(greenText(on), 20) << "HAPTICS ON is green";
     EXPECT_EQ(greenText(noDevice), 0) << "HAPTICS: NO DEVICE is not";
+}
+
+// A remote waited for and not plugged in (or lost) adds a line "REMOTE: NO DEVICE" under the
+// haptics line, in grey; a remote that is there (or no remote) draws the OSD as before.
+TEST_F(RenderGoldenTest, theOsdSaysWhenTheRemoteIsNotConnected)
+{
+    ASSERT_NO_FATAL_FAILURE(showFlatPlane(64, 48, {126, 128, 128}, 1.2)); // grey
+    OsdState osd;
+    osd.visible = true;
+    osd.status = "PLAYING";
+    osd.hapticsOn = true;
+    renderer_->setOsd(osd);
+    const Picture there = draw(200, 150);
+    osd.remoteConnected = false;
+    renderer_->setOsd(osd);
+    const Picture missing = draw(200, 150);
+    // Within the plain panel (x < 88: its 84 px from the 6 px margin; the longer line widens the
+    // panel to the right), the rows that differ are the new line's and the force bar's (moved
+    // down one line).
+    constexpr int kPanelRight = 88;
+    int firstRow = 150;
+    int lastRow = -1;
+    for (int y = 0; y < 150; ++y)
+        for (int x = 0; x < kPanelRight; ++x)
+            if (there.at(x, y).g != missing.at(x, y).g || there.at(x, y).r != missing.at(x, y).r) {
+                firstRow = std::min(firstRow, y);
+                lastRow = std::max(lastRow, y);
+            }
+    ASSERT_GE(lastRow, 0) << "the remote's state changed nothing on screen";
+    EXPECT_GT(firstRow, 30) << "the status and haptics lines above it are left alone";
+    EXPECT_LT(lastRow, 66) << "within the panel (its four lines end above row 66)";
+    // The line is text: light grey pixels (r, g and b alike, brighter than the plane seen through
+    // the panel) in its rows, where the plain OSD has the bar's dark frame.
+    const auto lightGrey = [&](const Picture &p) {
+        int n = 0;
+        for (int y = firstRow; y < firstRow + 8; ++y)
+            for (int x = 0; x < kPanelRight; ++x) {
+                const Rgb c = p.at(x, y);
+                n += c.r > 110 && std::abs(c.r - c.g) < 12 && std::abs(c.g - c.b) < 12 ? 1 : 0;
+            }
+        return n;
+    };
+    EXPECT_EQ(lightGrey(there), 0);
+    EXPECT_GT(lightGrey(missing), 40) << "no grey text where the line should be";
+    // The status and haptics lines keep their look: HAPTICS ON stays green.
+    int green = 0;
+    for (int y = 0; y < firstRow; ++y)
+        for (int x = 0; x < kPanelRight; ++x)
+            green += missing.at(x, y).g > missing.at(x, y).r + 60 ? 1 : 0;
+    EXPECT_GT(green, 20) << "HAPTICS ON is still green above the remote's line";
+    // Connected again: the plain OSD, pixel for pixel.
+    osd.remoteConnected = true;
+    renderer_->setOsd(osd);
+    const Picture back = draw(200, 150);
+    for (int y = 0; y < 150; ++y)
+        for (int x = 0; x < 200; ++x)
+            ASSERT_EQ(back.at(x, y).g, there.at(x, y).g) << "at " << x << "," << y;
 }
 
 TEST_F(RenderGoldenTest, theAvatarSphereIsRoundWhereItCutsTheSurface)

@@ -240,6 +240,9 @@ public:
     /// \brief Opens \a url as open() does, trying again every 0.5 s until a sender comes (a live
     /// address whose stream fell silent); stop(), open() and quitting abandon the waiting.
     [[nodiscard]] Result<void> awaitNextSender(std::string_view url) override;
+    /// The on-screen display reads "REMOTE: NO DEVICE" while \a connected is false (and comes
+    /// up when the remote goes or comes back).
+    void showRemoteConnected(std::optional<bool> connected) override;
     [[nodiscard]] Result<void> startPlayback() override;
     [[nodiscard]] Result<void> pause() override;
     [[nodiscard]] Result<void> resume() override;

@@ -113,6 +113,10 @@ public:
     /// sender comes (a failed try is retried, not reported) or stop() or open() abandons it.
     /// Completion is reported as for open(). The default opens once, as open().
     [[nodiscard]] virtual Result<void> awaitNextSender(std::string_view url) { return open(url); }
+    /// What the remote's input device now is (StateMachine::setRemoteConnected(), called when it
+    /// changes): there (true), waited for or lost (false), or no remote (none); a player with an
+    /// on-screen display shows it there. The default shows it nowhere.
+    virtual void showRemoteConnected(std::optional<bool> connected) { (void)connected; }
 
     /// \name Queries (the properties time-pos, duration, percent-pos, haptic-force, contact,
     /// haptic-device-connected)
@@ -274,10 +278,14 @@ public:
     /// What the remote's input device is: there (true), waited for (false: not plugged in, with
     /// hal::BackendConfig::awaitDevice), or no remote (none). The property remote-connected.
     [[nodiscard]] std::optional<bool> remoteConnected() const noexcept { return remoteConnected_; }
-    /// The control loop tells the machine what its remote is (ControlLoop, after each poll).
-    void setRemoteConnected(std::optional<bool> connected) noexcept
+    /// The control loop tells the machine what its remote is (ControlLoop, after each poll); a
+    /// change is passed on to PlayerActions::showRemoteConnected() (the on-screen display).
+    void setRemoteConnected(std::optional<bool> connected)
     {
+        if (connected == remoteConnected_)
+            return;
         remoteConnected_ = connected;
+        actions_.showRemoteConnected(connected);
     }
     ///@}
 

@@ -57,28 +57,31 @@ struct RendererOptions {
     ColorConversion colorConversion =
         ColorConversion::Auto;                   ///< Where Y'CbCr becomes R'G'B' (setColor()).
     ColorFilter colorFilter = ColorFilter::Auto; ///< How the colour texture is sampled.
-    glm::vec3 background{0.0f, 0.0f, 0.0f};   ///< Clear colour, linear RGB in [0, 1].
+    glm::vec3 background{0.0f, 0.0f, 0.0f};      ///< Clear colour, linear RGB in [0, 1].
 };
 
 /// \brief The haptic avatar, scene-box frame (m).
 struct AvatarState {
     bool visible = false;
-    glm::dvec3 proxy{0.0};       ///< Proxy (god-object) position: where the lit sphere is drawn.
-    glm::dvec3 hip{0.0}; ///< Haptic interface point: a faint marker when apart from the proxy.
-    double radius = 0.0025;      ///< Sphere radius, m.
-    double separation = 0.0005;  ///< HIP marker shown when |proxy − HIP| exceeds this, m.
+    glm::dvec3 proxy{0.0};  ///< Proxy (god-object) position: where the lit sphere is drawn.
+    glm::dvec3 hip{0.0};    ///< Haptic interface point: a faint marker when apart from the proxy.
+    double radius = 0.0025; ///< Sphere radius, m.
+    double separation = 0.0005; ///< HIP marker shown when |proxy − HIP| exceeds this, m.
 };
 
 /// \brief The on-screen display (drawn at zero parallax in each eye).
 struct OsdState {
     bool visible = false;
     std::string status; ///< Player state, e.g. "PLAYING" (upper case letters, digits, . : - / %).
-    bool hapticsOn = false;   ///< Shows "HAPTICS ON" or "HAPTICS OFF".
+    bool hapticsOn = false; ///< Shows "HAPTICS ON" or "HAPTICS OFF".
     /// The haptic device answers; false shows "HAPTICS: NO DEVICE" instead of "HAPTICS ON" (lost,
     /// or not yet plugged in where the player waits for it).
     bool deviceConnected = true;
-    double force = 0.0;       ///< Current force magnitude, N (bar length).
-    double maxForce = 8.5;    ///< Full-scale force of the bar, N (> 0).
+    /// The remote's input device is there, or the player has no remote; false (a remote waited
+    /// for and not plugged in, or lost) adds a line "REMOTE: NO DEVICE" under the haptics line.
+    bool remoteConnected = true;
+    double force = 0.0;    ///< Current force magnitude, N (bar length).
+    double maxForce = 8.5; ///< Full-scale force of the bar, N (> 0).
     /// The stiffness the finger feels, N/m: a line "STIFFNESS 900 N/M" under the haptics line
     /// (what the remote's CH+ and CH− change); 0 or less: no such line.
     double stiffness = 0.0;
@@ -131,11 +134,11 @@ struct FramePrep {
 
     [[nodiscard]] bool built() const noexcept { return built_; }
 
-    AdaptiveMesh mesh;                ///< The depth frame's mesh.
-    MeshOptions meshOptions{};        ///< What it was built with.
-    const void *depthData = nullptr;  ///< The depth frame's first sample (identifies the frame).
-    bool hasRgba = false;             ///< A colour frame was converted.
-    int colorWidth = 0;               ///< Its size, pixels.
+    AdaptiveMesh mesh;               ///< The depth frame's mesh.
+    MeshOptions meshOptions{};       ///< What it was built with.
+    const void *depthData = nullptr; ///< The depth frame's first sample (identifies the frame).
+    bool hasRgba = false;            ///< A colour frame was converted.
+    int colorWidth = 0;              ///< Its size, pixels.
     int colorHeight = 0;
     const std::vector<std::uint32_t> *rgba = nullptr; ///< colorWidth × colorHeight RGBA8 words.
 
