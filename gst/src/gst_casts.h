@@ -69,6 +69,12 @@ inline GstClockTime bufferPts(GstBuffer *buffer) noexcept
 {
     return GST_BUFFER_PTS(buffer);
 }
+/// \brief Sets the buffer's presentation time and duration, ns.
+inline void setBufferTimes(GstBuffer *buffer, GstClockTime pts, GstClockTime duration) noexcept
+{
+    GST_BUFFER_PTS(buffer) = pts;
+    GST_BUFFER_DURATION(buffer) = duration;
+}
 /// \return whether \a t is a time (not GST_CLOCK_TIME_NONE).
 inline bool isTime(GstClockTime t) noexcept
 {
@@ -78,6 +84,15 @@ inline bool isTime(GstClockTime t) noexcept
 inline GstEventType eventType(GstEvent *event) noexcept
 {
     return GST_EVENT_TYPE(event);
+}
+
+/// \brief Logs \a text at INFO in \a category for \a object (GST_INFO_OBJECT; shown with
+/// GST_DEBUG=CATEGORY:4).
+inline void logInfo(GstDebugCategory *category, gpointer object, const char *text,
+                    const std::source_location &where = std::source_location::current()) noexcept
+{
+    gst_debug_log(category, GST_LEVEL_INFO, where.file_name(), where.function_name(),
+                  static_cast<gint>(where.line()), G_OBJECT(object), "%s", text);
 }
 
 /// \brief Warns of a property id the class does not have (G_OBJECT_WARN_INVALID_PROPERTY_ID).

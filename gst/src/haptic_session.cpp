@@ -160,6 +160,8 @@ HapticReadout HapticSession::readout()
                         ? static_cast<double>(stats.updates - 1) / stats.runSeconds
                         : 0.0;
     r.safetyTrips = stats.safetyReleases;
+    r.contactUpdates = stats.contactUpdates;
+    r.maxForce = stats.maxForce;
     return r;
 }
 

@@ -52,6 +52,9 @@ struct HapticSinkClass {
 };
 
 GstBaseSinkClass *parentClass = nullptr;
+/// The element's debug category, "hapticsink" (GST_DEBUG=hapticsink:4 shows the start, the caps,
+/// the depth tags and the run's counters at stop).
+GstDebugCategory *category = nullptr;
 
 enum Property : guint {
     kPropZero,
@@ -263,6 +266,10 @@ gboolean start(GstBaseSink *sink)
     s.configured = false;
     s.haveOrigin = false;
     s.tags = {};
+    logInfo(category, sink,
+            ("haptic device '" + s.session->deviceName() + "', method " + s.settings.method +
+             ", stiffness " + options::OptionRange::number(s.settings.stiffness) + " N/m")
+                .c_str());
     return TRUE;
 }
 
@@ -270,6 +277,20 @@ gboolean stop(GstBaseSink *sink)
 {
     SinkState &s = stateOf(sink);
     const std::lock_guard lock(s.mutex);
+    if (s.session) {
+        const HapticReadout r = s.session->readout();
+        const std::string line = "stopped: " + std::to_string(r.updates) + " updates, " +
+                                 std::to_string(r.contactUpdates) + " in contact, max force " +
+                                 options::OptionRange::number(r.maxForce) + " N, " +
+                                 std::to_string(r.safetyTrips) + " safety trips; depth planes " +
+                                 options::OptionRange::number(
+                                     s.tags.nearMetres > 0.0 ? s.tags.nearMetres : s.nearProperty) +
+                                 ".." +
+                                 options::OptionRange::number(
+                                     s.tags.farMetres > 0.0 ? s.tags.farMetres : s.farProperty) +
+                                 " m (" + (s.tags.nearMetres > 0.0 ? "tags" : "properties") + ")";
+        logInfo(category, sink, line.c_str());
+    }
     s.session.reset(); // zero force, the task stopped, the device closed
     s.configured = false;
     return TRUE;
@@ -312,23 +333,34 @@ gboolean setCaps(GstBaseSink *sink, GstCaps *caps)
     return TRUE;
 }
 
-/// Reads the stream's depth tags from a tag event (extended comments "KEY=value").
-void readTags(SinkState &s, GstEvent *event)
+/// Reads the stream's depth tags from a tag event (extended comments "KEY=value") of \a sink.
+void readTags(GstBaseSink *sink, SinkState &s, GstEvent *event)
 {
     GstTagList *list = nullptr;
     gst_event_parse_tag(event, &list);
     if (list == nullptr)
         return;
     const guint n = gst_tag_list_get_tag_size(list, GST_TAG_EXTENDED_COMMENT);
-    bool changed = false;
+    const hal::DepthMetadata before = s.tags;
     for (guint i = 0; i < n; ++i) {
         const gchar *text = nullptr;
         if (gst_tag_list_peek_string_index(list, GST_TAG_EXTENDED_COMMENT, i, &text) != FALSE &&
             text != nullptr)
-            changed = applyDepthTag(text, s.tags) || changed;
+            applyDepthTag(text, s.tags);
     }
-    if (changed && s.configured)
+    const hal::DepthMetadata &a = before;
+    const hal::DepthMetadata &b = s.tags;
+    if (a.nearMetres == b.nearMetres && a.farMetres == b.farMetres && a.mapping == b.mapping &&
+        a.bits == b.bits && a.occupancy == b.occupancy)
+        return;
+    if (s.configured)
         s.holeBelow = holeBelowFor(s.tags, s.format);
+    const hal::DepthMetadata &t = s.tags;
+    logInfo(category, sink,
+            ("depth tags: near " + options::OptionRange::number(t.nearMetres) + " m, far " +
+             options::OptionRange::number(t.farMetres) + " m, mapping '" + t.mapping + "', bits " +
+             std::to_string(t.bits) + ", occupancy " + std::to_string(t.occupancy))
+                .c_str());
 }
 
 gboolean event(GstBaseSink *sink, GstEvent *ev)
@@ -338,7 +370,7 @@ gboolean event(GstBaseSink *sink, GstEvent *ev)
         const std::lock_guard lock(s.mutex);
         switch (eventType(ev)) {
         case GST_EVENT_TAG:
-            readTags(s, ev);
+            readTags(sink, s, ev);
             break;
         case GST_EVENT_FLUSH_STOP:
             s.haveOrigin = false;
@@ -434,6 +466,7 @@ void instanceInit(GTypeInstance *instance, gpointer)
 void classInit(gpointer klass, gpointer)
 {
     parentClass = static_cast<GstBaseSinkClass *>(g_type_class_peek_parent(klass));
+    category = _gst_debug_category_new(kHapticSinkName, 0, "DepthTouch haptic sink");
     GObjectClass *oc = asObjectClass(klass);
     oc->set_property = setProperty;
     oc->get_property = getProperty;
