@@ -46,6 +46,10 @@ HOST_PACKAGES=(
     libusb-1.0-0-dev libevdev-dev libasound2-dev
     # fuzz preset: clang with libFuzzer and the sanitizer runtimes
     clang-14 libclang-rt-14-dev
+    # the GStreamer plugin (gst/, built when these are found) and its tests: gst-inspect-1.0 and
+    # gst-launch-1.0, the Matroska demuxer (plugins-good) and the H.264 decoder (libav)
+    libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev gstreamer1.0-tools
+    gstreamer1.0-plugins-good gstreamer1.0-libav
 )
 
 # -dev packages the cross build links against, per Debian architecture.
