@@ -65,7 +65,8 @@ void failLine(std::string_view why)
 }
 
 /// Prints the player's errors on stderr, each once, as it happens (one line), and its state
-/// changes when asked (--verbose; on a terminal unless --quiet).
+/// changes when asked (--verbose; on a terminal unless --quiet), each with its priority ("<6>")
+/// when stderr is the journal.
 class StderrListener final : public player::PlayerListener {
 public:
     StderrListener(bool states, bool verbose) : states_(states || verbose), verbose_(verbose) {}
@@ -77,7 +78,8 @@ public:
             // "opening" says nothing new, and "error" follows its reason's line.
             if (states_ && e.state != player::PlayerState::Error &&
                 (verbose_ || e.state != player::PlayerState::Opening))
-                std::fprintf(stderr, "depthtouch play: %s\n", player::playerStateName(e.state));
+                platform::printStderrLine(platform::LogLevel::Info, "depthtouch play: %s",
+                                          player::playerStateName(e.state));
             break;
         case player::PlayerEventKind::Error:
             failLine(e.message);
@@ -85,7 +87,8 @@ public:
             break;
         case player::PlayerEventKind::EndOfFile:
             if (states_)
-                std::fprintf(stderr, "depthtouch play: end of stream (%s)\n", e.message.c_str());
+                platform::printStderrLine(platform::LogLevel::Info,
+                                          "depthtouch play: end of stream (%s)", e.message.c_str());
             break;
         default:
             break;

@@ -145,6 +145,14 @@ rc=$?
 grep -q "^<4>depthtouch play: warning: no haptic device 'mock'" "$work/j3" ||
     fail "the fallback's warning under JOURNAL_STREAM: '$(cat "$work/j3")'"
 ! grep -qv "^<[0-7]>" "$work/j3" || fail "a line without a priority: '$(cat "$work/j3")'"
+# --verbose's state lines (opening, playing, end of stream, stopped) with theirs too
+journal "$work/j4" play "$clip" --source mock --decoder mock --display mock --haptic none \
+    --no-audio --no-config --verbose
+rc=$?
+[ "$rc" -eq 0 ] || fail "play --verbose under JOURNAL_STREAM: exit $rc, '$(cat "$work/j4")'"
+grep -q "^<6>depthtouch play: playing$" "$work/j4" ||
+    fail "the state line of --verbose under JOURNAL_STREAM: '$(cat "$work/j4")'"
+! grep -qv "^<[0-7]>" "$work/j4" || fail "a --verbose line without a priority: '$(cat "$work/j4")'"
 # A fallback list's options are the first backend's: null, after an ALSA device that is not
 # there, takes none of them and does not refuse ALSA's "device" (it failed "'null': Unknown audio
 # output option", exit 2).
