@@ -1,7 +1,8 @@
 # The Debian package and the install rules (packaging/CMakeLists.txt), as an integrator meets them:
 #  1. DESTDIR=stage cmake --install: the program, unit, sysusers entry, udev rule, config, man page, docs,
-#     copyright and changelog; the unit's sandbox scored by `systemd-analyze security` (at most 4.0, "OK")
-#     and opening the sound card (char-alsa, group audio); the files its Documentation= names installed;
+#     copyright and changelog; the unit clean under `systemd-analyze verify`, its sandbox scored by
+#     `systemd-analyze security` (at most 4.0, "OK") and opening the sound card (char-alsa, group
+#     audio); the files its Documentation= names installed;
 #  1b. cmake --install --prefix P: every file it writes lies under P, and the unit names P's program and config;
 #  2. cpack writes depthtouch_<version>_<arch>.deb and depthtouch-dbgsym_<version>_<arch>.ddeb: the .deb's
 #     Architecture, Depends (from dpkg-shlibdeps, and the Mesa driver), conffiles, maintainer scripts and
@@ -140,6 +141,17 @@ if(SYSTEMD_ANALYZE)
             message(FATAL_ERROR "@system-service lacks ${group} (sched_setscheduler, mlockall)")
         endif()
     endforeach()
+    # `systemd-analyze verify`: the unit loads as systemd reads it, without a warning (an unknown
+    # or misspelt directive, a bad value). The staged unit names the program under /usr, not
+    # installed on this machine: the copy checked names the staged one (the man page is checked
+    # above as a file, not through man(1)).
+    string(REGEX REPLACE "\nExecStart=/" "\nExecStart=${OUT}/stage/" verified "${unit}")
+    file(WRITE "${OUT}/verify/depthtouch.service" "${verified}")
+    execute_process(COMMAND ${SYSTEMD_ANALYZE} verify --man=no "${OUT}/verify/depthtouch.service"
+        RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0 OR NOT "${out}${err}" STREQUAL "")
+        message(FATAL_ERROR "systemd-analyze verify of the unit: exit ${rc}\n${out}${err}")
+    endif()
 else()
     message(FATAL_ERROR "systemd-analyze not found (toolchain/install-deps.sh installs systemd)")
 endif()
