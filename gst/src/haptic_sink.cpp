@@ -125,7 +125,9 @@ void getProperty(GObject *object, guint id, GValue *value, GParamSpec *spec)
 {
     SinkState &s = stateOf(object);
     const std::lock_guard lock(s.mutex);
-    const HapticReadout r = s.session ? s.session->readout() : HapticReadout{};
+    // The task's measurements are read for the read-only properties only (stats() drains).
+    const bool measured = id >= kPropContactForce && id <= kPropSafetyTrips;
+    const HapticReadout r = measured && s.session ? s.session->readout() : HapticReadout{};
     switch (id) {
     case kPropDevice:
         g_value_set_string(value, s.settings.device.c_str());
