@@ -209,10 +209,60 @@ double amortisedFrameCostNs(const BenchRow &row)
 bool loadedMachine(const BenchReport &report)
 {
     const double load = std::max(report.loadAtStart, report.loadAtEnd);
-    return report.cpus > 0 && load > static_cast<double>(report.cpus - 1);
+    return (report.cpus > 0 && load > static_cast<double>(report.cpus - 1)) ||
+           report.stealPercent > kLoadedStealPercent;
 }
 
 namespace {
+
+/// The steal ticks and all the ticks of /proc/stat's "cpu" line \a line; false when it is not one.
+bool cpuTicks(std::string_view line, double &steal, double &total)
+{
+    if (line.substr(0, 4) != "cpu ")
+        return false;
+    const std::string text(line.substr(4));
+    const char *p = text.c_str();
+    total = 0.0;
+    int n = 0;
+    for (;; ++n) {
+        char *end = nullptr;
+        const double v = std::strtod(p, &end);
+        if (end == p)
+            break;
+        // guest and guest_nice (the 9th and 10th) are counted in user and nice already
+        if (n < 8)
+            total += v;
+        if (n == 7)
+            steal = v;
+        p = end;
+    }
+    return n >= 8;
+}
+
+} // namespace
+
+double stealPercent(std::string_view statAtStart, std::string_view statAtEnd)
+{
+    double steal0 = 0.0, total0 = 0.0, steal1 = 0.0, total1 = 0.0;
+    if (!cpuTicks(statAtStart, steal0, total0) || !cpuTicks(statAtEnd, steal1, total1) ||
+        total1 <= total0 || steal1 < steal0)
+        return -1.0;
+    return 100.0 * (steal1 - steal0) / (total1 - total0);
+}
+
+namespace {
+
+/// The first line of /proc/stat (the CPUs' time), or empty when it cannot be read.
+std::string cpuStatLine()
+{
+    std::FILE *f = std::fopen("/proc/stat", "r");
+    if (f == nullptr)
+        return {};
+    char buf[512];
+    const bool read = std::fgets(buf, sizeof buf, f) != nullptr;
+    std::fclose(f);
+    return read ? std::string(buf) : std::string();
+}
 
 /// The machine's 1-minute load average (/proc/loadavg), or −1 when it cannot be read.
 double loadAverage()
@@ -423,6 +473,7 @@ BenchReport runHapticsBenchmark(const BenchOptions &options)
     const double speeds[3] = {0.0, 0.1, 1.0};
     report.cpus = static_cast<int>(std::thread::hardware_concurrency());
     report.loadAtStart = loadAverage();
+    const std::string statAtStart = cpuStatLine();
     const int runs = std::max(1, options.quick ? 1 : options.runs);
     const std::size_t updates =
         static_cast<std::size_t>(options.quick ? 3000 : std::max(1000, options.updates));
@@ -462,6 +513,7 @@ BenchReport runHapticsBenchmark(const BenchOptions &options)
     }
     setGoals(report);
     report.loadAtEnd = loadAverage();
+    report.stealPercent = stealPercent(statAtStart, cpuStatLine());
     return report;
 }
 

@@ -138,10 +138,11 @@ bool writeReportJson(const BenchReport &report, const std::filesystem::path &bas
     nlohmann::json rows = nlohmann::json::array();
     for (const BenchRow &r : report.rows)
         rows.push_back(rowJson(r));
-    // A load that could not be read (−1) is null.
+    // A load or steal share that could not be read (−1) is null.
     auto load = [](double v) { return v >= 0.0 ? nlohmann::json(v) : nlohmann::json(); };
     const nlohmann::json machine = {{"load_1min_start", load(report.loadAtStart)},
                                     {"load_1min_end", load(report.loadAtEnd)},
+                                    {"steal_percent", load(report.stealPercent)},
                                     {"cpus", report.cpus},
                                     {"loaded", loadedMachine(report)}};
     const nlohmann::json doc = {{"rows", rows}, {"goals", goalsJson(report)}, {"machine", machine}};

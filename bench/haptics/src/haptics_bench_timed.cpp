@@ -35,13 +35,16 @@ void printRatioGoal(const char *what, double ratio)
 /// line more when it was loaded (loadedMachine()): its timings read high.
 void printMachineLoad(const BenchReport &report)
 {
-    std::printf("\nmachine: 1-minute load %.2f at the start, %.2f at the end; %d CPUs\n",
+    std::printf("\nmachine: 1-minute load %.2f at the start, %.2f at the end; %d CPUs",
                 report.loadAtStart, report.loadAtEnd, report.cpus);
+    if (report.stealPercent >= 0.0)
+        std::printf("; steal %.1f %% of the CPU time during the run", report.stealPercent);
+    std::printf("\n");
     if (loadedMachine(report))
         std::printf("note: the timings were taken on a loaded machine (load above %d, the CPUs "
-                    "minus one): the update times read high; rerun on an idle machine to quote "
-                    "them\n",
-                    report.cpus - 1);
+                    "minus one, or steal above %.0f %%): the update times read high; rerun on an "
+                    "idle machine to quote them\n",
+                    report.cpus - 1, kLoadedStealPercent);
 }
 
 } // namespace

@@ -65,7 +65,11 @@ for r, j in zip(rows, doc["rows"]):
     assert abs(am - float(r["frame_cost_ns"]) * 30 / 1000) <= 0.1 + 1e-6 * am, "%s: amortised %g" % (name, am)
 m = doc["machine"]
 assert m["load_1min_start"] >= 0 and m["load_1min_end"] >= 0 and m["cpus"] >= 1, m
-loaded = max(m["load_1min_start"], m["load_1min_end"]) > m["cpus"] - 1
+# the steal share of the CPU time during the run (/proc/stat; null where it cannot be read)
+assert m["steal_percent"] is None or 0 <= m["steal_percent"] <= 100, m
+if m["steal_percent"] is not None:
+    assert "% of the CPU time during the run" in log, "no steal printed beside the load"
+loaded = max(m["load_1min_start"], m["load_1min_end"]) > m["cpus"] - 1 or (m["steal_percent"] or 0) > 5
 assert m["loaded"] == loaded, m
 assert "1-minute load" in log, "no load line printed"
 assert ("taken on a loaded machine" in log) == loaded, "loaded-machine line does not match the load"

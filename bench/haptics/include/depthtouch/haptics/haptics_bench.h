@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "depthtouch/platform/result.h"
@@ -122,12 +123,24 @@ struct BenchReport {
     /// −1 when it could not be read.
     double loadAtStart = -1.0;
     double loadAtEnd = -1.0;
+    /// The share of the CPUs' time stolen while the run lasted (a hypervisor running other
+    /// guests: /proc/stat's steal, stealPercent()), %; −1 when it could not be read.
+    double stealPercent = -1.0;
     int cpus = 0; ///< CPUs online (std::thread::hardware_concurrency; 0 when unknown).
 };
 
+/// A run with more steal than this (BenchReport::stealPercent, %) was timed on a loaded machine.
+inline constexpr double kLoadedStealPercent = 5.0;
+
 /// \brief Whether \a report was timed on a loaded machine: the 1-minute load at its start or end
-/// above the number of CPUs minus one (one CPU left for the timed thread).
+/// above the number of CPUs minus one (one CPU left for the timed thread), or more than
+/// kLoadedStealPercent of the CPU time stolen during it.
 bool loadedMachine(const BenchReport &report);
+
+/// \brief The share of the CPU time that passed between two readings of /proc/stat's first line
+/// ("cpu  user nice system idle iowait irq softirq steal ...", clock ticks) that was stolen, %.
+/// \return −1 when a line is not such a line (fewer than 8 numbers) or no time passed.
+double stealPercent(std::string_view statAtStart, std::string_view statAtEnd);
 
 /// \brief Runs the benchmark. Allocates freely (not real-time).
 BenchReport runHapticsBenchmark(const BenchOptions &options);
