@@ -36,6 +36,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <glm/geometric.hpp>
 
@@ -59,11 +60,33 @@ bool FingerRenderer::wallNormal(const glm::dvec3 &at, glm::dvec2 &n) const noexc
         return field_.contains(x, y) ? field_.heightAt(x, y) : fallback;
     };
     const double h = height(at.x, at.y, at.z);
-    const double gx = height(at.x + r, at.y, h) - height(at.x - r, at.y, h);
-    const double gy = height(at.x, at.y + r, h) - height(at.x, at.y - r, h);
+    const double taps[4] = {height(at.x + r, at.y, h), height(at.x - r, at.y, h),
+                            height(at.x, at.y + r, h), height(at.x, at.y - r, h)};
+    const double gx = taps[0] - taps[1];
+    const double gy = taps[2] - taps[3];
     const double g = std::sqrt(gx * gx + gy * gy);
     if (!(g > kFingerWallSlope * 2.0 * r))
         return false;
+    // Which way the side faces is read from what was measured. A hole's vertices lie holeDrop()
+    // under the box (HeightField), and their cliff says a wall is there but not which way it
+    // faces: where the hole is a band along an object's side (the backdrop a stereo camera's
+    // second view cannot see beside a silhouette) it turned n along the band, and a finger
+    // crossing the band into the object read its path as one through the top. A tap on or beside
+    // a hole reads as the lowest measured tap, the surface the object stands on.
+    double foot = std::numeric_limits<double>::infinity();
+    for (const double z : taps)
+        if (!field_.besideHole(z))
+            foot = std::min(foot, z);
+    if (std::isfinite(foot)) {
+        const auto measured = [&](int i) { return field_.besideHole(taps[i]) ? foot : taps[i]; };
+        const double mx = measured(0) - measured(1);
+        const double my = measured(2) - measured(3);
+        const double m = std::sqrt(mx * mx + my * my);
+        if (m > 0.0) {
+            n = glm::dvec2(-mx / m, -my / m);
+            return true;
+        }
+    }
     n = glm::dvec2(-gx / g, -gy / g);
     return true;
 }
