@@ -4,10 +4,9 @@
 /// (docs/architecture.md §4: depth_near, depth_far, depth_mapping, depth_bits, depth_occupancy) as
 /// a demuxer hands them on. matroskademux passes a Matroska stream tag it has no GStreamer name for
 /// as an extended comment "KEY=value" (GST_TAG_EXTENDED_COMMENT: "DEPTH_NEAR=0.5"), in a
-/// GST_EVENT_TAG on the stream's pad, which decoders forward. The values are read by the rules of
-/// the FFmpeg media source (drivers/ffmpeg/src/stream_tags.h: a positive finite number, bits
-/// 1..16, occupancy a whole number 1..65535; anything else is ignored), so a file gives the same
-/// hal::DepthMetadata to `play` and to the GStreamer elements.
+/// GST_EVENT_TAG on the stream's pad, which decoders forward. The values are read by
+/// hal::applyDepthTag() (hal/depth_tags.h), as the FFmpeg media source reads them, so a file gives
+/// the same hal::DepthMetadata to `play` and to the GStreamer elements.
 ///
 /// Thread-safety: pure functions.
 

@@ -11,6 +11,7 @@
 #include <tuple>
 
 #include "depthtouch/drivers/common/backend_options.h"
+#include "depthtouch/hal/depth_tags.h"
 #include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
 #include "device_input.h"
@@ -339,12 +340,8 @@ void FfmpegMediaSource::Impl::addStream(unsigned i, int videoStreams, int videoO
     if (par.extradata != nullptr && par.extradata_size > 0)
         si.extradata.assign(par.extradata,
                             par.extradata + static_cast<std::size_t>(par.extradata_size));
-    const char *mapping = tagOf(st, *ctx, serviceTags, "depth_mapping");
-    si.depth.nearMetres = tagDouble(tagOf(st, *ctx, serviceTags, "depth_near"));
-    si.depth.farMetres = tagDouble(tagOf(st, *ctx, serviceTags, "depth_far"));
-    si.depth.mapping = mapping != nullptr ? mapping : "";
-    si.depth.bits = tagBits(tagOf(st, *ctx, serviceTags, "depth_bits"));
-    si.depth.occupancy = tagOccupancy(tagOf(st, *ctx, serviceTags, "depth_occupancy"));
+    for (const char *key : hal::kDepthTagNames)
+        hal::applyDepthTag(key, tagOf(st, *ctx, serviceTags, key), si.depth);
 
     Stream s;
     s.avIndex = static_cast<int>(i);

@@ -3,8 +3,6 @@
 
 #include "stream_tags.h"
 
-#include <cmath>
-#include <cstdlib>
 #include <cstring>
 
 namespace depthtouch::drivers {
@@ -51,31 +49,6 @@ bool isRoleName(const char *text) noexcept
 {
     return text != nullptr && (std::strcmp(text, "color") == 0 || std::strcmp(text, "depth") == 0 ||
                                std::strcmp(text, "material") == 0);
-}
-
-/// \return \a text as a positive finite number, else 0 (absent or nonsense).
-double tagDouble(const char *text) noexcept
-{
-    if (text == nullptr)
-        return 0.0;
-    char *end = nullptr;
-    const double v = std::strtod(text, &end);
-    return end != text && v > 0.0 && std::isfinite(v) ? v : 0.0;
-}
-
-/// \return the depth_bits tag: 1..16, else 0 (absent or nonsense such as "inf").
-int tagBits(const char *text) noexcept
-{
-    const double v = tagDouble(text);
-    return v >= 1.0 && v <= 16.0 ? static_cast<int>(v) : 0;
-}
-
-/// \return the depth_occupancy tag: a whole number 1..65535, else 0 (absent, or not a whole number
-/// in range: no holes).
-std::uint32_t tagOccupancy(const char *text) noexcept
-{
-    const double v = tagDouble(text);
-    return v >= 1.0 && v <= 65535.0 && v == std::floor(v) ? static_cast<std::uint32_t>(v) : 0u;
 }
 
 } // namespace depthtouch::drivers

@@ -1,8 +1,9 @@
 #pragma once
 /// \file
-/// \brief The tags of an FFmpeg input's streams that DepthTouch reads: the depth planes, mapping,
-/// bits and occupancy, stream roles, and the MPEG-TS service name of files written before the
-/// timed metadata stream (timed_metadata_reader.h). Thread-safety: pure functions.
+/// \brief The tags of an FFmpeg input's streams that DepthTouch reads: where the depth tags are
+/// found (their values are read by hal/depth_tags.h), stream roles, and the MPEG-TS service name
+/// of files written before the timed metadata stream (timed_metadata_reader.h). Thread-safety:
+/// pure functions.
 
 #include <cstdint>
 
@@ -26,15 +27,5 @@ AVDictionary *serviceTagsOf(const AVFormatContext &fmt) noexcept;
 /// \return whether \a text names a stream role DepthTouch writes ("color", "depth" or "material":
 /// an MP4 handler name that counts as the stream title).
 bool isRoleName(const char *text) noexcept;
-
-/// \return \a text as a positive finite number, else 0 (absent or nonsense).
-double tagDouble(const char *text) noexcept;
-
-/// \return the depth_bits tag: 1..16, else 0 (absent or nonsense such as "inf").
-int tagBits(const char *text) noexcept;
-
-/// \return the depth_occupancy tag: a whole number 1..65535, else 0 (absent, or not a whole number
-/// in range: no holes).
-std::uint32_t tagOccupancy(const char *text) noexcept;
 
 } // namespace depthtouch::drivers
