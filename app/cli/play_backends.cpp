@@ -49,11 +49,15 @@ std::optional<PlayOpenFailure> openBackends(const PlayOptions &opt, const hal::B
         if (opened)
             opened(OpenedBackend{kind, names, report, awaiting});
     };
-    if (auto bad = take(drivers::createDisplay(opt.display, withOptions(cfg, opt.displayOptions),
-                                               &b.displayReport),
-                        PlayPart::Display, b.displayReport, b.display))
-        return bad;
-    tell(drivers::BackendKind::Display, opt.display, b.displayReport, false);
+    // A display the caller made is kept (libdepthtouch's render API: the host's framebuffer).
+    if (!b.display) {
+        if (auto bad =
+                take(drivers::createDisplay(opt.display, withOptions(cfg, opt.displayOptions),
+                                            &b.displayReport),
+                     PlayPart::Display, b.displayReport, b.display))
+            return bad;
+        tell(drivers::BackendKind::Display, opt.display, b.displayReport, false);
+    }
     // A player that stays up (--idle: the box's service) takes its haptic device and remote
     // when they are plugged in, after its start too (hot-plug).
     hal::BackendConfig hapticCfg = withOptions(cfg, opt.hapticOptions);

@@ -101,7 +101,9 @@ using OnBackendOpened = std::function<void(const OpenedBackend &)>;
 /// the display, the haptic device and the remote (waited for when --idle: hot-plug), the sound
 /// output (unless --no-audio or `none`); checks the decoder and the source (made per open); then
 /// makes the Playback with the config of \a opt (landPlayOptions()), which plays without haptics
-/// on the `none` device. \a opened (may be empty) hears of each backend kept as it opens.
+/// on the `none` device. \a opened (may be empty) hears of each backend kept as it opens. A
+/// display already in out.backends.display is used instead of --display's (libdepthtouch's render
+/// API, lib/src/host_frames.h).
 /// \return nullopt with the player in \a out, or the first failure (\a out holds what opened).
 std::optional<PlayOpenFailure> openPlayer(const PlayOptions &opt, platform::Clock &clock,
                                           OpenedPlayer &out, const OnBackendOpened &opened = {});

@@ -22,6 +22,7 @@
 #include "client_options.h"
 #include "depthtouch/platform/log.h"
 #include "event_queue.h"
+#include "handle.h"
 #include "player_thread.h"
 #include "session.h"
 
@@ -30,15 +31,6 @@ using depthtouch::client::ObserverSpec;
 using depthtouch::client::PlayerThread;
 using depthtouch::client::PropertyValue;
 using depthtouch::client::Session;
-
-/// The handle: the options until dt_initialize(), then the player thread.
-struct dt_handle {
-    std::mutex mutex; ///< Guards options, observers and player (not what the player runs).
-    depthtouch::cli::PlayOptions options = depthtouch::client::libraryDefaults();
-    std::vector<ObserverSpec> observers; ///< Asked for before dt_initialize().
-    EventQueue events;
-    std::unique_ptr<PlayerThread> player;
-};
 
 namespace {
 
@@ -208,7 +200,8 @@ int dt_initialize(dt_handle *ctx)
             depthtouch::platform::setLogLevel(ctx->options.verbose
                                                   ? depthtouch::platform::LogLevel::Info
                                                   : depthtouch::platform::LogLevel::Off);
-        return PlayerThread::start(ctx->options, ctx->observers, ctx->events, ctx->player);
+        return PlayerThread::start(ctx->options, ctx->observers, ctx->render, ctx->events,
+                                   ctx->player);
     });
 }
 

@@ -63,7 +63,8 @@ int openErrorCode(const cli::PlayOpenFailure &f)
 PlayerThread::PlayerThread(EventQueue &events) : events_(events) {}
 
 int PlayerThread::start(const cli::PlayOptions &options, const std::vector<ObserverSpec> &observers,
-                        EventQueue &events, std::unique_ptr<PlayerThread> &out)
+                        std::shared_ptr<HostFrames> render, EventQueue &events,
+                        std::unique_ptr<PlayerThread> &out)
 {
     if (!cli::checkPlayOptionValues(options).empty())
         return DT_ERROR_OPTION_FORMAT;
@@ -77,7 +78,7 @@ int PlayerThread::start(const cli::PlayOptions &options, const std::vector<Obser
     auto started = std::make_shared<std::promise<int>>();
     std::future<int> result = started->get_future();
     t->thread_ = std::thread(&PlayerThread::runGuarded, t.get(), options, observers,
-                             [started](int rc) { started->set_value(rc); });
+                             std::move(render), [started](int rc) { started->set_value(rc); });
     const int rc = result.get();
     if (rc < 0) {
         t->thread_.join(); // the thread ends after a failed open
@@ -195,10 +196,22 @@ void PlayerThread::loop(Session &session, player::StateMachine &machine,
 }
 
 void PlayerThread::run(cli::PlayOptions opt, std::vector<ObserverSpec> observers,
+                       const std::shared_ptr<HostFrames> &render,
                        const std::function<void(int)> &started)
 {
     platform::SteadyClock &clock = platform::SteadyClock::instance();
     cli::OpenedPlayer p; // the Playback, then its backends, destroyed last
+    if (render) {
+        // The render API: the host's framebuffer instead of a display of the player's own.
+        auto d = makeHostDisplay(render, clock, opt.displayOptions);
+        if (!d) {
+            DT_LOG(Client, Error, "render API: %s", d.error().what);
+            started(DT_ERROR_OPTION_FORMAT);
+            return;
+        }
+        p.backends.display = std::move(*d);
+        p.backends.displayReport.chosen = "render-api";
+    }
     if (const std::optional<cli::PlayOpenFailure> bad = cli::openPlayer(opt, clock, p)) {
         started(openErrorCode(*bad));
         return;
@@ -245,7 +258,7 @@ void PlayerThread::run(cli::PlayOptions opt, std::vector<ObserverSpec> observers
 }
 
 void PlayerThread::runGuarded(cli::PlayOptions options, std::vector<ObserverSpec> observers,
-                              std::function<void(int)> started)
+                              std::shared_ptr<HostFrames> render, std::function<void(int)> started)
 {
     bool told = false;    // started() was called
     bool running = false; // with success
@@ -255,7 +268,7 @@ void PlayerThread::runGuarded(cli::PlayOptions options, std::vector<ObserverSpec
         started(rc);
     };
     try {
-        run(std::move(options), std::move(observers), once);
+        run(std::move(options), std::move(observers), render, once);
     } catch (const std::bad_alloc &) {
         DT_LOG(Client, Error, "the player thread ran out of memory");
         if (!told)

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "event_queue.h"
+#include "host_frames.h"
 #include "play.h"
 #include "session.h"
 
@@ -29,12 +30,15 @@ public:
     /// A call carried out on the player thread: \return a dt_error code.
     using Call = std::function<int(Session &)>;
 
-    /// \brief Starts the thread, which opens the backends of \a options and adds \a observers.
+    /// \brief Starts the thread, which opens the backends of \a options and adds \a observers;
+    /// with \a render (the render API's frames; may be null) its display is the render API's
+    /// (makeHostDisplay(), options "display-options") instead of the option "display"'s.
     /// \return DT_ERROR_SUCCESS with the thread in \a out, or the error of the failed open
     /// (DT_ERROR_VO_INIT_FAILED, _HAPTIC_INIT_FAILED, _AO_INIT_FAILED, _OPTION_FORMAT,
     /// _INVALID_PARAMETER, _GENERIC); then no thread runs.
     static int start(const cli::PlayOptions &options, const std::vector<ObserverSpec> &observers,
-                     EventQueue &events, std::unique_ptr<PlayerThread> &out);
+                     std::shared_ptr<HostFrames> render, EventQueue &events,
+                     std::unique_ptr<PlayerThread> &out);
 
     /// Quits the player (when it has not quit), stops playback and joins the thread.
     ~PlayerThread();
@@ -54,11 +58,11 @@ private:
     explicit PlayerThread(EventQueue &events);
     /// The thread: opens, reports the open's code through \a started, then runs the loop.
     void run(cli::PlayOptions options, std::vector<ObserverSpec> observers,
-             const std::function<void(int)> &started);
+             const std::shared_ptr<HostFrames> &render, const std::function<void(int)> &started);
     /// run() with every exception caught (logged; an open not yet reported is DT_ERROR_NOMEM or
     /// DT_ERROR_GENERIC), then the queued calls refused and DT_EVENT_SHUTDOWN queued.
     void runGuarded(cli::PlayOptions options, std::vector<ObserverSpec> observers,
-                    std::function<void(int)> started);
+                    std::shared_ptr<HostFrames> render, std::function<void(int)> started);
     /// Runs the loop until quit or stop_. \a eachTurn runs after the calls of each turn.
     void loop(Session &session, player::StateMachine &machine,
               const std::function<void()> &eachTurn, double duration);

@@ -1,7 +1,7 @@
-# cmake -DNM=nm -DLIB=libdepthtouch.so -DHEADER=client.h -P exports_check.cmake
+# cmake -DNM=nm -DLIB=libdepthtouch.so -DHEADER=client.h,render_gl.h -P exports_check.cmake
 # libdepthtouch.so.0 exports the C client API and nothing else: every defined dynamic symbol is a
-# dt_* name (besides the version node DEPTHTOUCH_0), and every DT_EXPORT function of the header is
-# one of them.
+# dt_* name (besides the version node DEPTHTOUCH_0), and every DT_EXPORT function of the headers
+# (HEADER: a comma-separated list) is one of them.
 cmake_minimum_required(VERSION 3.25)
 execute_process(COMMAND ${NM} -D --defined-only ${LIB} OUTPUT_VARIABLE out RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
@@ -23,7 +23,12 @@ foreach(line IN LISTS lines)
     endif()
     list(APPEND exported ${name})
 endforeach()
-file(STRINGS ${HEADER} declared REGEX "^DT_EXPORT ")
+string(REPLACE "," ";" headers "${HEADER}")
+set(declared "")
+foreach(header IN LISTS headers)
+    file(STRINGS ${header} lines REGEX "^DT_EXPORT ")
+    list(APPEND declared ${lines})
+endforeach()
 foreach(line IN LISTS declared)
     string(REGEX MATCH "(dt_[a-z_]+)\\(" match "${line}")
     set(name ${CMAKE_MATCH_1})
