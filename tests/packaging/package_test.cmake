@@ -73,7 +73,8 @@ endforeach()
 # The library's two packages, file by file (a plain install installs them too).
 set(lib_files usr/${LIBDIR}/libdepthtouch.so.0 usr/${LIBDIR}/libdepthtouch.so.${VERSION}
     usr/share/doc/libdepthtouch0/copyright usr/share/doc/libdepthtouch0/changelog.gz)
-set(dev_files usr/include/depthtouch/client.h usr/${LIBDIR}/libdepthtouch.so
+set(dev_files usr/include/depthtouch/client.h usr/include/depthtouch/render_gl.h
+    usr/${LIBDIR}/libdepthtouch.so
     usr/${LIBDIR}/pkgconfig/depthtouch.pc usr/${LIBDIR}/cmake/DepthTouch/depthtouch-config.cmake
     usr/${LIBDIR}/cmake/DepthTouch/depthtouch-config-version.cmake
     usr/${LIBDIR}/cmake/DepthTouch/depthtouch-targets.cmake
