@@ -19,14 +19,14 @@ GLsync syncOf(void *p) noexcept
     return static_cast<GLsync>(p);
 }
 
-/// Clears the draw framebuffer to black, the scissor test off meanwhile.
-void clearBlack(GLint width, GLint height)
+/// Clears the draw framebuffer to black (all of it: glClear ignores the viewport), the scissor
+/// test off meanwhile, the clear colour kept.
+void clearBlack()
 {
     const GLboolean scissor = glIsEnabled(GL_SCISSOR_TEST);
     glDisable(GL_SCISSOR_TEST);
     GLfloat was[4] = {};
     glGetFloatv(GL_COLOR_CLEAR_VALUE, was);
-    glViewport(0, 0, width, height);
     glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT);
     glClearColor(was[0], was[1], was[2], was[3]);
@@ -78,7 +78,7 @@ int HostFrames::render(std::uint32_t fbo, int width, int height, bool flipY)
         return DT_ERROR_UNSUPPORTED;
     }
     if (buffer < 0) {
-        clearBlack(width, height);
+        clearBlack();
         glBindFramebuffer(GL_FRAMEBUFFER, fbo);
         return glGetError() == GL_NO_ERROR ? DT_ERROR_SUCCESS : DT_ERROR_GENERIC;
     }
