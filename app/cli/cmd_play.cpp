@@ -137,7 +137,7 @@ std::optional<PlayResult> checkPlayOptions(const PlayOptions &opt)
 {
     if (const std::string bad = checkPlayOptionValues(opt); !bad.empty())
         return badInput(bad);
-    if (opt.url.empty())
+    if (opt.url.empty() && !opt.idle) // --idle: started idle, a client sends loadfile
         return badInput("nothing to play: give a file or URL");
     if (const platform::OutputPathCheck c = checkPlayOutputs(opt, true); c.exitCode != kExitOk) {
         failLine(c.message);
@@ -377,8 +377,11 @@ void registerPlayCommand(CLI::App &app, int &exitCode)
             exitCode = std::fflush(stdout) == 0 && std::ferror(stdout) == 0 ? 0 : 1;
             return;
         }
-        if (o->url.empty()) {
-            failLine("url is required: the file or stream to play (or --show-config)");
+        // As `mpv --idle`: with --idle and no file the player starts idle and waits for a
+        // client's loadfile on its control socket.
+        if (o->url.empty() && !o->idle) {
+            failLine("url is required: the file or stream to play (or --show-config, or --idle "
+                     "with --control)");
             exitCode = kExitBadInput;
             return;
         }

@@ -246,7 +246,9 @@ const OptionRow<PlayOptions> kPlayRows[] = {
      .field = &PlayOptions::requireRt,
      .help = "Fail when SCHED_FIFO is refused",
      .land = [](const PlayOptions &o, Config &c) { c.haptics.requireRt = o.requireRt; }},
-    {"idle", &PlayOptions::idle, "Stay up after the end or an error (for --control)"},
+    {"idle", &PlayOptions::idle,
+     "Stay up after the end or an error; with no file, start idle and wait for a loadfile "
+     "(mpv --idle, for --control)"},
     {"quiet", &PlayOptions::quiet,
      "Nothing but errors: no state-change lines, no summary (mpv's --really-quiet)"},
     {"verbose", &PlayOptions::verbose,

@@ -29,6 +29,13 @@ std::string errorReply(std::string_view reason, const json *requestId = nullptr)
     return dump(reply);
 }
 
+player::PlayerEvent makeIdleEvent()
+{
+    player::PlayerEvent e;
+    e.kind = player::PlayerEventKind::Idle;
+    return e;
+}
+
 std::string_view trimmed(std::string_view s) noexcept
 {
     while (!s.empty() && (s.front() == ' ' || s.front() == '\t'))
@@ -41,7 +48,7 @@ std::string_view trimmed(std::string_view s) noexcept
 } // namespace
 
 std::string handleControlLine(std::string_view line, player::StateMachine &machine,
-                              PropertyObservers *observers)
+                              PropertyObservers *observers, std::string_view clientName)
 {
     const std::string_view text = trimmed(line);
     if (text.empty())
@@ -75,7 +82,8 @@ std::string handleControlLine(std::string_view line, player::StateMachine &machi
     if (cmdIt == request.end())
         return errorReply("missing \"command\"", requestId);
 
-    if (std::optional<std::string> mpv = handleMpvCommand(*cmdIt, requestId, machine, observers))
+    if (std::optional<std::string> mpv =
+            handleMpvCommand(*cmdIt, requestId, machine, observers, clientName))
         return std::move(*mpv);
     const player::ParsedCommand parsed = player::parseCommandJson(*cmdIt);
     if (!parsed)
@@ -111,11 +119,26 @@ std::string eventJson(const player::PlayerEvent &event)
         j["data"] = event.loop;
         break;
     case player::PlayerEventKind::EndOfFile:
+        return {}; // told by the file's end-file (reason eof, data eof or silent)
     case player::PlayerEventKind::Error:
         j["data"] = event.message;
         break;
+    case player::PlayerEventKind::StartFile:
+        j["playlist_entry_id"] = event.playlistEntryId;
+        break;
+    case player::PlayerEventKind::FileEnded:
+        j["reason"] = event.message;
+        j["playlist_entry_id"] = event.playlistEntryId;
+        if (event.message == "error")
+            j["file_error"] = event.detail;
+        else if (event.message == "eof")
+            j["data"] = event.detail; // the player's own: eof, or silent (a live stream)
+        break;
     case player::PlayerEventKind::Seeked:
     case player::PlayerEventKind::Quit:
+    case player::PlayerEventKind::FileLoaded:
+    case player::PlayerEventKind::PlaybackRestart:
+    case player::PlayerEventKind::Idle:
         break;
     }
     return dump(j);
@@ -146,7 +169,9 @@ void ControlServer::onLine(platform::UnixSocketServer::ClientId client, std::str
 {
     std::string reply;
     try {
-        reply = handleControlLine(line, machine_, &observers_[client]);
+        // mpv names its IPC clients ipc-0, ipc-1, ... (client_name).
+        reply =
+            handleControlLine(line, machine_, &observers_[client], "ipc-" + std::to_string(client));
     } catch (const std::exception &e) {
         // Nothing a client sends may end the player: the client gets the reason instead.
         DT_LOG(Control, Error, "Control line failed: %s", e.what());
@@ -161,9 +186,17 @@ void ControlServer::onLine(platform::UnixSocketServer::ClientId client, std::str
 void ControlServer::onLineTooLong(platform::UnixSocketServer::ClientId client)
 {
     DT_LOG(Control, Warning, "Discarding a control line longer than %zu bytes", maxLineBytes_);
-    server_->send(client, errorReply("line too long (limit " + std::to_string(maxLineBytes_) +
-                                     " bytes)") +
-                              "\n");
+    server_->send(client,
+                  errorReply("line too long (limit " + std::to_string(maxLineBytes_) + " bytes)") +
+                      "\n");
+}
+
+void ControlServer::onConnect(platform::UnixSocketServer::ClientId client)
+{
+    // A player started idle with no file (play --idle) says so to a client that connects, as mpv
+    // started with --idle does to the clients that connect as it starts: node-mpv waits for it.
+    if (machine_.url().empty() && machine_.state() == player::PlayerState::Idle)
+        server_->send(client, eventJson(makeIdleEvent()) + "\n");
 }
 
 void ControlServer::onDisconnect(platform::UnixSocketServer::ClientId client)
@@ -186,8 +219,9 @@ Result<void> ControlServer::poll(platform::Duration timeout)
 
 void ControlServer::onPlayerEvent(const player::PlayerEvent &event)
 {
-    if (server_)
-        server_->broadcast(eventJson(event) + "\n");
+    std::string line = eventJson(event);
+    if (server_ && !line.empty())
+        server_->broadcast(line += '\n');
 }
 
 } // namespace depthtouch::control

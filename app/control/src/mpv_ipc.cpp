@@ -46,6 +46,17 @@ std::string reply(const std::string &error, const json *requestId)
     return reply(error.c_str(), requestId);
 }
 
+/// \a value of \a property as JSON: mpv's integer properties (playlist-count, playlist-pos,
+/// playlist-pos-1) as integers, the others as valueJson() says.
+json propertyJson(Property property, const player::Value &value)
+{
+    const double *d = std::get_if<double>(&value);
+    if (d != nullptr && (property == Property::PlaylistCount || property == Property::PlaylistPos ||
+                         property == Property::PlaylistPos1))
+        return static_cast<std::int64_t>(std::llround(*d));
+    return valueJson(value);
+}
+
 /// A property as a client names it: mpv's "loop-file" is the player's loop, as "inf" or "no".
 struct Named {
     Property property = Property::State;
@@ -213,7 +224,8 @@ std::string getProperty(const json &command, const json *requestId, player::Stat
     const player::CommandOutcome out = read(machine, *arg.named);
     if (!out.accepted)
         return reply(out.reason, requestId);
-    const json data = asString ? json(asMpvString(out.data)) : valueJson(out.data);
+    const json data =
+        asString ? json(asMpvString(out.data)) : propertyJson(arg.named->property, out.data);
     return reply("success", requestId, &data);
 }
 
@@ -334,7 +346,8 @@ json valueJson(const player::Value &value)
 
 std::optional<std::string> handleMpvCommand(const json &command, const json *requestId,
                                             player::StateMachine &machine,
-                                            PropertyObservers *observers)
+                                            PropertyObservers *observers,
+                                            std::string_view clientName)
 {
     if (!command.is_array() || command.empty() || !command[0].is_string())
         return std::nullopt;
@@ -348,6 +361,11 @@ std::optional<std::string> handleMpvCommand(const json &command, const json *req
     if (verb == "get_version") {
         const json version = kMpvClientApiVersion;
         return command.size() == 1 ? reply("success", requestId, &version)
+                                   : reply(kInvalid, requestId);
+    }
+    if (verb == "client_name") { // mpv: the name of the client sending it ("ipc-0", ...)
+        const json name = std::string(clientName);
+        return command.size() == 1 ? reply("success", requestId, &name)
                                    : reply(kInvalid, requestId);
     }
     if (verb == "keypress")
@@ -364,14 +382,15 @@ void propertyChanges(player::StateMachine &machine, PropertyObservers &observers
 {
     for (PropertyObserver &o : observers) {
         const player::CommandOutcome out = read(machine, Named{o.property, o.loopFile});
-        const std::string now = out.accepted ? dump(valueJson(out.data)) : std::string();
+        const std::string now =
+            out.accepted ? dump(propertyJson(o.property, out.data)) : std::string();
         if (o.sent && now == o.last)
             continue;
         json event = {{"event", "property-change"},
                       {"id", o.id},
                       {"name", o.loopFile ? "loop-file" : player::propertyName(o.property)}};
         if (out.accepted)
-            event["data"] = valueJson(out.data);
+            event["data"] = propertyJson(o.property, out.data);
         lines.push_back(dump(event));
         o.last = now;
         o.sent = true;

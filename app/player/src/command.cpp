@@ -43,9 +43,13 @@ constexpr std::array<const char *, kPropertyCount> kPropertyNames = {"state",
                                                                      "media-title",
                                                                      "playback-time",
                                                                      "haptic-device-connected",
-                                                                     "remote-connected"};
+                                                                     "remote-connected",
+                                                                     "playlist-count",
+                                                                     "playlist-pos",
+                                                                     "playlist-pos-1",
+                                                                     "time-remaining"};
 
-static_assert(kPropertyCount == static_cast<std::size_t>(Property::RemoteConnected) + 1,
+static_assert(kPropertyCount == static_cast<std::size_t>(Property::TimeRemaining) + 1,
               "one name per Property");
 
 /// The property names, comma-separated (for error texts).
@@ -177,6 +181,9 @@ std::string parsePlayArgs(std::span<const std::string_view> args, Command &out)
 
 std::string parseSeekArgs(std::span<const std::string_view> args, Command &out)
 {
+    // mpv's third word (exact, keyframes) is taken: every seek here is exact.
+    if (args.size() == 3 && (lowerEquals(args[2], "exact") || lowerEquals(args[2], "keyframes")))
+        args = args.first(2);
     if (args.empty() || args.size() > 2)
         return "needs SECONDS [relative|absolute]";
     if (!parseNumber(args[0], out.seconds))
@@ -335,15 +342,38 @@ std::string mediaFilename(std::string_view url)
 
 std::string parseLoadFileArgs(std::span<const std::string_view> args, Command &out)
 {
+    // mpv's loadfile <url> [<flags> [<index> [<options>]]]: the flags only.
     if (args.empty() || args.size() > 2)
-        return "needs a file or URL and at most the flag replace";
-    if (args.size() == 2 && !lowerEquals(args[1], "replace"))
-        return quoted(args[1]) + " needs a playlist, and the player has none (only replace)";
+        return "needs a file or URL and at most one of replace, append, append-play";
+    out.loadMode = LoadMode::Replace;
+    if (args.size() == 2 && lowerEquals(args[1], "append"))
+        out.loadMode = LoadMode::Append;
+    else if (args.size() == 2 && lowerEquals(args[1], "append-play"))
+        out.loadMode = LoadMode::AppendPlay;
+    else if (args.size() == 2 && !lowerEquals(args[1], "replace"))
+        return quoted(args[1]) + " is not replace, append or append-play";
     if (args[0].empty())
         return "the file or URL is empty";
-    out.id = CommandId::Play;
     out.url = std::string(args[0]);
     return {};
+}
+
+std::string parsePlaylistStepArgs(std::span<const std::string_view> args, Command &out)
+{
+    if (args.size() > 1 ||
+        (args.size() == 1 && !lowerEquals(args[0], "weak") && !lowerEquals(args[0], "force")))
+        return "takes at most weak or force";
+    out.force = args.size() == 1 && lowerEquals(args[0], "force");
+    out.step = 1;
+    return {};
+}
+
+std::string parsePlaylistPrevArgs(std::span<const std::string_view> args, Command &out)
+{
+    std::string error = parsePlaylistStepArgs(args, out);
+    out.id = CommandId::PlaylistNext;
+    out.step = -1;
+    return error;
 }
 
 std::string parseCycleArgs(std::span<const std::string_view> args, Command &out)
@@ -525,6 +555,17 @@ std::string commandText(const Command &command)
     case CommandId::Play:
         if (!command.url.empty())
             out += " " + command.url;
+        break;
+    case CommandId::LoadFile:
+        out += " " + command.url +
+               (command.loadMode == LoadMode::Replace  ? " replace"
+                : command.loadMode == LoadMode::Append ? " append"
+                                                       : " append-play");
+        break;
+    case CommandId::PlaylistNext:
+        if (command.step < 0)
+            out = "playlist-prev";
+        out += command.force ? " force" : " weak";
         break;
     case CommandId::Seek:
         std::snprintf(buf, sizeof buf, " %g %s", command.seconds,

@@ -22,6 +22,9 @@ std::string parseGetArgs(std::span<const std::string_view> args, Command &out);
 std::string mediaFilename(std::string_view url);
 
 std::string parseLoadFileArgs(std::span<const std::string_view> args, Command &out);
+std::string parsePlaylistStepArgs(std::span<const std::string_view> args, Command &out);
+/// playlist-prev: playlist-next's command with step -1.
+std::string parsePlaylistPrevArgs(std::span<const std::string_view> args, Command &out);
 std::string parseCycleArgs(std::span<const std::string_view> args, Command &out);
 std::string parseAddArgs(std::span<const std::string_view> args, Command &out);
 

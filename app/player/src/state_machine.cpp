@@ -46,10 +46,10 @@ struct CommandHandlers {
         const std::string target = url.empty() ? m.url_ : url;
         if (target.empty())
             return CommandOutcome::refuse("no file or URL to play");
-        return m.apply("open", m.actions_.open(target), [&] {
-            m.url_ = target;
-            m.setState(PlayerState::Opening);
-        });
+        // A file named is the whole playlist (mpv's loadfile replace); the current entry again.
+        if (!url.empty() || m.current_ < 0)
+            m.replacePlaylist(target);
+        return m.openEntry(m.current_ < 0 ? 0 : static_cast<std::size_t>(m.current_));
     }
 
     /// An mpv alias's command: the handler of the row of the id its parser set.
@@ -73,15 +73,28 @@ struct CommandHandlers {
         return m.state_ == PlayerState::Playing ? pause(m, c) : startOrResume(m, {});
     }
 
+    /// mpv's stop: the file ends (reason stop) and the playlist is cleared.
     static CommandOutcome stop(StateMachine &m, const Command &)
     {
-        return m.apply("stop", m.actions_.stop(), [&] { m.setState(PlayerState::Stopped); });
+        return m.apply("stop", m.actions_.stop(), [&] {
+            m.playlist_.clear();
+            m.setState(PlayerState::Stopped);
+        });
     }
 
     static CommandOutcome seek(StateMachine &m, const Command &c)
     {
-        return m.apply("seek", m.actions_.seek(c.seconds, c.seekMode),
-                       [&] { m.emit(PlayerEventKind::Seeked); });
+        return m.apply("seek", m.actions_.seek(c.seconds, c.seekMode), [&] {
+            m.emit(PlayerEventKind::Seeked);
+            m.emit(PlayerEventKind::PlaybackRestart);
+        });
+    }
+
+    static CommandOutcome loadFile(StateMachine &m, const Command &c) { return m.loadFile(c); }
+
+    static CommandOutcome playlistStep(StateMachine &m, const Command &c)
+    {
+        return m.playlistStep(c);
     }
 
     static CommandOutcome setStereo(StateMachine &m, StereoMode mode)
@@ -205,6 +218,7 @@ struct CommandHandlers {
         const PlayerState s = m.state_;
         if (s == PlayerState::Opening || s == PlayerState::Playing || s == PlayerState::Paused) {
             // Quitting cannot be refused: a failing stop is reported, and the player quits anyway.
+            m.endReason_ = "quit";
             m.enterOrFail(PlayerState::Stopped, "stop", m.actions_.stop());
         }
         m.quit_ = true;
@@ -254,6 +268,14 @@ struct CommandHandlers {
             return number(open ? at.duration : kNone);
         case Property::PercentPos:
             return number(open && at.duration > 0.0 ? 100.0 * at.timePos / at.duration : kNone);
+        case Property::TimeRemaining: // mpv: duration - time-pos, s
+            return number(open ? at.duration - at.timePos : kNone);
+        case Property::PlaylistCount:
+            return CommandOutcome::accept(static_cast<double>(m.playlist_.size()));
+        case Property::PlaylistPos:
+        case Property::PlaylistPos1:
+            return CommandOutcome::accept(static_cast<double>(m.current_) +
+                                          (p == Property::PlaylistPos1 ? 1.0 : 0.0));
         case Property::Pause:
             return CommandOutcome::accept(s == PlayerState::Paused);
         case Property::Path:
@@ -339,13 +361,21 @@ constexpr CommandSpec kCommands[] = {
      kAnyState, true, &parseVolumeArgs, &H::volume},
     {"mute", CommandId::Mute, "on|off|toggle", "Mute or unmute the sound", kAnyState, false,
      &parseSwitchArgs, &H::mute},
+    {"loadfile", CommandId::LoadFile, "URL [replace|append|append-play]",
+     "mpv's loadfile: play URL now (replace), or add it to the playlist (append; append-play "
+     "plays it when nothing plays)",
+     kAnyState, false, &parseLoadFileArgs, &H::loadFile},
+    {"playlist-next", CommandId::PlaylistNext, "[weak|force]",
+     "Play the playlist's next entry (force: stop at its end)",
+     kActive | stateBit(PlayerState::Opening), false, &parsePlaylistStepArgs, &H::playlistStep},
 };
 
 // mpv's names of the table's commands (mpvCommandAliases()): the parser sets the id of the command
 // meant, whose row then decides the states and whose handler runs. validIn: the widest.
 constexpr CommandSpec kMpvAliases[] = {
-    {"loadfile", CommandId::Play, "URL [replace]", "mpv's loadfile: play URL",
-     kCanStart | stateBit(PlayerState::Paused), false, &parseLoadFileArgs, &H::play},
+    {"playlist-prev", CommandId::PlaylistNext, "[weak|force]",
+     "mpv's playlist-prev: play the playlist's previous entry",
+     kActive | stateBit(PlayerState::Opening), false, &parsePlaylistPrevArgs, &H::byId},
     {"cycle", CommandId::TogglePause, "PROPERTY [up|down]",
      "mpv's cycle: pause, haptics, loop, mute, stereo-mode", kAnyState, false, &parseCycleArgs,
      &H::byId},
@@ -376,10 +406,21 @@ std::span<const CommandSpec> mpvCommandAliases() noexcept
 
 const char *playerEventName(PlayerEventKind kind) noexcept
 {
-    static constexpr std::array<const char *, 9> kNames = {"state",     "stereo-mode", "haptics",
-                                                           "stiffness", "loop",        "seek",
-                                                           "end-file",  "error",       "shutdown"};
-    static_assert(kNames.size() == static_cast<std::size_t>(PlayerEventKind::Quit) + 1);
+    static constexpr std::array<const char *, 14> kNames = {"state",
+                                                            "stereo-mode",
+                                                            "haptics",
+                                                            "stiffness",
+                                                            "loop",
+                                                            "seek",
+                                                            "end-of-stream",
+                                                            "error",
+                                                            "shutdown",
+                                                            "start-file",
+                                                            "file-loaded",
+                                                            "end-file",
+                                                            "playback-restart",
+                                                            "idle"};
+    static_assert(kNames.size() == static_cast<std::size_t>(PlayerEventKind::Idle) + 1);
     return platform::enumName(kind, kNames, "unknown");
 }
 
@@ -444,46 +485,7 @@ CommandOutcome StateMachine::apply(const char *what, Result<void> r, F &&onSucce
         onSuccess();
         return CommandOutcome::accept();
     }
-    if (isRefusal(r.error().code))
-        return CommandOutcome::refuse(std::string(what) + " refused: " + r.error().what);
-    fail(std::string(what) + " failed: " + r.error().what, r.error().code);
-    return CommandOutcome::refuse(errorReason_);
-}
-
-bool StateMachine::onOpened()
-{
-    if (state_ != PlayerState::Opening)
-        return false;
-    enterOrFail(PlayerState::Playing, "start", actions_.startPlayback());
-    return true;
-}
-
-bool StateMachine::onOpenFailed(std::string_view reason, Errc kind)
-{
-    if (state_ != PlayerState::Opening)
-        return false;
-    fail("open failed: " + std::string(reason), kind);
-    return true;
-}
-
-bool StateMachine::onEndOfStream()
-{
-    if (state_ != PlayerState::Playing && state_ != PlayerState::Paused)
-        return false;
-    if (loop_) {
-        // As mpv's --loop-file: the file has not ended for a client, it was seeked to its start.
-        const Result<void> r = actions_.restartForLoop();
-        if (r)
-            emit(PlayerEventKind::Seeked, "loop");
-        else
-            fail(std::string("loop seek failed: ") + r.error().what);
-        return true;
-    }
-    const Result<void> r = actions_.stop();
-    eofReached_ = true;
-    emit(PlayerEventKind::EndOfFile, "eof");
-    enterOrFail(PlayerState::Stopped, "stop", r);
-    return true;
+    return refuseOrFail(what, r);
 }
 
 bool StateMachine::onStreamSilent()
@@ -492,18 +494,18 @@ bool StateMachine::onStreamSilent()
         return false;
     const Result<void> r = actions_.stop();
     emit(PlayerEventKind::EndOfFile, "silent");
+    endReason_ = "eof";
+    endDetail_ = "silent";
+    advancing_ = reopenWhenSilent_ && !url_.empty();
     enterOrFail(PlayerState::Stopped, "stop", r);
-    if (reopenWhenSilent_ && state_ == PlayerState::Stopped && !url_.empty())
-        enterOrFail(PlayerState::Opening, "open", actions_.awaitNextSender(url_));
-    return true;
-}
-
-bool StateMachine::onFailure(std::string_view reason)
-{
-    if (state_ != PlayerState::Opening && state_ != PlayerState::Playing &&
-        state_ != PlayerState::Paused)
-        return false;
-    fail(std::string(reason));
+    endReason_ = nullptr;
+    advancing_ = false;
+    if (reopenWhenSilent_ && state_ == PlayerState::Stopped && !url_.empty()) {
+        const Result<void> opened = actions_.awaitNextSender(url_);
+        if (opened)
+            beginFile();
+        enterOrFail(PlayerState::Opening, "open", opened);
+    }
     return true;
 }
 
@@ -524,10 +526,20 @@ void StateMachine::setState(PlayerState state)
     if (state == state_)
         return;
     DT_LOG(Player, Info, "State %s -> %s", playerStateName(state_), playerStateName(state));
+    const bool ended = state == PlayerState::Stopped && fileActive_;
+    if (ended)
+        endFile(endReason_ != nullptr ? endReason_ : "stop", std::move(endDetail_));
     state_ = state;
     if (state == PlayerState::Opening || state == PlayerState::Playing)
         eofReached_ = false;
     emit(PlayerEventKind::StateChanged);
+    if (state == PlayerState::Playing && fileActive_ && !fileLoaded_) {
+        fileLoaded_ = true;
+        emit(PlayerEventKind::FileLoaded);
+        emit(PlayerEventKind::PlaybackRestart);
+    }
+    if (ended && !advancing_ && !quitting())
+        enterIdle();
 }
 
 void StateMachine::fail(std::string reason, Errc kind)
@@ -536,10 +548,16 @@ void StateMachine::fail(std::string reason, Errc kind)
     errorReason_ = std::move(reason);
     errorKind_ = kind;
     const bool changed = state_ != PlayerState::Error;
+    // mpv's file_error: the file did not open, or failed while it played.
+    if (fileActive_)
+        endFile("error", fileLoaded_ ? "something happened" : "loading failed");
     state_ = PlayerState::Error;
     emit(PlayerEventKind::Error, errorReason_);
-    if (changed)
+    if (changed) {
         emit(PlayerEventKind::StateChanged);
+        if (!advancing_ && !quitting())
+            enterIdle();
+    }
 }
 
 void StateMachine::enterOrFail(PlayerState next, const char *action, const Result<void> &r)
@@ -562,6 +580,10 @@ void StateMachine::emit(PlayerEventKind kind, std::string message)
     event.stiffness = stiffness_;
     event.loop = loop_;
     event.message = std::move(message);
+    if (kind == PlayerEventKind::StartFile || kind == PlayerEventKind::FileEnded)
+        event.playlistEntryId = activeEntryId_;
+    if (kind == PlayerEventKind::FileEnded)
+        event.detail = endDetail_;
     const bool wasNotifying = notifying_;
     notifying_ = true;
     // A copy: a listener may remove itself.

@@ -77,7 +77,9 @@ TEST(ControlProtocolTest, badRequestsGetAnErrorAndChangeNothing)
         {R"({"command":["seek",{"x":1}]})", "argument 1 must be a string, a number or a boolean"},
         {R"({"command":["explode"]})", "unknown command 'explode'"},
         {R"({"command":["pause"]})", "cannot pause while idle"},
-        {std::string("\x00\xff\xfe garbage", 11), "unknown command '?" "?" "?'"},
+        {std::string("\x00\xff\xfe garbage", 11), "unknown command '?"
+                                                  "?"
+                                                  "?'"},
         {"{\"command\":[\"play\",\"\xff\xfe\"]", "malformed JSON at byte 21"},
     };
     for (const auto &[line, error] : cases) {
@@ -126,7 +128,25 @@ TEST(ControlProtocolTest, eventLines)
     EXPECT_EQ(eventJson(e), R"({"data":950.0,"event":"stiffness"})");
     e.kind = player::PlayerEventKind::EndOfFile;
     e.message = "eof";
-    EXPECT_EQ(eventJson(e), R"({"data":"eof","event":"end-file"})");
+    EXPECT_EQ(eventJson(e), "") << "the file's end-file tells it, once";
+    // mpv's file events (issue 61): end-file with its reason and entry, file_error for error.
+    e.kind = player::PlayerEventKind::FileEnded;
+    e.playlistEntryId = 2;
+    e.detail = "silent";
+    EXPECT_EQ(eventJson(e), R"({"data":"silent","event":"end-file","playlist_entry_id":2,)"
+                            R"("reason":"eof"})");
+    e.message = "error";
+    e.detail = "loading failed";
+    EXPECT_EQ(eventJson(e), R"({"event":"end-file","file_error":"loading failed",)"
+                            R"("playlist_entry_id":2,"reason":"error"})");
+    e.message = "stop";
+    EXPECT_EQ(eventJson(e), R"({"event":"end-file","playlist_entry_id":2,"reason":"stop"})");
+    e.kind = player::PlayerEventKind::StartFile;
+    EXPECT_EQ(eventJson(e), R"({"event":"start-file","playlist_entry_id":2})");
+    e.kind = player::PlayerEventKind::PlaybackRestart;
+    EXPECT_EQ(eventJson(e), R"({"event":"playback-restart"})");
+    e.kind = player::PlayerEventKind::Idle;
+    EXPECT_EQ(eventJson(e), R"({"event":"idle"})");
     e.kind = player::PlayerEventKind::Error;
     e.message = "decoder lost";
     EXPECT_EQ(eventJson(e), R"({"data":"decoder lost","event":"error"})");
@@ -251,13 +271,16 @@ TEST_F(ControlServerTest, eventsReachEveryClient)
               json({{"error", "success"}, {"request_id", 1}}));
 
     const std::vector<json> expected = {
+        {{"event", "start-file"}, {"playlist_entry_id", 1}},
         {{"event", "state"}, {"data", "opening"}},
         {{"event", "state"}, {"data", "playing"}},
+        {{"event", "file-loaded"}},
+        {{"event", "playback-restart"}},
         {{"event", "state"}, {"data", "paused"}},
     };
     EXPECT_EQ(events, expected) << "events before the reply, in order";
     for (std::size_t i = 1; i < clients.size(); ++i)
-        EXPECT_EQ(readLines(clients[i], 3), expected) << i;
+        EXPECT_EQ(readLines(clients[i], expected.size()), expected) << i;
 }
 
 TEST_F(ControlServerTest, oversizedLineIsAnsweredAndTheConnectionKept)
@@ -278,7 +301,11 @@ TEST_F(ControlServerTest, malformedAndBinaryInputIsAnsweredNeverFatal)
     platform::UniqueFd c = connectClient();
     EXPECT_EQ(roundTrip(c, "{\"command\":").value("error", ""), "malformed JSON at byte 12");
     EXPECT_EQ(roundTrip(c, std::string("\x01\x02\x00\xff\xfe", 5)).value("error", ""),
-              "unknown command '?" "?" "?" "?" "?'");
+              "unknown command '?"
+              "?"
+              "?"
+              "?"
+              "?'");
     EXPECT_EQ(roundTrip(c, "{\"command\":[\"play\",\"\xc3\x28\"]}").value("error", ""),
               "malformed JSON at byte 22");
     EXPECT_EQ(roundTrip(c, R"({"command":["get","state"]})"),
@@ -333,7 +360,7 @@ TEST_F(ControlServerTest, manyClientsEachGetTheirOwnReplies)
 
 TEST_F(ControlServerTest, shutdownRemovesTheSocketFile)
 {
-    struct stat st{};
+    struct stat st {};
     ASSERT_EQ(::lstat(path_.c_str(), &st), 0);
     EXPECT_EQ(st.st_mode & 0777, 0600u);
     platform::UniqueFd c = connectClient();

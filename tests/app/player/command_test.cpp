@@ -104,7 +104,8 @@ TEST(CommandParseTest, badTextIsRejectedWithAReason)
          "get: unknown property 'colour' (state, stereo-mode, haptics, stiffness, "
          "loop, url, error, time-pos, duration, percent-pos, pause, path, "
          "idle-active, eof-reached, volume, mute, haptic-force, contact, "
-         "filename, media-title, playback-time, haptic-device-connected, remote-connected)"},
+         "filename, media-title, playback-time, haptic-device-connected, remote-connected, "
+         "playlist-count, playlist-pos, playlist-pos-1, time-remaining)"},
         {"play 'open", "unterminated quote"},
         {"play a b", "play: takes at most one argument (a file or URL)"},
     };
@@ -345,8 +346,23 @@ TEST(CommandParseTest, mpvsLoadfileCycleAndAddAreTheTablesCommands)
 {
     ParsedCommand p = parseCommandText("loadfile clip.mkv replace");
     ASSERT_TRUE(p) << p.error;
-    EXPECT_EQ(p.command->id, CommandId::Play);
+    EXPECT_EQ(p.command->id, CommandId::LoadFile);
+    EXPECT_EQ(p.command->loadMode, LoadMode::Replace);
     EXPECT_EQ(p.command->url, "clip.mkv");
+    p = parseCommandText("loadfile b.mkv append");
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(p.command->loadMode, LoadMode::Append);
+    p = parseCommandText("loadfile b.mkv append-play");
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(commandText(*p.command), "loadfile b.mkv append-play");
+    p = parseCommandText("playlist-prev force");
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(p.command->id, CommandId::PlaylistNext);
+    EXPECT_EQ(p.command->step, -1);
+    EXPECT_TRUE(p.command->force);
+    p = parseCommandJson(json::array({"seek", 10, "absolute", "exact"})); // node-mpv's seek
+    ASSERT_TRUE(p) << p.error;
+    EXPECT_EQ(commandText(*p.command), "seek 10 absolute");
     p = parseCommandJson(json::array({"loadfile", "http://box/a.mkv"}));
     ASSERT_TRUE(p) << p.error;
     EXPECT_EQ(p.command->url, "http://box/a.mkv");
@@ -366,9 +382,11 @@ TEST(CommandParseTest, mpvsLoadfileCycleAndAddAreTheTablesCommands)
     ASSERT_TRUE(p) << p.error;
     EXPECT_EQ(commandText(*p.command), "seek 5 relative");
     const std::pair<const char *, const char *> wrong[] = {
-        {"loadfile", "loadfile: needs a file or URL and at most the flag replace"},
-        {"loadfile a.mkv append",
-         "loadfile: 'append' needs a playlist, and the player has none (only replace)"},
+        {"loadfile", "loadfile: needs a file or URL and at most one of replace, append, "
+                     "append-play"},
+        {"loadfile a.mkv insert-next", "loadfile: 'insert-next' is not replace, append or "
+                                       "append-play"},
+        {"playlist-next later", "playlist-next: takes at most weak or force"},
         {"cycle duration",
          "cycle: 'duration' cannot be cycled (pause, haptics, loop, mute, stereo-mode)"},
         {"add volume x", "add: 'x' is not a number"},
@@ -378,7 +396,8 @@ TEST(CommandParseTest, mpvsLoadfileCycleAndAddAreTheTablesCommands)
          "cycle: unknown property 'colour' (state, stereo-mode, haptics, "
          "stiffness, loop, url, error, time-pos, duration, percent-pos, pause, "
          "path, idle-active, eof-reached, volume, mute, haptic-force, contact, "
-         "filename, media-title, playback-time, haptic-device-connected, remote-connected)"},
+         "filename, media-title, playback-time, haptic-device-connected, remote-connected, "
+         "playlist-count, playlist-pos, playlist-pos-1, time-remaining)"},
     };
     for (const auto &[text, error] : wrong)
         EXPECT_EQ(parseCommandText(text).error, error) << text;

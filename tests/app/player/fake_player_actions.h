@@ -107,11 +107,24 @@ inline PlayerSettings movieSettings()
     return s;
 }
 
-/// Records the events of a StateMachine.
+/// \return whether \a kind is one of mpv's file events (start-file, file-loaded, end-file,
+/// playback-restart, idle).
+inline bool isFileEvent(PlayerEventKind kind)
+{
+    return kind >= PlayerEventKind::StartFile;
+}
+
+/// Records the events of a StateMachine: the machine's own, and mpv's file events when
+/// \a withFileEvents (the tests of the playlist and of those events).
 class RecordingListener final : public PlayerListener {
 public:
+    explicit RecordingListener(bool withFileEvents = false) : fileEvents_(withFileEvents) {}
     std::vector<PlayerEvent> events;
-    void onPlayerEvent(const PlayerEvent &event) override { events.push_back(event); }
+    void onPlayerEvent(const PlayerEvent &event) override
+    {
+        if (fileEvents_ || !isFileEvent(event.kind))
+            events.push_back(event);
+    }
 
     [[nodiscard]] std::vector<std::string> names() const
     {
@@ -120,6 +133,9 @@ public:
             out.emplace_back(playerEventName(e.kind));
         return out;
     }
+
+private:
+    bool fileEvents_;
 };
 
 } // namespace depthtouch::player::test

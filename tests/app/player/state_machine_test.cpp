@@ -106,7 +106,7 @@ void expectStopsOnce(Rig &rig, bool (StateMachine::*notify)(), const std::string
     EXPECT_TRUE((m.*notify)());
     EXPECT_EQ(m.state(), S::Stopped);
     EXPECT_EQ(fake.calls, std::vector<std::string>{"stop"});
-    EXPECT_EQ(listener.names(), (std::vector<std::string>{"end-file", "state"}));
+    EXPECT_EQ(listener.names(), (std::vector<std::string>{"end-of-stream", "state"}));
     EXPECT_EQ(listener.events.front().message, reason);
     EXPECT_FALSE((m.*notify)());
     EXPECT_EQ(fake.calls.size(), 1u);
@@ -163,6 +163,8 @@ const std::vector<Row> kRows = {
     {S::Idle, "show-progress", true, S::Idle, "showProgress"},
     {S::Idle, "volume +", true, S::Idle, "setVolume 102"},
     {S::Idle, "mute toggle", true, S::Idle, "setMute on"},
+    {S::Idle, "loadfile b.mkv append", true, S::Idle, ""},
+    {S::Idle, "playlist-next force", false, S::Idle, ""},
     // Opening
     {S::Opening, "play", false, S::Opening, ""},
     {S::Opening, "pause", false, S::Opening, ""},
@@ -181,6 +183,8 @@ const std::vector<Row> kRows = {
     {S::Opening, "show-progress", true, S::Opening, "showProgress"},
     {S::Opening, "volume +", true, S::Opening, "setVolume 102"},
     {S::Opening, "mute toggle", true, S::Opening, "setMute on"},
+    {S::Opening, "loadfile b.mkv append", true, S::Opening, ""},
+    {S::Opening, "playlist-next force", true, S::Stopped, "stop"},
     // Playing
     {S::Playing, "play", false, S::Playing, ""},
     {S::Playing, "pause", true, S::Paused, "pause"},
@@ -199,6 +203,8 @@ const std::vector<Row> kRows = {
     {S::Playing, "show-progress", true, S::Playing, "showProgress"},
     {S::Playing, "volume +", true, S::Playing, "setVolume 102"},
     {S::Playing, "mute toggle", true, S::Playing, "setMute on"},
+    {S::Playing, "loadfile b.mkv append", true, S::Playing, ""},
+    {S::Playing, "playlist-next force", true, S::Stopped, "stop"},
     // Paused
     {S::Paused, "play", true, S::Playing, "resume"},
     {S::Paused, "pause", false, S::Paused, ""},
@@ -217,6 +223,8 @@ const std::vector<Row> kRows = {
     {S::Paused, "show-progress", true, S::Paused, "showProgress"},
     {S::Paused, "volume +", true, S::Paused, "setVolume 102"},
     {S::Paused, "mute toggle", true, S::Paused, "setMute on"},
+    {S::Paused, "loadfile b.mkv append", true, S::Paused, ""},
+    {S::Paused, "playlist-next force", true, S::Stopped, "stop"},
     // Stopped
     {S::Stopped, "play", true, S::Opening, "open movie.mkv"},
     {S::Stopped, "pause", false, S::Stopped, ""},
@@ -235,6 +243,8 @@ const std::vector<Row> kRows = {
     {S::Stopped, "show-progress", true, S::Stopped, "showProgress"},
     {S::Stopped, "volume +", true, S::Stopped, "setVolume 102"},
     {S::Stopped, "mute toggle", true, S::Stopped, "setMute on"},
+    {S::Stopped, "loadfile b.mkv append", true, S::Stopped, ""},
+    {S::Stopped, "playlist-next force", false, S::Stopped, ""},
     // Error
     {S::Error, "play", true, S::Opening, "open movie.mkv"},
     {S::Error, "pause", false, S::Error, ""},
@@ -253,6 +263,8 @@ const std::vector<Row> kRows = {
     {S::Error, "show-progress", true, S::Error, "showProgress"},
     {S::Error, "volume +", true, S::Error, "setVolume 102"},
     {S::Error, "mute toggle", true, S::Error, "setMute on"},
+    {S::Error, "loadfile b.mkv append", true, S::Error, ""},
+    {S::Error, "playlist-next force", false, S::Error, ""},
 };
 
 std::string rowName(const Row &r)
@@ -335,8 +347,7 @@ TEST(StateMachineTest, seekWhilePausedStaysPaused)
     EXPECT_TRUE(m.execute("seek 42 absolute").accepted);
 
     EXPECT_EQ(m.state(), S::Paused);
-    EXPECT_EQ(fake.calls,
-              (std::vector<std::string>{"seek -5 relative", "seek 42 absolute"}));
+    EXPECT_EQ(fake.calls, (std::vector<std::string>{"seek -5 relative", "seek 42 absolute"}));
     EXPECT_EQ(listener.names(), (std::vector<std::string>{"seek", "seek"}));
 }
 
@@ -511,7 +522,7 @@ TEST(StateMachineTest, aPlayerThatStaysWaitsForTheNextSenderOfASilentStream)
     // THEN it says so, stops, and opens the same address again to wait for the next sender
     EXPECT_EQ(fake.calls,
               (std::vector<std::string>{"stop", "awaitNextSender " + std::string(kUrl)}));
-    EXPECT_EQ(listener.names(), (std::vector<std::string>{"end-file", "state", "state"}));
+    EXPECT_EQ(listener.names(), (std::vector<std::string>{"end-of-stream", "state", "state"}));
     EXPECT_EQ(listener.events.front().message, "silent");
     EXPECT_EQ(listener.events[1].state, S::Stopped);
     EXPECT_EQ(m.state(), S::Opening);
@@ -630,8 +641,8 @@ TEST(StateMachineTest, hapticsSwitch)
     EXPECT_FALSE(m.hapticsEnabled());
     EXPECT_TRUE(m.execute("haptics").accepted);
     EXPECT_TRUE(m.hapticsEnabled());
-    EXPECT_EQ(fake.calls, (std::vector<std::string>{"setHapticsEnabled off",
-                                                    "setHapticsEnabled on"}));
+    EXPECT_EQ(fake.calls,
+              (std::vector<std::string>{"setHapticsEnabled off", "setHapticsEnabled on"}));
 }
 
 TEST(StateMachineTest, afterQuitEveryCommandIsRefused)

@@ -13,8 +13,11 @@
 ///   "<reason>"}`.
 /// - Events, to every client: `{"event": "state", "data": "paused"}`; names and data:
 ///   state (state name), stereo-mode (mode name), haptics (bool), stiffness (N/m), loop (bool),
-///   seek (also a loop's restart), end-file ("eof" or "silent"), error (reason), shutdown. Events
-///   caused by a command are sent before its reply.
+///   seek (also a loop's restart), error (reason), shutdown, and mpv's file events: start-file
+///   and end-file (with playlist_entry_id; end-file with reason eof, stop, quit or error, with
+///   file_error for error and data "eof" or "silent" for eof), file-loaded, playback-restart
+///   (after file-loaded and each seek), idle (also to a client that connects while the player is
+///   idle with nothing current). Events caused by a command are sent before its reply.
 /// - Limits: a line longer than maxLineBytes (4 KiB) is answered with
 ///   `{"error": "line too long (limit 4096 bytes)"}` and discarded up to its newline; the
 ///   connection stays open. Malformed JSON and binary input are answered with an error and never
@@ -39,10 +42,13 @@ namespace depthtouch::control {
 /// an empty line (no reply).
 /// mpv's verbs (mpv_ipc.h) are answered as mpv does; \a observers are the sending client's
 /// observed properties (nullptr: none can be observed).
+/// \a clientName is what client_name answers.
 std::string handleControlLine(std::string_view line, player::StateMachine &machine,
-                              PropertyObservers *observers = nullptr);
+                              PropertyObservers *observers = nullptr,
+                              std::string_view clientName = "ipc");
 
-/// \return the JSON event line (without '\n') of \a event.
+/// \return the JSON event line (without '\n') of \a event; empty for EndOfFile, which the
+/// file's end-file tells.
 std::string eventJson(const player::PlayerEvent &event);
 
 /// \brief The control socket server: a UnixSocketServer speaking the protocol above to a
@@ -69,6 +75,7 @@ public:
 private:
     explicit ControlServer(player::StateMachine &machine) noexcept;
 
+    void onConnect(platform::UnixSocketServer::ClientId client) override;
     void onLine(platform::UnixSocketServer::ClientId client, std::string_view line) override;
     void onLineTooLong(platform::UnixSocketServer::ClientId client) override;
     void onDisconnect(platform::UnixSocketServer::ClientId client) override;

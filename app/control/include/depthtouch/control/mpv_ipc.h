@@ -2,11 +2,12 @@
 /// \file
 /// \brief mpv's JSON IPC on the control socket: the verbs a UI written for mpv sends
 /// (get_property, get_property_string, set_property, set_property_string, observe_property,
-/// unobserve_property, cycle, add, keypress, get_version), answered as mpv answers them, over the
-/// player's own properties (player::Property: mpv's time-pos, playback-time, duration, percent-pos,
-/// pause, path, filename, media-title, idle-active, eof-reached, volume, mute, and the player's
+/// unobserve_property, cycle, add, keypress, get_version, client_name), answered as mpv answers
+/// them, over the player's own properties (player::Property: mpv's time-pos, playback-time,
+/// duration, percent-pos, time-remaining, pause, path, filename, media-title, idle-active,
+/// eof-reached, volume, mute, playlist-count, playlist-pos, playlist-pos-1, and the player's
 /// stereo-mode, haptics, stiffness, haptic-force, contact, loop). mpv's input commands (loadfile,
-/// cycle, add) are rows of the player's one command table (player::mpvCommandAliases()).
+/// playlist-next, playlist-prev, cycle, add) are rows of the player's one command table.
 ///
 /// Reference: mpv's manual, "JSON IPC" (docs/man/ipc.rst): a request `{"command": ["get_property",
 /// "time-pos"], "request_id": 7}` is answered `{"data": 12.5, "error": "success", "request_id":
@@ -21,6 +22,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json_fwd.hpp>
@@ -46,11 +48,13 @@ using PropertyObservers = std::vector<PropertyObserver>;
 /// \param requestId The request's "request_id", or nullptr.
 /// \param observers The sending client's observers (observe_property adds, unobserve_property
 /// removes), or nullptr where there is no client (then observing is refused).
+/// \param clientName What client_name answers (mpv's "ipc-N": the sending connection's name).
 /// \return the reply line (without '\n'), or std::nullopt when \a command is not an mpv verb.
 std::optional<std::string> handleMpvCommand(const nlohmann::json &command,
                                             const nlohmann::json *requestId,
                                             player::StateMachine &machine,
-                                            PropertyObservers *observers);
+                                            PropertyObservers *observers,
+                                            std::string_view clientName = "ipc");
 
 /// \return \a value as JSON: null (nothing), a bool, a number or a text. Reentrant.
 nlohmann::json valueJson(const player::Value &value);

@@ -73,6 +73,15 @@ enum class CommandId : std::uint8_t {
     ShowProgress,   ///< "show-progress": bring the on-screen display up (mpv's command).
     Volume,         ///< "volume +|-|N": one step (2 %) up or down, or N % (0..kMaxVolume).
     Mute,           ///< "mute on|off|toggle".
+    LoadFile,       ///< mpv's "loadfile URL [replace|append|append-play]": the playlist.
+    PlaylistNext,   ///< mpv's "playlist-next [weak|force]" (and playlist-prev: Command::step).
+};
+
+/// What loadfile does with the playlist (mpv's flags).
+enum class LoadMode : std::uint8_t {
+    Replace,    ///< Stop what plays, make URL the whole playlist and play it.
+    Append,     ///< Add URL at the playlist's end; nothing starts.
+    AppendPlay, ///< Add URL at the end, and play it when nothing plays (idle).
 };
 
 /// Largest volume, percent (mpv's --volume-max default; options::kVolume, the one range of every
@@ -98,7 +107,9 @@ enum class StiffnessChange : std::uint8_t { Up, Down, Set, By };
 /// "haptic-device-connected" (the haptic device is connected and answering; false while a player
 /// that stays up waits for one to be plugged in; unavailable without a haptic task) and
 /// "remote-connected" (the remote's input device is there; false while one is waited for;
-/// unavailable without a remote).
+/// unavailable without a remote), then mpv's "playlist-count" (entries), "playlist-pos" (the
+/// current entry from 0; -1 for none), "playlist-pos-1" (from 1; 0 for none) and
+/// "time-remaining" (duration - time-pos, s; unavailable without a duration).
 enum class Property : std::uint8_t {
     State,
     StereoMode,
@@ -123,10 +134,14 @@ enum class Property : std::uint8_t {
     PlaybackTime,
     HapticDeviceConnected,
     RemoteConnected,
+    PlaylistCount,
+    PlaylistPos,
+    PlaylistPos1,
+    TimeRemaining,
 };
 
 /// Number of Property values.
-inline constexpr std::size_t kPropertyCount = 23;
+inline constexpr std::size_t kPropertyCount = 27;
 
 /// \return the property called \a name (propertyName()'s names, any case), or std::nullopt.
 std::optional<Property> propertyFromName(std::string_view name) noexcept;
@@ -144,6 +159,9 @@ struct Command {
     StiffnessChange volumeChange = StiffnessChange::Up;    ///< Volume.
     double volume = 0.0;                                   ///< Volume with Set or By: %.
     Property property = Property::State;                   ///< Get.
+    LoadMode loadMode = LoadMode::Replace;                 ///< LoadFile.
+    int step = 1;       ///< PlaylistNext: +1 (playlist-next) or -1 (playlist-prev).
+    bool force = false; ///< PlaylistNext: mpv's force (at the playlist's end: stop).
 };
 
 /// \brief A command or why the text could not be parsed.
@@ -186,10 +204,10 @@ struct CommandSpec {
 std::span<const CommandSpec> commandTable() noexcept;
 /// \return the row of \a id.
 const CommandSpec &commandSpec(CommandId id) noexcept;
-/// \return mpv's command names that are spellings of the table's commands (mpv's `loadfile URL
-/// [replace]`: play; `cycle PROPERTY`: toggle-pause, haptics/loop/mute toggle, next-stereo-mode;
-/// `add PROPERTY [N]`: seek relative, stiffness/volume by N): rows whose parser sets
-/// Command::id to the command they mean, whose handler is that command's (the id's row decides
+/// \return mpv's command names that are spellings of the table's commands (`playlist-prev`:
+/// playlist-next with step -1; `cycle PROPERTY`: toggle-pause, haptics/loop/mute toggle,
+/// next-stereo-mode; `add PROPERTY [N]`: seek relative, stiffness/volume by N): rows whose parser
+/// sets Command::id to the command they mean, whose handler is that command's (the id's row decides
 /// the states and runs it).
 std::span<const CommandSpec> mpvCommandAliases() noexcept;
 /// \return the row called \a name (the table's, then mpvCommandAliases()), or nullptr.

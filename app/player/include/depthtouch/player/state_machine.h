@@ -29,6 +29,8 @@
 /// thread; a listener must not send commands from its callback (such a command is refused).
 /// Design: docs/architecture.md §5 (main thread), docs/style.md §7.
 
+#include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
@@ -154,13 +156,21 @@ enum class PlayerEventKind : std::uint8_t {
     StiffnessChanged,  ///< stiffness holds the new value (N/m).
     LoopChanged,       ///< loop holds the new flag.
     Seeked,            ///< A seek was carried out.
-    EndOfFile,         ///< The stream ended (message: "eof" or "loop").
+    EndOfFile,         ///< The stream ended (message: "eof" or "silent").
     Error,             ///< A failure; message holds the reason (the state becomes Error).
     Quit,              ///< quit was accepted: the player should shut down.
+    // mpv's file events (its JSON IPC and libmpv), for every file the playlist opens:
+    StartFile,       ///< A file starts opening (playlistEntryId: its playlist entry).
+    FileLoaded,      ///< It opened and plays.
+    FileEnded,       ///< It ended: message is mpv's reason (eof, stop, quit, error); detail:
+                     ///< for eof "eof" or "silent", for error mpv's file_error text.
+    PlaybackRestart, ///< Playback (re)started: after FileLoaded, after each seek and loop.
+    Idle,            ///< Nothing plays any more (a file ended and no other opens).
 };
 
-/// \return the event's name on the control socket: "state", "stereo-mode", "haptics",
-/// "stiffness", "loop", "seek", "end-file", "error", "shutdown" (static string).
+/// \return the event's name: "state", "stereo-mode", "haptics", "stiffness", "loop", "seek",
+/// "end-of-stream", "error", "shutdown", "start-file", "file-loaded", "end-file",
+/// "playback-restart", "idle" (static string).
 const char *playerEventName(PlayerEventKind kind) noexcept;
 
 /// \brief One event, with a snapshot of the machine after it.
@@ -172,6 +182,8 @@ struct PlayerEvent {
     double stiffness = 0.0; ///< N/m.
     bool loop = false;
     std::string message; ///< Error reason, end-of-file reason; empty otherwise.
+    std::string detail;  ///< FileEnded: the end's detail (see PlayerEventKind::FileEnded).
+    std::int64_t playlistEntryId = 0; ///< StartFile, FileEnded: mpv's playlist_entry_id.
 };
 
 /// \brief Receives the events of a StateMachine (on its thread).
@@ -266,6 +278,9 @@ public:
     [[nodiscard]] double volume() const noexcept { return volume_; } ///< %.
     [[nodiscard]] bool muted() const noexcept { return mute_; }
     [[nodiscard]] const std::string &url() const noexcept { return url_; }
+    /// mpv's playlist: its entries, and the current one from 0 (-1: none, the player is idle).
+    [[nodiscard]] std::size_t playlistCount() const noexcept { return playlist_.size(); }
+    [[nodiscard]] std::ptrdiff_t playlistPos() const noexcept { return current_; }
     /// The key bindings the remote and mpv's keypress use (fixed at construction).
     [[nodiscard]] const KeyMap &keyMap() const noexcept { return keys_; }
     /// The reason of the last failure (kept until the next one).
@@ -305,6 +320,43 @@ private:
     /// succeeded, else Error with the reason "ACTION failed: WHY".
     void enterOrFail(PlayerState next, const char *action, const Result<void> &r);
     void emit(PlayerEventKind kind, std::string message = {});
+
+    /// \name The playlist and mpv's file events (state_machine_files.cpp)
+    ///@{
+    /// Makes \a url the whole playlist, none of it current.
+    void replacePlaylist(const std::string &url);
+    /// The outcome of the failed action \a r: refused (nothing changed) or Error (as apply()).
+    CommandOutcome refuseOrFail(const char *what, const Result<void> &r);
+    /// Stops what plays and opens entry \a index (mpv's file change). \return the outcome.
+    CommandOutcome openEntry(std::size_t index);
+    /// The file of the current entry starts: end-file (stop) of an active one, then start-file.
+    void beginFile();
+    /// The active file ended with mpv's \a reason (end-file); \a detail as in FileEnded.
+    void endFile(const char *reason, std::string detail = {});
+    /// The player came to rest (Stopped, Error) after a file: no entry is current; idle.
+    void enterIdle();
+    /// Whether quit is stopping the file (its end-file says quit, and no idle follows).
+    [[nodiscard]] bool quitting() const noexcept;
+    /// mpv's loadfile and playlist-next/prev (the command table's handlers).
+    CommandOutcome loadFile(const Command &command);
+    CommandOutcome playlistStep(const Command &command);
+    /// Stopped after the stream's end (onEndOfStream without loop): the next entry opens.
+    void endOfStream(const Result<void> &stopped);
+    ///@}
+
+    struct PlaylistEntry {
+        std::string url;
+        std::int64_t id = 0; ///< mpv's playlist_entry_id: 1, 2, ... in the order of adding.
+    };
+    std::vector<PlaylistEntry> playlist_;
+    std::ptrdiff_t current_ = -1; ///< The current entry's index; -1: none.
+    std::int64_t nextEntryId_ = 1;
+    bool fileActive_ = false;         ///< start-file was sent and its end-file not yet.
+    bool fileLoaded_ = false;         ///< file-loaded was sent for the active file.
+    std::int64_t activeEntryId_ = 0;  ///< The active file's entry id.
+    const char *endReason_ = nullptr; ///< The next end-file's reason (nullptr: stop).
+    std::string endDetail_;           ///< Its detail.
+    bool advancing_ = false;          ///< Another entry opens after this end: no idle.
 
     PlayerActions &actions_;
     std::vector<PlayerListener *> listeners_;
