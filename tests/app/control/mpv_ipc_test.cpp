@@ -289,5 +289,80 @@ TEST(MpvIpcTest, loadfileGetVersionAndTheFilesPropertiesAnswerAsMpv)
               json({{"error", "property not found"}}));
 }
 
+// Issue 61: mpv's playlist over the IPC. playlist-count and playlist-pos are integers as mpv's
+// (a client indexes its playlist with them), time-remaining is duration - time-pos, client_name
+// answers the name given.
+TEST(MpvIpcTest, thePlaylistsPropertiesAreIntegersAndClientNameAnswers)
+{
+    player::test::FakePlayerActions fake;
+    StateMachine m(fake, player::PlayerSettings{}); // play --idle: no file
+    const json success = {{"error", "success"}};
+    EXPECT_EQ(json::parse(handleControlLine(R"({"command":["client_name"],"request_id":1})", m,
+                                            nullptr, "ipc-4")),
+              json({{"data", "ipc-4"}, {"error", "success"}, {"request_id", 1}}));
+    EXPECT_EQ(reply(R"({"command":["client_name","x"]})", m),
+              json({{"error", "invalid parameter"}}));
+    EXPECT_EQ(reply(R"({"command":["get_property","idle-active"]})", m)["data"], true);
+    EXPECT_EQ(reply(R"({"command":["get_property","playlist-pos"]})", m).dump(),
+              R"({"data":-1,"error":"success"})");
+    PropertyObservers observers;
+    EXPECT_EQ(reply(R"({"command":["observe_property",2,"playlist-count"]})", m, &observers),
+              success);
+    std::vector<std::string> lines;
+    propertyChanges(m, observers, lines);
+    ASSERT_EQ(lines.size(), 1u);
+    EXPECT_EQ(lines[0], R"({"data":0,"event":"property-change","id":2,"name":"playlist-count"})");
+    EXPECT_EQ(reply(R"({"command":["loadfile","a.mkv","append-play"]})", m), success);
+    EXPECT_EQ(reply(R"({"command":["loadfile","b.mkv","append"]})", m), success);
+    lines.clear();
+    propertyChanges(m, observers, lines);
+    ASSERT_EQ(lines.size(), 1u);
+    EXPECT_EQ(json::parse(lines[0])["data"], 2);
+    EXPECT_EQ(reply(R"({"command":["get_property","time-remaining"]})", m),
+              json({{"error", "property unavailable"}}))
+        << "opening: no duration yet";
+    ASSERT_TRUE(m.onOpened());
+    fake.position = {20.0, 50.0};
+    EXPECT_EQ(reply(R"({"command":["get_property","time-remaining"]})", m)["data"], 30.0);
+    EXPECT_EQ(reply(R"({"command":["playlist-next","weak"]})", m), success);
+    EXPECT_EQ(reply(R"({"command":["get_property","playlist-pos"]})", m).dump(),
+              R"({"data":1,"error":"success"})");
+    EXPECT_EQ(fake.calls.back(), "open b.mkv");
+}
+
+// A player started idle (play --idle, no file) tells a client that connects: node-mpv waits for
+// the idle event before its first command. Its loadfile's start-file comes before the reply.
+TEST(MpvIpcTest, anIdlePlayerSaysIdleToAClientThatConnectsAndStartFileBeforeTheReply)
+{
+    testing::TempDir dir("dt-mpv-");
+    const std::string path = dir.path("mpv.sock");
+    player::test::FakePlayerActions fake;
+    StateMachine m(fake, player::PlayerSettings{});
+    auto server = ControlServer::create(path, m);
+    ASSERT_TRUE(server) << server.error().what;
+    const platform::UniqueFd fd = connectClient(path);
+    ASSERT_NO_FATAL_FAILURE(sendAll(fd,
+                                    "{\"command\":[\"client_name\"]}\n"
+                                    "{\"command\":[\"loadfile\",\"a.mkv\"],\"request_id\":9}\n"));
+    std::string got;
+    for (int i = 0; i < 200 && std::count(got.begin(), got.end(), '\n') < 5; ++i) {
+        ASSERT_TRUE((*server)->poll(std::chrono::milliseconds(5)));
+        char chunk[1024];
+        const ssize_t n = ::recv(fd.get(), chunk, sizeof chunk, MSG_DONTWAIT);
+        if (n > 0)
+            got.append(chunk, static_cast<std::size_t>(n));
+    }
+    std::vector<json> lines;
+    for (std::size_t at = 0, nl; (nl = got.find('\n', at)) != std::string::npos; at = nl + 1)
+        lines.push_back(json::parse(got.substr(at, nl - at)));
+    ASSERT_EQ(lines.size(), 5u) << got;
+    EXPECT_EQ(lines[0], json({{"event", "idle"}}));
+    EXPECT_EQ(lines[1]["error"], "success");
+    EXPECT_EQ(lines[1]["data"].get<std::string>().rfind("ipc-", 0), 0u) << lines[1];
+    EXPECT_EQ(lines[2], json({{"event", "start-file"}, {"playlist_entry_id", 1}}));
+    EXPECT_EQ(lines[3], json({{"event", "state"}, {"data", "opening"}}));
+    EXPECT_EQ(lines[4], json({{"error", "success"}, {"request_id", 9}}));
+}
+
 } // namespace
 } // namespace depthtouch::control
