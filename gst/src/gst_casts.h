@@ -33,6 +33,11 @@ inline GstElement *asElement(gpointer p) noexcept
 {
     return GST_ELEMENT_CAST(p);
 }
+/// \return \a p as a GstObject.
+inline GstObject *asGstObject(gpointer p) noexcept
+{
+    return GST_OBJECT_CAST(p);
+}
 /// \return \a p as a GstBaseSink.
 inline GstBaseSink *asBaseSink(gpointer p) noexcept
 {
@@ -63,6 +68,26 @@ inline const std::uint8_t *planeData(const GstVideoFrame &frame) noexcept
 inline int planeStride(const GstVideoFrame &frame) noexcept
 {
     return GST_VIDEO_FRAME_PLANE_STRIDE(&frame, 0);
+}
+/// \return plane \a i of a mapped video frame.
+inline const std::uint8_t *planeDataAt(const GstVideoFrame &frame, guint i) noexcept
+{
+    return static_cast<const std::uint8_t *>(GST_VIDEO_FRAME_PLANE_DATA(&frame, i));
+}
+/// \return the bytes from one row of plane \a i to the next.
+inline int planeStrideAt(const GstVideoFrame &frame, guint i) noexcept
+{
+    return GST_VIDEO_FRAME_PLANE_STRIDE(&frame, i);
+}
+/// \brief Marks \a element as a sink (GST_ELEMENT_FLAG_SINK: the bin waits for its EOS).
+inline void setSinkFlag(GstElement *element) noexcept
+{
+    GST_OBJECT_FLAG_SET(element, GST_ELEMENT_FLAG_SINK);
+}
+/// \return the parent class of \a klass as an element class.
+inline GstElementClass *parentElementClass(gpointer klass) noexcept
+{
+    return GST_ELEMENT_CLASS(g_type_class_peek_parent(klass));
 }
 /// \return the buffer's presentation time (GST_CLOCK_TIME_NONE when it has none).
 inline GstClockTime bufferPts(GstBuffer *buffer) noexcept

@@ -13,8 +13,8 @@
 #include <glm/geometric.hpp>
 
 #include "depth_tags.h"
+#include "element_common.h"
 #include "depthtouch/depth/conversion.h"
-#include "depthtouch/haptics/renderer_table.h"
 #include "depthtouch/options/option_range.h"
 #include "depthtouch/platform/clock.h"
 #include "gst_casts.h"
@@ -94,20 +94,12 @@ void setProperty(GObject *object, guint id, const GValue *value, GParamSpec *spe
     const std::lock_guard lock(s.mutex);
     switch (id) {
     case kPropDevice:
-        s.settings.device = g_value_get_string(value) != nullptr ? g_value_get_string(value) : "";
-        break;
-    case kPropDeviceOptions: {
-        const gchar *text = g_value_get_string(value);
-        s.settings.deviceOptions = text != nullptr ? text : "";
-        break;
-    }
+    case kPropDeviceOptions:
     case kPropStiffness:
-        s.settings.stiffness = g_value_get_double(value);
-        if (s.session)
-            s.session->setStiffness(s.settings.stiffness);
-        break;
     case kPropMethod:
-        s.settings.method = g_value_get_string(value) != nullptr ? g_value_get_string(value) : "";
+        setHapticProperty(s.settings, static_cast<HapticProperty>(id - kPropDevice), value);
+        if (id == kPropStiffness && s.session)
+            s.session->setStiffness(s.settings.stiffness);
         break;
     case kPropDepthNear:
         s.nearProperty = g_value_get_double(value);
@@ -130,16 +122,10 @@ void getProperty(GObject *object, guint id, GValue *value, GParamSpec *spec)
     const HapticReadout r = measured && s.session ? s.session->readout() : HapticReadout{};
     switch (id) {
     case kPropDevice:
-        g_value_set_string(value, s.settings.device.c_str());
-        break;
     case kPropDeviceOptions:
-        g_value_set_string(value, s.settings.deviceOptions.c_str());
-        break;
     case kPropStiffness:
-        g_value_set_double(value, s.settings.stiffness);
-        break;
     case kPropMethod:
-        g_value_set_string(value, s.settings.method.c_str());
+        getHapticProperty(s.settings, static_cast<HapticProperty>(id - kPropDevice), value);
         break;
     case kPropDepthNear:
         g_value_set_double(value, s.tags.nearMetres > 0.0 ? s.tags.nearMetres : s.nearProperty);
@@ -171,43 +157,12 @@ void getProperty(GObject *object, guint id, GValue *value, GParamSpec *spec)
     }
 }
 
-constexpr GParamFlags kReadWrite =
-    static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS);
-constexpr GParamFlags kReadOnly =
-    static_cast<GParamFlags>(G_PARAM_READABLE | G_PARAM_STATIC_STRINGS);
-constexpr GParamFlags kReadWriteLive = static_cast<GParamFlags>(
-    G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS | GST_PARAM_MUTABLE_PLAYING);
 constexpr double kMaxPlane = 1e6; ///< Largest plane distance accepted, m.
 
 void installProperties(GObjectClass *oc)
 {
-    const HapticSettings play; // play's defaults
     const depth::DepthRange planes{};
-    const std::string methods =
-        "Haptic renderer, as play --method: " + haptics::rendererNames(", ", " or ") +
-        " (the renderer table)";
-    g_object_class_install_property(
-        oc, kPropDevice,
-        g_param_spec_string("haptic-device", "Haptic device",
-                            "Haptic device backend(s), comma-separated, tried in order, as play "
-                            "--haptic: falcon, sim (the simulated hand), mock, none",
-                            play.device.c_str(), kReadWrite));
-    g_object_class_install_property(
-        oc, kPropDeviceOptions,
-        g_param_spec_string("haptic-device-options", "Haptic device options",
-                            "The backend's key=value options, comma-separated, as play "
-                            "--haptic-options (sim: intent=press,force=2)",
-                            play.deviceOptions.c_str(), kReadWrite));
-    g_object_class_install_property(
-        oc, kPropStiffness,
-        g_param_spec_double("stiffness", "Stiffness", "Surface stiffness k, N/m (live)",
-                            options::kStiffness.min, options::kStiffness.max, play.stiffness,
-                            kReadWriteLive));
-    // GLib keeps the blurb's pointer: a string that lives as long as the program.
-    static const std::string methodBlurb = methods;
-    g_object_class_install_property(oc, kPropMethod,
-                                    g_param_spec_string("method", "Method", methodBlurb.c_str(),
-                                                        play.method.c_str(), kReadWrite));
+    installHapticProperties(oc, kPropDevice);
     g_object_class_install_property(
         oc, kPropDepthNear,
         g_param_spec_double("depth-near", "Near plane",
@@ -338,31 +293,11 @@ gboolean setCaps(GstBaseSink *sink, GstCaps *caps)
 /// Reads the stream's depth tags from a tag event (extended comments "KEY=value") of \a sink.
 void readTags(GstBaseSink *sink, SinkState &s, GstEvent *event)
 {
-    GstTagList *list = nullptr;
-    gst_event_parse_tag(event, &list);
-    if (list == nullptr)
-        return;
-    const guint n = gst_tag_list_get_tag_size(list, GST_TAG_EXTENDED_COMMENT);
-    const hal::DepthMetadata before = s.tags;
-    for (guint i = 0; i < n; ++i) {
-        const gchar *text = nullptr;
-        if (gst_tag_list_peek_string_index(list, GST_TAG_EXTENDED_COMMENT, i, &text) != FALSE &&
-            text != nullptr)
-            applyDepthTag(text, s.tags);
-    }
-    const hal::DepthMetadata &a = before;
-    const hal::DepthMetadata &b = s.tags;
-    if (a.nearMetres == b.nearMetres && a.farMetres == b.farMetres && a.mapping == b.mapping &&
-        a.bits == b.bits && a.occupancy == b.occupancy)
+    if (!readDepthTagEvent(event, s.tags))
         return;
     if (s.configured)
         s.holeBelow = holeBelowFor(s.tags, s.format);
-    const hal::DepthMetadata &t = s.tags;
-    logInfo(category, sink,
-            ("depth tags: near " + options::OptionRange::number(t.nearMetres) + " m, far " +
-             options::OptionRange::number(t.farMetres) + " m, mapping '" + t.mapping + "', bits " +
-             std::to_string(t.bits) + ", occupancy " + std::to_string(t.occupancy))
-                .c_str());
+    logInfo(category, sink, describeDepthTags(s.tags).c_str());
 }
 
 gboolean event(GstBaseSink *sink, GstEvent *ev)

@@ -1,0 +1,616 @@
+/// \file
+/// \brief depthtouchsink, colour + depth into play's player: see depthtouch_sink.h.
+
+#include "depthtouch_sink.h"
+
+#include <array>
+#include <cstring>
+#include <memory>
+#include <mutex>
+#include <source_location>
+#include <string>
+#include <vector>
+
+#include "depthtouch/options/option_range.h"
+#include "element_common.h"
+#include "feed_player.h"
+#include "gst_casts.h"
+#include "pad_feed.h"
+
+namespace depthtouch::gst {
+
+namespace {
+
+/// One sink pad's negotiated format and segment. Under SinkState::mutex.
+struct PadState {
+    GstPad *pad = nullptr; ///< Owned by the element.
+    GstVideoInfo info{};
+    bool configured = false;
+    hal::PixelFormat format = hal::PixelFormat::Unknown;
+    GstSegment segment{};
+};
+
+/// The element's own state (C++), owned by the instance; every field under mutex.
+struct SinkState {
+    std::mutex mutex;
+    PlayerSettings settings;
+    hal::DepthMetadata tags; ///< The depth stream's tags so far.
+    std::array<PadState, 2> pads;
+    std::shared_ptr<PadFeed> feed;      ///< Between READY to PAUSED and PAUSED to READY.
+    std::unique_ptr<FeedPlayer> player; ///< Likewise.
+    bool started = false;               ///< The player's loop runs (first PLAYING).
+    guint32 eosSeqnum = 0;
+};
+
+struct DepthTouchSink {
+    GstElement parent;
+    SinkState *state;
+};
+
+struct DepthTouchSinkClass {
+    GstElementClass parentClass;
+};
+
+GstElementClass *parentClass = nullptr;
+/// "depthtouchsink" (GST_DEBUG=depthtouchsink:4: the start, the caps, the tags, the run's counts).
+GstDebugCategory *category = nullptr;
+
+enum Property : guint {
+    kPropZero,
+    kPropDevice, // the four HapticProperty in order
+    kPropDeviceOptions,
+    kPropStiffness,
+    kPropMethod,
+    kPropDisplay,
+    kPropDisplayOptions,
+    kPropControl,
+    kPropFramesPaired,
+    kPropFramesPresented,
+    kPropDepthUnpaired,
+    kPropDepthMissing,
+    kPropUpdates,
+    kPropServoRate,
+    kPropContactForce,
+    kPropContactForceZ,
+    kPropSafetyTrips,
+    kPropHaptics,
+};
+
+SinkState &stateOf(gpointer self)
+{
+    return *static_cast<DepthTouchSink *>(self)->state;
+}
+
+/// \brief Posts \a text as the element's error (prefixed with its name).
+void fail(gpointer self, GQuark domain, gint code, const std::string &text,
+          const std::source_location where = std::source_location::current())
+{
+    const std::string line = std::string(kDepthTouchSinkName) + ": " + text;
+    postError(self, domain, code, line.c_str(), nullptr, where);
+}
+
+/// \return which stream \a pad carries.
+FeedStream streamOf(SinkState &s, GstPad *pad)
+{
+    return pad == s.pads[1].pad ? FeedStream::Depth : FeedStream::Color;
+}
+
+PadState &padOf(SinkState &s, FeedStream f)
+{
+    return s.pads[static_cast<std::size_t>(f)];
+}
+
+// ---- properties -------------------------------------------------------------------------------
+
+std::string textOf(const GValue *value)
+{
+    const gchar *text = g_value_get_string(value);
+    return text != nullptr ? text : "";
+}
+
+void setProperty(GObject *object, guint id, const GValue *value, GParamSpec *spec)
+{
+    SinkState &s = stateOf(object);
+    const std::lock_guard lock(s.mutex);
+    switch (id) {
+    case kPropDevice:
+    case kPropDeviceOptions:
+    case kPropStiffness:
+    case kPropMethod:
+        setHapticProperty(s.settings.haptic, static_cast<HapticProperty>(id - kPropDevice), value);
+        if (id == kPropStiffness && s.player)
+            s.player->setStiffness(s.settings.haptic.stiffness);
+        break;
+    case kPropDisplay:
+        s.settings.display = textOf(value);
+        break;
+    case kPropDisplayOptions:
+        s.settings.displayOptions = textOf(value);
+        break;
+    case kPropControl:
+        s.settings.control = textOf(value);
+        break;
+    default:
+        warnInvalidProperty(object, id, spec);
+        break;
+    }
+}
+
+/// Sets \a value from the readout \a r (a read-only property \a id).
+void getReadout(guint id, const PlayerReadout &r, GValue *value)
+{
+    switch (id) {
+    case kPropFramesPaired:
+        g_value_set_uint64(value, r.framesPaired);
+        break;
+    case kPropFramesPresented:
+        g_value_set_uint64(value, r.framesPresented);
+        break;
+    case kPropDepthUnpaired:
+        g_value_set_uint64(value, r.depthUnpaired);
+        break;
+    case kPropDepthMissing:
+        g_value_set_uint64(value, r.depthMissing);
+        break;
+    case kPropUpdates:
+        g_value_set_uint64(value, r.hapticUpdates);
+        break;
+    case kPropServoRate:
+        g_value_set_double(value, r.servoRateHz);
+        break;
+    case kPropContactForce:
+        g_value_set_double(value, r.force);
+        break;
+    case kPropContactForceZ:
+        g_value_set_double(value, r.forceZ);
+        break;
+    case kPropSafetyTrips:
+        g_value_set_uint64(value, r.safetyTrips);
+        break;
+    case kPropHaptics:
+        g_value_set_boolean(value, r.haptics ? TRUE : FALSE);
+        break;
+    default:
+        break;
+    }
+}
+
+void getProperty(GObject *object, guint id, GValue *value, GParamSpec *spec)
+{
+    SinkState &s = stateOf(object);
+    const std::lock_guard lock(s.mutex);
+    switch (id) {
+    case kPropDevice:
+    case kPropDeviceOptions:
+    case kPropStiffness:
+    case kPropMethod:
+        getHapticProperty(s.settings.haptic, static_cast<HapticProperty>(id - kPropDevice), value);
+        break;
+    case kPropDisplay:
+        g_value_set_string(value, s.settings.display.c_str());
+        break;
+    case kPropDisplayOptions:
+        g_value_set_string(value, s.settings.displayOptions.c_str());
+        break;
+    case kPropControl:
+        g_value_set_string(value, s.settings.control.c_str());
+        break;
+    default:
+        if (id >= kPropFramesPaired && id <= kPropHaptics)
+            getReadout(id, s.player ? s.player->readout() : PlayerReadout{}, value);
+        else
+            warnInvalidProperty(object, id, spec);
+        break;
+    }
+}
+
+/// Installs a read-only uint64 counter.
+void counter(GObjectClass *oc, guint id, const char *name, const char *blurb)
+{
+    g_object_class_install_property(
+        oc, id, g_param_spec_uint64(name, name, blurb, 0, G_MAXUINT64, 0, kReadOnly));
+}
+
+/// Installs a read-only double.
+void measure(GObjectClass *oc, guint id, const char *name, const char *blurb, double min)
+{
+    g_object_class_install_property(
+        oc, id, g_param_spec_double(name, name, blurb, min, G_MAXDOUBLE, 0.0, kReadOnly));
+}
+
+void installProperties(GObjectClass *oc)
+{
+    installHapticProperties(oc, kPropDevice);
+    g_object_class_install_property(
+        oc, kPropDisplay,
+        g_param_spec_string("display", "Display",
+                            "Display backend(s), comma-separated, tried in order, as play "
+                            "--display (x11, kms, offscreen, ...); empty: autoprobe, as play",
+                            "", kReadWrite));
+    g_object_class_install_property(
+        oc, kPropDisplayOptions,
+        g_param_spec_string("display-options", "Display options",
+                            "The display backend's key=value options, as play --display-options",
+                            "", kReadWrite));
+    g_object_class_install_property(
+        oc, kPropControl,
+        g_param_spec_string("control", "Control socket",
+                            "Path of the control socket (mpv's JSON IPC), as play --control; "
+                            "empty: none",
+                            "", kReadWrite));
+    counter(oc, kPropFramesPaired, "frames-paired",
+            "Colour + depth pairs the player's receiver made by PTS (running time)");
+    counter(oc, kPropFramesPresented, "frames-presented", "Pairs the player presented");
+    counter(oc, kPropDepthUnpaired, "depth-unpaired",
+            "Depth frames no colour frame was paired with");
+    counter(oc, kPropDepthMissing, "depth-missing", "Pairs made without a depth frame");
+    counter(oc, kPropUpdates, "updates", "Cycles of the haptic loop so far");
+    measure(oc, kPropServoRate, "servo-rate", "Haptic updates per second measured over the run, Hz",
+            0.0);
+    measure(oc, kPropContactForce, "contact-force",
+            "Magnitude of the last force commanded to the device, N", 0.0);
+    measure(oc, kPropContactForceZ, "contact-force-z",
+            "z of the last force, N, scene box (positive: toward the viewer)", -G_MAXDOUBLE);
+    counter(oc, kPropSafetyTrips, "safety-trips",
+            "Force-jump releases of the renderer and watchdog trips so far");
+    g_object_class_install_property(
+        oc, kPropHaptics,
+        g_param_spec_boolean("haptics", "Haptics",
+                             "A haptic task runs (a depth stream and a haptic device)", FALSE,
+                             kReadOnly));
+}
+
+// ---- the pads ---------------------------------------------------------------------------------
+
+/// \return the format of the player's stream for caps \a info on \a f, Unknown when refused.
+hal::PixelFormat formatOf(FeedStream f, const GstVideoInfo &info)
+{
+    const GstVideoFormat v = GST_VIDEO_INFO_FORMAT(&info);
+    if (f == FeedStream::Color)
+        return v == GST_VIDEO_FORMAT_I420 ? hal::PixelFormat::Yuv420p : hal::PixelFormat::Unknown;
+    if (v == GST_VIDEO_FORMAT_GRAY8)
+        return hal::PixelFormat::Gray8;
+    if (v == GST_VIDEO_FORMAT_GRAY16_LE && G_BYTE_ORDER == G_LITTLE_ENDIAN)
+        return hal::PixelFormat::Gray16;
+    return hal::PixelFormat::Unknown;
+}
+
+/// \brief The stream of \a f as the feed describes it to the player. \pre s.mutex held.
+void describeStream(SinkState &s, FeedStream f)
+{
+    const PadState &p = padOf(s, f);
+    if (!p.configured || !s.feed)
+        return;
+    hal::StreamInfo si;
+    si.format = p.format;
+    si.width = GST_VIDEO_INFO_WIDTH(&p.info);
+    si.height = GST_VIDEO_INFO_HEIGHT(&p.info);
+    si.frameRate = hal::Rational{GST_VIDEO_INFO_FPS_N(&p.info), GST_VIDEO_INFO_FPS_D(&p.info)};
+    if (f == FeedStream::Depth)
+        si.depth = s.tags;
+    s.feed->setStream(f, si);
+}
+
+gboolean setCaps(GstElement *self, SinkState &s, FeedStream f, GstCaps *caps)
+{
+    GstVideoInfo info;
+    if (gst_video_info_from_caps(&info, caps) == FALSE) {
+        fail(self, GST_STREAM_ERROR, GST_STREAM_ERROR_FORMAT, "caps are not raw video");
+        return FALSE;
+    }
+    const hal::PixelFormat format = formatOf(f, info);
+    if (format == hal::PixelFormat::Unknown) {
+        fail(self, GST_STREAM_ERROR, GST_STREAM_ERROR_FORMAT,
+             f == FeedStream::Color ? "color must be I420" : "depth must be GRAY8 or GRAY16_LE");
+        return FALSE;
+    }
+    PadState &p = padOf(s, f);
+    p.info = info;
+    p.format = format;
+    p.configured = true;
+    describeStream(s, f);
+    return TRUE;
+}
+
+gboolean padEvent(GstPad *pad, GstObject *parent, GstEvent *event)
+{
+    SinkState &s = stateOf(parent);
+    gboolean result = TRUE;
+    {
+        const std::lock_guard lock(s.mutex);
+        const FeedStream f = streamOf(s, pad);
+        PadState &p = padOf(s, f);
+        switch (eventType(event)) {
+        case GST_EVENT_CAPS: {
+            GstCaps *caps = nullptr;
+            gst_event_parse_caps(event, &caps);
+            result = setCaps(asElement(parent), s, f, caps);
+            break;
+        }
+        case GST_EVENT_SEGMENT:
+            gst_event_copy_segment(event, &p.segment);
+            break;
+        case GST_EVENT_TAG:
+            if (f == FeedStream::Depth && readDepthTagEvent(event, s.tags)) {
+                logInfo(category, parent, describeDepthTags(s.tags).c_str());
+                describeStream(s, f);
+            }
+            break;
+        case GST_EVENT_FLUSH_START:
+            if (s.feed)
+                s.feed->flushStart(f);
+            break;
+        case GST_EVENT_FLUSH_STOP:
+            gst_segment_init(&p.segment, GST_FORMAT_TIME);
+            if (s.feed)
+                s.feed->flushStop(f);
+            break;
+        case GST_EVENT_EOS:
+            s.eosSeqnum = gst_event_get_seqnum(event);
+            if (s.feed)
+                s.feed->endOfStream(f);
+            break;
+        default:
+            break;
+        }
+    }
+    gst_event_unref(event);
+    return result;
+}
+
+/// \return the frame of \a buffer tightly packed in \a p's format (hal::planeLayout()), or
+/// empty when it cannot be mapped.
+std::vector<std::uint8_t> packFrame(const PadState &p, GstBuffer *buffer)
+{
+    GstVideoInfo info = p.info;
+    GstVideoFrame frame;
+    if (gst_video_frame_map(&frame, &info, buffer, GST_MAP_READ) == FALSE)
+        return {};
+    const int w = GST_VIDEO_INFO_WIDTH(&info);
+    const int h = GST_VIDEO_INFO_HEIGHT(&info);
+    std::vector<std::uint8_t> bytes(hal::imageBytes(p.format, w, h));
+    std::uint8_t *out = bytes.data();
+    for (int plane = 0; plane < hal::planeCount(p.format); ++plane) {
+        const hal::PlaneLayout l = hal::planeLayout(p.format, w, h, plane);
+        const std::uint8_t *in = planeDataAt(frame, static_cast<guint>(plane));
+        const auto stride =
+            static_cast<std::size_t>(planeStrideAt(frame, static_cast<guint>(plane)));
+        const auto row = static_cast<std::size_t>(l.rowBytes);
+        for (int y = 0; y < l.rows; ++y, out += row)
+            std::memcpy(out, in + static_cast<std::size_t>(y) * stride, row);
+    }
+    gst_video_frame_unmap(&frame);
+    return bytes;
+}
+
+GstFlowReturn chain(GstPad *pad, GstObject *parent, GstBuffer *buffer)
+{
+    SinkState &s = stateOf(parent);
+    std::shared_ptr<PadFeed> feed;
+    FeedStream f = FeedStream::Color;
+    std::vector<std::uint8_t> bytes;
+    GstClockTime running = 0;
+    {
+        const std::lock_guard lock(s.mutex);
+        f = streamOf(s, pad);
+        const PadState &p = padOf(s, f);
+        feed = s.feed;
+        if (!p.configured || !feed) {
+            gst_buffer_unref(buffer);
+            return GST_FLOW_NOT_NEGOTIATED;
+        }
+        if (const GstClockTime pts = bufferPts(buffer); isTime(pts)) {
+            const GstClockTime rt = gst_segment_to_running_time(&p.segment, GST_FORMAT_TIME, pts);
+            if (isTime(rt))
+                running = rt;
+        }
+        bytes = packFrame(p, buffer);
+    }
+    gst_buffer_unref(buffer);
+    if (bytes.empty()) {
+        fail(parent, GST_STREAM_ERROR, GST_STREAM_ERROR_FAILED, "cannot map a buffer");
+        return GST_FLOW_ERROR;
+    }
+    // Outside the lock: waits while the player's queue is full.
+    const PushResult r =
+        feed->push(f, std::move(bytes), hal::Pts(static_cast<std::int64_t>(running)));
+    return r == PushResult::Ok ? GST_FLOW_OK : GST_FLOW_FLUSHING;
+}
+
+// ---- states -----------------------------------------------------------------------------------
+
+/// READY to PAUSED: the feed and the player (display, device, Playback). \return FALSE on failure
+/// (posted).
+gboolean openPlayer(GstElement *self, SinkState &s)
+{
+    const std::lock_guard lock(s.mutex);
+    s.feed = std::make_shared<PadFeed>();
+    s.tags = {};
+    for (PadState &p : s.pads) {
+        p.configured = false;
+        gst_segment_init(&p.segment, GST_FORMAT_TIME);
+    }
+    std::string why;
+    s.player = FeedPlayer::open(s.settings, s.feed, why);
+    if (!s.player) {
+        s.feed.reset();
+        fail(self, GST_RESOURCE_ERROR, GST_RESOURCE_ERROR_SETTINGS, why);
+        return FALSE;
+    }
+    s.started = false;
+    logInfo(category, self,
+            ("haptic device '" + s.player->deviceName() + "', display '" + s.player->displayName() +
+             "', method " + s.settings.haptic.method + ", stiffness " +
+             options::OptionRange::number(s.settings.haptic.stiffness) + " N/m")
+                .c_str());
+    return TRUE;
+}
+
+/// Called on the player's thread when it stopped by itself: EOS (the stream shown) or an error.
+void playerEnded(GstElement *self, const std::string &failure)
+{
+    if (!failure.empty()) {
+        fail(self, GST_STREAM_ERROR, GST_STREAM_ERROR_FAILED, "the player failed: " + failure);
+        return;
+    }
+    SinkState &s = stateOf(self);
+    guint32 seqnum = 0;
+    {
+        const std::lock_guard lock(s.mutex);
+        seqnum = s.eosSeqnum;
+    }
+    GstMessage *eos = gst_message_new_eos(asGstObject(self));
+    if (seqnum != 0)
+        gst_message_set_seqnum(eos, seqnum);
+    gst_element_post_message(self, eos);
+}
+
+/// PAUSED to PLAYING: the player's loop the first time, else it resumes.
+gboolean play(GstElement *self, SinkState &s)
+{
+    const std::lock_guard lock(s.mutex);
+    if (!s.player)
+        return TRUE;
+    s.player->setPaused(false);
+    if (s.started)
+        return TRUE;
+    const std::string bad =
+        s.player->start([self](const std::string &failure) { playerEnded(self, failure); });
+    if (!bad.empty()) {
+        fail(self, GST_RESOURCE_ERROR, GST_RESOURCE_ERROR_OPEN_READ_WRITE, bad);
+        return FALSE;
+    }
+    s.started = true;
+    return TRUE;
+}
+
+/// PAUSED to READY: the player stopped and closed, with its counts logged.
+void closePlayer(GstElement *self, SinkState &s)
+{
+    std::unique_ptr<FeedPlayer> player;
+    {
+        const std::lock_guard lock(s.mutex);
+        player = std::move(s.player);
+        s.feed.reset();
+        s.started = false;
+    }
+    if (!player)
+        return;
+    const PlayerReadout r = player->readout();
+    player.reset(); // joins its thread (which may post): outside the lock
+    const std::string line = "stopped: " + std::to_string(r.framesPaired) + " pairs, " +
+                             std::to_string(r.framesPresented) + " presented, " +
+                             std::to_string(r.depthUnpaired) + " depth unpaired; " +
+                             std::to_string(r.hapticUpdates) + " haptic updates, max force " +
+                             options::OptionRange::number(r.maxForce) + " N, " +
+                             std::to_string(r.safetyTrips) + " safety trips";
+    logInfo(category, self, line.c_str());
+}
+
+GstStateChangeReturn changeState(GstElement *element, GstStateChange transition)
+{
+    SinkState &s = stateOf(element);
+    switch (transition) {
+    case GST_STATE_CHANGE_READY_TO_PAUSED:
+        if (openPlayer(element, s) == FALSE)
+            return GST_STATE_CHANGE_FAILURE;
+        break;
+    case GST_STATE_CHANGE_PAUSED_TO_PLAYING:
+        if (play(element, s) == FALSE)
+            return GST_STATE_CHANGE_FAILURE;
+        break;
+    case GST_STATE_CHANGE_PLAYING_TO_PAUSED: {
+        const std::lock_guard lock(s.mutex);
+        if (s.player)
+            s.player->setPaused(true);
+        break;
+    }
+    case GST_STATE_CHANGE_PAUSED_TO_READY: {
+        // Unblock the pads before their deactivation takes their stream locks.
+        const std::lock_guard lock(s.mutex);
+        if (s.feed)
+            s.feed->shutdown();
+        break;
+    }
+    default:
+        break;
+    }
+    const GstStateChangeReturn r = parentClass->change_state(element, transition);
+    if (transition == GST_STATE_CHANGE_PAUSED_TO_READY)
+        closePlayer(element, s);
+    return r;
+}
+
+// ---- the type ---------------------------------------------------------------------------------
+
+void finalize(GObject *object)
+{
+    auto *self = reinterpret_cast<DepthTouchSink *>(object);
+    delete self->state;
+    self->state = nullptr;
+    asObjectClass(parentClass)->finalize(object);
+}
+
+void instanceInit(GTypeInstance *instance, gpointer klass)
+{
+    auto *self = reinterpret_cast<DepthTouchSink *>(instance);
+    self->state = new SinkState();
+    GstElement *element = asElement(instance);
+    GstElementClass *ec = asElementClass(klass);
+    const std::array<const char *, 2> names{"color", "depth"};
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        GstPad *pad =
+            gst_pad_new_from_template(gst_element_class_get_pad_template(ec, names[i]), names[i]);
+        gst_pad_set_chain_function(pad, chain);
+        gst_pad_set_event_function(pad, padEvent);
+        self->state->pads[i].pad = pad;
+        gst_element_add_pad(element, pad);
+    }
+    setSinkFlag(element);
+}
+
+/// Adds the always sink pad template \a name with \a caps.
+void addTemplate(GstElementClass *ec, const char *name, const char *caps)
+{
+    GstCaps *c = gst_caps_from_string(caps);
+    gst_element_class_add_pad_template(ec,
+                                       gst_pad_template_new(name, GST_PAD_SINK, GST_PAD_ALWAYS, c));
+    gst_caps_unref(c);
+}
+
+void classInit(gpointer klass, gpointer)
+{
+    parentClass = parentElementClass(klass);
+    category = _gst_debug_category_new(kDepthTouchSinkName, 0, "DepthTouch colour + depth sink");
+    GObjectClass *oc = asObjectClass(klass);
+    oc->set_property = setProperty;
+    oc->get_property = getProperty;
+    oc->finalize = finalize;
+    installProperties(oc);
+
+    GstElementClass *ec = asElementClass(klass);
+    gst_element_class_set_static_metadata(
+        ec, "DepthTouch sink", "Sink/Video/Haptic",
+        "Plays a colour + depth video as depthtouch play does: pairs colour and depth by running "
+        "time, draws the stereo view and runs the 1 kHz haptic task on the depth",
+        "DepthTouch");
+    addTemplate(ec, "color",
+                "video/x-raw, format=(string)I420, width=(int)[ 2, 8192 ], "
+                "height=(int)[ 2, 8192 ], framerate=(fraction)[ 0/1, 2147483647/1 ]");
+    addTemplate(ec, "depth",
+                "video/x-raw, format=(string){ GRAY8, GRAY16_LE }, width=(int)[ 2, 8192 ], "
+                "height=(int)[ 2, 8192 ], framerate=(fraction)[ 0/1, 2147483647/1 ]");
+    ec->change_state = changeState;
+}
+
+} // namespace
+
+GType depthTouchSinkGetType()
+{
+    static const GType type = g_type_register_static_simple(
+        GST_TYPE_ELEMENT, "GstDepthTouchSink", sizeof(DepthTouchSinkClass), classInit,
+        sizeof(DepthTouchSink), instanceInit, static_cast<GTypeFlags>(0));
+    return type;
+}
+
+} // namespace depthtouch::gst

@@ -1,0 +1,239 @@
+/// \file
+/// \brief play's player fed by depthtouchsink's pads: see feed_player.h.
+
+#include "feed_player.h"
+
+#include <future>
+#include <utility>
+
+#include <glm/geometric.hpp>
+
+#include "depthtouch/control/control_loop.h"
+#include "depthtouch/control/control_server.h"
+#include "depthtouch/control/play_loop.h"
+#include "depthtouch/drivers/backends.h"
+#include "depthtouch/options/option_range.h"
+#include "depthtouch/platform/clock.h"
+#include "depthtouch/player/command.h"
+#include "depthtouch/player/state_machine.h"
+#include "play_backends.h"
+#include "play_options.h"
+
+namespace depthtouch::gst {
+
+namespace {
+
+/// The url the state machine opens: any text (PadMediaSource reads the pads whatever it is).
+constexpr const char *kFeedUrl = "depthtouchsink:pads";
+/// Loop turns (10 ms each) between two readouts.
+constexpr int kReadoutTurns = 10;
+
+/// \return play's options with \a s in them; the rest at play's defaults, without sound or remote.
+cli::PlayOptions playOptionsOf(const PlayerSettings &s)
+{
+    cli::PlayOptions o;
+    o.url = kFeedUrl;
+    o.haptic = s.haptic.device;
+    o.hapticOptions = s.haptic.deviceOptions;
+    o.stiffness = s.haptic.stiffness;
+    o.method = s.haptic.method;
+    o.display = s.display;
+    o.displayOptions = s.displayOptions;
+    o.control = s.control;
+    o.noAudio = true;
+    o.remote = "none";
+    return o;
+}
+
+/// \return \a cfg with the backend options \a options.
+hal::BackendConfig withOptions(const hal::BackendConfig &cfg, const std::string &options)
+{
+    hal::BackendConfig c = cfg;
+    c.options = hal::OptionList(options);
+    return c;
+}
+
+/// \brief Opens the display and the haptic device of \a o into \a b as cli::openPlayer() does
+/// (the backend table, tried in order). \return an empty string, or the failure's one line.
+std::string openBackends(const cli::PlayOptions &o, const hal::BackendConfig &cfg,
+                         cli::PlayBackends &b)
+{
+    auto display =
+        drivers::createDisplay(o.display, withOptions(cfg, o.displayOptions), &b.displayReport);
+    if (!display)
+        return "cannot open the display '" + o.display + "': " + b.displayReport.message;
+    b.display = std::move(*display);
+    auto device =
+        drivers::createHapticDevice(o.haptic, withOptions(cfg, o.hapticOptions), &b.hapticReport);
+    if (!device)
+        return "cannot open the haptic device '" + o.haptic + "': " + b.hapticReport.message;
+    b.device = std::move(*device);
+    return {};
+}
+
+/// \return what \a pb and \a machine tell now; the force of \a last when no task runs any more.
+PlayerReadout readOut(playback::Playback &pb, const player::StateMachine &machine,
+                      const PlayerReadout &last)
+{
+    PlayerReadout r;
+    r.state = player::playerStateName(machine.state());
+    const playback::PlaybackStats st = pb.stats();
+    r.framesPaired = st.receiver.framesOutput;
+    r.framesPresented = st.framesPresented;
+    r.depthMissing = st.receiver.depthMissing;
+    r.depthUnpaired = st.receiver.depthUnpaired;
+    r.depthPairsPublished = st.depthPairsPublished;
+    r.position = pb.position();
+    r.gl = pb.info().gl;
+    r.haptics = pb.info().haptics;
+    if (const auto hs = pb.hapticStats()) {
+        r.hapticUpdates = hs->updates;
+        r.safetyTrips = hs->safetyReleases;
+        r.maxForce = hs->maxForce;
+        r.servoRateHz = hs->updates > 1 && hs->runSeconds > 0.0
+                            ? static_cast<double>(hs->updates - 1) / hs->runSeconds
+                            : 0.0;
+    }
+    if (const haptic_task::HapticTask *task = pb.hapticTask()) {
+        const glm::dvec3 f = task->lastForce();
+        r.forceZ = f.z;
+        r.force = glm::length(f);
+    } else {
+        r.forceZ = last.forceZ;
+        r.force = last.force;
+    }
+    return r;
+}
+
+} // namespace
+
+std::unique_ptr<FeedPlayer> FeedPlayer::open(const PlayerSettings &settings,
+                                             std::shared_ptr<PadFeed> feed, std::string &why)
+{
+    auto options = std::make_unique<cli::PlayOptions>(playOptionsOf(settings));
+    why = checkHapticSettings(settings.haptic);
+    if (!why.empty())
+        return nullptr;
+    if (why = cli::checkPlayOptionValues(*options); !why.empty())
+        return nullptr;
+    hal::BackendConfig cfg;
+    cfg.clock = &platform::SteadyClock::instance();
+    auto player = std::make_unique<cli::OpenedPlayer>();
+    if (why = openBackends(*options, cfg, player->backends); !why.empty())
+        return nullptr;
+    playback::PlaybackConfig config = cli::landPlayOptions(*options);
+    config.audioEnabled = false;
+    config.liveSilenceSeconds = 0.0; // a paused pipeline sends nothing: not a silent sender
+    playback::PlaybackHal ph;
+    ph.makeSource = [feed]() -> Result<std::unique_ptr<hal::MediaSource>> {
+        return std::unique_ptr<hal::MediaSource>(std::make_unique<PadMediaSource>(feed));
+    };
+    ph.makeDecoder = [name = options->decoder, c = withOptions(cfg, options->decoderOptions)](
+                         const hal::StreamInfo &) { return drivers::createVideoDecoder(name, c); };
+    const cli::PlayBackends &b = player->backends;
+    ph.display = b.display.get();
+    ph.device = b.noDevice() ? nullptr : b.device.get();
+    ph.clock = cfg.clock;
+    auto pb = playback::Playback::create(config, ph);
+    if (!pb) {
+        why = pb.error().what;
+        return nullptr;
+    }
+    player->playback = std::move(*pb);
+    std::unique_ptr<FeedPlayer> p(new FeedPlayer(std::move(options), std::move(player)));
+    p->feed_ = std::move(feed);
+    return p;
+}
+
+FeedPlayer::FeedPlayer(std::unique_ptr<cli::PlayOptions> options,
+                       std::unique_ptr<cli::OpenedPlayer> player)
+    : options_(std::move(options)), player_(std::move(player)),
+      deviceName_(player_->backends.hapticReport.chosen),
+      displayName_(player_->backends.displayReport.chosen), stiffness_(options_->stiffness)
+{
+}
+
+FeedPlayer::~FeedPlayer()
+{
+    stop_.store(true);
+    if (feed_)
+        feed_->shutdown();
+    if (thread_.joinable())
+        thread_.join();
+    if (player_->playback) {
+        (void)player_->playback->stop();
+        player_->playback->close();
+    }
+    player_.reset(); // the Playback, then its backends
+}
+
+std::string FeedPlayer::start(std::function<void(const std::string &)> onEnd)
+{
+    if (thread_.joinable())
+        return "started twice";
+    std::promise<int> started;
+    std::future<int> result = started.get_future();
+    thread_ = std::thread([this, &started, onEnd = std::move(onEnd)] {
+        run([&started](int ok) { started.set_value(ok); }, onEnd);
+    });
+    if (result.get() == 0)
+        return {};
+    thread_.join();
+    return "cannot create the control socket '" + options_->control + "'";
+}
+
+PlayerReadout FeedPlayer::readout()
+{
+    const std::lock_guard lock(mutex_);
+    return readout_;
+}
+
+void FeedPlayer::run(const std::function<void(int)> &started,
+                     const std::function<void(const std::string &)> &onEnd)
+{
+    platform::Clock &clock = platform::SteadyClock::instance();
+    playback::Playback &pb = *player_->playback;
+    player::StateMachine machine(pb, cli::playerSettings(*options_));
+    std::unique_ptr<control::ControlServer> server;
+    if (!options_->control.empty()) {
+        auto s = control::ControlServer::create(options_->control, machine);
+        if (!s) {
+            started(1);
+            return;
+        }
+        server = std::move(*s);
+    }
+    control::ControlLoop input(machine, nullptr, server.get(), clock, std::chrono::milliseconds(1));
+    started(0);
+    int turn = 0;
+    double stiffness = options_->stiffness;
+    const auto eachTurn = [&] {
+        pb.report(machine);
+        const player::PlayerState st = machine.state();
+        if (wantPaused_.load() && st == player::PlayerState::Playing)
+            machine.execute("pause");
+        else if (!wantPaused_.load() && st == player::PlayerState::Paused)
+            machine.execute("play");
+        if (const double k = stiffness_.load(); k != stiffness) {
+            stiffness = k;
+            machine.execute("stiffness " + options::OptionRange::number(k));
+        }
+        if (++turn % kReadoutTurns == 0) {
+            PlayerReadout r = readOut(pb, machine, readout());
+            const std::lock_guard lock(mutex_);
+            readout_ = std::move(r);
+        }
+    };
+    const control::LoopOutcome out =
+        control::playUntilDone(machine, input, server, eachTurn, stop_, {}, clock);
+    {
+        PlayerReadout r = readOut(pb, machine, readout());
+        const std::lock_guard lock(mutex_);
+        readout_ = std::move(r);
+    }
+    (void)pb.stop();
+    if (!stop_.load() && onEnd)
+        onEnd(out.failure);
+}
+
+} // namespace depthtouch::gst
