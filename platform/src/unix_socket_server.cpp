@@ -192,6 +192,11 @@ Result<void> UnixSocketServer::poll(Duration timeout)
             return ok();
         return unexpected(Errc::Io, "poll() on the control socket failed", errno);
     }
+    // Connections first: a client whose connect() returned before another client sent a command
+    // is a client when that command's events go out (an mpv UI connects a second socket to watch
+    // for the events of the command it sends next, as node-mpv does).
+    if ((fds[0].revents & POLLIN) != 0)
+        acceptAll();
     for (std::size_t i = 0; i < ids.size(); ++i) {
         const short re = fds[i + 1].revents;
         if (re == 0)
@@ -204,8 +209,6 @@ Result<void> UnixSocketServer::poll(Duration timeout)
         if ((re & POLLOUT) != 0 && !it->second.closing)
             flush(it->second);
     }
-    if ((fds[0].revents & POLLIN) != 0)
-        acceptAll();
     removeClosing();
     return ok();
 }

@@ -123,7 +123,7 @@ protected:
 TEST_F(UnixSocketServerTest, socketFileHasModeOwnerOnlyAndIsRemovedAtTheEnd)
 {
     start();
-    struct stat st{};
+    struct stat st {};
     ASSERT_EQ(::lstat(path_.c_str(), &st), 0);
     EXPECT_TRUE(S_ISSOCK(st.st_mode));
     EXPECT_EQ(st.st_mode & 0777, 0600u);
@@ -139,7 +139,7 @@ TEST_F(UnixSocketServerTest, refusesAPathThatIsNotASocketAndKeepsTheFile)
     auto r = UnixSocketServer::listen(path_, handler_);
     ASSERT_FALSE(r);
     EXPECT_EQ(r.error().code, Errc::InvalidArgument);
-    struct stat st{};
+    struct stat st {};
     ASSERT_EQ(::lstat(path_.c_str(), &st), 0);
     EXPECT_TRUE(S_ISREG(st.st_mode));
 }
@@ -327,6 +327,24 @@ TEST_F(UnixSocketServerTest, handlerMayDisconnectAClient)
     ASSERT_TRUE(pumpUntil([&] { return handler_.disconnected.size() == 1; }));
     EXPECT_EQ(handler_.lines.size(), 1u) << "nothing is read after disconnect()";
     EXPECT_EQ(readSome(c, 1), "");
+}
+
+// A client connected before another sent a line is a client when that line is handled: what the
+// line broadcasts reaches it (an mpv UI watches on a second connection for the events of the
+// command it sends next, as node-mpv does; issue 61).
+TEST_F(UnixSocketServerTest, aClientConnectedBeforeALineIsSentGetsWhatTheLineBroadcasts)
+{
+    start();
+    handler_.onLineHook = [this](ClientId, std::string_view line) {
+        server_->broadcast("event " + std::string(line) + "\n");
+    };
+    const UniqueFd sender = connectClient();
+    ASSERT_TRUE(pumpUntil([&] { return handler_.connected.size() == 1; }));
+    const UniqueFd watcher = connectClient(); // not yet accepted
+    writeAll(sender, "go\n");
+    ASSERT_TRUE(pumpUntil([&] { return handler_.lines.size() == 1; }));
+    pumpUntil([] { return false; }, 3); // writes what is queued
+    EXPECT_EQ(readSome(watcher, 9), "event go\n");
 }
 
 } // namespace

@@ -89,7 +89,7 @@ class Conn:
         while True:
             msg = self.next(deadline)
             if msg is None:
-                sys.exit("no %s in %d s; seen: %s" % (what, timeout, self.seen[-12:]))
+                sys.exit("no %s in %d s; seen: %s" % (what, timeout, self.seen[-24:]))
             if pred(msg):
                 return msg
 
