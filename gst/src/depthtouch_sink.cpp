@@ -268,7 +268,8 @@ hal::PixelFormat formatOf(FeedStream f, const GstVideoInfo &info)
     const GstVideoFormat v = GST_VIDEO_INFO_FORMAT(&info);
     if (f == FeedStream::Color)
         return v == GST_VIDEO_FORMAT_I420 ? hal::PixelFormat::Yuv420p : hal::PixelFormat::Unknown;
-    if (v == GST_VIDEO_FORMAT_GRAY8)
+    // An H.264 depth stream decodes to I420 (avdec_h264): its luma is the depth, as play reads it.
+    if (v == GST_VIDEO_FORMAT_GRAY8 || v == GST_VIDEO_FORMAT_I420)
         return hal::PixelFormat::Gray8;
     if (v == GST_VIDEO_FORMAT_GRAY16_LE && G_BYTE_ORDER == G_LITTLE_ENDIAN)
         return hal::PixelFormat::Gray16;
@@ -301,7 +302,8 @@ gboolean setCaps(GstElement *self, SinkState &s, FeedStream f, GstCaps *caps)
     const hal::PixelFormat format = formatOf(f, info);
     if (format == hal::PixelFormat::Unknown) {
         fail(self, GST_STREAM_ERROR, GST_STREAM_ERROR_FORMAT,
-             f == FeedStream::Color ? "color must be I420" : "depth must be GRAY8 or GRAY16_LE");
+             f == FeedStream::Color ? "color must be I420"
+                                    : "depth must be GRAY8, GRAY16_LE or I420 (its luma)");
         return FALSE;
     }
     PadState &p = padOf(s, f);
@@ -358,7 +360,8 @@ gboolean padEvent(GstPad *pad, GstObject *parent, GstEvent *event)
     return result;
 }
 
-/// \return the frame of \a buffer tightly packed in \a p's format (hal::planeLayout()), or
+/// \return the frame of \a buffer tightly packed in \a p's format (hal::planeLayout(); an I420
+/// depth frame gives its luma plane), or
 /// empty when it cannot be mapped.
 std::vector<std::uint8_t> packFrame(const PadState &p, GstBuffer *buffer)
 {
@@ -598,7 +601,7 @@ void classInit(gpointer klass, gpointer)
                 "video/x-raw, format=(string)I420, width=(int)[ 2, 8192 ], "
                 "height=(int)[ 2, 8192 ], framerate=(fraction)[ 0/1, 2147483647/1 ]");
     addTemplate(ec, "depth",
-                "video/x-raw, format=(string){ GRAY8, GRAY16_LE }, width=(int)[ 2, 8192 ], "
+                "video/x-raw, format=(string){ GRAY8, GRAY16_LE, I420 }, width=(int)[ 2, 8192 ], "
                 "height=(int)[ 2, 8192 ], framerate=(fraction)[ 0/1, 2147483647/1 ]");
     ec->change_state = changeState;
 }

@@ -1,0 +1,327 @@
+/// \file
+/// \brief depthtouchsink (gst/, issue 62) through GStreamer's check library: the element loaded
+/// from libgstdepthtouch.so (GST_PLUGIN_PATH, set by CTest), its two pads fed by two GstHarness
+/// (the aggregator pattern: one per sink pad), on the headless display with the simulated hand.
+/// A solid colour and a flat depth plane, frame after frame with the same running times: every
+/// frame is paired (no depth unpaired or missing), presented, the haptic task runs and the hand
+/// pressing the plane feels a force out of it (+z); EOS on both pads ends in EOS on the bus. Bad
+/// caps are refused; a bad method fails the start with play's message. And the pads' feed alone
+/// (pad_feed.h): streams read in PTS order once each has a frame, the end, a flush.
+///
+/// Real time: the player presents at its frame clock and the haptic task runs at 1 kHz, so the
+/// tests wait for what they check (the CTest time limit ends a wait that never comes); no
+/// assertion is made on timing.
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include <unistd.h>
+
+#include <gst/check/gstharness.h>
+#include <gst/gst.h>
+#include <gtest/gtest.h>
+
+#include "gst_casts.h"
+#include "pad_feed.h"
+
+namespace depthtouch::gst {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr int kW = 64;                       ///< Frame width, pixels.
+constexpr int kH = 48;                       ///< Frame height, pixels.
+constexpr GstClockTime kPeriod = 33'333'333; ///< 30 fps, ns.
+const char *kColorCaps = "video/x-raw, format=I420, width=64, height=48, framerate=30/1";
+const char *kDepthCaps = "video/x-raw, format=GRAY16_LE, width=64, height=48, framerate=30/1";
+
+class DepthTouchSinkTest : public ::testing::Test {
+protected:
+    void SetUp() override
+    {
+        static const bool ready = [] {
+            gst_init(nullptr, nullptr);
+            return true;
+        }();
+        ASSERT_TRUE(ready);
+        GstElementFactory *f = gst_element_factory_find("depthtouchsink");
+        if (f == nullptr)
+            GTEST_SKIP() << "depthtouchsink not found: run through ctest (GST_PLUGIN_PATH)";
+        gst_object_unref(f);
+    }
+};
+
+/// \return a buffer of \a bytes at \a pts.
+GstBuffer *bufferOf(const std::vector<std::uint8_t> &bytes, GstClockTime pts)
+{
+    GstBuffer *b = gst_buffer_new_allocate(nullptr, bytes.size(), nullptr);
+    gst_buffer_fill(b, 0, bytes.data(), bytes.size());
+    setBufferTimes(b, pts, kPeriod);
+    return b;
+}
+
+/// A solid I420 colour (Y 180, neutral chroma).
+std::vector<std::uint8_t> solidColour()
+{
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(kW * kH * 3 / 2), 128);
+    std::fill_n(bytes.begin(), kW * kH, std::uint8_t{180});
+    return bytes;
+}
+
+/// A flat GRAY16_LE plane at a quarter of the nearness range.
+std::vector<std::uint8_t> flatDepth()
+{
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(kW * kH * 2));
+    for (std::size_t i = 0; i < bytes.size(); i += 2) {
+        bytes[i] = 0x00; // 16384, little-endian
+        bytes[i + 1] = 0x40;
+    }
+    return bytes;
+}
+
+double doubleProperty(GstElement *e, const char *name)
+{
+    double v = 0.0;
+    g_object_get(asObject(e), name, &v, nullptr);
+    return v;
+}
+
+std::uint64_t countProperty(GstElement *e, const char *name)
+{
+    guint64 v = 0;
+    g_object_get(asObject(e), name, &v, nullptr);
+    return v;
+}
+
+/// \return the text of \a m's error, or "".
+std::string errorText(GstMessage *m)
+{
+    if (m == nullptr || GST_MESSAGE_TYPE(m) != GST_MESSAGE_ERROR)
+        return "";
+    GError *error = nullptr;
+    gst_message_parse_error(m, &error, nullptr);
+    std::string text = error != nullptr ? error->message : "";
+    g_clear_error(&error);
+    return text;
+}
+
+/// \return why the headless display does not open here (an element alone to PAUSED), or "".
+std::string displayMissing()
+{
+    GstElement *probe = gst_element_factory_make("depthtouchsink", nullptr);
+    g_object_set(asObject(probe), "haptic-device", "none", "display", "headless", nullptr);
+    GstBus *bus = gst_bus_new();
+    gst_element_set_bus(probe, bus);
+    std::string why;
+    if (gst_element_set_state(probe, GST_STATE_PAUSED) == GST_STATE_CHANGE_FAILURE) {
+        GstMessage *m = gst_bus_pop_filtered(bus, GST_MESSAGE_ERROR);
+        why = m != nullptr ? errorText(m) : "the start failed";
+        if (m != nullptr)
+            gst_message_unref(m);
+    }
+    gst_element_set_state(probe, GST_STATE_NULL);
+    gst_element_set_bus(probe, nullptr);
+    gst_object_unref(bus);
+    gst_object_unref(probe);
+    return why;
+}
+
+TEST_F(DepthTouchSinkTest, pairsColourAndDepthByRunningTimeAndTheHandFeelsThePlane)
+{
+    const std::string socket = (std::filesystem::temp_directory_path() /
+                                ("dt-gst-" + std::to_string(::getpid()) + ".sock"))
+                                   .string();
+    GstElement *sink = gst_element_factory_make("depthtouchsink", nullptr);
+    ASSERT_NE(sink, nullptr);
+    g_object_set(asObject(sink), "haptic-device", "sim", "haptic-device-options",
+                 "intent=press,force=2,x=0.005,y=-0.004,z=0.02", "display", "headless", "control",
+                 socket.c_str(), nullptr);
+    if (const std::string why = displayMissing(); !why.empty()) {
+        gst_object_unref(sink);
+        GTEST_SKIP() << "no headless display here: " << why;
+    }
+    GstBus *bus = gst_bus_new();
+    gst_element_set_bus(sink, bus);
+    // GIVEN the two pads fed by a harness each (the element goes to PLAYING with the first)
+    GstHarness *color = gst_harness_new_with_element(sink, "color", nullptr);
+    GstHarness *depth = gst_harness_new_with_element(sink, "depth", nullptr);
+    gst_harness_set_src_caps_str(color, kColorCaps);
+    gst_harness_set_src_caps_str(depth, kDepthCaps);
+    EXPECT_TRUE(std::filesystem::exists(socket)) << "play's control socket is up";
+    // WHEN frames with the same running times go to both pads until the hand rests on the plane
+    const std::vector<std::uint8_t> c = solidColour();
+    const std::vector<std::uint8_t> d = flatDepth();
+    std::uint64_t frames = 0; // pushed to each pad
+    while (frames < 3000) {   // the pads wait for the player: ~30 frames a second
+        const GstClockTime pts = frames * kPeriod;
+        ASSERT_EQ(gst_harness_push(color, bufferOf(c, pts)), GST_FLOW_OK);
+        ASSERT_EQ(gst_harness_push(depth, bufferOf(d, pts)), GST_FLOW_OK);
+        ++frames;
+        if (frames >= 30 && doubleProperty(sink, "contact-force-z") > 1.0)
+            break;
+    }
+    const double fz = doubleProperty(sink, "contact-force-z");
+    const double force = doubleProperty(sink, "contact-force");
+    EXPECT_GT(fz, 1.0) << "the hand presses the plane: the force pushes it out (+z)";
+    EXPECT_NEAR(force, fz, 0.1) << "a flat plane pushes straight up";
+    EXPECT_TRUE(gst_harness_push_event(color, gst_event_new_eos()));
+    EXPECT_TRUE(gst_harness_push_event(depth, gst_event_new_eos()));
+    // THEN the player shows the last frame and the element posts EOS
+    GstMessage *end = gst_bus_timed_pop_filtered(
+        bus, GST_CLOCK_TIME_NONE, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
+    ASSERT_NE(end, nullptr);
+    EXPECT_EQ(GST_MESSAGE_TYPE(end), GST_MESSAGE_EOS) << errorText(end);
+    gst_message_unref(end);
+    // every colour frame was paired with the depth frame of its running time
+    EXPECT_EQ(countProperty(sink, "frames-paired"), frames);
+    EXPECT_EQ(countProperty(sink, "depth-unpaired"), 0u);
+    EXPECT_EQ(countProperty(sink, "depth-missing"), 0u);
+    EXPECT_GT(countProperty(sink, "frames-presented"), 0u);
+    EXPECT_LE(countProperty(sink, "frames-presented"), frames);
+    EXPECT_GT(countProperty(sink, "updates"), 0u);
+    EXPECT_GT(doubleProperty(sink, "servo-rate"), 0.0);
+    gboolean haptics = FALSE;
+    g_object_get(asObject(sink), "haptics", &haptics, nullptr);
+    EXPECT_TRUE(haptics);
+    gst_harness_teardown(depth);
+    gst_harness_teardown(color);
+    EXPECT_FALSE(std::filesystem::exists(socket)) << "the socket goes with the player";
+    gst_element_set_bus(sink, nullptr);
+    gst_object_unref(bus);
+    gst_object_unref(sink);
+}
+
+TEST_F(DepthTouchSinkTest, capsOtherThanI420ColourAndGrayDepthAreRefused)
+{
+    GstElement *sink = gst_element_factory_make("depthtouchsink", nullptr);
+    ASSERT_NE(sink, nullptr);
+    GstPad *color = gst_element_get_static_pad(sink, "color");
+    GstPad *depth = gst_element_get_static_pad(sink, "depth");
+    GstCaps *rgb =
+        gst_caps_from_string("video/x-raw, format=RGB, width=64, height=48, framerate=30/1");
+    GstCaps *i420 = gst_caps_from_string(kColorCaps);
+    GstCaps *gray16 = gst_caps_from_string(kDepthCaps);
+    EXPECT_FALSE(gst_pad_query_accept_caps(color, rgb));
+    EXPECT_FALSE(gst_pad_query_accept_caps(depth, rgb));
+    EXPECT_FALSE(gst_pad_query_accept_caps(color, gray16)) << "colour is I420";
+    EXPECT_TRUE(gst_pad_query_accept_caps(color, i420));
+    EXPECT_TRUE(gst_pad_query_accept_caps(depth, gray16));
+    EXPECT_TRUE(gst_pad_query_accept_caps(depth, i420)) << "an H.264 depth stream: its luma";
+    for (GstCaps *caps : {rgb, i420, gray16})
+        gst_caps_unref(caps);
+    gst_object_unref(color);
+    gst_object_unref(depth);
+    gst_object_unref(sink);
+}
+
+TEST_F(DepthTouchSinkTest, aBadMethodFailsTheStartWithPlaysMessage)
+{
+    GstElement *sink = gst_element_factory_make("depthtouchsink", nullptr);
+    ASSERT_NE(sink, nullptr);
+    g_object_set(asObject(sink), "haptic-device", "sim", "display", "headless", "method", "bogus",
+                 nullptr);
+    GstElement *pipeline = gst_pipeline_new(nullptr);
+    gst_bin_add(GST_BIN_CAST(pipeline), sink);
+    EXPECT_EQ(gst_element_set_state(pipeline, GST_STATE_PAUSED), GST_STATE_CHANGE_FAILURE);
+    GstBus *bus = gst_element_get_bus(pipeline);
+    GstMessage *m = gst_bus_pop_filtered(bus, GST_MESSAGE_ERROR);
+    EXPECT_EQ(errorText(m),
+              "depthtouchsink: method must be finger, modified, proxy-graph or mesh-bvh");
+    if (m != nullptr)
+        gst_message_unref(m);
+    gst_object_unref(bus);
+    gst_element_set_state(pipeline, GST_STATE_NULL);
+    gst_object_unref(pipeline);
+}
+
+// ---- the feed alone ---------------------------------------------------------------------------
+
+hal::StreamInfo streamOf(hal::PixelFormat format)
+{
+    hal::StreamInfo si;
+    si.format = format;
+    si.width = 4;
+    si.height = 2;
+    return si;
+}
+
+TEST(PadFeedTest, theSourceReadsBothStreamsInPtsOrderThenEnds)
+{
+    auto feed = std::make_shared<PadFeed>(4);
+    feed->setStream(FeedStream::Color, streamOf(hal::PixelFormat::Yuv420p));
+    hal::StreamInfo depth = streamOf(hal::PixelFormat::Gray8);
+    depth.depth.nearMetres = 0.5;
+    feed->setStream(FeedStream::Depth, depth);
+    using hal::Pts;
+    ASSERT_EQ(feed->push(FeedStream::Depth, {1, 2, 3, 4, 5, 6, 7, 8}, Pts(0)), PushResult::Ok);
+    ASSERT_EQ(feed->push(FeedStream::Depth, {1, 2, 3, 4, 5, 6, 7, 8}, Pts(10)), PushResult::Ok);
+    for (const Pts pts : {Pts(0), Pts(20)})
+        ASSERT_EQ(feed->push(FeedStream::Color, std::vector<std::uint8_t>(12, 9), pts),
+                  PushResult::Ok);
+    PadMediaSource source(feed);
+    ASSERT_TRUE(source.open("depthtouchsink:pads"));
+    const hal::MediaInfo &info = source.info();
+    ASSERT_EQ(info.streams.size(), 2u);
+    EXPECT_EQ(info.streams[0].title, "color");
+    EXPECT_EQ(info.streams[1].kind, hal::StreamKind::Depth);
+    EXPECT_EQ(info.streams[1].codec, hal::CodecId::RawVideo);
+    EXPECT_DOUBLE_EQ(info.streams[1].depth.nearMetres, 0.5);
+    EXPECT_FALSE(info.seekable);
+    // the earliest first (colour before depth at a tie), once every stream has a frame or ended
+    std::vector<std::pair<int, Pts>> read;
+    for (int i = 0; i < 3; ++i) {
+        auto p = source.readPacket();
+        ASSERT_TRUE(p);
+        read.emplace_back(p->streamIndex, p->pts);
+    }
+    EXPECT_EQ(read, (std::vector<std::pair<int, Pts>>{{0, Pts(0)}, {1, Pts(0)}, {1, Pts(10)}}));
+    feed->endOfStream(FeedStream::Depth); // colour 20 waited for the depth stream until now
+    auto last = source.readPacket();
+    ASSERT_TRUE(last);
+    EXPECT_EQ(last->streamIndex, 0);
+    EXPECT_EQ(last->size, 12u);
+    EXPECT_EQ(last->pts, Pts(20));
+    feed->endOfStream(FeedStream::Color);
+    auto end = source.readPacket();
+    ASSERT_FALSE(end);
+    EXPECT_EQ(end.error().code, Errc::EndOfStream);
+}
+
+TEST(PadFeedTest, aFlushDropsTheFramesAndUnblocksAFullPad)
+{
+    auto feed = std::make_shared<PadFeed>(1);
+    feed->setStream(FeedStream::Depth, streamOf(hal::PixelFormat::Gray8));
+    ASSERT_EQ(feed->push(FeedStream::Depth, std::vector<std::uint8_t>(8), hal::Pts(0)),
+              PushResult::Ok);
+    std::thread pusher([&] { // waits: the stream is full
+        EXPECT_EQ(feed->push(FeedStream::Depth, std::vector<std::uint8_t>(8), hal::Pts(1)),
+                  PushResult::Flushing);
+    });
+    feed->flushStart(FeedStream::Depth);
+    pusher.join();
+    feed->flushStop(FeedStream::Depth);
+    EXPECT_EQ(feed->push(FeedStream::Depth, std::vector<std::uint8_t>(8), hal::Pts(2)),
+              PushResult::Ok);
+    feed->shutdown();
+    EXPECT_EQ(feed->push(FeedStream::Depth, std::vector<std::uint8_t>(8), hal::Pts(3)),
+              PushResult::Closed);
+    EXPECT_TRUE(feed->ended());
+}
+
+TEST(PadFeedTest, anInterruptedOpenSaysTimeout)
+{
+    auto feed = std::make_shared<PadFeed>();
+    PadMediaSource source(feed);
+    source.interrupt();
+    auto r = source.open("depthtouchsink:pads");
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().code, Errc::Timeout);
+}
+
+} // namespace
+} // namespace depthtouch::gst
