@@ -1,10 +1,14 @@
 #!/bin/sh
-# End-to-end: gst-launch-1.0 plays the depth stream of a clip made by `depthtouch encode` into
-# hapticsink with the simulated hand:
+# End-to-end: gst-launch-1.0 plays a clip made by `depthtouch encode` with the simulated hand,
+# 1. its depth stream into hapticsink:
 #   filesrc ! matroskademux name=d d.video_1 ! queue ! decodebin ! videoconvert ! hapticsink
-# The element's INFO lines (GST_DEBUG=hapticsink:4) show the depth tags it read from the demuxer
-# (the planes encode wrote) and, at the end, that the haptic task ran and the hand touched the
-# surface. No assertion on timing. Exit 77 (skip) without gst-launch-1.0 or without the demuxer
+# 2. both streams into depthtouchsink (issue 62's pipeline, on the headless display):
+#   filesrc ! matroskademux name=d d.video_0 ! queue ! decodebin ! videoconvert ! s.color
+#     d.video_1 ! queue ! decodebin ! s.depth depthtouchsink name=s haptic-device=sim
+# The elements' INFO lines (GST_DEBUG=hapticsink:4, depthtouchsink:4) show the depth tags read
+# from the demuxer (the planes encode wrote) and, at the end, that the haptic task ran and the hand
+# touched the surface; depthtouchsink's that each of the 90 colour frames was paired with its
+# depth frame by running time and the stream ended in EOS. No assertion on timing. Exit 77 (skip) without gst-launch-1.0 or without the demuxer
 # and decoder plugins (gstreamer1.0-plugins-good, gstreamer1.0-libav).
 # Usage: gst_launch_e2e.sh DEPTHTOUCH
 set -u
@@ -32,3 +36,23 @@ contact=$(echo "$line" | sed -n 's/.*stopped: \([0-9]*\) updates, \([0-9]*\) in 
 [ -n "$updates" ] && [ "$updates" -gt 0 ] || fail "no haptic updates: $line"
 [ -n "$contact" ] && [ "$contact" -gt 0 ] || fail "the hand never touched: $line"
 echo "gst-launch-1.0: $updates haptic updates, $contact in contact"
+
+# 2. depthtouchsink: colour + depth into play's player (a depth stream decoded to I420: its luma)
+GST_DEBUG=depthtouchsink:4 GST_DEBUG_NO_COLOR=1 gst-launch-1.0 filesrc location="$work/clip.mkv" ! \
+    matroskademux name=d d.video_0 ! queue ! decodebin ! videoconvert ! s.color \
+    d.video_1 ! queue ! decodebin ! s.depth \
+    depthtouchsink name=s haptic-device=sim display=headless stiffness=1000 >"$work/sink.out" 2>&1 ||
+    { cat "$work/sink.out"; fail "gst-launch-1.0 depthtouchsink exited $?"; }
+grep -q "Got EOS from element" "$work/sink.out" || { cat "$work/sink.out"; fail "no EOS"; }
+grep -q "haptic device 'sim', display 'headless', method finger, stiffness 1000 N/m" "$work/sink.out" ||
+    { cat "$work/sink.out"; fail "depthtouchsink's start line"; }
+grep -q "depth tags: near 0.5 m, far 1.5 m, mapping 'inverse_z', bits 8" "$work/sink.out" ||
+    { cat "$work/sink.out"; fail "depthtouchsink: the depth tags of the file"; }
+line=$(grep "stopped: .* pairs" "$work/sink.out") || { cat "$work/sink.out"; fail "no stop line"; }
+echo "$line" | grep -q "stopped: 90 pairs, [0-9]* presented, 0 depth unpaired" ||
+    fail "every colour frame paired with its depth frame: $line"
+presented=$(echo "$line" | sed -n 's/.* pairs, \([0-9]*\) presented.*/\1/p')
+updates=$(echo "$line" | sed -n 's/.* \([0-9]*\) haptic updates.*/\1/p')
+[ -n "$presented" ] && [ "$presented" -gt 0 ] || fail "nothing presented: $line"
+[ -n "$updates" ] && [ "$updates" -gt 0 ] || fail "no haptic updates: $line"
+echo "gst-launch-1.0 depthtouchsink: 90 pairs, $presented presented, $updates haptic updates"
