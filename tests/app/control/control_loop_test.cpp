@@ -2,9 +2,12 @@
 // the one command table.
 #include "depthtouch/control/control_loop.h"
 
+#include <atomic>
+
 #include <gtest/gtest.h>
 
 #include "control_test_support.h"
+#include "depthtouch/control/play_loop.h"
 #include "depthtouch/drivers/mock/mock_remote_input.h"
 #include "support/temp_dir.h"
 
@@ -174,6 +177,53 @@ TEST(ControlLoopTest, lostRemoteLeavesTheSocketWorking)
         EXPECT_TRUE(p.m.quitRequested());
         EXPECT_EQ(p.fake.calls, (std::vector<std::string>{"open movie.mkv", "stop"}));
     }
+}
+
+/// Plays, on \a clock, a player started with no file (play --idle) through playUntilDone(): a
+/// client's loadfile of two entries at turn 5, each opening one turn later, each ending 4 turns
+/// after that, and quit at turn 50. \return the turns run.
+int runPlaylistScript(bool idle, ManualClock &clock, player::test::FakePlayerActions &fake)
+{
+    player::StateMachine m(fake, player::PlayerSettings{});
+    ControlLoop loop(m, nullptr, nullptr, clock, milliseconds(10));
+    std::unique_ptr<ControlServer> server;
+    int turn = 0;
+    const auto eachTurn = [&] {
+        ++turn;
+        if (turn == 5) {
+            EXPECT_TRUE(m.execute("loadfile a.mkv").accepted);
+            EXPECT_TRUE(m.execute("loadfile b.mkv append").accepted);
+        }
+        if (turn == 6 || turn == 11) {
+            EXPECT_TRUE(m.onOpened());
+        }
+        if (turn == 10 || turn == 15) {
+            EXPECT_TRUE(m.onEndOfStream());
+        }
+        if (turn == 50) {
+            EXPECT_TRUE(m.execute("quit").accepted);
+        }
+    };
+    const std::atomic<bool> stop{false};
+    const LoopOutcome out = playUntilDone(m, loop, server, eachTurn, stop, {0.0, idle}, clock);
+    EXPECT_TRUE(out.opened);
+    EXPECT_TRUE(out.failure.empty()) << out.failure;
+    EXPECT_FALSE(out.stopped);
+    return turn;
+}
+
+// Issue 61: `play --idle` with no file waits (idle) for a client's loadfile, plays the playlist's
+// entries one after the other, and stays up after the last until quit; without --idle the player
+// ends after the last entry, not the first.
+TEST(ControlLoopTest, anIdlePlayerWaitsForLoadfileAndPlaysThePlaylistToItsEnd)
+{
+    ManualClock clock(ManualClock::Mode::AutoAdvance, TimePoint(seconds(5)));
+    player::test::FakePlayerActions fake;
+    EXPECT_EQ(runPlaylistScript(true, clock, fake), 50) << "stayed up, idle, until quit";
+    EXPECT_EQ(fake.calls, (std::vector<std::string>{"open a.mkv", "startPlayback", "stop",
+                                                    "open b.mkv", "startPlayback", "stop"}));
+    player::test::FakePlayerActions once;
+    EXPECT_EQ(runPlaylistScript(false, clock, once), 15) << "ends at the last entry's end";
 }
 
 } // namespace
