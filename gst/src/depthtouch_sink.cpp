@@ -4,7 +4,6 @@
 #include "depthtouch_sink.h"
 
 #include <array>
-#include <cstring>
 #include <memory>
 #include <mutex>
 #include <source_location>
@@ -204,20 +203,6 @@ void getProperty(GObject *object, guint id, GValue *value, GParamSpec *spec)
     }
 }
 
-/// Installs a read-only uint64 counter.
-void counter(GObjectClass *oc, guint id, const char *name, const char *blurb)
-{
-    g_object_class_install_property(
-        oc, id, g_param_spec_uint64(name, name, blurb, 0, G_MAXUINT64, 0, kReadOnly));
-}
-
-/// Installs a read-only double.
-void measure(GObjectClass *oc, guint id, const char *name, const char *blurb, double min)
-{
-    g_object_class_install_property(
-        oc, id, g_param_spec_double(name, name, blurb, min, G_MAXDOUBLE, 0.0, kReadOnly));
-}
-
 void installProperties(GObjectClass *oc)
 {
     installHapticProperties(oc, kPropDevice);
@@ -238,21 +223,21 @@ void installProperties(GObjectClass *oc)
                             "Path of the control socket (mpv's JSON IPC), as play --control; "
                             "empty: none",
                             "", kReadWrite));
-    counter(oc, kPropFramesPaired, "frames-paired",
-            "Colour + depth pairs the player's receiver made by PTS (running time)");
-    counter(oc, kPropFramesPresented, "frames-presented", "Pairs the player presented");
-    counter(oc, kPropDepthUnpaired, "depth-unpaired",
-            "Depth frames no colour frame was paired with");
-    counter(oc, kPropDepthMissing, "depth-missing", "Pairs made without a depth frame");
-    counter(oc, kPropUpdates, "updates", "Cycles of the haptic loop so far");
-    measure(oc, kPropServoRate, "servo-rate", "Haptic updates per second measured over the run, Hz",
-            0.0);
-    measure(oc, kPropContactForce, "contact-force",
-            "Magnitude of the last force commanded to the device, N", 0.0);
-    measure(oc, kPropContactForceZ, "contact-force-z",
-            "z of the last force, N, scene box (positive: toward the viewer)", -G_MAXDOUBLE);
-    counter(oc, kPropSafetyTrips, "safety-trips",
-            "Force-jump releases of the renderer and watchdog trips so far");
+    installCounter(oc, kPropFramesPaired, "frames-paired",
+                   "Colour + depth pairs the player's receiver made by PTS (running time)");
+    installCounter(oc, kPropFramesPresented, "frames-presented", "Pairs the player presented");
+    installCounter(oc, kPropDepthUnpaired, "depth-unpaired",
+                   "Depth frames no colour frame was paired with");
+    installCounter(oc, kPropDepthMissing, "depth-missing", "Pairs made without a depth frame");
+    installCounter(oc, kPropUpdates, "updates", "Cycles of the haptic loop so far");
+    installMeasure(oc, kPropServoRate, "servo-rate",
+                   "Haptic updates per second measured over the run, Hz", 0.0);
+    installMeasure(oc, kPropContactForce, "contact-force",
+                   "Magnitude of the last force commanded to the device, N", 0.0);
+    installMeasure(oc, kPropContactForceZ, "contact-force-z",
+                   "z of the last force, N, scene box (positive: toward the viewer)", -G_MAXDOUBLE);
+    installCounter(oc, kPropSafetyTrips, "safety-trips",
+                   "Force-jump releases of the renderer and watchdog trips so far");
     g_object_class_install_property(
         oc, kPropHaptics,
         g_param_spec_boolean("haptics", "Haptics",
@@ -360,32 +345,6 @@ gboolean padEvent(GstPad *pad, GstObject *parent, GstEvent *event)
     return result;
 }
 
-/// \return the frame of \a buffer tightly packed in \a p's format (hal::planeLayout(); an I420
-/// depth frame gives its luma plane), or
-/// empty when it cannot be mapped.
-std::vector<std::uint8_t> packFrame(const PadState &p, GstBuffer *buffer)
-{
-    GstVideoInfo info = p.info;
-    GstVideoFrame frame;
-    if (gst_video_frame_map(&frame, &info, buffer, GST_MAP_READ) == FALSE)
-        return {};
-    const int w = GST_VIDEO_INFO_WIDTH(&info);
-    const int h = GST_VIDEO_INFO_HEIGHT(&info);
-    std::vector<std::uint8_t> bytes(hal::imageBytes(p.format, w, h));
-    std::uint8_t *out = bytes.data();
-    for (int plane = 0; plane < hal::planeCount(p.format); ++plane) {
-        const hal::PlaneLayout l = hal::planeLayout(p.format, w, h, plane);
-        const std::uint8_t *in = planeDataAt(frame, static_cast<guint>(plane));
-        const auto stride =
-            static_cast<std::size_t>(planeStrideAt(frame, static_cast<guint>(plane)));
-        const auto row = static_cast<std::size_t>(l.rowBytes);
-        for (int y = 0; y < l.rows; ++y, out += row)
-            std::memcpy(out, in + static_cast<std::size_t>(y) * stride, row);
-    }
-    gst_video_frame_unmap(&frame);
-    return bytes;
-}
-
 GstFlowReturn chain(GstPad *pad, GstObject *parent, GstBuffer *buffer)
 {
     SinkState &s = stateOf(parent);
@@ -407,7 +366,7 @@ GstFlowReturn chain(GstPad *pad, GstObject *parent, GstBuffer *buffer)
             if (isTime(rt))
                 running = rt;
         }
-        bytes = packFrame(p, buffer);
+        bytes = packVideoFrame(p.info, p.format, buffer);
     }
     gst_buffer_unref(buffer);
     if (bytes.empty()) {

@@ -3,7 +3,10 @@
 
 #include "element_common.h"
 
+#include <cstring>
+
 #include "depth_tags.h"
+#include "gst_casts.h"
 #include "depthtouch/haptics/renderer_table.h"
 #include "depthtouch/options/option_range.h"
 
@@ -88,6 +91,42 @@ void getHapticProperty(const HapticSettings &s, HapticProperty p, GValue *value)
         g_value_set_string(value, s.method.c_str());
         break;
     }
+}
+
+void installCounter(GObjectClass *oc, guint id, const char *name, const char *blurb)
+{
+    g_object_class_install_property(
+        oc, id, g_param_spec_uint64(name, name, blurb, 0, G_MAXUINT64, 0, kReadOnly));
+}
+
+void installMeasure(GObjectClass *oc, guint id, const char *name, const char *blurb, double min)
+{
+    g_object_class_install_property(
+        oc, id, g_param_spec_double(name, name, blurb, min, G_MAXDOUBLE, 0.0, kReadOnly));
+}
+
+std::vector<std::uint8_t> packVideoFrame(const GstVideoInfo &info, hal::PixelFormat format,
+                                         GstBuffer *buffer)
+{
+    GstVideoInfo mapped = info;
+    GstVideoFrame frame;
+    if (gst_video_frame_map(&frame, &mapped, buffer, GST_MAP_READ) == FALSE)
+        return {};
+    const int w = GST_VIDEO_INFO_WIDTH(&mapped);
+    const int h = GST_VIDEO_INFO_HEIGHT(&mapped);
+    std::vector<std::uint8_t> bytes(hal::imageBytes(format, w, h));
+    std::uint8_t *out = bytes.data();
+    for (int plane = 0; plane < hal::planeCount(format); ++plane) {
+        const hal::PlaneLayout l = hal::planeLayout(format, w, h, plane);
+        const std::uint8_t *in = planeDataAt(frame, static_cast<guint>(plane));
+        const auto stride =
+            static_cast<std::size_t>(planeStrideAt(frame, static_cast<guint>(plane)));
+        const auto row = static_cast<std::size_t>(l.rowBytes);
+        for (int y = 0; y < l.rows; ++y, out += row)
+            std::memcpy(out, in + static_cast<std::size_t>(y) * stride, row);
+    }
+    gst_video_frame_unmap(&frame);
+    return bytes;
 }
 
 bool readDepthTagEvent(GstEvent *event, hal::DepthMetadata &md)

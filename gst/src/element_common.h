@@ -6,9 +6,12 @@
 /// reading of the demuxer's depth tags from a GST_EVENT_TAG (depth_tags.h).
 /// Thread-safety: the installers at class init; the rest on the caller's data (the elements lock).
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include <gst/gst.h>
+#include <gst/video/video.h>
 
 #include "depthtouch/hal/media_source.h"
 #include "haptic_session.h"
@@ -33,6 +36,17 @@ void installHapticProperties(GObjectClass *oc, guint firstId);
 void setHapticProperty(HapticSettings &s, HapticProperty p, const GValue *value);
 /// \brief Reads the setting \a p of \a s into \a value.
 void getHapticProperty(const HapticSettings &s, HapticProperty p, GValue *value);
+
+/// \brief Installs a read-only uint64 counter \a name (from 0).
+void installCounter(GObjectClass *oc, guint id, const char *name, const char *blurb);
+/// \brief Installs a read-only double \a name from \a min (default 0).
+void installMeasure(GObjectClass *oc, guint id, const char *name, const char *blurb, double min);
+
+/// \return the frame of \a buffer (caps \a info) tightly packed in \a format
+/// (hal::planeLayout(): \a format's planes from the frame's first ones, so an I420 frame read as
+/// Gray8 gives its luma), or empty when it cannot be mapped.
+std::vector<std::uint8_t> packVideoFrame(const GstVideoInfo &info, hal::PixelFormat format,
+                                         GstBuffer *buffer);
 
 /// \brief Reads the depth tags of a tag event (extended comments "KEY=value", matroskademux's
 /// form) into \a md. \return true when \a md changed.
