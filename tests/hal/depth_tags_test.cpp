@@ -27,6 +27,20 @@ TEST(DepthTagsTest, eachTagFillsItsField)
     EXPECT_EQ(kDepthTagNames.size(), 5u);
 }
 
+// The ends of the ranges are in them: 1 and 16 bits, occupancy 1 and 65535.
+TEST(DepthTagsTest, theRangesIncludeTheirEnds)
+{
+    DepthMetadata md;
+    EXPECT_TRUE(applyDepthTag("depth_bits", "1", md));
+    EXPECT_EQ(md.bits, 1);
+    EXPECT_TRUE(applyDepthTag("depth_bits", "16", md));
+    EXPECT_EQ(md.bits, 16);
+    EXPECT_TRUE(applyDepthTag("depth_occupancy", "1", md));
+    EXPECT_EQ(md.occupancy, 1u);
+    EXPECT_TRUE(applyDepthTag("depth_occupancy", "65535", md));
+    EXPECT_EQ(md.occupancy, 65535u);
+}
+
 // Nonsense is refused and leaves what was read: a plane that is not a positive finite distance,
 // bits outside 1..16, an occupancy that is not a whole number in 1..65535, an empty or absent
 // value, another tag.
