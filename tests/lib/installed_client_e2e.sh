@@ -48,4 +48,21 @@ EOF
 LD_LIBRARY_PATH=$(pkg-config --variable=libdir depthtouch) "$work/app" >"$work/run.log" 2>&1 ||
     fail "the program failed: $(cat "$work/run.log")"
 grep -qx played "$work/run.log" || fail "no 'played': $(cat "$work/run.log")"
+
+# The minimal program of docs/embedding.md as a reader copies it, built the same way and run on a
+# clip `depthtouch encode` writes (1 s): it prints time-pos as the clip plays and ends at end-file.
+awk '/^## A minimal program/ { f = 1 } f && /^```c/ { c = 1; next } c && /^```/ { exit } c' \
+    "$src/docs/embedding.md" >"$work/minimal.c"
+[ -s "$work/minimal.c" ] || fail "no C block under '## A minimal program' in docs/embedding.md"
+# shellcheck disable=SC2046 # pkg-config's flags are words
+"$cc" -std=c99 -Wall -Wextra -Werror "$work/minimal.c" $(pkg-config --cflags --libs depthtouch) \
+    -o "$work/minimal" || fail "docs/embedding.md's minimal program did not build"
+clip="$work/clip.mkv"
+"$build/app/cli/depthtouch" encode --color synthetic:head,size=160x120,frames=30 \
+    --depth synthetic:head,size=160x120,frames=30 -o "$clip" --preset ultrafast \
+    >"$work/encode.out" 2>&1 || fail "encode: $(cat "$work/encode.out")"
+LD_LIBRARY_PATH=$(pkg-config --variable=libdir depthtouch) timeout 60 "$work/minimal" "$clip" \
+    >"$work/minimal.log" 2>&1 || fail "the minimal program failed: $(cat "$work/minimal.log")"
+grep -q '^time-pos = [0-9.]* s$' "$work/minimal.log" ||
+    fail "the minimal program printed no time-pos: $(cat "$work/minimal.log")"
 echo "PASS: a C program built with pkg-config against the installed libdepthtouch played a clip"
