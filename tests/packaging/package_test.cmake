@@ -12,12 +12,18 @@
 #     file in libdepthtouch0-dbgsym) and libdepthtouch-dev (the header, the .so link, depthtouch.pc,
 #     the CMake package config; Depends: libdepthtouch0 (= version)); nothing else; the program's
 #     package depends on libdepthtouch0 exactly when the program links it (readelf -d);
+#  2c. (GST) gstreamer1.0-depthtouch: the plugin in lib/<multiarch>/gstreamer-1.0, stripped, its
+#     debug file in gstreamer1.0-depthtouch-dbgsym, Section video, Depends on GStreamer's library
+#     (shlibs) and the Mesa driver; the program's package holds no plugin;
 #     lintian reports no error and no warning on any of them;
 #  3. (native builds) the package unpacked into a scratch root (dpkg-deb -x) runs: --version and a
 #     short demo from there; with LIB, libdepthtouch0 and libdepthtouch-dev unpacked into a root of
-#     their own: a C program built with that root's pkg-config file (CC) loads the library.
+#     their own: a C program built with that root's pkg-config file (CC) loads the library; with GST
+#     (and no sanitizer), gst-inspect-1.0 loads the plugin from its unpacked package and lists
+#     depthtouchsink and hapticsink.
 # -DBUILD=<build dir> -DOUT=<scratch folder> -DVERSION=<x.y.z> -DARCH=<Debian arch> -DRUN=ON|OFF
-# -DLIB=ON|OFF (the build has libdepthtouch) -DLIBDIR=<its CMAKE_INSTALL_LIBDIR: lib/<multiarch>>
+# -DLIB=ON|OFF (the build has libdepthtouch) -DGST=ON|OFF (the build has the GStreamer plugin)
+# -DLIBDIR=<its CMAKE_INSTALL_LIBDIR: lib/<multiarch>>
 # -DSYMBOLS=<packaging/libdepthtouch0.symbols> -DCC=<a C compiler for the target>
 # -DPAGES=ON|OFF (the build wrote the man pages and shell completion) -DRUN_PROGRAM=<the program, or
 # its emulator wrapper in a cross build>
@@ -182,6 +188,10 @@ if(LIB)
     list(APPEND expected libdepthtouch0_${VERSION}_${ARCH}.deb libdepthtouch0-dbgsym_${VERSION}_${ARCH}.ddeb
         libdepthtouch-dev_${VERSION}_${ARCH}.deb)
 endif()
+if(GST)
+    list(APPEND expected gstreamer1.0-depthtouch_${VERSION}_${ARCH}.deb
+        gstreamer1.0-depthtouch-dbgsym_${VERSION}_${ARCH}.ddeb)
+endif()
 file(GLOB written RELATIVE "${OUT}/cpack" "${OUT}/cpack/*.deb" "${OUT}/cpack/*.ddeb")
 list(SORT expected)
 list(SORT written)
@@ -341,6 +351,39 @@ if(LIB)
     endif()
     list(APPEND lint "${lib_deb}" "${dev_deb}" "${lib_ddeb}")
 endif()
+# 2c. the GStreamer plugin's package
+set(gst_plugin "usr/${LIBDIR}/gstreamer-1.0/libgstdepthtouch.so")
+if(GST)
+    set(gst_deb "${OUT}/cpack/gstreamer1.0-depthtouch_${VERSION}_${ARCH}.deb")
+    run(dpkg-deb -I "${gst_deb}")
+    message("${out}")
+    foreach(field "Package: gstreamer1.0-depthtouch" "Version: ${VERSION}" "Architecture: ${ARCH}"
+                  "Section: video" "Source: depthtouch")
+        if(NOT out MATCHES "\n ${field}\n")
+            message(FATAL_ERROR "gstreamer1.0-depthtouch's control lacks '${field}':\n${out}")
+        endif()
+    endforeach()
+    if(NOT out MATCHES "\n Depends:[^\n]*libgstreamer1\\.0-0" OR NOT out MATCHES "\n Depends:[^\n]*libgl1-mesa-dri")
+        message(FATAL_ERROR "gstreamer1.0-depthtouch's Depends lacks GStreamer (shlibs) or Mesa:\n${out}")
+    endif()
+    run(dpkg-deb -c "${gst_deb}")
+    foreach(p ${gst_plugin} usr/share/doc/gstreamer1.0-depthtouch/copyright
+              usr/share/doc/gstreamer1.0-depthtouch/changelog.gz)
+        if(NOT out MATCHES " \\./${p}\n")
+            message(FATAL_ERROR "gstreamer1.0-depthtouch lacks ${p}:\n${out}")
+        endif()
+    endforeach()
+    run(dpkg-deb -c "${debs}")
+    if(out MATCHES "gstreamer-1\\.0")
+        message(FATAL_ERROR "the program's package holds the GStreamer plugin:\n${out}")
+    endif()
+    run(dpkg-deb -x "${gst_deb}" "${OUT}/gst-root")
+    execute_process(COMMAND readelf -S "${OUT}/gst-root/${gst_plugin}" OUTPUT_VARIABLE elf)
+    if(elf MATCHES "\\.debug_info")
+        message(FATAL_ERROR "the packaged plugin is not stripped")
+    endif()
+    list(APPEND lint "${gst_deb}" "${OUT}/cpack/gstreamer1.0-depthtouch-dbgsym_${VERSION}_${ARCH}.ddeb")
+endif()
 find_program(LINTIAN lintian)
 if(SANITIZE)
     message("lintian: not run on a sanitizer build's package (${SANITIZE})")
@@ -396,6 +439,19 @@ int main(void)
         run("${OUT}/version")
         unset(ENV{LD_LIBRARY_PATH})
         message("a program built against the unpacked libdepthtouch-dev loaded libdepthtouch0 (API ${out})")
+    endif()
+    # The plugin from its unpacked package, as GStreamer finds it once installed.
+    find_program(GST_INSPECT gst-inspect-1.0)
+    if(GST AND GST_INSPECT AND NOT SANITIZE)
+        set(ENV{GST_PLUGIN_PATH} "${OUT}/gst-root/usr/${LIBDIR}/gstreamer-1.0")
+        set(ENV{GST_REGISTRY} "${OUT}/gst-registry.bin")
+        run(${GST_INSPECT} depthtouch)
+        unset(ENV{GST_PLUGIN_PATH})
+        unset(ENV{GST_REGISTRY})
+        if(NOT out MATCHES "depthtouchsink" OR NOT out MATCHES "hapticsink")
+            message(FATAL_ERROR "gst-inspect-1.0 depthtouch from the package:\n${out}")
+        endif()
+        message("gst-inspect-1.0 loaded the packaged plugin: depthtouchsink, hapticsink")
     endif()
 endif()
 message("package: ${debs}")
