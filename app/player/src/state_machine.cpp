@@ -76,6 +76,12 @@ struct CommandHandlers {
     /// mpv's stop: the file ends (reason stop) and the playlist is cleared.
     static CommandOutcome stop(StateMachine &m, const Command &)
     {
+        // With nothing open, mpv's stop succeeds and forgets the playlist: a UI's stop button is
+        // never an error (node-mpv's stop() on an idle player).
+        if (m.state_ == PlayerState::Idle || m.state_ == PlayerState::Stopped) {
+            m.playlist_.clear();
+            return CommandOutcome::accept();
+        }
         return m.apply("stop", m.actions_.stop(), [&] {
             m.playlist_.clear();
             m.setState(PlayerState::Stopped);
@@ -328,9 +334,8 @@ constexpr CommandSpec kCommands[] = {
      &parseNoArgs, &H::pause},
     {"toggle-pause", CommandId::TogglePause, "", "Pause when playing, otherwise play",
      kCanStart | kActive, false, &parseNoArgs, &H::togglePause},
-    {"stop", CommandId::Stop, "", "Stop playback and close the stream",
-     kActive | stateBit(PlayerState::Opening) | stateBit(PlayerState::Error), false, &parseNoArgs,
-     &H::stop},
+    {"stop", CommandId::Stop, "", "Stop playback, close the stream and clear the playlist",
+     kAnyState, false, &parseNoArgs, &H::stop},
     {"seek", CommandId::Seek, "SECONDS [relative|absolute]",
      "Seek by SECONDS (negative: back) or to a position; keeps paused or playing", kActive, true,
      &parseSeekArgs, &H::seek},

@@ -154,6 +154,23 @@ TEST(PlaylistTest, playlistNextAndPrevStepWeakRefusesAtTheEndsForceStops)
     EXPECT_EQ(p.listener.events.back().kind, PlayerEventKind::Idle);
 }
 
+// mpv's stop with nothing open (node-mpv's stop() on an idle player): success, the playlist
+// forgotten, no file event and nothing asked of the player. Before, it was refused ("cannot stop
+// while idle").
+TEST(PlaylistTest, stopWithNothingOpenSucceedsAndForgetsThePlaylist)
+{
+    IdlePlayer p;
+    ASSERT_TRUE(p.m.execute("loadfile a.mkv append").accepted);
+    ASSERT_EQ(p.number("playlist-count"), 1.0);
+    p.listener.events.clear();
+    const CommandOutcome out = p.m.execute("stop");
+    EXPECT_TRUE(out.accepted) << out.reason;
+    EXPECT_EQ(p.m.state(), S::Idle);
+    EXPECT_EQ(p.number("playlist-count"), 0.0);
+    EXPECT_TRUE(p.fake.calls.empty());
+    EXPECT_TRUE(p.listener.events.empty());
+}
+
 TEST(PlaylistTest, stopClearsThePlaylistQuitEndsWithQuitAndNoIdle)
 {
     IdlePlayer p;

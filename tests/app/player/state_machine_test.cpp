@@ -149,7 +149,7 @@ const std::vector<Row> kRows = {
     {S::Idle, "play", true, S::Opening, "open movie.mkv"},
     {S::Idle, "pause", false, S::Idle, ""},
     {S::Idle, "toggle-pause", true, S::Opening, "open movie.mkv"},
-    {S::Idle, "stop", false, S::Idle, ""},
+    {S::Idle, "stop", true, S::Idle, ""}, // mpv: success, the playlist forgotten
     {S::Idle, "seek 10", false, S::Idle, ""},
     {S::Idle, "next-stereo-mode", true, S::Idle, "setStereoMode tab"},
     {S::Idle, "stereo-mode anaglyph", true, S::Idle, "setStereoMode anaglyph"},
@@ -229,7 +229,7 @@ const std::vector<Row> kRows = {
     {S::Stopped, "play", true, S::Opening, "open movie.mkv"},
     {S::Stopped, "pause", false, S::Stopped, ""},
     {S::Stopped, "toggle-pause", true, S::Opening, "open movie.mkv"},
-    {S::Stopped, "stop", false, S::Stopped, ""},
+    {S::Stopped, "stop", true, S::Stopped, ""},
     {S::Stopped, "seek 10", false, S::Stopped, ""},
     {S::Stopped, "next-stereo-mode", true, S::Stopped, "setStereoMode tab"},
     {S::Stopped, "stereo-mode anaglyph", true, S::Stopped, "setStereoMode anaglyph"},
