@@ -4,6 +4,7 @@
 #include "depthtouch_sink.h"
 
 #include <array>
+#include <chrono>
 #include <memory>
 #include <mutex>
 #include <source_location>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "depthtouch/options/option_range.h"
+#include "depthtouch_sink_state.h"
 #include "element_common.h"
 #include "feed_player.h"
 #include "gst_casts.h"
@@ -20,65 +22,9 @@ namespace depthtouch::gst {
 
 namespace {
 
-/// One sink pad's negotiated format and segment. Under SinkState::mutex.
-struct PadState {
-    GstPad *pad = nullptr; ///< Owned by the element.
-    GstVideoInfo info{};
-    bool configured = false;
-    hal::PixelFormat format = hal::PixelFormat::Unknown;
-    GstSegment segment{};
-};
-
-/// The element's own state (C++), owned by the instance; every field under mutex.
-struct SinkState {
-    std::mutex mutex;
-    PlayerSettings settings;
-    hal::DepthMetadata tags; ///< The depth stream's tags so far.
-    std::array<PadState, 2> pads;
-    std::shared_ptr<PadFeed> feed;      ///< Between READY to PAUSED and PAUSED to READY.
-    std::unique_ptr<FeedPlayer> player; ///< Likewise.
-    bool started = false;               ///< The player's loop runs (first PLAYING).
-    guint32 eosSeqnum = 0;
-};
-
-struct DepthTouchSink {
-    GstElement parent;
-    SinkState *state;
-};
-
-struct DepthTouchSinkClass {
-    GstElementClass parentClass;
-};
-
 GstElementClass *parentClass = nullptr;
 /// "depthtouchsink" (GST_DEBUG=depthtouchsink:4: the start, the caps, the tags, the run's counts).
 GstDebugCategory *category = nullptr;
-
-enum Property : guint {
-    kPropZero,
-    kPropDevice, // the four HapticProperty in order
-    kPropDeviceOptions,
-    kPropStiffness,
-    kPropMethod,
-    kPropDisplay,
-    kPropDisplayOptions,
-    kPropControl,
-    kPropFramesPaired,
-    kPropFramesPresented,
-    kPropDepthUnpaired,
-    kPropDepthMissing,
-    kPropUpdates,
-    kPropServoRate,
-    kPropContactForce,
-    kPropContactForceZ,
-    kPropSafetyTrips,
-    kPropHaptics,
-};
-
-SinkState &stateOf(gpointer self)
-{
-    return *static_cast<DepthTouchSink *>(self)->state;
-}
 
 /// \brief Posts \a text as the element's error (prefixed with its name).
 void fail(gpointer self, GQuark domain, gint code, const std::string &text,
@@ -97,152 +43,6 @@ FeedStream streamOf(SinkState &s, GstPad *pad)
 PadState &padOf(SinkState &s, FeedStream f)
 {
     return s.pads[static_cast<std::size_t>(f)];
-}
-
-// ---- properties -------------------------------------------------------------------------------
-
-std::string textOf(const GValue *value)
-{
-    const gchar *text = g_value_get_string(value);
-    return text != nullptr ? text : "";
-}
-
-void setProperty(GObject *object, guint id, const GValue *value, GParamSpec *spec)
-{
-    SinkState &s = stateOf(object);
-    const std::lock_guard lock(s.mutex);
-    switch (id) {
-    case kPropDevice:
-    case kPropDeviceOptions:
-    case kPropStiffness:
-    case kPropMethod:
-        setHapticProperty(s.settings.haptic, static_cast<HapticProperty>(id - kPropDevice), value);
-        if (id == kPropStiffness && s.player)
-            s.player->setStiffness(s.settings.haptic.stiffness);
-        break;
-    case kPropDisplay:
-        s.settings.display = textOf(value);
-        break;
-    case kPropDisplayOptions:
-        s.settings.displayOptions = textOf(value);
-        break;
-    case kPropControl:
-        s.settings.control = textOf(value);
-        break;
-    default:
-        warnInvalidProperty(object, id, spec);
-        break;
-    }
-}
-
-/// Sets \a value from the readout \a r (a read-only property \a id).
-void getReadout(guint id, const PlayerReadout &r, GValue *value)
-{
-    switch (id) {
-    case kPropFramesPaired:
-        g_value_set_uint64(value, r.framesPaired);
-        break;
-    case kPropFramesPresented:
-        g_value_set_uint64(value, r.framesPresented);
-        break;
-    case kPropDepthUnpaired:
-        g_value_set_uint64(value, r.depthUnpaired);
-        break;
-    case kPropDepthMissing:
-        g_value_set_uint64(value, r.depthMissing);
-        break;
-    case kPropUpdates:
-        g_value_set_uint64(value, r.hapticUpdates);
-        break;
-    case kPropServoRate:
-        g_value_set_double(value, r.servoRateHz);
-        break;
-    case kPropContactForce:
-        g_value_set_double(value, r.force);
-        break;
-    case kPropContactForceZ:
-        g_value_set_double(value, r.forceZ);
-        break;
-    case kPropSafetyTrips:
-        g_value_set_uint64(value, r.safetyTrips);
-        break;
-    case kPropHaptics:
-        g_value_set_boolean(value, r.haptics ? TRUE : FALSE);
-        break;
-    default:
-        break;
-    }
-}
-
-void getProperty(GObject *object, guint id, GValue *value, GParamSpec *spec)
-{
-    SinkState &s = stateOf(object);
-    const std::lock_guard lock(s.mutex);
-    switch (id) {
-    case kPropDevice:
-    case kPropDeviceOptions:
-    case kPropStiffness:
-    case kPropMethod:
-        getHapticProperty(s.settings.haptic, static_cast<HapticProperty>(id - kPropDevice), value);
-        break;
-    case kPropDisplay:
-        g_value_set_string(value, s.settings.display.c_str());
-        break;
-    case kPropDisplayOptions:
-        g_value_set_string(value, s.settings.displayOptions.c_str());
-        break;
-    case kPropControl:
-        g_value_set_string(value, s.settings.control.c_str());
-        break;
-    default:
-        if (id >= kPropFramesPaired && id <= kPropHaptics)
-            getReadout(id, s.player ? s.player->readout() : PlayerReadout{}, value);
-        else
-            warnInvalidProperty(object, id, spec);
-        break;
-    }
-}
-
-void installProperties(GObjectClass *oc)
-{
-    installHapticProperties(oc, kPropDevice);
-    g_object_class_install_property(
-        oc, kPropDisplay,
-        g_param_spec_string("display", "Display",
-                            "Display backend(s), comma-separated, tried in order, as play "
-                            "--display (x11, kms, offscreen, ...); empty: autoprobe, as play",
-                            "", kReadWrite));
-    g_object_class_install_property(
-        oc, kPropDisplayOptions,
-        g_param_spec_string("display-options", "Display options",
-                            "The display backend's key=value options, as play --display-options",
-                            "", kReadWrite));
-    g_object_class_install_property(
-        oc, kPropControl,
-        g_param_spec_string("control", "Control socket",
-                            "Path of the control socket (mpv's JSON IPC), as play --control; "
-                            "empty: none",
-                            "", kReadWrite));
-    installCounter(oc, kPropFramesPaired, "frames-paired",
-                   "Colour + depth pairs the player's receiver made by PTS (running time)");
-    installCounter(oc, kPropFramesPresented, "frames-presented", "Pairs the player presented");
-    installCounter(oc, kPropDepthUnpaired, "depth-unpaired",
-                   "Depth frames no colour frame was paired with");
-    installCounter(oc, kPropDepthMissing, "depth-missing", "Pairs made without a depth frame");
-    installCounter(oc, kPropUpdates, "updates", "Cycles of the haptic loop so far");
-    installMeasure(oc, kPropServoRate, "servo-rate",
-                   "Haptic updates per second measured over the run, Hz", 0.0);
-    installMeasure(oc, kPropContactForce, "contact-force",
-                   "Magnitude of the last force commanded to the device, N", 0.0);
-    installMeasure(oc, kPropContactForceZ, "contact-force-z",
-                   "z of the last force, N, scene box (positive: toward the viewer)", -G_MAXDOUBLE);
-    installCounter(oc, kPropSafetyTrips, "safety-trips",
-                   "Force-jump releases of the renderer and watchdog trips so far");
-    g_object_class_install_property(
-        oc, kPropHaptics,
-        g_param_spec_boolean("haptics", "Haptics",
-                             "A haptic task runs (a depth stream and a haptic device)", FALSE,
-                             kReadOnly));
 }
 
 // ---- the pads ---------------------------------------------------------------------------------
@@ -299,10 +99,25 @@ gboolean setCaps(GstElement *self, SinkState &s, FeedStream f, GstCaps *caps)
     return TRUE;
 }
 
+void commitPreroll(GstElement *self, SinkState &s);
+
+/// \brief Notes that the pad of \a f had its first frame or its EOS. \return whether the preroll
+/// is now complete (both pads) and is to be committed (commitPreroll()). \pre s.mutex held.
+bool prerolledNow(SinkState &s, FeedStream f)
+{
+    s.prerolled[static_cast<std::size_t>(f)] = true;
+    if (!s.prerollPending || !s.prerolled[0] || !s.prerolled[1])
+        return false;
+    s.prerollPending = false;
+    s.committing = true;
+    return true;
+}
+
 gboolean padEvent(GstPad *pad, GstObject *parent, GstEvent *event)
 {
     SinkState &s = stateOf(parent);
     gboolean result = TRUE;
+    bool commit = false;
     {
         const std::lock_guard lock(s.mutex);
         const FeedStream f = streamOf(s, pad);
@@ -336,12 +151,15 @@ gboolean padEvent(GstPad *pad, GstObject *parent, GstEvent *event)
             s.eosSeqnum = gst_event_get_seqnum(event);
             if (s.feed)
                 s.feed->endOfStream(f);
+            commit = prerolledNow(s, f);
             break;
         default:
             break;
         }
     }
     gst_event_unref(event);
+    if (commit)
+        commitPreroll(asElement(parent), s);
     return result;
 }
 
@@ -376,7 +194,16 @@ GstFlowReturn chain(GstPad *pad, GstObject *parent, GstBuffer *buffer)
     // Outside the lock: waits while the player's queue is full.
     const PushResult r =
         feed->push(f, std::move(bytes), hal::Pts(static_cast<std::int64_t>(running)));
-    return r == PushResult::Ok ? GST_FLOW_OK : GST_FLOW_FLUSHING;
+    if (r != PushResult::Ok)
+        return GST_FLOW_FLUSHING;
+    bool commit = false;
+    {
+        const std::lock_guard lock(s.mutex);
+        commit = prerolledNow(s, f);
+    }
+    if (commit)
+        commitPreroll(asElement(parent), s);
+    return GST_FLOW_OK;
 }
 
 // ---- states -----------------------------------------------------------------------------------
@@ -400,6 +227,8 @@ gboolean openPlayer(GstElement *self, SinkState &s)
         return FALSE;
     }
     s.started = false;
+    s.prerolled = {};
+    s.prerollPending = s.async;
     logInfo(category, self,
             ("haptic device '" + s.player->deviceName() + "', display '" + s.player->displayName() +
              "', method " + s.settings.haptic.method + ", stiffness " +
@@ -446,6 +275,43 @@ gboolean play(GstElement *self, SinkState &s)
     return TRUE;
 }
 
+/// \brief commitPreroll()'s messages: the state changes (and PLAYING's start), ASYNC_DONE.
+void postCommitted(GstElement *self, SinkState &s, GstState before, GstState committed)
+{
+    if (before == GST_STATE_READY)
+        gst_element_post_message(
+            self, gst_message_new_state_changed(
+                      asGstObject(self), GST_STATE_READY, GST_STATE_PAUSED,
+                      committed == GST_STATE_PLAYING ? GST_STATE_PLAYING : GST_STATE_VOID_PENDING));
+    if (committed == GST_STATE_PLAYING) {
+        if (play(self, s) == FALSE)
+            return;
+        gst_element_post_message(
+            self, gst_message_new_state_changed(asGstObject(self), GST_STATE_PAUSED,
+                                                GST_STATE_PLAYING, GST_STATE_VOID_PENDING));
+    }
+    gst_element_post_message(self,
+                             gst_message_new_async_done(asGstObject(self), GST_CLOCK_TIME_NONE));
+    broadcastState(self);
+}
+
+/// \brief The preroll is complete (both pads have a frame or ended): commits the asynchronous
+/// READY to PAUSED, and goes on to PLAYING when that is pending (the player starts), posting the
+/// state changes and ASYNC_DONE as GstBaseSink does. Called without s.mutex.
+void commitPreroll(GstElement *self, SinkState &s)
+{
+    GstState before = GST_STATE_VOID_PENDING;
+    GstState committed = GST_STATE_VOID_PENDING;
+    commitAsyncState(self, before, committed);
+    if (committed != GST_STATE_VOID_PENDING)
+        postCommitted(self, s, before, committed);
+    {
+        const std::lock_guard lock(s.mutex);
+        s.committing = false;
+    }
+    s.committed.notify_all();
+}
+
 /// PAUSED to READY: the player stopped and closed, with its counts logged.
 void closePlayer(GstElement *self, SinkState &s)
 {
@@ -460,13 +326,34 @@ void closePlayer(GstElement *self, SinkState &s)
         return;
     const PlayerReadout r = player->readout();
     player.reset(); // joins its thread (which may post): outside the lock
-    const std::string line = "stopped: " + std::to_string(r.framesPaired) + " pairs, " +
-                             std::to_string(r.framesPresented) + " presented, " +
-                             std::to_string(r.depthUnpaired) + " depth unpaired; " +
-                             std::to_string(r.hapticUpdates) + " haptic updates, max force " +
-                             options::OptionRange::number(r.maxForce) + " N, " +
-                             std::to_string(r.safetyTrips) + " safety trips";
+    const std::string line =
+        "stopped: " + std::to_string(r.framesPaired) + " pairs, " +
+        std::to_string(r.framesPresented) + " presented, " + std::to_string(r.depthUnpaired) +
+        " depth unpaired; " + std::to_string(r.hapticUpdates) + " haptic updates, max force " +
+        options::OptionRange::number(r.maxForce) + " N, " + std::to_string(r.safetyTrips) +
+        " safety trips, " + std::to_string(r.pageFaults) + " page faults after warm-up";
     logInfo(category, self, line.c_str());
+}
+
+/// \brief Waits (at most a second) until a streaming thread committing the preroll has posted
+/// its messages: the pipeline's PAUSED (that thread's) then comes before its PLAYING (the
+/// caller's), which it needs to forward the EOS at the end.
+void waitForCommit(SinkState &s)
+{
+    std::unique_lock lock(s.mutex);
+    s.committed.wait_for(lock, std::chrono::seconds(1), [&s] { return !s.committing; });
+}
+
+bool async(SinkState &s)
+{
+    const std::lock_guard lock(s.mutex);
+    return s.async;
+}
+
+bool prerollPending(SinkState &s)
+{
+    const std::lock_guard lock(s.mutex);
+    return s.prerollPending;
 }
 
 GstStateChangeReturn changeState(GstElement *element, GstStateChange transition)
@@ -476,8 +363,11 @@ GstStateChangeReturn changeState(GstElement *element, GstStateChange transition)
     case GST_STATE_CHANGE_READY_TO_PAUSED:
         if (openPlayer(element, s) == FALSE)
             return GST_STATE_CHANGE_FAILURE;
+        if (async(s))
+            gst_element_post_message(element, gst_message_new_async_start(asGstObject(element)));
         break;
     case GST_STATE_CHANGE_PAUSED_TO_PLAYING:
+        waitForCommit(s);
         if (play(element, s) == FALSE)
             return GST_STATE_CHANGE_FAILURE;
         break;
@@ -490,6 +380,7 @@ GstStateChangeReturn changeState(GstElement *element, GstStateChange transition)
     case GST_STATE_CHANGE_PAUSED_TO_READY: {
         // Unblock the pads before their deactivation takes their stream locks.
         const std::lock_guard lock(s.mutex);
+        s.prerollPending = false;
         if (s.feed)
             s.feed->shutdown();
         break;
@@ -500,6 +391,10 @@ GstStateChangeReturn changeState(GstElement *element, GstStateChange transition)
     const GstStateChangeReturn r = parentClass->change_state(element, transition);
     if (transition == GST_STATE_CHANGE_PAUSED_TO_READY)
         closePlayer(element, s);
+    // Prerolling: PAUSED comes with the first frames (commitPreroll()), unless it came already.
+    if (transition == GST_STATE_CHANGE_READY_TO_PAUSED && r == GST_STATE_CHANGE_SUCCESS &&
+        async(s) && prerollPending(s))
+        return GST_STATE_CHANGE_ASYNC;
     return r;
 }
 
@@ -545,10 +440,10 @@ void classInit(gpointer klass, gpointer)
     parentClass = parentElementClass(klass);
     category = _gst_debug_category_new(kDepthTouchSinkName, 0, "DepthTouch colour + depth sink");
     GObjectClass *oc = asObjectClass(klass);
-    oc->set_property = setProperty;
-    oc->get_property = getProperty;
+    oc->set_property = setSinkProperty;
+    oc->get_property = getSinkProperty;
     oc->finalize = finalize;
-    installProperties(oc);
+    installSinkProperties(oc);
 
     GstElementClass *ec = asElementClass(klass);
     gst_element_class_set_static_metadata(

@@ -19,9 +19,12 @@
 /// "DEPTH_NEAR=...", read by depth_tags.h as the FFmpeg source reads them) give the depth stream's
 /// hal::DepthMetadata, as `play` reads it from the file.
 ///
+/// Preroll: READY to PAUSED is asynchronous (the `async` property, as GstBaseSink's): PAUSED is
+/// committed once each pad has its first frame or its EOS.
+///
 /// Properties: haptic-device, haptic-device-options, stiffness (live), method, display,
 /// display-options, control (play's options, checked by play's option table: a bad value fails
-/// READY to PAUSED with an error on the bus); read-only frames-paired, frames-presented,
+/// READY to PAUSED with an error on the bus), async; read-only frames-paired, frames-presented,
 /// depth-unpaired, depth-missing, updates, servo-rate, contact-force, contact-force-z,
 /// safety-trips, haptics. Thread-safety: GStreamer's (an internal mutex for the properties).
 

@@ -59,6 +59,7 @@ struct PlayerReadout {
     std::uint64_t depthPairsPublished = 0; ///< Depth pairs handed to the haptic task.
     std::uint64_t hapticUpdates = 0;       ///< Cycles of the haptic loop.
     std::uint64_t safetyTrips = 0;         ///< Force-jump releases + watchdog trips.
+    std::uint64_t pageFaults = 0;          ///< Page faults of the haptic thread after its warm-up.
     double servoRateHz = 0.0;              ///< Updates per second over the run.
     double forceZ = 0.0;                   ///< z of the last force, N (toward the viewer).
     double force = 0.0;                    ///< |F| of the last force, N.

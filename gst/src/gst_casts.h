@@ -111,6 +111,33 @@ inline GstEventType eventType(GstEvent *event) noexcept
     return GST_EVENT_TYPE(event);
 }
 
+/// \brief Commits an element's asynchronous state change (its READY to PAUSED, and on to PLAYING
+/// when that is pending), as GstBaseSink commits its preroll: the state fields set under the
+/// object lock; the caller then posts the state-changed messages and ASYNC_DONE.
+/// \return the state before, the state committed and the pending one it was going to (PAUSED or
+/// PLAYING); VOID_PENDING as \a committed when nothing was pending (a stop came first).
+inline void commitAsyncState(GstElement *element, GstState &before, GstState &committed) noexcept
+{
+    GST_OBJECT_LOCK(element);
+    before = GST_STATE(element);
+    const GstState pending = GST_STATE_PENDING(element);
+    committed = pending == GST_STATE_PAUSED || pending == GST_STATE_PLAYING
+                    ? pending
+                    : GST_STATE_VOID_PENDING;
+    if (committed != GST_STATE_VOID_PENDING) {
+        GST_STATE(element) = committed;
+        GST_STATE_NEXT(element) = GST_STATE_VOID_PENDING;
+        GST_STATE_PENDING(element) = GST_STATE_VOID_PENDING;
+        GST_STATE_RETURN(element) = GST_STATE_CHANGE_SUCCESS;
+    }
+    GST_OBJECT_UNLOCK(element);
+}
+/// \brief Wakes the threads waiting in gst_element_get_state() on \a element.
+inline void broadcastState(GstElement *element) noexcept
+{
+    GST_STATE_BROADCAST(element);
+}
+
 /// \brief Logs \a text at INFO in \a category for \a object (GST_INFO_OBJECT; shown with
 /// GST_DEBUG=CATEGORY:4).
 inline void logInfo(GstDebugCategory *category, gpointer object, const char *text,

@@ -32,7 +32,7 @@ for text in "SINK template: 'color'" "SINK template: 'depth'" "Availability: Alw
     grep -qF "$text" "$work/sink.out" || { cat "$work/sink.out"; fail "depthtouchsink: no '$text'"; }
 done
 [ "$(grep -c "Availability: Always" "$work/sink.out")" -eq 2 ] || fail "depthtouchsink: two always pads"
-for prop in haptic-device haptic-device-options stiffness method display display-options control \
+for prop in haptic-device haptic-device-options stiffness method display display-options control async \
     frames-paired frames-presented depth-unpaired depth-missing updates servo-rate contact-force \
     contact-force-z safety-trips haptics; do
     grep -Eq "^  $prop *:" "$work/sink.out" || { cat "$work/sink.out"; fail "depthtouchsink: no property $prop"; }

@@ -55,4 +55,6 @@ presented=$(echo "$line" | sed -n 's/.* pairs, \([0-9]*\) presented.*/\1/p')
 updates=$(echo "$line" | sed -n 's/.* \([0-9]*\) haptic updates.*/\1/p')
 [ -n "$presented" ] && [ "$presented" -gt 0 ] || fail "nothing presented: $line"
 [ -n "$updates" ] && [ "$updates" -gt 0 ] || fail "no haptic updates: $line"
+# the haptic thread's faults after its warm-up are counted (their number is the machine's)
+echo "$line" | grep -Eq "safety trips, [0-9]+ page faults after warm-up" || fail "page faults: $line"
 echo "gst-launch-1.0 depthtouchsink: 90 pairs, $presented presented, $updates haptic updates"
