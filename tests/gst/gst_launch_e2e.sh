@@ -7,8 +7,9 @@
 #     d.video_1 ! queue ! decodebin ! s.depth depthtouchsink name=s haptic-device=sim
 # The elements' INFO lines (GST_DEBUG=hapticsink:4, depthtouchsink:4) show the depth tags read
 # from the demuxer (the planes encode wrote) and, at the end, that the haptic task ran and the hand
-# touched the surface; depthtouchsink's that each of the 90 colour frames was paired with its
-# depth frame by running time and the stream ended in EOS. No assertion on timing. Exit 77 (skip) without gst-launch-1.0 or without the demuxer
+# touched the surface; depthtouchsink's that each of the 150 colour frames (5 s at 30 fps, the
+# issue's run) was paired with its depth frame by running time and the stream ended in EOS, and
+# the haptic thread's page faults after its warm-up. No assertion on timing. Exit 77 (skip) without gst-launch-1.0 or without the demuxer
 # and decoder plugins (gstreamer1.0-plugins-good, gstreamer1.0-libav).
 # Usage: gst_launch_e2e.sh DEPTHTOUCH
 set -u
@@ -19,7 +20,7 @@ for element in matroskademux decodebin videoconvert avdec_h264; do
     gst-inspect-1.0 "$element" >/dev/null 2>&1 || { echo "GStreamer element $element missing: skipped"; exit 77; }
 done
 
-"$exe" encode --color synthetic:head,size=160x120,frames=90 --depth synthetic:head,size=160x120,frames=90 \
+"$exe" encode --color synthetic:head,size=160x120,frames=150 --depth synthetic:head,size=160x120,frames=150 \
     -o "$work/clip.mkv" --preset ultrafast >"$work/encode.out" 2>&1 || { cat "$work/encode.out"; fail "encode"; }
 GST_DEBUG=hapticsink:4 GST_DEBUG_NO_COLOR=1 gst-launch-1.0 -q filesrc location="$work/clip.mkv" ! \
     matroskademux name=d d.video_1 ! queue ! decodebin ! videoconvert ! \
@@ -49,7 +50,7 @@ grep -q "haptic device 'sim', display 'headless', method finger, stiffness 1000 
 grep -q "depth tags: near 0.5 m, far 1.5 m, mapping 'inverse_z', bits 8" "$work/sink.out" ||
     { cat "$work/sink.out"; fail "depthtouchsink: the depth tags of the file"; }
 line=$(grep "stopped: .* pairs" "$work/sink.out") || { cat "$work/sink.out"; fail "no stop line"; }
-echo "$line" | grep -q "stopped: 90 pairs, [0-9]* presented, 0 depth unpaired" ||
+echo "$line" | grep -q "stopped: 150 pairs, [0-9]* presented, 0 depth unpaired" ||
     fail "every colour frame paired with its depth frame: $line"
 presented=$(echo "$line" | sed -n 's/.* pairs, \([0-9]*\) presented.*/\1/p')
 updates=$(echo "$line" | sed -n 's/.* \([0-9]*\) haptic updates.*/\1/p')
@@ -57,4 +58,4 @@ updates=$(echo "$line" | sed -n 's/.* \([0-9]*\) haptic updates.*/\1/p')
 [ -n "$updates" ] && [ "$updates" -gt 0 ] || fail "no haptic updates: $line"
 # the haptic thread's faults after its warm-up are counted (their number is the machine's)
 echo "$line" | grep -Eq "safety trips, [0-9]+ page faults after warm-up" || fail "page faults: $line"
-echo "gst-launch-1.0 depthtouchsink: 90 pairs, $presented presented, $updates haptic updates"
+echo "gst-launch-1.0 depthtouchsink: 150 pairs, $presented presented, $updates haptic updates"
