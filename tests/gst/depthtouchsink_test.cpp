@@ -12,6 +12,7 @@
 /// tests wait for what they check (the CTest time limit ends a wait that never comes); no
 /// assertion is made on timing.
 
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -193,6 +194,42 @@ TEST_F(DepthTouchSinkTest, pairsColourAndDepthByRunningTimeAndTheHandFeelsThePla
     EXPECT_FALSE(std::filesystem::exists(socket)) << "the socket goes with the player";
     gst_element_set_bus(sink, nullptr);
     gst_object_unref(bus);
+    gst_object_unref(sink);
+}
+
+TEST_F(DepthTouchSinkTest, aFlushEndsAPushWaitingOnAFullPad)
+{
+    if (const std::string why = displayMissing(); !why.empty())
+        GTEST_SKIP() << "no headless display here: " << why;
+    GstElement *sink = gst_element_factory_make("depthtouchsink", nullptr);
+    ASSERT_NE(sink, nullptr);
+    g_object_set(asObject(sink), "haptic-device", "none", "display", "headless", nullptr);
+    GstHarness *color = gst_harness_new_with_element(sink, "color", nullptr);
+    GstHarness *depth = gst_harness_new_with_element(sink, "depth", nullptr);
+    gst_harness_set_src_caps_str(color, kColorCaps);
+    gst_harness_set_src_caps_str(depth, kDepthCaps);
+    // GIVEN colour frames and no depth: the player waits for depth, the colour pad's queue fills
+    const std::vector<std::uint8_t> c = solidColour();
+    std::atomic<int> pushed{0};
+    GstFlowReturn last = GST_FLOW_OK;
+    std::thread pusher([&] {
+        for (int i = 0; i < 100; ++i) {
+            last = gst_harness_push(color, bufferOf(c, static_cast<GstClockTime>(i) * kPeriod));
+            if (last != GST_FLOW_OK)
+                return;
+            pushed.fetch_add(1);
+        }
+    });
+    while (pushed.load() < 4) // the queue's 4 frames; the 5th push waits
+        std::this_thread::sleep_for(10ms);
+    // WHEN the pad is flushed THEN the waiting push returns, flushing
+    EXPECT_TRUE(gst_harness_push_event(color, gst_event_new_flush_start()));
+    pusher.join();
+    EXPECT_EQ(last, GST_FLOW_FLUSHING);
+    EXPECT_EQ(pushed.load(), 4);
+    EXPECT_TRUE(gst_harness_push_event(color, gst_event_new_flush_stop(TRUE)));
+    gst_harness_teardown(depth);
+    gst_harness_teardown(color);
     gst_object_unref(sink);
 }
 
