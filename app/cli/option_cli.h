@@ -27,7 +27,7 @@ void addOptions(CLI::App &cmd, OptionTable<std::type_identity_t<Options>> table,
         spec.names = optionLabel(row);
         if (row.shortName != 0)
             spec.names = std::string("-") + row.shortName + "," + spec.names;
-        spec.help = std::string(row.help);
+        spec.help = helpLine(row);
         spec.value =
             std::visit([&](auto field) -> OptionValue { return &(options.*field); }, row.field);
         spec.flags = row.flags;

@@ -156,6 +156,14 @@ template <class T> bool passes(const OptionCheck &check, const T &value)
 
 } // namespace detail
 
+/// \return "in [min, max] unit" of a range check, the words of its range (its bounds come from
+/// the row's check, for a shared option depthtouch/options/option_range.h's row).
+inline std::string rangeText(const OptionCheck &c)
+{
+    return "in [" + detail::numberText(c.min) + ", " + detail::numberText(c.max) + "]" +
+           (c.unit.empty() ? "" : " " + std::string(c.unit));
+}
+
 /// \return the one-line message of a value \a row's check refuses ("--rate must be in [100,
 /// 10000] Hz").
 template <class Options> std::string checkMessage(const OptionRow<Options> &row)
@@ -163,11 +171,21 @@ template <class Options> std::string checkMessage(const OptionRow<Options> &row)
     const OptionCheck &c = row.check;
     std::string what(c.message);
     if (what.empty() && c.kind == OptionCheck::Kind::Range)
-        what = "in [" + detail::numberText(c.min) + ", " + detail::numberText(c.max) + "]" +
-               (c.unit.empty() ? "" : " " + std::string(c.unit));
+        what = rangeText(c);
     else if (what.empty() && c.kind == OptionCheck::Kind::Choices)
         what = detail::wordList(c.words);
     return optionLabel(row) + " must be " + what;
+}
+
+/// \return \a row's line of `--help`: its help, and for a range check its range in the words of
+/// the refusal ("Haptic servo rate (in [100, 10000] Hz)"), so the help and the check cannot
+/// disagree.
+template <class Options> std::string helpLine(const OptionRow<Options> &row)
+{
+    const OptionCheck &c = row.check;
+    if (c.kind != OptionCheck::Kind::Range || !c.message.empty())
+        return std::string(row.help);
+    return std::string(row.help) + " (" + rangeText(c) + ")";
 }
 
 /// \brief Checks every field of \a options against its row of \a table, in the table's order.

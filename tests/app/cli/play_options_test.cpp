@@ -16,6 +16,7 @@
 
 #include "command_line.h"
 #include "option_cli.h"
+#include "depthtouch/options/option_range.h"
 #include "play_config.h"
 
 namespace depthtouch::cli {
@@ -164,7 +165,7 @@ TEST(PlayOptionTableTest, TheMessagesOfBadValuesStayAsTheyWere)
         {{"--stiffness", "3001"}, "--stiffness must be in [100, 3000] N/m"},
         {{"--duration", "-1"}, "--duration must be >= 0 s"},
         {{"--osd-seconds", "1e9"}, "--osd-seconds must be in [0, 86400] s"},
-        {{"--lod-target", "5"}, "--lod-target must be in [0, 4] refresh periods (0: off)"},
+        {{"--lod-target", "5"}, "--lod-target must be in [0, 4] refresh periods"},
         {{"--max-lateness", "-1"}, "--max-lateness must be in [0, 10] seconds"},
         {{"--reengage", "snap"}, "--reengage must be ramp or release"},
         {{"--method", "god-object"}, "--method must be finger, modified, proxy-graph or mesh-bvh"},
@@ -294,6 +295,30 @@ TEST(PlayOptionTableTest, HelpListsEveryRow)
     const std::string help = line.help();
     for (const Row &row : playOptionTable())
         EXPECT_TRUE(helpNames(help, row)) << row.name << "\n" << help;
+}
+
+// The ranges in --help are the checks' own: the shared options' from their one row
+// (depthtouch/options/option_range.h), read here from that header, not from the table.
+TEST(PlayOptionTableTest, HelpGivesTheRangeTheCheckHolds)
+{
+    PlayOptions opt;
+    CommandLine line{"play"};
+    addOptions(line.root(), playOptionTable(), opt);
+    const std::string help = line.help();
+    for (const options::OptionRange &r :
+         {options::kStiffness, options::kVolume, options::kServoRate}) {
+        const std::string range = "(in [" + options::OptionRange::number(r.min) + ", " +
+                                  options::OptionRange::number(r.max) + "] " + std::string(r.unit) +
+                                  ")";
+        const std::size_t at = help.find("--" + std::string(r.name) + " ");
+        ASSERT_NE(at, std::string::npos) << r.name;
+        const std::string row = help.substr(at, help.find('\n', at) - at);
+        EXPECT_NE(row.find(range), std::string::npos) << row << " lacks " << range;
+    }
+    // A range check with its own message (--duration: ">= 0 s") adds nothing.
+    const std::size_t at = help.find("--duration ");
+    ASSERT_NE(at, std::string::npos);
+    EXPECT_EQ(help.substr(at, help.find('\n', at) - at).find("(in ["), std::string::npos);
 }
 
 #ifdef DEPTHTOUCH
