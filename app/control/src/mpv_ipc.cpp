@@ -300,19 +300,27 @@ std::string keypress(const json &command, const json *requestId, player::StateMa
 
 std::string observe(const json &command, const json *requestId, PropertyObservers *observers)
 {
-    const PropertyArgument arg = propertyArgument(
-        command, 2, observers != nullptr && command.size() == 3 && command[1].is_number_integer(),
-        requestId);
-    if (!arg.named)
+    const bool wellFormed =
+        observers != nullptr && command.size() == 3 && command[1].is_number_integer();
+    const PropertyArgument arg = propertyArgument(command, 2, wellFormed, requestId);
+    // mpv observes any name (mpv_observe_property "usually fails only on OOM or unsupported
+    // format"): one the player does not have is a property that is not available. A UI observes
+    // its whole list at start (node-mpv: fullscreen, sub-visibility) and fails on a refusal.
+    const bool other = !arg.named && wellFormed && command[2].is_string();
+    if (!arg.named && !other)
         return arg.refusal;
     constexpr std::size_t kMaxObservers = 64; // a client cannot grow the player without bound
     if (observers->size() >= kMaxObservers)
         return reply(kInvalid, requestId);
     PropertyObserver o;
     o.id = command[1].get<std::int64_t>();
-    o.property = arg.named->property;
-    o.loopFile = arg.named->loopFile;
-    observers->push_back(o);
+    if (arg.named) {
+        o.property = arg.named->property;
+        o.loopFile = arg.named->loopFile;
+    } else {
+        o.other = command[2].get<std::string>();
+    }
+    observers->push_back(std::move(o));
     return reply("success", requestId);
 }
 
@@ -381,6 +389,13 @@ void propertyChanges(player::StateMachine &machine, PropertyObservers &observers
                      std::vector<std::string> &lines)
 {
     for (PropertyObserver &o : observers) {
+        if (!o.other.empty()) { // no property of the player: not available, said once
+            if (!o.sent)
+                lines.push_back(
+                    dump(json{{"event", "property-change"}, {"id", o.id}, {"name", o.other}}));
+            o.sent = true;
+            continue;
+        }
         const player::CommandOutcome out = read(machine, Named{o.property, o.loopFile});
         const std::string now =
             out.accepted ? dump(propertyJson(o.property, out.data)) : std::string();

@@ -6,7 +6,9 @@
 #   lib/ipcInterface/ipcInterface.js  send(): {"command": [...], "request_id": N}, N from 0
 #   lib/mpv/_startStop.js   start(): a second connection waits for the "idle" event, then
 #                           observe_property of time-pos and of the properties util.js lists
-#                           (observedProperties(), audio_only: mute ... loop)
+#                           (observedProperties(): mute ... loop, and, for video (node-mpv's
+#                           default), fullscreen and sub-visibility, which this player does not
+#                           have: as mpv, observed all the same, sent once without data)
 #   lib/mpv/mpv.js          load(): ["loadfile", file, mode], its end told by start-file then
 #                           file-loaded (lib/mpv/_playlist.js waits for them on another connection)
 #   lib/mpv/_information.js getTimeRemaining(): get_property time-remaining
@@ -131,7 +133,8 @@ probe.s.close()
 main = Conn()
 request(main, "observe_property", 0, "time-pos")
 for i, name in enumerate(["mute", "pause", "duration", "volume", "filename", "path",
-                          "media-title", "playlist-pos", "playlist-count", "loop"], 1):
+                          "media-title", "playlist-pos", "playlist-count", "loop",
+                          "fullscreen", "sub-visibility"], 1):
     request(main, "observe_property", i, name)
 
 # load(A, "replace")
@@ -181,6 +184,10 @@ changes = {m["name"]: m.get("data") for m in main.seen if m.get("event") == "pro
 for name in ["pause", "duration", "filename", "playlist-pos", "playlist-count", "loop"]:
     if name not in changes:
         sys.exit("no property-change of %s: %s" % (name, sorted(changes)))
+for name in ["fullscreen", "sub-visibility"]:
+    said = [m for m in main.seen if m.get("event") == "property-change" and m["name"] == name]
+    if len(said) != 1 or "data" in said[0]:
+        sys.exit("%s: %r, not one property-change without data" % (name, said))
 if not any(m.get("event") == "end-file" and m.get("reason") == "stop" for m in main.seen):
     sys.exit("playlist-next did not end the first file with reason stop")
 

@@ -207,6 +207,36 @@ TEST(MpvIpcTest, observedPropertiesSendAChangeOnlyWhenTheValueChanges)
         << "no client, nothing to observe for";
 }
 
+// mpv's observe_property takes any name: one the player does not have (node-mpv observes
+// fullscreen and sub-visibility at start) is answered success, then once by a property-change
+// without "data", as a property that is not available. Before: "property not found", and
+// node-mpv's start failed on it. A name that is not a string is still refused.
+TEST(MpvIpcTest, observingANameThePlayerDoesNotHaveIsAPropertyNotAvailable)
+{
+    Playing p;
+    PropertyObservers observers;
+    EXPECT_EQ(
+        reply(R"({"command":["observe_property",4,"fullscreen"],"request_id":9})", p.m, &observers),
+        json({{"error", "success"}, {"request_id", 9}}));
+    EXPECT_EQ(reply(R"({"command":["observe_property",5,17]})", p.m, &observers),
+              json({{"error", "property not found"}}));
+    std::vector<std::string> lines;
+    propertyChanges(p.m, observers, lines);
+    ASSERT_EQ(lines.size(), 1u);
+    EXPECT_EQ(json::parse(lines[0]),
+              json({{"event", "property-change"}, {"id", 4}, {"name", "fullscreen"}}));
+    lines.clear();
+    ASSERT_TRUE(p.m.execute("pause").accepted);
+    propertyChanges(p.m, observers, lines);
+    EXPECT_TRUE(lines.empty()) << "said once";
+    EXPECT_EQ(reply(R"({"command":["unobserve_property",4]})", p.m, &observers),
+              json({{"error", "success"}}));
+    EXPECT_TRUE(observers.empty());
+    // get_property of it is still mpv's "property not found"
+    EXPECT_EQ(reply(R"({"command":["get_property","fullscreen"]})", p.m),
+              json({{"error", "property not found"}}));
+}
+
 TEST(MpvIpcTest, aClientOnTheSocketGetsItsObservedPropertiesAsEvents)
 {
     testing::TempDir dir("dt-mpv-");

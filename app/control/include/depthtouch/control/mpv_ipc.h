@@ -36,8 +36,12 @@ struct PropertyObserver {
     std::int64_t id = 0;
     player::Property property = player::Property::State;
     bool loopFile = false; ///< Observed as "loop-file" ("inf"/"no") rather than "loop" (bool).
-    std::string last;      ///< The "data" last sent, as JSON text ("" before the first event).
-    bool sent = false;     ///< The first property-change went out.
+    /// The name a client observes that is no property of the player ("fullscreen"), else empty:
+    /// as mpv's observe_property, which takes any name, it is answered once by a property-change
+    /// without "data" (a property that is not available).
+    std::string other;
+    std::string last;  ///< The "data" last sent, as JSON text ("" before the first event).
+    bool sent = false; ///< The first property-change went out.
 };
 
 /// The observers of one client (a few: one per property a UI shows).
