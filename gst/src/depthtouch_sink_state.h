@@ -46,6 +46,8 @@ struct SinkState {
     guint32 eosSeqnum = 0;
 };
 
+/// The GObject instance: the GstElement and its C++ state (made in instance init, freed in
+/// finalize).
 struct DepthTouchSink {
     GstElement parent;
     SinkState *state;
@@ -55,6 +57,8 @@ struct DepthTouchSinkClass {
     GstElementClass parentClass;
 };
 
+/// The property ids: the four haptic settings first, in element_common.h's order; the read-only
+/// readouts last, kPropFramesPaired to kPropHaptics.
 enum Property : guint {
     kPropZero,
     kPropDevice, // the four HapticProperty in order
@@ -77,6 +81,7 @@ enum Property : guint {
     kPropHaptics,
 };
 
+/// \return the state of the depthtouchsink instance \a self.
 inline SinkState &stateOf(gpointer self)
 {
     return *static_cast<DepthTouchSink *>(self)->state;
