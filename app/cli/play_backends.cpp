@@ -39,10 +39,11 @@ std::optional<PlayOpenFailure> take(Result<std::unique_ptr<T>> made, PlayPart pa
 }
 
 /// Opens the display, the haptic device, the remote and the sound output of \a opt into \a b,
-/// telling \a opened of each; checks the decoder and source names (one clear line now; they are
-/// made per open). \return nullopt, or the first failure.
+/// telling \a opened of each; checks the decoder and (with \a checkSource) the source names (one
+/// clear line now; they are made per open). \return nullopt, or the first failure.
 std::optional<PlayOpenFailure> openBackends(const PlayOptions &opt, const hal::BackendConfig &cfg,
-                                            PlayBackends &b, const OnBackendOpened &opened)
+                                            PlayBackends &b, const OnBackendOpened &opened,
+                                            bool checkSource)
 {
     const auto tell = [&opened](drivers::BackendKind kind, std::string_view names,
                                 const hal::SelectionReport &report, bool awaiting) {
@@ -90,6 +91,8 @@ std::optional<PlayOpenFailure> openBackends(const PlayOptions &opt, const hal::B
             drivers::createVideoDecoder(opt.decoder, withOptions(cfg, opt.decoderOptions), &rep),
             PlayPart::VideoDecoder, rep, decoder, true))
         return bad;
+    if (!checkSource)
+        return std::nullopt;
     std::unique_ptr<hal::MediaSource> source;
     return take(drivers::createMediaSource(opt.source, withOptions(cfg, opt.sourceOptions), &rep),
                 PlayPart::MediaSource, rep, source, true);
@@ -160,13 +163,20 @@ platform::OutputPathCheck checkPlayOutputs(const PlayOptions &opt, bool distinct
 }
 
 std::optional<PlayOpenFailure> openPlayer(const PlayOptions &opt, platform::Clock &clock,
-                                          OpenedPlayer &out, const OnBackendOpened &opened)
+                                          OpenedPlayer &out, const OnBackendOpened &opened,
+                                          const PlayerFeed *feed)
 {
     hal::BackendConfig cfg;
     cfg.clock = &clock;
-    if (auto bad = openBackends(opt, cfg, out.backends, opened))
+    if (auto bad = openBackends(opt, cfg, out.backends, opened, feed == nullptr))
         return bad;
-    auto pb = playback::Playback::create(landPlayOptions(opt), playbackHal(opt, cfg, out.backends));
+    playback::PlaybackConfig config = landPlayOptions(opt);
+    playback::PlaybackHal ph = playbackHal(opt, cfg, out.backends);
+    if (feed != nullptr) {
+        ph.makeSource = feed->makeSource;
+        config.liveSilenceSeconds = 0.0;
+    }
+    auto pb = playback::Playback::create(config, std::move(ph));
     if (!pb)
         return PlayOpenFailure{PlayPart::Playback, pb.error().what,
                                pb.error().code == Errc::InvalidArgument};

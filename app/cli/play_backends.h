@@ -97,16 +97,25 @@ struct OpenedBackend {
 /// Called by openPlayer() for each backend it keeps, in the order they open.
 using OnBackendOpened = std::function<void(const OpenedBackend &)>;
 
+/// \brief A source the caller feeds itself (the GStreamer element depthtouchsink: its pads):
+/// openPlayer() makes each open's media source with makeSource instead of --source's backend, and
+/// a pause in the frames is not a live sender that fell silent (a paused pipeline sends none).
+struct PlayerFeed {
+    std::function<Result<std::unique_ptr<hal::MediaSource>>()> makeSource;
+};
+
 /// \brief Opens the backends of \a opt as `play` does, on \a clock (which must outlive them):
 /// the display, the haptic device and the remote (waited for when --idle: hot-plug), the sound
 /// output (unless --no-audio or `none`); checks the decoder and the source (made per open); then
 /// makes the Playback with the config of \a opt (landPlayOptions()), which plays without haptics
 /// on the `none` device. \a opened (may be empty) hears of each backend kept as it opens. A
 /// display already in out.backends.display is used instead of --display's (libdepthtouch's render
-/// API, lib/src/host_frames.h).
+/// API, lib/src/host_frames.h). With \a feed (may be null), its source replaces --source's
+/// (PlayerFeed).
 /// \return nullopt with the player in \a out, or the first failure (\a out holds what opened).
 std::optional<PlayOpenFailure> openPlayer(const PlayOptions &opt, platform::Clock &clock,
-                                          OpenedPlayer &out, const OnBackendOpened &opened = {});
+                                          OpenedPlayer &out, const OnBackendOpened &opened = {},
+                                          const PlayerFeed *feed = nullptr);
 
 /// \brief The state machine's settings of \a opt: its url, loop, --idle (a live address that fell
 /// silent is opened again), stereo mode, stiffness (N/m), volume (%) and mute; the default keys.

@@ -11,7 +11,6 @@
 #include "depthtouch/control/control_loop.h"
 #include "depthtouch/control/control_server.h"
 #include "depthtouch/control/play_loop.h"
-#include "depthtouch/drivers/backends.h"
 #include "depthtouch/options/option_range.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/player/command.h"
@@ -45,30 +44,17 @@ cli::PlayOptions playOptionsOf(const PlayerSettings &s)
     return o;
 }
 
-/// \return \a cfg with the backend options \a options.
-hal::BackendConfig withOptions(const hal::BackendConfig &cfg, const std::string &options)
+/// \return the one line of \a f: which backend failed and why.
+std::string failureLine(const cli::PlayOptions &o, const cli::PlayOpenFailure &f)
 {
-    hal::BackendConfig c = cfg;
-    c.options = hal::OptionList(options);
-    return c;
-}
-
-/// \brief Opens the display and the haptic device of \a o into \a b as cli::openPlayer() does
-/// (the backend table, tried in order). \return an empty string, or the failure's one line.
-std::string openBackends(const cli::PlayOptions &o, const hal::BackendConfig &cfg,
-                         cli::PlayBackends &b)
-{
-    auto display =
-        drivers::createDisplay(o.display, withOptions(cfg, o.displayOptions), &b.displayReport);
-    if (!display)
-        return "cannot open the display '" + o.display + "': " + b.displayReport.message;
-    b.display = std::move(*display);
-    auto device =
-        drivers::createHapticDevice(o.haptic, withOptions(cfg, o.hapticOptions), &b.hapticReport);
-    if (!device)
-        return "cannot open the haptic device '" + o.haptic + "': " + b.hapticReport.message;
-    b.device = std::move(*device);
-    return {};
+    switch (f.part) {
+    case cli::PlayPart::Display:
+        return "cannot open the display '" + o.display + "': " + f.message;
+    case cli::PlayPart::HapticDevice:
+        return "cannot open the haptic device '" + o.haptic + "': " + f.message;
+    default:
+        return f.message;
+    }
 }
 
 /// \return what \a pb and \a machine tell now; the force of \a last when no task runs any more.
@@ -117,30 +103,18 @@ std::unique_ptr<FeedPlayer> FeedPlayer::open(const PlayerSettings &settings,
         return nullptr;
     if (why = cli::checkPlayOptionValues(*options); !why.empty())
         return nullptr;
-    hal::BackendConfig cfg;
-    cfg.clock = &platform::SteadyClock::instance();
     auto player = std::make_unique<cli::OpenedPlayer>();
-    if (why = openBackends(*options, cfg, player->backends); !why.empty())
-        return nullptr;
-    playback::PlaybackConfig config = cli::landPlayOptions(*options);
-    config.audioEnabled = false;
-    config.liveSilenceSeconds = 0.0; // a paused pipeline sends nothing: not a silent sender
-    playback::PlaybackHal ph;
-    ph.makeSource = [feed]() -> Result<std::unique_ptr<hal::MediaSource>> {
+    // play's own opening (cli::openPlayer()), its source the pads: without sound or remote
+    // (playOptionsOf()), a pause in the pipeline not a silent sender.
+    cli::PlayerFeed pads;
+    pads.makeSource = [feed]() -> Result<std::unique_ptr<hal::MediaSource>> {
         return std::unique_ptr<hal::MediaSource>(std::make_unique<PadMediaSource>(feed));
     };
-    ph.makeDecoder = [name = options->decoder, c = withOptions(cfg, options->decoderOptions)](
-                         const hal::StreamInfo &) { return drivers::createVideoDecoder(name, c); };
-    const cli::PlayBackends &b = player->backends;
-    ph.display = b.display.get();
-    ph.device = b.noDevice() ? nullptr : b.device.get();
-    ph.clock = cfg.clock;
-    auto pb = playback::Playback::create(config, ph);
-    if (!pb) {
-        why = pb.error().what;
+    if (const auto bad =
+            cli::openPlayer(*options, platform::SteadyClock::instance(), *player, {}, &pads)) {
+        why = failureLine(*options, *bad);
         return nullptr;
     }
-    player->playback = std::move(*pb);
     std::unique_ptr<FeedPlayer> p(new FeedPlayer(std::move(options), std::move(player)));
     p->feed_ = std::move(feed);
     return p;
