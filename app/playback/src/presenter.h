@@ -28,8 +28,8 @@ struct DrawInput {
     double pts = 0.0;                   ///< Its PTS, s.
     player::StereoMode mode;            ///< Stereo packing.
     bool paused = false;                ///< The on-screen display says PAUSED (and stays up).
-    bool remoteConnected = true; ///< False: the on-screen display says REMOTE: NO DEVICE.
-    const Session &session;      ///< Frame period; its haptic task for avatar and OSD.
+    bool remoteConnected = true;        ///< False: the on-screen display says REMOTE: NO DEVICE.
+    const Session &session;             ///< Frame period; its haptic task for avatar and OSD.
 };
 
 /// \brief What draw() did, for the counters (applied by the render thread under its lock).
