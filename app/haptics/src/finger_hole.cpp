@@ -13,7 +13,7 @@
 ///
 /// Now the proxy keeps its height and its x–y offset from the HIP (the force stays as it was: it
 /// shrinks as the finger lifts, and neither grows nor turns as it presses deeper, for there is
-/// nothing measured to press into) for kFingerHoleHold while the HIP stays within r of where the
+/// nothing measured to press into) for kFingerDepthMemory while the HIP stays within r of where the
 /// hole opened (a finger that slides on past the rim finds the hole free, as a fingertip of radius
 /// r rolls off an edge) and under the held proxy's height. When the hold ends, the force unloads by
 /// maxForceStep/8 an update (0.25 N) along its last direction instead of at once: a finger lifting
@@ -66,7 +66,7 @@ bool FingerRenderer::holdOverHole(const glm::dvec3 &hip, double raw, double t,
     // measured to press into). Past the hold, or with the HIP risen to the held proxy's height
     // (lifting off a rim beside the hole, the force mostly sideways), the depth shrinks by half a
     // ramped step an update along the last direction: the force unloads, never steps off.
-    const bool held = t - holeSince_ <= kFingerHoleHold &&
+    const bool held = t - holeSince_ <= kFingerDepthMemory &&
                       glm::length(glm::dvec2(hip.x, hip.y) - holeAt_) <= p_.radius &&
                       goal.z > hip.z;
     // Pressed deeper than the hold's depth, the force keeps its direction as well as its size:

@@ -157,6 +157,7 @@ FingerPlane fitFingerPlane(const HeightField &field, double x, double y, double 
     double smooth = 0.0;
     if (n == 9.0)
         a -= curvatureCorrection(taps, r, smooth);
+    p.smooth = smooth;
     p.x = cx;
     p.y = cy;
     p.gx = reachX > 0.0 ? bx / reachX : 0.0; // tap (i, j) is at (x + i·reach, y + j·reach)

@@ -387,7 +387,8 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     // proxy_ keeps the unfiltered, frictionless goal (the glide and the next update's search start
     // from it). Friction acts on the filtered goal.
     c.touching = touching();
-    glm::dvec3 held = output_.filter(hip, c, stiffnessScale);
+    c.smooth = c.plane.smooth;
+    glm::dvec3 held = output_.filter(hip, c, t, stiffnessScale);
     if (friction_.enabled() || material) {
         if (c.contact && !c.trip)
             held = friction_.apply(held, hip, t);

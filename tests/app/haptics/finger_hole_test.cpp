@@ -81,8 +81,8 @@ TEST(FingerHoleTest, aHoleIsFreeSpace)
 // A hole opening under a pressed finger (the sensor stops measuring there: a shadow band moving
 // over it) is the surface unseen, not a cut. First most of the fingertip's patch turns to holes
 // but the depth at the finger itself is still measured: no safety trip, the press goes on. Then
-// the finger's own spot goes too: it is held on the table for kFingerHoleHold (0.1 s), then free,
-// its force unloading by maxForceStep/8 (0.25 N) an update, no trip. The table coming back is
+// the finger's own spot goes too: it is held on the table for kFingerDepthMemory (0.1 s), then
+// free, its force unloading by maxForceStep/8 (0.25 N) an update, no trip. The table coming back is
 // felt again.
 TEST(FingerHoleTest, aHoleOpeningUnderAPressedFingerIsNoCut)
 {

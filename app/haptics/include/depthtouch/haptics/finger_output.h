@@ -29,13 +29,13 @@ inline constexpr double kFingerSaturationTime = 0.003;
 /// ramps approach it in small steps; `bench feel` counts time at the maximum the same way).
 inline constexpr double kFingerAtMaximum = 1e-3;
 
-/// Gains of the alpha-beta filter on the force's offset from the HIP (FingerRenderer::
-/// smoothOffset()): the offset's share of each residual and the trend's (about α²/(2 − α),
-/// Benedict and Bordner's pairing for a track with steady motion). The clean moving wave's force
-/// RMS error moves little with it (0.0261/0.0240/0.0249 N → 0.0265/0.0242/0.0255 N at 5/10/20
-/// cm/s; the paper's method 0.0252/0.0228/0.0238: 1.05-1.07 times it).
+/// The alpha-beta filter on the force's offset from the HIP (FingerOutput::smoothOffset()) over
+/// noisy depth: the offset's share α of each residual; the trend's is α²/(2 − α) (Benedict and
+/// Bordner's pairing for a track with steady motion), 0.1. Where the surface under the goal has
+/// fitted clean for kFingerDepthMemory (FingerPlane::smooth), α rises to 1: the offset passes
+/// through, and the force follows clean geometry without lag (the clean moving wave's force RMS
+/// error at 1 m/s 0.092 → 0.025 N, the paper's method's 0.024).
 inline constexpr double kFingerOffsetAlpha = 0.4;
-inline constexpr double kFingerOffsetBeta = 0.1;
 
 /// \brief What the contact decided in an update, as the output stage needs it.
 struct FingerGoal {
@@ -49,6 +49,9 @@ struct FingerGoal {
     /// In contact at the search's start (FingerRenderer::touching(), after a hold over a hole
     /// that ended before the search).
     bool touching = false;
+    /// FingerPlane::smooth of the plane under the goal: how clean the surface measured there is
+    /// (0..1); the offset filter passes a clean surface's offset through (smoothOffset()).
+    double smooth = 0.0;
 };
 
 /// \brief The force output stage (see the file comment).
@@ -63,7 +66,9 @@ public:
     /// \brief The proxy the force and the report use, m: \a c's goal through the offset filter
     /// (smoothOffset()) and, in a continuing contact, the hand-over of a ramp (handOverRamp()).
     /// \a stiffnessScale: the material's under the goal.
-    glm::dvec3 filter(const glm::dvec3 &hip, const FingerGoal &c, double stiffnessScale) noexcept;
+    /// \a t: haptic time, s (the filter's trust in a clean surface grows with it).
+    glm::dvec3 filter(const glm::dvec3 &hip, const FingerGoal &c, double t,
+                      double stiffnessScale) noexcept;
     /// \brief The command of time \a t (s), N: the spring of \a held (m, after friction), the
     /// unload of a contact that ended (releaseCovered(): \a raw the sensor surface at the HIP's
     /// x–y, m, NaN off the grid; \a field for the rim within the fingertip's reach; \a wasInContact
@@ -96,8 +101,10 @@ public:
 
 private:
     /// Sets \a held (the proxy the force and the report use; m, box frame) to the HIP plus the
-    /// filtered offset of \a c's proxy (kFingerOffsetAlpha, kFingerOffsetBeta).
-    void smoothOffset(const glm::dvec3 &hip, const FingerGoal &c, glm::dvec3 &held) noexcept;
+    /// filtered offset of \a c's proxy (kFingerOffsetAlpha, raised to 1 by the trust in a clean
+    /// surface, trust_) at haptic time \a t (s).
+    void smoothOffset(const glm::dvec3 &hip, const FingerGoal &c, double t,
+                      glm::dvec3 &held) noexcept;
     /// A ramp in progress (a trip's, a ramped step's) whose command is above the spring force
     /// of \a held (m) at \a stiffnessScale: the ramp ends and the filter takes its command as
     /// the offset (\a held moves to it), to unload at its bounded rate.
@@ -120,9 +127,13 @@ private:
     glm::dvec3 offset_{};      ///< Filtered offset of the force's proxy from the HIP, m.
     glm::dvec3 offsetTrend_{}; ///< Its change an update (smoothOffset()'s trend), m.
     glm::dvec3 lastOffset_{};  ///< The last update's unfiltered offset, m.
-    glm::dvec3 release_{};     ///< A force unloading after its contact ended, N.
-    double releaseStep_ = 0.0; ///< release_'s last step, N.
-    double outputGain_ = 1.0;  ///< setOutputGain(): the caller's factor on the force, 0..1.
+    /// The filter's trust in the surface, 0..1: FingerGoal::smooth's least over the last
+    /// kFingerDepthMemory (it falls at once and grows back over that time).
+    double trust_ = 0.0;
+    double lastT_ = std::nan(""); ///< Haptic time of the last filtered update, s.
+    glm::dvec3 release_{};        ///< A force unloading after its contact ended, N.
+    double releaseStep_ = 0.0;    ///< release_'s last step, N.
+    double outputGain_ = 1.0;     ///< setOutputGain(): the caller's factor on the force, 0..1.
     double saturatedSince_ = std::nan(""); ///< Haptic time the command reached the maximum, s.
     bool letGoNext_ = false; ///< The command stayed at the maximum: let go on the next update.
 };

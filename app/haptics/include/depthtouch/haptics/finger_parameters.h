@@ -8,6 +8,13 @@
 
 namespace depthtouch::haptics {
 
+/// How long the renderer goes on believing what the depth showed, s: three frames at 30 fps (a
+/// sensor's dropout or noise shows in a frame or two). A pressed finger whose spot turned to a
+/// hole is held on the surface it pressed for this long (finger_hole.cpp); the offset filter
+/// passes the offset through only where the surface has fitted clean this long
+/// (FingerOutput::smoothOffset()).
+inline constexpr double kFingerDepthMemory = 0.1;
+
 /// \brief The fingertip model's parameter table: the physical parameters it is given and every
 /// length and force threshold of the renderer, derived from them once, at construction
 /// (fingerParameters()). A run-time stiffness change (HapticRenderer::setStiffness(), a viewer's

@@ -86,6 +86,9 @@
 ///      the force back and forth by 0.05-0.2 N at the servo rate (RendererConfig::smoothOffset
 ///      turns it off: `bench feel`'s `finger-unfiltered`). Where it lags, it catches up by a share
 ///      of the gap; it unloads by at most maxForceStep/8 an update, a hold over a hole too.
+///      Where the surface under the goal has fitted clean (FingerPlane::smooth) for
+///      kFingerDepthMemory, there is no noise to filter and the offset passes through: on clean
+///      geometry the force follows the surface without the filter's lag.
 ///    - *Steps*: a step of the surface under the stencil (over stepDepth, under the cut) is
 ///      ramped in over the ramp time only as a step up from a force of a step's size or more;
 ///      from less, the bounded push grows it, and a step down is unloaded by the filter. A ramp
@@ -113,7 +116,7 @@
 ///      finger (the shadow band a structured-light sensor casts beside an occluder, a dropout)
 ///      is the surface unseen, as under an occluder, not the surface gone: the finger is held on
 ///      it (the proxy keeps its height and its offset from the HIP, the depth no more than it
-///      was, its direction kept while the HIP is deeper than that) for kFingerHoleHold while it
+///      was, its direction kept while the HIP is deeper than that) for kFingerDepthMemory while it
 ///      stays within r of where the hole opened and under the proxy's height, then its force
 ///      unloads by maxForceStep/8 an update along its last direction; measured again a cut off the
 ///      held surface, the finger is free and caught by what is there (finger_hole.cpp). A free
@@ -180,10 +183,6 @@ inline constexpr double kFingerWallSlope = 1.0;
 /// hole's vertex (HeightField::holeDrop(), 1 m under it) drags its triangle below this at a weight
 /// of 0.1 %.
 inline constexpr double kFingerHoleMargin = 1e-3;
-/// A pressed finger whose spot stopped being measured (a hole opened under it) is held on the
-/// surface it pressed for this long, s, while it stays within r of where the hole opened
-/// (finger_hole.cpp): three frames at 30 fps.
-inline constexpr double kFingerHoleHold = 0.1;
 /// Plane refits per update after the first (a converged proxy stops earlier).
 inline constexpr int kFingerIterations = 2;
 /// Taps farther than this many stencil half-widths from the stencil's median are left out of the
@@ -207,6 +206,10 @@ struct FingerPlane {
     /// Whether the taps kept by the outlier rule span a plane; if not, the plane is flat at their
     /// median.
     bool spanned = true;
+    /// How well the nine taps fit a quadric, 0..1: 1 where their RMS residual is under r/50
+    /// (smooth geometry at the fingertip's scale), falling to 0 at r/25 (an edge, a step, noise);
+    /// the weight of the curvature correction and of the centre's slope (finger_plane.cpp).
+    double smooth = 0.0;
 };
 
 /// \brief Fits the plane of the 3×3 stencil of half-width \a r (m) at (x, y) on \a field.
