@@ -64,8 +64,9 @@ void FingerRenderer::penalty(const glm::dvec3 &hip, double raw, Candidate &c) no
     c.below = below;
     c.proxy = goal;
     // Fix (c) from the depth: the stencil where the last update's was, refitted now.
-    const FingerPlane then = fitFingerPlane(field_, lastX_, lastY_, p_.radius);
-    const double moved = field_.overHole(then.height) ? 0.0 : std::fabs(then.height - lastHeight_);
+    const FingerPlane then = fitFingerPlane(field_, lastPlane_.x, lastPlane_.y, p_.radius);
+    const double moved =
+        field_.overHole(then.height) ? 0.0 : std::fabs(then.height - lastPlane_.height);
     if (config_.safety && stencilStep(then) > field_.cutThreshold()) {
         // A cut: the proxy is re-seated on the new surface at once, as the god-object's is, and
         // the force stage ramps the change in (Reengage::Ramp) or the finger is let go (Release).

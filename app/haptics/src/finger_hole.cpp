@@ -42,7 +42,7 @@ bool FingerRenderer::holdOverHole(const glm::dvec3 &hip, double raw, double t,
         const double cut = field_.cutThreshold();
         if (state_ == FingerState::OverHole && config_.safety &&
             (std::fabs(raw - proxy_.z) > cut ||
-             stencilStep(fitFingerPlane(field_, lastX_, lastY_, p_.radius)) > cut)) {
+             stencilStep(fitFingerPlane(field_, lastPlane_.x, lastPlane_.y, p_.radius)) > cut)) {
             // Measured again, but not the surface the finger was held on (an occluder came over
             // it while it was unseen): free, as the hole left it before the hold, to be caught
             // by what is there now (capture()) instead of tripping on the step.
@@ -56,36 +56,36 @@ bool FingerRenderer::holdOverHole(const glm::dvec3 &hip, double raw, double t,
     const glm::dvec3 offset = goal - hip;
     const double reach = glm::length(offset);
     if (state_ != FingerState::OverHole) {
-        holeSince_ = t;
-        holeAt_ = {hip.x, hip.y};
-        holeDepth_ = lastDepth_;
+        hole_.since = t;
+        hole_.at = {hip.x, hip.y};
+        hole_.depth = lastDepth_;
         const glm::dvec3 last = proxy_ - lastHip_;
-        holeDir_ = glm::length(last) > 0.0 ? last / glm::length(last) : glm::dvec3(0.0, 0.0, 1.0);
+        hole_.dir = glm::length(last) > 0.0 ? last / glm::length(last) : glm::dvec3(0.0, 0.0, 1.0);
     }
     // Held, the force does not grow past the one the finger had when the hole opened (nothing is
     // measured to press into). Past the hold, or with the HIP risen to the held proxy's height
     // (lifting off a rim beside the hole, the force mostly sideways), the depth shrinks by half a
     // ramped step an update along the last direction: the force unloads, never steps off.
-    const bool held = t - holeSince_ <= kFingerDepthMemory &&
-                      glm::length(glm::dvec2(hip.x, hip.y) - holeAt_) <= p_.radius &&
+    const bool held = t - hole_.since <= kFingerDepthMemory &&
+                      glm::length(glm::dvec2(hip.x, hip.y) - hole_.at) <= p_.radius &&
                       goal.z > hip.z;
     // Pressed deeper than the hold's depth, the force keeps its direction as well as its size:
     // turned toward the deeper HIP, it swung by 0.06 N an update before the hold ended (a swipe
     // down into the stereo occluder's shadow band, then let go over the backdrop beyond it: a
     // force that turns and then drops is a sign reversal).
-    if (held && reach <= holeDepth_)
-        holeDir_ = offset / reach;
+    if (held && reach <= hole_.depth)
+        hole_.dir = offset / reach;
     const double depth =
-        held ? std::min(reach, holeDepth_) : std::min(holeDepth_, lastDepth_ - p_.unloadDepth);
+        held ? std::min(reach, hole_.depth) : std::min(hole_.depth, lastDepth_ - p_.unloadDepth);
     if (!(depth > 0.0))
         return false;
     c.contact = true;
-    c.proxy = hip + holeDir_ * depth;
+    c.proxy = hip + hole_.dir * depth;
     c.below = c.proxy.z - hip.z;
-    c.plane.x = lastX_ + c.proxy.x - proxy_.x; // the last plane, carried with the proxy
-    c.plane.y = lastY_ + c.proxy.y - proxy_.y;
-    c.plane.height = lastHeight_;
-    std::copy(std::begin(lastTaps_), std::end(lastTaps_), std::begin(c.plane.taps));
+    c.plane.x = lastPlane_.x + c.proxy.x - proxy_.x; // the last plane, carried with the proxy
+    c.plane.y = lastPlane_.y + c.proxy.y - proxy_.y;
+    c.plane.height = lastPlane_.height;
+    std::copy(std::begin(lastPlane_.taps), std::end(lastPlane_.taps), std::begin(c.plane.taps));
     return true;
 }
 

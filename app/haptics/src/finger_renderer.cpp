@@ -56,7 +56,6 @@ void FingerRenderer::reset(const glm::dvec3 &hip) noexcept
     lastGlide_ = {};
     lastHip_ = hip;
     state_ = FingerState::Free;
-    pushing_ = false;
     pushed_ = false;
     enterAnyDepth_ = true;
     heldDepth_ = 0.0;
@@ -157,11 +156,12 @@ void FingerRenderer::slide(const glm::dvec3 &hip, double raw, Candidate &c) cons
     // fit is where the last update's ended: fix (c) from the depth compares the surface there with
     // what it was then (a step since the last update is a cut).
     FingerPlane start{};
-    c.proxy = solve(hip, lastX_, lastY_, c.plane, start, c.below);
+    c.proxy = solve(hip, lastPlane_.x, lastPlane_.y, c.plane, start, c.below);
     const double startHeight = start.height;
     // A hole that opened under the proxy (the stencil's median turned to a hole) is no cut: the
     // surface is gone, not moved, and the finger is free there (no trip, no force).
-    const double moved = field_.overHole(startHeight) ? 0.0 : std::fabs(startHeight - lastHeight_);
+    const double moved =
+        field_.overHole(startHeight) ? 0.0 : std::fabs(startHeight - lastPlane_.height);
     // A cut moves most of the patch (stencilStep()); the plane's own step, an object's silhouette
     // passing over part of it too, is ramped.
     const double step = stencilStep(start);
@@ -301,9 +301,9 @@ double FingerRenderer::stencilStep(const FingerPlane &now) const noexcept
 {
     double moved[9];
     for (int k = 0; k < 9; ++k)
-        moved[k] = field_.besideHole(now.taps[k]) || field_.besideHole(lastTaps_[k])
+        moved[k] = field_.besideHole(now.taps[k]) || field_.besideHole(lastPlane_.taps[k])
                        ? 0.0
-                       : std::fabs(now.taps[k] - lastTaps_[k]);
+                       : std::fabs(now.taps[k] - lastPlane_.taps[k]);
     return median9(moved);
 }
 
@@ -335,7 +335,7 @@ void FingerRenderer::limitPush(const glm::dvec3 &hip, Candidate &c) noexcept
     } else if (!pushed_) {
         if (!(depth > allowed))
             return;
-        pushing_ = true;
+        c.pushing = true;
         pushDir_ = candidate / depth;
         c.proxy = hip + pushDir_ * allowed;
         c.bounded = true;
@@ -360,7 +360,7 @@ void FingerRenderer::limitPush(const glm::dvec3 &hip, Candidate &c) noexcept
     }
     c.proxy = hip + pushDir_ * std::min(depth, allowed);
     c.bounded = true;
-    pushing_ = !(angle <= turn && depth <= allowed);
+    c.pushing = !(angle <= turn && depth <= allowed);
 }
 
 HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
@@ -408,8 +408,6 @@ void FingerRenderer::search(const glm::dvec3 &hip, double raw, bool over, double
 {
     const bool inside = raw > hip.z; // false for NaN
     const bool wasResting = resting_;
-    pushed_ = pushing_ && touching(); // limitPush() bounded the last update's proxy
-    pushing_ = false;
     const bool resting = restingContact(hip, t);
     if (holdOverHole(hip, raw, t, c)) {
         // Held on the surface it pressed: a hole opened under the finger (finger_hole.cpp).
@@ -479,15 +477,13 @@ void FingerRenderer::letGo(const glm::dvec3 &hip, Candidate &c) noexcept
 void FingerRenderer::remember(const glm::dvec3 &hip, const Candidate &c) noexcept
 {
     state_ = nextState(c);
+    pushed_ = c.pushing && touching();
     proxy_ = c.proxy;
     surfaceProxy_ = c.bounded && c.contact ? c.found : c.proxy;
     lastGlide_ = c.contact ? c.glide : glm::dvec2{};
     lastHip_ = hip;
     lastDepth_ = c.contact ? glm::length(c.proxy - hip) : 0.0;
-    lastX_ = c.plane.x;
-    lastY_ = c.plane.y;
-    lastHeight_ = c.plane.height;
-    std::copy(std::begin(c.plane.taps), std::end(c.plane.taps), std::begin(lastTaps_));
+    lastPlane_ = c.plane;
 }
 
 bool FingerRenderer::withinReach(const glm::dvec3 &hip, double raw) const noexcept

@@ -110,8 +110,8 @@ bool FingerRenderer::enterWall(const glm::dvec3 &hip, Candidate &c) noexcept
     const double s = (out.x - hip.x) * n.x + (out.y - hip.y) * n.y;
     if (!(s >= 0.0))
         return false;
-    wallNormal_ = n;
-    wallDepth_ = s;
+    wall_.normal = n;
+    wall_.depth = s;
     c.proxy = hip + s * glm::dvec3(n, 0.0);
     c.below = s;
     c.contact = true;
@@ -122,13 +122,13 @@ bool FingerRenderer::enterWall(const glm::dvec3 &hip, Candidate &c) noexcept
 
 void FingerRenderer::wallContact(const glm::dvec3 &hip, double raw, Candidate &c) noexcept
 {
-    const glm::dvec3 n(wallNormal_, 0.0);
+    const glm::dvec3 n(wall_.normal, 0.0);
     // The side: the smallest free depth along n, searched as far as the bounded push reaches (the
     // side's depth grows by the HIP's motion into it and p_.pushDepth an update, as a pushed
     // limitPush()'s: sliding along a ragged side, a jut is pushed in at that rate, not stepped
     // onto by the slide's own motion).
-    const double reach = wallDepth_ +
-                         std::max(0.0, glm::dot(glm::dvec2(lastHip_ - hip), wallNormal_)) +
+    const double reach = wall_.depth +
+                         std::max(0.0, glm::dot(glm::dvec2(lastHip_ - hip), wall_.normal)) +
                          p_.pushDepth;
     double s = reach;
     if (freeAt(hip + s * n)) {
@@ -140,8 +140,8 @@ void FingerRenderer::wallContact(const glm::dvec3 &hip, double raw, Candidate &c
     }
     // A side read on a ragged silhouette (flying pixels, 8-bit steps) moves no faster than the
     // HIP and the bounded push either: the proxy does not hop between the edge's pixels.
-    s = std::max(s, wallDepth_ - pushReach(hip));
-    wallDepth_ = s;
+    s = std::max(s, wall_.depth - pushReach(hip));
+    wall_.depth = s;
     // The corner, rounded over a band of r: the proxy turns from the side (depth s along n) to the
     // top straight above the HIP (depth raw − z) as the top becomes the nearer of the two, and the
     // finger leaves the wall once the top is nearer by r (the god-object's nearest point, without

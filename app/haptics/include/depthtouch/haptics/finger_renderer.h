@@ -309,6 +309,20 @@ private:
         /// and under the surface without contact. They start as the state at the update's start.
         bool wall = false;
         bool behind = false;
+        /// limitPush() held the proxy at its bound this update (the next update is pushed_).
+        bool pushing = false;
+    };
+    /// What FingerState::OverHole holds (holdOverHole(), finger_hole.cpp).
+    struct HoleHold {
+        double since = 0.0; ///< Haptic time the hole opened, s.
+        glm::dvec2 at{};    ///< The HIP's x–y then, m.
+        double depth = 0.0; ///< |proxy − HIP| then: the held depth's bound, m.
+        glm::dvec3 dir{};   ///< The held force's direction (unit), HIP to proxy.
+    };
+    /// What FingerState::OnWall holds (enterWall(), wallContact(), finger_wall.cpp).
+    struct WallHold {
+        glm::dvec2 normal{}; ///< The side's outward horizontal normal (unit).
+        double depth = 0.0;  ///< The HIP's depth behind the side along it, last update, m.
     };
     /// \return whether the finger is in contact at the update's start (Touching, OnWall or
     /// OverHole; holdOverHole() may end it before the search).
@@ -438,22 +452,16 @@ private:
     glm::dvec3 surfaceProxy_{};
     glm::dvec2 lastGlide_{};                ///< The last update's glide direction (unit), or zero.
     FingerState state_ = FingerState::Free; ///< The contact state (FingerState).
-    glm::dvec2 wallNormal_{};               ///< The wall's outward horizontal normal (unit).
-    double wallDepth_ = 0.0;    ///< The HIP's depth behind the wall along it, last update, m.
+    WallHold wall_;                         ///< FingerState::OnWall's side.
     bool enterAnyDepth_ = true; ///< After reset(): a HIP found inside comes into contact.
-    double lastX_ = 0.0;      ///< Centre of the last plane fitted in the last update, m.
-    double lastY_ = 0.0;
-    double lastHeight_ = 0.0; ///< Its S, m.
-    double lastTaps_[9] = {}; ///< Its taps, m (a cut moves most of them, see stencilStep()).
-    double lastDepth_ = 0.0;  ///< |proxy − HIP| of the last update in contact, else 0, m.
-    bool pushing_ = false;    ///< limitPush() bounded this update's proxy.
-    bool pushed_ = false;     ///< It bounded the last update's (in contact).
-    glm::dvec3 pushDir_{};    ///< The bounded push's direction from the HIP (unit).
-    double heldDepth_ = 0.0;  ///< The held depth when an occluder or a cut let the finger go, m.
-    double holeSince_ = 0.0;  ///< Haptic time the hole opened (FingerState::OverHole), s.
-    glm::dvec2 holeAt_{};     ///< The HIP's x–y then, m.
-    double holeDepth_ = 0.0;  ///< |proxy − HIP| then: the held depth's bound, m.
-    glm::dvec3 holeDir_{};    ///< The held force's direction (unit), HIP to proxy.
+    /// The last plane fitted in the last update (a cut moves most of its taps, see stencilStep()).
+    FingerPlane lastPlane_;
+    double lastDepth_ = 0.0; ///< |proxy − HIP| of the last update in contact, else 0, m.
+    /// limitPush() bounded the last update's proxy, in contact (Candidate::pushing, remembered).
+    bool pushed_ = false;
+    glm::dvec3 pushDir_{};   ///< The bounded push's direction from the HIP (unit).
+    double heldDepth_ = 0.0; ///< The held depth when an occluder or a cut let the finger go, m.
+    HoleHold hole_;          ///< FingerState::OverHole's hold.
     double lastT_ = std::nan(""); ///< Haptic time of the last update, s.
     double speed_ = 0.0;          ///< The HIP's x–y speed, smoothed, m/s.
     bool resting_ = false;        ///< FingerContact::Adaptive: the penalty contact is in use.
