@@ -36,6 +36,8 @@ updates=$(echo "$line" | sed -n 's/.*stopped: \([0-9]*\) updates, \([0-9]*\) in 
 contact=$(echo "$line" | sed -n 's/.*stopped: \([0-9]*\) updates, \([0-9]*\) in contact.*/\2/p')
 [ -n "$updates" ] && [ "$updates" -gt 0 ] || fail "no haptic updates: $line"
 [ -n "$contact" ] && [ "$contact" -gt 0 ] || fail "the hand never touched: $line"
+# the simulated hand presses the head with its default 2 N: the force-jump safety never trips on it
+echo "$line" | grep -q " 0 safety trips;" || fail "hapticsink: a safety trip on a 2 N press: $line"
 echo "gst-launch-1.0: $updates haptic updates, $contact in contact"
 
 # 2. depthtouchsink: colour + depth into play's player (a depth stream decoded to I420: its luma)
@@ -58,4 +60,5 @@ updates=$(echo "$line" | sed -n 's/.* \([0-9]*\) haptic updates.*/\1/p')
 [ -n "$updates" ] && [ "$updates" -gt 0 ] || fail "no haptic updates: $line"
 # the haptic thread's faults after its warm-up are counted (their number is the machine's)
 echo "$line" | grep -Eq "safety trips, [0-9]+ page faults after warm-up" || fail "page faults: $line"
+echo "$line" | grep -q " 0 safety trips," || fail "depthtouchsink: a safety trip on a 2 N press: $line"
 echo "gst-launch-1.0 depthtouchsink: 150 pairs, $presented presented, $updates haptic updates"
