@@ -8,8 +8,9 @@
 # The elements' INFO lines (GST_DEBUG=hapticsink:4, depthtouchsink:4) show the depth tags read
 # from the demuxer (the planes encode wrote) and, at the end, that the haptic task ran and the hand
 # touched the surface; depthtouchsink's that each of the 150 colour frames (5 s at 30 fps, the
-# issue's run) was paired with its depth frame by running time and the stream ended in EOS, and
-# the haptic thread's page faults after its warm-up. No assertion on timing. Exit 77 (skip) without gst-launch-1.0 or without the demuxer
+# issue's run) was paired with its depth frame by running time and the stream ended in EOS, that
+# neither element's haptic task tripped its safety (the simulated hand presses with its default
+# 2 N), and the haptic thread's page faults after its warm-up. No assertion on timing. Exit 77 (skip) without gst-launch-1.0 or without the demuxer
 # and decoder plugins (gstreamer1.0-plugins-good, gstreamer1.0-libav).
 # Usage: gst_launch_e2e.sh DEPTHTOUCH
 set -u
