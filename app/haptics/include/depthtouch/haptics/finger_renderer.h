@@ -14,6 +14,20 @@
 /// stiffness k at construction; glideReach r/4, holdReach r/2, rimReach 3r/4 from the fingertip's
 /// radius r), derived once: a run-time stiffness change changes forces, not when contact exists.
 ///
+/// The map: the model in four parts; the numbered steps below say what each does.
+/// - *Surface* (fitFingerPlane() in finger_plane.cpp, sensorHeight(), reachAbove()): the height
+///   field at a fingertip's scale: the 3×3 stencil's plane and how well its taps fit a quadric
+///   (FingerPlane::smooth), the sensor surface at the HIP's x–y, the highest surface within
+///   reach; holes are unknown, not surface (steps 1 and 5 "Holes").
+/// - *Proxy* (search(): slide(), capture(), penalty(), wallContact(), holdOverHole()): one goal
+///   an update, the god-object on that surface or the penalty of the plane under the HIP, its
+///   moves bounded: the glide, the bounded push, a wall's side, a hold over a hole (steps 2–5).
+/// - *State* (FingerState; nextState(), letGo(), remember()): one value carried between updates,
+///   each transition with one named guard; each state's own data in one member (wall_, hole_).
+/// - *Output* (FingerOutput, finger_output.h): the offset filter (a clean surface passes
+///   through), the ramp's hand-over, the spring, the unload of an ended contact, ForceStage's
+///   ramp, slew and clamp, the watch of the device maximum (steps 5 "Depth noise" and 7).
+///
 /// Method, per update (haptic time t, HIP h; docs/architecture.md §3 frame, m):
 /// 1. **Finger-scale surface.** At a point q the surface is the least-squares plane through the
 ///    heights (fix (b): interpolated between frames i and i+1, paper Eq. 1) at the 3×3 points
