@@ -211,16 +211,21 @@ TEST_F(DepthTouchSinkTest, aFlushEndsAPushWaitingOnAFullPad)
     // GIVEN colour frames and no depth: the player waits for depth, the colour pad's queue fills
     const std::vector<std::uint8_t> c = solidColour();
     std::atomic<int> pushed{0};
+    std::atomic<bool> done{false};
     GstFlowReturn last = GST_FLOW_OK;
     std::thread pusher([&] {
         for (int i = 0; i < 100; ++i) {
             last = gst_harness_push(color, bufferOf(c, static_cast<GstClockTime>(i) * kPeriod));
             if (last != GST_FLOW_OK)
-                return;
+                break;
             pushed.fetch_add(1);
         }
+        done.store(true);
     });
-    while (pushed.load() < 4) // the queue's 4 frames; the 5th push waits
+    // The queue's 4 frames; the 5th push waits. A poll, not a deadline: however slow the machine,
+    // the loop ends once 4 are in or the pusher stopped (a push refused early fails below, no
+    // hang).
+    while (pushed.load() < 4 && !done.load())
         std::this_thread::sleep_for(10ms);
     // WHEN the pad is flushed THEN the waiting push returns, flushing
     EXPECT_TRUE(gst_harness_push_event(color, gst_event_new_flush_start()));
