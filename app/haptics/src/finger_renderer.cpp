@@ -433,9 +433,9 @@ void FingerRenderer::search(const glm::dvec3 &hip, double raw, bool over, double
             pushUp(hip, raw, c);
         if (c.contact && !c.trip)
             limitPush(hip, c);
-        // Held by its reach alone (withinReach()), only while the HIP leaves: deeper there it is
-        // beside an object's rim, not on it.
-        if (!inside && c.contact && !c.trip && glm::length(c.proxy - hip) > lastDepth_)
+        // Held by its reach alone (withinReach()), only while the HIP does not press on: a HIP
+        // moving deeper there is beside an object's rim, not on it.
+        if (!inside && c.contact && !c.trip && pressesOn(hip, c.proxy))
             c.contact = false;
     } else {
         capture(hip, c);
@@ -484,6 +484,20 @@ void FingerRenderer::remember(const glm::dvec3 &hip, const Candidate &c) noexcep
     lastHip_ = hip;
     lastDepth_ = c.contact ? glm::length(c.proxy - hip) : 0.0;
     lastPlane_ = c.plane;
+}
+
+bool FingerRenderer::pressesOn(const glm::dvec3 &hip, const glm::dvec3 &proxy) const noexcept
+{
+    // The depth's growth since last update is the HIP's own motion along the contact's normal plus
+    // the surface's (the stencil plane's noise: 40 µm in a frame of time-of-flight multipath under
+    // a resting finger). The HIP presses on where its own part is the larger one; growth by the
+    // surface alone is the surface's to give, as the bounded push takes it (limitPush()).
+    const glm::dvec3 d = proxy - hip;
+    const double depth = glm::length(d);
+    if (!(depth > lastDepth_))
+        return false;
+    const double hipInto = glm::dot(lastHip_ - hip, d / depth);
+    return hipInto > (depth - lastDepth_) - hipInto;
 }
 
 bool FingerRenderer::withinReach(const glm::dvec3 &hip, double raw) const noexcept

@@ -110,11 +110,11 @@
 ///      to the filter (handOverRamp()).
 ///    - *Within reach*: in contact, a HIP above the sensor surface at its own x–y is not free
 ///      while the surface within r/2 of it is still above it (a few pixels read far back under
-///      the fingertip): the contact goes on while the HIP is under the stencil's plane and no
-///      deeper than last update (withinReach()). A contact that ends with a surface above the
-///      HIP within 3r/4 (a rim the fingertip slides off) unloads its last force from
-///      maxForceStep/8, the step doubling to maxForceStep/4, while that surface stays within 3r/4;
-///      then it is 0 (releaseCovered()).
+///      the fingertip): the contact goes on while the HIP is under the stencil's plane and does
+///      not press on, deeper by its own motion than by the surface's (withinReach(),
+///      pressesOn()). A contact that ends with a surface above the HIP within 3r/4 (a rim the
+///      fingertip slides off) unloads its last force from maxForceStep/8, the step doubling to
+///      maxForceStep/4, while that surface stays within 3r/4; then it is 0 (releaseCovered()).
 ///    - *Caught again*: a finger let go behind an occluder (or by a cut) is caught by the surface
 ///      it was held on as soon as that surface is within its held depth (plus the ramped step)
 ///      again, e.g. when the occluder leaves; before, it stayed free until lifted out. A finger
@@ -380,9 +380,14 @@ private:
     /// own x–y: some surface within half the finger radius of the HIP's x–y
     /// (haptics::reachHeight(), the disc bench feel judges phantom force by, halved) is above the
     /// HIP; slide() then ends the contact where the HIP leaves the stencil's plane, and update()
-    /// where it is deeper than last update. False where \a raw (sensorHeight(), m) is NaN (off
+    /// where the HIP presses on (pressesOn()). False where \a raw (sensorHeight(), m) is NaN (off
     /// the grid) or a hole, out of contact, on a wall, or without fix (a).
     [[nodiscard]] bool withinReach(const glm::dvec3 &hip, double raw) const noexcept;
+    /// \return whether the contact's depth (|proxy − HIP|, m) grew since last update more by the
+    /// HIP's own motion along the contact normal than by the surface's: a contact held by its
+    /// reach alone ends where the HIP presses on (a finger pressed down beside a rim), not where
+    /// the plane's noise deepens it under a resting finger.
+    [[nodiscard]] bool pressesOn(const glm::dvec3 &hip, const glm::dvec3 &proxy) const noexcept;
     /// \return the highest measured surface (m, box frame) at the HIP's x–y and on rings of
     /// \a radius/2 and \a radius (m) around it (reachHeight(), feel.h); NaN where none is.
     [[nodiscard]] double reachAbove(const glm::dvec3 &hip, double radius) const noexcept;
