@@ -10,20 +10,31 @@
 # touched the surface; depthtouchsink's that each of the 150 colour frames (5 s at 30 fps, the
 # issue's run) was paired with its depth frame by running time and the stream ended in EOS, that
 # neither element's haptic task tripped its safety (the simulated hand presses with its default
-# 2 N), and the haptic thread's page faults after its warm-up. No assertion on timing. Exit 77 (skip) without gst-launch-1.0 or without the demuxer
-# and decoder plugins (gstreamer1.0-plugins-good, gstreamer1.0-libav).
-# Usage: gst_launch_e2e.sh DEPTHTOUCH
+# 2 N), and that the haptic thread took no page fault after its warm-up where its memory is locked.
+# Both pipelines run with RT_WATCH (tests/support/rt_watch.c) preloaded: the haptic thread made no
+# allocation, free, lock or write after its first wait, inside gst-launch-1.0 as in the tests' own
+# programs (tests/app/haptic_task/discipline_test.cpp). No assertion on timing. Exit 77 (skip)
+# without gst-launch-1.0 or without the demuxer and decoder plugins (gstreamer1.0-plugins-good,
+# gstreamer1.0-libav).
+# Usage: gst_launch_e2e.sh DEPTHTOUCH RT_WATCH
 set -u
 exe="$1"
+watch="$2"
 . "$(dirname "$0")/../e2e_lib.sh"
 e2e_start gst-launch gst-launch-1.0 gst-inspect-1.0
+# the haptic thread's discipline, as rt_watch.c counted it in the run whose output is $1 ($2 names it)
+discipline() {
+    w=$(grep "^rt-watch: .*(1 thread)" "$1") || { cat "$1"; fail "$2: no haptic thread watched"; }
+    echo "$w" | grep -q ": 0 allocations, 0 frees, 0 locks, 0 writes " || fail "$2: $w"
+    echo "$2: $w"
+}
 for element in matroskademux decodebin videoconvert avdec_h264; do
     gst-inspect-1.0 "$element" >/dev/null 2>&1 || { echo "GStreamer element $element missing: skipped"; exit 77; }
 done
 
 "$exe" encode --color synthetic:head,size=160x120,frames=150 --depth synthetic:head,size=160x120,frames=150 \
     -o "$work/clip.mkv" --preset ultrafast >"$work/encode.out" 2>&1 || { cat "$work/encode.out"; fail "encode"; }
-GST_DEBUG=hapticsink:4 GST_DEBUG_NO_COLOR=1 gst-launch-1.0 -q filesrc location="$work/clip.mkv" ! \
+LD_PRELOAD="$watch" GST_DEBUG=hapticsink:4 GST_DEBUG_NO_COLOR=1 gst-launch-1.0 -q filesrc location="$work/clip.mkv" ! \
     matroskademux name=d d.video_1 ! queue ! decodebin ! videoconvert ! \
     hapticsink haptic-device=sim stiffness=1000 >"$work/launch.out" 2>&1 ||
     { cat "$work/launch.out"; fail "gst-launch-1.0 exited $?"; }
@@ -40,9 +51,10 @@ contact=$(echo "$line" | sed -n 's/.*stopped: \([0-9]*\) updates, \([0-9]*\) in 
 # the simulated hand presses the head with its default 2 N: the force-jump safety never trips on it
 echo "$line" | grep -q " 0 safety trips;" || fail "hapticsink: a safety trip on a 2 N press: $line"
 echo "gst-launch-1.0: $updates haptic updates, $contact in contact"
+discipline "$work/launch.out" hapticsink
 
 # 2. depthtouchsink: colour + depth into play's player (a depth stream decoded to I420: its luma)
-GST_DEBUG=depthtouchsink:4 GST_DEBUG_NO_COLOR=1 gst-launch-1.0 filesrc location="$work/clip.mkv" ! \
+LD_PRELOAD="$watch" GST_DEBUG=depthtouchsink:4 GST_DEBUG_NO_COLOR=1 gst-launch-1.0 filesrc location="$work/clip.mkv" ! \
     matroskademux name=d d.video_0 ! queue ! decodebin ! videoconvert ! s.color \
     d.video_1 ! queue ! decodebin ! s.depth \
     depthtouchsink name=s haptic-device=sim display=headless stiffness=1000 >"$work/sink.out" 2>&1 ||
@@ -61,5 +73,11 @@ updates=$(echo "$line" | sed -n 's/.* \([0-9]*\) haptic updates.*/\1/p')
 [ -n "$updates" ] && [ "$updates" -gt 0 ] || fail "no haptic updates: $line"
 # the haptic thread's faults after its warm-up are counted (their number is the machine's)
 echo "$line" | grep -Eq "safety trips, [0-9]+ page faults after warm-up" || fail "page faults: $line"
+if grep -q "Started dt-haptic: .*memory locked" "$work/sink.out"; then
+    echo "$line" | grep -q " 0 page faults after warm-up" || fail "page faults with memory locked: $line"
+else
+    echo "the haptic thread's memory is not locked here: its page faults are the machine's"
+fi
 echo "$line" | grep -q " 0 safety trips," || fail "depthtouchsink: a safety trip on a 2 N press: $line"
 echo "gst-launch-1.0 depthtouchsink: 150 pairs, $presented presented, $updates haptic updates"
+discipline "$work/sink.out" depthtouchsink
