@@ -1,16 +1,16 @@
-/* The real-time discipline of the haptic thread inside a process the tests do not build (gst-launch-1.0
- * with the DepthTouch plugin), proven by interposition, as tests/app/haptic_task/discipline_test.cpp
- * proves it in its own program: loaded with LD_PRELOAD, this library replaces malloc, calloc, realloc,
- * free, aligned_alloc, posix_memalign and memalign (forwarded to glibc's __libc_ functions),
- * pthread_mutex_lock and _trylock, and write (forwarded to the next definition). A thread named
- * "dt-haptic" (platform::kHapticThread) is watched from its first clock_nanosleep on, the servo
- * loop's first wait for its period (platform/src/clock.cpp): its start-up before that may allocate.
- * At exit one line goes to stderr:
+/* The real-time discipline of the haptic thread inside a process the tests do not build
+ * (gst-launch-1.0 with the DepthTouch plugin), proven by interposition, as
+ * tests/app/haptic_task/discipline_test.cpp proves it in its own program: loaded with LD_PRELOAD,
+ * this library replaces malloc, calloc, realloc, free, aligned_alloc, posix_memalign and memalign
+ * (forwarded to glibc's __libc_ functions), pthread_mutex_lock and _trylock, and write (forwarded
+ * to the next definition). A thread named "dt-haptic" (platform::kHapticThread) is watched from its
+ * first clock_nanosleep on, the servo loop's first wait for its period (platform/src/clock.cpp):
+ * its start-up before that may allocate. At exit one line goes to stderr:
  *
  *   rt-watch: dt-haptic after its first wait: 0 allocations, 0 frees, 0 locks, 0 writes (1 thread)
  *
- * Thread-safety: the counters are atomic, the watch flag is per thread. glibc only; never loaded under
- * AddressSanitizer (it has its own allocator). */
+ * Thread-safety: the counters are atomic, the watch flag is per thread. glibc only; never loaded
+ * under AddressSanitizer (it has its own allocator). */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <errno.h>
@@ -58,18 +58,18 @@ static void *next(void **slot, const char *name)
 __attribute__((destructor)) static void report(void)
 {
     char line[200];
-    const int n = snprintf(line, sizeof line,
-                           "rt-watch: dt-haptic after its first wait: %lu allocations, %lu frees, "
-                           "%lu locks, %lu writes (%lu thread%s)\n",
-                           __atomic_load_n(&gAllocations, __ATOMIC_RELAXED),
-                           __atomic_load_n(&gFrees, __ATOMIC_RELAXED),
-                           __atomic_load_n(&gLocks, __ATOMIC_RELAXED),
-                           __atomic_load_n(&gWrites, __ATOMIC_RELAXED),
-                           __atomic_load_n(&gThreads, __ATOMIC_RELAXED),
-                           __atomic_load_n(&gThreads, __ATOMIC_RELAXED) == 1 ? "" : "s");
+    const int n = snprintf(
+        line, sizeof line,
+        "rt-watch: dt-haptic after its first wait: %lu allocations, %lu frees, "
+        "%lu locks, %lu writes (%lu thread%s)\n",
+        __atomic_load_n(&gAllocations, __ATOMIC_RELAXED),
+        __atomic_load_n(&gFrees, __ATOMIC_RELAXED), __atomic_load_n(&gLocks, __ATOMIC_RELAXED),
+        __atomic_load_n(&gWrites, __ATOMIC_RELAXED), __atomic_load_n(&gThreads, __ATOMIC_RELAXED),
+        __atomic_load_n(&gThreads, __ATOMIC_RELAXED) == 1 ? "" : "s");
     tWatched = 0;
     if (n > 0)
-        (void)NEXT(gRealWrite, WriteFn, "write")(2, line, (size_t)n < sizeof line ? (size_t)n : sizeof line - 1);
+        (void)NEXT(gRealWrite, WriteFn,
+                   "write")(2, line, (size_t)n < sizeof line ? (size_t)n : sizeof line - 1);
 }
 
 int clock_nanosleep(clockid_t clock, int flags, const struct timespec *t, struct timespec *rest)
