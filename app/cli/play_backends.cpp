@@ -174,6 +174,7 @@ std::optional<PlayOpenFailure> openPlayer(const PlayOptions &opt, platform::Cloc
     playback::PlaybackHal ph = playbackHal(opt, cfg, out.backends);
     if (feed != nullptr) {
         ph.makeSource = feed->makeSource;
+        ph.masterClock = feed->masterClock;
         config.liveSilenceSeconds = 0.0;
     }
     auto pb = playback::Playback::create(config, std::move(ph));

@@ -100,8 +100,11 @@ using OnBackendOpened = std::function<void(const OpenedBackend &)>;
 /// \brief A source the caller feeds itself (the GStreamer element depthtouchsink: its pads):
 /// openPlayer() makes each open's media source with makeSource instead of --source's backend, and
 /// a pause in the frames is not a live sender that fell silent (a paused pipeline sends none).
+/// With masterClock, the media follows the caller's clock (the pipeline's running time: the PTS
+/// makeSource's frames carry) instead of the player's own (playback::PlaybackHal::masterClock).
 struct PlayerFeed {
     std::function<Result<std::unique_ptr<hal::MediaSource>>()> makeSource;
+    std::function<playback::MasterClock()> masterClock;
 };
 
 /// \brief Opens the backends of \a opt as `play` does, on \a clock (which must outlive them):

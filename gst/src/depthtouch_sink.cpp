@@ -208,6 +208,25 @@ GstFlowReturn chain(GstPad *pad, GstObject *parent, GstBuffer *buffer)
 
 // ---- states -----------------------------------------------------------------------------------
 
+/// \return the pipeline's clock as the player's master clock: while \a self plays, the running time
+/// now, which the pads stamp their frames with (chain()), so the picture and the haptic task's
+/// time follow the pipeline (a pipeline clock that is an audio sink's drifts from the steady one).
+std::function<playback::MasterClock()> pipelineClock(GstElement *self)
+{
+    return [self]() {
+        playback::MasterClock c;
+        GST_OBJECT_LOCK(self);
+        const bool playing = GST_STATE(self) == GST_STATE_PLAYING;
+        GST_OBJECT_UNLOCK(self);
+        GstClockTime running = 0;
+        if (playing && runningTimeNow(self, c.at, running)) {
+            c.running = true;
+            c.mediaTime = static_cast<double>(running) * 1e-9;
+        }
+        return c;
+    };
+}
+
 /// READY to PAUSED: the feed and the player (display, device, Playback). \return FALSE on failure
 /// (posted).
 gboolean openPlayer(GstElement *self, SinkState &s)
@@ -220,7 +239,7 @@ gboolean openPlayer(GstElement *self, SinkState &s)
         gst_segment_init(&p.segment, GST_FORMAT_TIME);
     }
     std::string why;
-    s.player = FeedPlayer::open(s.settings, s.feed, why);
+    s.player = FeedPlayer::open(s.settings, s.feed, pipelineClock(self), why);
     if (!s.player) {
         s.feed.reset();
         fail(self, GST_RESOURCE_ERROR, GST_RESOURCE_ERROR_SETTINGS, why);

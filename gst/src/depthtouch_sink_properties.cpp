@@ -45,6 +45,9 @@ void getReadout(guint id, const PlayerReadout &r, GValue *value)
     case kPropContactForceZ:
         g_value_set_double(value, r.forceZ);
         break;
+    case kPropPosition:
+        g_value_set_double(value, r.position);
+        break;
     case kPropSafetyTrips:
         g_value_set_uint64(value, r.safetyTrips);
         break;
@@ -160,6 +163,10 @@ void installSinkProperties(GObjectClass *oc)
                    "Magnitude of the last force commanded to the device, N", 0.0);
     installMeasure(oc, kPropContactForceZ, "contact-force-z",
                    "z of the last force, N, scene box (positive: toward the viewer)", -G_MAXDOUBLE);
+    installMeasure(oc, kPropPosition, "position",
+                   "Running time of the frame on screen, s: the player follows the pipeline's "
+                   "clock",
+                   0.0);
     installCounter(oc, kPropSafetyTrips, "safety-trips",
                    "Force-jump releases of the renderer and watchdog trips so far");
     g_object_class_install_property(

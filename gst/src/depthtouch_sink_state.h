@@ -77,6 +77,7 @@ enum Property : guint {
     kPropServoRate,
     kPropContactForce,
     kPropContactForceZ,
+    kPropPosition,
     kPropSafetyTrips,
     kPropHaptics,
 };

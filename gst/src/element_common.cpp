@@ -154,4 +154,19 @@ std::string describeDepthTags(const hal::DepthMetadata &t)
            std::to_string(t.bits) + ", occupancy " + std::to_string(t.occupancy);
 }
 
+bool runningTimeNow(GstElement *element, platform::TimePoint &at, GstClockTime &running)
+{
+    GstClock *clock = gst_element_get_clock(element);
+    if (clock == nullptr)
+        return false;
+    at = platform::SteadyClock::instance().now();
+    const GstClockTime t = gst_clock_get_time(clock);
+    const GstClockTime base = gst_element_get_base_time(element);
+    gst_object_unref(clock);
+    if (!isTime(t) || !isTime(base) || t < base)
+        return false;
+    running = t - base;
+    return true;
+}
+
 } // namespace depthtouch::gst

@@ -14,6 +14,7 @@
 #include <gst/video/video.h>
 
 #include "depthtouch/hal/media_source.h"
+#include "depthtouch/platform/clock.h"
 #include "haptic_session.h"
 
 namespace depthtouch::gst {
@@ -53,5 +54,12 @@ std::vector<std::uint8_t> packVideoFrame(const GstVideoInfo &info, hal::PixelFor
 bool readDepthTagEvent(GstEvent *event, hal::DepthMetadata &md);
 /// \return "depth tags: near N m, far N m, mapping 'M', bits B, occupancy O" (the log line).
 std::string describeDepthTags(const hal::DepthMetadata &md);
+
+/// \brief Reads \a element's pipeline clock: its running time now (clock time − base time, ns: the
+/// time its pads' buffers carry once through their segment) into \a running, and the steady
+/// clock's time of that reading (platform::SteadyClock, the player's and the haptic task's clock)
+/// into \a at. \return false without a clock (the element is not in a pipeline's PAUSED or
+/// PLAYING) or before the base time. Thread-safe (a GstClock is read under its own seqlock).
+bool runningTimeNow(GstElement *element, platform::TimePoint &at, GstClockTime &running);
 
 } // namespace depthtouch::gst

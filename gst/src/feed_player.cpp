@@ -95,7 +95,9 @@ PlayerReadout readOut(playback::Playback &pb, const player::StateMachine &machin
 } // namespace
 
 std::unique_ptr<FeedPlayer> FeedPlayer::open(const PlayerSettings &settings,
-                                             std::shared_ptr<PadFeed> feed, std::string &why)
+                                             std::shared_ptr<PadFeed> feed,
+                                             std::function<playback::MasterClock()> masterClock,
+                                             std::string &why)
 {
     auto options = std::make_unique<cli::PlayOptions>(playOptionsOf(settings));
     why = checkHapticSettings(settings.haptic);
@@ -110,6 +112,7 @@ std::unique_ptr<FeedPlayer> FeedPlayer::open(const PlayerSettings &settings,
     pads.makeSource = [feed]() -> Result<std::unique_ptr<hal::MediaSource>> {
         return std::unique_ptr<hal::MediaSource>(std::make_unique<PadMediaSource>(feed));
     };
+    pads.masterClock = std::move(masterClock);
     if (const auto bad =
             cli::openPlayer(*options, platform::SteadyClock::instance(), *player, {}, &pads)) {
         why = failureLine(*options, *bad);

@@ -30,6 +30,7 @@
 #include <thread>
 
 #include "depthtouch/platform/macros.h"
+#include "depthtouch/playback/master_clock.h"
 #include "haptic_session.h"
 #include "pad_feed.h"
 
@@ -72,10 +73,14 @@ struct PlayerReadout {
 class FeedPlayer {
 public:
     /// \brief Checks \a settings by play's option table, opens the display and the haptic device
-    /// and makes the Playback reading \a feed. \return the player, or null with \a why: the bad
-    /// setting's or the failed backend's one line (the backend table's report).
+    /// and makes the Playback reading \a feed, its media (the picture and the haptic task's time)
+    /// following \a masterClock (the pipeline's running time; null: the player's own clock).
+    /// \return the player, or null with \a why: the bad setting's or the failed backend's one
+    /// line (the backend table's report).
     static std::unique_ptr<FeedPlayer> open(const PlayerSettings &settings,
-                                            std::shared_ptr<PadFeed> feed, std::string &why);
+                                            std::shared_ptr<PadFeed> feed,
+                                            std::function<playback::MasterClock()> masterClock,
+                                            std::string &why);
     /// Shuts the feed, quits the loop and joins it, then closes the Playback and the backends.
     ~FeedPlayer();
 

@@ -329,19 +329,13 @@ gboolean event(GstBaseSink *sink, GstEvent *ev)
 /// has one (its running time now), else fixed by the first buffer since the start or a flush.
 platform::TimePoint mediaOrigin(GstBaseSink *sink, SinkState &s, GstClockTime running)
 {
-    const platform::TimePoint now = platform::SteadyClock::instance().now();
-    GstClock *clock = gst_element_get_clock(asElement(sink));
-    if (clock != nullptr) {
-        const GstClockTime t = gst_clock_get_time(clock);
-        const GstClockTime base = gst_element_get_base_time(asElement(sink));
-        gst_object_unref(clock);
-        if (isTime(t) && isTime(base)) {
-            const auto rt = static_cast<std::int64_t>(t) - static_cast<std::int64_t>(base);
-            return now - std::chrono::nanoseconds(rt);
-        }
-    }
+    platform::TimePoint at{};
+    GstClockTime now = 0;
+    if (runningTimeNow(asElement(sink), at, now))
+        return at - std::chrono::nanoseconds(static_cast<std::int64_t>(now));
     if (!s.haveOrigin) {
-        s.origin = now - std::chrono::nanoseconds(static_cast<std::int64_t>(running));
+        s.origin = platform::SteadyClock::instance().now() -
+                   std::chrono::nanoseconds(static_cast<std::int64_t>(running));
         s.haveOrigin = true;
     }
     return s.origin;

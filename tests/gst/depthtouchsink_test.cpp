@@ -4,7 +4,8 @@
 /// (the aggregator pattern: one per sink pad), on the headless display with the simulated hand.
 /// A solid colour and a flat depth plane, frame after frame with the same running times: every
 /// frame is paired (no depth unpaired or missing), presented, the haptic task runs and the hand
-/// pressing the plane feels a force out of it (+z); EOS on both pads ends in EOS on the bus. Bad
+/// pressing the plane feels a force out of it (+z); EOS on both pads ends in EOS on the bus. The
+/// picture follows the pipeline's clock (a GstTestClock held, then moved on). Bad
 /// caps are refused; a bad method fails the start with play's message. And the pads' feed alone
 /// (pad_feed.h): streams read in PTS order once each has a frame, the end, a flush.
 ///
@@ -15,6 +16,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -24,6 +26,7 @@
 #include <unistd.h>
 
 #include <gst/check/gstharness.h>
+#include <gst/check/gsttestclock.h>
 #include <gst/gst.h>
 #include <gtest/gtest.h>
 
@@ -111,6 +114,17 @@ std::string errorText(GstMessage *m)
     return text;
 }
 
+/// \brief Runs the element of \a h (\a sink) on the system clock, its running time 0 now, as a
+/// pipeline going to PLAYING does (a harness gives it a GstTestClock standing at 0: the player,
+/// following the pipeline's clock, would wait at running time 0).
+void runOnTheSystemClockFromNow(GstHarness *h, GstElement *sink)
+{
+    gst_harness_use_systemclock(h);
+    GstClock *system = gst_system_clock_obtain();
+    gst_element_set_base_time(sink, gst_clock_get_time(system));
+    gst_object_unref(system);
+}
+
 /// \return why the headless display does not open here (an element alone to PAUSED), or "".
 std::string displayMissing()
 {
@@ -151,6 +165,7 @@ TEST_F(DepthTouchSinkTest, pairsColourAndDepthByRunningTimeAndTheHandFeelsThePla
     // GIVEN the two pads fed by a harness each (the element goes to PLAYING with the first)
     GstHarness *color = gst_harness_new_with_element(sink, "color", nullptr);
     GstHarness *depth = gst_harness_new_with_element(sink, "depth", nullptr);
+    runOnTheSystemClockFromNow(color, sink);
     gst_harness_set_src_caps_str(color, kColorCaps);
     gst_harness_set_src_caps_str(depth, kDepthCaps);
     EXPECT_TRUE(std::filesystem::exists(socket)) << "play's control socket is up";
@@ -192,6 +207,82 @@ TEST_F(DepthTouchSinkTest, pairsColourAndDepthByRunningTimeAndTheHandFeelsThePla
     gst_harness_teardown(depth);
     gst_harness_teardown(color);
     EXPECT_FALSE(std::filesystem::exists(socket)) << "the socket goes with the player";
+    gst_element_set_bus(sink, nullptr);
+    gst_object_unref(bus);
+    gst_object_unref(sink);
+}
+
+/// \return the "position" property (s) once \a done(position) holds, polled every 10 ms (the
+/// readout is a tenth of a second old at most); the CTest time limit ends a wait that never comes.
+template <class Done> double positionWhen(GstElement *sink, Done done)
+{
+    for (;;) {
+        const double p = doubleProperty(sink, "position");
+        if (done(p))
+            return p;
+        std::this_thread::sleep_for(10ms);
+    }
+}
+
+TEST_F(DepthTouchSinkTest, thePictureFollowsThePipelineClockNotThePlayersOwn)
+{
+    if (const std::string why = displayMissing(); !why.empty())
+        GTEST_SKIP() << "no headless display here: " << why;
+    GstElement *sink = gst_element_factory_make("depthtouchsink", nullptr);
+    ASSERT_NE(sink, nullptr);
+    g_object_set(asObject(sink), "haptic-device", "sim", "display", "headless", nullptr);
+    GstBus *bus = gst_bus_new();
+    gst_element_set_bus(sink, bus);
+    GstHarness *color = gst_harness_new_with_element(sink, "color", nullptr);
+    GstHarness *depth = gst_harness_new_with_element(sink, "depth", nullptr);
+    // GIVEN a pipeline clock that stands at running time 1 s (a GstTestClock: it moves only when
+    // told), and 3 s of frames pushed as the pads take them
+    gst_harness_use_testclock(color);
+    GstTestClock *clock = gst_harness_get_testclock(color);
+    ASSERT_NE(clock, nullptr);
+    const GstClockTime base = gst_element_get_base_time(sink);
+    gst_test_clock_set_time(clock, base + GST_SECOND);
+    gst_harness_set_src_caps_str(color, kColorCaps);
+    gst_harness_set_src_caps_str(depth, kDepthCaps);
+    const std::vector<std::uint8_t> c = solidColour();
+    const std::vector<std::uint8_t> d = flatDepth();
+    std::thread pusher([&] {
+        for (int i = 0; i < 90; ++i) {
+            const GstClockTime pts = static_cast<GstClockTime>(i) * kPeriod;
+            if (gst_harness_push(color, bufferOf(c, pts)) != GST_FLOW_OK ||
+                gst_harness_push(depth, bufferOf(d, pts)) != GST_FLOW_OK)
+                return;
+        }
+        gst_harness_push_event(color, gst_event_new_eos());
+        gst_harness_push_event(depth, gst_event_new_eos());
+    });
+    // WHEN the player has caught up with the clock and half a second of its own time passes
+    (void)positionWhen(sink, [](double p) { return p >= 0.9; });
+    std::this_thread::sleep_for(500ms);
+    // THEN the frame on screen is the clock's: on its own clock the player would be 0.5 s on
+    const double held = doubleProperty(sink, "position");
+    EXPECT_NEAR(held, 1.0, 0.1) << "the picture waits for the pipeline's running time";
+    // WHEN the pipeline clock jumps to 2.5 s THEN the picture goes there, not frame by frame
+    gst_test_clock_set_time(clock, base + 5 * GST_SECOND / 2);
+    const double moved = positionWhen(sink, [](double p) { return p >= 2.4; });
+    std::this_thread::sleep_for(300ms);
+    const double after = doubleProperty(sink, "position");
+    std::printf("pipeline clock at 1 s: position %.3f s; moved to 2.5 s: %.3f s, 0.3 s later "
+                "%.3f s\n",
+                held, moved, after);
+    EXPECT_NEAR(after, 2.5, 0.1);
+    // the rest plays out once the clock is past the end: EOS
+    gst_test_clock_set_time(clock, base + 10 * GST_SECOND);
+    pusher.join();
+    GstMessage *end = gst_bus_timed_pop_filtered(
+        bus, GST_CLOCK_TIME_NONE, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
+    ASSERT_NE(end, nullptr);
+    EXPECT_EQ(GST_MESSAGE_TYPE(end), GST_MESSAGE_EOS) << errorText(end);
+    gst_message_unref(end);
+    EXPECT_EQ(countProperty(sink, "depth-unpaired"), 0u);
+    gst_object_unref(clock);
+    gst_harness_teardown(depth);
+    gst_harness_teardown(color);
     gst_element_set_bus(sink, nullptr);
     gst_object_unref(bus);
     gst_object_unref(sink);

@@ -138,7 +138,7 @@ void AudioPlayer::setMute(bool mute)
     targetGain_ = volumeGain(config_.volume, config_.mute);
 }
 
-AudioClock AudioPlayer::clock() const
+MasterClock AudioPlayer::clock() const
 {
     std::lock_guard<std::mutex> lock(mutex_);
     return published_;

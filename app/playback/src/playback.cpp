@@ -191,6 +191,8 @@ void Playback::finishOpen(std::unique_ptr<receiver::Receiver> rec)
     s->live = !s->receiver->source().info().seekable;
     s->adaptive = !s->receiver->source().info().renditions.empty();
     attachAudio(m, *s, info);
+    if (!s->audio)
+        s->masterClock = m.hal.masterClock;
     m.silentProgress = 0; // the new decode thread counts from 0
     s->decoder = std::make_unique<receiver::DecoderThread>(*s->receiver);
     if (auto r = s->decoder->start(); !r)

@@ -18,9 +18,9 @@ namespace depthtouch::playback {
 using platform::TimePoint;
 
 namespace {
-/// How far the picture's media origin may be from the audio clock before it moves onto it, s:
+/// How far the picture's media origin may be from the master clock before it moves onto it, s:
 /// well under a frame, above the jitter of a device's delay report.
-constexpr double kAudioFollowSeconds = 0.002;
+constexpr double kMasterFollowSeconds = 0.002;
 /// The picture's lead on the audio clock (the time from a frame's turn to its light on screen:
 /// the draw and the wait for the refresh) is learnt from the measured A/V offsets: each adds this
 /// share of itself to the lead, which stays within [0, kMaxLeadSeconds].
@@ -117,7 +117,7 @@ void RenderLoop::play(Session &s, const Commands &cmd)
     // Pause: the media clock stands still (the haptic time with it).
     if (frameClock_.holdForPause(now, cmd.paused) && s.handoff)
         s.handoff->setMediaOrigin(frameClock_.origin());
-    followAudio(s, cmd.paused);
+    followMaster(s, cmd.paused);
     takeFrames(s, now);
     checkDecoder(s, now);
     if (frames_.pendingCount == 0) {
@@ -158,16 +158,22 @@ void RenderLoop::rebaseAtDiscontinuity(bool paused)
     frames_.rebasing = true;
 }
 
-/// Audio as the master clock: the media origin (the picture's and the haptic time's) follows the
-/// time the speaker plays (audio_player.h), while the sound plays, a frame's turn coming avLead_
-/// before its time so that it is on screen at its time.
-void RenderLoop::followAudio(Session &s, bool paused)
+/// The master clock: the media origin (the picture's and the haptic time's) follows the time the
+/// speaker plays (audio_player.h) while the sound plays, a frame's turn coming avLead_ before its
+/// time so that it is on screen at its time; without sound, the clock the player is given
+/// (PlaybackHal::masterClock: a GStreamer pipeline's running time), with no lead.
+void RenderLoop::followMaster(Session &s, bool paused)
 {
-    if (!s.audio)
-        return;
-    s.audio->setPaused(paused);
-    const AudioClock c = s.audio->clock();
-    if (c.running && frameClock_.follow(c.at, c.mediaTime + avLead_, kAudioFollowSeconds) &&
+    MasterClock c;
+    double lead = 0.0;
+    if (s.audio) {
+        s.audio->setPaused(paused);
+        c = s.audio->clock();
+        lead = avLead_;
+    } else if (s.masterClock && !paused) {
+        c = s.masterClock();
+    }
+    if (c.running && frameClock_.follow(c.at, c.mediaTime + lead, kMasterFollowSeconds) &&
         s.handoff)
         s.handoff->setMediaOrigin(frameClock_.origin());
 }
@@ -176,7 +182,7 @@ void RenderLoop::followAudio(Session &s, bool paused)
 /// then minus \a pts (positive: the sound is ahead of the picture); the lead learns from it.
 void RenderLoop::measureAvOffset(Session &s, TimePoint shownAt, double pts)
 {
-    const AudioClock c = s.audio->clock();
+    const MasterClock c = s.audio->clock();
     if (!c.running)
         return;
     const double offset = c.mediaTime + platform::toSeconds(shownAt - c.at) - pts;

@@ -69,7 +69,7 @@ private:
     std::string openDisplay();
     void play(Session &s, const Commands &cmd);
     void rebaseAtDiscontinuity(bool paused);
-    void followAudio(Session &s, bool paused);
+    void followMaster(Session &s, bool paused);
     void measureAvOffset(Session &s, platform::TimePoint shownAt, double pts);
     void seek(Session &s, double seekTo);
     void takeFrames(Session &s, platform::TimePoint now);

@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <memory>
 
 #include "depthtouch/hal/audio_source.h"
@@ -45,6 +46,8 @@ struct Session {
     /// its source: destroyed first).
     std::unique_ptr<hal::AudioSource> audioSource;
     std::unique_ptr<AudioPlayer> audio;
+    /// Without sound, the clock the media follows instead (PlaybackHal::masterClock), or null.
+    std::function<MasterClock()> masterClock;
     double period = 1.0 / 30.0;       ///< Frame period, s.
     double startPts = 0.0;            ///< PTS of the first frame (s); positions count from it.
     hal::DisplayConfig displayConfig; ///< For the display's first open.

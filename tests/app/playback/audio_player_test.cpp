@@ -118,7 +118,7 @@ protected:
     /// The media time heard now, from the published clock.
     double heardNow() const
     {
-        const AudioClock c = player_->clock();
+        const MasterClock c = player_->clock();
         return c.mediaTime + platform::toSeconds(clock_.now() - c.at);
     }
 

@@ -43,6 +43,7 @@
 #include "depthtouch/hal/audio_output.h"
 #include "depthtouch/hal/audio_source.h"
 #include "depthtouch/options/option_range.h"
+#include "depthtouch/playback/master_clock.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/platform/realtime_thread.h"
 #include "depthtouch/platform/result.h"
@@ -58,13 +59,6 @@ struct AudioPlayerConfig {
     bool mute = false;
     /// Sound kept queued in the device, s (10 ms .. 1 s): the delay of pause, seek and volume.
     double queueSeconds = 0.1;
-};
-
-/// \brief Where the sound is: the media time the speaker plays at clock time `at`.
-struct AudioClock {
-    bool running = false;     ///< Sound plays (not paused, halted, ended or lost).
-    platform::TimePoint at{}; ///< When it was measured (the player's clock).
-    double mediaTime = 0.0;   ///< Media time heard at `at`, s.
 };
 
 /// \brief Counters of the sound since the player was made. Plain values.
@@ -110,7 +104,7 @@ public:
     void setMute(bool mute);
     ///@}
 
-    [[nodiscard]] AudioClock clock() const;
+    [[nodiscard]] MasterClock clock() const;
     [[nodiscard]] double volume() const; ///< %, as setVolume() left it.
     [[nodiscard]] bool muted() const;
     [[nodiscard]] AudioStats stats() const;
@@ -174,7 +168,7 @@ private:
     std::uint64_t haltGen_ = 0;
     bool paused_ = false;
     double targetGain_ = 1.0;
-    AudioClock published_;
+    MasterClock published_;
     AudioStats stats_;
 
     // The audio thread's own.

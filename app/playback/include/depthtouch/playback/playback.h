@@ -155,6 +155,13 @@ struct PlaybackHal {
         std::shared_ptr<hal::AudioPacketSink> sink;
     };
     std::function<Result<LiveAudio>(const hal::AudioStreamInfo &stream)> makeLiveAudioSource;
+    /// Optional: a clock the media follows when the input has no sound playing (a GStreamer
+    /// pipeline's, whose buffers' running time is the PTS: depthtouchsink). Called on the render
+    /// thread about once a refresh; the picture's media origin, and with it the haptic task's time
+    /// for Eq. 1, moves onto it where it is more than 2 ms away, as it follows the sound
+    /// (FrameClock::follow()). Must be thread-safe and return quickly; null: the player's own
+    /// clock.
+    std::function<MasterClock()> masterClock;
 };
 
 /// \brief Counters since create() (all opens together). Plain values.
