@@ -60,10 +60,13 @@ void FingerOutput::smoothOffset(const glm::dvec3 &hip, const FingerGoal &c, doub
         std::max(0.25 * p_.pushDepth, std::min(kFingerOffsetAlpha * gap, p_.unloadDepth));
     // Unloading at most 2·p_.pushDepth an update (from an offset \a was long): a surface that falls
     // away under the finger (not a cut) takes its force over a few updates, not in one step of up
-    // to 2 N.
-    const auto unloadBounded = [this](const glm::dvec3 &next, double was) {
+    // to 2 N. The bound is the surface's: a HIP lifting off (its own move out along the offset,
+    // exact) unloads by that move too, as a spring does.
+    const double lift =
+        std::max(0.0, glm::dot(c.hipMove, offset_ / std::max(glm::length(offset_), 1e-12)));
+    const auto unloadBounded = [this, lift](const glm::dvec3 &next, double was) {
         const double now = glm::length(next);
-        const double least = was - p_.unloadDepth;
+        const double least = was - p_.unloadDepth - lift;
         return now > 0.0 && now < least ? next * (least / now) : next;
     };
     if (!c.contact || !c.touching || c.trip || c.stepped) {

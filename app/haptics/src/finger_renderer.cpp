@@ -388,6 +388,7 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     // from it). Friction acts on the filtered goal.
     c.touching = touching();
     c.smooth = c.plane.smooth;
+    c.hipMove = hip - lastHip_;
     glm::dvec3 held = output_.filter(hip, c, t, stiffnessScale);
     if (friction_.enabled() || material) {
         if (c.contact && !c.trip)

@@ -175,6 +175,36 @@ TEST(FingerReleaseTest, aSurfaceThatReadsHigherUnderAFingertipHeldByItsReachKeep
     EXPECT_LT(pressedOn, pressed);
 }
 
+// A finger resting 5 mm into the table (4 N) lifts off at 40 cm/s, 0.32 N of depth an update, more
+// than the offset filter unloads by (maxForceStep/8, 0.25 N: the bound is for a surface that falls
+// away). The filtered force lagged the rising finger: 1.07 N on the last update in contact,
+// dropped at once (in the demo, a hand the turning head had pushed to 4 N rose out at 40 cm/s and
+// its force dropped by 2 N, the step limit, twice). Now the HIP's own move out unloads the force
+// too, as a spring's: it follows the finger down and no update drops more than 1 N.
+TEST(FingerReleaseTest, aFingerLiftingOffFastIsUnloadedAsItRisesNotAtTheEnd)
+{
+    FramePress press({0.0, 0.0, -0.010});
+    const OwnedFrame table = raisedTable(0.0);
+    press.run(table, 300);
+    const double pressed = press.force();
+    ASSERT_NEAR(pressed, kStiffness * (coded(0.0) + 0.010), 0.01);
+    const std::size_t from = press.log.out.size();
+    press.run(table, 40, 0.0, 0.016); // 0.4 mm an update
+    double fall = 0.0;
+    double atEnd = 0.0; // |F| on the last update in contact
+    for (std::size_t i = from; i < press.log.out.size(); ++i) {
+        fall = std::max(fall, glm::length(press.log.out[i - 1].force) -
+                                  glm::length(press.log.out[i].force));
+        if (press.log.out[i].contact)
+            atEnd = glm::length(press.log.out[i].force);
+    }
+    std::printf("a 4 N rest lifting off at 40 cm/s: %.2f N on its last update in contact, largest "
+                "fall %.3f N an update\n",
+                atEnd, fall);
+    EXPECT_FALSE(press.log.out.back().contact);
+    EXPECT_LE(fall, 0.5 * RendererConfig{}.maxForceStep);
+}
+
 // A finger pressed 4 mm into a table that falls 3 mm (the filter unloads the force at its
 // bounded rate), and two updates later the spot under the finger turns to a hole (the shadow band
 // beside the object that fell away): the hold over the hole takes the unload on from where the

@@ -52,6 +52,10 @@ struct FingerGoal {
     /// FingerPlane::smooth of the plane under the goal: how clean the surface measured there is
     /// (0..1); the offset filter passes a clean surface's offset through (smoothOffset()).
     double smooth = 0.0;
+    /// The HIP's move since the last update, m (box frame): the device's measurement. Where it
+    /// takes the HIP out along the force's offset (a hand lifting off), the force follows it
+    /// down past the filter's unload bound (smoothOffset()).
+    glm::dvec3 hipMove{};
 };
 
 /// \brief The force output stage (see the file comment).
