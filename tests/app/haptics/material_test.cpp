@@ -109,59 +109,94 @@ std::string methodLabel(const ::testing::TestParamInfo<Method> &param)
 
 class MaterialScenarioTest : public ::testing::TestWithParam<Method> {};
 
-TEST_P(MaterialScenarioTest, stiffnessBoundaryCrossedAtTenCmPerSecondStaysUnderTheSafetyStep)
+/// What a finger felt crossing a material boundary (Crossing::cross()).
+struct Crossing {
+    double leftFz = 0.0;  ///< Fz on the left half (scale 1), N.
+    double fz = 0.0;      ///< Fz at the end, on the right half, N.
+    double maxStep = 0.0; ///< Largest |ΔF| an update, N.
+    bool released = false;
+};
+
+/// GIVEN a flat surface, --stiffness \a k (N/m), the left half at material scale 1 and the right
+/// at \a right, the HIP pressed \a depth (m) in; WHEN it glides 4 cm along +x at \a speed (m/s)
+/// across the boundary at x = 0 at 1 kHz. Every update is in contact (EXPECT).
+Crossing cross(Method method, double k, double right, double depth, double speed)
 {
-    // GIVEN a flat surface, --stiffness 400 N/m, the left half at scale 1 (400 N/m) and the right
-    // at scale 3 (1200 N/m), the HIP pressed 2 mm in
     const SceneBox box{};
     const int w = 320;
     const int h = 240;
     const test::OwnedFrame frame =
         test::makeFrame(box, w, h, 0.0, [](double, double) { return 0.0; });
-    const OwnedMaterial mat(w, h, [w](int c) { return Material{c < w / 2 ? 1.0 : 3.0, 0.0, 0.0}; });
-    RendererConfig cfg = RendererConfig::forMethod(GetParam());
-    cfg.stiffness = 400.0;
+    const OwnedMaterial mat(w, h, [w, right](int c) {
+        return Material{c < w / 2 ? 1.0 : right, 0.0, 0.0};
+    });
+    RendererConfig cfg = RendererConfig::forMethod(method);
+    cfg.stiffness = k;
     cfg.damping = 0.0;
-    auto made = makeRenderer(GetParam(), cfg, w, h);
-    ASSERT_TRUE(made);
+    auto made = makeRenderer(method, cfg, w, h);
+    EXPECT_TRUE(made);
+    if (!made)
+        return {};
     HapticRenderer &r = **made;
     DepthFrameView view = frame.view();
     view.material = mat.view();
-    ASSERT_TRUE(r.setFrames(view, nullptr));
-    const double depth = 2e-3;
-    const double speed = 0.1; // m/s
+    EXPECT_TRUE(r.setFrames(view, nullptr));
     const double x0 = -0.02;
     r.reset({x0, 0.0, 3e-3});
-    double fz = 0.0;
-    double maxStep = 0.0;
-    double leftFz = 0.0;
+    Crossing c;
     glm::dvec3 prev(0.0);
-    bool released = false;
     int t = 0;
     for (; t < 100; ++t) { // press in 0.1 s
         const HapticOutput out =
             r.update({x0, 0.0, 3e-3 - (3e-3 + depth) * (t + 1) / 100.0}, t / 1000.0);
         prev = out.force;
     }
-    for (int i = 0; i < 400; ++i, ++t) { // 4 cm across the boundary at x = 0
+    const int updates = static_cast<int>(0.04 / speed * 1000.0);
+    for (int i = 0; i < updates; ++i, ++t) { // 4 cm across the boundary at x = 0
         const double x = x0 + speed * i / 1000.0;
         const HapticOutput out = r.update({x, 0.0, -depth}, t / 1000.0);
         EXPECT_TRUE(out.contact) << i;
-        released = released || out.released;
-        maxStep = std::max(maxStep, glm::length(out.force - prev));
+        c.released = c.released || out.released;
+        c.maxStep = std::max(c.maxStep, glm::length(out.force - prev));
         prev = out.force;
-        fz = out.force.z;
+        c.fz = out.force.z;
         if (x < -0.005)
-            leftFz = fz;
+            c.leftFz = c.fz;
     }
+    return c;
+}
+
+TEST_P(MaterialScenarioTest, stiffnessBoundaryCrossedAtTenCmPerSecondStaysUnderTheSafetyStep)
+{
+    // GIVEN --stiffness 400 N/m, the right half at scale 3 (1200 N/m), the HIP pressed 2 mm in
+    const double depth = 2e-3;
+    const Crossing c = cross(GetParam(), 400.0, 3.0, depth, 0.1);
     std::printf("%s: Fz %.4f N on 400 N/m, %.4f N on 1200 N/m, largest step %.4f N/update\n",
-                methodName(GetParam()), leftFz, fz, maxStep);
+                methodName(GetParam()), c.leftFz, c.fz, c.maxStep);
     // THEN the force is k·depth on each side (within 1 %)
-    EXPECT_NEAR(leftFz, 400.0 * depth, 0.01 * 400.0 * depth);
-    EXPECT_NEAR(fz, 1200.0 * depth, 0.01 * 1200.0 * depth);
+    EXPECT_NEAR(c.leftFz, 400.0 * depth, 0.01 * 400.0 * depth);
+    EXPECT_NEAR(c.fz, 1200.0 * depth, 0.01 * 1200.0 * depth);
     // AND no step of the force reached the safety threshold, nothing tripped
-    EXPECT_LT(maxStep, cfg.maxForceStep);
-    EXPECT_FALSE(released);
+    EXPECT_LT(c.maxStep, RendererConfig{}.maxForceStep);
+    EXPECT_FALSE(c.released);
+}
+
+// The fingertip renderer under a deep press: 6.8 mm into a surface whose material goes from 675 to
+// 525 N/m (the demo's head beside its curtain), crossed at 30 cm/s. The bilinear material changes
+// over a pixel, in about one update: the force stepped by Δk·depth = 1.04 N. The material's scale
+// now moves at most by what changes the force by maxForceStep/8 an update (the rate the output
+// stage takes a surface changing under a pressed finger); the force still ends at k·depth.
+TEST(MaterialFingerTest, aDeepPressCrossingASofterMaterialChangesItsForceAtTheUnloadRate)
+{
+    const double depth = 6.8e-3;
+    const Crossing c = cross(Method::Finger, 675.0, 525.0 / 675.0, depth, 0.3);
+    std::printf("finger 6.8 mm deep at 30 cm/s: Fz %.3f N on 675 N/m, %.3f N on 525 N/m, largest "
+                "step %.3f N/update\n",
+                c.leftFz, c.fz, c.maxStep);
+    EXPECT_NEAR(c.leftFz, 675.0 * depth, 0.01 * 675.0 * depth);
+    EXPECT_NEAR(c.fz, 525.0 * depth, 0.01 * 525.0 * depth);
+    EXPECT_LE(c.maxStep, RendererConfig{}.maxForceStep / 8.0 + 0.01);
+    EXPECT_FALSE(c.released);
 }
 
 /// Presses 2 mm into a flat surface whose material is \a mat (per column), then pushes the HIP

@@ -121,6 +121,11 @@ private:
     /// rimReach.
     void releaseCovered(const glm::dvec3 &hip, double raw, const HeightField &field,
                         const FingerGoal &c, bool wasInContact, glm::dvec3 &force) noexcept;
+    /// \return the stiffness scale the spring uses: \a target (the material's under the goal)
+    /// taken at most p_.unloadForce of force an update away in a continuing contact, \a held
+    /// − \a hip deep (m).
+    double boundScale(double target, const glm::dvec3 &hip, const glm::dvec3 &held,
+                      const FingerGoal &c) noexcept;
     /// After kFingerSaturationTime with the command sent, outputGain_ × \a force (N), at the
     /// device maximum in contact, the next update lets the finger go.
     void watchSaturation(const glm::dvec3 &force, double t, bool contact) noexcept;
@@ -135,6 +140,7 @@ private:
     /// kFingerDepthMemory (it falls at once and grows back over that time).
     double trust_ = 0.0;
     double lastT_ = std::nan(""); ///< Haptic time of the last filtered update, s.
+    double scale_ = 1.0;          ///< The stiffness scale the spring used last (boundScale()).
     glm::dvec3 release_{};        ///< A force unloading after its contact ended, N.
     double releaseStep_ = 0.0;    ///< release_'s last step, N.
     double outputGain_ = 1.0;     ///< setOutputGain(): the caller's factor on the force, 0..1.
