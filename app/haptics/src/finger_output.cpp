@@ -110,8 +110,8 @@ void FingerOutput::smoothOffset(const glm::dvec3 &hip, const FingerGoal &c, doub
     held = hip + glm::dvec3{offset_.x, offset_.y, std::max(offset_.z, std::min(offset.z, 0.0))};
 }
 
-void FingerOutput::handOverRamp(const glm::dvec3 &hip, double stiffnessScale,
-                                glm::dvec3 &held) noexcept
+void FingerOutput::handOverRamp(const glm::dvec3 &hip, const glm::dvec3 &hipMove,
+                                double stiffnessScale, glm::dvec3 &held) noexcept
 {
     // A ramp blends from the force before a trip or a step to the new contact's over the ramp
     // time (0.25 s). Where the surface falls away under the finger during it (a tap's pushed
@@ -119,15 +119,19 @@ void FingerOutput::handOverRamp(const glm::dvec3 &hip, double stiffnessScale,
     // force it started from with the proxy 0.1 mm from the HIP (2.7 N for 0.1 N on the living
     // room's table edge), and dropped it in 2 N steps (the step limit) when the contact ended.
     // Where the finger is left less than a ramped step's depth deep, the filter takes that force as
-    // its offset and unloads it at 2·p_.pushDepth an update. Deeper, the ramp goes on: a pressed
-    // finger's force turning under it (a hold at the kitchen's cabinet edge) is the ramp's to
-    // blend.
+    // its offset and unloads it at 2·p_.pushDepth an update. So does a finger lifting off (the
+    // HIP's own move out along the offset): a ramp from 4 N held that force while the finger rose
+    // out at 40 cm/s and dropped it in 2 N steps when the contact ended (the demo's head). Deeper
+    // and not lifting, the ramp goes on: a pressed finger's force turning under it (a hold at the
+    // kitchen's cabinet edge) is the ramp's to blend.
     if (!config_.smoothOffset || !force_.ramping())
         return;
     const double k = config_.stiffness * stiffnessScale;
     const glm::dvec3 command = force_.lastCommand();
-    const double depth = glm::length(held - hip);
-    if (!(k > 0.0) || !(depth < p_.stepDepth && k * depth < glm::length(command)))
+    const glm::dvec3 offset = held - hip;
+    const double depth = glm::length(offset);
+    const bool lifting = glm::dot(hipMove, offset) > 0.0;
+    if (!(k > 0.0) || !((depth < p_.stepDepth || lifting) && k * depth < glm::length(command)))
         return;
     force_.endRamp();
     offset_ = command / k;
@@ -195,7 +199,7 @@ glm::dvec3 FingerOutput::filter(const glm::dvec3 &hip, const FingerGoal &c, doub
     glm::dvec3 held = c.proxy;
     smoothOffset(hip, c, t, held);
     if (c.contact && !c.trip && !c.stepped)
-        handOverRamp(hip, stiffnessScale, held);
+        handOverRamp(hip, c.hipMove, stiffnessScale, held);
     return held;
 }
 

@@ -205,6 +205,33 @@ TEST(FingerReleaseTest, aFingerLiftingOffFastIsUnloadedAsItRisesNotAtTheEnd)
     EXPECT_LE(fall, 0.5 * RendererConfig{}.maxForceStep);
 }
 
+// A finger pressed 5 mm into the table (4 N) when the table steps up 1 mm in one update: a step
+// up under a pressed finger, ramped in from the 4 N over the ramp time (0.25 s). Ten updates into
+// the ramp the finger lifts off at 40 cm/s. The ramp held the force it started from while the
+// finger rose out, and the force dropped in 2 N steps (the step limit) when the contact ended (in
+// the demo, a hand the turning head had pushed to 3 N rose out at 40 cm/s: 2.2 N -> 0.2 N in an
+// update). A finger lifting off leaves the ramp to the filter, which unloads the force as it
+// rises: no update drops more than 1 N.
+TEST(FingerReleaseTest, aFingerLiftingOffDuringARampedStepIsUnloadedAsItRises)
+{
+    FramePress press({0.0, 0.0, -0.010});
+    press.run(raisedTable(0.0), 300);
+    ASSERT_NEAR(press.force(), kStiffness * (coded(0.0) + 0.010), 0.01);
+    const OwnedFrame stepped = raisedTable(0.001);
+    press.run(stepped, 10); // the step, ramped in
+    const std::size_t from = press.log.out.size();
+    press.run(stepped, 40, 0.0, 0.016); // 0.4 mm an update
+    double fall = 0.0;
+    for (std::size_t i = from; i < press.log.out.size(); ++i)
+        fall = std::max(fall, glm::length(press.log.out[i - 1].force) -
+                                  glm::length(press.log.out[i].force));
+    std::printf("a 4 N press lifting off at 40 cm/s during a ramped 1 mm step: largest fall %.3f N "
+                "an update\n",
+                fall);
+    EXPECT_FALSE(press.log.out.back().contact);
+    EXPECT_LE(fall, 0.5 * RendererConfig{}.maxForceStep);
+}
+
 // A finger pressed 4 mm into a table that falls 3 mm (the filter unloads the force at its
 // bounded rate), and two updates later the spot under the finger turns to a hole (the shadow band
 // beside the object that fell away): the hold over the hole takes the unload on from where the

@@ -54,7 +54,7 @@ struct FingerGoal {
     double smooth = 0.0;
     /// The HIP's move since the last update, m (box frame): the device's measurement. Where it
     /// takes the HIP out along the force's offset (a hand lifting off), the force follows it
-    /// down past the filter's unload bound (smoothOffset()).
+    /// down past the filter's unload bound (smoothOffset()) and out of a ramp (handOverRamp()).
     glm::dvec3 hipMove{};
 };
 
@@ -112,7 +112,8 @@ private:
     /// A ramp in progress (a trip's, a ramped step's) whose command is above the spring force
     /// of \a held (m) at \a stiffnessScale: the ramp ends and the filter takes its command as
     /// the offset (\a held moves to it), to unload at its bounded rate.
-    void handOverRamp(const glm::dvec3 &hip, double stiffnessScale, glm::dvec3 &held) noexcept;
+    void handOverRamp(const glm::dvec3 &hip, const glm::dvec3 &hipMove, double stiffnessScale,
+                      glm::dvec3 &held) noexcept;
     /// A trip with the HIP under the surface now measured at its x–y (\a raw, m; a cut that
     /// covered the finger), or a contact (\a wasInContact: at the update's start) that ended
     /// with a surface above the HIP within rimReach (a rim it slid off, also out of a hold over a
