@@ -2,8 +2,10 @@
 /// \file
 /// \brief The fingertip renderer's force output stage (finger_renderer.h, steps 5 and 7): from the
 /// proxy the contact decided to the command, in one place. In order: the alpha-beta filter on the
-/// proxy's offset from the HIP (noise at speed; a bounded move and unload), the hand-over of a ramp
-/// that holds more than the surface gives, the spring s·k·(proxy − HIP) − b·v, the unload of a
+/// proxy's offset from the HIP (noise at speed; a bounded move and unload, the HIP's own lift
+/// passing through), the hand-over of a ramp that holds more than the surface gives or that a
+/// lifting finger leaves, the spring s·k·(proxy − HIP) − b·v with the material's scale s moving at
+/// a bounded rate, the unload of a
 /// contact that ended at a rim or under a cut, ForceStage's ramp, slew and clamp (renderer.h), and
 /// the watch of the device maximum. What comes after it is the device's own: the haptic task's
 /// gain and force-rate limit (ServoLoop::shapeForce()) and the HAL's clamp.

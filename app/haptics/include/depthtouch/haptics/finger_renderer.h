@@ -25,8 +25,9 @@
 /// - *State* (FingerState; nextState(), letGo(), remember()): one value carried between updates,
 ///   each transition with one named guard; each state's own data in one member (wall_, hole_).
 /// - *Output* (FingerOutput, finger_output.h): the offset filter (a clean surface passes
-///   through), the ramp's hand-over, the spring, the unload of an ended contact, ForceStage's
-///   ramp, slew and clamp, the watch of the device maximum (steps 5 "Depth noise" and 7).
+///   through; the HIP's own lift unloads), the ramp's hand-over, the spring at the material's
+///   bounded stiffness, the unload of an ended contact, ForceStage's ramp, slew and clamp, the
+///   watch of the device maximum (steps 5 "Depth noise" and 7).
 ///
 /// Method, per update (haptic time t, HIP h; docs/architecture.md §3 frame, m):
 /// 1. **Finger-scale surface.** At a point q the surface is the least-squares plane through the
@@ -99,8 +100,11 @@
 ///      the taps cross pixels every update and the plane tilted and shifted anew each time, turning
 ///      the force back and forth by 0.05-0.2 N at the servo rate (RendererConfig::smoothOffset
 ///      turns it off: `bench feel`'s `finger-unfiltered`). Where it lags, it catches up by a share
-///      of the gap; it unloads by at most maxForceStep/8 an update, a hold over a hole too.
-///      Where the surface under the goal has fitted clean (FingerPlane::smooth) for
+///      of the gap; it unloads by at most maxForceStep/8 an update, a hold over a hole too, plus
+///      the HIP's own move out along the offset (the bound is for what the surface does: a finger
+///      lifting off is unloaded as it rises, and leaves a ramp to the filter). A material
+///      boundary under a pressed finger changes the stiffness scale by at most maxForceStep/8 of
+///      force an update. Where the surface under the goal has fitted clean (FingerPlane::smooth) for
 ///      kFingerDepthMemory, there is no noise to filter and the offset passes through: on clean
 ///      geometry the force follows the surface without the filter's lag.
 ///    - *Steps*: a step of the surface under the stencil (over stepDepth, under the cut) is
