@@ -104,8 +104,8 @@
 ///      the HIP's own move out along the offset (the bound is for what the surface does: a finger
 ///      lifting off is unloaded as it rises, and leaves a ramp to the filter). A material
 ///      boundary under a pressed finger changes the stiffness scale by at most maxForceStep/8 of
-///      force an update. Where the surface under the goal has fitted clean (FingerPlane::smooth) for
-///      kFingerDepthMemory, there is no noise to filter and the offset passes through: on clean
+///      force an update. Where the surface under the goal has fitted clean (FingerPlane::smooth)
+///      for kFingerDepthMemory, there is no noise to filter and the offset passes through: on clean
 ///      geometry the force follows the surface without the filter's lag.
 ///    - *Steps*: a step of the surface under the stencil (over stepDepth, under the cut) is
 ///      ramped in over the ramp time only as a step up from a force of a step's size or more;
