@@ -114,6 +114,16 @@ std::string errorText(GstMessage *m)
     return text;
 }
 
+/// \return a new depthtouchsink on the headless display with the haptic device \a device
+/// ("sim", "none"), or null when the plugin is not found.
+GstElement *headlessSink(const char *device)
+{
+    GstElement *sink = gst_element_factory_make("depthtouchsink", nullptr);
+    if (sink != nullptr)
+        g_object_set(asObject(sink), "haptic-device", device, "display", "headless", nullptr);
+    return sink;
+}
+
 /// \brief Runs the element of \a h (\a sink) on the system clock, its running time 0 now, as a
 /// pipeline going to PLAYING does (a harness gives it a GstTestClock standing at 0: the player,
 /// following the pipeline's clock, would wait at running time 0).
@@ -224,13 +234,21 @@ template <class Done> double positionWhen(GstElement *sink, Done done)
     }
 }
 
+/// Waits until the haptic task has run \a n more updates (the player's own time going on at its
+/// 1 kHz servo rate, however busy the machine), polled every 10 ms.
+void waitForUpdates(GstElement *sink, std::uint64_t n)
+{
+    const std::uint64_t from = countProperty(sink, "updates");
+    while (countProperty(sink, "updates") < from + n)
+        std::this_thread::sleep_for(10ms);
+}
+
 TEST_F(DepthTouchSinkTest, thePictureFollowsThePipelineClockNotThePlayersOwn)
 {
     if (const std::string why = displayMissing(); !why.empty())
         GTEST_SKIP() << "no headless display here: " << why;
-    GstElement *sink = gst_element_factory_make("depthtouchsink", nullptr);
+    GstElement *sink = headlessSink("sim");
     ASSERT_NE(sink, nullptr);
-    g_object_set(asObject(sink), "haptic-device", "sim", "display", "headless", nullptr);
     GstBus *bus = gst_bus_new();
     gst_element_set_bus(sink, bus);
     GstHarness *color = gst_harness_new_with_element(sink, "color", nullptr);
@@ -256,19 +274,20 @@ TEST_F(DepthTouchSinkTest, thePictureFollowsThePipelineClockNotThePlayersOwn)
         gst_harness_push_event(color, gst_event_new_eos());
         gst_harness_push_event(depth, gst_event_new_eos());
     });
-    // WHEN the player has caught up with the clock and half a second of its own time passes
+    // WHEN the player has caught up with the clock and half a second of its own time passes (500
+    // haptic updates)
     (void)positionWhen(sink, [](double p) { return p >= 0.9; });
-    std::this_thread::sleep_for(500ms);
+    waitForUpdates(sink, 500);
     // THEN the frame on screen is the clock's: on its own clock the player would be 0.5 s on
     const double held = doubleProperty(sink, "position");
     EXPECT_NEAR(held, 1.0, 0.1) << "the picture waits for the pipeline's running time";
     // WHEN the pipeline clock jumps to 2.5 s THEN the picture goes there, not frame by frame
     gst_test_clock_set_time(clock, base + 5 * GST_SECOND / 2);
     const double moved = positionWhen(sink, [](double p) { return p >= 2.4; });
-    std::this_thread::sleep_for(300ms);
+    waitForUpdates(sink, 300);
     const double after = doubleProperty(sink, "position");
-    std::printf("pipeline clock at 1 s: position %.3f s; moved to 2.5 s: %.3f s, 0.3 s later "
-                "%.3f s\n",
+    std::printf("pipeline clock at 1 s: position %.3f s; moved to 2.5 s: %.3f s, 300 updates "
+                "later %.3f s\n",
                 held, moved, after);
     EXPECT_NEAR(after, 2.5, 0.1);
     // the rest plays out once the clock is past the end: EOS
@@ -292,9 +311,8 @@ TEST_F(DepthTouchSinkTest, aFlushEndsAPushWaitingOnAFullPad)
 {
     if (const std::string why = displayMissing(); !why.empty())
         GTEST_SKIP() << "no headless display here: " << why;
-    GstElement *sink = gst_element_factory_make("depthtouchsink", nullptr);
+    GstElement *sink = headlessSink("none");
     ASSERT_NE(sink, nullptr);
-    g_object_set(asObject(sink), "haptic-device", "none", "display", "headless", nullptr);
     GstHarness *color = gst_harness_new_with_element(sink, "color", nullptr);
     GstHarness *depth = gst_harness_new_with_element(sink, "depth", nullptr);
     gst_harness_set_src_caps_str(color, kColorCaps);
