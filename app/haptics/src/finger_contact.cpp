@@ -40,7 +40,7 @@ void FingerRenderer::penalty(const glm::dvec3 &hip, double raw, Candidate &c) no
     glm::dvec3 goal = projectOnPlane(c.plane, hip, below);
     // The sensor surface at the HIP's own x–y counts only where it was measured: a triangle with a
     // hole vertex lies under the box (a finger resting at a hole's border rests on the patch).
-    const bool measured = raw >= -0.5 * field_.box().depth - kFingerHoleMargin;
+    const bool measured = field_.measured(raw);
     if (field_.overHole(c.plane.height) && measured && raw > hip.z) {
         // Most of the patch is a hole but the HIP's own spot was measured: it pushes straight up.
         goal = {hip.x, hip.y, raw};

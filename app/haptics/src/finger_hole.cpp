@@ -37,7 +37,7 @@ bool FingerRenderer::holdOverHole(const glm::dvec3 &hip, double raw, double t,
                                   Candidate &c) noexcept
 {
     // NaN (off the grid) is not measured, but neither is it a hole: the finger left the grid.
-    const bool hole = raw < -0.5 * field_.box().depth - kFingerHoleMargin;
+    const bool hole = !field_.measured(raw) && !std::isnan(raw);
     if (!hole || !touching() || state_ == FingerState::OnWall) {
         const double cut = field_.cutThreshold();
         if (state_ == FingerState::OverHole && config_.safety &&

@@ -27,6 +27,10 @@ FingerParameters fingerParameters(const RendererConfig &config) noexcept
     p.glideReach = 0.25 * p.radius;
     p.holdReach = 0.5 * p.radius;
     p.rimReach = 0.75 * p.radius;
+    p.restSpeed = p.radius / kFingerDepthMemory;
+    p.slideSpeed = 2.0 * p.restSpeed;
+    p.speedTime = p.glideReach / p.restSpeed;
+    p.wallResolution = p.pushDepth / 64.0;
     return p;
 }
 
@@ -188,7 +192,7 @@ void FingerRenderer::slide(const glm::dvec3 &hip, double raw, Candidate &c) cons
         double localBelow = 0.0;
         const glm::dvec3 local = solve(hip, hip.x, hip.y, localPlane, localStart, localBelow);
         // Nearer by a share (hysteresis): beside an edge the two solutions must not take turns.
-        const double nearer = (1.0 - kFingerSwitchGain) * glm::length(c.proxy - hip);
+        const double nearer = (1.0 - kFingerHysteresis) * glm::length(c.proxy - hip);
         if (localBelow > 0.0 && (!c.contact || overtaken || localBelow < nearer)) {
             c.switched = c.contact && !overtaken;
             c.proxy = local;
@@ -213,13 +217,13 @@ void FingerRenderer::slide(const glm::dvec3 &hip, double raw, Candidate &c) cons
     c.proxy = glide(hip, c.proxy, c.plane, glided, c.glide);
     // A descent never ends farther from the HIP than where it started (the surface point of the
     // last update's plane, refitted now), and a glide (a jump of the optimum, followed over a few
-    // updates) only for a gain of kFingerGlideGain of its length: otherwise the proxy stays, so
+    // updates) only for a gain of kFingerHysteresis of its length: otherwise the proxy stays, so
     // that it cannot alternate between two points beside an object's edge update after update (the
     // surface there moves a little each update, and two far solutions take turns being nearer).
     auto distance = [&hip](const FingerPlane &f) {
         return glm::length(glm::dvec3(f.x - hip.x, f.y - hip.y, f.height - hip.z));
     };
-    if (atHip || distance(c.plane) < distance(start) - kFingerGlideGain * glided)
+    if (atHip || distance(c.plane) < distance(start) - kFingerHysteresis * glided)
         return;
     double below = 0.0;
     const glm::dvec3 stay = projectOnPlane(start, hip, below);
@@ -578,10 +582,10 @@ bool FingerRenderer::restingContact(const glm::dvec3 &hip, double t) noexcept
     const double dt = t - lastT_;
     if (dt > 0.0) { // not on the first update, nor after a restarted clock
         const double moved = std::hypot(hip.x - lastHip_.x, hip.y - lastHip_.y);
-        speed_ += (moved / dt - speed_) * std::min(1.0, dt / kFingerSpeedTime);
+        speed_ += (moved / dt - speed_) * std::min(1.0, dt / p_.speedTime);
     }
     lastT_ = t;
-    resting_ = resting_ ? speed_ < kFingerSlideSpeed : speed_ < kFingerRestSpeed;
+    resting_ = resting_ ? speed_ < p_.slideSpeed : speed_ < p_.restSpeed;
     return resting_;
 }
 

@@ -27,10 +27,10 @@
 /// finger's scale (a 90° step of the force there would be a spike), and the finger leaves the
 /// wall for the ordinary contact once the top is nearer by r, the god-object's nearest point. It
 /// is free once it is above the surface at its own x–y.
-/// Cost: on a wall, one bisection (kFingerWallBisections + 1 height lookups) and one plane fit an
-/// update; when a free HIP comes under the surface, one bisection along its path, 5 lookups for
-/// the normal and one plane fit.
-/// Thread-safety: thread-bound (the haptic thread); no allocation.
+/// Cost: on a wall, one bisection (up to log2(length/wallResolution) + 1 height lookups) and one
+/// plane fit an update; when a free HIP comes under the surface, one bisection along its path, 5
+/// lookups for the normal and one plane fit. Thread-safety: thread-bound (the haptic thread); no
+/// allocation.
 
 #include "depthtouch/haptics/finger_renderer.h"
 
@@ -43,9 +43,15 @@
 namespace depthtouch::haptics {
 
 namespace {
-/// Bisection steps along the HIP's path or the wall's normal: 2⁻¹² of the searched length (under
-/// 2 µm for a 5 mm depth).
-constexpr int kFingerWallBisections = 12;
+/// \return the bisection steps that halve \a length under \a resolution (both m): 0 for a length
+/// already under it or NaN, at most a double's mantissa (further halvings change nothing).
+int bisections(double length, double resolution) noexcept
+{
+    if (!(length > resolution))
+        return 0;
+    const double steps = std::ceil(std::log2(length / resolution));
+    return static_cast<int>(std::min(steps, double{std::numeric_limits<double>::digits}));
+}
 } // namespace
 
 bool FingerRenderer::freeAt(const glm::dvec3 &p) const noexcept
@@ -98,7 +104,8 @@ bool FingerRenderer::enterWall(const glm::dvec3 &hip, Candidate &c) noexcept
         return false;
     glm::dvec3 out = lastHip_;
     glm::dvec3 in = hip;
-    for (int i = 0; i < kFingerWallBisections; ++i) {
+    const int steps = bisections(glm::length(in - out), p_.wallResolution);
+    for (int i = 0; i < steps; ++i) {
         const glm::dvec3 mid = 0.5 * (out + in);
         (freeAt(mid) ? out : in) = mid;
     }
@@ -133,7 +140,8 @@ void FingerRenderer::wallContact(const glm::dvec3 &hip, double raw, Candidate &c
     double s = reach;
     if (freeAt(hip + s * n)) {
         double in = 0.0;
-        for (int i = 0; i < kFingerWallBisections; ++i) {
+        const int steps = bisections(s, p_.wallResolution);
+        for (int i = 0; i < steps; ++i) {
             const double mid = 0.5 * (in + s);
             (freeAt(hip + mid * n) ? s : in) = mid;
         }

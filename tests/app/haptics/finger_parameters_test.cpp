@@ -39,6 +39,13 @@ TEST(FingerParametersTest, TheTableIsDerivedFromThePhysicalParameters)
     EXPECT_DOUBLE_EQ(p.rimReach, 1.5e-3 * 3 / 4);
     // An unload step of the depth is the force's unload step at k.
     EXPECT_NEAR(p.stiffness * p.unloadDepth, p.unloadForce, 1e-12);
+    // The adaptive contact's speeds: the radius over the depth memory (0.1 s), twice that, and
+    // the time a glide reach takes at the rest speed.
+    EXPECT_DOUBLE_EQ(p.restSpeed, 1.5e-3 / 0.1);
+    EXPECT_DOUBLE_EQ(p.slideSpeed, 2 * 1.5e-3 / 0.1);
+    EXPECT_NEAR(p.speedTime, 0.025, 1e-15);
+    // A wall is located to ΔF/(1024k): a force error under ΔF/1024.
+    EXPECT_NEAR(p.stiffness * p.wallResolution, 2.0 / 1024, 1e-15);
 
     // A stiff surface and a coarse step limit: ΔF/k = 10 mm is deeper than a tenth of the box.
     RendererConfig c = RendererConfig::forMethod(Method::Finger);

@@ -63,6 +63,24 @@ struct FingerParameters {
     /// unloads (releaseCovered()).
     double rimReach = 0.0;
     ///@}
+    /// \name Speeds of FingerContact::Adaptive, from the radius and the depth memory
+    ///@{
+    /// The HIP rests below this x–y speed: r/kFingerDepthMemory, the finger moves less than its
+    /// radius over the frames the renderer believes (the patch under it is the one they
+    /// measured), 1.5 cm/s at the defaults. m/s.
+    double restSpeed = 0.0;
+    /// A resting HIP slides above twice restSpeed: a hand's jitter about the rest speed does not
+    /// switch the contact back and forth. m/s.
+    double slideSpeed = 0.0;
+    /// The x–y speed is smoothed over the time a finger at restSpeed takes to move a glide reach
+    /// (glideReach/restSpeed, a quarter of kFingerDepthMemory): shorter, the HIP's own jitter
+    /// would read as motion. s.
+    double speedTime = 0.0;
+    ///@}
+    /// The resolution a wall's crossing is searched to (finger_wall.cpp: as many bisections as
+    /// halve the searched length under it): pushDepth/64, ΔF/(1024k), a force error under
+    /// ΔF/1024 (2 mN at the defaults). m.
+    double wallResolution = 0.0;
 };
 
 /// \return the parameter table of \a config (RendererConfig::fingerRadiusInBox(), stiffness,

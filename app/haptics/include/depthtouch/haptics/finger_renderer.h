@@ -77,9 +77,9 @@
 ///    ramped in.
 /// 5. **Continuity where the finger rests beside, under or in the path of moving objects.**
 ///    - *No limit cycles*: a descent step (and a glide) is taken only when it brings the surface
-///      point nearer the HIP than the last update's (refitted now) by kFingerGlideGain of the
+///      point nearer the HIP than the last update's (refitted now) by kFingerHysteresis of the
 ///      glide's length, and the surface at the HIP's own x–y replaces a proxy held to the side
-///      only when nearer by kFingerSwitchGain: beside an object's edge, two solutions cannot take
+///      only when nearer by the same share: beside an object's edge, two solutions cannot take
 ///      turns from one update to the next (before: a 500 Hz buzz pressing beside a typing hand).
 ///    - *Bounded push*: the HIP's depth under the proxy grows by at most the HIP's motion into
 ///      the surface (along the offset; once pushed, against the push) plus maxForceStep/(16k)
@@ -146,8 +146,8 @@
 ///    moving edge no two solutions can take turns. It keeps steps 3–5's capture depth, cuts,
 ///    bounded push and saturation, and is free above the sensor surface at the HIP's own x–y
 ///    where that was measured. FingerContact::Adaptive takes it while the HIP rests (its x–y
-///    speed, smoothed over kFingerSpeedTime, under kFingerRestSpeed, until it passes
-///    kFingerSlideSpeed: a press, a hold, a tap) and the god-object while it slides; a switch
+///    speed, smoothed over FingerParameters::speedTime, under restSpeed, until it passes
+///    slideSpeed: a press, a hold, a tap) and the god-object while it slides; a switch
 ///    that moves the proxy by more than a ramped step ramps the force in (ForceStage::shape()).
 ///    At a cut the penalty's proxy is re-seated on the new surface at once, as the god-object's
 ///    is (the force stage ramps the change in or the finger is let go, as Reengage says).
@@ -182,25 +182,16 @@
 
 namespace depthtouch::haptics {
 
-/// A glide (a move of the proxy cut short at r/4 plus the HIP's own move) is taken only when it
-/// brings the surface point nearer the HIP by this share of its length: two far solutions beside
-/// an edge that moves a little each update cannot take turns.
-inline constexpr double kFingerGlideGain = 0.05;
-/// The surface at the HIP's own x–y replaces a proxy held more than r to the side only when it is
-/// nearer the HIP by this share (hysteresis between the two solutions).
-inline constexpr double kFingerSwitchGain = 0.02;
-/// FingerContact::Adaptive: the HIP rests below this x–y speed (m/s) and slides above
-/// kFingerSlideSpeed; its speed is smoothed over kFingerSpeedTime (s).
-inline constexpr double kFingerRestSpeed = 0.01;
-inline constexpr double kFingerSlideSpeed = 0.02;
-inline constexpr double kFingerSpeedTime = 0.02;
+/// The hysteresis between two solutions of the proxy, as a share of the distance at stake: a
+/// glide (a move of the proxy cut short at r/4 plus the HIP's own move) is taken only when it
+/// brings the surface point nearer the HIP by this share of its length, and the surface at the
+/// HIP's own x–y replaces a proxy held more than r to the side only when it is nearer the HIP by
+/// this share of the held proxy's distance. Beside an edge that moves a little each update, two
+/// far solutions cannot take turns.
+inline constexpr double kFingerHysteresis = 0.02;
 /// An object's side, met as a wall (finger_wall.cpp), is steeper than this slope: the height
 /// difference over ±r, divided by 2r (45°).
 inline constexpr double kFingerWallSlope = 1.0;
-/// How far under the back of the box an interpolated height may lie and still be measured, m: a
-/// hole's vertex (HeightField::holeDrop(), 1 m under it) drags its triangle below this at a weight
-/// of 0.1 %.
-inline constexpr double kFingerHoleMargin = 1e-3;
 /// Plane refits per update after the first (a converged proxy stops earlier).
 inline constexpr int kFingerIterations = 2;
 /// Taps farther than this many stencil half-widths from the stencil's median are left out of the
@@ -401,8 +392,8 @@ private:
     void enter(double below, Candidate &c) noexcept;
     /// \return whether this update (HIP \a hip, time \a t) takes the penalty contact: always for
     /// FingerContact::Penalty, never for GodObject; for Adaptive while the HIP rests (its x–y
-    /// speed, smoothed over kFingerSpeedTime, under kFingerRestSpeed; back to the god-object over
-    /// kFingerSlideSpeed).
+    /// speed, smoothed over FingerParameters::speedTime, under restSpeed; back to the god-object
+    /// over slideSpeed).
     bool restingContact(const glm::dvec3 &hip, double t) noexcept;
     /// The hold over a hole that opened under the pressed finger (finger_hole.cpp): \a raw
     /// (sensorHeight(), m, NaN off the grid) was not measured. \return whether this update's

@@ -180,6 +180,14 @@ public:
     /// How far under the back of the box a height must lie to be on a hole's cliff
     /// (besideHole()), m: a micrometre, above any rounding of the far plane's height.
     static constexpr double kBesideHoleMargin = 1e-6;
+    /// \return true when a height from this field (vertexZ(), heightAt()) was measured: no hole's
+    /// vertex weighs in it by a thousandth or more (at that weight a hole's vertex drags an
+    /// interpolated height holeDrop()/1000, 1 mm, under the back of the box). False for NaN (off
+    /// the grid). A measured height is neither a hole nor NaN: !measured(z) && !isnan(z) is a hole.
+    [[nodiscard]] bool measured(double z) const noexcept
+    {
+        return z >= -halfDepth_ - 1e-3 * holeDrop();
+    }
     /// \return the z of a hole's vertex, m: −box depth/2 − holeDrop().
     [[nodiscard]] double holeZ() const noexcept { return holeZ_; }
     /// \return true when a height from this field (vertexZ(), heightAt()) lies at least half of
