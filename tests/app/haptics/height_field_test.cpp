@@ -1,5 +1,7 @@
 #include "depthtouch/haptics/height_field.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "app/haptics/synthetic.h"
@@ -32,6 +34,24 @@ TEST(HeightFieldTest, verticesFollowDesignMapping)
     EXPECT_DOUBLE_EQ(hf.vertex(0, 2).z, (2.0 / 255.0 - 0.5) * 0.04);
     // AND the height at a vertex is the vertex height
     EXPECT_NEAR(hf.heightAt(v.x, v.y), v.z, 1e-15);
+}
+
+TEST(HeightFieldTest, aHeightIsMeasuredUnlessAHolesVertexWeighsInItByAThousandth)
+{
+    const SceneBox box{0.10, 0.04};
+    const HeightField hf(box);
+    const double back = -0.5 * box.depth;
+    // A hole's vertex lies holeDrop() (1 m) under the back of the box.
+    EXPECT_DOUBLE_EQ(hf.holeZ(), back - HeightField::holeDrop());
+    EXPECT_TRUE(hf.measured(0.0));
+    EXPECT_TRUE(hf.measured(back)); // the deepest measured height
+    EXPECT_FALSE(hf.measured(hf.holeZ()));
+    // Interpolated between a vertex at the back and a hole's vertex, at a hole's weight w.
+    const auto blend = [&](double w) { return (1.0 - w) * back + w * hf.holeZ(); };
+    EXPECT_TRUE(hf.measured(blend(0.0005)));
+    EXPECT_FALSE(hf.measured(blend(0.002)));
+    // Off the grid is not measured, and not a hole either (finger_hole.cpp tells them apart).
+    EXPECT_FALSE(hf.measured(std::nan("")));
 }
 
 TEST(HeightFieldTest, triangulationUsesTheDiagonalFromTopLeftToBottomRight)

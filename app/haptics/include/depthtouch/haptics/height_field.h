@@ -87,7 +87,11 @@ class HeightField {
 public:
     HeightField() noexcept = default;
     /// \param box scene box (both sizes > 0, checked by setFrames()).
-    explicit HeightField(SceneBox box) noexcept : box_(box), cut_(0.25 * box.depth) {}
+    explicit HeightField(SceneBox box) noexcept
+        : box_(box), halfDepth_(0.5 * box.depth), holeZ_(-halfDepth_ - holeDrop()),
+          cut_(0.25 * box.depth)
+    {
+    }
 
     /// \brief Views \a current (frame i) and optionally \a next (frame i+1). No copy, no
     /// allocation. \param next may be null (then the surface is held at frame i); same W×H as \a
