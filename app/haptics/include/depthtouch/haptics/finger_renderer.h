@@ -12,7 +12,12 @@
 /// Every length and force threshold below is a row of the parameter table (FingerParameters:
 /// captureDepth, stepDepth, pushDepth, unloadDepth and unloadForce from the force step ΔF and the
 /// stiffness k at construction; glideReach r/4, holdReach r/2, rimReach 3r/4 from the fingertip's
-/// radius r), derived once: a run-time stiffness change changes forces, not when contact exists.
+/// radius r; the adaptive contact's rest and slide speeds and smoothing time from r and
+/// kFingerDepthMemory; the wall's search resolution ΔF/(1024k)), derived once: a run-time stiffness
+/// change changes forces, not when contact exists. The named constants that remain (eight: the
+/// depth memory, the offset filter's α, the saturation time and what counts as at the maximum, the
+/// hysteresis between solutions, the wall's slope, the plane refits and the stencil's outlier
+/// distance) each say their reason where they are declared.
 ///
 /// The map: the model in four parts; the numbered steps below say what each does.
 /// - *Surface* (fitFingerPlane() in finger_plane.cpp, sensorHeight(), reachAbove()): the height
