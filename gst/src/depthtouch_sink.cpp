@@ -139,8 +139,9 @@ gboolean padEvent(GstPad *pad, GstObject *parent, GstEvent *event)
             }
             break;
         case GST_EVENT_FLUSH_START:
-            if (s.feed)
-                s.feed->flushStart(f);
+            // A flushing seek: the player seeks once for both pads (pad_feed.h).
+            if (s.feed && s.feed->flushStart(f, s.player != nullptr) && s.player)
+                s.player->seekForFlush();
             break;
         case GST_EVENT_FLUSH_STOP:
             gst_segment_init(&p.segment, GST_FORMAT_TIME);

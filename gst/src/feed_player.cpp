@@ -185,7 +185,14 @@ void FeedPlayer::run(const std::function<void(int)> &started,
     started(0);
     int turn = 0;
     double stiffness = options_->stiffness;
+    std::uint64_t flushSeeks = 0; // those taken: a flush before the loop started is taken first
     const auto eachTurn = [&] {
+        if (const std::uint64_t n = flushSeeks_.load(); n != flushSeeks) {
+            flushSeeks = n;
+            // The pads' running time starts from 0 again: the player's timeline with it. Where
+            // nothing is open, the next open reads from the pads' next frames anyway.
+            (void)pb.seek(0.0, player::SeekMode::Absolute);
+        }
         pb.report(machine);
         const player::PlayerState st = machine.state();
         if (wantPaused_.load() && st == player::PlayerState::Playing)

@@ -91,6 +91,10 @@ public:
     std::string start(std::function<void(const std::string &failure)> onEnd);
     /// \brief Pauses or resumes the player (the pipeline's PLAYING and PAUSED).
     void setPaused(bool paused) noexcept { wantPaused_.store(paused); }
+    /// \brief A flushing seek began in the pipeline (PadFeed::flushStart()): on its next turn the
+    /// loop seeks the player to the start of the new timeline, as `play`'s seek does (its queued
+    /// frames dropped, its clock and the haptic task's surface restarted). Any thread.
+    void seekForFlush() noexcept { flushSeeks_.fetch_add(1); }
     /// \brief The stiffness, N/m, sent to the player as the command `stiffness N`.
     void setStiffness(double newtonsPerMetre) noexcept { stiffness_.store(newtonsPerMetre); }
     /// \return the last readout.
@@ -114,6 +118,7 @@ private:
     std::string displayName_;
     std::atomic<bool> stop_{false};
     std::atomic<bool> wantPaused_{false};
+    std::atomic<std::uint64_t> flushSeeks_{0}; ///< seekForFlush() calls so far.
     std::atomic<double> stiffness_;
     std::mutex mutex_;
     PlayerReadout readout_; ///< Under mutex_.

@@ -52,16 +52,22 @@ void PadFeed::endOfStream(FeedStream s)
     changed_.notify_all();
 }
 
-void PadFeed::flushStart(FeedStream s)
+bool PadFeed::flushStart(FeedStream s, bool seekFollows)
 {
+    bool began = true;
     {
         const std::lock_guard lock(mutex_);
+        for (const Stream &other : streams_)
+            began = began && !other.flushing;
         Stream &st = at(s);
         st.flushing = true;
         st.frames.clear();
         st.ended = false;
+        if (began && seekFollows)
+            seekPending_ = true;
     }
     changed_.notify_all();
+    return began;
 }
 
 void PadFeed::flushStop(FeedStream s)
@@ -147,7 +153,8 @@ Result<void> PadMediaSource::openDevice(const char *)
         index_[static_cast<std::size_t>(s)] = si.index;
         info_.streams.push_back(std::move(si));
     }
-    info_.seekable = false;
+    info_.seekable = true;  // as the pipeline seeks: seekDevice()
+    f.seekPending_ = false; // a fresh open reads on from here
     return ok();
 }
 
@@ -167,6 +174,12 @@ Result<hal::Packet> PadMediaSource::readPacketDevice()
     for (;;) {
         if (f.closed_)
             return unexpected(Errc::EndOfStream, "The element stopped");
+        if (f.seekPending_) { // a flushing seek: the new timeline is read after the player's seek
+            if (stopWaiting())
+                return unexpected(Errc::Timeout, "Interrupted while waiting for the seek");
+            f.changed_.wait_for(lock, kPoll);
+            continue;
+        }
         // The earliest frame, once every stream read has one or has ended.
         const PadFeed::Stream *earliest = nullptr;
         FeedStream which = FeedStream::Color;
@@ -212,7 +225,17 @@ Result<hal::Packet> PadMediaSource::readPacketDevice()
 
 Result<void> PadMediaSource::seekDevice(hal::Pts)
 {
-    return unexpected(Errc::NotSupported, "The pads' frames cannot be sought");
+    PadFeed &f = *feed_;
+    {
+        const std::lock_guard lock(f.mutex_);
+        if (!f.seekPending_)
+            return unexpected(Errc::NotSupported,
+                              "The pads' frames are sought by the pipeline (a flushing seek)");
+        f.seekPending_ = false;
+    }
+    cancelled_.store(false); // what a cancelled read was cancelled for (as the FFmpeg source's)
+    f.changed_.notify_all();
+    return ok();
 }
 
 } // namespace depthtouch::gst

@@ -21,6 +21,14 @@
 /// frames and makes push() return at once (Flushing) until its end; shutdown() ends every wait
 /// for good (the element's stop).
 ///
+/// A flushing seek (GstBaseSink's contract: FLUSH_START, FLUSH_STOP with reset_time, a SEGMENT
+/// from the target, the running time from 0 again): the frames after it are a new timeline, not
+/// a splice of the old one, so the player seeks as `play`'s own seek does (the render loop drops
+/// what it queued and restarts its clock, the receiver resets its pairing, the haptic task
+/// re-seats). The flush that begins one (flushStart() with seekFollows) holds the reader until
+/// the player's seek reaches the source (seekDevice()): no frame of the new timeline is read
+/// before it, so none is lost to it and none is re-based onto the old timeline.
+///
 /// Thread-safety: every PadFeed member may be called from any thread (one mutex); the pads'
 /// streaming threads push, the player's decode thread reads through PadMediaSource, which is
 /// thread-bound as every hal::MediaSource (interrupt() and cancelRead() from any thread).
@@ -66,8 +74,11 @@ public:
     /// \brief The end of stream \a s: the reader drains what is queued, then it has ended.
     void endOfStream(FeedStream s);
     /// \brief A flush of \a s starts: its frames are dropped, push() returns Flushing until
-    /// flushStop(), its end is forgotten.
-    void flushStart(FeedStream s);
+    /// flushStop(), its end is forgotten. \a seekFollows: the player will seek (the element has
+    /// asked it); the reader then waits for that seek (seekDevice()) before it reads on.
+    /// \return true when this flush began one of the feed (no stream was flushing): the element
+    /// asks the player to seek once for both pads' flushes.
+    bool flushStart(FeedStream s, bool seekFollows);
     void flushStop(FeedStream s);
     /// \brief Ends every wait for good: push() returns Closed, the reader ends (EndOfStream).
     void shutdown();
@@ -89,10 +100,13 @@ private:
     std::condition_variable changed_;
     std::array<Stream, 2> streams_;
     bool closed_ = false;
+    /// A flush began and the player's seek has not reached the source yet: nothing is read.
+    bool seekPending_ = false;
 };
 
-/// \brief The player's media source over a PadFeed: see the file comment. Not seekable (the
-/// pipeline seeks upstream; a flush drops what is queued). Any url is accepted.
+/// \brief The player's media source over a PadFeed: see the file comment. Seekable only as the
+/// pipeline seeks: after a flush (the pipeline sought upstream), the player's seek is taken at
+/// the frames the pads bring next; any other seek is NotSupported. Any url is accepted.
 class PadMediaSource final : public hal::MediaSourceBase {
 public:
     explicit PadMediaSource(std::shared_ptr<PadFeed> feed);

@@ -307,6 +307,105 @@ TEST_F(DepthTouchSinkTest, thePictureFollowsThePipelineClockNotThePlayersOwn)
     gst_object_unref(sink);
 }
 
+TEST_F(DepthTouchSinkTest, aFlushingSeekPlaysOnFromTheTargetOnTheNewRunningTime)
+{
+    if (const std::string why = displayMissing(); !why.empty())
+        GTEST_SKIP() << "no headless display here: " << why;
+    GstElement *sink = headlessSink("sim");
+    ASSERT_NE(sink, nullptr);
+    GstBus *bus = gst_bus_new();
+    gst_element_set_bus(sink, bus);
+    GstHarness *color = gst_harness_new_with_element(sink, "color", nullptr);
+    GstHarness *depth = gst_harness_new_with_element(sink, "depth", nullptr);
+    gst_harness_use_testclock(color);
+    GstTestClock *clock = gst_harness_get_testclock(color);
+    ASSERT_NE(clock, nullptr);
+    const GstClockTime base = gst_element_get_base_time(sink);
+    gst_test_clock_set_time(clock, base + GST_SECOND);
+    gst_harness_set_src_caps_str(color, kColorCaps);
+    gst_harness_set_src_caps_str(depth, kDepthCaps);
+    const std::vector<std::uint8_t> c = solidColour();
+    const std::vector<std::uint8_t> d = flatDepth();
+    // GIVEN the first 2 s of a stream, played to running time 1 s
+    std::atomic<bool> seeking{false};
+    std::thread before([&] {
+        for (int i = 0; i < 60 && !seeking.load(); ++i) {
+            const GstClockTime pts = static_cast<GstClockTime>(i) * kPeriod;
+            if (gst_harness_push(color, bufferOf(c, pts)) != GST_FLOW_OK ||
+                gst_harness_push(depth, bufferOf(d, pts)) != GST_FLOW_OK)
+                return;
+        }
+    });
+    (void)positionWhen(sink, [](double p) { return p >= 0.9; });
+    waitForUpdates(sink, 100);
+    const std::uint64_t presented = countProperty(sink, "frames-presented");
+    const std::uint64_t trips = countProperty(sink, "safety-trips");
+    // WHEN the pipeline seeks to 10 s, flushing, with the clock at 1 s
+    seeking.store(true);
+    for (GstHarness *h : {color, depth})
+        EXPECT_TRUE(gst_harness_push_event(h, gst_event_new_flush_start()));
+    before.join(); // a push waiting on a full pad returns, flushing
+    for (GstHarness *h : {color, depth})
+        EXPECT_TRUE(gst_harness_push_event(h, gst_event_new_flush_stop(TRUE)));
+    const GstClockTime rebase = base + GST_SECOND;
+    gst_element_set_base_time(sink, rebase);
+    GstSegment segment;
+    gst_segment_init(&segment, GST_FORMAT_TIME);
+    segment.start = 10 * GST_SECOND;
+    segment.time = 10 * GST_SECOND;
+    segment.position = 10 * GST_SECOND;
+    for (GstHarness *h : {color, depth})
+        EXPECT_TRUE(gst_harness_push_event(h, gst_event_new_segment(&segment)));
+    // and frames from the target come, the clock moving on to running time 0.5 s
+    std::thread after([&] {
+        for (int i = 0; i < 60; ++i) {
+            const GstClockTime pts = 10 * GST_SECOND + static_cast<GstClockTime>(i) * kPeriod;
+            if (gst_harness_push(color, bufferOf(c, pts)) != GST_FLOW_OK ||
+                gst_harness_push(depth, bufferOf(d, pts)) != GST_FLOW_OK)
+                return;
+        }
+        gst_harness_push_event(color, gst_event_new_eos());
+        gst_harness_push_event(depth, gst_event_new_eos());
+    });
+    gst_test_clock_set_time(clock, rebase + GST_SECOND / 2);
+    waitForUpdates(sink, 500);
+    const double position = doubleProperty(sink, "position");
+    const std::uint64_t presentedAfter = countProperty(sink, "frames-presented");
+    std::printf("before the seek: position >= 0.9 s, %llu presented; after: position %.3f s, %llu "
+                "presented, trips %llu -> %llu\n",
+                static_cast<unsigned long long>(presented), position,
+                static_cast<unsigned long long>(presentedAfter),
+                static_cast<unsigned long long>(trips),
+                static_cast<unsigned long long>(countProperty(sink, "safety-trips")));
+    // THEN the picture is the target's frame of running time 0.5 s, and it moves on
+    EXPECT_NEAR(position, 0.5, 0.1);
+    EXPECT_GT(presentedAfter, presented);
+    if (HasFailure()) {
+        // A player stuck before the seek takes no more frames: stopping the element ends the
+        // pushes waiting on its full pads (a failure, not a hang).
+        gst_element_set_state(sink, GST_STATE_NULL);
+        after.join();
+    } else {
+        gst_test_clock_set_time(clock, rebase + 10 * GST_SECOND);
+        after.join();
+        GstMessage *end = gst_bus_timed_pop_filtered(
+            bus, GST_CLOCK_TIME_NONE,
+            static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
+        ASSERT_NE(end, nullptr);
+        EXPECT_EQ(GST_MESSAGE_TYPE(end), GST_MESSAGE_EOS) << errorText(end);
+        gst_message_unref(end);
+        EXPECT_EQ(countProperty(sink, "depth-unpaired"), 0u);
+        EXPECT_EQ(countProperty(sink, "safety-trips"), trips)
+            << "a seek re-seats, it does not trip";
+    }
+    gst_object_unref(clock);
+    gst_harness_teardown(depth);
+    gst_harness_teardown(color);
+    gst_element_set_bus(sink, nullptr);
+    gst_object_unref(bus);
+    gst_object_unref(sink);
+}
+
 TEST_F(DepthTouchSinkTest, aFlushEndsAPushWaitingOnAFullPad)
 {
     if (const std::string why = displayMissing(); !why.empty())
@@ -422,7 +521,7 @@ TEST(PadFeedTest, theSourceReadsBothStreamsInPtsOrderThenEnds)
     EXPECT_EQ(info.streams[1].kind, hal::StreamKind::Depth);
     EXPECT_EQ(info.streams[1].codec, hal::CodecId::RawVideo);
     EXPECT_DOUBLE_EQ(info.streams[1].depth.nearMetres, 0.5);
-    EXPECT_FALSE(info.seekable);
+    EXPECT_TRUE(info.seekable); // as the pipeline seeks (aFlushingSeekHoldsTheReader...)
     // the earliest first (colour before depth at a tie), once every stream has a frame or ended
     std::vector<std::pair<int, Pts>> read;
     for (int i = 0; i < 3; ++i) {
@@ -453,7 +552,7 @@ TEST(PadFeedTest, aFlushDropsTheFramesAndUnblocksAFullPad)
         EXPECT_EQ(feed->push(FeedStream::Depth, std::vector<std::uint8_t>(8), hal::Pts(1)),
                   PushResult::Flushing);
     });
-    feed->flushStart(FeedStream::Depth);
+    EXPECT_TRUE(feed->flushStart(FeedStream::Depth, false));
     pusher.join();
     feed->flushStop(FeedStream::Depth);
     EXPECT_EQ(feed->push(FeedStream::Depth, std::vector<std::uint8_t>(8), hal::Pts(2)),
@@ -462,6 +561,46 @@ TEST(PadFeedTest, aFlushDropsTheFramesAndUnblocksAFullPad)
     EXPECT_EQ(feed->push(FeedStream::Depth, std::vector<std::uint8_t>(8), hal::Pts(3)),
               PushResult::Closed);
     EXPECT_TRUE(feed->ended());
+}
+
+TEST(PadFeedTest, aFlushingSeekHoldsTheReaderUntilThePlayersSeekThenReadsTheNewTimeline)
+{
+    auto feed = std::make_shared<PadFeed>(4);
+    feed->setStream(FeedStream::Depth, streamOf(hal::PixelFormat::Gray8));
+    using hal::Pts;
+    ASSERT_EQ(feed->push(FeedStream::Depth, std::vector<std::uint8_t>(8), Pts(5'000)),
+              PushResult::Ok);
+    feed->endOfStream(FeedStream::Color); // a depth-only input
+    PadMediaSource source(feed);
+    ASSERT_TRUE(source.open("depthtouchsink:pads"));
+    ASSERT_TRUE(source.readPacket());
+    // A seek the pipeline did not make is refused: the pads' frames go on as they come.
+    EXPECT_EQ(source.seek(Pts(0)).error().code, Errc::NotSupported);
+    // GIVEN a flushing seek that the player will follow, and the new timeline's first frame
+    EXPECT_TRUE(feed->flushStart(FeedStream::Depth, true));
+    EXPECT_FALSE(feed->flushStart(FeedStream::Color, true)) << "one seek for both pads' flushes";
+    feed->flushStop(FeedStream::Depth);
+    feed->flushStop(FeedStream::Color);
+    ASSERT_EQ(feed->push(FeedStream::Depth, std::vector<std::uint8_t>(8), Pts(0)), PushResult::Ok);
+    // WHEN the player reads before its seek reached the source THEN it waits (a seek's
+    // cancelRead() ends the wait, as a read of a stalled input)
+    std::atomic<bool> readReturned{false};
+    std::thread reader([&] {
+        auto p = source.readPacket();
+        readReturned.store(true);
+        EXPECT_FALSE(p);
+        EXPECT_EQ(p.error().code, Errc::Timeout);
+    });
+    std::this_thread::sleep_for(50ms);
+    EXPECT_FALSE(readReturned.load()) << "no frame of the new timeline before the seek";
+    source.cancelRead();
+    reader.join();
+    // AND after the player's seek the new timeline's frame is read, from its start
+    ASSERT_TRUE(source.seek(Pts(0)));
+    auto p = source.readPacket();
+    ASSERT_TRUE(p);
+    EXPECT_EQ(p->pts, Pts(0));
+    source.close();
 }
 
 TEST(PadFeedTest, anInterruptedOpenSaysTimeout)
