@@ -217,7 +217,10 @@ Result<hal::Packet> PadMediaSource::readPacketDevice()
             p.keyframe = true;
             return p;
         }
-        if (stopWaiting())
+        // Not cancelRead(): only a flushing seek's wait gives way to the player's seek. A seek
+        // the pipeline did not make (the control socket's) fails at seekDevice() and the
+        // frames go on; a read it cancelled would have ended the input.
+        if (interrupted_.load())
             return unexpected(Errc::Timeout, "Interrupted while waiting for the pads' frames");
         f.changed_.wait_for(lock, kPoll);
     }
@@ -226,6 +229,7 @@ Result<hal::Packet> PadMediaSource::readPacketDevice()
 Result<void> PadMediaSource::seekDevice(hal::Pts)
 {
     PadFeed &f = *feed_;
+    cancelled_.store(false); // what a cancelled read was cancelled for (as the FFmpeg source's)
     {
         const std::lock_guard lock(f.mutex_);
         if (!f.seekPending_)
@@ -233,7 +237,6 @@ Result<void> PadMediaSource::seekDevice(hal::Pts)
                               "The pads' frames are sought by the pipeline (a flushing seek)");
         f.seekPending_ = false;
     }
-    cancelled_.store(false); // what a cancelled read was cancelled for (as the FFmpeg source's)
     f.changed_.notify_all();
     return ok();
 }

@@ -120,7 +120,8 @@ private:
     [[nodiscard]] const hal::MediaInfo &infoDevice() const noexcept override { return info_; }
     [[nodiscard]] Result<hal::Packet> readPacketDevice() override;
     [[nodiscard]] Result<void> seekDevice(hal::Pts position) override;
-    /// \return Timeout when interrupted or a read is cancelled (consumed). \pre feed mutex held.
+    /// \return Timeout when interrupted or a read is cancelled (consumed): a flushing seek's wait
+    /// only (cancelRead() is a seek's request). \pre feed mutex held.
     [[nodiscard]] bool stopWaiting() noexcept;
 
     std::shared_ptr<PadFeed> feed_;

@@ -574,8 +574,24 @@ TEST(PadFeedTest, aFlushingSeekHoldsTheReaderUntilThePlayersSeekThenReadsTheNewT
     PadMediaSource source(feed);
     ASSERT_TRUE(source.open("depthtouchsink:pads"));
     ASSERT_TRUE(source.readPacket());
-    // A seek the pipeline did not make is refused: the pads' frames go on as they come.
-    EXPECT_EQ(source.seek(Pts(0)).error().code, Errc::NotSupported);
+    // A seek the pipeline did not make (the control socket's) cancels the read waiting for the
+    // next frame and fails at the source: the read goes on waiting and the frames go on.
+    {
+        std::atomic<bool> returned{false};
+        std::thread reader([&] {
+            auto p = source.readPacket();
+            returned.store(true);
+            ASSERT_TRUE(p) << "the input did not end";
+            EXPECT_EQ(p->pts, Pts(5'033));
+        });
+        source.cancelRead();
+        std::this_thread::sleep_for(50ms);
+        EXPECT_FALSE(returned.load()) << "a cancelled read without a flush goes on waiting";
+        EXPECT_EQ(source.seek(Pts(0)).error().code, Errc::NotSupported);
+        ASSERT_EQ(feed->push(FeedStream::Depth, std::vector<std::uint8_t>(8), Pts(5'033)),
+                  PushResult::Ok);
+        reader.join();
+    }
     // GIVEN a flushing seek that the player will follow, and the new timeline's first frame
     EXPECT_TRUE(feed->flushStart(FeedStream::Depth, true));
     EXPECT_FALSE(feed->flushStart(FeedStream::Color, true)) << "one seek for both pads' flushes";
