@@ -127,6 +127,60 @@ TEST_F(HapticSinkTest, simulatedHandPressingAFlatPlaneFeelsKTimesPenetrationOutO
     gst_object_unref(sink);
 }
 
+/// Polls until the simulated hand rests on the plane at \a surface (m, scene box z) with its own
+/// 2 N, stiffness \a k: \return the penetration surface − HIP then (m); the CTest limit ends a
+/// hang.
+double restOn(GstElement *sink, double surface, double k)
+{
+    double fz = 0.0;
+    double hip = 0.0;
+    for (int tries = 0; tries < 3000; ++tries) {
+        std::this_thread::sleep_for(10ms);
+        fz = doubleProperty(sink, "contact-force-z");
+        hip = doubleProperty(sink, "hip-z");
+        if (fz > 1.0 && std::abs(fz - k * (surface - hip)) < 0.05 && std::abs(fz - 2.0) < 0.1)
+            break;
+    }
+    EXPECT_NEAR(fz, k * (surface - hip), 0.05) << "F = k·penetration of the plane at " << surface;
+    return surface - hip;
+}
+
+TEST_F(HapticSinkTest, aFlushingSeekGoesOnWithTheNewSegmentsSurface)
+{
+    // GIVEN the simulated hand resting with 2 N on a plane at a quarter of the nearness range
+    const double k = 1200.0;
+    GstElement *sink = makeSink("sim", "intent=press,force=2,x=0.005,y=-0.004,z=0.02");
+    g_object_set(asObject(sink), "stiffness", k, nullptr);
+    GstHarness *h = gst_harness_new_with_element(sink, "sink", nullptr);
+    gst_harness_set_src_caps_str(h, kGray16);
+    const scene::SceneBox box{};
+    const auto planeZ = [&](std::uint16_t v) {
+        return -box.depth / 2.0 + (v / 65535.0) * box.depth;
+    };
+    for (int i = 0; i < 5; ++i)
+        ASSERT_EQ(gst_harness_push(h, flatFrame(16384, static_cast<GstClockTime>(i) * 33'333'333)),
+                  GST_FLOW_OK);
+    EXPECT_GT(restOn(sink, planeZ(16384), k), 0.0);
+    // WHEN the pipeline seeks to 10 s, flushing (the running time starts from 0 again), and the
+    // new segment shows a plane 5 mm nearer
+    EXPECT_TRUE(gst_harness_push_event(h, gst_event_new_flush_start()));
+    EXPECT_TRUE(gst_harness_push_event(h, gst_event_new_flush_stop(TRUE)));
+    GstSegment segment;
+    gst_segment_init(&segment, GST_FORMAT_TIME);
+    segment.start = 10 * GST_SECOND;
+    segment.time = 10 * GST_SECOND;
+    EXPECT_TRUE(gst_harness_push_event(h, gst_event_new_segment(&segment)));
+    for (int i = 0; i < 5; ++i)
+        ASSERT_EQ(
+            gst_harness_push(
+                h, flatFrame(24576, 10 * GST_SECOND + static_cast<GstClockTime>(i) * 33'333'333)),
+            GST_FLOW_OK);
+    // THEN the hand rests on the new plane: the new segment's frames reach the haptic task
+    EXPECT_GT(restOn(sink, planeZ(24576), k), 0.0);
+    gst_harness_teardown(h);
+    gst_object_unref(sink);
+}
+
 TEST_F(HapticSinkTest, rgbCapsAreRefused)
 {
     GstElement *sink = makeSink("none");
