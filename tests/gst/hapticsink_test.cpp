@@ -85,6 +85,47 @@ std::uint64_t countProperty(GstElement *e, const char *name)
 
 const char *kGray16 = "video/x-raw, format=GRAY16_LE, width=32, height=24, framerate=30/1";
 
+/// \return the z of a flat GRAY16_LE plane of nearness \a v in the default scene box, m:
+/// −d/2 + (v/v_max)·d (docs/architecture.md §3 "Vertices").
+double planeZ(std::uint16_t v)
+{
+    const scene::SceneBox box{};
+    return -box.depth / 2.0 + (v / 65535.0) * box.depth;
+}
+
+/// Pushes \a n frames of the plane of nearness \a v from PTS \a first (ns), a frame period apart.
+void pushPlane(GstHarness *h, std::uint16_t v, GstClockTime first, int n)
+{
+    for (int i = 0; i < n; ++i)
+        ASSERT_EQ(
+            gst_harness_push(h, flatFrame(v, first + static_cast<GstClockTime>(i) * 33'333'333)),
+            GST_FLOW_OK);
+}
+
+/// What the element reads out once the simulated hand rests.
+struct Rest {
+    double fz = 0.0;    ///< contact-force-z, N.
+    double hip = 0.0;   ///< hip-z, m (scene box).
+    double force = 0.0; ///< contact-force, N.
+};
+
+/// Polls until the simulated hand rests on the plane at \a surface (m, scene box z) with its own
+/// 2 N at stiffness \a k (N/m): F = k·(surface − HIP) within 0.05 N; \return the readout then
+/// (the last one if it never rests: CTest's time limit ends a hang).
+Rest restOn(GstElement *sink, double surface, double k)
+{
+    Rest r;
+    for (int tries = 0; tries < 3000; ++tries) {
+        std::this_thread::sleep_for(10ms);
+        r = {doubleProperty(sink, "contact-force-z"), doubleProperty(sink, "hip-z"),
+             doubleProperty(sink, "contact-force")};
+        if (r.fz > 1.0 && std::abs(r.fz - k * (surface - r.hip)) < 0.05 &&
+            std::abs(r.fz - 2.0) < 0.1)
+            break;
+    }
+    return r;
+}
+
 TEST_F(HapticSinkTest, simulatedHandPressingAFlatPlaneFeelsKTimesPenetrationOutOfTheSurface)
 {
     // GIVEN the simulated hand pressing with 2 N at a point of the plane, stiffness 1200 N/m
@@ -95,54 +136,24 @@ TEST_F(HapticSinkTest, simulatedHandPressingAFlatPlaneFeelsKTimesPenetrationOutO
     gst_harness_set_src_caps_str(h, kGray16);
     // WHEN a flat GRAY16_LE plane at a quarter of the nearness range is pushed, frame after frame
     const std::uint16_t v = 16384;
-    for (int i = 0; i < 5; ++i)
-        ASSERT_EQ(gst_harness_push(h, flatFrame(v, static_cast<GstClockTime>(i) * 33'333'333)),
-                  GST_FLOW_OK);
+    pushPlane(h, v, 0, 5);
     // THEN once the hand rests on it, F = k·penetration along +z (out of the surface, toward the
-    // viewer): the plane is at z = −d/2 + (v/v_max)·d in the default scene box (§3 "Vertices")
-    const double surface = -scene::SceneBox{}.depth / 2.0 + (v / 65535.0) * scene::SceneBox{}.depth;
-    double fz = 0.0;
-    double hip = 0.0;
-    double force = 0.0;
-    for (int tries = 0; tries < 3000; ++tries) { // until it rests; CTest's limit ends a hang
-        std::this_thread::sleep_for(10ms);
-        fz = doubleProperty(sink, "contact-force-z");
-        hip = doubleProperty(sink, "hip-z");
-        force = doubleProperty(sink, "contact-force");
-        if (fz > 1.0 && std::abs(fz - k * (surface - hip)) < 0.05 && std::abs(fz - 2.0) < 0.1)
-            break;
-    }
-    const double penetration = surface - hip;
+    // viewer)
+    const double surface = planeZ(v);
+    const Rest r = restOn(sink, surface, k);
+    const double penetration = surface - r.hip;
     EXPECT_GT(penetration, 0.0);
-    EXPECT_GT(fz, 0.0) << "the force pushes the finger out of the surface";
-    EXPECT_NEAR(fz, k * penetration, 0.05);
-    EXPECT_NEAR(fz, 2.0, 0.1) << "at rest the hand is held with its own force";
-    EXPECT_NEAR(force, fz, 0.05) << "the magnitude is the force along z on a flat plane";
-    EXPECT_LE(force, 8.5) << "clamped to the device's maximum";
+    EXPECT_GT(r.fz, 0.0) << "the force pushes the finger out of the surface";
+    EXPECT_NEAR(r.fz, k * penetration, 0.05);
+    EXPECT_NEAR(r.fz, 2.0, 0.1) << "at rest the hand is held with its own force";
+    EXPECT_NEAR(r.force, r.fz, 0.05) << "the magnitude is the force along z on a flat plane";
+    EXPECT_LE(r.force, 8.5) << "clamped to the device's maximum";
     EXPECT_GT(countProperty(sink, "updates"), 0u);
     EXPECT_GT(doubleProperty(sink, "servo-rate"), 0.0);
     (void)countProperty(sink,
                         "safety-trips"); // readable (its count depends on the machine's timing)
     gst_harness_teardown(h);
     gst_object_unref(sink);
-}
-
-/// Polls until the simulated hand rests on the plane at \a surface (m, scene box z) with its own
-/// 2 N, stiffness \a k: \return the penetration surface − HIP then (m); the CTest limit ends a
-/// hang.
-double restOn(GstElement *sink, double surface, double k)
-{
-    double fz = 0.0;
-    double hip = 0.0;
-    for (int tries = 0; tries < 3000; ++tries) {
-        std::this_thread::sleep_for(10ms);
-        fz = doubleProperty(sink, "contact-force-z");
-        hip = doubleProperty(sink, "hip-z");
-        if (fz > 1.0 && std::abs(fz - k * (surface - hip)) < 0.05 && std::abs(fz - 2.0) < 0.1)
-            break;
-    }
-    EXPECT_NEAR(fz, k * (surface - hip), 0.05) << "F = k·penetration of the plane at " << surface;
-    return surface - hip;
 }
 
 TEST_F(HapticSinkTest, aFlushingSeekGoesOnWithTheNewSegmentsSurface)
@@ -153,14 +164,9 @@ TEST_F(HapticSinkTest, aFlushingSeekGoesOnWithTheNewSegmentsSurface)
     g_object_set(asObject(sink), "stiffness", k, nullptr);
     GstHarness *h = gst_harness_new_with_element(sink, "sink", nullptr);
     gst_harness_set_src_caps_str(h, kGray16);
-    const scene::SceneBox box{};
-    const auto planeZ = [&](std::uint16_t v) {
-        return -box.depth / 2.0 + (v / 65535.0) * box.depth;
-    };
-    for (int i = 0; i < 5; ++i)
-        ASSERT_EQ(gst_harness_push(h, flatFrame(16384, static_cast<GstClockTime>(i) * 33'333'333)),
-                  GST_FLOW_OK);
-    EXPECT_GT(restOn(sink, planeZ(16384), k), 0.0);
+    pushPlane(h, 16384, 0, 5);
+    const Rest before = restOn(sink, planeZ(16384), k);
+    EXPECT_NEAR(before.fz, k * (planeZ(16384) - before.hip), 0.05);
     // WHEN the pipeline seeks to 10 s, flushing (the running time starts from 0 again), and the
     // new segment shows a plane 5 mm nearer
     EXPECT_TRUE(gst_harness_push_event(h, gst_event_new_flush_start()));
@@ -170,13 +176,13 @@ TEST_F(HapticSinkTest, aFlushingSeekGoesOnWithTheNewSegmentsSurface)
     segment.start = 10 * GST_SECOND;
     segment.time = 10 * GST_SECOND;
     EXPECT_TRUE(gst_harness_push_event(h, gst_event_new_segment(&segment)));
-    for (int i = 0; i < 5; ++i)
-        ASSERT_EQ(
-            gst_harness_push(
-                h, flatFrame(24576, 10 * GST_SECOND + static_cast<GstClockTime>(i) * 33'333'333)),
-            GST_FLOW_OK);
+    pushPlane(h, 24576, 10 * GST_SECOND, 5);
     // THEN the hand rests on the new plane: the new segment's frames reach the haptic task
-    EXPECT_GT(restOn(sink, planeZ(24576), k), 0.0);
+    const double nearer = planeZ(24576);
+    const Rest after = restOn(sink, nearer, k);
+    EXPECT_GT(nearer - after.hip, 0.0);
+    EXPECT_NEAR(after.fz, k * (nearer - after.hip), 0.05) << "F = k·penetration of the new plane";
+    EXPECT_NEAR(after.fz, 2.0, 0.1);
     gst_harness_teardown(h);
     gst_object_unref(sink);
 }
