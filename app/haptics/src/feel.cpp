@@ -123,7 +123,11 @@ class ArrivalTracker {
 public:
     void row(const FeelSample &r, double dt, const FeelThresholds &th) noexcept
     {
-        const double inside = r.surfaceZ - r.hip.z; // NaN off the surface
+        // A hole hides what came over the finger, it does not take it away (as for the regain
+        // of a held finger): the swept depth stays until the surface is measured again.
+        if (std::isnan(r.surfaceZ))
+            return;
+        const double inside = r.surfaceZ - r.hip.z;
         if (!(inside > 0.0)) {
             swept_ = 0.0;
             return;

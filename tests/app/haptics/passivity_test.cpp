@@ -199,6 +199,29 @@ TEST(FeelEnergyTest, NoEnergyIsJudgedWhileAnArrivingSurfaceCoversTheFinger)
     EXPECT_EQ(covered.idealEnergyMj, 0.0);
 }
 
+TEST(FeelEnergyTest, AHoleOverTheFingerAnArrivingSurfaceCoveredKeepsItCovered)
+{
+    // The object that came over the finger turns to a hole over it from 20 ms (its own stereo
+    // shadow as it leaves) while the renderer still pushes the rising HIP out at 5 N; from 45 ms
+    // the backdrop is measured again 9 mm down, under the HIP, and the force is off. The push-out
+    // under the hole belongs to the arrival: not judged (before: 5 N · 2.4 mm = 12 mJ of excess).
+    std::vector<FeelSample> rows = risingUnder(true);
+    for (std::size_t i = 20; i < rows.size(); ++i) {
+        rows[i].surfaceZ = i < 45 ? std::nan("") : -9e-3;
+        if (i >= 45)
+            rows[i].force = {};
+    }
+    const FeelFigures f = computeFeel(rows);
+    EXPECT_NEAR(f.coveredMs, 45.0, 1e-9); // 0..44 ms
+    EXPECT_EQ(f.energyMj, 0.0);
+    EXPECT_EQ(f.energyExcessMj, 0.0);
+    // Measured again over the HIP at the arrived height instead (the hole was a dropout), it is
+    // still covered: the arrival is not over.
+    for (std::size_t i = 45; i < rows.size(); ++i)
+        rows[i].surfaceZ = 0.0;
+    EXPECT_NEAR(computeFeel(rows).coveredMs, 61.0, 1e-9);
+}
+
 TEST(FeelEnergyTest, TheIdealPenaltyIsClampedToTheDeviceMaximumAsADeviceRendersIt)
 {
     // 20 N asked for, 8.5 N rendered, over 1 mm up: 8.5 mJ.

@@ -48,10 +48,11 @@
 ///   back at its height after a dropout rose by nothing and covers nothing. What each update's rise
 ///   exceeds a push-out at `pushRate` by adds to the *swept depth*, a fall of the surface takes
 ///   from it (never more than the HIP's depth under the surface; 0 once the HIP is out). While it
-///   exceeds `depthMargin` the finger is covered: the finger may be pushed out at a bounded rate or
-///   let go (docs/benchmarks.md), so neither pop-through nor phantom force is counted, and a trip
-///   there is an *arrival trip*, not a false one. Spikes, the alternating run and the time at the
-///   device maximum are counted as everywhere.
+///   exceeds `depthMargin` the finger is covered (a hole over the HIP, an arrived object's own
+///   shadow or dropout, keeps it until the surface there is measured again): the finger may be
+///   pushed out at a bounded rate or let go (docs/benchmarks.md), so neither pop-through nor
+///   phantom force is counted, and a trip there is an *arrival trip*, not a false one. Spikes, the
+///   alternating run and the time at the device maximum are counted as everywhere.
 /// - **pull-down force**: time with the force pointing down more than `phantomForce` (Fz <
 ///   −`phantomForce`): a height field's surface only pushes up and out, so a spring that pulls the
 ///   finger down (toward or into the surface) is a fault wherever the finger is.
