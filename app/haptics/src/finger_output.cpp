@@ -188,8 +188,18 @@ void FingerOutput::releaseCovered(const glm::dvec3 &hip, double raw, const Heigh
     }
     const double least = p_.unloadForce;
     releaseStep_ = covered ? least : std::clamp(2.0 * releaseStep_, least, 2.0 * least);
+    // The hand's own lift out along the force unloads it as the spring it came from would (k·s
+    // per metre of the rise's part along the force), within the same maxForceStep/4 an update, as
+    // the offset filter passes a lifting finger's unload (smoothOffset()): the schedule above is
+    // for a ball rolling off a rim sideways, and a hand that lifts off at the bench's climb rate
+    // (2 mm an update) was pushed 2 mm at 1.33 N after it was out (synthetic-head/8's 50 cm/s
+    // swipe, +E 17.65 -> 13.63 mJ). Only the rise: a slide along a tilted force is the roll-off
+    // itself (counted too, the forearm's swipes reversed the force 1.9 times a second).
     const double length = glm::length(release_);
-    release_ = length > releaseStep_ ? release_ * ((length - releaseStep_) / length) : glm::dvec3{};
+    const double out =
+        length > 0.0 ? std::max(0.0, c.hipMove.z) * std::max(0.0, release_.z) / length : 0.0;
+    const double step = std::min(releaseStep_ + force_.stiffness() * scale_ * out, 2.0 * least);
+    release_ = length > step ? release_ * ((length - step) / length) : glm::dvec3{};
     force = release_;
 }
 

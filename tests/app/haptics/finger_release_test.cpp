@@ -293,16 +293,18 @@ TEST(FingerReleaseTest, aSurfaceThatFallsAwayDuringARampedStepUnloadsAtTheBounde
 }
 
 /// What a finger slid at \a speed (m/s) \a depth (m) under the top of a block 5 mm high (the
-/// table beyond its edge at x = 0) off that edge felt: |F| before the slide, each fall of |F| in
-/// an update past the edge while some force is left (N), and the most |F| once the edge is a
-/// pixel's vertex beyond 3r/4 behind the HIP (N).
+/// table beyond its edge at x = 0) off that edge felt, rising \a rise (m) an update past the
+/// edge: |F| before the slide, each fall of |F| in an update past the edge while some force is
+/// left (N), the share of the force along z just before the first fall, and the most |F| once
+/// the edge is a pixel's vertex beyond 3r/4 behind the HIP (N).
 struct RimSlide {
     double pressed = 0.0;
     std::vector<double> falls;
+    double firstUp = 0.0;
     double outOfReach = 0.0;
 };
 
-RimSlide slideOffRim(double speed, double depth)
+RimSlide slideOffRim(double speed, double depth, double rise = 0.0)
 {
     const OwnedFrame block = tableWithHoles([](double, double) { return false; }, 0u,
                                             [](double x, double) { return x < 0.0 ? 0.005 : 0.0; });
@@ -314,15 +316,24 @@ RimSlide slideOffRim(double speed, double depth)
     glm::dvec3 hip{-0.010, 0.0, top + 0.004};
     finger.reset(hip);
     double last = 0.0;
+    glm::dvec3 lastForce{};
     for (int k = 0; k < 500; ++k) {
-        hip.z = top + 0.004 - (0.004 + depth) * std::min(k, 50) / 50.0;
+        if (k <= 50)
+            hip.z = top + 0.004 - (0.004 + depth) * k / 50.0;
         if (k >= 300)
             hip.x = std::min(hip.x + speed / kRate, 0.005);
-        const double f = glm::length(finger.update(hip, k / kRate).force);
+        if (hip.x > 0.0)
+            hip.z += rise;
+        const glm::dvec3 force = finger.update(hip, k / kRate).force;
+        const double f = glm::length(force);
         if (k == 299)
             out.pressed = f;
-        if (k >= 300 && hip.x > 0.0 && f > 0.0 && f < last - 1e-3)
+        if (k >= 300 && hip.x > 0.0 && f > 0.0 && f < last - 1e-3) {
+            if (out.falls.empty())
+                out.firstUp = lastForce.z / last;
             out.falls.push_back(last - f);
+        }
+        lastForce = force;
         if (hip.x > 0.75 * r + 2.0 * kBox.width / kStillW) // a pixel's vertex beyond 3r/4
             out.outOfReach = std::max(out.outOfReach, f);
         last = f;
@@ -359,6 +370,29 @@ TEST(FingerReleaseTest, aFingerSlidingOffARimUnloadsAsItRollsOffAndIsFreeOutOfRe
     }
     EXPECT_GE(atCap, 2);
     EXPECT_EQ(slow.outOfReach, 0.0);
+}
+
+// The same slide off the rim with the hand also rising 0.2 mm an update past the edge: the
+// release unloads the rise's part along the force as the spring would, k · 0.2 mm · F̂z, on top
+// of its own schedule, never by more than maxForceStep/4 an update (no spike). Before, a hand
+// lifting off a rim at the bench's climb rate (2 mm an update) was pushed 2 mm at 1.33 N after it
+// was out: 2.7 mJ into the hand at each lift-off of synthetic-head/8's 50 cm/s swipe.
+TEST(FingerReleaseTest, aFingerLiftingOffARimIsUnloadedAsItRises)
+{
+    const double step = RendererConfig{}.maxForceStep;
+    const double rise = 0.2e-3;
+    const RimSlide lifted = slideOffRim(0.5, 0.002, rise);
+    ASSERT_GE(lifted.falls.size(), 2u);
+    ASSERT_GT(lifted.firstUp, 0.5); // the force leans up at the rim, as a ball's does
+    EXPECT_NEAR(lifted.falls[0],
+                std::min(step / 8.0 + kStiffness * rise * lifted.firstUp, step / 4.0), 1e-6);
+    EXPECT_GT(lifted.falls[0], step / 8.0 + 0.05); // faster than the sideways slide's first step
+    for (const double fall : lifted.falls)
+        EXPECT_LE(fall, step / 4.0 + 1e-6);
+    EXPECT_EQ(lifted.outOfReach, 0.0);
+    // Unloaded sooner than the slide that does not rise (from a force as large).
+    const RimSlide level = slideOffRim(0.5, 0.002);
+    EXPECT_LE(lifted.falls.size(), level.falls.size());
 }
 
 // A table that rises 2.8 mm in one frame under a finger gliding 1 mm over it at 50 cm/s (an

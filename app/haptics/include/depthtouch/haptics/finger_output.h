@@ -56,7 +56,8 @@ struct FingerGoal {
     double smooth = 0.0;
     /// The HIP's move since the last update, m (box frame): the device's measurement. Where it
     /// takes the HIP out along the force's offset (a hand lifting off), the force follows it
-    /// down past the filter's unload bound (smoothOffset()) and out of a ramp (handOverRamp()).
+    /// down past the filter's unload bound (smoothOffset()), out of a ramp (handOverRamp()) and,
+    /// as far as it rises, out of a rim's release (releaseCovered()).
     glm::dvec3 hipMove{};
 };
 
@@ -121,7 +122,8 @@ private:
     /// with a surface above the HIP within rimReach (a rim it slid off, also out of a hold over a
     /// hole): \a force (N) becomes the last command, unloaded by unloadForce an update while
     /// the HIP stays covered, from unloadForce doubling to twice it while only the rim is within
-    /// rimReach.
+    /// rimReach; the HIP's own rise (FingerGoal::hipMove, its part along the force) unloads it as
+    /// the spring would besides, within twice unloadForce an update.
     void releaseCovered(const glm::dvec3 &hip, double raw, const HeightField &field,
                         const FingerGoal &c, bool wasInContact, glm::dvec3 &force) noexcept;
     /// \return the stiffness scale the spring uses: \a target (the material's under the goal)

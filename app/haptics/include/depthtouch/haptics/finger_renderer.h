@@ -123,7 +123,8 @@
 ///      not press on, deeper by its own motion than by the surface's (withinReach(),
 ///      pressesOn()). A contact that ends with a surface above the HIP within 3r/4 (a rim the
 ///      fingertip slides off) unloads its last force from maxForceStep/8, the step doubling to
-///      maxForceStep/4, while that surface stays within 3r/4; then it is 0 (releaseCovered()).
+///      maxForceStep/4, and by the spring's share of the HIP's own rise (within maxForceStep/4),
+///      while that surface stays within 3r/4; then it is 0 (releaseCovered()).
 ///    - *Caught again*: a finger let go behind an occluder (or by a cut) is caught by the surface
 ///      it was held on as soon as that surface is within its held depth (plus the ramped step)
 ///      again, e.g. when the occluder leaves; before, it stayed free until lifted out. A finger
