@@ -390,7 +390,7 @@ TEST(FingerReleaseTest, aFingerLiftingOffARimIsUnloadedAsItRises)
     for (const double fall : lifted.falls)
         EXPECT_LE(fall, step / 4.0 + 1e-6);
     EXPECT_EQ(lifted.outOfReach, 0.0);
-    // Unloaded sooner than the slide that does not rise (from a force as large).
+    // Unloaded in no more updates than the slide that does not rise (from a force as large).
     const RimSlide level = slideOffRim(0.5, 0.002);
     EXPECT_LE(lifted.falls.size(), level.falls.size());
 }

@@ -204,7 +204,7 @@ TEST(FeelEnergyTest, AHoleOverTheFingerAnArrivingSurfaceCoveredKeepsItCovered)
     // The object that came over the finger turns to a hole over it from 20 ms (its own stereo
     // shadow as it leaves) while the renderer still pushes the rising HIP out at 5 N; from 45 ms
     // the backdrop is measured again 9 mm down, under the HIP, and the force is off. The push-out
-    // under the hole belongs to the arrival: not judged (before: 5 N · 2.4 mm = 12 mJ of excess).
+    // under the hole belongs to the arrival: not judged (before: 5 N · 2.5 mm = 12.5 mJ of excess).
     std::vector<FeelSample> rows = risingUnder(true);
     for (std::size_t i = 20; i < rows.size(); ++i) {
         rows[i].surfaceZ = i < 45 ? std::nan("") : -9e-3;
