@@ -198,7 +198,8 @@ void FingerOutput::releaseCovered(const glm::dvec3 &hip, double raw, const Heigh
     const double length = glm::length(release_);
     const double out =
         length > 0.0 ? std::max(0.0, c.hipMove.z) * std::max(0.0, release_.z) / length : 0.0;
-    const double step = std::min(releaseStep_ + force_.stiffness() * scale_ * out, 2.0 * least);
+    const double lift = force_.stiffness() * scale_ * out;
+    const double step = releaseStep_ + std::min(lift, std::max(0.0, 2.0 * least - releaseStep_));
     release_ = length > step ? release_ * ((length - step) / length) : glm::dvec3{};
     force = release_;
 }
