@@ -351,7 +351,8 @@ void closePlayer(GstElement *self, SinkState &s)
         std::to_string(r.framesPresented) + " presented, " + std::to_string(r.depthUnpaired) +
         " depth unpaired; " + std::to_string(r.hapticUpdates) + " haptic updates, max force " +
         options::OptionRange::number(r.maxForce) + " N, " + std::to_string(r.safetyTrips) +
-        " safety trips, " + std::to_string(r.pageFaults) + " page faults after warm-up";
+        " safety trips (" + std::to_string(r.watchdogTrips) + " by the watchdog), " +
+        std::to_string(r.pageFaults) + " page faults after warm-up";
     logInfo(category, self, line.c_str());
 }
 

@@ -26,7 +26,8 @@
 /// display-options, control (play's options, checked by play's option table: a bad value fails
 /// READY to PAUSED with an error on the bus), async; read-only frames-paired, frames-presented,
 /// depth-unpaired, depth-missing, updates, servo-rate, contact-force, contact-force-z,
-/// safety-trips, haptics. Thread-safety: GStreamer's (an internal mutex for the properties).
+/// safety-trips, watchdog-trips, haptics. Thread-safety: GStreamer's (an internal mutex for the
+/// properties).
 
 #include <gst/gst.h>
 

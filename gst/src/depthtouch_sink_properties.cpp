@@ -51,6 +51,9 @@ void getReadout(guint id, const PlayerReadout &r, GValue *value)
     case kPropSafetyTrips:
         g_value_set_uint64(value, r.safetyTrips);
         break;
+    case kPropWatchdogTrips:
+        g_value_set_uint64(value, r.watchdogTrips);
+        break;
     case kPropHaptics:
         g_value_set_boolean(value, r.haptics ? TRUE : FALSE);
         break;
@@ -169,6 +172,9 @@ void installSinkProperties(GObjectClass *oc)
                    0.0);
     installCounter(oc, kPropSafetyTrips, "safety-trips",
                    "Force-jump releases of the renderer and watchdog trips so far");
+    installCounter(oc, kPropWatchdogTrips, "watchdog-trips",
+                   "Of safety-trips, the watchdog's zero-force trips (a missed deadline, a device "
+                   "time-out): the machine's load where the haptic thread is not SCHED_FIFO");
     g_object_class_install_property(
         oc, kPropHaptics,
         g_param_spec_boolean("haptics", "Haptics",

@@ -79,6 +79,7 @@ enum Property : guint {
     kPropContactForceZ,
     kPropPosition,
     kPropSafetyTrips,
+    kPropWatchdogTrips,
     kPropHaptics,
 };
 

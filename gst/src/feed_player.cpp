@@ -75,6 +75,7 @@ PlayerReadout readOut(playback::Playback &pb, const player::StateMachine &machin
     if (const auto hs = pb.hapticStats()) {
         r.hapticUpdates = hs->updates;
         r.safetyTrips = hs->safetyReleases;
+        r.watchdogTrips = hs->watchdogTrips;
         r.pageFaults = hs->pageFaultsMinor + hs->pageFaultsMajor;
         r.maxForce = hs->maxForce;
         r.servoRateHz = hs->updates > 1 && hs->runSeconds > 0.0

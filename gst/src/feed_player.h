@@ -60,14 +60,17 @@ struct PlayerReadout {
     std::uint64_t depthPairsPublished = 0; ///< Depth pairs handed to the haptic task.
     std::uint64_t hapticUpdates = 0;       ///< Cycles of the haptic loop.
     std::uint64_t safetyTrips = 0;         ///< Force-jump releases + watchdog trips.
-    std::uint64_t pageFaults = 0;          ///< Page faults of the haptic thread after its warm-up.
-    double servoRateHz = 0.0;              ///< Updates per second over the run.
-    double forceZ = 0.0;                   ///< z of the last force, N (toward the viewer).
-    double force = 0.0;                    ///< |F| of the last force, N.
-    double maxForce = 0.0;                 ///< Largest |F| commanded, N.
-    double position = 0.0;                 ///< Media position of the frame on screen, s.
-    bool gl = false;                       ///< Frames are drawn by the stereo renderer.
-    bool haptics = false;                  ///< A haptic task runs (depth and a device).
+    /// Of safetyTrips, the watchdog's (a missed deadline, a device time-out): the machine's load
+    /// where the haptic thread is not SCHED_FIFO.
+    std::uint64_t watchdogTrips = 0;
+    std::uint64_t pageFaults = 0; ///< Page faults of the haptic thread after its warm-up.
+    double servoRateHz = 0.0;     ///< Updates per second over the run.
+    double forceZ = 0.0;          ///< z of the last force, N (toward the viewer).
+    double force = 0.0;           ///< |F| of the last force, N.
+    double maxForce = 0.0;        ///< Largest |F| commanded, N.
+    double position = 0.0;        ///< Media position of the frame on screen, s.
+    bool gl = false;              ///< Frames are drawn by the stereo renderer.
+    bool haptics = false;         ///< A haptic task runs (depth and a device).
 };
 
 class FeedPlayer {

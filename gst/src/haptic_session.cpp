@@ -160,6 +160,7 @@ HapticReadout HapticSession::readout()
                         ? static_cast<double>(stats.updates - 1) / stats.runSeconds
                         : 0.0;
     r.safetyTrips = stats.safetyReleases;
+    r.watchdogTrips = stats.watchdogTrips;
     r.contactUpdates = stats.contactUpdates;
     r.maxForce = stats.maxForce;
     return r;

@@ -59,6 +59,9 @@ struct HapticReadout {
     std::uint64_t updates = 0;     ///< Cycles of the haptic loop.
     double servoRateHz = 0.0;      ///< Updates per second measured over the run, Hz (0 before 2).
     std::uint64_t safetyTrips = 0; ///< Renderer force-jump releases + watchdog trips.
+    /// Of safetyTrips, the watchdog's (a missed deadline, a device time-out): the machine's load
+    /// where the haptic thread is not SCHED_FIFO.
+    std::uint64_t watchdogTrips = 0;
     std::uint64_t contactUpdates = 0; ///< Rendered cycles with the proxy on the surface.
     double maxForce = 0.0;            ///< Largest force magnitude commanded, N.
 };

@@ -70,6 +70,7 @@ enum Property : guint {
     kPropServoRate,
     kPropUpdates,
     kPropSafetyTrips,
+    kPropWatchdogTrips,
 };
 
 SinkState &stateOf(gpointer self)
@@ -118,7 +119,7 @@ void getProperty(GObject *object, guint id, GValue *value, GParamSpec *spec)
     SinkState &s = stateOf(object);
     const std::lock_guard lock(s.mutex);
     // The task's measurements are read for the read-only properties only (stats() drains).
-    const bool measured = id >= kPropContactForce && id <= kPropSafetyTrips;
+    const bool measured = id >= kPropContactForce && id <= kPropWatchdogTrips;
     const HapticReadout r = measured && s.session ? s.session->readout() : HapticReadout{};
     switch (id) {
     case kPropDevice:
@@ -150,6 +151,9 @@ void getProperty(GObject *object, guint id, GValue *value, GParamSpec *spec)
         break;
     case kPropSafetyTrips:
         g_value_set_uint64(value, r.safetyTrips);
+        break;
+    case kPropWatchdogTrips:
+        g_value_set_uint64(value, r.watchdogTrips);
         break;
     default:
         warnInvalidProperty(object, id, spec);
@@ -204,6 +208,13 @@ void installProperties(GObjectClass *oc)
         g_param_spec_uint64("safety-trips", "Safety trips",
                             "Force-jump releases of the renderer and watchdog trips so far", 0,
                             G_MAXUINT64, 0, kReadOnly));
+    g_object_class_install_property(
+        oc, kPropWatchdogTrips,
+        g_param_spec_uint64(
+            "watchdog-trips", "Watchdog trips",
+            "Of safety-trips, the watchdog's zero-force trips (a missed deadline, a device "
+            "time-out): the machine's load where the haptic thread is not SCHED_FIFO",
+            0, G_MAXUINT64, 0, kReadOnly));
 }
 
 // ---- the base sink's methods ------------------------------------------------------------------
@@ -236,16 +247,18 @@ gboolean stop(GstBaseSink *sink)
     const std::lock_guard lock(s.mutex);
     if (s.session) {
         const HapticReadout r = s.session->readout();
-        const std::string line = "stopped: " + std::to_string(r.updates) + " updates, " +
-                                 std::to_string(r.contactUpdates) + " in contact, max force " +
-                                 options::OptionRange::number(r.maxForce) + " N, " +
-                                 std::to_string(r.safetyTrips) + " safety trips; depth planes " +
-                                 options::OptionRange::number(
-                                     s.tags.nearMetres > 0.0 ? s.tags.nearMetres : s.nearProperty) +
-                                 ".." +
-                                 options::OptionRange::number(
-                                     s.tags.farMetres > 0.0 ? s.tags.farMetres : s.farProperty) +
-                                 " m (" + (s.tags.nearMetres > 0.0 ? "tags" : "properties") + ")";
+        const std::string line =
+            "stopped: " + std::to_string(r.updates) + " updates, " +
+            std::to_string(r.contactUpdates) + " in contact, max force " +
+            options::OptionRange::number(r.maxForce) + " N, " + std::to_string(r.safetyTrips) +
+            " safety trips (" + std::to_string(r.watchdogTrips) +
+            " by the watchdog); depth planes " +
+            options::OptionRange::number(s.tags.nearMetres > 0.0 ? s.tags.nearMetres
+                                                                 : s.nearProperty) +
+            ".." +
+            options::OptionRange::number(s.tags.farMetres > 0.0 ? s.tags.farMetres
+                                                                : s.farProperty) +
+            " m (" + (s.tags.nearMetres > 0.0 ? "tags" : "properties") + ")";
         logInfo(category, sink, line.c_str());
     }
     s.session.reset(); // zero force, the task stopped, the device closed

@@ -28,8 +28,8 @@
 /// Properties: haptic-device, haptic-device-options, stiffness, method (play's options, its
 /// option table's checks: a bad value fails the start with an error message on the bus),
 /// depth-near, depth-far; read-only contact-force, contact-force-z, hip-z, servo-rate, updates,
-/// safety-trips. Thread-safety: GStreamer's: properties from any thread (an internal mutex),
-/// the base sink's virtual methods from its streaming and state-change threads.
+/// safety-trips, watchdog-trips. Thread-safety: GStreamer's: properties from any thread (an
+/// internal mutex), the base sink's virtual methods from its streaming and state-change threads.
 
 #include <gst/gst.h>
 

@@ -374,7 +374,11 @@ TEST_F(DepthTouchSinkTest, aFlushingSeekPlaysOnFromTheTargetOnTheNewRunningTime)
     (void)positionWhen(e.sink, [](double p) { return p >= 0.9; });
     waitForUpdates(e.sink, 100);
     const std::uint64_t presented = countProperty(e.sink, "frames-presented");
-    const std::uint64_t trips = countProperty(e.sink, "safety-trips");
+    // The renderer's releases (the watchdog's trips are missed deadlines: the machine's load)
+    const auto releases = [&e] {
+        return countProperty(e.sink, "safety-trips") - countProperty(e.sink, "watchdog-trips");
+    };
+    const std::uint64_t trips = releases();
     // WHEN the pipeline seeks to 10 s, flushing (GstBaseSink's order), with the clock at 1 s:
     // FLUSH_START and FLUSH_STOP(reset_time) on both pads, the base time moved so that the running
     // time starts again from 0, a SEGMENT from the target
@@ -400,11 +404,11 @@ TEST_F(DepthTouchSinkTest, aFlushingSeekPlaysOnFromTheTargetOnTheNewRunningTime)
     const double position = positionWithin(e.sink, 0.4, 0.6, 5000);
     const std::uint64_t presentedAfter = countProperty(e.sink, "frames-presented");
     std::printf("before the seek: position >= 0.9 s, %llu presented; after: position %.3f s, %llu "
-                "presented, trips %llu -> %llu\n",
+                "presented, renderer releases %llu -> %llu\n",
                 static_cast<unsigned long long>(presented), position,
                 static_cast<unsigned long long>(presentedAfter),
                 static_cast<unsigned long long>(trips),
-                static_cast<unsigned long long>(countProperty(e.sink, "safety-trips")));
+                static_cast<unsigned long long>(releases()));
     // THEN the picture is the target's frame of running time 0.5 s, and it moves on
     EXPECT_NEAR(position, 0.5, 0.1);
     EXPECT_GT(presentedAfter, presented);
@@ -419,7 +423,7 @@ TEST_F(DepthTouchSinkTest, aFlushingSeekPlaysOnFromTheTargetOnTheNewRunningTime)
     after.join();
     e.expectEos();
     EXPECT_EQ(countProperty(e.sink, "depth-unpaired"), 0u);
-    EXPECT_EQ(countProperty(e.sink, "safety-trips"), trips) << "a seek re-seats, it does not trip";
+    EXPECT_EQ(releases(), trips) << "a seek re-seats, it does not trip";
 }
 
 TEST_F(DepthTouchSinkTest, aFlushEndsAPushWaitingOnAFullPad)

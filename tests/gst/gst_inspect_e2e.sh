@@ -17,7 +17,7 @@ for text in "SINK template: 'sink'" "Availability: Always" "video/x-raw" "GRAY8"
     grep -qF "$text" "$work/inspect.out" || { cat "$work/inspect.out"; fail "no '$text'"; }
 done
 for prop in haptic-device haptic-device-options stiffness method depth-near depth-far \
-    contact-force contact-force-z hip-z servo-rate updates safety-trips; do
+    contact-force contact-force-z hip-z servo-rate updates safety-trips watchdog-trips; do
     grep -Eq "^  $prop *:" "$work/inspect.out" || { cat "$work/inspect.out"; fail "no property $prop"; }
 done
 # the stiffness's range is play's (app/options/option_range.h: 100..3000 N/m, default 800)
@@ -34,7 +34,7 @@ done
 [ "$(grep -c "Availability: Always" "$work/sink.out")" -eq 2 ] || fail "depthtouchsink: two always pads"
 for prop in haptic-device haptic-device-options stiffness method display display-options control async \
     frames-paired frames-presented depth-unpaired depth-missing updates servo-rate contact-force \
-    contact-force-z safety-trips haptics; do
+    contact-force-z safety-trips watchdog-trips haptics; do
     grep -Eq "^  $prop *:" "$work/sink.out" || { cat "$work/sink.out"; fail "depthtouchsink: no property $prop"; }
 done
 grep -A2 "^  stiffness " "$work/sink.out" | grep -q "Range: *100 - *3000 Default: *800" ||

@@ -9,8 +9,9 @@
 # from the demuxer (the planes encode wrote) and, at the end, that the haptic task ran and the hand
 # touched the surface; depthtouchsink's that each of the 150 colour frames (5 s at 30 fps, the
 # issue's run) was paired with its depth frame by running time and the stream ended in EOS, that
-# neither element's haptic task tripped its safety (the simulated hand presses with its default
-# 2 N), and that the haptic thread took no page fault after its warm-up where its memory is locked.
+# neither element's renderer released (the simulated hand presses with its default 2 N; the
+# watchdog's trips, missed deadlines, are printed), and that the haptic thread took no page fault
+# after its warm-up where its memory is locked.
 # Both pipelines run with RT_WATCH (tests/support/rt_watch.c) preloaded: the haptic thread made no
 # allocation, free, lock or write after its first wait, inside gst-launch-1.0 as in the tests' own
 # programs (tests/app/haptic_task/discipline_test.cpp). No assertion on timing. Exit 77 (skip)
@@ -22,6 +23,16 @@ exe="$1"
 watch="$2"
 . "$(dirname "$0")/../e2e_lib.sh"
 e2e_start gst-launch gst-launch-1.0 gst-inspect-1.0
+# the safety trips of the stop line $1 (the element $2): none the renderer's (a 2 N press). The
+# watchdog's (a missed deadline) are the machine's, even on a SCHED_FIFO thread in a VM that
+# steals its time: printed, not judged (a test must not fail because the machine is busy)
+trips() {
+    all=$(echo "$1" | sed -n 's/.* \([0-9]*\) safety trips (\([0-9]*\) by the watchdog).*/\1/p')
+    dog=$(echo "$1" | sed -n 's/.* \([0-9]*\) safety trips (\([0-9]*\) by the watchdog).*/\2/p')
+    [ -n "$all" ] && [ -n "$dog" ] || fail "$2: no safety trips in the stop line: $1"
+    [ "$all" -eq "$dog" ] || fail "$2: the renderer released on a 2 N press: $1"
+    [ "$dog" -eq 0 ] || echo "$2: $dog watchdog trips (missed deadlines: the machine's load)"
+}
 # the haptic thread's discipline, as rt_watch.c counted it in the run whose output is $1 ($2 names it)
 discipline() {
     w=$(grep "^rt-watch: .*(1 thread)" "$1") || { cat "$1"; fail "$2: no haptic thread watched"; }
@@ -48,8 +59,8 @@ updates=$(echo "$line" | sed -n 's/.*stopped: \([0-9]*\) updates, \([0-9]*\) in 
 contact=$(echo "$line" | sed -n 's/.*stopped: \([0-9]*\) updates, \([0-9]*\) in contact.*/\2/p')
 [ -n "$updates" ] && [ "$updates" -gt 0 ] || fail "no haptic updates: $line"
 [ -n "$contact" ] && [ "$contact" -gt 0 ] || fail "the hand never touched: $line"
-# the simulated hand presses the head with its default 2 N: the force-jump safety never trips on it
-echo "$line" | grep -q " 0 safety trips;" || fail "hapticsink: a safety trip on a 2 N press: $line"
+# the simulated hand presses the head with its default 2 N: the renderer never releases on it
+trips "$line" hapticsink
 echo "gst-launch-1.0: $updates haptic updates, $contact in contact"
 discipline "$work/launch.out" hapticsink
 
@@ -72,12 +83,12 @@ updates=$(echo "$line" | sed -n 's/.* \([0-9]*\) haptic updates.*/\1/p')
 [ -n "$presented" ] && [ "$presented" -gt 0 ] || fail "nothing presented: $line"
 [ -n "$updates" ] && [ "$updates" -gt 0 ] || fail "no haptic updates: $line"
 # the haptic thread's faults after its warm-up are counted (their number is the machine's)
-echo "$line" | grep -Eq "safety trips, [0-9]+ page faults after warm-up" || fail "page faults: $line"
+echo "$line" | grep -Eq "by the watchdog\), [0-9]+ page faults after warm-up" || fail "page faults: $line"
 if grep -q "Started dt-haptic: .*memory locked" "$work/sink.out"; then
     echo "$line" | grep -q " 0 page faults after warm-up" || fail "page faults with memory locked: $line"
 else
     echo "the haptic thread's memory is not locked here: its page faults are the machine's"
 fi
-echo "$line" | grep -q " 0 safety trips," || fail "depthtouchsink: a safety trip on a 2 N press: $line"
+trips "$line" depthtouchsink
 echo "gst-launch-1.0 depthtouchsink: 150 pairs, $presented presented, $updates haptic updates"
 discipline "$work/sink.out" depthtouchsink
