@@ -1,9 +1,10 @@
 /// \file
-/// \brief `depthtouch play FILE|URL`: the set-top box player (docs/architecture.md §1). The
-/// backends chosen here (display, haptic device, decoder, remote) are handed to playback::Playback,
-/// driven by the player::StateMachine; remote keys and the control socket reach the machine through
-/// control::ControlLoop on the main thread. Writes the force log and the stats JSON
-/// (docs/architecture.md §4) when asked, and prints a summary.
+/// \brief `depthtouch play FILE|URL`: the set-top box player (docs/architecture.md §1). It runs the
+/// player core (player_core.h: the backends chosen, playback::Playback driven by the
+/// player::StateMachine, remote keys and the control socket through control::ControlLoop) on the
+/// main thread, the one path libdepthtouch and the GStreamer element run too; what is `play`'s own
+/// is around it: the stderr lines, the summary, the stats file and the exit code. Writes the force
+/// log and the stats JSON (docs/architecture.md §4) when asked, and prints a summary.
 ///
 /// The options are the rows of `play`'s option table (play_options.h); they may also come from a
 /// TOML file (play_config.h): keys are the long option names without the dashes (`stiffness =
@@ -49,6 +50,7 @@
 #include "play_backends.h"
 #include "play_config_files.h"
 #include "play_options.h"
+#include "player_core.h"
 
 namespace depthtouch::cli {
 
@@ -104,27 +106,6 @@ private:
     bool errorPrinted_ = false;
 };
 
-/// \return the exit code of a control socket that could not be made: bad input (2) when the
-/// path is at fault (exists and is not a socket, another player listens on it, too long, no such
-/// folder, no permission), else failure (1).
-int controlSocketExitCode(const Error &e)
-{
-    if (e.code == Errc::InvalidArgument || e.code == Errc::Busy || e.code == Errc::PermissionDenied)
-        return kExitBadInput;
-    switch (e.sysErrno) {
-    case ENOENT:
-    case ENOTDIR:
-    case ENAMETOOLONG:
-    case ELOOP:
-    case EROFS:
-    case EADDRINUSE:
-    case EISDIR:
-        return kExitBadInput;
-    default:
-        return kExitFailure;
-    }
-}
-
 PlayResult badInput(const std::string &why)
 {
     failLine(why);
@@ -177,37 +158,23 @@ void warnFallback(const PlayOptions &opt, const OpenedBackend &b)
         report.chosen.c_str());
 }
 
-/// Opens the backends and the pipeline of \a opt into \a p (play_backends.h), with the warnings
-/// of warnFallback() as they open. \return nullopt, or after the failure's one line its result:
-/// bad input (2) for a name or option at fault, a decoder or source that cannot be made, or a
-/// pipeline that cannot be made on the backends; else failure (1).
-std::optional<PlayResult> openPlay(const PlayOptions &opt, platform::Clock &clock, OpenedPlayer &p)
+/// Opens the player core of \a opt (player_core.h) into \a core, with \a keys and the warnings of
+/// warnFallback() as its backends open. \return nullopt, or after the failure's one line its
+/// result: bad input (2) for a name or option at fault, a decoder or source that cannot be made, a
+/// pipeline that cannot be made on the backends, or a control socket path at fault
+/// (controlSocketBadInput()); else failure (1).
+std::optional<PlayResult> openPlay(const PlayOptions &opt, platform::Clock &clock,
+                                   const player::KeyMap &keys, std::unique_ptr<PlayerCore> &core)
 {
-    const std::optional<PlayOpenFailure> bad =
-        openPlayer(opt, clock, p, [&opt](const OpenedBackend &b) { warnFallback(opt, b); });
+    PlayerCoreSetup setup;
+    setup.keys = keys;
+    setup.opened = [&opt](const OpenedBackend &b) { warnFallback(opt, b); };
+    const std::optional<PlayOpenFailure> bad = PlayerCore::open(opt, clock, std::move(setup), core);
     if (!bad)
         return std::nullopt;
     failLine(bad->message);
     return PlayResult{
         bad->badInput || bad->part == PlayPart::Playback ? kExitBadInput : kExitFailure, {}};
-}
-
-/// Makes the control socket of --control into \a server. \return nullopt, or the result of a
-/// socket that could not be made.
-std::optional<PlayResult> openControlSocket(const PlayOptions &opt, player::StateMachine &machine,
-                                            std::unique_ptr<control::ControlServer> &server)
-{
-    if (opt.control.empty())
-        return std::nullopt;
-    auto s = control::ControlServer::create(opt.control, machine);
-    if (!s) {
-        char why[160];
-        failLine("cannot create the control socket " + platform::quotedText(opt.control, 120) +
-                 ": " + s.error().format(why, sizeof why));
-        return PlayResult{controlSocketExitCode(s.error()), {}};
-    }
-    server = std::move(*s);
-    return std::nullopt;
 }
 
 /// Writes the stats file and works out the exit code of a run that ended as \a out says; prints
@@ -299,56 +266,29 @@ PlayResult runPlay(const PlayOptions &opt, const player::KeyMap &keys)
     if (std::optional<PlayResult> bad = checkPlayOptions(opt))
         return *bad;
     platform::SteadyClock &clock = platform::SteadyClock::instance();
-    OpenedPlayer p;
-    if (std::optional<PlayResult> bad = openPlay(opt, clock, p))
+    std::unique_ptr<PlayerCore> core;
+    if (std::optional<PlayResult> bad = openPlay(opt, clock, keys, core))
         return *bad;
-    playback::Playback &playback = *p.playback;
-    PlayBackends &b = p.backends;
-
-    player::PlayerSettings settings = playerSettings(opt);
-    settings.keys = keys;
-    player::StateMachine machine(playback, std::move(settings));
+    player::StateMachine &machine = core->machine();
     StderrListener listener(!opt.quiet && ::isatty(STDERR_FILENO) == 1, opt.verbose);
     machine.addListener(&listener);
-    std::unique_ptr<control::ControlServer> server;
-    if (std::optional<PlayResult> bad = openControlSocket(opt, machine, server))
-        return *bad;
-    control::ControlLoop loop(machine, b.remote.get(), server.get(), clock,
-                              std::chrono::milliseconds(10));
 
     gPlayStop.store(false);
     // Every stop signal quits the same way, until the outputs are written (the recording and the
     // force log finished, the stats written); the control loop's waits are restarted.
     const platform::StopSignals signals(gPlayStop, true);
-    const control::LoopOutcome out = control::playUntilDone(
-        machine, loop, server, [&playback, &machine] { playback.report(machine); }, gPlayStop,
-        {opt.duration, opt.idle}, clock);
-    (void)playback.stop();
-    playback.close(); // the recording ends and the snapshots are written: their losses count
-
-    playback::PlayRunFigures run;
-    run.info = &playback.info();
-    run.stats = playback.stats();
-    run.haptic = playback.hapticStats();
-    run.display = b.displayReport.chosen;
-    if (run.display == "headless" && opt.display != "headless")
-        run.displayNote = "no screen found (x11 needs $DISPLAY, kms a free DRM card): the picture "
-                          "was drawn offscreen; --display x11 or kms shows it (docs/playing.md)";
-    run.hapticDevice = b.hapticReport.chosen;
-    run.remoteConnected = machine.remoteConnected();
-    run.audioDevice = b.audio ? b.audioReport.chosen : std::string();
-    if (b.audio) {
-        b.audio->close(); // closed by playback.close(); a file output is finished by now
-        run.audioOutputLost = b.audio->lostOutput();
-    }
-    run.deviceMaxForce = b.device->capabilities().maxForce;
-    run.rssStart = out.rssStart;
-    run.rssAfterWarmup = out.rssAfterWarmup;
-    run.rssEnd = out.rssEnd;
-    run.lockedMiB = out.lockedMiB;
-    run.finalState = player::playerStateName(machine.state());
-    run.failure = out.failure;
-    return finishPlay(opt, run, out, machine.quitRequested(), listener.errorPrinted());
+    playback::Playback &playback = core->playback();
+    const control::LoopOutcome out = core->run(
+        [&playback, &machine] { playback.report(machine); }, gPlayStop, {opt.duration, opt.idle},
+        [](const Error &e) {
+            platform::printStderrLine(platform::LogLevel::Error,
+                                      "depthtouch play: control socket failed: %s", e.what);
+        });
+    const playback::PlayRunFigures run = core->finish(out);
+    const PlayResult result =
+        finishPlay(opt, run, out, machine.quitRequested(), listener.errorPrinted());
+    machine.removeListener(&listener);
+    return result;
 }
 
 void registerPlayCommand(CLI::App &app, int &exitCode)

@@ -33,7 +33,8 @@ std::optional<PlayOpenFailure> take(Result<std::unique_ptr<T>> made, PlayPart pa
 {
     if (!made)
         return PlayOpenFailure{part, report.message,
-                               alwaysBadInput || made.error().code == Errc::InvalidArgument};
+                               alwaysBadInput || made.error().code == Errc::InvalidArgument,
+                               made.error()};
     into = std::move(*made);
     return std::nullopt;
 }
@@ -180,7 +181,7 @@ std::optional<PlayOpenFailure> openPlayer(const PlayOptions &opt, platform::Cloc
     auto pb = playback::Playback::create(config, std::move(ph));
     if (!pb)
         return PlayOpenFailure{PlayPart::Playback, pb.error().what,
-                               pb.error().code == Errc::InvalidArgument};
+                               pb.error().code == Errc::InvalidArgument, pb.error()};
     out.playback = std::move(*pb);
     return std::nullopt;
 }

@@ -51,7 +51,8 @@ enum class PlayPart : std::uint8_t {
     AudioOutput,
     VideoDecoder, ///< Its name and options, checked; decoders are made per open.
     MediaSource,  ///< Its name and options, checked; sources are made per open.
-    Playback      ///< playback::Playback::create() on the backends.
+    Playback,     ///< playback::Playback::create() on the backends.
+    ControlSocket ///< --control's socket (PlayerCore::open()).
 };
 
 /// \brief Why openPlayer() failed.
@@ -63,6 +64,7 @@ struct PlayOpenFailure {
     /// Bad input: a name or an option at fault (Errc::InvalidArgument), and any decoder or
     /// source that cannot be made now. Else the device or the system failed.
     bool badInput = false;
+    Error error; ///< The error that failed: the backend's, the Playback's or the socket's.
 };
 
 /// \brief The backends a player plays on, and which of the names given were chosen.

@@ -3,20 +3,19 @@
 
 #include "feed_player.h"
 
-#include <future>
+#include <chrono>
 #include <utility>
 
 #include <glm/geometric.hpp>
 
-#include "depthtouch/control/control_loop.h"
-#include "depthtouch/control/control_server.h"
-#include "depthtouch/control/play_loop.h"
 #include "depthtouch/options/option_range.h"
 #include "depthtouch/platform/clock.h"
 #include "depthtouch/player/command.h"
 #include "depthtouch/player/state_machine.h"
 #include "play_backends.h"
+#include "depthtouch/platform/log.h"
 #include "play_options.h"
+#include "player_core.h"
 
 namespace depthtouch::gst {
 
@@ -106,29 +105,32 @@ std::unique_ptr<FeedPlayer> FeedPlayer::open(const PlayerSettings &settings,
         return nullptr;
     if (why = cli::checkPlayOptionValues(*options); !why.empty())
         return nullptr;
-    auto player = std::make_unique<cli::OpenedPlayer>();
-    // play's own opening (cli::openPlayer()), its source the pads: without sound or remote
+    // play's own player core (cli::PlayerCore), its source the pads: without sound or remote
     // (playOptionsOf()), a pause in the pipeline not a silent sender.
     cli::PlayerFeed pads;
     pads.makeSource = [feed]() -> Result<std::unique_ptr<hal::MediaSource>> {
         return std::unique_ptr<hal::MediaSource>(std::make_unique<PadMediaSource>(feed));
     };
     pads.masterClock = std::move(masterClock);
-    if (const auto bad =
-            cli::openPlayer(*options, platform::SteadyClock::instance(), *player, {}, &pads)) {
+    cli::PlayerCoreSetup setup;
+    setup.feed = &pads;
+    setup.slice = std::chrono::milliseconds(1);
+    std::unique_ptr<cli::PlayerCore> core;
+    if (const auto bad = cli::PlayerCore::open(*options, platform::SteadyClock::instance(),
+                                               std::move(setup), core)) {
         why = failureLine(*options, *bad);
         return nullptr;
     }
-    std::unique_ptr<FeedPlayer> p(new FeedPlayer(std::move(options), std::move(player)));
+    std::unique_ptr<FeedPlayer> p(new FeedPlayer(std::move(options), std::move(core)));
     p->feed_ = std::move(feed);
     return p;
 }
 
 FeedPlayer::FeedPlayer(std::unique_ptr<cli::PlayOptions> options,
-                       std::unique_ptr<cli::OpenedPlayer> player)
-    : options_(std::move(options)), player_(std::move(player)),
-      deviceName_(player_->backends.hapticReport.chosen),
-      displayName_(player_->backends.displayReport.chosen), stiffness_(options_->stiffness)
+                       std::unique_ptr<cli::PlayerCore> core)
+    : options_(std::move(options)), core_(std::move(core)),
+      deviceName_(core_->backends().hapticReport.chosen),
+      displayName_(core_->backends().displayReport.chosen), stiffness_(options_->stiffness)
 {
 }
 
@@ -139,26 +141,15 @@ FeedPlayer::~FeedPlayer()
         feed_->shutdown();
     if (thread_.joinable())
         thread_.join();
-    if (player_->playback) {
-        (void)player_->playback->stop();
-        player_->playback->close();
-    }
-    player_.reset(); // the Playback, then its backends
+    core_.reset(); // the socket, the Playback stopped and closed, then its backends
 }
 
 std::string FeedPlayer::start(std::function<void(const std::string &)> onEnd)
 {
     if (thread_.joinable())
         return "started twice";
-    std::promise<int> started;
-    std::future<int> result = started.get_future();
-    thread_ = std::thread([this, &started, onEnd = std::move(onEnd)] {
-        run([&started](int ok) { started.set_value(ok); }, onEnd);
-    });
-    if (result.get() == 0)
-        return {};
-    thread_.join();
-    return "cannot create the control socket '" + options_->control + "'";
+    thread_ = std::thread([this, onEnd = std::move(onEnd)] { run(onEnd); });
+    return {};
 }
 
 PlayerReadout FeedPlayer::readout()
@@ -167,23 +158,10 @@ PlayerReadout FeedPlayer::readout()
     return readout_;
 }
 
-void FeedPlayer::run(const std::function<void(int)> &started,
-                     const std::function<void(const std::string &)> &onEnd)
+void FeedPlayer::run(const std::function<void(const std::string &)> &onEnd)
 {
-    platform::Clock &clock = platform::SteadyClock::instance();
-    playback::Playback &pb = *player_->playback;
-    player::StateMachine machine(pb, cli::playerSettings(*options_));
-    std::unique_ptr<control::ControlServer> server;
-    if (!options_->control.empty()) {
-        auto s = control::ControlServer::create(options_->control, machine);
-        if (!s) {
-            started(1);
-            return;
-        }
-        server = std::move(*s);
-    }
-    control::ControlLoop input(machine, nullptr, server.get(), clock, std::chrono::milliseconds(1));
-    started(0);
+    playback::Playback &pb = core_->playback();
+    player::StateMachine &machine = core_->machine();
     int turn = 0;
     double stiffness = options_->stiffness;
     std::uint64_t flushSeeks = 0; // those taken: a flush before the loop started is taken first
@@ -210,8 +188,10 @@ void FeedPlayer::run(const std::function<void(int)> &started,
             readout_ = std::move(r);
         }
     };
-    const control::LoopOutcome out =
-        control::playUntilDone(machine, input, server, eachTurn, stop_, {}, clock);
+    const control::LoopOutcome out = core_->run(eachTurn, stop_, {}, [](const Error &e) {
+        platform::printStderrLine(platform::LogLevel::Error,
+                                  "depthtouchsink: control socket failed: %s", e.what);
+    });
     {
         PlayerReadout r = readOut(pb, machine, readout());
         const std::lock_guard lock(mutex_);

@@ -1,21 +1,22 @@
 #pragma once
 /// \file
 /// \brief FeedPlayer: `play`'s player fed by depthtouchsink's pads (issue 62), without GStreamer.
-/// It is the player of `depthtouch play`, not a second one: the display and the haptic device from
-/// the backend table as `play --display --haptic` opens them (cli::openPlayer()'s rules),
-/// playback::Playback with `play`'s option table's config (cli::landPlayOptions()): its receiver
-/// (the raw-video decoder, the PTS pairing), stereo renderer, on-screen display and 1 kHz haptic
-/// task; player::StateMachine with `play`'s control loop (control::playUntilDone()) and control
-/// socket. Only the media source differs: PadMediaSource over the element's PadFeed (pad_feed.h)
-/// instead of the FFmpeg demuxer, and, the input being a stream without an end the player can
-/// know, no sound and no live-silence watch (a paused pipeline sends nothing).
+/// It is the player of `depthtouch play`, not a second one: `play`'s player core
+/// (app/cli/player_core.h): the display and the haptic device from the backend table as
+/// `play --display --haptic` opens them, playback::Playback with `play`'s option table's config
+/// (cli::landPlayOptions()): its receiver (the raw-video decoder, the PTS pairing), stereo
+/// renderer, on-screen display and 1 kHz haptic task; player::StateMachine with `play`'s control
+/// loop (control::playUntilDone()) and control socket. Only the media source differs:
+/// PadMediaSource over the element's PadFeed (pad_feed.h) instead of the FFmpeg demuxer, and, the
+/// input being a stream without an end the player can know, no sound and no live-silence watch (a
+/// paused pipeline sends nothing).
 ///
-/// Lifetime: open() at the element's READY to PAUSED (backends and Playback: a bad setting or a
-/// backend that does not open fails here), start() at the first PAUSED to PLAYING (the loop's
-/// thread: the state machine plays the feed), setPaused() at the later state changes, the
-/// destructor at PAUSED to READY (the feed shut down, the loop quit and joined, zero force, the
-/// display closed). When the player stops by itself (both pads ended and the frames shown, or a
-/// failure) the loop ends and \a onEnd is called on its thread.
+/// Lifetime: open() at the element's READY to PAUSED (backends, Playback and control socket: a bad
+/// setting, a backend that does not open or a socket that cannot be made fails here), start() at
+/// the first PAUSED to PLAYING (the loop's thread: the state machine plays the feed), setPaused()
+/// at the later state changes, the destructor at PAUSED to READY (the feed shut down, the loop quit
+/// and joined, zero force, the display closed). When the player stops by itself (both pads ended
+/// and the frames shown, or a failure) the loop ends and \a onEnd is called on its thread.
 ///
 /// Thread-safety: open(), start() and the destructor on one thread (the element's state
 /// changes); setPaused(), setStiffness() and readout() from any thread. The state machine, the
@@ -36,7 +37,7 @@
 
 namespace depthtouch::cli {
 struct PlayOptions;
-struct OpenedPlayer;
+class PlayerCore;
 } // namespace depthtouch::cli
 
 namespace depthtouch::gst {
@@ -78,8 +79,8 @@ public:
     /// \brief Checks \a settings by play's option table, opens the display and the haptic device
     /// and makes the Playback reading \a feed, its media (the picture and the haptic task's time)
     /// following \a masterClock (the pipeline's running time; null: the player's own clock).
-    /// \return the player, or null with \a why: the bad setting's or the failed backend's one
-    /// line (the backend table's report).
+    /// \return the player, or null with \a why: the bad setting's, the failed backend's (the
+    /// backend table's report) or the control socket's one line.
     static std::unique_ptr<FeedPlayer> open(const PlayerSettings &settings,
                                             std::shared_ptr<PadFeed> feed,
                                             std::function<playback::MasterClock()> masterClock,
@@ -87,10 +88,10 @@ public:
     /// Shuts the feed, quits the loop and joins it, then closes the Playback and the backends.
     ~FeedPlayer();
 
-    /// \brief Starts the loop's thread: the control socket (when set), then "play".
-    /// \a onEnd(failure) is called on that thread when the player stopped by itself (failure
-    /// empty at the end of the stream), not when the destructor ends it. \return an empty
-    /// string, or why it could not start (the control socket). Once.
+    /// \brief Starts the loop's thread, which sends "play". \a onEnd(failure) is called on that
+    /// thread when the player stopped by itself (failure empty at the end of the stream), not
+    /// when the destructor ends it. \return an empty string, or why it could not start (a second
+    /// call). Once.
     std::string start(std::function<void(const std::string &failure)> onEnd);
     /// \brief Pauses or resumes the player (the pipeline's PLAYING and PAUSED).
     void setPaused(bool paused) noexcept { wantPaused_.store(paused); }
@@ -107,15 +108,13 @@ public:
     [[nodiscard]] const std::string &displayName() const noexcept { return displayName_; }
 
 private:
-    FeedPlayer(std::unique_ptr<cli::PlayOptions> options,
-               std::unique_ptr<cli::OpenedPlayer> player);
+    FeedPlayer(std::unique_ptr<cli::PlayOptions> options, std::unique_ptr<cli::PlayerCore> core);
     DT_DISABLE_COPY_AND_MOVE(FeedPlayer)
     /// The loop's thread: see start().
-    void run(const std::function<void(int)> &started,
-             const std::function<void(const std::string &)> &onEnd);
+    void run(const std::function<void(const std::string &)> &onEnd);
 
     std::unique_ptr<cli::PlayOptions> options_;
-    std::unique_ptr<cli::OpenedPlayer> player_; ///< The Playback, then its backends.
+    std::unique_ptr<cli::PlayerCore> core_; ///< The player: its loop runs on thread_.
     std::shared_ptr<PadFeed> feed_;
     std::string deviceName_;
     std::string displayName_;

@@ -19,6 +19,7 @@
 #include "depthtouch/player/state_machine.h"
 #include "play_backends.h"
 #include "play_options.h"
+#include "player_core.h"
 
 DT_LOG_CATEGORY(Client)
 
@@ -52,6 +53,8 @@ int openErrorCode(const cli::PlayOpenFailure &f)
     case cli::PlayPart::VideoDecoder:
     case cli::PlayPart::MediaSource:
         return DT_ERROR_OPTION_FORMAT;
+    case cli::PlayPart::ControlSocket:
+        return DT_ERROR_INVALID_PARAMETER;
     case cli::PlayPart::RemoteInput:
         break;
     }
@@ -92,7 +95,7 @@ PlayerThread::~PlayerThread()
 {
     {
         const std::lock_guard<std::mutex> lock(mutex_);
-        stop_ = true;
+        stop_.store(true);
     }
     cv_.notify_all();
     if (thread_.joinable())
@@ -158,40 +161,26 @@ void PlayerThread::refuseQueued()
     }
 }
 
-void PlayerThread::loop(Session &session, player::StateMachine &machine,
-                        const std::function<void()> &eachTurn, double duration)
+void PlayerThread::runTasks(Session &session)
 {
-    platform::Clock &clock = platform::SteadyClock::instance();
-    const platform::TimePoint begin = clock.now();
-    while (!machine.quitRequested()) {
-        for (const std::shared_ptr<Task> &t : takeTasks()) {
-            int rc = DT_ERROR_GENERIC;
-            try {
-                rc = t->call(session);
-            } catch (const std::bad_alloc &) {
-                rc = DT_ERROR_NOMEM;
-            } catch (const std::exception &) {
-                rc = DT_ERROR_GENERIC;
-            }
-            if (!t->async) {
-                t->done.set_value(rc);
-                continue;
-            }
-            QueuedEvent e;
-            e.id = DT_EVENT_COMMAND_REPLY;
-            e.error = rc;
-            e.userdata = t->userdata;
-            events_.push(std::move(e));
+    for (const std::shared_ptr<Task> &t : takeTasks()) {
+        int rc = DT_ERROR_GENERIC;
+        try {
+            rc = t->call(session);
+        } catch (const std::bad_alloc &) {
+            rc = DT_ERROR_NOMEM;
+        } catch (const std::exception &) {
+            rc = DT_ERROR_GENERIC;
         }
-        eachTurn();
-        session.sendPropertyChanges();
-        bool stop = false;
-        {
-            const std::lock_guard<std::mutex> lock(mutex_);
-            stop = stop_;
+        if (!t->async) {
+            t->done.set_value(rc);
+            continue;
         }
-        if (stop || (duration > 0.0 && platform::toSeconds(clock.now() - begin) >= duration))
-            machine.execute("quit");
+        QueuedEvent e;
+        e.id = DT_EVENT_COMMAND_REPLY;
+        e.error = rc;
+        e.userdata = t->userdata;
+        events_.push(std::move(e));
     }
 }
 
@@ -200,7 +189,7 @@ void PlayerThread::run(cli::PlayOptions opt, std::vector<ObserverSpec> observers
                        const std::function<void(int)> &started)
 {
     platform::SteadyClock &clock = platform::SteadyClock::instance();
-    cli::OpenedPlayer p; // the Playback, then its backends, destroyed last
+    cli::PlayerCoreSetup setup;
     if (render) {
         // The render API: the host's framebuffer instead of a display of the player's own.
         auto d = makeHostDisplay(render, clock, opt.displayOptions);
@@ -209,52 +198,41 @@ void PlayerThread::run(cli::PlayOptions opt, std::vector<ObserverSpec> observers
             started(DT_ERROR_OPTION_FORMAT);
             return;
         }
-        p.backends.display = std::move(*d);
-        p.backends.displayReport.chosen = "render-api";
+        setup.display = std::move(*d);
+        setup.displayName = "render-api";
     }
-    if (const std::optional<cli::PlayOpenFailure> bad = cli::openPlayer(opt, clock, p)) {
+    setup.slice = std::chrono::milliseconds(1);
+    std::unique_ptr<cli::PlayerCore> core;
+    if (const std::optional<cli::PlayOpenFailure> bad =
+            cli::PlayerCore::open(opt, clock, std::move(setup), core)) {
         started(openErrorCode(*bad));
         return;
     }
-    playback::Playback &playback = *p.playback;
-    const cli::PlayBackends &b = p.backends;
-    player::StateMachine machine(playback, cli::playerSettings(opt));
+    playback::Playback &playback = core->playback();
+    player::StateMachine &machine = core->machine();
     Session session(machine, events_);
-    std::unique_ptr<control::ControlServer> server;
-    if (!opt.control.empty()) {
-        auto s = control::ControlServer::create(opt.control, machine);
-        if (!s) {
-            DT_LOG(Client, Error, "cannot create the control socket: %s", s.error().what);
-            started(DT_ERROR_INVALID_PARAMETER);
-            return;
-        }
-        server = std::move(*s);
-    }
     for (const ObserverSpec &o : observers)
         (void)session.observe(o); // checked by dt_observe_property()
-    auto input = std::make_unique<control::ControlLoop>(machine, b.remote.get(), server.get(),
-                                                        clock, std::chrono::milliseconds(1));
     started(DT_ERROR_SUCCESS);
 
-    loop(
-        session, machine,
+    // play's loop (the player core's), idle as libmpv: it stays up when a file ends or fails,
+    // until quit or destroy. Each turn serves the remote (waiting at most 1 ms for its keys) and
+    // the socket, then the pipeline's report, then the API's calls (waiting up to 10 ms for one).
+    control::PlayLimits limits;
+    limits.duration = opt.duration;
+    limits.idle = true;
+    limits.start = false; // its file comes by dt_command() loadfile
+    limits.turn =
+        core->backends().remote ? std::chrono::milliseconds(1) : std::chrono::milliseconds(0);
+    (void)core->run(
         [&] {
-            // The remote's keys wait at most 1 ms; the socket is served without waiting.
-            const auto wait =
-                b.remote ? std::chrono::milliseconds(1) : std::chrono::milliseconds(0);
-            if (auto r = input->runUntil(clock.now() + wait); !r) {
-                DT_LOG(Client, Error, "control socket failed: %s", r.error().what);
-                input = std::make_unique<control::ControlLoop>(machine, b.remote.get(), nullptr,
-                                                               clock, std::chrono::milliseconds(1));
-                server.reset();
-            }
             playback.report(machine);
+            runTasks(session);
+            session.sendPropertyChanges();
         },
-        opt.duration);
-    (void)playback.stop();
-    playback.close();
-    input.reset();
-    server.reset();
+        stop_, limits,
+        [](const Error &e) { DT_LOG(Client, Error, "control socket failed: %s", e.what); });
+    (void)core->finish({});
 }
 
 void PlayerThread::runGuarded(cli::PlayOptions options, std::vector<ObserverSpec> observers,

@@ -1,14 +1,15 @@
 #pragma once
 /// \file
-/// \brief The player thread of a dt_handle: it opens the backends and the Playback through `play`'s
-/// own path (app/cli/play_backends.h: the backend table, drivers/backends.h), makes the state
-/// machine, and runs the loop of `play` (app/control/play_loop.h) in 10 ms turns: the pipeline's
-/// report, the control socket (option "control") and the remote (option "remote"), the observers;
-/// between turns it carries out the calls the API posts (call(), post()), at once when one comes.
-/// Unlike `play`, it stays up when a file ends or fails (idle, as libmpv), until quit or destroy.
-/// Thread-safety: call(), post() and the destructor are thread-safe; what they run runs on the
-/// player thread.
+/// \brief The player thread of a dt_handle: it runs `play`'s own player core
+/// (app/cli/player_core.h: the backend table, the Playback, the state machine, the control socket
+/// of option "control", the remote of option "remote" and `play`'s loop, app/control/play_loop.h);
+/// each turn of the loop it gives the pipeline's report, carries out the calls the API posts
+/// (call(), post()), waiting up to 10 ms for one and at once when one comes, and tells the
+/// observers. Unlike `play`, it stays up when a file ends or fails (idle, as libmpv), until quit or
+/// destroy. Thread-safety: call(), post() and the destructor are thread-safe; what they run runs on
+/// the player thread.
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -63,9 +64,8 @@ private:
     /// DT_ERROR_GENERIC), then the queued calls refused and DT_EVENT_SHUTDOWN queued.
     void runGuarded(cli::PlayOptions options, std::vector<ObserverSpec> observers,
                     std::shared_ptr<HostFrames> render, std::function<void(int)> started);
-    /// Runs the loop until quit or stop_. \a eachTurn runs after the calls of each turn.
-    void loop(Session &session, player::StateMachine &machine,
-              const std::function<void()> &eachTurn, double duration);
+    /// Carries out the calls queued (waiting up to 10 ms for one, or for stop_) on \a session.
+    void runTasks(Session &session);
     /// Takes the tasks queued, waiting up to 10 ms for one (or for stop_).
     std::deque<std::shared_ptr<Task>> takeTasks();
     /// Answers the tasks still queued with DT_ERROR_UNINITIALIZED (the player quit).
@@ -75,8 +75,8 @@ private:
     std::mutex mutex_;
     std::condition_variable cv_;
     std::deque<std::shared_ptr<Task>> tasks_;
-    bool stop_ = false;  ///< The destructor asks the loop to quit.
-    bool ended_ = false; ///< The loop ended: calls are refused.
+    std::atomic<bool> stop_{false}; ///< The destructor asks the loop to quit (set under mutex_).
+    bool ended_ = false;            ///< The loop ended: calls are refused.
     std::thread thread_;
 };
 

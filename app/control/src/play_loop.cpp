@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <chrono>
 
-#include "depthtouch/platform/log.h"
 #include "depthtouch/platform/memory_lock.h"
 
 namespace depthtouch::control {
@@ -14,16 +13,19 @@ namespace depthtouch::control {
 LoopOutcome playUntilDone(player::StateMachine &machine, ControlLoop &loop,
                           std::unique_ptr<ControlServer> &server,
                           const std::function<void()> &eachTurn, const std::atomic<bool> &stop,
-                          const PlayLimits &limits, platform::Clock &clock)
+                          const PlayLimits &limits, platform::Clock &clock,
+                          const OnSocketFailure &socketFailed)
 {
     LoopOutcome out;
     out.rssStart = platform::residentMiB();
     const platform::TimePoint start = clock.now();
-    machine.execute("play");
+    if (limits.start)
+        machine.execute("play");
     while (!machine.quitRequested()) {
-        if (auto r = loop.runUntil(clock.now() + std::chrono::milliseconds(10)); !r) {
-            platform::printStderrLine(platform::LogLevel::Error,
-                                      "depthtouch play: control socket failed: %s", r.error().what);
+        if (auto r = loop.runUntil(clock.now() + limits.turn); !r) {
+            if (socketFailed)
+                socketFailed(r.error());
+            loop.detachServer(); // before the server it points to is closed
             server.reset();
         }
         eachTurn();

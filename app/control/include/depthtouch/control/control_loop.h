@@ -58,6 +58,10 @@ public:
     /// \return ok. Errors: Io when the control socket's poll() fails.
     Result<void> runUntil(platform::TimePoint until);
 
+    /// \brief Serves no control socket from now on (the remote goes on): called before the socket
+    /// given at construction is closed, as after it failed.
+    void detachServer() noexcept { server_ = nullptr; }
+
     [[nodiscard]] const ControlLoopStats &stats() const noexcept { return stats_; }
 
 private:

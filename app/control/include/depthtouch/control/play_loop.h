@@ -1,12 +1,15 @@
 #pragma once
 /// \file
-/// \brief The player's main loop (`depthtouch play`): the control loop run in 10 ms turns on the
-/// main thread, driving the state machine from its remote, terminal and control socket, until
+/// \brief The player's main loop (`depthtouch play`, libdepthtouch's player thread, the GStreamer
+/// element: cli::PlayerCore::run()): the control loop run in turns (10 ms by default) on the
+/// player's thread, driving the state machine from its remote, terminal and control socket, until
 /// the player quits, ends (unless it idles), a stop flag is set or its duration is over; with the
 /// resident and locked memory sampled at the start, after 5 s and at the end. Times in seconds,
-/// memory in MiB. Thread-safety: main thread only (the stop flag may be set from anywhere).
+/// memory in MiB. Thread-safety: the thread that runs the player (the stop flag may be set from
+/// anywhere).
 
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <string>
@@ -38,16 +41,26 @@ struct LoopOutcome {
 struct PlayLimits {
     double duration = 0.0; ///< Play time, s, after which it quits (0: none).
     bool idle = false;     ///< Stay when the player stops or fails (a client may play again).
+    /// Send "play" first (`play FILE`); a player that waits for its client's loadfile does not
+    /// (libdepthtouch: its file comes by dt_command()).
+    bool start = true;
+    /// How long each turn's control loop runs before the turn's \a eachTurn; zero: the socket is
+    /// served without waiting (a caller whose \a eachTurn waits itself, for its API's calls).
+    platform::Duration turn = std::chrono::milliseconds(10);
 };
 
-/// \brief Sends "play", then runs \a loop in 10 ms turns, calling \a eachTurn after each (the
-/// pipeline's report to \a machine), until the machine quits, or \a stop or \a limits' duration
-/// sends "quit", or the player stops or fails (unless \a limits idle). A control socket that
-/// fails is reported on stderr ("depthtouch play: control socket failed: ...") and \a server
-/// closed. \return how it ended.
+/// Hears that the control socket failed (its poll); the loop goes on without it.
+using OnSocketFailure = std::function<void(const Error &)>;
+
+/// \brief Sends "play" (unless \a limits say not), then runs \a loop in turns of \a limits' turn,
+/// calling \a eachTurn after each (the pipeline's report to \a machine), until the machine quits,
+/// or \a stop or \a limits' duration sends "quit", or the player stops or fails (unless \a limits
+/// idle). A control socket that fails is told to \a socketFailed (may be empty), detached from
+/// \a loop and closed (\a server reset); the remote goes on. \return how it ended.
 LoopOutcome playUntilDone(player::StateMachine &machine, ControlLoop &loop,
                           std::unique_ptr<ControlServer> &server,
                           const std::function<void()> &eachTurn, const std::atomic<bool> &stop,
-                          const PlayLimits &limits, platform::Clock &clock);
+                          const PlayLimits &limits, platform::Clock &clock,
+                          const OnSocketFailure &socketFailed = {});
 
 } // namespace depthtouch::control
