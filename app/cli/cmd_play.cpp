@@ -184,14 +184,8 @@ PlayResult finishPlay(const PlayOptions &opt, const playback::PlayRunFigures &ru
 {
     PlayResult result;
     result.stats = playback::playStatsJson(opt.url, run);
-    std::string lost; // an output that could not be written: exit 1
-    if (!opt.stats.empty()) {
-        if (auto w = platform::writeOutputFile(opt.stats, result.stats.dump(2) + "\n"); !w) {
-            char why[160];
-            lost = "cannot write the stats " + platform::quotedText(opt.stats, 120) + ": " +
-                   w.error().format(why, sizeof why);
-        }
-    }
+    // An output that could not be written: exit 1.
+    std::string lost = opt.stats.empty() ? std::string() : writeStatsFile(opt.stats, result.stats);
     const bool statsLost = !lost.empty();
     const bool forceLogLost = run.haptic && run.haptic->forceLogLost;
     if (lost.empty() && forceLogLost)

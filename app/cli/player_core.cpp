@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <utility>
 
+#include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/message_text.h"
 
 namespace depthtouch::cli {
@@ -28,6 +29,16 @@ bool controlSocketBadInput(const Error &e)
     }
 }
 
+std::string writeStatsFile(const std::string &path, const nlohmann::json &stats)
+{
+    if (auto w = platform::writeOutputFile(path, stats.dump(2) + "\n"); !w) {
+        char why[160];
+        return "cannot write the stats " + platform::quotedText(path, 120) + ": " +
+               w.error().format(why, sizeof why);
+    }
+    return {};
+}
+
 PlayerCore::PlayerCore(const PlayOptions &opt, platform::Clock &clock)
     : options_(opt), clock_(clock)
 {
@@ -47,8 +58,8 @@ std::optional<PlayOpenFailure> PlayerCore::open(const PlayOptions &opt, platform
         return bad;
     player::PlayerSettings settings = playerSettings(opt);
     settings.keys = std::move(setup.keys);
-    core->machine_ = std::make_unique<player::StateMachine>(*core->player_.playback,
-                                                            std::move(settings));
+    core->machine_ =
+        std::make_unique<player::StateMachine>(*core->player_.playback, std::move(settings));
     if (!opt.control.empty()) {
         auto s = control::ControlServer::create(opt.control, *core->machine_);
         if (!s) {
@@ -64,9 +75,9 @@ std::optional<PlayOpenFailure> PlayerCore::open(const PlayOptions &opt, platform
         }
         core->server_ = std::move(*s);
     }
-    core->loop_ = std::make_unique<control::ControlLoop>(
-        *core->machine_, core->player_.backends.remote.get(), core->server_.get(), clock,
-        setup.slice);
+    core->loop_ =
+        std::make_unique<control::ControlLoop>(*core->machine_, core->player_.backends.remote.get(),
+                                               core->server_.get(), clock, setup.slice);
     out = std::move(core);
     return std::nullopt;
 }

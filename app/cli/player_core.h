@@ -23,6 +23,8 @@
 #include <optional>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "depthtouch/control/control_loop.h"
 #include "depthtouch/control/control_server.h"
 #include "depthtouch/control/play_loop.h"
@@ -39,7 +41,7 @@ namespace depthtouch::cli {
 
 /// \brief What a caller of PlayerCore::open() adds to the options.
 struct PlayerCoreSetup {
-    player::KeyMap keys;    ///< The remote's key map: the defaults, as input.conf files rebound them.
+    player::KeyMap keys; ///< The remote's key map: the defaults, as input.conf files rebound them.
     OnBackendOpened opened; ///< Hears of each backend as it opens (play's warnings); may be empty.
     const PlayerFeed *feed = nullptr; ///< The caller's own source (the element's pads), or null.
     /// A display to play on instead of --display's (the library's render API), with the name the
@@ -55,6 +57,11 @@ struct PlayerCoreSetup {
 /// (bad input: it exists and is not a socket, another player listens on it, too long, no such
 /// folder, no permission), not the system's.
 bool controlSocketBadInput(const Error &e);
+
+/// \brief Writes the stats JSON \a stats (docs/architecture.md §4) to \a path as `play --stats`
+/// does (platform::writeOutputFile(): whole or not at all). \return an empty string, or the one
+/// line of the output lost ("cannot write the stats 'PATH': why").
+std::string writeStatsFile(const std::string &path, const nlohmann::json &stats);
 
 /// \brief One player: its backends, pipeline, state machine, control socket and loop.
 class PlayerCore {

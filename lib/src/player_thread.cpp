@@ -17,7 +17,9 @@
 #include "depthtouch/platform/output_paths.h"
 #include "depthtouch/playback/playback.h"
 #include "depthtouch/player/state_machine.h"
+#include "depthtouch/playback/play_report.h"
 #include "play_backends.h"
+#include "play_config_files.h"
 #include "play_options.h"
 #include "player_core.h"
 
@@ -202,6 +204,14 @@ void PlayerThread::run(cli::PlayOptions opt, std::vector<ObserverSpec> observers
         setup.displayName = "render-api";
     }
     setup.slice = std::chrono::milliseconds(1);
+    // The key map file of option "input-conf" (libmpv reads no config files of its own: neither
+    // /etc/depthtouch's nor the user's).
+    if (const std::string e = cli::loadKeyMapFiles(cli::keyMapFiles({}, opt), setup.keys);
+        !e.empty()) {
+        DT_LOG(Client, Error, "%s", e.c_str());
+        started(DT_ERROR_OPTION_FORMAT);
+        return;
+    }
     std::unique_ptr<cli::PlayerCore> core;
     if (const std::optional<cli::PlayOpenFailure> bad =
             cli::PlayerCore::open(opt, clock, std::move(setup), core)) {
@@ -224,7 +234,7 @@ void PlayerThread::run(cli::PlayOptions opt, std::vector<ObserverSpec> observers
     limits.start = false; // its file comes by dt_command() loadfile
     limits.turn =
         core->backends().remote ? std::chrono::milliseconds(1) : std::chrono::milliseconds(0);
-    (void)core->run(
+    const control::LoopOutcome out = core->run(
         [&] {
             playback.report(machine);
             runTasks(session);
@@ -232,7 +242,14 @@ void PlayerThread::run(cli::PlayOptions opt, std::vector<ObserverSpec> observers
         },
         stop_, limits,
         [](const Error &e) { DT_LOG(Client, Error, "control socket failed: %s", e.what); });
-    (void)core->finish({});
+    const playback::PlayRunFigures run = core->finish(out);
+    // Option "stats": the JSON of `play --stats`, of the last file the player opened.
+    if (!opt.stats.empty()) {
+        const std::string lost =
+            cli::writeStatsFile(opt.stats, playback::playStatsJson(machine.url(), run));
+        if (!lost.empty())
+            DT_LOG(Client, Error, "%s", lost.c_str());
+    }
 }
 
 void PlayerThread::runGuarded(cli::PlayOptions options, std::vector<ObserverSpec> observers,

@@ -6,11 +6,15 @@
 /// clock: waits are bounded polls for a state.
 
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "depthtouch/client.h"
 #include "lib/client_c_scenario.h"
@@ -264,6 +268,78 @@ TEST(ClientApiTest, theEventQueueIsBoundedAndSaysWhatItDropped)
     EXPECT_LE(replies, 1000);
     EXPECT_EQ(last, static_cast<std::uint64_t>(kSent));
     dt_terminate_destroy(h);
+}
+
+/// A folder of its own under the temporary one, removed at the end.
+struct TempDir {
+    TempDir()
+    {
+        char pattern[] = "/tmp/dt_client_XXXXXX";
+        path = ::mkdtemp(pattern) != nullptr ? pattern : "";
+    }
+    ~TempDir()
+    {
+        std::error_code ec;
+        std::filesystem::remove_all(path, ec);
+    }
+    TempDir(const TempDir &) = delete;
+    TempDir &operator=(const TempDir &) = delete;
+    std::string path;
+};
+
+// The player is play's own (one player core): option "stats" writes play's stats JSON when the
+// player ends, of the last file it opened (the library accepted the option and wrote nothing).
+TEST(ClientApiTest, theStatsOptionWritesPlaysStatsJsonOfTheLastFile)
+{
+    TempDir dir;
+    ASSERT_FALSE(dir.path.empty());
+    const std::string stats = dir.path + "/stats.json";
+    dt_handle *h = dt_create();
+    for (const char *name : {"display", "haptic", "source", "decoder"})
+        ASSERT_EQ(dt_set_option_string(h, name, "mock"), 0) << name;
+    ASSERT_EQ(dt_set_option_string(h, "no-audio", ""), 0);
+    ASSERT_EQ(dt_set_option_string(h, "stats", stats.c_str()), 0);
+    ASSERT_EQ(dt_initialize(h), 0);
+    const char *url = "mock://clip?frames=10&fps=30";
+    const char *load[] = {"loadfile", url, nullptr};
+    ASSERT_EQ(dt_command(h, load), 0);
+    const dt_event_end_file *end = waitForEndFile(h);
+    ASSERT_NE(end, nullptr);
+    EXPECT_EQ(end->reason, DT_END_FILE_REASON_EOF);
+    EXPECT_FALSE(std::filesystem::exists(stats)) << "written when the player ends";
+    dt_terminate_destroy(h);
+    std::ifstream in(stats);
+    ASSERT_TRUE(in.good()) << stats;
+    const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+    ASSERT_FALSE(j.is_discarded());
+    EXPECT_EQ(j.value("url", ""), url);
+    EXPECT_EQ(j.value("display", ""), "mock");
+    EXPECT_EQ(j.value("haptic_device", ""), "mock");
+    EXPECT_EQ(j.value("frames_received", 0), 10) << "the clip's frames (its url's frames=10)";
+    EXPECT_GT(j.value("frames_presented", 0), 0);
+}
+
+// Option "input-conf" is play's key map file: one that does not read fails dt_initialize() as a
+// bad option, as `play --input-conf` exits 2 (the library ignored it).
+TEST(ClientApiTest, theInputConfOptionIsReadAtInitialize)
+{
+    TempDir dir;
+    ASSERT_FALSE(dir.path.empty());
+    const std::string good = dir.path + "/good.conf";
+    const std::string bad = dir.path + "/bad.conf";
+    std::ofstream(good) << "# OK pauses\nKEY_SELECT cycle pause\n";
+    std::ofstream(bad) << "KEY_FOO quit\n";
+    for (const auto &[file, expected] :
+         {std::pair{good, 0}, std::pair{bad, static_cast<int>(DT_ERROR_OPTION_FORMAT)},
+          std::pair{dir.path + "/missing.conf", static_cast<int>(DT_ERROR_OPTION_FORMAT)}}) {
+        dt_handle *h = dt_create();
+        for (const char *name : {"display", "haptic", "source", "decoder"})
+            ASSERT_EQ(dt_set_option_string(h, name, "mock"), 0) << name;
+        ASSERT_EQ(dt_set_option_string(h, "no-audio", ""), 0);
+        ASSERT_EQ(dt_set_option_string(h, "input-conf", file.c_str()), 0);
+        EXPECT_EQ(dt_initialize(h), expected) << file;
+        dt_terminate_destroy(h);
+    }
 }
 
 TEST(ClientApiTest, theWakeupCallbackIsCalledForEachEvent)

@@ -103,11 +103,15 @@ typedef enum dt_format {
 DT_EXPORT dt_handle *dt_create(void);
 
 /* \brief Opens the backends the options name (display, haptic device, sound output, remote, the
- * control socket of option "control") and starts the player's thread, idle: nothing plays until a
- * "loadfile" or "play URL" command. Options are checked as `play` checks them.
+ * control socket of option "control", the key map file of option "input-conf") and starts the
+ * player's thread, idle: nothing plays until a "loadfile" or "play URL" command. Options are
+ * checked as `play` checks them, and the player is `play`'s own (one player core): its outputs
+ * (options "stats", "force-log", "record", ...) are written as `play` writes them, the stats JSON
+ * at dt_terminate_destroy() or quit, of the last file opened.
  * \return DT_ERROR_SUCCESS; DT_ERROR_INVALID_PARAMETER (NULL handle, already initialized, a bad
- * output path), DT_ERROR_VO_INIT_FAILED, DT_ERROR_HAPTIC_INIT_FAILED, DT_ERROR_AO_INIT_FAILED,
- * DT_ERROR_OPTION_FORMAT (a backend name or its options refused), DT_ERROR_GENERIC. On an error
+ * output path, a control socket that cannot be made), DT_ERROR_VO_INIT_FAILED,
+ * DT_ERROR_HAPTIC_INIT_FAILED, DT_ERROR_AO_INIT_FAILED, DT_ERROR_OPTION_FORMAT (a backend name or
+ * its options refused, a key map file that does not read), DT_ERROR_GENERIC. On an error
  * the handle stays uninitialized (it may be destroyed, or initialized again). */
 DT_EXPORT int dt_initialize(dt_handle *ctx);
 
