@@ -14,7 +14,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cerrno>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -29,15 +28,11 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
-#include "depthtouch/control/control_loop.h"
-#include "depthtouch/control/control_server.h"
 #include "depthtouch/control/play_loop.h"
 #include "depthtouch/drivers/backends.h"
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/platform/clock.h"
-#include "depthtouch/platform/file_access.h"
 #include "depthtouch/platform/log.h"
-#include "depthtouch/platform/memory_lock.h"
 #include "depthtouch/platform/message_text.h"
 #include "depthtouch/platform/stop_signals.h"
 #include "depthtouch/playback/play_report.h"
