@@ -10,10 +10,10 @@
 
 #include "depthtouch/options/option_range.h"
 #include "depthtouch/platform/clock.h"
+#include "depthtouch/platform/log.h"
 #include "depthtouch/player/command.h"
 #include "depthtouch/player/state_machine.h"
 #include "play_backends.h"
-#include "depthtouch/platform/log.h"
 #include "play_options.h"
 #include "player_core.h"
 
