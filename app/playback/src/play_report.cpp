@@ -57,12 +57,15 @@ void addPlaybackStats(nlohmann::json &j, const PlaybackStats &ps)
 void printHapticSummary(const haptic_task::HapticStats &hs, double deviceMaxForce)
 {
     std::printf("  haptic thread     %s\n", hs.thread.c_str());
+    // The watchdog's share of the releases (a missed deadline, a device time-out) is the
+    // machine's or the device's, not the renderer's: said apart, as the GStreamer elements do.
     std::printf("  haptic updates    %llu (%llu in contact), %llu overruns, %llu safety "
-                "releases\n",
+                "releases (%llu by the watchdog)\n",
                 static_cast<unsigned long long>(hs.updates),
                 static_cast<unsigned long long>(hs.contactUpdates),
                 static_cast<unsigned long long>(hs.overruns),
-                static_cast<unsigned long long>(hs.safetyReleases));
+                static_cast<unsigned long long>(hs.safetyReleases),
+                static_cast<unsigned long long>(hs.watchdogTrips));
     std::printf("  wake latency      p50 %.1f us, p99 %.1f us; update time p50 %.2f us, p99 "
                 "%.2f us\n",
                 hs.wakeLatency.p50Us, hs.wakeLatency.p99Us, hs.updateTime.p50Us,

@@ -42,7 +42,8 @@ endif()
 if(NOT DEFINED ENV{DT_LOG} AND "${out}${err}" MATCHES "\\[[0-9]+\\.[0-9]+\\] +(INFO|WARN|DEBUG)")
     fail("the log's timestamped lines in the demo's report: ${CMAKE_MATCH_0}")
 endif()
-match_line("haptic updates +([0-9]+) \\(([0-9]+) in contact\\)" "haptic summary" updates contacts)
+match_line("haptic updates +([0-9]+) \\(([0-9]+) in contact\\), [0-9]+ overruns, ([0-9]+) safety releases \\(([0-9]+) by the watchdog\\)"
+    "haptic summary" updates contacts releases watchdog)
 # The stroking hand must touch the face.
 if(contacts LESS 100)
     fail("expected the hand in contact, got ${contacts} of ${updates} updates in contact")
@@ -122,6 +123,13 @@ to_ms(${runS} runMs)
 to_ms(${playingS} playingMs)
 if(NOT statsUpdates EQUAL updates)
     fail("summary says ${updates} haptic updates, stats.json ${statsUpdates}")
+endif()
+# The summary's safety releases, the watchdog's among them said apart: stats.json's counts.
+string(JSON statsReleases GET "${stats}" safety_releases)
+string(JSON statsWatchdog GET "${stats}" watchdog_trips)
+if(NOT statsReleases EQUAL releases OR NOT statsWatchdog EQUAL watchdog)
+    fail("summary says ${releases} safety releases (${watchdog} by the watchdog), stats.json "
+         "${statsReleases} (${statsWatchdog})")
 endif()
 math(EXPR periodGap "${updates} + ${missed} - ${runMs}")
 message(STATUS "haptic run ${runMs} ms: ${updates} updates + ${missed} missed periods (gap ${periodGap}); playing ${playingMs} ms")
