@@ -3,7 +3,7 @@
 /// GStreamer element, on the mock backends: a control socket path that cannot be used is bad input
 /// with its one line and loses nothing; a run gathers the figures the stats JSON and the summary
 /// read (the backends chosen, the device's maximum force as the device itself reports it), and the
-/// socket is gone after the player.
+/// socket is gone after the player. On a ManualClock: nothing here waits on the real clock.
 
 #include <atomic>
 #include <filesystem>
@@ -66,9 +66,9 @@ TEST(PlayerCoreTest, aControlSocketPathThatIsAFileIsBadInputWithItsLineAndTheFil
     std::ofstream(file) << "keep me\n";
     PlayOptions o = mockOptions(dir.path() + "/clip.mkv");
     o.control = file;
+    platform::ManualClock clock;
     std::unique_ptr<PlayerCore> core;
-    const std::optional<PlayOpenFailure> bad =
-        PlayerCore::open(o, platform::SteadyClock::instance(), {}, core);
+    const std::optional<PlayOpenFailure> bad = PlayerCore::open(o, clock, {}, core);
     ASSERT_TRUE(bad.has_value());
     EXPECT_EQ(core, nullptr);
     EXPECT_EQ(bad->part, PlayPart::ControlSocket);
@@ -97,17 +97,20 @@ TEST(PlayerCoreTest, aStoppedRunGathersTheBackendsAndTheDevicesMaximumForce)
     ASSERT_FALSE(dir.path().empty());
     PlayOptions o = mockOptions(dir.path() + "/missing.mkv");
     o.control = dir.path() + "/player.sock";
+    platform::ManualClock clock(platform::ManualClock::Mode::AutoAdvance);
     std::unique_ptr<PlayerCore> core;
-    const std::optional<PlayOpenFailure> bad =
-        PlayerCore::open(o, platform::SteadyClock::instance(), {}, core);
+    const std::optional<PlayOpenFailure> bad = PlayerCore::open(o, clock, {}, core);
     ASSERT_FALSE(bad.has_value()) << bad->message;
     ASSERT_NE(core, nullptr);
     EXPECT_TRUE(fs::is_socket(o.control)) << "the control socket is up once opened";
 
-    // Stopped before its first turn ends: "play" was sent, then "quit".
+    // Stopped before its first turn ends: "play" was sent, then "quit". A turn of zero serves the
+    // socket without waiting (simulated time does not pass while the socket is polled).
     const std::atomic<bool> stop{true};
+    control::PlayLimits limits;
+    limits.turn = platform::Duration::zero();
     int turns = 0;
-    const control::LoopOutcome out = core->run([&turns] { ++turns; }, stop, {});
+    const control::LoopOutcome out = core->run([&turns] { ++turns; }, stop, limits);
     EXPECT_EQ(turns, 1);
     EXPECT_TRUE(out.stopped);
     EXPECT_TRUE(core->machine().quitRequested());
