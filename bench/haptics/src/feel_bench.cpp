@@ -12,6 +12,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "depthtouch/haptics/finger_renderer.h"
 #include "depthtouch/platform/percentile.h"
 
 namespace depthtouch::haptics::bench {
@@ -144,6 +145,8 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
         row.hip = s.hip;
         row.force = out.force;
         row.proxy = out.proxy;
+        if (const auto *finger = dynamic_cast<const FingerRenderer *>(&r))
+            row.state = fingerStateName(finger->state());
         row.surfaceZ = ref.height(s.t, s.hip.x, s.hip.y);
         if (setting.method == Method::Finger) // a fingertip reaches what is within its radius
             row.reachSurfaceZ =

@@ -78,8 +78,31 @@ psd = gp[gp.index("psd.png"):]
 assert "set title" in psd and "modified renderer" in psd.split("set title", 1)[1].split("\n", 1)[0], "psd.png's title names no renderer"
 assert "goal: update p99.9" in gp and "rebuild amortised" in gp, "speed_vs_accuracy.png lacks its goal line or mesh-bvh's rebuild"
 PY
-bench feel --quick --method finger --data "$work/no-data"
+bench feel --quick --method finger --data "$work/no-data" --dump 'finger|press'
 png feel feel.png
+# Its per-update logs name the fingertip's contact state: free 2 mm above all the surface within
+# the finger's reach, touching somewhere while pressed under it (the log's own heights).
+python3 - "$work/feel" <<'PY' || fail "bench feel --dump: the contact state does not match the heights"
+import csv, glob, math, sys
+d = sys.argv[1]
+files = glob.glob(d + "/feel_dump/*.csv")
+assert files, "no feel_dump/*.csv for --dump 'finger|press'"
+names = {"free", "behind", "touching", "on-wall", "over-hole"}
+for f in files:
+    rows = list(csv.DictReader(open(f)))
+    assert rows, f
+    touched = False
+    for r in rows:
+        s = r["state"]
+        assert s in names, "%s: state %r" % (f, s)
+        z, top, reach = float(r["hip_z_mm"]), float(r["surface_z_mm"]), float(r["reach_surface_z_mm"])
+        if math.isfinite(top) and math.isfinite(reach) and z > max(top, reach) + 2.0:
+            assert s == "free", "%s at %s s: %s 2 mm above all within reach" % (f, r["t_s"], s)
+        if r["pressed"] == "1" and math.isfinite(top) and z < top - 0.2:
+            touched = touched or s == "touching"
+    assert touched, "%s: never touching while pressed under the surface" % f
+print("%d dumps checked" % len(files))
+PY
 bench stability --quick
 png stability stability.png
 png stability stability_energy.png

@@ -112,6 +112,9 @@ struct FeelSample {
     /// renderer's finger radius), m; NaN: a point contact, or not known (surfaceZ alone judges
     /// phantom force).
     double reachSurfaceZ = std::nan("");
+    /// The renderer's contact state after the update, by name (fingerStateName(): "free",
+    /// "touching", …) for the fingertip renderer; null for a renderer without one (for --dump).
+    const char *state = nullptr;
     double updateSeconds = 0.0; ///< Wall time of the update, s (0 when not measured).
 };
 

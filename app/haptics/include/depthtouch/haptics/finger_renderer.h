@@ -279,6 +279,10 @@ enum class FingerState : std::uint8_t {
     OverHole, ///< Pressed where a hole opened: held on the unseen surface (finger_hole.cpp).
 };
 
+/// \return \a state's name as logs and `bench feel --dump` write it: "free", "behind",
+/// "touching", "on-wall" or "over-hole".
+[[nodiscard]] const char *fingerStateName(FingerState state) noexcept;
+
 /// \brief The fingertip-proxy renderer (see the file comment). Method::Finger.
 class FingerRenderer final : public HapticRenderer {
 public:
