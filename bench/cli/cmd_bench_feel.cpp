@@ -48,6 +48,7 @@ struct BenchFeelOptions {
     bool quick = false;
     bool fifo = true;
     std::string dump;
+    std::vector<std::string> scenes;
 };
 
 /// What `bench feel` measures (its line in `depthtouch bench --help`).
@@ -76,6 +77,12 @@ const OptionRow<BenchFeelOptions> kBenchFeelRows[] = {
      "8-bit only, fewer synthetic scenes, one stroke per family variant, each method's first "
      "setting (under 30 s)"},
     noFifoRow<BenchFeelOptions>(),
+    {"scene",
+     &BenchFeelOptions::scenes,
+     "Touch only the scenes whose name contains this text (repeatable; e.g. bonn-crowd/16, "
+     "synthetic-typing, a --clip's file name)",
+     {},
+     kHideDefault},
     {"dump",
      &BenchFeelOptions::dump,
      "Write the per-update log of every stroke whose 'scene|setting|stroke' contains this text to "
@@ -86,7 +93,7 @@ const OptionRow<BenchFeelOptions> kBenchFeelRows[] = {
 
 hb::FeelSuiteOptions suiteOptions(const BenchFeelOptions &o)
 {
-    return {o.data, o.clips, o.quick, o.fifo, o.dump};
+    return {o.data, o.clips, o.quick, o.fifo, o.dump, o.scenes};
 }
 
 int fail(int code, const std::string &message)

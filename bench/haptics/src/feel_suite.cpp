@@ -166,13 +166,28 @@ std::string defaultSharedDataDir()
     return std::string(env != nullptr && *env != '\0' ? env : "../shared/data");
 }
 
+bool sceneWanted(const FeelSuiteOptions &o, const std::string &name)
+{
+    if (o.scenes.empty())
+        return true;
+    for (const std::string &s : o.scenes)
+        if (name.find(s) != std::string::npos)
+            return true;
+    return false;
+}
+
 std::optional<FeelSuiteError> loadFeelScenes(const FeelSuiteOptions &o,
                                              std::vector<FeelScene> &scenes,
                                              std::vector<FeelScene> &clean)
 {
     const std::string data = o.data.empty() ? defaultSharedDataDir() : o.data;
     const std::vector<int> bits = o.quick ? std::vector<int>{8} : std::vector<int>{8, 16};
+    const auto named = [&](const std::string &base, int b) {
+        return sceneWanted(o, base + "/" + std::to_string(b));
+    };
     for (const Capture &c : kCaptures) {
+        if (std::none_of(bits.begin(), bits.end(), [&](int b) { return named(c.name, b); }))
+            continue;
         auto mm = readCapture(data, c, o.quick ? kQuickFrames : c.frames);
         if (!mm)
             return FeelSuiteError{false, std::string(c.name) + ": " + mm.error().what};
@@ -182,6 +197,8 @@ std::optional<FeelSuiteError> loadFeelScenes(const FeelSuiteOptions &o,
             continue;
         }
         for (int b : bits) {
+            if (!named(c.name, b))
+                continue;
             std::fprintf(stderr, "mapping %s (%d-bit, holes kept) ...\n", c.name, b);
             auto sc = sceneFromSensorDepth(std::string(c.name) + "/" + std::to_string(b), *mm,
                                            c.fps, scene::SceneBox{}, b);
@@ -220,7 +237,8 @@ std::optional<FeelSuiteError> loadFeelScenes(const FeelSuiteOptions &o,
                 return FeelSuiteError{false, std::string(syntheticSceneName(s.scene)) + ": " +
                                                  sc.error().what};
             sc->name += "/" + std::to_string(b);
-            scenes.push_back(std::move(*sc));
+            if (sceneWanted(o, sc->name))
+                scenes.push_back(std::move(*sc));
         }
     }
     for (SyntheticScene s : {SyntheticScene::Table, SyntheticScene::Head}) {
@@ -238,8 +256,13 @@ std::optional<FeelSuiteError> loadFeelScenes(const FeelSuiteOptions &o,
         if (!c)
             return FeelSuiteError{true,
                                   "cannot read depth of --clip '" + clip + "': " + c.error().what};
-        scenes.push_back(std::move(*c));
+        if (sceneWanted(o, c->name))
+            scenes.push_back(std::move(*c));
     }
+    if (scenes.empty() && !o.scenes.empty())
+        return FeelSuiteError{true, "--scene: no scene's name contains '" + o.scenes.front() + "'" +
+                                        (o.scenes.size() > 1 ? " (nor the others)" : "") +
+                                        " (names such as bonn-crowd/16, synthetic-head/8)"};
     return std::nullopt;
 }
 

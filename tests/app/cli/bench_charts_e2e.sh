@@ -103,6 +103,20 @@ for f in files:
     assert touched, "%s: never touching while pressed under the surface" % f
 print("%d dumps checked" % len(files))
 PY
+# --scene touches only the scenes it names; one that names none is bad input (exit 2, one line).
+"$exe" bench feel --quick --method finger --data "$work/no-data" --scene synthetic-head \
+    --out "$work/feel-head" >"$work/feel-head.log" 2>&1 ||
+    { tail -n 20 "$work/feel-head.log"; fail "bench feel --scene synthetic-head failed"; }
+python3 - "$work/feel-head" <<'PY' || fail "bench feel --scene: rows of scenes it did not name"
+import csv, sys
+scenes = {r["scene"] for r in csv.DictReader(open(sys.argv[1] + "/feel.csv"))} - {"all"}
+assert scenes and all("synthetic-head" in s for s in scenes), scenes
+PY
+status=0
+"$exe" bench feel --quick --data "$work/no-data" --scene no-such-scene --out "$work/feel-none" \
+    >"$work/feel-none.log" 2>"$work/feel-none.err" || status=$?
+[ "$status" -eq 2 ] && [ "$(grep -c 'depthtouch bench feel: --scene' "$work/feel-none.err")" -eq 1 ] ||
+    { cat "$work/feel-none.err"; fail "bench feel --scene no-such-scene: exit $status"; }
 bench stability --quick
 png stability stability.png
 png stability stability_energy.png

@@ -25,7 +25,14 @@ struct FeelSuiteOptions {
     bool quick = false; ///< 8-bit only, fewer synthetic scenes and strokes, first settings only.
     bool fifo = true;   ///< Time on a SCHED_FIFO thread at the haptic priority.
     std::string dump;   ///< Per-update logs of the strokes whose 'scene|setting|stroke' has it.
+    /// Only the scenes whose name (e.g. "bonn-crowd/16", a --clip's file name) contains one of
+    /// these; empty: every scene.
+    std::vector<std::string> scenes;
 };
+
+/// \return whether a scene named \a name is touched under \a o.scenes (any of them is part of
+/// the name, or there are none).
+bool sceneWanted(const FeelSuiteOptions &o, const std::string &name);
 
 /// \brief Why the suite stopped: the one-line message, and whether the input was bad (a --clip
 /// whose depth cannot be read) rather than the run failing.
@@ -40,7 +47,9 @@ std::string defaultSharedDataDir();
 /// \brief Gathers the scenes into \a scenes: every capture found in the shared data (a missing
 /// one is a note on stdout), the synthetic ones, the clips (at most 10 s each); and the clean
 /// synthetic scenes of the accuracy figure into \a clean.
-/// \return nothing, or why not (a capture, a synthetic scene or a clip that cannot be read).
+/// With FeelSuiteOptions::scenes, only the scenes it names (a capture not named is not read).
+/// \return nothing, or why not (a capture, a synthetic scene or a clip that cannot be read; no
+/// scene left by FeelSuiteOptions::scenes, bad input).
 std::optional<FeelSuiteError> loadFeelScenes(const FeelSuiteOptions &o,
                                              std::vector<FeelScene> &scenes,
                                              std::vector<FeelScene> &clean);
