@@ -452,6 +452,14 @@ Result<FeelScene> sceneFromNearness(std::string name,
     return scene;
 }
 
+std::string syntheticFeelSceneName(SyntheticScene which, SensorModel sensor)
+{
+    std::string name = syntheticSceneName(which);
+    if (sensor != SensorModel::StructuredLight)
+        name = name + "-" + sensorModelName(sensor);
+    return name;
+}
+
 Result<FeelScene> makeSyntheticScene(SyntheticScene which, const SyntheticSceneOptions &o)
 {
     const long frames = std::lround(o.seconds * o.fps);
@@ -484,11 +492,8 @@ Result<FeelScene> makeSyntheticScene(SyntheticScene which, const SyntheticSceneO
             sensor.push_back(std::move(p));
         }
     }
-    std::string name = syntheticSceneName(which);
-    if (o.sensor != SensorModel::StructuredLight)
-        name = name + "-" + sensorModelName(o.sensor);
-    auto scene =
-        sceneFromSensorDepth(std::move(name), sensor, o.fps, o.box, o.bits, &clean, o.keepHoles);
+    auto scene = sceneFromSensorDepth(syntheticFeelSceneName(which, o.sensor), sensor, o.fps, o.box,
+                                      o.bits, &clean, o.keepHoles);
     if (scene)
         scene->crossings = crossingsOf(which, o.width, o.height, 0.5 * scene->duration(), o.box);
     return scene;

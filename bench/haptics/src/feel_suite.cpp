@@ -226,6 +226,8 @@ std::optional<FeelSuiteError> loadFeelScenes(const FeelSuiteOptions &o,
         if (o.quick && !s.quick)
             continue;
         for (int b : bits) {
+            if (!named(syntheticFeelSceneName(s.scene, s.sensor), b))
+                continue;
             SyntheticSceneOptions so;
             so.seconds = o.quick ? 1.5 : 3.0;
             so.bits = b;
@@ -237,8 +239,7 @@ std::optional<FeelSuiteError> loadFeelScenes(const FeelSuiteOptions &o,
                 return FeelSuiteError{false, std::string(syntheticSceneName(s.scene)) + ": " +
                                                  sc.error().what};
             sc->name += "/" + std::to_string(b);
-            if (sceneWanted(o, sc->name))
-                scenes.push_back(std::move(*sc));
+            scenes.push_back(std::move(*sc));
         }
     }
     for (SyntheticScene s : {SyntheticScene::Table, SyntheticScene::Head}) {

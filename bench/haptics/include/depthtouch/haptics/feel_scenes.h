@@ -128,8 +128,12 @@ struct SyntheticSceneOptions {
     bool keepHoles = true;       ///< See the file comment.
 };
 
+/// \return the name makeSyntheticScene() gives \a scene seen through \a sensor:
+/// syntheticSceneName(), with "-tof" or "-stereo" appended for those sensors (no bit depth).
+std::string syntheticFeelSceneName(SyntheticScene scene, SensorModel sensor);
+
 /// \brief Renders \a scene (clean metric depth), applies the sensor model, maps it like `depthtouch
-/// encode`. The name is syntheticSceneName(), with "-tof" or "-stereo" appended for those sensors.
+/// encode`. The name is syntheticFeelSceneName().
 /// \return the scene, or Errc::InvalidArgument for bad options (size < 16, fps ≤ 0, bits
 /// not 8 or 16, no frame).
 Result<FeelScene> makeSyntheticScene(SyntheticScene scene,

@@ -47,7 +47,8 @@ std::string defaultSharedDataDir();
 /// \brief Gathers the scenes into \a scenes: every capture found in the shared data (a missing
 /// one is a note on stdout), the synthetic ones, the clips (at most 10 s each); and the clean
 /// synthetic scenes of the accuracy figure into \a clean.
-/// With FeelSuiteOptions::scenes, only the scenes it names (a capture not named is not read).
+/// With FeelSuiteOptions::scenes, only the scenes it names (a capture or a synthetic scene not
+/// named is not read or rendered).
 /// \return nothing, or why not (a capture, a synthetic scene or a clip that cannot be read; no
 /// scene left by FeelSuiteOptions::scenes, bad input).
 std::optional<FeelSuiteError> loadFeelScenes(const FeelSuiteOptions &o,
