@@ -555,23 +555,6 @@ double FingerRenderer::sensorHeight(const glm::dvec3 &hip) const noexcept
     return median9(z);
 }
 
-const char *fingerStateName(FingerState state) noexcept
-{
-    switch (state) {
-    case FingerState::Free:
-        return "free";
-    case FingerState::Behind:
-        return "behind";
-    case FingerState::Touching:
-        return "touching";
-    case FingerState::OnWall:
-        return "on-wall";
-    case FingerState::OverHole:
-        return "over-hole";
-    }
-    return "?";
-}
-
 FingerState FingerRenderer::nextState(const Candidate &c) noexcept
 {
     if (c.contact)

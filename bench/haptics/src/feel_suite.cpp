@@ -158,14 +158,8 @@ std::vector<FeelSetting> planSettings(const FeelSuiteOptions &o, const std::vect
     return settings;
 }
 
-} // namespace
-
-std::string defaultSharedDataDir()
-{
-    const char *env = std::getenv("DT_SHARED_DATA");
-    return std::string(env != nullptr && *env != '\0' ? env : "../shared/data");
-}
-
+/// \return whether a scene named \a name is touched under \a o.scenes (any of them is part of
+/// the name, or there are none).
 bool sceneWanted(const FeelSuiteOptions &o, const std::string &name)
 {
     if (o.scenes.empty())
@@ -174,6 +168,14 @@ bool sceneWanted(const FeelSuiteOptions &o, const std::string &name)
         if (name.find(s) != std::string::npos)
             return true;
     return false;
+}
+
+} // namespace
+
+std::string defaultSharedDataDir()
+{
+    const char *env = std::getenv("DT_SHARED_DATA");
+    return std::string(env != nullptr && *env != '\0' ? env : "../shared/data");
 }
 
 std::optional<FeelSuiteError> loadFeelScenes(const FeelSuiteOptions &o,

@@ -281,7 +281,22 @@ enum class FingerState : std::uint8_t {
 
 /// \return \a state's name as logs and `bench feel --dump` write it: "free", "behind",
 /// "touching", "on-wall" or "over-hole".
-[[nodiscard]] const char *fingerStateName(FingerState state) noexcept;
+[[nodiscard]] constexpr const char *fingerStateName(FingerState state) noexcept
+{
+    switch (state) {
+    case FingerState::Free:
+        return "free";
+    case FingerState::Behind:
+        return "behind";
+    case FingerState::Touching:
+        return "touching";
+    case FingerState::OnWall:
+        return "on-wall";
+    case FingerState::OverHole:
+        return "over-hole";
+    }
+    return "?";
+}
 
 /// \brief The fingertip-proxy renderer (see the file comment). Method::Finger.
 class FingerRenderer final : public HapticRenderer {

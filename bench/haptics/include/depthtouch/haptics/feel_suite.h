@@ -30,10 +30,6 @@ struct FeelSuiteOptions {
     std::vector<std::string> scenes;
 };
 
-/// \return whether a scene named \a name is touched under \a o.scenes (any of them is part of
-/// the name, or there are none).
-bool sceneWanted(const FeelSuiteOptions &o, const std::string &name);
-
 /// \brief Why the suite stopped: the one-line message, and whether the input was bad (a --clip
 /// whose depth cannot be read) rather than the run failing.
 struct FeelSuiteError {
