@@ -501,7 +501,7 @@ TEST_F(DepthTouchSinkTest, aBadMethodFailsTheStartWithPlaysMessage)
     GstBus *bus = gst_element_get_bus(pipeline);
     GstMessage *m = gst_bus_pop_filtered(bus, GST_MESSAGE_ERROR);
     EXPECT_EQ(errorText(m),
-              "depthtouchsink: method must be finger, modified, proxy-graph or mesh-bvh");
+              "depthtouchsink: method must be finger, ball, modified, proxy-graph or mesh-bvh");
     if (m != nullptr)
         gst_message_unref(m);
     gst_object_unref(bus);

@@ -252,7 +252,7 @@ TEST_F(HapticSinkTest, aBadMethodFailsTheStartWithPlaysMessage)
     g_object_set(asObject(sink), "method", "bogus", nullptr);
     std::string error;
     EXPECT_EQ(startAlone(sink, error), GST_STATE_CHANGE_FAILURE);
-    EXPECT_EQ(error, "hapticsink: method must be finger, modified, proxy-graph or mesh-bvh");
+    EXPECT_EQ(error, "hapticsink: method must be finger, ball, modified, proxy-graph or mesh-bvh");
 }
 
 TEST_F(HapticSinkTest, anUnknownDeviceFailsTheStartNamingTheBackends)

@@ -2,6 +2,7 @@
 
 #include <new>
 
+#include "depthtouch/haptics/ball_renderer.h"
 #include "depthtouch/haptics/finger_renderer.h"
 #include "depthtouch/haptics/mesh_bvh.h"
 
@@ -12,6 +13,11 @@ namespace {
 std::unique_ptr<HapticRenderer> makeFinger(const RendererConfig &c, int, int)
 {
     return std::make_unique<FingerRenderer>(c);
+}
+
+std::unique_ptr<HapticRenderer> makeBall(const RendererConfig &c, int, int)
+{
+    return std::make_unique<BallRenderer>(c);
 }
 
 std::unique_ptr<HapticRenderer> makeProxyGraph(const RendererConfig &c, int, int)
@@ -28,6 +34,8 @@ std::unique_ptr<HapticRenderer> makeMeshBvh(const RendererConfig &c, int maxWidt
 constexpr RendererEntry kTable[] = {
     // The fingertip proxy on the finger-scale surface (finger_renderer.h): the default.
     {Method::Finger, "finger", true, true, true, makeFinger},
+    // The fingertip as a ball, one proxy solve on the ball-swept surface (ball_renderer.h).
+    {Method::Ball, "ball", true, true, false, makeBall},
     // The paper's modified proxy graph, fixes (a)(b)(c) on (paper IV; renderer.h).
     {Method::Modified, "modified", true, true, true, makeProxyGraph},
     // Baseline: Walker & Salisbury's proxy graph on sample-and-hold frames, fixes off.
@@ -87,7 +95,7 @@ Result<Method> parseMethod(std::string_view text) noexcept
     if (const RendererEntry *e = findRenderer(text))
         return e->method;
     return unexpected(Errc::InvalidArgument,
-                      "unknown method (finger, modified, proxy-graph or mesh-bvh)");
+                      "unknown method (finger, ball, modified, proxy-graph or mesh-bvh)");
 }
 
 RendererConfig RendererConfig::forMethod(Method method) noexcept

@@ -12,7 +12,9 @@
 
 #include <glm/geometric.hpp>
 
+#include "depthtouch/haptics/ball_renderer.h"
 #include "depthtouch/haptics/finger_renderer.h"
+#include "depthtouch/haptics/renderer_table.h"
 #include "depthtouch/platform/percentile.h"
 
 namespace depthtouch::haptics::bench {
@@ -147,8 +149,11 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
         row.proxy = out.proxy;
         if (const auto *finger = dynamic_cast<const FingerRenderer *>(&r))
             row.state = fingerStateName(finger->state());
+        else if (const auto *ball = dynamic_cast<const BallRenderer *>(&r))
+            row.state = fingerStateName(ball->state());
         row.surfaceZ = ref.height(s.t, s.hip.x, s.hip.y);
-        if (setting.method == Method::Finger) // a fingertip reaches what is within its radius
+        // A fingertip reaches what is within its radius.
+        if (setting.method == Method::Finger || setting.method == Method::Ball)
             row.reachSurfaceZ =
                 reachHeight([&](double x, double y) { return ref.height(s.t, x, y); }, s.hip.x,
                             s.hip.y, cfg.fingerRadiusInBox());
@@ -230,7 +235,8 @@ std::vector<FeelSetting> feelSettings(const std::vector<Method> &methods)
                 return true;
         return false;
     };
-    for (Method m : {Method::Finger, Method::Modified, Method::ProxyGraph, Method::MeshBvh}) {
+    for (const RendererEntry &entry : rendererTable()) {
+        const Method m = entry.method;
         if (!wants(m))
             continue;
         RendererConfig c = RendererConfig::forMethod(m);

@@ -27,9 +27,11 @@ TEST(RendererTableTest, EveryMethodHasOneRowAndItsNameParsesBack)
         EXPECT_EQ(&rendererEntry(e.method), &e);
     }
     // The enum's four values, named as the docs and the command lines name them.
-    for (Method m : {Method::Finger, Method::Modified, Method::ProxyGraph, Method::MeshBvh})
+    for (Method m :
+         {Method::Finger, Method::Ball, Method::Modified, Method::ProxyGraph, Method::MeshBvh})
         EXPECT_EQ(methods.count(m), 1u);
-    EXPECT_EQ(names, (std::set<std::string>{"finger", "modified", "proxy-graph", "mesh-bvh"}));
+    EXPECT_EQ(names,
+              (std::set<std::string>{"finger", "ball", "modified", "proxy-graph", "mesh-bvh"}));
     EXPECT_FALSE(parseMethod("Finger"));
     EXPECT_EQ(findRenderer("god-object"), nullptr);
 }
@@ -41,8 +43,8 @@ TEST(RendererTableTest, TheDefaultRowIsFirstAndIsThePlayersAndTouchsDefault)
 
 TEST(RendererTableTest, TheMessagesListTheRowsInOrder)
 {
-    EXPECT_EQ(rendererNames(), "finger, modified, proxy-graph or mesh-bvh");
-    EXPECT_EQ(std::string(rendererChoiceWords()), "finger modified proxy-graph mesh-bvh");
+    EXPECT_EQ(rendererNames(), "finger, ball, modified, proxy-graph or mesh-bvh");
+    EXPECT_EQ(std::string(rendererChoiceWords()), "finger ball modified proxy-graph mesh-bvh");
     // parseMethod()'s static message names the same rows.
     const auto bad = parseMethod("nope");
     ASSERT_FALSE(bad);

@@ -31,6 +31,7 @@ enum class Method : std::uint8_t {
     ProxyGraph, ///< Walker & Salisbury on sample-and-hold frames: fixes off (baseline).
     MeshBvh,    ///< Full triangle mesh + AABB tree rebuilt for every frame (baseline).
     Finger,     ///< Fingertip proxy on the finger-scale surface (finger_renderer.h): the default.
+    Ball, ///< The fingertip as a ball: one proxy solve on the swept surface (ball_renderer.h).
 };
 
 /// \return "modified", "proxy-graph", "mesh-bvh" or "finger".

@@ -42,11 +42,11 @@ std::span<const RendererEntry> rendererTable() noexcept;
 const RendererEntry &rendererEntry(Method method) noexcept;
 /// \return the row named \a name, or null.
 const RendererEntry *findRenderer(std::string_view name) noexcept;
-/// \return the names joined for a message: "finger, modified, proxy-graph or mesh-bvh"
-/// (\a last "or"), or with \a separator only ("finger modified proxy-graph mesh-bvh" for a
+/// \return the names joined for a message: "finger, ball, modified, proxy-graph or mesh-bvh"
+/// (\a last "or"), or with \a separator only ("finger ball modified proxy-graph mesh-bvh" for a
 /// choice list) when \a last is empty.
 std::string rendererNames(std::string_view separator = ", ", std::string_view last = " or ");
-/// \return the names separated by spaces, "finger modified proxy-graph mesh-bvh", in storage
+/// \return the names separated by spaces, "finger ball modified proxy-graph mesh-bvh", in storage
 /// that lives as long as the program (an option table's choice list). Allocates on the first call.
 std::string_view rendererChoiceWords();
 
