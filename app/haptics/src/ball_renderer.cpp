@@ -58,7 +58,8 @@ void BallRenderer::reset(const glm::dvec3 &hip) noexcept
 }
 
 BallRenderer::Solution BallRenderer::solve(const glm::dvec3 &hip, double fromX, double fromY,
-                                           const BallPoint &start, double reach) const noexcept
+                                           const BallPoint &start, double reach,
+                                           bool hipFree) const noexcept
 {
     // f(x, y) = |(x, y) − h.xy|² + max(0, S(x, y) − h.z)² (ball_renderer.h, part 2).
     auto objective = [&hip](double x, double y, const BallPoint &b) {
@@ -100,11 +101,14 @@ BallRenderer::Solution BallRenderer::solve(const glm::dvec3 &hip, double fromX, 
         }
         return false;
     };
+    // Where the HIP is in free space at its own x–y the straight step goes first: a proxy whose
+    // way to the HIP is clear ends on it (a finger rolled off a rim), where the tangent plane of a
+    // face would only slide it along the face. Under S, the Gauss–Newton step goes first.
     for (int it = 0; it < kBallIterations && f > 0.0; ++it) {
         const double ex = x - hip.x;
         const double ey = y - hip.y;
-        bool taken = false;
-        if (s.at.height > hip.z) {
+        bool taken = hipFree && tryStep(-ex, -ey);
+        if (!taken && s.at.height > hip.z) {
             // Under S here: the Gauss–Newton step of f, −(I + g gᵀ)⁻¹ (Δ + e·g) with g = ∇S =
             // −n.xy / n.z: the HIP's projection on the tangent plane of S, moved along S.
             const double nz = std::max(s.at.normal.z, kSteepestNz);
@@ -118,7 +122,7 @@ BallRenderer::Solution BallRenderer::solve(const glm::dvec3 &hip, double fromX, 
         }
         // Above S here (beside a wall, or off the surface), or where the tangent plane does not
         // hold (S is a face, a jump the plane cannot see past): straight toward the HIP's x–y.
-        if (!taken)
+        if (!taken && !hipFree)
             taken = tryStep(-ex, -ey);
         if (!taken)
             break;
@@ -177,7 +181,8 @@ HapticOutput BallRenderer::update(const glm::dvec3 &hip, double t) noexcept
         if (wasInContact && config_.safety && patchStep(start) > field_.cutThreshold())
             c.trip = true; // a cut: the whole patch under the finger moved (fix (c))
         const double moved = std::hypot(hip.x - lastHip_.x, hip.y - lastHip_.y);
-        s = solve(hip, from.x, from.y, start, moved + (wasInContact ? p_.glideReach : p_.radius));
+        s = solve(hip, from.x, from.y, start, moved + (wasInContact ? p_.glideReach : p_.radius),
+                  !under);
     }
     const double depth = glm::length(s.proxy - hip);
     const bool inCapture = enterAnyDepth_ || depth <= p_.captureDepth || !config_.safety;

@@ -3,7 +3,7 @@
 /// wave, same HIP trajectory, same approach) without timing it, for instruction counts under
 /// valgrind's callgrind, which are free of the noise of a shared machine.
 ///
-/// Usage: `haptics_cost [--method finger|modified] [--friction] WIDTH HEIGHT SPEED [UPDATES
+/// Usage: `haptics_cost [--method finger|ball|modified] [--friction] WIDTH HEIGHT SPEED [UPDATES
 /// [REPEATS]]` (`--friction`: friction on the proxy, μs kBenchStaticFriction and μd
 /// kBenchDynamicFriction of haptics_bench.h; SPEED in m/s, 0 = still; UPDATES default 3000; the
 /// method defaults to modified). With REPEATS, the setting is replayed that many times, each update
@@ -34,6 +34,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "depthtouch/haptics/ball_renderer.h"
 #include "depthtouch/haptics/finger_renderer.h"
 #include "depthtouch/haptics/haptics_bench.h"
 #include "depthtouch/haptics/renderer.h"
@@ -175,9 +176,15 @@ void count(Tally &tally, const HapticRenderer &renderer, const HapticOutput &o,
     tally.steps += o.proxySteps;
     tally.maxVisited = std::max(tally.maxVisited, o.cellsVisited);
     tally.maxSteps = std::max(tally.maxSteps, o.proxySteps);
-    // The finger's surface is a plane fit held within r/4 of the samples (as in the bench).
-    const HeightField &surf = grid != nullptr ? grid->surface() : finger->surface();
-    const double slack = finger != nullptr ? 0.25 * finger->radius() : 1e-6 * surf.spacing();
+    // The finger's surface is a plane fit held within r/4 of the samples (as in the bench); the
+    // ball's force proxy passes the same offset filter.
+    const auto *ball = dynamic_cast<const BallRenderer *>(&renderer);
+    const HeightField &surf = grid != nullptr     ? grid->surface()
+                              : finger != nullptr ? finger->surface()
+                                                  : ball->surface();
+    const double slack = finger != nullptr ? 0.25 * finger->radius()
+                         : ball != nullptr ? 0.25 * ball->parameters().radius
+                                           : 1e-6 * surf.spacing();
     if (surf.contains(o.proxy.x, o.proxy.y) &&
         o.proxy.z < surf.heightAt(o.proxy.x, o.proxy.y) - slack)
         ++tally.pops;

@@ -108,8 +108,9 @@ private:
     };
     /// Part 2: the proxy from \a fromX, \a fromY (m; the last proxy's x–y, or the HIP's), whose
     /// swept surface is \a start, for the HIP \a hip; the x–y moves at most \a reach, m.
+    /// \a hipFree: the HIP is not under S at its own x–y (the straight step is tried first).
     [[nodiscard]] Solution solve(const glm::dvec3 &hip, double fromX, double fromY,
-                                 const BallPoint &start, double reach) const noexcept;
+                                 const BallPoint &start, double reach, bool hipFree) const noexcept;
     /// \return the median over the taps measured in both of |now − then|, m (0 where none is):
     /// how far the patch under the proxy moved since the last update. A cut moves all of it; an
     /// object's silhouette crossing the ball moves some taps only.
