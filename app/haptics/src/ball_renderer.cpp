@@ -26,9 +26,8 @@ constexpr double kSteepestNz = 1e-3;
 } // namespace
 
 BallRenderer::BallRenderer(const RendererConfig &config) noexcept
-    : config_(config), field_(config.box), p_(fingerParameters(config)),
-      ball_(p_.radius, p_.pushDepth), output_(config, p_),
-      friction_(config.staticFriction, config.dynamicFriction)
+    : config_(config), field_(config.box), p_(fingerParameters(config)), ball_(p_.radius),
+      output_(config, p_), friction_(config.staticFriction, config.dynamicFriction)
 {
     field_.setCutThreshold(config.cutThreshold);
 }
@@ -62,17 +61,17 @@ BallRenderer::Solution BallRenderer::solve(const glm::dvec3 &hip, double fromX, 
                                            bool hipFree) const noexcept
 {
     // f(x, y) = |(x, y) − h.xy|² + max(0, S(x, y) − h.z)² (ball_renderer.h, part 2).
-    auto objective = [&hip](double x, double y, const BallPoint &b) {
+    auto objective = [&hip](double x, double y, double height) {
         const double dx = x - hip.x;
         const double dy = y - hip.y;
-        const double e = b.height > hip.z ? b.height - hip.z : 0.0; // 0 for NaN: nothing holds
+        const double e = height > hip.z ? height - hip.z : 0.0; // 0 for NaN: nothing holds
         return dx * dx + dy * dy + e * e;
     };
     Solution s;
     double x = fromX;
     double y = fromY;
-    s.at = start;
-    double f = objective(x, y, s.at);
+    double height = start.height; // S at (x, y)
+    double f = objective(x, y, height);
     // Tries the step (sx, sy), then half of it: \return whether either lowered f.
     auto tryStep = [&](double sx, double sy) {
         // A step reaches at most r (the ball's own disc); the whole solve at most \a reach.
@@ -89,12 +88,12 @@ BallRenderer::Solution BallRenderer::solve(const glm::dvec3 &hip, double fromX, 
                 cx = fromX + (cx - fromX) * (reach / far);
                 cy = fromY + (cy - fromY) * (reach / far);
             }
-            const BallPoint at = ball_.at(field_, cx, cy);
-            const double fc = objective(cx, cy, at);
+            const double hc = ball_.height(field_, cx, cy);
+            const double fc = objective(cx, cy, hc);
             if (fc < f) {
                 x = cx;
                 y = cy;
-                s.at = at;
+                height = hc;
                 f = fc;
                 return true;
             }
@@ -104,30 +103,45 @@ BallRenderer::Solution BallRenderer::solve(const glm::dvec3 &hip, double fromX, 
     // Where the HIP is in free space at its own x–y the straight step goes first: a proxy whose
     // way to the HIP is clear ends on it (a finger rolled off a rim), where the tangent plane of a
     // face would only slide it along the face. Under S, the Gauss–Newton step goes first.
+    glm::dvec3 n = start.normal;
+    bool normalAtXY = true;
     for (int it = 0; it < kBallIterations && f > 0.0; ++it) {
         const double ex = x - hip.x;
         const double ey = y - hip.y;
         bool taken = hipFree && tryStep(-ex, -ey);
-        if (!taken && s.at.height > hip.z) {
+        if (!taken && height > hip.z) {
             // Under S here: the Gauss–Newton step of f, −(I + g gᵀ)⁻¹ (Δ + e·g) with g = ∇S =
             // −n.xy / n.z: the HIP's projection on the tangent plane of S, moved along S.
-            const double nz = std::max(s.at.normal.z, kSteepestNz);
-            const double gx = -s.at.normal.x / nz;
-            const double gy = -s.at.normal.y / nz;
-            const double e = s.at.height - hip.z;
+            if (!normalAtXY)
+                n = ball_.normal(field_, x, y, height);
+            const double nz = std::max(n.z, kSteepestNz);
+            const double gx = -n.x / nz;
+            const double gy = -n.y / nz;
+            const double e = height - hip.z;
             const double rx = ex + e * gx;
             const double ry = ey + e * gy;
             const double gr = (gx * rx + gy * ry) / (1.0 + gx * gx + gy * gy);
+            const double ox = x;
+            const double oy = y;
             taken = tryStep(-(rx - gx * gr), -(ry - gy * gr));
+            normalAtXY = !taken || (x == ox && y == oy);
         }
         // Above S here (beside a wall, or off the surface), or where the tangent plane does not
         // hold (S is a face, a jump the plane cannot see past): straight toward the HIP's x–y.
         if (!taken && !hipFree)
             taken = tryStep(-ex, -ey);
-        if (!taken)
+        if (taken)
+            normalAtXY = false;
+        else
             break;
     }
-    s.proxy = {x, y, s.at.height > hip.z ? s.at.height : hip.z};
+    if (x == fromX && y == fromY) {
+        s.at = start;
+    } else {
+        s.at.height = ball_.height(field_, x, y, s.at.taps); // the taps, for the next cut test
+        s.at.normal = n;
+    }
+    s.proxy = {x, y, height > hip.z ? height : hip.z};
     return s;
 }
 
@@ -171,7 +185,7 @@ HapticOutput BallRenderer::update(const glm::dvec3 &hip, double t) noexcept
     c.hipMove = hip - lastHip_;
     const bool over = field_.contains(hip.x, hip.y);
     const double raw = over ? field_.heightAt(hip.x, hip.y) : std::nan("");
-    const bool under = over && ball_.at(field_, hip.x, hip.y).height > hip.z; // false for NaN
+    const bool under = over && ball_.height(field_, hip.x, hip.y) > hip.z; // false for NaN
     // Where the solve starts: the last proxy in contact (fix (a): on the surface now), else the
     // last HIP (a finger that came from the side under a face meets the face).
     const glm::dvec3 &from = wasInContact && config_.correction ? surfaceProxy_ : lastHip_;

@@ -47,8 +47,8 @@
 /// under a resting finger (a typing hand, a turning head) pushes it out at a bounded rate.
 ///
 /// Every threshold is a row of FingerParameters (fingerParameters(): capture, step, push and
-/// unload depths from the force step and k at construction; the glide reach from r); the ball's
-/// softness is pushDepth. A stiffness change changes forces, not when contact exists.
+/// unload depths from the force step and k at construction; the glide reach from r). A stiffness
+/// change changes forces, not when contact exists.
 ///
 /// Fixes: (a) the proxy starts each update from the last on the surface now, so a rising surface
 /// lifts it; (b) HeightField's Eq. 1; (c) a cut under the finger (the median of the taps' steps

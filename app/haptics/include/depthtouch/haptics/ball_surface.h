@@ -22,11 +22,9 @@
 /// read by HeightField::heightAt() (bilinear in space, paper Eq. 1 in time). Along a ray the
 /// surface is taken as linear between taps, and the highest point of H + √(r² − ρ²) − r on each
 /// segment is found in closed form (where the ball's underside has the segment's slope), so S
-/// moves continuously as an edge passes between taps instead of stepping by the ring's lift. The
-/// normal is the mean of those points' contact normals (from the point to the ball's centre)
-/// weighted by how near each comes to holding the ball, 1 at the highest and 0 a softness τ
-/// below it: as the ball rolls from one rim onto the next, or rests on two, the normal turns
-/// continuously instead of stepping.
+/// moves continuously as an edge passes between taps instead of stepping by a ring's lift. The
+/// normal is S's own gradient, by differences: exact on a plane whatever the taps' pattern (a
+/// normal averaged over the taps' contacts leant toward +z by half the slope's angle).
 ///
 /// Units: m; positions in the scene-box frame (docs/architecture.md §3), z toward the viewer.
 /// Thread-safety: BallSurface is immutable after construction; at() is reentrant and real-time
@@ -63,21 +61,29 @@ struct BallPoint {
 class BallSurface {
 public:
     /// \param radius the ball's radius r, m (> 0).
-    /// \param softness τ, m (> 0): a tap this far under the highest no longer turns the normal.
-    BallSurface(double radius, double softness) noexcept;
+    explicit BallSurface(double radius) noexcept;
 
     /// \return the swept surface at (\a x, \a y) (m, box frame) over \a field at the time it was
-    /// last set to (HeightField::setTime()).
+    /// last set to (HeightField::setTime()): its height, normal and taps (5 sweeps).
     [[nodiscard]] BallPoint at(const HeightField &field, double x, double y) const noexcept;
+    /// \return S(\a x, \a y), m; NaN where no tap is measured (one sweep).
+    [[nodiscard]] double height(const HeightField &field, double x, double y) const noexcept;
+    /// \return S(\a x, \a y) as height(), with the taps' heights H in \a taps (m, NaN where not
+    /// measured).
+    double height(const HeightField &field, double x, double y,
+                  std::array<double, kBallTaps> &taps) const noexcept;
+    /// \return the outward unit normal of S at (\a x, \a y), where S is \a s (m): its gradient by
+    /// central differences over ±r/6 (four sweeps); +z where \a s is NaN.
+    [[nodiscard]] glm::dvec3 normal(const HeightField &field, double x, double y,
+                                    double s) const noexcept;
 
     [[nodiscard]] double radius() const noexcept { return radius_; }
 
 private:
-    double radius_;
-    double softness_;
     /// \return √(r² − ρ²) − r: the ball's underside at ρ from its axis, m.
     [[nodiscard]] double lift(double rho) const noexcept;
 
+    double radius_;
     std::array<glm::dvec2, 12> direction_{}; ///< Each ray's unit x–y direction.
 };
 
