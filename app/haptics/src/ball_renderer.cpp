@@ -61,7 +61,7 @@ BallRenderer::Solution BallRenderer::solve(const glm::dvec3 &hip, double fromX, 
                                            bool hipFree) const noexcept
 {
     // f(x, y) = |(x, y) − h.xy|² + max(0, S(x, y) − h.z)² (ball_renderer.h, part 2).
-    auto objective = [&hip](double x, double y, double height) {
+    auto objective = [&hip](double x, double y, double height) noexcept {
         const double dx = x - hip.x;
         const double dy = y - hip.y;
         const double e = height > hip.z ? height - hip.z : 0.0; // 0 for NaN: nothing holds
@@ -70,94 +70,112 @@ BallRenderer::Solution BallRenderer::solve(const glm::dvec3 &hip, double fromX, 
     Solution s;
     double x = fromX;
     double y = fromY;
-    double height = start.height; // S at (x, y)
-    double f = objective(x, y, height);
-    // Tries the step (sx, sy), then half of it: \return whether either lowered f.
-    auto tryStep = [&](double sx, double sy) {
-        // A step reaches at most r (the ball's own disc); the whole solve at most \a reach.
-        const double step = std::hypot(sx, sy);
-        if (step > p_.radius) {
-            sx *= p_.radius / step;
-            sy *= p_.radius / step;
-        }
-        for (const double share : {1.0, 0.5}) {
-            double cx = x + share * sx;
-            double cy = y + share * sy;
-            const double far = std::hypot(cx - fromX, cy - fromY);
-            if (far > reach) {
-                cx = fromX + (cx - fromX) * (reach / far);
-                cy = fromY + (cy - fromY) * (reach / far);
-            }
-            const double hc = ball_.height(field_, cx, cy);
-            const double fc = objective(cx, cy, hc);
-            if (fc < f) {
-                x = cx;
-                y = cy;
-                height = hc;
-                f = fc;
-                return true;
-            }
-        }
-        return false;
+    s.at = start;
+    double f = objective(x, y, s.at.height);
+    // One trial point: the step (sx, sy) by \a share from (x, y), within r (the ball's own disc)
+    // and the whole solve within \a reach of where it started.
+    struct Trial {
+        double x, y, f;
+        BallPoint at;
     };
-    // Where the HIP is in free space at its own x–y the straight step goes first: a proxy whose
-    // way to the HIP is clear ends on it (a finger rolled off a rim), where the tangent plane of a
-    // face would only slide it along the face. Under S, the Gauss–Newton step goes first.
-    glm::dvec3 n = start.normal;
-    bool normalAtXY = true;
+    auto trial = [&](double sx, double sy, double share) {
+        const double step = std::hypot(sx, sy);
+        const double scale = share * (step > p_.radius ? p_.radius / step : 1.0);
+        double cx = x + scale * sx;
+        double cy = y + scale * sy;
+        const double far = std::hypot(cx - fromX, cy - fromY);
+        if (far > reach) {
+            cx = fromX + (cx - fromX) * (reach / far);
+            cy = fromY + (cy - fromY) * (reach / far);
+        }
+        Trial t{cx, cy, 0.0, ball_.at(field_, cx, cy)};
+        t.f = objective(cx, cy, t.at.height);
+        return t;
+    };
+    // Two steps: the Gauss–Newton step on the tangent plane of S (where the proxy is under S) and
+    // the straight step toward the HIP's x–y (the descent of |Δ|², f's other term). The
+    // Gauss–Newton step goes first and is taken where f falls by at least a quarter of what the
+    // tangent plane predicts (the trust-region test; Nocedal & Wright, "Numerical Optimization",
+    // ch. 4). Where it does not (S is a face, or curves away within the step) or the HIP is free
+    // at its own x–y (its way may be clear), the straight step is tried too and the lower f taken:
+    // the proxy rolls off a rim, or onto a top that has come nearer than a face. Neither lowering
+    // f, their halves; neither again, or a step under a fifth of a pixel, the solve has converged.
+    const double settle = 0.2 * field_.spacing();
     for (int it = 0; it < kBallIterations && f > 0.0; ++it) {
         const double ex = x - hip.x;
         const double ey = y - hip.y;
-        bool taken = hipFree && tryStep(-ex, -ey);
-        if (!taken && height > hip.z) {
-            // Under S here: the Gauss–Newton step of f, −(I + g gᵀ)⁻¹ (Δ + e·g) with g = ∇S =
-            // −n.xy / n.z: the HIP's projection on the tangent plane of S, moved along S.
-            if (!normalAtXY)
-                n = ball_.normal(field_, x, y, height);
+        double gnx = 0.0;
+        double gny = 0.0;
+        double predicted = f; // f after the Gauss–Newton step, on the tangent plane
+        const bool under = s.at.height > hip.z;
+        if (under) {
+            // −(I + g gᵀ)⁻¹ (Δ + e·g), g = ∇S = −n.xy / n.z: the HIP's projection on the plane.
+            const glm::dvec3 &n = s.at.normal;
             const double nz = std::max(n.z, kSteepestNz);
             const double gx = -n.x / nz;
             const double gy = -n.y / nz;
-            const double e = height - hip.z;
+            const double e = s.at.height - hip.z;
             const double rx = ex + e * gx;
             const double ry = ey + e * gy;
             const double gr = (gx * rx + gy * ry) / (1.0 + gx * gx + gy * gy);
-            const double ox = x;
-            const double oy = y;
-            taken = tryStep(-(rx - gx * gr), -(ry - gy * gr));
-            normalAtXY = !taken || (x == ox && y == oy);
+            gnx = -(rx - gx * gr);
+            gny = -(ry - gy * gr);
+            const double lx = ex + gnx;
+            const double ly = ey + gny;
+            const double le = std::max(0.0, e + gx * gnx + gy * gny);
+            predicted = lx * lx + ly * ly + le * le;
         }
-        // Above S here (beside a wall, or off the surface), or where the tangent plane does not
-        // hold (S is a face, a jump the plane cannot see past): straight toward the HIP's x–y.
-        if (!taken && !hipFree)
-            taken = tryStep(-ex, -ey);
-        if (taken)
-            normalAtXY = false;
-        else
+        const bool newtonMoves = under && std::hypot(gnx, gny) > settle;
+        const bool straightMoves = std::hypot(ex, ey) > settle;
+        if (!straightMoves && !newtonMoves)
             break;
+        Trial best{x, y, f, {}};
+        bool found = false;
+        for (const double share : {1.0, 0.5}) {
+            bool trusted = false;
+            if (newtonMoves) {
+                Trial newton = trial(gnx, gny, share);
+                trusted = f - newton.f >= 0.25 * share * (f - predicted);
+                if (newton.f < best.f) {
+                    best = newton;
+                    found = true;
+                }
+            }
+            if (straightMoves && (!trusted || hipFree || !under)) {
+                Trial straight = trial(-ex, -ey, share);
+                if (straight.f < best.f) {
+                    best = straight;
+                    found = true;
+                }
+            }
+            if (found)
+                break;
+        }
+        if (!found)
+            break;
+        x = best.x;
+        y = best.y;
+        f = best.f;
+        s.at = best.at;
     }
-    if (x == fromX && y == fromY) {
-        s.at = start;
-    } else {
-        s.at.height = ball_.height(field_, x, y, s.at.taps); // the taps, for the next cut test
-        s.at.normal = n;
-    }
-    s.proxy = {x, y, height > hip.z ? height : hip.z};
+    s.proxy = {x, y, s.at.height > hip.z ? s.at.height : hip.z};
     return s;
 }
 
 double BallRenderer::patchStep(const BallPoint &now) const noexcept
 {
+    // A tap that is or was a hole, or on a hole's cliff (HeightField::besideHole()), moved 0: a
+    // hole opening or closing is no cut (as the finger's stencilStep()); on time-of-flight depth
+    // most of the disc may be holes, and the few taps left were the moving hand's.
     std::array<double, kBallTaps> moved{};
-    std::size_t n = 0;
     for (std::size_t i = 0; i < kBallTaps; ++i) {
-        const double d = std::fabs(now.taps[i] - lastTaps_[i]);
-        if (d == d)
-            moved[n++] = d;
+        const double a = now.taps[i];
+        const double b = lastTaps_[i];
+        const bool both = a == a && b == b && !field_.besideHole(a) && !field_.besideHole(b);
+        moved[i] = both ? std::fabs(a - b) : 0.0;
     }
-    if (n == 0)
-        return 0.0;
-    const auto mid = moved.begin() + static_cast<std::ptrdiff_t>(n / 2);
-    std::nth_element(moved.begin(), mid, moved.begin() + static_cast<std::ptrdiff_t>(n));
+    const auto mid = moved.begin() + kBallTaps / 2;
+    std::nth_element(moved.begin(), mid, moved.end());
     return *mid;
 }
 
@@ -185,7 +203,7 @@ HapticOutput BallRenderer::update(const glm::dvec3 &hip, double t) noexcept
     c.hipMove = hip - lastHip_;
     const bool over = field_.contains(hip.x, hip.y);
     const double raw = over ? field_.heightAt(hip.x, hip.y) : std::nan("");
-    const bool under = over && ball_.height(field_, hip.x, hip.y) > hip.z; // false for NaN
+    const bool under = over && ball_.at(field_, hip.x, hip.y).height > hip.z; // false for NaN
     // Where the solve starts: the last proxy in contact (fix (a): on the surface now), else the
     // last HIP (a finger that came from the side under a face meets the face).
     const glm::dvec3 &from = wasInContact && config_.correction ? surfaceProxy_ : lastHip_;

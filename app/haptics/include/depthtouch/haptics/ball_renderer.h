@@ -14,9 +14,10 @@
 ///
 ///        f(x, y) = |(x, y) − h.xy|² + max(0, S(x, y) − h.z)²,
 ///
-///    by Gauss–Newton steps (the step that projects h on the tangent plane of S; straight toward
-///    h.xy where the proxy is above S, against a wall) from the last proxy, each step taken only
-///    where it lowers f (halved once, else the solve stops), at most kBallIterations steps, and
+///    from the last proxy by steps each taken only where it lowers f: the better of the
+///    Gauss–Newton step (the HIP's projection on the tangent plane of S) and the straight step
+///    toward h.xy (which rolls the proxy off a face's rim or up onto a nearer top), halved once,
+///    else the solve has converged; at most kBallIterations steps, and
 ///    the whole solve moving the proxy's x–y at most the HIP's own motion plus r/4
 ///    (FingerParameters::glideReach): the variable proxy step of Rydén & Chizeck (2013), so a jump
 ///    of the optimum is a glide. A descent that only goes down from where it was cannot take
@@ -55,7 +56,8 @@
 /// since the last update over HeightField::cutThreshold()) trips RendererConfig::reengage's
 /// re-engagement. Friction and material tracks as the finger renderer (friction.h).
 ///
-/// Cost: (2 + kBallIterations) swept-surface queries at most, 37 height lookups each.
+/// Cost: at most 3 + 4·kBallIterations swept-surface queries (BallSurface::at(), kBallTaps height
+/// lookups each); on a smooth surface, 4 to 6.
 /// Units: m, N, s; positions in the scene-box frame (docs/architecture.md §3).
 /// Thread-safety: thread-bound (the haptic thread); update() never allocates, locks or throws.
 /// Source: docs/benchmarks.md, "The ball fingertip", for what it measures against the finger.
@@ -108,10 +110,10 @@ private:
     };
     /// Part 2: the proxy from \a fromX, \a fromY (m; the last proxy's x–y, or the HIP's), whose
     /// swept surface is \a start, for the HIP \a hip; the x–y moves at most \a reach, m.
-    /// \a hipFree: the HIP is not under S at its own x–y (the straight step is tried first).
+    /// \a hipFree: the HIP is not under S at its own x–y (its way may be clear).
     [[nodiscard]] Solution solve(const glm::dvec3 &hip, double fromX, double fromY,
                                  const BallPoint &start, double reach, bool hipFree) const noexcept;
-    /// \return the median over the taps measured in both of |now − then|, m (0 where none is):
+    /// \return the median over the taps of |now − then|, m (0 for a tap that is or was a hole):
     /// how far the patch under the proxy moved since the last update. A cut moves all of it; an
     /// object's silhouette crossing the ball moves some taps only.
     [[nodiscard]] double patchStep(const BallPoint &now) const noexcept;

@@ -18,17 +18,19 @@
 /// front of the step. Holes and pixels off the frame are unknown: they hold the ball nowhere
 /// (not as free space at a hole's border cliff: no tap of a hole counts at all).
 ///
-/// The disc is sampled on 12 rays of 3 taps (at r/3, 2r/3 and r) and its centre, 37 taps, each
-/// read by HeightField::heightAt() (bilinear in space, paper Eq. 1 in time). Along a ray the
-/// surface is taken as linear between taps, and the highest point of H + √(r² − ρ²) − r on each
-/// segment is found in closed form (where the ball's underside has the segment's slope), so S
-/// moves continuously as an edge passes between taps instead of stepping by a ring's lift. The
-/// normal is S's own gradient, by differences: exact on a plane whatever the taps' pattern (a
-/// normal averaged over the taps' contacts leant toward +z by half the slope's angle).
+/// The disc is sampled on 8 rays of 2 taps (at r/2 and r) and its centre, 17 taps, each read by
+/// HeightField::heightAt() (bilinear in space, paper Eq. 1 in time). Along a ray the surface is
+/// taken as linear between taps, and the highest point of H + √(r² − ρ²) − r on each segment is
+/// found in closed form (where the ball's underside has the segment's slope), so S moves
+/// continuously as an edge passes between taps instead of stepping by a ring's lift. The normal
+/// is that of the least-squares plane through the same taps: on a plane exactly S's (S is then
+/// the plane lifted by a constant), straight up where the ball rests on two rims alike, turned
+/// away from a step that stands in the disc (a mean of the taps' contact normals leant toward +z
+/// by half a slope's angle; S's own gradient by differences cost four more sweeps).
 ///
 /// Units: m; positions in the scene-box frame (docs/architecture.md §3), z toward the viewer.
 /// Thread-safety: BallSurface is immutable after construction; at() is reentrant and real-time
-/// safe (no allocation, fixed work: 37 height lookups).
+/// safe (no allocation, fixed work: kBallTaps height lookups).
 
 #include <array>
 #include <cstddef>
@@ -40,8 +42,11 @@
 
 namespace depthtouch::haptics {
 
-/// The taps of the ball's disc: the centre and 12 rays of 3.
-inline constexpr std::size_t kBallTaps = 37;
+/// The rays of taps out from the ball's axis, and the taps on each (at r/2 and r).
+inline constexpr std::size_t kBallRays = 8;
+inline constexpr std::size_t kBallPerRay = 2;
+/// The taps of the ball's disc: its centre and the rays'.
+inline constexpr std::size_t kBallTaps = 1 + kBallRays * kBallPerRay;
 
 /// \brief The swept surface at one x–y (BallSurface::at()).
 struct BallPoint {
@@ -64,18 +69,8 @@ public:
     explicit BallSurface(double radius) noexcept;
 
     /// \return the swept surface at (\a x, \a y) (m, box frame) over \a field at the time it was
-    /// last set to (HeightField::setTime()): its height, normal and taps (5 sweeps).
+    /// last set to (HeightField::setTime()): its height, normal and taps (kBallTaps lookups).
     [[nodiscard]] BallPoint at(const HeightField &field, double x, double y) const noexcept;
-    /// \return S(\a x, \a y), m; NaN where no tap is measured (one sweep).
-    [[nodiscard]] double height(const HeightField &field, double x, double y) const noexcept;
-    /// \return S(\a x, \a y) as height(), with the taps' heights H in \a taps (m, NaN where not
-    /// measured).
-    double height(const HeightField &field, double x, double y,
-                  std::array<double, kBallTaps> &taps) const noexcept;
-    /// \return the outward unit normal of S at (\a x, \a y), where S is \a s (m): its gradient by
-    /// central differences over ±r/6 (four sweeps); +z where \a s is NaN.
-    [[nodiscard]] glm::dvec3 normal(const HeightField &field, double x, double y,
-                                    double s) const noexcept;
 
     [[nodiscard]] double radius() const noexcept { return radius_; }
 
@@ -84,7 +79,7 @@ private:
     [[nodiscard]] double lift(double rho) const noexcept;
 
     double radius_;
-    std::array<glm::dvec2, 12> direction_{}; ///< Each ray's unit x–y direction.
+    std::array<glm::dvec2, kBallRays> direction_{}; ///< Each ray's unit x–y direction.
 };
 
 } // namespace depthtouch::haptics
