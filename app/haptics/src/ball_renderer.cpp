@@ -72,6 +72,12 @@ BallRenderer::Solution BallRenderer::solve(const glm::dvec3 &hip, double fromX, 
     double y = fromY;
     s.at = start;
     double f = objective(x, y, s.at.height);
+    if (hipFree && clearPath(glm::dvec3(x, y, std::max(s.at.height, hip.z)), hip)) {
+        // The god-object's own rule: a proxy whose way to the HIP is clear goes to it, however far
+        // (the reach bounds a move along the surface, not a release into free space).
+        s.proxy = hip;
+        return s;
+    }
     // One trial point: the step (sx, sy) by \a share from (x, y), within r (the ball's own disc)
     // and the whole solve within \a reach of where it started.
     struct Trial {
@@ -160,6 +166,19 @@ BallRenderer::Solution BallRenderer::solve(const glm::dvec3 &hip, double fromX, 
     }
     s.proxy = {x, y, s.at.height > hip.z ? s.at.height : hip.z};
     return s;
+}
+
+bool BallRenderer::clearPath(const glm::dvec3 &from, const glm::dvec3 &to) const noexcept
+{
+    // The segment from the proxy to the HIP (the HIP itself is known free) at a third and two
+    // thirds: the ball's lowest point there above S. A ridge narrower than a third of the path
+    // and the ball together can be missed: at 1 m/s the path is 1 mm an update.
+    for (const double share : {1.0 / 3.0, 2.0 / 3.0}) {
+        const glm::dvec3 p = from + share * (to - from);
+        if (ball_.at(field_, p.x, p.y).height > p.z)
+            return false;
+    }
+    return true;
 }
 
 double BallRenderer::patchStep(const BallPoint &now) const noexcept

@@ -14,15 +14,17 @@
 ///
 ///        f(x, y) = |(x, y) − h.xy|² + max(0, S(x, y) − h.z)²,
 ///
-///    from the last proxy by steps each taken only where it lowers f: the better of the
-///    Gauss–Newton step (the HIP's projection on the tangent plane of S) and the straight step
-///    toward h.xy (which rolls the proxy off a face's rim or up onto a nearer top), halved once,
-///    else the solve has converged; at most kBallIterations steps, and
-///    the whole solve moving the proxy's x–y at most the HIP's own motion plus r/4
-///    (FingerParameters::glideReach): the variable proxy step of Rydén & Chizeck (2013), so a jump
-///    of the optimum is a glide. A descent that only goes down from where it was cannot take
-///    turns between two solutions. Walls, gliding and the rim a finger rolls off come out of
-///    this one formulation, with no rule of their own.
+///    from the last proxy by steps each taken only where it lowers f: the Gauss–Newton step (the
+///    HIP's projection on the tangent plane of S), and where the plane's prediction fails (a face,
+///    a rim) or the HIP is free at its own x–y also the straight step toward h.xy, the lower f
+///    taken; halved once, else the solve has converged; at most kBallIterations steps (Nocedal &
+///    Wright, "Numerical Optimization", ch. 4, the trust-region test). The whole solve moves the
+///    proxy's x–y at most the HIP's own motion plus r/4 (FingerParameters::glideReach): the
+///    variable proxy step of Rydén & Chizeck (2013), so a jump of the optimum is a glide. A HIP
+///    free at its own x–y whose way from the proxy is clear (clearPath()) is reached at once: the
+///    bound is for moves along the surface. A descent that only goes down from where it was
+///    cannot take turns between two solutions. Walls, gliding and the rim a finger rolls off come
+///    out of this one formulation, with no rule of their own.
 /// 3. **State** (FingerState, three of its values): one enum, one guard per transition:
 ///
 ///        ┌──────┐ h under S, depth ≤ captureDepth (inCapture) ┌──────────┐
@@ -113,6 +115,9 @@ private:
     /// \a hipFree: the HIP is not under S at its own x–y (its way may be clear).
     [[nodiscard]] Solution solve(const glm::dvec3 &hip, double fromX, double fromY,
                                  const BallPoint &start, double reach, bool hipFree) const noexcept;
+    /// \return whether the ball's lowest point goes from \a from to \a to (m) above S: sampled at a
+    /// third and two thirds of the way (the HIP \a to is known free).
+    [[nodiscard]] bool clearPath(const glm::dvec3 &from, const glm::dvec3 &to) const noexcept;
     /// \return the median over the taps of |now − then|, m (0 for a tap that is or was a hole):
     /// how far the patch under the proxy moved since the last update. A cut moves all of it; an
     /// object's silhouette crossing the ball moves some taps only.
