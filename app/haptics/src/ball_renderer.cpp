@@ -23,6 +23,40 @@ constexpr double kOnHip = 1e-9;
 /// against a wall's edge at its equator) is a face to slide along, whose slope is this steep.
 constexpr double kSteepestNz = 1e-3;
 
+/// \return f(x, y) = |(x, y) − h.xy|² + max(0, S − h.z)² for \a height S there (ball_renderer.h,
+/// part 2), m²; a NaN S (nothing measured) holds nothing.
+double objective(const glm::dvec3 &hip, double x, double y, double height) noexcept
+{
+    const double dx = x - hip.x;
+    const double dy = y - hip.y;
+    const double e = height > hip.z ? height - hip.z : 0.0;
+    return dx * dx + dy * dy + e * e;
+}
+
+/// \return the Gauss–Newton step of f at (\a x, \a y) (m, x–y), where S is \a at and above the
+/// HIP: −(I + g gᵀ)⁻¹ (Δ + e·g), g = ∇S = −n.xy / n.z, the HIP's projection on the tangent plane
+/// moved along it; \a predicted is f after it on that plane, m².
+glm::dvec2 newtonStep(const glm::dvec3 &hip, double x, double y, const BallPoint &at,
+                      double &predicted) noexcept
+{
+    const glm::dvec3 &n = at.normal;
+    const double nz = std::max(n.z, kSteepestNz);
+    const double gx = -n.x / nz;
+    const double gy = -n.y / nz;
+    const double ex = x - hip.x;
+    const double ey = y - hip.y;
+    const double e = at.height - hip.z;
+    const double rx = ex + e * gx;
+    const double ry = ey + e * gy;
+    const double gr = (gx * rx + gy * ry) / (1.0 + gx * gx + gy * gy);
+    const glm::dvec2 step(-(rx - gx * gr), -(ry - gy * gr));
+    const double lx = ex + step.x;
+    const double ly = ey + step.y;
+    const double le = std::max(0.0, e + gx * step.x + gy * step.y);
+    predicted = lx * lx + ly * ly + le * le;
+    return step;
+}
+
 } // namespace
 
 BallRenderer::BallRenderer(const RendererConfig &config) noexcept
@@ -60,18 +94,11 @@ BallRenderer::Solution BallRenderer::solve(const glm::dvec3 &hip, double fromX, 
                                            const BallPoint &start, double reach,
                                            bool hipFree) const noexcept
 {
-    // f(x, y) = |(x, y) − h.xy|² + max(0, S(x, y) − h.z)² (ball_renderer.h, part 2).
-    auto objective = [&hip](double x, double y, double height) noexcept {
-        const double dx = x - hip.x;
-        const double dy = y - hip.y;
-        const double e = height > hip.z ? height - hip.z : 0.0; // 0 for NaN: nothing holds
-        return dx * dx + dy * dy + e * e;
-    };
     Solution s;
     double x = fromX;
     double y = fromY;
     s.at = start;
-    double f = objective(x, y, s.at.height);
+    double f = objective(hip, x, y, s.at.height);
     if (hipFree && clearPath(glm::dvec3(x, y, std::max(s.at.height, hip.z)), hip)) {
         // The god-object's own rule: a proxy whose way to the HIP is clear goes to it, however far
         // (the reach bounds a move along the surface, not a release into free space).
@@ -95,7 +122,7 @@ BallRenderer::Solution BallRenderer::solve(const glm::dvec3 &hip, double fromX, 
             cy = fromY + (cy - fromY) * (reach / far);
         }
         Trial t{cx, cy, 0.0, ball_.at(field_, cx, cy)};
-        t.f = objective(cx, cy, t.at.height);
+        t.f = objective(hip, cx, cy, t.at.height);
         return t;
     };
     // Two steps: the Gauss–Newton step on the tangent plane of S (where the proxy is under S) and
@@ -110,27 +137,11 @@ BallRenderer::Solution BallRenderer::solve(const glm::dvec3 &hip, double fromX, 
     for (int it = 0; it < kBallIterations && f > 0.0; ++it) {
         const double ex = x - hip.x;
         const double ey = y - hip.y;
-        double gnx = 0.0;
-        double gny = 0.0;
         double predicted = f; // f after the Gauss–Newton step, on the tangent plane
         const bool under = s.at.height > hip.z;
-        if (under) {
-            // −(I + g gᵀ)⁻¹ (Δ + e·g), g = ∇S = −n.xy / n.z: the HIP's projection on the plane.
-            const glm::dvec3 &n = s.at.normal;
-            const double nz = std::max(n.z, kSteepestNz);
-            const double gx = -n.x / nz;
-            const double gy = -n.y / nz;
-            const double e = s.at.height - hip.z;
-            const double rx = ex + e * gx;
-            const double ry = ey + e * gy;
-            const double gr = (gx * rx + gy * ry) / (1.0 + gx * gx + gy * gy);
-            gnx = -(rx - gx * gr);
-            gny = -(ry - gy * gr);
-            const double lx = ex + gnx;
-            const double ly = ey + gny;
-            const double le = std::max(0.0, e + gx * gnx + gy * gny);
-            predicted = lx * lx + ly * ly + le * le;
-        }
+        const glm::dvec2 gn = under ? newtonStep(hip, x, y, s.at, predicted) : glm::dvec2{};
+        const double gnx = gn.x;
+        const double gny = gn.y;
         const bool newtonMoves = under && std::hypot(gnx, gny) > settle;
         const bool straightMoves = std::hypot(ex, ey) > settle;
         if (!straightMoves && !newtonMoves)
@@ -263,16 +274,21 @@ HapticOutput BallRenderer::update(const glm::dvec3 &hip, double t) noexcept
     out.contact = c.contact;
     out.released = c.trip;
     out.constraints = c.contact ? 1 : 0;
-    // What the next update starts from.
-    state_ = c.contact ? FingerState::Touching : under ? FingerState::Behind : FingerState::Free;
+    remember(hip, c.contact, under, s, goal);
+    return out;
+}
+
+void BallRenderer::remember(const glm::dvec3 &hip, bool contact, bool under, const Solution &s,
+                            const glm::dvec3 &goal) noexcept
+{
+    state_ = contact ? FingerState::Touching : under ? FingerState::Behind : FingerState::Free;
     lastHip_ = hip;
-    surfaceProxy_ = c.contact ? s.proxy : hip;
-    lastDepth_ = c.contact ? glm::length(goal - hip) : 0.0;
+    surfaceProxy_ = contact ? s.proxy : hip;
+    lastDepth_ = contact ? glm::length(goal - hip) : 0.0;
     lastTaps_ = s.at.taps;
-    if (!c.contact)
+    if (!contact)
         lastTaps_.fill(std::nan(""));
     enterAnyDepth_ = false;
-    return out;
 }
 
 } // namespace depthtouch::haptics

@@ -122,6 +122,11 @@ private:
     /// how far the patch under the proxy moved since the last update. A cut moves all of it; an
     /// object's silhouette crossing the ball moves some taps only.
     [[nodiscard]] double patchStep(const BallPoint &now) const noexcept;
+    /// What the next update starts from (part 3's state and the solve's end): the HIP \a hip, the
+    /// update's \a contact, the HIP \a under S at its own x–y, the solve \a s and the pushed \a
+    /// goal.
+    void remember(const glm::dvec3 &hip, bool contact, bool under, const Solution &s,
+                  const glm::dvec3 &goal) noexcept;
     /// The bounded push on \a goal (m), in contact: its depth under the proxy grows by at most the
     /// HIP's motion into the surface plus pushDepth since the last update.
     void boundPush(const glm::dvec3 &hip, glm::dvec3 &goal) const noexcept;
