@@ -178,7 +178,7 @@ TEST(BallRendererTest, aPressIsTheSpringStraightUpAndALiftIsFree)
 
 // A free finger 1 mm above the table swipes at 20 cm/s into a box's side 10 mm tall and stays 2 mm
 // past where the face stands for the ball (r in front of the side): the force points back out,
-// −x, with no rule for walls: the solve from the last proxy meets the face.
+// −x, with no rule for walls: the solve from the last proxy meets the face; and never down.
 TEST(BallRendererTest, aSwipeIntoAnObjectsSideMeetsItsFace)
 {
     const BallRun run = stroke(
@@ -187,6 +187,10 @@ TEST(BallRendererTest, aSwipeIntoAnObjectsSideMeetsItsFace)
             return glm::dvec3(std::min(-0.010 + 0.2 * t, 0.0005), 0.0, kTable + 0.001);
         },
         0.1);
+    // The ball's proxy beside the HIP floats at the HIP's height: the face pushes back, never
+    // down (a height field's surface holds a finger up or off, it does not pull it in).
+    for (const HapticOutput &o : run.out)
+        ASSERT_GE(o.force.z, 0.0) << "a downward force at x = " << o.hip.x;
     const HapticOutput &last = run.out.back();
     std::printf("into a side: force (%.2f, %.2f, %.2f) N, state %s\n", last.force.x, last.force.y,
                 last.force.z, fingerStateName(run.state.back()));
