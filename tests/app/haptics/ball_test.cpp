@@ -176,6 +176,22 @@ TEST(BallRendererTest, aPressIsTheSpringStraightUpAndALiftIsFree)
     EXPECT_EQ(glm::length(run.out.back().force), 0.0);
 }
 
+// The frame is wider than tall (0.1 m × 0.075 m): pressed 2 mm at x = 45 mm, inside the frame but
+// farther out than its half height, the finger is felt as at the centre (x and y are not swapped).
+TEST(BallRendererTest, aPressNearTheFramesSideIsFeltAsAtItsCentre)
+{
+    for (const double x : {0.0, 0.045}) {
+        const BallRun run = stroke(
+            table(),
+            [x](double t) {
+                return glm::dvec3(x, 0.0, t < 0.1 ? kTable + 0.001 - 0.03 * t : kTable - 0.002);
+            },
+            0.3);
+        EXPECT_TRUE(run.out.back().contact) << "x = " << x;
+        EXPECT_NEAR(run.out.back().force.z, 800.0 * 0.002, 0.01) << "x = " << x;
+    }
+}
+
 // A free finger 1 mm above the table swipes at 20 cm/s into a box's side 10 mm tall and stays 2 mm
 // past where the face stands for the ball (r in front of the side): the force points back out,
 // −x, with no rule for walls: the solve from the last proxy meets the face; and never down.
