@@ -9,6 +9,8 @@
 #include <numbers>
 
 #include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
 
 namespace depthtouch::haptics {
 
@@ -89,19 +91,13 @@ BallPoint BallSurface::at(const HeightField &field, double x, double y) const no
         return b;
     }
     b.height = highest;
-    // The plane's slope by Cramer's rule on the normal equations; +z where the measured taps do
+    // The plane's slope from the normal equations (GLM's inverse); +z where the measured taps do
     // not span a plane (fewer than three, or in a line).
-    const double m00 = n, m01 = su, m02 = sv, m11 = suu, m12 = suv, m22 = svv;
-    const double det = m00 * (m11 * m22 - m12 * m12) - m01 * (m01 * m22 - m12 * m02) +
-                       m02 * (m01 * m12 - m11 * m02);
+    const glm::dmat3 normal(n, su, sv, su, suu, suv, sv, suv, svv); // symmetric: column = row
+    const double det = glm::determinant(normal);
     if (std::fabs(det) > 1e-12 * std::pow(radius_, 4) * n) {
-        const double bu = (m00 * (suh * m22 - m12 * svh) - sh * (m01 * m22 - m12 * m02) +
-                           m02 * (m01 * svh - suh * m02)) /
-                          det;
-        const double cv = (m00 * (m11 * svh - suh * m12) - m01 * (m01 * svh - suh * m02) +
-                           sh * (m01 * m12 - m11 * m02)) /
-                          det;
-        b.normal = glm::normalize(glm::dvec3(-bu, -cv, 1.0));
+        const glm::dvec3 plane = glm::inverse(normal) * glm::dvec3(sh, suh, svh); // a, b, c
+        b.normal = glm::normalize(glm::dvec3(-plane.y, -plane.z, 1.0));
     }
     return b;
 }
