@@ -9,8 +9,6 @@
 
 #include <glm/geometric.hpp>
 
-#include "depthtouch/haptics/material_field.h"
-
 namespace depthtouch::haptics {
 
 namespace {
@@ -61,7 +59,7 @@ glm::dvec2 newtonStep(const glm::dvec3 &hip, double x, double y, const BallPoint
 
 BallRenderer::BallRenderer(const RendererConfig &config) noexcept
     : config_(config), field_(config.box), p_(fingerParameters(config)), ball_(p_.radius),
-      output_(config, p_), friction_(config.staticFriction, config.dynamicFriction)
+      output_(config, p_)
 {
     field_.setCutThreshold(config.cutThreshold);
 }
@@ -87,7 +85,6 @@ void BallRenderer::reset(const glm::dvec3 &hip) noexcept
     lastTaps_.fill(std::nan(""));
     enterAnyDepth_ = true;
     output_.reset();
-    friction_.release();
 }
 
 BallRenderer::Solution BallRenderer::solve(const glm::dvec3 &hip, double fromX, double fromY,
@@ -259,16 +256,9 @@ HapticOutput BallRenderer::update(const glm::dvec3 &hip, double t) noexcept
     if (c.trip && (saturated || config_.reengage == Reengage::Release))
         c.contact = false;
     c.proxy = c.contact ? goal : hip;
-    // The material under the goal, friction on the filtered proxy (as the finger renderer).
-    const bool material = field_.current().material.present();
-    const double scale = applyMaterial(field_, c.proxy, c.contact, friction_);
-    glm::dvec3 held = output_.filter(hip, c, t, scale);
-    if (friction_.enabled() || material) {
-        if (c.contact && !c.trip)
-            held = friction_.apply(held, hip, t);
-        else
-            friction_.release();
-    }
+    // The material under the goal, friction on the filtered proxy (FingerOutput).
+    const double scale = output_.material(field_, c);
+    const glm::dvec3 held = output_.filter(hip, c, t, scale);
     out.force = output_.force(hip, held, c, t, scale, raw, field_, wasInContact);
     out.proxy = held;
     out.contact = c.contact;

@@ -11,6 +11,7 @@
 #include "depthtouch/haptics/finger_output.h"
 
 #include "depthtouch/haptics/feel.h"
+#include "depthtouch/haptics/material_field.h"
 
 namespace depthtouch::haptics {
 
@@ -211,7 +212,19 @@ glm::dvec3 FingerOutput::filter(const glm::dvec3 &hip, const FingerGoal &c, doub
     smoothOffset(hip, c, t, held);
     if (c.contact && !c.trip && !c.stepped)
         handOverRamp(hip, c.hipMove, stiffnessScale, held);
+    if (friction_.enabled() || material_) {
+        if (c.contact && !c.trip)
+            held = friction_.apply(held, hip, t);
+        else
+            friction_.release();
+    }
     return held;
+}
+
+double FingerOutput::material(const HeightField &field, const FingerGoal &c) noexcept
+{
+    material_ = field.current().material.present();
+    return applyMaterial(field, c.proxy, c.contact, friction_);
 }
 
 glm::dvec3 FingerOutput::force(const glm::dvec3 &hip, const glm::dvec3 &held, const FingerGoal &c,
@@ -259,6 +272,7 @@ void FingerOutput::reset() noexcept
     saturatedSince_ = std::nan("");
     letGoNext_ = false;
     force_.reset();
+    friction_.release();
 }
 
 void FingerOutput::setOutputGain(double gain) noexcept

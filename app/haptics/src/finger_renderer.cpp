@@ -6,7 +6,6 @@
 #include <glm/geometric.hpp>
 
 #include "depthtouch/haptics/feel.h"
-#include "depthtouch/haptics/material_field.h"
 #include "finger_median.h"
 
 namespace depthtouch::haptics {
@@ -35,8 +34,7 @@ FingerParameters fingerParameters(const RendererConfig &config) noexcept
 }
 
 FingerRenderer::FingerRenderer(const RendererConfig &config) noexcept
-    : config_(config), field_(config.box), p_(fingerParameters(config)), output_(config, p_),
-      friction_(config.staticFriction, config.dynamicFriction)
+    : config_(config), field_(config.box), p_(fingerParameters(config)), output_(config, p_)
 {
     field_.setCutThreshold(config.cutThreshold);
 }
@@ -68,7 +66,6 @@ void FingerRenderer::reset(const glm::dvec3 &hip) noexcept
     speed_ = 0.0;
     resting_ = false;
     output_.reset();
-    friction_.release();
 }
 
 void FingerRenderer::restartClock() noexcept
@@ -383,8 +380,7 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     search(hip, raw, over, t, c);
     // The material under the goal (the track's per-pixel stiffness and friction), else the
     // renderer's own friction at stiffness scale 1.
-    const bool material = field_.current().material.present();
-    const double stiffnessScale = applyMaterial(field_, c.proxy, c.contact, friction_);
+    const double stiffnessScale = output_.material(field_, c);
     letGo(hip, c);
     out.released = c.trip;
     // The offset from the HIP is filtered, and friction acts, on the force and the reported proxy;
@@ -393,13 +389,7 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     c.touching = touching();
     c.smooth = c.plane.smooth;
     c.hipMove = hip - lastHip_;
-    glm::dvec3 held = output_.filter(hip, c, t, stiffnessScale);
-    if (friction_.enabled() || material) {
-        if (c.contact && !c.trip)
-            held = friction_.apply(held, hip, t);
-        else
-            friction_.release();
-    }
+    const glm::dvec3 held = output_.filter(hip, c, t, stiffnessScale);
     out.force = output_.force(hip, held, c, t, stiffnessScale, raw, field_, wasInContact);
     out.proxy = held;
     out.contact = c.contact;

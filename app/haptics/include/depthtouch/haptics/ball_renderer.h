@@ -56,7 +56,8 @@
 /// Fixes: (a) the proxy starts each update from the last on the surface now, so a rising surface
 /// lifts it; (b) HeightField's Eq. 1; (c) a cut under the finger (the median of the taps' steps
 /// since the last update over HeightField::cutThreshold()) trips RendererConfig::reengage's
-/// re-engagement. Friction and material tracks as the finger renderer (friction.h).
+/// re-engagement. Friction and material tracks as the finger renderer (FingerOutput::material()
+/// and filter(): friction.h, material_field.h).
 ///
 /// Cost: at most 3 + 4·kBallIterations swept-surface queries (BallSurface::at(), kBallTaps height
 /// lookups each); on a smooth surface, 4 to 6.
@@ -73,7 +74,6 @@
 #include "depthtouch/haptics/finger_output.h"
 #include "depthtouch/haptics/finger_parameters.h"
 #include "depthtouch/haptics/finger_renderer.h"
-#include "depthtouch/haptics/friction.h"
 #include "depthtouch/haptics/height_field.h"
 #include "depthtouch/haptics/renderer.h"
 
@@ -136,7 +136,6 @@ private:
     FingerParameters p_;
     BallSurface ball_;
     FingerOutput output_;
-    FrictionCone friction_;
     /// \name Carried between updates
     ///@{
     FingerState state_ = FingerState::Free;

@@ -1,14 +1,15 @@
 #pragma once
 /// \file
 /// \brief The fingertip renderer's force output stage (finger_renderer.h, steps 5 and 7): from the
-/// proxy the contact decided to the command, in one place. In order: the alpha-beta filter on the
+/// proxy the contact decided to the command, in one place. In order: the material under the goal
+/// (its stiffness scale and friction coefficients), the alpha-beta filter on the
 /// proxy's offset from the HIP (noise at speed; a bounded move and unload, the HIP's own lift
 /// passing through), the hand-over of a ramp that holds more than the surface gives or that a
-/// lifting finger leaves, the spring s·k·(proxy − HIP) − b·v with the material's scale s moving at
-/// a bounded rate, the unload of a
-/// contact that ended at a rim or under a cut, ForceStage's ramp, slew and clamp (renderer.h), and
-/// the watch of the device maximum. What comes after it is the device's own: the haptic task's
-/// gain and force-rate limit (ServoLoop::shapeForce()) and the HAL's clamp.
+/// lifting finger leaves, friction on the filtered proxy (friction.h), the spring s·k·(proxy − HIP)
+/// − b·v with the material's scale s moving at a bounded rate, the unload of a contact that ended
+/// at a rim or under a cut, ForceStage's ramp, slew and clamp (renderer.h), and the watch of the
+/// device maximum. What comes after it is the device's own: the haptic task's gain and force-rate
+/// limit (ServoLoop::shapeForce()) and the HAL's clamp.
 ///
 /// Units: m, N, s; positions in the scene-box frame (docs/architecture.md §3).
 /// Thread-safety: thread-bound (the haptic thread); no allocation, no lock.
@@ -18,6 +19,7 @@
 #include <glm/vec3.hpp>
 
 #include "depthtouch/haptics/finger_parameters.h"
+#include "depthtouch/haptics/friction.h"
 #include "depthtouch/haptics/height_field.h"
 #include "depthtouch/haptics/renderer.h"
 
@@ -66,14 +68,23 @@ class FingerOutput {
 public:
     /// \param config the renderer's (validated); \param p its parameter table.
     FingerOutput(const RendererConfig &config, const FingerParameters &p) noexcept
-        : config_(config), p_(p), force_(config)
+        : config_(config), p_(p), force_(config),
+          friction_(config.staticFriction, config.dynamicFriction)
     {
     }
 
+    /// \brief The material step (applyMaterial(), material_field.h) on the friction cone of
+    /// filter(): in contact on frames with a material track, its coefficients become the
+    /// material's under \a c's goal. \return the stiffness scale there (1 without a track or
+    /// contact).
+    double material(const HeightField &field, const FingerGoal &c) noexcept;
     /// \brief The proxy the force and the report use, m: \a c's goal through the offset filter
-    /// (smoothOffset()) and, in a continuing contact, the hand-over of a ramp (handOverRamp()).
-    /// \a stiffnessScale: the material's under the goal.
-    /// \a t: haptic time, s (the filter's trust in a clean surface grows with it).
+    /// (smoothOffset()), in a continuing contact the hand-over of a ramp (handOverRamp()), then
+    /// friction (friction.h) on the filtered proxy where the renderer has friction or the frames
+    /// a material track (material()): the cone's in a contact without a trip, else released.
+    /// \a stiffnessScale: the material's under the goal (material()).
+    /// \a t: haptic time, s (the filter's trust in a clean surface grows with it; friction's
+    /// static phase).
     glm::dvec3 filter(const glm::dvec3 &hip, const FingerGoal &c, double t,
                       double stiffnessScale) noexcept;
     /// \brief The command of time \a t (s), N: the spring of \a held (m, after friction), the
@@ -93,7 +104,8 @@ public:
         return go;
     }
 
-    /// Forgets the filter, the release, the force history and the saturation watch (not the gain).
+    /// Forgets the filter, the release, the force history, the saturation watch and friction's
+    /// anchor (not the gain).
     void reset() noexcept;
     void restartClock() noexcept { force_.restartClock(); }
     /// The forces only (HapticRenderer::setStiffness()): ignored out of range.
@@ -138,6 +150,8 @@ private:
     RendererConfig config_;
     FingerParameters p_;
     ForceStage force_;
+    FrictionCone friction_;    ///< On the filtered proxy; the renderer's goal stays frictionless.
+    bool material_ = false;    ///< The frames have a material track (material()).
     glm::dvec3 offset_{};      ///< Filtered offset of the force's proxy from the HIP, m.
     glm::dvec3 offsetTrend_{}; ///< Its change an update (smoothOffset()'s trend), m.
     glm::dvec3 lastOffset_{};  ///< The last update's unfiltered offset, m.

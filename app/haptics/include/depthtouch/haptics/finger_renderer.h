@@ -29,10 +29,11 @@
 ///   moves bounded: the glide, the bounded push, a wall's side, a hold over a hole (steps 2–5).
 /// - *State* (FingerState; nextState(), letGo(), remember()): one value carried between updates,
 ///   each transition with one named guard; each state's own data in one member (wall_, hole_).
-/// - *Output* (FingerOutput, finger_output.h): the offset filter (a clean surface passes
-///   through; the HIP's own lift unloads), the ramp's hand-over, the spring at the material's
-///   bounded stiffness, the unload of an ended contact, ForceStage's ramp, slew and clamp, the
-///   watch of the device maximum (steps 5 "Depth noise" and 7).
+/// - *Output* (FingerOutput, finger_output.h): the material under the goal, the offset filter (a
+///   clean surface passes through; the HIP's own lift unloads), the ramp's hand-over, friction,
+///   the spring at the material's bounded stiffness, the unload of an ended contact,
+///   ForceStage's ramp, slew and clamp, the watch of the device maximum (steps 5 "Depth noise",
+///   6 and 7).
 ///
 /// Method, per update (haptic time t, HIP h; docs/architecture.md §3 frame, m):
 /// 1. **Finger-scale surface.** At a point q the surface is the least-squares plane through the
@@ -157,7 +158,8 @@
 ///    that moves the proxy by more than a ramped step ramps the force in (ForceStage::shape()).
 ///    At a cut the penalty's proxy is re-seated on the new surface at once, as the god-object's
 ///    is (the force stage ramps the change in or the finger is let go, as Reengage says).
-/// 6. **Friction** (RendererConfig::staticFriction, dynamicFriction; friction.h): the proxy of
+/// 6. **Friction** (RendererConfig::staticFriction, dynamicFriction; friction.h; applied by
+///    FingerOutput::filter(), the ball renderer's too): the proxy of
 ///    steps 2–4 is the frictionless goal; in contact the friction cone holds the proxy where it
 ///    was while the tangential force is within μs·Fn and lets it slide at μd·Fn otherwise. The
 ///    goal, not the held proxy, is what the next update slides on from. A cut or a lost contact
@@ -182,7 +184,6 @@
 
 #include "depthtouch/haptics/finger_output.h"
 #include "depthtouch/haptics/finger_parameters.h"
-#include "depthtouch/haptics/friction.h"
 #include "depthtouch/haptics/height_field.h"
 #include "depthtouch/haptics/renderer.h"
 
@@ -504,7 +505,6 @@ private:
     double lastT_ = std::nan(""); ///< Haptic time of the last update, s.
     double speed_ = 0.0;          ///< The HIP's x–y speed, smoothed, m/s.
     bool resting_ = false;        ///< FingerContact::Adaptive: the penalty contact is in use.
-    FrictionCone friction_;       ///< Friction on the proxy; proxy_ stays the frictionless goal.
 };
 
 } // namespace depthtouch::haptics
