@@ -29,7 +29,7 @@ FingerParameters fingerParameters(const RendererConfig &config) noexcept
     p.restSpeed = p.radius / kFingerDepthMemory;
     p.slideSpeed = 2.0 * p.restSpeed;
     p.speedTime = p.glideReach / p.restSpeed;
-    p.wallResolution = p.pushDepth / 64.0;
+    p.searchResolution = p.pushDepth / 64.0;
     return p;
 }
 

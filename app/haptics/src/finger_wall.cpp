@@ -27,7 +27,7 @@
 /// finger's scale (a 90° step of the force there would be a spike), and the finger leaves the
 /// wall for the ordinary contact once the top is nearer by r, the god-object's nearest point. It
 /// is free once it is above the surface at its own x–y.
-/// Cost: on a wall, one bisection (up to log2(length/wallResolution) + 1 height lookups) and one
+/// Cost: on a wall, one bisection (up to log2(length/searchResolution) + 1 height lookups) and one
 /// plane fit an update; when a free HIP comes under the surface, one bisection along its path, 5
 /// lookups for the normal and one plane fit. Thread-safety: thread-bound (the haptic thread); no
 /// allocation.
@@ -104,7 +104,7 @@ bool FingerRenderer::enterWall(const glm::dvec3 &hip, Candidate &c) noexcept
         return false;
     glm::dvec3 out = lastHip_;
     glm::dvec3 in = hip;
-    const int steps = bisections(glm::length(in - out), p_.wallResolution);
+    const int steps = bisections(glm::length(in - out), p_.searchResolution);
     for (int i = 0; i < steps; ++i) {
         const glm::dvec3 mid = 0.5 * (out + in);
         (freeAt(mid) ? out : in) = mid;
@@ -140,7 +140,7 @@ void FingerRenderer::wallContact(const glm::dvec3 &hip, double raw, Candidate &c
     double s = reach;
     if (freeAt(hip + s * n)) {
         double in = 0.0;
-        const int steps = bisections(s, p_.wallResolution);
+        const int steps = bisections(s, p_.searchResolution);
         for (int i = 0; i < steps; ++i) {
             const double mid = 0.5 * (in + s);
             (freeAt(hip + mid * n) ? s : in) = mid;

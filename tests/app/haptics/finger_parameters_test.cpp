@@ -45,7 +45,7 @@ TEST(FingerParametersTest, TheTableIsDerivedFromThePhysicalParameters)
     EXPECT_DOUBLE_EQ(p.slideSpeed, 2 * 1.5e-3 / 0.1);
     EXPECT_NEAR(p.speedTime, 0.025, 1e-15);
     // A wall is located to ΔF/(1024k): a force error under ΔF/1024.
-    EXPECT_NEAR(p.stiffness * p.wallResolution, 2.0 / 1024, 1e-15);
+    EXPECT_NEAR(p.stiffness * p.searchResolution, 2.0 / 1024, 1e-15);
 
     // A stiff surface and a coarse step limit: ΔF/k = 10 mm is deeper than a tenth of the box.
     RendererConfig c = RendererConfig::forMethod(Method::Finger);

@@ -2,7 +2,8 @@
 /// \brief Friction on the proxy (friction.h, Ruspini et al. 1997's friction cone): the cone on its
 /// own, the configuration's checks, and the scenario of docs/materials.md: on a tilted plane with
 /// μs = 0.5, μd = 0.3 the proxy holds under a HIP pushed sideways until the tangential force
-/// reaches 0.5·Fn, then slides at 0.3·Fn (within 1 %), in the `finger` and `modified` renderers.
+/// reaches 0.5·Fn, then slides at 0.3·Fn (within 1 %), in the `finger`, `ball` and `modified`
+/// renderers.
 
 #include <algorithm>
 #include <cmath>
@@ -198,10 +199,9 @@ TEST_P(FrictionScenarioTest, withoutFrictionTheProxyFollowsTheHip)
 }
 
 INSTANTIATE_TEST_SUITE_P(Renderers, FrictionScenarioTest,
-                         ::testing::Values(Method::Finger, Method::Modified),
+                         ::testing::Values(Method::Finger, Method::Ball, Method::Modified),
                          [](const ::testing::TestParamInfo<Method> &param) {
-                             return param.param == Method::Finger ? std::string("finger")
-                                                                  : std::string("modified");
+                             return std::string(methodName(param.param));
                          });
 
 } // namespace

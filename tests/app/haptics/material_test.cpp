@@ -1,9 +1,9 @@
 /// \file
 /// \brief Per-pixel haptic materials (scene/material.h, haptics/material_field.h): the coding, the
 /// lookup interpolated in space and time (paper Eq. 1), and the scenarios of docs/materials.md in
-/// the `finger` and `modified` renderers: a stiffness boundary (400 → 1200 N/m) crossed at 10 cm/s
-/// with no force step above the safety threshold, and the friction cone driven by the material's μs
-/// and μd as it is by the renderer's own (within 1 %).
+/// the `finger`, `ball` and `modified` renderers: a stiffness boundary (400 → 1200 N/m) crossed at
+/// 10 cm/s with no force step above the safety threshold, and the friction cone driven by the
+/// material's μs and μd as it is by the renderer's own (within 1 %).
 
 #include <algorithm>
 #include <cmath>
@@ -104,7 +104,7 @@ TEST(MaterialFieldTest, bilinearInSpaceAndEq1InTime)
 
 std::string methodLabel(const ::testing::TestParamInfo<Method> &param)
 {
-    return param.param == Method::Finger ? "finger" : "modified";
+    return methodName(param.param);
 }
 
 class MaterialScenarioTest : public ::testing::TestWithParam<Method> {};
@@ -283,7 +283,8 @@ TEST_P(MaterialScenarioTest, aFrictionlessMaterialOverridesTheRenderersFriction)
 }
 
 INSTANTIATE_TEST_SUITE_P(Renderers, MaterialScenarioTest,
-                         ::testing::Values(Method::Finger, Method::Modified), methodLabel);
+                         ::testing::Values(Method::Finger, Method::Ball, Method::Modified),
+                         methodLabel);
 
 } // namespace
 } // namespace depthtouch::haptics

@@ -77,10 +77,11 @@ struct FingerParameters {
     /// would read as motion. s.
     double speedTime = 0.0;
     ///@}
-    /// The resolution a wall's crossing is searched to (finger_wall.cpp: as many bisections as
-    /// halve the searched length under it): pushDepth/64, ΔF/(1024k), a force error under
+    /// The resolution a proxy is searched to: a wall's crossing (finger_wall.cpp: as many
+    /// bisections as halve the searched length under it) and the ball's proxy solve (a step
+    /// under it has converged; ball_renderer.h): pushDepth/64, ΔF/(1024k), a force error under
     /// ΔF/1024 (2 mN at the defaults). m.
-    double wallResolution = 0.0;
+    double searchResolution = 0.0;
 };
 
 /// \return the parameter table of \a config (RendererConfig::fingerRadiusInBox(), stiffness,

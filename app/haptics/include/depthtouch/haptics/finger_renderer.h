@@ -13,7 +13,7 @@
 /// captureDepth, stepDepth, pushDepth, unloadDepth and unloadForce from the force step ΔF and the
 /// stiffness k at construction; glideReach r/4, holdReach r/2, rimReach 3r/4 from the fingertip's
 /// radius r; the adaptive contact's rest and slide speeds and smoothing time from r and
-/// kFingerDepthMemory; the wall's search resolution ΔF/(1024k)), derived once: a run-time stiffness
+/// kFingerDepthMemory; the search resolution ΔF/(1024k)), derived once: a run-time stiffness
 /// change changes forces, not when contact exists. The named constants that remain (eight: the
 /// depth memory, the offset filter's α, the saturation time and what counts as at the maximum, the
 /// hysteresis between solutions, the wall's slope, the plane refits and the stencil's outlier
