@@ -9,13 +9,14 @@
 #include <cstdlib>
 #include <limits>
 #include <memory>
+#include <new>
+#include <stdexcept>
 #include <string>
+#include <string_view>
 #include <thread>
 
 #include <glm/geometric.hpp>
 
-#include "depthtouch/haptics/finger_renderer.h"
-#include "depthtouch/haptics/mesh_bvh.h"
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/haptics/renderer_table.h"
 #include "depthtouch/haptics/spectrum.h"
@@ -93,34 +94,7 @@ OneRun runOnce(const std::string &method, const WaveScenario &scene, double spee
     const scene::MaterialView materialView{materials ? material.data() : nullptr,
                                            static_cast<std::size_t>(w) * 3};
     RendererConfig cfg;
-    std::unique_ptr<HapticRenderer> r;
-    ProxyGraphRenderer *grid = nullptr;
-    FingerRenderer *finger = nullptr;
-    if (method == "mesh-bvh") {
-        cfg = RendererConfig::forMethod(Method::MeshBvh);
-        r = std::make_unique<MeshBvhRenderer>(cfg, w, h);
-    } else if (method == "finger" || method == "finger-friction" || method == "finger-materials") {
-        cfg = RendererConfig::forMethod(Method::Finger);
-        if (method == "finger-friction") {
-            cfg.staticFriction = kBenchStaticFriction;
-            cfg.dynamicFriction = kBenchDynamicFriction;
-        }
-        auto f = std::make_unique<FingerRenderer>(cfg);
-        finger = f.get();
-        r = std::move(f);
-    } else {
-        cfg = RendererConfig::forMethod(method == "proxy-graph" ? Method::ProxyGraph
-                                                                : Method::Modified);
-        if (method == "modified-hold")
-            cfg.interpolation = false;
-        if (method == "modified-friction") {
-            cfg.staticFriction = kBenchStaticFriction;
-            cfg.dynamicFriction = kBenchDynamicFriction;
-        }
-        auto g = std::make_unique<ProxyGraphRenderer>(cfg);
-        grid = g.get();
-        r = std::move(g);
-    }
+    const std::unique_ptr<HapticRenderer> r = benchRenderer(method, w, h, cfg);
     HeightField held(cfg.box); // the mesh-bvh's surface (current frame) for the pop-through check
     std::vector<double> frameTimes;
     OneRun out{};
@@ -158,13 +132,7 @@ OneRun runOnce(const std::string &method, const WaveScenario &scene, double spee
         const glm::dvec3 d = o.force - truth;
         errors.push_back(glm::length(d));
         out.forces.push_back(glm::length(o.force));
-        const HeightField &surf =
-            grid != nullptr ? grid->surface() : (finger != nullptr ? finger->surface() : held);
-        // The finger's surface is a plane fit held within r/4 of the samples: it counts a
-        // pop-through only deeper than that.
-        const double slack = finger != nullptr ? 0.25 * finger->radius() : 1e-6 * surf.spacing();
-        if (surf.contains(o.proxy.x, o.proxy.y) &&
-            o.proxy.z < surf.heightAt(o.proxy.x, o.proxy.y) - slack)
+        if (poppedThrough(*r, o.proxy, &held))
             ++out.pops;
     }
     out.medianNs = percentile(out.times, 0.5);
@@ -515,6 +483,35 @@ BenchReport runHapticsBenchmark(const BenchOptions &options)
     report.loadAtEnd = loadAverage();
     report.stealPercent = stealPercent(statAtStart, cpuStatLine());
     return report;
+}
+
+std::unique_ptr<HapticRenderer> benchRenderer(std::string_view setting, int width, int height,
+                                              RendererConfig &config)
+{
+    std::string_view row = setting;
+    const bool friction = row.ends_with("-friction");
+    const bool hold = row == "modified-hold";
+    if (friction)
+        row.remove_suffix(std::string_view("-friction").size());
+    else if (row.ends_with("-materials"))
+        row.remove_suffix(std::string_view("-materials").size());
+    else if (hold)
+        row = methodName(Method::Modified);
+    const RendererEntry *entry = findRenderer(row);
+    if (entry == nullptr)
+        throw std::invalid_argument("bench haptics: no renderer table row for this setting");
+    const Method method = entry->method;
+    config = RendererConfig::forMethod(method);
+    if (hold)
+        config.interpolation = false;
+    if (friction) {
+        config.staticFriction = kBenchStaticFriction;
+        config.dynamicFriction = kBenchDynamicFriction;
+    }
+    auto made = makeRenderer(method, config, width, height);
+    if (!made)
+        throw std::bad_alloc();
+    return std::move(*made);
 }
 
 } // namespace depthtouch::haptics::bench

@@ -34,8 +34,6 @@
 
 #include <glm/geometric.hpp>
 
-#include "depthtouch/haptics/ball_renderer.h"
-#include "depthtouch/haptics/finger_renderer.h"
 #include "depthtouch/haptics/haptics_bench.h"
 #include "depthtouch/haptics/renderer.h"
 #include "depthtouch/haptics/renderer_table.h"
@@ -163,8 +161,6 @@ struct Tally {
 void count(Tally &tally, const HapticRenderer &renderer, const HapticOutput &o,
            const glm::dvec3 &hip, double t, const RendererConfig &cfg)
 {
-    const auto *grid = dynamic_cast<const ProxyGraphRenderer *>(&renderer);
-    const auto *finger = dynamic_cast<const FingerRenderer *>(&renderer);
     const glm::dvec3 d = o.force - WaveScenario::trueForce(hip, t, cfg);
     tally.errSq += glm::dot(d, d);
     tally.checksum += o.force.x + 3.0 * o.force.y + 7.0 * o.force.z;
@@ -176,17 +172,7 @@ void count(Tally &tally, const HapticRenderer &renderer, const HapticOutput &o,
     tally.steps += o.proxySteps;
     tally.maxVisited = std::max(tally.maxVisited, o.cellsVisited);
     tally.maxSteps = std::max(tally.maxSteps, o.proxySteps);
-    // The finger's surface is a plane fit held within r/4 of the samples (as in the bench); the
-    // ball's force proxy passes the same offset filter.
-    const auto *ball = dynamic_cast<const BallRenderer *>(&renderer);
-    const HeightField &surf = grid != nullptr     ? grid->surface()
-                              : finger != nullptr ? finger->surface()
-                                                  : ball->surface();
-    const double slack = finger != nullptr ? 0.25 * finger->radius()
-                         : ball != nullptr ? 0.25 * ball->parameters().radius
-                                           : 1e-6 * surf.spacing();
-    if (surf.contains(o.proxy.x, o.proxy.y) &&
-        o.proxy.z < surf.heightAt(o.proxy.x, o.proxy.y) - slack)
+    if (poppedThrough(renderer, o.proxy))
         ++tally.pops;
 }
 

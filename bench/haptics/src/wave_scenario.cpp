@@ -6,6 +6,9 @@
 
 #include <glm/geometric.hpp>
 
+#include "depthtouch/haptics/ball_renderer.h"
+#include "depthtouch/haptics/finger_renderer.h"
+
 namespace depthtouch::haptics::bench {
 
 namespace {
@@ -136,6 +139,25 @@ glm::dvec3 WaveScenario::trueForce(const glm::dvec3 &hip, double t,
     if (len > cfg.maxForce)
         f *= cfg.maxForce / len;
     return f;
+}
+
+bool poppedThrough(const HapticRenderer &renderer, const glm::dvec3 &proxy,
+                   const HeightField *fallback) noexcept
+{
+    const auto *grid = dynamic_cast<const ProxyGraphRenderer *>(&renderer);
+    const auto *finger = dynamic_cast<const FingerRenderer *>(&renderer);
+    const auto *ball = dynamic_cast<const BallRenderer *>(&renderer);
+    const HeightField *own = grid != nullptr     ? &grid->surface()
+                             : finger != nullptr ? &finger->surface()
+                             : ball != nullptr   ? &ball->surface()
+                                                 : fallback;
+    if (own == nullptr)
+        return false;
+    const HeightField &surf = *own;
+    const double slack = finger != nullptr ? 0.25 * finger->radius()
+                         : ball != nullptr ? 0.25 * ball->parameters().radius
+                                           : 1e-6 * surf.spacing();
+    return surf.contains(proxy.x, proxy.y) && proxy.z < surf.heightAt(proxy.x, proxy.y) - slack;
 }
 
 } // namespace depthtouch::haptics::bench

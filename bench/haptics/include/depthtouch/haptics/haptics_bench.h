@@ -3,20 +3,22 @@
 /// \brief `depthtouch bench haptics`: speed and accuracy of the haptic renderers
 /// (docs/benchmarks.md).
 ///
-/// For each method (modified, proxy-graph, mesh-bvh), depth resolution (720×486, 1920×1080,
-/// 3840×2160) and HIP motion (still, stroking at 0.1 m/s and at 1 m/s) it replays a moving analytic
-/// surface (a travelling sinusoid, 30 fps video, 1 kHz haptics) and measures the per-update time
-/// distribution, the cost per new depth frame, the force RMS error against the analytic ground
-/// truth (k × the true penetration along the true normal), pop-throughs, and the PSD of |F| at the
-/// frame rate. Uses std::chrono::steady_clock (bench program only). Thread-safety: call from one
-/// thread.
+/// For each row of the renderer table (renderer_table.h) and its variants, depth resolution
+/// (720×486, 1920×1080, 3840×2160) and HIP motion (still, stroking at 0.1 m/s and at 1 m/s) it
+/// replays a moving analytic surface (a travelling sinusoid, 30 fps video, 1 kHz haptics) and
+/// measures the per-update time distribution, the cost per new depth frame, the force RMS error
+/// against the analytic ground truth (k × the true penetration along the true normal),
+/// pop-throughs, and the PSD of |F| at the frame rate. Uses std::chrono::steady_clock (bench
+/// program only). Thread-safety: call from one thread.
 
 #include <cstddef>
 #include <limits>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "depthtouch/haptics/renderer.h"
 #include "depthtouch/platform/result.h"
 
 namespace depthtouch::haptics::bench {
@@ -24,6 +26,17 @@ namespace depthtouch::haptics::bench {
 /// Friction of the `-friction` settings (friction.h): μs and μd.
 inline constexpr double kBenchStaticFriction = 0.5;
 inline constexpr double kBenchDynamicFriction = 0.4;
+
+/// \brief The renderer of the bench setting \a setting (BenchRow::method) at \a width ×
+/// \a height: a row of the renderer table by name (renderer_table.h, made by makeRenderer()),
+/// "<row>-friction" (μs kBenchStaticFriction, μd kBenchDynamicFriction), "<row>-materials" (the
+/// row as it is; the bench's frames carry a material track) or "modified-hold" (the paper's
+/// method on sample-and-hold frames: no Eq. 1). Sets \a config to its configuration.
+/// \throw std::bad_alloc where the renderer cannot be made (mesh-bvh's memory, the only error of
+/// a table row with its own configuration); std::invalid_argument for a name that is none of
+/// these (the bench's settings are built from the table: a bug, not an input).
+std::unique_ptr<HapticRenderer> benchRenderer(std::string_view setting, int width, int height,
+                                              RendererConfig &config);
 
 /// \brief Options of one benchmark run.
 struct BenchOptions {
@@ -35,10 +48,10 @@ struct BenchOptions {
 
 /// \brief One (method, resolution, motion) setting.
 struct BenchRow {
-    /// finger | finger-friction | modified | modified-friction | modified-hold | proxy-graph |
-    /// mesh-bvh | finger-materials | modified-materials (the -friction ones at 720×486 only,
-    /// μs = kBenchStaticFriction, μd = kBenchDynamicFriction; the -materials ones at 720×486 only,
-    /// with a material track of friction bands, see haptics_bench.cpp).
+    /// A renderer table row's name, or a variant of one (benchRenderer()): <row>-friction and
+    /// <row>-materials for the rows with the paper's fixes and friction (at 720×486 only, μs =
+    /// kBenchStaticFriction, μd = kBenchDynamicFriction; a material track of friction bands, see
+    /// haptics_bench.cpp), and modified-hold.
     std::string method;
     int width = 0;
     int height = 0;

@@ -16,6 +16,7 @@
 #include <glm/vec3.hpp>
 
 #include "depthtouch/haptics/depth_frame.h"
+#include "depthtouch/haptics/height_field.h"
 #include "depthtouch/haptics/renderer.h"
 
 namespace depthtouch::haptics::bench {
@@ -69,5 +70,14 @@ private:
     int height_;
     std::vector<std::vector<std::uint16_t>> frames_;
 };
+
+/// \brief The pop-through test of the wave's replays (`bench haptics`, `haptics_cost`): \return
+/// whether \a proxy (m, box frame), the proxy \a renderer reported, lies under the surface it
+/// renders (its own HeightField at its last setTime(); \a fallback, the current frame, for a
+/// renderer without one: mesh-bvh; none: false) by more than the renderer's slack: r/4 for the
+/// fingertip renderers (the finger's surface is a plane fit held within r/4 of the samples; both
+/// pass their force proxy through the offset filter), a millionth of a pixel for the others.
+bool poppedThrough(const HapticRenderer &renderer, const glm::dvec3 &proxy,
+                   const HeightField *fallback = nullptr) noexcept;
 
 } // namespace depthtouch::haptics::bench
