@@ -245,17 +245,20 @@ HapticOutput BallRenderer::update(const glm::dvec3 &hip, double t) noexcept
         s = solve(hip, from.x, from.y, start, moved + (wasInContact ? p_.glideReach : p_.radius),
                   !under);
     }
+    // Part 3's guards (ball_renderer.h's diagram), by their names there.
     const double depth = glm::length(s.proxy - hip);
     const bool inCapture = enterAnyDepth_ || depth <= p_.captureDepth || !config_.safety;
-    c.contact = depth > kOnHip && (wasInContact || inCapture);
+    const bool reachedHip = !(depth > kOnHip);
+    c.contact = !reachedHip && (wasInContact || inCapture);
     glm::dvec3 goal = s.proxy;
     if (c.contact)
         boundPush(hip, goal);
-    // The device maximum held too long lets go (kFingerSaturationTime); a cut too under
-    // Reengage::Release, while Reengage::Ramp keeps the contact and ramps the force in.
+    // letGo: the device maximum held too long (kFingerSaturationTime), or a cut under
+    // Reengage::Release; Reengage::Ramp keeps the contact through a cut and ramps the force in.
     const bool saturated = output_.takeLetGo() && c.contact;
     c.trip = c.trip || saturated;
-    if (c.trip && (saturated || config_.reengage == Reengage::Release))
+    const bool letGo = c.trip && (saturated || config_.reengage == Reengage::Release);
+    if (letGo)
         c.contact = false;
     c.proxy = c.contact ? goal : hip;
     // The material under the goal, friction on the filtered proxy (FingerOutput).
