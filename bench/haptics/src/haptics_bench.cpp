@@ -77,18 +77,12 @@ void setForceErrors(OneRun &out, const std::vector<double> &errors)
     out.errMax = errors.empty() ? 0.0 : *std::max_element(errors.begin(), errors.end());
 }
 
-bool endsWith(const std::string &s, const char *suffix)
-{
-    const std::string tail(suffix);
-    return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-}
-
 OneRun runOnce(const std::string &method, const WaveScenario &scene, double speed,
                std::size_t updates)
 {
     const int w = scene.width();
     const int h = scene.height();
-    const bool materials = endsWith(method, "-materials");
+    const bool materials = method.ends_with("-materials");
     const std::vector<std::uint8_t> material =
         materials ? benchMaterial(w, h) : std::vector<std::uint8_t>{};
     const scene::MaterialView materialView{materials ? material.data() : nullptr,
