@@ -112,9 +112,10 @@ std::string reportFeel(const DemoOptions &o, const std::string &clip, const std:
     const demo::DemoFeel d = demo::measureFeel(rows, play, *surface, plot);
     const haptics::FeelFigures &f = d.feel;
     std::printf("  feel              %zu safety trips (%zu at real cuts), pop-through %.0f ms, "
-                "phantom force %.0f ms, %.2f spikes/s while sliding (%.1f s)\n",
+                "phantom force %.0f ms, %.2f spikes/s while sliding (%.1f s), largest force step "
+                "%.2f N per update\n",
                 f.trips, f.realCutTrips, f.popThroughMs, f.phantomMs, f.spikesPerSecond,
-                f.slidingSeconds);
+                f.slidingSeconds, f.maxStepN);
     std::printf("  contact on %-6s %.0f %% of %.1f s in contact (surface over %.0f mm nearer "
                 "than the %s)\n",
                 o.scene == "head" ? "head" : "fig.",

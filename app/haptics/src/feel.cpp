@@ -191,6 +191,8 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
         regain.row(r, force, th, f);
         const glm::dvec3 step = r.force - prevForce;
         const double stepLength = glm::length(step);
+        if (i > 0)
+            f.maxStepN = std::max(f.maxStepN, stepLength);
         const bool reverses =
             glm::dot(step, prevStep) < 0.0 && glm::length(prevStep) > th.alternationStep;
         if (stepLength > th.spikeStep && reverses)
@@ -301,6 +303,7 @@ void accumulate(FeelFigures &total, const FeelFigures &run) noexcept
     total.energyMj += run.energyMj;
     total.idealEnergyMj += run.idealEnergyMj;
     total.energyPeakMj = std::max(total.energyPeakMj, run.energyPeakMj);
+    total.maxStepN = std::max(total.maxStepN, run.maxStepN);
     if (!(total.energyExcessMj >= run.energyExcessMj)) // NaN on either side: the other
         total.energyExcessMj = std::isnan(run.energyExcessMj) && !std::isnan(total.energyExcessMj)
                                    ? total.energyExcessMj

@@ -73,7 +73,8 @@ nlohmann::json figuresJson(const FeelFigures &f)
             {"ideal_energy_mj", f.idealEnergyMj},
             {"energy_excess_mj",
              std::isnan(f.energyExcessMj) ? nlohmann::json() : nlohmann::json(f.energyExcessMj)},
-            {"energy_peak_mj", f.energyPeakMj}};
+            {"energy_peak_mj", f.energyPeakMj},
+            {"max_step_n", f.maxStepN}};
 }
 
 /// The CSV columns of figuresJson(), in order.
@@ -81,7 +82,7 @@ constexpr const char *kFamilyColumns =
     "pressed_s,pressed_spikes,pressed_spikes_per_s,ideal_spikes,ideal_spikes_per_s,"
     "spikes_over_ideal,sign_reversal_spikes,sign_reversal_spikes_per_s,longest_alternating_run,"
     "regain_events,regain_missed,regain_ms,at_max_ms,pull_down_ms,arrival_trips,covered_ms,"
-    "energy_mj,ideal_energy_mj,energy_excess_mj,energy_peak_mj";
+    "energy_mj,ideal_energy_mj,energy_excess_mj,energy_peak_mj,max_step_n";
 
 void writeFamilyCsv(std::ostream &c, const FeelFigures &f)
 {
@@ -96,7 +97,7 @@ void writeFamilyCsv(std::ostream &c, const FeelFigures &f)
       << ',' << f.idealEnergyMj << ',';
     if (!std::isnan(f.energyExcessMj))
         c << f.energyExcessMj;
-    c << ',' << f.energyPeakMj;
+    c << ',' << f.energyPeakMj << ',' << f.maxStepN;
 }
 
 /// True for the scenes made from real captures (not "synthetic-...").

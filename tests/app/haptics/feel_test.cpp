@@ -395,6 +395,23 @@ TEST(FeelTest, SpikesOnlyWhileSliding)
     EXPECT_DOUBLE_EQ(f.maxForce, 3.0);
 }
 
+TEST(FeelTest, LargestForceStepPerUpdate)
+{
+    // The demo's goal reads the largest |ΔF| between consecutive updates: the first row's rise
+    // from zero is not a step of the run, a step anywhere else is, sliding or not.
+    auto rows = pressRows(100); // 1 N throughout
+    FeelFigures f = computeFeel(rows);
+    EXPECT_DOUBLE_EQ(f.maxStepN, 0.0);
+    rows[30].force = {0.3, 0.4, 1.0};  // |ΔF| = 0.5 in, 0.5 out
+    rows[70].force = {-0.6, 0.0, 1.8}; // |ΔF| = 1.0 in, 1.0 out
+    f = computeFeel(rows);
+    EXPECT_NEAR(f.maxStepN, 1.0, 1e-12);
+    FeelFigures total;
+    accumulate(total, computeFeel(pressRows(10)));
+    accumulate(total, f);
+    EXPECT_NEAR(total.maxStepN, 1.0, 1e-12); // the worst run's
+}
+
 TEST(FeelTest, RippleWhileHeld)
 {
     auto rows = pressRows(100);

@@ -268,6 +268,10 @@ struct FeelFigures {
     /// The largest energy the force had put into the hand at any time in one run, mJ (≥ 0;
     /// PassivityObserver::peak()); accumulate() keeps the largest.
     double energyPeakMj = 0.0;
+    /// The largest change of the commanded force from one update (row) to the next, N: the
+    /// demo's "no force step over 1 N per update" (issue goal); a trip's unload counts too.
+    /// accumulate() keeps the largest.
+    double maxStepN = 0.0;
     /// pressedSpikes / idealSpikes; NaN when the ideal penalty has no spike.
     [[nodiscard]] double spikeRatio() const noexcept
     {
