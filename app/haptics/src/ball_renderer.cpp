@@ -263,7 +263,7 @@ HapticOutput BallRenderer::update(const glm::dvec3 &hip, double t) noexcept
     c.proxy = c.contact ? goal : hip;
     // The material under the goal, friction on the filtered proxy (FingerOutput).
     const double scale = output_.material(field_, c);
-    const glm::dvec3 held = output_.filter(hip, c, t, scale);
+    const glm::dvec3 held = output_.filter(hip, c, t);
     out.force = output_.force(hip, held, c, t, scale, raw, field_, wasInContact);
     out.proxy = held;
     out.contact = c.contact;

@@ -111,8 +111,8 @@ void FingerOutput::smoothOffset(const glm::dvec3 &hip, const FingerGoal &c, doub
     held = hip + glm::dvec3{offset_.x, offset_.y, std::max(offset_.z, std::min(offset.z, 0.0))};
 }
 
-void FingerOutput::handOverRamp(const glm::dvec3 &hip, const glm::dvec3 &hipMove,
-                                double stiffnessScale, glm::dvec3 &held) noexcept
+bool FingerOutput::handOverRamp(const glm::dvec3 &hip, const glm::dvec3 &hipMove,
+                                glm::dvec3 &held) noexcept
 {
     // A ramp blends from the force before a trip or a step to the new contact's over the ramp
     // time (0.25 s). Where the surface falls away under the finger during it (a tap's pushed
@@ -125,19 +125,27 @@ void FingerOutput::handOverRamp(const glm::dvec3 &hip, const glm::dvec3 &hipMove
     // out at 40 cm/s and dropped it in 2 N steps when the contact ended (the demo's head). Deeper
     // and not lifting, the ramp goes on: a pressed finger's force turning under it (a hold at the
     // kitchen's cabinet edge) is the ramp's to blend.
+    //
+    // The hand-over is continuous: \a held is the proxy the spring would use (after friction),
+    // and the stiffness is the spring's last (scale_, which boundScale() then moves within
+    // unloadForce of force). Handed over before friction, the friction cone's anchor took the
+    // proxy back to its own direction (1.0-1.5 N in an update: the demo's head as the finger
+    // lifted off a ramp, the typing hand's desk edge under friction); at the material's target
+    // scale, a boundary under the finger stepped it by Δscale/scale of the command.
     if (!config_.smoothOffset || !force_.ramping())
-        return;
-    const double k = config_.stiffness * stiffnessScale;
+        return false;
+    const double k = config_.stiffness * scale_;
     const glm::dvec3 command = force_.lastCommand();
     const glm::dvec3 offset = held - hip;
     const double depth = glm::length(offset);
     const bool lifting = glm::dot(hipMove, offset) > 0.0;
     if (!(k > 0.0) || !((depth < p_.stepDepth || lifting) && k * depth < glm::length(command)))
-        return;
+        return false;
     force_.endRamp();
     offset_ = command / k;
     offsetTrend_ = {};
     held = hip + offset_;
+    return true;
 }
 
 void FingerOutput::releaseCovered(const glm::dvec3 &hip, double raw, const HeightField &field,
@@ -205,19 +213,18 @@ void FingerOutput::releaseCovered(const glm::dvec3 &hip, double raw, const Heigh
     force = release_;
 }
 
-glm::dvec3 FingerOutput::filter(const glm::dvec3 &hip, const FingerGoal &c, double t,
-                                double stiffnessScale) noexcept
+glm::dvec3 FingerOutput::filter(const glm::dvec3 &hip, const FingerGoal &c, double t) noexcept
 {
     glm::dvec3 held = c.proxy;
     smoothOffset(hip, c, t, held);
-    if (c.contact && !c.trip && !c.stepped)
-        handOverRamp(hip, c.hipMove, stiffnessScale, held);
     if (friction_.enabled() || material_) {
         if (c.contact && !c.trip)
             held = friction_.apply(held, hip, t);
         else
             friction_.release();
     }
+    if (c.contact && !c.trip && !c.stepped && handOverRamp(hip, c.hipMove, held))
+        friction_.moveTo(held);
     return held;
 }
 

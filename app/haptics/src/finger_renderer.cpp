@@ -389,7 +389,7 @@ HapticOutput FingerRenderer::update(const glm::dvec3 &hip, double t) noexcept
     c.touching = touching();
     c.smooth = c.plane.smooth;
     c.hipMove = hip - lastHip_;
-    const glm::dvec3 held = output_.filter(hip, c, t, stiffnessScale);
+    const glm::dvec3 held = output_.filter(hip, c, t);
     out.force = output_.force(hip, held, c, t, stiffnessScale, raw, field_, wasInContact);
     out.proxy = held;
     out.contact = c.contact;

@@ -79,14 +79,13 @@ public:
     /// contact).
     double material(const HeightField &field, const FingerGoal &c) noexcept;
     /// \brief The proxy the force and the report use, m: \a c's goal through the offset filter
-    /// (smoothOffset()), in a continuing contact the hand-over of a ramp (handOverRamp()), then
-    /// friction (friction.h) on the filtered proxy where the renderer has friction or the frames
-    /// a material track (material()): the cone's in a contact without a trip, else released.
-    /// \a stiffnessScale: the material's under the goal (material()).
+    /// (smoothOffset()), then friction (friction.h) on the filtered proxy where the renderer has
+    /// friction or the frames a material track (material()): the cone's in a contact without a
+    /// trip, else released; then, in a continuing contact, the hand-over of a ramp
+    /// (handOverRamp()), whose proxy the cone holds from then on.
     /// \a t: haptic time, s (the filter's trust in a clean surface grows with it; friction's
     /// static phase).
-    glm::dvec3 filter(const glm::dvec3 &hip, const FingerGoal &c, double t,
-                      double stiffnessScale) noexcept;
+    glm::dvec3 filter(const glm::dvec3 &hip, const FingerGoal &c, double t) noexcept;
     /// \brief The command of time \a t (s), N: the spring of \a held (m, after friction), the
     /// unload of a contact that ended (releaseCovered(): \a raw the sensor surface at the HIP's
     /// x–y, m, NaN off the grid; \a field for the rim within the fingertip's reach; \a wasInContact
@@ -125,10 +124,10 @@ private:
     void smoothOffset(const glm::dvec3 &hip, const FingerGoal &c, double t,
                       glm::dvec3 &held) noexcept;
     /// A ramp in progress (a trip's, a ramped step's) whose command is above the spring force
-    /// of \a held (m) at \a stiffnessScale: the ramp ends and the filter takes its command as
-    /// the offset (\a held moves to it), to unload at its bounded rate.
-    void handOverRamp(const glm::dvec3 &hip, const glm::dvec3 &hipMove, double stiffnessScale,
-                      glm::dvec3 &held) noexcept;
+    /// of \a held (m, after friction) at the spring's last stiffness scale (scale_): the ramp
+    /// ends and the filter takes its command as the offset (\a held moves to it, so the force
+    /// is continuous), to unload at its bounded rate. \return whether it handed over.
+    bool handOverRamp(const glm::dvec3 &hip, const glm::dvec3 &hipMove, glm::dvec3 &held) noexcept;
     /// A trip with the HIP under the surface now measured at its x–y (\a raw, m; a cut that
     /// covered the finger), or a contact (\a wasInContact: at the update's start) that ended
     /// with a surface above the HIP within rimReach (a rim it slid off, also out of a hold over a

@@ -102,6 +102,15 @@ public:
         return held_;
     }
 
+    /// \brief The caller moved the proxy to \a proxy (m, scene-box frame; the fingertip's output
+    /// stage handing a ramp's force to its spring, finger_output.h): a held proxy is held there
+    /// from the next apply(), in the same phase (static or sliding). Nothing while not holding.
+    void moveTo(const glm::dvec3 &proxy) noexcept
+    {
+        if (holding_)
+            held_ = proxy;
+    }
+
     /// \brief The contact ended (free HIP, a safety trip, a reset): the next contact starts at its
     /// own goal.
     void release() noexcept
