@@ -26,6 +26,7 @@ void HapticCounters::fill(HapticStats &s) const noexcept
     s.contactUpdates = contacts_.load(std::memory_order_relaxed);
     s.safetyReleases = releases_.load(std::memory_order_relaxed);
     s.maxForce = maxForceSeen_.load(std::memory_order_relaxed);
+    s.maxForceStep = maxStepSeen_.load(std::memory_order_relaxed);
     s.energy = energy_.load(std::memory_order_relaxed);
     s.energyPeak = energyPeak_.load(std::memory_order_relaxed);
     s.deviceCallMaxUs =

@@ -35,6 +35,7 @@ std::string HapticStats::toJson(int indent) const
         {"device_connected", deviceConnected},
         {"telemetry_dropped", telemetryDropped},
         {"max_force_n", maxForce},
+        {"max_force_step_n", maxForceStep},
         {"energy_into_hand_mj", 1e3 * energy},
         {"energy_peak_mj", 1e3 * energyPeak},
         {"device_max_force_n", deviceMaxForce},

@@ -340,12 +340,14 @@ ServoLoop::beginSample(const platform::PeriodicWait &wait) const noexcept
 }
 
 [[gnu::always_inline]] inline void ServoLoop::recordForce(const glm::dvec3 &force,
+                                                          const glm::dvec3 &before,
                                                           const glm::dvec3 &position,
                                                           TelemetrySample &sample) noexcept
 {
     counters_.publishForce(force);
     sample.force = force;
     counters_.noteForce(glm::length(force));
+    counters_.noteStep(glm::length(force - before));
     passivity_.update(position, force);
     counters_.setEnergy(passivity_.energy(), passivity_.peak());
 }
@@ -362,8 +364,10 @@ void ServoLoop::cycle(const platform::PeriodicWait &wait) noexcept
         c.gain = rampGain(c);
         const glm::dvec3 target = render(hip, c);
         const glm::dvec3 force = shapeForce(target, c.gain, c);
+        const glm::dvec3 before = prevForce_; // what the device had (zero after zeroForce())
         if (command(force, c))
-            recordForce(force, {state.position.x, state.position.y, state.position.z}, c.sample);
+            recordForce(force, before, {state.position.x, state.position.y, state.position.z},
+                        c.sample);
     }
     finishCycle(c);
 }

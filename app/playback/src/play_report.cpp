@@ -75,8 +75,9 @@ void printHapticSummary(const haptic_task::HapticStats &hs, double deviceMaxForc
                 static_cast<unsigned long long>(hs.pageFaultsMinor),
                 static_cast<unsigned long long>(hs.pageFaultsMajor),
                 static_cast<unsigned long long>(hs.pageFaultsWarmup), hs.lockedMiB);
-    std::printf("  max force         %.2f N (device maximum %.2f N)\n", hs.maxForce,
-                deviceMaxForce);
+    std::printf(
+        "  max force         %.2f N (device maximum %.2f N), largest step %.2f N per update\n",
+        hs.maxForce, deviceMaxForce, hs.maxForceStep);
     std::printf("  energy            %.2f mJ put into the hand at the device, at most %.2f mJ at "
                 "any time (passivity observer)\n",
                 1e3 * hs.energy, 1e3 * hs.energyPeak);

@@ -50,7 +50,7 @@ hkeys = {"haptic_updates", "haptic_run_s", "haptic_rate_hz", "rendered_updates",
          "overruns", "missed_periods", "wake_latency_us", "update_time_us", "period_error_us",
          "safety_releases", "watchdog_trips", "device_losses", "reconnects", "device_connected",
          "telemetry_dropped",
-         "max_force_n", "device_max_force_n", "device_call_max_us", "force_log_lost", "haptic_thread",
+         "max_force_n", "max_force_step_n", "device_max_force_n", "device_call_max_us", "force_log_lost", "haptic_thread",
          "haptic_page_faults", "haptic_locked_mib", "energy_into_hand_mj", "energy_peak_mj"}
 pkeys = {"url", "mode", "depth_size", "color_size", "output_size", "fps", "display", "haptic_device",
          "frames_decoded", "frames_received", "frames_presented", "frames_dropped", "frames_late",
@@ -176,6 +176,10 @@ if haptic:
         want("safety_releases", d.get("safety_releases") == rel + d.get("watchdog_trips", 0), "%d released rows + watchdog_trips" % rel)
         fmax = max([math.sqrt(sum(float(r[c]) ** 2 for c in ("fx", "fy", "fz"))) for r in rows] or [0])
         near("max_force_n", fmax, 1e-4)
+        # The largest step between consecutive rows (one per command; the first from zero).
+        fs = [[float(r[c]) for c in ("fx", "fy", "fz")] for r in rows]
+        smax = max([math.dist(a, b) for a, b in zip([[0.0, 0.0, 0.0]] + fs, fs)] or [0])
+        near("max_force_step_n", smax, 1e-4)
         near("haptic_run_s", float(rows[-1]["play_t"]) if rows else 0, 1e-5)
         # The passivity observer (haptics/passivity.h) over the log: the work of each row's force
         # over the HIP's move to the next row (the mapping's scale is 1: device and scene moves

@@ -58,6 +58,13 @@ public:
         if (magnitude > maxForceSeen_.load(std::memory_order_relaxed))
             maxForceSeen_.store(magnitude, std::memory_order_relaxed);
     }
+    /// Keeps the largest change of the commanded force from one command to the next, N
+    /// (HapticStats::maxForceStep).
+    void noteStep(double magnitude) noexcept
+    {
+        if (magnitude > maxStepSeen_.load(std::memory_order_relaxed))
+            maxStepSeen_.store(magnitude, std::memory_order_relaxed);
+    }
     /// The passivity observer's energy and peak so far, J (HapticStats::energy).
     void setEnergy(double energy, double peak) noexcept
     {
@@ -107,7 +114,8 @@ public:
     /// \brief The HIP and the proxy of the last rendered update, m. \return false before one.
     bool lastPose(glm::dvec3 &hip, glm::dvec3 &proxy) const noexcept;
     /// \brief Fills updates, renderedUpdates, contactUpdates, safetyReleases (the renderer's
-    /// releases only: the caller adds the watchdog trips), maxForce, energy, deviceCallMaxUs and
+    /// releases only: the caller adds the watchdog trips), maxForce, maxForceStep, energy,
+    /// deviceCallMaxUs and
     /// the page faults of \a s.
     void fill(HapticStats &s) const noexcept;
     ///@}
@@ -118,6 +126,7 @@ private:
     std::atomic<std::uint64_t> contacts_{0};
     std::atomic<std::uint64_t> releases_{0};
     std::atomic<double> maxForceSeen_{0.0};        ///< N.
+    std::atomic<double> maxStepSeen_{0.0};         ///< N (noteStep()).
     std::atomic<double> energy_{0.0};              ///< J (setEnergy()).
     std::atomic<double> energyPeak_{0.0};          ///< J.
     std::atomic<std::int64_t> deviceCallMaxNs_{0}; ///< Longest device call, ns.

@@ -31,6 +31,10 @@ struct HapticStats {
     bool deviceConnected = false;
     std::uint64_t telemetryDropped = 0; ///< Samples lost to a full ring (not in the percentiles).
     double maxForce = 0.0;              ///< Largest commanded force magnitude, N.
+    /// Largest change of the commanded force from one command to the next, N: a knock the hand
+    /// feels (`depthtouch demo`'s goal: no step over 1 N per update). After a gap (an overrun,
+    /// a lost device) it is the step from the force the device had, zero where it was zeroed.
+    double maxForceStep = 0.0;
     /// Energy the commanded force put into the hand at the device's port over the run, J (the
     /// passivity observer of haptics/passivity.h on the device's own position, m, and the force
     /// commanded, held until the next command); > 0 is energy the renderer (or the moving
@@ -60,8 +64,8 @@ struct HapticStats {
     /// contact_updates, overruns, missed_periods, wake_latency_us / update_time_us /
     /// period_error_us {p50, p90, p99, p999, max, mean}, safety_releases, watchdog_trips,
     /// device_losses, reconnects, device_connected, telemetry_dropped, max_force_n,
-    /// device_max_force_n, device_call_max_us, force_log_lost, haptic_thread, haptic_page_faults
-    /// {minor, major, warmup}, haptic_locked_mib.
+    /// max_force_step_n, device_max_force_n, device_call_max_us, force_log_lost, haptic_thread,
+    /// haptic_page_faults {minor, major, warmup}, haptic_locked_mib.
     [[nodiscard]] std::string toJson(int indent = 2) const;
 };
 

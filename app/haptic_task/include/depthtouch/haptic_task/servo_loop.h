@@ -105,9 +105,10 @@ private:
     glm::dvec3 shapeForce(glm::dvec3 target, double gain, const CycleContext &c) const noexcept;
     /// Commands \a force. \return false when the device was lost.
     bool command(const glm::dvec3 &force, CycleContext &c) noexcept;
-    /// Publishes the commanded force and records it in the telemetry, the maximum and the
-    /// passivity observer (with the device's own \a position, m).
-    void recordForce(const glm::dvec3 &force, const glm::dvec3 &position,
+    /// Publishes the commanded force and records it in the telemetry, the maximum, the largest
+    /// step from \a before (the force the device had, N) and the passivity observer (with the
+    /// device's own \a position, m).
+    void recordForce(const glm::dvec3 &force, const glm::dvec3 &before, const glm::dvec3 &position,
                      TelemetrySample &sample) noexcept;
     /// Pushes the telemetry sample and counts the cycle.
     void finishCycle(CycleContext &c) noexcept;
