@@ -19,16 +19,6 @@ constexpr const char kTmpSuffix[] = ".tmp"; // what `hls_flags temp_file` append
 /// The segment sizes kept (2 s segments: about 2.3 hours of an endless live output).
 constexpr std::size_t kSegmentsKept = 4096;
 
-bool endsWith(const std::string &name, const char *suffix, std::size_t n)
-{
-    return name.size() > n && name.compare(name.size() - n, n, suffix) == 0;
-}
-
-bool endsWithTmp(const std::string &name)
-{
-    return endsWith(name, kTmpSuffix, sizeof kTmpSuffix - 1);
-}
-
 } // namespace
 
 void HlsFiles::install(AVFormatContext *fmt) noexcept
@@ -49,9 +39,9 @@ int HlsFiles::open(AVFormatContext *s, AVIOContext **pb, const char *url, int fl
     if ((flags & AVIO_FLAG_WRITE) != 0 && url != nullptr) {
         try {
             std::string name(url);
-            if (endsWithTmp(name))
+            if (name.ends_with(kTmpSuffix))
                 name.resize(name.size() - (sizeof kTmpSuffix - 1));
-            segment = endsWith(name, ".ts", 3);
+            segment = name.ends_with(".ts");
             self->written_.insert(std::move(name));
         } catch (const std::bad_alloc &) {
             return AVERROR(ENOMEM);

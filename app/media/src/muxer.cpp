@@ -3,7 +3,6 @@
 
 #include <array>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <string>
 
@@ -24,20 +23,6 @@ namespace {
 /// How long closing an SRT output waits for its last packets to be acknowledged (s). A receiver
 /// that has gone is not waited for: the connection is already broken.
 constexpr int kSrtLingerSeconds = 2;
-
-bool endsWith(const std::string &s, const char *suffix)
-{
-    const std::size_t n = std::strlen(suffix);
-    if (s.size() < n)
-        return false;
-    for (std::size_t i = 0; i < n; ++i) {
-        const char a = s[s.size() - n + i];
-        const char lower = (a >= 'A' && a <= 'Z') ? static_cast<char>(a - 'A' + 'a') : a;
-        if (lower != suffix[i])
-            return false;
-    }
-    return true;
-}
 
 } // namespace
 
@@ -70,13 +55,14 @@ Container containerForOutput(const std::string &output)
 {
     // The path part of a URL may carry query options (udp://host:port?pkt_size=1316).
     const std::string path = output.substr(0, output.find('?'));
-    if (endsWith(path, ".mp4") || endsWith(path, ".m4v") || endsWith(path, ".mov"))
+    // libavformat's own extension match (case-insensitive, as its format probing is).
+    if (av_match_ext(path.c_str(), "mp4,m4v,mov") > 0)
         return Container::Mp4;
-    if (endsWith(path, ".ts") || endsWith(path, ".m2ts") || endsWith(path, ".mts"))
+    if (av_match_ext(path.c_str(), "ts,m2ts,mts") > 0)
         return Container::MpegTs;
-    if (endsWith(path, ".mkv") || endsWith(path, ".mka") || endsWith(path, ".webm"))
+    if (av_match_ext(path.c_str(), "mkv,mka,webm") > 0)
         return Container::Matroska;
-    if (endsWith(path, ".m3u8"))
+    if (av_match_ext(path.c_str(), "m3u8") > 0)
         return Container::Hls;
     return isOutputUrl(output) ? Container::MpegTs : Container::Matroska;
 }
