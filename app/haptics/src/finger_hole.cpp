@@ -20,7 +20,9 @@
 /// off a rim beside the hole, its force mostly sideways, stepped 0.7-0.8 N off when it passed the
 /// proxy's height. A measured spot again ends the hold: the finger slides on from the held proxy,
 /// or, where what is measured now is a cut from what it was held on (an occluder came over the
-/// unseen spot), it is free and caught by what is there, as it was without the hold.
+/// unseen spot), it is free and caught by what is there, as it was without the hold; a force it
+/// had unloads at the bounded rate while what came over it covers the HIP
+/// (FingerOutput::releaseCovered()), not in the step limit's 2 N steps.
 /// Cost: no height lookup while held (the plane is the last update's); one plane fit (9 lookups) on
 /// the update the spot is measured again. Thread-safety: thread-bound.
 

@@ -169,15 +169,19 @@ void FingerOutput::releaseCovered(const glm::dvec3 &hip, double raw, const Heigh
     // it outlasted the rim by an update at 50 cm/s where the measured edge lies a pixel beyond
     // the true one (1-12 ms of phantom force over the clips); doubling up to maxForceStep, its
     // last step was a spike (0.7 N beside the living room's moving object). Out of 3r/4 the force
-    // is 0, as the release of a contact was.
+    // is 0, as the release of a contact was. A contact that ended with the HIP covered (below)
+    // unloads as a covering trip does.
     if (c.contact || !config_.smoothOffset) {
         release_ = {};
         return;
     }
     const bool covered = raw > hip.z; // false for NaN
-    // A hold over a hole that ends under what came over it (contact_ cleared) leaves the finger
-    // free with no force, as the hole did before the hold (finger_hole.cpp).
-    const bool started = c.trip ? covered : (covered ? c.touching : wasInContact);
+    // Any contact that ended under the surface now measured, however it ended, unloads as a
+    // covering cut's trip does: a hold over a hole that ended under what came over it (a person
+    // walking over a finger held 3 mm into bonn-crowd's floor) was left free with no force, and its
+    // 6 N fell in the step limit's 2 N steps (1 N from a 1 mm hold); now 0.25 N an update, with
+    // the same pop-through, phantom force, regain and energy on every stroke of `bench feel`.
+    const bool started = c.trip ? covered : wasInContact;
     if (!started && release_ == glm::dvec3{})
         return; // nothing to unload (a free finger: no lookups)
     const auto reachAbove = [&field](const glm::dvec3 &at, double radius) {

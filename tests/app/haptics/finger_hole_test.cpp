@@ -169,9 +169,12 @@ TEST(FingerHoleTest, aShadowBandPassingUnderAPressedFingerKeepsItsForce)
 // shadow band): what is measured again is not the table it was held on (its spot is 20 mm off; the
 // patch it was held with was holes, so no step of the patch tells it). It is free, as if the hole
 // had left it free, and caught by what is there: the object is deeper over the finger than a new
-// contact may be (behind it), so no force and no trip. Held on through the object's arrival
-// instead, the step of the patch was a cut and safety tripped (4 of the real clips' holds under
-// occluders).
+// contact may be (behind it), so no trip, and the force it had unloads at the bounded rate while
+// the object covers it, as after a covering trip (FingerOutput::releaseCovered()). Held on through
+// the object's arrival instead, the step of the patch was a cut and safety tripped (4 of the real
+// clips' holds under occluders). This test pinned the force at 0 five updates after the object
+// came (the force went at the step limit, 2 N an update: a person walking over a finger held in
+// bonn-crowd's floor dropped 6 N in three 2 N knocks); it now pins the bounded unload.
 TEST(FingerHoleTest, anObjectArrivingOverAHeldHoleDoesNotTrip)
 {
     const auto none = [](double, double) { return false; };
@@ -192,12 +195,18 @@ TEST(FingerHoleTest, anObjectArrivingOverAHeldHoleDoesNotTrip)
     const double held = press.force();
     press.run(object, 100);
     const double covered = glm::length(press.log.out[266 + 5].force);
+    const double unload = RendererConfig{}.maxForceStep / 8.0; // FingerParameters::unloadForce
+    const double settled = glm::length(press.log.out[266 + 10].force);
+    const double step = press.log.largestStep(266);
     std::printf("a hole, then an object 20 mm over the held finger: %.2f N pressed, %.2f N over "
-                "the hole, %.2f N 5 ms after the object came, %d trip(s)\n",
-                pressed, held, covered, press.trips());
+                "the hole, %.2f N 5 ms and %.2f N 10 ms after the object came (largest step %.3f "
+                "N), %d trip(s)\n",
+                pressed, held, covered, settled, step, press.trips());
     EXPECT_NEAR(held, pressed, 0.02);
     EXPECT_EQ(press.trips(), 0);
-    EXPECT_EQ(covered, 0.0);
+    EXPECT_LE(step, unload + 1e-9);          // unloaded at the bounded rate, no knock
+    EXPECT_LT(covered, held - 4.0 * unload); // and unloading from the first update
+    EXPECT_EQ(settled, 0.0);                 // gone within held / unload updates
     EXPECT_EQ(press.force(), 0.0);
 }
 

@@ -130,7 +130,8 @@ private:
     bool handOverRamp(const glm::dvec3 &hip, const glm::dvec3 &hipMove, glm::dvec3 &held) noexcept;
     /// A trip with the HIP under the surface now measured at its x–y (\a raw, m; a cut that
     /// covered the finger), or a contact (\a wasInContact: at the update's start) that ended
-    /// with a surface above the HIP within rimReach (a rim it slid off, also out of a hold over a
+    /// with the HIP so covered (a hold over a hole that ended under what came over it) or with a
+    /// surface above the HIP within rimReach (a rim it slid off, also out of a hold over a
     /// hole): \a force (N) becomes the last command, unloaded by unloadForce an update while
     /// the HIP stays covered, from unloadForce doubling to twice it while only the rim is within
     /// rimReach; the HIP's own rise (FingerGoal::hipMove, its part along the force) unloads it as

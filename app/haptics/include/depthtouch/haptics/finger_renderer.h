@@ -144,7 +144,9 @@
 ///      was, its direction kept while the HIP is deeper than that) for kFingerDepthMemory while it
 ///      stays within r of where the hole opened and under the proxy's height, then its force
 ///      unloads by maxForceStep/8 an update along its last direction; measured again a cut off the
-///      held surface, the finger is free and caught by what is there (finger_hole.cpp). A free
+///      held surface, the finger is free and caught by what is there (finger_hole.cpp), its force
+///      unloading by maxForceStep/8 an update while that covers it, as after a covering trip
+///      (releaseCovered()). A free
 ///      finger that meets a hole finds free space.
 /// 5b. **The penalty contact** (RendererConfig::fingerContact; GodObject, steps 2–5, by
 ///    default): with FingerContact::Penalty the contact is the penalty of the plane under the
