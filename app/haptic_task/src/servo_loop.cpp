@@ -76,6 +76,7 @@ void ServoLoop::countFaults(const platform::PageFaults &since) noexcept
 void ServoLoop::zeroForce() noexcept
 {
     prevForce_ = {};
+    lastRecorded_ = {};
     passivity_.breakPath();
     phase_ = 0.0;
     resumePhase_ = 0.0;
@@ -340,14 +341,16 @@ ServoLoop::beginSample(const platform::PeriodicWait &wait) const noexcept
 }
 
 [[gnu::always_inline]] inline void ServoLoop::recordForce(const glm::dvec3 &force,
-                                                          const glm::dvec3 &before,
                                                           const glm::dvec3 &position,
                                                           TelemetrySample &sample) noexcept
 {
     counters_.publishForce(force);
     sample.force = force;
     counters_.noteForce(glm::length(force));
-    counters_.noteStep(glm::length(force - before));
+    // From the last force recorded, not prevForce_: a late cycle's watchdog zeroes prevForce_
+    // before its own zero is commanded, and that drop is a step the hand feels.
+    counters_.noteStep(glm::length(force - lastRecorded_));
+    lastRecorded_ = force;
     passivity_.update(position, force);
     counters_.setEnergy(passivity_.energy(), passivity_.peak());
 }
@@ -364,10 +367,8 @@ void ServoLoop::cycle(const platform::PeriodicWait &wait) noexcept
         c.gain = rampGain(c);
         const glm::dvec3 target = render(hip, c);
         const glm::dvec3 force = shapeForce(target, c.gain, c);
-        const glm::dvec3 before = prevForce_; // what the device had (zero after zeroForce())
         if (command(force, c))
-            recordForce(force, before, {state.position.x, state.position.y, state.position.z},
-                        c.sample);
+            recordForce(force, {state.position.x, state.position.y, state.position.z}, c.sample);
     }
     finishCycle(c);
 }

@@ -32,8 +32,8 @@ struct HapticStats {
     std::uint64_t telemetryDropped = 0; ///< Samples lost to a full ring (not in the percentiles).
     double maxForce = 0.0;              ///< Largest commanded force magnitude, N.
     /// Largest change of the commanded force from one command to the next, N: a knock the hand
-    /// feels (`depthtouch demo`'s goal: no step over 1 N per update). After a gap (an overrun,
-    /// a lost device) it is the step from the force the device had, zero where it was zeroed.
+    /// feels (`depthtouch demo`'s goal: no step over 1 N per update), the deadline watchdog's drop
+    /// to zero on a late cycle included. After a lost device it is the step from zero.
     double maxForceStep = 0.0;
     /// Energy the commanded force put into the hand at the device's port over the run, J (the
     /// passivity observer of haptics/passivity.h on the device's own position, m, and the force

@@ -106,9 +106,9 @@ private:
     /// Commands \a force. \return false when the device was lost.
     bool command(const glm::dvec3 &force, CycleContext &c) noexcept;
     /// Publishes the commanded force and records it in the telemetry, the maximum, the largest
-    /// step from \a before (the force the device had, N) and the passivity observer (with the
+    /// step from the last force recorded (lastRecorded_) and the passivity observer (with the
     /// device's own \a position, m).
-    void recordForce(const glm::dvec3 &force, const glm::dvec3 &before, const glm::dvec3 &position,
+    void recordForce(const glm::dvec3 &force, const glm::dvec3 &position,
                      TelemetrySample &sample) noexcept;
     /// Pushes the telemetry sample and counts the cycle.
     void finishCycle(CycleContext &c) noexcept;
@@ -146,6 +146,9 @@ private:
     bool stalled_ = false;             ///< The last cycle was late (the watchdog held zero).
     platform::TimePoint lastOnTime_{}; ///< Wake-up of the last cycle that was not late.
     glm::dvec3 prevForce_{};
+    /// The last force recorded (recordForce()), N; zero where the device was zeroed
+    /// (zeroForce()). HapticStats::maxForceStep is taken from it.
+    glm::dvec3 lastRecorded_{};
     /// Energy into the hand at the device's port (HapticStats::energy); its path breaks where
     /// the force was zeroed (zeroForce()).
     haptics::PassivityObserver passivity_;
