@@ -24,6 +24,14 @@ inline void bump(std::atomic<std::uint64_t> &counter, std::uint64_t delta = 1) n
     counter.store(counter.load(std::memory_order_relaxed) + delta, std::memory_order_relaxed);
 }
 
+/// \brief Raises \a most to \a value where that is larger, for a value only the calling thread
+/// writes (a relaxed load and store, as bump()).
+template <typename T> inline void keepMax(std::atomic<T> &most, T value) noexcept
+{
+    if (value > most.load(std::memory_order_relaxed))
+        most.store(value, std::memory_order_relaxed);
+}
+
 /// \brief The counters and values the haptic thread publishes.
 ///
 /// Thread-safety: the writers (count*(), note*(), set*(), publish*()) are for the haptic thread
@@ -53,18 +61,10 @@ public:
     /// Counts a release of the renderer's force-jump safety (paper IV.C).
     void countRelease() noexcept { bump(releases_); }
     /// Keeps the largest commanded force magnitude, N.
-    void noteForce(double magnitude) noexcept
-    {
-        if (magnitude > maxForceSeen_.load(std::memory_order_relaxed))
-            maxForceSeen_.store(magnitude, std::memory_order_relaxed);
-    }
+    void noteForce(double magnitude) noexcept { keepMax(maxForceSeen_, magnitude); }
     /// Keeps the largest change of the commanded force from one command to the next, N
     /// (HapticStats::maxForceStep).
-    void noteStep(double magnitude) noexcept
-    {
-        if (magnitude > maxStepSeen_.load(std::memory_order_relaxed))
-            maxStepSeen_.store(magnitude, std::memory_order_relaxed);
-    }
+    void noteStep(double magnitude) noexcept { keepMax(maxStepSeen_, magnitude); }
     /// The passivity observer's energy and peak so far, J (HapticStats::energy).
     void setEnergy(double energy, double peak) noexcept
     {
@@ -74,9 +74,7 @@ public:
     /// Keeps the longest device call (HapticStats::deviceCallMaxUs).
     void noteDeviceCall(platform::Duration took) noexcept
     {
-        const std::int64_t ns = took.count();
-        if (ns > deviceCallMaxNs_.load(std::memory_order_relaxed))
-            deviceCallMaxNs_.store(ns, std::memory_order_relaxed);
+        keepMax(deviceCallMaxNs_, static_cast<std::int64_t>(took.count()));
     }
     /// The ramp gain in [0, 1].
     void setGain(double gain) noexcept { gain_.store(gain, std::memory_order_relaxed); }
