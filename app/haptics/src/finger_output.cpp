@@ -179,8 +179,9 @@ void FingerOutput::releaseCovered(const glm::dvec3 &hip, double raw, const Heigh
     // Any contact that ended under the surface now measured, however it ended, unloads as a
     // covering cut's trip does: a hold over a hole that ended under what came over it (a person
     // walking over a finger held 3 mm into bonn-crowd's floor) was left free with no force, and its
-    // 6 N fell in the step limit's 2 N steps (1 N from a 1 mm hold); now 0.25 N an update, with
-    // the same pop-through, phantom force, regain and energy on every stroke of `bench feel`.
+    // 6 N fell in the step limit's 2 N steps (0.8-0.9 N at once from a 1 mm hold); now 0.25 N an
+    // update, with the same pop-through, phantom force, regain and energy on every stroke of `bench
+    // feel`.
     const bool started = c.trip ? covered : wasInContact;
     if (!started && release_ == glm::dvec3{})
         return; // nothing to unload (a free finger: no lookups)
