@@ -15,6 +15,10 @@
 # fail MESSAGE      "FAIL: MESSAGE" on stdout and exit 1.
 # e2e_wait_served EXE URL OUT  `EXE probe URL` (output in OUT) until it succeeds, for a server just
 #                   started: up to 5 s, then fail with its output.
+# e2e_wait_udp PORT PID  until a UDP socket is bound to 127.0.0.1 or any address at PORT (a
+#                   listener or a player just started: /proc/net/udp, so nothing connects to it), up
+#                   to 10 s, or until process PID has exited; then returns (the step that follows
+#                   reports what went wrong). A fixed sleep lost the race on a loaded machine.
 
 e2e_need() {
     for tool in "$@"; do
@@ -50,5 +54,13 @@ e2e_wait_served() {
         tries=$((tries + 1))
         [ $tries -lt 25 ] || { cat "$3"; fail "no server answers at $2"; }
         sleep 0.2
+    done
+}
+e2e_wait_udp() {
+    hex=$(printf '%04X' "$1")
+    for _ in $(seq 1 200); do
+        grep -q ":$hex " /proc/net/udp /proc/net/udp6 2>/dev/null && return 0
+        kill -0 "$2" 2>/dev/null || return 0
+        sleep 0.05
     done
 }

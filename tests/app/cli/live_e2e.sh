@@ -82,7 +82,7 @@ srt="srt://127.0.0.1:$((port + 1))"
 "$exe" encode --color "$C" --depth "$D" --loop --duration 30 -o "$srt?mode=listener" --preset ultrafast \
     >/dev/null 2>"$work/srt.err" &
 sender=$!
-sleep 1
+e2e_wait_udp $((port + 1)) "$sender" # the listener is up (a fixed second lost the race under load)
 "$exe" play "$srt" --display mock --haptic none --duration 2 --stats "$work/srt.json" >"$work/srt-play.out" 2>&1 ||
     { cat "$work/srt-play.out"; fail "srt: play exited $?"; }
 # Frames came over SRT with their depth and were presented, undamaged. How many in 2 s is the
@@ -110,7 +110,7 @@ srt2="srt://127.0.0.1:$((port + 2))"
 "$exe" encode --color "$C" --depth "$D" -o "$srt2?mode=listener" --preset ultrafast \
     >/dev/null 2>"$work/srt2.err" &
 sender=$!
-sleep 1
+e2e_wait_udp $((port + 2)) "$sender"
 "$exe" play "$srt2" --display mock --haptic none --stats "$work/srt2.json" >"$work/srt2-play.out" 2>&1 ||
     { cat "$work/srt2-play.out"; fail "srt session: play exited $?"; }
 wait "$sender"

@@ -17,7 +17,6 @@ exe="$1"
 . "$(dirname "$0")/../../e2e_lib.sh"
 e2e_start live_splice ffmpeg python3
 port=$((20000 + $$ % 20000))
-hexport=$(printf '%04X' "$port")
 
 # One 3 s clip (90 pairs), its timestamps moved, joined byte for byte (as the file test does).
 ff -f lavfi -i "testsrc2=s=160x120:r=30:d=3" -pix_fmt yuv420p "$work/c.mkv" || fail "ffmpeg color"
@@ -65,12 +64,8 @@ check() {
     "$exe" play "udp://127.0.0.1:$port" --display mock --haptic none --no-config --audio-device none \
         --verbose --max-lateness 10 --duration 30 --stats "$work/$1.json" >"$work/$1.log" 2>&1 &
     e2e_bg=$!
-    # The sender starts once the player listens (its port in /proc/net/udp): a bounded poll.
-    for _ in $(seq 1 200); do
-        grep -q ":$hexport " /proc/net/udp && break
-        kill -0 "$e2e_bg" 2>/dev/null || break
-        sleep 0.05
-    done
+    # The sender starts once the player listens (its port bound): a bounded poll.
+    e2e_wait_udp "$port" "$e2e_bg"
     python3 "$work/send.py" "$work/$1.ts" "$port" 6 "$(wc -c <"$work/$2.ts")" >"$work/$1.send" 2>&1 ||
         { cat "$work/$1.send"; fail "$1: the sender"; }
     wait "$e2e_bg"
