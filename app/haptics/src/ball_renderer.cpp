@@ -88,8 +88,8 @@ void BallRenderer::reset(const glm::dvec3 &hip) noexcept
 }
 
 BallRenderer::Solution BallRenderer::solve(const glm::dvec3 &hip, double fromX, double fromY,
-                                           const BallPoint &start, double reach,
-                                           bool hipFree) const noexcept
+                                           const BallPoint &start, const BallPoint *atHip,
+                                           double reach, bool hipFree) const noexcept
 {
     Solution s;
     double x = fromX;
@@ -118,7 +118,9 @@ BallRenderer::Solution BallRenderer::solve(const glm::dvec3 &hip, double fromX, 
             cx = fromX + (cx - fromX) * (reach / far);
             cy = fromY + (cy - fromY) * (reach / far);
         }
-        Trial t{cx, cy, 0.0, ball_.at(field_, cx, cy)};
+        // The straight step's full share lands on the HIP's x–y, already queried by update().
+        const bool onHip = atHip != nullptr && cx == hip.x && cy == hip.y;
+        Trial t{cx, cy, 0.0, onHip ? *atHip : ball_.at(field_, cx, cy)};
         t.f = objective(hip, cx, cy, t.at.height);
         return t;
     };
@@ -232,7 +234,8 @@ HapticOutput BallRenderer::update(const glm::dvec3 &hip, double t) noexcept
     c.hipMove = hip - lastHip_;
     const bool over = field_.contains(hip.x, hip.y);
     const double raw = over ? field_.heightAt(hip.x, hip.y) : std::nan("");
-    const bool under = over && ball_.at(field_, hip.x, hip.y).height > hip.z; // false for NaN
+    const BallPoint atHip = over ? ball_.at(field_, hip.x, hip.y) : BallPoint{};
+    const bool under = over && atHip.height > hip.z; // false for NaN
     // Where the solve starts: the last proxy in contact (fix (a): on the surface now), else the
     // last HIP (a finger that came from the side under a face meets the face).
     const glm::dvec3 &from = wasInContact && config_.correction ? surfaceProxy_ : lastHip_;
@@ -242,8 +245,8 @@ HapticOutput BallRenderer::update(const glm::dvec3 &hip, double t) noexcept
         if (wasInContact && config_.safety && patchStep(start) > field_.cutThreshold())
             c.trip = true; // a cut: the whole patch under the finger moved (fix (c))
         const double moved = std::hypot(hip.x - lastHip_.x, hip.y - lastHip_.y);
-        s = solve(hip, from.x, from.y, start, moved + (wasInContact ? p_.glideReach : p_.radius),
-                  !under);
+        s = solve(hip, from.x, from.y, start, over ? &atHip : nullptr,
+                  moved + (wasInContact ? p_.glideReach : p_.radius), !under);
     }
     // Part 3's guards (ball_renderer.h's diagram), by their names there.
     const double depth = glm::length(s.proxy - hip);

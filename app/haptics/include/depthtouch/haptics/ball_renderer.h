@@ -112,9 +112,11 @@ private:
     };
     /// Part 2: the proxy from \a fromX, \a fromY (m; the last proxy's x–y, or the HIP's), whose
     /// swept surface is \a start, for the HIP \a hip; the x–y moves at most \a reach, m.
+    /// \a atHip: S at the HIP's own x–y (null off the grid), reused where a step lands there.
     /// \a hipFree: the HIP is not under S at its own x–y (its way may be clear).
     [[nodiscard]] Solution solve(const glm::dvec3 &hip, double fromX, double fromY,
-                                 const BallPoint &start, double reach, bool hipFree) const noexcept;
+                                 const BallPoint &start, const BallPoint *atHip, double reach,
+                                 bool hipFree) const noexcept;
     /// \return whether the ball's lowest point goes from \a from to \a to (m) above S: sampled at a
     /// third and two thirds of the way (the HIP \a to is known free).
     [[nodiscard]] bool clearPath(const glm::dvec3 &from, const glm::dvec3 &to) const noexcept;
