@@ -163,6 +163,28 @@ void rates(FeelFigures &f) noexcept
         f.slidingSeconds > 0.0 ? static_cast<double>(f.falseTrips) / f.slidingSeconds : 0.0;
 }
 
+/// \return the ideal penalty \a ideal (N; NaN: not given, then 0) as a device renders it:
+/// clamped to \a maxForce.
+glm::dvec3 renderedIdeal(const glm::dvec3 &ideal, double maxForce) noexcept
+{
+    if (!std::isfinite(ideal.x))
+        return glm::dvec3{0.0};
+    const double norm = glm::length(ideal);
+    return norm > maxForce ? ideal * (maxForce / norm) : ideal;
+}
+
+/// \return the alternating run ending at an update whose force changed by \a step, the change
+/// before it \a prevStep and the run ending there \a run (FeelFigures::longestAlternation: every
+/// change over \a threshold and against the one before).
+std::size_t alternationRun(std::size_t run, const glm::dvec3 &step, const glm::dvec3 &prevStep,
+                           double threshold) noexcept
+{
+    if (!(glm::length(step) > threshold))
+        return 0;
+    const bool reverses = glm::dot(step, prevStep) < 0.0 && glm::length(prevStep) > threshold;
+    return reverses && run > 0 ? run + 1 : 1;
+}
+
 } // namespace
 
 FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &th)
@@ -175,7 +197,10 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
     glm::dvec3 prevStep{0.0};
     double prevIdeal = 0.0;
     std::size_t run = 0; // the alternating run ending at this update
-    double atMax = 0.0;  // time at the maximum without a trip, ending at this update, ms
+    glm::dvec3 prevIdealForce{0.0};
+    glm::dvec3 prevIdealStep{0.0};
+    std::size_t idealRun = 0; // the ideal penalty's alternating run ending at this update
+    double atMax = 0.0;       // time at the maximum without a trip, ending at this update, ms
     RegainTracker regain;
     ArrivalTracker arrival;
     PassivityObserver energy;
@@ -197,8 +222,16 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
             glm::dot(step, prevStep) < 0.0 && glm::length(prevStep) > th.alternationStep;
         if (stepLength > th.spikeStep && reverses)
             ++f.reversalSpikes;
-        run = stepLength <= th.alternationStep ? 0 : (reverses && run > 0 ? run + 1 : 1);
+        run = alternationRun(run, step, prevStep, th.alternationStep);
         f.longestAlternation = std::max(f.longestAlternation, run);
+        // The same run of the ideal penalty as a device renders it (clamped to its maximum): what
+        // the surface under the path alternates by itself (the keys of a keyboard under a swipe).
+        const glm::dvec3 idealNow = renderedIdeal(r.idealPenalty, th.deviceMaxForce);
+        const glm::dvec3 idealStep = idealNow - prevIdealForce;
+        idealRun = alternationRun(idealRun, idealStep, prevIdealStep, th.alternationStep);
+        f.idealLongestAlternation = std::max(f.idealLongestAlternation, idealRun);
+        prevIdealForce = idealNow;
+        prevIdealStep = idealStep;
         atMax =
             force >= th.deviceMaxForce * (1.0 - 1e-3) && !r.released ? atMax + 1e3 * dt[i] : 0.0;
         f.atMaxMs = std::max(f.atMaxMs, atMax);
@@ -220,15 +253,9 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
             energy.breakPath();
             idealEnergy.breakPath();
         } else {
-            // The ideal penalty as a device renders it: clamped to the device maximum.
-            const bool idealHere = std::isfinite(r.idealPenalty.x);
-            idealGiven = idealGiven || idealHere;
-            const double idealNorm = idealHere ? glm::length(r.idealPenalty) : 0.0;
-            const glm::dvec3 rendered = idealNorm > th.deviceMaxForce
-                                            ? r.idealPenalty * (th.deviceMaxForce / idealNorm)
-                                            : (idealHere ? r.idealPenalty : glm::dvec3{0.0});
+            idealGiven = idealGiven || std::isfinite(r.idealPenalty.x);
             energy.update(r.hip, r.force);
-            idealEnergy.update(r.hip, rendered);
+            idealEnergy.update(r.hip, idealNow);
         }
         if (r.released) {
             ++f.trips;
@@ -295,6 +322,8 @@ void accumulate(FeelFigures &total, const FeelFigures &run) noexcept
     total.idealSpikes += run.idealSpikes;
     total.reversalSpikes += run.reversalSpikes;
     total.longestAlternation = std::max(total.longestAlternation, run.longestAlternation);
+    total.idealLongestAlternation =
+        std::max(total.idealLongestAlternation, run.idealLongestAlternation);
     total.regainEvents += run.regainEvents;
     total.regainMissed += run.regainMissed;
     total.regainMs = std::max(total.regainMs, run.regainMs);

@@ -331,21 +331,22 @@ std::vector<GoalVerdict> judgeGoals(const std::vector<FeelRow> &rows, const std:
     std::vector<GoalVerdict> out;
     const auto judge = [&](const std::string &goal, double limit, auto figure) {
         GoalVerdict v{goal, 0.0, "-", true};
-        bool any = false;
+        const FeelRow *worst = nullptr;
         for (const FeelRow &r : rows) {
             if (r.setting != setting)
                 continue;
             const double x = figure(r);
             if (std::isnan(x))
                 continue;
-            if (!any || x > v.worst) {
+            if (worst == nullptr || x > v.worst) {
                 v.worst = x;
                 v.where = r.scene + " / " + r.family;
-                any = true;
+                worst = &r;
             }
         }
-        v.met = !any || v.worst <= limit + 1e-9;
+        v.met = worst == nullptr || v.worst <= limit + 1e-9;
         out.push_back(v);
+        return worst;
     };
     const auto dbl = [](std::size_t n) { return static_cast<double>(n); };
     char buf[96];
@@ -355,8 +356,9 @@ std::vector<GoalVerdict> judgeGoals(const std::vector<FeelRow> &rows, const std:
     std::snprintf(buf, sizeof buf, "phantom force <= %.0f ms", g.maxPhantomMs);
     judge(buf, g.maxPhantomMs, [](const FeelRow &r) { return r.total.phantomMs; });
     std::snprintf(buf, sizeof buf, "alternating run <= %zu updates", g.maxAlternation);
-    judge(buf, dbl(g.maxAlternation),
-          [&](const FeelRow &r) { return dbl(r.total.longestAlternation); });
+    if (const FeelRow *w = judge(buf, dbl(g.maxAlternation),
+                                 [&](const FeelRow &r) { return dbl(r.total.longestAlternation); }))
+        out.back().where += " (ideal's " + std::to_string(w->total.idealLongestAlternation) + ")";
     std::snprintf(buf, sizeof buf, "sign-reversal spikes <= %.0f/s", g.maxReversalsPerSecond);
     judge(buf, g.maxReversalsPerSecond,
           [](const FeelRow &r) { return r.total.reversalSpikesPerSecond; });

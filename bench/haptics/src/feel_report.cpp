@@ -62,6 +62,7 @@ nlohmann::json figuresJson(const FeelFigures &f)
             {"sign_reversal_spikes", f.reversalSpikes},
             {"sign_reversal_spikes_per_s", f.reversalSpikesPerSecond},
             {"longest_alternating_run", f.longestAlternation},
+            {"ideal_longest_alternating_run", f.idealLongestAlternation},
             {"regain_events", f.regainEvents},
             {"regain_missed", f.regainMissed},
             {"regain_ms", f.regainMs},
@@ -81,7 +82,8 @@ nlohmann::json figuresJson(const FeelFigures &f)
 constexpr const char *kFamilyColumns =
     "pressed_s,pressed_spikes,pressed_spikes_per_s,ideal_spikes,ideal_spikes_per_s,"
     "spikes_over_ideal,sign_reversal_spikes,sign_reversal_spikes_per_s,longest_alternating_run,"
-    "regain_events,regain_missed,regain_ms,at_max_ms,pull_down_ms,arrival_trips,covered_ms,"
+    "ideal_longest_alternating_run,regain_events,regain_missed,regain_ms,at_max_ms,pull_down_ms,"
+    "arrival_trips,covered_ms,"
     "energy_mj,ideal_energy_mj,energy_excess_mj,energy_peak_mj,max_step_n";
 
 void writeFamilyCsv(std::ostream &c, const FeelFigures &f)
@@ -92,9 +94,9 @@ void writeFamilyCsv(std::ostream &c, const FeelFigures &f)
     if (!std::isnan(ratio))
         c << ratio;
     c << ',' << f.reversalSpikes << ',' << f.reversalSpikesPerSecond << ',' << f.longestAlternation
-      << ',' << f.regainEvents << ',' << f.regainMissed << ',' << f.regainMs << ',' << f.atMaxMs
-      << ',' << f.pullDownMs << ',' << f.arrivalTrips << ',' << f.coveredMs << ',' << f.energyMj
-      << ',' << f.idealEnergyMj << ',';
+      << ',' << f.idealLongestAlternation << ',' << f.regainEvents << ',' << f.regainMissed << ','
+      << f.regainMs << ',' << f.atMaxMs << ',' << f.pullDownMs << ',' << f.arrivalTrips << ','
+      << f.coveredMs << ',' << f.energyMj << ',' << f.idealEnergyMj << ',';
     if (!std::isnan(f.energyExcessMj))
         c << f.energyExcessMj;
     c << ',' << f.energyPeakMj << ',' << f.maxStepN;

@@ -149,6 +149,37 @@ TEST(FeelTest, AlternatingLogGivesItsRunLengthAndSignReversals)
     EXPECT_LE(f.longestAlternation, 1u);
 }
 
+TEST(FeelTest, TheIdealPenaltysOwnAlternatingRunIsReportedBesideTheRenderers)
+{
+    // A swipe across ridges narrower than a servo period's travel: the ideal penalty leans +x, -x,
+    // +x ... over rows 20..29 and is straight up before and after, while the renderer's force stays
+    // 1 N straight up. The ideal's changes at rows 20..30 each point against the one before: a run
+    // of 11; the renderer's only change is its first row's rise from zero, a run of 1.
+    auto rows = pressRows(100);
+    for (std::size_t i = 0; i < rows.size(); ++i)
+        rows[i].idealPenalty = {i >= 20 && i < 30 ? (i % 2 == 0 ? 0.3 : -0.3) : 0.0, 0.0, 1.0};
+    FeelFigures f = computeFeel(rows);
+    EXPECT_EQ(f.longestAlternation, 1u);
+    EXPECT_EQ(f.idealLongestAlternation, 11u);
+    // Clamped as a device renders it: an ideal alternating 20, 30, 20 ... N up is 8.5 N throughout
+    // at the device maximum (FeelThresholds::deviceMaxForce), no run.
+    rows = pressRows(100);
+    for (std::size_t i = 0; i < rows.size(); ++i)
+        rows[i].idealPenalty = {0.0, 0.0, i % 2 == 0 ? 20.0 : 30.0};
+    f = computeFeel(rows);
+    EXPECT_EQ(f.idealLongestAlternation, 1u); // the first row's rise from zero only
+    // Not given (NaN): no run; accumulate() keeps the worst run's.
+    FeelFigures total;
+    accumulate(total, computeFeel(pressRows(10)));
+    EXPECT_EQ(total.idealLongestAlternation, 0u);
+    auto ridged = pressRows(100);
+    for (std::size_t i = 0; i < ridged.size(); ++i)
+        ridged[i].idealPenalty = {i >= 20 && i < 30 ? (i % 2 == 0 ? 0.3 : -0.3) : 0.0, 0.0, 1.0};
+    accumulate(total, computeFeel(ridged));
+    accumulate(total, f);
+    EXPECT_EQ(total.idealLongestAlternation, 11u);
+}
+
 // feel.h: a sign-reversal spike points against a change of more than alternationStep; a change of
 // exactly alternationStep before it is not one (0.25 N: exact in binary, as is 1.25 N − 1 N).
 TEST(FeelTest, ASignReversalNeedsAChangeBeforeItAboveTheAlternationStep)

@@ -32,7 +32,8 @@
 /// - **alternating run**: the longest chain of consecutive updates whose force changes all exceed
 ///   `alternationStep` and each point against the one before (a proxy that alternates between two
 ///   points every update gives one change per update: a run as long as the cycle lasts). A single
-///   jump and return is a run of 2.
+///   jump and return is a run of 2. The ideal penalty's own run on the same updates is reported
+///   beside it (FeelFigures::idealLongestAlternation), as the spikes' yardstick is.
 /// - **time to regain contact** (holds beside an occluder, `heldSurfaceZ` given): an occluder is
 ///   over the finger while the surface under the HIP is not the held surface (more than
 ///   `depthMargin` above it, or no surface); from the first update after it where the surface under
@@ -251,11 +252,15 @@ struct FeelFigures {
     std::size_t reversalSpikes = 0;       ///< Sign-reversal spikes (every update).
     double reversalSpikesPerSecond = 0.0; ///< reversalSpikes / seconds.
     std::size_t longestAlternation = 0;   ///< Updates, the longest alternating run.
-    std::size_t regainEvents = 0;         ///< Occluders that left a held finger.
-    std::size_t regainMissed = 0;         ///< Of them, contact not regained before the hold ended.
-    double regainMs = 0.0;                ///< The longest time to regain contact, ms (0: no event).
-    double atMaxMs = 0.0;    ///< The longest time at the device maximum without a trip, ms.
-    double pullDownMs = 0.0; ///< Time with a downward force (Fz < −phantomForce), ms.
+    /// Updates, the longest alternating run of the ideal penalty (FeelSample::idealPenalty, clamped
+    /// to the device maximum) on the same path: what the surface under it alternates by itself (a
+    /// swipe across a keyboard's keys), beside the renderer's; 0 where it is not given.
+    std::size_t idealLongestAlternation = 0;
+    std::size_t regainEvents = 0; ///< Occluders that left a held finger.
+    std::size_t regainMissed = 0; ///< Of them, contact not regained before the hold ended.
+    double regainMs = 0.0;        ///< The longest time to regain contact, ms (0: no event).
+    double atMaxMs = 0.0;         ///< The longest time at the device maximum without a trip, ms.
+    double pullDownMs = 0.0;      ///< Time with a downward force (Fz < −phantomForce), ms.
     /// Energy the commanded force put into the hand (PassivityObserver), mJ; summed by
     /// accumulate().
     double energyMj = 0.0;
