@@ -358,7 +358,7 @@ std::vector<GoalVerdict> judgeGoals(const std::vector<FeelRow> &rows, const std:
     std::snprintf(buf, sizeof buf, "alternating run <= %zu updates", g.maxAlternation);
     if (const FeelRow *w = judge(buf, dbl(g.maxAlternation),
                                  [&](const FeelRow &r) { return dbl(r.total.longestAlternation); }))
-        out.back().where += " (ideal's " + std::to_string(w->total.idealLongestAlternation) + ")";
+        out.back().ideal = dbl(w->total.idealLongestAlternation);
     std::snprintf(buf, sizeof buf, "sign-reversal spikes <= %.0f/s", g.maxReversalsPerSecond);
     judge(buf, g.maxReversalsPerSecond,
           [](const FeelRow &r) { return r.total.reversalSpikesPerSecond; });

@@ -460,6 +460,8 @@ bool writeFeelJson(const FeelReport &report, const std::filesystem::path &base, 
         for (const GoalVerdict &v : judgeGoals(report.familyRows, r.setting, report.goals)) {
             verdicts.push_back(
                 {{"goal", v.goal}, {"worst", v.worst}, {"where", v.where}, {"met", v.met}});
+            if (!std::isnan(v.ideal))
+                verdicts.back()["ideal"] = v.ideal;
             all = all && v.met;
         }
         j["goals"] = verdicts;
@@ -543,9 +545,13 @@ void printFeelReport(const FeelReport &report)
         for (const GoalVerdict &x : v)
             met += x.met ? 1u : 0u;
         std::printf("  %s: %zu of %zu goals met\n", t.setting.c_str(), met, v.size());
-        for (const GoalVerdict &x : v)
-            std::printf("    %-40s worst %9.2f at %-36s %s\n", x.goal.c_str(), x.worst,
-                        x.where.c_str(), verdict(x.met));
+        for (const GoalVerdict &x : v) {
+            char ideal[32] = "";
+            if (!std::isnan(x.ideal))
+                std::snprintf(ideal, sizeof ideal, " (ideal's %g)", x.ideal);
+            std::printf("    %-40s worst %9.2f at %-36s %s%s\n", x.goal.c_str(), x.worst,
+                        x.where.c_str(), verdict(x.met), ideal);
+        }
     }
 }
 

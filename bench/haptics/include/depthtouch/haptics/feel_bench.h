@@ -12,6 +12,7 @@
 /// in the outputs in µs and ms. Thread-safety: run on one thread; not for the haptic thread
 /// (allocates).
 
+#include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
@@ -110,6 +111,9 @@ struct GoalVerdict {
     double worst = 0.0; ///< The worst row's figure.
     std::string where;  ///< That row: "scene / family".
     bool met = true;
+    /// The same figure of the ideal penalty on that row's paths, where the goal has one beside it
+    /// (the alternating run: FeelFigures::idealLongestAlternation); NaN where not.
+    double ideal = std::nan("");
 };
 
 /// \return the verdicts of \a goals for \a setting over \a familyRows (rows of other settings
