@@ -15,6 +15,10 @@
 # fail MESSAGE      "FAIL: MESSAGE" on stdout and exit 1.
 # e2e_wait_served EXE URL OUT  `EXE probe URL` (output in OUT) until it succeeds, for a server just
 #                   started: up to 5 s, then fail with its output.
+# e2e_port          sets $port to the first of four consecutive loopback ports that no socket uses
+#                   now, from a block of four that the script's process id picks (two scripts
+#                   started one after the other under ctest -j get different blocks; a used one is
+#                   skipped). The script may use $port to $((port + 3)).
 # e2e_wait_udp PORT PID  until a UDP socket is bound to 127.0.0.1 or any address at PORT (a
 #                   listener or a player just started: /proc/net/udp, so nothing connects to it), up
 #                   to 10 s, or until process PID has exited; then returns (the step that follows
@@ -62,5 +66,18 @@ e2e_wait_udp() {
         grep -q ":$hex " /proc/net/udp /proc/net/udp6 2>/dev/null && return 0
         kill -0 "$2" 2>/dev/null || return 0
         sleep 0.05
+    done
+}
+e2e_in_use() {
+    hex=$(printf '%04X' "$1")
+    grep -q ":$hex " /proc/net/tcp /proc/net/tcp6 /proc/net/udp /proc/net/udp6 2>/dev/null
+}
+e2e_port() {
+    port=$((20000 + ($$ % 9000) * 4))
+    for _ in $(seq 1 100); do
+        e2e_in_use "$port" || e2e_in_use $((port + 1)) || e2e_in_use $((port + 2)) ||
+            e2e_in_use $((port + 3)) || return 0
+        port=$((port + 4))
+        [ "$port" -lt 56000 ] || port=20000
     done
 }

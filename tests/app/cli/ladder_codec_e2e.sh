@@ -28,7 +28,7 @@ high=$(sed -n 's/^#EXT-X-STREAM-INF:BANDWIDTH=\([0-9]*\),.*RESOLUTION=320x240,.*
 [ -n "$high" ] || { cat "$work/www/show.m3u8"; fail "no 320x240 rendition"; }
 link=$((high * 60 / 100 / 8)) # bytes/s
 
-port=$((20000 + $$ % 20000))
+e2e_port
 python3 "$here/throttled_http.py" "$port" "$work/www" "0=0,4=$link" 2>"$work/http.log" &
 e2e_bg=$!
 python3 - "$port" <<'PY' || fail "the throttled server does not listen"

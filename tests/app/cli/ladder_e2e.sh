@@ -50,7 +50,7 @@ assert r[2]["bandwidth"] == int(sys.argv[2]), (r[2], sys.argv[2])
 assert j["streams"][0]["width"] == 80, j["streams"][0]
 PY
 
-port=$((20000 + $$ % 20000))
+e2e_port
 (cd "$work/www" && exec python3 -m http.server --bind 127.0.0.1 "$port") >"$work/http.log" 2>&1 &
 e2e_bg=$!
 e2e_wait_served "$exe" "http://127.0.0.1:$port/show.m3u8" "$work/probe.txt"

@@ -23,7 +23,7 @@ low=$(sed -n 's/^#EXT-X-STREAM-INF:BANDWIDTH=\([0-9]*\),.*RESOLUTION=80x60,.*/\1
 [ -n "$low" ] || { cat "$work/www/show.m3u8"; fail "no 80x60 rendition"; }
 link=$((low * 115 / 100 / 8)) # bytes/s
 
-port=$((20000 + $$ % 20000))
+e2e_port
 python3 "$here/throttled_http.py" "$port" "$work/www" "0=0,4=$link" 2>"$work/http.log" &
 e2e_bg=$!
 python3 - "$port" <<'PY' || fail "the throttled server does not listen"

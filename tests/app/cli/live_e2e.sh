@@ -21,8 +21,7 @@ e2e_cleanup() {
     [ -n "$sender" ] && kill "$sender" 2>/dev/null
 }
 e2e_work live-e2e
-# A port from the process id, so parallel runs do not collide.
-port=$((20000 + $$ % 20000))
+e2e_port # so parallel runs do not collide
 
 # 90 frames (3 s at 30 fps): two HLS segments of 2 s.
 e2e_color_pngs 64x48 3

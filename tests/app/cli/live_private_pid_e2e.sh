@@ -14,7 +14,7 @@ set -u
 exe="$1"
 . "$(dirname "$0")/../../e2e_lib.sh"
 e2e_start live_private_pid ffmpeg python3
-port=$((20000 + $$ % 20000))
+e2e_port
 
 # 6 s, 180 frame pairs.
 e2e_color_pngs 64x48 6
@@ -98,14 +98,9 @@ PY
 "$exe" play "udp://127.0.0.1:$port" --display mock --haptic none --no-config --audio-device none \
     --stats "$work/play.json" >"$work/play.log" 2>&1 &
 e2e_bg=$!
-# The sender starts once the player listens (its port in /proc/net/udp), not after a fixed time:
-# a busy machine must not cost the clip's first pairs.
-hexport=$(printf '%04X' "$port")
-for _ in $(seq 1 200); do
-    grep -q ":$hexport " /proc/net/udp && break
-    kill -0 "$e2e_bg" 2>/dev/null || break
-    sleep 0.05
-done
+# The sender starts once the player listens (its port bound), not after a fixed time: a busy
+# machine must not cost the clip's first pairs.
+e2e_wait_udp "$port" "$e2e_bg"
 python3 "$work/send.py" "$work/clip.ts" "$port" 6 >"$work/send.log" 2>&1 ||
     { cat "$work/send.log"; fail "the sender"; }
 wait "$e2e_bg"

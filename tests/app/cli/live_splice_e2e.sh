@@ -16,7 +16,7 @@ set -u
 exe="$1"
 . "$(dirname "$0")/../../e2e_lib.sh"
 e2e_start live_splice ffmpeg python3
-port=$((20000 + $$ % 20000))
+e2e_port
 
 # One 3 s clip (90 pairs), its timestamps moved, joined byte for byte (as the file test does).
 ff -f lavfi -i "testsrc2=s=160x120:r=30:d=3" -pix_fmt yuv420p "$work/c.mkv" || fail "ffmpeg color"

@@ -166,7 +166,7 @@ wait "$player" || { cat "$work/log"; fail "play with joins"; }
 ff -f lavfi -i testsrc=size=96x72:rate=30:duration=3 \
     -f lavfi -i "aevalsrc='0.5*sin(2*PI*100*t)*lt(mod(t,1),0.5)':s=48000:d=3" -ac 2 \
     -pix_fmt yuv420p -c:v libx264 -preset ultrafast -c:a aac "$work/gated.mp4" || fail "ffmpeg gated"
-port=$((20000 + $$ % 20000))
+e2e_port
 "$exe" play "udp://127.0.0.1:$port" --display mock --haptic none --no-config --audio-device wav \
     --audio-device-options "path=$work/live.wav" --duration 4 --av-log "$work/live.csv" \
     --stats "$work/live.json" >"$work/live.log" 2>&1 &

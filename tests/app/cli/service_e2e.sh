@@ -18,7 +18,7 @@ mkdir -p "$work/etc" "$work/xdg"
 # No system or user configuration of this machine takes part.
 export DT_SYSTEM_CONFIG_DIR="$work/etc" XDG_CONFIG_HOME="$work/xdg"
 unset DT_LOG JOURNAL_STREAM
-port=$((20000 + $$ % 20000))
+e2e_port
 clip="mock://clip?frames=6&fps=30&width=64&height=48"
 
 # stopped_in STATE ARGS...: `play udp://127.0.0.1:PORT --idle ARGS` (nothing is sent there), SIGTERM
