@@ -285,14 +285,17 @@ for i in "${selected[@]}"; do
         broken+=("$n (its text is not found exactly once in ${files[$i]}: stale)"); continue
     fi
     touch "$f"
-    if ! cmake --build "$build" --target $(targets_of "$i") > "$log" 2>&1; then
+    # A build that warns in the mutated file counts as one that fails: CI builds with -Werror
+    # (DT_WERROR), which a developer's build/host, and so this scratch tree, may not.
+    if ! cmake --build "$build" --target $(targets_of "$i") > "$log" 2>&1 ||
+        grep "warning:" "$log" | grep -qF "${files[$i]}"; then
         cp "$backup" "$f"; touch "$f"
         if [ "$generated" -eq 1 ]; then   # an operator that made invalid C++: not a mutant
             stillborn=$((stillborn + 1)); c_stillborn[${components[$i]}]=$((c_stillborn[${components[$i]}] + 1))
             echo "stillborn: does not compile"; continue
         fi
-        grep -m3 "error" "$log" >&2
-        broken+=("$n (does not compile)"); continue
+        grep -m3 "error\|warning:" "$log" >&2
+        broken+=("$n (does not compile, or only with a warning)"); continue
     fi
     by=""
     for t in ${tests[$i]}; do
