@@ -12,8 +12,6 @@
 
 #include <glm/geometric.hpp>
 
-#include "depthtouch/haptics/ball_renderer.h"
-#include "depthtouch/haptics/finger_renderer.h"
 #include "depthtouch/haptics/renderer_table.h"
 #include "depthtouch/platform/percentile.h"
 
@@ -147,16 +145,13 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
         row.hip = s.hip;
         row.force = out.force;
         row.proxy = out.proxy;
-        if (const auto *finger = dynamic_cast<const FingerRenderer *>(&r))
-            row.state = fingerStateName(finger->state());
-        else if (const auto *ball = dynamic_cast<const BallRenderer *>(&r))
-            row.state = fingerStateName(ball->state());
+        row.state = r.contactStateName();
         row.surfaceZ = ref.height(s.t, s.hip.x, s.hip.y);
         // A fingertip reaches what is within its radius.
-        if (setting.method == Method::Finger || setting.method == Method::Ball)
+        if (const double radius = r.fingertipRadius(); radius > 0.0)
             row.reachSurfaceZ =
                 reachHeight([&](double x, double y) { return ref.height(s.t, x, y); }, s.hip.x,
-                            s.hip.y, cfg.fingerRadiusInBox());
+                            s.hip.y, radius);
         row.idealPenalty = glm::dvec3{0.0};
         if (row.surfaceZ > s.hip.z) {
             // The ideal god-object: its proxy is the nearest surface point (energy, feel.h).

@@ -6,9 +6,6 @@
 
 #include <glm/geometric.hpp>
 
-#include "depthtouch/haptics/ball_renderer.h"
-#include "depthtouch/haptics/finger_renderer.h"
-
 namespace depthtouch::haptics::bench {
 
 namespace {
@@ -144,19 +141,14 @@ glm::dvec3 WaveScenario::trueForce(const glm::dvec3 &hip, double t,
 bool poppedThrough(const HapticRenderer &renderer, const glm::dvec3 &proxy,
                    const HeightField *fallback) noexcept
 {
-    const auto *grid = dynamic_cast<const ProxyGraphRenderer *>(&renderer);
-    const auto *finger = dynamic_cast<const FingerRenderer *>(&renderer);
-    const auto *ball = dynamic_cast<const BallRenderer *>(&renderer);
-    const HeightField *own = grid != nullptr     ? &grid->surface()
-                             : finger != nullptr ? &finger->surface()
-                             : ball != nullptr   ? &ball->surface()
-                                                 : fallback;
+    const HeightField *own = renderer.heightField();
+    if (own == nullptr)
+        own = fallback;
     if (own == nullptr)
         return false;
     const HeightField &surf = *own;
-    const double slack = finger != nullptr ? 0.25 * finger->radius()
-                         : ball != nullptr ? 0.25 * ball->parameters().radius
-                                           : 1e-6 * surf.spacing();
+    const double radius = renderer.fingertipRadius();
+    const double slack = radius > 0.0 ? 0.25 * radius : 1e-6 * surf.spacing();
     return surf.contains(proxy.x, proxy.y) && proxy.z < surf.heightAt(proxy.x, proxy.y) - slack;
 }
 

@@ -1,13 +1,18 @@
 /// \file
 /// \brief The renderer table (renderer_table.h): every Method has one row, the names parse back,
-/// the fixes and the constructed renderer are the row's, and the messages list the rows.
+/// the fixes and the constructed renderer are the row's, the messages list the rows, and every
+/// row's renderer answers the judges' queries (HapticRenderer::heightField(), fingertipRadius(),
+/// contactStateName()).
 
 #include "depthtouch/haptics/renderer_table.h"
 
 #include <set>
 #include <string>
 
+#include <glm/vec3.hpp>
 #include <gtest/gtest.h>
+
+#include "app/haptics/synthetic.h"
 
 namespace depthtouch::haptics {
 namespace {
@@ -78,6 +83,48 @@ TEST(RendererTableTest, ABadConfigOrFrameSizeIsAnErrorForEveryRow)
         EXPECT_FALSE(makeRenderer(e.method, c, 1, 48)) << e.name;
         c.stiffness = -1.0;
         EXPECT_FALSE(makeRenderer(e.method, c, 64, 48)) << e.name;
+    }
+}
+
+// What the benches read from any renderer, so that they list no renderer types: checked against
+// the frame and the config each renderer was made from. The height field is the frame's table,
+// the fingertip's radius is the config's (and a point proxy has none), and the contact state
+// follows a press into the table.
+TEST(RendererTableTest, EveryRowAnswersTheJudgesQueriesFromItsOwnFrameAndConfig)
+{
+    constexpr SceneBox box{};
+    constexpr double table = -0.005; // m
+    const test::OwnedFrame frame =
+        test::makeFrame(box, 64, 48, 0.0, [](double, double) { return table; });
+    for (const RendererEntry &e : rendererTable()) {
+        const RendererConfig c = RendererConfig::forMethod(e.method);
+        auto made = makeRenderer(e.method, c, 64, 48);
+        ASSERT_TRUE(made) << e.name;
+        HapticRenderer &r = **made;
+        ASSERT_TRUE(r.setFrames(frame.view(), nullptr)) << e.name;
+        const glm::dvec3 above{0.001, -0.002, table + 0.003};
+        r.reset(above);
+        (void)r.update(above, 0.0);
+        const bool fingertip = e.method == Method::Finger || e.method == Method::Ball;
+        EXPECT_EQ(r.fingertipRadius(), fingertip ? c.fingerRadiusInBox() : 0.0) << e.name;
+        const HeightField *field = r.heightField();
+        if (e.method == Method::MeshBvh) {
+            EXPECT_EQ(field, nullptr); // it builds a mesh, not a height field
+        } else {
+            ASSERT_NE(field, nullptr) << e.name;
+            // 16-bit samples of a 0.1 m box: 1.5 µm apart.
+            EXPECT_NEAR(field->heightAt(above.x, above.y), table, 2e-6) << e.name;
+        }
+        EXPECT_STREQ(r.contactStateName(), fingertip ? "free" : "") << e.name;
+        if (!fingertip)
+            continue;
+        // Pressed 2 mm into the table at 10 cm/s: in contact.
+        glm::dvec3 hip = above;
+        for (int i = 1; i <= 50; ++i) {
+            hip.z = above.z - 0.005 * i / 50.0;
+            (void)r.update(hip, 1e-3 * i);
+        }
+        EXPECT_STREQ(r.contactStateName(), "touching") << e.name;
     }
 }
 

@@ -101,8 +101,15 @@ public:
 
     /// \return the contact state after the last update: Free, Behind or Touching.
     [[nodiscard]] FingerState state() const noexcept { return state_; }
+    [[nodiscard]] const char *contactStateName() const noexcept override
+    {
+        return fingerStateName(state_);
+    }
     [[nodiscard]] const FingerParameters &parameters() const noexcept { return p_; }
     [[nodiscard]] const HeightField &surface() const noexcept { return field_; }
+    [[nodiscard]] const HeightField *heightField() const noexcept override { return &field_; }
+    /// \return the ball's radius r, m.
+    [[nodiscard]] double fingertipRadius() const noexcept override { return p_.radius; }
 
 private:
     /// The solve's result: the proxy (m) and the surface point it ended on.

@@ -319,11 +319,17 @@ public:
     [[nodiscard]] Method method() const noexcept override { return Method::Finger; }
 
     [[nodiscard]] const HeightField &surface() const noexcept { return field_; }
+    [[nodiscard]] const HeightField *heightField() const noexcept override { return &field_; }
     [[nodiscard]] const RendererConfig &config() const noexcept { return config_; }
     /// \return the stencil half-width in effect, m.
     [[nodiscard]] double radius() const noexcept { return p_.radius; }
+    [[nodiscard]] double fingertipRadius() const noexcept override { return p_.radius; }
     /// \return the contact state after the last update (FingerState).
     [[nodiscard]] FingerState state() const noexcept { return state_; }
+    [[nodiscard]] const char *contactStateName() const noexcept override
+    {
+        return fingerStateName(state_);
+    }
     /// \return the parameter table in effect.
     [[nodiscard]] const FingerParameters &parameters() const noexcept { return p_; }
 

@@ -205,6 +205,25 @@ public:
 
     [[nodiscard]] virtual Method method() const noexcept = 0;
 
+    /// \name What a judge of the force reads from any renderer (`bench feel`, `bench haptics`,
+    /// `haptics_cost`): so that a new method is a row of the renderer table and its own files,
+    /// with no list of renderer types in the benches. Thread-bound as update(); read between
+    /// updates.
+    ///@{
+    /// \return the height field the renderer touches, as of its last update (box frame, m; its
+    /// holes 1 m under the box, HeightField), or null for a renderer that keeps none (mesh-bvh
+    /// builds a mesh instead).
+    [[nodiscard]] virtual const HeightField *heightField() const noexcept { return nullptr; }
+    /// \return the fingertip's radius r (m) for a renderer whose proxy is a fingertip's rather
+    /// than a point's (RendererConfig::fingerRadiusInBox()): it reaches what lies within r of the
+    /// HIP's x–y, and its proxy may rest up to r/4 under the samples (a plane fit held within r/4
+    /// of them, a ball on a rim); 0 for a point proxy (the paper's methods).
+    [[nodiscard]] virtual double fingertipRadius() const noexcept { return 0.0; }
+    /// \return the name of the contact state after the last update ("free", "touching"; the
+    /// fingertip renderers' FingerState, fingerStateName()), or "" for a renderer without one.
+    [[nodiscard]] virtual const char *contactStateName() const noexcept { return ""; }
+    ///@}
+
 protected:
     HapticRenderer() = default;
     HapticRenderer(const HapticRenderer &) = default;
@@ -316,6 +335,7 @@ public:
 
     /// The surface as of the last update (for tests and diagnostics).
     [[nodiscard]] const HeightField &surface() const noexcept { return field_; }
+    [[nodiscard]] const HeightField *heightField() const noexcept override { return &field_; }
     [[nodiscard]] const RendererConfig &config() const noexcept { return config_; }
 
 private:
