@@ -73,84 +73,6 @@ void FingerRenderer::restartClock() noexcept
     output_.restartClock();
 }
 
-glm::dvec3 FingerRenderer::solve(const glm::dvec3 &hip, double startX, double startY,
-                                 FingerPlane &plane, FingerPlane &start,
-                                 double &below) const noexcept
-{
-    plane = fitFingerPlane(field_, startX, startY, p_.radius);
-    start = plane;
-    glm::dvec3 p = projectOnPlane(plane, hip, below);
-    // The god-object's objective: the distance from the HIP to the surface point at q.
-    auto distance = [&hip](const FingerPlane &f) {
-        const glm::dvec3 d(f.x - hip.x, f.y - hip.y, f.height - hip.z);
-        return glm::dot(d, d);
-    };
-    double best = distance(plane);
-    const double settle = 0.2 * field_.spacing();
-    for (int it = 0; it < kFingerIterations; ++it) {
-        // Move the stencil to the projection (a Gauss-Newton step), at most its own reach.
-        double dx = p.x - plane.x;
-        double dy = p.y - plane.y;
-        const double d = std::sqrt(dx * dx + dy * dy);
-        if (!(d > settle))
-            break;
-        if (d > p_.radius) {
-            dx *= p_.radius / d;
-            dy *= p_.radius / d;
-        }
-        FingerPlane next = fitFingerPlane(field_, plane.x + dx, plane.y + dy, p_.radius);
-        // A plane the taps do not span (flat at their median on a side too steep for the outlier
-        // rule) is no surface to move onto: beside the head's contour it lay 0.1 mm over a finger
-        // pressed 6 mm into the side, and the force vanished (42 ms of pop-through).
-        if (!next.spanned && plane.spanned)
-            break;
-        if (!(distance(next) <= best)) {
-            // Overshot (a surface curved tighter than the HIP is deep, e.g. a forearm's side):
-            // half the step, so that the proxy does not hop between two sides of the optimum.
-            next = fitFingerPlane(field_, plane.x + 0.5 * dx, plane.y + 0.5 * dy, p_.radius);
-            if (!(distance(next) <= best))
-                break;
-        }
-        plane = next;
-        best = distance(plane);
-        p = projectOnPlane(plane, hip, below);
-    }
-    return p;
-}
-
-glm::dvec3 FingerRenderer::glide(const glm::dvec3 &hip, const glm::dvec3 &proxy, FingerPlane &plane,
-                                 double &moved, glm::dvec2 &dir) const noexcept
-{
-    moved = 0.0;
-    dir = {};
-    const double hx = hip.x - lastHip_.x;
-    const double hy = hip.y - lastHip_.y;
-    const double allowed = std::sqrt(hx * hx + hy * hy) + p_.glideReach;
-    // From the last proxy on the surface: a pushed proxy is off it, along the push (a glide from
-    // there took turns with the plane it started on, a buzz of the force's direction).
-    const glm::dvec3 &from = surfaceProxy_;
-    const double dx = proxy.x - from.x;
-    const double dy = proxy.y - from.y;
-    const double d = std::sqrt(dx * dx + dy * dy);
-    if (!(d > allowed))
-        return proxy;
-    if (pushed_ && dx * lastGlide_.x + dy * lastGlide_.y < -0.5 * d) {
-        // Back the way the last glide went: two far optima take turns (the search from either
-        // side of a ridge ends on the other), and the proxy would glide to and fro at the servo
-        // rate. It stays this update; the last glide's direction is kept, so it goes on, at half
-        // the pace, toward the one it was heading for.
-        plane = fitFingerPlane(field_, from.x, from.y, p_.radius);
-        dir = lastGlide_;
-        return {plane.x, plane.y, plane.height};
-    }
-    moved = allowed;
-    dir = {dx / d, dy / d};
-    // Toward the new optimum by what is allowed, on the surface there.
-    plane =
-        fitFingerPlane(field_, from.x + dx * (allowed / d), from.y + dy * (allowed / d), p_.radius);
-    return {plane.x, plane.y, plane.height};
-}
-
 void FingerRenderer::slide(const glm::dvec3 &hip, double raw, Candidate &c) const noexcept
 {
     // Slide on from the last proxy, on the current surface (fix (a): it lifts with it). The first
@@ -158,6 +80,7 @@ void FingerRenderer::slide(const glm::dvec3 &hip, double raw, Candidate &c) cons
     // what it was then (a step since the last update is a cut).
     FingerPlane start{};
     c.proxy = solve(hip, lastPlane_.x, lastPlane_.y, c.plane, start, c.below);
+    keepOnPatch(c);
     const double startHeight = start.height;
     // A hole that opened under the proxy (the stencil's median turned to a hole) is no cut: the
     // surface is gone, not moved, and the finger is free there (no trip, no force).
@@ -533,14 +456,20 @@ double FingerRenderer::sensorHeight(const glm::dvec3 &hip) const noexcept
     // finger. The median of the surface at the HIP and one pixel around it (a pixel's vertex
     // reaches four of the nine) is; past a silhouette's edge by more than a pixel, most of them
     // lie on the far side and the finger is free as before.
+    return pixelMedian(hip.x, hip.y);
+}
+
+double FingerRenderer::pixelMedian(double x0, double y0) const noexcept
+{
+    const double centre = field_.heightAt(x0, y0);
     const double s = field_.spacing();
     double z[9];
     int k = 0;
     for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
-            const double x = hip.x + s * dx;
-            const double y = hip.y + s * dy;
-            z[k++] = field_.contains(x, y) ? field_.heightAt(x, y) : raw;
+            const double x = x0 + s * dx;
+            const double y = y0 + s * dy;
+            z[k++] = field_.contains(x, y) ? field_.heightAt(x, y) : centre;
         }
     return median9(z);
 }

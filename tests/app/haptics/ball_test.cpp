@@ -176,6 +176,37 @@ TEST(BallRendererTest, aPressIsTheSpringStraightUpAndALiftIsFree)
     EXPECT_EQ(glm::length(run.out.back().force), 0.0);
 }
 
+// A ridge narrower than the fingertip (a cable: 0.8 r wide, 6 mm over the table) pressed 6 mm
+// into at 5 cm/s and held: the ball rests on its top, so the force is the spring's to the ridge's
+// top all the way in (k·6 mm, 4.8 N, when held) and never nothing while the finger is inside it.
+// The finger renderer's plane, fitted across 2r, is the table's there: with it the force vanished
+// for up to 320 ms of such presses (docs/benchmarks.md, "The proxy stays on its plane's patch").
+TEST(BallRendererTest, aRidgeNarrowerThanTheFingerIsFeltAtItsTop)
+{
+    constexpr double kRidge = 0.006;
+    const double half = 0.4 * kR;
+    const auto ridge = [half](double x, double) {
+        return kTable +
+               kRidge * 0.5 * (std::tanh((x + half) / 2e-4) - std::tanh((x - half) / 2e-4));
+    };
+    const double top = kTable + kRidge;
+    const BallRun run = stroke(
+        table(ridge),
+        [top](double t) { return glm::dvec3(0.0, 0.0, top + 0.003 - 0.05 * std::min(t, 0.18)); },
+        0.4);
+    int inside = 0;
+    int felt = 0;
+    for (std::size_t k = 0; k < run.out.size(); ++k)
+        if (top - run.hip[k].z > 1e-3) {
+            ++inside;
+            felt += glm::length(run.out[k].force) >= 0.1 ? 1 : 0;
+        }
+    EXPECT_GT(inside, 200);
+    EXPECT_EQ(felt, inside);
+    EXPECT_NEAR(run.out.back().force.z, 800.0 * 0.006, 0.15);
+    EXPECT_EQ(run.state.back(), FingerState::Touching);
+}
+
 // The frame is wider than tall (0.1 m × 0.075 m): pressed 2 mm at x = 45 mm, inside the frame but
 // farther out than its half height, the finger is felt as at the centre (x and y are not swapped).
 TEST(BallRendererTest, aPressNearTheFramesSideIsFeltAsAtItsCentre)

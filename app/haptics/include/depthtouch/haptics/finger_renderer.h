@@ -45,10 +45,11 @@
 ///    q (the 3×3 Savitzky-Golay intercept of order 2): a plane's mean lies under a crest; and its
 ///    slope is the centre row's and column's difference (the outer rows' differ by the cross
 ///    curvature), blended in by the same fit quality.
-/// 2. **God-object on that surface** (Zilles & Salisbury 1995): the proxy is the HIP projected on
-/// the
-///    plane at q; q moves to the projection's x–y and the plane is refitted, up to
-///    kFingerIterations times, each move at most r (the stencil's reach). In contact q starts at
+/// 2. **God-object on that surface** (Zilles & Salisbury 1995): the proxy is the HIP projected
+///    on the plane at q; q moves to the projection's x–y and the plane is refitted, up to
+///    kFingerIterations times, each move at most r (the stencil's reach); a projection left more
+///    than r from q and inside the sensor surface is no surface point, and the proxy is the
+///    plane's point r from q toward it (keepOnPatch()). In contact q starts at
 ///    the last proxy, so the proxy slides continuously and holds against a silhouette wall like a
 ///    god-object; the proxy's height is taken on the current surface, so a rising surface lifts it
 ///    (fix (a)). The proxy's x–y moves at most as far as the HIP's plus r/4 per update (glide()),
@@ -395,6 +396,11 @@ private:
     /// In contact: slide on from the last proxy (steps 2 and 4 of the file comment).
     /// \a raw: the sensor surface at the HIP's own x–y, m (over the HIP: slide() runs inside).
     void slide(const glm::dvec3 &hip, double raw, Candidate &c) const noexcept;
+    /// The proxy \a c from slide()'s descent kept on the patch its plane was fitted to: where it
+    /// lies more than r from the plane's centre (the plane extrapolated) and inside the sensor
+    /// surface at its own x–y (pixelMedian(), by more than r/4 and at most a cut), it is the
+    /// plane's point r from the centre toward it.
+    void keepOnPatch(Candidate &c) const noexcept;
     /// Not in contact: a new contact from the HIP, or a finger behind the surface caught again.
     void capture(const glm::dvec3 &hip, Candidate &c) noexcept;
     /// The penalty contact (finger_contact.cpp): the whole update's contact from the plane under
@@ -405,6 +411,9 @@ private:
     /// and one pixel around it (one pixel read far back is not free space under a pressed
     /// finger). \pre the HIP is over the grid.
     [[nodiscard]] double sensorHeight(const glm::dvec3 &hip) const noexcept;
+    /// \return the median of the heights at (\a x, \a y) and one pixel around it, m (a point
+    /// off the grid reads as the centre). \pre (x, y) is over the grid.
+    [[nodiscard]] double pixelMedian(double x, double y) const noexcept;
     /// \return whether a sliding contact goes on with the HIP above the sensor surface at its
     /// own x–y: some surface within half the finger radius of the HIP's x–y
     /// (haptics::reachHeight(), the disc bench feel judges phantom force by, halved) is above the
