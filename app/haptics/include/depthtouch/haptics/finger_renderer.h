@@ -175,8 +175,9 @@
 ///
 /// Cost: 9 height lookups per plane fit, at most 2 + kFingerIterations fits (3 +
 /// 2·kFingerIterations beside a wall) and one raw lookup an update sliding (17 more where the
-/// raw lookup is under the HIP in contact: withinReach()), two fits and one raw lookup resting;
-/// nothing per frame.
+/// raw lookup is under the HIP in contact: withinReach(); 9 more where the descent stopped more
+/// than r short of the projection: keepOnPatch()), two fits and one raw lookup resting; nothing
+/// per frame.
 /// Thread-safety: thread-bound (the haptic thread); no allocation.
 
 #include <cmath>
