@@ -227,6 +227,10 @@ public:
     std::vector<Stroke> take() { return std::move(out_); }
 
 private:
+    /// \return the scene's crossing named \a what, or null.
+    const SilhouetteCrossing *crossing(const char *what) const;
+    void keysSwipe();
+    void ridgePress();
     /// Sets a stroke's path on a silhouette point; false when the point does not suit it.
     using SetPath = std::function<bool(Motion &, const SilhouettePoint &)>;
 
@@ -481,17 +485,30 @@ void FamilyPlacer::holds()
     }
 }
 
-/// The fast circle and the swipe along the keys (FamilyPlan::fastCircleSpeed, keysSwipeSpeed),
-/// last and from draws of their own (seed + 101): the strokes before them keep their places.
+/// The fast circle, the swipe along the keys and the press on the ridge (FamilyPlan::
+/// fastCircleSpeed, keysSwipeSpeed, ridgePress), last and from draws of their own (seed + 101):
+/// the strokes before them keep their places.
 void FamilyPlacer::fastStrokes()
 {
     draws_ = Draws(plan_.seed + 101);
     if (plan_.fastCircleSpeed > 0.0)
         circle(plan_.fastCircleSpeed, fmt("circle r%.0f mm %.0f cm/s #1", plan_.circleRadius / kMm,
                                           plan_.fastCircleSpeed * 100));
-    const auto keys = std::find_if(scene_.crossings.begin(), scene_.crossings.end(),
-                                   [](const SilhouetteCrossing &c) { return c.what == "keys"; });
-    if (plan_.keysSwipeSpeed <= 0.0 || keys == scene_.crossings.end())
+    keysSwipe();
+    ridgePress();
+}
+
+const SilhouetteCrossing *FamilyPlacer::crossing(const char *what) const
+{
+    const auto c = std::find_if(scene_.crossings.begin(), scene_.crossings.end(),
+                                [what](const SilhouetteCrossing &x) { return x.what == what; });
+    return c == scene_.crossings.end() ? nullptr : &*c;
+}
+
+void FamilyPlacer::keysSwipe()
+{
+    const SilhouetteCrossing *keys = crossing("keys");
+    if (plan_.keysSwipeSpeed <= 0.0 || keys == nullptr)
         return;
     Motion m{.family = StrokeFamily::Swipe,
              .path = linePath(keys->from, keys->to),
@@ -502,6 +519,27 @@ void FamilyPlacer::fastStrokes()
     Stroke st = sampleStroke(scene_, m, plan_);
     st.name = fmt("swipe %.0f cm/s keys", plan_.keysSwipeSpeed * 100);
     st.where = "keys";
+    out_.push_back(std::move(st));
+}
+
+void FamilyPlacer::ridgePress()
+{
+    const SilhouetteCrossing *ridge = crossing("ridge");
+    if (!plan_.ridgePress || ridge == nullptr || plan_.pressDepths.empty() ||
+        plan_.pressSpeeds.empty())
+        return;
+    const double d = plan_.pressDepths.back();
+    const double v = plan_.pressSpeeds.front();
+    const glm::dvec2 top = 0.5 * (ridge->from + ridge->to);
+    Motion m{.family = StrokeFamily::Press,
+             .path = linePath(top, top),
+             .depth = d,
+             .approach = v,
+             .main = plan_.pressHold};
+    m.startT = startFor(strokeSeconds(m));
+    Stroke st = sampleStroke(scene_, m, plan_);
+    st.name = fmt("press %.1f mm %.0f cm/s ridge", d / kMm, v * 100);
+    st.where = "ridge";
     out_.push_back(std::move(st));
 }
 

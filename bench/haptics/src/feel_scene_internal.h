@@ -79,6 +79,7 @@ struct Pose {
     glm::dvec3 head;     ///< Sphere centre, m.
     glm::dvec3 bar;      ///< A point on the bar's axis, m.
     glm::dvec3 occluder; ///< Centre of the occluder's rounded end, m.
+    double cableShift;   ///< How far the ridges scene's cable is pulled down the table, m.
     TypingPose typing;   ///< The typing scene's hand.
 };
 

@@ -40,6 +40,51 @@ const glm::dvec3 kBarAxis{std::cos(0.44), std::sin(0.44), 0.0};
 
 constexpr double kOccluderRadius = 0.045;
 
+// The ridges scene: a board standing on its long edge and a cable lying along X on the table's
+// plane Z = 1.0 − 0.6·Y + 0.05·X (as SyntheticScene::Table's, panned the same way), m. The board's
+// foot is at world Y = kBoardY; the cable touches the table at kCableY, pulled down the table's
+// slope by Pose::cableShift.
+constexpr double kBoardThickness = 0.010;
+constexpr double kBoardHeight = 0.050;
+constexpr double kBoardY = 0.0;
+constexpr double kCableRadius = 0.006;
+constexpr double kCableY = 0.09;
+const glm::dvec3 kRidgeAxis = glm::normalize(glm::dvec3{1.0, 0.0, 0.05});
+/// The table's unit normal toward the camera.
+const glm::dvec3 kTableUp = glm::normalize(glm::dvec3{0.05, -0.6, -1.0});
+/// Down the table's slope, across the ridges (unit).
+const glm::dvec3 kDownSlope = glm::normalize(glm::cross(kRidgeAxis, kTableUp));
+
+/// The point of the table at world Y \a y under the optical axis's column, camera frame, m.
+glm::dvec3 onTable(const Pose &p, double y) noexcept
+{
+    return {p.panX, y + p.panY, 1.0 - 0.6 * y};
+}
+
+/// Z of the board along \a d (a slab: kBoardThickness across kDownSlope, kBoardHeight along
+/// kTableUp from its foot \a foot, endless along kRidgeAxis); +inf when missed.
+double boardZ(const glm::dvec3 &foot, const glm::dvec3 &d) noexcept
+{
+    double in = 0.0;
+    double out = kInf;
+    const auto between = [&](const glm::dvec3 &n, double lo, double hi) {
+        const double dn = glm::dot(d, n);
+        const double c = glm::dot(foot, n);
+        if (std::fabs(dn) < 1e-12) {
+            if (c + lo > 0.0 || c + hi < 0.0) // the ray's n-coordinate is 0 throughout
+                out = -kInf;
+            return;
+        }
+        const double a = (c + lo) / dn;
+        const double b = (c + hi) / dn;
+        in = std::max(in, std::min(a, b));
+        out = std::min(out, std::max(a, b));
+    };
+    between(kDownSlope, -0.5 * kBoardThickness, 0.5 * kBoardThickness);
+    between(kTableUp, 0.0, kBoardHeight);
+    return in <= out && in > 0.0 ? in : kInf;
+}
+
 Pose poseAt(double t, double clipSeconds) noexcept
 {
     Pose p{};
@@ -53,6 +98,7 @@ Pose poseAt(double t, double clipSeconds) noexcept
     const double u = clipSeconds > 0.0 ? t / clipSeconds : 0.5;
     p.occluder = {-0.30 + 0.60 * u - p.panX, -0.02 - p.panY, 0.85};
     p.typing = detail::typingPoseAt(t, p.panX, p.panY);
+    p.cableShift = 0.01 * std::sin(kTwoPi * 0.25 * t);
     return p;
 }
 
@@ -81,6 +127,12 @@ double sceneDepth(SyntheticScene s, const Pose &p, const glm::dvec3 &d) noexcept
     }
     case SyntheticScene::Typing:
         return detail::typingDepth(p.typing, d);
+    case SyntheticScene::Ridges:
+        return std::min(
+            {planeZ(1.0 + 0.6 * p.panY - 0.05 * p.panX, 0.05, -0.6, d),
+             boardZ(onTable(p, kBoardY), d),
+             cylinderZ(onTable(p, kCableY) + kCableRadius * kTableUp + p.cableShift * kDownSlope,
+                       kRidgeAxis, kCableRadius, d)});
     }
     return kInf;
 }
@@ -154,6 +206,9 @@ std::vector<SilhouetteCrossing> crossingsOf(SyntheticScene s, int w, int h, doub
     } else if (s == SyntheticScene::Typing) {
         for (const detail::ImageCrossing &c : detail::typingCrossings(p.typing, cam))
             add(c.what, c.edge, c.outward, c.reach);
+    } else if (s == SyntheticScene::Ridges) {
+        // Across the board's top under the optical axis's column, the top's middle at the middle.
+        add("ridge", cam.project(onTable(p, kBoardY) + kBoardHeight * kTableUp), {0.0, 1.0}, 8.0);
     }
     return out;
 }
@@ -253,9 +308,9 @@ depth::Plane<std::uint16_t> firstFrames(const std::vector<depth::Plane<std::uint
 
 const char *syntheticSceneName(SyntheticScene scene) noexcept
 {
-    static constexpr std::array<const char *, 5> kNames = {
-        "synthetic-table", "synthetic-head", "synthetic-forearm", "synthetic-occluder",
-        "synthetic-typing"};
+    static constexpr std::array<const char *, 6> kNames = {
+        "synthetic-table",    "synthetic-head",   "synthetic-forearm",
+        "synthetic-occluder", "synthetic-typing", "synthetic-ridges"};
     return platform::enumName(scene, kNames, "?");
 }
 

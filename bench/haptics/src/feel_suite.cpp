@@ -223,6 +223,7 @@ std::optional<FeelSuiteError> loadFeelScenes(const FeelSuiteOptions &o,
         {SyntheticScene::Occluder, SensorModel::ActiveStereo, true},
         {SyntheticScene::Typing, SensorModel::TimeOfFlight, true},
         {SyntheticScene::Typing, SensorModel::StructuredLight, false},
+        {SyntheticScene::Ridges, SensorModel::StructuredLight, false},
     };
     for (const Synthetic &s : kSynthetic) {
         if (o.quick && !s.quick)

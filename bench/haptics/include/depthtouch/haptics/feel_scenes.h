@@ -95,6 +95,15 @@ enum class SyntheticScene : std::uint8_t {
     /// (at most 3.8 cm/s). Positions before the camera's pan (1 cm/s). Crossings: "keys" (along a
     /// row of keys left of the hand) and "forearm".
     Typing,
+    /// The table of Table with what stands or lies on it narrower than a fingertip (in the default
+    /// box, 0.1 m wide: r = 1.5 mm, and 1 mm of the box is about 11 mm of the scene): a board
+    /// standing on its long edge across the view along X (10 mm thick, 50 mm tall: a top 0.9 mm
+    /// wide, 0.6 r, about 5 mm over the table in the box; a book, a phone or a ruler on edge),
+    /// still, and a cable lying 9 cm below it (12 mm thick: 1.1 mm wide, about 1 mm tall), pulled
+    /// to and fro down the table by ±1 cm at 0.25 Hz (at most 1.6 cm/s). A plane fitted across
+    /// 2r sees the table there. Crossing: "ridge" (across the board's top under the optical axis,
+    /// the top's middle at the middle).
+    Ridges,
 };
 
 /// \brief The depth camera model a synthetic scene is seen through.
@@ -107,8 +116,8 @@ enum class SensorModel : std::uint8_t {
 /// \return "sl", "tof" or "stereo".
 const char *sensorModelName(SensorModel model) noexcept;
 
-/// \return "synthetic-table", "synthetic-head", "synthetic-forearm", "synthetic-occluder" or
-/// "synthetic-typing".
+/// \return "synthetic-table", "synthetic-head", "synthetic-forearm", "synthetic-occluder",
+/// "synthetic-typing" or "synthetic-ridges".
 const char *syntheticSceneName(SyntheticScene scene) noexcept;
 
 /// \brief Options of makeSyntheticScene(). The camera is a Kinect v1 (fx = fy = 585 px at 640×480,
@@ -335,6 +344,10 @@ struct FamilyPlan {
     /// With it, a swipe at this speed, m/s, along the scene's crossing named "keys" when it has
     /// one (the typing scene's row of keys); 0: none.
     double keysSwipeSpeed = 0.50;
+    /// With them, a press pressDepths.back() deep at pressSpeeds.front() onto the top of the
+    /// scene's crossing named "ridge" when it has one (the middle of the crossing: a top narrower
+    /// than a fingertip); false: none.
+    bool ridgePress = true;
     double tapHz = 5.0;
     double tapDepth = 2e-3;                      ///< m under the surface at the bottom.
     double tapAbove = 3e-3;                      ///< m over it at the top.
@@ -350,8 +363,9 @@ struct FamilyPlan {
 /// \brief The six families of strokes of \a plan on \a scene, placed where the content is hardest
 /// (see StrokeFamily): silhouettes from findSilhouettes() at each stroke's time, moving regions,
 /// passing occluders, flicker and hole borders from analyseScene(); seeded. After them, with draws
-/// of their own: a fast circle (FamilyPlan::fastCircleSpeed) on a silhouette and a fast swipe
-/// along the "keys" crossing (FamilyPlan::keysSwipeSpeed); they do not move the others. A stroke
+/// of their own: a fast circle (FamilyPlan::fastCircleSpeed) on a silhouette, a fast swipe along
+/// the "keys" crossing (FamilyPlan::keysSwipeSpeed) and a deep press on the "ridge" crossing's top
+/// (FamilyPlan::ridgePress); they do not move the others. A stroke
 /// with no place to go is left out and named in \a notes (when given).
 std::vector<Stroke> makeFamilyStrokes(const FeelScene &scene, const FamilyPlan &plan = {},
                                       std::vector<std::string> *notes = nullptr);
