@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "depthtouch/haptics/finger_renderer.h"
+#include "finger_median.h"
 
 namespace depthtouch::haptics {
 
@@ -70,7 +71,7 @@ void FingerRenderer::keepOnPatch(Candidate &c) const noexcept
     const double out = std::sqrt(ox * ox + oy * oy);
     if (!(out > p_.radius) || !field_.contains(c.proxy.x, c.proxy.y))
         return;
-    const double inside = pixelMedian(c.proxy.x, c.proxy.y) - c.proxy.z;
+    const double inside = pixelMedian(field_, c.proxy.x, c.proxy.y) - c.proxy.z;
     if (!(inside > 0.25 * p_.radius && inside <= field_.cutThreshold()))
         return;
     const double x = c.plane.x + ox * (p_.radius / out);

@@ -1,10 +1,13 @@
 #pragma once
 /// \file
-/// \brief The median of nine heights, shared by the fingertip renderer's plane fit
-/// (finger_plane.cpp) and its update (finger_renderer.cpp). Private to dt_haptics.
-/// Thread-safety: a pure function.
+/// \brief The median of nine heights, and of the heights one pixel around a point, shared by the
+/// fingertip renderer's plane fit (finger_plane.cpp) and its update (finger_renderer.cpp,
+/// finger_descent.cpp). Private to dt_haptics. Thread-safety: pure functions (of the height field
+/// they read).
 
 #include <algorithm>
+
+#include "depthtouch/haptics/height_field.h"
 
 namespace depthtouch::haptics {
 
@@ -39,6 +42,25 @@ inline double median9(const double (&in)[9]) noexcept
     sort2(6, 4);
     sort2(4, 2);
     return p[4];
+}
+
+/// \return the median of the heights of \a field at (\a x0, \a y0) and one pixel (the grid
+/// spacing) around it, m; a point off the grid reads as the centre. One pixel read far back or
+/// far forward (a flying pixel, a dropout) is left out; a feature a few pixels wide is not.
+/// \pre (x0, y0) is over the grid.
+inline double pixelMedian(const HeightField &field, double x0, double y0) noexcept
+{
+    const double centre = field.heightAt(x0, y0);
+    const double s = field.spacing();
+    double z[9];
+    int k = 0;
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const double x = x0 + s * dx;
+            const double y = y0 + s * dy;
+            z[k++] = field.contains(x, y) ? field.heightAt(x, y) : centre;
+        }
+    return median9(z);
 }
 
 } // namespace depthtouch::haptics

@@ -169,6 +169,18 @@ FingerPlane fitFingerPlane(const HeightField &field, double x, double y, double 
     // (pop-through) on the near side, or pushed above the backdrop (phantom force) at its foot.
     const double margin = 0.25 * r;
     p.height = std::clamp(a, median - margin, median + margin);
+    // Nor more than r/4 under what was measured at the centre: its tap, and the median of its
+    // pixel and the eight around it (a lone flying pixel is no surface), where that stands less
+    // than a cut over the median (more is another surface over this one: an object over the
+    // finger). A top narrower than the stencil (a board on edge, a cable) is a minority of the
+    // taps; the median is the surface beside it, and a finger centred on it was inside it with
+    // no force (`bench feel`'s synthetic-ridges: 182 ms of pop-through tracing a board's top).
+    const double floor = taps[4] - margin;
+    if (floor > p.height) {
+        const double centre = std::min(taps[4], pixelMedian(field, cx, cy)) - margin;
+        if (centre > p.height && centre + margin - median <= field.cutThreshold())
+            p.height = centre;
+    }
     return p;
 }
 

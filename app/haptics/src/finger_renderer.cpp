@@ -456,22 +456,7 @@ double FingerRenderer::sensorHeight(const glm::dvec3 &hip) const noexcept
     // finger. The median of the surface at the HIP and one pixel around it (a pixel's vertex
     // reaches four of the nine) is; past a silhouette's edge by more than a pixel, most of them
     // lie on the far side and the finger is free as before.
-    return pixelMedian(hip.x, hip.y);
-}
-
-double FingerRenderer::pixelMedian(double x0, double y0) const noexcept
-{
-    const double centre = field_.heightAt(x0, y0);
-    const double s = field_.spacing();
-    double z[9];
-    int k = 0;
-    for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-            const double x = x0 + s * dx;
-            const double y = y0 + s * dy;
-            z[k++] = field_.contains(x, y) ? field_.heightAt(x, y) : centre;
-        }
-    return median9(z);
+    return pixelMedian(field_, hip.x, hip.y);
 }
 
 FingerState FingerRenderer::nextState(const Candidate &c) noexcept

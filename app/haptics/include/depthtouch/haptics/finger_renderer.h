@@ -39,10 +39,13 @@
 /// 1. **Finger-scale surface.** At a point q the surface is the least-squares plane through the
 ///    heights (fix (b): interpolated between frames i and i+1, paper Eq. 1) at the 3×3 points
 ///    q + (i·r, j·r), i, j ∈ {−1, 0, 1}, r = RendererConfig::fingerRadius (a Prewitt stencil): mean
-///    height S(q), kept within r/4 of the nine heights' median, and slope ∇S(q). Noise at pixel
-///    scale is averaged; slopes, and so the force's direction, are taken over 2r. Where the nine
-///    fit a quadric (RMS residual under r/50, fading out by r/25), S(q) is the quadric's height at
-///    q (the 3×3 Savitzky-Golay intercept of order 2): a plane's mean lies under a crest; and its
+///    height S(q), kept within r/4 of the nine heights' median and no more than r/4 under what
+///    was measured at q (its tap and the median of its pixel and the eight around it, where that
+///    stands less than a cut over the median: a top narrower than the stencil, a board on edge
+///    or a cable, is a minority of the taps), and slope ∇S(q). Noise at pixel scale is
+///    averaged; slopes, and so the force's direction, are taken over 2r. Where the nine fit a
+///    quadric (RMS residual under r/50, fading out by r/25), S(q) is the quadric's height at q
+///    (the 3×3 Savitzky-Golay intercept of order 2): a plane's mean lies under a crest; and its
 ///    slope is the centre row's and column's difference (the outer rows' differ by the cross
 ///    curvature), blended in by the same fit quality.
 /// 2. **God-object on that surface** (Zilles & Salisbury 1995): the proxy is the HIP projected
@@ -173,11 +176,12 @@
 /// the
 ///    device maximum, ramp, slew ≤ maxForceStep per update).
 ///
-/// Cost: 9 height lookups per plane fit, at most 2 + kFingerIterations fits (3 +
-/// 2·kFingerIterations beside a wall) and one raw lookup an update sliding (17 more where the
-/// raw lookup is under the HIP in contact: withinReach(); 9 more where the descent stopped more
-/// than r short of the projection: keepOnPatch()), two fits and one raw lookup resting; nothing
-/// per frame.
+/// Cost: 9 height lookups per plane fit (9 more where the centre's tap stands over the plane), at
+/// most 2 + kFingerIterations fits (3 + 2·kFingerIterations beside a wall) and one raw lookup an
+/// update sliding (17 more where the raw lookup is under the HIP in contact: withinReach(); 9 more
+/// where the descent stopped more than r short of the projection: keepOnPatch()), two fits and one
+/// raw lookup resting; nothing per frame.
+///
 /// Thread-safety: thread-bound (the haptic thread); no allocation.
 
 #include <cmath>
@@ -216,7 +220,10 @@ struct FingerPlane {
     double y = 0.0;
     /// S: mean of the nine heights, kept within r/4 of their median (across a silhouette the
     /// mean of a step is half-way: the finger must neither be inside the object with no force
-    /// nor pushed above the backdrop at its foot; the median ignores a lone flying pixel), m.
+    /// nor pushed above the backdrop at its foot; the median ignores a lone flying pixel), and
+    /// no more than r/4 under what was measured at the centre (its tap and the median of its
+    /// pixel and the eight around it), unless that stands a cut or more over the median (an
+    /// object over the finger): on a top narrower than the stencil the median is beside it, m.
     double height = 0.0;
     double gx = 0.0;     ///< ∂S/∂x (dimensionless).
     double gy = 0.0;     ///< ∂S/∂y.
@@ -399,7 +406,8 @@ private:
     void slide(const glm::dvec3 &hip, double raw, Candidate &c) const noexcept;
     /// The proxy \a c from slide()'s descent kept on the patch its plane was fitted to: where it
     /// lies more than r from the plane's centre (the plane extrapolated) and inside the sensor
-    /// surface at its own x–y (pixelMedian(), by more than r/4 and at most a cut), it is the
+    /// surface at its own x–y (the median of its pixel and the eight around it, by more than r/4
+    /// and at most a cut), it is the
     /// plane's point r from the centre toward it.
     void keepOnPatch(Candidate &c) const noexcept;
     /// Not in contact: a new contact from the HIP, or a finger behind the surface caught again.
@@ -412,9 +420,6 @@ private:
     /// and one pixel around it (one pixel read far back is not free space under a pressed
     /// finger). \pre the HIP is over the grid.
     [[nodiscard]] double sensorHeight(const glm::dvec3 &hip) const noexcept;
-    /// \return the median of the heights at (\a x, \a y) and one pixel around it, m (a point
-    /// off the grid reads as the centre). \pre (x, y) is over the grid.
-    [[nodiscard]] double pixelMedian(double x, double y) const noexcept;
     /// \return whether a sliding contact goes on with the HIP above the sensor surface at its
     /// own x–y: some surface within half the finger radius of the HIP's x–y
     /// (haptics::reachHeight(), the disc bench feel judges phantom force by, halved) is above the
