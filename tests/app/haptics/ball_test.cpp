@@ -179,8 +179,9 @@ TEST(BallRendererTest, aPressIsTheSpringStraightUpAndALiftIsFree)
 // A ridge narrower than the fingertip (a cable: 0.8 r wide, 6 mm over the table) pressed 6 mm
 // into at 5 cm/s and held: the ball rests on its top, so the force is the spring's to the ridge's
 // top all the way in (k·6 mm, 4.8 N, when held) and never nothing while the finger is inside it.
-// The finger renderer's plane, fitted across 2r, is the table's there: with it the force vanished
-// for up to 320 ms of such presses (docs/benchmarks.md, "The proxy stays on its plane's patch").
+// The finger renderer's plane, fitted across 2r, was the table's there and the force vanished for
+// up to 320 ms of such presses, until the plane was kept on what was measured at its centre
+// (finger_ridge_test.cpp; docs/benchmarks.md, "A scene with tops narrower than a fingertip").
 TEST(BallRendererTest, aRidgeNarrowerThanTheFingerIsFeltAtItsTop)
 {
     constexpr double kRidge = 0.006;
