@@ -254,6 +254,30 @@ TEST(FingerPlaneTest, acrossALowSilhouetteTheHeightStaysNearTheTapsMedian)
     EXPECT_LT(p.height, top + 1e-5);
 }
 
+// The same step from its foot: the stencil's centre 0.3 r off the top, three of the nine taps
+// on it, one of those on a flying pixel 15 mm up (left out, as above). The least-squares height
+// lies about half a millimetre over the backdrop at the centre, and a finger resting on the
+// backdrop there would be pushed up with nothing under it (phantom force). It is kept within r/4
+// of the taps' median (the backdrop); the centre's own measurement (the backdrop too) does not
+// lift it.
+TEST(FingerPlaneTest, atTheFootOfALowSilhouetteTheHeightStaysNearTheTapsMedian)
+{
+    const SceneBox box{};
+    const double r = 1.5e-3;
+    const double top = 0.002;
+    const OwnedFrame f = test::makeFrame(box, kW, kH, 0.0, [top, r](double x, double y) {
+        const bool pillar = std::hypot(x - 0.7 * r, y - r) < 0.4e-3; // under a corner tap
+        return x >= 0.0 ? top + (pillar ? 0.015 : 0.0) : 0.0;
+    });
+    HeightField field(box);
+    ASSERT_TRUE(field.setFrames(f.view(), nullptr));
+    const FingerPlane p = fitFingerPlane(field, -0.3 * r, 0.0, r);
+    std::printf("2 mm step, stencil 0.3 r off the top: height %.3f mm over the backdrop\n",
+                p.height * 1e3);
+    EXPECT_LE(p.height, 0.25 * r + 1e-5); // 10 µm: the frame codes heights in 16 bits
+    EXPECT_GE(p.height, -1e-5);
+}
+
 // on 8-bit depth with sensor flicker, strokes pressed 1 and 3 mm in at 5 and 10 cm/s.
 // The per-triangle descent (`modified`) trips safety with no cut and its force steps; the
 // fingertip renderer neither trips nor spikes, and never lets the finger through.

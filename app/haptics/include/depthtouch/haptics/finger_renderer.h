@@ -407,8 +407,7 @@ private:
     /// The proxy \a c from slide()'s descent kept on the patch its plane was fitted to: where it
     /// lies more than r from the plane's centre (the plane extrapolated) and inside the sensor
     /// surface at its own x–y (the median of its pixel and the eight around it, by more than r/4
-    /// and at most a cut), it is the
-    /// plane's point r from the centre toward it.
+    /// and at most a cut), it is the plane's point r from the centre toward it.
     void keepOnPatch(Candidate &c) const noexcept;
     /// Not in contact: a new contact from the HIP, or a finger behind the surface caught again.
     void capture(const glm::dvec3 &hip, Candidate &c) noexcept;
