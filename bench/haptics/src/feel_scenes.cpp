@@ -85,6 +85,13 @@ double boardZ(const glm::dvec3 &foot, const glm::dvec3 &d) noexcept
     return in <= out && in > 0.0 ? in : kInf;
 }
 
+/// Z of the table of SyntheticScene::Table (and Ridges) along \a d: Z = 1.0 − 0.6·Y + 0.05·X in
+/// the world, shifted by the pan (nearer toward the bottom of the view), m.
+double tableZ(const Pose &p, const glm::dvec3 &d) noexcept
+{
+    return planeZ(1.0 + 0.6 * p.panY - 0.05 * p.panX, 0.05, -0.6, d);
+}
+
 Pose poseAt(double t, double clipSeconds) noexcept
 {
     Pose p{};
@@ -106,8 +113,7 @@ double sceneDepth(SyntheticScene s, const Pose &p, const glm::dvec3 &d) noexcept
 {
     switch (s) {
     case SyntheticScene::Table:
-        // Z = 1.0 − 0.6·Y + 0.05·X in the world, shifted by the pan: nearer toward the bottom.
-        return planeZ(1.0 + 0.6 * p.panY - 0.05 * p.panX, 0.05, -0.6, d);
+        return tableZ(p, d);
     case SyntheticScene::Head:
         return std::min(planeZ(1.10 - 0.03 * p.panX, 0.03, 0.0, d),
                         sphereZ(p.head, kHeadRadius, d));
@@ -129,8 +135,7 @@ double sceneDepth(SyntheticScene s, const Pose &p, const glm::dvec3 &d) noexcept
         return detail::typingDepth(p.typing, d);
     case SyntheticScene::Ridges:
         return std::min(
-            {planeZ(1.0 + 0.6 * p.panY - 0.05 * p.panX, 0.05, -0.6, d),
-             boardZ(onTable(p, kBoardY), d),
+            {tableZ(p, d), boardZ(onTable(p, kBoardY), d),
              cylinderZ(onTable(p, kCableY) + kCableRadius * kTableUp + p.cableShift * kDownSlope,
                        kRidgeAxis, kCableRadius, d)});
     }

@@ -230,6 +230,24 @@ TEST(FingerPlaneTest, aTapFarFromTheMedianIsLeftOutOfTheFit)
     EXPECT_NEAR(p.height, 0.0, 5e-6);
 }
 
+/// The plane fitted with its centre at (\a centreX, 0) across a 2 mm step at x = 0 (the top at
+/// x ≥ 0) whose corner tap at (\a centreX + r, r) stands on a flying pixel 15 mm up, r = 1.5 mm;
+/// the step's height in \a top (m).
+FingerPlane planeAcrossALowStep(double centreX, double &top)
+{
+    const SceneBox box{};
+    const double r = 1.5e-3;
+    top = 0.002;
+    const double pillarX = centreX + r;
+    const OwnedFrame f = test::makeFrame(box, kW, kH, 0.0, [top, r, pillarX](double x, double y) {
+        const bool pillar = std::hypot(x - pillarX, y - r) < 0.4e-3; // under a corner tap
+        return x >= 0.0 ? top + (pillar ? 0.015 : 0.0) : 0.0;
+    });
+    HeightField field(box);
+    EXPECT_TRUE(field.setFrames(f.view(), nullptr));
+    return fitFingerPlane(field, centreX, 0.0, r);
+}
+
 // Across a silhouette lower than the outlier rule's reach (a 2 mm step: its taps are kept), six
 // of the nine taps on the top, one of them on a flying pixel 15 mm up (left out, so the curvature
 // correction of a full stencil does not apply): the least-squares height lies 0.6 mm under the
@@ -238,16 +256,9 @@ TEST(FingerPlaneTest, aTapFarFromTheMedianIsLeftOutOfTheFit)
 // 0.05 mm in the head-sweep test, which the release rules of finger_renderer.cpp took away.)
 TEST(FingerPlaneTest, acrossALowSilhouetteTheHeightStaysNearTheTapsMedian)
 {
-    const SceneBox box{};
     const double r = 1.5e-3;
-    const double top = 0.002;
-    const OwnedFrame f = test::makeFrame(box, kW, kH, 0.0, [top, r](double x, double y) {
-        const bool pillar = std::hypot(x - 1.3 * r, y - r) < 0.4e-3; // under a corner tap
-        return x >= 0.0 ? top + (pillar ? 0.015 : 0.0) : 0.0;
-    });
-    HeightField field(box);
-    ASSERT_TRUE(field.setFrames(f.view(), nullptr));
-    const FingerPlane p = fitFingerPlane(field, 0.3 * r, 0.0, r);
+    double top = 0.0;
+    const FingerPlane p = planeAcrossALowStep(0.3 * r, top);
     std::printf("2 mm step, stencil 0.3 r onto the top: height %.3f mm under the top\n",
                 (top - p.height) * 1e3);
     EXPECT_GE(p.height, top - 0.25 * r - 1e-5); // 10 µm: the frame codes heights in 16 bits
@@ -262,16 +273,9 @@ TEST(FingerPlaneTest, acrossALowSilhouetteTheHeightStaysNearTheTapsMedian)
 // lift it.
 TEST(FingerPlaneTest, atTheFootOfALowSilhouetteTheHeightStaysNearTheTapsMedian)
 {
-    const SceneBox box{};
     const double r = 1.5e-3;
-    const double top = 0.002;
-    const OwnedFrame f = test::makeFrame(box, kW, kH, 0.0, [top, r](double x, double y) {
-        const bool pillar = std::hypot(x - 0.7 * r, y - r) < 0.4e-3; // under a corner tap
-        return x >= 0.0 ? top + (pillar ? 0.015 : 0.0) : 0.0;
-    });
-    HeightField field(box);
-    ASSERT_TRUE(field.setFrames(f.view(), nullptr));
-    const FingerPlane p = fitFingerPlane(field, -0.3 * r, 0.0, r);
+    double top = 0.0;
+    const FingerPlane p = planeAcrossALowStep(-0.3 * r, top);
     std::printf("2 mm step, stencil 0.3 r off the top: height %.3f mm over the backdrop\n",
                 p.height * 1e3);
     EXPECT_LE(p.height, 0.25 * r + 1e-5); // 10 µm: the frame codes heights in 16 bits
