@@ -49,6 +49,7 @@ struct BenchFeelOptions {
     bool fifo = true;
     std::string dump;
     std::vector<std::string> scenes;
+    std::vector<std::string> settings;
 };
 
 /// What `bench feel` measures (its line in `depthtouch bench --help`).
@@ -83,6 +84,12 @@ const OptionRow<BenchFeelOptions> kBenchFeelRows[] = {
      "synthetic-typing, a --clip's file name)",
      {},
      kHideDefault},
+    {"setting",
+     &BenchFeelOptions::settings,
+     "Measure only these settings of the methods (comma-separated; e.g. finger, finger-ramp, "
+     "modified-release: the rows of feel.csv)",
+     {},
+     kCommaList | kHideDefault},
     {"dump",
      &BenchFeelOptions::dump,
      "Write the per-update log of every stroke whose 'scene|setting|stroke' contains this text to "
@@ -93,7 +100,7 @@ const OptionRow<BenchFeelOptions> kBenchFeelRows[] = {
 
 hb::FeelSuiteOptions suiteOptions(const BenchFeelOptions &o)
 {
-    return {o.data, o.clips, o.quick, o.fifo, o.dump, o.scenes};
+    return {o.data, o.clips, o.quick, o.fifo, o.dump, o.scenes, o.settings};
 }
 
 int fail(int code, const std::string &message)
@@ -116,6 +123,11 @@ int runBenchFeel(const BenchFeelOptions &o)
                         "--method: unknown method '" + m + "' (" + haptics::rendererNames() + ")");
         methods.push_back(*parsed);
     }
+    std::string known;
+    if (const std::string bad = hb::unknownFeelSetting(suiteOptions(o), methods, known);
+        !bad.empty())
+        return fail(kExitBadInput,
+                    "--setting: no setting '" + bad + "' of the methods measured (" + known + ")");
     for (const std::string &clip : o.clips)
         if (!std::filesystem::exists(clip))
             return fail(kExitBadInput, "--clip: no such file '" + clip + "'");

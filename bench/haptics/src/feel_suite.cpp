@@ -144,10 +144,17 @@ void planStrokes(const FeelSuiteOptions &o, const std::vector<FeelScene> &scenes
         cleanStrokes.push_back(makeStrokes(s, cleanPlan));
 }
 
-/// The settings of \a methods (with --quick, each method's first).
+/// The settings of \a methods: those --setting names, else every one (with --quick, each
+/// method's first).
 std::vector<FeelSetting> planSettings(const FeelSuiteOptions &o, const std::vector<Method> &methods)
 {
     std::vector<FeelSetting> settings = feelSettings(methods);
+    if (!o.settings.empty()) {
+        std::erase_if(settings, [&o](const FeelSetting &s) {
+            return std::find(o.settings.begin(), o.settings.end(), s.name) == o.settings.end();
+        });
+        return settings;
+    }
     if (o.quick) { // each method's first setting
         std::vector<FeelSetting> first;
         for (const FeelSetting &s : settings)
@@ -171,6 +178,20 @@ bool sceneWanted(const FeelSuiteOptions &o, const std::string &name)
 }
 
 } // namespace
+
+std::string unknownFeelSetting(const FeelSuiteOptions &o, const std::vector<Method> &methods,
+                               std::string &known)
+{
+    const std::vector<FeelSetting> all = feelSettings(methods);
+    known.clear();
+    for (const FeelSetting &s : all)
+        known += (known.empty() ? "" : ", ") + s.name;
+    for (const std::string &name : o.settings)
+        if (std::none_of(all.begin(), all.end(),
+                         [&name](const FeelSetting &s) { return s.name == name; }))
+            return name;
+    return {};
+}
 
 std::string defaultSharedDataDir()
 {

@@ -117,6 +117,22 @@ status=0
     >"$work/feel-none.log" 2>"$work/feel-none.err" || status=$?
 [ "$status" -eq 2 ] && [ "$(grep -c 'depthtouch bench feel: --scene' "$work/feel-none.err")" -eq 1 ] ||
     { cat "$work/feel-none.err"; fail "bench feel --scene no-such-scene: exit $status"; }
+# --setting measures only the settings it names, --quick or not; a name that is none is bad input.
+"$exe" bench feel --quick --method finger,modified --setting finger-ramp,modified-release \
+    --data "$work/no-data" --scene synthetic-head --out "$work/feel-setting" \
+    >"$work/feel-setting.log" 2>&1 ||
+    { tail -n 20 "$work/feel-setting.log"; fail "bench feel --setting failed"; }
+python3 - "$work/feel-setting" <<'PY' || fail "bench feel --setting: rows of settings it did not name"
+import csv, sys
+settings = {r["setting"] for r in csv.DictReader(open(sys.argv[1] + "/feel.csv"))}
+assert settings == {"finger-ramp", "modified-release"}, settings
+PY
+status=0
+"$exe" bench feel --quick --data "$work/no-data" --setting fingr --out "$work/feel-fingr" \
+    >"$work/feel-fingr.log" 2>"$work/feel-fingr.err" || status=$?
+[ "$status" -eq 2 ] && [ "$(wc -l <"$work/feel-fingr.err")" -eq 1 ] &&
+    grep -q "depthtouch bench feel: --setting: no setting 'fingr'.*finger-ramp" "$work/feel-fingr.err" ||
+    { cat "$work/feel-fingr.err"; fail "bench feel --setting fingr: exit $status"; }
 bench stability --quick
 png stability stability.png
 png stability stability_energy.png

@@ -28,7 +28,16 @@ struct FeelSuiteOptions {
     /// Only the scenes whose name (e.g. "bonn-crowd/16", a --clip's file name) contains one of
     /// these; empty: every scene.
     std::vector<std::string> scenes;
+    /// Only the settings with these names (FeelSetting::name: "finger", "finger-ramp", ...;
+    /// feelSettings()), `quick` or not; empty: every setting of the methods (with `quick`, each
+    /// one's first).
+    std::vector<std::string> settings;
 };
+
+/// \return the first name in \a o.settings that is not a setting of \a methods (feelSettings()),
+/// with the names there are in \a known (comma-separated); empty when every name is one.
+std::string unknownFeelSetting(const FeelSuiteOptions &o, const std::vector<Method> &methods,
+                               std::string &known);
 
 /// \brief Why the suite stopped: the one-line message, and whether the input was bad (a --clip
 /// whose depth cannot be read) rather than the run failing.
