@@ -224,8 +224,8 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
             ++f.reversalSpikes;
         run = alternationRun(run, step, prevStep, th.alternationStep);
         f.longestAlternation = std::max(f.longestAlternation, run);
-        // The same run of the ideal penalty as a device renders it (clamped to its maximum): what
-        // the surface under the path alternates by itself (the keys of a keyboard under a swipe).
+        // The same run of the ideal penalty as a device renders it (clamped to its maximum): the
+        // surface under the path, and the point's nearest-point jumps deep under fine ridges.
         const glm::dvec3 idealNow = renderedIdeal(r.idealPenalty, th.deviceMaxForce);
         const glm::dvec3 idealStep = idealNow - prevIdealForce;
         idealRun = alternationRun(idealRun, idealStep, prevIdealStep, th.alternationStep);

@@ -253,8 +253,10 @@ struct FeelFigures {
     double reversalSpikesPerSecond = 0.0; ///< reversalSpikes / seconds.
     std::size_t longestAlternation = 0;   ///< Updates, the longest alternating run.
     /// Updates, the longest alternating run of the ideal penalty (FeelSample::idealPenalty, clamped
-    /// to the device maximum) on the same path: what the surface under it alternates by itself (a
-    /// swipe across a keyboard's keys), beside the renderer's; 0 where it is not given.
+    /// to the device maximum) on the same path, beside the renderer's; 0 where it is not given. A
+    /// point's: deep under ridges finer than a fingertip (a keyboard's keys) its nearest surface
+    /// point jumps between about equally near ones, so it runs longer than a fingertip's force
+    /// would (docs/benchmarks.md, "Keys finer than a fingertip").
     std::size_t idealLongestAlternation = 0;
     std::size_t regainEvents = 0; ///< Occluders that left a held finger.
     std::size_t regainMissed = 0; ///< Of them, contact not regained before the hold ended.
