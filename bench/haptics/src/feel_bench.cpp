@@ -12,6 +12,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "depthtouch/haptics/ball_ideal.h"
 #include "depthtouch/haptics/renderer_table.h"
 #include "depthtouch/platform/percentile.h"
 
@@ -98,11 +99,18 @@ std::vector<std::uint8_t> feelMaterial(int w, int h)
     return rgb;
 }
 
+/// The ideal ball's search in a logged stroke (ballIdealPenalty()): rings 0.1 mm apart in 32
+/// directions, a quarter of its default's lookups (a 6 mm press reads about 10⁵ heights an update).
+constexpr double kBallRing = 0.1e-3;
+constexpr int kBallDirections = 32;
+
 /// Replays one stroke on a fresh renderer; fills \a rows; with \a errors, the squared force
-/// errors against the ideal penalty (feel.h planePenalty()) of the pressed updates.
+/// errors against the ideal penalty (feel.h planePenalty()) of the pressed updates; with \a ball,
+/// the ideal ball's force of the renderer's fingertip radius (ball_ideal.h: slow, for a logged
+/// stroke) in FeelSample::ballIdealPenalty.
 Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const FeelSetting &setting,
                           const RendererConfig &cfg, std::vector<FeelSample> &rows,
-                          std::vector<double> *errors = nullptr)
+                          std::vector<double> *errors = nullptr, bool ball = false)
 {
     const std::vector<std::uint8_t> material =
         setting.materials ? feelMaterial(scene.width, scene.height) : std::vector<std::uint8_t>{};
@@ -167,6 +175,9 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
         } else {
             row.idealForce = 0.0;
         }
+        if (const HeightField *rf = ref.at(s.t); ball && rf != nullptr && r.fingertipRadius() > 0.0)
+            row.ballIdealPenalty = ballIdealPenalty(*rf, s.hip, r.fingertipRadius(), cfg.stiffness,
+                                                    kBallRing, kBallDirections);
         if (prevT < s.t) // the surface under the HIP's x–y one update earlier
             surfaceRise(scene, ref, prevT, s, row);
         prevT = s.t;
@@ -288,13 +299,15 @@ Result<std::vector<FeelStrokeResult>> runFeelStrokes(const FeelScene &scene,
     for (const Stroke &stroke : strokes) {
         if (stroke.samples.empty())
             continue;
-        DT_TRY(replayStroke(scene, stroke, setting, cfg, rows));
-        FeelStrokeResult r{scene.name,   setting.name,      stroke.name, stroke.kind, stroke.family,
-                           stroke.where, computeFeel(rows), {},          {}};
+        FeelStrokeResult r{scene.name,   setting.name, stroke.name, stroke.kind, stroke.family,
+                           stroke.where, {},           {},          {}};
+        const bool logged = !dump.empty() && r.key().find(dump) != std::string::npos;
+        DT_TRY(replayStroke(scene, stroke, setting, cfg, rows, nullptr, logged));
+        r.figures = computeFeel(rows);
         r.updateSeconds.reserve(rows.size());
         for (const FeelSample &row : rows)
             r.updateSeconds.push_back(row.updateSeconds);
-        if (!dump.empty() && r.key().find(dump) != std::string::npos)
+        if (logged)
             r.log = rows;
         out.push_back(std::move(r));
     }

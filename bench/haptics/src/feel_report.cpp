@@ -317,7 +317,8 @@ bool writeStrokeLogs(const FeelReport &report, const std::filesystem::path &base
         platform::TextReportFile f((base / "feel_dump" / (name + ".csv")).string(), error);
         f << "t_s,hip_x_mm,hip_y_mm,hip_z_mm,proxy_x_mm,proxy_y_mm,proxy_z_mm,fx_n,fy_n,fz_n,"
              "surface_z_mm,held_z_mm,surface_rise_mm,ideal_n,tripped,cut,pressed,"
-             "reach_surface_z_mm,ideal_fx_n,ideal_fy_n,ideal_fz_n,state\n";
+             "reach_surface_z_mm,ideal_fx_n,ideal_fy_n,ideal_fz_n,state,ball_ideal_fx_n,"
+             "ball_ideal_fy_n,ball_ideal_fz_n\n";
         for (const FeelSample &w : r.log)
             f << w.t << ',' << w.hip.x * 1e3 << ',' << w.hip.y * 1e3 << ',' << w.hip.z * 1e3 << ','
               << w.proxy.x * 1e3 << ',' << w.proxy.y * 1e3 << ',' << w.proxy.z * 1e3 << ','
@@ -325,7 +326,9 @@ bool writeStrokeLogs(const FeelReport &report, const std::filesystem::path &base
               << w.heldSurfaceZ * 1e3 << ',' << w.surfaceRise * 1e3 << ',' << w.idealForce << ','
               << w.released << ',' << w.surfaceCut << ',' << w.pressed << ','
               << w.reachSurfaceZ * 1e3 << ',' << w.idealPenalty.x << ',' << w.idealPenalty.y << ','
-              << w.idealPenalty.z << ',' << (w.state != nullptr ? w.state : "") << '\n';
+              << w.idealPenalty.z << ',' << (w.state != nullptr ? w.state : "") << ','
+              << w.ballIdealPenalty.x << ',' << w.ballIdealPenalty.y << ',' << w.ballIdealPenalty.z
+              << '\n';
         if (!f.close())
             return false;
     }

@@ -102,6 +102,10 @@ struct FeelSample {
     /// The ideal god-object's force on this update, N: k·(nearest surface point − HIP) under the
     /// surface (nearestSurface()), zero above it; NaN: not given (no ideal energy is summed).
     glm::dvec3 idealPenalty{std::nan("")};
+    /// The ideal ball's force on this update (a ball of the renderer's fingertip radius on the
+    /// reference surface; `bench feel --dump`'s logged strokes only, ball_ideal.h), N; NaN: not
+    /// given. Not judged.
+    glm::dvec3 ballIdealPenalty{std::nan("")};
     /// Height of the surface a held finger rests on (without any occluder), m; NaN: not a hold.
     double heldSurfaceZ = std::nan("");
     /// How far the surface under the HIP's x–y rose since the update before (the same x–y, the
