@@ -3,10 +3,11 @@
 
 #include "depthtouch/haptics/ball_ideal.h"
 
+#include "depthtouch/haptics/feel.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 namespace depthtouch::haptics::bench {
 
@@ -61,25 +62,11 @@ glm::dvec3 ballIdealPenalty(const HeightField &field, const glm::dvec3 &hip, dou
     const double rest = ballRestHeight(field, hip.x, hip.y, radius);
     if (!(rest > hip.z))
         return glm::dvec3{0.0};
-    // The nearest point on or above B: straight up at first; a ring's point is as far as its
-    // radius and its height over the HIP together (nearestSurface(), feel.h, on B).
-    double best = rest - hip.z;
-    glm::dvec3 at{hip.x, hip.y, rest};
-    for (double ring = ringStep; ring < best; ring += ringStep)
-        for (int k = 0; k < directions; ++k) {
-            const double a = 2.0 * std::numbers::pi * k / directions;
-            const double x = hip.x + ring * std::cos(a);
-            const double y = hip.y + ring * std::sin(a);
-            const double b = ballRestHeight(field, x, y, radius);
-            if (!std::isfinite(b))
-                continue;
-            const double up = std::max(b - hip.z, 0.0);
-            const double d = std::sqrt(ring * ring + up * up);
-            if (d < best) {
-                best = d;
-                at = {x, y, hip.z + up};
-            }
-        }
+    // The nearest point on or above B (nearestSurface(), feel.h, on B); deeper than 2r it is
+    // searched out to 2r only (ball_ideal.h).
+    glm::dvec3 at{};
+    nearestSurface([&](double x, double y) { return ballRestHeight(field, x, y, radius); }, hip,
+                   rest - hip.z, &at, ringStep, directions, 2.0 * radius);
     return stiffness * (at - hip);
 }
 

@@ -84,6 +84,27 @@ TEST(BallIdealTest, besideALowStepTheBallRestsOnItsEdgeByItsCap)
     EXPECT_NEAR(ballRestHeight(f.field, edge + 1.2 * kR, y, kR), kTable, kQuantum);
 }
 
+// Inside a step 10 mm tall, 8 mm under its top, the ball's way out is sideways past the edge by
+// r (where it clears the edge's corner): 1 mm from the edge that is 2.5 mm, inside the search's
+// 2r, and the force is sideways at k·2.5 mm; 2 mm from it, 3.5 mm, beyond 2r: straight up at
+// k·8 mm (ball_ideal.h).
+TEST(BallIdealTest, insideATallStepTheWayOutIsSidewaysWithinTwoRadii)
+{
+    const double s = spacing();
+    const double edge = test::sampleX(kBox, kW, 300);
+    const double top = kTable + 0.010;
+    const Field f([&](double x, double) { return x <= edge + 0.5 * s ? top : kTable; });
+    const double y = test::sampleY(kBox, kW, kH, 200);
+    const glm::dvec3 near{edge - 0.001, y, top - 0.008};
+    const glm::dvec3 sideways = ballIdealPenalty(f.field, near, kR, kK);
+    EXPECT_NEAR(sideways.x, kK * (0.001 + kR), kK * 0.1e-3);
+    EXPECT_NEAR(sideways.z, 0.0, kK * 0.1e-3);
+    const glm::dvec3 far{edge - 0.002, y, top - 0.008};
+    const glm::dvec3 up = ballIdealPenalty(f.field, far, kR, kK);
+    EXPECT_NEAR(up.z, kK * 0.008, kK * kQuantum);
+    EXPECT_NEAR(std::hypot(up.x, up.y), 0.0, 1e-9);
+}
+
 // Keys whose gaps are one sample wide and 3.6 mm deep (a keyboard seen at 640 × 480): a ball of
 // radius r sags over a gap by the cap over one sample (8 µm), so pressed 2 mm under the tops it
 // is pushed straight up at k·(2 mm − sag), over a gap as over a key. A point there is in free

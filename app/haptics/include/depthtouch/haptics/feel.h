@@ -73,6 +73,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <numbers>
 #include <span>
 
@@ -145,18 +146,19 @@ double reachHeight(const HeightAt &heightAt, double x, double y, double radius)
 /// (when not null) is set to it, m (the point straight above the HIP when nothing nearer is
 /// found). \return the distance, m. The ideal god-object's proxy (Zilles & Salisbury 1995), whose
 /// spring k·(nearest − HIP) is the force of the potential ½·k·distance², passive on a still
-/// surface (FeelSample::idealPenalty).
+/// surface (FeelSample::idealPenalty). Searched on rings \a step (m) apart in \a directions
+/// directions, out to \a reach (m) at most (the ideal ball's search, ball_ideal.h, is the same
+/// on the surface its lowest point rests on).
 template <class HeightAt>
 double nearestSurface(const HeightAt &heightAt, const glm::dvec3 &hip, double vertical,
-                      glm::dvec3 *nearest)
+                      glm::dvec3 *nearest, double step = 0.2e-3, int directions = 24,
+                      double reach = std::numeric_limits<double>::infinity())
 {
     double best = vertical;
     glm::dvec3 at{hip.x, hip.y, hip.z + vertical};
-    constexpr int kDirections = 24;
-    const double step = 0.2e-3;
-    for (double ring = step; ring < best; ring += step) {
-        for (int k = 0; k < kDirections; ++k) {
-            const double a = 2.0 * std::numbers::pi * k / kDirections;
+    for (double ring = step; ring < std::min(best, reach); ring += step) {
+        for (int k = 0; k < directions; ++k) {
+            const double a = 2.0 * std::numbers::pi * k / directions;
             const double x = hip.x + ring * std::cos(a);
             const double y = hip.y + ring * std::sin(a);
             const double h = heightAt(x, y);

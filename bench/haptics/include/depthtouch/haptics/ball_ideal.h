@@ -16,8 +16,8 @@
 ///
 /// Units: m, N, N/m; the frame is the HeightField's (docs/architecture.md §3). Cost: one
 /// ballRestHeight() reads about π·(r/s)² vertices (s: the grid spacing), a few hundred at the
-/// feel bench's scenes; ballIdealPenalty() calls it on rings out to the HIP's depth (tens of
-/// thousands of lookups an update): a tool for `bench feel --dump`'s strokes, not the suite.
+/// feel bench's scenes; ballIdealPenalty() calls it on rings out to the HIP's depth, at most 2r
+/// (up to 10⁵ lookups an update): a tool for `bench feel --dump`'s strokes, not the suite.
 /// Thread-safety: reentrant; reads \a field only.
 
 #include <glm/vec3.hpp>
@@ -33,8 +33,10 @@ double ballRestHeight(const HeightField &field, double x, double y, double radiu
 
 /// \return the ideal ball's force on \a hip (m) at \a stiffness (N/m), N: k·(Q − HIP), Q the
 /// point nearest the HIP on or above ballRestHeight(), searched on rings \a ringStep (m) apart
-/// in \a directions directions out to the HIP's depth under B; zero where the HIP is above B or
-/// B is NaN. \pre field.valid(), radius > 0, ringStep > 0, directions > 0.
+/// in \a directions directions out to the HIP's depth under B or 2·radius, whichever is less
+/// (a HIP more than 2r under B whose way out lies farther to the side is pushed straight up);
+/// zero where the HIP is above B or B is NaN. \pre field.valid(), radius > 0, ringStep > 0,
+/// directions > 0.
 glm::dvec3 ballIdealPenalty(const HeightField &field, const glm::dvec3 &hip, double radius,
                             double stiffness, double ringStep = 0.05e-3,
                             int directions = 48) noexcept;
