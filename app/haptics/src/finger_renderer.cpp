@@ -171,6 +171,12 @@ void FingerRenderer::capture(const glm::dvec3 &hip, Candidate &c) noexcept
             c = wall;
             c.behind = false;
         }
+    } else if (wall.throughGap && c.below > 0.0) {
+        // Through a gap narrower than the fingertip: it was on the surface either side of the
+        // gap, not in front of a wall nor behind an object, whatever its depth (limitPush()
+        // grows its force at the bounded push's rate).
+        c.contact = true;
+        c.behind = false;
     }
     if (c.contact && !touching())
         limitPush(hip, c); // caught deep (behind an object, under a returning surface): bounded

@@ -14,6 +14,10 @@
 /// the HIP's path from the last update that is free (bisection on the segment), and the wall is
 /// the vertical plane through it whose outward normal n is the horizontal direction of steepest
 /// descent of the surface there (heights ±r apart: a step's gradient points into the object).
+/// It is a wall only where a fingertip fits in front of it (roomBefore()): a gap between a
+/// keyboard's keys is free space to a point, not to a finger, and a swipe across the keys met
+/// each key's side in turn (on a wall, free in the next gap: a force alternating at the servo
+/// rate).
 /// n is kept for the contact: read again each update at the proxy on a ragged silhouette (a
 /// person's edge at 8 bits), it turned the search line, which moved the proxy, which turned n, and
 /// the proxy hopped 0.5 mm between an edge's pixels at the servo rate. Each update the wall is
@@ -29,8 +33,8 @@
 /// is free once it is above the surface at its own x–y.
 /// Cost: on a wall, one bisection (up to log2(length/searchResolution) + 1 height lookups) and one
 /// plane fit an update; when a free HIP comes under the surface, one bisection along its path, 5
-/// lookups for the normal and one plane fit. Thread-safety: thread-bound (the haptic thread); no
-/// allocation.
+/// lookups for the normal, up to 36 for the room in front of the side and one plane fit.
+/// Thread-safety: thread-bound (the haptic thread); no allocation.
 
 #include "depthtouch/haptics/finger_renderer.h"
 
@@ -39,6 +43,8 @@
 #include <limits>
 
 #include <glm/geometric.hpp>
+
+#include "finger_median.h"
 
 namespace depthtouch::haptics {
 
@@ -97,6 +103,25 @@ bool FingerRenderer::wallNormal(const glm::dvec3 &at, glm::dvec2 &n) const noexc
     return true;
 }
 
+bool FingerRenderer::roomBefore(const glm::dvec3 &out, const glm::dvec2 &n) const noexcept
+{
+    // A finger cannot have come through a gap narrower than itself: where the surface in front of
+    // the side rises again to the crossing's height within r (between a keyboard's keys, across
+    // a dropout a pixel wide), the side is no wall. The surface there is the median of the pixel
+    // and the eight around it: a lone flying pixel in front of an object's side is no surface.
+    for (int i = 1; i <= 4; ++i) {
+        const double d = 0.25 * p_.radius * i;
+        const double x = out.x + d * n.x;
+        const double y = out.y + d * n.y;
+        if (!field_.contains(x, y))
+            return true;
+        const double z = pixelMedian(field_, x, y);
+        if (z >= out.z && !field_.besideHole(z))
+            return false;
+    }
+    return true;
+}
+
 bool FingerRenderer::enterWall(const glm::dvec3 &hip, Candidate &c) noexcept
 {
     // The last HIP, free at this time, and this one inside: where the path crossed the surface.
@@ -117,6 +142,10 @@ bool FingerRenderer::enterWall(const glm::dvec3 &hip, Candidate &c) noexcept
     const double s = (out.x - hip.x) * n.x + (out.y - hip.y) * n.y;
     if (!(s >= 0.0))
         return false;
+    if (!roomBefore(out, n)) {
+        c.throughGap = true;
+        return false;
+    }
     wall_.normal = n;
     wall_.depth = s;
     c.proxy = hip + s * glm::dvec3(n, 0.0);

@@ -282,5 +282,39 @@ TEST(FingerWallTest, slidingAlongARaggedSideGrowsTheForceNoFasterThanTheBoundedP
     EXPECT_GT(largest, 0.5 * config.maxForceStep / 16.0); // the juts did push
 }
 
+// A slot one sample wide (0.16 mm) cut down to the table into a box 15 mm tall, 1 mm in from its
+// side: a point lowered into it is free there, 5 mm under the box's top; a fingertip (r = 1.5 mm)
+// could not be, it was on the box either side. Moved on into the box at 50 cm/s, it meets the
+// slot's far side: no wall, for the fingertip does not fit in front of it (roomBefore()), and it
+// is caught though deeper than the capture depth (4 mm): touching, its force growing at the
+// bounded push's rate. Before, it was on a wall (with the room check alone, behind the surface
+// with no force: `bench feel`'s finger-r1mm had 14 ms of pop-through on a time-of-flight
+// occluder's notched edge).
+TEST(FingerWallTest, aFingerOutOfASlotNarrowerThanItIsOnTheSurfaceEitherSide)
+{
+    const double sample = kBox.width / 639.0;
+    const double slot = 0.001 + 0.5 * sample; // a sample's x: (c − 319.5)·sample
+    SyntheticVideo video(kBox, 640, 480, 30.0, [=](double x, double, int) {
+        return x >= 0.0 && std::fabs(x - slot) > 0.5 * sample ? kTop : kTable;
+    });
+    FingerRenderer finger(RendererConfig::forMethod(Method::Finger));
+    video.advance(0.0);
+    video.feed(finger);
+    const glm::dvec3 above{slot, 0.0, kTop + 0.003};
+    finger.reset(above);
+    finger.update(above, 0.0);
+    const glm::dvec3 inSlot{slot, 0.0, kTop - 0.005};
+    EXPECT_FALSE(finger.update(inSlot, 0.001).contact); // free in the slot, as a point
+    glm::dvec3 force{};
+    for (int k = 1; k <= 10; ++k) {
+        force = finger.update(inSlot + glm::dvec3(0.0005 * k, 0.0, 0.0), 0.001 + k / 1000.0).force;
+        EXPECT_EQ(finger.state(), FingerState::Touching) << "update " << k;
+    }
+    std::printf("10 updates out of the slot, 5 mm under the top: force (%.2f, %.2f, %.2f) N\n",
+                force.x, force.y, force.z);
+    EXPECT_GT(force.z, 0.5);
+    EXPECT_GT(force.z, std::fabs(force.x));
+}
+
 } // namespace
 } // namespace depthtouch::haptics

@@ -72,9 +72,13 @@
 ///    silhouette, or the surface jumped onto it: it is *behind* the surface (the camera did not
 ///    see there) and stays free until it is out (paper IV.C's release "may stay inside"). An
 ///    edge met less deep than that is climbed. A free HIP whose path since the last update went
-///    through an object's side (steeper than kFingerWallSlope) meets that side as a wall instead,
-///    where the wall is nearer than the top (finger_wall.cpp): the proxy stays on the side, found
-///    again each update along its normal, and turns onto the top over the upper edge.
+///    through an object's side (steeper than kFingerWallSlope) with room for the fingertip in
+///    front of it meets that side as a wall instead, where the wall is nearer than the top
+///    (finger_wall.cpp): the proxy stays on the side, found again each update along its normal,
+///    and turns onto the top over the upper edge. Through a gap narrower than r (between a
+///    keyboard's keys, a notch of a ragged silhouette) it was on the surface either side, which
+///    a point's free space does not know: it is caught at any depth, its force growing at the
+///    bounded push's rate.
 /// 4. **Cuts from the depth itself** (fix (c)): most of the patch under the proxy, refitted at the
 ///    same x–y, moved by more than the cut threshold (HeightField::cutThreshold(), a quarter of the
 ///    box depth) since the last update: the median of the nine taps' own steps (stencilStep()). An
@@ -270,13 +274,15 @@ glm::dvec3 projectOnPlane(const FingerPlane &plane, const glm::dvec3 &p, double 
 /// - OverHole → Touching: *measured*, the spot is measured again: the surface it was held on.
 /// - OverHole → Free: *cut*, measured again a cut off the held surface; *unloaded*, the hold's
 ///   force is spent.
-/// - Free → Touching: *caught*, under the surface no deeper than captureDepth (enter()).
+/// - Free → Touching: *caught*, under the surface no deeper than captureDepth (enter()), or at
+///   any depth through a gap narrower than the fingertip (roomBefore(): on the surface either
+///   side of it).
 /// - Free → Behind: *deep*, under it deeper than that: it came from the side, or the surface
 ///   jumped onto it (enter()).
 /// - Behind → Touching: *caught again*, the surface it was held on is within heldDepth +
 ///   stepDepth (enter()).
 /// - Free → OnWall: *through a side*, the path since the last update crossed a side steeper than
-///   kFingerWallSlope (enterWall()).
+///   kFingerWallSlope with room for the fingertip in front of it (enterWall(), roomBefore()).
 /// - OnWall → Touching: *corner*, the top is nearer than the side by r (wallContact()).
 /// - Touching, OnWall → Free: *out*, above the sensor surface at its x–y with nothing within
 ///   holdReach above it (withinReach()), or out from under the stencil's plane (slide()).
@@ -363,6 +369,9 @@ private:
         bool behind = false;
         /// limitPush() held the proxy at its bound this update (the next update is pushed_).
         bool pushing = false;
+        /// enterWall() found the HIP's path through a gap narrower than the fingertip: it was on
+        /// the surface either side, not in free space in front of a wall (roomBefore()).
+        bool throughGap = false;
     };
     /// What FingerState::OverHole holds (holdOverHole(), finger_hole.cpp).
     struct HoleHold {
@@ -477,6 +486,12 @@ private:
     /// whether it did, with \a c the wall contact (wall_ set); false for a path through the top or
     /// a HIP that was not free at the last update.
     bool enterWall(const glm::dvec3 &hip, Candidate &c) noexcept;
+    /// \return whether a fingertip fits in front of a side crossed at \a out (m) whose outward
+    /// normal is \a n (unit): no surface (the median of a pixel and the eight around it, not a
+    /// hole) stands at out's height or higher within r of it along n. False: the path came
+    /// through a gap narrower than the fingertip; the side is no wall (enterWall() sets
+    /// Candidate::throughGap) and the finger is caught at any depth (capture()).
+    [[nodiscard]] bool roomBefore(const glm::dvec3 &out, const glm::dvec2 &n) const noexcept;
     /// On a wall: the proxy HIP + s·n on the object's side found again along its normal (s moves
     /// at a bounded rate), turning onto the top (\a raw, m) over the upper edge, or the ordinary
     /// contact once the top is nearer than the side by r.
