@@ -289,7 +289,7 @@ std::vector<FeelSetting> feelSettings(const std::vector<Method> &methods)
 Result<std::vector<FeelStrokeResult>> runFeelStrokes(const FeelScene &scene,
                                                      const std::vector<Stroke> &strokes,
                                                      const FeelSetting &setting,
-                                                     const std::string &dump)
+                                                     const std::string &dump, bool ballIdeal)
 {
     RendererConfig cfg = setting.config;
     cfg.box = scene.box;
@@ -302,7 +302,7 @@ Result<std::vector<FeelStrokeResult>> runFeelStrokes(const FeelScene &scene,
         FeelStrokeResult r{scene.name,   setting.name, stroke.name, stroke.kind, stroke.family,
                            stroke.where, {},           {},          {}};
         const bool logged = !dump.empty() && r.key().find(dump) != std::string::npos;
-        DT_TRY(replayStroke(scene, stroke, setting, cfg, rows, nullptr, logged));
+        DT_TRY(replayStroke(scene, stroke, setting, cfg, rows, nullptr, logged && ballIdeal));
         r.figures = computeFeel(rows);
         r.updateSeconds.reserve(rows.size());
         for (const FeelSample &row : rows)
@@ -400,7 +400,7 @@ FeelReport runFeelBenchmark(const std::vector<FeelScene> &scenes,
                             const std::function<void(const std::string &)> &progress,
                             const std::vector<FeelScene> &clean,
                             const std::vector<std::vector<Stroke>> &cleanStrokes,
-                            const std::string &dump)
+                            const std::string &dump, bool ballIdeal)
 {
     FeelReport report;
     const auto start = Clock::now();
@@ -413,7 +413,7 @@ FeelReport runFeelBenchmark(const std::vector<FeelScene> &scenes,
         for (std::size_t k = 0; k < settings.size(); ++k) {
             if (failed[k])
                 continue;
-            auto r = runFeelStrokes(scenes[s], strokes[s], settings[k], dump);
+            auto r = runFeelStrokes(scenes[s], strokes[s], settings[k], dump, ballIdeal);
             if (!r) {
                 failed[k] = true;
                 report.notes.push_back(settings[k].name + ": skipped (" + r.error().what + ")");

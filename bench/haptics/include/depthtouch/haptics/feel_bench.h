@@ -137,11 +137,12 @@ struct FeelReport {
 
 /// \brief Replays \a strokes of \a scene with \a setting. \return one result per stroke, or the
 /// renderer's error (e.g. a method not built yet). A stroke whose key() contains \a dump (not
-/// empty) keeps its per-update rows in FeelStrokeResult::log.
-Result<std::vector<FeelStrokeResult>> runFeelStrokes(const FeelScene &scene,
-                                                     const std::vector<Stroke> &strokes,
-                                                     const FeelSetting &setting,
-                                                     const std::string &dump = {});
+/// empty) keeps its per-update rows in FeelStrokeResult::log; with \a ballIdeal, those rows also
+/// carry the ideal ball's force (FeelSample::ballIdealPenalty, ball_ideal.h: up to 10⁵ lookups an
+/// update, seconds a stroke).
+Result<std::vector<FeelStrokeResult>>
+runFeelStrokes(const FeelScene &scene, const std::vector<Stroke> &strokes,
+               const FeelSetting &setting, const std::string &dump = {}, bool ballIdeal = false);
 
 /// \brief Replays \a strokes on a clean scene with \a setting. \return the RMS of |F − F_ideal|
 /// over the pressed updates, N, where F_ideal = k·d·n, n the reference's normal under the HIP and
@@ -152,14 +153,15 @@ Result<double> cleanForceRms(const FeelScene &scene, const std::vector<Stroke> &
 /// \brief Runs every setting on every scene with its strokes (\a strokes[i] for \a scenes[i]),
 /// then on \a clean scenes (cleanForceRms(), \a cleanStrokes[i] for \a clean[i]).
 /// \param progress may be empty; called with a line per scene × setting done.
-/// \param dump keep the rows of the strokes whose key() contains it (runFeelStrokes()).
+/// \param dump keep the rows of the strokes whose key() contains it (runFeelStrokes()), with the
+/// ideal ball's force in them where \a ballIdeal.
 FeelReport runFeelBenchmark(const std::vector<FeelScene> &scenes,
                             const std::vector<std::vector<Stroke>> &strokes,
                             const std::vector<FeelSetting> &settings,
                             const std::function<void(const std::string &)> &progress = {},
                             const std::vector<FeelScene> &clean = {},
                             const std::vector<std::vector<Stroke>> &cleanStrokes = {},
-                            const std::string &dump = {});
+                            const std::string &dump = {}, bool ballIdeal = false);
 
 /// \brief Prints the table and the goals (met / not met per setting) to stdout.
 void printFeelReport(const FeelReport &report);
