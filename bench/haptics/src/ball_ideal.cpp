@@ -3,11 +3,11 @@
 
 #include "depthtouch/haptics/ball_ideal.h"
 
-#include "depthtouch/haptics/feel.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "depthtouch/haptics/feel.h"
 
 namespace depthtouch::haptics::bench {
 

@@ -175,9 +175,10 @@ Result<void> replayStroke(const FeelScene &scene, const Stroke &stroke, const Fe
         } else {
             row.idealForce = 0.0;
         }
-        if (const HeightField *rf = ref.at(s.t); ball && rf != nullptr && r.fingertipRadius() > 0.0)
-            row.ballIdealPenalty = ballIdealPenalty(*rf, s.hip, r.fingertipRadius(), cfg.stiffness,
-                                                    kBallRing, kBallDirections);
+        if (ball && r.fingertipRadius() > 0.0)
+            if (const HeightField *rf = ref.at(s.t); rf != nullptr)
+                row.ballIdealPenalty = ballIdealPenalty(*rf, s.hip, r.fingertipRadius(),
+                                                        cfg.stiffness, kBallRing, kBallDirections);
         if (prevT < s.t) // the surface under the HIP's x–y one update earlier
             surfaceRise(scene, ref, prevT, s, row);
         prevT = s.t;
