@@ -156,6 +156,7 @@ void rates(FeelFigures &f) noexcept
     f.pressedSpikesPerSecond = per(f.pressedSpikes, f.pressedSeconds);
     f.idealSpikesPerSecond = per(f.idealSpikes, f.pressedSeconds);
     f.reversalSpikesPerSecond = per(f.reversalSpikes, f.seconds);
+    f.idealReversalSpikesPerSecond = per(f.idealReversalSpikes, f.seconds);
     f.falseTrips = f.trips - f.realCutTrips - f.arrivalTrips;
     f.spikesPerSecond =
         f.slidingSeconds > 0.0 ? static_cast<double>(f.spikes) / f.slidingSeconds : 0.0;
@@ -228,6 +229,9 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
         // surface under the path, and the point's nearest-point jumps deep under fine ridges.
         const glm::dvec3 idealNow = renderedIdeal(r.idealPenalty, th.deviceMaxForce);
         const glm::dvec3 idealStep = idealNow - prevIdealForce;
+        if (glm::length(idealStep) > th.spikeStep && glm::dot(idealStep, prevIdealStep) < 0.0 &&
+            glm::length(prevIdealStep) > th.alternationStep)
+            ++f.idealReversalSpikes;
         idealRun = alternationRun(idealRun, idealStep, prevIdealStep, th.alternationStep);
         f.idealLongestAlternation = std::max(f.idealLongestAlternation, idealRun);
         prevIdealForce = idealNow;
@@ -321,6 +325,7 @@ void accumulate(FeelFigures &total, const FeelFigures &run) noexcept
     total.pressedSpikes += run.pressedSpikes;
     total.idealSpikes += run.idealSpikes;
     total.reversalSpikes += run.reversalSpikes;
+    total.idealReversalSpikes += run.idealReversalSpikes;
     total.longestAlternation = std::max(total.longestAlternation, run.longestAlternation);
     total.idealLongestAlternation =
         std::max(total.idealLongestAlternation, run.idealLongestAlternation);

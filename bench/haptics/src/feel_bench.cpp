@@ -369,8 +369,9 @@ std::vector<GoalVerdict> judgeGoals(const std::vector<FeelRow> &rows, const std:
                                  [&](const FeelRow &r) { return dbl(r.total.longestAlternation); }))
         out.back().ideal = dbl(w->total.idealLongestAlternation);
     std::snprintf(buf, sizeof buf, "sign-reversal spikes <= %.0f/s", g.maxReversalsPerSecond);
-    judge(buf, g.maxReversalsPerSecond,
-          [](const FeelRow &r) { return r.total.reversalSpikesPerSecond; });
+    if (const FeelRow *w = judge(buf, g.maxReversalsPerSecond,
+                                 [](const FeelRow &r) { return r.total.reversalSpikesPerSecond; }))
+        out.back().ideal = w->total.idealReversalSpikesPerSecond;
     judge("spikes/s - ideal penalty's <= 0", 0.0, [](const FeelRow &r) {
         return r.total.pressedSpikesPerSecond - r.total.idealSpikesPerSecond;
     });

@@ -62,6 +62,8 @@ nlohmann::json figuresJson(const FeelFigures &f)
             {"spikes_over_ideal", std::isnan(ratio) ? nlohmann::json() : nlohmann::json(ratio)},
             {"sign_reversal_spikes", f.reversalSpikes},
             {"sign_reversal_spikes_per_s", f.reversalSpikesPerSecond},
+            {"ideal_sign_reversal_spikes", f.idealReversalSpikes},
+            {"ideal_sign_reversal_spikes_per_s", f.idealReversalSpikesPerSecond},
             {"longest_alternating_run", f.longestAlternation},
             {"ideal_longest_alternating_run", f.idealLongestAlternation},
             {"regain_events", f.regainEvents},
@@ -85,7 +87,8 @@ constexpr const char *kFamilyColumns =
     "spikes_over_ideal,sign_reversal_spikes,sign_reversal_spikes_per_s,longest_alternating_run,"
     "ideal_longest_alternating_run,regain_events,regain_missed,regain_ms,at_max_ms,pull_down_ms,"
     "arrival_trips,covered_ms,"
-    "energy_mj,ideal_energy_mj,energy_excess_mj,energy_peak_mj,max_step_n";
+    "energy_mj,ideal_energy_mj,energy_excess_mj,energy_peak_mj,max_step_n,"
+    "ideal_sign_reversal_spikes,ideal_sign_reversal_spikes_per_s";
 
 void writeFamilyCsv(std::ostream &c, const FeelFigures &f)
 {
@@ -100,7 +103,8 @@ void writeFamilyCsv(std::ostream &c, const FeelFigures &f)
       << f.coveredMs << ',' << f.energyMj << ',' << f.idealEnergyMj << ',';
     if (!std::isnan(f.energyExcessMj))
         c << f.energyExcessMj;
-    c << ',' << f.energyPeakMj << ',' << f.maxStepN;
+    c << ',' << f.energyPeakMj << ',' << f.maxStepN << ',' << f.idealReversalSpikes << ','
+      << f.idealReversalSpikesPerSecond;
 }
 
 nlohmann::json rowJson(const FeelRow &r)
@@ -294,7 +298,7 @@ void printFeelReport(const FeelReport &report)
         for (const GoalVerdict &x : v) {
             char ideal[32] = "";
             if (!std::isnan(x.ideal))
-                std::snprintf(ideal, sizeof ideal, " (ideal's %g)", x.ideal);
+                std::snprintf(ideal, sizeof ideal, " (ideal's %.3g)", x.ideal);
             std::printf("    %-40s worst %9.2f at %-36s %s%s\n", x.goal.c_str(), x.worst,
                         x.where.c_str(), verdict(x.met), ideal);
         }

@@ -257,7 +257,13 @@ struct FeelFigures {
     double idealSpikesPerSecond = 0.0;
     std::size_t reversalSpikes = 0;       ///< Sign-reversal spikes (every update).
     double reversalSpikesPerSecond = 0.0; ///< reversalSpikes / seconds.
-    std::size_t longestAlternation = 0;   ///< Updates, the longest alternating run.
+    /// The sign-reversal spikes of the ideal penalty (FeelSample::idealPenalty, clamped to the
+    /// device maximum) on the same path, beside the renderer's; 0 where it is not given. A spring
+    /// that lets go as the hand leaves the surface drops its whole force in the update it is out:
+    /// after a climb (a force that was rising) that drop is one (docs/benchmarks.md, "Lift-offs").
+    std::size_t idealReversalSpikes = 0;
+    double idealReversalSpikesPerSecond = 0.0; ///< idealReversalSpikes / seconds.
+    std::size_t longestAlternation = 0;        ///< Updates, the longest alternating run.
     /// Updates, the longest alternating run of the ideal penalty (FeelSample::idealPenalty, clamped
     /// to the device maximum) on the same path, beside the renderer's; 0 where it is not given. A
     /// point's: deep under ridges finer than a fingertip (a keyboard's keys) its nearest surface
