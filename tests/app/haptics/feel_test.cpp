@@ -203,30 +203,28 @@ TEST(FeelTest, ASignReversalNeedsAChangeBeforeItAboveTheAlternationStep)
     EXPECT_EQ(f.longestAlternation, 2u);
 }
 
-// The ideal penalty lets go as the hand leaves: a climb (its force rising 0.1 N an update) that
-// lifts off at row 60 drops the whole force in one update, against the rise: one sign-reversal
-// spike of the ideal's, beside the renderer's own (none: it unloads 0.25 N an update). The same
-// drop after a force held still is none (no change before it to reverse).
+// The ideal penalty lets go as the hand leaves: at row 60 it drops its whole 4 N in one update.
+// After a climb (its force rising 0.06 N an update) that drop points against the rise: one
+// sign-reversal spike of the ideal's, beside the renderer's own (none: it unloads 0.25 N an
+// update). After a force held still, or one already falling (a surface receding), it is none.
 TEST(FeelTest, TheIdealPenaltysSignReversalsAreCountedBesideTheRenderers)
 {
-    const auto liftOff = [](std::size_t climbUntil) {
+    const auto liftOff = [](double slope) { // N an update before the lift-off
         auto rows = pressRows(100);
-        double held = 0.0;
         for (std::size_t i = 0; i < rows.size(); ++i) {
-            const double climb = 1.0 + 0.1 * static_cast<double>(std::min(i, climbUntil));
-            if (i < 60)
-                held = climb;
-            rows[i].idealPenalty = {0.0, 0.0, i < 60 ? climb : 0.0};
-            rows[i].force = {0.0, 0.0,
-                             i < 60 ? climb
-                                    : std::max(0.0, held - 0.25 * (static_cast<double>(i) - 59.0))};
+            const double at = static_cast<double>(i);
+            const double before = 4.0 + slope * (at - 59.0);
+            rows[i].idealPenalty = {0.0, 0.0, i < 60 ? before : 0.0};
+            rows[i].force = {0.0, 0.0, i < 60 ? before : std::max(0.0, 4.0 - 0.25 * (at - 59.0))};
         }
         return rows;
     };
-    FeelFigures f = computeFeel(liftOff(30)); // held still at 4 N from row 30
-    EXPECT_EQ(f.idealReversalSpikes, 0u);
-    EXPECT_EQ(f.reversalSpikes, 0u);
-    f = computeFeel(liftOff(100)); // still climbing when it lifts off, at 6.9 N
+    for (const double slope : {0.0, -0.06}) {
+        const FeelFigures f = computeFeel(liftOff(slope));
+        EXPECT_EQ(f.idealReversalSpikes, 0u) << slope;
+        EXPECT_EQ(f.reversalSpikes, 0u) << slope;
+    }
+    const FeelFigures f = computeFeel(liftOff(0.06));
     EXPECT_EQ(f.idealReversalSpikes, 1u);
     EXPECT_NEAR(f.idealReversalSpikesPerSecond, 1.0 / f.seconds, 1e-12);
     EXPECT_EQ(f.reversalSpikes, 0u);
