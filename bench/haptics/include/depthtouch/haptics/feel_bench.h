@@ -112,7 +112,8 @@ struct GoalVerdict {
     std::string where;  ///< That row: "scene / family".
     bool met = true;
     /// The same figure of the ideal penalty on that row's paths, where the goal has one beside it
-    /// (the alternating run: FeelFigures::idealLongestAlternation); NaN where not.
+    /// (the alternating run: FeelFigures::idealLongestAlternation; the sign-reversal spikes per
+    /// second: FeelFigures::idealReversalSpikesPerSecond); NaN where not.
     double ideal = std::nan("");
 };
 
