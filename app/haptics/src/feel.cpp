@@ -186,6 +186,15 @@ std::size_t alternationRun(std::size_t run, const glm::dvec3 &step, const glm::d
     return reverses && run > 0 ? run + 1 : 1;
 }
 
+/// \return whether a force change \a step (N) after \a prevStep is a sign-reversal spike: over
+/// the spike step and against a change over the alternation step before it.
+bool reversalSpike(const glm::dvec3 &step, const glm::dvec3 &prevStep,
+                   const FeelThresholds &th) noexcept
+{
+    return glm::length(step) > th.spikeStep && glm::dot(step, prevStep) < 0.0 &&
+           glm::length(prevStep) > th.alternationStep;
+}
+
 } // namespace
 
 FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &th)
@@ -219,9 +228,7 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
         const double stepLength = glm::length(step);
         if (i > 0)
             f.maxStepN = std::max(f.maxStepN, stepLength);
-        const bool reverses =
-            glm::dot(step, prevStep) < 0.0 && glm::length(prevStep) > th.alternationStep;
-        if (stepLength > th.spikeStep && reverses)
+        if (reversalSpike(step, prevStep, th))
             ++f.reversalSpikes;
         run = alternationRun(run, step, prevStep, th.alternationStep);
         f.longestAlternation = std::max(f.longestAlternation, run);
@@ -229,8 +236,7 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
         // surface under the path, and the point's nearest-point jumps deep under fine ridges.
         const glm::dvec3 idealNow = renderedIdeal(r.idealPenalty, th.deviceMaxForce);
         const glm::dvec3 idealStep = idealNow - prevIdealForce;
-        if (glm::length(idealStep) > th.spikeStep && glm::dot(idealStep, prevIdealStep) < 0.0 &&
-            glm::length(prevIdealStep) > th.alternationStep)
+        if (reversalSpike(idealStep, prevIdealStep, th))
             ++f.idealReversalSpikes;
         idealRun = alternationRun(idealRun, idealStep, prevIdealStep, th.alternationStep);
         f.idealLongestAlternation = std::max(f.idealLongestAlternation, idealRun);
