@@ -45,6 +45,16 @@ void FingerOutput::smoothOffset(const glm::dvec3 &hip, const FingerGoal &c, doub
     // with the fit, so a surface whose taps are noisy now and then (8-bit plateaus between
     // steps, a sensor's speckle in some frames) stays filtered: trusting each fit on its own
     // left alternating runs of 5-7 updates on the synthetic head and forearm.
+    //
+    // What it filters is the surface's part of the offset, not the hand's: the HIP's own move along
+    // the offset compresses or relaxes the spring, and that passes at once, as a spring answers
+    // (the mean of the last two such moves: a hand climbing over noisy depth moves in a 500 Hz
+    // staircase, which would alternate the force). Filtered with the rest, a hand lifting off or
+    // climbing 2 mm an update had its force follow at most 0.375 N an update behind it, and the
+    // zero-order hold charged the hand with the force from before: most of the energy `bench feel`
+    // measured over the ideal penalty's (docs/benchmarks.md, "The offset filter lags the hand's
+    // own motion"). An offset that turns back against its last change turns by at most the step
+    // bound in that update: a hand reversing against a side at 50 cm/s turned the force 0.62 N.
     const glm::dvec3 offset = c.proxy - hip;
     if (!config_.smoothOffset) {
         held = c.proxy;
@@ -63,22 +73,32 @@ void FingerOutput::smoothOffset(const glm::dvec3 &hip, const FingerGoal &c, doub
     // away under the finger (not a cut) takes its force over a few updates, not in one step of up
     // to 2 N. The bound is the surface's: a HIP lifting off (its own move out along the offset,
     // exact) unloads by that move too, as a spring does.
-    const double lift =
-        std::max(0.0, glm::dot(c.hipMove, offset_ / std::max(glm::length(offset_), 1e-12)));
-    const auto unloadBounded = [this, lift](const glm::dvec3 &next, double was) {
+    const double was = glm::length(offset_);
+    const glm::dvec3 u = was > 0.0 ? offset_ / was : glm::dvec3{0.0};
+    const double moved = glm::dot(c.hipMove, u); // the HIP's move along the offset, m
+    const double lift = std::max(0.0, moved);
+    const auto unloadBounded = [this](const glm::dvec3 &next, double from, double out) {
         const double now = glm::length(next);
-        const double least = was - p_.unloadDepth - lift;
+        const double least = from - p_.unloadDepth - out;
         return now > 0.0 && now < least ? next * (least / now) : next;
     };
-    if (!c.contact || !c.touching || c.trip || c.stepped) {
+    const glm::dvec3 before = offset_;
+    const bool restart = !c.contact || !c.touching || c.trip || c.stepped;
+    if (restart) {
         offset_ = offset;
         offsetTrend_ = {};
+        // A contact that begins while an ended one's force is still unloading (releaseCovered():
+        // a let-go at the device maximum, caught again a moment later) starts from that force, so
+        // the filter unloads it at its bounded rate instead of the force stage's 2 N steps.
+        const double k = config_.stiffness * scale_;
+        if (c.contact && !c.trip && k > 0.0 && glm::length(release_) > k * glm::length(offset))
+            offset_ = release_ / k;
     } else if (c.unseen) {
         // Held over a hole: the hold's own offset, whose unload is the force's (finger_hole.cpp),
         // but from a filter still unloading, no faster than its bound: on the synthetic occluder a
         // hole opened while the filter took 6.9 N off a push the surface had ended, and the
         // hold's 1.1 mm came through at once (three 2 N steps, the force's own step limit).
-        offset_ = unloadBounded(offset, glm::length(offset_));
+        offset_ = unloadBounded(offset, was, lift);
         offsetTrend_ = {};
     } else if (lastOffset_ == offset) {
         // Nothing moved (a paused picture under a still finger): straight to the offset, at most
@@ -92,21 +112,32 @@ void FingerOutput::smoothOffset(const glm::dvec3 &hip, const FingerGoal &c, doub
             std::min(c.smooth, trust_ + (dt > 0.0 ? std::min(dt / kFingerDepthMemory, 1.0) : 0.0));
         const double alpha = kFingerOffsetAlpha + trust_ * (1.0 - kFingerOffsetAlpha);
         const double beta = alpha * alpha / (2.0 - alpha);
-        const glm::dvec3 predicted = offset_ + offsetTrend_;
+        // The hand's part passes (the mean of its last two moves along the offset, at most the
+        // offset's length); the filter and its bounds take the surface's part.
+        const double along = std::min(0.5 * (moved + lastAlong_), was);
+        const glm::dvec3 prior = offset_ - along * u;
+        const glm::dvec3 predicted = prior + offsetTrend_;
         const glm::dvec3 residual = offset - predicted;
-        const glm::dvec3 step = predicted + alpha * residual - offset_;
+        const glm::dvec3 step = predicted + alpha * residual - prior;
         offsetTrend_ += beta * residual;
         // At most 3·p_.pushDepth (0.375 N) however far the unfiltered offset jumped: a switch of
         // the solution (a press at rest by the kitchen's cabinet edge: the top 5.5 mm above, then
         // a point 2.2 mm to the side) turned the force by 1 N in an update.
-        const double limit =
-            std::min(std::max(glm::length(offset - lastOffset_), catchUp), 3.0 * p_.pushDepth);
+        const double limit = std::min(
+            std::max(glm::length(offset - lastOffset_ + along * u), catchUp), 3.0 * p_.pushDepth);
         const double length = glm::length(step);
         const double scale = length > limit ? limit / length : 1.0;
-        const double was = glm::length(offset_);
-        offset_ = unloadBounded(offset_ + step * scale, was);
+        glm::dvec3 next = unloadBounded(prior + step * scale, glm::length(prior), 0.0);
+        // Turning back against its last change: at most the step bound in that update.
+        const glm::dvec3 change = next - offset_;
+        const double turn = 3.0 * p_.pushDepth;
+        if (glm::dot(change, lastChange_) < 0.0 && glm::length(change) > turn)
+            next = offset_ + change * (turn / glm::length(change));
+        offset_ = next;
         offsetTrend_ *= scale;
     }
+    lastChange_ = restart ? glm::dvec3{0.0} : offset_ - before;
+    lastAlong_ = restart ? 0.0 : moved;
     lastOffset_ = offset;
     held = hip + glm::dvec3{offset_.x, offset_.y, std::max(offset_.z, std::min(offset.z, 0.0))};
 }
@@ -281,6 +312,8 @@ void FingerOutput::reset() noexcept
     lastT_ = std::nan("");
     release_ = {};
     releaseStep_ = 0.0;
+    lastChange_ = {};
+    lastAlong_ = 0.0;
     saturatedSince_ = std::nan("");
     letGoNext_ = false;
     force_.reset();

@@ -456,6 +456,56 @@ TEST(FingerGuardTest, theDeviceMaximumLetsGoOnlyWhenTheForceSentReachesIt)
     EXPECT_TRUE(released(from));
 }
 
+// A press let go at the device maximum, then lifted to 1 mm under the table in 10 updates while
+// the let-go's force is still unloading (the surface's release, at most 0.5 N an update as the
+// HIP rises): the finger is caught again by the table. The new contact's spring is 0.8 N; the
+// force it took over was above 2.8 N, and the force stage's step limit took it there in 2 N steps
+// (an occluder pressing a finger to the maximum on the feel bench: four steps in a row). The
+// caught contact's filter starts from the force still unloading, and no update's force falls by
+// more than a quarter of the force step (0.5 N) beyond what the spring gives up as the hand rises.
+TEST(FingerGuardTest, aFingerCaughtAgainAfterTheDeviceMaximumIsUnloadedWithoutAKnock)
+{
+    Rig rig;
+    rig.show(still([](double, double) { return 0.0; }));
+    rig.finger.reset({0.0, 0.0, 0.005});
+    double z = 0.005;
+    for (int k = 0; k < 200 && (rig.out.empty() || !rig.out.back().released); ++k) {
+        z -= 1e-4; // 0.1 mm an update, from 5 mm above
+        rig.step({0.0, 0.0, z});
+    }
+    ASSERT_TRUE(rig.out.back().released) << "not let go at the device maximum";
+    const std::size_t let = rig.out.size() - 1;
+    const double top = rig.finger.surface().heightAt(0.0, 0.0); // the table, m
+    const double from = z;
+    for (int k = 1; k <= 10; ++k) // up to 1 mm under the table in 10 updates
+        rig.step({0.0, 0.0, from + (top - 0.001 - from) * k / 10.0});
+    for (int k = 0; k < 40; ++k)
+        rig.step({0.0, 0.0, top - 0.001});
+    double fall = 0.0;    // the largest fall of |F| in an update beyond the spring's, N
+    double atCatch = 0.0; // |F| on the update it was caught again, N
+    bool caught = false;
+    for (std::size_t i = let + 1; i < rig.out.size(); ++i) {
+        // Beyond what the spring gives up as the hand rises: k times its rise in the update or
+        // the one before (the offset filter passes the mean of the hand's last two moves).
+        const double rise = std::max({0.0, rig.out[i].hip.z - rig.out[i - 1].hip.z,
+                                      rig.out[i - 1].hip.z - rig.out[i - 2].hip.z});
+        fall = std::max(fall, glm::length(rig.out[i - 1].force) - glm::length(rig.out[i].force) -
+                                  800.0 * rise);
+        if (!caught && rig.out[i].contact) {
+            caught = true;
+            atCatch = glm::length(rig.out[i - 1].force);
+        }
+    }
+    const double spring = 800.0 * 0.001;
+    std::printf("caught again 1 mm under the table after the device maximum: %.2f N before the "
+                "catch, largest fall %.3f N an update, %.2f N at the end (spring %.2f N)\n",
+                atCatch, fall, glm::length(rig.out.back().force), spring);
+    ASSERT_TRUE(caught);
+    ASSERT_GT(atCatch, spring + 2.0); // a force well above the new contact's was still unloading
+    EXPECT_LE(fall, 0.25 * RendererConfig{}.maxForceStep + 1e-6);
+    EXPECT_NEAR(glm::length(rig.out.back().force), spring, 0.05);
+}
+
 // "At the maximum" is within kFingerAtMaximum (0.1 %) of it, as `bench feel` counts time there: the
 // force-step limiter and the ramps approach the maximum in small steps, and a command 0.05 % under
 // it was held for as long as it stayed there. The same 12 mm press, with the force sent scaled by

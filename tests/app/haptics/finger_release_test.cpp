@@ -205,6 +205,64 @@ TEST(FingerReleaseTest, aFingerLiftingOffFastIsUnloadedAsItRisesNotAtTheEnd)
     EXPECT_LE(fall, 0.5 * RendererConfig{}.maxForceStep);
 }
 
+// A finger resting 5 mm into the table (4 N) lifts off at 80 cm/s, 0.64 N of spring an update:
+// more than the offset filter's step bound (3·pushDepth, 0.375 N), which is for what the surface
+// does. Filtered with the rest, the hand's own rise left the force behind the spring by up to
+// 0.27 N more each update, and the zero-order hold charged a hand that had already left with it
+// (most of the energy `bench feel` measured over the ideal penalty's). Now the hand's move along
+// the offset passes at once, as a spring's: from the second update of the rise on, the force is
+// never above k times the depth under the table.
+TEST(FingerReleaseTest, aHandRisingFasterThanTheFiltersStepIsFollowedByTheSpring)
+{
+    FramePress press({0.0, 0.0, -0.010});
+    const OwnedFrame table = raisedTable(0.0);
+    press.run(table, 300);
+    ASSERT_NEAR(press.force(), kStiffness * (coded(0.0) + 0.010), 0.01);
+    const std::size_t from = press.log.out.size();
+    press.run(table, 20, 0.0, 0.016); // 0.8 mm an update
+    double over = -1e9;               // |F| above the spring k·depth, the worst update, N
+    int inContact = 0;
+    for (std::size_t i = from + 2; i < press.log.out.size(); ++i) {
+        const double depth = coded(0.0) - press.log.out[i].hip.z;
+        if (!press.log.out[i].contact || depth <= 0.0)
+            break;
+        over = std::max(over, glm::length(press.log.out[i].force) - kStiffness * depth);
+        ++inContact;
+    }
+    std::printf("a 4 N rest lifting off at 80 cm/s: %d updates in contact after the first two, "
+                "|F| at most %.3f N above the spring\n",
+                inContact, over);
+    ASSERT_GE(inContact, 3);
+    EXPECT_LE(over, 0.02);
+}
+
+// The same rest pressed in at 20 cm/s (0.16 N an update), then pulled out at 1.5 m/s: the hand's
+// move along the offset over the turning update (the mean of its last two, 0.65 mm) would turn
+// the force by 0.52 N against its last change, a sign reversal the hand feels as a knock. The
+// filtered offset turns back by at most its step bound (3·pushDepth, 0.375 N at the default
+// stiffness) in that update; the next updates follow the rise.
+TEST(FingerReleaseTest, aHandThatTurnsBackTurnsTheForceAtMostTheFiltersStep)
+{
+    FramePress press({0.0, 0.0, -0.010});
+    const OwnedFrame table = raisedTable(0.0);
+    press.run(table, 300);
+    press.run(table, 10, 0.0, -0.002); // in, 0.2 mm an update
+    const std::size_t turn = press.log.out.size();
+    press.run(table, 4, -0.0003, 0.0057); // out, 1.5 mm an update
+    const auto size = [&](std::size_t i) { return glm::length(press.log.out[i].force); };
+    const double before = size(turn - 1) - size(turn - 2);
+    const double atTurn = size(turn - 1) - size(turn);
+    const double next = size(turn) - size(turn + 1);
+    const double step = 3.0 * RendererConfig{}.maxForceStep / 16.0; // 3·pushDepth of force, N
+    std::printf("turning back at 1.5 m/s: +%.3f N, then -%.3f N in the turning update, -%.3f N "
+                "in the next\n",
+                before, atTurn, next);
+    ASSERT_GT(before, 0.05); // the force was rising
+    EXPECT_GT(atTurn, 0.0);
+    EXPECT_LE(atTurn, step + 1e-3);
+    EXPECT_GT(next, step); // then at the spring's rate
+}
+
 // The same ramped step under friction (μs = μd = 0.6): the finger slides 3 mm sideways at 10
 // cm/s during the ramp, so that the cone holds the proxy behind it and the ramp blends toward a
 // tilted spring, then lifts off at 40 cm/s as it goes on sliding. The ramp's force is handed to

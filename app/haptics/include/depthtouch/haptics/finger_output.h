@@ -3,13 +3,14 @@
 /// \brief The fingertip renderer's force output stage (finger_renderer.h, steps 5 and 7): from the
 /// proxy the contact decided to the command, in one place. In order: the material under the goal
 /// (its stiffness scale and friction coefficients), the alpha-beta filter on the
-/// proxy's offset from the HIP (noise at speed; a bounded move and unload, the HIP's own lift
-/// passing through), the hand-over of a ramp that holds more than the surface gives or that a
-/// lifting finger leaves, friction on the filtered proxy (friction.h), the spring s·k·(proxy − HIP)
-/// − b·v with the material's scale s moving at a bounded rate, the unload of a contact that ended
-/// at a rim or under a cut, ForceStage's ramp, slew and clamp (renderer.h), and the watch of the
-/// device maximum. What comes after it is the device's own: the haptic task's gain and force-rate
-/// limit (ServoLoop::shapeForce()) and the HAL's clamp.
+/// proxy's offset from the HIP (the surface's noise at speed; a bounded move, turn and unload; the
+/// HIP's own move along the offset passing through, as a spring's), the hand-over of a ramp that
+/// holds more than the surface gives or that a lifting finger leaves, friction on the filtered
+/// proxy (friction.h), the spring s·k·(proxy − HIP) − b·v with the material's scale s moving at a
+/// bounded rate, the unload of a contact that ended at a rim or under a cut, ForceStage's ramp,
+/// slew and clamp (renderer.h), and the watch of the device maximum. What comes after it is the
+/// device's own: the haptic task's gain and force-rate limit (ServoLoop::shapeForce()) and the
+/// HAL's clamp.
 ///
 /// Units: m, N, s; positions in the scene-box frame (docs/architecture.md §3).
 /// Thread-safety: thread-bound (the haptic thread); no allocation, no lock.
@@ -56,10 +57,11 @@ struct FingerGoal {
     /// FingerPlane::smooth of the plane under the goal: how clean the surface measured there is
     /// (0..1); the offset filter passes a clean surface's offset through (smoothOffset()).
     double smooth = 0.0;
-    /// The HIP's move since the last update, m (box frame): the device's measurement. Where it
-    /// takes the HIP out along the force's offset (a hand lifting off), the force follows it
-    /// down past the filter's unload bound (smoothOffset()), out of a ramp (handOverRamp()) and,
-    /// as far as it rises, out of a rim's release (releaseCovered()).
+    /// The HIP's move since the last update, m (box frame): the device's measurement. Its part
+    /// along the force's offset compresses or relaxes the spring at once, past the filter and its
+    /// bounds (smoothOffset()); where it takes the HIP out (a hand lifting off), the force also
+    /// follows it out of a ramp (handOverRamp()) and, as far as it rises, out of a rim's release
+    /// (releaseCovered()).
     glm::dvec3 hipMove{};
 };
 
@@ -162,6 +164,8 @@ private:
     double scale_ = 1.0;          ///< The stiffness scale the spring used last (boundScale()).
     glm::dvec3 release_{};        ///< A force unloading after its contact ended, N.
     double releaseStep_ = 0.0;    ///< release_'s last step, N.
+    glm::dvec3 lastChange_{};     ///< The filtered offset's last change, m (smoothOffset()).
+    double lastAlong_ = 0.0;      ///< The HIP's last move along the offset, m (smoothOffset()).
     double outputGain_ = 1.0;     ///< setOutputGain(): the caller's factor on the force, 0..1.
     double saturatedSince_ = std::nan(""); ///< Haptic time the command reached the maximum, s.
     bool letGoNext_ = false; ///< The command stayed at the maximum: let go on the next update.

@@ -30,8 +30,8 @@
 /// - *State* (FingerState; nextState(), letGo(), remember()): one value carried between updates,
 ///   each transition with one named guard; each state's own data in one member (wall_, hole_).
 /// - *Output* (FingerOutput, finger_output.h): the material under the goal, the offset filter (a
-///   clean surface passes through; the HIP's own lift unloads), the ramp's hand-over, friction,
-///   the spring at the material's bounded stiffness, the unload of an ended contact,
+///   clean surface passes through; the HIP's own move is the spring's), the ramp's hand-over,
+///   friction, the spring at the material's bounded stiffness, the unload of an ended contact,
 ///   ForceStage's ramp, slew and clamp, the watch of the device maximum (steps 5 "Depth noise",
 ///   6 and 7).
 ///
@@ -114,9 +114,13 @@
 ///      the taps cross pixels every update and the plane tilted and shifted anew each time, turning
 ///      the force back and forth by 0.05-0.2 N at the servo rate (RendererConfig::smoothOffset
 ///      turns it off: `bench feel`'s `finger-unfiltered`). Where it lags, it catches up by a share
-///      of the gap; it unloads by at most maxForceStep/8 an update, a hold over a hole too, plus
-///      the HIP's own move out along the offset (the bound is for what the surface does: a finger
-///      lifting off is unloaded as it rises, and leaves a ramp to the filter). A material
+///      of the gap; it unloads by at most maxForceStep/8 an update, a hold over a hole too, and
+///      turns back against its last change by at most 3·pushDepth an update. Those bounds are for
+///      what the surface does: the HIP's own move along the offset (the mean of its last two) is
+///      the spring's, and passes at once (a finger lifting off is unloaded as it rises, and leaves
+///      a ramp to the filter; filtered, it was most of the energy put into the hand beyond the
+///      ideal penalty's). A contact caught while an ended one's force is still unloading starts
+///      the filter from that force (a let-go at the device maximum). A material
 ///      boundary under a pressed finger changes the stiffness scale by at most maxForceStep/8 of
 ///      force an update. Where the surface under the goal has fitted clean (FingerPlane::smooth)
 ///      for kFingerDepthMemory, there is no noise to filter and the offset passes through: on clean
