@@ -69,14 +69,14 @@ void FingerOutput::smoothOffset(const glm::dvec3 &hip, const FingerGoal &c, doub
     const double gap = glm::length(offset - offset_);
     const double catchUp =
         std::max(0.25 * p_.pushDepth, std::min(kFingerOffsetAlpha * gap, p_.unloadDepth));
-    // Unloading at most 2·p_.pushDepth an update (from an offset \a was long): a surface that falls
-    // away under the finger (not a cut) takes its force over a few updates, not in one step of up
-    // to 2 N. The bound is the surface's: a HIP lifting off (its own move out along the offset,
-    // exact) unloads by that move too, as a spring does.
+    // Unloading at most 2·p_.pushDepth an update (from an offset \a from long): a surface that
+    // falls away under the finger (not a cut) takes its force over a few updates, not in one step
+    // of up to 2 N. The bound is the surface's: a HIP lifting off unloads by its own move out too
+    // (\a out over a hole; elsewhere the hand's part has passed before the bound), as a spring
+    // does.
     const double was = glm::length(offset_);
     const glm::dvec3 u = was > 0.0 ? offset_ / was : glm::dvec3{0.0};
     const double moved = glm::dot(c.hipMove, u); // the HIP's move along the offset, m
-    const double lift = std::max(0.0, moved);
     const auto unloadBounded = [this](const glm::dvec3 &next, double from, double out) {
         const double now = glm::length(next);
         const double least = from - p_.unloadDepth - out;
@@ -98,7 +98,7 @@ void FingerOutput::smoothOffset(const glm::dvec3 &hip, const FingerGoal &c, doub
         // but from a filter still unloading, no faster than its bound: on the synthetic occluder a
         // hole opened while the filter took 6.9 N off a push the surface had ended, and the
         // hold's 1.1 mm came through at once (three 2 N steps, the force's own step limit).
-        offset_ = unloadBounded(offset, was, lift);
+        offset_ = unloadBounded(offset, was, std::max(0.0, moved));
         offsetTrend_ = {};
     } else if (lastOffset_ == offset) {
         // Nothing moved (a paused picture under a still finger): straight to the offset, at most
