@@ -57,18 +57,31 @@ struct ObjectWalk {
 };
 
 /// \return true when the last component of \a path starts with one of \a prefixes ("" matches the
-/// empty name that dl_iterate_phdr gives the program itself, and nothing else).
-bool nameMatches(const char *path, const char *const *prefixes) noexcept
+/// empty name that dl_iterate_phdr gives the program itself, and the object this code is linked
+/// into, \a self: a shared object that embeds it, such as the GStreamer element's plugin).
+bool nameMatches(const char *path, bool self, const char *const *prefixes) noexcept
 {
     const char *slash = std::strrchr(path, '/');
     const char *base = slash != nullptr ? slash + 1 : path;
     for (const char *const *p = prefixes; *p != nullptr; ++p) {
         if ((*p)[0] == '\0') {
-            if (path[0] == '\0')
+            if (path[0] == '\0' || self)
                 return true;
         } else if (std::strncmp(base, *p, std::strlen(*p)) == 0) {
             return true;
         }
+    }
+    return false;
+}
+
+/// \return whether one of \a info's PT_LOAD segments holds \a address.
+bool holds(const dl_phdr_info *info, std::uintptr_t address) noexcept
+{
+    for (int i = 0; i < info->dlpi_phnum; ++i) {
+        const ElfW(Phdr) &ph = info->dlpi_phdr[i];
+        const std::uintptr_t begin = info->dlpi_addr + ph.p_vaddr;
+        if (ph.p_type == PT_LOAD && address >= begin && address - begin < ph.p_memsz)
+            return true;
     }
     return false;
 }
@@ -78,8 +91,10 @@ int lockObject(dl_phdr_info *info, std::size_t, void *data) noexcept
     auto &walk = *static_cast<ObjectWalk *>(data);
     const char *name = info->dlpi_name != nullptr ? info->dlpi_name : "";
     // The vDSO has a name ("linux-vdso.so.1") and is not backed by a file: never matched, and
-    // not lockable anyway.
-    if (!nameMatches(name, walk.prefixes))
+    // not lockable anyway. Where this code is linked into a shared object (a plugin loaded by
+    // another program), that object holds the haptic thread's code: it is "" too.
+    const bool self = holds(info, reinterpret_cast<std::uintptr_t>(&lockObject));
+    if (!nameMatches(name, self, walk.prefixes))
         return 0;
     const std::uintptr_t page = pageBytes();
     for (int i = 0; i < info->dlpi_phnum; ++i) {

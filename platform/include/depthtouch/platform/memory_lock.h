@@ -49,7 +49,8 @@ struct MemoryRegion {
 };
 
 /// Soname prefixes of the loaded objects whose code and static data a real-time thread runs in
-/// every mode Owned locks: "" (the program itself), "libc.so", "libm.so", "libstdc++.so",
+/// every mode Owned locks: "" (the program itself, and the shared object this code is linked into
+/// where it is one: the GStreamer element's plugin), "libc.so", "libm.so", "libstdc++.so",
 /// "libgcc_s.so" and "ld-linux" (the dynamic loader, which resolves lazy bindings).
 /// Null-terminated.
 extern const char *const kRuntimeObjects[];
@@ -70,7 +71,8 @@ LockResult lockRegion(const MemoryRegion &region) noexcept;
 
 /// \brief mlock() every PT_LOAD segment (code, read-only data, data, bss) of the loaded objects
 /// whose file name's last component starts with one of \a sonamePrefixes (null-terminated; "" is
-/// the program itself), found with dl_iterate_phdr().
+/// the program itself and the object holding this function, where that is a shared object), found
+/// with dl_iterate_phdr().
 /// \return the bytes locked and the first failure, as lockRegion(). Not real-time safe.
 /// Thread-safe.
 LockResult lockLoadedObjects(const char *const *sonamePrefixes) noexcept;
