@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <thread>
+#include <dlfcn.h>
 #include <fcntl.h>
 #include <pthread.h>
 #include <sys/mman.h>
@@ -50,6 +51,30 @@ bool probeMlock()
     int status = 0;
     waitpid(pid, &status, 0);
     return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+/// \return the "Locked:" figure (KiB) of the mapping in /proc/self/smaps that holds \a address, or
+/// −1 when no mapping holds it.
+double lockedKiBOfMappingAt(const void *address)
+{
+    std::FILE *f = std::fopen("/proc/self/smaps", "re");
+    if (f == nullptr)
+        return -1.0;
+    const auto at = reinterpret_cast<std::uintptr_t>(address);
+    char line[512];
+    bool inside = false;
+    double locked = -1.0;
+    while (locked < 0.0 && std::fgets(line, sizeof(line), f) != nullptr) {
+        unsigned long begin = 0, end = 0;
+        long long kib = 0;
+        // A mapping's header line opens with its range ("7f…-7f… r-xp …"), no field line does.
+        if (std::sscanf(line, "%lx-%lx ", &begin, &end) == 2)
+            inside = at >= begin && at < end;
+        else if (inside && std::sscanf(line, "Locked: %lld kB", &kib) == 1)
+            locked = static_cast<double>(kib);
+    }
+    std::fclose(f);
+    return locked;
 }
 
 TEST(MemoryLockTest, lockRegionLocksTheMappedPagesUpToAHole)
@@ -104,6 +129,34 @@ TEST(MemoryLockTest, lockLoadedObjectsLocksTheProgramAndTheRuntimeOnly)
     std::printf("runtime objects locked: %.1f MiB in %d segments; VmLck %.1f MiB, VmRSS %.1f MiB\n",
                 static_cast<double>(runtime.bytes) / (1024.0 * 1024.0), runtime.regions,
                 lockedMiB(), residentMiB());
+}
+
+TEST(MemoryLockTest, lockLoadedObjectsFromASharedObjectLocksThatObjectsOwnCode)
+{
+    if (!probeMlock())
+        GTEST_SKIP() << "the kernel refuses mlock() here (no CAP_IPC_LOCK, RLIMIT_MEMLOCK 0)";
+    // GIVEN a shared object that embeds the locking code, as the GStreamer element's plugin does,
+    // loaded into this program, its code not locked
+    void *module = dlopen(DT_LOCK_MODULE, RTLD_NOW | RTLD_LOCAL);
+    ASSERT_NE(module, nullptr) << dlerror();
+    using LockFromModule = long (*)(const void **);
+    auto lockFromModule = reinterpret_cast<LockFromModule>(dlsym(module, "dtLockFromModule"));
+    ASSERT_NE(lockFromModule, nullptr) << dlerror();
+    const auto text = reinterpret_cast<const void *>(lockFromModule);
+    EXPECT_EQ(lockedKiBOfMappingAt(text), 0.0);
+
+    // WHEN that object locks the objects named "" (the program and the object holding the code)
+    const void *reported = nullptr;
+    const long bytes = lockFromModule(&reported);
+
+    // THEN its own code segment is locked in whole, which the program's name alone never matched
+    ASSERT_GT(bytes, 0);
+    EXPECT_EQ(reported, text);
+    const double locked = lockedKiBOfMappingAt(text);
+    EXPECT_GT(locked, 0.0);
+    std::printf("the module's code mapping: %.0f KiB locked of %ld bytes locked in all\n", locked,
+                bytes);
+    dlclose(module);
 }
 
 TEST(MemoryLockTest, threadPageFaultsCountTheCallingThreadsFirstTouches)
