@@ -25,7 +25,7 @@ void FingerOutput::smoothOffset(const glm::dvec3 &hip, const FingerGoal &c, doub
     // the synthetic head's cheek and the time-of-flight occluder's flying pixels). The trend term
     // follows an offset that changes steadily (a slope under a moving finger, a press) without
     // lag. The filtered offset moves no farther in an update than the unfiltered one did (or than
-    // the catch-up below), and never more than 3·p_.pushDepth: the proxy's bounds (r/4 an update,
+    // the catch-up below), and never more than p_.filterStep: the proxy's bounds (r/4 an update,
     // the bounded push) hold for the force's proxy too, the trend's overshoot where a glide stops
     // is cut short, and a switch of the solution turns the force over a few updates. Where it lags
     // (the unfiltered offset jumped once, then held still), it catches up by a share alpha of the
@@ -120,19 +120,18 @@ void FingerOutput::smoothOffset(const glm::dvec3 &hip, const FingerGoal &c, doub
         const glm::dvec3 residual = offset - predicted;
         const glm::dvec3 step = predicted + alpha * residual - prior;
         offsetTrend_ += beta * residual;
-        // At most 3·p_.pushDepth (0.375 N) however far the unfiltered offset jumped: a switch of
+        // At most p_.filterStep (0.375 N) however far the unfiltered offset jumped: a switch of
         // the solution (a press at rest by the kitchen's cabinet edge: the top 5.5 mm above, then
         // a point 2.2 mm to the side) turned the force by 1 N in an update.
         const double limit = std::min(
-            std::max(glm::length(offset - lastOffset_ + along * u), catchUp), 3.0 * p_.pushDepth);
+            std::max(glm::length(offset - lastOffset_ + along * u), catchUp), p_.filterStep);
         const double length = glm::length(step);
         const double scale = length > limit ? limit / length : 1.0;
         glm::dvec3 next = unloadBounded(prior + step * scale, glm::length(prior), 0.0);
         // Turning back against its last change: at most the step bound in that update.
         const glm::dvec3 change = next - offset_;
-        const double turn = 3.0 * p_.pushDepth;
-        if (glm::dot(change, lastChange_) < 0.0 && glm::length(change) > turn)
-            next = offset_ + change * (turn / glm::length(change));
+        if (glm::dot(change, lastChange_) < 0.0 && glm::length(change) > p_.filterStep)
+            next = offset_ + change * (p_.filterStep / glm::length(change));
         offset_ = next;
         offsetTrend_ *= scale;
     }

@@ -21,6 +21,7 @@ FingerParameters fingerParameters(const RendererConfig &config) noexcept
     p.captureDepth = std::max(stepForceDepth, 0.1 * p.boxDepth);
     p.stepDepth = 0.25 * stepForceDepth;
     p.pushDepth = 0.0625 * stepForceDepth;
+    p.filterStep = 3.0 * p.pushDepth;
     p.unloadDepth = 0.125 * stepForceDepth;
     p.unloadForce = p.maxForceStep / 8.0;
     p.glideReach = 0.25 * p.radius;

@@ -33,6 +33,9 @@ TEST(FingerParametersTest, TheTableIsDerivedFromThePhysicalParameters)
     EXPECT_DOUBLE_EQ(p.stepDepth, 2.5e-3 / 4);
     EXPECT_DOUBLE_EQ(p.pushDepth, 2.5e-3 / 16);
     EXPECT_DOUBLE_EQ(p.unloadDepth, 2.5e-3 / 8);
+    // The offset filter's step: three bounded pushes, 0.375 N of force at k.
+    EXPECT_DOUBLE_EQ(p.filterStep, 3 * 2.5e-3 / 16);
+    EXPECT_NEAR(p.stiffness * p.filterStep, 0.375, 1e-12);
     EXPECT_DOUBLE_EQ(p.unloadForce, 0.25);
     EXPECT_DOUBLE_EQ(p.glideReach, 1.5e-3 / 4);
     EXPECT_DOUBLE_EQ(p.holdReach, 1.5e-3 / 2);
@@ -55,6 +58,7 @@ TEST(FingerParametersTest, TheTableIsDerivedFromThePhysicalParameters)
     const FingerParameters q = fingerParameters(c);
     EXPECT_DOUBLE_EQ(q.captureDepth, 10e-3);
     EXPECT_DOUBLE_EQ(q.pushDepth, 10e-3 / 16);
+    EXPECT_DOUBLE_EQ(q.filterStep, 3 * 10e-3 / 16);
     EXPECT_DOUBLE_EQ(q.unloadForce, 0.5);
     EXPECT_DOUBLE_EQ(q.rimReach, 1.5e-3);
 }

@@ -45,6 +45,12 @@ struct FingerParameters {
     /// own motion into the surface (a surface sweeping under a resting finger): ΔF/(16k), 0.16 mm
     /// (16 cm/s at 1 kHz) at the defaults.
     double pushDepth = 0.0;
+    /// The most the offset filter moves the force's offset in an update, and the most it turns
+    /// it back against its last change (FingerOutput::smoothOffset()): 3·pushDepth, 3ΔF/(16k),
+    /// 0.375 N of force at the defaults. Three bounded pushes: a switch of the solution turns the
+    /// force over a few updates, and a surface that sweeps under a resting finger at the bounded
+    /// push's rate is followed with room to spare.
+    double filterStep = 0.0;
     /// The most a force unloads by in an update where the surface fell away or is unseen (the
     /// offset filter, a hold over a hole): ΔF/(8k), an eighth of a force step; unloadForce in N.
     double unloadDepth = 0.0;

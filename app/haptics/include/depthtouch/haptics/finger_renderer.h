@@ -10,14 +10,14 @@
 /// paper IV.C reads as a scene cut. A finger touches a patch, not a facet.
 ///
 /// Every length and force threshold below is a row of the parameter table (FingerParameters:
-/// captureDepth, stepDepth, pushDepth, unloadDepth and unloadForce from the force step ΔF and the
-/// stiffness k at construction; glideReach r/4, holdReach r/2, rimReach 3r/4 from the fingertip's
-/// radius r; the adaptive contact's rest and slide speeds and smoothing time from r and
-/// kFingerDepthMemory; the search resolution ΔF/(1024k)), derived once: a run-time stiffness
-/// change changes forces, not when contact exists. The named constants that remain (eight: the
-/// depth memory, the offset filter's α, the saturation time and what counts as at the maximum, the
-/// hysteresis between solutions, the wall's slope, the plane refits and the stencil's outlier
-/// distance) each say their reason where they are declared.
+/// captureDepth, stepDepth, pushDepth, the offset filter's filterStep, unloadDepth and unloadForce
+/// from the force step ΔF and the stiffness k at construction; glideReach r/4, holdReach r/2,
+/// rimReach 3r/4 from the fingertip's radius r; the adaptive contact's rest and slide speeds and
+/// smoothing time from r and kFingerDepthMemory; the search resolution ΔF/(1024k)), derived once:
+/// a run-time stiffness change changes forces, not when contact exists. The named constants that
+/// remain (eight: the depth memory, the offset filter's α, the saturation time and what counts as
+/// at the maximum, the hysteresis between solutions, the wall's slope, the plane refits and the
+/// stencil's outlier distance) each say their reason where they are declared.
 ///
 /// The map: the model in four parts; the numbered steps below say what each does.
 /// - *Surface* (fitFingerPlane() in finger_plane.cpp, sensorHeight(), reachAbove()): the height
@@ -109,13 +109,13 @@
 ///      and each switch turned the force at once.
 ///    - *Depth noise*: the proxy's offset from the HIP that the force and the report use passes
 ///      an alpha-beta filter (FingerOutput, finger_output.h; the search keeps the unfiltered
-///      goal), each update's move no longer than the unfiltered offset's nor than 3·pushDepth
+///      goal), each update's move no longer than the unfiltered offset's nor than filterStep
 ///      (a switch of the solution turns the force over a few updates): on noisy depth at 50 cm/s
 ///      the taps cross pixels every update and the plane tilted and shifted anew each time, turning
 ///      the force back and forth by 0.05-0.2 N at the servo rate (RendererConfig::smoothOffset
 ///      turns it off: `bench feel`'s `finger-unfiltered`). Where it lags, it catches up by a share
 ///      of the gap; it unloads by at most maxForceStep/8 an update, a hold over a hole too, and
-///      turns back against its last change by at most 3·pushDepth an update. Those bounds are for
+///      turns back against its last change by at most filterStep an update. Those bounds are for
 ///      what the surface does: the HIP's own move along the offset (the mean of its last two) is
 ///      the spring's, and passes at once (a finger lifting off is unloaded as it rises, and leaves
 ///      a ramp to the filter; filtered, it was most of the energy put into the hand beyond the
