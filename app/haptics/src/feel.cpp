@@ -195,6 +195,19 @@ bool reversalSpike(const glm::dvec3 &step, const glm::dvec3 &prevStep,
            glm::length(prevStep) > th.alternationStep;
 }
 
+/// \return whether the forces held over the next move are the ideal's on a side and the
+/// renderer's up or nothing (FeelFigures::energyExcessSidewaysMj): the ideal penalty \a ideal (N)
+/// over `phantomForce` and within 30° of horizontal, the renderer's \a force (N) under
+/// `phantomForce` or more than 30° up.
+bool idealOnASide(const glm::dvec3 &force, const glm::dvec3 &ideal,
+                  const FeelThresholds &th) noexcept
+{
+    const double i = glm::length(ideal);
+    const double f = glm::length(force);
+    return i > th.phantomForce && std::fabs(ideal.z) < 0.5 * i &&
+           (f < th.phantomForce || force.z > 0.5 * f);
+}
+
 } // namespace
 
 FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &th)
@@ -216,6 +229,8 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
     PassivityObserver energy;
     PassivityObserver idealEnergy;
     bool idealGiven = false;
+    bool sideways = false;  // the forces held over the next move: the ideal's on a side
+    double sidewaysJ = 0.0; // the excess over the moves held under such forces, J
     for (std::size_t i = 0; i < rows.size(); ++i) {
         const FeelSample &r = rows[i];
         const double force = glm::length(r.force);
@@ -262,10 +277,15 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
         if (covered) { // a renderer may push out at a bounded rate or let go: no energy is judged
             energy.breakPath();
             idealEnergy.breakPath();
+            sideways = false;
         } else {
             idealGiven = idealGiven || std::isfinite(r.idealPenalty.x);
+            const double before = energy.energy() - idealEnergy.energy();
             energy.update(r.hip, r.force);
             idealEnergy.update(r.hip, idealNow);
+            if (sideways)
+                sidewaysJ += energy.energy() - idealEnergy.energy() - before;
+            sideways = idealOnASide(r.force, idealNow, th);
         }
         if (r.released) {
             ++f.trips;
@@ -304,6 +324,7 @@ FeelFigures computeFeel(std::span<const FeelSample> rows, const FeelThresholds &
     f.energyPeakMj = 1e3 * energy.peak();
     f.idealEnergyMj = 1e3 * idealEnergy.energy();
     f.energyExcessMj = idealGiven ? f.energyMj - f.idealEnergyMj : std::nan("");
+    f.energyExcessSidewaysMj = idealGiven ? 1e3 * sidewaysJ : std::nan("");
     ripple(rows, f);
     updatePercentiles(rows, f);
     rates(f);
@@ -344,10 +365,12 @@ void accumulate(FeelFigures &total, const FeelFigures &run) noexcept
     total.idealEnergyMj += run.idealEnergyMj;
     total.energyPeakMj = std::max(total.energyPeakMj, run.energyPeakMj);
     total.maxStepN = std::max(total.maxStepN, run.maxStepN);
-    if (!(total.energyExcessMj >= run.energyExcessMj)) // NaN on either side: the other
-        total.energyExcessMj = std::isnan(run.energyExcessMj) && !std::isnan(total.energyExcessMj)
-                                   ? total.energyExcessMj
-                                   : run.energyExcessMj;
+    // The worst run's excess and its sideways part; NaN on either side: the other.
+    if (!(total.energyExcessMj >= run.energyExcessMj) &&
+        !(std::isnan(run.energyExcessMj) && !std::isnan(total.energyExcessMj))) {
+        total.energyExcessMj = run.energyExcessMj;
+        total.energyExcessSidewaysMj = run.energyExcessSidewaysMj;
+    }
     rates(total);
 }
 

@@ -339,7 +339,7 @@ std::vector<GoalVerdict> judgeGoals(const std::vector<FeelRow> &rows, const std:
 {
     std::vector<GoalVerdict> out;
     const auto judge = [&](const std::string &goal, double limit, auto figure) {
-        GoalVerdict v{goal, 0.0, "-", true};
+        GoalVerdict v{.goal = goal, .worst = 0.0, .where = "-", .met = true};
         const FeelRow *worst = nullptr;
         for (const FeelRow &r : rows) {
             if (r.setting != setting)
@@ -392,7 +392,13 @@ std::vector<GoalVerdict> judgeGoals(const std::vector<FeelRow> &rows, const std:
     std::snprintf(buf, sizeof buf, "pull-down force <= %.0f ms", g.maxPullDownMs);
     judge(buf, g.maxPullDownMs, [](const FeelRow &r) { return r.total.pullDownMs; });
     std::snprintf(buf, sizeof buf, "energy - ideal penalty's <= %.2f mJ", g.maxExcessEnergyMj);
-    judge(buf, g.maxExcessEnergyMj, [](const FeelRow &r) { return r.total.energyExcessMj; });
+    if (const FeelRow *w = judge(buf, g.maxExcessEnergyMj,
+                                 [](const FeelRow &r) { return r.total.energyExcessMj; });
+        w != nullptr && !std::isnan(w->total.energyExcessSidewaysMj)) {
+        std::snprintf(buf, sizeof buf, " (%.2f of it where the ideal's nearest point is on a side)",
+                      w->total.energyExcessSidewaysMj);
+        out.back().aside = buf;
+    }
     return out;
 }
 

@@ -77,6 +77,9 @@ nlohmann::json figuresJson(const FeelFigures &f)
             {"ideal_energy_mj", f.idealEnergyMj},
             {"energy_excess_mj",
              std::isnan(f.energyExcessMj) ? nlohmann::json() : nlohmann::json(f.energyExcessMj)},
+            {"energy_excess_sideways_mj", std::isnan(f.energyExcessSidewaysMj)
+                                              ? nlohmann::json()
+                                              : nlohmann::json(f.energyExcessSidewaysMj)},
             {"energy_peak_mj", f.energyPeakMj},
             {"max_step_n", f.maxStepN}};
 }
@@ -88,7 +91,7 @@ constexpr const char *kFamilyColumns =
     "ideal_longest_alternating_run,regain_events,regain_missed,regain_ms,at_max_ms,pull_down_ms,"
     "arrival_trips,covered_ms,"
     "energy_mj,ideal_energy_mj,energy_excess_mj,energy_peak_mj,max_step_n,"
-    "ideal_sign_reversal_spikes,ideal_sign_reversal_spikes_per_s";
+    "ideal_sign_reversal_spikes,ideal_sign_reversal_spikes_per_s,energy_excess_sideways_mj";
 
 void writeFamilyCsv(std::ostream &c, const FeelFigures &f)
 {
@@ -104,7 +107,9 @@ void writeFamilyCsv(std::ostream &c, const FeelFigures &f)
     if (!std::isnan(f.energyExcessMj))
         c << f.energyExcessMj;
     c << ',' << f.energyPeakMj << ',' << f.maxStepN << ',' << f.idealReversalSpikes << ','
-      << f.idealReversalSpikesPerSecond;
+      << f.idealReversalSpikesPerSecond << ',';
+    if (!std::isnan(f.energyExcessSidewaysMj))
+        c << f.energyExcessSidewaysMj;
 }
 
 nlohmann::json rowJson(const FeelRow &r)
@@ -212,6 +217,8 @@ bool writeFeelJson(const FeelReport &report, const std::filesystem::path &base, 
                 {{"goal", v.goal}, {"worst", v.worst}, {"where", v.where}, {"met", v.met}});
             if (!std::isnan(v.ideal))
                 verdicts.back()["ideal"] = v.ideal;
+            if (!v.aside.empty())
+                verdicts.back()["aside"] = v.aside;
             all = all && v.met;
         }
         j["goals"] = verdicts;
@@ -299,8 +306,8 @@ void printFeelReport(const FeelReport &report)
             char ideal[32] = "";
             if (!std::isnan(x.ideal))
                 std::snprintf(ideal, sizeof ideal, " (ideal's %.3g)", x.ideal);
-            std::printf("    %-40s worst %9.2f at %-36s %s%s\n", x.goal.c_str(), x.worst,
-                        x.where.c_str(), verdict(x.met), ideal);
+            std::printf("    %-40s worst %9.2f at %-36s %s%s%s\n", x.goal.c_str(), x.worst,
+                        x.where.c_str(), verdict(x.met), ideal, x.aside.c_str());
         }
     }
 }

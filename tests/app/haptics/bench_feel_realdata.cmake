@@ -116,6 +116,23 @@ foreach(i RANGE ${lastTotal})
     if(NOT lastGoal MATCHES "^energy - ideal")
         message(FATAL_ERROR "${setting}: the 11th goal is '${lastGoal}', not the energy's")
     endif()
+    # ... and says how much of its worst row's excess is the yardstick's jump to a side: that row's
+    # energy_excess_sideways_mj, a number.
+    string(JSON where GET "${doc}" totals ${i} goals 10 where)
+    string(JSON aside ERROR_VARIABLE e GET "${doc}" totals ${i} goals 10 aside)
+    if(e OR NOT aside MATCHES "of it where the ideal's nearest point is on a side")
+        message(FATAL_ERROR "${setting}: the energy goal without its sideways part (${e})")
+    endif()
+    set(rowSideways "")
+    foreach(j RANGE ${last})
+        read_family_row(${j})
+        if(rowSetting STREQUAL "${setting}" AND "${rowScene} / ${rowFamily}" STREQUAL "${where}")
+            string(JSON rowSideways TYPE "${doc}" family_rows ${j} energy_excess_sideways_mj)
+        endif()
+    endforeach()
+    if(NOT rowSideways STREQUAL "NUMBER")
+        message(FATAL_ERROR "${setting}: ${where}'s energy_excess_sideways_mj is '${rowSideways}'")
+    endif()
     # The 4th, the alternating run, and the 5th, sign reversals, name the ideal penalty's figure of
     # their worst row beside it: that family row's own ideal_* field.
     check_goal_ideal(3 "^alternating run" ideal_longest_alternating_run)

@@ -237,6 +237,55 @@ TEST(FeelEnergyTest, TheIdealPenaltyIsClampedToTheDeviceMaximumAsADeviceRendersI
     EXPECT_NEAR(f.energyExcessMj, -3.5, 1e-9);
 }
 
+TEST(FeelEnergyTest, TheExcessWhereTheIdealsNearestPointIsOnASideIsSummedApart)
+{
+    // A hand 6 mm under a top that rises 1 mm and carries it (60 updates of 1/60 mm), then lifts
+    // it 2 mm (20 updates of 0.1 mm). The renderer pushes 4 N up throughout (a proxy on the top);
+    // the ideal's nearest point is on a side 4.8 mm away for the first 70 updates (3.84 N along
+    // −y, no work on a vertical move), then on the top (4 N up). Work by hand: the renderer's
+    // 4 N · 3 mm = 12 mJ; the ideal's 4 N · 1 mm = 4 mJ, over the last 10 moves; the excess
+    // 8 mJ is all on moves held under the sideways ideal: 4 N · (1 mm + 1 mm).
+    std::vector<FeelSample> rows(81);
+    double z = -6e-3;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        FeelSample &r = rows[i];
+        r.t = 1e-3 * static_cast<double>(i);
+        z += i == 0 ? 0.0 : (i <= 60 ? 1e-3 / 60 : 1e-4);
+        r.hip = {0.0, 0.0, z};
+        r.surfaceZ = i <= 60 ? z + 6e-3 : 1e-3;
+        r.surfaceRise = i == 0 ? 0.0 : (i <= 60 ? 1e-3 / 60 : 0.0);
+        r.force = {0.0, 0.0, 4.0};
+        r.idealPenalty = i < 70 ? glm::dvec3{0.0, -3.84, 0.0} : glm::dvec3{0.0, 0.0, 4.0};
+    }
+    const FeelFigures f = computeFeel(rows);
+    EXPECT_NEAR(f.energyMj, 12.0, 1e-9);
+    EXPECT_NEAR(f.idealEnergyMj, 4.0, 1e-9);
+    EXPECT_NEAR(f.energyExcessMj, 8.0, 1e-9);
+    EXPECT_NEAR(f.energyExcessSidewaysMj, 8.0, 1e-9);
+
+    // The same with the ideal on the top all along: the same work, none of it sideways.
+    for (FeelSample &r : rows)
+        r.idealPenalty = {0.0, 0.0, 4.0};
+    const FeelFigures top = computeFeel(rows);
+    EXPECT_NEAR(top.energyExcessMj, 0.0, 1e-9);
+    EXPECT_EQ(top.energyExcessSidewaysMj, 0.0);
+
+    // A renderer on the side too (its force along −y): not the yardstick's jump, not summed apart.
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        rows[i].idealPenalty = i < 70 ? glm::dvec3{0.0, -3.84, 0.0} : glm::dvec3{0.0, 0.0, 4.0};
+        rows[i].force = rows[i].idealPenalty;
+    }
+    EXPECT_EQ(computeFeel(rows).energyExcessSidewaysMj, 0.0);
+
+    // The worst stroke's part is kept with its excess.
+    FeelFigures total;
+    accumulate(total, top);
+    accumulate(total, f);
+    accumulate(total, top);
+    EXPECT_NEAR(total.energyExcessMj, 8.0, 1e-9);
+    EXPECT_NEAR(total.energyExcessSidewaysMj, 8.0, 1e-9);
+}
+
 TEST(FeelEnergyTest, TheIdealGodObjectsProxyIsTheNearestSurfacePoint)
 {
     // A step: z = 0 for x < 0, z = 10 mm for x >= 0. A HIP at x = 1 mm, z = 5 mm is 5 mm under

@@ -66,7 +66,12 @@
 ///   energy the renderer generated beyond the work the (moving) surface itself did. Neither is
 ///   summed while the finger is covered by an arriving surface or an occluder (as pop-through and
 ///   phantom force are not: the renderer may push out at a bounded rate or let go there), nor over
-///   the move into or out of it.
+///   the move into or out of it. That difference is the surface's work only where both forces
+///   take the same work from it: deeper under a surface than a side is near, the ideal's nearest
+///   point is on that side (its force within 30° of horizontal), and a proxy that does not pop
+///   through still pushes up. The moves held under such an ideal force while the renderer's is up
+///   or nothing are summed apart (`energyExcessSidewaysMj`, docs/benchmarks.md, "The energy
+///   yardstick's nearest point on a side").
 /// Units: s, m, N (scene-box frame, docs/architecture.md §3). Thread-safety: reentrant; allocates
 /// (not for the haptic thread).
 
@@ -284,6 +289,12 @@ struct FeelFigures {
     /// own work; accumulate() keeps the largest of its runs (the worst stroke). NaN where no row
     /// gave the ideal penalty.
     double energyExcessMj = std::nan("");
+    /// Of energyExcessMj, the part over the moves held under an ideal force within 30° of
+    /// horizontal (its nearest point on a side, |F_z| < |F|/2, over `phantomForce`) while the
+    /// renderer's force pointed more than 30° up or was under `phantomForce`: the yardstick's own
+    /// jump to a side, which a proxy that does not pop through does not make, mJ. accumulate()
+    /// keeps the worst stroke's (the run whose energyExcessMj it keeps). NaN with energyExcessMj.
+    double energyExcessSidewaysMj = std::nan("");
     /// The largest energy the force had put into the hand at any time in one run, mJ (≥ 0;
     /// PassivityObserver::peak()); accumulate() keeps the largest.
     double energyPeakMj = 0.0;

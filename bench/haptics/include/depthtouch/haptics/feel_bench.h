@@ -115,6 +115,10 @@ struct GoalVerdict {
     /// (the alternating run: FeelFigures::idealLongestAlternation; the sign-reversal spikes per
     /// second: FeelFigures::idealReversalSpikesPerSecond); NaN where not.
     double ideal = std::nan("");
+    /// A figure of that row that reads the verdict, printed after it (the energy goal: its part
+    /// where the ideal's nearest point is on a side, FeelFigures::energyExcessSidewaysMj); empty
+    /// where none.
+    std::string aside{};
 };
 
 /// \return the verdicts of \a goals for \a setting over \a familyRows (rows of other settings
