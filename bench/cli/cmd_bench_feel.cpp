@@ -48,6 +48,7 @@ struct BenchFeelOptions {
     bool quick = false;
     bool fifo = true;
     std::string dump;
+    bool dumpBallIdeal = false;
     std::vector<std::string> scenes;
     std::vector<std::string> settings;
 };
@@ -96,11 +97,14 @@ const OptionRow<BenchFeelOptions> kBenchFeelRows[] = {
      "feel_dump/ (e.g. 'bonn-crowd/8|finger|tap')",
      {},
      kHideDefault},
+    {"dump-ball-ideal", &BenchFeelOptions::dumpBallIdeal,
+     "Fill the dumped rows' ball_ideal_f*_n columns with the ideal ball's force (seconds a "
+     "stroke; nan without it)"},
 };
 
 hb::FeelSuiteOptions suiteOptions(const BenchFeelOptions &o)
 {
-    return {o.data, o.clips, o.quick, o.fifo, o.dump, o.scenes, o.settings};
+    return {o.data, o.clips, o.quick, o.fifo, o.dump, o.scenes, o.settings, o.dumpBallIdeal};
 }
 
 int fail(int code, const std::string &message)

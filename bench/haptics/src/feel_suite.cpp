@@ -313,7 +313,7 @@ std::optional<FeelSuiteError> runFeelSuite(const FeelSuiteOptions &o,
         report = runFeelBenchmark(
             scenes, strokes, settings,
             [](const std::string &line) { std::fprintf(stderr, "  %s\n", line.c_str()); }, clean,
-            cleanStrokes, o.dump, true); // --dump's rows carry the ideal ball's force
+            cleanStrokes, o.dump, o.dumpBallIdeal);
         report.notes.insert(report.notes.begin(), placeNotes.begin(), placeNotes.end());
     });
     if (Result<void> started = worker.start(); !started)

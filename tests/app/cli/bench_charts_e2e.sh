@@ -101,7 +101,35 @@ for f in files:
         if r["pressed"] == "1" and math.isfinite(top) and z < top - 0.2:
             touched = touched or s == "touching"
     assert touched, "%s: never touching while pressed under the surface" % f
+    # Without --dump-ball-ideal the ideal ball's columns are not computed: nan, not a force.
+    for c in ("ball_ideal_fx_n", "ball_ideal_fy_n", "ball_ideal_fz_n"):
+        assert all(r[c] == "nan" for r in rows), "%s: %s filled without --dump-ball-ideal" % (f, c)
 print("%d dumps checked" % len(files))
+PY
+# With --dump-ball-ideal they hold the ideal ball's force (ball_ideal.h): none where the HIP is above
+# all the surface within the fingertip's reach, some wherever it is under the surface at its own x-y
+# (the ball's rest height is never below that surface).
+"$exe" bench feel --quick --method finger --data "$work/no-data" --scene synthetic-head \
+    --dump 'finger|press' --dump-ball-ideal --out "$work/feel-ball" >"$work/feel-ball.log" 2>&1 ||
+    { tail -n 20 "$work/feel-ball.log"; fail "bench feel --dump-ball-ideal failed"; }
+python3 - "$work/feel-ball" <<'PY' || fail "bench feel --dump-ball-ideal: the ball's force does not match the heights"
+import csv, glob, math, sys
+files = glob.glob(sys.argv[1] + "/feel_dump/*.csv")
+assert files, "no feel_dump/*.csv with --dump-ball-ideal"
+under = 0
+for f in files:
+    for r in csv.DictReader(open(f)):
+        ball = [float(r[c]) for c in ("ball_ideal_fx_n", "ball_ideal_fy_n", "ball_ideal_fz_n")]
+        assert all(math.isfinite(v) for v in ball), "%s at %s s: ball force %s" % (f, r["t_s"], ball)
+        size = math.sqrt(sum(v * v for v in ball))
+        z, top, reach = float(r["hip_z_mm"]), float(r["surface_z_mm"]), float(r["reach_surface_z_mm"])
+        if math.isfinite(reach) and z > reach + 0.01:
+            assert size == 0.0, "%s at %s s: %.3f N above all within reach" % (f, r["t_s"], size)
+        if math.isfinite(top) and z < top - 0.2:
+            under += 1
+            assert size > 0.0, "%s at %s s: no force %.2f mm under the surface" % (f, r["t_s"], top - z)
+assert under > 0, "no update under the surface in the dumped presses"
+print("%d dumps, %d updates under the surface checked" % (len(files), under))
 PY
 # --scene touches only the scenes it names; one that names none is bad input (exit 2, one line).
 "$exe" bench feel --quick --method finger --data "$work/no-data" --scene synthetic-head \

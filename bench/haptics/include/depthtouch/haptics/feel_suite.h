@@ -32,6 +32,10 @@ struct FeelSuiteOptions {
     /// feelSettings()), `quick` or not; empty: every setting of the methods (with `quick`, each
     /// one's first).
     std::vector<std::string> settings;
+    /// The dumped rows also carry the ideal ball's force (ball_ideal.h: up to 10⁵ lookups an
+    /// update, seconds a stroke); without it those columns read nan and a dump of every stroke
+    /// costs what the run does.
+    bool dumpBallIdeal = false;
 };
 
 /// \return the first name in \a o.settings that is not a setting of \a methods (feelSettings()),
