@@ -109,8 +109,8 @@ struct FeelSample {
     /// surface (nearestSurface()), zero above it; NaN: not given (no ideal energy is summed).
     glm::dvec3 idealPenalty{std::nan("")};
     /// The ideal ball's force on this update (a ball of the renderer's fingertip radius on the
-    /// reference surface; `bench feel --dump`'s logged strokes only, ball_ideal.h), N; NaN: not
-    /// given. Not judged.
+    /// reference surface; `bench feel --dump --dump-ball-ideal`'s logged strokes only,
+    /// ball_ideal.h), N; NaN: not given. Not judged.
     glm::dvec3 ballIdealPenalty{std::nan("")};
     /// Height of the surface a held finger rests on (without any occluder), m; NaN: not a hold.
     double heldSurfaceZ = std::nan("");

@@ -17,8 +17,8 @@
 /// Units: m, N, N/m; the frame is the HeightField's (docs/architecture.md §3). Cost: one
 /// ballRestHeight() reads about π·(r/s)² vertices (s: the grid spacing), a few hundred at the
 /// feel bench's scenes; ballIdealPenalty() calls it on rings out to the HIP's depth, at most 2r
-/// (up to 10⁵ lookups an update): a tool for `bench feel --dump`'s strokes, not the suite.
-/// Thread-safety: reentrant; reads \a field only.
+/// (up to 10⁵ lookups an update): a tool for `bench feel --dump --dump-ball-ideal`'s strokes, not
+/// the suite. Thread-safety: reentrant; reads \a field only.
 
 #include <glm/vec3.hpp>
 
