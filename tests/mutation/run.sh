@@ -18,8 +18,12 @@
 #                  whose test runs past 3x its unmutated time plus 30 s is killed (it hangs).
 #   --baseline-from BUILD  skip the unmutated test pass: BUILD (a build tree of these same sources,
 #                  such as build/host after the README's test command) ran every needed test, none
-#                  failed, after the last change to a source (its ctest cost file says so, and gives
-#                  each test's unmutated time). CI uses it: the README's test command has just run.
+#                  failed, after the last change to a tracked file other than the docs (its ctest
+#                  cost file says so, and gives each test's unmutated time). CI uses it: the
+#                  README's test command has just run.
+#        tests/mutation/run.sh --check-baseline BUILD
+#                  exit 0 when BUILD would serve --baseline-from, 1 (saying why) when not; runs
+#                  nothing (.ci/extended asks it before reusing .ci/run's build)
 #
 # Mutants are listed in tests/mutation/mutants/*.txt, one block each:
 #   [name]
@@ -50,6 +54,7 @@ generated=0
 gen_args=()
 min_score=85
 baseline_from=""
+check_baseline=""
 
 die() { echo "mutation: $*" >&2; exit 2; }
 while [ $# -gt 0 ]; do
@@ -62,13 +67,33 @@ while [ $# -gt 0 ]; do
             [ $# -ge 2 ] || die "$1 needs a value"; gen_args+=("$1" "$2"); shift 2 ;;
         --baseline-from)
             [ $# -ge 2 ] || die "--baseline-from needs a build tree"; baseline_from=$2; shift 2 ;;
+        --check-baseline)
+            [ $# -ge 2 ] || die "--check-baseline needs a build tree"; check_baseline=$2; shift 2 ;;
         --min-score)
             [[ $# -ge 2 && "$2" =~ ^[0-9]+$ && "$2" -le 100 ]] || die "--min-score needs a percentage 0-100"
             min_score=$2; shift 2 ;;
-        -h|--help) sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        -h|--help) sed -n '2,28p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
         *) die "unknown option '$1' (see --help)" ;;
     esac
 done
+
+# Whether build tree $1's last ctest run passed every test it ran after the last change to a tracked
+# file (anything but the docs): what --baseline-from and --check-baseline need.
+baseline_fresh() {
+    local costs="$1/Testing/Temporary/CTestCostData.txt" newer
+    [ -f "$costs" ] || { echo "mutation: $1 has no ctest cost file ($costs): run its tests first" >&2; return 1; }
+    if sed -n '/^---$/,$p' "$costs" | grep -qv '^---$'; then
+        echo "mutation: tests failed in $1's last ctest run: $(sed -n '/^---$/,$p' "$costs" | grep -v '^---$' | tr '\n' ' ')" >&2
+        return 1
+    fi
+    newer=$(cd "$root" && git ls-files -z -- . ':(exclude)docs' ':(exclude)*.md' |
+        find -files0-from - -newer "$costs" -type f -print -quit)
+    [ -z "$newer" ] || { echo "mutation: $newer changed after $1's tests ran: run them again" >&2; return 1; }
+}
+if [ -n "$check_baseline" ]; then
+    baseline_fresh "$(cd "$root" && realpath -e "$check_baseline" 2>/dev/null || echo "$check_baseline")"
+    exit
+fi
 
 # ---- read the mutant lists ------------------------------------------------------------------------
 [ ${#gen_args[@]} -eq 0 ] || [ "$generated" -eq 1 ] || die "${gen_args[0]} needs --generated"
@@ -209,15 +234,8 @@ rm -f "$scratch/.mutated"   # the build above recompiled whatever a stopped run 
 # The unmutated times from a build tree whose tests passed on these sources (--baseline-from): ctest's
 # cost file lists "name runs seconds" per test, then "---" and the tests that failed in its last run.
 baseline_times() {
-    local costs="$1/Testing/Temporary/CTestCostData.txt" t name runs cost newer
-    [ -f "$costs" ] || { echo "mutation: $1 has no ctest cost file ($costs): run its tests first" >&2; return 1; }
-    if sed -n '/^---$/,$p' "$costs" | grep -qv '^---$'; then
-        echo "mutation: tests failed in $1's last ctest run: $(sed -n '/^---$/,$p' "$costs" | grep -v '^---$' | tr '\n' ' ')" >&2
-        return 1
-    fi
-    newer=$(cd "$root" && git ls-files -z -- app tests cmake toolchain CMakeLists.txt CMakePresets.json |
-        find -files0-from - -newer "$costs" -type f -print -quit)
-    [ -z "$newer" ] || { echo "mutation: $newer changed after $1's tests ran: run them again" >&2; return 1; }
+    local costs="$1/Testing/Temporary/CTestCostData.txt" t name runs cost
+    baseline_fresh "$1" || return 1
     for t in "${all_tests[@]}"; do
         name=${t%%\[*}
         read -r runs cost < <(awk -v n="$name" '$1 == n { print $2, $3; exit }' "$costs")
