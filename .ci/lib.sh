@@ -14,7 +14,7 @@ if [ -z "${DT_SHARED_DATA:-}" ] && [ ! -d ../shared/data ]; then
         export DT_SHARED_DATA=$(cd "$origin/../shared/data" && pwd)
     fi
 fi
-echo "${0##*/}: shared RGB-D data: ${DT_SHARED_DATA:-$(cd .. && pwd)/shared/data}"
+echo "${0#./}: shared RGB-D data: ${DT_SHARED_DATA:-$(cd .. && pwd)/shared/data}"
 export DT_REQUIRE_SHARED_DATA=1   # the real-data tests fail instead of skipping when the data is missing
 
 ci_start=$SECONDS
@@ -30,12 +30,12 @@ step() {
     step_done
     step_name=$1
     step_start=$SECONDS
-    printf '\n=== %s (%s, %d s into %s) ===\n' "$1" "$(date -u +%H:%M:%S)" $((SECONDS - ci_start)) "${0##*/}"
+    printf '\n=== %s (%s, %d s into %s) ===\n' "$1" "$(date -u +%H:%M:%S)" $((SECONDS - ci_start)) "${0#./}"
 }
 step_table() {
     local rc=$?
     step_done
-    printf '\n=== %s step times (exit %d, %d s in all) ===\n' "${0##*/}" "$rc" $((SECONDS - ci_start))
+    printf '\n=== %s step times (exit %d, %d s in all) ===\n' "${0#./}" "$rc" $((SECONDS - ci_start))
     printf '%s\n' "${step_times[@]}"
 }
 trap step_table EXIT
