@@ -39,6 +39,8 @@ step_table() {
     printf '%s\n' "${step_times[@]}"
 }
 trap step_table EXIT
+trap 'exit 130' INT   # a stopped run's table says so (the EXIT trap then sees 130 or 143, not 0)
+trap 'exit 143' TERM
 
 # The README marks a command with <!-- NAME --> followed by a ```sh block; prints the block.
 readme_command() {
