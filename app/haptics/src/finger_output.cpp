@@ -117,7 +117,15 @@ void FingerOutput::smoothOffset(const glm::dvec3 &hip, const FingerGoal &c, doub
         const double along = std::min(0.5 * (moved + lastAlong_), was);
         const glm::dvec3 prior = offset_ - along * u;
         const glm::dvec3 predicted = prior + offsetTrend_;
-        const glm::dvec3 residual = offset - predicted;
+        // The measurement is the mean of this offset and the last (less the hand's part, as the
+        // prior is) where the surface has not fitted clean: an offset that alternates at the servo
+        // rate (the stencil's taps on a keyboard's keys and in the gaps between them in turn) is
+        // not passed at all, where the filter alone passes 0.23 of it (its gain at the Nyquist
+        // frequency), alternating runs of 4-7 updates in `bench feel`. The cost is half an update
+        // of lag on noisy depth; a clean surface's offset passes as it is (trust_ 1).
+        const glm::dvec3 measured =
+            offset + (1.0 - trust_) * 0.5 * (lastOffset_ - along * u - offset);
+        const glm::dvec3 residual = measured - predicted;
         const glm::dvec3 step = predicted + alpha * residual - prior;
         offsetTrend_ += beta * residual;
         // At most p_.filterStep (0.375 N) however far the unfiltered offset jumped: a switch of
@@ -191,16 +199,16 @@ void FingerOutput::releaseCovered(const glm::dvec3 &hip, double raw, const Heigh
     // A contact that ends (\a wasInContact: also where a hold over a hole ended it, measured
     // again lower) with a surface above the HIP within 3r/4 (a finger sliding off a rim: free at
     // r/2, withinReach()) unloads from maxForceStep/8, the step doubling to maxForceStep/4 (0.25,
-    // 0.5, 0.5 N ...), while the rim stays within 3r/4: a ball rolling off an edge is pushed
-    // less and less, slowly at first (its depth falls as r − √(x² + h²) with its distance x past
-    // the edge). It went to 0 in one update: a swipe at 50 cm/s 2 mm into the kitchen's ragged
-    // cabinet edge (3 mm teeth, 3 mm gaps) rose to 0.8 N on each tooth and dropped it at each
-    // gap, 33 sign reversals a second. At a constant maxForceStep/8, or out to the whole radius,
-    // it outlasted the rim by an update at 50 cm/s where the measured edge lies a pixel beyond
-    // the true one (1-12 ms of phantom force over the clips); doubling up to maxForceStep, its
-    // last step was a spike (0.7 N beside the living room's moving object). Out of 3r/4 the force
-    // is 0, as the release of a contact was. A contact that ended with the HIP covered (below)
-    // unloads as a covering trip does.
+    // 0.5, 0.5 N ...; at most kFingerOffsetAlpha of the force left), while the rim stays within
+    // 3r/4: a ball rolling off an edge is pushed less and less, slowly at first (its depth falls
+    // as r − √(x² + h²) with its distance x past the edge). It went to 0 in one update: a swipe at
+    // 50 cm/s 2 mm into the kitchen's ragged cabinet edge (3 mm teeth, 3 mm gaps) rose to 0.8 N on
+    // each tooth and dropped it at each gap, 33 sign reversals a second. At a constant
+    // maxForceStep/8, or out to the whole radius, it outlasted the rim by an update at 50 cm/s
+    // where the measured edge lies a pixel beyond the true one (1-12 ms of phantom force over the
+    // clips); doubling up to maxForceStep, its last step was a spike (0.7 N beside the living
+    // room's moving object). Out of 3r/4 the force is 0, as the release of a contact was. A contact
+    // that ended with the HIP covered (below) unloads as a covering trip does.
     if (c.contact || !config_.smoothOffset) {
         release_ = {};
         return;
@@ -243,7 +251,12 @@ void FingerOutput::releaseCovered(const glm::dvec3 &hip, double raw, const Heigh
     const double out =
         length > 0.0 ? std::max(0.0, c.hipMove.z) * std::max(0.0, release_.z) / length : 0.0;
     const double lift = force_.stiffness() * scale_ * out;
-    const double step = releaseStep_ + std::min(lift, std::max(0.0, 2.0 * least - releaseStep_));
+    // Off a rim, never more than the offset filter's share of what is left, as the filter takes a
+    // surface that falls away: a contact of 0.1 N (a fingertip on a keyboard's keys, the sensor
+    // seeing the gaps between them) went in one step at each gap and began again at the next key.
+    const double roll =
+        covered ? releaseStep_ : std::min(releaseStep_, kFingerOffsetAlpha * length);
+    const double step = roll + std::min(lift, std::max(0.0, 2.0 * least - releaseStep_));
     release_ = length > step ? release_ * ((length - step) / length) : glm::dvec3{};
     force = release_;
 }

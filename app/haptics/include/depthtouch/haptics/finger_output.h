@@ -39,7 +39,10 @@ inline constexpr double kFingerAtMaximum = 1e-3;
 /// Bordner's pairing for a track with steady motion), 0.1. Where the surface under the goal has
 /// fitted clean for kFingerDepthMemory (FingerPlane::smooth), α rises to 1: the offset passes
 /// through, and the force follows clean geometry without lag (the clean moving wave's force RMS
-/// error at 1 m/s 0.092 → 0.025 N, the paper's method's 0.024).
+/// error at 1 m/s 0.092 → 0.025 N, the paper's method's 0.024). On noisy depth its measurement is
+/// the mean of the last two offsets (nothing that alternates at the servo rate passes). The same
+/// share bounds a rim's release (FingerOutput::releaseCovered()): a contact that ended unloads by
+/// at most α of what is left an update, as the filter takes a surface that falls away.
 inline constexpr double kFingerOffsetAlpha = 0.4;
 
 /// \brief What the contact decided in an update, as the output stage needs it.

@@ -113,14 +113,15 @@
 ///      (a switch of the solution turns the force over a few updates): on noisy depth at 50 cm/s
 ///      the taps cross pixels every update and the plane tilted and shifted anew each time, turning
 ///      the force back and forth by 0.05-0.2 N at the servo rate (RendererConfig::smoothOffset
-///      turns it off: `bench feel`'s `finger-unfiltered`). Where it lags, it catches up by a share
-///      of the gap; it unloads by at most maxForceStep/8 an update, a hold over a hole too, and
-///      turns back against its last change by at most filterStep an update. Those bounds are for
-///      what the surface does: the HIP's own move along the offset (the mean of its last two) is
-///      the spring's, and passes at once (a finger lifting off is unloaded as it rises, and leaves
-///      a ramp to the filter; filtered, it was most of the energy put into the hand beyond the
-///      ideal penalty's). A contact caught while an ended one's force is still unloading starts
-///      the filter from that force (a let-go at the device maximum). A material
+///      turns it off: `bench feel`'s `finger-unfiltered`). Its measurement is the mean of the
+///      last two offsets, so what alternates at the servo rate is not passed. Where it lags, it
+///      catches up by a share of the gap; it unloads by at most maxForceStep/8 an update, a hold
+///      over a hole too, and turns back against its last change by at most filterStep an update.
+///      Those bounds are for what the surface does: the HIP's own move along the offset (the mean
+///      of its last two) is the spring's, and passes at once (a finger lifting off is unloaded as
+///      it rises, and leaves a ramp to the filter; filtered, it was most of the energy put into the
+///      hand beyond the ideal penalty's). A contact caught while an ended one's force is still
+///      unloading starts the filter from that force (a let-go at the device maximum). A material
 ///      boundary under a pressed finger changes the stiffness scale by at most maxForceStep/8 of
 ///      force an update. Where the surface under the goal has fitted clean (FingerPlane::smooth)
 ///      for kFingerDepthMemory, there is no noise to filter and the offset passes through: on clean
@@ -137,7 +138,9 @@
 ///      pressesOn()). A contact that ends with a surface above the HIP within 3r/4 (a rim the
 ///      fingertip slides off) unloads its last force from maxForceStep/8, the step doubling to
 ///      maxForceStep/4, and by the spring's share of the HIP's own rise (within maxForceStep/4),
-///      while that surface stays within 3r/4; then it is 0 (releaseCovered()).
+///      never by more than the offset filter's share of what is left (a light contact rolls off
+///      over a few updates, not in one step), while that surface stays within 3r/4; then it is 0
+///      (releaseCovered()).
 ///    - *Caught again*: a finger let go behind an occluder (or by a cut) is caught by the surface
 ///      it was held on as soon as that surface is within its held depth (plus the ramped step)
 ///      again, e.g. when the occluder leaves; before, it stayed free until lifted out. A finger
