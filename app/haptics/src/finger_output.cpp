@@ -113,8 +113,16 @@ void FingerOutput::smoothOffset(const glm::dvec3 &hip, const FingerGoal &c, doub
         const double alpha = kFingerOffsetAlpha + trust_ * (1.0 - kFingerOffsetAlpha);
         const double beta = alpha * alpha / (2.0 - alpha);
         // The hand's part passes (the mean of its last two moves along the offset, at most the
-        // offset's length); the filter and its bounds take the surface's part.
-        const double along = std::min(0.5 * (moved + lastAlong_), was);
+        // offset's length); the filter and its bounds take the surface's part. A move out along
+        // the offset relaxes the spring only as far as the offset did shrink: where the goal
+        // moved with the hand (a bounded push's depth grows whichever way the hand goes; a new
+        // contact's first offset leans as far as the plane it was found on, and the hand's slide
+        // along that plane is no move out of it), there is nothing to pass, and a force that
+        // began at the bounded push's first step fell back to nearly nothing with each such move
+        // (the keys' and the crowd's swipes in `bench feel`: alternating runs of 4-6 updates).
+        const double hand = std::min(0.5 * (moved + lastAlong_), was);
+        const double along =
+            hand > 0.0 ? std::min(hand, std::max(0.0, was - glm::length(offset))) : hand;
         const glm::dvec3 prior = offset_ - along * u;
         const glm::dvec3 predicted = prior + offsetTrend_;
         // The measurement is the mean of this offset and the last (less the hand's part, as the

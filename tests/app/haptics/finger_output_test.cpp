@@ -84,5 +84,62 @@ TEST(FingerOutputTest, aGoalOnACleanSurfacePassesThroughUnfiltered)
         EXPECT_NEAR(held[k], k % 2 == 0 ? low : high, 1e-9) << "update " << k;
 }
 
+// A bounded push that grows by pushDepth an update (a surface sweeping under a finger, found
+// deep) while the hand yields 0.2 mm an update along it: the goal's offset grows, 0.16, 0.31,
+// 0.47 mm ... The filter passed the hand's move out as the spring's relaxing, as if the goal had
+// stayed where it was: the force fell from the push's first step to 0.09 N before it grew (a new
+// contact on the keys, or under the crowd's floor as the hand rose, began with such a fall:
+// alternating runs of 4-6 updates in `bench feel`). The offset did not shrink, so nothing
+// passes: the force grows from the first update on.
+TEST(FingerOutputTest, aPushThatGrowsWhileTheHandYieldsGrowsFromTheFirstUpdate)
+{
+    const RendererConfig config = RendererConfig::forMethod(Method::Finger);
+    const FingerParameters p = fingerParameters(config);
+    FingerOutput output(config, p);
+    glm::dvec3 hip{0.0, 0.0, -0.005};
+    const double yield = 0.2e-3;
+    std::vector<double> depth;
+    for (int k = 0; k < 10; ++k) {
+        FingerGoal goal;
+        goal.contact = true;
+        goal.touching = k > 0;
+        goal.hipMove = k > 0 ? glm::dvec3{0.0, 0.0, yield} : glm::dvec3{0.0};
+        goal.proxy = hip + glm::dvec3{0.0, 0.0, p.pushDepth * (k + 1)};
+        depth.push_back(output.filter(hip, goal, k / kRate).z - hip.z);
+        hip.z += yield;
+    }
+    std::printf("a push growing by %.3f mm an update, the hand yielding %.1f mm an update: the "
+                "filtered depth %.3f, %.3f, %.3f mm ...\n",
+                p.pushDepth * 1e3, yield * 1e3, depth[0] * 1e3, depth[1] * 1e3, depth[2] * 1e3);
+    for (std::size_t k = 1; k < depth.size(); ++k)
+        EXPECT_GT(depth[k], depth[k - 1]) << "update " << k;
+}
+
+// The hand lifting off a still goal 0.5 mm away by 0.2 mm an update: the offset shrinks by the
+// hand's move, and that passes at once, as a spring answers (the energy a late force puts into a
+// hand that leaves; docs/benchmarks.md, "The offset filter lags the hand's own motion").
+TEST(FingerOutputTest, aHandLiftingOffAStillGoalRelaxesTheSpringAtOnce)
+{
+    const RendererConfig config = RendererConfig::forMethod(Method::Finger);
+    FingerOutput output(config, fingerParameters(config));
+    glm::dvec3 hip{0.0, 0.0, -0.005};
+    const glm::dvec3 goalAt = hip + glm::dvec3{0.0, 0.0, 0.5e-3};
+    const double lift = 0.2e-3;
+    std::vector<double> depth;
+    for (int k = 0; k < 3; ++k) {
+        FingerGoal goal;
+        goal.contact = true;
+        goal.touching = k > 0;
+        goal.hipMove = k > 0 ? glm::dvec3{0.0, 0.0, lift} : glm::dvec3{0.0};
+        goal.proxy = goalAt;
+        depth.push_back(output.filter(hip, goal, k / kRate).z - hip.z);
+        hip.z += lift;
+    }
+    // Update 1: the mean of the last two moves (0.1 mm) passes; the mean of the two offsets is
+    // filtered. Update 2: the move (0.2 mm) passes in full.
+    EXPECT_LT(depth[1], depth[0] - 0.5 * lift);
+    EXPECT_LT(depth[2], depth[1] - 0.5 * lift);
+}
+
 } // namespace
 } // namespace depthtouch::haptics

@@ -61,10 +61,10 @@ struct FingerGoal {
     /// (0..1); the offset filter passes a clean surface's offset through (smoothOffset()).
     double smooth = 0.0;
     /// The HIP's move since the last update, m (box frame): the device's measurement. Its part
-    /// along the force's offset compresses or relaxes the spring at once, past the filter and its
-    /// bounds (smoothOffset()); where it takes the HIP out (a hand lifting off), the force also
-    /// follows it out of a ramp (handOverRamp()) and, as far as it rises, out of a rim's release
-    /// (releaseCovered()).
+    /// along the force's offset compresses the spring at once, past the filter and its bounds
+    /// (smoothOffset()), and relaxes it as far as the offset shrank; where it takes the HIP out
+    /// (a hand lifting off), the force also follows it out of a ramp (handOverRamp()) and, as far
+    /// as it rises, out of a rim's release (releaseCovered()).
     glm::dvec3 hipMove{};
 };
 

@@ -118,14 +118,16 @@
 ///      catches up by a share of the gap; it unloads by at most maxForceStep/8 an update, a hold
 ///      over a hole too, and turns back against its last change by at most filterStep an update.
 ///      Those bounds are for what the surface does: the HIP's own move along the offset (the mean
-///      of its last two) is the spring's, and passes at once (a finger lifting off is unloaded as
-///      it rises, and leaves a ramp to the filter; filtered, it was most of the energy put into the
-///      hand beyond the ideal penalty's). A contact caught while an ended one's force is still
-///      unloading starts the filter from that force (a let-go at the device maximum). A material
-///      boundary under a pressed finger changes the stiffness scale by at most maxForceStep/8 of
-///      force an update. Where the surface under the goal has fitted clean (FingerPlane::smooth)
-///      for kFingerDepthMemory, there is no noise to filter and the offset passes through: on clean
-///      geometry the force follows the surface without the filter's lag.
+///      of its last two) is the spring's, and passes at once, a move out only as far as the
+///      offset shrank (a goal that moved with the hand, a bounded push, is not relaxed by it; a
+///      finger lifting off is unloaded as it rises, and leaves a ramp to the filter; filtered, it
+///      was most of the energy put into the hand beyond the ideal penalty's). A contact caught
+///      while an ended one's force is still unloading starts the filter from that force (a let-go
+///      at the device maximum). A material boundary under a pressed finger changes the stiffness
+///      scale by at most maxForceStep/8 of force an update. Where the surface under the goal has
+///      fitted clean (FingerPlane::smooth) for kFingerDepthMemory, there is no noise to filter and
+///      the offset passes through: on clean geometry the force follows the surface without the
+///      filter's lag.
 ///    - *Steps*: a step of the surface under the stencil (over stepDepth, under the cut) is
 ///      ramped in over the ramp time only as a step up from a force of a step's size or more;
 ///      from less, the bounded push grows it, and a step down is unloaded by the filter. A ramp
