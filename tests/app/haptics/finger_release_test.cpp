@@ -453,7 +453,8 @@ RimSlide slideOffRim(double speed, double depth, double rise = 0.0, double stiff
     return out;
 }
 
-// A finger slid off a block's edge 2 mm under its top at 50 cm/s, and 3 mm under it at 20 cm/s.
+// A finger slid off a block's edge 2 mm under its top at 50 cm/s, and 3 and 5 mm under it at
+// 20 cm/s.
 // Free once the edge is more than half its radius behind it, it was let go in one update, a force
 // the fingertip still rests on the rim with (on the kitchen's ragged cabinet edge, 0.8 N up on
 // each 3 mm tooth and down at once in each gap: 33 sign reversals a second). Now the force
@@ -477,6 +478,16 @@ TEST(FingerReleaseTest, aFingerSlidingOffARimUnloadsAsItRollsOffAndIsFreeOutOfRe
     }
     EXPECT_GE(atCap, 1);
     EXPECT_EQ(slow.outOfReach, 0.0);
+    // 5 mm under the top (4 N): α of what is left stays over maxForceStep/4, so the doubling's
+    // cap is what bounds each fall, and it holds there for more than one update.
+    const RimSlide heavy = slideOffRim(0.2, 0.005);
+    int heavyAtCap = 0;
+    for (std::size_t i = 0; i < heavy.falls.size(); ++i) {
+        EXPECT_LE(heavy.falls[i],
+                  std::min(step / 4.0, kFingerOffsetAlpha * heavy.before[i]) + 1e-6);
+        heavyAtCap += std::fabs(heavy.falls[i] - step / 4.0) < 1e-6 ? 1 : 0;
+    }
+    EXPECT_GE(heavyAtCap, 2);
 }
 
 // The first slide off the rim (2 mm under the top at 50 cm/s) with the stiffness turned down to
