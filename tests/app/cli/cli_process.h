@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -43,6 +44,28 @@ inline std::string describe(const ProcessResult &r)
     return "exit " + std::to_string(r.exitCode) + (r.timedOut ? " (timed out)" : "") + ", signal " +
            std::to_string(r.signal) + ", " + std::to_string(r.seconds) + " s, stderr:\n" +
            r.err.substr(0, 2000);
+}
+
+/// Waits until process \a pid catches signal \a sig (its handler is installed: /proc/PID/status,
+/// SigCgt), at most \a limit. \return whether it does. A test that signals a program must wait
+/// for this, not for a fixed time: a sanitizer build on a busy machine starts in seconds.
+inline bool waitUntilCaught(pid_t pid, int sig, std::chrono::milliseconds limit)
+{
+    const auto end = std::chrono::steady_clock::now() + limit;
+    const std::string path = "/proc/" + std::to_string(pid) + "/status";
+    while (std::chrono::steady_clock::now() < end) {
+        std::ifstream in(path);
+        std::string line;
+        while (std::getline(in, line)) {
+            if (line.rfind("SigCgt:", 0) != 0)
+                continue;
+            const unsigned long long mask = std::stoull(line.substr(7), nullptr, 16);
+            if ((mask >> (sig - 1)) & 1u)
+                return true;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
 }
 
 /// \brief A child process started at construction; killed (SIGKILL) if still running at

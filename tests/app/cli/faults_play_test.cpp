@@ -162,6 +162,9 @@ TEST(PlayFaultsTest, SigtermAndDurationEndAPlayerBlockedInAnOpen)
     makeFifo(fifo);
     {
         Process player(ffmpegPlay(fifo.string(), {"--source-options", kLongOpen}));
+        // Its handler first (an ASan build under load took longer than 700 ms to install it, and
+        // the signal's default action ended the player), then into the open.
+        ASSERT_TRUE(waitUntilCaught(player.pid(), SIGTERM, kLimit));
         std::this_thread::sleep_for(700ms);
         player.signal(SIGTERM);
         const ProcessResult r = player.wait(kLimit);

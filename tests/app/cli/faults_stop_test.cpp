@@ -76,27 +76,6 @@ std::string readText(const fs::path &p)
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-/// Waits until process \a pid catches signal \a sig (its handler is installed: /proc/PID/status,
-/// SigCgt), at most \a limit. \return whether it does.
-bool waitUntilCaught(pid_t pid, int sig, std::chrono::milliseconds limit)
-{
-    const auto end = SteadyClock::now() + limit;
-    const std::string path = "/proc/" + std::to_string(pid) + "/status";
-    while (SteadyClock::now() < end) {
-        std::ifstream in(path);
-        std::string line;
-        while (std::getline(in, line)) {
-            if (line.rfind("SigCgt:", 0) != 0)
-                continue;
-            const unsigned long long mask = std::stoull(line.substr(7), nullptr, 16);
-            if ((mask >> (sig - 1)) & 1u)
-                return true;
-        }
-        std::this_thread::sleep_for(10ms);
-    }
-    return false;
-}
-
 /// A live sender on a FIFO: writes \a clip once, then stays silent with the FIFO open (a network
 /// stream whose sender went quiet) until destroyed.
 class SilentSender {
