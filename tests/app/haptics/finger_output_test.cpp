@@ -23,24 +23,35 @@ namespace {
 
 constexpr double kRate = 1000.0; ///< Hz, the servo rate.
 
-/// The filtered offsets (held proxy − HIP, z, m) of a still HIP whose goal stands \a low and
-/// \a high (m) above it in turn, update after update, on a surface that fits clean to \a smooth
-/// (FingerPlane::smooth, 0..1); the first update is a new contact.
-std::vector<double> alternatingGoal(double low, double high, double smooth, int updates)
+/// Runs the output stage's filter for \a updates updates, the first a new contact: the HIP starts
+/// at z = −5 mm and rises by \a rise (m) an update (its move is the goal's FingerGoal::hipMove),
+/// the goal's offset above the HIP in update k is \a offsetOf(k) (m), on a surface that fits clean
+/// to \a smooth (FingerPlane::smooth, 0..1). \return the filtered offsets (held proxy − HIP, z, m).
+template <class OffsetOf>
+std::vector<double> filterRun(int updates, double rise, double smooth, OffsetOf offsetOf)
 {
     const RendererConfig config = RendererConfig::forMethod(Method::Finger);
     FingerOutput output(config, fingerParameters(config));
-    const glm::dvec3 hip{0.0, 0.0, -0.005};
+    glm::dvec3 hip{0.0, 0.0, -0.005};
     std::vector<double> held;
     for (int k = 0; k < updates; ++k) {
         FingerGoal goal;
         goal.contact = true;
         goal.touching = k > 0;
         goal.smooth = smooth;
-        goal.proxy = hip + glm::dvec3{0.0, 0.0, k % 2 == 0 ? low : high};
+        goal.hipMove = k > 0 ? glm::dvec3{0.0, 0.0, rise} : glm::dvec3{0.0};
+        goal.proxy = hip + glm::dvec3{0.0, 0.0, offsetOf(k)};
         held.push_back(output.filter(hip, goal, k / kRate).z - hip.z);
+        hip.z += rise;
     }
     return held;
+}
+
+/// The filtered offsets (m) of a still HIP whose goal stands \a low and \a high (m) above it in
+/// turn, update after update, on a surface that fits clean to \a smooth.
+std::vector<double> alternatingGoal(double low, double high, double smooth, int updates)
+{
+    return filterRun(updates, 0.0, smooth, [&](int k) { return k % 2 == 0 ? low : high; });
 }
 
 /// \return the largest change of \a v from one entry to the next from entry \a from on.
@@ -92,24 +103,16 @@ TEST(FingerOutputTest, aGoalOnACleanSurfacePassesThroughUnfiltered)
 // α = 1 (the filter's own share off, the mean alone) it is about half.
 TEST(FingerOutputTest, aNoisyGoalIsSmoothedBeyondTheMeanOfTwo)
 {
-    const RendererConfig config = RendererConfig::forMethod(Method::Finger);
-    FingerOutput output(config, fingerParameters(config));
-    const glm::dvec3 hip{0.0, 0.0, -0.005};
     std::uint32_t state = 12345u; // a linear congruential generator (Numerical Recipes' constants)
     const auto noise = [&state] {
         state = 1664525u * state + 1013904223u;
         return (static_cast<double>(state >> 8) / 16777216.0 - 0.5) * 0.2e-3;
     };
     std::vector<double> goal;
-    std::vector<double> held;
-    for (int k = 0; k < 1000; ++k) {
-        FingerGoal g;
-        g.contact = true;
-        g.touching = k > 0;
-        g.proxy = hip + glm::dvec3{0.0, 0.0, 0.4e-3 + noise()};
-        goal.push_back(g.proxy.z - hip.z);
-        held.push_back(output.filter(hip, g, k / kRate).z - hip.z);
-    }
+    const std::vector<double> held = filterRun(1000, 0.0, 0.0, [&](int) {
+        goal.push_back(0.4e-3 + noise());
+        return goal.back();
+    });
     const auto changeRms = [](const std::vector<double> &v) {
         double sum = 0.0;
         for (std::size_t i = 51; i < v.size(); ++i)
@@ -133,21 +136,10 @@ TEST(FingerOutputTest, aNoisyGoalIsSmoothedBeyondTheMeanOfTwo)
 // passes: the force grows from the first update on.
 TEST(FingerOutputTest, aPushThatGrowsWhileTheHandYieldsGrowsFromTheFirstUpdate)
 {
-    const RendererConfig config = RendererConfig::forMethod(Method::Finger);
-    const FingerParameters p = fingerParameters(config);
-    FingerOutput output(config, p);
-    glm::dvec3 hip{0.0, 0.0, -0.005};
+    const FingerParameters p = fingerParameters(RendererConfig::forMethod(Method::Finger));
     const double yield = 0.2e-3;
-    std::vector<double> depth;
-    for (int k = 0; k < 10; ++k) {
-        FingerGoal goal;
-        goal.contact = true;
-        goal.touching = k > 0;
-        goal.hipMove = k > 0 ? glm::dvec3{0.0, 0.0, yield} : glm::dvec3{0.0};
-        goal.proxy = hip + glm::dvec3{0.0, 0.0, p.pushDepth * (k + 1)};
-        depth.push_back(output.filter(hip, goal, k / kRate).z - hip.z);
-        hip.z += yield;
-    }
+    const std::vector<double> depth =
+        filterRun(10, yield, 0.0, [&](int k) { return p.pushDepth * (k + 1); });
     std::printf("a push growing by %.3f mm an update, the hand yielding %.1f mm an update: the "
                 "filtered depth %.3f, %.3f, %.3f mm ...\n",
                 p.pushDepth * 1e3, yield * 1e3, depth[0] * 1e3, depth[1] * 1e3, depth[2] * 1e3);
@@ -160,21 +152,10 @@ TEST(FingerOutputTest, aPushThatGrowsWhileTheHandYieldsGrowsFromTheFirstUpdate)
 // hand that leaves; docs/benchmarks.md, "The offset filter lags the hand's own motion").
 TEST(FingerOutputTest, aHandLiftingOffAStillGoalRelaxesTheSpringAtOnce)
 {
-    const RendererConfig config = RendererConfig::forMethod(Method::Finger);
-    FingerOutput output(config, fingerParameters(config));
-    glm::dvec3 hip{0.0, 0.0, -0.005};
-    const glm::dvec3 goalAt = hip + glm::dvec3{0.0, 0.0, 0.5e-3};
     const double lift = 0.2e-3;
-    std::vector<double> depth;
-    for (int k = 0; k < 3; ++k) {
-        FingerGoal goal;
-        goal.contact = true;
-        goal.touching = k > 0;
-        goal.hipMove = k > 0 ? glm::dvec3{0.0, 0.0, lift} : glm::dvec3{0.0};
-        goal.proxy = goalAt;
-        depth.push_back(output.filter(hip, goal, k / kRate).z - hip.z);
-        hip.z += lift;
-    }
+    // The goal stays 0.5 mm over where the HIP started: k lifts nearer to the HIP in update k.
+    const std::vector<double> depth =
+        filterRun(3, lift, 0.0, [&](int k) { return 0.5e-3 - lift * k; });
     // Update 1: the mean of the last two moves (0.1 mm) passes; the mean of the two offsets is
     // filtered. Update 2: the move (0.2 mm) passes in full.
     EXPECT_LT(depth[1], depth[0] - 0.5 * lift);
